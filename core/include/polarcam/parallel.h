@@ -1,0 +1,29 @@
+/* polarcam/parallel.h - the one row-band walker.
+ *
+ * Kernels are written as row-band workers fn(ctx, y0, y1). pc_parallel_rows() runs them over
+ * [0, height) in bands, on OpenMP threads when built with OpenMP, in the caller's thread
+ * otherwise. The library never starts threads of its own beyond this.
+ */
+#ifndef POLARCAM_PARALLEL_H
+#define POLARCAM_PARALLEL_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef void (*pc_rows_fn)(void *ctx, uint32_t y0, uint32_t y1);
+
+/* Runs fn over rows [0, height) in bands of band_rows (0: chosen automatically), with at most
+ * threads threads (0: the current default, see pc_parallel_set_threads). */
+void pc_parallel_rows(uint32_t height, uint32_t band_rows, int threads, pc_rows_fn fn, void *ctx);
+
+/* Default thread count for pc_parallel_rows (0 = all available). Returns the previous value. */
+int pc_parallel_set_threads(int threads);
+int pc_parallel_max_threads(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

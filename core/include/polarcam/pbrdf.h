@@ -1,0 +1,68 @@
+/* polarcam/pbrdf.h - the corrected microfacet polarized BRDF (physics.md §2).
+ *
+ * Contract used by sim/ and tools/: fields and functions may be added, not removed or changed.
+ * Conventions (physics.md §1): k_i points from the surface towards the source, k_r towards the
+ * viewer; Δφ = 180° is the forward (specular) plane; ñ = n − ik; σ is the rms slope per axis.
+ * The Mueller matrix f maps the incident Stokes vector (frame s_i, p_i = d_i × s_i with
+ * d_i = −k_i) to the scattered radiance Stokes vector (frame s_r, p_r = d_r × s_r, d_r = k_r),
+ * in sr⁻¹.
+ */
+#ifndef POLARCAM_PBRDF_H
+#define POLARCAM_PBRDF_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum pc_diffuse {
+	PC_DIFFUSE_FRESNEL = 0, /* ρ^s with the Fresnel factor (paper eq. 11 as written), default */
+	PC_DIFFUSE_GEOMETRIC,   /* ρ^s with the Fresnel factor set to 1 in eq. 9 */
+	PC_DIFFUSE_NONE         /* specular part only */
+} pc_diffuse;
+
+typedef enum pc_shadowing {
+	PC_SHADOW_TS = 0, /* Torrance–Sparrow V-groove, Cook–Torrance closed form (default) */
+	PC_SHADOW_NONE
+} pc_shadowing;
+
+typedef enum pc_rho_mode {
+	PC_RHO_QUAD = 0, /* slope-space Gauss–Legendre quadrature of order rho_order per call */
+	PC_RHO_TABLE     /* tabulated (cosθ_i × log σ, bicubic), built once */
+} pc_rho_mode;
+
+typedef struct pc_material {
+	double n, k;     /* ñ = n − ik, n > 0, k ≥ 0 */
+	double sigma;    /* rms facet slope per axis, > 0 */
+	pc_diffuse diffuse;
+	pc_shadowing shadowing;
+	pc_rho_mode rho_mode;
+	int rho_order;   /* quadrature order N (N×N rule) for PC_RHO_QUAD; 0 = default (16) */
+} pc_material;
+
+/* A material prepared for evaluation (ρ^s tables and Fresnel constants). Immutable after
+ * creation: safe to evaluate from many threads. */
+typedef struct pc_pbrdf pc_pbrdf;
+
+/* Validates m (errors name the field: "sigma = -1: must be > 0") and prepares it. Cheap
+ * enough to call once per material of a scene. */
+int pc_pbrdf_new(const pc_material *m, pc_pbrdf **out);
+void pc_pbrdf_free(pc_pbrdf *p);
+
+/* f in sr⁻¹ for macro angles in radians (θ_i, θ_r in [0, π/2], Δφ any), in the macro frames of
+ * physics.md §1. */
+int pc_pbrdf_eval(const pc_pbrdf *p, double theta_i, double theta_r, double dphi, double f[4][4]);
+
+/* The same from unit vectors in a local frame whose +z is the macro surface normal: k_i, k_r as
+ * above; s_i ⟂ k_i and s_r ⟂ k_r are unit s-vectors of the caller's Stokes frames (any
+ * orientation; physics.md §2 with s_Mi, s_Mr replaced by them). Returns an all-zero matrix
+ * (and 0) below the horizon. */
+int pc_pbrdf_eval_vec(const pc_pbrdf *p, const double k_i[3], const double k_r[3],
+		      const double s_i[3], const double s_r[3], double f[4][4]);
+
+/* ρ^s(θ_i) of this material (physics.md §2 eq. 11; §5 quadrature or table). */
+double pc_pbrdf_rho_s(const pc_pbrdf *p, double theta_i);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,88 @@
+/* polarcam/io.h - files: PNG, TIFF, NumPy .npy, raw with explicit geometry; atomic writes.
+ *
+ * Every writer writes to a temporary file in the destination's directory and renames it into
+ * place on success, so a failure never leaves a half-written file behind. Every reader
+ * validates what it reads; errors name the file and the problem.
+ */
+#ifndef POLARCAM_IO_H
+#define POLARCAM_IO_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "polarcam/frame.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- atomic files ---- */
+typedef struct pc_atomic_file {
+	FILE *fp;
+	char *path;     /* final path */
+	char *tmp_path; /* temporary path in the same directory */
+} pc_atomic_file;
+
+int pc_atomic_open(pc_atomic_file *af, const char *path);
+/* Flushes, fsyncs, closes and renames into place. On failure the temporary file is removed. */
+int pc_atomic_commit(pc_atomic_file *af);
+/* Closes and removes the temporary file. Safe to call after a failed commit or twice. */
+void pc_atomic_abort(pc_atomic_file *af);
+
+/* Writes size bytes atomically. */
+int pc_write_file_atomic(const char *path, const void *data, size_t size);
+
+/* ---- arrays (.npy) ---- */
+typedef enum pc_dtype { PC_DT_U8 = 1, PC_DT_U16, PC_DT_F32, PC_DT_F64 } pc_dtype;
+
+typedef struct pc_array {
+	void *data;       /* C order, owned */
+	pc_dtype dtype;
+	unsigned ndim;    /* 1..4 */
+	size_t shape[4];
+} pc_array;
+
+size_t pc_array_count(const pc_array *a);
+void pc_array_free(pc_array *a);
+
+/* Writes a C-order array as NumPy format 1.0 (little-endian). */
+int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned ndim,
+		 const size_t *shape);
+/* Reads .npy (u1, <u2, <f4, <f8; C order; format 1.0/2.0). */
+int pc_npy_read(const char *path, pc_array *out);
+
+/* ---- images ---- */
+/* PNG of a Mono8 view (8-bit) or any 9..16-bit integer view (16-bit PNG; the sBIT chunk records
+ * the significant bits). Grey only. */
+int pc_png_write(const char *path, const pc_view *v);
+/* 8-bit RGB PNG from interleaved rows (pictures, plots). */
+int pc_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
+		      size_t stride);
+
+/* Raw geometry for headerless files: width, height, format, offset into the file, stride
+ * (0 = tight). */
+typedef struct pc_raw_geometry {
+	uint32_t width, height;
+	pc_pixfmt format;
+	size_t offset;
+	size_t stride;
+} pc_raw_geometry;
+
+/* Reads a single-channel image: PNG 8/16-bit, TIFF 8/16-bit or float32, .npy 2-D (u1, u2, f4),
+ * or a raw file when geometry is given (non-NULL). *out is an owned view (Mono8, Mono16 or
+ * Float32; raw files keep their format); *significant_bits is the bit depth the file declares
+ * (PNG sBIT, TIFF BitsPerSample, 32 for float) and may be NULL. */
+int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_view *out,
+		  unsigned *significant_bits);
+
+/* TIFF of a Mono8, 9..16-bit (stored as 16-bit) or Float32 view. */
+int pc_tiff_write(const char *path, const pc_view *v);
+
+/* Creates a directory (and parents) if missing. */
+int pc_mkdir_p(const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,261 @@
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "polarcam/error.h"
+
+const char *pc_cli_command = "";
+
+int pc_cli_error(int status, const char *fmt, ...)
+{
+	va_list ap;
+	fprintf(stderr, "polarcam %s: error: ", pc_cli_command);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+	return status;
+}
+
+void pc_cli_warn(const char *fmt, ...)
+{
+	va_list ap;
+	fprintf(stderr, "polarcam %s: warning: ", pc_cli_command);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+}
+
+int pc_cli_status(int code)
+{
+	switch (code) {
+	case PC_OK:
+		return PC_EXIT_OK;
+	case PC_EINVAL:
+	case PC_ERANGE:
+	case PC_EFORMAT:
+	case PC_ENOENT:
+		return PC_EXIT_USAGE;
+	default:
+		return PC_EXIT_FAILURE;
+	}
+}
+
+int pc_cli_fail(int code, const char *what)
+{
+	const char *d = pc_error_detail();
+	if (what && *what)
+		pc_cli_error(0, "%s: %s", what, *d ? d : pc_strerror(code));
+	else
+		pc_cli_error(0, "%s", *d ? d : pc_strerror(code));
+	return pc_cli_status(code);
+}
+
+int pc_cli_parse_double(const char *opt, const char *arg, double *out)
+{
+	if (!arg || !*arg)
+		return pc_error(PC_EINVAL, "%s: missing value (expected a number)", opt);
+	char *end;
+	errno = 0;
+	double v = strtod(arg, &end);
+	if (end == arg || *end != '\0')
+		return pc_error(PC_EINVAL, "%s '%s': not a number", opt, arg);
+	if (!isfinite(v) || errno == ERANGE)
+		return pc_error(PC_EINVAL, "%s '%s': expected a finite number", opt, arg);
+	*out = v;
+	return 0;
+}
+
+int pc_cli_parse_long(const char *opt, const char *arg, long min, long max, long *out)
+{
+	if (!arg || !*arg)
+		return pc_error(PC_EINVAL, "%s: missing value (expected an integer)", opt);
+	char *end;
+	errno = 0;
+	long v = strtol(arg, &end, 10);
+	if (end == arg || *end != '\0' || errno)
+		return pc_error(PC_EINVAL, "%s '%s': not an integer", opt, arg);
+	if (v < min || v > max)
+		return pc_error(PC_EINVAL, "%s %ld: expected an integer in [%ld, %ld]", opt, v, min, max);
+	*out = v;
+	return 0;
+}
+
+int pc_cli_parse_u64(const char *opt, const char *arg, uint64_t *out)
+{
+	if (!arg || !*arg || *arg == '-')
+		return pc_error(PC_EINVAL, "%s '%s': expected a non-negative integer", opt,
+				arg ? arg : "");
+	char *end;
+	errno = 0;
+	unsigned long long v = strtoull(arg, &end, 0);
+	if (end == arg || *end != '\0' || errno)
+		return pc_error(PC_EINVAL, "%s '%s': not a non-negative integer", opt, arg);
+	*out = v;
+	return 0;
+}
+
+int pc_cli_parse_range(const char *opt, const char *arg, double **values, size_t *count)
+{
+	*values = NULL;
+	*count = 0;
+	if (!arg || !*arg)
+		return pc_error(PC_EINVAL, "%s: missing value", opt);
+	const char *c1 = strchr(arg, ':');
+	if (!c1) {
+		double v;
+		int rc = pc_cli_parse_double(opt, arg, &v);
+		if (rc)
+			return rc;
+		*values = malloc(sizeof(double));
+		if (!*values)
+			return pc_error(PC_ENOMEM, "%s", opt);
+		(*values)[0] = v;
+		*count = 1;
+		return 0;
+	}
+	char buf[3][64];
+	const char *parts[3];
+	const char *p = arg;
+	for (int i = 0; i < 3; i++) {
+		const char *e = i < 2 ? strchr(p, ':') : p + strlen(p);
+		if (!e || (size_t)(e - p) >= sizeof buf[i])
+			return pc_error(PC_EINVAL, "%s '%s': expected a number or a range start:stop:step",
+					opt, arg);
+		memcpy(buf[i], p, (size_t)(e - p));
+		buf[i][e - p] = '\0';
+		parts[i] = buf[i];
+		p = e + 1;
+	}
+	if (strchr(parts[2], ':'))
+		return pc_error(PC_EINVAL, "%s '%s': a range has exactly three parts start:stop:step", opt,
+				arg);
+	double a, b, s;
+	static const char *names[3] = { "start", "stop", "step" };
+	double *dst[3] = { &a, &b, &s };
+	for (int i = 0; i < 3; i++) {
+		char o[96];
+		snprintf(o, sizeof o, "%s (range %s)", opt, names[i]);
+		int rc = pc_cli_parse_double(o, parts[i], dst[i]);
+		if (rc)
+			return rc;
+	}
+	if (s == 0 || (b - a) / s < 0)
+		return pc_error(PC_EINVAL, "%s '%s': the step must be non-zero and go from start towards "
+					   "stop", opt, arg);
+	double nf = floor((b - a) / s + 1e-9) + 1;
+	if (nf > 1e7)
+		return pc_error(PC_EINVAL, "%s '%s': more than 10^7 values", opt, arg);
+	size_t n = (size_t)nf;
+	double *v = malloc(n * sizeof *v);
+	if (!v)
+		return pc_error(PC_ENOMEM, "%s", opt);
+	for (size_t i = 0; i < n; i++)
+		v[i] = a + (double)i * s;
+	*values = v;
+	*count = n;
+	return 0;
+}
+
+bool pc_cli_wants_help(int argc, char **argv)
+{
+	for (int i = 1; i < argc; i++) {
+		if (strcmp(argv[i], "--") == 0)
+			break;
+		if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0)
+			return true;
+	}
+	return false;
+}
+
+void pc_cli_print_json(json_t *value)
+{
+	char *s = json_dumps(value, JSON_COMPACT | JSON_REAL_PRECISION(17) | JSON_ENSURE_ASCII);
+	if (s) {
+		fputs(s, stdout);
+		fputc('\n', stdout);
+		free(s);
+	}
+	json_decref(value);
+}
+
+json_t *pc_json_real(double v)
+{
+	return isfinite(v) ? json_real(v) : json_null();
+}
+
+json_t *pc_json_vec(const double *v, unsigned n)
+{
+	json_t *a = json_array();
+	for (unsigned i = 0; i < n; i++)
+		json_array_append_new(a, pc_json_real(v[i]));
+	return a;
+}
+
+json_t *pc_json_matrix4(const double m[4][4])
+{
+	json_t *a = json_array();
+	for (int i = 0; i < 4; i++)
+		json_array_append_new(a, pc_json_vec(m[i], 4));
+	return a;
+}
+
+double pc_cli_now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void pc_progress_begin(pc_progress *p, const char *label, uint64_t total)
+{
+	memset(p, 0, sizeof *p);
+	p->label = label;
+	p->total = total;
+	const char *env = getenv("POLARCAM_PROGRESS");
+	if (env && *env)
+		p->enabled = strcmp(env, "0") != 0;
+	else
+		p->enabled = isatty(STDERR_FILENO);
+	p->t_start = p->t_last = pc_cli_now();
+}
+
+void pc_progress_update(pc_progress *p, uint64_t done)
+{
+	if (!p->enabled)
+		return;
+	double t = pc_cli_now();
+	if (done < p->total && t - p->t_last < 0.1)
+		return;
+	p->t_last = t;
+	double frac = p->total ? (double)done / (double)p->total : 1.0;
+	int width = 30, fill = (int)(frac * width + 0.5);
+	char bar[32];
+	for (int i = 0; i < width; i++)
+		bar[i] = i < fill ? '#' : '.';
+	bar[width] = '\0';
+	double el = t - p->t_start;
+	double eta = frac > 0 ? el * (1 - frac) / frac : 0;
+	fprintf(stderr, "\r%s [%s] %5.1f%% %.1fs elapsed, %.1fs left  ", p->label, bar, 100 * frac, el,
+		eta);
+	fflush(stderr);
+	p->drawn = true;
+}
+
+void pc_progress_end(pc_progress *p)
+{
+	if (p->enabled && p->drawn) {
+		pc_progress_update(p, p->total);
+		fputc('\n', stderr);
+	}
+	p->drawn = false;
+}

@@ -1,0 +1,10 @@
+#include "cli.h"
+#include "commands.h"
+
+/* Placeholder until issue 3 lands this command. */
+int cmd_eval(int argc, char **argv)
+{
+	(void)argc;
+	(void)argv;
+	return pc_cli_error(PC_EXIT_FAILURE, "not implemented yet (issue 3)");
+}

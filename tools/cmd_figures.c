@@ -1,0 +1,10 @@
+#include "cli.h"
+#include "commands.h"
+
+/* Placeholder until issue 2 lands this command. */
+int cmd_figures(int argc, char **argv)
+{
+	(void)argc;
+	(void)argv;
+	return pc_cli_error(PC_EXIT_FAILURE, "not implemented yet (issue 2)");
+}

@@ -1,0 +1,10 @@
+#include "cli.h"
+#include "commands.h"
+
+/* Placeholder until issue 4 lands this command. */
+int cmd_mueller(int argc, char **argv)
+{
+	(void)argc;
+	(void)argv;
+	return pc_cli_error(PC_EXIT_FAILURE, "not implemented yet (issue 4)");
+}

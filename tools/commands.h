@@ -1,0 +1,33 @@
+/* tools/commands.h - the polarcam commands, one file per command (cmd_<name>.c). */
+#ifndef POLARCAM_TOOLS_COMMANDS_H
+#define POLARCAM_TOOLS_COMMANDS_H
+
+typedef int (*pc_command_fn)(int argc, char **argv);
+
+typedef struct pc_command {
+	const char *name;
+	const char *summary;
+	pc_command_fn run;
+} pc_command;
+
+#define PC_COMMANDS(X)                                                                          \
+	X(demo, "render the default scene, run the pipeline, write pictures and a report")       \
+	X(pbrdf, "evaluate the polarized BRDF Mueller matrix (JSON lines)")                      \
+	X(decompose, "Lu-Chipman decomposition of Mueller matrices (JSON lines)")                \
+	X(figures, "reproduce the seed paper's figures 2-11 as CSV and PNG")                     \
+	X(render, "render a scene to raw mosaic frames and ground truth")                        \
+	X(demosaic, "demosaic a raw polarizer mosaic to four analyser channels")                 \
+	X(process, "raw mosaic -> Stokes, DoLP, AoLP and pictures")                              \
+	X(eval, "score demosaicking methods against ground truth")                               \
+	X(mueller, "per-pixel Mueller matrices from frame sequences, D/R/Delta maps")            \
+	X(devices, "list cameras: Aravis, V4L2, libcamera, USB3 Vision")                          \
+	X(capture, "record frames from a source URI")                                            \
+	X(view, "live window of S0, DoLP and AoLP")                                              \
+	X(serve, "serve the simulator as a GigE Vision camera")                                  \
+	X(bench, "benchmarks: physics, demosaic, render, devices")
+
+#define PC_COMMAND_DECL(name, summary) int cmd_##name(int argc, char **argv);
+PC_COMMANDS(PC_COMMAND_DECL)
+#undef PC_COMMAND_DECL
+
+#endif
