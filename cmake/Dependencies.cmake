@@ -15,10 +15,12 @@ function(pc_optional name mode)
   endif()
 endfunction()
 
-# Required: libpng and libtiff for image I/O, jansson for JSON scene files.
+# Required: libpng and libtiff for image I/O, jansson for JSON (scene files, output).
 pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
 pkg_check_modules(TIFF REQUIRED IMPORTED_TARGET libtiff-4)
 pkg_check_modules(JANSSON REQUIRED IMPORTED_TARGET jansson)
+# cairo draws the PNG plots and annotated pictures (io/plot.c).
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)
 
 pc_optional(ARAVIS ${PC_WITH_ARAVIS} aravis-0.8)
 pc_optional(LIBCAMERA ${PC_WITH_LIBCAMERA} libcamera)

@@ -13,6 +13,10 @@ option(PC_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" 
 option(PC_NATIVE "Optimise for the build machine (-march=native)" OFF)
 option(PC_BUILD_TESTS "Build the test programs" ON)
 
+# Strict C11 (no GNU extensions), with the POSIX/BSD declarations of glibc visible (M_PI,
+# clock_gettime, strdup, ...).
+add_compile_definitions(_DEFAULT_SOURCE)
+
 # Warnings for every target of the project.
 set(PC_WARN_FLAGS -Wall -Wextra -Wshadow -Wpointer-arith -Wvla -Wformat=2)
 if(PC_WERROR)

@@ -1,0 +1,66 @@
+/* polarcam/plot.h - PNG plots and annotated images for people who would rather look than read.
+ *
+ * Line/scatter plots (linear or log axes, legends, point labels) and images with a title and a
+ * colour bar (1-D, or 2-D for keys such as AoLP hue × DoLP saturation). Rendering uses cairo;
+ * files are written atomically.
+ */
+#ifndef POLARCAM_PLOT_H
+#define POLARCAM_PLOT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct pc_plot pc_plot;
+
+typedef enum pc_plot_style {
+	PC_PLOT_LINE = 0,    /* polyline; NaN values break the line */
+	PC_PLOT_POINTS,      /* markers only */
+	PC_PLOT_LINE_POINTS, /* both */
+	PC_PLOT_DASHED       /* dashed polyline (references, limits) */
+} pc_plot_style;
+
+pc_plot *pc_plot_new(const char *title, const char *xlabel, const char *ylabel);
+void pc_plot_free(pc_plot *p);
+
+/* Fixed axis ranges (default: automatic from the data, padded to nice ticks). */
+void pc_plot_set_xrange(pc_plot *p, double min, double max);
+void pc_plot_set_yrange(pc_plot *p, double min, double max);
+/* Logarithmic axes (non-positive values are skipped). */
+void pc_plot_set_log(pc_plot *p, bool log_x, bool log_y);
+
+/* Adds a series (the data are copied). Colours cycle through a fixed palette; label may be NULL
+ * (no legend entry). */
+int pc_plot_add_series(pc_plot *p, const char *label, const double *x, const double *y, size_t n,
+		       pc_plot_style style);
+
+/* Writes a text label next to the data point (x, y). */
+int pc_plot_add_label(pc_plot *p, double x, double y, const char *text);
+
+/* Renders to a PNG of width × height pixels (atomically). */
+int pc_plot_write_png(const pc_plot *p, const char *path, int width, int height);
+
+/* Colour key for pc_image_write_png: color(t, s) gives the colour at value fraction t ∈ [0, 1]
+ * (along the bar) and, for 2-D keys, second fraction s ∈ [0, 1] (across the bar). */
+typedef struct pc_colorbar {
+	const char *label;   /* quantity and unit, e.g. "AoLP (deg)" */
+	double vmin, vmax;   /* values at t = 0 and t = 1 */
+	const char *s_label; /* 2-D keys: the quantity across the bar (e.g. "DoLP"), else NULL */
+	double smin, smax;
+	void (*color)(double t, double s, uint8_t rgb[3], void *ctx);
+	void *ctx;
+} pc_colorbar;
+
+/* Writes an RGB8 image with a title above it and, when bar is non-NULL, a colour bar with ticks
+ * on its right. Images wider than max_width (0 = no limit) are downscaled for display. */
+int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
+		       size_t stride, const char *title, const pc_colorbar *bar, uint32_t max_width);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
