@@ -42,8 +42,12 @@ build() { # build DIR [cmake options...]
   local dir=$1; shift
   cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >"$dir.configure.log" 2>&1 ||
     { mkdir -p "$dir"; cat "$dir.configure.log" >&2; exit 1; }
-  cmake --build "$dir" -j "$JOBS" 2>&1 | grep -vE '^\[ *[0-9]+%\]|^(Consolidate|Scanning|Built target)' >&2 || true
-  [[ ${PIPESTATUS[0]} == 0 ]] || { say "build failed in $dir"; exit 1; }
+  # show warnings and errors, not the progress lines; pipefail keeps cmake's exit status
+  if ! cmake --build "$dir" -j "$JOBS" 2>&1 |
+    { grep -vE '^\[ *[0-9]+%\]|^(Consolidate|Scanning|Built target)' || true; } >&2; then
+    say "build failed in $dir"
+    exit 1
+  fi
 }
 
 cmd=${1:-help}
@@ -75,6 +79,7 @@ case $cmd in
     for dir in build-ci build-asan; do
       say "tests in $dir"
       (cd "$dir" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+        LSAN_OPTIONS=suppressions=$PWD/../tests/lsan.supp:print_suppressions=0 \
         ctest --output-on-failure -j "$JOBS" --timeout 900) || status=1
     done
     say "tests finished in $((SECONDS - start)) s: $([[ $status == 0 ]] && echo PASSED || echo FAILED)"

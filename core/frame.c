@@ -263,9 +263,10 @@ int pc_view_to_f32(const pc_view *src, float *dst, size_t dst_stride)
 		float *d = (float *)((uint8_t *)dst + (size_t)y * dst_stride);
 		for (uint32_t x = 0; x < src->width; x++) {
 			if (fi->bits < 16 && tmp[x] > maxv) {
+				unsigned v = tmp[x];
 				free(tmp);
 				return pc_error(PC_ERANGE, "pixel (%u,%u) = %u: above the %u-bit range of %s",
-						x, y, tmp[x], fi->bits, fi->name);
+						x, y, v, fi->bits, fi->name);
 			}
 			d[x] = (float)tmp[x];
 		}
