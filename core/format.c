@@ -6,7 +6,9 @@
 #include "polarcam/error.h"
 
 /* GenICam PFNC values: "GenICam Pixel Format Naming Convention 2.x", pixel format value table.
- * V4L2 fourccs: linux/videodev2.h (V4L2_PIX_FMT_GREY, Y10, Y12, Y14, Y16, Y10P, Y12P). */
+ * V4L2 fourccs: linux/videodev2.h (V4L2_PIX_FMT_GREY, Y10, Y12, Y14, Y16, Y10P, Y12P, Y14P,
+ * Y10BPACK); packed layouts: the kernel's pixfmt-y10p/y12p/y14p/y10b pages, GigE Vision 2.0
+ * (Mono10Packed, Mono12Packed), PFNC 2.x (Mono10p/12p/14p). */
 static const pc_format_info pc_formats[PC_FMT_COUNT] = {
 	[PC_FMT_MONO8] = { PC_FMT_MONO8, "Mono8", 8, 1, 1, PC_PACK_NONE, false,
 			   PC_FOURCC('G', 'R', 'E', 'Y'), 0x01080001u },
@@ -29,6 +31,14 @@ static const pc_format_info pc_formats[PC_FMT_COUNT] = {
 	[PC_FMT_Y12P] = { PC_FMT_Y12P, "Y12P", 12, 2, 3, PC_PACK_MIPI, false,
 			  PC_FOURCC('Y', '1', '2', 'P'), 0 },
 	[PC_FMT_FLOAT32] = { PC_FMT_FLOAT32, "Float32", 32, 1, 4, PC_PACK_NONE, true, 0, 0 },
+	[PC_FMT_MONO14P] = { PC_FMT_MONO14P, "Mono14p", 14, 4, 7, PC_PACK_PFNC_LSB, false, 0,
+			     0x010E0104u },
+	[PC_FMT_MONO10PACKED] = { PC_FMT_MONO10PACKED, "Mono10Packed", 10, 2, 3, PC_PACK_GVSP10,
+				  false, 0, 0x010C0004u },
+	[PC_FMT_Y10BPACK] = { PC_FMT_Y10BPACK, "Y10BPACK", 10, 4, 5, PC_PACK_MSB, false,
+			      PC_FOURCC('Y', '1', '0', 'B'), 0 },
+	[PC_FMT_Y14P] = { PC_FMT_Y14P, "Y14P", 14, 4, 7, PC_PACK_MIPI, false,
+			  PC_FOURCC('Y', '1', '4', 'P'), 0 },
 };
 
 const pc_format_info *pc_format_info_get(pc_pixfmt fmt)
@@ -75,53 +85,63 @@ pc_pixfmt pc_format_from_v4l2(uint32_t fourcc)
 	return PC_FMT_INVALID;
 }
 
-/* Vendors' names for raw polarizer-mosaic data (hardware.md: LUCID Arena, FLIR Spinnaker
- * GenICam descriptions). */
-static const struct {
-	const char *name;
-	pc_pixfmt fmt;
-	bool colour;
-} pc_polarized_names[] = {
-	{ "PolarizeMono8", PC_FMT_MONO8, false },
-	{ "PolarizeMono12", PC_FMT_MONO12, false },
-	{ "PolarizeMono12p", PC_FMT_MONO12P, false },
-	{ "PolarizeMono12Packed", PC_FMT_MONO12PACKED, false },
-	{ "PolarizeMono16", PC_FMT_MONO16, false },
-	{ "Polarized8", PC_FMT_MONO8, false },
-	{ "Polarized10p", PC_FMT_MONO10P, false },
-	{ "Polarized12p", PC_FMT_MONO12P, false },
-	{ "Polarized16", PC_FMT_MONO16, false },
-	{ "BayerRGPolarized8", PC_FMT_MONO8, true },
-	{ "BayerRGPolarized10p", PC_FMT_MONO10P, true },
-	{ "BayerRGPolarized12p", PC_FMT_MONO12P, true },
-	{ "BayerRGPolarized16", PC_FMT_MONO16, true },
+/* GenICam names polarcam takes raw mosaics from. Standard names and values: PFNC 2.x; vendors'
+ * polarized raw names: hardware.md (LUCID Arena GenICam descriptions and LUCID's PFNC header with
+ * its custom values, FLIR Spinnaker's Polarized* and BayerRGPolarized* entries, whose values live
+ * in each camera's XML). Vendor values collide with Aravis's custom ones: match names only. */
+static const pc_genicam_format pc_genicam_table[] = {
+	{ "Mono8", PC_FMT_MONO8, false, false, 0x01080001u, "PFNC" },
+	{ "Mono10", PC_FMT_MONO10, false, false, 0x01100003u, "PFNC" },
+	{ "Mono10p", PC_FMT_MONO10P, false, false, 0x010A0046u, "PFNC" },
+	{ "Mono10Packed", PC_FMT_MONO10PACKED, false, false, 0x010C0004u, "PFNC" },
+	{ "Mono12", PC_FMT_MONO12, false, false, 0x01100005u, "PFNC" },
+	{ "Mono12p", PC_FMT_MONO12P, false, false, 0x010C0047u, "PFNC" },
+	{ "Mono12Packed", PC_FMT_MONO12PACKED, false, false, 0x010C0006u, "PFNC" },
+	{ "Mono14", PC_FMT_MONO14, false, false, 0x01100025u, "PFNC" },
+	{ "Mono14p", PC_FMT_MONO14P, false, false, 0x010E0104u, "PFNC" },
+	{ "Mono16", PC_FMT_MONO16, false, false, 0x01100007u, "PFNC" },
+	{ "PolarizeMono8", PC_FMT_MONO8, true, false, 0x81080001u, "LUCID" },
+	{ "PolarizeMono12", PC_FMT_MONO12, true, false, 0x81100008u, "LUCID" },
+	{ "PolarizeMono12p", PC_FMT_MONO12P, true, false, 0x810C0047u, "LUCID" },
+	{ "PolarizeMono12Packed", PC_FMT_MONO12PACKED, true, false, 0x810C0006u, "LUCID" },
+	{ "PolarizeMono16", PC_FMT_MONO16, true, false, 0x81100007u, "LUCID" },
+	{ "Polarized8", PC_FMT_MONO8, true, false, 0, "FLIR" },
+	{ "Polarized10p", PC_FMT_MONO10P, true, false, 0, "FLIR" },
+	{ "Polarized12p", PC_FMT_MONO12P, true, false, 0, "FLIR" },
+	{ "Polarized16", PC_FMT_MONO16, true, false, 0, "FLIR" },
+	{ "BayerRGPolarized8", PC_FMT_MONO8, true, true, 0, "FLIR" },
+	{ "BayerRGPolarized10p", PC_FMT_MONO10P, true, true, 0, "FLIR" },
+	{ "BayerRGPolarized12p", PC_FMT_MONO12P, true, true, 0, "FLIR" },
+	{ "BayerRGPolarized16", PC_FMT_MONO16, true, true, 0, "FLIR" },
 };
+
+const pc_genicam_format *pc_genicam_formats(size_t *count)
+{
+	if (count)
+		*count = sizeof pc_genicam_table / sizeof pc_genicam_table[0];
+	return pc_genicam_table;
+}
 
 int pc_format_from_genicam(const char *name, pc_pixfmt *fmt, bool *polarized, bool *colour)
 {
 	if (!name)
 		return pc_error(PC_EINVAL, "pixel format name missing");
-	for (size_t i = 0; i < sizeof pc_polarized_names / sizeof pc_polarized_names[0]; i++) {
-		if (strcmp(pc_polarized_names[i].name, name) == 0) {
-			*fmt = pc_polarized_names[i].fmt;
-			*polarized = true;
-			*colour = pc_polarized_names[i].colour;
+	for (size_t i = 0; i < sizeof pc_genicam_table / sizeof pc_genicam_table[0]; i++) {
+		if (strcmp(pc_genicam_table[i].name, name) == 0) {
+			*fmt = pc_genicam_table[i].fmt;
+			*polarized = pc_genicam_table[i].polarized;
+			*colour = pc_genicam_table[i].colour;
 			return 0;
 		}
-	}
-	pc_pixfmt f = pc_format_from_name(name);
-	if (f != PC_FMT_INVALID && f != PC_FMT_FLOAT32 && pc_formats[f].v4l2_fourcc != 0 &&
-	    pc_formats[f].pfnc_code == 0)
-		f = PC_FMT_INVALID; /* Y10P/Y12P are V4L2 names, not GenICam ones */
-	if (f != PC_FMT_INVALID && f != PC_FMT_FLOAT32) {
-		*fmt = f;
-		*polarized = false;
-		*colour = false;
-		return 0;
 	}
 	if (strncmp(name, "Polarized", 9) == 0 || strncmp(name, "Polarize", 8) == 0)
 		return pc_error(PC_ENOTSUP, "pixel format '%s': a processed polarization format, "
 					    "polarcam needs the raw mosaic", name);
+	if (strncmp(name, "Bayer", 5) == 0 || strncmp(name, "RGB", 3) == 0 ||
+	    strncmp(name, "BGR", 3) == 0 || strncmp(name, "YUV", 3) == 0 ||
+	    strncmp(name, "YCbCr", 5) == 0)
+		return pc_error(PC_ENOTSUP, "pixel format '%s': a colour format without a polarizer "
+					    "mosaic; polarcam needs a polarized raw format", name);
 	return pc_error(PC_EINVAL, "pixel format '%s': not a raw monochrome or polarized format "
 				   "polarcam knows", name);
 }

@@ -1,12 +1,12 @@
 #include "polarcam/io.h"
 
 #include <errno.h>
+#include <float.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "polarcam/error.h"
-
-int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits);
 
 static int has_suffix(const char *s, const char *suf)
 {
@@ -51,14 +51,28 @@ static int read_npy_image(const char *path, pc_view *out, unsigned *sbits)
 		if (a.dtype == PC_DT_F64) {
 			const double *s = (const double *)a.data + (size_t)y * w;
 			float *d = (float *)dst;
-			for (size_t x = 0; x < w; x++)
+			for (size_t x = 0; x < w; x++) {
+				if (isfinite(s[x]) && fabs(s[x]) > FLT_MAX) {
+					pc_array_free(&a);
+					pc_view_free(out);
+					return pc_error(PC_ERANGE, "%s: pixel (%zu,%u) = %g does not fit "
+								   "float32", path, x, y, s[x]);
+				}
 				d[x] = (float)s[x];
+			}
 		} else {
 			size_t bpp = a.dtype == PC_DT_U8 ? 1 : a.dtype == PC_DT_U16 ? 2 : 4;
 			memcpy(dst, (const uint8_t *)a.data + (size_t)y * w * bpp, w * bpp);
 		}
 	}
 	pc_array_free(&a);
+	if (fmt == PC_FMT_FLOAT32) {
+		rc = pc_view_check_bits(out, 32);
+		if (rc) {
+			pc_view_free(out);
+			return pc_error_prefix(rc, "%s: ", path);
+		}
+	}
 	if (sbits)
 		*sbits = fmt == PC_FMT_MONO8 ? 8 : fmt == PC_FMT_MONO16 ? 16 : 32;
 	return 0;
@@ -111,8 +125,6 @@ fail:
 	return rc;
 }
 
-int pc_tiff_read(const char *path, pc_view *out, unsigned *significant_bits);
-
 int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_view *out,
 		  unsigned *significant_bits)
 {
@@ -127,6 +139,60 @@ int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_view *ou
 		return pc_tiff_read(path, out, significant_bits);
 	if (has_suffix(path, ".png"))
 		return pc_png_read(path, out, significant_bits);
-	return pc_error(PC_EFORMAT, "%s: unknown file type (expected .png, .tif/.tiff, .npy, or a raw "
-				    "file with --width/--height/--format)", path);
+	if (has_suffix(path, ".bmp")) {
+		if (significant_bits)
+			*significant_bits = 8;
+		return pc_bmp_read(path, out);
+	}
+	return pc_error(PC_EFORMAT, "%s: unknown file type (expected .png, .tif/.tiff, .npy, .bmp, "
+				    "or a raw file with its geometry)", path);
+}
+
+int pc_image_read_mosaic(const char *path, const pc_raw_geometry *geometry, unsigned bits,
+			 pc_view *out, unsigned *bits_out)
+{
+	unsigned declared = 0;
+	int rc = pc_image_read(path, geometry, out, &declared);
+	if (rc)
+		return rc;
+	const pc_format_info *fi = pc_format_info_get(out->format);
+	if (fi->is_float) {
+		if (bits && bits != 32) {
+			pc_view_free(out);
+			return pc_error(PC_EFORMAT, "%s: holds float32 data, not %u-bit integers (wrong "
+						    "bit depth)", path, bits);
+		}
+		if (bits_out)
+			*bits_out = 32;
+		return 0; /* finiteness was checked by the reader */
+	}
+	unsigned container = fi->bits;
+	if (bits == 0)
+		bits = declared && declared <= container ? declared : container;
+	if (bits < 1 || bits > 16 || (bits <= 8) != (container <= 8) || bits > container) {
+		unsigned cont = container <= 8 ? 8 : 16;
+		pc_view_free(out);
+		return pc_error(PC_EFORMAT, "%s: holds %u-bit data in %u-bit samples, not %u-bit "
+					    "data (wrong bit depth: 8-bit data needs 8-bit samples, "
+					    "9..16-bit data 16-bit samples)", path, container, cont, bits);
+	}
+	rc = pc_view_check_bits(out, bits);
+	if (rc) {
+		pc_view_free(out);
+		if (container == 16 && bits < 16)
+			return pc_error_prefix(rc, "%s: %u-bit data expected (polarcam keeps values "
+						   "LSB-aligned; for data scaled to the full 16 bits pass "
+						   "16 bits): ", path, bits);
+		return pc_error_prefix(rc, "%s: ", path);
+	}
+	if (fi->packing == PC_PACK_NONE && container == 16) {
+		/* Relabel: the values fit, so the LSB-aligned container format says the depth. */
+		out->format = bits == 10 ? PC_FMT_MONO10
+			      : bits == 12 ? PC_FMT_MONO12
+			      : bits == 14 ? PC_FMT_MONO14
+					   : PC_FMT_MONO16; /* other depths: *bits_out tells */
+	}
+	if (bits_out)
+		*bits_out = bits;
+	return 0;
 }

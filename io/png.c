@@ -117,8 +117,6 @@ int pc_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t width, uint
 	return rc;
 }
 
-/* Reads a grey PNG into an owned Mono8 or Mono16 view. */
-int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits);
 int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits)
 {
 	memset(out, 0, sizeof *out);

@@ -28,6 +28,10 @@ typedef enum pc_pixfmt {
 	PC_FMT_Y10P,          /* V4L2 'Y10P' (MIPI CSI-2 RAW10): 4 high bytes, then 2-bit lows */
 	PC_FMT_Y12P,          /* V4L2 'Y12P' (MIPI CSI-2 RAW12): 2 high bytes, then 4-bit lows */
 	PC_FMT_FLOAT32,       /* one native-endian float plane */
+	PC_FMT_MONO14P,       /* GenICam PFNC Mono14p: LSB-first bit stream, 4 px in 7 bytes */
+	PC_FMT_MONO10PACKED,  /* GigE Vision Mono10Packed: [a9..2][00 b1..0 00 a1..0][b9..2] */
+	PC_FMT_Y10BPACK,      /* V4L2 'Y10B': MSB-first bit stream, 4 px in 5 bytes */
+	PC_FMT_Y14P,          /* V4L2 'Y14P' (MIPI CSI-2 RAW14): 4 high bytes, then 6-bit lows */
 	PC_FMT_COUNT
 } pc_pixfmt;
 
@@ -35,7 +39,9 @@ typedef enum pc_packing {
 	PC_PACK_NONE = 0, /* one pixel per 1, 2 or 4 bytes */
 	PC_PACK_PFNC_LSB, /* PFNC "p" formats: contiguous LSB-first bit stream */
 	PC_PACK_GVSP12,   /* GigE Vision Mono12Packed */
-	PC_PACK_MIPI      /* MIPI CSI-2 / V4L2 packed RAW10/RAW12 */
+	PC_PACK_MIPI,     /* MIPI CSI-2 / V4L2 packed RAW10/RAW12/RAW14 */
+	PC_PACK_GVSP10,   /* GigE Vision Mono10Packed */
+	PC_PACK_MSB       /* MSB-first contiguous bit stream (V4L2 Y10BPACK) */
 } pc_packing;
 
 typedef struct pc_format_info {
@@ -72,6 +78,21 @@ pc_pixfmt pc_format_from_v4l2(uint32_t fourcc);
  * Returns PC_ENOTSUP for names polarcam cannot process (processed formats such as
  * PolarizedStokes_* or RGB), PC_EINVAL for unknown names. */
 int pc_format_from_genicam(const char *name, pc_pixfmt *fmt, bool *polarized, bool *colour);
+
+/* One GenICam PixelFormat enumeration entry polarcam can take raw mosaics from. */
+typedef struct pc_genicam_format {
+	const char *name;   /* as the camera's GenICam description spells it */
+	pc_pixfmt fmt;      /* storage format of the payload */
+	bool polarized;     /* the name declares a polarizer mosaic */
+	bool colour;        /* ... with a Bayer colour filter on top (IMX250MYR) */
+	uint32_t code;      /* the value cameras use (PFNC or the vendor's custom value), 0 if
+			     * unknown; never identify a format by this value alone */
+	const char *vendor; /* "PFNC", "LUCID", "FLIR" */
+} pc_genicam_format;
+
+/* The table of GenICam names polarcam accepts (standard mono names and vendors' polarized raw
+ * names); *count receives its length. For cameras' GenICam descriptions and listings. */
+const pc_genicam_format *pc_genicam_formats(size_t *count);
 
 /* V4L2 fourcc as a printable 4-character string in buf (at least 5 bytes). */
 const char *pc_fourcc_str(uint32_t fourcc, char buf[5]);

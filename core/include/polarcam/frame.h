@@ -70,6 +70,22 @@ int pc_view_to_f32(const pc_view *src, float *dst, size_t dst_stride);
  * range give PC_ERANGE. */
 int pc_view_from_u16(const uint16_t *src, size_t src_stride, pc_view *dst);
 
+/* Checks that every pixel of an integer view fits in bits significant bits (PC_ERANGE naming the
+ * first pixel above 2^bits − 1: a 12-bit frame holding 4096 is corrupt data, not something to
+ * clamp), and that every pixel of a float view is finite (PC_ERANGE naming the first NaN or
+ * infinity; bits is ignored for float views). */
+int pc_view_check_bits(const pc_view *v, unsigned bits);
+
+/* A frame of the (x0, y0, w, h) part of f sharing its data: the mosaic is shifted by the crop
+ * offset (an odd offset changes the phase) and meta.offset_x/y advance by it. */
+int pc_frame_crop(const pc_frame *f, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
+		  pc_frame *out);
+
+/* Copies src into dst (same size and unpacked format) mirrored horizontally (flip_x) and/or
+ * vertically (flip_y), as a camera's ReverseX/ReverseY would deliver it. The mosaic of the
+ * result is pc_mosaic_flip(mosaic, flip_x, flip_y, width, height). */
+int pc_view_flip(const pc_view *src, int flip_x, int flip_y, pc_view *dst);
+
 static inline void *pc_view_row_unchecked(const pc_view *v, uint32_t y)
 {
 	return (uint8_t *)v->data + (size_t)y * v->stride;

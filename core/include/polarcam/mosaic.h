@@ -49,11 +49,27 @@ pc_mosaic pc_mosaic_imx250myr(void);
  * are a permutation of 0, 45, 90, 135. */
 int pc_mosaic_from_angles(const int angles_deg[4], pc_mosaic *out);
 
-/* Parses "90,45,135,0" (the same order). Errors name the offending token. */
+/* Parses a layout string [BAYER:]A,B,C,D[@DX,DY]:
+ *   A,B,C,D  the analyser angles of the 2×2 block, row-major ("90,45,135,0" is IMX250MZR);
+ *   BAYER:   a colour-polarization mosaic: RGGB, BGGR, GRBG or GBRG gives the colours of the
+ *            four 2×2 polarizer blocks of the 4×4 period, row-major ("RGGB:90,45,135,0" is
+ *            IMX250MYR);
+ *   @DX,DY   the phase: pixel (0,0) of the image is pixel (DX,DY) of the pattern described
+ *            (0..1, or 0..3 with a colour filter), as after a crop at an odd offset.
+ * The names "imx250mzr" and "imx250myr" are accepted too. Errors name the offending token. */
 int pc_mosaic_parse(const char *layout, pc_mosaic *out);
 
-/* Writes "90,45,135,0" (monochrome) or "RGGB:90,45,135,0" (colour) into buf. */
+/* Writes the layout in the syntax pc_mosaic_parse reads ("90,45,135,0",
+ * "RGGB:90,45,135,0@1,0"); pc_mosaic_parse of the result gives the same mosaic. */
 void pc_mosaic_format(const pc_mosaic *m, char *buf, unsigned size);
+
+/* Validates a mosaic: period 2 without colour or period 4 with whole 2×2 polarizer blocks under
+ * a Bayer pattern; a 2×2 polarizer pattern holding each analyser once. PC_EINVAL otherwise. */
+int pc_mosaic_check(const pc_mosaic *m);
+
+/* For a colour mosaic: (*ox, *oy) in 0..1 where the 2×2 colour blocks start. PC_EINVAL (no
+ * detail message) when m is monochrome or its colours are not constant on 2×2 blocks. */
+int pc_mosaic_color_origin(const pc_mosaic *m, unsigned *ox, unsigned *oy);
 
 /* The mosaic seen by a crop whose origin is (x0, y0) on this mosaic. */
 pc_mosaic pc_mosaic_shift(const pc_mosaic *m, uint32_t x0, uint32_t y0);

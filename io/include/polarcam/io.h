@@ -69,15 +69,38 @@ typedef struct pc_raw_geometry {
 	size_t stride;
 } pc_raw_geometry;
 
-/* Reads a single-channel image: PNG 8/16-bit, TIFF 8/16-bit or float32, .npy 2-D (u1, u2, f4),
- * or a raw file when geometry is given (non-NULL). *out is an owned view (Mono8, Mono16 or
- * Float32; raw files keep their format); *significant_bits is the bit depth the file declares
- * (PNG sBIT, TIFF BitsPerSample, 32 for float) and may be NULL. */
+/* Reads a single-channel image: PNG 8/16-bit, TIFF 8/16-bit or float32, .npy 2-D (u1, u2, f4,
+ * f8), 8-bit grey BMP, or a raw file when geometry is given (non-NULL). *out is an owned view
+ * (Mono8, Mono16 or Float32; raw files keep their format); *significant_bits is the bit depth
+ * the file declares (PNG sBIT, TIFF BitsPerSample, 32 for float) and may be NULL. Float images
+ * holding NaN or infinity are rejected (PC_ERANGE naming the file and the pixel). */
 int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_view *out,
 		  unsigned *significant_bits);
 
+/* Reads a raw mosaic for processing: pc_image_read, then the bit depth. bits = 0 takes the
+ * depth the file declares (PNG sBIT, TIFF/npy container); otherwise the file's container must
+ * fit it (8 needs 8-bit data, 9..16 needs 16-bit data: "wrong bit depth" otherwise). Every pixel
+ * must fit the depth (PC_ERANGE naming file and pixel: 12-bit data holding 4096 is corrupt).
+ * Integer views come back as Mono8/Mono10/12/14/16 matching the depth; *bits_out (may be NULL)
+ * receives it (32 for float). */
+int pc_image_read_mosaic(const char *path, const pc_raw_geometry *geometry, unsigned bits,
+			 pc_view *out, unsigned *bits_out);
+
 /* TIFF of a Mono8, 9..16-bit (stored as 16-bit) or Float32 view. */
 int pc_tiff_write(const char *path, const pc_view *v);
+/* TIFF of a C-order (height, width, channels) array of u8, u16 or f32 samples (interleaved;
+ * channels 1..16; extra samples are marked "unspecified"). */
+int pc_tiff_write_array(const char *path, const void *data, pc_dtype dtype, uint32_t height,
+			uint32_t width, unsigned channels);
+/* Reads a single-channel TIFF (8/16-bit unsigned, 32-bit float) into an owned view. */
+int pc_tiff_read(const char *path, pc_view *out, unsigned *significant_bits);
+/* Reads a TIFF as an array: (H, W) or (H, W, C) of u8, u16 or f32. */
+int pc_tiff_read_array(const char *path, pc_array *out);
+
+/* Reads a grey PNG (1..16-bit; 1/2/4-bit expanded to 8) into an owned Mono8 or Mono16 view. */
+int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits);
+/* Reads an uncompressed grey BMP (8-bit grey palette, or 24/32-bit with R = G = B) as Mono8. */
+int pc_bmp_read(const char *path, pc_view *out);
 
 /* Creates a directory (and parents) if missing. */
 int pc_mkdir_p(const char *path);
