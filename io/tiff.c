@@ -5,7 +5,6 @@
  * collect the first message into the caller's context, so concurrent reads do not share state
  * and nothing is printed behind the caller's back. Writers go through pc_atomic_* via
  * TIFFClientOpenExt on the temporary file's FILE*. */
-#define _POSIX_C_SOURCE 200809L
 #include "polarcam/io.h"
 
 #include <errno.h>

@@ -2,7 +2,6 @@
  * multi-channel, .npy, PNG with sBIT, grey BMP, raw with explicit geometry in every packing),
  * and bad input: truncated files, wrong bit depth, out-of-range values, NaN, non-images. Every
  * failure must name the file and leave no output behind. */
-#define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <stdint.h>
 #include <stdlib.h>
