@@ -27,7 +27,8 @@ extern "C" {
 	X(PC_EBUSY, -13, "resource busy")                                      \
 	X(PC_EOVERFLOW, -14, "size or count overflow")                         \
 	X(PC_EPERM, -15, "permission denied")                                  \
-	X(PC_ECANCELED, -16, "operation canceled")
+	X(PC_ECANCELED, -16, "operation canceled")                             \
+	X(PC_EEND, -17, "end of stream")
 
 enum pc_errno {
 	PC_OK = 0,

@@ -1,0 +1,106 @@
+/* polarcam/recording.h - recordings of raw frames: what `polarcam render` and `polarcam capture`
+ * write and what the file: source reads.
+ *
+ * Layout of a recording directory:
+ *
+ *   DIR/raw_000000.png, raw_000001.png, ...   one grey PNG per frame, in recording order:
+ *                                             8-bit for 8-bit formats; 16-bit with an sBIT chunk
+ *                                             holding the significant bits for 9..16-bit formats
+ *                                             (values LSB-aligned, as Mono10/12/16); packed
+ *                                             device formats (Mono12p...) are unpacked first
+ *   DIR/meta.json                             the recording's description (below)
+ *
+ * meta.json (written atomically, rewritten while recording, complete=true at the end):
+ *
+ *   { "polarcam_recording": 1,
+ *     "source": "sim:default?seed=3",           who produced the frames
+ *     "format": "Mono12", "bits": 12,           what the PNGs hold
+ *     "device_format": "PolarizeMono12p",       the device's pixel format name
+ *     "width": 2448, "height": 2048,            frame size (the ROI)
+ *     "offset_x": 0, "offset_y": 0,             ROI origin on the sensor
+ *     "sensor_width": 2448, "sensor_height": 2048,
+ *     "polarized": true, "mosaic": "90,45,135,0",  mosaic phase at pixel (0,0) of the frames
+ *     "frames": [ { "file": "raw_000000.png", "sequence": 0, "timestamp_ns": 0,
+ *                   "exposure_us": 10000, "gain_db": 0, "status": [] }, ... ],
+ *     "complete": true, "error": null,         false + message when recording ended early
+ *     "stats": { ... }, "extra": { ... } }      free-form objects (source statistics, ...)
+ *
+ * Every frame file is written atomically (temporary file + rename), so a recording that ended
+ * early (a camera unplugged, the process killed) holds only whole frames, and meta.json lists
+ * the frames written before its last rewrite.
+ */
+#ifndef POLARCAM_RECORDING_H
+#define POLARCAM_RECORDING_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "polarcam/frame.h"
+#include "polarcam/mosaic.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct pc_recording pc_recording;
+
+typedef struct pc_recording_desc {
+	const char *source;        /* URI or description, may be NULL */
+	pc_pixfmt format;          /* the frames' pixel format (any integer format) */
+	const char *device_format; /* device's name for it, may be NULL */
+	uint32_t width, height, offset_x, offset_y, sensor_width, sensor_height;
+	bool polarized;
+	pc_mosaic mosaic;          /* phase at pixel (0,0) of the frames */
+} pc_recording_desc;
+
+typedef struct pc_recording_frame {
+	char file[32];
+	uint64_t sequence, timestamp_ns;
+	double exposure_us, gain_db;
+	uint32_t status; /* pc_frame_status flags */
+} pc_recording_frame;
+
+/* Starts a recording in dir (created if missing). Refuses (PC_EBUSY) a directory that already
+ * holds a recording (meta.json or raw_000000.png) unless overwrite: then old raw_*.png files
+ * beyond the new recording's end are left alone but meta.json only lists the new frames. */
+int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
+			bool overwrite);
+/* Appends a frame: checks it matches the description, writes raw_NNNNNN.png atomically and
+ * records its metadata. meta.json is rewritten at most every 0.25 s while recording. */
+int pc_recording_add(pc_recording *r, const pc_frame *frame);
+/* Attaches JSON text objects written under "stats" / "extra" (NULL clears). PC_EINVAL when
+ * the text is not a JSON object. */
+int pc_recording_set_json(pc_recording *r, const char *key, const char *json_object_text);
+/* Writes the final meta.json: complete when error is NULL, else complete=false with the error
+ * text. The recording stays usable for reading. */
+int pc_recording_finish(pc_recording *r, const char *error);
+
+/* Opens a recording for reading and validates meta.json (every field; frames listed in
+ * increasing sequence and non-decreasing time; files named raw_NNNNNN.png). A directory of
+ * raw_NNNNNN.png files without meta.json is accepted with defaults: frames numbered from
+ * 000000 without gaps, format from the first PNG's bit depth (sBIT), IMX250MZR mosaic, 
+ * timestamps 0 (callers pace them). Errors name the file and the field. */
+int pc_recording_open(pc_recording **out, const char *dir);
+void pc_recording_free(pc_recording *r);
+
+/* Description and frames of an open recording (valid until freed). */
+const pc_recording_desc *pc_recording_get_desc(const pc_recording *r);
+size_t pc_recording_count(const pc_recording *r);
+const pc_recording_frame *pc_recording_get_frame(const pc_recording *r, size_t i);
+bool pc_recording_is_complete(const pc_recording *r);
+const char *pc_recording_dir(const pc_recording *r);
+
+/* Reads frame i into an owned view of the recording's storage format (Mono8 or 16-bit
+ * Mono10/12/14/16 by bits). Checks the PNG's size and bit depth against meta.json and every
+ * value against the bit depth. Free with pc_view_free. */
+int pc_recording_read(const pc_recording *r, size_t i, pc_view *out);
+
+/* The storage format of a recording of frames in fmt: Mono8 for <= 8 bits, else Mono10/12/14/16
+ * by the significant bits. */
+pc_pixfmt pc_recording_storage_format(pc_pixfmt fmt);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,662 @@
+/* Recordings: raw_NNNNNN.png + meta.json (layout in polarcam/recording.h). */
+#include "polarcam/recording.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <jansson.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "polarcam/error.h"
+#include "polarcam/io.h"
+
+#define PC_RECORDING_VERSION 1
+#define PC_META_REWRITE_S 0.25
+
+struct pc_recording {
+	char *dir;
+	pc_recording_desc desc;
+	char *source, *device_format;
+	pc_pixfmt storage;
+	pc_recording_frame *frames;
+	size_t n, cap;
+	bool writing, complete;
+	char *error;
+	json_t *stats, *extra;
+	double last_meta_s;
+	uint16_t *row_tmp; /* unpacking packed formats for writing */
+	size_t row_tmp_size;
+};
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+pc_pixfmt pc_recording_storage_format(pc_pixfmt fmt)
+{
+	const pc_format_info *fi = pc_format_info_get(fmt);
+	if (!fi || fi->is_float)
+		return PC_FMT_INVALID;
+	if (fi->bits <= 8)
+		return PC_FMT_MONO8;
+	if (fi->bits <= 10)
+		return PC_FMT_MONO10;
+	if (fi->bits <= 12)
+		return PC_FMT_MONO12;
+	if (fi->bits <= 14)
+		return PC_FMT_MONO14;
+	return PC_FMT_MONO16;
+}
+
+static char *path_join(const char *dir, const char *name)
+{
+	size_t n = strlen(dir) + strlen(name) + 2;
+	char *p = malloc(n);
+	if (p)
+		snprintf(p, n, "%s/%s", dir, name);
+	return p;
+}
+
+static bool file_exists(const char *dir, const char *name)
+{
+	char *p = path_join(dir, name);
+	struct stat st;
+	bool e = p && stat(p, &st) == 0;
+	free(p);
+	return e;
+}
+
+static char *dup_or_null(const char *s)
+{
+	return s ? strdup(s) : NULL;
+}
+
+void pc_recording_free(pc_recording *r)
+{
+	if (!r)
+		return;
+	free(r->dir);
+	free(r->source);
+	free(r->device_format);
+	free(r->frames);
+	free(r->error);
+	free(r->row_tmp);
+	json_decref(r->stats);
+	json_decref(r->extra);
+	free(r);
+}
+
+static int check_desc(const pc_recording_desc *d)
+{
+	const pc_format_info *fi = pc_format_info_get(d->format);
+	if (!fi || fi->is_float)
+		return pc_error(PC_EINVAL, "recording: pixel format %d: expected an integer raw format",
+				(int)d->format);
+	size_t row;
+	int rc = pc_format_row_bytes(d->format, d->width, &row);
+	if (rc)
+		return rc;
+	if (d->height == 0)
+		return pc_error(PC_EINVAL, "recording: height 0");
+	if (d->mosaic.period != 0 && d->mosaic.period != 2 && d->mosaic.period != 4)
+		return pc_error(PC_EINVAL, "recording: mosaic period %u: expected 2 or 4",
+				d->mosaic.period);
+	return 0;
+}
+
+int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
+			bool overwrite)
+{
+	if (!out || !dir || !*dir || !desc)
+		return pc_error(PC_EINVAL, "recording: missing argument");
+	*out = NULL;
+	int rc = check_desc(desc);
+	if (rc)
+		return rc;
+	rc = pc_mkdir_p(dir);
+	if (rc)
+		return rc;
+	if (!overwrite && (file_exists(dir, "meta.json") || file_exists(dir, "raw_000000.png")))
+		return pc_error(PC_EBUSY, "%s: already holds a recording (meta.json / raw_000000.png); "
+					  "choose another directory or overwrite", dir);
+	pc_recording *r = calloc(1, sizeof *r);
+	if (!r)
+		return pc_error(PC_ENOMEM, "recording");
+	r->dir = strdup(dir);
+	r->desc = *desc;
+	r->source = dup_or_null(desc->source);
+	r->device_format = dup_or_null(desc->device_format);
+	r->desc.source = r->source;
+	r->desc.device_format = r->device_format;
+	r->storage = pc_recording_storage_format(desc->format);
+	r->writing = true;
+	r->last_meta_s = -1e9;
+	if (!r->dir || (desc->source && !r->source) || (desc->device_format && !r->device_format)) {
+		pc_recording_free(r);
+		return pc_error(PC_ENOMEM, "recording");
+	}
+	*out = r;
+	return 0;
+}
+
+static json_t *frame_status_json(uint32_t st)
+{
+	json_t *a = json_array();
+	if (st & PC_FRAME_INCOMPLETE)
+		json_array_append_new(a, json_string("incomplete"));
+	if (st & PC_FRAME_CORRUPT)
+		json_array_append_new(a, json_string("corrupt"));
+	if (st & PC_FRAME_SIMULATED)
+		json_array_append_new(a, json_string("simulated"));
+	return a;
+}
+
+static int write_meta(pc_recording *r)
+{
+	char mosaic[32] = "";
+	if (r->desc.mosaic.period)
+		pc_mosaic_format(&r->desc.mosaic, mosaic, sizeof mosaic);
+	const pc_format_info *si = pc_format_info_get(r->storage);
+	json_t *m = json_object();
+	json_object_set_new(m, "polarcam_recording", json_integer(PC_RECORDING_VERSION));
+	json_object_set_new(m, "source", r->source ? json_string(r->source) : json_null());
+	json_object_set_new(m, "format", json_string(si->name));
+	json_object_set_new(m, "bits", json_integer(si->bits));
+	json_object_set_new(m, "device_format",
+			    json_string(r->device_format ? r->device_format
+							 : pc_format_info_get(r->desc.format)->name));
+	json_object_set_new(m, "width", json_integer(r->desc.width));
+	json_object_set_new(m, "height", json_integer(r->desc.height));
+	json_object_set_new(m, "offset_x", json_integer(r->desc.offset_x));
+	json_object_set_new(m, "offset_y", json_integer(r->desc.offset_y));
+	json_object_set_new(m, "sensor_width", json_integer(r->desc.sensor_width));
+	json_object_set_new(m, "sensor_height", json_integer(r->desc.sensor_height));
+	json_object_set_new(m, "polarized", json_boolean(r->desc.polarized));
+	json_object_set_new(m, "mosaic", mosaic[0] ? json_string(mosaic) : json_null());
+	json_t *fr = json_array();
+	for (size_t i = 0; i < r->n; i++) {
+		const pc_recording_frame *f = &r->frames[i];
+		json_t *o = json_object();
+		json_object_set_new(o, "file", json_string(f->file));
+		json_object_set_new(o, "sequence", json_integer((json_int_t)f->sequence));
+		json_object_set_new(o, "timestamp_ns", json_integer((json_int_t)f->timestamp_ns));
+		json_object_set_new(o, "exposure_us", json_real(f->exposure_us));
+		json_object_set_new(o, "gain_db", json_real(f->gain_db));
+		json_object_set_new(o, "status", frame_status_json(f->status));
+		json_array_append_new(fr, o);
+	}
+	json_object_set_new(m, "frames", fr);
+	json_object_set_new(m, "complete", json_boolean(r->complete));
+	json_object_set_new(m, "error", r->error ? json_string(r->error) : json_null());
+	if (r->stats)
+		json_object_set(m, "stats", r->stats);
+	if (r->extra)
+		json_object_set(m, "extra", r->extra);
+	char *text = json_dumps(m, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
+	json_decref(m);
+	if (!text)
+		return pc_error(PC_ENOMEM, "%s/meta.json", r->dir);
+	char *path = path_join(r->dir, "meta.json");
+	int rc = path ? pc_write_file_atomic(path, text, strlen(text)) : PC_ENOMEM;
+	free(path);
+	free(text);
+	return rc;
+}
+
+int pc_recording_add(pc_recording *r, const pc_frame *f)
+{
+	if (!r || !f)
+		return pc_error(PC_EINVAL, "recording: missing argument");
+	if (!r->writing)
+		return pc_error(PC_ESTATE, "%s: recording is finished or read-only", r->dir);
+	const pc_view *v = &f->view;
+	int rc = pc_view_check(v);
+	if (rc)
+		return rc;
+	if (v->format != r->desc.format || v->width != r->desc.width || v->height != r->desc.height)
+		return pc_error(PC_EINVAL, "%s: frame %s %ux%u does not match the recording's %s %ux%u",
+				r->dir, pc_format_info_get(v->format)->name, v->width, v->height,
+				pc_format_info_get(r->desc.format)->name, r->desc.width,
+				r->desc.height);
+	if (r->n && f->meta.sequence <= r->frames[r->n - 1].sequence)
+		return pc_error(PC_EINVAL, "%s: frame sequence %llu after %llu: must increase", r->dir,
+				(unsigned long long)f->meta.sequence,
+				(unsigned long long)r->frames[r->n - 1].sequence);
+	if (r->n >= 999999)
+		return pc_error(PC_EOVERFLOW, "%s: a recording holds at most 999999 frames", r->dir);
+	if (r->n == r->cap) {
+		size_t cap = r->cap ? 2 * r->cap : 64;
+		pc_recording_frame *nf = realloc(r->frames, cap * sizeof *nf);
+		if (!nf)
+			return pc_error(PC_ENOMEM, "recording frame list");
+		r->frames = nf;
+		r->cap = cap;
+	}
+	pc_recording_frame *rf = &r->frames[r->n];
+	memset(rf, 0, sizeof *rf);
+	snprintf(rf->file, sizeof rf->file, "raw_%06zu.png", r->n);
+	rf->sequence = f->meta.sequence;
+	rf->timestamp_ns = f->meta.timestamp_ns;
+	rf->exposure_us = f->meta.exposure_us;
+	rf->gain_db = f->meta.gain_db;
+	rf->status = f->meta.status;
+
+	char *path = path_join(r->dir, rf->file);
+	if (!path)
+		return pc_error(PC_ENOMEM, "recording");
+	const pc_format_info *fi = pc_format_info_get(v->format);
+	if (fi->packing == PC_PACK_NONE) {
+		rc = pc_png_write(path, v);
+	} else {
+		/* packed device formats are stored unpacked (the PNG holds the significant bits) */
+		size_t need = (size_t)v->width * v->height;
+		if (r->row_tmp_size < need) {
+			free(r->row_tmp);
+			r->row_tmp = malloc(need * sizeof *r->row_tmp);
+			r->row_tmp_size = r->row_tmp ? need : 0;
+		}
+		if (!r->row_tmp)
+			rc = pc_error(PC_ENOMEM, "unpacking a %ux%u frame", v->width, v->height);
+		else
+			rc = pc_view_to_u16(v, r->row_tmp, (size_t)v->width * 2);
+		if (!rc) {
+			pc_view u = { r->row_tmp, v->width, v->height, (size_t)v->width * 2, r->storage };
+			rc = pc_png_write(path, &u);
+		}
+	}
+	free(path);
+	if (rc)
+		return rc;
+	r->n++;
+	double t = now_s();
+	if (t - r->last_meta_s >= PC_META_REWRITE_S) {
+		r->last_meta_s = t;
+		rc = write_meta(r);
+	}
+	return rc;
+}
+
+int pc_recording_set_json(pc_recording *r, const char *key, const char *text)
+{
+	if (!r || !key)
+		return pc_error(PC_EINVAL, "recording: missing argument");
+	json_t **slot = !strcmp(key, "stats") ? &r->stats : !strcmp(key, "extra") ? &r->extra : NULL;
+	if (!slot)
+		return pc_error(PC_EINVAL, "recording: key '%s': expected stats or extra", key);
+	json_t *j = NULL;
+	if (text) {
+		json_error_t e;
+		j = json_loads(text, 0, &e);
+		if (!j || !json_is_object(j)) {
+			json_decref(j);
+			return pc_error(PC_EINVAL, "recording %s: not a JSON object (%s)", key,
+					j ? "not an object" : e.text);
+		}
+	}
+	json_decref(*slot);
+	*slot = j;
+	return 0;
+}
+
+int pc_recording_finish(pc_recording *r, const char *error)
+{
+	if (!r)
+		return pc_error(PC_EINVAL, "recording: missing argument");
+	if (!r->writing)
+		return pc_error(PC_ESTATE, "%s: recording is not being written", r->dir);
+	free(r->error);
+	r->error = NULL;
+	if (error && !(r->error = strdup(error)))
+		return pc_error(PC_ENOMEM, "recording");
+	r->complete = error == NULL;
+	int rc = write_meta(r);
+	r->writing = false;
+	return rc;
+}
+
+/* ---- reading ---- */
+
+const pc_recording_desc *pc_recording_get_desc(const pc_recording *r)
+{
+	return &r->desc;
+}
+
+size_t pc_recording_count(const pc_recording *r)
+{
+	return r->n;
+}
+
+const pc_recording_frame *pc_recording_get_frame(const pc_recording *r, size_t i)
+{
+	return i < r->n ? &r->frames[i] : NULL;
+}
+
+bool pc_recording_is_complete(const pc_recording *r)
+{
+	return r->complete;
+}
+
+const char *pc_recording_dir(const pc_recording *r)
+{
+	return r->dir;
+}
+
+static int get_uint(const char *file, json_t *o, const char *key, uint64_t max, bool required,
+		    uint64_t *out)
+{
+	json_t *v = json_object_get(o, key);
+	if (!v) {
+		if (required)
+			return pc_error(PC_EFORMAT, "%s: field '%s' missing", file, key);
+		return 0;
+	}
+	if (!json_is_integer(v) || json_integer_value(v) < 0 ||
+	    (uint64_t)json_integer_value(v) > max)
+		return pc_error(PC_EFORMAT, "%s: field '%s': expected an integer in [0, %llu]", file,
+				key, (unsigned long long)max);
+	*out = (uint64_t)json_integer_value(v);
+	return 0;
+}
+
+static int parse_frames(pc_recording *r, const char *file, json_t *arr)
+{
+	if (!json_is_array(arr))
+		return pc_error(PC_EFORMAT, "%s: field 'frames': expected an array", file);
+	size_t n = json_array_size(arr);
+	if (n > 999999)
+		return pc_error(PC_EFORMAT, "%s: %zu frames: at most 999999", file, n);
+	r->frames = calloc(n ? n : 1, sizeof *r->frames);
+	if (!r->frames)
+		return pc_error(PC_ENOMEM, "%s", file);
+	r->cap = n;
+	for (size_t i = 0; i < n; i++) {
+		json_t *o = json_array_get(arr, i);
+		char where[96];
+		snprintf(where, sizeof where, "%s: frames[%zu]", file, i);
+		if (!json_is_object(o))
+			return pc_error(PC_EFORMAT, "%s: expected an object", where);
+		pc_recording_frame *f = &r->frames[i];
+		const char *name = json_string_value(json_object_get(o, "file"));
+		unsigned num;
+		char tail;
+		if (!name || strlen(name) != 14 || sscanf(name, "raw_%6u.pn%c", &num, &tail) != 2 ||
+		    tail != 'g' || strspn(name + 4, "0123456789") != 6)
+			return pc_error(PC_EFORMAT, "%s.file: expected \"raw_NNNNNN.png\"", where);
+		snprintf(f->file, sizeof f->file, "%s", name);
+		int rc = get_uint(where, o, "sequence", INT64_MAX, true, &f->sequence);
+		if (!rc)
+			rc = get_uint(where, o, "timestamp_ns", INT64_MAX, true, &f->timestamp_ns);
+		if (rc)
+			return rc;
+		json_t *e = json_object_get(o, "exposure_us"), *g = json_object_get(o, "gain_db");
+		if ((e && !json_is_number(e)) || (g && !json_is_number(g)))
+			return pc_error(PC_EFORMAT, "%s: exposure_us/gain_db: expected numbers", where);
+		f->exposure_us = e ? json_number_value(e) : 0;
+		f->gain_db = g ? json_number_value(g) : 0;
+		json_t *st = json_object_get(o, "status");
+		if (st && !json_is_array(st))
+			return pc_error(PC_EFORMAT, "%s.status: expected an array of strings", where);
+		for (size_t k = 0; st && k < json_array_size(st); k++) {
+			const char *s = json_string_value(json_array_get(st, k));
+			if (s && !strcmp(s, "incomplete"))
+				f->status |= PC_FRAME_INCOMPLETE;
+			else if (s && !strcmp(s, "corrupt"))
+				f->status |= PC_FRAME_CORRUPT;
+			else if (s && !strcmp(s, "simulated"))
+				f->status |= PC_FRAME_SIMULATED;
+			else
+				return pc_error(PC_EFORMAT, "%s.status[%zu]: expected \"incomplete\", "
+							    "\"corrupt\" or \"simulated\"", where, k);
+		}
+		if (i > 0 && f->sequence <= r->frames[i - 1].sequence)
+			return pc_error(PC_EFORMAT, "%s.sequence = %llu: must be greater than the previous "
+						    "frame's %llu", where,
+					(unsigned long long)f->sequence,
+					(unsigned long long)r->frames[i - 1].sequence);
+		if (i > 0 && f->timestamp_ns < r->frames[i - 1].timestamp_ns)
+			return pc_error(PC_EFORMAT, "%s.timestamp_ns: earlier than the previous frame's",
+					where);
+		r->n = i + 1;
+	}
+	return 0;
+}
+
+static int open_meta(pc_recording *r, const char *path)
+{
+	json_error_t e;
+	json_t *m = json_load_file(path, JSON_REJECT_DUPLICATES, &e);
+	if (!m)
+		return pc_error(PC_EFORMAT, "%s:%d: %s", path, e.line, e.text);
+	int rc = 0;
+	uint64_t ver = 0, bits = 0, w = 0, h = 0, ox = 0, oy = 0, sw = 0, sh = 0;
+	if (!json_is_object(m))
+		rc = pc_error(PC_EFORMAT, "%s: expected a JSON object", path);
+	if (!rc)
+		rc = get_uint(path, m, "polarcam_recording", 1000, true, &ver);
+	if (!rc && ver != PC_RECORDING_VERSION)
+		rc = pc_error(PC_EFORMAT, "%s: polarcam_recording = %llu: this polarcam reads version %d",
+			      path, (unsigned long long)ver, PC_RECORDING_VERSION);
+	if (!rc)
+		rc = get_uint(path, m, "bits", 16, true, &bits);
+	if (!rc)
+		rc = get_uint(path, m, "width", 1u << 20, true, &w);
+	if (!rc)
+		rc = get_uint(path, m, "height", 1u << 20, true, &h);
+	if (!rc)
+		rc = get_uint(path, m, "offset_x", 1u << 20, false, &ox);
+	if (!rc)
+		rc = get_uint(path, m, "offset_y", 1u << 20, false, &oy);
+	if (!rc)
+		rc = get_uint(path, m, "sensor_width", 1u << 21, false, &sw);
+	if (!rc)
+		rc = get_uint(path, m, "sensor_height", 1u << 21, false, &sh);
+	if (!rc && (w == 0 || h == 0))
+		rc = pc_error(PC_EFORMAT, "%s: width/height must be > 0", path);
+	const char *fmt = json_string_value(json_object_get(m, "format"));
+	pc_pixfmt pf = fmt ? pc_format_from_name(fmt) : PC_FMT_INVALID;
+	if (!rc && (pf == PC_FMT_INVALID || pc_recording_storage_format(pf) != pf))
+		rc = pc_error(PC_EFORMAT, "%s: format '%s': expected Mono8, Mono10, Mono12, Mono14 or "
+					  "Mono16", path, fmt ? fmt : "(missing)");
+	if (!rc && pc_format_info_get(pf)->bits != bits)
+		rc = pc_error(PC_EFORMAT, "%s: bits = %llu does not match format %s", path,
+			      (unsigned long long)bits, fmt);
+	json_t *pol = json_object_get(m, "polarized");
+	if (!rc && pol && !json_is_boolean(pol))
+		rc = pc_error(PC_EFORMAT, "%s: field 'polarized': expected true or false", path);
+	json_t *mos = json_object_get(m, "mosaic");
+	pc_mosaic mosaic;
+	memset(&mosaic, 0, sizeof mosaic);
+	if (!rc && mos && !json_is_null(mos)) {
+		const char *t = json_string_value(mos);
+		if (!t)
+			rc = pc_error(PC_EFORMAT, "%s: field 'mosaic': expected a string such as "
+						  "\"90,45,135,0\"", path);
+		else if (!strncmp(t, "RGGB:", 5)) {
+			rc = pc_mosaic_parse(t + 5, &mosaic);
+			if (!rc) {
+				/* colour-polarization: the Bayer layer in 2x2 blocks; shifted like
+				 * pc_mosaic_imx250myr's (phase from the angle block) */
+				pc_mosaic c = pc_mosaic_imx250myr();
+				for (int y = 0; y < 4; y++)
+					for (int x = 0; x < 4; x++)
+						c.channel[y][x] = mosaic.channel[y & 1][x & 1];
+				mosaic = c;
+			}
+		} else
+			rc = pc_mosaic_parse(t, &mosaic);
+		if (rc)
+			rc = pc_error_prefix(PC_EFORMAT, "%s: field 'mosaic': ", path);
+	}
+	const char *src = json_string_value(json_object_get(m, "source"));
+	const char *dev = json_string_value(json_object_get(m, "device_format"));
+	if (!rc && ((src && !(r->source = strdup(src))) || (dev && !(r->device_format = strdup(dev)))))
+		rc = pc_error(PC_ENOMEM, "%s", path);
+	if (!rc)
+		rc = parse_frames(r, path, json_object_get(m, "frames"));
+	json_t *c = json_object_get(m, "complete");
+	if (!rc && c && !json_is_boolean(c))
+		rc = pc_error(PC_EFORMAT, "%s: field 'complete': expected true or false", path);
+	if (!rc) {
+		r->complete = c ? json_is_true(c) : true;
+		const char *err = json_string_value(json_object_get(m, "error"));
+		if (err)
+			r->error = strdup(err);
+		r->storage = pf;
+		r->desc.format = pf;
+		r->desc.source = r->source;
+		r->desc.device_format = r->device_format;
+		r->desc.width = (uint32_t)w;
+		r->desc.height = (uint32_t)h;
+		r->desc.offset_x = (uint32_t)ox;
+		r->desc.offset_y = (uint32_t)oy;
+		r->desc.sensor_width = sw ? (uint32_t)sw : (uint32_t)(w + ox);
+		r->desc.sensor_height = sh ? (uint32_t)sh : (uint32_t)(h + oy);
+		r->desc.polarized = pol ? json_is_true(pol) : mosaic.period != 0;
+		r->desc.mosaic = mosaic;
+		r->stats = json_incref(json_object_get(m, "stats"));
+		r->extra = json_incref(json_object_get(m, "extra"));
+	}
+	json_decref(m);
+	return rc;
+}
+
+/* A directory of raw_NNNNNN.png without meta.json. */
+static int open_bare(pc_recording *r, const char *dir)
+{
+	size_t n = 0;
+	for (;; n++) {
+		char name[32];
+		snprintf(name, sizeof name, "raw_%06zu.png", n);
+		if (n > 999999 || !file_exists(dir, name))
+			break;
+	}
+	if (n == 0)
+		return pc_error(PC_ENOENT, "%s: no meta.json and no raw_000000.png: not a recording",
+				dir);
+	char *p = path_join(dir, "raw_000000.png");
+	if (!p)
+		return pc_error(PC_ENOMEM, "%s", dir);
+	pc_view v;
+	unsigned bits = 0;
+	int rc = pc_image_read(p, NULL, &v, &bits);
+	free(p);
+	if (rc)
+		return rc;
+	uint32_t w = v.width, h = v.height;
+	pc_pixfmt vf = v.format;
+	pc_view_free(&v);
+	if (vf == PC_FMT_FLOAT32 || bits < 1 || bits > 16)
+		return pc_error(PC_EFORMAT, "%s/raw_000000.png: expected 8- or 16-bit grey", dir);
+	static const pc_pixfmt by_bits[17] = {
+		PC_FMT_INVALID, PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO8,
+		PC_FMT_MONO8,   PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO10,
+		PC_FMT_MONO10,  PC_FMT_MONO12, PC_FMT_MONO12, PC_FMT_MONO14, PC_FMT_MONO14,
+		PC_FMT_MONO16,  PC_FMT_MONO16,
+	};
+	pc_pixfmt pf = vf == PC_FMT_MONO8 ? PC_FMT_MONO8 : by_bits[bits];
+	r->frames = calloc(n, sizeof *r->frames);
+	if (!r->frames)
+		return pc_error(PC_ENOMEM, "%s", dir);
+	for (size_t i = 0; i < n; i++) {
+		snprintf(r->frames[i].file, sizeof r->frames[i].file, "raw_%06zu.png", i);
+		r->frames[i].sequence = i;
+	}
+	r->n = r->cap = n;
+	r->storage = pf;
+	r->desc.format = pf;
+	r->desc.width = r->desc.sensor_width = w;
+	r->desc.height = r->desc.sensor_height = h;
+	r->desc.polarized = true;
+	r->desc.mosaic = pc_mosaic_imx250mzr();
+	r->complete = true;
+	return 0;
+}
+
+int pc_recording_open(pc_recording **out, const char *dir)
+{
+	if (!out || !dir || !*dir)
+		return pc_error(PC_EINVAL, "recording: missing directory");
+	*out = NULL;
+	struct stat st;
+	if (stat(dir, &st) != 0)
+		return pc_error(PC_ENOENT, "%s: %s", dir, strerror(errno));
+	if (!S_ISDIR(st.st_mode))
+		return pc_error(PC_EINVAL, "%s: not a directory (a recording is a directory of "
+					   "raw_NNNNNN.png and meta.json)", dir);
+	pc_recording *r = calloc(1, sizeof *r);
+	if (!r || !(r->dir = strdup(dir))) {
+		free(r);
+		return pc_error(PC_ENOMEM, "recording");
+	}
+	char *meta = path_join(dir, "meta.json");
+	int rc;
+	if (!meta)
+		rc = pc_error(PC_ENOMEM, "recording");
+	else if (stat(meta, &st) == 0)
+		rc = open_meta(r, meta);
+	else
+		rc = open_bare(r, dir);
+	free(meta);
+	if (rc) {
+		pc_recording_free(r);
+		return rc;
+	}
+	*out = r;
+	return 0;
+}
+
+int pc_recording_read(const pc_recording *r, size_t i, pc_view *out)
+{
+	if (!r || !out)
+		return pc_error(PC_EINVAL, "recording: missing argument");
+	memset(out, 0, sizeof *out);
+	if (i >= r->n)
+		return pc_error(PC_ERANGE, "%s: frame %zu: the recording has %zu frames", r->dir, i, r->n);
+	char *p = path_join(r->dir, r->frames[i].file);
+	if (!p)
+		return pc_error(PC_ENOMEM, "recording");
+	unsigned bits = 0;
+	pc_view v;
+	int rc = pc_image_read(p, NULL, &v, &bits);
+	if (rc) {
+		free(p);
+		return rc;
+	}
+	const pc_format_info *fi = pc_format_info_get(r->storage);
+	bool is8 = v.format == PC_FMT_MONO8;
+	if (v.width != r->desc.width || v.height != r->desc.height || (fi->bits <= 8) != is8 ||
+	    v.format == PC_FMT_FLOAT32 || (!is8 && bits != fi->bits && bits != 16)) {
+		rc = pc_error(PC_EFORMAT, "%s: %ux%u with %u significant bits, meta.json says %ux%u %s",
+			      p, v.width, v.height, bits, r->desc.width, r->desc.height, fi->name);
+		pc_view_free(&v);
+		free(p);
+		return rc;
+	}
+	if (!is8 && fi->bits < 16) {
+		uint16_t maxv = (uint16_t)((1u << fi->bits) - 1);
+		for (uint32_t y = 0; y < v.height && !rc; y++) {
+			const uint16_t *row = PC_ROW(&v, const uint16_t, y);
+			for (uint32_t x = 0; x < v.width; x++)
+				if (row[x] > maxv) {
+					rc = pc_error(PC_EFORMAT, "%s: pixel (%u,%u) = %u exceeds the %u-bit "
+								  "range of the recording", p, x, y,
+						      row[x], fi->bits);
+					break;
+				}
+		}
+	}
+	free(p);
+	if (rc) {
+		pc_view_free(&v);
+		return rc;
+	}
+	v.format = r->storage;
+	*out = v;
+	return 0;
+}
