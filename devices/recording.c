@@ -477,18 +477,7 @@ static int open_meta(pc_recording *r, const char *path)
 		if (!t)
 			rc = pc_error(PC_EFORMAT, "%s: field 'mosaic': expected a string such as "
 						  "\"90,45,135,0\"", path);
-		else if (!strncmp(t, "RGGB:", 5)) {
-			rc = pc_mosaic_parse(t + 5, &mosaic);
-			if (!rc) {
-				/* colour-polarization: the Bayer layer in 2x2 blocks; shifted like
-				 * pc_mosaic_imx250myr's (phase from the angle block) */
-				pc_mosaic c = pc_mosaic_imx250myr();
-				for (int y = 0; y < 4; y++)
-					for (int x = 0; x < 4; x++)
-						c.channel[y][x] = mosaic.channel[y & 1][x & 1];
-				mosaic = c;
-			}
-		} else
+		else
 			rc = pc_mosaic_parse(t, &mosaic);
 		if (rc)
 			rc = pc_error_prefix(PC_EFORMAT, "%s: field 'mosaic': ", path);
