@@ -102,6 +102,14 @@ int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits);
 /* Reads an uncompressed grey BMP (8-bit grey palette, or 24/32-bit with R = G = B) as Mono8. */
 int pc_bmp_read(const char *path, pc_view *out);
 
+/* Writes the standard pictures of a Stokes image into dir, each with a title (prefixed by
+ * title_prefix, may be NULL) and a colour bar: s0.png (grey, 0 to the 99.9th percentile),
+ * dolp.png (grey, 0..1), aolp.png (hue = AoLP, value = DoLP) and aolp_sat.png (hue = AoLP,
+ * saturation = DoLP). st needs s0, dolp and aolp. Files are written atomically. */
+struct pc_stokes_out;
+int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
+		      uint32_t height, const char *title_prefix);
+
 /* Creates a directory (and parents) if missing. */
 int pc_mkdir_p(const char *path);
 

@@ -1,0 +1,370 @@
+/* The fast float paths of the demosaicking ladder. Each method streams the raw once in row
+ * bands (pc_parallel_rows): input rows are converted to padded float rows (mirrored one pixel
+ * beyond each end) in a small ring, and the row kernels of demosaic_kern.inc write the outputs
+ * directly (8-wide GCC vector code; on x86-64 with AVX2 a second instance uses 256-bit
+ * instructions and non-temporal stores for aligned planes, chosen at run time). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "demosaic_internal.h"
+#include "polarcam/error.h"
+#include "polarcam/parallel.h"
+#include "polarcam/stokes.h"
+#include "stokes_internal.h"
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PC_HAVE_X86_DISPATCH 1
+#include <immintrin.h>
+#endif
+
+/* 32-byte vectors travel between static inline helpers only, never across an ABI boundary, so
+ * GCC's note that their calling convention differs without -mavx does not apply. */
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+typedef float v8f __attribute__((vector_size(32)));
+typedef int32_t v8i __attribute__((vector_size(32)));
+
+static inline v8f vsplat(float f)
+{
+	return (v8f){ f, f, f, f, f, f, f, f };
+}
+
+static inline v8f vld(const float *p)
+{
+	v8f v;
+	memcpy(&v, p, sizeof v);
+	return v;
+}
+
+static inline v8f vsel(v8i m, v8f a, v8f b)
+{
+	return (v8f)(((v8i)a & m) | ((v8i)b & ~m));
+}
+
+static inline v8f vabs(v8f a)
+{
+	return (v8f)((v8i)a & (v8i){ 0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff,
+				     0x7fffffff, 0x7fffffff, 0x7fffffff });
+}
+
+/* Even lanes from a, odd lanes from b (lane parity = column parity: x is a multiple of 8). */
+static inline v8f vblend_odd(v8f a, v8f b)
+{
+	return __builtin_shuffle(a, b, (v8i){ 0, 9, 2, 11, 4, 13, 6, 15 });
+}
+
+static inline v8f vsqrt_lanes(v8f v)
+{
+	v8f r;
+	for (int i = 0; i < 8; i++)
+		r[i] = sqrtf(v[i]);
+	return r;
+}
+
+static inline void vst(float *p, v8f v)
+{
+	memcpy(p, &v, sizeof v);
+}
+
+/* Baseline instance. */
+#define KFN(name) name##_base
+#define KATTR
+#define KSTORE(p, v, nt) ((void)(nt), vst((p), (v)))
+#define KSQRT(v) vsqrt_lanes(v)
+#include "demosaic_kern.inc"
+#undef KFN
+#undef KATTR
+#undef KSTORE
+#undef KSQRT
+
+#ifdef PC_HAVE_X86_DISPATCH
+/* AVX2 instance: the same source, 256-bit instructions, streaming stores. */
+#define KFN(name) name##_avx2
+#define KATTR __attribute__((target("avx2,fma")))
+#define KSTORE(p, v, nt)                                                                   \
+	do {                                                                               \
+		if (nt)                                                                    \
+			_mm256_stream_ps((p), (__m256)(v));                                \
+		else                                                                       \
+			vst((p), (v));                                                     \
+	} while (0)
+#define KSQRT(v) ((v8f)_mm256_sqrt_ps((__m256)(v)))
+#include "demosaic_kern.inc"
+#undef KFN
+#undef KATTR
+#undef KSTORE
+#undef KSQRT
+
+static int use_avx2(void)
+{
+	static int cached = -1;
+	if (cached < 0) {
+		const char *e = getenv("POLARCAM_NO_AVX2");
+		__builtin_cpu_init();
+		cached = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+			 !(e && *e && *e != '0');
+	}
+	return cached;
+}
+#endif
+
+/* Non-temporal stores only pay for outputs much larger than the caches; they need 32-byte
+ * aligned row starts. */
+#define PC_NT_MIN_BYTES ((size_t)32 << 20)
+
+static int planes_aligned(const pc_fplane *p, unsigned n)
+{
+	for (unsigned c = 0; c < n; c++)
+		if (!p[c].data || ((uintptr_t)p[c].data & 31) || ((p[c].row_stride * 4) & 31) ||
+		    p[c].pixel_stride != 1)
+			return 0;
+	return 1;
+}
+
+/* ---- row ring: padded float rows y-1, y, y+1 ---- */
+typedef struct ring {
+	float *buf;
+	size_t pitch; /* floats per padded row */
+	float *row[3];
+	int32_t have[3]; /* which mirrored source row each slot holds */
+} ring;
+
+static int ring_init(ring *r, uint32_t w)
+{
+	r->pitch = ((size_t)w + 2 + 15) / 16 * 16;
+	r->buf = pc_dm_alloc(3 * r->pitch * sizeof(float));
+	if (!r->buf)
+		return -1;
+	for (int i = 0; i < 3; i++) {
+		r->row[i] = r->buf + i * r->pitch + 1;
+		r->have[i] = -1;
+	}
+	return 0;
+}
+
+/* The padded row for source row y (mirrored), converting it if not already in the ring. */
+static const float *ring_get(ring *r, const pc_dm_input *in, int y)
+{
+	int sy = pc_mirror(y, (int)in->height);
+	for (int i = 0; i < 3; i++)
+		if (r->have[i] == sy)
+			return r->row[i];
+	/* evict the slot holding the smallest row (bands walk downwards) */
+	int k = 0;
+	for (int i = 1; i < 3; i++)
+		if (r->have[i] < r->have[k])
+			k = i;
+	pc_dm_row_to_float(in, (uint32_t)sy, r->row[k]);
+	r->have[k] = sy;
+	return r->row[k];
+}
+
+/* ---- bilinear ---- */
+typedef struct bil_job {
+	const pc_dm_input *in;
+	const pc_mosaic *m;
+	const pc_fplane *out;
+	int planar, nt, err;
+} bil_job;
+
+static void bilinear_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	bil_job *j = ctx;
+	uint32_t w = j->in->width;
+	ring rg;
+	float *tmp = NULL;
+	if (ring_init(&rg, w) || (!j->planar && !(tmp = pc_dm_alloc(4 * (size_t)w * 4)))) {
+		pc_dm_free(rg.buf);
+		j->err = 1;
+		return;
+	}
+	for (uint32_t y = y0; y < y1; y++) {
+		const float *a = ring_get(&rg, j->in, (int)y - 1);
+		const float *b = ring_get(&rg, j->in, (int)y);
+		const float *c = ring_get(&rg, j->in, (int)y + 1);
+		unsigned slot[4] = { pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
+				     pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1) };
+		float *o[4];
+		for (int k = 0; k < 4; k++)
+			o[k] = j->planar ? j->out[slot[k]].data + (size_t)y * j->out[slot[k]].row_stride
+					 : tmp + (size_t)k * w;
+#ifdef PC_HAVE_X86_DISPATCH
+		if (use_avx2())
+			bilinear_row_avx2(a, b, c, w, o, j->nt);
+		else
+#endif
+			bilinear_row_base(a, b, c, w, o, 0);
+		if (!j->planar)
+			for (int k = 0; k < 4; k++) {
+				const pc_fplane *p = &j->out[slot[k]];
+				float *d = p->data + (size_t)y * p->row_stride;
+				for (uint32_t x = 0; x < w; x++)
+					d[(size_t)x * p->pixel_stride] = o[k][x];
+			}
+	}
+#ifdef PC_HAVE_X86_DISPATCH
+	if (j->nt)
+		_mm_sfence();
+#endif
+	pc_dm_free(tmp);
+	pc_dm_free(rg.buf);
+}
+
+static int fast_bilinear(const pc_dm_input *in, const pc_mosaic *m, int threads,
+			 const pc_fplane *out)
+{
+	bil_job j = { in, m, out, 1, 0, 0 };
+	for (int c = 0; c < 4; c++)
+		if (out[c].pixel_stride != 1)
+			j.planar = 0;
+	j.nt = j.planar && planes_aligned(out, 4) &&
+	       (size_t)in->width * in->height * 16 >= PC_NT_MIN_BYTES;
+	pc_parallel_rows(in->height, 0, threads, bilinear_band, &j);
+	return j.err ? pc_error(PC_ENOMEM, "bilinear: row buffers") : 0;
+}
+
+/* ---- super-pixel ---- */
+typedef struct sp_job {
+	const pc_dm_input *in;
+	const pc_mosaic *m;
+	const pc_fplane *out;
+	int half, err;
+} sp_job;
+
+static void superpixel_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	sp_job *j = ctx;
+	uint32_t w = j->in->width;
+	float *r = pc_dm_alloc(2 * ((size_t)w + 2) * sizeof(float));
+	if (!r) {
+		j->err = 1;
+		return;
+	}
+	float *r0 = r + 1, *r1 = r + w + 3;
+	/* bands start on even rows (pc_parallel_rows bands are multiples of 8 rows) */
+	for (uint32_t by = y0 & ~1u; by < y1; by += 2) {
+		pc_dm_row_to_float(j->in, by, r0);
+		pc_dm_row_to_float(j->in, by + 1, r1);
+		const float *rows[2] = { r0, r1 };
+		for (unsigned c = 0; c < 4; c++) {
+			unsigned dx, dy;
+			pc_mosaic_channel_pos(j->m, c, &dx, &dy);
+			const float *src = rows[dy] + dx;
+			const pc_fplane *p = &j->out[c];
+			if (j->half) {
+				float *d = p->data + (size_t)(by / 2) * p->row_stride;
+				for (uint32_t x = 0; x < w / 2; x++)
+					d[(size_t)x * p->pixel_stride] = src[2 * x];
+			} else {
+				for (uint32_t k = 0; k < 2; k++) {
+					float *d = p->data + (size_t)(by + k) * p->row_stride;
+					for (uint32_t x = 0; x < w; x++)
+						d[(size_t)x * p->pixel_stride] = src[x & ~1u];
+				}
+			}
+		}
+	}
+	pc_dm_free(r);
+}
+
+static int fast_superpixel(const pc_dm_input *in, const pc_mosaic *m, int half, int threads,
+			   const pc_fplane *out)
+{
+	sp_job j = { in, m, out, half, 0 };
+	pc_parallel_rows(in->height, 8, threads, superpixel_band, &j);
+	return j.err ? pc_error(PC_ENOMEM, "superpixel: row buffers") : 0;
+}
+
+int pc_demosaic_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
+		     double full_scale, int threads, const pc_fplane *out)
+{
+	(void)full_scale;
+	if (m->period == 4)
+		return PC_ENOTSUP;
+	switch (method) {
+	case PC_DM_BILINEAR:
+		return fast_bilinear(in, m, threads, out);
+	case PC_DM_SUPERPIXEL:
+		return fast_superpixel(in, m, 0, threads, out);
+	case PC_DM_SUPERPIXEL_HALF:
+		return fast_superpixel(in, m, 1, threads, out);
+	default:
+		return PC_ENOTSUP;
+	}
+}
+
+/* ---- fused bilinear + Stokes ---- */
+typedef struct st_job {
+	const pc_dm_input *in;
+	const pc_mosaic *m;
+	const pc_stokes_out *out;
+	int planar, nt, err;
+} st_job;
+
+static void stokes_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	st_job *j = ctx;
+	uint32_t w = j->in->width;
+	ring rg;
+	float *tmp = NULL;
+	if (ring_init(&rg, w) || (!j->planar && !(tmp = pc_dm_alloc(5 * (size_t)w * 4)))) {
+		pc_dm_free(rg.buf);
+		j->err = 1;
+		return;
+	}
+	const pc_fplane *planes[5] = { &j->out->s0, &j->out->s1, &j->out->s2, &j->out->dolp,
+				       &j->out->aolp };
+	for (uint32_t y = y0; y < y1; y++) {
+		const float *a = ring_get(&rg, j->in, (int)y - 1);
+		const float *b = ring_get(&rg, j->in, (int)y);
+		const float *c = ring_get(&rg, j->in, (int)y + 1);
+		unsigned ch[4] = { pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
+				   pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1) };
+		float *o[5];
+		for (int k = 0; k < 5; k++)
+			o[k] = !planes[k]->data ? NULL
+			       : j->planar	? planes[k]->data + (size_t)y * planes[k]->row_stride
+						: tmp + (size_t)k * w;
+#ifdef PC_HAVE_X86_DISPATCH
+		if (use_avx2())
+			stokes_row_avx2(a, b, c, w, ch, o, j->nt);
+		else
+#endif
+			stokes_row_base(a, b, c, w, ch, o, 0);
+		if (!j->planar)
+			for (int k = 0; k < 5; k++) {
+				if (!o[k])
+					continue;
+				float *d = planes[k]->data + (size_t)y * planes[k]->row_stride;
+				for (uint32_t x = 0; x < w; x++)
+					d[(size_t)x * planes[k]->pixel_stride] = o[k][x];
+			}
+	}
+#ifdef PC_HAVE_X86_DISPATCH
+	if (j->nt)
+		_mm_sfence();
+#endif
+	pc_dm_free(tmp);
+	pc_dm_free(rg.buf);
+}
+
+int pc_stokes_bilinear_fused(const pc_dm_input *in, const pc_mosaic *m, int threads,
+			     const pc_stokes_out *out)
+{
+	st_job j = { in, m, out, 1, 0, 0 };
+	const pc_fplane *planes[5] = { &out->s0, &out->s1, &out->s2, &out->dolp, &out->aolp };
+	int aligned = 1, n = 0;
+	for (int k = 0; k < 5; k++) {
+		if (!planes[k]->data)
+			continue;
+		n++;
+		if (planes[k]->pixel_stride != 1)
+			j.planar = 0;
+		if (!planes_aligned(planes[k], 1))
+			aligned = 0;
+	}
+	j.nt = j.planar && aligned && (size_t)in->width * in->height * 4 * n >= PC_NT_MIN_BYTES;
+	pc_parallel_rows(in->height, 0, threads, stokes_band, &j);
+	return j.err ? pc_error(PC_ENOMEM, "stokes: row buffers") : 0;
+}

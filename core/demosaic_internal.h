@@ -1,0 +1,78 @@
+/* Internal to core/demosaic*.c and core/stokes.c: shared helpers of the demosaicking ladder.
+ * Not a public header. */
+#ifndef POLARCAM_DEMOSAIC_INTERNAL_H
+#define POLARCAM_DEMOSAIC_INTERNAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "polarcam/demosaic.h"
+#include "polarcam/frame.h"
+#include "polarcam/mosaic.h"
+
+/* Whole-sample mirror (reflect-101) of index i into [0, n): -1 -> 1, n -> n-2, periodic with
+ * period 2n-2 for far-out indices. Keeps the parity of i (n >= 2), hence the 2×2 analyser. */
+static inline int pc_mirror(int i, int n)
+{
+	if (i >= 0 && i < n)
+		return i;
+	if (n == 1)
+		return 0;
+	int p = 2 * n - 2;
+	i %= p;
+	if (i < 0)
+		i += p;
+	return i < n ? i : p - i;
+}
+
+/* The input of a fast kernel: a plane of 8-bit, 16-bit or float samples. */
+typedef enum pc_dm_type { PC_DMT_U8, PC_DMT_U16, PC_DMT_F32 } pc_dm_type;
+
+typedef struct pc_dm_input {
+	const uint8_t *data;
+	size_t stride; /* bytes */
+	pc_dm_type type;
+	uint32_t width, height;
+} pc_dm_input;
+
+/* Prepares a raw view for the fast kernels (demosaic.c): integer and float planes are used in
+ * place (float checked for NaN/inf); packed formats are unpacked into *owned (free with
+ * pc_dm_free). */
+int pc_dm_prepare_input(const pc_view *raw, pc_dm_input *in, void **owned);
+
+/* Converts row y of the input to floats at dst[0..w) and mirrors one pixel on each side:
+ * dst[-1] = row[1], dst[w] = row[w-2] (dst must have room for both). */
+void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst);
+
+/* The double-precision reference (the specification): img is the raw in double, C order,
+ * width × height; full_scale as in pc_demosaic_opts (resolved, > 0). */
+int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+		    pc_demosaic_method method, double full_scale, const pc_fplane *out);
+
+/* The fast float paths. Return PC_ENOTSUP when the method has none (the caller falls back to
+ * the float-converted reference). */
+int pc_demosaic_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
+		     double full_scale, int threads, const pc_fplane *out);
+
+/* Fused bilinear + Stokes/DoLP/AoLP (monochrome mosaics), in demosaic_fast.c. */
+struct pc_stokes_out;
+int pc_stokes_bilinear_fused(const pc_dm_input *in, const pc_mosaic *m, int threads,
+			     const struct pc_stokes_out *out);
+
+/* Analyser channel at row parity py (0/1) and column parity px of a monochrome mosaic. */
+static inline unsigned pc_dm_ch(const pc_mosaic *m, unsigned px, unsigned py)
+{
+	return m->channel[py & 1][px & 1];
+}
+
+/* Residual interpolation parameters (tuned on synthetic scenes and the Zhang buildings, see
+ * docs/demosaicking.md): guided-filter window radius in pixels and the regulariser's square
+ * root as a fraction of full scale. */
+#define PC_RI_RADIUS 2
+#define PC_RI_EPS 0.01
+
+/* Scratch memory helpers (64-byte aligned; NULL on failure). */
+void *pc_dm_alloc(size_t bytes);
+void pc_dm_free(void *p);
+
+#endif

@@ -1,0 +1,385 @@
+/* The demosaicking ladder's scalar references, in double precision: the specification every
+ * fast kernel is tested against. Written for clarity, not speed: per pixel, per channel, with
+ * explicit neighbourhoods and mirrored indices.
+ *
+ * Monochrome mosaic, e.g. Sony IMX250MZR (channel c at (x mod 2, y mod 2)):
+ *
+ *        x-1   x   x+1
+ *   y-1   D    V    D        same (S): the pixel itself
+ *   y     H    S    H        H: horizontal pair, V: vertical pair, D: the four diagonals
+ *   y+1   D    V    D
+ *
+ * Each of the four analysers sits at exactly one of S, H, V, D around any pixel, so a 3×3
+ * window interpolates every channel. Borders: whole-sample mirror (pc_mirror), which keeps the
+ * parity of every index and so the analyser at every mirrored position.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "demosaic_internal.h"
+#include "polarcam/error.h"
+
+typedef struct rimg {
+	double *p;
+	int w, h;
+} rimg;
+
+static int rimg_new(rimg *r, int w, int h)
+{
+	r->w = w;
+	r->h = h;
+	r->p = calloc((size_t)w * h, sizeof(double));
+	return r->p ? 0 : pc_error(PC_ENOMEM, "reference: %dx%d image", w, h);
+}
+
+static void rimg_free(rimg *r)
+{
+	free(r->p);
+	r->p = NULL;
+}
+
+/* Value at (x, y) with whole-sample mirroring. */
+static double at(const rimg *r, int x, int y)
+{
+	return r->p[(size_t)pc_mirror(y, r->h) * r->w + pc_mirror(x, r->w)];
+}
+
+static double *px(rimg *r, int x, int y)
+{
+	return &r->p[(size_t)y * r->w + x];
+}
+
+static void put(const pc_fplane *o, int x, int y, double v)
+{
+	o->data[(size_t)y * o->row_stride + (size_t)x * o->pixel_stride] = (float)v;
+}
+
+static unsigned chan(const pc_mosaic *m, int x, int y)
+{
+	return m->channel[y & 1][x & 1]; /* & keeps the parity of negative indices too */
+}
+
+/* Normalised tent (bilinear) interpolation of the samples of channel c of v at (x, y): the
+ * weights (2-|dx|)(2-|dy|) over the channel's pixels in the 3×3 window, divided by their sum
+ * (4 at the pixel itself; 2+2 for a horizontal or vertical pair; 1+1+1+1 for diagonals). */
+static double tent(const rimg *v, const pc_mosaic *m, unsigned c, int x, int y)
+{
+	double s = 0, ws = 0;
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++)
+			if (chan(m, x + dx, y + dy) == c) {
+				double w = (2 - abs(dx)) * (2 - abs(dy));
+				s += w * at(v, x + dx, y + dy);
+				ws += w;
+			}
+	return s / ws;
+}
+
+static void ref_bilinear(const rimg *r, const pc_mosaic *m, const pc_fplane *out)
+{
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++)
+			for (unsigned c = 0; c < 4; c++)
+				put(&out[c], x, y, tent(r, m, c, x, y));
+}
+
+/* The 2×2 block at even coordinates holds each analyser once. */
+static double block_value(const rimg *r, const pc_mosaic *m, unsigned c, int bx, int by)
+{
+	for (int dy = 0; dy < 2; dy++)
+		for (int dx = 0; dx < 2; dx++)
+			if (chan(m, bx + dx, by + dy) == c)
+				return at(r, bx + dx, by + dy);
+	return 0; /* unreachable for a checked mosaic */
+}
+
+static void ref_superpixel(const rimg *r, const pc_mosaic *m, int half, const pc_fplane *out)
+{
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++) {
+			if (half && ((x | y) & 1))
+				continue;
+			for (unsigned c = 0; c < 4; c++) {
+				double v = block_value(r, m, c, x & ~1, y & ~1);
+				if (half)
+					put(&out[c], x / 2, y / 2, v);
+				else
+					put(&out[c], x, y, v);
+			}
+		}
+}
+
+/* Keys' cubic convolution kernel with a = -1/2 (R. Keys, IEEE TASSP 29(6) 1981, eq. 15). */
+static double keys(double t)
+{
+	const double a = -0.5;
+	t = fabs(t);
+	if (t <= 1)
+		return (a + 2) * t * t * t - (a + 3) * t * t + 1;
+	if (t < 2)
+		return a * t * t * t - 5 * a * t * t + 8 * a * t - 4 * a;
+	return 0;
+}
+
+/* Channel c's samples lie on a lattice of spacing 2; the kernel is evaluated in lattice units,
+ * so offsets of 1 and 3 pixels weigh keys(0.5) = 9/16 and keys(1.5) = -1/16. */
+static void ref_bicubic(const rimg *r, const pc_mosaic *m, const pc_fplane *out)
+{
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++)
+			for (unsigned c = 0; c < 4; c++) {
+				double s = 0;
+				for (int dy = -3; dy <= 3; dy++)
+					for (int dx = -3; dx <= 3; dx++)
+						if (chan(m, x + dx, y + dy) == c)
+							s += keys(dx / 2.0) * keys(dy / 2.0) *
+							     at(r, x + dx, y + dy);
+				put(&out[c], x, y, s);
+			}
+}
+
+/* ---- inter-channel methods ---- */
+
+/* PPID step 1 (Mihoubi et al. 2017, eq. 24 adapted to the 2×2 PFA): the pseudo-panchromatic
+ * image as the raw filtered by M = [1 2 1; 2 4 2; 1 2 1]/16, which weighs each analyser by 1/4. */
+static void ppi_coarse(const rimg *r, rimg *p0)
+{
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++) {
+			double s = 0;
+			for (int dy = -1; dy <= 1; dy++)
+				for (int dx = -1; dx <= 1; dx++)
+					s += (2 - abs(dx)) * (2 - abs(dy)) * at(r, x + dx, y + dy);
+			*px(p0, x, y) = s / 16;
+		}
+}
+
+/* PPID step 2 (ibid. eqs. 25-28, adapted): at p, the difference "PPI minus raw" is smooth
+ * within a channel, so it is taken from the eight same-channel neighbours q = p + 2d and
+ * averaged with edge-aware weights γ_d = 1 / (ε + G_d), where
+ *   G_d = |raw(p + 2d) − raw(p)| + |raw(p + d) − raw(p − d)|
+ * sums two same-channel differences along direction d and ε = full_scale / 255:
+ *   PPI(p) = raw(p) + Σ_d γ_d (PPI0(q_d) − raw(q_d)) / Σ_d γ_d. */
+static void ppi_refine(const rimg *r, const rimg *p0, double eps, rimg *p)
+{
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++) {
+			double num = 0, den = 0, c = at(r, x, y);
+			for (int dy = -1; dy <= 1; dy++)
+				for (int dx = -1; dx <= 1; dx++) {
+					if (!dx && !dy)
+						continue;
+					double g = fabs(at(r, x + 2 * dx, y + 2 * dy) - c) +
+						   fabs(at(r, x + dx, y + dy) - at(r, x - dx, y - dy));
+					double gam = 1.0 / (eps + g);
+					num += gam * (at(p0, x + 2 * dx, y + 2 * dy) -
+						      at(r, x + 2 * dx, y + 2 * dy));
+					den += gam;
+				}
+			*px(p, x, y) = c + num / den;
+		}
+}
+
+/* PPID step 3 (ibid. eqs. 30-31, 34): I_c = PPI + tent-interpolated (raw − PPI) of channel c. */
+static int ref_ppid(const rimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
+{
+	rimg p0 = { 0 }, p = { 0 }, d = { 0 };
+	int rc = rimg_new(&p0, r->w, r->h);
+	if (!rc)
+		rc = rimg_new(&p, r->w, r->h);
+	if (!rc)
+		rc = rimg_new(&d, r->w, r->h);
+	if (rc) {
+		rimg_free(&p0);
+		rimg_free(&p);
+		return rc;
+	}
+	ppi_coarse(r, &p0);
+	ppi_refine(r, &p0, fs / 255.0, &p);
+	for (size_t i = 0; i < (size_t)r->w * r->h; i++)
+		d.p[i] = r->p[i] - p.p[i];
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++)
+			for (unsigned c = 0; c < 4; c++)
+				put(&out[c], x, y, *px(&p, x, y) + tent(&d, m, c, x, y));
+	rimg_free(&p0);
+	rimg_free(&p);
+	rimg_free(&d);
+	return 0;
+}
+
+/* Edge-aware intensity guide for EARI. S0 = I_c + I_c⊥ for orthogonal analysers (0°/90°,
+ * 45°/135°), and every pixel of a 2×2 mosaic has the orthogonal channel at one neighbour set
+ * and the other orthogonal pair split over the remaining two sets (H, V, D of the ASCII
+ * figure above). Estimates of S0 at p:
+ *   e1 = raw(p) + mean(orthogonal neighbours along one axis of that set), per axis;
+ *   e2 = mean(the pair's one set) + mean(the pair's other set) (a centred estimate).
+ * Each axis estimate is weighted by 1/(ε + g)² with g its local gradient
+ *   g = |raw(p+o) − raw(p−o)| + |raw(p+2o) − raw(p)| + |raw(p−2o) − raw(p)|,
+ * so that the estimate along an edge wins over the one across it; e2 takes the weight of the
+ * mean gradient. The guide is S0/2 (the mean analyser intensity, comparable to each I_c). */
+static void eari_guide(const rimg *r, const pc_mosaic *m, double eps, rimg *g)
+{
+	/* neighbour sets: H = ±(1,0), V = ±(0,1), D = ±(1,1) and ±(1,-1) */
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++) {
+			unsigned cp = chan(m, x, y) ^ 2u;
+			double c0 = at(r, x, y);
+			double mh = 0.5 * (at(r, x - 1, y) + at(r, x + 1, y));
+			double mv = 0.5 * (at(r, x, y - 1) + at(r, x, y + 1));
+			double md = 0.25 * (at(r, x - 1, y - 1) + at(r, x + 1, y + 1) +
+					    at(r, x + 1, y - 1) + at(r, x - 1, y + 1));
+			/* gradients along the four axes */
+			double gax[4];
+			static const int ax[4][2] = { { 1, 0 }, { 0, 1 }, { 1, 1 }, { 1, -1 } };
+			for (int k = 0; k < 4; k++) {
+				int ox = ax[k][0], oy = ax[k][1];
+				gax[k] = fabs(at(r, x + ox, y + oy) - at(r, x - ox, y - oy)) +
+					 fabs(at(r, x + 2 * ox, y + 2 * oy) - c0) +
+					 fabs(at(r, x - 2 * ox, y - 2 * oy) - c0);
+			}
+			double num = 0, den = 0, gmean = 0.25 * (gax[0] + gax[1] + gax[2] + gax[3]);
+			double other;
+			if (chan(m, x + 1, y + 1) == cp) { /* orthogonal analyser on the diagonals */
+				for (int k = 2; k < 4; k++) {
+					int ox = ax[k][0], oy = ax[k][1];
+					double e = c0 + 0.5 * (at(r, x + ox, y + oy) + at(r, x - ox, y - oy));
+					double wgt = 1.0 / ((eps + gax[k]) * (eps + gax[k]));
+					num += wgt * e;
+					den += wgt;
+				}
+				other = mh + mv;
+			} else if (chan(m, x + 1, y) == cp) { /* ... on the horizontal pair */
+				double wgt = 1.0 / ((eps + gax[0]) * (eps + gax[0]));
+				num += wgt * (c0 + mh);
+				den += wgt;
+				other = mv + md;
+			} else { /* ... on the vertical pair */
+				double wgt = 1.0 / ((eps + gax[1]) * (eps + gax[1]));
+				num += wgt * (c0 + mv);
+				den += wgt;
+				other = mh + md;
+			}
+			double wo = 1.0 / ((eps + gmean) * (eps + gmean));
+			num += wo * other;
+			den += wo;
+			*px(g, x, y) = 0.5 * num / den;
+		}
+}
+
+/* Guided filter of He, Sun, Tang (ECCV 2010 / TPAMI 2013, eqs. 7-8) restricted to the samples
+ * of channel c (Kiku et al. 2013's residual interpolation): in every (2r+1)² window ω_k, the
+ * least-squares fit I_c ≈ a_k·G + b_k over the channel's samples, regularised by eps2:
+ *   a_k = cov_k(G, I) / (var_k(G) + eps2),  b_k = mean_k(I) − a_k·mean_k(G);
+ * then the tentative image T = mean_ω(a)·G + mean_ω(b). The residual raw − T at the samples is
+ * tent-interpolated and added back: I_c = T + tent(raw − T). */
+static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsigned c, int rad,
+			  double eps2, rimg *a, rimg *b, rimg *t, const pc_fplane *out)
+{
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++) {
+			double n = 0, sg = 0, si = 0, sgg = 0, sgi = 0;
+			for (int dy = -rad; dy <= rad; dy++)
+				for (int dx = -rad; dx <= rad; dx++) {
+					if (chan(m, x + dx, y + dy) != c)
+						continue;
+					double gv = at(g, x + dx, y + dy), iv = at(r, x + dx, y + dy);
+					n++;
+					sg += gv;
+					si += iv;
+					sgg += gv * gv;
+					sgi += gv * iv;
+				}
+			double mg = sg / n, mi = si / n;
+			double var = sgg / n - mg * mg, cov = sgi / n - mg * mi;
+			double ak = cov / (var + eps2);
+			*px(a, x, y) = ak;
+			*px(b, x, y) = mi - ak * mg;
+		}
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++) {
+			double sa = 0, sb = 0;
+			for (int dy = -rad; dy <= rad; dy++)
+				for (int dx = -rad; dx <= rad; dx++) {
+					sa += at(a, x + dx, y + dy);
+					sb += at(b, x + dx, y + dy);
+				}
+			double n = (2 * rad + 1) * (2 * rad + 1);
+			*px(t, x, y) = sa / n * *px((rimg *)g, x, y) + sb / n;
+		}
+	/* residual at the samples (the tent reads only channel c's pixels) */
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++)
+			*px(a, x, y) = *px((rimg *)r, x, y) - *px(t, x, y);
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++)
+			put(&out[c], x, y, *px(t, x, y) + tent(a, m, c, x, y));
+	return 0;
+}
+
+static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
+		  const pc_fplane *out)
+{
+	rimg p0 = { 0 }, g = { 0 }, a = { 0 }, b = { 0 }, t = { 0 };
+	int rc = rimg_new(&p0, r->w, r->h);
+	if (!rc)
+		rc = rimg_new(&g, r->w, r->h);
+	if (!rc)
+		rc = rimg_new(&a, r->w, r->h);
+	if (!rc)
+		rc = rimg_new(&b, r->w, r->h);
+	if (!rc)
+		rc = rimg_new(&t, r->w, r->h);
+	if (!rc) {
+		if (edge_aware) {
+			eari_guide(r, m, fs / 255.0, &g);
+		} else {
+			ppi_coarse(r, &p0);
+			ppi_refine(r, &p0, fs / 255.0, &g);
+		}
+		double e = PC_RI_EPS * fs;
+		for (unsigned c = 0; c < 4 && !rc; c++)
+			rc = ref_ri_channel(r, &g, m, c, PC_RI_RADIUS, e * e, &a, &b, &t, out);
+	}
+	rimg_free(&p0);
+	rimg_free(&g);
+	rimg_free(&a);
+	rimg_free(&b);
+	rimg_free(&t);
+	return rc;
+}
+
+int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+		    pc_demosaic_method method, double full_scale, const pc_fplane *out)
+{
+	rimg r = { (double *)img, (int)width, (int)height };
+	switch (method) {
+	case PC_DM_SUPERPIXEL_HALF:
+		if (m->period == 4)
+			break;
+		ref_superpixel(&r, m, 1, out);
+		return 0;
+	case PC_DM_SUPERPIXEL:
+		if (m->period == 4)
+			break;
+		ref_superpixel(&r, m, 0, out);
+		return 0;
+	case PC_DM_BILINEAR:
+		ref_bilinear(&r, m, out);
+		return 0;
+	case PC_DM_BICUBIC:
+		ref_bicubic(&r, m, out);
+		return 0;
+	case PC_DM_PPID:
+		return ref_ppid(&r, m, full_scale, out);
+	case PC_DM_RI:
+		return ref_ri(&r, m, full_scale, 0, out);
+	case PC_DM_EARI:
+		return ref_ri(&r, m, full_scale, 1, out);
+	default:
+		break;
+	}
+	return pc_error(PC_ENOTSUP, "demosaicking method %s: not implemented for this mosaic yet",
+			pc_demosaic_method_get(method)->name);
+}

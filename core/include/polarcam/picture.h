@@ -1,0 +1,54 @@
+/* polarcam/picture.h - false-colour pictures of polarization images, for people who would
+ * rather look than read. Pure computation into caller-owned RGB8 buffers (files are written by
+ * io: pc_pictures_write in polarcam/io.h).
+ *
+ *   S0, DoLP: grey, linear between lo and hi (clipped for display only).
+ *   AoLP: hue = AoLP (0 red, 60° yellow-green... the full hue circle over [0, π), so 0 and π
+ *   meet), and DoLP/dolp_max as the HSV value (unpolarized regions dark) or the saturation
+ *   (unpolarized regions white).
+ * The *_key functions give the colour of a legend position, for colour bars.
+ */
+#ifndef POLARCAM_PICTURE_H
+#define POLARCAM_PICTURE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "polarcam/demosaic.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum pc_aolp_style {
+	PC_AOLP_VALUE = 0,  /* hue = AoLP, value = DoLP, saturation 1 */
+	PC_AOLP_SATURATION, /* hue = AoLP, saturation = DoLP, value 1 */
+	PC_AOLP_HUE_ONLY    /* hue = AoLP at full saturation and value */
+} pc_aolp_style;
+
+/* Grey picture of a float image, linear from lo (black) to hi (white). Non-finite values are
+ * drawn magenta so that they cannot hide. */
+int pc_picture_grey(const pc_fplane *in, uint32_t width, uint32_t height, float lo, float hi,
+		    uint8_t *rgb, size_t rgb_stride);
+
+/* AoLP false colour; dolp may be NULL for PC_AOLP_HUE_ONLY. dolp_max (> 0) is the DoLP shown
+ * at full value/saturation. */
+int pc_picture_aolp(const pc_fplane *aolp, const pc_fplane *dolp, uint32_t width, uint32_t height,
+		    pc_aolp_style style, float dolp_max, uint8_t *rgb, size_t rgb_stride);
+
+/* The q-quantile (0..1) of the finite values of an image (histogram-based, 4096 bins between
+ * the minimum and maximum; exact to 1/4096 of the range). For display ranges. */
+float pc_picture_quantile(const pc_fplane *in, uint32_t width, uint32_t height, double q);
+
+/* HSV (h in [0, 1) of the circle, s, v in [0, 1]) to RGB8. */
+void pc_hsv_to_rgb8(double h, double s, double v, uint8_t rgb[3]);
+
+/* Legend colours: t along the bar (0..1), s across it (2-D keys). ctx: pointer to a
+ * pc_aolp_style for pc_picture_aolp_key; unused for pc_picture_grey_key. */
+void pc_picture_grey_key(double t, double s, uint8_t rgb[3], void *ctx);
+void pc_picture_aolp_key(double t, double s, uint8_t rgb[3], void *ctx);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,78 @@
+/* polarcam/stokes.h - linear Stokes images, DoLP and AoLP from analyser images or raw mosaics.
+ *
+ * Formulas (ideal analysers at 0°, 45°, 90°, 135°; the frozen evaluation protocol,
+ * ../shared/data/README.md, step 4):
+ *   S0 = (I0 + I45 + I90 + I135) / 2,  S1 = I0 − I90,  S2 = I45 − I135,
+ *   DoLP = sqrt(S1² + S2²) / S0, clipped to [0, 1] (0 where S0 <= 0),
+ *   AoLP = ½·atan2(S2, S1) in radians, mapped to [0, π).
+ * AoLP convention: measured from the image x axis (pixel columns, left to right),
+ * counter-clockwise as seen by the viewer looking at the image (towards the top of the image,
+ * since image rows run downwards), in [0, π): 0 is horizontal polarization, π/2 vertical, π/4
+ * the direction from the bottom-left to the top-right corner. The analyser angles of
+ * polarcam/mosaic.h use the same convention. Vendor SDKs differ (some use [−π/2, π/2) or a
+ * clockwise angle); convert with aolp' = π − aolp for a clockwise convention.
+ *
+ * Calibrated cameras: each analyser c responds I_c = W_c · (S0, S1, S2) with a 4×3 analyser
+ * matrix W (ideal: W_c = ½·(1, cos 2θ_c, sin 2θ_c)). Least squares gives S = W⁺·I with the
+ * 3×4 pseudo-inverse W⁺ = (WᵀW)⁻¹Wᵀ, computed once per calibration (pc_stokes_pinv) and
+ * applied per pixel (pc_stokes_from_channels with a pc_analyser_pinv).
+ */
+#ifndef POLARCAM_STOKES_H
+#define POLARCAM_STOKES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "polarcam/demosaic.h"
+#include "polarcam/frame.h"
+#include "polarcam/mosaic.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Outputs; a NULL data pointer means "not wanted". Strides in floats (see pc_fplane). */
+typedef struct pc_stokes_out {
+	pc_fplane s0, s1, s2, dolp, aolp;
+} pc_stokes_out;
+
+/* Per-pixel (or per-region) analyser pseudo-inverses: a grid_w × grid_h grid of 3×4 row-major
+ * matrices (12 floats each, C order (grid_h, grid_w, 3, 4)); output pixel (x, y) of a W × H image
+ * uses cell (x·grid_w / W, y·grid_h / H). A 1×1 grid is one matrix for the whole image. */
+typedef struct pc_analyser_pinv {
+	const float *m;
+	uint32_t grid_w, grid_h;
+} pc_analyser_pinv;
+
+/* The ideal analyser matrix: W[c] = ½·(1, cos 2θ_c, sin 2θ_c), θ_c = 45°·c. */
+void pc_stokes_ideal_analyser(double w[4][3]);
+
+/* 3×4 pseudo-inverse (WᵀW)⁻¹Wᵀ of a 4×3 analyser matrix, in double. PC_ENUMERIC when W is
+ * rank-deficient (reciprocal condition number of WᵀW below 1e-10). */
+int pc_stokes_pinv1(const double w[4][3], double pinv[3][4]);
+
+/* Pseudo-inverses of n analyser matrices (n × 4 × 3 floats) into n × 3 × 4 floats. Fails with
+ * PC_ENUMERIC naming the first singular matrix. */
+int pc_stokes_pinv(const float *w, size_t n, float *pinv);
+
+/* Stokes, DoLP and AoLP of width × height pixels from four analyser images (I0, I45, I90,
+ * I135). pinv NULL: the ideal formulas above; otherwise the least-squares pseudo-inverses. */
+int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t height,
+			    const pc_analyser_pinv *pinv, const pc_stokes_out *out);
+
+/* The pipeline: demosaic raw with method, then Stokes/DoLP/AoLP, without full-size
+ * intermediate images (bilinear is fused into one pass; other methods run in row bands).
+ * Colour-polarization mosaics use the colour average (R + G + B)/3 of each analyser image.
+ * Output size is pc_demosaic_out_size(method, ...). opts may be NULL; opts->reference runs the
+ * double-precision references of both stages. */
+int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
+		       const pc_demosaic_opts *opts, const pc_stokes_out *out);
+
+/* AoLP = ½·atan2(s2, s1) mapped to [0, π), the float kernel used by the fast paths
+ * (maximum error 3e-7 rad against double, tested). */
+float pc_aolp_f(float s1, float s2);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

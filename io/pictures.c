@@ -1,0 +1,61 @@
+/* The standard pictures of a polarization image, as PNGs with titles and colour bars. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "polarcam/error.h"
+#include "polarcam/io.h"
+#include "polarcam/picture.h"
+#include "polarcam/plot.h"
+#include "polarcam/stokes.h"
+
+static int write_one(const char *dir, const char *name, const uint8_t *rgb, uint32_t w, uint32_t h,
+		     const char *title, const pc_colorbar *bar)
+{
+	char path[4096];
+	if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path)
+		return pc_error(PC_EINVAL, "%s: directory path too long", dir);
+	return pc_image_write_png(path, rgb, w, h, (size_t)w * 3, title, bar, 0);
+}
+
+int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, uint32_t height,
+		      const char *title_prefix)
+{
+	if (!dir || !st || !st->s0.data || !st->dolp.data || !st->aolp.data)
+		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
+	const char *pre = title_prefix ? title_prefix : "";
+	uint8_t *rgb = malloc((size_t)width * height * 3);
+	if (!rgb)
+		return pc_error(PC_ENOMEM, "pictures: %ux%u RGB buffer", width, height);
+	char title[256];
+	/* S0: 0 to its 99.9th percentile (a few specular pixels must not darken the rest) */
+	float hi = pc_picture_quantile(&st->s0, width, height, 0.999);
+	if (!(hi > 0))
+		hi = 1;
+	int rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, (size_t)width * 3);
+	pc_colorbar bar = { "S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL };
+	snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
+	if (!rc)
+		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar);
+	if (!rc)
+		rc = pc_picture_grey(&st->dolp, width, height, 0, 1, rgb, (size_t)width * 3);
+	pc_colorbar dbar = { "DoLP", 0, 1, NULL, 0, 0, pc_picture_grey_key, NULL };
+	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)", pre);
+	if (!rc)
+		rc = write_one(dir, "dolp.png", rgb, width, height, title, &dbar);
+	static const pc_aolp_style styles[2] = { PC_AOLP_VALUE, PC_AOLP_SATURATION };
+	static const char *names[2] = { "aolp.png", "aolp_sat.png" };
+	static const char *what[2] = { "value", "saturation" };
+	for (int k = 0; k < 2 && !rc; k++) {
+		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], 1.0f, rgb,
+				     (size_t)width * 3);
+		pc_colorbar abar = { "AoLP (deg, from x, counter-clockwise)", 0, 180, "DoLP", 0, 1,
+				     pc_picture_aolp_key, (void *)&styles[k] };
+		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)", pre, what[k]);
+		if (!rc)
+			rc = write_one(dir, names[k], rgb, width, height, title, &abar);
+	}
+	free(rgb);
+	return rc;
+}

@@ -1,0 +1,447 @@
+/* The demosaicking ladder: every method's fast float path against its double-precision
+ * reference (tolerances below), the right AoLP at all four mosaic phases on known-orientation
+ * targets, exactness on polynomials each interpolator must reproduce, a hand-computed bilinear
+ * example, input formats, output layouts, and bad calls. Synthetic data only. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "polarcam/demosaic.h"
+#include "polarcam/error.h"
+#include "polarcam/stokes.h"
+
+/* Tolerances, fast float vs double reference, relative to the full scale of the data:
+ * the interpolators (superpixel, bilinear, bicubic) compute sums of integers exactly in float,
+ * so only the final rounding differs; PPID and the residual interpolations divide by
+ * data-dependent weights and accumulate box sums in float. */
+static double tol_for(pc_demosaic_method m)
+{
+	switch (m) {
+	case PC_DM_SUPERPIXEL:
+	case PC_DM_SUPERPIXEL_HALF:
+	case PC_DM_BILINEAR:
+	case PC_DM_BICUBIC:
+		return 1e-6;
+	default:
+		return 2e-4;
+	}
+}
+
+static uint32_t rng = 12345;
+static double urand(void)
+{
+	rng = rng * 1664525u + 1013904223u;
+	return (rng >> 8) / 16777216.0;
+}
+
+/* A scene: analyser intensities from a Stokes field, I_c = S0/2·(1 + DoLP·cos(2(AoLP − θ_c))),
+ * the ideal Malus response. */
+typedef struct scene {
+	int w, h;
+	double *s0, *dolp, *aolp; /* per pixel */
+} scene;
+
+static double analyser(const scene *s, int x, int y, unsigned c)
+{
+	size_t i = (size_t)y * s->w + x;
+	return 0.5 * s->s0[i] * (1 + s->dolp[i] * cos(2 * (s->aolp[i] - M_PI / 4 * c)));
+}
+
+static void scene_free(scene *s)
+{
+	free(s->s0);
+	free(s->dolp);
+	free(s->aolp);
+}
+
+/* kind 0: uniform AoLP theta; kind 1: "sunburst", AoLP = direction of the position from the
+ * centre (smoothly varying orientation); kind 2: random texture (for fast vs reference). */
+static scene make_scene(int w, int h, int kind, double theta)
+{
+	scene s = { w, h, malloc(sizeof(double) * w * h), malloc(sizeof(double) * w * h),
+		    malloc(sizeof(double) * w * h) };
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			size_t i = (size_t)y * w + x;
+			if (kind == 0) {
+				s.s0[i] = 3000;
+				s.dolp[i] = 0.6;
+				s.aolp[i] = theta;
+			} else if (kind == 1) {
+				double dx = x - w / 2.0 + 0.25, dy = h / 2.0 - y + 0.25; /* y up */
+				double a = atan2(dy, dx);
+				s.s0[i] = 3000;
+				s.dolp[i] = 0.5;
+				s.aolp[i] = fmod(a + 2 * M_PI, M_PI);
+			} else {
+				s.s0[i] = 500 + 3000 * urand();
+				s.dolp[i] = urand();
+				s.aolp[i] = M_PI * urand();
+			}
+		}
+	return s;
+}
+
+/* Mosaics a scene into a Mono16 view with layout m (values rounded, 12-bit range). */
+static void mosaic_scene(const scene *s, const pc_mosaic *m, pc_view *v)
+{
+	pc_view_alloc(v, PC_FMT_MONO16, (uint32_t)s->w, (uint32_t)s->h, 0);
+	for (int y = 0; y < s->h; y++)
+		for (int x = 0; x < s->w; x++) {
+			double val = analyser(s, x, y, pc_mosaic_channel(m, (uint32_t)x, (uint32_t)y));
+			PC_ROW(v, uint16_t, y)[x] = (uint16_t)lround(val < 0 ? 0 : val > 4095 ? 4095 : val);
+		}
+}
+
+static float *alloc_planes(uint32_t w, uint32_t h, unsigned n, pc_fplane *p)
+{
+	float *buf = malloc(sizeof(float) * w * h * n);
+	pc_fplanes_separate(buf, w, h, n, p);
+	return buf;
+}
+
+static double fget(const pc_fplane *p, uint32_t x, uint32_t y)
+{
+	return p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride];
+}
+
+static const pc_demosaic_method mono_methods[] = { PC_DM_SUPERPIXEL_HALF, PC_DM_SUPERPIXEL,
+						    PC_DM_BILINEAR,	   PC_DM_BICUBIC,
+						    PC_DM_PPID,		   PC_DM_RI,
+						    PC_DM_EARI };
+#define N_MONO (sizeof mono_methods / sizeof mono_methods[0])
+
+/* Fast vs reference on a random texture, all four phases. */
+static void test_fast_vs_reference(void)
+{
+	scene s = make_scene(38, 30, 2, 0);
+	for (unsigned ph = 0; ph < 4; ph++) {
+		pc_mosaic base = pc_mosaic_imx250mzr();
+		pc_mosaic m = pc_mosaic_shift(&base, ph & 1, ph >> 1);
+		pc_view raw;
+		mosaic_scene(&s, &m, &raw);
+		for (size_t k = 0; k < N_MONO; k++) {
+			pc_demosaic_method meth = mono_methods[k];
+			uint32_t ow, oh;
+			pc_demosaic_out_size(meth, raw.width, raw.height, &ow, &oh);
+			pc_fplane f[4], r[4];
+			float *fb = alloc_planes(ow, oh, 4, f), *rb = alloc_planes(ow, oh, 4, r);
+			pc_demosaic_opts ref = { 0, true, 0 };
+			CHECK_EQ_INT(pc_demosaic(&raw, &m, meth, NULL, f), 0);
+			CHECK_EQ_INT(pc_demosaic(&raw, &m, meth, &ref, r), 0);
+			double worst = 0;
+			for (unsigned c = 0; c < 4; c++)
+				for (uint32_t y = 0; y < oh; y++)
+					for (uint32_t x = 0; x < ow; x++) {
+						double d = fabs(fget(&f[c], x, y) - fget(&r[c], x, y));
+						worst = d > worst ? d : worst;
+					}
+			double tol = tol_for(meth) * 4095;
+			if (worst > tol)
+				fprintf(stderr, "  %s phase %u: max |fast - ref| = %g > %g\n",
+					pc_demosaic_method_get(meth)->name, ph, worst, tol);
+			CHECK(worst <= tol);
+			free(fb);
+			free(rb);
+		}
+		pc_view_free(&raw);
+	}
+	scene_free(&s);
+}
+
+/* AoLP orientation: a layout bug (swapped channels) leaves S0 and DoLP intact but rotates or
+ * mirrors AoLP. Every method, every phase, uniform targets at several angles and a sunburst. */
+static void test_aolp_orientation(void)
+{
+	const double angles_deg[] = { 0, 20, 45, 70, 90, 110, 135, 160 };
+	for (unsigned ph = 0; ph < 4; ph++) {
+		pc_mosaic base = pc_mosaic_imx250mzr();
+		pc_mosaic m = pc_mosaic_shift(&base, ph & 1, ph >> 1);
+		for (size_t k = 0; k < N_MONO; k++) {
+			pc_demosaic_method meth = mono_methods[k];
+			for (size_t a = 0; a <= sizeof angles_deg / sizeof angles_deg[0]; a++) {
+				int sun = a == sizeof angles_deg / sizeof angles_deg[0];
+				double th = sun ? 0 : angles_deg[a] * M_PI / 180;
+				scene s = make_scene(40, 32, sun ? 1 : 0, th);
+				pc_view raw;
+				mosaic_scene(&s, &m, &raw);
+				uint32_t ow, oh;
+				pc_demosaic_out_size(meth, raw.width, raw.height, &ow, &oh);
+				float *buf = malloc(sizeof(float) * ow * oh * 2);
+				pc_stokes_out so;
+				memset(&so, 0, sizeof so);
+				so.aolp = (pc_fplane){ buf, ow, 1 };
+				so.dolp = (pc_fplane){ buf + (size_t)ow * oh, ow, 1 };
+				CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, meth, NULL, &so), 0);
+				/* interior only; the sunburst's centre has no single orientation */
+				double worst = 0;
+				int scale = ow == raw.width ? 1 : 2;
+				for (uint32_t y = 4 / scale; y < oh - 4 / scale; y++)
+					for (uint32_t x = 4 / scale; x < ow - 4 / scale; x++) {
+						double want = th;
+						double cx = (x * scale + (scale - 1) * 0.5), cy = (y * scale + (scale - 1) * 0.5);
+						if (sun) {
+							double dx = cx - s.w / 2.0 + 0.25, dy = s.h / 2.0 - cy + 0.25;
+							if (dx * dx + dy * dy < 36)
+								continue;
+							want = fmod(atan2(dy, dx) + 2 * M_PI, M_PI);
+						}
+						double d = fabs(fget(&so.aolp, x, y) - want);
+						d = fmin(d, M_PI - d);
+						worst = d > worst ? d : worst;
+					}
+				/* uniform targets: every method is exact up to 12-bit rounding
+				 * (0.03° at DoLP 0.6, S0 3000); the sunburst allows interpolation
+				 * error but no 45°/90° confusions */
+				double tol = sun ? 8.0 : 0.05;
+				if (worst * 180 / M_PI > tol)
+					fprintf(stderr, "  %s phase %u %s %g deg: AoLP error %.3g deg\n",
+						pc_demosaic_method_get(meth)->name, ph,
+						sun ? "sunburst" : "uniform", angles_deg[a % 8],
+						worst * 180 / M_PI);
+				CHECK(worst * 180 / M_PI <= tol);
+				free(buf);
+				pc_view_free(&raw);
+				scene_free(&s);
+			}
+		}
+	}
+}
+
+/* A camera flipping the image (ReverseX) with the flipped mosaic reports the mirrored AoLP. */
+static void test_flip(void)
+{
+	double th = 30 * M_PI / 180;
+	scene s = make_scene(24, 16, 0, th);
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	pc_view raw, flipped;
+	mosaic_scene(&s, &m, &raw);
+	CHECK_EQ_INT(pc_view_alloc(&flipped, PC_FMT_MONO16, raw.width, raw.height, 0), 0);
+	CHECK_EQ_INT(pc_view_flip(&raw, 1, 0, &flipped), 0);
+	pc_mosaic fm = pc_mosaic_flip(&m, 1, 0, raw.width, raw.height);
+	float a[24 * 16];
+	pc_stokes_out so;
+	memset(&so, 0, sizeof so);
+	so.aolp = (pc_fplane){ a, 24, 1 };
+	CHECK_EQ_INT(pc_stokes_from_raw(&flipped, &fm, PC_DM_BILINEAR, NULL, &so), 0);
+	CHECK_NEAR(a[8 * 24 + 9], M_PI - th, 2e-3);
+	pc_view_free(&raw);
+	pc_view_free(&flipped);
+	scene_free(&s);
+}
+
+/* Interpolators reproduce what they must: bilinear every affine channel, bicubic (Keys) every
+ * quadratic, the inter-channel methods every channel that is an affine function of a common
+ * intensity (here: constant DoLP and AoLP over an S0 ramp). Interior pixels, float input. */
+static void test_polynomials(void)
+{
+	const uint32_t W = 28, H = 24;
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
+	const double a[4] = { 0.5, 0.7, 0.9, 1.1 };
+	for (int deg = 1; deg <= 2; deg++) {
+		for (uint32_t y = 0; y < H; y++)
+			for (uint32_t x = 0; x < W; x++) {
+				unsigned c = pc_mosaic_channel(&m, x, y);
+				double v = 100 + a[c] * (3.0 * x + 2.0 * y);
+				if (deg == 2)
+					v += a[c] * (0.2 * x * x - 0.1 * x * y + 0.15 * y * y);
+				PC_ROW(&raw, float, y)[x] = (float)v;
+			}
+		pc_demosaic_method meth = deg == 1 ? PC_DM_BILINEAR : PC_DM_BICUBIC;
+		for (int reference = 0; reference < 2; reference++) {
+			pc_fplane o[4];
+			float *buf = alloc_planes(W, H, 4, o);
+			pc_demosaic_opts opts = { 0, reference, 0 };
+			CHECK_EQ_INT(pc_demosaic(&raw, &m, meth, &opts, o), 0);
+			double worst = 0;
+			for (unsigned c = 0; c < 4; c++)
+				for (uint32_t y = 4; y < H - 4; y++)
+					for (uint32_t x = 4; x < W - 4; x++) {
+						double v = 100 + a[c] * (3.0 * x + 2.0 * y);
+						if (deg == 2)
+							v += a[c] * (0.2 * x * x - 0.1 * x * y + 0.15 * y * y);
+						double d = fabs(fget(&o[c], x, y) - v);
+						worst = d > worst ? d : worst;
+					}
+			CHECK(worst < 2e-3);
+			if (worst >= 2e-3)
+				fprintf(stderr, "  %s (ref %d) degree %d: error %g\n",
+					pc_demosaic_method_get(meth)->name, reference, deg, worst);
+			free(buf);
+		}
+	}
+	/* inter-channel: I_c = k_c · S0(x, y) with S0 a ramp and k_0 + k_90 = k_45 + k_135 (a
+	 * constant polarization state, as Malus' law requires) */
+	const double k4[4] = { 0.5, 0.6, 0.9, 0.8 };
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++)
+			PC_ROW(&raw, float, y)[x] =
+				(float)(k4[pc_mosaic_channel(&m, x, y)] * (500 + 10.0 * x + 7.0 * y));
+	const pc_demosaic_method ic[] = { PC_DM_PPID, PC_DM_RI, PC_DM_EARI };
+	for (size_t k = 0; k < 3; k++) {
+		pc_fplane o[4];
+		float *buf = alloc_planes(W, H, 4, o);
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, ic[k], NULL, o), 0);
+		double worst = 0;
+		for (unsigned c = 0; c < 4; c++)
+			for (uint32_t y = 4; y < H - 4; y++)
+				for (uint32_t x = 4; x < W - 4; x++) {
+					double d = fabs(fget(&o[c], x, y) - k4[c] * (500 + 10.0 * x + 7.0 * y));
+					worst = d > worst ? d : worst;
+				}
+		/* relative to values of ~1000: well below the data's own scale */
+		if (worst > 0.5)
+			fprintf(stderr, "  %s on a ramp: error %g\n", pc_demosaic_method_get(ic[k])->name,
+				worst);
+		CHECK(worst <= 0.5);
+		free(buf);
+	}
+	pc_view_free(&raw);
+}
+
+/* Bilinear by hand on a 4×4 IMX250MZR raw [90 45; 135 0]:
+ *      x=0  1  2  3
+ *  y=0  10 20 30 40     90  45  90  45
+ *  y=1  50 60 70 80    135   0 135   0
+ *  y=2  90 11 12 13     90  45  90  45
+ *  y=3  14 15 16 17    135   0 135   0
+ * At (1,1) (a 0° pixel): I0 = 60; I90 = diagonals (10+30+90+12)/4 = 35.5;
+ * I45 = vertical (20+11)/2 = 15.5; I135 = horizontal (50+70)/2 = 60.
+ * At (0,0) (90°) with mirroring: I0 = diagonals, all mirrored to (1,1): 60;
+ * I45 = horizontal (x=-1 -> 1): 20; I135 = vertical (y=-1 -> 1): 50. */
+static void test_bilinear_by_hand(void)
+{
+	uint16_t px[4][4] = { { 10, 20, 30, 40 }, { 50, 60, 70, 80 }, { 90, 11, 12, 13 },
+			      { 14, 15, 16, 17 } };
+	pc_view raw = { px, 4, 4, sizeof px[0], PC_FMT_MONO12 };
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	for (int reference = 0; reference < 2; reference++) {
+		float buf[4 * 16];
+		pc_fplane o[4];
+		pc_fplanes_interleaved(buf, 4, 4, o);
+		pc_demosaic_opts opts = { 1, reference, 0 };
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BILINEAR, &opts, o), 0);
+		CHECK_NEAR(buf[(1 * 4 + 1) * 4 + 0], 60, 0);
+		CHECK_NEAR(buf[(1 * 4 + 1) * 4 + 2], 35.5, 0);
+		CHECK_NEAR(buf[(1 * 4 + 1) * 4 + 1], 15.5, 0);
+		CHECK_NEAR(buf[(1 * 4 + 1) * 4 + 3], 60, 0);
+		CHECK_NEAR(buf[0 * 4 + 0], 60, 0);
+		CHECK_NEAR(buf[0 * 4 + 1], 20, 0);
+		CHECK_NEAR(buf[0 * 4 + 2], 10, 0);
+		CHECK_NEAR(buf[0 * 4 + 3], 50, 0);
+	}
+	/* super-pixel: block (0,0) is 10/20/50/60 -> I0 60, I45 20, I90 10, I135 50 everywhere in it */
+	float half[4 * 4];
+	pc_fplane h[4];
+	pc_fplanes_separate(half, 2, 2, 4, h);
+	CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_SUPERPIXEL_HALF, NULL, h), 0);
+	CHECK_NEAR(half[0], 60, 0);
+	CHECK_NEAR(half[4 + 0], 20, 0);
+	CHECK_NEAR(half[8 + 0], 10, 0);
+	CHECK_NEAR(half[3], 17, 0);      /* block (1,1): 0° at (3,3) */
+	CHECK_NEAR(half[12 + 3], 16, 0); /* ... 135° at (2,3) */
+}
+
+/* Same result from every input format holding the same values, and for every output layout
+ * and thread count. */
+static void test_formats_layouts(void)
+{
+	scene s = make_scene(24, 12, 2, 0);
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	pc_view raw16, raw12p, rawf;
+	mosaic_scene(&s, &m, &raw16);
+	CHECK_EQ_INT(pc_view_alloc(&raw12p, PC_FMT_MONO12P, 24, 12, 0), 0);
+	CHECK_EQ_INT(pc_view_from_u16(raw16.data, raw16.stride, &raw12p), 0);
+	CHECK_EQ_INT(pc_view_alloc(&rawf, PC_FMT_FLOAT32, 24, 12, 0), 0);
+	CHECK_EQ_INT(pc_view_to_f32(&raw16, rawf.data, rawf.stride), 0);
+	for (size_t k = 0; k < N_MONO; k++) {
+		pc_demosaic_method meth = mono_methods[k];
+		uint32_t ow, oh;
+		pc_demosaic_out_size(meth, 24, 12, &ow, &oh);
+		pc_fplane a[4], b[4], c[4], d[4];
+		float *ab = alloc_planes(ow, oh, 4, a), *bb = alloc_planes(ow, oh, 4, b);
+		float *cb = malloc(sizeof(float) * ow * oh * 4), *db = alloc_planes(ow, oh, 4, d);
+		pc_fplanes_interleaved(cb, ow, 4, c);
+		pc_demosaic_opts one = { 1, false, 4095 }, fs = { 0, false, 4095 };
+		CHECK_EQ_INT(pc_demosaic(&raw16, &m, meth, &fs, a), 0);
+		CHECK_EQ_INT(pc_demosaic(&raw12p, &m, meth, &one, b), 0);
+		CHECK_EQ_INT(pc_demosaic(&rawf, &m, meth, &fs, c), 0);
+		CHECK_EQ_INT(pc_demosaic(&raw16, &m, meth, &one, d), 0);
+		int same = 1;
+		for (unsigned ch = 0; ch < 4; ch++)
+			for (uint32_t y = 0; y < oh; y++)
+				for (uint32_t x = 0; x < ow; x++) {
+					double v = fget(&a[ch], x, y);
+					same &= v == fget(&b[ch], x, y) && v == fget(&c[ch], x, y) &&
+						v == fget(&d[ch], x, y);
+				}
+		CHECK(same);
+		if (!same)
+			fprintf(stderr, "  %s differs across formats/layouts/threads\n",
+				pc_demosaic_method_get(meth)->name);
+		free(ab);
+		free(bb);
+		free(cb);
+		free(db);
+	}
+	pc_view_free(&raw16);
+	pc_view_free(&raw12p);
+	pc_view_free(&rawf);
+	scene_free(&s);
+}
+
+static void test_bad_calls(void)
+{
+	uint16_t px[6][6] = { { 0 } };
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	float buf[4 * 36];
+	pc_fplane o[4];
+	pc_fplanes_separate(buf, 6, 6, 4, o);
+	pc_view odd = { px, 5, 6, sizeof px[0], PC_FMT_MONO16 };
+	CHECK_EQ_INT(pc_demosaic(&odd, &m, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
+	CHECK(strstr(pc_error_detail(), "even") != NULL);
+	pc_view tiny = { px, 2, 2, sizeof px[0], PC_FMT_MONO16 };
+	CHECK_EQ_INT(pc_demosaic(&tiny, &m, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
+	pc_view zero = { px, 0, 6, sizeof px[0], PC_FMT_MONO16 };
+	CHECK_EQ_INT(pc_demosaic(&zero, &m, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
+	pc_view ok = { px, 6, 6, sizeof px[0], PC_FMT_MONO16 };
+	pc_mosaic colour = pc_mosaic_imx250myr();
+	CHECK_EQ_INT(pc_demosaic(&ok, &colour, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
+	pc_mosaic bad = m;
+	bad.channel[0][0] = bad.channel[0][1];
+	CHECK_EQ_INT(pc_demosaic(&ok, &bad, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
+	pc_fplane none[4] = { { 0 } };
+	CHECK_EQ_INT(pc_demosaic(&ok, &m, PC_DM_BILINEAR, NULL, none), PC_EINVAL);
+	CHECK_EQ_INT(pc_demosaic(&ok, &m, (pc_demosaic_method)99, NULL, o), PC_EINVAL);
+	float f[4][4] = { { 1, 2, 3, 4 }, { 5, NAN, 7, 8 }, { 1, 2, 3, 4 }, { 1, 2, 3, 4 } };
+	pc_view fv = { f, 4, 4, sizeof f[0], PC_FMT_FLOAT32 };
+	CHECK_EQ_INT(pc_demosaic(&fv, &m, PC_DM_BILINEAR, NULL, o), PC_ERANGE);
+	CHECK(strstr(pc_error_detail(), "(1,1) is NaN") != NULL);
+	pc_demosaic_method meth;
+	CHECK_EQ_INT(pc_demosaic_method_from_name("bilinear", &meth), 0);
+	CHECK(meth == PC_DM_BILINEAR);
+	CHECK_EQ_INT(pc_demosaic_method_from_name("bilinar", &meth), PC_EINVAL);
+	CHECK(strstr(pc_error_detail(), "superpixel") != NULL);
+	for (int k = 0; k < PC_DM_COUNT; k++) {
+		const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
+		CHECK(mi && mi->name && mi->accuracy && mi->cost && mi->source);
+		CHECK_EQ_INT(pc_demosaic_method_from_name(mi->name, &meth), 0);
+		CHECK_EQ_INT(meth, k);
+	}
+}
+
+int main(void)
+{
+	test_bilinear_by_hand();
+	test_fast_vs_reference();
+	test_aolp_orientation();
+	test_flip();
+	test_polynomials();
+	test_formats_layouts();
+	test_bad_calls();
+	return pc_test_finish("test_demosaic");
+}
