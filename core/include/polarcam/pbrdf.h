@@ -31,12 +31,12 @@ typedef enum pc_rho_mode {
 } pc_rho_mode;
 
 typedef struct pc_material {
-	double n, k;     /* ñ = n − ik, n > 0, k ≥ 0 */
-	double sigma;    /* rms facet slope per axis, > 0 */
+	double n, k;  /* ñ = n − ik, n > 0, k ≥ 0 */
+	double sigma; /* rms facet slope per axis, > 0 */
 	pc_diffuse diffuse;
 	pc_shadowing shadowing;
 	pc_rho_mode rho_mode;
-	int rho_order;   /* quadrature order N (N×N rule) for PC_RHO_QUAD; 0 = default (16) */
+	int rho_order; /* quadrature order N (N×N rule) for PC_RHO_QUAD; 0 = default (16) */
 } pc_material;
 
 /* A material prepared for evaluation (ρ^s tables and Fresnel constants). Immutable after
@@ -57,10 +57,58 @@ int pc_pbrdf_eval(const pc_pbrdf *p, double theta_i, double theta_r, double dphi
  * orientation; physics.md §2 with s_Mi, s_Mr replaced by them). Returns an all-zero matrix
  * (and 0) below the horizon. */
 int pc_pbrdf_eval_vec(const pc_pbrdf *p, const double k_i[3], const double k_r[3],
-		      const double s_i[3], const double s_r[3], double f[4][4]);
+                      const double s_i[3], const double s_r[3], double f[4][4]);
 
-/* ρ^s(θ_i) of this material (physics.md §2 eq. 11; §5 quadrature or table). */
+/* ρ^s(θ_i) of this material (physics.md §2 eq. 11; §5 quadrature or table). In PC_RHO_QUAD
+ * mode this is the direct N×N slope-space quadrature (slow: ~N² integrand evaluations); in
+ * PC_RHO_TABLE mode the bicubic table value; for σ < PC_PBRDF_SIGMA_MIRROR the mirror limit
+ * (Fresnel reflectance F(θ_i) for PC_DIFFUSE_FRESNEL, 1 for PC_DIFFUSE_GEOMETRIC). With
+ * PC_SHADOW_NONE ρ^s grows like 1/cosθ_i and is +inf at θ_i = 90°. NaN for PC_DIFFUSE_NONE. */
 double pc_pbrdf_rho_s(const pc_pbrdf *p, double theta_i);
+
+/* Additions (physics area). */
+
+/* Below this σ the material is treated as a mirror for ρ^s (physics.md §4): the slope-space
+ * integrand is a delta-like lobe and ρ^s equals its σ → 0 limit to 2e-4. The pointwise BRDF is
+ * still the formula (a very narrow lobe); renderers may prefer pc_pbrdf_mirror(). */
+#define PC_PBRDF_SIGMA_MIRROR 0.01
+/* Above this σ the single-scattering V-groove model loses energy: outside its validity. */
+#define PC_PBRDF_SIGMA_VALID_MAX 0.5
+/* σ range of the PC_RHO_TABLE grid (32 log-spaced nodes) and its cosθ_i nodes. */
+#define PC_RHO_TABLE_SIGMA_MIN 0.01
+#define PC_RHO_TABLE_SIGMA_MAX 1.0
+#define PC_RHO_TABLE_NSIGMA    32
+#define PC_RHO_TABLE_NCOS      64
+
+enum pc_pbrdf_flags {
+	PC_PBRDF_MIRROR = 1u << 0,           /* σ < PC_PBRDF_SIGMA_MIRROR: mirror model for ρ^s */
+	PC_PBRDF_OUTSIDE_VALIDITY = 1u << 1, /* σ > PC_PBRDF_SIGMA_VALID_MAX: warn the user */
+};
+
+/* pc_pbrdf_flags of a prepared material. */
+unsigned pc_pbrdf_flags(const pc_pbrdf *p);
+
+/* The material as validated (rho_order resolved to the order actually used). */
+const pc_material *pc_pbrdf_material(const pc_pbrdf *p);
+
+/* ρ^s(θ_i) as pc_pbrdf_eval uses it: a per-material table in cosθ_i (PC_PBRDF_RHO_NODES nodes,
+ * cubic interpolation) built at creation from the material's rule, so that evaluation costs a
+ * few ns. Its difference from pc_pbrdf_rho_s() is the interpolation error, stated in
+ * docs/physics-notes.md and tested. Argument: cosθ_i in [0, 1]. */
+double pc_pbrdf_rho_s_fast(const pc_pbrdf *p, double cos_theta_i);
+#define PC_PBRDF_RHO_NODES 257
+
+/* ρ^s(θ_i) by the N×N slope-space rule of physics.md §5 for any order N ≥ 1 (allocates nothing
+ * for N ≤ 1024; larger N returns NaN), ignoring the material's rho_mode and the mirror switch.
+ * For tests and the accuracy-vs-cost benchmark. */
+double pc_pbrdf_rho_s_quad(const pc_pbrdf *p, double theta_i, int order);
+
+/* Mueller reflectance matrix (dimensionless) of the ideal mirror reflection of this material
+ * (the σ → 0 limit of the specular lobe) for light arriving from k_i, leaving along
+ * k_r = (−k_ix, −k_iy, k_iz), with the caller's s-vectors s_i ⟂ k_i, s_r ⟂ k_r as in
+ * pc_pbrdf_eval_vec. All-zero for k_iz ≤ 0. */
+int pc_pbrdf_mirror(const pc_pbrdf *p, const double k_i[3], const double s_i[3],
+                    const double s_r[3], double R[4][4]);
 
 #ifdef __cplusplus
 }

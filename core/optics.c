@@ -1,0 +1,401 @@
+/* Fresnel, Jones → Mueller, Stokes helpers, coherency matrix and Cloude filter.
+ * Formulas: docs/physics.md §1 (conventions), §2 (Fresnel, Jones → Mueller), §4 (Cloude filter). */
+#include "polarcam/optics.h"
+
+#include "optics_inline.h"
+
+#include <complex.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void pc_fresnel_eval(double n, double k, double cos_beta, double sin2_beta, pc_fresnel *out)
+{
+	/* ñ² = (n − ik)² = n² − k² − 2ink (physics.md §1: ñ = n − ik, k ≥ 0). */
+	double er = n * n - k * k, ei = -2.0 * n * k;
+	/* w = sqrt(ñ² − sin²β) on the branch Re w ≥ 0, Im w ≤ 0 (physics.md §2), computed without
+	 * cancellation: the larger of |Re w|, |Im w| from the half-modulus formula, the other from
+	 * Re w · Im w = B/2. */
+	double A = er - sin2_beta, B = ei; /* B ≤ 0 */
+	double mod = sqrt(A * A + B * B);
+	double wr, wi;
+	if (A >= 0) {
+		wr = sqrt(0.5 * (mod + A));
+		wi = wr > 0 ? B / (2.0 * wr) : 0.0;
+	} else {
+		wi = -sqrt(0.5 * (mod - A)); /* Im w ≤ 0: evanescent wave decays for e^{+iωt} */
+		wr = B / (2.0 * wi);         /* B ≤ 0, wi < 0 → Re w ≥ 0 */
+	}
+	double c = cos_beta;
+	/* r_s = (cosβ − w)/(cosβ + w) */
+	double nr = c - wr, ni = -wi, dr = c + wr, di = wi;
+	double inv = 1.0 / (dr * dr + di * di);
+	out->rs_re = (nr * dr + ni * di) * inv;
+	out->rs_im = (ni * dr - nr * di) * inv;
+	/* r_p = (ñ² cosβ − w)/(ñ² cosβ + w) */
+	double ec_r = er * c, ec_i = ei * c;
+	nr = ec_r - wr;
+	ni = ec_i - wi;
+	dr = ec_r + wr;
+	di = ec_i + wi;
+	inv = 1.0 / (dr * dr + di * di);
+	out->rp_re = (nr * dr + ni * di) * inv;
+	out->rp_im = (ni * dr - nr * di) * inv;
+}
+
+void pc_fresnel_angle(double n, double k, double beta, pc_fresnel *out)
+{
+	double s = sin(beta);
+	pc_fresnel_eval(n, k, cos(beta), s * s, out);
+}
+
+void pc_fresnel_abcs(const pc_fresnel *r, double abcs[4])
+{
+	/* physics.md §2, Jones → Mueller for J = diag(r_s, r_p). */
+	double Rs = r->rs_re * r->rs_re + r->rs_im * r->rs_im;
+	double Rp = r->rp_re * r->rp_re + r->rp_im * r->rp_im;
+	abcs[0] = 0.5 * (Rs + Rp);
+	abcs[1] = 0.5 * (Rs - Rp);
+	abcs[2] = r->rs_re * r->rp_re + r->rs_im * r->rp_im; /* Re(r_s r_p*) */
+	abcs[3] = r->rs_im * r->rp_re - r->rs_re * r->rp_im; /* Im(r_s r_p*) */
+}
+
+double pc_fresnel_reflectance(double n, double k, double beta)
+{
+	pc_fresnel r;
+	double abcs[4];
+	pc_fresnel_angle(n, k, beta, &r);
+	pc_fresnel_abcs(&r, abcs);
+	return abcs[0];
+}
+
+/* A and A⁻¹ of physics.md §1: S = A (E ⊗ E*). A⁻¹ = ½[[1,1,0,0],[0,0,1,−i],[0,0,1,i],[1,−1,0,0]].
+ */
+static void pc_stokes_A(double complex A[4][4], double complex Ai[4][4])
+{
+	static const double complex a[4][4] = {
+	    {1, 0, 0, 1}, {1, 0, 0, -1}, {0, 1, 1, 0}, {0, I, -I, 0}};
+	static const double complex ai[4][4] = {
+	    {0.5, 0.5, 0, 0}, {0, 0, 0.5, -0.5 * I}, {0, 0, 0.5, 0.5 * I}, {0.5, -0.5, 0, 0}};
+	memcpy(A, a, sizeof a);
+	memcpy(Ai, ai, sizeof ai);
+}
+
+static void pc_cmul4(const double complex X[4][4], const double complex Y[4][4],
+                     double complex Z[4][4])
+{
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++) {
+			double complex s = 0;
+			for (int l = 0; l < 4; l++)
+				s += X[i][l] * Y[l][j];
+			Z[i][j] = s;
+		}
+}
+
+void pc_jones_to_mueller(const double J_re[2][2], const double J_im[2][2], double M[4][4])
+{
+	double complex A[4][4], Ai[4][4], K[4][4], T[4][4], R[4][4];
+	pc_stokes_A(A, Ai);
+	/* (J ⊗ J*)_{(ab),(cd)} = J_ac J*_bd with (xy) = 2x + y: the field products E_a E_b*. */
+	for (int a = 0; a < 2; a++)
+		for (int b = 0; b < 2; b++)
+			for (int c = 0; c < 2; c++)
+				for (int d = 0; d < 2; d++) {
+					double complex jac = J_re[a][c] + I * J_im[a][c];
+					double complex jbd = J_re[b][d] + I * J_im[b][d];
+					K[2 * a + b][2 * c + d] = jac * conj(jbd);
+				}
+	pc_cmul4(A, K, T);
+	pc_cmul4(T, Ai, R);
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			M[i][j] = creal(R[i][j]);
+}
+
+void pc_mueller_rotator(double theta, double M[4][4])
+{
+	double c = cos(2 * theta), s = sin(2 * theta);
+	memset(M, 0, 16 * sizeof(double));
+	M[0][0] = M[3][3] = 1;
+	M[1][1] = M[2][2] = c;
+	M[1][2] = s;
+	M[2][1] = -s;
+}
+
+void pc_mueller_facet(const double abcs[4], double C1, double S1, double C2, double S2,
+                      double M[4][4])
+{
+	/* R_M(θ_out) M_F R_M(θ_in) multiplied out by hand (physics.md §2): 20 products instead of
+	 * two 4×4 products or a complex Kronecker product. */
+	double a = abcs[0], b = abcs[1], c = abcs[2], s = abcs[3];
+	double aC1 = a * C1, aS1 = a * S1, cC1 = c * C1, cS1 = c * S1;
+	M[0][0] = a;
+	M[0][1] = b * C1;
+	M[0][2] = b * S1;
+	M[0][3] = 0;
+	M[1][0] = C2 * b;
+	M[1][1] = C2 * aC1 - S2 * cS1;
+	M[1][2] = C2 * aS1 + S2 * cC1;
+	M[1][3] = S2 * s;
+	M[2][0] = -S2 * b;
+	M[2][1] = -S2 * aC1 - C2 * cS1;
+	M[2][2] = -S2 * aS1 + C2 * cC1;
+	M[2][3] = C2 * s;
+	M[3][0] = 0;
+	M[3][1] = s * S1;
+	M[3][2] = -s * C1;
+	M[3][3] = c;
+}
+
+void pc_mueller_mul(const double A[4][4], const double B[4][4], double C[4][4])
+{
+	double T[4][4];
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			T[i][j] = A[i][0] * B[0][j] + A[i][1] * B[1][j] + A[i][2] * B[2][j] +
+			          A[i][3] * B[3][j];
+	memcpy(C, T, sizeof T);
+}
+
+void pc_mueller_apply(const double M[4][4], const double S[4], double out[4])
+{
+	double t[4];
+	for (int i = 0; i < 4; i++)
+		t[i] = M[i][0] * S[0] + M[i][1] * S[1] + M[i][2] * S[2] + M[i][3] * S[3];
+	memcpy(out, t, sizeof t);
+}
+
+double pc_stokes_dop(const double S[4])
+{
+	if (!(S[0] > 0))
+		return 0;
+	return sqrt(S[1] * S[1] + S[2] * S[2] + S[3] * S[3]) / S[0];
+}
+
+double pc_stokes_dolp(const double S[4])
+{
+	if (!(S[0] > 0))
+		return 0;
+	return hypot(S[1], S[2]) / S[0];
+}
+
+double pc_stokes_docp(const double S[4])
+{
+	if (!(S[0] > 0))
+		return 0;
+	return S[3] / S[0];
+}
+
+double pc_stokes_aolp_rad(const double S[4])
+{
+	if (!(S[0] > 0) || (S[1] == 0 && S[2] == 0))
+		return 0;
+	double a = 0.5 * atan2(S[2], S[1]); /* (−π/2, π/2] */
+	if (a < 0)
+		a += PC_PI;
+	if (a >= PC_PI) /* rounding of a + π */
+		a = 0;
+	return a;
+}
+
+void pc_stokes_linear(double intensity, double aolp_rad, double S[4])
+{
+	S[0] = intensity;
+	S[1] = intensity * cos(2 * aolp_rad);
+	S[2] = intensity * sin(2 * aolp_rad);
+	S[3] = 0;
+}
+
+void pc_mueller_coherency(const double M[4][4], double H_re[4][4], double H_im[4][4])
+{
+	double complex A[4][4], Ai[4][4], Mc[4][4], T[4][4], N[4][4];
+	pc_stokes_A(A, Ai);
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			Mc[i][j] = M[i][j];
+	pc_cmul4(Ai, Mc, T);
+	pc_cmul4(T, A, N); /* N = A⁻¹ M A = J ⊗ J* for a pure M */
+	for (int a = 0; a < 2; a++)
+		for (int b = 0; b < 2; b++)
+			for (int c = 0; c < 2; c++)
+				for (int d = 0; d < 2; d++) {
+					double complex v = N[2 * a + b][2 * c + d];
+					H_re[2 * a + c][2 * b + d] = creal(v);
+					H_im[2 * a + c][2 * b + d] = cimag(v);
+				}
+}
+
+void pc_coherency_to_mueller(const double H_re[4][4], const double H_im[4][4], double M[4][4])
+{
+	double complex A[4][4], Ai[4][4], N[4][4], T[4][4], R[4][4];
+	pc_stokes_A(A, Ai);
+	for (int a = 0; a < 2; a++)
+		for (int b = 0; b < 2; b++)
+			for (int c = 0; c < 2; c++)
+				for (int d = 0; d < 2; d++)
+					N[2 * a + b][2 * c + d] = H_re[2 * a + c][2 * b + d] +
+					                          I * H_im[2 * a + c][2 * b + d];
+	pc_cmul4(A, N, T);
+	pc_cmul4(T, Ai, R);
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			M[i][j] = creal(R[i][j]);
+}
+
+/* Cyclic Jacobi eigen-decomposition of a real symmetric 8×8 matrix (in place; a becomes
+ * diagonal, v the eigenvectors as columns when non-NULL). */
+static void pc_jacobi8(double a[8][8], double v[8][8])
+{
+	if (v)
+		for (int i = 0; i < 8; i++)
+			for (int j = 0; j < 8; j++)
+				v[i][j] = i == j;
+	double frob = 0;
+	for (int i = 0; i < 8; i++)
+		for (int j = 0; j < 8; j++)
+			frob += a[i][j] * a[i][j];
+	for (int sweep = 0; sweep < 60; sweep++) {
+		double off = 0;
+		for (int p = 0; p < 8; p++)
+			for (int q = p + 1; q < 8; q++)
+				off += a[p][q] * a[p][q];
+		if (off <= 1e-34 * frob || off == 0)
+			break;
+		for (int p = 0; p < 8; p++)
+			for (int q = p + 1; q < 8; q++) {
+				double apq = a[p][q];
+				if (apq == 0)
+					continue;
+				double th = (a[q][q] - a[p][p]) / (2 * apq);
+				double t = fabs(th) > 1e150 ? 0.5 / th
+				                            : (th >= 0 ? 1 : -1) /
+				                                  (fabs(th) + sqrt(th * th + 1));
+				double c = 1 / sqrt(t * t + 1), s = t * c;
+				a[p][p] -= t * apq;
+				a[q][q] += t * apq;
+				a[p][q] = a[q][p] = 0;
+				for (int r = 0; r < 8; r++) {
+					if (r == p || r == q)
+						continue;
+					double g = a[r][p], h = a[r][q];
+					a[r][p] = a[p][r] = c * g - s * h;
+					a[r][q] = a[q][r] = s * g + c * h;
+				}
+				if (v)
+					for (int r = 0; r < 8; r++) {
+						double g = v[r][p], h = v[r][q];
+						v[r][p] = c * g - s * h;
+						v[r][q] = s * g + c * h;
+					}
+			}
+	}
+}
+
+static void pc_embed8(const double H_re[4][4], const double H_im[4][4], double E[8][8])
+{
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++) {
+			/* Hermitian part only, so that rounding asymmetry cannot leak in */
+			double re = 0.5 * (H_re[i][j] + H_re[j][i]);
+			double im = 0.5 * (H_im[i][j] - H_im[j][i]);
+			E[i][j] = re;
+			E[i + 4][j + 4] = re;
+			E[i + 4][j] = im;
+			E[i][j + 4] = -im;
+		}
+}
+
+static int pc_cmp_double(const void *x, const void *y)
+{
+	double a = *(const double *)x, b = *(const double *)y;
+	return (a > b) - (a < b);
+}
+
+void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], double eval[4])
+{
+	double E[8][8], d[8];
+	pc_embed8(H_re, H_im, E);
+	pc_jacobi8(E, NULL);
+	for (int i = 0; i < 8; i++)
+		d[i] = E[i][i];
+	qsort(d, 8, sizeof d[0], pc_cmp_double);
+	/* each eigenvalue of H appears twice in the embedding */
+	for (int i = 0; i < 4; i++)
+		eval[i] = 0.5 * (d[2 * i] + d[2 * i + 1]);
+}
+
+double pc_mueller_min_coherency_eig(const double M[4][4])
+{
+	double Hr[4][4], Hi[4][4], ev[4];
+	pc_mueller_coherency(M, Hr, Hi);
+	double tr = Hr[0][0] + Hr[1][1] + Hr[2][2] + Hr[3][3];
+	if (!(tr > 0))
+		return NAN;
+	pc_hermitian4_eigvals(Hr, Hi, ev);
+	return ev[0] / tr;
+}
+
+void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *changed)
+{
+	double Hr[4][4], Hi[4][4], E[8][8], V[8][8], F[8][8];
+	pc_mueller_coherency(M, Hr, Hi);
+	double tr = Hr[0][0] + Hr[1][1] + Hr[2][2] + Hr[3][3];
+	pc_embed8(Hr, Hi, E);
+	pc_jacobi8(E, V);
+	double lam[8], lmin = INFINITY;
+	for (int i = 0; i < 8; i++) {
+		lam[i] = E[i][i];
+		if (lam[i] < lmin)
+			lmin = lam[i];
+	}
+	bool ch = !(lmin >= -PC_PHYS_TOL * fabs(tr));
+	if (changed)
+		*changed = ch;
+	if (!ch) {
+		if (out != M)
+			memcpy(out, M, 16 * sizeof(double));
+		return;
+	}
+	/* f(embed(H)) = embed(f(H)) for the spectral function f(λ) = max(λ, 0): rebuild the
+	 * embedding from all eight eigenpairs and read H back from its blocks. */
+	for (int i = 0; i < 8; i++)
+		for (int j = 0; j < 8; j++) {
+			double s = 0;
+			for (int l = 0; l < 8; l++)
+				if (lam[l] > 0)
+					s += lam[l] * V[i][l] * V[j][l];
+			F[i][j] = s;
+		}
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++) {
+			Hr[i][j] = 0.5 * (F[i][j] + F[i + 4][j + 4]);
+			Hi[i][j] = 0.5 * (F[i + 4][j] - F[i][j + 4]);
+		}
+	pc_coherency_to_mueller(Hr, Hi, out);
+}
+
+double pc_mueller_depol_index(const double M[4][4])
+{
+	if (!(M[0][0] > 0))
+		return NAN;
+	double s = 0;
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			s += M[i][j] * M[i][j];
+	double v = (s - M[0][0] * M[0][0]) / (3 * M[0][0] * M[0][0]);
+	return sqrt(v > 0 ? v : 0);
+}
+
+double pc_atan2(double y, double x)
+{
+	if (!isfinite(x) || !isfinite(y))
+		return NAN;
+	double ax = fabs(x), ay = fabs(y);
+	if (ax == 0 && ay == 0)
+		return signbit(x) ? (signbit(y) ? -PC_PI : PC_PI) : y;
+	double a = pc_atan2_q1(ay, ax);
+	if (x < 0)
+		a = PC_PI - a;
+	return signbit(y) ? -a : a;
+}
