@@ -1,0 +1,614 @@
+/* sim/sim.c - the simulator object: pipeline assembly, per-state signal caches, frames, truth. */
+#include "polarcam/sim.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "polarcam/error.h"
+#include "polarcam/format.h"
+#include "polarcam/parallel.h"
+#include "sim_impl.h"
+
+pc_sim_options pc_sim_options_default(void)
+{
+	pc_sim_options o;
+	memset(&o, 0, sizeof o);
+	return o;
+}
+
+static pc_pixfmt natural_format(unsigned bits)
+{
+	switch (bits) {
+	case 8:
+		return PC_FMT_MONO8;
+	case 10:
+		return PC_FMT_MONO10;
+	case 12:
+		return PC_FMT_MONO12;
+	default:
+		return PC_FMT_MONO16;
+	}
+}
+
+void pc_sim_free(pc_sim *sim)
+{
+	if (!sim)
+		return;
+	if (sim->pbrdf) {
+		for (unsigned i = 0; i < sim->scene->n_materials * sim->nch; i++)
+			pc_pbrdf_free(sim->pbrdf[i]);
+		free(sim->pbrdf);
+	}
+	if (sim->rate) {
+		for (unsigned i = 0; i < sim->n_states; i++)
+			free(sim->rate[i]);
+		free(sim->rate);
+	}
+	free(sim->dsnu);
+	pc_scene_free(sim->scene);
+	free(sim);
+}
+
+int pc_sim_new(const pc_scene *scene, const pc_sim_options *opt, pc_sim **out)
+{
+	*out = NULL;
+	if (!scene)
+		return pc_error(PC_EINVAL, "scene is NULL");
+	pc_sim_options o = opt ? *opt : pc_sim_options_default();
+	const pc_sensor_figures *f = &scene->sensor;
+	/* ROI */
+	uint32_t rx = o.roi_x, ry = o.roi_y, rw = o.roi_width, rh = o.roi_height;
+	if (rw == 0 && rh == 0 && rx == 0 && ry == 0) {
+		rw = f->width;
+		rh = f->height;
+	}
+	if (rw == 0 || rh == 0 || (uint64_t)rx + rw > f->width || (uint64_t)ry + rh > f->height)
+		return pc_error(PC_EINVAL, "ROI %ux%u at (%u, %u) does not fit the %ux%u sensor", rw, rh,
+				rx, ry, f->width, f->height);
+	unsigned bits = f->bits;
+	pc_pixfmt fmt = o.format == PC_FMT_INVALID ? natural_format(bits) : o.format;
+	const pc_format_info *fi = pc_format_info_get(fmt);
+	if (!fi || fi->is_float || fi->bits < bits)
+		return pc_error(PC_EINVAL, "pixel format %s cannot hold the sensor's %u-bit values "
+					   "(integer formats with at least %u bits)", fi ? fi->name : "?",
+				bits, bits);
+	size_t row_bytes;
+	int rc = pc_format_row_bytes(fmt, rw, &row_bytes);
+	if (rc)
+		return pc_error_prefix(rc, "ROI width %u in %s: ", rw, fi->name);
+
+	pc_sim *sim = calloc(1, sizeof *sim);
+	if (!sim)
+		return pc_error(PC_ENOMEM, "simulator");
+	pc_scene_ref((pc_scene *)scene);
+	sim->scene = (pc_scene *)scene;
+	sim->opt = o;
+	sim->fig = *f;
+	sim->fx = scene->effects;
+	sim->nch = f->mosaic.period == 4 ? 3 : 1;
+	sim->circular = sim->fx & PC_FX_CIRCULAR;
+	sim->n_psg = 1;
+	for (unsigned i = 0; i < scene->n_lights; i++)
+		if (scene->lights[i].n_states > 1)
+			sim->n_psg = scene->lights[i].n_states;
+	sim->n_psa = scene->n_psa;
+	sim->n_states = sim->n_psg * sim->n_psa;
+
+	pc_sim_info *in = &sim->info;
+	in->width = rw;
+	in->height = rh;
+	in->sensor_width = f->width;
+	in->sensor_height = f->height;
+	in->offset_x = rx;
+	in->offset_y = ry;
+	in->format = fmt;
+	in->bits = bits;
+	in->mosaic = pc_mosaic_shift(&f->mosaic, rx, ry);
+	in->colour_channels = sim->nch;
+	in->exposure_us = f->exposure_us;
+	in->gain_db = f->gain_db;
+	in->frame_rate_hz = f->frame_rate_hz;
+	in->n_psg = sim->n_psg;
+	in->n_psa = sim->n_psa;
+	in->n_states = sim->n_states;
+	in->effects = sim->fx;
+	in->seed = o.seed;
+
+	/* materials → prepared pBRDFs (only when the physics core is the BRDF) */
+	if (!o.brdf) {
+		sim->pbrdf = calloc((size_t)scene->n_materials * sim->nch, sizeof *sim->pbrdf);
+		if (!sim->pbrdf) {
+			pc_sim_free(sim);
+			return pc_error(PC_ENOMEM, "materials");
+		}
+		for (unsigned m = 0; m < scene->n_materials; m++)
+			for (unsigned ch = 0; ch < sim->nch; ch++) {
+				rc = pc_pbrdf_new(&scene->materials[m].m[sim->nch == 1 ? 0 : ch],
+						  &sim->pbrdf[m * sim->nch + ch]);
+				if (rc) {
+					rc = pc_error_prefix(rc, "%s: materials.%s: ", scene->source,
+							     scene->materials[m].name);
+					pc_sim_free(sim);
+					return rc;
+				}
+			}
+	} else if (!o.brdf->eval) {
+		pc_sim_free(sim);
+		return pc_error(PC_EINVAL, "options.brdf->eval is NULL");
+	}
+	sim->rate = calloc(sim->n_states, sizeof *sim->rate);
+	if (!sim->rate) {
+		pc_sim_free(sim);
+		return pc_error(PC_ENOMEM, "state caches");
+	}
+	pc_render_setup(sim);
+	pc_sensor_setup(sim);
+	*out = sim;
+	return 0;
+}
+
+void pc_sim_get_info(const pc_sim *sim, pc_sim_info *info)
+{
+	*info = sim->info;
+}
+
+void pc_sim_get_sensor(const pc_sim *sim, pc_sensor_figures *fig)
+{
+	*fig = sim->fig;
+	fig->effects = sim->fx & (PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION |
+				  PC_FX_ORIENTATION | PC_FX_TRANSMISSION | PC_FX_CROSSTALK);
+}
+
+void pc_sim_get_states(const pc_sim *sim, pc_sim_states *st)
+{
+	memset(st, 0, sizeof *st);
+	st->n_psg = sim->n_psg;
+	st->n_psa = sim->n_psa;
+	/* the first light with a sequence defines the PSG (all sequences have equal length) */
+	const pc_sim_light *l = &sim->scene->lights[0];
+	for (unsigned i = 0; i < sim->scene->n_lights; i++)
+		if (sim->scene->lights[i].n_states > 1) {
+			l = &sim->scene->lights[i];
+			break;
+		}
+	for (unsigned g = 0; g < sim->n_psg; g++)
+		memcpy(st->psg[g], l->stokes[g % l->n_states], sizeof st->psg[g]);
+	memcpy(st->psa, sim->scene->psa, sizeof(double) * 16 * sim->n_psa);
+	for (unsigned c = 0; c < 4; c++) {
+		double th = c * 3.14159265358979323846 / 4;
+		st->analyser[c][0] = 0.5;
+		st->analyser[c][1] = 0.5 * cos(2 * th);
+		st->analyser[c][2] = 0.5 * sin(2 * th);
+		st->analyser[c][3] = 0;
+	}
+}
+
+bool pc_sim_is_prepared(const pc_sim *sim, unsigned state)
+{
+	return state < sim->n_states && sim->rate[state] != NULL;
+}
+
+/* ---- prepare: render the PSG state once, fill the caches of all its PSA states ---- */
+
+typedef struct prep_ctx {
+	pc_sim *sim;
+	unsigned g;
+	uint32_t y_base;     /* first ROI row of this chunk */
+	float *truth_s, *truth_m;
+	/* without crosstalk: write rates directly; with: analysed values on a halo'd grid */
+	float **dst;         /* n_psa destination images (ROI) */
+	float **halo;        /* n_psa images of (W+2)·(H+2), or NULL */
+	bool truth_all_ch;
+	int err;
+} prep_ctx;
+
+/* Analysed electron rate (before PRNU and crosstalk) of sensor pixel (sx, sy) for each PSA
+ * state; also writes truth when asked. */
+static void prep_pixel(prep_ctx *c, uint32_t sx, uint32_t sy, bool in_roi, float *out_rate)
+{
+	pc_sim *sim = c->sim;
+	unsigned pch = pc_sensor_channel(sim, sx, sy);
+	double S[4], M[4][4], Sp[4];
+	const bool want_truth = in_roi && (c->truth_s || c->truth_m);
+	size_t pix = 0;
+	if (want_truth)
+		pix = (size_t)(sy - sim->info.offset_y) * sim->info.width + (sx - sim->info.offset_x);
+	for (unsigned ch = 0; ch < sim->nch; ch++) {
+		if (ch != pch && !want_truth)
+			continue;
+		pc_render_pixel(sim, sx, sy, ch, c->g, S, c->truth_m && in_roi ? M : NULL);
+		if (want_truth && c->truth_s)
+			for (int k = 0; k < 4; k++)
+				c->truth_s[(pix * sim->nch + ch) * 4 + k] = (float)S[k];
+		if (want_truth && c->truth_m)
+			for (int a = 0; a < 4; a++)
+				for (int b = 0; b < 4; b++)
+					c->truth_m[(pix * sim->nch + ch) * 16 + a * 4 + b] = (float)M[a][b];
+		if (ch != pch)
+			continue;
+		double an[4];
+		sim->analyse(sim, sx, sy, an);
+		if (!sim->circular)
+			S[3] = 0; /* not carried (and not coupled: scene validation) */
+		for (unsigned a = 0; a < sim->n_psa; a++) {
+			const double(*P)[4] = sim->scene->psa[a];
+			for (int i = 0; i < 4; i++)
+				Sp[i] = P[i][0] * S[0] + P[i][1] * S[1] + P[i][2] * S[2] + P[i][3] * S[3];
+			double v = an[0] * Sp[0] + an[1] * Sp[1] + an[2] * Sp[2] + an[3] * Sp[3];
+			if (v < 0)
+				v = 0; /* only from rounding: a physical Stokes vector gives a·S ≥ 0 */
+			out_rate[a] = (float)(v * sim->e_per_radiance[ch]);
+		}
+	}
+}
+
+static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	prep_ctx *c = ctx;
+	pc_sim *sim = c->sim;
+	const uint32_t W = sim->info.width, ox = sim->info.offset_x, oy = sim->info.offset_y;
+	float rates[64];
+	for (uint32_t yy = y0; yy < y1; yy++) {
+		if (c->halo) {
+			/* halo grid row yy covers sensor row oy + yy − 1 (−1 .. H) */
+			int64_t sy = (int64_t)oy + yy - 1;
+			if (sy < 0 || sy >= sim->info.sensor_height)
+				continue; /* outside the sensor: filled from the neighbour later */
+			for (uint32_t xx = 0; xx < W + 2; xx++) {
+				int64_t sx = (int64_t)ox + xx - 1;
+				if (sx < 0 || sx >= sim->info.sensor_width)
+					continue;
+				bool in_roi = xx >= 1 && xx <= W && yy >= 1 && yy <= sim->info.height;
+				prep_pixel(c, (uint32_t)sx, (uint32_t)sy, in_roi, rates);
+				for (unsigned a = 0; a < sim->n_psa; a++)
+					c->halo[a][(size_t)yy * (W + 2) + xx] = rates[a];
+			}
+		} else {
+			uint32_t sy = oy + yy;
+			for (uint32_t x = 0; x < W; x++) {
+				uint32_t sx = ox + x;
+				prep_pixel(c, sx, sy, true, rates);
+				double prnu = pc_sensor_prnu(sim, sx, sy);
+				for (unsigned a = 0; a < sim->n_psa; a++)
+					c->dst[a][(size_t)yy * W + x] = (float)(rates[a] * prnu);
+			}
+		}
+	}
+}
+
+/* Crosstalk (physics.md §6 step 2): each pixel keeps (1 − 4c) of its own analysed signal and
+ * receives c of each 4-neighbour's; a neighbour outside the sensor counts as the pixel itself
+ * (so a uniform scene stays uniform). Then PRNU. */
+typedef struct xt_ctx {
+	pc_sim *sim;
+	float **halo, **dst;
+} xt_ctx;
+
+static void crosstalk_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	xt_ctx *c = ctx;
+	pc_sim *sim = c->sim;
+	const uint32_t W = sim->info.width, ox = sim->info.offset_x, oy = sim->info.offset_y;
+	const uint32_t SW = sim->info.sensor_width, SH = sim->info.sensor_height;
+	const double k = sim->fig.crosstalk;
+	for (unsigned a = 0; a < sim->n_psa; a++) {
+		const float *h = c->halo[a];
+		for (uint32_t y = y0; y < y1; y++) {
+			uint32_t sy = oy + y;
+			const float *up = h + (size_t)y * (W + 2), *mid = up + (W + 2), *dn = mid + (W + 2);
+			for (uint32_t x = 0; x < W; x++) {
+				uint32_t sx = ox + x;
+				double self = mid[x + 1];
+				double l = sx > 0 ? mid[x] : self, r = sx + 1 < SW ? mid[x + 2] : self;
+				double u = sy > 0 ? up[x + 1] : self, d = sy + 1 < SH ? dn[x + 1] : self;
+				double v = (1 - 4 * k) * self + k * (l + r + u + d);
+				c->dst[a][(size_t)y * W + x] = (float)(v * pc_sensor_prnu(sim, sx, sy));
+			}
+		}
+	}
+}
+
+typedef struct dsnu_ctx {
+	pc_sim *sim;
+} dsnu_ctx;
+
+static void dsnu_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	pc_sim *sim = ((dsnu_ctx *)ctx)->sim;
+	const uint32_t W = sim->info.width;
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x = 0; x < W; x++)
+			sim->dsnu[(size_t)y * W + x] = (float)pc_sensor_dsnu(
+				sim, sim->info.offset_x + x, sim->info.offset_y + y);
+}
+
+/* Runs fn over [0, rows) in chunks so that progress is reported from the calling thread. */
+typedef struct chunk_ctx {
+	pc_rows_fn fn;
+	void *ctx;
+	uint32_t base;
+} chunk_ctx;
+
+static void chunk_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	chunk_ctx *c = ctx;
+	c->fn(c->ctx, c->base + y0, c->base + y1);
+}
+
+static void run_rows(const pc_sim *sim, uint32_t rows, pc_rows_fn fn, void *ctx,
+		     pc_sim_progress_fn progress, void *user, uint64_t *done, uint64_t total)
+{
+	const uint32_t chunk = 256;
+	for (uint32_t y = 0; y < rows; y += chunk) {
+		uint32_t n = rows - y < chunk ? rows - y : chunk;
+		chunk_ctx cc = { fn, ctx, y };
+		pc_parallel_rows(n, 4, sim->opt.threads, chunk_rows, &cc);
+		*done += n;
+		if (progress)
+			progress(user, *done, total);
+	}
+}
+
+int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *truth_mueller,
+		   pc_sim_progress_fn progress, void *progress_user)
+{
+	if (state >= sim->n_states)
+		return pc_error(PC_EINVAL, "state %u: the scene has %u states", state, sim->n_states);
+	if (truth_mueller && !(sim->fx & PC_FX_MUELLER))
+		return pc_error(PC_ENOTSUP, "Mueller ground truth needs \"mueller\": true in the "
+					    "scene's effects");
+	const uint32_t W = sim->info.width, H = sim->info.height;
+	const size_t npix = (size_t)W * H;
+	unsigned g = state % sim->n_psg;
+	bool all_cached = true;
+	for (unsigned a = 0; a < sim->n_psa; a++)
+		if (!sim->rate[g + a * sim->n_psg])
+			all_cached = false;
+	if (all_cached && !truth_stokes && !truth_mueller)
+		return 0;
+	/* fixed-pattern offsets once */
+	if ((sim->fx & PC_FX_PRNU_DSNU) && !sim->dsnu) {
+		sim->dsnu = malloc(npix * sizeof *sim->dsnu);
+		if (!sim->dsnu)
+			return pc_error(PC_ENOMEM, "DSNU image (%zu pixels)", npix);
+		dsnu_ctx dc = { sim };
+		pc_parallel_rows(H, 0, sim->opt.threads, dsnu_rows, &dc);
+	}
+	float *dst[PC_SIM_MAX_STATES] = { 0 }, *halo[PC_SIM_MAX_STATES] = { 0 };
+	int rc = 0;
+	for (unsigned a = 0; a < sim->n_psa; a++) {
+		dst[a] = malloc(npix * sizeof(float));
+		if (!dst[a]) {
+			rc = pc_error(PC_ENOMEM, "signal cache (%zu pixels)", npix);
+			goto out;
+		}
+	}
+	bool xt = sim->fx & PC_FX_CROSSTALK; /* declared: done, even at crosstalk = 0 */
+	if (xt)
+		for (unsigned a = 0; a < sim->n_psa; a++) {
+			halo[a] = calloc((size_t)(W + 2) * (H + 2), sizeof(float));
+			if (!halo[a]) {
+				rc = pc_error(PC_ENOMEM, "crosstalk buffer (%zu pixels)",
+					      (size_t)(W + 2) * (H + 2));
+				goto out;
+			}
+		}
+	prep_ctx pc = { sim, g, 0, truth_stokes, truth_mueller, dst, xt ? halo : NULL, true, 0 };
+	uint64_t done = 0, total = xt ? (uint64_t)(H + 2) + H : H;
+	run_rows(sim, xt ? H + 2 : H, prep_rows, &pc, progress, progress_user, &done, total);
+	if (xt) {
+		xt_ctx xc = { sim, halo, dst };
+		run_rows(sim, H, crosstalk_rows, &xc, progress, progress_user, &done, total);
+	}
+	for (unsigned a = 0; a < sim->n_psa; a++) {
+		unsigned s = g + a * sim->n_psg;
+		free(sim->rate[s]);
+		sim->rate[s] = dst[a];
+		dst[a] = NULL;
+	}
+out:
+	for (unsigned a = 0; a < sim->n_psa; a++) {
+		free(dst[a]);
+		free(halo[a]);
+	}
+	return rc;
+}
+
+/* ---- frames ---- */
+
+static int resolve_controls(const pc_sim *sim, const pc_sim_controls *c, double *t_s, double *K)
+{
+	double exp_us = c ? c->exposure_us : sim->fig.exposure_us;
+	double gain_db = c ? c->gain_db : sim->fig.gain_db;
+	if (!(exp_us > 0) || !isfinite(exp_us) || exp_us > 1e9)
+		return pc_error(PC_EINVAL, "exposure %g µs: must be in (0, 1e9]", exp_us);
+	if (!(gain_db >= 0) || gain_db > 60)
+		return pc_error(PC_EINVAL, "gain %g dB: must be in [0, 60]", gain_db);
+	*t_s = exp_us * 1e-6;
+	*K = sim->fig.gain_dn_per_e * pow(10, gain_db / 20);
+	return 0;
+}
+
+static int check_dst(const pc_sim *sim, const pc_view *dst)
+{
+	int rc = pc_view_check(dst);
+	if (rc)
+		return rc;
+	if (dst->width != sim->info.width || dst->height != sim->info.height)
+		return pc_error(PC_EINVAL, "frame view is %ux%u, the simulator produces %ux%u",
+				dst->width, dst->height, sim->info.width, sim->info.height);
+	const pc_format_info *fi = pc_format_info_get(dst->format);
+	if (fi->is_float || fi->bits < sim->info.bits)
+		return pc_error(PC_EINVAL, "frame view format %s cannot hold %u-bit values", fi->name,
+				sim->info.bits);
+	return 0;
+}
+
+typedef struct frame_ctx {
+	const pc_sim *sim;
+	uint64_t n;
+	double t_s, K;
+	pc_view *dst;
+	int err;
+} frame_ctx;
+
+static int frame_band(const pc_sim *sim, uint64_t n, double t_s, double K, pc_view *dst,
+		      uint32_t y0, uint32_t y1)
+{
+	const pc_format_info *fi = pc_format_info_get(dst->format);
+	const uint32_t W = sim->info.width;
+	bool direct16 = fi->packing == PC_PACK_NONE && fi->group_bytes == 2;
+	uint16_t *tmp = NULL;
+	if (!direct16) {
+		tmp = malloc((size_t)W * sizeof *tmp);
+		if (!tmp)
+			return pc_error(PC_ENOMEM, "frame row");
+	}
+	int rc = 0;
+	for (uint32_t y = y0; y < y1 && !rc; y++) {
+		uint8_t *row = PC_ROW(dst, uint8_t, y);
+		if (direct16) {
+			sim->frame_row(sim, n, t_s, K, y, (uint16_t *)row);
+		} else if (dst->format == PC_FMT_MONO8) {
+			sim->frame_row(sim, n, t_s, K, y, tmp);
+			for (uint32_t x = 0; x < W; x++)
+				row[x] = (uint8_t)tmp[x];
+		} else {
+			sim->frame_row(sim, n, t_s, K, y, tmp);
+			pc_view one = { row, W, 1, dst->stride, dst->format };
+			rc = pc_view_from_u16(tmp, W * sizeof *tmp, &one);
+		}
+	}
+	free(tmp);
+	return rc;
+}
+
+static void frame_rows_par(void *ctx, uint32_t y0, uint32_t y1)
+{
+	frame_ctx *c = ctx;
+	int rc = frame_band(c->sim, c->n, c->t_s, c->K, c->dst, y0, y1);
+	if (rc) {
+#ifdef _OPENMP
+#pragma omp atomic write
+#endif
+		c->err = rc;
+	}
+}
+
+int pc_sim_frame_rows(const pc_sim *sim, uint64_t n, const pc_sim_controls *controls,
+		      pc_view *dst, uint32_t y0, uint32_t y1)
+{
+	int rc = check_dst(sim, dst);
+	if (rc)
+		return rc;
+	if (y0 > y1 || y1 > sim->info.height)
+		return pc_error(PC_EINVAL, "rows [%u, %u) outside the frame's %u rows", y0, y1,
+				sim->info.height);
+	unsigned s = (unsigned)(n % sim->n_states);
+	if (!sim->rate[s])
+		return pc_error(PC_ESTATE, "state %u of frame %llu is not prepared (pc_sim_prepare)", s,
+				(unsigned long long)n);
+	double t_s, K;
+	if ((rc = resolve_controls(sim, controls, &t_s, &K)))
+		return rc;
+	return frame_band(sim, n, t_s, K, dst, y0, y1);
+}
+
+int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_view *dst,
+		 pc_frame_meta *meta)
+{
+	int rc = check_dst(sim, dst);
+	if (rc)
+		return rc;
+	double t_s, K;
+	if ((rc = resolve_controls(sim, controls, &t_s, &K)))
+		return rc;
+	unsigned s = (unsigned)(n % sim->n_states);
+	if (!sim->rate[s] && (rc = pc_sim_prepare(sim, s, NULL, NULL, NULL, NULL)))
+		return rc;
+	frame_ctx fc = { sim, n, t_s, K, dst, 0 };
+	pc_parallel_rows(sim->info.height, 0, sim->opt.threads, frame_rows_par, &fc);
+	if (fc.err)
+		return fc.err;
+	if (meta) {
+		memset(meta, 0, sizeof *meta);
+		meta->sequence = n;
+		meta->timestamp_ns = (uint64_t)((double)n * 1e9 / sim->fig.frame_rate_hz + 0.5);
+		meta->exposure_us = t_s * 1e6;
+		meta->gain_db = controls ? controls->gain_db : sim->fig.gain_db;
+		meta->status = PC_FRAME_SIMULATED;
+		meta->offset_x = sim->info.offset_x;
+		meta->offset_y = sim->info.offset_y;
+	}
+	return 0;
+}
+
+int pc_sim_mean_dn(const pc_sim *sim, unsigned state, const pc_sim_controls *controls, uint32_t x,
+		   uint32_t y, double *mean_dn)
+{
+	if (state >= sim->n_states || !sim->rate[state])
+		return pc_error(PC_ESTATE, "state %u is not prepared", state);
+	if (x >= sim->info.width || y >= sim->info.height)
+		return pc_error(PC_EINVAL, "pixel (%u, %u) outside the %ux%u frame", x, y,
+				sim->info.width, sim->info.height);
+	double t_s, K;
+	int rc = resolve_controls(sim, controls, &t_s, &K);
+	if (rc)
+		return rc;
+	size_t i = (size_t)y * sim->info.width + x;
+	double e = sim->rate[state][i] * t_s;
+	if (sim->fx & PC_FX_NOISE)
+		e += sim->fig.dark_current_e_s * t_s;
+	if (e > sim->fig.full_well_e)
+		e = sim->fig.full_well_e;
+	if (sim->dsnu)
+		e += sim->dsnu[i];
+	*mean_dn = K * e + sim->fig.offset_dn;
+	return 0;
+}
+
+/* ---- truth in double ---- */
+
+typedef struct truth_ctx {
+	const pc_sim *sim;
+	unsigned g;
+	uint32_t y_base;
+	double *stokes, *mueller;
+} truth_ctx;
+
+static void truth_rows_fn(void *ctx, uint32_t y0, uint32_t y1)
+{
+	truth_ctx *c = ctx;
+	const pc_sim *sim = c->sim;
+	const uint32_t W = sim->info.width;
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x = 0; x < W; x++)
+			for (unsigned ch = 0; ch < sim->nch; ch++) {
+				size_t i = ((size_t)y * W + x) * sim->nch + ch;
+				double S[4], M[4][4];
+				pc_render_pixel(sim, sim->info.offset_x + x, sim->info.offset_y + c->y_base + y,
+						ch, c->g, S, c->mueller ? M : NULL);
+				if (c->stokes)
+					memcpy(c->stokes + 4 * i, S, sizeof S);
+				if (c->mueller)
+					memcpy(c->mueller + 16 * i, M, sizeof M);
+			}
+}
+
+int pc_sim_truth_rows(const pc_sim *sim, unsigned state, uint32_t y0, uint32_t y1, double *stokes,
+		      double *mueller)
+{
+	if (state >= sim->n_states)
+		return pc_error(PC_EINVAL, "state %u: the scene has %u states", state, sim->n_states);
+	if (y0 > y1 || y1 > sim->info.height)
+		return pc_error(PC_EINVAL, "rows [%u, %u) outside the frame's %u rows", y0, y1,
+				sim->info.height);
+	if (mueller && !(sim->fx & PC_FX_MUELLER))
+		return pc_error(PC_ENOTSUP, "Mueller ground truth needs \"mueller\": true in the "
+					    "scene's effects");
+	truth_ctx c = { sim, state % sim->n_psg, y0, stokes, mueller };
+	/* stokes/mueller point at row y0: shift the row index */
+	pc_parallel_rows(y1 - y0, 0, sim->opt.threads, truth_rows_fn, &c);
+	return 0;
+}
