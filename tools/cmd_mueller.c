@@ -1,10 +1,408 @@
+/* polarcam mueller: raw frames under known PSG/PSA states → per-pixel Mueller matrices
+ * (core/mueller_imaging) → Lu–Chipman D, R, Δ maps (core/decompose) as .npy and pictures. */
+#include <dirent.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
 #include "cli.h"
 #include "commands.h"
+#include "polarcam/decompose.h"
+#include "polarcam/demosaic.h"
+#include "polarcam/error.h"
+#include "polarcam/io.h"
+#include "polarcam/mueller_imaging.h"
+#include "polarcam/parallel.h"
+#include "polarcam/recording.h"
+#include "sim_cli.h"
 
-/* Placeholder until issue 4 lands this command. */
+static void usage(FILE *fp)
+{
+	fprintf(fp,
+		"usage: polarcam mueller FRAMES... --states FILE -o DIR [options]\n"
+		"       polarcam mueller RECORDING_DIR -o DIR [options]\n"
+		"\n"
+		"Per-pixel Mueller matrices from raw mosaic frames taken under known polarization\n"
+		"states (physics.md section 7): frame j was taken with generator state j mod n_psg and\n"
+		"analyser state j / n_psg, as listed in FILE (states.json, written by polarcam render\n"
+		"for scenes with state sequences). Least squares M = A+ I G+ per pixel, then Lu-Chipman\n"
+		"diattenuation D, retardance R (radians) and depolarization Delta.\n"
+		"\n"
+		"FRAMES are raw mosaics (PNG, TIFF, .npy) in sequence order, or one recording directory\n"
+		"(polarcam render/capture output: its frames, its states.json and its black level).\n"
+		"\n"
+		"Writes into DIR: mueller.npy (H, W, 4, 4) float32 in the raw's units (undetermined\n"
+		"elements NaN); D.npy, R.npy, Delta.npy (H, W) float32 (NaN where undefined: D near 1\n"
+		"or a rank-3 system); D.png, R.png, Delta.png; mueller.json (condition numbers of A, G\n"
+		"and W = A (x) G, the noise gain per element, counts of flagged pixels).\n"
+		"\n"
+		"options:\n"
+		"  --states FILE       the states file (default: RECORDING_DIR/states.json)\n"
+		"  -o, --output DIR    output directory\n"
+		"  --method NAME       demosaicking method (default bilinear; 'superpixel' halves the\n"
+		"                      resolution and is the fastest; polarcam demosaic --list)\n"
+		"  --black-level DN    subtracted from every raw value (default: the recording's sensor\n"
+		"                      offset, else 0)\n"
+		"  --layout L          mosaic layout (default: the states file's, else 90,45,135,0)\n"
+		"  --no-mueller        do not write mueller.npy (it is 64 bytes per pixel)\n"
+		"  -t, --threads N     threads\n"
+		"  --json              print mueller.json's content as one line on stdout\n"
+		"Exit status: 0 success, 1 failure, 2 bad arguments or input.\n");
+}
+
+static int cmp_str(const void *a, const void *b)
+{
+	return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* Raw frame files of a recording directory, sorted; also its black level when meta.json has
+ * the simulator's sensor description. */
+static int list_recording(const char *dir, char ***files, size_t *n, double *black)
+{
+	pc_recording *r = NULL;
+	int rc = pc_recording_open(&r, dir);
+	if (rc)
+		return rc;
+	size_t cnt = pc_recording_count(r);
+	char **f = calloc(cnt ? cnt : 1, sizeof *f);
+	if (!f) {
+		pc_recording_free(r);
+		return pc_error(PC_ENOMEM, "%s", dir);
+	}
+	for (size_t i = 0; i < cnt; i++) {
+		char p[4096];
+		if ((rc = pc_path_join(p, sizeof p, dir, pc_recording_get_frame(r, i)->file)) ||
+		    !(f[i] = strdup(p))) {
+			for (size_t k = 0; k < i; k++)
+				free(f[k]);
+			free(f);
+			pc_recording_free(r);
+			return rc ? rc : pc_error(PC_ENOMEM, "%s", dir);
+		}
+	}
+	pc_recording_free(r);
+	qsort(f, cnt, sizeof *f, cmp_str);
+	*files = f;
+	*n = cnt;
+	/* black level from meta.json "extra.sensor.offset_dn" (polarcam render) */
+	char mp[4096];
+	if (!pc_path_join(mp, sizeof mp, dir, "meta.json")) {
+		json_t *m = json_load_file(mp, 0, NULL);
+		json_t *off = json_object_get(json_object_get(json_object_get(m, "extra"), "sensor"),
+					      "offset_dn");
+		if (json_is_number(off))
+			*black = json_number_value(off);
+		json_decref(m);
+	}
+	return 0;
+}
+
+typedef struct lc_ctx {
+	const float *M;
+	float *D, *R, *Delta;
+	uint32_t width;
+	unsigned determined;
+	long singular, nonphysical, bad; /* counted per band, summed under a lock-free atomic */
+} lc_ctx;
+
+static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	lc_ctx *c = ctx;
+	long singular = 0, nonphys = 0, bad = 0;
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x = 0; x < c->width; x++) {
+			size_t i = (size_t)y * c->width + x;
+			const float *m = c->M + 16 * i;
+			double M[4][4];
+			bool finite = true;
+			for (int k = 0; k < 16; k++) {
+				M[k / 4][k % 4] = m[k];
+				finite &= isfinite(m[k]) != 0;
+			}
+			if (c->determined != 0xFFFFu || !finite) {
+				c->D[i] = c->R[i] = c->Delta[i] = NAN;
+				bad += !finite && c->determined == 0xFFFFu;
+				continue;
+			}
+			pc_lu_chipman lc;
+			if (pc_lu_chipman_decompose(M, PC_LC_FILTER | PC_LC_NO_FACTORS, &lc)) {
+				c->D[i] = c->R[i] = c->Delta[i] = NAN;
+				bad++;
+				continue;
+			}
+			c->D[i] = (float)lc.D;
+			c->R[i] = (float)lc.R;
+			c->Delta[i] = (float)lc.Delta;
+			singular += (lc.flags & (PC_LC_D_SINGULAR | PC_LC_ZERO_M00)) != 0;
+			nonphys += !lc.physical;
+		}
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->singular += singular;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->nonphysical += nonphys;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->bad += bad;
+}
+
 int cmd_mueller(int argc, char **argv)
 {
-	(void)argc;
-	(void)argv;
-	return pc_cli_error(PC_EXIT_FAILURE, "not implemented yet (issue 4)");
+	if (pc_cli_wants_help(argc, argv)) {
+		usage(stdout);
+		return PC_EXIT_OK;
+	}
+	static const struct option opts[] = {
+		{ "states", required_argument, NULL, 'S' },    { "output", required_argument, NULL, 'o' },
+		{ "method", required_argument, NULL, 'm' },    { "black-level", required_argument, NULL, 'B' },
+		{ "layout", required_argument, NULL, 'L' },    { "no-mueller", no_argument, NULL, 'N' },
+		{ "threads", required_argument, NULL, 't' },   { "json", no_argument, NULL, 'J' },
+		{ NULL, 0, NULL, 0 }
+	};
+	const char *states_path = NULL, *out = NULL, *method_name = "bilinear", *layout_arg = NULL;
+	double black = NAN;
+	long threads = 0;
+	bool write_m = true, json = false;
+	int c, rc;
+	optind = 1;
+	opterr = 0;
+	while ((c = getopt_long(argc, argv, ":o:t:", opts, NULL)) != -1) {
+		switch (c) {
+		case 'S':
+			states_path = optarg;
+			break;
+		case 'o':
+			out = optarg;
+			break;
+		case 'm':
+			method_name = optarg;
+			break;
+		case 'B':
+			if ((rc = pc_cli_parse_double("--black-level", optarg, &black)))
+				return pc_cli_fail(rc, NULL);
+			if (black < 0)
+				return pc_cli_error(PC_EXIT_USAGE, "--black-level %g: must be ≥ 0", black);
+			break;
+		case 'L':
+			layout_arg = optarg;
+			break;
+		case 'N':
+			write_m = false;
+			break;
+		case 't':
+			if ((rc = pc_cli_parse_long("--threads", optarg, 1, 1024, &threads)))
+				return pc_cli_fail(rc, NULL);
+			break;
+		case 'J':
+			json = true;
+			break;
+		case ':':
+			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
+		default:
+			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
+		}
+	}
+	if (!out)
+		return pc_cli_error(PC_EXIT_USAGE, "-o DIR is required (see --help)");
+	if (optind >= argc)
+		return pc_cli_error(PC_EXIT_USAGE, "no frames given (see --help)");
+	pc_demosaic_method method;
+	if ((rc = pc_demosaic_method_from_name(method_name, &method)))
+		return pc_cli_fail(rc, "--method");
+	if (!strcmp(method_name, "superpixel"))
+		method = PC_DM_SUPERPIXEL_HALF;
+
+	/* the frames */
+	char **files = NULL;
+	size_t nfiles = 0;
+	char states_buf[4096];
+	struct stat sb;
+	bool is_dir = argc - optind == 1 && stat(argv[optind], &sb) == 0 && S_ISDIR(sb.st_mode);
+	double rec_black = 0;
+	if (is_dir) {
+		if ((rc = list_recording(argv[optind], &files, &nfiles, &rec_black)))
+			return pc_cli_fail(rc, argv[optind]);
+		if (!states_path) {
+			if ((rc = pc_path_join(states_buf, sizeof states_buf, argv[optind], "states.json")))
+				return pc_cli_fail(rc, NULL);
+			states_path = states_buf;
+		}
+	} else {
+		nfiles = (size_t)(argc - optind);
+		files = calloc(nfiles, sizeof *files);
+		if (!files)
+			return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		for (size_t i = 0; i < nfiles; i++)
+			files[i] = strdup(argv[optind + (int)i]);
+	}
+	if (isnan(black))
+		black = rec_black;
+	int status = PC_EXIT_OK;
+	float *M = NULL, *maps = NULL, *planes = NULL;
+	pc_view raw = { 0 };
+	if (!states_path) {
+		status = pc_cli_error(PC_EXIT_USAGE, "--states FILE is required with frame files");
+		goto done;
+	}
+	pc_sim_states st;
+	char layout[64] = "";
+	if ((rc = pc_states_read(states_path, &st, layout, sizeof layout))) {
+		status = pc_cli_fail(rc, NULL);
+		goto done;
+	}
+	size_t nframes = (size_t)st.n_psg * st.n_psa;
+	if (nfiles < nframes) {
+		status = pc_cli_error(PC_EXIT_USAGE, "%s describes %zu frames (%u PSG x %u PSA states) "
+						     "but %zu frame%s given", states_path, nframes, st.n_psg,
+				      st.n_psa, nfiles, nfiles == 1 ? " was" : "s were");
+		goto done;
+	}
+	if (nfiles > nframes)
+		pc_cli_warn("%zu frames given, using the first %zu (one cycle of the states)", nfiles,
+			    nframes);
+	pc_mosaic mosaic = pc_mosaic_imx250mzr();
+	const char *lay = layout_arg ? layout_arg : *layout ? layout : NULL;
+	if (lay && (rc = pc_mosaic_parse(lay, &mosaic))) {
+		status = pc_cli_fail(rc, "layout");
+		goto done;
+	}
+	if (mosaic.period != 2) {
+		status = pc_cli_error(PC_EXIT_USAGE, "colour-polarization mosaics are not supported by "
+						     "polarcam mueller yet (layout %s)", lay);
+		goto done;
+	}
+	pc_mueller_system sys;
+	if ((rc = pc_mueller_system_init(&sys, st.n_psg, st.psg, st.n_psa, st.psa, st.analyser))) {
+		status = pc_cli_fail(rc, states_path);
+		goto done;
+	}
+	pc_demosaic_opts dopt = { (int)threads, false, 0 };
+	uint32_t W = 0, H = 0, ow = 0, oh = 0;
+	pc_progress bar;
+	pc_progress_begin(&bar, "mueller", nframes + 1);
+	for (size_t j = 0; j < nframes; j++) {
+		unsigned bits;
+		if ((rc = pc_image_read_mosaic(files[j], NULL, 0, &raw, &bits))) {
+			pc_progress_end(&bar);
+			status = pc_cli_fail(rc, NULL);
+			goto done;
+		}
+		if (j == 0) {
+			W = raw.width;
+			H = raw.height;
+			pc_demosaic_out_size(method, W, H, &ow, &oh);
+			M = calloc((size_t)ow * oh * 16, sizeof *M);
+			planes = malloc((size_t)ow * oh * 4 * sizeof *planes);
+			if (!M || !planes) {
+				pc_progress_end(&bar);
+				status = pc_cli_error(PC_EXIT_FAILURE, "out of memory for %ux%u Mueller "
+								       "images", ow, oh);
+				goto done;
+			}
+		} else if (raw.width != W || raw.height != H) {
+			pc_progress_end(&bar);
+			status = pc_cli_error(PC_EXIT_USAGE, "%s is %ux%u, the first frame %ux%u", files[j],
+					      raw.width, raw.height, W, H);
+			goto done;
+		}
+		pc_fplane pl[4];
+		pc_fplanes_separate(planes, ow, oh, 4, pl);
+		if ((rc = pc_demosaic(&raw, &mosaic, method, &dopt, pl))) {
+			pc_progress_end(&bar);
+			status = pc_cli_fail(rc, files[j]);
+			goto done;
+		}
+		if (black != 0)
+			for (size_t k = 0; k < (size_t)ow * oh * 4; k++)
+				planes[k] -= (float)black;
+		if ((rc = pc_mueller_accumulate(&sys, (unsigned)j, pl, ow, oh, (int)threads, M))) {
+			pc_progress_end(&bar);
+			status = pc_cli_fail(rc, files[j]);
+			goto done;
+		}
+		pc_view_free(&raw);
+		pc_progress_update(&bar, j + 1);
+	}
+	pc_mueller_finish(&sys, ow, oh, M);
+	free(planes);
+	planes = NULL;
+	/* decomposition maps */
+	size_t np = (size_t)ow * oh;
+	maps = malloc(np * 3 * sizeof *maps);
+	if (!maps) {
+		pc_progress_end(&bar);
+		status = pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		goto done;
+	}
+	lc_ctx lc = { M, maps, maps + np, maps + 2 * np, ow, sys.determined, 0, 0, 0 };
+	pc_parallel_rows(oh, 0, (int)threads, lc_rows, &lc);
+	pc_progress_end(&bar);
+	if ((rc = pc_mkdir_p(out))) {
+		status = pc_cli_fail(rc, out);
+		goto done;
+	}
+	char path[4096];
+	if (write_m) {
+		size_t shape[4] = { oh, ow, 4, 4 };
+		if ((rc = pc_path_join(path, sizeof path, out, "mueller.npy")) ||
+		    (rc = pc_npy_write(path, M, PC_DT_F32, 4, shape))) {
+			status = pc_cli_fail(rc, NULL);
+			goto done;
+		}
+	}
+	if ((rc = pc_write_map(out, "D", maps, ow, oh, 0, 1, "Diattenuation D (Lu-Chipman)", "D")) ||
+	    (rc = pc_write_map(out, "R", maps + np, ow, oh, 0, M_PI, "Retardance R (Lu-Chipman)",
+			       "R (rad)")) ||
+	    (rc = pc_write_map(out, "Delta", maps + 2 * np, ow, oh, 0, 1,
+			       "Depolarization Delta (Lu-Chipman)", "Delta"))) {
+		status = pc_cli_fail(rc, out);
+		goto done;
+	}
+	json_t *js = json_object();
+	json_object_set_new(js, "frames", json_integer((json_int_t)nframes));
+	json_object_set_new(js, "width", json_integer(ow));
+	json_object_set_new(js, "height", json_integer(oh));
+	json_object_set_new(js, "method", json_string(pc_demosaic_method_get(method)->name));
+	json_object_set_new(js, "black_level", json_real(black));
+	json_object_set_new(js, "cond_A", pc_json_real(sys.cond_A));
+	json_object_set_new(js, "cond_G", pc_json_real(sys.cond_G));
+	json_object_set_new(js, "cond_W", pc_json_real(sys.cond_W));
+	json_object_set_new(js, "rank_A", json_integer(sys.rank_A));
+	json_object_set_new(js, "rank_G", json_integer(sys.rank_G));
+	json_object_set_new(js, "noise_gain", pc_json_matrix4(sys.noise_gain));
+	json_object_set_new(js, "pixels_D_singular", json_integer(lc.singular));
+	json_object_set_new(js, "pixels_nonphysical_filtered", json_integer(lc.nonphysical));
+	json_object_set_new(js, "pixels_undecomposable", json_integer(lc.bad));
+	char *txt = json_dumps(js, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
+	if (!txt || (rc = pc_path_join(path, sizeof path, out, "mueller.json")) ||
+	    (rc = pc_write_file_atomic(path, txt, strlen(txt)))) {
+		free(txt);
+		json_decref(js);
+		status = pc_cli_fail(rc ? rc : PC_ENOMEM, "mueller.json");
+		goto done;
+	}
+	free(txt);
+	if (sys.rank_A < 4 || sys.rank_G < 4)
+		pc_cli_warn("rank-%u analyser / rank-%u generator: only the 3x3 linear block is "
+			    "determined; D/R/Delta maps are NaN", sys.rank_A, sys.rank_G);
+	if (json)
+		pc_cli_print_json(js);
+	else
+		json_decref(js);
+done:
+	pc_view_free(&raw);
+	for (size_t i = 0; i < nfiles; i++)
+		free(files[i]);
+	free(files);
+	free(M);
+	free(maps);
+	free(planes);
+	return status;
 }

@@ -5,6 +5,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "polarcam/error.h"
+#include "polarcam/io.h"
+#include "polarcam/picture.h"
+#include "polarcam/plot.h"
+
 json_t *pc_sim_effects_json(unsigned effects)
 {
 	json_t *a = json_array();
@@ -123,4 +128,137 @@ double pc_peak_rss_mib(void)
 			kb = strtod(line + 6, NULL);
 	fclose(fp);
 	return kb < 0 ? -1 : kb / 1024;
+}
+
+int pc_path_join(char *buf, size_t size, const char *dir, const char *name)
+{
+	int n = snprintf(buf, size, "%s/%s", dir, name);
+	if (n < 0 || (size_t)n >= size)
+		return pc_error(PC_EINVAL, "path too long: %s/%s", dir, name);
+	return 0;
+}
+
+int pc_write_map(const char *dir, const char *name, const float *map, uint32_t width,
+		 uint32_t height, double lo, double hi, const char *title, const char *label)
+{
+	char path[4096], file[256];
+	snprintf(file, sizeof file, "%s.npy", name);
+	int rc = pc_path_join(path, sizeof path, dir, file);
+	size_t shape[2] = { height, width };
+	if (rc || (rc = pc_npy_write(path, map, PC_DT_F32, 2, shape)))
+		return rc;
+	uint8_t *rgb = malloc((size_t)width * height * 3);
+	if (!rgb)
+		return pc_error(PC_ENOMEM, "%s picture", name);
+	pc_fplane pl = { (float *)map, width, 1 };
+	rc = pc_picture_grey(&pl, width, height, (float)lo, (float)hi, rgb, (size_t)width * 3);
+	if (!rc) {
+		snprintf(file, sizeof file, "%s.png", name);
+		rc = pc_path_join(path, sizeof path, dir, file);
+		pc_colorbar bar = { label, lo, hi, NULL, 0, 0, pc_picture_grey_key, NULL };
+		if (!rc)
+			rc = pc_image_write_png(path, rgb, width, height, (size_t)width * 3, title, &bar,
+						1600);
+	}
+	free(rgb);
+	return rc;
+}
+
+static int st_err(const char *path, const char *field, const char *what)
+{
+	return pc_error(PC_EFORMAT, "%s: %s: %s", path, field, what);
+}
+
+static int read_vec(json_t *v, double *out, unsigned n)
+{
+	if (!json_is_array(v) || json_array_size(v) != n)
+		return -1;
+	for (unsigned i = 0; i < n; i++) {
+		json_t *e = json_array_get(v, i);
+		if (!json_is_number(e) || !isfinite(json_number_value(e)))
+			return -1;
+		out[i] = json_number_value(e);
+	}
+	return 0;
+}
+
+int pc_states_read(const char *path, pc_sim_states *st, char *layout, size_t layout_size)
+{
+	json_error_t je;
+	json_t *d = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
+	if (!d) {
+		if (!strcmp(je.text, "unable to open") || strstr(je.text, "unable to open"))
+			return pc_error(PC_ENOENT, "%s: cannot open states file", path);
+		return pc_error(PC_EFORMAT, "%s: line %d: %s", path, je.line, je.text);
+	}
+	memset(st, 0, sizeof *st);
+	int rc = 0;
+	json_t *v = json_object_get(d, "polarcam_states");
+	if (!json_is_integer(v) || json_integer_value(v) != 1) {
+		rc = st_err(path, "polarcam_states", "missing or not 1 (not a polarcam states file)");
+		goto out;
+	}
+	v = json_object_get(d, "frame_order");
+	if (!json_is_string(v) || strcmp(json_string_value(v), "psg_fastest")) {
+		rc = st_err(path, "frame_order", "expected \"psg_fastest\"");
+		goto out;
+	}
+	json_t *g = json_object_get(d, "psg"), *a = json_object_get(d, "psa");
+	if (!json_is_array(g) || json_array_size(g) < 1 || json_array_size(g) > 64) {
+		rc = st_err(path, "psg", "expected 1 to 64 Stokes vectors");
+		goto out;
+	}
+	if (!json_is_array(a) || json_array_size(a) < 1 || json_array_size(a) > 64) {
+		rc = st_err(path, "psa", "expected 1 to 64 Mueller matrices");
+		goto out;
+	}
+	st->n_psg = (unsigned)json_array_size(g);
+	st->n_psa = (unsigned)json_array_size(a);
+	for (unsigned i = 0; i < st->n_psg; i++)
+		if (read_vec(json_array_get(g, i), st->psg[i], 4)) {
+			char f[32];
+			snprintf(f, sizeof f, "psg[%u]", i);
+			rc = st_err(path, f, "expected 4 finite numbers");
+			goto out;
+		}
+	for (unsigned i = 0; i < st->n_psa; i++) {
+		json_t *m = json_array_get(a, i);
+		bool ok = json_is_array(m) && json_array_size(m) == 4;
+		for (unsigned r = 0; ok && r < 4; r++)
+			ok = !read_vec(json_array_get(m, r), st->psa[i][r], 4);
+		if (!ok) {
+			char f[32];
+			snprintf(f, sizeof f, "psa[%u]", i);
+			rc = st_err(path, f, "expected 4 rows of 4 finite numbers");
+			goto out;
+		}
+	}
+	json_t *an = json_object_get(d, "analyser");
+	if (an) {
+		bool ok = json_is_array(an) && json_array_size(an) == 4;
+		for (unsigned c = 0; ok && c < 4; c++)
+			ok = !read_vec(json_array_get(an, c), st->analyser[c], 4);
+		if (!ok) {
+			rc = st_err(path, "analyser", "expected 4 rows of 4 finite numbers");
+			goto out;
+		}
+	} else {
+		for (unsigned c = 0; c < 4; c++) {
+			double th = c * M_PI / 4;
+			st->analyser[c][0] = 0.5;
+			st->analyser[c][1] = 0.5 * cos(2 * th);
+			st->analyser[c][2] = 0.5 * sin(2 * th);
+		}
+	}
+	v = json_object_get(d, "layout");
+	if (layout && layout_size) {
+		if (v && !json_is_string(v)) {
+			rc = st_err(path, "layout", "expected a layout string such as \"90,45,135,0\"");
+			goto out;
+		}
+		snprintf(layout, layout_size, "%s", v ? json_string_value(v) : "");
+	}
+out:
+	json_decref(d);
+	return rc;
 }

@@ -29,4 +29,16 @@ void pc_sim_progress_cb(void *user, uint64_t done, uint64_t total);
 /* Peak resident set size of this process in MiB (VmHWM), or -1. */
 double pc_peak_rss_mib(void);
 
+
+/* Writes a float (H, W) map as DIR/NAME.npy and a grey picture DIR/NAME.png (linear from lo to
+ * hi, with a title and a colour bar labelled label). */
+int pc_write_map(const char *dir, const char *name, const float *map, uint32_t width,
+		 uint32_t height, double lo, double hi, const char *title, const char *label);
+
+/* Parses a states.json (pc_sim_states_json's format) into st; errors name the file and field. */
+int pc_states_read(const char *path, pc_sim_states *st, char *layout, size_t layout_size);
+
+/* sizeof-checked path join: DIR/NAME into buf (PC_EINVAL when too long). */
+int pc_path_join(char *buf, size_t size, const char *dir, const char *name);
+
 #endif
