@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <jansson.h>
 #include <unistd.h>
 
 #include "../sim/scene_impl.h"
@@ -233,8 +235,49 @@ static void test_obj(void)
 	CHECK(strstr(pc_error_detail(), "/nonexistent/scene.json") != NULL);
 }
 
+/* every example scene in scenes/ loads; scenes/default.json is the built-in default scene; the
+ * JSON Schema in docs/ is valid JSON */
+static void test_examples(void)
+{
+	const char *src = getenv("PC_SOURCE_DIR");
+	if (!src)
+		return;
+	char dir[1024], path[2048];
+	snprintf(dir, sizeof dir, "%s/scenes", src);
+	DIR *d = opendir(dir);
+	CHECK(d != NULL);
+	if (!d)
+		return;
+	int n = 0;
+	for (struct dirent *e; (e = readdir(d));) {
+		size_t l = strlen(e->d_name);
+		if (l < 6 || strcmp(e->d_name + l - 5, ".json"))
+			continue;
+		snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+		pc_scene *s = NULL;
+		int rc = pc_scene_load(path, &s);
+		if (rc)
+			fprintf(stderr, "%s\n", pc_error_detail());
+		CHECK_EQ_INT(rc, 0);
+		pc_scene_free(s);
+		n++;
+	}
+	closedir(d);
+	CHECK(n >= 5);
+	snprintf(path, sizeof path, "%s/default.json", dir);
+	json_t *a = json_load_file(path, 0, NULL), *b = json_loads(pc_scene_default_text(), 0, NULL);
+	CHECK(a && b && json_equal(a, b));
+	json_decref(a);
+	json_decref(b);
+	snprintf(path, sizeof path, "%s/docs/scene.schema.json", src);
+	a = json_load_file(path, 0, NULL);
+	CHECK(a != NULL);
+	json_decref(a);
+}
+
 int main(void)
 {
+	test_examples();
 	test_default();
 	test_errors();
 	test_states_and_psa();
