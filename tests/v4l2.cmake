@@ -1,0 +1,38 @@
+# V4L2 against the real kernel driver: a QEMU guest (software emulation) boots Debian's own
+# kernel package with vivid, from a busybox initramfs that tests/qemu/run-guest.sh builds, and
+# runs pc_guest_v4l2 - the project's V4L2 code and checks - once; all V4L2 checks run in that
+# one boot. The kernel and module pieces are cached in the build directory (qemu-cache/).
+#
+# pc_guest_v4l2 is linked statically. The sanitizer runtimes cannot be linked into a static
+# program, so in the ASan+UBSan build (PC_SANITIZE) it is linked dynamically and run-guest.sh
+# copies the shared libraries it needs (libasan, libubsan, libc, ...) into the initramfs: the
+# guest checks then run under the sanitizers too.
+set(PC_GUEST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/qemu)
+add_executable(pc_guest_v4l2
+  ${PC_GUEST_DIR}/guest_v4l2.c
+  ${PROJECT_SOURCE_DIR}/devices/v4l2_device.c)
+target_include_directories(pc_guest_v4l2 PRIVATE ${PC_GUEST_DIR} ${PROJECT_SOURCE_DIR}/devices/include
+  ${PROJECT_SOURCE_DIR}/core/include)
+if(PC_SANITIZE)
+  target_link_libraries(pc_guest_v4l2 PRIVATE pc_core)
+else()
+  # The OpenMP imported target names libgomp.so; a static link needs the archive, which gcc's
+  # -fopenmp picks under -static.
+  add_dependencies(pc_guest_v4l2 pc_core)
+  target_link_libraries(pc_guest_v4l2 PRIVATE $<TARGET_FILE:pc_core> m)
+  target_link_options(pc_guest_v4l2 PRIVATE -static $<$<BOOL:${PC_HAVE_OPENMP}>:-fopenmp>)
+endif()
+
+# vivid: one instance with a video capture and a video output node (node_types=0x101).
+set(PC_VIVID_PARAMS "vivid n_devs=1 node_types=0x101")
+add_test(NAME v4l2_guest
+  COMMAND ${PC_GUEST_DIR}/run-guest.sh
+    --cache ${CMAKE_BINARY_DIR}/qemu-cache
+    --log ${CMAKE_CURRENT_BINARY_DIR}/v4l2_guest.log
+    --module "${PC_VIVID_PARAMS}"
+    --env ASAN_OPTIONS --env UBSAN_OPTIONS
+    --min-pass 2
+    --timeout 400
+    $<TARGET_FILE:pc_guest_v4l2>)
+# PROCESSORS 2: the guest has two virtual CPUs; ctest -j2 then runs nothing beside it.
+set_tests_properties(v4l2_guest PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600 PROCESSORS 2)
