@@ -30,7 +30,7 @@ add_test(NAME v4l2_guest
     --cache ${CMAKE_BINARY_DIR}/qemu-cache
     --log ${CMAKE_CURRENT_BINARY_DIR}/v4l2_guest.log
     --module "${PC_VIVID_PARAMS}"
-    --env ASAN_OPTIONS --env UBSAN_OPTIONS
+    --env ASAN_OPTIONS --env UBSAN_OPTIONS --env PC_GUEST_VERBOSE
     --min-pass 2
     --timeout 400
     $<TARGET_FILE:pc_guest_v4l2>)

@@ -26,6 +26,136 @@
 
 static char cap_path[256], out_path[256];
 
+/* ---- helpers ---- */
+
+static uint32_t fcc(const char *s)
+{
+	return PC_FOURCC(s[0], s[1], s[2], s[3]);
+}
+
+/* The capture node on `input`, with vivid's on-screen text off so that frames hold only the
+ * test pattern (or, in loopback, only what was sent). */
+static pc_v4l2 *open_capture(const char *check, unsigned input)
+{
+	pc_v4l2 *dev;
+	if (pc_v4l2_open(cap_path, PC_V4L2_CAPTURE, &dev)) {
+		gt_fail(check, "open: %s", pc_error_detail());
+		return NULL;
+	}
+	if (pc_v4l2_select_io(dev, input)) {
+		gt_fail(check, "input %u: %s", input, pc_error_detail());
+		pc_v4l2_close(dev);
+		return NULL;
+	}
+	pc_v4l2_ctrl c;
+	if (pc_v4l2_ctrl_find(dev, "OSD Text Mode", &c) == 0 && pc_v4l2_ctrl_set(dev, c.id, 2)) {
+		gt_fail(check, "OSD Text Mode: %s", pc_error_detail());
+		pc_v4l2_close(dev);
+		return NULL;
+	}
+	return dev;
+}
+
+static int set_cvt(pc_v4l2 *dev, uint32_t w, uint32_t h, double fps, pc_dv_timings *got)
+{
+	pc_dv_timings t;
+	int rc = pc_dv_timings_cvt_rb2(w, h, fps, &t);
+	if (!rc)
+		rc = pc_v4l2_set_dv_timings(dev, &t);
+	if (!rc && got)
+		rc = pc_v4l2_get_dv_timings(dev, got);
+	return rc;
+}
+
+static pc_view buffer_view(const pc_v4l2_format *f, void *data)
+{
+	pc_view v = { data, f->width, f->height, f->bytesperline, f->format };
+	return v;
+}
+
+typedef struct capture_stats {
+	unsigned frames, errors, gaps;
+	uint32_t first_seq, last_seq;
+	uint64_t first_ts, last_ts;
+	unsigned seq_back, seq_repeat, ts_back;
+	uint16_t vmin, vmax;
+	double seconds;
+} capture_stats;
+
+/* Streams n frames from dev (format already set), checking every frame: bytesused, sequence
+ * and timestamp order, and - through pc_view_to_u16 - that no value exceeds the format's bit
+ * depth (Y10/Y12 hold LSB-aligned values). Returns 0 or the PC_E* code with its detail set. */
+static int capture_frames(pc_v4l2 *dev, unsigned n, capture_stats *st, uint8_t *first_copy)
+{
+	memset(st, 0, sizeof *st);
+	st->vmin = UINT16_MAX;
+	pc_v4l2_format f;
+	int rc = pc_v4l2_get_format(dev, &f);
+	if (rc)
+		return rc;
+	uint16_t *row16 = malloc((size_t)f.width * f.height * 2);
+	if (!row16)
+		return pc_error(PC_ENOMEM, "out of memory");
+	rc = pc_v4l2_stream_start(dev, 4);
+	double t0 = gt_now();
+	for (unsigned i = 0; !rc && i < n; i++) {
+		pc_v4l2_buffer b;
+		rc = pc_v4l2_dequeue(dev, 5000, &b);
+		if (rc)
+			break;
+		if (b.error)
+			st->errors++;
+		if (b.bytesused < f.sizeimage)
+			rc = pc_error(PC_EIO, "frame %u: bytesused %zu < sizeimage %zu", i, b.bytesused,
+				      f.sizeimage);
+		if (i == 0) {
+			st->first_seq = b.sequence;
+			st->first_ts = b.timestamp_ns;
+			if (!b.timestamp_monotonic)
+				rc = pc_error(PC_EIO, "frame 0: timestamps are not CLOCK_MONOTONIC");
+		} else {
+			/* vivid, lagging under emulation, can give two consecutive buffers the
+			 * same sequence number: counted, not an error; going back is. */
+			if ((uint32_t)(b.sequence - st->last_seq) == 0)
+				st->seq_repeat++;
+			else if ((uint32_t)(b.sequence - st->last_seq) > 0x80000000u)
+				st->seq_back++;
+			else if (b.sequence != st->last_seq + 1)
+				st->gaps += b.sequence - st->last_seq - 1;
+			if (b.timestamp_ns <= st->last_ts)
+				st->ts_back++;
+		}
+		if (getenv("PC_GUEST_VERBOSE"))
+			gt_info("frame %u: index %u seq %u ts %llu bytesused %zu", i, b.index, b.sequence,
+				(unsigned long long)b.timestamp_ns, b.bytesused);
+		st->last_seq = b.sequence;
+		st->last_ts = b.timestamp_ns;
+		pc_view v = buffer_view(&f, b.data);
+		if (!rc)
+			rc = pc_view_to_u16(&v, row16, (size_t)f.width * 2);
+		if (!rc) {
+			for (size_t k = 0; k < (size_t)f.width * f.height; k++) {
+				if (row16[k] < st->vmin)
+					st->vmin = row16[k];
+				if (row16[k] > st->vmax)
+					st->vmax = row16[k];
+			}
+			if (i == 0 && first_copy)
+				for (uint32_t y = 0; y < f.height; y++)
+					memcpy(first_copy + (size_t)y * f.width * 2,
+					       row16 + (size_t)y * f.width, (size_t)f.width * 2);
+			st->frames++;
+		}
+		int rq = pc_v4l2_queue(dev, b.index, 0);
+		if (!rc)
+			rc = rq;
+	}
+	st->seconds = gt_now() - t0;
+	free(row16);
+	int rs = pc_v4l2_stream_stop(dev);
+	return rc ? rc : rs;
+}
+
 /* ---- the checks ---- */
 
 static void check_list(void)
@@ -41,7 +171,7 @@ static void check_list(void)
 		const pc_v4l2_node *d = &nodes[i];
 		gt_info("node %s: driver=%s card='%s' bus=%s capture=%d output=%d formats=%zu%s%s",
 			d->info.path, d->info.driver, d->info.card, d->info.bus_info, d->info.capture,
-			d->info.output, d->nformats, d->error ? " error: " : "",
+			d->info.output, d->nformats_total, d->error ? " error: " : "",
 			d->error ? d->error_detail : "");
 		if (strcmp(d->info.driver, "vivid") != 0 || d->error)
 			continue;
@@ -72,22 +202,252 @@ static void check_formats(void)
 		return;
 	}
 	const char *want[] = { "GREY", "Y10 ", "Y12 ", "Y16 " };
-	int found = 0, readable = 0;
-	char list[1024] = "", b[5];
+	int found = 0;
+	char list[1024] = "", all[1024] = "", b[5];
 	for (size_t i = 0; i < n && i < 128; i++) {
+		strncat(all, " ", sizeof all - strlen(all) - 1);
+		strncat(all, pc_fourcc_str(f[i], b), sizeof all - strlen(all) - 1);
 		if (pc_format_from_v4l2(f[i]) != PC_FMT_INVALID) {
-			readable++;
 			strncat(list, " ", sizeof list - strlen(list) - 1);
 			strncat(list, pc_fourcc_str(f[i], b), sizeof list - strlen(list) - 1);
 		}
 		for (int k = 0; k < 4; k++)
-			if (f[i] == PC_FOURCC(want[k][0], want[k][1], want[k][2], want[k][3]))
+			if (f[i] == fcc(want[k]))
 				found++;
 	}
+	gt_info("capture formats:%s", all);
 	if (found == 4)
 		gt_pass("formats", "%zu capture formats, polarcam reads%s", n, list);
 	else
 		gt_fail("formats", "only %d of GREY/Y10/Y12/Y16 among %zu formats", found, n);
+	pc_v4l2_close(dev);
+}
+
+/* Valid / adjusted / invalid answers from the driver on the webcam input. */
+static void check_negotiation(void)
+{
+	const char *name = "negotiate";
+	pc_v4l2 *dev = open_capture(name, 0);
+	if (!dev)
+		return;
+	pc_v4l2_format g, g2;
+	int bad = 0;
+	if (pc_v4l2_try_format(dev, fcc("GREY"), 640, 480, 0, &g) || g.fourcc != fcc("GREY") ||
+	    g.width != 640 || g.height != 480 || g.format != PC_FMT_MONO8 || g.bytesperline < 640) {
+		gt_fail(name, "GREY 640x480 not accepted as asked: %s", pc_error_detail());
+		bad++;
+	}
+	if (pc_v4l2_try_format(dev, fcc("Y16 "), 641, 479, 0, &g) ||
+	    (g.width == 641 && g.height == 479) ||
+	    pc_v4l2_try_format(dev, g.fourcc, g.width, g.height, 0, &g2) || g2.width != g.width ||
+	    g2.height != g.height || g.format != PC_FMT_MONO16) {
+		gt_fail(name, "Y16 641x479: expected an adjusted size that is then accepted (got %ux%u)",
+			g.width, g.height);
+		bad++;
+	} else {
+		gt_info("Y16 641x479 adjusted to %ux%u", g.width, g.height);
+	}
+	/* A fourcc vivid does not offer: the driver substitutes one polarcam cannot read (YUYV);
+	 * set_format must refuse rather than stream garbage. */
+	int rc = pc_v4l2_try_format(dev, PC_FOURCC('P', 'C', 'Z', 'Z'), 640, 480, 0, &g);
+	char b[5];
+	if (rc || g.fourcc == PC_FOURCC('P', 'C', 'Z', 'Z')) {
+		gt_fail(name, "unknown fourcc: try_format rc %d fourcc %s", rc, pc_fourcc_str(g.fourcc, b));
+		bad++;
+	}
+	rc = pc_v4l2_set_format(dev, PC_FOURCC('P', 'C', 'Z', 'Z'), 640, 480, 0, &g);
+	if (rc != PC_EFORMAT) {
+		gt_fail(name, "set_format with an unknown fourcc returned %s, expected PC_EFORMAT",
+			pc_errname(rc));
+		bad++;
+	} else {
+		gt_info("unknown fourcc refused: %s", pc_error_detail());
+	}
+	if (!bad)
+		gt_pass(name, "GREY 640x480 valid, Y16 641x479 adjusted to %ux%u, unknown fourcc -> "
+			      "PC_EFORMAT", g2.width, g2.height);
+	pc_v4l2_close(dev);
+}
+
+static void check_capture(const char *fourcc, uint32_t w, uint32_t h, unsigned input, unsigned n)
+{
+	char name[64];
+	snprintf(name, sizeof name, "capture-%.4s-%ux%u", fourcc, w, h);
+	for (char *p = name; *p; p++)
+		if (*p == ' ')
+			*p = '_';
+	pc_v4l2 *dev = open_capture(name, input);
+	if (!dev)
+		return;
+	if (input == 3 && set_cvt(dev, w, h, 30.0, NULL)) {
+		gt_fail(name, "DV timings: %s", pc_error_detail());
+		pc_v4l2_close(dev);
+		return;
+	}
+	pc_v4l2_format g;
+	if (pc_v4l2_set_format(dev, fcc(fourcc), w, h, 0, &g)) {
+		gt_fail(name, "set_format: %s", pc_error_detail());
+		pc_v4l2_close(dev);
+		return;
+	}
+	if (g.width != w || g.height != h || g.fourcc != fcc(fourcc)) {
+		gt_fail(name, "driver answered %ux%u", g.width, g.height);
+		pc_v4l2_close(dev);
+		return;
+	}
+	capture_stats st;
+	int rc = capture_frames(dev, n, &st, NULL);
+	const pc_format_info *fi = pc_format_info_get(g.format);
+	unsigned maxv = fi->bits >= 16 ? 65535u : (1u << fi->bits) - 1u;
+	if (rc)
+		gt_fail(name, "%s", pc_error_detail());
+	else if (st.frames != n || st.seq_back || st.ts_back || st.errors)
+		gt_fail(name, "%u/%u frames, %u sequence reversals, %u timestamp reversals, %u error "
+			      "flags", st.frames, n, st.seq_back, st.ts_back, st.errors);
+	else if (st.vmax <= st.vmin || st.vmax > maxv)
+		gt_fail(name, "values %u..%u (a %u-bit format holds 0..%u)", st.vmin, st.vmax, fi->bits,
+			maxv);
+	else
+		gt_pass(name, "%u frames, bytesperline %zu, seq %u..%u (%u dropped, %u repeated), values "
+			      "%u..%u of %u, %.1f frames/s", st.frames, g.bytesperline, st.first_seq,
+			st.last_seq, st.gaps, st.seq_repeat, st.vmin, st.vmax, maxv, (st.frames - 1) / (st.last_ts - st.first_ts > 0
+				? (double)(st.last_ts - st.first_ts) * 1e-9 : 1.0));
+	pc_v4l2_close(dev);
+}
+
+/* A padded stride asked of the driver (vivid honours bytesperline) must give the same image. */
+static void check_stride(void)
+{
+	const char *name = "stride";
+	pc_v4l2 *dev = open_capture(name, 0);
+	if (!dev)
+		return;
+	const uint32_t w = 640, h = 480;
+	uint8_t *a = malloc((size_t)w * h * 2), *b = malloc((size_t)w * h * 2);
+	pc_v4l2_format g1, g2;
+	capture_stats st;
+	int rc = !a || !b ? pc_error(PC_ENOMEM, "out of memory") : 0;
+	if (!rc)
+		rc = pc_v4l2_set_format(dev, fcc("GREY"), w, h, 0, &g1);
+	if (!rc)
+		rc = capture_frames(dev, 2, &st, a);
+	if (!rc)
+		rc = pc_v4l2_set_format(dev, fcc("GREY"), w, h, 704, &g2);
+	if (!rc)
+		rc = capture_frames(dev, 2, &st, b);
+	if (rc)
+		gt_fail(name, "%s", pc_error_detail());
+	else if (g2.bytesperline != 704)
+		gt_skip(name, "the driver ignored bytesperline 704 (answered %zu)", g2.bytesperline);
+	else if (memcmp(a, b, (size_t)w * h * 2) != 0)
+		gt_fail(name, "the image read with bytesperline 704 differs from bytesperline %zu",
+			g1.bytesperline);
+	else
+		gt_pass(name, "GREY 640x480 with bytesperline %zu and %zu: identical images",
+			g1.bytesperline, g2.bytesperline);
+	free(a);
+	free(b);
+	pc_v4l2_close(dev);
+}
+
+static void check_controls(void)
+{
+	const char *name = "controls";
+	pc_v4l2 *dev = open_capture(name, 0);
+	if (!dev)
+		return;
+	int bad = 0;
+	pc_v4l2_ctrl c;
+	int64_t v = -1;
+	if (pc_v4l2_ctrl_query(dev, 0x00980912u /* AUTOGAIN */, &c) == 0 &&
+	    pc_v4l2_ctrl_set(dev, c.id, 0)) {
+		gt_fail(name, "autogain off: %s", pc_error_detail());
+		bad++;
+	}
+	if (pc_v4l2_ctrl_query(dev, PC_V4L2_CID_GAIN, &c)) {
+		gt_fail(name, "gain: %s", pc_error_detail());
+		pc_v4l2_close(dev);
+		return;
+	}
+	int64_t target = c.minimum + (c.maximum - c.minimum) / 3;
+	if (pc_v4l2_ctrl_set(dev, c.id, target) || pc_v4l2_ctrl_get(dev, c.id, &v) || v != target) {
+		gt_fail(name, "gain %lld: read back %lld (%s)", (long long)target, (long long)v,
+			pc_error_detail());
+		bad++;
+	}
+	int rc = pc_v4l2_ctrl_set(dev, c.id, c.maximum + 1);
+	int64_t after = -1;
+	pc_v4l2_ctrl_get(dev, c.id, &after);
+	if (rc != PC_ERANGE || after != target) {
+		gt_fail(name, "gain above maximum: %s, value now %lld (expected PC_ERANGE, unchanged)",
+			pc_errname(rc), (long long)after);
+		bad++;
+	}
+	rc = pc_v4l2_ctrl_query(dev, PC_V4L2_CID_EXPOSURE_ABSOLUTE, &c);
+	if (rc != PC_ENOENT && rc != 0) {
+		gt_fail(name, "exposure query: %s", pc_error_detail());
+		bad++;
+	}
+	double fps = 0, got = 0, back = 0;
+	pc_v4l2_format g;
+	if (pc_v4l2_set_format(dev, fcc("GREY"), 640, 480, 0, &g) || pc_v4l2_get_frame_rate(dev, &fps) ||
+	    pc_v4l2_set_frame_rate(dev, 15.0, &got) || pc_v4l2_get_frame_rate(dev, &back) ||
+	    back != got) {
+		gt_fail(name, "frame rate: %s (was %g, set 15 -> %g, read %g)", pc_error_detail(), fps,
+			got, back);
+		bad++;
+	}
+	if (!bad)
+		gt_pass(name, "gain %lld set and read back, %lld refused with PC_ERANGE and left "
+			      "unchanged, exposure %s, frame rate %g -> asked 15 -> %g fps",
+			(long long)target, (long long)target + 0, rc == 0 ? "present" : "absent (vivid)",
+			fps, got);
+	pc_v4l2_close(dev);
+}
+
+/* Our CVT reduced-blanking v2 timings against the kernel's own detection (vivid replaces
+ * custom timings by what v4l2_detect_cvt() computes from the totals). */
+static void check_dv_timings(void)
+{
+	const char *name = "dv-timings";
+	pc_v4l2 *dev = open_capture(name, 3);
+	if (!dev)
+		return;
+	static const uint32_t sizes[][2] = { { 1920, 1080 }, { 2448, 2048 }, { 1280, 1024 } };
+	int bad = 0;
+	for (int i = 0; i < 3; i++) {
+		pc_dv_timings mine, kern;
+		if (pc_dv_timings_cvt_rb2(sizes[i][0], sizes[i][1], 30.0, &mine) ||
+		    set_cvt(dev, sizes[i][0], sizes[i][1], 30.0, &kern)) {
+			gt_fail(name, "%ux%u: %s", sizes[i][0], sizes[i][1], pc_error_detail());
+			bad++;
+			continue;
+		}
+		/* The kernel rebuilds the pixel clock from an integer line frequency
+		 * (pixelclock / total width, truncated) and rounds it down to 1 kHz, so it may differ
+		 * from the exact CVT value by up to one line-width's worth of Hz plus 1 kHz. */
+		uint64_t total_w = (uint64_t)mine.width + mine.hfrontporch + mine.hsync + mine.hbackporch;
+		uint64_t dclk = mine.pixelclock_hz > kern.pixelclock_hz
+					? mine.pixelclock_hz - kern.pixelclock_hz
+					: kern.pixelclock_hz - mine.pixelclock_hz;
+		pc_dv_timings k2 = kern;
+		k2.pixelclock_hz = mine.pixelclock_hz;
+		if (memcmp(&mine, &k2, sizeof mine) != 0 || dclk > total_w + 1000) {
+			gt_fail(name, "%ux%u: ours pclk %llu vfp %u vbp %u, kernel pclk %llu vfp %u vbp %u",
+				sizes[i][0], sizes[i][1], (unsigned long long)mine.pixelclock_hz,
+				mine.vfrontporch, mine.vbackporch, (unsigned long long)kern.pixelclock_hz,
+				kern.vfrontporch, kern.vbackporch);
+			bad++;
+		} else {
+			gt_info("CVT RB2 %ux%u@30: pclk %llu Hz (kernel %llu), vfp %u, %.3f fps",
+				mine.width, mine.height, (unsigned long long)mine.pixelclock_hz,
+				(unsigned long long)kern.pixelclock_hz, mine.vfrontporch,
+				pc_dv_timings_fps(&mine));
+		}
+	}
+	if (!bad)
+		gt_pass(name, "CVT RB v2 timings for 1920x1080, 2448x2048, 1280x1024 equal the kernel's "
+			      "v4l2_detect_cvt() (every porch and sync; pixel clock within the kernel's rounding)");
 	pc_v4l2_close(dev);
 }
 
@@ -101,5 +461,15 @@ int main(int argc, char **argv)
 	if (!cap_path[0])
 		return gt_finish();
 	check_formats();
+	check_negotiation();
+	check_capture("GREY", 640, 480, 0, 6);
+	check_capture("Y10 ", 640, 480, 0, 6);
+	check_capture("Y12 ", 640, 480, 0, 6);
+	check_capture("Y16 ", 640, 480, 0, 6);
+	check_stride();
+	check_controls();
+	check_dv_timings();
+	check_capture("GREY", 2448, 2048, 3, 6);
+	check_capture("Y16 ", 2448, 2048, 3, 6);
 	return gt_finish();
 }
