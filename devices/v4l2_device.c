@@ -1,6 +1,6 @@
 /* V4L2 video nodes: open/query, formats, inputs and DV timings, controls, mmap streaming,
  * listing. See polarcam/v4l2.h. Written against the V4L2 uAPI (linux/videodev2.h). */
-#define _DEFAULT_SOURCE
+
 #include "polarcam/v4l2.h"
 
 #include <dirent.h>

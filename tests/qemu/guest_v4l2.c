@@ -6,8 +6,9 @@
  * passed. The checks run in one boot, in an order that leaves the destructive ones (fatal error,
  * disconnect) for last.
  */
-#define _DEFAULT_SOURCE
+
 #include <errno.h>
+#include <math.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -22,6 +23,7 @@
 #include "polarcam/error.h"
 #include "polarcam/format.h"
 #include "polarcam/frame.h"
+#include "polarcam/mosaic.h"
 #include "polarcam/v4l2.h"
 
 static char cap_path[256], out_path[256];
@@ -451,6 +453,334 @@ static void check_dv_timings(void)
 	pc_v4l2_close(dev);
 }
 
+/* A deterministic polarizer-mosaic frame: what an IMX250MZR-layout sensor records of a scene
+ * whose intensity S0 ramps along x, degree of linear polarization along y and angle of
+ * polarization along x (turned by k * 22.5 degrees in frame k). Each pixel sees its analyser
+ * angle theta from the mosaic table: I = (S0 + S1 cos 2theta + S2 sin 2theta) / 2
+ * (Malus's law for an ideal linear analyser, physics.md section 1). Values span the format. */
+static void mosaic_pattern(uint16_t *dst, uint32_t w, uint32_t h, unsigned bits, unsigned k)
+{
+	const double pi = 3.14159265358979323846;
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	double full = (double)((1u << bits) - 1u);
+	double c2t[4], s2t[4]; /* cos 2theta, sin 2theta of the four analysers */
+	for (unsigned c = 0; c < 4; c++) {
+		c2t[c] = cos(2.0 * (pi / 4.0) * c);
+		s2t[c] = sin(2.0 * (pi / 4.0) * c);
+	}
+	double *s0 = malloc(w * sizeof *s0), *c2a = malloc(w * sizeof *c2a),
+	       *s2a = malloc(w * sizeof *s2a);
+	if (!s0 || !c2a || !s2a) {
+		free(s0), free(c2a), free(s2a);
+		memset(dst, 0, (size_t)w * h * 2);
+		return;
+	}
+	for (uint32_t x = 0; x < w; x++) {
+		double aolp = pi * (double)x / (double)w + (double)k * pi / 8.0;
+		s0[x] = full * (0.15 + 0.8 * (double)x / (double)(w - 1));
+		c2a[x] = cos(2.0 * aolp);
+		s2a[x] = sin(2.0 * aolp);
+	}
+	for (uint32_t y = 0; y < h; y++) {
+		double dolp = 0.9 * (double)y / (double)(h - 1);
+		for (uint32_t x = 0; x < w; x++) {
+			unsigned c = pc_mosaic_channel(&m, x, y);
+			double v = 0.5 * s0[x] * (1.0 + dolp * (c2a[x] * c2t[c] + s2a[x] * s2t[c]));
+			long iv = lround(v);
+			dst[(size_t)y * w + x] = (uint16_t)(iv < 0 ? 0 : iv > (long)full ? (long)full : iv);
+		}
+	}
+	free(s0);
+	free(c2a);
+	free(s2a);
+}
+
+/* vivid's video loopback: frames written to the HDMI output come back on the HDMI input. Both
+ * ends get the same CVT timings; "Loop Video" on, on-screen text off. Every captured frame must
+ * equal, byte for byte after unpacking, one of the frames we sent. */
+static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
+{
+	char name[64];
+	snprintf(name, sizeof name, "loop-%.4s-%ux%u", fourcc, w, h);
+	for (char *p = name; *p; p++)
+		if (*p == ' ')
+			*p = '_';
+	enum { NOUT = 4 };
+	pc_v4l2 *cap = open_capture(name, 3), *out = NULL;
+	uint16_t *ref[NOUT] = { NULL }, *got = NULL;
+	pc_v4l2_format fo, fc;
+	pc_v4l2_ctrl loopc;
+	int rc = cap ? 0 : PC_EIO;
+	if (!rc)
+		rc = pc_v4l2_open(out_path, PC_V4L2_OUTPUT, &out);
+	if (!rc)
+		rc = pc_v4l2_select_io(out, 1);
+	if (!rc)
+		rc = set_cvt(cap, w, h, 30.0, NULL);
+	if (!rc)
+		rc = set_cvt(out, w, h, 30.0, NULL);
+	if (!rc)
+		rc = pc_v4l2_ctrl_find(cap, "Loop Video", &loopc);
+	if (!rc)
+		rc = pc_v4l2_ctrl_set(cap, loopc.id, 1);
+	if (!rc)
+		rc = pc_v4l2_set_format(out, fcc(fourcc), w, h, 0, &fo);
+	if (!rc)
+		rc = pc_v4l2_set_format(cap, fcc(fourcc), w, h, 0, &fc);
+	if (!rc && (fo.width != w || fo.height != h || fc.width != w || fc.height != h))
+		rc = pc_error(PC_EINVAL, "formats: output %ux%u, capture %ux%u", fo.width, fo.height,
+			      fc.width, fc.height);
+	unsigned bits = rc ? 8 : pc_format_info_get(fc.format)->bits;
+	size_t npix = (size_t)w * h;
+	for (int k = 0; !rc && k < NOUT; k++) {
+		ref[k] = malloc(npix * 2);
+		if (!ref[k])
+			rc = pc_error(PC_ENOMEM, "out of memory");
+		else
+			mosaic_pattern(ref[k], w, h, bits, (unsigned)k);
+	}
+	got = rc ? NULL : malloc(npix * 2);
+	if (!rc && !got)
+		rc = pc_error(PC_ENOMEM, "out of memory");
+	if (!rc)
+		rc = pc_v4l2_stream_start(out, NOUT);
+	/* fill every output buffer; buffer i carries pattern i for the whole run */
+	for (unsigned i = 0; !rc && i < pc_v4l2_buffer_count(out) && i < NOUT; i++) {
+		pc_v4l2_buffer b;
+		rc = pc_v4l2_output_acquire(out, 1000, &b);
+		if (rc)
+			break;
+		pc_view v = buffer_view(&fo, b.data);
+		rc = pc_view_from_u16(ref[b.index % NOUT], (size_t)w * 2, &v);
+		if (!rc)
+			rc = pc_v4l2_queue(out, b.index, 0);
+	}
+	if (!rc)
+		rc = pc_v4l2_stream_start(cap, 4);
+	unsigned match = 0, frames = 0;
+	double t0 = gt_now();
+	for (unsigned i = 0; !rc && i < n; i++) {
+		pc_v4l2_buffer b;
+		rc = pc_v4l2_dequeue(cap, 5000, &b);
+		if (rc)
+			break;
+		pc_view v = buffer_view(&fc, b.data);
+		rc = pc_view_to_u16(&v, got, (size_t)w * 2);
+		int which = -1;
+		for (int k = 0; !rc && k < NOUT && which < 0; k++)
+			if (memcmp(got, ref[k], npix * 2) == 0)
+				which = k;
+		frames++;
+		if (which >= 0)
+			match++;
+		if (getenv("PC_GUEST_VERBOSE"))
+			gt_info("captured seq %u: pattern %d", b.sequence, which);
+		int rq = pc_v4l2_queue(cap, b.index, 0);
+		if (!rc)
+			rc = rq;
+		/* hand consumed output buffers straight back (their pattern is unchanged) */
+		pc_v4l2_buffer ob;
+		while (!rc && pc_v4l2_output_acquire(out, 0, &ob) == 0)
+			rc = pc_v4l2_queue(out, ob.index, 0);
+	}
+	double secs = gt_now() - t0;
+	if (cap)
+		pc_v4l2_stream_stop(cap);
+	if (out)
+		pc_v4l2_stream_stop(out);
+	if (rc)
+		gt_fail(name, "%s", pc_error_detail());
+	else if (match != n)
+		gt_fail(name, "%u of %u captured frames equal a frame we sent", match, frames);
+	else
+		gt_pass(name, "%u/%u captured frames byte-identical to the mosaic frames sent "
+			      "(bytesperline out %zu, in %zu; %.1f frames/s)", match, n, fo.bytesperline,
+			fc.bytesperline, n / secs);
+	for (int k = 0; k < NOUT; k++)
+		free(ref[k]);
+	free(got);
+	pc_v4l2_close(out);
+	pc_v4l2_close(cap);
+}
+
+static volatile sig_atomic_t ticks;
+static void on_tick(int sig)
+{
+	(void)sig;
+	ticks++;
+}
+
+/* A signal every millisecond during streaming (handler installed without SA_RESTART, so poll()
+ * and ioctl() return EINTR): no error may leak out and no frame may be lost to it. */
+static void check_eintr(void)
+{
+	const char *name = "eintr";
+	pc_v4l2 *dev = open_capture(name, 0);
+	if (!dev)
+		return;
+	pc_v4l2_format g;
+	struct sigaction sa, old;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_tick;
+	sigemptyset(&sa.sa_mask);
+	sa.sa_flags = 0;
+	struct itimerval it = { { 0, 1000 }, { 0, 1000 } }, off = { { 0, 0 }, { 0, 0 } };
+	int rc = pc_v4l2_set_format(dev, fcc("GREY"), 640, 480, 0, &g);
+	capture_stats st;
+	if (!rc) {
+		sigaction(SIGALRM, &sa, &old);
+		setitimer(ITIMER_REAL, &it, NULL);
+		rc = capture_frames(dev, 8, &st, NULL);
+		setitimer(ITIMER_REAL, &off, NULL);
+		sigaction(SIGALRM, &old, NULL);
+	}
+	if (rc)
+		gt_fail(name, "%s (after %d signals)", pc_error_detail(), (int)ticks);
+	else if (ticks < 20 || st.frames != 8)
+		gt_fail(name, "%d signals, %u frames", (int)ticks, st.frames);
+	else
+		gt_pass(name, "8 frames while %d SIGALRM interrupted the waits", (int)ticks);
+	pc_v4l2_close(dev);
+}
+
+/* ---- vivid's error injection (controls present unless vivid was loaded with no_error_inj) ---- */
+
+/* Opens the webcam input in GREY 640x480, finds control `ctrl`; NULL with a SKIP/FAIL printed. */
+static pc_v4l2 *fault_setup(const char *name, const char *ctrl, pc_v4l2_ctrl *c)
+{
+	pc_v4l2 *dev = open_capture(name, 0);
+	if (!dev)
+		return NULL;
+	pc_v4l2_format g;
+	if (pc_v4l2_set_format(dev, fcc("GREY"), 640, 480, 0, &g)) {
+		gt_fail(name, "set_format: %s", pc_error_detail());
+		pc_v4l2_close(dev);
+		return NULL;
+	}
+	if (pc_v4l2_ctrl_find(dev, ctrl, c)) {
+		gt_skip(name, "vivid has no '%s' control (loaded with no_error_inj=1?)", ctrl);
+		pc_v4l2_close(dev);
+		return NULL;
+	}
+	return dev;
+}
+
+static void check_fault_error_flag(void)
+{
+	const char *name = "fault-buffer-error";
+	pc_v4l2_ctrl c;
+	pc_v4l2 *dev = fault_setup(name, "Inject V4L2_BUF_FLAG_ERROR", &c);
+	if (!dev)
+		return;
+	int rc = pc_v4l2_stream_start(dev, 4);
+	unsigned flagged = 0, frames = 0;
+	for (unsigned i = 0; !rc && i < 6; i++) {
+		if (i == 1)
+			rc = pc_v4l2_ctrl_set(dev, c.id, 1);
+		pc_v4l2_buffer b;
+		if (!rc)
+			rc = pc_v4l2_dequeue(dev, 5000, &b);
+		if (rc)
+			break;
+		frames++;
+		flagged += b.error;
+		rc = pc_v4l2_queue(dev, b.index, 0);
+	}
+	pc_v4l2_stream_stop(dev);
+	if (rc)
+		gt_fail(name, "%s", pc_error_detail());
+	else if (flagged != 1)
+		gt_fail(name, "%u of %u frames carried V4L2_BUF_FLAG_ERROR after one injection", flagged,
+			frames);
+	else
+		gt_pass(name, "one injected error: exactly 1 of %u frames flagged", frames);
+	pc_v4l2_close(dev);
+}
+
+static void check_fault_drops(void)
+{
+	const char *name = "fault-dropped";
+	pc_v4l2_ctrl c;
+	pc_v4l2 *dev = fault_setup(name, "Percentage of Dropped Buffers", &c);
+	if (!dev)
+		return;
+	capture_stats st;
+	int rc = pc_v4l2_ctrl_set(dev, c.id, 50);
+	if (!rc)
+		rc = capture_frames(dev, 12, &st, NULL);
+	pc_v4l2_ctrl_set(dev, c.id, 0);
+	if (rc)
+		gt_fail(name, "%s", pc_error_detail());
+	else if (st.gaps == 0 || st.seq_back)
+		gt_fail(name, "50%% dropped: %u sequence gaps, %u reversals over %u frames", st.gaps,
+			st.seq_back, st.frames);
+	else
+		gt_pass(name, "50%% dropped by the driver: %u frames received, sequence %u..%u shows %u "
+			      "missing", st.frames, st.first_seq, st.last_seq, st.gaps);
+	pc_v4l2_close(dev);
+}
+
+static void check_fault_seq_wrap(void)
+{
+	const char *name = "fault-sequence-wrap";
+	pc_v4l2_ctrl c;
+	pc_v4l2 *dev = fault_setup(name, "Wrap Sequence Number", &c);
+	if (!dev)
+		return;
+	capture_stats st;
+	int rc = pc_v4l2_ctrl_set(dev, c.id, 1);
+	if (!rc)
+		rc = capture_frames(dev, 3, &st, NULL);
+	pc_v4l2_ctrl_set(dev, c.id, 0);
+	if (rc)
+		gt_fail(name, "%s", pc_error_detail());
+	else if (st.first_seq < 0xffff0000u)
+		gt_fail(name, "first sequence %u, expected just below 2^32", st.first_seq);
+	else
+		gt_pass(name, "the driver starts at sequence %u (%u below 2^32)", st.first_seq,
+			(unsigned)(0u - st.first_seq));
+	pc_v4l2_close(dev);
+}
+
+/* A fatal driver error (vb2_queue_error) and a disconnect must surface as errors, not hangs. */
+static void check_fault_fatal(const char *name, const char *ctrl, int expect)
+{
+	pc_v4l2_ctrl c;
+	pc_v4l2 *dev = fault_setup(name, ctrl, &c);
+	if (!dev)
+		return;
+	int rc = pc_v4l2_stream_start(dev, 4);
+	pc_v4l2_buffer b;
+	if (!rc)
+		rc = pc_v4l2_dequeue(dev, 5000, &b);
+	if (!rc)
+		rc = pc_v4l2_queue(dev, b.index, 0);
+	if (!rc)
+		rc = pc_v4l2_ctrl_set(dev, c.id, 1);
+	if (rc) {
+		gt_fail(name, "before the fault: %s", pc_error_detail());
+		pc_v4l2_close(dev);
+		return;
+	}
+	unsigned before = 0;
+	for (unsigned i = 0; i < 8 && rc == 0; i++) {
+		rc = pc_v4l2_dequeue(dev, 3000, &b);
+		if (!rc) {
+			before++;
+			rc = pc_v4l2_queue(dev, b.index, 0);
+		}
+	}
+	if (rc == expect)
+		gt_pass(name, "%s after %u more frames: %s", pc_errname(rc), before, pc_error_detail());
+	else
+		gt_fail(name, "expected %s, got %s (%s)", pc_errname(expect), pc_errname(rc),
+			rc ? pc_error_detail() : "no error in 8 frames");
+	int rs = pc_v4l2_stream_stop(dev);
+	if (rs)
+		gt_fail(name, "stream_stop after the fault: %s", pc_error_detail());
+	pc_v4l2_close(dev);
+}
+
 int main(int argc, char **argv)
 {
 	(void)argc;
@@ -471,5 +801,13 @@ int main(int argc, char **argv)
 	check_dv_timings();
 	check_capture("GREY", 2448, 2048, 3, 6);
 	check_capture("Y16 ", 2448, 2048, 3, 6);
+	check_loop("GREY", 2448, 2048, 10);
+	check_loop("Y16 ", 2448, 2048, 10);
+	check_eintr();
+	check_fault_error_flag();
+	check_fault_drops();
+	check_fault_seq_wrap();
+	check_fault_fatal("fault-fatal", "Inject Fatal Streaming Error", PC_EIO);
+	check_fault_fatal("fault-disconnect", "Disconnect", PC_EDISCONNECTED);
 	return gt_finish();
 }
