@@ -890,6 +890,64 @@ int pc_v4l2_ctrl_get(pc_v4l2 *dev, uint32_t id, int64_t *value)
 	return 0;
 }
 
+int pc_v4l2_frame_rates(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
+			pc_v4l2_rate_range *out)
+{
+	if (!dev || !out)
+		return pc_error(PC_EINVAL, "v4l2: frame_rates: missing argument");
+	memset(out, 0, sizeof *out);
+	double rates[256];
+	unsigned n = 0;
+	for (uint32_t i = 0; i < 256; i++) {
+		struct v4l2_frmivalenum fi;
+		memset(&fi, 0, sizeof fi);
+		fi.index = i;
+		fi.pixel_format = fourcc;
+		fi.width = width;
+		fi.height = height;
+		if (xioctl(dev->fd, VIDIOC_ENUM_FRAMEINTERVALS, &fi) != 0) {
+			if (i == 0) {
+				if (errno == EINVAL || errno == ENOTTY)
+					return pc_error(PC_ENOTSUP, "%s: the driver does not enumerate frame "
+								    "intervals for %ux%u", dev->info.path,
+							width, height);
+				return io_fail(dev, "VIDIOC_ENUM_FRAMEINTERVALS");
+			}
+			break;
+		}
+		if (fi.type != V4L2_FRMIVAL_TYPE_DISCRETE) {
+			const struct v4l2_fract *lo = &fi.stepwise.min, *hi = &fi.stepwise.max;
+			if (!lo->numerator || !hi->numerator || !lo->denominator || !hi->denominator)
+				return pc_error(PC_EIO, "%s: malformed frame interval range", dev->info.path);
+			/* shortest interval = highest rate */
+			out->max_fps = (double)lo->denominator / lo->numerator;
+			out->min_fps = (double)hi->denominator / hi->numerator;
+			out->step_fps = 0.0;
+			out->discrete = false;
+			return 0;
+		}
+		if (fi.discrete.numerator && fi.discrete.denominator)
+			rates[n++] = (double)fi.discrete.denominator / fi.discrete.numerator;
+	}
+	if (n == 0)
+		return pc_error(PC_EIO, "%s: the driver lists no usable frame interval", dev->info.path);
+	/* sort ascending (a handful of entries) */
+	for (unsigned i = 1; i < n; i++)
+		for (unsigned j = i; j > 0 && rates[j - 1] > rates[j]; j--) {
+			double t = rates[j];
+			rates[j] = rates[j - 1];
+			rates[j - 1] = t;
+		}
+	out->discrete = true;
+	out->count = n;
+	out->min_fps = rates[0];
+	out->max_fps = rates[n - 1];
+	for (unsigned i = 1; i < n; i++)
+		if (rates[i] - rates[i - 1] > out->step_fps)
+			out->step_fps = rates[i] - rates[i - 1];
+	return 0;
+}
+
 static int get_parm(pc_v4l2 *dev, struct v4l2_streamparm *p, struct v4l2_fract **tpf)
 {
 	memset(p, 0, sizeof *p);
@@ -971,6 +1029,143 @@ static void release_buffers(pc_v4l2 *dev)
 	xioctl(dev->fd, VIDIOC_REQBUFS, &rb); /* may fail after a disconnect: nothing to free then */
 }
 
+int pc_v4l2_buffers_alloc(pc_v4l2 *dev, unsigned count, unsigned *granted)
+{
+	if (!dev)
+		return pc_error(PC_EINVAL, "v4l2: buffers_alloc: missing device");
+	if (dev->slots)
+		return pc_error(PC_ESTATE, "%s: buffers are already allocated", dev->info.path);
+	if (count < 1 || count > 64)
+		return pc_error(PC_EINVAL, "%s: %u buffers: expected 1..64", dev->info.path, count);
+	pc_v4l2_format g;
+	int rc = pc_v4l2_get_format(dev, &g);
+	if (!rc)
+		rc = check_layout(dev, &g);
+	if (rc)
+		return rc;
+	dev->fmt = g;
+	struct v4l2_requestbuffers rb;
+	memset(&rb, 0, sizeof rb);
+	rb.count = count;
+	rb.type = dev->type;
+	rb.memory = V4L2_MEMORY_MMAP;
+	if (xioctl(dev->fd, VIDIOC_REQBUFS, &rb) != 0) {
+		if (errno == EINVAL)
+			return pc_error(PC_ENOTSUP, "%s: the driver offers no memory-mapped streaming",
+					dev->info.path);
+		if (errno == EBUSY)
+			return pc_error(PC_EBUSY, "%s: buffers are held by another user of the node",
+					dev->info.path);
+		return io_fail(dev, "VIDIOC_REQBUFS");
+	}
+	if (rb.count == 0) {
+		release_buffers(dev);
+		return pc_error(PC_ENOMEM, "%s: the driver granted no buffers", dev->info.path);
+	}
+	dev->slots = calloc(rb.count, sizeof *dev->slots);
+	if (!dev->slots) {
+		release_buffers(dev);
+		return pc_error(PC_ENOMEM, "%s: out of memory", dev->info.path);
+	}
+	dev->nslots = rb.count;
+	for (unsigned i = 0; i < rb.count; i++) {
+		struct v4l2_buffer vb;
+		memset(&vb, 0, sizeof vb);
+		vb.type = dev->type;
+		vb.memory = V4L2_MEMORY_MMAP;
+		vb.index = i;
+		if (xioctl(dev->fd, VIDIOC_QUERYBUF, &vb) != 0) {
+			rc = io_fail(dev, "VIDIOC_QUERYBUF");
+			break;
+		}
+		if (vb.length < dev->fmt.sizeimage) {
+			rc = pc_error(PC_EFORMAT, "%s: buffer %u holds %u bytes, the format needs %zu",
+				      dev->info.path, i, vb.length, dev->fmt.sizeimage);
+			break;
+		}
+		void *p = mmap(NULL, vb.length, PROT_READ | PROT_WRITE, MAP_SHARED, dev->fd,
+			       vb.m.offset);
+		if (p == MAP_FAILED) {
+			rc = io_fail(dev, "mmap");
+			break;
+		}
+		dev->slots[i].data = p;
+		dev->slots[i].length = vb.length;
+		dev->slots[i].fresh = dev->dir == PC_V4L2_OUTPUT;
+	}
+	if (rc) {
+		release_buffers(dev);
+		return rc;
+	}
+	if (granted)
+		*granted = rb.count;
+	return 0;
+}
+
+int pc_v4l2_buffer_memory(const pc_v4l2 *dev, unsigned index, void **data, size_t *length)
+{
+	if (!dev || !data || !length)
+		return pc_error(PC_EINVAL, "v4l2: buffer_memory: missing argument");
+	if (index >= dev->nslots)
+		return pc_error(PC_EINVAL, "%s: buffer %u: only %u buffers exist", dev->info.path, index,
+				dev->nslots);
+	*data = dev->slots[index].data;
+	*length = dev->slots[index].length;
+	return 0;
+}
+
+const pc_v4l2_format *pc_v4l2_stream_format(const pc_v4l2 *dev)
+{
+	return dev && dev->slots ? &dev->fmt : NULL;
+}
+
+int pc_v4l2_stream_on(pc_v4l2 *dev)
+{
+	if (!dev)
+		return pc_error(PC_EINVAL, "v4l2: stream_on: missing device");
+	if (!dev->slots)
+		return pc_error(PC_ESTATE, "%s: stream_on without buffers", dev->info.path);
+	if (dev->streaming)
+		return pc_error(PC_ESTATE, "%s: already streaming", dev->info.path);
+	int type = (int)dev->type;
+	if (xioctl(dev->fd, VIDIOC_STREAMON, &type) != 0)
+		return io_fail(dev, "VIDIOC_STREAMON");
+	dev->streaming = true;
+	return 0;
+}
+
+int pc_v4l2_stream_off(pc_v4l2 *dev)
+{
+	if (!dev)
+		return pc_error(PC_EINVAL, "v4l2: stream_off: missing device");
+	int rc = 0;
+	if (dev->streaming || dev->queued) {
+		int type = (int)dev->type;
+		/* STREAMOFF also takes back buffers queued before STREAMON */
+		if (xioctl(dev->fd, VIDIOC_STREAMOFF, &type) != 0 && errno != ENODEV)
+			rc = io_fail(dev, "VIDIOC_STREAMOFF");
+	}
+	dev->streaming = false;
+	for (unsigned i = 0; i < dev->nslots; i++) {
+		if (dev->slots[i].queued && dev->dir == PC_V4L2_OUTPUT)
+			dev->slots[i].fresh = true;
+		dev->slots[i].queued = false;
+	}
+	dev->queued = 0;
+	return rc;
+}
+
+int pc_v4l2_buffers_free(pc_v4l2 *dev)
+{
+	if (!dev)
+		return pc_error(PC_EINVAL, "v4l2: buffers_free: missing device");
+	if (dev->streaming)
+		return pc_error(PC_ESTATE, "%s: buffers_free while streaming", dev->info.path);
+	if (dev->slots)
+		release_buffers(dev);
+	return 0;
+}
+
 static int qbuf(pc_v4l2 *dev, unsigned index, size_t bytesused)
 {
 	struct v4l2_buffer vb;
@@ -994,87 +1189,20 @@ int pc_v4l2_stream_start(pc_v4l2 *dev, unsigned nbuf)
 {
 	if (!dev)
 		return pc_error(PC_EINVAL, "v4l2: stream_start: missing device");
-	if (dev->streaming)
+	if (dev->streaming || dev->slots)
 		return pc_error(PC_ESTATE, "%s: already streaming", dev->info.path);
-	if (nbuf < 2 || nbuf > 64)
-		return pc_error(PC_EINVAL, "%s: %u buffers: expected 2..64", dev->info.path, nbuf);
-	pc_v4l2_format g;
-	int rc = pc_v4l2_get_format(dev, &g);
-	if (!rc)
-		rc = check_layout(dev, &g);
+	int rc = pc_v4l2_buffers_alloc(dev, nbuf, NULL);
 	if (rc)
 		return rc;
-	dev->fmt = g;
-	struct v4l2_requestbuffers rb;
-	memset(&rb, 0, sizeof rb);
-	rb.count = nbuf;
-	rb.type = dev->type;
-	rb.memory = V4L2_MEMORY_MMAP;
-	if (xioctl(dev->fd, VIDIOC_REQBUFS, &rb) != 0) {
-		if (errno == EINVAL)
-			return pc_error(PC_ENOTSUP, "%s: the driver offers no memory-mapped streaming",
-					dev->info.path);
-		if (errno == EBUSY)
-			return pc_error(PC_EBUSY, "%s: buffers are held by another user of the node",
-					dev->info.path);
-		return io_fail(dev, "VIDIOC_REQBUFS");
-	}
-	if (rb.count < 2) {
-		release_buffers(dev);
-		return pc_error(PC_ENOMEM, "%s: the driver granted %u buffers (need at least 2)",
-				dev->info.path, rb.count);
-	}
-	dev->slots = calloc(rb.count, sizeof *dev->slots);
-	if (!dev->slots) {
-		release_buffers(dev);
-		return pc_error(PC_ENOMEM, "%s: out of memory", dev->info.path);
-	}
-	dev->nslots = rb.count;
-	for (unsigned i = 0; i < rb.count; i++) {
-		struct v4l2_buffer vb;
-		memset(&vb, 0, sizeof vb);
-		vb.type = dev->type;
-		vb.memory = V4L2_MEMORY_MMAP;
-		vb.index = i;
-		if (xioctl(dev->fd, VIDIOC_QUERYBUF, &vb) != 0) {
-			rc = io_fail(dev, "VIDIOC_QUERYBUF");
-			goto fail;
-		}
-		if (vb.length < dev->fmt.sizeimage) {
-			rc = pc_error(PC_EFORMAT, "%s: buffer %u holds %u bytes, the format needs %zu",
-				      dev->info.path, i, vb.length, dev->fmt.sizeimage);
-			goto fail;
-		}
-		void *p = mmap(NULL, vb.length, PROT_READ | PROT_WRITE, MAP_SHARED, dev->fd,
-			       vb.m.offset);
-		if (p == MAP_FAILED) {
-			rc = io_fail(dev, "mmap");
-			goto fail;
-		}
-		dev->slots[i].data = p;
-		dev->slots[i].length = vb.length;
-		dev->slots[i].fresh = dev->dir == PC_V4L2_OUTPUT;
-	}
-	if (dev->dir == PC_V4L2_CAPTURE) {
-		for (unsigned i = 0; i < dev->nslots; i++) {
+	if (dev->dir == PC_V4L2_CAPTURE)
+		for (unsigned i = 0; !rc && i < dev->nslots; i++)
 			rc = qbuf(dev, i, 0);
-			if (rc)
-				goto fail;
-		}
+	if (!rc)
+		rc = pc_v4l2_stream_on(dev);
+	if (rc) {
+		pc_v4l2_stream_off(dev);
+		release_buffers(dev);
 	}
-	int type = (int)dev->type;
-	if (xioctl(dev->fd, VIDIOC_STREAMON, &type) != 0) {
-		rc = io_fail(dev, "VIDIOC_STREAMON");
-		goto fail;
-	}
-	dev->streaming = true;
-	return 0;
-fail:
-	{
-		int t = (int)dev->type;
-		xioctl(dev->fd, VIDIOC_STREAMOFF, &t);
-	}
-	release_buffers(dev);
 	return rc;
 }
 
@@ -1118,6 +1246,26 @@ static int fill_buffer(pc_v4l2 *dev, const struct v4l2_buffer *vb, pc_v4l2_buffe
 	return 0;
 }
 
+/* Nothing is queued, so nothing can arrive: wait out the timeout (restarting after signals). */
+static int starve(const pc_v4l2 *dev, int timeout_ms)
+{
+	if (timeout_ms < 0)
+		return pc_error(PC_ESTATE, "%s: no buffer is queued, so none can ever be dequeued",
+				dev->info.path);
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	t.tv_sec += timeout_ms / 1000;
+	t.tv_nsec += (long)(timeout_ms % 1000) * 1000000L;
+	if (t.tv_nsec >= 1000000000L) {
+		t.tv_sec++;
+		t.tv_nsec -= 1000000000L;
+	}
+	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &t, NULL) == EINTR)
+		;
+	return pc_error(PC_ETIMEDOUT, "%s: no %s within %d ms (no buffer was queued)", dev->info.path,
+			dev->dir == PC_V4L2_CAPTURE ? "frame" : "free buffer", timeout_ms);
+}
+
 int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf)
 {
 	if (!dev || !buf)
@@ -1125,8 +1273,7 @@ int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf)
 	if (!dev->streaming)
 		return pc_error(PC_ESTATE, "%s: dequeue while not streaming", dev->info.path);
 	if (dev->queued == 0)
-		return pc_error(PC_ESTATE, "%s: no buffer is queued, so none can be dequeued",
-				dev->info.path);
+		return starve(dev, timeout_ms);
 	int64_t deadline = timeout_ms >= 0 ? now_ms() + timeout_ms : -1;
 	for (;;) {
 		struct v4l2_buffer vb;
@@ -1178,8 +1325,8 @@ int pc_v4l2_queue(pc_v4l2 *dev, unsigned index, size_t bytesused)
 {
 	if (!dev)
 		return pc_error(PC_EINVAL, "v4l2: queue: missing device");
-	if (!dev->streaming)
-		return pc_error(PC_ESTATE, "%s: queue while not streaming", dev->info.path);
+	if (!dev->slots)
+		return pc_error(PC_ESTATE, "%s: queue without buffers", dev->info.path);
 	if (index >= dev->nslots)
 		return pc_error(PC_EINVAL, "%s: buffer %u: only %u buffers exist", dev->info.path, index,
 				dev->nslots);
@@ -1201,8 +1348,8 @@ int pc_v4l2_output_acquire(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf)
 		return pc_error(PC_EINVAL, "v4l2: output_acquire: missing argument");
 	if (dev->dir != PC_V4L2_OUTPUT)
 		return pc_error(PC_EINVAL, "%s: output_acquire on a capture node", dev->info.path);
-	if (!dev->streaming)
-		return pc_error(PC_ESTATE, "%s: output_acquire while not streaming", dev->info.path);
+	if (!dev->slots)
+		return pc_error(PC_ESTATE, "%s: output_acquire without buffers", dev->info.path);
 	for (unsigned i = 0; i < dev->nslots; i++) {
 		pc_v4l2_slot *s = &dev->slots[i];
 		if (s->fresh) {
@@ -1221,13 +1368,7 @@ int pc_v4l2_stream_stop(pc_v4l2 *dev)
 {
 	if (!dev)
 		return pc_error(PC_EINVAL, "v4l2: stream_stop: missing device");
-	int rc = 0;
-	if (dev->streaming) {
-		int type = (int)dev->type;
-		if (xioctl(dev->fd, VIDIOC_STREAMOFF, &type) != 0 && errno != ENODEV)
-			rc = io_fail(dev, "VIDIOC_STREAMOFF");
-		dev->streaming = false;
-	}
+	int rc = pc_v4l2_stream_off(dev);
 	if (dev->slots)
 		release_buffers(dev);
 	return rc;

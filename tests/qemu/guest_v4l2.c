@@ -20,10 +20,12 @@
 #include <time.h>
 
 #include "guest_common.h"
+#include "polarcam/compliance.h"
 #include "polarcam/error.h"
 #include "polarcam/format.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
+#include "polarcam/source.h"
 #include "polarcam/v4l2.h"
 
 static char cap_path[256], out_path[256];
@@ -453,6 +455,223 @@ static void check_dv_timings(void)
 	pc_v4l2_close(dev);
 }
 
+/* ---- through the frame-source API: v4l2:/dev/videoN ---- */
+
+static int source_uri(char *buf, size_t size, const char *opts)
+{
+	return snprintf(buf, size, "v4l2:%s%s%s", cap_path, opts && *opts ? "?" : "", opts ? opts : "");
+}
+
+/* Opens the source and negotiates fmt exactly (try must say valid), allocates 4 buffers. */
+static pc_source *source_setup(const char *name, const char *opts, pc_pixfmt pf, uint32_t w,
+			       uint32_t h, pc_source_format *got)
+{
+	char uri[512];
+	source_uri(uri, sizeof uri, opts);
+	pc_source *src = NULL;
+	int rc = pc_source_open(&src, uri);
+	pc_source_format f;
+	pc_format_verdict v = PC_FORMAT_INVALID;
+	if (!rc) {
+		memset(&f, 0, sizeof f);
+		f.format = pf;
+		f.width = w;
+		f.height = h;
+		rc = pc_source_try_format(src, &f, &v);
+	}
+	if (!rc && v != PC_FORMAT_VALID)
+		rc = pc_error(PC_EFORMAT, "%s %ux%u: verdict %s (%s)", pc_format_info_get(pf)->name, w,
+			      h, pc_format_verdict_name(v), pc_error_detail());
+	if (!rc)
+		rc = pc_source_set_format(src, &f);
+	if (!rc)
+		rc = pc_source_buffers_alloc(src, 4);
+	if (rc) {
+		gt_fail(name, "%s: %s", uri, pc_error_detail());
+		pc_source_close(src);
+		return NULL;
+	}
+	pc_source_get_format(src, got);
+	return src;
+}
+
+/* Frames through pc_source: pc_frame with view, metadata and mosaic. */
+static void check_source_capture(pc_pixfmt pf, uint32_t w, uint32_t h, unsigned input, unsigned n)
+{
+	char name[64], opts[64];
+	snprintf(name, sizeof name, "source-%s-%ux%u", pc_format_info_get(pf)->name, w, h);
+	snprintf(opts, sizeof opts, "input=%u", input);
+	pc_source_format f;
+	pc_source *src = source_setup(name, opts, pf, w, h, &f);
+	if (!src)
+		return;
+	uint16_t *u16 = malloc((size_t)w * h * 2);
+	int rc = u16 ? pc_source_start(src) : pc_error(PC_ENOMEM, "out of memory");
+	unsigned frames = 0, bad_mosaic = 0;
+	uint64_t first = 0, last = 0;
+	uint16_t vmax = 0;
+	pc_mosaic want = pc_mosaic_imx250mzr();
+	for (unsigned i = 0; !rc && i < n; i++) {
+		pc_buffer *b;
+		rc = pc_source_dequeue(src, 5000, &b);
+		if (rc)
+			break;
+		const pc_frame *fr = &b->frame;
+		if (i == 0)
+			first = fr->meta.sequence;
+		last = fr->meta.sequence;
+		if (fr->mosaic.period != 2 || memcmp(fr->mosaic.channel, want.channel, sizeof want.channel))
+			bad_mosaic++;
+		rc = pc_view_to_u16(&fr->view, u16, (size_t)w * 2);
+		for (size_t k = 0; !rc && k < (size_t)w * h; k++)
+			if (u16[k] > vmax)
+				vmax = u16[k];
+		frames++;
+		int rq = pc_source_requeue(src, b);
+		if (!rc)
+			rc = rq;
+	}
+	pc_source_stats st;
+	int rs = pc_source_stop(src);
+	if (!rc)
+		rc = rs;
+	if (!rc)
+		rc = pc_source_get_stats(src, &st);
+	if (rc)
+		gt_fail(name, "%s", pc_error_detail());
+	else if (frames != n || bad_mosaic || st.completed != n || vmax == 0)
+		gt_fail(name, "%u frames, %u with a wrong mosaic, stats completed %llu, max value %u",
+			frames, bad_mosaic, (unsigned long long)st.completed, vmax);
+	else
+		gt_pass(name, "%u pc_frames (%s, stride %zu, IMX250MZR mosaic), sequence %llu..%llu, "
+			      "stats: completed %llu dropped %llu failed %llu", frames, f.format_name,
+			f.stride, (unsigned long long)first, (unsigned long long)last,
+			(unsigned long long)st.completed, (unsigned long long)st.dropped,
+			(unsigned long long)st.failed);
+	free(u16);
+	pc_source_close(src);
+}
+
+/* Frame rate and exposure/gain through the source's controls on the webcam input. */
+static void check_source_controls(void)
+{
+	const char *name = "source-controls";
+	pc_source_format f;
+	pc_source *src = source_setup(name, "input=0&gain_db_step=0.1", PC_FMT_MONO8, 640, 480, &f);
+	if (!src)
+		return;
+	pc_control_info ci;
+	double applied = 0, back = 0, g = 0;
+	int bad = 0;
+	int rc = pc_source_buffers_free(src); /* frame rate changes need OPEN/READY without streaming */
+	if (!rc)
+		rc = pc_source_control_query(src, PC_CTRL_FRAME_RATE_HZ, &ci);
+	if (!rc)
+		rc = pc_source_control_set(src, PC_CTRL_FRAME_RATE_HZ, ci.max, &applied);
+	if (!rc)
+		rc = pc_source_control_get(src, PC_CTRL_FRAME_RATE_HZ, &back);
+	if (rc || applied != ci.max || back != applied) {
+		gt_fail(name, "frame rate: %s (range %g..%g step %g, set max -> %g, read %g)",
+			pc_error_detail(), ci.min, ci.max, ci.step, applied, back);
+		bad++;
+	}
+	rc = pc_source_control_set(src, PC_CTRL_FRAME_RATE_HZ, ci.max * 2 + 1, NULL);
+	if (rc != PC_ERANGE) {
+		gt_fail(name, "frame rate above the range: %s", pc_errname(rc));
+		bad++;
+	}
+	pc_control_info gi;
+	rc = pc_source_control_query(src, PC_CTRL_GAIN_DB, &gi);
+	if (!rc)
+		rc = pc_source_control_set(src, PC_CTRL_GAIN_DB, 5.0, &applied);
+	if (!rc)
+		rc = pc_source_control_get(src, PC_CTRL_GAIN_DB, &g);
+	if (rc || fabs(applied - 5.0) > 1e-9 || fabs(g - 5.0) > 1e-9) {
+		gt_fail(name, "gain_db: %s (range %g..%g, set 5 -> %g, read %g)", pc_error_detail(),
+			gi.min, gi.max, applied, g);
+		bad++;
+	}
+	pc_control_info ei;
+	rc = pc_source_control_query(src, PC_CTRL_EXPOSURE_US, &ei);
+	if (rc != PC_ENOTSUP) {
+		gt_fail(name, "exposure on vivid (which has none): %s", pc_errname(rc));
+		bad++;
+	}
+	if (!bad)
+		gt_pass(name, "frame rate %g..%g Hz (step %g) set to %g and read back, out of range -> "
+			      "PC_ERANGE; gain_db %g..%g set 5 dB = raw 50; exposure: PC_ENOTSUP (%s)",
+			ci.min, ci.max, ci.step, back, gi.min, gi.max, pc_error_detail());
+	pc_source_close(src);
+}
+
+typedef struct comp_ctx {
+	const char *name;
+	pc_v4l2 *trigger_dev; /* fault to press when streaming starts */
+	uint32_t trigger_id;
+	bool triggered;
+} comp_ctx;
+
+static void comp_log(void *vctx, pc_check_result r, const char *check, const char *detail)
+{
+	comp_ctx *c = vctx;
+	if (r == PC_CHECK_FAIL)
+		gt_fail(c->name, "%s: %s", check, detail);
+	else
+		gt_info("%s %s: %s", r == PC_CHECK_PASS ? "ok  " : "skip", check, detail);
+	if (c->trigger_dev && !c->triggered && !strcmp(check, "stream: start")) {
+		c->triggered = true;
+		if (pc_v4l2_ctrl_set(c->trigger_dev, c->trigger_id, 1))
+			gt_fail(c->name, "could not inject the fault: %s", pc_error_detail());
+	}
+}
+
+/* The devices area's compliance test against `v4l2:`; faults come from vivid's own error
+ * injection: a control set before the run (drops) or pressed when streaming starts. */
+static void check_compliance(const char *name, const char *opts, pc_fault_kind fault,
+			     const char *vivid_ctrl, int64_t value, bool at_start)
+{
+	comp_ctx c = { name, NULL, 0, false };
+	pc_v4l2 *dev = NULL;
+	pc_v4l2_ctrl ctl;
+	if (vivid_ctrl) {
+		if (pc_v4l2_open(cap_path, PC_V4L2_CAPTURE, &dev) ||
+		    pc_v4l2_ctrl_find(dev, vivid_ctrl, &ctl)) {
+			gt_skip(name, "vivid control '%s': %s", vivid_ctrl, pc_error_detail());
+			pc_v4l2_close(dev);
+			return;
+		}
+		if (at_start) {
+			c.trigger_dev = dev;
+			c.trigger_id = ctl.id;
+		} else if (pc_v4l2_ctrl_set(dev, ctl.id, value)) {
+			gt_fail(name, "%s = %lld: %s", vivid_ctrl, (long long)value, pc_error_detail());
+			pc_v4l2_close(dev);
+			return;
+		}
+	}
+	char uri[512];
+	source_uri(uri, sizeof uri, opts);
+	pc_compliance_options o;
+	memset(&o, 0, sizeof o);
+	o.frames = 10;
+	o.expect_fault = fault;
+	o.log = comp_log;
+	o.log_ctx = &c;
+	pc_compliance_result res;
+	int rc = pc_source_compliance(uri, &o, &res);
+	if (dev && !at_start)
+		pc_v4l2_ctrl_set(dev, ctl.id, 0);
+	pc_v4l2_close(dev);
+	if (rc)
+		gt_fail(name, "%s: %s", uri, pc_error_detail());
+	else if (res.failed)
+		gt_fail(name, "%s: %u of %u checks failed, first: %s", uri, res.failed,
+			res.passed + res.failed, res.first_failure);
+	else
+		gt_pass(name, "%s: %u checks passed, %u skipped (fault: %s)", uri, res.passed,
+			res.skipped, pc_fault_name(fault));
+}
+
 /* A deterministic polarizer-mosaic frame: what an IMX250MZR-layout sensor records of a scene
  * whose intensity S0 ramps along x, degree of linear polarization along y and angle of
  * polarization along x (turned by k * 22.5 degrees in frame k). Each pixel sees its analyser
@@ -496,8 +715,9 @@ static void mosaic_pattern(uint16_t *dst, uint32_t w, uint32_t h, unsigned bits,
 }
 
 /* vivid's video loopback: frames written to the HDMI output come back on the HDMI input. Both
- * ends get the same CVT timings; "Loop Video" on, on-screen text off. Every captured frame must
- * equal, byte for byte after unpacking, one of the frames we sent. */
+ * ends get the same CVT timings; "Loop Video" on, on-screen text off. The output side is driven
+ * through the node layer, the capture side through the `v4l2:` frame source: every pc_frame
+ * must equal, value for value after unpacking, one of the frames we sent. */
 static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
 {
 	char name[64];
@@ -506,31 +726,32 @@ static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
 		if (*p == ' ')
 			*p = '_';
 	enum { NOUT = 4 };
+	pc_pixfmt pf = pc_format_from_v4l2(fcc(fourcc));
 	pc_v4l2 *cap = open_capture(name, 3), *out = NULL;
+	pc_source *src = NULL;
 	uint16_t *ref[NOUT] = { NULL }, *got = NULL;
-	pc_v4l2_format fo, fc;
+	pc_v4l2_format fo;
 	pc_v4l2_ctrl loopc;
 	int rc = cap ? 0 : PC_EIO;
+	/* device-wide state prepared through the node layer: timings, loop control */
+	if (!rc)
+		rc = set_cvt(cap, w, h, 30.0, NULL);
+	if (!rc)
+		rc = pc_v4l2_ctrl_find(cap, "Loop Video", &loopc);
+	if (!rc)
+		rc = pc_v4l2_ctrl_set(cap, loopc.id, 1);
+	pc_v4l2_close(cap);
 	if (!rc)
 		rc = pc_v4l2_open(out_path, PC_V4L2_OUTPUT, &out);
 	if (!rc)
 		rc = pc_v4l2_select_io(out, 1);
 	if (!rc)
-		rc = set_cvt(cap, w, h, 30.0, NULL);
-	if (!rc)
 		rc = set_cvt(out, w, h, 30.0, NULL);
 	if (!rc)
-		rc = pc_v4l2_ctrl_find(cap, "Loop Video", &loopc);
-	if (!rc)
-		rc = pc_v4l2_ctrl_set(cap, loopc.id, 1);
-	if (!rc)
 		rc = pc_v4l2_set_format(out, fcc(fourcc), w, h, 0, &fo);
-	if (!rc)
-		rc = pc_v4l2_set_format(cap, fcc(fourcc), w, h, 0, &fc);
-	if (!rc && (fo.width != w || fo.height != h || fc.width != w || fc.height != h))
-		rc = pc_error(PC_EINVAL, "formats: output %ux%u, capture %ux%u", fo.width, fo.height,
-			      fc.width, fc.height);
-	unsigned bits = rc ? 8 : pc_format_info_get(fc.format)->bits;
+	if (!rc && (fo.width != w || fo.height != h))
+		rc = pc_error(PC_EINVAL, "output format %ux%u", fo.width, fo.height);
+	unsigned bits = pf != PC_FMT_INVALID ? pc_format_info_get(pf)->bits : 8;
 	size_t npix = (size_t)w * h;
 	for (int k = 0; !rc && k < NOUT; k++) {
 		ref[k] = malloc(npix * 2);
@@ -555,17 +776,23 @@ static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
 		if (!rc)
 			rc = pc_v4l2_queue(out, b.index, 0);
 	}
-	if (!rc)
-		rc = pc_v4l2_stream_start(cap, 4);
+	pc_source_format fc;
+	if (!rc) {
+		src = source_setup(name, "input=3", pf, w, h, &fc);
+		if (!src) {
+			pc_v4l2_close(out);
+			return; /* source_setup reported it */
+		}
+		rc = pc_source_start(src);
+	}
 	unsigned match = 0, frames = 0;
 	double t0 = gt_now();
 	for (unsigned i = 0; !rc && i < n; i++) {
-		pc_v4l2_buffer b;
-		rc = pc_v4l2_dequeue(cap, 5000, &b);
+		pc_buffer *b;
+		rc = pc_source_dequeue(src, 5000, &b);
 		if (rc)
 			break;
-		pc_view v = buffer_view(&fc, b.data);
-		rc = pc_view_to_u16(&v, got, (size_t)w * 2);
+		rc = pc_view_to_u16(&b->frame.view, got, (size_t)w * 2);
 		int which = -1;
 		for (int k = 0; !rc && k < NOUT && which < 0; k++)
 			if (memcmp(got, ref[k], npix * 2) == 0)
@@ -574,8 +801,9 @@ static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
 		if (which >= 0)
 			match++;
 		if (getenv("PC_GUEST_VERBOSE"))
-			gt_info("captured seq %u: pattern %d", b.sequence, which);
-		int rq = pc_v4l2_queue(cap, b.index, 0);
+			gt_info("captured seq %llu: pattern %d", (unsigned long long)b->frame.meta.sequence,
+				which);
+		int rq = pc_source_requeue(src, b);
 		if (!rc)
 			rc = rq;
 		/* hand consumed output buffers straight back (their pattern is unchanged) */
@@ -584,8 +812,8 @@ static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
 			rc = pc_v4l2_queue(out, ob.index, 0);
 	}
 	double secs = gt_now() - t0;
-	if (cap)
-		pc_v4l2_stream_stop(cap);
+	if (src)
+		pc_source_stop(src);
 	if (out)
 		pc_v4l2_stream_stop(out);
 	if (rc)
@@ -593,14 +821,14 @@ static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
 	else if (match != n)
 		gt_fail(name, "%u of %u captured frames equal a frame we sent", match, frames);
 	else
-		gt_pass(name, "%u/%u captured frames byte-identical to the mosaic frames sent "
-			      "(bytesperline out %zu, in %zu; %.1f frames/s)", match, n, fo.bytesperline,
-			fc.bytesperline, n / secs);
+		gt_pass(name, "%u/%u pc_frames from v4l2: byte-identical to the mosaic frames sent "
+			      "(stride out %zu, in %zu; %.1f frames/s)", match, n, fo.bytesperline,
+			fc.stride, n / secs);
 	for (int k = 0; k < NOUT; k++)
 		free(ref[k]);
 	free(got);
+	pc_source_close(src);
 	pc_v4l2_close(out);
-	pc_v4l2_close(cap);
 }
 
 static volatile sig_atomic_t ticks;
@@ -803,11 +1031,23 @@ int main(int argc, char **argv)
 	check_capture("Y16 ", 2448, 2048, 3, 6);
 	check_loop("GREY", 2448, 2048, 10);
 	check_loop("Y16 ", 2448, 2048, 10);
+	check_source_capture(PC_FMT_MONO8, 640, 480, 0, 6);
+	check_source_capture(PC_FMT_MONO16, 640, 480, 0, 6);
+	check_source_controls();
+	check_compliance("compliance", "input=3&dv=640x480@60&gain_db_step=0.1", PC_FAULT_NONE, NULL,
+			 0, false);
+	check_compliance("compliance-drop", "input=3&dv=640x480@60", PC_FAULT_DROP,
+			 "Percentage of Dropped Buffers", 50, false);
+	check_compliance("compliance-corrupt", "input=3&dv=640x480@60", PC_FAULT_CORRUPT,
+			 "Inject V4L2_BUF_FLAG_ERROR", 1, true);
 	check_eintr();
 	check_fault_error_flag();
 	check_fault_drops();
 	check_fault_seq_wrap();
 	check_fault_fatal("fault-fatal", "Inject Fatal Streaming Error", PC_EIO);
 	check_fault_fatal("fault-disconnect", "Disconnect", PC_EDISCONNECTED);
+	/* vivid registers its nodes again once the last user closed them */
+	check_compliance("compliance-disconnect", "input=3&dv=640x480@60", PC_FAULT_DISCONNECT,
+			 "Disconnect", 1, true);
 	return gt_finish();
 }

@@ -158,6 +158,17 @@ int pc_v4l2_ctrl_get(pc_v4l2 *dev, uint32_t id, int64_t *value);
 #define PC_V4L2_CID_EXPOSURE_ABSOLUTE 0x009a0902u /* units of 100 us */
 #define PC_V4L2_CID_ANALOGUE_GAIN 0x009e0903u
 
+/* Frame rates the node offers for (fourcc, width, height) (VIDIOC_ENUM_FRAMEINTERVALS).
+ * Discrete sets report their smallest and largest rate and, as step, the largest gap between
+ * neighbouring rates (the worst rounding a request can see). PC_ENOTSUP when not enumerated. */
+typedef struct pc_v4l2_rate_range {
+	double min_fps, max_fps, step_fps;
+	bool discrete;
+	unsigned count; /* discrete rates */
+} pc_v4l2_rate_range;
+int pc_v4l2_frame_rates(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
+			pc_v4l2_rate_range *out);
+
 /* Frame interval as a rate (VIDIOC_G_PARM / S_PARM). PC_ENOTSUP when the node has no
  * V4L2_CAP_TIMEPERFRAME. set stores what the driver chose in *actual_fps (may be NULL). */
 int pc_v4l2_get_frame_rate(pc_v4l2 *dev, double *fps);
@@ -176,9 +187,22 @@ typedef struct pc_v4l2_buffer {
 	bool timestamp_monotonic;
 } pc_v4l2_buffer;
 
-/* Requests nbuf mmap buffers (the driver may grant more or fewer, at least 2), maps them and
- * starts streaming. Capture nodes queue every buffer first; output nodes hand out buffers with
- * pc_v4l2_output_acquire(). The format must have been set. */
+/* Step by step (what the frame source does):
+ *   buffers_alloc -> queue each -> stream_on -> dequeue/queue ... -> stream_off -> buffers_free
+ * buffers_alloc reads the node's format (G_FMT, checked against the format table), requests
+ * count mmap buffers and maps them; *granted (may be NULL) receives what the driver gave,
+ * which can differ from count. stream_off returns every buffer to the application (none is
+ * queued afterwards). buffers_free unmaps and releases them (stream_off first). */
+int pc_v4l2_buffers_alloc(pc_v4l2 *dev, unsigned count, unsigned *granted);
+int pc_v4l2_buffer_memory(const pc_v4l2 *dev, unsigned index, void **data, size_t *length);
+int pc_v4l2_stream_on(pc_v4l2 *dev);
+int pc_v4l2_stream_off(pc_v4l2 *dev);
+int pc_v4l2_buffers_free(pc_v4l2 *dev);
+/* The format the buffers were allocated for. */
+const pc_v4l2_format *pc_v4l2_stream_format(const pc_v4l2 *dev);
+
+/* All at once: buffers_alloc(nbuf), on capture nodes queue every buffer (output nodes hand
+ * out buffers with pc_v4l2_output_acquire()), stream_on. */
 int pc_v4l2_stream_start(pc_v4l2 *dev, unsigned nbuf);
 unsigned pc_v4l2_buffer_count(const pc_v4l2 *dev);
 /* Number of buffers currently owned by the driver. */
@@ -186,16 +210,17 @@ unsigned pc_v4l2_queued_count(const pc_v4l2 *dev);
 bool pc_v4l2_streaming(const pc_v4l2 *dev);
 
 /* Waits up to timeout_ms (negative: forever) for a filled capture buffer (or, on output nodes,
- * a consumed one) and dequeues it. PC_ETIMEDOUT, PC_EDISCONNECTED, PC_EIO. */
+ * a consumed one) and dequeues it. PC_ETIMEDOUT, PC_EDISCONNECTED, PC_EIO. With no buffer
+ * queued nothing can arrive: it waits out the timeout and answers PC_ETIMEDOUT (PC_ESTATE when
+ * the timeout is infinite). */
 int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf);
-/* Gives a dequeued buffer back to the driver. On output nodes bytesused is the image size to
- * send (0 = the format's sizeimage); capture nodes ignore it. */
+/* Gives a buffer to the driver (before stream_on or while streaming). On output nodes bytesused
+ * is the image size to send (0 = the format's sizeimage); capture nodes ignore it. */
 int pc_v4l2_queue(pc_v4l2 *dev, unsigned index, size_t bytesused);
 /* Output nodes: a buffer the application may fill, either one never queued yet or one the
  * driver has consumed (waiting up to timeout_ms). */
 int pc_v4l2_output_acquire(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf);
-/* VIDIOC_STREAMOFF (which returns every buffer to the application), unmaps, frees the
- * buffers (REQBUFS 0). Safe to call when not streaming. */
+/* stream_off + buffers_free. Safe to call when not streaming. */
 int pc_v4l2_stream_stop(pc_v4l2 *dev);
 
 /* ---- listing ---- */
