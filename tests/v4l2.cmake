@@ -41,7 +41,7 @@ add_test(NAME v4l2_guest
     --log ${CMAKE_CURRENT_BINARY_DIR}/v4l2_guest.log
     --module "${PC_VIVID_PARAMS}"
     --env ASAN_OPTIONS --env UBSAN_OPTIONS --env PC_GUEST_VERBOSE
-    --min-pass 2
+    --min-pass 20
     --timeout 400
     $<TARGET_FILE:pc_guest_v4l2>)
 # PROCESSORS 2: the guest has two virtual CPUs; ctest -j2 then runs nothing beside it.
