@@ -259,3 +259,92 @@ void pc_progress_end(pc_progress *p)
 	}
 	p->drawn = false;
 }
+
+int pc_cli_lines_open(pc_cli_lines *l, const char *path)
+{
+	memset(l, 0, sizeof *l);
+	if (!path || !*path)
+		return pc_error(PC_EINVAL, "--batch: missing file name (or - for stdin)");
+	if (strcmp(path, "-") == 0) {
+		l->fp = stdin;
+		l->name = "stdin";
+		return 0;
+	}
+	l->fp = fopen(path, "r");
+	if (!l->fp)
+		return pc_error(PC_ENOENT, "--batch %s: %s", path, strerror(errno));
+	l->name = path;
+	return 0;
+}
+
+int pc_cli_lines_next(pc_cli_lines *l, char **line)
+{
+	for (;;) {
+		errno = 0;
+		ssize_t n = getline(&l->buf, &l->cap, l->fp);
+		if (n < 0) {
+			if (ferror(l->fp))
+				return pc_error(PC_EIO, "%s line %lu: %s", l->name, l->lineno + 1,
+						strerror(errno ? errno : EIO));
+			return 0;
+		}
+		l->lineno++;
+		char *s = l->buf;
+		while (*s == ' ' || *s == '\t')
+			s++;
+		if (*s == '\0' || *s == '\n' || *s == '\r' || *s == '#')
+			continue;
+		*line = s;
+		return 1;
+	}
+}
+
+void pc_cli_lines_close(pc_cli_lines *l)
+{
+	if (l->fp && l->fp != stdin)
+		fclose(l->fp);
+	free(l->buf);
+	memset(l, 0, sizeof *l);
+}
+
+int pc_cli_parse_fields(const char *line, const char *const *names, int want, double *out)
+{
+	char list[256] = "";
+	for (int i = 0; i < want && names; i++) {
+		size_t len = strlen(list);
+		snprintf(list + len, sizeof list - len, "%s%s", i ? " " : "", names[i]);
+	}
+	const char *p = line;
+	int got = 0;
+	for (;;) {
+		while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == ',')
+			p++;
+		if (!*p)
+			break;
+		const char *e = p;
+		while (*e && *e != ' ' && *e != '\t' && *e != '\r' && *e != '\n' && *e != ',')
+			e++;
+		if (got < want) {
+			char tok[128], opt[160];
+			size_t len = (size_t)(e - p) < sizeof tok - 1 ? (size_t)(e - p) : sizeof tok - 1;
+			memcpy(tok, p, len);
+			tok[len] = '\0';
+			snprintf(opt, sizeof opt, "field %d (%s)", got + 1, names ? names[got] : "value");
+			int rc = pc_cli_parse_double(opt, tok, &out[got]);
+			if (rc)
+				return rc;
+		}
+		got++;
+		p = e;
+	}
+	if (got != want)
+		return pc_error(PC_EINVAL, "expected %d numbers (%s), got %d", want, list, got);
+	return 0;
+}
+
+json_t *pc_json_error_line(unsigned long line, int code)
+{
+	const char *d = pc_error_detail();
+	return json_pack("{s:I, s:s, s:s}", "line", (json_int_t)line, "error",
+			 *d ? d : pc_strerror(code), "code", pc_errname(code));
+}

@@ -6,6 +6,7 @@
 #include <jansson.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 /* Exit statuses of every command. */
 enum {
@@ -76,5 +77,28 @@ void pc_progress_end(pc_progress *p);
 
 /* Monotonic time in seconds. */
 double pc_cli_now(void);
+
+/* Line-oriented input for --batch FILE|-: "-" is stdin. Blank lines and lines starting with '#'
+ * are skipped; line numbers count every line (1-based), for error messages. */
+typedef struct pc_cli_lines {
+	FILE *fp;
+	const char *name; /* the path as given, "stdin" for "-" */
+	char *buf;
+	size_t cap;
+	unsigned long lineno;
+} pc_cli_lines;
+
+/* Opens path (error detail names it). */
+int pc_cli_lines_open(pc_cli_lines *l, const char *path);
+/* The next data line in *line (valid until the next call): 1, 0 at the end, < 0 on a read error. */
+int pc_cli_lines_next(pc_cli_lines *l, char **line);
+void pc_cli_lines_close(pc_cli_lines *l);
+
+/* Parses exactly `want` whitespace-separated finite numbers; names[i] names field i in errors
+ * ("field 3 (sigma) 'abc': not a number", "expected 6 numbers (n k sigma ...), got 5"). */
+int pc_cli_parse_fields(const char *line, const char *const *names, int want, double *out);
+
+/* {"line": L, "error": <detail>, "code": "PC_E..."}: the batch-mode error object. */
+json_t *pc_json_error_line(unsigned long line, int code);
 
 #endif

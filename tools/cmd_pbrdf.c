@@ -1,10 +1,380 @@
+/* polarcam pbrdf: the corrected polarized BRDF Mueller matrix (physics.md §2) as JSON lines. */
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
 #include "cli.h"
 #include "commands.h"
+#include "polarcam/decompose.h"
+#include "polarcam/error.h"
+#include "polarcam/optics.h"
+#include "polarcam/pbrdf.h"
 
-/* Placeholder until issue 2 lands this command. */
+#define DEG (PC_PI / 180)
+
+static void usage(FILE *fp)
+{
+	fprintf(
+	    fp,
+	    "usage: polarcam pbrdf --n N [--k K] --sigma S --theta-i DEG --theta-r DEG [--phi "
+	    "DEG]\n"
+	    "                      [--diffuse fresnel|geometric|none] [--shadowing ts|none]\n"
+	    "                      [--rho quad:N|table]\n"
+	    "       polarcam pbrdf --batch FILE|- [--diffuse ...] [--shadowing ...] [--rho ...]\n"
+	    "\n"
+	    "Evaluates the microfacet polarized BRDF of a rough surface (seed paper eqs. 2-12 as\n"
+	    "corrected in docs/physics.md: 8*pi*sigma^2 facet normalisation, vector facet\n"
+	    "geometry) and prints one JSON object per line:\n"
+	    "  {\"mueller\": [[4 numbers] x 4], \"dop\": x, \"D\": x, \"R\": x, \"Delta\": x, "
+	    "\"rho_s\": x,\n"
+	    "   \"n\", \"k\", \"sigma\", \"theta_i\", \"theta_r\", \"phi\": the inputs, \"flags\": "
+	    "[...]}\n"
+	    "mueller is the BRDF Mueller matrix in 1/sr, mapping the incident Stokes vector "
+	    "(frame\n"
+	    "s_i = (0,1,0), p_i = d_i x s_i) to the reflected one (s_r = (sin phi, -cos phi, 0)).\n"
+	    "phi = 180 is the forward (specular) plane, theta_i = theta_r with phi = 0 is exact\n"
+	    "backscatter. dop is eq. 21 for unpolarised light; D, R (radians, [0, pi]) and Delta\n"
+	    "(eq. 18) come from the Lu-Chipman decomposition (null where undefined, e.g. D = 1 at\n"
+	    "Brewster's angle without a diffuse term, or below the horizon where the matrix is "
+	    "0).\n"
+	    "rho_s is the specular albedo used in the diffuse term (null for --diffuse none).\n"
+	    "flags: \"outside_validity\" (sigma > 0.5), \"mirror\" (sigma < 0.01: rho_s is the\n"
+	    "Fresnel mirror limit), \"below_horizon\", \"D_singular\".\n"
+	    "\n"
+	    "options:\n"
+	    "  --n N             refractive index n > 0 of n~ = n - ik\n"
+	    "  --k K             extinction coefficient k >= 0 (default 0)\n"
+	    "  --sigma S         rms facet slope per axis, > 0 (not an rms height)\n"
+	    "  --theta-i DEG     incidence zenith angle in [0, 90]\n"
+	    "  --theta-r DEG     viewing zenith angle in [0, 90]\n"
+	    "  --phi DEG         relative azimuth phi_r - phi_i (default 180)\n"
+	    "                    sigma and the three angles may be ranges START:STOP:STEP, one "
+	    "line\n"
+	    "                    per value (loops: sigma, theta-i, theta-r, phi, the last "
+	    "fastest)\n"
+	    "  --diffuse MODE    fresnel (default: paper eq. 11 with the Fresnel factor),\n"
+	    "                    geometric (Fresnel factor 1 in eq. 9), none (specular only)\n"
+	    "  --shadowing MODE  ts (Torrance-Sparrow V-groove, default) or none\n"
+	    "  --rho MODE        quad:N (slope-space N x N rule, default quad:16) or table (64 x "
+	    "32\n"
+	    "                    bicubic table); polarcam bench physics shows their error and "
+	    "cost\n"
+	    "  --batch FILE|-    read lines 'n k sigma theta_i theta_r phi' (degrees; '#' "
+	    "comments)\n"
+	    "                    and print one object per line with its \"line\"; a bad line "
+	    "prints\n"
+	    "                    {\"line\": L, \"error\": ..., \"code\": ...}, the rest go on\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or a bad batch line.\n");
+}
+
+typedef struct pbrdf_opts {
+	pc_diffuse diffuse;
+	pc_shadowing shadowing;
+	pc_rho_mode rho_mode;
+	int rho_order;
+} pbrdf_opts;
+
+/* A cache of one prepared material: consecutive lines or range values with the same (n, k, σ)
+ * reuse it. */
+typedef struct pbrdf_cache {
+	pc_pbrdf *p;
+	double n, k, sigma;
+} pbrdf_cache;
+
+static int get_material(pbrdf_cache *c, const pbrdf_opts *o, double n, double k, double sigma,
+                        const pc_pbrdf **out)
+{
+	if (c->p && c->n == n && c->k == k && c->sigma == sigma) {
+		*out = c->p;
+		return 0;
+	}
+	pc_pbrdf_free(c->p);
+	c->p = NULL;
+	pc_material m = {n, k, sigma, o->diffuse, o->shadowing, o->rho_mode, o->rho_order};
+	int rc = pc_pbrdf_new(&m, &c->p);
+	if (rc)
+		return rc;
+	c->n = n;
+	c->k = k;
+	c->sigma = sigma;
+	*out = c->p;
+	return 0;
+}
+
+static int check_theta(const char *opt, double deg)
+{
+	if (!(deg >= 0 && deg <= 90))
+		return pc_error(PC_EINVAL, "%s %g: must be in [0, 90] degrees", opt, deg);
+	return 0;
+}
+
+/* One evaluation as a JSON object (line = 0: no "line" field). */
+static json_t *evaluate(const pc_pbrdf *p, double ti_deg, double tr_deg, double phi_deg,
+                        unsigned long line)
+{
+	const pc_material *m = pc_pbrdf_material(p);
+	double f[4][4];
+	pc_pbrdf_eval(p, ti_deg * DEG, tr_deg * DEG, phi_deg * DEG, f);
+	json_t *flags = json_array();
+	if (pc_pbrdf_flags(p) & PC_PBRDF_OUTSIDE_VALIDITY)
+		json_array_append_new(flags, json_string("outside_validity"));
+	if (pc_pbrdf_flags(p) & PC_PBRDF_MIRROR)
+		json_array_append_new(flags, json_string("mirror"));
+	double dop = NAN, D = NAN, R = NAN, Delta = NAN;
+	if (f[0][0] > 0) {
+		/* eq. 21 on the normalised column (entries can be ~1e-230 off the lobe) */
+		double p1 = f[1][0] / f[0][0], p2 = f[2][0] / f[0][0], p3 = f[3][0] / f[0][0];
+		dop = sqrt(p1 * p1 + p2 * p2 + p3 * p3);
+		pc_lu_chipman lc;
+		if (pc_lu_chipman_decompose(f, PC_LC_NO_FACTORS, &lc) == 0) {
+			D = lc.D;
+			R = lc.R;
+			Delta = lc.Delta;
+			if (lc.flags & PC_LC_D_SINGULAR)
+				json_array_append_new(flags, json_string("D_singular"));
+		}
+	} else {
+		json_array_append_new(flags, json_string("below_horizon"));
+	}
+	double rho =
+	    m->diffuse == PC_DIFFUSE_NONE ? NAN : pc_pbrdf_rho_s_fast(p, cos(ti_deg * DEG));
+	json_t *o = json_object();
+	if (line)
+		json_object_set_new(o, "line", json_integer((json_int_t)line));
+	json_object_set_new(o, "mueller", pc_json_matrix4(f));
+	json_object_set_new(o, "dop", pc_json_real(dop));
+	json_object_set_new(o, "D", pc_json_real(D));
+	json_object_set_new(o, "R", pc_json_real(R));
+	json_object_set_new(o, "Delta", pc_json_real(Delta));
+	json_object_set_new(o, "rho_s", pc_json_real(rho));
+	json_object_set_new(o, "n", json_real(m->n));
+	json_object_set_new(o, "k", json_real(m->k));
+	json_object_set_new(o, "sigma", json_real(m->sigma));
+	json_object_set_new(o, "theta_i", json_real(ti_deg));
+	json_object_set_new(o, "theta_r", json_real(tr_deg));
+	json_object_set_new(o, "phi", json_real(phi_deg));
+	json_object_set_new(o, "flags", flags);
+	return o;
+}
+
+static void warn_material(const pc_pbrdf *p, double sigma)
+{
+	static double last = -1;
+	if ((pc_pbrdf_flags(p) & PC_PBRDF_OUTSIDE_VALIDITY) && sigma != last) {
+		pc_cli_warn(
+		    "sigma = %g > %g: outside the single-scattering V-groove model's validity "
+		    "(energy is lost)",
+		    sigma, PC_PBRDF_SIGMA_VALID_MAX);
+		last = sigma;
+	}
+}
+
+static int run_batch(const char *path, const pbrdf_opts *o)
+{
+	pc_cli_lines in;
+	int rc = pc_cli_lines_open(&in, path);
+	if (rc)
+		return pc_cli_fail(rc, NULL);
+	static const char *const names[6] = {"n", "k", "sigma", "theta_i", "theta_r", "phi"};
+	pbrdf_cache cache = {0};
+	int status = PC_EXIT_OK;
+	char *line;
+	while ((rc = pc_cli_lines_next(&in, &line)) > 0) {
+		double v[6];
+		const pc_pbrdf *p = NULL;
+		rc = pc_cli_parse_fields(line, names, 6, v);
+		if (!rc)
+			rc = check_theta("theta_i", v[3]);
+		if (!rc)
+			rc = check_theta("theta_r", v[4]);
+		if (!rc)
+			rc = get_material(&cache, o, v[0], v[1], v[2], &p);
+		if (rc) {
+			pc_error_prefix(rc, "%s line %lu: ", in.name, in.lineno);
+			pc_cli_print_json(pc_json_error_line(in.lineno, rc));
+			pc_cli_error(0, "%s", pc_error_detail());
+			if (status == PC_EXIT_OK)
+				status = pc_cli_status(rc);
+			continue;
+		}
+		warn_material(p, v[2]);
+		pc_cli_print_json(evaluate(p, v[3], v[4], v[5], in.lineno));
+	}
+	if (rc < 0)
+		status = pc_cli_fail(rc, NULL);
+	pc_pbrdf_free(cache.p);
+	pc_cli_lines_close(&in);
+	return status;
+}
+
 int cmd_pbrdf(int argc, char **argv)
 {
-	(void)argc;
-	(void)argv;
-	return pc_cli_error(PC_EXIT_FAILURE, "not implemented yet (issue 2)");
+	if (pc_cli_wants_help(argc, argv)) {
+		usage(stdout);
+		return PC_EXIT_OK;
+	}
+	enum { O_N = 1000, O_K, O_SIGMA, O_TI, O_TR, O_PHI, O_DIFFUSE, O_SHADOW, O_RHO, O_BATCH };
+	static const struct option lo[] = {
+	    {"n", required_argument, NULL, O_N},
+	    {"k", required_argument, NULL, O_K},
+	    {"sigma", required_argument, NULL, O_SIGMA},
+	    {"theta-i", required_argument, NULL, O_TI},
+	    {"theta-r", required_argument, NULL, O_TR},
+	    {"phi", required_argument, NULL, O_PHI},
+	    {"diffuse", required_argument, NULL, O_DIFFUSE},
+	    {"shadowing", required_argument, NULL, O_SHADOW},
+	    {"rho", required_argument, NULL, O_RHO},
+	    {"batch", required_argument, NULL, O_BATCH},
+	    {NULL, 0, NULL, 0},
+	};
+	pbrdf_opts o = {PC_DIFFUSE_FRESNEL, PC_SHADOW_TS, PC_RHO_QUAD, 0};
+	const char *arg_n = NULL, *arg_k = "0", *arg_sigma = NULL, *arg_ti = NULL, *arg_tr = NULL,
+	           *arg_phi = "180", *batch = NULL;
+	int c, rc;
+	opterr = 0;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, ":", lo, NULL)) != -1) {
+		switch (c) {
+		case O_N:
+			arg_n = optarg;
+			break;
+		case O_K:
+			arg_k = optarg;
+			break;
+		case O_SIGMA:
+			arg_sigma = optarg;
+			break;
+		case O_TI:
+			arg_ti = optarg;
+			break;
+		case O_TR:
+			arg_tr = optarg;
+			break;
+		case O_PHI:
+			arg_phi = optarg;
+			break;
+		case O_DIFFUSE:
+			if (!strcmp(optarg, "fresnel"))
+				o.diffuse = PC_DIFFUSE_FRESNEL;
+			else if (!strcmp(optarg, "geometric"))
+				o.diffuse = PC_DIFFUSE_GEOMETRIC;
+			else if (!strcmp(optarg, "none"))
+				o.diffuse = PC_DIFFUSE_NONE;
+			else
+				return pc_cli_error(
+				    PC_EXIT_USAGE,
+				    "--diffuse '%s': expected fresnel, geometric or none", optarg);
+			break;
+		case O_SHADOW:
+			if (!strcmp(optarg, "ts"))
+				o.shadowing = PC_SHADOW_TS;
+			else if (!strcmp(optarg, "none"))
+				o.shadowing = PC_SHADOW_NONE;
+			else
+				return pc_cli_error(
+				    PC_EXIT_USAGE, "--shadowing '%s': expected ts or none", optarg);
+			break;
+		case O_RHO:
+			if (!strcmp(optarg, "table")) {
+				o.rho_mode = PC_RHO_TABLE;
+			} else if (!strncmp(optarg, "quad:", 5)) {
+				long N;
+				if ((rc = pc_cli_parse_long("--rho quad:N", optarg + 5, 2, 1024,
+				                            &N)))
+					return pc_cli_fail(rc, NULL);
+				o.rho_mode = PC_RHO_QUAD;
+				o.rho_order = (int)N;
+			} else {
+				return pc_cli_error(
+				    PC_EXIT_USAGE,
+				    "--rho '%s': expected quad:N (N in [2, 1024]) or table",
+				    optarg);
+			}
+			break;
+		case O_BATCH:
+			batch = optarg;
+			break;
+		case ':':
+			return pc_cli_error(PC_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
+		default:
+			return pc_cli_error(PC_EXIT_USAGE,
+			                    "unknown option '%s' (polarcam pbrdf --help)",
+			                    argv[optind - 1]);
+		}
+	}
+	if (optind < argc)
+		return pc_cli_error(PC_EXIT_USAGE,
+		                    "unexpected argument '%s' (polarcam pbrdf --help)",
+		                    argv[optind]);
+	if (batch) {
+		if (arg_n || arg_sigma || arg_ti || arg_tr)
+			return pc_cli_error(
+			    PC_EXIT_USAGE,
+			    "--batch reads n, k, sigma and the angles from its lines; "
+			    "do not also give --n/--sigma/--theta-i/--theta-r");
+		return run_batch(batch, &o);
+	}
+	const struct {
+		const char *opt, *val;
+	} req[] = {
+	    {"--n", arg_n}, {"--sigma", arg_sigma}, {"--theta-i", arg_ti}, {"--theta-r", arg_tr}};
+	for (size_t i = 0; i < sizeof req / sizeof req[0]; i++)
+		if (!req[i].val)
+			return pc_cli_error(PC_EXIT_USAGE, "%s is required (polarcam pbrdf --help)",
+			                    req[i].opt);
+	double n, k;
+	if ((rc = pc_cli_parse_double("--n", arg_n, &n)) ||
+	    (rc = pc_cli_parse_double("--k", arg_k, &k)))
+		return pc_cli_fail(rc, NULL);
+	if (!(n > 0))
+		return pc_cli_error(PC_EXIT_USAGE, "--n %g: must be > 0", n);
+	if (!(k >= 0))
+		return pc_cli_error(PC_EXIT_USAGE, "--k %g: must be >= 0 (n~ = n - ik)", k);
+	double *sg = NULL, *ti = NULL, *tr = NULL, *ph = NULL;
+	size_t nsg = 0, nti = 0, ntr = 0, nph = 0;
+	int status = PC_EXIT_OK;
+	if ((rc = pc_cli_parse_range("--sigma", arg_sigma, &sg, &nsg)) ||
+	    (rc = pc_cli_parse_range("--theta-i", arg_ti, &ti, &nti)) ||
+	    (rc = pc_cli_parse_range("--theta-r", arg_tr, &tr, &ntr)) ||
+	    (rc = pc_cli_parse_range("--phi", arg_phi, &ph, &nph))) {
+		status = pc_cli_fail(rc, NULL);
+		goto out;
+	}
+	for (size_t i = 0; i < nsg; i++)
+		if (!(sg[i] > 0)) {
+			status = pc_cli_error(PC_EXIT_USAGE, "--sigma %g: must be > 0 (rms slope)",
+			                      sg[i]);
+			goto out;
+		}
+	for (size_t i = 0; i < nti; i++)
+		if ((rc = check_theta("--theta-i", ti[i])))
+			goto bad;
+	for (size_t i = 0; i < ntr; i++)
+		if ((rc = check_theta("--theta-r", tr[i])))
+			goto bad;
+	pbrdf_cache cache = {0};
+	for (size_t a = 0; a < nsg; a++) {
+		const pc_pbrdf *p;
+		if ((rc = get_material(&cache, &o, n, k, sg[a], &p))) {
+			pc_pbrdf_free(cache.p);
+			goto bad;
+		}
+		warn_material(p, sg[a]);
+		for (size_t b = 0; b < nti; b++)
+			for (size_t c2 = 0; c2 < ntr; c2++)
+				for (size_t d = 0; d < nph; d++)
+					pc_cli_print_json(evaluate(p, ti[b], tr[c2], ph[d], 0));
+	}
+	pc_pbrdf_free(cache.p);
+	goto out;
+bad:
+	status = pc_cli_fail(rc, NULL);
+out:
+	free(sg);
+	free(ti);
+	free(tr);
+	free(ph);
+	return status;
 }

@@ -1,0 +1,312 @@
+/* The physics commands end to end: `polarcam pbrdf` and `polarcam decompose` run as processes
+ * ($POLARCAM), their JSON lines parsed with jansson and checked against physics.md's reference
+ * values, ranges, batch mode with line-numbered errors, and exit status 2 with a message naming
+ * the argument for every kind of bad input. */
+#include <jansson.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "check.h"
+
+static const char *polarcam;
+static char tmpdir[] = "/tmp/pc_physics_cli_XXXXXX";
+
+typedef struct result {
+	int status;
+	char out[1 << 16];
+	char err[4096];
+	json_t *lines[64];
+	int nlines;
+} result;
+
+static void slurp(const char *path, char *buf, size_t cap)
+{
+	FILE *fp = fopen(path, "r");
+	size_t n = fp ? fread(buf, 1, cap - 1, fp) : 0;
+	buf[n] = '\0';
+	if (fp)
+		fclose(fp);
+}
+
+/* Runs "polarcam ARGS" with stdin from `input` (may be NULL); parses stdout as JSON lines. */
+static void run(result *r, const char *args, const char *input)
+{
+	char in[300], out[300], err[300], cmd[2048];
+	snprintf(in, sizeof in, "%s/in.txt", tmpdir);
+	snprintf(out, sizeof out, "%s/out.txt", tmpdir);
+	snprintf(err, sizeof err, "%s/err.txt", tmpdir);
+	FILE *fp = fopen(in, "w");
+	if (fp) {
+		fputs(input ? input : "", fp);
+		fclose(fp);
+	}
+	snprintf(cmd, sizeof cmd, "'%s' %s <'%s' >'%s' 2>'%s'", polarcam, args, in, out, err);
+	int st = system(cmd);
+	r->status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+	slurp(out, r->out, sizeof r->out);
+	slurp(err, r->err, sizeof r->err);
+	r->nlines = 0;
+	if (strstr(args, "--help"))
+		return; /* text, not JSON lines */
+	char *save = NULL;
+	for (char *l = strtok_r(r->out, "\n", &save); l && r->nlines < 64;
+	     l = strtok_r(NULL, "\n", &save)) {
+		json_error_t je;
+		json_t *j = json_loads(l, 0, &je);
+		CHECK(j != NULL); /* every stdout line is one JSON object */
+		if (!j)
+			fprintf(stderr, "not JSON (%s): %.200s\n", je.text, l);
+		if (j)
+			r->lines[r->nlines++] = j;
+	}
+}
+
+static void release(result *r)
+{
+	for (int i = 0; i < r->nlines; i++)
+		json_decref(r->lines[i]);
+	r->nlines = 0;
+}
+
+static double num(json_t *o, const char *key)
+{
+	json_t *v = json_object_get(o, key);
+	return json_is_number(v) ? json_number_value(v) : NAN;
+}
+
+static double mat(json_t *o, const char *key, int i, int j)
+{
+	json_t *v = json_array_get(json_array_get(json_object_get(o, key), (size_t)i), (size_t)j);
+	return json_is_number(v) ? json_number_value(v) : NAN;
+}
+
+static bool has_flag(json_t *o, const char *name)
+{
+	json_t *a = json_object_get(o, "flags");
+	for (size_t i = 0; i < json_array_size(a); i++)
+		if (!strcmp(json_string_value(json_array_get(a, i)), name))
+			return true;
+	return false;
+}
+
+static void expect_usage_error(const char *args, const char *input, const char *must_name)
+{
+	static result r;
+	run(&r, args, input);
+	CHECK_EQ_INT(r.status, 2);
+	if (!strstr(r.err, must_name)) {
+		fprintf(stderr, "stderr of 'polarcam %s' does not name '%s': %s\n", args, must_name,
+		        r.err);
+		CHECK(0);
+	}
+	release(&r);
+}
+
+static void test_pbrdf(void)
+{
+	static result r;
+	/* physics.md §2 reference 1 */
+	run(&r, "pbrdf --n 1.5 --sigma 0.2 --theta-i 30 --theta-r 30 --phi 180 --rho quad:64",
+	    NULL);
+	CHECK_EQ_INT(r.status, 0);
+	CHECK_EQ_INT(r.nlines, 1);
+	if (r.nlines == 1) {
+		json_t *o = r.lines[0];
+		CHECK_REL(mat(o, "mueller", 0, 0), 6.772339e-02, 1e-6);
+		CHECK_REL(mat(o, "mueller", 1, 1), 5.507109e-02, 1e-6);
+		CHECK_REL(mat(o, "mueller", 3, 3), -5.066541e-02, 1e-6);
+		CHECK_NEAR(num(o, "D"), 0.318699, 6e-7);
+		CHECK_NEAR(num(o, "dop"), num(o, "D"), 1e-12);
+		CHECK_NEAR(num(o, "R"), 3.14159265358979, 1e-9);
+		CHECK_NEAR(num(o, "Delta"), 0.209795, 6e-7);
+		CHECK(num(o, "rho_s") > 0.04 && num(o, "rho_s") < 0.045);
+		CHECK_NEAR(num(o, "theta_i"), 30, 0);
+		CHECK(json_is_array(json_object_get(o, "flags")));
+	}
+	release(&r);
+	/* reference 2, default options */
+	run(&r, "pbrdf --n 1.46 --k 1.28 --sigma 0.2 --theta-i 40 --theta-r 55 --phi 150", NULL);
+	CHECK_EQ_INT(r.status, 0);
+	if (r.nlines == 1) {
+		CHECK_REL(mat(r.lines[0], "mueller", 2, 3), -7.800504e-02, 1e-6);
+		CHECK_NEAR(num(r.lines[0], "R"), 2.590406, 6e-7);
+	}
+	release(&r);
+	/* ranges: 3 σ × 3 θ_i × 1 θ_r × 3 φ = 27 lines, σ slowest, φ fastest */
+	run(&r, "pbrdf --n 1.5 --sigma 0.1:0.3:0.1 --theta-i 0:60:30 --theta-r 45 --phi 0:180:90",
+	    NULL);
+	CHECK_EQ_INT(r.status, 0);
+	CHECK_EQ_INT(r.nlines, 27);
+	if (r.nlines == 27) {
+		CHECK_NEAR(num(r.lines[0], "sigma"), 0.1, 1e-12);
+		CHECK_NEAR(num(r.lines[8], "sigma"), 0.1, 1e-12);
+		CHECK_NEAR(num(r.lines[9], "sigma"), 0.2, 1e-12);
+		CHECK_NEAR(num(r.lines[1], "phi"), 90, 1e-12);
+		CHECK_NEAR(num(r.lines[3], "theta_i"), 30, 1e-12);
+	}
+	release(&r);
+	/* the other modes run; σ > 0.5 warns and flags */
+	run(&r,
+	    "pbrdf --n 1.5 --sigma 0.7 --theta-i 20 --theta-r 50 --diffuse geometric "
+	    "--shadowing none --rho table",
+	    NULL);
+	CHECK_EQ_INT(r.status, 0);
+	CHECK(strstr(r.err, "warning") != NULL);
+	CHECK(r.nlines == 1 && has_flag(r.lines[0], "outside_validity"));
+	release(&r);
+	/* without a diffuse term at Brewster's angle D = 1: R and Delta are null */
+	run(&r,
+	    "pbrdf --n 1.5 --sigma 0.2 --theta-i 56.309932474020215 --theta-r 56.309932474020215 "
+	    "--diffuse none",
+	    NULL);
+	CHECK_EQ_INT(r.status, 0);
+	if (r.nlines == 1) {
+		CHECK(json_is_null(json_object_get(r.lines[0], "R")));
+		CHECK(json_is_null(json_object_get(r.lines[0], "rho_s")));
+		CHECK_NEAR(num(r.lines[0], "D"), 1, 1e-9);
+	}
+	release(&r);
+
+	/* batch: a bad line yields an error object with its line number, the others go on */
+	run(&r, "pbrdf --batch -",
+	    "# n k sigma theta_i theta_r phi\n"
+	    "1.5 0 0.2 30 30 180\n"
+	    "1.5 0 -0.2 30 30 180\n"
+	    "\n"
+	    "1.5 0 0.2 30 95 180\n"
+	    "1.5 0 0.2 30 30\n"
+	    "1.46 1.28 0.2 40 55 150\n");
+	CHECK_EQ_INT(r.status, 2);
+	CHECK_EQ_INT(r.nlines, 5);
+	if (r.nlines == 5) {
+		CHECK_NEAR(num(r.lines[0], "line"), 2, 0);
+		CHECK_REL(mat(r.lines[0], "mueller", 0, 1), 2.158337e-02, 1e-6);
+		CHECK_NEAR(num(r.lines[1], "line"), 3, 0);
+		CHECK(strstr(json_string_value(json_object_get(r.lines[1], "error")), "sigma"));
+		CHECK(!strcmp(json_string_value(json_object_get(r.lines[1], "code")), "PC_EINVAL"));
+		CHECK_NEAR(num(r.lines[2], "line"), 5, 0);
+		CHECK(strstr(json_string_value(json_object_get(r.lines[2], "error")), "theta_r"));
+		CHECK_NEAR(num(r.lines[3], "line"), 6, 0);
+		CHECK_NEAR(num(r.lines[4], "line"), 7, 0);
+		CHECK_REL(mat(r.lines[4], "mueller", 3, 3), -1.590317e-01, 1e-6);
+	}
+	release(&r);
+
+	expect_usage_error("pbrdf --n 1.5 --sigma 0 --theta-i 30 --theta-r 30", NULL, "--sigma");
+	expect_usage_error("pbrdf --n 1.5 --sigma 0.1:-0.1:0.1 --theta-i 30 --theta-r 30", NULL,
+	                   "--sigma");
+	expect_usage_error("pbrdf --n 1.5 --sigma 0.2 --theta-i 30 --theta-r 91", NULL,
+	                   "--theta-r");
+	expect_usage_error("pbrdf --n 1.5 --sigma 0.2 --theta-i -1 --theta-r 30", NULL,
+	                   "--theta-i");
+	expect_usage_error("pbrdf --n 1.5 --sigma 0.2 --theta-i x --theta-r 30", NULL, "--theta-i");
+	expect_usage_error("pbrdf --n 1.5 --sigma nan --theta-i 30 --theta-r 30", NULL, "--sigma");
+	expect_usage_error("pbrdf --n 0 --sigma 0.2 --theta-i 30 --theta-r 30", NULL, "--n");
+	expect_usage_error("pbrdf --n 1.5 --k -1 --sigma 0.2 --theta-i 30 --theta-r 30", NULL,
+	                   "--k");
+	expect_usage_error("pbrdf --sigma 0.2 --theta-i 30 --theta-r 30", NULL, "--n");
+	expect_usage_error("pbrdf --n 1.5 --sigma 0.2 --theta-i 30 --theta-r 30 --rho quad:1", NULL,
+	                   "--rho");
+	expect_usage_error("pbrdf --n 1.5 --sigma 0.2 --theta-i 30 --theta-r 30 --diffuse x", NULL,
+	                   "--diffuse");
+	expect_usage_error("pbrdf --n 1.5 --sigma 2 --theta-i 30 --theta-r 30 --rho table", NULL,
+	                   "sigma");
+	expect_usage_error("pbrdf --batch /nonexistent/file", NULL, "/nonexistent/file");
+}
+
+static void test_decompose(void)
+{
+	static result r;
+	/* the reference-1 matrix from physics.md §2 */
+	run(&r,
+	    "decompose 6.772339e-02 2.158337e-02 0 0 2.158337e-02 5.507109e-02 0 0 "
+	    "0 0 -5.066541e-02 0 0 0 0 -5.066541e-02",
+	    NULL);
+	CHECK_EQ_INT(r.status, 0);
+	CHECK_EQ_INT(r.nlines, 1);
+	if (r.nlines == 1) {
+		json_t *o = r.lines[0];
+		CHECK_NEAR(num(o, "D"), 0.318699, 2e-6);
+		CHECK_NEAR(num(o, "R"), 3.14159265358979, 1e-9);
+		CHECK_NEAR(num(o, "Delta"), 0.209795, 2e-6);
+		CHECK(json_is_true(json_object_get(o, "physical")));
+		CHECK(json_is_false(json_object_get(o, "filtered")));
+		CHECK_NEAR(mat(o, "M_D", 0, 1), num(o, "D"), 1e-15);
+		CHECK_EQ_INT(json_array_size(json_object_get(o, "diattenuation")), 3);
+		CHECK_EQ_INT(json_array_size(json_object_get(o, "retardance_axis")), 3);
+		CHECK(json_is_number(json_object_get(o, "depol_index")));
+	}
+	release(&r);
+	/* non-physical diag(1, 1, 1, −1): filtered by default, not with --no-filter */
+	run(&r, "decompose 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 -1", NULL);
+	CHECK_EQ_INT(r.status, 0);
+	if (r.nlines == 1) {
+		CHECK(json_is_true(json_object_get(r.lines[0], "filtered")));
+		CHECK(json_is_false(json_object_get(r.lines[0], "physical")));
+	}
+	release(&r);
+	run(&r, "decompose --no-filter 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 -1", NULL);
+	CHECK(r.nlines == 1 && json_is_false(json_object_get(r.lines[0], "filtered")));
+	release(&r);
+	/* a pure polariser: D = 1 flagged, R and Δ null */
+	run(&r, "decompose 1 1 0 0 1 1 0 0 0 0 0 0 0 0 0 0", NULL);
+	CHECK_EQ_INT(r.status, 0);
+	if (r.nlines == 1) {
+		CHECK(has_flag(r.lines[0], "D_singular"));
+		CHECK(json_is_null(json_object_get(r.lines[0], "R")));
+		CHECK(json_is_null(json_object_get(r.lines[0], "Delta")));
+	}
+	release(&r);
+	/* batch with a bad line */
+	run(&r, "decompose --batch -",
+	    "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n"
+	    "1 0 0\n"
+	    "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 nan\n"
+	    "2 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n");
+	CHECK_EQ_INT(r.status, 2);
+	CHECK_EQ_INT(r.nlines, 4);
+	if (r.nlines == 4) {
+		CHECK_NEAR(num(r.lines[0], "R"), 0, 1e-15);
+		CHECK_NEAR(num(r.lines[1], "line"), 2, 0);
+		CHECK(strstr(json_string_value(json_object_get(r.lines[1], "error")), "16"));
+		CHECK(strstr(json_string_value(json_object_get(r.lines[2], "error")), "m33"));
+		CHECK_NEAR(num(r.lines[3], "Delta"), 1, 0);
+	}
+	release(&r);
+	expect_usage_error("decompose 1 2 3", NULL, "16");
+	expect_usage_error("decompose 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 5", NULL, "16");
+	expect_usage_error("decompose 1 0 0 0 0 1 0 0 0 0 1 0 0 x 0 1", NULL, "m31");
+	expect_usage_error("decompose 1 0 0 0 0 1 0 0 0 0 1 0 0 inf 0 1", NULL, "m31");
+	expect_usage_error("decompose --bogus", NULL, "--bogus");
+	expect_usage_error("decompose --batch", NULL, "--batch");
+}
+
+static void test_help(void)
+{
+	static result r;
+	run(&r, "pbrdf --help", NULL);
+	CHECK_EQ_INT(r.status, 0);
+	run(&r, "decompose --help", NULL);
+	CHECK_EQ_INT(r.status, 0);
+	CHECK(strstr(r.out, "usage: polarcam decompose") != NULL);
+}
+
+int main(void)
+{
+	polarcam = getenv("POLARCAM");
+	if (!polarcam || access(polarcam, X_OK) != 0)
+		SKIP("POLARCAM (path of the built CLI) is not set or not executable");
+	if (!mkdtemp(tmpdir))
+		SKIP("cannot create a temporary directory");
+	test_pbrdf();
+	test_decompose();
+	test_help();
+	char cmd[400];
+	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+	if (system(cmd) != 0)
+		fprintf(stderr, "could not remove %s\n", tmpdir);
+	return pc_test_finish("test_physics_cli");
+}
