@@ -1,10 +1,169 @@
+/* polarcam serve: the simulator as a GigE Vision camera (polarcam/gige_server.h). */
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
 #include "cli.h"
 #include "commands.h"
+#include "polarcam/error.h"
+#include "polarcam/gige_server.h"
 
-/* Placeholder until issue 5 lands this command. */
+static volatile sig_atomic_t serve_stop;
+
+static void on_signal(int sig)
+{
+	(void)sig;
+	serve_stop = 1;
+}
+
+static void usage(FILE *fp)
+{
+	fprintf(fp,
+		"usage: polarcam serve [SCENE] [--address ADDR] [--seed S] [options]\n\n"
+		"Serves simulated polarization frames as a GigE Vision camera (Aravis's in-process\n"
+		"GigE Vision camera with polarcam's image callback). Any GigE Vision client can stream\n"
+		"from it; polarcam's own client is `polarcam capture aravis:ADDR ...`. Frames are\n"
+		"rendered ahead; every acquisition starts at frame 0 of the scene, so the frames equal\n"
+		"`polarcam render SCENE --seed S` bit for bit.\n\n"
+		"  SCENE               a scene file or 'default' (the built-in scene)\n"
+		"  --address ADDR      interface address to serve on (default 127.0.0.1)\n"
+		"  --seed S            noise seed of the simulator (default 1)\n"
+		"  --source URI        serve frames of any source instead (e.g. file:DIR?loop=1)\n"
+		"  --serial SN         serial number (default POLARCAM0001)\n"
+		"  --fps F             initial frame rate (default 25; clients may change it)\n"
+		"  --ahead N           frames rendered ahead (default 4)\n"
+		"  --cycle K           render frames 0..K-1 once and repeat them (transport benchmarks)\n"
+		"  --lost-packets R    fault injection: drop this fraction of stream packets\n"
+		"  --duration SEC      stop after SEC seconds (default: until SIGINT/SIGTERM)\n"
+		"  --genicam FILE      also write the camera's GenICam XML to FILE\n\n"
+		"On start it prints one JSON line {\"serving\": ...} on stdout; at the end one with the\n"
+		"statistics. Camera discovery answers go to the interface's network: in tests run it\n"
+		"inside `unshare -n` with only loopback up.\n");
+}
+
 int cmd_serve(int argc, char **argv)
 {
-	(void)argc;
-	(void)argv;
-	return pc_cli_error(PC_EXIT_FAILURE, "not implemented yet (issue 5)");
+	if (pc_cli_wants_help(argc, argv)) {
+		usage(stdout);
+		return PC_EXIT_OK;
+	}
+	const char *scene = NULL, *source = NULL, *genicam = NULL;
+	pc_gige_server_options o = { 0 };
+	uint64_t seed = 1;
+	double duration = 0;
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+		int rc = 0;
+		long l;
+		if (a[0] != '-') {
+			if (scene)
+				return pc_cli_error(PC_EXIT_USAGE, "more than one scene given ('%s', '%s')",
+						    scene, a);
+			scene = a;
+			continue;
+		}
+		if (!v)
+			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", a);
+		if (!strcmp(a, "--address"))
+			o.address = v;
+		else if (!strcmp(a, "--seed"))
+			rc = pc_cli_parse_u64(a, v, &seed);
+		else if (!strcmp(a, "--source"))
+			source = v;
+		else if (!strcmp(a, "--serial"))
+			o.serial = v;
+		else if (!strcmp(a, "--fps"))
+			rc = pc_cli_parse_double(a, v, &o.frame_rate_hz);
+		else if (!strcmp(a, "--ahead") && !(rc = pc_cli_parse_long(a, v, 1, 60, &l)))
+			o.ahead = (unsigned)l;
+		else if (!strcmp(a, "--cycle") && !(rc = pc_cli_parse_long(a, v, 1, 256, &l)))
+			o.cycle = (unsigned)l;
+		else if (!strcmp(a, "--lost-packets"))
+			rc = pc_cli_parse_double(a, v, &o.lost_packet_ratio);
+		else if (!strcmp(a, "--duration"))
+			rc = pc_cli_parse_double(a, v, &duration);
+		else if (!strcmp(a, "--genicam"))
+			genicam = v;
+		else if (strcmp(a, "--ahead") && strcmp(a, "--cycle"))
+			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
+		if (rc)
+			return pc_cli_fail(rc, "arguments");
+		i++;
+	}
+	if (source && scene)
+		return pc_cli_error(PC_EXIT_USAGE, "give a SCENE or --source, not both");
+	if (o.frame_rate_hz < 0 || o.frame_rate_hz > 1000)
+		return pc_cli_error(PC_EXIT_USAGE, "--fps %g: expected (0, 1000]", o.frame_rate_hz);
+	if (duration < 0)
+		return pc_cli_error(PC_EXIT_USAGE, "--duration %g: expected >= 0", duration);
+	char uri[1200];
+	if (source) {
+		snprintf(uri, sizeof uri, "%s", source);
+	} else {
+		const char *sc = scene ? scene : "default";
+		if (strchr(sc, '?') || strchr(sc, '&'))
+			return pc_cli_error(PC_EXIT_USAGE, "scene '%s': '?' and '&' are not allowed in a "
+							   "scene path", sc);
+		snprintf(uri, sizeof uri, "sim:%s?seed=%llu", sc, (unsigned long long)seed);
+	}
+	o.source_uri = uri;
+
+	pc_gige_server *srv = NULL;
+	int rc = pc_gige_server_start(&srv, &o);
+	if (rc) {
+		pc_devices_shutdown();
+		return pc_cli_fail(rc, "serve");
+	}
+	if (genicam) {
+		const char *xml = pc_gige_server_genicam(srv);
+		FILE *fp = fopen(genicam, "w");
+		if (!fp || fputs(xml, fp) < 0 || fclose(fp) != 0)
+			pc_cli_warn("cannot write %s", genicam);
+	}
+	pc_gige_server_stats st;
+	pc_gige_server_get_stats(srv, &st);
+	json_t *j = json_object();
+	json_t *sv = json_object();
+	json_object_set_new(sv, "address", json_string(o.address ? o.address : "127.0.0.1"));
+	json_object_set_new(sv, "serial", json_string(o.serial ? o.serial : "POLARCAM0001"));
+	json_object_set_new(sv, "source", json_string(uri));
+	json_object_set_new(sv, "width", json_integer(st.sensor_width));
+	json_object_set_new(sv, "height", json_integer(st.sensor_height));
+	json_object_set_new(sv, "bits", json_integer(st.bits));
+	json_object_set_new(j, "serving", sv);
+	pc_cli_print_json(j);
+	fflush(stdout);
+
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+	double t0 = pc_cli_now();
+	char msg[256] = "";
+	int err = 0;
+	while (!serve_stop && (duration <= 0 || pc_cli_now() - t0 < duration)) {
+		struct timespec ts = { 0, 20000000 };
+		nanosleep(&ts, NULL);
+		if ((err = pc_gige_server_error(srv, msg, sizeof msg)))
+			break;
+	}
+	pc_gige_server_get_stats(srv, &st);
+	pc_gige_server_stop(srv);
+	pc_devices_shutdown();
+	j = json_object();
+	json_object_set_new(j, "served", json_integer((json_int_t)st.served));
+	json_object_set_new(j, "late", json_integer((json_int_t)st.late));
+	json_object_set_new(j, "rendered", json_integer((json_int_t)st.rendered));
+	json_object_set_new(j, "acquisitions", json_integer((json_int_t)st.acquisitions));
+	json_object_set_new(j, "seconds", pc_json_real(pc_cli_now() - t0));
+	if (err)
+		json_object_set_new(j, "error", json_string(msg));
+	pc_cli_print_json(j);
+	if (err)
+		return pc_cli_error(pc_cli_status(err), "the frame source failed: %s", msg);
+	return PC_EXIT_OK;
 }

@@ -1,0 +1,694 @@
+/* aravis: source - GigE Vision and USB3 Vision cameras through Aravis 0.8.
+ *
+ *   aravis:ID[?packet_size=N&reverse_x=1&reverse_y=1&mosaic=90,45,135,0]
+ *
+ * ID is what arv_camera_new accepts: an IP address (opened directly, no discovery broadcast),
+ * a device id or a serial number (found through Aravis's discovery: run that inside a network
+ * namespace in tests). packet_size sets the GigE Vision packet size in bytes (default: Aravis's
+ * automatic negotiation, which picks only 1400 bytes on loopback).
+ *
+ * Pixel formats are identified by their GenICam enumeration NAME (pc_format_from_genicam),
+ * never by value: Aravis 0.8 knows no polarized formats and vendors' codes collide with Aravis's
+ * custom codes. A format carries the polarizer mosaic when its name says so (PolarizeMono12,
+ * Polarized8...) or when the camera profile table lists it for this vendor/model (Basler's
+ * polarized models use plain Mono names). The mosaic of the ROI is the profile's sensor mosaic,
+ * mirrored for ReverseX/ReverseY (pc_mosaic_flip) and shifted by the ROI offset
+ * (pc_mosaic_shift).
+ *
+ * Frame ids: GigE Vision 1.x block ids are 16 bits and wrap (skipping 0 on real cameras); they
+ * are unwrapped into a 64-bit sequence so that gaps still count as dropped frames.
+ * A camera that stops answering (control lost, or a register read failing after a dequeue
+ * timeout) is PC_EDISCONNECTED. */
+#include "polarcam/camera_profile.h"
+#include "polarcam/error.h"
+#include "polarcam/source.h"
+
+#include <arv.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "backend_util.h"
+#include "backends.h"
+
+typedef struct arv_fmt {
+	char name[48];
+	pc_pixfmt fmt;
+	bool polarized;
+	int64_t code;
+} arv_fmt;
+
+typedef struct arv_src {
+	ArvCamera *cam;
+	ArvDevice *dev;
+	ArvStream *stream;
+	gulong lost_handler;
+	gint lost; /* atomic: set by the control-lost signal */
+	char vendor[64], model[64], serial[64], device_id[128];
+	const pc_camera_profile *profile;
+	pc_mosaic sensor_mosaic;  /* at sensor pixel (0,0), unflipped */
+	bool mosaic_known;
+	int sensor_w, sensor_h;
+	int x_inc, y_inc, w_inc, h_inc, w_min, h_min;
+	bool has_reverse_x, has_reverse_y;
+	bool reverse_x, reverse_y;
+	uint64_t packet_size; /* 0 = auto */
+	arv_fmt *fmts;
+	unsigned n_fmts;
+	int64_t cur_code;
+	/* frame id unwrapping */
+	bool have_id, seen_zero, wide_ids;
+	uint64_t last_id, seq;
+	/* statistics of finished streams */
+	pc_source_stats done;
+} arv_src;
+
+static int gerr(int code, GError **err, const char *what)
+{
+	int rc = pc_error(code, "aravis: %s: %s", what, *err ? (*err)->message : "failed");
+	g_clear_error(err);
+	return rc;
+}
+
+static void on_control_lost(ArvDevice *dev, gpointer user)
+{
+	(void)dev;
+	arv_src *a = user;
+	g_atomic_int_set(&a->lost, 1);
+}
+
+/* The mosaic at pixel (0,0) of the full, possibly mirrored, readout. */
+static pc_mosaic readout_mosaic(const arv_src *a)
+{
+	return pc_mosaic_flip(&a->sensor_mosaic, a->reverse_x, a->reverse_y, (uint32_t)a->sensor_w,
+			      (uint32_t)a->sensor_h);
+}
+
+static int load_formats(arv_src *a)
+{
+	GError *err = NULL;
+	guint n = 0;
+	const char **names = arv_camera_dup_available_pixel_formats_as_strings(a->cam, &n, &err);
+	if (err)
+		return gerr(PC_EIO, &err, "listing pixel formats");
+	gint64 *codes = arv_camera_dup_available_pixel_formats(a->cam, &n, &err);
+	if (err) {
+		g_free(names);
+		return gerr(PC_EIO, &err, "listing pixel formats");
+	}
+	a->fmts = calloc(n ? n : 1, sizeof *a->fmts);
+	if (!a->fmts) {
+		g_free(names);
+		g_free(codes);
+		return pc_error(PC_ENOMEM, "aravis: pixel formats");
+	}
+	for (guint i = 0; i < n; i++) {
+		pc_pixfmt f;
+		bool pol = false, col = false;
+		if (!names[i] || pc_format_from_genicam(names[i], &f, &pol, &col) != 0) {
+			pc_error_clear();
+			continue; /* RGB, Bayer, processed polarization formats: not raw mosaics */
+		}
+		if (col)
+			continue; /* colour-polarization needs the pipeline's colour support */
+		arv_fmt *e = &a->fmts[a->n_fmts++];
+		snprintf(e->name, sizeof e->name, "%s", names[i]);
+		e->fmt = f;
+		e->polarized = pol || pc_camera_profile_has_format(a->profile, names[i]);
+		e->code = codes[i];
+	}
+	g_free(names);
+	g_free(codes);
+	if (a->n_fmts == 0)
+		return pc_error(PC_EFORMAT, "aravis: %s %s offers no raw monochrome or polarized pixel "
+					    "format polarcam can read", a->vendor, a->model);
+	return 0;
+}
+
+static void a_close(pc_source *s);
+
+static int a_open(pc_source *s, const char *arg)
+{
+	if (!*arg)
+		return pc_error(PC_EINVAL, "aravis: expected a device id, serial number or IP address "
+					   "(aravis:ID)");
+	arv_src *a = calloc(1, sizeof *a);
+	if (!a)
+		return pc_error(PC_ENOMEM, "aravis source");
+	bool rx = false, ry = false;
+	int rc = pc_source_option_u64(s, "packet_size", 576, 65500, &a->packet_size);
+	if (!rc)
+		rc = pc_source_option_bool(s, "reverse_x", &rx);
+	if (!rc)
+		rc = pc_source_option_bool(s, "reverse_y", &ry);
+	const char *mosaic = pc_source_option(s, "mosaic");
+	if (!rc && mosaic) {
+		rc = pc_mosaic_parse(mosaic, &a->sensor_mosaic);
+		if (rc)
+			rc = pc_error_prefix(PC_EINVAL, "URI option mosaic: ");
+		a->mosaic_known = true;
+	}
+	if (rc) {
+		free(a);
+		return rc;
+	}
+	GError *err = NULL;
+	a->cam = arv_camera_new(arg, &err);
+	if (!a->cam) {
+		rc = pc_error(PC_ENOENT, "aravis: no camera '%s': %s", arg,
+			      err ? err->message : "not found");
+		g_clear_error(&err);
+		free(a);
+		return rc;
+	}
+	pc_source_set_priv(s, a);
+	a->dev = arv_camera_get_device(a->cam);
+	a->lost_handler = g_signal_connect(a->dev, "control-lost", G_CALLBACK(on_control_lost), a);
+	const char *v = arv_camera_get_vendor_name(a->cam, NULL);
+	const char *m = arv_camera_get_model_name(a->cam, NULL);
+	const char *sn = arv_camera_get_device_serial_number(a->cam, NULL);
+	const char *id = arv_camera_get_device_id(a->cam, NULL);
+	snprintf(a->vendor, sizeof a->vendor, "%s", v ? v : "");
+	snprintf(a->model, sizeof a->model, "%s", m ? m : "");
+	snprintf(a->serial, sizeof a->serial, "%s", sn ? sn : "");
+	snprintf(a->device_id, sizeof a->device_id, "%s", id ? id : arg);
+	a->profile = pc_camera_profile_find(a->vendor, a->model);
+	if (!a->mosaic_known) {
+		if (a->profile)
+			rc = pc_mosaic_parse(a->profile->mosaic, &a->sensor_mosaic);
+		else
+			a->sensor_mosaic = pc_mosaic_imx250mzr();
+		a->mosaic_known = true;
+	}
+	arv_camera_get_sensor_size(a->cam, &a->sensor_w, &a->sensor_h, &err);
+	if (!rc && err)
+		rc = gerr(PC_EIO, &err, "reading the sensor size");
+	if (!rc && (a->sensor_w <= 0 || a->sensor_h <= 0 || a->sensor_w > 1 << 16 ||
+		    a->sensor_h > 1 << 16))
+		rc = pc_error(PC_EIO, "aravis: %s reports a %dx%d sensor", a->device_id, a->sensor_w,
+			      a->sensor_h);
+	if (!rc) {
+		bool offsets = arv_camera_is_region_offset_available(a->cam, NULL);
+		a->x_inc = offsets ? arv_camera_get_x_offset_increment(a->cam, NULL) : 0;
+		a->y_inc = offsets ? arv_camera_get_y_offset_increment(a->cam, NULL) : 0;
+		a->w_inc = arv_camera_get_width_increment(a->cam, NULL);
+		a->h_inc = arv_camera_get_height_increment(a->cam, NULL);
+		int mx;
+		arv_camera_get_width_bounds(a->cam, &a->w_min, &mx, NULL);
+		arv_camera_get_height_bounds(a->cam, &a->h_min, &mx, NULL);
+		if (a->w_inc < 1)
+			a->w_inc = 1;
+		if (a->h_inc < 1)
+			a->h_inc = 1;
+		if (a->w_min < 1)
+			a->w_min = 1;
+		if (a->h_min < 1)
+			a->h_min = 1;
+		a->has_reverse_x = arv_camera_is_feature_available(a->cam, "ReverseX", NULL);
+		a->has_reverse_y = arv_camera_is_feature_available(a->cam, "ReverseY", NULL);
+		if ((rx && !a->has_reverse_x) || (ry && !a->has_reverse_y))
+			rc = pc_error(PC_ENOTSUP, "aravis: %s %s has no %s feature", a->vendor, a->model,
+				      rx && !a->has_reverse_x ? "ReverseX" : "ReverseY");
+	}
+	if (!rc && a->has_reverse_x) {
+		if (pc_source_option(s, "reverse_x"))
+			arv_camera_set_boolean(a->cam, "ReverseX", rx, &err);
+		a->reverse_x = !err && arv_camera_get_boolean(a->cam, "ReverseX", &err);
+		if (err)
+			rc = gerr(PC_EIO, &err, "ReverseX");
+	}
+	if (!rc && a->has_reverse_y) {
+		if (pc_source_option(s, "reverse_y"))
+			arv_camera_set_boolean(a->cam, "ReverseY", ry, &err);
+		a->reverse_y = !err && arv_camera_get_boolean(a->cam, "ReverseY", &err);
+		if (err)
+			rc = gerr(PC_EIO, &err, "ReverseY");
+	}
+	if (!rc)
+		rc = load_formats(a);
+	if (!rc && arv_camera_is_gv_device(a->cam)) {
+		if (a->packet_size)
+			arv_camera_gv_set_packet_size(a->cam, (gint)a->packet_size, &err);
+		else
+			arv_camera_gv_auto_packet_size(a->cam, &err);
+		if (err)
+			rc = gerr(PC_EIO, &err, "setting the packet size");
+	}
+	if (!rc)
+		a->cur_code = arv_camera_get_pixel_format(a->cam, NULL);
+	if (rc) { /* the wrapper does not call close after a failed open */
+		a_close(s);
+		pc_source_set_priv(s, NULL);
+	}
+	return rc;
+}
+
+static void a_close(pc_source *s)
+{
+	arv_src *a = pc_source_priv(s);
+	if (!a)
+		return;
+	if (a->stream)
+		g_object_unref(a->stream);
+	if (a->lost_handler)
+		g_signal_handler_disconnect(a->dev, a->lost_handler);
+	if (a->cam)
+		g_object_unref(a->cam);
+	free(a->fmts);
+	free(a);
+}
+
+static int a_info(pc_source *s, pc_source_info *info)
+{
+	arv_src *a = pc_source_priv(s);
+	snprintf(info->vendor, sizeof info->vendor, "%s", a->vendor);
+	snprintf(info->model, sizeof info->model, "%s", a->model);
+	snprintf(info->serial, sizeof info->serial, "%s", a->serial);
+	snprintf(info->driver, sizeof info->driver, "aravis-%s",
+		 arv_camera_is_gv_device(a->cam) ? "gv" : arv_camera_is_uv_device(a->cam) ? "uv" : "other");
+	info->sensor_width = (uint32_t)a->sensor_w;
+	info->sensor_height = (uint32_t)a->sensor_h;
+	info->mosaic = readout_mosaic(a);
+	return 0;
+}
+
+static const arv_fmt *find_fmt_code(const arv_src *a, int64_t code)
+{
+	for (unsigned i = 0; i < a->n_fmts; i++)
+		if (a->fmts[i].code == code)
+			return &a->fmts[i];
+	return NULL;
+}
+
+static uint32_t round_down(uint32_t v, int inc)
+{
+	return inc > 1 ? v - v % (uint32_t)inc : v;
+}
+
+static int a_try(pc_source *s, pc_source_format *f, pc_format_verdict *v)
+{
+	arv_src *a = pc_source_priv(s);
+	const pc_source_format req = *f;
+	bool adj = false;
+	const arv_fmt *e = NULL;
+	if (req.format_name[0]) {
+		for (unsigned i = 0; i < a->n_fmts && !e; i++)
+			if (!strcmp(a->fmts[i].name, req.format_name))
+				e = &a->fmts[i];
+		adj = !e;
+	} else if (req.format != PC_FMT_INVALID) {
+		for (unsigned pass = 0; pass < 2 && !e; pass++) /* polarized names first */
+			for (unsigned i = 0; i < a->n_fmts && !e; i++)
+				if (a->fmts[i].fmt == req.format && a->fmts[i].polarized == (pass == 0))
+					e = &a->fmts[i];
+		adj = !e;
+	}
+	if (!e)
+		e = find_fmt_code(a, a->cur_code);
+	for (unsigned i = 0; i < a->n_fmts && !e; i++)
+		if (a->fmts[i].polarized)
+			e = &a->fmts[i];
+	if (!e)
+		e = &a->fmts[0];
+	const pc_format_info *fi = pc_format_info_get(e->fmt);
+	f->format = e->fmt;
+	snprintf(f->format_name, sizeof f->format_name, "%s", e->name);
+
+	uint32_t sw = (uint32_t)a->sensor_w, sh = (uint32_t)a->sensor_h;
+	if (req.offset_x >= sw || req.offset_y >= sh) {
+		*v = PC_FORMAT_INVALID;
+		return pc_error(PC_OK, "aravis: ROI origin (%u,%u) outside the %ux%u sensor",
+				req.offset_x, req.offset_y, sw, sh);
+	}
+	f->offset_x = a->x_inc ? round_down(req.offset_x, a->x_inc) : 0;
+	f->offset_y = a->y_inc ? round_down(req.offset_y, a->y_inc) : 0;
+	adj = adj || f->offset_x != req.offset_x || f->offset_y != req.offset_y;
+	uint32_t maxw = sw - f->offset_x, maxh = sh - f->offset_y;
+	uint32_t w = req.width ? req.width : maxw, h = req.height ? req.height : maxh;
+	if (w > maxw)
+		w = maxw;
+	if (h > maxh)
+		h = maxh;
+	/* width: the camera's increment and the packing group of the format */
+	unsigned winc = (unsigned)a->w_inc;
+	while (winc % fi->group_pixels)
+		winc += (unsigned)a->w_inc;
+	w = round_down(w, (int)winc);
+	h = round_down(h, a->h_inc);
+	if (w < (uint32_t)a->w_min || h < (uint32_t)a->h_min || w == 0 || h == 0) {
+		*v = PC_FORMAT_INVALID;
+		return pc_error(PC_OK, "aravis: ROI %ux%u below the camera's minimum %dx%d", w, h,
+				a->w_min, a->h_min);
+	}
+	adj = adj || (req.width && w != req.width) || (req.height && h != req.height);
+	f->width = w;
+	f->height = h;
+	size_t row;
+	int rc = pc_format_row_bytes(f->format, w, &row);
+	if (rc)
+		return rc;
+	if (req.stride && req.stride != row)
+		adj = true; /* GigE Vision / USB3 Vision payloads are tightly packed */
+	f->stride = row;
+	f->frame_bytes = 0;
+	f->sensor_width = sw;
+	f->sensor_height = sh;
+	f->polarized = e->polarized;
+	pc_mosaic rm = readout_mosaic(a);
+	if (!e->polarized)
+		memset(&f->mosaic, 0, sizeof f->mosaic);
+	rc = pc_source_format_complete(f, e->polarized ? &rm : NULL);
+	if (rc)
+		return rc;
+	*v = adj ? PC_FORMAT_ADJUSTED : PC_FORMAT_VALID;
+	return 0;
+}
+
+static int a_set(pc_source *s, const pc_source_format *f)
+{
+	arv_src *a = pc_source_priv(s);
+	GError *err = NULL;
+	arv_camera_set_pixel_format_from_string(a->cam, f->format_name, &err);
+	if (err)
+		return gerr(PC_EIO, &err, "setting the pixel format");
+	arv_camera_set_region(a->cam, (gint)f->offset_x, (gint)f->offset_y, (gint)f->width,
+			      (gint)f->height, &err);
+	if (err)
+		return gerr(PC_EIO, &err, "setting the region");
+	gint x, y, w, h;
+	arv_camera_get_region(a->cam, &x, &y, &w, &h, &err);
+	if (err)
+		return gerr(PC_EIO, &err, "reading the region back");
+	const char *name = arv_camera_get_pixel_format_as_string(a->cam, &err);
+	if (err)
+		return gerr(PC_EIO, &err, "reading the pixel format back");
+	if ((uint32_t)x != f->offset_x || (uint32_t)y != f->offset_y || (uint32_t)w != f->width ||
+	    (uint32_t)h != f->height || !name || strcmp(name, f->format_name))
+		return pc_error(PC_EIO, "aravis: the camera kept %s %dx%d at (%d,%d) instead of %s "
+					"%ux%u at (%u,%u)", name ? name : "?", w, h, x, y,
+				f->format_name, f->width, f->height, f->offset_x, f->offset_y);
+	guint payload = arv_camera_get_payload(a->cam, &err);
+	if (err)
+		return gerr(PC_EIO, &err, "reading the payload size");
+	if (payload > f->frame_bytes)
+		return pc_error(PC_EFORMAT, "aravis: the camera sends %u bytes per frame, a %s %ux%u "
+					    "image is %zu (chunk data enabled?)", payload,
+				f->format_name, f->width, f->height, f->frame_bytes);
+	a->cur_code = arv_camera_get_pixel_format(a->cam, NULL);
+	return 0;
+}
+
+/* ---- controls ---- */
+
+static int a_cquery(pc_source *s, pc_control_id id, pc_control_info *ci)
+{
+	arv_src *a = pc_source_priv(s);
+	GError *err = NULL;
+	memset(ci, 0, sizeof *ci);
+	ci->live = true;
+	switch (id) {
+	case PC_CTRL_EXPOSURE_US:
+		if (!arv_camera_is_exposure_time_available(a->cam, NULL))
+			return pc_error(PC_ENOTSUP, "aravis: no exposure time control");
+		arv_camera_get_exposure_time_bounds(a->cam, &ci->min, &ci->max, &err);
+		break;
+	case PC_CTRL_GAIN_DB:
+		if (!arv_camera_is_gain_available(a->cam, NULL))
+			return pc_error(PC_ENOTSUP, "aravis: no gain control");
+		arv_camera_get_gain_bounds(a->cam, &ci->min, &ci->max, &err);
+		break;
+	case PC_CTRL_FRAME_RATE_HZ:
+		if (!arv_camera_is_frame_rate_available(a->cam, NULL))
+			return pc_error(PC_ENOTSUP, "aravis: no frame rate control");
+		arv_camera_get_frame_rate_bounds(a->cam, &ci->min, &ci->max, &err);
+		break;
+	default:
+		return pc_error(PC_ENOTSUP, "aravis: unknown control");
+	}
+	if (err)
+		return gerr(PC_EIO, &err, pc_control_name(id));
+	ci->def = ci->min; /* cameras do not publish defaults through GenICam */
+	return 0;
+}
+
+static int a_cget(pc_source *s, pc_control_id id, double *val)
+{
+	arv_src *a = pc_source_priv(s);
+	GError *err = NULL;
+	switch (id) {
+	case PC_CTRL_EXPOSURE_US: *val = arv_camera_get_exposure_time(a->cam, &err); break;
+	case PC_CTRL_GAIN_DB: *val = arv_camera_get_gain(a->cam, &err); break;
+	case PC_CTRL_FRAME_RATE_HZ: *val = arv_camera_get_frame_rate(a->cam, &err); break;
+	default: return pc_error(PC_ENOTSUP, "aravis: unknown control");
+	}
+	return err ? gerr(PC_EIO, &err, pc_control_name(id)) : 0;
+}
+
+static int a_cset(pc_source *s, pc_control_id id, double val, double *applied)
+{
+	arv_src *a = pc_source_priv(s);
+	GError *err = NULL;
+	switch (id) {
+	case PC_CTRL_EXPOSURE_US: arv_camera_set_exposure_time(a->cam, val, &err); break;
+	case PC_CTRL_GAIN_DB: arv_camera_set_gain(a->cam, val, &err); break;
+	case PC_CTRL_FRAME_RATE_HZ: arv_camera_set_frame_rate(a->cam, val, &err); break;
+	default: return pc_error(PC_ENOTSUP, "aravis: unknown control");
+	}
+	if (err)
+		return gerr(PC_EIO, &err, pc_control_name(id));
+	return a_cget(s, id, applied);
+}
+
+/* ---- streaming ---- */
+
+static void collect_stats(arv_src *a, pc_source_stats *st)
+{
+	memset(st, 0, sizeof *st);
+	if (!a->stream)
+		return;
+	guint64 completed = 0, failures = 0, underruns = 0;
+	arv_stream_get_statistics(a->stream, &completed, &failures, &underruns);
+	st->underruns = underruns;
+	if (ARV_IS_GV_STREAM(a->stream)) {
+		st->has_packets = true;
+		st->missing_packets = arv_stream_get_info_uint64_by_name(a->stream, "n_missing_packets");
+		st->resent_packets = arv_stream_get_info_uint64_by_name(a->stream, "n_resent_packets");
+		st->transport_failures =
+			arv_stream_get_info_uint64_by_name(a->stream, "n_size_mismatch_errors");
+	}
+}
+
+static int a_queue(pc_source *s, pc_buffer *b)
+{
+	arv_src *a = pc_source_priv(s);
+	if (!a->stream) {
+		GError *err = NULL;
+		a->stream = arv_camera_create_stream(a->cam, NULL, NULL, &err);
+		if (!a->stream)
+			return gerr(g_atomic_int_get(&a->lost) ? PC_EDISCONNECTED : PC_EIO, &err,
+				    "creating the stream");
+	}
+	ArvBuffer *ab = arv_buffer_new_full(b->size, b->data, b, NULL);
+	if (!ab)
+		return pc_error(PC_ENOMEM, "aravis: buffer");
+	arv_stream_push_buffer(a->stream, ab);
+	return 0;
+}
+
+static int a_start(pc_source *s)
+{
+	arv_src *a = pc_source_priv(s);
+	GError *err = NULL;
+	a->have_id = false;
+	a->seen_zero = false;
+	a->wide_ids = false;
+	arv_camera_start_acquisition(a->cam, &err);
+	if (err)
+		return gerr(g_atomic_int_get(&a->lost) ? PC_EDISCONNECTED : PC_EIO, &err,
+			    "starting the acquisition");
+	return 0;
+}
+
+static int a_stop(pc_source *s)
+{
+	arv_src *a = pc_source_priv(s);
+	GError *err = NULL;
+	int rc = 0;
+	if (!g_atomic_int_get(&a->lost)) {
+		arv_camera_stop_acquisition(a->cam, &err);
+		if (err)
+			rc = gerr(PC_EIO, &err, "stopping the acquisition");
+	}
+	if (a->stream) {
+		pc_source_stats st;
+		collect_stats(a, &st);
+		a->done.underruns += st.underruns;
+		a->done.missing_packets += st.missing_packets;
+		a->done.resent_packets += st.resent_packets;
+		a->done.transport_failures += st.transport_failures;
+		a->done.has_packets |= st.has_packets;
+		/* the stream's queued ArvBuffers only wrap our memory: dropping the stream
+		 * releases every one of them */
+		g_object_unref(a->stream);
+		a->stream = NULL;
+	}
+	return rc;
+}
+
+/* 64-bit sequence from GigE Vision 1.x 16-bit block ids (0 is skipped by real cameras on
+ * wrap-around; Aravis's simulator sends it). */
+static uint64_t unwrap_id(arv_src *a, uint64_t id)
+{
+	if (id > 0xffff)
+		a->wide_ids = true;
+	if (!a->have_id) {
+		a->have_id = true;
+		a->last_id = id;
+		a->seq = a->wide_ids ? id : id & 0xffff;
+		if (id == 0)
+			a->seen_zero = true;
+		return a->seq;
+	}
+	uint64_t delta;
+	if (a->wide_ids) {
+		delta = id > a->last_id ? id - a->last_id : 1;
+	} else {
+		delta = (id - a->last_id) & 0xffff;
+		if (id == 0)
+			a->seen_zero = true;
+		if (delta == 0)
+			delta = 1; /* a repeated id: the wrapper still needs an increasing sequence */
+		else if (id < a->last_id && id != 0 && !a->seen_zero && delta >= 2)
+			delta--; /* wrapped past the id 0 the camera never sends */
+	}
+	a->last_id = id;
+	a->seq += delta;
+	return a->seq;
+}
+
+/* Is the camera still there? A register read costs one GVCP round trip. */
+static bool camera_alive(arv_src *a)
+{
+	if (g_atomic_int_get(&a->lost))
+		return false;
+	guint32 v;
+	GError *err = NULL;
+	gboolean ok = arv_device_read_register(a->dev, 0x0, &v, &err);
+	g_clear_error(&err);
+	return ok;
+}
+
+static int a_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
+{
+	arv_src *a = pc_source_priv(s);
+	const pc_source_format *f = pc_source_current_format(s);
+	if (!a->stream)
+		return pc_error(PC_EIO, "aravis: no stream");
+	guint64 to_us = timeout_ms < 0 ? G_MAXUINT64 / 2 : (guint64)timeout_ms * 1000u;
+	ArvBuffer *ab = arv_stream_timeout_pop_buffer(a->stream, to_us);
+	if (!ab) {
+		if (!camera_alive(a)) {
+			g_atomic_int_set(&a->lost, 1);
+			return pc_error(PC_EDISCONNECTED, "aravis: camera %s stopped answering",
+					a->device_id);
+		}
+		return pc_error(PC_ETIMEDOUT, "aravis: no frame from %s within %d ms", a->device_id,
+				timeout_ms);
+	}
+	pc_buffer *b = (pc_buffer *)arv_buffer_get_user_data(ab);
+	ArvBufferStatus st = arv_buffer_get_status(ab);
+	uint32_t status = 0;
+	switch (st) {
+	case ARV_BUFFER_STATUS_SUCCESS: break;
+	case ARV_BUFFER_STATUS_MISSING_PACKETS:
+	case ARV_BUFFER_STATUS_TIMEOUT:
+	case ARV_BUFFER_STATUS_ABORTED: status |= PC_FRAME_INCOMPLETE; break;
+	default: status |= PC_FRAME_CORRUPT; break;
+	}
+	size_t row = 0, image_bytes;
+	(void)pc_format_row_bytes(f->format, f->width, &row);
+	image_bytes = row * f->height;
+	const void *data = b->data;
+	if (st == ARV_BUFFER_STATUS_SUCCESS) {
+		size_t size = 0;
+		const void *img = arv_buffer_get_image_data(ab, &size);
+		/* every camera datum is checked: geometry, pixel format (by the code the name was
+		 * given when negotiated) and payload size */
+		if ((uint32_t)arv_buffer_get_image_width(ab) != f->width ||
+		    (uint32_t)arv_buffer_get_image_height(ab) != f->height ||
+		    (int64_t)arv_buffer_get_image_pixel_format(ab) != a->cur_code)
+			status |= PC_FRAME_CORRUPT;
+		else if (!img || size < image_bytes)
+			status |= PC_FRAME_INCOMPLETE;
+		else if ((const uint8_t *)img != (const uint8_t *)b->data)
+			status |= PC_FRAME_CORRUPT; /* an image part elsewhere: not what we negotiated */
+	}
+	b->frame.view = (pc_view){ (void *)data, f->width, f->height, f->stride, f->format };
+	memset(&b->frame.meta, 0, sizeof b->frame.meta);
+	b->frame.meta.sequence = unwrap_id(a, arv_buffer_get_frame_id(ab));
+	uint64_t ts = arv_buffer_get_timestamp(ab);
+	b->frame.meta.timestamp_ns = ts ? ts : arv_buffer_get_system_timestamp(ab);
+	b->frame.meta.status = status;
+	g_object_unref(ab);
+	*out = b;
+	return 0;
+}
+
+static int a_stats(pc_source *s, pc_source_stats *st)
+{
+	arv_src *a = pc_source_priv(s);
+	collect_stats(a, st);
+	st->underruns += a->done.underruns;
+	st->missing_packets += a->done.missing_packets;
+	st->resent_packets += a->done.resent_packets;
+	st->transport_failures += a->done.transport_failures;
+	st->has_packets |= a->done.has_packets;
+	return 0;
+}
+
+int pc_aravis_enumerate(pc_device_fn fn, void *ctx)
+{
+	arv_update_device_list();
+	unsigned n = arv_get_n_devices();
+	for (unsigned i = 0; i < n; i++) {
+		pc_device_entry e;
+		memset(&e, 0, sizeof e);
+		const char *id = arv_get_device_id(i), *proto = arv_get_device_protocol(i);
+		snprintf(e.uri, sizeof e.uri, "aravis:%s", id ? id : "?");
+		snprintf(e.vendor, sizeof e.vendor, "%s", arv_get_device_vendor(i) ? arv_get_device_vendor(i) : "");
+		snprintf(e.model, sizeof e.model, "%s", arv_get_device_model(i) ? arv_get_device_model(i) : "");
+		snprintf(e.serial, sizeof e.serial, "%s",
+			 arv_get_device_serial_nbr(i) ? arv_get_device_serial_nbr(i) : "");
+		snprintf(e.transport, sizeof e.transport, "%s",
+			 proto && !strcmp(proto, "GigEVision") ? "GigE Vision"
+			 : proto && !strcmp(proto, "USB3Vision") ? "USB3 Vision"
+								 : (proto ? proto : "?"));
+		snprintf(e.address, sizeof e.address, "%s",
+			 arv_get_device_address(i) ? arv_get_device_address(i) : "");
+		const pc_camera_profile *p = pc_camera_profile_find(e.vendor, e.model);
+		snprintf(e.note, sizeof e.note, "%s", p ? p->sensor : "");
+		e.usable = true;
+		if (fn(ctx, &e))
+			break;
+	}
+	return 0;
+}
+
+static const char *const a_options[] = { "packet_size", "reverse_x", "reverse_y", "mosaic", NULL };
+
+const pc_source_ops pc_aravis_source_ops = {
+	.open = a_open,
+	.close = a_close,
+	.get_info = a_info,
+	.try_format = a_try,
+	.set_format = a_set,
+	.control_query = a_cquery,
+	.control_get = a_cget,
+	.control_set = a_cset,
+	.queue = a_queue,
+	.start = a_start,
+	.dequeue = a_dequeue,
+	.stop = a_stop,
+	.get_stats = a_stats,
+	.options = a_options,
+};
