@@ -481,7 +481,7 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		srv->exposure_applied = reg(srv->fc, ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US);
 		srv->gain_applied = reg(srv->fc, ARV_FAKE_CAMERA_REGISTER_GAIN_RAW);
 		if (o->lost_packet_ratio > 0)
-			g_object_set(srv->gv, "gvsp-lost-packet-ratio", o->lost_packet_ratio, NULL);
+			g_object_set(srv->gv, "gvsp-lost-ratio", o->lost_packet_ratio, NULL);
 		srv->st.sensor_width = srv->sfmt.width;
 		srv->st.sensor_height = srv->sfmt.height;
 		srv->st.bits = srv->bits;

@@ -59,6 +59,7 @@ typedef struct arv_src {
 	/* frame id unwrapping */
 	bool have_id, seen_zero, wide_ids;
 	uint64_t last_id, seq;
+	uint64_t last_ts;
 	/* statistics of finished streams */
 	pc_source_stats done;
 } arv_src;
@@ -164,14 +165,15 @@ static int a_open(pc_source *s, const char *arg)
 	pc_source_set_priv(s, a);
 	a->dev = arv_camera_get_device(a->cam);
 	a->lost_handler = g_signal_connect(a->dev, "control-lost", G_CALLBACK(on_control_lost), a);
-	const char *v = arv_camera_get_vendor_name(a->cam, NULL);
-	const char *m = arv_camera_get_model_name(a->cam, NULL);
-	const char *sn = arv_camera_get_device_serial_number(a->cam, NULL);
-	const char *id = arv_camera_get_device_id(a->cam, NULL);
-	snprintf(a->vendor, sizeof a->vendor, "%s", v ? v : "");
-	snprintf(a->model, sizeof a->model, "%s", m ? m : "");
-	snprintf(a->serial, sizeof a->serial, "%s", sn ? sn : "");
-	snprintf(a->device_id, sizeof a->device_id, "%s", id ? id : arg);
+	/* Aravis's string getters return storage the next call may reuse: copy each at once */
+	const char *t = arv_camera_get_vendor_name(a->cam, NULL);
+	snprintf(a->vendor, sizeof a->vendor, "%s", t ? t : "");
+	t = arv_camera_get_model_name(a->cam, NULL);
+	snprintf(a->model, sizeof a->model, "%s", t ? t : "");
+	t = arv_camera_get_device_serial_number(a->cam, NULL);
+	snprintf(a->serial, sizeof a->serial, "%s", t ? t : "");
+	t = arv_camera_get_device_id(a->cam, NULL);
+	snprintf(a->device_id, sizeof a->device_id, "%s", t ? t : arg);
 	a->profile = pc_camera_profile_find(a->vendor, a->model);
 	if (!a->mosaic_known) {
 		if (a->profile)
@@ -500,6 +502,7 @@ static int a_start(pc_source *s)
 	arv_src *a = pc_source_priv(s);
 	GError *err = NULL;
 	a->have_id = false;
+	a->last_ts = 0;
 	a->seen_zero = false;
 	a->wide_ids = false;
 	arv_camera_start_acquisition(a->cam, &err);
@@ -627,7 +630,15 @@ static int a_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 	memset(&b->frame.meta, 0, sizeof b->frame.meta);
 	b->frame.meta.sequence = unwrap_id(a, arv_buffer_get_frame_id(ab));
 	uint64_t ts = arv_buffer_get_timestamp(ab);
-	b->frame.meta.timestamp_ns = ts ? ts : arv_buffer_get_system_timestamp(ab);
+	if (!ts)
+		ts = arv_buffer_get_system_timestamp(ab);
+	/* a frame whose leader packet was lost has no timestamp: it is flagged incomplete and
+	 * keeps the previous frame's time (a successful frame going back in time is refused by
+	 * the wrapper as bad camera data) */
+	if (status && ts < a->last_ts)
+		ts = a->last_ts;
+	a->last_ts = ts;
+	b->frame.meta.timestamp_ns = ts;
 	b->frame.meta.status = status;
 	g_object_unref(ab);
 	*out = b;
@@ -646,8 +657,14 @@ static int a_stats(pc_source *s, pc_source_stats *st)
 	return 0;
 }
 
-int pc_aravis_enumerate(pc_device_fn fn, void *ctx)
+int pc_aravis_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 {
+	/* GigE Vision discovery broadcasts on every interface: only when asked for. USB3 Vision
+	 * enumeration stays local. */
+	if (flags & PC_ENUM_NETWORK)
+		arv_enable_interface("GigEVision");
+	else
+		arv_disable_interface("GigEVision");
 	arv_update_device_list();
 	unsigned n = arv_get_n_devices();
 	for (unsigned i = 0; i < n; i++) {

@@ -12,9 +12,9 @@ extern const pc_source_ops pc_aravis_source_ops;
 extern const pc_source_ops pc_v4l2_source_ops;
 extern const pc_source_ops pc_libcamera_source_ops;
 
-int pc_aravis_enumerate(pc_device_fn fn, void *ctx);
-int pc_v4l2_enumerate(pc_device_fn fn, void *ctx);
-int pc_libcamera_enumerate(pc_device_fn fn, void *ctx);
+int pc_aravis_enumerate(unsigned flags, pc_device_fn fn, void *ctx);
+int pc_v4l2_enumerate(unsigned flags, pc_device_fn fn, void *ctx);
+int pc_libcamera_enumerate(unsigned flags, pc_device_fn fn, void *ctx);
 int pc_usb3v_enumerate(pc_device_fn fn, void *ctx);
 
 #endif

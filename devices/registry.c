@@ -6,6 +6,7 @@
 
 #include "backends.h"
 #include "polarcam/error.h"
+#include "polarcam/usb3v.h"
 
 #if PC_HAVE_ARAVIS
 #define ARAVIS_OPS &pc_aravis_source_ops
@@ -77,4 +78,16 @@ const pc_source_backend *pc_source_backend_find(const char *scheme)
 		if (!strcmp(pc_backends[i].scheme, scheme))
 			return &pc_backends[i];
 	return NULL;
+}
+
+int pc_usb3v_list(pc_device_fn fn, void *ctx)
+{
+#if PC_HAVE_LIBUSB
+	return pc_usb3v_enumerate(fn, ctx);
+#else
+	(void)fn;
+	(void)ctx;
+	return pc_error(PC_ENOTSUP, "USB3 Vision diagnosis needs libusb (Debian: libusb-1.0-0-dev, "
+				    "then re-run cmake)");
+#endif
 }

@@ -225,6 +225,9 @@ typedef struct pc_device_entry {
 
 typedef int (*pc_device_fn)(void *ctx, const pc_device_entry *dev);
 
+/* pc_source_backend.enumerate flags */
+enum { PC_ENUM_NETWORK = 1u << 0 };
+
 typedef struct pc_source_ops pc_source_ops;
 
 typedef struct pc_source_backend {
@@ -233,9 +236,10 @@ typedef struct pc_source_backend {
 	const char *uri_help;      /* "sim:SCENE[?fps=F&seed=S&...]" and the options */
 	const pc_source_ops *ops;  /* NULL when not built in */
 	const char *missing;       /* why not built in ("Aravis was not found at configure time") */
-	/* Lists devices (may be NULL). For network transports this may broadcast: callers run it
-	 * in a network namespace in tests. Returns 0 or an error; fn returning non-zero stops. */
-	int (*enumerate)(pc_device_fn fn, void *ctx);
+	/* Lists devices (may be NULL). Network discovery (GigE Vision broadcasts on every
+	 * interface) only with PC_ENUM_NETWORK in flags: callers ask for it explicitly, tests run
+	 * it in a network namespace. Returns 0 or an error; fn returning non-zero stops. */
+	int (*enumerate)(unsigned flags, pc_device_fn fn, void *ctx);
 } pc_source_backend;
 
 /* The backends, built in or not, in a fixed order; NULL after the last. */
