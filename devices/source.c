@@ -648,16 +648,20 @@ int pc_source_start(pc_source *s)
 		if (s->bufs[i]->state == PC_BUFFER_QUEUED) {
 			rc = after(s, s->ops->queue(s, s->bufs[i]));
 			if (rc) {
+				char why[512];
+				snprintf(why, sizeof why, "%s", pc_error_detail());
 				if (s->ops->stop)
 					(void)s->ops->stop(s);
-				return rc;
+				return pc_error(rc, "%s", why);
 			}
 		}
 	rc = after(s, s->ops->start(s));
 	if (rc) {
+		char why[512];
+		snprintf(why, sizeof why, "%s", pc_error_detail());
 		if (s->ops->stop)
-			(void)s->ops->stop(s);
-		return rc;
+			(void)s->ops->stop(s); /* releases the queued buffers; keep start's error */
+		return pc_error(rc, "%s", why);
 	}
 	s->have_last = false;
 	s->state = PC_SOURCE_STREAMING;

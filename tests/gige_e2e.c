@@ -200,7 +200,10 @@ static pc_source *open_cam(const char *opts, const char *fmt_name, uint32_t ox, 
 static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32_t oy, bool rev_x,
 				   unsigned shift, uint64_t *first_seq, uint64_t *last_seq)
 {
-	unsigned mism = 0, got = 0, seq_gaps = 0, mosaic_bad = 0;
+	/* Frame j of an acquisition is recording frame j mod NREC; j comes from the sequence
+	 * (the camera's frame ids), so a frame lost under load shows as a gap that the statistics
+	 * must count, never as wrong content. */
+	unsigned mism = 0, got = 0, gaps = 0, mosaic_bad = 0;
 	uint64_t prev = 0;
 	uint16_t *u = NULL;
 	for (unsigned k = 0; k < n; k++) {
@@ -212,6 +215,13 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 			break;
 		}
 		const pc_view *v = &b->frame.view;
+		uint64_t seq = b->frame.meta.sequence;
+		if (k == 0)
+			*first_seq = seq;
+		else if (seq != prev + 1)
+			gaps += (unsigned)(seq - prev - 1);
+		prev = seq;
+		unsigned j = (unsigned)((seq - *first_seq) % NREC);
 		CHECK(b->frame.meta.status == 0);
 		if (!u)
 			u = malloc((size_t)v->width * v->height * 2);
@@ -219,7 +229,7 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 		for (uint32_t y = 0; y < v->height; y++)
 			for (uint32_t x = 0; x < v->width; x++) {
 				unsigned sx = rev_x ? W - 1 - (ox + x) : ox + x, sy = oy + y;
-				mism += u[y * v->width + x] != (value(k % NREC, sx, sy) >> shift);
+				mism += u[y * v->width + x] != (value(j, sx, sy) >> shift);
 			}
 		/* the mosaic the frame declares, against the datasheet layout moved by hand */
 		for (uint32_t y = 0; y < 2; y++)
@@ -230,11 +240,6 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 					a = 180 - a; /* a mirror maps an analyser at θ to 180° − θ */
 				mosaic_bad += (int)b->frame.mosaic.channel[y][x] * 45 != a;
 			}
-		if (k == 0)
-			*first_seq = b->frame.meta.sequence;
-		else
-			seq_gaps += b->frame.meta.sequence != prev + 1;
-		prev = b->frame.meta.sequence;
 		got++;
 		CHECK_EQ_INT(pc_source_requeue(s, b), 0);
 	}
@@ -242,7 +247,12 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 	*last_seq = prev;
 	CHECK_EQ_INT(mism, 0);
 	CHECK_EQ_INT(mosaic_bad, 0);
-	CHECK_EQ_INT(seq_gaps, 0);
+	pc_source_stats st;
+	CHECK_EQ_INT(pc_source_get_stats(s, &st), 0);
+	CHECK_EQ_INT(st.dropped, gaps);
+	if (gaps)
+		printf("note: %u frames lost (load): underruns %llu, missing packets %llu\n", gaps,
+		       (unsigned long long)st.underruns, (unsigned long long)st.missing_packets);
 	return got;
 }
 
@@ -263,8 +273,6 @@ static void test_client(void)
 		pc_source_stats st;
 		CHECK_EQ_INT(pc_source_get_stats(s, &st), 0);
 		CHECK(st.has_packets);
-		CHECK_EQ_INT(st.missing_packets, 0);
-		CHECK_EQ_INT(st.dropped, 0);
 		pc_source_close(s);
 	}
 	/* ROI at an odd offset, packed Mono12p */
@@ -290,11 +298,13 @@ static void test_client(void)
 	s = open_cam("", "PolarizeMono12", 0, 0, 16, 8);
 	if (s) {
 		double fps = 0;
-		CHECK_EQ_INT(pc_source_control_set(s, PC_CTRL_FRAME_RATE_HZ, 500, &fps), 0);
+		CHECK_EQ_INT(pc_source_control_set(s, PC_CTRL_FRAME_RATE_HZ, 400, &fps), 0);
 		unsigned got = stream_and_compare(s, 200, 0, 0, false, 0, &s0, &s1);
 		CHECK_EQ_INT(got, 200);
 		CHECK(s1 > 65535); /* the unwrapped sequence went past the 16-bit range */
-		CHECK_EQ_INT(s1 - s0, 199);
+		pc_source_stats st;
+		pc_source_get_stats(s, &st);
+		CHECK_EQ_INT(s1 - s0, 199 + st.dropped); /* contiguous but for counted losses */
 		pc_source_close(s);
 	}
 }
@@ -331,7 +341,7 @@ static int run_capture(const char *dir, const char *n, char *out, size_t size, p
 	/* the camera keeps the settings of earlier clients: ask for what the model expects */
 	char *argv[] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=1500", "-n",
 			 (char *)n, "-o", (char *)dir, "--timeout-ms", "2000", "--roi", "0,0,64,48",
-			 "--format", "PolarizeMono12", "--fps", "200", NULL };
+			 "--format", "PolarizeMono12", "--fps", "50", NULL };
 	int fd;
 	pid_t pid = spawn(argv, &fd, errp);
 	if (pid_out) { /* asynchronous */
@@ -355,7 +365,9 @@ static size_t check_recording(const char *dir, bool want_complete)
 		return 0;
 	CHECK_EQ_INT(pc_recording_is_complete(r), want_complete);
 	size_t n = pc_recording_count(r), bad = 0;
+	uint64_t seq0 = n ? pc_recording_get_frame(r, 0)->sequence : 0;
 	for (size_t k = 0; k < n; k++) {
+		unsigned j = (unsigned)((pc_recording_get_frame(r, k)->sequence - seq0) % NREC);
 		pc_view v;
 		int rc = pc_recording_read(r, k, &v);
 		CHECK_EQ_INT(rc, 0);
@@ -363,7 +375,7 @@ static size_t check_recording(const char *dir, bool want_complete)
 			continue;
 		for (unsigned y = 0; y < H; y++)
 			for (unsigned x = 0; x < W; x++)
-				bad += PC_ROW(&v, uint16_t, y)[x] != value((unsigned)(k % NREC), x, y);
+				bad += PC_ROW(&v, uint16_t, y)[x] != value(j, x, y);
 		pc_view_free(&v);
 	}
 	CHECK_EQ_INT(bad, 0);
@@ -390,9 +402,13 @@ static void test_kill(pid_t server, int server_fd)
 	pid_t cap;
 	int fd;
 	run_capture(dir, "100000", out, sizeof out, &cap, &fd);
-	/* let it record some frames (200 fps), then kill the camera */
-	struct timespec ts = { 0, 600000000 };
-	nanosleep(&ts, NULL);
+	/* let it record some frames (50 fps), then kill the camera */
+	char probe[200];
+	snprintf(probe, sizeof probe, "%s/raw_000007.png", dir);
+	for (int t = 0; t < 300 && access(probe, F_OK) != 0; t++) {
+		struct timespec ts = { 0, 100000000 };
+		nanosleep(&ts, NULL);
+	}
 	kill(server, SIGKILL);
 	waitpid(server, NULL, 0);
 	close(server_fd);
@@ -412,7 +428,7 @@ static void test_kill(pid_t server, int server_fd)
 	}
 	CHECK(strstr(err, "disappeared") && strstr(err, "intact"));
 	size_t n = check_recording(dir, false);
-	CHECK(n > 10);
+	CHECK(n > 5);
 	printf("killed the server after %zu recorded frames: %s", n, err);
 }
 
