@@ -688,8 +688,9 @@ static int v_stop(pc_source *s)
 
 /* ---- enumeration for `polarcam devices` ---- */
 
-int pc_v4l2_enumerate(pc_device_fn fn, void *ctx)
+int pc_v4l2_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 {
+	(void)flags; /* V4L2 nodes are local: no network discovery */
 	pc_v4l2_node *nodes = NULL;
 	size_t n = 0;
 	int rc = pc_v4l2_list(NULL, &nodes, &n);
