@@ -284,6 +284,40 @@ static void test_decompose(void)
 	expect_usage_error("decompose --batch", NULL, "--batch");
 }
 
+/* figures: all files written; Fig. 10's R columns agree across σ (physics.md §2 invariant) */
+static void test_figures(void)
+{
+	static result r;
+	char args[400], path[400];
+	snprintf(args, sizeof args, "figures -o '%s/figs'", tmpdir);
+	run(&r, args, NULL);
+	CHECK_EQ_INT(r.status, 0);
+	for (int f = 2; f <= 11; f++) {
+		snprintf(path, sizeof path, "%s/figs/fig%02d.png", tmpdir, f);
+		CHECK(access(path, R_OK) == 0);
+	}
+	snprintf(path, sizeof path, "%s/figs/figures.md", tmpdir);
+	CHECK(access(path, R_OK) == 0);
+	snprintf(path, sizeof path, "%s/figs/fig10.csv", tmpdir);
+	FILE *fp = fopen(path, "r");
+	CHECK(fp != NULL);
+	int rows = 0;
+	char line[4096];
+	while (fp && fgets(line, sizeof line, fp)) {
+		double x, a, b, c;
+		if (rows++ == 0)
+			continue; /* header */
+		CHECK_EQ_INT(sscanf(line, "%lf,%lf,%lf,%lf", &x, &a, &b, &c), 4);
+		CHECK_NEAR(a, b, 1e-12);
+		CHECK_NEAR(a, c, 1e-12);
+	}
+	if (fp)
+		fclose(fp);
+	CHECK_EQ_INT(rows, 180);
+	release(&r);
+	expect_usage_error("figures", NULL, "-o");
+}
+
 static void test_help(void)
 {
 	static result r;
@@ -303,6 +337,7 @@ int main(void)
 		SKIP("cannot create a temporary directory");
 	test_pbrdf();
 	test_decompose();
+	test_figures();
 	test_help();
 	char cmd[400];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
