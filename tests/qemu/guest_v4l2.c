@@ -718,14 +718,18 @@ static void mosaic_pattern(uint16_t *dst, uint32_t w, uint32_t h, unsigned bits,
  * ends get the same CVT timings; "Loop Video" on, on-screen text off. The output side is driven
  * through the node layer, the capture side through the `v4l2:` frame source: every pc_frame
  * must equal, value for value after unpacking, one of the frames we sent. */
-static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
+enum { NOUT = 4 };
+
+/* ref: NOUT frames (w x h uint16, values within the format's bits) to send; NULL = generate
+ * mosaic_pattern() frames. what: where the frames come from, for the report. */
+static void check_loop(const char *tag, const char *fourcc, uint32_t w, uint32_t h, unsigned n,
+		       uint16_t *const given[NOUT], const char *what)
 {
 	char name[64];
-	snprintf(name, sizeof name, "loop-%.4s-%ux%u", fourcc, w, h);
+	snprintf(name, sizeof name, "loop-%s-%.4s-%ux%u", tag, fourcc, w, h);
 	for (char *p = name; *p; p++)
 		if (*p == ' ')
 			*p = '_';
-	enum { NOUT = 4 };
 	pc_pixfmt pf = pc_format_from_v4l2(fcc(fourcc));
 	pc_v4l2 *cap = open_capture(name, 3), *out = NULL;
 	pc_source *src = NULL;
@@ -757,6 +761,8 @@ static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
 		ref[k] = malloc(npix * 2);
 		if (!ref[k])
 			rc = pc_error(PC_ENOMEM, "out of memory");
+		else if (given)
+			memcpy(ref[k], given[k], npix * 2);
 		else
 			mosaic_pattern(ref[k], w, h, bits, (unsigned)k);
 	}
@@ -821,14 +827,56 @@ static void check_loop(const char *fourcc, uint32_t w, uint32_t h, unsigned n)
 	else if (match != n)
 		gt_fail(name, "%u of %u captured frames equal a frame we sent", match, frames);
 	else
-		gt_pass(name, "%u/%u pc_frames from v4l2: byte-identical to the mosaic frames sent "
-			      "(stride out %zu, in %zu; %.1f frames/s)", match, n, fo.bytesperline,
-			fc.stride, n / secs);
+		gt_pass(name, "%u/%u pc_frames from v4l2: byte-identical to the %s sent (stride out "
+			      "%zu, in %zu; %.1f frames/s)", match, n, what, fo.bytesperline, fc.stride,
+			n / secs);
 	for (int k = 0; k < NOUT; k++)
 		free(ref[k]);
 	free(got);
 	pc_source_close(src);
 	pc_v4l2_close(out);
+}
+
+/* The simulator's frames rendered on the host (tests/qemu/simframes.c) sent through the loop as
+ * Y12 (the sensor's 12 bits). Frames 0..2 of seed 7 fill output buffers 0..3 (frame 0 twice). */
+static void check_loop_sim(const char *dir)
+{
+	const char *name = "loop-sim";
+	char path[512];
+	snprintf(path, sizeof path, "%s/sim.txt", dir);
+	FILE *f = fopen(path, "r");
+	unsigned w = 0, h = 0, bits = 0, n = 0;
+	unsigned long long seed = 0;
+	if (!f || fscanf(f, "%u %u %u %u %llu", &w, &h, &bits, &n, &seed) != 5 || !w || !h || !n ||
+	    bits > 16) {
+		gt_fail(name, "%s: missing or malformed", path);
+		if (f)
+			fclose(f);
+		return;
+	}
+	fclose(f);
+	uint16_t *frames[NOUT] = { NULL };
+	size_t bytes = (size_t)w * h * 2;
+	int ok = 1;
+	for (unsigned k = 0; ok && k < NOUT; k++) {
+		frames[k] = malloc(bytes);
+		snprintf(path, sizeof path, "%s/sim_%u.raw", dir, k % n);
+		f = fopen(path, "rb");
+		ok = frames[k] && f && fread(frames[k], 1, bytes, f) == bytes;
+		if (f)
+			fclose(f);
+	}
+	if (!ok) {
+		gt_fail(name, "%s: cannot read %zu bytes", path, bytes);
+	} else {
+		const char *fourcc = bits <= 8 ? "GREY" : bits <= 10 ? "Y10 " : bits <= 12 ? "Y12 " : "Y16 ";
+		char what[96];
+		snprintf(what, sizeof what, "simulator's raw frames (default scene, seed %llu, %u-bit)",
+			 seed, bits);
+		check_loop("sim", fourcc, w, h, 10, frames, what);
+	}
+	for (unsigned k = 0; k < NOUT; k++)
+		free(frames[k]);
 }
 
 static volatile sig_atomic_t ticks;
@@ -1011,8 +1059,15 @@ static void check_fault_fatal(const char *name, const char *ctrl, int expect)
 
 int main(int argc, char **argv)
 {
-	(void)argc;
-	(void)argv;
+	const char *sim_dir = NULL;
+	for (int i = 1; i < argc; i++) {
+		if (!strcmp(argv[i], "--sim") && i + 1 < argc) {
+			sim_dir = argv[++i];
+		} else {
+			fprintf(stderr, "usage: %s [--sim DIR]\n", argv[0]);
+			return 2;
+		}
+	}
 	setvbuf(stdout, NULL, _IONBF, 0);
 	gt_info("guest: polarcam V4L2 checks against vivid");
 	check_list();
@@ -1029,8 +1084,12 @@ int main(int argc, char **argv)
 	check_dv_timings();
 	check_capture("GREY", 2448, 2048, 3, 6);
 	check_capture("Y16 ", 2448, 2048, 3, 6);
-	check_loop("GREY", 2448, 2048, 10);
-	check_loop("Y16 ", 2448, 2048, 10);
+	check_loop("pattern", "GREY", 2448, 2048, 10, NULL, "mosaic pattern frames");
+	check_loop("pattern", "Y16 ", 2448, 2048, 10, NULL, "mosaic pattern frames");
+	if (sim_dir)
+		check_loop_sim(sim_dir);
+	else
+		gt_skip("loop-sim", "no simulator frames given (--sim DIR)");
 	check_source_capture(PC_FMT_MONO8, 640, 480, 0, 6);
 	check_source_capture(PC_FMT_MONO16, 640, 480, 0, 6);
 	check_source_controls();

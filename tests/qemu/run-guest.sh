@@ -14,6 +14,7 @@
 #   --timeout SECONDS      kill the guest after this long (default 300)
 #   --min-pass N           fail unless at least N PASS lines appear (default 1)
 #   --env NAME             pass the host's NAME=value into the guest (repeatable)
+#   --file SRC:DEST        copy the host file or directory SRC to DEST in the guest (repeatable)
 #
 # Exit status: 0 when the guest ran to the end, PROGRAM exited 0, no FAIL line and enough PASS
 # lines; 77 when QEMU, busybox-static or the kernel package are missing (reason on stderr) or
@@ -30,6 +31,7 @@ timeout_s=300
 min_pass=1
 modules=()
 envs=()
+files=()
 while (($#)); do
 	case $1 in
 	--cache) cache=$2; shift 2 ;;
@@ -38,6 +40,7 @@ while (($#)); do
 	--timeout) timeout_s=$2; shift 2 ;;
 	--min-pass) min_pass=$2; shift 2 ;;
 	--env) envs+=("$2"); shift 2 ;;
+	--file) files+=("$2"); shift 2 ;;
 	--) shift; break ;;
 	-*) die "unknown option $1" ;;
 	*) break ;;
@@ -81,6 +84,13 @@ add_exe() { # add_exe HOSTPATH GUESTPATH
 	fi
 }
 add_exe "$busybox" /bin/busybox
+for f in "${files[@]}"; do
+	src=${f%%:*}
+	dst=${f#*:}
+	[[ -e $src && $dst == /* ]] || die "--file $f: expected an existing SRC and an absolute DEST"
+	mkdir -p "$root$(dirname "$dst")"
+	cp -a "$src" "$root$dst"
+done
 add_exe "$program" /bin/pc-guest-test
 
 # init: PID 1 of the guest.
