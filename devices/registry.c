@@ -39,6 +39,8 @@
 			  "libcamera-dev)"
 #endif
 
+/* sim: and file: are in every build of the library; programs that compile the registry alone
+ * (the static V4L2 guest program of tests/v4l2.cmake) leave them out. */
 #if PC_HAVE_SIM_SOURCE
 #define SIM_OPS &pc_sim_source_ops
 #else
@@ -52,10 +54,9 @@
 
 static const pc_source_backend pc_backends[] = {
 	{ "sim", "the simulator: renders a scene to raw mosaic frames, paced, with faults on demand",
-	  "sim:SCENE[?fps=F&seed=S&...]   SCENE = a scene file or 'default'", SIM_OPS,
-	  "the simulator source is not built yet", NULL },
+	  "sim:SCENE[?fps=F&seed=S&...]   SCENE = a scene file or 'default'", SIM_OPS, "not in this program", NULL },
 	{ "file", "a recording: raw_NNNNNN.png and metadata as written by render and capture",
-	  "file:DIR[?loop=1&fps=F]", FILE_OPS, "the file source is not built yet", NULL },
+	  "file:DIR[?loop=1&fps=F]", FILE_OPS, "not in this program", NULL },
 	{ "aravis", "GigE Vision and USB3 Vision cameras through Aravis 0.8",
 	  "aravis:ID[?packet_size=N&...]   ID = device id, serial number or IP address", ARAVIS_OPS,
 	  ARAVIS_MISSING, ARAVIS_ENUM },

@@ -455,11 +455,14 @@ int pc_source_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict 
 				pc_format_info_get(fmt->format) ? pc_format_info_get(fmt->format)->name
 								: "?", fmt->width, fmt->height,
 				fmt->stride, fmt->frame_bytes);
-	bool changed = (req.format && req.format != fmt->format) ||
+	/* an all-zero request asks for the source's default format, whatever its ROI */
+	bool empty = !req.format && !req.format_name[0] && !req.width && !req.height &&
+		     !req.offset_x && !req.offset_y && !req.stride;
+	bool changed = !empty && ((req.format && req.format != fmt->format) ||
 		       (req.format_name[0] && strcmp(req.format_name, fmt->format_name)) ||
 		       (req.width && req.width != fmt->width) ||
 		       (req.height && req.height != fmt->height) || req.offset_x != fmt->offset_x ||
-		       req.offset_y != fmt->offset_y || (req.stride && req.stride != fmt->stride);
+		       req.offset_y != fmt->offset_y || (req.stride && req.stride != fmt->stride));
 	if (changed && *verdict == PC_FORMAT_VALID)
 		return pc_error(PC_EIO, "%s: source changed the request but called it valid", s->scheme);
 	return 0;

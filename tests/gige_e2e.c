@@ -124,19 +124,21 @@ static bool wait_line(int fd, const char *want, int timeout_ms, char *buf, size_
 	return false;
 }
 
-static pid_t start_server(const char *extra1, const char *extra2, int *fd)
+/* Starts `polarcam serve` with the given arguments after "serve"; waits for its JSON line. */
+static pid_t start_serve_args(char *const args[], int *fd)
 {
-	char src[256];
-	snprintf(src, sizeof src, "file:%s?loop=1", rec_dir);
-	char *argv[] = { (char *)polarcam, "serve", "--source", src, "--fps", "200",
-			 (char *)extra1, (char *)extra2, NULL };
-	if (!extra1)
-		argv[6] = NULL;
+	char *argv[16];
+	int n = 0;
+	argv[n++] = (char *)polarcam;
+	argv[n++] = "serve";
+	for (int i = 0; args[i] && n < 15; i++)
+		argv[n++] = args[i];
+	argv[n] = NULL;
 	char errp[160];
 	snprintf(errp, sizeof errp, "%s/serve.err", base);
 	pid_t pid = spawn(argv, fd, errp);
 	char buf[1024];
-	if (pid < 0 || !wait_line(*fd, "\"serving\"", 10000, buf, sizeof buf)) {
+	if (pid < 0 || !wait_line(*fd, "\"serving\"", 20000, buf, sizeof buf)) {
 		fprintf(stderr, "server did not start: %s\n", buf);
 		if (pid > 0) {
 			kill(pid, SIGKILL);
@@ -145,6 +147,14 @@ static pid_t start_server(const char *extra1, const char *extra2, int *fd)
 		return -1;
 	}
 	return pid;
+}
+
+static pid_t start_server(const char *extra1, const char *extra2, int *fd)
+{
+	char src[256];
+	snprintf(src, sizeof src, "file:%s?loop=1", rec_dir);
+	char *args[] = { "--source", src, "--fps", "200", (char *)extra1, (char *)extra2, NULL };
+	return start_serve_args(args, fd);
 }
 
 static int stop_server(pid_t pid, int fd)
@@ -432,6 +442,64 @@ static void test_kill(pid_t server, int server_fd)
 	printf("killed the server after %zu recorded frames: %s", n, err);
 }
 
+/* serve SCENE --seed S, captured over GigE Vision, equals render SCENE --seed S bit for bit */
+static void test_serve_equals_render(void)
+{
+	const char *src = getenv("PC_SOURCE_DIR");
+	if (!src) {
+		fprintf(stderr, "PC_SOURCE_DIR not set: skipping the render comparison\n");
+		return;
+	}
+	char scene[512], cmd[1400], rdir[160], cdir[160], out[4096];
+	snprintf(scene, sizeof scene, "%s/scenes/ideal_small.json", src);
+	snprintf(rdir, sizeof rdir, "%s/render", base);
+	snprintf(cdir, sizeof cdir, "%s/cap_sim", base);
+	snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s' -n 4 -s 7 --no-truth >/dev/null",
+		 polarcam, scene, rdir);
+	CHECK_EQ_INT(system(cmd), 0);
+	int fd;
+	char *args[] = { scene, "--seed", "7", NULL };
+	pid_t srv = start_serve_args(args, &fd);
+	CHECK(srv > 0);
+	if (srv <= 0)
+		return;
+	char errp[160];
+	snprintf(errp, sizeof errp, "%s/capture.err", base);
+	char *argv[] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=8000", "-n", "4",
+			 "-o", cdir, NULL };
+	int cfd;
+	pid_t cap = spawn(argv, &cfd, errp);
+	wait_line(cfd, "\n", 60000, out, sizeof out);
+	int st = 0;
+	waitpid(cap, &st, 0);
+	close(cfd);
+	CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+	CHECK(strstr(out, "\"missing_packets\":0") != NULL);
+	CHECK_EQ_INT(stop_server(srv, fd), 0);
+	pc_recording *r = NULL, *c = NULL;
+	CHECK_EQ_INT(pc_recording_open(&r, rdir), 0);
+	CHECK_EQ_INT(pc_recording_open(&c, cdir), 0);
+	if (r && c) {
+		CHECK_EQ_INT(pc_recording_count(c), 4);
+		for (size_t k = 0; k < 4 && k < pc_recording_count(c); k++) {
+			pc_view a, b;
+			CHECK_EQ_INT(pc_recording_read(r, k, &a), 0);
+			CHECK_EQ_INT(pc_recording_read(c, k, &b), 0);
+			CHECK_EQ_INT(a.format, b.format);
+			CHECK_EQ_INT(a.width, b.width);
+			size_t diff = 0;
+			for (uint32_t y = 0; y < a.height && a.width == b.width; y++)
+				diff += memcmp(PC_ROW(&a, uint8_t, y), PC_ROW(&b, uint8_t, y),
+					       (size_t)a.width * 2) != 0;
+			CHECK_EQ_INT(diff, 0);
+			pc_view_free(&a);
+			pc_view_free(&b);
+		}
+	}
+	pc_recording_free(r);
+	pc_recording_free(c);
+}
+
 int main(void)
 {
 	polarcam = getenv("POLARCAM");
@@ -442,6 +510,7 @@ int main(void)
 		SKIP("no temporary directory");
 	snprintf(rec_dir, sizeof rec_dir, "%s/rec", base);
 	make_recording();
+	test_serve_equals_render();
 
 	int fd;
 	pid_t srv = start_server(NULL, NULL, &fd);

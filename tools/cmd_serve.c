@@ -29,7 +29,7 @@ static void usage(FILE *fp)
 		"`polarcam render SCENE --seed S` bit for bit.\n\n"
 		"  SCENE               a scene file or 'default' (the built-in scene)\n"
 		"  --address ADDR      interface address to serve on (default 127.0.0.1)\n"
-		"  --seed S            noise seed of the simulator (default 1)\n"
+		"  --seed S            noise seed of the simulator (default 0, as render)\n"
 		"  --source URI        serve frames of any source instead (e.g. file:DIR?loop=1)\n"
 		"  --serial SN         serial number (default POLARCAM0001)\n"
 		"  --fps F             initial frame rate (default 25; clients may change it)\n"
@@ -51,7 +51,7 @@ int cmd_serve(int argc, char **argv)
 	}
 	const char *scene = NULL, *source = NULL, *genicam = NULL;
 	pc_gige_server_options o = { 0 };
-	uint64_t seed = 1;
+	uint64_t seed = 0;
 	double duration = 0;
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];

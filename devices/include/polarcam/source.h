@@ -80,7 +80,8 @@ const char *pc_format_verdict_name(pc_format_verdict v);
 
 /* What a source delivers. In a request, zero fields mean "the source's choice" (format
  * PC_FMT_INVALID, width/height 0 = the whole sensor from the offset, stride 0 = the source's
- * natural stride) and filling them in does not count as an adjustment. */
+ * natural stride) and filling them in does not count as an adjustment. An all-zero request
+ * asks for the source's default format, which may have an ROI of its own. */
 typedef struct pc_source_format {
 	pc_pixfmt format;            /* storage format of the pixels */
 	char format_name[48];        /* the device's own name ("PolarizeMono12p", "Y16 ", "Mono8");
