@@ -187,8 +187,7 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 	}
 	if (factors || filter) {
 		/* realisability: coherency matrix positive semi-definite (physics.md §4) */
-		double e = pc_mueller_min_coherency_eig(M);
-		out->physical = e >= -PC_PHYS_TOL;
+		out->physical = pc_mueller_is_physical(M, PC_PHYS_TOL);
 		if (!out->physical) {
 			out->flags |= PC_LC_NONPHYSICAL;
 			if (filter) {

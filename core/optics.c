@@ -209,13 +209,23 @@ void pc_stokes_linear(double intensity, double aolp_rad, double S[4])
 
 void pc_mueller_coherency(const double M[4][4], double H_re[4][4], double H_im[4][4])
 {
-	double complex A[4][4], Ai[4][4], Mc[4][4], T[4][4], N[4][4];
-	pc_stokes_A(A, Ai);
-	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++)
-			Mc[i][j] = M[i][j];
-	pc_cmul4(Ai, Mc, T);
-	pc_cmul4(T, A, N); /* N = A⁻¹ M A = J ⊗ J* for a pure M */
+	/* N = A⁻¹ M A using the sparsity of A and A⁻¹ (physics.md §1):
+	 * columns of T = M A: T0 = M·0 + M·1, T1 = M·2 + i M·3, T2 = M·2 − i M·3, T3 = M·0 − M·1;
+	 * rows of N = A⁻¹ T: N0 = (T0· + T1·)/2, N1 = (T2· − i T3·)/2, N2 = (T2· + i T3·)/2,
+	 * N3 = (T0· − T1·)/2. Then H_{(ac),(bd)} = N_{(ab),(cd)}. */
+	double complex T[4][4], N[4][4];
+	for (int r = 0; r < 4; r++) {
+		T[r][0] = M[r][0] + M[r][1];
+		T[r][1] = M[r][2] + I * M[r][3];
+		T[r][2] = M[r][2] - I * M[r][3];
+		T[r][3] = M[r][0] - M[r][1];
+	}
+	for (int c = 0; c < 4; c++) {
+		N[0][c] = 0.5 * (T[0][c] + T[1][c]);
+		N[1][c] = 0.5 * (T[2][c] - I * T[3][c]);
+		N[2][c] = 0.5 * (T[2][c] + I * T[3][c]);
+		N[3][c] = 0.5 * (T[0][c] - T[1][c]);
+	}
 	for (int a = 0; a < 2; a++)
 		for (int b = 0; b < 2; b++)
 			for (int c = 0; c < 2; c++)
@@ -224,6 +234,36 @@ void pc_mueller_coherency(const double M[4][4], double H_re[4][4], double H_im[4
 					H_re[2 * a + c][2 * b + d] = creal(v);
 					H_im[2 * a + c][2 * b + d] = cimag(v);
 				}
+}
+
+bool pc_mueller_is_physical(const double M[4][4], double tol)
+{
+	/* λ_min(H) ≥ −tol·tr H  ⇔  H + tol·tr H·I is positive definite  ⇔  its LDLᴴ factorisation
+	 * has positive pivots (Hermitian Cholesky without pivoting). */
+	double Hr[4][4], Hi[4][4];
+	pc_mueller_coherency(M, Hr, Hi);
+	double tr = Hr[0][0] + Hr[1][1] + Hr[2][2] + Hr[3][3];
+	if (!(tr > 0))
+		return false;
+	double complex L[4][4];
+	double d[4];
+	const double eps = tol * tr;
+	for (int j = 0; j < 4; j++) {
+		double dj = Hr[j][j] + eps;
+		for (int k = 0; k < j; k++)
+			dj -= creal(L[j][k] * conj(L[j][k])) * d[k];
+		if (!(dj > 0))
+			return false;
+		d[j] = dj;
+		for (int i = j + 1; i < 4; i++) {
+			/* H_ij = Σ_k L_ik d_k conj(L_jk); Hermitian part of H */
+			double complex hij = 0.5 * (Hr[i][j] + Hr[j][i]) + 0.5 * I * (Hi[i][j] - Hi[j][i]);
+			for (int k = 0; k < j; k++)
+				hij -= L[i][k] * d[k] * conj(L[j][k]);
+			L[i][j] = hij / dj;
+		}
+	}
+	return true;
 }
 
 void pc_coherency_to_mueller(const double H_re[4][4], const double H_im[4][4], double M[4][4])

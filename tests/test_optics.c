@@ -287,6 +287,45 @@ static void test_coherency(void)
 	CHECK_NEAR(pc_mueller_depol_index(M), 0.5, 1e-15);
 }
 
+/* the Cholesky realisability test against the eigenvalue route, near the boundary too */
+static void test_is_physical(void)
+{
+	int agree = 0, n = 0, nonphys = 0;
+	for (int t = 0; t < 3000; t++) {
+		double M[4][4] = { { 0 } };
+		/* a convex sum of pure matrices, plus noise of varying size */
+		for (int c = 0; c < 3; c++) {
+			double complex J[2][2];
+			double Jr[2][2], Ji[2][2], P[4][4], w = urand();
+			rand_jones(J, Jr, Ji);
+			pc_jones_to_mueller(Jr, Ji, P);
+			for (int i = 0; i < 4; i++)
+				for (int j = 0; j < 4; j++)
+					M[i][j] += w * P[i][j];
+		}
+		double noise = t % 3 == 0 ? 0 : pow(10, -8 * urand()) * M[0][0];
+		for (int i = 0; i < 4; i++)
+			for (int j = 0; j < 4; j++)
+				M[i][j] += noise * (urand() - 0.5);
+		double e = pc_mueller_min_coherency_eig(M);
+		if (fabs(e + PC_PHYS_TOL) < 1e-12)
+			continue; /* too close to the threshold to call */
+		bool ref = e >= -PC_PHYS_TOL, got = pc_mueller_is_physical(M, PC_PHYS_TOL);
+		agree += ref == got;
+		nonphys += !ref;
+		n++;
+	}
+	CHECK_EQ_INT(agree, n);
+	CHECK(nonphys > 300 && nonphys < n - 300);
+	double M[4][4];
+	diag4(1, 1, 1, -1, M);
+	CHECK(!pc_mueller_is_physical(M, PC_PHYS_TOL));
+	diag4(1, 1, -1, -1, M); /* a mirror: pure, rank-1 H, on the boundary but physical */
+	CHECK(pc_mueller_is_physical(M, PC_PHYS_TOL));
+	diag4(0, 0, 0, 0, M);
+	CHECK(!pc_mueller_is_physical(M, PC_PHYS_TOL));
+}
+
 static void test_atan2(void)
 {
 	double worst = 0;
@@ -317,6 +356,7 @@ int main(void)
 	test_jones_mueller();
 	test_stokes();
 	test_coherency();
+	test_is_physical();
 	test_atan2();
 	return pc_test_finish("test_optics");
 }
