@@ -707,8 +707,18 @@ int pc_v4l2_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 		snprintf(e.transport, sizeof e.transport, "V4L2");
 		snprintf(e.address, sizeof e.address, "%.63s", d->info.path);
 		size_t readable = 0;
-		for (size_t k = 0; k < d->nformats; k++)
-			readable += pc_format_from_v4l2(d->fourccs[k]) != PC_FMT_INVALID;
+		for (size_t k = 0; k < d->nformats; k++) {
+			if (pc_format_from_v4l2(d->fourccs[k]) == PC_FMT_INVALID)
+				continue;
+			char f4[5];
+			pc_fourcc_str(d->fourccs[k], f4);
+			for (int c = 3; c > 0 && f4[c] == ' '; c--)
+				f4[c] = '\0'; /* "Y10 " -> "Y10" */
+			size_t used = strlen(e.formats);
+			snprintf(e.formats + used, sizeof e.formats - used, "%s%s", used ? " " : "", f4);
+			readable++;
+		}
+		e.formats_total = (unsigned)d->nformats_total;
 		if (d->error)
 			snprintf(e.note, sizeof e.note, "%s", d->error_detail);
 		else if (!d->info.capture && d->info.multiplanar)

@@ -43,7 +43,7 @@ target_link_libraries(pc_guest_simframes PRIVATE pc_sim pc_io pc_core)
 set(PC_VIVID_PARAMS "vivid n_devs=1 node_types=0x101")
 add_test(NAME v4l2_guest
   COMMAND ${PC_GUEST_DIR}/v4l2-guest.sh ${CMAKE_BINARY_DIR}/qemu-cache
-    $<TARGET_FILE:pc_guest_simframes> $<TARGET_FILE:pc_guest_v4l2>
+    $<TARGET_FILE:pc_guest_simframes> $<TARGET_FILE:pc_guest_v4l2> $<TARGET_FILE:polarcam>
     --log ${CMAKE_CURRENT_BINARY_DIR}/v4l2_guest.log
     --module "${PC_VIVID_PARAMS}"
     --env ASAN_OPTIONS --env UBSAN_OPTIONS --env PC_GUEST_VERBOSE

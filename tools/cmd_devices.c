@@ -53,10 +53,22 @@ static int print_device(void *ctx, const pc_device_entry *d)
 		json_object_set_new(j, "address", json_string(d->address));
 		json_object_set_new(j, "usable", json_boolean(d->usable));
 		json_object_set_new(j, "note", json_string(d->note));
+		if (d->formats_total) {
+			json_t *fa = json_array();
+			char buf[sizeof d->formats];
+			snprintf(buf, sizeof buf, "%s", d->formats);
+			for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+				json_array_append_new(fa, json_string(tok));
+			json_object_set_new(j, "formats", fa);
+			json_object_set_new(j, "formats_total", json_integer(d->formats_total));
+		}
 		pc_cli_print_json(j);
 	} else {
 		printf("  %-40s %-12s %s %s %s%s%s\n", d->uri, d->transport, d->vendor, d->model,
 		       d->address, d->note[0] ? "\n      " : "", d->note);
+		if (d->formats_total)
+			printf("      formats polarcam reads: %s (%u formats offered in all)\n",
+			       d->formats[0] ? d->formats : "none", d->formats_total);
 		if (!d->usable)
 			printf("      -> not usable as it is\n");
 	}

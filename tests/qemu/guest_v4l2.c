@@ -17,6 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/time.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <time.h>
 
 #include "guest_common.h"
@@ -1057,14 +1059,159 @@ static void check_fault_fatal(const char *name, const char *ctrl, int expect)
 	pc_v4l2_close(dev);
 }
 
+/* ---- the polarcam command line inside the guest ---- */
+
+/* Runs cmd through the shell, returns its exit status and up to size-1 bytes of its stdout. */
+static int run_cmd(const char *cmd, char *out, size_t size)
+{
+	FILE *p = popen(cmd, "r");
+	if (!p)
+		return -1;
+	size_t n = 0;
+	int c;
+	while ((c = fgetc(p)) != EOF)
+		if (n + 1 < size)
+			out[n++] = (char)c;
+	out[n] = '\0';
+	int st = pclose(p);
+	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static void check_cli_devices(const char *cli)
+{
+	const char *name = "cli-devices";
+	char cmd[512], out[16384];
+	snprintf(cmd, sizeof cmd, "%s devices --json 2>&1", cli);
+	int st = run_cmd(cmd, out, sizeof out);
+	char want_cap[300];
+	snprintf(want_cap, sizeof want_cap, "\"uri\":\"v4l2:%s\"", cap_path);
+	const char *line = strstr(out, want_cap);
+	const char *eol = line ? strchr(line, '\n') : NULL;
+	char l[2048] = "";
+	if (line)
+		snprintf(l, sizeof l, "%.*s", eol ? (int)(eol - line) : (int)strlen(line), line);
+	if (st != 0 || !line)
+		gt_fail(name, "exit %d, no entry for %s in: %.300s", st, cap_path, out);
+	else if (!strstr(l, "\"formats\":[\"GREY\",\"Y10\",\"Y12\",\"Y16\"]") ||
+		 !strstr(l, "\"usable\":true") || !strstr(l, "\"vendor\":\"vivid\""))
+		gt_fail(name, "%s entry: %s", cap_path, l);
+	else
+		gt_pass(name, "polarcam devices --json lists %s: %.200s", cap_path, strchr(l, '"'));
+}
+
+/* "key": false anywhere in a JSON text (whitespace allowed around the colon) */
+static bool json_false(const char *text, const char *key)
+{
+	char k[64];
+	snprintf(k, sizeof k, "\"%s\"", key);
+	for (const char *p = strstr(text, k); p; p = strstr(p + 1, k)) {
+		const char *q = p + strlen(k);
+		while (*q == ' ' || *q == '\n' || *q == '\t')
+			q++;
+		if (*q != ':')
+			continue;
+		q++;
+		while (*q == ' ' || *q == '\n' || *q == '\t')
+			q++;
+		if (!strncmp(q, "false", 5))
+			return true;
+	}
+	return false;
+}
+
+static bool file_exists(const char *path)
+{
+	FILE *f = fopen(path, "rb");
+	if (f)
+		fclose(f);
+	return f != NULL;
+}
+
+static void check_cli_capture(const char *cli)
+{
+	const char *name = "cli-capture";
+	char cmd[512], out[4096];
+	snprintf(cmd, sizeof cmd, "%s capture 'v4l2:%s?input=0' -n 3 -o /tmp/cap --format Mono16 "
+				  "--roi 0,0,640,480 2>&1", cli, cap_path);
+	int st = run_cmd(cmd, out, sizeof out);
+	if (st != 0 || !file_exists("/tmp/cap/raw_000002.png") || !file_exists("/tmp/cap/meta.json"))
+		gt_fail(name, "exit %d: %.400s", st, out);
+	else
+		gt_pass(name, "polarcam capture v4l2: 3 frames Mono16 640x480 -> raw_00000[0-2].png + "
+			      "meta.json: %.200s", out);
+}
+
+/* A camera that disappears mid-stream: vivid's Disconnect while `polarcam capture` records. The
+ * command must fail with a clear error and keep what it recorded. */
+static void check_cli_disconnect(const char *cli)
+{
+	const char *name = "cli-capture-disconnect";
+	pc_v4l2 *dev = NULL;
+	pc_v4l2_ctrl c;
+	if (pc_v4l2_open(cap_path, PC_V4L2_CAPTURE, &dev) || pc_v4l2_ctrl_find(dev, "Disconnect", &c)) {
+		gt_skip(name, "vivid Disconnect control: %s", pc_error_detail());
+		pc_v4l2_close(dev);
+		return;
+	}
+	char cmd[512];
+	snprintf(cmd, sizeof cmd, "%s capture 'v4l2:%s?input=0' -n 400 -o /tmp/capd --format Mono8 "
+				  "--roi 0,0,640,480 > /tmp/capd.out 2> /tmp/capd.err; echo $? > "
+				  "/tmp/capd.status", cli, cap_path);
+	pid_t pid = fork();
+	if (pid == 0) {
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	/* wait until a few frames are on disk, then pull the plug */
+	double t0 = gt_now();
+	while (!file_exists("/tmp/capd/raw_000002.png") && gt_now() - t0 < 60.0)
+		usleep(50000);
+	int rc = pc_v4l2_ctrl_set(dev, c.id, 1);
+	int status = 0;
+	waitpid(pid, &status, 0);
+	pc_v4l2_close(dev);
+	static char out[65536];
+	char err[2048] = "";
+	out[0] = '\0';
+	FILE *f = fopen("/tmp/capd.status", "r");
+	int st = -1;
+	if (f) {
+		if (fscanf(f, "%d", &st) != 1)
+			st = -1;
+		fclose(f);
+	}
+	f = fopen("/tmp/capd.err", "r");
+	if (f) {
+		size_t n = fread(err, 1, sizeof err - 1, f);
+		err[n] = '\0';
+		fclose(f);
+	}
+	f = fopen("/tmp/capd/meta.json", "r");
+	if (f) {
+		size_t n = fread(out, 1, sizeof out - 1, f);
+		out[n] = '\0';
+		fclose(f);
+	}
+	if (rc)
+		gt_fail(name, "pressing Disconnect: %s", pc_error_detail());
+	else if (st != 1 || !strstr(err, "disconnect") || !file_exists("/tmp/capd/raw_000002.png") ||
+		 !json_false(out, "complete"))
+		gt_fail(name, "exit %d, stderr: %.300s, meta.json: %.200s", st, err, out);
+	else
+		gt_pass(name, "exit 1 after the disconnect, frames kept, meta.json complete=false; "
+			      "stderr: %.200s", err);
+}
+
 int main(int argc, char **argv)
 {
-	const char *sim_dir = NULL;
+	const char *sim_dir = NULL, *cli = NULL;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--sim") && i + 1 < argc) {
 			sim_dir = argv[++i];
+		} else if (!strcmp(argv[i], "--cli") && i + 1 < argc) {
+			cli = argv[++i];
 		} else {
-			fprintf(stderr, "usage: %s [--sim DIR]\n", argv[0]);
+			fprintf(stderr, "usage: %s [--sim DIR] [--cli POLARCAM]\n", argv[0]);
 			return 2;
 		}
 	}
@@ -1099,6 +1246,12 @@ int main(int argc, char **argv)
 			 "Percentage of Dropped Buffers", 50, false);
 	check_compliance("compliance-corrupt", "input=3&dv=640x480@60", PC_FAULT_CORRUPT,
 			 "Inject V4L2_BUF_FLAG_ERROR", 1, true);
+	if (cli) {
+		check_cli_devices(cli);
+		check_cli_capture(cli);
+	} else {
+		gt_skip("cli", "no polarcam binary given (--cli PATH)");
+	}
 	check_eintr();
 	check_fault_error_flag();
 	check_fault_drops();
@@ -1106,6 +1259,8 @@ int main(int argc, char **argv)
 	check_fault_fatal("fault-fatal", "Inject Fatal Streaming Error", PC_EIO);
 	check_fault_fatal("fault-disconnect", "Disconnect", PC_EDISCONNECTED);
 	/* vivid registers its nodes again once the last user closed them */
+	if (cli)
+		check_cli_disconnect(cli);
 	check_compliance("compliance-disconnect", "input=3&dv=640x480@60", PC_FAULT_DISCONNECT,
 			 "Disconnect", 1, true);
 	return gt_finish();

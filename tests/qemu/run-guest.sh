@@ -15,6 +15,7 @@
 #   --min-pass N           fail unless at least N PASS lines appear (default 1)
 #   --env NAME             pass the host's NAME=value into the guest (repeatable)
 #   --file SRC:DEST        copy the host file or directory SRC to DEST in the guest (repeatable)
+#   --exe SRC:DEST         copy the host executable SRC to DEST with its shared libraries
 #
 # Exit status: 0 when the guest ran to the end, PROGRAM exited 0, no FAIL line and enough PASS
 # lines; 77 when QEMU, busybox-static or the kernel package are missing (reason on stderr) or
@@ -32,6 +33,7 @@ min_pass=1
 modules=()
 envs=()
 files=()
+exes=()
 while (($#)); do
 	case $1 in
 	--cache) cache=$2; shift 2 ;;
@@ -41,6 +43,7 @@ while (($#)); do
 	--min-pass) min_pass=$2; shift 2 ;;
 	--env) envs+=("$2"); shift 2 ;;
 	--file) files+=("$2"); shift 2 ;;
+	--exe) exes+=("$2"); shift 2 ;;
 	--) shift; break ;;
 	-*) die "unknown option $1" ;;
 	*) break ;;
@@ -84,6 +87,11 @@ add_exe() { # add_exe HOSTPATH GUESTPATH
 	fi
 }
 add_exe "$busybox" /bin/busybox
+for f in "${exes[@]}"; do
+	[[ -x ${f%%:*} && ${f#*:} == /* ]] || die "--exe $f: expected an executable SRC and an absolute DEST"
+	mkdir -p "$root$(dirname "${f#*:}")"
+	add_exe "${f%%:*}" "${f#*:}"
+done
 for f in "${files[@]}"; do
 	src=${f%%:*}
 	dst=${f#*:}

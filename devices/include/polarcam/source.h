@@ -222,6 +222,9 @@ typedef struct pc_device_entry {
 	char address[64];      /* IP address, bus path or device node */
 	char note[256];        /* diagnosis when the device is not usable, else "" */
 	bool usable;
+	char formats[256];     /* pixel formats offered that polarcam reads, space-separated
+	                          ("GREY Y10 Y12 Y16"), "" when the backend does not list them */
+	unsigned formats_total; /* formats the device offers in all (0 = not listed) */
 } pc_device_entry;
 
 typedef int (*pc_device_fn)(void *ctx, const pc_device_entry *dev);
