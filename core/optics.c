@@ -257,7 +257,8 @@ bool pc_mueller_is_physical(const double M[4][4], double tol)
 		d[j] = dj;
 		for (int i = j + 1; i < 4; i++) {
 			/* H_ij = Σ_k L_ik d_k conj(L_jk); Hermitian part of H */
-			double complex hij = 0.5 * (Hr[i][j] + Hr[j][i]) + 0.5 * I * (Hi[i][j] - Hi[j][i]);
+			double complex hij =
+			    0.5 * (Hr[i][j] + Hr[j][i]) + 0.5 * I * (Hi[i][j] - Hi[j][i]);
 			for (int k = 0; k < j; k++)
 				hij -= L[i][k] * d[k] * conj(L[j][k]);
 			L[i][j] = hij / dj;
@@ -283,67 +284,70 @@ void pc_coherency_to_mueller(const double H_re[4][4], const double H_im[4][4], d
 			M[i][j] = creal(R[i][j]);
 }
 
-/* Cyclic Jacobi eigen-decomposition of a real symmetric 8×8 matrix (in place; a becomes
- * diagonal, v the eigenvectors as columns when non-NULL). */
-static void pc_jacobi8(double a[8][8], double v[8][8])
+/* Cyclic Jacobi for a 4×4 Hermitian matrix (in place; H becomes diagonal, V collects the
+ * eigenvectors as columns when non-NULL). Each step zeroes H_pq = |h|e^{iα} with U = D R:
+ * D = diag(1, e^{−iα}) on (p, q) makes the pair real, R is the real Jacobi rotation. */
+static void pc_jacobi_herm4(double complex H[4][4], double complex V[4][4])
 {
-	if (v)
-		for (int i = 0; i < 8; i++)
-			for (int j = 0; j < 8; j++)
-				v[i][j] = i == j;
+	if (V)
+		for (int i = 0; i < 4; i++)
+			for (int j = 0; j < 4; j++)
+				V[i][j] = i == j;
 	double frob = 0;
-	for (int i = 0; i < 8; i++)
-		for (int j = 0; j < 8; j++)
-			frob += a[i][j] * a[i][j];
-	for (int sweep = 0; sweep < 60; sweep++) {
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			frob += creal(H[i][j] * conj(H[i][j]));
+	for (int sweep = 0; sweep < 50; sweep++) {
 		double off = 0;
-		for (int p = 0; p < 8; p++)
-			for (int q = p + 1; q < 8; q++)
-				off += a[p][q] * a[p][q];
+		for (int p = 0; p < 4; p++)
+			for (int q = p + 1; q < 4; q++)
+				off += creal(H[p][q] * conj(H[p][q]));
 		if (off <= 1e-34 * frob || off == 0)
 			break;
-		for (int p = 0; p < 8; p++)
-			for (int q = p + 1; q < 8; q++) {
-				double apq = a[p][q];
-				if (apq == 0)
+		for (int p = 0; p < 4; p++)
+			for (int q = p + 1; q < 4; q++) {
+				double hm = cabs(H[p][q]);
+				if (hm == 0)
 					continue;
-				double th = (a[q][q] - a[p][p]) / (2 * apq);
+				double complex ph = H[p][q] / hm; /* e^{iα} */
+				double app = creal(H[p][p]), aqq = creal(H[q][q]);
+				double th = (aqq - app) / (2 * hm);
 				double t = fabs(th) > 1e150 ? 0.5 / th
 				                            : (th >= 0 ? 1 : -1) /
 				                                  (fabs(th) + sqrt(th * th + 1));
-				double c = 1 / sqrt(t * t + 1), s = t * c;
-				a[p][p] -= t * apq;
-				a[q][q] += t * apq;
-				a[p][q] = a[q][p] = 0;
-				for (int r = 0; r < 8; r++) {
-					if (r == p || r == q)
-						continue;
-					double g = a[r][p], h = a[r][q];
-					a[r][p] = a[p][r] = c * g - s * h;
-					a[r][q] = a[q][r] = s * g + c * h;
+				double c = 1 / sqrt(t * t + 1), sn = t * c;
+				double complex e = conj(ph); /* e^{−iα} */
+				/* columns: H ← H U, U = [[c, s], [−s e^{−iα}, c e^{−iα}]] */
+				for (int k = 0; k < 4; k++) {
+					double complex x = H[k][p], y = H[k][q] * e;
+					H[k][p] = c * x - sn * y;
+					H[k][q] = sn * x + c * y;
 				}
-				if (v)
-					for (int r = 0; r < 8; r++) {
-						double g = v[r][p], h = v[r][q];
-						v[r][p] = c * g - s * h;
-						v[r][q] = s * g + c * h;
+				/* rows: H ← Uᴴ H */
+				for (int k = 0; k < 4; k++) {
+					double complex x = H[p][k], y = H[q][k] * ph;
+					H[p][k] = c * x - sn * y;
+					H[q][k] = sn * x + c * y;
+				}
+				H[p][p] = app - t * hm;
+				H[q][q] = aqq + t * hm;
+				H[p][q] = H[q][p] = 0;
+				if (V)
+					for (int k = 0; k < 4; k++) {
+						double complex x = V[k][p], y = V[k][q] * e;
+						V[k][p] = c * x - sn * y;
+						V[k][q] = sn * x + c * y;
 					}
 			}
 	}
 }
 
-static void pc_embed8(const double H_re[4][4], const double H_im[4][4], double E[8][8])
+static void pc_herm_load(const double H_re[4][4], const double H_im[4][4], double complex H[4][4])
 {
 	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++) {
-			/* Hermitian part only, so that rounding asymmetry cannot leak in */
-			double re = 0.5 * (H_re[i][j] + H_re[j][i]);
-			double im = 0.5 * (H_im[i][j] - H_im[j][i]);
-			E[i][j] = re;
-			E[i + 4][j + 4] = re;
-			E[i + 4][j] = im;
-			E[i][j + 4] = -im;
-		}
+		for (int j = 0; j < 4; j++) /* Hermitian part only */
+			H[i][j] =
+			    0.5 * (H_re[i][j] + H_re[j][i]) + 0.5 * I * (H_im[i][j] - H_im[j][i]);
 }
 
 static int pc_cmp_double(const void *x, const void *y)
@@ -354,15 +358,12 @@ static int pc_cmp_double(const void *x, const void *y)
 
 void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], double eval[4])
 {
-	double E[8][8], d[8];
-	pc_embed8(H_re, H_im, E);
-	pc_jacobi8(E, NULL);
-	for (int i = 0; i < 8; i++)
-		d[i] = E[i][i];
-	qsort(d, 8, sizeof d[0], pc_cmp_double);
-	/* each eigenvalue of H appears twice in the embedding */
+	double complex H[4][4];
+	pc_herm_load(H_re, H_im, H);
+	pc_jacobi_herm4(H, NULL);
 	for (int i = 0; i < 4; i++)
-		eval[i] = 0.5 * (d[2 * i] + d[2 * i + 1]);
+		eval[i] = creal(H[i][i]);
+	qsort(eval, 4, sizeof eval[0], pc_cmp_double);
 }
 
 double pc_mueller_min_coherency_eig(const double M[4][4])
@@ -378,14 +379,15 @@ double pc_mueller_min_coherency_eig(const double M[4][4])
 
 void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *changed)
 {
-	double Hr[4][4], Hi[4][4], E[8][8], V[8][8], F[8][8];
+	double Hr[4][4], Hi[4][4];
+	double complex H[4][4], V[4][4];
 	pc_mueller_coherency(M, Hr, Hi);
 	double tr = Hr[0][0] + Hr[1][1] + Hr[2][2] + Hr[3][3];
-	pc_embed8(Hr, Hi, E);
-	pc_jacobi8(E, V);
-	double lam[8], lmin = INFINITY;
-	for (int i = 0; i < 8; i++) {
-		lam[i] = E[i][i];
+	pc_herm_load(Hr, Hi, H);
+	pc_jacobi_herm4(H, V);
+	double lam[4], lmin = INFINITY;
+	for (int i = 0; i < 4; i++) {
+		lam[i] = creal(H[i][i]);
 		if (lam[i] < lmin)
 			lmin = lam[i];
 	}
@@ -397,20 +399,15 @@ void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *chan
 			memcpy(out, M, 16 * sizeof(double));
 		return;
 	}
-	/* f(embed(H)) = embed(f(H)) for the spectral function f(λ) = max(λ, 0): rebuild the
-	 * embedding from all eight eigenpairs and read H back from its blocks. */
-	for (int i = 0; i < 8; i++)
-		for (int j = 0; j < 8; j++) {
-			double s = 0;
-			for (int l = 0; l < 8; l++)
-				if (lam[l] > 0)
-					s += lam[l] * V[i][l] * V[j][l];
-			F[i][j] = s;
-		}
+	/* H' = Σ max(λ_k, 0) v_k v_kᴴ */
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++) {
-			Hr[i][j] = 0.5 * (F[i][j] + F[i + 4][j + 4]);
-			Hi[i][j] = 0.5 * (F[i + 4][j] - F[i][j + 4]);
+			double complex acc = 0;
+			for (int k = 0; k < 4; k++)
+				if (lam[k] > 0)
+					acc += lam[k] * V[i][k] * conj(V[j][k]);
+			Hr[i][j] = creal(acc);
+			Hi[i][j] = cimag(acc);
 		}
 	pc_coherency_to_mueller(Hr, Hi, out);
 }

@@ -76,8 +76,8 @@ void pc_mueller_coherency(const double M[4][4], double H_re[4][4], double H_im[4
 /* The inverse map (real part of A N A⁻¹). */
 void pc_coherency_to_mueller(const double H_re[4][4], const double H_im[4][4], double M[4][4]);
 
-/* Eigenvalues (ascending) of a 4×4 Hermitian matrix, by cyclic Jacobi on its 8×8 real
- * symmetric embedding [[Re, −Im], [Im, Re]] (each eigenvalue appears there twice). */
+/* Eigenvalues (ascending) of a 4×4 Hermitian matrix (its Hermitian part), by cyclic complex
+ * Jacobi rotations. */
 void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], double eval[4]);
 
 /* Realisability: smallest eigenvalue of H divided by tr H (≥ 0 for physical matrices up to
