@@ -11,8 +11,10 @@ static const char pc_default_scene[] =
 	"  \"name\": \"default\",\n"
 	"  \"camera\": {\"position\": [0, -7.5, 3.0], \"look_at\": [0, 0.3, 0.7],\n"
 	"             \"up\": [0, 0, 1], \"focal_length_mm\": 12, \"f_number\": 4},\n"
-	"  \"lights\": [{\"type\": \"directional\", \"direction\": [-0.35, 0.75, 0.56],\n"
-	"              \"irradiance_w_m2\": 200, \"polarization\": \"unpolarized\"}],\n"
+	"  \"lights\": [{\"type\": \"directional\", \"direction\": [-0.55, -0.45, 0.70],\n"
+	"              \"irradiance_w_m2\": 300, \"polarization\": \"unpolarized\"},\n"
+	"             {\"type\": \"directional\", \"direction\": [0.35, 0.80, 0.48],\n"
+	"              \"irradiance_w_m2\": 80, \"polarization\": \"unpolarized\"}],\n"
 	"  \"materials\": {\n"
 	"    \"black_paint\": {\"n\": 1.46, \"k\": 1.28, \"sigma\": 0.2},\n"
 	"    \"green_paint\": {\"n\": 1.47, \"k\": 0.47, \"sigma\": 0.1}\n"
@@ -24,7 +26,7 @@ static const char pc_default_scene[] =
 	"    {\"type\": \"sphere\", \"center\": [0.3, 2.2, 0.6], \"radius\": 0.6, \"material\": \"black_paint\"}\n"
 	"  ],\n"
 	"  \"effects\": {\"diffuse\": true, \"shadowing\": true, \"cast_shadows\": true, \"circular\": true},\n"
-	"  \"sensor\": {\"preset\": \"imx250mzr\", \"exposure_us\": 2000}\n"
+	"  \"sensor\": {\"preset\": \"imx250mzr\", \"exposure_us\": 600}\n"
 	"}\n";
 
 const char *pc_scene_default_text(void)

@@ -568,6 +568,14 @@ int pc_sim_mean_dn(const pc_sim *sim, unsigned state, const pc_sim_controls *con
 	return 0;
 }
 
+double pc_sim_dn_per_radiance(const pc_sim *sim, const pc_sim_controls *controls, unsigned ch)
+{
+	double t_s = 0, K = 0;
+	if (ch >= sim->nch || resolve_controls(sim, controls, &t_s, &K))
+		return NAN;
+	return K * t_s * sim->e_per_radiance[ch];
+}
+
 /* ---- truth in double ---- */
 
 typedef struct truth_ctx {

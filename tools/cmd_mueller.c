@@ -100,57 +100,18 @@ static int list_recording(const char *dir, char ***files, size_t *n, double *bla
 	return 0;
 }
 
-typedef struct lc_ctx {
-	const float *M;
-	float *D, *R, *Delta;
-	uint32_t width;
-	unsigned determined;
-	long singular, nonphysical, bad; /* counted per band, summed under a lock-free atomic */
-} lc_ctx;
+typedef struct lc_counts {
+	long singular, nonphysical, bad;
+} lc_counts;
 
-static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
+struct file_src {
+	char **files;
+};
+
+static int file_get(void *user, size_t j, pc_view *out)
 {
-	lc_ctx *c = ctx;
-	long singular = 0, nonphys = 0, bad = 0;
-	for (uint32_t y = y0; y < y1; y++)
-		for (uint32_t x = 0; x < c->width; x++) {
-			size_t i = (size_t)y * c->width + x;
-			const float *m = c->M + 16 * i;
-			double M[4][4];
-			bool finite = true;
-			for (int k = 0; k < 16; k++) {
-				M[k / 4][k % 4] = m[k];
-				finite &= isfinite(m[k]) != 0;
-			}
-			if (c->determined != 0xFFFFu || !finite) {
-				c->D[i] = c->R[i] = c->Delta[i] = NAN;
-				bad += !finite && c->determined == 0xFFFFu;
-				continue;
-			}
-			pc_lu_chipman lc;
-			if (pc_lu_chipman_decompose(M, PC_LC_FILTER | PC_LC_NO_FACTORS, &lc)) {
-				c->D[i] = c->R[i] = c->Delta[i] = NAN;
-				bad++;
-				continue;
-			}
-			c->D[i] = (float)lc.D;
-			c->R[i] = (float)lc.R;
-			c->Delta[i] = (float)lc.Delta;
-			singular += (lc.flags & (PC_LC_D_SINGULAR | PC_LC_ZERO_M00)) != 0;
-			nonphys += !lc.physical;
-		}
-#ifdef _OPENMP
-#pragma omp atomic
-#endif
-	c->singular += singular;
-#ifdef _OPENMP
-#pragma omp atomic
-#endif
-	c->nonphysical += nonphys;
-#ifdef _OPENMP
-#pragma omp atomic
-#endif
-	c->bad += bad;
+	struct file_src *f = user;
+	return pc_image_read_mosaic(f->files[j], NULL, 0, out, NULL);
 }
 
 int cmd_mueller(int argc, char **argv)
@@ -245,8 +206,7 @@ int cmd_mueller(int argc, char **argv)
 	if (isnan(black))
 		black = rec_black;
 	int status = PC_EXIT_OK;
-	float *M = NULL, *maps = NULL, *planes = NULL;
-	pc_view raw = { 0 };
+	float *M = NULL, *maps = NULL;
 	if (!states_path) {
 		status = pc_cli_error(PC_EXIT_USAGE, "--states FILE is required with frame files");
 		goto done;
@@ -278,72 +238,22 @@ int cmd_mueller(int argc, char **argv)
 						     "polarcam mueller yet (layout %s)", lay);
 		goto done;
 	}
-	pc_mueller_system sys;
-	if ((rc = pc_mueller_system_init(&sys, st.n_psg, st.psg, st.n_psa, st.psa, st.analyser))) {
-		status = pc_cli_fail(rc, states_path);
-		goto done;
-	}
-	pc_demosaic_opts dopt = { (int)threads, false, 0 };
-	uint32_t W = 0, H = 0, ow = 0, oh = 0;
+	struct file_src fs = { files };
 	pc_progress bar;
-	pc_progress_begin(&bar, "mueller", nframes + 1);
-	for (size_t j = 0; j < nframes; j++) {
-		unsigned bits;
-		if ((rc = pc_image_read_mosaic(files[j], NULL, 0, &raw, &bits))) {
-			pc_progress_end(&bar);
-			status = pc_cli_fail(rc, NULL);
-			goto done;
-		}
-		if (j == 0) {
-			W = raw.width;
-			H = raw.height;
-			pc_demosaic_out_size(method, W, H, &ow, &oh);
-			M = calloc((size_t)ow * oh * 16, sizeof *M);
-			planes = malloc((size_t)ow * oh * 4 * sizeof *planes);
-			if (!M || !planes) {
-				pc_progress_end(&bar);
-				status = pc_cli_error(PC_EXIT_FAILURE, "out of memory for %ux%u Mueller "
-								       "images", ow, oh);
-				goto done;
-			}
-		} else if (raw.width != W || raw.height != H) {
-			pc_progress_end(&bar);
-			status = pc_cli_error(PC_EXIT_USAGE, "%s is %ux%u, the first frame %ux%u", files[j],
-					      raw.width, raw.height, W, H);
-			goto done;
-		}
-		pc_fplane pl[4];
-		pc_fplanes_separate(planes, ow, oh, 4, pl);
-		if ((rc = pc_demosaic(&raw, &mosaic, method, &dopt, pl))) {
-			pc_progress_end(&bar);
-			status = pc_cli_fail(rc, files[j]);
-			goto done;
-		}
-		if (black != 0)
-			for (size_t k = 0; k < (size_t)ow * oh * 4; k++)
-				planes[k] -= (float)black;
-		if ((rc = pc_mueller_accumulate(&sys, (unsigned)j, pl, ow, oh, (int)threads, M))) {
-			pc_progress_end(&bar);
-			status = pc_cli_fail(rc, files[j]);
-			goto done;
-		}
-		pc_view_free(&raw);
-		pc_progress_update(&bar, j + 1);
-	}
-	pc_mueller_finish(&sys, ow, oh, M);
-	free(planes);
-	planes = NULL;
-	/* decomposition maps */
-	size_t np = (size_t)ow * oh;
-	maps = malloc(np * 3 * sizeof *maps);
-	if (!maps) {
-		pc_progress_end(&bar);
-		status = pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+	pc_progress_begin(&bar, "mueller", nframes);
+	pc_mueller_result res;
+	rc = pc_mueller_run(file_get, &fs, &st, &mosaic, method, black, (int)threads, &bar, &res);
+	pc_progress_end(&bar);
+	if (rc) {
+		status = pc_cli_fail(rc, NULL);
 		goto done;
 	}
-	lc_ctx lc = { M, maps, maps + np, maps + 2 * np, ow, sys.determined, 0, 0, 0 };
-	pc_parallel_rows(oh, 0, (int)threads, lc_rows, &lc);
-	pc_progress_end(&bar);
+	pc_mueller_system sys = res.sys;
+	uint32_t ow = res.width, oh = res.height;
+	size_t np = (size_t)ow * oh;
+	M = res.M;
+	maps = res.maps;
+	lc_counts lc = { res.singular, res.nonphysical, res.bad };
 	if ((rc = pc_mkdir_p(out))) {
 		status = pc_cli_fail(rc, out);
 		goto done;
@@ -397,12 +307,10 @@ int cmd_mueller(int argc, char **argv)
 	else
 		json_decref(js);
 done:
-	pc_view_free(&raw);
 	for (size_t i = 0; i < nfiles; i++)
 		free(files[i]);
 	free(files);
 	free(M);
 	free(maps);
-	free(planes);
 	return status;
 }

@@ -5,9 +5,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "polarcam/decompose.h"
 #include "polarcam/error.h"
 #include "polarcam/io.h"
 #include "polarcam/picture.h"
+#include "polarcam/parallel.h"
 #include "polarcam/plot.h"
 
 json_t *pc_sim_effects_json(unsigned effects)
@@ -260,5 +262,149 @@ int pc_states_read(const char *path, pc_sim_states *st, char *layout, size_t lay
 	}
 out:
 	json_decref(d);
+	return rc;
+}
+
+typedef struct lc_ctx {
+	const float *M;
+	float *D, *R, *Delta;
+	uint32_t width;
+	unsigned determined;
+	long singular, nonphysical, bad; /* counted per band, summed under a lock-free atomic */
+} lc_ctx;
+
+static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	lc_ctx *c = ctx;
+	long singular = 0, nonphys = 0, bad = 0;
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x = 0; x < c->width; x++) {
+			size_t i = (size_t)y * c->width + x;
+			const float *m = c->M + 16 * i;
+			double M[4][4];
+			bool finite = true;
+			for (int k = 0; k < 16; k++) {
+				M[k / 4][k % 4] = m[k];
+				finite &= isfinite(m[k]) != 0;
+			}
+			if (c->determined != 0xFFFFu || !finite) {
+				c->D[i] = c->R[i] = c->Delta[i] = NAN;
+				bad += !finite && c->determined == 0xFFFFu;
+				continue;
+			}
+			pc_lu_chipman lc;
+			if (pc_lu_chipman_decompose(M, PC_LC_FILTER | PC_LC_NO_FACTORS, &lc)) {
+				c->D[i] = c->R[i] = c->Delta[i] = NAN;
+				bad++;
+				continue;
+			}
+			c->D[i] = (float)lc.D;
+			c->R[i] = (float)lc.R;
+			c->Delta[i] = (float)lc.Delta;
+			singular += (lc.flags & (PC_LC_D_SINGULAR | PC_LC_ZERO_M00)) != 0;
+			nonphys += !lc.physical;
+		}
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->singular += singular;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->nonphysical += nonphys;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->bad += bad;
+}
+
+void pc_mueller_maps(const float *M, uint32_t width, uint32_t height, unsigned determined,
+		     int threads, float *D, float *R, float *Delta, long counts[3])
+{
+	lc_ctx lc = { M, D, R, Delta, width, determined, 0, 0, 0 };
+	pc_parallel_rows(height, 0, threads, lc_rows, &lc);
+	if (counts) {
+		counts[0] = lc.singular;
+		counts[1] = lc.nonphysical;
+		counts[2] = lc.bad;
+	}
+}
+
+void pc_mueller_result_free(pc_mueller_result *res)
+{
+	free(res->M);
+	free(res->maps);
+	res->M = res->maps = NULL;
+}
+
+int pc_mueller_run(pc_frame_get_fn get, void *user, const pc_sim_states *st,
+		   const pc_mosaic *mosaic, pc_demosaic_method method, double black, int threads,
+		   pc_progress *bar, pc_mueller_result *res)
+{
+	memset(res, 0, sizeof *res);
+	int rc = pc_mueller_system_init(&res->sys, st->n_psg, st->psg, st->n_psa, st->psa,
+					st->analyser);
+	if (rc)
+		return rc;
+	size_t nframes = (size_t)st->n_psg * st->n_psa;
+	pc_demosaic_opts dopt = { threads, false, 0 };
+	uint32_t W = 0, H = 0, ow = 0, oh = 0;
+	float *planes = NULL;
+	pc_view raw = { 0 };
+	for (size_t j = 0; j < nframes; j++) {
+		if ((rc = get(user, j, &raw)))
+			goto fail;
+		if (j == 0) {
+			W = raw.width;
+			H = raw.height;
+			pc_demosaic_out_size(method, W, H, &ow, &oh);
+			res->M = calloc((size_t)ow * oh * 16, sizeof *res->M);
+			planes = malloc((size_t)ow * oh * 4 * sizeof *planes);
+			if (!res->M || !planes) {
+				rc = pc_error(PC_ENOMEM, "Mueller images of %ux%u", ow, oh);
+				goto fail;
+			}
+		} else if (raw.width != W || raw.height != H) {
+			rc = pc_error(PC_EINVAL, "frame %zu is %ux%u, frame 0 is %ux%u", j, raw.width,
+				      raw.height, W, H);
+			goto fail;
+		}
+		pc_fplane pl[4];
+		pc_fplanes_separate(planes, ow, oh, 4, pl);
+		if ((rc = pc_demosaic(&raw, mosaic, method, &dopt, pl))) {
+			pc_error_prefix(rc, "frame %zu: ", j);
+			goto fail;
+		}
+		if (black != 0)
+			for (size_t k = 0; k < (size_t)ow * oh * 4; k++)
+				planes[k] -= (float)black;
+		if ((rc = pc_mueller_accumulate(&res->sys, (unsigned)j, pl, ow, oh, threads, res->M)))
+			goto fail;
+		pc_view_free(&raw);
+		if (bar)
+			pc_progress_update(bar, j + 1);
+	}
+	pc_mueller_finish(&res->sys, ow, oh, res->M);
+	free(planes);
+	planes = NULL;
+	size_t np = (size_t)ow * oh;
+	res->maps = malloc(np * 3 * sizeof *res->maps);
+	if (!res->maps) {
+		rc = pc_error(PC_ENOMEM, "decomposition maps");
+		goto fail;
+	}
+	long counts[3];
+	pc_mueller_maps(res->M, ow, oh, res->sys.determined, threads, res->maps, res->maps + np,
+			res->maps + 2 * np, counts);
+	res->singular = counts[0];
+	res->nonphysical = counts[1];
+	res->bad = counts[2];
+	res->width = ow;
+	res->height = oh;
+	return 0;
+fail:
+	pc_view_free(&raw);
+	free(planes);
+	pc_mueller_result_free(res);
 	return rc;
 }

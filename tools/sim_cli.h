@@ -6,6 +6,8 @@
 #include <jansson.h>
 
 #include "cli.h"
+#include "polarcam/demosaic.h"
+#include "polarcam/mueller_imaging.h"
 #include "polarcam/sim.h"
 
 /* {"scene": <document>, "scene_name", "seed", "effects": [names], "sensor": {figures},
@@ -40,5 +42,28 @@ int pc_states_read(const char *path, pc_sim_states *st, char *layout, size_t lay
 
 /* sizeof-checked path join: DIR/NAME into buf (PC_EINVAL when too long). */
 int pc_path_join(char *buf, size_t size, const char *dir, const char *name);
+
+/* ---- Mueller imaging from frame sequences (polarcam mueller, polarcam demo) ---- */
+
+/* Supplies frame j of a sequence as an owned view (the caller frees it). */
+typedef int (*pc_frame_get_fn)(void *user, size_t j, pc_view *out);
+
+typedef struct pc_mueller_result {
+	pc_mueller_system sys;
+	uint32_t width, height;   /* of the maps (the demosaicked size) */
+	float *M;                 /* (H, W, 4, 4) in the raw's units above the black level */
+	float *maps;              /* D, R, Delta: three (H, W) planes */
+	long singular, nonphysical, bad; /* pixel counts: D ≈ 1 / Cloude-filtered / no result */
+} pc_mueller_result;
+
+/* Frames → demosaic (method) → − black → per-pixel least squares → Lu–Chipman maps. bar may
+ * be NULL (else advanced by one per frame). */
+int pc_mueller_run(pc_frame_get_fn get, void *user, const pc_sim_states *st,
+		   const pc_mosaic *mosaic, pc_demosaic_method method, double black, int threads,
+		   pc_progress *bar, pc_mueller_result *res);
+/* Lu–Chipman D, R, Δ of every pixel of a (H, W, 4, 4) Mueller image (NaN where undefined). */
+void pc_mueller_maps(const float *M, uint32_t width, uint32_t height, unsigned determined,
+		     int threads, float *D, float *R, float *Delta, long counts[3]);
+void pc_mueller_result_free(pc_mueller_result *res);
 
 #endif

@@ -204,6 +204,12 @@ int pc_sim_truth_rows(const pc_sim *sim, unsigned state, uint32_t y0, uint32_t y
 int pc_sim_mean_dn(const pc_sim *sim, unsigned state, const pc_sim_controls *controls, uint32_t x,
 		   uint32_t y, double *mean_dn);
 
+/* The scale between a Stokes estimate in DN and the truth radiance, for colour channel ch under
+ * controls (NULL: the scene's): with ideal analysers, S_est = (I0 + I45 + I90 + I135)/2 above the
+ * black level (and S1 = I0 − I90, S2 = I45 − I135) equals this factor times the truth Stokes
+ * radiance (before noise, clipping and quantization): K·t_exp·2η·π/(4N²)·A_pix·λ/(hc). */
+double pc_sim_dn_per_radiance(const pc_sim *sim, const pc_sim_controls *controls, unsigned ch);
+
 /* ---------------------------------------------------------------------------------------------
  * The sensor (physics.md §6). Figures as resolved from the preset and the scene's overrides.
  */
