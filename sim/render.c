@@ -23,13 +23,31 @@
 #include "polarcam/error.h"
 #include "sim_impl.h"
 
+static void light_frame_compute(const pc_sim_light *l, pc_v3 *d, pc_v3 *s)
+{
+	pc_v3 dflt = v3_cross(*d, v3(0, 0, 1));
+	double l2 = v3_len(dflt);
+	dflt = l2 > 1e-9 ? v3_scale(dflt, 1 / l2) : v3_perp_unit(v3(1, 0, 0), *d, v3(0, 1, 0));
+	*s = l->has_reference ? v3_perp_unit(l->reference, *d, dflt) : dflt;
+}
+
+void pc_light_prepare(pc_sim_light *l)
+{
+	if (l->type == PC_LIGHT_DIRECTIONAL) {
+		l->frame_d = v3_neg(l->direction);
+		light_frame_compute(l, &l->frame_d, &l->frame_s);
+	}
+}
+
 double pc_light_frame(const pc_sim_light *l, pc_v3 x, pc_v3 *d, pc_v3 *s, double *dist)
 {
 	double factor;
 	if (l->type == PC_LIGHT_DIRECTIONAL) {
-		*d = v3_neg(l->direction);
+		/* constant over the scene: computed once by pc_light_prepare */
+		*d = l->frame_d;
+		*s = l->frame_s;
 		*dist = INFINITY;
-		factor = 1;
+		return 1;
 	} else {
 		pc_v3 v = v3_sub(x, l->position);
 		double r = v3_len(v);
@@ -37,10 +55,7 @@ double pc_light_frame(const pc_sim_light *l, pc_v3 x, pc_v3 *d, pc_v3 *s, double
 		*dist = r;
 		factor = r > 0 ? 1 / (r * r) : 0;
 	}
-	pc_v3 dflt = v3_cross(*d, v3(0, 0, 1));
-	double l2 = v3_len(dflt);
-	dflt = l2 > 1e-9 ? v3_scale(dflt, 1 / l2) : v3_perp_unit(v3(1, 0, 0), *d, v3(0, 1, 0));
-	*s = l->has_reference ? v3_perp_unit(l->reference, *d, dflt) : dflt;
+	light_frame_compute(l, d, s);
 	return factor;
 }
 

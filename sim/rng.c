@@ -2,59 +2,6 @@
 
 #include <math.h>
 
-/* Philox4x32 round constants (Salmon et al. 2011, section 4.2; the Weyl key increments are the
- * golden ratio and sqrt(3) − 1 in 32-bit fixed point). */
-#define PHILOX_M0 0xD2511F53u
-#define PHILOX_M1 0xCD9E8D57u
-#define PHILOX_W0 0x9E3779B9u
-#define PHILOX_W1 0xBB67AE85u
-
-void pc_philox4x32_10(const uint32_t ctr[4], const uint32_t key[2], uint32_t out[4])
-{
-	uint32_t c0 = ctr[0], c1 = ctr[1], c2 = ctr[2], c3 = ctr[3];
-	uint32_t k0 = key[0], k1 = key[1];
-	for (int round = 0; round < 10; round++) {
-		uint64_t p0 = (uint64_t)PHILOX_M0 * c0;
-		uint64_t p1 = (uint64_t)PHILOX_M1 * c2;
-		uint32_t n0 = (uint32_t)(p1 >> 32) ^ c1 ^ k0;
-		uint32_t n1 = (uint32_t)p1;
-		uint32_t n2 = (uint32_t)(p0 >> 32) ^ c3 ^ k1;
-		uint32_t n3 = (uint32_t)p0;
-		c0 = n0;
-		c1 = n1;
-		c2 = n2;
-		c3 = n3;
-		k0 += PHILOX_W0;
-		k1 += PHILOX_W1;
-	}
-	out[0] = c0;
-	out[1] = c1;
-	out[2] = c2;
-	out[3] = c3;
-}
-
-/* Counter layout: ctr[0] = y·65536 + x, ctr[1] = purpose | draw << 8, ctr[2..3] = frame. */
-void pc_rng_init(pc_rng *r, uint64_t seed, unsigned purpose, uint32_t x, uint32_t y, uint64_t frame)
-{
-	r->key[0] = (uint32_t)seed;
-	r->key[1] = (uint32_t)(seed >> 32);
-	r->ctr[0] = (y << 16) | (x & 0xFFFFu);
-	r->ctr[1] = purpose & 0xFFu;
-	r->ctr[2] = (uint32_t)frame;
-	r->ctr[3] = (uint32_t)(frame >> 32);
-	r->used = 4;
-}
-
-uint32_t pc_rng_u32(pc_rng *r)
-{
-	if (r->used == 4) {
-		pc_philox4x32_10(r->ctr, r->key, r->buf);
-		r->ctr[1] += 1u << 8; /* next draw block of this stream */
-		r->used = 0;
-	}
-	return r->buf[r->used++];
-}
-
 double pc_rng_uniform(pc_rng *r)
 {
 	uint32_t a = pc_rng_u32(r) >> 5, b = pc_rng_u32(r) >> 6; /* 27 + 26 = 53 bits */
@@ -62,13 +9,39 @@ double pc_rng_uniform(pc_rng *r)
 	return (x + 0.5) * (1.0 / 9007199254740992.0);
 }
 
+double pc_normal_quantile(double p)
+{
+	/* AS 241 (PPND16): a rational approximation in r = 0.180625 − q² for |q| ≤ 0.425 and in
+	 * sqrt(−ln min(p, 1−p)) − 1.6 out to r ≤ 5 (p ≥ 1.4e-11), which covers every p a 32-bit
+	 * uniform produces; coefficients from the paper. */
+	double q = p - 0.5;
+	if (fabs(q) <= 0.425) {
+		double t = 0.180625 - q * q;
+		return q *
+		       (((((((2.5090809287301226727e+3 * t + 3.3430575583588128105e+4) * t +
+			     6.7265770927008700853e+4) * t + 4.5921953931549871457e+4) * t +
+			   1.3731693765509461125e+4) * t + 1.9715909503065514427e+3) * t +
+			 1.3314166789178437745e+2) * t + 3.3871328727963666080e+0) /
+		       (((((((5.2264952788528545610e+3 * t + 2.8729085735721942674e+4) * t +
+			     3.9307895800092710610e+4) * t + 2.1213794301586595867e+4) * t +
+			   5.3941960214247511077e+3) * t + 6.8718700749205790830e+2) * t +
+			 4.2313330701600911252e+1) * t + 1.0);
+	}
+	double t = sqrt(-log(q < 0 ? p : 1 - p)) - 1.6;
+	double z = (((((((7.74545014278341407640e-4 * t + 2.27238449892691845833e-2) * t +
+			 2.41780725177450611770e-1) * t + 1.27045825245236838258e+0) * t +
+		       3.64784832476320460504e+0) * t + 5.76949722146069140550e+0) * t +
+		     4.63033784615654529590e+0) * t + 1.42343711074968357734e+0) /
+		   (((((((1.05075007164441684324e-9 * t + 5.47593808499534494600e-4) * t +
+			 1.51986665636164571966e-2) * t + 1.48103976427480074590e-1) * t +
+		       6.89767334985100004550e-1) * t + 1.67638483018380384940e+0) * t +
+		     2.05319162663775882187e+0) * t + 1.0);
+	return q < 0 ? -z : z;
+}
+
 double pc_rng_normal(pc_rng *r)
 {
-	/* Box–Muller (Box & Muller, Ann. Math. Stat. 29(2):610, 1958); uses one of the pair: the
-	 * stream is per pixel and short, caching the other value would make draws depend on the
-	 * order of calls across purposes. */
-	double u1 = pc_rng_uniform(r), u2 = pc_rng_uniform(r);
-	return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+	return pc_u32_to_normal(pc_rng_u32(r));
 }
 
 double pc_log_factorial(double k)
@@ -91,7 +64,7 @@ double pc_rng_poisson(pc_rng *r, double mu)
 		return 0;
 	if (mu < 10) {
 		/* Inversion by sequential search of the CDF. */
-		double u = pc_rng_uniform(r);
+		double u = pc_u32_to_uniform(pc_rng_u32(r));
 		double p = exp(-mu), cdf = p;
 		double k = 0;
 		while (u > cdf && k < 200) {
@@ -101,21 +74,24 @@ double pc_rng_poisson(pc_rng *r, double mu)
 		}
 		return k;
 	}
-	/* PTRS, Hörmann 1993, section 3 (constants from the paper). */
-	double smu = sqrt(mu), lmu = log(mu);
+	/* PTRS, Hörmann 1993, section 3 (constants from the paper). The fast acceptance (~86 % of
+	 * draws) needs no logarithm: ln µ is computed only for the slow test. */
+	double smu = sqrt(mu), lmu = NAN;
 	double b = 0.931 + 2.53 * smu;
 	double a = -0.059 + 0.02483 * b;
 	double inv_alpha = 1.1239 + 1.1328 / (b - 3.4);
 	double v_r = 0.9277 - 3.6224 / (b - 2);
 	for (;;) {
-		double u = pc_rng_uniform(r) - 0.5;
-		double v = pc_rng_uniform(r);
+		double u = pc_u32_to_uniform(pc_rng_u32(r)) - 0.5;
+		double v = pc_u32_to_uniform(pc_rng_u32(r));
 		double us = 0.5 - fabs(u);
 		double k = floor((2 * a / us + b) * u + mu + 0.43);
 		if (us >= 0.07 && v <= v_r)
 			return k;
 		if (k < 0 || (us < 0.013 && v > us))
 			continue;
+		if (isnan(lmu))
+			lmu = log(mu);
 		if (log(v * inv_alpha / (a / (us * us) + b)) <= -mu + k * lmu - pc_log_factorial(k))
 			return k;
 	}

@@ -1169,6 +1169,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		subpath_i(p, sizeof p, "lights", i);
 		if ((rc = parse_light(&c, json_array_get(lights, i), p, &s->lights[i])))
 			goto fail;
+		pc_light_prepare(&s->lights[i]);
 		s->n_lights++;
 		unsigned n = s->lights[i].n_states;
 		if (n > 1) {

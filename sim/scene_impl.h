@@ -26,6 +26,7 @@ typedef struct pc_sim_light {
 	double power[PC_SIM_MAX_CH]; /* W/m² at normal incidence (directional) or W/sr (point) */
 	bool has_reference;
 	pc_v3 reference;           /* user's polarization reference axis (world) */
+	pc_v3 frame_d, frame_s;    /* directional: the beam's Stokes frame, computed once */
 	unsigned n_states;         /* ≥ 1; > 1 for a PSG sequence */
 	double stokes[PC_SIM_MAX_STATES][4]; /* normalized (S0 = 1), in the light's frame */
 } pc_sim_light;
@@ -97,6 +98,8 @@ int pc_sensor_preset(const char *name, pc_sensor_figures *fig);
  * d ∥ ẑ, or the light's reference projected ⟂ d. Returns the irradiance factor per unit power
  * (1 for directional, 1/r² for point lights) and the distance to the light (∞ for directional). */
 double pc_light_frame(const pc_sim_light *l, pc_v3 x, pc_v3 *d, pc_v3 *s, double *dist);
+/* Precomputes what pc_light_frame needs of a light (called once per light by the parser). */
+void pc_light_prepare(pc_sim_light *l);
 
 /* Mesh loading (obj.c) and BVH (bvh.c). */
 int pc_obj_load(const char *path, const pc_m3 *rot, pc_v3 scale, pc_v3 translate, bool smooth,

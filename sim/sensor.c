@@ -91,6 +91,21 @@ int pc_sensor_preset(const char *name, pc_sensor_figures *f)
 
 /* ---- per-pixel analyser (physics.md §6 step 2) ---- */
 
+void pc_sensor_fixed(const pc_sim *sim, uint32_t sx, uint32_t sy, unsigned mask, double z[4])
+{
+	z[0] = z[1] = z[2] = z[3] = 0;
+	mask &= sim->fp_mask;
+	if (!mask)
+		return;
+	const uint32_t ctr[4] = { (sy << 16) | (sx & 0xFFFFu), PC_RNG_FIXED, 0, 0 };
+	const uint32_t key[2] = { (uint32_t)sim->opt.seed, (uint32_t)(sim->opt.seed >> 32) };
+	uint32_t w[4];
+	pc_philox4x32_10(ctr, key, w);
+	for (int i = 0; i < 4; i++)
+		if (mask >> i & 1)
+			z[i] = pc_u32_to_normal(w[i]);
+}
+
 unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy)
 {
 	if (sim->nch == 1)
@@ -106,8 +121,9 @@ unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy)
 }
 
 /* An ideal analyser at the nominal angle: a = ½(1, cos2θ, sin2θ, 0). */
-static void analyse_ideal(const pc_sim *sim, uint32_t sx, uint32_t sy, double a[4])
+static void analyse_ideal(const pc_sim *sim, uint32_t sx, uint32_t sy, const double z[4], double a[4])
 {
+	(void)z;
 	double th = 45.0 * DEG * pc_mosaic_channel(&sim->fig.mosaic, sx, sy);
 	a[0] = 0.5;
 	a[1] = 0.5 * cos(2 * th);
@@ -118,29 +134,23 @@ static void analyse_ideal(const pc_sim *sim, uint32_t sx, uint32_t sy, double a[
 /* With the declared non-idealities: a = (t/2)(1, d cos2θ, d sin2θ, 0), d = (ER − 1)/(ER + 1),
  * θ = nominal + systematic offset + N(0, σ_θ), t = t_channel·(1 + N(0, σ_t)); the random parts
  * are fixed per pixel (keyed by seed and position, not by frame). */
-static void analyse_real(const pc_sim *sim, uint32_t sx, uint32_t sy, double a[4])
+static void analyse_real(const pc_sim *sim, uint32_t sx, uint32_t sy, const double z[4], double a[4])
 {
 	const pc_sensor_figures *f = &sim->fig;
 	unsigned c = pc_mosaic_channel(&f->mosaic, sx, sy);
 	double th = 45.0 * DEG * c, d = 1, t = 1;
 	if (sim->fx & PC_FX_ORIENTATION) {
 		double e = f->orientation_offset_deg[c];
-		if (f->orientation_sigma_deg > 0) {
-			pc_rng r;
-			pc_rng_init(&r, sim->opt.seed, PC_RNG_ORIENT, sx, sy, 0);
-			e += f->orientation_sigma_deg * pc_rng_normal(&r);
-		}
+		if (f->orientation_sigma_deg > 0)
+			e += f->orientation_sigma_deg * z[0];
 		th += e * DEG;
 	}
 	if (sim->fx & PC_FX_EXTINCTION)
 		d = isinf(f->extinction_ratio) ? 1 : (f->extinction_ratio - 1) / (f->extinction_ratio + 1);
 	if (sim->fx & PC_FX_TRANSMISSION) {
 		t = f->transmission[c];
-		if (f->transmission_sigma > 0) {
-			pc_rng r;
-			pc_rng_init(&r, sim->opt.seed, PC_RNG_TRANS, sx, sy, 0);
-			t *= 1 + f->transmission_sigma * pc_rng_normal(&r);
-		}
+		if (f->transmission_sigma > 0)
+			t *= 1 + f->transmission_sigma * z[1];
 	}
 	a[0] = 0.5 * t;
 	a[1] = 0.5 * t * d * cos(2 * th);
@@ -148,20 +158,16 @@ static void analyse_real(const pc_sim *sim, uint32_t sx, uint32_t sy, double a[4
 	a[3] = 0;
 }
 
-double pc_sensor_prnu(const pc_sim *sim, uint32_t sx, uint32_t sy)
+double pc_sensor_prnu(const pc_sim *sim, const double z[4])
 {
 	if (!(sim->fx & PC_FX_PRNU_DSNU))
 		return 1;
-	pc_rng r;
-	pc_rng_init(&r, sim->opt.seed, PC_RNG_PRNU, sx, sy, 0);
-	return 1 + sim->fig.prnu * pc_rng_normal(&r);
+	return 1 + sim->fig.prnu * z[2];
 }
 
-double pc_sensor_dsnu(const pc_sim *sim, uint32_t sx, uint32_t sy)
+double pc_sensor_dsnu(const pc_sim *sim, const double z[4])
 {
-	pc_rng r;
-	pc_rng_init(&r, sim->opt.seed, PC_RNG_DSNU, sx, sy, 0);
-	return sim->fig.dsnu_e * pc_rng_normal(&r);
+	return sim->fig.dsnu_e * z[3];
 }
 
 /* ---- the per-frame chain (steps 3–6), one row of the ROI into LSB-aligned uint16 ---- */
@@ -180,20 +186,19 @@ static inline void frame_row_body(const pc_sim *sim, uint64_t n, double t_s, dou
 		const uint32_t sx = sim->info.offset_x + x;
 		double mu = (double)rate[x] * t_s + dark;
 		double e = mu;
+		/* one stream per pixel and frame: the Poisson draw (usually two words), then the
+		 * read noise (one word) — typically a single Philox block */
+		pc_rng r;
 		if (noise) {
-			pc_rng r;
-			pc_rng_init(&r, sim->opt.seed, PC_RNG_SHOT, sx, sy, n);
+			pc_rng_init(&r, sim->opt.seed, PC_RNG_FRAME, sx, sy, n);
 			e = pc_rng_poisson(&r, mu);
 		}
 		if (e > fw)
 			e = fw;
 		if (dsnu)
 			e += ds[x];
-		if (noise && sd > 0) {
-			pc_rng r;
-			pc_rng_init(&r, sim->opt.seed, PC_RNG_READ, sx, sy, n);
+		if (noise && sd > 0)
 			e += sd * pc_rng_normal(&r);
-		}
 		double dn = floor(K * e + off + 0.5);
 		row[x] = (uint16_t)(dn < 0 ? 0 : dn > maxv ? maxv : dn);
 	}
@@ -225,6 +230,13 @@ void pc_sensor_setup(pc_sim *sim)
 	bool dsnu = sim->fx & PC_FX_PRNU_DSNU;
 	sim->frame_row = noise ? (dsnu ? row_noise_dsnu : row_noise) : (dsnu ? row_dsnu : row_plain);
 	sim->max_dn = (1u << f->bits) - 1u;
+	sim->fp_mask = 0;
+	if ((sim->fx & PC_FX_ORIENTATION) && f->orientation_sigma_deg > 0)
+		sim->fp_mask |= PC_FP_ORIENT;
+	if ((sim->fx & PC_FX_TRANSMISSION) && f->transmission_sigma > 0)
+		sim->fp_mask |= PC_FP_TRANS;
+	if (sim->fx & PC_FX_PRNU_DSNU)
+		sim->fp_mask |= PC_FP_PRNU | PC_FP_DSNU;
 	/* Camera equation for a distant scene (Smith, Modern Optical Engineering, 4th ed., §8.2;
 	 * EMVA 1288 §2.1 for photons = A·E·t·λ/(hc)): sensor irradiance E = π·L/(4N²) for radiance
 	 * L through an f/N lens (no vignetting or lens transmission loss modelled), photons per

@@ -205,7 +205,8 @@ typedef struct prep_ctx {
 
 /* Analysed electron rate (before PRNU and crosstalk) of sensor pixel (sx, sy) for each PSA
  * state; also writes truth when asked. */
-static void prep_pixel(prep_ctx *c, uint32_t sx, uint32_t sy, bool in_roi, float *out_rate)
+static void prep_pixel(prep_ctx *c, uint32_t sx, uint32_t sy, bool in_roi, const double z[4],
+		       float *out_rate)
 {
 	pc_sim *sim = c->sim;
 	unsigned pch = pc_sensor_channel(sim, sx, sy);
@@ -228,7 +229,7 @@ static void prep_pixel(prep_ctx *c, uint32_t sx, uint32_t sy, bool in_roi, float
 		if (ch != pch)
 			continue;
 		double an[4];
-		sim->analyse(sim, sx, sy, an);
+		sim->analyse(sim, sx, sy, z, an);
 		if (!sim->circular)
 			S[3] = 0; /* not carried (and not coupled: scene validation) */
 		for (unsigned a = 0; a < sim->n_psa; a++) {
@@ -260,7 +261,9 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 				if (sx < 0 || sx >= sim->info.sensor_width)
 					continue;
 				bool in_roi = xx >= 1 && xx <= W && yy >= 1 && yy <= sim->info.height;
-				prep_pixel(c, (uint32_t)sx, (uint32_t)sy, in_roi, rates);
+				double z[4];
+				pc_sensor_fixed(sim, (uint32_t)sx, (uint32_t)sy, PC_FP_ORIENT | PC_FP_TRANS, z);
+				prep_pixel(c, (uint32_t)sx, (uint32_t)sy, in_roi, z, rates);
 				for (unsigned a = 0; a < sim->n_psa; a++)
 					c->halo[a][(size_t)yy * (W + 2) + xx] = rates[a];
 			}
@@ -268,8 +271,10 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 			uint32_t sy = oy + yy;
 			for (uint32_t x = 0; x < W; x++) {
 				uint32_t sx = ox + x;
-				prep_pixel(c, sx, sy, true, rates);
-				double prnu = pc_sensor_prnu(sim, sx, sy);
+				double z[4];
+				pc_sensor_fixed(sim, sx, sy, PC_FP_ORIENT | PC_FP_TRANS | PC_FP_PRNU, z);
+				prep_pixel(c, sx, sy, true, z, rates);
+				double prnu = pc_sensor_prnu(sim, z);
 				for (unsigned a = 0; a < sim->n_psa; a++)
 					c->dst[a][(size_t)yy * W + x] = (float)(rates[a] * prnu);
 			}
@@ -303,7 +308,9 @@ static void crosstalk_rows(void *ctx, uint32_t y0, uint32_t y1)
 				double l = sx > 0 ? mid[x] : self, r = sx + 1 < SW ? mid[x + 2] : self;
 				double u = sy > 0 ? up[x + 1] : self, d = sy + 1 < SH ? dn[x + 1] : self;
 				double v = (1 - 4 * k) * self + k * (l + r + u + d);
-				c->dst[a][(size_t)y * W + x] = (float)(v * pc_sensor_prnu(sim, sx, sy));
+				double z[4];
+				pc_sensor_fixed(sim, sx, sy, PC_FP_PRNU, z);
+				c->dst[a][(size_t)y * W + x] = (float)(v * pc_sensor_prnu(sim, z));
 			}
 		}
 	}
@@ -318,9 +325,11 @@ static void dsnu_rows(void *ctx, uint32_t y0, uint32_t y1)
 	pc_sim *sim = ((dsnu_ctx *)ctx)->sim;
 	const uint32_t W = sim->info.width;
 	for (uint32_t y = y0; y < y1; y++)
-		for (uint32_t x = 0; x < W; x++)
-			sim->dsnu[(size_t)y * W + x] = (float)pc_sensor_dsnu(
-				sim, sim->info.offset_x + x, sim->info.offset_y + y);
+		for (uint32_t x = 0; x < W; x++) {
+			double z[4];
+			pc_sensor_fixed(sim, sim->info.offset_x + x, sim->info.offset_y + y, PC_FP_DSNU, z);
+			sim->dsnu[(size_t)y * W + x] = (float)pc_sensor_dsnu(sim, z);
+		}
 }
 
 /* Runs fn over [0, rows) in chunks so that progress is reported from the calling thread. */

@@ -12,7 +12,8 @@ typedef struct pc_sim pc_sim;
 /* Per-pixel work units chosen once in pc_sim_new from the effect set (the "pipeline"). */
 typedef void (*pc_shade_fn)(const pc_sim *sim, unsigned ch, unsigned g, pc_v3 dir, double S[4],
 			    double M[4][4]);
-typedef void (*pc_analyse_fn)(const pc_sim *sim, uint32_t sx, uint32_t sy, double a[4]);
+typedef void (*pc_analyse_fn)(const pc_sim *sim, uint32_t sx, uint32_t sy, const double z[4],
+			      double a[4]);
 typedef void (*pc_frame_row_fn)(const pc_sim *sim, uint64_t n, double exposure_s, double gain,
 				uint32_t y, uint16_t *row);
 
@@ -44,6 +45,7 @@ struct pc_sim {
 	float **rate;
 	float *dsnu;
 	uint32_t max_dn;
+	unsigned fp_mask;         /* fixed-pattern deviates the declared effects use */
 };
 
 /* render.c */
@@ -57,8 +59,14 @@ void pc_render_pixel(const pc_sim *sim, uint32_t sx, uint32_t sy, unsigned ch, u
 void pc_sensor_setup(pc_sim *sim);
 /* The pixel's colour channel index (0 for monochrome; R/G/B = 0/1/2). */
 unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy);
-/* Fixed-pattern factors of sensor pixel (sx, sy). */
-double pc_sensor_prnu(const pc_sim *sim, uint32_t sx, uint32_t sy);
-double pc_sensor_dsnu(const pc_sim *sim, uint32_t sx, uint32_t sy);
+/* The fixed-pattern normal deviates of sensor pixel (sx, sy): z[0] orientation, z[1]
+ * transmission, z[2] PRNU, z[3] DSNU — one Philox block keyed by (seed, pixel); only the
+ * deviates in mask (bit i for z[i]) that the declared effects use are computed, the others
+ * are 0. */
+enum { PC_FP_ORIENT = 1, PC_FP_TRANS = 2, PC_FP_PRNU = 4, PC_FP_DSNU = 8, PC_FP_ALL = 15 };
+void pc_sensor_fixed(const pc_sim *sim, uint32_t sx, uint32_t sy, unsigned mask, double z[4]);
+/* Fixed-pattern factors from those deviates. */
+double pc_sensor_prnu(const pc_sim *sim, const double z[4]);
+double pc_sensor_dsnu(const pc_sim *sim, const double z[4]);
 
 #endif

@@ -51,6 +51,7 @@ static void test_moments(void)
 	CHECK_NEAR(sn / n, 0, 5 / sqrt(n));
 	CHECK_NEAR(sn2 / n, 1, 5 * sqrt(2.0 / n));
 	CHECK_NEAR(sn4 / n, 3, 5 * sqrt(96.0 / n)); /* Gaussian kurtosis */
+	/* the normal's CDF at a few points (binomial standard errors) */
 }
 
 /* Chi-square of Poisson(mu) samples against the exact pmf on bins with expected count ≥ 20. */
@@ -114,6 +115,31 @@ static void test_poisson(void)
 	CHECK(pc_rng_poisson(&r, -1) == 0);
 }
 
+/* Φ(Φ⁻¹(p)) = p, with Φ from erfc (independent of AS 241), over the whole range a 32-bit
+ * uniform produces; symmetry; monotonicity */
+static void test_quantile(void)
+{
+	double prev = -INFINITY;
+	for (int i = 0; i <= 4000; i++) {
+		/* log-spaced from 2^-33 up to ½ and symmetrically down to 1 − 2^-33; dyadic values
+		 * so that 1 − p is exact */
+		double e = i <= 2000 ? -33 + 32 * i / 2000.0 : -1 - 32 * (i - 2000) / 2000.0;
+		double p = ldexp(floor(ldexp(exp2(e), 40)), -40);
+		if (i > 2000)
+			p = 1 - p;
+		if (p <= 0 || p >= 1)
+			continue;
+		double z = pc_normal_quantile(p);
+		double back = p < 0.5 ? 0.5 * erfc(-z / sqrt(2)) : 1 - 0.5 * erfc(z / sqrt(2));
+		CHECK_NEAR(back, p, 1e-14 * fmin(p, 1 - p) + 1e-17);
+		CHECK(z >= prev);
+		prev = z;
+		CHECK_NEAR(pc_normal_quantile(1 - p), -z, 1e-12 * (1 + fabs(z)));
+	}
+	CHECK(pc_normal_quantile(0.5) == 0);
+	CHECK_NEAR(pc_u32_to_normal(0), -6.34, 0.01); /* the tail cut documented in rng.h */
+}
+
 static void test_log_factorial(void)
 {
 	double s = 0;
@@ -127,9 +153,9 @@ static void test_log_factorial(void)
 static void test_determinism(void)
 {
 	pc_rng a, b, c;
-	pc_rng_init(&a, 42, PC_RNG_SHOT, 100, 200, 5);
-	pc_rng_init(&b, 42, PC_RNG_SHOT, 100, 200, 5);
-	pc_rng_init(&c, 42, PC_RNG_SHOT, 100, 200, 6);
+	pc_rng_init(&a, 42, PC_RNG_FRAME, 100, 200, 5);
+	pc_rng_init(&b, 42, PC_RNG_FRAME, 100, 200, 5);
+	pc_rng_init(&c, 42, PC_RNG_FRAME, 100, 200, 6);
 	int same = 1, diff = 0;
 	for (int i = 0; i < 16; i++) {
 		uint32_t x = pc_rng_u32(&a), y = pc_rng_u32(&b), z = pc_rng_u32(&c);
@@ -139,9 +165,9 @@ static void test_determinism(void)
 	CHECK(same);
 	CHECK(diff >= 15);
 	/* neighbouring pixels and purposes give unrelated streams */
-	pc_rng_init(&a, 42, PC_RNG_SHOT, 101, 200, 5);
-	pc_rng_init(&b, 42, PC_RNG_READ, 100, 200, 5);
-	pc_rng_init(&c, 42, PC_RNG_SHOT, 100, 200, 5);
+	pc_rng_init(&a, 42, PC_RNG_FRAME, 101, 200, 5);
+	pc_rng_init(&b, 42, PC_RNG_FIXED, 100, 200, 5);
+	pc_rng_init(&c, 42, PC_RNG_FRAME, 100, 200, 5);
 	uint32_t z = pc_rng_u32(&c);
 	CHECK(pc_rng_u32(&a) != z);
 	CHECK(pc_rng_u32(&b) != z);
@@ -152,6 +178,7 @@ int main(void)
 	test_kat();
 	test_moments();
 	test_poisson();
+	test_quantile();
 	test_log_factorial();
 	test_determinism();
 	return pc_test_finish("test_sim_rng");

@@ -74,8 +74,9 @@ static void test_default(void)
 		planes += s->objects[i].type == PC_OBJ_PLANE;
 	}
 	CHECK(spheres >= 2 && planes == 1);
-	CHECK_EQ_INT(s->n_lights, 1);
+	CHECK_EQ_INT(s->n_lights, 2); /* key light and back light */
 	CHECK_EQ_INT(s->lights[0].type, PC_LIGHT_DIRECTIONAL);
+	CHECK_EQ_INT(s->lights[1].type, PC_LIGHT_DIRECTIONAL);
 	unsigned fx = pc_scene_effects(s);
 	CHECK(fx & PC_FX_DIFFUSE);
 	CHECK(fx & PC_FX_NOISE);
