@@ -52,7 +52,7 @@ static int cli_pbrdf(double n, double k, double sigma, double ti, double tr, dou
 		return 0;
 	char cmd[1024];
 	snprintf(cmd, sizeof cmd, "%s pbrdf --n %.17g --k %.17g --sigma %.17g --theta-i %.17g "
-				  "--theta-r %.17g --phi %.17g 2>/dev/null", exe, n, k, sigma, ti, tr, phi);
+				  "--theta-r %.17g --phi %.17g --rho table 2>/dev/null", exe, n, k, sigma, ti, tr, phi);
 	FILE *p = popen(cmd, "r");
 	if (!p)
 		return 0;
