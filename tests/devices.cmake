@@ -10,3 +10,13 @@ if(PC_HAVE_ARAVIS)
   set_tests_properties(devices_gige_e2e PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
     RESOURCE_LOCK gige ENVIRONMENT "${PC_TEST_ENV}")
 endif()
+
+# The live window in a real X server (Xvfb) with an X screenshot (xwd).
+if(PC_HAVE_OPENCV)
+  add_executable(view_xvfb ${CMAKE_CURRENT_SOURCE_DIR}/view_xvfb.c)
+  target_link_libraries(view_xvfb PRIVATE pc_cli PkgConfig::PNG)
+  target_include_directories(view_xvfb PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+  add_test(NAME devices_view_xvfb COMMAND view_xvfb)
+  set_tests_properties(devices_view_xvfb PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120
+    ENVIRONMENT "${PC_TEST_ENV}")
+endif()

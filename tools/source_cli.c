@@ -189,3 +189,57 @@ int pc_stream_open(const pc_stream_args *a, pc_source **out)
 	*out = s;
 	return 0;
 }
+
+/* ---- live processing ---- */
+
+#include "polarcam/picture.h"
+
+int pc_live_process(pc_live *lv, const pc_frame *f)
+{
+	if (f->mosaic.period != 2 && f->mosaic.period != 4)
+		return pc_error(PC_EFORMAT, "the frames carry no polarizer mosaic: nothing to compute "
+					    "Stokes images from");
+	uint32_t w, h;
+	pc_demosaic_out_size(lv->method, f->view.width, f->view.height, &w, &h);
+	if (w != lv->w || h != lv->h || !lv->planes) {
+		free(lv->planes);
+		free(lv->rgb);
+		lv->w = w;
+		lv->h = h;
+		lv->planes = malloc((size_t)w * h * 3 * sizeof(float));
+		lv->rgb = malloc((size_t)w * 3 * h * 3);
+		if (!lv->planes || !lv->rgb)
+			return pc_error(PC_ENOMEM, "Stokes images %ux%u", w, h);
+		memset(&lv->out, 0, sizeof lv->out);
+		lv->out.s0 = (pc_fplane){ lv->planes, w, 1 };
+		lv->out.dolp = (pc_fplane){ lv->planes + (size_t)w * h, w, 1 };
+		lv->out.aolp = (pc_fplane){ lv->planes + 2 * (size_t)w * h, w, 1 };
+	}
+	double t0 = pc_cli_now();
+	int rc = pc_stokes_from_raw(&f->view, &f->mosaic, lv->method, NULL, &lv->out);
+	lv->process_s = pc_cli_now() - t0;
+	return rc;
+}
+
+int pc_live_compose(pc_live *lv)
+{
+	size_t stride = (size_t)lv->w * 3 * 3;
+	float hi = pc_picture_quantile(&lv->out.s0, lv->w, lv->h, 0.999);
+	if (!(hi > 0))
+		hi = 1;
+	int rc = pc_picture_grey(&lv->out.s0, lv->w, lv->h, 0, hi, lv->rgb, stride);
+	if (!rc)
+		rc = pc_picture_grey(&lv->out.dolp, lv->w, lv->h, 0, 1, lv->rgb + (size_t)lv->w * 3,
+				     stride);
+	if (!rc)
+		rc = pc_picture_aolp(&lv->out.aolp, &lv->out.dolp, lv->w, lv->h, PC_AOLP_VALUE, 1.0f,
+				     lv->rgb + (size_t)lv->w * 6, stride);
+	return rc;
+}
+
+void pc_live_free(pc_live *lv)
+{
+	free(lv->planes);
+	free(lv->rgb);
+	memset(lv, 0, sizeof *lv);
+}

@@ -35,3 +35,23 @@ const char *pc_stream_args_help(void);
 int pc_stream_open(const pc_stream_args *a, pc_source **out);
 
 #endif
+
+/* ---- live processing: a raw frame -> S0, DoLP, AoLP -> one picture of three panels ---- */
+#include "polarcam/demosaic.h"
+#include "polarcam/stokes.h"
+
+typedef struct pc_live {
+	pc_demosaic_method method;
+	uint32_t w, h;          /* output size of the method */
+	float *planes;          /* s0, dolp, aolp (each w*h) */
+	pc_stokes_out out;
+	uint8_t *rgb;           /* 3 panels side by side: (3w) x h RGB8 */
+	double process_s;       /* time of the last pc_stokes_from_raw */
+} pc_live;
+
+/* Runs the pipeline on a frame (which must carry a polarizer mosaic). Sizes follow the frame. */
+int pc_live_process(pc_live *lv, const pc_frame *f);
+/* Draws S0 (grey, 0 to the 99.9th percentile), DoLP (grey, 0..1) and AoLP (hue = AoLP,
+ * value = DoLP) side by side into lv->rgb ((3w) x h, stride 9w). */
+int pc_live_compose(pc_live *lv);
+void pc_live_free(pc_live *lv);
