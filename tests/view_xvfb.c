@@ -176,6 +176,8 @@ int main(void)
 	CHECK(seen);
 	/* one more frame period so that the screen and the last picture agree, then stop view */
 	nap_ms(300);
+	free(screen.rgb);
+	screen.rgb = NULL;
 	if (seen && (system(cmd) != 0 || read_xwd(xwd_path, &screen) != 0))
 		CHECK(!"xwd failed");
 	kill(v, SIGTERM);
