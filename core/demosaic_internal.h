@@ -65,11 +65,20 @@ static inline unsigned pc_dm_ch(const pc_mosaic *m, unsigned px, unsigned py)
 	return m->channel[py & 1][px & 1];
 }
 
-/* Residual interpolation parameters (tuned on synthetic scenes and the Zhang buildings, see
- * docs/demosaicking.md): guided-filter window radius in pixels and the regulariser's square
- * root as a fraction of full scale. */
-#define PC_RI_RADIUS 2
-#define PC_RI_EPS 0.01
+/* Residual interpolation parameters: the guided filter's window radius in pixels, the square
+ * root of its regulariser as a fraction of full scale, the number of passes (each pass after
+ * the first uses the mean of the previous pass's four channels as its guide), and for EARI the
+ * guide's edge-weight offset as a fraction of full scale. Chosen on the Lapray NIR and Zhang
+ * scenes together (docs/demosaicking.md has the sweep). */
+typedef struct pc_ri_params {
+	int radius;
+	double eps;
+	int passes;
+	double guide_eps;
+} pc_ri_params;
+
+static const pc_ri_params pc_ri_params_default = { 2, 0.01, 1, 0 };
+static const pc_ri_params pc_eari_params = { 2, 0.002, 2, 0.1 };
 
 /* Scratch memory helpers (64-byte aligned; NULL on failure). */
 void *pc_dm_alloc(size_t bytes);

@@ -110,6 +110,15 @@ struct pc_stokes_out;
 int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
 		      uint32_t height, const char *title_prefix);
 
+/* Loads a ground-truth directory for the evaluation protocol (polarcam/eval.h): the analyser
+ * images named 0, 45, 90 and 135 with any extension pc_image_read knows (.tif, .tiff, .png,
+ * .bmp, .npy). Errors name the directory and the missing or bad file. */
+struct pc_eval_truth;
+int pc_truth_load(const char *dir, struct pc_eval_truth *t);
+/* The dataset a truth directory belongs to: the name of its parent directory ("lapray-nir"
+ * for .../gt/lapray-nir/fabrics), or "." when it has none. */
+void pc_truth_dataset(const char *dir, char *buf, size_t size);
+
 /* Creates a directory (and parents) if missing. */
 int pc_mkdir_p(const char *path);
 

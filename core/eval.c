@@ -1,0 +1,216 @@
+/* The frozen demosaicking evaluation protocol (polarcam/eval.h). All metrics in double. */
+#include "polarcam/eval.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "polarcam/error.h"
+#include "polarcam/format.h"
+
+static const char *ch_name[4] = { "0 deg", "45 deg", "90 deg", "135 deg" };
+
+void pc_eval_truth_free(pc_eval_truth *t)
+{
+	if (!t)
+		return;
+	for (int c = 0; c < 4; c++) {
+		free(t->ch[c]);
+		t->ch[c] = NULL;
+	}
+}
+
+int pc_eval_truth_from_views(const pc_view views[4], pc_eval_truth *t)
+{
+	memset(t, 0, sizeof *t);
+	for (int c = 0; c < 4; c++) {
+		int rc = pc_view_check(&views[c]);
+		if (rc)
+			return pc_error_prefix(rc, "%s image: ", ch_name[c]);
+		if (views[c].width != views[0].width || views[c].height != views[0].height)
+			return pc_error(PC_EINVAL, "%s image is %ux%u, the 0 deg image %ux%u: the four "
+						   "analyser images must have one size", ch_name[c],
+					views[c].width, views[c].height, views[0].width,
+					views[0].height);
+	}
+	const pc_format_info *f0 = pc_format_info_get(views[0].format);
+	for (int c = 1; c < 4; c++) {
+		const pc_format_info *fc = pc_format_info_get(views[c].format);
+		if ((fc->bits <= 8) != (f0->bits <= 8) || fc->is_float != f0->is_float)
+			return pc_error(PC_EINVAL, "%s image is %s, the 0 deg image %s: the four analyser "
+						   "images must share one container", ch_name[c],
+					fc->name, f0->name);
+	}
+	/* step 1: the container's full scale, not the significant bits */
+	t->full_scale = f0->is_float ? 1.0 : f0->bits <= 8 ? 255.0 : 65535.0;
+	t->format = f0->is_float ? PC_FMT_FLOAT32 : f0->bits <= 8 ? PC_FMT_MONO8 : PC_FMT_MONO16;
+	/* step 2: even size */
+	t->width = views[0].width & ~1u;
+	t->height = views[0].height & ~1u;
+	if (t->width < 2 * PC_EVAL_BORDER + 2 || t->height < 2 * PC_EVAL_BORDER + 2)
+		return pc_error(PC_EINVAL, "analyser images of %ux%u: at least %ux%u are needed (the "
+					   "protocol excludes a %d-pixel border)", views[0].width,
+				views[0].height, 2 * PC_EVAL_BORDER + 2, 2 * PC_EVAL_BORDER + 2,
+				PC_EVAL_BORDER);
+	size_t n = (size_t)t->width * t->height;
+	float *row = malloc(sizeof(float) * views[0].width);
+	if (!row)
+		return pc_error(PC_ENOMEM, "evaluation truth");
+	for (int c = 0; c < 4; c++) {
+		t->ch[c] = malloc(sizeof(double) * n);
+		if (!t->ch[c]) {
+			free(row);
+			pc_eval_truth_free(t);
+			return pc_error(PC_ENOMEM, "evaluation truth of %ux%u", t->width, t->height);
+		}
+		for (uint32_t y = 0; y < t->height; y++) {
+			pc_view r = views[c];
+			r.data = PC_ROW(&views[c], uint8_t, y);
+			r.height = 1;
+			int rc = pc_view_to_f32(&r, row, sizeof(float) * views[c].width);
+			if (rc) {
+				free(row);
+				pc_eval_truth_free(t);
+				return pc_error_prefix(rc, "%s image, row %u: ", ch_name[c], y);
+			}
+			for (uint32_t x = 0; x < t->width; x++)
+				t->ch[c][(size_t)y * t->width + x] = row[x] / t->full_scale;
+		}
+	}
+	free(row);
+	return 0;
+}
+
+int pc_eval_mosaic(const pc_eval_truth *t, const pc_mosaic *m, pc_view *raw)
+{
+	int rc = pc_view_alloc(raw, t->format, t->width, t->height, 0);
+	if (rc)
+		return rc;
+	for (uint32_t y = 0; y < t->height; y++)
+		for (uint32_t x = 0; x < t->width; x++) {
+			double v = t->ch[pc_mosaic_channel(m, x, y)][(size_t)y * t->width + x] *
+				   t->full_scale;
+			if (t->format == PC_FMT_MONO8)
+				PC_ROW(raw, uint8_t, y)[x] = (uint8_t)lround(v);
+			else if (t->format == PC_FMT_MONO16)
+				PC_ROW(raw, uint16_t, y)[x] = (uint16_t)lround(v);
+			else
+				PC_ROW(raw, float, y)[x] = (float)v;
+		}
+	return 0;
+}
+
+static double psnr(double sse, double n)
+{
+	return sse > 0 ? 10 * log10(n / sse) : INFINITY;
+}
+
+static void stokes(const double I[4], double s[5])
+{
+	s[0] = (I[0] + I[1] + I[2] + I[3]) / 2;
+	s[1] = I[0] - I[2];
+	s[2] = I[1] - I[3];
+	double n = sqrt(s[1] * s[1] + s[2] * s[2]);
+	double d = s[0] > 0 ? n / s[0] : 0;
+	s[3] = d < 0 ? 0 : d > 1 ? 1 : d;
+	s[4] = 0.5 * atan2(s[2], s[1]);
+}
+
+int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_scale,
+		  pc_eval_metrics *out)
+{
+	memset(out, 0, sizeof *out);
+	if (!(est_scale > 0))
+		return pc_error(PC_EINVAL, "evaluation: estimate scale %g must be > 0", est_scale);
+	const uint32_t b = PC_EVAL_BORDER;
+	if (t->width <= 2 * b || t->height <= 2 * b)
+		return pc_error(PC_EINVAL, "evaluation: image %ux%u smaller than its border",
+				t->width, t->height);
+	double sse_i[4] = { 0 }, sse_s[3] = { 0 }, sse_d = 0, a2 = 0, wa2 = 0, wsum = 0;
+	double n = 0;
+	for (uint32_t y = b; y < t->height - b; y++)
+		for (uint32_t x = b; x < t->width - b; x++) {
+			size_t i = (size_t)y * t->width + x;
+			double It[4], Ie[4], st[5], se[5];
+			for (int c = 0; c < 4; c++) {
+				It[c] = t->ch[c][i];
+				Ie[c] = est[c].data[(size_t)y * est[c].row_stride +
+						    (size_t)x * est[c].pixel_stride] /
+					est_scale;
+				sse_i[c] += (Ie[c] - It[c]) * (Ie[c] - It[c]);
+			}
+			stokes(It, st);
+			stokes(Ie, se);
+			/* S0/2, (S1+1)/2, (S2+1)/2: differences are halves of the Stokes differences */
+			for (int k = 0; k < 3; k++)
+				sse_s[k] += 0.25 * (se[k] - st[k]) * (se[k] - st[k]);
+			sse_d += (se[3] - st[3]) * (se[3] - st[3]);
+			double d = fabs(se[4] - st[4]) * 180 / M_PI; /* in [0°, 180°] */
+			d = fmod(d, 180.0);
+			if (d > 90)
+				d = 180 - d;
+			a2 += d * d;
+			wa2 += st[3] * d * d;
+			wsum += st[3];
+			n++;
+		}
+	double mi = 0;
+	for (int c = 0; c < 4; c++) {
+		out->psnr_i_ch[c] = psnr(sse_i[c], n);
+		mi += out->psnr_i_ch[c];
+	}
+	out->psnr_i = mi / 4;
+	out->psnr_s0 = psnr(sse_s[0], n);
+	out->psnr_s1 = psnr(sse_s[1], n);
+	out->psnr_s2 = psnr(sse_s[2], n);
+	out->psnr_dolp = psnr(sse_d, n);
+	out->aolp_rmse_deg = sqrt(a2 / n);
+	out->aolp_wrmse_deg = wsum > 0 ? sqrt(wa2 / wsum) : 0;
+	return 0;
+}
+
+int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
+		   const pc_demosaic_opts *opts, pc_eval_metrics *out)
+{
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	pc_view raw;
+	int rc = pc_eval_mosaic(t, &m, &raw);
+	if (rc)
+		return rc;
+	uint32_t ow, oh;
+	pc_demosaic_out_size(method, t->width, t->height, &ow, &oh);
+	float *buf = malloc(sizeof(float) * ow * oh * 4);
+	float *full = NULL;
+	if (!buf) {
+		pc_view_free(&raw);
+		return pc_error(PC_ENOMEM, "evaluation: demosaicked images");
+	}
+	pc_fplane est[4];
+	pc_fplanes_separate(buf, ow, oh, 4, est);
+	pc_demosaic_opts o = opts ? *opts : (pc_demosaic_opts){ 0, false, 0 };
+	if (!(o.full_scale > 0))
+		o.full_scale = t->full_scale;
+	rc = pc_demosaic(&raw, &m, method, &o, est);
+	if (!rc && (ow != t->width || oh != t->height)) {
+		/* half resolution: replicate each super-pixel over its 2×2 block */
+		full = malloc(sizeof(float) * t->width * t->height * 4);
+		if (!full) {
+			rc = pc_error(PC_ENOMEM, "evaluation: replicated images");
+		} else {
+			pc_fplane rep[4];
+			pc_fplanes_separate(full, t->width, t->height, 4, rep);
+			for (int c = 0; c < 4; c++)
+				for (uint32_t y = 0; y < t->height; y++)
+					for (uint32_t x = 0; x < t->width; x++)
+						rep[c].data[(size_t)y * t->width + x] =
+							est[c].data[(size_t)(y / 2) * ow + x / 2];
+			memcpy(est, rep, sizeof rep);
+		}
+	}
+	if (!rc)
+		rc = pc_eval_score(t, est, t->full_scale, out);
+	free(full);
+	free(buf);
+	pc_view_free(&raw);
+	return rc;
+}

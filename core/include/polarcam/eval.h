@@ -1,0 +1,74 @@
+/* polarcam/eval.h - the frozen demosaicking evaluation protocol (../shared/data/README.md, the
+ * one the field's public evaluation code uses, Tokyo Tech / Lapray):
+ *
+ *  1. the four analyser images as float64, normalised to [0, 1] by the container's full scale
+ *     (16-bit containers: 65535, even for 12-bit data; 8-bit: 255; float data as is);
+ *  2. cropped to even height and width and mosaicked with the Sony layout [90 45; 135 0];
+ *  3. demosaicked to I0, I45, I90, I135;
+ *  4. S0 = (I0+I45+I90+I135)/2, S1 = I0 − I90, S2 = I45 − I135,
+ *     DoLP = sqrt(S1² + S2²)/S0 clipped to [0, 1], AoLP = ½·atan2(S2, S1);
+ *  5. a 15-pixel border excluded; PSNR (peak 1) of: the mean over the four I channels of their
+ *     PSNRs, S0/2, (S1+1)/2, (S2+1)/2, DoLP; AoLP RMSE in degrees with the difference wrapped
+ *     to [0°, 90°], and the same weighted by the ground-truth DoLP;
+ *  6. per dataset, never pooled, with the time per 2448×2048 frame beside it (bench).
+ * Core does no I/O: callers load the images (io) and pass views.
+ */
+#ifndef POLARCAM_EVAL_H
+#define POLARCAM_EVAL_H
+
+#include <stdint.h>
+
+#include "polarcam/demosaic.h"
+#include "polarcam/frame.h"
+#include "polarcam/mosaic.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PC_EVAL_BORDER 15
+
+/* Ground truth after protocol steps 1-2. */
+typedef struct pc_eval_truth {
+	double *ch[4];      /* I0, I45, I90, I135 normalised to [0, 1], width × height, C order */
+	uint32_t width, height;
+	double full_scale;  /* the container's full scale the values were divided by */
+	pc_pixfmt format;   /* the container format (Mono8, Mono16 or Float32) */
+} pc_eval_truth;
+
+typedef struct pc_eval_metrics {
+	double psnr_i;          /* mean of the four I channels' PSNRs (dB) */
+	double psnr_i_ch[4];    /* each channel's PSNR */
+	double psnr_s0;         /* of S0/2 */
+	double psnr_s1;         /* of (S1+1)/2 */
+	double psnr_s2;         /* of (S2+1)/2 */
+	double psnr_dolp;
+	double aolp_rmse_deg;   /* wrapped to [0°, 90°] */
+	double aolp_wrmse_deg;  /* weighted by the ground-truth DoLP */
+} pc_eval_metrics;
+
+/* Steps 1-2 from four analyser images in the order I0, I45, I90, I135 (same size; Mono8,
+ * 16-bit containers or Float32, all the same container). Odd sizes lose their last row or
+ * column. Errors name the image (0°, 45°, ...) and the problem. */
+int pc_eval_truth_from_views(const pc_view views[4], pc_eval_truth *t);
+void pc_eval_truth_free(pc_eval_truth *t);
+
+/* The raw mosaic of the truth with layout m, in the truth's container (values × full scale,
+ * exact). Owned view: free with pc_view_free. */
+int pc_eval_mosaic(const pc_eval_truth *t, const pc_mosaic *m, pc_view *raw);
+
+/* Steps 4-5: scores four demosaicked channels (in the raw's units; divided by est_scale to
+ * normalise) against the truth. Images must be at least 2·PC_EVAL_BORDER + 1 in each size. */
+int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_scale,
+		  pc_eval_metrics *out);
+
+/* Steps 2-5 for one method: mosaic with the Sony layout, demosaic (opts may be NULL), score.
+ * Half-resolution methods are scored after replication to full size (each 2×2 block takes its
+ * super-pixel's values). */
+int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
+		   const pc_demosaic_opts *opts, pc_eval_metrics *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
