@@ -276,13 +276,20 @@ static int fast_superpixel(const pc_dm_input *in, const pc_mosaic *m, int half, 
 	return j.err ? pc_error(PC_ENOMEM, "superpixel: row buffers") : 0;
 }
 
+int pc_demosaic_ic(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
+		   double full_scale, int threads, const pc_fplane *out);
+
 int pc_demosaic_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
 		     double full_scale, int threads, const pc_fplane *out)
 {
-	(void)full_scale;
 	if (m->period == 4)
 		return PC_ENOTSUP;
 	switch (method) {
+	case PC_DM_BICUBIC:
+	case PC_DM_PPID:
+	case PC_DM_RI:
+	case PC_DM_EARI:
+		return pc_demosaic_ic(in, m, method, full_scale, threads, out);
 	case PC_DM_BILINEAR:
 		return fast_bilinear(in, m, threads, out);
 	case PC_DM_SUPERPIXEL:

@@ -78,7 +78,7 @@ typedef struct pc_ri_params {
 } pc_ri_params;
 
 static const pc_ri_params pc_ri_params_default = { 2, 0.01, 1, 0 };
-static const pc_ri_params pc_eari_params = { 2, 0.002, 2, 0.1 };
+static const pc_ri_params pc_eari_params = { 2, 0.003, 1, 0.1 };
 
 /* Scratch memory helpers (64-byte aligned; NULL on failure). */
 void *pc_dm_alloc(size_t bytes);

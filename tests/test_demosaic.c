@@ -139,6 +139,9 @@ static void test_fast_vs_reference(void)
 						worst = d > worst ? d : worst;
 					}
 			double tol = tol_for(meth) * 4095;
+			if (ph == 0)
+				printf("  %-16s max |fast - reference| = %.3g (%.2g of full scale)\n",
+				       pc_demosaic_method_get(meth)->name, worst, worst / 4095);
 			if (worst > tol)
 				fprintf(stderr, "  %s phase %u: max |fast - ref| = %g > %g\n",
 					pc_demosaic_method_get(meth)->name, ph, worst, tol);
