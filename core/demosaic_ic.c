@@ -8,8 +8,8 @@
  * (pc_parallel_rows) recomputing only their few halo rows. Rows are padded on both sides with
  * mirrored values (the same whole-sample mirror as the references), rows above and below the
  * image are mirrored rows. The guided filter's statistics are summed in double, as in the
- * reference: G² and G·R sums in float lose the small variances (measured: 4e-4 of full scale
- * off the reference on a random texture, against 1e-5 in double). */
+ * reference: G² and G·R sums in float lose the small variances (measured on a random texture:
+ * 4e-4 of full scale off the double reference with float sums, 2e-7 with double sums). */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>

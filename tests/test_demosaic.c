@@ -25,7 +25,7 @@ static double tol_for(pc_demosaic_method m)
 	case PC_DM_BICUBIC:
 		return 1e-6;
 	default:
-		return 2e-4;
+		return 1e-5;
 	}
 }
 
