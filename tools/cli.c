@@ -348,3 +348,12 @@ json_t *pc_json_error_line(unsigned long line, int code)
 	return json_pack("{s:I, s:s, s:s}", "line", (json_int_t)line, "error",
 			 *d ? d : pc_strerror(code), "code", pc_errname(code));
 }
+
+void pc_cli_batch_error(const pc_cli_lines *in, int rc, int *status)
+{
+	pc_error_prefix(rc, "%s line %lu: ", in->name, in->lineno);
+	pc_cli_print_json(pc_json_error_line(in->lineno, rc));
+	pc_cli_error(0, "%s", pc_error_detail());
+	if (*status == PC_EXIT_OK)
+		*status = pc_cli_status(rc);
+}

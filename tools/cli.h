@@ -101,4 +101,8 @@ int pc_cli_parse_fields(const char *line, const char *const *names, int want, do
 /* {"line": L, "error": <detail>, "code": "PC_E..."}: the batch-mode error object. */
 json_t *pc_json_error_line(unsigned long line, int code);
 
+/* A bad batch line: prefixes the detail with "FILE line L: ", prints the error object on stdout
+ * and the message on stderr, and sets *status (if still 0) to the exit status for rc. */
+void pc_cli_batch_error(const pc_cli_lines *in, int rc, int *status);
+
 #endif

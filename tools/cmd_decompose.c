@@ -101,11 +101,7 @@ static int run_batch(const char *path, unsigned options)
 		if (!rc)
 			rc = pc_lu_chipman_decompose((const double(*)[4])m, options, &lc);
 		if (rc) {
-			pc_error_prefix(rc, "%s line %lu: ", in.name, in.lineno);
-			pc_cli_print_json(pc_json_error_line(in.lineno, rc));
-			pc_cli_error(0, "%s", pc_error_detail());
-			if (status == PC_EXIT_OK)
-				status = pc_cli_status(rc);
+			pc_cli_batch_error(&in, rc, &status);
 			continue;
 		}
 		pc_cli_print_json(result_json(&lc, in.lineno));

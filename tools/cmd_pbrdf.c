@@ -192,11 +192,7 @@ static int run_batch(const char *path, const pbrdf_opts *o)
 		if (!rc)
 			rc = get_material(&cache, o, v[0], v[1], v[2], &p);
 		if (rc) {
-			pc_error_prefix(rc, "%s line %lu: ", in.name, in.lineno);
-			pc_cli_print_json(pc_json_error_line(in.lineno, rc));
-			pc_cli_error(0, "%s", pc_error_detail());
-			if (status == PC_EXIT_OK)
-				status = pc_cli_status(rc);
+			pc_cli_batch_error(&in, rc, &status);
 			continue;
 		}
 		warn_material(p, v[2]);
