@@ -507,8 +507,115 @@ static void test_reproducible(void)
 	pc_sim_free(c);
 }
 
+/* Lambertian with albedo 1, 2, 3 for colour channels R, G, B */
+static int brdf_rgb(void *u, unsigned m, unsigned ch, const double ki[3], const double kr[3],
+		    const double si[3], const double sr[3], double f[4][4])
+{
+	(void)u; (void)m; (void)si; (void)sr;
+	memset(f, 0, 16 * sizeof(double));
+	if (ki[2] > 0 && kr[2] > 0)
+		f[0][0] = (1.0 + ch) / (2 * M_PI);
+	return 0;
+}
+
+/* Colour sensor: each pixel sees its CFA colour's radiance with that channel's QE and photon
+ * energy; the truth has three channels. */
+static void test_colour(void)
+{
+	pc_sim_brdf b = { brdf_rgb, NULL };
+	pc_sim *sim = sim_new(20, "\"unpolarized\"", "",
+			      "\"preset\": \"ideal\", \"layout\": \"RGGB:90,45,135,0\", \"resolution\": [16, 16],"
+			      " \"exposure_us\": 1,"
+			      " \"qe\": [0.2, 0.3, 0.25], \"wavelength_nm\": [600, 530, 460]",
+			      &b, 1, NULL);
+	CHECK(sim != NULL);
+	if (!sim)
+		return;
+	pc_sim_info in;
+	pc_sim_get_info(sim, &in);
+	CHECK_EQ_INT(in.colour_channels, 3);
+	CHECK_EQ_INT(in.mosaic.period, 4);
+	double S[16 * 3 * 4];
+	CHECK_EQ_INT(pc_sim_truth_rows(sim, 0, 8, 9, S, NULL), 0);
+	/* pixel (8, 8): radiance per channel ∝ albedo 1, 2, 3 */
+	CHECK_NEAR(S[(8 * 3 + 1) * 4] / S[(8 * 3 + 0) * 4], 2, 1e-12);
+	CHECK_NEAR(S[(8 * 3 + 2) * 4] / S[(8 * 3 + 0) * 4], 3, 1e-12);
+	CHECK_EQ_INT(pc_sim_prepare(sim, 0, NULL, NULL, NULL, NULL), 0);
+	/* mean DN of a pixel above offset = K·t·η·(λ/hc)·…·albedo: ratios of neighbouring R, G, B
+	 * pixels (same analyser channel, unpolarized light) are (η λ albedo) ratios */
+	const double qe[3] = { 0.2, 0.3, 0.25 }, lam[3] = { 600, 530, 460 };
+	double m[3] = { 0, 0, 0 };
+	int seen[3] = { 0, 0, 0 };
+	for (uint32_t y = 4; y < 8; y++)
+		for (uint32_t x = 4; x < 8; x++) {
+			if (pc_mosaic_channel(&in.mosaic, x, y) != 0)
+				continue; /* the 0° analyser of each colour block */
+			pc_cfa_color col = pc_mosaic_color(&in.mosaic, x, y);
+			int k = col == PC_CFA_R ? 0 : col == PC_CFA_G ? 1 : 2;
+			double v;
+			pc_sim_mean_dn(sim, 0, NULL, x, y, &v);
+			if (!seen[k]) {
+				m[k] = v;
+				seen[k] = 1;
+			}
+		}
+	CHECK(seen[0] && seen[1] && seen[2]);
+	for (int k = 1; k < 3; k++)
+		CHECK_NEAR((m[k] / m[0]) / (qe[k] * lam[k] * (1 + k) / (qe[0] * lam[0])), 1, 2e-3);
+	CHECK_NEAR(pc_sim_dn_per_radiance(sim, NULL, 2) / pc_sim_dn_per_radiance(sim, NULL, 0),
+		   qe[2] * lam[2] / (qe[0] * lam[0]), 1e-12);
+	pc_sim_free(sim);
+}
+
+/* 8- and 10-bit sensors: natural formats, full scale, and the dark signal of a long exposure
+ * (mean µ_I·t, Poisson variance) */
+static void test_bits_dark(void)
+{
+	pc_sim_brdf lam = { brdf_lambert, NULL };
+	pc_sim *s8 = sim_new(1e4, "\"unpolarized\"", "",
+			     "\"preset\": \"ideal\", \"resolution\": [16, 16], \"bits\": 8", &lam, 1, NULL);
+	pc_sim *s10 = sim_new(1e4, "\"unpolarized\"", "",
+			      "\"preset\": \"ideal\", \"resolution\": [16, 16], \"bits\": 10", &lam, 1, NULL);
+	CHECK(s8 && s10);
+	if (s8 && s10) {
+		pc_sim_info a, b;
+		pc_sim_get_info(s8, &a);
+		pc_sim_get_info(s10, &b);
+		CHECK_EQ_INT(a.format, PC_FMT_MONO8);
+		CHECK_EQ_INT(b.format, PC_FMT_MONO10);
+		uint16_t *f8 = frame_u16(s8, 0, NULL), *f10 = frame_u16(s10, 0, NULL);
+		CHECK(f8 && f10 && f8[0] == 255 && f10[0] == 1023); /* saturated: full scale */
+		free(f8);
+		free(f10);
+	}
+	pc_sim_free(s8);
+	pc_sim_free(s10);
+	/* dark: 1000 e⁻/s for 0.5 s = 500 e⁻, K = 1, no read noise */
+	pc_sim *d = sim_new(0, "\"unpolarized\"", "\"noise\": true",
+			    "\"preset\": \"ideal\", \"resolution\": [128, 128], \"bits\": 16,"
+			    " \"gain_dn_per_e\": 1, \"dark_current_e_s\": 1000, \"exposure_us\": 5e5,"
+			    " \"full_well_e\": 1e5",
+			    &lam, 3, NULL);
+	CHECK(d != NULL);
+	if (d) {
+		uint16_t *f = frame_u16(d, 0, NULL);
+		double s = 0, s2 = 0;
+		for (int i = 0; i < 128 * 128; i++) {
+			s += f[i];
+			s2 += (double)f[i] * f[i];
+		}
+		double mean = s / (128 * 128), var = s2 / (128 * 128) - mean * mean;
+		CHECK_NEAR(mean, 500, 5 * sqrt(500.0 / (128 * 128)));
+		CHECK_NEAR(var / (500 + 1.0 / 12), 1, 0.05);
+		free(f);
+		pc_sim_free(d);
+	}
+}
+
 int main(void)
 {
+	test_colour();
+	test_bits_dark();
 	test_photon_transfer();
 	test_dolp_statistics();
 	test_neutral_effects();
