@@ -127,6 +127,11 @@ static void test_photon_transfer(void)
 	pc_sim_controls c = { 10, 0 };
 	CHECK_EQ_INT(pc_sim_mean_dn(sim, 0, &c, 64, 64, &mean_dn), 0);
 	double e_per_us = (mean_dn - off) / K / 10; /* electrons per µs of exposure */
+	/* the cached signal is float32: against the double truth through pc_sim_dn_per_radiance
+	 * (ideal analyser, unpolarized light: ½·S0), to float precision */
+	double S[4 * 256];
+	CHECK_EQ_INT(pc_sim_truth_rows(sim, 0, 64, 65, S, NULL), 0);
+	CHECK_NEAR((mean_dn - off) / (pc_sim_dn_per_radiance(sim, &c, 0) * 0.5 * S[4 * 64]), 1, 1e-6);
 	CHECK(e_per_us * 10 < 0.1 * fw);            /* the calibration point is far from saturation */
 	/* mean and temporal variance from two frames (EMVA 1288 §6.3: var = var(A − B)/2) */
 	double mu[16], var[16];

@@ -341,7 +341,8 @@ int cmd_demo(int argc, char **argv)
 		goto done;
 	}
 	pc_progress bar;
-	pc_progress_begin(&bar, "render", 2 * (uint64_t)H + 2);
+	pc_progress_begin(&bar, "render",
+			  (in.effects & PC_FX_CROSSTALK) ? 2 * (uint64_t)H + 2 : (uint64_t)H);
 	pc_sim_progress_adapter ad = { &bar, 0 };
 	double t0 = pc_cli_now();
 	rc = pc_sim_prepare(sim, 0, ts, NULL, pc_sim_progress_cb, &ad);

@@ -194,11 +194,13 @@ int cmd_render(int argc, char **argv)
 	double t_prep = pc_cli_now();
 	unsigned n_psg_used = (uint64_t)frames < in.n_psg ? (unsigned)frames : in.n_psg;
 	pc_progress bar;
-	pc_progress_begin(&bar, "render", (uint64_t)n_psg_used * (2 * in.height + 2));
+	/* rows per prepared state: H, or H + 2 (halo) + H (mixing) with crosstalk */
+	const uint64_t prep_rows = (in.effects & PC_FX_CROSSTALK) ? 2 * (uint64_t)in.height + 2 : in.height;
+	pc_progress_begin(&bar, "render", (uint64_t)n_psg_used * prep_rows);
 	pc_sim_progress_adapter ad = { &bar, 0 };
 	for (unsigned k = 0; k < n_psg_used; k++) {
 		unsigned g = (unsigned)((first + k) % in.n_psg);
-		ad.base = (uint64_t)k * (2 * in.height + 2);
+		ad.base = (uint64_t)k * prep_rows;
 		if ((rc = pc_sim_prepare(sim, g, ts, k == 0 ? tm : NULL, pc_sim_progress_cb, &ad))) {
 			pc_progress_end(&bar);
 			status = pc_cli_fail(rc, "render");
