@@ -20,43 +20,7 @@
 #include "polarcam/error.h"
 #include "polarcam/frame.h"
 #include "polarcam/sim.h"
-
-static int brdf_lambert(void *u, unsigned m, unsigned ch, const double ki[3], const double kr[3],
-			const double si[3], const double sr[3], double f[4][4])
-{
-	(void)u; (void)m; (void)ch; (void)si; (void)sr;
-	memset(f, 0, 16 * sizeof(double));
-	if (ki[2] > 0 && kr[2] > 0)
-		f[0][0] = 1 / M_PI;
-	return 0;
-}
-
-/* Polarization-preserving at normal incidence: the Mueller matrix of the real Jones matrix
- * [[s_r·s_i, s_r·p_i], [p_r·s_i, p_r·p_i]] (a rotation/projection), written out for real J:
- * M = A (J⊗J) A⁻¹ with a = J00, b = J01, c = J10, d = J11. */
-static int brdf_projector(void *u, unsigned m, unsigned ch, const double ki[3], const double kr[3],
-			  const double si[3], const double sr[3], double f[4][4])
-{
-	(void)u; (void)m; (void)ch;
-	double di[3] = { -ki[0], -ki[1], -ki[2] };
-	double pi_[3] = { di[1] * si[2] - di[2] * si[1], di[2] * si[0] - di[0] * si[2],
-			  di[0] * si[1] - di[1] * si[0] };
-	double pr[3] = { kr[1] * sr[2] - kr[2] * sr[1], kr[2] * sr[0] - kr[0] * sr[2],
-			 kr[0] * sr[1] - kr[1] * sr[0] };
-#define DOT(x, y) (x[0] * y[0] + x[1] * y[1] + x[2] * y[2])
-	double a = DOT(sr, si), b = DOT(sr, pi_), c = DOT(pr, si), d = DOT(pr, pi_);
-#undef DOT
-	double M[4][4] = {
-		{ (a * a + b * b + c * c + d * d) / 2, (a * a - b * b + c * c - d * d) / 2, a * b + c * d, 0 },
-		{ (a * a + b * b - c * c - d * d) / 2, (a * a - b * b - c * c + d * d) / 2, a * b - c * d, 0 },
-		{ a * c + b * d, a * c - b * d, a * d + b * c, 0 },
-		{ 0, 0, 0, a * d - b * c },
-	};
-	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++)
-			f[i][j] = M[i][j] / M_PI;
-	return 0;
-}
+#include "sim_stand_in.h"
 
 /* A downward camera over a ground plane, light from straight above: uniform scenes. */
 #define SCENE_FMT                                                                                \
