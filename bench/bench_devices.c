@@ -1,12 +1,442 @@
+/* polarcam bench devices: GigE Vision serve -> capture over loopback at 2448x2048 Mono16 and
+ * capture -> pipeline live, inside a private network namespace (the benchmark re-executes
+ * itself under `unshare -n` with only loopback up, so nothing it sends leaves the machine).
+ *
+ * Phases, all measured in the same run (ratios against the baselines of this run):
+ *   transport   the camera sends pre-rendered simulator frames (copy only) as fast as the
+ *               camera model allows (1000 fps requested): frames/s, MB/s, missing packets
+ *   serve30     the same at the goal rate (30 fps): achieved rate / goal, missing packets
+ *   live        serve with frames rendered while streaming (the simulator's sensor chain per
+ *               frame, render-ahead): achieved rate, next to the simulator's own frame rate
+ *   pipeline    capture -> demosaic + Stokes (pc_stokes_from_raw) per frame at 30 fps: per
+ *               frame processing time against the frame period, drops, and the latency trend
+ *               (a growing queue shows as latency rising frame after frame)
+ *   alone       the pipeline on one frame without transport (its baseline) */
+#include <jansson.h>
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "bench.h"
+#include "cli.h"
+#include "polarcam/error.h"
+#include "polarcam/gige_server.h"
+#include "polarcam/source.h"
+#include "source_cli.h"
 
-/* Placeholder until issue 5 lands this benchmark. */
+typedef struct bench_opts {
+	const char *scene;
+	uint64_t packet_size;
+	double seconds;
+	unsigned cycle;
+	const char *format;
+	bool quick, json;
+} bench_opts;
+
+typedef struct phase_result {
+	double fps, mbps, seconds;
+	uint64_t frames, failed, dropped, underruns, missing_packets, resent_packets;
+	double proc_ms_mean, proc_ms_max;
+	uint64_t proc_n;
+	double lat_first_ms, lat_last_ms, lat_slope_ms_per_s;
+	int error;
+	char errmsg[256];
+} phase_result;
+
+static uint64_t realtime_ns(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_REALTIME, &ts);
+	return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+}
+
+/* Least-squares slope of y over x. */
+static double slope(const double *x, const double *y, size_t n)
+{
+	if (n < 3)
+		return 0;
+	double mx = 0, my = 0, sxx = 0, sxy = 0;
+	for (size_t i = 0; i < n; i++) {
+		mx += x[i];
+		my += y[i];
+	}
+	mx /= (double)n;
+	my /= (double)n;
+	for (size_t i = 0; i < n; i++) {
+		sxx += (x[i] - mx) * (x[i] - mx);
+		sxy += (x[i] - mx) * (y[i] - my);
+	}
+	return sxx > 0 ? sxy / sxx : 0;
+}
+
+/* Streams from the camera on 127.0.0.1 for `seconds` at `fps`; with process, every frame goes
+ * through the pipeline. */
+static void stream_phase(const bench_opts *o, double fps, bool process, phase_result *r)
+{
+	memset(r, 0, sizeof *r);
+	pc_stream_args sa;
+	pc_stream_args_init(&sa);
+	char uri[128];
+	snprintf(uri, sizeof uri, "aravis:127.0.0.1?packet_size=%llu",
+		 (unsigned long long)o->packet_size);
+	sa.uri = uri;
+	sa.format = o->format;
+	sa.fps = fps;
+	sa.buffers = 16;
+	sa.timeout_ms = 5000;
+	pc_source *s = NULL;
+	pc_live lv;
+	memset(&lv, 0, sizeof lv);
+	lv.method = PC_DM_BILINEAR;
+	int rc = pc_stream_open(&sa, &s);
+	if (!rc)
+		rc = pc_source_start(s);
+	size_t cap = (size_t)(fps * o->seconds * 1.5) + 64;
+	double *lt = malloc(cap * sizeof *lt), *lx = malloc(cap * sizeof *lx);
+	size_t nl = 0;
+	double t0 = pc_cli_now(), proc_sum = 0;
+	pc_source_format f;
+	memset(&f, 0, sizeof f);
+	if (s)
+		pc_source_get_format(s, &f);
+	while (!rc && pc_cli_now() - t0 < o->seconds) {
+		pc_buffer *b = NULL;
+		rc = pc_source_dequeue(s, sa.timeout_ms, &b);
+		if (rc)
+			break;
+		/* the first half second warms up (allocations, caches): not in the statistics */
+		bool warm = pc_cli_now() - t0 >= 0.5;
+		if (process) {
+			rc = pc_live_process(&lv, &b->frame);
+			if (warm) {
+				proc_sum += lv.process_s;
+				r->proc_n++;
+				if (lv.process_s * 1e3 > r->proc_ms_max)
+					r->proc_ms_max = lv.process_s * 1e3;
+			}
+		}
+		if (warm && nl < cap && lt && lx) {
+			lt[nl] = pc_cli_now() - t0;
+			lx[nl] = (double)((int64_t)(realtime_ns() - b->frame.meta.timestamp_ns)) / 1e6;
+			nl++;
+		}
+		r->frames++;
+		int rc2 = pc_source_requeue(s, b);
+		if (!rc)
+			rc = rc2;
+	}
+	r->seconds = pc_cli_now() - t0;
+	if (rc) {
+		r->error = rc;
+		snprintf(r->errmsg, sizeof r->errmsg, "%s", pc_error_detail());
+	}
+	if (s && pc_source_get_state(s) == PC_SOURCE_STREAMING)
+		pc_source_stop(s);
+	if (s) {
+		pc_source_stats st;
+		pc_source_get_stats(s, &st);
+		r->failed = st.failed;
+		r->dropped = st.dropped;
+		r->underruns = st.underruns;
+		r->missing_packets = st.missing_packets;
+		r->resent_packets = st.resent_packets;
+	}
+	r->fps = r->seconds > 0 ? (double)r->frames / r->seconds : 0;
+	r->mbps = r->fps * (double)f.frame_bytes / 1e6;
+	if (process && r->proc_n)
+		r->proc_ms_mean = 1e3 * proc_sum / (double)r->proc_n;
+	if (nl > 2) {
+		/* medians of the first and last tenth, and the trend over the whole phase */
+		size_t k = nl / 10 ? nl / 10 : 1;
+		double a = 0, z = 0;
+		for (size_t i = 0; i < k; i++) {
+			a += lx[i];
+			z += lx[nl - 1 - i];
+		}
+		r->lat_first_ms = a / (double)k;
+		r->lat_last_ms = z / (double)k;
+		r->lat_slope_ms_per_s = slope(lt, lx, nl);
+	}
+	free(lt);
+	free(lx);
+	pc_live_free(&lv);
+	pc_source_close(s);
+}
+
+static json_t *phase_json(const char *name, double goal, const phase_result *r)
+{
+	json_t *j = json_object();
+	json_object_set_new(j, "phase", json_string(name));
+	json_object_set_new(j, "goal_fps", goal > 0 ? pc_json_real(goal) : json_null());
+	json_object_set_new(j, "fps", pc_json_real(r->fps));
+	json_object_set_new(j, "ratio_to_goal", goal > 0 ? pc_json_real(r->fps / goal) : json_null());
+	json_object_set_new(j, "mb_per_s", pc_json_real(r->mbps));
+	json_object_set_new(j, "frames", json_integer((json_int_t)r->frames));
+	json_object_set_new(j, "seconds", pc_json_real(r->seconds));
+	json_object_set_new(j, "failed", json_integer((json_int_t)r->failed));
+	json_object_set_new(j, "dropped", json_integer((json_int_t)r->dropped));
+	json_object_set_new(j, "underruns", json_integer((json_int_t)r->underruns));
+	json_object_set_new(j, "missing_packets", json_integer((json_int_t)r->missing_packets));
+	json_object_set_new(j, "resent_packets", json_integer((json_int_t)r->resent_packets));
+	if (r->proc_ms_mean > 0) {
+		json_object_set_new(j, "process_ms_mean", pc_json_real(r->proc_ms_mean));
+		json_object_set_new(j, "process_ms_max", pc_json_real(r->proc_ms_max));
+		json_object_set_new(j, "latency_first_ms", pc_json_real(r->lat_first_ms));
+		json_object_set_new(j, "latency_last_ms", pc_json_real(r->lat_last_ms));
+		json_object_set_new(j, "latency_trend_ms_per_s", pc_json_real(r->lat_slope_ms_per_s));
+	}
+	json_object_set_new(j, "error", r->error ? json_string(r->errmsg) : json_null());
+	return j;
+}
+
+static void print_phase(const bench_opts *o, const char *name, double goal, const phase_result *r)
+{
+	if (o->json) {
+		pc_cli_print_json(phase_json(name, goal, r));
+		return;
+	}
+	printf("%-10s %8.1f fps", name, r->fps);
+	if (goal > 0)
+		printf(" (%5.2fx the %g fps goal)", r->fps / goal, goal);
+	else
+		printf("                        ");
+	printf(" %7.0f MB/s  frames %-5llu missing packets %llu, dropped %llu, failed %llu, "
+	       "underruns %llu",
+	       r->mbps, (unsigned long long)r->frames, (unsigned long long)r->missing_packets,
+	       (unsigned long long)r->dropped, (unsigned long long)r->failed,
+	       (unsigned long long)r->underruns);
+	if (r->proc_ms_mean > 0)
+		printf("\n           pipeline %.1f ms/frame (max %.1f) = %.2f of the frame period; "
+		       "latency %.1f -> %.1f ms (trend %+.2f ms/s)",
+		       r->proc_ms_mean, r->proc_ms_max, r->proc_ms_mean * goal / 1e3, r->lat_first_ms,
+		       r->lat_last_ms, r->lat_slope_ms_per_s);
+	if (r->error)
+		printf("\n           stopped: %s", r->errmsg);
+	printf("\n");
+	fflush(stdout);
+}
+
+static int serve(const bench_opts *o, unsigned cycle, pc_gige_server **srv, double *prep_s)
+{
+	char uri[700];
+	snprintf(uri, sizeof uri, "sim:%s?seed=0&fps=0", o->scene);
+	pc_gige_server_options so;
+	memset(&so, 0, sizeof so);
+	so.source_uri = uri;
+	so.cycle = cycle;
+	so.ahead = 4;
+	so.frame_rate_hz = 30;
+	double t0 = pc_cli_now();
+	int rc = pc_gige_server_start(srv, &so);
+	*prep_s = pc_cli_now() - t0;
+	return rc;
+}
+
+static void usage(FILE *fp)
+{
+	fprintf(fp,
+		"usage: polarcam bench devices [options]\n\n"
+		"GigE Vision over loopback (polarcam's camera and the aravis: source in one process,\n"
+		"inside a private network namespace) and the live pipeline; see bench/bench_devices.c.\n\n"
+		"  --scene S          simulator scene (default: the built-in 2448x2048 scene)\n"
+		"  --packet-size N    GigE Vision packet size (default 8972; Aravis's automatic choice\n"
+		"                     is 1400 on loopback)\n"
+		"  --format NAME      pixel format (default Mono16)\n"
+		"  --seconds S        seconds per phase (default 5)\n"
+		"  --cycle K          distinct pre-rendered frames the camera cycles through (default 4)\n"
+		"  --quick            small scene, 1 s phases (a smoke run, for the test suite)\n"
+		"  --json             one JSON line per phase\n");
+}
+
 int pc_bench_devices(int argc, char **argv)
 {
-	(void)argc;
-	(void)argv;
-	fprintf(stderr, "polarcam bench devices: not implemented yet (issue 5)\n");
-	return 1;
+	if (pc_cli_wants_help(argc, argv)) {
+		usage(stdout);
+		return PC_EXIT_OK;
+	}
+	bench_opts o = { "default", 8972, 5, 4, "Mono16", false, false };
+	char scene_buf[600];
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		int rc = 0;
+		long l;
+		if (!strcmp(a, "--quick")) {
+			o.quick = true;
+		} else if (!strcmp(a, "--json")) {
+			o.json = true;
+		} else if (i + 1 < argc && !strcmp(a, "--scene")) {
+			o.scene = argv[++i];
+		} else if (i + 1 < argc && !strcmp(a, "--packet-size")) {
+			rc = pc_cli_parse_long(a, argv[++i], 576, 65000, &l);
+			o.packet_size = (uint64_t)l;
+		} else if (i + 1 < argc && !strcmp(a, "--format")) {
+			o.format = argv[++i];
+		} else if (i + 1 < argc && !strcmp(a, "--seconds")) {
+			rc = pc_cli_parse_double(a, argv[++i], &o.seconds);
+			if (!rc && (o.seconds < 0.2 || o.seconds > 600))
+				rc = pc_error(PC_EINVAL, "--seconds %g: expected 0.2..600", o.seconds);
+		} else if (i + 1 < argc && !strcmp(a, "--cycle")) {
+			rc = pc_cli_parse_long(a, argv[++i], 1, 64, &l);
+			o.cycle = (unsigned)l;
+		} else {
+			return pc_cli_error(PC_EXIT_USAGE, "unknown or incomplete option '%s' (see --help)", a);
+		}
+		if (rc)
+			return pc_cli_fail(rc, "arguments");
+	}
+	if (o.quick) {
+		const char *src = getenv("PC_SOURCE_DIR");
+		snprintf(scene_buf, sizeof scene_buf, "%s/scenes/ideal_small.json", src ? src : ".");
+		if (!strcmp(o.scene, "default"))
+			o.scene = scene_buf;
+		o.seconds = 1;
+	}
+	/* Run inside a private network namespace with only loopback: re-execute ourselves. */
+	if (!getenv("PC_BENCH_NETNS")) {
+		setenv("PC_BENCH_NETNS", "1", 1);
+		char **nargv = calloc((size_t)argc + 10, sizeof *nargv);
+		if (!nargv)
+			return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		int n = 0;
+		nargv[n++] = "unshare";
+		nargv[n++] = "-n";
+		nargv[n++] = "sh";
+		nargv[n++] = "-c";
+		nargv[n++] = "ip link set lo up && exec \"$@\"";
+		char self[4096];
+		ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
+		if (len <= 0) {
+			free(nargv);
+			return pc_cli_error(PC_EXIT_FAILURE, "cannot find this program (/proc/self/exe)");
+		}
+		self[len] = '\0';
+		nargv[n++] = "sh";
+		nargv[n++] = self;
+		nargv[n++] = "bench";
+		for (int i = 0; i < argc; i++)
+			nargv[n++] = argv[i];
+		nargv[n] = NULL;
+		fflush(NULL);
+		execvp("unshare", nargv);
+		free(nargv);
+		return pc_cli_error(PC_EXIT_FAILURE, "cannot run in a private network namespace "
+						     "(unshare -n needs root; Debian: util-linux, iproute2): "
+						     "refusing to stream GigE Vision outside one");
+	}
+
+	if (!o.json)
+		printf("polarcam bench devices: scene %s, %s, packet size %llu, %g s per phase, "
+		       "2 cores shared (ratios are against baselines of this run)\n",
+		       o.scene, o.format, (unsigned long long)o.packet_size, o.seconds);
+	pc_gige_server *srv = NULL;
+	double prep = 0;
+	int rc = serve(&o, o.cycle, &srv, &prep);
+	if (rc) {
+		pc_devices_shutdown();
+		return pc_cli_fail(rc, "starting the camera");
+	}
+	pc_gige_server_stats sst;
+	pc_gige_server_get_stats(srv, &sst);
+	if (!o.json)
+		printf("camera: %ux%u %u-bit sensor, %u pre-rendered frames in %.1f s\n",
+		       sst.sensor_width, sst.sensor_height, sst.bits, o.cycle, prep);
+	phase_result transport, at30, live, pipe;
+	stream_phase(&o, 1000, false, &transport);
+	print_phase(&o, "transport", 0, &transport);
+	stream_phase(&o, 30, false, &at30);
+	print_phase(&o, "serve30", 30, &at30);
+	stream_phase(&o, 30, true, &pipe);
+	print_phase(&o, "pipeline", 30, &pipe);
+	pc_gige_server_stop(srv);
+
+	/* the pipeline alone on one frame of the same size (its baseline) */
+	phase_result alone;
+	memset(&alone, 0, sizeof alone);
+	{
+		char uri[700];
+		snprintf(uri, sizeof uri, "sim:%s?seed=0&fps=0", o.scene);
+		pc_stream_args sa;
+		pc_stream_args_init(&sa);
+		sa.uri = uri;
+		sa.buffers = 1;
+		pc_source *s = NULL;
+		pc_live lv;
+		memset(&lv, 0, sizeof lv);
+		lv.method = PC_DM_BILINEAR;
+		double sim_t = 0;
+		unsigned sim_n = 0;
+		rc = pc_stream_open(&sa, &s);
+		if (!rc)
+			rc = pc_source_start(s);
+		pc_buffer *b = NULL;
+		for (unsigned k = 0; !rc && k < 3; k++) { /* simulator frames: its own frame rate */
+			double t = pc_cli_now();
+			rc = pc_source_dequeue(s, 600000, &b);
+			if (!rc && k > 0) {
+				sim_t += pc_cli_now() - t;
+				sim_n++;
+			}
+			if (!rc && k < 2)
+				rc = pc_source_requeue(s, b);
+		}
+		double t0 = pc_cli_now();
+		while (!rc && pc_cli_now() - t0 < o.seconds) {
+			rc = pc_live_process(&lv, &b->frame);
+			alone.frames++;
+			alone.proc_ms_mean += lv.process_s * 1e3;
+		}
+		alone.seconds = pc_cli_now() - t0;
+		if (alone.frames)
+			alone.proc_ms_mean /= (double)alone.frames;
+		alone.fps = alone.seconds > 0 ? (double)alone.frames / alone.seconds : 0;
+		if (rc) {
+			alone.error = rc;
+			snprintf(alone.errmsg, sizeof alone.errmsg, "%s", pc_error_detail());
+		}
+		if (o.json) {
+			json_t *j = phase_json("alone", 0, &alone);
+			json_object_set_new(j, "process_ms_mean", pc_json_real(alone.proc_ms_mean));
+			json_object_set_new(j, "simulator_frame_s",
+					    sim_n ? pc_json_real(sim_t / sim_n) : json_null());
+			pc_cli_print_json(j);
+		} else {
+			printf("alone      %8.1f fps   pipeline %.1f ms/frame without transport (bilinear "
+			       "demosaic + Stokes + DoLP + AoLP); simulator sensor chain %.2f s/frame\n",
+			       alone.fps, alone.proc_ms_mean, sim_n ? sim_t / sim_n : NAN);
+		}
+		pc_live_free(&lv);
+		pc_source_close(s);
+	}
+
+	/* live: frames rendered while streaming */
+	rc = serve(&o, 0, &srv, &prep);
+	if (rc) {
+		pc_devices_shutdown();
+		return pc_cli_fail(rc, "starting the camera (live)");
+	}
+	stream_phase(&o, 30, false, &live);
+	print_phase(&o, "live", 30, &live);
+	pc_gige_server_get_stats(srv, &sst);
+	if (!o.json)
+		printf("           camera: %llu frames served, %llu of them late (waited for the "
+		       "simulator)\n",
+		       (unsigned long long)sst.served, (unsigned long long)sst.late);
+	pc_gige_server_stop(srv);
+	pc_devices_shutdown();
+	if (!o.json) {
+		printf("\nsummary: serve->capture %.1f fps at the 30 fps goal (%.2fx), transport capacity "
+		       "%.1f fps = %.0f MB/s, missing packets %llu; live pipeline %.1f ms per frame = "
+		       "%.2fx the 33.3 ms period (alone %.1f ms: %.2fx), latency trend %+.2f ms/s\n",
+		       at30.fps, at30.fps / 30, transport.fps, transport.mbps,
+		       (unsigned long long)(transport.missing_packets + at30.missing_packets +
+					    pipe.missing_packets),
+		       pipe.proc_ms_mean, pipe.proc_ms_mean * 30 / 1e3, alone.proc_ms_mean,
+		       alone.proc_ms_mean > 0 ? pipe.proc_ms_mean / alone.proc_ms_mean : 0,
+		       pipe.lat_slope_ms_per_s);
+	}
+	return transport.error || at30.error || pipe.error ? PC_EXIT_FAILURE : PC_EXIT_OK;
 }

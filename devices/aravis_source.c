@@ -540,8 +540,18 @@ static int a_stop(pc_source *s)
 
 /* 64-bit sequence from GigE Vision 1.x 16-bit block ids (0 is skipped by real cameras on
  * wrap-around; Aravis's simulator sends it). */
-static uint64_t unwrap_id(arv_src *a, uint64_t id)
+static uint64_t unwrap_id(arv_src *a, uint64_t id, bool damaged)
 {
+	if (damaged && a->have_id) {
+		/* a damaged frame's id may be missing (0) or stale: unless it is exactly the next
+		 * one, take it as the next frame and keep counting from there */
+		uint64_t next = a->wide_ids ? a->last_id + 1 : (a->last_id + 1) & 0xffff;
+		if (id != next && !(next == 0 && id == 1)) {
+			a->last_id = next;
+			a->seq += 1;
+			return a->seq;
+		}
+	}
 	if (id > 0xffff)
 		a->wide_ids = true;
 	if (!a->have_id) {
@@ -628,7 +638,7 @@ static int a_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 	}
 	b->frame.view = (pc_view){ (void *)data, f->width, f->height, f->stride, f->format };
 	memset(&b->frame.meta, 0, sizeof b->frame.meta);
-	b->frame.meta.sequence = unwrap_id(a, arv_buffer_get_frame_id(ab));
+	b->frame.meta.sequence = unwrap_id(a, arv_buffer_get_frame_id(ab), status != 0);
 	uint64_t ts = arv_buffer_get_timestamp(ab);
 	if (!ts)
 		ts = arv_buffer_get_system_timestamp(ab);

@@ -20,3 +20,12 @@ if(PC_HAVE_OPENCV)
   set_tests_properties(devices_view_xvfb PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120
     ENVIRONMENT "${PC_TEST_ENV}")
 endif()
+
+# The devices benchmark runs end to end (a smoke run on the small scene; its numbers are not
+# checked: tests never time things).
+if(PC_HAVE_ARAVIS)
+  add_test(NAME devices_bench_smoke COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/netns.sh
+    $<TARGET_FILE:polarcam> bench devices --quick --json)
+  set_tests_properties(devices_bench_smoke PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
+    RESOURCE_LOCK gige ENVIRONMENT "${PC_TEST_ENV};PC_BENCH_NETNS=1")
+endif()
