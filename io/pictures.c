@@ -11,16 +11,22 @@
 #include "polarcam/stokes.h"
 
 static int write_one(const char *dir, const char *name, const uint8_t *rgb, uint32_t w, uint32_t h,
-		     const char *title, const pc_colorbar *bar)
+		     const char *title, const pc_colorbar *bar, uint32_t max_width)
 {
 	char path[4096];
 	if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path)
 		return pc_error(PC_EINVAL, "%s: directory path too long", dir);
-	return pc_image_write_png(path, rgb, w, h, (size_t)w * 3, title, bar, 0);
+	return pc_image_write_png(path, rgb, w, h, (size_t)w * 3, title, bar, max_width);
 }
 
 int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, uint32_t height,
 		      const char *title_prefix)
+{
+	return pc_pictures_write_ex(dir, st, width, height, title_prefix, 0);
+}
+
+int pc_pictures_write_ex(const char *dir, const pc_stokes_out *st, uint32_t width,
+			 uint32_t height, const char *title_prefix, uint32_t max_width)
 {
 	if (!dir || !st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
@@ -37,13 +43,13 @@ int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, 
 	pc_colorbar bar = { "S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL };
 	snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
 	if (!rc)
-		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar);
+		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar, max_width);
 	if (!rc)
 		rc = pc_picture_grey(&st->dolp, width, height, 0, 1, rgb, (size_t)width * 3);
 	pc_colorbar dbar = { "DoLP", 0, 1, NULL, 0, 0, pc_picture_grey_key, NULL };
 	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)", pre);
 	if (!rc)
-		rc = write_one(dir, "dolp.png", rgb, width, height, title, &dbar);
+		rc = write_one(dir, "dolp.png", rgb, width, height, title, &dbar, max_width);
 	static const pc_aolp_style styles[2] = { PC_AOLP_VALUE, PC_AOLP_SATURATION };
 	static const char *names[2] = { "aolp.png", "aolp_sat.png" };
 	static const char *what[2] = { "value", "saturation" };
@@ -54,7 +60,7 @@ int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, 
 				     pc_picture_aolp_key, (void *)&styles[k] };
 		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)", pre, what[k]);
 		if (!rc)
-			rc = write_one(dir, names[k], rgb, width, height, title, &abar);
+			rc = write_one(dir, names[k], rgb, width, height, title, &abar, max_width);
 	}
 	free(rgb);
 	return rc;

@@ -109,6 +109,9 @@ int pc_bmp_read(const char *path, pc_view *out);
 struct pc_stokes_out;
 int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
 		      uint32_t height, const char *title_prefix);
+/* The same, downscaled for display to at most max_width pixels wide (0: full size). */
+int pc_pictures_write_ex(const char *dir, const struct pc_stokes_out *st, uint32_t width,
+			 uint32_t height, const char *title_prefix, uint32_t max_width);
 
 /* Loads a ground-truth directory for the evaluation protocol (polarcam/eval.h): the analyser
  * images named 0, 45, 90 and 135 with any extension pc_image_read knows (.tif, .tiff, .png,

@@ -1,0 +1,298 @@
+/* The pipeline's commands as users run them ($POLARCAM): demosaic, process and eval outputs
+ * against the library, --list and --help, and bad input: exit status 2, a message naming the
+ * file, and no output left behind. Synthetic files in a temporary directory. */
+#include <dirent.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "polarcam/demosaic.h"
+#include "polarcam/error.h"
+#include "polarcam/eval.h"
+#include "polarcam/io.h"
+#include "polarcam/stokes.h"
+
+static char dir[64];
+static const char *exe;
+
+static const char *tmp(const char *name)
+{
+	static char buf[8][200];
+	static int k;
+	k = (k + 1) % 8;
+	snprintf(buf[k], sizeof buf[k], "%s/%s", dir, name);
+	return buf[k];
+}
+
+/* Runs "$POLARCAM args" with stdout to out.txt and stderr to err.txt; returns the exit status. */
+static int run(const char *args)
+{
+	char cmd[2048];
+	snprintf(cmd, sizeof cmd, "%s %s >%s 2>%s", exe, args, tmp("out.txt"), tmp("err.txt"));
+	int st = system(cmd);
+	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static int file_contains(const char *path, const char *what)
+{
+	FILE *fp = fopen(path, "rb");
+	if (!fp)
+		return 0;
+	char buf[8192];
+	size_t n = fread(buf, 1, sizeof buf - 1, fp);
+	fclose(fp);
+	buf[n] = '\0';
+	return strstr(buf, what) != NULL;
+}
+
+static int exists(const char *path)
+{
+	struct stat st;
+	return stat(path, &st) == 0;
+}
+
+/* a 12-bit mosaic of a polarized scene */
+static void make_raw(pc_view *v, uint32_t w, uint32_t h)
+{
+	pc_view_alloc(v, PC_FMT_MONO12, w, h, 0);
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++) {
+			unsigned c = pc_mosaic_channel(&m, x, y);
+			double s0 = 2000 + 1000 * sin(0.2 * x) * cos(0.15 * y);
+			double a = 0.3 + 0.01 * x;
+			PC_ROW(v, uint16_t, y)[x] =
+				(uint16_t)lround(s0 / 2 * (1 + 0.4 * cos(2 * (a - c * M_PI / 4))));
+		}
+}
+
+static void test_demosaic_cmd(void)
+{
+	CHECK_EQ_INT(run("demosaic --help"), 0);
+	CHECK(file_contains(tmp("out.txt"), "usage: polarcam demosaic"));
+	CHECK_EQ_INT(run("demosaic --list"), 0);
+	for (int k = 0; k < PC_DM_COUNT; k++)
+		CHECK(file_contains(tmp("out.txt"), pc_demosaic_method_get((pc_demosaic_method)k)->name));
+	CHECK_EQ_INT(run("demosaic --list --json"), 0);
+
+	pc_view raw;
+	make_raw(&raw, 32, 24);
+	CHECK_EQ_INT(pc_png_write(tmp("raw.png"), &raw), 0);
+	char args[512];
+	snprintf(args, sizeof args, "demosaic %s --method eari -o %s", tmp("raw.png"), tmp("d.npy"));
+	CHECK_EQ_INT(run(args), 0);
+	pc_array a;
+	CHECK_EQ_INT(pc_npy_read(tmp("d.npy"), &a), 0);
+	CHECK(a.ndim == 3 && a.shape[0] == 24 && a.shape[1] == 32 && a.shape[2] == 4 &&
+	      a.dtype == PC_DT_F32);
+	float *want = malloc(sizeof(float) * 32 * 24 * 4);
+	pc_fplane p[4];
+	pc_fplanes_interleaved(want, 32, 4, p);
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_EARI, NULL, p), 0);
+	CHECK(memcmp(want, a.data, sizeof(float) * 32 * 24 * 4) == 0);
+	pc_array_free(&a);
+	free(want);
+	/* float TIFF output */
+	snprintf(args, sizeof args, "demosaic %s -o %s", tmp("raw.png"), tmp("d.tif"));
+	CHECK_EQ_INT(run(args), 0);
+	CHECK_EQ_INT(pc_tiff_read_array(tmp("d.tif"), &a), 0);
+	CHECK(a.ndim == 3 && a.shape[2] == 4);
+	pc_array_free(&a);
+	/* a headerless raw with explicit geometry (Mono12p) */
+	pc_view packed;
+	CHECK_EQ_INT(pc_view_alloc(&packed, PC_FMT_MONO12P, 32, 24, 1), 0);
+	CHECK_EQ_INT(pc_view_from_u16(raw.data, raw.stride, &packed), 0);
+	CHECK_EQ_INT(pc_write_file_atomic(tmp("raw.bin"), packed.data, packed.stride * 24), 0);
+	snprintf(args, sizeof args,
+		 "demosaic %s --width 32 --height 24 --format PolarizeMono12p -o %s", tmp("raw.bin"),
+		 tmp("p.npy"));
+	CHECK_EQ_INT(run(args), 0);
+	pc_view_free(&packed);
+	pc_view_free(&raw);
+}
+
+/* Every bad input: exit 2, the file named, no output. */
+static void test_bad_input(void)
+{
+	char args[512];
+	pc_view raw;
+	/* odd size */
+	make_raw(&raw, 31, 24);
+	CHECK_EQ_INT(pc_png_write(tmp("odd.png"), &raw), 0);
+	pc_view_free(&raw);
+	snprintf(args, sizeof args, "demosaic %s -o %s", tmp("odd.png"), tmp("x.npy"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "odd.png") && file_contains(tmp("err.txt"), "even"));
+	CHECK(!exists(tmp("x.npy")));
+	/* 12-bit data with a value above 4095 */
+	uint16_t px[4][4] = { { 1, 2, 3, 4 }, { 5, 6, 7, 8 }, { 9, 10, 4096, 12 }, { 1, 2, 3, 4 } };
+	pc_view big = { px, 4, 4, sizeof px[0], PC_FMT_MONO16 };
+	size_t s2[2] = { 4, 4 };
+	CHECK_EQ_INT(pc_npy_write(tmp("big.npy"), px, PC_DT_U16, 2, s2), 0);
+	(void)big;
+	snprintf(args, sizeof args, "process %s --bits 12 -o %s", tmp("big.npy"), tmp("outdir"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "big.npy") && file_contains(tmp("err.txt"), "4096"));
+	CHECK(!exists(tmp("outdir")));
+	/* wrong bit depth: 8-bit data declared 12-bit */
+	uint8_t p8[4][4] = { { 0 } };
+	CHECK_EQ_INT(pc_npy_write(tmp("b8.npy"), p8, PC_DT_U8, 2, s2), 0);
+	snprintf(args, sizeof args, "demosaic %s --bits 12 -o %s", tmp("b8.npy"), tmp("x.npy"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "bit depth"));
+	/* NaN */
+	float pf[4][4] = { { 0 } };
+	pf[1][2] = NAN;
+	CHECK_EQ_INT(pc_npy_write(tmp("nan.npy"), pf, PC_DT_F32, 2, s2), 0);
+	snprintf(args, sizeof args, "demosaic %s -o %s", tmp("nan.npy"), tmp("x.npy"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "NaN"));
+	/* truncated files */
+	make_raw(&raw, 32, 24);
+	CHECK_EQ_INT(pc_tiff_write(tmp("t.tif"), &raw), 0);
+	pc_view_free(&raw);
+	CHECK_EQ_INT(truncate(tmp("t.tif"), 300), 0);
+	snprintf(args, sizeof args, "demosaic %s -o %s", tmp("t.tif"), tmp("x.npy"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "t.tif"));
+	snprintf(args, sizeof args, "demosaic %s --width 32 --height 24 --format Mono16 -o %s",
+		 tmp("t.tif"), tmp("x.npy"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "truncated"));
+	/* layouts that are not permutations of 0/45/90/135 */
+	snprintf(args, sizeof args, "demosaic %s --layout 90,45,135,45 -o %s", tmp("odd.png"),
+		 tmp("x.npy"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "permutation"));
+	snprintf(args, sizeof args, "demosaic %s --layout 90,45,13 -o %s", tmp("odd.png"),
+		 tmp("x.npy"));
+	CHECK_EQ_INT(run(args), 2);
+	/* unknown method, unknown option, missing file, no output */
+	snprintf(args, sizeof args, "demosaic %s --method magic -o %s", tmp("odd.png"), tmp("x.npy"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "bilinear"));
+	CHECK_EQ_INT(run("demosaic --frobnicate"), 2);
+	snprintf(args, sizeof args, "demosaic %s -o %s", tmp("missing.png"), tmp("x.npy"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "missing.png"));
+	snprintf(args, sizeof args, "demosaic %s", tmp("odd.png"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(!exists(tmp("x.npy")));
+}
+
+static void test_process_cmd(void)
+{
+	CHECK_EQ_INT(run("process --help"), 0);
+	pc_view raw;
+	make_raw(&raw, 40, 32);
+	CHECK_EQ_INT(pc_png_write(tmp("p.png"), &raw), 0);
+	char args[512];
+	snprintf(args, sizeof args, "process %s -o %s --method ppid", tmp("p.png"), tmp("proc"));
+	CHECK_EQ_INT(run(args), 0);
+	const char *files[] = { "stokes.npy", "dolp.npy", "aolp.npy", "s0.png",
+				"dolp.png",   "aolp.png", "aolp_sat.png", "meta.json" };
+	for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
+		char name[64];
+		snprintf(name, sizeof name, "proc/%s", files[k]);
+		CHECK(exists(tmp(name)));
+	}
+	pc_array st, dl, al;
+	CHECK_EQ_INT(pc_npy_read(tmp("proc/stokes.npy"), &st), 0);
+	CHECK_EQ_INT(pc_npy_read(tmp("proc/dolp.npy"), &dl), 0);
+	CHECK_EQ_INT(pc_npy_read(tmp("proc/aolp.npy"), &al), 0);
+	CHECK(st.ndim == 3 && st.shape[0] == 32 && st.shape[1] == 40 && st.shape[2] == 3);
+	CHECK(dl.ndim == 2 && al.ndim == 2);
+	/* the files agree with the library's pipeline */
+	float *s = malloc(sizeof(float) * 40 * 32 * 3);
+	pc_stokes_out so;
+	memset(&so, 0, sizeof so);
+	so.s0 = (pc_fplane){ s, 120, 3 };
+	so.s1 = (pc_fplane){ s + 1, 120, 3 };
+	so.s2 = (pc_fplane){ s + 2, 120, 3 };
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, PC_DM_PPID, NULL, &so), 0);
+	CHECK(memcmp(s, st.data, sizeof(float) * 40 * 32 * 3) == 0);
+	const float *a = al.data, *d = dl.data;
+	int ok = 1;
+	for (int i = 0; i < 40 * 32; i++)
+		ok &= a[i] >= 0 && a[i] < (float)M_PI && d[i] >= 0 && d[i] <= 1;
+	CHECK(ok);
+	free(s);
+	pc_array_free(&st);
+	pc_array_free(&dl);
+	pc_array_free(&al);
+	pc_view_free(&raw);
+}
+
+static void test_eval_cmd(void)
+{
+	CHECK_EQ_INT(run("eval --help"), 0);
+	/* a truth directory of four 16-bit TIFFs */
+	mkdir(tmp("gt"), 0777);
+	mkdir(tmp("gt/scene"), 0777);
+	pc_view v[4];
+	const char *names[4] = { "gt/scene/0.tif", "gt/scene/45.tif", "gt/scene/90.tif",
+				 "gt/scene/135.tif" };
+	for (int c = 0; c < 4; c++) {
+		pc_view_alloc(&v[c], PC_FMT_MONO16, 48, 40, 0);
+		for (uint32_t y = 0; y < 40; y++)
+			for (uint32_t x = 0; x < 48; x++) {
+				double s0 = 30000 + 20000 * sin(0.3 * x + 0.2 * y);
+				PC_ROW(&v[c], uint16_t, y)[x] = (uint16_t)lround(
+					s0 / 2 * (1 + 0.3 * cos(2 * (0.02 * x - c * M_PI / 4))));
+			}
+		CHECK_EQ_INT(pc_tiff_write(tmp(names[c]), &v[c]), 0);
+	}
+	char args[512];
+	snprintf(args, sizeof args, "eval %s --method bilinear --json %s", tmp("gt/scene"),
+		 tmp("e.json"));
+	CHECK_EQ_INT(run(args), 0);
+	CHECK(file_contains(tmp("out.txt"), "bilinear"));
+	json_error_t je;
+	json_t *root = json_load_file(tmp("e.json"), 0, &je);
+	CHECK(root != NULL);
+	pc_eval_truth t;
+	CHECK_EQ_INT(pc_eval_truth_from_views(v, &t), 0);
+	pc_eval_metrics mm;
+	CHECK_EQ_INT(pc_eval_method(&t, PC_DM_BILINEAR, NULL, &mm), 0);
+	json_t *sc = json_array_get(json_object_get(root, "scenes"), 0);
+	CHECK_NEAR(json_real_value(json_object_get(sc, "psnr_s0")), mm.psnr_s0, 1e-9);
+	CHECK_NEAR(json_real_value(json_object_get(sc, "aolp_wrmse_deg")), mm.aolp_wrmse_deg, 1e-9);
+	CHECK(!strcmp(json_string_value(json_object_get(sc, "dataset")), "gt"));
+	json_decref(root);
+	pc_eval_truth_free(&t);
+	/* a missing analyser image: exit 2 naming it */
+	CHECK_EQ_INT(unlink(tmp("gt/scene/45.tif")), 0);
+	snprintf(args, sizeof args, "eval %s", tmp("gt/scene"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(file_contains(tmp("err.txt"), "'45'"));
+	for (int c = 0; c < 4; c++)
+		pc_view_free(&v[c]);
+}
+
+int main(void)
+{
+	exe = getenv("POLARCAM");
+	if (!exe || !*exe)
+		SKIP("POLARCAM (the built CLI) is not set; run through ctest");
+	snprintf(dir, sizeof dir, "/tmp/pc_test_pcli.XXXXXX");
+	if (!mkdtemp(dir))
+		SKIP("cannot create a temporary directory");
+	setenv("POLARCAM_PROGRESS", "0", 1);
+	test_demosaic_cmd();
+	test_bad_input();
+	test_process_cmd();
+	test_eval_cmd();
+	char cmd[128];
+	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+	if (system(cmd) != 0)
+		fprintf(stderr, "could not remove %s\n", dir);
+	return pc_test_finish("test_pipeline_cli");
+}

@@ -1,0 +1,163 @@
+#include "raw_cli.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "polarcam/error.h"
+
+const char pc_raw_cli_help[] =
+	"input:\n"
+	"  RAW                 the raw mosaic: .png (8/16-bit grey; sBIT gives the bit depth),\n"
+	"                      .tif/.tiff (8/16-bit or float32), .npy (2-D u1, <u2, <f4, <f8),\n"
+	"                      .bmp (8-bit grey), or a headerless file with --width/--height/\n"
+	"                      --format\n"
+	"  --width W --height H --format NAME [--offset BYTES] [--stride BYTES]\n"
+	"                      geometry of a headerless raw file; NAME is a pixel format (Mono8,\n"
+	"                      Mono10/12/14/16, Mono10p/12p/14p, Mono10Packed, Mono12Packed,\n"
+	"                      Y10P, Y12P, Y14P, Y10BPACK, Float32) or a camera's GenICam name\n"
+	"                      (PolarizeMono12p, Polarized16, BayerRGPolarized8, ...)\n"
+	"  --bits N            significant bits of the data (default: what the file declares);\n"
+	"                      values above 2^N - 1 are an error, never clamped\n"
+	"  --layout L          mosaic layout [BAYER:]A,B,C,D[@DX,DY], the analyser angles of the\n"
+	"                      top-left 2x2 block row by row (default 90,45,135,0 = Sony\n"
+	"                      IMX250MZR; RGGB:90,45,135,0 or imx250myr for the colour sensor;\n"
+	"                      @DX,DY for a crop at an odd offset)\n"
+	"  --method NAME       demosaicking method (polarcam demosaic --list; default bilinear)\n"
+	"  --threads N         threads (default: all cores)\n"
+	"  --reference         run the double-precision reference implementation (slow)\n";
+
+static int need(int argc, char **argv, int i)
+{
+	if (i + 1 >= argc) {
+		pc_cli_error(PC_EXIT_USAGE, "option %s needs a value", argv[i]);
+		return 0;
+	}
+	return 1;
+}
+
+int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
+{
+	memset(o, 0, sizeof *o);
+	o->layout = "90,45,135,0";
+	o->method = "bilinear";
+	int nextra = 0, have_w = 0, have_h = 0, have_f = 0;
+	long v;
+	int rc;
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+			if (!need(argc, argv, i))
+				return PC_EXIT_USAGE;
+			o->out = argv[++i];
+		} else if (!strcmp(a, "--layout")) {
+			if (!need(argc, argv, i))
+				return PC_EXIT_USAGE;
+			o->layout = argv[++i];
+		} else if (!strcmp(a, "--method")) {
+			if (!need(argc, argv, i))
+				return PC_EXIT_USAGE;
+			o->method = argv[++i];
+		} else if (!strcmp(a, "--bits")) {
+			if (!need(argc, argv, i))
+				return PC_EXIT_USAGE;
+			if ((rc = pc_cli_parse_long("--bits", argv[++i], 1, 16, &v)))
+				return pc_cli_fail(rc, NULL);
+			o->bits = (unsigned)v;
+		} else if (!strcmp(a, "--threads")) {
+			if (!need(argc, argv, i))
+				return PC_EXIT_USAGE;
+			if ((rc = pc_cli_parse_long("--threads", argv[++i], 1, 1024, &v)))
+				return pc_cli_fail(rc, NULL);
+			o->threads = (int)v;
+		} else if (!strcmp(a, "--reference")) {
+			o->reference = true;
+		} else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
+			if (!need(argc, argv, i))
+				return PC_EXIT_USAGE;
+			if ((rc = pc_cli_parse_long(a, argv[++i], 1, 1 << 30, &v)))
+				return pc_cli_fail(rc, NULL);
+			if (a[2] == 'w') {
+				o->geometry.width = (uint32_t)v;
+				have_w = 1;
+			} else {
+				o->geometry.height = (uint32_t)v;
+				have_h = 1;
+			}
+		} else if (!strcmp(a, "--offset") || !strcmp(a, "--stride")) {
+			if (!need(argc, argv, i))
+				return PC_EXIT_USAGE;
+			uint64_t u;
+			if ((rc = pc_cli_parse_u64(a, argv[++i], &u)))
+				return pc_cli_fail(rc, NULL);
+			if (a[2] == 'o')
+				o->geometry.offset = (size_t)u;
+			else
+				o->geometry.stride = (size_t)u;
+		} else if (!strcmp(a, "--format")) {
+			if (!need(argc, argv, i))
+				return PC_EXIT_USAGE;
+			const char *name = argv[++i];
+			pc_pixfmt f = pc_format_from_name(name);
+			if (f == PC_FMT_INVALID) {
+				bool pol, col;
+				if (pc_format_from_genicam(name, &f, &pol, &col) != 0)
+					return pc_cli_error(PC_EXIT_USAGE, "--format '%s': %s", name,
+							    pc_error_detail());
+			}
+			o->geometry.format = f;
+			have_f = 1;
+		} else if (a[0] == '-' && a[1]) {
+			if (!extra)
+				return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see polarcam %s "
+								   "--help)", a, argv[0]);
+			extra[nextra++] = i;
+		} else if (!o->path) {
+			o->path = a;
+		} else {
+			return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s' (one RAW file)", a);
+		}
+	}
+	if (extra)
+		extra[nextra] = 0;
+	if (have_w || have_h || have_f || o->geometry.offset || o->geometry.stride) {
+		if (!(have_w && have_h && have_f))
+			return pc_cli_error(PC_EXIT_USAGE, "a headerless raw needs --width, --height and "
+							   "--format together");
+		o->have_geometry = true;
+	}
+	if ((rc = pc_mosaic_parse(o->layout, &o->mosaic)))
+		return pc_cli_fail(rc, "--layout");
+	if ((rc = pc_demosaic_method_from_name(o->method, &o->dm)))
+		return pc_cli_fail(rc, "--method");
+	const pc_demosaic_method_info *mi = pc_demosaic_method_get(o->dm);
+	int colour = o->mosaic.period == 4;
+	if (colour && !(mi->flags & PC_DMF_COLOR))
+		return pc_cli_error(PC_EXIT_USAGE, "--method %s: works on monochrome mosaics; layout "
+						   "'%s' is colour-polarization (methods for it: "
+						   "bayer-first, cpri, superpixel)", mi->name, o->layout);
+	if (!colour && !(mi->flags & PC_DMF_MONO))
+		return pc_cli_error(PC_EXIT_USAGE, "--method %s: needs a colour-polarization layout "
+						   "such as RGGB:90,45,135,0", mi->name);
+	return 0;
+}
+
+int pc_raw_cli_read(const pc_raw_cli *o, pc_view *raw, unsigned *bits)
+{
+	if (!o->path)
+		return pc_cli_error(PC_EXIT_USAGE, "no RAW file given");
+	int rc = pc_image_read_mosaic(o->path, o->have_geometry ? &o->geometry : NULL, o->bits, raw,
+				      bits);
+	if (rc)
+		return pc_cli_fail(rc, NULL);
+	if (raw->width % 2 || raw->height % 2 || raw->width < 4 || raw->height < 4) {
+		int st = pc_cli_error(PC_EXIT_USAGE, "%s: size %ux%u: a polarizer mosaic needs an even "
+						    "width and height of at least 4 (whole 2x2 "
+						    "analyser blocks)", o->path, raw->width,
+				      raw->height);
+		pc_view_free(raw);
+		return st;
+	}
+	return 0;
+}

@@ -1,0 +1,38 @@
+/* tools/raw_cli.h - the raw-input options shared by polarcam demosaic and process: the file,
+ * its geometry when headerless, its bit depth, the mosaic layout, the method. */
+#ifndef POLARCAM_TOOLS_RAW_CLI_H
+#define POLARCAM_TOOLS_RAW_CLI_H
+
+#include <stdbool.h>
+
+#include "polarcam/demosaic.h"
+#include "polarcam/io.h"
+
+typedef struct pc_raw_cli {
+	const char *path;     /* RAW */
+	const char *out;      /* -o */
+	const char *layout;   /* --layout (default 90,45,135,0) */
+	const char *method;   /* --method (default bilinear) */
+	unsigned bits;        /* --bits (0: from the file) */
+	int threads;          /* --threads (0: all) */
+	bool reference;       /* --reference */
+	bool have_geometry;   /* --width/--height/--format given */
+	pc_raw_geometry geometry;
+	/* resolved */
+	pc_mosaic mosaic;
+	pc_demosaic_method dm;
+} pc_raw_cli;
+
+/* Help text of the shared options, for the commands' usage(). */
+extern const char pc_raw_cli_help[];
+
+/* Parses argv (argv[0] = command). Options it does not know are returned through *extra (argv
+ * indices, NULL-terminated list allocated by the caller with argc entries) when extra is not
+ * NULL, otherwise they are errors. Returns 0 or a PC_EXIT_* status after printing the error. */
+int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra);
+
+/* Reads and validates the raw (bit depth, values, NaN, size) into an owned view. Returns 0 or a
+ * PC_EXIT_* status after printing an error that names the file. */
+int pc_raw_cli_read(const pc_raw_cli *o, pc_view *raw, unsigned *bits);
+
+#endif
