@@ -1188,23 +1188,31 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 	}
 
 	json_t *objs = json_object_get(doc, "objects");
+	json_t *no_objects = NULL;
+	if (!objs)
+		objs = no_objects = json_array(); /* optional: an empty scene shows the background */
 	if (!objs || !json_is_array(objs)) {
+		json_decref(no_objects);
 		rc = perr(&c, "objects", "expected an array of objects");
 		goto fail;
 	}
 	s->objects = calloc(json_array_size(objs) + 1, sizeof *s->objects);
 	if (!s->objects) {
+		json_decref(no_objects);
 		rc = pc_error(PC_ENOMEM, "%s: objects", name);
 		goto fail;
 	}
 	for (size_t i = 0; i < json_array_size(objs); i++) {
 		char p[64];
 		subpath_i(p, sizeof p, "objects", i);
-		if ((rc = parse_object(&c, json_array_get(objs, i), p, &s->objects[i])))
+		if ((rc = parse_object(&c, json_array_get(objs, i), p, &s->objects[i]))) {
+			json_decref(no_objects);
 			goto fail;
+		}
 		object_bounds(&s->objects[i]);
 		s->n_objects++;
 	}
+	json_decref(no_objects);
 	json_decref(doc);
 	*out = s;
 	return 0;
