@@ -8,6 +8,7 @@
 #include <time.h>
 
 static int gt_npass, gt_nfail, gt_nskip;
+static double gt_t_last; /* time of the previous result line */
 
 static inline double gt_now(void)
 {
@@ -16,11 +17,16 @@ static inline double gt_now(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Each result line ends with the seconds since the previous one: what that check cost. */
 static inline void gt_vline(const char *tag, const char *name, const char *fmt, va_list ap)
 {
+	double now = gt_now();
+	if (gt_t_last == 0.0)
+		gt_t_last = now;
 	printf("%s %s: ", tag, name);
 	vprintf(fmt, ap);
-	printf("\n");
+	printf(" [%.1f s]\n", now - gt_t_last);
+	gt_t_last = now;
 	fflush(stdout);
 }
 
@@ -60,6 +66,8 @@ static inline void GT_PRINTF(2, 3) gt_skip(const char *name, const char *fmt, ..
 static inline void GT_PRINTF(1, 2) gt_info(const char *fmt, ...)
 {
 	va_list ap;
+	if (gt_t_last == 0.0)
+		gt_t_last = gt_now();
 	va_start(ap, fmt);
 	printf("  ");
 	vprintf(fmt, ap);

@@ -681,39 +681,40 @@ static void check_compliance(const char *name, const char *opts, pc_fault_kind f
  * (Malus's law for an ideal linear analyser, physics.md section 1). Values span the format. */
 static void mosaic_pattern(uint16_t *dst, uint32_t w, uint32_t h, unsigned bits, unsigned k)
 {
+	/* Per column and analyser channel the two terms of Malus's law, in 1/256 units; per row
+	 * only integer arithmetic (the guest's floating point is emulated in software). */
 	const double pi = 3.14159265358979323846;
 	pc_mosaic m = pc_mosaic_imx250mzr();
-	double full = (double)((1u << bits) - 1u);
-	double c2t[4], s2t[4]; /* cos 2theta, sin 2theta of the four analysers */
-	for (unsigned c = 0; c < 4; c++) {
-		c2t[c] = cos(2.0 * (pi / 4.0) * c);
-		s2t[c] = sin(2.0 * (pi / 4.0) * c);
-	}
-	double *s0 = malloc(w * sizeof *s0), *c2a = malloc(w * sizeof *c2a),
-	       *s2a = malloc(w * sizeof *s2a);
-	if (!s0 || !c2a || !s2a) {
-		free(s0), free(c2a), free(s2a);
+	const int64_t full = (int64_t)((1u << bits) - 1u);
+	int64_t *p = malloc(w * sizeof *p), *q = malloc(4 * (size_t)w * sizeof *q);
+	if (!p || !q) {
+		free(p);
+		free(q);
 		memset(dst, 0, (size_t)w * h * 2);
 		return;
 	}
 	for (uint32_t x = 0; x < w; x++) {
 		double aolp = pi * (double)x / (double)w + (double)k * pi / 8.0;
-		s0[x] = full * (0.15 + 0.8 * (double)x / (double)(w - 1));
-		c2a[x] = cos(2.0 * aolp);
-		s2a[x] = sin(2.0 * aolp);
-	}
-	for (uint32_t y = 0; y < h; y++) {
-		double dolp = 0.9 * (double)y / (double)(h - 1);
-		for (uint32_t x = 0; x < w; x++) {
-			unsigned c = pc_mosaic_channel(&m, x, y);
-			double v = 0.5 * s0[x] * (1.0 + dolp * (c2a[x] * c2t[c] + s2a[x] * s2t[c]));
-			long iv = lround(v);
-			dst[(size_t)y * w + x] = (uint16_t)(iv < 0 ? 0 : iv > (long)full ? (long)full : iv);
+		double half_s0 = 0.5 * (double)full * (0.15 + 0.8 * (double)x / (double)(w - 1));
+		p[x] = llround(256.0 * half_s0);
+		for (unsigned c = 0; c < 4; c++) {
+			double theta = (pi / 4.0) * c;
+			q[c * w + x] = llround(256.0 * half_s0 *
+					       (cos(2.0 * aolp) * cos(2.0 * theta) +
+						sin(2.0 * aolp) * sin(2.0 * theta)));
 		}
 	}
-	free(s0);
-	free(c2a);
-	free(s2a);
+	for (uint32_t y = 0; y < h; y++) {
+		int64_t dolp16 = (int64_t)(0.9 * 65536.0 * (double)y / (double)(h - 1)); /* DoLP, Q16 */
+		uint16_t *row = dst + (size_t)y * w;
+		for (uint32_t x = 0; x < w; x++) {
+			unsigned c = pc_mosaic_channel(&m, x, y);
+			int64_t v = (p[x] + ((q[c * w + x] * dolp16) >> 16) + 128) >> 8;
+			row[x] = (uint16_t)(v < 0 ? 0 : v > full ? full : v);
+		}
+	}
+	free(p);
+	free(q);
 }
 
 /* vivid's video loopback: frames written to the HDMI output come back on the HDMI input. Both
