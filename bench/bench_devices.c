@@ -25,6 +25,7 @@
 #include "cli.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
+#include "polarcam/parallel.h"
 #include "polarcam/source.h"
 #include "source_cli.h"
 
@@ -35,6 +36,8 @@ typedef struct bench_opts {
 	unsigned cycle;
 	const char *format;
 	bool quick, json;
+	pc_demosaic_method method;
+	const char *method_name;
 } bench_opts;
 
 typedef struct phase_result {
@@ -91,7 +94,7 @@ static void stream_phase(const bench_opts *o, double fps, bool process, phase_re
 	pc_source *s = NULL;
 	pc_live lv;
 	memset(&lv, 0, sizeof lv);
-	lv.method = PC_DM_BILINEAR;
+	lv.method = o->method;
 	int rc = pc_stream_open(&sa, &s);
 	if (!rc)
 		rc = pc_source_start(s);
@@ -243,8 +246,10 @@ static void usage(FILE *fp)
 		"GigE Vision over loopback (polarcam's camera and the aravis: source in one process,\n"
 		"inside a private network namespace) and the live pipeline; see bench/bench_devices.c.\n\n"
 		"  --scene S          simulator scene (default: the built-in 2448x2048 scene)\n"
-		"  --packet-size N    GigE Vision packet size (default 8972; Aravis's automatic choice\n"
+		"  --packet-size N    GigE Vision packet size (default 65000, loopback's MTU allows it;\n"
+		"                     8972 is a jumbo frame on real Ethernet; Aravis's automatic choice\n"
 		"                     is 1400 on loopback)\n"
+		"  --method M         demosaicking method of the pipeline phases (default bilinear)\n"
 		"  --format NAME      pixel format (default Mono16)\n"
 		"  --seconds S        seconds per phase (default 5)\n"
 		"  --cycle K          distinct pre-rendered frames the camera cycles through (default 4)\n"
@@ -258,7 +263,7 @@ int pc_bench_devices(int argc, char **argv)
 		usage(stdout);
 		return PC_EXIT_OK;
 	}
-	bench_opts o = { "default", 8972, 5, 4, "Mono16", false, false };
+	bench_opts o = { "default", 65000, 5, 4, "Mono16", false, false, PC_DM_BILINEAR, "bilinear" };
 	char scene_buf[600];
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
@@ -273,6 +278,9 @@ int pc_bench_devices(int argc, char **argv)
 		} else if (i + 1 < argc && !strcmp(a, "--packet-size")) {
 			rc = pc_cli_parse_long(a, argv[++i], 576, 65000, &l);
 			o.packet_size = (uint64_t)l;
+		} else if (i + 1 < argc && !strcmp(a, "--method")) {
+			o.method_name = argv[++i];
+			rc = pc_demosaic_method_from_name(o.method_name, &o.method);
 		} else if (i + 1 < argc && !strcmp(a, "--format")) {
 			o.format = argv[++i];
 		} else if (i + 1 < argc && !strcmp(a, "--seconds")) {
@@ -330,8 +338,9 @@ int pc_bench_devices(int argc, char **argv)
 
 	if (!o.json)
 		printf("polarcam bench devices: scene %s, %s, packet size %llu, %g s per phase, "
-		       "2 cores shared (ratios are against baselines of this run)\n",
-		       o.scene, o.format, (unsigned long long)o.packet_size, o.seconds);
+		       "pipeline %s, %d threads (ratios are against baselines of this run)\n",
+		       o.scene, o.format, (unsigned long long)o.packet_size, o.seconds, o.method_name,
+		       pc_parallel_max_threads());
 	pc_gige_server *srv = NULL;
 	double prep = 0;
 	int rc = serve(&o, o.cycle, &srv, &prep);
@@ -366,7 +375,7 @@ int pc_bench_devices(int argc, char **argv)
 		pc_source *s = NULL;
 		pc_live lv;
 		memset(&lv, 0, sizeof lv);
-		lv.method = PC_DM_BILINEAR;
+		lv.method = o.method;
 		double sim_t = 0;
 		unsigned sim_n = 0;
 		rc = pc_stream_open(&sa, &s);
@@ -404,9 +413,9 @@ int pc_bench_devices(int argc, char **argv)
 					    sim_n ? pc_json_real(sim_t / sim_n) : json_null());
 			pc_cli_print_json(j);
 		} else {
-			printf("alone      %8.1f fps   pipeline %.1f ms/frame without transport (bilinear "
+			printf("alone      %8.1f fps   pipeline %.1f ms/frame without transport (%s "
 			       "demosaic + Stokes + DoLP + AoLP); simulator sensor chain %.2f s/frame\n",
-			       alone.fps, alone.proc_ms_mean, sim_n ? sim_t / sim_n : NAN);
+			       alone.fps, alone.proc_ms_mean, o.method_name, sim_n ? sim_t / sim_n : NAN);
 		}
 		pc_live_free(&lv);
 		pc_source_close(s);

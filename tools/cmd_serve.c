@@ -1,5 +1,6 @@
 /* polarcam serve: the simulator as a GigE Vision camera (polarcam/gige_server.h). */
 #include <signal.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -65,6 +66,14 @@ int cmd_serve(int argc, char **argv)
 			scene = a;
 			continue;
 		}
+		static const char *const known[] = { "--address", "--seed", "--source", "--serial",
+						     "--fps", "--ahead", "--cycle", "--lost-packets",
+						     "--duration", "--genicam", NULL };
+		bool is_known = false;
+		for (const char *const *k = known; *k; k++)
+			is_known |= !strcmp(a, *k);
+		if (!is_known)
+			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		if (!v)
 			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", a);
 		if (!strcmp(a, "--address"))
@@ -87,8 +96,6 @@ int cmd_serve(int argc, char **argv)
 			rc = pc_cli_parse_double(a, v, &duration);
 		else if (!strcmp(a, "--genicam"))
 			genicam = v;
-		else if (strcmp(a, "--ahead") && strcmp(a, "--cycle"))
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		if (rc)
 			return pc_cli_fail(rc, "arguments");
 		i++;
