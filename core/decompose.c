@@ -118,11 +118,12 @@ static bool pc_closest_rotation(const double B[3][3], double det, double q[4], d
 	q[1] = -sg * (r[0] * X23 - r[2] * X03 + r[3] * X02);
 	q[2] = sg * (r[0] * X13 - r[1] * X03 + r[3] * X01);
 	q[3] = -sg * (r[0] * X12 - r[1] * X02 + r[2] * X01);
-	double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-	double inv = (q[0] < 0 ? -1 : 1) / sqrt(n2);
-	for (int i = 0; i < 4; i++)
-		q[i] *= inv;
-	return true;
+	/* left unnormalised (R, the axis, δ and ψ are ratios; the caller normalises when it builds
+	 * m_R); only the sign is fixed: w ≥ 0 */
+	if (q[0] < 0)
+		for (int i = 0; i < 4; i++)
+			q[i] = -q[i];
+	return q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] > 0;
 }
 
 static void pc_quat_to_rot(const double q[4], double Q[3][3])
@@ -232,9 +233,11 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 	memcpy(out->D_vec, Dv, sizeof Dv);
 
 	double Dh[3] = {0, 0, 0};
-	if (D > 0)
+	if (D > 0) {
+		const double iD = 1 / D;
 		for (int i = 0; i < 3; i++)
-			Dh[i] = Dv[i] / D;
+			Dh[i] = Dv[i] * iD;
+	}
 	const double omd2 = (1 - D) * (1 + D); /* 1 − D², without cancellation near D = 1 */
 	const double sq = sqrt(omd2 > 0 ? omd2 : 0);
 	if (factors) {
@@ -278,9 +281,10 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 	    {sgn * mp[1][0], sgn * mp[1][1], sgn * mp[1][2]},
 	    {sgn * mp[2][0], sgn * mp[2][1], sgn * mp[2][2]},
 	};
-	/* the polar factor does not depend on scale: work with B/max|B_ij| so that nearly fully
-	 * depolarising matrices (m' ~ 1e-74 happens off the specular lobe) neither underflow nor
-	 * lose the quaternion */
+	/* the polar factor does not depend on scale: outside [1e-30, 1e30] work with B scaled by a
+	 * power of two near 1/max|B_ij| (exact), so that nearly fully depolarising matrices
+	 * (m' ~ 1e-74 happens off the specular lobe) neither underflow (quartic terms ~ B⁸) nor
+	 * lose the quaternion; inside, no division on the common path */
 	double bmax = 0;
 	for (int i = 0; i < 3; i++)
 		for (int j = 0; j < 3; j++)
@@ -288,14 +292,19 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 	double q[4] = {1, 0, 0, 0}, lam1 = 0;
 	bool unique = false;
 	if (bmax > 0) {
-		const double bs = 1 / bmax;
+		double bs = 1;
+		if (bmax < 1e-30 || bmax > 1e30) {
+			int e;
+			frexp(bmax, &e);
+			bs = ldexp(1.0, -e);
+		}
 		const double Bn[3][3] = {
 		    {bs * B[0][0], bs * B[0][1], bs * B[0][2]},
 		    {bs * B[1][0], bs * B[1][1], bs * B[1][2]},
 		    {bs * B[2][0], bs * B[2][1], bs * B[2][2]},
 		};
 		unique = pc_closest_rotation(Bn, fabs(det3(Bn)), q, &lam1);
-		lam1 *= bmax;
+		lam1 /= bs;
 	}
 	if (!unique || fabs(detmp) <= PC_LC_NONUNIQUE_DET * (lam1 / 3) * (lam1 / 3) * (lam1 / 3) ||
 	    !(lam1 > 0))
@@ -328,7 +337,9 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 
 	if (factors) {
 		double Q[3][3];
-		pc_quat_to_rot(q, Q);
+		double qn = 1 / sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+		const double qu[4] = {q[0] * qn, q[1] * qn, q[2] * qn, q[3] * qn};
+		pc_quat_to_rot(qu, Q);
 		memset(out->M_R, 0, sizeof out->M_R);
 		memset(out->M_Delta, 0, sizeof out->M_Delta);
 		out->M_R[0][0] = out->M_Delta[0][0] = 1;
