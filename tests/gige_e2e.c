@@ -213,7 +213,7 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 	/* Frame j of an acquisition is recording frame j mod NREC; j comes from the sequence
 	 * (the camera's frame ids), so a frame lost under load shows as a gap that the statistics
 	 * must count, never as wrong content. */
-	unsigned mism = 0, got = 0, gaps = 0, mosaic_bad = 0;
+	unsigned mism = 0, got = 0, gaps = 0, mosaic_bad = 0, damaged = 0;
 	uint64_t prev = 0;
 	uint16_t *u = NULL;
 	for (unsigned k = 0; k < n; k++) {
@@ -232,7 +232,13 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 			gaps += (unsigned)(seq - prev - 1);
 		prev = seq;
 		unsigned j = (unsigned)((seq - *first_seq) % NREC);
-		CHECK(b->frame.meta.status == 0);
+		if (b->frame.meta.status != 0) {
+			/* packets lost under load: the frame is flagged, its content is not checked */
+			damaged++;
+			got++;
+			CHECK_EQ_INT(pc_source_requeue(s, b), 0);
+			continue;
+		}
 		if (!u)
 			u = malloc((size_t)v->width * v->height * 2);
 		CHECK_EQ_INT(pc_view_to_u16(v, u, (size_t)v->width * 2), 0);
@@ -260,6 +266,10 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 	pc_source_stats st;
 	CHECK_EQ_INT(pc_source_get_stats(s, &st), 0);
 	CHECK_EQ_INT(st.dropped, gaps);
+	CHECK_EQ_INT(st.failed, damaged);
+	CHECK(damaged * 10 <= got); /* under heavy load a few frames may lose packets, not more */
+	if (gaps || damaged)
+		printf("note: %u frames damaged (load)\n", damaged);
 	if (gaps)
 		printf("note: %u frames lost (load): underruns %llu, missing packets %llu\n", gaps,
 		       (unsigned long long)st.underruns, (unsigned long long)st.missing_packets);
@@ -465,7 +475,7 @@ static void test_serve_equals_render(void)
 		return;
 	char errp[160];
 	snprintf(errp, sizeof errp, "%s/capture.err", base);
-	char *argv[] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=8000", "-n", "4",
+	char *argv[] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=65000", "-n", "4",
 			 "-o", cdir, NULL };
 	int cfd;
 	pid_t cap = spawn(argv, &cfd, errp);
