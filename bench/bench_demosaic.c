@@ -1,12 +1,600 @@
+/* polarcam bench demosaic: what accuracy costs in time.
+ *
+ * Accuracy: the frozen protocol (polarcam/eval.h) on every ground-truth dataset under
+ * DATA_DIR/gt (mean over each dataset's scenes, datasets never pooled), for every monochrome
+ * method, with bilinear as the same-run baseline and our bilinear against the double-precision
+ * reference bilinear. Time: per 2448×2048 frame of 12-bit data in 16-bit containers (tiled from
+ * a Lapray scene when the data is there), median of repeated runs on warm, pre-faulted buffers,
+ * for every method, the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32), a
+ * copy of bilinear's input and output bytes and, when OpenCV is built in, OpenCV's bilinear
+ * 16-bit Bayer demosaicking of the same frame — all measured in the same run, so that the
+ * ratios hold even when the machine is shared. */
+#include <dirent.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "bench.h"
+#include "cli.h"
+#include "polarcam/demosaic.h"
+#include "polarcam/error.h"
+#include "polarcam/eval.h"
+#include "polarcam/io.h"
+#include "polarcam/parallel.h"
+#include "polarcam/plot.h"
+#include "polarcam/stokes.h"
 
-/* Placeholder until issue 3 lands this benchmark. */
+#ifdef PC_HAVE_OPENCV
+int pc_bench_opencv_bayer16(const uint16_t *src, size_t src_stride, uint16_t *dst,
+			    size_t dst_stride, int width, int height, int threads, char *err,
+			    size_t err_size);
+const char *pc_bench_opencv_version(void);
+#endif
+
+enum { FW = 2448, FH = 2048 };
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_str(const void *a, const void *b)
+{
+	return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return x < y ? -1 : x > y;
+}
+
+typedef struct timing {
+	double median_ms, min_ms;
+} timing;
+
+static timing summarize(double *t, int n)
+{
+	qsort(t, (size_t)n, sizeof *t, cmp_double);
+	timing r = { 1e3 * (n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2])), 1e3 * t[0] };
+	return r;
+}
+
+static void loadavg(char *buf, size_t n)
+{
+	FILE *fp = fopen("/proc/loadavg", "r");
+	buf[0] = '\0';
+	if (fp) {
+		if (!fgets(buf, (int)n, fp))
+			buf[0] = '\0';
+		fclose(fp);
+	}
+	buf[strcspn(buf, "\n")] = '\0';
+}
+
+/* ---- the timing frame ---- */
+static int make_frame(const char *data_dir, pc_view *raw, char *what, size_t what_size)
+{
+	int rc = pc_view_alloc(raw, PC_FMT_MONO12, FW, FH, 0);
+	if (rc)
+		return rc;
+	pc_eval_truth t;
+	char scene[4096];
+	snprintf(scene, sizeof scene, "%s/gt/lapray-nir/fabrics", data_dir ? data_dir : "");
+	if (data_dir && pc_truth_load(scene, &t) == 0) {
+		pc_mosaic m = pc_mosaic_imx250mzr();
+		for (uint32_t y = 0; y < FH; y++)
+			for (uint32_t x = 0; x < FW; x++) {
+				/* tile with the scene's mosaic phase kept (even tile sizes) */
+				uint32_t sx = x % t.width, sy = y % t.height;
+				double v = t.ch[pc_mosaic_channel(&m, x, y)][(size_t)sy * t.width + sx];
+				PC_ROW(raw, uint16_t, y)[x] = (uint16_t)lround(v * 4095.0);
+			}
+		pc_eval_truth_free(&t);
+		snprintf(what, what_size, "Lapray fabrics mosaic tiled to %dx%d, 12-bit", FW, FH);
+		return 0;
+	}
+	uint32_t r = 12345;
+	for (uint32_t y = 0; y < FH; y++)
+		for (uint32_t x = 0; x < FW; x++) {
+			r = r * 1664525u + 1013904223u;
+			double v = 2000 + 1500 * sin(0.01 * x) * cos(0.013 * y) + (double)(r >> 27);
+			PC_ROW(raw, uint16_t, y)[x] = (uint16_t)v;
+		}
+	snprintf(what, what_size, "synthetic %dx%d 12-bit frame (no data found)", FW, FH);
+	return 0;
+}
+
+/* ---- memory copy baseline: bilinear's input and output bytes ---- */
+typedef struct copy_job {
+	uint8_t *dst;
+	const uint8_t *src;
+	size_t row;
+} copy_job;
+
+static void copy_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	copy_job *j = ctx;
+	memcpy(j->dst + (size_t)y0 * j->row, j->src + (size_t)y0 * j->row, (size_t)(y1 - y0) * j->row);
+}
+
+/* ---- results ---- */
+typedef struct method_row {
+	pc_demosaic_method m;
+	timing t;
+	int colour;
+	int n_ds;                 /* datasets scored */
+	pc_eval_metrics acc[4];   /* per dataset */
+	char ds_name[4][64];
+} method_row;
+
+static void usage(FILE *fp)
+{
+	fprintf(fp,
+		"usage: polarcam bench demosaic [DATA_DIR] [-o DIR] [--reps N] [--threads N]\n"
+		"                               [--quick] [--json]\n"
+		"\n"
+		"What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
+		"every dataset in DATA_DIR/gt (default /work/shared/data, skipped with a message\n"
+		"when absent): S0 and DoLP PSNR and the DoLP-weighted AoLP RMSE, per dataset (mean of\n"
+		"its scenes), bilinear as the baseline, and our bilinear against a straightforward\n"
+		"double-precision reference bilinear. Time: per 2448x2048 frame of 12-bit data in\n"
+		"16-bit containers, median of N runs (default 7; 3 with --quick) on warm buffers, for\n"
+		"every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32);\n"
+		"a memory copy of bilinear's input and output bytes; OpenCV's bilinear 16-bit Bayer\n"
+		"demosaicking of the same frame when OpenCV is built in. All in one run: read the\n"
+		"ratios, absolute times move with the machine's load (reported).\n"
+		"\n"
+		"Writes DIR/demosaic.json, DIR/pareto_s0.png and DIR/pareto_dolp.png (default DIR:\n"
+		"bench-demosaic) and prints a table; --json prints the JSON on stdout instead.\n");
+}
+
+static void pareto_plot(const char *path, const method_row *rows, size_t n, int ds, int dolp,
+			double bil_ms)
+{
+	char title[256];
+	snprintf(title, sizeof title, "Demosaicking: %s PSNR vs time (%s, 2448x2048 frame)",
+		 dolp ? "DoLP" : "S0", rows[0].ds_name[ds]);
+	pc_plot *p = pc_plot_new(title, "time per frame (ms, log scale)",
+				 dolp ? "DoLP PSNR (dB)" : "S0 PSNR (dB)");
+	if (!p)
+		return;
+	pc_plot_set_log(p, true, false);
+	/* the points, and the Pareto front (no method both faster and more accurate) */
+	double fx[16], fy[16];
+	size_t nf = 0;
+	for (size_t i = 0; i < n; i++) {
+		if (rows[i].colour || rows[i].n_ds <= ds)
+			continue;
+		double x = rows[i].t.median_ms;
+		double y = dolp ? rows[i].acc[ds].psnr_dolp : rows[i].acc[ds].psnr_s0;
+		pc_plot_add_series(p, NULL, &x, &y, 1, PC_PLOT_POINTS);
+		pc_plot_add_label(p, x, y, pc_demosaic_method_get(rows[i].m)->name);
+		int dominated = 0;
+		for (size_t k = 0; k < n; k++) {
+			if (k == i || rows[k].colour || rows[k].n_ds <= ds)
+				continue;
+			double xk = rows[k].t.median_ms;
+			double yk = dolp ? rows[k].acc[ds].psnr_dolp : rows[k].acc[ds].psnr_s0;
+			if (xk <= x && yk >= y && (xk < x || yk > y))
+				dominated = 1;
+		}
+		if (!dominated && nf < 16) {
+			fx[nf] = x;
+			fy[nf] = y;
+			nf++;
+		}
+	}
+	for (size_t a = 0; a < nf; a++) /* sort the front by time */
+		for (size_t b = a + 1; b < nf; b++)
+			if (fx[b] < fx[a]) {
+				double tx = fx[a], ty = fy[a];
+				fx[a] = fx[b], fy[a] = fy[b];
+				fx[b] = tx, fy[b] = ty;
+			}
+	pc_plot_add_series(p, "Pareto front", fx, fy, nf, PC_PLOT_DASHED);
+	double bx[2] = { bil_ms * 5, bil_ms * 5 }, by[2];
+	by[0] = 1e9, by[1] = -1e9;
+	for (size_t i = 0; i < n; i++)
+		if (!rows[i].colour && rows[i].n_ds > ds) {
+			double y = dolp ? rows[i].acc[ds].psnr_dolp : rows[i].acc[ds].psnr_s0;
+			by[0] = fmin(by[0], y);
+			by[1] = fmax(by[1], y);
+		}
+	pc_plot_add_series(p, "5 x bilinear's time", bx, by, 2, PC_PLOT_DASHED);
+	int rc = pc_plot_write_png(p, path, 900, 600);
+	if (rc)
+		pc_cli_fail(rc, path);
+	pc_plot_free(p);
+}
+
 int pc_bench_demosaic(int argc, char **argv)
 {
-	(void)argc;
-	(void)argv;
-	fprintf(stderr, "polarcam bench demosaic: not implemented yet (issue 3)\n");
-	return 1;
+	const char *data_dir = NULL, *out_dir = "bench-demosaic";
+	long reps = 7, threads = 0;
+	bool json_out = false, quick = false;
+	for (int i = 1; i < argc; i++) {
+		if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
+			usage(stdout);
+			return PC_EXIT_OK;
+		} else if (!strcmp(argv[i], "-o") && i + 1 < argc) {
+			out_dir = argv[++i];
+		} else if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
+			int rc = pc_cli_parse_long("--reps", argv[++i], 1, 1000, &reps);
+			if (rc)
+				return pc_cli_fail(rc, NULL);
+		} else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
+			int rc = pc_cli_parse_long("--threads", argv[++i], 1, 1024, &threads);
+			if (rc)
+				return pc_cli_fail(rc, NULL);
+		} else if (!strcmp(argv[i], "--json")) {
+			json_out = true;
+		} else if (!strcmp(argv[i], "--quick")) {
+			quick = true;
+			reps = 3;
+		} else if (argv[i][0] == '-') {
+			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (polarcam bench demosaic "
+							   "--help)", argv[i]);
+		} else {
+			data_dir = argv[i];
+		}
+	}
+	struct stat sb;
+	if (!data_dir && stat("/work/shared/data", &sb) == 0 && S_ISDIR(sb.st_mode))
+		data_dir = "/work/shared/data";
+	if (data_dir && !(stat(data_dir, &sb) == 0 && S_ISDIR(sb.st_mode)))
+		return pc_cli_error(PC_EXIT_USAGE, "%s: not a directory", data_dir);
+	FILE *tf = json_out ? stderr : stdout;
+	int nthreads = threads ? (int)threads : pc_parallel_max_threads();
+	char load0[128], load1[128];
+	loadavg(load0, sizeof load0);
+	fprintf(tf, "polarcam bench demosaic: %d thread(s), median of %ld runs; load average at "
+		    "start: %s\n", nthreads, reps, load0);
+
+	/* ---------------- time ---------------- */
+	pc_view raw;
+	char frame_what[160];
+	int rc = make_frame(data_dir, &raw, frame_what, sizeof frame_what);
+	if (rc)
+		return pc_cli_fail(rc, "frame");
+	fprintf(tf, "frame: %s\n\n", frame_what);
+	size_t plane = (size_t)FW * FH;
+	float *obuf = aligned_alloc(64, plane * 12 * sizeof(float));
+	double *ts = malloc(sizeof(double) * (size_t)reps);
+	if (!obuf || !ts) {
+		pc_view_free(&raw);
+		free(obuf);
+		free(ts);
+		return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+	}
+	memset(obuf, 0, plane * 12 * sizeof(float)); /* pre-fault */
+	pc_fplane planes[12];
+	pc_fplanes_separate(obuf, FW, FH, 12, planes);
+	pc_demosaic_opts opts = { (int)threads, false, 0 };
+	method_row rows[PC_DM_COUNT];
+	size_t nrows = 0;
+	pc_mosaic mono = pc_mosaic_imx250mzr(), colour = pc_mosaic_imx250myr();
+	pc_progress prog;
+	pc_progress_begin(&prog, "timing", PC_DM_COUNT);
+	for (int k = 0; k < PC_DM_COUNT; k++) {
+		const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
+		method_row *r = &rows[nrows++];
+		memset(r, 0, sizeof *r);
+		r->m = (pc_demosaic_method)k;
+		r->colour = !(mi->flags & PC_DMF_MONO);
+		const pc_mosaic *m = r->colour ? &colour : &mono;
+		rc = pc_demosaic(&raw, m, r->m, &opts, planes); /* warm-up */
+		for (long i = 0; i < reps && !rc; i++) {
+			double t0 = now_s();
+			rc = pc_demosaic(&raw, m, r->m, &opts, planes);
+			ts[i] = now_s() - t0;
+		}
+		if (rc) {
+			pc_progress_end(&prog);
+			pc_view_free(&raw);
+			free(obuf);
+			free(ts);
+			return pc_cli_fail(rc, mi->name);
+		}
+		r->t = summarize(ts, (int)reps);
+		pc_progress_update(&prog, (uint64_t)k + 1);
+	}
+	pc_progress_end(&prog);
+	/* the full pipeline, float32 S0, S1, S2, DoLP, AoLP */
+	pc_stokes_out so = { planes[0], planes[1], planes[2], planes[3], planes[4] };
+	timing t_pipe[2];
+	const pc_demosaic_method pm[2] = { PC_DM_BILINEAR, PC_DM_EARI };
+	for (int q = 0; q < 2; q++) {
+		pc_stokes_from_raw(&raw, &mono, pm[q], &opts, &so);
+		for (long i = 0; i < reps; i++) {
+			double t0 = now_s();
+			pc_stokes_from_raw(&raw, &mono, pm[q], &opts, &so);
+			ts[i] = now_s() - t0;
+		}
+		t_pipe[q] = summarize(ts, (int)reps);
+	}
+	/* a copy of bilinear's bytes: the 10 MB input and the 80 MB output */
+	size_t bytes = plane * 2 + plane * 16;
+	uint8_t *csrc = aligned_alloc(64, bytes), *cdst = aligned_alloc(64, bytes);
+	timing t_copy = { 0, 0 };
+	if (csrc && cdst) {
+		memset(csrc, 1, bytes);
+		memset(cdst, 2, bytes);
+		copy_job cj = { cdst, csrc, bytes / FH };
+		pc_parallel_rows(FH, 0, (int)threads, copy_band, &cj);
+		for (long i = 0; i < reps; i++) {
+			double t0 = now_s();
+			pc_parallel_rows(FH, 0, (int)threads, copy_band, &cj);
+			ts[i] = now_s() - t0;
+		}
+		t_copy = summarize(ts, (int)reps);
+	}
+	free(csrc);
+	free(cdst);
+	/* OpenCV's bilinear Bayer demosaicking of the same 16-bit frame */
+	timing t_cv = { NAN, NAN };
+	char cv_note[160] = "OpenCV not built in";
+#ifdef PC_HAVE_OPENCV
+	{
+		uint16_t *bgr = aligned_alloc(64, plane * 3 * sizeof(uint16_t));
+		char err[160] = "";
+		if (bgr) {
+			memset(bgr, 0, plane * 3 * sizeof(uint16_t));
+			int cr = pc_bench_opencv_bayer16(raw.data, raw.stride, bgr, (size_t)FW * 6, FW, FH,
+							 nthreads, err, sizeof err);
+			for (long i = 0; i < reps && !cr; i++) {
+				double t0 = now_s();
+				cr = pc_bench_opencv_bayer16(raw.data, raw.stride, bgr, (size_t)FW * 6, FW,
+							     FH, nthreads, err, sizeof err);
+				ts[i] = now_s() - t0;
+			}
+			if (!cr) {
+				t_cv = summarize(ts, (int)reps);
+				snprintf(cv_note, sizeof cv_note, "OpenCV %s cvtColor(COLOR_BayerBG2BGR), "
+								  "16-bit, %d thread(s)",
+					 pc_bench_opencv_version(), nthreads);
+			} else {
+				snprintf(cv_note, sizeof cv_note, "%s", err);
+			}
+			free(bgr);
+		}
+	}
+#endif
+	pc_view_free(&raw);
+	free(obuf);
+	free(ts);
+
+	/* ---------------- accuracy ---------------- */
+	double ref_gap[3] = { NAN, NAN, NAN }; /* our bilinear − reference bilinear: I, S0, DoLP */
+	int have_acc = 0;
+	if (data_dir) {
+		char gt[2048];
+		if ((size_t)snprintf(gt, sizeof gt, "%s/gt", data_dir) >= sizeof gt)
+			return pc_cli_error(PC_EXIT_USAGE, "%s: path too long", data_dir);
+		const char *datasets[] = { "lapray-nir", "zhang" };
+		for (int d = 0; d < 2; d++) {
+			char dpath[3072];
+			snprintf(dpath, sizeof dpath, "%.2047s/%s", gt, datasets[d]);
+			/* scenes: the sub-directories, in name order */
+			char **names = NULL;
+			size_t nscenes = 0;
+			DIR *dd = opendir(dpath);
+			if (!dd)
+				continue;
+			struct dirent *de;
+			while ((de = readdir(dd))) {
+				if (de->d_name[0] == '.')
+					continue;
+				char **nn = realloc(names, sizeof *names * (nscenes + 1));
+				if (!nn)
+					break;
+				names = nn;
+				names[nscenes] = strdup(de->d_name);
+				if (names[nscenes])
+					nscenes++;
+			}
+			closedir(dd);
+			qsort(names, nscenes, sizeof *names, cmp_str);
+			if (!nscenes) {
+				free(names);
+				continue;
+			}
+			have_acc = 1;
+			pc_progress_begin(&prog, datasets[d], nscenes);
+			int scored = 0;
+			pc_eval_metrics refbil = { 0 }, fastbil = { 0 };
+			for (size_t s = 0; s < nscenes; s++) {
+				char spath[4096];
+				snprintf(spath, sizeof spath, "%.3071s/%.1000s", dpath, names[s]);
+				pc_eval_truth t;
+				if (pc_truth_load(spath, &t) != 0) {
+					pc_cli_warn("%s", pc_error_detail());
+					continue;
+				}
+				for (size_t i = 0; i < nrows; i++) {
+					if (rows[i].colour)
+						continue;
+					pc_eval_metrics mm;
+					if (pc_eval_method(&t, rows[i].m, &opts, &mm) != 0)
+						continue;
+					int di = rows[i].n_ds;
+					if (scored == 0) {
+						memset(&rows[i].acc[di], 0, sizeof rows[i].acc[di]);
+						snprintf(rows[i].ds_name[di], sizeof rows[i].ds_name[di],
+							 "%s", datasets[d]);
+					}
+					double *a = &rows[i].acc[di].psnr_i;
+					const double *b = &mm.psnr_i;
+					for (size_t q = 0; q < sizeof mm / sizeof(double); q++)
+						a[q] += b[q];
+					if (rows[i].m == PC_DM_BILINEAR) {
+						pc_demosaic_opts ro = { (int)threads, true, 0 };
+						pc_eval_metrics rm;
+						if (pc_eval_method(&t, PC_DM_BILINEAR, &ro, &rm) == 0) {
+							for (size_t q = 0; q < sizeof mm / sizeof(double); q++) {
+								(&refbil.psnr_i)[q] += (&rm.psnr_i)[q];
+								(&fastbil.psnr_i)[q] += b[q];
+							}
+						}
+					}
+				}
+				scored++;
+				pc_eval_truth_free(&t);
+				pc_progress_update(&prog, s + 1);
+				if (quick && scored >= 2)
+					break;
+			}
+			pc_progress_end(&prog);
+			for (size_t s = 0; s < nscenes; s++)
+				free(names[s]);
+			free(names);
+			for (size_t i = 0; i < nrows && scored; i++) {
+				if (rows[i].colour)
+					continue;
+				double *a = &rows[i].acc[rows[i].n_ds].psnr_i;
+				for (size_t q = 0; q < sizeof(pc_eval_metrics) / sizeof(double); q++)
+					a[q] /= scored;
+				rows[i].n_ds++;
+			}
+			if (d == 0 && scored) {
+				ref_gap[0] = (fastbil.psnr_i - refbil.psnr_i) / scored;
+				ref_gap[1] = (fastbil.psnr_s0 - refbil.psnr_s0) / scored;
+				ref_gap[2] = (fastbil.psnr_dolp - refbil.psnr_dolp) / scored;
+			}
+		}
+	} else {
+		fprintf(tf, "no data directory (DATA_DIR or /work/shared/data): accuracy skipped, time "
+			    "only\n\n");
+	}
+	loadavg(load1, sizeof load1);
+
+	/* ---------------- report ---------------- */
+	double bil = 0;
+	for (size_t i = 0; i < nrows; i++)
+		if (rows[i].m == PC_DM_BILINEAR)
+			bil = rows[i].t.median_ms;
+	const method_row *brow = NULL;
+	for (size_t i = 0; i < nrows; i++)
+		if (rows[i].m == PC_DM_BILINEAR)
+			brow = &rows[i];
+	fprintf(tf, "%-16s %10s %8s", "method", "ms/frame", "x bil");
+	for (int d = 0; have_acc && brow && d < brow->n_ds; d++)
+		fprintf(tf, " | %-10.10s %7s %7s %7s %7s", brow->ds_name[d], "S0 dB", "dS0",
+			"DoLP dB", "dDoLP");
+	fprintf(tf, " | %s\n", have_acc ? "wAoLP deg" : "");
+	for (size_t i = 0; i < nrows; i++) {
+		const method_row *r = &rows[i];
+		fprintf(tf, "%-16s %10.2f %8.2f", pc_demosaic_method_get(r->m)->name, r->t.median_ms,
+			r->t.median_ms / bil);
+		for (int d = 0; have_acc && brow && d < brow->n_ds; d++) {
+			if (r->n_ds > d)
+				fprintf(tf, " | %-10s %7.3f %+7.3f %7.3f %+7.3f", "", r->acc[d].psnr_s0,
+					r->acc[d].psnr_s0 - brow->acc[d].psnr_s0, r->acc[d].psnr_dolp,
+					r->acc[d].psnr_dolp - brow->acc[d].psnr_dolp);
+			else
+				fprintf(tf, " | %-10s %7s %7s %7s %7s", "", "colour", "", "", "");
+		}
+		if (have_acc && r->n_ds)
+			fprintf(tf, " | %.3f", r->acc[0].aolp_wrmse_deg);
+		fprintf(tf, "\n");
+	}
+	fprintf(tf, "\nfull pipeline (demosaic + S0,S1,S2,DoLP,AoLP float32): bilinear %.2f ms "
+		    "(%.2f x bilinear demosaic), eari %.2f ms\n",
+		t_pipe[0].median_ms, t_pipe[0].median_ms / bil, t_pipe[1].median_ms);
+	fprintf(tf, "memory copy of bilinear's %zu MB of input+output: %.2f ms; bilinear / copy = "
+		    "%.2f\n", bytes >> 20, t_copy.median_ms, bil / t_copy.median_ms);
+	if (isfinite(t_cv.median_ms))
+		fprintf(tf, "%s: %.2f ms; bilinear / OpenCV = %.2f\n", cv_note, t_cv.median_ms,
+			bil / t_cv.median_ms);
+	else
+		fprintf(tf, "OpenCV comparison: %s\n", cv_note);
+	if (have_acc)
+		fprintf(tf, "our bilinear - double reference bilinear (lapray-nir): I %+.2e dB, S0 "
+			    "%+.2e dB, DoLP %+.2e dB\n", ref_gap[0], ref_gap[1], ref_gap[2]);
+	fprintf(tf, "load average at end: %s\n", load1);
+
+	json_t *root = json_object();
+	json_object_set_new(root, "threads", json_integer(nthreads));
+	json_object_set_new(root, "reps", json_integer(reps));
+	json_object_set_new(root, "frame", json_string(frame_what));
+	json_object_set_new(root, "load_start", json_string(load0));
+	json_object_set_new(root, "load_end", json_string(load1));
+	json_t *jm = json_array();
+	for (size_t i = 0; i < nrows; i++) {
+		const method_row *r = &rows[i];
+		json_t *o = json_object();
+		json_object_set_new(o, "method", json_string(pc_demosaic_method_get(r->m)->name));
+		json_object_set_new(o, "colour", json_boolean(r->colour));
+		json_object_set_new(o, "ms_median", pc_json_real(r->t.median_ms));
+		json_object_set_new(o, "ms_min", pc_json_real(r->t.min_ms));
+		json_object_set_new(o, "x_bilinear", pc_json_real(r->t.median_ms / bil));
+		json_t *ja = json_object();
+		for (int d = 0; d < r->n_ds; d++) {
+			const pc_eval_metrics *a = &r->acc[d];
+			json_t *jd = json_object();
+			json_object_set_new(jd, "psnr_i", pc_json_real(a->psnr_i));
+			json_object_set_new(jd, "psnr_s0", pc_json_real(a->psnr_s0));
+			json_object_set_new(jd, "psnr_s1", pc_json_real(a->psnr_s1));
+			json_object_set_new(jd, "psnr_s2", pc_json_real(a->psnr_s2));
+			json_object_set_new(jd, "psnr_dolp", pc_json_real(a->psnr_dolp));
+			json_object_set_new(jd, "aolp_rmse_deg", pc_json_real(a->aolp_rmse_deg));
+			json_object_set_new(jd, "aolp_wrmse_deg", pc_json_real(a->aolp_wrmse_deg));
+			if (brow && brow->n_ds > d) {
+				json_object_set_new(jd, "d_psnr_s0",
+						    pc_json_real(a->psnr_s0 - brow->acc[d].psnr_s0));
+				json_object_set_new(jd, "d_psnr_dolp",
+						    pc_json_real(a->psnr_dolp - brow->acc[d].psnr_dolp));
+			}
+			json_object_set_new(ja, r->ds_name[d], jd);
+		}
+		json_object_set_new(o, "accuracy", ja);
+		json_array_append_new(jm, o);
+	}
+	json_object_set_new(root, "methods", jm);
+	json_object_set_new(root, "pipeline_bilinear_ms", pc_json_real(t_pipe[0].median_ms));
+	json_object_set_new(root, "pipeline_eari_ms", pc_json_real(t_pipe[1].median_ms));
+	json_object_set_new(root, "copy_ms", pc_json_real(t_copy.median_ms));
+	json_object_set_new(root, "copy_bytes", json_integer((json_int_t)bytes));
+	json_object_set_new(root, "bilinear_over_copy", pc_json_real(bil / t_copy.median_ms));
+	json_object_set_new(root, "opencv_ms", pc_json_real(t_cv.median_ms));
+	json_object_set_new(root, "opencv", json_string(cv_note));
+	json_object_set_new(root, "bilinear_over_opencv", pc_json_real(bil / t_cv.median_ms));
+	json_t *jg = json_object();
+	json_object_set_new(jg, "psnr_i", pc_json_real(ref_gap[0]));
+	json_object_set_new(jg, "psnr_s0", pc_json_real(ref_gap[1]));
+	json_object_set_new(jg, "psnr_dolp", pc_json_real(ref_gap[2]));
+	json_object_set_new(root, "bilinear_minus_reference_db", jg);
+
+	int status = PC_EXIT_OK;
+	if ((rc = pc_mkdir_p(out_dir))) {
+		status = pc_cli_fail(rc, NULL);
+	} else {
+		char path[4096];
+		snprintf(path, sizeof path, "%s/demosaic.json", out_dir);
+		char *txt = json_dumps(root, JSON_INDENT(1) | JSON_REAL_PRECISION(10));
+		if (!txt || (rc = pc_write_file_atomic(path, txt, strlen(txt))))
+			status = pc_cli_fail(rc ? rc : PC_ENOMEM, path);
+		free(txt);
+		if (have_acc && brow) {
+			snprintf(path, sizeof path, "%s/pareto_s0.png", out_dir);
+			pareto_plot(path, rows, nrows, 0, 0, bil);
+			snprintf(path, sizeof path, "%s/pareto_dolp.png", out_dir);
+			pareto_plot(path, rows, nrows, 0, 1, bil);
+		}
+		fprintf(tf, "wrote %s/demosaic.json%s\n", out_dir,
+			have_acc ? ", pareto_s0.png, pareto_dolp.png" : "");
+	}
+	if (json_out)
+		pc_cli_print_json(root);
+	else
+		json_decref(root);
+	return status;
 }

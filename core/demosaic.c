@@ -17,12 +17,12 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 				    "shows as false DoLP on edges",
 				    "cheapest: one read of the raw, a quarter-size output",
 				    "the 2x2 super-pixel of DoFP sensors (e.g. Ratliff et al. 2009)",
-				    PC_DMF_MONO | PC_DMF_COLOR | PC_DMF_HALF_RES },
+				    PC_DMF_MONO | PC_DMF_HALF_RES },
 	[PC_DM_SUPERPIXEL] = { PC_DM_SUPERPIXEL, "superpixel",
 			       "full-size output of the 2x2 super-pixel values; blocky, lowest "
 			       "accuracy", "memory-bound, like a copy",
 			       "the 2x2 super-pixel replicated over its block",
-			       PC_DMF_MONO | PC_DMF_COLOR },
+			       PC_DMF_MONO },
 	[PC_DM_BILINEAR] = { PC_DM_BILINEAR, "bilinear",
 			     "the baseline: per-channel tent interpolation, false DoLP on edges",
 			     "memory-bound: 3x3 neighbourhood, one pass",
@@ -60,12 +60,14 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 				"the colour-first baseline of colour-polarization demosaicking "
 				"(Morimatsu et al. 2020, Sec. 3.2)",
 				PC_DMF_COLOR },
-	[PC_DM_COLOR_RI] = { PC_DM_COLOR_RI, "cpri",
-			     "colour-polarization: residual interpolation guided by an intensity "
-			     "image shared by all twelve channels",
-			     "guide pass plus guided filters per channel",
-			     "after Morimatsu et al. 2020 (colour EARI) and Kiku et al. 2013",
-			     PC_DMF_COLOR },
+	[PC_DM_BAYER_EARI] = { PC_DM_BAYER_EARI, "bayer-eari",
+			       "colour-polarization: bilinear Bayer demosaicking of each analyser "
+			       "sub-image, then EARI across the analysers of each colour; better "
+			       "polarization than bayer-first",
+			       "bayer-first's colour step plus three EARI runs",
+			       "colour-first as Morimatsu et al. 2020, with the polarization step of "
+			       "their EARI",
+			       PC_DMF_COLOR },
 };
 
 const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m)
@@ -175,8 +177,8 @@ static int check_call(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method
 	int colour = m->period == 4;
 	if (colour && !(mi->flags & PC_DMF_COLOR))
 		return pc_error(PC_EINVAL, "method %s works on monochrome polarizer mosaics only; "
-					   "this mosaic has a colour filter (try bayer-first or cpri)",
-				mi->name);
+					   "this mosaic has a colour filter (try bayer-first or "
+					   "bayer-eari)", mi->name);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_error(PC_EINVAL, "method %s works on colour-polarization mosaics only",
 				mi->name);
@@ -277,6 +279,10 @@ int pc_dm_prepare_input(const pc_view *raw, pc_dm_input *in, void **owned)
 	return 0;
 }
 
+int pc_demosaic_color(const pc_view *raw, const double *img_ref, const pc_mosaic *m,
+		      pc_demosaic_method method, const pc_demosaic_opts *opts, double full_scale,
+		      const pc_fplane *out);
+
 int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
 		const pc_demosaic_opts *opts, const pc_fplane *out)
 {
@@ -284,6 +290,19 @@ int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method metho
 	if (rc)
 		return rc;
 	double fs = resolve_full_scale(raw, opts);
+	if (m->period == 4) {
+		double *img = NULL;
+		if (opts && opts->reference) {
+			if (pc_format_info_get(raw->format)->is_float &&
+			    (rc = pc_view_check_bits(raw, 32)))
+				return pc_error_prefix(rc, "raw: ");
+			if ((rc = raw_to_double(raw, &img)))
+				return rc;
+		}
+		rc = pc_demosaic_color(raw, img, m, method, opts, fs, out);
+		free(img);
+		return rc;
+	}
 	if (!(opts && opts->reference)) {
 		pc_dm_input in;
 		void *owned;

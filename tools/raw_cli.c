@@ -136,7 +136,7 @@ int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
 	if (colour && !(mi->flags & PC_DMF_COLOR))
 		return pc_cli_error(PC_EXIT_USAGE, "--method %s: works on monochrome mosaics; layout "
 						   "'%s' is colour-polarization (methods for it: "
-						   "bayer-first, cpri, superpixel)", mi->name, o->layout);
+						   "bayer-first, bayer-eari)", mi->name, o->layout);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_cli_error(PC_EXIT_USAGE, "--method %s: needs a colour-polarization layout "
 						   "such as RGGB:90,45,135,0", mi->name);

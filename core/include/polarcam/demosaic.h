@@ -49,7 +49,7 @@ typedef enum pc_demosaic_method {
 	PC_DM_RI,                  /* guided-filter residual interpolation (Kiku et al., Ahmed et al.) */
 	PC_DM_EARI,                /* edge-aware residual interpolation (Morimatsu et al.) */
 	PC_DM_BAYER_FIRST,         /* colour only: Bayer bilinear per analyser, then analysers */
-	PC_DM_COLOR_RI,            /* colour only: intensity-guided residual interpolation */
+	PC_DM_BAYER_EARI,          /* colour only: Bayer bilinear per analyser, then EARI per colour */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
