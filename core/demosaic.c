@@ -144,11 +144,13 @@ void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst)
 	uint32_t w = in->width;
 	switch (in->type) {
 	case PC_DMT_U8:
+		PC_SIMD
 		for (uint32_t x = 0; x < w; x++)
 			dst[x] = row[x];
 		break;
 	case PC_DMT_U16: {
 		const uint16_t *r = (const uint16_t *)(const void *)row;
+		PC_SIMD
 		for (uint32_t x = 0; x < w; x++)
 			dst[x] = r[x];
 		break;

@@ -24,12 +24,6 @@
 #define PC_HAVE_X86_DISPATCH 1
 #endif
 
-#ifdef _OPENMP
-#define PC_SIMD _Pragma("omp simd")
-#else
-#define PC_SIMD
-#endif
-
 typedef struct pc_ic_kernels {
 	void (*cubic4_rows)(float *restrict, const float *restrict, const float *restrict,
 			    const float *restrict, const float *restrict, long, long);

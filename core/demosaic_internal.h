@@ -10,6 +10,13 @@
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
+/* Loop vectorisation that does not depend on the -O level: OpenMP simd (ignored without OpenMP). */
+#ifdef _OPENMP
+#define PC_SIMD _Pragma("omp simd")
+#else
+#define PC_SIMD
+#endif
+
 /* Whole-sample mirror (reflect-101) of index i into [0, n): -1 -> 1, n -> n-2, periodic with
  * period 2n-2 for far-out indices. Keeps the parity of i (n >= 2), hence the 2×2 analyser. */
 static inline int pc_mirror(int i, int n)

@@ -138,6 +138,18 @@ static void test_fast_vs_reference(void)
 						double d = fabs(fget(&f[c], x, y) - fget(&r[c], x, y));
 						worst = d > worst ? d : worst;
 					}
+			/* every full-resolution method keeps each pixel's own measurement */
+			if (ow == raw.width) {
+				int keeps = 1;
+				for (uint32_t y = 0; y < oh; y++)
+					for (uint32_t x = 0; x < ow; x++) {
+						unsigned c = pc_mosaic_channel(&m, x, y);
+						double v = PC_ROW(&raw, uint16_t, y)[x];
+						keeps &= fabs(fget(&f[c], x, y) - v) <= 1e-3 &&
+							 fabs(fget(&r[c], x, y) - v) <= 1e-9;
+					}
+				CHECK(keeps);
+			}
 			double tol = tol_for(meth) * 4095;
 			if (ph == 0)
 				printf("  %-16s max |fast - reference| = %.3g (%.2g of full scale)\n",
@@ -435,6 +447,17 @@ static void test_color(void)
 				printf("  %-16s max |fast - reference| = %.3g (%.2g of full scale)\n",
 				       pc_demosaic_method_get(cm[meth])->name, worst, worst / 4095);
 			CHECK(worst <= 1e-5 * 4095);
+			/* each pixel keeps its own measurement in its (colour, analyser) channel */
+			int keeps = 1;
+			for (uint32_t y = 0; y < 32; y++)
+				for (uint32_t x = 0; x < 40; x++) {
+					unsigned c = pc_mosaic_channel(&m, x, y);
+					unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
+					double v = PC_ROW(&raw, uint16_t, y)[x];
+					keeps &= fabs(f[4 * k + c].data[y * 40 + x] - v) <= 1e-3 &&
+						 fabs(r[4 * k + c].data[y * 40 + x] - v) <= 1e-9;
+				}
+			CHECK(keeps);
 			pc_view_free(&raw);
 			/* uniform polarization and colour: every channel exact, AoLP right */
 			for (int a = 0; a < 4; a++) {
