@@ -721,10 +721,7 @@ int pc_v4l2_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 		e.formats_total = (unsigned)d->nformats_total;
 		if (d->error)
 			snprintf(e.note, sizeof e.note, "%s", d->error_detail);
-		else if (!d->info.capture && d->info.multiplanar)
-			snprintf(e.note, sizeof e.note, "multi-planar node: polarcam streams "
-							"single-planar capture nodes");
-		else if (!d->info.capture)
+		else if (!d->info.capture && !d->info.capture_mplane)
 			snprintf(e.note, sizeof e.note, "not a video capture node%s",
 				 d->info.output ? " (video output)" : d->info.metadata ? " (metadata)" : "");
 		else if (!d->info.streaming)

@@ -32,7 +32,8 @@ typedef struct pc_v4l2_slot {
 struct pc_v4l2 {
 	int fd;
 	pc_v4l2_dir dir;
-	uint32_t type; /* V4L2_BUF_TYPE_VIDEO_CAPTURE or _OUTPUT */
+	uint32_t type; /* V4L2_BUF_TYPE_VIDEO_CAPTURE or _OUTPUT (or their _MPLANE) */
+	bool mplane;   /* the multi-planar API, with one plane */
 	pc_v4l2_info info;
 	pc_v4l2_format fmt; /* the format streaming uses */
 	pc_v4l2_slot *slots;
@@ -166,7 +167,9 @@ static void fill_info(pc_v4l2_info *info, const char *path, const struct v4l2_ca
 	info->device_caps = c;
 	info->capture = (c & V4L2_CAP_VIDEO_CAPTURE) != 0;
 	info->output = (c & V4L2_CAP_VIDEO_OUTPUT) != 0;
-	info->multiplanar = (c & (V4L2_CAP_VIDEO_CAPTURE_MPLANE | V4L2_CAP_VIDEO_OUTPUT_MPLANE)) != 0;
+	info->capture_mplane = (c & V4L2_CAP_VIDEO_CAPTURE_MPLANE) != 0;
+	info->output_mplane = (c & V4L2_CAP_VIDEO_OUTPUT_MPLANE) != 0;
+	info->multiplanar = info->capture_mplane || info->output_mplane;
 	info->metadata = (c & (V4L2_CAP_META_CAPTURE | V4L2_CAP_META_OUTPUT)) != 0;
 	info->streaming = (c & V4L2_CAP_STREAMING) != 0;
 	info->readwrite = (c & V4L2_CAP_READWRITE) != 0;
@@ -240,15 +243,13 @@ int pc_v4l2_open(const char *path, pc_v4l2_dir dir, pc_v4l2 **out)
 	dev->dir = dir;
 	fill_info(&dev->info, path, &cap);
 	const pc_v4l2_info *in = &dev->info;
-	bool ok = dir == PC_V4L2_CAPTURE ? in->capture : in->output;
-	if (!ok || !in->streaming) {
+	bool single = dir == PC_V4L2_CAPTURE ? in->capture : in->output;
+	bool multi = dir == PC_V4L2_CAPTURE ? in->capture_mplane : in->output_mplane;
+	if (!(single || multi) || !in->streaming) {
 		char offers[160];
 		describe_caps(in->device_caps, offers, sizeof offers);
 		const char *want = dir == PC_V4L2_CAPTURE ? "capture" : "output";
-		if (!ok && in->multiplanar)
-			rc = pc_error(PC_ENOTSUP, "%s (%s, '%s'): multi-planar %s only; polarcam streams "
-						  "single-planar nodes", path, in->driver, in->card, want);
-		else if (!ok)
+		if (!(single || multi))
 			rc = pc_error(PC_ENOTSUP, "%s (%s, '%s'): not a video %s node (it offers: %s)",
 				      path, in->driver, in->card, want, offers);
 		else
@@ -258,7 +259,11 @@ int pc_v4l2_open(const char *path, pc_v4l2_dir dir, pc_v4l2 **out)
 		free(dev);
 		return rc;
 	}
-	dev->type = dir == PC_V4L2_CAPTURE ? V4L2_BUF_TYPE_VIDEO_CAPTURE : V4L2_BUF_TYPE_VIDEO_OUTPUT;
+	dev->mplane = !single;
+	if (dir == PC_V4L2_CAPTURE)
+		dev->type = dev->mplane ? V4L2_BUF_TYPE_VIDEO_CAPTURE_MPLANE : V4L2_BUF_TYPE_VIDEO_CAPTURE;
+	else
+		dev->type = dev->mplane ? V4L2_BUF_TYPE_VIDEO_OUTPUT_MPLANE : V4L2_BUF_TYPE_VIDEO_OUTPUT;
 	*out = dev;
 	return 0;
 }
@@ -366,17 +371,34 @@ int pc_v4l2_frame_sizes(pc_v4l2 *dev, uint32_t fourcc, pc_v4l2_size_range *out)
 
 static int fill_format(const pc_v4l2 *dev, const struct v4l2_format *f, pc_v4l2_format *got)
 {
-	const struct v4l2_pix_format *p = &f->fmt.pix;
+	uint32_t field;
 	memset(got, 0, sizeof *got);
-	got->fourcc = p->pixelformat;
-	got->format = pc_format_from_v4l2(p->pixelformat);
-	got->width = p->width;
-	got->height = p->height;
-	got->bytesperline = p->bytesperline;
-	got->sizeimage = p->sizeimage;
-	if (p->field != V4L2_FIELD_NONE && p->field != V4L2_FIELD_ANY)
+	if (dev->mplane) {
+		const struct v4l2_pix_format_mplane *mp = &f->fmt.pix_mp;
+		char f4[5];
+		if (mp->num_planes != 1)
+			return pc_error(PC_EFORMAT, "%s: the driver stores '%s' in %u planes; polarcam "
+						    "reads one-plane formats", dev->info.path,
+					pc_fourcc_str(mp->pixelformat, f4), mp->num_planes);
+		got->fourcc = mp->pixelformat;
+		got->width = mp->width;
+		got->height = mp->height;
+		got->bytesperline = mp->plane_fmt[0].bytesperline;
+		got->sizeimage = mp->plane_fmt[0].sizeimage;
+		field = mp->field;
+	} else {
+		const struct v4l2_pix_format *p = &f->fmt.pix;
+		got->fourcc = p->pixelformat;
+		got->width = p->width;
+		got->height = p->height;
+		got->bytesperline = p->bytesperline;
+		got->sizeimage = p->sizeimage;
+		field = p->field;
+	}
+	got->format = pc_format_from_v4l2(got->fourcc);
+	if (field != V4L2_FIELD_NONE && field != V4L2_FIELD_ANY)
 		return pc_error(PC_ENOTSUP, "%s: the driver delivers fields (V4L2 field %u); polarcam "
-					    "needs progressive frames", dev->info.path, p->field);
+					    "needs progressive frames", dev->info.path, field);
 	/* Old drivers leave bytesperline 0 for packed-pixel formats: the table's row size is then
 	 * the stride by definition (V4L2 spec, "Single-planar format structure"). */
 	size_t row;
@@ -424,11 +446,20 @@ static int do_format(pc_v4l2 *dev, unsigned long request, const char *name, uint
 	struct v4l2_format f;
 	memset(&f, 0, sizeof f);
 	f.type = dev->type;
-	f.fmt.pix.width = width;
-	f.fmt.pix.height = height;
-	f.fmt.pix.pixelformat = fourcc;
-	f.fmt.pix.field = V4L2_FIELD_NONE;
-	f.fmt.pix.bytesperline = (uint32_t)bytesperline;
+	if (dev->mplane) {
+		f.fmt.pix_mp.width = width;
+		f.fmt.pix_mp.height = height;
+		f.fmt.pix_mp.pixelformat = fourcc;
+		f.fmt.pix_mp.field = V4L2_FIELD_NONE;
+		f.fmt.pix_mp.num_planes = 1;
+		f.fmt.pix_mp.plane_fmt[0].bytesperline = (uint32_t)bytesperline;
+	} else {
+		f.fmt.pix.width = width;
+		f.fmt.pix.height = height;
+		f.fmt.pix.pixelformat = fourcc;
+		f.fmt.pix.field = V4L2_FIELD_NONE;
+		f.fmt.pix.bytesperline = (uint32_t)bytesperline;
+	}
 	if (xioctl(dev->fd, request, &f) != 0) {
 		char f4[5];
 		if (errno == EINVAL)
@@ -1012,6 +1043,34 @@ int pc_v4l2_set_frame_rate(pc_v4l2 *dev, double fps, double *actual_fps)
 
 /* ---- streaming ---- */
 
+/* A v4l2_buffer with room for the planes of the multi-planar API. */
+typedef struct vbuf {
+	struct v4l2_buffer b;
+	struct v4l2_plane planes[VIDEO_MAX_PLANES];
+} vbuf;
+
+static void vbuf_init(const pc_v4l2 *dev, vbuf *v, unsigned index)
+{
+	memset(v, 0, sizeof *v);
+	v->b.type = dev->type;
+	v->b.memory = V4L2_MEMORY_MMAP;
+	v->b.index = index;
+	if (dev->mplane) {
+		v->b.m.planes = v->planes;
+		v->b.length = VIDEO_MAX_PLANES;
+	}
+}
+
+static size_t vbuf_length(const pc_v4l2 *dev, const vbuf *v)
+{
+	return dev->mplane ? v->planes[0].length : v->b.length;
+}
+
+static size_t vbuf_bytesused(const pc_v4l2 *dev, const vbuf *v)
+{
+	return dev->mplane ? v->planes[0].bytesused : v->b.bytesused;
+}
+
 static void release_buffers(pc_v4l2 *dev)
 {
 	for (unsigned i = 0; i < dev->nslots; i++)
@@ -1069,28 +1128,31 @@ int pc_v4l2_buffers_alloc(pc_v4l2 *dev, unsigned count, unsigned *granted)
 	}
 	dev->nslots = rb.count;
 	for (unsigned i = 0; i < rb.count; i++) {
-		struct v4l2_buffer vb;
-		memset(&vb, 0, sizeof vb);
-		vb.type = dev->type;
-		vb.memory = V4L2_MEMORY_MMAP;
-		vb.index = i;
-		if (xioctl(dev->fd, VIDIOC_QUERYBUF, &vb) != 0) {
+		vbuf vb;
+		vbuf_init(dev, &vb, i);
+		if (xioctl(dev->fd, VIDIOC_QUERYBUF, &vb.b) != 0) {
 			rc = io_fail(dev, "VIDIOC_QUERYBUF");
 			break;
 		}
-		if (vb.length < dev->fmt.sizeimage) {
-			rc = pc_error(PC_EFORMAT, "%s: buffer %u holds %u bytes, the format needs %zu",
-				      dev->info.path, i, vb.length, dev->fmt.sizeimage);
+		if (dev->mplane && vb.b.length != 1) {
+			rc = pc_error(PC_EFORMAT, "%s: buffer %u has %u planes, polarcam reads one",
+				      dev->info.path, i, vb.b.length);
 			break;
 		}
-		void *p = mmap(NULL, vb.length, PROT_READ | PROT_WRITE, MAP_SHARED, dev->fd,
-			       vb.m.offset);
+		size_t len = vbuf_length(dev, &vb);
+		if (len < dev->fmt.sizeimage) {
+			rc = pc_error(PC_EFORMAT, "%s: buffer %u holds %zu bytes, the format needs %zu",
+				      dev->info.path, i, len, dev->fmt.sizeimage);
+			break;
+		}
+		off_t offset = dev->mplane ? (off_t)vb.planes[0].m.mem_offset : (off_t)vb.b.m.offset;
+		void *p = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_SHARED, dev->fd, offset);
 		if (p == MAP_FAILED) {
 			rc = io_fail(dev, "mmap");
 			break;
 		}
 		dev->slots[i].data = p;
-		dev->slots[i].length = vb.length;
+		dev->slots[i].length = len;
 		dev->slots[i].fresh = dev->dir == PC_V4L2_OUTPUT;
 	}
 	if (rc) {
@@ -1168,16 +1230,20 @@ int pc_v4l2_buffers_free(pc_v4l2 *dev)
 
 static int qbuf(pc_v4l2 *dev, unsigned index, size_t bytesused)
 {
-	struct v4l2_buffer vb;
-	memset(&vb, 0, sizeof vb);
-	vb.type = dev->type;
-	vb.memory = V4L2_MEMORY_MMAP;
-	vb.index = index;
+	vbuf vb;
+	vbuf_init(dev, &vb, index);
+	if (dev->mplane)
+		vb.b.length = 1;
 	if (dev->dir == PC_V4L2_OUTPUT) {
-		vb.bytesused = (uint32_t)bytesused;
-		vb.field = V4L2_FIELD_NONE;
+		if (dev->mplane) {
+			vb.planes[0].bytesused = (uint32_t)bytesused;
+			vb.planes[0].length = (uint32_t)dev->slots[index].length;
+		} else {
+			vb.b.bytesused = (uint32_t)bytesused;
+		}
+		vb.b.field = V4L2_FIELD_NONE;
 	}
-	if (xioctl(dev->fd, VIDIOC_QBUF, &vb) != 0)
+	if (xioctl(dev->fd, VIDIOC_QBUF, &vb.b) != 0)
 		return io_fail(dev, "VIDIOC_QBUF");
 	dev->slots[index].queued = true;
 	dev->slots[index].fresh = false;
@@ -1221,8 +1287,9 @@ bool pc_v4l2_streaming(const pc_v4l2 *dev)
 	return dev && dev->streaming;
 }
 
-static int fill_buffer(pc_v4l2 *dev, const struct v4l2_buffer *vb, pc_v4l2_buffer *b)
+static int fill_buffer(pc_v4l2 *dev, const vbuf *v, pc_v4l2_buffer *b)
 {
+	const struct v4l2_buffer *vb = &v->b;
 	if (vb->index >= dev->nslots || !dev->slots[vb->index].queued)
 		return pc_error(PC_EIO, "%s: the driver returned buffer %u, which was not queued",
 				dev->info.path, vb->index);
@@ -1233,7 +1300,7 @@ static int fill_buffer(pc_v4l2 *dev, const struct v4l2_buffer *vb, pc_v4l2_buffe
 	b->index = vb->index;
 	b->data = s->data;
 	b->length = s->length;
-	b->bytesused = vb->bytesused;
+	b->bytesused = vbuf_bytesused(dev, v);
 	b->sequence = vb->sequence;
 	b->timestamp_ns = (uint64_t)vb->timestamp.tv_sec * 1000000000u +
 			  (uint64_t)vb->timestamp.tv_usec * 1000u;
@@ -1276,11 +1343,9 @@ int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf)
 		return starve(dev, timeout_ms);
 	int64_t deadline = timeout_ms >= 0 ? now_ms() + timeout_ms : -1;
 	for (;;) {
-		struct v4l2_buffer vb;
-		memset(&vb, 0, sizeof vb);
-		vb.type = dev->type;
-		vb.memory = V4L2_MEMORY_MMAP;
-		if (xioctl(dev->fd, VIDIOC_DQBUF, &vb) == 0)
+		vbuf vb;
+		vbuf_init(dev, &vb, 0);
+		if (xioctl(dev->fd, VIDIOC_DQBUF, &vb.b) == 0)
 			return fill_buffer(dev, &vb, buf);
 		if (errno == EIO)
 			return pc_error(PC_EIO, "%s: VIDIOC_DQBUF: the driver reports a fatal streaming "
@@ -1305,10 +1370,8 @@ int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf)
 			return io_fail(dev, "poll");
 		}
 		if (r > 0 && (p.revents & (POLLERR | POLLHUP | POLLNVAL))) {
-			memset(&vb, 0, sizeof vb);
-			vb.type = dev->type;
-			vb.memory = V4L2_MEMORY_MMAP;
-			if (xioctl(dev->fd, VIDIOC_DQBUF, &vb) == 0)
+			vbuf_init(dev, &vb, 0);
+			if (xioctl(dev->fd, VIDIOC_DQBUF, &vb.b) == 0)
 				return fill_buffer(dev, &vb, buf);
 			if (errno == EAGAIN)
 				return pc_error(PC_EIO, "%s: the driver signals an error (poll revents "

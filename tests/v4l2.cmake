@@ -38,9 +38,10 @@ endif()
 add_executable(pc_guest_simframes ${PC_GUEST_DIR}/simframes.c)
 target_link_libraries(pc_guest_simframes PRIVATE pc_sim pc_io pc_core)
 
-# vivid: one instance with a video capture and a video output node (node_types=0x101); its
-# error-injection controls stay on (they are the compliance test's faults).
-set(PC_VIVID_PARAMS "vivid n_devs=1 node_types=0x101")
+# vivid: two instances, each with a video capture and a video output node (node_types=0x101),
+# the first single-planar, the second multi-planar (multiplanar=1,2); their error-injection
+# controls stay on (they are the compliance test's faults).
+set(PC_VIVID_PARAMS "vivid n_devs=2 node_types=0x101,0x101 multiplanar=1,2")
 add_test(NAME v4l2_guest
   COMMAND ${PC_GUEST_DIR}/v4l2-guest.sh ${CMAKE_BINARY_DIR}/qemu-cache
     $<TARGET_FILE:pc_guest_simframes> $<TARGET_FILE:pc_guest_v4l2> $<TARGET_FILE:polarcam>

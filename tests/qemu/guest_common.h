@@ -9,6 +9,7 @@
 
 static int gt_npass, gt_nfail, gt_nskip;
 static double gt_t_last; /* time of the previous result line */
+static const char *gt_prefix = ""; /* prepended to check names ("mplane-") */
 
 static inline double gt_now(void)
 {
@@ -23,7 +24,7 @@ static inline void gt_vline(const char *tag, const char *name, const char *fmt, 
 	double now = gt_now();
 	if (gt_t_last == 0.0)
 		gt_t_last = now;
-	printf("%s %s: ", tag, name);
+	printf("%s %s%s: ", tag, gt_prefix, name);
 	vprintf(fmt, ap);
 	printf(" [%.1f s]\n", now - gt_t_last);
 	gt_t_last = now;

@@ -30,7 +30,8 @@
 #include "polarcam/source.h"
 #include "polarcam/v4l2.h"
 
-static char cap_path[256], out_path[256];
+static char cap_path[256], out_path[256];       /* the single-planar vivid instance */
+static char mcap_path[256], mout_path[256];     /* the multi-planar one (multiplanar=2) */
 
 /* ---- helpers ---- */
 
@@ -185,10 +186,16 @@ static void check_list(void)
 			snprintf(cap_path, sizeof cap_path, "%s", d->info.path);
 		if (d->info.output && !out_path[0])
 			snprintf(out_path, sizeof out_path, "%s", d->info.path);
+		if (d->info.capture_mplane && !mcap_path[0])
+			snprintf(mcap_path, sizeof mcap_path, "%s", d->info.path);
+		if (d->info.output_mplane && !mout_path[0])
+			snprintf(mout_path, sizeof mout_path, "%s", d->info.path);
 	}
 	free(nodes);
 	if (cap_path[0] && out_path[0])
-		gt_pass("list", "%zu nodes; vivid capture %s, output %s", n, cap_path, out_path);
+		gt_pass("list", "%zu nodes; vivid capture %s, output %s; multi-planar capture %s, "
+				"output %s", n, cap_path, out_path, mcap_path[0] ? mcap_path : "none",
+			mout_path[0] ? mout_path : "none");
 	else
 		gt_fail("list", "no vivid capture+output pair among %zu nodes", n);
 }
@@ -1250,6 +1257,24 @@ int main(int argc, char **argv)
 		gt_skip("loop-sim", "no simulator frames given (--sim DIR)");
 	check_source_capture(PC_FMT_MONO8, 640, 480, 0, 6);
 	check_source_capture(PC_FMT_MONO16, 640, 480, 0, 6);
+	/* the same through the multi-planar API (vivid's second instance, multiplanar=2) */
+	if (mcap_path[0] && mout_path[0]) {
+		char keep_cap[256], keep_out[256];
+		memcpy(keep_cap, cap_path, sizeof keep_cap);
+		memcpy(keep_out, out_path, sizeof keep_out);
+		memcpy(cap_path, mcap_path, sizeof cap_path);
+		memcpy(out_path, mout_path, sizeof out_path);
+		gt_prefix = "mplane-";
+		check_capture("Y12 ", 640, 480, 0, 4);
+		check_source_capture(PC_FMT_MONO16, 640, 480, 0, 4);
+		check_loop("pattern", "GREY", 1920, 1080, 6, NULL, "mosaic pattern frames");
+		check_compliance("compliance", "input=3&dv=640x480@60", PC_FAULT_NONE, NULL, 0, false);
+		gt_prefix = "";
+		memcpy(cap_path, keep_cap, sizeof cap_path);
+		memcpy(out_path, keep_out, sizeof out_path);
+	} else {
+		gt_fail("mplane", "vivid's multi-planar instance has no capture+output nodes");
+	}
 	check_source_controls();
 	check_compliance("compliance", "input=3&dv=640x480@60&gain_db_step=0.1", PC_FAULT_NONE, NULL,
 			 0, false);

@@ -41,14 +41,17 @@ typedef struct pc_v4l2_info {
 	uint32_t device_caps; /* V4L2_CAP_* of this node */
 	bool capture;         /* single-planar video capture */
 	bool output;          /* single-planar video output */
-	bool multiplanar;     /* multi-planar capture or output (not streamed by polarcam) */
+	bool capture_mplane;  /* multi-planar video capture (streamed with one-plane formats) */
+	bool output_mplane;   /* multi-planar video output */
+	bool multiplanar;     /* capture_mplane || output_mplane */
 	bool metadata;        /* metadata capture or output */
 	bool streaming;       /* V4L2_CAP_STREAMING */
 	bool readwrite;       /* V4L2_CAP_READWRITE */
 } pc_v4l2_info;
 
-/* Opens path for one direction; fails with PC_ENOTSUP (naming what the node offers) when the
- * node cannot stream in that direction, PC_ENOENT when it does not exist, PC_EPERM when it
+/* Opens path for one direction, through the single-planar API when the node has it, else the
+ * multi-planar one (formats with one plane only: every format of the table). Fails with
+ * PC_ENOTSUP (naming what the node offers) when the node cannot stream in that direction, PC_ENOENT when it does not exist, PC_EPERM when it
  * cannot be opened for lack of permission. */
 int pc_v4l2_open(const char *path, pc_v4l2_dir dir, pc_v4l2 **out);
 /* Stops streaming if needed, unmaps the buffers and closes the node. NULL is fine. */
