@@ -939,6 +939,61 @@ static void check_eintr(void)
 	pc_v4l2_close(dev);
 }
 
+/* vivid starts its 32-bit sequence 128 frames before the wrap: through `v4l2:` the 64-bit
+ * sequence must run on across 2^32, strictly increasing, with drops counted sanely. */
+static void check_source_seq_wrap(void)
+{
+	const char *name = "source-sequence-wrap";
+	pc_v4l2 *dev = NULL;
+	pc_v4l2_ctrl c;
+	if (pc_v4l2_open(cap_path, PC_V4L2_CAPTURE, &dev) ||
+	    pc_v4l2_ctrl_find(dev, "Wrap Sequence Number", &c) || pc_v4l2_ctrl_set(dev, c.id, 1)) {
+		gt_skip(name, "vivid 'Wrap Sequence Number': %s", pc_error_detail());
+		pc_v4l2_close(dev);
+		return;
+	}
+	pc_source_format f;
+	pc_source *src = source_setup(name, "input=3&dv=640x480@60", PC_FMT_MONO8, 640, 480, &f);
+	int rc = src ? pc_source_start(src) : PC_EIO;
+	uint64_t first = 0, last = 0;
+	unsigned frames = 0, back = 0;
+	const uint64_t wrap = 0x100000000ull;
+	while (!rc && frames < 600 && last < wrap + 8) {
+		pc_buffer *b;
+		rc = pc_source_dequeue(src, 5000, &b);
+		if (rc)
+			break;
+		uint64_t sq = b->frame.meta.sequence;
+		if (frames == 0)
+			first = sq;
+		else if (sq <= last)
+			back++;
+		last = sq;
+		frames++;
+		rc = pc_source_requeue(src, b);
+	}
+	pc_source_stats st;
+	memset(&st, 0, sizeof st);
+	if (src) {
+		pc_source_stop(src);
+		pc_source_get_stats(src, &st);
+	}
+	if (rc && src)
+		gt_fail(name, "after %u frames: %s", frames, pc_error_detail());
+	else if (src && (first < wrap - 256 || first >= wrap || last < wrap + 8 || back ||
+			 st.dropped + frames != last - first + 1))
+		gt_fail(name, "sequence %llu..%llu over %u frames, %u not increasing, dropped %llu",
+			(unsigned long long)first, (unsigned long long)last, frames, back,
+			(unsigned long long)st.dropped);
+	else if (src)
+		gt_pass(name, "sequence %llu -> %llu across 2^32 in %u frames, strictly increasing, "
+			      "dropped %llu (= the gaps)", (unsigned long long)first,
+			(unsigned long long)last, frames, (unsigned long long)st.dropped);
+	pc_source_close(src);
+	pc_v4l2_ctrl_set(dev, c.id, 0);
+	pc_v4l2_close(dev);
+}
+
 /* ---- vivid's error injection (controls present unless vivid was loaded with no_error_inj) ---- */
 
 /* Opens the webcam input in GREY 640x480, finds control `ctrl`; NULL with a SKIP/FAIL printed. */
@@ -1292,6 +1347,7 @@ int main(int argc, char **argv)
 	check_fault_error_flag();
 	check_fault_drops();
 	check_fault_seq_wrap();
+	check_source_seq_wrap();
 	check_fault_fatal("fault-fatal", "Inject Fatal Streaming Error", PC_EIO);
 	check_fault_fatal("fault-disconnect", "Disconnect", PC_EDISCONNECTED);
 	/* vivid registers its nodes again once the last user closed them */
