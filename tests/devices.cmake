@@ -29,3 +29,11 @@ if(PC_HAVE_ARAVIS)
   set_tests_properties(devices_bench_smoke PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
     RESOURCE_LOCK gige RUN_SERIAL TRUE ENVIRONMENT "${PC_TEST_ENV};PC_BENCH_NETNS=1")
 endif()
+
+# polarcam devices lists every backend (inside a namespace: enumeration may touch the network
+# stack even without --gige).
+add_test(NAME devices_list COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/netns.sh
+  $<TARGET_FILE:polarcam> devices --json)
+set_tests_properties(devices_list PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 60
+  ENVIRONMENT "${PC_TEST_ENV}"
+  PASS_REGULAR_EXPRESSION "\"backend\":\"sim\",\"built\":true.*\"backend\":\"file\",\"built\":true")
