@@ -27,7 +27,8 @@ typedef int32_t v8i __attribute__((vector_size(32)));
 
 static inline v8f vsplat(float f)
 {
-	return (v8f){ f, f, f, f, f, f, f, f };
+	v8f z = { 0 };
+	return z + f; /* a broadcast, not eight inserts */
 }
 
 static inline v8f vld(const float *p)
@@ -328,6 +329,12 @@ static void stokes_band(void *ctx, uint32_t y0, uint32_t y1)
 		const float *c = ring_get(&rg, j->in, (int)y + 1);
 		unsigned ch[4] = { pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
 				   pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1) };
+		/* S1 = I0 − I90 and S2 = I45 − I135 as signed sums of the four slots */
+		float k1[4], k2[4];
+		for (int k = 0; k < 4; k++) {
+			k1[k] = ch[k] == 0 ? 1.0f : ch[k] == 2 ? -1.0f : 0.0f;
+			k2[k] = ch[k] == 1 ? 1.0f : ch[k] == 3 ? -1.0f : 0.0f;
+		}
 		float *o[5];
 		for (int k = 0; k < 5; k++)
 			o[k] = !planes[k]->data ? NULL
@@ -335,10 +342,10 @@ static void stokes_band(void *ctx, uint32_t y0, uint32_t y1)
 						: tmp + (size_t)k * w;
 #ifdef PC_HAVE_X86_DISPATCH
 		if (use_avx2())
-			stokes_row_avx2(a, b, c, w, ch, o, j->nt);
+			stokes_row_avx2(a, b, c, w, k1, k2, o, j->nt);
 		else
 #endif
-			stokes_row_base(a, b, c, w, ch, o, 0);
+			stokes_row_base(a, b, c, w, k1, k2, o, 0);
 		if (!j->planar)
 			for (int k = 0; k < 5; k++) {
 				if (!o[k])
