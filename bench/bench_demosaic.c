@@ -46,6 +46,15 @@ static double now_s(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* CPU time of the whole process (all threads): unlike wall time, it does not grow while the
+ * shared machine's other work holds the cores. */
+static double cpu_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 static int cmp_str(const void *a, const void *b)
 {
 	return strcmp(*(char *const *)a, *(char *const *)b);
@@ -58,13 +67,13 @@ static int cmp_double(const void *a, const void *b)
 }
 
 typedef struct timing {
-	double median_ms, min_ms;
+	double median_ms, min_ms, cpu_ms; /* wall median and minimum, CPU-time median */
 } timing;
 
 static timing summarize(double *t, int n)
 {
 	qsort(t, (size_t)n, sizeof *t, cmp_double);
-	timing r = { 1e3 * (n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2])), 1e3 * t[0] };
+	timing r = { 1e3 * (n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2])), 1e3 * t[0], NAN };
 	return r;
 }
 
@@ -210,7 +219,9 @@ static void usage(FILE *fp)
 		"every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32);\n"
 		"a memory copy of bilinear's input and output bytes; OpenCV's bilinear 16-bit Bayer\n"
 		"demosaicking of the same frame when OpenCV is built in. All in one run: read the\n"
-		"ratios, absolute times move with the machine's load (reported).\n"
+		"ratios, absolute times move with the machine's load (reported). Each time is given\n"
+		"as wall-clock and as process CPU time (all threads), which does not count waiting\n"
+		"for cores that other work holds.\n"
 		"\n"
 		"Writes DIR/demosaic.json, DIR/pareto_s0.png and DIR/pareto_dolp.png (default DIR:\n"
 		"bench-demosaic) and prints a table; --json prints the JSON on stdout instead.\n");
@@ -379,7 +390,10 @@ int pc_bench_demosaic(int argc, char **argv)
 	/* Round robin: every repetition runs every job once, so that load changes on the shared
 	 * machine hit all of them alike; the first round is a warm-up. */
 	double *tj = malloc(sizeof(double) * J_N * (size_t)reps);
-	if (!tj) {
+	double *cj_t = malloc(sizeof(double) * J_N * (size_t)reps);
+	if (!tj || !cj_t) {
+		free(tj);
+		free(cj_t);
 		pc_view_free(&raw);
 		free(obuf);
 		free(ts);
@@ -389,7 +403,7 @@ int pc_bench_demosaic(int argc, char **argv)
 	pc_progress_begin(&prog, "timing", (uint64_t)reps + 1);
 	for (long rep = -1; rep < reps; rep++) {
 		for (int j = 0; j < J_N; j++) {
-			double t0 = now_s();
+			double t0 = now_s(), c0 = cpu_s();
 			if (j < PC_DM_COUNT) {
 				const pc_mosaic *m = rows[j].colour ? &colour : &mono;
 				rc = pc_demosaic(&raw, m, rows[j].m, &opts, planes);
@@ -410,22 +424,29 @@ int pc_bench_demosaic(int argc, char **argv)
 							nthreads, err, sizeof err);
 #endif
 			}
-			double dt = now_s() - t0;
-			if (rep >= 0)
+			double dt = now_s() - t0, dc = cpu_s() - c0;
+			if (rep >= 0) {
 				tj[(size_t)j * (size_t)reps + (size_t)rep] = dt;
+				cj_t[(size_t)j * (size_t)reps + (size_t)rep] = dc;
+			}
 		}
 		pc_progress_update(&prog, (uint64_t)(rep + 2));
 	}
 	pc_progress_end(&prog);
+	timing tall[J_N];
+	for (int j = 0; j < J_N; j++) {
+		tall[j] = summarize(tj + (size_t)j * (size_t)reps, (int)reps);
+		tall[j].cpu_ms = summarize(cj_t + (size_t)j * (size_t)reps, (int)reps).median_ms;
+	}
 	for (int k = 0; k < PC_DM_COUNT; k++)
-		rows[k].t = summarize(tj + (size_t)k * (size_t)reps, (int)reps);
-	timing t_pipe[2] = { summarize(tj + (size_t)J_PIPE_BIL * (size_t)reps, (int)reps),
-			     summarize(tj + (size_t)J_PIPE_EARI * (size_t)reps, (int)reps) };
-	timing t_copy = summarize(tj + (size_t)J_COPY * (size_t)reps, (int)reps);
-	timing t_cv = { NAN, NAN };
+		rows[k].t = tall[k];
+	timing t_pipe[2] = { tall[J_PIPE_BIL], tall[J_PIPE_EARI] };
+	timing t_copy = tall[J_COPY];
+	timing t_cv = { NAN, NAN, NAN };
 	if (have_cv)
-		t_cv = summarize(tj + (size_t)J_OPENCV * (size_t)reps, (int)reps);
+		t_cv = tall[J_OPENCV];
 	free(tj);
+	free(cj_t);
 	free(csrc);
 	free(cdst);
 	free(bgr);
@@ -550,23 +571,25 @@ int pc_bench_demosaic(int argc, char **argv)
 	loadavg(load1, sizeof load1);
 
 	/* ---------------- report ---------------- */
-	double bil = 0;
+	double bil = 0, bil_cpu = 0;
 	for (size_t i = 0; i < nrows; i++)
-		if (rows[i].m == PC_DM_BILINEAR)
+		if (rows[i].m == PC_DM_BILINEAR) {
 			bil = rows[i].t.median_ms;
+			bil_cpu = rows[i].t.cpu_ms;
+		}
 	const method_row *brow = NULL;
 	for (size_t i = 0; i < nrows; i++)
 		if (rows[i].m == PC_DM_BILINEAR)
 			brow = &rows[i];
-	fprintf(tf, "%-16s %10s %8s", "method", "ms/frame", "x bil");
+	fprintf(tf, "%-16s %9s %7s %8s %7s", "method", "ms/frame", "x bil", "cpu ms", "x bil");
 	for (int d = 0; have_acc && brow && d < brow->n_ds; d++)
 		fprintf(tf, " | %-10.10s %7s %7s %7s %7s", brow->ds_name[d], "S0 dB", "dS0",
 			"DoLP dB", "dDoLP");
 	fprintf(tf, " | %s\n", have_acc ? "wAoLP deg" : "");
 	for (size_t i = 0; i < nrows; i++) {
 		const method_row *r = &rows[i];
-		fprintf(tf, "%-16s %10.2f %8.2f", pc_demosaic_method_get(r->m)->name, r->t.median_ms,
-			r->t.median_ms / bil);
+		fprintf(tf, "%-16s %9.2f %7.2f %8.2f %7.2f", pc_demosaic_method_get(r->m)->name,
+			r->t.median_ms, r->t.median_ms / bil, r->t.cpu_ms, r->t.cpu_ms / bil_cpu);
 		for (int d = 0; have_acc && brow && d < brow->n_ds; d++) {
 			if (r->colour && r->n_ds && d == 0) {
 				/* colour rows: against bayer-first, on the colourised track */
@@ -591,13 +614,16 @@ int pc_bench_demosaic(int argc, char **argv)
 	fprintf(tf, "\n* colour rows: synthetic colour track (Lapray NIR scenes with smooth per-colour "
 		    "gains, IMX250MYR mosaic), deltas against bayer-first\n");
 	fprintf(tf, "full pipeline (demosaic + S0,S1,S2,DoLP,AoLP float32): bilinear %.2f ms "
-		    "(%.2f x bilinear demosaic), eari %.2f ms\n",
-		t_pipe[0].median_ms, t_pipe[0].median_ms / bil, t_pipe[1].median_ms);
-	fprintf(tf, "memory copy of bilinear's %zu MB of input+output: %.2f ms; bilinear / copy = "
-		    "%.2f\n", bytes >> 20, t_copy.median_ms, bil / t_copy.median_ms);
+		    "(cpu %.2f ms; %.2f x bilinear demosaic), eari %.2f ms (cpu %.2f ms)\n",
+		t_pipe[0].median_ms, t_pipe[0].cpu_ms, t_pipe[0].median_ms / bil,
+		t_pipe[1].median_ms, t_pipe[1].cpu_ms);
+	fprintf(tf, "memory copy of bilinear's %zu MB of input+output: %.2f ms (cpu %.2f ms); "
+		    "bilinear / copy = %.2f\n", bytes >> 20, t_copy.median_ms, t_copy.cpu_ms,
+		bil / t_copy.median_ms);
 	if (isfinite(t_cv.median_ms))
-		fprintf(tf, "%s: %.2f ms; bilinear / OpenCV = %.2f\n", cv_note, t_cv.median_ms,
-			bil / t_cv.median_ms);
+		fprintf(tf, "%s: %.2f ms (cpu %.2f ms); bilinear / OpenCV = %.2f (cpu %.2f)\n",
+			cv_note, t_cv.median_ms, t_cv.cpu_ms, bil / t_cv.median_ms,
+			bil_cpu / t_cv.cpu_ms);
 	else
 		fprintf(tf, "OpenCV comparison: %s\n", cv_note);
 	if (have_acc)
@@ -619,6 +645,7 @@ int pc_bench_demosaic(int argc, char **argv)
 		json_object_set_new(o, "colour", json_boolean(r->colour));
 		json_object_set_new(o, "ms_median", pc_json_real(r->t.median_ms));
 		json_object_set_new(o, "ms_min", pc_json_real(r->t.min_ms));
+		json_object_set_new(o, "cpu_ms_median", pc_json_real(r->t.cpu_ms));
 		json_object_set_new(o, "x_bilinear", pc_json_real(r->t.median_ms / bil));
 		json_t *ja = json_object();
 		for (int d = 0; d < r->n_ds; d++) {
@@ -644,6 +671,9 @@ int pc_bench_demosaic(int argc, char **argv)
 	}
 	json_object_set_new(root, "methods", jm);
 	json_object_set_new(root, "pipeline_bilinear_ms", pc_json_real(t_pipe[0].median_ms));
+	json_object_set_new(root, "pipeline_bilinear_cpu_ms", pc_json_real(t_pipe[0].cpu_ms));
+	json_object_set_new(root, "copy_cpu_ms", pc_json_real(t_copy.cpu_ms));
+	json_object_set_new(root, "opencv_cpu_ms", pc_json_real(t_cv.cpu_ms));
 	json_object_set_new(root, "pipeline_eari_ms", pc_json_real(t_pipe[1].median_ms));
 	json_object_set_new(root, "copy_ms", pc_json_real(t_copy.median_ms));
 	json_object_set_new(root, "copy_bytes", json_integer((json_int_t)bytes));
