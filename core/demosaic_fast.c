@@ -382,3 +382,58 @@ int pc_stokes_bilinear_fused(const pc_dm_input *in, const pc_mosaic *m, int thre
 	pc_parallel_rows(in->height, 0, threads, stokes_band, &j);
 	return j.err ? pc_error(PC_ENOMEM, "stokes: row buffers") : 0;
 }
+
+/* ---- Stokes from planar analyser images (the non-bilinear pipelines) ---- */
+typedef struct st4_job {
+	const pc_fplane *in;
+	uint32_t w;
+	const pc_stokes_out *out;
+	int nt;
+} st4_job;
+
+static void stokes4_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	st4_job *j = ctx;
+	const pc_fplane *planes[5] = { &j->out->s0, &j->out->s1, &j->out->s2, &j->out->dolp,
+				       &j->out->aolp };
+	for (uint32_t y = y0; y < y1; y++) {
+		const float *r[4];
+		for (int c = 0; c < 4; c++)
+			r[c] = j->in[c].data + (size_t)y * j->in[c].row_stride;
+		float *o[5];
+		for (int k = 0; k < 5; k++)
+			o[k] = planes[k]->data ? planes[k]->data + (size_t)y * planes[k]->row_stride : NULL;
+#ifdef PC_HAVE_X86_DISPATCH
+		if (use_avx2())
+			stokes4_row_avx2(r[0], r[1], r[2], r[3], j->w, o, j->nt);
+		else
+#endif
+			stokes4_row_base(r[0], r[1], r[2], r[3], j->w, o, 0);
+	}
+#ifdef PC_HAVE_X86_DISPATCH
+	if (j->nt)
+		_mm_sfence();
+#endif
+}
+
+int pc_stokes_planar_fast(const pc_fplane in[4], uint32_t width, uint32_t height,
+			  const pc_stokes_out *out)
+{
+	const pc_fplane *planes[5] = { &out->s0, &out->s1, &out->s2, &out->dolp, &out->aolp };
+	for (int c = 0; c < 4; c++)
+		if (in[c].pixel_stride != 1)
+			return PC_ENOTSUP;
+	int aligned = 1, n = 0;
+	for (int k = 0; k < 5; k++) {
+		if (!planes[k]->data)
+			continue;
+		n++;
+		if (planes[k]->pixel_stride != 1)
+			return PC_ENOTSUP;
+		if (!planes_aligned(planes[k], 1))
+			aligned = 0;
+	}
+	st4_job j = { in, width, out, aligned && (size_t)width * height * 4 * n >= PC_NT_MIN_BYTES };
+	pc_parallel_rows(height, 0, 0, stokes4_band, &j);
+	return 0;
+}

@@ -66,6 +66,11 @@ struct pc_stokes_out;
 int pc_stokes_bilinear_fused(const pc_dm_input *in, const pc_mosaic *m, int threads,
 			     const struct pc_stokes_out *out);
 
+/* Stokes from four planar analyser images (ideal analysers), vectorised; PC_ENOTSUP when an
+ * input or output is not planar (pixel_stride != 1). In demosaic_fast.c. */
+int pc_stokes_planar_fast(const pc_fplane in[4], uint32_t width, uint32_t height,
+			  const struct pc_stokes_out *out);
+
 /* Analyser channel at row parity py (0/1) and column parity px of a monochrome mosaic. */
 static inline unsigned pc_dm_ch(const pc_mosaic *m, unsigned px, unsigned py)
 {

@@ -207,6 +207,8 @@ int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t heig
 	int rc = check_out(out, width);
 	if (rc)
 		return rc;
+	if (!pinv && pc_stokes_planar_fast(in, width, height, out) == 0)
+		return 0;
 	st_ch_job j = { in, width, height, pinv, out };
 	pc_parallel_rows(height, 0, 0, stokes_channels_band, &j);
 	return 0;
