@@ -45,7 +45,8 @@ extern "C" {
 
 using namespace libcamera;
 
-namespace {
+namespace
+{
 
 /* ---- one CameraManager per process (libcamera allows no more), shared by users ---- */
 
@@ -63,7 +64,7 @@ int cm_get(CameraManager **out)
 		int r = m->start();
 		if (r)
 			return pc_error(PC_EIO, "libcamera: the camera manager did not start (%s)",
-					std::strerror(-r));
+			                std::strerror(-r));
 		cm = std::move(m);
 	}
 	cm_users++;
@@ -193,14 +194,14 @@ const char *cam_name(const lc_src *v)
 
 std::unique_ptr<CameraConfiguration> fresh_config(lc_src *v)
 {
-	auto c = v->cam->generateConfiguration({ StreamRole::Raw });
+	auto c = v->cam->generateConfiguration({StreamRole::Raw});
 	if (!c || c->empty())
-		c = v->cam->generateConfiguration({ StreamRole::Viewfinder });
+		c = v->cam->generateConfiguration({StreamRole::Viewfinder});
 	return c;
 }
 
 /* Wraps an op: C++ exceptions never cross into C. */
-template<typename F> int guarded(const char *what, F f)
+template <typename F> int guarded(const char *what, F f)
 {
 	try {
 		return f();
@@ -257,8 +258,9 @@ int lc_open(pc_source *s, const char *arg)
 {
 	return guarded("open", [&]() -> int {
 		if (!arg || !*arg)
-			return pc_error(PC_EINVAL, "libcamera: camera id missing: expected libcamera:ID "
-						   "(see polarcam devices)");
+			return pc_error(PC_EINVAL,
+			                "libcamera: camera id missing: expected libcamera:ID "
+			                "(see polarcam devices)");
 		lc_src *v = new lc_src;
 		pc_source_set_priv(s, v);
 		v->mosaic = pc_mosaic_imx250mzr();
@@ -289,16 +291,18 @@ int lc_open(pc_source *s, const char *arg)
 			std::string ids;
 			for (auto &c : cams)
 				ids += (ids.empty() ? "" : ", ") + c->id();
-			rc = pc_error(PC_ENOENT, "libcamera: no camera '%s' (%zu camera%s: %s)", arg,
-				      cams.size(), cams.size() == 1 ? "" : "s",
-				      ids.empty() ? "none" : ids.c_str());
+			rc = pc_error(PC_ENOENT, "libcamera: no camera '%s' (%zu camera%s: %s)",
+			              arg, cams.size(), cams.size() == 1 ? "" : "s",
+			              ids.empty() ? "none" : ids.c_str());
 			lc_close(s);
 			return rc;
 		}
 		int r = v->cam->acquire();
 		if (r) {
-			rc = pc_error(r == -EBUSY ? PC_EBUSY : PC_EIO, "libcamera: camera '%s' cannot be "
-				      "acquired (%s)", arg, std::strerror(-r));
+			rc = pc_error(r == -EBUSY ? PC_EBUSY : PC_EIO,
+			              "libcamera: camera '%s' cannot be "
+			              "acquired (%s)",
+			              arg, std::strerror(-r));
 			lc_close(s);
 			return rc;
 		}
@@ -309,7 +313,8 @@ int lc_open(pc_source *s, const char *arg)
 		auto pa = v->cam->properties().get(properties::PixelArraySize);
 		auto cfg = fresh_config(v);
 		if (!cfg) {
-			rc = pc_error(PC_EIO, "libcamera: camera '%s' offers no stream configuration", arg);
+			rc = pc_error(PC_EIO,
+			              "libcamera: camera '%s' offers no stream configuration", arg);
 			lc_close(s);
 			return rc;
 		}
@@ -338,10 +343,10 @@ int lc_get_info(pc_source *s, pc_source_info *info)
 		auto model = v->cam->properties().get(properties::Model);
 		std::snprintf(info->vendor, sizeof info->vendor, "libcamera");
 		std::snprintf(info->model, sizeof info->model, "%s",
-			      model ? model->c_str() : v->cam->id().c_str());
+		              model ? model->c_str() : v->cam->id().c_str());
 		std::snprintf(info->serial, sizeof info->serial, "%.63s", v->cam->id().c_str());
 		std::snprintf(info->driver, sizeof info->driver, "libcamera %s",
-			      CameraManager::version().c_str());
+		              CameraManager::version().c_str());
 		info->sensor_width = v->sensor_w;
 		info->sensor_height = v->sensor_h;
 		info->polarized = v->polarized;
@@ -367,8 +372,10 @@ int negotiate(lc_src *v, const pc_source_format &req, CameraConfiguration *cfg, 
 	StreamConfiguration &sc = cfg->at(0);
 	std::vector<PixelFormat> have = readable(sc);
 	if (have.empty()) {
-		pc_error(PC_EFORMAT, "libcamera: camera '%s' offers no raw monochrome format polarcam "
-				     "reads (R8, R10, R12, R16, R10/R12 CSI-2 packed)", cam_name(v));
+		pc_error(PC_EFORMAT,
+		         "libcamera: camera '%s' offers no raw monochrome format polarcam "
+		         "reads (R8, R10, R12, R16, R10/R12 CSI-2 packed)",
+		         cam_name(v));
 		return -1;
 	}
 	PixelFormat want;
@@ -377,8 +384,10 @@ int negotiate(lc_src *v, const pc_source_format &req, CameraConfiguration *cfg, 
 		if (!want.isValid())
 			want = libcamera_from_pc(pc_format_from_name(req.format_name));
 		if (!want.isValid()) {
-			pc_error(PC_EINVAL, "format name '%s': neither a libcamera nor a polarcam format "
-					    "name", req.format_name);
+			pc_error(PC_EINVAL,
+			         "format name '%s': neither a libcamera nor a polarcam format "
+			         "name",
+			         req.format_name);
 			return -1;
 		}
 	}
@@ -390,7 +399,8 @@ int negotiate(lc_src *v, const pc_source_format &req, CameraConfiguration *cfg, 
 			want = p;
 	}
 	if (!want.isValid())
-		want = pc_from_libcamera(sc.pixelFormat) != PC_FMT_INVALID ? sc.pixelFormat : have[0];
+		want =
+		    pc_from_libcamera(sc.pixelFormat) != PC_FMT_INVALID ? sc.pixelFormat : have[0];
 	bool offered = false;
 	for (auto &p : have)
 		offered = offered || p == want;
@@ -411,7 +421,7 @@ int negotiate(lc_src *v, const pc_source_format &req, CameraConfiguration *cfg, 
 	CameraConfiguration::Status st = cfg->validate();
 	if (st == CameraConfiguration::Invalid) {
 		pc_error(PC_EFORMAT, "libcamera: camera '%s' refuses %s %ux%u", cam_name(v),
-			 want.toString().c_str(), w, h);
+		         want.toString().c_str(), w, h);
 		return -1;
 	}
 	if (st == CameraConfiguration::Adjusted &&
@@ -419,8 +429,9 @@ int negotiate(lc_src *v, const pc_source_format &req, CameraConfiguration *cfg, 
 	     (req.height && sc.size.height != req.height)))
 		*adjusted = true;
 	if (pc_from_libcamera(sc.pixelFormat) == PC_FMT_INVALID) {
-		pc_error(PC_EFORMAT, "libcamera: camera '%s' answers %s, which polarcam cannot read",
-			 cam_name(v), sc.pixelFormat.toString().c_str());
+		pc_error(PC_EFORMAT,
+		         "libcamera: camera '%s' answers %s, which polarcam cannot read",
+		         cam_name(v), sc.pixelFormat.toString().c_str());
 		return -1;
 	}
 	if (req.stride && req.stride != sc.stride)
@@ -433,7 +444,7 @@ void fill_format(lc_src *v, const StreamConfiguration &sc, pc_source_format *fmt
 	std::memset(fmt, 0, sizeof *fmt);
 	fmt->format = pc_from_libcamera(sc.pixelFormat);
 	std::snprintf(fmt->format_name, sizeof fmt->format_name, "%s",
-		      sc.pixelFormat.toString().c_str());
+	              sc.pixelFormat.toString().c_str());
 	fmt->width = sc.size.width;
 	fmt->height = sc.size.height;
 	fmt->stride = sc.stride;
@@ -457,7 +468,8 @@ int lc_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *verdic
 			return 0;
 		fill_format(v, cfg->at(0), fmt);
 		if (!adjusted && req.format_name[0])
-			std::snprintf(fmt->format_name, sizeof fmt->format_name, "%s", req.format_name);
+			std::snprintf(fmt->format_name, sizeof fmt->format_name, "%s",
+			              req.format_name);
 		int rc = pc_source_format_complete(fmt, v->polarized ? &v->mosaic : nullptr);
 		if (rc)
 			return rc;
@@ -481,17 +493,18 @@ int configure(lc_src *v, const pc_source_format &fmt, unsigned count)
 	if (count) {
 		sc.bufferCount = count;
 		if (cfg->validate() == CameraConfiguration::Invalid || sc.bufferCount < count)
-			return pc_error(PC_EINVAL, "libcamera: camera '%s' cannot run with %u buffers",
-					cam_name(v), count);
+			return pc_error(PC_EINVAL,
+			                "libcamera: camera '%s' cannot run with %u buffers",
+			                cam_name(v), count);
 	}
 	if (adjusted || sc.size.width != fmt.width || sc.size.height != fmt.height ||
 	    sc.stride != fmt.stride || pc_from_libcamera(sc.pixelFormat) != fmt.format)
 		return pc_error(PC_EIO, "libcamera: camera '%s' changed the negotiated format",
-				cam_name(v));
+		                cam_name(v));
 	int r = v->cam->configure(cfg.get());
 	if (r)
 		return pc_error(r == -EACCES ? PC_ESTATE : PC_EIO, "libcamera: configure: %s",
-				std::strerror(-r));
+		                std::strerror(-r));
 	v->stream = sc.stream();
 	v->config = std::move(cfg);
 	return 0;
@@ -539,12 +552,15 @@ int lc_control_query(pc_source *s, pc_control_id id, pc_control_info *info)
 				return notsup(v, "AnalogueGain");
 			float lo = ci->min().get<float>(), hi = ci->max().get<float>();
 			if (!(lo > 0.0f) || hi < lo)
-				return pc_error(PC_EIO, "libcamera: AnalogueGain range [%g, %g] is not a "
-							"gain", (double)lo, (double)hi);
+				return pc_error(PC_EIO,
+				                "libcamera: AnalogueGain range [%g, %g] is not a "
+				                "gain",
+				                (double)lo, (double)hi);
 			info->min = 20.0 * std::log10((double)lo);
 			info->max = 20.0 * std::log10((double)hi);
-			info->def = ci->def().isNone() ? info->min
-						       : 20.0 * std::log10((double)ci->def().get<float>());
+			info->def = ci->def().isNone()
+			                ? info->min
+			                : 20.0 * std::log10((double)ci->def().get<float>());
 			return 0;
 		}
 		case PC_CTRL_FRAME_RATE_HZ: {
@@ -553,8 +569,9 @@ int lc_control_query(pc_source *s, pc_control_id id, pc_control_info *info)
 				return notsup(v, "FrameDurationLimits");
 			int64_t dmin = ci->min().get<int64_t>(), dmax = ci->max().get<int64_t>();
 			if (dmin <= 0 || dmax < dmin)
-				return pc_error(PC_EIO, "libcamera: frame durations [%lld, %lld] us",
-						(long long)dmin, (long long)dmax);
+				return pc_error(PC_EIO,
+				                "libcamera: frame durations [%lld, %lld] us",
+				                (long long)dmin, (long long)dmax);
 			info->min = 1e6 / (double)dmax;
 			info->max = 1e6 / (double)dmin;
 			info->def = info->max;
@@ -619,7 +636,7 @@ int lc_control_set(pc_source *s, pc_control_id id, double value, double *applied
 		}
 		case PC_CTRL_FRAME_RATE_HZ: {
 			int64_t d = (int64_t)std::llround(1e6 / value);
-			v->pending.set(controls::FrameDurationLimits, { d, d });
+			v->pending.set(controls::FrameDurationLimits, {d, d});
 			v->fps = *applied = 1e6 / (double)d;
 			v->have_fps = true;
 			return 0;
@@ -645,7 +662,7 @@ int lc_buffers_alloc(pc_source *s, pc_buffer **bufs, unsigned count)
 		if (n < (int)count) {
 			release_buffers(v);
 			return pc_error(PC_ENOMEM, "libcamera: %d of %u buffers allocated",
-					n < 0 ? 0 : n, count);
+			                n < 0 ? 0 : n, count);
 		}
 		const auto &fbs = v->alloc->buffers(v->stream);
 		for (unsigned i = 0; i < count; i++) {
@@ -656,7 +673,7 @@ int lc_buffers_alloc(pc_source *s, pc_buffer **bufs, unsigned count)
 			if (m == MAP_FAILED) {
 				release_buffers(v);
 				return pc_error(PC_EIO, "libcamera: mmap of buffer %u: %s", i,
-						std::strerror(errno));
+				                std::strerror(errno));
 			}
 			v->maps.emplace_back(m, len);
 			bufs[i]->data = static_cast<uint8_t *>(m) + p.offset;
@@ -698,7 +715,7 @@ int queue_now(lc_src *v, unsigned index)
 	int e = v->cam->queueRequest(r);
 	if (e == -ENODEV)
 		return pc_error(PC_EDISCONNECTED, "libcamera: camera '%s' was disconnected",
-				cam_name(v));
+		                cam_name(v));
 	if (e)
 		return pc_error(PC_EIO, "libcamera: queueRequest: %s", std::strerror(-e));
 	return 0;
@@ -709,7 +726,8 @@ int lc_queue(pc_source *s, pc_buffer *buf)
 	return guarded("queue", [&]() -> int {
 		lc_src *v = priv(s);
 		if (buf->index >= v->nbufs)
-			return pc_error(PC_EINVAL, "libcamera: buffer %u not in the pool", buf->index);
+			return pc_error(PC_EINVAL, "libcamera: buffer %u not in the pool",
+			                buf->index);
 		if (!v->started) {
 			v->waiting.push_back(buf->index);
 			return 0;
@@ -727,13 +745,13 @@ int lc_start(pc_source *s)
 			v->done.clear();
 			if (v->disconnected)
 				return pc_error(PC_EDISCONNECTED, "libcamera: camera '%s' is gone",
-						cam_name(v));
+				                cam_name(v));
 		}
 		v->have_last = false;
 		int e = v->cam->start();
 		if (e)
 			return pc_error(e == -ENODEV ? PC_EDISCONNECTED : PC_EIO,
-					"libcamera: start: %s", std::strerror(-e));
+			                "libcamera: start: %s", std::strerror(-e));
 		v->started = true;
 		std::vector<unsigned> w;
 		w.swap(v->waiting);
@@ -755,9 +773,10 @@ uint64_t next_sequence(lc_src *v, uint32_t raw)
 		return raw;
 	}
 	uint32_t delta = raw - v->last_raw;
-	uint64_t drv = delta < 0x80000000u ? v->last_drv + delta
-					   : (v->last_drv >= (uint64_t)(0u - delta)
-						      ? v->last_drv - (0u - delta) : 0);
+	uint64_t drv =
+	    delta < 0x80000000u
+	        ? v->last_drv + delta
+	        : (v->last_drv >= (uint64_t)(0u - delta) ? v->last_drv - (0u - delta) : 0);
 	v->last_raw = raw;
 	v->last_drv = drv;
 	v->last_out = drv > v->last_out ? drv : v->last_out + 1;
@@ -774,18 +793,21 @@ int lc_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 			auto ready = [&] { return !v->done.empty() || v->disconnected; };
 			if (timeout_ms < 0)
 				v->cv.wait(lock, ready);
-			else if (!v->cv.wait_for(lock, std::chrono::milliseconds(timeout_ms), ready))
+			else if (!v->cv.wait_for(lock, std::chrono::milliseconds(timeout_ms),
+			                         ready))
 				return pc_error(PC_ETIMEDOUT, "libcamera: no frame within %d ms",
-						timeout_ms);
+				                timeout_ms);
 			if (v->done.empty())
-				return pc_error(PC_EDISCONNECTED, "libcamera: camera '%s' was disconnected",
-						cam_name(v));
+				return pc_error(PC_EDISCONNECTED,
+				                "libcamera: camera '%s' was disconnected",
+				                cam_name(v));
 			r = v->done.front();
 			v->done.pop_front();
 		}
 		unsigned idx = (unsigned)r->cookie();
 		if (idx >= v->nbufs)
-			return pc_error(PC_EIO, "libcamera: completed request %u not in the pool", idx);
+			return pc_error(PC_EIO, "libcamera: completed request %u not in the pool",
+			                idx);
 		FrameBuffer *fb = r->findBuffer(v->stream);
 		pc_buffer *pb = v->bufs[idx];
 		const pc_source_format *f = pc_source_current_format(s);
@@ -832,7 +854,7 @@ int lc_stop(pc_source *s)
 	});
 }
 
-const char *const lc_options[] = { "mosaic", nullptr };
+const char *const lc_options[] = {"mosaic", nullptr};
 
 } /* namespace */
 
@@ -852,10 +874,11 @@ int pc_libcamera_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 			std::snprintf(e.uri, sizeof e.uri, "libcamera:%.240s", c->id().c_str());
 			auto model = c->properties().get(properties::Model);
 			std::snprintf(e.vendor, sizeof e.vendor, "libcamera");
-			std::snprintf(e.model, sizeof e.model, "%.63s", model ? model->c_str() : "");
+			std::snprintf(e.model, sizeof e.model, "%.63s",
+			              model ? model->c_str() : "");
 			std::snprintf(e.transport, sizeof e.transport, "libcamera");
 			std::snprintf(e.address, sizeof e.address, "%.63s", c->id().c_str());
-			auto cfg = c->generateConfiguration({ StreamRole::Raw });
+			auto cfg = c->generateConfiguration({StreamRole::Raw});
 			if (cfg && !cfg->empty()) {
 				auto all = cfg->at(0).formats().pixelformats();
 				e.formats_total = (unsigned)all.size();
@@ -863,13 +886,15 @@ int pc_libcamera_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 					if (pc_from_libcamera(pf) == PC_FMT_INVALID)
 						continue;
 					size_t used = std::strlen(e.formats);
-					std::snprintf(e.formats + used, sizeof e.formats - used, "%s%s",
-						      used ? " " : "", pf.toString().c_str());
+					std::snprintf(e.formats + used, sizeof e.formats - used,
+					              "%s%s", used ? " " : "",
+					              pf.toString().c_str());
 				}
 			}
 			if (!e.formats[0])
-				std::snprintf(e.note, sizeof e.note, "no raw monochrome format polarcam "
-								     "reads");
+				std::snprintf(e.note, sizeof e.note,
+				              "no raw monochrome format polarcam "
+				              "reads");
 			e.usable = e.formats[0] != '\0';
 			if ((rc = fn(ctx, &e)))
 				break;
@@ -881,10 +906,10 @@ int pc_libcamera_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 
 extern const pc_source_ops pc_libcamera_source_ops;
 const pc_source_ops pc_libcamera_source_ops = {
-	lc_open,         lc_close,       lc_get_info,      lc_try_format,    lc_set_format,
-	lc_control_query, lc_control_get, lc_control_set,  lc_buffers_alloc, lc_buffers_free,
-	lc_queue,        lc_start,       lc_dequeue,       lc_stop,          nullptr,
-	lc_options,
+    lc_open,          lc_close,         lc_get_info,    lc_try_format,
+    lc_set_format,    lc_control_query, lc_control_get, lc_control_set,
+    lc_buffers_alloc, lc_buffers_free,  lc_queue,       lc_start,
+    lc_dequeue,       lc_stop,          nullptr,        lc_options,
 };
 
 } /* extern "C" */

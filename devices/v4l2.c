@@ -49,8 +49,8 @@ typedef struct v4l2_src {
 	/* sequence extension */
 	bool have_last;
 	uint32_t last_raw;
-	uint64_t last_drv;  /* driver number, extended */
-	uint64_t last_out;  /* number delivered */
+	uint64_t last_drv; /* driver number, extended */
+	uint64_t last_out; /* number delivered */
 	/* control values for frame metadata (0 = unknown) */
 	double exposure_us, gain_db;
 } v4l2_src;
@@ -64,7 +64,7 @@ static v4l2_src *priv(pc_source *s)
 
 static uint32_t fourcc_from_string(const char *name)
 {
-	char b[4] = { ' ', ' ', ' ', ' ' };
+	char b[4] = {' ', ' ', ' ', ' '};
 	size_t n = strlen(name);
 	if (n == 0 || n > 4)
 		return 0;
@@ -126,8 +126,10 @@ static int parse_dv(const char *s, uint32_t *w, uint32_t *h, double *fps)
 	double f;
 	char tail;
 	if (sscanf(s, "%ux%u@%lf%c", &a, &b, &f, &tail) != 3 || !a || !b || !(f > 0.0))
-		return pc_error(PC_EINVAL, "URI option dv=%s: expected WIDTHxHEIGHT@FPS such as "
-					   "2448x2048@30", s);
+		return pc_error(PC_EINVAL,
+		                "URI option dv=%s: expected WIDTHxHEIGHT@FPS such as "
+		                "2448x2048@30",
+		                s);
 	*w = a;
 	*h = b;
 	*fps = f;
@@ -236,8 +238,10 @@ static int v_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *
 	if (rc)
 		return rc;
 	if (nhave == 0) {
-		pc_error(PC_EFORMAT, "%s offers no raw monochrome format polarcam reads (GREY, Y10, "
-				     "Y12, Y14, Y16, Y10P, Y12P, ...)", path);
+		pc_error(PC_EFORMAT,
+		         "%s offers no raw monochrome format polarcam reads (GREY, Y10, "
+		         "Y12, Y14, Y16, Y10P, Y12P, ...)",
+		         path);
 		return 0;
 	}
 
@@ -251,8 +255,10 @@ static int v_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *
 			fourcc = fi ? fi->v4l2_fourcc : 0;
 		}
 		if (!fourcc) {
-			pc_error(PC_EINVAL, "format name '%s': neither a V4L2 fourcc nor a polarcam "
-					    "format with one", req.format_name);
+			pc_error(PC_EINVAL,
+			         "format name '%s': neither a V4L2 fourcc nor a polarcam "
+			         "format with one",
+			         req.format_name);
 			return 0;
 		}
 	}
@@ -260,7 +266,7 @@ static int v_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *
 		uint32_t f4 = pc_format_info_get(req.format)->v4l2_fourcc;
 		if (fourcc && f4 != fourcc) {
 			pc_error(PC_EINVAL, "format %s and format name '%s' disagree",
-				 pc_format_info_get(req.format)->name, req.format_name);
+			         pc_format_info_get(req.format)->name, req.format_name);
 			return 0;
 		}
 		if (f4)
@@ -277,11 +283,12 @@ static int v_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *
 	}
 	if (!offered(have, nhave, fourcc)) {
 		/* substitute: a readable format with the same bit depth, else the deepest one */
-		unsigned want_bits = req.format != PC_FMT_INVALID
-					     ? pc_format_info_get(req.format)->bits
-					     : (pc_format_from_v4l2(fourcc) != PC_FMT_INVALID
-							? pc_format_info_get(pc_format_from_v4l2(fourcc))->bits
-							: 0);
+		unsigned want_bits =
+		    req.format != PC_FMT_INVALID
+		        ? pc_format_info_get(req.format)->bits
+		        : (pc_format_from_v4l2(fourcc) != PC_FMT_INVALID
+		               ? pc_format_info_get(pc_format_from_v4l2(fourcc))->bits
+		               : 0);
 		uint32_t best = 0;
 		unsigned best_bits = 0;
 		for (size_t i = 0; i < nhave; i++) {
@@ -323,17 +330,18 @@ static int v_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *
 		return rc;
 	if (g.format == PC_FMT_INVALID) {
 		char b[5];
-		pc_error(PC_EFORMAT, "%s: the driver answers '%s' %ux%u, which polarcam cannot read",
-			 path, pc_fourcc_str(g.fourcc, b), g.width, g.height);
+		pc_error(PC_EFORMAT,
+		         "%s: the driver answers '%s' %ux%u, which polarcam cannot read", path,
+		         pc_fourcc_str(g.fourcc, b), g.width, g.height);
 		return 0;
 	}
 	if (g.fourcc != fourcc || g.width != w || g.height != h)
 		adjusted = adjusted || req.width || req.height || g.fourcc != fourcc ||
-			   req.format != PC_FMT_INVALID || req.format_name[0];
+		           req.format != PC_FMT_INVALID || req.format_name[0];
 	if (g.width > sw || g.height > sh) {
 		/* the driver scales up beyond the sensor: not a raw mosaic any more */
-		pc_error(PC_EFORMAT, "%s: the driver answers %ux%u for a %ux%u sensor", path, g.width,
-			 g.height, sw, sh);
+		pc_error(PC_EFORMAT, "%s: the driver answers %ux%u for a %ux%u sensor", path,
+		         g.width, g.height, sw, sh);
 		return 0;
 	}
 	if (req.stride && g.bytesperline != req.stride)
@@ -341,8 +349,9 @@ static int v_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *
 	size_t row;
 	if (pc_format_row_bytes(g.format, g.width, &row) || g.bytesperline < row ||
 	    g.sizeimage < g.bytesperline * (g.height - 1) + row) {
-		pc_error(PC_EFORMAT, "%s: the driver answers bytesperline %zu / sizeimage %zu for %ux%u",
-			 path, g.bytesperline, g.sizeimage, g.width, g.height);
+		pc_error(PC_EFORMAT,
+		         "%s: the driver answers bytesperline %zu / sizeimage %zu for %ux%u", path,
+		         g.bytesperline, g.sizeimage, g.width, g.height);
 		return 0;
 	}
 
@@ -377,10 +386,12 @@ static int apply_format(v4l2_src *v, const pc_source_format *fmt)
 	if (g.fourcc != fourcc || g.width != fmt->width || g.height != fmt->height ||
 	    g.bytesperline != fmt->stride) {
 		char a[5], b[5];
-		return pc_error(PC_EIO, "%s: asked for %s %ux%u bytesperline %zu, the driver set %s "
-					"%ux%u bytesperline %zu", pc_v4l2_get_info(v->dev)->path,
-				pc_fourcc_str(fourcc, a), fmt->width, fmt->height, fmt->stride,
-				pc_fourcc_str(g.fourcc, b), g.width, g.height, g.bytesperline);
+		return pc_error(PC_EIO,
+		                "%s: asked for %s %ux%u bytesperline %zu, the driver set %s "
+		                "%ux%u bytesperline %zu",
+		                pc_v4l2_get_info(v->dev)->path, pc_fourcc_str(fourcc, a),
+		                fmt->width, fmt->height, fmt->stride, pc_fourcc_str(g.fourcc, b),
+		                g.width, g.height, g.bytesperline);
 	}
 	return 0;
 }
@@ -396,25 +407,29 @@ static int query_exposure(v4l2_src *v, pc_v4l2_ctrl *c)
 {
 	int rc = pc_v4l2_ctrl_query(v->dev, PC_V4L2_CID_EXPOSURE_ABSOLUTE, c);
 	if (rc == PC_ENOENT)
-		return pc_error(PC_ENOTSUP, "%s: no absolute exposure control "
-					    "(V4L2_CID_EXPOSURE_ABSOLUTE, in 100 us units); the "
-					    "driver-specific V4L2_CID_EXPOSURE has no defined unit",
-				pc_v4l2_get_info(v->dev)->path);
+		return pc_error(PC_ENOTSUP,
+		                "%s: no absolute exposure control "
+		                "(V4L2_CID_EXPOSURE_ABSOLUTE, in 100 us units); the "
+		                "driver-specific V4L2_CID_EXPOSURE has no defined unit",
+		                pc_v4l2_get_info(v->dev)->path);
 	return rc;
 }
 
 static int query_gain(v4l2_src *v, pc_v4l2_ctrl *c)
 {
 	if (v->gain_db_step <= 0)
-		return pc_error(PC_ENOTSUP, "%s: V4L2 gain has driver-specific units, not dB; give the "
-					    "scale with the URI option gain_db_step=DB (dB per unit)",
-				pc_v4l2_get_info(v->dev)->path);
+		return pc_error(PC_ENOTSUP,
+		                "%s: V4L2 gain has driver-specific units, not dB; give the "
+		                "scale with the URI option gain_db_step=DB (dB per unit)",
+		                pc_v4l2_get_info(v->dev)->path);
 	int rc = pc_v4l2_ctrl_query(v->dev, PC_V4L2_CID_GAIN, c);
 	if (rc == PC_ENOENT)
 		rc = pc_v4l2_ctrl_query(v->dev, PC_V4L2_CID_ANALOGUE_GAIN, c);
 	if (rc == PC_ENOENT)
-		return pc_error(PC_ENOTSUP, "%s: no gain control (V4L2_CID_GAIN or "
-					    "V4L2_CID_ANALOGUE_GAIN)", pc_v4l2_get_info(v->dev)->path);
+		return pc_error(PC_ENOTSUP,
+		                "%s: no gain control (V4L2_CID_GAIN or "
+		                "V4L2_CID_ANALOGUE_GAIN)",
+		                pc_v4l2_get_info(v->dev)->path);
 	return rc;
 }
 
@@ -452,8 +467,8 @@ static int v_control_query(pc_source *s, pc_control_id id, pc_control_info *info
 			return rc;
 		const pc_source_format *f = pc_source_current_format(s);
 		pc_v4l2_rate_range r;
-		rc = pc_v4l2_frame_rates(v->dev, pc_format_info_get(f->format)->v4l2_fourcc, f->width,
-					 f->height, &r);
+		rc = pc_v4l2_frame_rates(v->dev, pc_format_info_get(f->format)->v4l2_fourcc,
+		                         f->width, f->height, &r);
 		if (rc)
 			return rc;
 		info->min = r.min_fps;
@@ -579,10 +594,11 @@ static int v_buffers_alloc(pc_source *s, pc_buffer **bufs, unsigned count)
 	if (granted != count) {
 		pc_v4l2_buffers_free(v->dev);
 		if (granted > count)
-			return pc_error(PC_EINVAL, "%s: the driver needs at least %u buffers (asked for %u)",
-					path, granted, count);
+			return pc_error(PC_EINVAL,
+			                "%s: the driver needs at least %u buffers (asked for %u)",
+			                path, granted, count);
 		return pc_error(PC_ENOMEM, "%s: the driver granted %u of %u buffers", path, granted,
-				count);
+		                count);
 	}
 	for (unsigned i = 0; i < count; i++) {
 		rc = pc_v4l2_buffer_memory(v->dev, i, &bufs[i]->data, &bufs[i]->size);
@@ -657,7 +673,7 @@ static int v_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 		return rc;
 	if (b.index >= v->nbufs)
 		return pc_error(PC_EIO, "%s: buffer %u is not in the pool",
-				pc_v4l2_get_info(v->dev)->path, b.index);
+		                pc_v4l2_get_info(v->dev)->path, b.index);
 	pc_buffer *pb = v->bufs[b.index];
 	const pc_source_format *f = pc_source_current_format(s);
 	pc_frame *fr = &pb->frame;
@@ -715,7 +731,8 @@ int pc_v4l2_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 			for (int c = 3; c > 0 && f4[c] == ' '; c--)
 				f4[c] = '\0'; /* "Y10 " -> "Y10" */
 			size_t used = strlen(e.formats);
-			snprintf(e.formats + used, sizeof e.formats - used, "%s%s", used ? " " : "", f4);
+			snprintf(e.formats + used, sizeof e.formats - used, "%s%s", used ? " " : "",
+			         f4);
 			readable++;
 		}
 		e.formats_total = (unsigned)d->nformats_total;
@@ -723,12 +740,16 @@ int pc_v4l2_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 			snprintf(e.note, sizeof e.note, "%s", d->error_detail);
 		else if (!d->info.capture && !d->info.capture_mplane)
 			snprintf(e.note, sizeof e.note, "not a video capture node%s",
-				 d->info.output ? " (video output)" : d->info.metadata ? " (metadata)" : "");
+			         d->info.output     ? " (video output)"
+			         : d->info.metadata ? " (metadata)"
+			                            : "");
 		else if (!d->info.streaming)
 			snprintf(e.note, sizeof e.note, "no streaming I/O");
 		else if (!readable)
-			snprintf(e.note, sizeof e.note, "offers no raw monochrome format polarcam reads "
-							"(%zu other formats)", d->nformats_total);
+			snprintf(e.note, sizeof e.note,
+			         "offers no raw monochrome format polarcam reads "
+			         "(%zu other formats)",
+			         d->nformats_total);
 		else
 			e.usable = true;
 		rc = fn(ctx, &e);
@@ -737,23 +758,23 @@ int pc_v4l2_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 	return rc > 0 ? 0 : rc;
 }
 
-static const char *const v_options[] = { "input", "dv", "mosaic", "gain_db_step", NULL };
+static const char *const v_options[] = {"input", "dv", "mosaic", "gain_db_step", NULL};
 
 const pc_source_ops pc_v4l2_source_ops = {
-	.open = v_open,
-	.close = v_close,
-	.get_info = v_get_info,
-	.try_format = v_try_format,
-	.set_format = v_set_format,
-	.control_query = v_control_query,
-	.control_get = v_control_get,
-	.control_set = v_control_set,
-	.buffers_alloc = v_buffers_alloc,
-	.buffers_free = v_buffers_free,
-	.queue = v_queue,
-	.start = v_start,
-	.dequeue = v_dequeue,
-	.stop = v_stop,
-	.get_stats = NULL,
-	.options = v_options,
+    .open = v_open,
+    .close = v_close,
+    .get_info = v_get_info,
+    .try_format = v_try_format,
+    .set_format = v_set_format,
+    .control_query = v_control_query,
+    .control_get = v_control_get,
+    .control_set = v_control_set,
+    .buffers_alloc = v_buffers_alloc,
+    .buffers_free = v_buffers_free,
+    .queue = v_queue,
+    .start = v_start,
+    .dequeue = v_dequeue,
+    .stop = v_stop,
+    .get_stats = NULL,
+    .options = v_options,
 };

@@ -90,8 +90,8 @@ static int io_fail(const pc_v4l2 *dev, const char *what)
 	char b[96];
 	int code = errno_code(e);
 	if (code == PC_EDISCONNECTED)
-		return pc_error(code, "%s: %s: the device was disconnected (%s)", dev->info.path, what,
-				errtext(e, b, sizeof b));
+		return pc_error(code, "%s: %s: the device was disconnected (%s)", dev->info.path,
+		                what, errtext(e, b, sizeof b));
 	return pc_error(code, "%s: %s failed: %s", dev->info.path, what, errtext(e, b, sizeof b));
 }
 
@@ -128,18 +128,18 @@ static void describe_caps(uint32_t caps, char *buf, size_t size)
 		uint32_t bit;
 		const char *name;
 	} names[] = {
-		{ V4L2_CAP_VIDEO_CAPTURE, "video capture" },
-		{ V4L2_CAP_VIDEO_OUTPUT, "video output" },
-		{ V4L2_CAP_VIDEO_CAPTURE_MPLANE, "multi-planar capture" },
-		{ V4L2_CAP_VIDEO_OUTPUT_MPLANE, "multi-planar output" },
-		{ V4L2_CAP_VIDEO_M2M | V4L2_CAP_VIDEO_M2M_MPLANE, "memory-to-memory" },
-		{ V4L2_CAP_META_CAPTURE, "metadata capture" },
-		{ V4L2_CAP_META_OUTPUT, "metadata output" },
-		{ V4L2_CAP_VBI_CAPTURE | V4L2_CAP_SLICED_VBI_CAPTURE, "VBI capture" },
-		{ V4L2_CAP_VBI_OUTPUT | V4L2_CAP_SLICED_VBI_OUTPUT, "VBI output" },
-		{ V4L2_CAP_RADIO, "radio" },
-		{ V4L2_CAP_SDR_CAPTURE, "SDR capture" },
-		{ V4L2_CAP_TOUCH, "touch" },
+	    {V4L2_CAP_VIDEO_CAPTURE, "video capture"},
+	    {V4L2_CAP_VIDEO_OUTPUT, "video output"},
+	    {V4L2_CAP_VIDEO_CAPTURE_MPLANE, "multi-planar capture"},
+	    {V4L2_CAP_VIDEO_OUTPUT_MPLANE, "multi-planar output"},
+	    {V4L2_CAP_VIDEO_M2M | V4L2_CAP_VIDEO_M2M_MPLANE, "memory-to-memory"},
+	    {V4L2_CAP_META_CAPTURE, "metadata capture"},
+	    {V4L2_CAP_META_OUTPUT, "metadata output"},
+	    {V4L2_CAP_VBI_CAPTURE | V4L2_CAP_SLICED_VBI_CAPTURE, "VBI capture"},
+	    {V4L2_CAP_VBI_OUTPUT | V4L2_CAP_SLICED_VBI_OUTPUT, "VBI output"},
+	    {V4L2_CAP_RADIO, "radio"},
+	    {V4L2_CAP_SDR_CAPTURE, "SDR capture"},
+	    {V4L2_CAP_TOUCH, "touch"},
 	};
 	size_t used = 0;
 	buf[0] = '\0';
@@ -163,7 +163,8 @@ static void fill_info(pc_v4l2_info *info, const char *path, const struct v4l2_ca
 	copy_kstr(info->card, sizeof info->card, cap->card, sizeof cap->card);
 	copy_kstr(info->bus_info, sizeof info->bus_info, cap->bus_info, sizeof cap->bus_info);
 	info->version = cap->version;
-	uint32_t c = (cap->capabilities & V4L2_CAP_DEVICE_CAPS) ? cap->device_caps : cap->capabilities;
+	uint32_t c =
+	    (cap->capabilities & V4L2_CAP_DEVICE_CAPS) ? cap->device_caps : cap->capabilities;
 	info->device_caps = c;
 	info->capture = (c & V4L2_CAP_VIDEO_CAPTURE) != 0;
 	info->output = (c & V4L2_CAP_VIDEO_OUTPUT) != 0;
@@ -190,14 +191,17 @@ static int open_node(const char *path, int *fd_out, struct v4l2_capability *cap)
 			return pc_error(PC_ENOENT, "%s: no such device node", path);
 		case EACCES:
 		case EPERM:
-			return pc_error(PC_EPERM, "%s: permission denied (is the user in the 'video' "
-						  "group?)", path);
+			return pc_error(PC_EPERM,
+			                "%s: permission denied (is the user in the 'video' "
+			                "group?)",
+			                path);
 		case ENODEV:
 		case ENXIO:
 			return pc_error(PC_ENOENT, "%s: no device behind this node (%s)", path,
-					errtext(e, b, sizeof b));
+			                errtext(e, b, sizeof b));
 		default:
-			return pc_error(errno_code(e), "%s: cannot open: %s", path, errtext(e, b, sizeof b));
+			return pc_error(errno_code(e), "%s: cannot open: %s", path,
+			                errtext(e, b, sizeof b));
 		}
 	}
 	struct stat st;
@@ -210,10 +214,10 @@ static int open_node(const char *path, int *fd_out, struct v4l2_capability *cap)
 		int e = errno;
 		close(fd);
 		if (e == ENOTTY || e == EINVAL)
-			return pc_error(PC_ENOTSUP, "%s: not a V4L2 device (VIDIOC_QUERYCAP: %s)", path,
-					errtext(e, b, sizeof b));
+			return pc_error(PC_ENOTSUP, "%s: not a V4L2 device (VIDIOC_QUERYCAP: %s)",
+			                path, errtext(e, b, sizeof b));
 		return pc_error(errno_code(e), "%s: VIDIOC_QUERYCAP failed: %s", path,
-				errtext(e, b, sizeof b));
+		                errtext(e, b, sizeof b));
 	}
 	*fd_out = fd;
 	return 0;
@@ -226,9 +230,11 @@ int pc_v4l2_open(const char *path, pc_v4l2_dir dir, pc_v4l2 **out)
 	if (!out || !path || !*path)
 		return pc_error(PC_EINVAL, "v4l2: device path missing");
 	if (dir != PC_V4L2_CAPTURE && dir != PC_V4L2_OUTPUT)
-		return pc_error(PC_EINVAL, "v4l2: direction %d: expected capture or output", (int)dir);
+		return pc_error(PC_EINVAL, "v4l2: direction %d: expected capture or output",
+		                (int)dir);
 	if (strlen(path) >= sizeof((pc_v4l2_info *)0)->path)
-		return pc_error(PC_EINVAL, "v4l2: device path too long (%zu characters)", strlen(path));
+		return pc_error(PC_EINVAL, "v4l2: device path too long (%zu characters)",
+		                strlen(path));
 	int fd;
 	struct v4l2_capability cap;
 	int rc = open_node(path, &fd, &cap);
@@ -250,20 +256,23 @@ int pc_v4l2_open(const char *path, pc_v4l2_dir dir, pc_v4l2 **out)
 		describe_caps(in->device_caps, offers, sizeof offers);
 		const char *want = dir == PC_V4L2_CAPTURE ? "capture" : "output";
 		if (!(single || multi))
-			rc = pc_error(PC_ENOTSUP, "%s (%s, '%s'): not a video %s node (it offers: %s)",
-				      path, in->driver, in->card, want, offers);
+			rc = pc_error(PC_ENOTSUP,
+			              "%s (%s, '%s'): not a video %s node (it offers: %s)", path,
+			              in->driver, in->card, want, offers);
 		else
-			rc = pc_error(PC_ENOTSUP, "%s (%s, '%s'): no streaming I/O (read() only)", path,
-				      in->driver, in->card);
+			rc = pc_error(PC_ENOTSUP, "%s (%s, '%s'): no streaming I/O (read() only)",
+			              path, in->driver, in->card);
 		close(fd);
 		free(dev);
 		return rc;
 	}
 	dev->mplane = !single;
 	if (dir == PC_V4L2_CAPTURE)
-		dev->type = dev->mplane ? V4L2_BUF_TYPE_VIDEO_CAPTURE_MPLANE : V4L2_BUF_TYPE_VIDEO_CAPTURE;
+		dev->type =
+		    dev->mplane ? V4L2_BUF_TYPE_VIDEO_CAPTURE_MPLANE : V4L2_BUF_TYPE_VIDEO_CAPTURE;
 	else
-		dev->type = dev->mplane ? V4L2_BUF_TYPE_VIDEO_OUTPUT_MPLANE : V4L2_BUF_TYPE_VIDEO_OUTPUT;
+		dev->type =
+		    dev->mplane ? V4L2_BUF_TYPE_VIDEO_OUTPUT_MPLANE : V4L2_BUF_TYPE_VIDEO_OUTPUT;
 	*out = dev;
 	return 0;
 }
@@ -332,8 +341,9 @@ int pc_v4l2_frame_sizes(pc_v4l2 *dev, uint32_t fourcc, pc_v4l2_size_range *out)
 	fs.pixel_format = fourcc;
 	if (xioctl(dev->fd, VIDIOC_ENUM_FRAMESIZES, &fs) != 0) {
 		if (errno == ENOTTY || errno == EINVAL)
-			return pc_error(PC_ENOTSUP, "%s: the driver does not enumerate frame sizes for '%s'",
-					dev->info.path, pc_fourcc_str(fourcc, f4));
+			return pc_error(PC_ENOTSUP,
+			                "%s: the driver does not enumerate frame sizes for '%s'",
+			                dev->info.path, pc_fourcc_str(fourcc, f4));
 		return io_fail(dev, "VIDIOC_ENUM_FRAMESIZES");
 	}
 	memset(out, 0, sizeof *out);
@@ -377,9 +387,11 @@ static int fill_format(const pc_v4l2 *dev, const struct v4l2_format *f, pc_v4l2_
 		const struct v4l2_pix_format_mplane *mp = &f->fmt.pix_mp;
 		char f4[5];
 		if (mp->num_planes != 1)
-			return pc_error(PC_EFORMAT, "%s: the driver stores '%s' in %u planes; polarcam "
-						    "reads one-plane formats", dev->info.path,
-					pc_fourcc_str(mp->pixelformat, f4), mp->num_planes);
+			return pc_error(PC_EFORMAT,
+			                "%s: the driver stores '%s' in %u planes; polarcam "
+			                "reads one-plane formats",
+			                dev->info.path, pc_fourcc_str(mp->pixelformat, f4),
+			                mp->num_planes);
 		got->fourcc = mp->pixelformat;
 		got->width = mp->width;
 		got->height = mp->height;
@@ -397,8 +409,10 @@ static int fill_format(const pc_v4l2 *dev, const struct v4l2_format *f, pc_v4l2_
 	}
 	got->format = pc_format_from_v4l2(got->fourcc);
 	if (field != V4L2_FIELD_NONE && field != V4L2_FIELD_ANY)
-		return pc_error(PC_ENOTSUP, "%s: the driver delivers fields (V4L2 field %u); polarcam "
-					    "needs progressive frames", dev->info.path, field);
+		return pc_error(PC_ENOTSUP,
+		                "%s: the driver delivers fields (V4L2 field %u); polarcam "
+		                "needs progressive frames",
+		                dev->info.path, field);
 	/* Old drivers leave bytesperline 0 for packed-pixel formats: the table's row size is then
 	 * the stride by definition (V4L2 spec, "Single-planar format structure"). */
 	size_t row;
@@ -413,36 +427,42 @@ static int check_layout(const pc_v4l2 *dev, const pc_v4l2_format *g)
 {
 	char f4[5];
 	if (g->format == PC_FMT_INVALID)
-		return pc_error(PC_EFORMAT, "%s: the driver chose pixel format '%s', which polarcam "
-					    "cannot read", dev->info.path, pc_fourcc_str(g->fourcc, f4));
+		return pc_error(PC_EFORMAT,
+		                "%s: the driver chose pixel format '%s', which polarcam "
+		                "cannot read",
+		                dev->info.path, pc_fourcc_str(g->fourcc, f4));
 	if (g->width == 0 || g->height == 0)
 		return pc_error(PC_EFORMAT, "%s: the driver reports a %ux%u image", dev->info.path,
-				g->width, g->height);
+		                g->width, g->height);
 	size_t row;
 	int rc = pc_format_row_bytes(g->format, g->width, &row);
 	if (rc)
 		return pc_error_prefix(PC_EFORMAT, "%s: ", dev->info.path);
 	if (g->bytesperline < row)
-		return pc_error(PC_EFORMAT, "%s: bytesperline %zu is less than the %zu bytes one "
-					    "%u-pixel %s row needs", dev->info.path, g->bytesperline, row,
-				g->width, pc_format_info_get(g->format)->name);
+		return pc_error(PC_EFORMAT,
+		                "%s: bytesperline %zu is less than the %zu bytes one "
+		                "%u-pixel %s row needs",
+		                dev->info.path, g->bytesperline, row, g->width,
+		                pc_format_info_get(g->format)->name);
 	if (g->bytesperline > SIZE_MAX / g->height)
 		return pc_error(PC_EOVERFLOW, "%s: image size overflows", dev->info.path);
 	size_t need = g->bytesperline * (g->height - 1) + row;
 	if (g->sizeimage < need)
-		return pc_error(PC_EFORMAT, "%s: sizeimage %zu is less than the %zu bytes of %u rows of "
-					    "%zu bytes", dev->info.path, g->sizeimage, need, g->height,
-				g->bytesperline);
+		return pc_error(PC_EFORMAT,
+		                "%s: sizeimage %zu is less than the %zu bytes of %u rows of "
+		                "%zu bytes",
+		                dev->info.path, g->sizeimage, need, g->height, g->bytesperline);
 	return 0;
 }
 
 static int do_format(pc_v4l2 *dev, unsigned long request, const char *name, uint32_t fourcc,
-		     uint32_t width, uint32_t height, size_t bytesperline, pc_v4l2_format *got)
+                     uint32_t width, uint32_t height, size_t bytesperline, pc_v4l2_format *got)
 {
 	if (!dev || !got)
 		return pc_error(PC_EINVAL, "v4l2: %s: missing argument", name);
 	if (bytesperline > UINT32_MAX)
-		return pc_error(PC_ERANGE, "%s: bytesperline %zu too large", dev->info.path, bytesperline);
+		return pc_error(PC_ERANGE, "%s: bytesperline %zu too large", dev->info.path,
+		                bytesperline);
 	struct v4l2_format f;
 	memset(&f, 0, sizeof f);
 	f.type = dev->type;
@@ -463,31 +483,34 @@ static int do_format(pc_v4l2 *dev, unsigned long request, const char *name, uint
 	if (xioctl(dev->fd, request, &f) != 0) {
 		char f4[5];
 		if (errno == EINVAL)
-			return pc_error(PC_EINVAL, "%s: %s rejected '%s' %ux%u", dev->info.path, name,
-					pc_fourcc_str(fourcc, f4), width, height);
+			return pc_error(PC_EINVAL, "%s: %s rejected '%s' %ux%u", dev->info.path,
+			                name, pc_fourcc_str(fourcc, f4), width, height);
 		if (errno == EBUSY)
-			return pc_error(PC_EBUSY, "%s: %s: the node is busy (streaming, or buffers held "
-						  "by another process)", dev->info.path, name);
+			return pc_error(PC_EBUSY,
+			                "%s: %s: the node is busy (streaming, or buffers held "
+			                "by another process)",
+			                dev->info.path, name);
 		return io_fail(dev, name);
 	}
 	return fill_format(dev, &f, got);
 }
 
 int pc_v4l2_try_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
-		       size_t bytesperline, pc_v4l2_format *got)
+                       size_t bytesperline, pc_v4l2_format *got)
 {
 	return do_format(dev, VIDIOC_TRY_FMT, "VIDIOC_TRY_FMT", fourcc, width, height, bytesperline,
-			 got);
+	                 got);
 }
 
 int pc_v4l2_set_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
-		       size_t bytesperline, pc_v4l2_format *got)
+                       size_t bytesperline, pc_v4l2_format *got)
 {
 	if (dev && dev->streaming)
 		return pc_error(PC_ESTATE, "%s: cannot change the format while streaming",
-				dev->info.path);
+		                dev->info.path);
 	pc_v4l2_format g;
-	int rc = do_format(dev, VIDIOC_S_FMT, "VIDIOC_S_FMT", fourcc, width, height, bytesperline, &g);
+	int rc =
+	    do_format(dev, VIDIOC_S_FMT, "VIDIOC_S_FMT", fourcc, width, height, bytesperline, &g);
 	if (rc)
 		return rc;
 	rc = check_layout(dev, &g);
@@ -566,7 +589,7 @@ int pc_v4l2_io_name(pc_v4l2 *dev, unsigned index, char *buf, size_t size)
 	if (r != 0) {
 		if (errno == EINVAL)
 			return pc_error(PC_EINVAL, "%s: no %s %u", dev->info.path,
-					dev->dir == PC_V4L2_CAPTURE ? "input" : "output", index);
+			                dev->dir == PC_V4L2_CAPTURE ? "input" : "output", index);
 		return io_fail(dev, "VIDIOC_ENUMINPUT/OUTPUT");
 	}
 	return 0;
@@ -585,11 +608,11 @@ int pc_v4l2_select_io(pc_v4l2 *dev, unsigned index)
 			unsigned n = 0;
 			pc_v4l2_input_count(dev, &n);
 			return pc_error(PC_EINVAL, "%s: no %s %u (the node has %u)", dev->info.path,
-					cap ? "input" : "output", index, n);
+			                cap ? "input" : "output", index, n);
 		}
 		if (errno == EBUSY)
-			return pc_error(PC_EBUSY, "%s: cannot switch %s while streaming", dev->info.path,
-					cap ? "input" : "output");
+			return pc_error(PC_EBUSY, "%s: cannot switch %s while streaming",
+			                dev->info.path, cap ? "input" : "output");
 		return io_fail(dev, cap ? "VIDIOC_S_INPUT" : "VIDIOC_S_OUTPUT");
 	}
 	return 0;
@@ -609,11 +632,13 @@ int pc_dv_timings_cvt_rb2(uint32_t width, uint32_t height, double refresh_hz, pc
 		return pc_error(PC_EINVAL, "cvt: missing output");
 	if (width == 0 || width > 32768 || height == 0 || height > 32768)
 		return pc_error(PC_EINVAL, "cvt: size %ux%u: expected 1..32768 in each direction",
-				width, height);
+		                width, height);
 	const double min_vblank_us = 460.0;
 	if (!(refresh_hz > 0.0) || !isfinite(refresh_hz) || 1e6 / refresh_hz <= min_vblank_us)
-		return pc_error(PC_EINVAL, "cvt: refresh %g Hz: expected > 0 and a frame period longer "
-					   "than the 460 us minimum vertical blanking", refresh_hz);
+		return pc_error(PC_EINVAL,
+		                "cvt: refresh %g Hz: expected > 0 and a frame period longer "
+		                "than the 460 us minimum vertical blanking",
+		                refresh_hz);
 	const unsigned h_fp = 8, h_sync = 32, h_bp = 40;
 	const unsigned v_sync = 8, v_bp = 6, v_fp_min = 1;
 	double h_period_est_us = (1e6 / refresh_hz - min_vblank_us) / height;
@@ -662,7 +687,7 @@ static void timings_to_kernel(const pc_dv_timings *t, struct v4l2_dv_timings *k)
 	bt->height = t->height;
 	bt->interlaced = t->interlaced ? V4L2_DV_INTERLACED : V4L2_DV_PROGRESSIVE;
 	bt->polarities = (t->vsync_pos ? V4L2_DV_VSYNC_POS_POL : 0u) |
-			 (t->hsync_pos ? V4L2_DV_HSYNC_POS_POL : 0u);
+	                 (t->hsync_pos ? V4L2_DV_HSYNC_POS_POL : 0u);
 	bt->pixelclock = t->pixelclock_hz;
 	bt->hfrontporch = t->hfrontporch;
 	bt->hsync = t->hsync;
@@ -702,9 +727,11 @@ int pc_v4l2_get_dv_timings(pc_v4l2 *dev, pc_dv_timings *t)
 	memset(&k, 0, sizeof k);
 	if (xioctl(dev->fd, VIDIOC_G_DV_TIMINGS, &k) != 0) {
 		if (errno == ENODATA || errno == ENOTTY)
-			return pc_error(PC_ENOTSUP, "%s: the current %s has no DV timings (not a digital "
-						    "video interface such as HDMI)", dev->info.path,
-					dev->dir == PC_V4L2_CAPTURE ? "input" : "output");
+			return pc_error(PC_ENOTSUP,
+			                "%s: the current %s has no DV timings (not a digital "
+			                "video interface such as HDMI)",
+			                dev->info.path,
+			                dev->dir == PC_V4L2_CAPTURE ? "input" : "output");
 		return io_fail(dev, "VIDIOC_G_DV_TIMINGS");
 	}
 	timings_from_kernel(&k, t);
@@ -719,17 +746,23 @@ int pc_v4l2_set_dv_timings(pc_v4l2 *dev, const pc_dv_timings *t)
 	timings_to_kernel(t, &k);
 	if (xioctl(dev->fd, VIDIOC_S_DV_TIMINGS, &k) != 0) {
 		if (errno == ENODATA || errno == ENOTTY)
-			return pc_error(PC_ENOTSUP, "%s: the current %s takes no DV timings (not a "
-						    "digital video interface such as HDMI)", dev->info.path,
-					dev->dir == PC_V4L2_CAPTURE ? "input" : "output");
+			return pc_error(PC_ENOTSUP,
+			                "%s: the current %s takes no DV timings (not a "
+			                "digital video interface such as HDMI)",
+			                dev->info.path,
+			                dev->dir == PC_V4L2_CAPTURE ? "input" : "output");
 		if (errno == EINVAL)
-			return pc_error(PC_EINVAL, "%s: the node rejected %ux%u timings (pixel clock %llu "
-						   "Hz, %s)", dev->info.path, t->width, t->height,
-					(unsigned long long)t->pixelclock_hz,
-					t->cvt ? "CVT" : "custom");
+			return pc_error(PC_EINVAL,
+			                "%s: the node rejected %ux%u timings (pixel clock %llu "
+			                "Hz, %s)",
+			                dev->info.path, t->width, t->height,
+			                (unsigned long long)t->pixelclock_hz,
+			                t->cvt ? "CVT" : "custom");
 		if (errno == EBUSY)
-			return pc_error(PC_EBUSY, "%s: cannot change DV timings while buffers are "
-						  "allocated", dev->info.path);
+			return pc_error(PC_EBUSY,
+			                "%s: cannot change DV timings while buffers are "
+			                "allocated",
+			                dev->info.path);
 		return io_fail(dev, "VIDIOC_S_DV_TIMINGS");
 	}
 	pc_dv_timings now;
@@ -738,8 +771,8 @@ int pc_v4l2_set_dv_timings(pc_v4l2 *dev, const pc_dv_timings *t)
 		return rc;
 	if (now.width != t->width || now.height != t->height || now.interlaced != t->interlaced)
 		return pc_error(PC_EINVAL, "%s: asked for %ux%u%s timings, the node kept %ux%u%s",
-				dev->info.path, t->width, t->height, t->interlaced ? "i" : "p",
-				now.width, now.height, now.interlaced ? "i" : "p");
+		                dev->info.path, t->width, t->height, t->interlaced ? "i" : "p",
+		                now.width, now.height, now.interlaced ? "i" : "p");
 	return 0;
 }
 
@@ -827,8 +860,9 @@ int pc_v4l2_ctrl_find(pc_v4l2 *dev, const char *name, pc_v4l2_ctrl *out)
 	uint32_t id = 0;
 	for (int guard = 0; guard < 4096; guard++) {
 		struct v4l2_query_ext_ctrl q;
-		if (query_ctrl_raw(dev, id | V4L2_CTRL_FLAG_NEXT_CTRL | V4L2_CTRL_FLAG_NEXT_COMPOUND,
-				   &q) != 0) {
+		if (query_ctrl_raw(dev,
+		                   id | V4L2_CTRL_FLAG_NEXT_CTRL | V4L2_CTRL_FLAG_NEXT_COMPOUND,
+		                   &q) != 0) {
 			if (errno == EINVAL)
 				break;
 			return io_fail(dev, "VIDIOC_QUERY_EXT_CTRL");
@@ -857,16 +891,18 @@ int pc_v4l2_ctrl_set(pc_v4l2 *dev, uint32_t id, int64_t value)
 	if (c.read_only)
 		return pc_error(PC_EPERM, "%s: control '%s' is read-only", dev->info.path, c.name);
 	if (c.type == PC_V4L2_CTRL_OTHER)
-		return pc_error(PC_ENOTSUP, "%s: control '%s' is not a number", dev->info.path, c.name);
+		return pc_error(PC_ENOTSUP, "%s: control '%s' is not a number", dev->info.path,
+		                c.name);
 	if (c.type != PC_V4L2_CTRL_BUTTON) {
 		if (value < c.minimum || value > c.maximum)
 			return pc_error(PC_ERANGE, "%s: control '%s' = %lld: outside [%lld, %lld]",
-					dev->info.path, c.name, (long long)value, (long long)c.minimum,
-					(long long)c.maximum);
+			                dev->info.path, c.name, (long long)value,
+			                (long long)c.minimum, (long long)c.maximum);
 		if (c.step > 1 && (value - c.minimum) % c.step != 0)
-			return pc_error(PC_ERANGE, "%s: control '%s' = %lld: not on the grid %lld + k*%lld",
-					dev->info.path, c.name, (long long)value,
-					(long long)c.minimum, (long long)c.step);
+			return pc_error(PC_ERANGE,
+			                "%s: control '%s' = %lld: not on the grid %lld + k*%lld",
+			                dev->info.path, c.name, (long long)value,
+			                (long long)c.minimum, (long long)c.step);
 	}
 	struct v4l2_ext_control ec;
 	memset(&ec, 0, sizeof ec);
@@ -883,14 +919,16 @@ int pc_v4l2_ctrl_set(pc_v4l2 *dev, uint32_t id, int64_t value)
 	if (xioctl(dev->fd, VIDIOC_S_EXT_CTRLS, &ecs) != 0) {
 		if (errno == EBUSY)
 			return pc_error(PC_EBUSY, "%s: control '%s' cannot change now (streaming?)",
-					dev->info.path, c.name);
+			                dev->info.path, c.name);
 		if (errno == EACCES)
 			return pc_error(PC_EPERM, "%s: control '%s' is not writable now%s",
-					dev->info.path, c.name, c.inactive ? " (inactive: an automatic "
-									     "mode controls it)" : "");
+			                dev->info.path, c.name,
+			                c.inactive ? " (inactive: an automatic "
+			                             "mode controls it)"
+			                           : "");
 		if (errno == EINVAL || errno == ERANGE)
 			return pc_error(PC_ERANGE, "%s: control '%s' rejected %lld", dev->info.path,
-					c.name, (long long)value);
+			                c.name, (long long)value);
 		return io_fail(dev, "VIDIOC_S_EXT_CTRLS");
 	}
 	return 0;
@@ -906,7 +944,7 @@ int pc_v4l2_ctrl_get(pc_v4l2 *dev, uint32_t id, int64_t *value)
 		return rc;
 	if (c.type == PC_V4L2_CTRL_OTHER || c.type == PC_V4L2_CTRL_BUTTON)
 		return pc_error(PC_ENOTSUP, "%s: control '%s' has no numeric value", dev->info.path,
-				c.name);
+		                c.name);
 	struct v4l2_ext_control ec;
 	memset(&ec, 0, sizeof ec);
 	ec.id = id;
@@ -922,7 +960,7 @@ int pc_v4l2_ctrl_get(pc_v4l2 *dev, uint32_t id, int64_t *value)
 }
 
 int pc_v4l2_frame_rates(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
-			pc_v4l2_rate_range *out)
+                        pc_v4l2_rate_range *out)
 {
 	if (!dev || !out)
 		return pc_error(PC_EINVAL, "v4l2: frame_rates: missing argument");
@@ -939,17 +977,20 @@ int pc_v4l2_frame_rates(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t 
 		if (xioctl(dev->fd, VIDIOC_ENUM_FRAMEINTERVALS, &fi) != 0) {
 			if (i == 0) {
 				if (errno == EINVAL || errno == ENOTTY)
-					return pc_error(PC_ENOTSUP, "%s: the driver does not enumerate frame "
-								    "intervals for %ux%u", dev->info.path,
-							width, height);
+					return pc_error(PC_ENOTSUP,
+					                "%s: the driver does not enumerate frame "
+					                "intervals for %ux%u",
+					                dev->info.path, width, height);
 				return io_fail(dev, "VIDIOC_ENUM_FRAMEINTERVALS");
 			}
 			break;
 		}
 		if (fi.type != V4L2_FRMIVAL_TYPE_DISCRETE) {
 			const struct v4l2_fract *lo = &fi.stepwise.min, *hi = &fi.stepwise.max;
-			if (!lo->numerator || !hi->numerator || !lo->denominator || !hi->denominator)
-				return pc_error(PC_EIO, "%s: malformed frame interval range", dev->info.path);
+			if (!lo->numerator || !hi->numerator || !lo->denominator ||
+			    !hi->denominator)
+				return pc_error(PC_EIO, "%s: malformed frame interval range",
+				                dev->info.path);
 			/* shortest interval = highest rate */
 			out->max_fps = (double)lo->denominator / lo->numerator;
 			out->min_fps = (double)hi->denominator / hi->numerator;
@@ -961,7 +1002,8 @@ int pc_v4l2_frame_rates(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t 
 			rates[n++] = (double)fi.discrete.denominator / fi.discrete.numerator;
 	}
 	if (n == 0)
-		return pc_error(PC_EIO, "%s: the driver lists no usable frame interval", dev->info.path);
+		return pc_error(PC_EIO, "%s: the driver lists no usable frame interval",
+		                dev->info.path);
 	/* sort ascending (a handful of entries) */
 	for (unsigned i = 1; i < n; i++)
 		for (unsigned j = i; j > 0 && rates[j - 1] > rates[j]; j--) {
@@ -986,16 +1028,16 @@ static int get_parm(pc_v4l2 *dev, struct v4l2_streamparm *p, struct v4l2_fract *
 	if (xioctl(dev->fd, VIDIOC_G_PARM, p) != 0) {
 		if (errno == ENOTTY || errno == EINVAL)
 			return pc_error(PC_ENOTSUP, "%s: no frame-rate control (VIDIOC_G_PARM)",
-					dev->info.path);
+			                dev->info.path);
 		return io_fail(dev, "VIDIOC_G_PARM");
 	}
-	uint32_t capability = dev->dir == PC_V4L2_CAPTURE ? p->parm.capture.capability
-							   : p->parm.output.capability;
+	uint32_t capability =
+	    dev->dir == PC_V4L2_CAPTURE ? p->parm.capture.capability : p->parm.output.capability;
 	if (!(capability & V4L2_CAP_TIMEPERFRAME))
 		return pc_error(PC_ENOTSUP, "%s: the frame rate is not settable on this %s",
-				dev->info.path, dev->dir == PC_V4L2_CAPTURE ? "input" : "output");
+		                dev->info.path, dev->dir == PC_V4L2_CAPTURE ? "input" : "output");
 	*tpf = dev->dir == PC_V4L2_CAPTURE ? &p->parm.capture.timeperframe
-					   : &p->parm.output.timeperframe;
+	                                   : &p->parm.output.timeperframe;
 	return 0;
 }
 
@@ -1010,7 +1052,7 @@ int pc_v4l2_get_frame_rate(pc_v4l2 *dev, double *fps)
 		return rc;
 	if (tpf->numerator == 0 || tpf->denominator == 0)
 		return pc_error(PC_EIO, "%s: the driver reports a frame interval of %u/%u s",
-				dev->info.path, tpf->numerator, tpf->denominator);
+		                dev->info.path, tpf->numerator, tpf->denominator);
 	*fps = (double)tpf->denominator / (double)tpf->numerator;
 	return 0;
 }
@@ -1020,20 +1062,22 @@ int pc_v4l2_set_frame_rate(pc_v4l2 *dev, double fps, double *actual_fps)
 	if (!dev)
 		return pc_error(PC_EINVAL, "v4l2: set_frame_rate: missing device");
 	if (!(fps > 0.0) || !(fps <= 1e6))
-		return pc_error(PC_ERANGE, "%s: frame rate %g: expected 0 < fps <= 1e6", dev->info.path,
-				fps);
+		return pc_error(PC_ERANGE, "%s: frame rate %g: expected 0 < fps <= 1e6",
+		                dev->info.path, fps);
 	struct v4l2_streamparm p;
 	struct v4l2_fract *tpf;
 	int rc = get_parm(dev, &p, &tpf);
 	if (rc)
 		return rc;
-	/* interval = 1000 / (1000 fps) s: exact for rates given to 1/1000 fps (29.97 -> 1000/29970) */
+	/* interval = 1000 / (1000 fps) s: exact for rates given to 1/1000 fps (29.97 -> 1000/29970)
+	 */
 	tpf->numerator = 1000;
 	tpf->denominator = (uint32_t)llround(fps * 1000.0);
 	if (xioctl(dev->fd, VIDIOC_S_PARM, &p) != 0) {
 		if (errno == EBUSY)
-			return pc_error(PC_EBUSY, "%s: cannot change the frame rate while streaming",
-					dev->info.path);
+			return pc_error(PC_EBUSY,
+			                "%s: cannot change the frame rate while streaming",
+			                dev->info.path);
 		return io_fail(dev, "VIDIOC_S_PARM");
 	}
 	if (actual_fps)
@@ -1085,7 +1129,8 @@ static void release_buffers(pc_v4l2 *dev)
 	rb.count = 0;
 	rb.type = dev->type;
 	rb.memory = V4L2_MEMORY_MMAP;
-	xioctl(dev->fd, VIDIOC_REQBUFS, &rb); /* may fail after a disconnect: nothing to free then */
+	xioctl(dev->fd, VIDIOC_REQBUFS,
+	       &rb); /* may fail after a disconnect: nothing to free then */
 }
 
 int pc_v4l2_buffers_alloc(pc_v4l2 *dev, unsigned count, unsigned *granted)
@@ -1110,11 +1155,13 @@ int pc_v4l2_buffers_alloc(pc_v4l2 *dev, unsigned count, unsigned *granted)
 	rb.memory = V4L2_MEMORY_MMAP;
 	if (xioctl(dev->fd, VIDIOC_REQBUFS, &rb) != 0) {
 		if (errno == EINVAL)
-			return pc_error(PC_ENOTSUP, "%s: the driver offers no memory-mapped streaming",
-					dev->info.path);
+			return pc_error(PC_ENOTSUP,
+			                "%s: the driver offers no memory-mapped streaming",
+			                dev->info.path);
 		if (errno == EBUSY)
-			return pc_error(PC_EBUSY, "%s: buffers are held by another user of the node",
-					dev->info.path);
+			return pc_error(PC_EBUSY,
+			                "%s: buffers are held by another user of the node",
+			                dev->info.path);
 		return io_fail(dev, "VIDIOC_REQBUFS");
 	}
 	if (rb.count == 0) {
@@ -1136,16 +1183,18 @@ int pc_v4l2_buffers_alloc(pc_v4l2 *dev, unsigned count, unsigned *granted)
 		}
 		if (dev->mplane && vb.b.length != 1) {
 			rc = pc_error(PC_EFORMAT, "%s: buffer %u has %u planes, polarcam reads one",
-				      dev->info.path, i, vb.b.length);
+			              dev->info.path, i, vb.b.length);
 			break;
 		}
 		size_t len = vbuf_length(dev, &vb);
 		if (len < dev->fmt.sizeimage) {
-			rc = pc_error(PC_EFORMAT, "%s: buffer %u holds %zu bytes, the format needs %zu",
-				      dev->info.path, i, len, dev->fmt.sizeimage);
+			rc = pc_error(PC_EFORMAT,
+			              "%s: buffer %u holds %zu bytes, the format needs %zu",
+			              dev->info.path, i, len, dev->fmt.sizeimage);
 			break;
 		}
-		off_t offset = dev->mplane ? (off_t)vb.planes[0].m.mem_offset : (off_t)vb.b.m.offset;
+		off_t offset =
+		    dev->mplane ? (off_t)vb.planes[0].m.mem_offset : (off_t)vb.b.m.offset;
 		void *p = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_SHARED, dev->fd, offset);
 		if (p == MAP_FAILED) {
 			rc = io_fail(dev, "mmap");
@@ -1169,8 +1218,8 @@ int pc_v4l2_buffer_memory(const pc_v4l2 *dev, unsigned index, void **data, size_
 	if (!dev || !data || !length)
 		return pc_error(PC_EINVAL, "v4l2: buffer_memory: missing argument");
 	if (index >= dev->nslots)
-		return pc_error(PC_EINVAL, "%s: buffer %u: only %u buffers exist", dev->info.path, index,
-				dev->nslots);
+		return pc_error(PC_EINVAL, "%s: buffer %u: only %u buffers exist", dev->info.path,
+		                index, dev->nslots);
 	*data = dev->slots[index].data;
 	*length = dev->slots[index].length;
 	return 0;
@@ -1292,7 +1341,7 @@ static int fill_buffer(pc_v4l2 *dev, const vbuf *v, pc_v4l2_buffer *b)
 	const struct v4l2_buffer *vb = &v->b;
 	if (vb->index >= dev->nslots || !dev->slots[vb->index].queued)
 		return pc_error(PC_EIO, "%s: the driver returned buffer %u, which was not queued",
-				dev->info.path, vb->index);
+		                dev->info.path, vb->index);
 	pc_v4l2_slot *s = &dev->slots[vb->index];
 	s->queued = false;
 	dev->queued--;
@@ -1302,14 +1351,14 @@ static int fill_buffer(pc_v4l2 *dev, const vbuf *v, pc_v4l2_buffer *b)
 	b->length = s->length;
 	b->bytesused = vbuf_bytesused(dev, v);
 	b->sequence = vb->sequence;
-	b->timestamp_ns = (uint64_t)vb->timestamp.tv_sec * 1000000000u +
-			  (uint64_t)vb->timestamp.tv_usec * 1000u;
+	b->timestamp_ns =
+	    (uint64_t)vb->timestamp.tv_sec * 1000000000u + (uint64_t)vb->timestamp.tv_usec * 1000u;
 	b->error = (vb->flags & V4L2_BUF_FLAG_ERROR) != 0;
-	b->timestamp_monotonic = (vb->flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) ==
-				 V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
+	b->timestamp_monotonic =
+	    (vb->flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
 	if (dev->dir == PC_V4L2_CAPTURE && b->bytesused > b->length)
 		return pc_error(PC_EIO, "%s: buffer %u: bytesused %zu exceeds its %zu bytes",
-				dev->info.path, vb->index, b->bytesused, b->length);
+		                dev->info.path, vb->index, b->bytesused, b->length);
 	return 0;
 }
 
@@ -1318,7 +1367,7 @@ static int starve(const pc_v4l2 *dev, int timeout_ms)
 {
 	if (timeout_ms < 0)
 		return pc_error(PC_ESTATE, "%s: no buffer is queued, so none can ever be dequeued",
-				dev->info.path);
+		                dev->info.path);
 	struct timespec t;
 	clock_gettime(CLOCK_MONOTONIC, &t);
 	t.tv_sec += timeout_ms / 1000;
@@ -1329,8 +1378,9 @@ static int starve(const pc_v4l2 *dev, int timeout_ms)
 	}
 	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &t, NULL) == EINTR)
 		;
-	return pc_error(PC_ETIMEDOUT, "%s: no %s within %d ms (no buffer was queued)", dev->info.path,
-			dev->dir == PC_V4L2_CAPTURE ? "frame" : "free buffer", timeout_ms);
+	return pc_error(PC_ETIMEDOUT, "%s: no %s within %d ms (no buffer was queued)",
+	                dev->info.path, dev->dir == PC_V4L2_CAPTURE ? "frame" : "free buffer",
+	                timeout_ms);
 }
 
 int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf)
@@ -1348,21 +1398,24 @@ int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf)
 		if (xioctl(dev->fd, VIDIOC_DQBUF, &vb.b) == 0)
 			return fill_buffer(dev, &vb, buf);
 		if (errno == EIO)
-			return pc_error(PC_EIO, "%s: VIDIOC_DQBUF: the driver reports a fatal streaming "
-						"error", dev->info.path);
+			return pc_error(PC_EIO,
+			                "%s: VIDIOC_DQBUF: the driver reports a fatal streaming "
+			                "error",
+			                dev->info.path);
 		if (errno != EAGAIN)
 			return io_fail(dev, "VIDIOC_DQBUF");
 		int wait = -1;
 		if (deadline >= 0) {
 			int64_t left = deadline - now_ms();
 			if (left <= 0)
-				return pc_error(PC_ETIMEDOUT, "%s: no %s within %d ms", dev->info.path,
-						dev->dir == PC_V4L2_CAPTURE ? "frame" : "free buffer",
-						timeout_ms);
+				return pc_error(
+				    PC_ETIMEDOUT, "%s: no %s within %d ms", dev->info.path,
+				    dev->dir == PC_V4L2_CAPTURE ? "frame" : "free buffer",
+				    timeout_ms);
 			wait = left > INT_MAX ? INT_MAX : (int)left;
 		}
-		struct pollfd p = { .fd = dev->fd,
-				    .events = dev->dir == PC_V4L2_CAPTURE ? POLLIN : POLLOUT };
+		struct pollfd p = {.fd = dev->fd,
+		                   .events = dev->dir == PC_V4L2_CAPTURE ? POLLIN : POLLOUT};
 		int r = poll(&p, 1, wait);
 		if (r < 0) {
 			if (errno == EINTR)
@@ -1374,11 +1427,15 @@ int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf)
 			if (xioctl(dev->fd, VIDIOC_DQBUF, &vb.b) == 0)
 				return fill_buffer(dev, &vb, buf);
 			if (errno == EAGAIN)
-				return pc_error(PC_EIO, "%s: the driver signals an error (poll revents "
-							"0x%x)", dev->info.path, (unsigned)p.revents);
+				return pc_error(PC_EIO,
+				                "%s: the driver signals an error (poll revents "
+				                "0x%x)",
+				                dev->info.path, (unsigned)p.revents);
 			if (errno == EIO)
-				return pc_error(PC_EIO, "%s: VIDIOC_DQBUF: the driver reports a fatal "
-							"streaming error", dev->info.path);
+				return pc_error(PC_EIO,
+				                "%s: VIDIOC_DQBUF: the driver reports a fatal "
+				                "streaming error",
+				                dev->info.path);
 			return io_fail(dev, "VIDIOC_DQBUF");
 		}
 	}
@@ -1391,16 +1448,18 @@ int pc_v4l2_queue(pc_v4l2 *dev, unsigned index, size_t bytesused)
 	if (!dev->slots)
 		return pc_error(PC_ESTATE, "%s: queue without buffers", dev->info.path);
 	if (index >= dev->nslots)
-		return pc_error(PC_EINVAL, "%s: buffer %u: only %u buffers exist", dev->info.path, index,
-				dev->nslots);
+		return pc_error(PC_EINVAL, "%s: buffer %u: only %u buffers exist", dev->info.path,
+		                index, dev->nslots);
 	if (dev->slots[index].queued)
-		return pc_error(PC_ESTATE, "%s: buffer %u is already queued", dev->info.path, index);
+		return pc_error(PC_ESTATE, "%s: buffer %u is already queued", dev->info.path,
+		                index);
 	if (dev->dir == PC_V4L2_OUTPUT) {
 		if (bytesused == 0)
 			bytesused = dev->fmt.sizeimage;
 		if (bytesused > dev->slots[index].length)
-			return pc_error(PC_ERANGE, "%s: bytesused %zu exceeds buffer %u's %zu bytes",
-					dev->info.path, bytesused, index, dev->slots[index].length);
+			return pc_error(PC_ERANGE,
+			                "%s: bytesused %zu exceeds buffer %u's %zu bytes",
+			                dev->info.path, bytesused, index, dev->slots[index].length);
 	}
 	return qbuf(dev, index, bytesused);
 }
@@ -1488,7 +1547,8 @@ static void query_listed_node(pc_v4l2_node *node)
 	if (type) {
 		size_t n = 0;
 		if (enum_formats_fd(fd, type, node->fourccs, PC_V4L2_LIST_MAX_FORMATS, &n) == 0) {
-			node->nformats = n < PC_V4L2_LIST_MAX_FORMATS ? n : PC_V4L2_LIST_MAX_FORMATS;
+			node->nformats =
+			    n < PC_V4L2_LIST_MAX_FORMATS ? n : PC_V4L2_LIST_MAX_FORMATS;
 			node->nformats_total = n;
 		}
 	}
@@ -1507,7 +1567,8 @@ int pc_v4l2_list(const char *dev_dir, pc_v4l2_node **nodes, size_t *count)
 		if (errno == ENOENT || errno == ENOTDIR)
 			return 0;
 		char b[96];
-		return pc_error(errno_code(errno), "%s: cannot list: %s", dir, errtext(errno, b, sizeof b));
+		return pc_error(errno_code(errno), "%s: cannot list: %s", dir,
+		                errtext(errno, b, sizeof b));
 	}
 	unsigned *nums = NULL;
 	size_t n = 0, cap = 0;

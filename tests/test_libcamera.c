@@ -24,7 +24,8 @@ int main(void)
 	const pc_source_backend *b = pc_source_backend_find("libcamera");
 	CHECK(b != NULL);
 	if (!b || !b->ops)
-		SKIP("the libcamera backend is not in this build (%s)", b && b->missing ? b->missing : "?");
+		SKIP("the libcamera backend is not in this build (%s)",
+		     b && b->missing ? b->missing : "?");
 
 	unsigned n = 0;
 	int rc = b->enumerate(0, count_cb, &n);

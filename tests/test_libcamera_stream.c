@@ -25,7 +25,7 @@ static int first_usable(void *ctx, const pc_device_entry *e)
 static void log_cb(void *ctx, pc_check_result r, const char *check, const char *detail)
 {
 	(void)ctx;
-	static const char *const names[] = { "PASS", "FAIL", "SKIP" };
+	static const char *const names[] = {"PASS", "FAIL", "SKIP"};
 	printf("%s %s: %s\n", names[r], check, detail);
 }
 
@@ -33,13 +33,15 @@ int main(void)
 {
 	const pc_source_backend *b = pc_source_backend_find("libcamera");
 	if (!b || !b->ops)
-		SKIP("the libcamera backend is not in this build (%s)", b && b->missing ? b->missing : "?");
+		SKIP("the libcamera backend is not in this build (%s)",
+		     b && b->missing ? b->missing : "?");
 	char uri[256] = "";
 	int rc = b->enumerate(0, first_usable, uri);
 	CHECK_EQ_INT(rc, 0);
 	if (rc == 0 && !uri[0])
 		SKIP("no libcamera camera with a raw monochrome format on this machine (vimc, the "
-		     "virtual camera, is not in Debian's kernel, and its libcamera pipeline offers only "
+		     "virtual camera, is not in Debian's kernel, and its libcamera pipeline offers "
+		     "only "
 		     "RGB888/BGR888)");
 	pc_compliance_options o;
 	memset(&o, 0, sizeof o);

@@ -37,11 +37,12 @@ static void test_cvt_published(void)
 	CHECK_EQ_INT(t.height + t.vfrontporch + t.vsync + t.vbackporch, 2222);
 
 	/* The vertical blanking is at least 460 us and at most one line more (CVT 1.2 §3.4). */
-	static const double rates[] = { 24.0, 30.0, 50.0, 60.0, 120.0 };
-	static const uint32_t sizes[][2] = { { 640, 480 }, { 2448, 2048 }, { 5472, 3648 } };
+	static const double rates[] = {24.0, 30.0, 50.0, 60.0, 120.0};
+	static const uint32_t sizes[][2] = {{640, 480}, {2448, 2048}, {5472, 3648}};
 	for (int s = 0; s < 3; s++) {
 		for (int r = 0; r < 5; r++) {
-			CHECK_EQ_INT(pc_dv_timings_cvt_rb2(sizes[s][0], sizes[s][1], rates[r], &t), 0);
+			CHECK_EQ_INT(pc_dv_timings_cvt_rb2(sizes[s][0], sizes[s][1], rates[r], &t),
+			             0);
 			double total_h = (double)t.width + 80.0;
 			double total_v = (double)t.height + t.vfrontporch + t.vsync + t.vbackporch;
 			double line_us = total_h / (double)t.pixelclock_hz * 1e6;
@@ -114,7 +115,7 @@ static void test_list(const char *dir)
 	 * not a device is listed with its error, not skipped. */
 	snprintf(path, sizeof path, "%s/dev", dir);
 	CHECK_EQ_INT(mkdir(path, 0700), 0);
-	const char *names[] = { "video10", "video2", "video", "videox", "video1a", "vbi0" };
+	const char *names[] = {"video10", "video2", "video", "videox", "video1a", "vbi0"};
 	for (int i = 0; i < 6; i++) {
 		char p[600];
 		snprintf(p, sizeof p, "%s/%s", path, names[i]);

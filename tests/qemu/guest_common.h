@@ -8,7 +8,7 @@
 #include <time.h>
 
 static int gt_npass, gt_nfail, gt_nskip;
-static double gt_t_last; /* time of the previous result line */
+static double gt_t_last;           /* time of the previous result line */
 static const char *gt_prefix = ""; /* prepended to check names ("mplane-") */
 
 static inline double gt_now(void)

@@ -30,8 +30,8 @@
 #include "polarcam/source.h"
 #include "polarcam/v4l2.h"
 
-static char cap_path[256], out_path[256];       /* the single-planar vivid instance */
-static char mcap_path[256], mout_path[256];     /* the multi-planar one (multiplanar=2) */
+static char cap_path[256], out_path[256];   /* the single-planar vivid instance */
+static char mcap_path[256], mout_path[256]; /* the multi-planar one (multiplanar=2) */
 
 /* ---- helpers ---- */
 
@@ -76,7 +76,7 @@ static int set_cvt(pc_v4l2 *dev, uint32_t w, uint32_t h, double fps, pc_dv_timin
 
 static pc_view buffer_view(const pc_v4l2_format *f, void *data)
 {
-	pc_view v = { data, f->width, f->height, f->bytesperline, f->format };
+	pc_view v = {data, f->width, f->height, f->bytesperline, f->format};
 	return v;
 }
 
@@ -113,13 +113,14 @@ static int capture_frames(pc_v4l2 *dev, unsigned n, capture_stats *st, uint8_t *
 		if (b.error)
 			st->errors++;
 		if (b.bytesused < f.sizeimage)
-			rc = pc_error(PC_EIO, "frame %u: bytesused %zu < sizeimage %zu", i, b.bytesused,
-				      f.sizeimage);
+			rc = pc_error(PC_EIO, "frame %u: bytesused %zu < sizeimage %zu", i,
+			              b.bytesused, f.sizeimage);
 		if (i == 0) {
 			st->first_seq = b.sequence;
 			st->first_ts = b.timestamp_ns;
 			if (!b.timestamp_monotonic)
-				rc = pc_error(PC_EIO, "frame 0: timestamps are not CLOCK_MONOTONIC");
+				rc =
+				    pc_error(PC_EIO, "frame 0: timestamps are not CLOCK_MONOTONIC");
 		} else {
 			/* vivid, lagging under emulation, can give two consecutive buffers the
 			 * same sequence number: counted, not an error; going back is. */
@@ -133,8 +134,8 @@ static int capture_frames(pc_v4l2 *dev, unsigned n, capture_stats *st, uint8_t *
 				st->ts_back++;
 		}
 		if (getenv("PC_GUEST_VERBOSE"))
-			gt_info("frame %u: index %u seq %u ts %llu bytesused %zu", i, b.index, b.sequence,
-				(unsigned long long)b.timestamp_ns, b.bytesused);
+			gt_info("frame %u: index %u seq %u ts %llu bytesused %zu", i, b.index,
+			        b.sequence, (unsigned long long)b.timestamp_ns, b.bytesused);
 		st->last_seq = b.sequence;
 		st->last_ts = b.timestamp_ns;
 		pc_view v = buffer_view(&f, b.data);
@@ -177,9 +178,9 @@ static void check_list(void)
 	for (size_t i = 0; i < n; i++) {
 		const pc_v4l2_node *d = &nodes[i];
 		gt_info("node %s: driver=%s card='%s' bus=%s capture=%d output=%d formats=%zu%s%s",
-			d->info.path, d->info.driver, d->info.card, d->info.bus_info, d->info.capture,
-			d->info.output, d->nformats_total, d->error ? " error: " : "",
-			d->error ? d->error_detail : "");
+		        d->info.path, d->info.driver, d->info.card, d->info.bus_info,
+		        d->info.capture, d->info.output, d->nformats_total,
+		        d->error ? " error: " : "", d->error ? d->error_detail : "");
 		if (strcmp(d->info.driver, "vivid") != 0 || d->error)
 			continue;
 		if (d->info.capture && !cap_path[0])
@@ -193,9 +194,11 @@ static void check_list(void)
 	}
 	free(nodes);
 	if (cap_path[0] && out_path[0])
-		gt_pass("list", "%zu nodes; vivid capture %s, output %s; multi-planar capture %s, "
-				"output %s", n, cap_path, out_path, mcap_path[0] ? mcap_path : "none",
-			mout_path[0] ? mout_path : "none");
+		gt_pass("list",
+		        "%zu nodes; vivid capture %s, output %s; multi-planar capture %s, "
+		        "output %s",
+		        n, cap_path, out_path, mcap_path[0] ? mcap_path : "none",
+		        mout_path[0] ? mout_path : "none");
 	else
 		gt_fail("list", "no vivid capture+output pair among %zu nodes", n);
 }
@@ -214,7 +217,7 @@ static void check_formats(void)
 		pc_v4l2_close(dev);
 		return;
 	}
-	const char *want[] = { "GREY", "Y10 ", "Y12 ", "Y16 " };
+	const char *want[] = {"GREY", "Y10 ", "Y12 ", "Y16 "};
 	int found = 0;
 	char list[1024] = "", all[1024] = "", b[5];
 	for (size_t i = 0; i < n && i < 128; i++) {
@@ -254,8 +257,9 @@ static void check_negotiation(void)
 	    (g.width == 641 && g.height == 479) ||
 	    pc_v4l2_try_format(dev, g.fourcc, g.width, g.height, 0, &g2) || g2.width != g.width ||
 	    g2.height != g.height || g.format != PC_FMT_MONO16) {
-		gt_fail(name, "Y16 641x479: expected an adjusted size that is then accepted (got %ux%u)",
-			g.width, g.height);
+		gt_fail(name,
+		        "Y16 641x479: expected an adjusted size that is then accepted (got %ux%u)",
+		        g.width, g.height);
 		bad++;
 	} else {
 		gt_info("Y16 641x479 adjusted to %ux%u", g.width, g.height);
@@ -265,20 +269,23 @@ static void check_negotiation(void)
 	int rc = pc_v4l2_try_format(dev, PC_FOURCC('P', 'C', 'Z', 'Z'), 640, 480, 0, &g);
 	char b[5];
 	if (rc || g.fourcc == PC_FOURCC('P', 'C', 'Z', 'Z')) {
-		gt_fail(name, "unknown fourcc: try_format rc %d fourcc %s", rc, pc_fourcc_str(g.fourcc, b));
+		gt_fail(name, "unknown fourcc: try_format rc %d fourcc %s", rc,
+		        pc_fourcc_str(g.fourcc, b));
 		bad++;
 	}
 	rc = pc_v4l2_set_format(dev, PC_FOURCC('P', 'C', 'Z', 'Z'), 640, 480, 0, &g);
 	if (rc != PC_EFORMAT) {
 		gt_fail(name, "set_format with an unknown fourcc returned %s, expected PC_EFORMAT",
-			pc_errname(rc));
+		        pc_errname(rc));
 		bad++;
 	} else {
 		gt_info("unknown fourcc refused: %s", pc_error_detail());
 	}
 	if (!bad)
-		gt_pass(name, "GREY 640x480 valid, Y16 641x479 adjusted to %ux%u, unknown fourcc -> "
-			      "PC_EFORMAT", g2.width, g2.height);
+		gt_pass(name,
+		        "GREY 640x480 valid, Y16 641x479 adjusted to %ux%u, unknown fourcc -> "
+		        "PC_EFORMAT",
+		        g2.width, g2.height);
 	pc_v4l2_close(dev);
 }
 
@@ -315,16 +322,22 @@ static void check_capture(const char *fourcc, uint32_t w, uint32_t h, unsigned i
 	if (rc)
 		gt_fail(name, "%s", pc_error_detail());
 	else if (st.frames != n || st.seq_back || st.ts_back || st.errors)
-		gt_fail(name, "%u/%u frames, %u sequence reversals, %u timestamp reversals, %u error "
-			      "flags", st.frames, n, st.seq_back, st.ts_back, st.errors);
+		gt_fail(name,
+		        "%u/%u frames, %u sequence reversals, %u timestamp reversals, %u error "
+		        "flags",
+		        st.frames, n, st.seq_back, st.ts_back, st.errors);
 	else if (st.vmax <= st.vmin || st.vmax > maxv)
-		gt_fail(name, "values %u..%u (a %u-bit format holds 0..%u)", st.vmin, st.vmax, fi->bits,
-			maxv);
+		gt_fail(name, "values %u..%u (a %u-bit format holds 0..%u)", st.vmin, st.vmax,
+		        fi->bits, maxv);
 	else
-		gt_pass(name, "%u frames, bytesperline %zu, seq %u..%u (%u dropped, %u repeated), values "
-			      "%u..%u of %u, %.1f frames/s", st.frames, g.bytesperline, st.first_seq,
-			st.last_seq, st.gaps, st.seq_repeat, st.vmin, st.vmax, maxv, (st.frames - 1) / (st.last_ts - st.first_ts > 0
-				? (double)(st.last_ts - st.first_ts) * 1e-9 : 1.0));
+		gt_pass(name,
+		        "%u frames, bytesperline %zu, seq %u..%u (%u dropped, %u repeated), values "
+		        "%u..%u of %u, %.1f frames/s",
+		        st.frames, g.bytesperline, st.first_seq, st.last_seq, st.gaps,
+		        st.seq_repeat, st.vmin, st.vmax, maxv,
+		        (st.frames - 1) / (st.last_ts - st.first_ts > 0
+		                               ? (double)(st.last_ts - st.first_ts) * 1e-9
+		                               : 1.0));
 	pc_v4l2_close(dev);
 }
 
@@ -351,13 +364,14 @@ static void check_stride(void)
 	if (rc)
 		gt_fail(name, "%s", pc_error_detail());
 	else if (g2.bytesperline != 704)
-		gt_skip(name, "the driver ignored bytesperline 704 (answered %zu)", g2.bytesperline);
+		gt_skip(name, "the driver ignored bytesperline 704 (answered %zu)",
+		        g2.bytesperline);
 	else if (memcmp(a, b, (size_t)w * h * 2) != 0)
 		gt_fail(name, "the image read with bytesperline 704 differs from bytesperline %zu",
-			g1.bytesperline);
+		        g1.bytesperline);
 	else
 		gt_pass(name, "GREY 640x480 with bytesperline %zu and %zu: identical images",
-			g1.bytesperline, g2.bytesperline);
+		        g1.bytesperline, g2.bytesperline);
 	free(a);
 	free(b);
 	pc_v4l2_close(dev);
@@ -385,15 +399,16 @@ static void check_controls(void)
 	int64_t target = c.minimum + (c.maximum - c.minimum) / 3;
 	if (pc_v4l2_ctrl_set(dev, c.id, target) || pc_v4l2_ctrl_get(dev, c.id, &v) || v != target) {
 		gt_fail(name, "gain %lld: read back %lld (%s)", (long long)target, (long long)v,
-			pc_error_detail());
+		        pc_error_detail());
 		bad++;
 	}
 	int rc = pc_v4l2_ctrl_set(dev, c.id, c.maximum + 1);
 	int64_t after = -1;
 	pc_v4l2_ctrl_get(dev, c.id, &after);
 	if (rc != PC_ERANGE || after != target) {
-		gt_fail(name, "gain above maximum: %s, value now %lld (expected PC_ERANGE, unchanged)",
-			pc_errname(rc), (long long)after);
+		gt_fail(name,
+		        "gain above maximum: %s, value now %lld (expected PC_ERANGE, unchanged)",
+		        pc_errname(rc), (long long)after);
 		bad++;
 	}
 	rc = pc_v4l2_ctrl_query(dev, PC_V4L2_CID_EXPOSURE_ABSOLUTE, &c);
@@ -403,18 +418,19 @@ static void check_controls(void)
 	}
 	double fps = 0, got = 0, back = 0;
 	pc_v4l2_format g;
-	if (pc_v4l2_set_format(dev, fcc("GREY"), 640, 480, 0, &g) || pc_v4l2_get_frame_rate(dev, &fps) ||
-	    pc_v4l2_set_frame_rate(dev, 15.0, &got) || pc_v4l2_get_frame_rate(dev, &back) ||
-	    back != got) {
-		gt_fail(name, "frame rate: %s (was %g, set 15 -> %g, read %g)", pc_error_detail(), fps,
-			got, back);
+	if (pc_v4l2_set_format(dev, fcc("GREY"), 640, 480, 0, &g) ||
+	    pc_v4l2_get_frame_rate(dev, &fps) || pc_v4l2_set_frame_rate(dev, 15.0, &got) ||
+	    pc_v4l2_get_frame_rate(dev, &back) || back != got) {
+		gt_fail(name, "frame rate: %s (was %g, set 15 -> %g, read %g)", pc_error_detail(),
+		        fps, got, back);
 		bad++;
 	}
 	if (!bad)
-		gt_pass(name, "gain %lld set and read back, %lld refused with PC_ERANGE and left "
-			      "unchanged, exposure %s, frame rate %g -> asked 15 -> %g fps",
-			(long long)target, (long long)target + 0, rc == 0 ? "present" : "absent (vivid)",
-			fps, got);
+		gt_pass(name,
+		        "gain %lld set and read back, %lld refused with PC_ERANGE and left "
+		        "unchanged, exposure %s, frame rate %g -> asked 15 -> %g fps",
+		        (long long)target, (long long)target + 0,
+		        rc == 0 ? "present" : "absent (vivid)", fps, got);
 	pc_v4l2_close(dev);
 }
 
@@ -426,7 +442,7 @@ static void check_dv_timings(void)
 	pc_v4l2 *dev = open_capture(name, 3);
 	if (!dev)
 		return;
-	static const uint32_t sizes[][2] = { { 1920, 1080 }, { 2448, 2048 }, { 1280, 1024 } };
+	static const uint32_t sizes[][2] = {{1920, 1080}, {2448, 2048}, {1280, 1024}};
 	int bad = 0;
 	for (int i = 0; i < 3; i++) {
 		pc_dv_timings mine, kern;
@@ -437,30 +453,37 @@ static void check_dv_timings(void)
 			continue;
 		}
 		/* The kernel rebuilds the pixel clock from an integer line frequency
-		 * (pixelclock / total width, truncated) and rounds it down to 1 kHz, so it may differ
-		 * from the exact CVT value by up to one line-width's worth of Hz plus 1 kHz. */
-		uint64_t total_w = (uint64_t)mine.width + mine.hfrontporch + mine.hsync + mine.hbackporch;
+		 * (pixelclock / total width, truncated) and rounds it down to 1 kHz, so it may
+		 * differ from the exact CVT value by up to one line-width's worth of Hz plus 1 kHz.
+		 */
+		uint64_t total_w =
+		    (uint64_t)mine.width + mine.hfrontporch + mine.hsync + mine.hbackporch;
 		uint64_t dclk = mine.pixelclock_hz > kern.pixelclock_hz
-					? mine.pixelclock_hz - kern.pixelclock_hz
-					: kern.pixelclock_hz - mine.pixelclock_hz;
+		                    ? mine.pixelclock_hz - kern.pixelclock_hz
+		                    : kern.pixelclock_hz - mine.pixelclock_hz;
 		pc_dv_timings k2 = kern;
 		k2.pixelclock_hz = mine.pixelclock_hz;
 		if (memcmp(&mine, &k2, sizeof mine) != 0 || dclk > total_w + 1000) {
-			gt_fail(name, "%ux%u: ours pclk %llu vfp %u vbp %u, kernel pclk %llu vfp %u vbp %u",
-				sizes[i][0], sizes[i][1], (unsigned long long)mine.pixelclock_hz,
-				mine.vfrontporch, mine.vbackporch, (unsigned long long)kern.pixelclock_hz,
-				kern.vfrontporch, kern.vbackporch);
+			gt_fail(
+			    name,
+			    "%ux%u: ours pclk %llu vfp %u vbp %u, kernel pclk %llu vfp %u vbp %u",
+			    sizes[i][0], sizes[i][1], (unsigned long long)mine.pixelclock_hz,
+			    mine.vfrontporch, mine.vbackporch,
+			    (unsigned long long)kern.pixelclock_hz, kern.vfrontporch,
+			    kern.vbackporch);
 			bad++;
 		} else {
 			gt_info("CVT RB2 %ux%u@30: pclk %llu Hz (kernel %llu), vfp %u, %.3f fps",
-				mine.width, mine.height, (unsigned long long)mine.pixelclock_hz,
-				(unsigned long long)kern.pixelclock_hz, mine.vfrontporch,
-				pc_dv_timings_fps(&mine));
+			        mine.width, mine.height, (unsigned long long)mine.pixelclock_hz,
+			        (unsigned long long)kern.pixelclock_hz, mine.vfrontporch,
+			        pc_dv_timings_fps(&mine));
 		}
 	}
 	if (!bad)
-		gt_pass(name, "CVT RB v2 timings for 1920x1080, 2448x2048, 1280x1024 equal the kernel's "
-			      "v4l2_detect_cvt() (every porch and sync; pixel clock within the kernel's rounding)");
+		gt_pass(name,
+		        "CVT RB v2 timings for 1920x1080, 2448x2048, 1280x1024 equal the kernel's "
+		        "v4l2_detect_cvt() (every porch and sync; pixel clock within the kernel's "
+		        "rounding)");
 	pc_v4l2_close(dev);
 }
 
@@ -468,12 +491,13 @@ static void check_dv_timings(void)
 
 static int source_uri(char *buf, size_t size, const char *opts)
 {
-	return snprintf(buf, size, "v4l2:%s%s%s", cap_path, opts && *opts ? "?" : "", opts ? opts : "");
+	return snprintf(buf, size, "v4l2:%s%s%s", cap_path, opts && *opts ? "?" : "",
+	                opts ? opts : "");
 }
 
 /* Opens the source and negotiates fmt exactly (try must say valid), allocates 4 buffers. */
 static pc_source *source_setup(const char *name, const char *opts, pc_pixfmt pf, uint32_t w,
-			       uint32_t h, pc_source_format *got)
+                               uint32_t h, pc_source_format *got)
 {
 	char uri[512];
 	source_uri(uri, sizeof uri, opts);
@@ -489,8 +513,8 @@ static pc_source *source_setup(const char *name, const char *opts, pc_pixfmt pf,
 		rc = pc_source_try_format(src, &f, &v);
 	}
 	if (!rc && v != PC_FORMAT_VALID)
-		rc = pc_error(PC_EFORMAT, "%s %ux%u: verdict %s (%s)", pc_format_info_get(pf)->name, w,
-			      h, pc_format_verdict_name(v), pc_error_detail());
+		rc = pc_error(PC_EFORMAT, "%s %ux%u: verdict %s (%s)", pc_format_info_get(pf)->name,
+		              w, h, pc_format_verdict_name(v), pc_error_detail());
 	if (!rc)
 		rc = pc_source_set_format(src, &f);
 	if (!rc)
@@ -529,7 +553,8 @@ static void check_source_capture(pc_pixfmt pf, uint32_t w, uint32_t h, unsigned 
 		if (i == 0)
 			first = fr->meta.sequence;
 		last = fr->meta.sequence;
-		if (fr->mosaic.period != 2 || memcmp(fr->mosaic.channel, want.channel, sizeof want.channel))
+		if (fr->mosaic.period != 2 ||
+		    memcmp(fr->mosaic.channel, want.channel, sizeof want.channel))
 			bad_mosaic++;
 		rc = pc_view_to_u16(&fr->view, u16, (size_t)w * 2);
 		for (size_t k = 0; !rc && k < (size_t)w * h; k++)
@@ -549,14 +574,16 @@ static void check_source_capture(pc_pixfmt pf, uint32_t w, uint32_t h, unsigned 
 	if (rc)
 		gt_fail(name, "%s", pc_error_detail());
 	else if (frames != n || bad_mosaic || st.completed != n || vmax == 0)
-		gt_fail(name, "%u frames, %u with a wrong mosaic, stats completed %llu, max value %u",
-			frames, bad_mosaic, (unsigned long long)st.completed, vmax);
+		gt_fail(name,
+		        "%u frames, %u with a wrong mosaic, stats completed %llu, max value %u",
+		        frames, bad_mosaic, (unsigned long long)st.completed, vmax);
 	else
-		gt_pass(name, "%u pc_frames (%s, stride %zu, IMX250MZR mosaic), sequence %llu..%llu, "
-			      "stats: completed %llu dropped %llu failed %llu", frames, f.format_name,
-			f.stride, (unsigned long long)first, (unsigned long long)last,
-			(unsigned long long)st.completed, (unsigned long long)st.dropped,
-			(unsigned long long)st.failed);
+		gt_pass(name,
+		        "%u pc_frames (%s, stride %zu, IMX250MZR mosaic), sequence %llu..%llu, "
+		        "stats: completed %llu dropped %llu failed %llu",
+		        frames, f.format_name, f.stride, (unsigned long long)first,
+		        (unsigned long long)last, (unsigned long long)st.completed,
+		        (unsigned long long)st.dropped, (unsigned long long)st.failed);
 	free(u16);
 	pc_source_close(src);
 }
@@ -572,7 +599,8 @@ static void check_source_controls(void)
 	pc_control_info ci;
 	double applied = 0, back = 0, g = 0;
 	int bad = 0;
-	int rc = pc_source_buffers_free(src); /* frame rate changes need OPEN/READY without streaming */
+	int rc =
+	    pc_source_buffers_free(src); /* frame rate changes need OPEN/READY without streaming */
 	if (!rc)
 		rc = pc_source_control_query(src, PC_CTRL_FRAME_RATE_HZ, &ci);
 	if (!rc)
@@ -581,7 +609,7 @@ static void check_source_controls(void)
 		rc = pc_source_control_get(src, PC_CTRL_FRAME_RATE_HZ, &back);
 	if (rc || applied != ci.max || back != applied) {
 		gt_fail(name, "frame rate: %s (range %g..%g step %g, set max -> %g, read %g)",
-			pc_error_detail(), ci.min, ci.max, ci.step, applied, back);
+		        pc_error_detail(), ci.min, ci.max, ci.step, applied, back);
 		bad++;
 	}
 	rc = pc_source_control_set(src, PC_CTRL_FRAME_RATE_HZ, ci.max * 2 + 1, NULL);
@@ -597,7 +625,7 @@ static void check_source_controls(void)
 		rc = pc_source_control_get(src, PC_CTRL_GAIN_DB, &g);
 	if (rc || fabs(applied - 5.0) > 1e-9 || fabs(g - 5.0) > 1e-9) {
 		gt_fail(name, "gain_db: %s (range %g..%g, set 5 -> %g, read %g)", pc_error_detail(),
-			gi.min, gi.max, applied, g);
+		        gi.min, gi.max, applied, g);
 		bad++;
 	}
 	pc_control_info ei;
@@ -607,9 +635,10 @@ static void check_source_controls(void)
 		bad++;
 	}
 	if (!bad)
-		gt_pass(name, "frame rate %g..%g Hz (step %g) set to %g and read back, out of range -> "
-			      "PC_ERANGE; gain_db %g..%g set 5 dB = raw 50; exposure: PC_ENOTSUP (%s)",
-			ci.min, ci.max, ci.step, back, gi.min, gi.max, pc_error_detail());
+		gt_pass(name,
+		        "frame rate %g..%g Hz (step %g) set to %g and read back, out of range -> "
+		        "PC_ERANGE; gain_db %g..%g set 5 dB = raw 50; exposure: PC_ENOTSUP (%s)",
+		        ci.min, ci.max, ci.step, back, gi.min, gi.max, pc_error_detail());
 	pc_source_close(src);
 }
 
@@ -637,9 +666,9 @@ static void comp_log(void *vctx, pc_check_result r, const char *check, const cha
 /* The devices area's compliance test against `v4l2:`; faults come from vivid's own error
  * injection: a control set before the run (drops) or pressed when streaming starts. */
 static void check_compliance(const char *name, const char *opts, pc_fault_kind fault,
-			     const char *vivid_ctrl, int64_t value, bool at_start)
+                             const char *vivid_ctrl, int64_t value, bool at_start)
 {
-	comp_ctx c = { name, NULL, 0, false };
+	comp_ctx c = {name, NULL, 0, false};
 	pc_v4l2 *dev = NULL;
 	pc_v4l2_ctrl ctl;
 	if (vivid_ctrl) {
@@ -653,7 +682,8 @@ static void check_compliance(const char *name, const char *opts, pc_fault_kind f
 			c.trigger_dev = dev;
 			c.trigger_id = ctl.id;
 		} else if (pc_v4l2_ctrl_set(dev, ctl.id, value)) {
-			gt_fail(name, "%s = %lld: %s", vivid_ctrl, (long long)value, pc_error_detail());
+			gt_fail(name, "%s = %lld: %s", vivid_ctrl, (long long)value,
+			        pc_error_detail());
 			pc_v4l2_close(dev);
 			return;
 		}
@@ -675,10 +705,10 @@ static void check_compliance(const char *name, const char *opts, pc_fault_kind f
 		gt_fail(name, "%s: %s", uri, pc_error_detail());
 	else if (res.failed)
 		gt_fail(name, "%s: %u of %u checks failed, first: %s", uri, res.failed,
-			res.passed + res.failed, res.first_failure);
+		        res.passed + res.failed, res.first_failure);
 	else
 		gt_pass(name, "%s: %u checks passed, %u skipped (fault: %s)", uri, res.passed,
-			res.skipped, pc_fault_name(fault));
+		        res.skipped, pc_fault_name(fault));
 }
 
 /* A deterministic polarizer-mosaic frame: what an IMX250MZR-layout sensor records of a scene
@@ -707,12 +737,13 @@ static void mosaic_pattern(uint16_t *dst, uint32_t w, uint32_t h, unsigned bits,
 		for (unsigned c = 0; c < 4; c++) {
 			double theta = (pi / 4.0) * c;
 			q[c * w + x] = llround(256.0 * half_s0 *
-					       (cos(2.0 * aolp) * cos(2.0 * theta) +
-						sin(2.0 * aolp) * sin(2.0 * theta)));
+			                       (cos(2.0 * aolp) * cos(2.0 * theta) +
+			                        sin(2.0 * aolp) * sin(2.0 * theta)));
 		}
 	}
 	for (uint32_t y = 0; y < h; y++) {
-		int64_t dolp16 = (int64_t)(0.9 * 65536.0 * (double)y / (double)(h - 1)); /* DoLP, Q16 */
+		int64_t dolp16 =
+		    (int64_t)(0.9 * 65536.0 * (double)y / (double)(h - 1)); /* DoLP, Q16 */
 		uint16_t *row = dst + (size_t)y * w;
 		for (uint32_t x = 0; x < w; x++) {
 			unsigned c = pc_mosaic_channel(&m, x, y);
@@ -733,7 +764,7 @@ enum { NOUT = 4 };
 /* ref: NOUT frames (w x h uint16, values within the format's bits) to send; NULL = generate
  * mosaic_pattern() frames. what: where the frames come from, for the report. */
 static void check_loop(const char *tag, const char *fourcc, uint32_t w, uint32_t h, unsigned n,
-		       uint16_t *const given[NOUT], const char *what)
+                       uint16_t *const given[NOUT], const char *what)
 {
 	char name[64];
 	snprintf(name, sizeof name, "loop-%s-%.4s-%ux%u", tag, fourcc, w, h);
@@ -743,7 +774,7 @@ static void check_loop(const char *tag, const char *fourcc, uint32_t w, uint32_t
 	pc_pixfmt pf = pc_format_from_v4l2(fcc(fourcc));
 	pc_v4l2 *cap = open_capture(name, 3), *out = NULL;
 	pc_source *src = NULL;
-	uint16_t *ref[NOUT] = { NULL }, *got = NULL;
+	uint16_t *ref[NOUT] = {NULL}, *got = NULL;
 	pc_v4l2_format fo;
 	pc_v4l2_ctrl loopc;
 	int rc = cap ? 0 : PC_EIO;
@@ -810,7 +841,8 @@ static void check_loop(const char *tag, const char *fourcc, uint32_t w, uint32_t
 			break;
 		rc = pc_view_to_u16(&b->frame.view, got, (size_t)w * 2);
 		/* the reference whose middle row matches is compared in full first (a full compare
-		 * against every reference costs seconds under emulation), the others only if needed */
+		 * against every reference costs seconds under emulation), the others only if needed
+		 */
 		int which = -1, first = 0;
 		size_t mid = (size_t)(h / 2) * w;
 		for (int k = 0; k < NOUT; k++)
@@ -827,8 +859,8 @@ static void check_loop(const char *tag, const char *fourcc, uint32_t w, uint32_t
 		if (which >= 0)
 			match++;
 		if (getenv("PC_GUEST_VERBOSE"))
-			gt_info("captured seq %llu: pattern %d", (unsigned long long)b->frame.meta.sequence,
-				which);
+			gt_info("captured seq %llu: pattern %d",
+			        (unsigned long long)b->frame.meta.sequence, which);
 		int rq = pc_source_requeue(src, b);
 		if (!rc)
 			rc = rq;
@@ -847,9 +879,10 @@ static void check_loop(const char *tag, const char *fourcc, uint32_t w, uint32_t
 	else if (match != n)
 		gt_fail(name, "%u of %u captured frames equal a frame we sent", match, frames);
 	else
-		gt_pass(name, "%u/%u pc_frames from v4l2: byte-identical to the %s sent (stride out "
-			      "%zu, in %zu; %.1f frames/s)", match, n, what, fo.bytesperline, fc.stride,
-			n / secs);
+		gt_pass(name,
+		        "%u/%u pc_frames from v4l2: byte-identical to the %s sent (stride out "
+		        "%zu, in %zu; %.1f frames/s)",
+		        match, n, what, fo.bytesperline, fc.stride, n / secs);
 	for (int k = 0; k < NOUT; k++)
 		free(ref[k]);
 	free(got);
@@ -875,7 +908,7 @@ static void check_loop_sim(const char *dir)
 		return;
 	}
 	fclose(f);
-	uint16_t *frames[NOUT] = { NULL };
+	uint16_t *frames[NOUT] = {NULL};
 	size_t bytes = (size_t)w * h * 2;
 	int ok = 1;
 	for (unsigned k = 0; ok && k < NOUT; k++) {
@@ -889,10 +922,13 @@ static void check_loop_sim(const char *dir)
 	if (!ok) {
 		gt_fail(name, "%s: cannot read %zu bytes", path, bytes);
 	} else {
-		const char *fourcc = bits <= 8 ? "GREY" : bits <= 10 ? "Y10 " : bits <= 12 ? "Y12 " : "Y16 ";
+		const char *fourcc = bits <= 8    ? "GREY"
+		                     : bits <= 10 ? "Y10 "
+		                     : bits <= 12 ? "Y12 "
+		                                  : "Y16 ";
 		char what[96];
-		snprintf(what, sizeof what, "simulator's raw frames (default scene, seed %llu, %u-bit)",
-			 seed, bits);
+		snprintf(what, sizeof what,
+		         "simulator's raw frames (default scene, seed %llu, %u-bit)", seed, bits);
 		check_loop("sim", fourcc, w, h, 10, frames, what);
 	}
 	for (unsigned k = 0; k < NOUT; k++)
@@ -920,7 +956,7 @@ static void check_eintr(void)
 	sa.sa_handler = on_tick;
 	sigemptyset(&sa.sa_mask);
 	sa.sa_flags = 0;
-	struct itimerval it = { { 0, 1000 }, { 0, 1000 } }, off = { { 0, 0 }, { 0, 0 } };
+	struct itimerval it = {{0, 1000}, {0, 1000}}, off = {{0, 0}, {0, 0}};
 	int rc = pc_v4l2_set_format(dev, fcc("GREY"), 640, 480, 0, &g);
 	capture_stats st;
 	if (!rc) {
@@ -981,14 +1017,16 @@ static void check_source_seq_wrap(void)
 	if (rc && src)
 		gt_fail(name, "after %u frames: %s", frames, pc_error_detail());
 	else if (src && (first < wrap - 256 || first >= wrap || last < wrap + 8 || back ||
-			 st.dropped + frames != last - first + 1))
+	                 st.dropped + frames != last - first + 1))
 		gt_fail(name, "sequence %llu..%llu over %u frames, %u not increasing, dropped %llu",
-			(unsigned long long)first, (unsigned long long)last, frames, back,
-			(unsigned long long)st.dropped);
+		        (unsigned long long)first, (unsigned long long)last, frames, back,
+		        (unsigned long long)st.dropped);
 	else if (src)
-		gt_pass(name, "sequence %llu -> %llu across 2^32 in %u frames, strictly increasing, "
-			      "dropped %llu (= the gaps)", (unsigned long long)first,
-			(unsigned long long)last, frames, (unsigned long long)st.dropped);
+		gt_pass(name,
+		        "sequence %llu -> %llu across 2^32 in %u frames, strictly increasing, "
+		        "dropped %llu (= the gaps)",
+		        (unsigned long long)first, (unsigned long long)last, frames,
+		        (unsigned long long)st.dropped);
 	pc_source_close(src);
 	pc_v4l2_ctrl_set(dev, c.id, 0);
 	pc_v4l2_close(dev);
@@ -1041,8 +1079,8 @@ static void check_fault_error_flag(void)
 	if (rc)
 		gt_fail(name, "%s", pc_error_detail());
 	else if (flagged != 1)
-		gt_fail(name, "%u of %u frames carried V4L2_BUF_FLAG_ERROR after one injection", flagged,
-			frames);
+		gt_fail(name, "%u of %u frames carried V4L2_BUF_FLAG_ERROR after one injection",
+		        flagged, frames);
 	else
 		gt_pass(name, "one injected error: exactly 1 of %u frames flagged", frames);
 	pc_v4l2_close(dev);
@@ -1063,11 +1101,13 @@ static void check_fault_drops(void)
 	if (rc)
 		gt_fail(name, "%s", pc_error_detail());
 	else if (st.gaps == 0 || st.seq_back)
-		gt_fail(name, "50%% dropped: %u sequence gaps, %u reversals over %u frames", st.gaps,
-			st.seq_back, st.frames);
+		gt_fail(name, "50%% dropped: %u sequence gaps, %u reversals over %u frames",
+		        st.gaps, st.seq_back, st.frames);
 	else
-		gt_pass(name, "50%% dropped by the driver: %u frames received, sequence %u..%u shows %u "
-			      "missing", st.frames, st.first_seq, st.last_seq, st.gaps);
+		gt_pass(name,
+		        "50%% dropped by the driver: %u frames received, sequence %u..%u shows %u "
+		        "missing",
+		        st.frames, st.first_seq, st.last_seq, st.gaps);
 	pc_v4l2_close(dev);
 }
 
@@ -1089,7 +1129,7 @@ static void check_fault_seq_wrap(void)
 		gt_fail(name, "first sequence %u, expected just below 2^32", st.first_seq);
 	else
 		gt_pass(name, "the driver starts at sequence %u (%u below 2^32)", st.first_seq,
-			(unsigned)(0u - st.first_seq));
+		        (unsigned)(0u - st.first_seq));
 	pc_v4l2_close(dev);
 }
 
@@ -1122,10 +1162,11 @@ static void check_fault_fatal(const char *name, const char *ctrl, int expect)
 		}
 	}
 	if (rc == expect)
-		gt_pass(name, "%s after %u more frames: %s", pc_errname(rc), before, pc_error_detail());
+		gt_pass(name, "%s after %u more frames: %s", pc_errname(rc), before,
+		        pc_error_detail());
 	else
 		gt_fail(name, "expected %s, got %s (%s)", pc_errname(expect), pc_errname(rc),
-			rc ? pc_error_detail() : "no error in 8 frames");
+		        rc ? pc_error_detail() : "no error in 8 frames");
 	int rs = pc_v4l2_stream_stop(dev);
 	if (rs)
 		gt_fail(name, "stream_stop after the fault: %s", pc_error_detail());
@@ -1166,7 +1207,7 @@ static void check_cli_devices(const char *cli)
 	if (st != 0 || !line)
 		gt_fail(name, "exit %d, no entry for %s in: %.300s", st, cap_path, out);
 	else if (!strstr(l, "\"formats\":[\"GREY\",\"Y10\",\"Y12\",\"Y16\"]") ||
-		 !strstr(l, "\"usable\":true") || !strstr(l, "\"vendor\":\"vivid\""))
+	         !strstr(l, "\"usable\":true") || !strstr(l, "\"vendor\":\"vivid\""))
 		gt_fail(name, "%s entry: %s", cap_path, l);
 	else
 		gt_pass(name, "polarcam devices --json lists %s: %.200s", cap_path, strchr(l, '"'));
@@ -1204,14 +1245,19 @@ static void check_cli_capture(const char *cli)
 {
 	const char *name = "cli-capture";
 	char cmd[512], out[4096];
-	snprintf(cmd, sizeof cmd, "%s capture 'v4l2:%s?input=0' -n 3 -o /tmp/cap --format Mono16 "
-				  "--roi 0,0,640,480 2>&1", cli, cap_path);
+	snprintf(cmd, sizeof cmd,
+	         "%s capture 'v4l2:%s?input=0' -n 3 -o /tmp/cap --format Mono16 "
+	         "--roi 0,0,640,480 2>&1",
+	         cli, cap_path);
 	int st = run_cmd(cmd, out, sizeof out);
-	if (st != 0 || !file_exists("/tmp/cap/raw_000002.png") || !file_exists("/tmp/cap/meta.json"))
+	if (st != 0 || !file_exists("/tmp/cap/raw_000002.png") ||
+	    !file_exists("/tmp/cap/meta.json"))
 		gt_fail(name, "exit %d: %.400s", st, out);
 	else
-		gt_pass(name, "polarcam capture v4l2: 3 frames Mono16 640x480 -> raw_00000[0-2].png + "
-			      "meta.json: %.200s", out);
+		gt_pass(name,
+		        "polarcam capture v4l2: 3 frames Mono16 640x480 -> raw_00000[0-2].png + "
+		        "meta.json: %.200s",
+		        out);
 }
 
 /* A camera that disappears mid-stream: vivid's Disconnect while `polarcam capture` records. The
@@ -1221,15 +1267,18 @@ static void check_cli_disconnect(const char *cli)
 	const char *name = "cli-capture-disconnect";
 	pc_v4l2 *dev = NULL;
 	pc_v4l2_ctrl c;
-	if (pc_v4l2_open(cap_path, PC_V4L2_CAPTURE, &dev) || pc_v4l2_ctrl_find(dev, "Disconnect", &c)) {
+	if (pc_v4l2_open(cap_path, PC_V4L2_CAPTURE, &dev) ||
+	    pc_v4l2_ctrl_find(dev, "Disconnect", &c)) {
 		gt_skip(name, "vivid Disconnect control: %s", pc_error_detail());
 		pc_v4l2_close(dev);
 		return;
 	}
 	char cmd[512];
-	snprintf(cmd, sizeof cmd, "%s capture 'v4l2:%s?input=0' -n 400 -o /tmp/capd --format Mono8 "
-				  "--roi 0,0,640,480 > /tmp/capd.out 2> /tmp/capd.err; echo $? > "
-				  "/tmp/capd.status", cli, cap_path);
+	snprintf(cmd, sizeof cmd,
+	         "%s capture 'v4l2:%s?input=0' -n 400 -o /tmp/capd --format Mono8 "
+	         "--roi 0,0,640,480 > /tmp/capd.out 2> /tmp/capd.err; echo $? > "
+	         "/tmp/capd.status",
+	         cli, cap_path);
 	pid_t pid = fork();
 	if (pid == 0) {
 		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
@@ -1267,12 +1316,14 @@ static void check_cli_disconnect(const char *cli)
 	}
 	if (rc)
 		gt_fail(name, "pressing Disconnect: %s", pc_error_detail());
-	else if (st != 1 || !strstr(err, "disconnect") || !file_exists("/tmp/capd/raw_000002.png") ||
-		 !json_false(out, "complete"))
+	else if (st != 1 || !strstr(err, "disconnect") ||
+	         !file_exists("/tmp/capd/raw_000002.png") || !json_false(out, "complete"))
 		gt_fail(name, "exit %d, stderr: %.300s, meta.json: %.200s", st, err, out);
 	else
-		gt_pass(name, "exit 1 after the disconnect, frames kept, meta.json complete=false; "
-			      "stderr: %.200s", err);
+		gt_pass(name,
+		        "exit 1 after the disconnect, frames kept, meta.json complete=false; "
+		        "stderr: %.200s",
+		        err);
 }
 
 int main(int argc, char **argv)
@@ -1323,7 +1374,8 @@ int main(int argc, char **argv)
 		check_capture("Y12 ", 640, 480, 0, 4);
 		check_source_capture(PC_FMT_MONO16, 640, 480, 0, 4);
 		check_loop("pattern", "GREY", 1920, 1080, 6, NULL, "mosaic pattern frames");
-		check_compliance("compliance", "input=3&dv=640x480@60", PC_FAULT_NONE, NULL, 0, false);
+		check_compliance("compliance", "input=3&dv=640x480@60", PC_FAULT_NONE, NULL, 0,
+		                 false);
 		gt_prefix = "";
 		memcpy(cap_path, keep_cap, sizeof cap_path);
 		memcpy(out_path, keep_out, sizeof out_path);
@@ -1331,12 +1383,12 @@ int main(int argc, char **argv)
 		gt_fail("mplane", "vivid's multi-planar instance has no capture+output nodes");
 	}
 	check_source_controls();
-	check_compliance("compliance", "input=3&dv=640x480@60&gain_db_step=0.1", PC_FAULT_NONE, NULL,
-			 0, false);
+	check_compliance("compliance", "input=3&dv=640x480@60&gain_db_step=0.1", PC_FAULT_NONE,
+	                 NULL, 0, false);
 	check_compliance("compliance-drop", "input=3&dv=640x480@60", PC_FAULT_DROP,
-			 "Percentage of Dropped Buffers", 50, false);
+	                 "Percentage of Dropped Buffers", 50, false);
 	check_compliance("compliance-corrupt", "input=3&dv=640x480@60", PC_FAULT_CORRUPT,
-			 "Inject V4L2_BUF_FLAG_ERROR", 1, true);
+	                 "Inject V4L2_BUF_FLAG_ERROR", 1, true);
 	if (cli) {
 		check_cli_devices(cli);
 		check_cli_capture(cli);
@@ -1354,6 +1406,6 @@ int main(int argc, char **argv)
 	if (cli)
 		check_cli_disconnect(cli);
 	check_compliance("compliance-disconnect", "input=3&dv=640x480@60", PC_FAULT_DISCONNECT,
-			 "Disconnect", 1, true);
+	                 "Disconnect", 1, true);
 	return gt_finish();
 }

@@ -71,14 +71,15 @@ int main(int argc, char **argv)
 			return fail("pc_sim_frame", rc);
 		char path[4096];
 		snprintf(path, sizeof path, "%s/sim_%d.raw", dir, k);
-		/* uint16 little-endian on disk; this host is little-endian (x86-64), as is the guest */
+		/* uint16 little-endian on disk; this host is little-endian (x86-64), as is the
+		 * guest */
 		rc = pc_write_file_atomic(path, u16, row * info.height);
 		if (rc)
 			return fail(path, rc);
 	}
 	char text[128], path[4096];
-	int len = snprintf(text, sizeof text, "%u %u %u %d %llu\n", info.width, info.height, info.bits,
-			   n, seed);
+	int len = snprintf(text, sizeof text, "%u %u %u %d %llu\n", info.width, info.height,
+	                   info.bits, n, seed);
 	snprintf(path, sizeof path, "%s/sim.txt", dir);
 	rc = pc_write_file_atomic(path, text, (size_t)len);
 	if (rc)

@@ -51,8 +51,8 @@ typedef struct pc_v4l2_info {
 
 /* Opens path for one direction, through the single-planar API when the node has it, else the
  * multi-planar one (formats with one plane only: every format of the table). Fails with
- * PC_ENOTSUP (naming what the node offers) when the node cannot stream in that direction, PC_ENOENT when it does not exist, PC_EPERM when it
- * cannot be opened for lack of permission. */
+ * PC_ENOTSUP (naming what the node offers) when the node cannot stream in that direction, PC_ENOENT
+ * when it does not exist, PC_EPERM when it cannot be opened for lack of permission. */
 int pc_v4l2_open(const char *path, pc_v4l2_dir dir, pc_v4l2 **out);
 /* Stops streaming if needed, unmaps the buffers and closes the node. NULL is fine. */
 void pc_v4l2_close(pc_v4l2 *dev);
@@ -68,10 +68,10 @@ int pc_v4l2_enum_formats(pc_v4l2 *dev, uint32_t *fourccs, size_t cap, size_t *co
 
 typedef struct pc_v4l2_format {
 	uint32_t fourcc;
-	pc_pixfmt format;      /* pc_format_from_v4l2(fourcc); PC_FMT_INVALID when polarcam has none */
+	pc_pixfmt format; /* pc_format_from_v4l2(fourcc); PC_FMT_INVALID when polarcam has none */
 	uint32_t width, height;
-	size_t bytesperline;   /* the driver's stride, >= the table's row bytes */
-	size_t sizeimage;      /* bytes of one buffer's image */
+	size_t bytesperline; /* the driver's stride, >= the table's row bytes */
+	size_t sizeimage;    /* bytes of one buffer's image */
 } pc_v4l2_format;
 
 /* Frame size range for a fourcc (VIDIOC_ENUM_FRAMESIZES). Discrete sizes report the smallest
@@ -88,11 +88,11 @@ int pc_v4l2_frame_sizes(pc_v4l2 *dev, uint32_t fourcc, pc_v4l2_size_range *out);
  * may ignore it). The answer may differ from the request: compare to tell valid from adjusted.
  * Progressive frames only: a driver that insists on fields gives PC_ENOTSUP. */
 int pc_v4l2_try_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
-		       size_t bytesperline, pc_v4l2_format *got);
+                       size_t bytesperline, pc_v4l2_format *got);
 /* VIDIOC_S_FMT. Fails with PC_EFORMAT when the driver answers with a fourcc polarcam cannot
  * read or a bytesperline/sizeimage too small for the table's row size (corrupt answer). */
 int pc_v4l2_set_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
-		       size_t bytesperline, pc_v4l2_format *got);
+                       size_t bytesperline, pc_v4l2_format *got);
 /* VIDIOC_G_FMT. */
 int pc_v4l2_get_format(pc_v4l2 *dev, pc_v4l2_format *got);
 
@@ -108,11 +108,11 @@ int pc_v4l2_select_io(pc_v4l2 *dev, unsigned index);
 typedef struct pc_dv_timings {
 	uint32_t width, height;
 	bool interlaced;
-	bool hsync_pos, vsync_pos;   /* sync polarities */
+	bool hsync_pos, vsync_pos; /* sync polarities */
 	uint64_t pixelclock_hz;
 	uint32_t hfrontporch, hsync, hbackporch;
 	uint32_t vfrontporch, vsync, vbackporch;
-	bool cvt, reduced_blanking;  /* standard and flag */
+	bool cvt, reduced_blanking; /* standard and flag */
 } pc_dv_timings;
 
 /* VESA Coordinated Video Timings 1.2, reduced blanking version 2, progressive: the timings of
@@ -155,11 +155,11 @@ int pc_v4l2_ctrl_set(pc_v4l2 *dev, uint32_t id, int64_t value);
 int pc_v4l2_ctrl_get(pc_v4l2 *dev, uint32_t id, int64_t *value);
 
 /* Well-known control ids (values of linux/v4l2-controls.h) for callers without kernel headers. */
-#define PC_V4L2_CID_GAIN 0x00980913u
-#define PC_V4L2_CID_EXPOSURE 0x00980911u
-#define PC_V4L2_CID_EXPOSURE_AUTO 0x009a0901u
+#define PC_V4L2_CID_GAIN              0x00980913u
+#define PC_V4L2_CID_EXPOSURE          0x00980911u
+#define PC_V4L2_CID_EXPOSURE_AUTO     0x009a0901u
 #define PC_V4L2_CID_EXPOSURE_ABSOLUTE 0x009a0902u /* units of 100 us */
-#define PC_V4L2_CID_ANALOGUE_GAIN 0x009e0903u
+#define PC_V4L2_CID_ANALOGUE_GAIN     0x009e0903u
 
 /* Frame rates the node offers for (fourcc, width, height) (VIDIOC_ENUM_FRAMEINTERVALS).
  * Discrete sets report their smallest and largest rate and, as step, the largest gap between
@@ -170,7 +170,7 @@ typedef struct pc_v4l2_rate_range {
 	unsigned count; /* discrete rates */
 } pc_v4l2_rate_range;
 int pc_v4l2_frame_rates(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
-			pc_v4l2_rate_range *out);
+                        pc_v4l2_rate_range *out);
 
 /* Frame interval as a rate (VIDIOC_G_PARM / S_PARM). PC_ENOTSUP when the node has no
  * V4L2_CAP_TIMEPERFRAME. set stores what the driver chose in *actual_fps (may be NULL). */
@@ -181,12 +181,12 @@ int pc_v4l2_set_frame_rate(pc_v4l2 *dev, double fps, double *actual_fps);
 
 typedef struct pc_v4l2_buffer {
 	unsigned index;
-	void *data;             /* the mapping; valid until stream_stop */
-	size_t length;          /* bytes mapped */
-	size_t bytesused;       /* bytes of image data the driver filled */
-	uint32_t sequence;      /* the driver's 32-bit sequence number */
-	uint64_t timestamp_ns;  /* buffer timestamp (CLOCK_MONOTONIC for most drivers) */
-	bool error;             /* V4L2_BUF_FLAG_ERROR: the data may be corrupt */
+	void *data;            /* the mapping; valid until stream_stop */
+	size_t length;         /* bytes mapped */
+	size_t bytesused;      /* bytes of image data the driver filled */
+	uint32_t sequence;     /* the driver's 32-bit sequence number */
+	uint64_t timestamp_ns; /* buffer timestamp (CLOCK_MONOTONIC for most drivers) */
+	bool error;            /* V4L2_BUF_FLAG_ERROR: the data may be corrupt */
 	bool timestamp_monotonic;
 } pc_v4l2_buffer;
 
@@ -230,12 +230,12 @@ int pc_v4l2_stream_stop(pc_v4l2 *dev);
 
 #define PC_V4L2_LIST_MAX_FORMATS 64
 typedef struct pc_v4l2_node {
-	pc_v4l2_info info;      /* info.path is set even when the node could not be opened */
-	int error;              /* 0, or why the node could not be queried */
+	pc_v4l2_info info; /* info.path is set even when the node could not be opened */
+	int error;         /* 0, or why the node could not be queried */
 	char error_detail[256];
 	uint32_t fourccs[PC_V4L2_LIST_MAX_FORMATS]; /* capture (or else output) formats */
-	size_t nformats;        /* entries in fourccs */
-	size_t nformats_total;  /* formats the node offers (may exceed the array) */
+	size_t nformats;                            /* entries in fourccs */
+	size_t nformats_total; /* formats the node offers (may exceed the array) */
 } pc_v4l2_node;
 
 /* Lists the video nodes dev_dir/videoN (dev_dir NULL = "/dev"), sorted by N. Nodes that cannot
