@@ -85,7 +85,7 @@ static void stream_phase(const bench_opts *o, double fps, bool process, phase_re
 	pc_stream_args_init(&sa);
 	char uri[128];
 	snprintf(uri, sizeof uri, "aravis:127.0.0.1?packet_size=%llu",
-		 (unsigned long long)o->packet_size);
+	         (unsigned long long)o->packet_size);
 	sa.uri = uri;
 	sa.format = o->format;
 	sa.fps = fps;
@@ -124,7 +124,8 @@ static void stream_phase(const bench_opts *o, double fps, bool process, phase_re
 		}
 		if (warm && nl < cap && lt && lx) {
 			lt[nl] = pc_cli_now() - t0;
-			lx[nl] = (double)((int64_t)(realtime_ns() - b->frame.meta.timestamp_ns)) / 1e6;
+			lx[nl] =
+			    (double)((int64_t)(realtime_ns() - b->frame.meta.timestamp_ns)) / 1e6;
 			nl++;
 		}
 		r->frames++;
@@ -176,7 +177,8 @@ static json_t *phase_json(const char *name, double goal, const phase_result *r)
 	json_object_set_new(j, "phase", json_string(name));
 	json_object_set_new(j, "goal_fps", goal > 0 ? pc_json_real(goal) : json_null());
 	json_object_set_new(j, "fps", pc_json_real(r->fps));
-	json_object_set_new(j, "ratio_to_goal", goal > 0 ? pc_json_real(r->fps / goal) : json_null());
+	json_object_set_new(j, "ratio_to_goal",
+	                    goal > 0 ? pc_json_real(r->fps / goal) : json_null());
 	json_object_set_new(j, "mb_per_s", pc_json_real(r->mbps));
 	json_object_set_new(j, "frames", json_integer((json_int_t)r->frames));
 	json_object_set_new(j, "seconds", pc_json_real(r->seconds));
@@ -190,7 +192,8 @@ static json_t *phase_json(const char *name, double goal, const phase_result *r)
 		json_object_set_new(j, "process_ms_max", pc_json_real(r->proc_ms_max));
 		json_object_set_new(j, "latency_first_ms", pc_json_real(r->lat_first_ms));
 		json_object_set_new(j, "latency_last_ms", pc_json_real(r->lat_last_ms));
-		json_object_set_new(j, "latency_trend_ms_per_s", pc_json_real(r->lat_slope_ms_per_s));
+		json_object_set_new(j, "latency_trend_ms_per_s",
+		                    pc_json_real(r->lat_slope_ms_per_s));
 	}
 	json_object_set_new(j, "error", r->error ? json_string(r->errmsg) : json_null());
 	return j;
@@ -215,8 +218,8 @@ static void print_phase(const bench_opts *o, const char *name, double goal, cons
 	if (r->proc_ms_mean > 0)
 		printf("\n           pipeline %.1f ms/frame (max %.1f) = %.2f of the frame period; "
 		       "latency %.1f -> %.1f ms (trend %+.2f ms/s)",
-		       r->proc_ms_mean, r->proc_ms_max, r->proc_ms_mean * goal / 1e3, r->lat_first_ms,
-		       r->lat_last_ms, r->lat_slope_ms_per_s);
+		       r->proc_ms_mean, r->proc_ms_max, r->proc_ms_mean * goal / 1e3,
+		       r->lat_first_ms, r->lat_last_ms, r->lat_slope_ms_per_s);
 	if (r->error)
 		printf("\n           stopped: %s", r->errmsg);
 	printf("\n");
@@ -241,20 +244,25 @@ static int serve(const bench_opts *o, unsigned cycle, pc_gige_server **srv, doub
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam bench devices [options]\n\n"
-		"GigE Vision over loopback (polarcam's camera and the aravis: source in one process,\n"
-		"inside a private network namespace) and the live pipeline; see bench/bench_devices.c.\n\n"
-		"  --scene S          simulator scene (default: the built-in 2448x2048 scene)\n"
-		"  --packet-size N    GigE Vision packet size (default 65000, loopback's MTU allows it;\n"
-		"                     8972 is a jumbo frame on real Ethernet; Aravis's automatic choice\n"
-		"                     is 1400 on loopback)\n"
-		"  --method M         demosaicking method of the pipeline phases (default bilinear)\n"
-		"  --format NAME      pixel format (default Mono16)\n"
-		"  --seconds S        seconds per phase (default 5)\n"
-		"  --cycle K          distinct pre-rendered frames the camera cycles through (default 4)\n"
-		"  --quick            small scene, 1 s phases (a smoke run, for the test suite)\n"
-		"  --json             one JSON line per phase\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam bench devices [options]\n\n"
+	    "GigE Vision over loopback (polarcam's camera and the aravis: source in one process,\n"
+	    "inside a private network namespace) and the live pipeline; see "
+	    "bench/bench_devices.c.\n\n"
+	    "  --scene S          simulator scene (default: the built-in 2448x2048 scene)\n"
+	    "  --packet-size N    GigE Vision packet size (default 65000, loopback's MTU allows "
+	    "it;\n"
+	    "                     8972 is a jumbo frame on real Ethernet; Aravis's automatic "
+	    "choice\n"
+	    "                     is 1400 on loopback)\n"
+	    "  --method M         demosaicking method of the pipeline phases (default bilinear)\n"
+	    "  --format NAME      pixel format (default Mono16)\n"
+	    "  --seconds S        seconds per phase (default 5)\n"
+	    "  --cycle K          distinct pre-rendered frames the camera cycles through (default "
+	    "4)\n"
+	    "  --quick            small scene, 1 s phases (a smoke run, for the test suite)\n"
+	    "  --json             one JSON line per phase\n");
 }
 
 int pc_bench_devices(int argc, char **argv)
@@ -263,7 +271,7 @@ int pc_bench_devices(int argc, char **argv)
 		usage(stdout);
 		return PC_EXIT_OK;
 	}
-	bench_opts o = { "default", 65000, 5, 4, "Mono16", false, false, PC_DM_BILINEAR, "bilinear" };
+	bench_opts o = {"default", 65000, 5, 4, "Mono16", false, false, PC_DM_BILINEAR, "bilinear"};
 	char scene_buf[600];
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
@@ -286,19 +294,22 @@ int pc_bench_devices(int argc, char **argv)
 		} else if (i + 1 < argc && !strcmp(a, "--seconds")) {
 			rc = pc_cli_parse_double(a, argv[++i], &o.seconds);
 			if (!rc && (o.seconds < 0.2 || o.seconds > 600))
-				rc = pc_error(PC_EINVAL, "--seconds %g: expected 0.2..600", o.seconds);
+				rc = pc_error(PC_EINVAL, "--seconds %g: expected 0.2..600",
+				              o.seconds);
 		} else if (i + 1 < argc && !strcmp(a, "--cycle")) {
 			rc = pc_cli_parse_long(a, argv[++i], 1, 64, &l);
 			o.cycle = (unsigned)l;
 		} else {
-			return pc_cli_error(PC_EXIT_USAGE, "unknown or incomplete option '%s' (see --help)", a);
+			return pc_cli_error(PC_EXIT_USAGE,
+			                    "unknown or incomplete option '%s' (see --help)", a);
 		}
 		if (rc)
 			return pc_cli_fail(rc, "arguments");
 	}
 	if (o.quick) {
 		const char *src = getenv("PC_SOURCE_DIR");
-		snprintf(scene_buf, sizeof scene_buf, "%s/scenes/ideal_small.json", src ? src : ".");
+		snprintf(scene_buf, sizeof scene_buf, "%s/scenes/ideal_small.json",
+		         src ? src : ".");
 		if (!strcmp(o.scene, "default"))
 			o.scene = scene_buf;
 		o.seconds = 1;
@@ -319,7 +330,8 @@ int pc_bench_devices(int argc, char **argv)
 		ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
 		if (len <= 0) {
 			free(nargv);
-			return pc_cli_error(PC_EXIT_FAILURE, "cannot find this program (/proc/self/exe)");
+			return pc_cli_error(PC_EXIT_FAILURE,
+			                    "cannot find this program (/proc/self/exe)");
 		}
 		self[len] = '\0';
 		nargv[n++] = "sh";
@@ -331,16 +343,17 @@ int pc_bench_devices(int argc, char **argv)
 		fflush(NULL);
 		execvp("unshare", nargv);
 		free(nargv);
-		return pc_cli_error(PC_EXIT_FAILURE, "cannot run in a private network namespace "
-						     "(unshare -n needs root; Debian: util-linux, iproute2): "
-						     "refusing to stream GigE Vision outside one");
+		return pc_cli_error(PC_EXIT_FAILURE,
+		                    "cannot run in a private network namespace "
+		                    "(unshare -n needs root; Debian: util-linux, iproute2): "
+		                    "refusing to stream GigE Vision outside one");
 	}
 
 	if (!o.json)
 		printf("polarcam bench devices: scene %s, %s, packet size %llu, %g s per phase, "
 		       "pipeline %s, %d threads (ratios are against baselines of this run)\n",
-		       o.scene, o.format, (unsigned long long)o.packet_size, o.seconds, o.method_name,
-		       pc_parallel_max_threads());
+		       o.scene, o.format, (unsigned long long)o.packet_size, o.seconds,
+		       o.method_name, pc_parallel_max_threads());
 	pc_gige_server *srv = NULL;
 	double prep = 0;
 	int rc = serve(&o, o.cycle, &srv, &prep);
@@ -410,12 +423,15 @@ int pc_bench_devices(int argc, char **argv)
 			json_t *j = phase_json("alone", 0, &alone);
 			json_object_set_new(j, "process_ms_mean", pc_json_real(alone.proc_ms_mean));
 			json_object_set_new(j, "simulator_frame_s",
-					    sim_n ? pc_json_real(sim_t / sim_n) : json_null());
+			                    sim_n ? pc_json_real(sim_t / sim_n) : json_null());
 			pc_cli_print_json(j);
 		} else {
-			printf("alone      %8.1f fps   pipeline %.1f ms/frame without transport (%s "
-			       "demosaic + Stokes + DoLP + AoLP); simulator sensor chain %.2f s/frame\n",
-			       alone.fps, alone.proc_ms_mean, o.method_name, sim_n ? sim_t / sim_n : NAN);
+			printf(
+			    "alone      %8.1f fps   pipeline %.1f ms/frame without transport (%s "
+			    "demosaic + Stokes + DoLP + AoLP); simulator sensor chain %.2f "
+			    "s/frame\n",
+			    alone.fps, alone.proc_ms_mean, o.method_name,
+			    sim_n ? sim_t / sim_n : NAN);
 		}
 		pc_live_free(&lv);
 		pc_source_close(s);
@@ -437,15 +453,17 @@ int pc_bench_devices(int argc, char **argv)
 	pc_gige_server_stop(srv);
 	pc_devices_shutdown();
 	if (!o.json) {
-		printf("\nsummary: serve->capture %.1f fps at the 30 fps goal (%.2fx), transport capacity "
-		       "%.1f fps = %.0f MB/s, missing packets %llu; live pipeline %.1f ms per frame = "
-		       "%.2fx the 33.3 ms period (alone %.1f ms: %.2fx), latency trend %+.2f ms/s\n",
-		       at30.fps, at30.fps / 30, transport.fps, transport.mbps,
-		       (unsigned long long)(transport.missing_packets + at30.missing_packets +
-					    pipe.missing_packets),
-		       pipe.proc_ms_mean, pipe.proc_ms_mean * 30 / 1e3, alone.proc_ms_mean,
-		       alone.proc_ms_mean > 0 ? pipe.proc_ms_mean / alone.proc_ms_mean : 0,
-		       pipe.lat_slope_ms_per_s);
+		printf(
+		    "\nsummary: serve->capture %.1f fps at the 30 fps goal (%.2fx), transport "
+		    "capacity "
+		    "%.1f fps = %.0f MB/s, missing packets %llu; live pipeline %.1f ms per frame = "
+		    "%.2fx the 33.3 ms period (alone %.1f ms: %.2fx), latency trend %+.2f ms/s\n",
+		    at30.fps, at30.fps / 30, transport.fps, transport.mbps,
+		    (unsigned long long)(transport.missing_packets + at30.missing_packets +
+		                         pipe.missing_packets),
+		    pipe.proc_ms_mean, pipe.proc_ms_mean * 30 / 1e3, alone.proc_ms_mean,
+		    alone.proc_ms_mean > 0 ? pipe.proc_ms_mean / alone.proc_ms_mean : 0,
+		    pipe.lat_slope_ms_per_s);
 	}
 	return transport.error || at30.error || pipe.error ? PC_EXIT_FAILURE : PC_EXIT_OK;
 }

@@ -18,13 +18,13 @@
 /* GigE Vision bootstrap registers (GigE Vision specification, bootstrap register map):
  * manufacturer name 0x0048 (32 bytes), model name 0x0068 (32), manufacturer info 0x00A8 (48). */
 #define GVBS_MANUFACTURER 0x0048u
-#define GVBS_MODEL 0x0068u
-#define GVBS_INFO 0x00a8u
+#define GVBS_MODEL        0x0068u
+#define GVBS_INFO         0x00a8u
 
 /* The pixel formats the camera offers, by GenICam name (codes from pc_genicam_formats). */
 static const char *const served_names[] = {
-	"PolarizeMono8", "PolarizeMono12", "PolarizeMono12p", "PolarizeMono16", "Mono8",
-	"Mono10",        "Mono12",         "Mono12p",         "Mono16",
+    "PolarizeMono8", "PolarizeMono12", "PolarizeMono12p", "PolarizeMono16", "Mono8",
+    "Mono10",        "Mono12",         "Mono12p",         "Mono16",
 };
 #define N_SERVED (sizeof served_names / sizeof served_names[0])
 
@@ -81,7 +81,8 @@ static char *make_xml(pc_gige_server *srv)
 		return NULL;
 	char *enum_start = strstr(in, "<Enumeration Name=\"PixelFormat\"");
 	char *first = enum_start ? strstr(enum_start, "<EnumEntry") : NULL;
-	char *pvalue = enum_start ? strstr(enum_start, "<pValue>PixelFormatRegister</pValue>") : NULL;
+	char *pvalue =
+	    enum_start ? strstr(enum_start, "<pValue>PixelFormatRegister</pValue>") : NULL;
 	char *port = strstr(in, "<Port Name=\"Device\"");
 	if (!first || !pvalue || pvalue < first || !port || port < pvalue) {
 		g_free(in);
@@ -89,26 +90,28 @@ static char *make_xml(pc_gige_server *srv)
 	}
 	GString *out = g_string_new_len(in, first - in);
 	for (unsigned i = 0; i < srv->n_fmts; i++)
-		g_string_append_printf(out, "<EnumEntry Name=\"%s\" NameSpace=\"%s\">\n"
-					    "\t\t\t<Value>%u</Value>\n\t\t</EnumEntry>\n\t\t",
-				       srv->fmts[i].name,
-				       srv->fmts[i].code >> 31 ? "Custom" : "Standard",
-				       srv->fmts[i].code);
+		g_string_append_printf(out,
+		                       "<EnumEntry Name=\"%s\" NameSpace=\"%s\">\n"
+		                       "\t\t\t<Value>%u</Value>\n\t\t</EnumEntry>\n\t\t",
+		                       srv->fmts[i].name,
+		                       srv->fmts[i].code >> 31 ? "Custom" : "Standard",
+		                       srv->fmts[i].code);
 	g_string_append_len(out, pvalue, port - pvalue);
-	static const char *const rev[2] = { "ReverseX", "ReverseY" };
+	static const char *const rev[2] = {"ReverseX", "ReverseY"};
 	for (int i = 0; i < 2; i++)
 		g_string_append_printf(
-			out,
-			"<Boolean Name=\"%s\" NameSpace=\"Standard\">\n"
-			"\t\t<Description>Mirror the readout (polarcam: mirrors the mosaic)</Description>\n"
-			"\t\t<pValue>%sRegister</pValue>\n\t\t<OnValue>1</OnValue>\n"
-			"\t\t<OffValue>0</OffValue>\n\t</Boolean>\n\n"
-			"\t<IntReg Name=\"%sRegister\" NameSpace=\"Custom\">\n"
-			"\t\t<Address>0x%x</Address>\n\t\t<Length>4</Length>\n"
-			"\t\t<AccessMode>RW</AccessMode>\n\t\t<pPort>Device</pPort>\n"
-			"\t\t<Sign>Unsigned</Sign>\n\t\t<Endianess>BigEndian</Endianess>\n"
-			"\t</IntReg>\n\n\t",
-			rev[i], rev[i], rev[i], i ? REG_REVERSE_Y : REG_REVERSE_X);
+		    out,
+		    "<Boolean Name=\"%s\" NameSpace=\"Standard\">\n"
+		    "\t\t<Description>Mirror the readout (polarcam: mirrors the "
+		    "mosaic)</Description>\n"
+		    "\t\t<pValue>%sRegister</pValue>\n\t\t<OnValue>1</OnValue>\n"
+		    "\t\t<OffValue>0</OffValue>\n\t</Boolean>\n\n"
+		    "\t<IntReg Name=\"%sRegister\" NameSpace=\"Custom\">\n"
+		    "\t\t<Address>0x%x</Address>\n\t\t<Length>4</Length>\n"
+		    "\t\t<AccessMode>RW</AccessMode>\n\t\t<pPort>Device</pPort>\n"
+		    "\t\t<Sign>Unsigned</Sign>\n\t\t<Endianess>BigEndian</Endianess>\n"
+		    "\t</IntReg>\n\n\t",
+		    rev[i], rev[i], rev[i], i ? REG_REVERSE_Y : REG_REVERSE_X);
 	g_string_append(out, port);
 	g_free(in);
 	return g_string_free(out, FALSE);
@@ -133,7 +136,7 @@ static uint32_t reg(ArvFakeCamera *fc, uint32_t addr)
 
 /* Copies the ROI of the full frame src into the camera buffer, mirrored and packed. */
 static void render_roi(pc_gige_server *srv, const pc_view *src, ArvBuffer *buffer,
-		       const served_fmt *sf)
+                       const served_fmt *sf)
 {
 	uint32_t w = (uint32_t)arv_buffer_get_image_width(buffer);
 	uint32_t h = (uint32_t)arv_buffer_get_image_height(buffer);
@@ -151,7 +154,7 @@ static void render_roi(pc_gige_server *srv, const pc_view *src, ArvBuffer *buffe
 	uint8_t *data = (uint8_t *)arv_buffer_get_data(buffer, NULL);
 	unsigned shift = di->bits < srv->bits ? srv->bits - di->bits : 0;
 	bool same = !rx && shift == 0 && di->packing == PC_PACK_NONE &&
-		    pc_format_info_get(src->format)->group_bytes == di->group_bytes;
+	            pc_format_info_get(src->format)->group_bytes == di->group_bytes;
 	for (uint32_t y = 0; y < h; y++) {
 		uint32_t sy = ry ? src->height - 1 - (oy + y) : oy + y;
 		const uint16_t *srow = PC_ROW(src, const uint16_t, sy);
@@ -164,13 +167,13 @@ static void render_roi(pc_gige_server *srv, const pc_view *src, ArvBuffer *buffe
 			uint32_t sx = rx ? src->width - 1 - (ox + x) : ox + x;
 			srv->row16[x] = (uint16_t)(srow[sx] >> shift);
 		}
-		pc_view d = { drow, w, 1, row, sf->fmt };
+		pc_view d = {drow, w, 1, row, sf->fmt};
 		(void)pc_view_from_u16(srv->row16, (size_t)w * 2, &d);
 	}
 }
 
 static void fill_cb(ArvBuffer *buffer, void *user, guint32 exposure_us, guint32 gain,
-		    ArvPixelFormat pixel_format)
+                    ArvPixelFormat pixel_format)
 {
 	(void)exposure_us;
 	(void)gain;
@@ -233,7 +236,8 @@ static void apply_controls(pc_gige_server *srv)
 	if (e != srv->exposure_applied) {
 		srv->exposure_applied = e;
 		if (pc_source_control_set(srv->src, PC_CTRL_EXPOSURE_US, e, NULL))
-			pc_error_clear(); /* outside the source's range: frames keep the old value */
+			pc_error_clear(); /* outside the source's range: frames keep the old value
+			                   */
 	}
 	if (g != srv->gain_applied) {
 		srv->gain_applied = g;
@@ -289,7 +293,8 @@ static void *producer(void *arg)
 		if (!want) {
 			g_mutex_lock(&srv->lock);
 			if (!srv->quit)
-				g_cond_wait_until(&srv->cond, &srv->lock, g_get_monotonic_time() + 2000);
+				g_cond_wait_until(&srv->cond, &srv->lock,
+				                  g_get_monotonic_time() + 2000);
 			g_mutex_unlock(&srv->lock);
 			continue;
 		}
@@ -331,7 +336,7 @@ static int open_source(pc_gige_server *srv, const pc_gige_server_options *o)
 		rc = pc_source_try_format(srv->src, &r, &v);
 		if (!rc && v != PC_FORMAT_VALID)
 			rc = pc_error(PC_EFORMAT, "serve: source %s cannot deliver unpacked frames",
-				      o->source_uri);
+			              o->source_uri);
 		if (!rc)
 			rc = pc_source_set_format(srv->src, &r);
 		if (rc)
@@ -346,7 +351,7 @@ static int open_source(pc_gige_server *srv, const pc_gige_server_options *o)
 		return pc_error(PC_EFORMAT, "serve: unexpected source format %s", f.format_name);
 	if (f.format == PC_FMT_MONO8)
 		return pc_error(PC_ENOTSUP, "serve: 8-bit sources are not served yet (the camera "
-					    "model expands 16-bit frames)");
+		                            "model expands 16-bit frames)");
 	return 0;
 }
 
@@ -360,7 +365,7 @@ static int prepare_cycle(pc_gige_server *srv, unsigned k_frames)
 		int rc = pc_source_dequeue(srv->src, 600000, &b);
 		if (!rc)
 			rc = pc_view_alloc(&srv->cyc[i], srv->sfmt.format, srv->sfmt.width,
-					   srv->sfmt.height, 64);
+			                   srv->sfmt.height, 64);
 		if (rc) {
 			if (b)
 				pc_source_requeue(srv->src, b);
@@ -389,11 +394,13 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		return pc_error(PC_EINVAL, "serve: cycle = %u: at most 256 frames", o->cycle);
 	if (!(o->lost_packet_ratio >= 0 && o->lost_packet_ratio < 1))
 		return pc_error(PC_EINVAL, "serve: lost packet ratio %g: expected [0, 1)",
-				o->lost_packet_ratio);
+		                o->lost_packet_ratio);
 	double fps = o->frame_rate_hz > 0 ? o->frame_rate_hz : 25;
 	if (fps > 1000)
-		return pc_error(PC_ERANGE, "serve: frame rate %g Hz: the camera model's frame period "
-					   "has a 1000 us minimum", fps);
+		return pc_error(PC_ERANGE,
+		                "serve: frame rate %g Hz: the camera model's frame period "
+		                "has a 1000 us minimum",
+		                fps);
 	pc_gige_server *srv = calloc(1, sizeof *srv);
 	if (!srv)
 		return pc_error(PC_ENOMEM, "serve");
@@ -408,7 +415,7 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		for (size_t j = 0; j < nt; j++)
 			if (!strcmp(gt[j].name, served_names[i]) && gt[j].code)
 				srv->fmts[srv->n_fmts++] =
-					(served_fmt){ gt[j].name, gt[j].code, gt[j].fmt };
+				    (served_fmt){gt[j].name, gt[j].code, gt[j].fmt};
 
 	int rc = open_source(srv, o);
 	if (!rc) {
@@ -430,18 +437,20 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		int fd = mkstemp(srv->xml_path);
 		size_t len = strlen(srv->xml);
 		if (fd < 0 || write(fd, srv->xml, len) != (ssize_t)len)
-			rc = pc_error(PC_EIO, "serve: cannot write the GenICam description to /tmp");
+			rc =
+			    pc_error(PC_EIO, "serve: cannot write the GenICam description to /tmp");
 		if (fd >= 0)
 			close(fd);
 	}
 	if (!rc) {
 		const char *addr = o->address ? o->address : "127.0.0.1";
 		srv->gv = arv_gv_fake_camera_new_full(addr, o->serial ? o->serial : "POLARCAM0001",
-						      srv->xml_path);
+		                                      srv->xml_path);
 		if (!srv->gv || !arv_gv_fake_camera_is_running(srv->gv))
-			rc = pc_error(PC_EBUSY, "serve: cannot run a GigE Vision camera on %s (not an "
-						"interface address, or the GVCP port 3956 is taken)",
-				      addr);
+			rc = pc_error(PC_EBUSY,
+			              "serve: cannot run a GigE Vision camera on %s (not an "
+			              "interface address, or the GVCP port 3956 is taken)",
+			              addr);
 	}
 	if (srv->xml_path[0])
 		unlink(srv->xml_path); /* read by the camera when it was created */
@@ -453,30 +462,31 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		arv_fake_camera_write_memory(srv->fc, GVBS_MODEL, sizeof model, model);
 		arv_fake_camera_write_memory(srv->fc, GVBS_INFO, sizeof info, info);
 		arv_fake_camera_write_register(srv->fc, ARV_FAKE_CAMERA_REGISTER_SENSOR_WIDTH,
-					       srv->sfmt.width);
+		                               srv->sfmt.width);
 		arv_fake_camera_write_register(srv->fc, ARV_FAKE_CAMERA_REGISTER_SENSOR_HEIGHT,
-					       srv->sfmt.height);
-		arv_fake_camera_write_register(srv->fc, ARV_FAKE_CAMERA_REGISTER_WIDTH, srv->sfmt.width);
+		                               srv->sfmt.height);
+		arv_fake_camera_write_register(srv->fc, ARV_FAKE_CAMERA_REGISTER_WIDTH,
+		                               srv->sfmt.width);
 		arv_fake_camera_write_register(srv->fc, ARV_FAKE_CAMERA_REGISTER_HEIGHT,
-					       srv->sfmt.height);
-		const char *def = srv->bits <= 8 ? "PolarizeMono8" : srv->bits <= 12 ? "PolarizeMono12"
-										     : "PolarizeMono16";
+		                               srv->sfmt.height);
+		const char *def = srv->bits <= 8    ? "PolarizeMono8"
+		                  : srv->bits <= 12 ? "PolarizeMono12"
+		                                    : "PolarizeMono16";
 		for (unsigned i = 0; i < srv->n_fmts; i++)
 			if (!strcmp(srv->fmts[i].name, def))
-				arv_fake_camera_write_register(srv->fc,
-							       ARV_FAKE_CAMERA_REGISTER_PIXEL_FORMAT,
-							       srv->fmts[i].code);
+				arv_fake_camera_write_register(
+				    srv->fc, ARV_FAKE_CAMERA_REGISTER_PIXEL_FORMAT,
+				    srv->fmts[i].code);
 		arv_fake_camera_write_register(srv->fc,
-					       ARV_FAKE_CAMERA_REGISTER_ACQUISITION_FRAME_PERIOD_US,
-					       (guint32)(1e6 / fps + 0.5));
+		                               ARV_FAKE_CAMERA_REGISTER_ACQUISITION_FRAME_PERIOD_US,
+		                               (guint32)(1e6 / fps + 0.5));
 		double e = 0, g = 0;
 		if (pc_source_control_get(srv->src, PC_CTRL_EXPOSURE_US, &e) == 0 && e >= 1)
-			arv_fake_camera_write_register(srv->fc,
-						       ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US,
-						       (guint32)(e + 0.5));
+			arv_fake_camera_write_register(
+			    srv->fc, ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US, (guint32)(e + 0.5));
 		if (pc_source_control_get(srv->src, PC_CTRL_GAIN_DB, &g) == 0 && g >= 0)
 			arv_fake_camera_write_register(srv->fc, ARV_FAKE_CAMERA_REGISTER_GAIN_RAW,
-						       (guint32)(g + 0.5));
+			                               (guint32)(g + 0.5));
 		pc_error_clear();
 		srv->exposure_applied = reg(srv->fc, ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US);
 		srv->gain_applied = reg(srv->fc, ARV_FAKE_CAMERA_REGISTER_GAIN_RAW);

@@ -46,7 +46,7 @@ typedef struct arv_src {
 	gint lost; /* atomic: set by the control-lost signal */
 	char vendor[64], model[64], serial[64], device_id[128];
 	const pc_camera_profile *profile;
-	pc_mosaic sensor_mosaic;  /* at sensor pixel (0,0), unflipped */
+	pc_mosaic sensor_mosaic; /* at sensor pixel (0,0), unflipped */
 	bool mosaic_known;
 	int sensor_w, sensor_h;
 	int x_inc, y_inc, w_inc, h_inc, w_min, h_min;
@@ -82,7 +82,7 @@ static void on_control_lost(ArvDevice *dev, gpointer user)
 static pc_mosaic readout_mosaic(const arv_src *a)
 {
 	return pc_mosaic_flip(&a->sensor_mosaic, a->reverse_x, a->reverse_y, (uint32_t)a->sensor_w,
-			      (uint32_t)a->sensor_h);
+	                      (uint32_t)a->sensor_h);
 }
 
 static int load_formats(arv_src *a)
@@ -121,8 +121,10 @@ static int load_formats(arv_src *a)
 	g_free(names);
 	g_free(codes);
 	if (a->n_fmts == 0)
-		return pc_error(PC_EFORMAT, "aravis: %s %s offers no raw monochrome or polarized pixel "
-					    "format polarcam can read", a->vendor, a->model);
+		return pc_error(PC_EFORMAT,
+		                "aravis: %s %s offers no raw monochrome or polarized pixel "
+		                "format polarcam can read",
+		                a->vendor, a->model);
 	return 0;
 }
 
@@ -131,8 +133,9 @@ static void a_close(pc_source *s);
 static int a_open(pc_source *s, const char *arg)
 {
 	if (!*arg)
-		return pc_error(PC_EINVAL, "aravis: expected a device id, serial number or IP address "
-					   "(aravis:ID)");
+		return pc_error(PC_EINVAL,
+		                "aravis: expected a device id, serial number or IP address "
+		                "(aravis:ID)");
 	arv_src *a = calloc(1, sizeof *a);
 	if (!a)
 		return pc_error(PC_ENOMEM, "aravis source");
@@ -157,7 +160,7 @@ static int a_open(pc_source *s, const char *arg)
 	a->cam = arv_camera_new(arg, &err);
 	if (!a->cam) {
 		rc = pc_error(PC_ENOENT, "aravis: no camera '%s': %s", arg,
-			      err ? err->message : "not found");
+		              err ? err->message : "not found");
 		g_clear_error(&err);
 		free(a);
 		return rc;
@@ -186,9 +189,9 @@ static int a_open(pc_source *s, const char *arg)
 	if (!rc && err)
 		rc = gerr(PC_EIO, &err, "reading the sensor size");
 	if (!rc && (a->sensor_w <= 0 || a->sensor_h <= 0 || a->sensor_w > 1 << 16 ||
-		    a->sensor_h > 1 << 16))
-		rc = pc_error(PC_EIO, "aravis: %s reports a %dx%d sensor", a->device_id, a->sensor_w,
-			      a->sensor_h);
+	            a->sensor_h > 1 << 16))
+		rc = pc_error(PC_EIO, "aravis: %s reports a %dx%d sensor", a->device_id,
+		              a->sensor_w, a->sensor_h);
 	if (!rc) {
 		bool offsets = arv_camera_is_region_offset_available(a->cam, NULL);
 		a->x_inc = offsets ? arv_camera_get_x_offset_increment(a->cam, NULL) : 0;
@@ -209,8 +212,8 @@ static int a_open(pc_source *s, const char *arg)
 		a->has_reverse_x = arv_camera_is_feature_available(a->cam, "ReverseX", NULL);
 		a->has_reverse_y = arv_camera_is_feature_available(a->cam, "ReverseY", NULL);
 		if ((rx && !a->has_reverse_x) || (ry && !a->has_reverse_y))
-			rc = pc_error(PC_ENOTSUP, "aravis: %s %s has no %s feature", a->vendor, a->model,
-				      rx && !a->has_reverse_x ? "ReverseX" : "ReverseY");
+			rc = pc_error(PC_ENOTSUP, "aravis: %s %s has no %s feature", a->vendor,
+			              a->model, rx && !a->has_reverse_x ? "ReverseX" : "ReverseY");
 	}
 	if (!rc && a->has_reverse_x) {
 		if (pc_source_option(s, "reverse_x"))
@@ -267,7 +270,9 @@ static int a_info(pc_source *s, pc_source_info *info)
 	snprintf(info->model, sizeof info->model, "%s", a->model);
 	snprintf(info->serial, sizeof info->serial, "%s", a->serial);
 	snprintf(info->driver, sizeof info->driver, "aravis-%s",
-		 arv_camera_is_gv_device(a->cam) ? "gv" : arv_camera_is_uv_device(a->cam) ? "uv" : "other");
+	         arv_camera_is_gv_device(a->cam)   ? "gv"
+	         : arv_camera_is_uv_device(a->cam) ? "uv"
+	                                           : "other");
 	info->sensor_width = (uint32_t)a->sensor_w;
 	info->sensor_height = (uint32_t)a->sensor_h;
 	info->mosaic = readout_mosaic(a);
@@ -301,7 +306,8 @@ static int a_try(pc_source *s, pc_source_format *f, pc_format_verdict *v)
 	} else if (req.format != PC_FMT_INVALID) {
 		for (unsigned pass = 0; pass < 2 && !e; pass++) /* polarized names first */
 			for (unsigned i = 0; i < a->n_fmts && !e; i++)
-				if (a->fmts[i].fmt == req.format && a->fmts[i].polarized == (pass == 0))
+				if (a->fmts[i].fmt == req.format &&
+				    a->fmts[i].polarized == (pass == 0))
 					e = &a->fmts[i];
 		adj = !e;
 	}
@@ -320,7 +326,7 @@ static int a_try(pc_source *s, pc_source_format *f, pc_format_verdict *v)
 	if (req.offset_x >= sw || req.offset_y >= sh) {
 		*v = PC_FORMAT_INVALID;
 		return pc_error(PC_OK, "aravis: ROI origin (%u,%u) outside the %ux%u sensor",
-				req.offset_x, req.offset_y, sw, sh);
+		                req.offset_x, req.offset_y, sw, sh);
 	}
 	f->offset_x = a->x_inc ? round_down(req.offset_x, a->x_inc) : 0;
 	f->offset_y = a->y_inc ? round_down(req.offset_y, a->y_inc) : 0;
@@ -340,7 +346,7 @@ static int a_try(pc_source *s, pc_source_format *f, pc_format_verdict *v)
 	if (w < (uint32_t)a->w_min || h < (uint32_t)a->h_min || w == 0 || h == 0) {
 		*v = PC_FORMAT_INVALID;
 		return pc_error(PC_OK, "aravis: ROI %ux%u below the camera's minimum %dx%d", w, h,
-				a->w_min, a->h_min);
+		                a->w_min, a->h_min);
 	}
 	adj = adj || (req.width && w != req.width) || (req.height && h != req.height);
 	f->width = w;
@@ -374,7 +380,7 @@ static int a_set(pc_source *s, const pc_source_format *f)
 	if (err)
 		return gerr(PC_EIO, &err, "setting the pixel format");
 	arv_camera_set_region(a->cam, (gint)f->offset_x, (gint)f->offset_y, (gint)f->width,
-			      (gint)f->height, &err);
+	                      (gint)f->height, &err);
 	if (err)
 		return gerr(PC_EIO, &err, "setting the region");
 	gint x, y, w, h;
@@ -386,16 +392,19 @@ static int a_set(pc_source *s, const pc_source_format *f)
 		return gerr(PC_EIO, &err, "reading the pixel format back");
 	if ((uint32_t)x != f->offset_x || (uint32_t)y != f->offset_y || (uint32_t)w != f->width ||
 	    (uint32_t)h != f->height || !name || strcmp(name, f->format_name))
-		return pc_error(PC_EIO, "aravis: the camera kept %s %dx%d at (%d,%d) instead of %s "
-					"%ux%u at (%u,%u)", name ? name : "?", w, h, x, y,
-				f->format_name, f->width, f->height, f->offset_x, f->offset_y);
+		return pc_error(PC_EIO,
+		                "aravis: the camera kept %s %dx%d at (%d,%d) instead of %s "
+		                "%ux%u at (%u,%u)",
+		                name ? name : "?", w, h, x, y, f->format_name, f->width, f->height,
+		                f->offset_x, f->offset_y);
 	guint payload = arv_camera_get_payload(a->cam, &err);
 	if (err)
 		return gerr(PC_EIO, &err, "reading the payload size");
 	if (payload > f->frame_bytes)
-		return pc_error(PC_EFORMAT, "aravis: the camera sends %u bytes per frame, a %s %ux%u "
-					    "image is %zu (chunk data enabled?)", payload,
-				f->format_name, f->width, f->height, f->frame_bytes);
+		return pc_error(PC_EFORMAT,
+		                "aravis: the camera sends %u bytes per frame, a %s %ux%u "
+		                "image is %zu (chunk data enabled?)",
+		                payload, f->format_name, f->width, f->height, f->frame_bytes);
 	a->cur_code = arv_camera_get_pixel_format(a->cam, NULL);
 	return 0;
 }
@@ -438,10 +447,17 @@ static int a_cget(pc_source *s, pc_control_id id, double *val)
 	arv_src *a = pc_source_priv(s);
 	GError *err = NULL;
 	switch (id) {
-	case PC_CTRL_EXPOSURE_US: *val = arv_camera_get_exposure_time(a->cam, &err); break;
-	case PC_CTRL_GAIN_DB: *val = arv_camera_get_gain(a->cam, &err); break;
-	case PC_CTRL_FRAME_RATE_HZ: *val = arv_camera_get_frame_rate(a->cam, &err); break;
-	default: return pc_error(PC_ENOTSUP, "aravis: unknown control");
+	case PC_CTRL_EXPOSURE_US:
+		*val = arv_camera_get_exposure_time(a->cam, &err);
+		break;
+	case PC_CTRL_GAIN_DB:
+		*val = arv_camera_get_gain(a->cam, &err);
+		break;
+	case PC_CTRL_FRAME_RATE_HZ:
+		*val = arv_camera_get_frame_rate(a->cam, &err);
+		break;
+	default:
+		return pc_error(PC_ENOTSUP, "aravis: unknown control");
 	}
 	return err ? gerr(PC_EIO, &err, pc_control_name(id)) : 0;
 }
@@ -451,10 +467,17 @@ static int a_cset(pc_source *s, pc_control_id id, double val, double *applied)
 	arv_src *a = pc_source_priv(s);
 	GError *err = NULL;
 	switch (id) {
-	case PC_CTRL_EXPOSURE_US: arv_camera_set_exposure_time(a->cam, val, &err); break;
-	case PC_CTRL_GAIN_DB: arv_camera_set_gain(a->cam, val, &err); break;
-	case PC_CTRL_FRAME_RATE_HZ: arv_camera_set_frame_rate(a->cam, val, &err); break;
-	default: return pc_error(PC_ENOTSUP, "aravis: unknown control");
+	case PC_CTRL_EXPOSURE_US:
+		arv_camera_set_exposure_time(a->cam, val, &err);
+		break;
+	case PC_CTRL_GAIN_DB:
+		arv_camera_set_gain(a->cam, val, &err);
+		break;
+	case PC_CTRL_FRAME_RATE_HZ:
+		arv_camera_set_frame_rate(a->cam, val, &err);
+		break;
+	default:
+		return pc_error(PC_ENOTSUP, "aravis: unknown control");
 	}
 	if (err)
 		return gerr(PC_EIO, &err, pc_control_name(id));
@@ -473,10 +496,12 @@ static void collect_stats(arv_src *a, pc_source_stats *st)
 	st->underruns = underruns;
 	if (ARV_IS_GV_STREAM(a->stream)) {
 		st->has_packets = true;
-		st->missing_packets = arv_stream_get_info_uint64_by_name(a->stream, "n_missing_packets");
-		st->resent_packets = arv_stream_get_info_uint64_by_name(a->stream, "n_resent_packets");
+		st->missing_packets =
+		    arv_stream_get_info_uint64_by_name(a->stream, "n_missing_packets");
+		st->resent_packets =
+		    arv_stream_get_info_uint64_by_name(a->stream, "n_resent_packets");
 		st->transport_failures =
-			arv_stream_get_info_uint64_by_name(a->stream, "n_size_mismatch_errors");
+		    arv_stream_get_info_uint64_by_name(a->stream, "n_size_mismatch_errors");
 	}
 }
 
@@ -488,7 +513,7 @@ static int a_queue(pc_source *s, pc_buffer *b)
 		a->stream = arv_camera_create_stream(a->cam, NULL, NULL, &err);
 		if (!a->stream)
 			return gerr(g_atomic_int_get(&a->lost) ? PC_EDISCONNECTED : PC_EIO, &err,
-				    "creating the stream");
+			            "creating the stream");
 	}
 	ArvBuffer *ab = arv_buffer_new_full(b->size, b->data, b, NULL);
 	if (!ab)
@@ -508,7 +533,7 @@ static int a_start(pc_source *s)
 	arv_camera_start_acquisition(a->cam, &err);
 	if (err)
 		return gerr(g_atomic_int_get(&a->lost) ? PC_EDISCONNECTED : PC_EIO, &err,
-			    "starting the acquisition");
+		            "starting the acquisition");
 	return 0;
 }
 
@@ -570,7 +595,8 @@ static uint64_t unwrap_id(arv_src *a, uint64_t id, bool damaged)
 		if (id == 0)
 			a->seen_zero = true;
 		if (delta == 0)
-			delta = 1; /* a repeated id: the wrapper still needs an increasing sequence */
+			delta =
+			    1; /* a repeated id: the wrapper still needs an increasing sequence */
 		else if (id < a->last_id && id != 0 && !a->seen_zero && delta >= 2)
 			delta--; /* wrapped past the id 0 the camera never sends */
 	}
@@ -603,20 +629,25 @@ static int a_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 		if (!camera_alive(a)) {
 			g_atomic_int_set(&a->lost, 1);
 			return pc_error(PC_EDISCONNECTED, "aravis: camera %s stopped answering",
-					a->device_id);
+			                a->device_id);
 		}
 		return pc_error(PC_ETIMEDOUT, "aravis: no frame from %s within %d ms", a->device_id,
-				timeout_ms);
+		                timeout_ms);
 	}
 	pc_buffer *b = (pc_buffer *)arv_buffer_get_user_data(ab);
 	ArvBufferStatus st = arv_buffer_get_status(ab);
 	uint32_t status = 0;
 	switch (st) {
-	case ARV_BUFFER_STATUS_SUCCESS: break;
+	case ARV_BUFFER_STATUS_SUCCESS:
+		break;
 	case ARV_BUFFER_STATUS_MISSING_PACKETS:
 	case ARV_BUFFER_STATUS_TIMEOUT:
-	case ARV_BUFFER_STATUS_ABORTED: status |= PC_FRAME_INCOMPLETE; break;
-	default: status |= PC_FRAME_CORRUPT; break;
+	case ARV_BUFFER_STATUS_ABORTED:
+		status |= PC_FRAME_INCOMPLETE;
+		break;
+	default:
+		status |= PC_FRAME_CORRUPT;
+		break;
 	}
 	size_t row = 0, image_bytes;
 	(void)pc_format_row_bytes(f->format, f->width, &row);
@@ -634,9 +665,10 @@ static int a_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 		else if (!img || size < image_bytes)
 			status |= PC_FRAME_INCOMPLETE;
 		else if ((const uint8_t *)img != (const uint8_t *)b->data)
-			status |= PC_FRAME_CORRUPT; /* an image part elsewhere: not what we negotiated */
+			status |=
+			    PC_FRAME_CORRUPT; /* an image part elsewhere: not what we negotiated */
 	}
-	b->frame.view = (pc_view){ (void *)data, f->width, f->height, f->stride, f->format };
+	b->frame.view = (pc_view){(void *)data, f->width, f->height, f->stride, f->format};
 	memset(&b->frame.meta, 0, sizeof b->frame.meta);
 	b->frame.meta.sequence = unwrap_id(a, arv_buffer_get_frame_id(ab), status != 0);
 	uint64_t ts = arv_buffer_get_timestamp(ab);
@@ -682,16 +714,18 @@ int pc_aravis_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 		memset(&e, 0, sizeof e);
 		const char *id = arv_get_device_id(i), *proto = arv_get_device_protocol(i);
 		snprintf(e.uri, sizeof e.uri, "aravis:%s", id ? id : "?");
-		snprintf(e.vendor, sizeof e.vendor, "%s", arv_get_device_vendor(i) ? arv_get_device_vendor(i) : "");
-		snprintf(e.model, sizeof e.model, "%s", arv_get_device_model(i) ? arv_get_device_model(i) : "");
+		snprintf(e.vendor, sizeof e.vendor, "%s",
+		         arv_get_device_vendor(i) ? arv_get_device_vendor(i) : "");
+		snprintf(e.model, sizeof e.model, "%s",
+		         arv_get_device_model(i) ? arv_get_device_model(i) : "");
 		snprintf(e.serial, sizeof e.serial, "%s",
-			 arv_get_device_serial_nbr(i) ? arv_get_device_serial_nbr(i) : "");
+		         arv_get_device_serial_nbr(i) ? arv_get_device_serial_nbr(i) : "");
 		snprintf(e.transport, sizeof e.transport, "%s",
-			 proto && !strcmp(proto, "GigEVision") ? "GigE Vision"
-			 : proto && !strcmp(proto, "USB3Vision") ? "USB3 Vision"
-								 : (proto ? proto : "?"));
+		         proto && !strcmp(proto, "GigEVision")   ? "GigE Vision"
+		         : proto && !strcmp(proto, "USB3Vision") ? "USB3 Vision"
+		                                                 : (proto ? proto : "?"));
 		snprintf(e.address, sizeof e.address, "%s",
-			 arv_get_device_address(i) ? arv_get_device_address(i) : "");
+		         arv_get_device_address(i) ? arv_get_device_address(i) : "");
 		const pc_camera_profile *p = pc_camera_profile_find(e.vendor, e.model);
 		snprintf(e.note, sizeof e.note, "%s", p ? p->sensor : "");
 		e.usable = true;
@@ -701,21 +735,21 @@ int pc_aravis_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 	return 0;
 }
 
-static const char *const a_options[] = { "packet_size", "reverse_x", "reverse_y", "mosaic", NULL };
+static const char *const a_options[] = {"packet_size", "reverse_x", "reverse_y", "mosaic", NULL};
 
 const pc_source_ops pc_aravis_source_ops = {
-	.open = a_open,
-	.close = a_close,
-	.get_info = a_info,
-	.try_format = a_try,
-	.set_format = a_set,
-	.control_query = a_cquery,
-	.control_get = a_cget,
-	.control_set = a_cset,
-	.queue = a_queue,
-	.start = a_start,
-	.dequeue = a_dequeue,
-	.stop = a_stop,
-	.get_stats = a_stats,
-	.options = a_options,
+    .open = a_open,
+    .close = a_close,
+    .get_info = a_info,
+    .try_format = a_try,
+    .set_format = a_set,
+    .control_query = a_cquery,
+    .control_get = a_cget,
+    .control_set = a_cset,
+    .queue = a_queue,
+    .start = a_start,
+    .dequeue = a_dequeue,
+    .stop = a_stop,
+    .get_stats = a_stats,
+    .options = a_options,
 };

@@ -40,7 +40,7 @@ uint64_t pc_clock_ns(void)
 
 void pc_sleep_until_ns(uint64_t t_ns)
 {
-	struct timespec ts = { (time_t)(t_ns / 1000000000u), (long)(t_ns % 1000000000u) };
+	struct timespec ts = {(time_t)(t_ns / 1000000000u), (long)(t_ns % 1000000000u)};
 	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
 		;
 }
@@ -88,7 +88,7 @@ int pc_copy_roi(const pc_view *src, uint32_t x0, uint32_t y0, pc_view *dst, uint
 }
 
 int pc_negotiate_flexible(pc_source_format *f, pc_pixfmt native, uint32_t sw, uint32_t sh,
-			  bool polarized, const pc_mosaic *m, pc_format_verdict *verdict)
+                          bool polarized, const pc_mosaic *m, pc_format_verdict *verdict)
 {
 	const pc_source_format req = *f;
 	bool adjusted = false;
@@ -126,7 +126,7 @@ int pc_negotiate_flexible(pc_source_format *f, pc_pixfmt native, uint32_t sw, ui
 	if (req.offset_x >= sw || req.offset_y >= sh) {
 		*verdict = PC_FORMAT_INVALID;
 		return pc_error(PC_OK, "ROI origin (%u,%u) outside the %ux%u sensor", req.offset_x,
-				req.offset_y, sw, sh);
+		                req.offset_y, sw, sh);
 	}
 	f->offset_x = req.offset_x;
 	f->offset_y = req.offset_y;
@@ -147,7 +147,7 @@ int pc_negotiate_flexible(pc_source_format *f, pc_pixfmt native, uint32_t sw, ui
 		if (f->width == 0) {
 			*verdict = PC_FORMAT_INVALID;
 			return pc_error(PC_OK, "%s needs widths that are multiples of %u pixels",
-					fi->name, fi->group_pixels);
+			                fi->name, fi->group_pixels);
 		}
 	}
 	size_t row;

@@ -47,4 +47,4 @@ int pc_copy_roi(const pc_view *src, uint32_t x0, uint32_t y0, pc_view *dst, uint
  * format with at least native's bits (packed widths must fit the packing group); strides at
  * least the row bytes. */
 int pc_negotiate_flexible(pc_source_format *f, pc_pixfmt native, uint32_t sw, uint32_t sh,
-			  bool polarized, const pc_mosaic *m, pc_format_verdict *verdict);
+                          bool polarized, const pc_mosaic *m, pc_format_verdict *verdict);

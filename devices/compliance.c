@@ -14,7 +14,7 @@ typedef struct ctx {
 	pc_compliance_result *res;
 } ctx;
 
-static const char *const fault_names[] = { "none", "drop", "timeout", "disconnect", "corrupt" };
+static const char *const fault_names[] = {"none", "drop", "timeout", "disconnect", "corrupt"};
 
 const char *pc_fault_name(pc_fault_kind k)
 {
@@ -34,7 +34,8 @@ int pc_fault_parse(const char *name)
 #if defined(__GNUC__)
 __attribute__((format(printf, 4, 5)))
 #endif
-static bool report(ctx *c, bool ok, const char *check, const char *fmt, ...)
+static bool
+report(ctx *c, bool ok, const char *check, const char *fmt, ...)
 {
 	char detail[256] = "";
 	if (fmt) {
@@ -47,8 +48,8 @@ static bool report(ctx *c, bool ok, const char *check, const char *fmt, ...)
 		c->res->passed++;
 	} else {
 		if (!c->res->failed)
-			snprintf(c->res->first_failure, sizeof c->res->first_failure, "%s: %s", check,
-				 detail);
+			snprintf(c->res->first_failure, sizeof c->res->first_failure, "%s: %s",
+			         check, detail);
 		c->res->failed++;
 	}
 	if (c->opt->log)
@@ -68,7 +69,7 @@ static const char *rcs(int rc)
 {
 	static _Thread_local char buf[300];
 	snprintf(buf, sizeof buf, "%s%s%s%s", pc_errname(rc), rc ? " (" : "",
-		 rc ? pc_error_detail() : "", rc ? ")" : "");
+	         rc ? pc_error_detail() : "", rc ? ")" : "");
 	return buf;
 }
 
@@ -86,18 +87,19 @@ static bool format_consistent(const pc_source_format *f, char *why, size_t n)
 		return false;
 	}
 	if (pc_format_row_bytes(f->format, f->width, &row) || f->height == 0) {
-		snprintf(why, n, "size %ux%u impossible for %s", f->width, f->height, f->format_name);
+		snprintf(why, n, "size %ux%u impossible for %s", f->width, f->height,
+		         f->format_name);
 		return false;
 	}
 	if (f->stride < row || f->frame_bytes < f->stride * (f->height - 1) + row) {
 		snprintf(why, n, "stride %zu / frame_bytes %zu too small for %u x %zu-byte rows",
-			 f->stride, f->frame_bytes, f->height, row);
+		         f->stride, f->frame_bytes, f->height, row);
 		return false;
 	}
 	if (f->sensor_width && (f->offset_x + f->width > f->sensor_width ||
-				f->offset_y + f->height > f->sensor_height)) {
-		snprintf(why, n, "ROI %ux%u at (%u,%u) exceeds the %ux%u sensor", f->width, f->height,
-			 f->offset_x, f->offset_y, f->sensor_width, f->sensor_height);
+	                        f->offset_y + f->height > f->sensor_height)) {
+		snprintf(why, n, "ROI %ux%u at (%u,%u) exceeds the %ux%u sensor", f->width,
+		         f->height, f->offset_x, f->offset_y, f->sensor_width, f->sensor_height);
 		return false;
 	}
 	return true;
@@ -109,7 +111,8 @@ static bool mosaic_equal(const pc_mosaic *a, const pc_mosaic *b)
 		return false;
 	for (int y = 0; y < 4; y++)
 		for (int x = 0; x < 4; x++)
-			if (a->channel[y][x] != b->channel[y][x] || a->color[y][x] != b->color[y][x])
+			if (a->channel[y][x] != b->channel[y][x] ||
+			    a->color[y][x] != b->color[y][x])
 				return false;
 	return true;
 }
@@ -138,8 +141,8 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 	pc_source_format cur, f;
 	pc_format_verdict v;
 	int rc = pc_source_get_format(s, &cur);
-	report(c, rc == 0 && format_consistent(&cur, why, sizeof why), "format: current is consistent",
-	       "%s", rc ? rcs(rc) : why);
+	report(c, rc == 0 && format_consistent(&cur, why, sizeof why),
+	       "format: current is consistent", "%s", rc ? rcs(rc) : why);
 
 	f = cur;
 	rc = pc_source_try_format(s, &f, &v);
@@ -150,8 +153,8 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 	memset(&f, 0, sizeof f);
 	rc = pc_source_try_format(s, &f, &v);
 	report(c, rc == 0 && v == PC_FORMAT_VALID && format_consistent(&f, why, sizeof why),
-	       "negotiate: an empty request is completed, not adjusted", "%s verdict %s",
-	       rcs(rc), pc_format_verdict_name(v));
+	       "negotiate: an empty request is completed, not adjusted", "%s verdict %s", rcs(rc),
+	       pc_format_verdict_name(v));
 
 	/* too large */
 	f = cur;
@@ -177,8 +180,10 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 	f.offset_x = cur.sensor_width + 8;
 	f.width = 0;
 	rc = pc_source_try_format(s, &f, &v);
-	report(c, rc == 0 && v != PC_FORMAT_VALID, "negotiate: an offset outside the sensor is "
-		  "never valid", "%s verdict %s", rcs(rc), pc_format_verdict_name(v));
+	report(c, rc == 0 && v != PC_FORMAT_VALID,
+	       "negotiate: an offset outside the sensor is "
+	       "never valid",
+	       "%s verdict %s", rcs(rc), pc_format_verdict_name(v));
 
 	/* too small stride */
 	size_t row = 0;
@@ -187,9 +192,11 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 	f.stride = row > 1 ? row - 1 : 0;
 	if (row > 1) {
 		rc = pc_source_try_format(s, &f, &v);
-		report(c, rc == 0 && v != PC_FORMAT_VALID && (v == PC_FORMAT_INVALID || f.stride >= row),
-		       "negotiate: a stride shorter than a row is never valid", "%s verdict %s stride %zu",
-		       rcs(rc), pc_format_verdict_name(v), f.stride);
+		report(c,
+		       rc == 0 && v != PC_FORMAT_VALID &&
+		           (v == PC_FORMAT_INVALID || f.stride >= row),
+		       "negotiate: a stride shorter than a row is never valid",
+		       "%s verdict %s stride %zu", rcs(rc), pc_format_verdict_name(v), f.stride);
 	}
 
 	/* set_format refuses an adjustable request and keeps the format */
@@ -214,7 +221,8 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 			pc_mosaic want = pc_mosaic_shift(sensor_mosaic, f.offset_x, f.offset_y);
 			report(c, mosaic_equal(&f.mosaic, &want),
 			       "negotiate: the ROI's mosaic is the sensor's shifted by the offset",
-			       "ROI at (%u,%u) %s", f.offset_x, f.offset_y, pc_format_verdict_name(v));
+			       "ROI at (%u,%u) %s", f.offset_x, f.offset_y,
+			       pc_format_verdict_name(v));
 		} else {
 			skip(c, "negotiate: ROI mosaic phase", "the source offers no ROI");
 		}
@@ -238,13 +246,15 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 		snprintf(name, sizeof name, "negotiate: %s answered consistently", fi->name);
 		if (rc == 0 && v == PC_FORMAT_VALID)
 			n_valid++;
-		report(c, rc == 0 && (v == PC_FORMAT_INVALID ||
-				      (format_consistent(&f, why, sizeof why) &&
-				       (v != PC_FORMAT_VALID || f.format == (pc_pixfmt)pf))),
+		report(c,
+		       rc == 0 && (v == PC_FORMAT_INVALID ||
+		                   (format_consistent(&f, why, sizeof why) &&
+		                    (v != PC_FORMAT_VALID || f.format == (pc_pixfmt)pf))),
 		       name, "%s verdict %s -> %s", rcs(rc), pc_format_verdict_name(v),
 		       pc_format_info_get(f.format) ? pc_format_info_get(f.format)->name : "?");
 	}
-	report(c, n_valid >= 1, "negotiate: at least one pixel format is valid", "%u valid", n_valid);
+	report(c, n_valid >= 1, "negotiate: at least one pixel format is valid", "%u valid",
+	       n_valid);
 
 	/* the format to stream with: the current one, with a padded stride when accepted */
 	f = cur;
@@ -252,8 +262,8 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 	rc = pc_source_try_format(s, &f, &v);
 	if (rc == 0 && v == PC_FORMAT_VALID) {
 		rc = pc_source_set_format(s, &f);
-		report(c, rc == 0, "negotiate: a padded stride is applied", "%s stride %zu", rcs(rc),
-		       f.stride);
+		report(c, rc == 0, "negotiate: a padded stride is applied", "%s stride %zu",
+		       rcs(rc), f.stride);
 	} else {
 		skip(c, "negotiate: padded stride", "the source does not offer padded strides");
 		f = cur;
@@ -269,24 +279,27 @@ static void check_controls(ctx *c, pc_source *s)
 		pc_control_info ci;
 		int rc = pc_source_control_query(s, (pc_control_id)id, &ci);
 		if (rc == PC_ENOTSUP) {
-			snprintf(name, sizeof name, "control %s", pc_control_name((pc_control_id)id));
+			snprintf(name, sizeof name, "control %s",
+			         pc_control_name((pc_control_id)id));
 			skip(c, name, "not supported");
 			continue;
 		}
-		snprintf(name, sizeof name, "control %s: query", pc_control_name((pc_control_id)id));
+		snprintf(name, sizeof name, "control %s: query",
+		         pc_control_name((pc_control_id)id));
 		if (!report(c, rc == 0 && ci.min <= ci.max && ci.def >= ci.min && ci.def <= ci.max,
-			    name, "%s [%g, %g] default %g", rcs(rc), ci.min, ci.max, ci.def))
+		            name, "%s [%g, %g] default %g", rcs(rc), ci.min, ci.max, ci.def))
 			continue;
 		double val = NAN;
 		rc = pc_source_control_get(s, (pc_control_id)id, &val);
 		snprintf(name, sizeof name, "control %s: value in range",
-			 pc_control_name((pc_control_id)id));
-		report(c, rc == 0 && val >= ci.min && val <= ci.max, name, "%s value %g", rcs(rc), val);
+		         pc_control_name((pc_control_id)id));
+		report(c, rc == 0 && val >= ci.min && val <= ci.max, name, "%s value %g", rcs(rc),
+		       val);
 		double span = ci.max - ci.min;
 		double bad = ci.max + (span > 0 ? span : 1.0) + 1.0;
 		rc = pc_source_control_set(s, (pc_control_id)id, bad, NULL);
 		snprintf(name, sizeof name, "control %s: out of range refused",
-			 pc_control_name((pc_control_id)id));
+		         pc_control_name((pc_control_id)id));
 		report(c, rc == PC_ERANGE, name, "set %g: %s", bad, rcs(rc));
 		double target = ci.min + 0.5 * span, applied = NAN, back = NAN;
 		rc = pc_source_control_set(s, (pc_control_id)id, target, &applied);
@@ -296,10 +309,11 @@ static void check_controls(ctx *c, pc_source *s)
 		 * microseconds): accept 0.1 % */
 		double tol = ci.step > 0 ? ci.step : 1e-3 * fmax(1.0, fabs(target));
 		snprintf(name, sizeof name, "control %s: set value reads back",
-			 pc_control_name((pc_control_id)id));
-		report(c, rc == 0 && fabs(applied - target) <= tol &&
-				  fabs(back - applied) <= 1e-9 * fmax(1.0, fabs(applied)), name,
-		       "%s set %g applied %g read %g", rcs(rc), target, applied, back);
+		         pc_control_name((pc_control_id)id));
+		report(c,
+		       rc == 0 && fabs(applied - target) <= tol &&
+		           fabs(back - applied) <= 1e-9 * fmax(1.0, fabs(applied)),
+		       name, "%s set %g applied %g read %g", rcs(rc), target, applied, back);
 		/* restore the original value */
 		if (isfinite(val))
 			(void)pc_source_control_set(s, (pc_control_id)id, val, NULL);
@@ -308,13 +322,13 @@ static void check_controls(ctx *c, pc_source *s)
 
 /* Checks one dequeued frame against the format, the previous frame and its buffer. */
 static bool check_frame(ctx *c, const pc_source_format *f, const pc_buffer *b, uint64_t *last_seq,
-			uint64_t *last_ts, bool *have_last, unsigned *bad)
+                        uint64_t *last_ts, bool *have_last, unsigned *bad)
 {
 	const pc_view *v = &b->frame.view;
 	size_t row = 0;
 	(void)pc_format_row_bytes(f->format, f->width, &row);
 	bool ok = v->format == f->format && v->width == f->width && v->height == f->height &&
-		  v->stride == f->stride && v->stride >= row;
+	          v->stride == f->stride && v->stride >= row;
 	const uint8_t *lo = b->data, *p = v->data;
 	ok = ok && p >= lo && (size_t)(p - lo) + f->stride * (f->height - 1) + row <= b->size;
 	const pc_frame_meta *m = &b->frame.meta;
@@ -324,11 +338,12 @@ static bool check_frame(ctx *c, const pc_source_format *f, const pc_buffer *b, u
 	if (f->polarized)
 		ok = ok && mosaic_equal(&b->frame.mosaic, &f->mosaic);
 	if (!ok && (*bad)++ == 0)
-		report(c, false, "stream: frame matches the format, buffer and order",
-		       "seq %llu (last %llu) ts %llu (last %llu) %ux%u stride %zu vs %ux%u stride %zu",
-		       (unsigned long long)m->sequence, (unsigned long long)*last_seq,
-		       (unsigned long long)m->timestamp_ns, (unsigned long long)*last_ts, v->width,
-		       v->height, v->stride, f->width, f->height, f->stride);
+		report(
+		    c, false, "stream: frame matches the format, buffer and order",
+		    "seq %llu (last %llu) ts %llu (last %llu) %ux%u stride %zu vs %ux%u stride %zu",
+		    (unsigned long long)m->sequence, (unsigned long long)*last_seq,
+		    (unsigned long long)m->timestamp_ns, (unsigned long long)*last_ts, v->width,
+		    v->height, v->stride, f->width, f->height, f->stride);
 	*have_last = true;
 	*last_seq = m->sequence;
 	*last_ts = m->timestamp_ns;
@@ -336,9 +351,9 @@ static bool check_frame(ctx *c, const pc_source_format *f, const pc_buffer *b, u
 }
 
 int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
-			 pc_compliance_result *res)
+                         pc_compliance_result *res)
 {
-	pc_compliance_options opt = opt_in ? *opt_in : (pc_compliance_options){ 0 };
+	pc_compliance_options opt = opt_in ? *opt_in : (pc_compliance_options){0};
 	if (!opt.frames)
 		opt.frames = 8;
 	if (!opt.buffers)
@@ -350,7 +365,7 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 	if (!res)
 		return pc_error(PC_EINVAL, "compliance: result missing");
 	memset(res, 0, sizeof *res);
-	ctx c = { &opt, res };
+	ctx c = {&opt, res};
 
 	pc_source *s = NULL;
 	int rc = pc_source_open(&s, uri);
@@ -381,7 +396,7 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 	/* ---- streaming ---- */
 	rc = pc_source_buffers_alloc(s, opt.buffers);
 	if (!report(&c, rc == 0 && pc_source_buffer_count(s) == opt.buffers, "buffers: allocate",
-		    "%s", rcs(rc))) {
+	            "%s", rcs(rc))) {
 		pc_source_close(s);
 		return 0;
 	}
@@ -391,7 +406,7 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 	report(&c, rc == PC_ESTATE, "state: negotiation refused while READY", "%s", rcs(rc));
 	rc = pc_source_start(s);
 	if (!report(&c, rc == 0 && pc_source_get_state(s) == PC_SOURCE_STREAMING, "stream: start",
-		    "%s", rcs(rc))) {
+	            "%s", rcs(rc))) {
 		pc_source_close(s);
 		return 0;
 	}
@@ -438,19 +453,23 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 	}
 	if (opt.expect_fault == PC_FAULT_NONE) {
 		report(&c, got == want || (ended && opt.finite && got > 0),
-		       "stream: frames delivered", "%u of %u (timeouts %u, %s)", got, want, timeouts,
-		       ended ? "ended" : lost ? "device lost" : "running");
+		       "stream: frames delivered", "%u of %u (timeouts %u, %s)", got, want,
+		       timeouts,
+		       ended  ? "ended"
+		       : lost ? "device lost"
+		              : "running");
 		if (bad == 0)
-			report(&c, got > 0, "stream: every frame matches the format, buffer and order",
+			report(&c, got > 0,
+			       "stream: every frame matches the format, buffer and order",
 			       "%u frames, stride %zu", got, f.stride);
 	}
 
 	pc_source_stats st;
 	rc = pc_source_get_stats(s, &st);
-	report(&c, rc == 0 && st.completed + st.failed >= got - bad &&
-			   st.completed + st.failed <= got,
-	       "stats: completed + failed = frames dequeued", "%s completed %llu failed %llu got %u",
-	       rcs(rc), (unsigned long long)st.completed, (unsigned long long)st.failed, got);
+	report(
+	    &c, rc == 0 && st.completed + st.failed >= got - bad && st.completed + st.failed <= got,
+	    "stats: completed + failed = frames dequeued", "%s completed %llu failed %llu got %u",
+	    rcs(rc), (unsigned long long)st.completed, (unsigned long long)st.failed, got);
 
 	switch (opt.expect_fault) {
 	case PC_FAULT_NONE:
@@ -470,12 +489,13 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 		break;
 	case PC_FAULT_DISCONNECT: {
 		report(&c, lost && pc_source_get_state(s) == PC_SOURCE_FAILED,
-		       "fault disconnect: PC_EDISCONNECTED and state FAILED", "state %s after %u frames",
-		       pc_source_state_name(pc_source_get_state(s)), got);
+		       "fault disconnect: PC_EDISCONNECTED and state FAILED",
+		       "state %s after %u frames", pc_source_state_name(pc_source_get_state(s)),
+		       got);
 		pc_buffer *b = NULL;
 		rc = pc_source_dequeue(s, 10, &b);
-		report(&c, rc == PC_EDISCONNECTED, "fault disconnect: later dequeues fail too", "%s",
-		       rcs(rc));
+		report(&c, rc == PC_EDISCONNECTED, "fault disconnect: later dequeues fail too",
+		       "%s", rcs(rc));
 		rc = pc_source_start(s);
 		report(&c, rc == PC_ESTATE, "fault disconnect: cannot restart", "%s", rcs(rc));
 		rc = pc_source_stop(s);
@@ -497,7 +517,8 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 	if (!ended) {
 		for (unsigned i = 0; i < opt.buffers + 2 && n_held < 64; i++) {
 			pc_buffer *b = NULL;
-			rc = pc_source_dequeue(s, n_held < opt.buffers ? opt.timeout_ms : opt.starve_ms, &b);
+			rc = pc_source_dequeue(
+			    s, n_held < opt.buffers ? opt.timeout_ms : opt.starve_ms, &b);
 			if (rc == 0) {
 				check_frame(&c, &f, b, &last_seq, &last_ts, &have_last, &bad);
 				held[n_held++] = b;
@@ -510,16 +531,18 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 			skip(&c, "buffers: nothing arrives while all are held", "the source ended");
 		} else {
 			report(&c, n_held == opt.buffers && rc == PC_ETIMEDOUT,
-			       "buffers: nothing arrives while all are held", "held %u of %u, then %s",
-			       n_held, opt.buffers, rcs(rc));
+			       "buffers: nothing arrives while all are held",
+			       "held %u of %u, then %s", n_held, opt.buffers, rcs(rc));
 		}
 	}
 	rc = pc_source_stop(s);
 	report(&c, rc == 0 && pc_source_get_state(s) == PC_SOURCE_READY, "stream: stop", "%s",
 	       rcs(rc));
 	rc = pc_source_buffers_free(s);
-	report(&c, n_held == 0 || rc == PC_EBUSY, "buffers: free refused while the application "
-		  "holds buffers", "%s", rcs(rc));
+	report(&c, n_held == 0 || rc == PC_EBUSY,
+	       "buffers: free refused while the application "
+	       "holds buffers",
+	       "%s", rcs(rc));
 	if (n_held == 0 && rc == 0) {
 		/* nothing held: the pool is gone, make a new one for the restart check */
 		rc = pc_source_buffers_alloc(s, opt.buffers);
@@ -542,16 +565,18 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 			if (r2 == PC_EEND && opt.finite)
 				break;
 			if (r2) {
-				report(&c, false, "buffers: refilled after restart", "buffer %u: %s", i,
-				       rcs(r2));
+				report(&c, false, "buffers: refilled after restart",
+				       "buffer %u: %s", i, rcs(r2));
 				break;
 			}
 			check_frame(&c, &f, b, &last_seq, &last_ts, &have_last, &bad);
 			held[refill++] = b;
 		}
 		if (refill == opt.buffers)
-			report(&c, true, "buffers: stop returned every buffer (all refilled after "
-				 "restart)", "%u buffers", refill);
+			report(&c, true,
+			       "buffers: stop returned every buffer (all refilled after "
+			       "restart)",
+			       "%u buffers", refill);
 		pc_source_stop(s);
 		for (unsigned i = 0; i < refill; i++)
 			pc_source_requeue(s, held[i]);

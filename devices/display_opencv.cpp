@@ -36,7 +36,8 @@ extern "C" int pc_display_open(pc_display **out, const char *title)
 		// GUI_NORMAL: no Qt toolbar or status bar. The window is sized to each picture
 		// explicitly (resizeWindow) so that it shows at 1:1: Qt's AUTOSIZE does not always
 		// follow the picture without a window manager.
-		cv::namedWindow(d->title, cv::WINDOW_NORMAL | cv::WINDOW_GUI_NORMAL | cv::WINDOW_KEEPRATIO);
+		cv::namedWindow(d->title,
+		                cv::WINDOW_NORMAL | cv::WINDOW_GUI_NORMAL | cv::WINDOW_KEEPRATIO);
 	} catch (const std::exception &e) {
 		delete d;
 		return pc_error(PC_EIO, "cannot open a window: %s", e.what());
@@ -46,7 +47,7 @@ extern "C" int pc_display_open(pc_display **out, const char *title)
 }
 
 extern "C" int pc_display_show(pc_display *d, const uint8_t *rgb, uint32_t width, uint32_t height,
-			       size_t stride, const char *overlay)
+                               size_t stride, const char *overlay)
 {
 	if (!d || !rgb || !width || !height || stride < (size_t)width * 3)
 		return pc_error(PC_EINVAL, "display: bad image");
@@ -54,10 +55,10 @@ extern "C" int pc_display_show(pc_display *d, const uint8_t *rgb, uint32_t width
 		cv::Mat in((int)height, (int)width, CV_8UC3, const_cast<uint8_t *>(rgb), stride);
 		cv::cvtColor(in, d->bgr, cv::COLOR_RGB2BGR);
 		if (overlay && *overlay) {
-			cv::putText(d->bgr, overlay, cv::Point(8, 22), cv::FONT_HERSHEY_SIMPLEX, 0.6,
-				    cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
-			cv::putText(d->bgr, overlay, cv::Point(8, 22), cv::FONT_HERSHEY_SIMPLEX, 0.6,
-				    cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+			cv::putText(d->bgr, overlay, cv::Point(8, 22), cv::FONT_HERSHEY_SIMPLEX,
+			            0.6, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
+			cv::putText(d->bgr, overlay, cv::Point(8, 22), cv::FONT_HERSHEY_SIMPLEX,
+			            0.6, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
 		}
 		if ((int)width != d->w || (int)height != d->h) {
 			cv::resizeWindow(d->title, (int)width, (int)height);
@@ -87,7 +88,7 @@ extern "C" void pc_display_close(pc_display *d)
 }
 
 extern "C" int pc_display_resize_rgb8(const uint8_t *src, uint32_t sw, uint32_t sh, size_t sstride,
-				      uint8_t *dst, uint32_t dw, uint32_t dh, size_t dstride)
+                                      uint8_t *dst, uint32_t dw, uint32_t dh, size_t dstride)
 {
 	if (!src || !dst || !sw || !sh || !dw || !dh)
 		return pc_error(PC_EINVAL, "resize: bad image");

@@ -24,7 +24,7 @@ typedef struct file_src {
 	double fps;
 	pc_bfifo q;
 	pc_pacer pacer;
-	uint64_t k; /* frames delivered since start */
+	uint64_t k;                 /* frames delivered since start */
 	uint64_t seq_span, ts_span; /* sequence and time added per loop */
 	uint16_t *tmp;
 } file_src;
@@ -76,7 +76,7 @@ static int f_info(pc_source *s, pc_source_info *info)
 	snprintf(info->model, sizeof info->model, "recording");
 	snprintf(info->driver, sizeof info->driver, "polarcam-file");
 	snprintf(info->serial, sizeof info->serial, "%s",
-		 f->desc->source ? f->desc->source : "(unknown source)");
+	         f->desc->source ? f->desc->source : "(unknown source)");
 	info->mosaic = f->desc->mosaic;
 	return 0;
 }
@@ -86,7 +86,7 @@ static int f_try(pc_source *s, pc_source_format *fmt, pc_format_verdict *v)
 	file_src *f = pc_source_priv(s);
 	const pc_recording_desc *d = f->desc;
 	return pc_negotiate_flexible(fmt, d->format, d->width, d->height, d->polarized,
-				     d->mosaic.period ? &d->mosaic : NULL, v);
+	                             d->mosaic.period ? &d->mosaic : NULL, v);
 }
 
 static int f_set(pc_source *s, const pc_source_format *fmt)
@@ -102,15 +102,17 @@ static int f_cquery(pc_source *s, pc_control_id id, pc_control_info *ci)
 {
 	(void)s;
 	if (id != PC_CTRL_FRAME_RATE_HZ)
-		return pc_error(PC_ENOTSUP, "file: %s is recorded, not a control", pc_control_name(id));
-	*ci = (pc_control_info){ 0, 100000, 0, 0, true };
+		return pc_error(PC_ENOTSUP, "file: %s is recorded, not a control",
+		                pc_control_name(id));
+	*ci = (pc_control_info){0, 100000, 0, 0, true};
 	return 0;
 }
 
 static int f_cget(pc_source *s, pc_control_id id, double *val)
 {
 	if (id != PC_CTRL_FRAME_RATE_HZ)
-		return pc_error(PC_ENOTSUP, "file: %s is recorded, not a control", pc_control_name(id));
+		return pc_error(PC_ENOTSUP, "file: %s is recorded, not a control",
+		                pc_control_name(id));
 	*val = ((file_src *)pc_source_priv(s))->fps;
 	return 0;
 }
@@ -119,7 +121,8 @@ static int f_cset(pc_source *s, pc_control_id id, double val, double *applied)
 {
 	file_src *f = pc_source_priv(s);
 	if (id != PC_CTRL_FRAME_RATE_HZ)
-		return pc_error(PC_ENOTSUP, "file: %s is recorded, not a control", pc_control_name(id));
+		return pc_error(PC_ENOTSUP, "file: %s is recorded, not a control",
+		                pc_control_name(id));
 	f->fps = val;
 	pc_pacer_set_rate(&f->pacer, val, f->k);
 	*applied = val;
@@ -150,7 +153,8 @@ static int f_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 	file_src *f = pc_source_priv(s);
 	size_t n = pc_recording_count(f->rec);
 	if (!f->loop && f->k >= n)
-		return pc_error(PC_EEND, "%s: all %zu frames delivered", pc_recording_dir(f->rec), n);
+		return pc_error(PC_EEND, "%s: all %zu frames delivered", pc_recording_dir(f->rec),
+		                n);
 	uint64_t now = pc_clock_ns();
 	uint64_t deadline = timeout_ms < 0 ? UINT64_MAX : now + (uint64_t)timeout_ms * 1000000u;
 	if (!f->q.count) {
@@ -162,7 +166,8 @@ static int f_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 	uint64_t due = pc_pacer_due_ns(&f->pacer, f->k);
 	if (due > deadline) {
 		pc_sleep_until_ns(deadline);
-		return pc_error(PC_ETIMEDOUT, "file: next frame due in %.1f ms", (double)(due - now) / 1e6);
+		return pc_error(PC_ETIMEDOUT, "file: next frame due in %.1f ms",
+		                (double)(due - now) / 1e6);
 	}
 	if (due > now)
 		pc_sleep_until_ns(due);
@@ -179,7 +184,7 @@ static int f_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 		return pc_error(PC_ENOMEM, "file source conversion buffer");
 	}
 	pc_buffer *b = pc_bfifo_pop(&f->q);
-	pc_view dst = { b->data, fmt->width, fmt->height, fmt->stride, fmt->format };
+	pc_view dst = {b->data, fmt->width, fmt->height, fmt->stride, fmt->format};
 	rc = pc_copy_roi(&src, fmt->offset_x, fmt->offset_y, &dst, f->tmp);
 	pc_view_free(&src);
 	if (rc) {
@@ -199,20 +204,20 @@ static int f_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 	return 0;
 }
 
-static const char *const f_options[] = { "loop", "fps", NULL };
+static const char *const f_options[] = {"loop", "fps", NULL};
 
 const pc_source_ops pc_file_source_ops = {
-	.open = f_open,
-	.close = f_close,
-	.get_info = f_info,
-	.try_format = f_try,
-	.set_format = f_set,
-	.control_query = f_cquery,
-	.control_get = f_cget,
-	.control_set = f_cset,
-	.queue = f_queue,
-	.start = f_start,
-	.dequeue = f_dequeue,
-	.stop = f_stop,
-	.options = f_options,
+    .open = f_open,
+    .close = f_close,
+    .get_info = f_info,
+    .try_format = f_try,
+    .set_format = f_set,
+    .control_query = f_cquery,
+    .control_get = f_cget,
+    .control_set = f_cset,
+    .queue = f_queue,
+    .start = f_start,
+    .dequeue = f_dequeue,
+    .stop = f_stop,
+    .options = f_options,
 };

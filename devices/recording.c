@@ -14,7 +14,7 @@
 #include "polarcam/io.h"
 
 #define PC_RECORDING_VERSION 1
-#define PC_META_REWRITE_S 0.25
+#define PC_META_REWRITE_S    0.25
 
 struct pc_recording {
 	char *dir;
@@ -96,8 +96,9 @@ static int check_desc(const pc_recording_desc *d)
 {
 	const pc_format_info *fi = pc_format_info_get(d->format);
 	if (!fi || fi->is_float)
-		return pc_error(PC_EINVAL, "recording: pixel format %d: expected an integer raw format",
-				(int)d->format);
+		return pc_error(PC_EINVAL,
+		                "recording: pixel format %d: expected an integer raw format",
+		                (int)d->format);
 	size_t row;
 	int rc = pc_format_row_bytes(d->format, d->width, &row);
 	if (rc)
@@ -106,12 +107,12 @@ static int check_desc(const pc_recording_desc *d)
 		return pc_error(PC_EINVAL, "recording: height 0");
 	if (d->mosaic.period != 0 && d->mosaic.period != 2 && d->mosaic.period != 4)
 		return pc_error(PC_EINVAL, "recording: mosaic period %u: expected 2 or 4",
-				d->mosaic.period);
+		                d->mosaic.period);
 	return 0;
 }
 
 int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
-			bool overwrite)
+                        bool overwrite)
 {
 	if (!out || !dir || !*dir || !desc)
 		return pc_error(PC_EINVAL, "recording: missing argument");
@@ -123,8 +124,10 @@ int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_
 	if (rc)
 		return rc;
 	if (!overwrite && (file_exists(dir, "meta.json") || file_exists(dir, "raw_000000.png")))
-		return pc_error(PC_EBUSY, "%s: already holds a recording (meta.json / raw_000000.png); "
-					  "choose another directory or overwrite", dir);
+		return pc_error(PC_EBUSY,
+		                "%s: already holds a recording (meta.json / raw_000000.png); "
+		                "choose another directory or overwrite",
+		                dir);
 	pc_recording *r = calloc(1, sizeof *r);
 	if (!r)
 		return pc_error(PC_ENOMEM, "recording");
@@ -169,8 +172,9 @@ static int write_meta(pc_recording *r)
 	json_object_set_new(m, "format", json_string(si->name));
 	json_object_set_new(m, "bits", json_integer(si->bits));
 	json_object_set_new(m, "device_format",
-			    json_string(r->device_format ? r->device_format
-							 : pc_format_info_get(r->desc.format)->name));
+	                    json_string(r->device_format
+	                                    ? r->device_format
+	                                    : pc_format_info_get(r->desc.format)->name));
 	json_object_set_new(m, "width", json_integer(r->desc.width));
 	json_object_set_new(m, "height", json_integer(r->desc.height));
 	json_object_set_new(m, "offset_x", json_integer(r->desc.offset_x));
@@ -220,16 +224,17 @@ int pc_recording_add(pc_recording *r, const pc_frame *f)
 	if (rc)
 		return rc;
 	if (v->format != r->desc.format || v->width != r->desc.width || v->height != r->desc.height)
-		return pc_error(PC_EINVAL, "%s: frame %s %ux%u does not match the recording's %s %ux%u",
-				r->dir, pc_format_info_get(v->format)->name, v->width, v->height,
-				pc_format_info_get(r->desc.format)->name, r->desc.width,
-				r->desc.height);
+		return pc_error(
+		    PC_EINVAL, "%s: frame %s %ux%u does not match the recording's %s %ux%u", r->dir,
+		    pc_format_info_get(v->format)->name, v->width, v->height,
+		    pc_format_info_get(r->desc.format)->name, r->desc.width, r->desc.height);
 	if (r->n && f->meta.sequence <= r->frames[r->n - 1].sequence)
-		return pc_error(PC_EINVAL, "%s: frame sequence %llu after %llu: must increase", r->dir,
-				(unsigned long long)f->meta.sequence,
-				(unsigned long long)r->frames[r->n - 1].sequence);
+		return pc_error(PC_EINVAL, "%s: frame sequence %llu after %llu: must increase",
+		                r->dir, (unsigned long long)f->meta.sequence,
+		                (unsigned long long)r->frames[r->n - 1].sequence);
 	if (r->n >= 999999)
-		return pc_error(PC_EOVERFLOW, "%s: a recording holds at most 999999 frames", r->dir);
+		return pc_error(PC_EOVERFLOW, "%s: a recording holds at most 999999 frames",
+		                r->dir);
 	if (r->n == r->cap) {
 		size_t cap = r->cap ? 2 * r->cap : 64;
 		pc_recording_frame *nf = realloc(r->frames, cap * sizeof *nf);
@@ -266,7 +271,8 @@ int pc_recording_add(pc_recording *r, const pc_frame *f)
 		else
 			rc = pc_view_to_u16(v, r->row_tmp, (size_t)v->width * 2);
 		if (!rc) {
-			pc_view u = { r->row_tmp, v->width, v->height, (size_t)v->width * 2, r->storage };
+			pc_view u = {r->row_tmp, v->width, v->height, (size_t)v->width * 2,
+			             r->storage};
 			rc = pc_png_write(path, &u);
 		}
 	}
@@ -286,7 +292,9 @@ int pc_recording_set_json(pc_recording *r, const char *key, const char *text)
 {
 	if (!r || !key)
 		return pc_error(PC_EINVAL, "recording: missing argument");
-	json_t **slot = !strcmp(key, "stats") ? &r->stats : !strcmp(key, "extra") ? &r->extra : NULL;
+	json_t **slot = !strcmp(key, "stats")   ? &r->stats
+	                : !strcmp(key, "extra") ? &r->extra
+	                                        : NULL;
 	if (!slot)
 		return pc_error(PC_EINVAL, "recording: key '%s': expected stats or extra", key);
 	json_t *j = NULL;
@@ -296,7 +304,7 @@ int pc_recording_set_json(pc_recording *r, const char *key, const char *text)
 		if (!j || !json_is_object(j)) {
 			json_decref(j);
 			return pc_error(PC_EINVAL, "recording %s: not a JSON object (%s)", key,
-					j ? "not an object" : e.text);
+			                j ? "not an object" : e.text);
 		}
 	}
 	json_decref(*slot);
@@ -348,7 +356,7 @@ const char *pc_recording_dir(const pc_recording *r)
 }
 
 static int get_uint(const char *file, json_t *o, const char *key, uint64_t max, bool required,
-		    uint64_t *out)
+                    uint64_t *out)
 {
 	json_t *v = json_object_get(o, key);
 	if (!v) {
@@ -358,8 +366,8 @@ static int get_uint(const char *file, json_t *o, const char *key, uint64_t max, 
 	}
 	if (!json_is_integer(v) || json_integer_value(v) < 0 ||
 	    (uint64_t)json_integer_value(v) > max)
-		return pc_error(PC_EFORMAT, "%s: field '%s': expected an integer in [0, %llu]", file,
-				key, (unsigned long long)max);
+		return pc_error(PC_EFORMAT, "%s: field '%s': expected an integer in [0, %llu]",
+		                file, key, (unsigned long long)max);
 	*out = (uint64_t)json_integer_value(v);
 	return 0;
 }
@@ -396,12 +404,14 @@ static int parse_frames(pc_recording *r, const char *file, json_t *arr)
 			return rc;
 		json_t *e = json_object_get(o, "exposure_us"), *g = json_object_get(o, "gain_db");
 		if ((e && !json_is_number(e)) || (g && !json_is_number(g)))
-			return pc_error(PC_EFORMAT, "%s: exposure_us/gain_db: expected numbers", where);
+			return pc_error(PC_EFORMAT, "%s: exposure_us/gain_db: expected numbers",
+			                where);
 		f->exposure_us = e ? json_number_value(e) : 0;
 		f->gain_db = g ? json_number_value(g) : 0;
 		json_t *st = json_object_get(o, "status");
 		if (st && !json_is_array(st))
-			return pc_error(PC_EFORMAT, "%s.status: expected an array of strings", where);
+			return pc_error(PC_EFORMAT, "%s.status: expected an array of strings",
+			                where);
 		for (size_t k = 0; st && k < json_array_size(st); k++) {
 			const char *s = json_string_value(json_array_get(st, k));
 			if (s && !strcmp(s, "incomplete"))
@@ -411,17 +421,21 @@ static int parse_frames(pc_recording *r, const char *file, json_t *arr)
 			else if (s && !strcmp(s, "simulated"))
 				f->status |= PC_FRAME_SIMULATED;
 			else
-				return pc_error(PC_EFORMAT, "%s.status[%zu]: expected \"incomplete\", "
-							    "\"corrupt\" or \"simulated\"", where, k);
+				return pc_error(PC_EFORMAT,
+				                "%s.status[%zu]: expected \"incomplete\", "
+				                "\"corrupt\" or \"simulated\"",
+				                where, k);
 		}
 		if (i > 0 && f->sequence <= r->frames[i - 1].sequence)
-			return pc_error(PC_EFORMAT, "%s.sequence = %llu: must be greater than the previous "
-						    "frame's %llu", where,
-					(unsigned long long)f->sequence,
-					(unsigned long long)r->frames[i - 1].sequence);
+			return pc_error(PC_EFORMAT,
+			                "%s.sequence = %llu: must be greater than the previous "
+			                "frame's %llu",
+			                where, (unsigned long long)f->sequence,
+			                (unsigned long long)r->frames[i - 1].sequence);
 		if (i > 0 && f->timestamp_ns < r->frames[i - 1].timestamp_ns)
-			return pc_error(PC_EFORMAT, "%s.timestamp_ns: earlier than the previous frame's",
-					where);
+			return pc_error(PC_EFORMAT,
+			                "%s.timestamp_ns: earlier than the previous frame's",
+			                where);
 		r->n = i + 1;
 	}
 	return 0;
@@ -440,8 +454,9 @@ static int open_meta(pc_recording *r, const char *path)
 	if (!rc)
 		rc = get_uint(path, m, "polarcam_recording", 1000, true, &ver);
 	if (!rc && ver != PC_RECORDING_VERSION)
-		rc = pc_error(PC_EFORMAT, "%s: polarcam_recording = %llu: this polarcam reads version %d",
-			      path, (unsigned long long)ver, PC_RECORDING_VERSION);
+		rc = pc_error(PC_EFORMAT,
+		              "%s: polarcam_recording = %llu: this polarcam reads version %d", path,
+		              (unsigned long long)ver, PC_RECORDING_VERSION);
 	if (!rc)
 		rc = get_uint(path, m, "bits", 16, true, &bits);
 	if (!rc)
@@ -461,11 +476,13 @@ static int open_meta(pc_recording *r, const char *path)
 	const char *fmt = json_string_value(json_object_get(m, "format"));
 	pc_pixfmt pf = fmt ? pc_format_from_name(fmt) : PC_FMT_INVALID;
 	if (!rc && (pf == PC_FMT_INVALID || pc_recording_storage_format(pf) != pf))
-		rc = pc_error(PC_EFORMAT, "%s: format '%s': expected Mono8, Mono10, Mono12, Mono14 or "
-					  "Mono16", path, fmt ? fmt : "(missing)");
+		rc = pc_error(PC_EFORMAT,
+		              "%s: format '%s': expected Mono8, Mono10, Mono12, Mono14 or "
+		              "Mono16",
+		              path, fmt ? fmt : "(missing)");
 	if (!rc && pc_format_info_get(pf)->bits != bits)
 		rc = pc_error(PC_EFORMAT, "%s: bits = %llu does not match format %s", path,
-			      (unsigned long long)bits, fmt);
+		              (unsigned long long)bits, fmt);
 	json_t *pol = json_object_get(m, "polarized");
 	if (!rc && pol && !json_is_boolean(pol))
 		rc = pc_error(PC_EFORMAT, "%s: field 'polarized': expected true or false", path);
@@ -475,8 +492,10 @@ static int open_meta(pc_recording *r, const char *path)
 	if (!rc && mos && !json_is_null(mos)) {
 		const char *t = json_string_value(mos);
 		if (!t)
-			rc = pc_error(PC_EFORMAT, "%s: field 'mosaic': expected a string such as "
-						  "\"90,45,135,0\"", path);
+			rc = pc_error(PC_EFORMAT,
+			              "%s: field 'mosaic': expected a string such as "
+			              "\"90,45,135,0\"",
+			              path);
 		else
 			rc = pc_mosaic_parse(t, &mosaic);
 		if (rc)
@@ -484,7 +503,8 @@ static int open_meta(pc_recording *r, const char *path)
 	}
 	const char *src = json_string_value(json_object_get(m, "source"));
 	const char *dev = json_string_value(json_object_get(m, "device_format"));
-	if (!rc && ((src && !(r->source = strdup(src))) || (dev && !(r->device_format = strdup(dev)))))
+	if (!rc &&
+	    ((src && !(r->source = strdup(src))) || (dev && !(r->device_format = strdup(dev)))))
 		rc = pc_error(PC_ENOMEM, "%s", path);
 	if (!rc)
 		rc = parse_frames(r, path, json_object_get(m, "frames"));
@@ -526,8 +546,8 @@ static int open_bare(pc_recording *r, const char *dir)
 			break;
 	}
 	if (n == 0)
-		return pc_error(PC_ENOENT, "%s: no meta.json and no raw_000000.png: not a recording",
-				dir);
+		return pc_error(PC_ENOENT,
+		                "%s: no meta.json and no raw_000000.png: not a recording", dir);
 	char *p = path_join(dir, "raw_000000.png");
 	if (!p)
 		return pc_error(PC_ENOMEM, "%s", dir);
@@ -543,10 +563,10 @@ static int open_bare(pc_recording *r, const char *dir)
 	if (vf == PC_FMT_FLOAT32 || bits < 1 || bits > 16)
 		return pc_error(PC_EFORMAT, "%s/raw_000000.png: expected 8- or 16-bit grey", dir);
 	static const pc_pixfmt by_bits[17] = {
-		PC_FMT_INVALID, PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO8,
-		PC_FMT_MONO8,   PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO10,
-		PC_FMT_MONO10,  PC_FMT_MONO12, PC_FMT_MONO12, PC_FMT_MONO14, PC_FMT_MONO14,
-		PC_FMT_MONO16,  PC_FMT_MONO16,
+	    PC_FMT_INVALID, PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO8,
+	    PC_FMT_MONO8,   PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO8,  PC_FMT_MONO10,
+	    PC_FMT_MONO10,  PC_FMT_MONO12, PC_FMT_MONO12, PC_FMT_MONO14, PC_FMT_MONO14,
+	    PC_FMT_MONO16,  PC_FMT_MONO16,
 	};
 	pc_pixfmt pf = vf == PC_FMT_MONO8 ? PC_FMT_MONO8 : by_bits[bits];
 	r->frames = calloc(n, sizeof *r->frames);
@@ -576,8 +596,10 @@ int pc_recording_open(pc_recording **out, const char *dir)
 	if (stat(dir, &st) != 0)
 		return pc_error(PC_ENOENT, "%s: %s", dir, strerror(errno));
 	if (!S_ISDIR(st.st_mode))
-		return pc_error(PC_EINVAL, "%s: not a directory (a recording is a directory of "
-					   "raw_NNNNNN.png and meta.json)", dir);
+		return pc_error(PC_EINVAL,
+		                "%s: not a directory (a recording is a directory of "
+		                "raw_NNNNNN.png and meta.json)",
+		                dir);
 	pc_recording *r = calloc(1, sizeof *r);
 	if (!r || !(r->dir = strdup(dir))) {
 		free(r);
@@ -606,7 +628,8 @@ int pc_recording_read(const pc_recording *r, size_t i, pc_view *out)
 		return pc_error(PC_EINVAL, "recording: missing argument");
 	memset(out, 0, sizeof *out);
 	if (i >= r->n)
-		return pc_error(PC_ERANGE, "%s: frame %zu: the recording has %zu frames", r->dir, i, r->n);
+		return pc_error(PC_ERANGE, "%s: frame %zu: the recording has %zu frames", r->dir, i,
+		                r->n);
 	char *p = path_join(r->dir, r->frames[i].file);
 	if (!p)
 		return pc_error(PC_ENOMEM, "recording");
@@ -621,8 +644,9 @@ int pc_recording_read(const pc_recording *r, size_t i, pc_view *out)
 	bool is8 = v.format == PC_FMT_MONO8;
 	if (v.width != r->desc.width || v.height != r->desc.height || (fi->bits <= 8) != is8 ||
 	    v.format == PC_FMT_FLOAT32 || (!is8 && bits != fi->bits && bits != 16)) {
-		rc = pc_error(PC_EFORMAT, "%s: %ux%u with %u significant bits, meta.json says %ux%u %s",
-			      p, v.width, v.height, bits, r->desc.width, r->desc.height, fi->name);
+		rc = pc_error(PC_EFORMAT,
+		              "%s: %ux%u with %u significant bits, meta.json says %ux%u %s", p,
+		              v.width, v.height, bits, r->desc.width, r->desc.height, fi->name);
 		pc_view_free(&v);
 		free(p);
 		return rc;
@@ -633,9 +657,10 @@ int pc_recording_read(const pc_recording *r, size_t i, pc_view *out)
 			const uint16_t *row = PC_ROW(&v, const uint16_t, y);
 			for (uint32_t x = 0; x < v.width; x++)
 				if (row[x] > maxv) {
-					rc = pc_error(PC_EFORMAT, "%s: pixel (%u,%u) = %u exceeds the %u-bit "
-								  "range of the recording", p, x, y,
-						      row[x], fi->bits);
+					rc = pc_error(PC_EFORMAT,
+					              "%s: pixel (%u,%u) = %u exceeds the %u-bit "
+					              "range of the recording",
+					              p, x, y, row[x], fi->bits);
 					break;
 				}
 		}

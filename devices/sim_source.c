@@ -37,8 +37,8 @@
 typedef struct sim_src {
 	pc_scene *scene;
 	char scene_name[48];
-	pc_sim *sim;           /* for the current ROI and format */
-	pc_sim_info full;      /* the full sensor in its natural format */
+	pc_sim *sim;      /* for the current ROI and format */
+	pc_sim_info full; /* the full sensor in its natural format */
 	pc_sim_options opt;
 	uint32_t cur_roi[4];
 	pc_pixfmt cur_fmt;
@@ -51,9 +51,9 @@ typedef struct sim_src {
 	/* stream */
 	pc_bfifo q;
 	pc_pacer pacer;
-	uint64_t k;          /* slots since start (each slot is one simulator frame number) */
+	uint64_t k; /* slots since start (each slot is one simulator frame number) */
 	uint64_t delivered;
-	bool stalled;        /* the current slot already answered one timeout */
+	bool stalled; /* the current slot already answered one timeout */
 } sim_src;
 
 static int parse_roi(const char *v, uint32_t r[4])
@@ -64,7 +64,7 @@ static int parse_roi(const char *v, uint32_t r[4])
 	    strchr(v, '-') || a[2] == 0 || a[3] == 0 || a[0] > 1u << 20 || a[1] > 1u << 20 ||
 	    a[2] > 1u << 20 || a[3] > 1u << 20)
 		return pc_error(PC_EINVAL, "URI option roi=%s: expected X,Y,W,H with W, H >= 1",
-				v ? v : "");
+		                v ? v : "");
 	for (int i = 0; i < 4; i++)
 		r[i] = (uint32_t)a[i];
 	return 0;
@@ -99,7 +99,7 @@ static int s_open(pc_source *s, const char *arg)
 		rc = pc_source_option_u64(s, "corrupt_every", 1, UINT32_MAX, &m->corrupt_every);
 	if (!rc)
 		rc = pc_source_option_u64(s, "disconnect_after", 0, UINT64_MAX / 4,
-					  &m->disconnect_after);
+		                          &m->disconnect_after);
 	if (!rc)
 		rc = pc_source_option_u64(s, "stride_pad", 0, 1u << 20, &m->stride_pad);
 	const char *roi = pc_source_option(s, "roi");
@@ -110,7 +110,7 @@ static int s_open(pc_source *s, const char *arg)
 	m->opt.threads = (int)threads;
 	if (!rc)
 		rc = !strcmp(arg, "default") ? pc_scene_load_default(&m->scene)
-					     : pc_scene_load(arg, &m->scene);
+		                             : pc_scene_load(arg, &m->scene);
 	if (!rc)
 		rc = pc_sim_new(m->scene, &m->opt, &m->sim);
 	if (rc) {
@@ -119,7 +119,7 @@ static int s_open(pc_source *s, const char *arg)
 		return rc;
 	}
 	snprintf(m->scene_name, sizeof m->scene_name, "%s",
-		 pc_scene_name(m->scene) ? pc_scene_name(m->scene) : arg);
+	         pc_scene_name(m->scene) ? pc_scene_name(m->scene) : arg);
 	pc_sim_get_info(m->sim, &m->full);
 	m->cur_fmt = m->full.format;
 	m->cur_roi[2] = m->full.width;
@@ -129,12 +129,12 @@ static int s_open(pc_source *s, const char *arg)
 	m->fps = fps >= 0 ? fps : m->full.frame_rate_hz;
 	if (!pc_source_option(s, "disconnect_after"))
 		m->disconnect_after = UINT64_MAX; /* never */
-	if (m->def_roi_set && (m->def_roi[0] >= m->full.sensor_width ||
-			       m->def_roi[1] >= m->full.sensor_height ||
-			       m->def_roi[2] > m->full.sensor_width - m->def_roi[0] ||
-			       m->def_roi[3] > m->full.sensor_height - m->def_roi[1])) {
+	if (m->def_roi_set &&
+	    (m->def_roi[0] >= m->full.sensor_width || m->def_roi[1] >= m->full.sensor_height ||
+	     m->def_roi[2] > m->full.sensor_width - m->def_roi[0] ||
+	     m->def_roi[3] > m->full.sensor_height - m->def_roi[1])) {
 		rc = pc_error(PC_EINVAL, "URI option roi=%s: outside the %ux%u sensor", roi,
-			      m->full.sensor_width, m->full.sensor_height);
+		              m->full.sensor_width, m->full.sensor_height);
 		s_close(s);
 		pc_source_set_priv(s, NULL);
 	}
@@ -170,7 +170,7 @@ static int s_try(pc_source *s, pc_source_format *f, pc_format_verdict *v)
 {
 	sim_src *m = pc_source_priv(s);
 	bool empty = !f->width && !f->height && !f->offset_x && !f->offset_y && !f->format &&
-		     !f->format_name[0] && !f->stride;
+	             !f->format_name[0] && !f->stride;
 	if (empty && m->def_roi_set) {
 		f->offset_x = m->def_roi[0];
 		f->offset_y = m->def_roi[1];
@@ -179,7 +179,7 @@ static int s_try(pc_source *s, pc_source_format *f, pc_format_verdict *v)
 	}
 	bool want_stride = f->stride != 0;
 	int rc = pc_negotiate_flexible(f, m->full.format, m->full.sensor_width,
-				       m->full.sensor_height, true, &m->full.mosaic, v);
+	                               m->full.sensor_height, true, &m->full.mosaic, v);
 	if (rc || *v == PC_FORMAT_INVALID)
 		return rc;
 	if (!want_stride && m->stride_pad) {
@@ -222,13 +222,13 @@ static int s_cquery(pc_source *s, pc_control_id id, pc_control_info *ci)
 	sim_src *m = pc_source_priv(s);
 	switch (id) {
 	case PC_CTRL_EXPOSURE_US:
-		*ci = (pc_control_info){ 1, 1e7, 0, m->full.exposure_us, true };
+		*ci = (pc_control_info){1, 1e7, 0, m->full.exposure_us, true};
 		return 0;
 	case PC_CTRL_GAIN_DB:
-		*ci = (pc_control_info){ 0, 48, 0, m->full.gain_db, true };
+		*ci = (pc_control_info){0, 48, 0, m->full.gain_db, true};
 		return 0;
 	case PC_CTRL_FRAME_RATE_HZ:
-		*ci = (pc_control_info){ 0, 10000, 0, m->full.frame_rate_hz, true };
+		*ci = (pc_control_info){0, 10000, 0, m->full.frame_rate_hz, true};
 		return 0;
 	default:
 		return pc_error(PC_ENOTSUP, "sim: unknown control");
@@ -239,10 +239,17 @@ static int s_cget(pc_source *s, pc_control_id id, double *val)
 {
 	sim_src *m = pc_source_priv(s);
 	switch (id) {
-	case PC_CTRL_EXPOSURE_US: *val = m->ctl.exposure_us; return 0;
-	case PC_CTRL_GAIN_DB: *val = m->ctl.gain_db; return 0;
-	case PC_CTRL_FRAME_RATE_HZ: *val = m->fps; return 0;
-	default: return pc_error(PC_ENOTSUP, "sim: unknown control");
+	case PC_CTRL_EXPOSURE_US:
+		*val = m->ctl.exposure_us;
+		return 0;
+	case PC_CTRL_GAIN_DB:
+		*val = m->ctl.gain_db;
+		return 0;
+	case PC_CTRL_FRAME_RATE_HZ:
+		*val = m->fps;
+		return 0;
+	default:
+		return pc_error(PC_ENOTSUP, "sim: unknown control");
 	}
 }
 
@@ -250,13 +257,18 @@ static int s_cset(pc_source *s, pc_control_id id, double val, double *applied)
 {
 	sim_src *m = pc_source_priv(s);
 	switch (id) {
-	case PC_CTRL_EXPOSURE_US: m->ctl.exposure_us = val; break;
-	case PC_CTRL_GAIN_DB: m->ctl.gain_db = val; break;
+	case PC_CTRL_EXPOSURE_US:
+		m->ctl.exposure_us = val;
+		break;
+	case PC_CTRL_GAIN_DB:
+		m->ctl.gain_db = val;
+		break;
 	case PC_CTRL_FRAME_RATE_HZ:
 		m->fps = val;
 		pc_pacer_set_rate(&m->pacer, val, m->k);
 		break;
-	default: return pc_error(PC_ENOTSUP, "sim: unknown control");
+	default:
+		return pc_error(PC_ENOTSUP, "sim: unknown control");
 	}
 	*applied = val;
 	return 0;
@@ -302,9 +314,10 @@ static int s_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 {
 	sim_src *m = pc_source_priv(s);
 	if (m->delivered >= m->disconnect_after)
-		return pc_error(PC_EDISCONNECTED, "sim: simulated camera unplugged after %llu frames "
-						  "(disconnect_after)",
-				(unsigned long long)m->disconnect_after);
+		return pc_error(PC_EDISCONNECTED,
+		                "sim: simulated camera unplugged after %llu frames "
+		                "(disconnect_after)",
+		                (unsigned long long)m->disconnect_after);
 	uint64_t now = pc_clock_ns();
 	uint64_t deadline = timeout_ms < 0 ? UINT64_MAX : now + (uint64_t)timeout_ms * 1000000u;
 	/* dropped frames: their slots pass without a frame */
@@ -313,7 +326,8 @@ static int s_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 	if (!m->q.count) {
 		if (timeout_ms > 0)
 			pc_sleep_until_ns(deadline);
-		return pc_error(PC_ETIMEDOUT, "sim: no buffer queued (the application holds them all)");
+		return pc_error(PC_ETIMEDOUT,
+		                "sim: no buffer queued (the application holds them all)");
 	}
 	if (m->timeout_every && !m->stalled &&
 	    (m->first + m->k) % m->timeout_every == m->timeout_every - 1) {
@@ -321,19 +335,19 @@ static int s_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 		if (timeout_ms > 0)
 			pc_sleep_until_ns(deadline);
 		return pc_error(PC_ETIMEDOUT, "sim: frame %llu stalled (timeout_every)",
-				(unsigned long long)(m->first + m->k));
+		                (unsigned long long)(m->first + m->k));
 	}
 	uint64_t due = pc_pacer_due_ns(&m->pacer, m->k);
 	if (due > deadline) {
 		pc_sleep_until_ns(deadline);
 		return pc_error(PC_ETIMEDOUT, "sim: next frame due in %.1f ms",
-				(double)(due - now) / 1e6);
+		                (double)(due - now) / 1e6);
 	}
 	if (due > now)
 		pc_sleep_until_ns(due);
 	const pc_source_format *f = pc_source_current_format(s);
 	pc_buffer *b = pc_bfifo_pop(&m->q);
-	pc_view v = { b->data, f->width, f->height, f->stride, f->format };
+	pc_view v = {b->data, f->width, f->height, f->stride, f->format};
 	uint64_t n = m->first + m->k;
 	pc_frame_meta meta;
 	int rc = pc_sim_frame(m->sim, n, &m->ctl, &v, &meta);
@@ -356,22 +370,30 @@ static int s_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 	return 0;
 }
 
-static const char *const s_options[] = { "seed", "fps", "first", "threads", "drop_every",
-					 "timeout_every", "corrupt_every", "disconnect_after",
-					 "stride_pad", "roi", NULL };
+static const char *const s_options[] = {"seed",
+                                        "fps",
+                                        "first",
+                                        "threads",
+                                        "drop_every",
+                                        "timeout_every",
+                                        "corrupt_every",
+                                        "disconnect_after",
+                                        "stride_pad",
+                                        "roi",
+                                        NULL};
 
 const pc_source_ops pc_sim_source_ops = {
-	.open = s_open,
-	.close = s_close,
-	.get_info = s_info,
-	.try_format = s_try,
-	.set_format = s_set,
-	.control_query = s_cquery,
-	.control_get = s_cget,
-	.control_set = s_cset,
-	.queue = s_queue,
-	.start = s_start,
-	.dequeue = s_dequeue,
-	.stop = s_stop,
-	.options = s_options,
+    .open = s_open,
+    .close = s_close,
+    .get_info = s_info,
+    .try_format = s_try,
+    .set_format = s_set,
+    .control_query = s_cquery,
+    .control_get = s_cget,
+    .control_set = s_cset,
+    .queue = s_queue,
+    .start = s_start,
+    .dequeue = s_dequeue,
+    .stop = s_stop,
+    .options = s_options,
 };

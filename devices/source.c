@@ -38,11 +38,16 @@ struct pc_source {
 const char *pc_source_state_name(pc_source_state st)
 {
 	switch (st) {
-	case PC_SOURCE_OPEN: return "OPEN";
-	case PC_SOURCE_READY: return "READY";
-	case PC_SOURCE_STREAMING: return "STREAMING";
-	case PC_SOURCE_FAILED: return "FAILED";
-	case PC_SOURCE_CLOSED: return "CLOSED";
+	case PC_SOURCE_OPEN:
+		return "OPEN";
+	case PC_SOURCE_READY:
+		return "READY";
+	case PC_SOURCE_STREAMING:
+		return "STREAMING";
+	case PC_SOURCE_FAILED:
+		return "FAILED";
+	case PC_SOURCE_CLOSED:
+		return "CLOSED";
 	}
 	return "?";
 }
@@ -50,9 +55,12 @@ const char *pc_source_state_name(pc_source_state st)
 const char *pc_format_verdict_name(pc_format_verdict v)
 {
 	switch (v) {
-	case PC_FORMAT_VALID: return "valid";
-	case PC_FORMAT_ADJUSTED: return "adjusted";
-	case PC_FORMAT_INVALID: return "invalid";
+	case PC_FORMAT_VALID:
+		return "valid";
+	case PC_FORMAT_ADJUSTED:
+		return "adjusted";
+	case PC_FORMAT_INVALID:
+		return "invalid";
 	}
 	return "?";
 }
@@ -60,10 +68,14 @@ const char *pc_format_verdict_name(pc_format_verdict v)
 const char *pc_control_name(pc_control_id id)
 {
 	switch (id) {
-	case PC_CTRL_EXPOSURE_US: return "exposure_us";
-	case PC_CTRL_GAIN_DB: return "gain_db";
-	case PC_CTRL_FRAME_RATE_HZ: return "frame_rate_hz";
-	case PC_CTRL_COUNT: break;
+	case PC_CTRL_EXPOSURE_US:
+		return "exposure_us";
+	case PC_CTRL_GAIN_DB:
+		return "gain_db";
+	case PC_CTRL_FRAME_RATE_HZ:
+		return "frame_rate_hz";
+	case PC_CTRL_COUNT:
+		break;
 	}
 	return "?";
 }
@@ -81,10 +93,10 @@ static int need_state(const pc_source *s, unsigned allowed, const char *op)
 			if (want[0])
 				strncat(want, " or ", sizeof want - strlen(want) - 1);
 			strncat(want, pc_source_state_name((pc_source_state)st),
-				sizeof want - strlen(want) - 1);
+			        sizeof want - strlen(want) - 1);
 		}
 	return pc_error(PC_ESTATE, "%s: the source is %s, the call needs %s", op,
-			pc_source_state_name(s->state), want);
+	                pc_source_state_name(s->state), want);
 }
 
 /* After any backend call: a lost device makes the source FAILED. */
@@ -110,7 +122,8 @@ static int parse_options(pc_source *s, const char *q)
 		if (len == 0)
 			return pc_error(PC_EINVAL, "URI options: empty option (stray '&')");
 		if (s->n_options == PC_SOURCE_MAX_OPTIONS)
-			return pc_error(PC_EINVAL, "URI options: more than %d options", PC_SOURCE_MAX_OPTIONS);
+			return pc_error(PC_EINVAL, "URI options: more than %d options",
+			                PC_SOURCE_MAX_OPTIONS);
 		const char *eq = memchr(q, '=', len);
 		size_t klen = eq ? (size_t)(eq - q) : len;
 		if (klen == 0)
@@ -155,7 +168,8 @@ static int check_options_known(pc_source *s)
 				strncat(list, *k, sizeof list - strlen(list) - 1);
 			}
 			return pc_error(PC_EINVAL, "URI option '%s': the %s: source knows %s",
-					s->options[i].key, s->scheme, list[0] ? list : "no options");
+			                s->options[i].key, s->scheme,
+			                list[0] ? list : "no options");
 		}
 	}
 	return 0;
@@ -182,8 +196,8 @@ int pc_source_option_double(pc_source *s, const char *key, double min, double ma
 	if (end == v || *end || errno || !isfinite(d))
 		return pc_error(PC_EINVAL, "URI option %s=%s: expected a number", key, v);
 	if (d < min || d > max)
-		return pc_error(PC_EINVAL, "URI option %s=%s: expected a value in [%g, %g]", key, v, min,
-				max);
+		return pc_error(PC_EINVAL, "URI option %s=%s: expected a value in [%g, %g]", key, v,
+		                min, max);
 	*out = d;
 	return 0;
 }
@@ -196,13 +210,15 @@ int pc_source_option_u64(pc_source *s, const char *key, uint64_t min, uint64_t m
 	char *end;
 	errno = 0;
 	if (*v == '-' || *v == '+' || *v == ' ' || *v == '\0')
-		return pc_error(PC_EINVAL, "URI option %s=%s: expected a non-negative integer", key, v);
+		return pc_error(PC_EINVAL, "URI option %s=%s: expected a non-negative integer", key,
+		                v);
 	unsigned long long u = strtoull(v, &end, 10);
 	if (*end || errno)
-		return pc_error(PC_EINVAL, "URI option %s=%s: expected a non-negative integer", key, v);
+		return pc_error(PC_EINVAL, "URI option %s=%s: expected a non-negative integer", key,
+		                v);
 	if (u < min || u > max)
-		return pc_error(PC_EINVAL, "URI option %s=%s: expected an integer in [%llu, %llu]", key,
-				v, (unsigned long long)min, (unsigned long long)max);
+		return pc_error(PC_EINVAL, "URI option %s=%s: expected an integer in [%llu, %llu]",
+		                key, v, (unsigned long long)min, (unsigned long long)max);
 	*out = u;
 	return 0;
 }
@@ -217,7 +233,8 @@ int pc_source_option_bool(pc_source *s, const char *key, bool *out)
 	else if (!strcmp(v, "0") || !strcmp(v, "false") || !strcmp(v, "no"))
 		*out = false;
 	else
-		return pc_error(PC_EINVAL, "URI option %s=%s: expected 1/0, true/false or yes/no", key, v);
+		return pc_error(PC_EINVAL, "URI option %s=%s: expected 1/0, true/false or yes/no",
+		                key, v);
 	return 0;
 }
 
@@ -247,11 +264,12 @@ int pc_source_format_complete(pc_source_format *fmt, const pc_mosaic *sensor_mos
 	if (fmt->stride == 0)
 		fmt->stride = row;
 	if (fmt->stride < row)
-		return pc_error(PC_EINVAL, "stride %zu: a %u-pixel %s row needs %zu bytes", fmt->stride,
-				fmt->width, pc_format_info_get(fmt->format)->name, row);
+		return pc_error(PC_EINVAL, "stride %zu: a %u-pixel %s row needs %zu bytes",
+		                fmt->stride, fmt->width, pc_format_info_get(fmt->format)->name,
+		                row);
 	if (fmt->stride > (SIZE_MAX - row) / fmt->height)
 		return pc_error(PC_EOVERFLOW, "frame %ux%u stride %zu: size overflows", fmt->width,
-				fmt->height, fmt->stride);
+		                fmt->height, fmt->stride);
 	size_t need = fmt->stride * (fmt->height - 1) + row;
 	if (fmt->frame_bytes < need)
 		fmt->frame_bytes = need;
@@ -259,14 +277,14 @@ int pc_source_format_complete(pc_source_format *fmt, const pc_mosaic *sensor_mos
 		fmt->mosaic = pc_mosaic_shift(sensor_mosaic, fmt->offset_x, fmt->offset_y);
 	if (!fmt->format_name[0])
 		snprintf(fmt->format_name, sizeof fmt->format_name, "%s",
-			 pc_format_info_get(fmt->format)->name);
+		         pc_format_info_get(fmt->format)->name);
 	return 0;
 }
 
 /* ---- open / close ---- */
 
 int pc_source_open_ops(pc_source **out, const pc_source_ops *ops, const char *scheme,
-		       const char *arg_with_options)
+                       const char *arg_with_options)
 {
 	if (!out || !ops || !scheme || !arg_with_options)
 		return pc_error(PC_EINVAL, "pc_source_open_ops: missing argument");
@@ -279,7 +297,8 @@ int pc_source_open_ops(pc_source **out, const pc_source_ops *ops, const char *sc
 	s->ops = ops;
 	snprintf(s->scheme, sizeof s->scheme, "%s", scheme);
 	const char *q = strchr(arg_with_options, '?');
-	s->arg = q ? strndup(arg_with_options, (size_t)(q - arg_with_options)) : strdup(arg_with_options);
+	s->arg = q ? strndup(arg_with_options, (size_t)(q - arg_with_options))
+	           : strdup(arg_with_options);
 	int rc = s->arg ? 0 : pc_error(PC_ENOMEM, "source");
 	if (!rc && q)
 		rc = parse_options(s, q + 1);
@@ -304,8 +323,8 @@ int pc_source_open_ops(pc_source **out, const pc_source_ops *ops, const char *sc
 		pc_format_verdict v;
 		rc = ops->try_format(s, &f, &v);
 		if (!rc && v == PC_FORMAT_INVALID)
-			rc = pc_error_prefix(PC_EIO, "%s: the source has no usable default format: ",
-					     scheme);
+			rc = pc_error_prefix(
+			    PC_EIO, "%s: the source has no usable default format: ", scheme);
 		if (!rc)
 			s->fmt = f;
 		if (rc) {
@@ -323,11 +342,14 @@ int pc_source_open(pc_source **out, const char *uri)
 		return pc_error(PC_EINVAL, "pc_source_open: output pointer missing");
 	*out = NULL;
 	if (!uri || !*uri)
-		return pc_error(PC_EINVAL, "source URI missing: expected SCHEME:ID such as sim:default");
+		return pc_error(PC_EINVAL,
+		                "source URI missing: expected SCHEME:ID such as sim:default");
 	const char *colon = strchr(uri, ':');
 	if (!colon || colon == uri || (size_t)(colon - uri) >= 16)
-		return pc_error(PC_EINVAL, "source URI '%s': expected SCHEME:ID (sim:, file:, aravis:, "
-					   "v4l2:, libcamera:)", uri);
+		return pc_error(PC_EINVAL,
+		                "source URI '%s': expected SCHEME:ID (sim:, file:, aravis:, "
+		                "v4l2:, libcamera:)",
+		                uri);
 	char scheme[16];
 	memcpy(scheme, uri, (size_t)(colon - uri));
 	scheme[colon - uri] = '\0';
@@ -337,14 +359,15 @@ int pc_source_open(pc_source **out, const char *uri)
 		for (unsigned i = 0; pc_source_backend_get(i); i++) {
 			if (list[0])
 				strncat(list, ", ", sizeof list - strlen(list) - 1);
-			strncat(list, pc_source_backend_get(i)->scheme, sizeof list - strlen(list) - 1);
+			strncat(list, pc_source_backend_get(i)->scheme,
+			        sizeof list - strlen(list) - 1);
 		}
 		return pc_error(PC_EINVAL, "source URI '%s': unknown scheme '%s' (known: %s)", uri,
-				scheme, list);
+		                scheme, list);
 	}
 	if (!b->ops)
-		return pc_error(PC_ENOTSUP, "source URI '%s': the %s: backend is not built in: %s", uri,
-				scheme, b->missing ? b->missing : "disabled");
+		return pc_error(PC_ENOTSUP, "source URI '%s': the %s: backend is not built in: %s",
+		                uri, scheme, b->missing ? b->missing : "disabled");
 	int rc = pc_source_open_ops(out, b->ops, scheme, colon + 1);
 	if (rc && rc != PC_ENOMEM)
 		return pc_error_prefix(rc, "%s: ", uri);
@@ -421,7 +444,7 @@ static int check_request(const pc_source_format *fmt)
 {
 	if (fmt->format != PC_FMT_INVALID && !pc_format_info_get(fmt->format))
 		return pc_error(PC_EINVAL, "format request: pixel format %d is not a known format",
-				(int)fmt->format);
+		                (int)fmt->format);
 	if (!memchr(fmt->format_name, '\0', sizeof fmt->format_name))
 		return pc_error(PC_EINVAL, "format request: format_name is not terminated");
 	return 0;
@@ -450,21 +473,25 @@ int pc_source_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict 
 	size_t row;
 	if (pc_format_row_bytes(fmt->format, fmt->width, &row) || fmt->height == 0 ||
 	    fmt->stride < row || fmt->frame_bytes < fmt->stride * (fmt->height - 1) + row)
-		return pc_error(PC_EIO, "%s: source answered an inconsistent format (%s %ux%u stride "
-					"%zu, %zu bytes)", s->scheme,
-				pc_format_info_get(fmt->format) ? pc_format_info_get(fmt->format)->name
-								: "?", fmt->width, fmt->height,
-				fmt->stride, fmt->frame_bytes);
+		return pc_error(
+		    PC_EIO,
+		    "%s: source answered an inconsistent format (%s %ux%u stride "
+		    "%zu, %zu bytes)",
+		    s->scheme,
+		    pc_format_info_get(fmt->format) ? pc_format_info_get(fmt->format)->name : "?",
+		    fmt->width, fmt->height, fmt->stride, fmt->frame_bytes);
 	/* an all-zero request asks for the source's default format, whatever its ROI */
 	bool empty = !req.format && !req.format_name[0] && !req.width && !req.height &&
-		     !req.offset_x && !req.offset_y && !req.stride;
-	bool changed = !empty && ((req.format && req.format != fmt->format) ||
-		       (req.format_name[0] && strcmp(req.format_name, fmt->format_name)) ||
-		       (req.width && req.width != fmt->width) ||
-		       (req.height && req.height != fmt->height) || req.offset_x != fmt->offset_x ||
-		       req.offset_y != fmt->offset_y || (req.stride && req.stride != fmt->stride));
+	             !req.offset_x && !req.offset_y && !req.stride;
+	bool changed =
+	    !empty && ((req.format && req.format != fmt->format) ||
+	               (req.format_name[0] && strcmp(req.format_name, fmt->format_name)) ||
+	               (req.width && req.width != fmt->width) ||
+	               (req.height && req.height != fmt->height) || req.offset_x != fmt->offset_x ||
+	               req.offset_y != fmt->offset_y || (req.stride && req.stride != fmt->stride));
 	if (changed && *verdict == PC_FORMAT_VALID)
-		return pc_error(PC_EIO, "%s: source changed the request but called it valid", s->scheme);
+		return pc_error(PC_EIO, "%s: source changed the request but called it valid",
+		                s->scheme);
 	return 0;
 }
 
@@ -485,9 +512,10 @@ int pc_source_set_format(pc_source *s, const pc_source_format *fmt)
 	if (v == PC_FORMAT_INVALID)
 		return pc_error_prefix(PC_EFORMAT, "set_format: invalid request: ");
 	if (v == PC_FORMAT_ADJUSTED)
-		return pc_error(PC_EFORMAT, "set_format: the source would adjust this request to %s "
-					    "%ux%u at (%u,%u) stride %zu: negotiate with try_format first",
-				f.format_name, f.width, f.height, f.offset_x, f.offset_y, f.stride);
+		return pc_error(PC_EFORMAT,
+		                "set_format: the source would adjust this request to %s "
+		                "%ux%u at (%u,%u) stride %zu: negotiate with try_format first",
+		                f.format_name, f.width, f.height, f.offset_x, f.offset_y, f.stride);
 	rc = after(s, s->ops->set_format(s, &f));
 	if (rc)
 		return rc;
@@ -503,7 +531,8 @@ static int check_ctrl(pc_source *s, pc_control_id id, const void *p, const char 
 		return pc_error(PC_EINVAL, "%s: missing argument", op);
 	if ((int)id < 0 || id >= PC_CTRL_COUNT)
 		return pc_error(PC_EINVAL, "%s: control %d is not a known control", op, (int)id);
-	return need_state(s, ST(PC_SOURCE_OPEN) | ST(PC_SOURCE_READY) | ST(PC_SOURCE_STREAMING), op);
+	return need_state(s, ST(PC_SOURCE_OPEN) | ST(PC_SOURCE_READY) | ST(PC_SOURCE_STREAMING),
+	                  op);
 }
 
 int pc_source_control_query(pc_source *s, pc_control_id id, pc_control_info *info)
@@ -534,17 +563,18 @@ int pc_source_control_set(pc_source *s, pc_control_id id, double value, double *
 	if (!s->ops->control_set || !s->ops->control_query)
 		return notsup(s, "control_set");
 	if (!isfinite(value))
-		return pc_error(PC_ERANGE, "%s = %g: expected a finite value", pc_control_name(id), value);
+		return pc_error(PC_ERANGE, "%s = %g: expected a finite value", pc_control_name(id),
+		                value);
 	pc_control_info ci;
 	rc = after(s, s->ops->control_query(s, id, &ci));
 	if (rc)
 		return rc;
 	if (value < ci.min || value > ci.max)
-		return pc_error(PC_ERANGE, "%s = %g: the source accepts [%g, %g]", pc_control_name(id),
-				value, ci.min, ci.max);
+		return pc_error(PC_ERANGE, "%s = %g: the source accepts [%g, %g]",
+		                pc_control_name(id), value, ci.min, ci.max);
 	if (s->state == PC_SOURCE_STREAMING && !ci.live)
 		return pc_error(PC_ESTATE, "%s: cannot change while streaming on this source",
-				pc_control_name(id));
+		                pc_control_name(id));
 	double got = value;
 	rc = after(s, s->ops->control_set(s, id, value, &got));
 	if (!rc && applied)
@@ -563,7 +593,7 @@ int pc_source_buffers_alloc(pc_source *s, unsigned count)
 		return rc;
 	if (count < 1 || count > PC_SOURCE_MAX_BUFFERS)
 		return pc_error(PC_EINVAL, "buffer count %u: expected 1..%u", count,
-				PC_SOURCE_MAX_BUFFERS);
+		                PC_SOURCE_MAX_BUFFERS);
 	if (s->fmt.frame_bytes == 0)
 		return pc_error(PC_ESTATE, "buffers_alloc: no format negotiated");
 	s->bufs = calloc(count, sizeof *s->bufs);
@@ -585,9 +615,11 @@ int pc_source_buffers_alloc(pc_source *s, unsigned count)
 		rc = after(s, s->ops->buffers_alloc(s, s->bufs, count));
 		for (unsigned i = 0; !rc && i < count; i++)
 			if (!s->bufs[i]->data || s->bufs[i]->size < s->fmt.frame_bytes)
-				rc = pc_error(PC_EIO, "%s: backend buffer %u holds %zu bytes, a frame needs "
-						      "%zu", s->scheme, i, s->bufs[i]->size,
-					      s->fmt.frame_bytes);
+				rc =
+				    pc_error(PC_EIO,
+				             "%s: backend buffer %u holds %zu bytes, a frame needs "
+				             "%zu",
+				             s->scheme, i, s->bufs[i]->size, s->fmt.frame_bytes);
 		if (rc) {
 			free_pool(s);
 			s->backend_memory = false;
@@ -618,8 +650,10 @@ int pc_source_buffers_free(pc_source *s)
 		return rc;
 	for (unsigned i = 0; i < s->n_bufs; i++)
 		if (s->bufs[i]->state == PC_BUFFER_DEQUEUED)
-			return pc_error(PC_EBUSY, "buffers_free: buffer %u is still held by the "
-						  "application: requeue it first", i);
+			return pc_error(PC_EBUSY,
+			                "buffers_free: buffer %u is still held by the "
+			                "application: requeue it first",
+			                i);
 	free_pool(s);
 	if (s->state == PC_SOURCE_READY)
 		s->state = PC_SOURCE_OPEN;
@@ -677,31 +711,35 @@ static int check_frame(pc_source *s, pc_buffer *b)
 	const pc_source_format *f = &s->fmt;
 	if (v->format != f->format || v->width != f->width || v->height != f->height ||
 	    v->stride != f->stride)
-		return pc_error(PC_EIO, "%s: frame %llu is %s %ux%u stride %zu, the negotiated format "
-					"is %s %ux%u stride %zu", s->scheme,
-				(unsigned long long)b->frame.meta.sequence,
-				pc_format_info_get(v->format) ? pc_format_info_get(v->format)->name : "?",
-				v->width, v->height, v->stride, f->format_name, f->width, f->height,
-				f->stride);
+		return pc_error(
+		    PC_EIO,
+		    "%s: frame %llu is %s %ux%u stride %zu, the negotiated format "
+		    "is %s %ux%u stride %zu",
+		    s->scheme, (unsigned long long)b->frame.meta.sequence,
+		    pc_format_info_get(v->format) ? pc_format_info_get(v->format)->name : "?",
+		    v->width, v->height, v->stride, f->format_name, f->width, f->height, f->stride);
 	size_t row;
 	(void)pc_format_row_bytes(f->format, f->width, &row);
 	const uint8_t *lo = b->data, *p = v->data;
 	if (!p || p < lo || (size_t)(p - lo) > b->size ||
 	    b->size - (size_t)(p - lo) < f->stride * (f->height - 1) + row)
 		return pc_error(PC_EIO, "%s: frame %llu data lies outside its buffer", s->scheme,
-				(unsigned long long)b->frame.meta.sequence);
+		                (unsigned long long)b->frame.meta.sequence);
 	const pc_frame_meta *m = &b->frame.meta;
 	if (s->have_last) {
 		if (m->sequence <= s->last_sequence)
-			return pc_error(PC_EIO, "%s: frame sequence %llu after %llu: sequence numbers must "
-						"increase", s->scheme, (unsigned long long)m->sequence,
-					(unsigned long long)s->last_sequence);
+			return pc_error(PC_EIO,
+			                "%s: frame sequence %llu after %llu: sequence numbers must "
+			                "increase",
+			                s->scheme, (unsigned long long)m->sequence,
+			                (unsigned long long)s->last_sequence);
 		if (m->timestamp_ns < s->last_timestamp_ns)
-			return pc_error(PC_EIO, "%s: frame %llu timestamp %llu ns before the previous "
-						"frame's %llu ns", s->scheme,
-					(unsigned long long)m->sequence,
-					(unsigned long long)m->timestamp_ns,
-					(unsigned long long)s->last_timestamp_ns);
+			return pc_error(PC_EIO,
+			                "%s: frame %llu timestamp %llu ns before the previous "
+			                "frame's %llu ns",
+			                s->scheme, (unsigned long long)m->sequence,
+			                (unsigned long long)m->timestamp_ns,
+			                (unsigned long long)s->last_timestamp_ns);
 	}
 	return 0;
 }
@@ -714,9 +752,11 @@ int pc_source_dequeue(pc_source *s, int timeout_ms, pc_buffer **buf)
 	int rc = need_state(s, ST(PC_SOURCE_STREAMING), "dequeue");
 	if (rc)
 		return s->state == PC_SOURCE_FAILED
-			       ? pc_error(PC_EDISCONNECTED, "dequeue: the %s: source failed earlier "
-							    "(device lost)", s->scheme)
-			       : rc;
+		           ? pc_error(PC_EDISCONNECTED,
+		                      "dequeue: the %s: source failed earlier "
+		                      "(device lost)",
+		                      s->scheme)
+		           : rc;
 	pc_buffer *b = NULL;
 	rc = after(s, s->ops->dequeue(s, timeout_ms, &b));
 	if (rc == PC_ETIMEDOUT)
@@ -725,10 +765,10 @@ int pc_source_dequeue(pc_source *s, int timeout_ms, pc_buffer **buf)
 		return rc;
 	if (!b || b->index >= s->n_bufs || s->bufs[b->index] != b)
 		return pc_error(PC_EIO, "%s: backend returned a buffer that is not in the pool",
-				s->scheme);
+		                s->scheme);
 	if (b->state != PC_BUFFER_QUEUED)
 		return pc_error(PC_EIO, "%s: backend returned buffer %u that the application holds",
-				s->scheme, b->index);
+		                s->scheme, b->index);
 	b->state = PC_BUFFER_DEQUEUED;
 	b->frame.mosaic = s->fmt.mosaic;
 	b->frame.meta.offset_x = s->fmt.offset_x;
@@ -768,7 +808,7 @@ int pc_source_requeue(pc_source *s, pc_buffer *b)
 	if (b->state != PC_BUFFER_DEQUEUED)
 		return pc_error(PC_EINVAL, "requeue: buffer %u is already queued", b->index);
 	int rc = need_state(s, ST(PC_SOURCE_READY) | ST(PC_SOURCE_STREAMING) | ST(PC_SOURCE_FAILED),
-			    "requeue");
+	                    "requeue");
 	if (rc)
 		return rc;
 	b->state = PC_BUFFER_QUEUED;

@@ -17,9 +17,10 @@ static bool has_usb3v_interface(libusb_device *dev)
 	bool found = false;
 	for (int i = 0; i < cfg->bNumInterfaces && !found; i++)
 		for (int k = 0; k < cfg->interface[i].num_altsetting && !found; k++) {
-			const struct libusb_interface_descriptor *d = &cfg->interface[i].altsetting[k];
+			const struct libusb_interface_descriptor *d =
+			    &cfg->interface[i].altsetting[k];
 			found = d->bInterfaceClass == PC_USB3V_CLASS &&
-				d->bInterfaceSubClass == PC_USB3V_SUBCLASS;
+			        d->bInterfaceSubClass == PC_USB3V_SUBCLASS;
 		}
 	libusb_free_config_descriptor(cfg);
 	return found;
@@ -28,11 +29,16 @@ static bool has_usb3v_interface(libusb_device *dev)
 static int open_status(int err)
 {
 	switch (err) {
-	case 0: return PC_USB_OPEN_OK;
-	case LIBUSB_ERROR_ACCESS: return PC_USB_OPEN_ACCESS;
-	case LIBUSB_ERROR_BUSY: return PC_USB_OPEN_BUSY;
-	case LIBUSB_ERROR_NO_DEVICE: return PC_USB_OPEN_GONE;
-	default: return PC_USB_OPEN_OTHER;
+	case 0:
+		return PC_USB_OPEN_OK;
+	case LIBUSB_ERROR_ACCESS:
+		return PC_USB_OPEN_ACCESS;
+	case LIBUSB_ERROR_BUSY:
+		return PC_USB_OPEN_BUSY;
+	case LIBUSB_ERROR_NO_DEVICE:
+		return PC_USB_OPEN_GONE;
+	default:
+		return PC_USB_OPEN_OTHER;
 	}
 }
 
@@ -66,21 +72,23 @@ int pc_usb3v_enumerate(pc_device_fn fn, void *ctx)
 		int oe = libusb_open(dev, &h);
 		if (h) {
 			unsigned char s[64];
-			if (dd.iManufacturer &&
-			    libusb_get_string_descriptor_ascii(h, dd.iManufacturer, s, sizeof s) > 0)
+			if (dd.iManufacturer && libusb_get_string_descriptor_ascii(
+			                            h, dd.iManufacturer, s, sizeof s) > 0)
 				snprintf(ent.vendor, sizeof ent.vendor, "%s", (char *)s);
-			if (dd.iProduct && libusb_get_string_descriptor_ascii(h, dd.iProduct, s, sizeof s) > 0)
+			if (dd.iProduct &&
+			    libusb_get_string_descriptor_ascii(h, dd.iProduct, s, sizeof s) > 0)
 				snprintf(ent.model, sizeof ent.model, "%s", (char *)s);
-			if (dd.iSerialNumber &&
-			    libusb_get_string_descriptor_ascii(h, dd.iSerialNumber, s, sizeof s) > 0)
+			if (dd.iSerialNumber && libusb_get_string_descriptor_ascii(
+			                            h, dd.iSerialNumber, s, sizeof s) > 0)
 				snprintf(ent.serial, sizeof ent.serial, "%s", (char *)s);
 			libusb_close(h);
 		}
 		ent.usable = pc_usb3v_diagnose(libusb_get_device_speed(dev), open_status(oe), usbfs,
-					       dd.idVendor, dd.idProduct, bus, addr, ent.note,
-					       sizeof ent.note);
+		                               dd.idVendor, dd.idProduct, bus, addr, ent.note,
+		                               sizeof ent.note);
 		/* Aravis names USB3 Vision devices vendor-model-serial */
-		snprintf(ent.uri, sizeof ent.uri, "aravis:%s-%s-%s", ent.vendor, ent.model, ent.serial);
+		snprintf(ent.uri, sizeof ent.uri, "aravis:%s-%s-%s", ent.vendor, ent.model,
+		         ent.serial);
 		if (fn(ctx, &ent))
 			break;
 	}

@@ -44,7 +44,7 @@ static uint16_t value(unsigned k, unsigned x, unsigned y)
 /* IMX250MZR [90 45; 135 0] as angles, from the datasheet, independent of pc_mosaic. */
 static int imx_angle(unsigned x, unsigned y)
 {
-	static const int a[2][2] = { { 90, 45 }, { 135, 0 } };
+	static const int a[2][2] = {{90, 45}, {135, 0}};
 	return a[y & 1][x & 1];
 }
 
@@ -108,7 +108,7 @@ static bool wait_line(int fd, const char *want, int timeout_ms, char *buf, size_
 	size_t len = 0;
 	buf[0] = '\0';
 	while (timeout_ms > 0) {
-		struct pollfd pf = { fd, POLLIN, 0 };
+		struct pollfd pf = {fd, POLLIN, 0};
 		int r = poll(&pf, 1, 100);
 		timeout_ms -= 100;
 		if (r <= 0)
@@ -153,7 +153,7 @@ static pid_t start_server(const char *extra1, const char *extra2, int *fd)
 {
 	char src[256];
 	snprintf(src, sizeof src, "file:%s?loop=1", rec_dir);
-	char *args[] = { "--source", src, "--fps", "200", (char *)extra1, (char *)extra2, NULL };
+	char *args[] = {"--source", src, "--fps", "200", (char *)extra1, (char *)extra2, NULL};
 	return start_serve_args(args, fd);
 }
 
@@ -169,7 +169,7 @@ static int stop_server(pid_t pid, int fd)
 /* ---- in-process client checks ---- */
 
 static pc_source *open_cam(const char *opts, const char *fmt_name, uint32_t ox, uint32_t oy,
-			   uint32_t w, uint32_t h)
+                           uint32_t w, uint32_t h)
 {
 	char uri[128];
 	snprintf(uri, sizeof uri, "aravis:127.0.0.1?packet_size=1500%s", opts);
@@ -208,7 +208,7 @@ static pc_source *open_cam(const char *opts, const char *fmt_name, uint32_t ox, 
 /* Streams n frames and compares them with the model: ROI (ox, oy, w, h) of the mirrored
  * (rev_x) recording, values shifted right by `shift`. Returns frames checked. */
 static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32_t oy, bool rev_x,
-				   unsigned shift, uint64_t *first_seq, uint64_t *last_seq)
+                                   unsigned shift, uint64_t *first_seq, uint64_t *last_seq)
 {
 	/* Frame j of an acquisition is recording frame j mod NREC; j comes from the sequence
 	 * (the camera's frame ids), so a frame lost under load shows as a gap that the statistics
@@ -233,7 +233,8 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 		prev = seq;
 		unsigned j = (unsigned)((seq - *first_seq) % NREC);
 		if (b->frame.meta.status != 0) {
-			/* packets lost under load: the frame is flagged, its content is not checked */
+			/* packets lost under load: the frame is flagged, its content is not checked
+			 */
 			damaged++;
 			got++;
 			CHECK_EQ_INT(pc_source_requeue(s, b), 0);
@@ -253,7 +254,8 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 				unsigned sx = rev_x ? W - 1 - (ox + x) : ox + x, sy = oy + y;
 				int a = imx_angle(sx, sy);
 				if (rev_x && (a == 45 || a == 135))
-					a = 180 - a; /* a mirror maps an analyser at θ to 180° − θ */
+					a = 180 -
+					    a; /* a mirror maps an analyser at θ to 180° − θ */
 				mosaic_bad += (int)b->frame.mosaic.channel[y][x] * 45 != a;
 			}
 		got++;
@@ -354,14 +356,27 @@ static void test_compliance(pc_fault_kind fault)
 /* ---- polarcam capture ---- */
 
 static int run_capture(const char *dir, const char *n, char *out, size_t size, pid_t *pid_out,
-		       int *fd_out)
+                       int *fd_out)
 {
 	char errp[160];
 	snprintf(errp, sizeof errp, "%s/capture.err", base);
 	/* the camera keeps the settings of earlier clients: ask for what the model expects */
-	char *argv[] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=1500", "-n",
-			 (char *)n, "-o", (char *)dir, "--timeout-ms", "2000", "--roi", "0,0,64,48",
-			 "--format", "PolarizeMono12", "--fps", "50", NULL };
+	char *argv[] = {(char *)polarcam,
+	                "capture",
+	                "aravis:127.0.0.1?packet_size=1500",
+	                "-n",
+	                (char *)n,
+	                "-o",
+	                (char *)dir,
+	                "--timeout-ms",
+	                "2000",
+	                "--roi",
+	                "0,0,64,48",
+	                "--format",
+	                "PolarizeMono12",
+	                "--fps",
+	                "50",
+	                NULL};
 	int fd;
 	pid_t pid = spawn(argv, &fd, errp);
 	if (pid_out) { /* asynchronous */
@@ -426,7 +441,7 @@ static void test_kill(pid_t server, int server_fd)
 	char probe[200];
 	snprintf(probe, sizeof probe, "%s/raw_000007.png", dir);
 	for (int t = 0; t < 300 && access(probe, F_OK) != 0; t++) {
-		struct timespec ts = { 0, 100000000 };
+		struct timespec ts = {0, 100000000};
 		nanosleep(&ts, NULL);
 	}
 	kill(server, SIGKILL);
@@ -465,18 +480,24 @@ static void test_serve_equals_render(void)
 	snprintf(rdir, sizeof rdir, "%s/render", base);
 	snprintf(cdir, sizeof cdir, "%s/cap_sim", base);
 	snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s' -n 4 -s 7 --no-truth >/dev/null",
-		 polarcam, scene, rdir);
+	         polarcam, scene, rdir);
 	CHECK_EQ_INT(system(cmd), 0);
 	int fd;
-	char *args[] = { scene, "--seed", "7", NULL };
+	char *args[] = {scene, "--seed", "7", NULL};
 	pid_t srv = start_serve_args(args, &fd);
 	CHECK(srv > 0);
 	if (srv <= 0)
 		return;
 	char errp[160];
 	snprintf(errp, sizeof errp, "%s/capture.err", base);
-	char *argv[] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=65000", "-n", "4",
-			 "-o", cdir, NULL };
+	char *argv[] = {(char *)polarcam,
+	                "capture",
+	                "aravis:127.0.0.1?packet_size=65000",
+	                "-n",
+	                "4",
+	                "-o",
+	                cdir,
+	                NULL};
 	int cfd;
 	pid_t cap = spawn(argv, &cfd, errp);
 	wait_line(cfd, "\n", 60000, out, sizeof out);
@@ -500,7 +521,7 @@ static void test_serve_equals_render(void)
 			size_t diff = 0;
 			for (uint32_t y = 0; y < a.height && a.width == b.width; y++)
 				diff += memcmp(PC_ROW(&a, uint8_t, y), PC_ROW(&b, uint8_t, y),
-					       (size_t)a.width * 2) != 0;
+				               (size_t)a.width * 2) != 0;
 			CHECK_EQ_INT(diff, 0);
 			pc_view_free(&a);
 			pc_view_free(&b);

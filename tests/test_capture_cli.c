@@ -39,9 +39,10 @@ static void test_render_identical(void)
 	char a[1500];
 	snprintf(a, sizeof a, "render '%s' -o '%s/r' -n 2 -s 11 --no-truth", scene, tmp);
 	CHECK_EQ_INT(run(a), 0);
-	snprintf(a, sizeof a, "capture 'sim:%s?seed=11&fps=0' -n 2 -o '%s/c' --process --method "
-			      "superpixel-half",
-		 scene, tmp);
+	snprintf(a, sizeof a,
+	         "capture 'sim:%s?seed=11&fps=0' -n 2 -o '%s/c' --process --method "
+	         "superpixel-half",
+	         scene, tmp);
 	CHECK_EQ_INT(run(a), 0);
 	CHECK(strstr(out, "\"frames\":2") != NULL);
 	/* the same file names, the same PNG bytes */
@@ -58,7 +59,7 @@ static void test_render_identical(void)
 		size_t diff = 0;
 		for (uint32_t y = 0; y < v1.height && v1.width == v2.width; y++)
 			diff += memcmp(PC_ROW(&v1, uint8_t, y), PC_ROW(&v2, uint8_t, y),
-				       (size_t)v1.width * 2) != 0;
+			               (size_t)v1.width * 2) != 0;
 		CHECK_EQ_INT(diff, 0);
 		if (k == 1) {
 			/* DoLP of the last frame against the superpixel formula */
@@ -76,9 +77,12 @@ static void test_render_identical(void)
 					double i45 = PC_ROW(&v2, uint16_t, j)[i + 1];
 					double i135 = PC_ROW(&v2, uint16_t, j + 1)[i];
 					double i0 = PC_ROW(&v2, uint16_t, j + 1)[i + 1];
-					double s0 = (i0 + i45 + i90 + i135) / 2, s1 = i0 - i90, s2 = i45 - i135;
-					double want = s0 > 0 ? fmin(1.0, sqrt(s1 * s1 + s2 * s2) / s0) : 0;
-					double got = ((float *)d.data)[(j / 2) * d.shape[1] + i / 2];
+					double s0 = (i0 + i45 + i90 + i135) / 2, s1 = i0 - i90,
+					       s2 = i45 - i135;
+					double want =
+					    s0 > 0 ? fmin(1.0, sqrt(s1 * s1 + s2 * s2) / s0) : 0;
+					double got =
+					    ((float *)d.data)[(j / 2) * d.shape[1] + i / 2];
 					bad += fabs(got - want) > 1e-5;
 					checked++;
 				}
@@ -104,7 +108,8 @@ static void test_disconnect(void)
 {
 	char a[1500], dir[128];
 	snprintf(dir, sizeof dir, "%s/lost", tmp);
-	snprintf(a, sizeof a, "capture 'sim:%s?fps=0&disconnect_after=3' -n 10 -o '%s'", scene, dir);
+	snprintf(a, sizeof a, "capture 'sim:%s?fps=0&disconnect_after=3' -n 10 -o '%s'", scene,
+	         dir);
 	CHECK_EQ_INT(run(a), 1);
 	CHECK(strstr(out, "disappeared after 3 of 10 frames") != NULL);
 	CHECK(strstr(out, "intact") != NULL);

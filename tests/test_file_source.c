@@ -55,7 +55,7 @@ static void write_file(const char *dir, const char *name, const char *text)
 
 static void make_recording(const char *dir)
 {
-	pc_recording_desc d = { 0 };
+	pc_recording_desc d = {0};
 	d.source = "test";
 	d.format = PC_FMT_MONO12;
 	d.device_format = "PolarizeMono12";
@@ -76,8 +76,8 @@ static void make_recording(const char *dir)
 		for (unsigned y = 0; y < H; y++)
 			for (unsigned x = 0; x < W; x++)
 				PC_ROW(&f.view, uint16_t, y)[x] = value(k, x, y);
-		f.meta.sequence = 10 + 2 * k;         /* gaps of one frame */
-		f.meta.timestamp_ns = 1000000u * k;   /* 1 ms apart */
+		f.meta.sequence = 10 + 2 * k;       /* gaps of one frame */
+		f.meta.timestamp_ns = 1000000u * k; /* 1 ms apart */
 		f.meta.exposure_us = 100 + k;
 		CHECK_EQ_INT(pc_recording_add(r, &f), 0);
 	}
@@ -128,7 +128,7 @@ static void test_source(const char *dir)
 	if (!s)
 		return;
 	/* ROI 5x4 at (3,1), packed Mono12p needs an even width: adjusted to 4 */
-	pc_source_format f = { 0 };
+	pc_source_format f = {0};
 	f.format = PC_FMT_MONO12P;
 	f.offset_x = 3;
 	f.offset_y = 1;
@@ -206,7 +206,7 @@ static void test_compliance(const char *dir)
 {
 	char uri[600];
 	snprintf(uri, sizeof uri, "file:%s?loop=1", dir);
-	pc_compliance_options o = { 0 };
+	pc_compliance_options o = {0};
 	o.log = log_fail;
 	pc_compliance_result res;
 	CHECK_EQ_INT(pc_source_compliance(uri, &o, &res), 0);
@@ -228,26 +228,30 @@ static void test_malformed(const char *base)
 	write_file(dir, "meta.json", "{\"polarcam_recording\": 1,\n \"bits\": 12,,\n}");
 	CHECK_EQ_INT(pc_recording_open(&r, dir), PC_EFORMAT);
 	CHECK(strstr(pc_error_detail(), "meta.json:2") != NULL);
-	write_file(dir, "meta.json", "{\"polarcam_recording\": 1, \"bits\": 12, \"format\": "
-				     "\"Mono12\", \"width\": 4, \"height\": 2, \"frames\": [{\"file\": "
-				     "\"raw_000000.png\", \"sequence\": 5, \"timestamp_ns\": 0}, "
-				     "{\"file\": \"raw_000001.png\", \"sequence\": 5, "
-				     "\"timestamp_ns\": 1}]}");
+	write_file(dir, "meta.json",
+	           "{\"polarcam_recording\": 1, \"bits\": 12, \"format\": "
+	           "\"Mono12\", \"width\": 4, \"height\": 2, \"frames\": [{\"file\": "
+	           "\"raw_000000.png\", \"sequence\": 5, \"timestamp_ns\": 0}, "
+	           "{\"file\": \"raw_000001.png\", \"sequence\": 5, "
+	           "\"timestamp_ns\": 1}]}");
 	CHECK_EQ_INT(pc_recording_open(&r, dir), PC_EFORMAT);
 	CHECK(strstr(pc_error_detail(), "frames[1].sequence") != NULL);
-	write_file(dir, "meta.json", "{\"polarcam_recording\": 1, \"bits\": 10, \"format\": "
-				     "\"Mono12\", \"width\": 4, \"height\": 2, \"frames\": []}");
+	write_file(dir, "meta.json",
+	           "{\"polarcam_recording\": 1, \"bits\": 10, \"format\": "
+	           "\"Mono12\", \"width\": 4, \"height\": 2, \"frames\": []}");
 	CHECK_EQ_INT(pc_recording_open(&r, dir), PC_EFORMAT);
 	CHECK(strstr(pc_error_detail(), "bits") != NULL);
-	write_file(dir, "meta.json", "{\"polarcam_recording\": 1, \"bits\": 12, \"format\": "
-				     "\"Mono12\", \"width\": 4, \"height\": 2, \"mosaic\": "
-				     "\"90,45,90,0\", \"frames\": []}");
+	write_file(dir, "meta.json",
+	           "{\"polarcam_recording\": 1, \"bits\": 12, \"format\": "
+	           "\"Mono12\", \"width\": 4, \"height\": 2, \"mosaic\": "
+	           "\"90,45,90,0\", \"frames\": []}");
 	CHECK_EQ_INT(pc_recording_open(&r, dir), PC_EFORMAT);
 	CHECK(strstr(pc_error_detail(), "mosaic") != NULL);
 	/* meta.json right, but the PNG is 8x4 instead of 4x2 */
-	write_file(dir, "meta.json", "{\"polarcam_recording\": 1, \"bits\": 12, \"format\": "
-				     "\"Mono12\", \"width\": 4, \"height\": 2, \"frames\": [{\"file\": "
-				     "\"raw_000000.png\", \"sequence\": 0, \"timestamp_ns\": 0}]}");
+	write_file(dir, "meta.json",
+	           "{\"polarcam_recording\": 1, \"bits\": 12, \"format\": "
+	           "\"Mono12\", \"width\": 4, \"height\": 2, \"frames\": [{\"file\": "
+	           "\"raw_000000.png\", \"sequence\": 0, \"timestamp_ns\": 0}]}");
 	pc_view v;
 	CHECK_EQ_INT(pc_view_alloc(&v, PC_FMT_MONO12, 8, 4, 1), 0);
 	memset(v.data, 0, v.stride * 4);

@@ -33,7 +33,7 @@ static int render(const char *polarcam)
 {
 	char cmd[1400];
 	snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s/render' -n 3 -s 5 --no-truth >/dev/null",
-		 polarcam, scene, tmp);
+	         polarcam, scene, tmp);
 	if (system(cmd) != 0)
 		return -1;
 	char dir[128];
@@ -84,15 +84,15 @@ static void compare(pc_source *s, uint32_t ox, uint32_t oy)
 		for (uint32_t y = 0; y < v->height; y++)
 			for (uint32_t x = 0; x < v->width; x++)
 				mism += u[(size_t)y * v->width + x] !=
-					PC_ROW(&rendered[k], uint16_t, y + oy)[x + ox];
+				        PC_ROW(&rendered[k], uint16_t, y + oy)[x + ox];
 		CHECK_EQ_INT(mism, 0);
 		free(u);
 		/* IMX250MZR [90 45; 135 0] moved by hand to the ROI origin */
-		static const int a[2][2] = { { 90, 45 }, { 135, 0 } };
+		static const int a[2][2] = {{90, 45}, {135, 0}};
 		for (unsigned y = 0; y < 2; y++)
 			for (unsigned x = 0; x < 2; x++)
 				CHECK_EQ_INT(b->frame.mosaic.channel[y][x] * 45,
-					     a[(y + oy) & 1][(x + ox) & 1]);
+				             a[(y + oy) & 1][(x + ox) & 1]);
 		CHECK_EQ_INT(pc_source_requeue(s, b), 0);
 	}
 }
@@ -156,12 +156,12 @@ static void test_compliance(void)
 		const char *opts;
 		pc_fault_kind fault;
 	} runs[] = {
-		{ "", PC_FAULT_NONE },
-		{ "&roi=1,1,40,30&stride_pad=8", PC_FAULT_NONE },
-		{ "&drop_every=3", PC_FAULT_DROP },
-		{ "&timeout_every=4", PC_FAULT_TIMEOUT },
-		{ "&corrupt_every=2", PC_FAULT_CORRUPT },
-		{ "&disconnect_after=3", PC_FAULT_DISCONNECT },
+	    {"", PC_FAULT_NONE},
+	    {"&roi=1,1,40,30&stride_pad=8", PC_FAULT_NONE},
+	    {"&drop_every=3", PC_FAULT_DROP},
+	    {"&timeout_every=4", PC_FAULT_TIMEOUT},
+	    {"&corrupt_every=2", PC_FAULT_CORRUPT},
+	    {"&disconnect_after=3", PC_FAULT_DISCONNECT},
 	};
 	for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
 		char uri[700];

@@ -14,7 +14,7 @@
 typedef struct model {
 	pc_buffer *queue[8];
 	unsigned n_queued;
-	uint64_t seq[16];  /* sequence of the k-th frame */
+	uint64_t seq[16]; /* sequence of the k-th frame */
 	unsigned n_frames, next;
 	int fail_at;       /* dequeue number that reports PC_EDISCONNECTED, -1 = never */
 	int bad_stride_at; /* dequeue number that returns a wrong stride */
@@ -101,7 +101,7 @@ static int m_cquery(pc_source *s, pc_control_id id, pc_control_info *ci)
 	(void)s;
 	if (id != PC_CTRL_EXPOSURE_US)
 		return pc_error(PC_ENOTSUP, "model: only exposure");
-	*ci = (pc_control_info){ 10, 1e6, 10, 1000, false };
+	*ci = (pc_control_info){10, 1e6, 10, 1000, false};
 	return 0;
 }
 
@@ -147,10 +147,10 @@ static int m_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 	pc_buffer *b = m->queue[0];
 	memmove(m->queue, m->queue + 1, --m->n_queued * sizeof m->queue[0]);
 	const pc_source_format *f = pc_source_current_format(s);
-	b->frame.view = (pc_view){ b->data, f->width, f->height, f->stride, f->format };
+	b->frame.view = (pc_view){b->data, f->width, f->height, f->stride, f->format};
 	if ((int)m->next == m->bad_stride_at)
 		b->frame.view.stride = f->stride + 1;
-	b->frame.meta = (pc_frame_meta){ 0 };
+	b->frame.meta = (pc_frame_meta){0};
 	b->frame.meta.sequence = m->seq[m->next];
 	b->frame.meta.timestamp_ns = 1000 * (m->seq[m->next] + 1);
 	if (m->backwards_ts_at2 && m->next == 2)
@@ -166,17 +166,25 @@ static int m_stop(pc_source *s)
 	return 0;
 }
 
-static const char *const m_options[] = { "skip", NULL };
+static const char *const m_options[] = {"skip", NULL};
 
 static const pc_source_ops model_ops = {
-	.open = m_open, .close = m_close, .try_format = m_try, .set_format = m_set,
-	.control_query = m_cquery, .control_get = m_cget, .control_set = m_cset,
-	.queue = m_queue, .start = m_start, .dequeue = m_dequeue, .stop = m_stop,
-	.options = m_options,
+    .open = m_open,
+    .close = m_close,
+    .try_format = m_try,
+    .set_format = m_set,
+    .control_query = m_cquery,
+    .control_get = m_cget,
+    .control_set = m_cset,
+    .queue = m_queue,
+    .start = m_start,
+    .dequeue = m_dequeue,
+    .stop = m_stop,
+    .options = m_options,
 };
 
 /* Only open: everything else must be PC_ENOTSUP from the wrappers. */
-static const pc_source_ops bare_ops = { .open = m_open, .close = m_close };
+static const pc_source_ops bare_ops = {.open = m_open, .close = m_close};
 
 static void test_registry_and_uris(void)
 {
@@ -186,7 +194,7 @@ static void test_registry_and_uris(void)
 	CHECK_EQ_INT(pc_source_open(&s, "no-colon"), PC_EINVAL);
 	CHECK_EQ_INT(pc_source_open(&s, ""), PC_EINVAL);
 	CHECK(s == NULL);
-	const char *schemes[] = { "sim", "file", "aravis", "v4l2", "libcamera" };
+	const char *schemes[] = {"sim", "file", "aravis", "v4l2", "libcamera"};
 	for (unsigned i = 0; i < 5; i++) {
 		const pc_source_backend *b = pc_source_backend_find(schemes[i]);
 		CHECK(b != NULL);
@@ -219,7 +227,7 @@ static void test_notsup(void)
 {
 	pc_source *s = NULL;
 	CHECK_EQ_INT(pc_source_open_ops(&s, &bare_ops, "bare", "cam0"), 0);
-	pc_source_format f = { 0 };
+	pc_source_format f = {0};
 	pc_format_verdict v;
 	double d;
 	pc_control_info ci;
@@ -243,19 +251,19 @@ static void test_negotiation(pc_source *s)
 	CHECK_EQ_INT(f.height, 2);
 	CHECK_EQ_INT(f.frame_bytes, 8);
 	pc_format_verdict v;
-	pc_source_format r = { 0 };
+	pc_source_format r = {0};
 	r.width = 2;
 	r.offset_x = 2;
 	CHECK_EQ_INT(pc_source_try_format(s, &r, &v), 0);
 	CHECK_EQ_INT(v, PC_FORMAT_VALID);
 	/* the ROI at x=2 keeps the IMX250MZR phase; at y=1 it shifts by one row */
 	CHECK_EQ_INT(r.mosaic.channel[0][0], 2);
-	r = (pc_source_format){ 0 };
+	r = (pc_source_format){0};
 	r.offset_y = 1;
 	CHECK_EQ_INT(pc_source_try_format(s, &r, &v), 0);
 	CHECK_EQ_INT(v, PC_FORMAT_VALID);
 	CHECK_EQ_INT(r.mosaic.channel[0][0], 3); /* 135° */
-	r = (pc_source_format){ 0 };
+	r = (pc_source_format){0};
 	r.offset_x = 1;
 	r.format = PC_FMT_MONO16;
 	CHECK_EQ_INT(pc_source_try_format(s, &r, &v), 0);
@@ -263,22 +271,22 @@ static void test_negotiation(pc_source *s)
 	CHECK_EQ_INT(r.offset_x, 0);
 	CHECK_EQ_INT(r.format, PC_FMT_MONO8);
 	/* set_format refuses anything not exactly valid and changes nothing */
-	pc_source_format req = { 0 };
+	pc_source_format req = {0};
 	req.offset_x = 1;
 	CHECK_EQ_INT(pc_source_set_format(s, &req), PC_EFORMAT);
 	CHECK(strstr(pc_error_detail(), "try_format") != NULL);
 	CHECK_EQ_INT(pc_source_get_format(s, &f), 0);
 	CHECK_EQ_INT(f.width, 4);
-	r = (pc_source_format){ 0 };
+	r = (pc_source_format){0};
 	r.offset_x = 7;
 	CHECK_EQ_INT(pc_source_try_format(s, &r, &v), 0);
 	CHECK_EQ_INT(v, PC_FORMAT_INVALID);
 	CHECK_EQ_INT(pc_source_set_format(s, &r), PC_EFORMAT);
-	r = (pc_source_format){ 0 };
+	r = (pc_source_format){0};
 	r.format = (pc_pixfmt)999;
 	CHECK_EQ_INT(pc_source_try_format(s, &r, &v), PC_EINVAL);
 	/* a padded stride is honoured */
-	r = (pc_source_format){ 0 };
+	r = (pc_source_format){0};
 	r.stride = 16;
 	CHECK_EQ_INT(pc_source_try_format(s, &r, &v), 0);
 	CHECK_EQ_INT(v, PC_FORMAT_VALID);
@@ -317,7 +325,7 @@ static void test_streaming(void)
 	CHECK_EQ_INT(pc_source_buffers_alloc(s, 65), PC_EINVAL);
 	CHECK_EQ_INT(pc_source_buffers_alloc(s, 3), 0);
 	CHECK_EQ_INT(pc_source_get_state(s), PC_SOURCE_READY);
-	pc_source_format f = { 0 };
+	pc_source_format f = {0};
 	pc_format_verdict v;
 	CHECK_EQ_INT(pc_source_try_format(s, &f, &v), PC_ESTATE); /* format fixed */
 	CHECK_EQ_INT(pc_source_start(s), 0);

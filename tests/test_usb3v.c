@@ -11,27 +11,27 @@ int main(void)
 {
 	char note[512];
 	CHECK(pc_usb3v_diagnose(PC_USB_SPEED_SUPER, PC_USB_OPEN_OK, 1000, 0x1ab2, 0x0001, 2, 5,
-				note, sizeof note));
+	                        note, sizeof note));
 	CHECK_EQ_INT(strlen(note), 0);
 	/* permission: the udev rule names the vendor and product ids */
 	CHECK(!pc_usb3v_diagnose(PC_USB_SPEED_SUPER, PC_USB_OPEN_ACCESS, 1000, 0x1ab2, 0x0001, 2, 5,
-				 note, sizeof note));
+	                         note, sizeof note));
 	CHECK(strstr(note, "/dev/bus/usb/002/005") && strstr(note, "idVendor}==\"1ab2\"") &&
 	      strstr(note, "idProduct}==\"0001\"") && strstr(note, "udev"));
 	/* a USB 2 port */
 	CHECK(!pc_usb3v_diagnose(PC_USB_SPEED_HIGH, PC_USB_OPEN_OK, 1000, 1, 2, 1, 1, note,
-				 sizeof note));
+	                         sizeof note));
 	CHECK(strstr(note, "not SuperSpeed") && strstr(note, "480"));
 	/* Linux's default usbfs limit (16 MB) */
 	CHECK(!pc_usb3v_diagnose(PC_USB_SPEED_SUPER_PLUS, PC_USB_OPEN_OK, 16, 1, 2, 1, 1, note,
-				 sizeof note));
+	                         sizeof note));
 	CHECK(strstr(note, "16 MB") && strstr(note, "usbfs_memory_mb"));
 	/* several problems at once, all reported; unknown limit is not a problem */
 	CHECK(!pc_usb3v_diagnose(PC_USB_SPEED_FULL, PC_USB_OPEN_BUSY, 16, 1, 2, 1, 1, note,
-				 sizeof note));
+	                         sizeof note));
 	CHECK(strstr(note, "claimed") && strstr(note, "SuperSpeed") && strstr(note, "usbfs"));
 	CHECK(pc_usb3v_diagnose(PC_USB_SPEED_UNKNOWN, PC_USB_OPEN_OK, -1, 1, 2, 1, 1, note,
-				sizeof note));
+	                        sizeof note));
 	/* a short buffer is never overrun */
 	char small[8];
 	pc_usb3v_diagnose(PC_USB_SPEED_LOW, PC_USB_OPEN_ACCESS, 1, 1, 2, 1, 1, small, sizeof small);

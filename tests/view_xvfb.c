@@ -20,7 +20,7 @@
 
 static void nap_ms(long ms)
 {
-	struct timespec ts = { ms / 1000, (ms % 1000) * 1000000L };
+	struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
 	nanosleep(&ts, NULL);
 }
 
@@ -63,8 +63,8 @@ static int read_xwd(const char *path, img *out)
 		uint32_t bpp = be32(h + 44), bpl = be32(h + 48), rmask = be32(h + 56);
 		uint32_t gmask = be32(h + 60), bmask = be32(h + 64), ncolors = be32(h + 76);
 		uint32_t bytes_pp = bpp / 8; /* Xvfb's 24-bit screens: 3 bytes, lines padded */
-		if (version == 7 && format == 2 && (bpp == 32 || bpp == 24) && w && ht && w < 10000 &&
-		    ht < 10000 && bpl >= bytes_pp * w &&
+		if (version == 7 && format == 2 && (bpp == 32 || bpp == 24) && w && ht &&
+		    w < 10000 && ht < 10000 && bpl >= bytes_pp * w &&
 		    fseek(fp, (long)hsize + 12L * ncolors, SEEK_SET) == 0) {
 			uint8_t *line = malloc(bpl);
 			out->w = w;
@@ -79,8 +79,10 @@ static int read_xwd(const char *path, img *out)
 				for (uint32_t x = 0; x < w; x++) {
 					const uint8_t *p = line + bytes_pp * x;
 					uint32_t v = 0;
-					for (uint32_t b = 0; b < bytes_pp; b++) /* byte_order 1: MSB first */
-						v |= (uint32_t)p[b] << (8 * (byte_order ? bytes_pp - 1 - b : b));
+					for (uint32_t b = 0; b < bytes_pp;
+					     b++) /* byte_order 1: MSB first */
+						v |= (uint32_t)p[b]
+						     << (8 * (byte_order ? bytes_pp - 1 - b : b));
 					uint8_t *o = out->rgb + ((size_t)y * w + x) * 3;
 					o[0] = (uint8_t)((v & rmask) >> __builtin_ctz(rmask));
 					o[1] = (uint8_t)((v & gmask) >> __builtin_ctz(gmask));
@@ -132,7 +134,7 @@ int main(void)
 	}
 	char dname[16];
 	snprintf(dname, sizeof dname, ":%d", dpy);
-	char *xargv[] = { "Xvfb", dname, "-screen", "0", "2400x900x24", "-nolisten", "tcp", NULL };
+	char *xargv[] = {"Xvfb", dname, "-screen", "0", "2400x900x24", "-nolisten", "tcp", NULL};
 	pid_t xsrv = spawn(xargv, NULL);
 	for (int i = 0; i < 100 && access(sock, F_OK) != 0; i++)
 		nap_ms(100);
@@ -150,19 +152,20 @@ int main(void)
 	snprintf(out, sizeof out, "%s/view.json", tmp);
 	/* the picture the window must show: the same view, headless (every frame of this
 	 * noise-free scene is the same picture) */
-	snprintf(cmd, sizeof cmd, "env -u DISPLAY '%s' view '%s' --width 1200 --frames 1 "
-				  "--screenshot '%s' >/dev/null",
-		 polarcam, uri, shot);
+	snprintf(cmd, sizeof cmd,
+	         "env -u DISPLAY '%s' view '%s' --width 1200 --frames 1 "
+	         "--screenshot '%s' >/dev/null",
+	         polarcam, uri, shot);
 	CHECK_EQ_INT(system(cmd), 0);
-	img pic = { 0 };
+	img pic = {0};
 	CHECK_EQ_INT(read_png_rgb(shot, &pic), 0);
 	CHECK_EQ_INT(pic.w, 1200);
 
-	char *vargv[] = { (char *)polarcam, "view", uri, "--width", "1200", NULL };
+	char *vargv[] = {(char *)polarcam, "view", uri, "--width", "1200", NULL};
 	pid_t v = spawn(vargv, out);
 	/* screenshots of the root window until the picture is on screen (rows below the overlay
 	 * text; the window's position is searched) or 30 s pass */
-	img screen = { 0 };
+	img screen = {0};
 	uint32_t best = 0, total = 0, bx = 0, by = 0;
 	snprintf(cmd, sizeof cmd, "xwd -root -silent -display %s > %s", dname, xwd_path);
 	for (uint32_t y = 40; y < pic.h; y += 23)
@@ -180,10 +183,11 @@ int main(void)
 				uint32_t same = 0;
 				for (uint32_t y = 40; y < pic.h; y += 23)
 					for (uint32_t x = 0; x < pic.w; x += 17)
-						same += !memcmp(pic.rgb + ((size_t)y * pic.w + x) * 3,
-								screen.rgb +
-									((size_t)(y + oy) * screen.w + x + ox) * 3,
-								3);
+						same += !memcmp(
+						    pic.rgb + ((size_t)y * pic.w + x) * 3,
+						    screen.rgb +
+						        ((size_t)(y + oy) * screen.w + x + ox) * 3,
+						    3);
 				if (same > best) {
 					best = same;
 					bx = ox;
@@ -193,7 +197,8 @@ int main(void)
 		if (getenv("PC_TEST_VERBOSE"))
 			printf("screenshot %d: best %u of %u at (%u,%u)\n", i, best, total, bx, by);
 	}
-	printf("window at (%u,%u): %u of %u sampled pixels equal the picture\n", bx, by, best, total);
+	printf("window at (%u,%u): %u of %u sampled pixels equal the picture\n", bx, by, best,
+	       total);
 	CHECK(best >= total * 99 / 100);
 	kill(v, SIGTERM);
 	int st = 0;

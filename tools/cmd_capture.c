@@ -23,26 +23,31 @@ static void on_signal(int sig)
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam capture URI -n N -o DIR [options]\n\n"
-		"Records N frames from a frame source as DIR/raw_NNNNNN.png (8-bit, or 16-bit with the\n"
-		"significant bits in sBIT: the same naming and bit depth as `polarcam render`) and\n"
-		"DIR/meta.json (format, mosaic, per-frame sequence/timestamp/exposure/gain/status,\n"
-		"stream statistics). Every file is written atomically: if the camera disappears or the\n"
-		"command is interrupted, the command fails with a clear error and everything recorded\n"
-		"so far stays intact (meta.json says complete=false and why).\n\n"
-		"  URI                 sim:SCENE, file:DIR, aravis:ID, v4l2:/dev/videoN, libcamera:ID\n"
-		"  -n N                frames to record (1..999999)\n"
-		"  -o DIR              output directory (refused if it already holds a recording)\n"
-		"  --overwrite         record into a directory that already holds a recording\n"
-		"  --process           run every frame through the pipeline (demosaic -> Stokes) as it\n"
-		"                      arrives; DIR/processed/ gets S0, DoLP, AoLP (.npy, float32) and\n"
-		"                      pictures of the last frame; meta.json the per-frame timings\n"
-		"  --method M          demosaicking method for --process (default bilinear)\n"
-		"%s"
-		"\nPrints one JSON line: frames recorded, format, statistics, error (if any).\n"
-		"Exit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments.\n",
-		pc_stream_args_help());
+	fprintf(
+	    fp,
+	    "usage: polarcam capture URI -n N -o DIR [options]\n\n"
+	    "Records N frames from a frame source as DIR/raw_NNNNNN.png (8-bit, or 16-bit with "
+	    "the\n"
+	    "significant bits in sBIT: the same naming and bit depth as `polarcam render`) and\n"
+	    "DIR/meta.json (format, mosaic, per-frame sequence/timestamp/exposure/gain/status,\n"
+	    "stream statistics). Every file is written atomically: if the camera disappears or "
+	    "the\n"
+	    "command is interrupted, the command fails with a clear error and everything recorded\n"
+	    "so far stays intact (meta.json says complete=false and why).\n\n"
+	    "  URI                 sim:SCENE, file:DIR, aravis:ID, v4l2:/dev/videoN, libcamera:ID\n"
+	    "  -n N                frames to record (1..999999)\n"
+	    "  -o DIR              output directory (refused if it already holds a recording)\n"
+	    "  --overwrite         record into a directory that already holds a recording\n"
+	    "  --process           run every frame through the pipeline (demosaic -> Stokes) as "
+	    "it\n"
+	    "                      arrives; DIR/processed/ gets S0, DoLP, AoLP (.npy, float32) "
+	    "and\n"
+	    "                      pictures of the last frame; meta.json the per-frame timings\n"
+	    "  --method M          demosaicking method for --process (default bilinear)\n"
+	    "%s"
+	    "\nPrints one JSON line: frames recorded, format, statistics, error (if any).\n"
+	    "Exit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments.\n",
+	    pc_stream_args_help());
 }
 
 int cmd_capture(int argc, char **argv)
@@ -66,7 +71,8 @@ int cmd_capture(int argc, char **argv)
 		const char *a = argv[i];
 		if (!strcmp(a, "-n") || !strcmp(a, "-o")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", a);
+				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)",
+				                    a);
 			if (!strcmp(a, "-o"))
 				dir = argv[++i];
 			else if ((rc = pc_cli_parse_long("-n", argv[++i], 1, 999999, &n)))
@@ -77,14 +83,16 @@ int cmd_capture(int argc, char **argv)
 			process = true;
 		} else if (!strcmp(a, "--method")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE, "--method needs a value (see --help)");
+				return pc_cli_error(PC_EXIT_USAGE,
+				                    "--method needs a value (see --help)");
 			method = argv[++i];
 		} else if (a[0] == '-') {
 			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		} else if (!sa.uri) {
 			sa.uri = a;
 		} else {
-			return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s' (see --help)", a);
+			return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s' (see --help)",
+			                    a);
 		}
 	}
 	if (!sa.uri)
@@ -147,7 +155,8 @@ int cmd_capture(int argc, char **argv)
 	double t0 = pc_cli_now(), proc_sum = 0, proc_max = 0, dolp_last = 0;
 	if (process && !f.polarized) {
 		err_rc = PC_EFORMAT;
-		snprintf(err, sizeof err, "--process: the source's frames carry no polarizer mosaic");
+		snprintf(err, sizeof err,
+		         "--process: the source's frames carry no polarizer mosaic");
 	}
 	while (!err_rc && got < n) {
 		if (capture_stop) {
@@ -160,13 +169,16 @@ int cmd_capture(int argc, char **argv)
 		if (rc) {
 			err_rc = rc;
 			if (rc == PC_EDISCONNECTED)
-				snprintf(err, sizeof err, "the camera disappeared after %ld of %ld frames: %s",
-					 got, n, pc_error_detail());
+				snprintf(err, sizeof err,
+				         "the camera disappeared after %ld of %ld frames: %s", got,
+				         n, pc_error_detail());
 			else if (rc == PC_ETIMEDOUT)
-				snprintf(err, sizeof err, "no frame within %d ms after %ld of %ld frames: %s",
-					 sa.timeout_ms, got, n, pc_error_detail());
+				snprintf(err, sizeof err,
+				         "no frame within %d ms after %ld of %ld frames: %s",
+				         sa.timeout_ms, got, n, pc_error_detail());
 			else if (rc == PC_EEND)
-				snprintf(err, sizeof err, "the source ended after %ld of %ld frames", got, n);
+				snprintf(err, sizeof err,
+				         "the source ended after %ld of %ld frames", got, n);
 			else
 				snprintf(err, sizeof err, "frame %ld: %s", got, pc_error_detail());
 			break;
@@ -181,8 +193,8 @@ int cmd_capture(int argc, char **argv)
 		int rc2 = pc_source_requeue(s, b);
 		if (rc || rc2) {
 			err_rc = rc ? rc : rc2;
-			snprintf(err, sizeof err, "%s frame %ld: %s", rc ? "writing" : "requeueing", got,
-				 pc_error_detail());
+			snprintf(err, sizeof err, "%s frame %ld: %s", rc ? "writing" : "requeueing",
+			         got, pc_error_detail());
 			break;
 		}
 		got++;
@@ -196,11 +208,12 @@ int cmd_capture(int argc, char **argv)
 		char pdir[1100], path[1200];
 		snprintf(pdir, sizeof pdir, "%s/processed", dir);
 		int prc = pc_mkdir_p(pdir);
-		static const char *const names[3] = { "s0", "dolp", "aolp" };
-		size_t shape[2] = { lv.h, lv.w };
+		static const char *const names[3] = {"s0", "dolp", "aolp"};
+		size_t shape[2] = {lv.h, lv.w};
 		for (int k = 0; !prc && k < 3; k++) {
 			snprintf(path, sizeof path, "%s/%s.npy", pdir, names[k]);
-			prc = pc_npy_write(path, lv.planes + (size_t)k * lv.w * lv.h, PC_DT_F32, 2, shape);
+			prc = pc_npy_write(path, lv.planes + (size_t)k * lv.w * lv.h, PC_DT_F32, 2,
+			                   shape);
 		}
 		if (!prc)
 			prc = pc_pictures_write(pdir, &lv.out, lv.w, lv.h, "capture");
@@ -210,7 +223,8 @@ int cmd_capture(int argc, char **argv)
 		dolp_last = sum / ((double)lv.w * lv.h);
 		if (prc && !err_rc) {
 			err_rc = prc;
-			snprintf(err, sizeof err, "writing the processed pictures: %s", pc_error_detail());
+			snprintf(err, sizeof err, "writing the processed pictures: %s",
+			         pc_error_detail());
 		}
 		pj = json_object();
 		json_object_set_new(pj, "method", json_string(method));
@@ -228,7 +242,8 @@ int cmd_capture(int argc, char **argv)
 		}
 		free(ptext);
 	}
-	if (pc_source_get_state(s) == PC_SOURCE_STREAMING || pc_source_get_state(s) == PC_SOURCE_FAILED)
+	if (pc_source_get_state(s) == PC_SOURCE_STREAMING ||
+	    pc_source_get_state(s) == PC_SOURCE_FAILED)
 		pc_source_stop(s);
 	pc_source_stats st;
 	pc_source_get_stats(s, &st);
@@ -260,7 +275,7 @@ int cmd_capture(int argc, char **argv)
 	pc_source_close(s);
 	pc_devices_shutdown();
 	if (err_rc)
-		return pc_cli_error(pc_cli_status(err_rc), "%s (the %ld frames recorded are intact in %s)",
-				    err, got, dir);
+		return pc_cli_error(pc_cli_status(err_rc),
+		                    "%s (the %ld frames recorded are intact in %s)", err, got, dir);
 	return PC_EXIT_OK;
 }

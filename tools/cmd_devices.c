@@ -14,22 +14,26 @@
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam devices [--gige] [--json]\n"
-		"       polarcam devices --check URI [--fault KIND] [--frames N] [--finite] [--json]\n\n"
-		"Lists the frame-source backends of this build and the cameras each finds: Aravis\n"
-		"(USB3 Vision; GigE Vision with --gige), V4L2 nodes, libcamera cameras (when built),\n"
-		"and USB3 Vision devices seen through libusb, with a diagnosis when one cannot be used\n"
-		"(permissions / udev rule, usbfs memory limit, not on a SuperSpeed port).\n\n"
-		"  --gige         also discover GigE Vision cameras. Discovery broadcasts on every\n"
-		"                 network interface, so it is never done unless asked for.\n"
-		"  --json         one JSON line per backend and device instead of a table\n"
-		"  --check URI    run the frame-source compliance test against URI (see\n"
-		"                 devices/include/polarcam/compliance.h); exit 1 if a check fails\n"
-		"  --fault KIND   with --check: the URI injects a fault (drop, timeout, disconnect,\n"
-		"                 corrupt) that must surface as the documented error\n"
-		"  --frames N     with --check: frames to stream (default 8)\n"
-		"  --finite       with --check: the source may end before N frames (file: without loop)\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam devices [--gige] [--json]\n"
+	    "       polarcam devices --check URI [--fault KIND] [--frames N] [--finite] "
+	    "[--json]\n\n"
+	    "Lists the frame-source backends of this build and the cameras each finds: Aravis\n"
+	    "(USB3 Vision; GigE Vision with --gige), V4L2 nodes, libcamera cameras (when built),\n"
+	    "and USB3 Vision devices seen through libusb, with a diagnosis when one cannot be "
+	    "used\n"
+	    "(permissions / udev rule, usbfs memory limit, not on a SuperSpeed port).\n\n"
+	    "  --gige         also discover GigE Vision cameras. Discovery broadcasts on every\n"
+	    "                 network interface, so it is never done unless asked for.\n"
+	    "  --json         one JSON line per backend and device instead of a table\n"
+	    "  --check URI    run the frame-source compliance test against URI (see\n"
+	    "                 devices/include/polarcam/compliance.h); exit 1 if a check fails\n"
+	    "  --fault KIND   with --check: the URI injects a fault (drop, timeout, disconnect,\n"
+	    "                 corrupt) that must surface as the documented error\n"
+	    "  --frames N     with --check: frames to stream (default 8)\n"
+	    "  --finite       with --check: the source may end before N frames (file: without "
+	    "loop)\n");
 }
 
 typedef struct list_ctx {
@@ -78,7 +82,7 @@ static int print_device(void *ctx, const pc_device_entry *d)
 static void log_check(void *ctx, pc_check_result r, const char *check, const char *detail)
 {
 	bool json = *(bool *)ctx;
-	static const char *const names[] = { "PASS", "FAIL", "SKIP" };
+	static const char *const names[] = {"PASS", "FAIL", "SKIP"};
 	if (json) {
 		json_t *j = json_object();
 		json_object_set_new(j, "result", json_string(names[r]));
@@ -111,7 +115,7 @@ static int run_check(const char *uri, int fault, long frames, bool finite, bool 
 		json_object_set_new(j, "failed", json_integer(res.failed));
 		json_object_set_new(j, "skipped", json_integer(res.skipped));
 		json_object_set_new(j, "first_failure",
-				    res.failed ? json_string(res.first_failure) : json_null());
+		                    res.failed ? json_string(res.first_failure) : json_null());
 		pc_cli_print_json(j);
 	} else {
 		printf("%s: %u passed, %u failed, %u skipped\n", uri, res.passed, res.failed,
@@ -138,17 +142,21 @@ int cmd_devices(int argc, char **argv)
 			gige = true;
 		} else if (!strcmp(a, "--finite")) {
 			finite = true;
-		} else if (!strcmp(a, "--check") || !strcmp(a, "--fault") || !strcmp(a, "--frames")) {
+		} else if (!strcmp(a, "--check") || !strcmp(a, "--fault") ||
+		           !strcmp(a, "--frames")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", a);
+				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)",
+				                    a);
 			const char *v = argv[++i];
 			if (!strcmp(a, "--check")) {
 				check = v;
 			} else if (!strcmp(a, "--fault")) {
 				fault = pc_fault_parse(v);
 				if (fault < 0)
-					return pc_cli_error(PC_EXIT_USAGE, "--fault '%s': expected drop, "
-									   "timeout, disconnect or corrupt", v);
+					return pc_cli_error(PC_EXIT_USAGE,
+					                    "--fault '%s': expected drop, "
+					                    "timeout, disconnect or corrupt",
+					                    v);
 			} else {
 				int rc = pc_cli_parse_long(a, v, 1, 100000, &frames);
 				if (rc)
@@ -172,25 +180,28 @@ int cmd_devices(int argc, char **argv)
 			json_object_set_new(j, "built", json_boolean(b->ops != NULL));
 			json_object_set_new(j, "summary", json_string(b->summary));
 			json_object_set_new(j, "uri", json_string(b->uri_help));
-			json_object_set_new(j, "missing", b->ops ? json_null() : json_string(b->missing));
+			json_object_set_new(j, "missing",
+			                    b->ops ? json_null() : json_string(b->missing));
 			pc_cli_print_json(j);
 		} else {
-			printf("%-10s %s\n           %s\n", b->scheme, b->ops ? b->summary : "(not built)",
+			printf("%-10s %s\n           %s\n", b->scheme,
+			       b->ops ? b->summary : "(not built)",
 			       b->ops ? b->uri_help : b->missing);
 		}
 		if (!b->ops || !b->enumerate)
 			continue;
-		list_ctx c = { json, 0, b->scheme };
+		list_ctx c = {json, 0, b->scheme};
 		int rc = b->enumerate(gige ? PC_ENUM_NETWORK : 0, print_device, &c);
 		if (rc) {
 			pc_cli_warn("%s: listing devices failed: %s", b->scheme, pc_error_detail());
 			status = PC_EXIT_FAILURE;
 		} else if (!json && c.count == 0) {
-			printf("           no devices%s\n",
-			       !strcmp(b->scheme, "aravis") && !gige ? " (GigE Vision: add --gige)" : "");
+			printf("           no devices%s\n", !strcmp(b->scheme, "aravis") && !gige
+			                                        ? " (GigE Vision: add --gige)"
+			                                        : "");
 		}
 	}
-	list_ctx c = { json, 0, "usb3vision" };
+	list_ctx c = {json, 0, "usb3vision"};
 	if (!json)
 		printf("usb3vision USB3 Vision devices (libusb, class 0x%02X subclass 0x%02X)\n",
 		       PC_USB3V_CLASS, PC_USB3V_SUBCLASS);
@@ -200,10 +211,13 @@ int cmd_devices(int argc, char **argv)
 	} else if (!json && c.count == 0) {
 		long mb = pc_usbfs_memory_mb();
 		if (mb < 0)
-			printf("           no devices (usbfs memory limit unknown: no usbcore module)\n");
+			printf("           no devices (usbfs memory limit unknown: no usbcore "
+			       "module)\n");
 		else
 			printf("           no devices (usbfs memory limit %ld MB%s)\n", mb,
-			       mb < PC_USBFS_MIN_MB ? ", too small for streaming: see a device's note" : "");
+			       mb < PC_USBFS_MIN_MB
+			           ? ", too small for streaming: see a device's note"
+			           : "");
 	}
 	pc_devices_shutdown();
 	return status;

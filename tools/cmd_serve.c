@@ -21,27 +21,32 @@ static void on_signal(int sig)
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam serve [SCENE] [--address ADDR] [--seed S] [options]\n\n"
-		"Serves simulated polarization frames as a GigE Vision camera (Aravis's in-process\n"
-		"GigE Vision camera with polarcam's image callback). Any GigE Vision client can stream\n"
-		"from it; polarcam's own client is `polarcam capture aravis:ADDR ...`. Frames are\n"
-		"rendered ahead; every acquisition starts at frame 0 of the scene, so the frames equal\n"
-		"`polarcam render SCENE --seed S` bit for bit.\n\n"
-		"  SCENE               a scene file or 'default' (the built-in scene)\n"
-		"  --address ADDR      interface address to serve on (default 127.0.0.1)\n"
-		"  --seed S            noise seed of the simulator (default 0, as render)\n"
-		"  --source URI        serve frames of any source instead (e.g. file:DIR?loop=1)\n"
-		"  --serial SN         serial number (default POLARCAM0001)\n"
-		"  --fps F             initial frame rate (default 25; clients may change it)\n"
-		"  --ahead N           frames rendered ahead (default 4)\n"
-		"  --cycle K           render frames 0..K-1 once and repeat them (transport benchmarks)\n"
-		"  --lost-packets R    fault injection: drop this fraction of stream packets\n"
-		"  --duration SEC      stop after SEC seconds (default: until SIGINT/SIGTERM)\n"
-		"  --genicam FILE      also write the camera's GenICam XML to FILE\n\n"
-		"On start it prints one JSON line {\"serving\": ...} on stdout; at the end one with the\n"
-		"statistics. Camera discovery answers go to the interface's network: in tests run it\n"
-		"inside `unshare -n` with only loopback up.\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam serve [SCENE] [--address ADDR] [--seed S] [options]\n\n"
+	    "Serves simulated polarization frames as a GigE Vision camera (Aravis's in-process\n"
+	    "GigE Vision camera with polarcam's image callback). Any GigE Vision client can "
+	    "stream\n"
+	    "from it; polarcam's own client is `polarcam capture aravis:ADDR ...`. Frames are\n"
+	    "rendered ahead; every acquisition starts at frame 0 of the scene, so the frames "
+	    "equal\n"
+	    "`polarcam render SCENE --seed S` bit for bit.\n\n"
+	    "  SCENE               a scene file or 'default' (the built-in scene)\n"
+	    "  --address ADDR      interface address to serve on (default 127.0.0.1)\n"
+	    "  --seed S            noise seed of the simulator (default 0, as render)\n"
+	    "  --source URI        serve frames of any source instead (e.g. file:DIR?loop=1)\n"
+	    "  --serial SN         serial number (default POLARCAM0001)\n"
+	    "  --fps F             initial frame rate (default 25; clients may change it)\n"
+	    "  --ahead N           frames rendered ahead (default 4)\n"
+	    "  --cycle K           render frames 0..K-1 once and repeat them (transport "
+	    "benchmarks)\n"
+	    "  --lost-packets R    fault injection: drop this fraction of stream packets\n"
+	    "  --duration SEC      stop after SEC seconds (default: until SIGINT/SIGTERM)\n"
+	    "  --genicam FILE      also write the camera's GenICam XML to FILE\n\n"
+	    "On start it prints one JSON line {\"serving\": ...} on stdout; at the end one with "
+	    "the\n"
+	    "statistics. Camera discovery answers go to the interface's network: in tests run it\n"
+	    "inside `unshare -n` with only loopback up.\n");
 }
 
 int cmd_serve(int argc, char **argv)
@@ -51,7 +56,7 @@ int cmd_serve(int argc, char **argv)
 		return PC_EXIT_OK;
 	}
 	const char *scene = NULL, *source = NULL, *genicam = NULL;
-	pc_gige_server_options o = { 0 };
+	pc_gige_server_options o = {0};
 	uint64_t seed = 0;
 	double duration = 0;
 	for (int i = 1; i < argc; i++) {
@@ -61,14 +66,15 @@ int cmd_serve(int argc, char **argv)
 		long l;
 		if (a[0] != '-') {
 			if (scene)
-				return pc_cli_error(PC_EXIT_USAGE, "more than one scene given ('%s', '%s')",
-						    scene, a);
+				return pc_cli_error(PC_EXIT_USAGE,
+				                    "more than one scene given ('%s', '%s')", scene,
+				                    a);
 			scene = a;
 			continue;
 		}
-		static const char *const known[] = { "--address", "--seed", "--source", "--serial",
-						     "--fps", "--ahead", "--cycle", "--lost-packets",
-						     "--duration", "--genicam", NULL };
+		static const char *const known[] = {
+		    "--address", "--seed",         "--source",   "--serial",  "--fps", "--ahead",
+		    "--cycle",   "--lost-packets", "--duration", "--genicam", NULL};
 		bool is_known = false;
 		for (const char *const *k = known; *k; k++)
 			is_known |= !strcmp(a, *k);
@@ -112,8 +118,10 @@ int cmd_serve(int argc, char **argv)
 	} else {
 		const char *sc = scene ? scene : "default";
 		if (strchr(sc, '?') || strchr(sc, '&'))
-			return pc_cli_error(PC_EXIT_USAGE, "scene '%s': '?' and '&' are not allowed in a "
-							   "scene path", sc);
+			return pc_cli_error(PC_EXIT_USAGE,
+			                    "scene '%s': '?' and '&' are not allowed in a "
+			                    "scene path",
+			                    sc);
 		snprintf(uri, sizeof uri, "sim:%s?seed=%llu", sc, (unsigned long long)seed);
 	}
 	o.source_uri = uri;
@@ -153,7 +161,7 @@ int cmd_serve(int argc, char **argv)
 	char msg[256] = "";
 	int err = 0;
 	while (!serve_stop && (duration <= 0 || pc_cli_now() - t0 < duration)) {
-		struct timespec ts = { 0, 20000000 };
+		struct timespec ts = {0, 20000000};
 		nanosleep(&ts, NULL);
 		if ((err = pc_gige_server_error(srv, msg, sizeof msg)))
 			break;

@@ -23,20 +23,22 @@ static void on_signal(int sig)
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam view URI [options]\n\n"
-		"Shows a live window (OpenCV highgui) of S0 (grey), DoLP (grey, 0..1) and AoLP (false\n"
-		"colour: hue = angle, brightness = DoLP), side by side, with the frame rate. Keys:\n"
-		"q or Esc quits, s writes a screenshot (view_NNNN.png).\n\n"
-		"  URI                 sim:SCENE, file:DIR, aravis:ID, v4l2:/dev/videoN, libcamera:ID\n"
-		"  --method M          demosaicking method (default bilinear; superpixel is faster)\n"
-		"  --width PX          window width for the three panels (default 1500)\n"
-		"  --frames N          stop after N frames (default: until q)\n"
-		"  --screenshot FILE   write the last picture shown to FILE (PNG); with --frames and no\n"
-		"                      display this runs headless\n"
-		"%s"
-		"\nPrints one JSON line at the end: frames, display and processing rates.\n",
-		pc_stream_args_help());
+	fprintf(
+	    fp,
+	    "usage: polarcam view URI [options]\n\n"
+	    "Shows a live window (OpenCV highgui) of S0 (grey), DoLP (grey, 0..1) and AoLP (false\n"
+	    "colour: hue = angle, brightness = DoLP), side by side, with the frame rate. Keys:\n"
+	    "q or Esc quits, s writes a screenshot (view_NNNN.png).\n\n"
+	    "  URI                 sim:SCENE, file:DIR, aravis:ID, v4l2:/dev/videoN, libcamera:ID\n"
+	    "  --method M          demosaicking method (default bilinear; superpixel is faster)\n"
+	    "  --width PX          window width for the three panels (default 1500)\n"
+	    "  --frames N          stop after N frames (default: until q)\n"
+	    "  --screenshot FILE   write the last picture shown to FILE (PNG); with --frames and "
+	    "no\n"
+	    "                      display this runs headless\n"
+	    "%s"
+	    "\nPrints one JSON line at the end: frames, display and processing rates.\n",
+	    pc_stream_args_help());
 }
 
 int cmd_view(int argc, char **argv)
@@ -59,15 +61,16 @@ int cmd_view(int argc, char **argv)
 		if (!strcmp(a, "--method") || !strcmp(a, "--width") || !strcmp(a, "--frames") ||
 		    !strcmp(a, "--screenshot")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", a);
+				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)",
+				                    a);
 			const char *v = argv[++i];
 			if (!strcmp(a, "--method"))
 				method = v;
 			else if (!strcmp(a, "--screenshot"))
 				shot = v;
 			else if ((rc = pc_cli_parse_long(a, v, !strcmp(a, "--width") ? 64 : 1,
-							 !strcmp(a, "--width") ? 16384 : 100000000,
-							 !strcmp(a, "--width") ? &width : &frames)))
+			                                 !strcmp(a, "--width") ? 16384 : 100000000,
+			                                 !strcmp(a, "--width") ? &width : &frames)))
 				return pc_cli_fail(rc, "arguments");
 		} else if (a[0] == '-') {
 			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
@@ -145,15 +148,15 @@ int cmd_view(int argc, char **argv)
 			}
 		}
 		rc = pc_display_resize_rgb8(lv.rgb, 3 * lv.w, lv.h, (size_t)lv.w * 9, small, dw, dh,
-					    (size_t)dw * 3);
+		                            (size_t)dw * 3);
 		shown++;
 		double t = pc_cli_now();
 		if (shown > 1)
 			fps = fps > 0 ? 0.9 * fps + 0.1 / (t - t_last) : 1.0 / (t - t_last);
 		t_last = t;
 		char overlay[160];
-		snprintf(overlay, sizeof overlay, "S0 | DoLP | AoLP   %.1f fps   frame %llu   %s", fps,
-			 (unsigned long long)seq, method);
+		snprintf(overlay, sizeof overlay, "S0 | DoLP | AoLP   %.1f fps   frame %llu   %s",
+		         fps, (unsigned long long)seq, method);
 		if (win && !rc) {
 			int key = pc_display_show(win, small, dw, dh, (size_t)dw * 3, overlay);
 			if (key == 'q' || key == 27 || key == PC_ECANCELED)

@@ -15,10 +15,13 @@ json_t *pc_json_source_stats(const pc_source_stats *st)
 	json_object_set_new(j, "dropped", json_integer((json_int_t)st->dropped));
 	json_object_set_new(j, "timeouts", json_integer((json_int_t)st->timeouts));
 	json_object_set_new(j, "underruns", json_integer((json_int_t)st->underruns));
-	json_object_set_new(j, "transport_failures", json_integer((json_int_t)st->transport_failures));
+	json_object_set_new(j, "transport_failures",
+	                    json_integer((json_int_t)st->transport_failures));
 	if (st->has_packets) {
-		json_object_set_new(j, "missing_packets", json_integer((json_int_t)st->missing_packets));
-		json_object_set_new(j, "resent_packets", json_integer((json_int_t)st->resent_packets));
+		json_object_set_new(j, "missing_packets",
+		                    json_integer((json_int_t)st->missing_packets));
+		json_object_set_new(j, "resent_packets",
+		                    json_integer((json_int_t)st->resent_packets));
 	} else {
 		json_object_set_new(j, "missing_packets", json_null());
 		json_object_set_new(j, "resent_packets", json_null());
@@ -58,8 +61,10 @@ void pc_stream_args_init(pc_stream_args *a)
 
 const char *pc_stream_args_help(void)
 {
-	return "  --format NAME       pixel format by its GenICam name (Mono12, PolarizeMono12p, ...)\n"
-	       "  --roi X,Y,W,H       region of interest on the sensor (odd offsets shift the mosaic)\n"
+	return "  --format NAME       pixel format by its GenICam name (Mono12, PolarizeMono12p, "
+	       "...)\n"
+	       "  --roi X,Y,W,H       region of interest on the sensor (odd offsets shift the "
+	       "mosaic)\n"
 	       "  --exposure US       exposure time in microseconds\n"
 	       "  --gain DB           gain in dB (the camera's Gain feature)\n"
 	       "  --fps F             frame rate\n"
@@ -70,8 +75,8 @@ const char *pc_stream_args_help(void)
 int pc_stream_args_parse(pc_stream_args *a, int argc, char **argv, int *i)
 {
 	const char *o = argv[*i];
-	static const char *const ours[] = { "--format", "--roi", "--exposure", "--gain", "--fps",
-					    "--buffers", "--timeout-ms", NULL };
+	static const char *const ours[] = {"--format", "--roi",     "--exposure",   "--gain",
+	                                   "--fps",    "--buffers", "--timeout-ms", NULL};
 	bool mine = false;
 	for (const char *const *p = ours; *p; p++)
 		mine |= !strcmp(o, *p);
@@ -144,7 +149,8 @@ int pc_stream_open(const pc_stream_args *a, pc_source **out)
 		if (a->format) {
 			if (strlen(a->format) >= sizeof req.format_name) {
 				pc_source_close(s);
-				return pc_error(PC_EINVAL, "--format '%s': name too long", a->format);
+				return pc_error(PC_EINVAL, "--format '%s': name too long",
+				                a->format);
 			}
 			req.format = PC_FMT_INVALID;
 			snprintf(req.format_name, sizeof req.format_name, "%s", a->format);
@@ -162,12 +168,14 @@ int pc_stream_open(const pc_stream_args *a, pc_source **out)
 		pc_format_verdict v;
 		rc = pc_source_try_format(s, &got, &v);
 		if (!rc && v == PC_FORMAT_INVALID)
-			rc = pc_error_prefix(PC_EINVAL, "%s: the source cannot deliver this: ", a->uri);
+			rc = pc_error_prefix(PC_EINVAL,
+			                     "%s: the source cannot deliver this: ", a->uri);
 		if (!rc && v == PC_FORMAT_ADJUSTED)
-			rc = pc_error(PC_EINVAL, "%s: the source would adjust the request to %s ROI "
-						 "%u,%u,%u,%u; ask for that explicitly",
-				      a->uri, got.format_name, got.offset_x, got.offset_y, got.width,
-				      got.height);
+			rc = pc_error(PC_EINVAL,
+			              "%s: the source would adjust the request to %s ROI "
+			              "%u,%u,%u,%u; ask for that explicitly",
+			              a->uri, got.format_name, got.offset_x, got.offset_y,
+			              got.width, got.height);
 		if (!rc)
 			rc = pc_source_set_format(s, &got);
 		if (rc) {
@@ -197,8 +205,9 @@ int pc_stream_open(const pc_stream_args *a, pc_source **out)
 int pc_live_process(pc_live *lv, const pc_frame *f)
 {
 	if (f->mosaic.period != 2 && f->mosaic.period != 4)
-		return pc_error(PC_EFORMAT, "the frames carry no polarizer mosaic: nothing to compute "
-					    "Stokes images from");
+		return pc_error(PC_EFORMAT,
+		                "the frames carry no polarizer mosaic: nothing to compute "
+		                "Stokes images from");
 	uint32_t w, h;
 	pc_demosaic_out_size(lv->method, f->view.width, f->view.height, &w, &h);
 	if (w != lv->w || h != lv->h || !lv->planes) {
@@ -211,9 +220,9 @@ int pc_live_process(pc_live *lv, const pc_frame *f)
 		if (!lv->planes || !lv->rgb)
 			return pc_error(PC_ENOMEM, "Stokes images %ux%u", w, h);
 		memset(&lv->out, 0, sizeof lv->out);
-		lv->out.s0 = (pc_fplane){ lv->planes, w, 1 };
-		lv->out.dolp = (pc_fplane){ lv->planes + (size_t)w * h, w, 1 };
-		lv->out.aolp = (pc_fplane){ lv->planes + 2 * (size_t)w * h, w, 1 };
+		lv->out.s0 = (pc_fplane){lv->planes, w, 1};
+		lv->out.dolp = (pc_fplane){lv->planes + (size_t)w * h, w, 1};
+		lv->out.aolp = (pc_fplane){lv->planes + 2 * (size_t)w * h, w, 1};
 	}
 	double t0 = pc_cli_now();
 	int rc = pc_stokes_from_raw(&f->view, &f->mosaic, lv->method, NULL, &lv->out);
@@ -230,10 +239,10 @@ int pc_live_compose(pc_live *lv)
 	int rc = pc_picture_grey(&lv->out.s0, lv->w, lv->h, 0, hi, lv->rgb, stride);
 	if (!rc)
 		rc = pc_picture_grey(&lv->out.dolp, lv->w, lv->h, 0, 1, lv->rgb + (size_t)lv->w * 3,
-				     stride);
+		                     stride);
 	if (!rc)
-		rc = pc_picture_aolp(&lv->out.aolp, &lv->out.dolp, lv->w, lv->h, PC_AOLP_VALUE, 1.0f,
-				     lv->rgb + (size_t)lv->w * 6, stride);
+		rc = pc_picture_aolp(&lv->out.aolp, &lv->out.dolp, lv->w, lv->h, PC_AOLP_VALUE,
+		                     1.0f, lv->rgb + (size_t)lv->w * 6, stride);
 	return rc;
 }
 

@@ -15,12 +15,12 @@ json_t *pc_json_source_format(const pc_source_format *f);
 /* Options common to the commands that stream. */
 typedef struct pc_stream_args {
 	const char *uri;
-	const char *format;      /* --format NAME */
-	bool roi_set;            /* --roi X,Y,W,H */
+	const char *format; /* --format NAME */
+	bool roi_set;       /* --roi X,Y,W,H */
 	uint32_t roi[4];
 	double exposure_us, gain_db, fps; /* < 0: leave alone */
-	unsigned buffers;        /* --buffers (default 8) */
-	int timeout_ms;          /* --timeout-ms (default 5000) */
+	unsigned buffers;                 /* --buffers (default 8) */
+	int timeout_ms;                   /* --timeout-ms (default 5000) */
 } pc_stream_args;
 
 void pc_stream_args_init(pc_stream_args *a);
@@ -42,11 +42,11 @@ int pc_stream_open(const pc_stream_args *a, pc_source **out);
 
 typedef struct pc_live {
 	pc_demosaic_method method;
-	uint32_t w, h;          /* output size of the method */
-	float *planes;          /* s0, dolp, aolp (each w*h) */
+	uint32_t w, h; /* output size of the method */
+	float *planes; /* s0, dolp, aolp (each w*h) */
 	pc_stokes_out out;
-	uint8_t *rgb;           /* 3 panels side by side: (3w) x h RGB8 */
-	double process_s;       /* time of the last pc_stokes_from_raw */
+	uint8_t *rgb;     /* 3 panels side by side: (3w) x h RGB8 */
+	double process_s; /* time of the last pc_stokes_from_raw */
 } pc_live;
 
 /* Runs the pipeline on a frame (which must carry a polarizer mosaic). Sizes follow the frame. */

@@ -17,12 +17,12 @@ extern "C" {
 #endif
 
 typedef struct pc_camera_profile {
-	const char *vendor;       /* matched case-insensitively as a prefix of the device's vendor */
-	const char *model;        /* model prefix ("PHX050S-P"); "" matches every model */
-	const char *sensor;       /* "IMX250MZR" */
-	const char *raw_formats;  /* comma-separated GenICam names carrying the mosaic */
-	unsigned bits;            /* ADC bits */
-	const char *mosaic;       /* layout for pc_mosaic_parse at sensor pixel (0,0) */
+	const char *vendor;      /* matched case-insensitively as a prefix of the device's vendor */
+	const char *model;       /* model prefix ("PHX050S-P"); "" matches every model */
+	const char *sensor;      /* "IMX250MZR" */
+	const char *raw_formats; /* comma-separated GenICam names carrying the mosaic */
+	unsigned bits;           /* ADC bits */
+	const char *mosaic;      /* layout for pc_mosaic_parse at sensor pixel (0,0) */
 } pc_camera_profile;
 
 /* The profile for a device, or NULL when polarcam knows none (then a polarized pixel-format

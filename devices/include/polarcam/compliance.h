@@ -43,16 +43,16 @@ int pc_fault_parse(const char *name);
 typedef enum pc_check_result { PC_CHECK_PASS = 0, PC_CHECK_FAIL, PC_CHECK_SKIP } pc_check_result;
 
 typedef void (*pc_compliance_log_fn)(void *ctx, pc_check_result r, const char *check,
-				     const char *detail);
+                                     const char *detail);
 
 typedef struct pc_compliance_options {
-	unsigned frames;     /* frames to stream in the main phase (0 = 8) */
-	unsigned buffers;    /* pool size (0 = 4) */
-	int timeout_ms;      /* per dequeue (0 = 3000) */
-	int starve_ms;       /* how long "nothing arrives" is waited for with all buffers held
-	                        (0 = 300) */
+	unsigned frames;  /* frames to stream in the main phase (0 = 8) */
+	unsigned buffers; /* pool size (0 = 4) */
+	int timeout_ms;   /* per dequeue (0 = 3000) */
+	int starve_ms;    /* how long "nothing arrives" is waited for with all buffers held
+	                     (0 = 300) */
 	pc_fault_kind expect_fault;
-	bool finite;         /* the source may end (PC_EEND) before `frames` */
+	bool finite; /* the source may end (PC_EEND) before `frames` */
 	pc_compliance_log_fn log;
 	void *log_ctx;
 } pc_compliance_options;
@@ -65,7 +65,7 @@ typedef struct pc_compliance_result {
 /* Runs every check against the source at uri. Returns 0 when the run completed (look at
  * result->failed), a negative error when the source could not even be opened. */
 int pc_source_compliance(const char *uri, const pc_compliance_options *opt,
-			 pc_compliance_result *result);
+                         pc_compliance_result *result);
 
 #ifdef __cplusplus
 }

@@ -32,14 +32,14 @@ extern "C" {
 typedef struct pc_gige_server pc_gige_server;
 
 typedef struct pc_gige_server_options {
-	const char *address;    /* interface address, default "127.0.0.1" */
-	const char *serial;     /* default "POLARCAM0001" */
-	const char *source_uri; /* where frames come from, e.g. "sim:default?seed=1" (required) */
-	unsigned ahead;         /* frames rendered ahead (0 = 4) */
-	unsigned cycle;         /* 0: acquisition frame k = source frame k. K > 0: render source
-	                           frames 0..K-1 once and repeat them (benchmarks of the transport
-	                           when rendering cannot keep up) */
-	double frame_rate_hz;   /* initial AcquisitionFrameRate (0 = 25) */
+	const char *address;      /* interface address, default "127.0.0.1" */
+	const char *serial;       /* default "POLARCAM0001" */
+	const char *source_uri;   /* where frames come from, e.g. "sim:default?seed=1" (required) */
+	unsigned ahead;           /* frames rendered ahead (0 = 4) */
+	unsigned cycle;           /* 0: acquisition frame k = source frame k. K > 0: render source
+	                             frames 0..K-1 once and repeat them (benchmarks of the transport
+	                             when rendering cannot keep up) */
+	double frame_rate_hz;     /* initial AcquisitionFrameRate (0 = 25) */
 	double lost_packet_ratio; /* fault injection: fraction of GVSP packets not sent */
 } pc_gige_server_options;
 

@@ -51,7 +51,7 @@ typedef struct pc_recording_desc {
 	const char *device_format; /* device's name for it, may be NULL */
 	uint32_t width, height, offset_x, offset_y, sensor_width, sensor_height;
 	bool polarized;
-	pc_mosaic mosaic;          /* phase at pixel (0,0) of the frames */
+	pc_mosaic mosaic; /* phase at pixel (0,0) of the frames */
 } pc_recording_desc;
 
 typedef struct pc_recording_frame {
@@ -65,7 +65,7 @@ typedef struct pc_recording_frame {
  * holds a recording (meta.json or raw_000000.png) unless overwrite: then old raw_*.png files
  * beyond the new recording's end are left alone but meta.json only lists the new frames. */
 int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
-			bool overwrite);
+                        bool overwrite);
 /* Appends a frame: checks it matches the description, writes raw_NNNNNN.png atomically and
  * records its metadata. meta.json is rewritten at most every 0.25 s while recording. */
 int pc_recording_add(pc_recording *r, const pc_frame *frame);
@@ -79,7 +79,7 @@ int pc_recording_finish(pc_recording *r, const char *error);
 /* Opens a recording for reading and validates meta.json (every field; frames listed in
  * increasing sequence and non-decreasing time; files named raw_NNNNNN.png). A directory of
  * raw_NNNNNN.png files without meta.json is accepted with defaults: frames numbered from
- * 000000 without gaps, format from the first PNG's bit depth (sBIT), IMX250MZR mosaic, 
+ * 000000 without gaps, format from the first PNG's bit depth (sBIT), IMX250MZR mosaic,
  * timestamps 0 (callers pace them). Errors name the file and the field. */
 int pc_recording_open(pc_recording **out, const char *dir);
 void pc_recording_free(pc_recording *r);

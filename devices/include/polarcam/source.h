@@ -90,10 +90,10 @@ typedef struct pc_source_format {
 	uint32_t offset_x, offset_y; /* ROI origin on the full sensor */
 	size_t stride;               /* bytes between rows (>= the format's row bytes) */
 	/* outputs only (ignored in a request): */
-	size_t frame_bytes;          /* bytes a buffer must hold: stride * (height - 1) + row bytes
-	                                at least; backends may ask for more (trailers) */
-	bool polarized;              /* the pixels lie under a polarizer mosaic */
-	pc_mosaic mosaic;            /* mosaic phase of pixel (0,0) of the ROI */
+	size_t frame_bytes; /* bytes a buffer must hold: stride * (height - 1) + row bytes
+	                       at least; backends may ask for more (trailers) */
+	bool polarized;     /* the pixels lie under a polarizer mosaic */
+	pc_mosaic mosaic;   /* mosaic phase of pixel (0,0) of the ROI */
 	uint32_t sensor_width, sensor_height; /* full sensor */
 } pc_source_format;
 
@@ -109,39 +109,39 @@ typedef enum pc_control_id {
 const char *pc_control_name(pc_control_id id); /* "exposure_us", "gain_db", "frame_rate_hz" */
 
 typedef struct pc_control_info {
-	double min, max;  /* inclusive range */
-	double step;      /* 0 = continuous */
-	double def;       /* default */
-	bool live;        /* may change while streaming */
+	double min, max; /* inclusive range */
+	double step;     /* 0 = continuous */
+	double def;      /* default */
+	bool live;       /* may change while streaming */
 } pc_control_info;
 
 /* ---- statistics ---- */
 
 typedef struct pc_source_stats {
 	/* counted by the wrappers, the same for every source: */
-	uint64_t completed;  /* frames dequeued with status PC_FRAME_OK (or only SIMULATED) */
-	uint64_t failed;     /* frames dequeued flagged INCOMPLETE or CORRUPT */
-	uint64_t dropped;    /* frames the source produced but never delivered: gaps in sequence */
-	uint64_t timeouts;   /* dequeue calls that timed out */
+	uint64_t completed; /* frames dequeued with status PC_FRAME_OK (or only SIMULATED) */
+	uint64_t failed;    /* frames dequeued flagged INCOMPLETE or CORRUPT */
+	uint64_t dropped;   /* frames the source produced but never delivered: gaps in sequence */
+	uint64_t timeouts;  /* dequeue calls that timed out */
 	/* reported by the backend where its transport knows them: */
-	uint64_t underruns;  /* frames lost because no buffer was queued */
+	uint64_t underruns;          /* frames lost because no buffer was queued */
 	uint64_t transport_failures; /* frames the transport discarded before delivery */
-	bool has_packets;    /* packet counters below are meaningful (GigE Vision) */
+	bool has_packets;            /* packet counters below are meaningful (GigE Vision) */
 	uint64_t missing_packets;
 	uint64_t resent_packets;
-	uint64_t bytes;      /* payload bytes of completed frames */
+	uint64_t bytes; /* payload bytes of completed frames */
 } pc_source_stats;
 
 /* ---- what a source is ---- */
 
 typedef struct pc_source_info {
-	char scheme[16];     /* "sim", "aravis", ... */
-	char id[128];        /* what follows the scheme in the URI (without options) */
+	char scheme[16]; /* "sim", "aravis", ... */
+	char id[128];    /* what follows the scheme in the URI (without options) */
 	char vendor[64], model[64], serial[64];
-	char driver[64];     /* backend / transport ("aravis-gv", "vivid", "polarcam-sim") */
+	char driver[64]; /* backend / transport ("aravis-gv", "vivid", "polarcam-sim") */
 	uint32_t sensor_width, sensor_height;
-	bool polarized;      /* has a polarizer mosaic (from the profile table or the device) */
-	pc_mosaic mosaic;    /* full-sensor mosaic (phase at sensor pixel 0,0) */
+	bool polarized;   /* has a polarizer mosaic (from the profile table or the device) */
+	pc_mosaic mosaic; /* full-sensor mosaic (phase at sensor pixel 0,0) */
 } pc_source_info;
 
 /* ---- buffers ---- */
@@ -216,14 +216,14 @@ int pc_source_get_stats(pc_source *s, pc_source_stats *st);
 
 /* Devices a backend finds (for `polarcam devices`). */
 typedef struct pc_device_entry {
-	char uri[256];         /* openable URI ("aravis:PolSim-SIM0001") */
+	char uri[256]; /* openable URI ("aravis:PolSim-SIM0001") */
 	char vendor[64], model[64], serial[64];
-	char transport[32];    /* "GigE Vision", "USB3 Vision", "V4L2", "libcamera" */
-	char address[64];      /* IP address, bus path or device node */
-	char note[256];        /* diagnosis when the device is not usable, else "" */
+	char transport[32]; /* "GigE Vision", "USB3 Vision", "V4L2", "libcamera" */
+	char address[64];   /* IP address, bus path or device node */
+	char note[256];     /* diagnosis when the device is not usable, else "" */
 	bool usable;
-	char formats[256];     /* pixel formats offered that polarcam reads, space-separated
-	                          ("GREY Y10 Y12 Y16"), "" when the backend does not list them */
+	char formats[256];      /* pixel formats offered that polarcam reads, space-separated
+	                           ("GREY Y10 Y12 Y16"), "" when the backend does not list them */
 	unsigned formats_total; /* formats the device offers in all (0 = not listed) */
 } pc_device_entry;
 
@@ -235,11 +235,11 @@ enum { PC_ENUM_NETWORK = 1u << 0 };
 typedef struct pc_source_ops pc_source_ops;
 
 typedef struct pc_source_backend {
-	const char *scheme;        /* "sim" */
-	const char *summary;       /* one line for --help */
-	const char *uri_help;      /* "sim:SCENE[?fps=F&seed=S&...]" and the options */
-	const pc_source_ops *ops;  /* NULL when not built in */
-	const char *missing;       /* why not built in ("Aravis was not found at configure time") */
+	const char *scheme;       /* "sim" */
+	const char *summary;      /* one line for --help */
+	const char *uri_help;     /* "sim:SCENE[?fps=F&seed=S&...]" and the options */
+	const pc_source_ops *ops; /* NULL when not built in */
+	const char *missing;      /* why not built in ("Aravis was not found at configure time") */
 	/* Lists devices (may be NULL). Network discovery (GigE Vision broadcasts on every
 	 * interface) only with PC_ENUM_NETWORK in flags: callers ask for it explicitly, tests run
 	 * it in a network namespace. Returns 0 or an error; fn returning non-zero stops. */
@@ -288,7 +288,7 @@ struct pc_source_ops {
 
 /* Opens a source with explicit ops (as the registry does for a scheme). */
 int pc_source_open_ops(pc_source **out, const pc_source_ops *ops, const char *scheme,
-		       const char *arg_with_options);
+                       const char *arg_with_options);
 
 /* Backend helpers. */
 void *pc_source_priv(pc_source *s);
@@ -300,8 +300,7 @@ const char *pc_source_option(pc_source *s, const char *key);
 /* Typed options: 0 and *out untouched when absent; PC_EINVAL naming the URI option when
  * malformed or outside [min, max]. */
 int pc_source_option_double(pc_source *s, const char *key, double min, double max, double *out);
-int pc_source_option_u64(pc_source *s, const char *key, uint64_t min, uint64_t max,
-			 uint64_t *out);
+int pc_source_option_u64(pc_source *s, const char *key, uint64_t min, uint64_t max, uint64_t *out);
 int pc_source_option_bool(pc_source *s, const char *key, bool *out);
 
 /* Fills the output fields of a request from the format table: frame_bytes from stride and
