@@ -359,7 +359,15 @@ int pc_bench_demosaic(int argc, char **argv)
 		r->colour = !(pc_demosaic_method_get(r->m)->flags & PC_DMF_MONO);
 	}
 	/* the other timed jobs: the two pipelines, the copy, OpenCV */
-	enum { J_PIPE_BIL = PC_DM_COUNT, J_PIPE_EARI, J_COPY, J_OPENCV, J_N };
+	enum { J_PIPE_BIL = PC_DM_COUNT, J_PIPE_EARI, J_COPY, J_OPENCV, J_BIL16, J_N };
+	/* bilinear into 16-bit planes (exact, 2 fraction bits), the like-for-like of OpenCV */
+	uint16_t *b16 = aligned_alloc(64, plane * 4 * sizeof(uint16_t));
+	uint16_t *b16p[4];
+	if (b16) {
+		memset(b16, 0, plane * 4 * sizeof(uint16_t));
+		for (int c = 0; c < 4; c++)
+			b16p[c] = b16 + (size_t)c * plane;
+	}
 	pc_stokes_out so = { planes[0], planes[1], planes[2], planes[3], planes[4] };
 	size_t bytes = plane * 2 + plane * 16; /* bilinear's 10 MB input and 80 MB output */
 	uint8_t *csrc = aligned_alloc(64, bytes), *cdst = aligned_alloc(64, bytes);
@@ -414,6 +422,10 @@ int pc_bench_demosaic(int argc, char **argv)
 			} else if (j == J_PIPE_BIL || j == J_PIPE_EARI) {
 				pc_stokes_from_raw(&raw, &mono, j == J_PIPE_BIL ? PC_DM_BILINEAR : PC_DM_EARI,
 						   &opts, &so);
+			} else if (j == J_BIL16) {
+				if (b16)
+					pc_demosaic_bilinear_u16(&raw, &mono, 2, (int)threads, b16p,
+								 (size_t)FW * 2);
 			} else if (j == J_COPY) {
 				if (csrc && cdst)
 					pc_parallel_rows(FH, 0, (int)threads, copy_band, &cj);
@@ -442,6 +454,8 @@ int pc_bench_demosaic(int argc, char **argv)
 		rows[k].t = tall[k];
 	timing t_pipe[2] = { tall[J_PIPE_BIL], tall[J_PIPE_EARI] };
 	timing t_copy = tall[J_COPY];
+	timing t_b16 = tall[J_BIL16];
+	free(b16);
 	timing t_cv = { NAN, NAN, NAN };
 	if (have_cv)
 		t_cv = tall[J_OPENCV];
@@ -620,10 +634,14 @@ int pc_bench_demosaic(int argc, char **argv)
 	fprintf(tf, "memory copy of bilinear's %zu MB of input+output: %.2f ms (cpu %.2f ms); "
 		    "bilinear / copy = %.2f\n", bytes >> 20, t_copy.median_ms, t_copy.cpu_ms,
 		bil / t_copy.median_ms);
+	fprintf(tf, "bilinear into 16-bit planes (exact, x4; 40 MB out): %.2f ms (cpu %.2f ms)\n",
+		t_b16.median_ms, t_b16.cpu_ms);
 	if (isfinite(t_cv.median_ms))
-		fprintf(tf, "%s: %.2f ms (cpu %.2f ms); bilinear / OpenCV = %.2f (cpu %.2f)\n",
+		fprintf(tf, "%s: %.2f ms (cpu %.2f ms); bilinear / OpenCV = %.2f (cpu %.2f); 16-bit "
+			    "bilinear / OpenCV = %.2f (cpu %.2f)\n",
 			cv_note, t_cv.median_ms, t_cv.cpu_ms, bil / t_cv.median_ms,
-			bil_cpu / t_cv.cpu_ms);
+			bil_cpu / t_cv.cpu_ms, t_b16.median_ms / t_cv.median_ms,
+			t_b16.cpu_ms / t_cv.cpu_ms);
 	else
 		fprintf(tf, "OpenCV comparison: %s\n", cv_note);
 	if (have_acc)
@@ -673,6 +691,9 @@ int pc_bench_demosaic(int argc, char **argv)
 	json_object_set_new(root, "pipeline_bilinear_ms", pc_json_real(t_pipe[0].median_ms));
 	json_object_set_new(root, "pipeline_bilinear_cpu_ms", pc_json_real(t_pipe[0].cpu_ms));
 	json_object_set_new(root, "copy_cpu_ms", pc_json_real(t_copy.cpu_ms));
+	json_object_set_new(root, "bilinear_u16_ms", pc_json_real(t_b16.median_ms));
+	json_object_set_new(root, "bilinear_u16_cpu_ms", pc_json_real(t_b16.cpu_ms));
+	json_object_set_new(root, "bilinear_u16_over_opencv", pc_json_real(t_b16.median_ms / t_cv.median_ms));
 	json_object_set_new(root, "opencv_cpu_ms", pc_json_real(t_cv.cpu_ms));
 	json_object_set_new(root, "pipeline_eari_ms", pc_json_real(t_pipe[1].median_ms));
 	json_object_set_new(root, "copy_ms", pc_json_real(t_copy.median_ms));

@@ -437,3 +437,90 @@ int pc_stokes_planar_fast(const pc_fplane in[4], uint32_t width, uint32_t height
 	pc_parallel_rows(height, 0, 0, stokes4_band, &j);
 	return 0;
 }
+
+/* ---- bilinear into 16-bit planes ---- */
+typedef struct b16_job {
+	const pc_view *raw;
+	const pc_mosaic *m;
+	unsigned frac;
+	uint16_t *const *out;
+	size_t ostride;
+} b16_job;
+
+/* One row: S, H, V, D as in bilinear_row, in integers. With q = 2 − frac, a value v·2^frac is
+ * (4v) >> q rounded: (4v + (q ? 1 << (q − 1) : 0)) >> q, where 4v is an exact integer. */
+#ifdef PC_HAVE_X86_DISPATCH
+__attribute__((target_clones("avx2", "default")))
+#endif
+static void b16_row(const uint16_t *restrict a, const uint16_t *restrict b,
+		    const uint16_t *restrict c, long w, unsigned q, uint16_t *restrict o0,
+		    uint16_t *restrict o1, uint16_t *restrict o2, uint16_t *restrict o3)
+{
+	const uint32_t rnd = q ? 1u << (q - 1) : 0;
+#define PC_B16_PIXEL(x, xm, xp)                                                                  \
+	do {                                                                                     \
+		uint32_t S4 = 4u * b[x], H4 = 2u * ((uint32_t)b[xm] + b[xp]);                   \
+		uint32_t V4 = 2u * ((uint32_t)a[x] + c[x]);                                      \
+		uint32_t D4 = ((uint32_t)a[xm] + a[xp]) + ((uint32_t)c[xm] + c[xp]);            \
+		int odd = (int)((x)&1);                                                          \
+		o0[x] = (uint16_t)(((odd ? H4 : S4) + rnd) >> q);                                \
+		o1[x] = (uint16_t)(((odd ? S4 : H4) + rnd) >> q);                                \
+		o2[x] = (uint16_t)(((odd ? D4 : V4) + rnd) >> q);                                \
+		o3[x] = (uint16_t)(((odd ? V4 : D4) + rnd) >> q);                                \
+	} while (0)
+	PC_B16_PIXEL(0, 1, 1);
+	PC_SIMD
+	for (long x = 1; x < w - 1; x++)
+		PC_B16_PIXEL(x, x - 1, x + 1);
+	PC_B16_PIXEL(w - 1, w - 2, w - 2);
+#undef PC_B16_PIXEL
+}
+
+static void b16_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	b16_job *j = ctx;
+	const pc_view *r = j->raw;
+	for (uint32_t y = y0; y < y1; y++) {
+		const uint16_t *a = PC_ROW(r, const uint16_t, (uint32_t)pc_mirror((int)y - 1, (int)r->height));
+		const uint16_t *b = PC_ROW(r, const uint16_t, y);
+		const uint16_t *c = PC_ROW(r, const uint16_t, (uint32_t)pc_mirror((int)y + 1, (int)r->height));
+		uint16_t *o[4];
+		unsigned slot[4] = { pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y), pc_dm_ch(j->m, 0, y + 1),
+				     pc_dm_ch(j->m, 1, y + 1) };
+		for (int k = 0; k < 4; k++)
+			o[k] = (uint16_t *)((uint8_t *)j->out[slot[k]] + (size_t)y * j->ostride);
+		b16_row(a, b, c, r->width, 2 - j->frac, o[0], o[1], o[2], o[3]);
+	}
+}
+
+int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned frac_bits,
+			     int threads, uint16_t *const out[4], size_t out_stride)
+{
+	int rc = pc_view_check(raw);
+	if (rc)
+		return pc_error_prefix(rc, "raw: ");
+	if ((rc = pc_mosaic_check(m)))
+		return rc;
+	if (m->period != 2)
+		return pc_error(PC_EINVAL, "16-bit bilinear: monochrome polarizer mosaics only");
+	const pc_format_info *fi = pc_format_info_get(raw->format);
+	if (fi->is_float || fi->packing != PC_PACK_NONE || fi->bits <= 8)
+		return pc_error(PC_ENOTSUP, "16-bit bilinear: raw format %s; expected a 16-bit "
+					    "container (Mono10/12/14/16)", fi->name);
+	if (frac_bits > 2 || fi->bits + frac_bits > 16)
+		return pc_error(PC_ERANGE, "16-bit bilinear: %u-bit data with %u fraction bits do not "
+					   "fit 16 bits (frac_bits 0..2, bits + frac_bits <= 16)",
+				fi->bits, frac_bits);
+	if (raw->width % 2 || raw->height % 2 || raw->width < 4 || raw->height < 4)
+		return pc_error(PC_EINVAL, "raw size %ux%u: width and height must be even and at "
+					   "least 4", raw->width, raw->height);
+	if (!out || out_stride < (size_t)raw->width * 2)
+		return pc_error(PC_EINVAL, "16-bit bilinear: output planes missing or stride %zu "
+					   "below %u bytes", out_stride, 2 * raw->width);
+	for (int c = 0; c < 4; c++)
+		if (!out[c])
+			return pc_error(PC_EINVAL, "16-bit bilinear: output plane %d missing", c);
+	b16_job j = { raw, m, frac_bits, out, out_stride };
+	pc_parallel_rows(raw->height, 0, threads, b16_band, &j);
+	return 0;
+}

@@ -506,6 +506,46 @@ static void test_color(void)
 	CHECK_EQ_INT(pc_demosaic(&v, &base, PC_DM_BAYER_FIRST, NULL, o), 0);
 }
 
+/* The 16-bit bilinear equals the float bilinear scaled by 2^frac and rounded half up, at every
+ * phase and for every fraction width; sizes and formats it cannot hold are refused. */
+static void test_bilinear_u16(void)
+{
+	scene s = make_scene(38, 30, 2, 0);
+	pc_mosaic base = pc_mosaic_imx250mzr();
+	for (unsigned ph = 0; ph < 4; ph++) {
+		pc_mosaic m = pc_mosaic_shift(&base, ph & 1, ph >> 1);
+		pc_view raw;
+		mosaic_scene(&s, &m, &raw);
+		raw.format = PC_FMT_MONO12;
+		pc_fplane f[4];
+		float *fb = alloc_planes(38, 30, 4, f);
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BILINEAR, NULL, f), 0);
+		for (unsigned frac = 0; frac <= 2; frac++) {
+			uint16_t *u = malloc(sizeof(uint16_t) * 38 * 30 * 4);
+			uint16_t *o[4] = { u, u + 38 * 30, u + 2 * 38 * 30, u + 3 * 38 * 30 };
+			CHECK_EQ_INT(pc_demosaic_bilinear_u16(&raw, &m, frac, 0, o, 38 * 2), 0);
+			int same = 1;
+			for (unsigned c = 0; c < 4; c++)
+				for (int i = 0; i < 38 * 30; i++)
+					same &= o[c][i] == (uint16_t)floor(f[c].data[i] * (1 << frac) + 0.5);
+			CHECK(same);
+			free(u);
+		}
+		free(fb);
+		pc_view_free(&raw);
+	}
+	scene_free(&s);
+	uint16_t px[4][4] = { { 0 } }, outb[4][16];
+	uint16_t *o[4] = { outb[0], outb[1], outb[2], outb[3] };
+	pc_view v16 = { px, 4, 4, sizeof px[0], PC_FMT_MONO16 };
+	CHECK_EQ_INT(pc_demosaic_bilinear_u16(&v16, &base, 1, 0, o, 8), PC_ERANGE);
+	CHECK_EQ_INT(pc_demosaic_bilinear_u16(&v16, &base, 0, 0, o, 8), 0);
+	pc_view v8 = { px, 4, 4, sizeof px[0], PC_FMT_MONO8 };
+	CHECK_EQ_INT(pc_demosaic_bilinear_u16(&v8, &base, 0, 0, o, 8), PC_ENOTSUP);
+	pc_view odd = { px, 3, 4, sizeof px[0], PC_FMT_MONO12 };
+	CHECK_EQ_INT(pc_demosaic_bilinear_u16(&odd, &base, 2, 0, o, 8), PC_EINVAL);
+}
+
 static void test_bad_calls(void)
 {
 	uint16_t px[6][6] = { { 0 } };
@@ -555,6 +595,7 @@ int main(void)
 	test_polynomials();
 	test_formats_layouts();
 	test_color();
+	test_bilinear_u16();
 	test_bad_calls();
 	return pc_test_finish("test_demosaic");
 }

@@ -96,6 +96,16 @@ typedef struct pc_demosaic_opts {
 int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
 		const pc_demosaic_opts *opts, const pc_fplane *out);
 
+/* Bilinear into 16-bit planes, for live paths that keep integers (display, recording, 16-bit
+ * outputs like OpenCV's): out[c] is the plane of analyser c (row stride out_stride bytes), each
+ * value round(bilinear · 2^frac_bits) with halves rounded up. frac_bits = 2 is exact (bilinear
+ * values are multiples of 1/4); frac_bits = 0 rounds to whole raw units. raw must be a 16-bit
+ * container format (Mono10/12/14/16) and bits + frac_bits <= 16 (PC_ERANGE otherwise), with
+ * the same sizes and mosaics as pc_demosaic. Equal to pc_demosaic's bilinear scaled and rounded
+ * (tested). */
+int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned frac_bits,
+			     int threads, uint16_t *const out[4], size_t out_stride);
+
 /* Fills planes[0..channels) for an interleaved C-order (height, width, channels) float buffer. */
 void pc_fplanes_interleaved(float *base, uint32_t width, unsigned channels, pc_fplane *planes);
 
