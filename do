@@ -76,6 +76,12 @@ case $cmd in
     build build-ci -DPC_WERROR=ON -DPC_WITH_LIBCAMERA=AUTO
     say "build 2/2: build-asan (AddressSanitizer + UndefinedBehaviorSanitizer)"
     build build-asan -DPC_WERROR=ON -DPC_SANITIZE=ON -DPC_WITH_LIBCAMERA=AUTO
+    # The QEMU guest tests boot Debian's own kernel package: fetch it here, with the packages,
+    # so that the tests themselves need no network (tests/qemu/kernel.sh caches it per build).
+    for dir in build-ci build-asan; do
+      tests/qemu/kernel.sh "$dir/qemu-cache" vivid >/dev/null ||
+        say "Debian's kernel package could not be fetched: the QEMU guest tests will be skipped"
+    done
     status=0
     for dir in build-ci build-asan; do
       say "tests in $dir"
