@@ -97,6 +97,37 @@ static inline void vst(float *p, v8f v)
 #undef KSTORE
 #undef KSQRT
 
+/* AVX-512VL instance: the same 8-wide source with 32 vector registers (the fused pipeline's
+ * constants and partial sums stop spilling). */
+#define KFN(name) name##_avx512
+#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,fma")))
+#define KSTORE(p, v, nt)                                                                   \
+	do {                                                                               \
+		if (nt)                                                                    \
+			_mm256_stream_ps((p), (__m256)(v));                                \
+		else                                                                       \
+			vst((p), (v));                                                     \
+	} while (0)
+#define KSQRT(v) ((v8f)_mm256_sqrt_ps((__m256)(v)))
+#include "demosaic_kern.inc"
+#undef KFN
+#undef KATTR
+#undef KSTORE
+#undef KSQRT
+
+static int use_avx512(void)
+{
+	static int cached = -1;
+	if (cached < 0) {
+		const char *e = getenv("POLARCAM_NO_AVX512");
+		__builtin_cpu_init();
+		cached = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+			 __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+			 !(e && *e && *e != '0');
+	}
+	return cached;
+}
+
 static int use_avx2(void)
 {
 	static int cached = -1;
@@ -191,7 +222,9 @@ static void bilinear_band(void *ctx, uint32_t y0, uint32_t y1)
 			o[k] = j->planar ? j->out[slot[k]].data + (size_t)y * j->out[slot[k]].row_stride
 					 : tmp + (size_t)k * w;
 #ifdef PC_HAVE_X86_DISPATCH
-		if (use_avx2())
+		if (use_avx2() && use_avx512())
+			bilinear_row_avx512(a, b, c, w, o, j->nt);
+		else if (use_avx2())
 			bilinear_row_avx2(a, b, c, w, o, j->nt);
 		else
 #endif
@@ -341,7 +374,9 @@ static void stokes_band(void *ctx, uint32_t y0, uint32_t y1)
 			       : j->planar	? planes[k]->data + (size_t)y * planes[k]->row_stride
 						: tmp + (size_t)k * w;
 #ifdef PC_HAVE_X86_DISPATCH
-		if (use_avx2())
+		if (use_avx2() && use_avx512())
+			stokes_row_avx512(a, b, c, w, k1, k2, o, j->nt);
+		else if (use_avx2())
 			stokes_row_avx2(a, b, c, w, k1, k2, o, j->nt);
 		else
 #endif
@@ -404,7 +439,9 @@ static void stokes4_band(void *ctx, uint32_t y0, uint32_t y1)
 		for (int k = 0; k < 5; k++)
 			o[k] = planes[k]->data ? planes[k]->data + (size_t)y * planes[k]->row_stride : NULL;
 #ifdef PC_HAVE_X86_DISPATCH
-		if (use_avx2())
+		if (use_avx2() && use_avx512())
+			stokes4_row_avx512(r[0], r[1], r[2], r[3], j->w, o, j->nt);
+		else if (use_avx2())
 			stokes4_row_avx2(r[0], r[1], r[2], r[3], j->w, o, j->nt);
 		else
 #endif
