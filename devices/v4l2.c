@@ -248,12 +248,22 @@ static int v_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *
 	/* 1. the pixel format */
 	uint32_t fourcc = 0;
 	if (req.format_name[0]) {
-		fourcc = fourcc_from_string(req.format_name);
-		if (!offered(have, nhave, fourcc)) {
-			pc_pixfmt byname = pc_format_from_name(req.format_name);
-			const pc_format_info *fi = pc_format_info_get(byname);
-			fourcc = fi ? fi->v4l2_fourcc : 0;
-		}
+		/* a fourcc the node offers ("Y16"), else a polarcam / GenICam name, vendors'
+		 * polarized names included ("Mono12", "PolarizeMono12"): the storage layout
+		 * decides; else a fourcc the node lacks (substituted below) */
+		uint32_t as_fourcc = fourcc_from_string(req.format_name);
+		pc_pixfmt byname = pc_format_from_name(req.format_name);
+		bool pol, col;
+		if (byname == PC_FMT_INVALID &&
+		    pc_format_from_genicam(req.format_name, &byname, &pol, &col) != 0)
+			byname = PC_FMT_INVALID;
+		const pc_format_info *fi = pc_format_info_get(byname);
+		if (offered(have, nhave, as_fourcc))
+			fourcc = as_fourcc;
+		else if (fi && fi->v4l2_fourcc)
+			fourcc = fi->v4l2_fourcc;
+		else
+			fourcc = as_fourcc;
 		if (!fourcc) {
 			pc_error(PC_EINVAL,
 			         "format name '%s': neither a V4L2 fourcc nor a polarcam "

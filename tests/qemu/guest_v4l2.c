@@ -588,6 +588,55 @@ static void check_source_capture(pc_pixfmt pf, uint32_t w, uint32_t h, unsigned 
 	pc_source_close(src);
 }
 
+/* Format names in a request: V4L2 fourccs, polarcam/GenICam names and vendors' polarized names
+ * resolve through the format table; an unknown fourcc is adjusted to one the node offers. */
+static void check_source_names(void)
+{
+	const char *name = "source-format-names";
+	char uri[512];
+	source_uri(uri, sizeof uri, "input=0");
+	pc_source *src = NULL;
+	if (pc_source_open(&src, uri)) {
+		gt_fail(name, "%s: %s", uri, pc_error_detail());
+		return;
+	}
+	static const struct {
+		const char *req;
+		pc_format_verdict want;
+		pc_pixfmt fmt;
+	} cases[] = {
+	    {"Y16", PC_FORMAT_VALID, PC_FMT_MONO16},
+	    {"Mono12", PC_FORMAT_VALID, PC_FMT_MONO12},
+	    {"PolarizeMono12", PC_FORMAT_VALID, PC_FMT_MONO12},
+	    {"Polarized8", PC_FORMAT_VALID, PC_FMT_MONO8},
+	    {"Y10P", PC_FORMAT_ADJUSTED, PC_FMT_MONO10}, /* vivid has no packed formats */
+	    {"XYZW", PC_FORMAT_ADJUSTED, PC_FMT_INVALID},
+	};
+	int bad = 0;
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		pc_source_format f;
+		memset(&f, 0, sizeof f);
+		snprintf(f.format_name, sizeof f.format_name, "%s", cases[i].req);
+		f.width = 640;
+		f.height = 480;
+		pc_format_verdict v = PC_FORMAT_INVALID;
+		int rc = pc_source_try_format(src, &f, &v);
+		gt_info("'%s' -> %s %s (%s)", cases[i].req, pc_format_verdict_name(v),
+		        f.format_name, rc ? pc_error_detail() : "ok");
+		if (rc || v != cases[i].want ||
+		    (cases[i].fmt != PC_FMT_INVALID && f.format != cases[i].fmt)) {
+			gt_fail(name, "'%s': %s verdict %s format %d", cases[i].req, pc_errname(rc),
+			        pc_format_verdict_name(v), (int)f.format);
+			bad++;
+		}
+	}
+	if (!bad)
+		gt_pass(name,
+		        "Y16, Mono12, PolarizeMono12, Polarized8 valid; Y10P adjusted to Y10; "
+		        "unknown fourcc adjusted to an offered format");
+	pc_source_close(src);
+}
+
 /* Frame rate and exposure/gain through the source's controls on the webcam input. */
 static void check_source_controls(void)
 {
@@ -1363,6 +1412,7 @@ int main(int argc, char **argv)
 		gt_skip("loop-sim", "no simulator frames given (--sim DIR)");
 	check_source_capture(PC_FMT_MONO8, 640, 480, 0, 6);
 	check_source_capture(PC_FMT_MONO16, 640, 480, 0, 6);
+	check_source_names();
 	/* the same through the multi-planar API (vivid's second instance, multiplanar=2) */
 	if (mcap_path[0] && mout_path[0]) {
 		char keep_cap[256], keep_out[256];
