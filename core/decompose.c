@@ -18,10 +18,8 @@
 
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
+#include "decompose_internal.h"
 #include "optics_inline.h"
-
-#define PC_LC_D_MAX         (1 - 1e-6) /* physics.md §4: flag D ≥ 1 − 1e-6 */
-#define PC_LC_NONUNIQUE_DET 1e-6
 
 static double det3(const double a[3][3])
 {

@@ -7,89 +7,10 @@
 #include <string.h>
 
 #include "check.h"
+#include "lc_cases.h"
 #include "polarcam/decompose.h"
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
-
-static uint64_t rng = 0x853c49e6748fea9bull;
-static double urand(void)
-{
-	rng ^= rng << 13;
-	rng ^= rng >> 7;
-	rng ^= rng << 17;
-	return (double)(rng >> 11) * 0x1p-53;
-}
-static double nrand(void) /* standard normal (Box–Muller) */
-{
-	double u = urand() + 1e-300, v = urand();
-	return sqrt(-2 * log(u)) * cos(2 * PC_PI * v);
-}
-static void unit3(double v[3])
-{
-	do {
-		v[0] = nrand();
-		v[1] = nrand();
-		v[2] = nrand();
-	} while (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] < 1e-6);
-	double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-	for (int i = 0; i < 3; i++)
-		v[i] /= n;
-}
-
-/* Rodrigues: rotation by θ about n. Its (m[1][2] − m[2][1], …) = −2 sinθ n, so the Lu–Chipman
- * axis of physics.md §3 is −n. */
-static void rodrigues(const double n[3], double th, double R[3][3])
-{
-	double c = cos(th), s = sin(th), C = 1 - c;
-	double K[3][3] = {{0, -n[2], n[1]}, {n[2], 0, -n[0]}, {-n[1], n[0], 0}};
-	for (int i = 0; i < 3; i++)
-		for (int j = 0; j < 3; j++)
-			R[i][j] = (i == j ? c : 0) + s * K[i][j] + C * n[i] * n[j];
-}
-
-static void random_rotation(double R[3][3])
-{
-	double n[3];
-	unit3(n);
-	rodrigues(n, PC_PI * urand(), R);
-}
-
-/* the factors of physics.md §3 / paper eqs. 14–16 */
-static void make_MD(const double Dv[3], double M[4][4])
-{
-	double D = sqrt(Dv[0] * Dv[0] + Dv[1] * Dv[1] + Dv[2] * Dv[2]);
-	double s = D < 1 ? sqrt((1 - D) * (1 + D)) : 0; /* D > 1: a non-physical test input */
-	memset(M, 0, 16 * sizeof(double));
-	M[0][0] = 1;
-	for (int i = 0; i < 3; i++) {
-		M[0][i + 1] = M[i + 1][0] = Dv[i];
-		for (int j = 0; j < 3; j++)
-			M[i + 1][j + 1] =
-			    (i == j ? s : 0) + (D > 0 ? (1 - s) * Dv[i] * Dv[j] / (D * D) : 0);
-	}
-}
-
-static void make_MR(const double R3[3][3], double M[4][4])
-{
-	memset(M, 0, 16 * sizeof(double));
-	M[0][0] = 1;
-	for (int i = 0; i < 3; i++)
-		for (int j = 0; j < 3; j++)
-			M[i + 1][j + 1] = R3[i][j];
-}
-
-static void make_MDelta(const double P[3], const double lam[3], const double U[3][3],
-                        double M[4][4])
-{
-	memset(M, 0, 16 * sizeof(double));
-	M[0][0] = 1;
-	for (int i = 0; i < 3; i++) {
-		M[i + 1][0] = P[i];
-		for (int j = 0; j < 3; j++)
-			M[i + 1][j + 1] = U[i][0] * lam[0] * U[j][0] + U[i][1] * lam[1] * U[j][1] +
-			                  U[i][2] * lam[2] * U[j][2];
-	}
-}
 
 /* ---------------------------------------------------------------------------------------- */
 /* slow reference in long double */
@@ -208,73 +129,17 @@ static void report(const stats *s)
 	       s->name, s->n, s->dD, s->dR, s->dDelta, s->dAxis, s->dRecomp, s->dFactors);
 }
 
-enum kind {
-	K_GENERAL,
-	K_PURE_DIATT,
-	K_PURE_RET,
-	K_ISO_DEPOL,
-	K_TWO_EQUAL,
-	K_DET_NEG,
-	K_D_NEAR1,
-	K_R_EDGES,
-	K_NKINDS
-};
-
 /* One round trip from known factors. Stated tolerances (tol_scale = 1, measured worst ~1e-15):
  * D 1e-13, R and Δ 1e-12, axis 1e-10 (R in (1e-4, π − 1e-4)), recomposition 1e-13 relative to
  * M00, each factor matrix 1e-12; all × 1e4 for D = 0.99999 and 1 − 2e-6, where the analytic
  * M_D⁻¹ amplifies rounding by 1/(1 − D²) ≤ 2.5e5 (measured: R 6e-11, axis 3e-9). */
-static void round_trip(enum kind kind, stats *st, double tol_scale)
+static void round_trip(enum lc_kind kind, stats *st, double tol_scale)
 {
-	double Dv[3] = {0, 0, 0}, n[3], R3[3][3], U[3][3], lam[3] = {1, 1, 1}, P[3] = {0, 0, 0};
-	double Rtrue = 0;
-	unit3(n);
-	double Dmag = 0.95 * urand();
-	if (kind == K_D_NEAR1)
-		Dmag = urand() < 0.5 ? 0.99999 : 1 - 2e-6;
-	if (kind != K_PURE_RET)
-		for (int i = 0; i < 3; i++)
-			Dv[i] = Dmag * n[i];
-	double ax[3];
-	unit3(ax);
-	Rtrue = PC_PI * urand();
-	if (kind == K_R_EDGES) {
-		const double edges[] = {0, 1e-9, 1e-5, PC_PI - 1e-5, PC_PI - 1e-9, PC_PI};
-		Rtrue = edges[(int)(urand() * 6) % 6];
-	}
-	if (kind == K_PURE_DIATT)
-		Rtrue = 0;
-	double nn[3] = {-ax[0], -ax[1], -ax[2]}; /* Lu–Chipman axis = −Rodrigues axis */
-	rodrigues(nn, Rtrue, R3);
-	random_rotation(U);
-	if (kind == K_GENERAL || kind == K_DET_NEG || kind == K_D_NEAR1 || kind == K_R_EDGES) {
-		for (int i = 0; i < 3; i++)
-			lam[i] = 0.05 + 0.95 * urand();
-		double pm = urand() * 0.3 * (1 - fmax(lam[0], fmax(lam[1], lam[2])));
-		double pv[3];
-		unit3(pv);
-		for (int i = 0; i < 3; i++)
-			P[i] = pm * pv[i];
-	} else if (kind == K_ISO_DEPOL) {
-		lam[0] = lam[1] = lam[2] = 0.05 + 0.9 * urand();
-	} else if (kind == K_TWO_EQUAL) {
-		lam[0] = lam[1] = 0.1 + 0.9 * urand();
-		lam[2] = 0.1 + 0.9 * urand();
-	}
-	if (kind == K_DET_NEG)
-		for (int i = 0; i < 3; i++)
-			lam[i] = -lam[i];
-	double MD[4][4], MR[4][4], MDel[4][4], M[4][4];
-	make_MD(Dv, MD);
-	make_MR(R3, MR);
-	make_MDelta(P, lam, U, MDel);
-	pc_mueller_mul(MDel, MR, M);
-	pc_mueller_mul(M, MD, M);
-	double m00 = exp(6 * urand() - 3);
-	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++)
-			M[i][j] *= m00;
-
+	lc_case c;
+	lc_make_case(kind, &c);
+	double(*M)[4] = c.M, (*MD)[4] = c.MD, (*MR)[4] = c.MR, (*MDel)[4] = c.MDel;
+	const double *Dv = c.Dv, *lam = c.lam, *ax = c.ax;
+	const double Rtrue = c.R, m00 = c.m00;
 	pc_lu_chipman lc, fast;
 	CHECK_EQ_INT(pc_lu_chipman_decompose(M, 0, &lc), 0);
 	CHECK_EQ_INT(pc_lu_chipman_decompose(M, PC_LC_NO_FACTORS, &fast), 0);
@@ -313,7 +178,7 @@ static void round_trip(enum kind kind, stats *st, double tol_scale)
 			eFac = fmax(eFac, fabs(lc.M_Delta[i][j] - MDel[i][j]));
 		}
 	CHECK_NEAR(eRec, 0, 1e-13 * tol_scale);
-	if (Rtrue > 1e-12 || kind != K_R_EDGES)
+	if (Rtrue > 1e-12 || kind != LC_R_EDGES)
 		CHECK_NEAR(eFac, 0, 1e-12 * tol_scale);
 	st->dD = fmax(st->dD, eD);
 	st->dR = fmax(st->dR, eR);
@@ -325,7 +190,7 @@ static void round_trip(enum kind kind, stats *st, double tol_scale)
 
 static void test_round_trips(void)
 {
-	static const char *names[K_NKINDS] = {"general",
+	static const char *names[LC_NKINDS] = {"general",
 	                                      "pure diattenuator",
 	                                      "pure retarder",
 	                                      "isotropic depolariser",
@@ -334,13 +199,13 @@ static void test_round_trips(void)
 	                                      "D = 0.99999, 1 - 2e-6",
 	                                      "R at 0 and pi"};
 	int total = 0;
-	for (int k = 0; k < K_NKINDS; k++) {
+	for (int k = 0; k < LC_NKINDS; k++) {
 		stats st = {names[k], 0, 0, 0, 0, 0, 0, 0};
-		int n = k == K_GENERAL ? 5000 : 1000;
+		int n = k == LC_GENERAL ? 5000 : 1000;
 		/* near D = 1 the analytic M_D⁻¹ amplifies rounding by 1/(1 − D²) ≈ 2.5e5 */
-		double scale = k == K_D_NEAR1 ? 1e4 : 1;
+		double scale = k == LC_D_NEAR1 ? 1e4 : 1;
 		for (int t = 0; t < n; t++)
-			round_trip((enum kind)k, &st, scale);
+			round_trip((enum lc_kind)k, &st, scale);
 		report(&st);
 		total += st.n;
 	}

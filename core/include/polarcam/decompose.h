@@ -6,6 +6,7 @@
 #define POLARCAM_DECOMPOSE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -18,6 +19,8 @@ enum pc_lc_flags {
 	PC_LC_FILTERED = 1u << 3,    /* input was Cloude-filtered before decomposing */
 	PC_LC_CLAMPED = 1u << 4,     /* D or Δ clamped into [0, 1] after filtering */
 	PC_LC_ZERO_M00 = 1u << 5,    /* M00 ≤ 0: nothing to decompose */
+	PC_LC_NONFINITE = 1u << 6,   /* pc_lu_chipman_map only: an element is NaN or ±∞ (the
+	                                scalar call returns PC_EINVAL); every output NaN */
 };
 
 enum pc_lc_options {
@@ -46,6 +49,43 @@ typedef struct pc_lu_chipman {
  * not written and `physical` is false unless PC_LC_FILTER asked for the check. Conventions and
  * tolerances: docs/physics-notes.md. */
 int pc_lu_chipman_decompose(const double M[4][4], unsigned options, pc_lu_chipman *out);
+
+/* Outputs of pc_lu_chipman_map as structure of arrays, n entries each. A NULL pointer is not
+ * written, and the work only it needs is skipped (R_axis, R_linear, R_circular cost two
+ * arctangents and four divisions per matrix). */
+typedef struct pc_lc_map {
+	double *D, *D_vec[3];
+	double *R, *R_axis[3], *R_linear, *R_circular;
+	double *Delta, *depol_index;
+	unsigned *flags; /* pc_lc_flags */
+} pc_lc_map;
+
+/* Instruction set of the map kernel; AUTO picks the widest this CPU has (AVX-512, AVX2, else
+ * the portable 4-lane vector code). The environment variables POLARCAM_NO_AVX512 and
+ * POLARCAM_NO_AVX2 (non-empty, not "0") exclude a level from AUTO. */
+typedef enum pc_lc_isa {
+	PC_LC_ISA_AUTO = 0,
+	PC_LC_ISA_PORTABLE,
+	PC_LC_ISA_AVX2,
+	PC_LC_ISA_AVX512,
+} pc_lc_isa;
+
+/* Decomposes n matrices M + 16·i (row-major 4×4, contiguous) into D, R, Δ maps, vectorised
+ * across matrices. Entry i equals, bit for bit, the field of pc_lu_chipman_decompose(M_i,
+ * options | PC_LC_NO_FACTORS) (NaN where that is NaN; flags equal); `options` may hold
+ * PC_LC_FILTER and PC_LC_NO_FACTORS (implied) only. A matrix with a non-finite element gets
+ * NaN everywhere and PC_LC_NONFINITE (the scalar call returns PC_EINVAL for it). Matrices the
+ * realisability check rejects under PC_LC_FILTER go through the scalar path (Cloude filter).
+ * Single-threaded and reentrant: callers split large maps across threads. Returns 0, or
+ * PC_EINVAL for NULL pointers with n > 0 or unknown option bits. */
+int pc_lu_chipman_map(const double *M, size_t n, unsigned options, const pc_lc_map *out);
+
+/* The same with an explicit instruction set; PC_ENOTSUP when this CPU or build lacks it. */
+int pc_lu_chipman_map_isa(const double *M, size_t n, unsigned options, const pc_lc_map *out,
+                          pc_lc_isa isa);
+
+/* Name of the instruction set AUTO uses here ("avx512", "avx2", "portable"). */
+const char *pc_lu_chipman_map_isa_name(void);
 
 #ifdef __cplusplus
 }

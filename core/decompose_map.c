@@ -1,0 +1,239 @@
+/* Batched Lu–Chipman decomposition for D, R, Δ maps (physics.md §3, §4): the fast path of
+ * pc_lu_chipman_decompose (core/decompose.c, PC_LC_NO_FACTORS) vectorised across matrices in
+ * structure-of-arrays form. decompose_map_kern.inc holds the kernel; it is compiled here once
+ * with portable GCC vector extensions (4 lanes; any target) and, on x86-64, once each for AVX2
+ * (4 lanes) and AVX-512 (8 lanes), chosen at run time with __builtin_cpu_supports. Every
+ * instance is bit-identical to the scalar code (tests/test_decompose_map.c). */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "decompose_internal.h"
+#include "polarcam/decompose.h"
+#include "polarcam/error.h"
+#include "polarcam/optics.h"
+
+#if defined(__GNUC__)
+#define PC_LC_VECTOR 1
+#endif
+#if defined(PC_LC_VECTOR) && defined(__x86_64__) && !defined(__clang__)
+#define PC_LC_X86_DISPATCH 1
+#include <immintrin.h>
+#endif
+
+#ifdef PC_LC_VECTOR
+/* vectors travel between static inline helpers of one instance only, never across an ABI
+ * boundary */
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+/* One matrix through the scalar reference, written into the map at index i. */
+static void pc_lc_map_scalar(const double *m16, unsigned options, const pc_lc_map *out, size_t i)
+{
+	pc_lu_chipman lc;
+	double M[4][4];
+	memcpy(M, m16, sizeof M);
+	if (pc_lu_chipman_decompose((const double(*)[4])M, options | PC_LC_NO_FACTORS, &lc)) {
+		/* only non-finite input fails */
+		lc.D = lc.R = lc.R_linear = lc.R_circular = lc.Delta = lc.depol_index = NAN;
+		for (int k = 0; k < 3; k++)
+			lc.D_vec[k] = lc.R_axis[k] = NAN;
+		lc.flags = PC_LC_NONFINITE;
+	}
+	if (out->D)
+		out->D[i] = lc.D;
+	if (out->R)
+		out->R[i] = lc.R;
+	if (out->R_linear)
+		out->R_linear[i] = lc.R_linear;
+	if (out->R_circular)
+		out->R_circular[i] = lc.R_circular;
+	if (out->Delta)
+		out->Delta[i] = lc.Delta;
+	if (out->depol_index)
+		out->depol_index[i] = lc.depol_index;
+	for (int k = 0; k < 3; k++) {
+		if (out->D_vec[k])
+			out->D_vec[k][i] = lc.D_vec[k];
+		if (out->R_axis[k])
+			out->R_axis[k][i] = lc.R_axis[k];
+	}
+	if (out->flags)
+		out->flags[i] = lc.flags;
+}
+
+#ifdef PC_LC_VECTOR
+typedef double pc_vd4 __attribute__((vector_size(32)));
+typedef long pc_vm4 __attribute__((vector_size(32)));
+typedef double pc_vd8 __attribute__((vector_size(64)));
+typedef long pc_vm8 __attribute__((vector_size(64)));
+
+typedef double pc_vd2 __attribute__((vector_size(16)));
+typedef long pc_vm2 __attribute__((vector_size(16)));
+
+static inline pc_vd2 pc_vsqrt2_portable(pc_vd2 v)
+{
+#if defined(__x86_64__)
+	return (pc_vd2)_mm_sqrt_pd((__m128d)v); /* SSE2 is part of x86-64 */
+#else
+	pc_vd2 r;
+	for (int l = 0; l < 2; l++)
+		r[l] = sqrt(v[l]);
+	return r;
+#endif
+}
+
+#define KFN(name) pc_lc_##name##_portable
+#define KATTR
+#define VD        pc_vd2
+#define VM        pc_vm2
+#define VW        2
+#define VSQRT(v)  pc_vsqrt2_portable(v)
+#include "decompose_map_kern.inc"
+#undef KFN
+#undef KATTR
+#undef VD
+#undef VM
+#undef VW
+#undef VSQRT
+
+#ifdef PC_LC_X86_DISPATCH
+#define KFN(name) pc_lc_##name##_avx2
+#define KATTR     __attribute__((target("avx2")))
+#define VD        pc_vd4
+#define VM        pc_vm4
+#define VW        4
+#define VSQRT(v)  ((pc_vd4)_mm256_sqrt_pd((__m256d)(v)))
+#define VANY(m)   (!_mm256_testz_si256((__m256i)(m), (__m256i)(m)))
+#include "decompose_map_kern.inc"
+#undef KFN
+#undef KATTR
+#undef VD
+#undef VM
+#undef VW
+#undef VSQRT
+#undef VANY
+
+#define KFN(name) pc_lc_##name##_avx512
+#define KATTR     __attribute__((target("avx512f,avx512vl,avx512dq,prefer-vector-width=512")))
+#define VD        pc_vd8
+#define VM        pc_vm8
+#define VW        8
+#define VSQRT(v)  ((pc_vd8)_mm512_sqrt_pd((__m512d)(v)))
+#define VANY(m)   (_mm512_test_epi64_mask((__m512i)(m), (__m512i)(m)) != 0)
+#include "decompose_map_kern.inc"
+#undef KFN
+#undef KATTR
+#undef VD
+#undef VM
+#undef VW
+#undef VSQRT
+#undef VANY
+
+static int pc_lc_env_off(const char *name)
+{
+	const char *e = getenv(name);
+	return e && *e && strcmp(e, "0") != 0;
+}
+
+static int pc_lc_has_avx512(void)
+{
+	__builtin_cpu_init();
+	return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+	       __builtin_cpu_supports("avx512dq");
+}
+
+static int pc_lc_has_avx2(void)
+{
+	__builtin_cpu_init();
+	return __builtin_cpu_supports("avx2");
+}
+#endif /* PC_LC_X86_DISPATCH */
+#endif /* PC_LC_VECTOR */
+
+static pc_lc_isa pc_lc_auto_isa(void)
+{
+	static volatile int cached = -1; /* benign race: every thread computes the same value */
+	if (cached < 0) {
+		int isa = PC_LC_ISA_PORTABLE;
+#ifdef PC_LC_X86_DISPATCH
+		if (pc_lc_has_avx512() && !pc_lc_env_off("POLARCAM_NO_AVX512"))
+			isa = PC_LC_ISA_AVX512;
+		else if (pc_lc_has_avx2() && !pc_lc_env_off("POLARCAM_NO_AVX2"))
+			isa = PC_LC_ISA_AVX2;
+#endif
+		cached = isa;
+	}
+	return (pc_lc_isa)cached;
+}
+
+const char *pc_lu_chipman_map_isa_name(void)
+{
+	switch (pc_lc_auto_isa()) {
+	case PC_LC_ISA_AVX512:
+		return "avx512";
+	case PC_LC_ISA_AVX2:
+		return "avx2";
+	default:
+#ifdef PC_LC_VECTOR
+		return "portable";
+#else
+		return "scalar";
+#endif
+	}
+}
+
+int pc_lu_chipman_map_isa(const double *M, size_t n, unsigned options, const pc_lc_map *out,
+                          pc_lc_isa isa)
+{
+	if (n == 0)
+		return 0;
+	if (!M || !out)
+		return pc_error(PC_EINVAL, "pc_lu_chipman_map: NULL argument");
+	if (options & ~(unsigned)(PC_LC_FILTER | PC_LC_NO_FACTORS))
+		return pc_error(PC_EINVAL,
+		                "pc_lu_chipman_map: options 0x%x: only PC_LC_FILTER and "
+		                "PC_LC_NO_FACTORS are allowed",
+		                options);
+	if (n > SIZE_MAX / 16)
+		return pc_error(PC_EOVERFLOW, "pc_lu_chipman_map: n = %zu matrices", n);
+	if (isa == PC_LC_ISA_AUTO)
+		isa = pc_lc_auto_isa();
+	switch (isa) {
+#ifdef PC_LC_VECTOR
+	case PC_LC_ISA_PORTABLE:
+		for (size_t i = 0; i < n; i += 2)
+			pc_lc_lc_block_portable(M, i, n - i < 2 ? n - i : 2, options, out);
+		return 0;
+#ifdef PC_LC_X86_DISPATCH
+	case PC_LC_ISA_AVX2:
+		if (!pc_lc_has_avx2())
+			break;
+		for (size_t i = 0; i < n; i += 4)
+			pc_lc_lc_block_avx2(M, i, n - i < 4 ? n - i : 4, options, out);
+		return 0;
+	case PC_LC_ISA_AVX512:
+		if (!pc_lc_has_avx512())
+			break;
+		for (size_t i = 0; i < n; i += 8)
+			pc_lc_lc_block_avx512(M, i, n - i < 8 ? n - i : 8, options, out);
+		return 0;
+#endif
+#else
+	case PC_LC_ISA_PORTABLE: /* no vector extensions: the scalar reference per matrix */
+		for (size_t i = 0; i < n; i++)
+			pc_lc_map_scalar(M + 16 * i, options, out, i);
+		return 0;
+#endif
+	default:
+		break;
+	}
+	return pc_error(PC_ENOTSUP, "pc_lu_chipman_map: instruction set %d not available here",
+	                (int)isa);
+}
+
+int pc_lu_chipman_map(const double *M, size_t n, unsigned options, const pc_lc_map *out)
+{
+	return pc_lu_chipman_map_isa(M, n, options, out, PC_LC_ISA_AUTO);
+}
