@@ -14,7 +14,6 @@
  * D = 0.999999 … 1.0000001, det m' < 0, pure diattenuators/retarders, isotropic and ideal
  * depolarisers, R at 0 and π, rank-1 m', M00 ≤ 0, NaN and ±∞ in every position, m00 = 1e-300
  * with O(1) elements, 1e±200 scales. */
-#include <complex.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -26,6 +25,7 @@
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
 #include "polarcam/pbrdf.h"
+#include "sim_cli.h"
 
 enum { NMAX = 40000 };
 
@@ -207,24 +207,35 @@ static void add_noisy(mats *s)
 static void add_threshold(mats *s)
 {
 	for (int t = 0; t < 2000; t++) {
-		double complex V[4][4];
+		/* V = Vr + i Vi, columns made orthonormal by Gram–Schmidt */
+		double Vr[4][4], Vi[4][4];
 		for (int i = 0; i < 4; i++)
-			for (int j = 0; j < 4; j++)
-				V[i][j] = nrand() + I * nrand();
-		for (int j = 0; j < 4; j++) { /* Gram–Schmidt on the columns */
-			for (int k = 0; k < j; k++) {
-				double complex d = 0;
-				for (int i = 0; i < 4; i++)
-					d += conj(V[i][k]) * V[i][j];
-				for (int i = 0; i < 4; i++)
-					V[i][j] -= d * V[i][k];
+			for (int j = 0; j < 4; j++) {
+				Vr[i][j] = nrand();
+				Vi[i][j] = nrand();
+			}
+		for (int j = 0; j < 4; j++) {
+			for (int k = 0; k < j; k++) { /* d = <v_k, v_j>, v_j −= d v_k */
+				double dr = 0, di = 0;
+				for (int i = 0; i < 4; i++) {
+					dr += Vr[i][k] * Vr[i][j] + Vi[i][k] * Vi[i][j];
+					di += Vr[i][k] * Vi[i][j] - Vi[i][k] * Vr[i][j];
+				}
+				for (int i = 0; i < 4; i++) {
+					double xr = dr * Vr[i][k] - di * Vi[i][k];
+					double xi = dr * Vi[i][k] + di * Vr[i][k];
+					Vr[i][j] -= xr;
+					Vi[i][j] -= xi;
+				}
 			}
 			double nr = 0;
 			for (int i = 0; i < 4; i++)
-				nr += creal(V[i][j] * conj(V[i][j]));
+				nr += Vr[i][j] * Vr[i][j] + Vi[i][j] * Vi[i][j];
 			nr = sqrt(nr);
-			for (int i = 0; i < 4; i++)
-				V[i][j] /= nr;
+			for (int i = 0; i < 4; i++) {
+				Vr[i][j] /= nr;
+				Vi[i][j] /= nr;
+			}
 		}
 		double lam[4] = {urand(), urand(), urand(), 0};
 		if (t % 4 == 0)
@@ -232,14 +243,17 @@ static void add_threshold(mats *s)
 		double tr = lam[0] + lam[1] + lam[2];
 		double c = 1 + (urand() - 0.5) * (t % 2 ? 1e-3 : 1e-6);
 		lam[3] = -c * 1e-9 * tr / (1 - c * 1e-9);
+		/* H = Σ_k λ_k v_k v_kᴴ */
 		double Hr[4][4], Hi[4][4], M[4][4];
 		for (int i = 0; i < 4; i++)
 			for (int j = 0; j < 4; j++) {
-				double complex h = 0;
-				for (int k = 0; k < 4; k++)
-					h += V[i][k] * lam[k] * conj(V[j][k]);
-				Hr[i][j] = creal(h);
-				Hi[i][j] = cimag(h);
+				double hr = 0, hi = 0;
+				for (int k = 0; k < 4; k++) {
+					hr += lam[k] * (Vr[i][k] * Vr[j][k] + Vi[i][k] * Vi[j][k]);
+					hi += lam[k] * (Vi[i][k] * Vr[j][k] - Vr[i][k] * Vi[j][k]);
+				}
+				Hr[i][j] = hr;
+				Hi[i][j] = hi;
 			}
 		pc_coherency_to_mueller(Hr, Hi, M);
 		add(s, M);
@@ -419,6 +433,96 @@ static void check_round_trip_truth(const mats *s, const lc_case *cases, long n_r
 	maps_free(&m);
 }
 
+/* The set covers every branch: count the scalar reference's flags under PC_LC_FILTER, and the
+ * threshold matrices on each side of the realisability test. */
+static void check_coverage(const mats *s, size_t thr0, size_t thr1)
+{
+	long nf[8] = {0}, phys_thr = 0;
+	for (size_t i = 0; i < s->n; i++) {
+		pc_lu_chipman lc;
+		double M[4][4];
+		memcpy(M, s->M[i], sizeof M);
+		if (pc_lu_chipman_decompose((const double(*)[4])M, PC_LC_FILTER, &lc)) {
+			nf[6]++;
+			continue;
+		}
+		for (int b = 0; b < 6; b++)
+			nf[b] += (lc.flags >> b) & 1u;
+		if (i >= thr0 && i < thr1)
+			phys_thr += lc.physical;
+	}
+	printf("coverage (scalar, PC_LC_FILTER): D singular %ld, R non-unique %ld, non-physical "
+	       "%ld, filtered %ld, clamped %ld, M00 <= 0 %ld, non-finite %ld; threshold set %ld "
+	       "physical / %ld not\n",
+	       nf[0], nf[1], nf[2], nf[3], nf[4], nf[5], nf[6], phys_thr,
+	       (long)(thr1 - thr0) - phys_thr);
+	CHECK(nf[0] >= 100 && nf[1] >= 20 && nf[2] >= 3000 && nf[3] >= 3000 && nf[4] >= 1);
+	CHECK(nf[5] >= 3 && nf[6] == 48);
+	CHECK(phys_thr >= 500 && (long)(thr1 - thr0) - phys_thr >= 500);
+}
+
+/* The caller: pc_mueller_maps (tools/sim_cli.c, `polarcam mueller` and `polarcam demo`) now
+ * runs the map kernel in row chunks; its float maps and pixel counts must equal what the
+ * per-pixel scalar code it replaced produced (PC_LC_FILTER | PC_LC_NO_FACTORS, float outputs,
+ * non-finite pixels NaN and counted as bad). */
+static void test_maps_caller(const mats *s)
+{
+	const uint32_t W = 301, H = 5; /* a chunk of 256 and a tail per row */
+	size_t np = (size_t)W * H;
+	float *M = malloc(np * 16 * sizeof(float)), *mp = malloc(3 * np * sizeof(float));
+	for (size_t i = 0; i < np; i++) {
+		/* spread over the set: round trips, pBRDF, noisy, threshold, hard cases */
+		size_t k = (i * 83) % s->n;
+		for (int e = 0; e < 16; e++)
+			M[16 * i + e] = (float)s->M[k][e];
+	}
+	M[16 * 7 + 3] = NAN;
+	M[16 * 300 + 0] = INFINITY;
+	M[16 * 400 + 0] = 0; /* M00 = 0 */
+	long counts[3] = {-1, -1, -1}, want[3] = {0, 0, 0};
+	pc_mueller_maps(M, W, H, 0xFFFFu, 2, mp, mp + np, mp + 2 * np, counts);
+	long diff = 0;
+	for (size_t i = 0; i < np; i++) {
+		double Md[4][4];
+		bool finite = true;
+		for (int e = 0; e < 16; e++) {
+			Md[e / 4][e % 4] = M[16 * i + e];
+			finite &= isfinite(M[16 * i + e]) != 0;
+		}
+		float d = NAN, r = NAN, de = NAN;
+		pc_lu_chipman lc;
+		if (!finite || pc_lu_chipman_decompose((const double(*)[4])Md,
+		                                        PC_LC_FILTER | PC_LC_NO_FACTORS, &lc)) {
+			want[2]++;
+		} else {
+			d = (float)lc.D;
+			r = (float)lc.R;
+			de = (float)lc.Delta;
+			want[0] += (lc.flags & (PC_LC_D_SINGULAR | PC_LC_ZERO_M00)) != 0;
+			want[1] += !lc.physical;
+		}
+		const float got[3] = {mp[i], mp[np + i], mp[2 * np + i]}, ref[3] = {d, r, de};
+		for (int k = 0; k < 3; k++)
+			diff += !((isnan(got[k]) && isnan(ref[k])) ||
+			          memcmp(&got[k], &ref[k], sizeof got[k]) == 0);
+	}
+	CHECK_EQ_INT(diff, 0);
+	for (int k = 0; k < 3; k++)
+		CHECK_EQ_INT(counts[k], want[k]);
+	CHECK(want[1] > 100 && want[2] >= 2);
+	printf("pc_mueller_maps: %zu pixels equal the per-pixel scalar path (singular %ld, "
+	       "non-physical %ld, bad %ld)\n",
+	       np, counts[0], counts[1], counts[2]);
+	/* an undetermined system: every pixel NaN */
+	pc_mueller_maps(M, W, H, 0x7FFFu, 1, mp, mp + np, mp + 2 * np, counts);
+	long finite_out = 0;
+	for (size_t i = 0; i < 3 * np; i++)
+		finite_out += !isnan(mp[i]);
+	CHECK_EQ_INT(finite_out, 0);
+	free(M);
+	free(mp);
+}
+
 static void test_errors(void)
 {
 	double M[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, D = 0;
@@ -444,15 +548,19 @@ int main(void)
 	add_round_trips(&s, &n_rt, cases);
 	add_pbrdf(&s);
 	add_noisy(&s);
+	size_t thr0 = s.n;
 	add_threshold(&s);
+	size_t thr1 = s.n;
 	add_hard(&s);
 	printf("%zu matrices (%ld round trips)\n", s.n, n_rt);
 	CHECK(n_rt >= 10000);
+	check_coverage(&s, thr0, thr1);
 	run_isa(&s, PC_LC_ISA_PORTABLE, "portable");
 	run_isa(&s, PC_LC_ISA_AVX2, "avx2");
 	run_isa(&s, PC_LC_ISA_AVX512, "avx512");
 	run_isa(&s, PC_LC_ISA_AUTO, "auto");
 	check_round_trip_truth(&s, cases, n_rt);
+	test_maps_caller(&s);
 	test_errors();
 	free(cases);
 	free(s.M);

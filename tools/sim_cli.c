@@ -275,34 +275,46 @@ typedef struct lc_ctx {
 
 static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 {
+	/* chunks of a row through the batched Lu–Chipman kernel (bit-identical to
+	 * pc_lu_chipman_decompose with PC_LC_FILTER | PC_LC_NO_FACTORS per pixel) */
+	enum { CH = 256 };
 	lc_ctx *c = ctx;
 	long singular = 0, nonphys = 0, bad = 0;
+	double Mb[16 * CH], D[CH], R[CH], De[CH];
+	unsigned fl[CH];
+	const pc_lc_map out = { D, { NULL, NULL, NULL }, R, { NULL, NULL, NULL }, NULL, NULL,
+				De, NULL, fl };
 	for (uint32_t y = y0; y < y1; y++)
-		for (uint32_t x = 0; x < c->width; x++) {
-			size_t i = (size_t)y * c->width + x;
-			const float *m = c->M + 16 * i;
-			double M[4][4];
-			bool finite = true;
-			for (int k = 0; k < 16; k++) {
-				M[k / 4][k % 4] = m[k];
-				finite &= isfinite(m[k]) != 0;
-			}
-			if (c->determined != 0xFFFFu || !finite) {
-				c->D[i] = c->R[i] = c->Delta[i] = NAN;
-				bad += !finite && c->determined == 0xFFFFu;
+		for (uint32_t x0 = 0; x0 < c->width; x0 += CH) {
+			size_t n = c->width - x0 < CH ? c->width - x0 : CH;
+			size_t i0 = (size_t)y * c->width + x0;
+			if (c->determined != 0xFFFFu) {
+				for (size_t j = 0; j < n; j++)
+					c->D[i0 + j] = c->R[i0 + j] = c->Delta[i0 + j] = NAN;
 				continue;
 			}
-			pc_lu_chipman lc;
-			if (pc_lu_chipman_decompose(M, PC_LC_FILTER | PC_LC_NO_FACTORS, &lc)) {
-				c->D[i] = c->R[i] = c->Delta[i] = NAN;
-				bad++;
+			for (size_t k = 0; k < 16 * n; k++)
+				Mb[k] = c->M[16 * i0 + k];
+			if (pc_lu_chipman_map(Mb, n, PC_LC_FILTER | PC_LC_NO_FACTORS, &out)) {
+				for (size_t j = 0; j < n; j++)
+					c->D[i0 + j] = c->R[i0 + j] = c->Delta[i0 + j] = NAN;
+				bad += (long)n;
 				continue;
 			}
-			c->D[i] = (float)lc.D;
-			c->R[i] = (float)lc.R;
-			c->Delta[i] = (float)lc.Delta;
-			singular += (lc.flags & (PC_LC_D_SINGULAR | PC_LC_ZERO_M00)) != 0;
-			nonphys += !lc.physical;
+			for (size_t j = 0; j < n; j++) {
+				size_t i = i0 + j;
+				if (fl[j] & PC_LC_NONFINITE) {
+					c->D[i] = c->R[i] = c->Delta[i] = NAN;
+					bad++;
+					continue;
+				}
+				c->D[i] = (float)D[j];
+				c->R[i] = (float)R[j];
+				c->Delta[i] = (float)De[j];
+				singular += (fl[j] & (PC_LC_D_SINGULAR | PC_LC_ZERO_M00)) != 0;
+				/* not physical: rejected by the check, or M00 ≤ 0 (never checked) */
+				nonphys += (fl[j] & (PC_LC_NONPHYSICAL | PC_LC_ZERO_M00)) != 0;
+			}
 		}
 #ifdef _OPENMP
 #pragma omp atomic
