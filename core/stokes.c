@@ -164,9 +164,7 @@ static void stokes_channels_band(void *ctx, uint32_t y0, uint32_t y1)
 			put(&j->out->s1, x, y, s1);
 			put(&j->out->s2, x, y, s2);
 			if (want_da) {
-				float n = sqrtf(s1 * s1 + s2 * s2), d = 0;
-				if (s0 > 0)
-					d = n / s0 < 1.0f ? n / s0 : 1.0f;
+				float d = pc_dolp_f(s0, s1, s2);
 				put(&j->out->dolp, x, y, d);
 				put(&j->out->aolp, x, y, pc_aolp_f(s1, s2));
 			}

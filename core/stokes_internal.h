@@ -17,4 +17,18 @@
 #define PC_PIF 3.14159265358979323846f
 #define PC_PI_2F 1.57079632679489661923f
 
+#include <math.h>
+
+/* DoLP = min(|(s1, s2)| / s0, 1), 0 where s0 <= 0, with |(s1, s2)| = max·√(1 + (min/max)²)
+ * (no overflow or underflow of s1² + s2², as in the vector kernels). */
+static inline float pc_dolp_f(float s0, float s1, float s2)
+{
+	float ax = fabsf(s1), ay = fabsf(s2);
+	float mx = ax > ay ? ax : ay, mn = ax > ay ? ay : ax;
+	if (!(s0 > 0) || !(mx > 0))
+		return 0.0f;
+	float t = mn / mx, q = mx * sqrtf(1.0f + t * t) / s0;
+	return q < 1.0f ? q : 1.0f;
+}
+
 #endif

@@ -150,50 +150,79 @@ static void test_pinv(void)
 }
 
 /* The fused bilinear pipeline equals demosaic + Stokes computed in double. Tolerances: S0, S1,
- * S2 within 1e-6 of full scale (float sums of integers), DoLP within 2e-6, AoLP within 1e-6
- * rad where DoLP·S0 is large enough for the angle to be defined (|S| > 1). */
-static void test_fused(void)
+ * S2 within 1e-6 of full scale (float sums of integers; in fact exact), DoLP within 2e-6, AoLP
+ * within 1e-6 rad where |(S1, S2)| exceeds 1/4095 of full scale (the angle of a smaller vector
+ * is dominated by the 12-bit rounding). Sizes cover the kernel's 16-pixel loop, its 8-pixel
+ * step and the scalar tail; 1296×1296 makes the outputs large enough (34 MB) for the
+ * non-temporal stores; 8-bit and float32 raws (the latter scaled to 1e-25 and 1e+25, which the
+ * fast reciprocal must not be used for) take the other input paths. */
+typedef struct fused_case {
+	uint32_t w, h;
+	pc_pixfmt fmt;
+	double scale; /* float32 raws: values × scale */
+} fused_case;
+
+static void fused_one(const fused_case *fc)
 {
-	const uint32_t W = 46, H = 34; /* not a multiple of 8: exercises the scalar tail */
+	const uint32_t W = fc->w, H = fc->h;
+	const size_t n = (size_t)W * H;
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	pc_view raw;
-	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
-	uint32_t r = 99;
+	CHECK_EQ_INT(pc_view_alloc(&raw, fc->fmt, W, H, 0), 0);
+	double fs = fc->fmt == PC_FMT_MONO8 ? 255 : 4095;
+	uint32_t r = 99 + W;
 	for (uint32_t y = 0; y < H; y++)
 		for (uint32_t x = 0; x < W; x++) {
 			r = r * 1664525u + 1013904223u;
-			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)((r >> 9) & 4095);
+			uint32_t v = (r >> 9) & 4095;
+			if (fc->fmt == PC_FMT_MONO8)
+				PC_ROW(&raw, uint8_t, y)[x] = (uint8_t)(v >> 4);
+			else if (fc->fmt == PC_FMT_FLOAT32)
+				PC_ROW(&raw, float, y)[x] = (float)(v * fc->scale);
+			else
+				PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)v;
 		}
-	float *buf = malloc(sizeof(float) * W * H * 5);
+	if (fc->fmt == PC_FMT_FLOAT32)
+		fs = 4095 * fc->scale;
+	/* 64-byte aligned planes with 64-byte aligned rows when W is a multiple of 16 */
+	size_t pl_floats = (n + 15) / 16 * 16;
+	float *buf = aligned_alloc(64, sizeof(float) * pl_floats * 5);
 	pc_stokes_out so;
 	pc_fplane *pl[5] = { &so.s0, &so.s1, &so.s2, &so.dolp, &so.aolp };
 	for (int k = 0; k < 5; k++)
-		*pl[k] = (pc_fplane){ buf + (size_t)k * W * H, W, 1 };
+		*pl[k] = (pc_fplane){ buf + (size_t)k * pl_floats, W, 1 };
 	CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, PC_DM_BILINEAR, NULL, &so), 0);
-	float *ch = malloc(sizeof(float) * W * H * 4);
+	float *ch = malloc(sizeof(float) * n * 4);
 	pc_fplane c4[4];
 	pc_fplanes_separate(ch, W, H, 4, c4);
 	pc_demosaic_opts ref = { 0, true, 0 };
 	CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BILINEAR, &ref, c4), 0);
 	double ws = 0, wd = 0, wa = 0;
-	for (size_t i = 0; i < (size_t)W * H; i++) {
-		double I0 = ch[i], I1 = ch[W * H + i], I2 = ch[2 * W * H + i], I3 = ch[3 * W * H + i];
+	int in_range = 1;
+	for (size_t i = 0; i < n; i++) {
+		double I0 = ch[i], I1 = ch[n + i], I2 = ch[2 * n + i], I3 = ch[3 * n + i];
 		double s0 = (I0 + I1 + I2 + I3) / 2, s1 = I0 - I2, s2 = I1 - I3;
-		double n = sqrt(s1 * s1 + s2 * s2), dl = s0 > 0 ? fmin(n / s0, 1) : 0;
-		ws = fmax(ws, fabs(buf[i] - s0) + fabs(buf[W * H + i] - s1) + fabs(buf[2 * W * H + i] - s2));
-		wd = fmax(wd, fabs(buf[3 * W * H + i] - dl));
-		if (n > 1) {
-			double d = fabs(buf[4 * W * H + i] - aolp_ref(s1, s2));
+		double nn = sqrt(s1 * s1 + s2 * s2), dl = s0 > 0 ? fmin(nn / s0, 1) : 0;
+		const float *o0 = pl[0]->data, *o1 = pl[1]->data, *o2 = pl[2]->data;
+		double e = fabs(o0[i] - s0) + fabs(o1[i] - s1) + fabs(o2[i] - s2);
+		ws = fmax(ws, e / fs);
+		wd = fmax(wd, fabs(pl[3]->data[i] - dl));
+		float a = pl[4]->data[i];
+		in_range &= a >= 0 && a < (float)M_PI;
+		if (nn > fs / 4095) {
+			double d = fabs(a - aolp_ref(s1, s2));
 			wa = fmax(wa, fmin(d, M_PI - d));
 		}
 	}
-	CHECK(ws <= 1e-6 * 4095);
+	CHECK(ws <= 1e-6);
 	CHECK(wd <= 2e-6);
 	CHECK(wa <= 1e-6);
-	if (ws > 1e-6 * 4095 || wd > 2e-6 || wa > 1e-6)
-		fprintf(stderr, "  fused: S %g, DoLP %g, AoLP %g\n", ws, wd, wa);
+	CHECK(in_range);
+	if (ws > 1e-6 || wd > 2e-6 || wa > 1e-6)
+		fprintf(stderr, "  fused %ux%u %s: S %g of full scale, DoLP %g, AoLP %g\n", W, H,
+			pc_format_info_get(fc->fmt)->name, ws, wd, wa);
 	/* interleaved (H, W, 3) Stokes and a threads=1 run give the same numbers */
-	float *il = malloc(sizeof(float) * W * H * 3);
+	float *il = malloc(sizeof(float) * n * 3);
 	pc_stokes_out si;
 	memset(&si, 0, sizeof si);
 	si.s0 = (pc_fplane){ il, 3 * W, 3 };
@@ -202,14 +231,39 @@ static void test_fused(void)
 	pc_demosaic_opts one = { 1, false, 0 };
 	CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, PC_DM_BILINEAR, &one, &si), 0);
 	int same = 1;
-	for (size_t i = 0; i < (size_t)W * H; i++)
-		same &= il[3 * i] == buf[i] && il[3 * i + 1] == buf[W * H + i] &&
-			il[3 * i + 2] == buf[2 * W * H + i];
+	for (size_t i = 0; i < n; i++)
+		same &= il[3 * i] == pl[0]->data[i] && il[3 * i + 1] == pl[1]->data[i] &&
+			il[3 * i + 2] == pl[2]->data[i];
+	CHECK(same);
+	/* DoLP and AoLP alone (no Stokes planes wanted) are the same numbers */
+	pc_stokes_out da;
+	memset(&da, 0, sizeof da);
+	da.dolp = (pc_fplane){ il, W, 1 };
+	da.aolp = (pc_fplane){ il + n, W, 1 };
+	CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, PC_DM_BILINEAR, NULL, &da), 0);
+	same = 1;
+	for (size_t i = 0; i < n; i++)
+		same &= il[i] == pl[3]->data[i] && il[n + i] == pl[4]->data[i];
 	CHECK(same);
 	free(il);
 	free(ch);
 	free(buf);
 	pc_view_free(&raw);
+}
+
+static void test_fused(void)
+{
+	const fused_case cases[] = {
+		{ 46, 34, PC_FMT_MONO12, 1 },	 /* 16 + 16 + 8 + 6: every loop of the kernel */
+		{ 64, 8, PC_FMT_MONO12, 1 },	 /* whole 16-pixel blocks only */
+		{ 4, 4, PC_FMT_MONO12, 1 },	 /* the smallest frame: scalar only */
+		{ 30, 6, PC_FMT_MONO8, 1 },
+		{ 40, 12, PC_FMT_FLOAT32, 1e-25 },
+		{ 40, 12, PC_FMT_FLOAT32, 1e25 },
+		{ 1296, 1296, PC_FMT_MONO12, 1 }, /* non-temporal stores */
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
+		fused_one(&cases[i]);
 }
 
 static void test_pictures(void)
