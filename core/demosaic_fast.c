@@ -18,41 +18,56 @@
 #include <immintrin.h>
 #endif
 
-/* 32-byte vectors travel between static inline helpers only, never across an ABI boundary, so
- * GCC's note that their calling convention differs without -mavx does not apply. */
+/* 32- and 64-byte vectors travel between static inline helpers only, never across an ABI
+ * boundary, so GCC's note that their calling convention differs without -mavx does not apply. */
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 typedef float v8f __attribute__((vector_size(32)));
 typedef int32_t v8i __attribute__((vector_size(32)));
+typedef float v16f __attribute__((vector_size(64)));
+typedef int32_t v16i __attribute__((vector_size(64)));
 
-static inline v8f vsplat(float f)
-{
-	v8f z = { 0 };
-	return z + f; /* a broadcast, not eight inserts */
-}
+/* Helpers for both widths: broadcast (not lane inserts), unaligned load/store, select by a
+ * comparison mask, |v|, and the even/odd lane blend (lane parity = column parity: x is a
+ * multiple of the width). */
+#define PC_VEC_HELPERS(W)                                                                        \
+	static inline v##W##f vsplat##W(float f)                                                 \
+	{                                                                                        \
+		v##W##f z = { 0 };                                                               \
+		return z + f;                                                                    \
+	}                                                                                        \
+	static inline v##W##f vld##W(const float *p)                                             \
+	{                                                                                        \
+		v##W##f v;                                                                       \
+		memcpy(&v, p, sizeof v);                                                         \
+		return v;                                                                        \
+	}                                                                                        \
+	static inline void vst##W(float *p, v##W##f v)                                           \
+	{                                                                                        \
+		memcpy(p, &v, sizeof v);                                                         \
+	}                                                                                        \
+	static inline v##W##f vsel##W(v##W##i m, v##W##f a, v##W##f b)                           \
+	{                                                                                        \
+		return (v##W##f)(((v##W##i)a & m) | ((v##W##i)b & ~m));                          \
+	}                                                                                        \
+	static inline v##W##f vabs##W(v##W##f a)                                                 \
+	{                                                                                        \
+		v##W##i z = { 0 };                                                               \
+		return (v##W##f)((v##W##i)a & (z + 0x7fffffff));                                 \
+	}
+PC_VEC_HELPERS(8)
+PC_VEC_HELPERS(16)
+#undef PC_VEC_HELPERS
 
-static inline v8f vld(const float *p)
-{
-	v8f v;
-	memcpy(&v, p, sizeof v);
-	return v;
-}
-
-static inline v8f vsel(v8i m, v8f a, v8f b)
-{
-	return (v8f)(((v8i)a & m) | ((v8i)b & ~m));
-}
-
-static inline v8f vabs(v8f a)
-{
-	return (v8f)((v8i)a & (v8i){ 0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff,
-				     0x7fffffff, 0x7fffffff, 0x7fffffff });
-}
-
-/* Even lanes from a, odd lanes from b (lane parity = column parity: x is a multiple of 8). */
-static inline v8f vblend_odd(v8f a, v8f b)
+static inline v8f vblend_odd8(v8f a, v8f b)
 {
 	return __builtin_shuffle(a, b, (v8i){ 0, 9, 2, 11, 4, 13, 6, 15 });
+}
+
+static inline v16f vblend_odd16(v16f a, v16f b)
+{
+	return __builtin_shuffle(a, b, (v16i){ 0, 17, 2, 19, 4, 21, 6, 23, 8, 25, 10, 27, 12, 29,
+					       14, 31 });
 }
 
 static inline v8f vsqrt_lanes(v8f v)
@@ -63,19 +78,23 @@ static inline v8f vsqrt_lanes(v8f v)
 	return r;
 }
 
-static inline void vst(float *p, v8f v)
-{
-	memcpy(p, &v, sizeof v);
-}
-
-
-/* Baseline instance. */
+/* Baseline instance (8 lanes of GCC vector code; SSE2 pairs). */
+#define KW 8
+#define vf v8f
+#define vi v8i
+#define vsplat vsplat8
+#define vld vld8
+#define vabs vabs8
+#define vsel vsel8
+#define vblend_odd vblend_odd8
 #define KFN(name) name##_base
 #define KATTR
-#define KSTORE(p, v, nt) ((void)(nt), vst((p), (v)))
+#define KSTORE(p, v, nt) ((void)(nt), vst8((p), (v)))
 #define KSQRT(v) vsqrt_lanes(v)
 #define KFMA(a, b, c) ((a) * (b) + (c))
 #define KRCP(d) (vsplat(1.0f) / (d))
+#define km v8i
+#define KLT(a, b) ((a) < (b))
 #define KSEL(m, a, b) vsel((m), (a), (b))
 #define KMAX(a, b) vsel((a) > (b), (a), (b))
 #define KMIN(a, b) vsel((a) < (b), (a), (b))
@@ -87,6 +106,8 @@ static inline void vst(float *p, v8f v)
 #undef KFMA
 #undef KRCP
 #undef KSEL
+#undef km
+#undef KLT
 #undef KMAX
 #undef KMIN
 
@@ -101,26 +122,30 @@ static inline __attribute__((always_inline, target("avx2,fma"))) v8f rcp_avx2(v8
 	return (v8f)_mm256_fmadd_ps(r, e, r);
 }
 
-static inline __attribute__((always_inline, target("avx512f,avx512vl,fma"))) v8f rcp_avx512(v8f d)
+#define PC_AVX512_TARGET "avx512f,avx512vl,avx512dq,avx512bw,fma"
+
+static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_avx512(v16f d)
 {
-	__m256 r = _mm256_rcp14_ps((__m256)d);
-	__m256 e = _mm256_fnmadd_ps((__m256)d, r, _mm256_set1_ps(1.0f));
-	return (v8f)_mm256_fmadd_ps(r, e, r);
+	__m512 r = _mm512_rcp14_ps((__m512)d);
+	__m512 e = _mm512_fnmadd_ps((__m512)d, r, _mm512_set1_ps(1.0f));
+	return (v16f)_mm512_fmadd_ps(r, e, r);
 }
 
 /* AVX2 instance: the same source, 256-bit instructions, streaming stores. */
 #define KFN(name) name##_avx2
 #define KATTR __attribute__((target("avx2,fma")))
-#define KSTORE(p, v, nt)                                                                   \
-	do {                                                                               \
-		if (nt)                                                                    \
-			_mm256_stream_ps((p), (__m256)(v));                                \
-		else                                                                       \
-			vst((p), (v));                                                     \
+#define KSTORE(p, v, nt)                                                                         \
+	do {                                                                                     \
+		if (nt)                                                                          \
+			_mm256_stream_ps((p), (__m256)(v));                                      \
+		else                                                                             \
+			vst8((p), (v));                                                          \
 	} while (0)
 #define KSQRT(v) ((v8f)_mm256_sqrt_ps((__m256)(v)))
 #define KFMA(a, b, c) ((v8f)_mm256_fmadd_ps((__m256)(a), (__m256)(b), (__m256)(c)))
 #define KRCP(d) rcp_avx2(d)
+#define km v8i
+#define KLT(a, b) ((a) < (b))
 #define KSEL(m, a, b) ((v8f)_mm256_blendv_ps((__m256)(b), (__m256)(a), (__m256)(m)))
 #define KMAX(a, b) ((v8f)_mm256_max_ps((__m256)(a), (__m256)(b)))
 #define KMIN(a, b) ((v8f)_mm256_min_ps((__m256)(a), (__m256)(b)))
@@ -132,26 +157,49 @@ static inline __attribute__((always_inline, target("avx512f,avx512vl,fma"))) v8f
 #undef KFMA
 #undef KRCP
 #undef KSEL
+#undef km
+#undef KLT
 #undef KMAX
 #undef KMIN
+#endif
 
-/* AVX-512VL instance: the same 8-wide source with 32 vector registers (the fused pipeline's
- * constants and partial sums stop spilling). */
+#undef KW
+#undef vf
+#undef vi
+#undef vsplat
+#undef vld
+#undef vabs
+#undef vsel
+#undef vblend_odd
+
+#ifdef PC_HAVE_X86_DISPATCH
+/* AVX-512 instance: the same source 16 lanes wide (one 64-byte store per output row and 16
+ * pixels), 32 vector registers, comparisons into mask registers. */
+#define KW 16
+#define vf v16f
+#define vi v16i
+#define vsplat vsplat16
+#define vld vld16
+#define vabs vabs16
+#define vsel vsel16
+#define vblend_odd vblend_odd16
 #define KFN(name) name##_avx512
-#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,fma")))
-#define KSTORE(p, v, nt)                                                                   \
-	do {                                                                               \
-		if (nt)                                                                    \
-			_mm256_stream_ps((p), (__m256)(v));                                \
-		else                                                                       \
-			vst((p), (v));                                                     \
+#define KATTR __attribute__((target(PC_AVX512_TARGET)))
+#define KSTORE(p, v, nt)                                                                         \
+	do {                                                                                     \
+		if (nt)                                                                          \
+			_mm512_stream_ps((p), (__m512)(v));                                      \
+		else                                                                             \
+			vst16((p), (v));                                                         \
 	} while (0)
-#define KSQRT(v) ((v8f)_mm256_sqrt_ps((__m256)(v)))
-#define KFMA(a, b, c) ((v8f)_mm256_fmadd_ps((__m256)(a), (__m256)(b), (__m256)(c)))
+#define KSQRT(v) ((v16f)_mm512_sqrt_ps((__m512)(v)))
+#define KFMA(a, b, c) ((v16f)_mm512_fmadd_ps((__m512)(a), (__m512)(b), (__m512)(c)))
 #define KRCP(d) rcp_avx512(d)
-#define KSEL(m, a, b) ((v8f)_mm256_blendv_ps((__m256)(b), (__m256)(a), (__m256)(m)))
-#define KMAX(a, b) ((v8f)_mm256_max_ps((__m256)(a), (__m256)(b)))
-#define KMIN(a, b) ((v8f)_mm256_min_ps((__m256)(a), (__m256)(b)))
+#define km __mmask16
+#define KLT(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_LT_OQ)
+#define KSEL(m, a, b) ((v16f)_mm512_mask_blend_ps((m), (__m512)(b), (__m512)(a)))
+#define KMAX(a, b) ((v16f)_mm512_max_ps((__m512)(a), (__m512)(b)))
+#define KMIN(a, b) ((v16f)_mm512_min_ps((__m512)(a), (__m512)(b)))
 #include "demosaic_kern.inc"
 #undef KFN
 #undef KATTR
@@ -160,8 +208,18 @@ static inline __attribute__((always_inline, target("avx512f,avx512vl,fma"))) v8f
 #undef KFMA
 #undef KRCP
 #undef KSEL
+#undef km
+#undef KLT
 #undef KMAX
 #undef KMIN
+#undef KW
+#undef vf
+#undef vi
+#undef vsplat
+#undef vld
+#undef vabs
+#undef vsel
+#undef vblend_odd
 
 static int use_avx512(void)
 {
@@ -189,14 +247,14 @@ static int use_avx2(void)
 }
 #endif
 
-/* Non-temporal stores only pay for outputs much larger than the caches; they need 32-byte
- * aligned row starts. */
+/* Non-temporal stores only pay for outputs much larger than the caches; the kernels use them
+ * on 64-byte aligned row starts (whole cache lines; the AVX-512 stores need it). */
 #define PC_NT_MIN_BYTES ((size_t)32 << 20)
 
 static int planes_aligned(const pc_fplane *p, unsigned n)
 {
 	for (unsigned c = 0; c < n; c++)
-		if (!p[c].data || ((uintptr_t)p[c].data & 31) || ((p[c].row_stride * 4) & 31) ||
+		if (!p[c].data || ((uintptr_t)p[c].data & 63) || ((p[c].row_stride * 4) & 63) ||
 		    p[c].pixel_stride != 1)
 			return 0;
 	return 1;
