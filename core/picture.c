@@ -180,3 +180,29 @@ void pc_picture_aolp_key(double t, double s, uint8_t rgb[3], void *ctx)
 	else
 		pc_hsv_to_rgb8(t, 1.0, s, rgb);
 }
+
+void pc_picture_mask_rgb(uint32_t x, uint32_t y, uint8_t rgb[3])
+{
+	uint8_t v = ((x + y) / 4) % 2 ? PC_PICTURE_MASK_RGB1 : PC_PICTURE_MASK_RGB0;
+	rgb[0] = rgb[1] = rgb[2] = v;
+}
+
+size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t height, float threshold,
+			   uint8_t *rgb, size_t rgb_stride)
+{
+	size_t n = 0;
+	if (!s0 || !s0->data || !rgb)
+		return 0;
+	for (uint32_t y = 0; y < height; y++) {
+		const float *r = s0->data + (size_t)y * s0->row_stride;
+		uint8_t *o = rgb + (size_t)y * rgb_stride;
+		for (uint32_t x = 0; x < width; x++) {
+			float v = r[(size_t)x * s0->pixel_stride];
+			if (v >= threshold && isfinite(v))
+				continue;
+			pc_picture_mask_rgb(x, y, o + 3 * (size_t)x);
+			n++;
+		}
+	}
+	return n;
+}

@@ -11,56 +11,90 @@
 #include "polarcam/stokes.h"
 
 static int write_one(const char *dir, const char *name, const uint8_t *rgb, uint32_t w, uint32_t h,
-		     const char *title, const pc_colorbar *bar, uint32_t max_width)
+		     const char *title, const pc_colorbar *bar, const pc_legend_note *note,
+		     uint32_t max_width)
 {
 	char path[4096];
 	if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path)
 		return pc_error(PC_EINVAL, "%s: directory path too long", dir);
-	return pc_image_write_png(path, rgb, w, h, (size_t)w * 3, title, bar, max_width);
+	return pc_image_write_png_ex(path, rgb, w, h, (size_t)w * 3, title, bar, note, max_width);
 }
 
 int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, uint32_t height,
 		      const char *title_prefix)
 {
-	return pc_pictures_write_ex(dir, st, width, height, title_prefix, 0);
+	pc_pictures_opts o = { title_prefix, 0, 0 };
+	return pc_pictures_write_opts(dir, st, width, height, &o);
 }
 
 int pc_pictures_write_ex(const char *dir, const pc_stokes_out *st, uint32_t width,
 			 uint32_t height, const char *title_prefix, uint32_t max_width)
 {
+	pc_pictures_opts o = { title_prefix, max_width, 0 };
+	return pc_pictures_write_opts(dir, st, width, height, &o);
+}
+
+int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t width,
+			   uint32_t height, const pc_pictures_opts *opts)
+{
 	if (!dir || !st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
-	const char *pre = title_prefix ? title_prefix : "";
+	pc_pictures_opts o = { NULL, 0, 0 };
+	if (opts)
+		o = *opts;
+	if (!isfinite(o.mask_s0))
+		return pc_error(PC_EINVAL, "pictures: mask threshold %g is not finite", o.mask_s0);
+	/* "truth" -> "truth: S0 ..." */
+	char pre[96] = "";
+	if (o.title_prefix && *o.title_prefix)
+		snprintf(pre, sizeof pre, "%s: ", o.title_prefix);
 	uint8_t *rgb = malloc((size_t)width * height * 3);
 	if (!rgb)
 		return pc_error(PC_ENOMEM, "pictures: %ux%u RGB buffer", width, height);
-	char title[256];
+	char title[320];
 	/* S0: 0 to its 99.9th percentile (a few specular pixels must not darken the rest) */
 	float hi = pc_picture_quantile(&st->s0, width, height, 0.999);
 	if (!(hi > 0))
 		hi = 1;
+	float mask = o.mask_s0 > 0 ? (float)o.mask_s0
+		     : o.mask_s0 == 0 ? (float)(PC_PICTURES_MASK_DEFAULT_REL * hi)
+				      : -INFINITY;
+	char mask_note[64] = "", mask_title[128] = "";
+	if (mask > -INFINITY) {
+		snprintf(mask_note, sizeof mask_note, "S0 < %.4g", mask);
+		snprintf(mask_title, sizeof mask_title, "; hatched: S0 < %.4g, low signal", mask);
+	}
+	pc_legend_note note = { mask_note, pc_picture_mask_rgb };
+	const pc_legend_note *np = mask > -INFINITY ? &note : NULL;
 	int rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, (size_t)width * 3);
 	pc_colorbar bar = { "S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL };
 	snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
 	if (!rc)
-		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar, max_width);
-	if (!rc)
+		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar, NULL, o.max_width);
+	if (!rc) {
 		rc = pc_picture_grey(&st->dolp, width, height, 0, 1, rgb, (size_t)width * 3);
+		if (np)
+			pc_picture_mask_low(&st->s0, width, height, mask, rgb, (size_t)width * 3);
+	}
 	pc_colorbar dbar = { "DoLP", 0, 1, NULL, 0, 0, pc_picture_grey_key, NULL };
-	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)", pre);
+	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)%s", pre, mask_title);
 	if (!rc)
-		rc = write_one(dir, "dolp.png", rgb, width, height, title, &dbar, max_width);
+		rc = write_one(dir, "dolp.png", rgb, width, height, title, &dbar, np, o.max_width);
 	static const pc_aolp_style styles[2] = { PC_AOLP_VALUE, PC_AOLP_SATURATION };
 	static const char *names[2] = { "aolp.png", "aolp_sat.png" };
 	static const char *what[2] = { "value", "saturation" };
 	for (int k = 0; k < 2 && !rc; k++) {
 		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], 1.0f, rgb,
 				     (size_t)width * 3);
+		if (!rc && np)
+			pc_picture_mask_low(&st->s0, width, height, mask, rgb, (size_t)width * 3);
 		pc_colorbar abar = { "AoLP (deg, from x, counter-clockwise)", 0, 180, "DoLP", 0, 1,
 				     pc_picture_aolp_key, (void *)&styles[k] };
-		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)", pre, what[k]);
+		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)%s", pre, what[k],
+			 mask_title);
 		if (!rc)
-			rc = write_one(dir, names[k], rgb, width, height, title, &abar, max_width);
+			rc = write_one(dir, names[k], rgb, width, height, title, &abar, np,
+				       o.max_width);
 	}
 	free(rgb);
 	return rc;

@@ -447,6 +447,13 @@ int pc_plot_write_png(const pc_plot *p, const char *path, int width, int height)
 int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
 		       size_t stride, const char *title, const pc_colorbar *bar, uint32_t max_width)
 {
+	return pc_image_write_png_ex(path, rgb, width, height, stride, title, bar, NULL, max_width);
+}
+
+int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
+			  size_t stride, const char *title, const pc_colorbar *bar,
+			  const pc_legend_note *note, uint32_t max_width)
+{
 	if (!rgb || width == 0 || height == 0 || stride < (size_t)width * 3 || width > 30000 ||
 	    height > 30000)
 		return pc_error(PC_EINVAL, "%s: bad image geometry %ux%u stride %zu", path, width, height,
@@ -501,6 +508,9 @@ int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uin
 
 	if (bar) {
 		double bx = iw + fs, by = top + fs * 0.5, bh = fmax(ih - fs * 1.5, fs * 4);
+		int with_note = note && note->text && note->color && bh > fs * 8;
+		if (with_note)
+			bh -= fs * 2.5; /* room for the note's swatch below the bar */
 		double bwid = bar->s_label ? fs * 3 : fs * 1.2;
 		int nt = (int)bh, ns = bar->s_label ? (int)bwid : 1;
 		for (int k = 0; k < nt; k++) {
@@ -545,6 +555,21 @@ int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uin
 		if (bar->s_label) {
 			snprintf(buf, sizeof buf, "%s %g..%g", bar->s_label, bar->smin, bar->smax);
 			text_at(cr, bx, by + bh + fs * 0.2, buf, 0, 0);
+		}
+		if (with_note) {
+			int sw = (int)(fs * 1.2), sy = (int)(by + bh + fs * 1.3);
+			for (int yy = 0; yy < sw; yy++)
+				for (int xx = 0; xx < sw; xx++) {
+					uint8_t c[3];
+					note->color((uint32_t)xx, (uint32_t)yy, c);
+					cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
+					cairo_rectangle(cr, bx + xx, sy + yy, 1, 1);
+					cairo_fill(cr);
+				}
+			cairo_set_source_rgb(cr, 0, 0, 0);
+			cairo_rectangle(cr, bx, sy, sw, sw);
+			cairo_stroke(cr);
+			text_at(cr, bx + sw + fs * 0.3, sy + sw / 2.0, note->text, 0, 0.5);
 		}
 	}
 	cairo_destroy(cr);

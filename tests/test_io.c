@@ -3,6 +3,7 @@
  * and bad input: truncated files, wrong bit depth, out-of-range values, NaN, non-images. Every
  * failure must name the file and leave no output behind. */
 #include <dirent.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 #include "polarcam/error.h"
 #include "polarcam/frame.h"
 #include "polarcam/io.h"
+#include "polarcam/stokes.h"
 
 static char dir[64];
 
@@ -322,6 +324,41 @@ static void test_raw(void)
 	CHECK_EQ_INT(pc_image_read(tmp("r.raw"), &odd, &r, NULL), PC_EINVAL);
 }
 
+/* The picture writer: the four PNGs, with and without the low-signal mask; a non-finite mask
+ * threshold or missing planes are refused. */
+static void test_pictures(void)
+{
+	enum { W = 24, H = 16 };
+	float s0[W * H], dl[W * H], al[W * H];
+	for (int i = 0; i < W * H; i++) {
+		s0[i] = (float)(i % W) * 10.0f; /* dark on the left */
+		dl[i] = 0.5f;
+		al[i] = 1.0f;
+	}
+	pc_stokes_out so;
+	memset(&so, 0, sizeof so);
+	so.s0 = (pc_fplane){ s0, W, 1 };
+	so.dolp = (pc_fplane){ dl, W, 1 };
+	so.aolp = (pc_fplane){ al, W, 1 };
+	CHECK_EQ_INT(pc_pictures_write(dir, &so, W, H, "truth"), 0);
+	const char *names[4] = { "s0.png", "dolp.png", "aolp.png", "aolp_sat.png" };
+	for (int k = 0; k < 4; k++)
+		CHECK(access(tmp(names[k]), F_OK) == 0);
+	pc_pictures_opts o = { "m", 0, 45.0 };
+	CHECK_EQ_INT(pc_pictures_write_opts(dir, &so, W, H, &o), 0);
+	o.mask_s0 = -1;
+	CHECK_EQ_INT(pc_pictures_write_opts(dir, &so, W, H, &o), 0);
+	CHECK_EQ_INT(pc_pictures_write_opts(dir, &so, W, H, NULL), 0);
+	o.mask_s0 = NAN;
+	int before = count_files();
+	CHECK_EQ_INT(pc_pictures_write_opts(dir, &so, W, H, &o), PC_EINVAL);
+	so.dolp.data = NULL;
+	CHECK_EQ_INT(pc_pictures_write_opts(dir, &so, W, H, NULL), PC_EINVAL);
+	CHECK_EQ_INT(count_files(), before);
+	for (int k = 0; k < 4; k++)
+		unlink(tmp(names[k]));
+}
+
 int main(void)
 {
 	snprintf(dir, sizeof dir, "/tmp/pc_test_io.XXXXXX");
@@ -332,6 +369,7 @@ int main(void)
 	test_png();
 	test_bmp();
 	test_raw();
+	test_pictures();
 	char cmd[128];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
 	if (system(cmd) != 0)

@@ -228,6 +228,15 @@ static void test_process_cmd(void)
 	pc_array_free(&st);
 	pc_array_free(&dl);
 	pc_array_free(&al);
+	/* the low-signal mask threshold: a number >= 0, else exit 2 and nothing written */
+	snprintf(args, sizeof args, "process %s -o %s --mask-s0 500", tmp("p.png"), tmp("procm"));
+	CHECK_EQ_INT(run(args), 0);
+	CHECK(exists(tmp("procm/dolp.png")));
+	snprintf(args, sizeof args, "process %s -o %s --mask-s0 -3", tmp("p.png"), tmp("procn"));
+	CHECK_EQ_INT(run(args), 2);
+	snprintf(args, sizeof args, "process %s -o %s --mask-s0 nan", tmp("p.png"), tmp("procn"));
+	CHECK_EQ_INT(run(args), 2);
+	CHECK(!exists(tmp("procn")));
 	pc_view_free(&raw);
 }
 

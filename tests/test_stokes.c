@@ -283,6 +283,29 @@ static void test_pictures(void)
 	CHECK(rgb[0] == 255 && rgb[6] == 0 && rgb[9] == 128);
 	CHECK_EQ_INT(pc_picture_grey(&dp, 4, 1, 1, 1, rgb, 12), PC_EINVAL);
 	CHECK_EQ_INT(pc_picture_aolp(&ap, NULL, 4, 1, PC_AOLP_VALUE, 1.0f, rgb, 12), PC_EINVAL);
+	/* low-signal mask: S0 below the threshold or not finite gets the hatch, the rest is kept */
+	float s0v[4] = { 5, 50, NAN, 49.99f };
+	pc_fplane s0p = { s0v, 4, 1 };
+	uint8_t img[12];
+	memset(img, 200, sizeof img);
+	CHECK_EQ_INT((int)pc_picture_mask_low(&s0p, 4, 1, 50, img, 12), 3);
+	uint8_t hatch[3];
+	int masked_ok = 1;
+	for (uint32_t x = 0; x < 4; x++) {
+		pc_picture_mask_rgb(x, 0, hatch);
+		int is_hatch = !memcmp(img + 3 * x, hatch, 3);
+		masked_ok &= x == 1 ? (img[3] == 200 && img[4] == 200 && img[5] == 200) : is_hatch;
+	}
+	CHECK(masked_ok);
+	/* the hatch is grey and has both stripes */
+	int seen0 = 0, seen1 = 0;
+	for (uint32_t x = 0; x < 16; x++) {
+		pc_picture_mask_rgb(x, 3, hatch);
+		CHECK(hatch[0] == hatch[1] && hatch[1] == hatch[2]);
+		seen0 |= hatch[0] == PC_PICTURE_MASK_RGB0;
+		seen1 |= hatch[0] == PC_PICTURE_MASK_RGB1;
+	}
+	CHECK(seen0 && seen1);
 	float q[100];
 	for (int i = 0; i < 100; i++)
 		q[i] = (float)i;

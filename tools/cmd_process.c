@@ -31,6 +31,10 @@ static void usage(FILE *fp)
 		"  -o, --output DIR    output directory\n"
 		"  --picture-width N   downscale the PNG pictures to at most N pixels wide for display\n"
 		"                      (default 1224; 0 = full resolution, slower to write)\n"
+		"  --mask-s0 T         low-signal mask: in dolp.png, aolp.png and aolp_sat.png, pixels\n"
+		"                      with S0 < T (raw units; e.g. a few noise sigmas) are a dark grey\n"
+		"                      hatch, stated in the title and legend. Default: 1%% of the S0\n"
+		"                      99.9th percentile; 0 = no mask. The .npy files are never masked.\n"
 		"%s"
 		"  -h, --help          this help\n"
 		"\n"
@@ -55,6 +59,8 @@ int cmd_process(int argc, char **argv)
 	}
 	/* --picture-width is process's own; the rest are the shared raw options */
 	long pic_width = 1224;
+	double mask_s0 = 0; /* 0: the library default */
+	int mask_given = 0;
 	char **args = calloc((size_t)argc + 1, sizeof *args);
 	int nargs = 0;
 	if (!args)
@@ -68,6 +74,20 @@ int cmd_process(int argc, char **argv)
 				free(args);
 				return pc_cli_fail(rc, NULL);
 			}
+			i++;
+			continue;
+		}
+		if (!strcmp(argv[i], "--mask-s0")) {
+			int rc = i + 1 < argc ? pc_cli_parse_double("--mask-s0", argv[i + 1], &mask_s0)
+					      : pc_error(PC_EINVAL, "--mask-s0 needs a value");
+			if (!rc && !(mask_s0 >= 0))
+				rc = pc_error(PC_ERANGE, "--mask-s0 %s: expected a threshold >= 0 "
+							 "(0: no mask)", argv[i + 1]);
+			if (rc) {
+				free(args);
+				return pc_cli_fail(rc, NULL);
+			}
+			mask_given = 1;
 			i++;
 			continue;
 		}
@@ -120,7 +140,11 @@ int cmd_process(int argc, char **argv)
 	if ((rc = write_in(o.out, "stokes.npy", stokes, 3, s3)) ||
 	    (rc = write_in(o.out, "dolp.npy", dolp, 2, s2)) ||
 	    (rc = write_in(o.out, "aolp.npy", aolp, 2, s2)) ||
-	    (rc = pc_pictures_write_ex(o.out, &so, w, h, NULL, (uint32_t)pic_width))) {
+	    (rc = pc_pictures_write_opts(o.out, &so, w, h,
+					 &(pc_pictures_opts){ NULL, (uint32_t)pic_width,
+							      !mask_given ? 0
+							      : mask_s0 > 0 ? mask_s0
+									    : -1 }))) {
 		st = pc_cli_fail(rc, NULL);
 		goto out;
 	}

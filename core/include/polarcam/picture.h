@@ -40,6 +40,18 @@ int pc_picture_aolp(const pc_fplane *aolp, const pc_fplane *dolp, uint32_t width
  * the minimum and maximum; exact to 1/4096 of the range). For display ranges. */
 float pc_picture_quantile(const pc_fplane *in, uint32_t width, uint32_t height, double q);
 
+/* Low-signal mask: where S0 is below threshold (or not finite), DoLP and AoLP are dominated by
+ * noise (their noise grows like σ/S0; the simulator's cast shadows show as white DoLP speckle),
+ * so pictures of them paint those pixels with a dark grey hatch (diagonal stripes of
+ * PC_PICTURE_MASK_RGB0 and PC_PICTURE_MASK_RGB1, 8 pixels per period) that no DoLP grey or
+ * AoLP colour looks like. Returns the number of pixels painted. */
+#define PC_PICTURE_MASK_RGB0 52
+#define PC_PICTURE_MASK_RGB1 84
+size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t height, float threshold,
+			   uint8_t *rgb, size_t rgb_stride);
+/* The mask's colour at pixel (x, y) (for legends). */
+void pc_picture_mask_rgb(uint32_t x, uint32_t y, uint8_t rgb[3]);
+
 /* HSV (h in [0, 1) of the circle, s, v in [0, 1]) to RGB8. */
 void pc_hsv_to_rgb8(double h, double s, double v, uint8_t rgb[3]);
 

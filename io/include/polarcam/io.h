@@ -102,11 +102,30 @@ int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits);
 /* Reads an uncompressed grey BMP (8-bit grey palette, or 24/32-bit with R = G = B) as Mono8. */
 int pc_bmp_read(const char *path, pc_view *out);
 
-/* Writes the standard pictures of a Stokes image into dir, each with a title (prefixed by
- * title_prefix, may be NULL) and a colour bar: s0.png (grey, 0 to the 99.9th percentile),
- * dolp.png (grey, 0..1), aolp.png (hue = AoLP, value = DoLP) and aolp_sat.png (hue = AoLP,
- * saturation = DoLP). st needs s0, dolp and aolp. Files are written atomically. */
+/* Writes the standard pictures of a Stokes image into dir, each with a title and a colour bar:
+ * s0.png (grey, 0 to the 99.9th percentile), dolp.png (grey, 0..1), aolp.png (hue = AoLP,
+ * value = DoLP) and aolp_sat.png (hue = AoLP, saturation = DoLP). st needs s0, dolp and aolp.
+ * Files are written atomically. Titles read "PREFIX: S0 (total intensity)" etc.
+ *
+ * Low-signal mask: where S0 is below a threshold, DoLP and AoLP are noise (their noise grows
+ * like σ/S0), so dolp.png, aolp.png and aolp_sat.png paint those pixels with a dark grey hatch
+ * (pc_picture_mask_low), say so in the title ("hatched: S0 < T, low signal") and show the hatch
+ * under the colour bar. The threshold is opts->mask_s0 in S0 units (raw units) when > 0;
+ * 0 (and pc_pictures_write[_ex]) uses PC_PICTURES_MASK_DEFAULT_REL of the S0 99.9th percentile
+ * (the top of the S0 picture's scale); < 0 disables the mask. Callers that know their sensor's
+ * noise can pass a few σ of S0 instead. */
+#define PC_PICTURES_MASK_DEFAULT_REL 0.01
+typedef struct pc_pictures_opts {
+	const char *title_prefix; /* NULL: none */
+	uint32_t max_width;	  /* downscale for display to at most this width; 0: full size */
+	double mask_s0;		  /* low-signal mask threshold (see above) */
+} pc_pictures_opts;
+
 struct pc_stokes_out;
+/* opts may be NULL (no prefix, full size, default mask). */
+int pc_pictures_write_opts(const char *dir, const struct pc_stokes_out *st, uint32_t width,
+			   uint32_t height, const pc_pictures_opts *opts);
+/* The same with a title prefix (may be NULL) and the default mask. */
 int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
 		      uint32_t height, const char *title_prefix);
 /* The same, downscaled for display to at most max_width pixels wide (0: full size). */

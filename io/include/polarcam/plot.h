@@ -60,6 +60,18 @@ typedef struct pc_colorbar {
 int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
 		       size_t stride, const char *title, const pc_colorbar *bar, uint32_t max_width);
 
+/* A legend entry below a colour bar: a swatch coloured by color(x, y) (pixel coordinates inside
+ * the swatch, so that it can show a hatch) and a short text, e.g. "S0 < 82". */
+typedef struct pc_legend_note {
+	const char *text;
+	void (*color)(uint32_t x, uint32_t y, uint8_t rgb[3]);
+} pc_legend_note;
+
+/* pc_image_write_png with an optional note (NULL: none) under the colour bar. */
+int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
+			  size_t stride, const char *title, const pc_colorbar *bar,
+			  const pc_legend_note *note, uint32_t max_width);
+
 #ifdef __cplusplus
 }
 #endif
