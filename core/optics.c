@@ -284,70 +284,101 @@ void pc_coherency_to_mueller(const double H_re[4][4], const double H_im[4][4], d
 			M[i][j] = creal(R[i][j]);
 }
 
-/* Cyclic Jacobi for a 4×4 Hermitian matrix (in place; H becomes diagonal, V collects the
- * eigenvectors as columns when non-NULL). Each step zeroes H_pq = |h|e^{iα} with U = D R:
- * D = diag(1, e^{−iα}) on (p, q) makes the pair real, R is the real Jacobi rotation. */
-static void pc_jacobi_herm4(double complex H[4][4], double complex V[4][4])
+/* Cyclic Jacobi for a 4×4 Hermitian matrix H = Hr + i Hi (in place; H becomes diagonal, V = Vr
+ * + i Vi collects the eigenvectors as columns when non-NULL). Each step zeroes H_pq = |h|e^{iα}
+ * with U = D R: D = diag(1, e^{−iα}) on (p, q) makes the pair real, R is the real Jacobi
+ * rotation. Complex arithmetic spelt out in real and imaginary parts; |h| = sqrt(h_r² + h_i²)
+ * assumes max|H_ij| near 1 (pc_herm_load scales by a power of two). */
+static void pc_jacobi_herm4(double Hr[4][4], double Hi[4][4], double Vr[4][4], double Vi[4][4])
 {
-	if (V)
+	if (Vr)
 		for (int i = 0; i < 4; i++)
-			for (int j = 0; j < 4; j++)
-				V[i][j] = i == j;
+			for (int j = 0; j < 4; j++) {
+				Vr[i][j] = i == j;
+				Vi[i][j] = 0;
+			}
 	double frob = 0;
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++)
-			frob += creal(H[i][j] * conj(H[i][j]));
+			frob += Hr[i][j] * Hr[i][j] + Hi[i][j] * Hi[i][j];
 	for (int sweep = 0; sweep < 50; sweep++) {
 		double off = 0;
 		for (int p = 0; p < 4; p++)
 			for (int q = p + 1; q < 4; q++)
-				off += creal(H[p][q] * conj(H[p][q]));
+				off += Hr[p][q] * Hr[p][q] + Hi[p][q] * Hi[p][q];
 		if (off <= 1e-34 * frob || off == 0)
 			break;
 		for (int p = 0; p < 4; p++)
 			for (int q = p + 1; q < 4; q++) {
-				double hm = cabs(H[p][q]);
+				double hm = sqrt(Hr[p][q] * Hr[p][q] + Hi[p][q] * Hi[p][q]);
 				if (hm == 0)
 					continue;
-				double complex ph = H[p][q] / hm; /* e^{iα} */
-				double app = creal(H[p][p]), aqq = creal(H[q][q]);
+				const double er = Hr[p][q] / hm, ei = Hi[p][q] / hm; /* e^{iα} */
+				const double app = Hr[p][p], aqq = Hr[q][q];
 				double th = (aqq - app) / (2 * hm);
 				double t = fabs(th) > 1e150 ? 0.5 / th
 				                            : (th >= 0 ? 1 : -1) /
 				                                  (fabs(th) + sqrt(th * th + 1));
 				double c = 1 / sqrt(t * t + 1), sn = t * c;
-				double complex e = conj(ph); /* e^{−iα} */
-				/* columns: H ← H U, U = [[c, s], [−s e^{−iα}, c e^{−iα}]] */
+				/* H ← Uᴴ H U with U = [[c, s], [−s e^{−iα}, c e^{−iα}]] on (p, q). Outside
+				 * the (p, q) block only columns p, q change through H U (rows p, q through
+				 * Uᴴ H are their conjugates: H stays Hermitian); the block itself becomes
+				 * diag(app − t|h|, aqq + t|h|). */
 				for (int k = 0; k < 4; k++) {
-					double complex x = H[k][p], y = H[k][q] * e;
-					H[k][p] = c * x - sn * y;
-					H[k][q] = sn * x + c * y;
+					if (k == p || k == q)
+						continue;
+					double xr = Hr[k][p], xi = Hi[k][p];
+					double yr = Hr[k][q] * er + Hi[k][q] * ei; /* H_kq e^{−iα} */
+					double yi = Hi[k][q] * er - Hr[k][q] * ei;
+					Hr[k][p] = Hr[p][k] = c * xr - sn * yr;
+					Hi[k][p] = c * xi - sn * yi;
+					Hi[p][k] = -Hi[k][p];
+					Hr[k][q] = Hr[q][k] = sn * xr + c * yr;
+					Hi[k][q] = sn * xi + c * yi;
+					Hi[q][k] = -Hi[k][q];
 				}
-				/* rows: H ← Uᴴ H */
-				for (int k = 0; k < 4; k++) {
-					double complex x = H[p][k], y = H[q][k] * ph;
-					H[p][k] = c * x - sn * y;
-					H[q][k] = sn * x + c * y;
-				}
-				H[p][p] = app - t * hm;
-				H[q][q] = aqq + t * hm;
-				H[p][q] = H[q][p] = 0;
-				if (V)
+				Hr[p][p] = app - t * hm;
+				Hr[q][q] = aqq + t * hm;
+				Hi[p][p] = Hi[q][q] = 0;
+				Hr[p][q] = Hr[q][p] = Hi[p][q] = Hi[q][p] = 0;
+				if (Vr)
 					for (int k = 0; k < 4; k++) {
-						double complex x = V[k][p], y = V[k][q] * e;
-						V[k][p] = c * x - sn * y;
-						V[k][q] = sn * x + c * y;
+						double xr = Vr[k][p], xi = Vi[k][p];
+						double yr = Vr[k][q] * er + Vi[k][q] * ei;
+						double yi = Vi[k][q] * er - Vr[k][q] * ei;
+						Vr[k][p] = c * xr - sn * yr;
+						Vi[k][p] = c * xi - sn * yi;
+						Vr[k][q] = sn * xr + c * yr;
+						Vi[k][q] = sn * xi + c * yi;
 					}
 			}
 	}
 }
 
-static void pc_herm_load(const double H_re[4][4], const double H_im[4][4], double complex H[4][4])
+/* The Hermitian part of H_re + i H_im, times a power of two s (returned) that brings max|H_ij|
+ * near 1 (exact; keeps the squares in pc_jacobi_herm4 clear of overflow and underflow). */
+static double pc_herm_load(const double H_re[4][4], const double H_im[4][4], double Hr[4][4],
+                           double Hi[4][4])
 {
+	double mx = 0;
 	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++) /* Hermitian part only */
-			H[i][j] =
-			    0.5 * (H_re[i][j] + H_re[j][i]) + 0.5 * I * (H_im[i][j] - H_im[j][i]);
+		for (int j = 0; j < 4; j++) {
+			Hr[i][j] = 0.5 * (H_re[i][j] + H_re[j][i]);
+			Hi[i][j] = 0.5 * (H_im[i][j] - H_im[j][i]);
+			mx = fmax(mx, fmax(fabs(Hr[i][j]), fabs(Hi[i][j])));
+		}
+	double s = 1;
+	if (mx > 0 && isfinite(mx)) {
+		int e;
+		frexp(mx, &e);
+		s = ldexp(1.0, -e);
+		for (int i = 0; i < 4; i++)
+			for (int j = 0; j < 4; j++) {
+				Hr[i][j] *= s;
+				Hi[i][j] *= s;
+			}
+	}
+	return s;
 }
 
 static int pc_cmp_double(const void *x, const void *y)
@@ -358,11 +389,11 @@ static int pc_cmp_double(const void *x, const void *y)
 
 void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], double eval[4])
 {
-	double complex H[4][4];
-	pc_herm_load(H_re, H_im, H);
-	pc_jacobi_herm4(H, NULL);
+	double Hr[4][4], Hi[4][4];
+	double s = pc_herm_load(H_re, H_im, Hr, Hi);
+	pc_jacobi_herm4(Hr, Hi, NULL, NULL);
 	for (int i = 0; i < 4; i++)
-		eval[i] = creal(H[i][i]);
+		eval[i] = Hr[i][i] / s;
 	qsort(eval, 4, sizeof eval[0], pc_cmp_double);
 }
 
@@ -379,15 +410,14 @@ double pc_mueller_min_coherency_eig(const double M[4][4])
 
 void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *changed)
 {
-	double Hr[4][4], Hi[4][4];
-	double complex H[4][4], V[4][4];
+	double Hr[4][4], Hi[4][4], Jr[4][4], Ji[4][4], Vr[4][4], Vi[4][4];
 	pc_mueller_coherency(M, Hr, Hi);
 	double tr = Hr[0][0] + Hr[1][1] + Hr[2][2] + Hr[3][3];
-	pc_herm_load(Hr, Hi, H);
-	pc_jacobi_herm4(H, V);
+	double s = pc_herm_load(Hr, Hi, Jr, Ji);
+	pc_jacobi_herm4(Jr, Ji, Vr, Vi);
 	double lam[4], lmin = INFINITY;
 	for (int i = 0; i < 4; i++) {
-		lam[i] = creal(H[i][i]);
+		lam[i] = Jr[i][i] / s;
 		if (lam[i] < lmin)
 			lmin = lam[i];
 	}
@@ -402,12 +432,15 @@ void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *chan
 	/* H' = Σ max(λ_k, 0) v_k v_kᴴ */
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++) {
-			double complex acc = 0;
+			double ar = 0, ai = 0;
 			for (int k = 0; k < 4; k++)
-				if (lam[k] > 0)
-					acc += lam[k] * V[i][k] * conj(V[j][k]);
-			Hr[i][j] = creal(acc);
-			Hi[i][j] = cimag(acc);
+				if (lam[k] > 0) {
+					/* v_ik conj(v_jk) */
+					ar += lam[k] * (Vr[i][k] * Vr[j][k] + Vi[i][k] * Vi[j][k]);
+					ai += lam[k] * (Vi[i][k] * Vr[j][k] - Vr[i][k] * Vi[j][k]);
+				}
+			Hr[i][j] = ar;
+			Hi[i][j] = ai;
 		}
 	pc_coherency_to_mueller(Hr, Hi, out);
 }

@@ -264,6 +264,69 @@ static void test_coherency(void)
 	pc_mueller_cloude_filter(M, F, &changed);
 	CHECK(!changed);
 	CHECK(memcmp(F, M, sizeof M) == 0);
+	/* the filter and the eigenvalues scale with M (power-of-two prescaling inside): the same
+	 * non-realisable matrix at 1e-200 … 1e200 */
+	const double scales[] = {1e-200, 1e-30, 3.7, 1e30, 1e200};
+	for (size_t k = 0; k < sizeof scales / sizeof scales[0]; k++) {
+		double sc = scales[k];
+		diag4(sc, sc, sc, -sc, M);
+		CHECK_NEAR(pc_mueller_min_coherency_eig(M), -0.5, 1e-14);
+		pc_mueller_cloude_filter(M, F, &changed);
+		CHECK(changed);
+		for (int i = 0; i < 4; i++)
+			for (int j = 0; j < 4; j++)
+				CHECK_NEAR(F[i][j] / sc, i == j ? expect[i] : 0, 1e-13);
+	}
+	/* known spectra: H = V diag(λ) Vᴴ, V a random unitary, λ with mixed signs and spread */
+	double worst_ev = 0;
+	for (int t = 0; t < 300; t++) {
+		double complex V[4][4];
+		for (int i = 0; i < 4; i++)
+			for (int j = 0; j < 4; j++)
+				V[i][j] = (urand() - 0.5) + I * (urand() - 0.5);
+		for (int j = 0; j < 4; j++) { /* Gram–Schmidt on the columns */
+			for (int q = 0; q < j; q++) {
+				double complex d = 0;
+				for (int i = 0; i < 4; i++)
+					d += conj(V[i][q]) * V[i][j];
+				for (int i = 0; i < 4; i++)
+					V[i][j] -= d * V[i][q];
+			}
+			double nr = 0;
+			for (int i = 0; i < 4; i++)
+				nr += creal(V[i][j] * conj(V[i][j]));
+			for (int i = 0; i < 4; i++)
+				V[i][j] /= sqrt(nr);
+		}
+		double lam[4], sc = pow(10, 40 * urand() - 20), Hr[4][4], Hi[4][4], ev[4];
+		for (int i = 0; i < 4; i++)
+			lam[i] = sc * (2 * urand() - 0.6) * (t % 3 == 0 && i ? 1e-9 : 1);
+		for (int i = 0; i < 4; i++)
+			for (int j = 0; j < 4; j++) {
+				double complex h = 0;
+				for (int q = 0; q < 4; q++)
+					h += V[i][q] * lam[q] * conj(V[j][q]);
+				Hr[i][j] = creal(h);
+				Hi[i][j] = cimag(h);
+			}
+		pc_hermitian4_eigvals(Hr, Hi, ev);
+		double ls[4] = {lam[0], lam[1], lam[2], lam[3]}, lmax = 0;
+		for (int i = 0; i < 4; i++) /* sort ascending */
+			for (int j = i + 1; j < 4; j++)
+				if (ls[j] < ls[i]) {
+					double x = ls[i];
+					ls[i] = ls[j];
+					ls[j] = x;
+				}
+		for (int i = 0; i < 4; i++)
+			lmax = fmax(lmax, fabs(ls[i]));
+		for (int i = 0; i < 4; i++) {
+			CHECK_NEAR(ev[i], ls[i], 1e-14 * lmax);
+			worst_ev = fmax(worst_ev, fabs(ev[i] - ls[i]) / lmax);
+		}
+	}
+	printf("Hermitian 4x4 eigenvalues (known spectra, scales 1e-20..1e20): worst %.1e of max|lambda|\n",
+	       worst_ev);
 	/* convex combinations of pure matrices are realisable */
 	for (int t = 0; t < 100; t++) {
 		double S[4][4] = {{0}};
