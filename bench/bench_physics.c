@@ -338,14 +338,14 @@ int pc_bench_physics(int argc, char **argv)
 	double ns_filt = time_lc(Mc, LC_FULL, PC_LC_FILTER, 1, NM, rl);
 	double ns_fast1 = time_lc(Mc, LC_FAST, PC_LC_NO_FACTORS, 1, 4 * NM, rs);
 	double ns_fast2 = time_lc(Mc, LC_FAST, PC_LC_NO_FACTORS, 2, 8 * NM, rs);
-	double ns_ffilt = time_lc(Mc, LC_FAST, PC_LC_FILTER | PC_LC_NO_FACTORS, 1, NM, rl);
+	double ns_ffilt = time_lc(Mc, LC_FAST, PC_LC_FILTER | PC_LC_NO_FACTORS, 1, NM, rs);
 	/* the batched kernel */
 	double ns_map1 = time_map(Mc, 0, true, 1, 16 * NM, rs);
 	double ns_map2 = time_map(Mc, 0, true, 2, 32 * NM, rs);
 	double ns_drd1 = time_map(Mc, 0, false, 1, 16 * NM, rs);
 	double ns_drd2 = time_map(Mc, 0, false, 2, 32 * NM, rs);
-	double ns_mfilt1 = time_map(Mc, PC_LC_FILTER, false, 1, NM, rl);
-	double ns_mfilt2 = time_map(Mc, PC_LC_FILTER, false, 2, 2 * NM, rl);
+	double ns_mfilt1 = time_map(Mc, PC_LC_FILTER, false, 1, NM, rs);
+	double ns_mfilt2 = time_map(Mc, PC_LC_FILTER, false, 2, 2 * NM, rs);
 	long map_diff = map_vs_scalar(Mc, 0) + map_vs_scalar(Mc, PC_LC_FILTER);
 	/* agreement with the baseline on the physical half (pBRDF matrices) */
 	double dR = 0, dDel = 0;
