@@ -301,7 +301,7 @@ int pc_bench_physics(int argc, char **argv)
 			    "stdout after the tables (tables then go to stderr).\n"
 			    "Environment: POLARCAM_NO_AVX512=1 / POLARCAM_NO_AVX2=1 time the "
 			    "narrower\n"
-			    "map kernels (AVX2 / portable vector code).\n");
+			    "map kernels (AVX2 / the scalar loop).\n");
 			return 0;
 		} else {
 			fprintf(stderr, "polarcam bench physics: unknown option '%s'\n", argv[i]);

@@ -1,9 +1,12 @@
 /* Batched Lu–Chipman decomposition for D, R, Δ maps (physics.md §3, §4): the fast path of
  * pc_lu_chipman_decompose (core/decompose.c, PC_LC_NO_FACTORS) vectorised across matrices in
- * structure-of-arrays form. decompose_map_kern.inc holds the kernel; it is compiled here once
- * with portable GCC vector extensions (4 lanes; any target) and, on x86-64, once each for AVX2
- * (4 lanes) and AVX-512 (8 lanes), chosen at run time with __builtin_cpu_supports. Every
- * instance is bit-identical to the scalar code (tests/test_decompose_map.c). */
+ * structure-of-arrays form. decompose_map_kern.inc holds the kernel (GCC vector extensions); on
+ * x86-64 it is compiled once for AVX2 (4 lanes) and once for AVX-512 (8 lanes), chosen at run
+ * time with __builtin_cpu_supports. Both are bit-identical to the scalar code
+ * (tests/test_decompose_map.c). Elsewhere, and on x86-64 CPUs without AVX2, the map is the scalar
+ * reference matrix by matrix: a 2-lane SSE2/NEON-width instance of the kernel was measured
+ * slower than the scalar code (305 vs 220 ns per matrix; it pays for both sides of every select
+ * and the transposition with only two lanes). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -14,15 +17,9 @@
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
 
-#if defined(__GNUC__)
-#define PC_LC_VECTOR 1
-#endif
-#if defined(PC_LC_VECTOR) && defined(__x86_64__) && !defined(__clang__)
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
 #define PC_LC_X86_DISPATCH 1
 #include <immintrin.h>
-#endif
-
-#ifdef PC_LC_VECTOR
 /* vectors travel between static inline helpers of one instance only, never across an ABI
  * boundary */
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -63,42 +60,12 @@ static void pc_lc_map_scalar(const double *m16, unsigned options, const pc_lc_ma
 		out->flags[i] = lc.flags;
 }
 
-#ifdef PC_LC_VECTOR
+#ifdef PC_LC_X86_DISPATCH
 typedef double pc_vd4 __attribute__((vector_size(32)));
 typedef long pc_vm4 __attribute__((vector_size(32)));
 typedef double pc_vd8 __attribute__((vector_size(64)));
 typedef long pc_vm8 __attribute__((vector_size(64)));
 
-typedef double pc_vd2 __attribute__((vector_size(16)));
-typedef long pc_vm2 __attribute__((vector_size(16)));
-
-static inline pc_vd2 pc_vsqrt2_portable(pc_vd2 v)
-{
-#if defined(__x86_64__)
-	return (pc_vd2)_mm_sqrt_pd((__m128d)v); /* SSE2 is part of x86-64 */
-#else
-	pc_vd2 r;
-	for (int l = 0; l < 2; l++)
-		r[l] = sqrt(v[l]);
-	return r;
-#endif
-}
-
-#define KFN(name) pc_lc_##name##_portable
-#define KATTR
-#define VD        pc_vd2
-#define VM        pc_vm2
-#define VW        2
-#define VSQRT(v)  pc_vsqrt2_portable(v)
-#include "decompose_map_kern.inc"
-#undef KFN
-#undef KATTR
-#undef VD
-#undef VM
-#undef VW
-#undef VSQRT
-
-#ifdef PC_LC_X86_DISPATCH
 #define KFN(name) pc_lc_##name##_avx2
 #define KATTR     __attribute__((target("avx2")))
 #define VD        pc_vd4
@@ -150,7 +117,6 @@ static int pc_lc_has_avx2(void)
 	return __builtin_cpu_supports("avx2");
 }
 #endif /* PC_LC_X86_DISPATCH */
-#endif /* PC_LC_VECTOR */
 
 static pc_lc_isa pc_lc_auto_isa(void)
 {
@@ -176,11 +142,7 @@ const char *pc_lu_chipman_map_isa_name(void)
 	case PC_LC_ISA_AVX2:
 		return "avx2";
 	default:
-#ifdef PC_LC_VECTOR
-		return "portable";
-#else
 		return "scalar";
-#endif
 	}
 }
 
@@ -201,10 +163,9 @@ int pc_lu_chipman_map_isa(const double *M, size_t n, unsigned options, const pc_
 	if (isa == PC_LC_ISA_AUTO)
 		isa = pc_lc_auto_isa();
 	switch (isa) {
-#ifdef PC_LC_VECTOR
-	case PC_LC_ISA_PORTABLE:
-		for (size_t i = 0; i < n; i += 2)
-			pc_lc_lc_block_portable(M, i, n - i < 2 ? n - i : 2, options, out);
+	case PC_LC_ISA_PORTABLE: /* the scalar reference, matrix by matrix */
+		for (size_t i = 0; i < n; i++)
+			pc_lc_map_scalar(M + 16 * i, options, out, i);
 		return 0;
 #ifdef PC_LC_X86_DISPATCH
 	case PC_LC_ISA_AVX2:
@@ -218,12 +179,6 @@ int pc_lu_chipman_map_isa(const double *M, size_t n, unsigned options, const pc_
 			break;
 		for (size_t i = 0; i < n; i += 8)
 			pc_lc_lc_block_avx512(M, i, n - i < 8 ? n - i : 8, options, out);
-		return 0;
-#endif
-#else
-	case PC_LC_ISA_PORTABLE: /* no vector extensions: the scalar reference per matrix */
-		for (size_t i = 0; i < n; i++)
-			pc_lc_map_scalar(M + 16 * i, options, out, i);
 		return 0;
 #endif
 	default:

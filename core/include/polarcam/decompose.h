@@ -61,8 +61,8 @@ typedef struct pc_lc_map {
 } pc_lc_map;
 
 /* Instruction set of the map kernel; AUTO picks the widest this CPU has (AVX-512, AVX2, else
- * the portable 4-lane vector code). The environment variables POLARCAM_NO_AVX512 and
- * POLARCAM_NO_AVX2 (non-empty, not "0") exclude a level from AUTO. */
+ * PORTABLE: the scalar reference matrix by matrix). The environment variables
+ * POLARCAM_NO_AVX512 and POLARCAM_NO_AVX2 (non-empty, not "0") exclude a level from AUTO. */
 typedef enum pc_lc_isa {
 	PC_LC_ISA_AUTO = 0,
 	PC_LC_ISA_PORTABLE,
@@ -84,7 +84,7 @@ int pc_lu_chipman_map(const double *M, size_t n, unsigned options, const pc_lc_m
 int pc_lu_chipman_map_isa(const double *M, size_t n, unsigned options, const pc_lc_map *out,
                           pc_lc_isa isa);
 
-/* Name of the instruction set AUTO uses here ("avx512", "avx2", "portable"). */
+/* Name of the instruction set AUTO uses here ("avx512", "avx2", "scalar"). */
 const char *pc_lu_chipman_map_isa_name(void);
 
 #ifdef __cplusplus
