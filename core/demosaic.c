@@ -71,6 +71,14 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 			       "colour-first as Morimatsu et al. 2020, with the polarization step of "
 			       "their EARI",
 			       PC_DMF_COLOR },
+	[PC_DM_RATIO] = { PC_DM_RATIO, "ratio",
+			  "inter-channel: EARI's edge-aware intensity guide, channels as guide x "
+			  "interpolated ratio raw/guide, twice (Lapray: S0 +3.6 dB, DoLP +2.0 dB; "
+			  "Zhang: +4.8/+4.5 dB over bilinear)",
+			  "the guide pass plus two ratio passes (3x3 tents); about 2-3x bilinear's time",
+			  "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
+			  "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated",
+			  PC_DMF_MONO },
 };
 
 const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m)

@@ -249,7 +249,74 @@ static int use_avx2(void)
 
 /* Non-temporal stores only pay for outputs much larger than the caches; the kernels use them
  * on 64-byte aligned row starts (whole cache lines; the AVX-512 stores need it). */
-#define PC_NT_MIN_BYTES ((size_t)32 << 20)
+#define PC_NT_MIN_BYTES nt_min_bytes()
+
+/* 32 MB; POLARCAM_NT_MIN_BYTES overrides it (the tests use 0 to exercise the streaming paths
+ * on small frames). */
+static size_t nt_min_bytes(void)
+{
+	static size_t cached = (size_t)-1;
+	if (cached == (size_t)-1) {
+		const char *e = getenv("POLARCAM_NT_MIN_BYTES");
+		char *end;
+		unsigned long long v = e && *e ? strtoull(e, &end, 10) : 0;
+		cached = e && *e && !*end ? (size_t)v : (size_t)32 << 20;
+	}
+	return cached;
+}
+
+static int planes_aligned(const pc_fplane *p, unsigned n);
+
+/* Copies n rows of w floats with non-temporal stores (dst rows 64-byte aligned), one row after
+ * the other so that every store sequence fills whole cache lines. For the row-cache methods
+ * (demosaic_ic.c), which compute a row in cache and then write it out; PC_ENOTSUP without
+ * AVX2, where the caller keeps ordinary stores. */
+#ifdef PC_HAVE_X86_DISPATCH
+__attribute__((target("avx2"))) static void stream_rows_avx2(float *const dst[],
+							     const float *const src[], unsigned n,
+							     uint32_t w)
+{
+	for (unsigned k = 0; k < n; k++) {
+		uint32_t x = 0;
+		for (; x + 16 <= w; x += 16) {
+			_mm256_stream_ps(dst[k] + x, _mm256_loadu_ps(src[k] + x));
+			_mm256_stream_ps(dst[k] + x + 8, _mm256_loadu_ps(src[k] + x + 8));
+		}
+		for (; x < w; x++)
+			dst[k][x] = src[k][x];
+	}
+	_mm_sfence();
+}
+#endif
+
+int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, uint32_t w)
+{
+#ifdef PC_HAVE_X86_DISPATCH
+	if (use_avx2()) {
+		stream_rows_avx2(dst, src, n, w);
+		return 0;
+	}
+#endif
+	(void)dst;
+	(void)src;
+	(void)n;
+	(void)w;
+	return PC_ENOTSUP;
+}
+
+int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h)
+{
+#ifdef PC_HAVE_X86_DISPATCH
+	return use_avx2() && planes_aligned(p, n) && (size_t)w * h * 4 * n >= PC_NT_MIN_BYTES;
+#else
+	(void)p;
+	(void)n;
+	(void)w;
+	(void)h;
+	return 0;
+#endif
+}
+
 
 static int planes_aligned(const pc_fplane *p, unsigned n)
 {
@@ -429,6 +496,7 @@ int pc_demosaic_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_meth
 	case PC_DM_PPID:
 	case PC_DM_RI:
 	case PC_DM_EARI:
+	case PC_DM_RATIO:
 		return pc_demosaic_ic(in, m, method, full_scale, threads, out);
 	case PC_DM_BILINEAR:
 		return fast_bilinear(in, m, threads, out);

@@ -47,11 +47,20 @@ typedef struct pc_ic_kernels {
 		      const float *restrict, long);
 	void (*mean4)(float *restrict, const float *, const float *, const float *, const float *,
 		      long);
+	void (*ratio_q)(float *restrict, const float *restrict, const float *restrict, float, long,
+			long);
+	void (*ratio_mean)(float *restrict, const float *restrict, const float *restrict,
+			   const float *restrict, const float *restrict, const float *restrict, float,
+			   long);
+	void (*ratio_out)(float *restrict const[4], const float *restrict, const float *restrict,
+			  const float *restrict, const float *restrict, const float *restrict, float,
+			  long);
 } pc_ic_kernels;
 
 /* The guided filter's window radius is fixed at compile time (PC_GF_R) so that its window
  * sums unroll and vectorise; the parameter tables must agree. */
 #define PC_GF_R 2
+_Static_assert(PC_RATIO_PASSES == 2, "the ratio method's row caches are written for two passes");
 _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2");
 #define KFN(name) name##_base
 #define KATTR
@@ -199,6 +208,8 @@ typedef struct ic_band {
 	int rad;
 	double eps2;
 	rcache raw, p0, ppi, guide, out1, guide2;
+	rcache rq1, rg2, rq2; /* ratio method: first ratio, second guide, second ratio */
+	float delta;
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
 			  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
@@ -369,6 +380,48 @@ static void fill_guide2(rcache *c, int y, float *const *rows)
 	b->k->mean4(rows[0], o[0], o[1], o[2], o[3], c->w);
 }
 
+/* ---- ratio method ---- */
+static void fill_rq1(rcache *c, int y, float *const *rows)
+{
+	ic_band *b = c->ctx;
+	const float *g = rc_get(&b->guide, y)[0];
+	const float *r = rc_get(&b->raw, y)[0];
+	b->k->ratio_q(rows[0], r, g, b->delta, 0, c->w);
+}
+
+static void fill_rg2(rcache *c, int y, float *const *rows)
+{
+	ic_band *b = c->ctx;
+	/* other caches first: their fills may evict rows (pointers would dangle) */
+	const float *qa = rc_get(&b->rq1, y - 1)[0], *qb = rc_get(&b->rq1, y)[0],
+		    *qc = rc_get(&b->rq1, y + 1)[0];
+	const float *g = rc_get(&b->guide, y)[0];
+	const float *r = rc_get(&b->raw, y)[0];
+	b->k->ratio_mean(rows[0], r, g, qa, qb, qc, b->delta, c->w);
+}
+
+static void fill_rq2(rcache *c, int y, float *const *rows)
+{
+	ic_band *b = c->ctx;
+	const float *g = rc_get(&b->rg2, y)[0];
+	const float *r = rc_get(&b->raw, y)[0];
+	b->k->ratio_q(rows[0], r, g, b->delta, 0, c->w);
+}
+
+static void ratio_output(ic_band *b, int y, float *const o[4])
+{
+	unsigned slot[4] = { pc_dm_ch(b->m, 0, (unsigned)y), pc_dm_ch(b->m, 1, (unsigned)y),
+			     pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1) };
+	const float *qa = rc_get(&b->rq2, y - 1)[0], *qb = rc_get(&b->rq2, y)[0],
+		    *qc = rc_get(&b->rq2, y + 1)[0];
+	const float *g = rc_get(&b->rg2, y)[0];
+	const float *r = rc_get(&b->raw, y)[0];
+	float *os[4];
+	for (int k = 0; k < 4; k++)
+		os[k] = o[slot[k]];
+	b->k->ratio_out(os, r, g, qa, qb, qc, b->delta, b->raw.w);
+}
+
 /* ---- drivers ---- */
 typedef struct ic_job {
 	const pc_dm_input *in;
@@ -376,13 +429,14 @@ typedef struct ic_job {
 	pc_demosaic_method method;
 	double fs;
 	const pc_fplane *out;
-	int planar, err;
+	int planar, nt, err;
 } ic_job;
 
 static void free_band(ic_band *b)
 {
-	rcache *all[] = { &b->raw,  &b->p0,   &b->ppi,  &b->guide, &b->out1,
-			  &b->guide2, &b->s1.ab, &b->s1.t, &b->s2.ab, &b->s2.t };
+	rcache *all[] = { &b->raw,    &b->p0,	 &b->ppi,  &b->guide, &b->out1, &b->guide2,
+			  &b->s1.ab,  &b->s1.t,	 &b->s2.ab, &b->s2.t,  &b->rq1,	 &b->rg2,
+			  &b->rq2 };
 	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
 		rc_free(all[i]);
 	gf_stage *st[2] = { &b->s1, &b->s2 };
@@ -406,6 +460,15 @@ static int setup_band(ic_band *b, const ic_job *j)
 	fail |= !b->tmp;
 	switch (j->method) {
 	case PC_DM_BICUBIC:
+		break;
+	case PC_DM_RATIO:
+		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
+		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
+		b->delta = (float)(j->fs / 65536.0);
+		fail |= rc_init(&b->guide, 8, 1, 1, w, h, fill_eari_guide, b);
+		fail |= rc_init(&b->rq1, 6, 1, 1, w, h, fill_rq1, b);
+		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);
+		fail |= rc_init(&b->rq2, 4, 1, 1, w, h, fill_rq2, b);
 		break;
 	case PC_DM_PPID:
 	case PC_DM_RI:
@@ -471,9 +534,11 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 	float *obuf = rowbuf + (size_t)w + 16;
 	for (uint32_t y = y0; y < y1; y++) {
 		float *o[4];
+		/* rows go straight into planar outputs, or through obuf (in cache) into strided
+		 * outputs or, with non-temporal stores, into large aligned planes */
 		for (unsigned c = 0; c < 4; c++)
-			o[c] = j->planar ? j->out[c].data + (size_t)y * j->out[c].row_stride
-					 : obuf + (size_t)c * (size_t)w;
+			o[c] = j->planar && !j->nt ? j->out[c].data + (size_t)y * j->out[c].row_stride
+						   : obuf + (size_t)c * (size_t)w;
 		int yy = (int)y;
 		switch (j->method) {
 		case PC_DM_BICUBIC: {
@@ -510,10 +575,19 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		case PC_DM_EARI:
 			ri_output(&b, b.passes > 1 ? &b.s2.t : &b.s1.t, yy, o);
 			break;
+		case PC_DM_RATIO:
+			ratio_output(&b, yy, o);
+			break;
 		default:
 			break;
 		}
-		if (!j->planar)
+		if (j->nt) {
+			float *dst[4];
+			const float *src[4] = { o[0], o[1], o[2], o[3] };
+			for (unsigned c = 0; c < 4; c++)
+				dst[c] = j->out[c].data + (size_t)y * j->out[c].row_stride;
+			pc_dm_stream_rows(dst, src, 4, (uint32_t)w);
+		} else if (!j->planar)
 			for (unsigned c = 0; c < 4; c++) {
 				const pc_fplane *p = &j->out[c];
 				float *dst = p->data + (size_t)y * p->row_stride;
@@ -533,12 +607,13 @@ int pc_demosaic_ic(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method
 	if (m->period != 2)
 		return PC_ENOTSUP;
 	if (method != PC_DM_BICUBIC && method != PC_DM_PPID && method != PC_DM_RI &&
-	    method != PC_DM_EARI)
+	    method != PC_DM_EARI && method != PC_DM_RATIO)
 		return PC_ENOTSUP;
-	ic_job j = { in, m, method, full_scale, out, 1, 0 };
+	ic_job j = { in, m, method, full_scale, out, 1, 0, 0 };
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
+	j.nt = j.planar && pc_dm_stream_wanted(out, 4, in->width, in->height);
 	/* bands of at least 64 rows keep the recomputed halo rows a small fraction */
 	int nt = threads > 0 ? threads : pc_parallel_max_threads();
 	uint32_t band = in->height / (uint32_t)(2 * (nt > 0 ? nt : 1));

@@ -92,6 +92,15 @@ typedef struct pc_ri_params {
 static const pc_ri_params pc_ri_params_default = { 2, 0.01, 1, 0 };
 static const pc_ri_params pc_eari_params = { 2, 0.003, 1, 0.1 };
 
+/* Passes of the ratio method (PC_DM_RATIO): the second uses the first's mean as its guide
+ * (Lapray NIR: +0.25 dB S0; Zhang: +1.0 dB S0, +0.8 dB DoLP over a single pass). */
+#define PC_RATIO_PASSES 2
+
+/* Non-temporal output (demosaic_fast.c): whether n planes of w × h floats are worth streaming
+ * (aligned, planar, large, AVX2 present), and the copy of finished rows into them. */
+int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h);
+int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, uint32_t w);
+
 /* Scratch memory helpers (64-byte aligned; NULL on failure). */
 void *pc_dm_alloc(size_t bytes);
 void pc_dm_free(void *p);

@@ -366,6 +366,48 @@ static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
 	return rc;
 }
 
+/* Ratio interpolation with an edge-aware guide (ours; docs/demosaicking.md). With G the EARI
+ * guide (S0/2 estimated from orthogonal analysers, eari_guide) and den = max(G, 0) + δ
+ * (δ = full scale / 65536 keeps the ratio finite in the dark), the ratio q = raw/den at every
+ * sample is tent-interpolated per channel and multiplied back: I_c = den·tent_c(q), and every
+ * pixel keeps its own measurement. This is smooth-hue-transition (Cok 1987) in polarization:
+ * I_c/S0 = (1 + DoLP·cos 2(AoLP − θ_c))/2 varies slowly where the intensity has edges. A
+ * second pass repeats it with the mean of the first pass's four channels as the guide. */
+static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
+{
+	rimg g = { 0 }, q = { 0 };
+	int rc = rimg_new(&g, r->w, r->h);
+	if (!rc)
+		rc = rimg_new(&q, r->w, r->h);
+	if (rc) {
+		rimg_free(&g);
+		return rc;
+	}
+	eari_guide(r, m, pc_eari_params.guide_eps * fs, &g);
+	const double delta = fs / 65536.0;
+	for (int pass = 0; pass < PC_RATIO_PASSES; pass++) {
+		for (int y = 0; y < r->h; y++)
+			for (int x = 0; x < r->w; x++)
+				*px(&q, x, y) = at(r, x, y) / (fmax(at(&g, x, y), 0) + delta);
+		for (int y = 0; y < r->h; y++)
+			for (int x = 0; x < r->w; x++) {
+				double den = fmax(at(&g, x, y), 0) + delta, sum = 0;
+				for (unsigned c = 0; c < 4; c++) {
+					double v = c == chan(m, x, y) ? at(r, x, y)
+								      : den * tent(&q, m, c, x, y);
+					put(&out[c], x, y, v);
+					sum += v;
+				}
+				if (pass + 1 < PC_RATIO_PASSES)
+					*px(&g, x, y) = sum / 4; /* next pass's guide (read only at
+								  * this pixel before: in place) */
+			}
+	}
+	rimg_free(&g);
+	rimg_free(&q);
+	return 0;
+}
+
 int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
 		    pc_demosaic_method method, double full_scale, const pc_fplane *out)
 {
@@ -393,6 +435,8 @@ int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc
 		return ref_ri(&r, m, full_scale, 0, out);
 	case PC_DM_EARI:
 		return ref_ri(&r, m, full_scale, 1, out);
+	case PC_DM_RATIO:
+		return ref_ratio(&r, m, full_scale, out);
 	default:
 		break;
 	}

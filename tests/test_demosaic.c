@@ -110,7 +110,7 @@ static double fget(const pc_fplane *p, uint32_t x, uint32_t y)
 static const pc_demosaic_method mono_methods[] = { PC_DM_SUPERPIXEL_HALF, PC_DM_SUPERPIXEL,
 						    PC_DM_BILINEAR,	   PC_DM_BICUBIC,
 						    PC_DM_PPID,		   PC_DM_RI,
-						    PC_DM_EARI };
+						    PC_DM_EARI,		   PC_DM_RATIO };
 #define N_MONO (sizeof mono_methods / sizeof mono_methods[0])
 
 /* Fast vs reference on a random texture, all four phases. */
@@ -296,8 +296,8 @@ static void test_polynomials(void)
 		for (uint32_t x = 0; x < W; x++)
 			PC_ROW(&raw, float, y)[x] =
 				(float)(k4[pc_mosaic_channel(&m, x, y)] * (500 + 10.0 * x + 7.0 * y));
-	const pc_demosaic_method ic[] = { PC_DM_PPID, PC_DM_RI, PC_DM_EARI };
-	for (size_t k = 0; k < 3; k++) {
+	const pc_demosaic_method ic[] = { PC_DM_PPID, PC_DM_RI, PC_DM_EARI, PC_DM_RATIO };
+	for (size_t k = 0; k < sizeof ic / sizeof ic[0]; k++) {
 		pc_fplane o[4];
 		float *buf = alloc_planes(W, H, 4, o);
 		CHECK_EQ_INT(pc_demosaic(&raw, &m, ic[k], NULL, o), 0);
@@ -586,8 +586,46 @@ static void test_bad_calls(void)
 	}
 }
 
+/* Large aligned planar outputs take non-temporal stores (from 32 MB; main() sets
+ * POLARCAM_NT_MIN_BYTES=0 so that the test frames stream too); they must hold the same numbers
+ * as the ordinary path, here forced by misaligned planes. */
+static void test_streaming_outputs(void)
+{
+	const uint32_t W = 148, H = 60; /* 16-pixel blocks, the scalar tail, several bands */
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
+	uint32_t r = 7;
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			r = r * 1664525u + 1013904223u;
+			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)(2048 + 1500 * sin(0.02 * x + 0.03 * y) +
+								  ((r >> 20) & 255));
+		}
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	size_t n = (size_t)W * H;
+	float *a = aligned_alloc(64, sizeof(float) * 4 * n), *b = malloc(sizeof(float) * (4 * n + 1));
+	const pc_demosaic_method meths[] = { PC_DM_BILINEAR, PC_DM_BICUBIC, PC_DM_PPID, PC_DM_RATIO };
+	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
+		pc_fplane pa[4], pb[4];
+		pc_fplanes_separate(a, W, H, 4, pa);
+		pc_fplanes_separate(b + 1, W, H, 4, pb); /* 4-byte offset: not 64-byte aligned */
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, meths[k], NULL, pa), 0);
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, meths[k], NULL, pb), 0);
+		int same = !memcmp(a, b + 1, sizeof(float) * 4 * n);
+		if (!same)
+			fprintf(stderr, "  %s: streamed output differs\n",
+				pc_demosaic_method_get(meths[k])->name);
+		CHECK(same);
+	}
+	free(a);
+	free(b);
+	pc_view_free(&raw);
+}
+
 int main(void)
 {
+	setenv("POLARCAM_NT_MIN_BYTES", "0", 1); /* before the first kernel call caches it */
+	test_streaming_outputs();
 	test_bilinear_by_hand();
 	test_fast_vs_reference();
 	test_aolp_orientation();

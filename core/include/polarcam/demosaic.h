@@ -50,6 +50,7 @@ typedef enum pc_demosaic_method {
 	PC_DM_EARI,                /* edge-aware residual interpolation (Morimatsu et al.) */
 	PC_DM_BAYER_FIRST,         /* colour only: Bayer bilinear per analyser, then analysers */
 	PC_DM_BAYER_EARI,          /* colour only: Bayer bilinear per analyser, then EARI per colour */
+	PC_DM_RATIO,               /* edge-aware guide + ratio interpolation, two passes (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
