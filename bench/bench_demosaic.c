@@ -471,7 +471,7 @@ int pc_bench_demosaic(int argc, char **argv)
 		r->colour = !(pc_demosaic_method_get(r->m)->flags & PC_DMF_MONO);
 	}
 	/* the other timed jobs: the two pipelines, the copy, OpenCV */
-	enum { J_PIPE_BIL = PC_DM_COUNT, J_PIPE_EARI, J_COPY, J_OPENCV, J_BIL16, J_N };
+	enum { J_PIPE_BIL = PC_DM_COUNT, J_PIPE_EARI, J_PIPE_RATIO, J_COPY, J_OPENCV, J_BIL16, J_N };
 	/* bilinear into 16-bit planes (exact, 2 fraction bits), the like-for-like of OpenCV */
 	uint16_t *b16 = aligned_alloc(64, plane * 4 * sizeof(uint16_t));
 	uint16_t *b16p[4];
@@ -531,8 +531,11 @@ int pc_bench_demosaic(int argc, char **argv)
 					pc_progress_end(&prog);
 					return pc_cli_fail(rc, pc_demosaic_method_get(rows[j].m)->name);
 				}
-			} else if (j == J_PIPE_BIL || j == J_PIPE_EARI) {
-				pc_stokes_from_raw(&raw, &mono, j == J_PIPE_BIL ? PC_DM_BILINEAR : PC_DM_EARI,
+			} else if (j == J_PIPE_BIL || j == J_PIPE_EARI || j == J_PIPE_RATIO) {
+				pc_stokes_from_raw(&raw, &mono,
+						   j == J_PIPE_BIL    ? PC_DM_BILINEAR
+						   : j == J_PIPE_EARI ? PC_DM_EARI
+								      : PC_DM_RATIO,
 						   &opts, &so);
 			} else if (j == J_BIL16) {
 				if (b16)
@@ -564,7 +567,7 @@ int pc_bench_demosaic(int argc, char **argv)
 	}
 	for (int k = 0; k < PC_DM_COUNT; k++)
 		rows[k].t = tall[k];
-	timing t_pipe[2] = { tall[J_PIPE_BIL], tall[J_PIPE_EARI] };
+	timing t_pipe[3] = { tall[J_PIPE_BIL], tall[J_PIPE_EARI], tall[J_PIPE_RATIO] };
 	timing t_copy = tall[J_COPY];
 	timing t_b16 = tall[J_BIL16];
 	free(b16);
@@ -714,25 +717,28 @@ int pc_bench_demosaic(int argc, char **argv)
 	loadavg(load1, sizeof load1);
 
 	/* ---------------- report ---------------- */
-	double bil = 0, bil_cpu = 0;
+	double bil = 0, bil_cpu = 0, bil_min = 0;
 	for (size_t i = 0; i < nrows; i++)
 		if (rows[i].m == PC_DM_BILINEAR) {
 			bil = rows[i].t.median_ms;
 			bil_cpu = rows[i].t.cpu_ms;
+			bil_min = rows[i].t.min_ms;
 		}
 	const method_row *brow = NULL;
 	for (size_t i = 0; i < nrows; i++)
 		if (rows[i].m == PC_DM_BILINEAR)
 			brow = &rows[i];
-	fprintf(tf, "%-16s %9s %7s %8s %7s", "method", "ms/frame", "x bil", "cpu ms", "x bil");
+	fprintf(tf, "%-16s %9s %7s %8s %7s %8s %7s", "method", "ms/frame", "x bil", "best ms", "x bil",
+		"cpu ms", "x bil");
 	for (int d = 0; have_acc && brow && d < brow->n_ds; d++)
 		fprintf(tf, " | %-10.10s %7s %7s %7s %7s", brow->ds_name[d], "S0 dB", "dS0",
 			"DoLP dB", "dDoLP");
 	fprintf(tf, " | %s\n", have_acc ? "wAoLP deg" : "");
 	for (size_t i = 0; i < nrows; i++) {
 		const method_row *r = &rows[i];
-		fprintf(tf, "%-16s %9.2f %7.2f %8.2f %7.2f", pc_demosaic_method_get(r->m)->name,
-			r->t.median_ms, r->t.median_ms / bil, r->t.cpu_ms, r->t.cpu_ms / bil_cpu);
+		fprintf(tf, "%-16s %9.2f %7.2f %8.2f %7.2f %8.2f %7.2f", pc_demosaic_method_get(r->m)->name,
+			r->t.median_ms, r->t.median_ms / bil, r->t.min_ms, r->t.min_ms / bil_min,
+			r->t.cpu_ms, r->t.cpu_ms / bil_cpu);
 		for (int d = 0; have_acc && brow && d < brow->n_ds; d++) {
 			if (r->colour && r->n_ds && d == 0) {
 				/* colour rows: against bayer-first, on the colourised track */
@@ -764,13 +770,15 @@ int pc_bench_demosaic(int argc, char **argv)
 	}
 	fprintf(tf, "\n* colour rows: synthetic colour track (Lapray NIR scenes with smooth per-colour "
 		    "gains, IMX250MYR mosaic), deltas against bayer-first\n");
-	fprintf(tf, "full pipeline (demosaic + S0,S1,S2,DoLP,AoLP float32): bilinear %.2f ms "
-		    "(cpu %.2f ms; %.2f x bilinear demosaic), eari %.2f ms (cpu %.2f ms)\n",
-		t_pipe[0].median_ms, t_pipe[0].cpu_ms, t_pipe[0].median_ms / bil,
-		t_pipe[1].median_ms, t_pipe[1].cpu_ms);
-	fprintf(tf, "memory copy of bilinear's %zu MB of input+output: %.2f ms (cpu %.2f ms); "
-		    "bilinear / copy = %.2f\n", bytes >> 20, t_copy.median_ms, t_copy.cpu_ms,
-		bil / t_copy.median_ms);
+	fprintf(tf, "full pipeline (demosaic + S0,S1,S2,DoLP,AoLP float32), median / best wall "
+		    "(cpu): bilinear %.2f / %.2f ms (cpu %.2f ms; %.2f x bilinear demosaic), eari "
+		    "%.2f / %.2f ms (cpu %.2f ms), ratio %.2f / %.2f ms (cpu %.2f ms)\n",
+		t_pipe[0].median_ms, t_pipe[0].min_ms, t_pipe[0].cpu_ms, t_pipe[0].median_ms / bil,
+		t_pipe[1].median_ms, t_pipe[1].min_ms, t_pipe[1].cpu_ms, t_pipe[2].median_ms,
+		t_pipe[2].min_ms, t_pipe[2].cpu_ms);
+	fprintf(tf, "memory copy of bilinear's %zu MB of input+output: %.2f ms (best %.2f, cpu %.2f "
+		    "ms); bilinear / copy = %.2f (best %.2f)\n", bytes >> 20, t_copy.median_ms,
+		t_copy.min_ms, t_copy.cpu_ms, bil / t_copy.median_ms, bil_min / t_copy.min_ms);
 	fprintf(tf, "bilinear into 16-bit planes (exact, x4; 40 MB out): %.2f ms (cpu %.2f ms)\n",
 		t_b16.median_ms, t_b16.cpu_ms);
 	if (isfinite(t_cv.median_ms))
@@ -799,6 +807,7 @@ int pc_bench_demosaic(int argc, char **argv)
 		json_object_set_new(o, "method", json_string(pc_demosaic_method_get(r->m)->name));
 		json_object_set_new(o, "colour", json_boolean(r->colour));
 		json_object_set_new(o, "ms_median", pc_json_real(r->t.median_ms));
+		json_object_set_new(o, "ms_best", pc_json_real(r->t.min_ms));
 		json_object_set_new(o, "ms_min", pc_json_real(r->t.min_ms));
 		json_object_set_new(o, "cpu_ms_median", pc_json_real(r->t.cpu_ms));
 		json_object_set_new(o, "x_bilinear", pc_json_real(r->t.median_ms / bil));
@@ -844,6 +853,11 @@ int pc_bench_demosaic(int argc, char **argv)
 	json_object_set_new(root, "bilinear_u16_over_opencv", pc_json_real(t_b16.median_ms / t_cv.median_ms));
 	json_object_set_new(root, "opencv_cpu_ms", pc_json_real(t_cv.cpu_ms));
 	json_object_set_new(root, "pipeline_eari_ms", pc_json_real(t_pipe[1].median_ms));
+	json_object_set_new(root, "pipeline_ratio_ms", pc_json_real(t_pipe[2].median_ms));
+	json_object_set_new(root, "pipeline_bilinear_best_ms", pc_json_real(t_pipe[0].min_ms));
+	json_object_set_new(root, "pipeline_eari_best_ms", pc_json_real(t_pipe[1].min_ms));
+	json_object_set_new(root, "pipeline_ratio_best_ms", pc_json_real(t_pipe[2].min_ms));
+	json_object_set_new(root, "copy_best_ms", pc_json_real(t_copy.min_ms));
 	json_object_set_new(root, "copy_ms", pc_json_real(t_copy.median_ms));
 	json_object_set_new(root, "copy_bytes", json_integer((json_int_t)bytes));
 	json_object_set_new(root, "bilinear_over_copy", pc_json_real(bil / t_copy.median_ms));

@@ -222,7 +222,7 @@ static int check_call(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method
 	return 0;
 }
 
-static double resolve_full_scale(const pc_view *raw, const pc_demosaic_opts *opts)
+double pc_dm_full_scale(const pc_view *raw, const pc_demosaic_opts *opts)
 {
 	if (opts && opts->full_scale > 0 && isfinite(opts->full_scale))
 		return opts->full_scale;
@@ -302,7 +302,7 @@ int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method metho
 	int rc = check_call(raw, m, method, out);
 	if (rc)
 		return rc;
-	double fs = resolve_full_scale(raw, opts);
+	double fs = pc_dm_full_scale(raw, opts);
 	if (m->period == 4) {
 		double *img = NULL;
 		if (opts && opts->reference) {

@@ -650,6 +650,47 @@ int pc_stokes_planar_fast(const pc_fplane in[4], uint32_t width, uint32_t height
 	return 0;
 }
 
+/* One row y of Stokes/DoLP/AoLP from four analyser rows (channel order), into planar outputs
+ * (the row-cache methods' fused pipeline, demosaic_ic.c). */
+void pc_dm_stokes_row(const float *const ch[4], uint32_t w, uint32_t y, const pc_stokes_out *out,
+		      int nt)
+{
+	const pc_fplane *planes[5] = { &out->s0, &out->s1, &out->s2, &out->dolp, &out->aolp };
+	float *o[5];
+	for (int k = 0; k < 5; k++)
+		o[k] = planes[k]->data ? planes[k]->data + (size_t)y * planes[k]->row_stride : NULL;
+#ifdef PC_HAVE_X86_DISPATCH
+	if (use_avx2() && use_avx512())
+		stokes4_row_avx512(ch[0], ch[1], ch[2], ch[3], w, o, nt);
+	else if (use_avx2())
+		stokes4_row_avx2(ch[0], ch[1], ch[2], ch[3], w, o, nt);
+	else
+#endif
+		stokes4_row_base(ch[0], ch[1], ch[2], ch[3], w, o, 0);
+#ifdef PC_HAVE_X86_DISPATCH
+	if (nt)
+		_mm_sfence();
+#endif
+}
+
+int pc_dm_stokes_stream_wanted(const pc_stokes_out *out, uint32_t w, uint32_t h)
+{
+	const pc_fplane *planes[5] = { &out->s0, &out->s1, &out->s2, &out->dolp, &out->aolp };
+	int n = 0;
+	for (int k = 0; k < 5; k++) {
+		if (!planes[k]->data)
+			continue;
+		n++;
+		if (!planes_aligned(planes[k], 1))
+			return 0;
+	}
+#ifdef PC_HAVE_X86_DISPATCH
+	return use_avx2() && (size_t)w * h * 4 * n >= PC_NT_MIN_BYTES;
+#else
+	return 0;
+#endif
+}
+
 /* ---- bilinear into 16-bit planes ---- */
 typedef struct b16_job {
 	const pc_view *raw;

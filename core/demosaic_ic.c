@@ -19,6 +19,7 @@
 #include "demosaic_internal.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
+#include "polarcam/stokes.h"
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define PC_HAVE_X86_DISPATCH 1
@@ -429,6 +430,7 @@ typedef struct ic_job {
 	pc_demosaic_method method;
 	double fs;
 	const pc_fplane *out;
+	const struct pc_stokes_out *st; /* fused pipeline: Stokes outputs instead of out */
 	int planar, nt, err;
 } ic_job;
 
@@ -537,8 +539,9 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		/* rows go straight into planar outputs, or through obuf (in cache) into strided
 		 * outputs or, with non-temporal stores, into large aligned planes */
 		for (unsigned c = 0; c < 4; c++)
-			o[c] = j->planar && !j->nt ? j->out[c].data + (size_t)y * j->out[c].row_stride
-						   : obuf + (size_t)c * (size_t)w;
+			o[c] = j->planar && !j->nt && !j->st
+				       ? j->out[c].data + (size_t)y * j->out[c].row_stride
+				       : obuf + (size_t)c * (size_t)w;
 		int yy = (int)y;
 		switch (j->method) {
 		case PC_DM_BICUBIC: {
@@ -581,7 +584,10 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		default:
 			break;
 		}
-		if (j->nt) {
+		if (j->st) {
+			const float *ch[4] = { o[0], o[1], o[2], o[3] };
+			pc_dm_stokes_row(ch, (uint32_t)w, y, j->st, j->nt);
+		} else if (j->nt) {
 			float *dst[4];
 			const float *src[4] = { o[0], o[1], o[2], o[3] };
 			for (unsigned c = 0; c < 4; c++)
@@ -609,12 +615,35 @@ int pc_demosaic_ic(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method
 	if (method != PC_DM_BICUBIC && method != PC_DM_PPID && method != PC_DM_RI &&
 	    method != PC_DM_EARI && method != PC_DM_RATIO)
 		return PC_ENOTSUP;
-	ic_job j = { in, m, method, full_scale, out, 1, 0, 0 };
+	ic_job j = { in, m, method, full_scale, out, NULL, 1, 0, 0 };
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
 	j.nt = j.planar && pc_dm_stream_wanted(out, 4, in->width, in->height);
 	/* bands of at least 64 rows keep the recomputed halo rows a small fraction */
+	int nt = threads > 0 ? threads : pc_parallel_max_threads();
+	uint32_t band = in->height / (uint32_t)(2 * (nt > 0 ? nt : 1));
+	if (band < 64)
+		band = 64;
+	pc_parallel_rows(in->height, band, threads, ic_band_run, &j);
+	return j.err ? pc_error(PC_ENOMEM, "%s: row caches", pc_demosaic_method_get(method)->name)
+		     : 0;
+}
+
+int pc_stokes_ic_fused(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
+		       double full_scale, int threads, const struct pc_stokes_out *out)
+{
+	if (m->period != 2)
+		return PC_ENOTSUP;
+	if (method != PC_DM_BICUBIC && method != PC_DM_PPID && method != PC_DM_RI &&
+	    method != PC_DM_EARI && method != PC_DM_RATIO)
+		return PC_ENOTSUP;
+	const pc_fplane *planes[5] = { &out->s0, &out->s1, &out->s2, &out->dolp, &out->aolp };
+	for (int k = 0; k < 5; k++)
+		if (planes[k]->data && planes[k]->pixel_stride != 1)
+			return PC_ENOTSUP;
+	ic_job j = { in, m, method, full_scale, NULL, out, 0, 0, 0 };
+	j.nt = pc_dm_stokes_stream_wanted(out, in->width, in->height);
 	int nt = threads > 0 ? threads : pc_parallel_max_threads();
 	uint32_t band = in->height / (uint32_t)(2 * (nt > 0 ? nt : 1));
 	if (band < 64)

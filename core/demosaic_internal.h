@@ -47,6 +47,9 @@ typedef struct pc_dm_input {
  * pc_dm_free). */
 int pc_dm_prepare_input(const pc_view *raw, pc_dm_input *in, void **owned);
 
+/* The raw's full scale: opts->full_scale when set, else 2^bits − 1 (1.0 for float raws). */
+double pc_dm_full_scale(const pc_view *raw, const pc_demosaic_opts *opts);
+
 /* Converts row y of the input to floats at dst[0..w) and mirrors one pixel on each side:
  * dst[-1] = row[1], dst[w] = row[w-2] (dst must have room for both). */
 void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst);
@@ -100,6 +103,16 @@ static const pc_ri_params pc_eari_params = { 2, 0.003, 1, 0.1 };
  * (aligned, planar, large, AVX2 present), and the copy of finished rows into them. */
 int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h);
 int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, uint32_t w);
+
+/* The row-cache methods' fused pipeline (demosaic_ic.c): demosaic in row bands and turn each
+ * finished row into Stokes/DoLP/AoLP (pc_dm_stokes_row, demosaic_fast.c) without full-size
+ * channel images. Outputs must be planar (pixel_stride 1); PC_ENOTSUP for methods or mosaics
+ * without a row-cache path. */
+int pc_stokes_ic_fused(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
+		       double full_scale, int threads, const struct pc_stokes_out *out);
+void pc_dm_stokes_row(const float *const ch[4], uint32_t w, uint32_t y,
+		      const struct pc_stokes_out *out, int nt);
+int pc_dm_stokes_stream_wanted(const struct pc_stokes_out *out, uint32_t w, uint32_t h);
 
 /* Scratch memory helpers (64-byte aligned; NULL on failure). */
 void *pc_dm_alloc(size_t bytes);

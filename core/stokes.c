@@ -238,6 +238,20 @@ int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_metho
 		pc_dm_free(owned);
 		return rc;
 	}
+	if (m->period == 2 && !reference && ow == raw->width && raw->width % 2 == 0 &&
+	    raw->height % 2 == 0 && raw->width >= 4 && raw->height >= 4) {
+		/* row-cache methods: demosaic rows turned into Stokes rows in cache */
+		pc_dm_input in;
+		void *owned;
+		rc = pc_dm_prepare_input(raw, &in, &owned);
+		if (rc)
+			return rc;
+		rc = pc_stokes_ic_fused(&in, m, method, pc_dm_full_scale(raw, opts),
+					opts ? opts->threads : 0, out);
+		pc_dm_free(owned);
+		if (rc != PC_ENOTSUP)
+			return rc;
+	}
 	unsigned nch = pc_demosaic_channels(m);
 	size_t plane = (size_t)ow * oh;
 	float *buf = pc_dm_alloc(plane * nch * sizeof(float));
