@@ -235,6 +235,75 @@ static bool object_hit(const pc_sim_object *ob, pc_v3 o, pc_v3 d, double tmin, d
 	}
 }
 
+bool pc_object_bsphere(const pc_sim_object *ob, pc_v3 *c, double *r)
+{
+	pc_v3 lo, hi;
+	switch (ob->type) {
+	case PC_OBJ_SPHERE:
+		*c = ob->center;
+		*r = ob->radius;
+		return true;
+	case PC_OBJ_PLANE:
+		if (!(ob->half_u > 0))
+			return false; /* infinite */
+		*c = ob->p;
+		*r = sqrt(ob->half_u * ob->half_u + ob->half_v * ob->half_v);
+		return true;
+	case PC_OBJ_BOX:
+		*c = ob->center;
+		*r = v3_len(ob->half);
+		return true;
+	case PC_OBJ_MESH:
+		if (!ob->mesh || !ob->mesh->n_nodes)
+			return false;
+		lo = ob->mesh->nodes[0].bmin;
+		hi = ob->mesh->nodes[0].bmax;
+		*c = v3_scale(v3_add(lo, hi), 0.5);
+		*r = 0.5 * v3_len(v3_sub(hi, lo));
+		return isfinite(*r);
+	default:
+		return false;
+	}
+}
+
+bool pc_scene_intersect_cull(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
+			     int32_t x, const pc_cull *cull, pc_hit *hit)
+{
+	bool found = false;
+	for (unsigned i = 0; i < s->n_objects; i++) {
+		if (i < cull->n && (x < cull->lo[i] || x > cull->hi[i]))
+			continue; /* the ray cannot reach the object's bounding sphere */
+		double t;
+		pc_v3 n, ng;
+		if (object_hit(&s->objects[i], o, d, tmin, tmax, false, &t, &n, &ng)) {
+			tmax = t;
+			hit->t = t;
+			hit->n = n;
+			hit->ng = ng;
+			hit->object = i;
+			found = true;
+		}
+	}
+	return found;
+}
+
+bool pc_scene_occluded_skip(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
+			    unsigned skip)
+{
+	for (unsigned i = 0; i < s->n_objects; i++) {
+		double t;
+		pc_v3 n, ng;
+		if (i != skip && object_hit(&s->objects[i], o, d, tmin, tmax, true, &t, &n, &ng))
+			return true;
+	}
+	return false;
+}
+
+bool pc_object_convex(const pc_sim_object *ob)
+{
+	return ob->type == PC_OBJ_PLANE || ob->type == PC_OBJ_SPHERE || ob->type == PC_OBJ_BOX;
+}
+
 bool pc_scene_intersect(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax, pc_hit *hit)
 {
 	bool found = false;

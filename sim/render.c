@@ -17,7 +17,9 @@
  * incidence in W/m²), summed over lights (BRDF definition; Nicodemus et al., NBS Monograph 160,
  * 1977). Point lights: E = I/r² (inverse-square law).
  */
+#include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "polarcam/error.h"
@@ -59,7 +61,7 @@ double pc_light_frame(const pc_sim_light *l, pc_v3 x, pc_v3 *d, pc_v3 *s, double
 	return factor;
 }
 
-/* The physics core as the BRDF (the default). */
+/* The physics core as the BRDF (the default; shading calls it directly). */
 static int eval_pbrdf(void *user, unsigned material, unsigned ch, const double k_i[3],
 		      const double k_r[3], const double s_i[3], const double s_r[3], double f[4][4])
 {
@@ -74,11 +76,89 @@ static inline void to_local(pc_v3 a, pc_v3 t1, pc_v3 t2, pc_v3 n, double out[3])
 	out[2] = v3_dot(a, n);
 }
 
+/* ---- camera rays and primary-ray culling ----
+ *
+ * Camera ray through sensor position (px, py) in pixels (pixel centres at integer + 0.5):
+ * pinhole with the virtual image in front of the lens, image x = camera right, image rows go
+ * down: D = f·forward + u·right − v·up, u = (px − cx)·pitch, v = (py − cy)·pitch, d = D/|D|.
+ *
+ * Culling: D(u) = A + u·right with A = f·forward − v·up ⟂ right. The line through the camera
+ * centre o along D meets a sphere (c, r) only if |oc × D|² ≤ r²|D|² (oc = c − o), i.e.
+ *   (C − β²)u² − 2αβu + (C|A|² − α²) ≤ 0,  C = |oc|² − r², α = oc·A, β = oc·right,
+ * a quadratic in u whose root interval bounds the pixel columns of one sensor row that can see
+ * the object's bounding sphere. The radius is inflated (relative 1e-6) and the column range
+ * widened by two pixels, so rounding never culls a ray that the exact test would hit; where
+ * the quadratic is not convex (the camera near or inside the sphere) nothing is culled. The
+ * per-pixel intersection tests themselves are unchanged, so culling changes no result. */
+
+static inline pc_v3 camera_dir(const pc_sim *sim, pc_v3 A, double px)
+{
+	const pc_sim_camera *c = &sim->scene->camera;
+	double u = (px - sim->cx) * sim->pitch_m;
+	return v3_unit(v3_add(A, v3_scale(c->right, u)));
+}
+
+static inline pc_v3 row_base(const pc_sim *sim, double py)
+{
+	const pc_sim_camera *c = &sim->scene->camera;
+	double v = (py - sim->cy) * sim->pitch_m;
+	return v3_madd(v3_scale(c->forward, sim->focal_m), c->up, -v);
+}
+
+static void cull_range(const pc_sim *sim, pc_v3 A, unsigned i, int32_t *lo, int32_t *hi)
+{
+	const pc_sim_camera *cam = &sim->scene->camera;
+	const int32_t full_lo = INT32_MIN / 2, full_hi = INT32_MAX / 2;
+	*lo = full_lo;
+	*hi = full_hi;
+	if (!sim->cull_r[i] || !(sim->cull_r[i] < INFINITY))
+		return; /* unbounded */
+	double r = sim->cull_r[i] * (1 + 1e-6);
+	pc_v3 oc = v3_sub(sim->cull_c[i], cam->position);
+	double oc2 = v3_dot(oc, oc);
+	double C = oc2 - r * r;
+	if (!(C > 1e-6 * oc2))
+		return; /* camera at or inside the bounding sphere */
+	double al = v3_dot(oc, A), be = v3_dot(oc, cam->right), A2 = v3_dot(A, A);
+	double a2 = C - be * be;
+	if (!(a2 > 1e-6 * C))
+		return; /* not a bounded interval in u: keep the whole row */
+	double hb = al * be, c0 = C * A2 - al * al;
+	double disc = hb * hb - a2 * c0;
+	if (disc < 0) {
+		*lo = 1;
+		*hi = 0; /* this row never sees the object */
+		return;
+	}
+	double sq = sqrt(disc);
+	double u0 = (hb - sq) / a2, u1 = (hb + sq) / a2;
+	double x0 = u0 / sim->pitch_m + sim->cx - 0.5, x1 = u1 / sim->pitch_m + sim->cx - 0.5;
+	double l = floor(x0) - 2, h = ceil(x1) + 2;
+	*lo = l < full_lo ? full_lo : l > full_hi ? full_hi : (int32_t)l;
+	*hi = h < full_lo ? full_lo : h > full_hi ? full_hi : (int32_t)h;
+}
+
+void pc_render_row_begin(const pc_sim *sim, uint32_t sy, pc_render_row *rr)
+{
+	rr->sy = sy;
+	rr->nsub = sim->ss <= 1 ? 1 : sim->ss;
+	unsigned nc = sim->n_cull;
+	for (unsigned j = 0; j < rr->nsub; j++) {
+		double py = sy + 0.5 + (sim->ss <= 1 ? 0 : sim->ss_off[j]);
+		rr->base[j] = row_base(sim, py);
+		for (unsigned i = 0; i < nc; i++)
+			cull_range(sim, rr->base[j], i, &rr->lo[j][i], &rr->hi[j][i]);
+	}
+}
+
+/* ---- shading ---- */
+
 /* Radiance along the camera ray dir (unit, from the camera) for channel ch, PSG state g.
  * One body, instantiated per effect combination below: the branches on the const flags are
  * resolved at compile time. */
-static inline void shade_body(const pc_sim *sim, unsigned ch, unsigned g, pc_v3 dir, double S[4],
-			      double M[4][4], const bool cast_shadows, const bool circular)
+static inline void shade_body(const pc_sim *sim, const pc_cull *cull, int32_t sx, pc_v3 dir,
+			      unsigned ch, unsigned g, double S[4], double M[4][4],
+			      const bool cast_shadows, const bool circular)
 {
 	const pc_scene *sc = sim->scene;
 	S[0] = S[1] = S[2] = 0;
@@ -86,8 +166,8 @@ static inline void shade_body(const pc_sim *sim, unsigned ch, unsigned g, pc_v3 
 	if (M)
 		memset(M, 0, 16 * sizeof(double));
 	pc_hit hit;
-	pc_v3 o = sim->scene->camera.position;
-	if (!pc_scene_intersect(sc, o, dir, 0, INFINITY, &hit)) {
+	pc_v3 o = sc->camera.position;
+	if (!pc_scene_intersect_cull(sc, o, dir, 0, INFINITY, sx, cull, &hit)) {
 		S[0] = sc->background[ch];
 		return;
 	}
@@ -95,6 +175,7 @@ static inline void shade_body(const pc_sim *sim, unsigned ch, unsigned g, pc_v3 
 	pc_v3 kr = v3_neg(dir);
 	/* two-sided surfaces: the normals face the viewer */
 	pc_v3 n = hit.n, ng = hit.ng;
+	const pc_v3 ng_obj = hit.ng; /* the object's own orientation (outward for solids) */
 	if (v3_dot(ng, kr) < 0) {
 		ng = v3_neg(ng);
 		n = v3_neg(n);
@@ -105,8 +186,10 @@ static inline void shade_body(const pc_sim *sim, unsigned ch, unsigned g, pc_v3 
 	to_local(kr, t1, t2, n, kr_l);
 	to_local(sr, t1, t2, n, sr_l);
 	const pc_sim_object *ob = &sc->objects[hit.object];
+	const bool convex = pc_object_convex(ob), plane = ob->type == PC_OBJ_PLANE;
 	double eps = 1e-7 * (1 + fmax(fabs(x.x), fmax(fabs(x.y), fabs(x.z))));
 	pc_v3 xo = v3_madd(x, ng, eps);
+	const pc_pbrdf *pb = sim->pbrdf ? sim->pbrdf[ob->material * sim->nch + ch] : NULL;
 	for (unsigned li = 0; li < sc->n_lights; li++) {
 		const pc_sim_light *l = &sc->lights[li];
 		pc_v3 d, sl;
@@ -116,13 +199,21 @@ static inline void shade_body(const pc_sim *sim, unsigned ch, unsigned g, pc_v3 
 		double cos_i = v3_dot(ki, n);
 		if (!(cos_i > 0) || !(w > 0))
 			continue;
-		if (cast_shadows && pc_scene_occluded(sc, xo, ki, 0, dist * (1 - 1e-9)))
-			continue;
+		if (cast_shadows) {
+			/* a ray leaving a plane, or a convex solid outwards, cannot meet it again */
+			unsigned skip = convex && (plane || v3_dot(ki, ng_obj) > 0) ? hit.object : UINT_MAX;
+			if (pc_scene_occluded_skip(sc, xo, ki, 0, dist * (1 - 1e-9), skip))
+				continue;
+		}
 		double ki_l[3], si_l[3], f[4][4];
 		to_local(ki, t1, t2, n, ki_l);
 		to_local(sl, t1, t2, n, si_l);
-		if (sim->brdf.eval(sim->brdf.user, ob->material, ch, ki_l, kr_l, si_l, sr_l, f))
+		if (pb) {
+			if (pc_pbrdf_eval_vec(pb, ki_l, kr_l, si_l, sr_l, f))
+				continue;
+		} else if (sim->brdf.eval(sim->brdf.user, ob->material, ch, ki_l, kr_l, si_l, sr_l, f)) {
 			continue; /* the evaluator rejected the geometry: no contribution */
+		}
 		w *= cos_i;
 		const double *Sl = l->stokes[g % l->n_states];
 		if (circular) {
@@ -140,39 +231,23 @@ static inline void shade_body(const pc_sim *sim, unsigned ch, unsigned g, pc_v3 
 	}
 }
 
-static void shade_lin(const pc_sim *s, unsigned ch, unsigned g, pc_v3 d, double S[4], double M[4][4])
-{
-	shade_body(s, ch, g, d, S, M, false, false);
-}
-static void shade_lin_sh(const pc_sim *s, unsigned ch, unsigned g, pc_v3 d, double S[4], double M[4][4])
-{
-	shade_body(s, ch, g, d, S, M, true, false);
-}
-static void shade_circ(const pc_sim *s, unsigned ch, unsigned g, pc_v3 d, double S[4], double M[4][4])
-{
-	shade_body(s, ch, g, d, S, M, false, true);
-}
-static void shade_circ_sh(const pc_sim *s, unsigned ch, unsigned g, pc_v3 d, double S[4], double M[4][4])
-{
-	shade_body(s, ch, g, d, S, M, true, true);
-}
+#define SHADE_FN(name, sh, circ)                                                                \
+	static void name(const pc_sim *s, const pc_cull *cu, int32_t x, pc_v3 d, unsigned ch,      \
+			 unsigned g, double S[4], double M[4][4])                                    \
+	{                                                                                          \
+		shade_body(s, cu, x, d, ch, g, S, M, sh, circ);                                    \
+	}
+SHADE_FN(shade_lin, false, false)
+SHADE_FN(shade_lin_sh, true, false)
+SHADE_FN(shade_circ, false, true)
+SHADE_FN(shade_circ_sh, true, true)
 
-/* Camera ray through sensor position (px, py) in pixels (pixel centres at integer + 0.5):
- * pinhole with the virtual image in front of the lens, image x = camera right, image rows go
- * down. */
-static inline pc_v3 camera_ray(const pc_sim *sim, double px, double py)
+void pc_render_pixel(const pc_sim *sim, const pc_render_row *rr, uint32_t sx, unsigned ch,
+		     unsigned g, double S[4], double M[4][4])
 {
-	const pc_sim_camera *c = &sim->scene->camera;
-	double u = (px - sim->cx) * sim->pitch_m, v = (py - sim->cy) * sim->pitch_m;
-	pc_v3 d = v3_add(v3_scale(c->forward, sim->focal_m), v3_scale(c->right, u));
-	return v3_unit(v3_madd(d, c->up, -v));
-}
-
-void pc_render_pixel(const pc_sim *sim, uint32_t sx, uint32_t sy, unsigned ch, unsigned g,
-		     double S[4], double M[4][4])
-{
+	pc_cull cull = { sim->n_cull, rr->lo[0], rr->hi[0] };
 	if (sim->ss <= 1) {
-		sim->shade(sim, ch, g, camera_ray(sim, sx + 0.5, sy + 0.5), S, M);
+		sim->shade(sim, &cull, (int32_t)sx, camera_dir(sim, rr->base[0], sx + 0.5), ch, g, S, M);
 		return;
 	}
 	/* n×n stratified (regular) samples over the pixel footprint, averaged: Stokes vectors in
@@ -182,10 +257,12 @@ void pc_render_pixel(const pc_sim *sim, uint32_t sx, uint32_t sy, unsigned ch, u
 	if (M)
 		memset(macc, 0, sizeof macc);
 	double Ss[4], Ms[4][4];
-	for (unsigned j = 0; j < sim->ss; j++)
+	for (unsigned j = 0; j < sim->ss; j++) {
+		cull.lo = rr->lo[j];
+		cull.hi = rr->hi[j];
 		for (unsigned i = 0; i < sim->ss; i++) {
-			pc_v3 d = camera_ray(sim, sx + 0.5 + sim->ss_off[i], sy + 0.5 + sim->ss_off[j]);
-			sim->shade(sim, ch, g, d, Ss, M ? Ms : NULL);
+			pc_v3 d = camera_dir(sim, rr->base[j], sx + 0.5 + sim->ss_off[i]);
+			sim->shade(sim, &cull, (int32_t)sx, d, ch, g, Ss, M ? Ms : NULL);
 			for (int k = 0; k < 4; k++)
 				acc[k] += Ss[k];
 			if (M)
@@ -193,6 +270,7 @@ void pc_render_pixel(const pc_sim *sim, uint32_t sx, uint32_t sy, unsigned ch, u
 					for (int b = 0; b < 4; b++)
 						macc[a][b] += Ms[a][b];
 		}
+	}
 	double inv = 1.0 / (sim->ss * sim->ss);
 	for (int k = 0; k < 4; k++)
 		S[k] = acc[k] * inv;
@@ -220,4 +298,16 @@ void pc_render_setup(pc_sim *sim)
 	sim->ss = (sim->fx & PC_FX_SUPERSAMPLING) ? sc->supersampling : 1;
 	for (unsigned i = 0; i < sim->ss && i < 16; i++)
 		sim->ss_off[i] = (i + 0.5) / sim->ss - 0.5;
+	/* bounding spheres of the first PC_CULL_MAX objects (radius 0: not culled) */
+	sim->n_cull = sc->n_objects < PC_CULL_MAX ? sc->n_objects : PC_CULL_MAX;
+	for (unsigned i = 0; i < sim->n_cull; i++) {
+		sim->cull_r[i] = 0;
+		pc_v3 c;
+		double r;
+		if (pc_object_bsphere(&sc->objects[i], &c, &r) && r > 0 && isfinite(r) &&
+		    isfinite(c.x) && isfinite(c.y) && isfinite(c.z)) {
+			sim->cull_c[i] = c;
+			sim->cull_r[i] = r;
+		}
+	}
 }

@@ -9,7 +9,9 @@
 #ifndef POLARCAM_SIM_RNG_H
 #define POLARCAM_SIM_RNG_H
 
+#include <math.h>
 #include <stdint.h>
+#include <string.h>
 
 /* What a stream is for; part of the counter so that streams never overlap. */
 enum pc_rng_purpose {
@@ -75,6 +77,85 @@ static inline uint32_t pc_rng_u32(pc_rng *r)
 	}
 	return r->buf[r->used++];
 }
+/* ---- arithmetic shared by the scalar code and the vector kernels (noise_kern.inc) ----
+ * Every function below uses only +, −, ×, ÷, sqrt, floor, comparisons and bit operations, in a
+ * fixed order (the build is ISO C: no FMA contraction), so a vector kernel that performs the
+ * same operations lane by lane produces bit-identical results: frames do not depend on the
+ * instruction set the dispatcher picks. The polynomial macros take the variable and evaluate by
+ * Horner's rule for either a double or a GCC vector of doubles. */
+
+/* ln 2 split for exact e·ln2_hi (20 significant bits) plus the rest. */
+#define PC_LN2_HI 0.6931467056274414
+#define PC_LN2_LO 4.7493250390316726e-07
+#define PC_SQRT2 1.4142135623730951
+
+/* log(1 + f) = 2 atanh(s), s = f/(2 + f), |s| ≤ 0.1716 for √½ ≤ 1 + f ≤ √2:
+ * 2 atanh(s) = 2s + s·R, R = Σ_{j≥1} 2 s^{2j}/(2j + 1) (Abramowitz & Stegun 4.5.2 via
+ * ln((1+s)/(1−s))), truncated after s^{20} (relative error < 3e-17); evaluated as
+ * f − (f²/2 − s·(f²/2 + R)), the rounding-friendly form of f − s·(f − R). */
+#define PC_LOG_R(z)                                                                                \
+	((z) * (2.0 / 3 + (z) * (2.0 / 5 + (z) * (2.0 / 7 + (z) * (2.0 / 9 + (z) * (2.0 / 11 +         \
+	 (z) * (2.0 / 13 + (z) * (2.0 / 15 + (z) * (2.0 / 17 + (z) * (2.0 / 19 + (z) * (2.0 / 21)))))))))))
+
+/* Natural logarithm of a positive, finite, normal x, to about one ulp (tested against libm). */
+static inline double pc_log_pure(double x)
+{
+	uint64_t b;
+	memcpy(&b, &x, sizeof b);
+	/* exponent as an exact double: (2^52 + E) − 2^52 − 1023 */
+	uint64_t eb = (b >> 52) | 0x4330000000000000ull;
+	double e;
+	memcpy(&e, &eb, sizeof e);
+	e = e - 4503599627370496.0 - 1023.0;
+	uint64_t mb = (b & 0x000FFFFFFFFFFFFFull) | 0x3FF0000000000000ull;
+	double m;
+	memcpy(&m, &mb, sizeof m);
+	if (m > PC_SQRT2) {
+		m = m * 0.5;
+		e = e + 1.0;
+	}
+	double f = m - 1.0;
+	double s = f / (2.0 + f);
+	double z = s * s;
+	double R = PC_LOG_R(z);
+	double hfsq = 0.5 * f * f;
+	return e * PC_LN2_HI + (f - (hfsq - (s * (hfsq + R) + e * PC_LN2_LO)));
+}
+
+/* Wichura's AS 241 (PPND16) rational approximations, coefficients from the paper: the central
+ * region |q| ≤ 0.425 in t = 0.180625 − q², and the intermediate region in r = sqrt(−ln p) − 1.6
+ * (r ≤ 5, i.e. p ≥ 1.4e-11: every p a 32-bit uniform produces). */
+#define PC_AS241_CA(t)                                                                             \
+	(((((((2.5090809287301226727e+3 * (t) + 3.3430575583588128105e+4) * (t) +                    \
+	      6.7265770927008700853e+4) * (t) + 4.5921953931549871457e+4) * (t) +                     \
+	    1.3731693765509461125e+4) * (t) + 1.9715909503065514427e+3) * (t) +                       \
+	  1.3314166789178437745e+2) * (t) + 3.3871328727963666080e+0)
+#define PC_AS241_CB(t)                                                                             \
+	(((((((5.2264952788528545610e+3 * (t) + 2.8729085735721942674e+4) * (t) +                    \
+	      3.9307895800092710610e+4) * (t) + 2.1213794301586595867e+4) * (t) +                     \
+	    5.3941960214247511077e+3) * (t) + 6.8718700749205790830e+2) * (t) +                      \
+	  4.2313330701600911252e+1) * (t) + 1.0)
+#define PC_AS241_TA(t)                                                                             \
+	(((((((7.74545014278341407640e-4 * (t) + 2.27238449892691845833e-2) * (t) +                  \
+	      2.41780725177450611770e-1) * (t) + 1.27045825245236838258e+0) * (t) +                   \
+	    3.64784832476320460504e+0) * (t) + 5.76949722146069140550e+0) * (t) +                     \
+	  4.63033784615654529590e+0) * (t) + 1.42343711074968357734e+0)
+#define PC_AS241_TB(t)                                                                             \
+	(((((((1.05075007164441684324e-9 * (t) + 5.47593808499534494600e-4) * (t) +                  \
+	      1.51986665636164571966e-2) * (t) + 1.48103976427480074590e-1) * (t) +                   \
+	    6.89767334985100004550e-1) * (t) + 1.67638483018380384940e+0) * (t) +                     \
+	  2.05319162663775882187e+0) * (t) + 1.0)
+
+/* Hörmann's PTRS constants for mean mu (W. Hörmann, "The transformed rejection method for
+ * generating Poisson random variables", Insurance: Mathematics and Economics 12(1):39–45,
+ * 1993, section 3): b, a and v_r, the fast-acceptance bound. */
+#define PC_PTRS_B(smu) (0.931 + 2.53 * (smu))
+#define PC_PTRS_A(b) (-0.059 + 0.02483 * (b))
+#define PC_PTRS_VR(b) (0.9277 - 3.6224 / ((b) - 2.0))
+#define PC_PTRS_INV_ALPHA(b) (1.1239 + 1.1328 / ((b) - 3.4))
+/* The candidate k of one attempt with u in (−½, ½), us = ½ − |u|. */
+#define PC_PTRS_K(a, b, mu, u, us) ((2.0 * (a) / (us) + (b)) * (u) + (mu) + 0.43)
+
 /* Uniform in the open interval (0, 1) with 53 random bits. */
 double pc_rng_uniform(pc_rng *r);
 /* Uniform in (0, 1) from one 32-bit word: (u + ½)·2⁻³², the noise kernels' resolution. */
@@ -92,14 +173,44 @@ static inline double pc_u32_to_normal(uint32_t u)
 	return pc_normal_quantile(pc_u32_to_uniform(u));
 }
 double pc_rng_normal(pc_rng *r);
-/* Poisson(mu), mu ≥ 0, from 32-bit uniforms: inversion for mu < 10, Hörmann's PTRS transformed
- * rejection
- * (W. Hörmann, "The transformed rejection method for generating Poisson random variables",
- * Insurance: Mathematics and Economics 12(1):39–45, 1993) otherwise. Exact for every mu the
- * sensor can produce (mu ≤ 1e9); returns a double to cover large means. */
-double pc_rng_poisson(pc_rng *r, double mu);
 
-/* ln(k!) (exact sums below 16, Stirling series with 4 correction terms above: |error| < 1e-13). */
+/* ln(k!) (exact sums below 16, Stirling series with 4 correction terms above: |error| < 1e-13).
+ * The Stirling branch as a macro of k and ln(k + 1) for the vector kernels:
+ * ln Γ(n), n = k + 1 (Abramowitz & Stegun 6.1.41). */
+#define PC_LOG_FACTORIAL_STIRLING(k, logn)                                                          \
+	(((k) + 1.0 - 0.5) * (logn) - ((k) + 1.0) + 0.91893853320467274178 /* ln sqrt(2π) */ +         \
+	 (1.0 / 12.0 - (1.0 / 360.0 - (1.0 / 1260.0 - 1.0 / (1680.0 * (((k) + 1.0) * ((k) + 1.0)))) /  \
+	  (((k) + 1.0) * ((k) + 1.0))) / (((k) + 1.0) * ((k) + 1.0))) / ((k) + 1.0))
 double pc_log_factorial(double k);
+
+/* Poisson(mu), mu ≥ 0, from 32-bit uniforms: inversion for mu < PC_PTRS_MIN_MU, Hörmann's PTRS
+ * transformed rejection otherwise. Exact for every mu the sensor can produce (mu ≤ 1e9);
+ * returns a double to cover large means. */
+#define PC_PTRS_MIN_MU 10.0
+double pc_rng_poisson(pc_rng *r, double mu);
+/* Inversion by sequential search from one word (mu < PC_PTRS_MIN_MU). */
+double pc_poisson_inversion(double mu, uint32_t w);
+
+/* PTRS in pieces, for the frame kernels: the constants of a mean, one attempt's fast
+ * acceptance from two words (1: accepted, *k set; 0: *k is the candidate, run the slow test),
+ * and the slow test (1: accept k). *lmu caches ln mu (NaN: not yet computed). */
+typedef struct pc_ptrs {
+	double mu, b, a, v_r;
+} pc_ptrs;
+static inline void pc_ptrs_init(pc_ptrs *p, double mu)
+{
+	p->mu = mu;
+	p->b = PC_PTRS_B(sqrt(mu));
+	p->a = PC_PTRS_A(p->b);
+	p->v_r = PC_PTRS_VR(p->b);
+}
+static inline int pc_ptrs_fast(const pc_ptrs *p, uint32_t wu, uint32_t wv, double *k)
+{
+	double u = pc_u32_to_uniform(wu) - 0.5, v = pc_u32_to_uniform(wv);
+	double us = 0.5 - fabs(u);
+	*k = floor(PC_PTRS_K(p->a, p->b, p->mu, u, us));
+	return us >= 0.07 && v <= p->v_r;
+}
+int pc_ptrs_slow(const pc_ptrs *p, double v, double us, double k, double *lmu);
 
 #endif

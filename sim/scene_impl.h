@@ -118,4 +118,21 @@ typedef struct pc_hit {
 bool pc_scene_intersect(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax, pc_hit *hit);
 bool pc_scene_occluded(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax);
 
+/* A sphere containing the object (false for unbounded objects: infinite planes). */
+bool pc_object_bsphere(const pc_sim_object *ob, pc_v3 *c, double *r);
+/* Planes, spheres and boxes: a ray leaving the surface away from the body (or, for a plane,
+ * away from the plane) cannot meet the same object again. */
+bool pc_object_convex(const pc_sim_object *ob);
+/* Primary-ray culling: objects i < n are tested only when the ray's pixel column x lies in
+ * [lo[i], hi[i]] (conservative ranges from render.c; lo > hi: never). */
+typedef struct pc_cull {
+	unsigned n;
+	const int32_t *lo, *hi;
+} pc_cull;
+bool pc_scene_intersect_cull(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
+			     int32_t x, const pc_cull *cull, pc_hit *hit);
+/* pc_scene_occluded ignoring object skip (UINT_MAX: none). */
+bool pc_scene_occluded_skip(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
+			    unsigned skip);
+
 #endif

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "polarcam/error.h"
+#include "noise.h"
 #include "rng.h"
 #include "sim_impl.h"
 
@@ -91,19 +92,14 @@ int pc_sensor_preset(const char *name, pc_sensor_figures *f)
 
 /* ---- per-pixel analyser (physics.md §6 step 2) ---- */
 
-void pc_sensor_fixed(const pc_sim *sim, uint32_t sx, uint32_t sy, unsigned mask, double z[4])
+void pc_sensor_fixed_row(const pc_sim *sim, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
+			 double *z0, double *z1, double *z2, double *z3)
 {
-	z[0] = z[1] = z[2] = z[3] = 0;
 	mask &= sim->fp_mask;
 	if (!mask)
 		return;
-	const uint32_t ctr[4] = { (sy << 16) | (sx & 0xFFFFu), PC_RNG_FIXED, 0, 0 };
-	const uint32_t key[2] = { (uint32_t)sim->opt.seed, (uint32_t)(sim->opt.seed >> 32) };
-	uint32_t w[4];
-	pc_philox4x32_10(ctr, key, w);
-	for (int i = 0; i < 4; i++)
-		if (mask >> i & 1)
-			z[i] = pc_u32_to_normal(w[i]);
+	double *z[4] = { z0, z1, z2, z3 };
+	pc_noise_fixed_row(sim->opt.seed, sy, sx0, n, mask, z);
 }
 
 unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy)
@@ -120,105 +116,94 @@ unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy)
 	}
 }
 
+/* cos 2θ and sin 2θ of the nominal analyser angles θ = 45°·c, exactly. */
+static const double cos2_nominal[4] = { 1, 0, -1, 0 }, sin2_nominal[4] = { 0, 1, 0, -1 };
+
 /* An ideal analyser at the nominal angle: a = ½(1, cos2θ, sin2θ, 0). */
-static void analyse_ideal(const pc_sim *sim, uint32_t sx, uint32_t sy, const double z[4], double a[4])
+static void analyse_ideal(const pc_sim *sim, unsigned c, double zo, double zt, double a[4])
 {
-	(void)z;
-	double th = 45.0 * DEG * pc_mosaic_channel(&sim->fig.mosaic, sx, sy);
+	(void)sim;
+	(void)zo;
+	(void)zt;
 	a[0] = 0.5;
-	a[1] = 0.5 * cos(2 * th);
-	a[2] = 0.5 * sin(2 * th);
+	a[1] = 0.5 * cos2_nominal[c];
+	a[2] = 0.5 * sin2_nominal[c];
 	a[3] = 0;
 }
 
+/* cos x and sin x; for |x| ≤ 0.1 (orientation errors of a few degrees) by their Taylor series
+ * to x¹² and x¹¹ (truncation < 2e-22 relative, below double rounding), otherwise libm. */
+static inline void small_sincos(double x, double *c, double *s)
+{
+	if (fabs(x) <= 0.1) {
+		double x2 = x * x;
+		*c = 1 - x2 * (1.0 / 2 - x2 * (1.0 / 24 - x2 * (1.0 / 720 - x2 * (1.0 / 40320 -
+			  x2 * (1.0 / 3628800 - x2 * (1.0 / 479001600))))));
+		*s = x * (1 - x2 * (1.0 / 6 - x2 * (1.0 / 120 - x2 * (1.0 / 5040 - x2 * (1.0 / 362880 -
+			  x2 * (1.0 / 39916800))))));
+	} else {
+		*c = cos(x);
+		*s = sin(x);
+	}
+}
+
 /* With the declared non-idealities: a = (t/2)(1, d cos2θ, d sin2θ, 0), d = (ER − 1)/(ER + 1),
- * θ = nominal + systematic offset + N(0, σ_θ), t = t_channel·(1 + N(0, σ_t)); the random parts
- * are fixed per pixel (keyed by seed and position, not by frame). */
-static void analyse_real(const pc_sim *sim, uint32_t sx, uint32_t sy, const double z[4], double a[4])
+ * θ = nominal + e, e = systematic offset + N(0, σ_θ), t = t_channel·(1 + N(0, σ_t)); the random
+ * parts are fixed per pixel (keyed by seed and position, not by frame). cos 2θ and sin 2θ by
+ * the angle-addition formulas from the exact nominal values and cos 2e, sin 2e. */
+static void analyse_real(const pc_sim *sim, unsigned c, double zo, double zt, double a[4])
 {
 	const pc_sensor_figures *f = &sim->fig;
-	unsigned c = pc_mosaic_channel(&f->mosaic, sx, sy);
-	double th = 45.0 * DEG * c, d = 1, t = 1;
+	double c2 = cos2_nominal[c], s2 = sin2_nominal[c], d = 1, t = 1;
 	if (sim->fx & PC_FX_ORIENTATION) {
 		double e = f->orientation_offset_deg[c];
 		if (f->orientation_sigma_deg > 0)
-			e += f->orientation_sigma_deg * z[0];
-		th += e * DEG;
+			e += f->orientation_sigma_deg * zo;
+		double ce, se;
+		small_sincos(2 * e * DEG, &ce, &se);
+		double cc = c2 * ce - s2 * se, ss = s2 * ce + c2 * se;
+		c2 = cc;
+		s2 = ss;
 	}
 	if (sim->fx & PC_FX_EXTINCTION)
 		d = isinf(f->extinction_ratio) ? 1 : (f->extinction_ratio - 1) / (f->extinction_ratio + 1);
 	if (sim->fx & PC_FX_TRANSMISSION) {
 		t = f->transmission[c];
 		if (f->transmission_sigma > 0)
-			t *= 1 + f->transmission_sigma * z[1];
+			t *= 1 + f->transmission_sigma * zt;
 	}
 	a[0] = 0.5 * t;
-	a[1] = 0.5 * t * d * cos(2 * th);
-	a[2] = 0.5 * t * d * sin(2 * th);
+	a[1] = 0.5 * t * d * c2;
+	a[2] = 0.5 * t * d * s2;
 	a[3] = 0;
-}
-
-double pc_sensor_prnu(const pc_sim *sim, const double z[4])
-{
-	if (!(sim->fx & PC_FX_PRNU_DSNU))
-		return 1;
-	return 1 + sim->fig.prnu * z[2];
-}
-
-double pc_sensor_dsnu(const pc_sim *sim, const double z[4])
-{
-	return sim->fig.dsnu_e * z[3];
 }
 
 /* ---- the per-frame chain (steps 3–6), one row of the ROI into LSB-aligned uint16 ---- */
 
-static inline void frame_row_body(const pc_sim *sim, uint64_t n, double t_s, double K, uint32_t y,
-				  uint16_t *row, const bool noise, const bool dsnu)
+static void frame_row(const pc_sim *sim, uint64_t n, double t_s, double K, uint32_t y,
+		      uint16_t *row)
 {
 	const uint32_t W = sim->info.width;
-	const uint32_t sy = sim->info.offset_y + y;
-	const float *rate = sim->rate[n % sim->n_states] + (size_t)y * W;
-	const float *ds = dsnu ? sim->dsnu + (size_t)y * W : NULL;
-	const double fw = sim->fig.full_well_e, off = sim->fig.offset_dn;
-	const double dark = noise ? sim->fig.dark_current_e_s * t_s : 0;
-	const double sd = sim->fig.read_noise_e, maxv = sim->max_dn;
-	for (uint32_t x = 0; x < W; x++) {
-		const uint32_t sx = sim->info.offset_x + x;
-		double mu = (double)rate[x] * t_s + dark;
-		double e = mu;
-		/* one stream per pixel and frame: the Poisson draw (usually two words), then the
-		 * read noise (one word) — typically a single Philox block */
-		pc_rng r;
-		if (noise) {
-			pc_rng_init(&r, sim->opt.seed, PC_RNG_FRAME, sx, sy, n);
-			e = pc_rng_poisson(&r, mu);
-		}
-		if (e > fw)
-			e = fw;
-		if (dsnu)
-			e += ds[x];
-		if (noise && sd > 0)
-			e += sd * pc_rng_normal(&r);
-		double dn = floor(K * e + off + 0.5);
-		row[x] = (uint16_t)(dn < 0 ? 0 : dn > maxv ? maxv : dn);
-	}
-}
-
-static void row_plain(const pc_sim *s, uint64_t n, double t, double K, uint32_t y, uint16_t *row)
-{
-	frame_row_body(s, n, t, K, y, row, false, false);
-}
-static void row_noise(const pc_sim *s, uint64_t n, double t, double K, uint32_t y, uint16_t *row)
-{
-	frame_row_body(s, n, t, K, y, row, true, false);
-}
-static void row_dsnu(const pc_sim *s, uint64_t n, double t, double K, uint32_t y, uint16_t *row)
-{
-	frame_row_body(s, n, t, K, y, row, false, true);
-}
-static void row_noise_dsnu(const pc_sim *s, uint64_t n, double t, double K, uint32_t y, uint16_t *row)
-{
-	frame_row_body(s, n, t, K, y, row, true, true);
+	const bool noise = sim->fx & PC_FX_NOISE;
+	pc_frame_args a = {
+		.seed = sim->opt.seed,
+		.frame = n,
+		.sx0 = sim->info.offset_x,
+		.sy = sim->info.offset_y + y,
+		.n = W,
+		.rate = sim->rate[n % sim->n_states] + (size_t)y * W,
+		.dsnu = (sim->fx & PC_FX_PRNU_DSNU) ? sim->dsnu + (size_t)y * W : NULL,
+		.t_s = t_s,
+		.dark_e = noise ? sim->fig.dark_current_e_s * t_s : 0,
+		.full_well_e = sim->fig.full_well_e,
+		.K = K,
+		.offset_dn = sim->fig.offset_dn,
+		.read_e = sim->fig.read_noise_e,
+		.max_dn = sim->max_dn,
+		.noise = noise,
+		.out = row,
+	};
+	pc_noise_frame_row(&a);
 }
 
 void pc_sensor_setup(pc_sim *sim)
@@ -226,9 +211,7 @@ void pc_sensor_setup(pc_sim *sim)
 	const pc_sensor_figures *f = &sim->fig;
 	bool analyser_real = sim->fx & (PC_FX_EXTINCTION | PC_FX_ORIENTATION | PC_FX_TRANSMISSION);
 	sim->analyse = analyser_real ? analyse_real : analyse_ideal;
-	bool noise = sim->fx & PC_FX_NOISE;
-	bool dsnu = sim->fx & PC_FX_PRNU_DSNU;
-	sim->frame_row = noise ? (dsnu ? row_noise_dsnu : row_noise) : (dsnu ? row_dsnu : row_plain);
+	sim->frame_row = frame_row;
 	sim->max_dn = (1u << f->bits) - 1u;
 	sim->fp_mask = 0;
 	if ((sim->fx & PC_FX_ORIENTATION) && f->orientation_sigma_deg > 0)

@@ -189,49 +189,58 @@ bool pc_sim_is_prepared(const pc_sim *sim, unsigned state)
 	return state < sim->n_states && sim->rate[state] != NULL;
 }
 
-/* ---- prepare: render the PSG state once, fill the caches of all its PSA states ---- */
+/* ---- prepare: render the PSG state once, fill the caches of all its PSA states ----
+ *
+ * One pass over the rows renders each pixel, draws its fixed-pattern deviates (one Philox block
+ * per pixel: orientation, transmission, PRNU, DSNU), applies the analyser and the PSA states and
+ * writes the electron rates; the DSNU image is filled on the first prepare. Without crosstalk
+ * the rates get their PRNU at once; with crosstalk they go to a grid with a one-pixel halo and
+ * the pixel's PRNU factor waits in the first destination image until the crosstalk pass. */
 
 typedef struct prep_ctx {
 	pc_sim *sim;
 	unsigned g;
-	uint32_t y_base;     /* first ROI row of this chunk */
 	float *truth_s, *truth_m;
-	/* without crosstalk: write rates directly; with: analysed values on a halo'd grid */
 	float **dst;         /* n_psa destination images (ROI) */
 	float **halo;        /* n_psa images of (W+2)·(H+2), or NULL */
-	bool truth_all_ch;
+	float *dsnu;         /* the DSNU image to fill (first prepare), or NULL */
+	bool psa_identity;   /* one PSA state, the identity: skip its product */
 	int err;
 } prep_ctx;
 
-/* Analysed electron rate (before PRNU and crosstalk) of sensor pixel (sx, sy) for each PSA
- * state; also writes truth when asked. */
-static void prep_pixel(prep_ctx *c, uint32_t sx, uint32_t sy, bool in_roi, const double z[4],
-		       float *out_rate)
+/* Analysed electron rate (before PRNU and crosstalk) of sensor pixel (sx, rr->sy) of colour
+ * channel pch and analyser channel ach, for each PSA state; also writes truth when asked (pix:
+ * the ROI pixel index). */
+static inline void prep_pixel(const prep_ctx *c, const pc_render_row *rr, uint32_t sx, unsigned pch,
+			      unsigned ach, bool in_roi, size_t pix, double zo, double zt,
+			      float *out_rate)
 {
-	pc_sim *sim = c->sim;
-	unsigned pch = pc_sensor_channel(sim, sx, sy);
+	const pc_sim *sim = c->sim;
 	double S[4], M[4][4], Sp[4];
 	const bool want_truth = in_roi && (c->truth_s || c->truth_m);
-	size_t pix = 0;
-	if (want_truth)
-		pix = (size_t)(sy - sim->info.offset_y) * sim->info.width + (sx - sim->info.offset_x);
 	for (unsigned ch = 0; ch < sim->nch; ch++) {
 		if (ch != pch && !want_truth)
 			continue;
-		pc_render_pixel(sim, sx, sy, ch, c->g, S, c->truth_m && in_roi ? M : NULL);
+		pc_render_pixel(sim, rr, sx, ch, c->g, S, c->truth_m && in_roi ? M : NULL);
 		if (want_truth && c->truth_s)
 			for (int k = 0; k < 4; k++)
 				c->truth_s[(pix * sim->nch + ch) * 4 + k] = (float)S[k];
 		if (want_truth && c->truth_m)
-			for (int a = 0; a < 4; a++)
-				for (int b = 0; b < 4; b++)
-					c->truth_m[(pix * sim->nch + ch) * 16 + a * 4 + b] = (float)M[a][b];
+			for (int i = 0; i < 4; i++)
+				for (int j = 0; j < 4; j++)
+					c->truth_m[(pix * sim->nch + ch) * 16 + i * 4 + j] = (float)M[i][j];
 		if (ch != pch)
 			continue;
 		double an[4];
-		sim->analyse(sim, sx, sy, z, an);
+		sim->analyse(sim, ach, zo, zt, an);
 		if (!sim->circular)
 			S[3] = 0; /* not carried (and not coupled: scene validation) */
+		const double ke = sim->e_per_radiance[ch];
+		if (c->psa_identity) {
+			double v = an[0] * S[0] + an[1] * S[1] + an[2] * S[2] + an[3] * S[3];
+			out_rate[0] = (float)((v < 0 ? 0 : v) * ke);
+			continue;
+		}
 		for (unsigned a = 0; a < sim->n_psa; a++) {
 			const double(*P)[4] = sim->scene->psa[a];
 			for (int i = 0; i < 4; i++)
@@ -239,7 +248,7 @@ static void prep_pixel(prep_ctx *c, uint32_t sx, uint32_t sy, bool in_roi, const
 			double v = an[0] * Sp[0] + an[1] * Sp[1] + an[2] * Sp[2] + an[3] * Sp[3];
 			if (v < 0)
 				v = 0; /* only from rounding: a physical Stokes vector gives a·S ≥ 0 */
-			out_rate[a] = (float)(v * sim->e_per_radiance[ch]);
+			out_rate[a] = (float)(v * ke);
 		}
 	}
 }
@@ -247,44 +256,76 @@ static void prep_pixel(prep_ctx *c, uint32_t sx, uint32_t sy, bool in_roi, const
 static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 {
 	prep_ctx *c = ctx;
-	pc_sim *sim = c->sim;
-	const uint32_t W = sim->info.width, ox = sim->info.offset_x, oy = sim->info.offset_y;
-	float rates[64];
+	const pc_sim *sim = c->sim;
+	const uint32_t W = sim->info.width, H = sim->info.height;
+	const uint32_t ox = sim->info.offset_x, oy = sim->info.offset_y;
+	const uint32_t SW = sim->info.sensor_width, SH = sim->info.sensor_height;
+	const bool halo = c->halo != NULL, prnu_on = sim->fx & PC_FX_PRNU_DSNU;
+	const uint32_t cols = halo ? W + 2 : W;
+	double *zb = malloc(4 * (size_t)cols * sizeof *zb);
+	if (!zb) {
+#ifdef _OPENMP
+#pragma omp atomic write
+#endif
+		c->err = PC_ENOMEM;
+		return;
+	}
+	double *z[4] = { zb, zb + cols, zb + 2 * (size_t)cols, zb + 3 * (size_t)cols };
+	float rates[PC_SIM_MAX_STATES];
 	for (uint32_t yy = y0; yy < y1; yy++) {
-		if (c->halo) {
-			/* halo grid row yy covers sensor row oy + yy − 1 (−1 .. H) */
-			int64_t sy = (int64_t)oy + yy - 1;
-			if (sy < 0 || sy >= sim->info.sensor_height)
-				continue; /* outside the sensor: filled from the neighbour later */
-			for (uint32_t xx = 0; xx < W + 2; xx++) {
-				int64_t sx = (int64_t)ox + xx - 1;
-				if (sx < 0 || sx >= sim->info.sensor_width)
-					continue;
-				bool in_roi = xx >= 1 && xx <= W && yy >= 1 && yy <= sim->info.height;
-				double z[4];
-				pc_sensor_fixed(sim, (uint32_t)sx, (uint32_t)sy, PC_FP_ORIENT | PC_FP_TRANS, z);
-				prep_pixel(c, (uint32_t)sx, (uint32_t)sy, in_roi, z, rates);
+		/* halo grid row yy covers sensor row oy + yy − 1 (−1 .. H) */
+		int64_t sy = halo ? (int64_t)oy + yy - 1 : (int64_t)oy + yy;
+		if (sy < 0 || sy >= SH)
+			continue; /* outside the sensor: the crosstalk pass uses the pixel itself */
+		const bool row_in_roi = !halo || (yy >= 1 && yy <= H);
+		const uint32_t ry = halo ? yy - 1 : yy;
+		int64_t sx0 = halo ? (int64_t)ox - 1 : (int64_t)ox;
+		uint32_t xlo = sx0 < 0 ? 1 : 0, xhi = cols;
+		if (sx0 + xhi > SW)
+			xhi = (uint32_t)(SW - sx0);
+		unsigned mask = PC_FP_ORIENT | PC_FP_TRANS;
+		if (row_in_roi && prnu_on)
+			mask |= PC_FP_PRNU | (c->dsnu ? PC_FP_DSNU : 0);
+		for (int k = 0; k < 4; k++)
+			memset(z[k] + xlo, 0, (xhi - xlo) * sizeof(double));
+		pc_sensor_fixed_row(sim, (uint32_t)sy, (uint32_t)(sx0 + xlo), xhi - xlo, mask,
+				    z[0] + xlo, z[1] + xlo, z[2] + xlo, z[3] + xlo);
+		pc_render_row rr;
+		pc_render_row_begin(sim, (uint32_t)sy, &rr);
+		/* colour and analyser channel of the row's pixels by column phase */
+		const pc_mosaic *mo = &sim->fig.mosaic;
+		unsigned pch[4], ach[4];
+		for (unsigned k = 0; k < mo->period; k++) {
+			pch[k] = pc_sensor_channel(sim, (uint32_t)(sx0 + xlo) + k, (uint32_t)sy);
+			ach[k] = pc_mosaic_channel(mo, (uint32_t)(sx0 + xlo) + k, (uint32_t)sy);
+		}
+		const unsigned pmask = mo->period - 1u;
+		for (uint32_t xx = xlo; xx < xhi; xx++) {
+			const uint32_t sx = (uint32_t)(sx0 + xx), k = (xx - xlo) & pmask;
+			const bool in_roi = row_in_roi && (!halo || (xx >= 1 && xx <= W));
+			const uint32_t rx = halo ? xx - 1 : xx;
+			const size_t pix = (size_t)ry * W + rx;
+			prep_pixel(c, &rr, sx, pch[k], ach[k], in_roi, pix, z[0][xx], z[1][xx], rates);
+			float prnu = prnu_on ? (float)(1 + sim->fig.prnu * z[2][xx]) : 1.0f;
+			if (halo) {
 				for (unsigned a = 0; a < sim->n_psa; a++)
 					c->halo[a][(size_t)yy * (W + 2) + xx] = rates[a];
-			}
-		} else {
-			uint32_t sy = oy + yy;
-			for (uint32_t x = 0; x < W; x++) {
-				uint32_t sx = ox + x;
-				double z[4];
-				pc_sensor_fixed(sim, sx, sy, PC_FP_ORIENT | PC_FP_TRANS | PC_FP_PRNU, z);
-				prep_pixel(c, sx, sy, true, z, rates);
-				double prnu = pc_sensor_prnu(sim, z);
+				if (in_roi && prnu_on)
+					c->dst[0][pix] = prnu; /* consumed by the crosstalk pass */
+			} else {
 				for (unsigned a = 0; a < sim->n_psa; a++)
-					c->dst[a][(size_t)yy * W + x] = (float)(rates[a] * prnu);
+					c->dst[a][pix] = (float)((double)rates[a] * (double)prnu);
 			}
+			if (in_roi && c->dsnu)
+				c->dsnu[pix] = (float)(sim->fig.dsnu_e * z[3][xx]);
 		}
 	}
+	free(zb);
 }
 
 /* Crosstalk (physics.md §6 step 2): each pixel keeps (1 − 4c) of its own analysed signal and
  * receives c of each 4-neighbour's; a neighbour outside the sensor counts as the pixel itself
- * (so a uniform scene stays uniform). Then PRNU. */
+ * (so a uniform scene stays uniform). Then PRNU (its factor waits in dst[0]). */
 typedef struct xt_ctx {
 	pc_sim *sim;
 	float **halo, **dst;
@@ -297,39 +338,24 @@ static void crosstalk_rows(void *ctx, uint32_t y0, uint32_t y1)
 	const uint32_t W = sim->info.width, ox = sim->info.offset_x, oy = sim->info.offset_y;
 	const uint32_t SW = sim->info.sensor_width, SH = sim->info.sensor_height;
 	const double k = sim->fig.crosstalk;
-	for (unsigned a = 0; a < sim->n_psa; a++) {
-		const float *h = c->halo[a];
-		for (uint32_t y = y0; y < y1; y++) {
-			uint32_t sy = oy + y;
-			const float *up = h + (size_t)y * (W + 2), *mid = up + (W + 2), *dn = mid + (W + 2);
-			for (uint32_t x = 0; x < W; x++) {
-				uint32_t sx = ox + x;
+	const bool prnu_on = sim->fx & PC_FX_PRNU_DSNU;
+	for (uint32_t y = y0; y < y1; y++) {
+		uint32_t sy = oy + y;
+		for (uint32_t x = 0; x < W; x++) {
+			uint32_t sx = ox + x;
+			size_t i = (size_t)y * W + x;
+			double prnu = prnu_on ? c->dst[0][i] : 1.0;
+			for (unsigned a = 0; a < sim->n_psa; a++) {
+				const float *up = c->halo[a] + (size_t)y * (W + 2), *mid = up + (W + 2),
+					    *dn = mid + (W + 2);
 				double self = mid[x + 1];
 				double l = sx > 0 ? mid[x] : self, r = sx + 1 < SW ? mid[x + 2] : self;
 				double u = sy > 0 ? up[x + 1] : self, d = sy + 1 < SH ? dn[x + 1] : self;
 				double v = (1 - 4 * k) * self + k * (l + r + u + d);
-				double z[4];
-				pc_sensor_fixed(sim, sx, sy, PC_FP_PRNU, z);
-				c->dst[a][(size_t)y * W + x] = (float)(v * pc_sensor_prnu(sim, z));
+				c->dst[a][i] = (float)(v * prnu);
 			}
 		}
 	}
-}
-
-typedef struct dsnu_ctx {
-	pc_sim *sim;
-} dsnu_ctx;
-
-static void dsnu_rows(void *ctx, uint32_t y0, uint32_t y1)
-{
-	pc_sim *sim = ((dsnu_ctx *)ctx)->sim;
-	const uint32_t W = sim->info.width;
-	for (uint32_t y = y0; y < y1; y++)
-		for (uint32_t x = 0; x < W; x++) {
-			double z[4];
-			pc_sensor_fixed(sim, sim->info.offset_x + x, sim->info.offset_y + y, PC_FP_DSNU, z);
-			sim->dsnu[(size_t)y * W + x] = (float)pc_sensor_dsnu(sim, z);
-		}
 }
 
 /* Runs fn over [0, rows) in chunks so that progress is reported from the calling thread. */
@@ -376,13 +402,12 @@ int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *trut
 			all_cached = false;
 	if (all_cached && !truth_stokes && !truth_mueller)
 		return 0;
-	/* fixed-pattern offsets once */
+	float *dsnu_new = NULL;
 	if ((sim->fx & PC_FX_PRNU_DSNU) && !sim->dsnu) {
-		sim->dsnu = malloc(npix * sizeof *sim->dsnu);
-		if (!sim->dsnu)
+		/* filled by this render: the same Philox block as the pixel's other fixed patterns */
+		dsnu_new = malloc(npix * sizeof *dsnu_new);
+		if (!dsnu_new)
 			return pc_error(PC_ENOMEM, "DSNU image (%zu pixels)", npix);
-		dsnu_ctx dc = { sim };
-		pc_parallel_rows(H, 0, sim->opt.threads, dsnu_rows, &dc);
 	}
 	float *dst[PC_SIM_MAX_STATES] = { 0 }, *halo[PC_SIM_MAX_STATES] = { 0 };
 	int rc = 0;
@@ -403,9 +428,17 @@ int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *trut
 				goto out;
 			}
 		}
-	prep_ctx pc = { sim, g, 0, truth_stokes, truth_mueller, dst, xt ? halo : NULL, true, 0 };
+	bool ident = sim->n_psa == 1;
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			ident &= sim->scene->psa[0][i][j] == (i == j);
+	prep_ctx pc = { sim, g, truth_stokes, truth_mueller, dst, xt ? halo : NULL, dsnu_new, ident, 0 };
 	uint64_t done = 0, total = xt ? (uint64_t)(H + 2) + H : H;
 	run_rows(sim, xt ? H + 2 : H, prep_rows, &pc, progress, progress_user, &done, total);
+	if (pc.err) {
+		rc = pc_error(pc.err, "render row buffers");
+		goto out;
+	}
 	if (xt) {
 		xt_ctx xc = { sim, halo, dst };
 		run_rows(sim, H, crosstalk_rows, &xc, progress, progress_user, &done, total);
@@ -416,11 +449,16 @@ int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *trut
 		sim->rate[s] = dst[a];
 		dst[a] = NULL;
 	}
+	if (dsnu_new) {
+		sim->dsnu = dsnu_new;
+		dsnu_new = NULL;
+	}
 out:
 	for (unsigned a = 0; a < sim->n_psa; a++) {
 		free(dst[a]);
 		free(halo[a]);
 	}
+	free(dsnu_new);
 	return rc;
 }
 
@@ -599,18 +637,21 @@ static void truth_rows_fn(void *ctx, uint32_t y0, uint32_t y1)
 	truth_ctx *c = ctx;
 	const pc_sim *sim = c->sim;
 	const uint32_t W = sim->info.width;
-	for (uint32_t y = y0; y < y1; y++)
+	for (uint32_t y = y0; y < y1; y++) {
+		pc_render_row rr;
+		pc_render_row_begin(sim, sim->info.offset_y + c->y_base + y, &rr);
 		for (uint32_t x = 0; x < W; x++)
 			for (unsigned ch = 0; ch < sim->nch; ch++) {
 				size_t i = ((size_t)y * W + x) * sim->nch + ch;
 				double S[4], M[4][4];
-				pc_render_pixel(sim, sim->info.offset_x + x, sim->info.offset_y + c->y_base + y,
-						ch, c->g, S, c->mueller ? M : NULL);
+				pc_render_pixel(sim, &rr, sim->info.offset_x + x, ch, c->g, S,
+						c->mueller ? M : NULL);
 				if (c->stokes)
 					memcpy(c->stokes + 4 * i, S, sizeof S);
 				if (c->mueller)
 					memcpy(c->mueller + 16 * i, M, sizeof M);
 			}
+	}
 }
 
 int pc_sim_truth_rows(const pc_sim *sim, unsigned state, uint32_t y0, uint32_t y1, double *stokes,

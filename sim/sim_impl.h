@@ -10,10 +10,24 @@
 typedef struct pc_sim pc_sim;
 
 /* Per-pixel work units chosen once in pc_sim_new from the effect set (the "pipeline"). */
-typedef void (*pc_shade_fn)(const pc_sim *sim, unsigned ch, unsigned g, pc_v3 dir, double S[4],
-			    double M[4][4]);
-typedef void (*pc_analyse_fn)(const pc_sim *sim, uint32_t sx, uint32_t sy, const double z[4],
-			      double a[4]);
+typedef void (*pc_shade_fn)(const pc_sim *sim, const pc_cull *cull, int32_t sx, pc_v3 dir,
+			    unsigned ch, unsigned g, double S[4], double M[4][4]);
+
+/* Objects with primary-ray culling (render.c); further objects are always tested. */
+#define PC_CULL_MAX 32
+#define PC_SS_MAX 16
+
+/* What one sensor row's camera rays share (render.c): the ray bases of its sub-rows and the
+ * columns in which each culled object can be hit. */
+typedef struct pc_render_row {
+	uint32_t sy;
+	unsigned nsub;
+	pc_v3 base[PC_SS_MAX];
+	int32_t lo[PC_SS_MAX][PC_CULL_MAX], hi[PC_SS_MAX][PC_CULL_MAX];
+} pc_render_row;
+/* Analyser row a (physics.md §6) of a pixel of analyser channel c (0..3 for 0°..135°) with its
+ * orientation and transmission deviates. */
+typedef void (*pc_analyse_fn)(const pc_sim *sim, unsigned c, double zo, double zt, double a[4]);
 typedef void (*pc_frame_row_fn)(const pc_sim *sim, uint64_t n, double exposure_s, double gain,
 				uint32_t y, uint16_t *row);
 
@@ -32,7 +46,11 @@ struct pc_sim {
 	double pitch_m, focal_m, cx, cy;
 	/* supersampling: ss×ss sub-pixel offsets in (−0.5, 0.5) */
 	unsigned ss;
-	double ss_off[16];
+	double ss_off[PC_SS_MAX];
+	/* primary-ray culling: bounding spheres (radius 0: unbounded, never culled) */
+	unsigned n_cull;
+	pc_v3 cull_c[PC_CULL_MAX];
+	double cull_r[PC_CULL_MAX];
 	/* electrons per second per unit radiance (W·m⁻²·sr⁻¹) of unpolarized light, per channel */
 	double e_per_radiance[3];
 	/* sequences */
@@ -50,23 +68,23 @@ struct pc_sim {
 
 /* render.c */
 void pc_render_setup(pc_sim *sim);
-/* Stokes radiance (image-plane frame, W·m⁻²·sr⁻¹) of sensor pixel (sx, sy) for PSG state g and
- * colour channel ch, averaged over the pixel footprint; M (may be NULL) the Mueller matrix. */
-void pc_render_pixel(const pc_sim *sim, uint32_t sx, uint32_t sy, unsigned ch, unsigned g,
-		     double S[4], double M[4][4]);
+/* Prepares sensor row sy for pc_render_pixel. */
+void pc_render_row_begin(const pc_sim *sim, uint32_t sy, pc_render_row *rr);
+/* Stokes radiance (image-plane frame, W·m⁻²·sr⁻¹) of sensor pixel (sx, rr->sy) for PSG state g
+ * and colour channel ch, averaged over the pixel footprint; M (may be NULL) the Mueller
+ * matrix. */
+void pc_render_pixel(const pc_sim *sim, const pc_render_row *rr, uint32_t sx, unsigned ch,
+		     unsigned g, double S[4], double M[4][4]);
 
 /* sensor.c */
 void pc_sensor_setup(pc_sim *sim);
 /* The pixel's colour channel index (0 for monochrome; R/G/B = 0/1/2). */
 unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy);
-/* The fixed-pattern normal deviates of sensor pixel (sx, sy): z[0] orientation, z[1]
- * transmission, z[2] PRNU, z[3] DSNU — one Philox block keyed by (seed, pixel); only the
- * deviates in mask (bit i for z[i]) that the declared effects use are computed, the others
- * are 0. */
+/* The fixed-pattern normal deviates of sensor pixels (sx0 + i, sy), i < n: orientation z0[i],
+ * transmission z1[i], PRNU z2[i], DSNU z3[i] — one Philox block keyed by (seed, pixel) each;
+ * only the deviates in mask (bit k for zk) that the declared effects use are written. */
 enum { PC_FP_ORIENT = 1, PC_FP_TRANS = 2, PC_FP_PRNU = 4, PC_FP_DSNU = 8, PC_FP_ALL = 15 };
-void pc_sensor_fixed(const pc_sim *sim, uint32_t sx, uint32_t sy, unsigned mask, double z[4]);
-/* Fixed-pattern factors from those deviates. */
-double pc_sensor_prnu(const pc_sim *sim, const double z[4]);
-double pc_sensor_dsnu(const pc_sim *sim, const double z[4]);
+void pc_sensor_fixed_row(const pc_sim *sim, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
+			 double *z0, double *z1, double *z2, double *z3);
 
 #endif

@@ -3,9 +3,11 @@
  * pmf (chi-square) for small and large means, ln k! against direct sums, determinism. */
 #include <math.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "../sim/noise.h"
 #include "../sim/rng.h"
 #include "check.h"
 
@@ -173,6 +175,87 @@ static void test_determinism(void)
 	CHECK(pc_rng_u32(&b) != z);
 }
 
+/* The scalar-shared logarithm against libm: within 1 ulp over the whole exponent range. */
+static void test_log_pure(void)
+{
+	double worst = 0;
+	for (int i = 0; i < 200000; i++) {
+		pc_rng r;
+		pc_rng_init(&r, 5, PC_RNG_TEST, (uint32_t)(i & 0xffff), (uint32_t)(i >> 16), 0);
+		double x = exp((pc_rng_uniform(&r) - 0.5) * 1400); /* 1e-304 .. 1e304 */
+		if (i < 1000)
+			x = 1 + (i - 500) * 1e-6; /* near 1, where log is small */
+		double want = log(x), got = pc_log_pure(x);
+		double ulp = nextafter(fabs(want), INFINITY) - fabs(want);
+		if (want != 0)
+			worst = fmax(worst, fabs(got - want) / ulp);
+		else
+			CHECK(got == 0);
+	}
+	CHECK(worst <= 1.0);
+	CHECK(pc_log_pure(1) == 0);
+	CHECK_NEAR(pc_log_pure(2), M_LN2, 1e-16);
+}
+
+/* The frame and fixed-pattern kernels: every vector instance this CPU can run produces exactly
+ * the scalar reference's values, over means from 0 through the inversion/PTRS switch to
+ * saturation, with and without DSNU, read noise and noise, at odd offsets and lengths (vector
+ * tails). */
+static void test_kernels(void)
+{
+	enum { N = 777 };
+	static float rate[N], dsnu[N];
+	static uint16_t got[N], want[N];
+	static double zg[4][N], zw[4][N];
+	for (int i = 0; i < N; i++) {
+		pc_rng r;
+		pc_rng_init(&r, 9, PC_RNG_TEST, (uint32_t)i, 0, 0);
+		double u = pc_rng_uniform(&r);
+		/* rates × 1 ms: 0, below 10, around 10, up to beyond the full well */
+		rate[i] = (float)(i % 11 == 0 ? 0 : i % 5 == 0 ? u * 2e4 : i % 7 == 0 ? 9e3 + u * 2e3 : u * 1.2e7);
+		dsnu[i] = (float)(pc_rng_uniform(&r) * 4 - 2);
+	}
+	int base = pc_noise_isa(), tested = 0;
+	for (int isa = 0; isa <= 2; isa++) {
+		if (pc_noise_set_isa(isa) < 0)
+			continue;
+		tested++;
+		for (int c = 0; c < 8; c++) {
+			pc_frame_args a = { .seed = 0x123456789abcdefull + (uint64_t)c,
+					    .frame = 1000000007ull * (uint64_t)c,
+					    .sx0 = (uint32_t)(3 * c),
+					    .sy = (uint32_t)(17 * c + 1),
+					    .n = (uint32_t)(N - 13 * c),
+					    .rate = rate,
+					    .dsnu = c & 1 ? dsnu : NULL,
+					    .t_s = 1e-3,
+					    .dark_e = c & 2 ? 0.5 : 0,
+					    .full_well_e = 10500,
+					    .K = 4095.0 / 10500,
+					    .offset_dn = c & 4 ? 64 : 0,
+					    .read_e = c == 3 ? 0 : 2.3,
+					    .max_dn = 4095,
+					    .noise = c != 5,
+					    .out = got };
+			pc_noise_frame_row(&a);
+			a.out = want;
+			pc_noise_frame_row_ref(&a);
+			CHECK(!memcmp(got, want, a.n * sizeof *got));
+			double *pg[4] = { zg[0], zg[1], zg[2], zg[3] }, *pw[4] = { zw[0], zw[1], zw[2], zw[3] };
+			unsigned mask = c == 0 ? 15 : (unsigned)(c & 15);
+			memset(zg, 0, sizeof zg);
+			memset(zw, 0, sizeof zw);
+			pc_noise_fixed_row(a.seed, a.sy, a.sx0, a.n, mask, pg);
+			pc_noise_fixed_row_ref(a.seed, a.sy, a.sx0, a.n, mask, pw);
+			CHECK(!memcmp(zg, zw, sizeof zg));
+		}
+	}
+	CHECK(tested >= 1);
+	CHECK(pc_noise_set_isa(base) >= 0);
+	printf("test_sim_rng: kernels identical to the scalar reference on %d instance%s (in use: %s)\n",
+	       tested, tested == 1 ? "" : "s", pc_noise_isa_name(base));
+}
+
 int main(void)
 {
 	test_kat();
@@ -181,5 +264,7 @@ int main(void)
 	test_quantile();
 	test_log_factorial();
 	test_determinism();
+	test_log_pure();
+	test_kernels();
 	return pc_test_finish("test_sim_rng");
 }

@@ -1,0 +1,233 @@
+/* sim/noise.c - scalar reference, vector kernel instances and dispatch of the per-frame sensor
+ * chain and the fixed-pattern deviates (noise.h). */
+#include "noise.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rng.h"
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PC_NOISE_X86 1
+#include <immintrin.h>
+#endif
+
+/* Vectors travel between static inline helpers only, never across an ABI boundary. */
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+/* ---- scalar reference ---- */
+
+/* Poisson draw of one pixel from its first block's words w (and, after a PTRS rejection, the
+ * stream's next blocks). */
+static double poisson_pixel(uint64_t seed, const uint32_t ctr0[4], double mu, const uint32_t w[4])
+{
+	if (!(mu > 0))
+		return 0;
+	if (mu < PC_PTRS_MIN_MU)
+		return pc_poisson_inversion(mu, w[0]);
+	pc_ptrs p;
+	pc_ptrs_init(&p, mu);
+	double lmu = NAN, k;
+	uint32_t wu = w[0], wv = w[1];
+	pc_rng r;
+	memcpy(r.ctr, ctr0, sizeof r.ctr);
+	r.key[0] = (uint32_t)seed;
+	r.key[1] = (uint32_t)(seed >> 32);
+	r.ctr[1] += 1u << 8; /* the continuation starts at the stream's second block */
+	r.used = 4;
+	for (;;) {
+		if (pc_ptrs_fast(&p, wu, wv, &k))
+			return k;
+		double u = pc_u32_to_uniform(wu) - 0.5, v = pc_u32_to_uniform(wv);
+		if (pc_ptrs_slow(&p, v, 0.5 - fabs(u), k, &lmu))
+			return k;
+		wu = pc_rng_u32(&r);
+		wv = pc_rng_u32(&r);
+	}
+}
+
+static inline void frame_ctr(const pc_frame_args *a, uint32_t i, uint32_t ctr[4])
+{
+	ctr[0] = (a->sy << 16) | ((a->sx0 + i) & 0xFFFFu);
+	ctr[1] = PC_RNG_FRAME;
+	ctr[2] = (uint32_t)a->frame;
+	ctr[3] = (uint32_t)(a->frame >> 32);
+}
+
+static inline uint16_t frame_pixel(const pc_frame_args *a, uint32_t i)
+{
+	double mu = (double)a->rate[i] * a->t_s + a->dark_e;
+	double e = mu, z = 0;
+	if (a->noise) {
+		uint32_t ctr[4], w[4];
+		const uint32_t key[2] = { (uint32_t)a->seed, (uint32_t)(a->seed >> 32) };
+		frame_ctr(a, i, ctr);
+		pc_philox4x32_10(ctr, key, w);
+		e = poisson_pixel(a->seed, ctr, mu, w);
+		if (a->read_e > 0)
+			z = pc_u32_to_normal(w[2]);
+	}
+	if (e > a->full_well_e)
+		e = a->full_well_e;
+	if (a->dsnu)
+		e += a->dsnu[i];
+	if (a->noise && a->read_e > 0)
+		e += a->read_e * z;
+	double dn = floor(a->K * e + a->offset_dn + 0.5);
+	return (uint16_t)(dn < 0 ? 0 : dn > a->max_dn ? a->max_dn : dn);
+}
+
+void pc_noise_frame_row_ref(const pc_frame_args *a)
+{
+	for (uint32_t i = 0; i < a->n; i++)
+		a->out[i] = frame_pixel(a, i);
+}
+
+void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
+			    double *z[4])
+{
+	const uint32_t key[2] = { (uint32_t)seed, (uint32_t)(seed >> 32) };
+	for (uint32_t i = 0; i < n; i++) {
+		const uint32_t ctr[4] = { (sy << 16) | ((sx0 + i) & 0xFFFFu), PC_RNG_FIXED, 0, 0 };
+		uint32_t w[4];
+		pc_philox4x32_10(ctr, key, w);
+		for (int k = 0; k < 4; k++)
+			if (mask >> k & 1)
+				z[k][i] = pc_u32_to_normal(w[k]);
+	}
+}
+
+/* ---- vector kernels (x86-64: AVX2 and AVX-512 instances of noise_kern.inc) ---- */
+
+#ifdef PC_NOISE_X86
+/* 32×32 → 64-bit products of the even and the odd lanes (vpmuludq), recombined into the high
+ * and low words. */
+#define KFN(name) name##_avx2
+#define KATTR __attribute__((target("avx2,fma")))
+#define KL 4
+#define KMULHILO(a, m, hi, lo)                                                                    \
+	do {                                                                                      \
+		__m256i a_ = (__m256i)(a), m_ = _mm256_set1_epi32((int)(m));                      \
+		__m256i pe_ = _mm256_mul_epu32(a_, m_);                                           \
+		__m256i po_ = _mm256_mul_epu32(_mm256_srli_epi64(a_, 32), m_);                    \
+		(lo) = (PU)_mm256_blend_epi32(pe_, _mm256_slli_epi64(po_, 32), 0xAA);              \
+		(hi) = (PU)_mm256_blend_epi32(_mm256_srli_epi64(pe_, 32), po_, 0xAA);              \
+	} while (0)
+#define KSQRT(v) ((VD)_mm256_sqrt_pd((__m256d)(v)))
+#define KFLOOR(v) ((VD)_mm256_floor_pd((__m256d)(v)))
+#include "noise_kern.inc"
+#undef KFN
+#undef KATTR
+#undef KL
+#undef KMULHILO
+#undef KSQRT
+#undef KFLOOR
+
+#define KFN(name) name##_avx512
+#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")))
+#define KL 8
+#define KMULHILO(a, m, hi, lo)                                                                    \
+	do {                                                                                      \
+		__m512i a_ = (__m512i)(a), m_ = _mm512_set1_epi32((int)(m));                      \
+		__m512i pe_ = _mm512_mul_epu32(a_, m_);                                           \
+		__m512i po_ = _mm512_mul_epu32(_mm512_srli_epi64(a_, 32), m_);                    \
+		(lo) = (PU)_mm512_mask_blend_epi32(0xAAAA, pe_, _mm512_slli_epi64(po_, 32));       \
+		(hi) = (PU)_mm512_mask_blend_epi32(0xAAAA, _mm512_srli_epi64(pe_, 32), po_);       \
+	} while (0)
+#define KSQRT(v) ((VD)_mm512_sqrt_pd((__m512d)(v)))
+#define KFLOOR(v) ((VD)_mm512_roundscale_pd((__m512d)(v), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC))
+#include "noise_kern.inc"
+#undef KFN
+#undef KATTR
+#undef KL
+#undef KMULHILO
+#undef KSQRT
+#undef KFLOOR
+
+static int cpu_has(int isa)
+{
+	__builtin_cpu_init();
+	if (isa == 2)
+		return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+		       __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+		       __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+	if (isa == 1)
+		return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+	return isa == 0;
+}
+#else
+static int cpu_has(int isa)
+{
+	return isa == 0;
+}
+#endif
+
+static int env_off(const char *name)
+{
+	const char *e = getenv(name);
+	return e && *e && *e != '0';
+}
+
+static int isa_in_use = -1;
+
+int pc_noise_isa(void)
+{
+	int isa = __atomic_load_n(&isa_in_use, __ATOMIC_RELAXED);
+	if (isa < 0) {
+		isa = 0;
+		if (cpu_has(1) && !env_off("POLARCAM_NO_AVX2"))
+			isa = 1;
+		if (isa == 1 && cpu_has(2) && !env_off("POLARCAM_NO_AVX512"))
+			isa = 2;
+		__atomic_store_n(&isa_in_use, isa, __ATOMIC_RELAXED);
+	}
+	return isa;
+}
+
+int pc_noise_set_isa(int isa)
+{
+	if (isa < 0 || isa > 2 || !cpu_has(isa))
+		return -1;
+	int old = pc_noise_isa();
+	__atomic_store_n(&isa_in_use, isa, __ATOMIC_RELAXED);
+	return old;
+}
+
+const char *pc_noise_isa_name(int isa)
+{
+	return isa == 2 ? "avx512" : isa == 1 ? "avx2" : "scalar";
+}
+
+void pc_noise_frame_row(const pc_frame_args *a)
+{
+	switch (pc_noise_isa()) {
+#ifdef PC_NOISE_X86
+	case 2:
+		frame_row_avx512(a);
+		return;
+	case 1:
+		frame_row_avx2(a);
+		return;
+#endif
+	default:
+		pc_noise_frame_row_ref(a);
+	}
+}
+
+void pc_noise_fixed_row(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
+			double *z[4])
+{
+	switch (pc_noise_isa()) {
+#ifdef PC_NOISE_X86
+	case 2:
+		fixed_row_avx512(seed, sy, sx0, n, mask, z);
+		return;
+	case 1:
+		fixed_row_avx2(seed, sy, sx0, n, mask, z);
+		return;
+#endif
+	default:
+		pc_noise_fixed_row_ref(seed, sy, sx0, n, mask, z);
+	}
+}
