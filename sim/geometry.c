@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "polarcam/error.h"
+#include "geometry_inline.h"
 #include "scene_impl.h"
 
 struct pc_bvh_node {
@@ -36,42 +37,21 @@ static inline bool aabb_hit(pc_v3 bmin, pc_v3 bmax, pc_v3 o, pc_v3 inv, double t
 static bool hit_sphere(const pc_sim_object *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
 		       double *t, pc_v3 *n)
 {
-	/* |o + t d − c|² = r² with |d| = 1. The discriminant is computed from the distance of the
-	 * centre to the ray (r² − |h|², h ⟂ d), which does not cancel for distant spheres
-	 * (Haines et al., "Precision improvements for ray/sphere intersection", Ray Tracing Gems,
-	 * 2019, ch. 7). */
 	pc_v3 oc = v3_sub(o, s->center);
-	double b = v3_dot(oc, d);
-	pc_v3 h = v3_madd(oc, d, -b);
-	double disc = s->radius * s->radius - v3_dot(h, h);
-	if (disc < 0)
-		return false;
-	double sq = sqrt(disc);
-	double c = v3_dot(oc, oc) - s->radius * s->radius;
-	double q = b > 0 ? -b - sq : -b + sq;
-	double t0 = q, t1 = q != 0 ? c / q : q;
-	if (t0 > t1) { double tt = t0; t0 = t1; t1 = tt; }
-	double tt = t0 > tmin ? t0 : t1;
-	if (!(tt > tmin && tt < tmax))
+	double tt;
+	if (!pc_sphere_hit_oc(oc, s->radius, v3_dot(oc, oc) - s->radius * s->radius, d, tmin, tmax, &tt))
 		return false;
 	*t = tt;
-	*n = v3_scale(v3_sub(v3_madd(o, d, tt), s->center), 1.0 / s->radius);
+	*n = pc_sphere_normal(s, o, d, tt);
 	return true;
 }
 
 static bool hit_plane(const pc_sim_object *p, pc_v3 o, pc_v3 d, double tmin, double tmax, double *t)
 {
-	double den = v3_dot(d, p->n);
-	if (den == 0)
+	double tt;
+	if (!pc_plane_hit_num(v3_dot(v3_sub(p->p, o), p->n), v3_dot(d, p->n), tmin, tmax, &tt) ||
+	    !pc_plane_within(p, o, d, tt))
 		return false;
-	double tt = v3_dot(v3_sub(p->p, o), p->n) / den;
-	if (!(tt > tmin && tt < tmax))
-		return false;
-	if (p->half_u > 0) {
-		pc_v3 r = v3_sub(v3_madd(o, d, tt), p->p);
-		if (fabs(v3_dot(r, p->u)) > p->half_u || fabs(v3_dot(r, p->v)) > p->half_v)
-			return false;
-	}
 	*t = tt;
 	return true;
 }
@@ -209,7 +189,7 @@ static bool hit_mesh(const pc_mesh *m, pc_v3 o, pc_v3 d, double tmin, double tma
 	return true;
 }
 
-static bool object_hit(const pc_sim_object *ob, pc_v3 o, pc_v3 d, double tmin, double tmax,
+bool pc_object_hit(const pc_sim_object *ob, pc_v3 o, pc_v3 d, double tmin, double tmax,
 		       bool any, double *t, pc_v3 *n, pc_v3 *ng)
 {
 	switch (ob->type) {
@@ -275,7 +255,7 @@ bool pc_scene_intersect_cull(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, d
 			continue; /* the ray cannot reach the object's bounding sphere */
 		double t;
 		pc_v3 n, ng;
-		if (object_hit(&s->objects[i], o, d, tmin, tmax, false, &t, &n, &ng)) {
+		if (pc_object_hit(&s->objects[i], o, d, tmin, tmax, false, &t, &n, &ng)) {
 			tmax = t;
 			hit->t = t;
 			hit->n = n;
@@ -293,7 +273,7 @@ bool pc_scene_occluded_skip(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, do
 	for (unsigned i = 0; i < s->n_objects; i++) {
 		double t;
 		pc_v3 n, ng;
-		if (i != skip && object_hit(&s->objects[i], o, d, tmin, tmax, true, &t, &n, &ng))
+		if (i != skip && pc_object_hit(&s->objects[i], o, d, tmin, tmax, true, &t, &n, &ng))
 			return true;
 	}
 	return false;
@@ -310,7 +290,7 @@ bool pc_scene_intersect(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double
 	for (unsigned i = 0; i < s->n_objects; i++) {
 		double t;
 		pc_v3 n, ng;
-		if (object_hit(&s->objects[i], o, d, tmin, tmax, false, &t, &n, &ng)) {
+		if (pc_object_hit(&s->objects[i], o, d, tmin, tmax, false, &t, &n, &ng)) {
 			tmax = t;
 			hit->t = t;
 			hit->n = n;
@@ -327,7 +307,7 @@ bool pc_scene_occluded(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double 
 	for (unsigned i = 0; i < s->n_objects; i++) {
 		double t;
 		pc_v3 n, ng;
-		if (object_hit(&s->objects[i], o, d, tmin, tmax, true, &t, &n, &ng))
+		if (pc_object_hit(&s->objects[i], o, d, tmin, tmax, true, &t, &n, &ng))
 			return true;
 	}
 	return false;

@@ -47,6 +47,31 @@ static double poisson_pixel(uint64_t seed, const uint32_t ctr0[4], double mu, co
 	}
 }
 
+/* poisson_pixel for a pixel whose first two PTRS attempts (block 0 words 0–1, block 1 words
+ * 0–1) were rejected: attempt 3 onwards, from block 1 word 2. */
+static double poisson_after_two(uint64_t seed, const uint32_t ctr0[4], double mu)
+{
+	pc_ptrs p;
+	pc_ptrs_init(&p, mu);
+	double lmu = NAN, k;
+	pc_rng r;
+	memcpy(r.ctr, ctr0, sizeof r.ctr);
+	r.key[0] = (uint32_t)seed;
+	r.key[1] = (uint32_t)(seed >> 32);
+	r.ctr[1] += 1u << 8;
+	r.used = 4;
+	(void)pc_rng_u32(&r);
+	(void)pc_rng_u32(&r);
+	for (;;) {
+		uint32_t wu = pc_rng_u32(&r), wv = pc_rng_u32(&r);
+		if (pc_ptrs_fast(&p, wu, wv, &k))
+			return k;
+		double u = pc_u32_to_uniform(wu) - 0.5, v = pc_u32_to_uniform(wv);
+		if (pc_ptrs_slow(&p, v, 0.5 - fabs(u), k, &lmu))
+			return k;
+	}
+}
+
 static inline void frame_ctr(const pc_frame_args *a, uint32_t i, uint32_t ctr[4])
 {
 	ctr[0] = (a->sy << 16) | ((a->sx0 + i) & 0xFFFFu);
@@ -116,6 +141,7 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 	} while (0)
 #define KSQRT(v) ((VD)_mm256_sqrt_pd((__m256d)(v)))
 #define KFLOOR(v) ((VD)_mm256_floor_pd((__m256d)(v)))
+#define KMOVEMASK(m) ((unsigned)_mm256_movemask_pd((__m256d)(m)))
 #include "noise_kern.inc"
 #undef KFN
 #undef KATTR
@@ -123,6 +149,7 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 #undef KMULHILO
 #undef KSQRT
 #undef KFLOOR
+#undef KMOVEMASK
 
 #define KFN(name) name##_avx512
 #define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")))
@@ -137,6 +164,7 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 	} while (0)
 #define KSQRT(v) ((VD)_mm512_sqrt_pd((__m512d)(v)))
 #define KFLOOR(v) ((VD)_mm512_roundscale_pd((__m512d)(v), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC))
+#define KMOVEMASK(m) ((unsigned)_mm512_movepi64_mask((__m512i)(m)))
 #include "noise_kern.inc"
 #undef KFN
 #undef KATTR
@@ -144,6 +172,7 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 #undef KMULHILO
 #undef KSQRT
 #undef KFLOOR
+#undef KMOVEMASK
 
 static int cpu_has(int isa)
 {

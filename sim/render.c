@@ -69,13 +69,6 @@ static int eval_pbrdf(void *user, unsigned material, unsigned ch, const double k
 	return pc_pbrdf_eval_vec(sim->pbrdf[material * sim->nch + ch], k_i, k_r, s_i, s_r, f);
 }
 
-static inline void to_local(pc_v3 a, pc_v3 t1, pc_v3 t2, pc_v3 n, double out[3])
-{
-	out[0] = v3_dot(a, t1);
-	out[1] = v3_dot(a, t2);
-	out[2] = v3_dot(a, n);
-}
-
 /* ---- camera rays and primary-ray culling ----
  *
  * Camera ray through sensor position (px, py) in pixels (pixel centres at integer + 0.5):
@@ -90,13 +83,6 @@ static inline void to_local(pc_v3 a, pc_v3 t1, pc_v3 t2, pc_v3 n, double out[3])
  * widened by two pixels, so rounding never culls a ray that the exact test would hit; where
  * the quadratic is not convex (the camera near or inside the sphere) nothing is culled. The
  * per-pixel intersection tests themselves are unchanged, so culling changes no result. */
-
-static inline pc_v3 camera_dir(const pc_sim *sim, pc_v3 A, double px)
-{
-	const pc_sim_camera *c = &sim->scene->camera;
-	double u = (px - sim->cx) * sim->pitch_m;
-	return v3_unit(v3_add(A, v3_scale(c->right, u)));
-}
 
 static inline pc_v3 row_base(const pc_sim *sim, double py)
 {
@@ -151,140 +137,9 @@ void pc_render_row_begin(const pc_sim *sim, uint32_t sy, pc_render_row *rr)
 	}
 }
 
-/* ---- shading ---- */
-
-/* Radiance along the camera ray dir (unit, from the camera) for channel ch, PSG state g.
- * One body, instantiated per effect combination below: the branches on the const flags are
- * resolved at compile time. */
-static inline void shade_body(const pc_sim *sim, const pc_cull *cull, int32_t sx, pc_v3 dir,
-			      unsigned ch, unsigned g, double S[4], double M[4][4],
-			      const bool cast_shadows, const bool circular)
-{
-	const pc_scene *sc = sim->scene;
-	S[0] = S[1] = S[2] = 0;
-	S[3] = circular ? 0 : NAN;
-	if (M)
-		memset(M, 0, 16 * sizeof(double));
-	pc_hit hit;
-	pc_v3 o = sc->camera.position;
-	if (!pc_scene_intersect_cull(sc, o, dir, 0, INFINITY, sx, cull, &hit)) {
-		S[0] = sc->background[ch];
-		return;
-	}
-	pc_v3 x = v3_madd(o, dir, hit.t);
-	pc_v3 kr = v3_neg(dir);
-	/* two-sided surfaces: the normals face the viewer */
-	pc_v3 n = hit.n, ng = hit.ng;
-	const pc_v3 ng_obj = hit.ng; /* the object's own orientation (outward for solids) */
-	if (v3_dot(ng, kr) < 0) {
-		ng = v3_neg(ng);
-		n = v3_neg(n);
-	}
-	pc_v3 t1 = v3_any_perp(n), t2 = v3_cross(n, t1);
-	pc_v3 sr = v3_perp_unit(sc->camera.right, kr, sc->camera.up);
-	double kr_l[3], sr_l[3];
-	to_local(kr, t1, t2, n, kr_l);
-	to_local(sr, t1, t2, n, sr_l);
-	const pc_sim_object *ob = &sc->objects[hit.object];
-	const bool convex = pc_object_convex(ob), plane = ob->type == PC_OBJ_PLANE;
-	double eps = 1e-7 * (1 + fmax(fabs(x.x), fmax(fabs(x.y), fabs(x.z))));
-	pc_v3 xo = v3_madd(x, ng, eps);
-	const pc_pbrdf *pb = sim->pbrdf ? sim->pbrdf[ob->material * sim->nch + ch] : NULL;
-	for (unsigned li = 0; li < sc->n_lights; li++) {
-		const pc_sim_light *l = &sc->lights[li];
-		pc_v3 d, sl;
-		double dist;
-		double w = pc_light_frame(l, x, &d, &sl, &dist) * l->power[ch];
-		pc_v3 ki = v3_neg(d);
-		double cos_i = v3_dot(ki, n);
-		if (!(cos_i > 0) || !(w > 0))
-			continue;
-		if (cast_shadows) {
-			/* a ray leaving a plane, or a convex solid outwards, cannot meet it again */
-			unsigned skip = convex && (plane || v3_dot(ki, ng_obj) > 0) ? hit.object : UINT_MAX;
-			if (pc_scene_occluded_skip(sc, xo, ki, 0, dist * (1 - 1e-9), skip))
-				continue;
-		}
-		double ki_l[3], si_l[3], f[4][4];
-		to_local(ki, t1, t2, n, ki_l);
-		to_local(sl, t1, t2, n, si_l);
-		if (pb) {
-			if (pc_pbrdf_eval_vec(pb, ki_l, kr_l, si_l, sr_l, f))
-				continue;
-		} else if (sim->brdf.eval(sim->brdf.user, ob->material, ch, ki_l, kr_l, si_l, sr_l, f)) {
-			continue; /* the evaluator rejected the geometry: no contribution */
-		}
-		w *= cos_i;
-		const double *Sl = l->stokes[g % l->n_states];
-		if (circular) {
-			for (int i = 0; i < 4; i++)
-				S[i] += w * (f[i][0] * Sl[0] + f[i][1] * Sl[1] + f[i][2] * Sl[2] +
-					     f[i][3] * Sl[3]);
-		} else {
-			for (int i = 0; i < 3; i++) /* lights are linear here: S_l[3] = 0 */
-				S[i] += w * (f[i][0] * Sl[0] + f[i][1] * Sl[1] + f[i][2] * Sl[2]);
-		}
-		if (M)
-			for (int i = 0; i < 4; i++)
-				for (int j = 0; j < 4; j++)
-					M[i][j] += w * f[i][j];
-	}
-}
-
-#define SHADE_FN(name, sh, circ)                                                                \
-	static void name(const pc_sim *s, const pc_cull *cu, int32_t x, pc_v3 d, unsigned ch,      \
-			 unsigned g, double S[4], double M[4][4])                                    \
-	{                                                                                          \
-		shade_body(s, cu, x, d, ch, g, S, M, sh, circ);                                    \
-	}
-SHADE_FN(shade_lin, false, false)
-SHADE_FN(shade_lin_sh, true, false)
-SHADE_FN(shade_circ, false, true)
-SHADE_FN(shade_circ_sh, true, true)
-
-void pc_render_pixel(const pc_sim *sim, const pc_render_row *rr, uint32_t sx, unsigned ch,
-		     unsigned g, double S[4], double M[4][4])
-{
-	pc_cull cull = { sim->n_cull, rr->lo[0], rr->hi[0] };
-	if (sim->ss <= 1) {
-		sim->shade(sim, &cull, (int32_t)sx, camera_dir(sim, rr->base[0], sx + 0.5), ch, g, S, M);
-		return;
-	}
-	/* n×n stratified (regular) samples over the pixel footprint, averaged: Stokes vectors in
-	 * one frame add (incoherent superposition). The s-axis differs between sub-rays by
-	 * < 1e-3 rad over a pixel, below the model's accuracy; each sub-ray uses its own. */
-	double acc[4] = { 0, 0, 0, 0 }, macc[4][4];
-	if (M)
-		memset(macc, 0, sizeof macc);
-	double Ss[4], Ms[4][4];
-	for (unsigned j = 0; j < sim->ss; j++) {
-		cull.lo = rr->lo[j];
-		cull.hi = rr->hi[j];
-		for (unsigned i = 0; i < sim->ss; i++) {
-			pc_v3 d = camera_dir(sim, rr->base[j], sx + 0.5 + sim->ss_off[i]);
-			sim->shade(sim, &cull, (int32_t)sx, d, ch, g, Ss, M ? Ms : NULL);
-			for (int k = 0; k < 4; k++)
-				acc[k] += Ss[k];
-			if (M)
-				for (int a = 0; a < 4; a++)
-					for (int b = 0; b < 4; b++)
-						macc[a][b] += Ms[a][b];
-		}
-	}
-	double inv = 1.0 / (sim->ss * sim->ss);
-	for (int k = 0; k < 4; k++)
-		S[k] = acc[k] * inv;
-	if (M)
-		for (int a = 0; a < 4; a++)
-			for (int b = 0; b < 4; b++)
-				M[a][b] = macc[a][b] * inv;
-}
-
 void pc_render_setup(pc_sim *sim)
 {
 	const pc_scene *sc = sim->scene;
-	bool sh = sim->fx & PC_FX_CAST_SHADOWS;
-	sim->shade = sim->circular ? (sh ? shade_circ_sh : shade_circ) : (sh ? shade_lin_sh : shade_lin);
 	if (!sim->opt.brdf) {
 		sim->brdf.eval = eval_pbrdf;
 		sim->brdf.user = sim;
@@ -298,6 +153,13 @@ void pc_render_setup(pc_sim *sim)
 	sim->ss = (sim->fx & PC_FX_SUPERSAMPLING) ? sc->supersampling : 1;
 	for (unsigned i = 0; i < sim->ss && i < 16; i++)
 		sim->ss_off[i] = (i + 0.5) / sim->ss - 0.5;
+	/* per-camera terms of the primary-ray tests (primary_hit) */
+	for (unsigned i = 0; i < sc->n_objects && i < PC_CULL_MAX; i++) {
+		const pc_sim_object *ob = &sc->objects[i];
+		sim->prim_oc[i] = v3_sub(sc->camera.position, ob->center);
+		sim->prim_c[i] = v3_dot(sim->prim_oc[i], sim->prim_oc[i]) - ob->radius * ob->radius;
+		sim->prim_num[i] = v3_dot(v3_sub(ob->p, sc->camera.position), ob->n);
+	}
 	/* bounding spheres of the first PC_CULL_MAX objects (radius 0: not culled) */
 	sim->n_cull = sc->n_objects < PC_CULL_MAX ? sc->n_objects : PC_CULL_MAX;
 	for (unsigned i = 0; i < sim->n_cull; i++) {

@@ -91,11 +91,14 @@ static inline uint32_t pc_rng_u32(pc_rng *r)
 
 /* log(1 + f) = 2 atanh(s), s = f/(2 + f), |s| ≤ 0.1716 for √½ ≤ 1 + f ≤ √2:
  * 2 atanh(s) = 2s + s·R, R = Σ_{j≥1} 2 s^{2j}/(2j + 1) (Abramowitz & Stegun 4.5.2 via
- * ln((1+s)/(1−s))), truncated after s^{20} (relative error < 3e-17); evaluated as
- * f − (f²/2 − s·(f²/2 + R)), the rounding-friendly form of f − s·(f − R). */
+ * ln((1+s)/(1−s))), truncated after s^{20} (relative error < 3e-17), z = s², evaluated by
+ * Estrin's scheme (short dependency chains); log(1 + f) = f − (f²/2 − s·(f²/2 + R)), the
+ * rounding-friendly form of f − s·(f − R). */
 #define PC_LOG_R(z)                                                                                \
-	((z) * (2.0 / 3 + (z) * (2.0 / 5 + (z) * (2.0 / 7 + (z) * (2.0 / 9 + (z) * (2.0 / 11 +         \
-	 (z) * (2.0 / 13 + (z) * (2.0 / 15 + (z) * (2.0 / 17 + (z) * (2.0 / 19 + (z) * (2.0 / 21)))))))))))
+	((z) * (((2.0 / 3 + (z) * (2.0 / 5)) + ((z) * (z)) * (2.0 / 7 + (z) * (2.0 / 9))) +            \
+		(((z) * (z)) * ((z) * (z))) *                                                      \
+			(((2.0 / 11 + (z) * (2.0 / 13)) + ((z) * (z)) * (2.0 / 15 + (z) * (2.0 / 17))) + \
+			 (((z) * (z)) * ((z) * (z))) * (2.0 / 19 + (z) * (2.0 / 21)))))
 
 /* Natural logarithm of a positive, finite, normal x, to about one ulp (tested against libm). */
 static inline double pc_log_pure(double x)

@@ -118,6 +118,10 @@ typedef struct pc_hit {
 bool pc_scene_intersect(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax, pc_hit *hit);
 bool pc_scene_occluded(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax);
 
+/* Any object: nearest (any = false) or some (any = true) hit in (tmin, tmax), with the shading
+ * and geometric normals. */
+bool pc_object_hit(const pc_sim_object *ob, pc_v3 o, pc_v3 d, double tmin, double tmax, bool any,
+		   double *t, pc_v3 *n, pc_v3 *ng);
 /* A sphere containing the object (false for unbounded objects: infinite planes). */
 bool pc_object_bsphere(const pc_sim_object *ob, pc_v3 *c, double *r);
 /* Planes, spheres and boxes: a ray leaving the surface away from the body (or, for a plane,

@@ -208,48 +208,30 @@ typedef struct prep_ctx {
 	int err;
 } prep_ctx;
 
-/* Analysed electron rate (before PRNU and crosstalk) of sensor pixel (sx, rr->sy) of colour
- * channel pch and analyser channel ach, for each PSA state; also writes truth when asked (pix:
- * the ROI pixel index). */
-static inline void prep_pixel(const prep_ctx *c, const pc_render_row *rr, uint32_t sx, unsigned pch,
-			      unsigned ach, bool in_roi, size_t pix, double zo, double zt,
-			      float *out_rate)
+/* Analysed electron rate (before PRNU and crosstalk) of a pixel of colour channel pch and
+ * analyser channel ach with Stokes radiance S, for each PSA state. */
+static inline void prep_rate(const prep_ctx *c, const double *Sin, unsigned pch, unsigned ach,
+			     double zo, double zt, float *out_rate)
 {
 	const pc_sim *sim = c->sim;
-	double S[4], M[4][4], Sp[4];
-	const bool want_truth = in_roi && (c->truth_s || c->truth_m);
-	for (unsigned ch = 0; ch < sim->nch; ch++) {
-		if (ch != pch && !want_truth)
-			continue;
-		pc_render_pixel(sim, rr, sx, ch, c->g, S, c->truth_m && in_roi ? M : NULL);
-		if (want_truth && c->truth_s)
-			for (int k = 0; k < 4; k++)
-				c->truth_s[(pix * sim->nch + ch) * 4 + k] = (float)S[k];
-		if (want_truth && c->truth_m)
-			for (int i = 0; i < 4; i++)
-				for (int j = 0; j < 4; j++)
-					c->truth_m[(pix * sim->nch + ch) * 16 + i * 4 + j] = (float)M[i][j];
-		if (ch != pch)
-			continue;
-		double an[4];
-		sim->analyse(sim, ach, zo, zt, an);
-		if (!sim->circular)
-			S[3] = 0; /* not carried (and not coupled: scene validation) */
-		const double ke = sim->e_per_radiance[ch];
-		if (c->psa_identity) {
-			double v = an[0] * S[0] + an[1] * S[1] + an[2] * S[2] + an[3] * S[3];
-			out_rate[0] = (float)((v < 0 ? 0 : v) * ke);
-			continue;
-		}
-		for (unsigned a = 0; a < sim->n_psa; a++) {
-			const double(*P)[4] = sim->scene->psa[a];
-			for (int i = 0; i < 4; i++)
-				Sp[i] = P[i][0] * S[0] + P[i][1] * S[1] + P[i][2] * S[2] + P[i][3] * S[3];
-			double v = an[0] * Sp[0] + an[1] * Sp[1] + an[2] * Sp[2] + an[3] * Sp[3];
-			if (v < 0)
-				v = 0; /* only from rounding: a physical Stokes vector gives a·S ≥ 0 */
-			out_rate[a] = (float)(v * ke);
-		}
+	double S[4] = { Sin[0], Sin[1], Sin[2], sim->circular ? Sin[3] : 0 }, Sp[4];
+	/* S3 is not carried without "circular" (and not coupled: scene validation) */
+	double an[4];
+	sim->analyse(sim, ach, zo, zt, an);
+	const double ke = sim->e_per_radiance[pch];
+	if (c->psa_identity) {
+		double v = an[0] * S[0] + an[1] * S[1] + an[2] * S[2] + an[3] * S[3];
+		out_rate[0] = (float)((v < 0 ? 0 : v) * ke);
+		return;
+	}
+	for (unsigned a = 0; a < sim->n_psa; a++) {
+		const double(*P)[4] = sim->scene->psa[a];
+		for (int i = 0; i < 4; i++)
+			Sp[i] = P[i][0] * S[0] + P[i][1] * S[1] + P[i][2] * S[2] + P[i][3] * S[3];
+		double v = an[0] * Sp[0] + an[1] * Sp[1] + an[2] * Sp[2] + an[3] * Sp[3];
+		if (v < 0)
+			v = 0; /* only from rounding: a physical Stokes vector gives a·S ≥ 0 */
+		out_rate[a] = (float)(v * ke);
 	}
 }
 
@@ -262,7 +244,8 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 	const uint32_t SW = sim->info.sensor_width, SH = sim->info.sensor_height;
 	const bool halo = c->halo != NULL, prnu_on = sim->fx & PC_FX_PRNU_DSNU;
 	const uint32_t cols = halo ? W + 2 : W;
-	double *zb = malloc(4 * (size_t)cols * sizeof *zb);
+	/* deviates a row does not draw stay 0 (calloc) or hold an earlier row's, unused, values */
+	double *zb = calloc(4 * (size_t)cols, sizeof *zb);
 	if (!zb) {
 #ifdef _OPENMP
 #pragma omp atomic write
@@ -271,6 +254,22 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		return;
 	}
 	double *z[4] = { zb, zb + cols, zb + 2 * (size_t)cols, zb + 3 * (size_t)cols };
+	/* a row's Stokes vectors (every channel when the row writes truth) and Mueller matrices */
+	const unsigned nch = sim->nch;
+	double *Srow = malloc((size_t)cols * nch * 4 * sizeof *Srow);
+	double *Mrow = c->truth_m ? malloc((size_t)cols * nch * 16 * sizeof *Mrow) : NULL;
+	uint8_t *chan = malloc(cols);
+	if (!Srow || (c->truth_m && !Mrow) || !chan) {
+		free(zb);
+		free(Srow);
+		free(Mrow);
+		free(chan);
+#ifdef _OPENMP
+#pragma omp atomic write
+#endif
+		c->err = PC_ENOMEM;
+		return;
+	}
 	float rates[PC_SIM_MAX_STATES];
 	for (uint32_t yy = y0; yy < y1; yy++) {
 		/* halo grid row yy covers sensor row oy + yy − 1 (−1 .. H) */
@@ -286,8 +285,6 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		unsigned mask = PC_FP_ORIENT | PC_FP_TRANS;
 		if (row_in_roi && prnu_on)
 			mask |= PC_FP_PRNU | (c->dsnu ? PC_FP_DSNU : 0);
-		for (int k = 0; k < 4; k++)
-			memset(z[k] + xlo, 0, (xhi - xlo) * sizeof(double));
 		pc_sensor_fixed_row(sim, (uint32_t)sy, (uint32_t)(sx0 + xlo), xhi - xlo, mask,
 				    z[0] + xlo, z[1] + xlo, z[2] + xlo, z[3] + xlo);
 		pc_render_row rr;
@@ -300,12 +297,34 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 			ach[k] = pc_mosaic_channel(mo, (uint32_t)(sx0 + xlo) + k, (uint32_t)sy);
 		}
 		const unsigned pmask = mo->period - 1u;
+		for (uint32_t xx = xlo; xx < xhi; xx++)
+			chan[xx] = (uint8_t)pch[(xx - xlo) & pmask];
+		/* truth needs every channel of the ROI's pixels */
+		const bool truth_row = row_in_roi && (c->truth_s || c->truth_m);
+		const bool all_ch = truth_row && nch > 1;
+		const unsigned nout = all_ch ? nch : 1;
+		pc_render_span(sim, &rr, (uint32_t)(sx0 + xlo), xhi - xlo, all_ch ? NULL : chan + xlo,
+			       c->g, Srow + (size_t)xlo * nout * 4,
+			       truth_row && c->truth_m ? Mrow + (size_t)xlo * nout * 16 : NULL);
 		for (uint32_t xx = xlo; xx < xhi; xx++) {
-			const uint32_t sx = (uint32_t)(sx0 + xx), k = (xx - xlo) & pmask;
+			const uint32_t k = (xx - xlo) & pmask;
 			const bool in_roi = row_in_roi && (!halo || (xx >= 1 && xx <= W));
 			const uint32_t rx = halo ? xx - 1 : xx;
 			const size_t pix = (size_t)ry * W + rx;
-			prep_pixel(c, &rr, sx, pch[k], ach[k], in_roi, pix, z[0][xx], z[1][xx], rates);
+			if (in_roi && truth_row) {
+				for (unsigned ch = 0; ch < nout; ch++) {
+					const double *Sp = Srow + ((size_t)xx * nout + ch) * 4;
+					if (c->truth_s)
+						for (int q = 0; q < 4; q++)
+							c->truth_s[(pix * nch + ch) * 4 + q] = (float)Sp[q];
+					if (c->truth_m)
+						for (int q = 0; q < 16; q++)
+							c->truth_m[(pix * nch + ch) * 16 + q] =
+								(float)Mrow[((size_t)xx * nout + ch) * 16 + q];
+				}
+			}
+			const double *Spix = Srow + ((size_t)xx * nout + (all_ch ? pch[k] : 0)) * 4;
+			prep_rate(c, Spix, pch[k], ach[k], z[0][xx], z[1][xx], rates);
 			float prnu = prnu_on ? (float)(1 + sim->fig.prnu * z[2][xx]) : 1.0f;
 			if (halo) {
 				for (unsigned a = 0; a < sim->n_psa; a++)
@@ -321,6 +340,9 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		}
 	}
 	free(zb);
+	free(Srow);
+	free(Mrow);
+	free(chan);
 }
 
 /* Crosstalk (physics.md §6 step 2): each pixel keeps (1 − 4c) of its own analysed signal and
@@ -374,7 +396,7 @@ static void chunk_rows(void *ctx, uint32_t y0, uint32_t y1)
 static void run_rows(const pc_sim *sim, uint32_t rows, pc_rows_fn fn, void *ctx,
 		     pc_sim_progress_fn progress, void *user, uint64_t *done, uint64_t total)
 {
-	const uint32_t chunk = 256;
+	const uint32_t chunk = 512;
 	for (uint32_t y = 0; y < rows; y += chunk) {
 		uint32_t n = rows - y < chunk ? rows - y : chunk;
 		chunk_ctx cc = { fn, ctx, y };
@@ -575,7 +597,7 @@ int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_vi
 	if (!sim->rate[s] && (rc = pc_sim_prepare(sim, s, NULL, NULL, NULL, NULL)))
 		return rc;
 	frame_ctx fc = { sim, n, t_s, K, dst, 0 };
-	pc_parallel_rows(sim->info.height, 0, sim->opt.threads, frame_rows_par, &fc);
+	pc_parallel_rows(sim->info.height, 16, sim->opt.threads, frame_rows_par, &fc); /* small bands: rows differ in cost */
 	if (fc.err)
 		return fc.err;
 	if (meta) {
@@ -640,17 +662,21 @@ static void truth_rows_fn(void *ctx, uint32_t y0, uint32_t y1)
 	for (uint32_t y = y0; y < y1; y++) {
 		pc_render_row rr;
 		pc_render_row_begin(sim, sim->info.offset_y + c->y_base + y, &rr);
-		for (uint32_t x = 0; x < W; x++)
-			for (unsigned ch = 0; ch < sim->nch; ch++) {
-				size_t i = ((size_t)y * W + x) * sim->nch + ch;
-				double S[4], M[4][4];
-				pc_render_pixel(sim, &rr, sim->info.offset_x + x, ch, c->g, S,
-						c->mueller ? M : NULL);
-				if (c->stokes)
-					memcpy(c->stokes + 4 * i, S, sizeof S);
-				if (c->mueller)
-					memcpy(c->mueller + 16 * i, M, sizeof M);
+		size_t i = (size_t)y * W * sim->nch;
+		/* every channel of each pixel, straight into the caller's rows */
+		double *S = c->stokes ? c->stokes + 4 * i : NULL;
+		double *M = c->mueller ? c->mueller + 16 * i : NULL;
+		if (S) {
+			pc_render_span(sim, &rr, sim->info.offset_x, W, NULL, c->g, S, M);
+		} else {
+			/* Mueller only: the span still needs Stokes room */
+			for (uint32_t x0 = 0; x0 < W; x0 += 256) {
+				double Sb[256 * PC_SIM_MAX_CH * 4];
+				uint32_t n = W - x0 < 256 ? W - x0 : 256;
+				pc_render_span(sim, &rr, sim->info.offset_x + x0, n, NULL, c->g, Sb,
+					       M + (size_t)x0 * sim->nch * 16);
 			}
+		}
 	}
 }
 

@@ -10,8 +10,6 @@
 typedef struct pc_sim pc_sim;
 
 /* Per-pixel work units chosen once in pc_sim_new from the effect set (the "pipeline"). */
-typedef void (*pc_shade_fn)(const pc_sim *sim, const pc_cull *cull, int32_t sx, pc_v3 dir,
-			    unsigned ch, unsigned g, double S[4], double M[4][4]);
 
 /* Objects with primary-ray culling (render.c); further objects are always tested. */
 #define PC_CULL_MAX 32
@@ -51,12 +49,14 @@ struct pc_sim {
 	unsigned n_cull;
 	pc_v3 cull_c[PC_CULL_MAX];
 	double cull_r[PC_CULL_MAX];
+	/* primary rays from the camera centre: sphere o − c and |o − c|² − r², plane (p − o)·n */
+	pc_v3 prim_oc[PC_CULL_MAX];
+	double prim_c[PC_CULL_MAX], prim_num[PC_CULL_MAX];
 	/* electrons per second per unit radiance (W·m⁻²·sr⁻¹) of unpolarized light, per channel */
 	double e_per_radiance[3];
 	/* sequences */
 	unsigned n_psg, n_psa, n_states;
 	/* pipeline */
-	pc_shade_fn shade;
 	pc_analyse_fn analyse;
 	pc_frame_row_fn frame_row;
 	/* caches (ROI-sized): electron rate per state [e⁻/s], DSNU offsets [e⁻] */
@@ -70,9 +70,15 @@ struct pc_sim {
 void pc_render_setup(pc_sim *sim);
 /* Prepares sensor row sy for pc_render_pixel. */
 void pc_render_row_begin(const pc_sim *sim, uint32_t sy, pc_render_row *rr);
-/* Stokes radiance (image-plane frame, W·m⁻²·sr⁻¹) of sensor pixel (sx, rr->sy) for PSG state g
- * and colour channel ch, averaged over the pixel footprint; M (may be NULL) the Mueller
- * matrix. */
+
+/* shade.c */
+/* Stokes radiance (image-plane frame, W·m⁻²·sr⁻¹) of sensor pixels (sx0 + i, rr->sy), i < n, for
+ * PSG state g, averaged over each pixel's footprint: for colour channel chan[i] into S[4i..]
+ * (M[16i..] the Mueller matrix, row-major; M may be NULL), or, with chan NULL, for every
+ * channel c < nch into S[(i·nch + c)·4 ..] and M[(i·nch + c)·16 ..]. */
+void pc_render_span(const pc_sim *sim, const pc_render_row *rr, uint32_t sx0, uint32_t n,
+		    const uint8_t *chan, unsigned g, double *S, double *M);
+/* One pixel, colour channel ch. */
 void pc_render_pixel(const pc_sim *sim, const pc_render_row *rr, uint32_t sx, unsigned ch,
 		     unsigned g, double S[4], double M[4][4]);
 
