@@ -121,7 +121,6 @@ struct rcache {
 	float *rows[RC_MAX_K][RC_MAX_PLANES];
 	rc_fill_fn fill;
 	void *ctx;
-	long nfill;
 };
 
 static int rc_init(rcache *c, int k, int planes, int pad, long w, int h, rc_fill_fn fill,
@@ -149,8 +148,6 @@ static int rc_init(rcache *c, int k, int planes, int pad, long w, int h, rc_fill
 
 static void rc_free(rcache *c)
 {
-	if (getenv("PC_RC_DEBUG") && c->buf)
-		fprintf(stderr, "cache %p planes %d k %d fills %ld\n", (void *)c, c->planes, c->k, c->nfill);
 	pc_dm_free(c->buf);
 	c->buf = NULL;
 }
@@ -176,7 +173,6 @@ static float *const *rc_get(rcache *c, int y)
 			victim = i;
 	}
 	c->key[victim] = sy;
-	c->nfill++;
 	c->fill(c, sy, c->rows[victim]);
 	for (int p = 0; p < c->planes; p++)
 		pad_row(c->rows[victim][p], c->w, c->pad);
