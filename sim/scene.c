@@ -185,6 +185,31 @@ static int get_str(const pctx *c, json_t *obj, const char *path, const char *key
 	return 0;
 }
 
+typedef struct {
+	const char *name;
+	int value;
+} pc_scene_keyword;
+
+/* Optional string field that must be one of the keywords (NULL-terminated table). *out is the
+ * keyword's value, or -1 when the field is absent; `expected` lists them for the error. */
+static int get_enum(const pctx *c, json_t *obj, const char *path, const char *key,
+		    const pc_scene_keyword *words, const char *expected, int *out)
+{
+	const char *s = NULL;
+	int rc = get_str(c, obj, path, key, OPT, &s);
+	*out = -1;
+	if (rc || !s)
+		return rc;
+	for (const pc_scene_keyword *w = words; w->name; w++)
+		if (!strcmp(s, w->name)) {
+			*out = w->value;
+			return 0;
+		}
+	char p[256];
+	subpath(p, sizeof p, path, key);
+	return perr(c, p, "'%s': expected %s", s, expected);
+}
+
 /* Fixed-length array of numbers. */
 static int get_nums(const pctx *c, json_t *obj, const char *path, const char *key, int required,
 		    double *out, size_t n)
@@ -469,45 +494,26 @@ static int parse_material(const pctx *c, json_t *v, const char *path, const char
 	pc_shadowing shadow = PC_SHADOW_TS;
 	pc_rho_mode rho = PC_RHO_TABLE;
 	long order = 0;
-	const char *s = NULL;
-	char p[256];
-	if ((rc = get_str(c, v, path, "diffuse", OPT, &s)))
+	static const pc_scene_keyword diffuses[] = { { "fresnel", PC_DIFFUSE_FRESNEL },
+						     { "geometric", PC_DIFFUSE_GEOMETRIC },
+						     { "none", PC_DIFFUSE_NONE },
+						     { NULL, 0 } };
+	static const pc_scene_keyword shadowings[] = { { "ts", PC_SHADOW_TS },
+						       { "none", PC_SHADOW_NONE },
+						       { NULL, 0 } };
+	static const pc_scene_keyword rhos[] = { { "table", PC_RHO_TABLE },
+						 { "quad", PC_RHO_QUAD },
+						 { NULL, 0 } };
+	int e;
+	if ((rc = get_enum(c, v, path, "diffuse", diffuses, "fresnel, geometric or none", &e)))
 		return rc;
-	if (s) {
-		subpath(p, sizeof p, path, "diffuse");
-		if (!strcmp(s, "fresnel"))
-			diffuse = PC_DIFFUSE_FRESNEL;
-		else if (!strcmp(s, "geometric"))
-			diffuse = PC_DIFFUSE_GEOMETRIC;
-		else if (!strcmp(s, "none"))
-			diffuse = PC_DIFFUSE_NONE;
-		else
-			return perr(c, p, "'%s': expected fresnel, geometric or none", s);
-	}
-	s = NULL;
-	if ((rc = get_str(c, v, path, "shadowing", OPT, &s)))
+	diffuse = e < 0 ? diffuse : (pc_diffuse)e;
+	if ((rc = get_enum(c, v, path, "shadowing", shadowings, "ts (Torrance-Sparrow) or none", &e)))
 		return rc;
-	if (s) {
-		subpath(p, sizeof p, path, "shadowing");
-		if (!strcmp(s, "ts"))
-			shadow = PC_SHADOW_TS;
-		else if (!strcmp(s, "none"))
-			shadow = PC_SHADOW_NONE;
-		else
-			return perr(c, p, "'%s': expected ts (Torrance-Sparrow) or none", s);
-	}
-	s = NULL;
-	if ((rc = get_str(c, v, path, "rho", OPT, &s)))
+	shadow = e < 0 ? shadow : (pc_shadowing)e;
+	if ((rc = get_enum(c, v, path, "rho", rhos, "table or quad", &e)))
 		return rc;
-	if (s) {
-		subpath(p, sizeof p, path, "rho");
-		if (!strcmp(s, "table"))
-			rho = PC_RHO_TABLE;
-		else if (!strcmp(s, "quad"))
-			rho = PC_RHO_QUAD;
-		else
-			return perr(c, p, "'%s': expected table or quad", s);
-	}
+	rho = e < 0 ? rho : (pc_rho_mode)e;
 	if ((rc = get_int(c, v, path, "rho_order", OPT, 2, 256, &order)))
 		return rc;
 	/* The global switches (effects.diffuse / effects.shadowing) win over the material. */

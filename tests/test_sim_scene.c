@@ -122,6 +122,24 @@ static void test_errors(void)
 		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": -1}},"
 		" \"objects\": []}";
 	expect_error(bad_sigma, PC_EINVAL, "materials.paint.sigma = -1", "must be");
+	const char *bad_rho =
+		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
+		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1, \"rho\": \"quadx\"}},"
+		" \"objects\": []}";
+	expect_error(bad_rho, PC_EINVAL, "materials.paint.rho", "'quadx': expected table or quad");
+	const char *bad_shadowing =
+		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
+		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1, \"shadowing\": \"TS\"}},"
+		" \"objects\": []}";
+	expect_error(bad_shadowing, PC_EINVAL, "materials.paint.shadowing", "'TS': expected ts");
+	const char *num_diffuse =
+		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
+		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1, \"diffuse\": 1}},"
+		" \"objects\": []}";
+	expect_error(num_diffuse, PC_EINVAL, "materials.paint.diffuse", "expected a string");
 	const char *no_mat =
 		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
 		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
@@ -163,6 +181,42 @@ static void test_errors(void)
 		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": []}";
 	expect_error(dir_point, PC_EINVAL, "lights[0]", "irradiance_w_m2");
 	expect_error("[1, 2]", PC_EINVAL, "expected an object", NULL);
+}
+
+/* Material keywords map to the physics core's modes; absent keys keep the defaults; a global
+ * effect switched off overrides the material. */
+static void test_material_keywords(void)
+{
+	const char *t =
+		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
+		" \"materials\": {\"a\": {\"n\": 1.5, \"sigma\": 0.1, \"diffuse\": \"geometric\","
+		"   \"shadowing\": \"none\", \"rho\": \"quad\"}, \"b\": {\"n\": 1.5, \"sigma\": 0.1}},"
+		" \"objects\": [], \"effects\": {\"diffuse\": true, \"shadowing\": true}}";
+	pc_scene *s;
+	CHECK_EQ_INT(pc_scene_parse(t, "t.json", ".", &s), 0);
+	if (!s)
+		return;
+	CHECK_EQ_INT(s->n_materials, 2);
+	for (unsigned i = 0; i < s->n_materials; i++) {
+		const pc_sim_material *m = &s->materials[i];
+		bool a = !strcmp(m->name, "a");
+		CHECK_EQ_INT(m->m[0].diffuse, a ? PC_DIFFUSE_GEOMETRIC : PC_DIFFUSE_FRESNEL);
+		CHECK_EQ_INT(m->m[0].shadowing, a ? PC_SHADOW_NONE : PC_SHADOW_TS);
+		CHECK_EQ_INT(m->m[0].rho_mode, a ? PC_RHO_QUAD : PC_RHO_TABLE);
+	}
+	pc_scene_free(s);
+	/* effects.diffuse off: no diffuse term whatever the material says */
+	char *t2 = strdup(t);
+	char *d = strstr(t2, "\"diffuse\": true");
+	memcpy(d, "\"diffuse\":false", 15); /* same length as "diffuse": true */
+	CHECK_EQ_INT(pc_scene_parse(t2, "t.json", ".", &s), 0);
+	if (s) {
+		for (unsigned i = 0; i < s->n_materials; i++)
+			CHECK_EQ_INT(s->materials[i].m[0].diffuse, PC_DIFFUSE_NONE);
+		pc_scene_free(s);
+	}
+	free(t2);
 }
 
 static void test_states_and_psa(void)
@@ -282,6 +336,7 @@ int main(void)
 	test_default();
 	test_errors();
 	test_states_and_psa();
+	test_material_keywords();
 	test_obj();
 	return pc_test_finish("test_sim_scene");
 }
