@@ -93,6 +93,7 @@ static inline v8f vsqrt_lanes(v8f v)
 #define KSQRT(v) vsqrt_lanes(v)
 #define KFMA(a, b, c) ((a) * (b) + (c))
 #define KRCP(d) (vsplat(1.0f) / (d))
+#define KRSQRT(p) (vsplat(1.0f) / vsqrt_lanes(p))
 #define km v8i
 #define KLT(a, b) ((a) < (b))
 #define KSEL(m, a, b) vsel((m), (a), (b))
@@ -105,6 +106,7 @@ static inline v8f vsqrt_lanes(v8f v)
 #undef KSQRT
 #undef KFMA
 #undef KRCP
+#undef KRSQRT
 #undef KSEL
 #undef km
 #undef KLT
@@ -144,6 +146,7 @@ static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_
 #define KSQRT(v) ((v8f)_mm256_sqrt_ps((__m256)(v)))
 #define KFMA(a, b, c) ((v8f)_mm256_fmadd_ps((__m256)(a), (__m256)(b), (__m256)(c)))
 #define KRCP(d) rcp_avx2(d)
+#define KRSQRT(p) ((v8f)_mm256_rsqrt_ps((__m256)(p)))
 #define km v8i
 #define KLT(a, b) ((a) < (b))
 #define KSEL(m, a, b) ((v8f)_mm256_blendv_ps((__m256)(b), (__m256)(a), (__m256)(m)))
@@ -156,6 +159,7 @@ static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_
 #undef KSQRT
 #undef KFMA
 #undef KRCP
+#undef KRSQRT
 #undef KSEL
 #undef km
 #undef KLT
@@ -195,6 +199,7 @@ static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_
 #define KSQRT(v) ((v16f)_mm512_sqrt_ps((__m512)(v)))
 #define KFMA(a, b, c) ((v16f)_mm512_fmadd_ps((__m512)(a), (__m512)(b), (__m512)(c)))
 #define KRCP(d) rcp_avx512(d)
+#define KRSQRT(p) ((v16f)_mm512_rsqrt14_ps((__m512)(p)))
 #define km __mmask16
 #define KLT(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_LT_OQ)
 #define KSEL(m, a, b) ((v16f)_mm512_mask_blend_ps((m), (__m512)(b), (__m512)(a)))
@@ -207,6 +212,7 @@ static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_
 #undef KSQRT
 #undef KFMA
 #undef KRCP
+#undef KRSQRT
 #undef KSEL
 #undef km
 #undef KLT
