@@ -257,16 +257,28 @@ static int use_avx2(void)
  * on 64-byte aligned row starts (whole cache lines; the AVX-512 stores need it). */
 #define PC_NT_MIN_BYTES nt_min_bytes()
 
-/* 32 MB; POLARCAM_NT_MIN_BYTES overrides it (the tests use 0 to exercise the streaming paths
- * on small frames). */
+/* 32 MB, except on AMD processors, where the default is never; POLARCAM_NT_MIN_BYTES
+ * overrides it (the tests use 0 to exercise the streaming paths on small frames). On the AMD
+ * EPYC (Zen 3, 2 cores, KVM) of round 3 (docs/status/pipeline.md) every streaming kernel ran
+ * slower with non-temporal stores than with ordinary ones, one thread, same run: fused
+ * bilinear pipeline 23 → 12 ms, bilinear 10 → 6.7 ms, ratio pipeline 33 → 27 ms; a plain
+ * stream of the same bytes was fast either way, so it is the mix of compute and streaming
+ * stores that stalls there. The AVX-512 machine the kernels were first tuned on gained from
+ * them. */
 static size_t nt_min_bytes(void)
 {
-	static size_t cached = (size_t)-1;
+	static size_t cached = (size_t)-1; /* not read yet */
 	if (cached == (size_t)-1) {
 		const char *e = getenv("POLARCAM_NT_MIN_BYTES");
 		char *end;
 		unsigned long long v = e && *e ? strtoull(e, &end, 10) : 0;
-		cached = e && *e && !*end ? (size_t)v : (size_t)32 << 20;
+		size_t dflt = (size_t)32 << 20;
+#ifdef PC_HAVE_X86_DISPATCH
+		__builtin_cpu_init();
+		if (__builtin_cpu_is("amd"))
+			dflt = (size_t)-2; /* never */
+#endif
+		cached = e && *e && !*end && v < (size_t)-1 ? (size_t)v : dflt;
 	}
 	return cached;
 }
@@ -677,6 +689,11 @@ void pc_dm_stokes_row(const float *const ch[4], uint32_t w, uint32_t y, const pc
 	if (nt)
 		_mm_sfence();
 #endif
+}
+
+bool pc_stokes_streams(const pc_stokes_out *out, uint32_t width, uint32_t height)
+{
+	return out && pc_dm_stokes_stream_wanted(out, width, height);
 }
 
 int pc_dm_stokes_stream_wanted(const pc_stokes_out *out, uint32_t w, uint32_t h)

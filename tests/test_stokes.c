@@ -153,8 +153,9 @@ static void test_pinv(void)
  * S2 within 1e-6 of full scale (float sums of integers; in fact exact), DoLP within 2e-6, AoLP
  * within 1e-6 rad where |(S1, S2)| exceeds 1/4095 of full scale (the angle of a smaller vector
  * is dominated by the 12-bit rounding). Sizes cover the kernel's 16-pixel loop, its 8-pixel
- * step and the scalar tail; 1296×1296 makes the outputs large enough (34 MB) for the
- * non-temporal stores; 8-bit and float32 raws (the latter scaled to 1e-25 and 1e+25, which the
+ * step and the scalar tail; widths that are multiples of 16 give aligned rows, which take the
+ * non-temporal stores (main() lowers the size threshold to 0), 1296×1296 over several row
+ * bands; 8-bit and float32 raws (the latter scaled to 1e-25 and 1e+25, which the
  * fast reciprocal must not be used for) take the other input paths. */
 typedef struct fused_case {
 	uint32_t w, h;
@@ -229,6 +230,8 @@ static void fused_one(const fused_case *fc)
 	si.s1 = (pc_fplane){ il + 1, 3 * W, 3 };
 	si.s2 = (pc_fplane){ il + 2, 3 * W, 3 };
 	pc_demosaic_opts one = { 1, false, 0 };
+	CHECK(!pc_stokes_streams(&si, W, H)); /* interleaved: ordinary stores */
+	CHECK(!pc_stokes_streams(NULL, W, H));
 	CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, PC_DM_BILINEAR, &one, &si), 0);
 	int same = 1;
 	for (size_t i = 0; i < n; i++)
@@ -383,6 +386,9 @@ static void test_pictures(void)
 
 int main(void)
 {
+	/* every aligned planar case streams (non-temporal stores), also on machines whose default
+	 * never does (AMD); the unaligned and interleaved cases take ordinary stores */
+	setenv("POLARCAM_NT_MIN_BYTES", "0", 1);
 	test_aolp_kernel();
 	test_convention();
 	test_pinv();

@@ -20,6 +20,7 @@
 #ifndef POLARCAM_STOKES_H
 #define POLARCAM_STOKES_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -67,6 +68,14 @@ int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t heig
  * double-precision references of both stages. */
 int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
 		       const pc_demosaic_opts *opts, const pc_stokes_out *out);
+
+/* Whether pc_stokes_from_raw with PC_DM_BILINEAR (or a row-cache method) writes these width ×
+ * height outputs with non-temporal (cache-bypassing) stores on this machine: AVX2, planar
+ * 64-byte aligned outputs with 64-byte aligned rows, at least 32 MB of them, and not on AMD
+ * processors, where ordinary stores measured faster (docs/demosaicking.md);
+ * POLARCAM_NT_MIN_BYTES overrides the size threshold. For benchmarks that compare the
+ * pipeline with a memory floor written the same way. */
+bool pc_stokes_streams(const pc_stokes_out *out, uint32_t width, uint32_t height);
 
 /* AoLP = ½·atan2(s2, s1) mapped to [0, π), the float kernel used by the fast paths
  * (maximum error 3e-7 rad against double, tested). */
