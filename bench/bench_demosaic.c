@@ -5,8 +5,9 @@
  * method, with bilinear as the same-run baseline and our bilinear against the double-precision
  * reference bilinear. Time: per 2448×2048 frame of 12-bit data in 16-bit containers (tiled from
  * a Lapray scene when the data is there), median of repeated runs on warm, pre-faulted buffers,
- * for every method, the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32), a
- * copy of bilinear's input and output bytes and, when OpenCV is built in, OpenCV's bilinear
+ * for every method, the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32) and
+ * its memory floor (its own bytes streamed with its store kind), a copy of bilinear's input and
+ * output bytes and, when OpenCV is built in, OpenCV's bilinear
  * 16-bit Bayer demosaicking of the same frame — all measured in the same run, so that the
  * ratios hold even when the machine is shared. */
 #include <dirent.h>
@@ -134,6 +135,71 @@ static void copy_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	copy_job *j = ctx;
 	memcpy(j->dst + (size_t)y0 * j->row, j->src + (size_t)y0 * j->row, (size_t)(y1 - y0) * j->row);
+}
+
+/* ---- the full pipeline's memory floor: its own bytes, its store kind ---- */
+/* Reads the 16-bit raw and writes five float planes (S0, S1, S2, DoLP, AoLP's places) with the
+ * pipeline's store kind (pc_stokes_streams): the time the pipeline could not beat if its
+ * arithmetic were free. The values are the raw converted to float (no other arithmetic). With
+ * non-temporal stores each plane's 64 bytes go out back to back, as in the pipeline. */
+typedef struct floor_job {
+	const pc_view *raw;
+	float *o[5];
+	size_t ostride; /* floats */
+	int nt;
+} floor_job;
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#include <immintrin.h>
+#define PC_BENCH_X86 1
+__attribute__((target("avx2"))) static void floor_rows_avx2(const floor_job *j, uint32_t y0,
+							    uint32_t y1)
+{
+	for (uint32_t y = y0; y < y1; y++) {
+		const uint16_t *r = PC_ROW(j->raw, const uint16_t, y);
+		size_t off = (size_t)y * j->ostride;
+		uint32_t x = 0, w = j->raw->width;
+		for (; x + 16 <= w; x += 16) {
+			__m256 a = _mm256_cvtepi32_ps(
+				_mm256_cvtepu16_epi32(_mm_loadu_si128((const __m128i *)(r + x))));
+			__m256 b = _mm256_cvtepi32_ps(
+				_mm256_cvtepu16_epi32(_mm_loadu_si128((const __m128i *)(r + x + 8))));
+			for (int p = 0; p < 5; p++) {
+				if (j->nt) {
+					_mm256_stream_ps(j->o[p] + off + x, a);
+					_mm256_stream_ps(j->o[p] + off + x + 8, b);
+				} else {
+					_mm256_storeu_ps(j->o[p] + off + x, a);
+					_mm256_storeu_ps(j->o[p] + off + x + 8, b);
+				}
+			}
+		}
+		for (; x < w; x++)
+			for (int p = 0; p < 5; p++)
+				j->o[p][off + x] = r[x];
+	}
+	if (j->nt)
+		_mm_sfence();
+}
+#endif
+
+static void floor_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	const floor_job *j = ctx;
+#ifdef PC_BENCH_X86
+	if (__builtin_cpu_supports("avx2")) {
+		floor_rows_avx2(j, y0, y1);
+		return;
+	}
+#endif
+	for (uint32_t y = y0; y < y1; y++) {
+		const uint16_t *r = PC_ROW(j->raw, const uint16_t, y);
+		for (int p = 0; p < 5; p++) {
+			float *d = j->o[p] + (size_t)y * j->ostride;
+			for (uint32_t x = 0; x < j->raw->width; x++)
+				d[x] = r[x];
+		}
+	}
 }
 
 /* ---- results ---- */
@@ -325,8 +391,10 @@ static void usage(FILE *fp)
 		"double-precision reference bilinear. Time: per 2448x2048 frame of 12-bit data in\n"
 		"16-bit containers, median of N runs (default 7; 3 with --quick) on warm buffers, for\n"
 		"every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32);\n"
-		"a memory copy of bilinear's input and output bytes; OpenCV's bilinear 16-bit Bayer\n"
-		"demosaicking of the same frame when OpenCV is built in. All in one run: read the\n"
+		"its memory floor (read its input, write its 5 float planes with the store kind the\n"
+		"pipeline uses on this machine) and pipeline / floor; a memory copy of bilinear's\n"
+		"input and output bytes; OpenCV's bilinear 16-bit Bayer demosaicking of the same\n"
+		"frame when OpenCV is built in. All in one run: read the\n"
 		"ratios, absolute times move with the machine's load (reported). Each time is given\n"
 		"as wall-clock and as process CPU time (all threads), which does not count waiting\n"
 		"for cores that other work holds.\n"
@@ -471,7 +539,16 @@ int pc_bench_demosaic(int argc, char **argv)
 		r->colour = !(pc_demosaic_method_get(r->m)->flags & PC_DMF_MONO);
 	}
 	/* the other timed jobs: the two pipelines, the copy, OpenCV */
-	enum { J_PIPE_BIL = PC_DM_COUNT, J_PIPE_EARI, J_PIPE_RATIO, J_COPY, J_OPENCV, J_BIL16, J_N };
+	enum {
+		J_PIPE_BIL = PC_DM_COUNT,
+		J_PIPE_EARI,
+		J_PIPE_RATIO,
+		J_COPY,
+		J_OPENCV,
+		J_BIL16,
+		J_FLOOR,
+		J_N
+	};
 	/* bilinear into 16-bit planes (exact, 2 fraction bits), the like-for-like of OpenCV */
 	uint16_t *b16 = aligned_alloc(64, plane * 4 * sizeof(uint16_t));
 	uint16_t *b16p[4];
@@ -481,6 +558,10 @@ int pc_bench_demosaic(int argc, char **argv)
 			b16p[c] = b16 + (size_t)c * plane;
 	}
 	pc_stokes_out so = { planes[0], planes[1], planes[2], planes[3], planes[4] };
+	/* the pipeline's floor: the same planes, the same store kind */
+	floor_job fj = { &raw, { planes[0].data, planes[1].data, planes[2].data, planes[3].data,
+				 planes[4].data }, planes[0].row_stride, pc_stokes_streams(&so, FW, FH) };
+	size_t floor_bytes = plane * 2 + plane * 4 * 5;
 	size_t bytes = plane * 2 + plane * 16; /* bilinear's 10 MB input and 80 MB output */
 	uint8_t *csrc = aligned_alloc(64, bytes), *cdst = aligned_alloc(64, bytes);
 	copy_job cj = { cdst, csrc, bytes / FH };
@@ -541,6 +622,8 @@ int pc_bench_demosaic(int argc, char **argv)
 				if (b16)
 					pc_demosaic_bilinear_u16(&raw, &mono, 2, (int)threads, b16p,
 								 (size_t)FW * 2);
+			} else if (j == J_FLOOR) {
+				pc_parallel_rows(FH, 0, (int)threads, floor_band, &fj);
 			} else if (j == J_COPY) {
 				if (csrc && cdst)
 					pc_parallel_rows(FH, 0, (int)threads, copy_band, &cj);
@@ -570,6 +653,7 @@ int pc_bench_demosaic(int argc, char **argv)
 	timing t_pipe[3] = { tall[J_PIPE_BIL], tall[J_PIPE_EARI], tall[J_PIPE_RATIO] };
 	timing t_copy = tall[J_COPY];
 	timing t_b16 = tall[J_BIL16];
+	timing t_floor = tall[J_FLOOR];
 	free(b16);
 	timing t_cv = { NAN, NAN, NAN };
 	if (have_cv)
@@ -776,6 +860,13 @@ int pc_bench_demosaic(int argc, char **argv)
 		t_pipe[0].median_ms, t_pipe[0].min_ms, t_pipe[0].cpu_ms, t_pipe[0].median_ms / bil,
 		t_pipe[1].median_ms, t_pipe[1].min_ms, t_pipe[1].cpu_ms, t_pipe[2].median_ms,
 		t_pipe[2].min_ms, t_pipe[2].cpu_ms);
+	fprintf(tf, "full pipeline's memory floor (read the %.1f MB raw, write 5 float32 planes, "
+		    "%.1f MB in all, %s stores like the pipeline): %.2f ms (best %.2f, cpu %.2f ms); "
+		    "pipeline / floor = %.2f (best %.2f)\n",
+		1e-6 * (double)(plane * 2), 1e-6 * (double)floor_bytes,
+		fj.nt ? "non-temporal" : "ordinary",
+		t_floor.median_ms, t_floor.min_ms, t_floor.cpu_ms,
+		t_pipe[0].median_ms / t_floor.median_ms, t_pipe[0].min_ms / t_floor.min_ms);
 	fprintf(tf, "memory copy of bilinear's %zu MB of input+output: %.2f ms (best %.2f, cpu %.2f "
 		    "ms); bilinear / copy = %.2f (best %.2f)\n", bytes >> 20, t_copy.median_ms,
 		t_copy.min_ms, t_copy.cpu_ms, bil / t_copy.median_ms, bil_min / t_copy.min_ms);
@@ -848,6 +939,16 @@ int pc_bench_demosaic(int argc, char **argv)
 	json_object_set_new(root, "pipeline_bilinear_ms", pc_json_real(t_pipe[0].median_ms));
 	json_object_set_new(root, "pipeline_bilinear_cpu_ms", pc_json_real(t_pipe[0].cpu_ms));
 	json_object_set_new(root, "copy_cpu_ms", pc_json_real(t_copy.cpu_ms));
+	json_object_set_new(root, "pipeline_floor_ms", pc_json_real(t_floor.median_ms));
+	json_object_set_new(root, "pipeline_floor_best_ms", pc_json_real(t_floor.min_ms));
+	json_object_set_new(root, "pipeline_floor_cpu_ms", pc_json_real(t_floor.cpu_ms));
+	json_object_set_new(root, "pipeline_floor_bytes", json_integer((json_int_t)floor_bytes));
+	json_object_set_new(root, "pipeline_floor_stores",
+			    json_string(fj.nt ? "non-temporal" : "ordinary"));
+	json_object_set_new(root, "pipeline_bilinear_over_floor",
+			    pc_json_real(t_pipe[0].median_ms / t_floor.median_ms));
+	json_object_set_new(root, "pipeline_bilinear_over_floor_best",
+			    pc_json_real(t_pipe[0].min_ms / t_floor.min_ms));
 	json_object_set_new(root, "bilinear_u16_ms", pc_json_real(t_b16.median_ms));
 	json_object_set_new(root, "bilinear_u16_cpu_ms", pc_json_real(t_b16.cpu_ms));
 	json_object_set_new(root, "bilinear_u16_over_opencv", pc_json_real(t_b16.median_ms / t_cv.median_ms));
