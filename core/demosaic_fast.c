@@ -92,7 +92,7 @@ static inline v8f vsqrt_lanes(v8f v)
 #define KSTORE(p, v, nt) ((void)(nt), vst8((p), (v)))
 #define KSQRT(v) vsqrt_lanes(v)
 #define KFMA(a, b, c) ((a) * (b) + (c))
-#define KRCP(d) (vsplat(1.0f) / (d))
+#define KDIV(n, d) ((n) / (d))
 #define KRSQRT(p) (vsplat(1.0f) / vsqrt_lanes(p))
 #define km v8i
 #define KLT(a, b) ((a) < (b))
@@ -105,8 +105,8 @@ static inline v8f vsqrt_lanes(v8f v)
 #undef KSTORE
 #undef KSQRT
 #undef KFMA
-#undef KRCP
 #undef KRSQRT
+#undef KDIV
 #undef KSEL
 #undef km
 #undef KLT
@@ -114,16 +114,9 @@ static inline v8f vsqrt_lanes(v8f v)
 #undef KMIN
 
 #ifdef PC_HAVE_X86_DISPATCH
-/* 1/d for normal d in [2^-60, 2^60]: the hardware estimate (relative error 1.5·2^-12 for
- * rcpps, 2^-14 for rcp14ps) refined by one Newton step r' = r + r·(1 − d·r), which squares the
- * relative error (≤ 1.5e-7 and 4e-9, before rounding). */
-static inline __attribute__((always_inline, target("avx2,fma"))) v8f rcp_avx2(v8f d)
-{
-	__m256 r = _mm256_rcp_ps((__m256)d);
-	__m256 e = _mm256_fnmadd_ps((__m256)d, r, _mm256_set1_ps(1.0f));
-	return (v8f)_mm256_fmadd_ps(r, e, r);
-}
-
+/* 1/d for normal d in [2^-60, 2^60]: the hardware estimate (relative error 2^-14 for
+ * rcp14ps) refined by one Newton step r' = r + r·(1 − d·r), which squares the relative error
+ * (≤ 4e-9, before rounding). */
 #define PC_AVX512_TARGET "avx512f,avx512vl,avx512dq,avx512bw,fma"
 
 static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_avx512(v16f d)
@@ -145,7 +138,7 @@ static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_
 	} while (0)
 #define KSQRT(v) ((v8f)_mm256_sqrt_ps((__m256)(v)))
 #define KFMA(a, b, c) ((v8f)_mm256_fmadd_ps((__m256)(a), (__m256)(b), (__m256)(c)))
-#define KRCP(d) rcp_avx2(d)
+#define KDIV(n, d) ((n) / (d))
 #define KRSQRT(p) ((v8f)_mm256_rsqrt_ps((__m256)(p)))
 #define km v8i
 #define KLT(a, b) ((a) < (b))
@@ -158,8 +151,8 @@ static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_
 #undef KSTORE
 #undef KSQRT
 #undef KFMA
-#undef KRCP
 #undef KRSQRT
+#undef KDIV
 #undef KSEL
 #undef km
 #undef KLT
@@ -198,7 +191,7 @@ static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_
 	} while (0)
 #define KSQRT(v) ((v16f)_mm512_sqrt_ps((__m512)(v)))
 #define KFMA(a, b, c) ((v16f)_mm512_fmadd_ps((__m512)(a), (__m512)(b), (__m512)(c)))
-#define KRCP(d) rcp_avx512(d)
+#define KDIV(n, d) ((n) * rcp_avx512(d))
 #define KRSQRT(p) ((v16f)_mm512_rsqrt14_ps((__m512)(p)))
 #define km __mmask16
 #define KLT(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_LT_OQ)
@@ -211,8 +204,8 @@ static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_
 #undef KSTORE
 #undef KSQRT
 #undef KFMA
-#undef KRCP
 #undef KRSQRT
+#undef KDIV
 #undef KSEL
 #undef km
 #undef KLT
