@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "children.h"
 #include "polarcam/compliance.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
@@ -79,25 +80,23 @@ static void make_recording(void)
 
 /* ---- processes ---- */
 
+/* Generous limits: they only matter when something hangs, and a loaded 2-core machine running
+ * the ASan build is slow to start processes. Readiness is always waited for, never slept. */
+enum { START_MS = 60000, EXIT_MS = 60000, FRAME_MS = 10000 };
+
+/* Starts argv with stdout on a pipe (*out_fd) and stderr to stderr_path (tests/children.h:
+ * the child dies with this test). */
 static pid_t spawn(char *const argv[], int *out_fd, const char *stderr_path)
 {
 	int p[2];
 	if (pipe(p))
 		return -1;
-	pid_t pid = fork();
-	if (pid == 0) {
-		dup2(p[1], 1);
-		if (stderr_path) {
-			int e = open(stderr_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-			if (e >= 0)
-				dup2(e, 2);
-		}
-		close(p[0]);
-		close(p[1]);
-		execv(argv[0], argv);
-		_exit(127);
-	}
+	pid_t pid = pc_child_spawn(argv, p[1], stderr_path);
 	close(p[1]);
+	if (pid < 0) {
+		close(p[0]);
+		return -1;
+	}
 	*out_fd = p[0];
 	return pid;
 }
@@ -138,11 +137,12 @@ static pid_t start_serve_args(char *const args[], int *fd)
 	snprintf(errp, sizeof errp, "%s/serve.err", base);
 	pid_t pid = spawn(argv, fd, errp);
 	char buf[1024];
-	if (pid < 0 || !wait_line(*fd, "\"serving\"", 20000, buf, sizeof buf)) {
+	buf[0] = '\0';
+	if (pid < 0 || !wait_line(*fd, "\"serving\"", START_MS, buf, sizeof buf)) {
 		fprintf(stderr, "server did not start: %s\n", buf);
 		if (pid > 0) {
-			kill(pid, SIGKILL);
-			waitpid(pid, NULL, 0);
+			pc_child_stop(pid, SIGKILL, EXIT_MS);
+			close(*fd);
 		}
 		return -1;
 	}
@@ -159,11 +159,9 @@ static pid_t start_server(const char *extra1, const char *extra2, int *fd)
 
 static int stop_server(pid_t pid, int fd)
 {
-	int st = 0;
-	kill(pid, SIGTERM);
-	waitpid(pid, &st, 0);
+	int st = pc_child_stop(pid, SIGTERM, EXIT_MS);
 	close(fd);
-	return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+	return st;
 }
 
 /* ---- in-process client checks ---- */
@@ -218,7 +216,7 @@ static unsigned stream_and_compare(pc_source *s, unsigned n, uint32_t ox, uint32
 	uint16_t *u = NULL;
 	for (unsigned k = 0; k < n; k++) {
 		pc_buffer *b = NULL;
-		int rc = pc_source_dequeue(s, 3000, &b);
+		int rc = pc_source_dequeue(s, FRAME_MS, &b);
 		CHECK_EQ_INT(rc, 0);
 		if (rc) {
 			fprintf(stderr, "dequeue %u: %s\n", k, pc_error_detail());
@@ -345,7 +343,7 @@ static void test_compliance(pc_fault_kind fault)
 	o.log = log_fail;
 	o.expect_fault = fault;
 	o.frames = fault == PC_FAULT_NONE ? 8 : 40;
-	o.timeout_ms = 3000;
+	o.timeout_ms = FRAME_MS;
 	pc_compliance_result res;
 	int rc = pc_source_compliance("aravis:127.0.0.1?packet_size=1500", &o, &res);
 	CHECK_EQ_INT(rc, 0);
@@ -369,7 +367,7 @@ static int run_capture(const char *dir, const char *n, char *out, size_t size, p
 	                "-o",
 	                (char *)dir,
 	                "--timeout-ms",
-	                "2000",
+	                "5000",
 	                "--roi",
 	                "0,0,64,48",
 	                "--format",
@@ -384,11 +382,12 @@ static int run_capture(const char *dir, const char *n, char *out, size_t size, p
 		*fd_out = fd;
 		return 0;
 	}
-	wait_line(fd, "\n", 30000, out, size);
-	int st = 0;
-	waitpid(pid, &st, 0);
+	if (pid < 0)
+		return 127;
+	wait_line(fd, "\n", EXIT_MS, out, size);
+	int st = pc_child_wait(pid, EXIT_MS, NULL);
 	close(fd);
-	return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
+	return st;
 }
 
 /* Every frame listed in the recording is readable and equals the model. */
@@ -444,14 +443,12 @@ static void test_kill(pid_t server, int server_fd)
 		struct timespec ts = {0, 100000000};
 		nanosleep(&ts, NULL);
 	}
-	kill(server, SIGKILL);
-	waitpid(server, NULL, 0);
+	pc_child_stop(server, SIGKILL, EXIT_MS);
 	close(server_fd);
-	wait_line(fd, "\n", 30000, out, sizeof out);
-	int st = 0;
-	waitpid(cap, &st, 0);
+	wait_line(fd, "\n", EXIT_MS, out, sizeof out);
+	int st = pc_child_wait(cap, EXIT_MS, NULL);
 	close(fd);
-	CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 1);
+	CHECK_EQ_INT(st, 1);
 	CHECK(strstr(out, "disappeared") != NULL);
 	char errp[160], err[2048] = "";
 	snprintf(errp, sizeof errp, "%s/capture.err", base);
@@ -475,13 +472,17 @@ static void test_serve_equals_render(void)
 		fprintf(stderr, "PC_SOURCE_DIR not set: skipping the render comparison\n");
 		return;
 	}
-	char scene[512], cmd[1400], rdir[160], cdir[160], out[4096];
+	char scene[512], rdir[160], cdir[160], out[4096];
 	snprintf(scene, sizeof scene, "%s/scenes/ideal_small.json", src);
 	snprintf(rdir, sizeof rdir, "%s/render", base);
 	snprintf(cdir, sizeof cdir, "%s/cap_sim", base);
-	snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s' -n 4 -s 7 --no-truth >/dev/null",
-	         polarcam, scene, rdir);
-	CHECK_EQ_INT(system(cmd), 0);
+	char *rargv[] = {(char *)polarcam, "render", scene, "-o",   rdir,
+	                 "-n",             "4",      "-s",  "7",    "--no-truth",
+	                 NULL};
+	int devnull = open("/dev/null", O_WRONLY);
+	CHECK_EQ_INT(pc_child_wait(pc_child_spawn(rargv, devnull, NULL), EXIT_MS, NULL), 0);
+	if (devnull >= 0)
+		close(devnull);
 	int fd;
 	char *args[] = {scene, "--seed", "7", NULL};
 	pid_t srv = start_serve_args(args, &fd);
@@ -500,11 +501,14 @@ static void test_serve_equals_render(void)
 	                NULL};
 	int cfd;
 	pid_t cap = spawn(argv, &cfd, errp);
-	wait_line(cfd, "\n", 60000, out, sizeof out);
-	int st = 0;
-	waitpid(cap, &st, 0);
+	CHECK(cap > 0);
+	if (cap <= 0) {
+		stop_server(srv, fd);
+		return;
+	}
+	wait_line(cfd, "\n", EXIT_MS, out, sizeof out);
+	CHECK_EQ_INT(pc_child_wait(cap, EXIT_MS, NULL), 0);
 	close(cfd);
-	CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 0);
 	CHECK(strstr(out, "\"missing_packets\":0") != NULL);
 	CHECK_EQ_INT(stop_server(srv, fd), 0);
 	pc_recording *r = NULL, *c = NULL;

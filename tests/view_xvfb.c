@@ -4,6 +4,8 @@
  * by an ideal, noise-free sensor, so every frame is the same picture). Exit 77 when Xvfb or xwd
  * is missing. */
 #include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
 #include <png.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -17,6 +19,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "children.h"
 
 static void nap_ms(long ms)
 {
@@ -24,18 +27,44 @@ static void nap_ms(long ms)
 	nanosleep(&ts, NULL);
 }
 
-static pid_t spawn(char *const argv[], const char *out_path)
+static double now_s(void)
 {
-	pid_t pid = fork();
-	if (pid == 0) {
-		FILE *o = out_path ? freopen(out_path, "w", stdout) : NULL;
-		(void)o;
-		FILE *e = freopen("/dev/null", "w", stderr);
-		(void)e;
-		execvp(argv[0], argv);
-		_exit(127);
-	}
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Starts argv (tests/children.h: it dies with this test) with stdout to out_path (NULL:
+ * inherited) and stderr to err_path. */
+static pid_t spawn(char *const argv[], const char *out_path, const char *err_path)
+{
+	int o = out_path ? open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644) : -1;
+	pid_t pid = pc_child_spawn(argv, o, err_path);
+	if (o >= 0)
+		close(o);
 	return pid;
+}
+
+/* Reads Xvfb's display number from the -displayfd pipe: it is written once the server accepts
+ * connections. Returns -1 when Xvfb ends or nothing arrives within timeout_s. */
+static int read_display(int fd, double timeout_s)
+{
+	char buf[32];
+	size_t len = 0;
+	double t0 = now_s();
+	while (now_s() - t0 < timeout_s && len < sizeof buf - 1) {
+		struct pollfd pf = {fd, POLLIN, 0};
+		if (poll(&pf, 1, 200) <= 0)
+			continue;
+		ssize_t n = read(fd, buf + len, sizeof buf - 1 - len);
+		if (n <= 0)
+			return -1;
+		len += (size_t)n;
+		buf[len] = '\0';
+		if (strchr(buf, '\n'))
+			return atoi(buf);
+	}
+	return -1;
 }
 
 static uint32_t be32(const uint8_t *p)
@@ -124,25 +153,28 @@ int main(void)
 	char tmp[] = "/tmp/pc_view_XXXXXX";
 	if (!mkdtemp(tmp))
 		SKIP("no temporary directory");
-	/* a display number nobody uses */
-	int dpy = 0;
-	char sock[64];
-	for (dpy = 77; dpy < 120; dpy++) {
-		snprintf(sock, sizeof sock, "/tmp/.X11-unix/X%d", dpy);
-		if (access(sock, F_OK) != 0)
-			break;
+	/* Xvfb picks a free display itself (-displayfd) and writes its number when it is ready:
+	 * two builds' tests running at once cannot take the same display, and nothing is guessed
+	 * from lock files or sleeps */
+	char xerr[96];
+	snprintf(xerr, sizeof xerr, "%s/xvfb.err", tmp);
+	int dp[2];
+	if (pipe(dp))
+		SKIP("no pipe");
+	char dfd[16];
+	snprintf(dfd, sizeof dfd, "%d", dp[1]);
+	char *xargv[] = {"Xvfb",      "-displayfd", dfd, "-screen", "0", "2400x900x24",
+	                 "-nolisten", "tcp",        NULL};
+	pid_t xsrv = spawn(xargv, NULL, xerr);
+	close(dp[1]);
+	int dpy = xsrv > 0 ? read_display(dp[0], 120) : -1;
+	close(dp[0]);
+	if (dpy < 0) {
+		fprintf(stderr, "Xvfb did not start (its messages: %s)\n", xerr);
+		return 1;
 	}
 	char dname[16];
 	snprintf(dname, sizeof dname, ":%d", dpy);
-	char *xargv[] = {"Xvfb", dname, "-screen", "0", "2400x900x24", "-nolisten", "tcp", NULL};
-	pid_t xsrv = spawn(xargv, NULL);
-	for (int i = 0; i < 100 && access(sock, F_OK) != 0; i++)
-		nap_ms(100);
-	if (access(sock, F_OK) != 0) {
-		kill(xsrv, SIGKILL);
-		waitpid(xsrv, NULL, 0);
-		SKIP("Xvfb did not start");
-	}
 	setenv("DISPLAY", dname, 1);
 
 	char uri[600], shot[96], xwd_path[96], out[96], cmd[1400];
@@ -161,21 +193,35 @@ int main(void)
 	CHECK_EQ_INT(read_png_rgb(shot, &pic), 0);
 	CHECK_EQ_INT(pic.w, 1200);
 
+	char verr[96];
+	snprintf(verr, sizeof verr, "%s/view.err", tmp);
 	char *vargv[] = {(char *)polarcam, "view", uri, "--width", "1200", NULL};
-	pid_t v = spawn(vargv, out);
+	pid_t v = spawn(vargv, out, verr);
 	/* screenshots of the root window until the picture is on screen (rows below the overlay
-	 * text; the window's position is searched) or 30 s pass */
+	 * text; the window's position is searched), the window's program ends, or 120 s pass
+	 * (a loaded machine running the sanitizer build starts Qt slowly) */
 	img screen = {0};
 	uint32_t best = 0, total = 0, bx = 0, by = 0;
-	snprintf(cmd, sizeof cmd, "xwd -root -silent -display %s > %s", dname, xwd_path);
+	char *wargv[] = {"xwd", "-root", "-silent", "-display", dname, NULL};
 	for (uint32_t y = 40; y < pic.h; y += 23)
 		for (uint32_t x = 0; x < pic.w; x += 17)
 			total++;
-	for (int i = 0; i < 60 && pic.rgb && best < total * 99 / 100; i++) {
+	int vst = -1;
+	double t0 = now_s();
+	for (int i = 0; now_s() - t0 < 120 && pic.rgb && best < total * 99 / 100; i++) {
 		nap_ms(500);
+		if (waitpid(v, &vst, WNOHANG) == v) {
+			pc_child_forget(v);
+			fprintf(stderr, "view ended before its window showed the picture (status "
+			                "%d; its messages: %s)\n",
+			        vst, verr);
+			v = -1;
+			break;
+		}
 		free(screen.rgb);
 		screen.rgb = NULL;
-		if (system(cmd) != 0 || read_xwd(xwd_path, &screen) != 0)
+		if (pc_child_wait(spawn(wargv, xwd_path, NULL), 60000, NULL) != 0 ||
+		    read_xwd(xwd_path, &screen) != 0)
 			continue;
 		best = 0;
 		for (uint32_t oy = 0; oy + pic.h <= screen.h && oy < 80; oy++)
@@ -200,12 +246,10 @@ int main(void)
 	printf("window at (%u,%u): %u of %u sampled pixels equal the picture\n", bx, by, best,
 	       total);
 	CHECK(best >= total * 99 / 100);
-	kill(v, SIGTERM);
-	int st = 0;
-	waitpid(v, &st, 0);
-	CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 0);
-	kill(xsrv, SIGTERM);
-	waitpid(xsrv, NULL, 0);
+	CHECK(v > 0);
+	if (v > 0)
+		CHECK_EQ_INT(pc_child_stop(v, SIGTERM, 60000), 0);
+	pc_child_stop(xsrv, SIGTERM, 60000);
 	free(pic.rgb);
 	free(screen.rgb);
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmp);
