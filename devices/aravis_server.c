@@ -57,6 +57,8 @@ struct pc_gige_server {
 	pc_buffer *done[64];
 	unsigned d_count;
 	bool restart; /* the producer must restart the source at frame 0 */
+	uint64_t gen; /* acquisition generation: frames rendered for an older one are dropped */
+	bool fresh;   /* the source is at frame 0 and nothing was served since */
 	/* cycle mode */
 	pc_view *cyc;
 	unsigned n_cyc;
@@ -172,6 +174,40 @@ static void render_roi(pc_gige_server *srv, const pc_view *src, ArvBuffer *buffe
 	}
 }
 
+/* A new acquisition starts at the source's frame 0: frames rendered ahead for the previous one
+ * go back, the producer restarts the source, and a frame it is rendering for the previous one
+ * is dropped when it arrives (gen). Nothing happens while the source is still at frame 0
+ * (fresh), so the two detectors below never restart it twice. Lock held. */
+static void new_acquisition_locked(pc_gige_server *srv)
+{
+	if (srv->fresh)
+		return;
+	while (srv->r_count) {
+		srv->done[srv->d_count++] = srv->ready[srv->r_head];
+		srv->r_head = (srv->r_head + 1) % 64;
+		srv->r_count--;
+	}
+	srv->k = 0;
+	srv->restart = !srv->n_cyc;
+	srv->gen++;
+	srv->fresh = true;
+	g_cond_broadcast(&srv->cond);
+}
+
+/* Aravis's GigE Vision camera thread (arvgvfakecamera.c, 0.8) handles one control packet at a
+ * time and, after each, drops its ArvBuffer when the acquisition register reads 0; the next
+ * AcquisitionStart creates a new ArvBuffer that it fills frame after frame. A buffer without
+ * our mark is therefore the first frame of a new acquisition, however quickly a client stopped
+ * and restarted (the register poll in the producer misses a stop shorter than its period). */
+static bool first_of_acquisition(ArvBuffer *buffer)
+{
+	GQuark q = g_quark_from_static_string("polarcam-serve-acquisition");
+	if (g_object_get_qdata(G_OBJECT(buffer), q))
+		return false;
+	g_object_set_qdata(G_OBJECT(buffer), q, GINT_TO_POINTER(1));
+	return true;
+}
+
 static void fill_cb(ArvBuffer *buffer, void *user, guint32 exposure_us, guint32 gain,
                     ArvPixelFormat pixel_format)
 {
@@ -181,15 +217,20 @@ static void fill_cb(ArvBuffer *buffer, void *user, guint32 exposure_us, guint32 
 	const served_fmt *sf = served_by_code(srv, (uint32_t)pixel_format);
 	if (!sf || !buffer)
 		return;
+	bool first = first_of_acquisition(buffer);
+	g_mutex_lock(&srv->lock);
+	if (first) {
+		srv->st.acquisitions++;
+		new_acquisition_locked(srv);
+	}
 	if (srv->n_cyc) {
-		g_mutex_lock(&srv->lock);
 		uint64_t k = srv->k++;
 		srv->st.served++;
+		srv->fresh = false;
 		g_mutex_unlock(&srv->lock);
 		render_roi(srv, &srv->cyc[k % srv->n_cyc], buffer, sf);
 		return;
 	}
-	g_mutex_lock(&srv->lock);
 	bool waited = false;
 	while (!srv->r_count && !srv->quit && !srv->error) {
 		waited = true;
@@ -205,6 +246,7 @@ static void fill_cb(ArvBuffer *buffer, void *user, guint32 exposure_us, guint32 
 	srv->k++;
 	srv->st.served++;
 	srv->st.late += waited;
+	srv->fresh = false;
 	g_mutex_unlock(&srv->lock);
 
 	render_roi(srv, &b->frame.view, buffer, sf);
@@ -249,33 +291,25 @@ static void apply_controls(pc_gige_server *srv)
 static void *producer(void *arg)
 {
 	pc_gige_server *srv = arg;
-	bool acquiring = false;
 	for (;;) {
-		bool now = reg(srv->fc, ARV_FAKE_CAMERA_REGISTER_ACQUISITION) != 0;
 		g_mutex_lock(&srv->lock);
 		if (srv->quit) {
 			g_mutex_unlock(&srv->lock);
 			break;
 		}
-		if (now && !acquiring)
-			srv->st.acquisitions++;
-		if (acquiring && !now) {
-			/* acquisition stopped: the next one starts again at frame 0 */
-			while (srv->r_count) {
-				srv->done[srv->d_count++] = srv->ready[srv->r_head];
-				srv->r_head = (srv->r_head + 1) % 64;
-				srv->r_count--;
-			}
-			srv->k = 0;
-			srv->restart = !srv->n_cyc;
-		}
-		acquiring = now;
+		/* The early detector: acquisition stopped, so frame 0 is rendered before the client
+		 * starts again. Read under the lock: a callback that saw the start meanwhile waits
+		 * for it, so a register read before the start cannot restart the new acquisition
+		 * after it served its first frame. */
+		if (reg(srv->fc, ARV_FAKE_CAMERA_REGISTER_ACQUISITION) == 0)
+			new_acquisition_locked(srv);
 		pc_buffer *requeue[64];
 		unsigned n_requeue = srv->d_count;
 		memcpy(requeue, srv->done, n_requeue * sizeof requeue[0]);
 		srv->d_count = 0;
 		bool restart = srv->restart;
 		srv->restart = false;
+		uint64_t gen = srv->gen;
 		bool want = !srv->n_cyc && !srv->error && srv->r_count < srv->ahead;
 		g_mutex_unlock(&srv->lock);
 
@@ -308,10 +342,15 @@ static void *producer(void *arg)
 			continue;
 		}
 		g_mutex_lock(&srv->lock);
-		srv->st.rendered++;
-		srv->ready[(srv->r_head + srv->r_count) % 64] = b;
-		srv->r_count++;
-		g_cond_broadcast(&srv->cond);
+		if (gen != srv->gen) {
+			/* rendered for an acquisition that has ended: back to the source */
+			srv->done[srv->d_count++] = b;
+		} else {
+			srv->st.rendered++;
+			srv->ready[(srv->r_head + srv->r_count) % 64] = b;
+			srv->r_count++;
+			g_cond_broadcast(&srv->cond);
+		}
 		g_mutex_unlock(&srv->lock);
 	}
 	return NULL;
@@ -407,6 +446,7 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 	g_mutex_init(&srv->lock);
 	g_cond_init(&srv->cond);
 	srv->ahead = o->ahead ? o->ahead : 4;
+	srv->fresh = true; /* the source starts at frame 0 */
 	*out = srv; /* pc_gige_server_stop cleans up whatever was made */
 
 	size_t nt;
