@@ -10,7 +10,8 @@
 #   - unshare dies with this script (--pdeathsig again), its child - a shell that is PID 1 of
 #     the namespace - dies with unshare (--kill-child), and when PID 1 exits the kernel kills
 #     every process left in the namespace: a crashed or killed test leaves no server behind.
-# The test is PID 2 (not PID 1, which ignores signals it has no handler for).
+# The test runs under a shell that is PID 1 (PID 1 ignores signals it has no handler for; the
+# test keeps the usual behaviour).
 #
 # Exit 77 (skipped) when network namespaces are not permitted. --pid-only: no network
 # namespace (for tests that open no sockets but start long-lived children, and may need the
