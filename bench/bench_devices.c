@@ -277,8 +277,9 @@ static void usage(FILE *fp)
 	    "path on purpose, so missing packets there are expected), serve30 (the same paced at\n"
 	    "30 fps: should lose nothing), pipeline (30 fps with demosaic + Stokes per frame),\n"
 	    "alone (the pipeline without transport), live (frames rendered while streaming).\n"
-	    "fps is the steady-state rate: (frames received - 1) / (time of the last - time of the\n"
-	    "first frame received by the client); the stream's start-up is not counted.\n");
+	    "fps is the steady-state rate: (frames received - 1) divided by the time\n"
+	    "from the first to the last frame the client received; the stream's\n"
+	    "start-up is not counted.\n");
 }
 
 int pc_bench_devices(int argc, char **argv)
@@ -469,19 +470,21 @@ int pc_bench_devices(int argc, char **argv)
 	pc_gige_server_stop(srv);
 	pc_devices_shutdown();
 	if (!o.json) {
-		printf("\nsummary: serve->capture %.1f fps at the 30 fps goal (%.2fx), %llu missing "
-		       "packets at the paced 30 fps (%llu in the pipeline phase); live pipeline %.1f "
-		       "ms per frame = %.2fx the 33.3 ms period (alone %.1f ms: %.2fx), latency "
-		       "trend %+.2f ms/s\n"
-		       "         saturating transport phase (unpaced, 1000 fps asked): %.1f fps = %.0f "
-		       "MB/s, %llu missing packets (expected when unpaced: the camera sends faster "
-		       "than the client takes them)\n",
-		       at30.fps, at30.fps / 30, (unsigned long long)at30.missing_packets,
-		       (unsigned long long)pipe.missing_packets, pipe.proc_ms_mean,
-		       pipe.proc_ms_mean * 30 / 1e3, alone.proc_ms_mean,
-		       alone.proc_ms_mean > 0 ? pipe.proc_ms_mean / alone.proc_ms_mean : 0,
-		       pipe.lat_slope_ms_per_s, transport.fps, transport.mbps,
-		       (unsigned long long)transport.missing_packets);
+		printf(
+		    "\nsummary: serve->capture %.1f fps at the 30 fps goal (%.2fx), %llu missing "
+		    "packets at the paced 30 fps (%llu in the pipeline phase); live pipeline %.1f "
+		    "ms per frame = %.2fx the 33.3 ms period (alone %.1f ms: %.2fx), latency "
+		    "trend %+.2f ms/s\n"
+		    "         saturating transport phase (unpaced, 1000 fps asked): %.1f fps = "
+		    "%.0f "
+		    "MB/s, %llu missing packets (expected when unpaced: the camera sends faster "
+		    "than the client takes them)\n",
+		    at30.fps, at30.fps / 30, (unsigned long long)at30.missing_packets,
+		    (unsigned long long)pipe.missing_packets, pipe.proc_ms_mean,
+		    pipe.proc_ms_mean * 30 / 1e3, alone.proc_ms_mean,
+		    alone.proc_ms_mean > 0 ? pipe.proc_ms_mean / alone.proc_ms_mean : 0,
+		    pipe.lat_slope_ms_per_s, transport.fps, transport.mbps,
+		    (unsigned long long)transport.missing_packets);
 	}
 	return transport.error || at30.error || pipe.error ? PC_EXIT_FAILURE : PC_EXIT_OK;
 }

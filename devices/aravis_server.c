@@ -447,7 +447,7 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 	g_cond_init(&srv->cond);
 	srv->ahead = o->ahead ? o->ahead : 4;
 	srv->fresh = true; /* the source starts at frame 0 */
-	*out = srv; /* pc_gige_server_stop cleans up whatever was made */
+	*out = srv;        /* pc_gige_server_stop cleans up whatever was made */
 
 	size_t nt;
 	const pc_genicam_format *gt = pc_genicam_formats(&nt);

@@ -443,10 +443,11 @@ static void test_fast_restart(void)
 			seq[2] = mir == now ? next_frame(st, &mir) : -3;
 			if (seq[0] != 0 || seq[1] != 1 || seq[2] != 2 || mir != now) {
 				bad++;
-				fprintf(stderr,
-				        "restart %d: the new acquisition began with recording frames "
-				        "%d %d %d, not 0 1 2\n",
-				        r, seq[0], seq[1], seq[2]);
+				fprintf(
+				    stderr,
+				    "restart %d: the new acquisition began with recording frames "
+				    "%d %d %d, not 0 1 2\n",
+				    r, seq[0], seq[1], seq[2]);
 			}
 			rounds++;
 		}
@@ -621,9 +622,8 @@ static void test_serve_equals_render(void)
 	snprintf(scene, sizeof scene, "%s/scenes/ideal_small.json", src);
 	snprintf(rdir, sizeof rdir, "%s/render", base);
 	snprintf(cdir, sizeof cdir, "%s/cap_sim", base);
-	char *rargv[] = {(char *)polarcam, "render", scene, "-o",   rdir,
-	                 "-n",             "4",      "-s",  "7",    "--no-truth",
-	                 NULL};
+	char *rargv[] = {(char *)polarcam, "render", scene, "-o", rdir, "-n", "4", "-s", "7",
+	                 "--no-truth",     NULL};
 	int devnull = open("/dev/null", O_WRONLY);
 	CHECK_EQ_INT(pc_child_wait(pc_child_spawn(rargv, devnull, NULL), EXIT_MS, NULL), 0);
 	if (devnull >= 0)

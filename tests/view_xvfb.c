@@ -163,8 +163,8 @@ int main(void)
 		SKIP("no pipe");
 	char dfd[16];
 	snprintf(dfd, sizeof dfd, "%d", dp[1]);
-	char *xargv[] = {"Xvfb",      "-displayfd", dfd, "-screen", "0", "2400x900x24",
-	                 "-nolisten", "tcp",        NULL};
+	char *xargv[] = {"Xvfb",        "-displayfd", dfd,   "-screen", "0",
+	                 "2400x900x24", "-nolisten",  "tcp", NULL};
 	pid_t xsrv = spawn(xargv, NULL, xerr);
 	close(dp[1]);
 	int dpy = xsrv > 0 ? read_display(dp[0], 120) : -1;
@@ -212,8 +212,9 @@ int main(void)
 		nap_ms(500);
 		if (waitpid(v, &vst, WNOHANG) == v) {
 			pc_child_forget(v);
-			fprintf(stderr, "view ended before its window showed the picture (status "
-			                "%d; its messages: %s)\n",
+			fprintf(stderr,
+			        "view ended before its window showed the picture (status "
+			        "%d; its messages: %s)\n",
 			        vst, verr);
 			v = -1;
 			break;
