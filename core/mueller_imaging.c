@@ -1,10 +1,12 @@
 #include "polarcam/mueller_imaging.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdbool.h>
 #include <string.h>
 
 #include "polarcam/error.h"
+#include "polarcam/optics.h"
 #include "polarcam/parallel.h"
 
 /* Eigen-decomposition of a symmetric 4×4 matrix by cyclic Jacobi rotations (Golub & Van Loan,
@@ -266,4 +268,281 @@ void pc_mueller_finish(const pc_mueller_system *s, uint32_t width, uint32_t heig
 		for (int kl = 0; kl < 16; kl++)
 			if (!(s->determined >> kl & 1))
 				M[16 * i + (size_t)kl] = NAN;
+}
+
+/* ---- 4×4 from the 3×3 linear block (physics.md §7; derivation in docs/physics-notes.md,
+ * "Rebuilding the 4×4 from the 3×3") ----
+ *
+ * Model of the linear block, with u = (cos α, sin α), v = (−sin α, cos α), w = (cos γ, sin γ),
+ * z = (−sin γ, cos γ) (u, v the columns of R_M(θ_o)'s 2×2 block, w, z the rows of R_M(θ_i)'s):
+ *     N00 = A + d,  (N10, N20) = B·u,  (N01, N02) = B·w,  L = (N_kl)_{k,l=1,2} = A·u wᵀ + C·v zᵀ.
+ * Split L into its conformal and anti-conformal parts, as complex numbers
+ *     z_c = (L11 + L22)/2 − i(L12 − L21)/2 = ρ_c e^{i(α−γ)},  ρ_c = (A + C)/2,
+ *     z_a = (L11 − L22)/2 + i(L12 + L21)/2 = ρ_a e^{i(α+γ)},  ρ_a = (A − C)/2,
+ * (1-based L indices) and write the first column and row as c = B e^{iα}, r = B e^{iγ}. Then
+ * ‖N − N_model‖²_F = (N00 − A − d)² + |c − B e^{iα}|² + |r − B e^{iγ}|²
+ *                   + 2|z_c − ρ_c e^{i(α−γ)}|² + 2|z_a − ρ_a e^{i(α+γ)}|²,
+ * and A² − B² − C² = 4ρ_cρ_a − B² = S². */
+
+static double cmag(double re, double im)
+{
+	return hypot(re, im);
+}
+
+/* The profiled least-squares objective of the rebuild: for fixed angles the best magnitudes are
+ * the projections p1 = Re(c e^{−iα}), p2 = Re(r e^{−iγ}) (B = (p1 + p2)/2), p3 = Re(z_c
+ * e^{−i(α−γ)}) = ρ_c, p4 = Re(z_a e^{−i(α+γ)}) = ρ_a, and ‖N − N_model‖² = const − G with
+ * G = (p1 + p2)²/2 + 2p3² + 2p4². Returns G and its gradient and Hessian in (α, γ). */
+static double rb_objective(const double cz[4][2], double al, double ga, double grad[2],
+			   double hess[3])
+{
+	const double ang[4] = { al, ga, al - ga, al + ga };
+	double p[4], q[4];
+	for (int j = 0; j < 4; j++) {
+		double c = cos(ang[j]), s = sin(ang[j]);
+		p[j] = cz[j][0] * c + cz[j][1] * s;  /* Re(x e^{−iθ}) */
+		q[j] = cz[j][1] * c - cz[j][0] * s;  /* Im(x e^{−iθ}) */
+	}
+	double b = p[0] + p[1];
+	grad[0] = b * q[0] + 4 * p[2] * q[2] + 4 * p[3] * q[3];
+	grad[1] = b * q[1] - 4 * p[2] * q[2] + 4 * p[3] * q[3];
+	double t3 = 4 * (q[2] * q[2] - p[2] * p[2]), t4 = 4 * (q[3] * q[3] - p[3] * p[3]);
+	hess[0] = q[0] * q[0] - b * p[0] + t3 + t4; /* ∂²/∂α² */
+	hess[1] = q[0] * q[1] - t3 + t4;            /* ∂²/∂α∂γ */
+	hess[2] = q[1] * q[1] - b * p[1] + t3 + t4; /* ∂²/∂γ² */
+	return 0.5 * b * b + 2 * (p[2] * p[2] + p[3] * p[3]);
+}
+
+/* Misfit ‖N − N_model‖² of the angles with the magnitudes constrained to ≥ 0 (see above). */
+static double rb_misfit(const double cz[4][2], double al, double ga)
+{
+	const double ang[4] = { al, ga, al - ga, al + ga };
+	double p[4], f = 0;
+	for (int j = 0; j < 4; j++)
+		p[j] = cz[j][0] * cos(ang[j]) + cz[j][1] * sin(ang[j]);
+	const double mag[4] = { fmax(0, 0.5 * (p[0] + p[1])), fmax(0, 0.5 * (p[0] + p[1])),
+				fmax(0, p[2]), fmax(0, p[3]) };
+	for (int j = 0; j < 4; j++) {
+		double dr = cz[j][0] - mag[j] * cos(ang[j]), di = cz[j][1] - mag[j] * sin(ang[j]);
+		f += (j < 2 ? 1 : 2) * (dr * dr + di * di);
+	}
+	return f;
+}
+
+/* From a start (α, γ): Newton steps on the profiled objective, then the branch (α and γ are
+ * known modulo π from G) with the smallest constrained misfit, which it returns. */
+static double rb_refine(const double cz[4][2], double a0, double g0, double *al, double *ga)
+{
+	double a = a0, g = g0;
+	for (int it = 0; it < 20; it++) {
+		double gr[2], h[3], t[2], th[3];
+		double G0 = rb_objective(cz, a, g, gr, h);
+		double det = h[0] * h[2] - h[1] * h[1];
+		if (!(h[0] < 0 && det > 1e-24)) /* not in a maximum's basin, or a degenerate one */
+			break;
+		double da = -(h[2] * gr[0] - h[1] * gr[1]) / det;
+		double dg = -(h[0] * gr[1] - h[1] * gr[0]) / det;
+		double step = 1, G1 = -INFINITY;
+		for (int k = 0; k < 8; k++, step *= 0.5) {
+			G1 = rb_objective(cz, a + step * da, g + step * dg, t, th);
+			if (G1 >= G0)
+				break;
+		}
+		if (!(G1 >= G0))
+			break;
+		a += step * da;
+		g += step * dg;
+		if (fabs(step * da) + fabs(step * dg) < 1e-13)
+			break;
+	}
+	double best = INFINITY;
+	*al = a;
+	*ga = g;
+	for (int fa = 0; fa < 2; fa++)
+		for (int fg = 0; fg < 2; fg++) {
+			double f = rb_misfit(cz, a + fa * PC_PI, g + fg * PC_PI);
+			if (f < best) {
+				best = f;
+				*al = remainder(a + fa * PC_PI, 2 * PC_PI);
+				*ga = remainder(g + fg * PC_PI, 2 * PC_PI);
+			}
+		}
+	return best;
+}
+
+int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, double tol,
+				   double M[4][4], pc_rebuild_info *info)
+{
+	pc_rebuild_info tmp;
+	pc_rebuild_info *in = info ? info : &tmp;
+	memset(in, 0, sizeof *in);
+	if (sign != PC_REBUILD_CONVENTION && sign != PC_REBUILD_PLUS && sign != PC_REBUILD_MINUS)
+		return pc_error(PC_EINVAL, "rebuild sign %d: expected convention, plus or minus",
+				(int)sign);
+	if (!(tol >= 0) || !isfinite(tol))
+		return pc_error(PC_EINVAL, "rebuild tolerance %g: must be finite and ≥ 0", tol);
+	for (int k = 0; k < 3; k++)
+		for (int l = 0; l < 3; l++)
+			if (!isfinite(N[k][l]))
+				return pc_error(PC_EINVAL, "linear block element (%d, %d) is not finite",
+						k, l);
+	for (int k = 0; k < 4; k++)
+		for (int l = 0; l < 4; l++)
+			M[k][l] = k < 3 && l < 3 ? N[k][l] : NAN;
+	const double m00 = N[0][0];
+	if (!(m00 > 0)) {
+		in->A = in->B = in->C = in->S = in->d = in->alpha = in->gamma = NAN;
+		in->residual = in->excess = NAN;
+		in->flags = PC_RB_ZERO;
+		return 0;
+	}
+	/* work on n = N/N00 (pBRDF blocks off the lobe reach 1e-300: squares would underflow) */
+	double n[3][3];
+	for (int k = 0; k < 3; k++)
+		for (int l = 0; l < 3; l++)
+			n[k][l] = N[k][l] / m00;
+	const double c_re = n[1][0], c_im = n[2][0], r_re = n[0][1], r_im = n[0][2];
+	const double zc_re = 0.5 * (n[1][1] + n[2][2]), zc_im = -0.5 * (n[1][2] - n[2][1]);
+	const double za_re = 0.5 * (n[1][1] - n[2][2]), za_im = 0.5 * (n[1][2] + n[2][1]);
+
+	const double cz[4][2] = { { c_re, c_im }, { r_re, r_im }, { zc_re, zc_im }, { za_re, za_im } };
+	/* Starting angles. (1) 2α from c² and z_c z_a, 2γ from r² and z_a z̄_c: both terms of each
+	 * pair have the phase 2α (2γ) in the model, so any positive weighting is exact for members
+	 * of the family; the factor 4 weights them like their shares of the Frobenius misfit
+	 * (|c|² ~ B², 4|z_c z_a| ~ (A + C)(A − C)). (2) α, γ from c and r alone; (3) from z_a and
+	 * z_c alone. With noise the least-squares optimum can lie in the basin of any of them
+	 * (e.g. near normal incidence, where A + C and B are small), so all are refined and the
+	 * best fit kept. */
+	double starts[3][2];
+	int nstart = 0;
+	const double tiny = 1e-28; /* below this a phase is rounding noise */
+	double ea_re = c_re * c_re - c_im * c_im + 4 * (zc_re * za_re - zc_im * za_im);
+	double ea_im = 2 * c_re * c_im + 4 * (zc_re * za_im + zc_im * za_re);
+	double eg_re = r_re * r_re - r_im * r_im + 4 * (za_re * zc_re + za_im * zc_im);
+	double eg_im = 2 * r_re * r_im + 4 * (za_im * zc_re - za_re * zc_im);
+	double mzc = cmag(zc_re, zc_im), mza = cmag(za_re, za_im);
+	if (cmag(ea_re, ea_im) > tiny && cmag(eg_re, eg_im) > tiny) {
+		starts[nstart][0] = 0.5 * atan2(ea_im, ea_re);
+		starts[nstart++][1] = 0.5 * atan2(eg_im, eg_re);
+	}
+	if (cmag(c_re, c_im) > tiny && cmag(r_re, r_im) > tiny) {
+		starts[nstart][0] = atan2(c_im, c_re);
+		starts[nstart++][1] = atan2(r_im, r_re);
+	}
+	if (mzc > tiny && mza > tiny) {
+		double ps = atan2(za_im, za_re), pd = atan2(zc_im, zc_re);
+		starts[nstart][0] = 0.5 * (ps + pd);
+		starts[nstart++][1] = 0.5 * (ps - pd);
+	}
+	if (nstart == 0) {
+		/* B = 0 and ρ_c or ρ_a = 0 (normal incidence: only α + γ matters; A = C, an
+		 * isotropic part: only α − γ matters) */
+		double ph = mza >= mzc ? atan2(za_im, za_re) : atan2(zc_im, zc_re);
+		starts[0][0] = 0.5 * ph;
+		starts[0][1] = mza >= mzc ? 0.5 * ph : -0.5 * ph;
+		nstart = 1;
+	}
+	double alpha = 0, gamma = 0, best_f = INFINITY;
+	for (int st = 0; st < nstart; st++) {
+		double a = 0, g = 0;
+		double f = rb_refine(cz, starts[st][0], starts[st][1], &a, &g);
+		if (f < best_f) {
+			best_f = f;
+			alpha = a;
+			gamma = g;
+		}
+	}
+	const double ca = cos(alpha), sa = sin(alpha), cg = cos(gamma), sg = sin(gamma);
+	const double cd = cos(alpha - gamma), sd = sin(alpha - gamma);
+	const double cs = cos(alpha + gamma), ss = sin(alpha + gamma);
+	/* least-squares magnitudes for these angles, constrained to ≥ 0 */
+	double B = fmax(0, 0.5 * ((c_re * ca + c_im * sa) + (r_re * cg + r_im * sg)));
+	double rho_c = fmax(0, zc_re * cd + zc_im * sd);
+	double rho_a = fmax(0, za_re * cs + za_im * ss);
+	double A = rho_c + rho_a, C = rho_c - rho_a, d = 1 - A;
+	/* the misfit, entry by entry (the complex form above is the same sum) */
+	double u[2] = { ca, sa }, v[2] = { -sa, ca }, w[2] = { cg, sg }, z[2] = { -sg, cg };
+	double fit[3][3];
+	fit[0][0] = 1;
+	for (int k = 0; k < 2; k++) {
+		fit[k + 1][0] = B * u[k];
+		fit[0][k + 1] = B * w[k];
+		for (int l = 0; l < 2; l++)
+			fit[k + 1][l + 1] = A * u[k] * w[l] + C * v[k] * z[l];
+	}
+	double res2 = 0;
+	for (int k = 0; k < 3; k++)
+		for (int l = 0; l < 3; l++)
+			res2 += (n[k][l] - fit[k][l]) * (n[k][l] - fit[k][l]);
+	double s2 = 4 * rho_c * rho_a - B * B;
+	in->A = A * m00;
+	in->B = B * m00;
+	in->C = C * m00;
+	in->d = d * m00;
+	in->alpha = alpha;
+	in->gamma = gamma;
+	in->residual = sqrt(res2);
+	in->excess = hypot(B, C) - A;
+	unsigned fl = 0;
+	if (in->residual > tol)
+		fl |= PC_RB_INCONSISTENT;
+	if (in->excess > tol || d < -tol)
+		fl |= PC_RB_NONPHYSICAL;
+	/* rounding leaves |s2| ~ 1e-16 where S = 0 (dielectrics, β = 0): that is not a clamp,
+	 * and S below sqrt of it (~1e-8) is zero to working accuracy */
+	const double s2_round = 64 * DBL_EPSILON * fmax(1, A * A);
+	if (s2 < -s2_round)
+		fl |= PC_RB_CLAMPED;
+	double S = sqrt(fmax(0, s2));
+	if (s2 <= tol * tol + s2_round)
+		fl |= PC_RB_S_ZERO;
+	else if (B <= tol)
+		fl |= PC_RB_SIGN_UNDEFINED;
+	/* k ≥ 0 gives Im(r_s r_p*) ≤ 0 (docs/physics-notes.md): CONVENTION is MINUS */
+	if (sign != PC_REBUILD_PLUS)
+		S = -S;
+	S *= m00;
+	C *= m00;
+	in->S = S;
+	in->flags = fl;
+	if (fl & PC_RB_REJECTED)
+		return 0;
+	M[0][3] = M[3][0] = 0;
+	M[3][3] = C;
+	for (int k = 0; k < 2; k++) {
+		M[k + 1][3] = S * v[k];
+		M[3][k + 1] = -S * z[k];
+	}
+	return 0;
+}
+
+int pc_rebuild_sign_from_name(const char *name, pc_rebuild_sign *out)
+{
+	static const struct {
+		const char *name;
+		pc_rebuild_sign sign;
+	} tab[] = { { "convention", PC_REBUILD_CONVENTION }, { "+", PC_REBUILD_PLUS },
+		    { "plus", PC_REBUILD_PLUS },             { "-", PC_REBUILD_MINUS },
+		    { "minus", PC_REBUILD_MINUS },           { "off", PC_REBUILD_OFF } };
+	for (size_t i = 0; name && i < sizeof tab / sizeof tab[0]; i++)
+		if (!strcmp(name, tab[i].name)) {
+			*out = tab[i].sign;
+			return 0;
+		}
+	return pc_error(PC_EINVAL, "'%s': expected convention, +, - or off", name ? name : "(null)");
+}
+
+const char *pc_rebuild_sign_name(pc_rebuild_sign sign)
+{
+	switch (sign) {
+	case PC_REBUILD_OFF:
+		return "off";
+	case PC_REBUILD_CONVENTION:
+		return "convention";
+	case PC_REBUILD_PLUS:
+		return "+";
+	case PC_REBUILD_MINUS:
+		return "-";
+	}
+	return "?";
 }

@@ -67,6 +67,59 @@ int pc_mueller_accumulate(const pc_mueller_system *s, unsigned frame, const pc_f
 /* Marks the undetermined elements of every pixel NaN. */
 void pc_mueller_finish(const pc_mueller_system *s, uint32_t width, uint32_t height, float *M);
 
+/* ---- The 4×4 from the 3×3 linear block for the pBRDF family (physics.md §7) ----
+ *
+ * Family: M = R_M(θ_o)·[K·M_F(a, b, c, s) + d·e₀e₀ᵀ]·R_M(θ_i) (physics.md §2: one pure
+ * specular Jones matrix diag(r_s, r_p) carried into the image frames plus the diffuse term on
+ * M00), with A = Ka, B = Kb, C = Kc, S = Ks. Its 3×3 linear block N determines A, B, C, d and
+ * the two frame angles (6 parameters from 9 numbers: 3 consistency conditions); the circular
+ * entries follow: M03 = M30 = 0, M33 = C, (M13, M23) = S·v, (M31, M32) = −S·z with v, z the
+ * second column of R_M(θ_o) and second row of R_M(θ_i), and |S| = sqrt(A² − B² − C²) (the
+ * Jones matrix is pure: a² = b² + c² + s²). Only the sign of S is not determined; for
+ * ñ = n − ik with k ≥ 0 (e^{+iωt}, physics.md §1) S ≤ 0 in the frames where B ≥ 0, which is
+ * the "convention". Lu–Chipman D, R, Δ do not depend on the sign. Derivation, estimator and
+ * tolerances: docs/physics-notes.md, "Rebuilding the 4×4 from the 3×3". */
+
+typedef enum pc_rebuild_sign {
+	PC_REBUILD_OFF = 0,     /* do not rebuild (maps: the circular entries stay NaN) */
+	PC_REBUILD_CONVENTION,  /* S ≤ 0: what Fresnel gives for k ≥ 0 (the same as MINUS) */
+	PC_REBUILD_PLUS,        /* S ≥ 0 */
+	PC_REBUILD_MINUS,       /* S ≤ 0 */
+} pc_rebuild_sign;
+
+enum pc_rebuild_flags {
+	PC_RB_ZERO = 1u << 0,         /* N00 ≤ 0: nothing to rebuild (rejected) */
+	PC_RB_INCONSISTENT = 1u << 1, /* residual > tol: N is not of the family (rejected) */
+	PC_RB_NONPHYSICAL = 1u << 2,  /* sqrt(B² + C²) − A > tol·N00 or d < −tol·N00 (rejected) */
+	PC_RB_CLAMPED = 1u << 3,      /* A² − B² − C² < 0 within tol: S set to 0 */
+	PC_RB_S_ZERO = 1u << 4,       /* |S| ≤ tol·N00: the sign does not matter (k = 0, β = 0) */
+	PC_RB_SIGN_UNDEFINED = 1u << 5, /* B ≤ tol·N00 < |S|: no diattenuation axis to fix the
+	                                   frame of S (a linear retarder, not a pBRDF with k ≥ 0):
+	                                   the circular entries are one of the two valid choices */
+};
+#define PC_RB_REJECTED (PC_RB_ZERO | PC_RB_INCONSISTENT | PC_RB_NONPHYSICAL)
+
+typedef struct pc_rebuild_info {
+	double A, B, C, S, d;   /* fitted family parameters (S with the chosen sign) */
+	double alpha, gamma;    /* polar angles of u = (M10, M20)/B and w = (M01, M02)/B:
+	                           α = −2θ_o, γ = 2θ_i (mod π when B = 0) */
+	double residual;        /* ‖N − N_fit‖_F / N00 over the 9 elements */
+	double excess;          /* (sqrt(B² + C²) − A) / N00: > 0 means not realisable */
+	unsigned flags;         /* pc_rebuild_flags */
+} pc_rebuild_info;
+
+/* The scalar double reference. N is the 3×3 linear block (rows/columns 0..2 of M); M receives
+ * N in its linear block and the rebuilt M03, M13, M23, M30, M31, M32, M33, or NaN there when
+ * the input is rejected (PC_RB_REJECTED). tol (relative to N00, ≥ 0) bounds the residual and
+ * the realisability excesses. info may be NULL. Returns 0, or PC_EINVAL for non-finite input,
+ * a negative or non-finite tol, or sign PC_REBUILD_OFF. */
+int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, double tol,
+				   double M[4][4], pc_rebuild_info *info);
+
+/* Parses "convention", "+", "-", "off" (also "plus", "minus"); PC_EINVAL otherwise. */
+int pc_rebuild_sign_from_name(const char *name, pc_rebuild_sign *out);
+const char *pc_rebuild_sign_name(pc_rebuild_sign sign);
+
 #ifdef __cplusplus
 }
 #endif
