@@ -534,7 +534,7 @@ int cmd_demo(int argc, char **argv)
 		}
 		pc_progress_end(&bar);
 		pc_progress_begin(&bar, "mueller frames", src.in.n_states);
-		rc = pc_mueller_run(sim_get, &src, &st, &src.in.mosaic, PC_DM_BILINEAR, 0, (int)threads,
+		rc = pc_mueller_run(sim_get, &src, &st, &src.in.mosaic, PC_DM_BILINEAR, 0, (int)threads, NULL,
 				    &bar, &mres);
 		pc_progress_end(&bar);
 		t_mueller = pc_cli_now() - t0;

@@ -35,9 +35,12 @@ static void usage(FILE *fp)
 		"(polarcam render/capture output: its frames, its states.json and its black level).\n"
 		"\n"
 		"Writes into DIR: mueller.npy (H, W, 4, 4) float32 in the raw's units (undetermined\n"
-		"elements NaN); D.npy, R.npy, Delta.npy (H, W) float32 (NaN where undefined: D near 1\n"
-		"or a rank-3 system); D.png, R.png, Delta.png; mueller.json (condition numbers of A, G\n"
-		"and W = A (x) G, the noise gain per element, counts of flagged pixels).\n"
+		"elements NaN; for linear-only systems the rebuilt circular entries, see below);\n"
+		"D.npy, R.npy, Delta.npy (H, W) float32 (NaN where undefined: D near 1, a pixel the\n"
+		"rebuild rejects, or a rank-3 system with --rebuild-circular off); D.png, R.png,\n"
+		"Delta.png; rebuild_residual.npy/.png (linear-only systems); mueller.json (condition\n"
+		"numbers of A, G and W = A (x) G, the noise gain per element, counts of flagged\n"
+		"pixels).\n"
 		"\n"
 		"options:\n"
 		"  --states FILE       the states file (default: RECORDING_DIR/states.json)\n"
@@ -48,6 +51,23 @@ static void usage(FILE *fp)
 		"                      offset, else 0)\n"
 		"  --layout L          mosaic layout (default: the states file's, else 90,45,135,0)\n"
 		"  --no-mueller        do not write mueller.npy (it is 64 bytes per pixel)\n"
+		"  --rebuild-circular convention|+|-|off\n"
+		"                      linear-only (3x3) systems: rebuild the circular entries for\n"
+		"                      the pBRDF family (one specular Jones matrix + a depolariser on\n"
+		"                      M00, physics.md sections 2 and 7) so that D, R and Delta exist.\n"
+		"                      M03 = M30 = 0 and M33 follow from the 3x3; M13, M23, M31, M32\n"
+		"                      up to the sign of s = Im(r_s r_p*). 'convention' (default):\n"
+		"                      s <= 0, what every material n - ik with k >= 0 gives under\n"
+		"                      polarcam's conventions; '+'/'-' force a sign; 'off' leaves them\n"
+		"                      NaN with NaN maps. D, R and Delta do not depend on the sign;\n"
+		"                      the sign shows in mueller.npy and the retardance axis only.\n"
+		"                      Pixels whose 3x3 is not of the family (residual above\n"
+		"                      --rebuild-tol) get NaN there and in the maps; see\n"
+		"                      rebuild_residual.npy and docs/physics-notes.md\n"
+		"  --rebuild-tol X     largest accepted residual ||N - N_fit|| / M00 of the 3x3 fit\n"
+		"                      (also bounds how far from realisable it may be; default 0.05:\n"
+		"                      about 10x the residual of the IMX250MZR preset's noise on the\n"
+		"                      linear_psg scene's lit pixels)\n"
 		"  -t, --threads N     threads\n"
 		"  --json              print mueller.json's content as one line on stdout\n"
 		"Exit status: 0 success, 1 failure, 2 bad arguments or input.\n");
@@ -125,12 +145,15 @@ int cmd_mueller(int argc, char **argv)
 		{ "method", required_argument, NULL, 'm' },    { "black-level", required_argument, NULL, 'B' },
 		{ "layout", required_argument, NULL, 'L' },    { "no-mueller", no_argument, NULL, 'N' },
 		{ "threads", required_argument, NULL, 't' },   { "json", no_argument, NULL, 'J' },
+		{ "rebuild-circular", required_argument, NULL, 'C' },
+		{ "rebuild-tol", required_argument, NULL, 'T' },
 		{ NULL, 0, NULL, 0 }
 	};
 	const char *states_path = NULL, *out = NULL, *method_name = "bilinear", *layout_arg = NULL;
 	double black = NAN;
 	long threads = 0;
 	bool write_m = true, json = false;
+	pc_rebuild_opts rb = { PC_REBUILD_CONVENTION, 0.05 };
 	int c, rc;
 	optind = 1;
 	opterr = 0;
@@ -163,6 +186,17 @@ int cmd_mueller(int argc, char **argv)
 			break;
 		case 'J':
 			json = true;
+			break;
+		case 'C':
+			if ((rc = pc_rebuild_sign_from_name(optarg, &rb.sign)))
+				return pc_cli_fail(rc, "--rebuild-circular");
+			break;
+		case 'T':
+			if ((rc = pc_cli_parse_double("--rebuild-tol", optarg, &rb.tol)))
+				return pc_cli_fail(rc, NULL);
+			if (!(rb.tol >= 0) || !isfinite(rb.tol))
+				return pc_cli_error(PC_EXIT_USAGE, "--rebuild-tol %g: must be finite and ≥ 0",
+						    rb.tol);
 			break;
 		case ':':
 			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
@@ -242,7 +276,8 @@ int cmd_mueller(int argc, char **argv)
 	pc_progress bar;
 	pc_progress_begin(&bar, "mueller", nframes);
 	pc_mueller_result res;
-	rc = pc_mueller_run(file_get, &fs, &st, &mosaic, method, black, (int)threads, &bar, &res);
+	rc = pc_mueller_run(file_get, &fs, &st, &mosaic, method, black, (int)threads, &rb, &bar,
+			    &res);
 	pc_progress_end(&bar);
 	if (rc) {
 		status = pc_cli_fail(rc, NULL);
@@ -253,6 +288,8 @@ int cmd_mueller(int argc, char **argv)
 	size_t np = (size_t)ow * oh;
 	M = res.M;
 	maps = res.maps;
+	float *residual = res.residual;
+	res.residual = NULL;
 	lc_counts lc = { res.singular, res.nonphysical, res.bad };
 	if ((rc = pc_mkdir_p(out))) {
 		status = pc_cli_fail(rc, out);
@@ -273,7 +310,17 @@ int cmd_mueller(int argc, char **argv)
 	    (rc = pc_write_map(out, "Delta", maps + 2 * np, ow, oh, 0, 1,
 			       "Depolarization Delta (Lu-Chipman)", "Delta"))) {
 		status = pc_cli_fail(rc, out);
+		free(residual);
 		goto done;
+	}
+	if (residual) {
+		rc = pc_write_map(out, "rebuild_residual", residual, ow, oh, 0, 2 * rb.tol,
+				  "Residual of the 3x3 fit / M00 (pBRDF family)", "residual");
+		free(residual);
+		if (rc) {
+			status = pc_cli_fail(rc, out);
+			goto done;
+		}
 	}
 	json_t *js = json_object();
 	json_object_set_new(js, "frames", json_integer((json_int_t)nframes));
@@ -290,6 +337,15 @@ int cmd_mueller(int argc, char **argv)
 	json_object_set_new(js, "pixels_D_singular", json_integer(lc.singular));
 	json_object_set_new(js, "pixels_nonphysical_filtered", json_integer(lc.nonphysical));
 	json_object_set_new(js, "pixels_undecomposable", json_integer(lc.bad));
+	json_object_set_new(js, "determined", json_integer(sys.determined));
+	json_object_set_new(js, "rebuild_circular",
+			    json_string(res.rebuilt ? pc_rebuild_sign_name(rb.sign) : "off"));
+	if (res.rebuilt) {
+		json_object_set_new(js, "rebuild_tol", json_real(rb.tol));
+		json_object_set_new(js, "pixels_rebuild_rejected", json_integer(res.rb_rejected));
+		json_object_set_new(js, "pixels_rebuild_sign_undefined",
+				    json_integer(res.rb_sign_undefined));
+	}
 	char *txt = json_dumps(js, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
 	if (!txt || (rc = pc_path_join(path, sizeof path, out, "mueller.json")) ||
 	    (rc = pc_write_file_atomic(path, txt, strlen(txt)))) {
@@ -299,9 +355,15 @@ int cmd_mueller(int argc, char **argv)
 		goto done;
 	}
 	free(txt);
-	if (sys.rank_A < 4 || sys.rank_G < 4)
+	if ((sys.rank_A < 4 || sys.rank_G < 4) && !res.rebuilt)
 		pc_cli_warn("rank-%u analyser / rank-%u generator: only the 3x3 linear block is "
-			    "determined; D/R/Delta maps are NaN", sys.rank_A, sys.rank_G);
+			    "determined; D/R/Delta maps are NaN (--rebuild-circular)", sys.rank_A,
+			    sys.rank_G);
+	else if (res.rebuilt)
+		pc_cli_warn("rank-%u analyser / rank-%u generator: circular entries rebuilt for the "
+			    "pBRDF family (sign: %s); %ld of %zu pixels rejected (residual or "
+			    "realisability above --rebuild-tol %g)", sys.rank_A, sys.rank_G,
+			    pc_rebuild_sign_name(rb.sign), res.rb_rejected, np, rb.tol);
 	if (json)
 		pc_cli_print_json(js);
 	else

@@ -267,11 +267,17 @@ out:
 
 typedef struct lc_ctx {
 	const float *M;
-	float *D, *R, *Delta;
+	float *Mw; /* = M when the rebuild writes the circular entries back, else NULL */
+	float *D, *R, *Delta, *residual;
 	uint32_t width;
 	unsigned determined;
+	const pc_rebuild_opts *rb; /* non-NULL: rebuild the circular entries from the 3×3 */
 	long singular, nonphysical, bad; /* counted per band, summed under a lock-free atomic */
+	long rb_rejected, rb_undefined;
 } lc_ctx;
+
+/* the 3×3 linear block: bits 4k + l, k, l < 3 */
+#define PC_LINEAR_BLOCK 0x777u
 
 static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 {
@@ -279,7 +285,7 @@ static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 	 * pc_lu_chipman_decompose with PC_LC_FILTER | PC_LC_NO_FACTORS per pixel) */
 	enum { CH = 256 };
 	lc_ctx *c = ctx;
-	long singular = 0, nonphys = 0, bad = 0;
+	long singular = 0, nonphys = 0, bad = 0, rejected = 0, undefined = 0;
 	double Mb[16 * CH], D[CH], R[CH], De[CH];
 	unsigned fl[CH];
 	const pc_lc_map out = { D, { NULL, NULL, NULL }, R, { NULL, NULL, NULL }, NULL, NULL,
@@ -288,13 +294,45 @@ static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 		for (uint32_t x0 = 0; x0 < c->width; x0 += CH) {
 			size_t n = c->width - x0 < CH ? c->width - x0 : CH;
 			size_t i0 = (size_t)y * c->width + x0;
-			if (c->determined != 0xFFFFu) {
+			if (c->determined != 0xFFFFu && !c->rb) {
 				for (size_t j = 0; j < n; j++)
 					c->D[i0 + j] = c->R[i0 + j] = c->Delta[i0 + j] = NAN;
 				continue;
 			}
 			for (size_t k = 0; k < 16 * n; k++)
 				Mb[k] = c->M[16 * i0 + k];
+			if (c->rb) {
+				/* physics.md §7: the 4×4 of the pBRDF family from its 3×3 */
+				for (size_t j = 0; j < n; j++) {
+					double N[3][3], R4[4][4];
+					const float *m = c->M + 16 * (i0 + j);
+					float *mw = c->Mw ? c->Mw + 16 * (i0 + j) : NULL;
+					pc_rebuild_info in;
+					for (int k = 0; k < 3; k++)
+						for (int l = 0; l < 3; l++)
+							N[k][l] = m[4 * k + l];
+					if (pc_mueller_rebuild_from_linear(N, c->rb->sign, c->rb->tol, R4,
+									   &in)) {
+						in.flags = PC_RB_ZERO; /* non-finite input */
+						in.residual = NAN;
+						for (int k = 0; k < 4; k++)
+							for (int l = 0; l < 4; l++)
+								R4[k][l] = NAN;
+					}
+					if (c->residual)
+						c->residual[i0 + j] = (float)in.residual;
+					/* M00 ≤ 0 (background, shadow) is no rejection: nothing
+					 * was there to rebuild */
+					rejected += (in.flags & (PC_RB_INCONSISTENT | PC_RB_NONPHYSICAL)) != 0;
+					undefined += (in.flags & PC_RB_SIGN_UNDEFINED) != 0;
+					for (int k = 0; k < 4; k++)
+						for (int l = 0; l < 4; l++) {
+							Mb[16 * j + 4 * (size_t)k + (size_t)l] = R4[k][l];
+							if (mw && (k == 3 || l == 3))
+								mw[4 * k + l] = (float)R4[k][l];
+						}
+				}
+			}
 			if (pc_lu_chipman_map(Mb, n, PC_LC_FILTER | PC_LC_NO_FACTORS, &out)) {
 				for (size_t j = 0; j < n; j++)
 					c->D[i0 + j] = c->R[i0 + j] = c->Delta[i0 + j] = NAN;
@@ -328,12 +366,41 @@ static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 #pragma omp atomic
 #endif
 	c->bad += bad;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->rb_rejected += rejected;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->rb_undefined += undefined;
+}
+
+void pc_mueller_maps_rebuild(float *M, uint32_t width, uint32_t height, unsigned determined,
+			     const pc_rebuild_opts *rb, int threads, float *D, float *R,
+			     float *Delta, float *residual, long counts[3], long rb_counts[2])
+{
+	/* rebuild only where it applies: the linear block determined, not the whole matrix */
+	bool use = rb && rb->sign != PC_REBUILD_OFF && determined != 0xFFFFu &&
+		   (determined & PC_LINEAR_BLOCK) == PC_LINEAR_BLOCK;
+	lc_ctx lc = { M, M, D, R, Delta, use ? residual : NULL, width, determined,
+		      use ? rb : NULL, 0, 0, 0, 0, 0 };
+	pc_parallel_rows(height, 0, threads, lc_rows, &lc);
+	if (counts) {
+		counts[0] = lc.singular;
+		counts[1] = lc.nonphysical;
+		counts[2] = lc.bad;
+	}
+	if (rb_counts) {
+		rb_counts[0] = lc.rb_rejected;
+		rb_counts[1] = lc.rb_undefined;
+	}
 }
 
 void pc_mueller_maps(const float *M, uint32_t width, uint32_t height, unsigned determined,
 		     int threads, float *D, float *R, float *Delta, long counts[3])
 {
-	lc_ctx lc = { M, D, R, Delta, width, determined, 0, 0, 0 };
+	lc_ctx lc = { M, NULL, D, R, Delta, NULL, width, determined, NULL, 0, 0, 0, 0, 0 };
 	pc_parallel_rows(height, 0, threads, lc_rows, &lc);
 	if (counts) {
 		counts[0] = lc.singular;
@@ -346,12 +413,13 @@ void pc_mueller_result_free(pc_mueller_result *res)
 {
 	free(res->M);
 	free(res->maps);
-	res->M = res->maps = NULL;
+	free(res->residual);
+	res->M = res->maps = res->residual = NULL;
 }
 
 int pc_mueller_run(pc_frame_get_fn get, void *user, const pc_sim_states *st,
 		   const pc_mosaic *mosaic, pc_demosaic_method method, double black, int threads,
-		   pc_progress *bar, pc_mueller_result *res)
+		   const pc_rebuild_opts *rb, pc_progress *bar, pc_mueller_result *res)
 {
 	memset(res, 0, sizeof *res);
 	int rc = pc_mueller_system_init(&res->sys, st->n_psg, st->psg, st->n_psa, st->psa,
@@ -405,12 +473,20 @@ int pc_mueller_run(pc_frame_get_fn get, void *user, const pc_sim_states *st,
 		rc = pc_error(PC_ENOMEM, "decomposition maps");
 		goto fail;
 	}
-	long counts[3];
-	pc_mueller_maps(res->M, ow, oh, res->sys.determined, threads, res->maps, res->maps + np,
-			res->maps + 2 * np, counts);
+	long counts[3], rbc[2] = { 0, 0 };
+	res->rebuilt = rb && rb->sign != PC_REBUILD_OFF && res->sys.determined != 0xFFFFu &&
+		       (res->sys.determined & PC_LINEAR_BLOCK) == PC_LINEAR_BLOCK;
+	if (res->rebuilt && !(res->residual = malloc(np * sizeof *res->residual))) {
+		rc = pc_error(PC_ENOMEM, "rebuild residual map");
+		goto fail;
+	}
+	pc_mueller_maps_rebuild(res->M, ow, oh, res->sys.determined, rb, threads, res->maps,
+				res->maps + np, res->maps + 2 * np, res->residual, counts, rbc);
 	res->singular = counts[0];
 	res->nonphysical = counts[1];
 	res->bad = counts[2];
+	res->rb_rejected = rbc[0];
+	res->rb_sign_undefined = rbc[1];
 	res->width = ow;
 	res->height = oh;
 	return 0;
