@@ -65,9 +65,10 @@ static void usage(FILE *fp)
 		"                      --rebuild-tol) get NaN there and in the maps; see\n"
 		"                      rebuild_residual.npy and docs/physics-notes.md\n"
 		"  --rebuild-tol X     largest accepted residual ||N - N_fit|| / M00 of the 3x3 fit\n"
-		"                      (also bounds how far from realisable it may be; default 0.05:\n"
-		"                      about 10x the residual of the IMX250MZR preset's noise on the\n"
-		"                      linear_psg scene's lit pixels)\n"
+		"                      (also bounds how far from realisable it may be). Default 0.05:\n"
+		"                      7x the median, 2.5x the 99th percentile of the residual that\n"
+		"                      the IMX250MZR preset's noise gives on scenes/linear_psg.json\n"
+		"                      (docs/status/sim.md); lower it for cleaner data\n"
 		"  -t, --threads N     threads\n"
 		"  --json              print mueller.json's content as one line on stdout\n"
 		"Exit status: 0 success, 1 failure, 2 bad arguments or input.\n");
