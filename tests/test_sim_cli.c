@@ -275,7 +275,8 @@ static void test_mueller_linear(void)
 	char p[1024];
 	snprintf(p, sizeof p, "%s/mueller.json", res);
 	json_t *m = json_load_file(p, 0, NULL);
-	CHECK(!strcmp(json_string_value(json_object_get(m, "rebuild_circular")) ?: "", "convention"));
+	const char *mode = json_string_value(json_object_get(m, "rebuild_circular"));
+	CHECK(mode && !strcmp(mode, "convention"));
 	long rejected = (long)json_integer_value(json_object_get(m, "pixels_rebuild_rejected"));
 	json_decref(m);
 
