@@ -101,18 +101,18 @@ typedef struct mat_case {
 } mat_case;
 
 static const mat_case mats[] = {
-	{ 1.5, 0, 0.2, PC_DIFFUSE_FRESNEL },    { 1.5, 0, 0.05, PC_DIFFUSE_NONE },
-	{ 1.46, 1.28, 0.2, PC_DIFFUSE_FRESNEL }, /* black paint (physics.md §8) */
-	{ 1.47, 0.47, 0.1, PC_DIFFUSE_FRESNEL }, /* green paint */
-	{ 1.46, 1.28, 0.4, PC_DIFFUSE_NONE },    { 1.2, 7.0, 0.1, PC_DIFFUSE_FRESNEL },
-	{ 0.2, 3.3, 0.3, PC_DIFFUSE_GEOMETRIC }, { 2.5, 0.01, 0.15, PC_DIFFUSE_FRESNEL },
-	{ 0.8, 0, 0.2, PC_DIFFUSE_FRESNEL },     { 4.0, 3.0, 0.02, PC_DIFFUSE_NONE },
+    {1.5, 0, 0.2, PC_DIFFUSE_FRESNEL},     {1.5, 0, 0.05, PC_DIFFUSE_NONE},
+    {1.46, 1.28, 0.2, PC_DIFFUSE_FRESNEL}, /* black paint (physics.md §8) */
+    {1.47, 0.47, 0.1, PC_DIFFUSE_FRESNEL}, /* green paint */
+    {1.46, 1.28, 0.4, PC_DIFFUSE_NONE},    {1.2, 7.0, 0.1, PC_DIFFUSE_FRESNEL},
+    {0.2, 3.3, 0.3, PC_DIFFUSE_GEOMETRIC}, {2.5, 0.01, 0.15, PC_DIFFUSE_FRESNEL},
+    {0.8, 0, 0.2, PC_DIFFUSE_FRESNEL},     {4.0, 3.0, 0.02, PC_DIFFUSE_NONE},
 };
 enum { NMAT = sizeof mats / sizeof mats[0] };
 
 static pc_pbrdf *make(const mat_case *m)
 {
-	pc_material mt = { m->n, m->k, m->sigma, m->diffuse, PC_SHADOW_TS, PC_RHO_QUAD, 0 };
+	pc_material mt = {m->n, m->k, m->sigma, m->diffuse, PC_SHADOW_TS, PC_RHO_QUAD, 0};
 	pc_pbrdf *p = NULL;
 	if (pc_pbrdf_new(&mt, &p))
 		abort();
@@ -122,7 +122,7 @@ static pc_pbrdf *make(const mat_case *m)
 /* a unit vector ⟂ k at a random angle */
 static void random_s(const double k[3], double s[3])
 {
-	double a[3] = { nrand(), nrand(), nrand() }, d = a[0] * k[0] + a[1] * k[1] + a[2] * k[2];
+	double a[3] = {nrand(), nrand(), nrand()}, d = a[0] * k[0] + a[1] * k[1] + a[2] * k[2];
 	for (int i = 0; i < 3; i++)
 		a[i] -= d * k[i];
 	double m = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
@@ -165,14 +165,17 @@ static void test_pbrdf_round_trips(void)
 				double dp = 2 * M_PI * urand();
 				CHECK_EQ_INT(pc_pbrdf_eval(p, ti, tr, dp, f), 0);
 			} else {
-				/* any frames: random directions above the horizon, random s-vectors */
-				double ti = acos(0.02 + 0.98 * urand()), tr = acos(0.02 + 0.98 * urand());
+				/* any frames: random directions above the horizon, random s-vectors
+				 */
+				double ti = acos(0.02 + 0.98 * urand()),
+				       tr = acos(0.02 + 0.98 * urand());
 				double pi = 2 * M_PI * urand(), pr = 2 * M_PI * urand();
-				if (i % 3 == 2) /* near the specular direction, where S is largest */
+				if (i % 3 ==
+				    2) /* near the specular direction, where S is largest */
 					pr = pi + M_PI + 0.3 * nrand(), tr = ti + 0.2 * nrand();
 				tr = fmin(fmax(tr, 0), 89.5 * DEG);
-				double ki[3] = { sin(ti) * cos(pi), sin(ti) * sin(pi), cos(ti) };
-				double kr[3] = { sin(tr) * cos(pr), sin(tr) * sin(pr), cos(tr) };
+				double ki[3] = {sin(ti) * cos(pi), sin(ti) * sin(pi), cos(ti)};
+				double kr[3] = {sin(tr) * cos(pr), sin(tr) * sin(pr), cos(tr)};
 				double si[3], sr[3];
 				random_s(ki, si);
 				random_s(kr, sr);
@@ -185,16 +188,16 @@ static void test_pbrdf_round_trips(void)
 			double N[3][3], M[4][4], Mp[4][4];
 			pc_rebuild_info in;
 			block3(f, N);
-			CHECK_EQ_INT(pc_mueller_rebuild_from_linear(N, PC_REBUILD_CONVENTION, 1e-9, M,
-								    &in),
-				     0);
+			CHECK_EQ_INT(
+			    pc_mueller_rebuild_from_linear(N, PC_REBUILD_CONVENTION, 1e-9, M, &in),
+			    0);
 			CHECK_EQ_INT(in.flags & PC_RB_REJECTED, 0);
 			szero += (in.flags & PC_RB_S_ZERO) != 0;
 			double e = mdiff(M, f);
 			if (in.flags & PC_RB_SIGN_UNDEFINED) {
-				/* only total reflection (k = 0, n < 1, sinβ > n) has |r_s| = |r_p|, i.e.
-				 * B = 0 with S ≠ 0: the 3×3 then cannot tell which of the two matrices
-				 * M(±S) it came from; the rebuild returns one of them */
+				/* only total reflection (k = 0, n < 1, sinβ > n) has |r_s| = |r_p|,
+				 * i.e. B = 0 with S ≠ 0: the 3×3 then cannot tell which of the two
+				 * matrices M(±S) it came from; the rebuild returns one of them */
 				CHECK(mats[mi].k == 0 && mats[mi].n < 1);
 				double Q[4][4];
 				for (int k = 0; k < 4; k++)
@@ -204,20 +207,23 @@ static void test_pbrdf_round_trips(void)
 				undefined++;
 			}
 			if (e > 2e-7)
-				fprintf(stderr, "material %d case %d: rebuilt differs by %.3g (flags %#x, "
-						"residual %.3g, S %.3g)\n",
-					mi, i, e, in.flags, in.residual, in.S / f[0][0]);
+				fprintf(stderr,
+				        "material %d case %d: rebuilt differs by %.3g (flags %#x, "
+				        "residual %.3g, S %.3g)\n",
+				        mi, i, e, in.flags, in.residual, in.S / f[0][0]);
 			worst = fmax(worst, e);
 			worst_res = fmax(worst_res, in.residual);
 			CHECK(in.d >= -1e-12 * f[0][0]);
 			worst_lc = fmax(worst_lc, lc_diff(M, f, &singular));
-			/* the other sign: the same D, R, Δ (M(−S) = Q M(S) Q, Q = diag(1, 1, 1, −1)) */
-			CHECK_EQ_INT(pc_mueller_rebuild_from_linear(N, PC_REBUILD_PLUS, 1e-9, Mp, NULL),
-				     0);
+			/* the other sign: the same D, R, Δ (M(−S) = Q M(S) Q, Q = diag(1, 1, 1,
+			 * −1)) */
+			CHECK_EQ_INT(
+			    pc_mueller_rebuild_from_linear(N, PC_REBUILD_PLUS, 1e-9, Mp, NULL), 0);
 			for (int k = 0; k < 4; k++)
 				for (int l = 0; l < 4; l++)
-					CHECK_NEAR(Mp[k][l], ((k == 3) != (l == 3) ? -1 : 1) * M[k][l],
-						   1e-15 * f[0][0]);
+					CHECK_NEAR(Mp[k][l],
+					           ((k == 3) != (l == 3) ? -1 : 1) * M[k][l],
+					           1e-15 * f[0][0]);
 			int dummy = 0;
 			worst_sign = fmax(worst_sign, lc_diff(Mp, M, &dummy));
 			n++;
@@ -233,13 +239,14 @@ static void test_pbrdf_round_trips(void)
 	CHECK(worst_lc <= 2e-5);
 	CHECK(worst_sign <= 1e-12);
 	printf("pbrdf round trips: %d matrices (%d below the horizon skipped, %d with S = 0, %d "
-	       "total reflection with B = 0 (sign undefined), %d D-singular), worst |M_rebuilt - M_true|/M00 = %.2e, residual %.1e, worst D/R/Delta "
+	       "total reflection with B = 0 (sign undefined), %d D-singular), worst |M_rebuilt - "
+	       "M_true|/M00 = %.2e, residual %.1e, worst D/R/Delta "
 	       "difference %.2e, plus vs minus sign %.1e\n",
 	       n, zero, szero, undefined, singular, worst, worst_res, worst_lc, worst_sign);
 }
 
 static void rebuild_check(const char *what, const pc_pbrdf *p, double ti, double tr, double dp,
-			  unsigned want_flags, double tol)
+                          unsigned want_flags, double tol)
 {
 	double f[4][4], N[3][3], M[4][4];
 	pc_rebuild_info in;
@@ -257,15 +264,16 @@ static void rebuild_check(const char *what, const pc_pbrdf *p, double ti, double
 static void test_hard_cases(void)
 {
 	printf("hard cases:\n");
-	mat_case glass = { 1.5, 0, 0.2, PC_DIFFUSE_FRESNEL }, glass_s = { 1.5, 0, 0.2, PC_DIFFUSE_NONE };
-	mat_case paint = { 1.46, 1.28, 0.2, PC_DIFFUSE_NONE }, sharp = { 1.46, 1.28, 0.02,
-									 PC_DIFFUSE_FRESNEL };
+	mat_case glass = {1.5, 0, 0.2, PC_DIFFUSE_FRESNEL},
+	         glass_s = {1.5, 0, 0.2, PC_DIFFUSE_NONE};
+	mat_case paint = {1.46, 1.28, 0.2, PC_DIFFUSE_NONE},
+	         sharp = {1.46, 1.28, 0.02, PC_DIFFUSE_FRESNEL};
 	pc_pbrdf *g = make(&glass), *gs = make(&glass_s), *pt = make(&paint), *sh = make(&sharp);
 	double brewster = atan(1.5) / DEG;
 	rebuild_check("dielectric below Brewster (40/40/180)", g, 40, 40, 180, PC_RB_S_ZERO, 2e-7);
 	rebuild_check("dielectric above Brewster (70/70/180)", g, 70, 70, 180, PC_RB_S_ZERO, 2e-7);
 	rebuild_check("dielectric at Brewster, no diffuse", gs, brewster, brewster, 180,
-		      PC_RB_S_ZERO, 2e-7);
+	              PC_RB_S_ZERO, 2e-7);
 	rebuild_check("dielectric out of plane (40/55/150)", g, 40, 55, 150, PC_RB_S_ZERO, 2e-7);
 	rebuild_check("normal incidence, backscatter (0/0)", pt, 0, 0, 0, PC_RB_S_ZERO, 1e-12);
 	rebuild_check("backscatter at 50/50/0", pt, 50, 50, 0, PC_RB_S_ZERO, 1e-12);
@@ -298,17 +306,18 @@ static void test_outside_family(void)
 	/* a linear retarder (δ = 60° at 20°): in the family with B = 0, so S has no frame */
 	{
 		double th = 20 * DEG, dl = 60 * DEG, c = cos(4 * th), s = sin(4 * th), cd = cos(dl);
-		double T[4][4] = { { 1, 0, 0, 0 },
-				   { 0, (1 + cd) / 2 + (1 - cd) / 2 * c, (1 - cd) / 2 * s, 0 },
-				   { 0, (1 - cd) / 2 * s, (1 + cd) / 2 - (1 - cd) / 2 * c, 0 },
-				   { 0, 0, 0, cd } };
+		double T[4][4] = {{1, 0, 0, 0},
+		                  {0, (1 + cd) / 2 + (1 - cd) / 2 * c, (1 - cd) / 2 * s, 0},
+		                  {0, (1 - cd) / 2 * s, (1 + cd) / 2 - (1 - cd) / 2 * c, 0},
+		                  {0, 0, 0, cd}};
 		/* the (k,3) entries of a linear retarder at θ: ±sinδ (sin2θ, −cos2θ) */
 		T[1][3] = -sin(dl) * sin(2 * th);
 		T[2][3] = sin(dl) * cos(2 * th);
 		T[3][1] = -T[1][3];
 		T[3][2] = -T[2][3];
 		block3(T, N);
-		CHECK_EQ_INT(pc_mueller_rebuild_from_linear(N, PC_REBUILD_CONVENTION, 1e-9, M, &in), 0);
+		CHECK_EQ_INT(pc_mueller_rebuild_from_linear(N, PC_REBUILD_CONVENTION, 1e-9, M, &in),
+		             0);
 		CHECK_EQ_INT(in.flags, PC_RB_SIGN_UNDEFINED);
 		double Q[4][4]; /* the other valid choice */
 		for (int k = 0; k < 4; k++)
@@ -319,21 +328,22 @@ static void test_outside_family(void)
 		CHECK(lc_diff(M, T, &sing) < 1e-13);
 	}
 	/* not realisable: B² + C² > A² */
-	double bad[3][3] = { { 1, 0.6, 0 }, { 0.6, 0.9, 0 }, { 0, 0, 0.9 } };
+	double bad[3][3] = {{1, 0.6, 0}, {0.6, 0.9, 0}, {0, 0, 0.9}};
 	CHECK_EQ_INT(pc_mueller_rebuild_from_linear(bad, PC_REBUILD_CONVENTION, 1e-3, M, &in), 0);
 	CHECK(in.flags & PC_RB_NONPHYSICAL);
 	CHECK(isnan(M[3][3]));
 	/* diffuse part negative: A > N00 */
-	double negd[3][3] = { { 1, 0, 0 }, { 0, 1.2, 0 }, { 0, 0, 1.2 } };
+	double negd[3][3] = {{1, 0, 0}, {0, 1.2, 0}, {0, 0, 1.2}};
 	CHECK_EQ_INT(pc_mueller_rebuild_from_linear(negd, PC_REBUILD_CONVENTION, 1e-3, M, &in), 0);
 	CHECK(in.flags & PC_RB_NONPHYSICAL);
 	/* arguments */
-	double nanb[3][3] = { { 1, 0, 0 }, { 0, NAN, 0 }, { 0, 0, 1 } };
+	double nanb[3][3] = {{1, 0, 0}, {0, NAN, 0}, {0, 0, 1}};
 	CHECK_EQ_INT(pc_mueller_rebuild_from_linear(nanb, PC_REBUILD_CONVENTION, 1e-3, M, NULL),
-		     PC_EINVAL);
+	             PC_EINVAL);
 	CHECK_EQ_INT(pc_mueller_rebuild_from_linear(negd, PC_REBUILD_CONVENTION, -1, M, NULL),
-		     PC_EINVAL);
-	CHECK_EQ_INT(pc_mueller_rebuild_from_linear(negd, PC_REBUILD_OFF, 1e-3, M, NULL), PC_EINVAL);
+	             PC_EINVAL);
+	CHECK_EQ_INT(pc_mueller_rebuild_from_linear(negd, PC_REBUILD_OFF, 1e-3, M, NULL),
+	             PC_EINVAL);
 	pc_rebuild_sign sg;
 	CHECK_EQ_INT(pc_rebuild_sign_from_name("convention", &sg), 0);
 	CHECK_EQ_INT(sg, PC_REBUILD_CONVENTION);
@@ -345,7 +355,7 @@ static void test_outside_family(void)
 
 	/* sums of two pBRDF matrices (two lights, or two facets in one pixel) and general
 	 * retarder·diattenuator·depolariser products are not of the family: most are flagged */
-	mat_case paint = { 1.46, 1.28, 0.2, PC_DIFFUSE_NONE };
+	mat_case paint = {1.46, 1.28, 0.2, PC_DIFFUSE_NONE};
 	pc_pbrdf *p = make(&paint);
 	int flagged = 0, total = 0;
 	for (int i = 0; i < 2000; i++) {
@@ -374,7 +384,7 @@ static void test_outside_family(void)
  * element behaves like σ·sqrt(χ²₃) (9 numbers, 6 parameters). */
 static void test_noise(void)
 {
-	mat_case paint = { 1.46, 1.28, 0.2, PC_DIFFUSE_FRESNEL };
+	mat_case paint = {1.46, 1.28, 0.2, PC_DIFFUSE_FRESNEL};
 	pc_pbrdf *p = make(&paint);
 	double sig = 1e-3, sum_r2 = 0, lce[4000];
 	int nlc = 0;
@@ -391,16 +401,16 @@ static void test_noise(void)
 				Nb[k][l] = N[k][l] + 0.05 * f[0][0] * nrand();
 				N[k][l] += sig * f[0][0] * nrand();
 			}
-		CHECK_EQ_INT(pc_mueller_rebuild_from_linear(N, PC_REBUILD_CONVENTION, 10 * sig, M, &in),
-			     0);
+		CHECK_EQ_INT(
+		    pc_mueller_rebuild_from_linear(N, PC_REBUILD_CONVENTION, 10 * sig, M, &in), 0);
 		n++;
 		sum_r2 += in.residual * in.residual;
 		if (in.flags & PC_RB_REJECTED)
 			flagged_small++;
 		else
 			lce[nlc++] = lc_diff(M, f, &sing);
-		CHECK_EQ_INT(pc_mueller_rebuild_from_linear(Nb, PC_REBUILD_CONVENTION, 10 * sig, M, &in),
-			     0);
+		CHECK_EQ_INT(
+		    pc_mueller_rebuild_from_linear(Nb, PC_REBUILD_CONVENTION, 10 * sig, M, &in), 0);
 		flagged_big += (in.flags & PC_RB_REJECTED) != 0;
 	}
 	double r2 = sum_r2 / n / (sig * sig);
