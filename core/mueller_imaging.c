@@ -289,20 +289,31 @@ static double cmag(double re, double im)
 	return hypot(re, im);
 }
 
+/* Projections of the four complex numbers x_j = cz[j] (c, r, z_c, z_a) on their model phases
+ * e^{iα}, e^{iγ}, e^{i(α−γ)}, e^{i(α+γ)}: p_j = Re(x_j e^{−iθ_j}), q_j = Im(x_j e^{−iθ_j}). The
+ * last two phases are products of the first two, so one sine and cosine per angle suffice. */
+static void rb_project(const double cz[4][2], double al, double ga, double p[4], double q[4])
+{
+	const double ca = cos(al), sa = sin(al), cg = cos(ga), sg = sin(ga);
+	const double e[4][2] = { { ca, sa },
+				 { cg, sg },
+				 { ca * cg + sa * sg, sa * cg - ca * sg },
+				 { ca * cg - sa * sg, sa * cg + ca * sg } };
+	for (int j = 0; j < 4; j++) {
+		p[j] = cz[j][0] * e[j][0] + cz[j][1] * e[j][1];
+		q[j] = cz[j][1] * e[j][0] - cz[j][0] * e[j][1];
+	}
+}
+
 /* The profiled least-squares objective of the rebuild: for fixed angles the best magnitudes are
- * the projections p1 = Re(c e^{−iα}), p2 = Re(r e^{−iγ}) (B = (p1 + p2)/2), p3 = Re(z_c
- * e^{−i(α−γ)}) = ρ_c, p4 = Re(z_a e^{−i(α+γ)}) = ρ_a, and ‖N − N_model‖² = const − G with
- * G = (p1 + p2)²/2 + 2p3² + 2p4². Returns G and its gradient and Hessian in (α, γ). */
+ * the projections, B = (p1 + p2)/2, ρ_c = p3, ρ_a = p4, and ‖N − N_model‖² = const − G with
+ * G = (p1 + p2)²/2 + 2p3² + 2p4². Returns G and its gradient and Hessian in (α, γ)
+ * (∂p_j/∂θ_j = q_j, ∂q_j/∂θ_j = −p_j). */
 static double rb_objective(const double cz[4][2], double al, double ga, double grad[2],
 			   double hess[3])
 {
-	const double ang[4] = { al, ga, al - ga, al + ga };
 	double p[4], q[4];
-	for (int j = 0; j < 4; j++) {
-		double c = cos(ang[j]), s = sin(ang[j]);
-		p[j] = cz[j][0] * c + cz[j][1] * s;  /* Re(x e^{−iθ}) */
-		q[j] = cz[j][1] * c - cz[j][0] * s;  /* Im(x e^{−iθ}) */
-	}
+	rb_project(cz, al, ga, p, q);
 	double b = p[0] + p[1];
 	grad[0] = b * q[0] + 4 * p[2] * q[2] + 4 * p[3] * q[3];
 	grad[1] = b * q[1] - 4 * p[2] * q[2] + 4 * p[3] * q[3];
@@ -313,38 +324,61 @@ static double rb_objective(const double cz[4][2], double al, double ga, double g
 	return 0.5 * b * b + 2 * (p[2] * p[2] + p[3] * p[3]);
 }
 
-/* Misfit ‖N − N_model‖² of the angles with the magnitudes constrained to ≥ 0 (see above). */
-static double rb_misfit(const double cz[4][2], double al, double ga)
+/* Branch (α + fa·π, γ + fg·π): the projections change sign as e^{iα} → −e^{iα} and
+ * e^{iγ} → −e^{iγ} do. */
+static void rb_flip(const double p[4], int fa, int fg, double pf[4])
 {
-	const double ang[4] = { al, ga, al - ga, al + ga };
-	double p[4], f = 0;
+	double sa = fa ? -1 : 1, sg = fg ? -1 : 1;
+	pf[0] = sa * p[0];
+	pf[1] = sg * p[1];
+	pf[2] = sa * sg * p[2];
+	pf[3] = sa * sg * p[3];
+}
+
+/* Misfit ‖N − N_model‖² (without N00) of a branch with the magnitudes constrained to ≥ 0:
+ * Σ w_j |x_j − m_j e^{iθ_j}|² = Σ w_j (|x_j|² − 2 m_j p_j + m_j²), w = (1, 1, 2, 2). */
+static double rb_misfit(const double cz[4][2], const double p[4])
+{
+	const double b = fmax(0, 0.5 * (p[0] + p[1]));
+	const double m[4] = { b, b, fmax(0, p[2]), fmax(0, p[3]) };
+	double f = 0;
 	for (int j = 0; j < 4; j++)
-		p[j] = cz[j][0] * cos(ang[j]) + cz[j][1] * sin(ang[j]);
-	const double mag[4] = { fmax(0, 0.5 * (p[0] + p[1])), fmax(0, 0.5 * (p[0] + p[1])),
-				fmax(0, p[2]), fmax(0, p[3]) };
-	for (int j = 0; j < 4; j++) {
-		double dr = cz[j][0] - mag[j] * cos(ang[j]), di = cz[j][1] - mag[j] * sin(ang[j]);
-		f += (j < 2 ? 1 : 2) * (dr * dr + di * di);
-	}
-	return f;
+		f += (j < 2 ? 1 : 2) *
+		     (cz[j][0] * cz[j][0] + cz[j][1] * cz[j][1] - 2 * m[j] * p[j] + m[j] * m[j]);
+	return fmax(0, f);
 }
 
 /* From a start (α, γ): Newton steps on the profiled objective, then the branch (α and γ are
  * known modulo π from G) with the smallest constrained misfit, which it returns. */
 static double rb_refine(const double cz[4][2], double a0, double g0, double *al, double *ga)
 {
-	double a = a0, g = g0;
+	/* α and γ of a start may be known modulo π only: begin on the branch whose projections
+	 * B, ρ_c, ρ_a are largest (all ≥ 0 for a member of the family); G is not invariant
+	 * under a flip of α or γ alone */
+	double p[4], q[4], pf[4], best_score = -INFINITY;
+	int ba = 0, bg = 0;
+	rb_project(cz, a0, g0, p, q);
+	for (int fa = 0; fa < 2; fa++)
+		for (int fg = 0; fg < 2; fg++) {
+			rb_flip(p, fa, fg, pf);
+			double score = pf[0] + pf[1] + 2 * (pf[2] + pf[3]);
+			if (score > best_score) {
+				best_score = score;
+				ba = fa;
+				bg = fg;
+			}
+		}
+	double a = a0 + ba * PC_PI, g = g0 + bg * PC_PI, gr[2], h[3];
+	double G0 = rb_objective(cz, a, g, gr, h);
 	for (int it = 0; it < 20; it++) {
-		double gr[2], h[3], t[2], th[3];
-		double G0 = rb_objective(cz, a, g, gr, h);
 		double det = h[0] * h[2] - h[1] * h[1];
 		if (!(h[0] < 0 && det > 1e-24)) /* not in a maximum's basin, or a degenerate one */
 			break;
 		double da = -(h[2] * gr[0] - h[1] * gr[1]) / det;
 		double dg = -(h[0] * gr[1] - h[1] * gr[0]) / det;
-		double step = 1, G1 = -INFINITY;
+		double step = 1, G1 = -INFINITY, gr1[2], h1[3];
 		for (int k = 0; k < 8; k++, step *= 0.5) {
-			G1 = rb_objective(cz, a + step * da, g + step * dg, t, th);
+			G1 = rb_objective(cz, a + step * da, g + step * dg, gr1, h1);
 			if (G1 >= G0)
 				break;
 		}
@@ -352,21 +386,27 @@ static double rb_refine(const double cz[4][2], double a0, double g0, double *al,
 			break;
 		a += step * da;
 		g += step * dg;
+		G0 = G1;
+		memcpy(gr, gr1, sizeof gr);
+		memcpy(h, h1, sizeof h);
 		if (fabs(step * da) + fabs(step * dg) < 1e-13)
 			break;
 	}
 	double best = INFINITY;
-	*al = a;
-	*ga = g;
+	rb_project(cz, a, g, p, q);
+	ba = bg = 0;
 	for (int fa = 0; fa < 2; fa++)
 		for (int fg = 0; fg < 2; fg++) {
-			double f = rb_misfit(cz, a + fa * PC_PI, g + fg * PC_PI);
+			rb_flip(p, fa, fg, pf);
+			double f = rb_misfit(cz, pf);
 			if (f < best) {
 				best = f;
-				*al = remainder(a + fa * PC_PI, 2 * PC_PI);
-				*ga = remainder(g + fg * PC_PI, 2 * PC_PI);
+				ba = fa;
+				bg = fg;
 			}
 		}
+	*al = remainder(a + ba * PC_PI, 2 * PC_PI);
+	*ga = remainder(g + bg * PC_PI, 2 * PC_PI);
 	return best;
 }
 
@@ -444,6 +484,13 @@ int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, d
 	}
 	double alpha = 0, gamma = 0, best_f = INFINITY;
 	for (int st = 0; st < nstart; st++) {
+		/* starts that coincide modulo π (always, for members of the family) run once */
+		bool seen = false;
+		for (int q = 0; q < st; q++)
+			seen = seen || (fabs(remainder(starts[st][0] - starts[q][0], PC_PI)) < 1e-9 &&
+					fabs(remainder(starts[st][1] - starts[q][1], PC_PI)) < 1e-9);
+		if (seen)
+			continue;
 		double a = 0, g = 0;
 		double f = rb_refine(cz, starts[st][0], starts[st][1], &a, &g);
 		if (f < best_f) {

@@ -233,7 +233,9 @@ static void test_pbrdf_round_trips(void)
 	/* stated tolerance: 2e-7 of M00 (|S| = sqrt(A² − B² − C²) turns rounding of order 1e-16
 	 * into 1e-8 where S ≈ 0, e.g. dielectrics) */
 	CHECK(worst <= 2e-7);
-	CHECK(worst_res <= 1e-13);
+	/* ~1e-12 where the angles are nearly degenerate (near-normal facet incidence: B and
+	 * A + C → 0 flatten the objective); ~1e-15 elsewhere */
+	CHECK(worst_res <= 1e-11);
 	/* D and Δ to rounding; R to 2e-5 (measured 7e-6): at R ≈ π or 0 the true S is 0 and the
 	 * rebuilt |S| = sqrt(A² − B² − C²) carries the square root of rounding */
 	CHECK(worst_lc <= 2e-5);
