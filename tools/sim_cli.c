@@ -140,6 +140,12 @@ int pc_path_join(char *buf, size_t size, const char *dir, const char *name)
 	return 0;
 }
 
+static void magenta(uint32_t x, uint32_t y, uint8_t rgb[3])
+{
+	(void)x, (void)y;
+	rgb[0] = 255, rgb[1] = 0, rgb[2] = 255;
+}
+
 int pc_write_map(const char *dir, const char *name, const float *map, uint32_t width,
 		 uint32_t height, double lo, double hi, const char *title, const char *label)
 {
@@ -158,9 +164,17 @@ int pc_write_map(const char *dir, const char *name, const float *map, uint32_t w
 		snprintf(file, sizeof file, "%s.png", name);
 		rc = pc_path_join(path, sizeof path, dir, file);
 		pc_colorbar bar = { label, lo, hi, NULL, 0, 0, pc_picture_grey_key, NULL };
+		/* pc_picture_grey draws non-finite values magenta: say what they mean when present */
+		size_t undefined = 0;
+		for (size_t i = 0; i < (size_t)width * height; i++)
+			undefined += !isfinite(map[i]);
+		char text[64];
+		snprintf(text, sizeof text, "NaN %.2g%%", 100.0 * (double)undefined /
+								  ((double)width * height));
+		pc_legend_note note = { text, magenta };
 		if (!rc)
-			rc = pc_image_write_png(path, rgb, width, height, (size_t)width * 3, title, &bar,
-						1600);
+			rc = pc_image_write_png_ex(path, rgb, width, height, (size_t)width * 3, title,
+						   &bar, undefined ? &note : NULL, 1600);
 	}
 	free(rgb);
 	return rc;
