@@ -32,34 +32,34 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 	[PC_DM_BICUBIC] = { PC_DM_BICUBIC, "bicubic",
 			    "sharper than bilinear, slight ringing; still per channel (Lapray: S0 +1.8 dB, "
 			    "DoLP +0.9 dB over bilinear)",
-			    "7x7 neighbourhood, separable; about 1.1x bilinear's time",
+			    "7x7 neighbourhood, separable; about 1.2-1.3x bilinear's time",
 			    "Keys cubic convolution (a = -1/2) per channel, as in Gao & Gruev 2011",
 			    PC_DMF_MONO },
 	[PC_DM_PPID] = { PC_DM_PPID, "ppid",
 			 "inter-channel: interpolates differences to an edge-aware pseudo-"
 			 "panchromatic image (Zhang: S0 +5.0 dB; Lapray: -0.7 dB over bilinear)",
-			 "5x5 neighbourhood, three fused passes; about 2x bilinear's time",
+			 "5x5 neighbourhood, three fused passes; about 3.5x bilinear's time",
 			 "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
 			 "Lapray, Bigue, Sensors 18(11) 3688, 2018",
 			 PC_DMF_MONO },
 	[PC_DM_RI] = { PC_DM_RI, "ri",
 		       "inter-channel: guided-filter tentative estimates plus interpolated "
 		       "residuals (Lapray: S0 +1.2 dB; Zhang: +4.0 dB over bilinear)",
-		       "guided filters (5x5 windows) per channel; about 6x bilinear's time",
+		       "guided filters (5x5 windows) per channel; about 11x bilinear's time",
 		       "Kiku, Monno, Tanaka, Okutomi, ICIP 2013; for DoFP: Ahmed, Zhao, Gruev, "
 		       "Zhang, Bermak, Opt. Express 25(9) 2017",
 		       PC_DMF_MONO },
 	[PC_DM_EARI] = { PC_DM_EARI, "eari",
 			 "inter-channel: residual interpolation guided by an edge-aware "
-			 "intensity image; the most accurate here (Lapray: S0 +3.8 dB, DoLP "
+			 "intensity image; the most accurate on Lapray (Lapray: S0 +3.8 dB, DoLP "
 			 "+2.2 dB; Zhang: +3.7/+3.5 dB over bilinear)",
-			 "like ri plus an edge-aware guide pass; 5-6x bilinear's time",
+			 "like ri plus an edge-aware guide pass; about 10x bilinear's time",
 			 "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292)",
 			 PC_DMF_MONO },
 	[PC_DM_BAYER_FIRST] = { PC_DM_BAYER_FIRST, "bayer-first",
 				"colour-polarization: bilinear Bayer demosaicking of each analyser "
 				"sub-image, then bilinear up-sampling of the analysers",
-				"a colour pass plus three bilinear passes; about 10x bilinear's time",
+				"a colour pass plus three bilinear passes; about 22x bilinear's time",
 				"the colour-first baseline of colour-polarization demosaicking "
 				"(Morimatsu et al. 2020, Sec. 3.2)",
 				PC_DMF_COLOR },
@@ -67,7 +67,7 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 			       "colour-polarization: bilinear Bayer demosaicking of each analyser "
 			       "sub-image, then EARI across the analysers of each colour; better "
 			       "polarization than bayer-first",
-			       "bayer-first's colour step plus three EARI runs; about 25x bilinear's time",
+			       "bayer-first's colour step plus three EARI runs; about 50x bilinear's time",
 			       "colour-first as Morimatsu et al. 2020, with the polarization step of "
 			       "their EARI",
 			       PC_DMF_COLOR },
@@ -75,7 +75,7 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 			  "inter-channel: EARI's edge-aware intensity guide, channels as guide x "
 			  "interpolated ratio raw/guide, twice (Lapray: S0 +3.6 dB, DoLP +2.0 dB; "
 			  "Zhang: +4.8/+4.5 dB over bilinear)",
-			  "the guide pass plus two ratio passes (3x3 tents); about 2-3x bilinear's time",
+			  "the guide pass plus two ratio passes (3x3 tents); about 2.7x bilinear's time",
 			  "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
 			  "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated",
 			  PC_DMF_MONO },
