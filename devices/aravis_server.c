@@ -2,12 +2,14 @@
 #include "polarcam/gige_server.h"
 
 #include <arv.h>
+#include <assert.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "backend_util.h"
+#include "polarcam/camera_profile.h"
 #include "polarcam/error.h"
 #include "polarcam/source.h"
 
@@ -21,12 +23,32 @@
 #define GVBS_MODEL        0x0068u
 #define GVBS_INFO         0x00a8u
 
-/* The pixel formats the camera offers, by GenICam name (codes from pc_genicam_formats). */
-static const char *const served_names[] = {
-    "PolarizeMono8", "PolarizeMono12", "PolarizeMono12p", "PolarizeMono16", "Mono8",
-    "Mono10",        "Mono12",         "Mono12p",         "Mono16",
+/* The pixel formats the camera offers, by GenICam name, with their enumeration values (0: the
+ * value in pc_genicam_formats). A monochrome-polarization source is served as a LUCID-style
+ * camera. A colour-polarization source (IMX250MYR mosaic) is served with FLIR's
+ * BayerRGPolarized names; their values live in each camera's description, and ours reuse
+ * LUCID's PolarizeMono values of the same size on purpose (0x81100007 is also Aravis's
+ * CUSTOM_BAYER_RG_16): a client that went by value instead of name would see a monochrome or a
+ * plain Bayer camera. */
+typedef struct served_name {
+	const char *name;
+	uint32_t code;
+} served_name;
+static const served_name served_mono[] = {
+    {"PolarizeMono8", 0},  {"PolarizeMono12", 0}, {"PolarizeMono12p", 0},
+    {"PolarizeMono16", 0}, {"Mono8", 0},          {"Mono10", 0},
+    {"Mono12", 0},         {"Mono12p", 0},        {"Mono16", 0},
 };
-#define N_SERVED (sizeof served_names / sizeof served_names[0])
+static const served_name served_colour[] = {
+    {"BayerRGPolarized8", 0x81080001u},
+    {"BayerRGPolarized10p", 0x810A0046u},
+    {"BayerRGPolarized12p", 0x810C0047u},
+    {"BayerRGPolarized16", 0x81100007u},
+};
+#define N_SERVED (sizeof served_mono / sizeof served_mono[0])
+/* GigE Vision model names; polarcam/camera_profile.h holds what clients learn from them */
+#define MODEL_MONO   "polarcam-sim"
+#define MODEL_COLOUR "polarcam-sim-colour"
 
 typedef struct served_fmt {
 	const char *name;
@@ -44,6 +66,7 @@ struct pc_gige_server {
 	pc_source *src;
 	pc_source_format sfmt; /* the source's full frame */
 	unsigned bits;
+	bool colour; /* the source's mosaic is colour-polarization */
 	unsigned ahead;
 	GThread *thread;
 	GMutex lock;
@@ -394,6 +417,41 @@ static int open_source(pc_gige_server *srv, const pc_gige_server_options *o)
 	return 0;
 }
 
+/* The served formats for the source's kind of mosaic, and a check that the mosaic is the one
+ * clients will take from the camera's model name (GenICam has no feature for it). */
+static int choose_formats(pc_gige_server *srv)
+{
+	srv->colour = srv->sfmt.mosaic.period == 4;
+	const served_name *list = srv->colour ? served_colour : served_mono;
+	size_t n = srv->colour ? sizeof served_colour / sizeof served_colour[0] : N_SERVED;
+	size_t nt;
+	const pc_genicam_format *gt = pc_genicam_formats(&nt);
+	for (size_t i = 0; i < n; i++)
+		for (size_t j = 0; j < nt; j++)
+			if (!strcmp(gt[j].name, list[i].name)) {
+				uint32_t code = list[i].code ? list[i].code : gt[j].code;
+				assert(code != 0);
+				srv->fmts[srv->n_fmts++] =
+				    (served_fmt){gt[j].name, code, gt[j].fmt};
+			}
+	const char *model = srv->colour ? MODEL_COLOUR : MODEL_MONO;
+	const pc_camera_profile *p = pc_camera_profile_find("polarcam", model);
+	pc_mosaic want;
+	int rc = p ? pc_mosaic_parse(p->mosaic, &want) : PC_EINVAL;
+	assert(rc == 0);
+	if (rc)
+		return rc;
+	if (memcmp(&want, &srv->sfmt.mosaic, sizeof want) != 0) {
+		char have[64];
+		pc_mosaic_format(&srv->sfmt.mosaic, have, sizeof have);
+		return pc_error(PC_ENOTSUP,
+		                "serve: the source's mosaic is %s; the camera (model %s) can only "
+		                "describe %s to its clients",
+		                have, model, p->mosaic);
+	}
+	return 0;
+}
+
 static int prepare_cycle(pc_gige_server *srv, unsigned k_frames)
 {
 	srv->cyc = calloc(k_frames, sizeof *srv->cyc);
@@ -449,15 +507,9 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 	srv->fresh = true; /* the source starts at frame 0 */
 	*out = srv;        /* pc_gige_server_stop cleans up whatever was made */
 
-	size_t nt;
-	const pc_genicam_format *gt = pc_genicam_formats(&nt);
-	for (unsigned i = 0; i < N_SERVED; i++)
-		for (size_t j = 0; j < nt; j++)
-			if (!strcmp(gt[j].name, served_names[i]) && gt[j].code)
-				srv->fmts[srv->n_fmts++] =
-				    (served_fmt){gt[j].name, gt[j].code, gt[j].fmt};
-
 	int rc = open_source(srv, o);
+	if (!rc)
+		rc = choose_formats(srv);
 	if (!rc) {
 		/* the pool: `ahead` ready frames, one being copied, one being rendered */
 		rc = pc_source_buffers_alloc(srv->src, o->cycle ? 1 : srv->ahead + 2);
@@ -496,8 +548,10 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		unlink(srv->xml_path); /* read by the camera when it was created */
 	if (!rc) {
 		srv->fc = arv_gv_fake_camera_get_fake_camera(srv->gv);
-		char name[32] = "polarcam", model[32] = "polarcam-sim", info[48];
-		snprintf(info, sizeof info, "simulated IMX250MZR, %u-bit", srv->bits);
+		char name[32] = "polarcam", model[32], info[48];
+		snprintf(model, sizeof model, "%s", srv->colour ? MODEL_COLOUR : MODEL_MONO);
+		snprintf(info, sizeof info, "simulated %s, %u-bit",
+		         srv->colour ? "IMX250MYR" : "IMX250MZR", srv->bits);
 		arv_fake_camera_write_memory(srv->fc, GVBS_MANUFACTURER, sizeof name, name);
 		arv_fake_camera_write_memory(srv->fc, GVBS_MODEL, sizeof model, model);
 		arv_fake_camera_write_memory(srv->fc, GVBS_INFO, sizeof info, info);
@@ -509,9 +563,14 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		                               srv->sfmt.width);
 		arv_fake_camera_write_register(srv->fc, ARV_FAKE_CAMERA_REGISTER_HEIGHT,
 		                               srv->sfmt.height);
-		const char *def = srv->bits <= 8    ? "PolarizeMono8"
-		                  : srv->bits <= 12 ? "PolarizeMono12"
-		                                    : "PolarizeMono16";
+		/* the default format keeps every bit of the sensor */
+		const char *def = srv->colour ? (srv->bits <= 8    ? "BayerRGPolarized8"
+		                                 : srv->bits <= 10 ? "BayerRGPolarized10p"
+		                                 : srv->bits <= 12 ? "BayerRGPolarized12p"
+		                                                   : "BayerRGPolarized16")
+		                              : (srv->bits <= 8    ? "PolarizeMono8"
+		                                 : srv->bits <= 12 ? "PolarizeMono12"
+		                                                   : "PolarizeMono16");
 		for (unsigned i = 0; i < srv->n_fmts; i++)
 			if (!strcmp(srv->fmts[i].name, def))
 				arv_fake_camera_write_register(

@@ -7,13 +7,14 @@
  * namespace in tests). packet_size sets the GigE Vision packet size in bytes (default: Aravis's
  * automatic negotiation, which picks only 1400 bytes on loopback).
  *
- * Pixel formats are identified by their GenICam enumeration NAME (pc_format_from_genicam),
+ * Pixel formats are identified by their GenICam enumeration NAME (pc_camera_format_get),
  * never by value: Aravis 0.8 knows no polarized formats and vendors' codes collide with Aravis's
  * custom codes. A format carries the polarizer mosaic when its name says so (PolarizeMono12,
- * Polarized8...) or when the camera profile table lists it for this vendor/model (Basler's
- * polarized models use plain Mono names). The mosaic of the ROI is the profile's sensor mosaic,
- * mirrored for ReverseX/ReverseY (pc_mosaic_flip) and shifted by the ROI offset
- * (pc_mosaic_shift).
+ * Polarized8, the colour BayerRGPolarized8...) or when the camera profile table lists it for
+ * this vendor/model (Basler's polarized models use plain Mono names). Each format has its own
+ * sensor mosaic (a colour-polarization name gives the IMX250MYR-style 4x4 layout); the mosaic of
+ * the ROI is that sensor mosaic, mirrored for ReverseX/ReverseY (pc_mosaic_flip) and shifted by
+ * the ROI offset (pc_mosaic_shift).
  *
  * Frame ids: GigE Vision 1.x block ids are 16 bits and wrap (skipping 0 on real cameras); they
  * are unwrapped into a 64-bit sequence so that gaps still count as dropped frames.
@@ -35,7 +36,8 @@ typedef struct arv_fmt {
 	char name[48];
 	pc_pixfmt fmt;
 	bool polarized;
-	int64_t code;
+	pc_mosaic sensor_mosaic; /* at sensor pixel (0,0), unflipped (polarized formats) */
+	int64_t code;            /* to recognise frames: only ever compared, never interpreted */
 } arv_fmt;
 
 typedef struct arv_src {
@@ -46,8 +48,8 @@ typedef struct arv_src {
 	gint lost; /* atomic: set by the control-lost signal */
 	char vendor[64], model[64], serial[64], device_id[128];
 	const pc_camera_profile *profile;
-	pc_mosaic sensor_mosaic; /* at sensor pixel (0,0), unflipped */
-	bool mosaic_known;
+	pc_mosaic user_mosaic; /* the URI's mosaic= (at sensor pixel (0,0), unflipped) */
+	bool user_mosaic_set;
 	int sensor_w, sensor_h;
 	int x_inc, y_inc, w_inc, h_inc, w_min, h_min;
 	bool has_reverse_x, has_reverse_y;
@@ -78,10 +80,10 @@ static void on_control_lost(ArvDevice *dev, gpointer user)
 	g_atomic_int_set(&a->lost, 1);
 }
 
-/* The mosaic at pixel (0,0) of the full, possibly mirrored, readout. */
-static pc_mosaic readout_mosaic(const arv_src *a)
+/* The mosaic at pixel (0,0) of the full, possibly mirrored, readout in format e. */
+static pc_mosaic readout_mosaic(const arv_src *a, const arv_fmt *e)
 {
-	return pc_mosaic_flip(&a->sensor_mosaic, a->reverse_x, a->reverse_y, (uint32_t)a->sensor_w,
+	return pc_mosaic_flip(&e->sensor_mosaic, a->reverse_x, a->reverse_y, (uint32_t)a->sensor_w,
 	                      (uint32_t)a->sensor_h);
 }
 
@@ -104,26 +106,26 @@ static int load_formats(arv_src *a)
 		return pc_error(PC_ENOMEM, "aravis: pixel formats");
 	}
 	for (guint i = 0; i < n; i++) {
-		pc_pixfmt f;
-		bool pol = false, col = false;
-		if (!names[i] || pc_format_from_genicam(names[i], &f, &pol, &col) != 0) {
+		pc_camera_format cf;
+		if (!names[i] ||
+		    pc_camera_format_get(a->profile, names[i],
+		                         a->user_mosaic_set ? &a->user_mosaic : NULL, &cf) != 0) {
 			pc_error_clear();
 			continue; /* RGB, Bayer, processed polarization formats: not raw mosaics */
 		}
-		if (col)
-			continue; /* colour-polarization needs the pipeline's colour support */
 		arv_fmt *e = &a->fmts[a->n_fmts++];
 		snprintf(e->name, sizeof e->name, "%s", names[i]);
-		e->fmt = f;
-		e->polarized = pol || pc_camera_profile_has_format(a->profile, names[i]);
+		e->fmt = cf.format;
+		e->polarized = cf.polarized;
+		e->sensor_mosaic = cf.sensor_mosaic;
 		e->code = codes[i];
 	}
 	g_free(names);
 	g_free(codes);
 	if (a->n_fmts == 0)
 		return pc_error(PC_EFORMAT,
-		                "aravis: %s %s offers no raw monochrome or polarized pixel "
-		                "format polarcam can read",
+		                "aravis: %s %s offers no raw monochrome, polarized or "
+		                "colour-polarized pixel format polarcam can read",
 		                a->vendor, a->model);
 	return 0;
 }
@@ -147,10 +149,10 @@ static int a_open(pc_source *s, const char *arg)
 		rc = pc_source_option_bool(s, "reverse_y", &ry);
 	const char *mosaic = pc_source_option(s, "mosaic");
 	if (!rc && mosaic) {
-		rc = pc_mosaic_parse(mosaic, &a->sensor_mosaic);
+		rc = pc_mosaic_parse(mosaic, &a->user_mosaic);
 		if (rc)
 			rc = pc_error_prefix(PC_EINVAL, "URI option mosaic: ");
-		a->mosaic_known = true;
+		a->user_mosaic_set = true;
 	}
 	if (rc) {
 		free(a);
@@ -178,13 +180,6 @@ static int a_open(pc_source *s, const char *arg)
 	t = arv_camera_get_device_id(a->cam, NULL);
 	snprintf(a->device_id, sizeof a->device_id, "%s", t ? t : arg);
 	a->profile = pc_camera_profile_find(a->vendor, a->model);
-	if (!a->mosaic_known) {
-		if (a->profile)
-			rc = pc_mosaic_parse(a->profile->mosaic, &a->sensor_mosaic);
-		else
-			a->sensor_mosaic = pc_mosaic_imx250mzr();
-		a->mosaic_known = true;
-	}
 	arv_camera_get_sensor_size(a->cam, &a->sensor_w, &a->sensor_h, &err);
 	if (!rc && err)
 		rc = gerr(PC_EIO, &err, "reading the sensor size");
@@ -263,6 +258,16 @@ static void a_close(pc_source *s)
 	free(a);
 }
 
+/* The camera's current format among those listed (codes are unique within one camera's
+ * enumeration; only the names were interpreted). */
+static const arv_fmt *find_fmt_code(const arv_src *a, int64_t code)
+{
+	for (unsigned i = 0; i < a->n_fmts; i++)
+		if (a->fmts[i].code == code)
+			return &a->fmts[i];
+	return NULL;
+}
+
 static int a_info(pc_source *s, pc_source_info *info)
 {
 	arv_src *a = pc_source_priv(s);
@@ -275,16 +280,13 @@ static int a_info(pc_source *s, pc_source_info *info)
 	                                           : "other");
 	info->sensor_width = (uint32_t)a->sensor_w;
 	info->sensor_height = (uint32_t)a->sensor_h;
-	info->mosaic = readout_mosaic(a);
+	const arv_fmt *e = find_fmt_code(a, a->cur_code);
+	for (unsigned i = 0; i < a->n_fmts && !e; i++)
+		if (a->fmts[i].polarized)
+			e = &a->fmts[i];
+	if (e && e->polarized)
+		info->mosaic = readout_mosaic(a, e);
 	return 0;
-}
-
-static const arv_fmt *find_fmt_code(const arv_src *a, int64_t code)
-{
-	for (unsigned i = 0; i < a->n_fmts; i++)
-		if (a->fmts[i].code == code)
-			return &a->fmts[i];
-	return NULL;
 }
 
 static uint32_t round_down(uint32_t v, int inc)
@@ -362,7 +364,7 @@ static int a_try(pc_source *s, pc_source_format *f, pc_format_verdict *v)
 	f->sensor_width = sw;
 	f->sensor_height = sh;
 	f->polarized = e->polarized;
-	pc_mosaic rm = readout_mosaic(a);
+	pc_mosaic rm = readout_mosaic(a, e);
 	if (!e->polarized)
 		memset(&f->mosaic, 0, sizeof f->mosaic);
 	rc = pc_source_format_complete(f, e->polarized ? &rm : NULL);

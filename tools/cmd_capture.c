@@ -43,7 +43,10 @@ static void usage(FILE *fp)
 	    "                      arrives; DIR/processed/ gets S0, DoLP, AoLP (.npy, float32) "
 	    "and\n"
 	    "                      pictures of the last frame; meta.json the per-frame timings\n"
-	    "  --method M          demosaicking method for --process (default bilinear)\n"
+	    "  --method M          demosaicking method for --process (default bilinear; for\n"
+	    "                      colour-polarization frames bayer-first, the colour methods\n"
+	    "                      being bayer-first and bayer-eari); S0, DoLP and AoLP of colour\n"
+	    "                      frames are those of the colour average (R + G + B)/3\n"
 	    "%s"
 	    "\nPrints one JSON line: frames recorded, format, statistics, error (if any).\n"
 	    "Exit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments.\n",
@@ -61,7 +64,7 @@ int cmd_capture(int argc, char **argv)
 	const char *dir = NULL;
 	long n = 0;
 	bool overwrite = false, process = false;
-	const char *method = "bilinear";
+	const char *method = NULL; /* the mosaic's default */
 	for (int i = 1; i < argc; i++) {
 		int rc = pc_stream_args_parse(&sa, argc, argv, &i);
 		if (rc < 0)
@@ -103,9 +106,11 @@ int cmd_capture(int argc, char **argv)
 		return pc_cli_error(PC_EXIT_USAGE, "missing -o DIR (output directory)");
 	pc_live lv;
 	memset(&lv, 0, sizeof lv);
-	int mrc = pc_demosaic_method_from_name(method, &lv.method);
-	if (mrc)
-		return pc_cli_fail(mrc, "--method");
+	if (method) { /* a misspelt name is refused before the camera is opened */
+		int mrc = pc_demosaic_method_from_name(method, &lv.method);
+		if (mrc)
+			return pc_cli_fail(mrc, "--method");
+	}
 
 	pc_source *s = NULL;
 	int rc = pc_stream_open(&sa, &s);
@@ -115,6 +120,16 @@ int cmd_capture(int argc, char **argv)
 	}
 	pc_source_format f;
 	pc_source_get_format(s, &f);
+	if (process && f.polarized) {
+		/* a method for the other kind of mosaic is refused before anything is recorded */
+		rc = pc_live_choose_method(&lv, method, &f.mosaic);
+		if (rc) {
+			pc_source_close(s);
+			pc_devices_shutdown();
+			return pc_cli_fail(rc, NULL);
+		}
+		method = pc_demosaic_method_get(lv.method)->name;
+	}
 	pc_recording_desc d;
 	memset(&d, 0, sizeof d);
 	d.source = sa.uri;

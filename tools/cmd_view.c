@@ -30,7 +30,8 @@ static void usage(FILE *fp)
 	    "colour: hue = angle, brightness = DoLP), side by side, with the frame rate. Keys:\n"
 	    "q or Esc quits, s writes a screenshot (view_NNNN.png).\n\n"
 	    "  URI                 sim:SCENE, file:DIR, aravis:ID, v4l2:/dev/videoN, libcamera:ID\n"
-	    "  --method M          demosaicking method (default bilinear; superpixel is faster)\n"
+	    "  --method M          demosaicking method (default bilinear, bayer-first for colour-\n"
+	    "                      polarization frames; superpixel is faster)\n"
 	    "  --width PX          window width for the three panels (default 1500)\n"
 	    "  --frames N          stop after N frames (default: until q)\n"
 	    "  --screenshot FILE   write the last picture shown to FILE (PNG); with --frames and "
@@ -49,7 +50,7 @@ int cmd_view(int argc, char **argv)
 	}
 	pc_stream_args sa;
 	pc_stream_args_init(&sa);
-	const char *shot = NULL, *method = "bilinear";
+	const char *shot = NULL, *method = NULL; /* NULL: the mosaic's default */
 	long frames = 0, width = 1500;
 	for (int i = 1; i < argc; i++) {
 		int rc = pc_stream_args_parse(&sa, argc, argv, &i);
@@ -84,7 +85,7 @@ int cmd_view(int argc, char **argv)
 		return pc_cli_error(PC_EXIT_USAGE, "missing the source URI (see --help)");
 	pc_live lv;
 	memset(&lv, 0, sizeof lv);
-	int rc = pc_demosaic_method_from_name(method, &lv.method);
+	int rc = method ? pc_demosaic_method_from_name(method, &lv.method) : 0;
 	if (rc)
 		return pc_cli_fail(rc, "--method");
 	bool headless = shot && frames > 0 && !getenv("DISPLAY");
@@ -101,6 +102,16 @@ int cmd_view(int argc, char **argv)
 		pc_devices_shutdown();
 		return pc_cli_fail(rc, "opening the source");
 	}
+	pc_source_format f;
+	pc_source_get_format(s, &f);
+	rc = pc_live_choose_method(&lv, method, &f.mosaic);
+	if (rc) {
+		pc_source_close(s);
+		pc_display_close(win);
+		pc_devices_shutdown();
+		return pc_cli_fail(rc, NULL);
+	}
+	method = pc_demosaic_method_get(lv.method)->name;
 	struct sigaction sig;
 	memset(&sig, 0, sizeof sig);
 	sig.sa_handler = on_signal;

@@ -3,8 +3,12 @@
  * Runs Aravis's in-process GigE Vision camera (ArvGvFakeCamera) on an interface address with
  * our own image callback and a GenICam description derived at run time from Aravis's built-in
  * one: its PixelFormat enumeration offers the raw formats of a polarization camera
- * (Mono8/10/12/12p/16 and LUCID's PolarizeMono8/12/12p/16 with their vendor codes) and it has
- * ReverseX/ReverseY. Any GigE Vision client can stream from it; the vendor is "polarcam".
+ * (Mono8/10/12/12p/16 and LUCID's PolarizeMono8/12/12p/16 with their vendor codes; for a source
+ * with a colour-polarization mosaic, FLIR's BayerRGPolarized8/10p/12p/16 only) and it has
+ * ReverseX/ReverseY. Any GigE Vision client can stream from it; the vendor is "polarcam", the
+ * model "polarcam-sim" or "polarcam-sim-colour", which is how clients learn the mosaic
+ * (polarcam/camera_profile.h): a source whose mosaic at pixel (0,0) is not IMX250MZR's
+ * (colour: IMX250MYR's) is refused with PC_ENOTSUP.
  *
  * Frames come from a frame source (normally "sim:SCENE?seed=S") rendered ahead on a producer
  * thread, so the camera keeps its frame rate while the callback only copies (crop for the ROI
