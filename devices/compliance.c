@@ -208,11 +208,20 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 	report(c, rc != 0 && same_geometry(&after, &cur),
 	       "negotiate: set_format refuses a request that needs adjusting", "%s", rcs(rc));
 
-	/* an ROI at an odd offset shifts the mosaic phase */
-	if (cur.polarized && cur.sensor_width >= 8 && cur.sensor_height >= 8) {
+	/* an ROI at an odd offset shifts the mosaic phase; a colour-polarization mosaic repeats
+	 * every 4 pixels, so an offset of 2 mod 4 must move its colours too (a shift reduced
+	 * mod 2 passes at (1,1)) */
+	const uint32_t offsets[2][2] = {{1, 1}, {3, 2}};
+	unsigned n_offsets = sensor_mosaic->period == 4 ? 2 : 1;
+	for (unsigned i = 0; i < n_offsets; i++) {
+		if (!cur.polarized || cur.sensor_width < 8 || cur.sensor_height < 8) {
+			skip(c, "negotiate: ROI mosaic phase",
+			     "not a polarized source or a tiny sensor");
+			break;
+		}
 		f = cur;
-		f.offset_x = 1;
-		f.offset_y = 1;
+		f.offset_x = offsets[i][0];
+		f.offset_y = offsets[i][1];
 		f.width = cur.sensor_width / 2;
 		f.height = cur.sensor_height / 2;
 		f.stride = 0;
@@ -225,9 +234,8 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 			       pc_format_verdict_name(v));
 		} else {
 			skip(c, "negotiate: ROI mosaic phase", "the source offers no ROI");
+			break;
 		}
-	} else {
-		skip(c, "negotiate: ROI mosaic phase", "not a polarized source or a tiny sensor");
 	}
 
 	/* every integer format: a consistent answer */
@@ -386,6 +394,13 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 			report(&c, info.polarized && mosaic_equal(&cur.mosaic, &want),
 			       "info: sensor mosaic agrees with the format's", "offset (%u,%u)",
 			       cur.offset_x, cur.offset_y);
+			int mrc = pc_mosaic_check(&info.mosaic);
+			char layout[64] = "";
+			if (mrc == 0)
+				pc_mosaic_format(&info.mosaic, layout, sizeof layout);
+			report(&c, mrc == 0, "info: the sensor mosaic is a valid layout", "%s",
+			       mrc ? pc_error_detail() : layout);
+			pc_error_clear();
 		}
 	}
 

@@ -181,10 +181,9 @@ static void test_collisions_and_errors(void)
 	/* plain Mono: a mosaic only where the profile says so (Basler) */
 	CHECK_EQ_INT(pc_camera_format_get(NULL, "Mono12", NULL, &a), 0);
 	CHECK(!a.polarized && !a.colour);
-	CHECK_EQ_INT(
-	    pc_camera_format_get(pc_camera_profile_find("Basler", "acA2440-75umPOL"), "Mono12", NULL,
-	                         &a),
-	    0);
+	CHECK_EQ_INT(pc_camera_format_get(pc_camera_profile_find("Basler", "acA2440-75umPOL"),
+	                                  "Mono12", NULL, &a),
+	             0);
 	CHECK(a.polarized && !a.colour && a.sensor_mosaic.period == 2);
 	/* the user's mosaic (URI mosaic=): a monochrome layout goes under RGGB for a colour name,
 	 * a colour one is taken as it is */

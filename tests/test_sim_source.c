@@ -2,7 +2,8 @@
  * as a separate program), ROI frames at odd offsets equal crops of those frames with the
  * mosaic phase moved accordingly, packed formats and padded strides carry the same values,
  * the pacing schedule is computed from the stream start (arithmetic of the pacer, no timing),
- * every injected fault surfaces through the compliance test, the compliance test passes. */
+ * every injected fault surfaces through the compliance test, the compliance test passes; all of
+ * it for a monochrome (ideal_small) and a colour-polarization (colour_small, IMX250MYR) scene. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +19,7 @@
 
 static char scene[512];
 static char tmp[64];
+static bool colour; /* the scene's sensor is colour-polarization (IMX250MYR) */
 
 static void log_fail(void *ctx, pc_check_result r, const char *check, const char *detail)
 {
@@ -32,12 +34,13 @@ static pc_view rendered[3];
 static int render(const char *polarcam)
 {
 	char cmd[1400];
-	snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s/render' -n 3 -s 5 --no-truth >/dev/null",
-	         polarcam, scene, tmp);
+	snprintf(cmd, sizeof cmd,
+	         "'%s' render '%s' -o '%s/render%d' -n 3 -s 5 --no-truth >/dev/null", polarcam,
+	         scene, tmp, colour);
 	if (system(cmd) != 0)
 		return -1;
 	char dir[128];
-	snprintf(dir, sizeof dir, "%s/render", tmp);
+	snprintf(dir, sizeof dir, "%s/render%d", tmp, colour);
 	pc_recording *r = NULL;
 	int rc = pc_recording_open(&r, dir);
 	for (int k = 0; !rc && k < 3; k++)
@@ -87,12 +90,19 @@ static void compare(pc_source *s, uint32_t ox, uint32_t oy)
 				        PC_ROW(&rendered[k], uint16_t, y + oy)[x + ox];
 		CHECK_EQ_INT(mism, 0);
 		free(u);
-		/* IMX250MZR [90 45; 135 0] moved by hand to the ROI origin */
+		/* IMX250MZR [90 45; 135 0] (IMX250MYR: those blocks under RGGB) moved by hand to
+		 * the ROI origin */
 		static const int a[2][2] = {{90, 45}, {135, 0}};
-		for (unsigned y = 0; y < 2; y++)
-			for (unsigned x = 0; x < 2; x++)
-				CHECK_EQ_INT(b->frame.mosaic.channel[y][x] * 45,
+		static const pc_cfa_color rggb[2][2] = {{PC_CFA_R, PC_CFA_G}, {PC_CFA_G, PC_CFA_B}};
+		CHECK_EQ_INT(b->frame.mosaic.period, colour ? 4 : 2);
+		for (unsigned y = 0; y < 4; y++)
+			for (unsigned x = 0; x < 4; x++) {
+				CHECK_EQ_INT(pc_mosaic_channel(&b->frame.mosaic, x, y) * 45,
 				             a[(y + oy) & 1][(x + ox) & 1]);
+				CHECK_EQ_INT(pc_mosaic_color(&b->frame.mosaic, x, y),
+				             colour ? rggb[((y + oy) >> 1) & 1][((x + ox) >> 1) & 1]
+				                    : PC_CFA_NONE);
+			}
 		CHECK_EQ_INT(pc_source_requeue(s, b), 0);
 	}
 }
@@ -108,19 +118,23 @@ static void test_against_render(void)
 		compare(s, 0, 0);
 		pc_source_close(s);
 	}
-	/* ROI at an odd offset, Mono12p, padded stride */
-	pc_source_format req;
-	memset(&req, 0, sizeof req);
-	req.format = PC_FMT_MONO12P;
-	req.offset_x = 3;
-	req.offset_y = 1;
-	req.width = 100;
-	req.height = 37;
-	req.stride = 256;
-	s = open_stream("", &req);
-	if (s) {
-		compare(s, 3, 1);
-		pc_source_close(s);
+	/* ROIs at odd offsets (and 2 mod 4, which moves a colour mosaic's colours), Mono12p,
+	 * padded stride */
+	const uint32_t off[2][2] = {{3, 1}, {2, 3}};
+	for (int i = 0; i < 2; i++) {
+		pc_source_format req;
+		memset(&req, 0, sizeof req);
+		req.format = PC_FMT_MONO12P;
+		req.offset_x = off[i][0];
+		req.offset_y = off[i][1];
+		req.width = 100;
+		req.height = 37;
+		req.stride = 256;
+		s = open_stream("", &req);
+		if (s) {
+			compare(s, off[i][0], off[i][1]);
+			pc_source_close(s);
+		}
 	}
 	/* the default format itself can be an odd ROI with a padded stride (misbehaving camera) */
 	s = open_stream("&roi=5,2,64,48&stride_pad=40", NULL);
@@ -209,18 +223,23 @@ int main(void)
 	const char *src = getenv("PC_SOURCE_DIR"), *polarcam = getenv("POLARCAM");
 	if (!src || !polarcam)
 		SKIP("PC_SOURCE_DIR / POLARCAM not set: run through ctest");
-	snprintf(scene, sizeof scene, "%s/scenes/ideal_small.json", src);
 	snprintf(tmp, sizeof tmp, "/tmp/pc_simsrc_XXXXXX");
 	if (!mkdtemp(tmp))
 		SKIP("no temporary directory");
 	test_pacer();
-	CHECK_EQ_INT(render(polarcam), 0);
-	if (rendered[2].data)
-		test_against_render();
-	test_compliance();
+	/* a monochrome and a colour-polarization scene through the same checks */
+	for (int c = 0; c < 2; c++) {
+		colour = c;
+		snprintf(scene, sizeof scene, "%s/scenes/%s", src,
+		         colour ? "colour_small.json" : "ideal_small.json");
+		CHECK_EQ_INT(render(polarcam), 0);
+		if (rendered[2].data)
+			test_against_render();
+		test_compliance();
+		for (int k = 0; k < 3; k++)
+			pc_view_free(&rendered[k]);
+	}
 	test_errors();
-	for (int k = 0; k < 3; k++)
-		pc_view_free(&rendered[k]);
 	char cmd[128];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmp);
 	if (system(cmd) != 0)
