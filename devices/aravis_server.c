@@ -594,6 +594,8 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		srv->st.sensor_width = srv->sfmt.width;
 		srv->st.sensor_height = srv->sfmt.height;
 		srv->st.bits = srv->bits;
+		snprintf(srv->st.model, sizeof srv->st.model, "%s", model);
+		pc_mosaic_format(&srv->sfmt.mosaic, srv->st.mosaic, sizeof srv->st.mosaic);
 		arv_fake_camera_set_fill_pattern(srv->fc, fill_cb, srv);
 		srv->thread = g_thread_try_new("polarcam-serve", producer, srv, NULL);
 		if (!srv->thread)

@@ -15,6 +15,17 @@ if(PC_HAVE_ARAVIS)
     RESOURCE_LOCK gige RUN_SERIAL TRUE ENVIRONMENT "${PC_TEST_ENV}")
 endif()
 
+# The same against a colour-polarization camera (serve scenes/colour_small.json: IMX250MYR).
+if(PC_HAVE_ARAVIS)
+  add_executable(gige_colour ${CMAKE_CURRENT_SOURCE_DIR}/gige_colour.c)
+  target_link_libraries(gige_colour PRIVATE pc_cli PkgConfig::ARAVIS m)
+  target_include_directories(gige_colour PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+  add_test(NAME devices_gige_colour COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/netns.sh
+    $<TARGET_FILE:gige_colour>)
+  set_tests_properties(devices_gige_colour PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
+    RESOURCE_LOCK gige RUN_SERIAL TRUE ENVIRONMENT "${PC_TEST_ENV}")
+endif()
+
 # The live window in a real X server (Xvfb) with an X screenshot (xwd).
 if(PC_HAVE_OPENCV)
   add_executable(view_xvfb ${CMAKE_CURRENT_SOURCE_DIR}/view_xvfb.c)

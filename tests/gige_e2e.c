@@ -25,7 +25,7 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "children.h"
+#include "gige_peer.h"
 #include "polarcam/compliance.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
@@ -80,75 +80,13 @@ static void make_recording(void)
 	pc_view_free(&f.view);
 }
 
-/* ---- processes ---- */
+/* ---- processes (tests/gige_peer.h) ---- */
 
-/* Generous limits: they only matter when something hangs, and a loaded 2-core machine running
- * the ASan build is slow to start processes. Readiness is always waited for, never slept. */
-enum { START_MS = 60000, EXIT_MS = 60000, FRAME_MS = 10000 };
-
-/* Starts argv with stdout on a pipe (*out_fd) and stderr to stderr_path (tests/children.h:
- * the child dies with this test). */
-static pid_t spawn(char *const argv[], int *out_fd, const char *stderr_path)
-{
-	int p[2];
-	if (pipe(p))
-		return -1;
-	pid_t pid = pc_child_spawn(argv, p[1], stderr_path);
-	close(p[1]);
-	if (pid < 0) {
-		close(p[0]);
-		return -1;
-	}
-	*out_fd = p[0];
-	return pid;
-}
-
-/* Reads from fd until a line containing want arrives or timeout_ms passes. */
-static bool wait_line(int fd, const char *want, int timeout_ms, char *buf, size_t size)
-{
-	size_t len = 0;
-	buf[0] = '\0';
-	while (timeout_ms > 0) {
-		struct pollfd pf = {fd, POLLIN, 0};
-		int r = poll(&pf, 1, 100);
-		timeout_ms -= 100;
-		if (r <= 0)
-			continue;
-		ssize_t n = read(fd, buf + len, size - 1 - len);
-		if (n <= 0)
-			return false;
-		len += (size_t)n;
-		buf[len] = '\0';
-		if (strstr(buf, want))
-			return true;
-	}
-	return false;
-}
-
-/* Starts `polarcam serve` with the given arguments after "serve"; waits for its JSON line. */
 static pid_t start_serve_args(char *const args[], int *fd)
 {
-	char *argv[16];
-	int n = 0;
-	argv[n++] = (char *)polarcam;
-	argv[n++] = "serve";
-	for (int i = 0; args[i] && n < 15; i++)
-		argv[n++] = args[i];
-	argv[n] = NULL;
 	char errp[160];
 	snprintf(errp, sizeof errp, "%s/serve.err", base);
-	pid_t pid = spawn(argv, fd, errp);
-	char buf[1024];
-	buf[0] = '\0';
-	if (pid < 0 || !wait_line(*fd, "\"serving\"", START_MS, buf, sizeof buf)) {
-		fprintf(stderr, "server did not start: %s\n", buf);
-		if (pid > 0) {
-			pc_child_stop(pid, SIGKILL, EXIT_MS);
-			close(*fd);
-		}
-		return -1;
-	}
-	return pid;
+	return serve_start(polarcam, args, errp, fd, NULL, 0);
 }
 
 static pid_t start_server(const char *extra1, const char *extra2, int *fd)
@@ -157,13 +95,6 @@ static pid_t start_server(const char *extra1, const char *extra2, int *fd)
 	snprintf(src, sizeof src, "file:%s?loop=1", rec_dir);
 	char *args[] = {"--source", src, "--fps", "200", (char *)extra1, (char *)extra2, NULL};
 	return start_serve_args(args, fd);
-}
-
-static int stop_server(pid_t pid, int fd)
-{
-	int st = pc_child_stop(pid, SIGTERM, EXIT_MS);
-	close(fd);
-	return st;
 }
 
 /* ---- in-process client checks ---- */

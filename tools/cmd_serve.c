@@ -30,7 +30,13 @@ static void usage(FILE *fp)
 	    "from it; polarcam's own client is `polarcam capture aravis:ADDR ...`. Frames are\n"
 	    "rendered ahead; every acquisition starts at frame 0 of the scene, so the frames "
 	    "equal\n"
-	    "`polarcam render SCENE --seed S` bit for bit.\n\n"
+	    "`polarcam render SCENE --seed S` bit for bit. A monochrome sensor (IMX250MZR layout) "
+	    "is\n"
+	    "served with Mono* and LUCID's PolarizeMono* formats (model polarcam-sim), a colour-\n"
+	    "polarization one (IMX250MYR, e.g. scenes/colour.json) with FLIR's BayerRGPolarized8/\n"
+	    "10p/12p/16 (model polarcam-sim-colour); clients take the mosaic from the model name, "
+	    "so\n"
+	    "other layouts are refused.\n\n"
 	    "  SCENE               a scene file or 'default' (the built-in scene)\n"
 	    "  --address ADDR      interface address to serve on (default 127.0.0.1)\n"
 	    "  --seed S            noise seed of the simulator (default 0, as render)\n"
@@ -148,6 +154,8 @@ int cmd_serve(int argc, char **argv)
 	json_object_set_new(sv, "width", json_integer(st.sensor_width));
 	json_object_set_new(sv, "height", json_integer(st.sensor_height));
 	json_object_set_new(sv, "bits", json_integer(st.bits));
+	json_object_set_new(sv, "model", json_string(st.model));
+	json_object_set_new(sv, "mosaic", json_string(st.mosaic));
 	json_object_set_new(j, "serving", sv);
 	pc_cli_print_json(j);
 	fflush(stdout);
