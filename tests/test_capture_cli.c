@@ -5,7 +5,12 @@
  *   - a camera that disappears (sim disconnect_after) ends with exit 1, a clear message and
  *     the frames so far intact (meta.json complete=false with the error)
  *   - a recording that ends early (file:) and bad arguments give clear errors, exit 1/2
- *   - an existing recording is never overwritten without --overwrite */
+ *   - an existing recording is never overwritten without --overwrite
+ *   - a colour-polarization scene (IMX250MYR): capture == render, --process runs bayer-first
+ *     on the recorded mosaic (mean S0 against the colour-average formula computed here from
+ *     the raw values and the layout drawn by hand; `polarcam process` of a recorded frame takes
+ *     the layout from meta.json and gives the same images), a monochrome method is refused
+ *     before anything is written */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -155,6 +160,100 @@ static void test_bad_arguments(void)
 	CHECK(strstr(out, "raw_NNNNNN.png") != NULL);
 }
 
+static float *npy(const char *path, size_t *n)
+{
+	pc_array a;
+	if (pc_npy_read(path, &a) != 0 || a.dtype != PC_DT_F32)
+		return NULL;
+	*n = pc_array_count(&a);
+	return a.data;
+}
+
+static void test_colour(const char *src)
+{
+	char a[1500], cs[600];
+	snprintf(cs, sizeof cs, "%s/scenes/colour_small.json", src);
+	snprintf(a, sizeof a, "render '%s' -o '%s/rc' -n 2 -s 11 --no-truth", cs, tmp);
+	CHECK_EQ_INT(run(a), 0);
+	snprintf(a, sizeof a, "capture 'sim:%s?seed=11&fps=0' -n 2 -o '%s/cc' --process", cs, tmp);
+	CHECK_EQ_INT(run(a), 0);
+	CHECK(strstr(out, "\"method\":\"bayer-first\"") != NULL);
+	CHECK(strstr(out, "\"mosaic\":\"RGGB:90,45,135,0\"") != NULL);
+	char p1[128], p2[128];
+	snprintf(p1, sizeof p1, "%s/rc/raw_000001.png", tmp);
+	snprintf(p2, sizeof p2, "%s/cc/raw_000001.png", tmp);
+	pc_view v1, v2;
+	unsigned b1 = 0, b2 = 0;
+	CHECK_EQ_INT(pc_image_read(p1, NULL, &v1, &b1), 0);
+	CHECK_EQ_INT(pc_image_read(p2, NULL, &v2, &b2), 0);
+	CHECK_EQ_INT(b2, 12);
+	CHECK(v1.width == v2.width && v1.height == v2.height);
+	size_t diff = 0;
+	for (uint32_t y = 0; y < v1.height && v1.width == v2.width; y++)
+		diff += memcmp(PC_ROW(&v1, uint8_t, y), PC_ROW(&v2, uint8_t, y),
+		               (size_t)v1.width * 2) != 0;
+	CHECK_EQ_INT(diff, 0);
+	/* mean S0 = mean over pixels of (1/2) sum_c (R_c + G_c + B_c) / 3; interpolation keeps
+	 * each colour-analyser class's mean (up to the borders), so it is (1/2) sum_c (1/3)
+	 * sum_k mean(raw over class (k, c)) with the classes of IMX250MYR drawn by hand:
+	 *   R90  R45 G90  G45
+	 *   R135 R0  G135 G0
+	 *   G90  G45 B90  B45
+	 *   G135 G0  B135 B0 */
+	static const char col[4][5] = {"RRGG", "RRGG", "GGBB", "GGBB"};
+	double sum[3][4] = {{0}}, cnt[3][4] = {{0}};
+	for (uint32_t y = 0; y < v2.height; y++)
+		for (uint32_t x = 0; x < v2.width; x++) {
+			int k = col[y & 3][x & 3] == 'R' ? 0 : col[y & 3][x & 3] == 'G' ? 1 : 2;
+			int c = (y & 1) ? ((x & 1) ? 0 : 3) : ((x & 1) ? 1 : 2); /* 0,45,90,135 */
+			sum[k][c] += PC_ROW(&v2, uint16_t, y)[x];
+			cnt[k][c]++;
+		}
+	double want = 0;
+	for (int k = 0; k < 3; k++)
+		for (int c = 0; c < 4; c++)
+			want += sum[k][c] / cnt[k][c] / 6;
+	char pn[160];
+	snprintf(pn, sizeof pn, "%s/cc/processed/s0.npy", tmp);
+	size_t n = 0, n2 = 0;
+	float *s0 = npy(pn, &n);
+	CHECK(s0 != NULL && n == (size_t)v2.width * v2.height);
+	double mean = 0;
+	for (size_t i = 0; s0 && i < n; i++)
+		mean += s0[i] / (double)n;
+	CHECK_REL(mean, want, 0.005); /* measured 0.05 % here */
+	/* process of a recorded frame: the layout and method from the recording's meta.json */
+	snprintf(a, sizeof a, "process '%s' -o '%s/pc'", p2, tmp);
+	CHECK_EQ_INT(run(a), 0);
+	CHECK(strstr(out, "\"layout\":\"RGGB:90,45,135,0\"") &&
+	      strstr(out, "\"method\":\"bayer-first\""));
+	snprintf(pn, sizeof pn, "%s/cc/processed/dolp.npy", tmp);
+	float *d1 = npy(pn, &n);
+	snprintf(pn, sizeof pn, "%s/pc/dolp.npy", tmp);
+	float *d2 = npy(pn, &n2);
+	CHECK(d1 && d2 && n == n2);
+	size_t bad = 0;
+	for (size_t i = 0; d1 && d2 && i < n && n == n2; i++)
+		bad += !(fabsf(d1[i] - d2[i]) <= 1e-6f);
+	CHECK_EQ_INT(bad, 0);
+	free(s0);
+	free(d1);
+	free(d2);
+	pc_view_free(&v1);
+	pc_view_free(&v2);
+	/* a monochrome method on colour frames: exit 2, naming the methods, nothing written */
+	snprintf(a, sizeof a,
+	         "capture 'sim:%s?seed=11&fps=0' -n 2 -o '%s/cb' --process --method bilinear", cs,
+	         tmp);
+	CHECK_EQ_INT(run(a), 2);
+	CHECK(strstr(out, "bayer-first") != NULL);
+	snprintf(pn, sizeof pn, "%s/cb", tmp);
+	FILE *fp = fopen(pn, "r");
+	CHECK(fp == NULL);
+	if (fp)
+		fclose(fp);
+}
+
 int main(void)
 {
 	polarcam = getenv("POLARCAM");
@@ -168,6 +267,7 @@ int main(void)
 	test_render_identical();
 	test_disconnect();
 	test_bad_arguments();
+	test_colour(src);
 	char cmd[128];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmp);
 	if (system(cmd) != 0)

@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "polarcam/error.h"
+#include "polarcam/recording.h"
 
 const char pc_raw_cli_help[] =
 	"input:\n"
@@ -21,10 +22,12 @@ const char pc_raw_cli_help[] =
 	"  --bits N            significant bits of the data (default: what the file declares);\n"
 	"                      values above 2^N - 1 are an error, never clamped\n"
 	"  --layout L          mosaic layout [BAYER:]A,B,C,D[@DX,DY], the analyser angles of the\n"
-	"                      top-left 2x2 block row by row (default 90,45,135,0 = Sony\n"
-	"                      IMX250MZR; RGGB:90,45,135,0 or imx250myr for the colour sensor;\n"
-	"                      @DX,DY for a crop at an odd offset)\n"
-	"  --method NAME       demosaicking method (polarcam demosaic --list; default bilinear)\n"
+	"                      top-left 2x2 block row by row (RGGB:90,45,135,0 or imx250myr for\n"
+	"                      the colour sensor; @DX,DY for a crop at an odd offset). Default:\n"
+	"                      the mosaic in meta.json when RAW is a frame of a polarcam recording\n"
+	"                      (render, capture), else 90,45,135,0 = Sony IMX250MZR\n"
+	"  --method NAME       demosaicking method (polarcam demosaic --list; default bilinear,\n"
+	"                      bayer-first for colour-polarization layouts)\n"
 	"  --threads N         threads (default: all cores)\n"
 	"  --reference         run the double-precision reference implementation (slow)\n";
 
@@ -37,11 +40,42 @@ static int need(int argc, char **argv, int i)
 	return 1;
 }
 
+/* The mosaic of RAW when it is a frame listed in its directory's meta.json (a recording written
+ * by render or capture): 1 and *m set, else 0 (not a recording, not one of its frames, or
+ * frames without a polarizer mosaic). */
+static int layout_from_recording(const char *path, pc_mosaic *m)
+{
+	const char *slash = strrchr(path, '/');
+	const char *file = slash ? slash + 1 : path;
+	char dir[4096], meta[4200];
+	if (!slash)
+		snprintf(dir, sizeof dir, ".");
+	else if ((size_t)snprintf(dir, sizeof dir, "%.*s", slash == path ? 1 : (int)(slash - path),
+				  path) >= sizeof dir)
+		return 0;
+	snprintf(meta, sizeof meta, "%s/meta.json", dir);
+	FILE *fp = fopen(meta, "r");
+	if (!fp)
+		return 0;
+	fclose(fp);
+	pc_recording *r = NULL;
+	if (pc_recording_open(&r, dir) != 0) {
+		pc_error_clear(); /* some other meta.json: not a recording */
+		return 0;
+	}
+	int found = 0;
+	const pc_recording_desc *d = pc_recording_get_desc(r);
+	for (size_t i = 0; d->polarized && !found && i < pc_recording_count(r); i++)
+		found = !strcmp(pc_recording_get_frame(r, i)->file, file);
+	if (found)
+		*m = d->mosaic;
+	pc_recording_free(r);
+	return found;
+}
+
 int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
 {
 	memset(o, 0, sizeof *o);
-	o->layout = "90,45,135,0";
-	o->method = "bilinear";
 	int nextra = 0, have_w = 0, have_h = 0, have_f = 0;
 	long v;
 	int rc;
@@ -127,8 +161,18 @@ int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
 							   "--format together");
 		o->have_geometry = true;
 	}
-	if ((rc = pc_mosaic_parse(o->layout, &o->mosaic)))
-		return pc_cli_fail(rc, "--layout");
+	if (o->layout) {
+		if ((rc = pc_mosaic_parse(o->layout, &o->mosaic)))
+			return pc_cli_fail(rc, "--layout");
+	} else if (o->path && !o->have_geometry && layout_from_recording(o->path, &o->mosaic)) {
+		pc_mosaic_format(&o->mosaic, o->layout_buf, sizeof o->layout_buf);
+		o->layout = o->layout_buf;
+	} else {
+		o->layout = "90,45,135,0";
+		pc_mosaic_parse(o->layout, &o->mosaic);
+	}
+	if (!o->method)
+		o->method = o->mosaic.period == 4 ? "bayer-first" : "bilinear";
 	if ((rc = pc_demosaic_method_from_name(o->method, &o->dm)))
 		return pc_cli_fail(rc, "--method");
 	const pc_demosaic_method_info *mi = pc_demosaic_method_get(o->dm);

@@ -11,14 +11,15 @@
 typedef struct pc_raw_cli {
 	const char *path;     /* RAW */
 	const char *out;      /* -o */
-	const char *layout;   /* --layout (default 90,45,135,0) */
-	const char *method;   /* --method (default bilinear) */
+	const char *layout;   /* --layout (default: RAW's recording's meta.json, or 90,45,135,0) */
+	const char *method;   /* --method (default bilinear; bayer-first for colour layouts) */
 	unsigned bits;        /* --bits (0: from the file) */
 	int threads;          /* --threads (0: all) */
 	bool reference;       /* --reference */
 	bool have_geometry;   /* --width/--height/--format given */
 	pc_raw_geometry geometry;
 	/* resolved */
+	char layout_buf[64];
 	pc_mosaic mosaic;
 	pc_demosaic_method dm;
 } pc_raw_cli;
