@@ -13,7 +13,8 @@
  *   - the compliance test passes on aravis: with the colour camera
  *   - `capture --process` runs the colour pipeline (bayer-first by default) on the recorded
  *     mosaic: the same images as `polarcam process` of the recorded raw with that layout, unlike
- *     with the layout one pixel off; a monochrome method is refused before anything is written */
+ *     with the layout one pixel off; a monochrome method is refused before anything is written
+ *   - serve refuses a source whose mosaic its model name cannot describe (BGGR), naming it */
 #include <arv.h>
 #include <fcntl.h>
 #include <math.h>
@@ -448,6 +449,48 @@ static void test_process(void)
 	free(err);
 }
 
+/* A recording with another colour layout cannot be served as polarcam-sim-colour. */
+static void test_serve_refuses_layout(void)
+{
+	char dir[160];
+	snprintf(dir, sizeof dir, "%s/bggr", base);
+	pc_recording_desc d;
+	memset(&d, 0, sizeof d);
+	d.format = PC_FMT_MONO12;
+	d.width = d.sensor_width = 16;
+	d.height = d.sensor_height = 8;
+	d.polarized = true;
+	CHECK_EQ_INT(pc_mosaic_parse("BGGR:90,45,135,0", &d.mosaic), 0);
+	pc_recording *r = NULL;
+	CHECK_EQ_INT(pc_recording_create(&r, dir, &d, false), 0);
+	pc_frame f;
+	memset(&f, 0, sizeof f);
+	CHECK_EQ_INT(pc_view_alloc(&f.view, PC_FMT_MONO12, 16, 8, 64), 0);
+	if (r)
+		CHECK_EQ_INT(pc_recording_add(r, &f), 0);
+	if (r)
+		CHECK_EQ_INT(pc_recording_finish(r, NULL), 0);
+	pc_recording_free(r);
+	pc_view_free(&f.view);
+	char src[200], errp[160], out[2048];
+	snprintf(src, sizeof src, "file:%s?loop=1", dir);
+	snprintf(errp, sizeof errp, "%s/serve_bggr.err", base);
+	char *argv[] = {(char *)polarcam, "serve", "--source", src, NULL};
+	int fd;
+	pid_t pid = spawn(argv, &fd, errp);
+	CHECK(pid > 0);
+	if (pid <= 0)
+		return;
+	CHECK(!wait_line(fd, "\"serving\"", START_MS, out, sizeof out));
+	CHECK(pc_child_wait(pid, EXIT_MS, NULL) != 0);
+	close(fd);
+	char *err = read_text(errp);
+	CHECK(err && strstr(err, "BGGR:90,45,135,0") && strstr(err, "RGGB:90,45,135,0"));
+	if (err && !strstr(err, "BGGR"))
+		fprintf(stderr, "serve said: %s\n", err);
+	free(err);
+}
+
 int main(void)
 {
 	polarcam = getenv("POLARCAM");
@@ -476,6 +519,7 @@ int main(void)
 			test_process();
 			CHECK_EQ_INT(stop_server(srv, fd), 0);
 		}
+		test_serve_refuses_layout();
 	}
 	for (int k = 0; k < NREF; k++)
 		pc_view_free(&ref[k]);
