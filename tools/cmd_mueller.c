@@ -241,7 +241,7 @@ int cmd_mueller(int argc, char **argv)
 	if (isnan(black))
 		black = rec_black;
 	int status = PC_EXIT_OK;
-	float *M = NULL, *maps = NULL;
+	float *M = NULL, *maps = NULL, *residual = NULL;
 	if (!states_path) {
 		status = pc_cli_error(PC_EXIT_USAGE, "--states FILE is required with frame files");
 		goto done;
@@ -289,8 +289,7 @@ int cmd_mueller(int argc, char **argv)
 	size_t np = (size_t)ow * oh;
 	M = res.M;
 	maps = res.maps;
-	float *residual = res.residual;
-	res.residual = NULL;
+	residual = res.residual;
 	lc_counts lc = { res.singular, res.nonphysical, res.bad };
 	if ((rc = pc_mkdir_p(out))) {
 		status = pc_cli_fail(rc, out);
@@ -311,17 +310,13 @@ int cmd_mueller(int argc, char **argv)
 	    (rc = pc_write_map(out, "Delta", maps + 2 * np, ow, oh, 0, 1,
 			       "Depolarization Delta (Lu-Chipman)", "Delta"))) {
 		status = pc_cli_fail(rc, out);
-		free(residual);
 		goto done;
 	}
-	if (residual) {
-		rc = pc_write_map(out, "rebuild_residual", residual, ow, oh, 0, 2 * rb.tol,
-				  "Residual of the 3x3 fit / M00 (pBRDF family)", "residual");
-		free(residual);
-		if (rc) {
-			status = pc_cli_fail(rc, out);
-			goto done;
-		}
+	if (residual &&
+	    (rc = pc_write_map(out, "rebuild_residual", residual, ow, oh, 0, 2 * rb.tol,
+			       "Residual of the 3x3 fit / M00 (pBRDF family)", "residual"))) {
+		status = pc_cli_fail(rc, out);
+		goto done;
 	}
 	json_t *js = json_object();
 	json_object_set_new(js, "frames", json_integer((json_int_t)nframes));
@@ -375,5 +370,6 @@ done:
 	free(files);
 	free(M);
 	free(maps);
+	free(residual);
 	return status;
 }
