@@ -293,6 +293,13 @@ typedef struct lc_ctx {
 /* the 3×3 linear block: bits 4k + l, k, l < 3 */
 #define PC_LINEAR_BLOCK 0x777u
 
+/* Rebuild only where it applies: the linear block determined, not the whole matrix. */
+static bool rebuild_applies(const pc_rebuild_opts *rb, unsigned determined)
+{
+	return rb && rb->sign != PC_REBUILD_OFF && determined != 0xFFFFu &&
+	       (determined & PC_LINEAR_BLOCK) == PC_LINEAR_BLOCK;
+}
+
 static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 {
 	/* chunks of a row through the batched Lu–Chipman kernel (bit-identical to
@@ -394,9 +401,7 @@ void pc_mueller_maps_rebuild(float *M, uint32_t width, uint32_t height, unsigned
 			     const pc_rebuild_opts *rb, int threads, float *D, float *R,
 			     float *Delta, float *residual, long counts[3], long rb_counts[2])
 {
-	/* rebuild only where it applies: the linear block determined, not the whole matrix */
-	bool use = rb && rb->sign != PC_REBUILD_OFF && determined != 0xFFFFu &&
-		   (determined & PC_LINEAR_BLOCK) == PC_LINEAR_BLOCK;
+	bool use = rebuild_applies(rb, determined);
 	lc_ctx lc = { M, M, D, R, Delta, use ? residual : NULL, width, determined,
 		      use ? rb : NULL, 0, 0, 0, 0, 0 };
 	pc_parallel_rows(height, 0, threads, lc_rows, &lc);
@@ -488,8 +493,7 @@ int pc_mueller_run(pc_frame_get_fn get, void *user, const pc_sim_states *st,
 		goto fail;
 	}
 	long counts[3], rbc[2] = { 0, 0 };
-	res->rebuilt = rb && rb->sign != PC_REBUILD_OFF && res->sys.determined != 0xFFFFu &&
-		       (res->sys.determined & PC_LINEAR_BLOCK) == PC_LINEAR_BLOCK;
+	res->rebuilt = rebuild_applies(rb, res->sys.determined);
 	if (res->rebuilt && !(res->residual = malloc(np * sizeof *res->residual))) {
 		rc = pc_error(PC_ENOMEM, "rebuild residual map");
 		goto fail;
