@@ -258,6 +258,18 @@ void pc_mosaic_format(const pc_mosaic *m, char *buf, unsigned size)
 		 45u * m->channel[1][0], 45u * m->channel[1][1]);
 }
 
+bool pc_mosaic_equal(const pc_mosaic *a, const pc_mosaic *b)
+{
+	if (a->period != b->period)
+		return false;
+	for (unsigned y = 0; y < a->period && y < 4; y++)
+		for (unsigned x = 0; x < a->period && x < 4; x++)
+			if (a->channel[y][x] != b->channel[y][x] ||
+			    a->color[y][x] != b->color[y][x])
+				return false;
+	return true;
+}
+
 pc_mosaic pc_mosaic_shift(const pc_mosaic *m, uint32_t x0, uint32_t y0)
 {
 	pc_mosaic r = *m;

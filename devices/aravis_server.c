@@ -441,12 +441,7 @@ static int choose_formats(pc_gige_server *srv)
 	assert(rc == 0);
 	if (rc)
 		return rc;
-	bool same = want.period == srv->sfmt.mosaic.period;
-	for (unsigned y = 0; same && y < want.period; y++)
-		for (unsigned x = 0; x < want.period; x++)
-			same = same && want.channel[y][x] == srv->sfmt.mosaic.channel[y][x] &&
-			       want.color[y][x] == srv->sfmt.mosaic.color[y][x];
-	if (!same) {
+	if (!pc_mosaic_equal(&want, &srv->sfmt.mosaic)) {
 		char have[64];
 		pc_mosaic_format(&srv->sfmt.mosaic, have, sizeof have);
 		return pc_error(PC_ENOTSUP,

@@ -105,18 +105,6 @@ static bool format_consistent(const pc_source_format *f, char *why, size_t n)
 	return true;
 }
 
-static bool mosaic_equal(const pc_mosaic *a, const pc_mosaic *b)
-{
-	if (a->period != b->period)
-		return false;
-	for (int y = 0; y < 4; y++)
-		for (int x = 0; x < 4; x++)
-			if (a->channel[y][x] != b->channel[y][x] ||
-			    a->color[y][x] != b->color[y][x])
-				return false;
-	return true;
-}
-
 static void check_states_open(ctx *c, pc_source *s)
 {
 	pc_buffer *b = NULL;
@@ -228,7 +216,7 @@ static pc_source_format check_negotiation(ctx *c, pc_source *s, const pc_mosaic 
 		rc = pc_source_try_format(s, &f, &v);
 		if (rc == 0 && v != PC_FORMAT_INVALID) {
 			pc_mosaic want = pc_mosaic_shift(sensor_mosaic, f.offset_x, f.offset_y);
-			report(c, mosaic_equal(&f.mosaic, &want),
+			report(c, pc_mosaic_equal(&f.mosaic, &want),
 			       "negotiate: the ROI's mosaic is the sensor's shifted by the offset",
 			       "ROI at (%u,%u) %s", f.offset_x, f.offset_y,
 			       pc_format_verdict_name(v));
@@ -344,7 +332,7 @@ static bool check_frame(ctx *c, const pc_source_format *f, const pc_buffer *b, u
 		ok = ok && m->sequence > *last_seq && m->timestamp_ns >= *last_ts;
 	ok = ok && m->offset_x == f->offset_x && m->offset_y == f->offset_y;
 	if (f->polarized)
-		ok = ok && mosaic_equal(&b->frame.mosaic, &f->mosaic);
+		ok = ok && pc_mosaic_equal(&b->frame.mosaic, &f->mosaic);
 	if (!ok && (*bad)++ == 0)
 		report(
 		    c, false, "stream: frame matches the format, buffer and order",
@@ -391,7 +379,7 @@ int pc_source_compliance(const char *uri, const pc_compliance_options *opt_in,
 		if (cur.polarized) {
 			/* the current format's mosaic is the sensor's shifted by its offset */
 			pc_mosaic want = pc_mosaic_shift(&info.mosaic, cur.offset_x, cur.offset_y);
-			report(&c, info.polarized && mosaic_equal(&cur.mosaic, &want),
+			report(&c, info.polarized && pc_mosaic_equal(&cur.mosaic, &want),
 			       "info: sensor mosaic agrees with the format's", "offset (%u,%u)",
 			       cur.offset_x, cur.offset_y);
 			int mrc = pc_mosaic_check(&info.mosaic);

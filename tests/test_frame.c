@@ -299,6 +299,18 @@ static void test_mosaic(void)
 	bad = m;
 	bad.period = 3;
 	CHECK_EQ_INT(pc_mosaic_check(&bad), PC_EINVAL);
+
+	/* equality over the period: what pc_mosaic_channel / pc_mosaic_color read */
+	CHECK(pc_mosaic_equal(&m, &m) && pc_mosaic_equal(&c, &c));
+	CHECK(!pc_mosaic_equal(&m, &c) && !pc_mosaic_equal(&c, &m));
+	CHECK(!pc_mosaic_equal(&m, &s));  /* shifted by (1, 3) */
+	CHECK(!pc_mosaic_equal(&c, &cs)); /* same analysers, colours moved by (2, 2) */
+	pc_mosaic beyond = m;
+	beyond.channel[3][3] = 1; /* outside the 2x2 period: never read */
+	CHECK(pc_mosaic_equal(&m, &beyond));
+	pc_mosaic inside = c;
+	inside.color[3][3] = PC_CFA_R;
+	CHECK(!pc_mosaic_equal(&c, &inside));
 }
 
 int main(void)

@@ -24,6 +24,7 @@
 #ifndef POLARCAM_MOSAIC_H
 #define POLARCAM_MOSAIC_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -66,6 +67,10 @@ void pc_mosaic_format(const pc_mosaic *m, char *buf, unsigned size);
 /* Validates a mosaic: period 2 without colour or period 4 with whole 2×2 polarizer blocks under
  * a Bayer pattern; a 2×2 polarizer pattern holding each analyser once. PC_EINVAL otherwise. */
 int pc_mosaic_check(const pc_mosaic *m);
+
+/* Whether a and b describe the same pattern: the same period and the same analyser and colour
+ * at every position of it (what pc_mosaic_channel / pc_mosaic_color read). */
+bool pc_mosaic_equal(const pc_mosaic *a, const pc_mosaic *b);
 
 /* For a colour mosaic: (*ox, *oy) in 0..1 where the 2×2 colour blocks start. PC_EINVAL (no
  * detail message) when m is monochrome or its colours are not constant on 2×2 blocks. */
