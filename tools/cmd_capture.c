@@ -11,6 +11,7 @@
 #include "polarcam/io.h"
 #include "polarcam/recording.h"
 #include "polarcam/source.h"
+#include "raw_cli.h"
 #include "source_cli.h"
 
 static volatile sig_atomic_t capture_stop;
@@ -122,7 +123,7 @@ int cmd_capture(int argc, char **argv)
 	pc_source_get_format(s, &f);
 	if (process && f.polarized) {
 		/* a method for the other kind of mosaic is refused before anything is recorded */
-		rc = pc_live_choose_method(&lv, method, &f.mosaic);
+		rc = pc_cli_method_for_mosaic(method, &f.mosaic, &lv.method);
 		if (rc) {
 			pc_source_close(s);
 			pc_devices_shutdown();

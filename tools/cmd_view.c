@@ -11,6 +11,7 @@
 #include "polarcam/gige_server.h"
 #include "polarcam/io.h"
 #include "polarcam/source.h"
+#include "raw_cli.h"
 #include "source_cli.h"
 
 static volatile sig_atomic_t view_stop;
@@ -104,7 +105,7 @@ int cmd_view(int argc, char **argv)
 	}
 	pc_source_format f;
 	pc_source_get_format(s, &f);
-	rc = pc_live_choose_method(&lv, method, &f.mosaic);
+	rc = pc_cli_method_for_mosaic(method, &f.mosaic, &lv.method);
 	if (rc) {
 		pc_source_close(s);
 		pc_display_close(win);

@@ -171,19 +171,30 @@ int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
 		o->layout = "90,45,135,0";
 		pc_mosaic_parse(o->layout, &o->mosaic);
 	}
-	if (!o->method)
-		o->method = o->mosaic.period == 4 ? "bayer-first" : "bilinear";
-	if ((rc = pc_demosaic_method_from_name(o->method, &o->dm)))
-		return pc_cli_fail(rc, "--method");
-	const pc_demosaic_method_info *mi = pc_demosaic_method_get(o->dm);
-	int colour = o->mosaic.period == 4;
+	if ((rc = pc_cli_method_for_mosaic(o->method, &o->mosaic, &o->dm)))
+		return pc_cli_fail(rc, NULL);
+	o->method = pc_demosaic_method_get(o->dm)->name;
+	return 0;
+}
+
+int pc_cli_method_for_mosaic(const char *given, const pc_mosaic *m, pc_demosaic_method *out)
+{
+	bool colour = m->period == 4;
+	int rc = pc_demosaic_method_from_name(given ? given : colour ? "bayer-first" : "bilinear",
+					      out);
+	if (rc)
+		return pc_error_prefix(rc, "--method: ");
+	const pc_demosaic_method_info *mi = pc_demosaic_method_get(*out);
+	char layout[64];
+	pc_mosaic_format(m, layout, sizeof layout);
 	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_cli_error(PC_EXIT_USAGE, "--method %s: works on monochrome mosaics; layout "
-						   "'%s' is colour-polarization (methods for it: "
-						   "bayer-first, bayer-eari)", mi->name, o->layout);
+		return pc_error(PC_EINVAL, "--method %s: works on monochrome mosaics; the mosaic %s is "
+					   "colour-polarization (methods for it: bayer-first, "
+					   "bayer-eari)", mi->name, layout);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
-		return pc_cli_error(PC_EXIT_USAGE, "--method %s: needs a colour-polarization layout "
-						   "such as RGGB:90,45,135,0", mi->name);
+		return pc_error(PC_EINVAL, "--method %s: needs a colour-polarization mosaic such as "
+					   "RGGB:90,45,135,0; the mosaic %s is monochrome", mi->name,
+				layout);
 	return 0;
 }
 

@@ -32,6 +32,12 @@ extern const char pc_raw_cli_help[];
  * NULL, otherwise they are errors. Returns 0 or a PC_EXIT_* status after printing the error. */
 int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra);
 
+/* The demosaicking method for frames with mosaic m: the one named by given, or without a name
+ * (NULL) bilinear for monochrome mosaics and bayer-first for colour-polarization ones. PC_EINVAL
+ * (detail naming --method, the mosaic and the methods that would work) for an unknown name or a
+ * method for the other kind of mosaic. */
+int pc_cli_method_for_mosaic(const char *given, const pc_mosaic *m, pc_demosaic_method *out);
+
 /* Reads and validates the raw (bit depth, values, NaN, size) into an owned view. Returns 0 or a
  * PC_EXIT_* status after printing an error that names the file. */
 int pc_raw_cli_read(const pc_raw_cli *o, pc_view *raw, unsigned *bits);

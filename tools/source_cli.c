@@ -202,32 +202,6 @@ int pc_stream_open(const pc_stream_args *a, pc_source **out)
 
 #include "polarcam/picture.h"
 
-int pc_live_choose_method(pc_live *lv, const char *given, const pc_mosaic *m)
-{
-	bool colour = m->period == 4;
-	int rc = pc_demosaic_method_from_name(given    ? given
-	                                      : colour ? "bayer-first"
-	                                               : "bilinear",
-	                                      &lv->method);
-	if (rc)
-		return pc_error_prefix(rc, "--method: ");
-	const pc_demosaic_method_info *mi = pc_demosaic_method_get(lv->method);
-	char layout[64];
-	pc_mosaic_format(m, layout, sizeof layout);
-	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_error(
-		    PC_EINVAL,
-		    "--method %s: works on monochrome mosaics; the frames' mosaic %s is "
-		    "colour-polarization (methods for it: bayer-first, bayer-eari)",
-		    mi->name, layout);
-	if (!colour && !(mi->flags & PC_DMF_MONO))
-		return pc_error(PC_EINVAL,
-		                "--method %s: needs a colour-polarization mosaic; the frames' "
-		                "mosaic %s is monochrome",
-		                mi->name, layout);
-	return 0;
-}
-
 int pc_live_process(pc_live *lv, const pc_frame *f)
 {
 	if (f->mosaic.period != 2 && f->mosaic.period != 4)

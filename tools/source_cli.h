@@ -49,11 +49,6 @@ typedef struct pc_live {
 	double process_s; /* time of the last pc_stokes_from_raw */
 } pc_live;
 
-/* Picks lv->method for frames with mosaic m: the method named by given (may be NULL) when it
- * works on that kind of mosaic, else PC_EINVAL naming --method and the methods that would;
- * without a name, bilinear for monochrome mosaics and bayer-first for colour-polarization ones
- * (bilinear is monochrome only). */
-int pc_live_choose_method(pc_live *lv, const char *given, const pc_mosaic *m);
 /* Runs the pipeline on a frame (which must carry a polarizer mosaic). Sizes follow the frame. */
 int pc_live_process(pc_live *lv, const pc_frame *f);
 /* Draws S0 (grey, 0 to the 99.9th percentile), DoLP (grey, 0..1) and AoLP (hue = AoLP,
