@@ -46,6 +46,9 @@ static const served_name served_colour[] = {
     {"BayerRGPolarized16", 0x81100007u},
 };
 #define N_SERVED (sizeof served_mono / sizeof served_mono[0])
+/* fmts[] holds either list: the colour list must not be the longer one */
+_Static_assert(sizeof served_colour / sizeof served_colour[0] <= N_SERVED,
+	       "served_colour longer than fmts[]");
 /* GigE Vision model names; polarcam/camera_profile.h holds what clients learn from them */
 #define MODEL_MONO   "polarcam-sim"
 #define MODEL_COLOUR "polarcam-sim-colour"
