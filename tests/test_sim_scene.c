@@ -290,36 +290,54 @@ static void test_obj(void)
 	CHECK(strstr(pc_error_detail(), "/nonexistent/scene.json") != NULL);
 }
 
-/* every example scene in scenes/ loads; scenes/default.json is the built-in default scene; the
- * JSON Schema in docs/ is valid JSON */
-static void test_examples(void)
+/* Calls fn(path, file name) for every example scene (scenes/, .json files); returns how many, or -1
+ * when PC_SOURCE_DIR is not set (the scenes are not reachable). */
+static int for_each_example(void (*fn)(const char *path, const char *name))
 {
 	const char *src = getenv("PC_SOURCE_DIR");
 	if (!src)
-		return;
+		return -1;
 	char dir[1024], path[2048];
 	snprintf(dir, sizeof dir, "%s/scenes", src);
 	DIR *d = opendir(dir);
 	CHECK(d != NULL);
 	if (!d)
-		return;
+		return 0;
 	int n = 0;
 	for (struct dirent *e; (e = readdir(d));) {
 		size_t l = strlen(e->d_name);
 		if (l < 6 || strcmp(e->d_name + l - 5, ".json"))
 			continue;
 		snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-		pc_scene *s = NULL;
-		int rc = pc_scene_load(path, &s);
-		if (rc)
-			fprintf(stderr, "%s\n", pc_error_detail());
-		CHECK_EQ_INT(rc, 0);
-		pc_scene_free(s);
+		fn(path, e->d_name);
 		n++;
 	}
 	closedir(d);
+	return n;
+}
+
+static void check_loads(const char *path, const char *name)
+{
+	(void)name;
+	pc_scene *s = NULL;
+	int rc = pc_scene_load(path, &s);
+	if (rc)
+		fprintf(stderr, "%s\n", pc_error_detail());
+	CHECK_EQ_INT(rc, 0);
+	pc_scene_free(s);
+}
+
+/* every example scene in scenes/ loads; scenes/default.json is the built-in default scene; the
+ * JSON Schema in docs/ is valid JSON */
+static void test_examples(void)
+{
+	int n = for_each_example(check_loads);
+	if (n < 0)
+		return;
 	CHECK(n >= 5);
-	snprintf(path, sizeof path, "%s/default.json", dir);
+	const char *src = getenv("PC_SOURCE_DIR");
+	char path[2048];
+	snprintf(path, sizeof path, "%s/scenes/default.json", src);
 	json_t *a = json_load_file(path, 0, NULL), *b = json_loads(pc_scene_default_text(), 0, NULL);
 	CHECK(a && b && json_equal(a, b));
 	json_decref(a);
@@ -333,62 +351,51 @@ static void test_examples(void)
 /* The example scenes are exposed like a user would expose them: only glints at full scale
  * (< 15 % of frame 0's raw pixels) and a median signal above 5 % of full scale. Overexposed
  * examples (most of the frame at 4095) measure no polarization and teach the wrong thing. */
+static void check_exposure(const char *path, const char *name)
+{
+	pc_scene *s = NULL;
+	pc_sim *sim = NULL;
+	pc_view v = { 0 };
+	uint16_t *u = NULL;
+	CHECK_EQ_INT(pc_scene_load(path, &s), 0);
+	pc_sim_options o = pc_sim_options_default();
+	if (s && !pc_sim_new(s, &o, &sim)) {
+		pc_sim_info in;
+		pc_sim_get_info(sim, &in);
+		size_t np = (size_t)in.width * in.height;
+		u = malloc(np * sizeof *u);
+		CHECK(u && !pc_view_alloc(&v, in.format, in.width, in.height, 64));
+		CHECK_EQ_INT(pc_sim_frame(sim, 0, NULL, &v, NULL), 0);
+		CHECK_EQ_INT(pc_view_to_u16(&v, u, (size_t)in.width * sizeof *u), 0);
+		const unsigned full = (1u << in.bits) - 1;
+		size_t sat = 0, *hist = calloc(full + 1, sizeof *hist);
+		for (size_t i = 0; i < np; i++) {
+			sat += u[i] >= full;
+			hist[u[i] > full ? full : u[i]]++;
+		}
+		size_t acc = 0;
+		unsigned median = 0;
+		while (median < full && (acc += hist[median]) < np / 2)
+			median++;
+		free(hist);
+		double fs = (double)sat / (double)np, fm = (double)median / full;
+		if (!(fs < 0.15) || !(fm > 0.05))
+			fprintf(stderr, "%s: %.1f %% saturated, median %u of %u\n", name,
+				100 * fs, median, full);
+		CHECK(fs < 0.15);
+		CHECK(fm > 0.05);
+	} else {
+		CHECK(!"pc_sim_new");
+	}
+	pc_view_free(&v);
+	free(u);
+	pc_sim_free(sim);
+	pc_scene_free(s);
+}
+
 static void test_example_exposure(void)
 {
-	const char *src = getenv("PC_SOURCE_DIR");
-	if (!src)
-		return;
-	char dir[1024], path[2048];
-	snprintf(dir, sizeof dir, "%s/scenes", src);
-	DIR *d = opendir(dir);
-	CHECK(d != NULL);
-	if (!d)
-		return;
-	for (struct dirent *e; (e = readdir(d));) {
-		size_t l = strlen(e->d_name);
-		if (l < 6 || strcmp(e->d_name + l - 5, ".json"))
-			continue;
-		snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-		pc_scene *s = NULL;
-		pc_sim *sim = NULL;
-		pc_view v = { 0 };
-		uint16_t *u = NULL;
-		CHECK_EQ_INT(pc_scene_load(path, &s), 0);
-		pc_sim_options o = pc_sim_options_default();
-		if (s && !pc_sim_new(s, &o, &sim)) {
-			pc_sim_info in;
-			pc_sim_get_info(sim, &in);
-			size_t np = (size_t)in.width * in.height;
-			u = malloc(np * sizeof *u);
-			CHECK(u && !pc_view_alloc(&v, in.format, in.width, in.height, 64));
-			CHECK_EQ_INT(pc_sim_frame(sim, 0, NULL, &v, NULL), 0);
-			CHECK_EQ_INT(pc_view_to_u16(&v, u, (size_t)in.width * sizeof *u), 0);
-			const unsigned full = (1u << in.bits) - 1;
-			size_t sat = 0, *hist = calloc(full + 1, sizeof *hist);
-			for (size_t i = 0; i < np; i++) {
-				sat += u[i] >= full;
-				hist[u[i] > full ? full : u[i]]++;
-			}
-			size_t acc = 0;
-			unsigned median = 0;
-			while (median < full && (acc += hist[median]) < np / 2)
-				median++;
-			free(hist);
-			double fs = (double)sat / (double)np, fm = (double)median / full;
-			if (!(fs < 0.15) || !(fm > 0.05))
-				fprintf(stderr, "%s: %.1f %% saturated, median %u of %u\n", e->d_name,
-					100 * fs, median, full);
-			CHECK(fs < 0.15);
-			CHECK(fm > 0.05);
-		} else {
-			CHECK(!"pc_sim_new");
-		}
-		pc_view_free(&v);
-		free(u);
-		pc_sim_free(sim);
-		pc_scene_free(s);
-	}
-	closedir(d);
+	for_each_example(check_exposure);
 }
 
 int main(void)
