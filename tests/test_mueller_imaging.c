@@ -14,18 +14,8 @@
 #include "polarcam/mueller_imaging.h"
 #include "polarcam/sim.h"
 
-static uint64_t rs = 88172645463325252ull;
-static double urand(void)
-{
-	rs ^= rs << 13;
-	rs ^= rs >> 7;
-	rs ^= rs << 17;
-	return ((double)(rs >> 11) + 0.5) / 9007199254740992.0;
-}
-static double nrand(void)
-{
-	return sqrt(-2 * log(urand())) * cos(2 * M_PI * urand());
-}
+#define PC_TEST_SEED 88172645463325252ull
+#include "xorshift.h"
 
 #define DEG (M_PI / 180)
 

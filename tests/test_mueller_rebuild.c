@@ -16,18 +16,8 @@
 #include "polarcam/optics.h"
 #include "polarcam/pbrdf.h"
 
-static uint64_t rs = 0x9E3779B97F4A7C15ull;
-static double urand(void)
-{
-	rs ^= rs << 13;
-	rs ^= rs >> 7;
-	rs ^= rs << 17;
-	return ((double)(rs >> 11) + 0.5) / 9007199254740992.0;
-}
-static double nrand(void)
-{
-	return sqrt(-2 * log(urand())) * cos(2 * M_PI * urand());
-}
+#define PC_TEST_SEED 0x9E3779B97F4A7C15ull
+#include "xorshift.h"
 
 #define DEG (M_PI / 180)
 
