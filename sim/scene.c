@@ -12,6 +12,7 @@
 
 #include "polarcam/error.h"
 #include "polarcam/mosaic.h"
+#include "polarcam/optics.h"
 #include "scene_impl.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
@@ -852,7 +853,8 @@ static int parse_sensor(const pctx *c, json_t *v, pc_sensor_figures *f)
 	static const char *const keys[] = {
 		"preset", "resolution", "pixel_pitch_um", "bits", "qe", "wavelength_nm",
 		"full_well_e", "read_noise_e", "dark_current_e_s", "dsnu_e", "prnu",
-		"gain_dn_per_e", "offset_dn", "extinction_ratio", "orientation_sigma_deg",
+		"gain_dn_per_e", "offset_dn", "extinction_ratio", "extinction_ratio_sigma",
+		"orientation_sigma_deg",
 		"orientation_offset_deg", "transmission_sigma", "transmission", "crosstalk",
 		"exposure_us", "gain_db", "frame_rate_hz", "layout", "psa", NULL
 	};
@@ -903,6 +905,8 @@ static int parse_sensor(const pctx *c, json_t *v, pc_sensor_figures *f)
 	    (rc = get_num(c, v, P, "gain_dn_per_e", OPT, 0, true, 1e6, &f->gain_dn_per_e)) ||
 	    (rc = get_num(c, v, P, "offset_dn", OPT, 0, false, 65535, &f->offset_dn)) ||
 	    (rc = get_num(c, v, P, "extinction_ratio", OPT, 1, true, INFINITY, &f->extinction_ratio)) ||
+	    (rc = get_num(c, v, P, "extinction_ratio_sigma", OPT, 0, false, 2,
+			  &f->extinction_ratio_sigma)) ||
 	    (rc = get_num(c, v, P, "orientation_sigma_deg", OPT, 0, false, 45,
 			  &f->orientation_sigma_deg)) ||
 	    (rc = get_nums(c, v, P, "orientation_offset_deg", OPT, f->orientation_offset_deg, 4)) ||
@@ -935,56 +939,122 @@ static int parse_sensor(const pctx *c, json_t *v, pc_sensor_figures *f)
 	return 0;
 }
 
+/* Linear diattenuator with principal intensity transmittances p ≥ q along angle θ and its
+ * perpendicular (Goldstein, Polarized Light, 2nd ed., 2003, §5.2: M = R(−θ)·M₀·R(θ) with
+ * M₀ = ½[[p+q, p−q, 0, 0], [p−q, p+q, 0, 0], [0, 0, 2√(pq), 0], [0, 0, 0, 2√(pq)]]). Here
+ * p + q = 1: unpolarized light keeps half its power, like an ideal polarizer (p = 1, q = 0),
+ * and the diattenuation D = (p − q)/(p + q) is the DoLP it gives unpolarized light. */
+static void diattenuator_mueller(double theta, double D, double m[4][4])
+{
+	double p = (1 + D) / 2, q = (1 - D) / 2, r = 2 * sqrt(p * q);
+	double c = cos(2 * theta), s = sin(2 * theta);
+	double t[4][4] = { { p + q, (p - q) * c, (p - q) * s, 0 },
+			   { (p - q) * c, (p + q) * c * c + r * s * s, (p + q - r) * c * s, 0 },
+			   { (p - q) * s, (p + q - r) * c * s, (p + q) * s * s + r * c * c, 0 },
+			   { 0, 0, 0, r } };
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			m[i][j] = 0.5 * t[i][j];
+}
+
+/* One element in front of the camera (a PSA state): "none", {"retarder": {...}},
+ * {"polarizer_deg": α}, {"diattenuator": {"angle_deg", "diattenuation"}}, {"mueller": [[4×4]]}
+ * or {"chain": [element, ...]} (light passes the first element first). */
+static int parse_element(const pctx *c, json_t *e, const char *p, double m[4][4], int depth)
+{
+	memset(m, 0, sizeof(double) * 16);
+	if (json_is_string(e) && !strcmp(json_string_value(e), "none")) {
+		for (int k = 0; k < 4; k++)
+			m[k][k] = 1;
+		return 0;
+	}
+	static const char *const keys[] = { "retarder", "mueller", "polarizer_deg", "diattenuator",
+					    "chain", NULL };
+	int rc;
+	if ((rc = need_object(c, e, p)) || (rc = check_keys(c, e, p, keys)))
+		return rc;
+	json_t *r = json_object_get(e, "retarder"), *mm = json_object_get(e, "mueller");
+	json_t *pol = json_object_get(e, "polarizer_deg"), *di = json_object_get(e, "diattenuator");
+	json_t *ch = json_object_get(e, "chain");
+	if (!!r + !!mm + !!pol + !!di + !!ch != 1)
+		return perr(c, p, "give exactly one of retarder, polarizer_deg, diattenuator, "
+				  "mueller or chain");
+	char q[288];
+	if (r) {
+		subpath(q, sizeof q, p, "retarder");
+		return parse_retarder(c, r, q, m);
+	}
+	if (pol) {
+		double a = 0;
+		if ((rc = get_num(c, e, p, "polarizer_deg", REQ, -360, false, 360, &a)))
+			return rc;
+		diattenuator_mueller(a * DEG, 1, m);
+		return 0;
+	}
+	if (di) {
+		static const char *const dkeys[] = { "angle_deg", "diattenuation", NULL };
+		subpath(q, sizeof q, p, "diattenuator");
+		double a = 0, D = 0;
+		if ((rc = need_object(c, di, q)) || (rc = check_keys(c, di, q, dkeys)) ||
+		    (rc = get_num(c, di, q, "angle_deg", REQ, -360, false, 360, &a)) ||
+		    (rc = get_num(c, di, q, "diattenuation", REQ, 0, false, 1, &D)))
+			return rc;
+		diattenuator_mueller(a * DEG, D, m);
+		return 0;
+	}
+	if (ch) {
+		subpath(q, sizeof q, p, "chain");
+		if (!json_is_array(ch) || json_array_size(ch) == 0 || json_array_size(ch) > 16)
+			return perr(c, q, "expected an array of 1 to 16 elements");
+		if (depth > 4)
+			return perr(c, q, "chains nested deeper than 4");
+		double acc[4][4] = { { 1, 0, 0, 0 }, { 0, 1, 0, 0 }, { 0, 0, 1, 0 }, { 0, 0, 0, 1 } };
+		for (size_t i = 0; i < json_array_size(ch); i++) {
+			char qi[300];
+			subpath_i(qi, sizeof qi, q, i);
+			double el[4][4], t[4][4];
+			if ((rc = parse_element(c, json_array_get(ch, i), qi, el, depth + 1)))
+				return rc;
+			pc_mueller_mul(el, acc, t); /* the later element acts after the earlier */
+			memcpy(acc, t, sizeof acc);
+		}
+		memcpy(m, acc, sizeof acc);
+		return 0;
+	}
+	subpath(q, sizeof q, p, "mueller");
+	if (!json_is_array(mm) || json_array_size(mm) != 4)
+		return perr(c, q, "expected 4 rows of 4 numbers");
+	for (int row = 0; row < 4; row++) {
+		char qr[300];
+		subpath_i(qr, sizeof qr, q, (size_t)row);
+		json_t *rr = json_array_get(mm, (size_t)row);
+		if (!json_is_array(rr) || json_array_size(rr) != 4)
+			return perr(c, qr, "expected 4 numbers");
+		for (int col = 0; col < 4; col++) {
+			json_t *x = json_array_get(rr, (size_t)col);
+			if (!json_is_number(x) || !isfinite(json_number_value(x)))
+				return perr(c, qr, "[%d]: expected a finite number", col);
+			m[row][col] = json_number_value(x);
+		}
+	}
+	return 0;
+}
+
 static int parse_psa(const pctx *c, json_t *v, pc_scene *s)
 {
 	const char *P = "sensor.psa";
 	if (!json_is_array(v) || json_array_size(v) == 0)
 		return perr(c, P, "expected a non-empty array of analyser states (\"none\", "
-				  "{\"retarder\": {...}} or {\"mueller\": [[4×4]]})");
+				  "{\"retarder\": {...}}, {\"polarizer_deg\": a}, {\"diattenuator\": "
+				  "{...}}, {\"mueller\": [[4×4]]} or {\"chain\": [...]})");
 	if (json_array_size(v) > PC_SIM_MAX_STATES)
 		return perr(c, P, "at most %d states", PC_SIM_MAX_STATES);
 	for (size_t i = 0; i < json_array_size(v); i++) {
 		char p[256];
 		subpath_i(p, sizeof p, P, i);
-		json_t *e = json_array_get(v, i);
-		double(*m)[4] = s->psa[i];
-		memset(m, 0, sizeof s->psa[i]);
-		if (json_is_string(e) && !strcmp(json_string_value(e), "none")) {
-			for (int k = 0; k < 4; k++)
-				m[k][k] = 1;
-			continue;
-		}
-		static const char *const keys[] = { "retarder", "mueller", NULL };
-		int rc;
-		if ((rc = need_object(c, e, p)) || (rc = check_keys(c, e, p, keys)))
+		int rc = parse_element(c, json_array_get(v, i), p, s->psa[i], 0);
+		if (rc)
 			return rc;
-		json_t *r = json_object_get(e, "retarder"), *mm = json_object_get(e, "mueller");
-		if (!!r == !!mm)
-			return perr(c, p, "give exactly one of retarder or mueller");
-		if (r) {
-			char q[288];
-			subpath(q, sizeof q, p, "retarder");
-			if ((rc = parse_retarder(c, r, q, m)))
-				return rc;
-		} else {
-			char q[288];
-			subpath(q, sizeof q, p, "mueller");
-			if (!json_is_array(mm) || json_array_size(mm) != 4)
-				return perr(c, q, "expected 4 rows of 4 numbers");
-			for (int row = 0; row < 4; row++) {
-				char qr[300];
-				subpath_i(qr, sizeof qr, q, (size_t)row);
-				json_t *rr = json_array_get(mm, (size_t)row);
-				if (!json_is_array(rr) || json_array_size(rr) != 4)
-					return perr(c, qr, "expected 4 numbers");
-				for (int col = 0; col < 4; col++) {
-					json_t *x = json_array_get(rr, (size_t)col);
-					if (!json_is_number(x) || !isfinite(json_number_value(x)))
-						return perr(c, qr, "[%d]: expected a finite number", col);
-					m[row][col] = json_number_value(x);
-				}
-			}
-		}
 	}
 	s->n_psa = (unsigned)json_array_size(v);
 	s->psa_declared = true;

@@ -48,7 +48,8 @@ static void preset_imx250_common(pc_sensor_figures *f)
 	f->mosaic = pc_mosaic_imx250mzr();
 }
 
-static const char *const preset_names[] = { "ideal", "imx250mzr", "imx250myr", NULL };
+static const char *const preset_names[] = { "ideal", "imx250mzr", "imx250myr",
+					      "imx250mzr_nonuniform", NULL };
 
 const char *const *pc_sensor_preset_names(void)
 {
@@ -83,6 +84,28 @@ int pc_sensor_preset(const char *name, pc_sensor_figures *f)
 		f->mosaic = pc_mosaic_imx250myr();
 		f->effects = PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION | PC_FX_ORIENTATION |
 			     PC_FX_TRANSMISSION | PC_FX_CROSSTALK;
+	} else if (!strcmp(name, "imx250mzr_nonuniform")) {
+		/* The IMX250MZR with the analyser non-uniformity a full characterisation finds
+		 * (docs/calibration.md, "The realistic preset", gives each figure's source): per-pixel
+		 * ER log-normal around 200 (σ of ln ER 0.35: 5–95 % ≈ 110–360), orientation errors
+		 * σ 0.8° per pixel plus systematic channel offsets of a few tenths of a degree,
+		 * transmission σ 2 % per pixel plus channel mismatch of ±2 %, PRNU 1 %. */
+		preset_imx250_common(f);
+		f->extinction_ratio = 200;
+		f->extinction_ratio_sigma = 0.35;
+		f->orientation_sigma_deg = 0.8;
+		f->orientation_offset_deg[0] = 0.3;
+		f->orientation_offset_deg[1] = -0.4;
+		f->orientation_offset_deg[2] = 0.2;
+		f->orientation_offset_deg[3] = -0.5;
+		f->transmission_sigma = 0.02;
+		f->transmission[0] = 1.0;
+		f->transmission[1] = 0.98;
+		f->transmission[2] = 1.02;
+		f->transmission[3] = 0.99;
+		f->prnu = 0.01;
+		f->effects = PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION | PC_FX_ORIENTATION |
+			     PC_FX_TRANSMISSION | PC_FX_CROSSTALK;
 	} else {
 		return PC_EINVAL;
 	}
@@ -93,13 +116,24 @@ int pc_sensor_preset(const char *name, pc_sensor_figures *f)
 /* ---- per-pixel analyser (physics.md §6 step 2) ---- */
 
 void pc_sensor_fixed_row(const pc_sim *sim, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
-			 double *z0, double *z1, double *z2, double *z3)
+			 double *z0, double *z1, double *z2, double *z3, double *z4)
 {
 	mask &= sim->fp_mask;
-	if (!mask)
-		return;
-	double *z[4] = { z0, z1, z2, z3 };
-	pc_noise_fixed_row(sim->opt.seed, sy, sx0, n, mask, z);
+	if (mask & PC_FP_ALL & ~PC_FP_ER) {
+		double *z[4] = { z0, z1, z2, z3 };
+		pc_noise_fixed_row(sim->opt.seed, sy, sx0, n, mask & ~PC_FP_ER, z);
+	}
+	if (mask & PC_FP_ER) {
+		/* the ER deviate: word 0 of the pixel's second fixed-pattern block; drawn once per
+		 * prepared state, so scalar code costs nothing per frame */
+		const uint32_t key[2] = { (uint32_t)sim->opt.seed, (uint32_t)(sim->opt.seed >> 32) };
+		for (uint32_t i = 0; i < n; i++) {
+			const uint32_t ctr[4] = { (sy << 16) | ((sx0 + i) & 0xFFFFu), PC_RNG_FIXED, 1, 0 };
+			uint32_t w[4];
+			pc_philox4x32_10(ctr, key, w);
+			z4[i] = pc_u32_to_normal(w[0]);
+		}
+	}
 }
 
 unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy)
@@ -120,11 +154,13 @@ unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy)
 static const double cos2_nominal[4] = { 1, 0, -1, 0 }, sin2_nominal[4] = { 0, 1, 0, -1 };
 
 /* An ideal analyser at the nominal angle: a = ½(1, cos2θ, sin2θ, 0). */
-static void analyse_ideal(const pc_sim *sim, unsigned c, double zo, double zt, double a[4])
+static void analyse_ideal(const pc_sim *sim, unsigned c, double zo, double zt, double ze,
+			  double a[4])
 {
 	(void)sim;
 	(void)zo;
 	(void)zt;
+	(void)ze;
 	a[0] = 0.5;
 	a[1] = 0.5 * cos2_nominal[c];
 	a[2] = 0.5 * sin2_nominal[c];
@@ -148,10 +184,12 @@ static inline void small_sincos(double x, double *c, double *s)
 }
 
 /* With the declared non-idealities: a = (t/2)(1, d cos2θ, d sin2θ, 0), d = (ER − 1)/(ER + 1),
+ * ER = ER_median·exp(σ_lnER·z) (log-normal; σ_lnER = 0: every pixel ER_median),
  * θ = nominal + e, e = systematic offset + N(0, σ_θ), t = t_channel·(1 + N(0, σ_t)); the random
  * parts are fixed per pixel (keyed by seed and position, not by frame). cos 2θ and sin 2θ by
  * the angle-addition formulas from the exact nominal values and cos 2e, sin 2e. */
-static void analyse_real(const pc_sim *sim, unsigned c, double zo, double zt, double a[4])
+static void analyse_real(const pc_sim *sim, unsigned c, double zo, double zt, double ze,
+			 double a[4])
 {
 	const pc_sensor_figures *f = &sim->fig;
 	double c2 = cos2_nominal[c], s2 = sin2_nominal[c], d = 1, t = 1;
@@ -165,8 +203,12 @@ static void analyse_real(const pc_sim *sim, unsigned c, double zo, double zt, do
 		c2 = cc;
 		s2 = ss;
 	}
-	if (sim->fx & PC_FX_EXTINCTION)
-		d = isinf(f->extinction_ratio) ? 1 : (f->extinction_ratio - 1) / (f->extinction_ratio + 1);
+	if (sim->fx & PC_FX_EXTINCTION) {
+		double er = f->extinction_ratio;
+		if (f->extinction_ratio_sigma > 0 && !isinf(er))
+			er *= exp(f->extinction_ratio_sigma * ze);
+		d = isinf(er) ? 1 : (er - 1) / (er + 1);
+	}
 	if (sim->fx & PC_FX_TRANSMISSION) {
 		t = f->transmission[c];
 		if (f->transmission_sigma > 0)
@@ -220,6 +262,9 @@ void pc_sensor_setup(pc_sim *sim)
 		sim->fp_mask |= PC_FP_TRANS;
 	if (sim->fx & PC_FX_PRNU_DSNU)
 		sim->fp_mask |= PC_FP_PRNU | PC_FP_DSNU;
+	if ((sim->fx & PC_FX_EXTINCTION) && f->extinction_ratio_sigma > 0 &&
+	    !isinf(f->extinction_ratio))
+		sim->fp_mask |= PC_FP_ER;
 	/* Camera equation for a distant scene (Smith, Modern Optical Engineering, 4th ed., §8.2;
 	 * EMVA 1288 §2.1 for photons = A·E·t·λ/(hc)): sensor irradiance E = π·L/(4N²) for radiance
 	 * L through an f/N lens (no vignetting or lens transmission loss modelled), photons per

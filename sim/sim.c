@@ -211,13 +211,13 @@ typedef struct prep_ctx {
 /* Analysed electron rate (before PRNU and crosstalk) of a pixel of colour channel pch and
  * analyser channel ach with Stokes radiance S, for each PSA state. */
 static inline void prep_rate(const prep_ctx *c, const double *Sin, unsigned pch, unsigned ach,
-			     double zo, double zt, float *out_rate)
+			     double zo, double zt, double ze, float *out_rate)
 {
 	const pc_sim *sim = c->sim;
 	double S[4] = { Sin[0], Sin[1], Sin[2], sim->circular ? Sin[3] : 0 }, Sp[4];
 	/* S3 is not carried without "circular" (and not coupled: scene validation) */
 	double an[4];
-	sim->analyse(sim, ach, zo, zt, an);
+	sim->analyse(sim, ach, zo, zt, ze, an);
 	const double ke = sim->e_per_radiance[pch];
 	if (c->psa_identity) {
 		double v = an[0] * S[0] + an[1] * S[1] + an[2] * S[2] + an[3] * S[3];
@@ -245,7 +245,7 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 	const bool halo = c->halo != NULL, prnu_on = sim->fx & PC_FX_PRNU_DSNU;
 	const uint32_t cols = halo ? W + 2 : W;
 	/* deviates a row does not draw stay 0 (calloc) or hold an earlier row's, unused, values */
-	double *zb = calloc(4 * (size_t)cols, sizeof *zb);
+	double *zb = calloc(5 * (size_t)cols, sizeof *zb);
 	if (!zb) {
 #ifdef _OPENMP
 #pragma omp atomic write
@@ -253,7 +253,8 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		c->err = PC_ENOMEM;
 		return;
 	}
-	double *z[4] = { zb, zb + cols, zb + 2 * (size_t)cols, zb + 3 * (size_t)cols };
+	double *z[5] = { zb, zb + cols, zb + 2 * (size_t)cols, zb + 3 * (size_t)cols,
+			 zb + 4 * (size_t)cols };
 	/* a row's Stokes vectors (every channel when the row writes truth) and Mueller matrices */
 	const unsigned nch = sim->nch;
 	double *Srow = malloc((size_t)cols * nch * 4 * sizeof *Srow);
@@ -282,11 +283,11 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		uint32_t xlo = sx0 < 0 ? 1 : 0, xhi = cols;
 		if (sx0 + xhi > SW)
 			xhi = (uint32_t)(SW - sx0);
-		unsigned mask = PC_FP_ORIENT | PC_FP_TRANS;
+		unsigned mask = PC_FP_ORIENT | PC_FP_TRANS | PC_FP_ER;
 		if (row_in_roi && prnu_on)
 			mask |= PC_FP_PRNU | (c->dsnu ? PC_FP_DSNU : 0);
 		pc_sensor_fixed_row(sim, (uint32_t)sy, (uint32_t)(sx0 + xlo), xhi - xlo, mask,
-				    z[0] + xlo, z[1] + xlo, z[2] + xlo, z[3] + xlo);
+				    z[0] + xlo, z[1] + xlo, z[2] + xlo, z[3] + xlo, z[4] + xlo);
 		pc_render_row rr;
 		pc_render_row_begin(sim, (uint32_t)sy, &rr);
 		/* colour and analyser channel of the row's pixels by column phase */
@@ -324,7 +325,7 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 				}
 			}
 			const double *Spix = Srow + ((size_t)xx * nout + (all_ch ? pch[k] : 0)) * 4;
-			prep_rate(c, Spix, pch[k], ach[k], z[0][xx], z[1][xx], rates);
+			prep_rate(c, Spix, pch[k], ach[k], z[0][xx], z[1][xx], z[4][xx], rates);
 			float prnu = prnu_on ? (float)(1 + sim->fig.prnu * z[2][xx]) : 1.0f;
 			if (halo) {
 				for (unsigned a = 0; a < sim->n_psa; a++)

@@ -24,8 +24,9 @@ typedef struct pc_render_row {
 	int32_t lo[PC_SS_MAX][PC_CULL_MAX], hi[PC_SS_MAX][PC_CULL_MAX];
 } pc_render_row;
 /* Analyser row a (physics.md §6) of a pixel of analyser channel c (0..3 for 0°..135°) with its
- * orientation and transmission deviates. */
-typedef void (*pc_analyse_fn)(const pc_sim *sim, unsigned c, double zo, double zt, double a[4]);
+ * orientation, transmission and extinction-ratio deviates. */
+typedef void (*pc_analyse_fn)(const pc_sim *sim, unsigned c, double zo, double zt, double ze,
+			      double a[4]);
 typedef void (*pc_frame_row_fn)(const pc_sim *sim, uint64_t n, double exposure_s, double gain,
 				uint32_t y, uint16_t *row);
 
@@ -87,10 +88,13 @@ void pc_sensor_setup(pc_sim *sim);
 /* The pixel's colour channel index (0 for monochrome; R/G/B = 0/1/2). */
 unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy);
 /* The fixed-pattern normal deviates of sensor pixels (sx0 + i, sy), i < n: orientation z0[i],
- * transmission z1[i], PRNU z2[i], DSNU z3[i] — one Philox block keyed by (seed, pixel) each;
- * only the deviates in mask (bit k for zk) that the declared effects use are written. */
-enum { PC_FP_ORIENT = 1, PC_FP_TRANS = 2, PC_FP_PRNU = 4, PC_FP_DSNU = 8, PC_FP_ALL = 15 };
+ * transmission z1[i], PRNU z2[i], DSNU z3[i] — one Philox block keyed by (seed, pixel) each —
+ * and the extinction-ratio deviate z4[i] (word 0 of a second block, counter word 2 = 1, drawn
+ * only when the scene declares an ER spread); only the deviates in mask (bit k for zk) that the
+ * declared effects use are written. */
+enum { PC_FP_ORIENT = 1, PC_FP_TRANS = 2, PC_FP_PRNU = 4, PC_FP_DSNU = 8, PC_FP_ER = 16,
+       PC_FP_ALL = 31 };
 void pc_sensor_fixed_row(const pc_sim *sim, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
-			 double *z0, double *z1, double *z2, double *z3);
+			 double *z0, double *z1, double *z2, double *z3, double *z4);
 
 #endif

@@ -214,7 +214,7 @@ double pc_sim_dn_per_radiance(const pc_sim *sim, const pc_sim_controls *controls
  * The sensor (physics.md §6). Figures as resolved from the preset and the scene's overrides.
  */
 typedef struct pc_sensor_figures {
-	char preset[32];            /* "ideal", "imx250mzr", "imx250myr" */
+	char preset[32];            /* "ideal", "imx250mzr", "imx250myr", "imx250mzr_nonuniform" */
 	uint32_t width, height;
 	double pixel_pitch_um;
 	unsigned bits;              /* ADC bits */
@@ -227,7 +227,9 @@ typedef struct pc_sensor_figures {
 	double prnu;                /* PRNU σ, relative (0.005 = 0.5 %) */
 	double gain_dn_per_e;       /* system gain K0 at gain_db = 0, DN per electron */
 	double offset_dn;           /* black level, DN */
-	double extinction_ratio;    /* ER of the micro-polarizers */
+	double extinction_ratio;    /* ER of the micro-polarizers (the median with a spread) */
+	double extinction_ratio_sigma; /* per-pixel ER spread: σ of ln ER (log-normal, median
+	                                  extinction_ratio); 0 = every pixel has extinction_ratio */
 	double orientation_sigma_deg;   /* random per-pixel analyser orientation error σ */
 	double orientation_offset_deg[4]; /* systematic error per channel 0/45/90/135 */
 	double transmission_sigma;  /* random per-pixel relative transmission error σ */
