@@ -15,7 +15,7 @@ export DEBIAN_FRONTEND=noninteractive
 BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-dev libcairo2-dev
   fonts-dejavu-core
   libaravis-dev aravis-tools-cli libusb-1.0-0-dev libopencv-core-dev libopencv-imgproc-dev
-  libopencv-highgui-dev"
+  libopencv-highgui-dev libzip-dev liblapack-dev"
 # Tests: network namespaces, the QEMU guest with Debian's kernel and vivid, Xvfb for the window.
 TEST_PKGS="iproute2 util-linux qemu-system-x86 busybox-static cpio kmod v4l-utils xvfb xauth x11-apps
   libcamera-dev"

@@ -1,0 +1,929 @@
+/* calib/calib.c - dark, flat and analyser calibration of a DoFP camera and the calibrated
+ * pipeline (polarcam/calib.h; docs/calibration.md gives the procedure and the formulas). */
+#include "polarcam/calib.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "polarcam/error.h"
+#include "polarcam/parallel.h"
+
+#define DEG (3.14159265358979323846 / 180.0)
+
+void pc_calib_init(pc_calib *cal)
+{
+	memset(cal, 0, sizeof *cal);
+	cal->pinv_method = -1;
+}
+
+void pc_calib_free(pc_calib *cal)
+{
+	free(cal->dark);
+	free(cal->dark_noise);
+	free(cal->gain);
+	free(cal->analysis);
+	free(cal->residual);
+	free(cal->pinv_sp);
+	free(cal->valid);
+	free(cal->provenance);
+	free(cal->pinv_px);
+	pc_calib_init(cal);
+}
+
+static int dup_map(void **dst, const void *src, size_t bytes)
+{
+	*dst = NULL;
+	if (!src)
+		return 0;
+	if (!(*dst = malloc(bytes)))
+		return pc_error(PC_ENOMEM, "calibration map (%zu bytes)", bytes);
+	memcpy(*dst, src, bytes);
+	return 0;
+}
+
+int pc_calib_copy(pc_calib *dst, const pc_calib *src)
+{
+	pc_calib_init(dst);
+	pc_calib t = *src;
+	t.dark = t.dark_noise = t.gain = t.analysis = t.residual = t.pinv_sp = NULL;
+	t.valid = NULL;
+	t.provenance = NULL;
+	t.pinv_px = NULL;
+	t.pinv_method = -1;
+	size_t np = (size_t)src->geo.width * src->geo.height;
+	int rc;
+	if ((rc = dup_map((void **)&t.dark, src->dark, np * 4)) ||
+	    (rc = dup_map((void **)&t.dark_noise, src->dark_noise, np * 4)) ||
+	    (rc = dup_map((void **)&t.gain, src->gain, np * 4)) ||
+	    (rc = dup_map((void **)&t.analysis, src->analysis, np * 12)) ||
+	    (rc = dup_map((void **)&t.residual, src->residual, np * 4)) ||
+	    (rc = dup_map((void **)&t.pinv_sp, src->pinv_sp, np / 4 * 48)) ||
+	    (rc = dup_map((void **)&t.valid, src->valid, np)) ||
+	    (rc = dup_map((void **)&t.provenance, src->provenance,
+			  src->provenance ? strlen(src->provenance) + 1 : 0))) {
+		pc_calib_free(&t);
+		return rc;
+	}
+	*dst = t;
+	return 0;
+}
+
+/* ---- geometry ---- */
+
+static void geo_text(const pc_calib_geometry *g, char *buf, size_t n)
+{
+	char m[64];
+	pc_mosaic_format(&g->mosaic, m, sizeof m);
+	snprintf(buf, n, "%ux%u at ROI (%u,%u), %u bits, layout %s", g->width, g->height,
+		 g->offset_x, g->offset_y, g->bits, m);
+}
+
+int pc_calib_check(const pc_calib *cal, const pc_calib_geometry *g)
+{
+	const pc_calib_geometry *c = &cal->geo;
+	const char *what = NULL;
+	if (g->width != c->width || g->height != c->height)
+		what = "size differs";
+	else if (g->offset_x != c->offset_x || g->offset_y != c->offset_y)
+		what = "ROI offset differs";
+	else if (!pc_mosaic_equal(&g->mosaic, &c->mosaic))
+		what = "mosaic layout differs";
+	else if (g->bits && c->bits && g->bits != c->bits)
+		what = "bit depth differs";
+	else if (g->sensor_width && c->sensor_width &&
+		 (g->sensor_width != c->sensor_width || g->sensor_height != c->sensor_height))
+		what = "sensor size differs";
+	if (!what)
+		return 0;
+	char a[160], b[160];
+	geo_text(g, a, sizeof a);
+	geo_text(c, b, sizeof b);
+	return pc_error(PC_EINVAL, "frame %s, calibration %s: %s", a, b, what);
+}
+
+/* ---- frame stacks: per-pixel mean (and variance) in double ---- */
+
+typedef struct stack_stats {
+	double *mean;   /* (H, W) */
+	double *var;    /* (H, W) sample variance, or NULL */
+	uint8_t *sat;   /* (H, W) 1 = at or above saturation in some frame */
+	size_t n_sat;
+} stack_stats;
+
+static void stats_free(stack_stats *s)
+{
+	free(s->mean);
+	free(s->var);
+	free(s->sat);
+	memset(s, 0, sizeof *s);
+}
+
+static double sat_level(const pc_calib_opts *o, unsigned bits)
+{
+	if (o && o->saturation > 0)
+		return o->saturation;
+	return (double)((1u << (bits ? bits : 16)) - 1u);
+}
+
+/* Mean (Welford: numerically stable variance) over the stack's frames. */
+static int stack_read(const pc_calib_stack *s, const pc_calib_geometry *want, bool want_var,
+		      double saturation, stack_stats *st, uint64_t *done, uint64_t total,
+		      const pc_calib_opts *o)
+{
+	memset(st, 0, sizeof *st);
+	if (s->n == 0)
+		return pc_error(PC_EINVAL, "%s: no frames", s->name);
+	if (want) {
+		int rc = 0;
+		pc_calib tmp;
+		pc_calib_init(&tmp);
+		tmp.geo = *want;
+		if ((rc = pc_calib_check(&tmp, &s->geo)))
+			return pc_error_prefix(rc, "%s: ", s->name);
+	}
+	const uint32_t W = s->geo.width, H = s->geo.height;
+	const size_t np = (size_t)W * H;
+	st->mean = calloc(np, sizeof *st->mean);
+	st->var = want_var ? calloc(np, sizeof *st->var) : NULL;
+	st->sat = calloc(np, 1);
+	float *row = malloc(np * sizeof *row);
+	if (!st->mean || (want_var && !st->var) || !st->sat || !row) {
+		free(row);
+		stats_free(st);
+		return pc_error(PC_ENOMEM, "%s: %zu pixels", s->name, np);
+	}
+	for (size_t i = 0; i < s->n; i++) {
+		pc_view v = { 0 };
+		int rc = s->get(s->user, i, &v);
+		if (rc) {
+			free(row);
+			stats_free(st);
+			return pc_error_prefix(rc, "%s: frame %zu: ", s->name, i);
+		}
+		if (v.width != W || v.height != H) {
+			pc_view_free(&v);
+			free(row);
+			stats_free(st);
+			return pc_error(PC_EINVAL, "%s: frame %zu is %ux%u, the recording says %ux%u",
+					s->name, i, v.width, v.height, W, H);
+		}
+		rc = pc_view_to_f32(&v, row, (size_t)W * sizeof(float));
+		pc_view_free(&v);
+		if (rc) {
+			free(row);
+			stats_free(st);
+			return pc_error_prefix(rc, "%s: frame %zu: ", s->name, i);
+		}
+		const double k = (double)(i + 1);
+		for (size_t p = 0; p < np; p++) {
+			double x = row[p];
+			if (x >= saturation)
+				st->sat[p] = 1;
+			double d = x - st->mean[p];
+			st->mean[p] += d / k;
+			if (want_var)
+				st->var[p] += d * (x - st->mean[p]);
+		}
+		if (done) {
+			(*done)++;
+			if (o && o->progress)
+				o->progress(o->progress_user, *done, total);
+		}
+	}
+	free(row);
+	if (want_var)
+		for (size_t p = 0; p < np; p++)
+			st->var[p] = s->n > 1 ? st->var[p] / (double)(s->n - 1) : 0;
+	for (size_t p = 0; p < np; p++)
+		st->n_sat += st->sat[p];
+	return 0;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
+}
+
+/* Median and the robust σ (1.4826·MAD, Rousseeuw & Croux, JASA 88(424) 1273, 1993). */
+static int robust_stats(const double *v, size_t n, double *median, double *sigma)
+{
+	double *t = malloc(n * sizeof *t);
+	if (!t)
+		return pc_error(PC_ENOMEM, "robust statistics");
+	memcpy(t, v, n * sizeof *t);
+	qsort(t, n, sizeof *t, cmp_double);
+	*median = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+	for (size_t i = 0; i < n; i++)
+		t[i] = fabs(t[i] - *median);
+	qsort(t, n, sizeof *t, cmp_double);
+	double mad = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+	*sigma = 1.4826 * mad;
+	free(t);
+	return 0;
+}
+
+static int start_from(pc_calib *out, const pc_calib *base, const pc_calib_geometry *g)
+{
+	int rc = 0;
+	if (base) {
+		if ((rc = pc_calib_copy(out, base)))
+			return rc;
+	} else {
+		pc_calib_init(out);
+		out->geo = *g;
+		out->saturation = (double)((1u << (g->bits ? g->bits : 16)) - 1u);
+	}
+	size_t np = (size_t)out->geo.width * out->geo.height;
+	if (!out->valid) {
+		if (!(out->valid = malloc(np)))
+			return pc_error(PC_ENOMEM, "validity map");
+		memset(out->valid, 1, np);
+	}
+	return 0;
+}
+
+static int check_mono(const pc_calib_geometry *g, const char *name)
+{
+	if (g->mosaic.period != 2)
+		return pc_error(PC_ENOTSUP, "%s: colour-polarization mosaics are not calibrated yet "
+					    "(monochrome 2x2 mosaics only)", name);
+	if (g->width < 4 || g->height < 4 || g->width % 2 || g->height % 2)
+		return pc_error(PC_EINVAL, "%s: %ux%u: calibration needs even sizes of at least 4x4",
+				name, g->width, g->height);
+	return 0;
+}
+
+/* ---- dark ---- */
+
+int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_calib *out)
+{
+	pc_calib_init(out);
+	int rc;
+	if (s->n < 2)
+		return pc_error(PC_EINVAL, "%s: %zu dark frame%s: at least 2 are needed for the temporal "
+				"noise", s->name, s->n, s->n == 1 ? "" : "s");
+	if ((rc = check_mono(&s->geo, s->name)))
+		return rc;
+	stack_stats st;
+	uint64_t done = 0;
+	double sat = sat_level(o, s->geo.bits);
+	if ((rc = stack_read(s, NULL, true, sat, &st, &done, s->n, o)))
+		return rc;
+	const size_t np = (size_t)s->geo.width * s->geo.height;
+	if (st.n_sat * 10 > np) {
+		rc = pc_error(PC_EINVAL, "%s: %zu of %zu pixels saturated: not dark frames (lens cap on?)",
+			      s->name, st.n_sat, np);
+		stats_free(&st);
+		return rc;
+	}
+	if ((rc = start_from(out, NULL, &s->geo))) {
+		stats_free(&st);
+		return rc;
+	}
+	out->saturation = sat;
+	out->dark = malloc(np * sizeof(float));
+	out->dark_noise = malloc(np * sizeof(float));
+	double med = 0, sig = 0;
+	if (!out->dark || !out->dark_noise) {
+		rc = pc_error(PC_ENOMEM, "dark maps");
+		goto fail;
+	}
+	if ((rc = robust_stats(st.mean, np, &med, &sig)))
+		goto fail;
+	/* a pixel's offset is known to σ_t/sqrt(N); hot pixels lie beyond 8 robust σ of the
+	 * offset distribution plus that uncertainty */
+	double sum = 0;
+	size_t nvalid = 0;
+	for (size_t p = 0; p < np; p++) {
+		out->dark[p] = (float)st.mean[p];
+		out->dark_noise[p] = (float)sqrt(st.var[p]);
+		double lim = 8 * sqrt(sig * sig + st.var[p] / (double)s->n) + 0.5;
+		if (st.sat[p] || fabs(st.mean[p] - med) > lim)
+			out->valid[p] = 0;
+		else {
+			sum += st.mean[p];
+			nvalid++;
+		}
+	}
+	out->black_level = nvalid ? sum / (double)nvalid : med;
+	out->parts = PC_CAL_DARK;
+	stats_free(&st);
+	return 0;
+fail:
+	stats_free(&st);
+	pc_calib_free(out);
+	return rc;
+}
+
+/* dark (or black level) of pixel p */
+static inline double dark_of(const pc_calib *c, size_t p)
+{
+	return c && c->dark ? (double)c->dark[p] : c ? c->black_level : 0;
+}
+
+/* ---- flat ---- */
+
+int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib *base,
+		  const pc_calib_opts *o, pc_calib *out)
+{
+	pc_calib_init(out);
+	if (n_levels < 2)
+		return pc_error(PC_EINVAL, "flat: %zu level%s given: at least 2 light levels are needed "
+				"(the gain is a slope)", n_levels, n_levels == 1 ? "" : "s");
+	int rc;
+	const pc_calib_geometry *g = base ? &base->geo : &levels[0].geo;
+	if ((rc = check_mono(g, levels[0].name)))
+		return rc;
+	const size_t np = (size_t)g->width * g->height;
+	double sat = base && (!o || !(o->saturation > 0)) ? base->saturation : sat_level(o, g->bits);
+	double max_frac = o && o->max_saturated_frac > 0 ? o->max_saturated_frac : 1e-4;
+	double *y = malloc(n_levels * np * sizeof *y);
+	uint8_t *bad = calloc(np, 1);
+	double lm[4 * 64];
+	if (!y || !bad) {
+		free(y);
+		free(bad);
+		return pc_error(PC_ENOMEM, "flat");
+	}
+	if (n_levels > 64) {
+		free(y);
+		free(bad);
+		return pc_error(PC_EINVAL, "flat: at most 64 levels");
+	}
+	uint64_t done = 0, total = 0;
+	for (size_t l = 0; l < n_levels; l++)
+		total += levels[l].n;
+	for (size_t l = 0; l < n_levels; l++) {
+		stack_stats st;
+		if ((rc = stack_read(&levels[l], g, false, sat, &st, &done, total, o)))
+			goto out;
+		if ((double)st.n_sat > max_frac * (double)np) {
+			rc = pc_error(PC_EINVAL, "%s: %zu of %zu pixels saturated (at %g DN or above): "
+					  "lower the exposure or the light", levels[l].name, st.n_sat, np, sat);
+			stats_free(&st);
+			goto out;
+		}
+		double s[4] = { 0 }, n[4] = { 0 };
+		for (uint32_t yy = 0; yy < g->height; yy++)
+			for (uint32_t x = 0; x < g->width; x++) {
+				size_t p = (size_t)yy * g->width + x;
+				double v = st.mean[p] - dark_of(base, p);
+				y[l * np + p] = v;
+				bad[p] |= st.sat[p];
+				unsigned c = pc_mosaic_channel(&g->mosaic, x, yy);
+				if (!st.sat[p] && (!base || !base->valid || base->valid[p])) {
+					s[c] += v;
+					n[c]++;
+				}
+			}
+		for (int c = 0; c < 4; c++)
+			lm[l * 4 + c] = n[c] > 0 ? s[c] / n[c] : 0;
+		stats_free(&st);
+	}
+	/* the levels must differ: the gain is the slope of pixel against channel mean */
+	double lo = INFINITY, hi = -INFINITY;
+	for (size_t l = 0; l < n_levels; l++) {
+		double m = (lm[l * 4] + lm[l * 4 + 1] + lm[l * 4 + 2] + lm[l * 4 + 3]) / 4;
+		lo = fmin(lo, m);
+		hi = fmax(hi, m);
+	}
+	if (!(hi - lo > 0.05 * fabs(hi)) || !(hi > 0)) {
+		rc = pc_error(PC_ENUMERIC, "flat: the levels' means span %.4g to %.4g DN: they must "
+				   "differ by at least 5 %% (singular fit)", lo, hi);
+		goto out;
+	}
+	if ((rc = start_from(out, base, g)))
+		goto out;
+	out->saturation = sat;
+	if (!(out->gain = malloc(np * sizeof(float)))) {
+		rc = pc_error(PC_ENOMEM, "gain map");
+		goto out;
+	}
+	/* per pixel: least squares y_l = b + g·m_l (m_l the channel mean of level l), slope g */
+	double gs = 0;
+	size_t gn = 0;
+	for (uint32_t yy = 0; yy < g->height; yy++)
+		for (uint32_t x = 0; x < g->width; x++) {
+			size_t p = (size_t)yy * g->width + x;
+			unsigned c = pc_mosaic_channel(&g->mosaic, x, yy);
+			double sm = 0, sy = 0, smm = 0, smy = 0, nl = (double)n_levels;
+			for (size_t l = 0; l < n_levels; l++) {
+				double m = lm[l * 4 + c], v = y[l * np + p];
+				sm += m;
+				sy += v;
+				smm += m * m;
+				smy += m * v;
+			}
+			double den = nl * smm - sm * sm;
+			double gp = den > 0 ? (nl * smy - sm * sy) / den : 0;
+			out->gain[p] = (float)gp;
+			if (bad[p] || !(gp > 0.2 && gp < 5))
+				out->valid[p] = 0; /* dead, saturated or absurd */
+			if (out->valid[p]) {
+				gs += gp;
+				gn++;
+			}
+		}
+	double gmean = gn ? gs / (double)gn : 1;
+	for (size_t p = 0; p < np; p++)
+		out->gain[p] = out->valid[p] ? (float)(out->gain[p] / gmean) : 1.0f;
+	out->parts |= PC_CAL_FLAT;
+	rc = 0;
+out:
+	free(y);
+	free(bad);
+	if (rc)
+		pc_calib_free(out);
+	return rc;
+}
+
+/* ---- analyser ---- */
+
+/* pinv of the 3×3 symmetric matrix (Cramer); returns the reciprocal condition estimate. */
+static double inv3(const double a[3][3], double inv[3][3])
+{
+	double c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1];
+	double c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2];
+	double c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
+	double det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
+	double nrm = 0;
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			nrm = fmax(nrm, fabs(a[i][j]));
+	if (!(fabs(det) > 1e-14 * nrm * nrm * nrm))
+		return 0;
+	inv[0][0] = c00 / det;
+	inv[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) / det;
+	inv[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
+	inv[1][0] = c01 / det;
+	inv[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) / det;
+	inv[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
+	inv[2][0] = c02 / det;
+	inv[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
+	inv[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
+	double ninv = 0;
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			ninv = fmax(ninv, fabs(inv[i][j]));
+	return 1 / (nrm * ninv);
+}
+
+/* Per pixel a_p = (U Uᵀ)⁻¹ U I_p with U the 3×K stimulus matrix; residual RMS (K > 3). */
+static int fit_vectors(const double *I, size_t K, size_t np, const double (*u)[3], double *a,
+		       double *res, double *rcond_out)
+{
+	double N[3][3] = { { 0 } }, Ni[3][3];
+	for (size_t k = 0; k < K; k++)
+		for (int i = 0; i < 3; i++)
+			for (int j = 0; j < 3; j++)
+				N[i][j] += u[k][i] * u[k][j];
+	double rcond = inv3(N, Ni);
+	if (rcond_out)
+		*rcond_out = rcond;
+	if (!(rcond > 1e-8))
+		return PC_ENUMERIC;
+	for (size_t p = 0; p < np; p++) {
+		double b[3] = { 0, 0, 0 };
+		for (size_t k = 0; k < K; k++)
+			for (int i = 0; i < 3; i++)
+				b[i] += u[k][i] * I[k * np + p];
+		for (int i = 0; i < 3; i++)
+			a[3 * p + i] = Ni[i][0] * b[0] + Ni[i][1] * b[1] + Ni[i][2] * b[2];
+		if (res) {
+			double ss = 0;
+			for (size_t k = 0; k < K; k++) {
+				double e = I[k * np + p] - (a[3 * p] * u[k][0] + a[3 * p + 1] * u[k][1] +
+							    a[3 * p + 2] * u[k][2]);
+				ss += e * e;
+			}
+			res[p] = K > 3 ? sqrt(ss / (double)(K - 3)) : 0;
+		}
+	}
+	return 0;
+}
+
+static void stim_vec(double s0, double P, double theta, double u[3])
+{
+	u[0] = s0;
+	u[1] = s0 * P * cos(2 * theta);
+	u[2] = s0 * P * sin(2 * theta);
+}
+
+/* Mean orientation error over valid pixels: ½·atan2(a2, a1) minus the nominal channel angle,
+ * wrapped to (−90°, 90°]. */
+static double mean_orientation_error(const pc_calib_geometry *g, const double *a,
+				     const uint8_t *valid)
+{
+	double s = 0;
+	size_t n = 0;
+	for (uint32_t y = 0; y < g->height; y++)
+		for (uint32_t x = 0; x < g->width; x++) {
+			size_t p = (size_t)y * g->width + x;
+			if (valid && !valid[p])
+				continue;
+			double th = 0.5 * atan2(a[3 * p + 2], a[3 * p + 1]);
+			double e = th - pc_mosaic_channel(&g->mosaic, x, y) * 45 * DEG;
+			e = remainder(e, 180 * DEG);
+			s += e;
+			n++;
+		}
+	return n ? s / (double)n : 0;
+}
+
+/* Super-pixel pseudo-inverses from the per-pixel analysis vectors. */
+static int build_pinv_sp(pc_calib *cal)
+{
+	const uint32_t W = cal->geo.width, H = cal->geo.height, gw = W / 2, gh = H / 2;
+	free(cal->pinv_sp);
+	cal->pinv_sp = malloc((size_t)gw * gh * 12 * sizeof(float));
+	if (!cal->pinv_sp)
+		return pc_error(PC_ENOMEM, "super-pixel pseudo-inverses");
+	for (uint32_t j = 0; j < gh; j++)
+		for (uint32_t i = 0; i < gw; i++) {
+			double w[4][3], pinv[3][4];
+			for (uint32_t dy = 0; dy < 2; dy++)
+				for (uint32_t dx = 0; dx < 2; dx++) {
+					uint32_t x = 2 * i + dx, y = 2 * j + dy;
+					unsigned c = pc_mosaic_channel(&cal->geo.mosaic, x, y);
+					const float *a = cal->analysis + 3 * ((size_t)y * W + x);
+					for (int k = 0; k < 3; k++)
+						w[c][k] = a[k];
+				}
+			float *o = cal->pinv_sp + 12 * ((size_t)j * gw + i);
+			if (pc_stokes_pinv1(w, pinv)) {
+				double id[4][3];
+				pc_stokes_ideal_analyser(id);
+				pc_stokes_pinv1(id, pinv);
+				for (uint32_t dy = 0; dy < 2; dy++)
+					for (uint32_t dx = 0; dx < 2; dx++)
+						cal->valid[(size_t)(2 * j + dy) * W + 2 * i + dx] = 0;
+			}
+			for (int r = 0; r < 3; r++)
+				for (int c = 0; c < 4; c++)
+					o[4 * r + c] = (float)pinv[r][c];
+		}
+	return 0;
+}
+
+int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base,
+		      const pc_calib_opts *o, pc_calib *out, double *angles_out)
+{
+	pc_calib_init(out);
+	bool unknown = o && o->unknown_angles;
+	if (K < 3 || (unknown && K < 4))
+		return pc_error(PC_EINVAL, "analyser: %zu stimul%s given: at least %d analyser angles "
+				"are needed%s", K, K == 1 ? "us" : "i", unknown ? 4 : 3,
+				unknown ? " with unknown angles (3 per pixel + the angles)" : " (3 unknowns "
+				"per pixel)");
+	if (K > 256)
+		return pc_error(PC_EINVAL, "analyser: at most 256 stimuli");
+	const pc_calib_geometry *g = base ? &base->geo : &stim[0].geo;
+	int rc;
+	if ((rc = check_mono(g, stim[0].name)))
+		return rc;
+	double theta[256], P[256];
+	for (size_t k = 0; k < K; k++) {
+		P[k] = isfinite(stim[k].dolp) && stim[k].dolp > 0 ? stim[k].dolp : 1;
+		if (stim[k].dolp > 1)
+			return pc_error(PC_EINVAL, "%s: DoLP %g > 1", stim[k].name, stim[k].dolp);
+		theta[k] = stim[k].angle_deg * DEG;
+		if (!unknown && !isfinite(theta[k]))
+			return pc_error(PC_EINVAL, "%s: the stimulus angle is unknown (give the angles, "
+					"or use the unknown-angles mode)", stim[k].name);
+	}
+	const size_t np = (size_t)g->width * g->height;
+	double sat = base && (!o || !(o->saturation > 0)) ? base->saturation : sat_level(o, g->bits);
+	double max_frac = o && o->max_saturated_frac > 0 ? o->max_saturated_frac : 1e-4;
+	double *I = malloc(K * np * sizeof *I), *a = malloc(3 * np * sizeof *a);
+	double *res = malloc(np * sizeof *res);
+	uint8_t *bad = calloc(np, 1);
+	if (!I || !a || !res || !bad) {
+		rc = pc_error(PC_ENOMEM, "analyser fit (%zu pixels x %zu stimuli)", np, K);
+		goto out;
+	}
+	uint64_t done = 0, total = 0;
+	for (size_t k = 0; k < K; k++)
+		total += stim[k].n;
+	for (size_t k = 0; k < K; k++) {
+		stack_stats st;
+		if ((rc = stack_read(&stim[k], g, false, sat, &st, &done, total, o)))
+			goto out;
+		if ((double)st.n_sat > max_frac * (double)np) {
+			rc = pc_error(PC_EINVAL, "%s: %zu of %zu pixels saturated (at %g DN or above): "
+					  "lower the exposure", stim[k].name, st.n_sat, np, sat);
+			stats_free(&st);
+			goto out;
+		}
+		for (size_t p = 0; p < np; p++) {
+			double v = st.mean[p] - dark_of(base, p);
+			if (base && base->gain)
+				v /= base->gain[p];
+			I[k * np + p] = v;
+			bad[p] |= st.sat[p];
+		}
+		stats_free(&st);
+	}
+	if ((rc = start_from(out, base, g)))
+		goto out;
+	out->saturation = sat;
+	for (size_t p = 0; p < np; p++)
+		if (bad[p])
+			out->valid[p] = 0;
+	double u[256][3], rcond = 0;
+	if (unknown) {
+		/* initial angles: the ideal-analyser Stokes of the sensor-wide channel means */
+		double m[256][4];
+		for (size_t k = 0; k < K; k++) {
+			double s[4] = { 0 }, n[4] = { 0 };
+			for (uint32_t y = 0; y < g->height; y++)
+				for (uint32_t x = 0; x < g->width; x++) {
+					size_t p = (size_t)y * g->width + x;
+					if (!out->valid[p])
+						continue;
+					unsigned c = pc_mosaic_channel(&g->mosaic, x, y);
+					s[c] += I[k * np + p];
+					n[c]++;
+				}
+			for (int c = 0; c < 4; c++)
+				m[k][c] = n[c] ? s[c] / n[c] : 0;
+			theta[k] = 0.5 * atan2(m[k][1] - m[k][3], m[k][0] - m[k][2]);
+		}
+		unsigned iters = o->iterations ? o->iterations : 50;
+		for (unsigned it = 0; it < iters; it++) {
+			for (size_t k = 0; k < K; k++)
+				stim_vec(1, P[k], theta[k], u[k]);
+			if ((rc = fit_vectors(I, K, np, (const double(*)[3])u, a, NULL, &rcond)))
+				break;
+			/* each angle: Gauss–Newton on Σ_p (I_pk − a_p·u(θ))² over valid pixels */
+			double maxstep = 0;
+			for (size_t k = 0; k < K; k++) {
+				double c2 = cos(2 * theta[k]), s2 = sin(2 * theta[k]);
+				double jj = 0, jr = 0;
+				for (size_t p = 0; p < np; p++) {
+					if (!out->valid[p])
+						continue;
+					const double *ap = a + 3 * p;
+					double f = ap[0] + P[k] * (ap[1] * c2 + ap[2] * s2);
+					double d = 2 * P[k] * (-ap[1] * s2 + ap[2] * c2);
+					double r = I[k * np + p] - f;
+					jj += d * d;
+					jr += d * r;
+				}
+				double step = jj > 0 ? jr / jj : 0;
+				theta[k] += step;
+				maxstep = fmax(maxstep, fabs(step));
+			}
+			/* gauge: the angles are relative; fix the mean analyser orientation error to 0 */
+			for (size_t k = 0; k < K; k++)
+				stim_vec(1, P[k], theta[k], u[k]);
+			if ((rc = fit_vectors(I, K, np, (const double(*)[3])u, a, NULL, &rcond)))
+				break;
+			double e = mean_orientation_error(g, a, out->valid);
+			for (size_t k = 0; k < K; k++)
+				theta[k] -= e;
+			if (maxstep < 1e-9 && fabs(e) < 1e-9)
+				break;
+		}
+		if (rc) {
+			rc = pc_error(PC_ENUMERIC, "analyser: the estimated angles collapsed (singular "
+					   "fit): the stimuli must cover at least 3 distinct angles mod 180°");
+			goto out;
+		}
+	}
+	for (size_t k = 0; k < K; k++)
+		stim_vec(1, P[k], theta[k], u[k]);
+	if ((rc = fit_vectors(I, K, np, (const double(*)[3])u, a, res, &rcond))) {
+		char list[512] = "";
+		for (size_t k = 0; k < K && strlen(list) < 480; k++)
+			snprintf(list + strlen(list), sizeof list - strlen(list), "%s%.4g", k ? "," : "",
+				 theta[k] / DEG);
+		rc = pc_error(PC_ENUMERIC, "analyser: the angles %s deg do not determine cos 2θ and "
+				   "sin 2θ (singular fit, reciprocal condition %.3g): use angles spread "
+				   "over 180°", list, rcond);
+		goto out;
+	}
+	/* scale: mean a0 over valid pixels = ½ */
+	double s = 0;
+	size_t n = 0;
+	for (size_t p = 0; p < np; p++)
+		if (out->valid[p]) {
+			s += a[3 * p];
+			n++;
+		}
+	if (!(s > 0) || n == 0) {
+		rc = pc_error(PC_ENUMERIC, "analyser: no signal (mean response %g DN)", n ? s / n : 0);
+		goto out;
+	}
+	double scale = 0.5 / (s / (double)n);
+	free(out->analysis);
+	free(out->residual);
+	out->analysis = malloc(3 * np * sizeof(float));
+	out->residual = malloc(np * sizeof(float));
+	if (!out->analysis || !out->residual) {
+		rc = pc_error(PC_ENOMEM, "analysis maps");
+		goto out;
+	}
+	for (size_t p = 0; p < np; p++) {
+		for (int i = 0; i < 3; i++)
+			out->analysis[3 * p + i] = (float)(a[3 * p + i] * scale);
+		out->residual[p] = (float)res[p];
+		/* a pixel that barely responds or barely analyses cannot be inverted */
+		double a0 = a[3 * p] * scale, d = hypot(a[3 * p + 1], a[3 * p + 2]) * scale;
+		if (!(a0 > 0.05) || !(d > 0.05 * a0))
+			out->valid[p] = 0;
+	}
+	if ((rc = build_pinv_sp(out)))
+		goto out;
+	if (angles_out)
+		for (size_t k = 0; k < K; k++)
+			angles_out[k] = remainder(theta[k] / DEG, 180.0) < 0 ?
+						remainder(theta[k] / DEG, 180.0) + 180 :
+						remainder(theta[k] / DEG, 180.0);
+	out->parts |= PC_CAL_ANALYSER;
+	free(out->pinv_px);
+	out->pinv_px = NULL;
+	out->pinv_method = -1;
+	rc = 0;
+out:
+	free(I);
+	free(a);
+	free(res);
+	free(bad);
+	if (rc)
+		pc_calib_free(out);
+	return rc;
+}
+
+/* ---- applying ---- */
+
+int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_t *valid_out,
+		     size_t *n_invalid)
+{
+	const uint32_t W = cal->geo.width, H = cal->geo.height;
+	if (raw->width != W || raw->height != H)
+		return pc_error(PC_EINVAL, "frame %ux%u, calibration %ux%u: size differs", raw->width,
+				raw->height, W, H);
+	int rc = pc_view_to_f32(raw, out, (size_t)W * sizeof(float));
+	if (rc)
+		return rc;
+	size_t bad = 0;
+	const double sat = cal->saturation > 0 ? cal->saturation : INFINITY;
+	for (size_t p = 0; p < (size_t)W * H; p++) {
+		double x = out[p];
+		bool ok = (!cal->valid || cal->valid[p]) && x < sat;
+		double v = x - dark_of(cal, p);
+		if (cal->gain)
+			v /= cal->gain[p];
+		out[p] = (float)v;
+		if (valid_out)
+			valid_out[p] = ok;
+		bad += !ok;
+	}
+	if (n_invalid)
+		*n_invalid = bad;
+	return 0;
+}
+
+static bool is_superpixel(pc_demosaic_method m)
+{
+	return m == PC_DM_SUPERPIXEL || m == PC_DM_SUPERPIXEL_HALF;
+}
+
+int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_analyser_pinv *pinv)
+{
+	if (!(cal->parts & PC_CAL_ANALYSER) || !cal->analysis || !cal->pinv_sp)
+		return pc_error(PC_EINVAL, "the calibration has no analyser part (polarcam calibrate "
+					   "analyser)");
+	const uint32_t W = cal->geo.width, H = cal->geo.height;
+	if (is_superpixel(method)) {
+		pinv->m = cal->pinv_sp;
+		pinv->grid_w = W / 2;
+		pinv->grid_h = H / 2;
+		return 0;
+	}
+	if (cal->pinv_px && cal->pinv_method == (int)method) {
+		pinv->m = cal->pinv_px;
+		pinv->grid_w = W;
+		pinv->grid_h = H;
+		return 0;
+	}
+	uint32_t ow, oh;
+	pc_demosaic_out_size(method, W, H, &ow, &oh);
+	if (ow != W || oh != H)
+		return pc_error(PC_ENOTSUP, "calibrated Stokes for a method with output %ux%u", ow, oh);
+	const size_t np = (size_t)W * H;
+	float *map = malloc(np * sizeof *map), *ch = malloc(4 * np * sizeof *ch);
+	float *wm = malloc(12 * np * sizeof *wm);
+	int rc = 0;
+	if (!map || !ch || !wm) {
+		rc = pc_error(PC_ENOMEM, "per-pixel analysis matrices (%zu pixels)", np);
+		goto out;
+	}
+	pc_demosaic_opts dopt = { .threads = threads };
+	for (int k = 0; k < 3; k++) {
+		for (size_t p = 0; p < np; p++)
+			map[p] = cal->analysis[3 * p + k];
+		pc_view v = { map, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
+		pc_fplane planes[4];
+		pc_fplanes_separate(ch, W, H, 4, planes);
+		if ((rc = pc_demosaic(&v, &cal->geo.mosaic, method, &dopt, planes)))
+			goto out;
+		for (size_t p = 0; p < np; p++)
+			for (int c = 0; c < 4; c++)
+				wm[12 * p + 3 * c + k] = ch[(size_t)c * np + p];
+	}
+	free(cal->pinv_px);
+	cal->pinv_px = malloc(12 * np * sizeof(float));
+	if (!cal->pinv_px) {
+		rc = pc_error(PC_ENOMEM, "per-pixel pseudo-inverses");
+		goto out;
+	}
+	if ((rc = pc_stokes_pinv(wm, np, cal->pinv_px))) {
+		free(cal->pinv_px);
+		cal->pinv_px = NULL;
+		goto out;
+	}
+	cal->pinv_method = (int)method;
+	pinv->m = cal->pinv_px;
+	pinv->grid_w = W;
+	pinv->grid_h = H;
+out:
+	free(map);
+	free(ch);
+	free(wm);
+	return rc;
+}
+
+int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *g,
+		    pc_demosaic_method method, int threads, const pc_stokes_out *out,
+		    uint8_t *valid_out, size_t *n_invalid)
+{
+	int rc;
+	if (g && (rc = pc_calib_check(cal, g)))
+		return rc;
+	const uint32_t W = cal->geo.width, H = cal->geo.height;
+	const size_t np = (size_t)W * H;
+	uint32_t ow, oh;
+	pc_demosaic_out_size(method, W, H, &ow, &oh);
+	float *corr = malloc(np * sizeof *corr), *ch = malloc(4 * (size_t)ow * oh * sizeof *ch);
+	float *vf = valid_out ? malloc(np * sizeof *vf) : NULL;
+	float *vch = valid_out ? malloc(4 * (size_t)ow * oh * sizeof *vch) : NULL;
+	uint8_t *vraw = malloc(np);
+	if (!corr || !ch || !vraw || (valid_out && (!vf || !vch))) {
+		rc = pc_error(PC_ENOMEM, "calibrated pipeline (%zu pixels)", np);
+		goto out;
+	}
+	size_t nbad = 0;
+	if ((rc = pc_calib_correct(cal, raw, corr, vraw, &nbad)))
+		goto out;
+	pc_view v = { corr, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
+	pc_fplane planes[4];
+	pc_fplanes_separate(ch, ow, oh, 4, planes);
+	pc_demosaic_opts dopt = { .threads = threads,
+				  .full_scale = cal->saturation > 0 ? cal->saturation : 0 };
+	if ((rc = pc_demosaic(&v, &cal->geo.mosaic, method, &dopt, planes)))
+		goto out;
+	pc_analyser_pinv pinv, *pp = NULL;
+	if (cal->parts & PC_CAL_ANALYSER) {
+		if ((rc = pc_calib_pinv(cal, method, threads, &pinv)))
+			goto out;
+		pp = &pinv;
+	}
+	if ((rc = pc_stokes_from_channels(planes, ow, oh, pp, out)))
+		goto out;
+	if (valid_out) {
+		/* an output pixel is valid when every sample it depends on is: demosaic the
+		 * validity as 0/1 and keep exact 1 (all weights on valid samples) */
+		for (size_t p = 0; p < np; p++)
+			vf[p] = vraw[p] ? 1.0f : 0.0f;
+		pc_view vv = { vf, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
+		pc_fplane vp[4];
+		pc_fplanes_separate(vch, ow, oh, 4, vp);
+		pc_demosaic_opts o2 = { .threads = threads, .full_scale = 1 };
+		pc_demosaic_method vm = is_superpixel(method) ? method : PC_DM_BILINEAR;
+		if ((rc = pc_demosaic(&vv, &cal->geo.mosaic, vm, &o2, vp)))
+			goto out;
+		size_t nb = 0;
+		const size_t on = (size_t)ow * oh;
+		for (size_t p = 0; p < on; p++) {
+			bool ok = true;
+			for (int c = 0; c < 4; c++)
+				ok &= vch[(size_t)c * on + p] > 0.9999f;
+			valid_out[p] = ok;
+			nb += !ok;
+		}
+		nbad = nb;
+	}
+	if (n_invalid)
+		*n_invalid = nbad;
+out:
+	free(corr);
+	free(ch);
+	free(vf);
+	free(vch);
+	free(vraw);
+	return rc;
+}

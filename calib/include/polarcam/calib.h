@@ -1,0 +1,212 @@
+/* polarcam/calib.h - calibration of division-of-focal-plane polarization cameras and of Mueller
+ * imaging setups (docs/calibration.md: procedure, file format, measured accuracy).
+ *
+ * Measurement model of a raw pixel p (physics.md §6, EMVA 1288 linear model):
+ *     raw_p = dark_p + g_p · (a_p · S)              (DN)
+ * with dark_p the per-pixel offset (black level + DSNU + dark current), g_p the per-pixel gain
+ * (PRNU, micro-lens and transmission non-uniformity, as measured with unpolarized light) and
+ * a_p = (a0, a1, a2) the pixel's analysis vector for the linear Stokes vector S = (S0, S1, S2)
+ * (ideal: ½(1, cos 2θ_c, sin 2θ_c)). Calibration measures dark_p (dark frames), g_p (flat
+ * frames of uniform unpolarized light at ≥ 2 levels) and a_p (frames of a uniform linearly
+ * polarized field at K ≥ 3 analyser angles); the pipeline then computes
+ *     I_p = (raw_p − dark_p) / g_p,  demosaic,  S = W⁺ · I
+ * where W is the 4×3 analysis matrix of an output pixel (the four channels' analysis vectors,
+ * demosaicked like the image: exact for linear methods on smooth scenes) and W⁺ = (WᵀW)⁻¹Wᵀ
+ * its pseudo-inverse (core/include/polarcam/stokes.h, pc_analyser_pinv).
+ *
+ * ECM: the eigenvalue calibration method (Compain, Poirier & Drévillon, Appl. Opt. 38(16)
+ * 3490, 1999) recovers the generator matrix W (4 × n_psg) and the analyser matrix A
+ * (4·n_psa × 4) of a Mueller imaging setup from its intensity matrices B_i = A·M_i·W of
+ * reference samples: air (M_0 = I), a polarizer at two orientations and a retarder.
+ *
+ * Layer: depends on core (and io for the file). Every fit is in double. No printing.
+ */
+#ifndef POLARCAM_CALIB_H
+#define POLARCAM_CALIB_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "polarcam/demosaic.h"
+#include "polarcam/frame.h"
+#include "polarcam/mosaic.h"
+#include "polarcam/stokes.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Version of the calibration file (calib_version.npy). Readers refuse newer versions. */
+#define PC_CALIB_FILE_VERSION 1
+#define PC_CALIB_MAX_STATES 64
+
+/* What a calibration applies to: frames must match it exactly (pc_calib_check). */
+typedef struct pc_calib_geometry {
+	uint32_t width, height;               /* frame size (the ROI) */
+	uint32_t offset_x, offset_y;          /* ROI origin on the sensor */
+	uint32_t sensor_width, sensor_height; /* 0 = unknown */
+	unsigned bits;                        /* ADC bit depth */
+	pc_mosaic mosaic;                     /* mosaic phase at pixel (0, 0) of the frames */
+} pc_calib_geometry;
+
+/* What a calibration holds. Maps are C-order float32 of the frame size; NULL = absent. */
+enum pc_calib_parts {
+	PC_CAL_DARK = 1u << 0,     /* dark, dark_noise */
+	PC_CAL_FLAT = 1u << 1,     /* gain */
+	PC_CAL_ANALYSER = 1u << 2, /* analysis, pinv_sp */
+	PC_CAL_ECM = 1u << 3,      /* ecm_A, ecm_W */
+};
+
+typedef struct pc_calib {
+	unsigned parts;            /* PC_CAL_* bits present */
+	char camera[128];          /* camera model / source description */
+	pc_calib_geometry geo;
+	double black_level;        /* DN: mean dark offset (or the declared black level) */
+	double saturation;         /* DN: samples at or above it are not trusted */
+	float *dark;               /* (H, W) per-pixel offset, DN */
+	float *dark_noise;         /* (H, W) temporal σ of one frame, DN */
+	float *gain;               /* (H, W) relative gain, mean 1 over valid pixels */
+	float *analysis;           /* (H, W, 3) analysis vectors (a0, a1, a2), after dark and gain */
+	float *residual;           /* (H, W) RMS residual of the analyser fit, DN (K > 3) */
+	float *pinv_sp;            /* (H/2, W/2, 3, 4) pseudo-inverses per 2×2 super-pixel */
+	uint8_t *valid;            /* (H, W) 1 = trusted pixel, 0 = dead, hot, saturated, unfit */
+	/* ECM (global over the field): generator W (4 × n_psg) and analyser A (4·n_psa × 4) in
+	 * the frame order of polarcam mueller (generator fastest). */
+	unsigned n_psg, n_psa;
+	double ecm_W[4][PC_CALIB_MAX_STATES];
+	double ecm_A[4 * PC_CALIB_MAX_STATES][4];
+	char *provenance;          /* JSON object text (malloc'd): inputs, options, residuals */
+	/* cache of the per-pixel pseudo-inverses for one demosaicking method (pc_calib_pinv) */
+	float *pinv_px;
+	int pinv_method;
+} pc_calib;
+
+void pc_calib_init(pc_calib *cal);
+void pc_calib_free(pc_calib *cal);
+/* Deep copy (maps, provenance; not the cache). */
+int pc_calib_copy(pc_calib *dst, const pc_calib *src);
+
+/* One recording of one stimulus: n frames of the geometry, read on demand. */
+typedef int (*pc_calib_frame_fn)(void *user, size_t i, pc_view *out);
+typedef struct pc_calib_stack {
+	const char *name;           /* for messages (the recording's path) */
+	pc_calib_geometry geo;
+	size_t n;                   /* frames */
+	pc_calib_frame_fn get;      /* frame i into an owned view (freed by the library) */
+	void *user;
+	double exposure_us;         /* flat levels: the exposure (or any level measure), NAN unknown */
+	double angle_deg;           /* analyser stimulus: polarizer angle (AoLP), NAN unknown */
+	double dolp;                /* analyser stimulus: its DoLP (1 for a good polarizer) */
+} pc_calib_stack;
+
+/* Progress: called with work done out of total from the calling thread (may be NULL). */
+typedef void (*pc_calib_progress_fn)(void *user, uint64_t done, uint64_t total);
+
+typedef struct pc_calib_opts {
+	double saturation;          /* DN; 0 = 2^bits − 1 */
+	double max_saturated_frac;  /* refuse a stimulus with more saturated pixels than this
+	                               (default 1e-4 when 0); fewer are marked invalid */
+	bool unknown_angles;        /* analyser: self-calibration, the angles are estimated */
+	unsigned iterations;        /* unknown angles: alternating iterations (0 = 50) */
+	pc_calib_progress_fn progress;
+	void *progress_user;
+} pc_calib_opts;
+
+/* Dark: N ≥ 2 dark frames → per-pixel offset (mean) and temporal noise (σ). Pixels whose
+ * offset is more than 8 robust σ above the median (hot) are invalid. out is (re)initialised
+ * and holds only the dark part. */
+int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_calib *out);
+
+/* Flat: n_levels ≥ 2 stacks of uniform unpolarized light at different levels → per-pixel
+ * gain: the slope of the pixel's mean against the level's mean over the pixels of its analyser
+ * channel (least squares through the levels, so any residual offset cancels), normalised to mean
+ * 1 over valid pixels. base (may be NULL) supplies the dark; out gets base's parts + the gain. */
+int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib *base,
+		  const pc_calib_opts *o, pc_calib *out);
+
+/* Analyser: K stimuli of a uniform linearly polarized field, stimulus k with Stokes
+ * s_k = s0·(1, P_k cos 2θ_k, P_k sin 2θ_k) of equal intensity s0 (a polarizer turned in front
+ * of a stable unpolarized source). Known angles (K ≥ 3, spanning cos 2θ and sin 2θ): per pixel
+ * the linear least squares a_p = argmin Σ_k (I_pk − s_k·a_p)², I_pk the pixel's dark- and
+ * gain-corrected mean. Unknown angles (K ≥ 4): alternating least squares between a_p and the
+ * θ_k, the free rotation fixed by a zero mean orientation error over the sensor (docs/
+ * calibration.md). Scale: s0 makes the mean a0 over valid pixels ½ (so S0 keeps the units of
+ * the uncalibrated (I0 + I45 + I90 + I135)/2). Errors: K too small, angles not spanning
+ * (PC_ENUMERIC, "singular fit"), saturated stimuli, size mismatches. angles_out (may be NULL)
+ * receives the K angles used (estimated ones in unknown-angles mode). */
+int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base,
+		      const pc_calib_opts *o, pc_calib *out, double *angles_out);
+
+/* ---- ECM (Compain, Poirier & Drévillon 1999) ---- */
+
+/* Reference samples in the order air, polarizer at 0° (defines the angle origin), polarizer
+ * near 90°, retarder. B[i] is the (4·n_psa) × n_psg intensity matrix of sample i, row
+ * 4a + c, column g (B[i][(4a + c)·n_psg + g]). */
+typedef struct pc_ecm_result {
+	double W[4][PC_CALIB_MAX_STATES];     /* generator, scaled so that mean W[0][g] = 1 */
+	double A[4 * PC_CALIB_MAX_STATES][4]; /* analyser */
+	double tau[4], psi_deg[4], delta_deg[4]; /* samples' parameters from the eigenvalues */
+	double theta_deg[4];                  /* samples' orientations (0 for the first polarizer) */
+	double lambda16, lambda15;            /* smallest eigenvalues of K (their ratio: quality) */
+	double residual;                      /* ‖A M_i W − B_i‖_F / ‖B_i‖_F, worst over samples */
+} pc_ecm_result;
+
+/* Solves ECM. n_psg must be 4, n_psa ≥ 1. theta_guess_deg (may be NULL) are the nominal
+ * orientations of samples 2 and 3 (default 90° and 30°); they are refined by minimising the
+ * smallest eigenvalue of K within ±20°. PC_ENUMERIC when B_air is singular or K's null space
+ * is not one-dimensional. */
+int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
+		 const double theta_guess_deg[2], pc_ecm_result *r);
+
+/* Mueller matrix of a linear diattenuating retarder with transmission axis at θ: principal
+ * intensity transmittances p = 2τcos²ψ and q = 2τsin²ψ and retardance δ (the ECM sample model,
+ * Compain et al. 1999 eq. 9, rotated: M = R(−θ)·M₀·R(θ)). */
+void pc_ecm_sample_mueller(double tau, double psi_rad, double delta_rad, double theta_rad,
+			   double M[4][4]);
+
+/* ECM from recordings: each sample's stack holds n_psg·n_psa frames (or whole multiples:
+ * cycles are averaged); the intensity matrix is the mean over the valid pixels of each
+ * analyser channel, after base's dark (or black level). The result goes into out (base's
+ * parts + PC_CAL_ECM). */
+int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa,
+		 const double theta_guess_deg[2], const pc_calib *base, const pc_calib_opts *o,
+		 pc_calib *out, pc_ecm_result *res);
+
+/* ---- applying a calibration ---- */
+
+/* 0 when frames of geometry g can be processed with cal; otherwise PC_EINVAL naming the
+ * mismatch ("frame 640x480 at ROI (0,0), calibration 612x512 at (0,0): size differs"). */
+int pc_calib_check(const pc_calib *cal, const pc_calib_geometry *g);
+
+/* The corrected raw: out[p] = (raw_p − dark_p)/g_p (or raw − black_level without a dark),
+ * float (H, W) with row stride width; valid_out (may be NULL) gets 0 where the pixel is invalid
+ * in the calibration or the sample is at or above the saturation level. Returns the number of
+ * invalid pixels through n_invalid (may be NULL). */
+int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_t *valid_out,
+		     size_t *n_invalid);
+
+/* Per-output-pixel pseudo-inverses for a demosaicking method into cal's cache: superpixel
+ * methods use pinv_sp; the others demosaic the analysis-vector maps with the method. *pinv
+ * points into the cache (valid until cal changes or is freed). */
+int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_analyser_pinv *pinv);
+
+/* The calibrated pipeline: check, correct, demosaic, Stokes with the calibrated analysers.
+ * out as pc_stokes_from_raw (size pc_demosaic_out_size); valid_out (may be NULL, size of the
+ * output) is 1 where every sample the pixel depends on is trusted. */
+int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *g,
+		    pc_demosaic_method method, int threads, const pc_stokes_out *out,
+		    uint8_t *valid_out, size_t *n_invalid);
+
+/* ---- the file (docs/calibration.md) ---- */
+
+/* Writes cal as a NumPy .npz (a zip of .npy arrays) atomically. */
+int pc_calib_write(const char *path, const pc_calib *cal);
+/* Reads and validates a calibration file (every array's dtype and shape, the version, the
+ * metadata); errors name the file and the member. */
+int pc_calib_read(const char *path, pc_calib *cal);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
