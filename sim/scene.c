@@ -1183,7 +1183,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 			goto fail;
 		if (!(s->effects & PC_FX_CIRCULAR))
 			for (unsigned i = 0; i < s->n_psa; i++)
-				for (int k = 0; k < 4; k++)
+				for (int k = 0; k < 3; k++) /* M33 alone couples nothing */
 					if (fabs(s->psa[i][3][k]) > 1e-12 || fabs(s->psa[i][k][3]) > 1e-12) {
 						rc = perr(&c, "sensor.psa", "state %u couples circular "
 								  "polarization: declare \"circular\": true "

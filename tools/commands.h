@@ -20,6 +20,7 @@ typedef struct pc_command {
 	X(process, "raw mosaic -> Stokes, DoLP, AoLP and pictures")                              \
 	X(eval, "score demosaicking methods against ground truth")                               \
 	X(mueller, "per-pixel Mueller matrices from frame sequences, D/R/Delta maps")            \
+	X(calibrate, "calibrate a camera: dark, flat, analyser matrices, ECM (one file)")       \
 	X(devices, "list cameras: Aravis, V4L2, libcamera, USB3 Vision")                          \
 	X(capture, "record frames from a source URI")                                            \
 	X(view, "live window of S0, DoLP and AoLP")                                              \
