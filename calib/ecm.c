@@ -251,9 +251,19 @@ int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
 			    (theta_guess_deg ? theta_guess_deg[1] : 30) * DEG };
 	const double span = 20 * DEG;
 	double g2 = theta[2], g3 = theta[3];
-	for (int pass = 0; pass < 6; pass++) {
-		golden(&e, theta, 2, g2 - span, g2 + span);
-		golden(&e, theta, 3, g3 - span, g3 + span);
+	/* coordinate descent with golden-section line searches over shrinking brackets (the
+	 * valley of λ16 may be diagonal in (θ2, θ3)), until both angles move by < 1e-10 rad */
+	for (int pass = 0; pass < 400; pass++) {
+		double o2 = theta[2], o3 = theta[3];
+		double w = pass < 2 ? span : fmax(4 * fmax(fabs(theta[2] - g2), fabs(theta[3] - g3)),
+						  1e-7);
+		if (pass >= 2)
+			w = fmin(w, span);
+		golden(&e, theta, 2, fmax(g2 - span, theta[2] - w), fmin(g2 + span, theta[2] + w));
+		golden(&e, theta, 3, fmax(g3 - span, theta[3] - w), fmin(g3 + span, theta[3] + w));
+		if (pass >= 2 && fabs(theta[2] - o2) < 1e-10 && fabs(theta[3] - o3) < 1e-10)
+			break;
+		g2 = pass >= 1 ? g2 : g2;
 	}
 	double M[4][4][4], ev[16], V[256];
 	memset(M, 0, sizeof M);

@@ -1,0 +1,522 @@
+/* tests/test_calib.c - calib/: dark, flat and analyser calibration recover the simulator's own
+ * per-pixel sensor parameters (scenes/calib, preset imx250mzr_nonuniform, full noise); the
+ * calibrated pipeline meets the accuracy of docs/calibration.md on DoLP-0.5 stimuli not used
+ * for calibration; self-calibration finds the angles; the file round-trips and bad input is
+ * refused; ECM recovers a known generator and analyser. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "polarcam/calib.h"
+#include "polarcam/error.h"
+#include "polarcam/mueller_imaging.h"
+#include "polarcam/optics.h"
+#include "polarcam/sim.h"
+
+#define DEG (M_PI / 180)
+enum { RX = 1000, RY = 800, RW = 64, RH = 64 };
+
+typedef struct simstack {
+	pc_sim *sim;
+	pc_sim_info info;
+	char name[256];
+	uint64_t first; /* first frame number: stacks share the seed (the camera) and differ here */
+	pc_calib_stack s;
+} simstack;
+
+static int sim_get(void *user, size_t i, pc_view *out)
+{
+	simstack *ss = user;
+	int rc = pc_view_alloc(out, ss->info.format, ss->info.width, ss->info.height, 64);
+	if (!rc && (rc = pc_sim_frame(ss->sim, ss->first + i, NULL, out, NULL)))
+		pc_view_free(out);
+	return rc;
+}
+
+static const char *srcdir(void)
+{
+	const char *d = getenv("PC_SOURCE_DIR");
+	return d ? d : ".";
+}
+
+/* A sim of scenes/calib/NAME.json over the test ROI; n frames from frame number 100000·series;
+ * angle/dolp for stimuli. */
+static int open_stack(simstack *ss, const char *name, size_t n, double angle, double dolp,
+		      uint64_t series)
+{
+	memset(ss, 0, sizeof *ss);
+	char path[1024];
+	snprintf(path, sizeof path, "%s/scenes/calib/%s.json", srcdir(), name);
+	pc_scene *sc;
+	int rc = pc_scene_load(path, &sc);
+	if (rc)
+		return rc;
+	pc_sim_options o = pc_sim_options_default();
+	o.seed = 7; /* one camera: the fixed pattern is keyed by the seed */
+	ss->first = series * 100000;
+	o.roi_x = RX;
+	o.roi_y = RY;
+	o.roi_width = RW;
+	o.roi_height = RH;
+	rc = pc_sim_new(sc, &o, &ss->sim);
+	pc_scene_free(sc);
+	if (rc)
+		return rc;
+	pc_sim_get_info(ss->sim, &ss->info);
+	snprintf(ss->name, sizeof ss->name, "%s", name);
+	pc_calib_stack *s = &ss->s;
+	s->name = ss->name;
+	s->geo.width = ss->info.width;
+	s->geo.height = ss->info.height;
+	s->geo.offset_x = ss->info.offset_x;
+	s->geo.offset_y = ss->info.offset_y;
+	s->geo.sensor_width = ss->info.sensor_width;
+	s->geo.sensor_height = ss->info.sensor_height;
+	s->geo.bits = ss->info.bits;
+	s->geo.mosaic = ss->info.mosaic;
+	s->n = n;
+	s->get = sim_get;
+	s->user = ss;
+	s->exposure_us = ss->info.exposure_us;
+	s->angle_deg = angle;
+	s->dolp = dolp;
+	return 0;
+}
+
+static void close_stack(simstack *ss)
+{
+	pc_sim_free(ss->sim);
+	ss->sim = NULL;
+}
+
+/* noise-free mean DN of pixel p */
+static double mean_dn(simstack *ss, size_t p)
+{
+	double v = NAN;
+	if (!pc_sim_is_prepared(ss->sim, 0))
+		pc_sim_prepare(ss->sim, 0, NULL, NULL, NULL, NULL);
+	pc_sim_mean_dn(ss->sim, 0, NULL, (uint32_t)(p % RW), (uint32_t)(p / RW), &v);
+	return v;
+}
+
+/* the average of n frames as a float view */
+static int average(simstack *ss, size_t n, uint64_t first, pc_view *out)
+{
+	int rc = pc_view_alloc(out, PC_FMT_FLOAT32, RW, RH, 64);
+	if (rc)
+		return rc;
+	float *acc = calloc(RW * RH, sizeof *acc), *row = malloc(RW * RH * sizeof *row);
+	for (size_t i = 0; i < n; i++) {
+		pc_view v;
+		if ((rc = sim_get(ss, first + i, &v)))
+			break;
+		pc_view_to_f32(&v, row, RW * sizeof(float));
+		pc_view_free(&v);
+		for (size_t p = 0; p < RW * RH; p++)
+			acc[p] += row[p] / (float)n;
+	}
+	for (uint32_t y = 0; y < RH; y++)
+		memcpy((char *)out->data + y * out->stride, acc + (size_t)y * RW, RW * sizeof(float));
+	free(acc);
+	free(row);
+	return rc;
+}
+
+static double aolp_err_deg(double a, double b)
+{
+	return remainder(a - b, M_PI) / DEG;
+}
+
+/* DoLP/AoLP RMS errors over the interior of a stimulus (dolp 0.5 at angle) */
+static void stokes_errors(pc_calib *cal, const pc_view *avg, double angle, double *e_dolp,
+			  double *e_aolp, double *w_dolp)
+{
+	float *buf = malloc(5 * RW * RH * sizeof *buf);
+	pc_stokes_out out = { 0 };
+	pc_fplane *pl[5] = { &out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp };
+	for (int k = 0; k < 5; k++) {
+		pl[k]->data = buf + (size_t)k * RW * RH;
+		pl[k]->row_stride = RW;
+		pl[k]->pixel_stride = 1;
+	}
+	int rc = pc_calib_stokes(cal, avg, NULL, PC_DM_BILINEAR, 1, &out, NULL, NULL);
+	CHECK_EQ_INT(rc, 0);
+	double sd = 0, sa = 0, wd = 0;
+	size_t n = 0;
+	for (uint32_t y = 2; y < RH - 2; y++)
+		for (uint32_t x = 2; x < RW - 2; x++) {
+			size_t p = (size_t)y * RW + x;
+			double d = out.dolp.data[p] - 0.5, a = aolp_err_deg(out.aolp.data[p], angle * DEG);
+			sd += d * d;
+			sa += a * a;
+			wd = fmax(wd, fabs(d));
+			n++;
+		}
+	*e_dolp = sqrt(sd / (double)n);
+	*e_aolp = sqrt(sa / (double)n);
+	if (w_dolp)
+		*w_dolp = wd;
+	free(buf);
+}
+
+static double expected_mean_d(void)
+{
+	/* E[(ER − 1)/(ER + 1)] for ER = 200·exp(0.35 z), z ~ N(0, 1) (the preset, sensor.c) */
+	double s = 0, w = 0;
+	for (double z = -8; z <= 8; z += 0.001) {
+		double er = 200 * exp(0.35 * z), g = exp(-z * z / 2);
+		s += g * (er - 1) / (er + 1);
+		w += g;
+	}
+	return s / w;
+}
+
+int main(void)
+{
+	char probe[1024];
+	snprintf(probe, sizeof probe, "%s/scenes/calib/dark.json", srcdir());
+	if (access(probe, R_OK))
+		SKIP("%s not found (PC_SOURCE_DIR unset?)", probe);
+
+	/* ---- dark: per-pixel offset against the simulator's noise-free mean ---- */
+	const size_t ND = 32, NF = 32, NA = 32;
+	simstack dk;
+	CHECK_EQ_INT(open_stack(&dk, "dark", ND, NAN, NAN, 1), 0);
+	pc_calib dark;
+	CHECK_EQ_INT(pc_calib_dark(&dk.s, NULL, &dark), 0);
+	pc_sensor_figures fig;
+	pc_sim_get_sensor(dk.sim, &fig);
+	double K = fig.gain_dn_per_e, t = fig.exposure_us * 1e-6;
+	double sig_t = sqrt(K * K * (fig.read_noise_e * fig.read_noise_e + fig.dark_current_e_s * t) +
+			    1.0 / 12); /* read + dark shot + quantization, DN */
+	double worst = 0, noise = 0;
+	for (size_t p = 0; p < RW * RH; p++) {
+		worst = fmax(worst, fabs(dark.dark[p] - mean_dn(&dk, p)));
+		noise += dark.dark_noise[p];
+	}
+	noise /= RW * RH;
+	printf("dark: worst |offset - truth| %.3f DN (sigma/sqrt(N) = %.3f), mean noise %.3f DN "
+	       "(model %.3f)\n", worst, sig_t / sqrt((double)ND), noise, sig_t);
+	CHECK(worst < 6 * sig_t / sqrt((double)ND) + 0.05);
+	CHECK_REL(noise, sig_t, 0.1);
+	CHECK_NEAR(dark.black_level, fig.offset_dn, 0.2);
+
+	/* ---- flat: gain against the noise-free means ---- */
+	simstack fl, fh;
+	CHECK_EQ_INT(open_stack(&fl, "flat_low", NF, NAN, NAN, 2), 0);
+	CHECK_EQ_INT(open_stack(&fh, "flat_high", NF, NAN, NAN, 3), 0);
+	pc_calib_stack lv[2] = { fl.s, fh.s };
+	pc_calib flat;
+	CHECK_EQ_INT(pc_calib_flat(lv, 2, &dark, NULL, &flat), 0);
+	{
+		double cm[2][4] = { { 0 } }, cn[4] = { 0 }, *tr = malloc(RW * RH * sizeof *tr);
+		for (size_t p = 0; p < RW * RH; p++) {
+			unsigned c = pc_mosaic_channel(&dk.info.mosaic, p % RW, p / RW);
+			cm[0][c] += mean_dn(&fl, p) - mean_dn(&dk, p);
+			cm[1][c] += mean_dn(&fh, p) - mean_dn(&dk, p);
+			cn[c]++;
+		}
+		double s = 0;
+		for (size_t p = 0; p < RW * RH; p++) {
+			unsigned c = pc_mosaic_channel(&dk.info.mosaic, p % RW, p / RW);
+			tr[p] = (mean_dn(&fh, p) - mean_dn(&fl, p)) / ((cm[1][c] - cm[0][c]) / cn[c]);
+			s += tr[p];
+		}
+		double e2 = 0, gsd = 0;
+		for (size_t p = 0; p < RW * RH; p++) {
+			double g = tr[p] / (s / (RW * RH));
+			e2 += (flat.gain[p] - g) * (flat.gain[p] - g);
+			gsd += (g - 1) * (g - 1);
+		}
+		/* the expected error from shot and read noise: σ²(DN) = K·(mean − offset) +
+		 * (K·σ_read)² per frame (EMVA 1288 §2.2), for both levels, over N frames, divided
+		 * by the levels' difference */
+		double ml = 0, mh = 0;
+		for (size_t p = 0; p < RW * RH; p++) {
+			ml += mean_dn(&fl, p) - fig.offset_dn;
+			mh += mean_dn(&fh, p) - fig.offset_dn;
+		}
+		ml /= RW * RH;
+		mh /= RW * RH;
+		double rn = K * fig.read_noise_e;
+		double eg = sqrt((K * ml + rn * rn + K * mh + rn * rn) / (double)NF) / (mh - ml);
+		printf("flat: gain RMS error %.5f (noise model %.5f; true gain spread %.4f)\n",
+		       sqrt(e2 / (RW * RH)), eg, sqrt(gsd / (RW * RH)));
+		CHECK(sqrt(e2 / (RW * RH)) < 1.3 * eg);
+		CHECK(sqrt(gsd / (RW * RH)) > 0.01); /* the preset's non-uniformity is there */
+		free(tr);
+	}
+
+	/* ---- analyser, known angles ---- */
+	static const int ang[6] = { 0, 30, 60, 90, 120, 150 };
+	simstack pst[6];
+	pc_calib_stack stim[6];
+	for (int k = 0; k < 6; k++) {
+		char nm[64];
+		snprintf(nm, sizeof nm, "polarizer_%03d", ang[k]);
+		CHECK_EQ_INT(open_stack(&pst[k], nm, NA, ang[k], 1, 10 + k), 0);
+		stim[k] = pst[k].s;
+	}
+	pc_calib cal;
+	double est[6];
+	CHECK_EQ_INT(pc_calib_analyser(stim, 6, &flat, NULL, &cal, est), 0);
+	{
+		/* per channel: mean orientation error = the preset's systematic offset (crosstalk
+		 * from the ±45° neighbours does not turn the analyser); mean diattenuation =
+		 * (1 − 4·crosstalk)·E[d] */
+		double oe[4] = { 0 }, dd = 0, n4[4] = { 0 };
+		for (size_t p = 0; p < RW * RH; p++) {
+			unsigned c = pc_mosaic_channel(&dk.info.mosaic, p % RW, p / RW);
+			const float *a = cal.analysis + 3 * p;
+			oe[c] += remainder(0.5 * atan2(a[2], a[1]) / DEG - 45.0 * c, 180);
+			dd += hypot(a[1], a[2]) / a[0];
+			n4[c]++;
+		}
+		double ed = (1 - 4 * fig.crosstalk) * expected_mean_d();
+		printf("analyser: mean diattenuation %.5f (model %.5f); orientation offsets", dd / (RW * RH), ed);
+		for (int c = 0; c < 4; c++) {
+			printf(" %.3f (%.2f)", oe[c] / n4[c], fig.orientation_offset_deg[c]);
+			/* random per-pixel errors average over 1024 pixels to 0.8°/32 = 0.025° */
+			CHECK_NEAR(oe[c] / n4[c], fig.orientation_offset_deg[c], 0.1);
+		}
+		printf("\n");
+		CHECK_NEAR(dd / (RW * RH), ed, 0.003);
+	}
+
+	/* ---- accuracy on stimuli not used for calibration (DoLP 0.5, 4 AoLPs, 64 frames) ---- */
+	pc_calib uncal;
+	pc_calib_init(&uncal);
+	uncal.geo = cal.geo;
+	uncal.black_level = dark.black_level;
+	uncal.saturation = cal.saturation;
+	static const int tang[4] = { 10, 55, 100, 145 };
+	double wc_d = 0, wc_a = 0, wu_d = INFINITY, wu_a = INFINITY, cal_d2 = 0, cal_a2 = 0, un_d2 = 0,
+	       un_a2 = 0;
+	for (int k = 0; k < 4; k++) {
+		char nm[64];
+		snprintf(nm, sizeof nm, "dolp50_%03d", tang[k]);
+		simstack ts;
+		CHECK_EQ_INT(open_stack(&ts, nm, 64, tang[k], 0.5, 100 + k), 0);
+		pc_view avg;
+		CHECK_EQ_INT(average(&ts, 64, 0, &avg), 0);
+		double cd, ca, ud, ua, cw;
+		stokes_errors(&cal, &avg, tang[k], &cd, &ca, &cw);
+		stokes_errors(&uncal, &avg, tang[k], &ud, &ua, NULL);
+		printf("DoLP 0.5 at %3d deg: calibrated DoLP RMS %.5f (worst %.4f) AoLP RMS %.4f deg; "
+		       "uncalibrated %.5f, %.4f deg\n", tang[k], cd, cw, ca, ud, ua);
+		cal_d2 += cd * cd / 4;
+		cal_a2 += ca * ca / 4;
+		un_d2 += ud * ud / 4;
+		un_a2 += ua * ua / 4;
+		wc_d = fmax(wc_d, cd);
+		wc_a = fmax(wc_a, ca);
+		wu_d = fmin(wu_d, ud);
+		wu_a = fmin(wu_a, ua);
+		pc_view_free(&avg);
+		close_stack(&ts);
+	}
+	printf("all: calibrated DoLP RMS %.5f AoLP RMS %.4f deg; uncalibrated %.5f %.4f deg "
+	       "(ratios %.1f, %.1f)\n", sqrt(cal_d2), sqrt(cal_a2), sqrt(un_d2), sqrt(un_a2),
+	       sqrt(un_d2 / cal_d2), sqrt(un_a2 / cal_a2));
+	CHECK(wc_d <= 0.002);
+	CHECK(wc_a <= 0.1);
+	CHECK(wu_d >= 10 * wc_d);
+	CHECK(wu_a >= 10 * wc_a);
+
+	/* ---- self-calibration: the angles come back (up to the gauge: mean orientation error 0,
+	 * so every angle moves by minus the mean of the channel offsets) ---- */
+	{
+		pc_calib_opts o = { .unknown_angles = true };
+		pc_calib selfc;
+		double ea[6];
+		CHECK_EQ_INT(pc_calib_analyser(stim, 6, &flat, &o, &selfc, ea), 0);
+		double shift = -(fig.orientation_offset_deg[0] + fig.orientation_offset_deg[1] +
+				 fig.orientation_offset_deg[2] + fig.orientation_offset_deg[3]) / 4;
+		double w = 0;
+		for (int k = 0; k < 6; k++)
+			w = fmax(w, fabs(remainder(ea[k] - ang[k] - shift, 180)));
+		printf("unknown angles: worst angle error %.4f deg (gauge shift %.2f)\n", w, shift);
+		CHECK(w < 0.05);
+		pc_calib_free(&selfc);
+	}
+
+	/* ---- the file: round trip, mismatches, corruption ---- */
+	{
+		char path[] = "/tmp/pc_test_calib_XXXXXX";
+		int fd = mkstemp(path);
+		CHECK(fd >= 0);
+		close(fd);
+		CHECK_EQ_INT(pc_calib_write(path, &cal), 0);
+		pc_calib back;
+		CHECK_EQ_INT(pc_calib_read(path, &back), 0);
+		CHECK_EQ_INT(back.parts, cal.parts);
+		CHECK(!memcmp(back.analysis, cal.analysis, RW * RH * 12));
+		CHECK(!memcmp(back.gain, cal.gain, RW * RH * 4));
+		CHECK(!memcmp(back.dark, cal.dark, RW * RH * 4));
+		CHECK(!memcmp(back.valid, cal.valid, RW * RH));
+		CHECK(!memcmp(back.pinv_sp, cal.pinv_sp, RW * RH / 4 * 48));
+		CHECK_NEAR(back.black_level, cal.black_level, 0);
+		CHECK(pc_calib_check(&back, &cal.geo) == 0);
+		pc_calib_geometry g = cal.geo;
+		g.offset_x += 2;
+		CHECK_EQ_INT(pc_calib_check(&back, &g), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "ROI offset differs") != NULL);
+		g = cal.geo;
+		g.width += 2;
+		CHECK_EQ_INT(pc_calib_check(&back, &g), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "size differs") != NULL);
+		g = cal.geo;
+		g.bits = 10;
+		CHECK_EQ_INT(pc_calib_check(&back, &g), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "bit depth") != NULL);
+		pc_calib_free(&back);
+		/* truncated and overwritten bytes */
+		FILE *f = fopen(path, "rb");
+		fseek(f, 0, SEEK_END);
+		long sz = ftell(f);
+		fseek(f, 0, SEEK_SET);
+		char *b = malloc((size_t)sz);
+		CHECK(fread(b, 1, (size_t)sz, f) == (size_t)sz);
+		fclose(f);
+		f = fopen(path, "wb");
+		fwrite(b, 1, (size_t)sz / 2, f);
+		fclose(f);
+		CHECK(pc_calib_read(path, &back) < 0);
+		printf("truncated file: %s\n", pc_error_detail());
+		for (long i = 200; i < sz; i += 997)
+			b[i] ^= 0x5a;
+		f = fopen(path, "wb");
+		fwrite(b, 1, (size_t)sz, f);
+		fclose(f);
+		CHECK(pc_calib_read(path, &back) < 0);
+		printf("corrupted file: %s\n", pc_error_detail());
+		free(b);
+		unlink(path);
+	}
+
+	/* ---- bad input ---- */
+	{
+		pc_calib bad;
+		CHECK_EQ_INT(pc_calib_analyser(stim, 2, &flat, NULL, &bad, NULL), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "at least 3") != NULL);
+		pc_calib_stack sing[3] = { stim[0], stim[3], stim[0] }; /* 0, 90, 0: no sin 2θ */
+		CHECK_EQ_INT(pc_calib_analyser(sing, 3, &flat, NULL, &bad, NULL), PC_ENUMERIC);
+		CHECK(strstr(pc_error_detail(), "singular fit") != NULL);
+		pc_calib_opts o = { .saturation = 1500 }; /* the stimuli reach ~2800 DN */
+		CHECK_EQ_INT(pc_calib_analyser(stim, 6, &flat, &o, &bad, NULL), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "saturated") != NULL);
+		pc_calib_stack one[1] = { fl.s };
+		CHECK_EQ_INT(pc_calib_flat(one, 1, &dark, NULL, &bad), PC_EINVAL);
+		pc_calib_stack same[2] = { fl.s, fl.s };
+		CHECK_EQ_INT(pc_calib_flat(same, 2, &dark, NULL, &bad), PC_ENUMERIC);
+		/* a recording of another ROI against the calibration */
+		simstack other;
+		CHECK_EQ_INT(open_stack(&other, "polarizer_000", 2, 0, 1, 5), 0);
+		pc_calib_stack moved[3] = { stim[0], stim[1], other.s };
+		moved[2].geo.offset_x += 2;
+		CHECK_EQ_INT(pc_calib_analyser(moved, 3, &flat, NULL, &bad, NULL), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "ROI offset differs") != NULL);
+		close_stack(&other);
+	}
+
+	/* ---- ECM on exact synthetic data: W, A and an unseen sample come back ---- */
+	{
+		double W[4][4], Ar[8][4], M[5][4][4];
+		/* PSG: polarizer at 0 + retarder 136° at 15.9, 51.0, −52.5, −14.6 (errors of a few
+		 * degrees); PSA: quarter-wave plates of 86° at 0.7° and 44.1° before the DoFP */
+		static const double ra[4] = { 15.9, 51.0, -52.5, -14.6 };
+		for (int g = 0; g < 4; g++) {
+			double R[4][4], s0[4] = { 1, 1, 0, 0 }, s[4];
+			pc_retarder_mueller(ra[g] * DEG, 136 * DEG, R);
+			pc_mueller_apply(R, s0, s);
+			for (int i = 0; i < 4; i++)
+				W[i][g] = s[i] * (1 + 0.01 * g);
+		}
+		static const double pa[2] = { 0.7, 44.1 };
+		for (int a = 0; a < 2; a++) {
+			double R[4][4];
+			pc_retarder_mueller(pa[a] * DEG, 86 * DEG, R);
+			for (int c = 0; c < 4; c++) {
+				double th = (45.0 * c + 0.3 * c) * DEG;
+				double w[4] = { 0.5, 0.49 * cos(2 * th), 0.49 * sin(2 * th), 0 };
+				for (int j = 0; j < 4; j++) {
+					Ar[4 * a + c][j] = 0;
+					for (int k = 0; k < 4; k++)
+						Ar[4 * a + c][j] += w[k] * R[k][j];
+				}
+			}
+		}
+		memset(M[0], 0, sizeof M[0]);
+		for (int i = 0; i < 4; i++)
+			M[0][i][i] = 1;
+		pc_ecm_sample_mueller(0.45, 0.02, 0.1, 0, M[1]);
+		pc_ecm_sample_mueller(0.45, 0.02, 0.1, 88.5 * DEG, M[2]);
+		pc_ecm_sample_mueller(0.9, M_PI / 4, 92 * DEG, 31 * DEG, M[3]);
+		pc_ecm_sample_mueller(0.7, 0.5, 40 * DEG, 20 * DEG, M[4]); /* the unseen sample */
+		double B[5][32];
+		for (int i = 0; i < 5; i++)
+			for (int k = 0; k < 8; k++)
+				for (int g = 0; g < 4; g++) {
+					double s = 0;
+					for (int a = 0; a < 4; a++)
+						for (int b = 0; b < 4; b++)
+							s += Ar[k][a] * M[i][a][b] * W[b][g];
+					B[i][k * 4 + g] = s;
+				}
+		const double *Bp[4] = { B[0], B[1], B[2], B[3] };
+		pc_ecm_result r;
+		CHECK_EQ_INT(pc_ecm_solve(Bp, 4, 2, NULL, &r), 0);
+		CHECK_NEAR(r.theta_deg[2], 88.5, 1e-4);
+		CHECK_NEAR(r.theta_deg[3], 31, 1e-4);
+		CHECK_NEAR(r.delta_deg[3], 92, 1e-6);
+		double m0 = (W[0][0] + W[0][1] + W[0][2] + W[0][3]) / 4, e = 0;
+		for (int i = 0; i < 4; i++)
+			for (int g = 0; g < 4; g++)
+				e = fmax(e, fabs(r.W[i][g] - W[i][g] / m0));
+		printf("ECM exact: generator max error %.2e, theta %.6f %.6f, lambda15/16 %.3g\n", e,
+		       r.theta_deg[2], r.theta_deg[3], r.lambda15 / fmax(r.lambda16, 1e-300));
+		CHECK(e < 1e-7);
+		/* the unseen sample through the recovered system: M = A⁺ B W⁻¹ */
+		pc_mueller_system sys;
+		double psg[4][4], psa[2][4][4], an[4][4] = { { 1, 0, 0, 0 }, { 0, 1, 0, 0 },
+							     { 0, 0, 1, 0 }, { 0, 0, 0, 1 } };
+		for (int g = 0; g < 4; g++)
+			for (int i = 0; i < 4; i++)
+				psg[g][i] = r.W[i][g];
+		for (int a = 0; a < 2; a++)
+			for (int i = 0; i < 4; i++)
+				memcpy(psa[a][i], r.A[4 * a + i], sizeof psa[a][i]);
+		CHECK_EQ_INT(pc_mueller_system_init(&sys, 4, (const double(*)[4])psg, 2,
+						    (const double(*)[4][4])psa, (const double(*)[4])an), 0);
+		double I[32], Mx[4][4], em = 0;
+		for (int a = 0; a < 2; a++)
+			for (int g = 0; g < 4; g++)
+				for (int c = 0; c < 4; c++)
+					I[(g + 4 * a) * 4 + c] = B[4][(4 * a + c) * 4 + g];
+		pc_mueller_solve(&sys, I, Mx);
+		for (int i = 0; i < 4; i++)
+			for (int j = 0; j < 4; j++)
+				em = fmax(em, fabs(Mx[i][j] - M[4][i][j]));
+		printf("ECM exact: unseen sample max |M error| %.2e\n", em);
+		CHECK(em < 1e-7);
+		/* a bad reference set: air instead of the retarder (no retardance to see) */
+		const double *Bs[4] = { B[0], B[1], B[2], B[0] };
+		int rc = pc_ecm_solve(Bs, 4, 2, NULL, &r);
+		CHECK_EQ_INT(rc, PC_ENUMERIC);
+		printf("ECM degenerate references: %s\n", pc_error_detail());
+	}
+
+	pc_calib_free(&uncal);
+	pc_calib_free(&cal);
+	pc_calib_free(&flat);
+	pc_calib_free(&dark);
+	for (int k = 0; k < 6; k++)
+		close_stack(&pst[k]);
+	close_stack(&fl);
+	close_stack(&fh);
+	close_stack(&dk);
+	return pc_test_finish("test_calib");
+}
