@@ -509,6 +509,110 @@ int main(void)
 		printf("ECM degenerate references: %s\n", pc_error_detail());
 	}
 
+	/* ---- ECM on the simulator: generator/analyser errors (retardances ±5°, orientations up
+	 * to 1°) in scenes/calib/ecm_*; the sample not used for calibration comes back within 2×
+	 * the error of the ideal polarimeter (no errors, nominal states) ---- */
+	{
+		static const char *const refs[4] = { "ecm_air", "ecm_polarizer_000", "ecm_polarizer_090",
+						     "ecm_retarder_030" };
+		simstack es[4];
+		pc_calib_stack estk[4];
+		for (int i = 0; i < 4; i++) {
+			CHECK_EQ_INT(open_stack(&es[i], refs[i], 16, NAN, NAN, 20 + i), 0);
+			estk[i] = es[i].s;
+		}
+		pc_calib ecal;
+		pc_ecm_result r;
+		CHECK_EQ_INT(pc_calib_ecm(estk, 4, 2, NULL, &dark, NULL, &ecal, &r), 0);
+		printf("ECM sim: polarizer2 %.3f deg, retarder %.3f deg at %.3f deg, model residual "
+		       "%.2e\n", r.theta_deg[2], r.delta_deg[3], r.theta_deg[3], r.residual);
+		CHECK_NEAR(r.theta_deg[2], 90, 0.05);
+		CHECK_NEAR(r.theta_deg[3], 30, 0.05);
+		CHECK_NEAR(r.delta_deg[3], 90, 0.1);
+		/* truth: diattenuator D = 0.3 at 25° (p + q = 1), then a 60° retarder at 70° */
+		double Dm[4][4], Rm[4][4], T[4][4];
+		{
+			double th = 25 * DEG, D = 0.3, pp = (1 + D) / 2, q = (1 - D) / 2, rr = 2 * sqrt(pp * q);
+			double c = cos(2 * th), sn = sin(2 * th);
+			double tm[4][4] = { { pp + q, (pp - q) * c, (pp - q) * sn, 0 },
+					   { (pp - q) * c, (pp + q) * c * c + rr * sn * sn, (pp + q - rr) * c * sn, 0 },
+					   { (pp - q) * sn, (pp + q - rr) * c * sn, (pp + q) * sn * sn + rr * c * c, 0 },
+					   { 0, 0, 0, rr } };
+			for (int i = 0; i < 4; i++)
+				for (int j = 0; j < 4; j++)
+					Dm[i][j] = 0.5 * tm[i][j];
+		}
+		pc_retarder_mueller(70 * DEG, 60 * DEG, Rm);
+		pc_mueller_mul(Rm, Dm, T);
+		/* field-mean intensities of a sample → M through a system */
+		double errs[2];
+		for (int pass = 0; pass < 2; pass++) {
+			simstack ss;
+			CHECK_EQ_INT(open_stack(&ss, pass ? "ecm_sample_ideal" : "ecm_sample", 16, NAN, NAN,
+						30 + pass), 0);
+			double I[32] = { 0 };
+			float *row = malloc(RW * RH * sizeof *row);
+			for (size_t j = 0; j < 16; j++) {
+				pc_view v;
+				CHECK_EQ_INT(sim_get(&ss, j, &v), 0);
+				pc_view_to_f32(&v, row, RW * sizeof(float));
+				pc_view_free(&v);
+				double sum[4] = { 0 }, n[4] = { 0 };
+				for (size_t p = 0; p < RW * RH; p++) {
+					unsigned c = pc_mosaic_channel(&ss.info.mosaic, p % RW, p / RW);
+					sum[c] += row[p] - dark.dark[p];
+					n[c]++;
+				}
+				for (int c = 0; c < 4; c++)
+					I[(j % 8) * 4 + c] += sum[c] / n[c] / 2;
+			}
+			free(row);
+			close_stack(&ss);
+			pc_mueller_system sys;
+			if (pass == 0) {
+				double psg[4][4], psa[2][4][4], an[4][4] = { { 1, 0, 0, 0 }, { 0, 1, 0, 0 },
+									     { 0, 0, 1, 0 }, { 0, 0, 0, 1 } };
+				for (int g = 0; g < 4; g++)
+					for (int i = 0; i < 4; i++)
+						psg[g][i] = ecal.ecm_W[i][g];
+				for (int a = 0; a < 2; a++)
+					for (int i = 0; i < 4; i++)
+						memcpy(psa[a][i], ecal.ecm_A[4 * a + i], sizeof psa[a][i]);
+				CHECK_EQ_INT(pc_mueller_system_init(&sys, 4, (const double(*)[4])psg, 2,
+								    (const double(*)[4][4])psa,
+								    (const double(*)[4])an), 0);
+			} else {
+				/* the nominal polarimeter: polarizer + 132° retarder at ±15.1°, ±51.7°,
+				 * quarter-wave plates at 0° and 45°, ideal DoFP rows */
+				static const double ra[4] = { 15.1, 51.7, -51.7, -15.1 };
+				double psg[4][4], psa[2][4][4];
+				for (int g = 0; g < 4; g++) {
+					double R[4][4], s0[4] = { 1, 1, 0, 0 };
+					pc_retarder_mueller(ra[g] * DEG, 132 * DEG, R);
+					pc_mueller_apply(R, s0, psg[g]);
+				}
+				pc_retarder_mueller(0, 90 * DEG, psa[0]);
+				pc_retarder_mueller(45 * DEG, 90 * DEG, psa[1]);
+				CHECK_EQ_INT(pc_mueller_system_init(&sys, 4, (const double(*)[4])psg, 2,
+								    (const double(*)[4][4])psa, NULL), 0);
+			}
+			double M[4][4], e2 = 0;
+			pc_mueller_solve(&sys, I, M);
+			for (int k = 1; k < 16; k++) {
+				double d = M[k / 4][k % 4] / M[0][0] - T[k / 4][k % 4] / T[0][0];
+				e2 += d * d;
+			}
+			errs[pass] = sqrt(e2 / 15);
+		}
+		printf("ECM sim: sample error (RMS of M/M00) calibrated %.5f, ideal polarimeter %.5f\n",
+		       errs[0], errs[1]);
+		CHECK(errs[0] <= 2 * errs[1]);
+		CHECK(errs[0] < 0.01);
+		pc_calib_free(&ecal);
+		for (int i = 0; i < 4; i++)
+			close_stack(&es[i]);
+	}
+
 	pc_calib_free(&uncal);
 	pc_calib_free(&cal);
 	pc_calib_free(&flat);
