@@ -7,5 +7,6 @@ int pc_bench_physics(int argc, char **argv);
 int pc_bench_demosaic(int argc, char **argv);
 int pc_bench_render(int argc, char **argv);
 int pc_bench_devices(int argc, char **argv);
+int pc_bench_calib(int argc, char **argv);
 
 #endif

@@ -14,6 +14,7 @@ static const struct {
 	{ "demosaic", "demosaicking accuracy vs time per 2448x2048 frame, Pareto plot", pc_bench_demosaic },
 	{ "render", "render time per effect set, Mpixel/s, peak memory", pc_bench_render },
 	{ "devices", "serve -> capture over loopback, live pipeline", pc_bench_devices },
+	{ "calib", "analyser calibration: angles x frames -> residual error, acquisition time", pc_bench_calib },
 };
 
 int cmd_bench(int argc, char **argv)
@@ -30,6 +31,6 @@ int cmd_bench(int argc, char **argv)
 	for (size_t i = 0; i < n; i++)
 		if (!strcmp(argv[1], pc_benches[i].name))
 			return pc_benches[i].run(argc - 1, argv + 1);
-	return pc_cli_error(PC_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices)",
+	return pc_cli_error(PC_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices, calib)",
 			    argv[1]);
 }
