@@ -421,13 +421,15 @@ static int finish(pc_calib *cal, const args *a, json_t *step)
 	int src;
 	json_t *s = summary(cal, NULL, &src);
 	json_object_set_new(s, "output", json_string(a->out));
-	if (a->json)
+	if (a->json) {
 		pc_cli_print_json(s);
-	else {
-		char *t = json_dumps(s, JSON_INDENT(1) | JSON_REAL_PRECISION(6));
-		if (t)
-			fprintf(stderr, "%s\n", t);
-		free(t);
+	} else {
+		json_t *parts = json_object_get(s, "parts");
+		fprintf(stderr, "polarcam calibrate: wrote %s (", a->out);
+		for (size_t i = 0; i < json_array_size(parts); i++)
+			fprintf(stderr, "%s%s", i ? ", " : "", json_string_value(json_array_get(parts, i)));
+		fprintf(stderr, "; %lld invalid pixels); polarcam calibrate show %s for the details\n",
+			(long long)json_integer_value(json_object_get(s, "pixels_invalid")), a->out);
 		json_decref(s);
 	}
 	return PC_EXIT_OK;
@@ -504,7 +506,7 @@ static int sub_stacks(int argc, char **argv, const char *what)
 		rc = pc_calib_analyser(stk, (size_t)nrec, have_base ? &base : NULL, &o, &out, angles);
 	pc_progress_end(&bar);
 	if (rc) {
-		status = pc_cli_fail(rc, what);
+		status = pc_cli_fail(rc, NULL);
 		goto done;
 	}
 	if (a.camera || !*out.camera)
@@ -628,7 +630,7 @@ static int sub_ecm(int argc, char **argv)
 	rc = pc_calib_ecm(stk, nom.n_psg, nom.n_psa, th, have_base ? &base : NULL, &o, &out, &r);
 	pc_progress_end(&bar);
 	if (rc) {
-		status = pc_cli_fail(rc, "ecm");
+		status = pc_cli_fail(rc, NULL);
 		goto done;
 	}
 	if (a.camera || !*out.camera)
