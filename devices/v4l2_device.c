@@ -291,11 +291,6 @@ const pc_v4l2_info *pc_v4l2_get_info(const pc_v4l2 *dev)
 	return dev ? &dev->info : NULL;
 }
 
-int pc_v4l2_fd(const pc_v4l2 *dev)
-{
-	return dev ? dev->fd : -1;
-}
-
 /* ---- formats ---- */
 
 static int enum_formats_fd(int fd, uint32_t type, uint32_t *fourccs, size_t cap, size_t *count)
@@ -536,7 +531,7 @@ int pc_v4l2_get_format(pc_v4l2 *dev, pc_v4l2_format *got)
 
 /* ---- inputs, outputs, DV timings ---- */
 
-int pc_v4l2_input_count(pc_v4l2 *dev, unsigned *count)
+static int input_count(pc_v4l2 *dev, unsigned *count)
 {
 	if (!dev || !count)
 		return pc_error(PC_EINVAL, "v4l2: input_count: missing argument");
@@ -566,35 +561,6 @@ int pc_v4l2_input_count(pc_v4l2 *dev, unsigned *count)
 	return 0;
 }
 
-int pc_v4l2_io_name(pc_v4l2 *dev, unsigned index, char *buf, size_t size)
-{
-	if (!dev || !buf || !size)
-		return pc_error(PC_EINVAL, "v4l2: io_name: missing argument");
-	int r;
-	if (dev->dir == PC_V4L2_CAPTURE) {
-		struct v4l2_input in;
-		memset(&in, 0, sizeof in);
-		in.index = index;
-		r = xioctl(dev->fd, VIDIOC_ENUMINPUT, &in);
-		if (!r)
-			copy_kstr(buf, size, in.name, sizeof in.name);
-	} else {
-		struct v4l2_output o;
-		memset(&o, 0, sizeof o);
-		o.index = index;
-		r = xioctl(dev->fd, VIDIOC_ENUMOUTPUT, &o);
-		if (!r)
-			copy_kstr(buf, size, o.name, sizeof o.name);
-	}
-	if (r != 0) {
-		if (errno == EINVAL)
-			return pc_error(PC_EINVAL, "%s: no %s %u", dev->info.path,
-			                dev->dir == PC_V4L2_CAPTURE ? "input" : "output", index);
-		return io_fail(dev, "VIDIOC_ENUMINPUT/OUTPUT");
-	}
-	return 0;
-}
-
 int pc_v4l2_select_io(pc_v4l2 *dev, unsigned index)
 {
 	if (!dev)
@@ -606,7 +572,7 @@ int pc_v4l2_select_io(pc_v4l2 *dev, unsigned index)
 	if (xioctl(dev->fd, cap ? VIDIOC_S_INPUT : VIDIOC_S_OUTPUT, &i) != 0) {
 		if (errno == EINVAL) {
 			unsigned n = 0;
-			pc_v4l2_input_count(dev, &n);
+			input_count(dev, &n);
 			return pc_error(PC_EINVAL, "%s: no %s %u (the node has %u)", dev->info.path,
 			                cap ? "input" : "output", index, n);
 		}
@@ -1225,11 +1191,6 @@ int pc_v4l2_buffer_memory(const pc_v4l2 *dev, unsigned index, void **data, size_
 	return 0;
 }
 
-const pc_v4l2_format *pc_v4l2_stream_format(const pc_v4l2 *dev)
-{
-	return dev && dev->slots ? &dev->fmt : NULL;
-}
-
 int pc_v4l2_stream_on(pc_v4l2 *dev)
 {
 	if (!dev)
@@ -1324,16 +1285,6 @@ int pc_v4l2_stream_start(pc_v4l2 *dev, unsigned nbuf)
 unsigned pc_v4l2_buffer_count(const pc_v4l2 *dev)
 {
 	return dev ? dev->nslots : 0;
-}
-
-unsigned pc_v4l2_queued_count(const pc_v4l2 *dev)
-{
-	return dev ? dev->queued : 0;
-}
-
-bool pc_v4l2_streaming(const pc_v4l2 *dev)
-{
-	return dev && dev->streaming;
 }
 
 static int fill_buffer(pc_v4l2 *dev, const vbuf *v, pc_v4l2_buffer *b)

@@ -195,7 +195,6 @@ int pc_source_buffers_alloc(pc_source *s, unsigned count);
 /* Frees the pool (every buffer must have been requeued): READY/FAILED -> OPEN. */
 int pc_source_buffers_free(pc_source *s);
 unsigned pc_source_buffer_count(const pc_source *s);
-pc_buffer *pc_source_buffer(pc_source *s, unsigned index);
 
 /* READY -> STREAMING: every queued buffer is handed to the source. */
 int pc_source_start(pc_source *s);

@@ -57,8 +57,6 @@ int pc_v4l2_open(const char *path, pc_v4l2_dir dir, pc_v4l2 **out);
 /* Stops streaming if needed, unmaps the buffers and closes the node. NULL is fine. */
 void pc_v4l2_close(pc_v4l2 *dev);
 const pc_v4l2_info *pc_v4l2_get_info(const pc_v4l2 *dev);
-/* The file descriptor (for poll() in an application's own loop). */
-int pc_v4l2_fd(const pc_v4l2 *dev);
 
 /* ---- formats ---- */
 
@@ -98,9 +96,6 @@ int pc_v4l2_get_format(pc_v4l2 *dev, pc_v4l2_format *got);
 
 /* ---- inputs, outputs, DV timings ---- */
 
-int pc_v4l2_input_count(pc_v4l2 *dev, unsigned *count);
-/* Name of input (capture) or output (output) index into buf. */
-int pc_v4l2_io_name(pc_v4l2 *dev, unsigned index, char *buf, size_t size);
 /* VIDIOC_S_INPUT on capture nodes, VIDIOC_S_OUTPUT on output nodes. */
 int pc_v4l2_select_io(pc_v4l2 *dev, unsigned index);
 
@@ -201,16 +196,11 @@ int pc_v4l2_buffer_memory(const pc_v4l2 *dev, unsigned index, void **data, size_
 int pc_v4l2_stream_on(pc_v4l2 *dev);
 int pc_v4l2_stream_off(pc_v4l2 *dev);
 int pc_v4l2_buffers_free(pc_v4l2 *dev);
-/* The format the buffers were allocated for. */
-const pc_v4l2_format *pc_v4l2_stream_format(const pc_v4l2 *dev);
 
 /* All at once: buffers_alloc(nbuf), on capture nodes queue every buffer (output nodes hand
  * out buffers with pc_v4l2_output_acquire()), stream_on. */
 int pc_v4l2_stream_start(pc_v4l2 *dev, unsigned nbuf);
 unsigned pc_v4l2_buffer_count(const pc_v4l2 *dev);
-/* Number of buffers currently owned by the driver. */
-unsigned pc_v4l2_queued_count(const pc_v4l2 *dev);
-bool pc_v4l2_streaming(const pc_v4l2 *dev);
 
 /* Waits up to timeout_ms (negative: forever) for a filled capture buffer (or, on output nodes,
  * a consumed one) and dequeues it. PC_ETIMEDOUT, PC_EDISCONNECTED, PC_EIO. With no buffer

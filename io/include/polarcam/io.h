@@ -111,7 +111,7 @@ int pc_bmp_read(const char *path, pc_view *out);
  * like σ/S0), so dolp.png, aolp.png and aolp_sat.png paint those pixels with a dark grey hatch
  * (pc_picture_mask_low), say so in the title ("hatched: S0 < T, low signal") and show the hatch
  * under the colour bar. The threshold is opts->mask_s0 in S0 units (raw units) when > 0;
- * 0 (and pc_pictures_write[_ex]) uses PC_PICTURES_MASK_DEFAULT_REL of the S0 99.9th percentile
+ * 0 (and pc_pictures_write) uses PC_PICTURES_MASK_DEFAULT_REL of the S0 99.9th percentile
  * (the top of the S0 picture's scale); < 0 disables the mask. Callers that know their sensor's
  * noise can pass a few σ of S0 instead. */
 #define PC_PICTURES_MASK_DEFAULT_REL 0.01
@@ -128,9 +128,6 @@ int pc_pictures_write_opts(const char *dir, const struct pc_stokes_out *st, uint
 /* The same with a title prefix (may be NULL) and the default mask. */
 int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
 		      uint32_t height, const char *title_prefix);
-/* The same, downscaled for display to at most max_width pixels wide (0: full size). */
-int pc_pictures_write_ex(const char *dir, const struct pc_stokes_out *st, uint32_t width,
-			 uint32_t height, const char *title_prefix, uint32_t max_width);
 
 /* Loads a ground-truth directory for the evaluation protocol (polarcam/eval.h): the analyser
  * images named 0, 45, 90 and 135 with any extension pc_image_read knows (.tif, .tiff, .png,
