@@ -18,7 +18,7 @@ endif()
 set(PC_DEV ${PROJECT_SOURCE_DIR}/devices)
 add_executable(pc_guest_v4l2
   ${PC_GUEST_DIR}/guest_v4l2.c
-  ${PC_DEV}/v4l2_device.c ${PC_DEV}/v4l2.c ${PC_DEV}/source.c ${PC_DEV}/registry.c
+  ${PC_DEV}/v4l2.c ${PC_DEV}/v4l2_source.c ${PC_DEV}/source.c ${PC_DEV}/registry.c
   ${PC_DEV}/compliance.c ${PC_DEV}/backend_util.c)
 target_include_directories(pc_guest_v4l2 PRIVATE ${PC_GUEST_DIR} ${PC_DEV}/include ${PC_DEV}
   ${PROJECT_SOURCE_DIR}/core/include)
