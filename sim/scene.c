@@ -317,24 +317,6 @@ static int get_num_rgb(const pctx *c, json_t *obj, const char *path, const char 
 
 /* ---- polarization states ---- */
 
-void pc_retarder_mueller(double angle_rad, double delta_rad, double m[4][4])
-{
-	/* Linear retarder, fast axis at θ from the x (s) axis towards y (p), retardance δ: the Jones
-	 * matrix R(−θ)·diag(1, e^{−iδ})·R(θ) (e^{+iωt}: the slow component lags) mapped to Mueller
-	 * with physics.md §1's A (S3 = 2 Im(E_s* E_p)). Worked out by hand:
-	 * [[1,0,0,0],[0,c²+s²cosδ, cs(1−cosδ), −s sinδ],[0, cs(1−cosδ), s²+c²cosδ, c sinδ],
-	 *  [0, s sinδ, −c sinδ, cosδ]] with c = cos2θ, s = sin2θ. Verified in tests against the
-	 * Jones calculus (tests/test_sim_render.c): a quarter-wave plate at 45° turns S1 = +1 into
-	 * S3 = +1 in this convention. */
-	double c = cos(2 * angle_rad), s = sin(2 * angle_rad);
-	double cd = cos(delta_rad), sd = sin(delta_rad);
-	double r[4][4] = { { 1, 0, 0, 0 },
-			   { 0, c * c + s * s * cd, c * s * (1 - cd), -s * sd },
-			   { 0, c * s * (1 - cd), s * s + c * c * cd, c * sd },
-			   { 0, s * sd, -c * sd, cd } };
-	memcpy(m, r, sizeof r);
-}
-
 static int parse_retarder(const pctx *c, json_t *v, const char *path, double m[4][4])
 {
 	static const char *const keys[] = { "angle_deg", "retardance_deg", NULL };

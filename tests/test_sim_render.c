@@ -18,6 +18,7 @@
 
 #include "check.h"
 #include "polarcam/error.h"
+#include "polarcam/optics.h"
 #include "polarcam/sim.h"
 #include "sim_stand_in.h"
 

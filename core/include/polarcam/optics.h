@@ -52,6 +52,12 @@ void pc_jones_to_mueller(const double J_re[2][2], const double J_im[2][2], doubl
  * Jones frame rotation [[cosθ, sinθ], [−sinθ, cosθ]] (physics.md §2). */
 void pc_mueller_rotator(double theta, double M[4][4]);
 
+/* Mueller matrix of a linear retarder with fast axis at angle_rad (from the x (s) axis towards
+ * y (p); in the image-plane frame: from the image x axis, counter-clockwise) and retardance
+ * delta_rad, in the Stokes convention above (physics.md §1): a quarter-wave plate at 45° turns
+ * S1 = +1 into S3 = +1. */
+void pc_retarder_mueller(double angle_rad, double delta_rad, double m[4][4]);
+
 /* R_M(θ_out) · M_F(a, b, c, s) · R_M(θ_in), given cos 2θ and sin 2θ of both rotations: the
  * facet Mueller matrix carried to the macro frames without a complex Kronecker product. */
 void pc_mueller_facet(const double abcs[4], double c2_in, double s2_in, double c2_out,

@@ -261,10 +261,6 @@ typedef struct pc_sim_states {
 
 void pc_sim_get_states(const pc_sim *sim, pc_sim_states *states);
 
-/* Mueller matrix of a linear retarder with fast axis at angle_rad (from the image x axis,
- * counter-clockwise) and retardance delta_rad, in the Stokes convention of physics.md §1. */
-void pc_retarder_mueller(double angle_rad, double delta_rad, double m[4][4]);
-
 #ifdef __cplusplus
 }
 #endif
