@@ -9,53 +9,6 @@
 #include "polarcam/optics.h"
 #include "polarcam/parallel.h"
 
-/* Eigen-decomposition of a symmetric 4×4 matrix by cyclic Jacobi rotations (Golub & Van Loan,
- * Matrix Computations, 4th ed., §8.5.2): S = V·diag(e)·Vᵀ. Converges quadratically; 4×4
- * needs a handful of sweeps. */
-static void jacobi4(double S[4][4], double e[4], double V[4][4])
-{
-	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++)
-			V[i][j] = i == j;
-	for (int sweep = 0; sweep < 60; sweep++) {
-		double off = 0, diag = 0;
-		for (int i = 0; i < 4; i++)
-			for (int j = 0; j < 4; j++) {
-				if (i == j)
-					diag += S[i][j] * S[i][j];
-				else
-					off += S[i][j] * S[i][j];
-			}
-		if (off <= 1e-32 * diag)
-			break;
-		for (int p = 0; p < 3; p++)
-			for (int q = p + 1; q < 4; q++) {
-				if (S[p][q] == 0)
-					continue;
-				double th = (S[q][q] - S[p][p]) / (2 * S[p][q]);
-				double t = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
-				double c = 1 / sqrt(t * t + 1), s = t * c;
-				for (int k = 0; k < 4; k++) {
-					double kp = S[k][p], kq = S[k][q];
-					S[k][p] = c * kp - s * kq;
-					S[k][q] = s * kp + c * kq;
-				}
-				for (int k = 0; k < 4; k++) {
-					double pk = S[p][k], qk = S[q][k];
-					S[p][k] = c * pk - s * qk;
-					S[q][k] = s * pk + c * qk;
-				}
-				for (int k = 0; k < 4; k++) {
-					double vp = V[k][p], vq = V[k][q];
-					V[k][p] = c * vp - s * vq;
-					V[k][q] = s * vp + c * vq;
-				}
-			}
-	}
-	for (int i = 0; i < 4; i++)
-		e[i] = S[i][i];
-}
-
 /* Pseudo-inverse pieces of an n×4 matrix X (rows) through XᵀX = V·diag(e)·Vᵀ: the Moore–Penrose
  * inverse X⁺ = V·diag(1/e_i, for e_i above the rank threshold)·Vᵀ·Xᵀ (Golub & Van Loan §5.5.2).
  * Returns the rank and the condition number of the determined part; inv_gram = (XᵀX)⁺ and the
@@ -63,12 +16,15 @@ static void jacobi4(double S[4][4], double e[4], double V[4][4])
 static unsigned pinv_setup(const double *X, size_t ld, unsigned n, double inv_gram[4][4],
 			   double *cond, unsigned *mask)
 {
+	static const double zero[4][4];
 	double S[4][4] = { { 0 } }, e[4], V[4][4];
 	for (unsigned r = 0; r < n; r++)
 		for (int i = 0; i < 4; i++)
 			for (int j = 0; j < 4; j++)
 				S[i][j] += X[r * ld + (size_t)i] * X[r * ld + (size_t)j];
-	jacobi4(S, e, V);
+	/* real symmetric: the Hermitian solver with a zero imaginary part (V comes out real) */
+	double Vi[4][4];
+	pc_hermitian4_eig(S, zero, e, V, Vi);
 	double emax = fmax(fmax(e[0], e[1]), fmax(e[2], e[3]));
 	double emin = INFINITY;
 	unsigned rank = 0;

@@ -405,13 +405,19 @@ static int pc_cmp_double(const void *x, const void *y)
 	return (a > b) - (a < b);
 }
 
-void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], double eval[4])
+void pc_hermitian4_eig(const double H_re[4][4], const double H_im[4][4], double eval[4],
+                       double V_re[4][4], double V_im[4][4])
 {
 	double Hr[4][4], Hi[4][4];
 	double s = pc_herm_load(H_re, H_im, Hr, Hi);
-	pc_jacobi_herm4(Hr, Hi, NULL, NULL);
+	pc_jacobi_herm4(Hr, Hi, V_re, V_im);
 	for (int i = 0; i < 4; i++)
 		eval[i] = Hr[i][i] / s;
+}
+
+void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], double eval[4])
+{
+	pc_hermitian4_eig(H_re, H_im, eval, NULL, NULL);
 	qsort(eval, 4, sizeof eval[0], pc_cmp_double);
 }
 
@@ -428,17 +434,14 @@ double pc_mueller_min_coherency_eig(const double M[4][4])
 
 void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *changed)
 {
-	double Hr[4][4], Hi[4][4], Jr[4][4], Ji[4][4], Vr[4][4], Vi[4][4];
+	double Hr[4][4], Hi[4][4], Vr[4][4], Vi[4][4];
 	pc_mueller_coherency(M, Hr, Hi);
 	double tr = Hr[0][0] + Hr[1][1] + Hr[2][2] + Hr[3][3];
-	double s = pc_herm_load(Hr, Hi, Jr, Ji);
-	pc_jacobi_herm4(Jr, Ji, Vr, Vi);
 	double lam[4], lmin = INFINITY;
-	for (int i = 0; i < 4; i++) {
-		lam[i] = Jr[i][i] / s;
+	pc_hermitian4_eig(Hr, Hi, lam, Vr, Vi);
+	for (int i = 0; i < 4; i++)
 		if (lam[i] < lmin)
 			lmin = lam[i];
-	}
 	bool ch = !(lmin >= -PC_PHYS_TOL * fabs(tr));
 	if (changed)
 		*changed = ch;

@@ -82,8 +82,15 @@ void pc_mueller_coherency(const double M[4][4], double H_re[4][4], double H_im[4
 /* The inverse map (real part of A N A⁻¹). */
 void pc_coherency_to_mueller(const double H_re[4][4], const double H_im[4][4], double M[4][4]);
 
-/* Eigenvalues (ascending) of a 4×4 Hermitian matrix (its Hermitian part), by cyclic complex
- * Jacobi rotations. */
+/* The symmetric / Hermitian eigen-solver of the project (real symmetric matrices are the case
+ * H_im = 0, where the eigenvectors come out real): the eigen-decomposition of a 4×4 Hermitian
+ * matrix (its Hermitian part) H = V·diag(eval)·Vᴴ by cyclic complex Jacobi rotations (Golub &
+ * Van Loan, Matrix Computations, 4th ed., §8.5.2, with a phase per rotation for the complex
+ * case). Eigenvalues in no particular order; eigenvector k in column k of V_re + i V_im (both may
+ * be NULL). */
+void pc_hermitian4_eig(const double H_re[4][4], const double H_im[4][4], double eval[4],
+                       double V_re[4][4], double V_im[4][4]);
+/* Its eigenvalues in ascending order. */
 void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], double eval[4]);
 
 /* Realisability: smallest eigenvalue of H divided by tr H (≥ 0 for physical matrices up to
