@@ -33,7 +33,7 @@ static int run(int (*cmd)(int, char **), const char *name, ...)
 		argv[argc++] = (char *)a;
 	va_end(ap);
 	argv[argc] = NULL;
-	pc_cli_command = name;
+	cli_name = name;
 	fflush(stdout);
 	return cmd(argc, argv);
 }
@@ -132,19 +132,19 @@ static void test_render(void)
 	CHECK(json_is_number(json_object_get(json_object_get(ex, "timings"), "render_s")));
 	json_decref(m);
 	/* the directory holds a recording: refused without --overwrite */
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, NULL), PC_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, NULL), CLI_EXIT_USAGE);
 	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--overwrite", "--no-truth", NULL), 0);
 	/* bad input: exit 2, nothing written */
 	snprintf(bad, sizeof bad, "%s/bad.json", tmp);
 	write_file(bad, "{\"camera\": {\"position\": [0, 0, 1], \"look_at\": [0, 0, 0]},\n \"lights\": 3}");
 	snprintf(out, sizeof out, "%s/nothing", tmp);
-	CHECK_EQ_INT(run(cmd_render, "render", bad, "-o", out, NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", "/nonexistent.json", "-o", out, NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--frames", "0", NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--roi", "1,2,3", NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--roi", "60,0,8,8", NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "--bogus", NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, NULL), PC_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_render, "render", bad, "-o", out, NULL), CLI_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_render, "render", "/nonexistent.json", "-o", out, NULL), CLI_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--frames", "0", NULL), CLI_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--roi", "1,2,3", NULL), CLI_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--roi", "60,0,8,8", NULL), CLI_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_render, "render", scene, "--bogus", NULL), CLI_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_render, "render", scene, NULL), CLI_EXIT_USAGE);
 	struct stat st;
 	CHECK(stat(out, &st) != 0); /* no directory, no partial files */
 	pc_view_free(&a);
@@ -200,10 +200,10 @@ static void test_mueller(void)
 	snprintf(f1, sizeof f1, "%s/raw_000001.png", out);
 	snprintf(st, sizeof st, "%s/states.json", out);
 	CHECK_EQ_INT(run(cmd_mueller, "mueller", f0, f1, "--states", st, "-o", res, NULL),
-		     PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", f0, "-o", res, NULL), PC_EXIT_USAGE);
+		     CLI_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_mueller, "mueller", f0, "-o", res, NULL), CLI_EXIT_USAGE);
 	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", res, "--method", "nope", NULL),
-		     PC_EXIT_USAGE);
+		     CLI_EXIT_USAGE);
 }
 
 static int cmp_dbl(const void *a, const void *b)
@@ -268,9 +268,9 @@ static void test_mueller_linear(void)
 	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", reso, "--rebuild-circular", "off", NULL),
 		     0);
 	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", reso, "--rebuild-circular", "positive",
-			 NULL), PC_EXIT_USAGE);
+			 NULL), CLI_EXIT_USAGE);
 	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", reso, "--rebuild-tol", "-1", NULL),
-		     PC_EXIT_USAGE);
+		     CLI_EXIT_USAGE);
 	CHECK(exists(res, "rebuild_residual.npy") && !exists(reso, "rebuild_residual.npy"));
 	char p[1024];
 	snprintf(p, sizeof p, "%s/mueller.json", res);
@@ -282,7 +282,7 @@ static void test_mueller_linear(void)
 	/* an output directory that cannot be made: an error after the rebuild (whose residual
 	 * map must not leak, which the sanitizer build checks) */
 	snprintf(p, sizeof p, "%s/mueller.json/sub", res);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", p, NULL), PC_EXIT_FAILURE);
+	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", p, NULL), CLI_EXIT_FAILURE);
 
 	pc_array aT, aM, aP, aD, aR, aE, aO;
 	float *T = load_f32(out, "truth_mueller.npy", &aT), *M = load_f32(res, "mueller.npy", &aM);
@@ -399,7 +399,7 @@ static void test_demo(void)
 	CHECK(exists(out, "truth/dolp.png") && exists(out, "pipeline_bilinear/aolp.png"));
 	CHECK(exists(out, "mueller/D.png") && exists(out, "mueller/truth_Delta.npy"));
 	CHECK(exists(out, "stokes.npy"));
-	CHECK_EQ_INT(run(cmd_demo, "demo", "--methods", "nope", NULL), PC_EXIT_USAGE);
+	CHECK_EQ_INT(run(cmd_demo, "demo", "--methods", "nope", NULL), CLI_EXIT_USAGE);
 }
 
 int main(void)

@@ -26,11 +26,11 @@ int cmd_bench(int argc, char **argv)
 			    "Benchmarks report ratios against baselines measured in the same run.\n\n");
 		for (size_t i = 0; i < n; i++)
 			fprintf(fp, "  %-9s %s\n", pc_benches[i].name, pc_benches[i].summary);
-		return argc < 2 ? PC_EXIT_USAGE : PC_EXIT_OK;
+		return argc < 2 ? CLI_EXIT_USAGE : CLI_EXIT_OK;
 	}
 	for (size_t i = 0; i < n; i++)
 		if (!strcmp(argv[1], pc_benches[i].name))
 			return pc_benches[i].run(argc - 1, argv + 1);
-	return pc_cli_error(PC_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices, calib)",
+	return cli_error(CLI_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices, calib)",
 			    argv[1]);
 }

@@ -51,83 +51,83 @@ static void usage(FILE *fp)
 	    "%s"
 	    "\nPrints one JSON line: frames recorded, format, statistics, error (if any).\n"
 	    "Exit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments.\n",
-	    pc_stream_args_help());
+	    cli_stream_args_help());
 }
 
 int cmd_capture(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
-	pc_stream_args sa;
-	pc_stream_args_init(&sa);
+	cli_stream_args sa;
+	cli_stream_args_init(&sa);
 	const char *dir = NULL;
 	long n = 0;
 	bool overwrite = false, process = false;
 	const char *method = NULL; /* the mosaic's default */
 	for (int i = 1; i < argc; i++) {
-		int rc = pc_stream_args_parse(&sa, argc, argv, &i);
+		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
 		if (rc < 0)
-			return pc_cli_fail(rc, "arguments");
+			return cli_fail(rc, "arguments");
 		if (rc > 0)
 			continue;
 		const char *a = argv[i];
 		if (!strcmp(a, "-n") || !strcmp(a, "-o")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)",
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
 				                    a);
 			if (!strcmp(a, "-o"))
 				dir = argv[++i];
-			else if ((rc = pc_cli_parse_long("-n", argv[++i], 1, 999999, &n)))
-				return pc_cli_fail(rc, "arguments");
+			else if ((rc = cli_parse_long("-n", argv[++i], 1, 999999, &n)))
+				return cli_fail(rc, "arguments");
 		} else if (!strcmp(a, "--overwrite")) {
 			overwrite = true;
 		} else if (!strcmp(a, "--process")) {
 			process = true;
 		} else if (!strcmp(a, "--method")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE,
+				return cli_error(CLI_EXIT_USAGE,
 				                    "--method needs a value (see --help)");
 			method = argv[++i];
 		} else if (a[0] == '-') {
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		} else if (!sa.uri) {
 			sa.uri = a;
 		} else {
-			return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s' (see --help)",
+			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (see --help)",
 			                    a);
 		}
 	}
 	if (!sa.uri)
-		return pc_cli_error(PC_EXIT_USAGE, "missing the source URI (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "missing the source URI (see --help)");
 	if (!n)
-		return pc_cli_error(PC_EXIT_USAGE, "missing -n N (frames to record)");
+		return cli_error(CLI_EXIT_USAGE, "missing -n N (frames to record)");
 	if (!dir)
-		return pc_cli_error(PC_EXIT_USAGE, "missing -o DIR (output directory)");
+		return cli_error(CLI_EXIT_USAGE, "missing -o DIR (output directory)");
 	pc_live lv;
 	memset(&lv, 0, sizeof lv);
 	if (method) { /* a misspelt name is refused before the camera is opened */
 		int mrc = pc_demosaic_method_from_name(method, &lv.method);
 		if (mrc)
-			return pc_cli_fail(mrc, "--method");
+			return cli_fail(mrc, "--method");
 	}
 
 	pc_source *s = NULL;
 	int rc = pc_stream_open(&sa, &s);
 	if (rc) {
 		pc_devices_shutdown();
-		return pc_cli_fail(rc, "opening the source");
+		return cli_fail(rc, "opening the source");
 	}
 	pc_source_format f;
 	pc_source_get_format(s, &f);
 	if (process && f.polarized) {
 		/* a method for the other kind of mosaic is refused before anything is recorded */
-		rc = pc_cli_method_for_mosaic(method, &f.mosaic, &lv.method);
+		rc = cli_method_for_mosaic(method, &f.mosaic, &lv.method);
 		if (rc) {
 			pc_source_close(s);
 			pc_devices_shutdown();
-			return pc_cli_fail(rc, NULL);
+			return cli_fail(rc, NULL);
 		}
 		method = pc_demosaic_method_get(lv.method)->name;
 	}
@@ -149,7 +149,7 @@ int cmd_capture(int argc, char **argv)
 	if (rc) {
 		pc_source_close(s);
 		pc_devices_shutdown();
-		return pc_cli_fail(rc, "creating the recording");
+		return cli_fail(rc, "creating the recording");
 	}
 
 	struct sigaction sig;
@@ -158,8 +158,8 @@ int cmd_capture(int argc, char **argv)
 	sigaction(SIGINT, &sig, NULL);
 	sigaction(SIGTERM, &sig, NULL);
 
-	pc_progress prog;
-	pc_progress_begin(&prog, "capture", (uint64_t)n);
+	cli_progress prog;
+	cli_progress_begin(&prog, "capture", (uint64_t)n);
 	char err[512] = "";
 	int err_rc = 0;
 	long got = 0;
@@ -168,7 +168,7 @@ int cmd_capture(int argc, char **argv)
 		err_rc = rc;
 		snprintf(err, sizeof err, "starting the stream: %s", pc_error_detail());
 	}
-	double t0 = pc_cli_now(), proc_sum = 0, proc_max = 0, dolp_last = 0;
+	double t0 = cli_now(), proc_sum = 0, proc_max = 0, dolp_last = 0;
 	if (process && !f.polarized) {
 		err_rc = PC_EFORMAT;
 		snprintf(err, sizeof err,
@@ -214,10 +214,10 @@ int cmd_capture(int argc, char **argv)
 			break;
 		}
 		got++;
-		pc_progress_update(&prog, (uint64_t)got);
+		cli_progress_update(&prog, (uint64_t)got);
 	}
-	double dt = pc_cli_now() - t0;
-	pc_progress_end(&prog);
+	double dt = cli_now() - t0;
+	cli_progress_end(&prog);
 	json_t *pj = NULL;
 	if (process && got > 0 && lv.planes) {
 		/* the last frame's Stokes images and pictures */
@@ -245,9 +245,9 @@ int cmd_capture(int argc, char **argv)
 		pj = json_object();
 		json_object_set_new(pj, "method", json_string(method));
 		json_object_set_new(pj, "frames", json_integer(got));
-		json_object_set_new(pj, "mean_ms", pc_json_real(1e3 * proc_sum / (double)got));
-		json_object_set_new(pj, "max_ms", pc_json_real(1e3 * proc_max));
-		json_object_set_new(pj, "last_mean_dolp", pc_json_real(dolp_last));
+		json_object_set_new(pj, "mean_ms", cli_json_real(1e3 * proc_sum / (double)got));
+		json_object_set_new(pj, "max_ms", cli_json_real(1e3 * proc_max));
+		json_object_set_new(pj, "last_mean_dolp", cli_json_real(dolp_last));
 		json_object_set_new(pj, "width", json_integer(lv.w));
 		json_object_set_new(pj, "height", json_integer(lv.h));
 		char *ptext = json_dumps(pj, JSON_COMPACT);
@@ -263,7 +263,7 @@ int cmd_capture(int argc, char **argv)
 		pc_source_stop(s);
 	pc_source_stats st;
 	pc_source_get_stats(s, &st);
-	json_t *sj = pc_json_source_stats(&st);
+	json_t *sj = cli_json_source_stats(&st);
 	char *stext = json_dumps(sj, JSON_COMPACT);
 	if (stext)
 		pc_recording_set_json(rec, "stats", stext);
@@ -278,20 +278,20 @@ int cmd_capture(int argc, char **argv)
 	json_object_set_new(j, "dir", json_string(dir));
 	json_object_set_new(j, "frames", json_integer(got));
 	json_object_set_new(j, "requested", json_integer(n));
-	json_object_set_new(j, "seconds", pc_json_real(dt));
-	json_object_set_new(j, "fps", pc_json_real(dt > 0 ? got / dt : 0));
-	json_object_set_new(j, "format", pc_json_source_format(&f));
+	json_object_set_new(j, "seconds", cli_json_real(dt));
+	json_object_set_new(j, "fps", cli_json_real(dt > 0 ? got / dt : 0));
+	json_object_set_new(j, "format", cli_json_source_format(&f));
 	json_object_set_new(j, "stats", sj);
 	if (pj)
 		json_object_set_new(j, "process", pj);
 	json_object_set_new(j, "error", err_rc ? json_string(err) : json_null());
-	pc_cli_print_json(j);
+	cli_print_json(j);
 	pc_recording_free(rec);
 	pc_live_free(&lv);
 	pc_source_close(s);
 	pc_devices_shutdown();
 	if (err_rc)
-		return pc_cli_error(pc_cli_status(err_rc),
+		return cli_error(cli_status(err_rc),
 		                    "%s (the %ld frames recorded are intact in %s)", err, got, dir);
-	return PC_EXIT_OK;
+	return CLI_EXIT_OK;
 }

@@ -221,9 +221,9 @@ static double map_median_abs_err(const float *est, const float *truth, const flo
 
 int cmd_demo(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	static const struct option opts[] = {
 		{ "output", required_argument, NULL, 'o' }, { "scene", required_argument, NULL, 'S' },
@@ -248,8 +248,8 @@ int cmd_demo(int argc, char **argv)
 			scene_path = optarg;
 			break;
 		case 's':
-			if ((rc = pc_cli_parse_u64("--seed", optarg, &seed)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_u64("--seed", optarg, &seed)))
+				return cli_fail(rc, NULL);
 			break;
 		case 'M':
 			methods_arg = optarg;
@@ -258,17 +258,17 @@ int cmd_demo(int argc, char **argv)
 			do_mueller = false;
 			break;
 		case 't':
-			if ((rc = pc_cli_parse_long("--threads", optarg, 1, 1024, &threads)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_long("--threads", optarg, 1, 1024, &threads)))
+				return cli_fail(rc, NULL);
 			break;
 		case ':':
-			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
 		default:
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
 	if (optind < argc)
-		return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s' (see --help)", argv[optind]);
+		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (see --help)", argv[optind]);
 	/* methods */
 	pc_demosaic_method methods[PC_DM_COUNT];
 	unsigned nm = 0;
@@ -278,18 +278,18 @@ int cmd_demo(int argc, char **argv)
 		char *save = NULL;
 		for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
 			if (nm == PC_DM_COUNT)
-				return pc_cli_error(PC_EXIT_USAGE, "--methods: too many");
+				return cli_error(CLI_EXIT_USAGE, "--methods: too many");
 			if ((rc = pc_demosaic_method_from_name(t, &methods[nm])))
-				return pc_cli_fail(rc, "--methods");
+				return cli_fail(rc, "--methods");
 			if (methods[nm] == PC_DM_SUPERPIXEL_HALF)
 				methods[nm] = PC_DM_SUPERPIXEL; /* full resolution, comparable */
 			nm++;
 		}
 		if (!nm)
-			return pc_cli_error(PC_EXIT_USAGE, "--methods: empty list");
+			return cli_error(CLI_EXIT_USAGE, "--methods: empty list");
 	}
-	double t_all = pc_cli_now();
-	int status = PC_EXIT_OK;
+	double t_all = cli_now();
+	int status = CLI_EXIT_OK;
 	pc_scene *scene = NULL;
 	pc_sim *sim = NULL, *msim = NULL;
 	pc_scene *mscene = NULL;
@@ -305,27 +305,27 @@ int cmd_demo(int argc, char **argv)
 
 	rc = scene_path ? pc_scene_load(scene_path, &scene) : pc_scene_load_default(&scene);
 	if (rc) {
-		status = pc_cli_fail(rc, NULL);
+		status = cli_fail(rc, NULL);
 		goto done;
 	}
 	pc_sim_options o = pc_sim_options_default();
 	o.seed = seed;
 	o.threads = (int)threads;
 	if ((rc = pc_sim_new(scene, &o, &sim))) {
-		status = pc_cli_fail(rc, "scene");
+		status = cli_fail(rc, "scene");
 		goto done;
 	}
 	pc_sim_info in;
 	pc_sim_get_info(sim, &in);
 	if (in.colour_channels != 1) {
-		status = pc_cli_error(PC_EXIT_USAGE, "the demo handles monochrome sensors; render colour "
+		status = cli_error(CLI_EXIT_USAGE, "the demo handles monochrome sensors; render colour "
 						     "scenes with polarcam render");
 		goto done;
 	}
 	const uint32_t W = in.width, H = in.height;
 	const size_t np = (size_t)W * H;
 	if ((rc = pc_mkdir_p(out))) {
-		status = pc_cli_fail(rc, out);
+		status = cli_fail(rc, out);
 		goto done;
 	}
 	fprintf(stderr, "polarcam demo: %s, %ux%u, effects:", pc_scene_name(scene), W, H);
@@ -337,31 +337,31 @@ int cmd_demo(int argc, char **argv)
 	/* 1. truth + raw frame 0 */
 	ts = malloc(np * 4 * sizeof *ts);
 	if (!ts) {
-		status = pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		status = cli_error(CLI_EXIT_FAILURE, "out of memory");
 		goto done;
 	}
-	pc_progress bar;
-	pc_progress_begin(&bar, "render",
+	cli_progress bar;
+	cli_progress_begin(&bar, "render",
 			  (in.effects & PC_FX_CROSSTALK) ? 2 * (uint64_t)H + 2 : (uint64_t)H);
 	pc_sim_progress_adapter ad = { &bar, 0 };
-	double t0 = pc_cli_now();
+	double t0 = cli_now();
 	rc = pc_sim_prepare(sim, 0, ts, NULL, pc_sim_progress_cb, &ad);
-	pc_progress_end(&bar);
-	double t_render = pc_cli_now() - t0;
+	cli_progress_end(&bar);
+	double t_render = cli_now() - t0;
 	if (rc) {
-		status = pc_cli_fail(rc, "render");
+		status = cli_fail(rc, "render");
 		goto done;
 	}
 	if ((rc = pc_view_alloc(&raw, in.format, W, H, 64))) {
-		status = pc_cli_fail(rc, NULL);
+		status = cli_fail(rc, NULL);
 		goto done;
 	}
 	pc_frame fr;
-	t0 = pc_cli_now();
+	t0 = cli_now();
 	rc = pc_sim_frame(sim, 0, NULL, &raw, &fr.meta);
-	double t_frame = pc_cli_now() - t0;
+	double t_frame = cli_now() - t0;
 	if (rc) {
-		status = pc_cli_fail(rc, "frame");
+		status = cli_fail(rc, "frame");
 		goto done;
 	}
 	char source[1024];
@@ -372,7 +372,7 @@ int cmd_demo(int argc, char **argv)
 	fr.view = raw;
 	fr.mosaic = in.mosaic;
 	if ((rc = pc_recording_create(&rec, out, &desc, true)) || (rc = pc_recording_add(rec, &fr))) {
-		status = pc_cli_fail(rc, out);
+		status = cli_fail(rc, out);
 		goto done;
 	}
 	json_t *extra = pc_sim_describe(sim, scene);
@@ -381,13 +381,13 @@ int cmd_demo(int argc, char **argv)
 	rc = et ? pc_recording_set_json(rec, "extra", et) : PC_ENOMEM;
 	free(et);
 	if (rc || (rc = pc_recording_finish(rec, NULL))) {
-		status = pc_cli_fail(rc, "meta.json");
+		status = cli_fail(rc, "meta.json");
 		goto done;
 	}
 	size_t shp[3] = { H, W, 4 };
 	if ((rc = pc_path_join(path, sizeof path, out, "truth_stokes.npy")) ||
 	    (rc = pc_npy_write(path, ts, PC_DT_F32, 3, shp))) {
-		status = pc_cli_fail(rc, NULL);
+		status = cli_fail(rc, NULL);
 		goto done;
 	}
 	/* truth in DN (the pipeline's units): pictures of truth and estimate share one scale */
@@ -396,7 +396,7 @@ int cmd_demo(int argc, char **argv)
 	tp = malloc(np * 3 * sizeof *tp);
 	ep = malloc(np * 5 * sizeof *ep);
 	if (!tp || !ep) {
-		status = pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		status = cli_error(CLI_EXIT_FAILURE, "out of memory");
 		goto done;
 	}
 	float *t_s0 = tp, *t_dolp = tp + np, *t_aolp = tp + 2 * np;
@@ -412,7 +412,7 @@ int cmd_demo(int argc, char **argv)
 			     { t_aolp, W, 1 } };
 	if ((rc = pc_path_join(dir, sizeof dir, out, "truth")) || (rc = pc_mkdir_p(dir)) ||
 	    (rc = pc_pictures_write(dir, &so, W, H, "truth"))) {
-		status = pc_cli_fail(rc, dir);
+		status = cli_fail(rc, dir);
 		goto done;
 	}
 
@@ -427,7 +427,7 @@ int cmd_demo(int argc, char **argv)
 				     { e_aolp, W, 1 } };
 		pc_demosaic_opts wopt = { (int)threads, false, 0 };
 		if ((rc = pc_stokes_from_raw(&raw, &in.mosaic, PC_DM_BILINEAR, &wopt, &wo))) {
-			status = pc_cli_fail(rc, "bilinear");
+			status = cli_fail(rc, "bilinear");
 			goto done;
 		}
 	}
@@ -435,11 +435,11 @@ int cmd_demo(int argc, char **argv)
 		pc_stokes_out eo = { { e_s0, W, 1 }, { e_s1, W, 1 }, { e_s2, W, 1 }, { e_dolp, W, 1 },
 				     { e_aolp, W, 1 } };
 		pc_demosaic_opts dopt = { (int)threads, false, 0 };
-		t0 = pc_cli_now();
+		t0 = cli_now();
 		rc = pc_stokes_from_raw(&raw, &in.mosaic, methods[m], &dopt, &eo);
-		double dt = pc_cli_now() - t0;
+		double dt = cli_now() - t0;
 		if (rc) {
-			status = pc_cli_fail(rc, pc_demosaic_method_get(methods[m])->name);
+			status = cli_fail(rc, pc_demosaic_method_get(methods[m])->name);
 			goto done;
 		}
 		snprintf(acc[m].method, sizeof acc[m].method, "%s",
@@ -455,7 +455,7 @@ int cmd_demo(int argc, char **argv)
 				sub[sizeof sub - 1] = '\0';
 			if ((rc = pc_path_join(dir, sizeof dir, out, sub)) || (rc = pc_mkdir_p(dir)) ||
 			    (rc = pc_pictures_write(dir, &eo, W, H, acc[m].method))) {
-				status = pc_cli_fail(rc, dir);
+				status = cli_fail(rc, dir);
 				goto done;
 			}
 		}
@@ -463,7 +463,7 @@ int cmd_demo(int argc, char **argv)
 			/* stokes.npy (H, W, 3): S0, S1, S2 in DN from the bilinear pipeline */
 			float *st3 = malloc(np * 3 * sizeof *st3);
 			if (!st3) {
-				status = pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+				status = cli_error(CLI_EXIT_FAILURE, "out of memory");
 				goto done;
 			}
 			for (size_t i = 0; i < np; i++) {
@@ -477,7 +477,7 @@ int cmd_demo(int argc, char **argv)
 				rc = pc_npy_write(path, st3, PC_DT_F32, 3, s3);
 			free(st3);
 			if (rc) {
-				status = pc_cli_fail(rc, NULL);
+				status = cli_fail(rc, NULL);
 				goto done;
 			}
 		}
@@ -506,12 +506,12 @@ int cmd_demo(int argc, char **argv)
 			    : NULL;
 		free(doc);
 		if (!mtext) {
-			status = pc_cli_error(PC_EXIT_FAILURE, "cannot build the Mueller scene");
+			status = cli_error(CLI_EXIT_FAILURE, "cannot build the Mueller scene");
 			goto done;
 		}
 		if ((rc = pc_scene_parse(mtext, "demo Mueller scene", ".", &mscene)) ||
 		    (rc = pc_sim_new(mscene, &o, &msim))) {
-			status = pc_cli_fail(rc, "Mueller scene");
+			status = cli_fail(rc, "Mueller scene");
 			goto done;
 		}
 		sim_src src = { msim, { 0 }, NULL, 0 };
@@ -519,7 +519,7 @@ int cmd_demo(int argc, char **argv)
 		src.full = (uint16_t)((1u << src.in.bits) - 1);
 		src.saturated = calloc((size_t)mw * mh, 1);
 		if (!src.saturated) {
-			status = pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+			status = cli_error(CLI_EXIT_FAILURE, "out of memory");
 			goto done;
 		}
 		pc_sim_states st;
@@ -528,35 +528,35 @@ int cmd_demo(int argc, char **argv)
 		tM = malloc(mnp * 16 * sizeof *tM);
 		tmaps = malloc(mnp * 3 * sizeof *tmaps);
 		if (!tM || !tmaps) {
-			status = pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+			status = cli_error(CLI_EXIT_FAILURE, "out of memory");
 			goto done;
 		}
-		t0 = pc_cli_now();
-		pc_progress_begin(&bar, "mueller render", src.in.n_psg);
+		t0 = cli_now();
+		cli_progress_begin(&bar, "mueller render", src.in.n_psg);
 		for (unsigned g = 0; g < src.in.n_psg; g++) {
 			if ((rc = pc_sim_prepare(msim, g, NULL, g == 0 ? tM : NULL, NULL, NULL))) {
-				pc_progress_end(&bar);
-				status = pc_cli_fail(rc, "Mueller render");
+				cli_progress_end(&bar);
+				status = cli_fail(rc, "Mueller render");
 				goto done;
 			}
-			pc_progress_update(&bar, g + 1);
+			cli_progress_update(&bar, g + 1);
 		}
-		pc_progress_end(&bar);
-		pc_progress_begin(&bar, "mueller frames", src.in.n_states);
+		cli_progress_end(&bar);
+		cli_progress_begin(&bar, "mueller frames", src.in.n_states);
 		rc = pc_mueller_run(sim_get, &src, &st, &src.in.mosaic, PC_DM_BILINEAR, 0, (int)threads, NULL,
 				    &bar, &mres);
-		pc_progress_end(&bar);
-		t_mueller = pc_cli_now() - t0;
+		cli_progress_end(&bar);
+		t_mueller = cli_now() - t0;
 		if (rc) {
 			free(src.saturated);
-			status = pc_cli_fail(rc, "Mueller imaging");
+			status = cli_fail(rc, "Mueller imaging");
 			goto done;
 		}
 		/* truth maps from the truth Mueller image */
 		pc_mueller_maps(tM, mw, mh, 0xFFFFu, (int)threads, tmaps, tmaps + mnp, tmaps + 2 * mnp,
 				NULL);
 		if ((rc = pc_path_join(dir, sizeof dir, out, "mueller")) || (rc = pc_mkdir_p(dir))) {
-			status = pc_cli_fail(rc, dir);
+			status = cli_fail(rc, dir);
 			goto done;
 		}
 		const char *names[3] = { "D", "R", "Delta" }, *labels[3] = { "D", "R (rad)", "Delta" };
@@ -586,7 +586,7 @@ int cmd_demo(int argc, char **argv)
 			if ((rc = pc_write_map(dir, names[k], mres.maps + (size_t)k * mnp, mw, mh, 0,
 					       his[k], title, labels[k]))) {
 				free(w);
-				status = pc_cli_fail(rc, dir);
+				status = cli_fail(rc, dir);
 				goto done;
 			}
 			snprintf(nm_, sizeof nm_, "truth_%s", names[k]);
@@ -594,7 +594,7 @@ int cmd_demo(int argc, char **argv)
 			if ((rc = pc_write_map(dir, nm_, tmaps + (size_t)k * mnp, mw, mh, 0, his[k], title,
 					       labels[k]))) {
 				free(w);
-				status = pc_cli_fail(rc, dir);
+				status = cli_fail(rc, dir);
 				goto done;
 			}
 			/* retardance is defined where the light keeps its polarization: compare R
@@ -618,19 +618,19 @@ int cmd_demo(int argc, char **argv)
 		    (rc = pc_npy_write(path, tM, PC_DT_F32, 4, ms)) ||
 		    (rc = pc_path_join(path, sizeof path, dir, "mueller.npy")) ||
 		    (rc = pc_npy_write(path, mres.M, PC_DT_F32, 4, ms))) {
-			status = pc_cli_fail(rc, NULL);
+			status = cli_fail(rc, NULL);
 			goto done;
 		}
 	}
 
 	/* 4. report */
-	double t_total = pc_cli_now() - t_all;
+	double t_total = cli_now() - t_all;
 	json_t *jt = json_object();
 	json_object_set_new(jt, "render_s", json_real(t_render));
 	json_object_set_new(jt, "frame_s", json_real(t_frame));
 	json_object_set_new(jt, "mueller_s", json_real(t_mueller));
 	json_object_set_new(jt, "total_s", json_real(t_total));
-	json_object_set_new(jt, "peak_rss_mib", pc_json_real(pc_peak_rss_mib()));
+	json_object_set_new(jt, "peak_rss_mib", cli_json_real(pc_peak_rss_mib()));
 	json_object_set_new(report, "timings", jt);
 	json_object_set_new(report, "saturated_pixels", json_integer(saturated));
 	json_object_set_new(report, "dn_per_radiance", json_real(scale));
@@ -638,11 +638,11 @@ int cmd_demo(int argc, char **argv)
 		json_t *e = json_object();
 		json_object_set_new(e, "method", json_string(acc[m].method));
 		json_object_set_new(e, "seconds", json_real(acc[m].seconds));
-		json_object_set_new(e, "s0_rel_rms", pc_json_real(acc[m].s0_rel_rms));
-		json_object_set_new(e, "dolp_bias", pc_json_real(acc[m].dolp_bias));
-		json_object_set_new(e, "dolp_rms", pc_json_real(acc[m].dolp_rms));
-		json_object_set_new(e, "aolp_weighted_err_deg", pc_json_real(acc[m].aolp_err_deg));
-		json_object_set_new(e, "aolp_median_err_deg", pc_json_real(acc[m].aolp_median_deg));
+		json_object_set_new(e, "s0_rel_rms", cli_json_real(acc[m].s0_rel_rms));
+		json_object_set_new(e, "dolp_bias", cli_json_real(acc[m].dolp_bias));
+		json_object_set_new(e, "dolp_rms", cli_json_real(acc[m].dolp_rms));
+		json_object_set_new(e, "aolp_weighted_err_deg", cli_json_real(acc[m].aolp_err_deg));
+		json_object_set_new(e, "aolp_median_err_deg", cli_json_real(acc[m].aolp_median_deg));
 		json_object_set_new(e, "pixels", json_integer(acc[m].pixels));
 		json_array_append_new(jm, e);
 	}
@@ -652,12 +652,12 @@ int cmd_demo(int argc, char **argv)
 		json_object_set_new(mj, "width", json_integer(mw));
 		json_object_set_new(mj, "height", json_integer(mh));
 		json_object_set_new(mj, "frames", json_integer(mres.sys.n_psg * mres.sys.n_psa));
-		json_object_set_new(mj, "cond_A", pc_json_real(mres.sys.cond_A));
-		json_object_set_new(mj, "cond_G", pc_json_real(mres.sys.cond_G));
-		json_object_set_new(mj, "cond_W", pc_json_real(mres.sys.cond_W));
-		json_object_set_new(mj, "median_abs_err_D", pc_json_real(m_med[0]));
-		json_object_set_new(mj, "median_abs_err_R_rad", pc_json_real(m_med[1]));
-		json_object_set_new(mj, "median_abs_err_Delta", pc_json_real(m_med[2]));
+		json_object_set_new(mj, "cond_A", cli_json_real(mres.sys.cond_A));
+		json_object_set_new(mj, "cond_G", cli_json_real(mres.sys.cond_G));
+		json_object_set_new(mj, "cond_W", cli_json_real(mres.sys.cond_W));
+		json_object_set_new(mj, "median_abs_err_D", cli_json_real(m_med[0]));
+		json_object_set_new(mj, "median_abs_err_R_rad", cli_json_real(m_med[1]));
+		json_object_set_new(mj, "median_abs_err_Delta", cli_json_real(m_med[2]));
 		json_object_set_new(mj, "pixels_compared", json_integer(m_used[0]));
 		json_object_set_new(mj, "pixels_compared_R", json_integer(m_used[1]));
 		json_object_set_new(mj, "pixels_nonphysical_filtered", json_integer(mres.nonphysical));
@@ -667,7 +667,7 @@ int cmd_demo(int argc, char **argv)
 	if (!rj || (rc = pc_path_join(path, sizeof path, out, "report.json")) ||
 	    (rc = pc_write_file_atomic(path, rj, strlen(rj)))) {
 		free(rj);
-		status = pc_cli_fail(rc ? rc : PC_ENOMEM, "report.json");
+		status = cli_fail(rc ? rc : PC_ENOMEM, "report.json");
 		goto done;
 	}
 	free(rj);
@@ -676,7 +676,7 @@ int cmd_demo(int argc, char **argv)
 	size_t mdlen = 0;
 	FILE *mf = open_memstream(&md, &mdlen);
 	if (!mf) {
-		status = pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		status = cli_error(CLI_EXIT_FAILURE, "out of memory");
 		goto done;
 	}
 	fprintf(mf, "# polarcam demo\n\nScene `%s` (%ux%u), seed %llu. Effects:", pc_scene_name(scene),
@@ -723,7 +723,7 @@ int cmd_demo(int argc, char **argv)
 	fputs(md, stdout);
 	free(md);
 	if (rc) {
-		status = pc_cli_fail(rc, "report.md");
+		status = cli_fail(rc, "report.md");
 		goto done;
 	}
 done:

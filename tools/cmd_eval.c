@@ -50,14 +50,14 @@ typedef struct result {
 static json_t *metrics_json(const pc_eval_metrics *m)
 {
 	json_t *o = json_object();
-	json_object_set_new(o, "psnr_i", pc_json_real(m->psnr_i));
-	json_object_set_new(o, "psnr_i_channels", pc_json_vec(m->psnr_i_ch, 4));
-	json_object_set_new(o, "psnr_s0", pc_json_real(m->psnr_s0));
-	json_object_set_new(o, "psnr_s1", pc_json_real(m->psnr_s1));
-	json_object_set_new(o, "psnr_s2", pc_json_real(m->psnr_s2));
-	json_object_set_new(o, "psnr_dolp", pc_json_real(m->psnr_dolp));
-	json_object_set_new(o, "aolp_rmse_deg", pc_json_real(m->aolp_rmse_deg));
-	json_object_set_new(o, "aolp_wrmse_deg", pc_json_real(m->aolp_wrmse_deg));
+	json_object_set_new(o, "psnr_i", cli_json_real(m->psnr_i));
+	json_object_set_new(o, "psnr_i_channels", cli_json_vec(m->psnr_i_ch, 4));
+	json_object_set_new(o, "psnr_s0", cli_json_real(m->psnr_s0));
+	json_object_set_new(o, "psnr_s1", cli_json_real(m->psnr_s1));
+	json_object_set_new(o, "psnr_s2", cli_json_real(m->psnr_s2));
+	json_object_set_new(o, "psnr_dolp", cli_json_real(m->psnr_dolp));
+	json_object_set_new(o, "aolp_rmse_deg", cli_json_real(m->aolp_rmse_deg));
+	json_object_set_new(o, "aolp_wrmse_deg", cli_json_real(m->aolp_wrmse_deg));
 	return o;
 }
 
@@ -82,16 +82,16 @@ static void mean_metrics(const result *r, size_t n, const char *dataset, pc_demo
 
 int cmd_eval(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	const char *method_arg = "all", *json_path = NULL;
 	bool reference = false;
 	const char **dirs = calloc((size_t)argc, sizeof *dirs);
 	size_t ndirs = 0;
 	if (!dirs)
-		return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		return cli_error(CLI_EXIT_FAILURE, "out of memory");
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--method") && i + 1 < argc) {
 			method_arg = argv[++i];
@@ -101,7 +101,7 @@ int cmd_eval(int argc, char **argv)
 			reference = true;
 		} else if (argv[i][0] == '-' && argv[i][1]) {
 			free(dirs);
-			return pc_cli_error(PC_EXIT_USAGE, "unknown or incomplete option '%s' (see "
+			return cli_error(CLI_EXIT_USAGE, "unknown or incomplete option '%s' (see "
 							   "polarcam eval --help)", argv[i]);
 		} else {
 			dirs[ndirs++] = argv[i];
@@ -110,7 +110,7 @@ int cmd_eval(int argc, char **argv)
 	if (!ndirs) {
 		free(dirs);
 		usage(stderr);
-		return pc_cli_error(PC_EXIT_USAGE, "no TRUTH_DIR given");
+		return cli_error(CLI_EXIT_USAGE, "no TRUTH_DIR given");
 	}
 	pc_demosaic_method methods[PC_DM_COUNT];
 	size_t nmeth = 0;
@@ -124,11 +124,11 @@ int cmd_eval(int argc, char **argv)
 		int rc = pc_demosaic_method_from_name(method_arg, &methods[0]);
 		if (rc) {
 			free(dirs);
-			return pc_cli_fail(rc, "--method");
+			return cli_fail(rc, "--method");
 		}
 		if (!(pc_demosaic_method_get(methods[0])->flags & PC_DMF_MONO)) {
 			free(dirs);
-			return pc_cli_error(PC_EXIT_USAGE, "--method %s: the protocol mosaics with the "
+			return cli_error(CLI_EXIT_USAGE, "--method %s: the protocol mosaics with the "
 							   "monochrome Sony layout; this method needs a "
 							   "colour-polarization mosaic", method_arg);
 		}
@@ -136,14 +136,14 @@ int cmd_eval(int argc, char **argv)
 	}
 	result *res = calloc(ndirs * nmeth, sizeof *res);
 	size_t nres = 0;
-	int status = PC_EXIT_OK;
-	pc_progress prog;
-	pc_progress_begin(&prog, "eval", ndirs * nmeth);
-	for (size_t d = 0; d < ndirs && status == PC_EXIT_OK; d++) {
+	int status = CLI_EXIT_OK;
+	cli_progress prog;
+	cli_progress_begin(&prog, "eval", ndirs * nmeth);
+	for (size_t d = 0; d < ndirs && status == CLI_EXIT_OK; d++) {
 		pc_eval_truth t;
 		int rc = pc_truth_load(dirs[d], &t);
 		if (rc) {
-			status = pc_cli_fail(rc, dirs[d]);
+			status = cli_fail(rc, dirs[d]);
 			break;
 		}
 		for (size_t k = 0; k < nmeth; k++) {
@@ -152,20 +152,20 @@ int cmd_eval(int argc, char **argv)
 			pc_truth_dataset(dirs[d], r->dataset, sizeof r->dataset);
 			r->method = methods[k];
 			pc_demosaic_opts o = { 0, reference, 0 };
-			double t0 = pc_cli_now();
+			double t0 = cli_now();
 			rc = pc_eval_method(&t, methods[k], &o, &r->m);
-			r->seconds = pc_cli_now() - t0;
+			r->seconds = cli_now() - t0;
 			if (rc) {
-				status = pc_cli_fail(rc, dirs[d]);
+				status = cli_fail(rc, dirs[d]);
 				break;
 			}
 			nres++;
-			pc_progress_update(&prog, nres);
+			cli_progress_update(&prog, nres);
 		}
 		pc_eval_truth_free(&t);
 	}
-	pc_progress_end(&prog);
-	if (status != PC_EXIT_OK) {
+	cli_progress_end(&prog);
+	if (status != CLI_EXIT_OK) {
 		free(res);
 		free(dirs);
 		return status;
@@ -215,7 +215,7 @@ int cmd_eval(int argc, char **argv)
 			json_object_set_new(o, "dataset", json_string(res[i].dataset));
 			json_object_set_new(o, "method",
 					    json_string(pc_demosaic_method_get(res[i].method)->name));
-			json_object_set_new(o, "seconds", pc_json_real(res[i].seconds));
+			json_object_set_new(o, "seconds", cli_json_real(res[i].seconds));
 			json_array_append_new(js, o);
 		}
 		json_object_set_new(root, "protocol", json_string("polarcam frozen protocol: "
@@ -224,7 +224,7 @@ int cmd_eval(int argc, char **argv)
 		json_object_set_new(root, "scenes", js);
 		json_object_set_new(root, "datasets", jd);
 		if (json_stdout) {
-			pc_cli_print_json(root);
+			cli_print_json(root);
 		} else {
 			char *s = json_dumps(root, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
 			int rc = s ? pc_write_file_atomic(json_path, s, strlen(s))
@@ -232,7 +232,7 @@ int cmd_eval(int argc, char **argv)
 			free(s);
 			json_decref(root);
 			if (rc)
-				status = pc_cli_fail(rc, json_path);
+				status = cli_fail(rc, json_path);
 		}
 	} else {
 		json_decref(jd);

@@ -221,7 +221,7 @@ static void claim(report *r, int fig, const char *text, verdict v, verdict vp, c
 		json_t *o = json_pack("{s:i, s:s, s:s, s:s, s:s}", "figure", fig, "claim", text,
 		                      "corrected", verdict_name[v], "printed", verdict_name[vp],
 		                      "evidence", evidence);
-		pc_cli_print_json(o);
+		cli_print_json(o);
 	}
 }
 
@@ -625,9 +625,9 @@ static void check_claims(const figure *figs, report *r)
 
 int cmd_figures(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	static const struct option lo[] = {{"output", required_argument, NULL, 'o'},
 	                                   {"json", no_argument, NULL, 'j'},
@@ -643,34 +643,34 @@ int cmd_figures(int argc, char **argv)
 		else if (c == 'j')
 			json = true;
 		else if (c == ':')
-			return pc_cli_error(PC_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
 		else
-			return pc_cli_error(PC_EXIT_USAGE,
+			return cli_error(CLI_EXIT_USAGE,
 			                    "unknown option '%s' (polarcam figures --help)",
 			                    argv[optind - 1]);
 	}
 	if (optind < argc)
-		return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s'", argv[optind]);
+		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s'", argv[optind]);
 	if (!dir)
-		return pc_cli_error(PC_EXIT_USAGE, "-o DIR is required (polarcam figures --help)");
+		return cli_error(CLI_EXIT_USAGE, "-o DIR is required (polarcam figures --help)");
 	int rc = pc_mkdir_p(dir);
 	if (rc)
-		return pc_cli_fail(rc, dir);
+		return cli_fail(rc, dir);
 	figure *figs = calloc(12, sizeof *figs);
 	if (!figs)
-		return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
-	pc_progress pr;
-	pc_progress_begin(&pr, "figures", 12);
+		return cli_error(CLI_EXIT_FAILURE, "out of memory");
+	cli_progress pr;
+	cli_progress_begin(&pr, "figures", 12);
 	rc = compute(figs);
 	if (rc) {
 		free(figs);
-		return pc_cli_fail(rc, "figures");
+		return cli_fail(rc, "figures");
 	}
 	for (int f = 2; f <= 11 && !rc; f++) {
 		rc = write_csv(dir, &figs[f]);
 		if (!rc)
 			rc = write_png(dir, &figs[f], f == 2);
-		pc_progress_update(&pr, (uint64_t)f);
+		cli_progress_update(&pr, (uint64_t)f);
 	}
 	report r = {NULL, 0, 0, json, 0, 0, 0};
 	if (!rc) {
@@ -697,12 +697,12 @@ int cmd_figures(int argc, char **argv)
 		snprintf(path, sizeof path, "%s/figures.md", dir);
 		rc = pc_write_file_atomic(path, r.buf, r.len);
 	}
-	pc_progress_end(&pr);
+	cli_progress_end(&pr);
 	free(r.buf);
 	free(figs);
 	if (rc)
-		return pc_cli_fail(rc, dir);
+		return cli_fail(rc, dir);
 	fprintf(stderr, "polarcam figures: wrote fig02..fig11 (.csv, .png) and figures.md to %s\n",
 	        dir);
-	return PC_EXIT_OK;
+	return CLI_EXIT_OK;
 }

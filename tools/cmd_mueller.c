@@ -137,9 +137,9 @@ static int file_get(void *user, size_t j, pc_view *out)
 
 int cmd_mueller(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	static const struct option opts[] = {
 		{ "states", required_argument, NULL, 'S' },    { "output", required_argument, NULL, 'o' },
@@ -170,10 +170,10 @@ int cmd_mueller(int argc, char **argv)
 			method_name = optarg;
 			break;
 		case 'B':
-			if ((rc = pc_cli_parse_double("--black-level", optarg, &black)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_double("--black-level", optarg, &black)))
+				return cli_fail(rc, NULL);
 			if (black < 0)
-				return pc_cli_error(PC_EXIT_USAGE, "--black-level %g: must be ≥ 0", black);
+				return cli_error(CLI_EXIT_USAGE, "--black-level %g: must be ≥ 0", black);
 			break;
 		case 'L':
 			layout_arg = optarg;
@@ -182,36 +182,36 @@ int cmd_mueller(int argc, char **argv)
 			write_m = false;
 			break;
 		case 't':
-			if ((rc = pc_cli_parse_long("--threads", optarg, 1, 1024, &threads)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_long("--threads", optarg, 1, 1024, &threads)))
+				return cli_fail(rc, NULL);
 			break;
 		case 'J':
 			json = true;
 			break;
 		case 'C':
 			if ((rc = pc_rebuild_sign_from_name(optarg, &rb.sign)))
-				return pc_cli_fail(rc, "--rebuild-circular");
+				return cli_fail(rc, "--rebuild-circular");
 			break;
 		case 'T':
-			if ((rc = pc_cli_parse_double("--rebuild-tol", optarg, &rb.tol)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_double("--rebuild-tol", optarg, &rb.tol)))
+				return cli_fail(rc, NULL);
 			if (!(rb.tol >= 0) || !isfinite(rb.tol))
-				return pc_cli_error(PC_EXIT_USAGE, "--rebuild-tol %g: must be finite and ≥ 0",
+				return cli_error(CLI_EXIT_USAGE, "--rebuild-tol %g: must be finite and ≥ 0",
 						    rb.tol);
 			break;
 		case ':':
-			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
 		default:
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
 	if (!out)
-		return pc_cli_error(PC_EXIT_USAGE, "-o DIR is required (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "-o DIR is required (see --help)");
 	if (optind >= argc)
-		return pc_cli_error(PC_EXIT_USAGE, "no frames given (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "no frames given (see --help)");
 	pc_demosaic_method method;
 	if ((rc = pc_demosaic_method_from_name(method_name, &method)))
-		return pc_cli_fail(rc, "--method");
+		return cli_fail(rc, "--method");
 	if (!strcmp(method_name, "superpixel"))
 		method = PC_DM_SUPERPIXEL_HALF;
 
@@ -224,64 +224,64 @@ int cmd_mueller(int argc, char **argv)
 	double rec_black = 0;
 	if (is_dir) {
 		if ((rc = list_recording(argv[optind], &files, &nfiles, &rec_black)))
-			return pc_cli_fail(rc, argv[optind]);
+			return cli_fail(rc, argv[optind]);
 		if (!states_path) {
 			if ((rc = pc_path_join(states_buf, sizeof states_buf, argv[optind], "states.json")))
-				return pc_cli_fail(rc, NULL);
+				return cli_fail(rc, NULL);
 			states_path = states_buf;
 		}
 	} else {
 		nfiles = (size_t)(argc - optind);
 		files = calloc(nfiles, sizeof *files);
 		if (!files)
-			return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+			return cli_error(CLI_EXIT_FAILURE, "out of memory");
 		for (size_t i = 0; i < nfiles; i++)
 			files[i] = strdup(argv[optind + (int)i]);
 	}
 	if (isnan(black))
 		black = rec_black;
-	int status = PC_EXIT_OK;
+	int status = CLI_EXIT_OK;
 	float *M = NULL, *maps = NULL, *residual = NULL;
 	if (!states_path) {
-		status = pc_cli_error(PC_EXIT_USAGE, "--states FILE is required with frame files");
+		status = cli_error(CLI_EXIT_USAGE, "--states FILE is required with frame files");
 		goto done;
 	}
 	pc_sim_states st;
 	char layout[64] = "";
 	if ((rc = pc_states_read(states_path, &st, layout, sizeof layout))) {
-		status = pc_cli_fail(rc, NULL);
+		status = cli_fail(rc, NULL);
 		goto done;
 	}
 	size_t nframes = (size_t)st.n_psg * st.n_psa;
 	if (nfiles < nframes) {
-		status = pc_cli_error(PC_EXIT_USAGE, "%s describes %zu frames (%u PSG x %u PSA states) "
+		status = cli_error(CLI_EXIT_USAGE, "%s describes %zu frames (%u PSG x %u PSA states) "
 						     "but %zu frame%s given", states_path, nframes, st.n_psg,
 				      st.n_psa, nfiles, nfiles == 1 ? " was" : "s were");
 		goto done;
 	}
 	if (nfiles > nframes)
-		pc_cli_warn("%zu frames given, using the first %zu (one cycle of the states)", nfiles,
+		cli_warn("%zu frames given, using the first %zu (one cycle of the states)", nfiles,
 			    nframes);
 	pc_mosaic mosaic = pc_mosaic_imx250mzr();
 	const char *lay = layout_arg ? layout_arg : *layout ? layout : NULL;
 	if (lay && (rc = pc_mosaic_parse(lay, &mosaic))) {
-		status = pc_cli_fail(rc, "layout");
+		status = cli_fail(rc, "layout");
 		goto done;
 	}
 	if (mosaic.period != 2) {
-		status = pc_cli_error(PC_EXIT_USAGE, "colour-polarization mosaics are not supported by "
+		status = cli_error(CLI_EXIT_USAGE, "colour-polarization mosaics are not supported by "
 						     "polarcam mueller yet (layout %s)", lay);
 		goto done;
 	}
 	struct file_src fs = { files };
-	pc_progress bar;
-	pc_progress_begin(&bar, "mueller", nframes);
+	cli_progress bar;
+	cli_progress_begin(&bar, "mueller", nframes);
 	pc_mueller_result res;
 	rc = pc_mueller_run(file_get, &fs, &st, &mosaic, method, black, (int)threads, &rb, &bar,
 			    &res);
-	pc_progress_end(&bar);
+	cli_progress_end(&bar);
 	if (rc) {
-		status = pc_cli_fail(rc, NULL);
+		status = cli_fail(rc, NULL);
 		goto done;
 	}
 	pc_mueller_system sys = res.sys;
@@ -292,7 +292,7 @@ int cmd_mueller(int argc, char **argv)
 	residual = res.residual;
 	lc_counts lc = { res.singular, res.nonphysical, res.bad };
 	if ((rc = pc_mkdir_p(out))) {
-		status = pc_cli_fail(rc, out);
+		status = cli_fail(rc, out);
 		goto done;
 	}
 	char path[4096];
@@ -300,7 +300,7 @@ int cmd_mueller(int argc, char **argv)
 		size_t shape[4] = { oh, ow, 4, 4 };
 		if ((rc = pc_path_join(path, sizeof path, out, "mueller.npy")) ||
 		    (rc = pc_npy_write(path, M, PC_DT_F32, 4, shape))) {
-			status = pc_cli_fail(rc, NULL);
+			status = cli_fail(rc, NULL);
 			goto done;
 		}
 	}
@@ -309,13 +309,13 @@ int cmd_mueller(int argc, char **argv)
 			       "R (rad)")) ||
 	    (rc = pc_write_map(out, "Delta", maps + 2 * np, ow, oh, 0, 1,
 			       "Depolarization Delta (Lu-Chipman)", "Delta"))) {
-		status = pc_cli_fail(rc, out);
+		status = cli_fail(rc, out);
 		goto done;
 	}
 	if (residual &&
 	    (rc = pc_write_map(out, "rebuild_residual", residual, ow, oh, 0, 2 * rb.tol,
 			       "Residual of the 3x3 fit / M00 (pBRDF family)", "residual"))) {
-		status = pc_cli_fail(rc, out);
+		status = cli_fail(rc, out);
 		goto done;
 	}
 	json_t *js = json_object();
@@ -324,12 +324,12 @@ int cmd_mueller(int argc, char **argv)
 	json_object_set_new(js, "height", json_integer(oh));
 	json_object_set_new(js, "method", json_string(pc_demosaic_method_get(method)->name));
 	json_object_set_new(js, "black_level", json_real(black));
-	json_object_set_new(js, "cond_A", pc_json_real(sys.cond_A));
-	json_object_set_new(js, "cond_G", pc_json_real(sys.cond_G));
-	json_object_set_new(js, "cond_W", pc_json_real(sys.cond_W));
+	json_object_set_new(js, "cond_A", cli_json_real(sys.cond_A));
+	json_object_set_new(js, "cond_G", cli_json_real(sys.cond_G));
+	json_object_set_new(js, "cond_W", cli_json_real(sys.cond_W));
 	json_object_set_new(js, "rank_A", json_integer(sys.rank_A));
 	json_object_set_new(js, "rank_G", json_integer(sys.rank_G));
-	json_object_set_new(js, "noise_gain", pc_json_matrix4(sys.noise_gain));
+	json_object_set_new(js, "noise_gain", cli_json_matrix4(sys.noise_gain));
 	json_object_set_new(js, "pixels_D_singular", json_integer(lc.singular));
 	json_object_set_new(js, "pixels_nonphysical_filtered", json_integer(lc.nonphysical));
 	json_object_set_new(js, "pixels_undecomposable", json_integer(lc.bad));
@@ -347,21 +347,21 @@ int cmd_mueller(int argc, char **argv)
 	    (rc = pc_write_file_atomic(path, txt, strlen(txt)))) {
 		free(txt);
 		json_decref(js);
-		status = pc_cli_fail(rc ? rc : PC_ENOMEM, "mueller.json");
+		status = cli_fail(rc ? rc : PC_ENOMEM, "mueller.json");
 		goto done;
 	}
 	free(txt);
 	if ((sys.rank_A < 4 || sys.rank_G < 4) && !res.rebuilt)
-		pc_cli_warn("rank-%u analyser / rank-%u generator: only the 3x3 linear block is "
+		cli_warn("rank-%u analyser / rank-%u generator: only the 3x3 linear block is "
 			    "determined; D/R/Delta maps are NaN (--rebuild-circular)", sys.rank_A,
 			    sys.rank_G);
 	else if (res.rebuilt)
-		pc_cli_warn("rank-%u analyser / rank-%u generator: circular entries rebuilt for the "
+		cli_warn("rank-%u analyser / rank-%u generator: circular entries rebuilt for the "
 			    "pBRDF family (sign: %s); %ld of %zu pixels rejected (residual or "
 			    "realisability above --rebuild-tol %g)", sys.rank_A, sys.rank_G,
 			    pc_rebuild_sign_name(rb.sign), res.rb_rejected, np, rb.tol);
 	if (json)
-		pc_cli_print_json(js);
+		cli_print_json(js);
 	else
 		json_decref(js);
 done:

@@ -39,7 +39,7 @@ static void usage(FILE *fp)
 		"  -h, --help          this help\n"
 		"\n"
 		"Exit status: 0 success, 1 failure, 2 bad arguments or bad input.\n",
-		pc_raw_cli_help);
+		cli_raw_help);
 }
 
 static int write_in(const char *dir, const char *name, const float *data, unsigned ndim,
@@ -53,9 +53,9 @@ static int write_in(const char *dir, const char *name, const float *data, unsign
 
 int cmd_process(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	/* --picture-width is process's own; the rest are the shared raw options */
 	long pic_width = 1224;
@@ -64,28 +64,28 @@ int cmd_process(int argc, char **argv)
 	char **args = calloc((size_t)argc + 1, sizeof *args);
 	int nargs = 0;
 	if (!args)
-		return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		return cli_error(CLI_EXIT_FAILURE, "out of memory");
 	for (int i = 0; i < argc; i++) {
 		if (!strcmp(argv[i], "--picture-width")) {
-			int rc = i + 1 < argc ? pc_cli_parse_long("--picture-width", argv[i + 1], 0,
+			int rc = i + 1 < argc ? cli_parse_long("--picture-width", argv[i + 1], 0,
 								  30000, &pic_width)
 					      : pc_error(PC_EINVAL, "--picture-width needs a value");
 			if (rc) {
 				free(args);
-				return pc_cli_fail(rc, NULL);
+				return cli_fail(rc, NULL);
 			}
 			i++;
 			continue;
 		}
 		if (!strcmp(argv[i], "--mask-s0")) {
-			int rc = i + 1 < argc ? pc_cli_parse_double("--mask-s0", argv[i + 1], &mask_s0)
+			int rc = i + 1 < argc ? cli_parse_double("--mask-s0", argv[i + 1], &mask_s0)
 					      : pc_error(PC_EINVAL, "--mask-s0 needs a value");
 			if (!rc && !(mask_s0 >= 0))
 				rc = pc_error(PC_ERANGE, "--mask-s0 %s: expected a threshold >= 0 "
 							 "(0: no mask)", argv[i + 1]);
 			if (rc) {
 				free(args);
-				return pc_cli_fail(rc, NULL);
+				return cli_fail(rc, NULL);
 			}
 			mask_given = 1;
 			i++;
@@ -93,20 +93,20 @@ int cmd_process(int argc, char **argv)
 		}
 		args[nargs++] = argv[i];
 	}
-	pc_raw_cli o;
-	int st = pc_raw_cli_parse(nargs, args, &o, NULL);
+	cli_raw o;
+	int st = cli_raw_parse(nargs, args, &o, NULL);
 	free(args);
 	if (st)
 		return st;
 	if (!o.path) {
 		usage(stderr);
-		return pc_cli_error(PC_EXIT_USAGE, "no RAW file given");
+		return cli_error(CLI_EXIT_USAGE, "no RAW file given");
 	}
 	if (!o.out)
-		return pc_cli_error(PC_EXIT_USAGE, "no output directory given (-o DIR)");
+		return cli_error(CLI_EXIT_USAGE, "no output directory given (-o DIR)");
 	pc_view raw;
 	unsigned bits;
-	if ((st = pc_raw_cli_read(&o, &raw, &bits)))
+	if ((st = cli_raw_read(&o, &raw, &bits)))
 		return st;
 	uint32_t w, h;
 	pc_demosaic_out_size(o.dm, raw.width, raw.height, &w, &h);
@@ -118,22 +118,22 @@ int cmd_process(int argc, char **argv)
 		free(dolp);
 		free(aolp);
 		pc_view_free(&raw);
-		return pc_cli_error(PC_EXIT_FAILURE, "out of memory for %ux%u Stokes images", w, h);
+		return cli_error(CLI_EXIT_FAILURE, "out of memory for %ux%u Stokes images", w, h);
 	}
 	pc_stokes_out so = { { stokes, (size_t)w * 3, 3 }, { stokes + 1, (size_t)w * 3, 3 },
 			     { stokes + 2, (size_t)w * 3, 3 }, { dolp, w, 1 }, { aolp, w, 1 } };
 	pc_demosaic_opts opts = { o.threads, o.reference, 0 };
-	double t0 = pc_cli_now();
+	double t0 = cli_now();
 	int rc = pc_stokes_from_raw(&raw, &o.mosaic, o.dm, &opts, &so);
-	double t_pipe = pc_cli_now() - t0;
+	double t_pipe = cli_now() - t0;
 	uint32_t rw = raw.width, rh = raw.height;
 	pc_view_free(&raw);
 	if (rc) {
-		st = pc_cli_fail(rc, o.path);
+		st = cli_fail(rc, o.path);
 		goto out;
 	}
 	if ((rc = pc_mkdir_p(o.out))) {
-		st = pc_cli_fail(rc, NULL);
+		st = cli_fail(rc, NULL);
 		goto out;
 	}
 	size_t s3[3] = { h, w, 3 }, s2[2] = { h, w };
@@ -145,7 +145,7 @@ int cmd_process(int argc, char **argv)
 							      !mask_given ? 0
 							      : mask_s0 > 0 ? mask_s0
 									    : -1 }))) {
-		st = pc_cli_fail(rc, NULL);
+		st = cli_fail(rc, NULL);
 		goto out;
 	}
 	char layout[64], path[4096];
@@ -158,7 +158,7 @@ int cmd_process(int argc, char **argv)
 	json_object_set_new(j, "layout", json_string(layout));
 	json_object_set_new(j, "method", json_string(pc_demosaic_method_get(o.dm)->name));
 	json_object_set_new(j, "reference", json_boolean(o.reference));
-	json_object_set_new(j, "pipeline_seconds", pc_json_real(t_pipe));
+	json_object_set_new(j, "pipeline_seconds", cli_json_real(t_pipe));
 	json_object_set_new(j, "aolp_convention",
 			    json_string("radians in [0, pi), from the image x axis, "
 					"counter-clockwise as seen by the viewer"));
@@ -174,12 +174,12 @@ int cmd_process(int argc, char **argv)
 	free(txt);
 	if (rc) {
 		json_decref(j);
-		st = pc_cli_fail(rc, NULL);
+		st = cli_fail(rc, NULL);
 		goto out;
 	}
 	json_object_set_new(j, "output", json_string(o.out));
-	pc_cli_print_json(j);
-	st = PC_EXIT_OK;
+	cli_print_json(j);
+	st = CLI_EXIT_OK;
 out:
 	free(stokes);
 	free(dolp);

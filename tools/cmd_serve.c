@@ -57,9 +57,9 @@ static void usage(FILE *fp)
 
 int cmd_serve(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	const char *scene = NULL, *source = NULL, *genicam = NULL;
 	pc_gige_server_options o = {0};
@@ -72,7 +72,7 @@ int cmd_serve(int argc, char **argv)
 		long l;
 		if (a[0] != '-') {
 			if (scene)
-				return pc_cli_error(PC_EXIT_USAGE,
+				return cli_error(CLI_EXIT_USAGE,
 				                    "more than one scene given ('%s', '%s')", scene,
 				                    a);
 			scene = a;
@@ -85,46 +85,46 @@ int cmd_serve(int argc, char **argv)
 		for (const char *const *k = known; *k; k++)
 			is_known |= !strcmp(a, *k);
 		if (!is_known)
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		if (!v)
-			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", a);
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
 		if (!strcmp(a, "--address"))
 			o.address = v;
 		else if (!strcmp(a, "--seed"))
-			rc = pc_cli_parse_u64(a, v, &seed);
+			rc = cli_parse_u64(a, v, &seed);
 		else if (!strcmp(a, "--source"))
 			source = v;
 		else if (!strcmp(a, "--serial"))
 			o.serial = v;
 		else if (!strcmp(a, "--fps"))
-			rc = pc_cli_parse_double(a, v, &o.frame_rate_hz);
-		else if (!strcmp(a, "--ahead") && !(rc = pc_cli_parse_long(a, v, 1, 60, &l)))
+			rc = cli_parse_double(a, v, &o.frame_rate_hz);
+		else if (!strcmp(a, "--ahead") && !(rc = cli_parse_long(a, v, 1, 60, &l)))
 			o.ahead = (unsigned)l;
-		else if (!strcmp(a, "--cycle") && !(rc = pc_cli_parse_long(a, v, 1, 256, &l)))
+		else if (!strcmp(a, "--cycle") && !(rc = cli_parse_long(a, v, 1, 256, &l)))
 			o.cycle = (unsigned)l;
 		else if (!strcmp(a, "--lost-packets"))
-			rc = pc_cli_parse_double(a, v, &o.lost_packet_ratio);
+			rc = cli_parse_double(a, v, &o.lost_packet_ratio);
 		else if (!strcmp(a, "--duration"))
-			rc = pc_cli_parse_double(a, v, &duration);
+			rc = cli_parse_double(a, v, &duration);
 		else if (!strcmp(a, "--genicam"))
 			genicam = v;
 		if (rc)
-			return pc_cli_fail(rc, "arguments");
+			return cli_fail(rc, "arguments");
 		i++;
 	}
 	if (source && scene)
-		return pc_cli_error(PC_EXIT_USAGE, "give a SCENE or --source, not both");
+		return cli_error(CLI_EXIT_USAGE, "give a SCENE or --source, not both");
 	if (o.frame_rate_hz < 0 || o.frame_rate_hz > 1000)
-		return pc_cli_error(PC_EXIT_USAGE, "--fps %g: expected (0, 1000]", o.frame_rate_hz);
+		return cli_error(CLI_EXIT_USAGE, "--fps %g: expected (0, 1000]", o.frame_rate_hz);
 	if (duration < 0)
-		return pc_cli_error(PC_EXIT_USAGE, "--duration %g: expected >= 0", duration);
+		return cli_error(CLI_EXIT_USAGE, "--duration %g: expected >= 0", duration);
 	char uri[1200];
 	if (source) {
 		snprintf(uri, sizeof uri, "%s", source);
 	} else {
 		const char *sc = scene ? scene : "default";
 		if (strchr(sc, '?') || strchr(sc, '&'))
-			return pc_cli_error(PC_EXIT_USAGE,
+			return cli_error(CLI_EXIT_USAGE,
 			                    "scene '%s': '?' and '&' are not allowed in a "
 			                    "scene path",
 			                    sc);
@@ -136,13 +136,13 @@ int cmd_serve(int argc, char **argv)
 	int rc = pc_gige_server_start(&srv, &o);
 	if (rc) {
 		pc_devices_shutdown();
-		return pc_cli_fail(rc, "serve");
+		return cli_fail(rc, "serve");
 	}
 	if (genicam) {
 		const char *xml = pc_gige_server_genicam(srv);
 		FILE *fp = fopen(genicam, "w");
 		if (!fp || fputs(xml, fp) < 0 || fclose(fp) != 0)
-			pc_cli_warn("cannot write %s", genicam);
+			cli_warn("cannot write %s", genicam);
 	}
 	pc_gige_server_stats st;
 	pc_gige_server_get_stats(srv, &st);
@@ -157,7 +157,7 @@ int cmd_serve(int argc, char **argv)
 	json_object_set_new(sv, "model", json_string(st.model));
 	json_object_set_new(sv, "mosaic", json_string(st.mosaic));
 	json_object_set_new(j, "serving", sv);
-	pc_cli_print_json(j);
+	cli_print_json(j);
 	fflush(stdout);
 
 	struct sigaction sa;
@@ -165,10 +165,10 @@ int cmd_serve(int argc, char **argv)
 	sa.sa_handler = on_signal;
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
-	double t0 = pc_cli_now();
+	double t0 = cli_now();
 	char msg[256] = "";
 	int err = 0;
-	while (!serve_stop && (duration <= 0 || pc_cli_now() - t0 < duration)) {
+	while (!serve_stop && (duration <= 0 || cli_now() - t0 < duration)) {
 		struct timespec ts = {0, 20000000};
 		nanosleep(&ts, NULL);
 		if ((err = pc_gige_server_error(srv, msg, sizeof msg)))
@@ -182,11 +182,11 @@ int cmd_serve(int argc, char **argv)
 	json_object_set_new(j, "late", json_integer((json_int_t)st.late));
 	json_object_set_new(j, "rendered", json_integer((json_int_t)st.rendered));
 	json_object_set_new(j, "acquisitions", json_integer((json_int_t)st.acquisitions));
-	json_object_set_new(j, "seconds", pc_json_real(pc_cli_now() - t0));
+	json_object_set_new(j, "seconds", cli_json_real(cli_now() - t0));
 	if (err)
 		json_object_set_new(j, "error", json_string(msg));
-	pc_cli_print_json(j);
+	cli_print_json(j);
 	if (err)
-		return pc_cli_error(pc_cli_status(err), "the frame source failed: %s", msg);
-	return PC_EXIT_OK;
+		return cli_error(cli_status(err), "the frame source failed: %s", msg);
+	return CLI_EXIT_OK;
 }

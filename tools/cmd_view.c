@@ -40,77 +40,77 @@ static void usage(FILE *fp)
 	    "                      display this runs headless\n"
 	    "%s"
 	    "\nPrints one JSON line at the end: frames, display and processing rates.\n",
-	    pc_stream_args_help());
+	    cli_stream_args_help());
 }
 
 int cmd_view(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
-	pc_stream_args sa;
-	pc_stream_args_init(&sa);
+	cli_stream_args sa;
+	cli_stream_args_init(&sa);
 	const char *shot = NULL, *method = NULL; /* NULL: the mosaic's default */
 	long frames = 0, width = 1500;
 	for (int i = 1; i < argc; i++) {
-		int rc = pc_stream_args_parse(&sa, argc, argv, &i);
+		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
 		if (rc < 0)
-			return pc_cli_fail(rc, "arguments");
+			return cli_fail(rc, "arguments");
 		if (rc > 0)
 			continue;
 		const char *a = argv[i];
 		if (!strcmp(a, "--method") || !strcmp(a, "--width") || !strcmp(a, "--frames") ||
 		    !strcmp(a, "--screenshot")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)",
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
 				                    a);
 			const char *v = argv[++i];
 			if (!strcmp(a, "--method"))
 				method = v;
 			else if (!strcmp(a, "--screenshot"))
 				shot = v;
-			else if ((rc = pc_cli_parse_long(a, v, !strcmp(a, "--width") ? 64 : 1,
+			else if ((rc = cli_parse_long(a, v, !strcmp(a, "--width") ? 64 : 1,
 			                                 !strcmp(a, "--width") ? 16384 : 100000000,
 			                                 !strcmp(a, "--width") ? &width : &frames)))
-				return pc_cli_fail(rc, "arguments");
+				return cli_fail(rc, "arguments");
 		} else if (a[0] == '-') {
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		} else if (!sa.uri) {
 			sa.uri = a;
 		} else {
-			return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s'", a);
+			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s'", a);
 		}
 	}
 	if (!sa.uri)
-		return pc_cli_error(PC_EXIT_USAGE, "missing the source URI (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "missing the source URI (see --help)");
 	pc_live lv;
 	memset(&lv, 0, sizeof lv);
 	int rc = method ? pc_demosaic_method_from_name(method, &lv.method) : 0;
 	if (rc)
-		return pc_cli_fail(rc, "--method");
+		return cli_fail(rc, "--method");
 	bool headless = shot && frames > 0 && !getenv("DISPLAY");
 	pc_display *win = NULL;
 	if (!headless) {
 		rc = pc_display_open(&win, "polarcam view");
 		if (rc)
-			return pc_cli_fail(rc, "opening the window");
+			return cli_fail(rc, "opening the window");
 	}
 	pc_source *s = NULL;
 	rc = pc_stream_open(&sa, &s);
 	if (rc) {
 		pc_display_close(win);
 		pc_devices_shutdown();
-		return pc_cli_fail(rc, "opening the source");
+		return cli_fail(rc, "opening the source");
 	}
 	pc_source_format f;
 	pc_source_get_format(s, &f);
-	rc = pc_cli_method_for_mosaic(method, &f.mosaic, &lv.method);
+	rc = cli_method_for_mosaic(method, &f.mosaic, &lv.method);
 	if (rc) {
 		pc_source_close(s);
 		pc_display_close(win);
 		pc_devices_shutdown();
-		return pc_cli_fail(rc, NULL);
+		return cli_fail(rc, NULL);
 	}
 	method = pc_demosaic_method_get(lv.method)->name;
 	struct sigaction sig;
@@ -122,7 +122,7 @@ int cmd_view(int argc, char **argv)
 	uint8_t *small = NULL;
 	uint32_t dw = 0, dh = 0;
 	long shown = 0, shots = 0;
-	double t0 = pc_cli_now(), t_last = t0, fps = 0, proc_total = 0;
+	double t0 = cli_now(), t_last = t0, fps = 0, proc_total = 0;
 	char err[512] = "";
 	int err_rc = pc_source_start(s);
 	if (err_rc)
@@ -162,7 +162,7 @@ int cmd_view(int argc, char **argv)
 		rc = pc_display_resize_rgb8(lv.rgb, 3 * lv.w, lv.h, (size_t)lv.w * 9, small, dw, dh,
 		                            (size_t)dw * 3);
 		shown++;
-		double t = pc_cli_now();
+		double t = cli_now();
 		if (shown > 1)
 			fps = fps > 0 ? 0.9 * fps + 0.1 / (t - t_last) : 1.0 / (t - t_last);
 		t_last = t;
@@ -182,7 +182,7 @@ int cmd_view(int argc, char **argv)
 				char name[32];
 				snprintf(name, sizeof name, "view_%04ld.png", shots++);
 				if (pc_png_write_rgb8(name, small, dw, dh, (size_t)dw * 3))
-					pc_cli_warn("%s: %s", name, pc_error_detail());
+					cli_warn("%s: %s", name, pc_error_detail());
 			}
 		}
 		if (rc) {
@@ -194,21 +194,21 @@ int cmd_view(int argc, char **argv)
 		err_rc = PC_EIO;
 		snprintf(err, sizeof err, "%s: %s", shot, pc_error_detail());
 	}
-	double dt = pc_cli_now() - t0;
+	double dt = cli_now() - t0;
 	json_t *j = json_object();
 	json_object_set_new(j, "source", json_string(sa.uri));
 	json_object_set_new(j, "frames", json_integer(shown));
-	json_object_set_new(j, "fps", pc_json_real(dt > 0 ? shown / dt : 0));
-	json_object_set_new(j, "process_ms", pc_json_real(shown ? 1e3 * proc_total / shown : 0));
+	json_object_set_new(j, "fps", cli_json_real(dt > 0 ? shown / dt : 0));
+	json_object_set_new(j, "process_ms", cli_json_real(shown ? 1e3 * proc_total / shown : 0));
 	json_object_set_new(j, "window", json_boolean(win != NULL));
 	json_object_set_new(j, "error", err_rc ? json_string(err) : json_null());
-	pc_cli_print_json(j);
+	cli_print_json(j);
 	free(small);
 	pc_live_free(&lv);
 	pc_source_close(s);
 	pc_display_close(win);
 	pc_devices_shutdown();
 	if (err_rc)
-		return pc_cli_error(pc_cli_status(err_rc), "%s", err);
-	return PC_EXIT_OK;
+		return cli_error(cli_status(err_rc), "%s", err);
+	return CLI_EXIT_OK;
 }

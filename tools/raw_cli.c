@@ -8,7 +8,7 @@
 #include "polarcam/error.h"
 #include "polarcam/recording.h"
 
-const char pc_raw_cli_help[] =
+const char cli_raw_help[] =
 	"input:\n"
 	"  RAW                 the raw mosaic: .png (8/16-bit grey; sBIT gives the bit depth),\n"
 	"                      .tif/.tiff (8/16-bit or float32), .npy (2-D u1, <u2, <f4, <f8),\n"
@@ -34,7 +34,7 @@ const char pc_raw_cli_help[] =
 static int need(int argc, char **argv, int i)
 {
 	if (i + 1 >= argc) {
-		pc_cli_error(PC_EXIT_USAGE, "option %s needs a value", argv[i]);
+		cli_error(CLI_EXIT_USAGE, "option %s needs a value", argv[i]);
 		return 0;
 	}
 	return 1;
@@ -73,7 +73,7 @@ static int layout_from_recording(const char *path, pc_mosaic *m)
 	return found;
 }
 
-int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
+int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
 {
 	memset(o, 0, sizeof *o);
 	int nextra = 0, have_w = 0, have_h = 0, have_f = 0;
@@ -83,35 +83,35 @@ int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
 		const char *a = argv[i];
 		if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			o->out = argv[++i];
 		} else if (!strcmp(a, "--layout")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			o->layout = argv[++i];
 		} else if (!strcmp(a, "--method")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			o->method = argv[++i];
 		} else if (!strcmp(a, "--bits")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
-			if ((rc = pc_cli_parse_long("--bits", argv[++i], 1, 16, &v)))
-				return pc_cli_fail(rc, NULL);
+				return CLI_EXIT_USAGE;
+			if ((rc = cli_parse_long("--bits", argv[++i], 1, 16, &v)))
+				return cli_fail(rc, NULL);
 			o->bits = (unsigned)v;
 		} else if (!strcmp(a, "--threads")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
-			if ((rc = pc_cli_parse_long("--threads", argv[++i], 1, 1024, &v)))
-				return pc_cli_fail(rc, NULL);
+				return CLI_EXIT_USAGE;
+			if ((rc = cli_parse_long("--threads", argv[++i], 1, 1024, &v)))
+				return cli_fail(rc, NULL);
 			o->threads = (int)v;
 		} else if (!strcmp(a, "--reference")) {
 			o->reference = true;
 		} else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
-			if ((rc = pc_cli_parse_long(a, argv[++i], 1, 1 << 30, &v)))
-				return pc_cli_fail(rc, NULL);
+				return CLI_EXIT_USAGE;
+			if ((rc = cli_parse_long(a, argv[++i], 1, 1 << 30, &v)))
+				return cli_fail(rc, NULL);
 			if (a[2] == 'w') {
 				o->geometry.width = (uint32_t)v;
 				have_w = 1;
@@ -121,49 +121,49 @@ int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
 			}
 		} else if (!strcmp(a, "--offset") || !strcmp(a, "--stride")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			uint64_t u;
-			if ((rc = pc_cli_parse_u64(a, argv[++i], &u)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_u64(a, argv[++i], &u)))
+				return cli_fail(rc, NULL);
 			if (a[2] == 'o')
 				o->geometry.offset = (size_t)u;
 			else
 				o->geometry.stride = (size_t)u;
 		} else if (!strcmp(a, "--format")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			const char *name = argv[++i];
 			pc_pixfmt f = pc_format_from_name(name);
 			if (f == PC_FMT_INVALID) {
 				bool pol, col;
 				if (pc_format_from_genicam(name, &f, &pol, &col) != 0)
-					return pc_cli_error(PC_EXIT_USAGE, "--format '%s': %s", name,
+					return cli_error(CLI_EXIT_USAGE, "--format '%s': %s", name,
 							    pc_error_detail());
 			}
 			o->geometry.format = f;
 			have_f = 1;
 		} else if (a[0] == '-' && a[1]) {
 			if (!extra)
-				return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see polarcam %s "
+				return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see polarcam %s "
 								   "--help)", a, argv[0]);
 			extra[nextra++] = i;
 		} else if (!o->path) {
 			o->path = a;
 		} else {
-			return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s' (one RAW file)", a);
+			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (one RAW file)", a);
 		}
 	}
 	if (extra)
 		extra[nextra] = 0;
 	if (have_w || have_h || have_f || o->geometry.offset || o->geometry.stride) {
 		if (!(have_w && have_h && have_f))
-			return pc_cli_error(PC_EXIT_USAGE, "a headerless raw needs --width, --height and "
+			return cli_error(CLI_EXIT_USAGE, "a headerless raw needs --width, --height and "
 							   "--format together");
 		o->have_geometry = true;
 	}
 	if (o->layout) {
 		if ((rc = pc_mosaic_parse(o->layout, &o->mosaic)))
-			return pc_cli_fail(rc, "--layout");
+			return cli_fail(rc, "--layout");
 	} else if (o->path && !o->have_geometry && layout_from_recording(o->path, &o->mosaic)) {
 		pc_mosaic_format(&o->mosaic, o->layout_buf, sizeof o->layout_buf);
 		o->layout = o->layout_buf;
@@ -171,13 +171,13 @@ int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
 		o->layout = "90,45,135,0";
 		pc_mosaic_parse(o->layout, &o->mosaic);
 	}
-	if ((rc = pc_cli_method_for_mosaic(o->method, &o->mosaic, &o->dm)))
-		return pc_cli_fail(rc, NULL);
+	if ((rc = cli_method_for_mosaic(o->method, &o->mosaic, &o->dm)))
+		return cli_fail(rc, NULL);
 	o->method = pc_demosaic_method_get(o->dm)->name;
 	return 0;
 }
 
-int pc_cli_method_for_mosaic(const char *given, const pc_mosaic *m, pc_demosaic_method *out)
+int cli_method_for_mosaic(const char *given, const pc_mosaic *m, pc_demosaic_method *out)
 {
 	bool colour = m->period == 4;
 	int rc = pc_demosaic_method_from_name(given ? given : colour ? "bayer-first" : "bilinear",
@@ -198,16 +198,16 @@ int pc_cli_method_for_mosaic(const char *given, const pc_mosaic *m, pc_demosaic_
 	return 0;
 }
 
-int pc_raw_cli_read(const pc_raw_cli *o, pc_view *raw, unsigned *bits)
+int cli_raw_read(const cli_raw *o, pc_view *raw, unsigned *bits)
 {
 	if (!o->path)
-		return pc_cli_error(PC_EXIT_USAGE, "no RAW file given");
+		return cli_error(CLI_EXIT_USAGE, "no RAW file given");
 	int rc = pc_image_read_mosaic(o->path, o->have_geometry ? &o->geometry : NULL, o->bits, raw,
 				      bits);
 	if (rc)
-		return pc_cli_fail(rc, NULL);
+		return cli_fail(rc, NULL);
 	if (raw->width % 2 || raw->height % 2 || raw->width < 4 || raw->height < 4) {
-		int st = pc_cli_error(PC_EXIT_USAGE, "%s: size %ux%u: a polarizer mosaic needs an even "
+		int st = cli_error(CLI_EXIT_USAGE, "%s: size %ux%u: a polarizer mosaic needs an even "
 						    "width and height of at least 4 (whole 2x2 "
 						    "analyser blocks)", o->path, raw->width,
 				      raw->height);

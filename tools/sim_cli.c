@@ -23,7 +23,7 @@ json_t *pc_sim_effects_json(unsigned effects)
 
 static json_t *vec_json(const double *v, unsigned n)
 {
-	return pc_json_vec(v, n);
+	return cli_json_vec(v, n);
 }
 
 json_t *pc_sim_describe(const pc_sim *sim, const pc_scene *scene)
@@ -49,7 +49,7 @@ json_t *pc_sim_describe(const pc_sim *sim, const pc_scene *scene)
 		pc_sim_get_states(sim, st);
 		json_t *pa = json_array();
 		for (unsigned a = 0; a < st->n_psa; a++)
-			json_array_append_new(pa, pc_json_matrix4(st->psa[a]));
+			json_array_append_new(pa, cli_json_matrix4(st->psa[a]));
 		json_object_set_new(o, "psa_mueller", pa);
 		free(st);
 	}
@@ -59,29 +59,29 @@ json_t *pc_sim_describe(const pc_sim *sim, const pc_scene *scene)
 	json_object_set_new(s, "preset", json_string(f.preset));
 	json_object_set_new(s, "width", json_integer(f.width));
 	json_object_set_new(s, "height", json_integer(f.height));
-	json_object_set_new(s, "pixel_pitch_um", pc_json_real(f.pixel_pitch_um));
+	json_object_set_new(s, "pixel_pitch_um", cli_json_real(f.pixel_pitch_um));
 	json_object_set_new(s, "bits", json_integer(f.bits));
 	json_object_set_new(s, "layout", json_string(mos));
 	unsigned nch = in.colour_channels;
 	json_object_set_new(s, "qe", vec_json(nch == 3 ? f.qe : &f.qe[1], nch));
 	json_object_set_new(s, "wavelength_nm", vec_json(nch == 3 ? f.wavelength_nm : &f.wavelength_nm[1], nch));
-	json_object_set_new(s, "full_well_e", pc_json_real(f.full_well_e));
-	json_object_set_new(s, "read_noise_e", pc_json_real(f.read_noise_e));
-	json_object_set_new(s, "dark_current_e_s", pc_json_real(f.dark_current_e_s));
-	json_object_set_new(s, "dsnu_e", pc_json_real(f.dsnu_e));
-	json_object_set_new(s, "prnu", pc_json_real(f.prnu));
-	json_object_set_new(s, "gain_dn_per_e", pc_json_real(f.gain_dn_per_e));
-	json_object_set_new(s, "offset_dn", pc_json_real(f.offset_dn));
-	json_object_set_new(s, "extinction_ratio", pc_json_real(f.extinction_ratio)); /* ∞ → null */
+	json_object_set_new(s, "full_well_e", cli_json_real(f.full_well_e));
+	json_object_set_new(s, "read_noise_e", cli_json_real(f.read_noise_e));
+	json_object_set_new(s, "dark_current_e_s", cli_json_real(f.dark_current_e_s));
+	json_object_set_new(s, "dsnu_e", cli_json_real(f.dsnu_e));
+	json_object_set_new(s, "prnu", cli_json_real(f.prnu));
+	json_object_set_new(s, "gain_dn_per_e", cli_json_real(f.gain_dn_per_e));
+	json_object_set_new(s, "offset_dn", cli_json_real(f.offset_dn));
+	json_object_set_new(s, "extinction_ratio", cli_json_real(f.extinction_ratio)); /* ∞ → null */
 	json_object_set_new(s, "extinction_ratio_sigma", json_real(f.extinction_ratio_sigma));
-	json_object_set_new(s, "orientation_sigma_deg", pc_json_real(f.orientation_sigma_deg));
+	json_object_set_new(s, "orientation_sigma_deg", cli_json_real(f.orientation_sigma_deg));
 	json_object_set_new(s, "orientation_offset_deg", vec_json(f.orientation_offset_deg, 4));
-	json_object_set_new(s, "transmission_sigma", pc_json_real(f.transmission_sigma));
+	json_object_set_new(s, "transmission_sigma", cli_json_real(f.transmission_sigma));
 	json_object_set_new(s, "transmission", vec_json(f.transmission, 4));
-	json_object_set_new(s, "crosstalk", pc_json_real(f.crosstalk));
-	json_object_set_new(s, "exposure_us", pc_json_real(f.exposure_us));
-	json_object_set_new(s, "gain_db", pc_json_real(f.gain_db));
-	json_object_set_new(s, "frame_rate_hz", pc_json_real(f.frame_rate_hz));
+	json_object_set_new(s, "crosstalk", cli_json_real(f.crosstalk));
+	json_object_set_new(s, "exposure_us", cli_json_real(f.exposure_us));
+	json_object_set_new(s, "gain_db", cli_json_real(f.gain_db));
+	json_object_set_new(s, "frame_rate_hz", cli_json_real(f.frame_rate_hz));
 	json_object_set_new(s, "effects", pc_sim_effects_json(f.effects));
 	json_object_set_new(o, "sensor", s);
 	json_t *roi = json_object();
@@ -107,18 +107,18 @@ json_t *pc_sim_states_json(const pc_sim *sim)
 	json_object_set_new(o, "n_psa", json_integer(st.n_psa));
 	json_t *g = json_array();
 	for (unsigned i = 0; i < st.n_psg; i++)
-		json_array_append_new(g, pc_json_vec(st.psg[i], 4));
+		json_array_append_new(g, cli_json_vec(st.psg[i], 4));
 	json_object_set_new(o, "psg", g);
 	json_t *a = json_array();
 	for (unsigned i = 0; i < st.n_psa; i++)
-		json_array_append_new(a, pc_json_matrix4(st.psa[i]));
+		json_array_append_new(a, cli_json_matrix4(st.psa[i]));
 	json_object_set_new(o, "psa", a);
 	char mos[64];
 	pc_mosaic_format(&in.mosaic, mos, sizeof mos);
 	json_object_set_new(o, "layout", json_string(mos));
 	json_t *an = json_array();
 	for (unsigned c = 0; c < 4; c++)
-		json_array_append_new(an, pc_json_vec(st.analyser[c], 4));
+		json_array_append_new(an, cli_json_vec(st.analyser[c], 4));
 	json_object_set_new(o, "analyser", an);
 	return o;
 }
@@ -127,7 +127,7 @@ void pc_sim_progress_cb(void *user, uint64_t done, uint64_t total)
 {
 	pc_sim_progress_adapter *a = user;
 	(void)total;
-	pc_progress_update(a->bar, a->base + done);
+	cli_progress_update(a->bar, a->base + done);
 }
 
 double pc_peak_rss_mib(void)
@@ -450,7 +450,7 @@ void pc_mueller_result_free(pc_mueller_result *res)
 
 int pc_mueller_run(pc_frame_get_fn get, void *user, const pc_sim_states *st,
 		   const pc_mosaic *mosaic, pc_demosaic_method method, double black, int threads,
-		   const pc_rebuild_opts *rb, pc_progress *bar, pc_mueller_result *res)
+		   const pc_rebuild_opts *rb, cli_progress *bar, pc_mueller_result *res)
 {
 	memset(res, 0, sizeof *res);
 	int rc = pc_mueller_system_init(&res->sys, st->n_psg, st->psg, st->n_psa, st->psa,
@@ -493,7 +493,7 @@ int pc_mueller_run(pc_frame_get_fn get, void *user, const pc_sim_states *st,
 			goto fail;
 		pc_view_free(&raw);
 		if (bar)
-			pc_progress_update(bar, j + 1);
+			cli_progress_update(bar, j + 1);
 	}
 	pc_mueller_finish(&res->sys, ow, oh, res->M);
 	free(planes);

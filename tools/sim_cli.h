@@ -1,7 +1,7 @@
 /* tools/sim_cli.h - what the simulator commands (render, demo, mueller, bench render) share:
  * the simulator's description as JSON, the states file, progress adapters. */
-#ifndef POLARCAM_TOOLS_SIM_CLI_H
-#define POLARCAM_TOOLS_SIM_CLI_H
+#ifndef CLI_TOOLS_SIM_CLI_H
+#define CLI_TOOLS_SIM_CLI_H
 
 #include <jansson.h>
 
@@ -21,9 +21,9 @@ json_t *pc_sim_effects_json(unsigned effects);
  * matrices, the mosaic and the analyser rows (docs/scene-format.md, "Frame sequences"). */
 json_t *pc_sim_states_json(const pc_sim *sim);
 
-/* A pc_sim_progress_fn drawing a pc_progress (user = pc_progress*) with an offset. */
+/* A pc_sim_progress_fn drawing a cli_progress (user = cli_progress*) with an offset. */
 typedef struct pc_sim_progress_adapter {
-	pc_progress *bar;
+	cli_progress *bar;
 	uint64_t base;
 } pc_sim_progress_adapter;
 void pc_sim_progress_cb(void *user, uint64_t done, uint64_t total);
@@ -72,7 +72,7 @@ typedef struct pc_mueller_result {
  * by one per frame); rb may be NULL (no rebuild). */
 int pc_mueller_run(pc_frame_get_fn get, void *user, const pc_sim_states *st,
 		   const pc_mosaic *mosaic, pc_demosaic_method method, double black, int threads,
-		   const pc_rebuild_opts *rb, pc_progress *bar, pc_mueller_result *res);
+		   const pc_rebuild_opts *rb, cli_progress *bar, pc_mueller_result *res);
 /* Lu–Chipman D, R, Δ of every pixel of a (H, W, 4, 4) Mueller image (NaN where undefined). */
 void pc_mueller_maps(const float *M, uint32_t width, uint32_t height, unsigned determined,
 		     int threads, float *D, float *R, float *Delta, long counts[3]);

@@ -7,7 +7,7 @@
 #include "cli.h"
 #include "polarcam/error.h"
 
-json_t *pc_json_source_stats(const pc_source_stats *st)
+json_t *cli_json_source_stats(const pc_source_stats *st)
 {
 	json_t *j = json_object();
 	json_object_set_new(j, "completed", json_integer((json_int_t)st->completed));
@@ -30,7 +30,7 @@ json_t *pc_json_source_stats(const pc_source_stats *st)
 	return j;
 }
 
-json_t *pc_json_source_format(const pc_source_format *f)
+json_t *cli_json_source_format(const pc_source_format *f)
 {
 	json_t *j = json_object();
 	json_object_set_new(j, "format", json_string(f->format_name));
@@ -51,7 +51,7 @@ json_t *pc_json_source_format(const pc_source_format *f)
 	return j;
 }
 
-void pc_stream_args_init(pc_stream_args *a)
+void cli_stream_args_init(cli_stream_args *a)
 {
 	memset(a, 0, sizeof *a);
 	a->exposure_us = a->gain_db = a->fps = -1;
@@ -59,7 +59,7 @@ void pc_stream_args_init(pc_stream_args *a)
 	a->timeout_ms = 5000;
 }
 
-const char *pc_stream_args_help(void)
+const char *cli_stream_args_help(void)
 {
 	return "  --format NAME       pixel format by its GenICam name (Mono12, PolarizeMono12p, "
 	       "...)\n"
@@ -72,7 +72,7 @@ const char *pc_stream_args_help(void)
 	       "  --timeout-ms MS     longest wait for a frame (default 5000)\n";
 }
 
-int pc_stream_args_parse(pc_stream_args *a, int argc, char **argv, int *i)
+int cli_stream_args_parse(cli_stream_args *a, int argc, char **argv, int *i)
 {
 	const char *o = argv[*i];
 	static const char *const ours[] = {"--format", "--roi",     "--exposure",   "--gain",
@@ -100,22 +100,22 @@ int pc_stream_args_parse(pc_stream_args *a, int argc, char **argv, int *i)
 			a->roi[k] = (uint32_t)r[k];
 		a->roi_set = true;
 	} else if (!strcmp(o, "--exposure")) {
-		rc = pc_cli_parse_double(o, v, &a->exposure_us);
+		rc = cli_parse_double(o, v, &a->exposure_us);
 		if (!rc && a->exposure_us <= 0)
 			rc = pc_error(PC_EINVAL, "--exposure %s: expected > 0", v);
 	} else if (!strcmp(o, "--gain")) {
-		rc = pc_cli_parse_double(o, v, &a->gain_db);
+		rc = cli_parse_double(o, v, &a->gain_db);
 		if (!rc && a->gain_db < 0)
 			rc = pc_error(PC_EINVAL, "--gain %s: expected >= 0", v);
 	} else if (!strcmp(o, "--fps")) {
-		rc = pc_cli_parse_double(o, v, &a->fps);
+		rc = cli_parse_double(o, v, &a->fps);
 		if (!rc && a->fps <= 0)
 			rc = pc_error(PC_EINVAL, "--fps %s: expected > 0", v);
 	} else if (!strcmp(o, "--buffers")) {
-		rc = pc_cli_parse_long(o, v, 1, 64, &l);
+		rc = cli_parse_long(o, v, 1, 64, &l);
 		a->buffers = (unsigned)l;
 	} else if (!strcmp(o, "--timeout-ms")) {
-		rc = pc_cli_parse_long(o, v, 1, 3600000, &l);
+		rc = cli_parse_long(o, v, 1, 3600000, &l);
 		a->timeout_ms = (int)l;
 	}
 	return rc ? rc : 1;
@@ -132,7 +132,7 @@ static int set_control(pc_source *s, pc_control_id id, double v)
 	return 0;
 }
 
-int pc_stream_open(const pc_stream_args *a, pc_source **out)
+int pc_stream_open(const cli_stream_args *a, pc_source **out)
 {
 	*out = NULL;
 	pc_source *s = NULL;
@@ -224,9 +224,9 @@ int pc_live_process(pc_live *lv, const pc_frame *f)
 		lv->out.dolp = (pc_fplane){lv->planes + (size_t)w * h, w, 1};
 		lv->out.aolp = (pc_fplane){lv->planes + 2 * (size_t)w * h, w, 1};
 	}
-	double t0 = pc_cli_now();
+	double t0 = cli_now();
 	int rc = pc_stokes_from_raw(&f->view, &f->mosaic, lv->method, NULL, &lv->out);
-	lv->process_s = pc_cli_now() - t0;
+	lv->process_s = cli_now() - t0;
 	return rc;
 }
 

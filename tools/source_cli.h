@@ -1,19 +1,19 @@
 /* tools/source_cli.h - what the device commands (capture, view, devices, bench devices) share:
  * JSON for formats and statistics, and opening a source with the user's format, ROI and
  * controls, refusing (never silently accepting) what the source would adjust. */
-#ifndef POLARCAM_TOOLS_SOURCE_CLI_H
-#define POLARCAM_TOOLS_SOURCE_CLI_H
+#ifndef CLI_TOOLS_SOURCE_CLI_H
+#define CLI_TOOLS_SOURCE_CLI_H
 
 #include <jansson.h>
 #include <stdbool.h>
 
 #include "polarcam/source.h"
 
-json_t *pc_json_source_stats(const pc_source_stats *st);
-json_t *pc_json_source_format(const pc_source_format *f);
+json_t *cli_json_source_stats(const pc_source_stats *st);
+json_t *cli_json_source_format(const pc_source_format *f);
 
 /* Options common to the commands that stream. */
-typedef struct pc_stream_args {
+typedef struct cli_stream_args {
 	const char *uri;
 	const char *format; /* --format NAME */
 	bool roi_set;       /* --roi X,Y,W,H */
@@ -21,18 +21,18 @@ typedef struct pc_stream_args {
 	double exposure_us, gain_db, fps; /* < 0: leave alone */
 	unsigned buffers;                 /* --buffers (default 8) */
 	int timeout_ms;                   /* --timeout-ms (default 5000) */
-} pc_stream_args;
+} cli_stream_args;
 
-void pc_stream_args_init(pc_stream_args *a);
+void cli_stream_args_init(cli_stream_args *a);
 /* Consumes argv[*i] (and its value) if it is one of the options above: returns 1 when
  * consumed, 0 when not one of ours, or a negative error (detail set, naming the option). */
-int pc_stream_args_parse(pc_stream_args *a, int argc, char **argv, int *i);
+int cli_stream_args_parse(cli_stream_args *a, int argc, char **argv, int *i);
 /* Help text lines for those options. */
-const char *pc_stream_args_help(void);
+const char *cli_stream_args_help(void);
 
 /* Opens the source, negotiates format/ROI (an adjusted answer is an error that shows what the
  * source proposes), sets the controls, allocates the buffers. The source is READY. */
-int pc_stream_open(const pc_stream_args *a, pc_source **out);
+int pc_stream_open(const cli_stream_args *a, pc_source **out);
 
 #endif
 
