@@ -323,7 +323,7 @@ static void test_malformed(const char *base)
 	pc_recording *r = NULL;
 	write_file(dir, "meta.json", "{\"polarcam_recording\": 1,\n \"bits\": 12,,\n}");
 	CHECK_EQ_INT(pc_recording_open(&r, dir), PC_EFORMAT);
-	CHECK(strstr(pc_error_detail(), "meta.json:2") != NULL);
+	CHECK(strstr(pc_error_detail(), "meta.json: line 2") != NULL);
 	write_file(dir, "meta.json",
 	           "{\"polarcam_recording\": 1, \"bits\": 12, \"format\": "
 	           "\"Mono12\", \"width\": 4, \"height\": 2, \"frames\": [{\"file\": "
