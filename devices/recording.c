@@ -357,6 +357,39 @@ const char *pc_recording_dir(const pc_recording *r)
 	return r->dir;
 }
 
+double pc_recording_black_level(const pc_recording *r)
+{
+	json_t *off = json_object_get(json_object_get(r->extra, "sensor"), "offset_dn");
+	return json_is_number(off) ? json_number_value(off) : 0;
+}
+
+int pc_recording_frame_mosaic(const char *path, pc_mosaic *m)
+{
+	const char *slash = strrchr(path, '/');
+	const char *file = slash ? slash + 1 : path;
+	char dir[4096];
+	if (!slash)
+		snprintf(dir, sizeof dir, ".");
+	else if ((size_t)snprintf(dir, sizeof dir, "%.*s", slash == path ? 1 : (int)(slash - path),
+				  path) >= sizeof dir)
+		return 0;
+	if (!file_exists(dir, "meta.json"))
+		return 0;
+	pc_recording *r = NULL;
+	if (pc_recording_open(&r, dir) != 0) {
+		pc_error_clear(); /* some other meta.json: not a recording */
+		return 0;
+	}
+	int found = 0;
+	const pc_recording_desc *d = pc_recording_get_desc(r);
+	for (size_t i = 0; d->polarized && !found && i < pc_recording_count(r); i++)
+		found = !strcmp(pc_recording_get_frame(r, i)->file, file);
+	if (found)
+		*m = d->mosaic;
+	pc_recording_free(r);
+	return found;
+}
+
 static int parse_frames(pc_recording *r, const pc_json_src *js, json_t *arr)
 {
 	if (!json_is_array(arr))

@@ -260,6 +260,18 @@ void cli_progress_end(cli_progress *p)
 	p->drawn = false;
 }
 
+int cli_progress_fn(void *user, const char *phase, uint64_t done, uint64_t total)
+{
+	cli_progress *p = user;
+	if (!p->label || strcmp(p->label, phase)) {
+		if (p->label)
+			cli_progress_end(p);
+		cli_progress_begin(p, phase, total);
+	}
+	cli_progress_update(p, done);
+	return 0;
+}
+
 int cli_lines_open(cli_lines *l, const char *path)
 {
 	memset(l, 0, sizeof *l);

@@ -75,6 +75,11 @@ void cli_progress_begin(cli_progress *p, const char *label, uint64_t total);
 void cli_progress_update(cli_progress *p, uint64_t done);
 void cli_progress_end(cli_progress *p);
 
+/* A pc_progress_fn (polarcam/progress.h) drawing cli_progress bars: user is a zeroed
+ * cli_progress; each new phase ends the bar of the previous one and starts its own, labelled
+ * with the phase. Finish with cli_progress_end. Never asks to stop. */
+int cli_progress_fn(void *user, const char *phase, uint64_t done, uint64_t total);
+
 /* Monotonic time in seconds. */
 double cli_now(void);
 

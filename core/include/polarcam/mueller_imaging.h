@@ -25,7 +25,11 @@
 
 #include <stdint.h>
 
+#include <stdbool.h>
+
 #include "polarcam/demosaic.h"
+#include "polarcam/frame.h"
+#include "polarcam/mosaic.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -119,6 +123,75 @@ int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, d
 /* Parses "convention", "+", "-", "off" (also "plus", "minus"); PC_EINVAL otherwise. */
 int pc_rebuild_sign_from_name(const char *name, pc_rebuild_sign *out);
 const char *pc_rebuild_sign_name(pc_rebuild_sign sign);
+
+
+/* ---- Lu–Chipman maps of a Mueller image ---- */
+
+/* Rebuilding the circular entries of rank-3 (linear) systems (physics.md §7,
+ * pc_mueller_rebuild_from_linear): sign PC_REBUILD_OFF leaves them NaN. */
+typedef struct pc_rebuild_opts {
+	pc_rebuild_sign sign;
+	double tol; /* residual / realisability tolerance, relative to M00 */
+} pc_rebuild_opts;
+
+/* True when the rebuild applies to a system with these determined elements: rb given and not
+ * off, the 3×3 linear block determined and not the whole matrix. */
+bool pc_mueller_rebuild_applies(const pc_rebuild_opts *rb, unsigned determined);
+
+/* Lu–Chipman D, R, Δ of every pixel of a (H, W, 4, 4) Mueller image through the batched kernel
+ * (pc_lu_chipman_map with PC_LC_FILTER | PC_LC_NO_FACTORS: non-physical matrices are
+ * Cloude-filtered first), NaN where undefined and everywhere when determined is not the whole
+ * matrix. counts (may be NULL): pixels with D ≈ 1 or M00 ≤ 0, not physical (filtered, or M00 ≤
+ * 0), not decomposable (non-finite). Row bands on pc_parallel threads. */
+void pc_mueller_maps(const float *M, uint32_t width, uint32_t height, unsigned determined,
+		     int threads, float *D, float *R, float *Delta, long counts[3]);
+/* The same, first rebuilding the circular entries in M (in place) where
+ * pc_mueller_rebuild_applies: rejected pixels get NaN there and NaN maps; residual (may be NULL)
+ * receives the rebuild residual / M00 per pixel; rb_counts: rejected (inconsistent or not
+ * realisable; M00 ≤ 0 is not counted), sign undefined. */
+void pc_mueller_maps_rebuild(float *M, uint32_t width, uint32_t height, unsigned determined,
+			     const pc_rebuild_opts *rb, int threads, float *D, float *R,
+			     float *Delta, float *residual, long counts[3], long rb_counts[2]);
+
+/* ---- Mueller imaging of a frame sequence, frame by frame ----
+ *
+ * Raw mosaic frames (from any source: a recording, files, a camera, the simulator) are added in
+ * sequence order; each is demosaicked, the black level subtracted and its contribution
+ * accumulated; finishing gives the per-pixel Mueller image and its Lu–Chipman maps. */
+
+typedef struct pc_mueller_run_opts {
+	pc_demosaic_method method; /* the demosaicking method (its output size is the maps') */
+	double black_level;        /* DN subtracted from every demosaicked value */
+	int threads;               /* 0: pc_parallel default */
+	pc_rebuild_opts rebuild;   /* linear-only systems; sign PC_REBUILD_OFF: no rebuild */
+} pc_mueller_run_opts;
+
+typedef struct pc_mueller_result {
+	pc_mueller_system sys;
+	uint32_t width, height; /* of the maps (the demosaicked size) */
+	float *M;               /* (H, W, 4, 4) in the raw's units above the black level */
+	float *maps;            /* D, R, Delta: three (H, W) planes */
+	float *residual;        /* (H, W) rebuild residual / M00, NULL when nothing was rebuilt */
+	long singular, nonphysical, bad;     /* pixel counts: D ≈ 1 / Cloude-filtered / no result */
+	long rb_rejected, rb_sign_undefined; /* rebuild: not of the family (M00 > 0) / sign
+						without a frame */
+	bool rebuilt; /* the circular entries were rebuilt from the 3×3 */
+} pc_mueller_result;
+
+typedef struct pc_mueller_run pc_mueller_run;
+
+/* Starts a run for the system (copied) and the frames' mosaic (monochrome polarizer mosaics
+ * only: PC_EINVAL naming the layout otherwise). */
+int pc_mueller_run_new(const pc_mueller_system *sys, const pc_mosaic *mosaic,
+		       const pc_mueller_run_opts *opts, pc_mueller_run **out);
+/* Adds frame number frame (0 .. n_psg·n_psa − 1, in order: the float sums depend on it); every
+ * frame must have frame 0's size. */
+int pc_mueller_run_add(pc_mueller_run *run, unsigned frame, const pc_view *raw);
+/* After the last frame: the Mueller image and its maps (the run hands its buffers over; free
+ * them with pc_mueller_result_free). */
+int pc_mueller_run_finish(pc_mueller_run *run, pc_mueller_result *res);
+void pc_mueller_run_free(pc_mueller_run *run);
+void pc_mueller_result_free(pc_mueller_result *res);
 
 #ifdef __cplusplus
 }

@@ -91,6 +91,15 @@ const pc_recording_frame *pc_recording_get_frame(const pc_recording *r, size_t i
 bool pc_recording_is_complete(const pc_recording *r);
 const char *pc_recording_dir(const pc_recording *r);
 
+/* The black level (DN) of the sensor that made the frames, when the recording says
+ * (extra.sensor.offset_dn, as `polarcam render` writes it), else 0. */
+double pc_recording_black_level(const pc_recording *r);
+
+/* The mosaic of a raw file when it is a frame listed in its directory's meta.json (a recording
+ * written by render or capture): 1 and *m set; 0 when it is not (no such recording, not one of
+ * its frames, frames without a polarizer mosaic). Never an error. */
+int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
+
 /* Reads frame i into an owned view of the recording's storage format (Mono8 or 16-bit
  * Mono10/12/14/16 by bits). Checks the PNG's size and bit depth against meta.json and every
  * value against the bit depth. Free with pc_view_free. */

@@ -141,6 +141,10 @@ void pc_truth_dataset(const char *dir, char *buf, size_t size);
 /* Creates a directory (and parents) if missing. */
 int pc_mkdir_p(const char *path);
 
+/* Peak resident set size of this process in MiB (VmHWM of /proc/self/status), or -1 where
+ * the system does not say. */
+double pc_peak_rss_mib(void);
+
 #ifdef __cplusplus
 }
 #endif

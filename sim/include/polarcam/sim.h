@@ -245,6 +245,12 @@ void pc_sim_get_sensor(const pc_sim *sim, pc_sensor_figures *fig);
 /* Preset names, NULL-terminated. */
 const char *const *pc_sensor_preset_names(void);
 
+/* The simulator as a JSON object (compact text, malloc'd; NULL when out of memory): {"scene":
+ * the scene document (scene may be NULL), "scene_name", "seed", "effects": [names], "sensor":
+ * {preset, size, pitch, bits, layout, QE, noise figures, analyser errors, exposure...}, "roi",
+ * "n_states"}. What `polarcam render` writes under meta.json's "extra". */
+char *pc_sim_describe_json(const pc_sim *sim, const pc_scene *scene);
+
 /* ---------------------------------------------------------------------------------------------
  * Polarization states of a frame sequence (Mueller imaging, physics.md §7).
  */
