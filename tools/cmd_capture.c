@@ -9,6 +9,7 @@
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
 #include "polarcam/io.h"
+#include "polarcam/process.h"
 #include "polarcam/recording.h"
 #include "polarcam/source.h"
 #include "raw_cli.h"
@@ -123,7 +124,7 @@ int cmd_capture(int argc, char **argv)
 	pc_source_get_format(s, &f);
 	if (process && f.polarized) {
 		/* a method for the other kind of mosaic is refused before anything is recorded */
-		rc = cli_method_for_mosaic(method, &f.mosaic, &lv.method);
+		rc = pc_process_method(method, &f.mosaic, &lv.method);
 		if (rc) {
 			pc_source_close(s);
 			pc_devices_shutdown();

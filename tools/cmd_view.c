@@ -10,6 +10,7 @@
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
 #include "polarcam/io.h"
+#include "polarcam/process.h"
 #include "polarcam/source.h"
 #include "raw_cli.h"
 #include "source_cli.h"
@@ -105,7 +106,7 @@ int cmd_view(int argc, char **argv)
 	}
 	pc_source_format f;
 	pc_source_get_format(s, &f);
-	rc = cli_method_for_mosaic(method, &f.mosaic, &lv.method);
+	rc = pc_process_method(method, &f.mosaic, &lv.method);
 	if (rc) {
 		pc_source_close(s);
 		pc_display_close(win);

@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "polarcam/error.h"
+#include "polarcam/process.h"
 #include "polarcam/recording.h"
 
 const char cli_raw_help[] =
@@ -38,39 +39,6 @@ static int need(int argc, char **argv, int i)
 		return 0;
 	}
 	return 1;
-}
-
-/* The mosaic of RAW when it is a frame listed in its directory's meta.json (a recording written
- * by render or capture): 1 and *m set, else 0 (not a recording, not one of its frames, or
- * frames without a polarizer mosaic). */
-static int layout_from_recording(const char *path, pc_mosaic *m)
-{
-	const char *slash = strrchr(path, '/');
-	const char *file = slash ? slash + 1 : path;
-	char dir[4096], meta[4200];
-	if (!slash)
-		snprintf(dir, sizeof dir, ".");
-	else if ((size_t)snprintf(dir, sizeof dir, "%.*s", slash == path ? 1 : (int)(slash - path),
-				  path) >= sizeof dir)
-		return 0;
-	snprintf(meta, sizeof meta, "%s/meta.json", dir);
-	FILE *fp = fopen(meta, "r");
-	if (!fp)
-		return 0;
-	fclose(fp);
-	pc_recording *r = NULL;
-	if (pc_recording_open(&r, dir) != 0) {
-		pc_error_clear(); /* some other meta.json: not a recording */
-		return 0;
-	}
-	int found = 0;
-	const pc_recording_desc *d = pc_recording_get_desc(r);
-	for (size_t i = 0; d->polarized && !found && i < pc_recording_count(r); i++)
-		found = !strcmp(pc_recording_get_frame(r, i)->file, file);
-	if (found)
-		*m = d->mosaic;
-	pc_recording_free(r);
-	return found;
 }
 
 int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
@@ -164,55 +132,25 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
 	if (o->layout) {
 		if ((rc = pc_mosaic_parse(o->layout, &o->mosaic)))
 			return cli_fail(rc, "--layout");
-	} else if (o->path && !o->have_geometry && layout_from_recording(o->path, &o->mosaic)) {
+	} else if (o->path && !o->have_geometry && pc_recording_frame_mosaic(o->path, &o->mosaic)) {
 		pc_mosaic_format(&o->mosaic, o->layout_buf, sizeof o->layout_buf);
 		o->layout = o->layout_buf;
 	} else {
 		o->layout = "90,45,135,0";
 		pc_mosaic_parse(o->layout, &o->mosaic);
 	}
-	if ((rc = cli_method_for_mosaic(o->method, &o->mosaic, &o->dm)))
+	if ((rc = pc_process_method(o->method, &o->mosaic, &o->dm)))
 		return cli_fail(rc, NULL);
 	o->method = pc_demosaic_method_get(o->dm)->name;
 	return 0;
 }
 
-int cli_method_for_mosaic(const char *given, const pc_mosaic *m, pc_demosaic_method *out)
+pc_raw_input cli_raw_input(const cli_raw *o)
 {
-	bool colour = m->period == 4;
-	int rc = pc_demosaic_method_from_name(given ? given : colour ? "bayer-first" : "bilinear",
-					      out);
-	if (rc)
-		return pc_error_prefix(rc, "--method: ");
-	const pc_demosaic_method_info *mi = pc_demosaic_method_get(*out);
-	char layout[64];
-	pc_mosaic_format(m, layout, sizeof layout);
-	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_error(PC_EINVAL, "--method %s: works on monochrome mosaics; the mosaic %s is "
-					   "colour-polarization (methods for it: bayer-first, "
-					   "bayer-eari)", mi->name, layout);
-	if (!colour && !(mi->flags & PC_DMF_MONO))
-		return pc_error(PC_EINVAL, "--method %s: needs a colour-polarization mosaic such as "
-					   "RGGB:90,45,135,0; the mosaic %s is monochrome", mi->name,
-				layout);
-	return 0;
+	return (pc_raw_input){ o->path, o->have_geometry ? &o->geometry : NULL, o->bits };
 }
 
-int cli_raw_read(const cli_raw *o, pc_view *raw, unsigned *bits)
+pc_process_opts cli_raw_process(const cli_raw *o)
 {
-	if (!o->path)
-		return cli_error(CLI_EXIT_USAGE, "no RAW file given");
-	int rc = pc_image_read_mosaic(o->path, o->have_geometry ? &o->geometry : NULL, o->bits, raw,
-				      bits);
-	if (rc)
-		return cli_fail(rc, NULL);
-	if (raw->width % 2 || raw->height % 2 || raw->width < 4 || raw->height < 4) {
-		int st = cli_error(CLI_EXIT_USAGE, "%s: size %ux%u: a polarizer mosaic needs an even "
-						    "width and height of at least 4 (whole 2x2 "
-						    "analyser blocks)", o->path, raw->width,
-				      raw->height);
-		pc_view_free(raw);
-		return st;
-	}
-	return 0;
+	return (pc_process_opts){ o->mosaic, o->dm, { o->threads, o->reference, 0 } };
 }

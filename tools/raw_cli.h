@@ -7,6 +7,7 @@
 
 #include "polarcam/demosaic.h"
 #include "polarcam/io.h"
+#include "polarcam/process.h"
 
 typedef struct cli_raw {
 	const char *path;     /* RAW */
@@ -29,17 +30,11 @@ extern const char cli_raw_help[];
 
 /* Parses argv (argv[0] = command). Options it does not know are returned through *extra (argv
  * indices, NULL-terminated list allocated by the caller with argc entries) when extra is not
- * NULL, otherwise they are errors. Returns 0 or a PC_EXIT_* status after printing the error. */
+ * NULL, otherwise they are errors. Returns 0 or a CLI_EXIT_* status after printing the error. */
 int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra);
 
-/* The demosaicking method for frames with mosaic m: the one named by given, or without a name
- * (NULL) bilinear for monochrome mosaics and bayer-first for colour-polarization ones. PC_EINVAL
- * (detail naming --method, the mosaic and the methods that would work) for an unknown name or a
- * method for the other kind of mosaic. */
-int cli_method_for_mosaic(const char *given, const pc_mosaic *m, pc_demosaic_method *out);
-
-/* Reads and validates the raw (bit depth, values, NaN, size) into an owned view. Returns 0 or a
- * PC_EXIT_* status after printing an error that names the file. */
-int cli_raw_read(const cli_raw *o, pc_view *raw, unsigned *bits);
+/* The parsed options as the library takes them (polarcam/process.h). */
+pc_raw_input cli_raw_input(const cli_raw *o);
+pc_process_opts cli_raw_process(const cli_raw *o);
 
 #endif
