@@ -34,7 +34,7 @@
 #include "polarcam/gige_server.h"
 #include "polarcam/parallel.h"
 #include "polarcam/source.h"
-#include "source_cli.h"
+#include "polarcam/stream.h"
 
 typedef struct bench_opts {
 	const char *scene;
@@ -88,8 +88,8 @@ static double slope(const double *x, const double *y, size_t n)
 static void stream_phase(const bench_opts *o, double fps, bool process, phase_result *r)
 {
 	memset(r, 0, sizeof *r);
-	cli_stream_args sa;
-	cli_stream_args_init(&sa);
+	pc_stream_request sa;
+	pc_stream_request_init(&sa);
 	char uri[128];
 	snprintf(uri, sizeof uri, "aravis:127.0.0.1?packet_size=%llu",
 	         (unsigned long long)o->packet_size);
@@ -97,12 +97,12 @@ static void stream_phase(const bench_opts *o, double fps, bool process, phase_re
 	sa.format = o->format;
 	sa.fps = fps;
 	sa.buffers = 16;
-	sa.timeout_ms = 5000;
+	const int timeout_ms = 5000;
 	pc_source *s = NULL;
-	pc_live lv;
-	memset(&lv, 0, sizeof lv);
-	lv.method = o->method;
-	int rc = pc_stream_open(&sa, &s);
+	pc_stokes_stream *lv = NULL;
+	int rc = pc_stokes_stream_new(o->method, &lv);
+	if (!rc)
+		rc = pc_stream_open(&sa, &s);
 	if (!rc)
 		rc = pc_source_start(s);
 	size_t cap = (size_t)(fps * o->seconds * 1.5) + 64;
@@ -115,7 +115,7 @@ static void stream_phase(const bench_opts *o, double fps, bool process, phase_re
 		pc_source_get_format(s, &f);
 	while (!rc && cli_now() - t0 < o->seconds) {
 		pc_buffer *b = NULL;
-		rc = pc_source_dequeue(s, sa.timeout_ms, &b);
+		rc = pc_source_dequeue(s, timeout_ms, &b);
 		if (rc)
 			break;
 		t_last = cli_now();
@@ -124,12 +124,13 @@ static void stream_phase(const bench_opts *o, double fps, bool process, phase_re
 		/* the first half second warms up (allocations, caches): not in the statistics */
 		bool warm = cli_now() - t0 >= 0.5;
 		if (process) {
-			rc = pc_live_process(&lv, &b->frame);
+			rc = pc_stokes_stream_process(lv, &b->frame);
+			double ps = pc_stokes_stream_seconds(lv);
 			if (warm) {
-				proc_sum += lv.process_s;
+				proc_sum += ps;
 				r->proc_n++;
-				if (lv.process_s * 1e3 > r->proc_ms_max)
-					r->proc_ms_max = lv.process_s * 1e3;
+				if (ps * 1e3 > r->proc_ms_max)
+					r->proc_ms_max = ps * 1e3;
 			}
 		}
 		if (warm && nl < cap && lt && lx) {
@@ -177,7 +178,7 @@ static void stream_phase(const bench_opts *o, double fps, bool process, phase_re
 	}
 	free(lt);
 	free(lx);
-	pc_live_free(&lv);
+	pc_stokes_stream_free(lv);
 	pc_source_close(s);
 }
 
@@ -398,17 +399,17 @@ int pc_bench_devices(int argc, char **argv)
 	{
 		char uri[700];
 		snprintf(uri, sizeof uri, "sim:%s?seed=0&fps=0", o.scene);
-		cli_stream_args sa;
-		cli_stream_args_init(&sa);
+		pc_stream_request sa;
+		pc_stream_request_init(&sa);
 		sa.uri = uri;
 		sa.buffers = 1;
 		pc_source *s = NULL;
-		pc_live lv;
-		memset(&lv, 0, sizeof lv);
-		lv.method = o.method;
+		pc_stokes_stream *lv = NULL;
 		double sim_t = 0;
 		unsigned sim_n = 0;
-		rc = pc_stream_open(&sa, &s);
+		rc = pc_stokes_stream_new(o.method, &lv);
+		if (!rc)
+			rc = pc_stream_open(&sa, &s);
 		if (!rc)
 			rc = pc_source_start(s);
 		pc_buffer *b = NULL;
@@ -424,9 +425,9 @@ int pc_bench_devices(int argc, char **argv)
 		}
 		double t0 = cli_now();
 		while (!rc && cli_now() - t0 < o.seconds) {
-			rc = pc_live_process(&lv, &b->frame);
+			rc = pc_stokes_stream_process(lv, &b->frame);
 			alone.frames++;
-			alone.proc_ms_mean += lv.process_s * 1e3;
+			alone.proc_ms_mean += pc_stokes_stream_seconds(lv) * 1e3;
 		}
 		alone.seconds = cli_now() - t0;
 		if (alone.frames)
@@ -450,7 +451,7 @@ int pc_bench_devices(int argc, char **argv)
 			    alone.fps, alone.proc_ms_mean, o.method_name,
 			    sim_n ? sim_t / sim_n : NAN);
 		}
-		pc_live_free(&lv);
+		pc_stokes_stream_free(lv);
 		pc_source_close(s);
 	}
 
