@@ -34,6 +34,17 @@ char *pc_sim_describe_json(const pc_sim *sim, const pc_scene *scene)
 		json_object_set_new(o, "scene_name", json_string(pc_scene_name(scene)));
 	json_object_set_new(o, "seed", json_integer((json_int_t)in.seed));
 	json_object_set_new(o, "effects", effects_json(in.effects));
+	/* the elements in front of the camera (image-plane Mueller matrices): for a uniform
+	 * unpolarized background their first column is the stimulus (polarcam calibrate) */
+	pc_sim_states *st = malloc(sizeof *st);
+	if (st) {
+		pc_sim_get_states(sim, st);
+		json_t *pa = json_array();
+		for (unsigned a = 0; a < st->n_psa; a++)
+			json_array_append_new(pa, pc_json_matrix4(st->psa[a]));
+		json_object_set_new(o, "psa_mueller", pa);
+		free(st);
+	}
 	json_t *s = json_object();
 	char mos[64];
 	pc_mosaic_format(&f.mosaic, mos, sizeof mos);
@@ -55,6 +66,7 @@ char *pc_sim_describe_json(const pc_sim *sim, const pc_scene *scene)
 	json_object_set_new(s, "gain_dn_per_e", pc_json_real(f.gain_dn_per_e));
 	json_object_set_new(s, "offset_dn", pc_json_real(f.offset_dn));
 	json_object_set_new(s, "extinction_ratio", pc_json_real(f.extinction_ratio)); /* ∞ → null */
+	json_object_set_new(s, "extinction_ratio_sigma", json_real(f.extinction_ratio_sigma));
 	json_object_set_new(s, "orientation_sigma_deg", pc_json_real(f.orientation_sigma_deg));
 	json_object_set_new(s, "orientation_offset_deg", pc_json_vec(f.orientation_offset_deg, 4));
 	json_object_set_new(s, "transmission_sigma", pc_json_real(f.transmission_sigma));
