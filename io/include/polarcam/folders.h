@@ -14,6 +14,10 @@
  *   D, R, Delta    .npy (H, W) float32 and .png (grey, with a colour bar; NaN magenta)
  *   rebuild_residual.npy/.png   when the circular entries were rebuilt
  *   mueller.json   condition numbers, noise gains, pixel counts (see pc_mueller_folder_write)
+ *
+ * The figures folder (pc_figures_write) holds figNN.csv (x and one column per curve, then the
+ * same curves under the printed normalisation), figNN.png and figures.md (each claim, whether it
+ * reproduces, with the numbers).
  */
 #ifndef POLARCAM_FOLDERS_H
 #define POLARCAM_FOLDERS_H
@@ -22,8 +26,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/figures.h"
 #include "polarcam/io.h"
 #include "polarcam/mueller_imaging.h"
+#include "polarcam/progress.h"
 #include "polarcam/stokes.h"
 
 #ifdef __cplusplus
@@ -75,6 +81,12 @@ typedef struct pc_mueller_folder_opts {
  * content as one compact line (malloc'd). */
 int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
 			    const pc_mueller_folder_opts *opts, char **json);
+
+/* ---- the seed paper's figures (polarcam/figures.h) ---- */
+
+/* Writes figs[2..11] and the claims into dir; progress (may be NULL): phase "figures". */
+int pc_figures_write(const char *dir, const pc_figure figs[12], const pc_figure_claim *claims,
+		     size_t n_claims, const pc_progress *progress);
 
 #ifdef __cplusplus
 }
