@@ -71,8 +71,7 @@ static void point(const pc_pbrdf *spec, const pc_pbrdf *full, double ti, double 
 		const double(*M)[4] = mats[k];
 		if (!(M[0][0] > 0))
 			continue;
-		double p1 = M[1][0] / M[0][0], p2 = M[2][0] / M[0][0], p3 = M[3][0] / M[0][0];
-		o->dop = sqrt(p1 * p1 + p2 * p2 + p3 * p3); /* eq. 21 */
+		o->dop = pc_mueller_dop(M); /* eq. 21 */
 		pc_lu_chipman lc;
 		if (pc_lu_chipman_decompose(M, PC_LC_NO_FACTORS, &lc) == 0) {
 			o->D = lc.D;

@@ -217,6 +217,14 @@ double pc_stokes_aolp_rad(const double S[4])
 	return a;
 }
 
+double pc_mueller_dop(const double M[4][4])
+{
+	if (!(M[0][0] > 0))
+		return NAN;
+	double p1 = M[1][0] / M[0][0], p2 = M[2][0] / M[0][0], p3 = M[3][0] / M[0][0];
+	return sqrt(p1 * p1 + p2 * p2 + p3 * p3);
+}
+
 void pc_stokes_linear(double intensity, double aolp_rad, double S[4])
 {
 	S[0] = intensity;

@@ -124,9 +124,7 @@ static json_t *evaluate(const pc_pbrdf *p, double ti_deg, double tr_deg, double 
 		json_array_append_new(flags, json_string("mirror"));
 	double dop = NAN, D = NAN, R = NAN, Delta = NAN;
 	if (f[0][0] > 0) {
-		/* eq. 21 on the normalised column (entries can be ~1e-230 off the lobe) */
-		double p1 = f[1][0] / f[0][0], p2 = f[2][0] / f[0][0], p3 = f[3][0] / f[0][0];
-		dop = sqrt(p1 * p1 + p2 * p2 + p3 * p3);
+		dop = pc_mueller_dop(f);
 		pc_lu_chipman lc;
 		if (pc_lu_chipman_decompose(f, PC_LC_NO_FACTORS, &lc) == 0) {
 			D = lc.D;
@@ -205,121 +203,13 @@ static int run_batch(const char *path, const pbrdf_opts *o)
 	return status;
 }
 
-int cmd_pbrdf(int argc, char **argv)
+/* --n ... --phi with ranges: one line per value */
+static int run_ranges(const pbrdf_opts *op, const char *arg_n, const char *arg_k,
+		      const char *arg_sigma, const char *arg_ti, const char *arg_tr,
+		      const char *arg_phi)
 {
-	if (cli_wants_help(argc, argv)) {
-		usage(stdout);
-		return CLI_EXIT_OK;
-	}
-	enum { O_N = 1000, O_K, O_SIGMA, O_TI, O_TR, O_PHI, O_DIFFUSE, O_SHADOW, O_RHO, O_BATCH };
-	static const struct option lo[] = {
-	    {"n", required_argument, NULL, O_N},
-	    {"k", required_argument, NULL, O_K},
-	    {"sigma", required_argument, NULL, O_SIGMA},
-	    {"theta-i", required_argument, NULL, O_TI},
-	    {"theta-r", required_argument, NULL, O_TR},
-	    {"phi", required_argument, NULL, O_PHI},
-	    {"diffuse", required_argument, NULL, O_DIFFUSE},
-	    {"shadowing", required_argument, NULL, O_SHADOW},
-	    {"rho", required_argument, NULL, O_RHO},
-	    {"batch", required_argument, NULL, O_BATCH},
-	    {NULL, 0, NULL, 0},
-	};
-	pbrdf_opts o = {PC_DIFFUSE_FRESNEL, PC_SHADOW_TS, PC_RHO_QUAD, 0};
-	const char *arg_n = NULL, *arg_k = "0", *arg_sigma = NULL, *arg_ti = NULL, *arg_tr = NULL,
-	           *arg_phi = "180", *batch = NULL;
-	int c, rc;
-	opterr = 0;
-	optind = 1;
-	while ((c = getopt_long(argc, argv, ":", lo, NULL)) != -1) {
-		switch (c) {
-		case O_N:
-			arg_n = optarg;
-			break;
-		case O_K:
-			arg_k = optarg;
-			break;
-		case O_SIGMA:
-			arg_sigma = optarg;
-			break;
-		case O_TI:
-			arg_ti = optarg;
-			break;
-		case O_TR:
-			arg_tr = optarg;
-			break;
-		case O_PHI:
-			arg_phi = optarg;
-			break;
-		case O_DIFFUSE:
-			if (!strcmp(optarg, "fresnel"))
-				o.diffuse = PC_DIFFUSE_FRESNEL;
-			else if (!strcmp(optarg, "geometric"))
-				o.diffuse = PC_DIFFUSE_GEOMETRIC;
-			else if (!strcmp(optarg, "none"))
-				o.diffuse = PC_DIFFUSE_NONE;
-			else
-				return cli_error(
-				    CLI_EXIT_USAGE,
-				    "--diffuse '%s': expected fresnel, geometric or none", optarg);
-			break;
-		case O_SHADOW:
-			if (!strcmp(optarg, "ts"))
-				o.shadowing = PC_SHADOW_TS;
-			else if (!strcmp(optarg, "none"))
-				o.shadowing = PC_SHADOW_NONE;
-			else
-				return cli_error(
-				    CLI_EXIT_USAGE, "--shadowing '%s': expected ts or none", optarg);
-			break;
-		case O_RHO:
-			if (!strcmp(optarg, "table")) {
-				o.rho_mode = PC_RHO_TABLE;
-			} else if (!strncmp(optarg, "quad:", 5)) {
-				long N;
-				if ((rc = cli_parse_long("--rho quad:N", optarg + 5, 2, 1024,
-				                            &N)))
-					return cli_fail(rc, NULL);
-				o.rho_mode = PC_RHO_QUAD;
-				o.rho_order = (int)N;
-			} else {
-				return cli_error(
-				    CLI_EXIT_USAGE,
-				    "--rho '%s': expected quad:N (N in [2, 1024]) or table",
-				    optarg);
-			}
-			break;
-		case O_BATCH:
-			batch = optarg;
-			break;
-		case ':':
-			return cli_error(CLI_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
-		default:
-			return cli_error(CLI_EXIT_USAGE,
-			                    "unknown option '%s' (polarcam pbrdf --help)",
-			                    argv[optind - 1]);
-		}
-	}
-	if (optind < argc)
-		return cli_error(CLI_EXIT_USAGE,
-		                    "unexpected argument '%s' (polarcam pbrdf --help)",
-		                    argv[optind]);
-	if (batch) {
-		if (arg_n || arg_sigma || arg_ti || arg_tr)
-			return cli_error(
-			    CLI_EXIT_USAGE,
-			    "--batch reads n, k, sigma and the angles from its lines; "
-			    "do not also give --n/--sigma/--theta-i/--theta-r");
-		return run_batch(batch, &o);
-	}
-	const struct {
-		const char *opt, *val;
-	} req[] = {
-	    {"--n", arg_n}, {"--sigma", arg_sigma}, {"--theta-i", arg_ti}, {"--theta-r", arg_tr}};
-	for (size_t i = 0; i < sizeof req / sizeof req[0]; i++)
-		if (!req[i].val)
-			return cli_error(CLI_EXIT_USAGE, "%s is required (polarcam pbrdf --help)",
-			                    req[i].opt);
+	const pbrdf_opts o = *op;
+	int rc;
 	double n, k;
 	if ((rc = cli_parse_double("--n", arg_n, &n)) ||
 	    (rc = cli_parse_double("--k", arg_k, &k)))
@@ -373,4 +263,133 @@ out:
 	free(tr);
 	free(ph);
 	return status;
+}
+
+enum { O_N = 1000, O_K, O_SIGMA, O_TI, O_TR, O_PHI, O_DIFFUSE, O_SHADOW, O_RHO, O_BATCH };
+
+/* --diffuse, --shadowing, --rho: 0 or an exit status after the message */
+static int parse_mode(pbrdf_opts *o, int c, const char *arg)
+{
+	int rc;
+	if (c == O_DIFFUSE) {
+		if (!strcmp(arg, "fresnel"))
+			o->diffuse = PC_DIFFUSE_FRESNEL;
+		else if (!strcmp(arg, "geometric"))
+			o->diffuse = PC_DIFFUSE_GEOMETRIC;
+		else if (!strcmp(arg, "none"))
+			o->diffuse = PC_DIFFUSE_NONE;
+		else
+			return cli_error(
+			    CLI_EXIT_USAGE,
+			    "--diffuse '%s': expected fresnel, geometric or none", arg);
+	} else if (c == O_SHADOW) {
+		if (!strcmp(arg, "ts"))
+			o->shadowing = PC_SHADOW_TS;
+		else if (!strcmp(arg, "none"))
+			o->shadowing = PC_SHADOW_NONE;
+		else
+			return cli_error(
+			    CLI_EXIT_USAGE, "--shadowing '%s': expected ts or none", arg);
+	} else {
+		if (!strcmp(arg, "table")) {
+			o->rho_mode = PC_RHO_TABLE;
+		} else if (!strncmp(arg, "quad:", 5)) {
+			long N;
+			if ((rc = cli_parse_long("--rho quad:N", arg + 5, 2, 1024, &N)))
+				return cli_fail(rc, NULL);
+			o->rho_mode = PC_RHO_QUAD;
+			o->rho_order = (int)N;
+		} else {
+			return cli_error(
+			    CLI_EXIT_USAGE,
+			    "--rho '%s': expected quad:N (N in [2, 1024]) or table",
+			    arg);
+		}
+	}
+	return 0;
+}
+
+int cmd_pbrdf(int argc, char **argv)
+{
+	if (cli_wants_help(argc, argv)) {
+		usage(stdout);
+		return CLI_EXIT_OK;
+	}
+	static const struct option lo[] = {
+	    {"n", required_argument, NULL, O_N},
+	    {"k", required_argument, NULL, O_K},
+	    {"sigma", required_argument, NULL, O_SIGMA},
+	    {"theta-i", required_argument, NULL, O_TI},
+	    {"theta-r", required_argument, NULL, O_TR},
+	    {"phi", required_argument, NULL, O_PHI},
+	    {"diffuse", required_argument, NULL, O_DIFFUSE},
+	    {"shadowing", required_argument, NULL, O_SHADOW},
+	    {"rho", required_argument, NULL, O_RHO},
+	    {"batch", required_argument, NULL, O_BATCH},
+	    {NULL, 0, NULL, 0},
+	};
+	pbrdf_opts o = {PC_DIFFUSE_FRESNEL, PC_SHADOW_TS, PC_RHO_QUAD, 0};
+	const char *arg_n = NULL, *arg_k = "0", *arg_sigma = NULL, *arg_ti = NULL, *arg_tr = NULL,
+	           *arg_phi = "180", *batch = NULL;
+	int c, rc;
+	opterr = 0;
+	optind = 1;
+	while ((c = getopt_long(argc, argv, ":", lo, NULL)) != -1) {
+		switch (c) {
+		case O_N:
+			arg_n = optarg;
+			break;
+		case O_K:
+			arg_k = optarg;
+			break;
+		case O_SIGMA:
+			arg_sigma = optarg;
+			break;
+		case O_TI:
+			arg_ti = optarg;
+			break;
+		case O_TR:
+			arg_tr = optarg;
+			break;
+		case O_PHI:
+			arg_phi = optarg;
+			break;
+		case O_DIFFUSE:
+		case O_SHADOW:
+		case O_RHO:
+			if ((rc = parse_mode(&o, c, optarg)))
+				return rc; /* an exit status */
+			break;
+		case O_BATCH:
+			batch = optarg;
+			break;
+		case ':':
+			return cli_error(CLI_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
+		default:
+			return cli_error(CLI_EXIT_USAGE,
+			                    "unknown option '%s' (polarcam pbrdf --help)",
+			                    argv[optind - 1]);
+		}
+	}
+	if (optind < argc)
+		return cli_error(CLI_EXIT_USAGE,
+		                    "unexpected argument '%s' (polarcam pbrdf --help)",
+		                    argv[optind]);
+	if (batch) {
+		if (arg_n || arg_sigma || arg_ti || arg_tr)
+			return cli_error(
+			    CLI_EXIT_USAGE,
+			    "--batch reads n, k, sigma and the angles from its lines; "
+			    "do not also give --n/--sigma/--theta-i/--theta-r");
+		return run_batch(batch, &o);
+	}
+	const struct {
+		const char *opt, *val;
+	} req[] = {
+	    {"--n", arg_n}, {"--sigma", arg_sigma}, {"--theta-i", arg_ti}, {"--theta-r", arg_tr}};
+	for (size_t i = 0; i < sizeof req / sizeof req[0]; i++)
+		if (!req[i].val)
+			return cli_error(CLI_EXIT_USAGE, "%s is required (polarcam pbrdf --help)",
+			                    req[i].opt);
+	return run_ranges(&o, arg_n, arg_k, arg_sigma, arg_ti, arg_tr, arg_phi);
 }

@@ -55,6 +55,70 @@ static void usage(FILE *fp)
 	    "inside `unshare -n` with only loopback up.\n");
 }
 
+/* the camera until a signal or the duration, and its statistics */
+static int run(const pc_gige_server_options *op, const char *genicam, double duration)
+{
+	pc_gige_server_options o = *op;
+	const char *uri = o.source_uri;
+	pc_gige_server *srv = NULL;
+	int rc = pc_gige_server_start(&srv, &o);
+	if (rc) {
+		pc_devices_shutdown();
+		return cli_fail(rc, "serve");
+	}
+	if (genicam) {
+		const char *xml = pc_gige_server_genicam(srv);
+		FILE *fp = fopen(genicam, "w");
+		if (!fp || fputs(xml, fp) < 0 || fclose(fp) != 0)
+			cli_warn("cannot write %s", genicam);
+	}
+	pc_gige_server_stats st;
+	pc_gige_server_get_stats(srv, &st);
+	json_t *j = json_object();
+	json_t *sv = json_object();
+	json_object_set_new(sv, "address", json_string(o.address ? o.address : "127.0.0.1"));
+	json_object_set_new(sv, "serial", json_string(o.serial ? o.serial : "POLARCAM0001"));
+	json_object_set_new(sv, "source", json_string(uri));
+	json_object_set_new(sv, "width", json_integer(st.sensor_width));
+	json_object_set_new(sv, "height", json_integer(st.sensor_height));
+	json_object_set_new(sv, "bits", json_integer(st.bits));
+	json_object_set_new(sv, "model", json_string(st.model));
+	json_object_set_new(sv, "mosaic", json_string(st.mosaic));
+	json_object_set_new(j, "serving", sv);
+	cli_print_json(j);
+	fflush(stdout);
+
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+	double t0 = cli_now();
+	char msg[256] = "";
+	int err = 0;
+	while (!serve_stop && (duration <= 0 || cli_now() - t0 < duration)) {
+		struct timespec ts = {0, 20000000};
+		nanosleep(&ts, NULL);
+		if ((err = pc_gige_server_error(srv, msg, sizeof msg)))
+			break;
+	}
+	pc_gige_server_get_stats(srv, &st);
+	pc_gige_server_stop(srv);
+	pc_devices_shutdown();
+	j = json_object();
+	json_object_set_new(j, "served", json_integer((json_int_t)st.served));
+	json_object_set_new(j, "late", json_integer((json_int_t)st.late));
+	json_object_set_new(j, "rendered", json_integer((json_int_t)st.rendered));
+	json_object_set_new(j, "acquisitions", json_integer((json_int_t)st.acquisitions));
+	json_object_set_new(j, "seconds", cli_json_real(cli_now() - t0));
+	if (err)
+		json_object_set_new(j, "error", json_string(msg));
+	cli_print_json(j);
+	if (err)
+		return cli_error(cli_status(err), "the frame source failed: %s", msg);
+	return CLI_EXIT_OK;
+}
+
 int cmd_serve(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
@@ -132,61 +196,5 @@ int cmd_serve(int argc, char **argv)
 	}
 	o.source_uri = uri;
 
-	pc_gige_server *srv = NULL;
-	int rc = pc_gige_server_start(&srv, &o);
-	if (rc) {
-		pc_devices_shutdown();
-		return cli_fail(rc, "serve");
-	}
-	if (genicam) {
-		const char *xml = pc_gige_server_genicam(srv);
-		FILE *fp = fopen(genicam, "w");
-		if (!fp || fputs(xml, fp) < 0 || fclose(fp) != 0)
-			cli_warn("cannot write %s", genicam);
-	}
-	pc_gige_server_stats st;
-	pc_gige_server_get_stats(srv, &st);
-	json_t *j = json_object();
-	json_t *sv = json_object();
-	json_object_set_new(sv, "address", json_string(o.address ? o.address : "127.0.0.1"));
-	json_object_set_new(sv, "serial", json_string(o.serial ? o.serial : "POLARCAM0001"));
-	json_object_set_new(sv, "source", json_string(uri));
-	json_object_set_new(sv, "width", json_integer(st.sensor_width));
-	json_object_set_new(sv, "height", json_integer(st.sensor_height));
-	json_object_set_new(sv, "bits", json_integer(st.bits));
-	json_object_set_new(sv, "model", json_string(st.model));
-	json_object_set_new(sv, "mosaic", json_string(st.mosaic));
-	json_object_set_new(j, "serving", sv);
-	cli_print_json(j);
-	fflush(stdout);
-
-	struct sigaction sa;
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_signal;
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	double t0 = cli_now();
-	char msg[256] = "";
-	int err = 0;
-	while (!serve_stop && (duration <= 0 || cli_now() - t0 < duration)) {
-		struct timespec ts = {0, 20000000};
-		nanosleep(&ts, NULL);
-		if ((err = pc_gige_server_error(srv, msg, sizeof msg)))
-			break;
-	}
-	pc_gige_server_get_stats(srv, &st);
-	pc_gige_server_stop(srv);
-	pc_devices_shutdown();
-	j = json_object();
-	json_object_set_new(j, "served", json_integer((json_int_t)st.served));
-	json_object_set_new(j, "late", json_integer((json_int_t)st.late));
-	json_object_set_new(j, "rendered", json_integer((json_int_t)st.rendered));
-	json_object_set_new(j, "acquisitions", json_integer((json_int_t)st.acquisitions));
-	json_object_set_new(j, "seconds", cli_json_real(cli_now() - t0));
-	if (err)
-		json_object_set_new(j, "error", json_string(msg));
-	cli_print_json(j);
-	if (err)
-		return cli_error(cli_status(err), "the frame source failed: %s", msg);
-	return CLI_EXIT_OK;
+	return run(&o, genicam, duration);
 }

@@ -74,6 +74,11 @@ double pc_stokes_aolp_rad(const double S[4]); /* atan2(S2, S1)/2 mapped into [0,
 /* Stokes vector of fully linearly polarised light of intensity I at angle aolp_rad. */
 void pc_stokes_linear(double intensity, double aolp_rad, double S[4]);
 
+/* Degree of polarization of what M sends out for unpolarised input (the seed paper's eq. 21):
+ * |(M10, M20, M30)| / M00, computed on the normalised column (entries off a specular lobe can be
+ * ~1e-230); NaN when M00 ≤ 0. */
+double pc_mueller_dop(const double M[4][4]);
+
 /* Coherency (covariance) matrix of a Mueller matrix: with N = A⁻¹ M A, H_{(ac),(bd)} =
  * N_{(ab),(cd)} (indices (xy) = 2x + y). For M from a Jones matrix J, H = vec(J) vec(J)^† (rank 1,
  * PSD); a Mueller matrix is physically realisable iff H is positive semi-definite (Cloude 1986). tr

@@ -11,7 +11,9 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "polarcam/eval.h"
 #include "polarcam/frame.h"
+#include "polarcam/progress.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -137,6 +139,27 @@ int pc_truth_load(const char *dir, struct pc_eval_truth *t);
 /* The dataset a truth directory belongs to: the name of its parent directory ("lapray-nir"
  * for .../gt/lapray-nir/fabrics), or "." when it has none. */
 void pc_truth_dataset(const char *dir, char *buf, size_t size);
+
+/* One method scored on one truth directory by the protocol (polarcam/eval.h). */
+typedef struct pc_eval_result {
+	const char *scene;         /* the directory as given */
+	char dataset[256];         /* pc_truth_dataset */
+	pc_demosaic_method method;
+	pc_eval_metrics m;
+	double seconds;            /* of pc_eval_method */
+} pc_eval_result;
+
+/* Scores each method on each truth directory (pc_truth_load, pc_eval_method; opts may be
+ * NULL) into res[d·nmeth + k]; progress (may be NULL): phase "eval", results done. Errors name
+ * the directory. */
+int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method *methods,
+		 size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
+		 pc_eval_result *res);
+
+/* The mean metrics of the results of one dataset and method (datasets are never pooled);
+ * returns how many results it averaged. */
+int pc_eval_dataset_mean(const pc_eval_result *res, size_t n, const char *dataset,
+			 pc_demosaic_method method, pc_eval_metrics *out);
 
 /* Creates a directory (and parents) if missing. */
 int pc_mkdir_p(const char *path);
