@@ -22,7 +22,6 @@
 #include <unistd.h>
 
 #include "bench.h"
-#include "cli.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/error.h"
 #include "polarcam/eval.h"
@@ -151,6 +150,9 @@ typedef struct floor_job {
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #include <immintrin.h>
+
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
 #define PC_BENCH_X86 1
 __attribute__((target("avx2"))) static void floor_rows_avx2(const floor_job *j, uint32_t y0,
 							    uint32_t y1)
@@ -462,36 +464,37 @@ static void pareto_plot(const char *path, const method_row *rows, size_t n, int 
 	pc_plot_add_series(p, "5 x bilinear's time", bx, by, 2, PC_PLOT_DASHED);
 	int rc = pc_plot_write_png(p, path, 900, 600);
 	if (rc)
-		cli_fail(rc, path);
+		host->fail(rc, path);
 	pc_plot_free(p);
 }
 
-int pc_bench_demosaic(int argc, char **argv)
+int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 {
+	host = h;
 	const char *data_dir = NULL, *out_dir = "bench-demosaic";
 	long reps = 7, threads = 0;
 	bool json_out = false, quick = false;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
 			usage(stdout);
-			return CLI_EXIT_OK;
+			return PC_BENCH_OK;
 		} else if (!strcmp(argv[i], "-o") && i + 1 < argc) {
 			out_dir = argv[++i];
 		} else if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
-			int rc = cli_parse_long("--reps", argv[++i], 1, 1000, &reps);
+			int rc = host->parse_long("--reps", argv[++i], 1, 1000, &reps);
 			if (rc)
-				return cli_fail(rc, NULL);
+				return host->fail(rc, NULL);
 		} else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
-			int rc = cli_parse_long("--threads", argv[++i], 1, 1024, &threads);
+			int rc = host->parse_long("--threads", argv[++i], 1, 1024, &threads);
 			if (rc)
-				return cli_fail(rc, NULL);
+				return host->fail(rc, NULL);
 		} else if (!strcmp(argv[i], "--json")) {
 			json_out = true;
 		} else if (!strcmp(argv[i], "--quick")) {
 			quick = true;
 			reps = 3;
 		} else if (argv[i][0] == '-') {
-			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (polarcam bench demosaic "
+			return host->error(PC_BENCH_USAGE, "unknown option '%s' (polarcam bench demosaic "
 							   "--help)", argv[i]);
 		} else {
 			data_dir = argv[i];
@@ -501,7 +504,7 @@ int pc_bench_demosaic(int argc, char **argv)
 	if (!data_dir && stat("/work/shared/data", &sb) == 0 && S_ISDIR(sb.st_mode))
 		data_dir = "/work/shared/data";
 	if (data_dir && !(stat(data_dir, &sb) == 0 && S_ISDIR(sb.st_mode)))
-		return cli_error(CLI_EXIT_USAGE, "%s: not a directory", data_dir);
+		return host->error(PC_BENCH_USAGE, "%s: not a directory", data_dir);
 	FILE *tf = json_out ? stderr : stdout;
 	int nthreads = threads ? (int)threads : pc_parallel_max_threads();
 	char load0[128], load1[128];
@@ -514,7 +517,7 @@ int pc_bench_demosaic(int argc, char **argv)
 	char frame_what[160];
 	int rc = make_frame(data_dir, &raw, frame_what, sizeof frame_what);
 	if (rc)
-		return cli_fail(rc, "frame");
+		return host->fail(rc, "frame");
 	fprintf(tf, "frame: %s\n\n", frame_what);
 	size_t plane = (size_t)FW * FH;
 	float *obuf = aligned_alloc(64, plane * 12 * sizeof(float));
@@ -523,7 +526,7 @@ int pc_bench_demosaic(int argc, char **argv)
 		pc_view_free(&raw);
 		free(obuf);
 		free(ts);
-		return cli_error(CLI_EXIT_FAILURE, "out of memory");
+		return host->error(PC_BENCH_FAILURE, "out of memory");
 	}
 	memset(obuf, 0, plane * 12 * sizeof(float)); /* pre-fault */
 	pc_fplane planes[12];
@@ -598,10 +601,9 @@ int pc_bench_demosaic(int argc, char **argv)
 		pc_view_free(&raw);
 		free(obuf);
 		free(ts);
-		return cli_error(CLI_EXIT_FAILURE, "out of memory");
+		return host->error(PC_BENCH_FAILURE, "out of memory");
 	}
-	cli_progress prog;
-	cli_progress_begin(&prog, "timing", (uint64_t)reps + 1);
+	pc_progress_report(&host->progress, "timing", 0, (uint64_t)reps + 1);
 	for (long rep = -1; rep < reps; rep++) {
 		for (int j = 0; j < J_N; j++) {
 			double t0 = now_s(), c0 = cpu_s();
@@ -609,8 +611,8 @@ int pc_bench_demosaic(int argc, char **argv)
 				const pc_mosaic *m = rows[j].colour ? &colour : &mono;
 				rc = pc_demosaic(&raw, m, rows[j].m, &opts, planes);
 				if (rc) {
-					cli_progress_end(&prog);
-					return cli_fail(rc, pc_demosaic_method_get(rows[j].m)->name);
+					host->progress_end(host->progress.user);
+					return host->fail(rc, pc_demosaic_method_get(rows[j].m)->name);
 				}
 			} else if (j == J_PIPE_BIL || j == J_PIPE_EARI || j == J_PIPE_RATIO) {
 				pc_stokes_from_raw(&raw, &mono,
@@ -640,9 +642,9 @@ int pc_bench_demosaic(int argc, char **argv)
 				cj_t[(size_t)j * (size_t)reps + (size_t)rep] = dc;
 			}
 		}
-		cli_progress_update(&prog, (uint64_t)(rep + 2));
+		pc_progress_report(&host->progress, "timing", (uint64_t)(rep + 2), (uint64_t)reps + 1);
 	}
-	cli_progress_end(&prog);
+	host->progress_end(host->progress.user);
 	timing tall[J_N];
 	for (int j = 0; j < J_N; j++) {
 		tall[j] = summarize(tj + (size_t)j * (size_t)reps, (int)reps);
@@ -673,7 +675,7 @@ int pc_bench_demosaic(int argc, char **argv)
 	if (data_dir) {
 		char gt[2048];
 		if ((size_t)snprintf(gt, sizeof gt, "%s/gt", data_dir) >= sizeof gt)
-			return cli_error(CLI_EXIT_USAGE, "%s: path too long", data_dir);
+			return host->error(PC_BENCH_USAGE, "%s: path too long", data_dir);
 		const char *datasets[] = { "lapray-nir", "zhang" };
 		for (int d = 0; d < 2; d++) {
 			char dpath[3072];
@@ -703,7 +705,7 @@ int pc_bench_demosaic(int argc, char **argv)
 				continue;
 			}
 			have_acc = 1;
-			cli_progress_begin(&prog, datasets[d], nscenes);
+			pc_progress_report(&host->progress, datasets[d], 0, nscenes);
 			int scored = 0;
 			pc_eval_metrics refbil = { 0 }, fastbil = { 0 };
 			for (size_t s = 0; s < nscenes; s++) {
@@ -711,7 +713,7 @@ int pc_bench_demosaic(int argc, char **argv)
 				snprintf(spath, sizeof spath, "%.3071s/%.1000s", dpath, names[s]);
 				pc_eval_truth t;
 				if (pc_truth_load(spath, &t) != 0) {
-					cli_warn("%s", pc_error_detail());
+					host->warn("%s", pc_error_detail());
 					continue;
 				}
 				for (size_t i = 0; i < nrows; i++) {
@@ -755,11 +757,11 @@ int pc_bench_demosaic(int argc, char **argv)
 				}
 				scored++;
 				pc_eval_truth_free(&t);
-				cli_progress_update(&prog, s + 1);
+				pc_progress_report(&host->progress, datasets[d], s + 1, nscenes);
 				if (quick && scored >= 2)
 					break;
 			}
-			cli_progress_end(&prog);
+			host->progress_end(host->progress.user);
 			for (size_t s = 0; s < nscenes; s++)
 				free(names[s]);
 			free(names);
@@ -794,7 +796,7 @@ int pc_bench_demosaic(int argc, char **argv)
 	if (!quick) {
 		int nr = noisy_track(nmeth, nn, (int)threads, noisy, noisy_what, sizeof noisy_what);
 		if (nr)
-			cli_warn("noisy track skipped: %s", pc_error_detail());
+			host->warn("noisy track skipped: %s", pc_error_detail());
 		else
 			have_noisy = 1;
 	}
@@ -897,27 +899,27 @@ int pc_bench_demosaic(int argc, char **argv)
 		json_t *o = json_object();
 		json_object_set_new(o, "method", json_string(pc_demosaic_method_get(r->m)->name));
 		json_object_set_new(o, "colour", json_boolean(r->colour));
-		json_object_set_new(o, "ms_median", cli_json_real(r->t.median_ms));
-		json_object_set_new(o, "ms_best", cli_json_real(r->t.min_ms));
-		json_object_set_new(o, "ms_min", cli_json_real(r->t.min_ms));
-		json_object_set_new(o, "cpu_ms_median", cli_json_real(r->t.cpu_ms));
-		json_object_set_new(o, "x_bilinear", cli_json_real(r->t.median_ms / bil));
+		json_object_set_new(o, "ms_median", bench_json_real(r->t.median_ms));
+		json_object_set_new(o, "ms_best", bench_json_real(r->t.min_ms));
+		json_object_set_new(o, "ms_min", bench_json_real(r->t.min_ms));
+		json_object_set_new(o, "cpu_ms_median", bench_json_real(r->t.cpu_ms));
+		json_object_set_new(o, "x_bilinear", bench_json_real(r->t.median_ms / bil));
 		json_t *ja = json_object();
 		for (int d = 0; d < r->n_ds; d++) {
 			const pc_eval_metrics *a = &r->acc[d];
 			json_t *jd = json_object();
-			json_object_set_new(jd, "psnr_i", cli_json_real(a->psnr_i));
-			json_object_set_new(jd, "psnr_s0", cli_json_real(a->psnr_s0));
-			json_object_set_new(jd, "psnr_s1", cli_json_real(a->psnr_s1));
-			json_object_set_new(jd, "psnr_s2", cli_json_real(a->psnr_s2));
-			json_object_set_new(jd, "psnr_dolp", cli_json_real(a->psnr_dolp));
-			json_object_set_new(jd, "aolp_rmse_deg", cli_json_real(a->aolp_rmse_deg));
-			json_object_set_new(jd, "aolp_wrmse_deg", cli_json_real(a->aolp_wrmse_deg));
+			json_object_set_new(jd, "psnr_i", bench_json_real(a->psnr_i));
+			json_object_set_new(jd, "psnr_s0", bench_json_real(a->psnr_s0));
+			json_object_set_new(jd, "psnr_s1", bench_json_real(a->psnr_s1));
+			json_object_set_new(jd, "psnr_s2", bench_json_real(a->psnr_s2));
+			json_object_set_new(jd, "psnr_dolp", bench_json_real(a->psnr_dolp));
+			json_object_set_new(jd, "aolp_rmse_deg", bench_json_real(a->aolp_rmse_deg));
+			json_object_set_new(jd, "aolp_wrmse_deg", bench_json_real(a->aolp_wrmse_deg));
 			if (brow && brow->n_ds > d) {
 				json_object_set_new(jd, "d_psnr_s0",
-						    cli_json_real(a->psnr_s0 - brow->acc[d].psnr_s0));
+						    bench_json_real(a->psnr_s0 - brow->acc[d].psnr_s0));
 				json_object_set_new(jd, "d_psnr_dolp",
-						    cli_json_real(a->psnr_dolp - brow->acc[d].psnr_dolp));
+						    bench_json_real(a->psnr_dolp - brow->acc[d].psnr_dolp));
 			}
 			json_object_set_new(ja, r->ds_name[d], jd);
 		}
@@ -936,50 +938,50 @@ int pc_bench_demosaic(int argc, char **argv)
 		json_object_set_new(root, "noisy_track", jn);
 		json_object_set_new(root, "noisy_track_input", json_string(noisy_what));
 	}
-	json_object_set_new(root, "pipeline_bilinear_ms", cli_json_real(t_pipe[0].median_ms));
-	json_object_set_new(root, "pipeline_bilinear_cpu_ms", cli_json_real(t_pipe[0].cpu_ms));
-	json_object_set_new(root, "copy_cpu_ms", cli_json_real(t_copy.cpu_ms));
-	json_object_set_new(root, "pipeline_floor_ms", cli_json_real(t_floor.median_ms));
-	json_object_set_new(root, "pipeline_floor_best_ms", cli_json_real(t_floor.min_ms));
-	json_object_set_new(root, "pipeline_floor_cpu_ms", cli_json_real(t_floor.cpu_ms));
+	json_object_set_new(root, "pipeline_bilinear_ms", bench_json_real(t_pipe[0].median_ms));
+	json_object_set_new(root, "pipeline_bilinear_cpu_ms", bench_json_real(t_pipe[0].cpu_ms));
+	json_object_set_new(root, "copy_cpu_ms", bench_json_real(t_copy.cpu_ms));
+	json_object_set_new(root, "pipeline_floor_ms", bench_json_real(t_floor.median_ms));
+	json_object_set_new(root, "pipeline_floor_best_ms", bench_json_real(t_floor.min_ms));
+	json_object_set_new(root, "pipeline_floor_cpu_ms", bench_json_real(t_floor.cpu_ms));
 	json_object_set_new(root, "pipeline_floor_bytes", json_integer((json_int_t)floor_bytes));
 	json_object_set_new(root, "pipeline_floor_stores",
 			    json_string(fj.nt ? "non-temporal" : "ordinary"));
 	json_object_set_new(root, "pipeline_bilinear_over_floor",
-			    cli_json_real(t_pipe[0].median_ms / t_floor.median_ms));
+			    bench_json_real(t_pipe[0].median_ms / t_floor.median_ms));
 	json_object_set_new(root, "pipeline_bilinear_over_floor_best",
-			    cli_json_real(t_pipe[0].min_ms / t_floor.min_ms));
-	json_object_set_new(root, "bilinear_u16_ms", cli_json_real(t_b16.median_ms));
-	json_object_set_new(root, "bilinear_u16_cpu_ms", cli_json_real(t_b16.cpu_ms));
-	json_object_set_new(root, "bilinear_u16_over_opencv", cli_json_real(t_b16.median_ms / t_cv.median_ms));
-	json_object_set_new(root, "opencv_cpu_ms", cli_json_real(t_cv.cpu_ms));
-	json_object_set_new(root, "pipeline_eari_ms", cli_json_real(t_pipe[1].median_ms));
-	json_object_set_new(root, "pipeline_ratio_ms", cli_json_real(t_pipe[2].median_ms));
-	json_object_set_new(root, "pipeline_bilinear_best_ms", cli_json_real(t_pipe[0].min_ms));
-	json_object_set_new(root, "pipeline_eari_best_ms", cli_json_real(t_pipe[1].min_ms));
-	json_object_set_new(root, "pipeline_ratio_best_ms", cli_json_real(t_pipe[2].min_ms));
-	json_object_set_new(root, "copy_best_ms", cli_json_real(t_copy.min_ms));
-	json_object_set_new(root, "copy_ms", cli_json_real(t_copy.median_ms));
+			    bench_json_real(t_pipe[0].min_ms / t_floor.min_ms));
+	json_object_set_new(root, "bilinear_u16_ms", bench_json_real(t_b16.median_ms));
+	json_object_set_new(root, "bilinear_u16_cpu_ms", bench_json_real(t_b16.cpu_ms));
+	json_object_set_new(root, "bilinear_u16_over_opencv", bench_json_real(t_b16.median_ms / t_cv.median_ms));
+	json_object_set_new(root, "opencv_cpu_ms", bench_json_real(t_cv.cpu_ms));
+	json_object_set_new(root, "pipeline_eari_ms", bench_json_real(t_pipe[1].median_ms));
+	json_object_set_new(root, "pipeline_ratio_ms", bench_json_real(t_pipe[2].median_ms));
+	json_object_set_new(root, "pipeline_bilinear_best_ms", bench_json_real(t_pipe[0].min_ms));
+	json_object_set_new(root, "pipeline_eari_best_ms", bench_json_real(t_pipe[1].min_ms));
+	json_object_set_new(root, "pipeline_ratio_best_ms", bench_json_real(t_pipe[2].min_ms));
+	json_object_set_new(root, "copy_best_ms", bench_json_real(t_copy.min_ms));
+	json_object_set_new(root, "copy_ms", bench_json_real(t_copy.median_ms));
 	json_object_set_new(root, "copy_bytes", json_integer((json_int_t)bytes));
-	json_object_set_new(root, "bilinear_over_copy", cli_json_real(bil / t_copy.median_ms));
-	json_object_set_new(root, "opencv_ms", cli_json_real(t_cv.median_ms));
+	json_object_set_new(root, "bilinear_over_copy", bench_json_real(bil / t_copy.median_ms));
+	json_object_set_new(root, "opencv_ms", bench_json_real(t_cv.median_ms));
 	json_object_set_new(root, "opencv", json_string(cv_note));
-	json_object_set_new(root, "bilinear_over_opencv", cli_json_real(bil / t_cv.median_ms));
+	json_object_set_new(root, "bilinear_over_opencv", bench_json_real(bil / t_cv.median_ms));
 	json_t *jg = json_object();
-	json_object_set_new(jg, "psnr_i", cli_json_real(ref_gap[0]));
-	json_object_set_new(jg, "psnr_s0", cli_json_real(ref_gap[1]));
-	json_object_set_new(jg, "psnr_dolp", cli_json_real(ref_gap[2]));
+	json_object_set_new(jg, "psnr_i", bench_json_real(ref_gap[0]));
+	json_object_set_new(jg, "psnr_s0", bench_json_real(ref_gap[1]));
+	json_object_set_new(jg, "psnr_dolp", bench_json_real(ref_gap[2]));
 	json_object_set_new(root, "bilinear_minus_reference_db", jg);
 
-	int status = CLI_EXIT_OK;
+	int status = PC_BENCH_OK;
 	if ((rc = pc_mkdir_p(out_dir))) {
-		status = cli_fail(rc, NULL);
+		status = host->fail(rc, NULL);
 	} else {
 		char path[4096];
 		snprintf(path, sizeof path, "%s/demosaic.json", out_dir);
 		char *txt = json_dumps(root, JSON_INDENT(1) | JSON_REAL_PRECISION(10));
 		if (!txt || (rc = pc_write_file_atomic(path, txt, strlen(txt))))
-			status = cli_fail(rc ? rc : PC_ENOMEM, path);
+			status = host->fail(rc ? rc : PC_ENOMEM, path);
 		free(txt);
 		if (have_acc && brow) {
 			snprintf(path, sizeof path, "%s/pareto_s0.png", out_dir);
@@ -991,7 +993,7 @@ int pc_bench_demosaic(int argc, char **argv)
 			have_acc ? ", pareto_s0.png, pareto_dolp.png" : "");
 	}
 	if (json_out)
-		cli_print_json(root);
+		host->print_json(root);
 	else
 		json_decref(root);
 	return status;

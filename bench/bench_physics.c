@@ -19,6 +19,9 @@
 #include "polarcam/optics.h"
 #include "polarcam/pbrdf.h"
 
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
+
 #define DEG (PC_PI / 180)
 
 static double now_s(void)
@@ -276,8 +279,9 @@ static int cmp_d(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-int pc_bench_physics(int argc, char **argv)
+int pc_bench_physics(const pc_bench_host *h, int argc, char **argv)
 {
+	host = h;
 	bool json = false, quick = false;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--json"))
