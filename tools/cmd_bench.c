@@ -22,7 +22,7 @@ static const struct {
 	{ "calib", "analyser calibration: angles x frames -> residual error, acquisition time", pc_bench_calib },
 };
 
-int cmd_bench(int argc, char **argv)
+int cli_cmd_bench(int argc, char **argv)
 {
 	size_t n = sizeof benches / sizeof benches[0];
 	if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {

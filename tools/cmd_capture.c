@@ -86,7 +86,7 @@ static int run(pc_capture_opts *o)
 	return status;
 }
 
-int cmd_capture(int argc, char **argv)
+int cli_cmd_capture(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

@@ -112,7 +112,7 @@ static int run_batch(const char *path, unsigned options)
 	return status;
 }
 
-int cmd_decompose(int argc, char **argv)
+int cli_cmd_decompose(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

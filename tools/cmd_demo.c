@@ -63,7 +63,7 @@ static int run(pc_demo_opts *o, const char *out)
 	return rc ? cli_fail(rc, NULL) : CLI_EXIT_OK;
 }
 
-int cmd_demo(int argc, char **argv)
+int cli_cmd_demo(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

@@ -67,7 +67,7 @@ static int list_methods(int json)
 	return CLI_EXIT_OK;
 }
 
-int cmd_demosaic(int argc, char **argv)
+int cli_cmd_demosaic(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

@@ -124,7 +124,7 @@ static int run_check(const char *uri, int fault, long frames, bool finite, bool 
 	return res.failed ? CLI_EXIT_FAILURE : CLI_EXIT_OK;
 }
 
-int cmd_devices(int argc, char **argv)
+int cli_cmd_devices(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

@@ -177,7 +177,7 @@ static int run(const char *const *dirs, size_t ndirs, const char *method_arg,
 	return status;
 }
 
-int cmd_eval(int argc, char **argv)
+int cli_cmd_eval(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

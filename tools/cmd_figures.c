@@ -73,7 +73,7 @@ static int run(const char *dir, bool json)
 	return CLI_EXIT_OK;
 }
 
-int cmd_figures(int argc, char **argv)
+int cli_cmd_figures(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

@@ -114,7 +114,7 @@ static int run(int nargs, char **args, const char *states_path, const char *layo
 	return CLI_EXIT_OK;
 }
 
-int cmd_mueller(int argc, char **argv)
+int cli_cmd_mueller(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

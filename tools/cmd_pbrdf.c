@@ -309,7 +309,7 @@ static int parse_mode(pbrdf_opts *o, int c, const char *arg)
 	return 0;
 }
 
-int cmd_pbrdf(int argc, char **argv)
+int cli_cmd_pbrdf(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

@@ -42,7 +42,7 @@ static void usage(FILE *fp)
 		cli_raw_help);
 }
 
-int cmd_process(int argc, char **argv)
+int cli_cmd_process(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

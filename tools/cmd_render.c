@@ -94,7 +94,7 @@ static int run(const char *out, pc_render_opts *ro, bool json)
 	return CLI_EXIT_OK;
 }
 
-int cmd_render(int argc, char **argv)
+int cli_cmd_render(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

@@ -119,7 +119,7 @@ static int run(const pc_gige_server_options *op, const char *genicam, double dur
 	return CLI_EXIT_OK;
 }
 
-int cmd_serve(int argc, char **argv)
+int cli_cmd_serve(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

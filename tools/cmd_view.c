@@ -72,7 +72,7 @@ static int run(pc_viewer_opts *o)
 	return status;
 }
 
-int cmd_view(int argc, char **argv)
+int cli_cmd_view(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);

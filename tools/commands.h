@@ -1,4 +1,5 @@
-/* tools/commands.h - the polarcam commands, one file per command (cmd_<name>.c). */
+/* tools/commands.h - the polarcam commands, one file per command (cmd_<name>.c defines
+ * cli_cmd_<name>). */
 #ifndef CLI_TOOLS_COMMANDS_H
 #define CLI_TOOLS_COMMANDS_H
 
@@ -27,7 +28,7 @@ typedef struct cli_command {
 	X(serve, "serve the simulator as a GigE Vision camera")                                  \
 	X(bench, "benchmarks: physics, demosaic, render, devices")
 
-#define CLI_COMMAND_DECL(name, summary) int cmd_##name(int argc, char **argv);
+#define CLI_COMMAND_DECL(name, summary) int cli_cmd_##name(int argc, char **argv);
 CLI_COMMANDS(CLI_COMMAND_DECL)
 #undef CLI_COMMAND_DECL
 

@@ -5,7 +5,7 @@
 #include "commands.h"
 
 static const cli_command cli_commands[] = {
-#define CLI_COMMAND_ENTRY(name, summary) { #name, summary, cmd_##name },
+#define CLI_COMMAND_ENTRY(name, summary) { #name, summary, cli_cmd_##name },
 	CLI_COMMANDS(CLI_COMMAND_ENTRY)
 #undef CLI_COMMAND_ENTRY
 };
