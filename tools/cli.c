@@ -272,6 +272,30 @@ int cli_progress_fn(void *user, const char *phase, uint64_t done, uint64_t total
 	return 0;
 }
 
+volatile sig_atomic_t cli_stop_requested;
+
+static void on_signal(int sig)
+{
+	(void)sig;
+	cli_stop_requested = 1;
+}
+
+void cli_catch_signals(void)
+{
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+}
+
+int cli_progress_stoppable(void *user, const char *phase, uint64_t done, uint64_t total)
+{
+	if (user)
+		cli_progress_fn(user, phase, done, total);
+	return cli_stop_requested;
+}
+
 int cli_lines_open(cli_lines *l, const char *path)
 {
 	memset(l, 0, sizeof *l);

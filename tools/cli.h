@@ -4,6 +4,7 @@
 #define CLI_TOOLS_CLI_H
 
 #include <jansson.h>
+#include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -79,6 +80,14 @@ void cli_progress_end(cli_progress *p);
  * cli_progress; each new phase ends the bar of the previous one and starts its own, labelled
  * with the phase. Finish with cli_progress_end. Never asks to stop. */
 int cli_progress_fn(void *user, const char *phase, uint64_t done, uint64_t total);
+
+/* Long commands (capture, view, serve) stop cleanly on SIGINT/SIGTERM: cli_catch_signals()
+ * installs the handlers, which set cli_stop_requested. */
+extern volatile sig_atomic_t cli_stop_requested;
+void cli_catch_signals(void);
+/* cli_progress_fn (user may be NULL: no bar) that asks the library call to stop once a signal
+ * came. */
+int cli_progress_stoppable(void *user, const char *phase, uint64_t done, uint64_t total);
 
 /* Monotonic time in seconds. */
 double cli_now(void);

@@ -1,6 +1,5 @@
 /* polarcam capture: record frames from a source URI as a recording directory
  * (polarcam/capture.h). */
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,14 +10,6 @@
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
 #include "source_cli.h"
-
-static volatile sig_atomic_t capture_stop;
-
-static void on_signal(int sig)
-{
-	(void)sig;
-	capture_stop = 1;
-}
 
 static void usage(FILE *fp)
 {
@@ -52,23 +43,12 @@ static void usage(FILE *fp)
 	    cli_stream_args_help());
 }
 
-/* progress, and the signals' stop */
-static int progress(void *user, const char *phase, uint64_t done, uint64_t total)
-{
-	cli_progress_fn(user, phase, done, total);
-	return capture_stop;
-}
-
 /* the recording and its report */
 static int run(pc_capture_opts *o)
 {
-	struct sigaction sig;
-	memset(&sig, 0, sizeof sig);
-	sig.sa_handler = on_signal;
-	sigaction(SIGINT, &sig, NULL);
-	sigaction(SIGTERM, &sig, NULL);
+	cli_catch_signals();
 	cli_progress bar = { 0 };
-	o->progress = (pc_progress){ progress, &bar };
+	o->progress = (pc_progress){ cli_progress_stoppable, &bar };
 	pc_capture_report rep;
 	int rc = pc_capture(o, &rep);
 	cli_progress_end(&bar);

@@ -1,5 +1,4 @@
 /* polarcam serve: the simulator as a GigE Vision camera (polarcam/gige_server.h). */
-#include <signal.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,14 +9,6 @@
 #include "commands.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
-
-static volatile sig_atomic_t serve_stop;
-
-static void on_signal(int sig)
-{
-	(void)sig;
-	serve_stop = 1;
-}
 
 static void usage(FILE *fp)
 {
@@ -88,15 +79,11 @@ static int run(const pc_gige_server_options *op, const char *genicam, double dur
 	cli_print_json(j);
 	fflush(stdout);
 
-	struct sigaction sa;
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_signal;
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
+	cli_catch_signals();
 	double t0 = cli_now();
 	char msg[256] = "";
 	int err = 0;
-	while (!serve_stop && (duration <= 0 || cli_now() - t0 < duration)) {
+	while (!cli_stop_requested && (duration <= 0 || cli_now() - t0 < duration)) {
 		struct timespec ts = {0, 20000000};
 		nanosleep(&ts, NULL);
 		if ((err = pc_gige_server_error(srv, msg, sizeof msg)))

@@ -1,6 +1,5 @@
 /* polarcam view: a live window of S0, DoLP and AoLP false colour with the frame rate
  * (polarcam/viewer.h). */
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,14 +10,6 @@
 #include "polarcam/gige_server.h"
 #include "polarcam/viewer.h"
 #include "source_cli.h"
-
-static volatile sig_atomic_t view_stop;
-
-static void on_signal(int sig)
-{
-	(void)sig;
-	view_stop = 1;
-}
 
 static void usage(FILE *fp)
 {
@@ -41,22 +32,11 @@ static void usage(FILE *fp)
 	    cli_stream_args_help());
 }
 
-/* the signals' stop */
-static int progress(void *user, const char *phase, uint64_t done, uint64_t total)
-{
-	(void)user, (void)phase, (void)done, (void)total;
-	return view_stop;
-}
-
 /* the window and its report */
 static int run(pc_viewer_opts *o)
 {
-	struct sigaction sig;
-	memset(&sig, 0, sizeof sig);
-	sig.sa_handler = on_signal;
-	sigaction(SIGINT, &sig, NULL);
-	sigaction(SIGTERM, &sig, NULL);
-	o->progress = (pc_progress){ progress, NULL };
+	cli_catch_signals();
+	o->progress = (pc_progress){ cli_progress_stoppable, NULL };
 	pc_viewer_report rep;
 	int rc = pc_viewer_run(o, &rep);
 	pc_devices_shutdown();
