@@ -141,6 +141,19 @@ void pc_retarder_mueller(double angle_rad, double delta_rad, double m[4][4])
 	memcpy(m, r, sizeof r);
 }
 
+void pc_diattenuator_mueller(double angle_rad, double D, double m[4][4])
+{
+	double p = (1 + D) / 2, q = (1 - D) / 2, r = 2 * sqrt(p * q);
+	double c = cos(2 * angle_rad), s = sin(2 * angle_rad);
+	double t[4][4] = { { p + q, (p - q) * c, (p - q) * s, 0 },
+			   { (p - q) * c, (p + q) * c * c + r * s * s, (p + q - r) * c * s, 0 },
+			   { (p - q) * s, (p + q - r) * c * s, (p + q) * s * s + r * c * c, 0 },
+			   { 0, 0, 0, r } };
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			m[i][j] = 0.5 * t[i][j];
+}
+
 void pc_mueller_facet(const double abcs[4], double C1, double S1, double C2, double S2,
                       double M[4][4])
 {

@@ -735,24 +735,6 @@ static int parse_sensor(const pctx *c, json_t *v, pc_sensor_figures *f)
 	return 0;
 }
 
-/* Linear diattenuator with principal intensity transmittances p ≥ q along angle θ and its
- * perpendicular (Goldstein, Polarized Light, 2nd ed., 2003, §5.2: M = R(−θ)·M₀·R(θ) with
- * M₀ = ½[[p+q, p−q, 0, 0], [p−q, p+q, 0, 0], [0, 0, 2√(pq), 0], [0, 0, 0, 2√(pq)]]). Here
- * p + q = 1: unpolarized light keeps half its power, like an ideal polarizer (p = 1, q = 0),
- * and the diattenuation D = (p − q)/(p + q) is the DoLP it gives unpolarized light. */
-static void diattenuator_mueller(double theta, double D, double m[4][4])
-{
-	double p = (1 + D) / 2, q = (1 - D) / 2, r = 2 * sqrt(p * q);
-	double c = cos(2 * theta), s = sin(2 * theta);
-	double t[4][4] = { { p + q, (p - q) * c, (p - q) * s, 0 },
-			   { (p - q) * c, (p + q) * c * c + r * s * s, (p + q - r) * c * s, 0 },
-			   { (p - q) * s, (p + q - r) * c * s, (p + q) * s * s + r * c * c, 0 },
-			   { 0, 0, 0, r } };
-	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++)
-			m[i][j] = 0.5 * t[i][j];
-}
-
 /* One element in front of the camera (a PSA state): "none", {"retarder": {...}},
  * {"polarizer_deg": α}, {"diattenuator": {"angle_deg", "diattenuation"}}, {"mueller": [[4×4]]}
  * or {"chain": [element, ...]} (light passes the first element first). */
@@ -784,7 +766,7 @@ static int parse_element(const pctx *c, json_t *e, const char *p, double m[4][4]
 		double a = 0;
 		if ((rc = pc_json_get_num(&c->js, e, p, "polarizer_deg", PC_JSON_REQUIRED, -360, false, 360, &a)))
 			return rc;
-		diattenuator_mueller(a * DEG, 1, m);
+		pc_diattenuator_mueller(a * DEG, 1, m);
 		return 0;
 	}
 	if (di) {
@@ -795,7 +777,7 @@ static int parse_element(const pctx *c, json_t *e, const char *p, double m[4][4]
 		    (rc = pc_json_get_num(&c->js, di, q, "angle_deg", PC_JSON_REQUIRED, -360, false, 360, &a)) ||
 		    (rc = pc_json_get_num(&c->js, di, q, "diattenuation", PC_JSON_REQUIRED, 0, false, 1, &D)))
 			return rc;
-		diattenuator_mueller(a * DEG, D, m);
+		pc_diattenuator_mueller(a * DEG, D, m);
 		return 0;
 	}
 	if (ch) {

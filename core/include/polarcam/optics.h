@@ -58,6 +58,13 @@ void pc_mueller_rotator(double theta, double M[4][4]);
  * S1 = +1 into S3 = +1. */
 void pc_retarder_mueller(double angle_rad, double delta_rad, double m[4][4]);
 
+/* Linear diattenuator along angle_rad (same convention) with diattenuation D in [0, 1]: principal
+ * intensity transmittances p = (1 + D)/2 and q = (1 − D)/2 (Goldstein, Polarized Light, 2nd ed.,
+ * 2003, §5.2: M = R(−θ)·M₀·R(θ), M₀ = ½[[p+q, p−q, 0, 0], [p−q, p+q, 0, 0], [0, 0, 2√(pq), 0],
+ * [0, 0, 0, 2√(pq)]]). p + q = 1: unpolarized light keeps half its power, like an ideal polarizer
+ * (D = 1), and D is the DoLP it gives unpolarized light. */
+void pc_diattenuator_mueller(double angle_rad, double D, double m[4][4]);
+
 /* R_M(θ_out) · M_F(a, b, c, s) · R_M(θ_in), given cos 2θ and sin 2θ of both rotations: the
  * facet Mueller matrix carried to the macro frames without a complex Kronecker product. */
 void pc_mueller_facet(const double abcs[4], double c2_in, double s2_in, double c2_out,
