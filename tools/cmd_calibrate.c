@@ -13,8 +13,9 @@
 #include "polarcam/error.h"
 #include "polarcam/format.h"
 #include "polarcam/io.h"
+#include "polarcam/folders.h"
 #include "polarcam/recording.h"
-#include "sim_cli.h"
+#include "polarcam/states.h"
 
 static void usage(FILE *fp)
 {
@@ -82,7 +83,7 @@ static int rec_get(void *user, size_t i, pc_view *out)
 static void rec_stimulus(const char *dir, double *angle_deg, double *dolp)
 {
 	char mp[4096];
-	if (pc_path_join(mp, sizeof mp, dir, "meta.json"))
+	if ((size_t)snprintf(mp, sizeof mp, "%s/meta.json", dir) >= sizeof mp)
 		return;
 	json_t *m = json_load_file(mp, 0, NULL);
 	json_t *pm = json_array_get(json_object_get(json_object_get(m, "extra"), "psa_mueller"), 0);
@@ -240,7 +241,7 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 		COLLECT(c->gain[p]);
 		json_object_set_new(o, "gain", stats_json(v, n));
 		if (pic && !rc)
-			rc = pc_write_map(pictures, "gain", pic, W, H, 0.9, 1.1, "Relative gain (flat)",
+			rc = pc_map_write(pictures, "gain", pic, W, H, 0.9, 1.1, "Relative gain (flat)",
 					  "gain");
 	}
 	if (c->analysis) {
@@ -255,14 +256,14 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 			fmax(1e-9, 1 - hypot(a[3 * p + 1], a[3 * p + 2]) / a[3 * p]));
 		json_object_set_new(o, "extinction_ratio", stats_json(v, n));
 		if (pic && !rc)
-			rc = pc_write_map(pictures, "extinction_ratio", pic, W, H, 0, 600,
+			rc = pc_map_write(pictures, "extinction_ratio", pic, W, H, 0, 600,
 					  "Extinction ratio per pixel", "ER");
 		COLLECT(remainder(0.5 * atan2(a[3 * p + 2], a[3 * p + 1]) * 180 / M_PI -
 					  45.0 * pc_mosaic_channel(&c->geo.mosaic, x, y),
 				  180.0));
 		json_object_set_new(o, "orientation_error_deg", stats_json(v, n));
 		if (pic && !rc)
-			rc = pc_write_map(pictures, "orientation_error", pic, W, H, -3, 3,
+			rc = pc_map_write(pictures, "orientation_error", pic, W, H, -3, 3,
 					  "Analyser orientation error (deg)", "deg");
 		if (c->residual) {
 			COLLECT(c->residual[p]);
@@ -699,7 +700,7 @@ static int sub_show(int argc, char **argv)
 	return CLI_EXIT_OK;
 }
 
-int cmd_calibrate(int argc, char **argv)
+int cli_cmd_calibrate(int argc, char **argv)
 {
 	if (argc < 2 || (argc == 2 && cli_wants_help(argc, argv))) {
 		usage(argc < 2 ? stderr : stdout);
