@@ -97,7 +97,7 @@ static int run_batch(const char *path, unsigned options)
 	while ((rc = cli_lines_next(&in, &line)) > 0) {
 		double m[16];
 		pc_lu_chipman lc;
-		rc = cli_parse_fields(line, pc_m_names, 16, m);
+		rc = cli_parse_fields_n(line, in.len, pc_m_names, 16, m);
 		if (!rc)
 			rc = pc_lu_chipman_decompose((const double(*)[4])m, options, &lc);
 		if (rc) {

@@ -182,7 +182,7 @@ static int run_batch(const char *path, const pbrdf_opts *o)
 	while ((rc = cli_lines_next(&in, &line)) > 0) {
 		double v[6];
 		const pc_pbrdf *p = NULL;
-		rc = cli_parse_fields(line, names, 6, v);
+		rc = cli_parse_fields_n(line, in.len, names, 6, v);
 		if (!rc)
 			rc = check_theta("theta_i", v[3]);
 		if (!rc)
