@@ -2,6 +2,7 @@
 #include "polarcam/io.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -26,7 +27,17 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 	const char *slash = strrchr(path, '/');
 	size_t dir = slash ? (size_t)(slash - path + 1) : 0;
 	memcpy(af->tmp_path, path, dir);
-	snprintf(af->tmp_path + dir, n + 32 - dir, ".%s.tmpXXXXXX", path + dir);
+	/* ".NAME.tmpXXXXXX" must itself be a legal name: NAME is cut (at a UTF-8 character
+	 * boundary) so that the temporary name stays within NAME_MAX bytes even when NAME, legal
+	 * itself, is up to NAME_MAX long; mkstemp's XXXXXX keep it unique. */
+	size_t base = n - dir, keep = base;
+	const size_t decor = strlen("..tmpXXXXXX");
+	if (keep + decor > NAME_MAX) {
+		keep = NAME_MAX - decor;
+		while (keep > 0 && ((unsigned char)path[dir + keep] & 0xc0) == 0x80)
+			keep--;
+	}
+	snprintf(af->tmp_path + dir, n + 32 - dir, ".%.*s.tmpXXXXXX", (int)keep, path + dir);
 	int fd = mkstemp(af->tmp_path);
 	if (fd < 0) {
 		int e = errno;

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_internal.h"
 #include "polarcam/error.h"
 
 static uint32_t le32(const uint8_t *p)
@@ -79,6 +80,17 @@ int pc_bmp_read(const char *path, pc_view *out)
 		}
 	}
 	size_t row_bytes = ((size_t)width * bpp / 8 + 3) / 4 * 4;
+	/* before allocating from the header: the limits, and the file must hold every row */
+	if ((rc = pc_io_check_image(path, width, height, (uint64_t)width * height)))
+		goto out;
+	const uint64_t fsize = pc_io_file_size(fp);
+	if (fsize != UINT64_MAX && (data_off > fsize || (uint64_t)row_bytes * height > fsize - data_off)) {
+		rc = pc_error(PC_EFORMAT, "%s: truncated BMP: %u rows of %zu bytes from offset %u need "
+					  "%llu bytes, the file has %llu", path, height, row_bytes,
+			      data_off, (unsigned long long)data_off + (uint64_t)row_bytes * height,
+			      (unsigned long long)fsize);
+		goto out;
+	}
 	row = malloc(row_bytes);
 	if (!row) {
 		rc = pc_error(PC_ENOMEM, "%s", path);

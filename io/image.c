@@ -3,9 +3,11 @@
 #include <errno.h>
 #include <float.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_internal.h"
 #include "polarcam/error.h"
 
 static int has_suffix(const char *s, const char *suf)
@@ -53,10 +55,12 @@ static int read_npy_image(const char *path, pc_view *out, unsigned *sbits)
 			float *d = (float *)dst;
 			for (size_t x = 0; x < w; x++) {
 				if (isfinite(s[x]) && fabs(s[x]) > FLT_MAX) {
+					/* the message first: s points into the array freed below */
+					rc = pc_error(PC_ERANGE, "%s: pixel (%zu,%u) = %g does not fit "
+								 "float32", path, x, y, s[x]);
 					pc_array_free(&a);
 					pc_view_free(out);
-					return pc_error(PC_ERANGE, "%s: pixel (%zu,%u) = %g does not fit "
-								   "float32", path, x, y, s[x]);
+					return rc;
 				}
 				d[x] = (float)s[x];
 			}
@@ -89,29 +93,57 @@ static int read_raw(const char *path, const pc_raw_geometry *g, pc_view *out, un
 		return pc_error_prefix(rc, "%s: ", path);
 	if (g->height == 0)
 		return pc_error(PC_EINVAL, "%s: raw height 0", path);
-	size_t stride = g->stride ? g->stride : row;
+	const uint64_t stride = g->stride ? g->stride : row;
 	if (stride < row)
-		return pc_error(PC_EINVAL, "%s: raw stride %zu below the row size %zu", path, stride, row);
+		return pc_error(PC_EINVAL, "%s: raw stride %llu below the row size %zu", path,
+				(unsigned long long)stride, row);
 	FILE *fp = fopen(path, "rb");
 	if (!fp)
 		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", path, strerror(errno));
+	/* The geometry must lie inside the file: offset + (height − 1)·stride + row bytes, every
+	 * step checked for overflow (a stride of 2^64 − 1 must not wrap round to a small one). */
+	const uint64_t fsize = pc_io_file_size(fp);
+	const uint64_t h1 = (uint64_t)g->height - 1;
+	uint64_t need = 0;
+	bool over = (h1 && stride > (UINT64_MAX - row) / h1);
+	if (!over) {
+		need = h1 * stride + row;
+		over = g->offset > UINT64_MAX - need || g->offset + need > (uint64_t)INT64_MAX;
+	}
+	if (over || (fsize != UINT64_MAX && g->offset + need > fsize)) {
+		char needs[48] = "more than 2^63", have[48] = "";
+		if (!over)
+			snprintf(needs, sizeof needs, "%llu", (unsigned long long)(g->offset + need));
+		if (fsize != UINT64_MAX)
+			snprintf(have, sizeof have, ", the file has %llu", (unsigned long long)fsize);
+		fclose(fp);
+		return pc_error(PC_EFORMAT, "%s: %s: a %ux%u %s raw at offset %llu with stride %llu "
+					    "needs %s bytes%s", path,
+				over ? "geometry beyond any file" : "truncated", g->width, g->height,
+				fi->name,
+				(unsigned long long)g->offset, (unsigned long long)stride, needs,
+				have);
+	}
+	if ((rc = pc_io_check_image(path, g->width, g->height, (uint64_t)row * g->height))) {
+		fclose(fp);
+		return rc;
+	}
 	rc = pc_view_alloc(out, g->format, g->width, g->height, 1);
 	if (rc) {
 		fclose(fp);
 		return pc_error_prefix(rc, "%s: ", path);
 	}
-	if (fseek(fp, (long)g->offset, SEEK_SET) != 0) {
-		rc = pc_error(PC_EFORMAT, "%s: cannot seek to offset %zu", path, g->offset);
-		goto fail;
-	}
 	for (uint32_t y = 0; y < g->height; y++) {
-		if (fread(PC_ROW(out, uint8_t, y), 1, row, fp) != row) {
-			rc = pc_error(PC_EFORMAT, "%s: truncated at row %u of %u (%ux%u %s, offset %zu)",
-				      path, y, g->height, g->width, g->height, fi->name, g->offset);
+		const uint64_t pos = g->offset + (uint64_t)y * stride;
+		if ((y == 0 || stride > row) && fseeko(fp, (off_t)pos, SEEK_SET) != 0) {
+			rc = pc_error(PC_EFORMAT, "%s: cannot seek to byte %llu (row %u)", path,
+				      (unsigned long long)pos, y);
 			goto fail;
 		}
-		if (stride > row && y + 1 < g->height && fseek(fp, (long)(stride - row), SEEK_CUR)) {
-			rc = pc_error(PC_EFORMAT, "%s: truncated in row padding", path);
+		if (fread(PC_ROW(out, uint8_t, y), 1, row, fp) != row) {
+			rc = pc_error(PC_EFORMAT, "%s: truncated at row %u of %u (%ux%u %s, offset %llu)",
+				      path, y, g->height, g->width, g->height, fi->name,
+				      (unsigned long long)g->offset);
 			goto fail;
 		}
 	}
@@ -162,9 +194,24 @@ int pc_image_read_mosaic(const char *path, const pc_raw_geometry *geometry, unsi
 			return pc_error(PC_EFORMAT, "%s: holds float32 data, not %u-bit integers (wrong "
 						    "bit depth)", path, bits);
 		}
+		/* finiteness was checked by the reader; the magnitude here (io_internal.h) */
+		for (uint32_t y = 0; y < out->height; y++) {
+			const float *r = PC_ROW(out, const float, y);
+			for (uint32_t x = 0; x < out->width; x++)
+				if (!(fabsf(r[x]) <= PC_RAW_FLOAT_MAX)) {
+					double v = r[x];
+					pc_view_free(out);
+					return pc_error(PC_ERANGE, "%s: pixel (%u,%u) = %g: a float raw "
+								   "holds intensities relative to a full "
+								   "scale of 1.0 and must stay within "
+								   "+-2^24 (%.4g), where demosaicking and "
+								   "Stokes in float32 cannot overflow",
+							path, x, y, v, (double)PC_RAW_FLOAT_MAX);
+				}
+		}
 		if (bits_out)
 			*bits_out = 32;
-		return 0; /* finiteness was checked by the reader */
+		return 0;
 	}
 	unsigned container = fi->bits;
 	if (bits == 0)

@@ -1,9 +1,11 @@
 #include "polarcam/io.h"
 
 #include <errno.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_internal.h"
 #include "polarcam/error.h"
 
 /* NumPy .npy format: numpy/lib/format.py docs (NEP 1). Magic "\x93NUMPY", version, header
@@ -185,40 +187,94 @@ int pc_npy_read(const char *path, pc_array *out)
 		goto out;
 	}
 	sh++;
-	size_t count = 1;
-	while (*sh && *sh != ')') {
-		while (*sh == ' ' || *sh == ',')
+	/* (N,) (N, M) ...: decimal dimensions, commas, spaces, the closing parenthesis */
+	bool closed = false;
+	while (*sh) {
+		while (*sh == ' ')
 			sh++;
-		if (*sh == ')')
+		if (*sh == ')') {
+			closed = true;
 			break;
-		char *end;
-		unsigned long long v = strtoull(sh, &end, 10);
-		if (end == sh || out->ndim >= 4) {
+		}
+		if (*sh < '0' || *sh > '9' || out->ndim >= 4) {
 			rc = pc_error(PC_EFORMAT, "%s: shape not understood or more than 4 dimensions",
 				      path);
 			goto out;
 		}
-		out->shape[out->ndim++] = (size_t)v;
-		if (v && count > SIZE_MAX / 16 / v) {
-			rc = pc_error(PC_EOVERFLOW, "%s: array size overflows", path);
+		uint64_t v = 0;
+		for (; *sh >= '0' && *sh <= '9'; sh++) {
+			if (v > (UINT64_MAX - 9) / 10) {
+				rc = pc_error(PC_EFORMAT, "%s: shape dimension %u too large", path,
+					      out->ndim);
+				goto out;
+			}
+			v = v * 10 + (uint64_t)(*sh - '0');
+		}
+		if (v > SIZE_MAX) {
+			rc = pc_error(PC_EFORMAT, "%s: shape dimension %u too large", path, out->ndim);
 			goto out;
 		}
-		count *= (size_t)v;
-		sh = end;
+		out->shape[out->ndim++] = (size_t)v;
+		while (*sh == ' ')
+			sh++;
+		if (*sh == ',')
+			sh++;
+		else if (*sh != ')') {
+			rc = pc_error(PC_EFORMAT, "%s: malformed shape in .npy header", path);
+			goto out;
+		}
+	}
+	if (!closed) {
+		rc = pc_error(PC_EFORMAT, "%s: malformed shape in .npy header (no ')')", path);
+		goto out;
 	}
 	if (out->ndim == 0) {
 		rc = pc_error(PC_EFORMAT, "%s: 0-dimensional arrays are not images", path);
 		goto out;
 	}
-	size_t bytes = count * dtype_size(out->dtype);
-	out->data = malloc(bytes ? bytes : 1);
-	if (!out->data) {
-		rc = pc_error(PC_ENOMEM, "%s: %zu bytes", path, bytes);
+	/* sizes from the header are checked before anything is allocated: against the length of
+	 * the file (a header cannot promise more data than follows it), then against the limits */
+	const size_t esize = dtype_size(out->dtype);
+	uint64_t count = 1;
+	bool overflow = false;
+	for (unsigned i = 0; i < out->ndim; i++) {
+		uint64_t v = out->shape[i];
+		if (v && count > UINT64_MAX / esize / v)
+			overflow = true;
+		else
+			count *= v;
+	}
+	if (overflow) {
+		rc = pc_error(PC_EFORMAT, "%s: the header's shape needs more than 2^64 bytes", path);
 		goto out;
 	}
-	if (fread(out->data, 1, bytes, fp) != bytes) {
-		rc = pc_error(PC_EFORMAT, "%s: truncated: the header promises %zu data bytes", path,
-			      bytes);
+	const uint64_t bytes = count * esize;
+	const uint64_t data_off = (pre[6] == 1 ? 10 : 12) + (uint64_t)hlen;
+	const uint64_t fsize = pc_io_file_size(fp);
+	if (fsize != UINT64_MAX && (fsize < data_off || fsize - data_off < bytes)) {
+		rc = pc_error(PC_EFORMAT, "%s: truncated: the header promises %llu data bytes, the "
+					  "file holds %llu", path, (unsigned long long)bytes,
+			      (unsigned long long)(fsize > data_off ? fsize - data_off : 0));
+		goto out;
+	}
+	{
+		uint64_t h = out->shape[0], w = out->ndim > 1 ? out->shape[1] : 1;
+		if ((rc = pc_io_check_image(path, w, h, bytes)))
+			goto out;
+	}
+	if (bytes > SIZE_MAX) {
+		rc = pc_error(PC_ERANGE, "%s: %llu bytes do not fit this machine's address space",
+			      path, (unsigned long long)bytes);
+		goto out;
+	}
+	out->data = malloc(bytes ? (size_t)bytes : 1);
+	if (!out->data) {
+		rc = pc_error(PC_ENOMEM, "%s: %llu bytes", path, (unsigned long long)bytes);
+		goto out;
+	}
+	if (fread(out->data, 1, (size_t)bytes, fp) != bytes) {
+		rc = pc_error(PC_EFORMAT, "%s: truncated: the header promises %llu data bytes", path,
+			      (unsigned long long)bytes);
 		goto out;
 	}
 out:

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_internal.h"
 #include "polarcam/error.h"
 
 /* libpng's error callback: keep the message, longjmp back to the caller. */
@@ -140,6 +141,9 @@ int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits)
 		return pc_error(PC_EFORMAT, "%s: not a valid PNG or truncated: %s", path, ctx.msg);
 	}
 	png_init_io(png, fp);
+	/* libpng's own dimension limit (default 10^6 per side) only as a backstop: the pixel and
+	 * byte limits are checked below, before anything is decoded */
+	png_set_user_limits(png, 0x7fffffffu, 0x7fffffffu);
 	png_read_info(png, info);
 	png_uint_32 w, h;
 	int depth, ctype, ilace;
@@ -149,6 +153,27 @@ int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits)
 		fclose(fp);
 		return pc_error(PC_EFORMAT, "%s: a colour PNG (type %d); raw mosaics are single-channel "
 					    "grey", path, ctype);
+	}
+	/* Before decoding: the limits, and the file's length. The filtered rows (a filter byte and
+	 * ceil(w·depth/8) bytes each) are deflate-compressed, and deflate cannot do better than
+	 * 1032:1 (a 258-byte match in two 1-bit codes, RFC 1951), so a file shorter than that
+	 * fraction of them cannot hold the image its header declares. */
+	{
+		const uint64_t out_bytes = (uint64_t)w * h * (depth == 16 ? 2u : 1u);
+		const uint64_t filtered = (uint64_t)h * (1 + ((uint64_t)w * (unsigned)depth + 7) / 8);
+		const uint64_t fsize = pc_io_file_size(fp);
+		int lrc = pc_io_check_image(path, w, h, out_bytes);
+		if (!lrc && fsize != UINT64_MAX && fsize < filtered / 1032)
+			lrc = pc_error(PC_EFORMAT, "%s: truncated: a %ux%u %d-bit PNG needs at least "
+						   "%llu bytes even at deflate's maximum compression, "
+						   "the file has %llu", path, (unsigned)w, (unsigned)h,
+				       depth, (unsigned long long)(filtered / 1032),
+				       (unsigned long long)fsize);
+		if (lrc) {
+			png_destroy_read_struct(&png, &info, NULL);
+			fclose(fp);
+			return lrc;
+		}
 	}
 	if (depth < 8)
 		png_set_expand_gray_1_2_4_to_8(png);

@@ -14,10 +14,13 @@
 #include <sys/stat.h>
 #include <tiffio.h>
 
+#include "io_internal.h"
 #include "polarcam/error.h"
+#include "polarcam/limits.h"
 
 typedef struct tiff_ctx {
 	char msg[256];
+	uint64_t file_size; /* of the file being read (UINT64_MAX: unknown) */
 } tiff_ctx;
 
 static int tiff_on_error(TIFF *t, void *ud, const char *module, const char *fmt, va_list ap)
@@ -47,7 +50,32 @@ static TIFFOpenOptions *tiff_options(tiff_ctx *c)
 		return NULL;
 	TIFFOpenOptionsSetErrorHandlerExtR(o, tiff_on_error, c);
 	TIFFOpenOptionsSetWarningHandlerExtR(o, tiff_on_warning, c);
+	/* libtiff's own allocations (directories, strip tables, codec buffers) stay within the
+	 * byte limit too (polarcam/limits.h) */
+	uint64_t lim = pc_limit_get(PC_LIMIT_BYTES);
+	TIFFOpenOptionsSetMaxSingleMemAlloc(o, lim > (uint64_t)INT64_MAX ? INT64_MAX : (tmsize_t)lim);
 	return o;
+}
+
+/* The most a codec can expand its input (bytes out per byte in), to check a file's length
+ * against its header before allocating: 0 when unknown (no check). Deflate: 1032:1 (RFC 1951:
+ * a 258-byte match in two 1-bit codes); PackBits: 128 bytes from a 2-byte run; LZW (TIFF 6.0
+ * §13): a code of at least 9 bits stands for at most 4094 − 258 bytes between table resets. */
+static uint64_t tiff_max_ratio(uint16_t compression)
+{
+	switch (compression) {
+	case COMPRESSION_NONE:
+		return 1;
+	case COMPRESSION_ADOBE_DEFLATE:
+	case COMPRESSION_DEFLATE:
+		return 1032;
+	case COMPRESSION_PACKBITS:
+		return 64;
+	case COMPRESSION_LZW:
+		return 3836 * 8 / 9 + 1;
+	default:
+		return 0;
+	}
 }
 
 typedef struct tiff_info {
@@ -64,6 +92,7 @@ static int tiff_open_read(const char *path, tiff_ctx *c, TIFF **out, tiff_info *
 	FILE *probe = fopen(path, "rb");
 	if (!probe)
 		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", path, strerror(errno));
+	c->file_size = pc_io_file_size(probe);
 	fclose(probe);
 	TIFFOpenOptions *o = tiff_options(c);
 	if (!o)
@@ -100,10 +129,18 @@ static int tiff_open_read(const char *path, tiff_ctx *c, TIFF **out, tiff_info *
 		rc = pc_error(PC_EFORMAT, "%s: planar (separate) TIFF samples are not supported", path);
 		goto fail;
 	}
-	if (photo == PHOTOMETRIC_MINISWHITE || photo == PHOTOMETRIC_PALETTE) {
+	/* A colour map makes the samples indices into it (a palette image), whatever the
+	 * photometric tag says or when it is missing (libtiff then guesses min-is-black). */
+	uint16_t *cmap[3];
+	if (TIFFGetField(t, TIFFTAG_COLORMAP, &cmap[0], &cmap[1], &cmap[2]))
+		photo = PHOTOMETRIC_PALETTE;
+	if (photo != PHOTOMETRIC_MINISBLACK && !(photo == PHOTOMETRIC_RGB && spp >= 3)) {
+		static const char *const names[] = { "min-is-white", "min-is-black", "RGB", "palette",
+						     "mask", "separated (CMYK)", "YCbCr" };
 		rc = pc_error(PC_EFORMAT, "%s: TIFF photometric interpretation %u (%s): expected "
-					  "min-is-black grey data", path, photo,
-			      photo == PHOTOMETRIC_PALETTE ? "palette" : "min-is-white");
+					  "min-is-black grey data%s", path, photo,
+			      photo < 7 ? names[photo] : "other",
+			      spp >= 3 ? " or RGB" : "");
 		goto fail;
 	}
 	if (sfmt == SAMPLEFORMAT_UINT && (bps == 8 || bps == 16)) {
@@ -118,6 +155,40 @@ static int tiff_open_read(const char *path, tiff_ctx *c, TIFF **out, tiff_info *
 		rc = pc_error(PC_EFORMAT, "%s: TIFF with %u-bit %s samples: expected 8- or 16-bit "
 					  "unsigned or 32-bit float", path, bps, kind);
 		goto fail;
+	}
+	/* Before allocating from the header's sizes: the limits, then the file's length, which must
+	 * hold the strips or tiles (their byte counts times the codec's largest expansion must
+	 * cover the image; every strip must lie inside the file). */
+	{
+		const uint64_t bytes = (uint64_t)w * h * spp * (bps / 8);
+		if ((rc = pc_io_check_image(path, w, h, bytes)))
+			goto fail;
+		uint16_t comp = COMPRESSION_NONE;
+		TIFFGetFieldDefaulted(t, TIFFTAG_COMPRESSION, &comp);
+		const uint64_t ratio = tiff_max_ratio(comp);
+		const uint64_t fsize = c->file_size;
+		const uint32_t n = TIFFIsTiled(t) ? TIFFNumberOfTiles(t) : TIFFNumberOfStrips(t);
+		uint64_t stored = 0;
+		for (uint32_t i = 0; i < n; i++) {
+			int err = 0;
+			uint64_t off = TIFFGetStrileOffsetWithErr(t, i, &err);
+			uint64_t cnt = err ? 0 : TIFFGetStrileByteCountWithErr(t, i, &err);
+			if (err || (fsize != UINT64_MAX && (off > fsize || cnt > fsize - off))) {
+				rc = pc_error(PC_EFORMAT, "%s: truncated: TIFF %s %u lies beyond the "
+							  "end of the file", path,
+					      TIFFIsTiled(t) ? "tile" : "strip", i);
+				goto fail;
+			}
+			stored += cnt;
+		}
+		if (ratio && stored < (bytes + ratio - 1) / ratio) {
+			rc = pc_error(PC_EFORMAT, "%s: truncated: a %ux%u TIFF of %u x %u-bit samples "
+						  "needs %llu bytes, its %s hold %llu", path, w, h, spp,
+				      bps, (unsigned long long)((bytes + ratio - 1) / ratio),
+				      TIFFIsTiled(t) ? "tiles" : "strips",
+				      (unsigned long long)stored);
+			goto fail;
+		}
 	}
 	info->width = w;
 	info->height = h;
@@ -150,12 +221,15 @@ static int tiff_read_pixels(TIFF *t, tiff_ctx *c, const char *path, const tiff_i
 	TIFFGetField(t, TIFFTAG_TILEWIDTH, &tw);
 	TIFFGetField(t, TIFFTAG_TILELENGTH, &th);
 	tmsize_t tsize = TIFFTileSize(t);
-	if (tw == 0 || th == 0 || tsize <= 0)
-		return pc_error(PC_EFORMAT, "%s: TIFF with invalid tiles", path);
+	size_t px = row_bytes / info->width;
+	/* the copy below reads th rows of tw·px bytes from each tile: the decoded tile must hold
+	 * exactly that (subsampled YCbCr tiles, for one, are smaller) */
+	if (tw == 0 || th == 0 || tsize <= 0 || (uint64_t)tw * th * px != (uint64_t)tsize)
+		return pc_error(PC_EFORMAT, "%s: TIFF with invalid tiles (%ux%u, %lld bytes each for "
+					    "%zu bytes per pixel)", path, tw, th, (long long)tsize, px);
 	uint8_t *tile = malloc((size_t)tsize);
 	if (!tile)
 		return pc_error(PC_ENOMEM, "%s: tile buffer of %lld bytes", path, (long long)tsize);
-	size_t px = row_bytes / info->width;
 	for (uint32_t ty = 0; ty < info->height; ty += th)
 		for (uint32_t tx = 0; tx < info->width; tx += tw) {
 			if (TIFFReadTile(t, tile, tx, ty, 0, 0) < 0) {
@@ -182,7 +256,7 @@ static size_t dtype_bytes(pc_dtype t)
 int pc_tiff_read(const char *path, pc_view *out, unsigned *significant_bits)
 {
 	memset(out, 0, sizeof *out);
-	tiff_ctx c = { { 0 } };
+	tiff_ctx c = { { 0 }, UINT64_MAX };
 	TIFF *t;
 	tiff_info info;
 	int rc = tiff_open_read(path, &c, &t, &info);
@@ -220,7 +294,7 @@ int pc_tiff_read(const char *path, pc_view *out, unsigned *significant_bits)
 int pc_tiff_read_array(const char *path, pc_array *out)
 {
 	memset(out, 0, sizeof *out);
-	tiff_ctx c = { { 0 } };
+	tiff_ctx c = { { 0 }, UINT64_MAX };
 	TIFF *t;
 	tiff_info info;
 	int rc = tiff_open_read(path, &c, &t, &info);
@@ -312,7 +386,7 @@ static int tiff_write_rows(const char *path, uint32_t width, uint32_t height, ui
 	int rc = pc_atomic_open(&af, path);
 	if (rc)
 		return rc;
-	tiff_ctx c = { { 0 } };
+	tiff_ctx c = { { 0 }, UINT64_MAX };
 	TIFFOpenOptions *o = tiff_options(&c);
 	TIFF *t = o ? TIFFClientOpenExt(path, "w", (thandle_t)af.fp, fp_read, fp_write, fp_seek,
 					fp_close, fp_size, fp_map, fp_unmap, o)
