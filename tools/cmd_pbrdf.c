@@ -12,8 +12,6 @@
 #include "polarcam/optics.h"
 #include "polarcam/pbrdf.h"
 
-#define DEG (PC_PI / 180)
-
 static void usage(FILE *fp)
 {
 	fprintf(
@@ -41,7 +39,10 @@ static void usage(FILE *fp)
 	    "0).\n"
 	    "rho_s is the specular albedo used in the diffuse term (null for --diffuse none).\n"
 	    "flags: \"outside_validity\" (sigma > 0.5), \"mirror\" (sigma < 0.01: rho_s is the\n"
-	    "Fresnel mirror limit), \"below_horizon\", \"D_singular\".\n"
+	    "Fresnel mirror limit), \"below_horizon\" (theta = 90: the matrix is 0), \"zero\" (the\n"
+	    "matrix is 0 above the horizon: off the specular lobe without a diffuse term),\n"
+	    "\"D_singular\". sigma must be at least 1e-50 (below it the specular peak leaves the\n"
+	    "double range); angles are exact at multiples of 90 degrees.\n"
 	    "\n"
 	    "options:\n"
 	    "  --n N             refractive index n > 0 of n~ = n - ik\n"
@@ -116,7 +117,7 @@ static json_t *evaluate(const pc_pbrdf *p, double ti_deg, double tr_deg, double 
 {
 	const pc_material *m = pc_pbrdf_material(p);
 	double f[4][4];
-	pc_pbrdf_eval(p, ti_deg * DEG, tr_deg * DEG, phi_deg * DEG, f);
+	pc_pbrdf_eval_deg(p, ti_deg, tr_deg, phi_deg, f);
 	json_t *flags = json_array();
 	if (pc_pbrdf_flags(p) & PC_PBRDF_OUTSIDE_VALIDITY)
 		json_array_append_new(flags, json_string("outside_validity"));
@@ -134,10 +135,16 @@ static json_t *evaluate(const pc_pbrdf *p, double ti_deg, double tr_deg, double 
 				json_array_append_new(flags, json_string("D_singular"));
 		}
 	} else {
-		json_array_append_new(flags, json_string("below_horizon"));
+		/* all zero: at or below the horizon, or (without a diffuse term) off the lobe */
+		double st, ct, sr, cr;
+		pc_sincos_deg(ti_deg, &st, &ct);
+		pc_sincos_deg(tr_deg, &sr, &cr);
+		bool horizon = !(ct > PC_PBRDF_COS_HORIZON) || !(cr > PC_PBRDF_COS_HORIZON);
+		json_array_append_new(flags, json_string(horizon ? "below_horizon" : "zero"));
 	}
-	double rho =
-	    m->diffuse == PC_DIFFUSE_NONE ? NAN : pc_pbrdf_rho_s_fast(p, cos(ti_deg * DEG));
+	double sti, cti;
+	pc_sincos_deg(ti_deg, &sti, &cti);
+	double rho = m->diffuse == PC_DIFFUSE_NONE ? NAN : pc_pbrdf_rho_s_fast(p, cti);
 	json_t *o = json_object();
 	if (line)
 		json_object_set_new(o, "line", json_integer((json_int_t)line));

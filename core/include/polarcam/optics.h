@@ -131,6 +131,12 @@ double pc_mueller_depol_index(const double M[4][4]);
  * Lu–Chipman fast path; tested against libm. atan2(0, 0) = 0. Non-finite input gives NaN. */
 double pc_atan2(double y, double x);
 
+/* sin and cos of an angle in degrees, exact where the value is: multiples of 90° give exactly
+ * 0 and ±1 (sin(π) in radians is 1.2e-16, which moves a lobe of width σ = 1e-20 off the exact
+ * specular direction Δφ = 180°). The angle is reduced exactly (fmod, then the nearest multiple
+ * of 90°) before one call of sin and cos on |x| ≤ 45°. Non-finite input gives NaN. */
+void pc_sincos_deg(double deg, double *s, double *c);
+
 #ifdef __cplusplus
 }
 #endif

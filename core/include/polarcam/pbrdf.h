@@ -52,6 +52,12 @@ void pc_pbrdf_free(pc_pbrdf *p);
  * physics.md §1. */
 int pc_pbrdf_eval(const pc_pbrdf *p, double theta_i, double theta_r, double dphi, double f[4][4]);
 
+/* The same with the three angles in degrees, their sines and cosines exact at multiples of 90°
+ * (pc_sincos_deg): the exact specular direction Δφ = 180°, θ_i = θ_r is hit exactly, which
+ * matters for narrow lobes (σ = 1e-20 has a lobe 1e-20 rad wide; sin(π) in radians is 1e-16). */
+int pc_pbrdf_eval_deg(const pc_pbrdf *p, double theta_i_deg, double theta_r_deg,
+                      double dphi_deg, double f[4][4]);
+
 /* The same from unit vectors in a local frame whose +z is the macro surface normal: k_i, k_r as
  * above; s_i ⟂ k_i and s_r ⟂ k_r are unit s-vectors of the caller's Stokes frames (any
  * orientation; physics.md §2 with s_Mi, s_Mr replaced by them). Returns an all-zero matrix
@@ -72,6 +78,14 @@ double pc_pbrdf_rho_s(const pc_pbrdf *p, double theta_i);
  * integrand is a delta-like lobe and ρ^s equals its σ → 0 limit to 2e-4. The pointwise BRDF is
  * still the formula (a very narrow lobe); renderers may prefer pc_pbrdf_mirror(). */
 #define PC_PBRDF_SIGMA_MIRROR 0.01
+/* Smallest σ pc_pbrdf_new accepts: the specular peak 1/(8πσ²)·G/(cos⁴θ_N cosθ_i cosθ_r) must
+ * stay within the double range for every direction above PC_PBRDF_COS_HORIZON (derivation:
+ * docs/physics-notes.md, hard cases). Smaller σ is refused (PC_ERANGE); it is a mirror
+ * (pc_pbrdf_mirror). */
+#define PC_PBRDF_SIGMA_MIN 1e-50
+/* Directions with cosθ ≤ this count as at the horizon (all-zero matrix): without shadowing
+ * K ∝ 1/(cosθ_i cosθ_r) would overflow closer to it. */
+#define PC_PBRDF_COS_HORIZON 1e-60
 /* Above this σ the single-scattering V-groove model loses energy: outside its validity. */
 #define PC_PBRDF_SIGMA_VALID_MAX 0.5
 /* σ range of the PC_RHO_TABLE grid (32 log-spaced nodes) and its cosθ_i nodes. */
