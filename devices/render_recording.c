@@ -223,8 +223,15 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 	if (!rc) {
 		pc_sim_get_info(j.sim, &j.in);
 		j.frames = o->frames ? o->frames : j.in.n_states;
-		rc = start(&j);
+		/* refused before anything is written: frame numbers and timestamps that meta.json
+		 * cannot hold, and a render that cannot fit in memory */
+		if ((rc = pc_sim_check_frames(j.sim, o->first, j.frames)))
+			pc_error_prefix(rc, "--first/--frames: ");
+		else if ((rc = pc_sim_check_memory(j.sim, o->truth)))
+			pc_error_prefix(rc, "%s: ", o->scene_path ? o->scene_path : "default scene");
 	}
+	if (!rc)
+		rc = start(&j);
 	if (!rc)
 		rc = prepare(&j);
 	if (!rc)

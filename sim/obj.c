@@ -2,12 +2,15 @@
  * negative indices relative); everything else (vt, g, o, s, usemtl, mtllib, l, p) is ignored.
  * Errors name the file and line. */
 #include <errno.h>
+#include <limits.h>
+#include <stdbool.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "polarcam/error.h"
+#include "polarcam/limits.h"
 #include "scene_impl.h"
 
 #define OBJ_MAX_ELEMS (1u << 26)
@@ -45,35 +48,60 @@ void pc_mesh_free(pc_mesh *m)
 	free(m);
 }
 
-/* Parses "a", "a/b", "a/b/c" or "a//c"; returns 0 and the 0-based vertex/normal indices
- * (normal −1 when absent). */
+/* An OBJ index: optional '-', decimal digits; *end after it. 0 and *out, or -1. */
+static int parse_index(const char *p, long *out, const char **end)
+{
+	const char *q = p;
+	bool neg = *q == '-';
+	if (neg)
+		q++;
+	if (*q < '0' || *q > '9')
+		return -1;
+	long v = 0;
+	for (; *q >= '0' && *q <= '9'; q++) {
+		if (v > (LONG_MAX - 9) / 10)
+			return -1;
+		v = v * 10 + (*q - '0');
+	}
+	*out = neg ? -v : v;
+	*end = q;
+	return 0;
+}
+
+/* Parses "a", "a/b", "a/b/c" or "a//c" (nothing else in the token); returns 0 and the 0-based
+ * vertex/normal indices (normal −1 when absent). */
 static int parse_face_vertex(const char *tok, size_t nv, size_t nn, long *vi, long *ni,
 			     const char **why)
 {
-	char *end;
-	errno = 0;
-	long v = strtol(tok, &end, 10);
-	if (end == tok || errno) {
+	const char *p;
+	long v, t, n = 0;
+	if (parse_index(tok, &v, &p)) {
 		*why = "not an integer vertex index";
 		return -1;
 	}
-	long n = 0;
-	if (*end == '/') {
-		const char *p = end + 1;
-		if (*p != '/') { /* texture index: skip */
-			strtol(p, &end, 10);
-			p = end;
+	if (*p == '/') {
+		p++;
+		if (*p != '/' && parse_index(p, &t, &p)) { /* texture index: checked, unused */
+			*why = "not an integer texture index after '/'";
+			return -1;
 		}
 		if (*p == '/') {
 			p++;
-			n = strtol(p, &end, 10);
-			if (end == p) {
-				*why = "missing normal index after '//'";
+			if (parse_index(p, &n, &p)) {
+				*why = "not an integer normal index after the second '/'";
+				return -1;
+			}
+			if (n == 0) {
+				*why = "normal index 0 (OBJ indices start at 1)";
 				return -1;
 			}
 		}
 	}
-	if (v < 0)
+	if (*p) {
+		*why = "unexpected characters after the indices (expected v, v/vt, v/vt/vn or v//vn)";
+		return -1;
+	}
+	if (v < 0 && (size_t)(-v) <= nv)
 		v = (long)nv + v + 1;
 	if (v < 1 || (size_t)v > nv) {
 		*why = "vertex index out of range";
@@ -81,7 +109,7 @@ static int parse_face_vertex(const char *tok, size_t nv, size_t nn, long *vi, lo
 	}
 	*vi = v - 1;
 	if (n) {
-		if (n < 0)
+		if (n < 0 && (size_t)(-n) <= nn)
 			n = (long)nn + n + 1;
 		if (n < 1 || (size_t)n > nn) {
 			*why = "normal index out of range";
@@ -105,7 +133,13 @@ int pc_obj_load(const char *path, const pc_m3 *rot, pc_v3 scale, pc_v3 translate
 	grow T = { NULL, 0, 0, 3 * sizeof(uint32_t) }, TN = { NULL, 0, 0, 3 * sizeof(uint32_t) };
 	char line[4096];
 	long lineno = 0;
-	int rc = 0;
+	/* the mesh's size limit (polarcam/limits.h); a malformed variable is reported here */
+	int rc = pc_limit_check(PC_LIMIT_TRIANGLES, 0, path);
+	const uint64_t tri_max = pc_limit_get(PC_LIMIT_TRIANGLES);
+	if (rc) {
+		fclose(fp);
+		return rc;
+	}
 	bool any_missing_normal = false;
 	while (fgets(line, sizeof line, fp)) {
 		lineno++;
@@ -139,6 +173,15 @@ int pc_obj_load(const char *path, const pc_m3 *rot, pc_v3 scale, pc_v3 translate
 			} else {
 				w = v3_add(m3_apply(rot, v3(a[0] * scale.x, a[1] * scale.y, a[2] * scale.z)),
 					   translate);
+			}
+			/* placed in the scene, every coordinate must stay finite (a vertex at 1e300
+			 * scaled by 1e10 is not), and not so large that the ray-triangle products
+			 * (cubes of coordinates) overflow */
+			if (!(fabs(w.x) <= 1e100 && fabs(w.y) <= 1e100 && fabs(w.z) <= 1e100)) {
+				rc = pc_error(PC_EFORMAT, "%s: line %ld: %s (%g, %g, %g) is beyond 1e100 "
+							  "once scaled, rotated and placed", path, lineno,
+					      is_n ? "normal" : "vertex", a[0], a[1], a[2]);
+				goto done;
 			}
 			if ((is_n ? N.n : V.n) >= OBJ_MAX_ELEMS) {
 				rc = pc_error(PC_EFORMAT, "%s: line %ld: more than %u records", path, lineno,
@@ -176,9 +219,15 @@ int pc_obj_load(const char *path, const pc_m3 *rot, pc_v3 scale, pc_v3 translate
 						for (int k = 0; k < 3; k++)
 							tn[k] = (uint32_t)ni[k];
 					if (T.n >= OBJ_MAX_ELEMS) {
-						rc = pc_error(PC_EFORMAT, "%s: line %ld: more than %u "
-									  "triangles", path, lineno,
+						rc = pc_error(PC_ERANGE, "%s: line %ld: more than %u "
+									 "triangles", path, lineno,
 							      OBJ_MAX_ELEMS);
+						goto done;
+					}
+					if (T.n + 1 > tri_max) {
+						char what[4200];
+						snprintf(what, sizeof what, "%s: line %ld", path, lineno);
+						rc = pc_limit_check(PC_LIMIT_TRIANGLES, T.n + 1, what);
 						goto done;
 					}
 					if (grow_push(&T, t) || grow_push(&TN, tn)) {

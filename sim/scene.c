@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "polarcam/error.h"
+#include "polarcam/limits.h"
 #include "polarcam/mosaic.h"
 #include "polarcam/optics.h"
 #include "json.h"
@@ -683,6 +684,14 @@ static int parse_sensor(const pctx *c, json_t *v, pc_sensor_figures *f)
 	    fmod(res[1], f->mosaic.period) != 0)
 		return pc_json_error(&c->js, "sensor.resolution", "[%g, %g]: expected two integers in [2, 65535], "
 				   "multiples of the mosaic period %u", res[0], res[1], f->mosaic.period);
+	{
+		/* the frame, its per-state caches and the truth are all this size: the same pixel
+		 * limit as an image file (polarcam/limits.h), checked before anything is allocated */
+		char what[600];
+		snprintf(what, sizeof what, "%s: sensor.resolution [%g, %g]", c->js.file, res[0], res[1]);
+		if ((rc = pc_limit_check(PC_LIMIT_PIXELS, (uint64_t)(res[0] * res[1]), what)))
+			return rc;
+	}
 	f->width = (uint32_t)res[0];
 	f->height = (uint32_t)res[1];
 	if ((rc = pc_json_get_num(&c->js, v, P, "pixel_pitch_um", PC_JSON_OPTIONAL, 0, true, 1000, &f->pixel_pitch_um)) ||

@@ -585,6 +585,42 @@ int pc_sim_frame_rows(const pc_sim *sim, uint64_t n, const pc_sim_controls *cont
 	return frame_band(sim, n, t_s, K, dst, y0, y1);
 }
 
+/* timestamp_ns = n / frame_rate_hz, rounded; PC_ERANGE when it is not below 2^63 (recordings
+ * store it as a signed 64-bit JSON integer), never an out-of-range float conversion. */
+static int frame_timestamp(const pc_sim *sim, uint64_t n, uint64_t *ts)
+{
+	const double t = (double)n * 1e9 / sim->fig.frame_rate_hz + 0.5;
+	if (!(t < 0x1p63))
+		return pc_error(PC_ERANGE, "frame %llu: timestamp %llu / %g Hz = %.4g s does not fit "
+					   "64-bit nanoseconds (2^63 ns = 292 years)",
+				(unsigned long long)n, (unsigned long long)n,
+				sim->fig.frame_rate_hz, t * 1e-9);
+	*ts = (uint64_t)t;
+	return 0;
+}
+
+int pc_sim_check_frames(const pc_sim *sim, uint64_t first, uint64_t count)
+{
+	if (count == 0)
+		return 0;
+	const uint64_t max_seq = (uint64_t)INT64_MAX;
+	/* the largest n with n·1e9/fps + 0.5 < 2^63 */
+	double lim = (0x1p63 - 1024) * sim->fig.frame_rate_hz / 1e9;
+	uint64_t max_n = lim >= 0x1p63 ? max_seq : (uint64_t)lim;
+	if (max_n > max_seq)
+		max_n = max_seq;
+	if (first > max_n || count - 1 > max_n - first)
+		return pc_error(PC_ERANGE, "frames %llu to %llu: frame numbers and their timestamps "
+					   "(n / %g Hz in ns) must fit 64-bit signed integers; with "
+					   "%llu frames the first frame can be at most %llu",
+				(unsigned long long)first,
+				(unsigned long long)(first + (count - 1)), sim->fig.frame_rate_hz,
+				(unsigned long long)count,
+				(unsigned long long)(max_n - (count - 1 <= max_n ? count - 1 : max_n)));
+	uint64_t ts;
+	return frame_timestamp(sim, first + (count - 1), &ts);
+}
+
 int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_view *dst,
 		 pc_frame_meta *meta)
 {
@@ -593,6 +629,9 @@ int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_vi
 		return rc;
 	double t_s, K;
 	if ((rc = resolve_controls(sim, controls, &t_s, &K)))
+		return rc;
+	uint64_t ts;
+	if ((rc = frame_timestamp(sim, n, &ts)))
 		return rc;
 	unsigned s = (unsigned)(n % sim->n_states);
 	if (!sim->rate[s] && (rc = pc_sim_prepare(sim, s, NULL, NULL, NULL, NULL)))
@@ -604,7 +643,7 @@ int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_vi
 	if (meta) {
 		memset(meta, 0, sizeof *meta);
 		meta->sequence = n;
-		meta->timestamp_ns = (uint64_t)((double)n * 1e9 / sim->fig.frame_rate_hz + 0.5);
+		meta->timestamp_ns = ts;
 		meta->exposure_us = t_s * 1e6;
 		meta->gain_db = controls ? controls->gain_db : sim->fig.gain_db;
 		meta->status = PC_FRAME_SIMULATED;

@@ -125,7 +125,7 @@ int cli_cmd_render(int argc, char **argv)
 				return cli_fail(rc, NULL);
 			break;
 		case 'F':
-			if ((rc = cli_parse_u64("--first", optarg, &first)))
+			if ((rc = cli_parse_u64_range("--first", optarg, 0, INT64_MAX, &first)))
 				return cli_fail(rc, NULL);
 			break;
 		case 's':

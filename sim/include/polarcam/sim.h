@@ -155,6 +155,24 @@ typedef struct pc_sim_info {
 
 void pc_sim_get_info(const pc_sim *sim, pc_sim_info *info);
 
+/* Bytes a render with this simulator holds at its peak (an estimate, within ~10 %): the
+ * per-state electron-rate caches (4 bytes per pixel and state), the DSNU image, the crosstalk
+ * halos while a state is prepared, per-thread row buffers, one frame, and with truth the
+ * ground-truth buffers a render writes (4 floats per pixel and colour channel, 16 more with the
+ * "mueller" effect). pc_sim_new allocates none of this; it is all allocated on demand. */
+uint64_t pc_sim_memory_bytes(const pc_sim *sim, bool truth);
+
+/* The memory a render may use: POLARCAM_MAX_MEMORY (polarcam/limits.h) when set, else the least
+ * of MemAvailable (/proc/meminfo), the cgroup's memory.max − memory.current and RLIMIT_AS /
+ * RLIMIT_DATA; UINT64_MAX when none of these can be read. *source (may be NULL) names where the
+ * figure came from. */
+uint64_t pc_sim_memory_available(const char **source);
+
+/* 0 when pc_sim_memory_bytes(sim, truth) fits pc_sim_memory_available(); otherwise PC_ENOMEM
+ * with a detail giving both figures, their source, the resolution and the number of states, and
+ * what to change (--roi, sensor.resolution, POLARCAM_MAX_MEMORY). Call before rendering. */
+int pc_sim_check_memory(const pc_sim *sim, bool truth);
+
 /* Per-frame controls (what a camera lets a user change while streaming). Changing them needs no
  * re-rendering: the rendered signal is cached per second of exposure. */
 typedef struct pc_sim_controls {
@@ -185,6 +203,12 @@ bool pc_sim_is_prepared(const pc_sim *sim, unsigned state);
  * timestamp_ns = n / frame_rate, exposure, gain, PC_FRAME_SIMULATED and the ROI offset. */
 int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_view *dst,
 		 pc_frame_meta *meta);
+
+/* Checks that frames first .. first + count − 1 have sequence numbers and timestamps
+ * (n / frame_rate_hz, in ns) that fit 64-bit signed integers, as recordings store them
+ * (meta.json): 0, or PC_ERANGE naming the largest first frame this scene's frame rate allows.
+ * pc_sim_frame fails the same way for a frame whose timestamp does not fit. */
+int pc_sim_check_frames(const pc_sim *sim, uint64_t first, uint64_t count);
 
 /* Rows [y0, y1) of frame n into dst rows [y0, y1) (dst is the whole frame's view). The state
  * must be prepared (PC_ESTATE otherwise). Const and thread-safe: bands may be produced in any
