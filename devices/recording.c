@@ -376,7 +376,17 @@ int pc_recording_frame_mosaic(const char *path, pc_mosaic *m)
 	if (!file_exists(dir, "meta.json"))
 		return 0;
 	pc_recording *r = NULL;
-	if (pc_recording_open(&r, dir) != 0) {
+	int rc = pc_recording_open(&r, dir);
+	if (rc) {
+		/* a frame named like a recording's beside a meta.json that does not open: processing
+		 * a colour recording's frame as monochrome would be silently wrong */
+		unsigned num;
+		char tail;
+		if (strlen(file) == 14 && sscanf(file, "raw_%6u.pn%c", &num, &tail) == 2 &&
+		    tail == 'g')
+			return pc_error_prefix(rc, "%s is a recording's frame, but its description is "
+						   "unreadable (give --layout to process it anyway): ",
+					       path);
 		pc_error_clear(); /* some other meta.json: not a recording */
 		return 0;
 	}
@@ -514,6 +524,10 @@ static int open_meta(pc_recording *r, const char *path)
 		else if ((rc = pc_mosaic_parse(t, &mosaic)))
 			rc = pc_error_prefix(PC_EFORMAT, "%s: mosaic: ", path);
 	}
+	if (!rc && pol && polarized && mosaic.period == 0)
+		rc = pc_json_error(&js, "mosaic",
+				   "missing, but 'polarized' is true (a polarized recording states "
+				   "its mosaic, e.g. \"90,45,135,0\")");
 	const char *src = json_string_value(json_object_get(m, "source"));
 	const char *dev = json_string_value(json_object_get(m, "device_format"));
 	if (!rc &&

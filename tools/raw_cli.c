@@ -132,7 +132,10 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
 	if (o->layout) {
 		if ((rc = pc_mosaic_parse(o->layout, &o->mosaic)))
 			return cli_fail(rc, "--layout");
-	} else if (o->path && !o->have_geometry && pc_recording_frame_mosaic(o->path, &o->mosaic)) {
+	} else if (o->path && !o->have_geometry &&
+		   (rc = pc_recording_frame_mosaic(o->path, &o->mosaic)) != 0) {
+		if (rc < 0)
+			return cli_fail(rc, NULL);
 		pc_mosaic_format(&o->mosaic, o->layout_buf, sizeof o->layout_buf);
 		o->layout = o->layout_buf;
 	} else {
