@@ -59,15 +59,25 @@ PC_VEC_HELPERS(8)
 PC_VEC_HELPERS(16)
 #undef PC_VEC_HELPERS
 
+/* clang spells GCC's __builtin_shuffle as __builtin_shufflevector (constant indices) */
 static inline v8f vblend_odd8(v8f a, v8f b)
 {
+#ifdef __clang__
+	return __builtin_shufflevector(a, b, 0, 9, 2, 11, 4, 13, 6, 15);
+#else
 	return __builtin_shuffle(a, b, (v8i){ 0, 9, 2, 11, 4, 13, 6, 15 });
+#endif
 }
 
 static inline v16f vblend_odd16(v16f a, v16f b)
 {
+#ifdef __clang__
+	return __builtin_shufflevector(a, b, 0, 17, 2, 19, 4, 21, 6, 23, 8, 25, 10, 27, 12, 29,
+				       14, 31);
+#else
 	return __builtin_shuffle(a, b, (v16i){ 0, 17, 2, 19, 4, 21, 6, 23, 8, 25, 10, 27, 12, 29,
 					       14, 31 });
+#endif
 }
 
 static inline v8f vsqrt_lanes(v8f v)
