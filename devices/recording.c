@@ -640,6 +640,12 @@ int pc_recording_open(pc_recording **out, const char *dir)
 		rc = open_meta(r, meta);
 	else
 		rc = open_bare(r, dir);
+	/* every frame meta.json lists must be there: a reader (capture file:, process) must not
+	 * find out after writing the frames before a missing one */
+	for (size_t i = 0; !rc && i < r->n; i++)
+		if (!file_exists(dir, r->frames[i].file))
+			rc = pc_error(PC_ENOENT, "%s/%s: listed in %s/meta.json as frame %zu, missing",
+			              dir, r->frames[i].file, dir, i);
 	free(meta);
 	if (rc) {
 		pc_recording_free(r);

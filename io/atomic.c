@@ -17,7 +17,7 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 		return pc_error(PC_EINVAL, "output path is empty");
 	size_t n = strlen(path);
 	af->path = malloc(n + 1);
-	af->tmp_path = malloc(n + 32);
+	af->tmp_path = calloc(1, n + 32); /* zeroed: pc_atomic_abort may see it before mkstemp */
 	if (!af->path || !af->tmp_path) {
 		pc_atomic_abort(af);
 		return pc_error(PC_ENOMEM, "%s: out of memory", path);
@@ -31,6 +31,13 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 	 * boundary) so that the temporary name stays within NAME_MAX bytes even when NAME, legal
 	 * itself, is up to NAME_MAX long; mkstemp's XXXXXX keep it unique. */
 	size_t base = n - dir, keep = base;
+	if (base > NAME_MAX) {
+		free(af->tmp_path); /* not a file yet: nothing to unlink */
+		af->tmp_path = NULL;
+		pc_atomic_abort(af);
+		return pc_error(PC_EINVAL, "%s: file name of %zu bytes: too long (at most %d)", path,
+				base, NAME_MAX);
+	}
 	const size_t decor = strlen("..tmpXXXXXX");
 	if (keep + decor > NAME_MAX) {
 		keep = NAME_MAX - decor;
@@ -44,7 +51,9 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 		free(af->tmp_path);
 		af->tmp_path = NULL;
 		pc_atomic_abort(af);
-		return pc_error(e == ENOENT ? PC_ENOENT : e == EACCES ? PC_EPERM : PC_EIO,
+		/* a name the file system cannot hold is a bad argument, not an I/O failure */
+		return pc_error(e == ENOENT ? PC_ENOENT : e == EACCES ? PC_EPERM
+						: e == ENAMETOOLONG ? PC_EINVAL : PC_EIO,
 				"%s: cannot create a file there: %s", path, strerror(e));
 	}
 	af->fp = fdopen(fd, "wb");

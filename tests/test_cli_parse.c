@@ -105,6 +105,10 @@ static void test_quote(void)
 	CHECK(strcmp(q, "caf\xc3\xa9") == 0);
 	cli_quote("\xc3(", 2, q, sizeof q); /* broken UTF-8 */
 	CHECK(strcmp(q, "\\xc3(") == 0);
+	/* overlong (E0 9A B0, found by fuzz_batch_decompose: jansson refused the error object),
+	 * a surrogate (ED A0 80), beyond U+10FFFF (F4 90 80 80); U+10FFFF itself is kept */
+	cli_quote("\xe0\x9a\xb0|\xed\xa0\x80|\xf4\x90\x80\x80|\xf4\x8f\xbf\xbf", 17, q, sizeof q);
+	CHECK(strcmp(q, "\\xe0\\x9a\\xb0|\\xed\\xa0\\x80|\\xf4\\x90\\x80\\x80|\xf4\x8f\xbf\xbf") == 0);
 	const char zero[3] = {'a', 0, 'b'};
 	cli_quote(zero, 3, q, sizeof q);
 	CHECK(strcmp(q, "a\\x00b") == 0);

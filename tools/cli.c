@@ -87,10 +87,16 @@ const char *cli_quote(const char *s, size_t len, char *buf, size_t size)
 		if (c >= 0x20 && c < 0x7f) {
 			n = 1;
 		} else if (c >= 0xc2 && c <= 0xf4) {
+			/* well-formed UTF-8 (RFC 3629 table): no overlong forms, no surrogates, nothing
+			 * above U+10FFFF; the second byte's range depends on the first */
 			n = c < 0xe0 ? 2 : c < 0xf0 ? 3 : 4;
-			for (size_t k = 1; k < n; k++)
-				if (i + k >= len || ((unsigned char)s[i + k] & 0xc0) != 0x80)
+			unsigned char lo = c == 0xe0 ? 0xa0 : c == 0xf0 ? 0x90 : 0x80;
+			unsigned char hi = c == 0xed ? 0x9f : c == 0xf4 ? 0x8f : 0xbf;
+			for (size_t k = 1; k < n; k++) {
+				unsigned char b = i + k < len ? (unsigned char)s[i + k] : 0;
+				if (b < (k == 1 ? lo : 0x80) || b > (k == 1 ? hi : 0xbf))
 					n = 0;
+			}
 		}
 		size_t piece = n ? n : 4;
 		if (o + piece > room)
