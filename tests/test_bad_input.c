@@ -13,6 +13,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <math.h>
 #include <jansson.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -870,6 +871,75 @@ static void long_name_ok(void)
 		CHECK(0);
 }
 
+/* Float raws at the accepted bound (±2^24, io_internal.h) on an adversarial pattern (±v, 0,
+ * v·1e-30 at random): every demosaicking method, fast and reference, gives finite Stokes, DoLP
+ * and AoLP. 3.4e38 gave all-non-finite Stokes with exit 0; beyond the bound is refused (table). */
+static bool npy_all_finite(const char *path)
+{
+	FILE *fp = fopen(path, "rb");
+	if (!fp)
+		return false;
+	uint8_t h[10];
+	bool ok = fread(h, 1, 10, fp) == 10;
+	unsigned hl = h[8] | h[9] << 8;
+	fseek(fp, 10 + (long)hl, SEEK_SET);
+	float f[4096];
+	size_t n;
+	while (ok && (n = fread(f, sizeof f[0], 4096, fp)) > 0)
+		for (size_t i = 0; i < n; i++)
+			ok &= isfinite(f[i]) != 0;
+	fclose(fp);
+	return ok;
+}
+
+static void float_bound_ok(void)
+{
+	char dir[128];
+	snprintf(dir, sizeof dir, "%s/floatbound", root);
+	mkdir(dir, 0777);
+	char cwd[1024];
+	if (!getcwd(cwd, sizeof cwd) || chdir(dir) != 0)
+		return;
+	float f[32 * 32];
+	uint32_t r = 1;
+	for (int i = 0; i < 32 * 32; i++) {
+		r = r * 1103515245u + 12345u;
+		unsigned k = (r >> 16) % 4;
+		f[i] = k == 0 ? 0x1p24f : k == 1 ? -0x1p24f : k == 2 ? 0.0f : 0x1p24f * 1e-30f;
+	}
+	npy("in.npy", "<f4", "(32, 32)", f, sizeof f);
+	static const char *const methods[][2] = {
+	    {"superpixel-half", NULL}, {"superpixel", NULL}, {"bilinear", NULL}, {"bicubic", NULL},
+	    {"ppid", NULL},            {"ri", NULL},         {"eari", NULL},     {"ratio", NULL},
+	    {"bayer-first", "RGGB:90,45,135,0"},            {"bayer-eari", "RGGB:90,45,135,0"}};
+	for (size_t m = 0; m < sizeof methods / sizeof methods[0]; m++)
+		for (int ref = 0; ref < 2; ref++) {
+			char *argv[12] = {(char *)polarcam, "process", "in.npy", "-o", "o", "--method",
+					  (char *)methods[m][0]};
+			int a = 7;
+			if (methods[m][1]) {
+				argv[a++] = "--layout";
+				argv[a++] = (char *)methods[m][1];
+			}
+			if (ref)
+				argv[a++] = "--reference";
+			argv[a] = NULL;
+			int st = pc_child_wait(pc_child_spawn(argv, open("/dev/null", O_WRONLY),
+							      "../stderr.txt"),
+					       120000, NULL);
+			bool ok = st == 0 && npy_all_finite("o/stokes.npy") &&
+				  npy_all_finite("o/dolp.npy") && npy_all_finite("o/aolp.npy");
+			CHECK(ok);
+			if (!ok)
+				fprintf(stderr, "  float raw at 2^24, %s%s: status %d or non-finite output\n",
+					methods[m][0], ref ? " --reference" : "", st);
+			if (system("rm -rf o") != 0)
+				CHECK(0);
+		}
+	if (chdir(cwd) != 0)
+		CHECK(0);
+}
+
 int main(void)
 {
 	polarcam = getenv("POLARCAM");
@@ -890,6 +960,7 @@ int main(void)
 	for (size_t i = 0; i < n; i++)
 		run_case(i, &cases[i]);
 	long_name_ok();
+	float_bound_ok();
 	printf("bad-input table: %zu cases\n", n);
 	char cmd[128];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", root);
