@@ -16,6 +16,7 @@ static const struct {
     [PC_LIMIT_BYTES] = {"POLARCAM_MAX_BYTES", "bytes", PC_LIMIT_BYTES_DEFAULT},
     [PC_LIMIT_TRIANGLES] = {"POLARCAM_MAX_TRIANGLES", "triangles", PC_LIMIT_TRIANGLES_DEFAULT},
     [PC_LIMIT_MEMORY] = {"POLARCAM_MAX_MEMORY", "bytes", PC_LIMIT_MEMORY_DEFAULT},
+    [PC_LIMIT_FRAMES] = {"POLARCAM_MAX_FRAMES", "frames", PC_LIMIT_FRAMES_DEFAULT},
 };
 
 /* pc_limit_set's values (0: none) */

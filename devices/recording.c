@@ -12,6 +12,7 @@
 #include <time.h>
 
 #include "polarcam/error.h"
+#include "polarcam/limits.h"
 #include "polarcam/io.h"
 #include "json.h"
 
@@ -407,6 +408,9 @@ static int parse_frames(pc_recording *r, const pc_json_src *js, json_t *arr)
 	size_t n = json_array_size(arr);
 	if (n > 999999)
 		return pc_json_error(js, "frames", "%zu frames: at most 999999", n);
+	int lrc = pc_limit_check(PC_LIMIT_FRAMES, n, js->file);
+	if (lrc)
+		return lrc;
 	r->frames = calloc(n ? n : 1, sizeof *r->frames);
 	if (!r->frames)
 		return pc_error(PC_ENOMEM, "%s", js->file);

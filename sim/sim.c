@@ -7,6 +7,7 @@
 
 #include "polarcam/error.h"
 #include "polarcam/format.h"
+#include "polarcam/limits.h"
 #include "polarcam/parallel.h"
 #include "sim_impl.h"
 
@@ -603,6 +604,9 @@ int pc_sim_check_frames(const pc_sim *sim, uint64_t first, uint64_t count)
 {
 	if (count == 0)
 		return 0;
+	int rc = pc_limit_check(PC_LIMIT_FRAMES, count, "frames");
+	if (rc)
+		return rc;
 	const uint64_t max_seq = (uint64_t)INT64_MAX;
 	/* the largest n with n·1e9/fps + 0.5 < 2^63 */
 	double lim = (0x1p63 - 1024) * sim->fig.frame_rate_hz / 1e9;

@@ -688,6 +688,8 @@ static const bad_case cases[] = {
     {"render --first 2^63", s_sc_ok, {"render", "s.json", "--first", "9223372036854775808", OUT}, 2, {"--first", "[0, 9223372036854775807]"}},
     {"render --first 2^64-1 -n 2", s_sc_ok, {"render", "s.json", "--first", "18446744073709551615", "-n", "2", OUT}, 2, {"--first"}, NULL, 1},
     {"render --first beyond the timestamps", s_sc_ok, {"render", "s.json", "--first", "276701161105", "-n", "2", OUT}, 2, {"at most 276701161104"}},
+    {"render over POLARCAM_MAX_FRAMES", s_sc_ok, {"render", "s.json", "-n", "3", OUT}, 2, {"frames", "POLARCAM_MAX_FRAMES"}, "POLARCAM_MAX_FRAMES=2"},
+    {"capture over POLARCAM_MAX_FRAMES", NULL, {"capture", "sim:default", "-n", "5", OUT}, 2, {"-n", "POLARCAM_MAX_FRAMES"}, "POLARCAM_MAX_FRAMES=4", 1},
     {"render --seed 0x10", s_sc_ok, {"render", "s.json", "--seed", "0x10", OUT}, 2, {"--seed", "0x10"}},
     {"render --seed 10junk", s_sc_ok, {"render", "s.json", "--seed", "10junk", OUT}, 2, {"--seed"}, NULL, 1},
     {"render -n 0", s_sc_ok, {"render", "s.json", "-n", "0", OUT}, 2, {"--frames"}},

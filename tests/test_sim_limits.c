@@ -80,7 +80,13 @@ static void test_timestamps(void)
 		pc_view_free(&v);
 		return;
 	}
-	CHECK_EQ_INT(pc_sim_check_frames(sim, 0, 1000000), 0);
+	CHECK_EQ_INT(pc_sim_check_frames(sim, 0, 999999), 0);
+	CHECK_EQ_INT(pc_sim_check_frames(sim, 0, 1000000), PC_ERANGE); /* PC_LIMIT_FRAMES */
+	setenv("POLARCAM_MAX_FRAMES", "10", 1);
+	CHECK_EQ_INT(pc_sim_check_frames(sim, 0, 11), PC_ERANGE);
+	CHECK(strstr(pc_error_detail(), "POLARCAM_MAX_FRAMES") != NULL);
+	CHECK_EQ_INT(pc_sim_check_frames(sim, 0, 10), 0);
+	unsetenv("POLARCAM_MAX_FRAMES");
 	CHECK_EQ_INT(pc_sim_check_frames(sim, INT64_MAX, 1), PC_ERANGE);
 	CHECK_EQ_INT(pc_sim_check_frames(sim, UINT64_MAX, 2), PC_ERANGE);
 	const char *d = pc_error_detail(), *at = strstr(d, "at most ");

@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "polarcam/capture.h"
 #include "polarcam/error.h"
+#include "polarcam/limits.h"
 #include "polarcam/gige_server.h"
 #include "source_cli.h"
 
@@ -90,7 +91,8 @@ int cli_cmd_capture(int argc, char **argv)
 				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
 			if (!strcmp(a, "-o"))
 				dir = argv[++i];
-			else if ((rc = cli_parse_long("-n", argv[++i], 1, 999999, &n)))
+			else if ((rc = cli_parse_long("-n", argv[++i], 1, 999999, &n)) ||
+			         (rc = pc_limit_check(PC_LIMIT_FRAMES, (uint64_t)n, "-n")))
 				return cli_fail(rc, "arguments");
 		} else if (!strcmp(a, "--overwrite")) {
 			overwrite = true;

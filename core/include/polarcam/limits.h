@@ -13,6 +13,8 @@
  *   PC_LIMIT_BYTES      POLARCAM_MAX_BYTES          4 GiB for one decoded image or array
  *   PC_LIMIT_TRIANGLES  POLARCAM_MAX_TRIANGLES      16 Mi triangles in one mesh
  *   PC_LIMIT_MEMORY     POLARCAM_MAX_MEMORY         0 = the memory available (MemAvailable)
+ *   PC_LIMIT_FRAMES     POLARCAM_MAX_FRAMES         999999 frames in one recording (its file
+ *                                                   names raw_NNNNNN.png hold no more)
  *
  * Thread safety: pc_limit_get/pc_limit_check may be called from any thread; pc_limit_set is
  * for start-up (not synchronised with readers running at the same time).
@@ -31,6 +33,7 @@ typedef enum pc_limit {
 	PC_LIMIT_BYTES,      /* bytes one reader allocates for one decoded image or array */
 	PC_LIMIT_TRIANGLES,  /* triangles of one mesh (OBJ) */
 	PC_LIMIT_MEMORY,     /* bytes a render may hold (0: the memory the system has available) */
+	PC_LIMIT_FRAMES,     /* frames of one recording: render -n, capture -n, meta.json */
 	PC_LIMIT_COUNT
 } pc_limit;
 
@@ -38,6 +41,7 @@ typedef enum pc_limit {
 #define PC_LIMIT_BYTES_DEFAULT     (4ull << 30)
 #define PC_LIMIT_TRIANGLES_DEFAULT (16ull << 20)
 #define PC_LIMIT_MEMORY_DEFAULT    0ull
+#define PC_LIMIT_FRAMES_DEFAULT    999999ull
 
 /* The value in force: pc_limit_set's, else the environment variable's, else the default. An
  * environment variable that does not parse is ignored here; pc_limit_check reports it. */

@@ -206,7 +206,8 @@ int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_vi
 
 /* Checks that frames first .. first + count − 1 have sequence numbers and timestamps
  * (n / frame_rate_hz, in ns) that fit 64-bit signed integers, as recordings store them
- * (meta.json): 0, or PC_ERANGE naming the largest first frame this scene's frame rate allows.
+ * (meta.json), and that count is within PC_LIMIT_FRAMES (polarcam/limits.h): 0, or PC_ERANGE
+ * naming the largest first frame this scene's frame rate allows, or the limit.
  * pc_sim_frame fails the same way for a frame whose timestamp does not fit. */
 int pc_sim_check_frames(const pc_sim *sim, uint64_t first, uint64_t count);
 
