@@ -7,6 +7,7 @@
 #include "polarcam/pbrdf.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -265,12 +266,18 @@ int pc_pbrdf_new(const pc_material *m, pc_pbrdf **out)
 		return pc_error(PC_ERANGE, "n = %g, k = %g: must be below 1e100", m->n, m->k);
 	if (!isfinite(m->sigma) || !(m->sigma > 0))
 		return pc_error(PC_EINVAL, "sigma = %g: must be a finite rms slope > 0", m->sigma);
-	if (m->sigma < PC_PBRDF_SIGMA_MIN)
+	if (m->sigma < PC_PBRDF_SIGMA_MIN) {
+		/* all the digits when the short form would print the bound itself */
+		char sg[32];
+		snprintf(sg, sizeof sg, "%g", m->sigma);
+		if (strtod(sg, NULL) >= PC_PBRDF_SIGMA_MIN)
+			snprintf(sg, sizeof sg, "%.17g", m->sigma);
 		return pc_error(PC_ERANGE,
-		                "sigma = %g: below %g, where the specular peak 1/(8 pi sigma^2) "
+		                "sigma = %s: below %g, where the specular peak 1/(8 pi sigma^2) "
 		                "leaves the double range (docs/physics-notes.md, hard cases); for "
 		                "an ideal mirror use pc_pbrdf_mirror",
-		                m->sigma, PC_PBRDF_SIGMA_MIN);
+		                sg, PC_PBRDF_SIGMA_MIN);
+	}
 	if (m->sigma > 1e3)
 		return pc_error(PC_ERANGE, "sigma = %g: must be at most 1000", m->sigma);
 	if ((unsigned)m->diffuse > PC_DIFFUSE_NONE)

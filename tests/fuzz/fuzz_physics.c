@@ -43,8 +43,9 @@ static double take_log(rd *r, double lo, double hi)
 		return lo;
 	case 1:
 		return hi;
-	default:
-		return exp(log(lo) + (double)(v >> 11) * 0x1p-53 * (log(hi) - log(lo)));
+	default: /* exp(log(lo)) may round below lo: clamp */
+		return fmin(hi, fmax(lo, exp(log(lo) + (double)(v >> 11) * 0x1p-53 *
+						      (log(hi) - log(lo)))));
 	}
 }
 
