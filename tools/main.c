@@ -18,6 +18,12 @@ static void usage(FILE *fp)
 	for (size_t i = 0; i < sizeof cli_commands / sizeof cli_commands[0]; i++)
 		fprintf(fp, "  %-10s %s\n", cli_commands[i].name, cli_commands[i].summary);
 	fprintf(fp, "\nExit status: 0 success, 1 failure, 2 bad arguments or input, 77 not available.\n");
+	fprintf(fp, "\nLimits on untrusted input (docs/reliability.md), sizes like 400M or 4Gi:\n"
+		    "  POLARCAM_MAX_PIXELS     pixels of one image or scene (default 100M)\n"
+		    "  POLARCAM_MAX_BYTES      bytes of one decoded image or array (default 4Gi)\n"
+		    "  POLARCAM_MAX_TRIANGLES  triangles of one mesh (default 16Mi)\n"
+		    "  POLARCAM_MAX_FRAMES     frames of one recording (default 999999)\n"
+		    "  POLARCAM_MAX_MEMORY     memory a render may use (default: what is available)\n");
 }
 
 int main(int argc, char **argv)
