@@ -4,6 +4,7 @@
  * docs/calibration.md, "The calibration file". */
 #include <jansson.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +13,7 @@
 #include "polarcam/calib.h"
 #include "polarcam/error.h"
 #include "polarcam/io.h"
+#include "polarcam/limits.h"
 
 /* ---- .npy in memory (format 1.0: magic, version, little-endian header length, a Python dict
  * literal padded with spaces to a multiple of 64 bytes, then C-order little-endian data) ---- */
@@ -77,19 +79,28 @@ static int npy_parse(const char *file, const char *member, const unsigned char *
 	s += 10;
 	*ndim = 0;
 	size_t n = 1;
+	/* decimal dimensions only, each below 2^31, the product checked: a shape whose byte count
+	 * wraps must not match the member's size */
 	while (*s && *s != ')') {
-		char *end;
-		unsigned long v = strtoul(s, &end, 10);
-		if (end == s || *ndim >= 4)
+		if (*s < '0' || *s > '9' || *ndim >= 4)
 			return pc_error(PC_EFORMAT, "%s: %s: bad shape", file, member);
+		size_t v = 0;
+		for (; *s >= '0' && *s <= '9'; s++) {
+			v = v * 10 + (size_t)(*s - '0');
+			if (v >= (size_t)1 << 31)
+				return pc_error(PC_EFORMAT, "%s: %s: bad shape", file, member);
+		}
 		shape[(*ndim)++] = v;
+		if (v && n > SIZE_MAX / 8 / v)
+			return pc_error(PC_EFORMAT, "%s: %s: bad shape", file, member);
 		n *= v;
-		s = end;
 		while (*s == ',' || *s == ' ')
 			s++;
 	}
+	if (*s != ')')
+		return pc_error(PC_EFORMAT, "%s: %s: bad shape", file, member);
 	size_t elem = descr[2] == '8' ? 8 : descr[2] == '4' ? 4 : 1;
-	if (10 + hlen + n * elem != size)
+	if (size < 10 + hlen || size - 10 - hlen != n * elem)
 		return pc_error(PC_EFORMAT, "%s: %s: %zu data bytes, the shape needs %zu", file, member,
 				size - 10 - hlen, n * elem);
 	*data = b + 10 + hlen;
@@ -244,8 +255,11 @@ int pc_calib_write(const char *path, const pc_calib *c)
 
 /* ---- reading ---- */
 
+/* max: the largest size the member can have (its .npy header and the array the metadata
+ * implies); the archive's own claim is checked against it, and against what its compressed
+ * bytes can hold (stored: equal; deflate: at most 1032:1, RFC 1951), before allocating. */
 static int read_member(zip_t *z, const char *file, const char *name, bool required,
-		       unsigned char **buf, size_t *size)
+		       uint64_t max, unsigned char **buf, size_t *size)
 {
 	*buf = NULL;
 	*size = 0;
@@ -253,8 +267,18 @@ static int read_member(zip_t *z, const char *file, const char *name, bool requir
 	if (idx < 0)
 		return required ? pc_error(PC_EFORMAT, "%s: member %s missing", file, name) : 0;
 	zip_stat_t st;
-	if (zip_stat_index(z, (zip_uint64_t)idx, 0, &st) < 0 || st.size > ((zip_uint64_t)1 << 34))
+	if (zip_stat_index(z, (zip_uint64_t)idx, 0, &st) < 0 ||
+	    (st.valid & (ZIP_STAT_SIZE | ZIP_STAT_COMP_SIZE | ZIP_STAT_COMP_METHOD)) !=
+		(ZIP_STAT_SIZE | ZIP_STAT_COMP_SIZE | ZIP_STAT_COMP_METHOD))
 		return pc_error(PC_EFORMAT, "%s: %s: unreadable", file, name);
+	if (st.comp_method != ZIP_CM_STORE && st.comp_method != ZIP_CM_DEFLATE)
+		return pc_error(PC_EFORMAT, "%s: %s: compression method %d (expected stored or "
+				  "deflate, as numpy.savez writes)", file, name, (int)st.comp_method);
+	if (st.size > max || (st.comp_method == ZIP_CM_STORE && st.size != st.comp_size) ||
+	    (st.comp_method == ZIP_CM_DEFLATE && st.size / 1032 > st.comp_size))
+		return pc_error(PC_EFORMAT, "%s: %s: the archive claims %llu bytes (%llu compressed); "
+				  "at most %llu expected", file, name, (unsigned long long)st.size,
+				  (unsigned long long)st.comp_size, (unsigned long long)max);
 	zip_file_t *f = zip_fopen_index(z, (zip_uint64_t)idx, 0);
 	if (!f)
 		return pc_error(PC_EFORMAT, "%s: %s: %s", file, name, zip_strerror(z));
@@ -280,7 +304,15 @@ static int load_map(zip_t *z, const char *file, const char *name, const char *de
 	*out = NULL;
 	unsigned char *b;
 	size_t size;
-	int rc = read_member(z, file, name, required, &b, &size);
+	size_t elem0 = descr[2] == '8' ? 8 : descr[2] == '4' ? 4 : 1;
+	uint64_t max = 10 + 512;
+	{
+		uint64_t n0 = elem0;
+		for (unsigned i = 0; i < ndim; i++)
+			n0 *= shape[i]; /* shapes from the metadata: at most 65535² × 12 × 8 */
+		max += n0;
+	}
+	int rc = read_member(z, file, name, required, max, &b, &size);
 	if (rc || !b)
 		return rc;
 	unsigned nd;
@@ -343,12 +375,14 @@ int pc_calib_read(const char *path, pc_calib *c)
 	unsigned char *mb = NULL;
 	size_t ms = 0;
 	json_t *m = NULL;
-	int rc = read_member(z, path, "meta.npy", true, &mb, &ms);
-	unsigned nd;
+	int rc = read_member(z, path, "meta.npy", true, 1u << 20, &mb, &ms);
+	unsigned nd = 0;
 	size_t sh[4];
 	const unsigned char *md = NULL;
 	if (!rc)
 		rc = npy_parse(path, "meta.npy", mb, ms, "|u1", &nd, sh, &md);
+	if (!rc && nd != 1)
+		rc = pc_error(PC_EFORMAT, "%s: meta.npy: expected a 1-D array of JSON text", path);
 	if (!rc) {
 		json_error_t je;
 		m = json_loadb((const char *)md, sh[0], JSON_REJECT_DUPLICATES, &je);
@@ -366,6 +400,14 @@ int pc_calib_read(const char *path, pc_calib *c)
 		c->geo.height = (uint32_t)h;
 		if (w % 2 || h % 2)
 			rc = pc_error(PC_EFORMAT, "%s: meta: %ldx%ld is not even", path, w, h);
+		/* the maps are this size (the analysis map 12 bytes per pixel): the limits of
+		 * polarcam/limits.h before anything is read */
+		char what[600];
+		snprintf(what, sizeof what, "%s: %ldx%ld calibration", path, w, h);
+		if (!rc)
+			rc = pc_limit_check(PC_LIMIT_PIXELS, (uint64_t)w * (uint64_t)h, what);
+		if (!rc)
+			rc = pc_limit_check(PC_LIMIT_BYTES, (uint64_t)w * (uint64_t)h * 12, what);
 	}
 	if (!rc && !(rc = meta_int(m, path, "offset_x", 0, 65535, &v)))
 		c->geo.offset_x = (uint32_t)v;

@@ -3,7 +3,7 @@
 #    corpus tests/fuzz/corpus/NAME (seeds and every finding), with any compiler and sanitizer;
 #  - with -DPC_FUZZ=ON (clang), as a libFuzzer binary fuzz_NAME for `./do fuzz` and `./do test`.
 set(PC_FUZZ_HARNESSES png tiff bmp npy raw scene obj meta states batch_pbrdf batch_decompose uri
-    physics strings)
+    physics strings calib)
 set(PC_FUZZ_DIR ${CMAKE_CURRENT_SOURCE_DIR}/fuzz)
 foreach(h ${PC_FUZZ_HARNESSES})
   if(PC_FUZZ)

@@ -573,6 +573,28 @@ static void s_st_order(void)
 	s_states("{\"polarcam_states\": 1, \"frame_order\": \"psa_fastest\", \"psg\": [[1, 0, 0, 0]], "
 		 "\"psa\": [[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]]}");
 }
+static void calib_seed(void)
+{
+	char p[600];
+	snprintf(p, sizeof p, "%s/tests/fuzz/corpus/calib/dark_flat_analyser.npz", srcdir);
+	cp(p, "c.npz");
+}
+static void s_cal_trunc(void)
+{
+	calib_seed();
+	truncate("c.npz", 1500);
+}
+static void s_cal_text(void) { puts_file("c.npz", "not a zip archive\n"); }
+static void s_cal_flip(void)
+{
+	calib_seed();
+	FILE *fp = fopen("c.npz", "r+b");
+	fseek(fp, 200, SEEK_SET);
+	int c = fgetc(fp);
+	fseek(fp, 200, SEEK_SET);
+	fputc(c ^ 0x5a, fp);
+	fclose(fp);
+}
 static void s_parent_file(void)
 {
 	ok_png();
@@ -725,6 +747,10 @@ static const bad_case cases[] = {
     {"states.json psg of 3 numbers", s_st_psg3, {"mueller", "rec", "--states", "st.json", OUT}, 2, {"st.json", "psg[0]"}, NULL, 1},
     {"states.json not a states file", s_st_nomagic, {"mueller", "rec", "--states", "st.json", OUT}, 2, {"st.json", "polarcam_states"}},
     {"states.json frame order", s_st_order, {"mueller", "rec", "--states", "st.json", OUT}, 2, {"st.json", "frame_order"}},
+    /* calibration files */
+    {"calibration truncated", s_cal_trunc, {"calibrate", "show", "c.npz", "--pictures", "out"}, 2, {"c.npz"}},
+    {"calibration not a zip", s_cal_text, {"calibrate", "show", "c.npz", "--pictures", "out"}, 2, {"c.npz", "zip"}, NULL, 1},
+    {"calibration with a flipped byte", s_cal_flip, {"calibrate", "show", "c.npz", "--pictures", "out"}, 2, {"c.npz"}},
     /* other arguments and URIs */
     {"demosaic --method nosuch", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--method", "nosuch", "-o", "out.npy"}, 2, {"--method", "nosuch"}},
     {"demosaic --layout 1,2,3", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--layout", "1,2,3", "-o", "out.npy"}, 2, {"--layout"}},
