@@ -30,9 +30,10 @@ for h in "${harnesses[@]}"; do
   [[ -f $src/$h.dict ]] && dict=(-dict="$src/$h.dict")
   before=$(ls "$work/findings" | grep -c "^$h-" || true)
   start=$SECONDS
-  # -timeout: one input may take 20 s at most (a hang is a finding); -rss_limit_mb: memory per
+  # -timeout: one input may take 20 s (FUZZ_TIMEOUT) at most, wall clock (a hang is a finding;
+  # raise it on a loaded machine, where nice 19 starves the process); -rss_limit_mb: memory per
   # input; leaks are findings too (LeakSanitizer, on by default)
-  "$bin" -max_total_time="$secs" -timeout=20 -rss_limit_mb=2560 -print_final_stats=1 \
+  "$bin" -max_total_time="$secs" -timeout="${FUZZ_TIMEOUT:-20}" -rss_limit_mb=2560 -print_final_stats=1 \
     -artifact_prefix="$work/findings/$h-" "${dict[@]}" "$work/corpus/$h" "$src/corpus/$h" >"$log" 2>&1
   rc=$?
   took=$((SECONDS - start))
