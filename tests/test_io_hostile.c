@@ -151,9 +151,12 @@ static void test_raw(void)
 
 static void test_png(void)
 {
-	/* a header claiming 100000 × 100000 in a few bytes: the limit, before decoding */
+	/* headers claiming 100000 × 100000 and (the issue's bomb) 20000 × 20000 in a few bytes:
+	 * the default limit refuses both before decoding */
 	CHECK_EQ_INT(hostile_png(tmp("claim.png"), 100000, 100000, 16, 0), 0);
 	expect_fail(tmp("claim.png"), NULL, PC_ERANGE, "POLARCAM_MAX_PIXELS");
+	CHECK_EQ_INT(hostile_png(tmp("claim2.png"), 20000, 20000, 8, 0), 0);
+	expect_fail(tmp("claim2.png"), NULL, PC_ERANGE, "400000000 pixels");
 	/* within the limit but too short for its rows even at deflate's best ratio */
 	CHECK_EQ_INT(hostile_png(tmp("short.png"), 9000, 9000, 16, 0), 0);
 	expect_fail(tmp("short.png"), NULL, PC_EFORMAT, "truncated");
