@@ -227,6 +227,12 @@ static int tiff_read_pixels(TIFF *t, tiff_ctx *c, const char *path, const tiff_i
 	if (tw == 0 || th == 0 || tsize <= 0 || (uint64_t)tw * th * px != (uint64_t)tsize)
 		return pc_error(PC_EFORMAT, "%s: TIFF with invalid tiles (%ux%u, %lld bytes each for "
 					    "%zu bytes per pixel)", path, tw, th, (long long)tsize, px);
+	/* the tile buffer comes from the header too: no larger than the image (rounded up to the
+	 * 16-pixel tile grain of TIFF 6.0 §15) */
+	const uint64_t img = ((uint64_t)info->width + 15) / 16 * 16 * (((uint64_t)info->height + 15) / 16 * 16);
+	if ((uint64_t)tw * th > img)
+		return pc_error(PC_EFORMAT, "%s: TIFF tiles of %ux%u for a %ux%u image", path, tw, th,
+				info->width, info->height);
 	uint8_t *tile = malloc((size_t)tsize);
 	if (!tile)
 		return pc_error(PC_ENOMEM, "%s: tile buffer of %lld bytes", path, (long long)tsize);
