@@ -385,7 +385,12 @@ int pc_view_check_bits(const pc_view *v, unsigned bits)
 	}
 	if (bits == 0 || bits > 16)
 		return pc_error(PC_EINVAL, "%u significant bits: expected 1..16", bits);
-	if (bits >= fi->bits)
+	/* what the container can hold: packed samples have exactly fi->bits, but Mono10/12/14
+	 * are LSB-aligned in 16 bits and can hold more than their name says (a headerless raw
+	 * read as Mono12 may carry 55245) */
+	const unsigned capacity = fi->packing == PC_PACK_NONE ? 8 * fi->group_bytes / fi->group_pixels
+							   : fi->bits;
+	if (bits >= capacity)
 		return 0; /* the container cannot hold more */
 	uint32_t maxv = (1u << bits) - 1u;
 	if (v->format == PC_FMT_MONO8) {

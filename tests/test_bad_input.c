@@ -412,6 +412,14 @@ static void s_raw(void)
 		b[i] = (uint8_t)i;
 	put("r.bin", b, sizeof b);
 }
+static void s_raw12(void)
+{
+	uint16_t m[64];
+	for (int i = 0; i < 64; i++)
+		m[i] = (uint16_t)(i * 50);
+	m[27] = 55245;
+	put("r.bin", m, sizeof m);
+}
 static void s_rec_corrupt(void)
 {
 	copy_rec(rec_colour, "rec");
@@ -670,6 +678,7 @@ static const bad_case cases[] = {
     {"raw geometry incomplete", s_raw, {"demosaic", "r.bin", "--width", "4", "--format", "Mono8", "-o", "out.npy"}, 2, {"--height"}},
     {"raw Mono10p width 6", s_raw, {"demosaic", "r.bin", "--width", "6", "--height", "4", "--format", "Mono10p", "-o", "out.npy"}, 2, {"r.bin"}},
     {"raw width 5 (odd)", s_raw, {"process", "r.bin", "--width", "6", "--height", "5", "--format", "Mono8", OUT}, 2, {"r.bin", "even"}, NULL, 1},
+    {"raw Mono12 holding 55245", s_raw12, {"process", "r.bin", "--width", "8", "--height", "8", "--format", "Mono12", OUT}, 2, {"r.bin", "pixel (3,3) = 55245"}, NULL, 1},
     {"--bits 17", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--bits", "17", "-o", "out.npy"}, 2, {"--bits", "[1, 16]"}},
     {"--threads 0", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--threads", "0", "-o", "out.npy"}, 2, {"--threads"}},
     /* recordings */

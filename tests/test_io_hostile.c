@@ -144,6 +144,16 @@ static void test_raw(void)
 	CHECK_EQ_INT(pc_image_read(tmp("r.bin"), &g5, &v, NULL), 0);
 	CHECK_EQ_INT(PC_ROW(&v, uint8_t, 2)[1], 81);
 	pc_view_free(&v);
+	/* a Mono12 raw (LSB-aligned in 16 bits) holding 55245: the container holds it, the
+	 * format's 12 bits do not (found by fuzz_raw: pc_view_check_bits took 12 for the capacity) */
+	uint16_t m12[16];
+	for (int i = 0; i < 16; i++)
+		m12[i] = (uint16_t)(i * 200);
+	m12[13] = 55245;
+	CHECK_EQ_INT(hostile_write(tmp("m12.bin"), m12, sizeof m12), 0);
+	pc_raw_geometry gm = {4, 4, PC_FMT_MONO12, 0, 0};
+	CHECK_EQ_INT(pc_image_read_mosaic(tmp("m12.bin"), &gm, 0, &v, NULL), PC_ERANGE);
+	CHECK(strstr(pc_error_detail(), "m12.bin") && strstr(pc_error_detail(), "55245"));
 	/* a headerless geometry of 2^30 × 2^30 within nothing: refused before allocating */
 	pc_raw_geometry g6 = {1u << 30, 1u << 30, PC_FMT_MONO8, 0, 0};
 	expect_fail(tmp("r.bin"), &g6, PC_EFORMAT, "truncated");

@@ -3,7 +3,9 @@
  * 24 bytes are the geometry — width and height (u16 each, or 2^30 when 0xffff), a pixel format
  * (index into the table), offset and stride (u64 little-endian, the extremes included: the
  * stride of 2^64 − 1 that used to wrap) — the rest is the file. On success the view must have
- * exactly the geometry's size and format and its values must fit the format. */
+ * exactly the geometry's size and format; pc_image_read_mosaic's values must fit the depth it
+ * reports (a Mono12 raw holding 55245 was accepted: pc_view_check_bits took the name's 12 bits
+ * for the 16-bit container's capacity). */
 #include "fuzz_image.h"
 
 static uint64_t le64(const uint8_t *p)
@@ -36,9 +38,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		fuzz_check_view(&v, p);
 		FUZZ_ASSERT(v.width == g.width && v.height == g.height && v.format == g.format,
 			    "%ux%u", v.width, v.height);
-		const pc_format_info *fi = pc_format_info_get(v.format);
-		if (!fi->is_float)
-			FUZZ_ASSERT(pc_view_check_bits(&v, fi->bits) == 0, "%s", pc_error_detail());
 		pc_view_free(&v);
 	}
 	fuzz_read_image(p, &g, data[6] % 17);
