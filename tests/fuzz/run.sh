@@ -28,7 +28,9 @@ for h in "${harnesses[@]}"; do
   log=$work/$h.log
   dict=()
   [[ -f $src/$h.dict ]] && dict=(-dict="$src/$h.dict")
-  before=$(ls "$work/findings" | grep -c "^$h-" || true)
+  # findings: crash-, leak-, timeout-, oom- artifacts (slow-unit- only marks an input that took
+  # more than 10 s of wall clock, which a starved process at nice 19 produces in plenty)
+  before=$(ls "$work/findings" | grep -E "^$h-(crash|leak|timeout|oom)-" -c || true)
   start=$SECONDS
   # -timeout: one input may take 20 s (FUZZ_TIMEOUT) at most, wall clock (a hang is a finding;
   # raise it on a loaded machine, where nice 19 starves the process); -rss_limit_mb: memory per
@@ -37,7 +39,7 @@ for h in "${harnesses[@]}"; do
     -artifact_prefix="$work/findings/$h-" "${dict[@]}" "$work/corpus/$h" "$src/corpus/$h" >"$log" 2>&1
   rc=$?
   took=$((SECONDS - start))
-  after=$(ls "$work/findings" | grep -c "^$h-" || true)
+  after=$(ls "$work/findings" | grep -E "^$h-(crash|leak|timeout|oom)-" -c || true)
   execs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*$')
   line=$(grep -E '^#[0-9]+' "$log" | tail -1)
   cov=$(grep -o 'cov: [0-9]*' <<<"$line" | grep -o '[0-9]*$')
