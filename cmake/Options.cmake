@@ -39,6 +39,14 @@ endif()
 # Physics stays IEEE: no -ffast-math anywhere (it would break the NaN validation and the
 # cancellation-free formulas of physics.md section 2).
 
+# Position-independent objects everywhere: the layers' objects also make libpolarcam.so.
+set(CMAKE_POSITION_INDEPENDENT_CODE ON)
+# Only what a public header marks PC_API (polarcam/export.h; cmake/pc_api.py) leaves the shared
+# library.
+set(CMAKE_C_VISIBILITY_PRESET hidden)
+set(CMAKE_CXX_VISIBILITY_PRESET hidden)
+set(CMAKE_VISIBILITY_INLINES_HIDDEN ON)
+
 # pc_layer(NAME SOURCES file... [HEADERS file...]): the layer's target pc_NAME, a static library
 # of position-independent objects (tests link the narrowest layer they need; libpolarcam.so and
 # libpolarcam.a are made of the same objects, cmake/Library.cmake), or an interface target while

@@ -3,6 +3,7 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "polarcam/version.h"
 
 static const pc_command pc_commands[] = {
 #define PC_COMMAND_ENTRY(name, summary) { #name, summary, cmd_##name },
@@ -31,7 +32,7 @@ int main(int argc, char **argv)
 		return PC_EXIT_OK;
 	}
 	if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
-		printf("polarcam %s\n", PC_VERSION);
+		printf("polarcam %s\n", pc_version());
 		return PC_EXIT_OK;
 	}
 	for (size_t i = 0; i < sizeof pc_commands / sizeof pc_commands[0]; i++) {

@@ -19,6 +19,7 @@
 #include <stdint.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
@@ -50,22 +51,22 @@ typedef struct pc_eval_metrics {
 /* Steps 1-2 from four analyser images in the order I0, I45, I90, I135 (same size; Mono8,
  * 16-bit containers or Float32, all the same container). Odd sizes lose their last row or
  * column. Errors name the image (0°, 45°, ...) and the problem. */
-int pc_eval_truth_from_views(const pc_view views[4], pc_eval_truth *t);
-void pc_eval_truth_free(pc_eval_truth *t);
+PC_API int pc_eval_truth_from_views(const pc_view views[4], pc_eval_truth *t);
+PC_API void pc_eval_truth_free(pc_eval_truth *t);
 
 /* The raw mosaic of the truth with layout m, in the truth's container (values × full scale,
  * exact). Owned view: free with pc_view_free. */
-int pc_eval_mosaic(const pc_eval_truth *t, const pc_mosaic *m, pc_view *raw);
+PC_API int pc_eval_mosaic(const pc_eval_truth *t, const pc_mosaic *m, pc_view *raw);
 
 /* Steps 4-5: scores four demosaicked channels (in the raw's units; divided by est_scale to
  * normalise) against the truth. Images must be at least 2·PC_EVAL_BORDER + 1 in each size. */
-int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_scale,
+PC_API int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_scale,
 		  pc_eval_metrics *out);
 
 /* Steps 2-5 for one method: mosaic with the Sony layout, demosaic (opts may be NULL), score.
  * Half-resolution methods are scored after replication to full size (each 2×2 block takes its
  * super-pixel's values). */
-int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
+PC_API int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
 		   const pc_demosaic_opts *opts, pc_eval_metrics *out);
 
 #ifdef __cplusplus

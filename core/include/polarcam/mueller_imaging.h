@@ -26,6 +26,7 @@
 #include <stdint.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -48,12 +49,12 @@ typedef struct pc_mueller_system {
 /* Builds the system from n_psg generator Stokes vectors, n_psa PSA Mueller matrices (NULL with
  * n_psa = 1 means no PSA element) and the four channel analyser rows (NULL: ideal). Errors:
  * counts out of range, non-finite input, rank below 3 (PC_ENUMERIC, naming A or G). */
-int pc_mueller_system_init(pc_mueller_system *s, unsigned n_psg, const double (*psg)[4],
+PC_API int pc_mueller_system_init(pc_mueller_system *s, unsigned n_psg, const double (*psg)[4],
 			   unsigned n_psa, const double (*psa)[4][4], const double (*analyser)[4]);
 
 /* The scalar double reference: M from the n_psg·n_psa·4 intensities of one pixel,
  * I[(g + n_psg·a)·4 + c]. Undetermined elements are NaN. */
-void pc_mueller_solve(const pc_mueller_system *s, const double *I, double M[4][4]);
+PC_API void pc_mueller_solve(const pc_mueller_system *s, const double *I, double M[4][4]);
 
 /* Adds frame j's contribution to per-pixel Mueller matrices: M is float (H, W, 4, 4), zeroed
  * by the caller before the first frame; ch[c] are the frame's four analyser images (channel c
@@ -61,11 +62,11 @@ void pc_mueller_solve(const pc_mueller_system *s, const double *I, double M[4][4
  * A⁺·I·G⁺ (undetermined elements stay 0: pc_mueller_finish marks them NaN). Accumulation in
  * float: relative error ≤ ~1e-6 against pc_mueller_solve (tested), far below shot noise. Runs
  * row bands on pc_parallel threads (threads 0 = default). */
-int pc_mueller_accumulate(const pc_mueller_system *s, unsigned frame, const pc_fplane ch[4],
+PC_API int pc_mueller_accumulate(const pc_mueller_system *s, unsigned frame, const pc_fplane ch[4],
 			  uint32_t width, uint32_t height, int threads, float *M);
 
 /* Marks the undetermined elements of every pixel NaN. */
-void pc_mueller_finish(const pc_mueller_system *s, uint32_t width, uint32_t height, float *M);
+PC_API void pc_mueller_finish(const pc_mueller_system *s, uint32_t width, uint32_t height, float *M);
 
 /* ---- The 4×4 from the 3×3 linear block for the pBRDF family (physics.md §7) ----
  *
@@ -113,12 +114,12 @@ typedef struct pc_rebuild_info {
  * the input is rejected (PC_RB_REJECTED). tol (relative to N00, ≥ 0) bounds the residual and
  * the realisability excesses. info may be NULL. Returns 0, or PC_EINVAL for non-finite input,
  * a negative or non-finite tol, or sign PC_REBUILD_OFF. */
-int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, double tol,
+PC_API int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, double tol,
 				   double M[4][4], pc_rebuild_info *info);
 
 /* Parses "convention", "+", "-", "off" (also "plus", "minus"); PC_EINVAL otherwise. */
-int pc_rebuild_sign_from_name(const char *name, pc_rebuild_sign *out);
-const char *pc_rebuild_sign_name(pc_rebuild_sign sign);
+PC_API int pc_rebuild_sign_from_name(const char *name, pc_rebuild_sign *out);
+PC_API const char *pc_rebuild_sign_name(pc_rebuild_sign sign);
 
 #ifdef __cplusplus
 }
