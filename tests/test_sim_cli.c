@@ -20,7 +20,7 @@
 #include "polarcam/recording.h"
 #include "polarcam/sim.h"
 
-static char tmp[] = "/tmp/pc_sim_cli_XXXXXX";
+static char tmp[64];
 
 static int run(int (*cmd)(int, char **), const char *name, ...)
 {
@@ -404,7 +404,7 @@ static void test_demo(void)
 
 int main(void)
 {
-	if (!mkdtemp(tmp))
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_sim_cli"))
 		SKIP("cannot create a temporary directory");
 	setenv("POLARCAM_PROGRESS", "0", 1);
 	test_render();

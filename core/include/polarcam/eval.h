@@ -1,5 +1,5 @@
-/* polarcam/eval.h - the frozen demosaicking evaluation protocol (../shared/data/README.md, the
- * one the field's public evaluation code uses, Tokyo Tech / Lapray):
+/* polarcam/eval.h - the frozen demosaicking evaluation protocol (docs/evaluation.md, the one
+ * the field's public evaluation code uses, Tokyo Tech / Lapray):
  *
  *  1. the four analyser images as float64, normalised to [0, 1] by the container's full scale
  *     (16-bit containers: 65535, even for 12-bit data; 8-bit: 255; float data as is);

@@ -2,7 +2,7 @@
  * description does not say: which raw pixel formats carry the polarizer mosaic, the ADC bit
  * depth and the mosaic layout at sensor pixel (0,0) (before ROI offsets and ReverseX/Y).
  *
- * Sources (hardware.md): LUCID Arena PolarizeMono* names; FLIR Spinnaker Polarized* and
+ * Sources (docs/hardware.md): LUCID Arena PolarizeMono* names; FLIR Spinnaker Polarized* and
  * BayerRGPolarized* names; Basler's polarized models use the standard Mono* names. All IMX250MZR
  * cameras listed read out [90 45; 135 0] at the top-left; the colour-polarization IMX250MYR
  * cameras (LUCID TRI050S-Q, FLIR BFS-U3-51S5PC) put those 2x2 blocks under an RGGB Bayer
