@@ -25,3 +25,5 @@ set_tests_properties(install_cleanup PROPERTIES FIXTURES_CLEANUP pc_installed)
 set_tests_properties(install_exports install_consumer_pkg-config install_consumer_cmake PROPERTIES
   FIXTURES_REQUIRED pc_installed SKIP_RETURN_CODE 77 TIMEOUT 600
   ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp:print_suppressions=0")
+# docs/api.md prints stokes_raw.c: the two must not drift apart.
+add_test(NAME api_doc_example COMMAND ${PC_INSTALL_DIR}/doc_example.sh ${PROJECT_SOURCE_DIR})
