@@ -29,6 +29,8 @@ pc_required(TIFF libtiff-4)
 pc_required(JANSSON jansson)
 # cairo draws the PNG plots and annotated pictures (io/plot.c).
 pc_required(CAIRO cairo)
+# libzip writes and reads the calibration file (.npz, calib/calib_file.c).
+pc_required(LIBZIP libzip)
 
 pc_optional(ARAVIS ${PC_WITH_ARAVIS} aravis-0.8)
 pc_optional(LIBCAMERA ${PC_WITH_LIBCAMERA} libcamera)
