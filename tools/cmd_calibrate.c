@@ -14,6 +14,7 @@
 #include "polarcam/format.h"
 #include "polarcam/io.h"
 #include "polarcam/recording.h"
+#include "polarcam/version.h"
 #include "sim_cli.h"
 
 static void usage(FILE *fp)
@@ -299,7 +300,7 @@ static void add_provenance(pc_calib *c, json_t *step)
 	if (!json_is_object(p)) {
 		json_decref(p);
 		p = json_object();
-		json_object_set_new(p, "software", json_string("polarcam " PC_VERSION));
+		json_object_set_new(p, "software", json_string("polarcam " PC_VERSION_STRING));
 		json_object_set_new(p, "steps", json_array());
 	}
 	json_array_append_new(json_object_get(p, "steps"), step);
