@@ -182,6 +182,9 @@ typedef struct report {
 	int n_yes, n_no, n_partly;
 } report;
 
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
 static void rprintf(report *r, const char *fmt, ...)
 {
 	va_list ap;
