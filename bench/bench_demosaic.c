@@ -387,8 +387,8 @@ static void usage(FILE *fp)
 		"                               [--quick] [--json]\n"
 		"\n"
 		"What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
-		"every dataset in DATA_DIR/gt (default /work/shared/data, skipped with a message\n"
-		"when absent): S0 and DoLP PSNR and the DoLP-weighted AoLP RMSE, per dataset (mean of\n"
+		"every dataset in DATA_DIR/gt (default $POLARCAM_DATA; skipped with a message when\n"
+		"neither is given; layout and datasets: docs/evaluation.md): S0 and DoLP PSNR and the DoLP-weighted AoLP RMSE, per dataset (mean of\n"
 		"its scenes), bilinear as the baseline, and our bilinear against a straightforward\n"
 		"double-precision reference bilinear. Time: per 2448x2048 frame of 12-bit data in\n"
 		"16-bit containers, median of N runs (default 7; 3 with --quick) on warm buffers, for\n"
@@ -501,10 +501,13 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		}
 	}
 	struct stat sb;
-	if (!data_dir && stat("/work/shared/data", &sb) == 0 && S_ISDIR(sb.st_mode))
-		data_dir = "/work/shared/data";
+	const char *data_from = "DATA_DIR";
+	if (!data_dir && getenv("POLARCAM_DATA") && *getenv("POLARCAM_DATA")) {
+		data_dir = getenv("POLARCAM_DATA");
+		data_from = "POLARCAM_DATA";
+	}
 	if (data_dir && !(stat(data_dir, &sb) == 0 && S_ISDIR(sb.st_mode)))
-		return host->error(PC_BENCH_USAGE, "%s: not a directory", data_dir);
+		return host->error(PC_BENCH_USAGE, "%s %s: not a directory", data_from, data_dir);
 	FILE *tf = json_out ? stderr : stdout;
 	int nthreads = threads ? (int)threads : pc_parallel_max_threads();
 	char load0[128], load1[128];
@@ -780,8 +783,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			}
 		}
 	} else {
-		fprintf(tf, "no data directory (DATA_DIR or /work/shared/data): accuracy skipped, time "
-			    "only\n\n");
+		fprintf(tf, "no data directory (DATA_DIR or POLARCAM_DATA; docs/evaluation.md): "
+			    "accuracy skipped, time only\n\n");
 	}
 	/* ---------------- noisy track ---------------- */
 	pc_demosaic_method nmeth[PC_DM_COUNT];

@@ -299,8 +299,8 @@ static void test_retarder(void)
 
 static void test_mesh_equals_box(void)
 {
-	char dir[] = "/tmp/pc_sim_render_XXXXXX";
-	CHECK(mkdtemp(dir) != NULL);
+	char dir[64];
+	CHECK(pc_test_tmpdir(dir, sizeof dir, "pc_sim_render") != NULL);
 	char obj[256];
 	snprintf(obj, sizeof obj, "%s/cube.obj", dir);
 	FILE *fp = fopen(obj, "w");

@@ -22,6 +22,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
@@ -70,16 +71,16 @@ typedef struct pc_demosaic_method_info {
 } pc_demosaic_method_info;
 
 /* Table entry of a method, NULL for out-of-range values. */
-const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m);
+PC_API const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m);
 
 /* Method by command-line name. PC_EINVAL listing the valid names when unknown. */
-int pc_demosaic_method_from_name(const char *name, pc_demosaic_method *m);
+PC_API int pc_demosaic_method_from_name(const char *name, pc_demosaic_method *m);
 
 /* Number of output channels for a mosaic: 4 (monochrome) or 12 (colour). */
-unsigned pc_demosaic_channels(const pc_mosaic *m);
+PC_API unsigned pc_demosaic_channels(const pc_mosaic *m);
 
 /* Output size of a method for a raw of width × height. */
-void pc_demosaic_out_size(pc_demosaic_method m, uint32_t width, uint32_t height, uint32_t *ow,
+PC_API void pc_demosaic_out_size(pc_demosaic_method m, uint32_t width, uint32_t height, uint32_t *ow,
 			  uint32_t *oh);
 
 typedef struct pc_demosaic_opts {
@@ -94,7 +95,7 @@ typedef struct pc_demosaic_opts {
  * Errors (PC_EINVAL with a detail message): invalid view or mosaic, odd or too small sizes
  * (at least 4×4, even; colour: at least 8×8), a method that does not support the mosaic kind,
  * missing output planes, NaN or infinite float input (PC_ERANGE naming the pixel). */
-int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
+PC_API int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
 		const pc_demosaic_opts *opts, const pc_fplane *out);
 
 /* Bilinear into 16-bit planes, for live paths that keep integers (display, recording, 16-bit
@@ -104,14 +105,14 @@ int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method metho
  * container format (Mono10/12/14/16) and bits + frac_bits <= 16 (PC_ERANGE otherwise), with
  * the same sizes and mosaics as pc_demosaic. Equal to pc_demosaic's bilinear scaled and rounded
  * (tested). */
-int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned frac_bits,
+PC_API int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned frac_bits,
 			     int threads, uint16_t *const out[4], size_t out_stride);
 
 /* Fills planes[0..channels) for an interleaved C-order (height, width, channels) float buffer. */
-void pc_fplanes_interleaved(float *base, uint32_t width, unsigned channels, pc_fplane *planes);
+PC_API void pc_fplanes_interleaved(float *base, uint32_t width, unsigned channels, pc_fplane *planes);
 
 /* Fills planes[0..channels) for channels consecutive width × height planes (channel-major). */
-void pc_fplanes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
+PC_API void pc_fplanes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
 			 pc_fplane *planes);
 
 #ifdef __cplusplus

@@ -1,7 +1,7 @@
 /* polarcam/stokes.h - linear Stokes images, DoLP and AoLP from analyser images or raw mosaics.
  *
  * Formulas (ideal analysers at 0°, 45°, 90°, 135°; the frozen evaluation protocol,
- * ../shared/data/README.md, step 4):
+ * docs/evaluation.md, step 4):
  *   S0 = (I0 + I45 + I90 + I135) / 2,  S1 = I0 − I90,  S2 = I45 − I135,
  *   DoLP = sqrt(S1² + S2²) / S0, clipped to [0, 1] (0 where S0 <= 0),
  *   AoLP = ½·atan2(S2, S1) in radians, mapped to [0, π).
@@ -25,6 +25,7 @@
 #include <stdint.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
@@ -46,19 +47,19 @@ typedef struct pc_analyser_pinv {
 } pc_analyser_pinv;
 
 /* The ideal analyser matrix: W[c] = ½·(1, cos 2θ_c, sin 2θ_c), θ_c = 45°·c. */
-void pc_stokes_ideal_analyser(double w[4][3]);
+PC_API void pc_stokes_ideal_analyser(double w[4][3]);
 
 /* 3×4 pseudo-inverse (WᵀW)⁻¹Wᵀ of a 4×3 analyser matrix, in double. PC_ENUMERIC when W is
  * rank-deficient (reciprocal condition number of WᵀW below 1e-10). */
-int pc_stokes_pinv1(const double w[4][3], double pinv[3][4]);
+PC_API int pc_stokes_pinv1(const double w[4][3], double pinv[3][4]);
 
 /* Pseudo-inverses of n analyser matrices (n × 4 × 3 floats) into n × 3 × 4 floats. Fails with
  * PC_ENUMERIC naming the first singular matrix. */
-int pc_stokes_pinv(const float *w, size_t n, float *pinv);
+PC_API int pc_stokes_pinv(const float *w, size_t n, float *pinv);
 
 /* Stokes, DoLP and AoLP of width × height pixels from four analyser images (I0, I45, I90,
  * I135). pinv NULL: the ideal formulas above; otherwise the least-squares pseudo-inverses. */
-int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t height,
+PC_API int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t height,
 			    const pc_analyser_pinv *pinv, const pc_stokes_out *out);
 
 /* The pipeline: demosaic raw with method, then Stokes/DoLP/AoLP, without full-size
@@ -66,7 +67,7 @@ int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t heig
  * Colour-polarization mosaics use the colour average (R + G + B)/3 of each analyser image.
  * Output size is pc_demosaic_out_size(method, ...). opts may be NULL; opts->reference runs the
  * double-precision references of both stages. */
-int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
+PC_API int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
 		       const pc_demosaic_opts *opts, const pc_stokes_out *out);
 
 /* Whether pc_stokes_from_raw with PC_DM_BILINEAR (or a row-cache method) writes these width ×
@@ -75,11 +76,11 @@ int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_metho
  * processors, where ordinary stores measured faster (docs/demosaicking.md);
  * POLARCAM_NT_MIN_BYTES overrides the size threshold. For benchmarks that compare the
  * pipeline with a memory floor written the same way. */
-bool pc_stokes_streams(const pc_stokes_out *out, uint32_t width, uint32_t height);
+PC_API bool pc_stokes_streams(const pc_stokes_out *out, uint32_t width, uint32_t height);
 
 /* AoLP = ½·atan2(s2, s1) mapped to [0, π), the float kernel used by the fast paths
  * (maximum error 3e-7 rad against double, tested). */
-float pc_aolp_f(float s1, float s2);
+PC_API float pc_aolp_f(float s1, float s2);
 
 #ifdef __cplusplus
 }
