@@ -148,11 +148,12 @@ typedef struct floor_job {
 	int nt;
 } floor_job;
 
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
+
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #include <immintrin.h>
 
-/* the program running the benchmark (bench.h) */
-static const pc_bench_host *host;
 #define PC_BENCH_X86 1
 __attribute__((target("avx2"))) static void floor_rows_avx2(const floor_job *j, uint32_t y0,
 							    uint32_t y1)
