@@ -115,23 +115,33 @@ case $cmd in
   test)
     install_pkgs $BUILD_PKGS $TEST_PKGS
     start=$SECONDS
+    # the time of each step, with the load average when it ended (the machine may be shared)
+    laps=() mark=$SECONDS
+    lap() {
+      laps+=("$1 $((SECONDS - mark)) s (load $(cut -d' ' -f1 /proc/loadavg))")
+      mark=$SECONDS
+    }
     say "build 1/3: build-ci (GCC, -Wall -Wextra -Werror)"
     # libcamera is off by default; CI asks for it so that the backend is compiled and tested
     build build-ci -DPC_WERROR=ON -DPC_WITH_LIBCAMERA=AUTO
+    lap "build build-ci"
     say "build 2/3: build-asan (GCC, AddressSanitizer + UndefinedBehaviorSanitizer)"
     build build-asan -DPC_WERROR=ON -DPC_SANITIZE=ON -DPC_WITH_LIBCAMERA=AUTO
+    lap "build build-asan"
     # The QEMU guest tests boot Debian's own kernel package: fetch it here, with the packages,
     # so that the tests themselves need no network (tests/qemu/kernel.sh caches it per build).
     for dir in build-ci build-asan; do
       tests/qemu/kernel.sh "$dir/qemu-cache" vivid >/dev/null ||
         say "Debian's kernel package could not be fetched: the QEMU guest tests will be skipped"
     done
+    lap "QEMU kernel cache"
     status=0
     for dir in build-ci build-asan; do
       say "tests in $dir"
       (cd "$dir" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
         LSAN_OPTIONS=suppressions=$PWD/../tests/lsan.supp:print_suppressions=0 \
         ctest --output-on-failure -j "$JOBS" --timeout 900) || status=1
+      lap "tests in $dir"
     done
     gcc_s=$((SECONDS - start))
     # clang last, so that a clang-only failure still leaves the GCC results above. Its tests:
@@ -141,12 +151,16 @@ case $cmd in
     say "build 3/3: build-clang (clang, Release, -Wall -Wextra -Werror)"
     if (CC=clang CXX=clang++ build build-clang -DCMAKE_BUILD_TYPE=Release -DPC_WERROR=ON \
       -DPC_WITH_LIBCAMERA=AUTO); then
+      lap "build build-clang"
       say "tests in build-clang (without $CLANG_SKIP)"
       (cd build-clang && LSAN_OPTIONS=suppressions=$PWD/../tests/lsan.supp:print_suppressions=0 \
         ctest --output-on-failure -j "$JOBS" --timeout 900 -E "$CLANG_SKIP") || status=1
+      lap "tests in build-clang"
     else
+      lap "build build-clang (failed)"
       status=1
     fi
+    for l in "${laps[@]}"; do say "  $l"; done
     say "GCC builds and tests: $gcc_s s; clang build and tests: $((SECONDS - start - gcc_s)) s"
     say "tests finished in $((SECONDS - start)) s: $([[ $status == 0 ]] && echo PASSED || echo FAILED)"
     exit $status
