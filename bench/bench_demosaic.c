@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "bench.h"
+#include "polarcam/cpu.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/error.h"
 #include "polarcam/eval.h"
@@ -148,11 +149,11 @@ typedef struct floor_job {
 	int nt;
 } floor_job;
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#include <immintrin.h>
-
 /* the program running the benchmark (bench.h) */
 static const pc_bench_host *host;
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
 #define PC_BENCH_X86 1
 __attribute__((target("avx2"))) static void floor_rows_avx2(const floor_job *j, uint32_t y0,
 							    uint32_t y1)
@@ -189,7 +190,7 @@ static void floor_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	const floor_job *j = ctx;
 #ifdef PC_BENCH_X86
-	if (__builtin_cpu_supports("avx2")) {
+	if (pc_cpu_active() >= PC_CPU_AVX2) {
 		floor_rows_avx2(j, y0, y1);
 		return;
 	}

@@ -7,7 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cpu_internal.h"
 #include "demosaic_internal.h"
+#include "polarcam/cpu.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 #include "polarcam/stokes.h"
@@ -222,27 +224,12 @@ static inline __attribute__((always_inline, target(PC_AVX512_TARGET))) v16f rcp_
 
 static int use_avx512(void)
 {
-	static int cached = -1;
-	if (cached < 0) {
-		const char *e = getenv("POLARCAM_NO_AVX512");
-		__builtin_cpu_init();
-		cached = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-			 __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
-			 !(e && *e && *e != '0');
-	}
-	return cached;
+	return pc_cpu_active() >= PC_CPU_AVX512;
 }
 
 static int use_avx2(void)
 {
-	static int cached = -1;
-	if (cached < 0) {
-		const char *e = getenv("POLARCAM_NO_AVX2");
-		__builtin_cpu_init();
-		cached = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-			 !(e && *e && *e != '0');
-	}
-	return cached;
+	return pc_cpu_active() >= PC_CPU_AVX2;
 }
 #endif
 
@@ -266,11 +253,8 @@ static size_t nt_min_bytes(void)
 		char *end;
 		unsigned long long v = e && *e ? strtoull(e, &end, 10) : 0;
 		size_t dflt = (size_t)32 << 20;
-#ifdef PC_HAVE_X86_DISPATCH
-		__builtin_cpu_init();
-		if (__builtin_cpu_is("amd"))
+		if (pc_cpu_is_amd())
 			dflt = (size_t)-2; /* never */
-#endif
 		cached = e && *e && !*end && v < (size_t)-1 ? (size_t)v : dflt;
 	}
 	return cached;
@@ -714,14 +698,13 @@ typedef struct b16_job {
 	unsigned frac;
 	uint16_t *const *out;
 	size_t ostride;
+	pc_cpu_level level;
 } b16_job;
 
 /* One row: S, H, V, D as in bilinear_row, in integers. With q = 2 − frac, a value v·2^frac is
  * (4v) >> q rounded: (4v + (q ? 1 << (q − 1) : 0)) >> q, where 4v is an exact integer. */
-#ifdef PC_HAVE_X86_DISPATCH
-__attribute__((target_clones("avx2", "default")))
-#endif
-static void b16_row(const uint16_t *restrict a, const uint16_t *restrict b,
+static inline __attribute__((always_inline)) void
+b16_row(const uint16_t *restrict a, const uint16_t *restrict b,
 		    const uint16_t *restrict c, long w, unsigned q, uint16_t *restrict o0,
 		    uint16_t *restrict o1, uint16_t *restrict o2, uint16_t *restrict o3)
 {
@@ -745,6 +728,20 @@ static void b16_row(const uint16_t *restrict a, const uint16_t *restrict b,
 #undef PC_B16_PIXEL
 }
 
+#define PC_B16_INSTANCE(name, attr)                                                               \
+	static attr void name(const uint16_t *restrict a, const uint16_t *restrict b,            \
+			      const uint16_t *restrict c, long w, unsigned q, uint16_t *restrict o0, \
+			      uint16_t *restrict o1, uint16_t *restrict o2, uint16_t *restrict o3)   \
+	{                                                                                        \
+		b16_row(a, b, c, w, q, o0, o1, o2, o3);                                          \
+	}
+PC_B16_INSTANCE(b16_row_base, )
+#ifdef PC_HAVE_X86_DISPATCH
+PC_B16_INSTANCE(b16_row_avx2, __attribute__((target("avx2,fma"))))
+PC_B16_INSTANCE(b16_row_avx512, __attribute__((target(PC_AVX512_TARGET))))
+#endif
+#undef PC_B16_INSTANCE
+
 static void b16_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	b16_job *j = ctx;
@@ -758,7 +755,14 @@ static void b16_band(void *ctx, uint32_t y0, uint32_t y1)
 				     pc_dm_ch(j->m, 1, y + 1) };
 		for (int k = 0; k < 4; k++)
 			o[k] = (uint16_t *)((uint8_t *)j->out[slot[k]] + (size_t)y * j->ostride);
-		b16_row(a, b, c, r->width, 2 - j->frac, o[0], o[1], o[2], o[3]);
+#ifdef PC_HAVE_X86_DISPATCH
+		if (j->level >= PC_CPU_AVX512)
+			b16_row_avx512(a, b, c, r->width, 2 - j->frac, o[0], o[1], o[2], o[3]);
+		else if (j->level >= PC_CPU_AVX2)
+			b16_row_avx2(a, b, c, r->width, 2 - j->frac, o[0], o[1], o[2], o[3]);
+		else
+#endif
+			b16_row_base(a, b, c, r->width, 2 - j->frac, o[0], o[1], o[2], o[3]);
 	}
 }
 
@@ -789,7 +793,7 @@ int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned fr
 	for (int c = 0; c < 4; c++)
 		if (!out[c])
 			return pc_error(PC_EINVAL, "16-bit bilinear: output plane %d missing", c);
-	b16_job j = { raw, m, frac_bits, out, out_stride };
+	b16_job j = { raw, m, frac_bits, out, out_stride, pc_cpu_active() };
 	pc_parallel_rows(raw->height, 0, threads, b16_band, &j);
 	return 0;
 }

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "demosaic_internal.h"
+#include "polarcam/cpu.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 #include "polarcam/stokes.h"
@@ -86,21 +87,14 @@ _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2"
 static const pc_ic_kernels *kernels(void)
 {
 #ifdef PC_HAVE_X86_DISPATCH
-	static int cached = -1;
-	if (cached < 0) {
-		const char *e = getenv("POLARCAM_NO_AVX2"), *e5 = getenv("POLARCAM_NO_AVX512");
-		__builtin_cpu_init();
-		cached = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-			 !(e && *e && *e != '0');
-		if (cached && __builtin_cpu_supports("avx512f") &&
-		    __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") &&
-		    __builtin_cpu_supports("avx512bw") && !(e5 && *e5 && *e5 != '0'))
-			cached = 2;
-	}
-	if (cached == 2)
+	switch (pc_cpu_active()) {
+	case PC_CPU_AVX512:
 		return &kernels_avx512;
-	if (cached)
+	case PC_CPU_AVX2:
 		return &kernels_avx2;
+	default:
+		break;
+	}
 #endif
 	return &kernels_base;
 }
