@@ -1,0 +1,26 @@
+/* Internal: closes a kernel instance opened by simd_instance_begin.h. No include guard. */
+#undef KW
+#undef vf
+#undef vi
+#undef vsplat
+#undef vld
+#undef vld_dup
+#undef vabs
+#undef vsel
+#undef vblend_odd
+#undef KFN
+#undef KATTR
+#undef KSTORE
+#undef KSQRT
+#undef KFMA
+#undef KDIV
+#undef KRSQRT
+#undef km
+#undef KLT
+#undef KSEL
+#undef KMAX
+#undef KMIN
+#undef PC_INST
+#undef PC_INST_BASELINE
+#undef PC_INST_AVX2
+#undef PC_INST_AVX512
