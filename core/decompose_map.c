@@ -93,7 +93,12 @@ typedef long pc_vm8 __attribute__((vector_size(64)));
 #undef VANY
 
 #define KFN(name) pc_lc_##name##_avx512
+/* GCC prefers 256-bit vectors unless told; clang takes the explicit 512-bit width as it is */
+#ifdef __clang__
+#define KATTR     __attribute__((target("avx512f,avx512vl,avx512dq"), min_vector_width(512)))
+#else
 #define KATTR     __attribute__((target("avx512f,avx512vl,avx512dq,prefer-vector-width=512")))
+#endif
 #define VD        pc_vd8
 #define VM        pc_vm8
 #define VW        8

@@ -62,6 +62,17 @@ typedef struct pc_ic_kernels {
 			  long);
 } pc_ic_kernels;
 
+/* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
+ * recurrences across iterations that its vectoriser (LLVM 14) refuses ("value that could not
+ * be identified as reduction is used outside the loop"); an offset the optimiser cannot see
+ * through (an empty asm on a register holding 1 or 2) keeps them plain loads, and the loops
+ * vectorise. GCC vectorises the loops as written, so the offsets stay constants there. */
+#ifdef __clang__
+#define PC_OPAQUE(v) __asm__("" : "+r"(v))
+#else
+#define PC_OPAQUE(v) ((void)0)
+#endif
+
 /* The guided filter's window radius is fixed at compile time (PC_GF_R) so that its window
  * sums unroll and vectorise; the parameter tables must agree. */
 #define PC_GF_R 2

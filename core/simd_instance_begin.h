@@ -18,19 +18,13 @@
 #define KW 8
 #define vf v8f
 #define vi v8i
-#define vsplat vsplat8
-#define vld vld8
-#define vld_dup vld_dup8
-#define vabs vabs8
-#define vsel vsel8
-#define vblend_odd vblend_odd8
 #define KFN(name) name##_base
 #define KATTR
-#define KSTORE(p, v, nt) ((void)(nt), vst8((p), (v)))
-#define KSQRT(v) vsqrt_lanes8(v)
+#define KSTORE(p, v, nt) ((void)(nt), KFN(h_st)((p), (v)))
+#define KSQRT(v) KFN(h_sqrt_lanes)(v)
 #define KFMA(a, b, c) ((a) * (b) + (c))
 #define KDIV(n, d) ((n) / (d))
-#define KRSQRT(p) (vsplat(1.0f) / vsqrt_lanes8(p))
+#define KRSQRT(p) (vsplat(1.0f) / KFN(h_sqrt_lanes)(p))
 #define km v8i
 #define KLT(a, b) ((a) < (b))
 #define KSEL(m, a, b) vsel((m), (a), (b))
@@ -42,12 +36,6 @@
 #define KW 8
 #define vf v8f
 #define vi v8i
-#define vsplat vsplat8
-#define vld vld8
-#define vld_dup vld_dup8
-#define vabs vabs8
-#define vsel vsel8
-#define vblend_odd vblend_odd8
 #define KFN(name) name##_avx2
 #define KATTR __attribute__((target("avx2,fma")))
 #define KSTORE(p, v, nt)                                                                         \
@@ -55,7 +43,7 @@
 		if (nt)                                                                          \
 			_mm256_stream_ps((p), (__m256)(v));                                      \
 		else                                                                             \
-			vst8((p), (v));                                                          \
+			KFN(h_st)((p), (v));                                                     \
 	} while (0)
 #define KSQRT(v) ((v8f)_mm256_sqrt_ps((__m256)(v)))
 #define KFMA(a, b, c) ((v8f)_mm256_fmadd_ps((__m256)(a), (__m256)(b), (__m256)(c)))
@@ -73,12 +61,6 @@
 #define KW 16
 #define vf v16f
 #define vi v16i
-#define vsplat vsplat16
-#define vld vld16
-#define vld_dup vld_dup16
-#define vabs vabs16
-#define vsel vsel16
-#define vblend_odd vblend_odd16
 #define KFN(name) name##_avx512
 #define KATTR __attribute__((target(PC_AVX512_TARGET)))
 #define KSTORE(p, v, nt)                                                                         \
@@ -86,7 +68,7 @@
 		if (nt)                                                                          \
 			_mm512_stream_ps((p), (__m512)(v));                                      \
 		else                                                                             \
-			vst16((p), (v));                                                         \
+			KFN(h_st)((p), (v));                                                     \
 	} while (0)
 #define KSQRT(v) ((v16f)_mm512_sqrt_ps((__m512)(v)))
 #define KFMA(a, b, c) ((v16f)_mm512_fmadd_ps((__m512)(a), (__m512)(b), (__m512)(c)))
@@ -101,3 +83,11 @@
 #else
 #error "PC_INST: define it as PC_INST_BASELINE, PC_INST_AVX2 or PC_INST_AVX512"
 #endif
+
+#define vsplat KFN(h_splat)
+#define vld KFN(h_ld)
+#define vld_dup KFN(h_ld_dup)
+#define vabs KFN(h_abs)
+#define vsel KFN(h_sel)
+#define vblend_odd KFN(h_blend_odd)
+#include "simd_helpers.inc"

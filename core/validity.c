@@ -123,12 +123,12 @@ static const uint8_t *hd_row(const vjob *j, vband *b, int32_t r, int *any)
 	}
 	const int lo = j->sup.lo, hi = j->sup.hi;
 	if (j->sup.block == 1 && j->sup.scale == 1) {
-		PC_SIMD
-		for (uint32_t X = 0; X < j->ow; X++) {
-			unsigned v = 0;
-			for (int d = lo; d <= hi; d++)
-				v |= p[(int)X + d];
-			o[X] = (uint8_t)v;
+		/* one shifted row at a time: plain byte loops that vectorise */
+		memcpy(o, p + lo, j->ow);
+		for (int d = lo + 1; d <= hi; d++) {
+			const uint8_t *q = p + d;
+			for (uint32_t X = 0; X < j->ow; X++)
+				o[X] |= q[X];
 		}
 	} else {
 		for (uint32_t X = 0; X < j->ow; X++) {
