@@ -3,7 +3,8 @@
  * include simd_instance_end.h. Defines:
  *   KFN(name)  the instance's function name        KATTR  its target attribute
  *   KW         lanes per vector (8 or 16)          vf, vi  the float and int32 vector types
- *   vsplat(f), vld(p), vld_dup(p) (lanes 2i, 2i+1 = p[i]), vabs(v), vsel(m, a, b),
+ *   vsplat(f), vld(p), vld_dup(p) (lanes 2i, 2i+1 = p[i]), vld_zip(p, q) (lanes 2i, 2i+1 =
+ *   p[i], q[i]), vswap_pairs(v) (lanes 2i, 2i+1 exchanged), vabs(v), vsel(m, a, b),
  *   vblend_odd(a, b) (even lanes from a, odd from b)
  *   KSTORE(p, v, nt)  store one vector (nt: non-temporal allowed; p 64-byte aligned then)
  *   KSQRT, KFMA(a, b, c) = a·b + c, KDIV (≈ n/d), KRSQRT (≈ 1/√p), KMAX, KMIN
@@ -90,4 +91,6 @@
 #define vabs KFN(h_abs)
 #define vsel KFN(h_sel)
 #define vblend_odd KFN(h_blend_odd)
+#define vld_zip KFN(h_ld_zip)
+#define vswap_pairs KFN(h_swap_pairs)
 #include "simd_helpers.inc"

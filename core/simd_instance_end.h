@@ -8,6 +8,8 @@
 #undef vabs
 #undef vsel
 #undef vblend_odd
+#undef vld_zip
+#undef vswap_pairs
 #undef KFN
 #undef KATTR
 #undef KSTORE

@@ -15,10 +15,8 @@
 /* omp simd with the reductions of the flag and count loops (ignored without OpenMP) */
 #ifdef _OPENMP
 #define PC_SIMD_OR_ANY _Pragma("omp simd reduction(|:any)")
-#define PC_SIMD_SUM_N _Pragma("omp simd reduction(+:n)")
 #else
 #define PC_SIMD_OR_ANY
-#define PC_SIMD_SUM_N
 #endif
 
 typedef struct vjob {
@@ -26,8 +24,8 @@ typedef struct vjob {
 	pc_dm_support sup;
 	int use_sat, use_dead;
 	double sat, dead;   /* float samples */
-	uint32_t isat;      /* integer samples: flagged when >= isat (use_sat) */
-	int64_t idead;      /* ... or <= idead (use_dead) */
+	uint32_t isat;      /* integer samples: flagged when >= isat (65536: never) */
+	uint32_t idead1;    /* ... or < idead1 (0: never) */
 	uint32_t ow, oh;
 	uint8_t *mask;
 	size_t stride;
@@ -35,49 +33,76 @@ typedef struct vjob {
 	atomic_int err;
 } vjob;
 
+/* Flags (0/1) of integer samples r[0..w): >= hi or < lo1. Returns whether any is set. */
+#define PC_FLAG_INT(T)                                                                           \
+	static unsigned flag_##T(const T *restrict r, uint32_t w, uint32_t hi, uint32_t lo1,     \
+				 uint8_t *restrict p)                                            \
+	{                                                                                        \
+		unsigned any = 0;                                                                \
+		PC_SIMD_OR_ANY                                                                   \
+		for (uint32_t x = 0; x < w; x++) {                                               \
+			uint32_t v = r[x];                                                       \
+			unsigned f = (unsigned)(v >= hi) | (unsigned)(v < lo1);                  \
+			p[x] = (uint8_t)f;                                                       \
+			any |= f;                                                                \
+		}                                                                                \
+		return any;                                                                      \
+	}
+PC_FLAG_INT(uint8_t)
+PC_FLAG_INT(uint16_t)
+#undef PC_FLAG_INT
+
+static unsigned flag_float(const float *restrict r, uint32_t w, double hi, double lo,
+			   uint8_t *restrict p)
+{
+	unsigned any = 0;
+	PC_SIMD_OR_ANY
+	for (uint32_t x = 0; x < w; x++) {
+		unsigned f = (unsigned)((double)r[x] >= hi) | (unsigned)((double)r[x] <= lo);
+		p[x] = (uint8_t)f;
+		any |= f;
+	}
+	return any;
+}
+
 /* Flags (0/1) of raw row y into p[0..w). Returns whether any is set. */
 static int flag_row(const vjob *j, uint32_t y, uint8_t *p)
 {
 	const pc_dm_input *in = j->in;
 	const uint8_t *row = in->data + (size_t)y * in->stride;
-	uint32_t w = in->width;
-	const int us = j->use_sat, ud = j->use_dead;
-	unsigned any = 0;
 	switch (in->type) {
 	case PC_DMT_U8:
-	case PC_DMT_U16: {
-		const uint32_t hi = us ? j->isat : UINT32_MAX;
-		const int64_t lo = ud ? j->idead : -1;
-		if (in->type == PC_DMT_U8) {
-			PC_SIMD_OR_ANY
-			for (uint32_t x = 0; x < w; x++) {
-				unsigned f = (row[x] >= hi) | ((int64_t)row[x] <= lo);
-				p[x] = (uint8_t)f;
-				any |= f;
-			}
-		} else {
-			const uint16_t *r = (const uint16_t *)(const void *)row;
-			PC_SIMD_OR_ANY
-			for (uint32_t x = 0; x < w; x++) {
-				unsigned f = (r[x] >= hi) | ((int64_t)r[x] <= lo);
-				p[x] = (uint8_t)f;
-				any |= f;
-			}
-		}
-		break;
+		return flag_uint8_t(row, in->width, j->isat, j->idead1, p) != 0;
+	case PC_DMT_U16:
+		return flag_uint16_t((const uint16_t *)(const void *)row, in->width, j->isat,
+				     j->idead1, p) != 0;
+	default:
+		return flag_float((const float *)(const void *)row, in->width,
+				  j->use_sat ? j->sat : INFINITY, j->use_dead ? j->dead : -INFINITY,
+				  p) != 0;
 	}
-	case PC_DMT_F32: {
-		const float *r = (const float *)(const void *)row;
-		const double hi = us ? j->sat : INFINITY, lo = ud ? j->dead : -INFINITY;
-		for (uint32_t x = 0; x < w; x++) {
-			unsigned f = ((double)r[x] >= hi) | ((double)r[x] <= lo);
-			p[x] = (uint8_t)f;
-			any |= f;
-		}
-		break;
+}
+
+/* o |= q over n bytes */
+static void or_into(uint8_t *restrict o, const uint8_t *restrict q, uint32_t n)
+{
+	PC_SIMD
+	for (uint32_t x = 0; x < n; x++)
+		o[x] |= q[x];
+}
+
+/* out = !acc; returns the number of set acc bytes */
+static unsigned invert_count(uint8_t *restrict out, const uint8_t *restrict acc, uint32_t n)
+{
+	unsigned cnt = 0;
+#ifdef _OPENMP
+#pragma omp simd reduction(+:cnt)
+#endif
+	for (uint32_t x = 0; x < n; x++) {
+		cnt += acc[x];
+		out[x] = (uint8_t)(acc[x] ^ 1u);
 	}
-	}
-	return any != 0;
+	return cnt;
 }
 
 /* Per-band state: a cache of horizontally dilated flag rows. */
@@ -125,11 +150,8 @@ static const uint8_t *hd_row(const vjob *j, vband *b, int32_t r, int *any)
 	if (j->sup.block == 1 && j->sup.scale == 1) {
 		/* one shifted row at a time: plain byte loops that vectorise */
 		memcpy(o, p + lo, j->ow);
-		for (int d = lo + 1; d <= hi; d++) {
-			const uint8_t *q = p + d;
-			for (uint32_t X = 0; X < j->ow; X++)
-				o[X] |= q[X];
-		}
+		for (int d = lo + 1; d <= hi; d++)
+			or_into(o, p + d, j->ow);
 	} else {
 		for (uint32_t X = 0; X < j->ow; X++) {
 			int ax = (int)anchor(&j->sup, X);
@@ -175,21 +197,14 @@ static void vband_run(void *ctx, uint32_t Y0, uint32_t Y1)
 			if (!seen)
 				memcpy(acc, h, ow);
 			else
-				for (uint32_t X = 0; X < ow; X++)
-					acc[X] |= h[X];
+				or_into(acc, h, ow);
 			seen = 1;
 		}
 		if (!seen) {
 			memset(out, 1, ow);
 			continue;
 		}
-		unsigned n = 0;
-		PC_SIMD_SUM_N
-		for (uint32_t X = 0; X < ow; X++) {
-			n += acc[X];
-			out[X] = (uint8_t)(acc[X] ^ 1u);
-		}
-		invalid += n;
+		invalid += invert_count(out, acc, ow);
 	}
 	atomic_fetch_add(&j->invalid, invalid);
 	free(buf);
@@ -216,9 +231,10 @@ int pc_dm_validity(const pc_dm_input *in, const pc_dm_support *sup, const pc_dm_
 	j->use_dead = use_dead;
 	j->sat = lv->saturation;
 	j->dead = lv->dead;
-	/* integer samples: >= sat is >= ceil(sat), <= dead is <= floor(dead) */
-	j->isat = use_sat ? (lv->saturation > 65536 ? 65536u : (uint32_t)ceil(lv->saturation)) : 0;
-	j->idead = use_dead ? (int64_t)floor(lv->dead > 65536 ? 65536 : lv->dead) : -1;
+	/* integer samples: >= sat is >= ceil(sat), <= dead is < floor(dead) + 1 */
+	j->isat = use_sat ? (lv->saturation > 65536 ? 65536u : (uint32_t)ceil(lv->saturation))
+			  : 65536u;
+	j->idead1 = use_dead ? (uint32_t)floor(lv->dead > 65535 ? 65535 : lv->dead) + 1u : 0u;
 	j->ow = ow;
 	j->oh = oh;
 	j->mask = mask;
