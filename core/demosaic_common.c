@@ -86,17 +86,30 @@ void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst)
 	const uint8_t *row = in->data + (size_t)y * in->stride;
 	uint32_t w = in->width;
 	const float k = in->black;
+	/* without a black level, the conversion alone (one operation less per sample) */
 	switch (in->type) {
 	case PC_DMT_U8:
-		PC_SIMD
-		for (uint32_t x = 0; x < w; x++)
-			dst[x] = (float)row[x] - k;
+		if (k == 0) {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = row[x];
+		} else {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = (float)row[x] - k;
+		}
 		break;
 	case PC_DMT_U16: {
 		const uint16_t *r = (const uint16_t *)(const void *)row;
-		PC_SIMD
-		for (uint32_t x = 0; x < w; x++)
-			dst[x] = (float)r[x] - k;
+		if (k == 0) {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = r[x];
+		} else {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = (float)r[x] - k;
+		}
 		break;
 	}
 	case PC_DMT_F32:
