@@ -70,7 +70,7 @@ typedef struct pc_calib {
 	float *gain;               /* (H, W) relative gain, mean 1 over valid pixels */
 	float *analysis;           /* (H, W, 3) analysis vectors (a0, a1, a2), after dark and gain */
 	float *residual;           /* (H, W) RMS residual of the analyser fit, DN (K > 3) */
-	float *pinv_sp;            /* (H/2, W/2, 3, 4) pseudo-inverses per 2×2 super-pixel */
+	float *pinv_sp;            /* (3, 4, H/2, W/2) pseudo-inverses per 2×2 super-pixel */
 	uint8_t *valid;            /* (H, W) 1 = trusted pixel, 0 = dead, hot, saturated, unfit */
 	/* ECM (global over the field): generator W (4 × n_psg) and analyser A (4·n_psa × 4) in
 	 * the frame order of polarcam mueller (generator fastest). */

@@ -62,9 +62,9 @@ typedef struct pc_lc_map {
 	unsigned *flags; /* pc_lc_flags */
 } pc_lc_map;
 
-/* Instruction set of the map kernel; AUTO picks the widest this CPU has (AVX-512, AVX2, else
- * PORTABLE: the scalar reference matrix by matrix). The environment variables
- * POLARCAM_NO_AVX512 and POLARCAM_NO_AVX2 (non-empty, not "0") exclude a level from AUTO. */
+/* Instruction set of the map kernel; AUTO follows pc_cpu_active() (polarcam/cpu.h: the widest
+ * this CPU has, capped by the environment variable POLARCAM_CPU): AVX-512, AVX2, else PORTABLE
+ * (the scalar reference matrix by matrix). */
 typedef enum pc_lc_isa {
 	PC_LC_ISA_AUTO = 0,
 	PC_LC_ISA_PORTABLE,
