@@ -23,6 +23,10 @@ typedef struct tiff_ctx {
 	uint64_t file_size; /* of the file being read (UINT64_MAX: unknown) */
 } tiff_ctx;
 
+/* fmt is libtiff's printf format for ap: the attribute lets the compiler check that use. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 4, 0)))
+#endif
 static int tiff_on_error(TIFF *t, void *ud, const char *module, const char *fmt, va_list ap)
 {
 	(void)t;

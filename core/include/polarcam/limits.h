@@ -24,6 +24,8 @@
 
 #include <stdint.h>
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -45,25 +47,25 @@ typedef enum pc_limit {
 
 /* The value in force: pc_limit_set's, else the environment variable's, else the default. An
  * environment variable that does not parse is ignored here; pc_limit_check reports it. */
-uint64_t pc_limit_get(pc_limit which);
+PC_API uint64_t pc_limit_get(pc_limit which);
 
 /* Replaces the limit for this process (0 restores the environment variable or default).
  * PC_EINVAL for an unknown limit. */
-int pc_limit_set(pc_limit which, uint64_t value);
+PC_API int pc_limit_set(pc_limit which, uint64_t value);
 
 /* The environment variable of a limit ("POLARCAM_MAX_PIXELS"), NULL for an unknown one. */
-const char *pc_limit_env(pc_limit which);
+PC_API const char *pc_limit_env(pc_limit which);
 
 /* 0 when value <= the limit. Otherwise PC_ERANGE with a detail such as
  * "<what>: 400000000 pixels exceed the limit of 100000000 (set POLARCAM_MAX_PIXELS to allow
  * more)"; PC_EINVAL naming the variable when its text is not a valid size. PC_LIMIT_MEMORY with
  * value 0 means "no limit set": it always passes here (callers compare with what is
  * available). */
-int pc_limit_check(pc_limit which, uint64_t value, const char *what);
+PC_API int pc_limit_check(pc_limit which, uint64_t value, const char *what);
 
 /* Parses a size as the environment variables take it ("400M", "4Gi", "12345"): 0 and *out,
  * or PC_EINVAL. */
-int pc_limit_parse(const char *text, uint64_t *out);
+PC_API int pc_limit_parse(const char *text, uint64_t *out);
 
 #ifdef __cplusplus
 }
