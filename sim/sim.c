@@ -637,7 +637,7 @@ int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_vi
 	double t_s, K;
 	if ((rc = resolve_controls(sim, controls, &t_s, &K)))
 		return rc;
-	uint64_t ts;
+	uint64_t ts = 0; /* set by frame_timestamp when it returns 0 (GCC cannot see it) */
 	if ((rc = frame_timestamp(sim, n, &ts)))
 		return rc;
 	unsigned s = (unsigned)(n % sim->n_states);

@@ -5,6 +5,10 @@
 set(PC_FUZZ_HARNESSES png tiff bmp npy raw scene obj meta states batch_pbrdf batch_decompose uri
     physics strings calib)
 set(PC_FUZZ_DIR ${CMAKE_CURRENT_SOURCE_DIR}/fuzz)
+# What each harness links: the command line's library (pc_cli, through libpolarcam.so), except
+# the OBJ harness, which calls the simulator's internal mesh functions (not exported) and so
+# links the sim layer itself, alone (two copies of the library would keep two error states).
+set(PC_FUZZ_LIBS_obj pc_sim)
 foreach(h ${PC_FUZZ_HARNESSES})
   if(PC_FUZZ)
     set(t fuzz_${h})
@@ -16,7 +20,11 @@ foreach(h ${PC_FUZZ_HARNESSES})
     add_test(NAME ${t} COMMAND ${t} ${PC_FUZZ_DIR}/corpus/${h})
     set_tests_properties(${t} PROPERTIES TIMEOUT 600 ENVIRONMENT "${PC_TEST_ENV}")
   endif()
-  target_link_libraries(${t} PRIVATE pc_cli)
+  if(DEFINED PC_FUZZ_LIBS_${h})
+    target_link_libraries(${t} PRIVATE ${PC_FUZZ_LIBS_${h}})
+  else()
+    target_link_libraries(${t} PRIVATE pc_cli)
+  endif()
   target_include_directories(${t} PRIVATE ${PC_FUZZ_DIR} ${PROJECT_SOURCE_DIR}/sim)
 endforeach()
 if(PC_FUZZ)
