@@ -4,7 +4,8 @@
 # Each harness fuzzes for SECONDS from its checked-in seeds (tests/fuzz/corpus/NAME) plus the
 # corpus it grew in WORK_DIR/corpus/NAME earlier (kept between runs, never written back to the
 # tree), one harness after the other on one core. Findings (crashes, broken properties, leaks,
-# timeouts) go to WORK_DIR/findings/NAME-*. Prints one line per harness: executions, seconds,
+# timeouts) go to WORK_DIR/findings/NAME-*. Prints one line per harness: executions, seconds
+# of wall clock and of CPU (user + system: on a shared machine at nice 19 the two differ a lot),
 # coverage (edges "cov", features "ft"), corpus size, findings; exits 1 when any harness found
 # something.
 set -uo pipefail
@@ -19,7 +20,7 @@ if ((${#harnesses[@]} == 0)); then
 fi
 mkdir -p "$work/findings"
 status=0
-printf '%-16s %12s %8s %7s %7s %9s %s\n' harness executions seconds cov ft corpus findings
+printf '%-16s %12s %8s %8s %7s %7s %9s %s\n' harness executions seconds cpu_s cov ft corpus findings
 total=0
 for h in "${harnesses[@]}"; do
   bin=$build/tests/fuzz_$h
@@ -35,9 +36,12 @@ for h in "${harnesses[@]}"; do
   # -timeout: one input may take 20 s (FUZZ_TIMEOUT) at most, wall clock (a hang is a finding;
   # raise it on a loaded machine, where nice 19 starves the process); -rss_limit_mb: memory per
   # input; leaks are findings too (LeakSanitizer, on by default)
-  "$bin" -max_total_time="$secs" -timeout="${FUZZ_TIMEOUT:-20}" -rss_limit_mb=2560 -print_final_stats=1 \
-    -artifact_prefix="$work/findings/$h-" "${dict[@]}" "$work/corpus/$h" "$src/corpus/$h" >"$log" 2>&1
+  TIMEFORMAT='%U %S'
+  { time "$bin" -max_total_time="$secs" -timeout="${FUZZ_TIMEOUT:-20}" -rss_limit_mb=2560 \
+    -print_final_stats=1 -artifact_prefix="$work/findings/$h-" "${dict[@]}" "$work/corpus/$h" \
+    "$src/corpus/$h" >"$log" 2>&1; } 2>"$work/$h.cpu"
   rc=$?
+  cpu=$(awk '{ printf "%.0f", $1 + $2 }' "$work/$h.cpu" 2>/dev/null)
   took=$((SECONDS - start))
   after=$(ls "$work/findings" | grep -E "^$h-(crash|leak|timeout|oom)-" -c || true)
   execs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*$')
@@ -51,7 +55,7 @@ for h in "${harnesses[@]}"; do
     grep -E 'property failed|ERROR: |runtime error|SUMMARY' "$log" | head -5 >&2
   fi
   total=$((total + ${execs:-0}))
-  printf '%-16s %12s %8s %7s %7s %9s %s\n' "$h" "${execs:-?}" "$took" "${cov:-?}" "${ft:-?}" \
+  printf '%-16s %12s %8s %8s %7s %7s %9s %s\n' "$h" "${execs:-?}" "$took" "${cpu:-?}" "${cov:-?}" "${ft:-?}" \
     "${corp:-?}" "$new$( ((rc != 0)) && echo " (exit $rc, log $log)")"
 done
 echo "total executions: $total"
