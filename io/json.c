@@ -24,6 +24,8 @@ int pc_json_error(const pc_json_src *src, const char *path, const char *fmt, ...
 
 const char *pc_json_kind(const json_t *v)
 {
+	if (!v) /* a member that is not there (json_typeof reads through the pointer) */
+		return "nothing (the member is missing)";
 	switch (json_typeof(v)) {
 	case JSON_OBJECT:
 		return "an object";

@@ -460,6 +460,12 @@ static void s_rec_width(void)
 	copy_rec(rec_mono, "rec");
 	edit("rec/meta.json", "\"width\": 8", "\"width\": 0");
 }
+/* found by fuzz_meta: a meta.json without "frames" crashed the reader (SIGSEGV) */
+static void s_rec_noframes(void)
+{
+	copy_rec(rec_mono, "rec");
+	edit("rec/meta.json", "\"frames\"", "\"framez\"");
+}
 static void s_rec_name(void)
 {
 	copy_rec(rec_mono, "rec");
@@ -691,6 +697,7 @@ static const bad_case cases[] = {
     {"meta.json bits do not match the format", s_rec_bits, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "bits"}},
     {"meta.json width 0", s_rec_width, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "width"}},
     {"meta.json frame file name", s_rec_name, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "frames[1].file"}, NULL, 1},
+    {"meta.json without frames", s_rec_noframes, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "frames", "missing"}},
     {"meta.json corrupt, capture", s_rec_corrupt, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json"}},
     /* scenes and meshes */
     {"scene not JSON", s_sc_notjson, {"render", "s.json", OUT}, 2, {"s.json", "line"}},
