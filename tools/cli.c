@@ -17,7 +17,8 @@ const char *cli_name = "";
 
 /* Messages go to a terminal: every byte that is not printable UTF-8 is escaped
  * (cli_quote), whatever the message quotes (file names, tokens of a binary file). */
-static void cli_vmessage(const char *kind, const char *fmt, va_list ap)
+__attribute__((format(printf, 2, 0))) static void cli_vmessage(const char *kind, const char *fmt,
+								va_list ap)
 {
 	char msg[2048], q[4 * sizeof msg + 8];
 	int n = vsnprintf(msg, sizeof msg, fmt, ap);
