@@ -21,7 +21,9 @@
 #include <numpy/arrayobject.h>
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "adapter.h"
@@ -85,6 +87,23 @@ static PyObject *raise_pc(int rc)
 	PyErr_Clear();
 	PyErr_SetObject(type, exc);
 	Py_DECREF(exc);
+	return NULL;
+}
+
+/* PyErr_Format with C printf semantics (PyErr_Format knows no %g). Returns NULL. */
+static PyObject *err_printf(PyObject *type, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+static PyObject *err_printf(PyObject *type, const char *fmt, ...)
+{
+	char buf[1024];
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(buf, sizeof buf, fmt, ap);
+	va_end(ap);
+	PyErr_SetString(type, buf);
 	return NULL;
 }
 
@@ -698,7 +717,7 @@ static PyObject *py_picture(PyObject *self, PyObject *args, PyObject *kw)
 		if (t == -1 && PyErr_Occurred())
 			return NULL;
 		if (!(t >= 0)) {
-			PyErr_Format(PyExc_ValueError, "mask_s0=%g: expected a threshold >= 0 (0: no "
+			err_printf(PyExc_ValueError, "mask_s0=%g: expected a threshold >= 0 (0: no "
 			                               "mask, None: 1 %% of the S0 99.9th percentile)",
 			             t);
 			return NULL;
@@ -890,7 +909,7 @@ static PyObject *py_pbrdf(PyObject *self, PyObject *args, PyObject *kw)
 	Py_END_ALLOW_THREADS;
 	if (rc) {
 		PyObject *exc = exc_type(rc);
-		PyErr_Format(exc, "element %zd (n=%g, k=%g, sigma=%g, theta_i=%g, theta_r=%g, phi=%g): "
+		err_printf(exc, "element %zd (n=%g, k=%g, sigma=%g, theta_i=%g, theta_r=%g, phi=%g): "
 		                  "%s",
 		             (Py_ssize_t)idx, bad[0], bad[1], bad[2], bad[3], bad[4], bad[5],
 		             pcpy_error_detail());
@@ -1309,7 +1328,7 @@ static int parse_controls(PyObject *kw, pcpy_stream_args *a, int *timeout_ms,
 			if (v == -1 && PyErr_Occurred())
 				return -1;
 			if (!(v >= 0) || (dst == &a->exposure_us && v == 0)) {
-				PyErr_Format(PyExc_ValueError, "%s=%g: expected %s", k, v,
+				err_printf(PyExc_ValueError, "%s=%g: expected %s", k, v,
 				             dst == &a->exposure_us ? "> 0" : ">= 0");
 				return -1;
 			}
@@ -1692,13 +1711,21 @@ static PyObject *src_get_info(SourceObject *so, void *closure)
 static PyObject *src_get_state(SourceObject *so, void *closure)
 {
 	(void)closure;
-	return PyUnicode_FromString(so->s ? pcpy_source_state(so->s) : "closed");
+	char buf[32];
+	snprintf(buf, sizeof buf, "%s", so->s ? pcpy_source_state(so->s) : "closed");
+	for (char *c = buf; *c; c++)
+		*c = (char)(*c >= 'A' && *c <= 'Z' ? *c - 'A' + 'a' : *c);
+	return PyUnicode_FromString(buf);
 }
 
 static PyObject *src_repr(SourceObject *so)
 {
-	return PyUnicode_FromFormat("<polarcam source %R (%s)>", so->uri,
-	                            so->s ? pcpy_source_state(so->s) : "closed");
+	PyObject *st = src_get_state(so, NULL);
+	if (!st)
+		return NULL;
+	PyObject *r = PyUnicode_FromFormat("<polarcam.Source %R (%U)>", so->uri, st);
+	Py_DECREF(st);
+	return r;
 }
 
 static PyMethodDef src_methods[] = {
