@@ -15,10 +15,12 @@ export DEBIAN_FRONTEND=noninteractive
 BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-dev libcairo2-dev
   fonts-dejavu-core
   libaravis-dev aravis-tools-cli libusb-1.0-0-dev libopencv-core-dev libopencv-imgproc-dev
-  libopencv-highgui-dev libzip-dev liblapack-dev"
-# Tests: network namespaces, the QEMU guest with Debian's kernel and vivid, Xvfb for the window.
+  libopencv-highgui-dev libzip-dev liblapack-dev
+  python3-dev python3-numpy"
+# Tests: network namespaces, the QEMU guest with Debian's kernel and vivid, Xvfb for the window,
+# pytest and pip (the Python module's tests and its offline pip install).
 TEST_PKGS="iproute2 util-linux qemu-system-x86 busybox-static cpio kmod v4l-utils xvfb xauth x11-apps
-  libcamera-dev"
+  libcamera-dev python3-pytest python3-pip python3-setuptools"
 
 say() { printf '\033[1m[polarcam]\033[0m %s\n' "$*" >&2; }
 
@@ -40,7 +42,11 @@ install_pkgs() {
 
 build() { # build DIR [cmake options...]
   local dir=$1; shift
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >"$dir.configure.log" 2>&1 ||
+  # The Python module is built for Debian's interpreter, the one python3-numpy is installed for
+  # (another python3 first on PATH, a pyenv or a venv, may lack NumPy).
+  local py=()
+  [[ -x /usr/bin/python3 ]] && py=(-DPython3_EXECUTABLE=/usr/bin/python3)
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${py[@]}" "$@" >"$dir.configure.log" 2>&1 ||
     { mkdir -p "$dir"; cat "$dir.configure.log" >&2; exit 1; }
   # show warnings and errors, not the progress lines; pipefail keeps cmake's exit status
   if ! cmake --build "$dir" -j "$JOBS" 2>&1 |

@@ -25,6 +25,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 #include "adapter.h"
 #include "polarcam/error.h"
@@ -1790,6 +1791,65 @@ static PyTypeObject SourceType = {
 };
 
 /* ------------------------------------------------------------------------------------------
+ * the benchmark's baseline: the C pipeline timed in C
+ */
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* _c_pipeline_seconds(raw, out, method, layout, threads, repeats): the seconds of each of
+ * `repeats` calls of the library's raw -> Stokes front door on the same buffers, timed in C
+ * without the interpreter (python/bench_polarcam.py compares polarcam.stokes with it). */
+static PyObject *py_c_pipeline_seconds(PyObject *self, PyObject *args, PyObject *kw)
+{
+	(void)self;
+	static char *kwl[] = {"raw", "out", "method", "layout", "threads", "repeats", NULL};
+	PyObject *raw_o, *out_o;
+	const char *method = NULL, *layout = "90,45,135,0";
+	int threads = 0, repeats = 1, rc;
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|zsii:_c_pipeline_seconds", kwl, &raw_o,
+	                                 &out_o, &method, &layout, &threads, &repeats))
+		return NULL;
+	pc_view v;
+	pc_mosaic m;
+	pcpy_stokes_opts o = {0, threads, false, 0, NULL};
+	PyArrayObject *raw = as_ndarray(raw_o, "raw", "(H, W)");
+	if (!raw || raw_view(raw, "raw", 0, &v))
+		return NULL;
+	if ((rc = pcpy_layout_parse(layout, &m)) || (rc = pcpy_method(method, &m, &o.method)))
+		return raise_pc(rc);
+	uint32_t ow, oh;
+	pcpy_out_size(o.method, v.width, v.height, &ow, &oh);
+	pc_stokes_out so;
+	PyObject *res = stokes_outputs(out_o, ow, oh, &so);
+	if (!res)
+		return NULL;
+	Py_DECREF(res); /* the caller's arrays stay alive through out_o */
+	if (repeats < 1)
+		repeats = 1;
+	double *t = PyMem_Malloc(sizeof(double) * (size_t)repeats);
+	if (!t)
+		return PyErr_NoMemory();
+	rc = 0;
+	Py_BEGIN_ALLOW_THREADS;
+	for (int i = 0; i < repeats && !rc; i++) {
+		double t0 = now_s();
+		rc = pcpy_stokes(&v, &m, &o, &so);
+		t[i] = now_s() - t0;
+	}
+	Py_END_ALLOW_THREADS;
+	PyObject *l = rc ? raise_pc(rc) : PyList_New(repeats);
+	for (int i = 0; l && i < repeats; i++)
+		PyList_SET_ITEM(l, i, PyFloat_FromDouble(t[i]));
+	PyMem_Free(t);
+	return l;
+}
+
+/* ------------------------------------------------------------------------------------------
  * the module
  */
 
@@ -1897,6 +1957,10 @@ static PyMethodDef module_methods[] = {
     {"methods", py_methods, METH_NOARGS,
      "methods()\n--\n\nThe demosaicking methods: [{name, accuracy, cost, source, monochrome, "
      "colour, half_resolution}]."},
+    {"_c_pipeline_seconds", KW(py_c_pipeline_seconds), METH_VARARGS | METH_KEYWORDS,
+     "_c_pipeline_seconds(raw, out, method=None, layout='90,45,135,0', threads=0, "
+     "repeats=1)\n--\n\nFor python/bench_polarcam.py: seconds of each of `repeats` calls of "
+     "the C pipeline (raw -> Stokes) on the same buffers, timed in C."},
     {"backends", py_backends, METH_NOARGS,
      "backends()\n--\n\nThe frame-source URI schemes: [{scheme, built, summary}]."},
     {NULL, NULL, 0, NULL}};
