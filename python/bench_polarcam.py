@@ -25,8 +25,12 @@ import time
 
 import numpy as np
 
-import polarcam
-from polarcam import _polarcam
+# this file sits beside the package's sources (python/polarcam/, without the built module):
+# import the built or installed package instead
+_here = os.path.dirname(os.path.abspath(__file__))
+sys.path[:] = [p for p in sys.path if os.path.abspath(p or os.curdir) != _here]
+import polarcam  # noqa: E402
+from polarcam import _polarcam  # noqa: E402
 
 
 def load():
@@ -104,12 +108,14 @@ def main():
 
     # 1. Python vs C (all cores, the library's default)
     polarcam.stokes(raw, out=out)
-    c, py_out, py_new, py_bits = [], [], [], []
+    c, py_out, py_new, py_bits, alloc = [], [], [], [], []
     for _ in range(a.repeats):  # interleaved: load changes hit all alike
         c += _polarcam._c_pipeline_seconds(raw, out, repeats=1)
         py_out += timed(lambda: polarcam.stokes(raw, out=out), 1)
         py_new += timed(lambda: polarcam.stokes(raw), 1)
         py_bits += timed(lambda: polarcam.stokes(raw, bits=bits, out=out), 1)
+        # the floor of new arrays: five fresh (H, W) float32 arrays written once
+        alloc += timed(lambda: [np.empty((h, w), np.float32).fill(0) for _ in range(5)], 1)
     cm = median_ms(c)
     print(f"\n1. bilinear -> Stokes/DoLP/AoLP on {w}x{h}, all cores, median of {a.repeats} "
           f"(load {load():.2f})")
@@ -118,6 +124,8 @@ def main():
                      ("polarcam.stokes(raw) (new arrays)", py_new),
                      (f"polarcam.stokes(raw, bits={bits}, out=out) (+check)", py_bits)):
         print(f"   {name:45s}{median_ms(ts):8.2f} ms   {median_ms(ts) / cm:.2f}x")
+    print(f"   (numpy: 5 new {w}x{h} float32 arrays, filled  {median_ms(alloc):8.2f} ms: the "
+          f"cost of fresh memory)")
     # the same on one core (the comparison with single-threaded numpy)
     c1 = _polarcam._c_pipeline_seconds(raw, out, threads=1, repeats=max(3, a.repeats // 3))
     p1 = timed(lambda: polarcam.stokes(raw, out=out, threads=1), max(3, a.repeats // 3))

@@ -3,6 +3,7 @@
 #include "adapter.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -100,6 +101,29 @@ int pcpy_check_bits(const pc_view *v, unsigned bits)
 	const pc_format_info *fi = pc_format_info_get(v->format);
 	if (!fi->is_float && fi->packing == PC_PACK_NONE && fi->bits > 8)
 		c.format = PC_FMT_MONO16;
+	/* Fast pass for the common case (every value fits): any bit at or above `bits` set, one
+	 * vectorisable OR per row; pc_view_check_bits unpacks each row first. The library's check
+	 * then finds and names the first bad pixel. */
+	if (!fi->is_float && fi->packing == PC_PACK_NONE && bits >= 1 && bits < 16) {
+		unsigned acc = 0;
+		for (uint32_t y = 0; y < v->height && !acc; y++) {
+			const uint8_t *row = pc_view_row_unchecked(v, y);
+			if (fi->bits > 8) {
+				const uint16_t *r = (const uint16_t *)(const void *)row;
+				uint16_t a = 0;
+				for (uint32_t x = 0; x < v->width; x++)
+					a |= (uint16_t)(r[x] >> bits);
+				acc = a;
+			} else {
+				uint8_t a = 0;
+				for (uint32_t x = 0; x < v->width; x++)
+					a |= (uint8_t)(row[x] >> (bits < 8 ? bits : 7));
+				acc = bits < 8 ? a : 0;
+			}
+		}
+		if (!acc)
+			return 0;
+	}
 	int rc = pc_view_check_bits(&c, bits);
 	return rc ? pc_error_prefix(rc, "raw: ") : 0;
 }
@@ -314,15 +338,45 @@ int pcpy_picture(pcpy_picture_kind kind, const pc_fplane *img, const pc_fplane *
 
 /* ---- physics ---- */
 
-#define PCPY_PBRDF_CACHE 16
+/* Prepared materials are kept across calls (pc_pbrdf_new builds the material's rho^s table:
+ * milliseconds, while an evaluation takes microseconds): a process-wide cache of up to
+ * PCPY_PBRDF_KEEP materials, each pinned by the calls using it (so that one thread never frees
+ * a material another is evaluating; pc_pbrdf objects are immutable and thread-safe). A call
+ * keeps its own list of pinned entries; a material that finds the shared cache full of pinned
+ * entries stays private to the call. */
+#define PCPY_PBRDF_KEEP 64
+
+typedef struct pbrdf_entry {
+	pc_material m; /* the key: every field */
+	pc_pbrdf *p;
+	unsigned pins;
+	uint64_t used; /* last use, for eviction */
+} pbrdf_entry;
+
+static struct {
+	pthread_mutex_t lock;
+	pbrdf_entry e[PCPY_PBRDF_KEEP];
+	unsigned n;
+	uint64_t clock;
+} g_pbrdf = {.lock = PTHREAD_MUTEX_INITIALIZER};
+
 struct pcpy_pbrdf_cache {
 	pc_material base;
 	struct {
 		pc_pbrdf *p;
 		double n, k, sigma;
-	} e[PCPY_PBRDF_CACHE];
-	unsigned next; /* round-robin replacement */
+		bool shared; /* pinned in g_pbrdf (else owned by this call) */
+	} *e;
+	size_t n, cap;
+	size_t last; /* the entry of the previous element (consecutive elements share it) */
 };
+
+static bool same_material(const pc_material *a, const pc_material *b)
+{
+	return a->n == b->n && a->k == b->k && a->sigma == b->sigma && a->diffuse == b->diffuse &&
+	       a->shadowing == b->shadowing && a->rho_mode == b->rho_mode &&
+	       a->rho_order == b->rho_order;
+}
 
 int pcpy_pbrdf_cache_new(int diffuse, int shadowing, int rho_mode, int rho_order,
                          pcpy_pbrdf_cache **out)
@@ -342,9 +396,75 @@ void pcpy_pbrdf_cache_free(pcpy_pbrdf_cache *c)
 {
 	if (!c)
 		return;
-	for (unsigned i = 0; i < PCPY_PBRDF_CACHE; i++)
-		pc_pbrdf_free(c->e[i].p);
+	pthread_mutex_lock(&g_pbrdf.lock);
+	for (size_t i = 0; i < c->n; i++)
+		if (c->e[i].shared)
+			for (unsigned j = 0; j < g_pbrdf.n; j++)
+				if (g_pbrdf.e[j].p == c->e[i].p)
+					g_pbrdf.e[j].pins--;
+	pthread_mutex_unlock(&g_pbrdf.lock);
+	for (size_t i = 0; i < c->n; i++)
+		if (!c->e[i].shared)
+			pc_pbrdf_free(c->e[i].p);
+	free(c->e);
 	free(c);
+}
+
+/* The prepared material m: pinned from the shared cache, or made (and shared when there is
+ * room). */
+static int material(pcpy_pbrdf_cache *c, const pc_material *m, const pc_pbrdf **out)
+{
+	if (c->n == c->cap) {
+		size_t cap = c->cap ? 2 * c->cap : 8;
+		void *e = realloc(c->e, cap * sizeof *c->e);
+		if (!e)
+			return pc_error(PC_ENOMEM, "pbrdf material cache");
+		c->e = e;
+		c->cap = cap;
+	}
+	pc_pbrdf *p = NULL;
+	pthread_mutex_lock(&g_pbrdf.lock);
+	for (unsigned j = 0; j < g_pbrdf.n && !p; j++)
+		if (same_material(&g_pbrdf.e[j].m, m)) {
+			p = g_pbrdf.e[j].p;
+			g_pbrdf.e[j].pins++;
+			g_pbrdf.e[j].used = ++g_pbrdf.clock;
+		}
+	pthread_mutex_unlock(&g_pbrdf.lock);
+	bool shared = p != NULL;
+	if (!p) {
+		int rc = pc_pbrdf_new(m, &p); /* the slow part, outside the lock */
+		if (rc)
+			return rc;
+		pc_pbrdf *victim = NULL;
+		pthread_mutex_lock(&g_pbrdf.lock);
+		unsigned slot = g_pbrdf.n;
+		if (slot == PCPY_PBRDF_KEEP) {
+			slot = UINT32_MAX;
+			for (unsigned j = 0; j < g_pbrdf.n; j++)
+				if (!g_pbrdf.e[j].pins &&
+				    (slot == UINT32_MAX || g_pbrdf.e[j].used < g_pbrdf.e[slot].used))
+					slot = j;
+			if (slot != UINT32_MAX)
+				victim = g_pbrdf.e[slot].p;
+		} else {
+			g_pbrdf.n++;
+		}
+		if (slot != UINT32_MAX) {
+			g_pbrdf.e[slot] = (pbrdf_entry){*m, p, 1, ++g_pbrdf.clock};
+			shared = true;
+		}
+		pthread_mutex_unlock(&g_pbrdf.lock);
+		pc_pbrdf_free(victim);
+	}
+	c->e[c->n].p = p;
+	c->e[c->n].n = m->n;
+	c->e[c->n].k = m->k;
+	c->e[c->n].sigma = m->sigma;
+	c->e[c->n].shared = shared;
+	c->last = c->n++;
+	*out = p;
+	return 0;
 }
 
 int pcpy_pbrdf_eval(pcpy_pbrdf_cache *c, double n, double k, double sigma, double theta_i_deg,
@@ -358,25 +478,21 @@ int pcpy_pbrdf_eval(pcpy_pbrdf_cache *c, double n, double k, double sigma, doubl
 	if (!isfinite(phi_deg))
 		return pc_error(PC_EINVAL, "phi %g: must be finite", phi_deg);
 	const pc_pbrdf *p = NULL;
-	for (unsigned i = 0; i < PCPY_PBRDF_CACHE && !p; i++)
-		if (c->e[i].p && c->e[i].n == n && c->e[i].k == k && c->e[i].sigma == sigma)
+	if (c->n && c->e[c->last].n == n && c->e[c->last].k == k && c->e[c->last].sigma == sigma)
+		p = c->e[c->last].p;
+	for (size_t i = 0; i < c->n && !p; i++)
+		if (c->e[i].n == n && c->e[i].k == k && c->e[i].sigma == sigma) {
 			p = c->e[i].p;
+			c->last = i;
+		}
 	if (!p) {
 		pc_material m = c->base;
 		m.n = n;
 		m.k = k;
 		m.sigma = sigma;
-		pc_pbrdf *np;
-		int rc = pc_pbrdf_new(&m, &np);
+		int rc = material(c, &m, &p);
 		if (rc)
 			return rc;
-		unsigned i = c->next++ % PCPY_PBRDF_CACHE;
-		pc_pbrdf_free(c->e[i].p);
-		c->e[i].p = np;
-		c->e[i].n = n;
-		c->e[i].k = k;
-		c->e[i].sigma = sigma;
-		p = np;
 	}
 	const double deg = PC_PI / 180;
 	return pc_pbrdf_eval(p, theta_i_deg * deg, theta_r_deg * deg, phi_deg * deg, f);

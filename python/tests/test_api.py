@@ -282,6 +282,42 @@ def test_pbrdf_broadcasting_and_reciprocity():
     assert a[0, 0] == pytest.approx(b[0, 0], rel=1e-9)
 
 
+def test_pbrdf_from_threads():
+    """Materials prepared once are shared between calls and threads (a cache of 64 with
+    eviction): many materials from three threads give the single-threaded values."""
+    sig = [np.linspace(0.05, 0.45, 50) + 1e-3 * k for k in range(6)]
+    ref = [np.array([polarcam.pbrdf(1.5, 0.2, s, 30, 40, 150) for s in row]) for row in sig]
+    got = [None] * 6
+
+    def work(k):
+        for j in range(k, 6, 3):
+            got[j] = polarcam.pbrdf(1.5, 0.2, sig[j], 30, 40, 150)
+
+    ts = [threading.Thread(target=work, args=(k,)) for k in range(3)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    for r, g in zip(ref, got):
+        np.testing.assert_array_equal(r, g)
+
+
+def test_bit_depth_check_finds_the_first_bad_pixel():
+    raw = np.zeros((64, 64), np.uint16)
+    for bits in (9, 10, 12, 14, 15):
+        polarcam.stokes(raw + (2 ** bits - 1), bits=bits)  # the top value fits
+        r = raw.copy()
+        r[40, 33] = 2 ** bits
+        r[50, 2] = 2 ** bits + 5
+        with pytest.raises(ValueError, match=rf"pixel \(33,40\) = {2 ** bits}: above"):
+            polarcam.stokes(r, bits=bits)
+    r8 = np.full((64, 64), 127, np.uint8)
+    polarcam.stokes(r8, bits=7)
+    r8[3, 5] = 128
+    with pytest.raises(ValueError, match=r"pixel \(5,3\) = 128"):
+        polarcam.stokes(r8, bits=7)
+
+
 def test_picture_colours():
     """The false colours of docs: AoLP 0 is red at DoLP 1, 60° green... (hue = AoLP over
     [0, π)), DoLP 0 is black in 'aolp' and white in 'aolp_sat'; grey is linear."""
