@@ -697,81 +697,10 @@ static PyObject *py_analyser_pinv(PyObject *self, PyObject *arg)
  * picture
  */
 
-static PyObject *py_picture(PyObject *self, PyObject *args, PyObject *kw)
+/* The picture of img (with dolp, s0 where the kind uses them; any may be NULL). */
+static PyObject *picture_of(PyObject *img, PyObject *dolp, PyObject *s0, const char *kind,
+                            float lo, float hi, double mask)
 {
-	(void)self;
-	static char *kwl[] = {"image", "kind", "lo", "hi", "mask_s0", "dolp", "s0", NULL};
-	PyObject *img_o, *lo_o = Py_None, *hi_o = Py_None, *mask_o = Py_None, *dolp_o = Py_None,
-	                 *s0_o = Py_None;
-	const char *kind = NULL;
-	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zOOOOO:picture", kwl, &img_o, &kind, &lo_o,
-	                                 &hi_o, &mask_o, &dolp_o, &s0_o))
-		return NULL;
-	float lo = NAN, hi = NAN;
-	double mask = 0;
-	if (lo_o != Py_None && ((lo = (float)PyFloat_AsDouble(lo_o)) == -1.0f && PyErr_Occurred()))
-		return NULL;
-	if (hi_o != Py_None && ((hi = (float)PyFloat_AsDouble(hi_o)) == -1.0f && PyErr_Occurred()))
-		return NULL;
-	if (mask_o != Py_None) {
-		double t = PyFloat_AsDouble(mask_o);
-		if (t == -1 && PyErr_Occurred())
-			return NULL;
-		if (!(t >= 0)) {
-			err_printf(PyExc_ValueError, "mask_s0=%g: expected a threshold >= 0 (0: no "
-			                               "mask, None: 1 %% of the S0 99.9th percentile)",
-			             t);
-			return NULL;
-		}
-		mask = t > 0 ? t : -1; /* the adapter: 0 default, < 0 none */
-	}
-	PyObject *img = NULL, *dolp = NULL, *s0 = NULL; /* borrowed */
-	int is_stokes = !PyArray_Check(img_o);
-	if (is_stokes) {
-		/* a Stokes (or anything with s0, dolp, aolp attributes) */
-		PyObject *a[5] = {0};
-		static const char *names[5] = {"s0", "s1", "s2", "dolp", "aolp"};
-		for (int i = 0; i < 5; i++) {
-			a[i] = PyObject_GetAttrString(img_o, names[i]);
-			if (!a[i])
-				PyErr_Clear();
-		}
-		if (!kind)
-			kind = "aolp";
-		const char *want = !strcmp(kind, "s0")     ? "s0"
-		                   : !strcmp(kind, "s1")   ? "s1"
-		                   : !strcmp(kind, "s2")   ? "s2"
-		                   : !strcmp(kind, "dolp") ? "dolp"
-		                                           : "aolp";
-		for (int i = 0; i < 5; i++)
-			if (!strcmp(names[i], want))
-				img = a[i];
-		dolp = a[3];
-		s0 = a[0];
-		int ok = img && img != Py_None;
-		/* the references stay alive through the Stokes object */
-		for (int i = 0; i < 5; i++)
-			Py_XDECREF(a[i]);
-		if (!ok) {
-			PyErr_Format(PyExc_TypeError,
-			             "image: expected a numpy array or a Stokes with a '%s' array, got %s",
-			             want, Py_TYPE(img_o)->tp_name);
-			return NULL;
-		}
-		if (dolp == Py_None)
-			dolp = NULL;
-		if (s0 == Py_None)
-			s0 = NULL;
-	} else {
-		img = img_o;
-		if (!kind) {
-			PyErr_SetString(PyExc_TypeError, "picture(array): say what the array is with "
-			                                 "kind= ('s0', 'dolp', 'aolp', ...)");
-			return NULL;
-		}
-		dolp = dolp_o != Py_None ? dolp_o : NULL;
-		s0 = s0_o != Py_None ? s0_o : NULL;
-	}
 	pcpy_picture_kind k;
 	if (!strcmp(kind, "s0") || !strcmp(kind, "grey"))
 		k = PCPY_PIC_GREY;
@@ -825,6 +754,85 @@ static PyObject *py_picture(PyObject *self, PyObject *args, PyObject *kw)
 		return raise_pc(rc);
 	}
 	return (PyObject *)out;
+}
+
+static PyObject *py_picture(PyObject *self, PyObject *args, PyObject *kw)
+{
+	(void)self;
+	static char *kwl[] = {"image", "kind", "lo", "hi", "mask_s0", "dolp", "s0", NULL};
+	PyObject *img_o, *lo_o = Py_None, *hi_o = Py_None, *mask_o = Py_None, *dolp_o = Py_None,
+	                 *s0_o = Py_None;
+	const char *kind = NULL;
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zOOOOO:picture", kwl, &img_o, &kind, &lo_o,
+	                                 &hi_o, &mask_o, &dolp_o, &s0_o))
+		return NULL;
+	float lo = NAN, hi = NAN;
+	double mask = 0;
+	if (lo_o != Py_None && ((lo = (float)PyFloat_AsDouble(lo_o)) == -1.0f && PyErr_Occurred()))
+		return NULL;
+	if (hi_o != Py_None && ((hi = (float)PyFloat_AsDouble(hi_o)) == -1.0f && PyErr_Occurred()))
+		return NULL;
+	if (mask_o != Py_None) {
+		double t = PyFloat_AsDouble(mask_o);
+		if (t == -1 && PyErr_Occurred())
+			return NULL;
+		if (!(t >= 0)) {
+			err_printf(PyExc_ValueError, "mask_s0=%g: expected a threshold >= 0 (0: no "
+			                               "mask, None: 1 %% of the S0 99.9th percentile)",
+			             t);
+			return NULL;
+		}
+		mask = t > 0 ? t : -1; /* the adapter: 0 default, < 0 none */
+	}
+	PyObject *img = NULL, *dolp = NULL, *s0 = NULL; /* borrowed (from a[] or the arguments) */
+	PyObject *a[5] = {0}; /* a Stokes' arrays, held until the picture is drawn */
+	int is_stokes = !PyArray_Check(img_o);
+	if (is_stokes) {
+		/* a Stokes (or anything with s0, dolp, aolp attributes) */
+		static const char *names[5] = {"s0", "s1", "s2", "dolp", "aolp"};
+		for (int i = 0; i < 5; i++) {
+			a[i] = PyObject_GetAttrString(img_o, names[i]);
+			if (!a[i])
+				PyErr_Clear();
+		}
+		if (!kind)
+			kind = "aolp";
+		const char *want = !strcmp(kind, "s0")     ? "s0"
+		                   : !strcmp(kind, "s1")   ? "s1"
+		                   : !strcmp(kind, "s2")   ? "s2"
+		                   : !strcmp(kind, "dolp") ? "dolp"
+		                                           : "aolp";
+		for (int i = 0; i < 5; i++)
+			if (!strcmp(names[i], want))
+				img = a[i];
+		dolp = a[3];
+		s0 = a[0];
+		if (!img || img == Py_None) {
+			for (int i = 0; i < 5; i++)
+				Py_XDECREF(a[i]);
+			PyErr_Format(PyExc_TypeError,
+			             "image: expected a numpy array or a Stokes with a '%s' array, got %s",
+			             want, Py_TYPE(img_o)->tp_name);
+			return NULL;
+		}
+		if (dolp == Py_None)
+			dolp = NULL;
+		if (s0 == Py_None)
+			s0 = NULL;
+	} else {
+		img = img_o;
+		if (!kind) {
+			PyErr_SetString(PyExc_TypeError, "picture(array): say what the array is with "
+			                                 "kind= ('s0', 'dolp', 'aolp', ...)");
+			return NULL;
+		}
+		dolp = dolp_o != Py_None ? dolp_o : NULL;
+		s0 = s0_o != Py_None ? s0_o : NULL;
+	}
+	PyObject *r = picture_of(img, dolp, s0, kind, lo, hi, mask);
+	for (int i = 0; i < 5; i++)
+		Py_XDECREF(a[i]);
+	return r;
 }
 
 /* ------------------------------------------------------------------------------------------
