@@ -1232,7 +1232,7 @@ static PyObject *py_render(PyObject *self, PyObject *args, PyObject *kw)
 	int bad = dict_set(meta, "scene_name", PyUnicode_FromString(in.scene_name)) ||
 	          dict_set(meta, "scene", scene_doc ? scene_doc : (Py_INCREF(Py_None), Py_None)) ||
 	          dict_set(meta, "seed", PyLong_FromUnsignedLongLong(seed)) ||
-	          dict_set(meta, "frame", multi ? (Py_INCREF(frame_o), frame_o)
+	          dict_set(meta, "frame", multi ? PySequence_List(fseq)
 	                                        : PyLong_FromUnsignedLongLong(one)) ||
 	          dict_set(meta, "sequence", multi ? (Py_INCREF(seqs), seqs)
 	                                           : PyLong_FromUnsignedLongLong(fm.sequence)) ||

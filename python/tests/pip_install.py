@@ -2,6 +2,7 @@
 with Debian's pip, setuptools and numpy, into a virtual environment that sees the system's
 packages, from a fresh copy of the sources; the installed module then works from elsewhere.
 Exit 77 (skipped) when pip, setuptools, wheel, venv or numpy is missing."""
+import importlib.util
 import os
 import shutil
 import subprocess
@@ -9,10 +10,10 @@ import sys
 import tempfile
 
 root = os.path.abspath(sys.argv[1])
+# find_spec, not import: importing pip and then setuptools in one process trips setuptools'
+# distutils shim
 for mod in ("pip", "setuptools", "wheel", "venv", "numpy"):
-    try:
-        __import__(mod)
-    except ImportError:
+    if importlib.util.find_spec(mod) is None:
         print(f"SKIP: the Python module {mod} is missing (Debian: python3-pip python3-numpy)")
         sys.exit(77)
 

@@ -353,7 +353,9 @@ def test_render_determinism_roi_and_scene_dict():
     full = polarcam.render(seed=5, frame=2, roi=(0, 0, 128, 96))[0]
     np.testing.assert_array_equal(full[20:68, 10:74], one)  # a ROI is a crop
     assert meta["layout"] == "90,45,135,0" and meta["offset_x"] == 10
-    assert meta["sequence"] == [2, 0] and meta["bits"] == 12
+    assert meta["sequence"] == [2, 0] and meta["bits"] == 12 and meta["frame"] == [2, 0]
+    gen = polarcam.render(seed=5, frame=(k for k in (1, 3)), roi=(0, 0, 16, 16))[2]
+    assert gen["frame"] == [1, 3] and gen["sequence"] == [1, 3]
     path = os.path.join(REPO, "scenes", "ideal_small.json")
     doc = json.load(open(path))
     a = polarcam.render(path, seed=1)
