@@ -37,7 +37,7 @@ class CMakeBuild(build_ext):
         build = os.path.join(os.path.abspath(self.build_temp), "cmake")
         cfg = ["cmake", "-S", ROOT, "-B", build, "-DCMAKE_BUILD_TYPE=Release",
                f"-DPython3_EXECUTABLE={sys.executable}", "-DPC_WITH_PYTHON=ON",
-               "-DPC_BUILD_TESTS=OFF", "-DPC_WERROR=OFF"]
+               "-DPC_BUILD_TESTS=OFF", "-DPC_WERROR=OFF", "-DPC_PYTHON_BUNDLE=ON"]
         cfg += shlex.split(os.environ.get("POLARCAM_CMAKE_ARGS", ""))
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL") or str(os.cpu_count() or 1)
         if shutil.which("cmake") is None:
@@ -53,6 +53,11 @@ class CMakeBuild(build_ext):
         dest = self.get_ext_fullpath(ext.name)
         os.makedirs(os.path.dirname(dest), exist_ok=True)
         shutil.copyfile(os.path.join(pkg, built[0]), dest)
+        # the shared libpolarcam the module links (RPATH $ORIGIN), under its SONAME
+        libs = [f for f in os.listdir(pkg) if f.startswith("libpolarcam.so.")]
+        if len(libs) != 1:
+            sys.exit(f"polarcam: expected one libpolarcam.so.* in {pkg}, found {libs}")
+        shutil.copyfile(os.path.join(pkg, libs[0]), os.path.join(os.path.dirname(dest), libs[0]))
 
 
 setup(

@@ -35,6 +35,38 @@ class Stokes(tuple):
     def dolp(self) -> F32: ...
     @property
     def aolp(self) -> F32: ...
+    @property
+    def valid(self) -> Union[npt.NDArray[np.uint8], None]: ...
+    @property
+    def n_invalid(self) -> int: ...
+
+class Calibration:
+    """A calibration file of `polarcam calibrate`, read once; stokes(raw, calibration=cal)."""
+    def __init__(self, path: Union[str, bytes, os.PathLike[str]]) -> None: ...
+    path: str
+    camera: str
+    width: int
+    height: int
+    offset_x: int
+    offset_y: int
+    sensor_width: int
+    sensor_height: int
+    bits: int
+    layout: str
+    black_level: float
+    saturation: float
+    parts: tuple[str, ...]
+    provenance: Union[dict[str, Any], None]
+    dark: Union[F32, None]
+    dark_noise: Union[F32, None]
+    gain: Union[F32, None]
+    analysis: Union[F32, None]
+    residual: Union[F32, None]
+    valid: Union[npt.NDArray[np.uint8], None]
+    pinv_superpixel: Union[F32, None]
+    ecm_generator: Union[F64, None]
+    ecm_analyser: Union[F64, None]
+    def pinv(self, method: Union[str, None] = None, threads: int = 0) -> F32: ...
 
 class Decomposition(tuple):
     """Lu-Chipman decomposition of Mueller matrices (arrays over the leading dimensions)."""
@@ -124,12 +156,14 @@ def demosaic(
 def stokes(
     raw: Union[RawArray, F32],
     method: Union[str, None] = None,
-    layout: str = "90,45,135,0",
+    layout: Union[str, None] = None,
     bits: Union[int, None] = None,
     black_level: Union[float, None] = None,
-    calibration: Union[F32, Any, None] = None,
+    calibration: Union[Calibration, str, os.PathLike[str], F32, None] = None,
     threads: int = 0,
     out: Union[Stokes, Sequence[Union[F32, None]], None] = None,
+    saturation_level: Union[float, None] = None,
+    dead_level: Union[float, None] = None,
 ) -> Stokes: ...
 def pbrdf(
     n: ArrayLike,

@@ -201,71 +201,18 @@ int pcpy_demosaic(const pc_view *raw, const pc_mosaic *m, int method, int thread
 	return pc_demosaic(raw, m, (pc_demosaic_method)method, &o, out);
 }
 
-/* The raw minus a black level as a float32 view, for the Stokes front door of today, which
- * takes no black level (issue 9 adds it to core's front door: then this goes). *full_scale
- * keeps the raw's full scale for the edge-aware weights. */
-static int minus_black(const pc_view *raw, double black, pc_view *fv, double *full_scale)
-{
-	const pc_format_info *fi = pc_format_info_get(raw->format);
-	*full_scale = fi->is_float ? 1.0 : (double)((1u << fi->bits) - 1u);
-	if (!isfinite(black))
-		return pc_error(PC_EINVAL, "black_level=%g: must be finite", black);
-	int rc = pc_view_alloc(fv, PC_FMT_FLOAT32, raw->width, raw->height, 64);
-	if (rc)
-		return rc;
-	rc = pc_view_to_f32(raw, fv->data, fv->stride);
-	if (rc) {
-		pc_view_free(fv);
-		return pc_error_prefix(rc, "raw: ");
-	}
-	float b = (float)black;
-	for (uint32_t y = 0; y < fv->height; y++) {
-		float *row = (float *)pc_view_row_unchecked(fv, y);
-		for (uint32_t x = 0; x < fv->width; x++)
-			row[x] -= b;
-	}
-	return 0;
-}
-
 int pcpy_stokes(const pc_view *raw, const pc_mosaic *m, const pcpy_stokes_opts *o,
-                const pc_stokes_out *out)
+                const pc_stokes_out *out, pc_validity *valid)
 {
-	pc_demosaic_opts dopts = {o->threads, false, 0};
-	pc_view fv = {0};
-	const pc_view *in = raw;
-	int rc;
-	if (o->have_black && o->black_level != 0) {
-		if ((rc = minus_black(raw, o->black_level, &fv, &dopts.full_scale)))
-			return rc;
-		in = &fv;
-	}
-	if (!o->pinv) {
-		rc = pc_stokes_from_raw(in, m, (pc_demosaic_method)o->method, &dopts, out);
-		pc_view_free(&fv);
-		return rc;
-	}
-	/* The calibrated path: today's front door (pc_stokes_from_raw) cannot reach the
-	 * pseudo-inverses, so demosaic and apply them (issue 9 makes it one call). */
-	if (pc_demosaic_channels(m) != 4) {
-		pc_view_free(&fv);
-		return pc_error(PC_ENOTSUP, "calibration: colour-polarization mosaics are not "
-		                            "supported yet (monochrome layouts only)");
-	}
-	uint32_t ow, oh;
-	pc_demosaic_out_size((pc_demosaic_method)o->method, in->width, in->height, &ow, &oh);
-	float *buf = malloc((size_t)ow * oh * 4 * sizeof *buf);
-	if (!buf) {
-		pc_view_free(&fv);
-		return pc_error(PC_ENOMEM, "calibrated Stokes: 4 images of %ux%u", ow, oh);
-	}
-	pc_fplane ch[4];
-	pc_fplanes_separate(buf, ow, oh, 4, ch);
-	rc = pc_demosaic(in, m, (pc_demosaic_method)o->method, &dopts, ch);
-	if (!rc)
-		rc = pc_stokes_from_channels(ch, ow, oh, o->pinv, out);
-	free(buf);
-	pc_view_free(&fv);
-	return rc;
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.method = (pc_demosaic_method)o->method;
+	po.mosaic = *m;
+	po.threads = o->threads;
+	po.black_level = o->black_level;
+	po.saturation_level = o->saturation_level;
+	po.dead_level = o->dead_level;
+	po.pinv = o->pinv;
+	return pc_stokes_run(raw, &po, out, valid);
 }
 
 int pcpy_stokes_channels(const pc_fplane in[4], uint32_t w, uint32_t h,
@@ -277,6 +224,115 @@ int pcpy_stokes_channels(const pc_fplane in[4], uint32_t w, uint32_t h,
 int pcpy_pinv(const float *w, size_t n, float *pinv)
 {
 	return pc_stokes_pinv(w, n, pinv);
+}
+
+/* ---- calibration files ---- */
+
+struct pcpy_calib {
+	pc_calib cal;
+	/* readers: pc_calib_stokes with the method already cached (it only reads the pc_calib);
+	 * writer: anything that may (re)build the cache */
+	pthread_rwlock_t lock;
+};
+
+int pcpy_calib_read(const char *path, pcpy_calib **out)
+{
+	*out = NULL;
+	pcpy_calib *c = calloc(1, sizeof *c);
+	if (!c)
+		return pc_error(PC_ENOMEM, "calibration %s", path);
+	pc_calib_init(&c->cal);
+	int rc = pc_calib_read(path, &c->cal);
+	if (rc) {
+		pc_calib_free(&c->cal);
+		free(c);
+		return rc;
+	}
+	if (pthread_rwlock_init(&c->lock, NULL)) {
+		pc_calib_free(&c->cal);
+		free(c);
+		return pc_error(PC_ENOMEM, "calibration %s: no lock", path);
+	}
+	*out = c;
+	return 0;
+}
+
+void pcpy_calib_free(pcpy_calib *c)
+{
+	if (!c)
+		return;
+	pthread_rwlock_destroy(&c->lock);
+	pc_calib_free(&c->cal);
+	free(c);
+}
+
+const pc_calib *pcpy_calib_get(const pcpy_calib *c)
+{
+	return &c->cal;
+}
+
+static bool calib_superpixel(int method)
+{
+	return method == PC_DM_SUPERPIXEL || method == PC_DM_SUPERPIXEL_HALF;
+}
+
+/* Whether pc_calib_stokes with this method only reads the pc_calib (call with a lock held). */
+static bool calib_cached(const pc_calib *cal, int method)
+{
+	return !(cal->parts & PC_CAL_ANALYSER) || calib_superpixel(method) ||
+	       (cal->pinv_px && cal->pinv_method == method);
+}
+
+int pcpy_calib_stokes(pcpy_calib *c, const pc_view *raw, const pc_mosaic *m, unsigned bits,
+                      int method, int threads, const pc_stokes_out *out, uint8_t *valid,
+                      uint64_t *n_invalid)
+{
+	pc_calib_geometry g = c->cal.geo;
+	g.width = raw->width;
+	g.height = raw->height;
+	g.sensor_width = g.sensor_height = 0;
+	g.bits = bits;
+	if (m)
+		g.mosaic = *m;
+	size_t nbad = 0;
+	int rc;
+	pthread_rwlock_rdlock(&c->lock);
+	if (calib_cached(&c->cal, method)) {
+		rc = pc_calib_stokes(&c->cal, raw, &g, (pc_demosaic_method)method, threads, out, valid,
+		                     &nbad);
+		pthread_rwlock_unlock(&c->lock);
+	} else {
+		pthread_rwlock_unlock(&c->lock);
+		pthread_rwlock_wrlock(&c->lock);
+		rc = pc_calib_stokes(&c->cal, raw, &g, (pc_demosaic_method)method, threads, out, valid,
+		                     &nbad);
+		pthread_rwlock_unlock(&c->lock);
+	}
+	if (n_invalid)
+		*n_invalid = nbad;
+	return rc;
+}
+
+int pcpy_calib_pinv_grid(const pcpy_calib *c, int method, uint32_t *gw, uint32_t *gh)
+{
+	const pc_calib *cal = &c->cal;
+	if (!(cal->parts & PC_CAL_ANALYSER))
+		return pc_error(PC_EINVAL, "the calibration has no analyser part (polarcam calibrate "
+		                           "analyser)");
+	*gw = calib_superpixel(method) ? cal->geo.width / 2 : cal->geo.width;
+	*gh = calib_superpixel(method) ? cal->geo.height / 2 : cal->geo.height;
+	return 0;
+}
+
+int pcpy_calib_pinv_copy(pcpy_calib *c, int method, int threads, float *dst)
+{
+	pthread_rwlock_wrlock(&c->lock);
+	pc_analyser_pinv p;
+	int rc = pc_calib_pinv(&c->cal, (pc_demosaic_method)method, threads, &p);
+	if (!rc)
+		memcpy(dst, p.m, 12 * sizeof(float) * p.grid_w * p.grid_h);
+	pthread_rwlock_unlock(&c->lock);
+	return rc;
 }
 
 /* ---- pictures ----

@@ -18,6 +18,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/calib.h"
 #include "polarcam/decompose.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/frame.h"
@@ -75,19 +76,45 @@ int pcpy_demosaic(const pc_view *raw, const pc_mosaic *m, int method, int thread
 typedef struct pcpy_stokes_opts {
 	int method;
 	int threads;
-	bool have_black;
-	double black_level;        /* raw units, subtracted before demosaicking */
+	double black_level;        /* raw units, subtracted before demosaicking; 0: none */
+	double saturation_level;   /* raw units; samples >= it make outputs invalid; 0: unchecked */
+	double dead_level;         /* raw units; samples <= it make outputs invalid; 0: unchecked */
 	const pc_analyser_pinv *pinv; /* NULL: ideal analysers */
 } pcpy_stokes_opts;
 
-/* raw -> Stokes/DoLP/AoLP: the library's front door. NULL planes of out are not wanted. */
+/* raw -> Stokes/DoLP/AoLP: the library's front door (pc_stokes_run). NULL planes of out are not
+ * wanted; valid (may be NULL) receives the validity mask and count. */
 int pcpy_stokes(const pc_view *raw, const pc_mosaic *m, const pcpy_stokes_opts *o,
-                const pc_stokes_out *out);
+                const pc_stokes_out *out, pc_validity *valid);
 /* Four analyser images -> Stokes/DoLP/AoLP. */
 int pcpy_stokes_channels(const pc_fplane in[4], uint32_t w, uint32_t h,
                          const pc_analyser_pinv *pinv, const pc_stokes_out *out);
-/* n analyser matrices (n x 4 x 3 floats) -> n pseudo-inverses (n x 3 x 4). */
+/* n analyser matrices (n x 4 x 3 floats) -> n pseudo-inverses as twelve planes (3 x 4 x n,
+ * the layout of pc_analyser_pinv). */
 int pcpy_pinv(const float *w, size_t n, float *pinv);
+
+/* ---- calibration files (calib/, docs/calibration.md) ---- */
+
+/* A calibration read once and shared by threads: pc_calib_stokes keeps a cache of per-pixel
+ * pseudo-inverses for one demosaicking method inside the pc_calib, so calls are serialised
+ * only while that cache is (re)built; calls with the cached method run in parallel. */
+typedef struct pcpy_calib pcpy_calib;
+/* Reads and validates a calibration file (pc_calib_read). */
+int pcpy_calib_read(const char *path, pcpy_calib **out);
+void pcpy_calib_free(pcpy_calib *c);
+/* The calibration's contents (geometry, levels, maps), read-only, valid until pcpy_calib_free. */
+const pc_calib *pcpy_calib_get(const pcpy_calib *c);
+/* The calibrated pipeline (pc_calib_stokes) on a raw of the calibration's size: m NULL takes
+ * the calibration's layout, bits 0 does not compare the bit depth; the ROI offset is taken to
+ * be the calibration's (an array carries none). valid (output size, row stride = output width;
+ * may be NULL) and n_invalid as pc_calib_stokes. */
+int pcpy_calib_stokes(pcpy_calib *c, const pc_view *raw, const pc_mosaic *m, unsigned bits,
+                      int method, int threads, const pc_stokes_out *out, uint8_t *valid,
+                      uint64_t *n_invalid);
+/* The grid of per-output-pixel pseudo-inverses pc_calib_stokes uses for a method, and a copy of
+ * it (3 x 4 x gh x gw floats, the layout of pc_analyser_pinv) into dst. */
+int pcpy_calib_pinv_grid(const pcpy_calib *c, int method, uint32_t *gw, uint32_t *gh);
+int pcpy_calib_pinv_copy(pcpy_calib *c, int method, int threads, float *dst);
 
 /* ---- pictures (without the GIL) ---- */
 

@@ -32,6 +32,9 @@
 
 PyMODINIT_FUNC PyInit__polarcam(void);
 
+/* A METH_VARARGS | METH_KEYWORDS function in a PyMethodDef. */
+#define KW(f) ((PyCFunction)(void (*)(void))(f))
+
 /* ------------------------------------------------------------------------------------------
  * errors
  */
@@ -286,12 +289,17 @@ static PyStructSequence_Field stokes_fields[] = {
     {"dolp", "float32 (H, W): sqrt(S1^2 + S2^2) / S0 clipped to [0, 1] (0 where S0 <= 0)"},
     {"aolp", "float32 (H, W): 0.5 atan2(S2, S1) in radians in [0, pi), from the image x "
              "axis, counter-clockwise as seen by the viewer"},
+    {"valid", "uint8 (H, W) or None: 1 where the output pixel depends only on trusted samples "
+              "(below saturation_level, above dead_level, trusted in the calibration); None "
+              "when nothing was checked"},
+    {"n_invalid", "int: the number of 0s in valid (0 when nothing was checked)"},
     {NULL, NULL}};
 static PyStructSequence_Desc stokes_desc = {
     "polarcam.Stokes",
     "Stokes(s0, s1, s2, dolp, aolp): the linear Stokes images of a frame, as polarcam process "
     "writes them.\nA Stokes (or any 5-sequence of float32 (H, W) arrays or None) can be "
-    "passed as out= to stokes() to reuse its arrays; None entries are not computed.",
+    "passed as out= to stokes() to reuse its arrays; None entries are not computed. valid "
+    "and n_invalid are attributes, not items: a Stokes unpacks to its 5 images.",
     stokes_fields, 5};
 static PyTypeObject StokesType;
 
@@ -469,50 +477,85 @@ static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
  * stokes
  */
 
-/* calibration: None, a float32 (3, 4) or (GH, GW, 3, 4) array of analyser pseudo-inverses
- * (C-contiguous), or an object with a `pinv` attribute holding one (calibration objects). */
-static int get_calibration(PyObject *o, pc_analyser_pinv *p, PyObject **keep)
+static PyTypeObject CalibrationType;
+typedef struct CalibrationObject {
+	PyObject_HEAD pcpy_calib *cal;
+	PyObject *path;
+} CalibrationObject;
+
+/* calibration=: None; a float32 (3, 4) or (3, 4, GH, GW) array of analyser pseudo-inverses
+ * (C-contiguous; the layout of pc_analyser_pinv); a Calibration; or the path of a calibration
+ * file (read now, for this call). One of *pinv (array) or *cal (new reference) is set. */
+static int get_calibration(PyObject *o, pc_analyser_pinv *p, int *have_pinv,
+                           CalibrationObject **cal)
 {
-	*keep = NULL;
+	*have_pinv = 0;
+	*cal = NULL;
 	if (o == Py_None)
 		return 0;
-	PyObject *arr_o = o;
-	if (!PyArray_Check(o)) {
-		arr_o = PyObject_GetAttrString(o, "pinv");
-		if (!arr_o) {
-			PyErr_Clear();
-			PyErr_Format(PyExc_TypeError,
-			             "calibration: expected None, a float32 (GH, GW, 3, 4) array of "
-			             "analyser pseudo-inverses, or an object with a .pinv array; got %s",
-			             Py_TYPE(o)->tp_name);
-			return -1;
-		}
-	} else {
-		Py_INCREF(arr_o);
+	if (PyObject_TypeCheck(o, &CalibrationType)) {
+		Py_INCREF(o);
+		*cal = (CalibrationObject *)o;
+		return 0;
 	}
-	*keep = arr_o;
-	PyArrayObject *a = as_ndarray(arr_o, "calibration.pinv", "(GH, GW, 3, 4) of float32");
-	if (!a)
+	if (PyUnicode_Check(o) || PyBytes_Check(o) || PyObject_HasAttrString(o, "__fspath__")) {
+		*cal = (CalibrationObject *)PyObject_CallOneArg((PyObject *)&CalibrationType, o);
+		return *cal ? 0 : -1;
+	}
+	if (!PyArray_Check(o)) {
+		PyErr_Format(PyExc_TypeError,
+		             "calibration: expected None, a Calibration, the path of a calibration "
+		             "file, or a float32 (3, 4, GH, GW) array of analyser pseudo-inverses; got "
+		             "%s",
+		             Py_TYPE(o)->tp_name);
 		return -1;
+	}
+	PyArrayObject *a = (PyArrayObject *)o;
 	int nd = PyArray_NDIM(a);
 	if (PyArray_TYPE(a) != NPY_FLOAT32 || !PyArray_IS_C_CONTIGUOUS(a) ||
-	    !PyArray_ISALIGNED(a) || (nd != 2 && nd != 4) || PyArray_DIM(a, nd - 2) != 3 ||
-	    PyArray_DIM(a, nd - 1) != 4) {
+	    !PyArray_ISALIGNED(a) || (nd != 2 && nd != 4) || PyArray_DIM(a, 0) != 3 ||
+	    PyArray_DIM(a, 1) != 4) {
 		PyErr_SetString(PyExc_ValueError,
 		                "calibration: expected a C-contiguous float32 array of shape (3, 4) "
-		                "or (GH, GW, 3, 4) (numpy.ascontiguousarray(x, numpy.float32))");
+		                "or (3, 4, GH, GW) (numpy.ascontiguousarray(x, numpy.float32))");
 		return -1;
 	}
 	if (dims_ok(a, "calibration"))
 		return -1;
 	p->m = (const float *)PyArray_DATA(a);
-	p->grid_h = nd == 4 ? (uint32_t)PyArray_DIM(a, 0) : 1;
-	p->grid_w = nd == 4 ? (uint32_t)PyArray_DIM(a, 1) : 1;
+	p->grid_h = nd == 4 ? (uint32_t)PyArray_DIM(a, 2) : 1;
+	p->grid_w = nd == 4 ? (uint32_t)PyArray_DIM(a, 3) : 1;
 	if (!p->grid_w || !p->grid_h) {
 		PyErr_SetString(PyExc_ValueError, "calibration: empty grid");
 		return -1;
 	}
+	*have_pinv = 1;
 	return 0;
+}
+
+/* A level argument: None -> 0 (not used), else a number. */
+static int get_level(PyObject *o, const char *name, double *v)
+{
+	*v = 0;
+	if (o == Py_None)
+		return 0;
+	*v = PyFloat_AsDouble(o);
+	if (*v == -1 && PyErr_Occurred()) {
+		PyErr_Format(PyExc_TypeError, "%s: expected a number or None", name);
+		return -1;
+	}
+	return 0;
+}
+
+/* Sets the Stokes' valid and n_invalid (valid: a new reference or NULL for None). */
+static void stokes_set_valid(PyObject *res, PyObject *valid, uint64_t n_invalid)
+{
+	if (!valid) {
+		Py_INCREF(Py_None);
+		valid = Py_None;
+	}
+	PyStructSequence_SET_ITEM(res, 5, valid);
+	PyStructSequence_SET_ITEM(res, 6, PyLong_FromUnsignedLongLong(n_invalid));
 }
 
 /* Output planes: new arrays, or the caller's (a Stokes or a 5-sequence; None: not wanted). */
@@ -567,13 +610,16 @@ fail:
 static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 {
 	(void)self;
-	static char *kwl[] = {"raw",         "method",  "layout", "bits", "black_level",
-	                      "calibration", "threads", "out",    NULL};
+	static char *kwl[] = {"raw",     "method", "layout",           "bits",       "black_level",
+	                      "calibration", "threads", "out", "saturation_level", "dead_level",
+	                      NULL};
 	PyObject *raw_o, *bits_o = Py_None, *black_o = Py_None, *cal_o = Py_None, *out_o = Py_None;
-	const char *method = NULL, *layout = "90,45,135,0";
+	PyObject *sat_o = Py_None, *dead_o = Py_None;
+	const char *method = NULL, *layout = NULL;
 	int threads = 0, rc;
-	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zsOOOiO:stokes", kwl, &raw_o, &method, &layout,
-	                                 &bits_o, &black_o, &cal_o, &threads, &out_o))
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zzOOOiOOO:stokes", kwl, &raw_o, &method,
+	                                 &layout, &bits_o, &black_o, &cal_o, &threads, &out_o,
+	                                 &sat_o, &dead_o))
 		return NULL;
 	PyArrayObject *raw = as_ndarray(raw_o, "raw",
 	                                "(H, W) raw mosaic, or (H, W, 4) float32 analyser images");
@@ -582,22 +628,21 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 	unsigned bits;
 	if (get_bits(bits_o, &bits))
 		return NULL;
-	pcpy_stokes_opts o = {0, threads, false, 0, NULL};
-	if (black_o != Py_None) {
-		o.black_level = PyFloat_AsDouble(black_o);
-		if (o.black_level == -1 && PyErr_Occurred())
-			return NULL;
-		o.have_black = true;
-	}
-	pc_analyser_pinv pinv;
-	PyObject *keep_cal;
-	if (get_calibration(cal_o, &pinv, &keep_cal)) {
-		Py_XDECREF(keep_cal);
+	pcpy_stokes_opts o = {0, threads, 0, 0, 0, NULL};
+	if (get_level(black_o, "black_level", &o.black_level) ||
+	    get_level(sat_o, "saturation_level", &o.saturation_level) ||
+	    get_level(dead_o, "dead_level", &o.dead_level))
 		return NULL;
-	}
-	if (keep_cal)
+	int checked = sat_o != Py_None || dead_o != Py_None;
+	pc_analyser_pinv pinv;
+	int have_pinv;
+	CalibrationObject *cal;
+	if (get_calibration(cal_o, &pinv, &have_pinv, &cal))
+		return NULL;
+	if (have_pinv)
 		o.pinv = &pinv;
-	PyObject *res = NULL;
+	PyObject *res = NULL, *valid = NULL;
+	uint64_t n_invalid = 0;
 	pc_stokes_out so;
 	if (PyArray_NDIM(raw) == 3) {
 		/* already demosaicked: (H, W, 4) I0, I45, I90, I135 */
@@ -609,9 +654,11 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 			             dtype_name(raw), (Py_ssize_t)PyArray_DIM(raw, 2));
 			goto out;
 		}
-		if (o.have_black || bits) {
-			PyErr_SetString(PyExc_ValueError, "raw: black_level and bits apply to raw "
-			                                  "mosaics, not to (H, W, 4) analyser images");
+		if (black_o != Py_None || bits || checked || cal) {
+			PyErr_SetString(PyExc_ValueError,
+			                "raw: black_level, bits, saturation_level, dead_level and "
+			                "calibration files apply to raw mosaics, not to (H, W, 4) "
+			                "analyser images (an array of pseudo-inverses does)");
 			goto out;
 		}
 		size_t row, pix;
@@ -636,7 +683,22 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 		pc_mosaic m;
 		if (raw_view(raw, "raw", bits, &v))
 			goto out;
-		if ((rc = pcpy_layout_parse(layout, &m)) || (rc = pcpy_method(method, &m, &o.method))) {
+		if (cal && (black_o != Py_None || checked)) {
+			PyErr_SetString(PyExc_ValueError,
+			                "calibration: a calibration file brings its own dark offsets (or "
+			                "black level), saturation level and trusted pixels; black_level, "
+			                "saturation_level and dead_level cannot be given with it");
+			goto out;
+		}
+		if (layout) {
+			rc = pcpy_layout_parse(layout, &m);
+		} else if (cal) {
+			m = pcpy_calib_get(cal->cal)->geo.mosaic;
+			rc = 0;
+		} else {
+			rc = pcpy_layout_parse("90,45,135,0", &m);
+		}
+		if (rc || (rc = pcpy_method(method, &m, &o.method))) {
 			raise_pc(rc);
 			goto out;
 		}
@@ -644,19 +706,36 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 		pcpy_out_size(o.method, v.width, v.height, &ow, &oh);
 		if (!(res = stokes_outputs(out_o, ow, oh, &so)))
 			goto out;
+		pc_validity vd = {NULL, ow, 0};
+		if (checked || cal) {
+			npy_intp dims[2] = {oh, ow};
+			if (!(valid = PyArray_ZEROS(2, dims, NPY_UINT8, 0))) {
+				Py_CLEAR(res);
+				goto out;
+			}
+			vd.mask = PyArray_DATA((PyArrayObject *)valid);
+		}
 		unsigned check = bits_to_check(&v, bits);
 		Py_BEGIN_ALLOW_THREADS;
 		rc = check ? pcpy_check_bits(&v, check) : 0;
-		if (!rc)
-			rc = pcpy_stokes(&v, &m, &o, &so);
+		if (!rc && cal)
+			rc = pcpy_calib_stokes(cal->cal, &v, layout ? &m : NULL, bits, o.method,
+			                       threads, &so, vd.mask, &vd.n_invalid);
+		else if (!rc)
+			rc = pcpy_stokes(&v, &m, &o, &so, checked ? &vd : NULL);
 		Py_END_ALLOW_THREADS;
+		n_invalid = vd.n_invalid;
 	}
 	if (rc) {
 		Py_CLEAR(res);
 		raise_pc(rc);
+	} else {
+		stokes_set_valid(res, valid, n_invalid);
+		valid = NULL;
 	}
 out:
-	Py_XDECREF(keep_cal);
+	Py_XDECREF(valid);
+	Py_XDECREF(cal);
 	return res;
 }
 
@@ -674,10 +753,10 @@ static PyObject *py_analyser_pinv(PyObject *self, PyObject *arg)
 		return NULL;
 	}
 	npy_intp dims[NPY_MAXDIMS];
-	for (int i = 0; i < nd; i++)
-		dims[i] = PyArray_DIM(a, i);
-	dims[nd - 2] = 3;
-	dims[nd - 1] = 4;
+	dims[0] = 3;
+	dims[1] = 4;
+	for (int i = 0; i < nd - 2; i++)
+		dims[2 + i] = PyArray_DIM(a, i);
 	PyArrayObject *out = (PyArrayObject *)PyArray_SimpleNew(nd, dims, NPY_FLOAT32);
 	if (!out)
 		return NULL;
@@ -1799,6 +1878,300 @@ static PyTypeObject SourceType = {
 };
 
 /* ------------------------------------------------------------------------------------------
+ * Calibration: a calibration file of polarcam calibrate, read once (calib/, docs/calibration.md)
+ */
+
+static PyObject *cal_new(PyTypeObject *type, PyObject *args, PyObject *kw)
+{
+	static char *kwl[] = {"path", NULL};
+	PyObject *path = NULL;
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "O&:Calibration", kwl, PyUnicode_FSConverter,
+	                                 &path))
+		return NULL;
+	const char *p = PyBytes_AS_STRING(path);
+	pcpy_calib *c = NULL;
+	int rc;
+	Py_BEGIN_ALLOW_THREADS;
+	rc = pcpy_calib_read(p, &c);
+	Py_END_ALLOW_THREADS;
+	if (rc) {
+		Py_DECREF(path);
+		return raise_pc(rc);
+	}
+	CalibrationObject *self = (CalibrationObject *)type->tp_alloc(type, 0);
+	if (!self) {
+		pcpy_calib_free(c);
+		Py_DECREF(path);
+		return NULL;
+	}
+	self->cal = c;
+	self->path = PyUnicode_DecodeFSDefault(p);
+	Py_DECREF(path);
+	if (!self->path) {
+		Py_DECREF(self);
+		return NULL;
+	}
+	return (PyObject *)self;
+}
+
+static void cal_dealloc(CalibrationObject *self)
+{
+	pcpy_calib_free(self->cal);
+	Py_XDECREF(self->path);
+	Py_TYPE(self)->tp_free((PyObject *)self);
+}
+
+static const pc_calib *cal_of(CalibrationObject *self)
+{
+	return pcpy_calib_get(self->cal);
+}
+
+static PyObject *cal_repr(CalibrationObject *self)
+{
+	const pc_calib *c = cal_of(self);
+	char lay[64];
+	pcpy_layout_format(&c->geo.mosaic, lay, sizeof lay);
+	return PyUnicode_FromFormat("<polarcam.Calibration %R: %ux%u at (%u, %u), %u bits, layout "
+	                            "%s, parts%s%s%s%s>",
+	                            self->path, c->geo.width, c->geo.height, c->geo.offset_x,
+	                            c->geo.offset_y, c->geo.bits, lay,
+	                            (c->parts & PC_CAL_DARK) ? " dark" : "",
+	                            (c->parts & PC_CAL_FLAT) ? " flat" : "",
+	                            (c->parts & PC_CAL_ANALYSER) ? " analyser" : "",
+	                            (c->parts & PC_CAL_ECM) ? " ecm" : "");
+}
+
+/* A read-only view of memory owned by the calibration (kept alive by the array). */
+static PyObject *cal_view(CalibrationObject *self, const void *data, int nd, npy_intp *dims,
+                          int type, npy_intp *strides)
+{
+	if (!data)
+		Py_RETURN_NONE;
+	PyObject *a = PyArray_New(&PyArray_Type, nd, dims, type, strides, (void *)data, 0,
+	                          NPY_ARRAY_ALIGNED, NULL);
+	if (!a)
+		return NULL;
+	Py_INCREF(self);
+	if (PyArray_SetBaseObject((PyArrayObject *)a, (PyObject *)self)) {
+		Py_DECREF(a);
+		return NULL;
+	}
+	return a;
+}
+
+enum { CAL_DARK, CAL_DARK_NOISE, CAL_GAIN, CAL_ANALYSIS, CAL_RESIDUAL, CAL_VALID, CAL_PINV_SP,
+       CAL_ECM_W, CAL_ECM_A };
+
+static PyObject *cal_map(CalibrationObject *self, void *which)
+{
+	const pc_calib *c = cal_of(self);
+	npy_intp H = c->geo.height, W = c->geo.width;
+	npy_intp d2[2] = {H, W}, d3[3] = {H, W, 3}, d4[4] = {3, 4, H / 2, W / 2};
+	switch ((int)(intptr_t)which) {
+	case CAL_DARK:
+		return cal_view(self, c->dark, 2, d2, NPY_FLOAT32, NULL);
+	case CAL_DARK_NOISE:
+		return cal_view(self, c->dark_noise, 2, d2, NPY_FLOAT32, NULL);
+	case CAL_GAIN:
+		return cal_view(self, c->gain, 2, d2, NPY_FLOAT32, NULL);
+	case CAL_ANALYSIS:
+		return cal_view(self, c->analysis, 3, d3, NPY_FLOAT32, NULL);
+	case CAL_RESIDUAL:
+		return cal_view(self, c->residual, 2, d2, NPY_FLOAT32, NULL);
+	case CAL_VALID:
+		return cal_view(self, c->valid, 2, d2, NPY_UINT8, NULL);
+	case CAL_PINV_SP:
+		return cal_view(self, c->pinv_sp, 4, d4, NPY_FLOAT32, NULL);
+	case CAL_ECM_W: {
+		if (!(c->parts & PC_CAL_ECM))
+			Py_RETURN_NONE;
+		npy_intp d[2] = {4, c->n_psg}, st[2] = {sizeof c->ecm_W[0], sizeof(double)};
+		return cal_view(self, c->ecm_W, 2, d, NPY_FLOAT64, st);
+	}
+	case CAL_ECM_A: {
+		if (!(c->parts & PC_CAL_ECM))
+			Py_RETURN_NONE;
+		npy_intp d[2] = {4 * (npy_intp)c->n_psa, 4}, st[2] = {sizeof c->ecm_A[0], sizeof(double)};
+		return cal_view(self, c->ecm_A, 2, d, NPY_FLOAT64, st);
+	}
+	}
+	Py_RETURN_NONE;
+}
+
+enum { CAL_WIDTH, CAL_HEIGHT, CAL_OFFSET_X, CAL_OFFSET_Y, CAL_SENSOR_W, CAL_SENSOR_H, CAL_BITS };
+
+static PyObject *cal_int(CalibrationObject *self, void *which)
+{
+	const pc_calib_geometry *g = &cal_of(self)->geo;
+	const unsigned v[] = {g->width,         g->height,        g->offset_x, g->offset_y,
+	                      g->sensor_width,  g->sensor_height, g->bits};
+	return PyLong_FromUnsignedLong(v[(int)(intptr_t)which]);
+}
+
+static PyObject *cal_path(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	Py_INCREF(self->path);
+	return self->path;
+}
+
+static PyObject *cal_camera(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	return PyUnicode_DecodeUTF8(cal_of(self)->camera, (Py_ssize_t)strlen(cal_of(self)->camera),
+	                            "replace");
+}
+
+static PyObject *cal_layout(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	char lay[64];
+	pcpy_layout_format(&cal_of(self)->geo.mosaic, lay, sizeof lay);
+	return PyUnicode_FromString(lay);
+}
+
+static PyObject *cal_black(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	return PyFloat_FromDouble(cal_of(self)->black_level);
+}
+
+static PyObject *cal_saturation(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	return PyFloat_FromDouble(cal_of(self)->saturation);
+}
+
+static PyObject *cal_parts(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	unsigned p = cal_of(self)->parts;
+	static const struct {
+		unsigned bit;
+		const char *name;
+	} names[] = {{PC_CAL_DARK, "dark"},
+	             {PC_CAL_FLAT, "flat"},
+	             {PC_CAL_ANALYSER, "analyser"},
+	             {PC_CAL_ECM, "ecm"}};
+	PyObject *t = PyTuple_New(0);
+	for (size_t i = 0; t && i < sizeof names / sizeof names[0]; i++) {
+		if (!(p & names[i].bit))
+			continue;
+		PyObject *n = PyUnicode_FromString(names[i].name);
+		if (!n || _PyTuple_Resize(&t, PyTuple_GET_SIZE(t) + 1)) {
+			Py_XDECREF(n);
+			Py_XDECREF(t);
+			return NULL;
+		}
+		PyTuple_SET_ITEM(t, PyTuple_GET_SIZE(t) - 1, n);
+	}
+	return t;
+}
+
+static PyObject *cal_provenance(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	const char *p = cal_of(self)->provenance;
+	if (!p || !*p)
+		Py_RETURN_NONE;
+	PyObject *text = PyUnicode_FromString(p);
+	if (!text)
+		return NULL;
+	PyObject *r = json_call("loads", text);
+	Py_DECREF(text);
+	return r;
+}
+
+static PyObject *cal_pinv(CalibrationObject *self, PyObject *args, PyObject *kw)
+{
+	static char *kwl[] = {"method", "threads", NULL};
+	const char *method = NULL;
+	int threads = 0, dm, rc;
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "|zi:pinv", kwl, &method, &threads))
+		return NULL;
+	const pc_calib *c = cal_of(self);
+	uint32_t gw, gh;
+	if ((rc = pcpy_method(method, &c->geo.mosaic, &dm)) ||
+	    (rc = pcpy_calib_pinv_grid(self->cal, dm, &gw, &gh)))
+		return raise_pc(rc);
+	npy_intp dims[4] = {3, 4, gh, gw};
+	PyArrayObject *out = (PyArrayObject *)PyArray_SimpleNew(4, dims, NPY_FLOAT32);
+	if (!out)
+		return NULL;
+	Py_BEGIN_ALLOW_THREADS;
+	rc = pcpy_calib_pinv_copy(self->cal, dm, threads, PyArray_DATA(out));
+	Py_END_ALLOW_THREADS;
+	if (rc) {
+		Py_DECREF(out);
+		return raise_pc(rc);
+	}
+	return (PyObject *)out;
+}
+
+static PyMethodDef cal_methods[] = {
+    {"pinv", KW(cal_pinv), METH_VARARGS | METH_KEYWORDS,
+     "pinv(method=None, threads=0)\n--\n\n"
+     "The per-output-pixel analyser pseudo-inverses W+ that stokes(raw, calibration=self, "
+     "method=method) applies: float32 (3, 4, GH, GW), element (i, c) of output pixel (x, y) "
+     "at [i, c, y, x] (W x H for the full-resolution methods, the analysis maps demosaicked "
+     "with the method; W/2 x H/2 per 2x2 block for superpixel methods: pinv_superpixel). A "
+     "copy. ValueError without an analyser part."},
+    {NULL, NULL, 0, NULL}};
+
+#define CAL_GET(name, fn, which, doc) {name, (getter)fn, NULL, doc, (void *)(intptr_t)(which)}
+static PyGetSetDef cal_getset[] = {
+    {"path", (getter)cal_path, NULL, "str: the file read", NULL},
+    {"camera", (getter)cal_camera, NULL, "str: the camera (source) it was measured on", NULL},
+    CAL_GET("width", cal_int, CAL_WIDTH, "int: frame width the calibration applies to"),
+    CAL_GET("height", cal_int, CAL_HEIGHT, "int: frame height"),
+    CAL_GET("offset_x", cal_int, CAL_OFFSET_X, "int: ROI origin on the sensor (x)"),
+    CAL_GET("offset_y", cal_int, CAL_OFFSET_Y, "int: ROI origin on the sensor (y)"),
+    CAL_GET("sensor_width", cal_int, CAL_SENSOR_W, "int: sensor width (0: unknown)"),
+    CAL_GET("sensor_height", cal_int, CAL_SENSOR_H, "int: sensor height (0: unknown)"),
+    CAL_GET("bits", cal_int, CAL_BITS, "int: ADC bit depth"),
+    {"layout", (getter)cal_layout, NULL, "str: the mosaic at pixel (0, 0) of the frames", NULL},
+    {"black_level", (getter)cal_black, NULL, "float: mean dark offset (DN)", NULL},
+    {"saturation", (getter)cal_saturation, NULL,
+     "float: samples at or above it are not trusted (DN)", NULL},
+    {"parts", (getter)cal_parts, NULL,
+     "tuple of str: what the file holds ('dark', 'flat', 'analyser', 'ecm')", NULL},
+    {"provenance", (getter)cal_provenance, NULL,
+     "dict or None: inputs and options of every calibration step", NULL},
+    CAL_GET("dark", cal_map, CAL_DARK, "float32 (H, W) or None: per-pixel offset, DN"),
+    CAL_GET("dark_noise", cal_map, CAL_DARK_NOISE,
+            "float32 (H, W) or None: temporal sigma of one frame, DN"),
+    CAL_GET("gain", cal_map, CAL_GAIN, "float32 (H, W) or None: relative gain, mean 1"),
+    CAL_GET("analysis", cal_map, CAL_ANALYSIS,
+            "float32 (H, W, 3) or None: analysis vectors (a0, a1, a2) after dark and gain"),
+    CAL_GET("residual", cal_map, CAL_RESIDUAL,
+            "float32 (H, W) or None: RMS residual of the analyser fit, DN"),
+    CAL_GET("valid", cal_map, CAL_VALID, "uint8 (H, W) or None: 1 = trusted pixel"),
+    CAL_GET("pinv_superpixel", cal_map, CAL_PINV_SP,
+            "float32 (3, 4, H/2, W/2) or None: W+ per 2x2 block"),
+    CAL_GET("ecm_generator", cal_map, CAL_ECM_W,
+            "float64 (4, n_psg) or None: ECM generator W (mean W[0] = 1)"),
+    CAL_GET("ecm_analyser", cal_map, CAL_ECM_A,
+            "float64 (4 n_psa, 4) or None: ECM analyser A (row 4a + c)"),
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static PyTypeObject CalibrationType = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "polarcam.Calibration",
+    .tp_basicsize = sizeof(CalibrationObject),
+    .tp_dealloc = (destructor)cal_dealloc,
+    .tp_repr = (reprfunc)cal_repr,
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = "Calibration(path)\n--\n\n"
+              "A calibration file written by polarcam calibrate (docs/calibration.md), read "
+              "and validated once: pass it as stokes(raw, calibration=cal) for any number of "
+              "frames (from any number of threads). Its maps are read-only numpy views; "
+              "geometry, layout, bit depth and levels are attributes. Errors name the file and "
+              "the member (FileNotFoundError, ValueError for a malformed or newer file).",
+    .tp_methods = cal_methods,
+    .tp_getset = cal_getset,
+    .tp_new = cal_new,
+};
+
+/* ------------------------------------------------------------------------------------------
  * the benchmark's baseline: the C pipeline timed in C
  */
 
@@ -1824,7 +2197,7 @@ static PyObject *py_c_pipeline_seconds(PyObject *self, PyObject *args, PyObject 
 		return NULL;
 	pc_view v;
 	pc_mosaic m;
-	pcpy_stokes_opts o = {0, threads, false, 0, NULL};
+	pcpy_stokes_opts o = {0, threads, 0, 0, 0, NULL};
 	PyArrayObject *raw = as_ndarray(raw_o, "raw", "(H, W)");
 	if (!raw || raw_view(raw, "raw", 0, &v))
 		return NULL;
@@ -1846,7 +2219,7 @@ static PyObject *py_c_pipeline_seconds(PyObject *self, PyObject *args, PyObject 
 	Py_BEGIN_ALLOW_THREADS;
 	for (int i = 0; i < repeats && !rc; i++) {
 		double t0 = now_s();
-		rc = pcpy_stokes(&v, &m, &o, &so);
+		rc = pcpy_stokes(&v, &m, &o, &so, NULL);
 		t[i] = now_s() - t0;
 	}
 	Py_END_ALLOW_THREADS;
@@ -1861,7 +2234,6 @@ static PyObject *py_c_pipeline_seconds(PyObject *self, PyObject *args, PyObject 
  * the module
  */
 
-#define KW(f) ((PyCFunction)(void (*)(void))(f))
 
 PyDoc_STRVAR(
     doc_demosaic,
@@ -1879,17 +2251,27 @@ PyDoc_STRVAR(
 
 PyDoc_STRVAR(
     doc_stokes,
-    "stokes(raw, method=None, layout='90,45,135,0', bits=None, black_level=None, "
-    "calibration=None, threads=0, out=None)\n--\n\n"
+    "stokes(raw, method=None, layout=None, bits=None, black_level=None, calibration=None, "
+    "threads=0, out=None, saturation_level=None, dead_level=None)\n--\n\n"
     "The pipeline of polarcam process: demosaic -> S0, S1, S2, DoLP, AoLP (float32 (H, W) "
-    "each, the same values).\n\n"
+    "each, the same values), through the library's front door.\n\n"
     "raw: (H, W) raw mosaic as for demosaic(), or float32 (H, W, 4) analyser images I0, I45, "
-    "I90, I135. black_level: raw units subtracted before demosaicking (None: 0). "
-    "calibration: float32 (3, 4) or (GH, GW, 3, 4) analyser pseudo-inverses (see "
-    "analyser_pinv), or an object with such a .pinv (calibration objects); None: ideal "
-    "analysers. out: a Stokes or 5 float32 (H, W) arrays (None entries are not computed).\n"
-    "Returns a Stokes (s0, s1, s2, dolp, aolp). AoLP is in radians in [0, pi), from the "
-    "image x axis, counter-clockwise as the image is viewed.");
+    "I90, I135. layout: as demosaic() (None: the calibration file's layout, else "
+    "'90,45,135,0'). black_level: raw units subtracted before demosaicking (None: 0; values "
+    "below it stay negative). saturation_level, dead_level: raw units; an output pixel that "
+    "depends on a sample >= saturation_level or <= dead_level is 0 in the result's valid "
+    "mask (its value is computed as any other).\n"
+    "calibration: a Calibration, the path of a calibration file of polarcam calibrate (read "
+    "for this call; load a Calibration once for many frames), or float32 (3, 4) / (3, 4, "
+    "GH, GW) analyser pseudo-inverses (analyser_pinv); None: ideal analysers. A calibration "
+    "file corrects dark and gain per pixel and applies per-pixel pseudo-inverses; the frame "
+    "must have its size, layout and (when bits is given) bit depth (ValueError naming the "
+    "difference); its valid mask marks outputs depending on untrusted or saturated "
+    "samples.\n"
+    "out: a Stokes or 5 float32 (H, W) arrays (None entries are not computed).\n"
+    "Returns a Stokes (s0, s1, s2, dolp, aolp) with attributes valid (uint8 (H, W), or None "
+    "when no level and no calibration file was given) and n_invalid. AoLP is in radians in "
+    "[0, pi), from the image x axis, counter-clockwise as the image is viewed.");
 
 PyDoc_STRVAR(doc_pbrdf,
              "pbrdf(n, k, sigma, theta_i, theta_r, phi=180, diffuse='fresnel', shadowing='ts', "
@@ -1951,7 +2333,10 @@ PyDoc_STRVAR(doc_pinv,
              "analyser_pinv(W)\n--\n\n"
              "Pseudo-inverses (W^T W)^-1 W^T of float32 analyser matrices W (..., 4, 3) (rows: "
              "the responses of I0, I45, I90, I135 to S0, S1, S2), for stokes(calibration=): "
-             "float32 (..., 3, 4). ValueError naming the first singular matrix.");
+             "float32 (3, 4, ...) (element (i, c) of matrix k at [i, c, k...]: the layout of "
+             "the library's pc_analyser_pinv and of a calibration file's pinv_superpixel; "
+             "(3, 4) for one matrix, as numpy.linalg.pinv). ValueError naming the first "
+             "singular matrix.");
 
 static PyMethodDef module_methods[] = {
     {"demosaic", KW(py_demosaic), METH_VARARGS | METH_KEYWORDS, doc_demosaic},
@@ -1987,16 +2372,18 @@ PyMODINIT_FUNC PyInit__polarcam(void)
 	if ((!StokesType.tp_name && PyStructSequence_InitType2(&StokesType, &stokes_desc)) ||
 	    (!DecType.tp_name && PyStructSequence_InitType2(&DecType, &dec_desc)) ||
 	    (!FrameType.tp_name && PyStructSequence_InitType2(&FrameType, &frame_desc)) ||
-	    PyType_Ready(&SourceType))
+	    PyType_Ready(&SourceType) || PyType_Ready(&CalibrationType))
 		goto fail;
 	Py_INCREF(&StokesType);
 	Py_INCREF(&DecType);
 	Py_INCREF(&FrameType);
 	Py_INCREF(&SourceType);
+	Py_INCREF(&CalibrationType);
 	if (PyModule_AddObject(m, "Stokes", (PyObject *)&StokesType) ||
 	    PyModule_AddObject(m, "Decomposition", (PyObject *)&DecType) ||
 	    PyModule_AddObject(m, "Frame", (PyObject *)&FrameType) ||
 	    PyModule_AddObject(m, "Source", (PyObject *)&SourceType) ||
+	    PyModule_AddObject(m, "Calibration", (PyObject *)&CalibrationType) ||
 	    PyModule_AddStringConstant(m, "__version__", pcpy_version()) ||
 	    PyModule_AddIntConstant(m, "LC_D_SINGULAR", PC_LC_D_SINGULAR) ||
 	    PyModule_AddIntConstant(m, "LC_R_NONUNIQUE", PC_LC_R_NONUNIQUE) ||

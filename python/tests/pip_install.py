@@ -32,6 +32,12 @@ st = polarcam.stokes(raw)
 assert np.allclose(st.s0, s0) and np.allclose(st.s1, s1, atol=1e-4), st.s1
 raw, truth, meta = polarcam.render(roi=(0, 0, 32, 32))
 assert raw.shape == (32, 32) and meta["bits"] == 12
+# the shared libpolarcam in use is the copy installed beside the module
+here = os.path.dirname(os.path.realpath(polarcam._polarcam.__file__))
+with open("/proc/self/maps") as f:
+    libs = {l.split()[-1] for l in f if "libpolarcam.so" in l}
+assert libs and all(os.path.dirname(os.path.realpath(p)) == here for p in libs), (libs, here)
+print("libpolarcam:", sorted(libs))
 print("installed polarcam", polarcam.__version__, "works")
 """
 

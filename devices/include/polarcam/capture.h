@@ -12,6 +12,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/progress.h"
 #include "polarcam/stream.h"
 
@@ -44,8 +45,8 @@ typedef struct pc_capture_report {
 /* Records. A negative return means nothing was recorded (the method, the source or the
  * recording directory was refused; the detail says which); 0 means the recording exists, whole
  * or ended early as rep->error says. Free rep with pc_capture_report_free in both cases. */
-int pc_capture(const pc_capture_opts *opts, pc_capture_report *rep);
-void pc_capture_report_free(pc_capture_report *rep);
+PC_API int pc_capture(const pc_capture_opts *opts, pc_capture_report *rep);
+PC_API void pc_capture_report_free(pc_capture_report *rep);
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/progress.h"
 #include "polarcam/sim.h"
 
@@ -44,7 +45,7 @@ typedef struct pc_render_report {
 } pc_render_report;
 
 /* Renders into dir (created). rep may be NULL. */
-int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
+PC_API int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
 
 #ifdef __cplusplus
 }
