@@ -76,10 +76,7 @@ int pcpy_view(void *data, uint32_t width, uint32_t height, size_t stride, pcpy_d
 		                 : PC_FMT_MONO16;
 		break;
 	case PCPY_F32:
-		if (bits && bits != 32)
-			return pc_error(PC_EINVAL, "bits=%u: float32 data has no bit depth (pass "
-			                           "bits=None)",
-			                bits);
+		/* bits of float data: the scale of the values (pcpy_full_scale), not a container */
 		f = PC_FMT_FLOAT32;
 		break;
 	}
@@ -195,10 +192,17 @@ void pcpy_out_size(int method, uint32_t w, uint32_t h, uint32_t *ow, uint32_t *o
 /* ---- the pipeline ---- */
 
 int pcpy_demosaic(const pc_view *raw, const pc_mosaic *m, int method, int threads,
-                  const pc_fplane *out)
+                  double full_scale, const pc_fplane *out)
 {
-	pc_demosaic_opts o = {threads, false, 0};
+	pc_demosaic_opts o = {threads, false, full_scale};
 	return pc_demosaic(raw, m, (pc_demosaic_method)method, &o, out);
+}
+
+double pcpy_full_scale(const pc_view *v, unsigned bits)
+{
+	if (v->format == PC_FMT_FLOAT32 && bits)
+		return ldexp(1.0, (int)bits) - 1.0;
+	return 0; /* the library's default: 2^bits - 1 of the format, 1.0 for float */
 }
 
 int pcpy_stokes(const pc_view *raw, const pc_mosaic *m, const pcpy_stokes_opts *o,
@@ -208,6 +212,7 @@ int pcpy_stokes(const pc_view *raw, const pc_mosaic *m, const pcpy_stokes_opts *
 	po.method = (pc_demosaic_method)o->method;
 	po.mosaic = *m;
 	po.threads = o->threads;
+	po.full_scale = o->full_scale;
 	po.black_level = o->black_level;
 	po.saturation_level = o->saturation_level;
 	po.dead_level = o->dead_level;

@@ -44,9 +44,13 @@ typedef enum pcpy_dtype { PCPY_U8 = 1, PCPY_U16, PCPY_F32 } pcpy_dtype;
 
 /* A pc_view over caller memory: uint8 (bits 0 or 8), uint16 (bits 0 = 16, or 9..16: Mono10/12/
  * 14/16 are the LSB-aligned formats of that depth; other depths 9..15 use Mono16 with the
- * value check of that depth) or float32 (bits must be 0). Does not read the pixels. */
+ * value check of that depth) or float32 (bits, if any, only declare the values' scale: see
+ * pcpy_full_scale). Does not read the pixels. */
 int pcpy_view(void *data, uint32_t width, uint32_t height, size_t stride, pcpy_dtype dtype,
               unsigned bits, pc_view *out);
+/* The full scale for the pipeline options: 2^bits - 1 for float32 data with bits given (values
+ * in raw units of a bits-deep sensor, e.g. averaged frames); 0 (the format's) otherwise. */
+double pcpy_full_scale(const pc_view *v, unsigned bits);
 /* The bit depth a view declares (8, 10, 12, 14, 16; 32 for float). */
 unsigned pcpy_view_bits(const pc_view *v);
 /* Every pixel within bits significant bits (float: finite). PC_ERANGE naming the first pixel
@@ -71,11 +75,12 @@ void pcpy_out_size(int method, uint32_t w, uint32_t h, uint32_t *ow, uint32_t *o
 
 /* Demosaics into nch = pcpy_channels(m) planes. */
 int pcpy_demosaic(const pc_view *raw, const pc_mosaic *m, int method, int threads,
-                  const pc_fplane *out);
+                  double full_scale, const pc_fplane *out);
 
 typedef struct pcpy_stokes_opts {
 	int method;
 	int threads;
+	double full_scale;         /* raw units; 0: the format's (pcpy_full_scale) */
 	double black_level;        /* raw units, subtracted before demosaicking; 0: none */
 	double saturation_level;   /* raw units; samples >= it make outputs invalid; 0: unchecked */
 	double dead_level;         /* raw units; samples <= it make outputs invalid; 0: unchecked */

@@ -464,7 +464,7 @@ static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
 	Py_BEGIN_ALLOW_THREADS;
 	rc = check ? pcpy_check_bits(&v, check) : 0;
 	if (!rc)
-		rc = pcpy_demosaic(&v, &m, dm, threads, planes);
+		rc = pcpy_demosaic(&v, &m, dm, threads, pcpy_full_scale(&v, bits), planes);
 	Py_END_ALLOW_THREADS;
 	if (rc) {
 		Py_DECREF(out);
@@ -628,7 +628,7 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 	unsigned bits;
 	if (get_bits(bits_o, &bits))
 		return NULL;
-	pcpy_stokes_opts o = {0, threads, 0, 0, 0, NULL};
+	pcpy_stokes_opts o = {0, threads, 0, 0, 0, 0, NULL};
 	if (get_level(black_o, "black_level", &o.black_level) ||
 	    get_level(sat_o, "saturation_level", &o.saturation_level) ||
 	    get_level(dead_o, "dead_level", &o.dead_level))
@@ -683,6 +683,7 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 		pc_mosaic m;
 		if (raw_view(raw, "raw", bits, &v))
 			goto out;
+		o.full_scale = pcpy_full_scale(&v, bits);
 		if (cal && (black_o != Py_None || checked)) {
 			PyErr_SetString(PyExc_ValueError,
 			                "calibration: a calibration file brings its own dark offsets (or "
@@ -2197,7 +2198,7 @@ static PyObject *py_c_pipeline_seconds(PyObject *self, PyObject *args, PyObject 
 		return NULL;
 	pc_view v;
 	pc_mosaic m;
-	pcpy_stokes_opts o = {0, threads, 0, 0, 0, NULL};
+	pcpy_stokes_opts o = {0, threads, 0, 0, 0, 0, NULL};
 	PyArrayObject *raw = as_ndarray(raw_o, "raw", "(H, W)");
 	if (!raw || raw_view(raw, "raw", 0, &v))
 		return NULL;
@@ -2245,7 +2246,9 @@ PyDoc_STRVAR(
     "colour layouts). layout: [BAYER:]A,B,C,D[@DX,DY], the analyser angles of the 2x2 block "
     "row by row (IMX250MZR: 90,45,135,0). bits: the sensor's bit depth (None: the dtype's; "
     "pass 12 for 12-bit frames: values above 2^bits - 1 are a ValueError, and edge-aware "
-    "methods use it as full scale). threads: 0 all cores, 1 the calling thread only.\n"
+    "methods use it as full scale; float32 data in raw units of such a sensor, e.g. averaged "
+    "frames: its full scale 2^bits - 1, not checked). threads: 0 all cores, 1 the calling "
+    "thread only.\n"
     "Returns float32 (H, W, 4) I0, I45, I90, I135 in the raw's units ((H, W, 12) R, G, B x "
     "4 analysers for colour layouts; (H/2, W/2, C) for superpixel-half), or writes into out.");
 

@@ -13,9 +13,7 @@ SANITIZED = bool(os.environ.get("PCPY_SANITIZED"))
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-@pytest.fixture
-def cli():
-    """Runs the polarcam command line: cli(args...) -> CompletedProcess (text)."""
+def _cli_runner():
     if not CLI or not os.path.exists(CLI):
         pytest.skip("POLARCAM_CLI (the polarcam program) is not set: run through ctest")
 
@@ -27,6 +25,46 @@ def cli():
         return p
 
     return run
+
+
+@pytest.fixture
+def cli():
+    """Runs the polarcam command line: cli(args...) -> CompletedProcess (text)."""
+    return _cli_runner()
+
+
+@pytest.fixture(scope="module")
+def cli_module():
+    """cli for module-scoped fixtures."""
+    return _cli_runner()
+
+
+def write_calibration(path, width, height, dark, bits=12, layout=((90, 45), (135, 0))):
+    """A calibration file (docs/calibration.md, version 1) of ideal analysers, unit gain and
+    a constant dark offset, written with numpy: the analytic case of the calibrated
+    pipeline."""
+    ang = np.zeros((height, width))
+    for dy in range(2):
+        for dx in range(2):
+            ang[dy::2, dx::2] = np.radians(layout[dy][dx])
+    analysis = 0.5 * np.stack([np.ones_like(ang), np.cos(2 * ang), np.sin(2 * ang)], -1)
+    # W+ of the ideal analysers, columns I0, I45, I90, I135 (core/include/polarcam/stokes.h)
+    th = np.radians([0, 45, 90, 135])
+    pinv = np.linalg.pinv(0.5 * np.stack([np.ones(4), np.cos(2 * th), np.sin(2 * th)], 1))
+    lay = ",".join(str(layout[i][j]) for i in range(2) for j in range(2))
+    meta = {"polarcam_calibration": 1, "camera": "synthetic", "width": width, "height": height,
+            "offset_x": 0, "offset_y": 0, "sensor_width": 0, "sensor_height": 0, "bits": bits,
+            "layout": lay, "black_level": float(dark), "saturation": float(2 ** bits - 1),
+            "parts": ["dark", "flat", "analyser"], "provenance": {"software": "numpy"}}
+    f32 = lambda a: np.ascontiguousarray(a, np.float32)  # noqa: E731
+    np.savez(path, meta=np.frombuffer(json.dumps(meta).encode(), np.uint8),
+             valid=np.ones((height, width), np.uint8),
+             dark=f32(np.full((height, width), dark)), dark_noise=f32(np.ones((height, width))),
+             gain=f32(np.ones((height, width))), analysis=f32(analysis),
+             residual=f32(np.zeros((height, width))),
+             pinv_superpixel=f32(np.broadcast_to(pinv[:, :, None, None],
+                                                 (3, 4, height // 2, width // 2))))
+    return path
 
 
 def json_lines(text):

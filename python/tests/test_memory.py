@@ -3,13 +3,14 @@ the resident set size), and large inputs used in place (peak resident size and t
 around a call, with a copy as the positive control that shows the meter works)."""
 import gc
 import os
+import tempfile
 import tracemalloc
 
 import numpy as np
 import pytest
 
 import polarcam
-from conftest import REPO, SANITIZED
+from conftest import REPO, SANITIZED, write_calibration
 
 pytestmark = pytest.mark.skipif(
     SANITIZED, reason="resident sizes are meaningless under AddressSanitizer (shadow memory, "
@@ -80,6 +81,9 @@ PINV = polarcam.analyser_pinv(np.array([[.5, .5, 0], [.5, 0, .5], [.5, -.5, 0], 
                                        np.float32))
 OUT = polarcam.stokes(RAW)
 BAD = RAW.astype(np.int32)
+TMP = tempfile.TemporaryDirectory(prefix="polarcam-memory-")
+CAL_PATH = write_calibration(os.path.join(TMP.name, "cal.npz"), 64, 48, dark=60.0)
+CAL = polarcam.Calibration(CAL_PATH)
 
 CALLS = {
     "stokes": lambda: polarcam.stokes(RAW, bits=12, threads=1),
@@ -87,6 +91,13 @@ CALLS = {
     "stokes_channels": lambda: polarcam.stokes(F4),
     "stokes_calibrated": lambda: polarcam.stokes(RAW, calibration=PINV, threads=1),
     "stokes_black": lambda: polarcam.stokes(RAW, black_level=10.0, threads=1),
+    "stokes_valid": lambda: polarcam.stokes(RAW, saturation_level=4000, dead_level=1,
+                                            threads=1),
+    "stokes_calibration_file": lambda: polarcam.stokes(RAW, calibration=CAL, threads=1),
+    "calibration_maps": lambda: (CAL.analysis, CAL.pinv_superpixel, CAL.provenance,
+                                 CAL.parts, CAL.layout),
+    "error_calibration": _raises(lambda: polarcam.stokes(RAW[:32], calibration=CAL),
+                                 ValueError),
     "demosaic": lambda: polarcam.demosaic(RAW, method="eari", threads=1),
     "picture": lambda: polarcam.picture(OUT, kind="aolp"),
     "pbrdf": lambda: polarcam.pbrdf(1.5, 0.1, [0.1, 0.2], 30, 40, 150),
@@ -106,16 +117,17 @@ CALLS = {
 @pytest.mark.parametrize("name", sorted(CALLS))
 def test_ten_thousand_calls_leak_nothing(name):
     fn = CALLS[name]
-    refs = [__import__("sys").getrefcount(x) for x in (RAW, F4, M, PINV, OUT)]
+    refs = [__import__("sys").getrefcount(x) for x in (RAW, F4, M, PINV, OUT, CAL)]
     traced, resident = growth(fn, 10000)
     # a leaked object per call would be >= 10000 x 16 bytes; a leaked C buffer of the smallest
     # output (64 x 48 floats) 120 MB
     assert traced < 16 * 1024, (name, traced)
     assert resident < 2 * 1024 * 1024, (name, resident)
-    assert refs == [__import__("sys").getrefcount(x) for x in (RAW, F4, M, PINV, OUT)], name
+    assert refs == [__import__("sys").getrefcount(x) for x in (RAW, F4, M, PINV, OUT, CAL)], name
 
 
-@pytest.mark.parametrize("name", ["render", "open", "open_error"])
+@pytest.mark.parametrize("name", ["render", "open", "open_error", "calibration_read",
+                                  "calibration_path", "calibration_error"])
 def test_sources_and_simulator_leak_nothing(name):
     scene = os.path.join(REPO, "scenes", "ideal_small.json")
 
@@ -129,7 +141,11 @@ def test_sources_and_simulator_leak_nothing(name):
             s.controls()
 
     fn = {"render": render, "open": open_,
-          "open_error": _raises(lambda: polarcam.open("sim:default?bogus=1"), ValueError)}[name]
+          "open_error": _raises(lambda: polarcam.open("sim:default?bogus=1"), ValueError),
+          "calibration_read": lambda: polarcam.Calibration(CAL_PATH).gain,
+          "calibration_path": lambda: polarcam.stokes(RAW, calibration=CAL_PATH, threads=1),
+          "calibration_error": _raises(lambda: polarcam.Calibration(CAL_PATH + ".missing"),
+                                       FileNotFoundError)}[name]
     # slower calls (a simulator is built each time): fewer of them, the same per-call bound
     traced, resident = growth(fn, 100, warm=20)
     assert traced < 16 * 1024, (name, traced)
