@@ -21,12 +21,14 @@ export DEBIAN_FRONTEND=noninteractive
 BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-dev libcairo2-dev
   fonts-dejavu-core
   libaravis-dev aravis-tools-cli libusb-1.0-0-dev libopencv-core-dev libopencv-imgproc-dev
-  libopencv-highgui-dev libzip-dev liblapack-dev"
+  libopencv-highgui-dev libzip-dev liblapack-dev
+  python3-dev python3-numpy"
 # Tests: network namespaces, the QEMU guest with Debian's kernel and vivid, Xvfb for the window;
 # libudev-dev for `pkg-config --static --libs polarcam` (libusb-1.0.pc names -ludev); clang and
-# its OpenMP runtime for the clang build.
+# its OpenMP runtime for the clang build; pytest and pip (the Python module's tests and its
+# offline pip install).
 TEST_PKGS="iproute2 util-linux qemu-system-x86 busybox-static cpio kmod v4l-utils xvfb xauth x11-apps
-  libcamera-dev libudev-dev clang libomp-dev"
+  libcamera-dev libudev-dev clang libomp-dev python3-pytest python3-pip python3-setuptools"
 # Formatting: ./do format, ./do format-check.
 FORMAT_PKGS="clang-format git"
 
@@ -50,7 +52,11 @@ install_pkgs() {
 
 build() { # build DIR [cmake options...]
   local dir=$1; shift
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >"$dir.configure.log" 2>&1 ||
+  # The Python module is built for Debian's interpreter, the one python3-numpy is installed for
+  # (another python3 first on PATH, a pyenv or a venv, may lack NumPy).
+  local py=()
+  [[ -x /usr/bin/python3 ]] && py=(-DPython3_EXECUTABLE=/usr/bin/python3)
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${py[@]}" "$@" >"$dir.configure.log" 2>&1 ||
     { mkdir -p "$dir"; cat "$dir.configure.log" >&2; exit 1; }
   # show warnings and errors, not the progress lines; pipefail keeps cmake's exit status
   if ! cmake --build "$dir" -j "$JOBS" 2>&1 |
@@ -83,7 +89,9 @@ format_files() {
 }
 
 # ctest -E regex of the tests that the clang build leaves to the GCC builds (see ./do test).
-CLANG_SKIP='^(v4l2_guest|devices_gige_.*|devices_bench_smoke|devices_view_xvfb|devices_list)$'
+# python_pip builds a fresh copy of the whole project with the default compiler (not clang):
+# once, in build-ci, is enough.
+CLANG_SKIP='^(v4l2_guest|devices_gige_.*|devices_bench_smoke|devices_view_xvfb|devices_list|python_pip)$'
 
 # The files among them that clang-format would change.
 format_differs() {

@@ -4,7 +4,8 @@ set(PC_WITH_LIBCAMERA OFF CACHE STRING "libcamera backend (AUTO|ON|OFF); off unl
 set(PC_WITH_LIBUSB AUTO CACHE STRING "libusb USB3 Vision diagnosis (AUTO|ON|OFF)")
 set(PC_WITH_OPENCV AUTO CACHE STRING "OpenCV (live window, comparison benchmarks) (AUTO|ON|OFF)")
 set(PC_WITH_OPENMP ON CACHE STRING "OpenMP row-band parallelism (AUTO|ON|OFF)")
-foreach(opt PC_WITH_ARAVIS PC_WITH_LIBCAMERA PC_WITH_LIBUSB PC_WITH_OPENCV PC_WITH_OPENMP)
+set(PC_WITH_PYTHON AUTO CACHE STRING "Python module polarcam (python3-dev, python3-numpy) (AUTO|ON|OFF)")
+foreach(opt PC_WITH_ARAVIS PC_WITH_LIBCAMERA PC_WITH_LIBUSB PC_WITH_OPENCV PC_WITH_OPENMP PC_WITH_PYTHON)
   set_property(CACHE ${opt} PROPERTY STRINGS AUTO ON OFF)
 endforeach()
 
