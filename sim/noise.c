@@ -47,9 +47,9 @@ static double poisson_pixel(uint64_t seed, const uint32_t ctr0[4], double mu, co
 	}
 }
 
-/* poisson_pixel for a pixel whose first two PTRS attempts (block 0 words 0–1, block 1 words
- * 0–1) were rejected: attempt 3 onwards, from block 1 word 2. */
-static double poisson_after_two(uint64_t seed, const uint32_t ctr0[4], double mu)
+/* poisson_pixel for a pixel whose first `done` PTRS attempts (block 0 words 0–1, then the
+ * continuation's words in pairs from block 1) were rejected: attempt done + 1 onwards. */
+static double poisson_after(uint64_t seed, const uint32_t ctr0[4], double mu, int done)
 {
 	pc_ptrs p;
 	pc_ptrs_init(&p, mu);
@@ -60,8 +60,10 @@ static double poisson_after_two(uint64_t seed, const uint32_t ctr0[4], double mu
 	r.key[1] = (uint32_t)(seed >> 32);
 	r.ctr[1] += 1u << 8;
 	r.used = 4;
-	(void)pc_rng_u32(&r);
-	(void)pc_rng_u32(&r);
+	for (int i = 1; i < done; i++) {
+		(void)pc_rng_u32(&r);
+		(void)pc_rng_u32(&r);
+	}
 	for (;;) {
 		uint32_t wu = pc_rng_u32(&r), wv = pc_rng_u32(&r);
 		if (pc_ptrs_fast(&p, wu, wv, &k))
@@ -140,6 +142,14 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 		(hi) = (PU)_mm256_blend_epi32(_mm256_srli_epi64(pe_, 32), po_, 0xAA);              \
 	} while (0)
 #define KSQRT(v) ((VD)_mm256_sqrt_pd((__m256d)(v)))
+/* Stores the lanes of v selected by the bits of m contiguously at p. */
+#define KCOMPRESS_D(p, m, v)                                                                      \
+	do {                                                                                      \
+		for (unsigned b_ = (m), j_ = 0; b_; b_ &= b_ - 1)                                  \
+			(p)[j_++] = (v)[__builtin_ctz(b_)];                                        \
+	} while (0)
+#define KCOMPRESS_U KCOMPRESS_D
+#define KGATHER_D(tab, idx) ((VD)_mm256_i64gather_pd((tab), (__m256i)(idx), 8))
 #define KFLOOR(v) ((VD)_mm256_floor_pd((__m256d)(v)))
 #define KMOVEMASK(m) ((unsigned)_mm256_movemask_pd((__m256d)(m)))
 #include "noise_kern.inc"
@@ -148,6 +158,9 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 #undef KL
 #undef KMULHILO
 #undef KSQRT
+#undef KCOMPRESS_D
+#undef KCOMPRESS_U
+#undef KGATHER_D
 #undef KFLOOR
 #undef KMOVEMASK
 
@@ -163,6 +176,9 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 		(hi) = (PU)_mm512_mask_blend_epi32(0xAAAA, _mm512_srli_epi64(pe_, 32), po_);       \
 	} while (0)
 #define KSQRT(v) ((VD)_mm512_sqrt_pd((__m512d)(v)))
+#define KCOMPRESS_D(p, m, v) _mm512_mask_compressstoreu_pd((p), (__mmask8)(m), (__m512d)(v))
+#define KCOMPRESS_U(p, m, v) _mm256_mask_compressstoreu_epi32((p), (__mmask8)(m), (__m256i)(v))
+#define KGATHER_D(tab, idx) ((VD)_mm512_i64gather_pd((__m512i)(idx), (tab), 8))
 #define KFLOOR(v) ((VD)_mm512_roundscale_pd((__m512d)(v), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC))
 #define KMOVEMASK(m) ((unsigned)_mm512_movepi64_mask((__m512i)(m)))
 #include "noise_kern.inc"
@@ -171,6 +187,9 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 #undef KL
 #undef KMULHILO
 #undef KSQRT
+#undef KCOMPRESS_D
+#undef KCOMPRESS_U
+#undef KGATHER_D
 #undef KFLOOR
 #undef KMOVEMASK
 
