@@ -12,7 +12,7 @@ export DEBIAN_FRONTEND=noninteractive
 
 # Debian 12 packages. Build: compiler, CMake, libraries. Optional backends are auto-detected and
 # installed here so that a fresh machine builds everything.
-BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-dev libcairo2-dev
+BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-dev libcairo2-dev nettle-dev
   fonts-dejavu-core
   libaravis-dev aravis-tools-cli libusb-1.0-0-dev libopencv-core-dev libopencv-imgproc-dev
   libopencv-highgui-dev libzip-dev liblapack-dev"

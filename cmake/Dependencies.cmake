@@ -21,6 +21,8 @@ pkg_check_modules(TIFF REQUIRED IMPORTED_TARGET libtiff-4)
 pkg_check_modules(JANSSON REQUIRED IMPORTED_TARGET jansson)
 # cairo draws the PNG plots and annotated pictures (io/plot.c).
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)
+# nettle: SHA-256 of dataset files (devices/dataset.c).
+pkg_check_modules(NETTLE REQUIRED IMPORTED_TARGET nettle)
 
 pc_optional(ARAVIS ${PC_WITH_ARAVIS} aravis-0.8)
 pc_optional(LIBCAMERA ${PC_WITH_LIBCAMERA} libcamera)

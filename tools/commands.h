@@ -16,6 +16,7 @@ typedef struct pc_command {
 	X(decompose, "Lu-Chipman decomposition of Mueller matrices (JSON lines)")                \
 	X(figures, "reproduce the seed paper's figures 2-11 as CSV and PNG")                     \
 	X(render, "render a scene to raw mosaic frames and ground truth")                        \
+	X(dataset, "scene-family datasets: sharded, resumable, verified (SHA-256)")              \
 	X(demosaic, "demosaic a raw polarizer mosaic to four analyser channels")                 \
 	X(process, "raw mosaic -> Stokes, DoLP, AoLP and pictures")                              \
 	X(eval, "score demosaicking methods against ground truth")                               \
