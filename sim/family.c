@@ -163,9 +163,11 @@ static int check_effect_value(const vctx *v, const char *path, const json_t *j)
 {
 	if (json_is_boolean(j))
 		return 0;
-	if (json_is_integer(j) && json_integer_value(j) >= 1 && json_integer_value(j) <= 16)
+	if (strstr(path, "supersampling") && json_is_integer(j) && json_integer_value(j) >= 1 &&
+	    json_integer_value(j) <= 16)
 		return 0;
-	return verr(v, path, "expected true, false or (supersampling) an integer 1..16");
+	return verr(v, path, strstr(path, "supersampling") ? "expected true, false or an integer 1..16"
+							    : "expected true or false");
 }
 
 static int check_preset(const vctx *v, const char *path, const json_t *j)
@@ -378,7 +380,8 @@ static int validate(const vctx *v, const json_t *s)
 		const json_t *ex = json_object_get(sen, "exposure");
 		if (ex) {
 			static const char *const ek[] = { "us", "auto_percentile", "auto_level", "min_us",
-							  "max_us", NULL };
+							  "max_us", "auto_min_median", "auto_max_saturated",
+							  NULL };
 			if ((rc = check_keys(v, "sensor.exposure", ex, ek)))
 				return rc;
 			bool us = json_object_get(ex, "us"), au = json_object_get(ex, "auto_level");
@@ -387,6 +390,15 @@ static int validate(const vctx *v, const json_t *s)
 								  "exposures) or \"auto_level\" (auto-exposure)");
 			OPT_NUM(ex, "us", "sensor.exposure", 1, 1e7);
 			OPT_NUM(ex, "auto_level", "sensor.exposure", 1e-3, 1);
+			const char *const af[] = { "auto_min_median", "auto_max_saturated" };
+			for (int i = 0; i < 2; i++) {
+				const json_t *x = json_object_get(ex, af[i]);
+				if (x && (!json_is_number(x) || !(json_number_value(x) >= 0 &&
+								  json_number_value(x) <= 1)))
+					return verr(v, "sensor.exposure", "%s: expected a number in [0, 1]", af[i]);
+				if (x && us)
+					return verr(v, "sensor.exposure", "%s belongs to the auto-exposure", af[i]);
+			}
 			const json_t *p = json_object_get(ex, "auto_percentile");
 			if (p && (!json_is_number(p) || !(json_number_value(p) > 0 && json_number_value(p) <= 100)))
 				return verr(v, "sensor.exposure.auto_percentile", "expected a number in (0, 100]");
@@ -1203,17 +1215,30 @@ int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int thre
 		double pct = pp ? json_number_value(pp) : 99.5;
 		const json_t *mn = json_object_get(ex, "min_us"), *mx = json_object_get(ex, "max_us");
 		double lo = mn ? json_number_value(mn) : 1, hi = mx ? json_number_value(mx) : 1e6;
+		const json_t *jm = json_object_get(ex, "auto_min_median");
+		const json_t *js = json_object_get(ex, "auto_max_saturated");
+		double min_median = jm ? json_number_value(jm) : 0, max_sat = js ? json_number_value(js) : 1;
 		float *r = malloc(npix * sizeof *r);
 		if (!r) {
 			rc = pc_error(PC_ENOMEM, "exposure statistics");
 		} else {
+			/* quantiles of the electron rate (e⁻/s): mean DN = K·rate·t above the offset */
 			memcpy(r, sim->rate[0], npix * sizeof *r);
-			size_t k = (size_t)fmin((double)(npix - 1), floor(pct / 100 * (double)npix));
-			double q = select_kth(r, npix, k); /* electrons per second */
+			size_t kq = (size_t)fmin((double)(npix - 1), floor(pct / 100 * (double)npix));
+			size_t ks = (size_t)fmin((double)(npix - 1), floor((1 - max_sat) * (double)npix));
+			double q = select_kth(r, npix, kq);
+			double qs = select_kth(r, npix, ks);
+			double q50 = select_kth(r, npix, npix / 2);
 			free(r);
 			double K = sim->fig.gain_dn_per_e * pow(10, sim->fig.gain_db / 20);
-			double room = level * sim->max_dn - sim->fig.offset_dn;
-			double t_us = q > 0 && room > 0 ? room / (K * q) * 1e6 : hi;
+			double room = sim->max_dn - sim->fig.offset_dn;
+			/* the percentile at the level; raised until the median reaches its minimum,
+			 * but never so far that more than max_sat of the pixels reach full scale */
+			double t_us = q > 0 && room > 0 ? level * room / (K * q) * 1e6 : hi;
+			if (min_median > 0 && q50 > 0 && K * q50 * t_us * 1e-6 < min_median * room)
+				t_us = min_median * room / (K * q50) * 1e6;
+			if (max_sat < 1 && qs > 0)
+				t_us = fmin(t_us, room / (K * qs) * 1e6);
 			/* a round number of nanoseconds: short in the scene file, exact through JSON */
 			t_us = round(fmin(hi, fmax(lo, t_us)) * 1e3) / 1e3;
 			exposure_us = t_us;
