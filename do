@@ -16,9 +16,10 @@ BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-d
   fonts-dejavu-core
   libaravis-dev aravis-tools-cli libusb-1.0-0-dev libopencv-core-dev libopencv-imgproc-dev
   libopencv-highgui-dev libzip-dev liblapack-dev"
-# Tests: network namespaces, the QEMU guest with Debian's kernel and vivid, Xvfb for the window.
+# Tests: network namespaces, the QEMU guest with Debian's kernel and vivid, Xvfb for the window,
+# a single-node Slurm cluster (tests/slurm.sh starts its own daemons; none run otherwise).
 TEST_PKGS="iproute2 util-linux qemu-system-x86 busybox-static cpio kmod v4l-utils xvfb xauth x11-apps
-  libcamera-dev"
+  libcamera-dev slurmctld slurmd slurm-client munge"
 
 say() { printf '\033[1m[polarcam]\033[0m %s\n' "$*" >&2; }
 
