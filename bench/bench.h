@@ -8,5 +8,6 @@ int pc_bench_demosaic(int argc, char **argv);
 int pc_bench_render(int argc, char **argv);
 int pc_bench_devices(int argc, char **argv);
 int pc_bench_calib(int argc, char **argv);
+int pc_bench_dataset(int argc, char **argv);
 
 #endif

@@ -15,6 +15,7 @@ static const struct {
 	{ "render", "render time per effect set, Mpixel/s, peak memory", pc_bench_render },
 	{ "devices", "serve -> capture over loopback, live pipeline", pc_bench_devices },
 	{ "calib", "analyser calibration: angles x frames -> residual error, acquisition time", pc_bench_calib },
+	{ "dataset", "dataset samples/s per core, bytes per sample, 10^6-sample projection", pc_bench_dataset },
 };
 
 int cmd_bench(int argc, char **argv)
@@ -31,6 +32,6 @@ int cmd_bench(int argc, char **argv)
 	for (size_t i = 0; i < n; i++)
 		if (!strcmp(argv[1], pc_benches[i].name))
 			return pc_benches[i].run(argc - 1, argv + 1);
-	return pc_cli_error(PC_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices, calib)",
+	return pc_cli_error(PC_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices, calib, dataset)",
 			    argv[1]);
 }

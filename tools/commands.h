@@ -26,7 +26,7 @@ typedef struct pc_command {
 	X(capture, "record frames from a source URI")                                            \
 	X(view, "live window of S0, DoLP and AoLP")                                              \
 	X(serve, "serve the simulator as a GigE Vision camera")                                  \
-	X(bench, "benchmarks: physics, demosaic, render, devices")
+	X(bench, "benchmarks: physics, demosaic, render, devices, calib, dataset")
 
 #define PC_COMMAND_DECL(name, summary) int cmd_##name(int argc, char **argv);
 PC_COMMANDS(PC_COMMAND_DECL)
