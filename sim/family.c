@@ -338,6 +338,23 @@ static const char *const effect_names[] = { "diffuse", "shadowing", "cast_shadow
 					    "extinction_ratio", "orientation_error", "transmission",
 					    "crosstalk", NULL };
 
+/* An effects object: each effect a value or a choice of values. */
+static int check_effects(const vctx *v, const char *path, const json_t *fx)
+{
+	int rc = check_keys(v, path, fx, effect_names);
+	if (rc)
+		return rc;
+	const char *k;
+	json_t *val;
+	json_object_foreach((json_t *)fx, k, val) {
+		char p[320];
+		snprintf(p, sizeof p, "%s.%s", path, k);
+		if ((rc = check_any(v, p, val, check_effect_value)))
+			return rc;
+	}
+	return 0;
+}
+
 static int validate(const vctx *v, const json_t *s)
 {
 	static const char *const top[] = { "polarcam_family", "name", "resolution", "frames", "truth",
@@ -526,18 +543,10 @@ static int validate(const vctx *v, const json_t *s)
 	    (rc = check_num(v, "background", json_object_get(s, "background"), 0, 1e9)))
 		return rc;
 	const json_t *fx = json_object_get(s, "effects");
-	if (fx) {
-		if ((rc = check_keys(v, "effects", fx, effect_names)))
-			return rc;
-		const char *k;
-		json_t *val;
-		json_object_foreach((json_t *)fx, k, val) {
-			char p[64];
-			snprintf(p, sizeof p, "effects.%s", k);
-			if ((rc = check_any(v, p, val, check_effect_value)))
-				return rc;
-		}
-	}
+	if (fx && dist_kind(fx)) /* effect sets: {"choice": [{...}, {...}], "weights": [...]} */
+		return check_any(v, "effects", fx, check_effects);
+	if (fx)
+		return check_effects(v, "effects", fx);
 	return 0;
 }
 
@@ -888,6 +897,8 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 	/* effects */
 	json_t *effects = json_object();
 	const json_t *fx = json_object_get(s, "effects");
+	if (fx && dist_kind(fx))
+		fx = any(&d, fx); /* one of the effect sets, then its effects' draws */
 	for (int i = 0; effect_names[i]; i++) {
 		const json_t *e = fx ? json_object_get(fx, effect_names[i]) : NULL;
 		if (e)

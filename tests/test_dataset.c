@@ -155,6 +155,9 @@ static void test_validation(void)
 	bad_spec("\"choice\": [true, false]}", "\"choice\": [true, 3]}", "effects.cast_shadows.choice[1]: expected true or false");
 	bad_spec("{\"choice\": [\"imx250mzr\", \"ideal\"]}", "\"imx999\"", "sensor.preset: expected a sensor preset");
 	bad_spec("\"weight\": 0.5,", "\"weight\": 0,", "materials: [1].weight must be");
+	bad_spec("\"effects\": {\"diffuse\": true, \"cast_shadows\": {\"choice\": [true, false]}}",
+		 "\"effects\": {\"choice\": [{\"noise\": false}, {\"difuse\": true}]}",
+		 "effects.choice[1]: unknown field \"difuse\"");
 	bad_spec("\"auto_level\": [0.5, 0.9]", "\"us\": 100, \"auto_level\": [0.5, 0.9]", "either \"us\"");
 	/* syntax */
 	pc_family *f = NULL;
@@ -214,6 +217,39 @@ static void test_scenes(void)
 	}
 	free(prev);
 	CHECK(distinct == 199);
+	pc_family_free(f);
+	/* effect sets: one set drawn per sample, both sets drawn over 40 samples */
+	const char *from = "\"effects\": {\"diffuse\": true, \"cast_shadows\": {\"choice\": [true, false]}}";
+	const char *to = "\"effects\": {\"choice\": [{\"noise\": false, \"diffuse\": true},"
+			 " {\"supersampling\": 2, \"crosstalk\": false}], \"weights\": [1, 3]}";
+	const char *at = strstr(small_spec, from);
+	CHECK(at != NULL);
+	if (!at)
+		return;
+	char *t = malloc(strlen(small_spec) + strlen(to) + 1);
+	memcpy(t, small_spec, (size_t)(at - small_spec));
+	strcpy(t + (at - small_spec), to);
+	strcat(t, at + strlen(from));
+	CHECK(pc_family_parse(t, "sets.json", tmp, &f) == 0);
+	free(t);
+	int set_a = 0, set_b = 0;
+	for (uint64_t i = 0; f && i < 40; i++) {
+		char *text;
+		uint64_t ss;
+		CHECK(pc_family_scene(f, 2, i, &text, &ss) == 0);
+		json_t *j = json_loads(text, 0, NULL);
+		json_t *fx = json_object_get(j, "effects");
+		bool in_a = json_is_false(json_object_get(fx, "noise")) &&
+			    json_is_true(json_object_get(fx, "diffuse"));
+		bool in_b = json_integer_value(json_object_get(fx, "supersampling")) == 2 &&
+			    json_is_false(json_object_get(fx, "crosstalk"));
+		CHECK(in_a != in_b); /* exactly one set, whole */
+		set_a += in_a;
+		set_b += in_b;
+		json_decref(j);
+		free(text);
+	}
+	CHECK(set_a >= 3 && set_b >= 15 && set_a < set_b); /* weights 1 : 3 */
 	pc_family_free(f);
 }
 
