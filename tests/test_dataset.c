@@ -586,6 +586,52 @@ static void test_sha_env(void)
 	unsetenv("POLARCAM_SHARDS");
 }
 
+/* ---- the CLI: bad arguments exit 2 and write nothing; verify's status ---- */
+
+static int cli(const char *polarcam, const char *args)
+{
+	char cmd[8400];
+	snprintf(cmd, sizeof cmd, "'%s' %s >/dev/null 2>&1", polarcam, args);
+	int st = system(cmd);
+	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static void test_cli(const char *polarcam)
+{
+	if (!polarcam)
+		return;
+	char a[4000], d[1200];
+	struct stat st;
+	snprintf(d, sizeof d, "%s/cli", tmp);
+	const char *bad[] = { "--shard 4/4", "--shard 1-2", "--shard x", "--resolution 0x5",
+			      "--count 0", "--count 3 --seed -1", "--count 3 --frobnicate" };
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+		snprintf(a, sizeof a, "dataset '%s' -o '%s' %s%s", spec_path, d, bad[i],
+			 strstr(bad[i], "--count") ? "" : " --count 3");
+		int rc = cli(polarcam, a);
+		if (rc != 2)
+			fprintf(stderr, "polarcam %s: exit %d, expected 2\n", a, rc);
+		CHECK(rc == 2);
+		CHECK(stat(d, &st) != 0);
+	}
+	/* a malformed scheduler environment is a usage error too */
+	setenv("SLURM_ARRAY_TASK_ID", "2", 1);
+	setenv("SLURM_ARRAY_TASK_COUNT", "2", 1);
+	snprintf(a, sizeof a, "dataset '%s' -o '%s' --count 3", spec_path, d);
+	CHECK(cli(polarcam, a) == 2);
+	unsetenv("SLURM_ARRAY_TASK_ID");
+	unsetenv("SLURM_ARRAY_TASK_COUNT");
+	CHECK(stat(d, &st) != 0);
+	/* verify: 0 complete, 1 when not, 2 on no dataset */
+	snprintf(a, sizeof a, "dataset verify '%s/ref'", tmp);
+	CHECK(cli(polarcam, a) == 0);
+	snprintf(a, sizeof a, "dataset verify '%s/sh4'", tmp); /* corrupted by test_verify */
+	CHECK(cli(polarcam, a) == 1);
+	snprintf(a, sizeof a, "dataset verify '%s/nothing-here'", tmp);
+	CHECK(cli(polarcam, a) >= 1);
+	CHECK(cli(polarcam, "dataset --help") == 0);
+}
+
 /* ---- exposure of the shipped family ---- */
 
 static void test_demosaic_family(const char *src)
@@ -643,6 +689,7 @@ int main(void)
 	test_rerender(polarcam);
 	test_f16();
 	test_sha_env();
+	test_cli(polarcam);
 	test_demosaic_family(src);
 	char cmd[1200];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmp);
