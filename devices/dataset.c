@@ -653,8 +653,14 @@ int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r)
 					rc = pc_error(PC_EIO, "%s: %s", tmp, strerror(errno));
 				if (!rc)
 					rc = write_sample_files(f, &s, o->seed, tmp);
-				if (!rc && rename(tmp, final))
-					rc = pc_error(PC_EIO, "%s -> %s: %s", tmp, final, strerror(errno));
+				if (!rc && rename(tmp, final)) {
+					/* another run of this shard (a requeued task whose first run is still
+					 * alive) put the same sample in place first: the same bytes */
+					if ((errno == ENOTEMPTY || errno == EEXIST) && is_dir(final))
+						rm_rf(tmp);
+					else
+						rc = pc_error(PC_EIO, "%s -> %s: %s", tmp, final, strerror(errno));
+				}
 				if (rc)
 					rm_rf(tmp);
 				else {
