@@ -4,6 +4,7 @@
 #include "polarcam/dataset.h"
 
 #include <dirent.h>
+#include <signal.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <jansson.h>
@@ -567,10 +568,23 @@ static int prepare_dir(const pc_dataset_options *o, const pc_family *f)
 	return rc;
 }
 
-/* Removes this shard's temporary sample directories (left by a killed run). */
+static void host_name(char *buf, size_t n)
+{
+	if (gethostname(buf, n) != 0 || !*buf)
+		snprintf(buf, n, "host");
+	buf[n - 1] = 0;
+	for (char *c = buf; *c; c++)
+		if (*c == '/' || *c == '.')
+			*c = '_';
+}
+
+/* Removes this shard's temporary sample directories left by killed runs: those of this host
+ * whose process is gone, and any older than an hour (another host's). A live run of the same
+ * shard keeps its own. */
 static void remove_stale(const pc_dataset_options *o)
 {
-	char p[4096];
+	char p[4096], host[256];
+	host_name(host, sizeof host);
 	snprintf(p, sizeof p, "%s/samples", o->dir);
 	DIR *d = opendir(p);
 	if (!d)
@@ -578,13 +592,20 @@ static void remove_stale(const pc_dataset_options *o)
 	struct dirent *e;
 	while ((e = readdir(d))) {
 		unsigned long long i;
-		if (e->d_name[0] != '.' || sscanf(e->d_name, ".%8llu.tmp", &i) != 1)
+		if (e->d_name[0] != '.' || sscanf(e->d_name, ".%8llu.tmp.", &i) != 1)
 			continue;
 		if (i % o->shards != o->shard)
 			continue;
 		char q[4400];
 		snprintf(q, sizeof q, "%s/%s", p, e->d_name);
-		rm_rf(q);
+		const char *tail = e->d_name + 14; /* after ".NNNNNNNN.tmp." */
+		size_t hl = strlen(host);
+		bool mine = strlen(e->d_name) > 14 && !strncmp(tail, host, hl) && tail[hl] == '.';
+		long pid = mine ? strtol(tail + hl + 1, NULL, 10) : 0;
+		struct stat st;
+		bool old = stat(q, &st) == 0 && time(NULL) - st.st_mtime > 3600;
+		if ((mine && pid > 0 && kill((pid_t)pid, 0) != 0 && errno == ESRCH) || old)
+			rm_rf(q);
 	}
 	closedir(d);
 }
@@ -622,6 +643,8 @@ int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r)
 		rc = write_manifest(mpath, lines, o->count);
 		remove_stale(o);
 	}
+	char host[256];
+	host_name(host, sizeof host);
 	r->total = o->shard < o->count ? (o->count - 1 - o->shard) / o->shards + 1 : 0;
 	uint64_t done = 0;
 	for (uint64_t i = o->shard; !rc && i < o->count; i += o->shards) {
@@ -646,8 +669,8 @@ int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r)
 			double t1 = now_s();
 			r->render_s += t1 - t0;
 			if (!rc) {
-				snprintf(tmp, sizeof tmp, "%s/samples/.%08llu.tmp.%ld", o->dir,
-					 (unsigned long long)i, (long)getpid());
+				snprintf(tmp, sizeof tmp, "%s/samples/.%08llu.tmp.%s.%ld", o->dir,
+					 (unsigned long long)i, host, (long)getpid());
 				rm_rf(tmp);
 				if (mkdir(tmp, 0755))
 					rc = pc_error(PC_EIO, "%s: %s", tmp, strerror(errno));

@@ -349,11 +349,22 @@ static void test_kill_restart(const char *polarcam)
 	int before = count_samples(d);
 	CHECK(before >= 3 && before < N);
 	/* what a kill can leave besides: a half-written sample directory and a torn line */
-	char p[1400];
-	snprintf(p, sizeof p, "%s/samples/.%08d.tmp.99999", d, 7);
+	char p[2000], host[256];
+	if (gethostname(host, sizeof host) || !*host)
+		snprintf(host, sizeof host, "host");
+	host[sizeof host - 1] = 0;
+	for (char *ch = host; *ch; ch++)
+		if (*ch == '/' || *ch == '.')
+			*ch = '_';
+	/* a pid that is not running (pid_max is at most 2^22) */
+	snprintf(p, sizeof p, "%s/samples/.%08d.tmp.%s.%d", d, 7, host, 9999999);
 	mkdir(p, 0755);
-	snprintf(p, sizeof p, "%s/samples/.%08d.tmp.99999/raw_000000.png", d, 7);
+	snprintf(p, sizeof p, "%s/samples/.%08d.tmp.%s.%d/raw_000000.png", d, 7, host, 9999999);
 	spit(p, "partial");
+	/* a live run's temporary directory (of a process that is running: our parent) stays */
+	char live[2000];
+	snprintf(live, sizeof live, "%s/samples/.%08d.tmp.%s.%ld", d, 8, host, (long)getppid());
+	mkdir(live, 0755);
 	snprintf(p, sizeof p, "%s/manifests/shard-0-of-1.jsonl", d);
 	FILE *fp = fopen(p, "a");
 	fputs("{\"files\":{\"meta.json\":{\"by", fp);
@@ -361,9 +372,11 @@ static void test_kill_restart(const char *polarcam)
 	/* restart (in process, another thread count) */
 	CHECK(make(d, 11, N, 0, 1, 2) == 0);
 	CHECK(count_samples(d) == N);
-	snprintf(p, sizeof p, "%s/samples/.%08d.tmp.99999", d, 7);
+	snprintf(p, sizeof p, "%s/samples/.%08d.tmp.%s.%d", d, 7, host, 9999999);
 	struct stat st;
-	CHECK(stat(p, &st) != 0); /* the stale temporary directory is gone */
+	CHECK(stat(p, &st) != 0);  /* the stale temporary directory is gone */
+	CHECK(stat(live, &st) == 0); /* the live one is not */
+	rmdir(live);
 	CHECK(pc_dataset_merge(d, NULL) == 0);
 	snprintf(a, sizeof a, "%s/ref/manifest.jsonl", tmp);
 	snprintf(b, sizeof b, "%s/manifest.jsonl", d);
