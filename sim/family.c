@@ -176,7 +176,10 @@ static int check_preset(const vctx *v, const char *path, const json_t *j)
 		for (const char *const *p = pc_sensor_preset_names(); *p; p++)
 			if (!strcmp(*p, json_string_value(j)))
 				return 0;
-	return verr(v, path, "expected a sensor preset name (ideal, imx250mzr, imx250myr)");
+	char list[256] = "";
+	for (const char *const *p = pc_sensor_preset_names(); *p; p++)
+		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", *list ? ", " : "", *p);
+	return verr(v, path, "expected a sensor preset name (%s)", list);
 }
 
 static int check_diffuse(const vctx *v, const char *path, const json_t *j)
