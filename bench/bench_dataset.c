@@ -13,9 +13,11 @@
 #include <unistd.h>
 
 #include "bench.h"
-#include "cli.h"
 #include "polarcam/dataset.h"
 #include "polarcam/error.h"
+
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
 
 static void usage(FILE *fp)
 {
@@ -84,11 +86,12 @@ static int spec_with_truth(const char *spec, const char *dtype, const char *path
 	return rc;
 }
 
-int pc_bench_dataset(int argc, char **argv)
+int pc_bench_dataset(const pc_bench_host *h, int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	host = h;
+	if (bench_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return PC_BENCH_OK;
 	}
 	static const struct option opts[] = { { "spec", required_argument, NULL, 'S' },
 					      { "count", required_argument, NULL, 'n' },
@@ -107,8 +110,8 @@ int pc_bench_dataset(int argc, char **argv)
 			spec = optarg;
 			break;
 		case 'n':
-			if ((rc = pc_cli_parse_long("--count", optarg, 1, 1000, &count)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = host->parse_long("--count", optarg, 1, 1000, &count)))
+				return host->fail(rc, NULL);
 			break;
 		case 'D':
 			dir = optarg;
@@ -117,7 +120,7 @@ int pc_bench_dataset(int argc, char **argv)
 			json = true;
 			break;
 		default:
-			return pc_cli_error(PC_EXIT_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
+			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
 	char specbuf[4096];
@@ -127,7 +130,7 @@ int pc_bench_dataset(int argc, char **argv)
 		if (access(specbuf, R_OK) && src)
 			snprintf(specbuf, sizeof specbuf, "%s/scenes/dataset/demosaic.json", src);
 		if (access(specbuf, R_OK))
-			return pc_cli_error(PC_EXIT_USAGE, "no scenes/dataset/demosaic.json here: run from "
+			return host->error(PC_BENCH_USAGE, "no scenes/dataset/demosaic.json here: run from "
 							   "the source tree or pass --spec FILE");
 		spec = specbuf;
 	}
@@ -135,7 +138,7 @@ int pc_bench_dataset(int argc, char **argv)
 	const char *base = dir;
 	if (!base) {
 		if (!mkdtemp(tmp))
-			return pc_cli_error(PC_EXIT_FAILURE, "cannot create a temporary directory");
+			return host->error(PC_BENCH_FAILURE, "cannot create a temporary directory");
 		base = tmp;
 	}
 	static const struct {
@@ -148,13 +151,13 @@ int pc_bench_dataset(int argc, char **argv)
 		       "%-10s %-8s %5s %10s %9s %8s %12s %10s %12s %9s\n",
 		       spec, "size", "truth", "n", "samples/s", "wall s/s", "x render",
 		       "MB/sample", "render s", "core-h/1e6", "TB/1e6");
-	int status = PC_EXIT_OK;
+	int status = PC_BENCH_OK;
 	for (size_t k = 0; k < sizeof rows / sizeof rows[0]; k++) {
 		char sp[4400], out[4400];
 		snprintf(sp, sizeof sp, "%s/spec-%s.json", base, rows[k].truth);
 		snprintf(out, sizeof out, "%s/%ux%u-%s", base, rows[k].w, rows[k].h, rows[k].truth);
 		if ((rc = spec_with_truth(spec, rows[k].truth, sp))) {
-			status = pc_cli_fail(rc, spec);
+			status = host->fail(rc, spec);
 			break;
 		}
 		pc_dataset_options o;
@@ -168,11 +171,11 @@ int pc_bench_dataset(int argc, char **argv)
 		o.height = rows[k].h;
 		o.threads = 1;
 		pc_dataset_result r;
-		double c0 = cpu_now(), t0 = pc_cli_now();
+		double c0 = cpu_now(), t0 = bench_now();
 		rc = pc_dataset_run(&o, &r);
-		double cpu = cpu_now() - c0, wall = pc_cli_now() - t0;
+		double cpu = cpu_now() - c0, wall = bench_now() - t0;
 		if (rc) {
-			status = pc_cli_fail(rc, out);
+			status = host->fail(rc, out);
 			break;
 		}
 		double per_core = (double)r.made / cpu, bytes = (double)r.bytes / (double)r.made;
@@ -184,13 +187,13 @@ int pc_bench_dataset(int argc, char **argv)
 			json_object_set_new(j, "height", json_integer(rows[k].h));
 			json_object_set_new(j, "truth", json_string(rows[k].truth));
 			json_object_set_new(j, "samples", json_integer((json_int_t)r.made));
-			json_object_set_new(j, "samples_per_s_per_core", pc_json_real(per_core));
-			json_object_set_new(j, "wall_s_per_sample", pc_json_real(wall / (double)r.made));
-			json_object_set_new(j, "pipeline_over_render", pc_json_real(ratio));
-			json_object_set_new(j, "bytes_per_sample", pc_json_real(bytes));
-			json_object_set_new(j, "core_hours_per_1e6", pc_json_real(core_h));
-			json_object_set_new(j, "tb_per_1e6", pc_json_real(tb));
-			pc_cli_print_json(j);
+			json_object_set_new(j, "samples_per_s_per_core", bench_json_real(per_core));
+			json_object_set_new(j, "wall_s_per_sample", bench_json_real(wall / (double)r.made));
+			json_object_set_new(j, "pipeline_over_render", bench_json_real(ratio));
+			json_object_set_new(j, "bytes_per_sample", bench_json_real(bytes));
+			json_object_set_new(j, "core_hours_per_1e6", bench_json_real(core_h));
+			json_object_set_new(j, "tb_per_1e6", bench_json_real(tb));
+			host->print_json(j);
 		} else {
 			printf("%4ux%-5u %-8s %5llu %10.3f %9.2f %8.2f %12.2f %10.2f %12.0f %9.2f\n",
 			       rows[k].w, rows[k].h, rows[k].truth, (unsigned long long)r.made, per_core,
@@ -199,7 +202,7 @@ int pc_bench_dataset(int argc, char **argv)
 		}
 		fflush(stdout);
 	}
-	if (!json && status == PC_EXIT_OK) {
+	if (!json && status == PC_BENCH_OK) {
 		double la[3] = { 0, 0, 0 };
 		FILE *fp = fopen("/proc/loadavg", "r");
 		if (fp) {

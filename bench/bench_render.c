@@ -9,12 +9,14 @@
 #include <time.h>
 
 #include "bench.h"
-#include "cli.h"
 #include "polarcam/error.h"
 #include "polarcam/frame.h"
 #include "polarcam/parallel.h"
 #include "polarcam/sim.h"
 #include "polarcam/source.h"
+
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
 
 static void usage(FILE *fp)
 {
@@ -153,7 +155,7 @@ static double stream_fps(double seconds, long threads, uint64_t *frames)
 		pc_buffer *b = NULL;
 		if ((rc = pc_source_dequeue(s, 600000, &b)))
 			break;
-		t1 = pc_cli_now();
+		t1 = bench_now();
 		if (n++ == 0)
 			t0 = t1;
 		rc = pc_source_requeue(s, b);
@@ -174,11 +176,12 @@ typedef struct result {
 	int rc;
 } result;
 
-int pc_bench_render(int argc, char **argv)
+int pc_bench_render(const pc_bench_host *h, int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	host = h;
+	if (bench_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return PC_BENCH_OK;
 	}
 	static const struct option opts[] = {
 		{ "size", required_argument, NULL, 'S' }, { "frames", required_argument, NULL, 'n' },
@@ -199,35 +202,35 @@ int pc_bench_render(int argc, char **argv)
 		case 'S':
 			if (sscanf(optarg, "%ux%u", &W, &H) != 2 || W < 8 || H < 8 || W > 16384 ||
 			    H > 16384 || W % 2 || H % 2)
-				return pc_cli_error(PC_EXIT_USAGE, "--size '%s': expected WxH, even, 8..16384",
+				return host->error(PC_BENCH_USAGE, "--size '%s': expected WxH, even, 8..16384",
 						    optarg);
 			break;
 		case 'n':
-			if ((rc = pc_cli_parse_long("--frames", optarg, 1, 1000, &frames)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = host->parse_long("--frames", optarg, 1, 1000, &frames)))
+				return host->fail(rc, NULL);
 			break;
 		case 't':
-			if ((rc = pc_cli_parse_long("--threads", optarg, 1, 1024, &threads)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = host->parse_long("--threads", optarg, 1, 1024, &threads)))
+				return host->fail(rc, NULL);
 			break;
 		case 'L':
 			only = optarg;
 			break;
 		case 'R':
-			if ((rc = pc_cli_parse_long("--repeat", optarg, 1, 100, &repeat)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = host->parse_long("--repeat", optarg, 1, 100, &repeat)))
+				return host->fail(rc, NULL);
 			break;
 		case 'J':
 			json = true;
 			break;
 		case 'T':
-			if ((rc = pc_cli_parse_double("--stream", optarg, &stream_s)) || stream_s < 0 ||
+			if ((rc = host->parse_double("--stream", optarg, &stream_s)) || stream_s < 0 ||
 			    stream_s > 600)
-				return pc_cli_error(PC_EXIT_USAGE, "--stream '%s': seconds in [0, 600]",
+				return host->error(PC_BENCH_USAGE, "--stream '%s': seconds in [0, 600]",
 						    optarg);
 			break;
 		default:
-			return pc_cli_error(PC_EXIT_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
+			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
 	const size_t nsets = sizeof sets / sizeof sets[0];
@@ -239,7 +242,7 @@ int pc_bench_render(int argc, char **argv)
 			for (size_t i = 0; i < nsets; i++)
 				ok |= !strcmp(p, sets[i].name);
 			if (!ok)
-				return pc_cli_error(PC_EXIT_USAGE, "--sets: unknown set '%s' (see --help)", p);
+				return host->error(PC_BENCH_USAGE, "--sets: unknown set '%s' (see --help)", p);
 		}
 	}
 	result res[sizeof sets / sizeof sets[0]];
@@ -268,10 +271,10 @@ int pc_bench_render(int argc, char **argv)
 		o.seed = 1;
 		o.threads = (int)threads;
 		reset_peak();
-		double t0 = pc_cli_now();
+		double t0 = bench_now();
 		if (!rc)
 			rc = pc_sim_new(scene, &o, &sim);
-		res[i].setup_s = pc_cli_now() - t0;
+		res[i].setup_s = bench_now() - t0;
 		if (!rc && sets[i].mueller_truth) {
 			tm = malloc((size_t)W * H * 16 * sizeof *tm);
 			rc = tm ? 0 : PC_ENOMEM;
@@ -287,10 +290,10 @@ int pc_bench_render(int argc, char **argv)
 				if (rc)
 					break;
 			}
-			t0 = pc_cli_now();
+			t0 = bench_now();
 			double c0 = cpu_now();
 			rc = pc_sim_prepare(sim, 0, NULL, tm, NULL, NULL);
-			res[i].render_s = fmin(res[i].render_s, pc_cli_now() - t0);
+			res[i].render_s = fmin(res[i].render_s, bench_now() - t0);
 			res[i].render_cpu = fmin(res[i].render_cpu, cpu_now() - c0);
 			if (rc)
 				break;
@@ -300,11 +303,11 @@ int pc_bench_render(int argc, char **argv)
 				if ((rc = pc_view_alloc(&v, in.format, in.width, in.height, 64)))
 					break;
 			}
-			t0 = pc_cli_now();
+			t0 = bench_now();
 			c0 = cpu_now();
 			for (long f = 0; f < frames && !rc; f++)
 				rc = pc_sim_frame(sim, (uint64_t)f, NULL, &v, NULL);
-			res[i].frame_s = fmin(res[i].frame_s, (pc_cli_now() - t0) / (double)frames);
+			res[i].frame_s = fmin(res[i].frame_s, (bench_now() - t0) / (double)frames);
 			res[i].frame_cpu = fmin(res[i].frame_cpu, (cpu_now() - c0) / (double)frames);
 		}
 		res[i].peak_mib = rss_mib("VmHWM:") - idle;
@@ -327,7 +330,7 @@ int pc_bench_render(int argc, char **argv)
 		json_object_set_new(o, "height", json_integer(H));
 		json_object_set_new(o, "threads", json_integer(nthreads));
 		json_object_set_new(o, "frames_timed", json_integer(frames));
-		json_object_set_new(o, "sim_stream_fps", pc_json_real(sfps));
+		json_object_set_new(o, "sim_stream_fps", bench_json_real(sfps));
 		json_object_set_new(o, "sim_stream_frames", json_integer((json_int_t)stream_n));
 		json_object_set_new(o, "raw_frame_mib", json_real(frame_mib));
 		json_object_set_new(o, "baseline", json_string(base->name));
@@ -352,11 +355,11 @@ int pc_bench_render(int argc, char **argv)
 			json_object_set_new(e, "frame_mpix_s", json_real(mpix / res[i].frame_s));
 			json_object_set_new(e, "render_ratio", json_real(res[i].render_s / base->render_s));
 			json_object_set_new(e, "frame_ratio", json_real(res[i].frame_s / base->frame_s));
-			json_object_set_new(e, "peak_mib", pc_json_real(res[i].peak_mib));
+			json_object_set_new(e, "peak_mib", bench_json_real(res[i].peak_mib));
 			json_array_append_new(a, e);
 		}
 		json_object_set_new(o, "sets", a);
-		pc_cli_print_json(o);
+		host->print_json(o);
 	} else {
 		printf("polarcam bench render: default scene %ux%u (%.2f Mpixel), %d thread%s, %ld frame%s "
 		       "timed per set\n"
@@ -384,5 +387,5 @@ int pc_bench_render(int argc, char **argv)
 			       "%.1f frames/s (%llu frames; the IMX250MZR delivers 75)\n", sfps,
 			       (unsigned long long)stream_n);
 	}
-	return PC_EXIT_OK;
+	return PC_BENCH_OK;
 }

@@ -59,7 +59,7 @@ static int parse_shard(const char *arg, uint32_t *i, uint32_t *m)
 	char tail;
 	if (sscanf(arg, "%llu/%llu%c", &a, &b, &tail) != 2 || strchr(arg, '-') || b < 1 ||
 	    b > 1000000 || a >= b)
-		return pc_cli_error(PC_EXIT_USAGE, "--shard '%s': expected I/M with 0 <= I < M <= 1000000",
+		return cli_error(CLI_EXIT_USAGE, "--shard '%s': expected I/M with 0 <= I < M <= 1000000",
 				    arg);
 	*i = (uint32_t)a;
 	*m = (uint32_t)b;
@@ -74,29 +74,29 @@ static int run_verify(int argc, char **argv)
 		if (!strcmp(argv[k], "--json"))
 			json = true;
 		else if (argv[k][0] == '-')
-			return pc_cli_error(PC_EXIT_USAGE, "dataset verify: unknown option '%s'", argv[k]);
+			return cli_error(CLI_EXIT_USAGE, "dataset verify: unknown option '%s'", argv[k]);
 		else if (dir)
-			return pc_cli_error(PC_EXIT_USAGE, "dataset verify: one directory, got '%s' and '%s'",
+			return cli_error(CLI_EXIT_USAGE, "dataset verify: one directory, got '%s' and '%s'",
 					    dir, argv[k]);
 		else
 			dir = argv[k];
 	}
 	if (!dir)
-		return pc_cli_error(PC_EXIT_USAGE, "dataset verify: DIR is required (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "dataset verify: DIR is required (see --help)");
 	pc_dataset_verify_result r;
-	double t0 = pc_cli_now();
+	double t0 = cli_now();
 	int rc = pc_dataset_verify(dir, &r);
 	if (rc)
-		return pc_cli_fail(rc, dir);
+		return cli_fail(rc, dir);
 	bool good = r.ok == r.count;
 	if (json) {
 		json_t *o = json_pack("{s:s, s:b, s:I, s:I, s:I, s:I, s:I, s:f}", "dir", dir, "complete", good,
 				      "count", (json_int_t)r.count, "ok", (json_int_t)r.ok, "missing",
 				      (json_int_t)r.missing, "corrupt", (json_int_t)r.corrupt, "bytes",
-				      (json_int_t)r.bytes, "seconds", pc_cli_now() - t0);
+				      (json_int_t)r.bytes, "seconds", cli_now() - t0);
 		if (!good)
 			json_object_set_new(o, "first_problem", json_string(r.first_problem));
-		pc_cli_print_json(o);
+		cli_print_json(o);
 	} else {
 		printf("%s: %llu of %llu samples complete with matching SHA-256 (%.1f MB hashed); "
 		       "%llu missing, %llu corrupt%s%s\n",
@@ -104,7 +104,7 @@ static int run_verify(int argc, char **argv)
 		       (unsigned long long)r.missing, (unsigned long long)r.corrupt, good ? "" : "; first: ",
 		       good ? "" : r.first_problem);
 	}
-	return good ? PC_EXIT_OK : PC_EXIT_FAILURE;
+	return good ? CLI_EXIT_OK : CLI_EXIT_FAILURE;
 }
 
 static int run_merge(int argc, char **argv)
@@ -115,32 +115,32 @@ static int run_merge(int argc, char **argv)
 		if (!strcmp(argv[k], "--json"))
 			json = true;
 		else if (argv[k][0] == '-')
-			return pc_cli_error(PC_EXIT_USAGE, "dataset merge: unknown option '%s'", argv[k]);
+			return cli_error(CLI_EXIT_USAGE, "dataset merge: unknown option '%s'", argv[k]);
 		else if (dir)
-			return pc_cli_error(PC_EXIT_USAGE, "dataset merge: one directory, got '%s' and '%s'",
+			return cli_error(CLI_EXIT_USAGE, "dataset merge: one directory, got '%s' and '%s'",
 					    dir, argv[k]);
 		else
 			dir = argv[k];
 	}
 	if (!dir)
-		return pc_cli_error(PC_EXIT_USAGE, "dataset merge: DIR is required (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "dataset merge: DIR is required (see --help)");
 	uint64_t n = 0;
 	int rc = pc_dataset_merge(dir, &n);
 	if (rc)
-		return pc_cli_fail(rc, dir);
+		return cli_fail(rc, dir);
 	if (json)
-		pc_cli_print_json(json_pack("{s:s, s:I, s:s}", "dir", dir, "samples", (json_int_t)n,
+		cli_print_json(json_pack("{s:s, s:I, s:s}", "dir", dir, "samples", (json_int_t)n,
 					    "manifest", "manifest.jsonl"));
 	else
 		printf("%s/manifest.jsonl: %llu samples\n", dir, (unsigned long long)n);
-	return PC_EXIT_OK;
+	return CLI_EXIT_OK;
 }
 
-int cmd_dataset(int argc, char **argv)
+int cli_cmd_dataset(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	if (argc >= 2 && !strcmp(argv[1], "verify"))
 		return run_verify(argc, argv);
@@ -167,12 +167,12 @@ int cmd_dataset(int argc, char **argv)
 			o.dir = optarg;
 			break;
 		case 'n':
-			if ((rc = pc_cli_parse_long("--count", optarg, 1, 100000000, &count)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_long("--count", optarg, 1, 100000000, &count)))
+				return cli_fail(rc, NULL);
 			break;
 		case 's':
-			if ((rc = pc_cli_parse_u64("--seed", optarg, &o.seed)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_u64("--seed", optarg, &o.seed)))
+				return cli_fail(rc, NULL);
 			break;
 		case 'S':
 			if ((rc = parse_shard(optarg, &o.shard, &o.shards)))
@@ -180,49 +180,49 @@ int cmd_dataset(int argc, char **argv)
 			shard_set = true;
 			break;
 		case 'M':
-			if ((rc = pc_cli_parse_long("--shards", optarg, 1, 1000000, &shards_hint)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_long("--shards", optarg, 1, 1000000, &shards_hint)))
+				return cli_fail(rc, NULL);
 			break;
 		case 'R': {
 			unsigned w, h;
 			char tail;
 			if (sscanf(optarg, "%ux%u%c", &w, &h, &tail) != 2 || strchr(optarg, '-') || w < 4 ||
 			    h < 4 || w > 16384 || h > 16384)
-				return pc_cli_error(PC_EXIT_USAGE, "--resolution '%s': expected WxH, 4..16384 each",
+				return cli_error(CLI_EXIT_USAGE, "--resolution '%s': expected WxH, 4..16384 each",
 						    optarg);
 			o.width = w;
 			o.height = h;
 			break;
 		}
 		case 't':
-			if ((rc = pc_cli_parse_long("--threads", optarg, 1, 1024, &threads)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_long("--threads", optarg, 1, 1024, &threads)))
+				return cli_fail(rc, NULL);
 			break;
 		case 'J':
 			json = true;
 			break;
 		case ':':
-			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
 		default:
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
 	if (optind != argc - 1)
-		return pc_cli_error(PC_EXIT_USAGE, optind < argc ? "one SPEC, got '%s' and more" :
+		return cli_error(CLI_EXIT_USAGE, optind < argc ? "one SPEC, got '%s' and more" :
 							       "SPEC is required (see --help)",
 				    optind < argc ? argv[optind] : "");
 	o.spec = argv[optind];
 	if (!o.dir)
-		return pc_cli_error(PC_EXIT_USAGE, "-o DIR is required (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "-o DIR is required (see --help)");
 	if (!count)
-		return pc_cli_error(PC_EXIT_USAGE, "--count N is required (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "--count N is required (see --help)");
 	o.count = (uint64_t)count;
 	o.threads = (int)threads;
 	const char *scheduler = NULL;
 	if (!shard_set) {
 		rc = pc_dataset_shard_from_env((uint32_t)shards_hint, &o.shard, &o.shards, &scheduler);
 		if (rc < 0)
-			return pc_cli_error(PC_EXIT_USAGE, "%s", pc_error_detail());
+			return cli_error(CLI_EXIT_USAGE, "%s", pc_error_detail());
 	}
 	pc_progress bar;
 	char label[64];
@@ -234,14 +234,14 @@ int cmd_dataset(int argc, char **argv)
 	const char *stop = getenv("POLARCAM_DATASET_STOP_AFTER");
 	if (stop && *stop)
 		o.stop_after = strtoull(stop, NULL, 10);
-	double t0 = pc_cli_now();
+	double t0 = cli_now();
 	pc_dataset_result r;
 	rc = pc_dataset_run(&o, &r);
 	pc_progress_end(&bar);
 	if (rc)
-		return pc_cli_status(rc) == PC_EXIT_USAGE ? pc_cli_error(PC_EXIT_USAGE, "%s", pc_error_detail())
-						      : pc_cli_fail(rc, o.dir);
-	double secs = pc_cli_now() - t0;
+		return cli_status(rc) == CLI_EXIT_USAGE ? cli_error(CLI_EXIT_USAGE, "%s", pc_error_detail())
+						      : cli_fail(rc, o.dir);
+	double secs = cli_now() - t0;
 	if (json) {
 		json_t *j = json_pack("{s:s, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:f, s:f, s:f}", "dir", o.dir,
 				      "shard", (json_int_t)o.shard, "shards", (json_int_t)o.shards, "total",
@@ -255,7 +255,7 @@ int cmd_dataset(int argc, char **argv)
 			json_object_set_new(j, "worst_saturated_index", json_integer((json_int_t)r.worst_index));
 			json_object_set_new(j, "min_median_dn", json_real(r.min_median_dn));
 		}
-		pc_cli_print_json(j);
+		cli_print_json(j);
 	} else {
 		printf("%s: shard %u/%u%s%s: %llu samples made, %llu already complete (%llu manifest "
 		       "lines repaired), %.1f MB written in %.1f s",
@@ -268,5 +268,5 @@ int cmd_dataset(int argc, char **argv)
 			       r.min_median_dn);
 		printf("\n");
 	}
-	return PC_EXIT_OK;
+	return CLI_EXIT_OK;
 }

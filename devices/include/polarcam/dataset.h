@@ -26,6 +26,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -57,19 +59,19 @@ typedef struct pc_dataset_result {
 } pc_dataset_result;
 
 /* Makes (or completes) this shard of the dataset. */
-int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r);
+PC_API int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r);
 
 /* The shard of this task from a scheduler's environment: SLURM_ARRAY_TASK_ID and
  * SLURM_ARRAY_TASK_COUNT (minus SLURM_ARRAY_TASK_MIN), or Kubernetes Indexed Jobs'
  * JOB_COMPLETION_INDEX with shards_hint (> 0) or POLARCAM_SHARDS as the count. Returns 1 and
  * sets *shard and *shards when found, 0 when none is set, < 0 on malformed values (the error
  * names the variable). *scheduler names it ("slurm", "kubernetes"). */
-int pc_dataset_shard_from_env(uint32_t shards_hint, uint32_t *shard, uint32_t *shards,
+PC_API int pc_dataset_shard_from_env(uint32_t shards_hint, uint32_t *shard, uint32_t *shards,
 			      const char **scheduler);
 
 /* Shard manifests → manifest.jsonl (sorted by index, every sample 0..count−1 exactly once,
  * lines of the same sample identical across shards). Nothing is written when incomplete. */
-int pc_dataset_merge(const char *dir, uint64_t *count);
+PC_API int pc_dataset_merge(const char *dir, uint64_t *count);
 
 typedef struct pc_dataset_verify_result {
 	uint64_t count;          /* samples the dataset declares */
@@ -83,10 +85,10 @@ typedef struct pc_dataset_verify_result {
 
 /* Completeness and hashes against manifest.jsonl (or, before a merge, the shard manifests).
  * Returns 0 when the check ran (r says what it found), < 0 when it could not. */
-int pc_dataset_verify(const char *dir, pc_dataset_verify_result *r);
+PC_API int pc_dataset_verify(const char *dir, pc_dataset_verify_result *r);
 
 /* SHA-256 of a file as 64 lowercase hex digits (+ NUL), and its size. */
-int pc_sha256_file(const char *path, char hex[65], uint64_t *bytes);
+PC_API int pc_sha256_file(const char *path, char hex[65], uint64_t *bytes);
 
 #ifdef __cplusplus
 }

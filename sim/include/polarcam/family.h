@@ -23,6 +23,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/sim.h"
 
@@ -35,24 +36,24 @@ typedef struct pc_family pc_family;
 /* Loads and validates a family spec; errors name the file and the field path and say what was
  * expected ("demosaic.json: lights.count: {"int": [lo, hi]} needs 0 <= lo <= hi <= 64").
  * Mesh files are resolved relative to the spec's directory. */
-int pc_family_load(const char *path, pc_family **out);
+PC_API int pc_family_load(const char *path, pc_family **out);
 /* The same from text; name is used in messages, base_dir resolves mesh files (NULL = "."). */
-int pc_family_parse(const char *text, const char *name, const char *base_dir, pc_family **out);
-void pc_family_free(pc_family *f);
+PC_API int pc_family_parse(const char *text, const char *name, const char *base_dir, pc_family **out);
+PC_API void pc_family_free(pc_family *f);
 
 /* Replaces the spec's resolution (multiples of the mosaic period of every sensor preset the
  * spec may draw). */
-int pc_family_set_resolution(pc_family *f, uint32_t width, uint32_t height);
-const char *pc_family_name(const pc_family *f);
-void pc_family_resolution(const pc_family *f, uint32_t *width, uint32_t *height);
+PC_API int pc_family_set_resolution(pc_family *f, uint32_t width, uint32_t height);
+PC_API const char *pc_family_name(const pc_family *f);
+PC_API void pc_family_resolution(const pc_family *f, uint32_t *width, uint32_t *height);
 /* The spec as used (with the resolution override), canonical compact JSON (malloc'd): two
  * families with the same text make the same samples. */
-char *pc_family_to_json(const pc_family *f);
+PC_API char *pc_family_to_json(const pc_family *f);
 
 /* Mesh files the spec may draw: the path as resolved for reading and the name a dataset stores
  * it under (DIR/meshes/NAME; sample scenes refer to "../../meshes/NAME"). */
-unsigned pc_family_mesh_count(const pc_family *f);
-void pc_family_mesh(const pc_family *f, unsigned i, const char **path, const char **name);
+PC_API unsigned pc_family_mesh_count(const pc_family *f);
+PC_API void pc_family_mesh(const pc_family *f, unsigned i, const char **path, const char **name);
 
 typedef enum pc_family_truth { PC_TRUTH_NONE, PC_TRUTH_F32, PC_TRUTH_F16 } pc_family_truth;
 
@@ -76,13 +77,13 @@ typedef struct pc_family_sample {
 /* Draws sample `index` of the family under `seed` and renders it: scene → simulator (threads,
  * 0 = all) → truth → exposure (the spec's auto-exposure sets the chosen percentile of the mean
  * signal to the chosen fraction of full scale) → frames. */
-int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int threads,
+PC_API int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int threads,
 		     pc_family_sample *out);
 /* Only the scene document of sample index (mesh files as the spec names them, resolved against
  * its directory) and its simulator seed, before the exposure is chosen (tests, previews). */
-int pc_family_scene(const pc_family *f, uint64_t seed, uint64_t index, char **scene_json,
+PC_API int pc_family_scene(const pc_family *f, uint64_t seed, uint64_t index, char **scene_json,
 		    uint64_t *sim_seed);
-void pc_family_sample_free(pc_family_sample *s);
+PC_API void pc_family_sample_free(pc_family_sample *s);
 
 #ifdef __cplusplus
 }
