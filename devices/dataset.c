@@ -23,6 +23,8 @@
 #include "polarcam/format.h"
 #include "polarcam/io.h"
 #include "polarcam/mosaic.h"
+#include "polarcam/recording.h"
+#include "polarcam/render_recording.h"
 
 #define MAX_COUNT 100000000ull /* samples/NNNNNNNN */
 
@@ -387,18 +389,17 @@ static int read_dataset(const char *dir, uint64_t *count, uint64_t *seed)
 
 /* ---- one sample ---- */
 
-static json_t *meta_json(const pc_family *f, const pc_family_sample *s, uint64_t seed,
-			 const char *truth_file)
+/* What the sample is, under meta.json's "extra": "sample" (index, seeds, exposure, statistics,
+ * the truth file) beside the simulator's description, and "scene", the sample's scene. */
+static int sample_extra(const pc_family *f, const pc_family_sample *s, uint64_t seed,
+			const char *truth_file, char **text)
 {
-	char layout[64];
-	pc_mosaic_format(&s->info.mosaic, layout, sizeof layout);
-	const pc_format_info *fi = pc_format_info_get(s->info.format);
+	json_t *x = s->sim_json ? json_loads(s->sim_json, 0, NULL) : NULL;
 	json_t *scene = json_loads(s->scene_json, 0, NULL);
-	json_t *frames = json_array();
-	for (unsigned k = 0; k < s->n_frames; k++) {
-		char name[32];
-		snprintf(name, sizeof name, "raw_%06u.png", k);
-		json_array_append_new(frames, json_string(name));
+	if (!x || !scene) {
+		json_decref(x);
+		json_decref(scene);
+		return pc_error(PC_ENOMEM, "meta.json");
 	}
 	json_t *m = json_object();
 	json_object_set_new(m, "polarcam_sample", json_integer(1));
@@ -408,12 +409,6 @@ static json_t *meta_json(const pc_family *f, const pc_family_sample *s, uint64_t
 	json_object_set_new(m, "sim_seed", json_integer((json_int_t)s->sim_seed));
 	json_object_set_new(m, "rerender", json_sprintf("polarcam render scene.json --seed %llu -n %u",
 							 (unsigned long long)s->sim_seed, s->n_frames));
-	json_object_set_new(m, "width", json_integer(s->info.width));
-	json_object_set_new(m, "height", json_integer(s->info.height));
-	json_object_set_new(m, "bits", json_integer(s->info.bits));
-	json_object_set_new(m, "format", json_string(fi ? fi->name : "?"));
-	json_object_set_new(m, "layout", json_string(layout));
-	json_object_set_new(m, "frames", frames);
 	if (truth_file) {
 		json_t *t = json_object();
 		json_object_set_new(t, "file", json_string(truth_file));
@@ -428,55 +423,60 @@ static json_t *meta_json(const pc_family *f, const pc_family_sample *s, uint64_t
 	json_object_set_new(m, "saturated_fraction", json_real(s->saturated_fraction));
 	json_object_set_new(m, "median_dn", json_real(s->median_dn));
 	json_object_set_new(m, "p99_dn", json_real(s->p99_dn));
-	json_object_set_new(m, "scene", scene ? scene : json_null());
-	return m;
+	json_object_set_new(x, "sample", m);
+	json_object_set_new(x, "scene", scene);
+	*text = json_dumps(x, JSON_COMPACT | JSON_REAL_PRECISION(17));
+	json_decref(x);
+	return *text ? 0 : pc_error(PC_ENOMEM, "meta.json");
 }
 
+/* The sample directory tmp: a recording (raw_NNNNNN.png + meta.json, the writers of `polarcam
+ * render`, polarcam/recording.h) with the truth (pc_truth_write) and scene.json beside it. */
 static int write_sample_files(const pc_family *f, const pc_family_sample *s, uint64_t seed,
 			      const char *tmp)
 {
-	int rc = 0;
-	char p[4400];
+	char p[4400], source[256];
+	snprintf(source, sizeof source, "family:%s?seed=%llu&sample=%llu", pc_family_name(f),
+		 (unsigned long long)seed, (unsigned long long)s->index);
+	const pc_sim_info *in = &s->info;
+	pc_recording_desc desc = { source,	    in->format,	   NULL,
+				   in->width,	    in->height,	   in->offset_x,
+				   in->offset_y,    in->sensor_width, in->sensor_height,
+				   true,	    in->mosaic };
+	pc_recording *rec = NULL;
+	int rc = pc_recording_create(&rec, tmp, &desc, false);
 	for (unsigned k = 0; k < s->n_frames && !rc; k++) {
-		snprintf(p, sizeof p, "%s/raw_%06u.png", tmp, k);
-		rc = pc_png_write(p, &s->frames[k]);
+		pc_frame fr = { s->frames[k], s->frame_meta[k], in->mosaic };
+		rc = pc_recording_add(rec, &fr);
 	}
 	const char *truth_file = s->truth_stokes ? "truth_stokes.npy" : NULL;
 	if (!rc && truth_file) {
-		const size_t C = s->info.colour_channels;
-		size_t shape[4] = { s->info.height, s->info.width, C == 3 ? 3 : 4, 4 };
-		size_t n = (size_t)s->info.height * s->info.width * C * 4;
 		snprintf(p, sizeof p, "%s/%s", tmp, truth_file);
-		if (s->truth == PC_TRUTH_F16) {
-			uint16_t *h = malloc(n * sizeof *h);
-			if (!h)
-				return pc_error(PC_ENOMEM, "float16 truth");
-			pc_f32_to_f16(s->truth_stokes, h, n);
-			rc = pc_npy_write(p, h, PC_DT_F16, C == 3 ? 4 : 3, shape);
-			free(h);
-		} else {
-			rc = pc_npy_write(p, s->truth_stokes, PC_DT_F32, C == 3 ? 4 : 3, shape);
-		}
+		rc = pc_truth_write(p, in, s->truth_stokes, false,
+				    s->truth == PC_TRUTH_F16 ? PC_DT_F16 : PC_DT_F32);
 	}
 	if (!rc) {
 		snprintf(p, sizeof p, "%s/scene.json", tmp);
 		size_t n = strlen(s->scene_json);
 		char *t = malloc(n + 2);
 		if (!t)
-			return pc_error(PC_ENOMEM, "scene");
-		memcpy(t, s->scene_json, n);
-		t[n] = '\n';
-		rc = pc_write_file_atomic(p, t, n + 1);
-		free(t);
+			rc = pc_error(PC_ENOMEM, "scene");
+		else {
+			memcpy(t, s->scene_json, n);
+			t[n] = '\n';
+			rc = pc_write_file_atomic(p, t, n + 1);
+			free(t);
+		}
 	}
-	if (!rc) {
-		json_t *m = meta_json(f, s, seed, truth_file);
-		char *t = json_dumps(m, JSON_INDENT(1) | JSON_REAL_PRECISION(17) | JSON_PRESERVE_ORDER);
-		json_decref(m);
-		snprintf(p, sizeof p, "%s/meta.json", tmp);
-		rc = t ? pc_write_file_atomic(p, t, strlen(t)) : pc_error(PC_ENOMEM, "meta.json");
-		free(t);
-	}
+	char *extra = NULL;
+	if (!rc)
+		rc = sample_extra(f, s, seed, truth_file, &extra);
+	if (!rc)
+		rc = pc_recording_set_json(rec, "extra", extra);
+	free(extra);
+	if (!rc)
+		rc = pc_recording_finish(rec, NULL);
+	pc_recording_free(rec);
 	return rc;
 }
 
@@ -710,8 +710,10 @@ int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r)
 				r->made++;
 		}
 		done++;
-		if (!rc && o->progress)
-			o->progress(o->progress_user, done, r->total);
+		if (!rc && pc_progress_report(&o->progress, "samples", done, r->total))
+			rc = pc_error(PC_ECANCELED, "dataset: stopped after %llu of %llu samples of shard %u/%u",
+				      (unsigned long long)done, (unsigned long long)r->total, o->shard,
+				      o->shards);
 	}
 	if (!rc)
 		rc = write_manifest(mpath, lines, o->count); /* sorted, whole lines */

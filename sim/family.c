@@ -1144,6 +1144,8 @@ void pc_family_sample_free(pc_family_sample *s)
 	for (unsigned i = 0; i < s->n_frames && s->frames; i++)
 		pc_view_free(&s->frames[i]);
 	free(s->frames);
+	free(s->frame_meta);
+	free(s->sim_json);
 	free(s->truth_stokes);
 	memset(s, 0, sizeof *s);
 }
@@ -1262,14 +1264,22 @@ int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int thre
 		out->exposure_us = exposure_us;
 		pc_sim_controls ctl = { exposure_us, sim->fig.gain_db };
 		out->frames = calloc(out->n_frames, sizeof *out->frames);
-		if (!out->frames)
+		out->frame_meta = calloc(out->n_frames, sizeof *out->frame_meta);
+		if (!out->frames || !out->frame_meta)
 			rc = pc_error(PC_ENOMEM, "frames");
 		for (unsigned i = 0; !rc && i < out->n_frames; i++) {
 			rc = pc_view_alloc(&out->frames[i], in->format, in->width, in->height, 64);
 			if (!rc)
-				rc = pc_sim_frame(sim, i, &ctl, &out->frames[i], NULL);
+				rc = pc_sim_frame(sim, i, &ctl, &out->frames[i], &out->frame_meta[i]);
 		}
 		out->dn_per_radiance = pc_sim_dn_per_radiance(sim, &ctl, in->colour_channels == 3 ? 1 : 0);
+	}
+	if (!rc) {
+		/* described as the scene file written for the sample configures it: the chosen
+		 * exposure (the frames are made, nothing else reads it) */
+		sim->fig.exposure_us = exposure_us;
+		if (!(out->sim_json = pc_sim_describe_json(sim, NULL)))
+			rc = pc_error(PC_ENOMEM, "simulator description");
 	}
 	if (!rc) {
 		/* frame 0's statistics */

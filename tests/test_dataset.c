@@ -28,6 +28,7 @@
 #include "polarcam/error.h"
 #include "polarcam/family.h"
 #include "polarcam/io.h"
+#include "polarcam/recording.h"
 
 static char tmp[] = "/tmp/pc_dataset_XXXXXX";
 static char spec_path[1200];
@@ -462,11 +463,23 @@ static void test_rerender(const char *polarcam)
 		CHECK(meta != NULL);
 		if (!meta)
 			continue;
-		json_int_t seed = json_integer_value(json_object_get(meta, "sim_seed"));
-		json_t *objs = json_object_get(json_object_get(meta, "scene"), "objects");
+		json_t *extra = json_object_get(meta, "extra");
+		json_int_t seed = json_integer_value(json_object_get(json_object_get(extra, "sample"), "sim_seed"));
+		json_t *scene = json_object_get(extra, "scene");
+		json_t *objs = json_object_get(scene, "objects");
 		for (size_t k = 0; k < json_array_size(objs); k++)
 			meshes += json_object_get(json_array_get(objs, k), "file") != NULL;
-		json_decref(meta);
+		/* the sample is a recording: the file: source and the pipeline read it, with the
+		 * black level of its scene's sensor */
+		pc_recording *rec = NULL;
+		CHECK(pc_recording_open(&rec, s) == 0);
+		if (rec) {
+			json_t *off = json_object_get(json_object_get(scene, "sensor"), "offset_dn");
+			CHECK(pc_recording_is_complete(rec) && pc_recording_count(rec) >= 1);
+			if (off)
+				CHECK(pc_recording_black_level(rec) == json_number_value(off));
+			pc_recording_free(rec);
+		}
 		snprintf(out, sizeof out, "%s/rr%d", tmp, i);
 		snprintf(cmd, sizeof cmd, "'%s' render '%s/scene.json' --seed %lld -o '%s' > /dev/null", polarcam,
 			 s, (long long)seed, out);
@@ -477,6 +490,18 @@ static void test_rerender(const char *polarcam)
 		snprintf(a, sizeof a, "%s/truth_stokes.npy", s);
 		snprintf(b, sizeof b, "%s/truth_stokes.npy", out);
 		CHECK(same_file(a, b));
+		/* meta.json: the same frames and simulator as render's, the sample beside them */
+		snprintf(b, sizeof b, "%s/meta.json", out);
+		json_t *rm = json_load_file(b, 0, NULL);
+		CHECK(rm != NULL);
+		if (rm) {
+			json_t *rx = json_object_get(rm, "extra");
+			CHECK(json_equal(json_object_get(meta, "frames"), json_object_get(rm, "frames")));
+			CHECK(json_equal(json_object_get(extra, "sensor"), json_object_get(rx, "sensor")));
+			CHECK(json_equal(json_object_get(extra, "effects"), json_object_get(rx, "effects")));
+			json_decref(rm);
+		}
+		json_decref(meta);
 	}
 	CHECK(meshes >= 1); /* the mesh path through DIR/meshes was exercised */
 }

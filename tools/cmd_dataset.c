@@ -47,12 +47,6 @@ static void usage(FILE *fp)
 		"Exit status: 0 success, 1 failure (or verify found problems), 2 bad arguments or spec.\n");
 }
 
-static void progress_cb(void *user, uint64_t done, uint64_t total)
-{
-	(void)total;
-	pc_progress_update(user, done);
-}
-
 static int parse_shard(const char *arg, uint32_t *i, uint32_t *m)
 {
 	unsigned long long a, b;
@@ -224,12 +218,9 @@ int cli_cmd_dataset(int argc, char **argv)
 		if (rc < 0)
 			return cli_error(CLI_EXIT_USAGE, "%s", pc_error_detail());
 	}
-	pc_progress bar;
-	char label[64];
-	snprintf(label, sizeof label, "shard %u/%u", o.shard, o.shards);
-	pc_progress_begin(&bar, label, o.shard < o.count ? (o.count - 1 - o.shard) / o.shards + 1 : 0);
-	o.progress = progress_cb;
-	o.progress_user = &bar;
+	cli_progress bar = { 0 };
+	o.progress = (pc_progress){ cli_progress_stoppable, &bar };
+	cli_catch_signals();
 	/* POLARCAM_DATASET_STOP_AFTER: stop after making that many samples (tests of resumption) */
 	const char *stop = getenv("POLARCAM_DATASET_STOP_AFTER");
 	if (stop && *stop)
@@ -237,7 +228,7 @@ int cli_cmd_dataset(int argc, char **argv)
 	double t0 = cli_now();
 	pc_dataset_result r;
 	rc = pc_dataset_run(&o, &r);
-	pc_progress_end(&bar);
+	cli_progress_end(&bar);
 	if (rc)
 		return cli_status(rc) == CLI_EXIT_USAGE ? cli_error(CLI_EXIT_USAGE, "%s", pc_error_detail())
 						      : cli_fail(rc, o.dir);

@@ -27,13 +27,11 @@
 #include <stdint.h>
 
 #include "polarcam/export.h"
+#include "polarcam/progress.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* Progress of a run: samples of this shard done (made or skipped) out of total. */
-typedef void (*pc_dataset_progress_fn)(void *user, uint64_t done, uint64_t total);
 
 typedef struct pc_dataset_options {
 	const char *spec;        /* family spec file */
@@ -44,8 +42,9 @@ typedef struct pc_dataset_options {
 	uint32_t width, height;  /* resolution override (0, 0: the spec's) */
 	int threads;             /* per sample (0 = all cores) */
 	uint64_t stop_after;     /* stop after making this many samples (0 = no limit; tests) */
-	pc_dataset_progress_fn progress;
-	void *progress_user;
+	pc_progress progress;    /* phase "samples": this shard's samples done (made or skipped)
+				  * out of its total; non-zero stops the run (PC_ECANCELED) after
+				  * the sample in hand, every finished sample kept */
 } pc_dataset_options;
 
 typedef struct pc_dataset_result {

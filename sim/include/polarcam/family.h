@@ -66,6 +66,10 @@ typedef struct pc_family_sample {
 	pc_sim_info info;          /* size, format, mosaic, bits, effects */
 	unsigned n_frames;
 	pc_view *frames;           /* n_frames raw frames 0..n−1 in the natural format */
+	pc_frame_meta *frame_meta; /* theirs, as pc_sim_frame reports it */
+	char *sim_json;            /* pc_sim_describe_json of the simulator (without the scene),
+	                            * with the chosen exposure: what `polarcam render` writes under
+	                            * meta.json's "extra" */
 	pc_family_truth truth;     /* what the spec asks to store */
 	float *truth_stokes;       /* (H, W, 4) or (H, W, 3, 4) float32 radiance, or NULL */
 	double exposure_us;        /* as in scene_json */
