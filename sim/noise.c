@@ -100,7 +100,7 @@ static inline uint16_t frame_pixel(const pc_frame_args *a, uint32_t i)
 		pc_philox4x32_10(ctr, key, w);
 		e = poisson_pixel(a->seed, ctr, mu, w);
 		if (a->read_e > 0)
-			z = pc_u32_to_normal(w[2]);
+			z = pc_u32_to_normal_read(w[2]);
 	}
 	if (e > a->full_well_e)
 		e = a->full_well_e;
@@ -174,13 +174,15 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 #define KFN(name) name##_avx512
 #define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")))
 #define KL 8
+/* AVX-512: the words move between lanes with masked in-lane shuffles (one instruction each
+ * instead of a shift and a blend). */
 #define KMULHILO(a, m, hi, lo)                                                                    \
 	do {                                                                                      \
 		__m512i a_ = (__m512i)(a), m_ = _mm512_set1_epi32((int)(m));                      \
 		__m512i pe_ = _mm512_mul_epu32(a_, m_);                                           \
 		__m512i po_ = _mm512_mul_epu32(_mm512_srli_epi64(a_, 32), m_);                    \
-		(lo) = (PU)_mm512_mask_blend_epi32(0xAAAA, pe_, _mm512_slli_epi64(po_, 32));       \
-		(hi) = (PU)_mm512_mask_blend_epi32(0xAAAA, _mm512_srli_epi64(pe_, 32), po_);       \
+		(lo) = (PU)_mm512_mask_shuffle_epi32(pe_, 0xAAAA, po_, _MM_PERM_CCAA);            \
+		(hi) = (PU)_mm512_mask_shuffle_epi32(po_, 0x5555, pe_, _MM_PERM_DDBB);            \
 	} while (0)
 #define KSQRT(v) ((VD)_mm512_sqrt_pd((__m512d)(v)))
 #define KCOMPRESS_D(p, m, v) _mm512_mask_compressstoreu_pd((p), (__mmask8)(m), (__m512d)(v))

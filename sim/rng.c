@@ -19,6 +19,12 @@ double pc_normal_quantile(double p)
 		double t = 0.180625 - q * q;
 		return q * PC_AS241_CA(t) / PC_AS241_CB(t);
 	}
+	return pc_normal_quantile_tail(p);
+}
+
+double pc_normal_quantile_tail(double p)
+{
+	double q = p - 0.5;
 	double t = sqrt(-pc_log_pure(q < 0 ? p : 1 - p)) - 1.6;
 	double z = PC_AS241_TA(t) / PC_AS241_TB(t);
 	return q < 0 ? -z : z;

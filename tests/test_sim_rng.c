@@ -142,6 +142,43 @@ static void test_quantile(void)
 	CHECK_NEAR(pc_u32_to_normal(0), -6.34, 0.01); /* the tail cut documented in rng.h */
 }
 
+/* The read noise's float PPND7 central region against the double AS 241 quantile: every 4096th
+ * word and both ends of the central region, |error| ≤ 1e-6 (Wichura's bound for PPND7 is
+ * ~1e-7 relative; float rounding adds up to ~6e-8 relative); the tail is PPND16 itself; odd
+ * symmetry; and the distribution: the fraction of words at or below z = −2, −1, 0, 1, 2 equals
+ * Φ(z) to the word resolution. */
+static void test_normal_read(void)
+{
+	double worst = 0;
+	uint64_t below[5] = { 0 }, n = 0;
+	const double zs[5] = { -2, -1, 0, 1, 2 };
+	for (uint64_t w = 0; w < (1ull << 32); w += 4096) {
+		for (uint64_t d = 0; d < 2; d++) {
+			uint32_t u = (uint32_t)(w + d * 1234);
+			double zr = pc_u32_to_normal_read(u), zd = pc_u32_to_normal(u);
+			worst = fmax(worst, fabs(zr - zd));
+			CHECK_NEAR(pc_u32_to_normal_read(~u), -zr, 1e-6 * (1 + fabs(zr)));
+			for (int k = 0; k < 5; k++)
+				below[k] += zr <= zs[k];
+			n++;
+		}
+	}
+	/* where the regions meet: q = ±0.425 */
+	for (int s = -1; s <= 1; s += 2)
+		for (int64_t dw = -2000; dw <= 2000; dw++) {
+			int64_t w = (int64_t)2147483648 + s * (int64_t)(0.425 * 4294967296.0) + dw;
+			double zr = pc_u32_to_normal_read((uint32_t)w), zd = pc_u32_to_normal((uint32_t)w);
+			worst = fmax(worst, fabs(zr - zd));
+		}
+	fprintf(stderr, "test_sim_rng: read-noise normal (float PPND7 centre) within %.2g of AS 241 "
+			"(double)\n", worst);
+	CHECK(worst <= 1e-6);
+	for (int k = 0; k < 5; k++) {
+		double phi = 0.5 * erfc(-zs[k] / sqrt(2));
+		CHECK_NEAR((double)below[k] / (double)n, phi, 2e-6);
+	}
+}
+
 static void test_log_factorial(void)
 {
 	double s = 0;
@@ -286,6 +323,7 @@ int main(void)
 	test_moments();
 	test_poisson();
 	test_quantile();
+	test_normal_read();
 	test_log_factorial();
 	test_determinism();
 	test_log_pure();
