@@ -18,17 +18,19 @@ export DEBIAN_FRONTEND=noninteractive
 
 # Debian 12 packages. Build: compiler, CMake, libraries. Optional backends are auto-detected and
 # installed here so that a fresh machine builds everything.
-BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-dev libcairo2-dev
+BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-dev libcairo2-dev nettle-dev
   fonts-dejavu-core
   libaravis-dev aravis-tools-cli libusb-1.0-0-dev libopencv-core-dev libopencv-imgproc-dev
   libopencv-highgui-dev libzip-dev liblapack-dev
   python3-dev python3-numpy"
 # Tests: network namespaces, the QEMU guest with Debian's kernel and vivid, Xvfb for the window;
+# a single-node Slurm cluster (tests/slurm.sh starts its own daemons; none run otherwise);
 # libudev-dev for `pkg-config --static --libs polarcam` (libusb-1.0.pc names -ludev); clang and
 # its OpenMP runtime for the clang build; pytest and pip (the Python module's tests and its
 # offline pip install).
 TEST_PKGS="iproute2 util-linux qemu-system-x86 busybox-static cpio kmod v4l-utils xvfb xauth x11-apps
-  libcamera-dev libudev-dev clang libomp-dev python3-pytest python3-pip python3-setuptools"
+  libcamera-dev libudev-dev clang libomp-dev python3-pytest python3-pip python3-setuptools
+  slurmctld slurmd slurm-client munge"
 # Formatting: ./do format, ./do format-check.
 FORMAT_PKGS="clang-format git"
 

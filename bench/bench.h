@@ -48,6 +48,7 @@ int pc_bench_demosaic(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_render(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_devices(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_calib(const pc_bench_host *host, int argc, char **argv);
+int pc_bench_dataset(const pc_bench_host *host, int argc, char **argv);
 
 /* ---- small helpers of the benchmark files ---- */
 

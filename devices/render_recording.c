@@ -45,28 +45,50 @@ static double now_s(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+int pc_truth_write(const char *path, const pc_sim_info *in, const float *values, bool mueller,
+		   pc_dtype dtype)
+{
+	if (!path || !in || !values || (dtype != PC_DT_F32 && dtype != PC_DT_F16))
+		return pc_error(PC_EINVAL, "truth: path, info, values and a float32/float16 dtype are "
+					   "required");
+	const bool colour = in->colour_channels == 3;
+	/* (H, W[, 3], 4[, 4]) */
+	size_t shape[5] = { in->height, in->width, 3, 4, 4 }, nd = 2, n = (size_t)in->height * in->width;
+	if (colour)
+		nd++;
+	shape[nd++] = 4;
+	if (mueller)
+		shape[nd++] = 4;
+	for (size_t k = 2; k < nd; k++)
+		n *= shape[k];
+	int rc;
+	if (dtype == PC_DT_F16) {
+		uint16_t *h = malloc(n * sizeof *h);
+		if (!h)
+			return pc_error(PC_ENOMEM, "%s: float16 truth of %ux%u", path, in->width, in->height);
+		pc_f32_to_f16(values, h, n);
+		rc = pc_npy_write(path, h, PC_DT_F16, (unsigned)nd, shape);
+		free(h);
+	} else {
+		rc = pc_npy_write(path, values, PC_DT_F32, (unsigned)nd, shape);
+	}
+	return rc; /* pc_npy_write's errors name the path */
+}
+
 /* The truth of generator state g (and the Mueller truth with the first one). */
 static int write_truth(job *j, unsigned g, bool first, const float *ts, const float *tm)
 {
-	const pc_sim_info *in = &j->in;
-	const size_t C = in->colour_channels;
 	char path[4096];
-	size_t shape[4] = { in->height, in->width, C == 3 ? 3 : 4, 4 };
-	if (in->n_psg > 1)
+	if (j->in.n_psg > 1)
 		snprintf(path, sizeof path, "%s/truth_stokes_psg%02u.npy", j->dir, g);
 	else
 		snprintf(path, sizeof path, "%s/truth_stokes.npy", j->dir);
-	int rc = pc_npy_write(path, ts, PC_DT_F32, C == 3 ? 4 : 3, shape);
+	int rc = pc_truth_write(path, &j->in, ts, false, PC_DT_F32);
 	if (!rc && first && tm) {
 		snprintf(path, sizeof path, "%s/truth_mueller.npy", j->dir);
-		size_t ms[5] = { in->height, in->width, 3, 4, 4 };
-		if (C == 1) {
-			ms[2] = 4;
-			ms[3] = 4;
-		}
-		rc = pc_npy_write(path, tm, PC_DT_F32, C == 3 ? 5 : 4, ms);
+		rc = pc_truth_write(path, &j->in, tm, true, PC_DT_F32);
 	}
-	return rc ? pc_error_prefix(rc, "%s: ", path) : 0;
+	return rc;
 }
 
 /* Each generator state the frames use, rendered once (with its truth). */

@@ -8,6 +8,39 @@
 #include "io_internal.h"
 #include "polarcam/error.h"
 
+/* IEEE 754 binary16 bits of x, rounded to nearest, ties to even (overflow to ±inf, NaN kept). */
+static uint16_t f32_to_f16(float x)
+{
+	uint32_t b;
+	memcpy(&b, &x, sizeof b);
+	uint32_t sign = (b >> 16) & 0x8000u, e = (b >> 23) & 0xFFu, m = b & 0x7FFFFFu;
+	if (e == 0xFF) /* inf, NaN (quiet, payload's top bits kept) */
+		return (uint16_t)(sign | 0x7C00u | (m ? 0x200u | (m >> 13) : 0));
+	int ex = (int)e - 127 + 15;
+	if (ex >= 31)
+		return (uint16_t)(sign | 0x7C00u);
+	if (ex <= 0) { /* subnormal half (or zero): shift the full significand */
+		if (ex < -10)
+			return (uint16_t)sign;
+		uint32_t full = m | 0x800000u;
+		unsigned shift = (unsigned)(14 - ex);
+		uint32_t h = full >> shift, rem = full & ((1u << shift) - 1), half = 1u << (shift - 1);
+		if (rem > half || (rem == half && (h & 1)))
+			h++;
+		return (uint16_t)(sign | h);
+	}
+	uint32_t h = ((uint32_t)ex << 10) | (m >> 13), rem = m & 0x1FFFu;
+	if (rem > 0x1000u || (rem == 0x1000u && (h & 1)))
+		h++; /* may carry into the exponent, up to inf: still the right rounding */
+	return (uint16_t)(sign | h);
+}
+
+void pc_f32_to_f16(const float *in, uint16_t *out, size_t n)
+{
+	for (size_t i = 0; i < n; i++)
+		out[i] = f32_to_f16(in[i]);
+}
+
 /* NumPy .npy format: numpy/lib/format.py docs (NEP 1). Magic "\x93NUMPY", version, header
  * length (u16 for 1.0, u32 for 2.0), an ASCII Python dict, padded with spaces and '\n' so that
  * the data starts at a multiple of 64 bytes. */
@@ -23,6 +56,8 @@ static const char *dtype_descr(pc_dtype t)
 		return "<f4";
 	case PC_DT_F64:
 		return "<f8";
+	case PC_DT_F16:
+		return "<f2";
 	}
 	return NULL;
 }
@@ -38,6 +73,8 @@ static size_t dtype_size(pc_dtype t)
 		return 4;
 	case PC_DT_F64:
 		return 8;
+	case PC_DT_F16:
+		return 2;
 	}
 	return 0;
 }

@@ -142,6 +142,43 @@ static void test_quantile(void)
 	CHECK_NEAR(pc_u32_to_normal(0), -6.34, 0.01); /* the tail cut documented in rng.h */
 }
 
+/* The read noise's float PPND7 central region against the double AS 241 quantile: every 4096th
+ * word and both ends of the central region, |error| ≤ 1e-6 (Wichura's bound for PPND7 is
+ * ~1e-7 relative; float rounding adds up to ~6e-8 relative); the tail is PPND16 itself; odd
+ * symmetry; and the distribution: the fraction of words at or below z = −2, −1, 0, 1, 2 equals
+ * Φ(z) to the word resolution. */
+static void test_normal_read(void)
+{
+	double worst = 0;
+	uint64_t below[5] = { 0 }, n = 0;
+	const double zs[5] = { -2, -1, 0, 1, 2 };
+	for (uint64_t w = 0; w < (1ull << 32); w += 4096) {
+		for (uint64_t d = 0; d < 2; d++) {
+			uint32_t u = (uint32_t)(w + d * 1234);
+			double zr = pc_u32_to_normal_read(u), zd = pc_u32_to_normal(u);
+			worst = fmax(worst, fabs(zr - zd));
+			CHECK_NEAR(pc_u32_to_normal_read(~u), -zr, 1e-6 * (1 + fabs(zr)));
+			for (int k = 0; k < 5; k++)
+				below[k] += zr <= zs[k];
+			n++;
+		}
+	}
+	/* where the regions meet: q = ±0.425 */
+	for (int s = -1; s <= 1; s += 2)
+		for (int64_t dw = -2000; dw <= 2000; dw++) {
+			int64_t w = (int64_t)2147483648 + s * (int64_t)(0.425 * 4294967296.0) + dw;
+			double zr = pc_u32_to_normal_read((uint32_t)w), zd = pc_u32_to_normal((uint32_t)w);
+			worst = fmax(worst, fabs(zr - zd));
+		}
+	fprintf(stderr, "test_sim_rng: read-noise normal (float PPND7 centre) within %.2g of AS 241 "
+			"(double)\n", worst);
+	CHECK(worst <= 1e-6);
+	for (int k = 0; k < 5; k++) {
+		double phi = 0.5 * erfc(-zs[k] / sqrt(2));
+		CHECK_NEAR((double)below[k] / (double)n, phi, 2e-6);
+	}
+}
+
 static void test_log_factorial(void)
 {
 	double s = 0;
@@ -195,6 +232,30 @@ static void test_log_pure(void)
 	CHECK(worst <= 1.0);
 	CHECK(pc_log_pure(1) == 0);
 	CHECK_NEAR(pc_log_pure(2), M_LN2, 1e-16);
+}
+
+/* The scalar-shared exponential against libm over the range the sensor chain uses (−10 .. 0,
+ * the inversion's e^−mu) and the whole documented range |x| ≤ 700. */
+static void test_exp_pure(void)
+{
+	double worst = 0, worst_inv = 0;
+	for (int i = 0; i < 200000; i++) {
+		pc_rng r;
+		pc_rng_init(&r, 6, PC_RNG_TEST, (uint32_t)(i & 0xffff), (uint32_t)(i >> 16), 0);
+		double u = pc_rng_uniform(&r);
+		double x = i % 2 ? -10 * u : (u - 0.5) * 1400;
+		double want = exp(x), got = pc_exp_pure(x);
+		double ulp = nextafter(want, INFINITY) - want;
+		double d = fabs(got - want) / ulp;
+		worst = fmax(worst, d);
+		if (i % 2)
+			worst_inv = fmax(worst_inv, d);
+	}
+	printf("test_sim_rng: pc_exp_pure within %.2f ulp of libm (%.2f on [-10, 0])\n", worst,
+	       worst_inv);
+	CHECK(worst <= 2.0);
+	CHECK(pc_exp_pure(0) == 1);
+	CHECK_NEAR(pc_exp_pure(-1), exp(-1), 2e-16);
 }
 
 /* The frame and fixed-pattern kernels: every vector instance this CPU can run produces exactly
@@ -262,9 +323,11 @@ int main(void)
 	test_moments();
 	test_poisson();
 	test_quantile();
+	test_normal_read();
 	test_log_factorial();
 	test_determinism();
 	test_log_pure();
+	test_exp_pure();
 	test_kernels();
 	return pc_test_finish("test_sim_rng");
 }

@@ -17,6 +17,7 @@ typedef struct cli_command {
 	X(decompose, "Lu-Chipman decomposition of Mueller matrices (JSON lines)")                \
 	X(figures, "reproduce the seed paper's figures 2-11 as CSV and PNG")                     \
 	X(render, "render a scene to raw mosaic frames and ground truth")                        \
+	X(dataset, "scene-family datasets: sharded, resumable, verified (SHA-256)")              \
 	X(demosaic, "demosaic a raw polarizer mosaic to four analyser channels")                 \
 	X(process, "raw mosaic -> Stokes, DoLP, AoLP and pictures")                              \
 	X(eval, "score demosaicking methods against ground truth")                               \
@@ -26,7 +27,7 @@ typedef struct cli_command {
 	X(capture, "record frames from a source URI")                                            \
 	X(view, "live window of S0, DoLP and AoLP")                                              \
 	X(serve, "serve the simulator as a GigE Vision camera")                                  \
-	X(bench, "benchmarks: physics, demosaic, render, devices")
+	X(bench, "benchmarks: physics, demosaic, render, devices, calib, dataset")
 
 #define CLI_COMMAND_DECL(name, summary) int cli_cmd_##name(int argc, char **argv);
 CLI_COMMANDS(CLI_COMMAND_DECL)

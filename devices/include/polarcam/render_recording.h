@@ -19,6 +19,7 @@
 #include <stdint.h>
 
 #include "polarcam/export.h"
+#include "polarcam/io.h"
 #include "polarcam/progress.h"
 #include "polarcam/sim.h"
 
@@ -43,6 +44,13 @@ typedef struct pc_render_report {
 	char *timings; /* {render_s, frames_s, per_frame_s, write_s, total_s, peak_rss_mib}: JSON
 			  text, malloc'd (free it) */
 } pc_render_report;
+
+/* Ground truth as recordings and datasets store it, one .npy at path: Stokes radiance (H, W, 4)
+ * — (H, W, 3, 4) for colour sensors — or, when mueller, Mueller matrices (H, W, 4, 4) — (H, W,
+ * 3, 4, 4) —, in the layout pc_sim_prepare fills. dtype PC_DT_F32 writes the values as they are,
+ * PC_DT_F16 rounds them to binary16 (pc_f32_to_f16). Atomic (pc_npy_write); errors name path. */
+PC_API int pc_truth_write(const char *path, const pc_sim_info *in, const float *values, bool mueller,
+			  pc_dtype dtype);
 
 /* Renders into dir (created). rep may be NULL. */
 PC_API int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);

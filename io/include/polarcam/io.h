@@ -37,7 +37,10 @@ PC_API void pc_atomic_abort(pc_atomic_file *af);
 PC_API int pc_write_file_atomic(const char *path, const void *data, size_t size);
 
 /* ---- arrays (.npy) ---- */
-typedef enum pc_dtype { PC_DT_U8 = 1, PC_DT_U16, PC_DT_F32, PC_DT_F64 } pc_dtype;
+/* PC_DT_F16 (IEEE binary16 bits in uint16_t) is written, not read. */
+typedef enum pc_dtype { PC_DT_U8 = 1, PC_DT_U16, PC_DT_F32, PC_DT_F64, PC_DT_F16 } pc_dtype;
+/* float32 → binary16 bits, round to nearest even (overflow → ±inf, NaN kept). */
+PC_API void pc_f32_to_f16(const float *in, uint16_t *out, size_t n);
 
 typedef struct pc_array {
 	void *data;       /* C order, owned */
