@@ -339,5 +339,8 @@ int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method metho
 		return rc;
 	rc = pc_demosaic_ref(img, raw->width, raw->height, m, method, fs, out);
 	free(img);
+	/* the robust methods' overshoot limiter (the fast paths apply it row by row) */
+	if (!rc && pc_dm_limited(method))
+		rc = pc_dm_range_limit(raw, m, opts ? opts->threads : 0, out);
 	return rc;
 }

@@ -232,6 +232,19 @@ int pc_demosaic_color(const pc_view *raw, const double *img_ref, const pc_mosaic
 		const pc_fplane *o = out + 4 * k;
 		if (reference) {
 			rc = pc_demosaic_ref(mk[k], w, h, &mono, second_step(method), full_scale, o);
+			if (!rc && pc_dm_limited(second_step(method))) {
+				/* the overshoot limiter, as the fast path applies it */
+				float *fv = malloc(n * sizeof(float));
+				if (!fv) {
+					rc = pc_error(PC_ENOMEM, "colour demosaicking: limiter input");
+					break;
+				}
+				for (size_t i = 0; i < n; i++)
+					fv[i] = (float)((const double *)mk[k])[i];
+				pc_view v = { fv, w, h, (size_t)w * sizeof(float), PC_FMT_FLOAT32 };
+				rc = pc_dm_range_limit(&v, &mono, 1, o);
+				free(fv);
+			}
 		} else {
 			pc_view v = { mk[k], w, h, (size_t)w * sizeof(float), PC_FMT_FLOAT32 };
 			pc_demosaic_opts o2 = { opts ? opts->threads : 0, false, full_scale };

@@ -462,7 +462,7 @@ static int setup_band(ic_band *b, const ic_job *j)
 	case PC_DM_RATIO:
 		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
-		b->delta = (float)(j->fs / 65536.0);
+		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
 		fail |= rc_init(&b->guide, 8, 1, 1, w, h, fill_eari_guide, b);
 		fail |= rc_init(&b->rq1, 6, 1, 1, w, h, fill_rq1, b);
 		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);
@@ -528,6 +528,13 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		j->err = 1;
 		return;
 	}
+	float *lim = pc_dm_limited(j->method) ? pc_dm_alloc(sizeof(float) * 20 * (size_t)w) : NULL;
+	if (pc_dm_limited(j->method) && !lim) {
+		free_band(&b);
+		pc_dm_free(rowbuf);
+		j->err = 1;
+		return;
+	}
 	float *vrow = rowbuf + 3; /* one padded row (pad 3) for the bicubic */
 	float *obuf = rowbuf + (size_t)w + 16;
 	for (uint32_t y = y0; y < y1; y++) {
@@ -580,6 +587,12 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		default:
 			break;
 		}
+		if (lim) { /* the overshoot limiter (demosaic_robust.c) on the finished row */
+			const float *r[5];
+			for (int k = 0; k < 5; k++)
+				r[k] = rc_get(&b.raw, yy - 2 + k)[0];
+			pc_dm_limit_row(j->m, r, w, y, o, 1, lim);
+		}
 		if (j->st) {
 			const float *ch[4] = { o[0], o[1], o[2], o[3] };
 			pc_dm_stokes_row(ch, (uint32_t)w, y, j->st, j->nt);
@@ -599,6 +612,7 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 	}
 	free_band(&b);
 	pc_dm_free(rowbuf);
+	pc_dm_free(lim);
 }
 
 int pc_demosaic_ic(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,

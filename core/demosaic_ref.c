@@ -384,17 +384,18 @@ static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fpla
 		return rc;
 	}
 	eari_guide(r, m, pc_eari_params.guide_eps * fs, &g);
-	const double delta = fs / 65536.0;
+	const double delta = PC_RATIO_OFFSET * fs;
 	for (int pass = 0; pass < PC_RATIO_PASSES; pass++) {
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++)
-				*px(&q, x, y) = at(r, x, y) / (fmax(at(&g, x, y), 0) + delta);
+				*px(&q, x, y) = (at(r, x, y) + delta) / (fmax(at(&g, x, y), 0) + delta);
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++) {
 				double den = fmax(at(&g, x, y), 0) + delta, sum = 0;
 				for (unsigned c = 0; c < 4; c++) {
-					double v = c == chan(m, x, y) ? at(r, x, y)
-								      : den * tent(&q, m, c, x, y);
+					double v = c == chan(m, x, y)
+							   ? at(r, x, y)
+							   : den * tent(&q, m, c, x, y) - delta;
 					put(&out[c], x, y, v);
 					sum += v;
 				}
