@@ -11,6 +11,7 @@
  * 16-bit Bayer demosaicking of the same frame — all measured in the same run, so that the
  * ratios hold even when the machine is shared. */
 #include <dirent.h>
+#include <glob.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdint.h>
@@ -378,14 +379,145 @@ static int noisy_track(const pc_demosaic_method *meths, size_t nm, int threads, 
 	return rc;
 }
 
+/* Stress track: the stress suite's scenes (scenes/stress) rendered with ground truth
+ * (pc_sim_eval_case), every monochrome full-resolution method scored on each, gains over
+ * bilinear per scene, their mean and the worst scene. Returns the JSON (NULL on failure). */
+static json_t *stress_track(const char *dir, int threads, FILE *tf)
+{
+	char pat[4096];
+	snprintf(pat, sizeof pat, "%s/*.json", dir);
+	glob_t g;
+	if (glob(pat, 0, NULL, &g)) {
+		fprintf(tf, "stress track: no scenes in %s\n", dir);
+		return NULL;
+	}
+	pc_demosaic_method ms[PC_DM_COUNT];
+	int nm = 0;
+	for (int k = 0; k < PC_DM_COUNT; k++) {
+		const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
+		if ((mi->flags & PC_DMF_MONO) && !(mi->flags & PC_DMF_HALF_RES))
+			ms[nm++] = (pc_demosaic_method)k;
+	}
+	size_t ns = g.gl_pathc;
+	pc_eval_metrics *acc = calloc(ns * (size_t)nm, sizeof *acc);
+	if (!acc) {
+		globfree(&g);
+		return NULL;
+	}
+	pc_progress prog;
+	pc_progress_begin(&prog, "stress scenes", ns);
+	int rc = 0;
+	for (size_t s = 0; s < ns && !rc; s++) {
+		pc_scene *scene = NULL;
+		pc_sim *sim = NULL;
+		pc_eval_truth t;
+		pc_view raw;
+		pc_sim_options so = pc_sim_options_default();
+		so.threads = threads;
+		rc = pc_scene_load(g.gl_pathv[s], &scene);
+		if (!rc)
+			rc = pc_sim_new(scene, &so, &sim);
+		pc_scene_free(scene);
+		pc_sim_info info;
+		if (!rc) {
+			pc_sim_get_info(sim, &info);
+			rc = pc_sim_eval_case(sim, &t, &raw);
+		}
+		pc_sim_free(sim);
+		if (rc) {
+			pc_cli_fail(rc, g.gl_pathv[s]);
+			break;
+		}
+		for (int k = 0; k < nm && !rc; k++) {
+			pc_demosaic_opts o = { threads, false, 0 };
+			rc = pc_eval_method_raw(&t, &raw, &info.mosaic, ms[k], &o, &acc[s * (size_t)nm + (size_t)k]);
+			if (rc)
+				pc_cli_fail(rc, g.gl_pathv[s]);
+		}
+		pc_eval_truth_free(&t);
+		pc_view_free(&raw);
+		pc_progress_update(&prog, s + 1);
+	}
+	pc_progress_end(&prog);
+	json_t *root = NULL;
+	if (!rc) {
+		int bi = 0;
+		for (int k = 0; k < nm; k++)
+			if (ms[k] == PC_DM_BILINEAR)
+				bi = k;
+		fprintf(tf, "\nstress track (%s, %zu scenes): gain over bilinear in S0 / DoLP PSNR, dB\n",
+			dir, ns);
+		fprintf(tf, "%-16s", "scene");
+		for (int k = 0; k < nm; k++)
+			if (k != bi)
+				fprintf(tf, " %15.15s", pc_demosaic_method_get(ms[k])->name);
+		fprintf(tf, " %15s\n", "bilinear S0/DoLP");
+		root = json_object();
+		json_t *jsc = json_array();
+		for (size_t s = 0; s < ns; s++) {
+			const char *b = strrchr(g.gl_pathv[s], '/');
+			b = b ? b + 1 : g.gl_pathv[s];
+			const pc_eval_metrics *bm = &acc[s * (size_t)nm + (size_t)bi];
+			fprintf(tf, "%-16.16s", b);
+			json_t *js = json_object();
+			json_object_set_new(js, "scene", json_string(b));
+			for (int k = 0; k < nm; k++) {
+				const pc_eval_metrics *m = &acc[s * (size_t)nm + (size_t)k];
+				if (k != bi)
+					fprintf(tf, " %+7.2f/%+7.2f", m->psnr_s0 - bm->psnr_s0,
+						m->psnr_dolp - bm->psnr_dolp);
+				json_t *jm = json_object();
+				json_object_set_new(jm, "psnr_s0", pc_json_real(m->psnr_s0));
+				json_object_set_new(jm, "psnr_dolp", pc_json_real(m->psnr_dolp));
+				json_object_set_new(jm, "aolp_wrmse_deg", pc_json_real(m->aolp_wrmse_deg));
+				json_object_set_new(js, pc_demosaic_method_get(ms[k])->name, jm);
+			}
+			fprintf(tf, " %7.2f/%7.2f\n", bm->psnr_s0, bm->psnr_dolp);
+			json_array_append_new(jsc, js);
+		}
+		json_t *jsum = json_object();
+		for (int row = 0; row < 2; row++) {
+			fprintf(tf, "%-16s", row ? "worst" : "mean");
+			for (int k = 0; k < nm; k++) {
+				if (k == bi)
+					continue;
+				double a = row ? INFINITY : 0, d = row ? INFINITY : 0;
+				for (size_t s = 0; s < ns; s++) {
+					const pc_eval_metrics *m = &acc[s * (size_t)nm + (size_t)k];
+					const pc_eval_metrics *bm = &acc[s * (size_t)nm + (size_t)bi];
+					double ga = m->psnr_s0 - bm->psnr_s0, gd = m->psnr_dolp - bm->psnr_dolp;
+					a = row ? fmin(a, ga) : a + ga / (double)ns;
+					d = row ? fmin(d, gd) : d + gd / (double)ns;
+				}
+				fprintf(tf, " %+7.2f/%+7.2f", a, d);
+				const char *name = pc_demosaic_method_get(ms[k])->name;
+				json_t *jm = json_object_get(jsum, name);
+				if (!jm) {
+					jm = json_object();
+					json_object_set_new(jsum, name, jm);
+				}
+				json_object_set_new(jm, row ? "s0_worst_gain_db" : "s0_mean_gain_db", pc_json_real(a));
+				json_object_set_new(jm, row ? "dolp_worst_gain_db" : "dolp_mean_gain_db", pc_json_real(d));
+			}
+			fprintf(tf, "\n");
+		}
+		json_object_set_new(root, "dir", json_string(dir));
+		json_object_set_new(root, "scenes", jsc);
+		json_object_set_new(root, "gain_over_bilinear", jsum);
+	}
+	free(acc);
+	globfree(&g);
+	return root;
+}
+
 static void usage(FILE *fp)
 {
 	fprintf(fp,
-		"usage: polarcam bench demosaic [DATA_DIR] [-o DIR] [--reps N] [--threads N]\n"
-		"                               [--quick] [--json]\n"
+		"usage: polarcam bench demosaic [DATA_DIR] [--stress DIR] [-o DIR] [--reps N]\n"
+		"                               [--threads N] [--quick] [--json]\n"
 		"\n"
 		"What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
-		"every dataset in DATA_DIR/gt (default /work/shared/data, skipped with a message\n"
+		"every dataset in DATA_DIR/gt (default $POLARCAM_DATA; skipped with a message\n"
 		"when absent): S0 and DoLP PSNR and the DoLP-weighted AoLP RMSE, per dataset (mean of\n"
 		"its scenes), bilinear as the baseline, and our bilinear against a straightforward\n"
 		"double-precision reference bilinear. Time: per 2448x2048 frame of 12-bit data in\n"
@@ -398,6 +530,11 @@ static void usage(FILE *fp)
 		"with the machine's load (reported). Each time is given as wall-clock and as process\n"
 		"CPU time (all threads), which does not count waiting for cores that other work\n"
 		"holds.\n"
+		"\n"
+		"Stress track: every scene of the stress suite (--stress DIR, default\n"
+		"$POLARCAM_STRESS or ./scenes/stress; skipped when absent) rendered with ground truth\n"
+		"(polarcam eval SCENE.json): per scene, each monochrome method's S0 and DoLP PSNR gain\n"
+		"over bilinear, their mean and the worst scene.\n"
 		"\n"
 		"Noisy track (not with --quick): the simulator's default scene with its sensor noise,\n"
 		"one raw frame scored against the noise-free truth it renders (S0 PSNR, DoLP RMSE,\n"
@@ -468,7 +605,7 @@ static void pareto_plot(const char *path, const method_row *rows, size_t n, int 
 
 int pc_bench_demosaic(int argc, char **argv)
 {
-	const char *data_dir = NULL, *out_dir = "bench-demosaic";
+	const char *data_dir = NULL, *out_dir = "bench-demosaic", *stress_dir = NULL;
 	long reps = 7, threads = 0;
 	bool json_out = false, quick = false;
 	for (int i = 1; i < argc; i++) {
@@ -485,6 +622,8 @@ int pc_bench_demosaic(int argc, char **argv)
 			int rc = pc_cli_parse_long("--threads", argv[++i], 1, 1024, &threads);
 			if (rc)
 				return pc_cli_fail(rc, NULL);
+		} else if (!strcmp(argv[i], "--stress") && i + 1 < argc) {
+			stress_dir = argv[++i];
 		} else if (!strcmp(argv[i], "--json")) {
 			json_out = true;
 		} else if (!strcmp(argv[i], "--quick")) {
@@ -498,8 +637,15 @@ int pc_bench_demosaic(int argc, char **argv)
 		}
 	}
 	struct stat sb;
-	if (!data_dir && stat("/work/shared/data", &sb) == 0 && S_ISDIR(sb.st_mode))
-		data_dir = "/work/shared/data";
+	if (!data_dir && getenv("POLARCAM_DATA") && *getenv("POLARCAM_DATA"))
+		data_dir = getenv("POLARCAM_DATA");
+	if (!data_dir)
+		fprintf(stderr, "polarcam bench demosaic: no DATA_DIR (nor $POLARCAM_DATA): the "
+				"public-dataset accuracy is skipped\n");
+	if (!stress_dir && getenv("POLARCAM_STRESS") && *getenv("POLARCAM_STRESS"))
+		stress_dir = getenv("POLARCAM_STRESS");
+	if (!stress_dir && stat("scenes/stress", &sb) == 0 && S_ISDIR(sb.st_mode))
+		stress_dir = "scenes/stress";
 	if (data_dir && !(stat(data_dir, &sb) == 0 && S_ISDIR(sb.st_mode)))
 		return pc_cli_error(PC_EXIT_USAGE, "%s: not a directory", data_dir);
 	FILE *tf = json_out ? stderr : stdout;
@@ -778,7 +924,7 @@ int pc_bench_demosaic(int argc, char **argv)
 			}
 		}
 	} else {
-		fprintf(tf, "no data directory (DATA_DIR or /work/shared/data): accuracy skipped, time "
+		fprintf(tf, "no data directory (DATA_DIR or $POLARCAM_DATA): accuracy skipped, time "
 			    "only\n\n");
 	}
 	/* ---------------- noisy track ---------------- */
@@ -971,6 +1117,14 @@ int pc_bench_demosaic(int argc, char **argv)
 	json_object_set_new(jg, "psnr_dolp", pc_json_real(ref_gap[2]));
 	json_object_set_new(root, "bilinear_minus_reference_db", jg);
 
+	if (stress_dir) {
+		json_t *jst = stress_track(stress_dir, (int)threads, tf);
+		if (jst)
+			json_object_set_new(root, "stress_track", jst);
+	} else {
+		fprintf(tf, "\nstress track skipped: no --stress DIR, $POLARCAM_STRESS or "
+			    "./scenes/stress\n");
+	}
 	int status = PC_EXIT_OK;
 	if ((rc = pc_mkdir_p(out_dir))) {
 		status = pc_cli_fail(rc, NULL);
