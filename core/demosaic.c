@@ -79,6 +79,21 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 			  "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
 			  "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated",
 			  PC_DMF_MONO },
+	[PC_DM_EARI_MLRI] = { PC_DM_EARI_MLRI, "eari-mlri",
+			      "anchor: EARI as its authors define it (their polarization-invariant "
+			      "edge-aware guide, minimized-Laplacian residual interpolation in 11x11 "
+			      "windows); double-precision reference only",
+			      "the double reference (no fast path): tens of times bilinear",
+			      "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292) and their "
+			      "release; MLRI: Kiku et al., IEEE TIP 25(3) 2016",
+			      PC_DMF_MONO },
+	[PC_DM_EARI_ROBUST] = { PC_DM_EARI_ROBUST, "eari-robust",
+				"inter-channel: eari-mlri with the overshoot limiter (no ringing into "
+				"the dark: no false DoLP beside bright objects); the most accurate",
+				"eari-mlri's cost plus one 5x5 min/max pass",
+				"ours: Morimatsu et al. ICIP 2020's guide and Kiku et al. TIP 2016's "
+				"MLRI, held to each channel's local sample range",
+				PC_DMF_MONO },
 };
 
 const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m)

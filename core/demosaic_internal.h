@@ -59,6 +59,10 @@ void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst);
 int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
 		    pc_demosaic_method method, double full_scale, const pc_fplane *out);
 
+/* The anchors' references in their own files (demosaic_mlri.c: PC_DM_EARI_MLRI). */
+int pc_demosaic_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+			 pc_demosaic_method method, double full_scale, const pc_fplane *out);
+
 /* The fast float paths. Return PC_ENOTSUP when the method has none (the caller falls back to
  * the float-converted reference). */
 int pc_demosaic_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,

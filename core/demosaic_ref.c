@@ -438,6 +438,9 @@ int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc
 		return ref_ri(&r, m, full_scale, 1, out);
 	case PC_DM_RATIO:
 		return ref_ratio(&r, m, full_scale, out);
+	case PC_DM_EARI_MLRI:
+	case PC_DM_EARI_ROBUST:
+		return pc_demosaic_ref_mlri(img, width, height, m, method, full_scale, out);
 	default:
 		break;
 	}

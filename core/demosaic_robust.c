@@ -19,7 +19,7 @@
 int pc_dm_limited(pc_demosaic_method method)
 {
 	return method == PC_DM_BICUBIC || method == PC_DM_PPID || method == PC_DM_RI ||
-	       method == PC_DM_EARI || method == PC_DM_RATIO;
+	       method == PC_DM_EARI || method == PC_DM_RATIO || method == PC_DM_EARI_ROBUST;
 }
 
 void pc_dm_limit_row(const pc_mosaic *m, const float *const r[5], long w, uint32_t y,
