@@ -339,6 +339,9 @@ int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method metho
 			return rc;
 		rc = pc_demosaic_fast(&in, m, method, fs, opts ? opts->threads : 0, out);
 		pc_dm_free(owned);
+		/* the row-cache paths limit inline; the others here (demosaic_robust.c) */
+		if (!rc && method == PC_DM_EARI_ROBUST)
+			rc = pc_dm_range_limit(raw, m, opts ? opts->threads : 0, out);
 		if (rc != PC_ENOTSUP)
 			return rc;
 		/* no fast path for this method (yet): its reference is the implementation */

@@ -63,6 +63,10 @@ int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc
 int pc_demosaic_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
 			 pc_demosaic_method method, double full_scale, const pc_fplane *out);
 
+/* The anchors' fast float paths (demosaic_mlri_fast.c); PC_ENOTSUP for tiny frames. */
+int pc_demosaic_fast_mlri(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
+			  double full_scale, int threads, const pc_fplane *out);
+
 /* The fast float paths. Return PC_ENOTSUP when the method has none (the caller falls back to
  * the float-converted reference). */
 int pc_demosaic_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
