@@ -528,7 +528,9 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		j->err = 1;
 		return;
 	}
-	float *lim = pc_dm_limited(j->method) ? pc_dm_alloc(sizeof(float) * 20 * (size_t)w) : NULL;
+	pc_dm_limiter limiter = { 0, { 0 }, NULL }, *lim = NULL;
+	if (pc_dm_limited(j->method) && pc_dm_limiter_init(&limiter, w) == 0)
+		lim = &limiter;
 	if (pc_dm_limited(j->method) && !lim) {
 		free_band(&b);
 		pc_dm_free(rowbuf);
@@ -591,7 +593,7 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			const float *r[5];
 			for (int k = 0; k < 5; k++)
 				r[k] = rc_get(&b.raw, yy - 2 + k)[0];
-			pc_dm_limit_row(j->m, r, w, y, o, 1, lim);
+			pc_dm_limit_row(lim, j->m, r, y, o, 1);
 		}
 		if (j->st) {
 			const float *ch[4] = { o[0], o[1], o[2], o[3] };
@@ -612,7 +614,8 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 	}
 	free_band(&b);
 	pc_dm_free(rowbuf);
-	pc_dm_free(lim);
+	if (lim)
+		pc_dm_limiter_free(lim);
 }
 
 int pc_demosaic_ic(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,

@@ -132,13 +132,21 @@ int pc_dm_stokes_stream_wanted(const struct pc_stokes_out *out, uint32_t w, uint
 /* The overshoot limiter (demosaic_robust.c): every interpolated sample of channel c clamped to
  * the range of channel c's raw samples in the 5×5 window around it; own samples untouched.
  * pc_dm_limited: the methods it belongs to. pc_dm_range_limit: monochrome mosaics, out the
- * full-resolution planes of the raw's size (one pixel stride for all four). pc_dm_limit_row:
- * row y, r[k] the raw's row y−2+k as floats padded by two mirrored samples on each side, o[c]
- * channel c's row (pixel_stride apart), scratch 20·w floats. */
+ * full-resolution planes of the raw's size (one pixel stride for all four). Row by row: a
+ * pc_dm_limiter per thread (init: 0 or -1 without memory), then for rows in increasing order
+ * pc_dm_limit_row with r[k] the raw's row y−2+k as floats padded by two mirrored samples on
+ * each side (the row ranges are cached by row index), o[c] channel c's row. */
+typedef struct pc_dm_limiter {
+	long w;
+	long key[5];
+	float *mem;
+} pc_dm_limiter;
 int pc_dm_limited(pc_demosaic_method method);
 int pc_dm_range_limit(const pc_view *raw, const pc_mosaic *m, int threads, const pc_fplane *out);
-void pc_dm_limit_row(const pc_mosaic *m, const float *const r[5], long w, uint32_t y,
-		     float *const o[4], size_t pixel_stride, float *scratch);
+int pc_dm_limiter_init(pc_dm_limiter *l, long w);
+void pc_dm_limiter_free(pc_dm_limiter *l);
+void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[5], uint32_t y,
+		     float *const o[4], size_t pixel_stride);
 
 /* Scratch memory helpers (64-byte aligned; NULL on failure). */
 void *pc_dm_alloc(size_t bytes);

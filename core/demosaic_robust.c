@@ -8,6 +8,7 @@
  * that range. Min, max and clamp are exact in float, and the limiter runs on the float outputs
  * of both the fast paths and the double references (rounded to float first), so the two stay
  * as close to each other after it as before. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,57 +17,128 @@
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
+/* min and max by comparison: inputs are finite (the raw and the methods' outputs), and unlike
+ * fminf/fmaxf (library calls without -ffinite-math-only) these vectorise */
+static inline float mn(float a, float b)
+{
+	return a < b ? a : b;
+}
+
+static inline float mx(float a, float b)
+{
+	return a > b ? a : b;
+}
+
 int pc_dm_limited(pc_demosaic_method method)
 {
 	return method == PC_DM_BICUBIC || method == PC_DM_PPID || method == PC_DM_RI ||
 	       method == PC_DM_EARI || method == PC_DM_RATIO || method == PC_DM_EARI_ROBUST;
 }
 
-void pc_dm_limit_row(const pc_mosaic *m, const float *const r[5], long w, uint32_t y,
-		     float *const o[4], size_t pixel_stride, float *scratch)
+int pc_dm_limiter_init(pc_dm_limiter *l, long w)
 {
-	/* per row k (y-2..y+2): A = min/max over x±1 (the other column parity), B = over x−2, x,
-	 * x+2 (the same parity) */
-	float *amin[5], *amax[5], *bmin[5], *bmax[5];
-	for (int k = 0; k < 5; k++) {
-		amin[k] = scratch + (size_t)w * (4 * k);
-		amax[k] = scratch + (size_t)w * (4 * k + 1);
-		bmin[k] = scratch + (size_t)w * (4 * k + 2);
-		bmax[k] = scratch + (size_t)w * (4 * k + 3);
-		const float *rr = r[k];
-		float *an = amin[k], *ax = amax[k], *bn = bmin[k], *bx = bmax[k];
-		PC_SIMD
-		for (long x = 0; x < w; x++) {
-			float a0 = rr[x - 1], a1 = rr[x + 1], b0 = rr[x - 2], b1 = rr[x], b2 = rr[x + 2];
-			an[x] = fminf(a0, a1);
-			ax[x] = fmaxf(a0, a1);
-			bn[x] = fminf(fminf(b0, b1), b2);
-			bx[x] = fmaxf(fmaxf(b0, b1), b2);
-		}
+	l->w = w;
+	l->mem = pc_dm_alloc(sizeof(float) * (size_t)w * (5 * 4 + 8 + 1));
+	for (int k = 0; k < 5; k++)
+		l->key[k] = LONG_MIN;
+	if (!l->mem)
+		return -1;
+	float *par = l->mem + (size_t)w * 28; /* x & 1 as floats (the clamp kernel's blend) */
+	for (long x = 0; x < w; x++)
+		par[x] = (float)(x & 1);
+	return 0;
+}
+
+void pc_dm_limiter_free(pc_dm_limiter *l)
+{
+	pc_dm_free(l->mem);
+	l->mem = NULL;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PC_HAVE_X86_DISPATCH 1
+#endif
+
+typedef struct lim_kernels {
+	void (*ranges)(const float *restrict, float *restrict, float *restrict, float *restrict,
+		       float *restrict, long);
+	void (*combine)(const float *const[5], float *restrict, long);
+	void (*clamp)(float *restrict, const float *, const float *, const float *, const float *,
+		      const float *, long, int, long);
+} lim_kernels;
+
+#define KFN(name) name##_base
+#define KATTR
+#include "demosaic_robust_kern.inc"
+#undef KFN
+#undef KATTR
+#ifdef PC_HAVE_X86_DISPATCH
+#define KFN(name) name##_avx2
+#define KATTR __attribute__((target("avx2")))
+#include "demosaic_robust_kern.inc"
+#undef KFN
+#undef KATTR
+#endif
+
+static const lim_kernels *lim_k(void)
+{
+	static const lim_kernels base = { ranges_base, combine_base, clamp_base };
+#ifdef PC_HAVE_X86_DISPATCH
+	static const lim_kernels avx2 = { ranges_avx2, combine_avx2, clamp_avx2 };
+	static int cached = -1;
+	if (cached < 0) {
+		const char *e = getenv("POLARCAM_NO_AVX2");
+		__builtin_cpu_init();
+		cached = __builtin_cpu_supports("avx2") && !(e && *e && *e != '0');
 	}
+	if (cached)
+		return &avx2;
+#endif
+	return &base;
+}
+
+/* Row vrow's horizontal ranges, cached in a ring of five rows. */
+static const float *row_ranges(pc_dm_limiter *l, const float *r, long vrow)
+{
+	long slot = ((vrow % 5) + 5) % 5;
+	float *m4 = l->mem + (size_t)l->w * 4 * (size_t)slot;
+	if (l->key[slot] == vrow)
+		return m4;
+	const long w = l->w;
+	lim_k()->ranges(r, m4, m4 + w, m4 + 2 * w, m4 + 3 * w, w);
+	l->key[slot] = vrow;
+	return m4;
+}
+
+void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[5], uint32_t y,
+		     float *const o[4], size_t pixel_stride)
+{
+	const long w = l->w;
+	const lim_kernels *k = lim_k();
+	const float *rr[5];
+	for (int i = 0; i < 5; i++)
+		rr[i] = row_ranges(l, r[i], (long)y - 2 + i);
+	/* the ranges of rows of y's parity (y−2, y, y+2) and of the other (y±1), for the A and
+	 * B column sets */
+	float *v = l->mem + (size_t)w * 20;
+	k->combine(rr, v, w);
 	for (unsigned py = 0; py < 2; py++)
 		for (unsigned px = 0; px < 2; px++) {
 			unsigned c = pc_dm_ch(m, px, py);
 			int same_row = ((y ^ py) & 1) == 0;
-			float *dst = o[c];
-			for (unsigned cp = 0; cp < 2; cp++) { /* columns of parity px ^ cp */
-				int same_col = cp == 0;
-				if (same_row && same_col)
-					continue; /* the pixel's own measurement */
-				float *const *mn = same_col ? bmin : amin;
-				float *const *mx = same_col ? bmax : amax;
-				for (long x = (long)(px ^ cp); x < w; x += 2) {
-					float lo, hi;
-					if (same_row) {
-						lo = fminf(fminf(mn[0][x], mn[2][x]), mn[4][x]);
-						hi = fmaxf(fmaxf(mx[0][x], mx[2][x]), mx[4][x]);
-					} else {
-						lo = fminf(mn[1][x], mn[3][x]);
-						hi = fmaxf(mx[1][x], mx[3][x]);
-					}
-					float *v = dst + (size_t)x * pixel_stride;
-					*v = fminf(fmaxf(*v, lo), hi);
-				}
+			const float *sn = v + (same_row ? 2 : 6) * w, *sx = v + (same_row ? 3 : 7) * w;
+			const float *an = v + (same_row ? 0 : 4) * w, *ax = v + (same_row ? 1 : 5) * w;
+			if (pixel_stride == 1) {
+				k->clamp(o[c], sn, sx, an, ax, v + 8 * w, (long)px, same_row, w);
+				continue;
+			}
+			for (long x = 0; x < w; x++) {
+				int own_col = ((x ^ (long)px) & 1) == 0;
+				if (same_row && own_col)
+					continue;
+				float lo = own_col ? sn[x] : an[x], hi = own_col ? sx[x] : ax[x];
+				float *p = o[c] + (size_t)x * pixel_stride;
+				*p = mn(mx(*p, lo), hi);
 			}
 		}
 }
@@ -85,27 +157,34 @@ static void limit_band(void *ctx, uint32_t y0, uint32_t y1)
 	const long w = in->width;
 	const int h = (int)in->height;
 	const size_t L = (size_t)w + 8;
-	float *mem = malloc(sizeof(float) * (L * 5 + (size_t)w * 20));
-	if (!mem) {
+	float *mem = malloc(sizeof(float) * L * 5);
+	pc_dm_limiter lim;
+	if (!mem || pc_dm_limiter_init(&lim, w)) {
+		free(mem);
 		j->err = 1;
 		return;
 	}
-	float *scratch = mem + L * 5;
+	long have[5] = { LONG_MIN, LONG_MIN, LONG_MIN, LONG_MIN, LONG_MIN };
 	for (uint32_t y = y0; y < y1; y++) {
 		const float *r[5];
 		for (int k = 0; k < 5; k++) {
-			float *row = mem + L * (size_t)k + 4;
-			pc_dm_row_to_float(in, (uint32_t)pc_mirror((int)y + k - 2, h), row);
-			row[-2] = row[pc_mirror(-2, (int)w)];
-			row[w + 1] = row[pc_mirror((int)w + 1, (int)w)];
+			long vrow = (long)y + k - 2, slot = ((vrow % 5) + 5) % 5;
+			float *row = mem + L * (size_t)slot + 4;
+			if (have[slot] != vrow) {
+				pc_dm_row_to_float(in, (uint32_t)pc_mirror((int)vrow, h), row);
+				row[-2] = row[pc_mirror(-2, (int)w)];
+				row[w + 1] = row[pc_mirror((int)w + 1, (int)w)];
+				have[slot] = vrow;
+			}
 			r[k] = row;
 		}
 		float *o[4];
 		for (int c = 0; c < 4; c++)
 			o[c] = j->out[c].data + (size_t)y * j->out[c].row_stride;
 		/* one pixel stride for all four planes in every layout the library makes */
-		pc_dm_limit_row(j->m, r, w, y, o, j->out[0].pixel_stride, scratch);
+		pc_dm_limit_row(&lim, j->m, r, y, o, j->out[0].pixel_stride);
 	}
+	pc_dm_limiter_free(&lim);
 	free(mem);
 }
 
