@@ -24,35 +24,40 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 			       "the 2x2 super-pixel replicated over its block",
 			       PC_DMF_MONO },
 	[PC_DM_BILINEAR] = { PC_DM_BILINEAR, "bilinear",
-			     "the baseline: per-channel tent interpolation, false DoLP on edges (Lapray NIR: S0 "
-			     "47.7 dB, DoLP 35.6 dB)",
+			     "the baseline every gain below is measured against: per-channel tent "
+			     "interpolation, false DoLP on edges (Lapray NIR: S0 48.7 dB, DoLP 36.0 dB)",
 			     "memory-bound: 3x3 neighbourhood, one pass",
 			     "Gao & Gruev, Opt. Express 19(27) 2011, bilinear DoFP interpolation",
 			     PC_DMF_MONO },
 	[PC_DM_BICUBIC] = { PC_DM_BICUBIC, "bicubic",
-			    "sharper than bilinear, slight ringing; still per channel (Lapray: S0 +1.8 dB, "
-			    "DoLP +0.9 dB over bilinear)",
+			    "sharper than bilinear, per channel, overshoot limited; S0/DoLP dB over "
+			    "bilinear, mean (worst scene): Lapray +1.72/+0.82 (+0.46/+0.00), Zhang "
+			    "+1.10/+1.17 (+0.78/+0.98), stress +0.18/-0.17 (+0.01/-0.83)",
 			    "7x7 neighbourhood, separable; about 1.2-1.3x bilinear's time",
 			    "Keys cubic convolution (a = -1/2) per channel, as in Gao & Gruev 2011",
 			    PC_DMF_MONO },
 	[PC_DM_PPID] = { PC_DM_PPID, "ppid",
-			 "inter-channel: interpolates differences to an edge-aware pseudo-"
-			 "panchromatic image (Zhang: S0 +5.0 dB; Lapray: -0.7 dB over bilinear)",
+			 "inter-channel: differences to an edge-aware pseudo-panchromatic image, "
+			 "overshoot limited; mean (worst): Lapray -0.02/-0.20 (-3.19/-1.44), Zhang "
+			 "+4.71/+3.11 (+4.71/+2.79), stress +3.57/+1.64 (+0.39/-0.13)",
 			 "5x5 neighbourhood, three fused passes; about 3.5x bilinear's time",
 			 "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
 			 "Lapray, Bigue, Sensors 18(11) 3688, 2018",
 			 PC_DMF_MONO },
 	[PC_DM_RI] = { PC_DM_RI, "ri",
 		       "inter-channel: guided-filter tentative estimates plus interpolated "
-		       "residuals (Lapray: S0 +1.2 dB; Zhang: +4.0 dB over bilinear)",
+		       "residuals, overshoot limited; mean (worst): Lapray +1.21/+1.08 "
+		       "(-0.52/+0.16), Zhang +3.78/+3.01 (+3.24/+2.97), stress +3.88/+1.11 "
+		       "(+1.32/-0.29)",
 		       "guided filters (5x5 windows) per channel; about 11x bilinear's time",
 		       "Kiku, Monno, Tanaka, Okutomi, ICIP 2013; for DoFP: Ahmed, Zhao, Gruev, "
 		       "Zhang, Bermak, Opt. Express 25(9) 2017",
 		       PC_DMF_MONO },
 	[PC_DM_EARI] = { PC_DM_EARI, "eari",
 			 "inter-channel: residual interpolation guided by an edge-aware "
-			 "intensity image; the most accurate on Lapray (Lapray: S0 +3.8 dB, DoLP "
-			 "+2.2 dB; Zhang: +3.7/+3.5 dB over bilinear)",
+			 "intensity image (our detector), overshoot limited; mean (worst): Lapray "
+			 "+3.37/+1.90 (+1.32/+0.34), Zhang +3.46/+3.32 (+2.79/+3.01), stress "
+			 "+2.88/+1.04 (+1.51/-0.14)",
 			 "like ri plus an edge-aware guide pass; about 10x bilinear's time",
 			 "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292)",
 			 PC_DMF_MONO },
@@ -72,25 +77,31 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 			       "their EARI",
 			       PC_DMF_COLOR },
 	[PC_DM_RATIO] = { PC_DM_RATIO, "ratio",
-			  "inter-channel: EARI's edge-aware intensity guide, channels as guide x "
-			  "interpolated ratio raw/guide, twice (Lapray: S0 +3.6 dB, DoLP +2.0 dB; "
-			  "Zhang: +4.8/+4.5 dB over bilinear)",
+			  "inter-channel: our EARI guide, channels as guide x interpolated ratio "
+			  "(raw + 1 % FS)/(guide + 1 % FS), twice, overshoot limited; mean (worst): "
+			  "Lapray +3.19/+1.74 (+0.69/-0.03), Zhang +4.42/+4.11 (+3.83/+4.02), stress "
+			  "+2.21/+1.08 (+1.37/+0.26); the fast robust choice",
 			  "the guide pass plus two ratio passes (3x3 tents); about 2.7x bilinear's time",
 			  "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
 			  "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated",
 			  PC_DMF_MONO },
 	[PC_DM_EARI_MLRI] = { PC_DM_EARI_MLRI, "eari-mlri",
 			      "anchor: EARI as its authors define it (their polarization-invariant "
-			      "edge-aware guide, minimized-Laplacian residual interpolation in 11x11 "
-			      "windows); double-precision reference only",
-			      "the double reference (no fast path): tens of times bilinear",
+			      "edge-aware guide, minimized-Laplacian RI in 11x11 windows); mean "
+			      "(worst): Lapray +3.60/+1.74 (+0.91/-0.20), Zhang +3.96/+4.07 "
+			      "(+3.14/+3.75), stress +5.24/+1.09 (+1.20/-4.58: rings into black)",
+			      "multi-pass float path, ~14 planes; about 60-200x bilinear (not yet "
+			      "within budget)",
 			      "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292) and their "
 			      "release; MLRI: Kiku et al., IEEE TIP 25(3) 2016",
 			      PC_DMF_MONO },
 	[PC_DM_EARI_ROBUST] = { PC_DM_EARI_ROBUST, "eari-robust",
 				"inter-channel: eari-mlri with the overshoot limiter (no ringing into "
-				"the dark: no false DoLP beside bright objects); the most accurate",
-				"eari-mlri's cost plus one 5x5 min/max pass",
+				"the dark); the most accurate, no scene below -0.3 dB; mean (worst): "
+				"Lapray +3.51/+1.78 (+1.01/-0.12), Zhang +3.69/+3.74 (+3.03/+3.51), "
+				"stress +5.35/+2.29 (+1.87/+0.59)",
+				"eari-mlri's cost plus one 5x5 min/max pass (not yet within 5x "
+				"bilinear)",
 				"ours: Morimatsu et al. ICIP 2020's guide and Kiku et al. TIP 2016's "
 				"MLRI, held to each channel's local sample range",
 				PC_DMF_MONO },
