@@ -105,6 +105,12 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 				"ours: Morimatsu et al. ICIP 2020's guide and Kiku et al. TIP 2016's "
 				"MLRI, held to each channel's local sample range",
 				PC_DMF_MONO },
+	[PC_DM_PCDP] = { PC_DM_PCDP, "pcdp",
+			 "anchor: residual interpolation with the other channels' bilinear "
+			 "estimates as guide, the orthogonal one weighted sqrt(2)",
+			 "four bilinear planes plus four residual tents",
+			 "Wu et al., Opt. Express 29(14) 2021 (polarization channel difference prior)",
+			 PC_DMF_MONO },
 };
 
 const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m)

@@ -512,6 +512,8 @@ int pc_demosaic_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_meth
 	case PC_DM_EARI_MLRI:
 	case PC_DM_EARI_ROBUST:
 		return pc_demosaic_fast_mlri(in, m, method, full_scale, threads, out);
+	case PC_DM_PCDP:
+		return pc_demosaic_fast_pcdp(in, m, threads, out);
 	case PC_DM_BILINEAR:
 		return fast_bilinear(in, m, threads, out);
 	case PC_DM_SUPERPIXEL:

@@ -63,6 +63,11 @@ int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc
 int pc_demosaic_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
 			 pc_demosaic_method method, double full_scale, const pc_fplane *out);
 
+int pc_demosaic_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+			 const pc_fplane *out);
+int pc_demosaic_fast_pcdp(const pc_dm_input *in, const pc_mosaic *m, int threads,
+			  const pc_fplane *out);
+
 /* The anchors' fast float paths (demosaic_mlri_fast.c); PC_ENOTSUP for tiny frames. */
 int pc_demosaic_fast_mlri(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
 			  double full_scale, int threads, const pc_fplane *out);

@@ -441,6 +441,8 @@ int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc
 	case PC_DM_EARI_MLRI:
 	case PC_DM_EARI_ROBUST:
 		return pc_demosaic_ref_mlri(img, width, height, m, method, full_scale, out);
+	case PC_DM_PCDP:
+		return pc_demosaic_ref_pcdp(img, width, height, m, out);
 	default:
 		break;
 	}

@@ -53,6 +53,7 @@ typedef enum pc_demosaic_method {
 	PC_DM_RATIO,               /* edge-aware guide + ratio interpolation, two passes (ours) */
 	PC_DM_EARI_MLRI,           /* EARI as its authors define it: their guide + MLRI (anchor) */
 	PC_DM_EARI_ROBUST,         /* eari-mlri + the overshoot limiter (ours; recommended) */
+	PC_DM_PCDP,                /* polarization channel difference prior (Wu et al. 2021; anchor) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
