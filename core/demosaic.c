@@ -111,6 +111,13 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 			 "four bilinear planes plus four residual tents",
 			 "Wu et al., Opt. Express 29(14) 2021 (polarization channel difference prior)",
 			 PC_DMF_MONO },
+	[PC_DM_IGRI2] = { PC_DM_IGRI2, "igri2",
+			  "anchor: residual interpolation on the rotated diagonal lattices, then "
+			  "across them, then MLRI with the mean as guide; double reference only",
+			  "the double reference (no fast path yet): hundreds of times bilinear",
+			  "Morimatsu, Monno, Tanaka, Okutomi, IEEE Sensors J. 21(24) 2021 (IGRI2) and "
+			  "their release",
+			  PC_DMF_MONO },
 };
 
 const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m)

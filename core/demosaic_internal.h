@@ -63,6 +63,12 @@ int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc
 int pc_demosaic_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
 			 pc_demosaic_method method, double full_scale, const pc_fplane *out);
 
+/* MLRI residual interpolation of every channel of img with the given guide (demosaic_mlri.c;
+ * -1 without memory), and the IGRI2 reference (demosaic_igri.c). */
+int pc_dm_mlri_ri(const double *img, const double *guide, uint32_t width, uint32_t height,
+		  const pc_mosaic *m, double full_scale, const pc_fplane *out);
+int pc_demosaic_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+			  double full_scale, const pc_fplane *out);
 int pc_demosaic_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
 			 const pc_fplane *out);
 int pc_demosaic_fast_pcdp(const pc_dm_input *in, const pc_mosaic *m, int threads,

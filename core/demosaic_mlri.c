@@ -226,3 +226,21 @@ int pc_demosaic_ref_mlri(const double *img, uint32_t width, uint32_t height, con
 	free(mem);
 	return 0;
 }
+
+int pc_dm_mlri_ri(const double *img, const double *guide, uint32_t width, uint32_t height,
+		  const pc_mosaic *m, double full_scale, const pc_fplane *out)
+{
+	const int w = (int)width, h = (int)height;
+	const size_t n = (size_t)w * h;
+	dimg r = { (double *)img, w, h }, g = { (double *)guide, w, h };
+	double *mem = malloc(sizeof(double) * n * (NB + 1));
+	if (!mem)
+		return -1;
+	dimg s[NB];
+	for (int k = 0; k < NB; k++)
+		s[k] = (dimg){ mem + n * (size_t)k, w, h };
+	for (unsigned c = 0; c < 4; c++)
+		mlri_channel(&r, &g, m, c, full_scale, s, mem + n * NB, out);
+	free(mem);
+	return 0;
+}

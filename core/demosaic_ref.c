@@ -443,6 +443,8 @@ int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc
 		return pc_demosaic_ref_mlri(img, width, height, m, method, full_scale, out);
 	case PC_DM_PCDP:
 		return pc_demosaic_ref_pcdp(img, width, height, m, out);
+	case PC_DM_IGRI2:
+		return pc_demosaic_ref_igri2(img, width, height, m, full_scale, out);
 	default:
 		break;
 	}
