@@ -107,13 +107,17 @@ static const pc_demosaic_method_info pc_dm_table[PC_DM_COUNT] = {
 				PC_DMF_MONO },
 	[PC_DM_PCDP] = { PC_DM_PCDP, "pcdp",
 			 "anchor: residual interpolation with the other channels' bilinear "
-			 "estimates as guide, the orthogonal one weighted sqrt(2)",
+			 "estimates as guide, the orthogonal one weighted sqrt(2); mean (worst): "
+			 "Lapray +3.01/+0.78 (+0.97/-0.54), Zhang +3.88/+4.01 (+3.08/+3.78), stress "
+			 "+2.58/+0.76 (+1.32/-0.89)",
 			 "four bilinear planes plus four residual tents",
 			 "Wu et al., Opt. Express 29(14) 2021 (polarization channel difference prior)",
 			 PC_DMF_MONO },
 	[PC_DM_IGRI2] = { PC_DM_IGRI2, "igri2",
 			  "anchor: residual interpolation on the rotated diagonal lattices, then "
-			  "across them, then MLRI with the mean as guide; double reference only",
+			  "across them, then MLRI with the mean as guide; mean (worst): Lapray "
+			  "+2.91/+1.41 (-0.50/-0.72), Zhang +5.80/+4.47 (+5.24/+4.45), stress "
+			  "+5.72/-0.13 (+0.81/-7.74: rings into black)",
 			  "the double reference (no fast path yet): hundreds of times bilinear",
 			  "Morimatsu, Monno, Tanaka, Okutomi, IEEE Sensors J. 21(24) 2021 (IGRI2) and "
 			  "their release",
