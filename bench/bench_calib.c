@@ -11,10 +11,12 @@
 #include <string.h>
 
 #include "bench.h"
-#include "cli.h"
 #include "polarcam/calib.h"
 #include "polarcam/error.h"
 #include "polarcam/sim.h"
+
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
 
 #define DEG (M_PI / 180)
 
@@ -143,8 +145,9 @@ static int errors(pc_calib *cal, bstack *t, size_t frames, double angle, double 
 	return rc;
 }
 
-int pc_bench_calib(int argc, char **argv)
+int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 {
+	host = h;
 	static const struct option opts[] = { { "size", required_argument, NULL, 's' },
 					      { "rotation-s", required_argument, NULL, 'r' },
 					      { "json", no_argument, NULL, 'J' },
@@ -159,13 +162,13 @@ int pc_bench_calib(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
 		switch (c) {
 		case 's':
-			if ((rc = pc_cli_parse_long("--size", optarg, 8, 1024, &size)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = host->parse_long("--size", optarg, 8, 1024, &size)))
+				return host->fail(rc, NULL);
 			size &= ~1L;
 			break;
 		case 'r':
-			if ((rc = pc_cli_parse_double("--rotation-s", optarg, &rot_s)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = host->parse_double("--rotation-s", optarg, &rot_s)))
+				return host->fail(rc, NULL);
 			break;
 		case 'J':
 			json = true;
@@ -178,9 +181,9 @@ int pc_bench_calib(int argc, char **argv)
 			       "and 145 deg (64 frames averaged), and the sweep's acquisition time: K*F\n"
 			       "frames at the sensor's 30 fps plus S seconds per polarizer rotation\n"
 			       "(default 2, a manual or motorised rotation mount).\n");
-			return PC_EXIT_OK;
+			return PC_BENCH_OK;
 		default:
-			return pc_cli_error(PC_EXIT_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
+			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
 	const uint32_t S = (uint32_t)size;
@@ -189,12 +192,12 @@ int pc_bench_calib(int argc, char **argv)
 	if ((rc = bopen(&dk, 0, NULL, S, 32, 1000000, NAN, NAN)) ||
 	    (rc = bopen(&fl, 0.55, NULL, S, 32, 2000000, NAN, NAN)) ||
 	    (rc = bopen(&fh, 1.25, NULL, S, 32, 3000000, NAN, NAN)))
-		return pc_cli_fail(rc, "bench calib");
+		return host->fail(rc, "bench calib");
 	if ((rc = pc_calib_dark(&dk.s, NULL, &dark)))
-		return pc_cli_fail(rc, "dark");
+		return host->fail(rc, "dark");
 	pc_calib_stack lv[2] = { fl.s, fh.s };
 	if ((rc = pc_calib_flat(lv, 2, &dark, NULL, &flat)))
-		return pc_cli_fail(rc, "flat");
+		return host->fail(rc, "flat");
 	static const double tang[4] = { 10, 55, 100, 145 };
 	bstack ts[4];
 	for (int k = 0; k < 4; k++) {
@@ -202,7 +205,7 @@ int pc_bench_calib(int argc, char **argv)
 		snprintf(psa, sizeof psa, "{\"diattenuator\": {\"angle_deg\": %g, \"diattenuation\": 0.5}}",
 			 tang[k]);
 		if ((rc = bopen(&ts[k], 1.7, psa, S, 64, 4000000 + 100000 * k, tang[k], 0.5)))
-			return pc_cli_fail(rc, "test stimuli");
+			return host->fail(rc, "test stimuli");
 	}
 	/* the uncalibrated baseline: black level only */
 	pc_calib base;
@@ -214,7 +217,7 @@ int pc_bench_calib(int argc, char **argv)
 	for (int k = 0; k < 4; k++) {
 		double ed, ea;
 		if ((rc = errors(&base, &ts[k], 64, tang[k], &ed, &ea)))
-			return pc_cli_fail(rc, "uncalibrated");
+			return host->fail(rc, "uncalibrated");
 		ud += ed * ed / 4;
 		ua += ea * ea / 4;
 	}
@@ -235,7 +238,7 @@ int pc_bench_calib(int argc, char **argv)
 				char psa[64];
 				snprintf(psa, sizeof psa, "{\"polarizer_deg\": %.6g}", a);
 				if ((rc = bopen(&st[k], 1.2, psa, S, F, 5000000 + 10000 * k, a, 1)))
-					return pc_cli_fail(rc, "stimuli");
+					return host->fail(rc, "stimuli");
 				stk[k] = st[k].s;
 			}
 			pc_calib cal;
@@ -243,12 +246,12 @@ int pc_bench_calib(int argc, char **argv)
 			for (unsigned k = 0; k < K; k++)
 				pc_sim_free(st[k].sim);
 			if (rc)
-				return pc_cli_fail(rc, "analyser");
+				return host->fail(rc, "analyser");
 			double cd = 0, ca = 0;
 			for (int k = 0; k < 4; k++) {
 				double ed, ea;
 				if ((rc = errors(&cal, &ts[k], 64, tang[k], &ed, &ea)))
-					return pc_cli_fail(rc, "calibrated");
+					return host->fail(rc, "calibrated");
 				cd += ed * ed / 4;
 				ca += ea * ea / 4;
 			}
@@ -274,7 +277,7 @@ int pc_bench_calib(int argc, char **argv)
 		json_object_set_new(o, "uncalibrated_dolp_rms", json_real(sqrt(ud)));
 		json_object_set_new(o, "uncalibrated_aolp_rms_deg", json_real(sqrt(ua)));
 		json_object_set_new(o, "rows", rows);
-		pc_cli_print_json(o);
+		host->print_json(o);
 	} else {
 		json_decref(rows);
 	}
@@ -285,5 +288,5 @@ int pc_bench_calib(int argc, char **argv)
 	pc_sim_free(fh.sim);
 	pc_calib_free(&dark);
 	pc_calib_free(&flat);
-	return PC_EXIT_OK;
+	return PC_BENCH_OK;
 }

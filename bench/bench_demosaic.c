@@ -23,7 +23,7 @@
 #include <unistd.h>
 
 #include "bench.h"
-#include "cli.h"
+#include "polarcam/cpu.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/error.h"
 #include "polarcam/eval.h"
@@ -138,6 +138,41 @@ static void copy_band(void *ctx, uint32_t y0, uint32_t y1)
 	memcpy(j->dst + (size_t)y0 * j->row, j->src + (size_t)y0 * j->row, (size_t)(y1 - y0) * j->row);
 }
 
+/* ---- calibrated analysers for the calibrated pipeline's timing ---- */
+typedef struct pc_bench_pinv {
+	float *m;
+	pc_analyser_pinv pv;
+} pc_bench_pinv;
+
+/* gw × gh cells of perturbed analyser matrices (a fixed pattern) and their pseudo-inverses;
+ * m stays NULL when memory or the inversion fails (the row is then left out). */
+static void bench_make_pinv(pc_bench_pinv *b, uint32_t gw, uint32_t gh)
+{
+	size_t n = (size_t)gw * gh;
+	float *w = malloc(sizeof(float) * 12 * n), *p = malloc(sizeof(float) * 12 * n);
+	uint32_t r = 12345;
+	for (size_t k = 0; w && p && k < n; k++)
+		for (int c = 0; c < 4; c++) {
+			double u[3];
+			for (int i = 0; i < 3; i++) {
+				r = r * 1664525u + 1013904223u;
+				u[i] = (r >> 8) / 16777216.0;
+			}
+			double t = (45.0 * c + 2 * (u[0] - 0.5)) * M_PI / 180;
+			double e = 0.93 + 0.06 * u[1], g = 0.9 + 0.2 * u[2];
+			w[12 * k + 3 * c] = (float)(0.5 * g);
+			w[12 * k + 3 * c + 1] = (float)(0.5 * g * e * cos(2 * t));
+			w[12 * k + 3 * c + 2] = (float)(0.5 * g * e * sin(2 * t));
+		}
+	if (w && p && pc_stokes_pinv(w, n, p) == 0) {
+		b->m = p;
+		b->pv = (pc_analyser_pinv){ p, gw, gh };
+	} else {
+		free(p);
+	}
+	free(w);
+}
+
 /* ---- the full pipeline's memory floor: its own bytes, its store kind ---- */
 /* Reads the 16-bit raw and writes five float planes (S0, S1, S2, DoLP, AoLP's places) with the
  * pipeline's store kind (pc_stokes_streams): the time the pipeline could not beat if its
@@ -150,7 +185,10 @@ typedef struct floor_job {
 	int nt;
 } floor_job;
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
+
+#if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define PC_BENCH_X86 1
 __attribute__((target("avx2"))) static void floor_rows_avx2(const floor_job *j, uint32_t y0,
@@ -188,7 +226,7 @@ static void floor_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	const floor_job *j = ctx;
 #ifdef PC_BENCH_X86
-	if (__builtin_cpu_supports("avx2")) {
+	if (pc_cpu_active() >= PC_CPU_AVX2) {
 		floor_rows_avx2(j, y0, y1);
 		return;
 	}
@@ -379,9 +417,10 @@ static int noisy_track(const pc_demosaic_method *meths, size_t nm, int threads, 
 	return rc;
 }
 
-/* Stress track: the stress suite's scenes (scenes/stress) rendered with ground truth
- * (pc_sim_eval_case), every monochrome full-resolution method scored on each, gains over
- * bilinear per scene, their mean and the worst scene. Returns the JSON (NULL on failure). */
+/* Stress track: the stress suite's scenes (scenes/stress) rendered with ground truth and
+ * scored by the library (pc_sim_eval_cases), every monochrome full-resolution method on each,
+ * gains over bilinear per scene, their mean and the worst scene (pc_eval_dataset_gain).
+ * Returns the JSON (NULL on failure). */
 static json_t *stress_track(const char *dir, int threads, FILE *tf)
 {
 	char pat[4096];
@@ -392,120 +431,90 @@ static json_t *stress_track(const char *dir, int threads, FILE *tf)
 		return NULL;
 	}
 	pc_demosaic_method ms[PC_DM_COUNT];
-	int nm = 0;
+	size_t nm = 0, bi = 0;
 	for (int k = 0; k < PC_DM_COUNT; k++) {
 		const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
-		if ((mi->flags & PC_DMF_MONO) && !(mi->flags & PC_DMF_HALF_RES))
+		if ((mi->flags & PC_DMF_MONO) && !(mi->flags & PC_DMF_HALF_RES)) {
+			if (k == PC_DM_BILINEAR)
+				bi = nm;
 			ms[nm++] = (pc_demosaic_method)k;
+		}
 	}
 	size_t ns = g.gl_pathc;
-	pc_eval_metrics *acc = calloc(ns * (size_t)nm, sizeof *acc);
-	if (!acc) {
+	pc_eval_result *res = calloc(ns * nm, sizeof *res);
+	if (!res) {
 		globfree(&g);
 		return NULL;
 	}
-	pc_progress prog;
-	pc_progress_begin(&prog, "stress scenes", ns);
-	int rc = 0;
-	for (size_t s = 0; s < ns && !rc; s++) {
-		pc_scene *scene = NULL;
-		pc_sim *sim = NULL;
-		pc_eval_truth t;
-		pc_view raw;
-		pc_sim_options so = pc_sim_options_default();
-		so.threads = threads;
-		rc = pc_scene_load(g.gl_pathv[s], &scene);
-		if (!rc)
-			rc = pc_sim_new(scene, &so, &sim);
-		pc_scene_free(scene);
-		pc_sim_info info;
-		if (!rc) {
-			pc_sim_get_info(sim, &info);
-			rc = pc_sim_eval_case(sim, &t, &raw);
-		}
-		pc_sim_free(sim);
-		if (rc) {
-			pc_cli_fail(rc, g.gl_pathv[s]);
-			break;
-		}
-		for (int k = 0; k < nm && !rc; k++) {
-			pc_demosaic_opts o = { threads, false, 0 };
-			rc = pc_eval_method_raw(&t, &raw, &info.mosaic, ms[k], &o, &acc[s * (size_t)nm + (size_t)k]);
-			if (rc)
-				pc_cli_fail(rc, g.gl_pathv[s]);
-		}
-		pc_eval_truth_free(&t);
-		pc_view_free(&raw);
-		pc_progress_update(&prog, s + 1);
+	pc_demosaic_opts o = { threads, false, 0 };
+	int rc = pc_sim_eval_cases((const char *const *)g.gl_pathv, ns, ms, nm, &o, threads,
+				   &host->progress, res);
+	host->progress_end(host->progress.user);
+	if (rc) {
+		host->fail(rc, "stress track");
+		free(res);
+		globfree(&g);
+		return NULL;
 	}
-	pc_progress_end(&prog);
-	json_t *root = NULL;
-	if (!rc) {
-		int bi = 0;
-		for (int k = 0; k < nm; k++)
-			if (ms[k] == PC_DM_BILINEAR)
-				bi = k;
-		fprintf(tf, "\nstress track (%s, %zu scenes): gain over bilinear in S0 / DoLP PSNR, dB\n",
-			dir, ns);
-		fprintf(tf, "%-16s", "scene");
-		for (int k = 0; k < nm; k++)
+	fprintf(tf, "\nstress track (%s, %zu scenes): gain over bilinear in S0 / DoLP PSNR, dB\n",
+		dir, ns);
+	fprintf(tf, "%-16s", "scene");
+	for (size_t k = 0; k < nm; k++)
+		if (k != bi)
+			fprintf(tf, " %15.15s", pc_demosaic_method_get(ms[k])->name);
+	fprintf(tf, " %15s\n", "bilinear S0/DoLP");
+	json_t *root = json_object();
+	json_t *jsc = json_array();
+	for (size_t s = 0; s < ns; s++) {
+		const char *b = strrchr(g.gl_pathv[s], '/');
+		b = b ? b + 1 : g.gl_pathv[s];
+		const pc_eval_metrics *bm = &res[s * nm + bi].m;
+		fprintf(tf, "%-16.16s", b);
+		json_t *js = json_object();
+		json_object_set_new(js, "scene", json_string(b));
+		for (size_t k = 0; k < nm; k++) {
+			const pc_eval_metrics *m = &res[s * nm + k].m;
 			if (k != bi)
-				fprintf(tf, " %15.15s", pc_demosaic_method_get(ms[k])->name);
-		fprintf(tf, " %15s\n", "bilinear S0/DoLP");
-		root = json_object();
-		json_t *jsc = json_array();
-		for (size_t s = 0; s < ns; s++) {
-			const char *b = strrchr(g.gl_pathv[s], '/');
-			b = b ? b + 1 : g.gl_pathv[s];
-			const pc_eval_metrics *bm = &acc[s * (size_t)nm + (size_t)bi];
-			fprintf(tf, "%-16.16s", b);
-			json_t *js = json_object();
-			json_object_set_new(js, "scene", json_string(b));
-			for (int k = 0; k < nm; k++) {
-				const pc_eval_metrics *m = &acc[s * (size_t)nm + (size_t)k];
-				if (k != bi)
-					fprintf(tf, " %+7.2f/%+7.2f", m->psnr_s0 - bm->psnr_s0,
-						m->psnr_dolp - bm->psnr_dolp);
-				json_t *jm = json_object();
-				json_object_set_new(jm, "psnr_s0", pc_json_real(m->psnr_s0));
-				json_object_set_new(jm, "psnr_dolp", pc_json_real(m->psnr_dolp));
-				json_object_set_new(jm, "aolp_wrmse_deg", pc_json_real(m->aolp_wrmse_deg));
-				json_object_set_new(js, pc_demosaic_method_get(ms[k])->name, jm);
-			}
-			fprintf(tf, " %7.2f/%7.2f\n", bm->psnr_s0, bm->psnr_dolp);
-			json_array_append_new(jsc, js);
+				fprintf(tf, " %+7.2f/%+7.2f", m->psnr_s0 - bm->psnr_s0,
+					m->psnr_dolp - bm->psnr_dolp);
+			json_t *jm = json_object();
+			json_object_set_new(jm, "psnr_s0", bench_json_real(m->psnr_s0));
+			json_object_set_new(jm, "psnr_dolp", bench_json_real(m->psnr_dolp));
+			json_object_set_new(jm, "aolp_wrmse_deg", bench_json_real(m->aolp_wrmse_deg));
+			json_object_set_new(js, pc_demosaic_method_get(ms[k])->name, jm);
 		}
-		json_t *jsum = json_object();
-		for (int row = 0; row < 2; row++) {
-			fprintf(tf, "%-16s", row ? "worst" : "mean");
-			for (int k = 0; k < nm; k++) {
-				if (k == bi)
-					continue;
-				double a = row ? INFINITY : 0, d = row ? INFINITY : 0;
-				for (size_t s = 0; s < ns; s++) {
-					const pc_eval_metrics *m = &acc[s * (size_t)nm + (size_t)k];
-					const pc_eval_metrics *bm = &acc[s * (size_t)nm + (size_t)bi];
-					double ga = m->psnr_s0 - bm->psnr_s0, gd = m->psnr_dolp - bm->psnr_dolp;
-					a = row ? fmin(a, ga) : a + ga / (double)ns;
-					d = row ? fmin(d, gd) : d + gd / (double)ns;
-				}
-				fprintf(tf, " %+7.2f/%+7.2f", a, d);
-				const char *name = pc_demosaic_method_get(ms[k])->name;
-				json_t *jm = json_object_get(jsum, name);
-				if (!jm) {
-					jm = json_object();
-					json_object_set_new(jsum, name, jm);
-				}
-				json_object_set_new(jm, row ? "s0_worst_gain_db" : "s0_mean_gain_db", pc_json_real(a));
-				json_object_set_new(jm, row ? "dolp_worst_gain_db" : "dolp_mean_gain_db", pc_json_real(d));
-			}
-			fprintf(tf, "\n");
-		}
-		json_object_set_new(root, "dir", json_string(dir));
-		json_object_set_new(root, "scenes", jsc);
-		json_object_set_new(root, "gain_over_bilinear", jsum);
+		fprintf(tf, " %7.2f/%7.2f\n", bm->psnr_s0, bm->psnr_dolp);
+		json_array_append_new(jsc, js);
 	}
-	free(acc);
+	json_t *jsum = json_object();
+	pc_eval_gain gains[PC_DM_COUNT];
+	for (size_t k = 0; k < nm; k++)
+		pc_eval_dataset_gain(res, ns * nm, res[0].dataset, ms[k], PC_DM_BILINEAR, &gains[k]);
+	for (int row = 0; row < 2; row++) {
+		fprintf(tf, "%-16s", row ? "worst" : "mean");
+		for (size_t k = 0; k < nm; k++) {
+			if (k == bi)
+				continue;
+			double a = row ? gains[k].s0_worst : gains[k].s0_mean;
+			double d = row ? gains[k].dolp_worst : gains[k].dolp_mean;
+			fprintf(tf, " %+7.2f/%+7.2f", a, d);
+			const char *name = pc_demosaic_method_get(ms[k])->name;
+			json_t *jm = json_object_get(jsum, name);
+			if (!jm) {
+				jm = json_object();
+				json_object_set_new(jsum, name, jm);
+			}
+			json_object_set_new(jm, row ? "s0_worst_gain_db" : "s0_mean_gain_db",
+					    bench_json_real(a));
+			json_object_set_new(jm, row ? "dolp_worst_gain_db" : "dolp_mean_gain_db",
+					    bench_json_real(d));
+		}
+		fprintf(tf, "\n");
+	}
+	json_object_set_new(root, "dir", json_string(dir));
+	json_object_set_new(root, "scenes", jsc);
+	json_object_set_new(root, "gain_over_bilinear", jsum);
+	free(res);
 	globfree(&g);
 	return root;
 }
@@ -517,13 +526,16 @@ static void usage(FILE *fp)
 		"                               [--threads N] [--quick] [--json]\n"
 		"\n"
 		"What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
-		"every dataset in DATA_DIR/gt (default $POLARCAM_DATA; skipped with a message\n"
-		"when absent): S0 and DoLP PSNR and the DoLP-weighted AoLP RMSE, per dataset (mean of\n"
+		"every dataset in DATA_DIR/gt (default $POLARCAM_DATA; skipped with a message when\n"
+		"neither is given; layout and datasets: docs/evaluation.md): S0 and DoLP PSNR and the DoLP-weighted AoLP RMSE, per dataset (mean of\n"
 		"its scenes), bilinear as the baseline, and our bilinear against a straightforward\n"
 		"double-precision reference bilinear. Time: per 2448x2048 frame of 12-bit data in\n"
 		"16-bit containers, median of N runs (default 7; 3 with --quick) on warm buffers, for\n"
-		"every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32);\n"
-		"its memory floor (read its input, write its 5 float planes with the store kind the\n"
+		"every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32),\n"
+		"also with calibrated analysers (perturbed 3x4 pseudo-inverses per 2x2 super-pixel,\n"
+		"and per pixel; calibrated / uncalibrated is the ratio to read) and with a black\n"
+		"level, saturation and dead levels and the validity mask; the pipeline's\n"
+		"memory floor (read its input, write its 5 float planes with the store kind the\n"
 		"pipeline uses on this machine) and pipeline / floor; a memory copy of bilinear's\n"
 		"input and output bytes; OpenCV's bilinear 16-bit Bayer demosaicking of the same\n"
 		"frame when OpenCV is built in. All in one run: read the ratios, absolute times move\n"
@@ -599,29 +611,30 @@ static void pareto_plot(const char *path, const method_row *rows, size_t n, int 
 	pc_plot_add_series(p, "5 x bilinear's time", bx, by, 2, PC_PLOT_DASHED);
 	int rc = pc_plot_write_png(p, path, 900, 600);
 	if (rc)
-		pc_cli_fail(rc, path);
+		host->fail(rc, path);
 	pc_plot_free(p);
 }
 
-int pc_bench_demosaic(int argc, char **argv)
+int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 {
+	host = h;
 	const char *data_dir = NULL, *out_dir = "bench-demosaic", *stress_dir = NULL;
 	long reps = 7, threads = 0;
 	bool json_out = false, quick = false;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
 			usage(stdout);
-			return PC_EXIT_OK;
+			return PC_BENCH_OK;
 		} else if (!strcmp(argv[i], "-o") && i + 1 < argc) {
 			out_dir = argv[++i];
 		} else if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
-			int rc = pc_cli_parse_long("--reps", argv[++i], 1, 1000, &reps);
+			int rc = host->parse_long("--reps", argv[++i], 1, 1000, &reps);
 			if (rc)
-				return pc_cli_fail(rc, NULL);
+				return host->fail(rc, NULL);
 		} else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
-			int rc = pc_cli_parse_long("--threads", argv[++i], 1, 1024, &threads);
+			int rc = host->parse_long("--threads", argv[++i], 1, 1024, &threads);
 			if (rc)
-				return pc_cli_fail(rc, NULL);
+				return host->fail(rc, NULL);
 		} else if (!strcmp(argv[i], "--stress") && i + 1 < argc) {
 			stress_dir = argv[++i];
 		} else if (!strcmp(argv[i], "--json")) {
@@ -630,37 +643,38 @@ int pc_bench_demosaic(int argc, char **argv)
 			quick = true;
 			reps = 3;
 		} else if (argv[i][0] == '-') {
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (polarcam bench demosaic "
+			return host->error(PC_BENCH_USAGE, "unknown option '%s' (polarcam bench demosaic "
 							   "--help)", argv[i]);
 		} else {
 			data_dir = argv[i];
 		}
 	}
 	struct stat sb;
-	if (!data_dir && getenv("POLARCAM_DATA") && *getenv("POLARCAM_DATA"))
+	const char *data_from = "DATA_DIR";
+	if (!data_dir && getenv("POLARCAM_DATA") && *getenv("POLARCAM_DATA")) {
 		data_dir = getenv("POLARCAM_DATA");
-	if (!data_dir)
-		fprintf(stderr, "polarcam bench demosaic: no DATA_DIR (nor $POLARCAM_DATA): the "
-				"public-dataset accuracy is skipped\n");
+		data_from = "POLARCAM_DATA";
+	}
 	if (!stress_dir && getenv("POLARCAM_STRESS") && *getenv("POLARCAM_STRESS"))
 		stress_dir = getenv("POLARCAM_STRESS");
 	if (!stress_dir && stat("scenes/stress", &sb) == 0 && S_ISDIR(sb.st_mode))
 		stress_dir = "scenes/stress";
 	if (data_dir && !(stat(data_dir, &sb) == 0 && S_ISDIR(sb.st_mode)))
-		return pc_cli_error(PC_EXIT_USAGE, "%s: not a directory", data_dir);
+		return host->error(PC_BENCH_USAGE, "%s %s: not a directory", data_from, data_dir);
 	FILE *tf = json_out ? stderr : stdout;
 	int nthreads = threads ? (int)threads : pc_parallel_max_threads();
 	char load0[128], load1[128];
 	loadavg(load0, sizeof load0);
-	fprintf(tf, "polarcam bench demosaic: %d thread(s), median of %ld runs; load average at "
-		    "start: %s\n", nthreads, reps, load0);
+	fprintf(tf, "polarcam bench demosaic: %d thread(s), %s kernels, median of %ld runs; load "
+		    "average at start: %s\n", nthreads, pc_cpu_level_name(pc_cpu_active()), reps,
+		load0);
 
 	/* ---------------- time ---------------- */
 	pc_view raw;
 	char frame_what[160];
 	int rc = make_frame(data_dir, &raw, frame_what, sizeof frame_what);
 	if (rc)
-		return pc_cli_fail(rc, "frame");
+		return host->fail(rc, "frame");
 	fprintf(tf, "frame: %s\n\n", frame_what);
 	size_t plane = (size_t)FW * FH;
 	float *obuf = aligned_alloc(64, plane * 12 * sizeof(float));
@@ -669,7 +683,7 @@ int pc_bench_demosaic(int argc, char **argv)
 		pc_view_free(&raw);
 		free(obuf);
 		free(ts);
-		return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		return host->error(PC_BENCH_FAILURE, "out of memory");
 	}
 	memset(obuf, 0, plane * 12 * sizeof(float)); /* pre-fault */
 	pc_fplane planes[12];
@@ -689,6 +703,9 @@ int pc_bench_demosaic(int argc, char **argv)
 		J_PIPE_BIL = PC_DM_COUNT,
 		J_PIPE_EARI,
 		J_PIPE_RATIO,
+		J_PIPE_CAL,   /* bilinear pipeline, per-super-pixel analyser pseudo-inverses */
+		J_PIPE_CALPX, /* ... per-pixel ones */
+		J_PIPE_LEVELS, /* bilinear pipeline + black level + saturation/dead validity mask */
 		J_COPY,
 		J_OPENCV,
 		J_BIL16,
@@ -704,6 +721,22 @@ int pc_bench_demosaic(int argc, char **argv)
 			b16p[c] = b16 + (size_t)c * plane;
 	}
 	pc_stokes_out so = { planes[0], planes[1], planes[2], planes[3], planes[4] };
+	/* calibrated analysers: perturbed analyser matrices (orientations ±1°, extinction 0.93 to
+	 * 0.99, gains 0.9 to 1.1, a fixed pattern) per 2×2 super-pixel and per pixel, as a
+	 * calibration would give them (pc_stokes_pinv) */
+	pc_bench_pinv cal_sp = { 0 }, cal_px = { 0 };
+	bench_make_pinv(&cal_sp, FW / 2, FH / 2);
+	bench_make_pinv(&cal_px, FW, FH);
+	pc_pipeline_opts cal_o = pc_pipeline_defaults();
+	cal_o.threads = (int)threads;
+	pc_pipeline_opts lev_o = cal_o;
+	lev_o.black_level = 64;
+	lev_o.saturation_level = 4095;
+	lev_o.dead_level = 0.5;
+	uint8_t *vmask = aligned_alloc(64, plane);
+	if (vmask)
+		memset(vmask, 0, plane);
+	uint64_t lev_invalid = 0;
 	/* the pipeline's floor: the same planes, the same store kind */
 	floor_job fj = { &raw, { planes[0].data, planes[1].data, planes[2].data, planes[3].data,
 				 planes[4].data }, planes[0].row_stride, pc_stokes_streams(&so, FW, FH) };
@@ -744,10 +777,9 @@ int pc_bench_demosaic(int argc, char **argv)
 		pc_view_free(&raw);
 		free(obuf);
 		free(ts);
-		return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		return host->error(PC_BENCH_FAILURE, "out of memory");
 	}
-	pc_progress prog;
-	pc_progress_begin(&prog, "timing", (uint64_t)reps + 1);
+	pc_progress_report(&host->progress, "timing", 0, (uint64_t)reps + 1);
 	for (long rep = -1; rep < reps; rep++) {
 		for (int j = 0; j < J_N; j++) {
 			double t0 = now_s(), c0 = cpu_s();
@@ -755,8 +787,8 @@ int pc_bench_demosaic(int argc, char **argv)
 				const pc_mosaic *m = rows[j].colour ? &colour : &mono;
 				rc = pc_demosaic(&raw, m, rows[j].m, &opts, planes);
 				if (rc) {
-					pc_progress_end(&prog);
-					return pc_cli_fail(rc, pc_demosaic_method_get(rows[j].m)->name);
+					host->progress_end(host->progress.user);
+					return host->fail(rc, pc_demosaic_method_get(rows[j].m)->name);
 				}
 			} else if (j == J_PIPE_BIL || j == J_PIPE_EARI || j == J_PIPE_RATIO) {
 				pc_stokes_from_raw(&raw, &mono,
@@ -764,6 +796,16 @@ int pc_bench_demosaic(int argc, char **argv)
 						   : j == J_PIPE_EARI ? PC_DM_EARI
 								      : PC_DM_RATIO,
 						   &opts, &so);
+			} else if (j == J_PIPE_CAL || j == J_PIPE_CALPX) {
+				pc_bench_pinv *c = j == J_PIPE_CAL ? &cal_sp : &cal_px;
+				cal_o.pinv = c->m ? &c->pv : NULL;
+				if (c->m)
+					pc_stokes_run(&raw, &cal_o, &so, NULL);
+			} else if (j == J_PIPE_LEVELS) {
+				pc_validity v = { vmask, FW, 0 };
+				if (vmask)
+					pc_stokes_run(&raw, &lev_o, &so, &v);
+				lev_invalid = v.n_invalid;
 			} else if (j == J_BIL16) {
 				if (b16)
 					pc_demosaic_bilinear_u16(&raw, &mono, 2, (int)threads, b16p,
@@ -786,9 +828,9 @@ int pc_bench_demosaic(int argc, char **argv)
 				cj_t[(size_t)j * (size_t)reps + (size_t)rep] = dc;
 			}
 		}
-		pc_progress_update(&prog, (uint64_t)(rep + 2));
+		pc_progress_report(&host->progress, "timing", (uint64_t)(rep + 2), (uint64_t)reps + 1);
 	}
-	pc_progress_end(&prog);
+	host->progress_end(host->progress.user);
 	timing tall[J_N];
 	for (int j = 0; j < J_N; j++) {
 		tall[j] = summarize(tj + (size_t)j * (size_t)reps, (int)reps);
@@ -797,6 +839,11 @@ int pc_bench_demosaic(int argc, char **argv)
 	for (int k = 0; k < PC_DM_COUNT; k++)
 		rows[k].t = tall[k];
 	timing t_pipe[3] = { tall[J_PIPE_BIL], tall[J_PIPE_EARI], tall[J_PIPE_RATIO] };
+	timing t_cal = tall[J_PIPE_CAL], t_calpx = tall[J_PIPE_CALPX], t_lev = tall[J_PIPE_LEVELS];
+	int have_cal = cal_sp.m != NULL, have_calpx = cal_px.m != NULL;
+	free(cal_sp.m);
+	free(cal_px.m);
+	free(vmask);
 	timing t_copy = tall[J_COPY];
 	timing t_b16 = tall[J_BIL16];
 	timing t_floor = tall[J_FLOOR];
@@ -819,7 +866,7 @@ int pc_bench_demosaic(int argc, char **argv)
 	if (data_dir) {
 		char gt[2048];
 		if ((size_t)snprintf(gt, sizeof gt, "%s/gt", data_dir) >= sizeof gt)
-			return pc_cli_error(PC_EXIT_USAGE, "%s: path too long", data_dir);
+			return host->error(PC_BENCH_USAGE, "%s: path too long", data_dir);
 		const char *datasets[] = { "lapray-nir", "zhang" };
 		for (int d = 0; d < 2; d++) {
 			char dpath[3072];
@@ -849,7 +896,7 @@ int pc_bench_demosaic(int argc, char **argv)
 				continue;
 			}
 			have_acc = 1;
-			pc_progress_begin(&prog, datasets[d], nscenes);
+			pc_progress_report(&host->progress, datasets[d], 0, nscenes);
 			int scored = 0;
 			pc_eval_metrics refbil = { 0 }, fastbil = { 0 };
 			for (size_t s = 0; s < nscenes; s++) {
@@ -857,7 +904,7 @@ int pc_bench_demosaic(int argc, char **argv)
 				snprintf(spath, sizeof spath, "%.3071s/%.1000s", dpath, names[s]);
 				pc_eval_truth t;
 				if (pc_truth_load(spath, &t) != 0) {
-					pc_cli_warn("%s", pc_error_detail());
+					host->warn("%s", pc_error_detail());
 					continue;
 				}
 				for (size_t i = 0; i < nrows; i++) {
@@ -901,11 +948,11 @@ int pc_bench_demosaic(int argc, char **argv)
 				}
 				scored++;
 				pc_eval_truth_free(&t);
-				pc_progress_update(&prog, s + 1);
+				pc_progress_report(&host->progress, datasets[d], s + 1, nscenes);
 				if (quick && scored >= 2)
 					break;
 			}
-			pc_progress_end(&prog);
+			host->progress_end(host->progress.user);
 			for (size_t s = 0; s < nscenes; s++)
 				free(names[s]);
 			free(names);
@@ -924,8 +971,8 @@ int pc_bench_demosaic(int argc, char **argv)
 			}
 		}
 	} else {
-		fprintf(tf, "no data directory (DATA_DIR or $POLARCAM_DATA): accuracy skipped, time "
-			    "only\n\n");
+		fprintf(tf, "no data directory (DATA_DIR or POLARCAM_DATA; docs/evaluation.md): "
+			    "accuracy skipped, time only\n\n");
 	}
 	/* ---------------- noisy track ---------------- */
 	pc_demosaic_method nmeth[PC_DM_COUNT];
@@ -940,7 +987,7 @@ int pc_bench_demosaic(int argc, char **argv)
 	if (!quick) {
 		int nr = noisy_track(nmeth, nn, (int)threads, noisy, noisy_what, sizeof noisy_what);
 		if (nr)
-			pc_cli_warn("noisy track skipped: %s", pc_error_detail());
+			host->warn("noisy track skipped: %s", pc_error_detail());
 		else
 			have_noisy = 1;
 	}
@@ -1006,6 +1053,21 @@ int pc_bench_demosaic(int argc, char **argv)
 		t_pipe[0].median_ms, t_pipe[0].min_ms, t_pipe[0].cpu_ms, t_pipe[0].median_ms / bil,
 		t_pipe[1].median_ms, t_pipe[1].min_ms, t_pipe[1].cpu_ms, t_pipe[2].median_ms,
 		t_pipe[2].min_ms, t_pipe[2].cpu_ms);
+	if (have_cal)
+		fprintf(tf, "calibrated bilinear pipeline (one 3x4 analyser pseudo-inverse per 2x2 "
+			    "super-pixel, %.0f MB of them): %.2f / %.2f ms (cpu %.2f ms); calibrated / "
+			    "uncalibrated = %.2f (best %.2f; goal <= 1.5)\n",
+			1e-6 * (double)plane * 12, t_cal.median_ms, t_cal.min_ms, t_cal.cpu_ms,
+			t_cal.median_ms / t_pipe[0].median_ms, t_cal.min_ms / t_pipe[0].min_ms);
+	if (have_calpx)
+		fprintf(tf, "calibrated bilinear pipeline, one matrix per pixel (%.0f MB of them): %.2f "
+			    "/ %.2f ms (cpu %.2f ms); / uncalibrated = %.2f (best %.2f)\n",
+			1e-6 * (double)plane * 48, t_calpx.median_ms, t_calpx.min_ms, t_calpx.cpu_ms,
+			t_calpx.median_ms / t_pipe[0].median_ms, t_calpx.min_ms / t_pipe[0].min_ms);
+	fprintf(tf, "bilinear pipeline with black level, saturation and dead levels and the "
+		    "validity mask (%llu pixels flagged): %.2f / %.2f ms (cpu %.2f ms); / plain = %.2f "
+		    "(best %.2f)\n", (unsigned long long)lev_invalid, t_lev.median_ms, t_lev.min_ms,
+		t_lev.cpu_ms, t_lev.median_ms / t_pipe[0].median_ms, t_lev.min_ms / t_pipe[0].min_ms);
 	fprintf(tf, "full pipeline's memory floor (read the %.1f MB raw, write 5 float32 planes, "
 		    "%.1f MB in all, %s stores like the pipeline): %.2f ms (best %.2f, cpu %.2f ms); "
 		    "pipeline / floor = %.2f (best %.2f)\n",
@@ -1043,27 +1105,27 @@ int pc_bench_demosaic(int argc, char **argv)
 		json_t *o = json_object();
 		json_object_set_new(o, "method", json_string(pc_demosaic_method_get(r->m)->name));
 		json_object_set_new(o, "colour", json_boolean(r->colour));
-		json_object_set_new(o, "ms_median", pc_json_real(r->t.median_ms));
-		json_object_set_new(o, "ms_best", pc_json_real(r->t.min_ms));
-		json_object_set_new(o, "ms_min", pc_json_real(r->t.min_ms));
-		json_object_set_new(o, "cpu_ms_median", pc_json_real(r->t.cpu_ms));
-		json_object_set_new(o, "x_bilinear", pc_json_real(r->t.median_ms / bil));
+		json_object_set_new(o, "ms_median", bench_json_real(r->t.median_ms));
+		json_object_set_new(o, "ms_best", bench_json_real(r->t.min_ms));
+		json_object_set_new(o, "ms_min", bench_json_real(r->t.min_ms));
+		json_object_set_new(o, "cpu_ms_median", bench_json_real(r->t.cpu_ms));
+		json_object_set_new(o, "x_bilinear", bench_json_real(r->t.median_ms / bil));
 		json_t *ja = json_object();
 		for (int d = 0; d < r->n_ds; d++) {
 			const pc_eval_metrics *a = &r->acc[d];
 			json_t *jd = json_object();
-			json_object_set_new(jd, "psnr_i", pc_json_real(a->psnr_i));
-			json_object_set_new(jd, "psnr_s0", pc_json_real(a->psnr_s0));
-			json_object_set_new(jd, "psnr_s1", pc_json_real(a->psnr_s1));
-			json_object_set_new(jd, "psnr_s2", pc_json_real(a->psnr_s2));
-			json_object_set_new(jd, "psnr_dolp", pc_json_real(a->psnr_dolp));
-			json_object_set_new(jd, "aolp_rmse_deg", pc_json_real(a->aolp_rmse_deg));
-			json_object_set_new(jd, "aolp_wrmse_deg", pc_json_real(a->aolp_wrmse_deg));
+			json_object_set_new(jd, "psnr_i", bench_json_real(a->psnr_i));
+			json_object_set_new(jd, "psnr_s0", bench_json_real(a->psnr_s0));
+			json_object_set_new(jd, "psnr_s1", bench_json_real(a->psnr_s1));
+			json_object_set_new(jd, "psnr_s2", bench_json_real(a->psnr_s2));
+			json_object_set_new(jd, "psnr_dolp", bench_json_real(a->psnr_dolp));
+			json_object_set_new(jd, "aolp_rmse_deg", bench_json_real(a->aolp_rmse_deg));
+			json_object_set_new(jd, "aolp_wrmse_deg", bench_json_real(a->aolp_wrmse_deg));
 			if (brow && brow->n_ds > d) {
 				json_object_set_new(jd, "d_psnr_s0",
-						    pc_json_real(a->psnr_s0 - brow->acc[d].psnr_s0));
+						    bench_json_real(a->psnr_s0 - brow->acc[d].psnr_s0));
 				json_object_set_new(jd, "d_psnr_dolp",
-						    pc_json_real(a->psnr_dolp - brow->acc[d].psnr_dolp));
+						    bench_json_real(a->psnr_dolp - brow->acc[d].psnr_dolp));
 			}
 			json_object_set_new(ja, r->ds_name[d], jd);
 		}
@@ -1082,39 +1144,45 @@ int pc_bench_demosaic(int argc, char **argv)
 		json_object_set_new(root, "noisy_track", jn);
 		json_object_set_new(root, "noisy_track_input", json_string(noisy_what));
 	}
-	json_object_set_new(root, "pipeline_bilinear_ms", pc_json_real(t_pipe[0].median_ms));
-	json_object_set_new(root, "pipeline_bilinear_cpu_ms", pc_json_real(t_pipe[0].cpu_ms));
-	json_object_set_new(root, "copy_cpu_ms", pc_json_real(t_copy.cpu_ms));
-	json_object_set_new(root, "pipeline_floor_ms", pc_json_real(t_floor.median_ms));
-	json_object_set_new(root, "pipeline_floor_best_ms", pc_json_real(t_floor.min_ms));
-	json_object_set_new(root, "pipeline_floor_cpu_ms", pc_json_real(t_floor.cpu_ms));
+	json_object_set_new(root, "pipeline_bilinear_ms", bench_json_real(t_pipe[0].median_ms));
+	json_object_set_new(root, "pipeline_bilinear_cpu_ms", bench_json_real(t_pipe[0].cpu_ms));
+	json_object_set_new(root, "copy_cpu_ms", bench_json_real(t_copy.cpu_ms));
+	json_object_set_new(root, "pipeline_floor_ms", bench_json_real(t_floor.median_ms));
+	json_object_set_new(root, "pipeline_floor_best_ms", bench_json_real(t_floor.min_ms));
+	json_object_set_new(root, "pipeline_floor_cpu_ms", bench_json_real(t_floor.cpu_ms));
 	json_object_set_new(root, "pipeline_floor_bytes", json_integer((json_int_t)floor_bytes));
 	json_object_set_new(root, "pipeline_floor_stores",
 			    json_string(fj.nt ? "non-temporal" : "ordinary"));
 	json_object_set_new(root, "pipeline_bilinear_over_floor",
-			    pc_json_real(t_pipe[0].median_ms / t_floor.median_ms));
+			    bench_json_real(t_pipe[0].median_ms / t_floor.median_ms));
 	json_object_set_new(root, "pipeline_bilinear_over_floor_best",
-			    pc_json_real(t_pipe[0].min_ms / t_floor.min_ms));
-	json_object_set_new(root, "bilinear_u16_ms", pc_json_real(t_b16.median_ms));
-	json_object_set_new(root, "bilinear_u16_cpu_ms", pc_json_real(t_b16.cpu_ms));
-	json_object_set_new(root, "bilinear_u16_over_opencv", pc_json_real(t_b16.median_ms / t_cv.median_ms));
-	json_object_set_new(root, "opencv_cpu_ms", pc_json_real(t_cv.cpu_ms));
-	json_object_set_new(root, "pipeline_eari_ms", pc_json_real(t_pipe[1].median_ms));
-	json_object_set_new(root, "pipeline_ratio_ms", pc_json_real(t_pipe[2].median_ms));
-	json_object_set_new(root, "pipeline_bilinear_best_ms", pc_json_real(t_pipe[0].min_ms));
-	json_object_set_new(root, "pipeline_eari_best_ms", pc_json_real(t_pipe[1].min_ms));
-	json_object_set_new(root, "pipeline_ratio_best_ms", pc_json_real(t_pipe[2].min_ms));
-	json_object_set_new(root, "copy_best_ms", pc_json_real(t_copy.min_ms));
-	json_object_set_new(root, "copy_ms", pc_json_real(t_copy.median_ms));
+			    bench_json_real(t_pipe[0].min_ms / t_floor.min_ms));
+	json_object_set_new(root, "bilinear_u16_ms", bench_json_real(t_b16.median_ms));
+	json_object_set_new(root, "bilinear_u16_cpu_ms", bench_json_real(t_b16.cpu_ms));
+	json_object_set_new(root, "bilinear_u16_over_opencv", bench_json_real(t_b16.median_ms / t_cv.median_ms));
+	json_object_set_new(root, "opencv_cpu_ms", bench_json_real(t_cv.cpu_ms));
+	json_object_set_new(root, "pipeline_eari_ms", bench_json_real(t_pipe[1].median_ms));
+	json_object_set_new(root, "pipeline_bilinear_calibrated_ms",
+			    have_cal ? bench_json_real(t_cal.median_ms) : json_null());
+	json_object_set_new(root, "pipeline_bilinear_calibrated_per_pixel_ms",
+			    have_calpx ? bench_json_real(t_calpx.median_ms) : json_null());
+	json_object_set_new(root, "pipeline_bilinear_levels_mask_ms", bench_json_real(t_lev.median_ms));
+	json_object_set_new(root, "cpu_level", json_string(pc_cpu_level_name(pc_cpu_active())));
+	json_object_set_new(root, "pipeline_ratio_ms", bench_json_real(t_pipe[2].median_ms));
+	json_object_set_new(root, "pipeline_bilinear_best_ms", bench_json_real(t_pipe[0].min_ms));
+	json_object_set_new(root, "pipeline_eari_best_ms", bench_json_real(t_pipe[1].min_ms));
+	json_object_set_new(root, "pipeline_ratio_best_ms", bench_json_real(t_pipe[2].min_ms));
+	json_object_set_new(root, "copy_best_ms", bench_json_real(t_copy.min_ms));
+	json_object_set_new(root, "copy_ms", bench_json_real(t_copy.median_ms));
 	json_object_set_new(root, "copy_bytes", json_integer((json_int_t)bytes));
-	json_object_set_new(root, "bilinear_over_copy", pc_json_real(bil / t_copy.median_ms));
-	json_object_set_new(root, "opencv_ms", pc_json_real(t_cv.median_ms));
+	json_object_set_new(root, "bilinear_over_copy", bench_json_real(bil / t_copy.median_ms));
+	json_object_set_new(root, "opencv_ms", bench_json_real(t_cv.median_ms));
 	json_object_set_new(root, "opencv", json_string(cv_note));
-	json_object_set_new(root, "bilinear_over_opencv", pc_json_real(bil / t_cv.median_ms));
+	json_object_set_new(root, "bilinear_over_opencv", bench_json_real(bil / t_cv.median_ms));
 	json_t *jg = json_object();
-	json_object_set_new(jg, "psnr_i", pc_json_real(ref_gap[0]));
-	json_object_set_new(jg, "psnr_s0", pc_json_real(ref_gap[1]));
-	json_object_set_new(jg, "psnr_dolp", pc_json_real(ref_gap[2]));
+	json_object_set_new(jg, "psnr_i", bench_json_real(ref_gap[0]));
+	json_object_set_new(jg, "psnr_s0", bench_json_real(ref_gap[1]));
+	json_object_set_new(jg, "psnr_dolp", bench_json_real(ref_gap[2]));
 	json_object_set_new(root, "bilinear_minus_reference_db", jg);
 
 	if (stress_dir) {
@@ -1125,15 +1193,15 @@ int pc_bench_demosaic(int argc, char **argv)
 		fprintf(tf, "\nstress track skipped: no --stress DIR, $POLARCAM_STRESS or "
 			    "./scenes/stress\n");
 	}
-	int status = PC_EXIT_OK;
+	int status = PC_BENCH_OK;
 	if ((rc = pc_mkdir_p(out_dir))) {
-		status = pc_cli_fail(rc, NULL);
+		status = host->fail(rc, NULL);
 	} else {
 		char path[4096];
 		snprintf(path, sizeof path, "%s/demosaic.json", out_dir);
 		char *txt = json_dumps(root, JSON_INDENT(1) | JSON_REAL_PRECISION(10));
 		if (!txt || (rc = pc_write_file_atomic(path, txt, strlen(txt))))
-			status = pc_cli_fail(rc ? rc : PC_ENOMEM, path);
+			status = host->fail(rc ? rc : PC_ENOMEM, path);
 		free(txt);
 		if (have_acc && brow) {
 			snprintf(path, sizeof path, "%s/pareto_s0.png", out_dir);
@@ -1145,7 +1213,7 @@ int pc_bench_demosaic(int argc, char **argv)
 			have_acc ? ", pareto_s0.png, pareto_dolp.png" : "");
 	}
 	if (json_out)
-		pc_cli_print_json(root);
+		host->print_json(root);
 	else
 		json_decref(root);
 	return status;

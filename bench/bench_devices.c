@@ -29,12 +29,14 @@
 #include <unistd.h>
 
 #include "bench.h"
-#include "cli.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
 #include "polarcam/parallel.h"
 #include "polarcam/source.h"
-#include "source_cli.h"
+#include "polarcam/stream.h"
+
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
 
 typedef struct bench_opts {
 	const char *scene;
@@ -88,8 +90,8 @@ static double slope(const double *x, const double *y, size_t n)
 static void stream_phase(const bench_opts *o, double fps, bool process, phase_result *r)
 {
 	memset(r, 0, sizeof *r);
-	pc_stream_args sa;
-	pc_stream_args_init(&sa);
+	pc_stream_request sa;
+	pc_stream_request_init(&sa);
 	char uri[128];
 	snprintf(uri, sizeof uri, "aravis:127.0.0.1?packet_size=%llu",
 	         (unsigned long long)o->packet_size);
@@ -97,43 +99,44 @@ static void stream_phase(const bench_opts *o, double fps, bool process, phase_re
 	sa.format = o->format;
 	sa.fps = fps;
 	sa.buffers = 16;
-	sa.timeout_ms = 5000;
+	const int timeout_ms = 5000;
 	pc_source *s = NULL;
-	pc_live lv;
-	memset(&lv, 0, sizeof lv);
-	lv.method = o->method;
-	int rc = pc_stream_open(&sa, &s);
+	pc_stokes_stream *lv = NULL;
+	int rc = pc_stokes_stream_new(o->method, &lv);
+	if (!rc)
+		rc = pc_stream_open(&sa, &s);
 	if (!rc)
 		rc = pc_source_start(s);
 	size_t cap = (size_t)(fps * o->seconds * 1.5) + 64;
 	double *lt = malloc(cap * sizeof *lt), *lx = malloc(cap * sizeof *lx);
 	size_t nl = 0;
-	double t0 = pc_cli_now(), proc_sum = 0, t_first = 0, t_last = 0;
+	double t0 = bench_now(), proc_sum = 0, t_first = 0, t_last = 0;
 	pc_source_format f;
 	memset(&f, 0, sizeof f);
 	if (s)
 		pc_source_get_format(s, &f);
-	while (!rc && pc_cli_now() - t0 < o->seconds) {
+	while (!rc && bench_now() - t0 < o->seconds) {
 		pc_buffer *b = NULL;
-		rc = pc_source_dequeue(s, sa.timeout_ms, &b);
+		rc = pc_source_dequeue(s, timeout_ms, &b);
 		if (rc)
 			break;
-		t_last = pc_cli_now();
+		t_last = bench_now();
 		if (r->frames == 0)
 			t_first = t_last;
 		/* the first half second warms up (allocations, caches): not in the statistics */
-		bool warm = pc_cli_now() - t0 >= 0.5;
+		bool warm = bench_now() - t0 >= 0.5;
 		if (process) {
-			rc = pc_live_process(&lv, &b->frame);
+			rc = pc_stokes_stream_process(lv, &b->frame);
+			double ps = pc_stokes_stream_seconds(lv);
 			if (warm) {
-				proc_sum += lv.process_s;
+				proc_sum += ps;
 				r->proc_n++;
-				if (lv.process_s * 1e3 > r->proc_ms_max)
-					r->proc_ms_max = lv.process_s * 1e3;
+				if (ps * 1e3 > r->proc_ms_max)
+					r->proc_ms_max = ps * 1e3;
 			}
 		}
 		if (warm && nl < cap && lt && lx) {
-			lt[nl] = pc_cli_now() - t0;
+			lt[nl] = bench_now() - t0;
 			lx[nl] =
 			    (double)((int64_t)(realtime_ns() - b->frame.meta.timestamp_ns)) / 1e6;
 			nl++;
@@ -177,7 +180,7 @@ static void stream_phase(const bench_opts *o, double fps, bool process, phase_re
 	}
 	free(lt);
 	free(lx);
-	pc_live_free(&lv);
+	pc_stokes_stream_free(lv);
 	pc_source_close(s);
 }
 
@@ -185,25 +188,25 @@ static json_t *phase_json(const char *name, double goal, const phase_result *r)
 {
 	json_t *j = json_object();
 	json_object_set_new(j, "phase", json_string(name));
-	json_object_set_new(j, "goal_fps", goal > 0 ? pc_json_real(goal) : json_null());
-	json_object_set_new(j, "fps", pc_json_real(r->fps));
+	json_object_set_new(j, "goal_fps", goal > 0 ? bench_json_real(goal) : json_null());
+	json_object_set_new(j, "fps", bench_json_real(r->fps));
 	json_object_set_new(j, "ratio_to_goal",
-	                    goal > 0 ? pc_json_real(r->fps / goal) : json_null());
-	json_object_set_new(j, "mb_per_s", pc_json_real(r->mbps));
+	                    goal > 0 ? bench_json_real(r->fps / goal) : json_null());
+	json_object_set_new(j, "mb_per_s", bench_json_real(r->mbps));
 	json_object_set_new(j, "frames", json_integer((json_int_t)r->frames));
-	json_object_set_new(j, "seconds", pc_json_real(r->seconds));
+	json_object_set_new(j, "seconds", bench_json_real(r->seconds));
 	json_object_set_new(j, "failed", json_integer((json_int_t)r->failed));
 	json_object_set_new(j, "dropped", json_integer((json_int_t)r->dropped));
 	json_object_set_new(j, "underruns", json_integer((json_int_t)r->underruns));
 	json_object_set_new(j, "missing_packets", json_integer((json_int_t)r->missing_packets));
 	json_object_set_new(j, "resent_packets", json_integer((json_int_t)r->resent_packets));
 	if (r->proc_ms_mean > 0) {
-		json_object_set_new(j, "process_ms_mean", pc_json_real(r->proc_ms_mean));
-		json_object_set_new(j, "process_ms_max", pc_json_real(r->proc_ms_max));
-		json_object_set_new(j, "latency_first_ms", pc_json_real(r->lat_first_ms));
-		json_object_set_new(j, "latency_last_ms", pc_json_real(r->lat_last_ms));
+		json_object_set_new(j, "process_ms_mean", bench_json_real(r->proc_ms_mean));
+		json_object_set_new(j, "process_ms_max", bench_json_real(r->proc_ms_max));
+		json_object_set_new(j, "latency_first_ms", bench_json_real(r->lat_first_ms));
+		json_object_set_new(j, "latency_last_ms", bench_json_real(r->lat_last_ms));
 		json_object_set_new(j, "latency_trend_ms_per_s",
-		                    pc_json_real(r->lat_slope_ms_per_s));
+		                    bench_json_real(r->lat_slope_ms_per_s));
 	}
 	json_object_set_new(j, "error", r->error ? json_string(r->errmsg) : json_null());
 	return j;
@@ -212,7 +215,7 @@ static json_t *phase_json(const char *name, double goal, const phase_result *r)
 static void print_phase(const bench_opts *o, const char *name, double goal, const phase_result *r)
 {
 	if (o->json) {
-		pc_cli_print_json(phase_json(name, goal, r));
+		host->print_json(phase_json(name, goal, r));
 		return;
 	}
 	printf("%-10s %8.1f fps", name, r->fps);
@@ -246,9 +249,9 @@ static int serve(const bench_opts *o, unsigned cycle, pc_gige_server **srv, doub
 	so.cycle = cycle;
 	so.ahead = 4;
 	so.frame_rate_hz = 30;
-	double t0 = pc_cli_now();
+	double t0 = bench_now();
 	int rc = pc_gige_server_start(srv, &so);
-	*prep_s = pc_cli_now() - t0;
+	*prep_s = bench_now() - t0;
 	return rc;
 }
 
@@ -282,11 +285,12 @@ static void usage(FILE *fp)
 	    "start-up is not counted.\n");
 }
 
-int pc_bench_devices(int argc, char **argv)
+int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	host = h;
+	if (bench_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return PC_BENCH_OK;
 	}
 	bench_opts o = {"default", 65000, 5, 4, "Mono16", false, false, PC_DM_BILINEAR, "bilinear"};
 	char scene_buf[600];
@@ -301,7 +305,7 @@ int pc_bench_devices(int argc, char **argv)
 		} else if (i + 1 < argc && !strcmp(a, "--scene")) {
 			o.scene = argv[++i];
 		} else if (i + 1 < argc && !strcmp(a, "--packet-size")) {
-			rc = pc_cli_parse_long(a, argv[++i], 576, 65000, &l);
+			rc = host->parse_long(a, argv[++i], 576, 65000, &l);
 			o.packet_size = (uint64_t)l;
 		} else if (i + 1 < argc && !strcmp(a, "--method")) {
 			o.method_name = argv[++i];
@@ -309,19 +313,19 @@ int pc_bench_devices(int argc, char **argv)
 		} else if (i + 1 < argc && !strcmp(a, "--format")) {
 			o.format = argv[++i];
 		} else if (i + 1 < argc && !strcmp(a, "--seconds")) {
-			rc = pc_cli_parse_double(a, argv[++i], &o.seconds);
+			rc = host->parse_double(a, argv[++i], &o.seconds);
 			if (!rc && (o.seconds < 0.2 || o.seconds > 600))
 				rc = pc_error(PC_EINVAL, "--seconds %g: expected 0.2..600",
 				              o.seconds);
 		} else if (i + 1 < argc && !strcmp(a, "--cycle")) {
-			rc = pc_cli_parse_long(a, argv[++i], 1, 64, &l);
+			rc = host->parse_long(a, argv[++i], 1, 64, &l);
 			o.cycle = (unsigned)l;
 		} else {
-			return pc_cli_error(PC_EXIT_USAGE,
+			return host->error(PC_BENCH_USAGE,
 			                    "unknown or incomplete option '%s' (see --help)", a);
 		}
 		if (rc)
-			return pc_cli_fail(rc, "arguments");
+			return host->fail(rc, "arguments");
 	}
 	if (o.quick) {
 		const char *src = getenv("PC_SOURCE_DIR");
@@ -336,7 +340,7 @@ int pc_bench_devices(int argc, char **argv)
 		setenv("PC_BENCH_NETNS", "1", 1);
 		char **nargv = calloc((size_t)argc + 10, sizeof *nargv);
 		if (!nargv)
-			return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+			return host->error(PC_BENCH_FAILURE, "out of memory");
 		int n = 0;
 		nargv[n++] = "unshare";
 		nargv[n++] = "-n";
@@ -347,7 +351,7 @@ int pc_bench_devices(int argc, char **argv)
 		ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
 		if (len <= 0) {
 			free(nargv);
-			return pc_cli_error(PC_EXIT_FAILURE,
+			return host->error(PC_BENCH_FAILURE,
 			                    "cannot find this program (/proc/self/exe)");
 		}
 		self[len] = '\0';
@@ -360,7 +364,7 @@ int pc_bench_devices(int argc, char **argv)
 		fflush(NULL);
 		execvp("unshare", nargv);
 		free(nargv);
-		return pc_cli_error(PC_EXIT_FAILURE,
+		return host->error(PC_BENCH_FAILURE,
 		                    "cannot run in a private network namespace "
 		                    "(unshare -n needs root; Debian: util-linux, iproute2): "
 		                    "refusing to stream GigE Vision outside one");
@@ -376,7 +380,7 @@ int pc_bench_devices(int argc, char **argv)
 	int rc = serve(&o, o.cycle, &srv, &prep);
 	if (rc) {
 		pc_devices_shutdown();
-		return pc_cli_fail(rc, "starting the camera");
+		return host->fail(rc, "starting the camera");
 	}
 	pc_gige_server_stats sst;
 	pc_gige_server_get_stats(srv, &sst);
@@ -398,37 +402,37 @@ int pc_bench_devices(int argc, char **argv)
 	{
 		char uri[700];
 		snprintf(uri, sizeof uri, "sim:%s?seed=0&fps=0", o.scene);
-		pc_stream_args sa;
-		pc_stream_args_init(&sa);
+		pc_stream_request sa;
+		pc_stream_request_init(&sa);
 		sa.uri = uri;
 		sa.buffers = 1;
 		pc_source *s = NULL;
-		pc_live lv;
-		memset(&lv, 0, sizeof lv);
-		lv.method = o.method;
+		pc_stokes_stream *lv = NULL;
 		double sim_t = 0;
 		unsigned sim_n = 0;
-		rc = pc_stream_open(&sa, &s);
+		rc = pc_stokes_stream_new(o.method, &lv);
+		if (!rc)
+			rc = pc_stream_open(&sa, &s);
 		if (!rc)
 			rc = pc_source_start(s);
 		pc_buffer *b = NULL;
 		for (unsigned k = 0; !rc && k < 3; k++) { /* simulator frames: its own frame rate */
-			double t = pc_cli_now();
+			double t = bench_now();
 			rc = pc_source_dequeue(s, 600000, &b);
 			if (!rc && k > 0) {
-				sim_t += pc_cli_now() - t;
+				sim_t += bench_now() - t;
 				sim_n++;
 			}
 			if (!rc && k < 2)
 				rc = pc_source_requeue(s, b);
 		}
-		double t0 = pc_cli_now();
-		while (!rc && pc_cli_now() - t0 < o.seconds) {
-			rc = pc_live_process(&lv, &b->frame);
+		double t0 = bench_now();
+		while (!rc && bench_now() - t0 < o.seconds) {
+			rc = pc_stokes_stream_process(lv, &b->frame);
 			alone.frames++;
-			alone.proc_ms_mean += lv.process_s * 1e3;
+			alone.proc_ms_mean += pc_stokes_stream_seconds(lv) * 1e3;
 		}
-		alone.seconds = pc_cli_now() - t0;
+		alone.seconds = bench_now() - t0;
 		if (alone.frames)
 			alone.proc_ms_mean /= (double)alone.frames;
 		alone.fps = alone.seconds > 0 ? (double)alone.frames / alone.seconds : 0;
@@ -438,10 +442,10 @@ int pc_bench_devices(int argc, char **argv)
 		}
 		if (o.json) {
 			json_t *j = phase_json("alone", 0, &alone);
-			json_object_set_new(j, "process_ms_mean", pc_json_real(alone.proc_ms_mean));
+			json_object_set_new(j, "process_ms_mean", bench_json_real(alone.proc_ms_mean));
 			json_object_set_new(j, "simulator_frame_s",
-			                    sim_n ? pc_json_real(sim_t / sim_n) : json_null());
-			pc_cli_print_json(j);
+			                    sim_n ? bench_json_real(sim_t / sim_n) : json_null());
+			host->print_json(j);
 		} else {
 			printf(
 			    "alone      %8.1f fps   pipeline %.1f ms/frame without transport (%s "
@@ -450,7 +454,7 @@ int pc_bench_devices(int argc, char **argv)
 			    alone.fps, alone.proc_ms_mean, o.method_name,
 			    sim_n ? sim_t / sim_n : NAN);
 		}
-		pc_live_free(&lv);
+		pc_stokes_stream_free(lv);
 		pc_source_close(s);
 	}
 
@@ -458,7 +462,7 @@ int pc_bench_devices(int argc, char **argv)
 	rc = serve(&o, 0, &srv, &prep);
 	if (rc) {
 		pc_devices_shutdown();
-		return pc_cli_fail(rc, "starting the camera (live)");
+		return host->fail(rc, "starting the camera (live)");
 	}
 	stream_phase(&o, 30, false, &live);
 	print_phase(&o, "live", 30, &live);
@@ -486,5 +490,5 @@ int pc_bench_devices(int argc, char **argv)
 		    pipe.lat_slope_ms_per_s, transport.fps, transport.mbps,
 		    (unsigned long long)transport.missing_packets);
 	}
-	return transport.error || at30.error || pipe.error ? PC_EXIT_FAILURE : PC_EXIT_OK;
+	return transport.error || at30.error || pipe.error ? PC_BENCH_FAILURE : PC_BENCH_OK;
 }

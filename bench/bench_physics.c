@@ -19,6 +19,9 @@
 #include "polarcam/optics.h"
 #include "polarcam/pbrdf.h"
 
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
+
 #define DEG (PC_PI / 180)
 
 static double now_s(void)
@@ -276,8 +279,9 @@ static int cmp_d(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-int pc_bench_physics(int argc, char **argv)
+int pc_bench_physics(const pc_bench_host *h, int argc, char **argv)
 {
+	host = h;
 	bool json = false, quick = false;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--json"))
@@ -299,7 +303,7 @@ int pc_bench_physics(int argc, char **argv)
 			    "256 with --quick). --quick: smaller sample, ~5 s. --json: one JSON "
 			    "object on\n"
 			    "stdout after the tables (tables then go to stderr).\n"
-			    "Environment: POLARCAM_NO_AVX512=1 / POLARCAM_NO_AVX2=1 time the "
+			    "Environment: POLARCAM_CPU=avx2 / POLARCAM_CPU=baseline time the "
 			    "narrower\n"
 			    "map kernels (AVX2 / the scalar loop).\n");
 			return 0;

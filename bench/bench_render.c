@@ -9,11 +9,13 @@
 #include <time.h>
 
 #include "bench.h"
-#include "cli.h"
 #include "polarcam/error.h"
 #include "polarcam/frame.h"
 #include "polarcam/parallel.h"
 #include "polarcam/sim.h"
+
+/* the program running the benchmark (bench.h) */
+static const pc_bench_host *host;
 
 static void usage(FILE *fp)
 {
@@ -139,11 +141,12 @@ typedef struct result {
 	int rc;
 } result;
 
-int pc_bench_render(int argc, char **argv)
+int pc_bench_render(const pc_bench_host *h, int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	host = h;
+	if (bench_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return PC_BENCH_OK;
 	}
 	static const struct option opts[] = {
 		{ "size", required_argument, NULL, 'S' }, { "frames", required_argument, NULL, 'n' },
@@ -163,29 +166,29 @@ int pc_bench_render(int argc, char **argv)
 		case 'S':
 			if (sscanf(optarg, "%ux%u", &W, &H) != 2 || W < 8 || H < 8 || W > 16384 ||
 			    H > 16384 || W % 2 || H % 2)
-				return pc_cli_error(PC_EXIT_USAGE, "--size '%s': expected WxH, even, 8..16384",
+				return host->error(PC_BENCH_USAGE, "--size '%s': expected WxH, even, 8..16384",
 						    optarg);
 			break;
 		case 'n':
-			if ((rc = pc_cli_parse_long("--frames", optarg, 1, 1000, &frames)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = host->parse_long("--frames", optarg, 1, 1000, &frames)))
+				return host->fail(rc, NULL);
 			break;
 		case 't':
-			if ((rc = pc_cli_parse_long("--threads", optarg, 1, 1024, &threads)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = host->parse_long("--threads", optarg, 1, 1024, &threads)))
+				return host->fail(rc, NULL);
 			break;
 		case 'L':
 			only = optarg;
 			break;
 		case 'R':
-			if ((rc = pc_cli_parse_long("--repeat", optarg, 1, 100, &repeat)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = host->parse_long("--repeat", optarg, 1, 100, &repeat)))
+				return host->fail(rc, NULL);
 			break;
 		case 'J':
 			json = true;
 			break;
 		default:
-			return pc_cli_error(PC_EXIT_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
+			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
 	const size_t nsets = sizeof sets / sizeof sets[0];
@@ -197,7 +200,7 @@ int pc_bench_render(int argc, char **argv)
 			for (size_t i = 0; i < nsets; i++)
 				ok |= !strcmp(p, sets[i].name);
 			if (!ok)
-				return pc_cli_error(PC_EXIT_USAGE, "--sets: unknown set '%s' (see --help)", p);
+				return host->error(PC_BENCH_USAGE, "--sets: unknown set '%s' (see --help)", p);
 		}
 	}
 	result res[sizeof sets / sizeof sets[0]];
@@ -226,10 +229,10 @@ int pc_bench_render(int argc, char **argv)
 		o.seed = 1;
 		o.threads = (int)threads;
 		reset_peak();
-		double t0 = pc_cli_now();
+		double t0 = bench_now();
 		if (!rc)
 			rc = pc_sim_new(scene, &o, &sim);
-		res[i].setup_s = pc_cli_now() - t0;
+		res[i].setup_s = bench_now() - t0;
 		if (!rc && sets[i].mueller_truth) {
 			tm = malloc((size_t)W * H * 16 * sizeof *tm);
 			rc = tm ? 0 : PC_ENOMEM;
@@ -245,10 +248,10 @@ int pc_bench_render(int argc, char **argv)
 				if (rc)
 					break;
 			}
-			t0 = pc_cli_now();
+			t0 = bench_now();
 			double c0 = cpu_now();
 			rc = pc_sim_prepare(sim, 0, NULL, tm, NULL, NULL);
-			res[i].render_s = fmin(res[i].render_s, pc_cli_now() - t0);
+			res[i].render_s = fmin(res[i].render_s, bench_now() - t0);
 			res[i].render_cpu = fmin(res[i].render_cpu, cpu_now() - c0);
 			if (rc)
 				break;
@@ -258,11 +261,11 @@ int pc_bench_render(int argc, char **argv)
 				if ((rc = pc_view_alloc(&v, in.format, in.width, in.height, 64)))
 					break;
 			}
-			t0 = pc_cli_now();
+			t0 = bench_now();
 			c0 = cpu_now();
 			for (long f = 0; f < frames && !rc; f++)
 				rc = pc_sim_frame(sim, (uint64_t)f, NULL, &v, NULL);
-			res[i].frame_s = fmin(res[i].frame_s, (pc_cli_now() - t0) / (double)frames);
+			res[i].frame_s = fmin(res[i].frame_s, (bench_now() - t0) / (double)frames);
 			res[i].frame_cpu = fmin(res[i].frame_cpu, (cpu_now() - c0) / (double)frames);
 		}
 		res[i].peak_mib = rss_mib("VmHWM:") - idle;
@@ -306,11 +309,11 @@ int pc_bench_render(int argc, char **argv)
 			json_object_set_new(e, "frame_mpix_s", json_real(mpix / res[i].frame_s));
 			json_object_set_new(e, "render_ratio", json_real(res[i].render_s / base->render_s));
 			json_object_set_new(e, "frame_ratio", json_real(res[i].frame_s / base->frame_s));
-			json_object_set_new(e, "peak_mib", pc_json_real(res[i].peak_mib));
+			json_object_set_new(e, "peak_mib", bench_json_real(res[i].peak_mib));
 			json_array_append_new(a, e);
 		}
 		json_object_set_new(o, "sets", a);
-		pc_cli_print_json(o);
+		host->print_json(o);
 	} else {
 		printf("polarcam bench render: default scene %ux%u (%.2f Mpixel), %d thread%s, %ld frame%s "
 		       "timed per set\n"
@@ -334,5 +337,5 @@ int pc_bench_render(int argc, char **argv)
 		       "peak MiB: the process's peak resident memory above its idle size during the set; "
 		       "one raw %ux%u 16-bit frame is %.1f MiB.\n", repeat, W, H, frame_mib);
 	}
-	return PC_EXIT_OK;
+	return PC_BENCH_OK;
 }

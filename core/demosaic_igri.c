@@ -23,7 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
+#include "demosaic_anchors.h"
 #include "polarcam/error.h"
 
 #define MACHINE_EPS 2.220446049250313e-16
@@ -364,7 +364,7 @@ static void rot(int I, int J, int s1, int *r, int *c)
 	}
 }
 
-int pc_demosaic_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+int pc_dm_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
 			  double full_scale, const pc_fplane *out)
 {
 	if (m->period != 2)

@@ -26,7 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
+#include "demosaic_anchors.h"
 #include "polarcam/error.h"
 
 #define MLRI_R 5
@@ -202,7 +202,7 @@ static void ea_guide(const dimg *r, double fs, dimg *g, dimg *D)
 		}
 }
 
-int pc_demosaic_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+int pc_dm_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
 			 pc_demosaic_method method, double full_scale, const pc_fplane *out)
 {
 	if (m->period != 2)

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
+#include "demosaic_anchors.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
@@ -269,8 +269,8 @@ static void box(mjob *j, int q, int threads)
 	pad_rows(d, j->h);
 }
 
-int pc_demosaic_fast_mlri(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
-			  double full_scale, int threads, const pc_fplane *out)
+static int mlri_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
+		     double full_scale, int threads, const pc_fplane *out)
 {
 	if (m->period != 2)
 		return PC_ENOTSUP;
@@ -330,4 +330,14 @@ int pc_demosaic_fast_mlri(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic
 	if (j.err)
 		return pc_error(PC_ENOMEM, "%s: row scratch", pc_demosaic_method_get(method)->name);
 	return 0;
+}
+
+int pc_dm_mlri_fast(const pc_dm_call *call, const pc_fplane *out)
+{
+	int rc = mlri_fast(call->in, call->m, call->method, call->full_scale, call->threads, out);
+	if (rc == PC_ENOTSUP) /* tiny frames: the reference mirrors further out (and limits) */
+		return pc_dm_ref_of_call(call, out);
+	if (!rc && pc_dm_limited(call->method))
+		rc = pc_dm_range_limit(call->in, call->m, call->threads, call->level, out);
+	return rc;
 }

@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
+#include "demosaic_anchors.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
@@ -78,7 +78,7 @@ static double diff_j(const dimg *r, const pc_mosaic *m, unsigned j, int x, int y
 	return at(r, x, y) - bil(r, m, j, x, y);
 }
 
-int pc_demosaic_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
 			 const pc_fplane *out)
 {
 	if (m->period != 2)
@@ -190,8 +190,8 @@ static void fband(void *ctx, uint32_t y0u, uint32_t y1u)
 	}
 }
 
-int pc_demosaic_fast_pcdp(const pc_dm_input *in, const pc_mosaic *m, int threads,
-			  const pc_fplane *out)
+static int pcdp_fast(const pc_dm_input *in, const pc_mosaic *m, int threads,
+		     const pc_fplane *out)
 {
 	if (m->period != 2 || in->width < 4 || in->height < 4)
 		return PC_ENOTSUP;
@@ -227,4 +227,10 @@ int pc_demosaic_fast_pcdp(const pc_dm_input *in, const pc_mosaic *m, int threads
 	}
 	pc_dm_free(mem);
 	return 0;
+}
+
+int pc_dm_pcdp_fast(const pc_dm_call *call, const pc_fplane *out)
+{
+	int rc = pcdp_fast(call->in, call->m, call->threads, out);
+	return rc == PC_ENOTSUP ? pc_dm_ref_of_call(call, out) : rc;
 }

@@ -13,11 +13,14 @@
  * window interpolates every channel. Borders: whole-sample mirror (pc_mirror), which keeps the
  * parity of every index and so the analyser at every mirrored position.
  */
+#include "demosaic_ref.h"
+
+#include "demosaic_anchors.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
 #include "polarcam/error.h"
 
 typedef struct rimg {
@@ -409,8 +412,8 @@ static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fpla
 	return 0;
 }
 
-int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-		    pc_demosaic_method method, double full_scale, const pc_fplane *out)
+static int ref_method(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+		      pc_demosaic_method method, double full_scale, const pc_fplane *out)
 {
 	rimg r = { (double *)img, (int)width, (int)height };
 	switch (method) {
@@ -440,14 +443,40 @@ int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc
 		return ref_ratio(&r, m, full_scale, out);
 	case PC_DM_EARI_MLRI:
 	case PC_DM_EARI_ROBUST:
-		return pc_demosaic_ref_mlri(img, width, height, m, method, full_scale, out);
+		return pc_dm_ref_mlri(img, width, height, m, method, full_scale, out);
 	case PC_DM_PCDP:
-		return pc_demosaic_ref_pcdp(img, width, height, m, out);
+		return pc_dm_ref_pcdp(img, width, height, m, out);
 	case PC_DM_IGRI2:
-		return pc_demosaic_ref_igri2(img, width, height, m, full_scale, out);
+		return pc_dm_ref_igri2(img, width, height, m, full_scale, out);
 	default:
 		break;
 	}
-	return pc_error(PC_ENOTSUP, "demosaicking method %s: not implemented for this mosaic yet",
-			pc_demosaic_method_get(method)->name);
+	return pc_error(PC_ENOTSUP, "demosaicking method %d: no reference for this mosaic",
+			(int)method);
+}
+
+int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+	      pc_demosaic_method method, double full_scale, const pc_fplane *out)
+{
+	int rc = ref_method(img, width, height, m, method, full_scale, out);
+	/* the robust methods' overshoot limiter (demosaic_robust.c; the fast paths apply it row
+	 * by row) */
+	if (!rc && m->period == 2 && pc_dm_limited(method))
+		rc = pc_dm_range_limit_ref(img, width, height, m, out);
+	return rc;
+}
+
+int pc_dm_ref_of_call(const pc_dm_call *call, const pc_fplane *out)
+{
+	const pc_dm_input *in = call->in;
+	const uint32_t w = in->width, h = in->height;
+	double *img = malloc(sizeof(double) * (size_t)w * h);
+	if (!img)
+		return pc_error(PC_ENOMEM, "demosaicking reference: %ux%u image", w, h);
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++)
+			img[(size_t)y * w + x] = (double)pc_dm_sample(in, x, y) - in->black_d;
+	int rc = pc_dm_ref(img, w, h, call->m, call->method, call->full_scale, out);
+	free(img);
+	return rc;
 }

@@ -13,7 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
+#include "demosaic_anchors.h"
+
+#include "cpu_internal.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
@@ -35,9 +37,10 @@ int pc_dm_limited(pc_demosaic_method method)
 	       method == PC_DM_EARI || method == PC_DM_RATIO || method == PC_DM_EARI_ROBUST;
 }
 
-int pc_dm_limiter_init(pc_dm_limiter *l, long w)
+int pc_dm_limiter_init(pc_dm_limiter *l, long w, pc_cpu_level level)
 {
 	l->w = w;
+	l->level = level;
 	l->mem = pc_dm_alloc(sizeof(float) * (size_t)w * (5 * 4 + 8 + 1));
 	for (int k = 0; k < 5; k++)
 		l->key[k] = LONG_MIN;
@@ -55,9 +58,6 @@ void pc_dm_limiter_free(pc_dm_limiter *l)
 	l->mem = NULL;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define PC_HAVE_X86_DISPATCH 1
-#endif
 
 typedef struct lim_kernels {
 	void (*ranges)(const float *restrict, float *restrict, float *restrict, float *restrict,
@@ -72,7 +72,7 @@ typedef struct lim_kernels {
 #include "demosaic_robust_kern.inc"
 #undef KFN
 #undef KATTR
-#ifdef PC_HAVE_X86_DISPATCH
+#ifdef PC_CPU_X86
 #define KFN(name) name##_avx2
 #define KATTR __attribute__((target("avx2")))
 #include "demosaic_robust_kern.inc"
@@ -80,19 +80,17 @@ typedef struct lim_kernels {
 #undef KATTR
 #endif
 
-static const lim_kernels *lim_k(void)
+/* The instance for a CPU level (polarcam/cpu.h; AVX-512 runs the AVX2 one: the limiter is
+ * memory-bound). */
+static const lim_kernels *lim_k(pc_cpu_level level)
 {
 	static const lim_kernels base = { ranges_base, combine_base, clamp_base };
-#ifdef PC_HAVE_X86_DISPATCH
+#ifdef PC_CPU_X86
 	static const lim_kernels avx2 = { ranges_avx2, combine_avx2, clamp_avx2 };
-	static int cached = -1;
-	if (cached < 0) {
-		const char *e = getenv("POLARCAM_NO_AVX2");
-		__builtin_cpu_init();
-		cached = __builtin_cpu_supports("avx2") && !(e && *e && *e != '0');
-	}
-	if (cached)
+	if (level >= PC_CPU_AVX2)
 		return &avx2;
+#else
+	(void)level;
 #endif
 	return &base;
 }
@@ -105,7 +103,7 @@ static const float *row_ranges(pc_dm_limiter *l, const float *r, long vrow)
 	if (l->key[slot] == vrow)
 		return m4;
 	const long w = l->w;
-	lim_k()->ranges(r, m4, m4 + w, m4 + 2 * w, m4 + 3 * w, w);
+	lim_k(l->level)->ranges(r, m4, m4 + w, m4 + 2 * w, m4 + 3 * w, w);
 	l->key[slot] = vrow;
 	return m4;
 }
@@ -114,7 +112,7 @@ void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[
 		     float *const o[4], size_t pixel_stride)
 {
 	const long w = l->w;
-	const lim_kernels *k = lim_k();
+	const lim_kernels *k = lim_k(l->level);
 	const float *rr[5];
 	for (int i = 0; i < 5; i++)
 		rr[i] = row_ranges(l, r[i], (long)y - 2 + i);
@@ -147,6 +145,7 @@ typedef struct limit_job {
 	const pc_dm_input *in;
 	const pc_mosaic *m;
 	const pc_fplane *out;
+	pc_cpu_level level;
 	int err;
 } limit_job;
 
@@ -159,7 +158,7 @@ static void limit_band(void *ctx, uint32_t y0, uint32_t y1)
 	const size_t L = (size_t)w + 8;
 	float *mem = malloc(sizeof(float) * L * 5);
 	pc_dm_limiter lim;
-	if (!mem || pc_dm_limiter_init(&lim, w)) {
+	if (!mem || pc_dm_limiter_init(&lim, w, j->level)) {
 		free(mem);
 		j->err = 1;
 		return;
@@ -188,18 +187,28 @@ static void limit_band(void *ctx, uint32_t y0, uint32_t y1)
 	free(mem);
 }
 
-int pc_dm_range_limit(const pc_view *raw, const pc_mosaic *m, int threads, const pc_fplane *out)
+int pc_dm_range_limit(const pc_dm_input *in, const pc_mosaic *m, int threads,
+		      pc_cpu_level level, const pc_fplane *out)
 {
 	for (int c = 1; c < 4; c++)
 		if (out[c].pixel_stride != out[0].pixel_stride)
 			return pc_error(PC_EINVAL, "output channels with different pixel strides");
-	pc_dm_input in;
-	void *owned;
-	int rc = pc_dm_prepare_input(raw, &in, &owned);
-	if (rc)
-		return rc;
-	limit_job j = { &in, m, out, 0 };
-	pc_parallel_rows(in.height, 32, threads, limit_band, &j);
-	pc_dm_free(owned);
+	limit_job j = { in, m, out, level, 0 };
+	pc_parallel_rows(in->height, 32, threads, limit_band, &j);
 	return j.err ? pc_error(PC_ENOMEM, "range limiter: row scratch") : 0;
+}
+
+int pc_dm_range_limit_ref(const double *img, uint32_t width, uint32_t height,
+			  const pc_mosaic *m, const pc_fplane *out)
+{
+	size_t n = (size_t)width * height;
+	float *f = malloc(n * sizeof(float));
+	if (!f)
+		return pc_error(PC_ENOMEM, "range limiter: %ux%u input", width, height);
+	for (size_t i = 0; i < n; i++)
+		f[i] = (float)img[i];
+	pc_dm_input in = pc_dm_input_f32(f, width, height);
+	int rc = pc_dm_range_limit(&in, m, 1, PC_CPU_BASELINE, out);
+	free(f);
+	return rc;
 }

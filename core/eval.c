@@ -7,6 +7,7 @@
 
 #include "polarcam/error.h"
 #include "polarcam/format.h"
+#include "polarcam/optics.h"
 
 static const char *ch_name[4] = { "0 deg", "45 deg", "90 deg", "135 deg" };
 
@@ -222,4 +223,99 @@ int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
 	rc = pc_eval_method_raw(t, &raw, &m, method, opts, out);
 	pc_view_free(&raw);
 	return rc;
+}
+
+/* ---- Stokes estimates against the simulator's ground truth ---- */
+
+static int cmp_d(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return x < y ? -1 : x > y;
+}
+
+static double median(double *v, size_t n)
+{
+	if (!n)
+		return NAN;
+	qsort(v, n, sizeof *v, cmp_d);
+	return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* angular difference of two AoLPs in [0, π): in [0, π/2] */
+static double aolp_diff(double a, double b)
+{
+	double d = fabs(a - b);
+	return d > M_PI / 2 ? M_PI - d : d;
+}
+
+void pc_eval_truth_planes(const float *ts, size_t n, double scale, float *s0, float *dolp,
+			  float *aolp)
+{
+	for (size_t i = 0; i < n; i++) {
+		const double S[4] = { ts[4 * i], ts[4 * i + 1], ts[4 * i + 2], 0 };
+		s0[i] = (float)(S[0] * scale);
+		dolp[i] = (float)fmin(1, pc_stokes_dolp(S));
+		aolp[i] = (float)pc_stokes_aolp_rad(S);
+	}
+}
+
+int pc_eval_stokes(const float *s0, const float *dolp, const float *aolp, const float *t_s0,
+		   const float *t_dolp, const float *t_aolp, uint32_t W, uint32_t H, double full,
+		   pc_eval_stokes_metrics *acc)
+{
+	memset(acc, 0, sizeof *acc);
+	double se = 0, sb = 0, sd = 0, sa = 0, sw = 0;
+	long n = 0, na = 0;
+	double *ad = malloc(sizeof(double) * (size_t)W * H);
+	if (!ad)
+		return pc_error(PC_ENOMEM, "scoring %ux%u pixels", W, H);
+	for (size_t i = 0; i < (size_t)W * H; i++) {
+		double T = t_s0[i], P = t_dolp[i];
+		if (!(T > 0.02 * full) || T * (1 + P) / 2 > 0.95 * full)
+			continue;
+		double r = (s0[i] - T) / T;
+		se += r * r;
+		sb += dolp[i] - P;
+		sd += (dolp[i] - P) * (dolp[i] - P);
+		n++;
+		if (P > 0.05) {
+			double d = aolp_diff(aolp[i], t_aolp[i]);
+			sa += P * d;
+			sw += P;
+			ad[na++] = d;
+		}
+	}
+	acc->pixels = n;
+	acc->aolp_pixels = na;
+	acc->s0_rel_rms = n ? sqrt(se / n) : NAN;
+	acc->dolp_bias = n ? sb / n : NAN;
+	acc->dolp_rms = n ? sqrt(sd / n) : NAN;
+	acc->aolp_err_deg = sw > 0 ? sa / sw * 180 / M_PI : NAN;
+	acc->aolp_median_deg = median(ad, (size_t)na) * 180 / M_PI;
+	free(ad);
+	return 0;
+}
+
+double pc_eval_median_abs_err(const float *est, const float *truth, const float *w, size_t n,
+			      double wmin, bool angle_pi, long *used)
+{
+	double *v = malloc(sizeof(double) * (n ? n : 1));
+	size_t k = 0;
+	if (!v) {
+		if (used)
+			*used = 0;
+		return NAN;
+	}
+	for (size_t i = 0; i < n; i++)
+		if (w[i] > wmin && isfinite(est[i]) && isfinite(truth[i])) {
+			double d = fabs(est[i] - truth[i]);
+			if (angle_pi && d > M_PI / 2)
+				d = M_PI - d; /* retardance near π: keep the absolute difference */
+			v[k++] = d;
+		}
+	double m = median(v, k);
+	free(v);
+	if (used)
+		*used = (long)k;
+	return m;
 }

@@ -3,58 +3,13 @@
 #include <float.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "polarcam/decompose.h"
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
 #include "polarcam/parallel.h"
-
-/* Eigen-decomposition of a symmetric 4×4 matrix by cyclic Jacobi rotations (Golub & Van Loan,
- * Matrix Computations, 4th ed., §8.5.2): S = V·diag(e)·Vᵀ. Converges quadratically; 4×4
- * needs a handful of sweeps. */
-static void jacobi4(double S[4][4], double e[4], double V[4][4])
-{
-	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++)
-			V[i][j] = i == j;
-	for (int sweep = 0; sweep < 60; sweep++) {
-		double off = 0, diag = 0;
-		for (int i = 0; i < 4; i++)
-			for (int j = 0; j < 4; j++) {
-				if (i == j)
-					diag += S[i][j] * S[i][j];
-				else
-					off += S[i][j] * S[i][j];
-			}
-		if (off <= 1e-32 * diag)
-			break;
-		for (int p = 0; p < 3; p++)
-			for (int q = p + 1; q < 4; q++) {
-				if (S[p][q] == 0)
-					continue;
-				double th = (S[q][q] - S[p][p]) / (2 * S[p][q]);
-				double t = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
-				double c = 1 / sqrt(t * t + 1), s = t * c;
-				for (int k = 0; k < 4; k++) {
-					double kp = S[k][p], kq = S[k][q];
-					S[k][p] = c * kp - s * kq;
-					S[k][q] = s * kp + c * kq;
-				}
-				for (int k = 0; k < 4; k++) {
-					double pk = S[p][k], qk = S[q][k];
-					S[p][k] = c * pk - s * qk;
-					S[q][k] = s * pk + c * qk;
-				}
-				for (int k = 0; k < 4; k++) {
-					double vp = V[k][p], vq = V[k][q];
-					V[k][p] = c * vp - s * vq;
-					V[k][q] = s * vp + c * vq;
-				}
-			}
-	}
-	for (int i = 0; i < 4; i++)
-		e[i] = S[i][i];
-}
 
 /* Pseudo-inverse pieces of an n×4 matrix X (rows) through XᵀX = V·diag(e)·Vᵀ: the Moore–Penrose
  * inverse X⁺ = V·diag(1/e_i, for e_i above the rank threshold)·Vᵀ·Xᵀ (Golub & Van Loan §5.5.2).
@@ -63,12 +18,15 @@ static void jacobi4(double S[4][4], double e[4], double V[4][4])
 static unsigned pinv_setup(const double *X, size_t ld, unsigned n, double inv_gram[4][4],
 			   double *cond, unsigned *mask)
 {
+	static const double zero[4][4];
 	double S[4][4] = { { 0 } }, e[4], V[4][4];
 	for (unsigned r = 0; r < n; r++)
 		for (int i = 0; i < 4; i++)
 			for (int j = 0; j < 4; j++)
 				S[i][j] += X[r * ld + (size_t)i] * X[r * ld + (size_t)j];
-	jacobi4(S, e, V);
+	/* real symmetric: the Hermitian solver with a zero imaginary part (V comes out real) */
+	double Vi[4][4];
+	pc_hermitian4_eig(S, zero, e, V, Vi);
 	double emax = fmax(fmax(e[0], e[1]), fmax(e[2], e[3]));
 	double emin = INFINITY;
 	unsigned rank = 0;
@@ -592,4 +550,273 @@ const char *pc_rebuild_sign_name(pc_rebuild_sign sign)
 		return "-";
 	}
 	return "?";
+}
+
+/* ---- Lu–Chipman maps of a Mueller image ---- */
+
+typedef struct lc_ctx {
+	const float *M;
+	float *Mw; /* = M when the rebuild writes the circular entries back, else NULL */
+	float *D, *R, *Delta, *residual;
+	uint32_t width;
+	unsigned determined;
+	const pc_rebuild_opts *rb; /* non-NULL: rebuild the circular entries from the 3×3 */
+	long singular, nonphysical, bad; /* counted per band, summed under a lock-free atomic */
+	long rb_rejected, rb_undefined;
+} lc_ctx;
+
+/* the 3×3 linear block: bits 4k + l, k, l < 3 */
+#define PC_LINEAR_BLOCK 0x777u
+
+bool pc_mueller_rebuild_applies(const pc_rebuild_opts *rb, unsigned determined)
+{
+	return rb && rb->sign != PC_REBUILD_OFF && determined != 0xFFFFu &&
+	       (determined & PC_LINEAR_BLOCK) == PC_LINEAR_BLOCK;
+}
+
+static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	/* chunks of a row through the batched Lu–Chipman kernel (bit-identical to
+	 * pc_lu_chipman_decompose with PC_LC_FILTER | PC_LC_NO_FACTORS per pixel) */
+	enum { CH = 256 };
+	lc_ctx *c = ctx;
+	long singular = 0, nonphys = 0, bad = 0, rejected = 0, undefined = 0;
+	double Mb[16 * CH], D[CH], R[CH], De[CH];
+	unsigned fl[CH];
+	const pc_lc_map out = { D, { NULL, NULL, NULL }, R, { NULL, NULL, NULL }, NULL, NULL,
+				De, NULL, fl };
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x0 = 0; x0 < c->width; x0 += CH) {
+			size_t n = c->width - x0 < CH ? c->width - x0 : CH;
+			size_t i0 = (size_t)y * c->width + x0;
+			if (c->determined != 0xFFFFu && !c->rb) {
+				for (size_t j = 0; j < n; j++)
+					c->D[i0 + j] = c->R[i0 + j] = c->Delta[i0 + j] = NAN;
+				continue;
+			}
+			for (size_t k = 0; k < 16 * n; k++)
+				Mb[k] = c->M[16 * i0 + k];
+			if (c->rb) {
+				/* physics.md §7: the 4×4 of the pBRDF family from its 3×3 */
+				for (size_t j = 0; j < n; j++) {
+					double N[3][3], R4[4][4];
+					const float *m = c->M + 16 * (i0 + j);
+					float *mw = c->Mw ? c->Mw + 16 * (i0 + j) : NULL;
+					pc_rebuild_info in;
+					for (int k = 0; k < 3; k++)
+						for (int l = 0; l < 3; l++)
+							N[k][l] = m[4 * k + l];
+					if (pc_mueller_rebuild_from_linear(N, c->rb->sign, c->rb->tol, R4,
+									   &in)) {
+						in.flags = PC_RB_ZERO; /* non-finite input */
+						in.residual = NAN;
+						for (int k = 0; k < 4; k++)
+							for (int l = 0; l < 4; l++)
+								R4[k][l] = NAN;
+					}
+					if (c->residual)
+						c->residual[i0 + j] = (float)in.residual;
+					/* M00 ≤ 0 (background, shadow) is no rejection: nothing
+					 * was there to rebuild */
+					rejected += (in.flags & (PC_RB_INCONSISTENT | PC_RB_NONPHYSICAL)) != 0;
+					undefined += (in.flags & PC_RB_SIGN_UNDEFINED) != 0;
+					for (int k = 0; k < 4; k++)
+						for (int l = 0; l < 4; l++) {
+							Mb[16 * j + 4 * (size_t)k + (size_t)l] = R4[k][l];
+							if (mw && (k == 3 || l == 3))
+								mw[4 * k + l] = (float)R4[k][l];
+						}
+				}
+			}
+			if (pc_lu_chipman_map(Mb, n, PC_LC_FILTER | PC_LC_NO_FACTORS, &out)) {
+				for (size_t j = 0; j < n; j++)
+					c->D[i0 + j] = c->R[i0 + j] = c->Delta[i0 + j] = NAN;
+				bad += (long)n;
+				continue;
+			}
+			for (size_t j = 0; j < n; j++) {
+				size_t i = i0 + j;
+				if (fl[j] & PC_LC_NONFINITE) {
+					c->D[i] = c->R[i] = c->Delta[i] = NAN;
+					bad++;
+					continue;
+				}
+				c->D[i] = (float)D[j];
+				c->R[i] = (float)R[j];
+				c->Delta[i] = (float)De[j];
+				singular += (fl[j] & (PC_LC_D_SINGULAR | PC_LC_ZERO_M00)) != 0;
+				/* not physical: rejected by the check, or M00 ≤ 0 (never checked) */
+				nonphys += (fl[j] & (PC_LC_NONPHYSICAL | PC_LC_ZERO_M00)) != 0;
+			}
+		}
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->singular += singular;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->nonphysical += nonphys;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->bad += bad;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->rb_rejected += rejected;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+	c->rb_undefined += undefined;
+}
+
+void pc_mueller_maps_rebuild(float *M, uint32_t width, uint32_t height, unsigned determined,
+			     const pc_rebuild_opts *rb, int threads, float *D, float *R,
+			     float *Delta, float *residual, long counts[3], long rb_counts[2])
+{
+	bool use = pc_mueller_rebuild_applies(rb, determined);
+	lc_ctx lc = { M, M, D, R, Delta, use ? residual : NULL, width, determined,
+		      use ? rb : NULL, 0, 0, 0, 0, 0 };
+	pc_parallel_rows(height, 0, threads, lc_rows, &lc);
+	if (counts) {
+		counts[0] = lc.singular;
+		counts[1] = lc.nonphysical;
+		counts[2] = lc.bad;
+	}
+	if (rb_counts) {
+		rb_counts[0] = lc.rb_rejected;
+		rb_counts[1] = lc.rb_undefined;
+	}
+}
+
+void pc_mueller_maps(const float *M, uint32_t width, uint32_t height, unsigned determined,
+		     int threads, float *D, float *R, float *Delta, long counts[3])
+{
+	lc_ctx lc = { M, NULL, D, R, Delta, NULL, width, determined, NULL, 0, 0, 0, 0, 0 };
+	pc_parallel_rows(height, 0, threads, lc_rows, &lc);
+	if (counts) {
+		counts[0] = lc.singular;
+		counts[1] = lc.nonphysical;
+		counts[2] = lc.bad;
+	}
+}
+
+void pc_mueller_result_free(pc_mueller_result *res)
+{
+	free(res->M);
+	free(res->maps);
+	free(res->residual);
+	res->M = res->maps = res->residual = NULL;
+}
+
+struct pc_mueller_run {
+	pc_mueller_system sys;
+	pc_mosaic mosaic;
+	pc_mueller_run_opts o;
+	unsigned next;         /* the frame expected next */
+	uint32_t W, H, ow, oh; /* raw and demosaicked size (from frame 0) */
+	float *M, *planes;
+};
+
+int pc_mueller_run_new(const pc_mueller_system *sys, const pc_mosaic *mosaic,
+		       const pc_mueller_run_opts *opts, pc_mueller_run **out)
+{
+	*out = NULL;
+	if (!sys || !mosaic || !opts)
+		return pc_error(PC_EINVAL, "Mueller imaging: missing argument");
+	if (mosaic->period != 2) {
+		char lay[64];
+		pc_mosaic_format(mosaic, lay, sizeof lay);
+		return pc_error(PC_EINVAL, "colour-polarization mosaics are not supported by Mueller "
+					   "imaging yet (layout %s)", lay);
+	}
+	pc_mueller_run *r = calloc(1, sizeof *r);
+	if (!r)
+		return pc_error(PC_ENOMEM, "Mueller imaging");
+	r->sys = *sys;
+	r->mosaic = *mosaic;
+	r->o = *opts;
+	*out = r;
+	return 0;
+}
+
+void pc_mueller_run_free(pc_mueller_run *run)
+{
+	if (!run)
+		return;
+	free(run->M);
+	free(run->planes);
+	free(run);
+}
+
+int pc_mueller_run_add(pc_mueller_run *r, unsigned frame, const pc_view *raw)
+{
+	const unsigned nframes = r->sys.n_psg * r->sys.n_psa;
+	if (frame != r->next || frame >= nframes)
+		return pc_error(PC_EINVAL, "Mueller imaging: frame %u given, frame %u of %u expected",
+				frame, r->next, nframes);
+	if (frame == 0) {
+		r->W = raw->width;
+		r->H = raw->height;
+		pc_demosaic_out_size(r->o.method, r->W, r->H, &r->ow, &r->oh);
+		r->M = calloc((size_t)r->ow * r->oh * 16, sizeof *r->M);
+		r->planes = malloc((size_t)r->ow * r->oh * 4 * sizeof *r->planes);
+		if (!r->M || !r->planes)
+			return pc_error(PC_ENOMEM, "Mueller images of %ux%u", r->ow, r->oh);
+	} else if (raw->width != r->W || raw->height != r->H) {
+		return pc_error(PC_EINVAL, "frame %u is %ux%u, frame 0 is %ux%u", frame, raw->width,
+				raw->height, r->W, r->H);
+	}
+	pc_demosaic_opts dopt = { r->o.threads, false, 0 };
+	pc_fplane pl[4];
+	pc_fplanes_separate(r->planes, r->ow, r->oh, 4, pl);
+	int rc = pc_demosaic(raw, &r->mosaic, r->o.method, &dopt, pl);
+	if (rc)
+		return pc_error_prefix(rc, "frame %u: ", frame);
+	if (r->o.black_level != 0)
+		for (size_t k = 0; k < (size_t)r->ow * r->oh * 4; k++)
+			r->planes[k] -= (float)r->o.black_level;
+	if ((rc = pc_mueller_accumulate(&r->sys, frame, pl, r->ow, r->oh, r->o.threads, r->M)))
+		return rc;
+	r->next++;
+	return 0;
+}
+
+int pc_mueller_run_finish(pc_mueller_run *r, pc_mueller_result *res)
+{
+	memset(res, 0, sizeof *res);
+	const unsigned nframes = r->sys.n_psg * r->sys.n_psa;
+	if (r->next != nframes)
+		return pc_error(PC_EINVAL, "Mueller imaging: %u of %u frames added", r->next, nframes);
+	res->sys = r->sys;
+	const uint32_t ow = r->ow, oh = r->oh;
+	pc_mueller_finish(&r->sys, ow, oh, r->M);
+	free(r->planes);
+	r->planes = NULL;
+	res->M = r->M;
+	r->M = NULL;
+	size_t np = (size_t)ow * oh;
+	res->maps = malloc(np * 3 * sizeof *res->maps);
+	if (!res->maps) {
+		pc_mueller_result_free(res);
+		return pc_error(PC_ENOMEM, "decomposition maps");
+	}
+	long counts[3], rbc[2] = { 0, 0 };
+	const pc_rebuild_opts *rb = &r->o.rebuild;
+	res->rebuilt = pc_mueller_rebuild_applies(rb, res->sys.determined);
+	if (res->rebuilt && !(res->residual = malloc(np * sizeof *res->residual))) {
+		pc_mueller_result_free(res);
+		return pc_error(PC_ENOMEM, "rebuild residual map");
+	}
+	pc_mueller_maps_rebuild(res->M, ow, oh, res->sys.determined, rb, r->o.threads, res->maps,
+				res->maps + np, res->maps + 2 * np, res->residual, counts, rbc);
+	res->singular = counts[0];
+	res->nonphysical = counts[1];
+	res->bad = counts[2];
+	res->rb_rejected = rbc[0];
+	res->rb_sign_undefined = rbc[1];
+	res->width = ow;
+	res->height = oh;
+	return 0;
 }

@@ -123,6 +123,37 @@ void pc_mueller_rotator(double theta, double M[4][4])
 	M[2][1] = -s;
 }
 
+void pc_retarder_mueller(double angle_rad, double delta_rad, double m[4][4])
+{
+	/* Linear retarder, fast axis at θ from the x (s) axis towards y (p), retardance δ: the Jones
+	 * matrix R(−θ)·diag(1, e^{−iδ})·R(θ) (e^{+iωt}: the slow component lags) mapped to Mueller
+	 * with physics.md §1's A (S3 = 2 Im(E_s* E_p)). Worked out by hand:
+	 * [[1,0,0,0],[0,c²+s²cosδ, cs(1−cosδ), −s sinδ],[0, cs(1−cosδ), s²+c²cosδ, c sinδ],
+	 *  [0, s sinδ, −c sinδ, cosδ]] with c = cos2θ, s = sin2θ. Verified in tests against the
+	 * Jones calculus (tests/test_sim_render.c): a quarter-wave plate at 45° turns S1 = +1 into
+	 * S3 = +1 in this convention. */
+	double c = cos(2 * angle_rad), s = sin(2 * angle_rad);
+	double cd = cos(delta_rad), sd = sin(delta_rad);
+	double r[4][4] = { { 1, 0, 0, 0 },
+			   { 0, c * c + s * s * cd, c * s * (1 - cd), -s * sd },
+			   { 0, c * s * (1 - cd), s * s + c * c * cd, c * sd },
+			   { 0, s * sd, -c * sd, cd } };
+	memcpy(m, r, sizeof r);
+}
+
+void pc_diattenuator_mueller(double angle_rad, double D, double m[4][4])
+{
+	double p = (1 + D) / 2, q = (1 - D) / 2, r = 2 * sqrt(p * q);
+	double c = cos(2 * angle_rad), s = sin(2 * angle_rad);
+	double t[4][4] = { { p + q, (p - q) * c, (p - q) * s, 0 },
+			   { (p - q) * c, (p + q) * c * c + r * s * s, (p + q - r) * c * s, 0 },
+			   { (p - q) * s, (p + q - r) * c * s, (p + q) * s * s + r * c * c, 0 },
+			   { 0, 0, 0, r } };
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			m[i][j] = 0.5 * t[i][j];
+}
+
 void pc_mueller_facet(const double abcs[4], double C1, double S1, double C2, double S2,
                       double M[4][4])
 {
@@ -197,6 +228,14 @@ double pc_stokes_aolp_rad(const double S[4])
 	if (a >= PC_PI) /* rounding of a + π */
 		a = 0;
 	return a;
+}
+
+double pc_mueller_dop(const double M[4][4])
+{
+	if (!(M[0][0] > 0))
+		return NAN;
+	double p1 = M[1][0] / M[0][0], p2 = M[2][0] / M[0][0], p3 = M[3][0] / M[0][0];
+	return sqrt(p1 * p1 + p2 * p2 + p3 * p3);
 }
 
 void pc_stokes_linear(double intensity, double aolp_rad, double S[4])
@@ -387,13 +426,19 @@ static int pc_cmp_double(const void *x, const void *y)
 	return (a > b) - (a < b);
 }
 
-void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], double eval[4])
+void pc_hermitian4_eig(const double H_re[4][4], const double H_im[4][4], double eval[4],
+                       double V_re[4][4], double V_im[4][4])
 {
 	double Hr[4][4], Hi[4][4];
 	double s = pc_herm_load(H_re, H_im, Hr, Hi);
-	pc_jacobi_herm4(Hr, Hi, NULL, NULL);
+	pc_jacobi_herm4(Hr, Hi, V_re, V_im);
 	for (int i = 0; i < 4; i++)
 		eval[i] = Hr[i][i] / s;
+}
+
+void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], double eval[4])
+{
+	pc_hermitian4_eig(H_re, H_im, eval, NULL, NULL);
 	qsort(eval, 4, sizeof eval[0], pc_cmp_double);
 }
 
@@ -410,17 +455,14 @@ double pc_mueller_min_coherency_eig(const double M[4][4])
 
 void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *changed)
 {
-	double Hr[4][4], Hi[4][4], Jr[4][4], Ji[4][4], Vr[4][4], Vi[4][4];
+	double Hr[4][4], Hi[4][4], Vr[4][4], Vi[4][4];
 	pc_mueller_coherency(M, Hr, Hi);
 	double tr = Hr[0][0] + Hr[1][1] + Hr[2][2] + Hr[3][3];
-	double s = pc_herm_load(Hr, Hi, Jr, Ji);
-	pc_jacobi_herm4(Jr, Ji, Vr, Vi);
 	double lam[4], lmin = INFINITY;
-	for (int i = 0; i < 4; i++) {
-		lam[i] = Jr[i][i] / s;
+	pc_hermitian4_eig(Hr, Hi, lam, Vr, Vi);
+	for (int i = 0; i < 4; i++)
 		if (lam[i] < lmin)
 			lmin = lam[i];
-	}
 	bool ch = !(lmin >= -PC_PHYS_TOL * fabs(tr));
 	if (changed)
 		*changed = ch;

@@ -4,22 +4,10 @@
 #include <omp.h>
 #endif
 
-static int pc_default_threads = 0;
-
-int pc_parallel_set_threads(int threads)
-{
-	int old = pc_default_threads;
-	pc_default_threads = threads < 0 ? 0 : threads;
-	return old;
-}
-
 int pc_parallel_max_threads(void)
 {
 #ifdef _OPENMP
-	int n = omp_get_max_threads();
-	if (pc_default_threads > 0 && pc_default_threads < n)
-		n = pc_default_threads;
-	return n;
+	return omp_get_max_threads();
 #else
 	return 1;
 #endif

@@ -4,6 +4,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <jansson.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +13,7 @@
 
 #include "polarcam/error.h"
 #include "polarcam/io.h"
+#include "json.h"
 
 #define PC_RECORDING_VERSION 1
 #define PC_META_REWRITE_S    0.25
@@ -355,63 +357,81 @@ const char *pc_recording_dir(const pc_recording *r)
 	return r->dir;
 }
 
-static int get_uint(const char *file, json_t *o, const char *key, uint64_t max, bool required,
-                    uint64_t *out)
+double pc_recording_black_level(const pc_recording *r)
 {
-	json_t *v = json_object_get(o, key);
-	if (!v) {
-		if (required)
-			return pc_error(PC_EFORMAT, "%s: field '%s' missing", file, key);
-		return 0;
-	}
-	if (!json_is_integer(v) || json_integer_value(v) < 0 ||
-	    (uint64_t)json_integer_value(v) > max)
-		return pc_error(PC_EFORMAT, "%s: field '%s': expected an integer in [0, %llu]",
-		                file, key, (unsigned long long)max);
-	*out = (uint64_t)json_integer_value(v);
-	return 0;
+	json_t *off = json_object_get(json_object_get(r->extra, "sensor"), "offset_dn");
+	return json_is_number(off) ? json_number_value(off) : 0;
 }
 
-static int parse_frames(pc_recording *r, const char *file, json_t *arr)
+int pc_recording_frame_mosaic(const char *path, pc_mosaic *m)
+{
+	const char *slash = strrchr(path, '/');
+	const char *file = slash ? slash + 1 : path;
+	char dir[4096];
+	if (!slash)
+		snprintf(dir, sizeof dir, ".");
+	else if ((size_t)snprintf(dir, sizeof dir, "%.*s", slash == path ? 1 : (int)(slash - path),
+				  path) >= sizeof dir)
+		return 0;
+	if (!file_exists(dir, "meta.json"))
+		return 0;
+	pc_recording *r = NULL;
+	if (pc_recording_open(&r, dir) != 0) {
+		pc_error_clear(); /* some other meta.json: not a recording */
+		return 0;
+	}
+	int found = 0;
+	const pc_recording_desc *d = pc_recording_get_desc(r);
+	for (size_t i = 0; d->polarized && !found && i < pc_recording_count(r); i++)
+		found = !strcmp(pc_recording_get_frame(r, i)->file, file);
+	if (found)
+		*m = d->mosaic;
+	pc_recording_free(r);
+	return found;
+}
+
+static int parse_frames(pc_recording *r, const pc_json_src *js, json_t *arr)
 {
 	if (!json_is_array(arr))
-		return pc_error(PC_EFORMAT, "%s: field 'frames': expected an array", file);
+		return pc_json_error(js, "frames", "expected an array, got %s", pc_json_kind(arr));
 	size_t n = json_array_size(arr);
 	if (n > 999999)
-		return pc_error(PC_EFORMAT, "%s: %zu frames: at most 999999", file, n);
+		return pc_json_error(js, "frames", "%zu frames: at most 999999", n);
 	r->frames = calloc(n ? n : 1, sizeof *r->frames);
 	if (!r->frames)
-		return pc_error(PC_ENOMEM, "%s", file);
+		return pc_error(PC_ENOMEM, "%s", js->file);
 	r->cap = n;
 	for (size_t i = 0; i < n; i++) {
 		json_t *o = json_array_get(arr, i);
-		char where[96];
-		snprintf(where, sizeof where, "%s: frames[%zu]", file, i);
-		if (!json_is_object(o))
-			return pc_error(PC_EFORMAT, "%s: expected an object", where);
-		pc_recording_frame *f = &r->frames[i];
-		const char *name = json_string_value(json_object_get(o, "file"));
-		unsigned num;
-		char tail;
-		if (!name || strlen(name) != 14 || sscanf(name, "raw_%6u.pn%c", &num, &tail) != 2 ||
-		    tail != 'g' || strspn(name + 4, "0123456789") != 6)
-			return pc_error(PC_EFORMAT, "%s.file: expected \"raw_NNNNNN.png\"", where);
-		snprintf(f->file, sizeof f->file, "%s", name);
-		int rc = get_uint(where, o, "sequence", INT64_MAX, true, &f->sequence);
-		if (!rc)
-			rc = get_uint(where, o, "timestamp_ns", INT64_MAX, true, &f->timestamp_ns);
+		char where[64], p[96];
+		pc_json_path_index(where, sizeof where, "frames", i);
+		int rc = pc_json_need_object(js, o, where);
 		if (rc)
 			return rc;
-		json_t *e = json_object_get(o, "exposure_us"), *g = json_object_get(o, "gain_db");
-		if ((e && !json_is_number(e)) || (g && !json_is_number(g)))
-			return pc_error(PC_EFORMAT, "%s: exposure_us/gain_db: expected numbers",
-			                where);
-		f->exposure_us = e ? json_number_value(e) : 0;
-		f->gain_db = g ? json_number_value(g) : 0;
+		pc_recording_frame *f = &r->frames[i];
+		const char *name = NULL;
+		unsigned num;
+		char tail;
+		pc_json_path(p, sizeof p, where, "file");
+		if ((rc = pc_json_get_str(js, o, where, "file", PC_JSON_REQUIRED, &name)))
+			return rc;
+		if (strlen(name) != 14 || sscanf(name, "raw_%6u.pn%c", &num, &tail) != 2 ||
+		    tail != 'g' || strspn(name + 4, "0123456789") != 6)
+			return pc_json_error(js, p, "expected \"raw_NNNNNN.png\"");
+		snprintf(f->file, sizeof f->file, "%s", name);
+		if ((rc = pc_json_get_u64(js, o, where, "sequence", PC_JSON_REQUIRED, INT64_MAX,
+					  &f->sequence)) ||
+		    (rc = pc_json_get_u64(js, o, where, "timestamp_ns", PC_JSON_REQUIRED, INT64_MAX,
+					  &f->timestamp_ns)) ||
+		    (rc = pc_json_get_num(js, o, where, "exposure_us", PC_JSON_OPTIONAL, -INFINITY,
+					  false, INFINITY, &f->exposure_us)) ||
+		    (rc = pc_json_get_num(js, o, where, "gain_db", PC_JSON_OPTIONAL, -INFINITY, false,
+					  INFINITY, &f->gain_db)))
+			return rc;
 		json_t *st = json_object_get(o, "status");
+		pc_json_path(p, sizeof p, where, "status");
 		if (st && !json_is_array(st))
-			return pc_error(PC_EFORMAT, "%s.status: expected an array of strings",
-			                where);
+			return pc_json_error(js, p, "expected an array of strings");
 		for (size_t k = 0; st && k < json_array_size(st); k++) {
 			const char *s = json_string_value(json_array_get(st, k));
 			if (s && !strcmp(s, "incomplete"))
@@ -420,22 +440,23 @@ static int parse_frames(pc_recording *r, const char *file, json_t *arr)
 				f->status |= PC_FRAME_CORRUPT;
 			else if (s && !strcmp(s, "simulated"))
 				f->status |= PC_FRAME_SIMULATED;
-			else
-				return pc_error(PC_EFORMAT,
-				                "%s.status[%zu]: expected \"incomplete\", "
-				                "\"corrupt\" or \"simulated\"",
-				                where, k);
+			else {
+				char q[128];
+				pc_json_path_index(q, sizeof q, p, k);
+				return pc_json_error(js, q,
+						     "expected \"incomplete\", \"corrupt\" or "
+						     "\"simulated\"");
+			}
 		}
+		pc_json_path(p, sizeof p, where, "sequence");
 		if (i > 0 && f->sequence <= r->frames[i - 1].sequence)
-			return pc_error(PC_EFORMAT,
-			                "%s.sequence = %llu: must be greater than the previous "
-			                "frame's %llu",
-			                where, (unsigned long long)f->sequence,
-			                (unsigned long long)r->frames[i - 1].sequence);
+			return pc_json_error(js, p,
+					     "= %llu: must be greater than the previous frame's %llu",
+					     (unsigned long long)f->sequence,
+					     (unsigned long long)r->frames[i - 1].sequence);
+		pc_json_path(p, sizeof p, where, "timestamp_ns");
 		if (i > 0 && f->timestamp_ns < r->frames[i - 1].timestamp_ns)
-			return pc_error(PC_EFORMAT,
-			                "%s.timestamp_ns: earlier than the previous frame's",
-			                where);
+			return pc_json_error(js, p, "earlier than the previous frame's");
 		r->n = i + 1;
 	}
 	return 0;
@@ -443,63 +464,55 @@ static int parse_frames(pc_recording *r, const char *file, json_t *arr)
 
 static int open_meta(pc_recording *r, const char *path)
 {
-	json_error_t e;
-	json_t *m = json_load_file(path, JSON_REJECT_DUPLICATES, &e);
-	if (!m)
-		return pc_error(PC_EFORMAT, "%s:%d: %s", path, e.line, e.text);
-	int rc = 0;
+	json_t *m = NULL;
+	int rc = pc_json_load(path, true, &m);
+	if (rc)
+		return rc;
+	const pc_json_src js = { path, PC_EFORMAT };
 	uint64_t ver = 0, bits = 0, w = 0, h = 0, ox = 0, oy = 0, sw = 0, sh = 0;
-	if (!json_is_object(m))
-		rc = pc_error(PC_EFORMAT, "%s: expected a JSON object", path);
-	if (!rc)
-		rc = get_uint(path, m, "polarcam_recording", 1000, true, &ver);
+	rc = pc_json_get_u64(&js, m, "", "polarcam_recording", PC_JSON_REQUIRED, 1000, &ver);
 	if (!rc && ver != PC_RECORDING_VERSION)
-		rc = pc_error(PC_EFORMAT,
-		              "%s: polarcam_recording = %llu: this polarcam reads version %d", path,
-		              (unsigned long long)ver, PC_RECORDING_VERSION);
+		rc = pc_json_error(&js, "polarcam_recording", "= %llu: this polarcam reads version %d",
+				   (unsigned long long)ver, PC_RECORDING_VERSION);
 	if (!rc)
-		rc = get_uint(path, m, "bits", 16, true, &bits);
+		rc = pc_json_get_u64(&js, m, "", "bits", PC_JSON_REQUIRED, 16, &bits);
 	if (!rc)
-		rc = get_uint(path, m, "width", 1u << 20, true, &w);
+		rc = pc_json_get_u64(&js, m, "", "width", PC_JSON_REQUIRED, 1u << 20, &w);
 	if (!rc)
-		rc = get_uint(path, m, "height", 1u << 20, true, &h);
+		rc = pc_json_get_u64(&js, m, "", "height", PC_JSON_REQUIRED, 1u << 20, &h);
 	if (!rc)
-		rc = get_uint(path, m, "offset_x", 1u << 20, false, &ox);
+		rc = pc_json_get_u64(&js, m, "", "offset_x", PC_JSON_OPTIONAL, 1u << 20, &ox);
 	if (!rc)
-		rc = get_uint(path, m, "offset_y", 1u << 20, false, &oy);
+		rc = pc_json_get_u64(&js, m, "", "offset_y", PC_JSON_OPTIONAL, 1u << 20, &oy);
 	if (!rc)
-		rc = get_uint(path, m, "sensor_width", 1u << 21, false, &sw);
+		rc = pc_json_get_u64(&js, m, "", "sensor_width", PC_JSON_OPTIONAL, 1u << 21, &sw);
 	if (!rc)
-		rc = get_uint(path, m, "sensor_height", 1u << 21, false, &sh);
+		rc = pc_json_get_u64(&js, m, "", "sensor_height", PC_JSON_OPTIONAL, 1u << 21, &sh);
 	if (!rc && (w == 0 || h == 0))
-		rc = pc_error(PC_EFORMAT, "%s: width/height must be > 0", path);
+		rc = pc_json_error(&js, w == 0 ? "width" : "height", "= 0: must be > 0");
 	const char *fmt = json_string_value(json_object_get(m, "format"));
 	pc_pixfmt pf = fmt ? pc_format_from_name(fmt) : PC_FMT_INVALID;
 	if (!rc && (pf == PC_FMT_INVALID || pc_recording_storage_format(pf) != pf))
-		rc = pc_error(PC_EFORMAT,
-		              "%s: format '%s': expected Mono8, Mono10, Mono12, Mono14 or "
-		              "Mono16",
-		              path, fmt ? fmt : "(missing)");
+		rc = pc_json_error(&js, "format", "'%s': expected Mono8, Mono10, Mono12, Mono14 or Mono16",
+				   fmt ? fmt : "(missing)");
 	if (!rc && pc_format_info_get(pf)->bits != bits)
-		rc = pc_error(PC_EFORMAT, "%s: bits = %llu does not match format %s", path,
-		              (unsigned long long)bits, fmt);
+		rc = pc_json_error(&js, "bits", "= %llu: does not match format %s",
+				   (unsigned long long)bits, fmt);
 	json_t *pol = json_object_get(m, "polarized");
-	if (!rc && pol && !json_is_boolean(pol))
-		rc = pc_error(PC_EFORMAT, "%s: field 'polarized': expected true or false", path);
+	bool polarized = false;
+	if (!rc)
+		rc = pc_json_get_bool(&js, m, "", "polarized", PC_JSON_OPTIONAL, &polarized);
 	json_t *mos = json_object_get(m, "mosaic");
 	pc_mosaic mosaic;
 	memset(&mosaic, 0, sizeof mosaic);
 	if (!rc && mos && !json_is_null(mos)) {
 		const char *t = json_string_value(mos);
 		if (!t)
-			rc = pc_error(PC_EFORMAT,
-			              "%s: field 'mosaic': expected a string such as "
-			              "\"90,45,135,0\"",
-			              path);
-		else
-			rc = pc_mosaic_parse(t, &mosaic);
-		if (rc)
-			rc = pc_error_prefix(PC_EFORMAT, "%s: field 'mosaic': ", path);
+			rc = pc_json_error(&js, "mosaic",
+					   "expected a string such as \"90,45,135,0\", got %s",
+					   pc_json_kind(mos));
+		else if ((rc = pc_mosaic_parse(t, &mosaic)))
+			rc = pc_error_prefix(PC_EFORMAT, "%s: mosaic: ", path);
 	}
 	const char *src = json_string_value(json_object_get(m, "source"));
 	const char *dev = json_string_value(json_object_get(m, "device_format"));
@@ -507,12 +520,12 @@ static int open_meta(pc_recording *r, const char *path)
 	    ((src && !(r->source = strdup(src))) || (dev && !(r->device_format = strdup(dev)))))
 		rc = pc_error(PC_ENOMEM, "%s", path);
 	if (!rc)
-		rc = parse_frames(r, path, json_object_get(m, "frames"));
-	json_t *c = json_object_get(m, "complete");
-	if (!rc && c && !json_is_boolean(c))
-		rc = pc_error(PC_EFORMAT, "%s: field 'complete': expected true or false", path);
+		rc = parse_frames(r, &js, json_object_get(m, "frames"));
+	bool complete = true;
+	if (!rc)
+		rc = pc_json_get_bool(&js, m, "", "complete", PC_JSON_OPTIONAL, &complete);
 	if (!rc) {
-		r->complete = c ? json_is_true(c) : true;
+		r->complete = complete;
 		const char *err = json_string_value(json_object_get(m, "error"));
 		if (err)
 			r->error = strdup(err);
@@ -526,7 +539,7 @@ static int open_meta(pc_recording *r, const char *path)
 		r->desc.offset_y = (uint32_t)oy;
 		r->desc.sensor_width = sw ? (uint32_t)sw : (uint32_t)(w + ox);
 		r->desc.sensor_height = sh ? (uint32_t)sh : (uint32_t)(h + oy);
-		r->desc.polarized = pol ? json_is_true(pol) : mosaic.period != 0;
+		r->desc.polarized = pol ? polarized : mosaic.period != 0;
 		r->desc.mosaic = mosaic;
 		r->stats = json_incref(json_object_get(m, "stats"));
 		r->extra = json_incref(json_object_get(m, "extra"));

@@ -665,11 +665,6 @@ unsigned pc_source_buffer_count(const pc_source *s)
 	return s ? s->n_bufs : 0;
 }
 
-pc_buffer *pc_source_buffer(pc_source *s, unsigned index)
-{
-	return s && index < s->n_bufs ? s->bufs[index] : NULL;
-}
-
 /* ---- streaming ---- */
 
 int pc_source_start(pc_source *s)

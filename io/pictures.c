@@ -27,13 +27,6 @@ int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, 
 	return pc_pictures_write_opts(dir, st, width, height, &o);
 }
 
-int pc_pictures_write_ex(const char *dir, const pc_stokes_out *st, uint32_t width,
-			 uint32_t height, const char *title_prefix, uint32_t max_width)
-{
-	pc_pictures_opts o = { title_prefix, max_width, 0 };
-	return pc_pictures_write_opts(dir, st, width, height, &o);
-}
-
 int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t width,
 			   uint32_t height, const pc_pictures_opts *opts)
 {

@@ -1,9 +1,12 @@
-/* Ground-truth directories for the evaluation protocol. */
+/* Ground-truth directories for the evaluation protocol, and methods scored on them. */
+#define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 
 #include "polarcam/error.h"
 #include "polarcam/eval.h"
@@ -68,4 +71,98 @@ void pc_truth_dataset(const char *dir, char *buf, size_t size)
 		snprintf(buf, size, "%s", pe == 0 ? "/" : ".");
 	else
 		snprintf(buf, size, "%.*s", (int)(pe - ps), dir + ps);
+}
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method *methods,
+		 size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
+		 pc_eval_result *res)
+{
+	size_t nres = 0;
+	for (size_t d = 0; d < ndirs; d++) {
+		pc_eval_truth t;
+		int rc = pc_truth_load(dirs[d], &t);
+		if (rc)
+			return pc_error_prefix(rc, "%s: ", dirs[d]);
+		for (size_t k = 0; k < nmeth; k++) {
+			pc_eval_result *r = &res[nres];
+			r->scene = dirs[d];
+			pc_truth_dataset(dirs[d], r->dataset, sizeof r->dataset);
+			r->method = methods[k];
+			double t0 = now_s();
+			rc = pc_eval_method(&t, methods[k], opts, &r->m);
+			r->seconds = now_s() - t0;
+			if (rc) {
+				pc_eval_truth_free(&t);
+				return pc_error_prefix(rc, "%s: ", dirs[d]);
+			}
+			nres++;
+			pc_progress_report(progress, "eval", nres, ndirs * nmeth);
+		}
+		pc_eval_truth_free(&t);
+	}
+	return 0;
+}
+
+int pc_eval_dataset_mean(const pc_eval_result *r, size_t n, const char *dataset,
+			 pc_demosaic_method meth, pc_eval_metrics *out)
+{
+	memset(out, 0, sizeof *out);
+	int count = 0;
+	for (size_t i = 0; i < n; i++) {
+		if (r[i].method != meth || strcmp(r[i].dataset, dataset))
+			continue;
+		const double *s = &r[i].m.psnr_i;
+		double *d = &out->psnr_i;
+		for (size_t k = 0; k < sizeof *out / sizeof(double); k++)
+			d[k] += s[k];
+		count++;
+	}
+	if (count)
+		for (size_t k = 0; k < sizeof *out / sizeof(double); k++)
+			(&out->psnr_i)[k] /= count;
+	return count;
+}
+
+int pc_eval_dataset_gain(const pc_eval_result *r, size_t n, const char *dataset,
+			 pc_demosaic_method meth, pc_demosaic_method base, pc_eval_gain *g)
+{
+	memset(g, 0, sizeof *g);
+	g->s0_worst = g->dolp_worst = INFINITY;
+	int cnt = 0;
+	for (size_t i = 0; i < n; i++) {
+		if (r[i].method != meth || strcmp(r[i].dataset, dataset))
+			continue;
+		for (size_t j = 0; j < n; j++) {
+			if (r[j].method != base || strcmp(r[j].scene, r[i].scene))
+				continue;
+			double ds = r[i].m.psnr_s0 - r[j].m.psnr_s0;
+			double dd = r[i].m.psnr_dolp - r[j].m.psnr_dolp;
+			g->s0_mean += ds;
+			g->dolp_mean += dd;
+			if (ds < g->s0_worst) {
+				g->s0_worst = ds;
+				g->s0_worst_scene = r[i].scene;
+			}
+			if (dd < g->dolp_worst) {
+				g->dolp_worst = dd;
+				g->dolp_worst_scene = r[i].scene;
+			}
+			cnt++;
+			break;
+		}
+	}
+	if (!cnt) {
+		g->s0_worst = g->dolp_worst = NAN;
+		return 0;
+	}
+	g->s0_mean /= cnt;
+	g->dolp_mean /= cnt;
+	return cnt;
 }

@@ -13,6 +13,7 @@
 #include "polarcam/error.h"
 #include "polarcam/mosaic.h"
 #include "polarcam/optics.h"
+#include "json.h"
 #include "scene_impl.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
@@ -20,171 +21,11 @@
 /* ---- parse context and error helpers ---- */
 
 typedef struct pctx {
-	const char *file;
+	pc_json_src js; /* file name, PC_EINVAL */
 	const char *base_dir;
 	pc_scene *scene;
 	bool colour;
 } pctx;
-
-static int perr(const pctx *c, const char *path, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-
-static int perr(const pctx *c, const char *path, const char *fmt, ...)
-{
-	char msg[512];
-	va_list ap;
-	va_start(ap, fmt);
-	vsnprintf(msg, sizeof msg, fmt, ap);
-	va_end(ap);
-	/* "camera.f_number = -1: must be > 0" or "camera.up: is parallel to ..." */
-	const char *sep = !*path ? "" : !strncmp(msg, "= ", 2) ? " " : ": ";
-	return pc_error(PC_EINVAL, "%s: %s%s%s", c->file, path, sep, msg);
-}
-
-static const char *json_kind(const json_t *v)
-{
-	switch (json_typeof(v)) {
-	case JSON_OBJECT:
-		return "an object";
-	case JSON_ARRAY:
-		return "an array";
-	case JSON_STRING:
-		return "a string";
-	case JSON_INTEGER:
-	case JSON_REAL:
-		return "a number";
-	case JSON_TRUE:
-	case JSON_FALSE:
-		return "a boolean";
-	default:
-		return "null";
-	}
-}
-
-/* Field paths are only used in messages: a (never expected) truncation just shortens one. */
-static void subpath(char *dst, size_t n, const char *path, const char *key)
-{
-	if (snprintf(dst, n, "%s%s%s", path, *path ? "." : "", key) >= (int)n)
-		dst[n - 1] = '\0';
-}
-
-static void subpath_i(char *dst, size_t n, const char *path, size_t i)
-{
-	if (snprintf(dst, n, "%s[%zu]", path, i) >= (int)n)
-		dst[n - 1] = '\0';
-}
-
-/* Unknown fields are errors: a typo must not silently become a default. */
-static int check_keys(const pctx *c, json_t *obj, const char *path, const char *const *allowed)
-{
-	const char *key;
-	json_t *val;
-	json_object_foreach(obj, key, val) {
-		bool ok = false;
-		for (const char *const *a = allowed; *a; a++)
-			if (!strcmp(key, *a))
-				ok = true;
-		if (!ok) {
-			char list[512] = "";
-			for (const char *const *a = allowed; *a; a++) {
-				strncat(list, *a, sizeof list - strlen(list) - 1);
-				if (a[1])
-					strncat(list, ", ", sizeof list - strlen(list) - 1);
-			}
-			char p[256];
-			subpath(p, sizeof p, path, key);
-			return perr(c, p, "unknown field (expected one of: %s)", list);
-		}
-	}
-	return 0;
-}
-
-static int need_object(const pctx *c, json_t *v, const char *path)
-{
-	if (!json_is_object(v))
-		return perr(c, path, "expected an object, got %s", json_kind(v));
-	return 0;
-}
-
-enum { REQ = 1, OPT = 0 };
-
-/* Number in [lo, hi] (open at lo when lo_open). */
-static int get_num(const pctx *c, json_t *obj, const char *path, const char *key, int required,
-		   double lo, bool lo_open, double hi, double *out)
-{
-	char p[256];
-	subpath(p, sizeof p, path, key);
-	json_t *v = json_object_get(obj, key);
-	if (!v) {
-		if (required)
-			return perr(c, p, "missing (required)");
-		return 0;
-	}
-	if (!json_is_number(v))
-		return perr(c, p, "expected a number, got %s", json_kind(v));
-	double x = json_number_value(v);
-	if (!isfinite(x))
-		return perr(c, p, "expected a finite number");
-	if (lo_open ? !(x > lo) : !(x >= lo)) {
-		if (hi < INFINITY)
-			return perr(c, p, "= %g: must be in %s%g, %g]", x, lo_open ? "(" : "[", lo, hi);
-		return perr(c, p, "= %g: must be %s %g", x, lo_open ? ">" : "≥", lo);
-	}
-	if (x > hi)
-		return perr(c, p, "= %g: must be in %s%g, %g]", x, lo_open ? "(" : "[", lo, hi);
-	*out = x;
-	return 0;
-}
-
-static int get_int(const pctx *c, json_t *obj, const char *path, const char *key, int required,
-		   long lo, long hi, long *out)
-{
-	char p[256];
-	subpath(p, sizeof p, path, key);
-	json_t *v = json_object_get(obj, key);
-	if (!v) {
-		if (required)
-			return perr(c, p, "missing (required)");
-		return 0;
-	}
-	if (!json_is_integer(v))
-		return perr(c, p, "expected an integer, got %s", json_kind(v));
-	json_int_t x = json_integer_value(v);
-	if (x < lo || x > hi)
-		return perr(c, p, "= %lld: must be an integer in [%ld, %ld]", (long long)x, lo, hi);
-	*out = (long)x;
-	return 0;
-}
-
-static int get_bool(const pctx *c, json_t *obj, const char *path, const char *key, bool *out)
-{
-	char p[256];
-	subpath(p, sizeof p, path, key);
-	json_t *v = json_object_get(obj, key);
-	if (!v)
-		return 0;
-	if (!json_is_boolean(v))
-		return perr(c, p, "expected true or false, got %s", json_kind(v));
-	*out = json_is_true(v);
-	return 0;
-}
-
-static int get_str(const pctx *c, json_t *obj, const char *path, const char *key, int required,
-		   const char **out)
-{
-	char p[256];
-	subpath(p, sizeof p, path, key);
-	json_t *v = json_object_get(obj, key);
-	if (!v) {
-		if (required)
-			return perr(c, p, "missing (required)");
-		return 0;
-	}
-	if (!json_is_string(v))
-		return perr(c, p, "expected a string, got %s", json_kind(v));
-	*out = json_string_value(v);
-	return 0;
-}
 
 typedef struct {
 	const char *name;
@@ -197,7 +38,7 @@ static int get_enum(const pctx *c, json_t *obj, const char *path, const char *ke
 		    const pc_scene_keyword *words, const char *expected, int *out)
 {
 	const char *s = NULL;
-	int rc = get_str(c, obj, path, key, OPT, &s);
+	int rc = pc_json_get_str(&c->js, obj, path, key, PC_JSON_OPTIONAL, &s);
 	*out = -1;
 	if (rc || !s)
 		return rc;
@@ -207,35 +48,8 @@ static int get_enum(const pctx *c, json_t *obj, const char *path, const char *ke
 			return 0;
 		}
 	char p[256];
-	subpath(p, sizeof p, path, key);
-	return perr(c, p, "'%s': expected %s", s, expected);
-}
-
-/* Fixed-length array of numbers. */
-static int get_nums(const pctx *c, json_t *obj, const char *path, const char *key, int required,
-		    double *out, size_t n)
-{
-	char p[256];
-	subpath(p, sizeof p, path, key);
-	json_t *v = json_object_get(obj, key);
-	if (!v) {
-		if (required)
-			return perr(c, p, "missing (required)");
-		return 0;
-	}
-	if (!json_is_array(v) || json_array_size(v) != n)
-		return perr(c, p, "expected an array of %zu numbers, got %s%s", n, json_kind(v),
-			    json_is_array(v) ? " of another length" : "");
-	for (size_t i = 0; i < n; i++) {
-		json_t *e = json_array_get(v, i);
-		if (!json_is_number(e) || !isfinite(json_number_value(e))) {
-			char q[288];
-			subpath_i(q, sizeof q, p, i);
-			return perr(c, q, "expected a finite number, got %s", json_kind(e));
-		}
-		out[i] = json_number_value(e);
-	}
-	return 0;
+	pc_json_path(p, sizeof p, path, key);
+	return pc_json_error(&c->js, p, "'%s': expected %s", s, expected);
 }
 
 static int get_v3(const pctx *c, json_t *obj, const char *path, const char *key, int required,
@@ -245,12 +59,12 @@ static int get_v3(const pctx *c, json_t *obj, const char *path, const char *key,
 	if (!json_object_get(obj, key)) {
 		if (required) {
 			char p[256];
-			subpath(p, sizeof p, path, key);
-			return perr(c, p, "missing (required; [x, y, z])");
+			pc_json_path(p, sizeof p, path, key);
+			return pc_json_error(&c->js, p, "missing (required; [x, y, z])");
 		}
 		return 0;
 	}
-	int rc = get_nums(c, obj, path, key, required, a, 3);
+	int rc = pc_json_get_nums(&c->js, obj, path, key, required, a, 3);
 	if (rc)
 		return rc;
 	*out = v3(a[0], a[1], a[2]);
@@ -268,8 +82,8 @@ static int get_unit_v3(const pctx *c, json_t *obj, const char *path, const char 
 		return 0;
 	if (!(v3_len(v) > 1e-12)) {
 		char p[256];
-		subpath(p, sizeof p, path, key);
-		return perr(c, p, "must be a non-zero vector");
+		pc_json_path(p, sizeof p, path, key);
+		return pc_json_error(&c->js, p, "must be a non-zero vector");
 	}
 	*out = v3_unit(v);
 	return 0;
@@ -280,35 +94,35 @@ static int get_num_rgb(const pctx *c, json_t *obj, const char *path, const char 
 		       double lo, bool lo_open, double hi, double out[3])
 {
 	char p[256];
-	subpath(p, sizeof p, path, key);
+	pc_json_path(p, sizeof p, path, key);
 	json_t *v = json_object_get(obj, key);
 	if (!v) {
 		if (required)
-			return perr(c, p, "missing (required)");
+			return pc_json_error(&c->js, p, "missing (required)");
 		return 0;
 	}
 	if (json_is_array(v)) {
 		double a[3];
-		int rc = get_nums(c, obj, path, key, REQ, a, 3);
+		int rc = pc_json_get_nums(&c->js, obj, path, key, PC_JSON_REQUIRED, a, 3);
 		if (rc)
 			return rc;
 		for (int i = 0; i < 3; i++) {
 			if (lo_open ? !(a[i] > lo) : !(a[i] >= lo)) {
 				char q[288];
-				subpath_i(q, sizeof q, p, (size_t)i);
-				return perr(c, q, "= %g: must be %s %g", a[i], lo_open ? ">" : "≥", lo);
+				pc_json_path_index(q, sizeof q, p, (size_t)i);
+				return pc_json_error(&c->js, q, "= %g: must be %s %g", a[i], lo_open ? ">" : "≥", lo);
 			}
 			if (a[i] > hi) {
 				char q[288];
-				subpath_i(q, sizeof q, p, (size_t)i);
-				return perr(c, q, "= %g: must be ≤ %g", a[i], hi);
+				pc_json_path_index(q, sizeof q, p, (size_t)i);
+				return pc_json_error(&c->js, q, "= %g: must be ≤ %g", a[i], hi);
 			}
 			out[i] = a[i];
 		}
 		return 0;
 	}
 	double x;
-	int rc = get_num(c, obj, path, key, REQ, lo, lo_open, hi, &x);
+	int rc = pc_json_get_num(&c->js, obj, path, key, PC_JSON_REQUIRED, lo, lo_open, hi, &x);
 	if (rc)
 		return rc;
 	out[0] = out[1] = out[2] = x;
@@ -317,33 +131,15 @@ static int get_num_rgb(const pctx *c, json_t *obj, const char *path, const char 
 
 /* ---- polarization states ---- */
 
-void pc_retarder_mueller(double angle_rad, double delta_rad, double m[4][4])
-{
-	/* Linear retarder, fast axis at θ from the x (s) axis towards y (p), retardance δ: the Jones
-	 * matrix R(−θ)·diag(1, e^{−iδ})·R(θ) (e^{+iωt}: the slow component lags) mapped to Mueller
-	 * with physics.md §1's A (S3 = 2 Im(E_s* E_p)). Worked out by hand:
-	 * [[1,0,0,0],[0,c²+s²cosδ, cs(1−cosδ), −s sinδ],[0, cs(1−cosδ), s²+c²cosδ, c sinδ],
-	 *  [0, s sinδ, −c sinδ, cosδ]] with c = cos2θ, s = sin2θ. Verified in tests against the
-	 * Jones calculus (tests/test_sim_render.c): a quarter-wave plate at 45° turns S1 = +1 into
-	 * S3 = +1 in this convention. */
-	double c = cos(2 * angle_rad), s = sin(2 * angle_rad);
-	double cd = cos(delta_rad), sd = sin(delta_rad);
-	double r[4][4] = { { 1, 0, 0, 0 },
-			   { 0, c * c + s * s * cd, c * s * (1 - cd), -s * sd },
-			   { 0, c * s * (1 - cd), s * s + c * c * cd, c * sd },
-			   { 0, s * sd, -c * sd, cd } };
-	memcpy(m, r, sizeof r);
-}
-
 static int parse_retarder(const pctx *c, json_t *v, const char *path, double m[4][4])
 {
 	static const char *const keys[] = { "angle_deg", "retardance_deg", NULL };
 	int rc;
-	if ((rc = need_object(c, v, path)) || (rc = check_keys(c, v, path, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	double a = 0, d = 0;
-	if ((rc = get_num(c, v, path, "angle_deg", REQ, -360, false, 360, &a)) ||
-	    (rc = get_num(c, v, path, "retardance_deg", REQ, 0, false, 360, &d)))
+	if ((rc = pc_json_get_num(&c->js, v, path, "angle_deg", PC_JSON_REQUIRED, -360, false, 360, &a)) ||
+	    (rc = pc_json_get_num(&c->js, v, path, "retardance_deg", PC_JSON_REQUIRED, 0, false, 360, &d)))
 		return rc;
 	pc_retarder_mueller(a * DEG, d * DEG, m);
 	return 0;
@@ -361,58 +157,58 @@ static int parse_pol(const pctx *c, json_t *v, const char *path, double S[4])
 			S[1] = S[2] = S[3] = 0;
 			return 0;
 		}
-		return perr(c, path, "'%s': expected \"unpolarized\" or an object (linear_deg, "
+		return pc_json_error(&c->js, path, "'%s': expected \"unpolarized\" or an object (linear_deg, "
 				     "circular, stokes or polarizer_deg)", json_string_value(v));
 	}
 	static const char *const keys[] = { "linear_deg", "circular", "stokes", "polarizer_deg",
 					    "retarder", "dop", NULL };
-	if ((rc = need_object(c, v, path)) || (rc = check_keys(c, v, path, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	int kinds = !!json_object_get(v, "linear_deg") + !!json_object_get(v, "circular") +
 		    !!json_object_get(v, "stokes") + !!json_object_get(v, "polarizer_deg");
 	if (kinds != 1)
-		return perr(c, path, "give exactly one of linear_deg, circular, stokes, polarizer_deg");
+		return pc_json_error(&c->js, path, "give exactly one of linear_deg, circular, stokes, polarizer_deg");
 	double dop = 1;
-	if ((rc = get_num(c, v, path, "dop", OPT, 0, false, 1, &dop)))
+	if ((rc = pc_json_get_num(&c->js, v, path, "dop", PC_JSON_OPTIONAL, 0, false, 1, &dop)))
 		return rc;
 	S[0] = 1;
 	S[1] = S[2] = S[3] = 0;
 	if (json_object_get(v, "linear_deg")) {
 		double a;
-		if ((rc = get_num(c, v, path, "linear_deg", REQ, -360, false, 360, &a)))
+		if ((rc = pc_json_get_num(&c->js, v, path, "linear_deg", PC_JSON_REQUIRED, -360, false, 360, &a)))
 			return rc;
 		S[1] = dop * cos(2 * a * DEG);
 		S[2] = dop * sin(2 * a * DEG);
 	} else if (json_object_get(v, "circular")) {
 		long h;
-		if ((rc = get_int(c, v, path, "circular", REQ, -1, 1, &h)))
+		if ((rc = pc_json_get_int(&c->js, v, path, "circular", PC_JSON_REQUIRED, -1, 1, &h)))
 			return rc;
 		if (h == 0)
-			return perr(c, path, "circular = 0: must be +1 (S3 > 0) or -1 (S3 < 0)");
+			return pc_json_error(&c->js, path, "circular = 0: must be +1 (S3 > 0) or -1 (S3 < 0)");
 		S[3] = dop * (double)h;
 	} else if (json_object_get(v, "stokes")) {
 		double s[3];
-		if ((rc = get_nums(c, v, path, "stokes", REQ, s, 3)))
+		if ((rc = pc_json_get_nums(&c->js, v, path, "stokes", PC_JSON_REQUIRED, s, 3)))
 			return rc;
 		double p = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
 		if (p > 1 + 1e-12) {
 			char q[256];
-			subpath(q, sizeof q, path, "stokes");
-			return perr(c, q, "degree of polarization %g > 1 (normalized [S1, S2, S3] "
+			pc_json_path(q, sizeof q, path, "stokes");
+			return pc_json_error(&c->js, q, "degree of polarization %g > 1 (normalized [S1, S2, S3] "
 					  "with S0 = 1)", p);
 		}
 		for (int i = 0; i < 3; i++)
 			S[i + 1] = dop * s[i];
 	} else {
 		double a;
-		if ((rc = get_num(c, v, path, "polarizer_deg", REQ, -360, false, 360, &a)))
+		if ((rc = pc_json_get_num(&c->js, v, path, "polarizer_deg", PC_JSON_REQUIRED, -360, false, 360, &a)))
 			return rc;
 		double in[4] = { 1, dop * cos(2 * a * DEG), dop * sin(2 * a * DEG), 0 };
 		json_t *r = json_object_get(v, "retarder");
 		if (r) {
 			double m[4][4];
 			char q[256];
-			subpath(q, sizeof q, path, "retarder");
+			pc_json_path(q, sizeof q, path, "retarder");
 			if ((rc = parse_retarder(c, r, q, m)))
 				return rc;
 			for (int i = 0; i < 4; i++)
@@ -423,7 +219,7 @@ static int parse_pol(const pctx *c, json_t *v, const char *path, double S[4])
 		}
 	}
 	if (json_object_get(v, "retarder") && !json_object_get(v, "polarizer_deg"))
-		return perr(c, path, "retarder needs polarizer_deg (the polarizer in front of it)");
+		return pc_json_error(&c->js, path, "retarder needs polarizer_deg (the polarizer in front of it)");
 	return 0;
 }
 
@@ -435,31 +231,31 @@ static int parse_camera(const pctx *c, json_t *v, pc_sim_camera *cam)
 					    "direction", "up", "principal_point", NULL };
 	const char *P = "camera";
 	int rc;
-	if ((rc = need_object(c, v, P)) || (rc = check_keys(c, v, P, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, P)) || (rc = pc_json_check_keys(&c->js, v, P, keys)))
 		return rc;
 	cam->focal_length_mm = 12;
 	cam->f_number = 4;
-	pc_v3 pos = v3(0, -5, 2), up = v3(0, 0, 1), fwd = v3(0, 1, 0), at;
-	if ((rc = get_num(c, v, P, "focal_length_mm", OPT, 0, true, 1e5, &cam->focal_length_mm)) ||
-	    (rc = get_num(c, v, P, "f_number", OPT, 0.3, false, 1000, &cam->f_number)) ||
-	    (rc = get_v3(c, v, P, "position", REQ, &pos)) ||
-	    (rc = get_unit_v3(c, v, P, "up", OPT, &up)))
+	pc_v3 pos = v3(0, -5, 2), up = v3(0, 0, 1), fwd = v3(0, 1, 0), at = pos;
+	if ((rc = pc_json_get_num(&c->js, v, P, "focal_length_mm", PC_JSON_OPTIONAL, 0, true, 1e5, &cam->focal_length_mm)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "f_number", PC_JSON_OPTIONAL, 0.3, false, 1000, &cam->f_number)) ||
+	    (rc = get_v3(c, v, P, "position", PC_JSON_REQUIRED, &pos)) ||
+	    (rc = get_unit_v3(c, v, P, "up", PC_JSON_OPTIONAL, &up)))
 		return rc;
 	bool has_at = json_object_get(v, "look_at"), has_dir = json_object_get(v, "direction");
 	if (has_at == has_dir)
-		return perr(c, P, "give exactly one of look_at ([x, y, z] point) or direction");
+		return pc_json_error(&c->js, P, "give exactly one of look_at ([x, y, z] point) or direction");
 	if (has_at) {
-		if ((rc = get_v3(c, v, P, "look_at", REQ, &at)))
+		if ((rc = get_v3(c, v, P, "look_at", PC_JSON_REQUIRED, &at)))
 			return rc;
 		if (!(v3_len(v3_sub(at, pos)) > 1e-12))
-			return perr(c, "camera.look_at", "equals camera.position");
+			return pc_json_error(&c->js, "camera.look_at", "equals camera.position");
 		fwd = v3_unit(v3_sub(at, pos));
-	} else if ((rc = get_unit_v3(c, v, P, "direction", REQ, &fwd))) {
+	} else if ((rc = get_unit_v3(c, v, P, "direction", PC_JSON_REQUIRED, &fwd))) {
 		return rc;
 	}
 	pc_v3 right = v3_cross(fwd, up);
 	if (v3_len(right) < 1e-9)
-		return perr(c, "camera.up", "is parallel to the viewing direction");
+		return pc_json_error(&c->js, "camera.up", "is parallel to the viewing direction");
 	cam->position = pos;
 	cam->forward = fwd;
 	cam->right = v3_unit(right);
@@ -467,7 +263,7 @@ static int parse_camera(const pctx *c, json_t *v, pc_sim_camera *cam)
 	cam->principal_x = cam->principal_y = NAN;
 	if (json_object_get(v, "principal_point")) {
 		double pp[2];
-		if ((rc = get_nums(c, v, P, "principal_point", REQ, pp, 2)))
+		if ((rc = pc_json_get_nums(&c->js, v, P, "principal_point", PC_JSON_REQUIRED, pp, 2)))
 			return rc;
 		cam->principal_x = pp[0];
 		cam->principal_y = pp[1];
@@ -481,15 +277,15 @@ static int parse_material(const pctx *c, json_t *v, const char *path, const char
 	static const char *const keys[] = { "n", "k", "sigma", "diffuse", "shadowing", "rho",
 					    "rho_order", NULL };
 	int rc;
-	if ((rc = need_object(c, v, path)) || (rc = check_keys(c, v, path, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	if (strlen(name) >= sizeof m->name)
-		return perr(c, path, "material name longer than %zu characters", sizeof m->name - 1);
+		return pc_json_error(&c->js, path, "material name longer than %zu characters", sizeof m->name - 1);
 	snprintf(m->name, sizeof m->name, "%s", name);
 	double n[3] = { 0 }, k[3] = { 0, 0, 0 }, sigma = 0;
-	if ((rc = get_num_rgb(c, v, path, "n", REQ, 0, true, 100, n)) ||
-	    (rc = get_num_rgb(c, v, path, "k", OPT, 0, false, 100, k)) ||
-	    (rc = get_num(c, v, path, "sigma", REQ, 0, true, 10, &sigma)))
+	if ((rc = get_num_rgb(c, v, path, "n", PC_JSON_REQUIRED, 0, true, 100, n)) ||
+	    (rc = get_num_rgb(c, v, path, "k", PC_JSON_OPTIONAL, 0, false, 100, k)) ||
+	    (rc = pc_json_get_num(&c->js, v, path, "sigma", PC_JSON_REQUIRED, 0, true, 10, &sigma)))
 		return rc;
 	pc_diffuse diffuse = PC_DIFFUSE_FRESNEL;
 	pc_shadowing shadow = PC_SHADOW_TS;
@@ -515,7 +311,7 @@ static int parse_material(const pctx *c, json_t *v, const char *path, const char
 	if ((rc = get_enum(c, v, path, "rho", rhos, "table or quad", &e)))
 		return rc;
 	rho = e < 0 ? rho : (pc_rho_mode)e;
-	if ((rc = get_int(c, v, path, "rho_order", OPT, 2, 256, &order)))
+	if ((rc = pc_json_get_int(&c->js, v, path, "rho_order", PC_JSON_OPTIONAL, 2, 256, &order)))
 		return rc;
 	/* The global switches (effects.diffuse / effects.shadowing) win over the material. */
 	if (!(c->scene->effects & PC_FX_DIFFUSE))
@@ -540,13 +336,13 @@ static int parse_states(const pctx *c, json_t *arr, const char *path, unsigned *
 			double S[][4])
 {
 	if (!json_is_array(arr) || json_array_size(arr) == 0)
-		return perr(c, path, "expected a non-empty array of polarization states");
+		return pc_json_error(&c->js, path, "expected a non-empty array of polarization states");
 	if (json_array_size(arr) > PC_SIM_MAX_STATES)
-		return perr(c, path, "%zu states: at most %d", json_array_size(arr),
+		return pc_json_error(&c->js, path, "%zu states: at most %d", json_array_size(arr),
 			    PC_SIM_MAX_STATES);
 	for (size_t i = 0; i < json_array_size(arr); i++) {
 		char p[256];
-		subpath_i(p, sizeof p, path, i);
+		pc_json_path_index(p, sizeof p, path, i);
 		int rc = parse_pol(c, json_array_get(arr, i), p, S[i]);
 		if (rc)
 			return rc;
@@ -561,57 +357,57 @@ static int parse_light(const pctx *c, json_t *v, const char *path, pc_sim_light 
 					    "intensity_w_sr", "polarization", "reference", "states",
 					    NULL };
 	int rc;
-	if ((rc = need_object(c, v, path)) || (rc = check_keys(c, v, path, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	const char *type = NULL;
-	if ((rc = get_str(c, v, path, "type", REQ, &type)))
+	if ((rc = pc_json_get_str(&c->js, v, path, "type", PC_JSON_REQUIRED, &type)))
 		return rc;
 	char p[256];
 	if (!strcmp(type, "directional")) {
 		l->type = PC_LIGHT_DIRECTIONAL;
-		if ((rc = get_unit_v3(c, v, path, "direction", REQ, &l->direction)) ||
-		    (rc = get_num_rgb(c, v, path, "irradiance_w_m2", REQ, 0, false, 1e12, l->power)))
+		if ((rc = get_unit_v3(c, v, path, "direction", PC_JSON_REQUIRED, &l->direction)) ||
+		    (rc = get_num_rgb(c, v, path, "irradiance_w_m2", PC_JSON_REQUIRED, 0, false, 1e12, l->power)))
 			return rc;
 		if (json_object_get(v, "position") || json_object_get(v, "intensity_w_sr"))
-			return perr(c, path, "a directional light has direction and irradiance_w_m2 "
+			return pc_json_error(&c->js, path, "a directional light has direction and irradiance_w_m2 "
 					     "(position and intensity_w_sr are for point lights)");
 	} else if (!strcmp(type, "point")) {
 		l->type = PC_LIGHT_POINT;
-		if ((rc = get_v3(c, v, path, "position", REQ, &l->position)) ||
-		    (rc = get_num_rgb(c, v, path, "intensity_w_sr", REQ, 0, false, 1e15, l->power)))
+		if ((rc = get_v3(c, v, path, "position", PC_JSON_REQUIRED, &l->position)) ||
+		    (rc = get_num_rgb(c, v, path, "intensity_w_sr", PC_JSON_REQUIRED, 0, false, 1e15, l->power)))
 			return rc;
 		if (json_object_get(v, "direction") || json_object_get(v, "irradiance_w_m2"))
-			return perr(c, path, "a point light has position and intensity_w_sr "
+			return pc_json_error(&c->js, path, "a point light has position and intensity_w_sr "
 					     "(direction and irradiance_w_m2 are for directional lights)");
 	} else {
-		subpath(p, sizeof p, path, "type");
-		return perr(c, p, "'%s': expected directional or point", type);
+		pc_json_path(p, sizeof p, path, "type");
+		return pc_json_error(&c->js, p, "'%s': expected directional or point", type);
 	}
 	if (json_object_get(v, "reference")) {
-		if ((rc = get_unit_v3(c, v, path, "reference", REQ, &l->reference)))
+		if ((rc = get_unit_v3(c, v, path, "reference", PC_JSON_REQUIRED, &l->reference)))
 			return rc;
 		l->has_reference = true;
 	}
 	json_t *pol = json_object_get(v, "polarization");
 	json_t *states = json_object_get(v, "states");
 	if (pol && states)
-		return perr(c, path, "give polarization (one state) or states (a sequence), not both");
+		return pc_json_error(&c->js, path, "give polarization (one state) or states (a sequence), not both");
 	l->n_states = 1;
 	l->stokes[0][0] = 1;
 	if (pol) {
-		subpath(p, sizeof p, path, "polarization");
+		pc_json_path(p, sizeof p, path, "polarization");
 		if ((rc = parse_pol(c, pol, p, l->stokes[0])))
 			return rc;
 	} else if (states) {
-		subpath(p, sizeof p, path, "states");
+		pc_json_path(p, sizeof p, path, "states");
 		if ((rc = parse_states(c, states, p, &l->n_states, l->stokes)))
 			return rc;
 	}
 	if (!(c->scene->effects & PC_FX_CIRCULAR))
 		for (unsigned i = 0; i < l->n_states; i++)
 			if (fabs(l->stokes[i][3]) > 1e-12) {
-				subpath(p, sizeof p, path, pol ? "polarization" : "states");
-				return perr(c, p, "has a circular component (S3 = %g): declare "
+				pc_json_path(p, sizeof p, path, pol ? "polarization" : "states");
+				return pc_json_error(&c->js, p, "has a circular component (S3 = %g): declare "
 						  "\"circular\": true in effects", l->stokes[i][3]);
 			}
 	return 0;
@@ -623,11 +419,11 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 					    "center", "radius", "rotation_deg", "file", "position",
 					    "scale", "smooth", NULL };
 	int rc;
-	if ((rc = need_object(c, v, path)) || (rc = check_keys(c, v, path, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	const char *type = NULL, *mat = NULL;
-	if ((rc = get_str(c, v, path, "type", REQ, &type)) ||
-	    (rc = get_str(c, v, path, "material", REQ, &mat)))
+	if ((rc = pc_json_get_str(&c->js, v, path, "type", PC_JSON_REQUIRED, &type)) ||
+	    (rc = pc_json_get_str(&c->js, v, path, "material", PC_JSON_REQUIRED, &mat)))
 		return rc;
 	char p[256];
 	bool found = false;
@@ -637,8 +433,8 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 			found = true;
 		}
 	if (!found) {
-		subpath(p, sizeof p, path, "material");
-		return perr(c, p, "'%s' is not defined in materials", mat);
+		pc_json_path(p, sizeof p, path, "material");
+		return pc_json_error(&c->js, p, "'%s' is not defined in materials", mat);
 	}
 	/* which fields each type takes */
 	static const struct {
@@ -653,8 +449,8 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 		if (!strcmp(type, allowed[i].type))
 			ti = i;
 	if (ti < 0) {
-		subpath(p, sizeof p, path, "type");
-		return perr(c, p, "'%s': expected plane, sphere, box or mesh", type);
+		pc_json_path(p, sizeof p, path, "type");
+		return pc_json_error(&c->js, p, "'%s': expected plane, sphere, box or mesh", type);
 	}
 	const char *key;
 	json_t *val;
@@ -664,8 +460,8 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 		char pat[40];
 		snprintf(pat, sizeof pat, " %s ", key);
 		if (!strstr(allowed[ti].fields, pat)) {
-			subpath(p, sizeof p, path, key);
-			return perr(c, p, "not a field of a %s (its fields:%s)", type,
+			pc_json_path(p, sizeof p, path, key);
+			return pc_json_error(&c->js, p, "not a field of a %s (its fields:%s)", type,
 				    allowed[ti].fields);
 		}
 	}
@@ -674,28 +470,28 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 	case 0: { /* plane */
 		o->type = PC_OBJ_PLANE;
 		o->n = v3(0, 0, 1);
-		if ((rc = get_v3(c, v, path, "point", REQ, &o->p)) ||
-		    (rc = get_unit_v3(c, v, path, "normal", REQ, &o->n)))
+		if ((rc = get_v3(c, v, path, "point", PC_JSON_REQUIRED, &o->p)) ||
+		    (rc = get_unit_v3(c, v, path, "normal", PC_JSON_REQUIRED, &o->n)))
 			return rc;
 		o->u = v3_any_perp(o->n);
 		if (json_object_get(v, "u_axis")) {
-			pc_v3 u;
-			if ((rc = get_v3(c, v, path, "u_axis", REQ, &u)))
+			pc_v3 u = o->u;
+			if ((rc = get_v3(c, v, path, "u_axis", PC_JSON_REQUIRED, &u)))
 				return rc;
 			o->u = v3_perp_unit(u, o->n, v3(0, 0, 0));
 			if (v3_len(o->u) == 0) {
-				subpath(p, sizeof p, path, "u_axis");
-				return perr(c, p, "is parallel to the normal");
+				pc_json_path(p, sizeof p, path, "u_axis");
+				return pc_json_error(&c->js, p, "is parallel to the normal");
 			}
 		}
 		o->v = v3_cross(o->n, o->u);
 		if (json_object_get(v, "size")) {
 			double sz[2];
-			if ((rc = get_nums(c, v, path, "size", REQ, sz, 2)))
+			if ((rc = pc_json_get_nums(&c->js, v, path, "size", PC_JSON_REQUIRED, sz, 2)))
 				return rc;
 			if (!(sz[0] > 0 && sz[1] > 0)) {
-				subpath(p, sizeof p, path, "size");
-				return perr(c, p, "must be two positive lengths [along u_axis, along "
+				pc_json_path(p, sizeof p, path, "size");
+				return pc_json_error(&c->js, p, "must be two positive lengths [along u_axis, along "
 						  "normal × u_axis] (omit it for an infinite plane)");
 			}
 			o->half_u = sz[0] / 2;
@@ -705,20 +501,20 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 	}
 	case 1: /* sphere */
 		o->type = PC_OBJ_SPHERE;
-		if ((rc = get_v3(c, v, path, "center", REQ, &o->center)) ||
-		    (rc = get_num(c, v, path, "radius", REQ, 0, true, INFINITY, &o->radius)))
+		if ((rc = get_v3(c, v, path, "center", PC_JSON_REQUIRED, &o->center)) ||
+		    (rc = pc_json_get_num(&c->js, v, path, "radius", PC_JSON_REQUIRED, 0, true, INFINITY, &o->radius)))
 			return rc;
 		break;
 	case 2: { /* box */
 		o->type = PC_OBJ_BOX;
 		double sz[3];
-		if ((rc = get_v3(c, v, path, "center", REQ, &o->center)) ||
-		    (rc = get_nums(c, v, path, "size", REQ, sz, 3)) ||
-		    (rc = get_nums(c, v, path, "rotation_deg", OPT, rot_deg, 3)))
+		if ((rc = get_v3(c, v, path, "center", PC_JSON_REQUIRED, &o->center)) ||
+		    (rc = pc_json_get_nums(&c->js, v, path, "size", PC_JSON_REQUIRED, sz, 3)) ||
+		    (rc = pc_json_get_nums(&c->js, v, path, "rotation_deg", PC_JSON_OPTIONAL, rot_deg, 3)))
 			return rc;
 		if (!(sz[0] > 0 && sz[1] > 0 && sz[2] > 0)) {
-			subpath(p, sizeof p, path, "size");
-			return perr(c, p, "must be three positive edge lengths");
+			pc_json_path(p, sizeof p, path, "size");
+			return pc_json_error(&c->js, p, "must be three positive edge lengths");
 		}
 		o->half = v3(sz[0] / 2, sz[1] / 2, sz[2] / 2);
 		o->rot = m3_from_euler_deg(rot_deg);
@@ -729,23 +525,23 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 		const char *file = NULL;
 		pc_v3 pos = v3(0, 0, 0), scale = v3(1, 1, 1);
 		bool smooth = true;
-		if ((rc = get_str(c, v, path, "file", REQ, &file)) ||
-		    (rc = get_v3(c, v, path, "position", OPT, &pos)) ||
-		    (rc = get_nums(c, v, path, "rotation_deg", OPT, rot_deg, 3)) ||
-		    (rc = get_bool(c, v, path, "smooth", &smooth)))
+		if ((rc = pc_json_get_str(&c->js, v, path, "file", PC_JSON_REQUIRED, &file)) ||
+		    (rc = get_v3(c, v, path, "position", PC_JSON_OPTIONAL, &pos)) ||
+		    (rc = pc_json_get_nums(&c->js, v, path, "rotation_deg", PC_JSON_OPTIONAL, rot_deg, 3)) ||
+		    (rc = pc_json_get_bool(&c->js, v, path, "smooth", PC_JSON_OPTIONAL, &smooth)))
 			return rc;
 		json_t *sc = json_object_get(v, "scale");
 		if (sc && json_is_number(sc)) {
 			double s;
-			if ((rc = get_num(c, v, path, "scale", REQ, 0, true, INFINITY, &s)))
+			if ((rc = pc_json_get_num(&c->js, v, path, "scale", PC_JSON_REQUIRED, 0, true, INFINITY, &s)))
 				return rc;
 			scale = v3(s, s, s);
 		} else if (sc) {
-			if ((rc = get_v3(c, v, path, "scale", REQ, &scale)))
+			if ((rc = get_v3(c, v, path, "scale", PC_JSON_REQUIRED, &scale)))
 				return rc;
 			if (!(scale.x > 0 && scale.y > 0 && scale.z > 0)) {
-				subpath(p, sizeof p, path, "scale");
-				return perr(c, p, "must be positive");
+				pc_json_path(p, sizeof p, path, "scale");
+				return pc_json_error(&c->js, p, "must be positive");
 			}
 		}
 		char full[4096];
@@ -756,8 +552,8 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 		pc_m3 rot = m3_from_euler_deg(rot_deg);
 		rc = pc_obj_load(full, &rot, scale, pos, smooth, &o->mesh);
 		if (rc) {
-			subpath(p, sizeof p, path, "file");
-			return pc_error_prefix(rc, "%s: %s: ", c->file, p);
+			pc_json_path(p, sizeof p, path, "file");
+			return pc_error_prefix(rc, "%s: %s: ", c->js.file, p);
 		}
 		if ((rc = pc_bvh_build(o->mesh)))
 			return rc;
@@ -801,14 +597,14 @@ static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned 
 	*ss = 1;
 	if (!v)
 		return 0;
-	int rc = need_object(c, v, P);
+	int rc = pc_json_need_object(&c->js, v, P);
 	if (rc)
 		return rc;
 	const char *key;
 	json_t *val;
 	json_object_foreach(v, key, val) {
 		char p[256];
-		subpath(p, sizeof p, P, key);
+		pc_json_path(p, sizeof p, P, key);
 		unsigned bit = pc_sim_effect_from_name(key);
 		if (!bit) {
 			char list[512] = "";
@@ -817,12 +613,12 @@ static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned 
 				if (i + 1 < PC_FX_COUNT_)
 					strncat(list, ", ", sizeof list - strlen(list) - 1);
 			}
-			return perr(c, p, "unknown effect (expected one of: %s)", list);
+			return pc_json_error(&c->js, p, "unknown effect (expected one of: %s)", list);
 		}
 		if (bit == PC_FX_SUPERSAMPLING && json_is_integer(val)) {
 			json_int_t n = json_integer_value(val);
 			if (n < 1 || n > 16)
-				return perr(c, p, "= %lld: samples per pixel side must be in [1, 16]",
+				return pc_json_error(&c->js, p, "= %lld: samples per pixel side must be in [1, 16]",
 					    (long long)n);
 			*ss = (unsigned)n;
 			if (n > 1)
@@ -832,9 +628,9 @@ static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned 
 			continue;
 		}
 		if (!json_is_boolean(val))
-			return perr(c, p, "expected true or false%s, got %s",
+			return pc_json_error(&c->js, p, "expected true or false%s, got %s",
 				    bit == PC_FX_SUPERSAMPLING ? " or samples per pixel side (1-16)" : "",
-				    json_kind(val));
+				    pc_json_kind(val));
 		if (json_is_true(val)) {
 			*fx |= bit;
 			if (bit == PC_FX_SUPERSAMPLING)
@@ -862,8 +658,8 @@ static int parse_sensor(const pctx *c, json_t *v, pc_sensor_figures *f)
 	int rc;
 	const char *preset = "ideal";
 	if (v) {
-		if ((rc = need_object(c, v, P)) || (rc = check_keys(c, v, P, keys)) ||
-		    (rc = get_str(c, v, P, "preset", OPT, &preset)))
+		if ((rc = pc_json_need_object(&c->js, v, P)) || (rc = pc_json_check_keys(&c->js, v, P, keys)) ||
+		    (rc = pc_json_get_str(&c->js, v, P, "preset", PC_JSON_OPTIONAL, &preset)))
 			return rc;
 	}
 	if (pc_sensor_preset(preset, f)) {
@@ -874,87 +670,69 @@ static int parse_sensor(const pctx *c, json_t *v, pc_sensor_figures *f)
 			if (names[1])
 				strncat(list, ", ", sizeof list - strlen(list) - 1);
 		}
-		return perr(c, "sensor.preset", "'%s': expected one of %s", preset, list);
+		return pc_json_error(&c->js, "sensor.preset", "'%s': expected one of %s", preset, list);
 	}
 	if (!v)
 		return 0;
 	double res[2] = { f->width, f->height };
 	long bits = f->bits;
-	if ((rc = get_nums(c, v, P, "resolution", OPT, res, 2)))
+	if ((rc = pc_json_get_nums(&c->js, v, P, "resolution", PC_JSON_OPTIONAL, res, 2)))
 		return rc;
 	if (res[0] != floor(res[0]) || res[1] != floor(res[1]) || res[0] < 2 || res[1] < 2 ||
 	    res[0] > 65535 || res[1] > 65535 || fmod(res[0], f->mosaic.period) != 0 ||
 	    fmod(res[1], f->mosaic.period) != 0)
-		return perr(c, "sensor.resolution", "[%g, %g]: expected two integers in [2, 65535], "
+		return pc_json_error(&c->js, "sensor.resolution", "[%g, %g]: expected two integers in [2, 65535], "
 				   "multiples of the mosaic period %u", res[0], res[1], f->mosaic.period);
 	f->width = (uint32_t)res[0];
 	f->height = (uint32_t)res[1];
-	if ((rc = get_num(c, v, P, "pixel_pitch_um", OPT, 0, true, 1000, &f->pixel_pitch_um)) ||
-	    (rc = get_int(c, v, P, "bits", OPT, 8, 16, &bits)))
+	if ((rc = pc_json_get_num(&c->js, v, P, "pixel_pitch_um", PC_JSON_OPTIONAL, 0, true, 1000, &f->pixel_pitch_um)) ||
+	    (rc = pc_json_get_int(&c->js, v, P, "bits", PC_JSON_OPTIONAL, 8, 16, &bits)))
 		return rc;
 	if (bits != 8 && bits != 10 && bits != 12 && bits != 16)
-		return perr(c, "sensor.bits", "= %ld: expected 8, 10, 12 or 16", bits);
+		return pc_json_error(&c->js, "sensor.bits", "= %ld: expected 8, 10, 12 or 16", bits);
 	f->bits = (unsigned)bits;
-	if ((rc = get_num_rgb(c, v, P, "qe", OPT, 0, true, 1, f->qe)) ||
-	    (rc = get_num_rgb(c, v, P, "wavelength_nm", OPT, 100, false, 20000, f->wavelength_nm)) ||
-	    (rc = get_num(c, v, P, "full_well_e", OPT, 1, false, 1e9, &f->full_well_e)) ||
-	    (rc = get_num(c, v, P, "read_noise_e", OPT, 0, false, 1e6, &f->read_noise_e)) ||
-	    (rc = get_num(c, v, P, "dark_current_e_s", OPT, 0, false, 1e9, &f->dark_current_e_s)) ||
-	    (rc = get_num(c, v, P, "dsnu_e", OPT, 0, false, 1e6, &f->dsnu_e)) ||
-	    (rc = get_num(c, v, P, "prnu", OPT, 0, false, 0.5, &f->prnu)) ||
-	    (rc = get_num(c, v, P, "gain_dn_per_e", OPT, 0, true, 1e6, &f->gain_dn_per_e)) ||
-	    (rc = get_num(c, v, P, "offset_dn", OPT, 0, false, 65535, &f->offset_dn)) ||
-	    (rc = get_num(c, v, P, "extinction_ratio", OPT, 1, true, INFINITY, &f->extinction_ratio)) ||
-	    (rc = get_num(c, v, P, "extinction_ratio_sigma", OPT, 0, false, 2,
+	if ((rc = get_num_rgb(c, v, P, "qe", PC_JSON_OPTIONAL, 0, true, 1, f->qe)) ||
+	    (rc = get_num_rgb(c, v, P, "wavelength_nm", PC_JSON_OPTIONAL, 100, false, 20000, f->wavelength_nm)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "full_well_e", PC_JSON_OPTIONAL, 1, false, 1e9, &f->full_well_e)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "read_noise_e", PC_JSON_OPTIONAL, 0, false, 1e6, &f->read_noise_e)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "dark_current_e_s", PC_JSON_OPTIONAL, 0, false, 1e9, &f->dark_current_e_s)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "dsnu_e", PC_JSON_OPTIONAL, 0, false, 1e6, &f->dsnu_e)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "prnu", PC_JSON_OPTIONAL, 0, false, 0.5, &f->prnu)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "gain_dn_per_e", PC_JSON_OPTIONAL, 0, true, 1e6, &f->gain_dn_per_e)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "offset_dn", PC_JSON_OPTIONAL, 0, false, 65535, &f->offset_dn)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "extinction_ratio", PC_JSON_OPTIONAL, 1, true, INFINITY, &f->extinction_ratio)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "extinction_ratio_sigma", PC_JSON_OPTIONAL, 0, false, 2,
 			  &f->extinction_ratio_sigma)) ||
-	    (rc = get_num(c, v, P, "orientation_sigma_deg", OPT, 0, false, 45,
+	    (rc = pc_json_get_num(&c->js, v, P, "orientation_sigma_deg", PC_JSON_OPTIONAL, 0, false, 45,
 			  &f->orientation_sigma_deg)) ||
-	    (rc = get_nums(c, v, P, "orientation_offset_deg", OPT, f->orientation_offset_deg, 4)) ||
-	    (rc = get_num(c, v, P, "transmission_sigma", OPT, 0, false, 0.5, &f->transmission_sigma)) ||
-	    (rc = get_nums(c, v, P, "transmission", OPT, f->transmission, 4)) ||
-	    (rc = get_num(c, v, P, "crosstalk", OPT, 0, false, 0.2, &f->crosstalk)) ||
-	    (rc = get_num(c, v, P, "exposure_us", OPT, 0, true, 1e9, &f->exposure_us)) ||
-	    (rc = get_num(c, v, P, "gain_db", OPT, 0, false, 60, &f->gain_db)) ||
-	    (rc = get_num(c, v, P, "frame_rate_hz", OPT, 0, true, 1e6, &f->frame_rate_hz)))
+	    (rc = pc_json_get_nums(&c->js, v, P, "orientation_offset_deg", PC_JSON_OPTIONAL, f->orientation_offset_deg, 4)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "transmission_sigma", PC_JSON_OPTIONAL, 0, false, 0.5, &f->transmission_sigma)) ||
+	    (rc = pc_json_get_nums(&c->js, v, P, "transmission", PC_JSON_OPTIONAL, f->transmission, 4)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "crosstalk", PC_JSON_OPTIONAL, 0, false, 0.2, &f->crosstalk)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "exposure_us", PC_JSON_OPTIONAL, 0, true, 1e9, &f->exposure_us)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "gain_db", PC_JSON_OPTIONAL, 0, false, 60, &f->gain_db)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "frame_rate_hz", PC_JSON_OPTIONAL, 0, true, 1e6, &f->frame_rate_hz)))
 		return rc;
 	for (int i = 0; i < 4; i++) {
 		if (fabs(f->orientation_offset_deg[i]) > 45)
-			return perr(c, "sensor.orientation_offset_deg", "[%d] = %g: must be within "
+			return pc_json_error(&c->js, "sensor.orientation_offset_deg", "[%d] = %g: must be within "
 					   "±45°", i, f->orientation_offset_deg[i]);
 		if (!(f->transmission[i] > 0 && f->transmission[i] <= 2))
-			return perr(c, "sensor.transmission", "[%d] = %g: must be in (0, 2]", i,
+			return pc_json_error(&c->js, "sensor.transmission", "[%d] = %g: must be in (0, 2]", i,
 				    f->transmission[i]);
 	}
 	const char *layout = NULL;
-	if ((rc = get_str(c, v, P, "layout", OPT, &layout)))
+	if ((rc = pc_json_get_str(&c->js, v, P, "layout", PC_JSON_OPTIONAL, &layout)))
 		return rc;
 	if (layout) {
 		/* "90,45,135,0" (monochrome), "RGGB:90,45,135,0" (colour), optional "@dx,dy" phase */
 		if ((rc = pc_mosaic_parse(layout, &f->mosaic)))
-			return pc_error_prefix(rc, "%s: sensor.layout: ", c->file);
+			return pc_error_prefix(rc, "%s: sensor.layout: ", c->js.file);
 		if (f->width % f->mosaic.period || f->height % f->mosaic.period)
-			return perr(c, "sensor.layout", "period %u does not divide the resolution "
+			return pc_json_error(&c->js, "sensor.layout", "period %u does not divide the resolution "
 					   "%ux%u", f->mosaic.period, f->width, f->height);
 	}
 	return 0;
-}
-
-/* Linear diattenuator with principal intensity transmittances p ≥ q along angle θ and its
- * perpendicular (Goldstein, Polarized Light, 2nd ed., 2003, §5.2: M = R(−θ)·M₀·R(θ) with
- * M₀ = ½[[p+q, p−q, 0, 0], [p−q, p+q, 0, 0], [0, 0, 2√(pq), 0], [0, 0, 0, 2√(pq)]]). Here
- * p + q = 1: unpolarized light keeps half its power, like an ideal polarizer (p = 1, q = 0),
- * and the diattenuation D = (p − q)/(p + q) is the DoLP it gives unpolarized light. */
-static void diattenuator_mueller(double theta, double D, double m[4][4])
-{
-	double p = (1 + D) / 2, q = (1 - D) / 2, r = 2 * sqrt(p * q);
-	double c = cos(2 * theta), s = sin(2 * theta);
-	double t[4][4] = { { p + q, (p - q) * c, (p - q) * s, 0 },
-			   { (p - q) * c, (p + q) * c * c + r * s * s, (p + q - r) * c * s, 0 },
-			   { (p - q) * s, (p + q - r) * c * s, (p + q) * s * s + r * c * c, 0 },
-			   { 0, 0, 0, r } };
-	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++)
-			m[i][j] = 0.5 * t[i][j];
 }
 
 /* One element in front of the camera (a PSA state): "none", {"retarder": {...}},
@@ -971,47 +749,47 @@ static int parse_element(const pctx *c, json_t *e, const char *p, double m[4][4]
 	static const char *const keys[] = { "retarder", "mueller", "polarizer_deg", "diattenuator",
 					    "chain", NULL };
 	int rc;
-	if ((rc = need_object(c, e, p)) || (rc = check_keys(c, e, p, keys)))
+	if ((rc = pc_json_need_object(&c->js, e, p)) || (rc = pc_json_check_keys(&c->js, e, p, keys)))
 		return rc;
 	json_t *r = json_object_get(e, "retarder"), *mm = json_object_get(e, "mueller");
 	json_t *pol = json_object_get(e, "polarizer_deg"), *di = json_object_get(e, "diattenuator");
 	json_t *ch = json_object_get(e, "chain");
 	if (!!r + !!mm + !!pol + !!di + !!ch != 1)
-		return perr(c, p, "give exactly one of retarder, polarizer_deg, diattenuator, "
+		return pc_json_error(&c->js, p, "give exactly one of retarder, polarizer_deg, diattenuator, "
 				  "mueller or chain");
 	char q[288];
 	if (r) {
-		subpath(q, sizeof q, p, "retarder");
+		pc_json_path(q, sizeof q, p, "retarder");
 		return parse_retarder(c, r, q, m);
 	}
 	if (pol) {
 		double a = 0;
-		if ((rc = get_num(c, e, p, "polarizer_deg", REQ, -360, false, 360, &a)))
+		if ((rc = pc_json_get_num(&c->js, e, p, "polarizer_deg", PC_JSON_REQUIRED, -360, false, 360, &a)))
 			return rc;
-		diattenuator_mueller(a * DEG, 1, m);
+		pc_diattenuator_mueller(a * DEG, 1, m);
 		return 0;
 	}
 	if (di) {
 		static const char *const dkeys[] = { "angle_deg", "diattenuation", NULL };
-		subpath(q, sizeof q, p, "diattenuator");
+		pc_json_path(q, sizeof q, p, "diattenuator");
 		double a = 0, D = 0;
-		if ((rc = need_object(c, di, q)) || (rc = check_keys(c, di, q, dkeys)) ||
-		    (rc = get_num(c, di, q, "angle_deg", REQ, -360, false, 360, &a)) ||
-		    (rc = get_num(c, di, q, "diattenuation", REQ, 0, false, 1, &D)))
+		if ((rc = pc_json_need_object(&c->js, di, q)) || (rc = pc_json_check_keys(&c->js, di, q, dkeys)) ||
+		    (rc = pc_json_get_num(&c->js, di, q, "angle_deg", PC_JSON_REQUIRED, -360, false, 360, &a)) ||
+		    (rc = pc_json_get_num(&c->js, di, q, "diattenuation", PC_JSON_REQUIRED, 0, false, 1, &D)))
 			return rc;
-		diattenuator_mueller(a * DEG, D, m);
+		pc_diattenuator_mueller(a * DEG, D, m);
 		return 0;
 	}
 	if (ch) {
-		subpath(q, sizeof q, p, "chain");
+		pc_json_path(q, sizeof q, p, "chain");
 		if (!json_is_array(ch) || json_array_size(ch) == 0 || json_array_size(ch) > 16)
-			return perr(c, q, "expected an array of 1 to 16 elements");
+			return pc_json_error(&c->js, q, "expected an array of 1 to 16 elements");
 		if (depth > 4)
-			return perr(c, q, "chains nested deeper than 4");
+			return pc_json_error(&c->js, q, "chains nested deeper than 4");
 		double acc[4][4] = { { 1, 0, 0, 0 }, { 0, 1, 0, 0 }, { 0, 0, 1, 0 }, { 0, 0, 0, 1 } };
 		for (size_t i = 0; i < json_array_size(ch); i++) {
 			char qi[300];
-			subpath_i(qi, sizeof qi, q, i);
+			pc_json_path_index(qi, sizeof qi, q, i);
 			double el[4][4], t[4][4];
 			if ((rc = parse_element(c, json_array_get(ch, i), qi, el, depth + 1)))
 				return rc;
@@ -1021,19 +799,19 @@ static int parse_element(const pctx *c, json_t *e, const char *p, double m[4][4]
 		memcpy(m, acc, sizeof acc);
 		return 0;
 	}
-	subpath(q, sizeof q, p, "mueller");
+	pc_json_path(q, sizeof q, p, "mueller");
 	if (!json_is_array(mm) || json_array_size(mm) != 4)
-		return perr(c, q, "expected 4 rows of 4 numbers");
+		return pc_json_error(&c->js, q, "expected 4 rows of 4 numbers");
 	for (int row = 0; row < 4; row++) {
 		char qr[300];
-		subpath_i(qr, sizeof qr, q, (size_t)row);
+		pc_json_path_index(qr, sizeof qr, q, (size_t)row);
 		json_t *rr = json_array_get(mm, (size_t)row);
 		if (!json_is_array(rr) || json_array_size(rr) != 4)
-			return perr(c, qr, "expected 4 numbers");
+			return pc_json_error(&c->js, qr, "expected 4 numbers");
 		for (int col = 0; col < 4; col++) {
 			json_t *x = json_array_get(rr, (size_t)col);
 			if (!json_is_number(x) || !isfinite(json_number_value(x)))
-				return perr(c, qr, "[%d]: expected a finite number", col);
+				return pc_json_error(&c->js, qr, "[%d]: expected a finite number", col);
 			m[row][col] = json_number_value(x);
 		}
 	}
@@ -1044,14 +822,14 @@ static int parse_psa(const pctx *c, json_t *v, pc_scene *s)
 {
 	const char *P = "sensor.psa";
 	if (!json_is_array(v) || json_array_size(v) == 0)
-		return perr(c, P, "expected a non-empty array of analyser states (\"none\", "
+		return pc_json_error(&c->js, P, "expected a non-empty array of analyser states (\"none\", "
 				  "{\"retarder\": {...}}, {\"polarizer_deg\": a}, {\"diattenuator\": "
 				  "{...}}, {\"mueller\": [[4×4]]} or {\"chain\": [...]})");
 	if (json_array_size(v) > PC_SIM_MAX_STATES)
-		return perr(c, P, "at most %d states", PC_SIM_MAX_STATES);
+		return pc_json_error(&c->js, P, "at most %d states", PC_SIM_MAX_STATES);
 	for (size_t i = 0; i < json_array_size(v); i++) {
 		char p[256];
-		subpath_i(p, sizeof p, P, i);
+		pc_json_path_index(p, sizeof p, P, i);
 		int rc = parse_element(c, json_array_get(v, i), p, s->psa[i], 0);
 		if (rc)
 			return rc;
@@ -1147,17 +925,17 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		return pc_error(PC_ENOMEM, "%s: scene", name);
 	}
 	s->refcount = 1;
-	pctx c = { name, base_dir ? base_dir : ".", s, false };
+	pctx c = { { name, PC_EINVAL }, base_dir ? base_dir : ".", s, false };
 	int rc = 0;
 	static const char *const keys[] = { "polarcam_scene", "name", "camera", "lights", "materials",
 					    "objects", "effects", "sensor", "background", NULL };
-	if ((rc = need_object(&c, doc, "")) || (rc = check_keys(&c, doc, "", keys)))
+	if ((rc = pc_json_need_object(&c.js, doc, "")) || (rc = pc_json_check_keys(&c.js, doc, "", keys)))
 		goto fail;
 	long version = 1;
-	if ((rc = get_int(&c, doc, "", "polarcam_scene", OPT, 1, 1, &version)))
+	if ((rc = pc_json_get_int(&c.js, doc, "", "polarcam_scene", PC_JSON_OPTIONAL, 1, 1, &version)))
 		goto fail;
 	const char *sname = NULL;
-	if ((rc = get_str(&c, doc, "", "name", OPT, &sname)))
+	if ((rc = pc_json_get_str(&c.js, doc, "", "name", PC_JSON_OPTIONAL, &sname)))
 		goto fail;
 	s->name = strdup(sname ? sname : name);
 	s->source = strdup(name);
@@ -1185,21 +963,21 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 			for (unsigned i = 0; i < s->n_psa; i++)
 				for (int k = 0; k < 3; k++) /* M33 alone couples nothing */
 					if (fabs(s->psa[i][3][k]) > 1e-12 || fabs(s->psa[i][k][3]) > 1e-12) {
-						rc = perr(&c, "sensor.psa", "state %u couples circular "
+						rc = pc_json_error(&c.js, "sensor.psa", "state %u couples circular "
 								  "polarization: declare \"circular\": true "
 								  "in effects", i);
 						goto fail;
 					}
 	}
 	double bg[3] = { 0, 0, 0 };
-	if ((rc = get_num_rgb(&c, doc, "", "background", OPT, 0, false, 1e12, bg)))
+	if ((rc = get_num_rgb(&c, doc, "", "background", PC_JSON_OPTIONAL, 0, false, 1e12, bg)))
 		goto fail;
 	for (int i = 0; i < 3; i++)
 		s->background[i] = c.colour ? bg[i] : bg[1];
 
 	json_t *cam = json_object_get(doc, "camera");
 	if (!cam) {
-		rc = perr(&c, "camera", "missing (required)");
+		rc = pc_json_error(&c.js, "camera", "missing (required)");
 		goto fail;
 	}
 	if ((rc = parse_camera(&c, cam, &s->camera)))
@@ -1207,9 +985,9 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 
 	json_t *mats = json_object_get(doc, "materials");
 	if (!mats || !json_is_object(mats) || json_object_size(mats) == 0) {
-		rc = perr(&c, "materials", mats ? "expected an object of named materials, got %s"
+		rc = pc_json_error(&c.js, "materials", mats ? "expected an object of named materials, got %s"
 						: "missing (required): an object of named materials%s",
-			  mats ? json_kind(mats) : "");
+			  mats ? pc_json_kind(mats) : "");
 		goto fail;
 	}
 	s->materials = calloc(json_object_size(mats), sizeof *s->materials);
@@ -1222,7 +1000,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		json_t *val;
 		json_object_foreach(mats, key, val) {
 			char p[256];
-			subpath(p, sizeof p, "materials", key);
+			pc_json_path(p, sizeof p, "materials", key);
 			if ((rc = parse_material(&c, val, p, key, &s->materials[s->n_materials])))
 				goto fail;
 			s->n_materials++;
@@ -1231,7 +1009,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 
 	json_t *lights = json_object_get(doc, "lights");
 	if (!lights || !json_is_array(lights) || json_array_size(lights) == 0) {
-		rc = perr(&c, "lights", "expected a non-empty array of lights");
+		rc = pc_json_error(&c.js, "lights", "expected a non-empty array of lights");
 		goto fail;
 	}
 	s->lights = calloc(json_array_size(lights), sizeof *s->lights);
@@ -1242,7 +1020,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 	unsigned n_psg = 1;
 	for (size_t i = 0; i < json_array_size(lights); i++) {
 		char p[64];
-		subpath_i(p, sizeof p, "lights", i);
+		pc_json_path_index(p, sizeof p, "lights", i);
 		if ((rc = parse_light(&c, json_array_get(lights, i), p, &s->lights[i])))
 			goto fail;
 		pc_light_prepare(&s->lights[i]);
@@ -1250,7 +1028,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		unsigned n = s->lights[i].n_states;
 		if (n > 1) {
 			if (n_psg > 1 && n != n_psg) {
-				rc = perr(&c, p, "states: %u states, but another light has %u (lights "
+				rc = pc_json_error(&c.js, p, "states: %u states, but another light has %u (lights "
 						 "with sequences must have equally many)", n, n_psg);
 				goto fail;
 			}
@@ -1258,7 +1036,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		}
 	}
 	if ((uint64_t)n_psg * s->n_psa > 4096) {
-		rc = perr(&c, "sensor.psa", "%u PSG × %u PSA states: at most 4096 frames per cycle",
+		rc = pc_json_error(&c.js, "sensor.psa", "%u PSG × %u PSA states: at most 4096 frames per cycle",
 			  n_psg, s->n_psa);
 		goto fail;
 	}
@@ -1269,7 +1047,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		objs = no_objects = json_array(); /* optional: an empty scene shows the background */
 	if (!objs || !json_is_array(objs)) {
 		json_decref(no_objects);
-		rc = perr(&c, "objects", "expected an array of objects");
+		rc = pc_json_error(&c.js, "objects", "expected an array of objects");
 		goto fail;
 	}
 	s->objects = calloc(json_array_size(objs) + 1, sizeof *s->objects);
@@ -1280,7 +1058,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 	}
 	for (size_t i = 0; i < json_array_size(objs); i++) {
 		char p[64];
-		subpath_i(p, sizeof p, "objects", i);
+		pc_json_path_index(p, sizeof p, "objects", i);
 		if ((rc = parse_object(&c, json_array_get(objs, i), p, &s->objects[i]))) {
 			json_decref(no_objects);
 			goto fail;

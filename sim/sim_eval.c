@@ -3,8 +3,10 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "polarcam/error.h"
+#include "polarcam/io.h"
 #include "polarcam/sim.h"
 
 int pc_sim_eval_case(pc_sim *sim, pc_eval_truth *t, pc_view *raw)
@@ -63,5 +65,85 @@ int pc_sim_eval_case(pc_sim *sim, pc_eval_truth *t, pc_view *raw)
 	t->height = h;
 	t->full_scale = fs;
 	t->format = info.bits <= 8 ? PC_FMT_MONO8 : PC_FMT_MONO16;
+	return 0;
+}
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int is_scene_file(const char *path)
+{
+	size_t n = strlen(path);
+	return n > 5 && !strcmp(path + n - 5, ".json");
+}
+
+/* One evaluation case: a truth directory (mosaicked with the Sony layout) or a scene (rendered
+ * with its sensor). */
+static int load_case(const char *path, int threads, pc_eval_truth *t, pc_view *raw,
+		     pc_mosaic *m)
+{
+	memset(raw, 0, sizeof *raw);
+	if (!is_scene_file(path)) {
+		int rc = pc_truth_load(path, t);
+		if (rc)
+			return rc;
+		*m = pc_mosaic_imx250mzr();
+		rc = pc_eval_mosaic(t, m, raw);
+		if (rc)
+			pc_eval_truth_free(t);
+		return rc;
+	}
+	pc_scene *scene = NULL;
+	pc_sim *sim = NULL;
+	int rc = pc_scene_load(path, &scene);
+	pc_sim_options so = pc_sim_options_default();
+	so.threads = threads;
+	if (!rc)
+		rc = pc_sim_new(scene, &so, &sim);
+	pc_scene_free(scene);
+	if (!rc) {
+		pc_sim_info info;
+		pc_sim_get_info(sim, &info);
+		*m = info.mosaic;
+		rc = pc_sim_eval_case(sim, t, raw);
+	}
+	pc_sim_free(sim);
+	return rc;
+}
+
+int pc_sim_eval_cases(const char *const *paths, size_t n, const pc_demosaic_method *methods,
+		      size_t nmeth, const pc_demosaic_opts *opts, int threads,
+		      const pc_progress *progress, pc_eval_result *res)
+{
+	size_t nres = 0;
+	for (size_t d = 0; d < n; d++) {
+		pc_eval_truth t;
+		pc_view raw;
+		pc_mosaic mo;
+		int rc = load_case(paths[d], threads, &t, &raw, &mo);
+		if (rc)
+			return pc_error_prefix(rc, "%s: ", paths[d]);
+		for (size_t k = 0; k < nmeth && !rc; k++) {
+			pc_eval_result *r = &res[nres];
+			r->scene = paths[d];
+			pc_truth_dataset(paths[d], r->dataset, sizeof r->dataset);
+			r->method = methods[k];
+			double t0 = now_s();
+			rc = pc_eval_method_raw(&t, &raw, &mo, methods[k], opts, &r->m);
+			r->seconds = now_s() - t0;
+			if (!rc) {
+				nres++;
+				pc_progress_report(progress, "eval", nres, n * nmeth);
+			}
+		}
+		pc_eval_truth_free(&t);
+		pc_view_free(&raw);
+		if (rc)
+			return pc_error_prefix(rc, "%s: ", paths[d]);
+	}
 	return 0;
 }

@@ -8,7 +8,7 @@
 if(PC_HAVE_ARAVIS)
   add_executable(gige_e2e ${CMAKE_CURRENT_SOURCE_DIR}/gige_e2e.c)
   # Aravis directly too: one check drives the camera with GVCP writes back to back
-  target_link_libraries(gige_e2e PRIVATE pc_cli PkgConfig::ARAVIS)
+  target_link_libraries(gige_e2e PRIVATE pc_devices PkgConfig::ARAVIS)
   target_include_directories(gige_e2e PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
   add_test(NAME devices_gige_e2e COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/netns.sh $<TARGET_FILE:gige_e2e>)
   set_tests_properties(devices_gige_e2e PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300
@@ -18,7 +18,7 @@ endif()
 # The same against a colour-polarization camera (serve scenes/colour_small.json: IMX250MYR).
 if(PC_HAVE_ARAVIS)
   add_executable(gige_colour ${CMAKE_CURRENT_SOURCE_DIR}/gige_colour.c)
-  target_link_libraries(gige_colour PRIVATE pc_cli PkgConfig::ARAVIS m)
+  target_link_libraries(gige_colour PRIVATE pc_devices PkgConfig::ARAVIS m)
   target_include_directories(gige_colour PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
   add_test(NAME devices_gige_colour COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/netns.sh
     $<TARGET_FILE:gige_colour>)
@@ -29,7 +29,7 @@ endif()
 # The live window in a real X server (Xvfb) with an X screenshot (xwd).
 if(PC_HAVE_OPENCV)
   add_executable(view_xvfb ${CMAKE_CURRENT_SOURCE_DIR}/view_xvfb.c)
-  target_link_libraries(view_xvfb PRIVATE pc_cli PkgConfig::PNG)
+  target_link_libraries(view_xvfb PRIVATE PkgConfig::PNG m)
   target_include_directories(view_xvfb PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
   add_test(NAME devices_view_xvfb COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/netns.sh
     $<TARGET_FILE:view_xvfb>)

@@ -11,27 +11,10 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "cli.h"
-#include "commands.h"
 #include "polarcam/calib.h"
+#include "run_cli.h"
 
-static char tmp[] = "/tmp/pc_calib_cli_XXXXXX";
-
-static int run(int (*cmd)(int, char **), const char *name, ...)
-{
-	char *argv[40];
-	int argc = 0;
-	argv[argc++] = (char *)name;
-	va_list ap;
-	va_start(ap, name);
-	for (const char *a; argc < 39 && (a = va_arg(ap, const char *));)
-		argv[argc++] = (char *)a;
-	va_end(ap);
-	argv[argc] = NULL;
-	pc_cli_command = name;
-	fflush(stdout);
-	return cmd(argc, argv);
-}
+static char tmp[64];
 
 static bool exists(const char *p)
 {
@@ -53,7 +36,7 @@ static int render(const char *scene, const char *out, const char *first, const c
 	char sp[1024];
 	const char *src = getenv("PC_SOURCE_DIR");
 	snprintf(sp, sizeof sp, "%s/scenes/calib/%s.json", src ? src : ".", scene);
-	return run(cmd_render, "render", sp, "-o", P(out), "--roi", "1000,800,32,32", "-n", n,
+	return run_cli("render", sp, "-o", P(out), "--roi", "1000,800,32,32", "-n", n,
 		   "--first", first, "--no-truth", NULL);
 }
 
@@ -64,7 +47,9 @@ int main(void)
 	snprintf(probe, sizeof probe, "%s/scenes/calib/dark.json", src ? src : ".");
 	if (access(probe, R_OK))
 		SKIP("%s not found (PC_SOURCE_DIR unset?)", probe);
-	if (!mkdtemp(tmp))
+	if (!run_cli_exe())
+		SKIP("POLARCAM (the built CLI) is not set or not executable: run through ctest");
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_calib_cli"))
 		SKIP("cannot create a temporary directory");
 
 	CHECK_EQ_INT(render("dark", "dark", "0", "8"), 0);
@@ -75,13 +60,13 @@ int main(void)
 	CHECK_EQ_INT(render("polarizer_120", "p120", "500", "8"), 0);
 	CHECK_EQ_INT(render("polarizer_030", "p30", "600", "8"), 0);
 
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "dark", P("dark"), "-o", P("d.npz"), "--json",
+	CHECK_EQ_INT(run_cli("calibrate", "dark", P("dark"), "-o", P("d.npz"), "--json",
 			 NULL), 0);
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "flat", P("fl"), P("fh"), "--dark", P("d.npz"),
+	CHECK_EQ_INT(run_cli("calibrate", "flat", P("fl"), P("fh"), "--dark", P("d.npz"),
 			 "-o", P("f.npz"), "--json", NULL), 0);
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
+	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
 			 P("f.npz"), "-o", P("a.npz"), "--json", NULL), 0);
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "show", P("a.npz"), "--pictures", P("pics"), NULL),
+	CHECK_EQ_INT(run_cli("calibrate", "show", P("a.npz"), "--pictures", P("pics"), NULL),
 		     0);
 	CHECK(exists(P("pics/gain.png")) && exists(P("pics/orientation_error.png")));
 	pc_calib c;
@@ -91,32 +76,32 @@ int main(void)
 	CHECK(c.provenance && strstr(c.provenance, "polarizer_060"));
 	pc_calib_free(&c);
 	/* explicit angles, the unknown-angles mode */
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
+	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
 			 P("f.npz"), "--angles", "0,60,120", "-o", P("a2.npz"), NULL), 0);
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p30"), P("p60"), P("p120"),
+	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p30"), P("p60"), P("p120"),
 			 "--flat", P("f.npz"), "--unknown-angles", "-o", P("a3.npz"), NULL), 0);
 
 	/* bad input: exit status, nothing written */
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p60"), "--flat",
-			 P("f.npz"), "-o", P("bad1.npz"), NULL), PC_EXIT_USAGE);
+	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), "--flat",
+			 P("f.npz"), "-o", P("bad1.npz"), NULL), CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad1.npz")));
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			 P("f.npz"), "--saturation", "1000", "-o", P("bad2.npz"), NULL), PC_EXIT_USAGE);
+	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
+			 P("f.npz"), "--saturation", "1000", "-o", P("bad2.npz"), NULL), CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad2.npz")));
-	CHECK(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
+	CHECK(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
 		  P("f.npz"), "--angles", "0,90,0", "-o", P("bad3.npz"), NULL) != 0);
 	CHECK(!exists(P("bad3.npz")));
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			 P("f.npz"), "--angles", "0,60", "-o", P("bad4.npz"), NULL), PC_EXIT_USAGE);
+	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
+			 P("f.npz"), "--angles", "0,60", "-o", P("bad4.npz"), NULL), CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad4.npz")));
 	/* another ROI */
 	{
 		char sp[1024];
 		snprintf(sp, sizeof sp, "%s/scenes/calib/polarizer_120.json", src);
-		CHECK_EQ_INT(run(cmd_render, "render", sp, "-o", P("moved"), "--roi", "1002,800,32,32",
+		CHECK_EQ_INT(run_cli("render", sp, "-o", P("moved"), "--roi", "1002,800,32,32",
 				 "-n", "2", "--no-truth", NULL), 0);
-		CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p60"), P("moved"),
-				 "--flat", P("f.npz"), "-o", P("bad5.npz"), NULL), PC_EXIT_USAGE);
+		CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("moved"),
+				 "--flat", P("f.npz"), "-o", P("bad5.npz"), NULL), CLI_STATUS_USAGE);
 		CHECK(!exists(P("bad5.npz")));
 	}
 	/* a corrupt calibration file */
@@ -124,14 +109,14 @@ int main(void)
 		FILE *f = fopen(P("corrupt.npz"), "wb");
 		fputs("PK\003\004 this is not a zip archive", f);
 		fclose(f);
-		CHECK(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
+		CHECK(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
 			  P("corrupt.npz"), "-o", P("bad6.npz"), NULL) != 0);
 		CHECK(!exists(P("bad6.npz")));
-		CHECK(run(cmd_calibrate, "calibrate", "show", P("corrupt.npz"), NULL) != 0);
+		CHECK(run_cli("calibrate", "show", P("corrupt.npz"), NULL) != 0);
 	}
 	/* a dark file given as --flat */
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			 P("d.npz"), "-o", P("bad7.npz"), NULL), PC_EXIT_USAGE);
+	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
+			 P("d.npz"), "-o", P("bad7.npz"), NULL), CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad7.npz")));
 
 	/* the .npz opens with Python's zipfile and its members are NumPy 1.0 arrays */
@@ -163,18 +148,18 @@ int main(void)
 	CHECK_EQ_INT(render("ecm_sample", "sample", "2000", "8"), 0);
 	char st[1024];
 	snprintf(st, sizeof st, "%s/scenes/calib/ecm_nominal_states.json", src);
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "ecm", "--states", st, "--air", P("ecm_air"),
+	CHECK_EQ_INT(run_cli("calibrate", "ecm", "--states", st, "--air", P("ecm_air"),
 			 "--polarizer", P("ecm_polarizer_000"), "--polarizer2", P("ecm_polarizer_090"),
 			 "--retarder", P("ecm_retarder_030"), "--dark", P("d.npz"), "-o", P("ecm.npz"),
 			 "--states-out", P("ecm_states.json"), "--json", NULL), 0);
 	CHECK(exists(P("ecm_states.json")));
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", P("sample"), "--states", P("ecm_states.json"), "-o",
+	CHECK_EQ_INT(run_cli("mueller", P("sample"), "--states", P("ecm_states.json"), "-o",
 			 P("m"), NULL), 0);
 	CHECK(exists(P("m/mueller.npy")));
 	/* ECM with a missing reference: usage error, nothing written */
-	CHECK_EQ_INT(run(cmd_calibrate, "calibrate", "ecm", "--states", st, "--air", P("ecm_air"),
+	CHECK_EQ_INT(run_cli("calibrate", "ecm", "--states", st, "--air", P("ecm_air"),
 			 "--polarizer", P("ecm_polarizer_000"), "--retarder", P("ecm_retarder_030"),
-			 "-o", P("bad8.npz"), NULL), PC_EXIT_USAGE);
+			 "-o", P("bad8.npz"), NULL), CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad8.npz")));
 
 	char rm[1200];

@@ -23,9 +23,9 @@
 #include "lc_cases.h"
 #include "polarcam/decompose.h"
 #include "polarcam/error.h"
+#include "polarcam/mueller_imaging.h"
 #include "polarcam/optics.h"
 #include "polarcam/pbrdf.h"
-#include "sim_cli.h"
 
 enum { NMAX = 40000 };
 
@@ -461,7 +461,7 @@ static void check_coverage(const mats *s, size_t thr0, size_t thr1)
 	CHECK(phys_thr >= 500 && (long)(thr1 - thr0) - phys_thr >= 500);
 }
 
-/* The caller: pc_mueller_maps (tools/sim_cli.c, `polarcam mueller` and `polarcam demo`) now
+/* The caller: pc_mueller_maps (core/mueller_imaging.c, `polarcam mueller` and `polarcam demo`)
  * runs the map kernel in row chunks; its float maps and pixel counts must equal what the
  * per-pixel scalar code it replaced produced (PC_LC_FILTER | PC_LC_NO_FACTORS, float outputs,
  * non-finite pixels NaN and counted as bad). */

@@ -323,7 +323,7 @@ static void test_malformed(const char *base)
 	pc_recording *r = NULL;
 	write_file(dir, "meta.json", "{\"polarcam_recording\": 1,\n \"bits\": 12,,\n}");
 	CHECK_EQ_INT(pc_recording_open(&r, dir), PC_EFORMAT);
-	CHECK(strstr(pc_error_detail(), "meta.json:2") != NULL);
+	CHECK(strstr(pc_error_detail(), "meta.json: line 2") != NULL);
 	write_file(dir, "meta.json",
 	           "{\"polarcam_recording\": 1, \"bits\": 12, \"format\": "
 	           "\"Mono12\", \"width\": 4, \"height\": 2, \"frames\": [{\"file\": "
@@ -379,8 +379,8 @@ static void test_malformed(const char *base)
 
 int main(void)
 {
-	char base[] = "/tmp/pc_test_file_XXXXXX";
-	if (!mkdtemp(base))
+	char base[64];
+	if (!pc_test_tmpdir(base, sizeof base, "pc_test_file"))
 		SKIP("cannot create a temporary directory");
 	char dir[256];
 	snprintf(dir, sizeof dir, "%s/rec", base);

@@ -12,6 +12,7 @@
 #include "polarcam/error.h"
 #include "polarcam/frame.h"
 #include "polarcam/mueller_imaging.h"
+#include "polarcam/optics.h"
 #include "polarcam/sim.h"
 
 #define PC_TEST_SEED 88172645463325252ull

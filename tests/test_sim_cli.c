@@ -1,7 +1,7 @@
-/* The simulator's commands end to end (called in-process): polarcam render writes raw frames
- * bit-identical to pc_sim_frame and truth equal to pc_sim_truth_rows; bad input exits 2 and
- * writes nothing; polarcam mueller reconstructs a rendered sequence with the documented
- * conditioning; polarcam demo runs on a small scene and writes its report. */
+/* The simulator's commands end to end, run as the polarcam executable ($POLARCAM): polarcam
+ * render writes raw frames bit-identical to pc_sim_frame and truth equal to pc_sim_truth_rows;
+ * bad input exits 2 and writes nothing; polarcam mueller reconstructs a rendered sequence with
+ * the documented conditioning; polarcam demo runs on a small scene and writes its report. */
 #include <jansson.h>
 #include <stdarg.h>
 #include <math.h>
@@ -12,31 +12,14 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "cli.h"
-#include "commands.h"
+#include "run_cli.h"
 #include "polarcam/decompose.h"
 #include "polarcam/error.h"
 #include "polarcam/io.h"
 #include "polarcam/recording.h"
 #include "polarcam/sim.h"
 
-static char tmp[] = "/tmp/pc_sim_cli_XXXXXX";
-
-static int run(int (*cmd)(int, char **), const char *name, ...)
-{
-	char *argv[32];
-	int argc = 0;
-	argv[argc++] = (char *)name;
-	va_list ap;
-	va_start(ap, name);
-	for (const char *a; argc < 31 && (a = va_arg(ap, const char *));)
-		argv[argc++] = (char *)a;
-	va_end(ap);
-	argv[argc] = NULL;
-	pc_cli_command = name;
-	fflush(stdout);
-	return cmd(argc, argv);
-}
+static char tmp[64];
 
 static bool exists(const char *dir, const char *name)
 {
@@ -70,8 +53,8 @@ static void test_render(void)
 	snprintf(scene, sizeof scene, "%s/small.json", tmp);
 	snprintf(out, sizeof out, "%s/r", tmp);
 	write_file(scene, small_scene);
-	CHECK_EQ_INT(run(cmd_render, "render", "--help", NULL), 0);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--frames", "2", "--seed", "7",
+	CHECK_EQ_INT(run_cli("render", "--help", NULL), 0);
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--frames", "2", "--seed", "7",
 			 "--first", "3", NULL), 0);
 	CHECK(exists(out, "raw_000000.png") && exists(out, "raw_000001.png"));
 	CHECK(exists(out, "meta.json") && exists(out, "truth_stokes.npy"));
@@ -132,19 +115,19 @@ static void test_render(void)
 	CHECK(json_is_number(json_object_get(json_object_get(ex, "timings"), "render_s")));
 	json_decref(m);
 	/* the directory holds a recording: refused without --overwrite */
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--overwrite", "--no-truth", NULL), 0);
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--overwrite", "--no-truth", NULL), 0);
 	/* bad input: exit 2, nothing written */
 	snprintf(bad, sizeof bad, "%s/bad.json", tmp);
 	write_file(bad, "{\"camera\": {\"position\": [0, 0, 1], \"look_at\": [0, 0, 0]},\n \"lights\": 3}");
 	snprintf(out, sizeof out, "%s/nothing", tmp);
-	CHECK_EQ_INT(run(cmd_render, "render", bad, "-o", out, NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", "/nonexistent.json", "-o", out, NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--frames", "0", NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--roi", "1,2,3", NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--roi", "60,0,8,8", NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "--bogus", NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, NULL), PC_EXIT_USAGE);
+	CHECK_EQ_INT(run_cli("render", bad, "-o", out, NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("render", "/nonexistent.json", "-o", out, NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--frames", "0", NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--roi", "1,2,3", NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--roi", "60,0,8,8", NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("render", scene, "--bogus", NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("render", scene, NULL), CLI_STATUS_USAGE);
 	struct stat st;
 	CHECK(stat(out, &st) != 0); /* no directory, no partial files */
 	pc_view_free(&a);
@@ -175,12 +158,12 @@ static void test_mueller(void)
 				      "retardance_deg", 90.0));
 	json_dump_file(d, scene, 0);
 	json_decref(d);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, NULL), 0);
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, NULL), 0);
 	CHECK(exists(out, "raw_000007.png") && !exists(out, "raw_000008.png"));
 	CHECK(exists(out, "states.json") && exists(out, "truth_mueller.npy"));
 	CHECK(exists(out, "truth_stokes_psg03.npy"));
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", "--help", NULL), 0);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", res, "--method", "superpixel", NULL), 0);
+	CHECK_EQ_INT(run_cli("mueller", "--help", NULL), 0);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", res, "--method", "superpixel", NULL), 0);
 	CHECK(exists(res, "D.npy") && exists(res, "R.png") && exists(res, "Delta.npy"));
 	char p[1024];
 	snprintf(p, sizeof p, "%s/mueller.json", res);
@@ -199,11 +182,11 @@ static void test_mueller(void)
 	snprintf(f0, sizeof f0, "%s/raw_000000.png", out);
 	snprintf(f1, sizeof f1, "%s/raw_000001.png", out);
 	snprintf(st, sizeof st, "%s/states.json", out);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", f0, f1, "--states", st, "-o", res, NULL),
-		     PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", f0, "-o", res, NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", res, "--method", "nope", NULL),
-		     PC_EXIT_USAGE);
+	CHECK_EQ_INT(run_cli("mueller", f0, f1, "--states", st, "-o", res, NULL),
+		     CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("mueller", f0, "-o", res, NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", res, "--method", "nope", NULL),
+		     CLI_STATUS_USAGE);
 }
 
 static int cmp_dbl(const void *a, const void *b)
@@ -262,15 +245,15 @@ static void test_mueller_linear(void)
 						   "exposure_us", exposure / 9)); /* pixels 9x larger */
 	json_dump_file(d, scene, 0);
 	json_decref(d);
-	CHECK_EQ_INT(run(cmd_render, "render", scene, "-o", out, "--seed", "1", NULL), 0);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", res, NULL), 0);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", resp, "--rebuild-circular", "+", NULL), 0);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", reso, "--rebuild-circular", "off", NULL),
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--seed", "1", NULL), 0);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", res, NULL), 0);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", resp, "--rebuild-circular", "+", NULL), 0);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", reso, "--rebuild-circular", "off", NULL),
 		     0);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", reso, "--rebuild-circular", "positive",
-			 NULL), PC_EXIT_USAGE);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", reso, "--rebuild-tol", "-1", NULL),
-		     PC_EXIT_USAGE);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", reso, "--rebuild-circular", "positive",
+			 NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", reso, "--rebuild-tol", "-1", NULL),
+		     CLI_STATUS_USAGE);
 	CHECK(exists(res, "rebuild_residual.npy") && !exists(reso, "rebuild_residual.npy"));
 	char p[1024];
 	snprintf(p, sizeof p, "%s/mueller.json", res);
@@ -282,7 +265,7 @@ static void test_mueller_linear(void)
 	/* an output directory that cannot be made: an error after the rebuild (whose residual
 	 * map must not leak, which the sanitizer build checks) */
 	snprintf(p, sizeof p, "%s/mueller.json/sub", res);
-	CHECK_EQ_INT(run(cmd_mueller, "mueller", out, "-o", p, NULL), PC_EXIT_FAILURE);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", p, NULL), CLI_STATUS_FAILURE);
 
 	pc_array aT, aM, aP, aD, aR, aE, aO;
 	float *T = load_f32(out, "truth_mueller.npy", &aT), *M = load_f32(res, "mueller.npy", &aM);
@@ -392,21 +375,23 @@ static void test_demo(void)
 	char scene[512], out[512];
 	snprintf(scene, sizeof scene, "%s/small.json", tmp);
 	snprintf(out, sizeof out, "%s/demo", tmp);
-	CHECK_EQ_INT(run(cmd_demo, "demo", "--help", NULL), 0);
-	CHECK_EQ_INT(run(cmd_demo, "demo", "--scene", scene, "-o", out, "--methods", "bilinear,superpixel",
+	CHECK_EQ_INT(run_cli("demo", "--help", NULL), 0);
+	CHECK_EQ_INT(run_cli("demo", "--scene", scene, "-o", out, "--methods", "bilinear,superpixel",
 			 NULL), 0);
 	CHECK(exists(out, "report.md") && exists(out, "report.json") && exists(out, "raw_000000.png"));
 	CHECK(exists(out, "truth/dolp.png") && exists(out, "pipeline_bilinear/aolp.png"));
 	CHECK(exists(out, "mueller/D.png") && exists(out, "mueller/truth_Delta.npy"));
 	CHECK(exists(out, "stokes.npy"));
-	CHECK_EQ_INT(run(cmd_demo, "demo", "--methods", "nope", NULL), PC_EXIT_USAGE);
+	CHECK_EQ_INT(run_cli("demo", "--methods", "nope", NULL), CLI_STATUS_USAGE);
 }
 
 int main(void)
 {
-	if (!mkdtemp(tmp))
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_sim_cli"))
 		SKIP("cannot create a temporary directory");
 	setenv("POLARCAM_PROGRESS", "0", 1);
+	if (!run_cli_exe())
+		SKIP("POLARCAM (the built CLI) is not set or not executable: run through ctest");
 	test_render();
 	test_mueller();
 	test_mueller_linear();

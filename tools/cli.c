@@ -12,12 +12,12 @@
 
 #include "polarcam/error.h"
 
-const char *pc_cli_command = "";
+const char *cli_name = "";
 
-int pc_cli_error(int status, const char *fmt, ...)
+int cli_error(int status, const char *fmt, ...)
 {
 	va_list ap;
-	fprintf(stderr, "polarcam %s: error: ", pc_cli_command);
+	fprintf(stderr, "polarcam %s: error: ", cli_name);
 	va_start(ap, fmt);
 	vfprintf(stderr, fmt, ap);
 	va_end(ap);
@@ -25,42 +25,42 @@ int pc_cli_error(int status, const char *fmt, ...)
 	return status;
 }
 
-void pc_cli_warn(const char *fmt, ...)
+void cli_warn(const char *fmt, ...)
 {
 	va_list ap;
-	fprintf(stderr, "polarcam %s: warning: ", pc_cli_command);
+	fprintf(stderr, "polarcam %s: warning: ", cli_name);
 	va_start(ap, fmt);
 	vfprintf(stderr, fmt, ap);
 	va_end(ap);
 	fputc('\n', stderr);
 }
 
-int pc_cli_status(int code)
+int cli_status(int code)
 {
 	switch (code) {
 	case PC_OK:
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	case PC_EINVAL:
 	case PC_ERANGE:
 	case PC_EFORMAT:
 	case PC_ENOENT:
-		return PC_EXIT_USAGE;
+		return CLI_EXIT_USAGE;
 	default:
-		return PC_EXIT_FAILURE;
+		return CLI_EXIT_FAILURE;
 	}
 }
 
-int pc_cli_fail(int code, const char *what)
+int cli_fail(int code, const char *what)
 {
 	const char *d = pc_error_detail();
 	if (what && *what)
-		pc_cli_error(0, "%s: %s", what, *d ? d : pc_strerror(code));
+		cli_error(0, "%s: %s", what, *d ? d : pc_strerror(code));
 	else
-		pc_cli_error(0, "%s", *d ? d : pc_strerror(code));
-	return pc_cli_status(code);
+		cli_error(0, "%s", *d ? d : pc_strerror(code));
+	return cli_status(code);
 }
 
-int pc_cli_parse_double(const char *opt, const char *arg, double *out)
+int cli_parse_double(const char *opt, const char *arg, double *out)
 {
 	if (!arg || !*arg)
 		return pc_error(PC_EINVAL, "%s: missing value (expected a number)", opt);
@@ -75,7 +75,7 @@ int pc_cli_parse_double(const char *opt, const char *arg, double *out)
 	return 0;
 }
 
-int pc_cli_parse_long(const char *opt, const char *arg, long min, long max, long *out)
+int cli_parse_long(const char *opt, const char *arg, long min, long max, long *out)
 {
 	if (!arg || !*arg)
 		return pc_error(PC_EINVAL, "%s: missing value (expected an integer)", opt);
@@ -90,7 +90,7 @@ int pc_cli_parse_long(const char *opt, const char *arg, long min, long max, long
 	return 0;
 }
 
-int pc_cli_parse_u64(const char *opt, const char *arg, uint64_t *out)
+int cli_parse_u64(const char *opt, const char *arg, uint64_t *out)
 {
 	if (!arg || !*arg || *arg == '-')
 		return pc_error(PC_EINVAL, "%s '%s': expected a non-negative integer", opt,
@@ -104,7 +104,7 @@ int pc_cli_parse_u64(const char *opt, const char *arg, uint64_t *out)
 	return 0;
 }
 
-int pc_cli_parse_range(const char *opt, const char *arg, double **values, size_t *count)
+int cli_parse_range(const char *opt, const char *arg, double **values, size_t *count)
 {
 	*values = NULL;
 	*count = 0;
@@ -113,7 +113,7 @@ int pc_cli_parse_range(const char *opt, const char *arg, double **values, size_t
 	const char *c1 = strchr(arg, ':');
 	if (!c1) {
 		double v;
-		int rc = pc_cli_parse_double(opt, arg, &v);
+		int rc = cli_parse_double(opt, arg, &v);
 		if (rc)
 			return rc;
 		*values = malloc(sizeof(double));
@@ -145,7 +145,7 @@ int pc_cli_parse_range(const char *opt, const char *arg, double **values, size_t
 	for (int i = 0; i < 3; i++) {
 		char o[96];
 		snprintf(o, sizeof o, "%s (range %s)", opt, names[i]);
-		int rc = pc_cli_parse_double(o, parts[i], dst[i]);
+		int rc = cli_parse_double(o, parts[i], dst[i]);
 		if (rc)
 			return rc;
 	}
@@ -166,7 +166,7 @@ int pc_cli_parse_range(const char *opt, const char *arg, double **values, size_t
 	return 0;
 }
 
-bool pc_cli_wants_help(int argc, char **argv)
+bool cli_wants_help(int argc, char **argv)
 {
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--") == 0)
@@ -177,7 +177,7 @@ bool pc_cli_wants_help(int argc, char **argv)
 	return false;
 }
 
-void pc_cli_print_json(json_t *value)
+void cli_print_json(json_t *value)
 {
 	char *s = json_dumps(value, JSON_COMPACT | JSON_REAL_PRECISION(17) | JSON_ENSURE_ASCII);
 	if (s) {
@@ -188,35 +188,35 @@ void pc_cli_print_json(json_t *value)
 	json_decref(value);
 }
 
-json_t *pc_json_real(double v)
+json_t *cli_json_real(double v)
 {
 	return isfinite(v) ? json_real(v) : json_null();
 }
 
-json_t *pc_json_vec(const double *v, unsigned n)
+json_t *cli_json_vec(const double *v, unsigned n)
 {
 	json_t *a = json_array();
 	for (unsigned i = 0; i < n; i++)
-		json_array_append_new(a, pc_json_real(v[i]));
+		json_array_append_new(a, cli_json_real(v[i]));
 	return a;
 }
 
-json_t *pc_json_matrix4(const double m[4][4])
+json_t *cli_json_matrix4(const double m[4][4])
 {
 	json_t *a = json_array();
 	for (int i = 0; i < 4; i++)
-		json_array_append_new(a, pc_json_vec(m[i], 4));
+		json_array_append_new(a, cli_json_vec(m[i], 4));
 	return a;
 }
 
-double pc_cli_now(void)
+double cli_now(void)
 {
 	struct timespec ts;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-void pc_progress_begin(pc_progress *p, const char *label, uint64_t total)
+void cli_progress_begin(cli_progress *p, const char *label, uint64_t total)
 {
 	memset(p, 0, sizeof *p);
 	p->label = label;
@@ -226,14 +226,14 @@ void pc_progress_begin(pc_progress *p, const char *label, uint64_t total)
 		p->enabled = strcmp(env, "0") != 0;
 	else
 		p->enabled = isatty(STDERR_FILENO);
-	p->t_start = p->t_last = pc_cli_now();
+	p->t_start = p->t_last = cli_now();
 }
 
-void pc_progress_update(pc_progress *p, uint64_t done)
+void cli_progress_update(cli_progress *p, uint64_t done)
 {
 	if (!p->enabled)
 		return;
-	double t = pc_cli_now();
+	double t = cli_now();
 	if (done < p->total && t - p->t_last < 0.1)
 		return;
 	p->t_last = t;
@@ -251,16 +251,52 @@ void pc_progress_update(pc_progress *p, uint64_t done)
 	p->drawn = true;
 }
 
-void pc_progress_end(pc_progress *p)
+void cli_progress_end(cli_progress *p)
 {
 	if (p->enabled && p->drawn) {
-		pc_progress_update(p, p->total);
+		cli_progress_update(p, p->total);
 		fputc('\n', stderr);
 	}
 	p->drawn = false;
 }
 
-int pc_cli_lines_open(pc_cli_lines *l, const char *path)
+int cli_progress_fn(void *user, const char *phase, uint64_t done, uint64_t total)
+{
+	cli_progress *p = user;
+	if (!p->label || strcmp(p->label, phase)) {
+		if (p->label)
+			cli_progress_end(p);
+		cli_progress_begin(p, phase, total);
+	}
+	cli_progress_update(p, done);
+	return 0;
+}
+
+volatile sig_atomic_t cli_stop_requested;
+
+static void on_signal(int sig)
+{
+	(void)sig;
+	cli_stop_requested = 1;
+}
+
+void cli_catch_signals(void)
+{
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+}
+
+int cli_progress_stoppable(void *user, const char *phase, uint64_t done, uint64_t total)
+{
+	if (user)
+		cli_progress_fn(user, phase, done, total);
+	return cli_stop_requested;
+}
+
+int cli_lines_open(cli_lines *l, const char *path)
 {
 	memset(l, 0, sizeof *l);
 	if (!path || !*path)
@@ -277,7 +313,7 @@ int pc_cli_lines_open(pc_cli_lines *l, const char *path)
 	return 0;
 }
 
-int pc_cli_lines_next(pc_cli_lines *l, char **line)
+int cli_lines_next(cli_lines *l, char **line)
 {
 	for (;;) {
 		errno = 0;
@@ -299,7 +335,7 @@ int pc_cli_lines_next(pc_cli_lines *l, char **line)
 	}
 }
 
-void pc_cli_lines_close(pc_cli_lines *l)
+void cli_lines_close(cli_lines *l)
 {
 	if (l->fp && l->fp != stdin)
 		fclose(l->fp);
@@ -307,7 +343,7 @@ void pc_cli_lines_close(pc_cli_lines *l)
 	memset(l, 0, sizeof *l);
 }
 
-int pc_cli_parse_fields(const char *line, const char *const *names, int want, double *out)
+int cli_parse_fields(const char *line, const char *const *names, int want, double *out)
 {
 	char list[256] = "";
 	for (int i = 0; i < want && names; i++) {
@@ -330,7 +366,7 @@ int pc_cli_parse_fields(const char *line, const char *const *names, int want, do
 			memcpy(tok, p, len);
 			tok[len] = '\0';
 			snprintf(opt, sizeof opt, "field %d (%s)", got + 1, names ? names[got] : "value");
-			int rc = pc_cli_parse_double(opt, tok, &out[got]);
+			int rc = cli_parse_double(opt, tok, &out[got]);
 			if (rc)
 				return rc;
 		}
@@ -342,18 +378,18 @@ int pc_cli_parse_fields(const char *line, const char *const *names, int want, do
 	return 0;
 }
 
-json_t *pc_json_error_line(unsigned long line, int code)
+json_t *cli_json_error_line(unsigned long line, int code)
 {
 	const char *d = pc_error_detail();
 	return json_pack("{s:I, s:s, s:s}", "line", (json_int_t)line, "error",
 			 *d ? d : pc_strerror(code), "code", pc_errname(code));
 }
 
-void pc_cli_batch_error(const pc_cli_lines *in, int rc, int *status)
+void cli_batch_error(const cli_lines *in, int rc, int *status)
 {
 	pc_error_prefix(rc, "%s line %lu: ", in->name, in->lineno);
-	pc_cli_print_json(pc_json_error_line(in->lineno, rc));
-	pc_cli_error(0, "%s", pc_error_detail());
-	if (*status == PC_EXIT_OK)
-		*status = pc_cli_status(rc);
+	cli_print_json(cli_json_error_line(in->lineno, rc));
+	cli_error(0, "%s", pc_error_detail());
+	if (*status == CLI_EXIT_OK)
+		*status = cli_status(rc);
 }

@@ -1,108 +1,122 @@
 /* tools/cli.h - what every polarcam command shares: argument parsing with errors that name the
  * argument, exit statuses, JSON lines on stdout, progress on stderr. */
-#ifndef POLARCAM_TOOLS_CLI_H
-#define POLARCAM_TOOLS_CLI_H
+#ifndef CLI_TOOLS_CLI_H
+#define CLI_TOOLS_CLI_H
 
 #include <jansson.h>
+#include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 
 /* Exit statuses of every command. */
 enum {
-	PC_EXIT_OK = 0,
-	PC_EXIT_FAILURE = 1, /* the work failed (I/O, device, numerics) */
-	PC_EXIT_USAGE = 2,   /* bad arguments or bad input data */
+	CLI_EXIT_OK = 0,
+	CLI_EXIT_FAILURE = 1, /* the work failed (I/O, device, numerics) */
+	CLI_EXIT_USAGE = 2,   /* bad arguments or bad input data */
 };
 
 /* The running command's name ("pbrdf"), set by main, used in messages. */
-extern const char *pc_cli_command;
+extern const char *cli_name;
 
 /* Prints "polarcam CMD: error: <fmt>" to stderr and returns status. */
-int pc_cli_error(int status, const char *fmt, ...)
+int cli_error(int status, const char *fmt, ...)
 #if defined(__GNUC__)
 	__attribute__((format(printf, 2, 3)))
 #endif
 	;
 
 /* Prints "polarcam CMD: error: <what>: <pc_error_detail() or pc_strerror(code)>" and returns
- * PC_EXIT_USAGE for input errors (PC_EINVAL, PC_ERANGE, PC_EFORMAT, PC_ENOENT) or
- * PC_EXIT_FAILURE for the others. */
-int pc_cli_fail(int code, const char *what);
+ * CLI_EXIT_USAGE for input errors (PC_EINVAL, PC_ERANGE, PC_EFORMAT, PC_ENOENT) or
+ * CLI_EXIT_FAILURE for the others. */
+int cli_fail(int code, const char *what);
 
-/* Exit status for a library error code (see pc_cli_fail). */
-int pc_cli_status(int code);
+/* Exit status for a library error code (see cli_fail). */
+int cli_status(int code);
 
 /* Prints a warning to stderr. */
-void pc_cli_warn(const char *fmt, ...)
+void cli_warn(const char *fmt, ...)
 #if defined(__GNUC__)
 	__attribute__((format(printf, 1, 2)))
 #endif
 	;
 
 /* Parses a finite double; on failure sets the error detail naming opt and returns PC_EINVAL. */
-int pc_cli_parse_double(const char *opt, const char *arg, double *out);
+int cli_parse_double(const char *opt, const char *arg, double *out);
 /* Parses a non-negative integer in [min, max]. */
-int pc_cli_parse_long(const char *opt, const char *arg, long min, long max, long *out);
-int pc_cli_parse_u64(const char *opt, const char *arg, uint64_t *out);
+int cli_parse_long(const char *opt, const char *arg, long min, long max, long *out);
+int cli_parse_u64(const char *opt, const char *arg, uint64_t *out);
 
 /* A numeric option that may be a range "start:stop:step" (inclusive of stop within
  * step·1e-9). values is malloc'd. */
-int pc_cli_parse_range(const char *opt, const char *arg, double **values, size_t *count);
+int cli_parse_range(const char *opt, const char *arg, double **values, size_t *count);
 
 /* True when argv holds -h or --help. */
-bool pc_cli_wants_help(int argc, char **argv);
+bool cli_wants_help(int argc, char **argv);
 
 /* Prints one JSON value as a compact line on stdout (17 significant digits) and decrefs it. */
-void pc_cli_print_json(json_t *value);
+void cli_print_json(json_t *value);
 
 /* Non-finite numbers become JSON null. */
-json_t *pc_json_real(double v);
-json_t *pc_json_matrix4(const double m[4][4]);
-json_t *pc_json_vec(const double *v, unsigned n);
+json_t *cli_json_real(double v);
+json_t *cli_json_matrix4(const double m[4][4]);
+json_t *cli_json_vec(const double *v, unsigned n);
 
 /* Progress on stderr for long work: shown when stderr is a terminal or POLARCAM_PROGRESS=1,
  * never when POLARCAM_PROGRESS=0. Rate-limited to ~10 updates per second. */
-typedef struct pc_progress {
+typedef struct cli_progress {
 	const char *label;
 	uint64_t total;
 	double t_start, t_last;
 	bool enabled;
 	bool drawn;
-} pc_progress;
+} cli_progress;
 
-void pc_progress_begin(pc_progress *p, const char *label, uint64_t total);
-void pc_progress_update(pc_progress *p, uint64_t done);
-void pc_progress_end(pc_progress *p);
+void cli_progress_begin(cli_progress *p, const char *label, uint64_t total);
+void cli_progress_update(cli_progress *p, uint64_t done);
+void cli_progress_end(cli_progress *p);
+
+/* A pc_progress_fn (polarcam/progress.h) drawing cli_progress bars: user is a zeroed
+ * cli_progress; each new phase ends the bar of the previous one and starts its own, labelled
+ * with the phase. Finish with cli_progress_end. Never asks to stop. */
+int cli_progress_fn(void *user, const char *phase, uint64_t done, uint64_t total);
+
+/* Long commands (capture, view, serve) stop cleanly on SIGINT/SIGTERM: cli_catch_signals()
+ * installs the handlers, which set cli_stop_requested. */
+extern volatile sig_atomic_t cli_stop_requested;
+void cli_catch_signals(void);
+/* cli_progress_fn (user may be NULL: no bar) that asks the library call to stop once a signal
+ * came. */
+int cli_progress_stoppable(void *user, const char *phase, uint64_t done, uint64_t total);
 
 /* Monotonic time in seconds. */
-double pc_cli_now(void);
+double cli_now(void);
 
 /* Line-oriented input for --batch FILE|-: "-" is stdin. Blank lines and lines starting with '#'
  * are skipped; line numbers count every line (1-based), for error messages. */
-typedef struct pc_cli_lines {
+typedef struct cli_lines {
 	FILE *fp;
 	const char *name; /* the path as given, "stdin" for "-" */
 	char *buf;
 	size_t cap;
 	unsigned long lineno;
-} pc_cli_lines;
+} cli_lines;
 
 /* Opens path (error detail names it). */
-int pc_cli_lines_open(pc_cli_lines *l, const char *path);
+int cli_lines_open(cli_lines *l, const char *path);
 /* The next data line in *line (valid until the next call): 1, 0 at the end, < 0 on a read error. */
-int pc_cli_lines_next(pc_cli_lines *l, char **line);
-void pc_cli_lines_close(pc_cli_lines *l);
+int cli_lines_next(cli_lines *l, char **line);
+void cli_lines_close(cli_lines *l);
 
 /* Parses exactly `want` whitespace-separated finite numbers; names[i] names field i in errors
  * ("field 3 (sigma) 'abc': not a number", "expected 6 numbers (n k sigma ...), got 5"). */
-int pc_cli_parse_fields(const char *line, const char *const *names, int want, double *out);
+int cli_parse_fields(const char *line, const char *const *names, int want, double *out);
 
 /* {"line": L, "error": <detail>, "code": "PC_E..."}: the batch-mode error object. */
-json_t *pc_json_error_line(unsigned long line, int code);
+json_t *cli_json_error_line(unsigned long line, int code);
 
 /* A bad batch line: prefixes the detail with "FILE line L: ", prints the error object on stdout
  * and the message on stderr, and sets *status (if still 0) to the exit status for rc. */
-void pc_cli_batch_error(const pc_cli_lines *in, int rc, int *status);
+void cli_batch_error(const cli_lines *in, int rc, int *status);
 
 #endif

@@ -13,8 +13,10 @@
 #include "polarcam/error.h"
 #include "polarcam/format.h"
 #include "polarcam/io.h"
+#include "polarcam/folders.h"
 #include "polarcam/recording.h"
-#include "sim_cli.h"
+#include "polarcam/states.h"
+#include "polarcam/version.h"
 
 static void usage(FILE *fp)
 {
@@ -82,7 +84,7 @@ static int rec_get(void *user, size_t i, pc_view *out)
 static void rec_stimulus(const char *dir, double *angle_deg, double *dolp)
 {
 	char mp[4096];
-	if (pc_path_join(mp, sizeof mp, dir, "meta.json"))
+	if ((size_t)snprintf(mp, sizeof mp, "%s/meta.json", dir) >= sizeof mp)
 		return;
 	json_t *m = json_load_file(mp, 0, NULL);
 	json_t *pm = json_array_get(json_object_get(json_object_get(m, "extra"), "psa_mueller"), 0);
@@ -167,13 +169,13 @@ static json_t *stats_json(const double *v, size_t n)
 	double mean = s / (double)n;
 	for (size_t i = 0; i < n; i++)
 		ss += (t[i] - mean) * (t[i] - mean);
-	json_object_set_new(o, "mean", pc_json_real(mean));
-	json_object_set_new(o, "sd", pc_json_real(n > 1 ? sqrt(ss / (double)(n - 1)) : 0));
-	json_object_set_new(o, "min", pc_json_real(t[0]));
-	json_object_set_new(o, "p01", pc_json_real(t[n / 100]));
-	json_object_set_new(o, "median", pc_json_real(t[n / 2]));
-	json_object_set_new(o, "p99", pc_json_real(t[n - 1 - n / 100]));
-	json_object_set_new(o, "max", pc_json_real(t[n - 1]));
+	json_object_set_new(o, "mean", cli_json_real(mean));
+	json_object_set_new(o, "sd", cli_json_real(n > 1 ? sqrt(ss / (double)(n - 1)) : 0));
+	json_object_set_new(o, "min", cli_json_real(t[0]));
+	json_object_set_new(o, "p01", cli_json_real(t[n / 100]));
+	json_object_set_new(o, "median", cli_json_real(t[n / 2]));
+	json_object_set_new(o, "p99", cli_json_real(t[n - 1 - n / 100]));
+	json_object_set_new(o, "max", cli_json_real(t[n - 1]));
 	json_object_set_new(o, "pixels", json_integer((json_int_t)n));
 	free(t);
 	return o;
@@ -201,8 +203,8 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 	json_object_set_new(o, "offset_y", json_integer(c->geo.offset_y));
 	json_object_set_new(o, "bits", json_integer(c->geo.bits));
 	json_object_set_new(o, "layout", json_string(lay));
-	json_object_set_new(o, "black_level", pc_json_real(c->black_level));
-	json_object_set_new(o, "saturation", pc_json_real(c->saturation));
+	json_object_set_new(o, "black_level", cli_json_real(c->black_level));
+	json_object_set_new(o, "saturation", cli_json_real(c->saturation));
 	size_t nv = 0;
 	for (size_t p = 0; c->valid && p < np; p++)
 		nv += c->valid[p] != 0;
@@ -240,7 +242,7 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 		COLLECT(c->gain[p]);
 		json_object_set_new(o, "gain", stats_json(v, n));
 		if (pic && !rc)
-			rc = pc_write_map(pictures, "gain", pic, W, H, 0.9, 1.1, "Relative gain (flat)",
+			rc = pc_map_write(pictures, "gain", pic, W, H, 0.9, 1.1, "Relative gain (flat)",
 					  "gain");
 	}
 	if (c->analysis) {
@@ -255,14 +257,14 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 			fmax(1e-9, 1 - hypot(a[3 * p + 1], a[3 * p + 2]) / a[3 * p]));
 		json_object_set_new(o, "extinction_ratio", stats_json(v, n));
 		if (pic && !rc)
-			rc = pc_write_map(pictures, "extinction_ratio", pic, W, H, 0, 600,
+			rc = pc_map_write(pictures, "extinction_ratio", pic, W, H, 0, 600,
 					  "Extinction ratio per pixel", "ER");
 		COLLECT(remainder(0.5 * atan2(a[3 * p + 2], a[3 * p + 1]) * 180 / M_PI -
 					  45.0 * pc_mosaic_channel(&c->geo.mosaic, x, y),
 				  180.0));
 		json_object_set_new(o, "orientation_error_deg", stats_json(v, n));
 		if (pic && !rc)
-			rc = pc_write_map(pictures, "orientation_error", pic, W, H, -3, 3,
+			rc = pc_map_write(pictures, "orientation_error", pic, W, H, -3, 3,
 					  "Analyser orientation error (deg)", "deg");
 		if (c->residual) {
 			COLLECT(c->residual[p]);
@@ -273,9 +275,9 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 	if (c->parts & PC_CAL_ECM) {
 		json_t *Wj = json_array(), *Aj = json_array();
 		for (int r = 0; r < 4; r++)
-			json_array_append_new(Wj, pc_json_vec(c->ecm_W[r], c->n_psg));
+			json_array_append_new(Wj, cli_json_vec(c->ecm_W[r], c->n_psg));
 		for (unsigned k = 0; k < 4 * c->n_psa; k++)
-			json_array_append_new(Aj, pc_json_vec(c->ecm_A[k], 4));
+			json_array_append_new(Aj, cli_json_vec(c->ecm_A[k], 4));
 		json_object_set_new(o, "ecm_generator", Wj);
 		json_object_set_new(o, "ecm_analyser", Aj);
 	}
@@ -299,7 +301,7 @@ static void add_provenance(pc_calib *c, json_t *step)
 	if (!json_is_object(p)) {
 		json_decref(p);
 		p = json_object();
-		json_object_set_new(p, "software", json_string("polarcam " PC_VERSION));
+		json_object_set_new(p, "software", json_string("polarcam " PC_VERSION_STRING));
 		json_object_set_new(p, "steps", json_array());
 	}
 	json_array_append_new(json_object_get(p, "steps"), step);
@@ -310,9 +312,9 @@ static void add_provenance(pc_calib *c, json_t *step)
 
 static void progress_cb(void *user, uint64_t done, uint64_t total)
 {
-	pc_progress *bar = user;
+	cli_progress *bar = user;
 	bar->total = total;
-	pc_progress_update(bar, done);
+	cli_progress_update(bar, done);
 }
 
 /* ---- the subcommands ---- */
@@ -360,30 +362,30 @@ static int parse(int argc, char **argv, args *a)
 		case 'c': a->camera = optarg; break;
 		case '0': case '1': case '2': case '3': a->ecm[c - '0'] = optarg; break;
 		case 'P':
-			if ((rc = pc_cli_parse_double("--dolp", optarg, &a->dolp)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_double("--dolp", optarg, &a->dolp)))
+				return cli_fail(rc, NULL);
 			if (!(a->dolp > 0 && a->dolp <= 1))
-				return pc_cli_error(PC_EXIT_USAGE, "--dolp %g: must be in (0, 1]", a->dolp);
+				return cli_error(CLI_EXIT_USAGE, "--dolp %g: must be in (0, 1]", a->dolp);
 			break;
 		case 'S':
-			if ((rc = pc_cli_parse_double("--saturation", optarg, &a->saturation)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_double("--saturation", optarg, &a->saturation)))
+				return cli_fail(rc, NULL);
 			if (!(a->saturation > 0))
-				return pc_cli_error(PC_EXIT_USAGE, "--saturation %g: must be > 0",
+				return cli_error(CLI_EXIT_USAGE, "--saturation %g: must be > 0",
 						    a->saturation);
 			break;
 		case 'a':
-			if ((rc = pc_cli_parse_double("--theta2", optarg, &a->theta2)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_double("--theta2", optarg, &a->theta2)))
+				return cli_fail(rc, NULL);
 			break;
 		case 'b':
-			if ((rc = pc_cli_parse_double("--theta3", optarg, &a->theta3)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_double("--theta3", optarg, &a->theta3)))
+				return cli_fail(rc, NULL);
 			break;
 		case ':':
-			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
 		default:
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
 	a->first = optind;
@@ -399,14 +401,14 @@ static int load_base(const args *a, pc_calib *base, bool *have)
 		return 0;
 	int rc = pc_calib_read(f, base);
 	if (rc)
-		return pc_cli_fail(rc, NULL);
+		return cli_fail(rc, NULL);
 	if (a->flat && !(base->parts & PC_CAL_FLAT)) {
 		pc_calib_free(base);
-		return pc_cli_error(PC_EXIT_USAGE, "%s: --flat: the file has no flat part", a->flat);
+		return cli_error(CLI_EXIT_USAGE, "%s: --flat: the file has no flat part", a->flat);
 	}
 	if (!a->flat && !(base->parts & PC_CAL_DARK)) {
 		pc_calib_free(base);
-		return pc_cli_error(PC_EXIT_USAGE, "%s: --dark: the file has no dark part", a->dark);
+		return cli_error(CLI_EXIT_USAGE, "%s: --dark: the file has no dark part", a->dark);
 	}
 	*have = true;
 	return 0;
@@ -417,12 +419,12 @@ static int finish(pc_calib *cal, const args *a, json_t *step)
 	add_provenance(cal, step);
 	int rc = pc_calib_write(a->out, cal);
 	if (rc)
-		return pc_cli_fail(rc, NULL);
+		return cli_fail(rc, NULL);
 	int src;
 	json_t *s = summary(cal, NULL, &src);
 	json_object_set_new(s, "output", json_string(a->out));
 	if (a->json) {
-		pc_cli_print_json(s);
+		cli_print_json(s);
 	} else {
 		json_t *parts = json_object_get(s, "parts");
 		fprintf(stderr, "polarcam calibrate: wrote %s (", a->out);
@@ -432,7 +434,7 @@ static int finish(pc_calib *cal, const args *a, json_t *step)
 			(long long)json_integer_value(json_object_get(s, "pixels_invalid")), a->out);
 		json_decref(s);
 	}
-	return PC_EXIT_OK;
+	return CLI_EXIT_OK;
 }
 
 static int sub_stacks(int argc, char **argv, const char *what)
@@ -442,12 +444,12 @@ static int sub_stacks(int argc, char **argv, const char *what)
 	if (st)
 		return st;
 	if (!a.out)
-		return pc_cli_error(PC_EXIT_USAGE, "-o F is required (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "-o F is required (see --help)");
 	int nrec = argc - a.first;
 	if (nrec < 1)
-		return pc_cli_error(PC_EXIT_USAGE, "no recordings given (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "no recordings given (see --help)");
 	if (!strcmp(what, "dark") && nrec != 1)
-		return pc_cli_error(PC_EXIT_USAGE, "dark takes one recording, %d given", nrec);
+		return cli_error(CLI_EXIT_USAGE, "dark takes one recording, %d given", nrec);
 	rec_stack *rs = calloc((size_t)nrec, sizeof *rs);
 	pc_calib_stack *stk = calloc((size_t)nrec, sizeof *stk);
 	double *angles = calloc((size_t)nrec, sizeof *angles);
@@ -455,16 +457,16 @@ static int sub_stacks(int argc, char **argv, const char *what)
 	pc_calib_init(&base);
 	pc_calib_init(&out);
 	bool have_base = false;
-	int rc = 0, status = PC_EXIT_OK;
+	int rc = 0, status = CLI_EXIT_OK;
 	if (!rs || !stk || !angles) {
-		status = pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		status = cli_error(CLI_EXIT_FAILURE, "out of memory");
 		goto done;
 	}
 	if (strcmp(what, "dark") && (status = load_base(&a, &base, &have_base)))
 		goto done;
 	for (int i = 0; i < nrec; i++) {
 		if ((rc = rec_open(argv[a.first + i], &rs[i]))) {
-			status = pc_cli_fail(rc, NULL);
+			status = cli_fail(rc, NULL);
 			goto done;
 		}
 		stk[i] = rs[i].s;
@@ -489,13 +491,13 @@ static int sub_stacks(int argc, char **argv, const char *what)
 				break;
 		}
 		if (*p || k != nrec) {
-			status = pc_cli_error(PC_EXIT_USAGE, "--angles '%s': expected %d comma-separated "
+			status = cli_error(CLI_EXIT_USAGE, "--angles '%s': expected %d comma-separated "
 							      "angles in degrees (one per recording)", a.angles, nrec);
 			goto done;
 		}
 	}
-	pc_progress bar;
-	pc_progress_begin(&bar, what, 1);
+	cli_progress bar;
+	cli_progress_begin(&bar, what, 1);
 	pc_calib_opts o = { .saturation = a.saturation, .unknown_angles = a.unknown,
 			    .progress = progress_cb, .progress_user = &bar };
 	if (!strcmp(what, "dark"))
@@ -504,9 +506,9 @@ static int sub_stacks(int argc, char **argv, const char *what)
 		rc = pc_calib_flat(stk, (size_t)nrec, have_base ? &base : NULL, &o, &out);
 	else
 		rc = pc_calib_analyser(stk, (size_t)nrec, have_base ? &base : NULL, &o, &out, angles);
-	pc_progress_end(&bar);
+	cli_progress_end(&bar);
 	if (rc) {
-		status = pc_cli_fail(rc, NULL);
+		status = cli_fail(rc, NULL);
 		goto done;
 	}
 	if (a.camera || !*out.camera)
@@ -520,10 +522,10 @@ static int sub_stacks(int argc, char **argv, const char *what)
 		json_object_set_new(in, "recording", json_string(argv[a.first + i]));
 		json_object_set_new(in, "source", json_string(rs[i].source));
 		json_object_set_new(in, "frames", json_integer((json_int_t)stk[i].n));
-		json_object_set_new(in, "exposure_us", pc_json_real(stk[i].exposure_us));
+		json_object_set_new(in, "exposure_us", cli_json_real(stk[i].exposure_us));
 		if (!strcmp(what, "analyser")) {
-			json_object_set_new(in, "angle_deg", pc_json_real(angles[i]));
-			json_object_set_new(in, "dolp", pc_json_real(isfinite(stk[i].dolp) ? stk[i].dolp : 1));
+			json_object_set_new(in, "angle_deg", cli_json_real(angles[i]));
+			json_object_set_new(in, "dolp", cli_json_real(isfinite(stk[i].dolp) ? stk[i].dolp : 1));
 		}
 		json_array_append_new(ins, in);
 		frames += stk[i].n;
@@ -557,19 +559,19 @@ static int write_states(const char *path, const pc_calib *c, const char *layout)
 	json_t *g = json_array(), *a = json_array(), *an = json_array();
 	for (unsigned k = 0; k < c->n_psg; k++) {
 		double v[4] = { c->ecm_W[0][k], c->ecm_W[1][k], c->ecm_W[2][k], c->ecm_W[3][k] };
-		json_array_append_new(g, pc_json_vec(v, 4));
+		json_array_append_new(g, cli_json_vec(v, 4));
 	}
 	/* A's rows r_{a,c} = w_c·P_a with w_c the unit rows: P_a holds rows 4a..4a+3 of A */
 	for (unsigned s = 0; s < c->n_psa; s++) {
 		double P[4][4];
 		for (int r = 0; r < 4; r++)
 			memcpy(P[r], c->ecm_A[4 * s + r], sizeof P[r]);
-		json_array_append_new(a, pc_json_matrix4(P));
+		json_array_append_new(a, cli_json_matrix4(P));
 	}
 	for (int r = 0; r < 4; r++) {
 		double e[4] = { 0, 0, 0, 0 };
 		e[r] = 1;
-		json_array_append_new(an, pc_json_vec(e, 4));
+		json_array_append_new(an, cli_json_vec(e, 4));
 	}
 	json_object_set_new(d, "psg", g);
 	json_object_set_new(d, "psa", a);
@@ -589,21 +591,21 @@ static int sub_ecm(int argc, char **argv)
 	if (st)
 		return st;
 	if (!a.out)
-		return pc_cli_error(PC_EXIT_USAGE, "-o F is required (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "-o F is required (see --help)");
 	if (!a.states)
-		return pc_cli_error(PC_EXIT_USAGE, "--states NOMINAL is required (the nominal states "
+		return cli_error(CLI_EXIT_USAGE, "--states NOMINAL is required (the nominal states "
 						   "file: frame order and counts)");
 	static const char *const opt[4] = { "--air", "--polarizer", "--polarizer2", "--retarder" };
 	for (int i = 0; i < 4; i++)
 		if (!a.ecm[i])
-			return pc_cli_error(PC_EXIT_USAGE, "%s REC is required (see --help)", opt[i]);
+			return cli_error(CLI_EXIT_USAGE, "%s REC is required (see --help)", opt[i]);
 	if (argc > a.first)
-		return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s'", argv[a.first]);
+		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s'", argv[a.first]);
 	pc_sim_states nom;
 	char layout[64] = "";
 	int rc = pc_states_read(a.states, &nom, layout, sizeof layout);
 	if (rc)
-		return pc_cli_fail(rc, NULL);
+		return cli_fail(rc, NULL);
 	pc_calib base, out;
 	pc_calib_init(&base);
 	pc_calib_init(&out);
@@ -616,21 +618,21 @@ static int sub_ecm(int argc, char **argv)
 	pc_calib_stack stk[4];
 	for (int i = 0; i < 4; i++) {
 		if ((rc = rec_open(a.ecm[i], &rs[i]))) {
-			status = pc_cli_fail(rc, NULL);
+			status = cli_fail(rc, NULL);
 			goto done;
 		}
 		stk[i] = rs[i].s;
 	}
-	pc_progress bar;
-	pc_progress_begin(&bar, "ecm", 1);
+	cli_progress bar;
+	cli_progress_begin(&bar, "ecm", 1);
 	pc_calib_opts o = { .saturation = a.saturation, .progress = progress_cb,
 			    .progress_user = &bar };
 	double th[2] = { a.theta2, a.theta3 };
 	pc_ecm_result r;
 	rc = pc_calib_ecm(stk, nom.n_psg, nom.n_psa, th, have_base ? &base : NULL, &o, &out, &r);
-	pc_progress_end(&bar);
+	cli_progress_end(&bar);
 	if (rc) {
-		status = pc_cli_fail(rc, NULL);
+		status = cli_fail(rc, NULL);
 		goto done;
 	}
 	if (a.camera || !*out.camera)
@@ -644,21 +646,21 @@ static int sub_ecm(int argc, char **argv)
 		json_t *s = json_object();
 		json_object_set_new(s, "sample", json_string(nm[i]));
 		json_object_set_new(s, "recording", json_string(a.ecm[i]));
-		json_object_set_new(s, "tau", pc_json_real(r.tau[i]));
-		json_object_set_new(s, "psi_deg", pc_json_real(r.psi_deg[i]));
-		json_object_set_new(s, "retardance_deg", pc_json_real(r.delta_deg[i]));
-		json_object_set_new(s, "orientation_deg", pc_json_real(r.theta_deg[i]));
+		json_object_set_new(s, "tau", cli_json_real(r.tau[i]));
+		json_object_set_new(s, "psi_deg", cli_json_real(r.psi_deg[i]));
+		json_object_set_new(s, "retardance_deg", cli_json_real(r.delta_deg[i]));
+		json_object_set_new(s, "orientation_deg", cli_json_real(r.theta_deg[i]));
 		json_array_append_new(sm, s);
 	}
 	json_object_set_new(step, "samples", sm);
 	json_object_set_new(step, "lambda15_over_lambda16",
-			    pc_json_real(r.lambda16 > 0 ? r.lambda15 / r.lambda16 : INFINITY));
-	json_object_set_new(step, "model_residual", pc_json_real(r.residual));
+			    cli_json_real(r.lambda16 > 0 ? r.lambda15 / r.lambda16 : INFINITY));
+	json_object_set_new(step, "model_residual", cli_json_real(r.residual));
 	if (a.states_out) {
 		char lay[64];
 		pc_mosaic_format(&out.geo.mosaic, lay, sizeof lay);
 		if ((rc = write_states(a.states_out, &out, lay))) {
-			status = pc_cli_fail(rc, a.states_out);
+			status = cli_fail(rc, a.states_out);
 			goto done;
 		}
 		json_object_set_new(step, "states_out", json_string(a.states_out));
@@ -679,35 +681,35 @@ static int sub_show(int argc, char **argv)
 	if (st)
 		return st;
 	if (argc - a.first != 1)
-		return pc_cli_error(PC_EXIT_USAGE, "show takes one calibration file");
+		return cli_error(CLI_EXIT_USAGE, "show takes one calibration file");
 	pc_calib c;
 	int rc = pc_calib_read(argv[a.first], &c);
 	if (rc)
-		return pc_cli_fail(rc, NULL);
+		return cli_fail(rc, NULL);
 	if (a.pictures && (rc = pc_mkdir_p(a.pictures))) {
 		pc_calib_free(&c);
-		return pc_cli_fail(rc, a.pictures);
+		return cli_fail(rc, a.pictures);
 	}
 	json_t *s = summary(&c, a.pictures, &rc);
 	pc_calib_free(&c);
 	if (rc) {
 		json_decref(s);
-		return pc_cli_fail(rc, a.pictures);
+		return cli_fail(rc, a.pictures);
 	}
 	json_object_set_new(s, "file", json_string(argv[a.first]));
-	pc_cli_print_json(s);
-	return PC_EXIT_OK;
+	cli_print_json(s);
+	return CLI_EXIT_OK;
 }
 
-int cmd_calibrate(int argc, char **argv)
+int cli_cmd_calibrate(int argc, char **argv)
 {
-	if (argc < 2 || (argc == 2 && pc_cli_wants_help(argc, argv))) {
+	if (argc < 2 || (argc == 2 && cli_wants_help(argc, argv))) {
 		usage(argc < 2 ? stderr : stdout);
-		return argc < 2 ? PC_EXIT_USAGE : PC_EXIT_OK;
+		return argc < 2 ? CLI_EXIT_USAGE : CLI_EXIT_OK;
 	}
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	const char *sub = argv[1];
 	if (!strcmp(sub, "dark") || !strcmp(sub, "flat") || !strcmp(sub, "analyser"))
@@ -716,6 +718,6 @@ int cmd_calibrate(int argc, char **argv)
 		return sub_ecm(argc - 1, argv + 1);
 	if (!strcmp(sub, "show"))
 		return sub_show(argc - 1, argv + 1);
-	return pc_cli_error(PC_EXIT_USAGE, "unknown subcommand '%s' (dark, flat, analyser, ecm, show)",
+	return cli_error(CLI_EXIT_USAGE, "unknown subcommand '%s' (dark, flat, analyser, ecm, show)",
 			    sub);
 }

@@ -1,26 +1,15 @@
-/* polarcam capture: record frames from a source URI as a recording directory. */
-#include <signal.h>
+/* polarcam capture: record frames from a source URI as a recording directory
+ * (polarcam/capture.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
 #include "commands.h"
+#include "polarcam/capture.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
-#include "polarcam/io.h"
-#include "polarcam/recording.h"
-#include "polarcam/source.h"
-#include "raw_cli.h"
 #include "source_cli.h"
-
-static volatile sig_atomic_t capture_stop;
-
-static void on_signal(int sig)
-{
-	(void)sig;
-	capture_stop = 1;
-}
 
 static void usage(FILE *fp)
 {
@@ -51,247 +40,81 @@ static void usage(FILE *fp)
 	    "%s"
 	    "\nPrints one JSON line: frames recorded, format, statistics, error (if any).\n"
 	    "Exit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments.\n",
-	    pc_stream_args_help());
+	    cli_stream_args_help());
 }
 
-int cmd_capture(int argc, char **argv)
+/* the recording and its report */
+static int run(pc_capture_opts *o)
 {
-	if (pc_cli_wants_help(argc, argv)) {
-		usage(stdout);
-		return PC_EXIT_OK;
+	cli_catch_signals();
+	cli_progress bar = { 0 };
+	o->progress = (pc_progress){ cli_progress_stoppable, &bar };
+	pc_capture_report rep;
+	int rc = pc_capture(o, &rep);
+	cli_progress_end(&bar);
+	pc_devices_shutdown();
+	if (rc) {
+		pc_capture_report_free(&rep);
+		return cli_fail(rc, NULL);
 	}
-	pc_stream_args sa;
-	pc_stream_args_init(&sa);
+	cli_print_json(json_loads(rep.json, 0, NULL));
+	int status = CLI_EXIT_OK;
+	if (rep.error)
+		status = cli_error(cli_status(rep.error), "%s (the %llu frames recorded are intact in %s)",
+				   rep.message, (unsigned long long)rep.frames, o->dir);
+	pc_capture_report_free(&rep);
+	return status;
+}
+
+int cli_cmd_capture(int argc, char **argv)
+{
+	if (cli_wants_help(argc, argv)) {
+		usage(stdout);
+		return CLI_EXIT_OK;
+	}
+	cli_stream_args sa;
+	cli_stream_args_init(&sa);
 	const char *dir = NULL;
 	long n = 0;
 	bool overwrite = false, process = false;
 	const char *method = NULL; /* the mosaic's default */
 	for (int i = 1; i < argc; i++) {
-		int rc = pc_stream_args_parse(&sa, argc, argv, &i);
+		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
 		if (rc < 0)
-			return pc_cli_fail(rc, "arguments");
+			return cli_fail(rc, "arguments");
 		if (rc > 0)
 			continue;
 		const char *a = argv[i];
 		if (!strcmp(a, "-n") || !strcmp(a, "-o")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)",
-				                    a);
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
 			if (!strcmp(a, "-o"))
 				dir = argv[++i];
-			else if ((rc = pc_cli_parse_long("-n", argv[++i], 1, 999999, &n)))
-				return pc_cli_fail(rc, "arguments");
+			else if ((rc = cli_parse_long("-n", argv[++i], 1, 999999, &n)))
+				return cli_fail(rc, "arguments");
 		} else if (!strcmp(a, "--overwrite")) {
 			overwrite = true;
 		} else if (!strcmp(a, "--process")) {
 			process = true;
 		} else if (!strcmp(a, "--method")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE,
-				                    "--method needs a value (see --help)");
+				return cli_error(CLI_EXIT_USAGE, "--method needs a value (see --help)");
 			method = argv[++i];
 		} else if (a[0] == '-') {
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
-		} else if (!sa.uri) {
-			sa.uri = a;
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
+		} else if (!sa.req.uri) {
+			sa.req.uri = a;
 		} else {
-			return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s' (see --help)",
-			                    a);
+			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (see --help)", a);
 		}
 	}
-	if (!sa.uri)
-		return pc_cli_error(PC_EXIT_USAGE, "missing the source URI (see --help)");
+	if (!sa.req.uri)
+		return cli_error(CLI_EXIT_USAGE, "missing the source URI (see --help)");
 	if (!n)
-		return pc_cli_error(PC_EXIT_USAGE, "missing -n N (frames to record)");
+		return cli_error(CLI_EXIT_USAGE, "missing -n N (frames to record)");
 	if (!dir)
-		return pc_cli_error(PC_EXIT_USAGE, "missing -o DIR (output directory)");
-	pc_live lv;
-	memset(&lv, 0, sizeof lv);
-	if (method) { /* a misspelt name is refused before the camera is opened */
-		int mrc = pc_demosaic_method_from_name(method, &lv.method);
-		if (mrc)
-			return pc_cli_fail(mrc, "--method");
-	}
-
-	pc_source *s = NULL;
-	int rc = pc_stream_open(&sa, &s);
-	if (rc) {
-		pc_devices_shutdown();
-		return pc_cli_fail(rc, "opening the source");
-	}
-	pc_source_format f;
-	pc_source_get_format(s, &f);
-	if (process && f.polarized) {
-		/* a method for the other kind of mosaic is refused before anything is recorded */
-		rc = pc_cli_method_for_mosaic(method, &f.mosaic, &lv.method);
-		if (rc) {
-			pc_source_close(s);
-			pc_devices_shutdown();
-			return pc_cli_fail(rc, NULL);
-		}
-		method = pc_demosaic_method_get(lv.method)->name;
-	}
-	pc_recording_desc d;
-	memset(&d, 0, sizeof d);
-	d.source = sa.uri;
-	d.format = f.format;
-	d.device_format = f.format_name;
-	d.width = f.width;
-	d.height = f.height;
-	d.offset_x = f.offset_x;
-	d.offset_y = f.offset_y;
-	d.sensor_width = f.sensor_width;
-	d.sensor_height = f.sensor_height;
-	d.polarized = f.polarized;
-	d.mosaic = f.mosaic;
-	pc_recording *rec = NULL;
-	rc = pc_recording_create(&rec, dir, &d, overwrite);
-	if (rc) {
-		pc_source_close(s);
-		pc_devices_shutdown();
-		return pc_cli_fail(rc, "creating the recording");
-	}
-
-	struct sigaction sig;
-	memset(&sig, 0, sizeof sig);
-	sig.sa_handler = on_signal;
-	sigaction(SIGINT, &sig, NULL);
-	sigaction(SIGTERM, &sig, NULL);
-
-	pc_progress prog;
-	pc_progress_begin(&prog, "capture", (uint64_t)n);
-	char err[512] = "";
-	int err_rc = 0;
-	long got = 0;
-	rc = pc_source_start(s);
-	if (rc) {
-		err_rc = rc;
-		snprintf(err, sizeof err, "starting the stream: %s", pc_error_detail());
-	}
-	double t0 = pc_cli_now(), proc_sum = 0, proc_max = 0, dolp_last = 0;
-	if (process && !f.polarized) {
-		err_rc = PC_EFORMAT;
-		snprintf(err, sizeof err,
-		         "--process: the source's frames carry no polarizer mosaic");
-	}
-	while (!err_rc && got < n) {
-		if (capture_stop) {
-			err_rc = PC_ECANCELED;
-			snprintf(err, sizeof err, "interrupted after %ld of %ld frames", got, n);
-			break;
-		}
-		pc_buffer *b = NULL;
-		rc = pc_source_dequeue(s, sa.timeout_ms, &b);
-		if (rc) {
-			err_rc = rc;
-			if (rc == PC_EDISCONNECTED)
-				snprintf(err, sizeof err,
-				         "the camera disappeared after %ld of %ld frames: %s", got,
-				         n, pc_error_detail());
-			else if (rc == PC_ETIMEDOUT)
-				snprintf(err, sizeof err,
-				         "no frame within %d ms after %ld of %ld frames: %s",
-				         sa.timeout_ms, got, n, pc_error_detail());
-			else if (rc == PC_EEND)
-				snprintf(err, sizeof err,
-				         "the source ended after %ld of %ld frames", got, n);
-			else
-				snprintf(err, sizeof err, "frame %ld: %s", got, pc_error_detail());
-			break;
-		}
-		rc = pc_recording_add(rec, &b->frame);
-		if (!rc && process) {
-			rc = pc_live_process(&lv, &b->frame);
-			proc_sum += lv.process_s;
-			if (lv.process_s > proc_max)
-				proc_max = lv.process_s;
-		}
-		int rc2 = pc_source_requeue(s, b);
-		if (rc || rc2) {
-			err_rc = rc ? rc : rc2;
-			snprintf(err, sizeof err, "%s frame %ld: %s", rc ? "writing" : "requeueing",
-			         got, pc_error_detail());
-			break;
-		}
-		got++;
-		pc_progress_update(&prog, (uint64_t)got);
-	}
-	double dt = pc_cli_now() - t0;
-	pc_progress_end(&prog);
-	json_t *pj = NULL;
-	if (process && got > 0 && lv.planes) {
-		/* the last frame's Stokes images and pictures */
-		char pdir[1100], path[1200];
-		snprintf(pdir, sizeof pdir, "%s/processed", dir);
-		int prc = pc_mkdir_p(pdir);
-		static const char *const names[3] = {"s0", "dolp", "aolp"};
-		size_t shape[2] = {lv.h, lv.w};
-		for (int k = 0; !prc && k < 3; k++) {
-			snprintf(path, sizeof path, "%s/%s.npy", pdir, names[k]);
-			prc = pc_npy_write(path, lv.planes + (size_t)k * lv.w * lv.h, PC_DT_F32, 2,
-			                   shape);
-		}
-		if (!prc)
-			prc = pc_pictures_write(pdir, &lv.out, lv.w, lv.h, "capture");
-		double sum = 0;
-		for (size_t i = 0; i < (size_t)lv.w * lv.h; i++)
-			sum += lv.out.dolp.data[i];
-		dolp_last = sum / ((double)lv.w * lv.h);
-		if (prc && !err_rc) {
-			err_rc = prc;
-			snprintf(err, sizeof err, "writing the processed pictures: %s",
-			         pc_error_detail());
-		}
-		pj = json_object();
-		json_object_set_new(pj, "method", json_string(method));
-		json_object_set_new(pj, "frames", json_integer(got));
-		json_object_set_new(pj, "mean_ms", pc_json_real(1e3 * proc_sum / (double)got));
-		json_object_set_new(pj, "max_ms", pc_json_real(1e3 * proc_max));
-		json_object_set_new(pj, "last_mean_dolp", pc_json_real(dolp_last));
-		json_object_set_new(pj, "width", json_integer(lv.w));
-		json_object_set_new(pj, "height", json_integer(lv.h));
-		char *ptext = json_dumps(pj, JSON_COMPACT);
-		if (ptext) {
-			char wrapped[1200];
-			snprintf(wrapped, sizeof wrapped, "{\"process\":%s}", ptext);
-			pc_recording_set_json(rec, "extra", wrapped);
-		}
-		free(ptext);
-	}
-	if (pc_source_get_state(s) == PC_SOURCE_STREAMING ||
-	    pc_source_get_state(s) == PC_SOURCE_FAILED)
-		pc_source_stop(s);
-	pc_source_stats st;
-	pc_source_get_stats(s, &st);
-	json_t *sj = pc_json_source_stats(&st);
-	char *stext = json_dumps(sj, JSON_COMPACT);
-	if (stext)
-		pc_recording_set_json(rec, "stats", stext);
-	free(stext);
-	rc = pc_recording_finish(rec, err_rc ? err : NULL);
-	if (rc && !err_rc) {
-		err_rc = rc;
-		snprintf(err, sizeof err, "writing meta.json: %s", pc_error_detail());
-	}
-	json_t *j = json_object();
-	json_object_set_new(j, "source", json_string(sa.uri));
-	json_object_set_new(j, "dir", json_string(dir));
-	json_object_set_new(j, "frames", json_integer(got));
-	json_object_set_new(j, "requested", json_integer(n));
-	json_object_set_new(j, "seconds", pc_json_real(dt));
-	json_object_set_new(j, "fps", pc_json_real(dt > 0 ? got / dt : 0));
-	json_object_set_new(j, "format", pc_json_source_format(&f));
-	json_object_set_new(j, "stats", sj);
-	if (pj)
-		json_object_set_new(j, "process", pj);
-	json_object_set_new(j, "error", err_rc ? json_string(err) : json_null());
-	pc_cli_print_json(j);
-	pc_recording_free(rec);
-	pc_live_free(&lv);
-	pc_source_close(s);
-	pc_devices_shutdown();
-	if (err_rc)
-		return pc_cli_error(pc_cli_status(err_rc),
-		                    "%s (the %ld frames recorded are intact in %s)", err, got, dir);
-	return PC_EXIT_OK;
+		return cli_error(CLI_EXIT_USAGE, "missing -o DIR (output directory)");
+	pc_capture_opts o = { sa.req, (uint64_t)n, dir, overwrite, process, method, sa.timeout_ms,
+			      { NULL, NULL } };
+	return run(&o);
 }

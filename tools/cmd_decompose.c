@@ -68,55 +68,55 @@ static json_t *result_json(const pc_lu_chipman *lc, unsigned long line)
 	json_t *o = json_object();
 	if (line)
 		json_object_set_new(o, "line", json_integer((json_int_t)line));
-	json_object_set_new(o, "D", pc_json_real(lc->D));
-	json_object_set_new(o, "R", pc_json_real(lc->R));
-	json_object_set_new(o, "Delta", pc_json_real(lc->Delta));
-	json_object_set_new(o, "diattenuation", pc_json_vec(lc->D_vec, 3));
-	json_object_set_new(o, "retardance_axis", pc_json_vec(lc->R_axis, 3));
-	json_object_set_new(o, "M_D", pc_json_matrix4(lc->M_D));
-	json_object_set_new(o, "M_R", pc_json_matrix4(lc->M_R));
-	json_object_set_new(o, "M_Delta", pc_json_matrix4(lc->M_Delta));
+	json_object_set_new(o, "D", cli_json_real(lc->D));
+	json_object_set_new(o, "R", cli_json_real(lc->R));
+	json_object_set_new(o, "Delta", cli_json_real(lc->Delta));
+	json_object_set_new(o, "diattenuation", cli_json_vec(lc->D_vec, 3));
+	json_object_set_new(o, "retardance_axis", cli_json_vec(lc->R_axis, 3));
+	json_object_set_new(o, "M_D", cli_json_matrix4(lc->M_D));
+	json_object_set_new(o, "M_R", cli_json_matrix4(lc->M_R));
+	json_object_set_new(o, "M_Delta", cli_json_matrix4(lc->M_Delta));
 	json_object_set_new(o, "physical", json_boolean(lc->physical));
 	json_object_set_new(o, "filtered", json_boolean(lc->filtered));
 	json_object_set_new(o, "flags", flags);
-	json_object_set_new(o, "m00", pc_json_real(lc->m00));
-	json_object_set_new(o, "R_linear", pc_json_real(lc->R_linear));
-	json_object_set_new(o, "R_circular", pc_json_real(lc->R_circular));
-	json_object_set_new(o, "depol_index", pc_json_real(lc->depol_index));
+	json_object_set_new(o, "m00", cli_json_real(lc->m00));
+	json_object_set_new(o, "R_linear", cli_json_real(lc->R_linear));
+	json_object_set_new(o, "R_circular", cli_json_real(lc->R_circular));
+	json_object_set_new(o, "depol_index", cli_json_real(lc->depol_index));
 	return o;
 }
 
 static int run_batch(const char *path, unsigned options)
 {
-	pc_cli_lines in;
-	int rc = pc_cli_lines_open(&in, path);
+	cli_lines in;
+	int rc = cli_lines_open(&in, path);
 	if (rc)
-		return pc_cli_fail(rc, NULL);
-	int status = PC_EXIT_OK;
+		return cli_fail(rc, NULL);
+	int status = CLI_EXIT_OK;
 	char *line;
-	while ((rc = pc_cli_lines_next(&in, &line)) > 0) {
+	while ((rc = cli_lines_next(&in, &line)) > 0) {
 		double m[16];
 		pc_lu_chipman lc;
-		rc = pc_cli_parse_fields(line, pc_m_names, 16, m);
+		rc = cli_parse_fields(line, pc_m_names, 16, m);
 		if (!rc)
 			rc = pc_lu_chipman_decompose((const double(*)[4])m, options, &lc);
 		if (rc) {
-			pc_cli_batch_error(&in, rc, &status);
+			cli_batch_error(&in, rc, &status);
 			continue;
 		}
-		pc_cli_print_json(result_json(&lc, in.lineno));
+		cli_print_json(result_json(&lc, in.lineno));
 	}
 	if (rc < 0)
-		status = pc_cli_fail(rc, NULL);
-	pc_cli_lines_close(&in);
+		status = cli_fail(rc, NULL);
+	cli_lines_close(&in);
 	return status;
 }
 
-int cmd_decompose(int argc, char **argv)
+int cli_cmd_decompose(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	unsigned options = PC_LC_FILTER;
 	const char *batch = NULL;
@@ -134,22 +134,22 @@ int cmd_decompose(int argc, char **argv)
 			options &= ~(unsigned)PC_LC_FILTER;
 		} else if (!only_positional && !strcmp(a, "--batch")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE,
+				return cli_error(CLI_EXIT_USAGE,
 				                    "--batch: missing FILE (or - for stdin)");
 			batch = argv[++i];
 		} else if (!only_positional && !strncmp(a, "--batch=", 8)) {
 			batch = a + 8;
 		} else if (!only_positional && a[0] == '-' && a[1] && a[1] != '.' &&
 		           !(a[1] >= '0' && a[1] <= '9')) {
-			return pc_cli_error(PC_EXIT_USAGE,
+			return cli_error(CLI_EXIT_USAGE,
 			                    "unknown option '%s' (polarcam decompose --help)", a);
 		} else {
 			if (count < 16) {
 				char opt[48];
 				snprintf(opt, sizeof opt, "element %d (%s)", count + 1,
 				         pc_m_names[count]);
-				if ((rc = pc_cli_parse_double(opt, a, &v)))
-					return pc_cli_fail(rc, NULL);
+				if ((rc = cli_parse_double(opt, a, &v)))
+					return cli_fail(rc, NULL);
 				m[count] = v;
 			}
 			count++;
@@ -157,21 +157,21 @@ int cmd_decompose(int argc, char **argv)
 	}
 	if (batch) {
 		if (count)
-			return pc_cli_error(
-			    PC_EXIT_USAGE,
+			return cli_error(
+			    CLI_EXIT_USAGE,
 			    "--batch reads the matrices from FILE; do not also give %d "
 			    "numbers on the command line",
 			    count);
 		return run_batch(batch, options);
 	}
 	if (count != 16)
-		return pc_cli_error(
-		    PC_EXIT_USAGE,
+		return cli_error(
+		    CLI_EXIT_USAGE,
 		    "expected 16 matrix elements m00 m01 ... m33 (row by row), got %d", count);
 	pc_lu_chipman lc;
 	rc = pc_lu_chipman_decompose((const double(*)[4])m, options, &lc);
 	if (rc)
-		return pc_cli_fail(rc, NULL);
-	pc_cli_print_json(result_json(&lc, 0));
-	return PC_EXIT_OK;
+		return cli_fail(rc, NULL);
+	cli_print_json(result_json(&lc, 0));
+	return CLI_EXIT_OK;
 }

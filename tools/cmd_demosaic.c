@@ -7,7 +7,7 @@
 #include "commands.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/error.h"
-#include "polarcam/io.h"
+#include "polarcam/process.h"
 #include "raw_cli.h"
 
 static void usage(FILE *fp)
@@ -32,7 +32,7 @@ static void usage(FILE *fp)
 		"Prints one JSON line (output, shape, method, layout, bits, seconds). Exit status: 0\n"
 		"success, 1 failure, 2 bad arguments or bad input (odd size, truncated file, values\n"
 		"above the bit depth, NaN, bad layout).\n",
-		pc_raw_cli_help);
+		cli_raw_help);
 }
 
 static int list_methods(int json)
@@ -59,7 +59,7 @@ static int list_methods(int json)
 		}
 	}
 	if (json)
-		pc_cli_print_json(arr);
+		cli_print_json(arr);
 	else
 		printf("(accuracy: gains over bilinear in S0/DoLP PSNR, dB, under the frozen protocol:\n"
 		       " mean over each dataset's scenes and, in brackets, its worst scene; datasets:\n"
@@ -67,20 +67,14 @@ static int list_methods(int json)
 		       " rendered, polarcam eval --stress); times: polarcam bench demosaic, 2448x2048\n"
 		       " 12-bit frames; run it for this machine's figures. No method here needs\n"
 		       " denoising to beat bilinear on the noisy stress scenes.)\n");
-	return PC_EXIT_OK;
+	return CLI_EXIT_OK;
 }
 
-static int has_suffix(const char *s, const char *suf)
+int cli_cmd_demosaic(int argc, char **argv)
 {
-	size_t n = strlen(s), m = strlen(suf);
-	return n >= m && !strcmp(s + n - m, suf);
-}
-
-int cmd_demosaic(int argc, char **argv)
-{
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	for (int i = 1; i < argc; i++)
 		if (!strcmp(argv[i], "--list")) {
@@ -89,65 +83,35 @@ int cmd_demosaic(int argc, char **argv)
 				if (!strcmp(argv[k], "--json"))
 					json = 1;
 				else if (strcmp(argv[k], "--list"))
-					return pc_cli_error(PC_EXIT_USAGE, "--list takes only --json");
+					return cli_error(CLI_EXIT_USAGE, "--list takes only --json");
 			return list_methods(json);
 		}
-	pc_raw_cli o;
-	int st = pc_raw_cli_parse(argc, argv, &o, NULL);
+	cli_raw o;
+	int st = cli_raw_parse(argc, argv, &o, NULL);
 	if (st)
 		return st;
 	if (!o.path) {
 		usage(stderr);
-		return pc_cli_error(PC_EXIT_USAGE, "no RAW file given");
+		return cli_error(CLI_EXIT_USAGE, "no RAW file given");
 	}
 	if (!o.out)
-		return pc_cli_error(PC_EXIT_USAGE, "no output given (-o OUT.npy or OUT.tif)");
-	int tiff = has_suffix(o.out, ".tif") || has_suffix(o.out, ".tiff") ||
-		   has_suffix(o.out, ".TIF") || has_suffix(o.out, ".TIFF");
-	if (!tiff && !has_suffix(o.out, ".npy") && !has_suffix(o.out, ".NPY"))
-		return pc_cli_error(PC_EXIT_USAGE, "-o %s: the output is .npy or .tif/.tiff (float32)",
-				    o.out);
-	pc_view raw;
-	unsigned bits;
-	if ((st = pc_raw_cli_read(&o, &raw, &bits)))
-		return st;
-	uint32_t ow, oh;
-	pc_demosaic_out_size(o.dm, raw.width, raw.height, &ow, &oh);
-	unsigned nch = pc_demosaic_channels(&o.mosaic);
-	float *buf = malloc(sizeof(float) * ow * oh * nch);
-	if (!buf) {
-		pc_view_free(&raw);
-		return pc_cli_error(PC_EXIT_FAILURE, "out of memory for %ux%ux%u floats", oh, ow, nch);
-	}
-	pc_fplane planes[PC_DEMOSAIC_MAX_CHANNELS];
-	pc_fplanes_interleaved(buf, ow, nch, planes);
-	pc_demosaic_opts opts = { o.threads, o.reference, 0 };
-	double t0 = pc_cli_now();
-	int rc = pc_demosaic(&raw, &o.mosaic, o.dm, &opts, planes);
-	double secs = pc_cli_now() - t0;
-	pc_view_free(&raw);
-	if (rc) {
-		free(buf);
-		return pc_cli_fail(rc, o.path);
-	}
-	size_t shape[3] = { oh, ow, nch };
-	rc = tiff ? pc_tiff_write_array(o.out, buf, PC_DT_F32, oh, ow, nch)
-		  : pc_npy_write(o.out, buf, PC_DT_F32, 3, shape);
-	free(buf);
+		return cli_error(CLI_EXIT_USAGE, "no output given (-o OUT.npy or OUT.tif)");
+	pc_raw_input in = cli_raw_input(&o);
+	pc_process_opts po = cli_raw_process(&o);
+	pc_demosaic_file_report rep;
+	int rc = pc_demosaic_file(&in, &po, o.out, &rep);
 	if (rc)
-		return pc_cli_fail(rc, NULL);
+		return cli_fail(rc, NULL);
 	char layout[64];
 	pc_mosaic_format(&o.mosaic, layout, sizeof layout);
 	json_t *j = json_object();
 	json_object_set_new(j, "output", json_string(o.out));
-	json_t *js = json_array();
-	for (int k = 0; k < 3; k++)
-		json_array_append_new(js, json_integer((json_int_t)shape[k]));
-	json_object_set_new(j, "shape", js);
+	json_object_set_new(j, "shape", json_pack("[I, I, I]", (json_int_t)rep.height,
+						  (json_int_t)rep.width, (json_int_t)rep.channels));
 	json_object_set_new(j, "method", json_string(pc_demosaic_method_get(o.dm)->name));
 	json_object_set_new(j, "layout", json_string(layout));
-	json_object_set_new(j, "bits", json_integer(bits));
-	json_object_set_new(j, "seconds", pc_json_real(secs));
-	pc_cli_print_json(j);
-	return PC_EXIT_OK;
+	json_object_set_new(j, "bits", json_integer(rep.bits));
+	json_object_set_new(j, "seconds", cli_json_real(rep.seconds));
+	cli_print_json(j);
+	return CLI_EXIT_OK;
 }

@@ -66,7 +66,7 @@ static int print_device(void *ctx, const pc_device_entry *d)
 			json_object_set_new(j, "formats", fa);
 			json_object_set_new(j, "formats_total", json_integer(d->formats_total));
 		}
-		pc_cli_print_json(j);
+		cli_print_json(j);
 	} else {
 		printf("  %-40s %-12s %s %s %s%s%s\n", d->uri, d->transport, d->vendor, d->model,
 		       d->address, d->note[0] ? "\n      " : "", d->note);
@@ -88,7 +88,7 @@ static void log_check(void *ctx, pc_check_result r, const char *check, const cha
 		json_object_set_new(j, "result", json_string(names[r]));
 		json_object_set_new(j, "check", json_string(check));
 		json_object_set_new(j, "detail", json_string(detail));
-		pc_cli_print_json(j);
+		cli_print_json(j);
 	} else {
 		printf("%s  %s%s%s\n", names[r], check, detail[0] ? ": " : "", detail);
 	}
@@ -107,7 +107,7 @@ static int run_check(const char *uri, int fault, long frames, bool finite, bool 
 	int rc = pc_source_compliance(uri, &o, &res);
 	pc_devices_shutdown();
 	if (rc)
-		return pc_cli_fail(rc, "opening the source");
+		return cli_fail(rc, "opening the source");
 	if (json) {
 		json_t *j = json_object();
 		json_object_set_new(j, "uri", json_string(uri));
@@ -116,19 +116,19 @@ static int run_check(const char *uri, int fault, long frames, bool finite, bool 
 		json_object_set_new(j, "skipped", json_integer(res.skipped));
 		json_object_set_new(j, "first_failure",
 		                    res.failed ? json_string(res.first_failure) : json_null());
-		pc_cli_print_json(j);
+		cli_print_json(j);
 	} else {
 		printf("%s: %u passed, %u failed, %u skipped\n", uri, res.passed, res.failed,
 		       res.skipped);
 	}
-	return res.failed ? PC_EXIT_FAILURE : PC_EXIT_OK;
+	return res.failed ? CLI_EXIT_FAILURE : CLI_EXIT_OK;
 }
 
-int cmd_devices(int argc, char **argv)
+int cli_cmd_devices(int argc, char **argv)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	bool json = false, gige = false, finite = false;
 	const char *check = NULL;
@@ -145,7 +145,7 @@ int cmd_devices(int argc, char **argv)
 		} else if (!strcmp(a, "--check") || !strcmp(a, "--fault") ||
 		           !strcmp(a, "--frames")) {
 			if (i + 1 >= argc)
-				return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)",
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
 				                    a);
 			const char *v = argv[++i];
 			if (!strcmp(a, "--check")) {
@@ -153,25 +153,25 @@ int cmd_devices(int argc, char **argv)
 			} else if (!strcmp(a, "--fault")) {
 				fault = pc_fault_parse(v);
 				if (fault < 0)
-					return pc_cli_error(PC_EXIT_USAGE,
+					return cli_error(CLI_EXIT_USAGE,
 					                    "--fault '%s': expected drop, "
 					                    "timeout, disconnect or corrupt",
 					                    v);
 			} else {
-				int rc = pc_cli_parse_long(a, v, 1, 100000, &frames);
+				int rc = cli_parse_long(a, v, 1, 100000, &frames);
 				if (rc)
-					return pc_cli_fail(rc, "arguments");
+					return cli_fail(rc, "arguments");
 			}
 		} else {
-			return pc_cli_error(PC_EXIT_USAGE, "unknown argument '%s' (see --help)", a);
+			return cli_error(CLI_EXIT_USAGE, "unknown argument '%s' (see --help)", a);
 		}
 	}
 	if (check)
 		return run_check(check, fault, frames, finite, json);
 	if (fault != PC_FAULT_NONE || finite)
-		return pc_cli_error(PC_EXIT_USAGE, "--fault and --finite go with --check URI");
+		return cli_error(CLI_EXIT_USAGE, "--fault and --finite go with --check URI");
 
-	int status = PC_EXIT_OK;
+	int status = CLI_EXIT_OK;
 	for (unsigned i = 0; pc_source_backend_get(i); i++) {
 		const pc_source_backend *b = pc_source_backend_get(i);
 		if (json) {
@@ -182,7 +182,7 @@ int cmd_devices(int argc, char **argv)
 			json_object_set_new(j, "uri", json_string(b->uri_help));
 			json_object_set_new(j, "missing",
 			                    b->ops ? json_null() : json_string(b->missing));
-			pc_cli_print_json(j);
+			cli_print_json(j);
 		} else {
 			printf("%-10s %s\n           %s\n", b->scheme,
 			       b->ops ? b->summary : "(not built)",
@@ -193,8 +193,8 @@ int cmd_devices(int argc, char **argv)
 		list_ctx c = {json, 0, b->scheme};
 		int rc = b->enumerate(gige ? PC_ENUM_NETWORK : 0, print_device, &c);
 		if (rc) {
-			pc_cli_warn("%s: listing devices failed: %s", b->scheme, pc_error_detail());
-			status = PC_EXIT_FAILURE;
+			cli_warn("%s: listing devices failed: %s", b->scheme, pc_error_detail());
+			status = CLI_EXIT_FAILURE;
 		} else if (!json && c.count == 0) {
 			printf("           no devices%s\n", !strcmp(b->scheme, "aravis") && !gige
 			                                        ? " (GigE Vision: add --gige)"
@@ -207,7 +207,7 @@ int cmd_devices(int argc, char **argv)
 		       PC_USB3V_CLASS, PC_USB3V_SUBCLASS);
 	int rc = pc_usb3v_list(print_device, &c);
 	if (rc) {
-		pc_cli_warn("USB3 Vision: %s", pc_error_detail());
+		cli_warn("USB3 Vision: %s", pc_error_detail());
 	} else if (!json && c.count == 0) {
 		long mb = pc_usbfs_memory_mb();
 		if (mb < 0)

@@ -124,9 +124,7 @@ static json_t *evaluate(const pc_pbrdf *p, double ti_deg, double tr_deg, double 
 		json_array_append_new(flags, json_string("mirror"));
 	double dop = NAN, D = NAN, R = NAN, Delta = NAN;
 	if (f[0][0] > 0) {
-		/* eq. 21 on the normalised column (entries can be ~1e-230 off the lobe) */
-		double p1 = f[1][0] / f[0][0], p2 = f[2][0] / f[0][0], p3 = f[3][0] / f[0][0];
-		dop = sqrt(p1 * p1 + p2 * p2 + p3 * p3);
+		dop = pc_mueller_dop(f);
 		pc_lu_chipman lc;
 		if (pc_lu_chipman_decompose(f, PC_LC_NO_FACTORS, &lc) == 0) {
 			D = lc.D;
@@ -143,12 +141,12 @@ static json_t *evaluate(const pc_pbrdf *p, double ti_deg, double tr_deg, double 
 	json_t *o = json_object();
 	if (line)
 		json_object_set_new(o, "line", json_integer((json_int_t)line));
-	json_object_set_new(o, "mueller", pc_json_matrix4(f));
-	json_object_set_new(o, "dop", pc_json_real(dop));
-	json_object_set_new(o, "D", pc_json_real(D));
-	json_object_set_new(o, "R", pc_json_real(R));
-	json_object_set_new(o, "Delta", pc_json_real(Delta));
-	json_object_set_new(o, "rho_s", pc_json_real(rho));
+	json_object_set_new(o, "mueller", cli_json_matrix4(f));
+	json_object_set_new(o, "dop", cli_json_real(dop));
+	json_object_set_new(o, "D", cli_json_real(D));
+	json_object_set_new(o, "R", cli_json_real(R));
+	json_object_set_new(o, "Delta", cli_json_real(Delta));
+	json_object_set_new(o, "rho_s", cli_json_real(rho));
 	json_object_set_new(o, "n", json_real(m->n));
 	json_object_set_new(o, "k", json_real(m->k));
 	json_object_set_new(o, "sigma", json_real(m->sigma));
@@ -163,7 +161,7 @@ static void warn_material(const pc_pbrdf *p, double sigma)
 {
 	static double last = -1;
 	if ((pc_pbrdf_flags(p) & PC_PBRDF_OUTSIDE_VALIDITY) && sigma != last) {
-		pc_cli_warn(
+		cli_warn(
 		    "sigma = %g > %g: outside the single-scattering V-groove model's validity "
 		    "(energy is lost)",
 		    sigma, PC_PBRDF_SIGMA_VALID_MAX);
@@ -173,18 +171,18 @@ static void warn_material(const pc_pbrdf *p, double sigma)
 
 static int run_batch(const char *path, const pbrdf_opts *o)
 {
-	pc_cli_lines in;
-	int rc = pc_cli_lines_open(&in, path);
+	cli_lines in;
+	int rc = cli_lines_open(&in, path);
 	if (rc)
-		return pc_cli_fail(rc, NULL);
+		return cli_fail(rc, NULL);
 	static const char *const names[6] = {"n", "k", "sigma", "theta_i", "theta_r", "phi"};
 	pbrdf_cache cache = {0};
-	int status = PC_EXIT_OK;
+	int status = CLI_EXIT_OK;
 	char *line;
-	while ((rc = pc_cli_lines_next(&in, &line)) > 0) {
+	while ((rc = cli_lines_next(&in, &line)) > 0) {
 		double v[6];
 		const pc_pbrdf *p = NULL;
-		rc = pc_cli_parse_fields(line, names, 6, v);
+		rc = cli_parse_fields(line, names, 6, v);
 		if (!rc)
 			rc = check_theta("theta_i", v[3]);
 		if (!rc)
@@ -192,26 +190,131 @@ static int run_batch(const char *path, const pbrdf_opts *o)
 		if (!rc)
 			rc = get_material(&cache, o, v[0], v[1], v[2], &p);
 		if (rc) {
-			pc_cli_batch_error(&in, rc, &status);
+			cli_batch_error(&in, rc, &status);
 			continue;
 		}
 		warn_material(p, v[2]);
-		pc_cli_print_json(evaluate(p, v[3], v[4], v[5], in.lineno));
+		cli_print_json(evaluate(p, v[3], v[4], v[5], in.lineno));
 	}
 	if (rc < 0)
-		status = pc_cli_fail(rc, NULL);
+		status = cli_fail(rc, NULL);
 	pc_pbrdf_free(cache.p);
-	pc_cli_lines_close(&in);
+	cli_lines_close(&in);
 	return status;
 }
 
-int cmd_pbrdf(int argc, char **argv)
+/* --n ... --phi with ranges: one line per value */
+static int run_ranges(const pbrdf_opts *op, const char *arg_n, const char *arg_k,
+		      const char *arg_sigma, const char *arg_ti, const char *arg_tr,
+		      const char *arg_phi)
 {
-	if (pc_cli_wants_help(argc, argv)) {
-		usage(stdout);
-		return PC_EXIT_OK;
+	const pbrdf_opts o = *op;
+	int rc;
+	double n, k;
+	if ((rc = cli_parse_double("--n", arg_n, &n)) ||
+	    (rc = cli_parse_double("--k", arg_k, &k)))
+		return cli_fail(rc, NULL);
+	if (!(n > 0))
+		return cli_error(CLI_EXIT_USAGE, "--n %g: must be > 0", n);
+	if (!(k >= 0))
+		return cli_error(CLI_EXIT_USAGE, "--k %g: must be >= 0 (n~ = n - ik)", k);
+	double *sg = NULL, *ti = NULL, *tr = NULL, *ph = NULL;
+	size_t nsg = 0, nti = 0, ntr = 0, nph = 0;
+	int status = CLI_EXIT_OK;
+	if ((rc = cli_parse_range("--sigma", arg_sigma, &sg, &nsg)) ||
+	    (rc = cli_parse_range("--theta-i", arg_ti, &ti, &nti)) ||
+	    (rc = cli_parse_range("--theta-r", arg_tr, &tr, &ntr)) ||
+	    (rc = cli_parse_range("--phi", arg_phi, &ph, &nph))) {
+		status = cli_fail(rc, NULL);
+		goto out;
 	}
-	enum { O_N = 1000, O_K, O_SIGMA, O_TI, O_TR, O_PHI, O_DIFFUSE, O_SHADOW, O_RHO, O_BATCH };
+	for (size_t i = 0; i < nsg; i++)
+		if (!(sg[i] > 0)) {
+			status = cli_error(CLI_EXIT_USAGE, "--sigma %g: must be > 0 (rms slope)",
+			                      sg[i]);
+			goto out;
+		}
+	for (size_t i = 0; i < nti; i++)
+		if ((rc = check_theta("--theta-i", ti[i])))
+			goto bad;
+	for (size_t i = 0; i < ntr; i++)
+		if ((rc = check_theta("--theta-r", tr[i])))
+			goto bad;
+	pbrdf_cache cache = {0};
+	for (size_t a = 0; a < nsg; a++) {
+		const pc_pbrdf *p;
+		if ((rc = get_material(&cache, &o, n, k, sg[a], &p))) {
+			pc_pbrdf_free(cache.p);
+			goto bad;
+		}
+		warn_material(p, sg[a]);
+		for (size_t b = 0; b < nti; b++)
+			for (size_t c2 = 0; c2 < ntr; c2++)
+				for (size_t d = 0; d < nph; d++)
+					cli_print_json(evaluate(p, ti[b], tr[c2], ph[d], 0));
+	}
+	pc_pbrdf_free(cache.p);
+	goto out;
+bad:
+	status = cli_fail(rc, NULL);
+out:
+	free(sg);
+	free(ti);
+	free(tr);
+	free(ph);
+	return status;
+}
+
+enum { O_N = 1000, O_K, O_SIGMA, O_TI, O_TR, O_PHI, O_DIFFUSE, O_SHADOW, O_RHO, O_BATCH };
+
+/* --diffuse, --shadowing, --rho: 0 or an exit status after the message */
+static int parse_mode(pbrdf_opts *o, int c, const char *arg)
+{
+	int rc;
+	if (c == O_DIFFUSE) {
+		if (!strcmp(arg, "fresnel"))
+			o->diffuse = PC_DIFFUSE_FRESNEL;
+		else if (!strcmp(arg, "geometric"))
+			o->diffuse = PC_DIFFUSE_GEOMETRIC;
+		else if (!strcmp(arg, "none"))
+			o->diffuse = PC_DIFFUSE_NONE;
+		else
+			return cli_error(
+			    CLI_EXIT_USAGE,
+			    "--diffuse '%s': expected fresnel, geometric or none", arg);
+	} else if (c == O_SHADOW) {
+		if (!strcmp(arg, "ts"))
+			o->shadowing = PC_SHADOW_TS;
+		else if (!strcmp(arg, "none"))
+			o->shadowing = PC_SHADOW_NONE;
+		else
+			return cli_error(
+			    CLI_EXIT_USAGE, "--shadowing '%s': expected ts or none", arg);
+	} else {
+		if (!strcmp(arg, "table")) {
+			o->rho_mode = PC_RHO_TABLE;
+		} else if (!strncmp(arg, "quad:", 5)) {
+			long N;
+			if ((rc = cli_parse_long("--rho quad:N", arg + 5, 2, 1024, &N)))
+				return cli_fail(rc, NULL);
+			o->rho_mode = PC_RHO_QUAD;
+			o->rho_order = (int)N;
+		} else {
+			return cli_error(
+			    CLI_EXIT_USAGE,
+			    "--rho '%s': expected quad:N (N in [2, 1024]) or table",
+			    arg);
+		}
+	}
+	return 0;
+}
+
+int cli_cmd_pbrdf(int argc, char **argv)
+{
+	if (cli_wants_help(argc, argv)) {
+		usage(stdout);
+		return CLI_EXIT_OK;
+	}
 	static const struct option lo[] = {
 	    {"n", required_argument, NULL, O_N},
 	    {"k", required_argument, NULL, O_K},
@@ -252,62 +355,30 @@ int cmd_pbrdf(int argc, char **argv)
 			arg_phi = optarg;
 			break;
 		case O_DIFFUSE:
-			if (!strcmp(optarg, "fresnel"))
-				o.diffuse = PC_DIFFUSE_FRESNEL;
-			else if (!strcmp(optarg, "geometric"))
-				o.diffuse = PC_DIFFUSE_GEOMETRIC;
-			else if (!strcmp(optarg, "none"))
-				o.diffuse = PC_DIFFUSE_NONE;
-			else
-				return pc_cli_error(
-				    PC_EXIT_USAGE,
-				    "--diffuse '%s': expected fresnel, geometric or none", optarg);
-			break;
 		case O_SHADOW:
-			if (!strcmp(optarg, "ts"))
-				o.shadowing = PC_SHADOW_TS;
-			else if (!strcmp(optarg, "none"))
-				o.shadowing = PC_SHADOW_NONE;
-			else
-				return pc_cli_error(
-				    PC_EXIT_USAGE, "--shadowing '%s': expected ts or none", optarg);
-			break;
 		case O_RHO:
-			if (!strcmp(optarg, "table")) {
-				o.rho_mode = PC_RHO_TABLE;
-			} else if (!strncmp(optarg, "quad:", 5)) {
-				long N;
-				if ((rc = pc_cli_parse_long("--rho quad:N", optarg + 5, 2, 1024,
-				                            &N)))
-					return pc_cli_fail(rc, NULL);
-				o.rho_mode = PC_RHO_QUAD;
-				o.rho_order = (int)N;
-			} else {
-				return pc_cli_error(
-				    PC_EXIT_USAGE,
-				    "--rho '%s': expected quad:N (N in [2, 1024]) or table",
-				    optarg);
-			}
+			if ((rc = parse_mode(&o, c, optarg)))
+				return rc; /* an exit status */
 			break;
 		case O_BATCH:
 			batch = optarg;
 			break;
 		case ':':
-			return pc_cli_error(PC_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
 		default:
-			return pc_cli_error(PC_EXIT_USAGE,
+			return cli_error(CLI_EXIT_USAGE,
 			                    "unknown option '%s' (polarcam pbrdf --help)",
 			                    argv[optind - 1]);
 		}
 	}
 	if (optind < argc)
-		return pc_cli_error(PC_EXIT_USAGE,
+		return cli_error(CLI_EXIT_USAGE,
 		                    "unexpected argument '%s' (polarcam pbrdf --help)",
 		                    argv[optind]);
 	if (batch) {
 		if (arg_n || arg_sigma || arg_ti || arg_tr)
-			return pc_cli_error(
-			    PC_EXIT_USAGE,
+			return cli_error(
+			    CLI_EXIT_USAGE,
 			    "--batch reads n, k, sigma and the angles from its lines; "
 			    "do not also give --n/--sigma/--theta-i/--theta-r");
 		return run_batch(batch, &o);
@@ -318,59 +389,7 @@ int cmd_pbrdf(int argc, char **argv)
 	    {"--n", arg_n}, {"--sigma", arg_sigma}, {"--theta-i", arg_ti}, {"--theta-r", arg_tr}};
 	for (size_t i = 0; i < sizeof req / sizeof req[0]; i++)
 		if (!req[i].val)
-			return pc_cli_error(PC_EXIT_USAGE, "%s is required (polarcam pbrdf --help)",
+			return cli_error(CLI_EXIT_USAGE, "%s is required (polarcam pbrdf --help)",
 			                    req[i].opt);
-	double n, k;
-	if ((rc = pc_cli_parse_double("--n", arg_n, &n)) ||
-	    (rc = pc_cli_parse_double("--k", arg_k, &k)))
-		return pc_cli_fail(rc, NULL);
-	if (!(n > 0))
-		return pc_cli_error(PC_EXIT_USAGE, "--n %g: must be > 0", n);
-	if (!(k >= 0))
-		return pc_cli_error(PC_EXIT_USAGE, "--k %g: must be >= 0 (n~ = n - ik)", k);
-	double *sg = NULL, *ti = NULL, *tr = NULL, *ph = NULL;
-	size_t nsg = 0, nti = 0, ntr = 0, nph = 0;
-	int status = PC_EXIT_OK;
-	if ((rc = pc_cli_parse_range("--sigma", arg_sigma, &sg, &nsg)) ||
-	    (rc = pc_cli_parse_range("--theta-i", arg_ti, &ti, &nti)) ||
-	    (rc = pc_cli_parse_range("--theta-r", arg_tr, &tr, &ntr)) ||
-	    (rc = pc_cli_parse_range("--phi", arg_phi, &ph, &nph))) {
-		status = pc_cli_fail(rc, NULL);
-		goto out;
-	}
-	for (size_t i = 0; i < nsg; i++)
-		if (!(sg[i] > 0)) {
-			status = pc_cli_error(PC_EXIT_USAGE, "--sigma %g: must be > 0 (rms slope)",
-			                      sg[i]);
-			goto out;
-		}
-	for (size_t i = 0; i < nti; i++)
-		if ((rc = check_theta("--theta-i", ti[i])))
-			goto bad;
-	for (size_t i = 0; i < ntr; i++)
-		if ((rc = check_theta("--theta-r", tr[i])))
-			goto bad;
-	pbrdf_cache cache = {0};
-	for (size_t a = 0; a < nsg; a++) {
-		const pc_pbrdf *p;
-		if ((rc = get_material(&cache, &o, n, k, sg[a], &p))) {
-			pc_pbrdf_free(cache.p);
-			goto bad;
-		}
-		warn_material(p, sg[a]);
-		for (size_t b = 0; b < nti; b++)
-			for (size_t c2 = 0; c2 < ntr; c2++)
-				for (size_t d = 0; d < nph; d++)
-					pc_cli_print_json(evaluate(p, ti[b], tr[c2], ph[d], 0));
-	}
-	pc_pbrdf_free(cache.p);
-	goto out;
-bad:
-	status = pc_cli_fail(rc, NULL);
-out:
-	free(sg);
-	free(ti);
-	free(tr);
-	free(ph);
-	return status;
+	return run_ranges(&o, arg_n, arg_k, arg_sigma, arg_ti, arg_tr, arg_phi);
 }

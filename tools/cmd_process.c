@@ -1,4 +1,4 @@
-/* polarcam process: raw mosaic -> Stokes, DoLP, AoLP and pictures. */
+/* polarcam process: raw mosaic -> Stokes, DoLP, AoLP and pictures (polarcam/process.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -6,8 +6,8 @@
 #include "cli.h"
 #include "commands.h"
 #include "polarcam/error.h"
-#include "polarcam/io.h"
-#include "polarcam/stokes.h"
+#include "polarcam/folders.h"
+#include "polarcam/process.h"
 #include "raw_cli.h"
 
 static void usage(FILE *fp)
@@ -39,23 +39,14 @@ static void usage(FILE *fp)
 		"  -h, --help          this help\n"
 		"\n"
 		"Exit status: 0 success, 1 failure, 2 bad arguments or bad input.\n",
-		pc_raw_cli_help);
+		cli_raw_help);
 }
 
-static int write_in(const char *dir, const char *name, const float *data, unsigned ndim,
-		    const size_t *shape)
+int cli_cmd_process(int argc, char **argv)
 {
-	char path[4096];
-	if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path)
-		return pc_error(PC_EINVAL, "%s: path too long", dir);
-	return pc_npy_write(path, data, PC_DT_F32, ndim, shape);
-}
-
-int cmd_process(int argc, char **argv)
-{
-	if (pc_cli_wants_help(argc, argv)) {
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	/* --picture-width is process's own; the rest are the shared raw options */
 	long pic_width = 1224;
@@ -64,28 +55,28 @@ int cmd_process(int argc, char **argv)
 	char **args = calloc((size_t)argc + 1, sizeof *args);
 	int nargs = 0;
 	if (!args)
-		return pc_cli_error(PC_EXIT_FAILURE, "out of memory");
+		return cli_error(CLI_EXIT_FAILURE, "out of memory");
 	for (int i = 0; i < argc; i++) {
 		if (!strcmp(argv[i], "--picture-width")) {
-			int rc = i + 1 < argc ? pc_cli_parse_long("--picture-width", argv[i + 1], 0,
+			int rc = i + 1 < argc ? cli_parse_long("--picture-width", argv[i + 1], 0,
 								  30000, &pic_width)
 					      : pc_error(PC_EINVAL, "--picture-width needs a value");
 			if (rc) {
 				free(args);
-				return pc_cli_fail(rc, NULL);
+				return cli_fail(rc, NULL);
 			}
 			i++;
 			continue;
 		}
 		if (!strcmp(argv[i], "--mask-s0")) {
-			int rc = i + 1 < argc ? pc_cli_parse_double("--mask-s0", argv[i + 1], &mask_s0)
+			int rc = i + 1 < argc ? cli_parse_double("--mask-s0", argv[i + 1], &mask_s0)
 					      : pc_error(PC_EINVAL, "--mask-s0 needs a value");
 			if (!rc && !(mask_s0 >= 0))
 				rc = pc_error(PC_ERANGE, "--mask-s0 %s: expected a threshold >= 0 "
 							 "(0: no mask)", argv[i + 1]);
 			if (rc) {
 				free(args);
-				return pc_cli_fail(rc, NULL);
+				return cli_fail(rc, NULL);
 			}
 			mask_given = 1;
 			i++;
@@ -93,96 +84,30 @@ int cmd_process(int argc, char **argv)
 		}
 		args[nargs++] = argv[i];
 	}
-	pc_raw_cli o;
-	int st = pc_raw_cli_parse(nargs, args, &o, NULL);
+	cli_raw o;
+	int st = cli_raw_parse(nargs, args, &o, NULL);
 	free(args);
 	if (st)
 		return st;
 	if (!o.path) {
 		usage(stderr);
-		return pc_cli_error(PC_EXIT_USAGE, "no RAW file given");
+		return cli_error(CLI_EXIT_USAGE, "no RAW file given");
 	}
 	if (!o.out)
-		return pc_cli_error(PC_EXIT_USAGE, "no output directory given (-o DIR)");
-	pc_view raw;
-	unsigned bits;
-	if ((st = pc_raw_cli_read(&o, &raw, &bits)))
-		return st;
-	uint32_t w, h;
-	pc_demosaic_out_size(o.dm, raw.width, raw.height, &w, &h);
-	size_t n = (size_t)w * h;
-	float *stokes = malloc(sizeof(float) * n * 3), *dolp = malloc(sizeof(float) * n),
-	      *aolp = malloc(sizeof(float) * n);
-	if (!stokes || !dolp || !aolp) {
-		free(stokes);
-		free(dolp);
-		free(aolp);
-		pc_view_free(&raw);
-		return pc_cli_error(PC_EXIT_FAILURE, "out of memory for %ux%u Stokes images", w, h);
-	}
-	pc_stokes_out so = { { stokes, (size_t)w * 3, 3 }, { stokes + 1, (size_t)w * 3, 3 },
-			     { stokes + 2, (size_t)w * 3, 3 }, { dolp, w, 1 }, { aolp, w, 1 } };
-	pc_demosaic_opts opts = { o.threads, o.reference, 0 };
-	double t0 = pc_cli_now();
-	int rc = pc_stokes_from_raw(&raw, &o.mosaic, o.dm, &opts, &so);
-	double t_pipe = pc_cli_now() - t0;
-	uint32_t rw = raw.width, rh = raw.height;
-	pc_view_free(&raw);
-	if (rc) {
-		st = pc_cli_fail(rc, o.path);
-		goto out;
-	}
-	if ((rc = pc_mkdir_p(o.out))) {
-		st = pc_cli_fail(rc, NULL);
-		goto out;
-	}
-	size_t s3[3] = { h, w, 3 }, s2[2] = { h, w };
-	if ((rc = write_in(o.out, "stokes.npy", stokes, 3, s3)) ||
-	    (rc = write_in(o.out, "dolp.npy", dolp, 2, s2)) ||
-	    (rc = write_in(o.out, "aolp.npy", aolp, 2, s2)) ||
-	    (rc = pc_pictures_write_opts(o.out, &so, w, h,
-					 &(pc_pictures_opts){ NULL, (uint32_t)pic_width,
-							      !mask_given ? 0
-							      : mask_s0 > 0 ? mask_s0
-									    : -1 }))) {
-		st = pc_cli_fail(rc, NULL);
-		goto out;
-	}
-	char layout[64], path[4096];
-	pc_mosaic_format(&o.mosaic, layout, sizeof layout);
-	json_t *j = json_object();
-	json_object_set_new(j, "input", json_string(o.path));
-	json_object_set_new(j, "width", json_integer(rw));
-	json_object_set_new(j, "height", json_integer(rh));
-	json_object_set_new(j, "bits", json_integer(bits));
-	json_object_set_new(j, "layout", json_string(layout));
-	json_object_set_new(j, "method", json_string(pc_demosaic_method_get(o.dm)->name));
-	json_object_set_new(j, "reference", json_boolean(o.reference));
-	json_object_set_new(j, "pipeline_seconds", pc_json_real(t_pipe));
-	json_object_set_new(j, "aolp_convention",
-			    json_string("radians in [0, pi), from the image x axis, "
-					"counter-clockwise as seen by the viewer"));
-	json_t *files = json_array();
-	const char *names[] = { "stokes.npy", "dolp.npy", "aolp.npy", "s0.png",
-				"dolp.png",   "aolp.png", "aolp_sat.png" };
-	for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
-		json_array_append_new(files, json_string(names[k]));
-	json_object_set_new(j, "files", files);
-	char *txt = json_dumps(j, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
-	snprintf(path, sizeof path, "%s/meta.json", o.out);
-	rc = txt ? pc_write_file_atomic(path, txt, strlen(txt)) : pc_error(PC_ENOMEM, "meta.json");
-	free(txt);
-	if (rc) {
-		json_decref(j);
-		st = pc_cli_fail(rc, NULL);
-		goto out;
-	}
+		return cli_error(CLI_EXIT_USAGE, "no output directory given (-o DIR)");
+	pc_raw_input in = cli_raw_input(&o);
+	pc_process_opts po = cli_raw_process(&o);
+	pc_stokes_folder_opts fo = {
+		PC_SF_STOKES | PC_SF_DOLP | PC_SF_AOLP | PC_SF_PICTURES,
+		{ NULL, (uint32_t)pic_width, !mask_given ? 0 : mask_s0 > 0 ? mask_s0 : -1 }
+	};
+	char *meta = NULL;
+	int rc = pc_process_file(&in, &po, o.out, &fo, &meta);
+	if (rc)
+		return cli_fail(rc, NULL);
+	json_t *j = json_loads(meta, 0, NULL);
+	free(meta);
 	json_object_set_new(j, "output", json_string(o.out));
-	pc_cli_print_json(j);
-	st = PC_EXIT_OK;
-out:
-	free(stokes);
-	free(dolp);
-	free(aolp);
-	return st;
+	cli_print_json(j);
+	return CLI_EXIT_OK;
 }

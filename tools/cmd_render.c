@@ -1,4 +1,5 @@
-/* polarcam render: a scene → raw mosaic frames (a recording, devices/recording.h) + ground truth. */
+/* polarcam render: a scene → raw mosaic frames (a recording) + ground truth
+ * (polarcam/render_recording.h). */
 #include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
@@ -8,10 +9,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "polarcam/error.h"
-#include "polarcam/io.h"
-#include "polarcam/recording.h"
-#include "polarcam/sim.h"
-#include "sim_cli.h"
+#include "polarcam/render_recording.h"
 
 static void usage(FILE *fp)
 {
@@ -71,11 +69,36 @@ static int parse_roi(const char *arg, pc_sim_options *o)
 	return 0;
 }
 
-int cmd_render(int argc, char **argv)
+/* the recording and its report */
+static int run(const char *out, pc_render_opts *ro, bool json)
 {
-	if (pc_cli_wants_help(argc, argv)) {
+	cli_progress bar = { 0 };
+	ro->progress = (pc_progress){ cli_progress_fn, &bar };
+	pc_render_report rep;
+	int rc = pc_render_recording(out, ro, &rep);
+	cli_progress_end(&bar);
+	if (rc == PC_EBUSY)
+		return cli_error(CLI_EXIT_USAGE, "%s (use --overwrite)", pc_error_detail());
+	if (rc)
+		return cli_fail(rc, NULL);
+	if (json) {
+		json_t *sum = json_object();
+		json_object_set_new(sum, "output", json_string(out));
+		json_object_set_new(sum, "frames", json_integer((json_int_t)rep.frames));
+		json_object_set_new(sum, "width", json_integer(rep.width));
+		json_object_set_new(sum, "height", json_integer(rep.height));
+		json_object_set_new(sum, "timings", json_loads(rep.timings, 0, NULL));
+		cli_print_json(sum);
+	}
+	free(rep.timings);
+	return CLI_EXIT_OK;
+}
+
+int cli_cmd_render(int argc, char **argv)
+{
+	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
-		return PC_EXIT_OK;
+		return CLI_EXIT_OK;
 	}
 	static const struct option opts[] = {
 		{ "output", required_argument, NULL, 'o' }, { "frames", required_argument, NULL, 'n' },
@@ -98,27 +121,27 @@ int cmd_render(int argc, char **argv)
 			out = optarg;
 			break;
 		case 'n':
-			if ((rc = pc_cli_parse_long("--frames", optarg, 1, 1000000, &frames)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_long("--frames", optarg, 1, 1000000, &frames)))
+				return cli_fail(rc, NULL);
 			break;
 		case 'F':
-			if ((rc = pc_cli_parse_u64("--first", optarg, &first)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_u64("--first", optarg, &first)))
+				return cli_fail(rc, NULL);
 			break;
 		case 's':
-			if ((rc = pc_cli_parse_u64("--seed", optarg, &seed)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_u64("--seed", optarg, &seed)))
+				return cli_fail(rc, NULL);
 			break;
 		case 'R':
 			if ((rc = parse_roi(optarg, &o)))
-				return pc_cli_fail(rc, NULL);
+				return cli_fail(rc, NULL);
 			break;
 		case 'T':
 			truth = false;
 			break;
 		case 't':
-			if ((rc = pc_cli_parse_long("--threads", optarg, 1, 1024, &threads)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_long("--threads", optarg, 1, 1024, &threads)))
+				return cli_fail(rc, NULL);
 			break;
 		case 'W':
 			overwrite = true;
@@ -127,202 +150,22 @@ int cmd_render(int argc, char **argv)
 			json = true;
 			break;
 		case ':':
-			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
 		default:
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
 	if (optind < argc - 1)
-		return pc_cli_error(PC_EXIT_USAGE, "one scene at most, got '%s' and '%s'", argv[optind],
-				    argv[optind + 1]);
+		return cli_error(CLI_EXIT_USAGE, "one scene at most, got '%s' and '%s'", argv[optind],
+				 argv[optind + 1]);
 	if (!out)
-		return pc_cli_error(PC_EXIT_USAGE, "-o DIR is required (see --help)");
+		return cli_error(CLI_EXIT_USAGE, "-o DIR is required (see --help)");
 	const char *scene_path = optind < argc ? argv[optind] : NULL;
 	if (scene_path && !strcmp(scene_path, "default"))
 		scene_path = NULL;
-
-	double t0 = pc_cli_now();
-	pc_scene *scene = NULL;
-	rc = scene_path ? pc_scene_load(scene_path, &scene) : pc_scene_load_default(&scene);
-	if (rc)
-		return pc_cli_fail(rc, NULL);
 	o.seed = seed;
 	o.threads = (int)threads;
-	pc_sim *sim = NULL;
-	if ((rc = pc_sim_new(scene, &o, &sim))) {
-		pc_scene_free(scene);
-		return pc_cli_fail(rc, scene_path ? scene_path : "default scene");
-	}
-	pc_sim_info in;
-	pc_sim_get_info(sim, &in);
-	if (frames < 0)
-		frames = in.n_states;
-	const size_t npix = (size_t)in.width * in.height, C = in.colour_channels;
-	const bool mueller = truth && (in.effects & PC_FX_MUELLER);
-	float *ts = NULL, *tm = NULL;
-	pc_recording *rec = NULL;
-	pc_view view = { 0 };
-	json_t *extra = NULL;
-	char errbuf[512] = "";
-	int status = PC_EXIT_OK;
-	if ((rc = pc_mkdir_p(out))) {
-		status = pc_cli_fail(rc, out);
-		goto done;
-	}
-	/* the recording first: refuse an occupied directory before any work */
-	char source[1024];
-	snprintf(source, sizeof source, "sim:%s?seed=%llu", scene_path ? scene_path : "default",
-		 (unsigned long long)seed);
-	pc_recording_desc desc = { source, in.format, NULL, in.width, in.height, in.offset_x,
-				   in.offset_y, in.sensor_width, in.sensor_height, true, in.mosaic };
-	if ((rc = pc_recording_create(&rec, out, &desc, overwrite))) {
-		status = rc == PC_EBUSY ? pc_cli_error(PC_EXIT_USAGE, "%s: %s (use --overwrite)", out,
-						       pc_error_detail())
-					: pc_cli_fail(rc, out);
-		goto done;
-	}
-	if (truth) {
-		ts = malloc(npix * C * 4 * sizeof *ts);
-		tm = mueller ? malloc(npix * C * 16 * sizeof *tm) : NULL;
-		if (!ts || (mueller && !tm)) {
-			status = pc_cli_error(PC_EXIT_FAILURE, "out of memory for the ground truth of %ux%u",
-					      in.width, in.height);
-			goto done;
-		}
-	}
-	/* render: each PSG state the frames use, once (with its truth) */
-	double t_prep = pc_cli_now();
-	unsigned n_psg_used = (uint64_t)frames < in.n_psg ? (unsigned)frames : in.n_psg;
-	pc_progress bar;
-	/* rows per prepared state: H, or H + 2 (halo) + H (mixing) with crosstalk */
-	const uint64_t prep_rows = (in.effects & PC_FX_CROSSTALK) ? 2 * (uint64_t)in.height + 2 : in.height;
-	pc_progress_begin(&bar, "render", (uint64_t)n_psg_used * prep_rows);
-	pc_sim_progress_adapter ad = { &bar, 0 };
-	for (unsigned k = 0; k < n_psg_used; k++) {
-		unsigned g = (unsigned)((first + k) % in.n_psg);
-		ad.base = (uint64_t)k * prep_rows;
-		if ((rc = pc_sim_prepare(sim, g, ts, k == 0 ? tm : NULL, pc_sim_progress_cb, &ad))) {
-			pc_progress_end(&bar);
-			status = pc_cli_fail(rc, "render");
-			goto done;
-		}
-		if (truth) {
-			char path[4096];
-			size_t shape[4] = { in.height, in.width, C == 3 ? 3 : 4, 4 };
-			if (in.n_psg > 1)
-				snprintf(path, sizeof path, "%s/truth_stokes_psg%02u.npy", out, g);
-			else
-				snprintf(path, sizeof path, "%s/truth_stokes.npy", out);
-			if ((rc = pc_npy_write(path, ts, PC_DT_F32, C == 3 ? 4 : 3, shape))) {
-				pc_progress_end(&bar);
-				status = pc_cli_fail(rc, path);
-				goto done;
-			}
-			if (k == 0 && tm) {
-				snprintf(path, sizeof path, "%s/truth_mueller.npy", out);
-				size_t ms[5] = { in.height, in.width, 3, 4, 4 };
-				if (C == 1) {
-					ms[2] = 4;
-					ms[3] = 4;
-				}
-				if ((rc = pc_npy_write(path, tm, PC_DT_F32, C == 3 ? 5 : 4, ms))) {
-					pc_progress_end(&bar);
-					status = pc_cli_fail(rc, path);
-					goto done;
-				}
-			}
-		}
-	}
-	free(tm);
-	tm = NULL;
-	pc_progress_end(&bar);
-	t_prep = pc_cli_now() - t_prep;
-
-	if ((rc = pc_view_alloc(&view, in.format, in.width, in.height, 64))) {
-		status = pc_cli_fail(rc, "frame buffer");
-		goto done;
-	}
-	double t_frames = 0, t_write = 0;
-	pc_progress_begin(&bar, "frames", (uint64_t)frames);
-	for (long i = 0; i < frames; i++) {
-		pc_frame fr;
-		double ta = pc_cli_now();
-		rc = pc_sim_frame(sim, first + (uint64_t)i, NULL, &view, &fr.meta);
-		double tb = pc_cli_now();
-		t_frames += tb - ta;
-		if (rc) {
-			snprintf(errbuf, sizeof errbuf, "frame %llu: %s",
-				 (unsigned long long)(first + (uint64_t)i), pc_error_detail());
-			pc_progress_end(&bar);
-			status = pc_cli_fail(rc, "frame");
-			goto done;
-		}
-		fr.view = view;
-		fr.mosaic = in.mosaic;
-		if ((rc = pc_recording_add(rec, &fr))) {
-			snprintf(errbuf, sizeof errbuf, "%s", pc_error_detail());
-			pc_progress_end(&bar);
-			status = pc_cli_fail(rc, out);
-			goto done;
-		}
-		t_write += pc_cli_now() - tb;
-		pc_progress_update(&bar, (uint64_t)i + 1);
-	}
-	pc_progress_end(&bar);
-	if (in.n_states > 1) {
-		json_t *st = pc_sim_states_json(sim);
-		char *txt = json_dumps(st, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
-		json_decref(st);
-		char path[4096];
-		snprintf(path, sizeof path, "%s/states.json", out);
-		rc = txt ? pc_write_file_atomic(path, txt, strlen(txt)) : PC_ENOMEM;
-		free(txt);
-		if (rc) {
-			status = pc_cli_fail(rc, path);
-			goto done;
-		}
-	}
-	extra = pc_sim_describe(sim, scene);
-	json_t *tj = json_object();
-	json_object_set_new(tj, "render_s", json_real(t_prep));
-	json_object_set_new(tj, "frames_s", json_real(t_frames));
-	json_object_set_new(tj, "per_frame_s", json_real(t_frames / (double)frames));
-	json_object_set_new(tj, "write_s", json_real(t_write));
-	json_object_set_new(tj, "total_s", json_real(pc_cli_now() - t0));
-	json_object_set_new(tj, "peak_rss_mib", pc_json_real(pc_peak_rss_mib()));
-	json_object_set_new(extra, "timings", tj);
-	json_object_set_new(extra, "first_frame", json_integer((json_int_t)first));
-	char *et = json_dumps(extra, JSON_COMPACT | JSON_REAL_PRECISION(17));
-	rc = et ? pc_recording_set_json(rec, "extra", et) : PC_ENOMEM;
-	free(et);
-	if (rc) {
-		status = pc_cli_fail(rc, "meta.json");
-		goto done;
-	}
-	if ((rc = pc_recording_finish(rec, NULL))) {
-		status = pc_cli_fail(rc, out);
-		goto done;
-	}
-	if (json) {
-		json_t *sum = json_object();
-		json_object_set_new(sum, "output", json_string(out));
-		json_object_set_new(sum, "frames", json_integer(frames));
-		json_object_set_new(sum, "width", json_integer(in.width));
-		json_object_set_new(sum, "height", json_integer(in.height));
-		json_object_set(sum, "timings", tj);
-		pc_cli_print_json(sum);
-	}
-done:
-	if (rec) {
-		if (status != PC_EXIT_OK)
-			pc_recording_finish(rec, *errbuf ? errbuf : "render failed");
-		pc_recording_free(rec);
-	}
-	json_decref(extra);
-	pc_view_free(&view);
-	free(ts);
-	free(tm);
-	pc_sim_free(sim);
-	pc_scene_free(scene);
-	return status;
+	pc_render_opts ro = { scene_path, NULL, o, frames > 0 ? (uint64_t)frames : 0, first, truth,
+			      overwrite, { NULL, NULL } };
+	return run(out, &ro, json);
 }

@@ -1,5 +1,4 @@
 /* polarcam serve: the simulator as a GigE Vision camera (polarcam/gige_server.h). */
-#include <signal.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,14 +9,6 @@
 #include "commands.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
-
-static volatile sig_atomic_t serve_stop;
-
-static void on_signal(int sig)
-{
-	(void)sig;
-	serve_stop = 1;
-}
 
 static void usage(FILE *fp)
 {
@@ -55,94 +46,22 @@ static void usage(FILE *fp)
 	    "inside `unshare -n` with only loopback up.\n");
 }
 
-int cmd_serve(int argc, char **argv)
+/* the camera until a signal or the duration, and its statistics */
+static int run(const pc_gige_server_options *op, const char *genicam, double duration)
 {
-	if (pc_cli_wants_help(argc, argv)) {
-		usage(stdout);
-		return PC_EXIT_OK;
-	}
-	const char *scene = NULL, *source = NULL, *genicam = NULL;
-	pc_gige_server_options o = {0};
-	uint64_t seed = 0;
-	double duration = 0;
-	for (int i = 1; i < argc; i++) {
-		const char *a = argv[i];
-		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-		int rc = 0;
-		long l;
-		if (a[0] != '-') {
-			if (scene)
-				return pc_cli_error(PC_EXIT_USAGE,
-				                    "more than one scene given ('%s', '%s')", scene,
-				                    a);
-			scene = a;
-			continue;
-		}
-		static const char *const known[] = {
-		    "--address", "--seed",         "--source",   "--serial",  "--fps", "--ahead",
-		    "--cycle",   "--lost-packets", "--duration", "--genicam", NULL};
-		bool is_known = false;
-		for (const char *const *k = known; *k; k++)
-			is_known |= !strcmp(a, *k);
-		if (!is_known)
-			return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see --help)", a);
-		if (!v)
-			return pc_cli_error(PC_EXIT_USAGE, "%s needs a value (see --help)", a);
-		if (!strcmp(a, "--address"))
-			o.address = v;
-		else if (!strcmp(a, "--seed"))
-			rc = pc_cli_parse_u64(a, v, &seed);
-		else if (!strcmp(a, "--source"))
-			source = v;
-		else if (!strcmp(a, "--serial"))
-			o.serial = v;
-		else if (!strcmp(a, "--fps"))
-			rc = pc_cli_parse_double(a, v, &o.frame_rate_hz);
-		else if (!strcmp(a, "--ahead") && !(rc = pc_cli_parse_long(a, v, 1, 60, &l)))
-			o.ahead = (unsigned)l;
-		else if (!strcmp(a, "--cycle") && !(rc = pc_cli_parse_long(a, v, 1, 256, &l)))
-			o.cycle = (unsigned)l;
-		else if (!strcmp(a, "--lost-packets"))
-			rc = pc_cli_parse_double(a, v, &o.lost_packet_ratio);
-		else if (!strcmp(a, "--duration"))
-			rc = pc_cli_parse_double(a, v, &duration);
-		else if (!strcmp(a, "--genicam"))
-			genicam = v;
-		if (rc)
-			return pc_cli_fail(rc, "arguments");
-		i++;
-	}
-	if (source && scene)
-		return pc_cli_error(PC_EXIT_USAGE, "give a SCENE or --source, not both");
-	if (o.frame_rate_hz < 0 || o.frame_rate_hz > 1000)
-		return pc_cli_error(PC_EXIT_USAGE, "--fps %g: expected (0, 1000]", o.frame_rate_hz);
-	if (duration < 0)
-		return pc_cli_error(PC_EXIT_USAGE, "--duration %g: expected >= 0", duration);
-	char uri[1200];
-	if (source) {
-		snprintf(uri, sizeof uri, "%s", source);
-	} else {
-		const char *sc = scene ? scene : "default";
-		if (strchr(sc, '?') || strchr(sc, '&'))
-			return pc_cli_error(PC_EXIT_USAGE,
-			                    "scene '%s': '?' and '&' are not allowed in a "
-			                    "scene path",
-			                    sc);
-		snprintf(uri, sizeof uri, "sim:%s?seed=%llu", sc, (unsigned long long)seed);
-	}
-	o.source_uri = uri;
-
+	pc_gige_server_options o = *op;
+	const char *uri = o.source_uri;
 	pc_gige_server *srv = NULL;
 	int rc = pc_gige_server_start(&srv, &o);
 	if (rc) {
 		pc_devices_shutdown();
-		return pc_cli_fail(rc, "serve");
+		return cli_fail(rc, "serve");
 	}
 	if (genicam) {
 		const char *xml = pc_gige_server_genicam(srv);
 		FILE *fp = fopen(genicam, "w");
 		if (!fp || fputs(xml, fp) < 0 || fclose(fp) != 0)
-			pc_cli_warn("cannot write %s", genicam);
+			cli_warn("cannot write %s", genicam);
 	}
 	pc_gige_server_stats st;
 	pc_gige_server_get_stats(srv, &st);
@@ -157,18 +76,14 @@ int cmd_serve(int argc, char **argv)
 	json_object_set_new(sv, "model", json_string(st.model));
 	json_object_set_new(sv, "mosaic", json_string(st.mosaic));
 	json_object_set_new(j, "serving", sv);
-	pc_cli_print_json(j);
+	cli_print_json(j);
 	fflush(stdout);
 
-	struct sigaction sa;
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_signal;
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	double t0 = pc_cli_now();
+	cli_catch_signals();
+	double t0 = cli_now();
 	char msg[256] = "";
 	int err = 0;
-	while (!serve_stop && (duration <= 0 || pc_cli_now() - t0 < duration)) {
+	while (!cli_stop_requested && (duration <= 0 || cli_now() - t0 < duration)) {
 		struct timespec ts = {0, 20000000};
 		nanosleep(&ts, NULL);
 		if ((err = pc_gige_server_error(srv, msg, sizeof msg)))
@@ -182,11 +97,91 @@ int cmd_serve(int argc, char **argv)
 	json_object_set_new(j, "late", json_integer((json_int_t)st.late));
 	json_object_set_new(j, "rendered", json_integer((json_int_t)st.rendered));
 	json_object_set_new(j, "acquisitions", json_integer((json_int_t)st.acquisitions));
-	json_object_set_new(j, "seconds", pc_json_real(pc_cli_now() - t0));
+	json_object_set_new(j, "seconds", cli_json_real(cli_now() - t0));
 	if (err)
 		json_object_set_new(j, "error", json_string(msg));
-	pc_cli_print_json(j);
+	cli_print_json(j);
 	if (err)
-		return pc_cli_error(pc_cli_status(err), "the frame source failed: %s", msg);
-	return PC_EXIT_OK;
+		return cli_error(cli_status(err), "the frame source failed: %s", msg);
+	return CLI_EXIT_OK;
+}
+
+int cli_cmd_serve(int argc, char **argv)
+{
+	if (cli_wants_help(argc, argv)) {
+		usage(stdout);
+		return CLI_EXIT_OK;
+	}
+	const char *scene = NULL, *source = NULL, *genicam = NULL;
+	pc_gige_server_options o = {0};
+	uint64_t seed = 0;
+	double duration = 0;
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+		int rc = 0;
+		long l;
+		if (a[0] != '-') {
+			if (scene)
+				return cli_error(CLI_EXIT_USAGE,
+				                    "more than one scene given ('%s', '%s')", scene,
+				                    a);
+			scene = a;
+			continue;
+		}
+		static const char *const known[] = {
+		    "--address", "--seed",         "--source",   "--serial",  "--fps", "--ahead",
+		    "--cycle",   "--lost-packets", "--duration", "--genicam", NULL};
+		bool is_known = false;
+		for (const char *const *k = known; *k; k++)
+			is_known |= !strcmp(a, *k);
+		if (!is_known)
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
+		if (!v)
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
+		if (!strcmp(a, "--address"))
+			o.address = v;
+		else if (!strcmp(a, "--seed"))
+			rc = cli_parse_u64(a, v, &seed);
+		else if (!strcmp(a, "--source"))
+			source = v;
+		else if (!strcmp(a, "--serial"))
+			o.serial = v;
+		else if (!strcmp(a, "--fps"))
+			rc = cli_parse_double(a, v, &o.frame_rate_hz);
+		else if (!strcmp(a, "--ahead") && !(rc = cli_parse_long(a, v, 1, 60, &l)))
+			o.ahead = (unsigned)l;
+		else if (!strcmp(a, "--cycle") && !(rc = cli_parse_long(a, v, 1, 256, &l)))
+			o.cycle = (unsigned)l;
+		else if (!strcmp(a, "--lost-packets"))
+			rc = cli_parse_double(a, v, &o.lost_packet_ratio);
+		else if (!strcmp(a, "--duration"))
+			rc = cli_parse_double(a, v, &duration);
+		else if (!strcmp(a, "--genicam"))
+			genicam = v;
+		if (rc)
+			return cli_fail(rc, "arguments");
+		i++;
+	}
+	if (source && scene)
+		return cli_error(CLI_EXIT_USAGE, "give a SCENE or --source, not both");
+	if (o.frame_rate_hz < 0 || o.frame_rate_hz > 1000)
+		return cli_error(CLI_EXIT_USAGE, "--fps %g: expected (0, 1000]", o.frame_rate_hz);
+	if (duration < 0)
+		return cli_error(CLI_EXIT_USAGE, "--duration %g: expected >= 0", duration);
+	char uri[1200];
+	if (source) {
+		snprintf(uri, sizeof uri, "%s", source);
+	} else {
+		const char *sc = scene ? scene : "default";
+		if (strchr(sc, '?') || strchr(sc, '&'))
+			return cli_error(CLI_EXIT_USAGE,
+			                    "scene '%s': '?' and '&' are not allowed in a "
+			                    "scene path",
+			                    sc);
+		snprintf(uri, sizeof uri, "sim:%s?seed=%llu", sc, (unsigned long long)seed);
+	}
+	o.source_uri = uri;
+
+	return run(&o, genicam, duration);
 }

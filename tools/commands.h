@@ -1,16 +1,17 @@
-/* tools/commands.h - the polarcam commands, one file per command (cmd_<name>.c). */
-#ifndef POLARCAM_TOOLS_COMMANDS_H
-#define POLARCAM_TOOLS_COMMANDS_H
+/* tools/commands.h - the polarcam commands, one file per command (cmd_<name>.c defines
+ * cli_cmd_<name>). */
+#ifndef CLI_TOOLS_COMMANDS_H
+#define CLI_TOOLS_COMMANDS_H
 
-typedef int (*pc_command_fn)(int argc, char **argv);
+typedef int (*cli_command_fn)(int argc, char **argv);
 
-typedef struct pc_command {
+typedef struct cli_command {
 	const char *name;
 	const char *summary;
-	pc_command_fn run;
-} pc_command;
+	cli_command_fn run;
+} cli_command;
 
-#define PC_COMMANDS(X)                                                                          \
+#define CLI_COMMANDS(X)                                                                          \
 	X(demo, "render the default scene, run the pipeline, write pictures and a report")       \
 	X(pbrdf, "evaluate the polarized BRDF Mueller matrix (JSON lines)")                      \
 	X(decompose, "Lu-Chipman decomposition of Mueller matrices (JSON lines)")                \
@@ -27,8 +28,8 @@ typedef struct pc_command {
 	X(serve, "serve the simulator as a GigE Vision camera")                                  \
 	X(bench, "benchmarks: physics, demosaic, render, devices")
 
-#define PC_COMMAND_DECL(name, summary) int cmd_##name(int argc, char **argv);
-PC_COMMANDS(PC_COMMAND_DECL)
-#undef PC_COMMAND_DECL
+#define CLI_COMMAND_DECL(name, summary) int cli_cmd_##name(int argc, char **argv);
+CLI_COMMANDS(CLI_COMMAND_DECL)
+#undef CLI_COMMAND_DECL
 
 #endif

@@ -6,9 +6,10 @@
 
 #include "cli.h"
 #include "polarcam/error.h"
+#include "polarcam/process.h"
 #include "polarcam/recording.h"
 
-const char pc_raw_cli_help[] =
+const char cli_raw_help[] =
 	"input:\n"
 	"  RAW                 the raw mosaic: .png (8/16-bit grey; sBIT gives the bit depth),\n"
 	"                      .tif/.tiff (8/16-bit or float32), .npy (2-D u1, <u2, <f4, <f8),\n"
@@ -34,46 +35,13 @@ const char pc_raw_cli_help[] =
 static int need(int argc, char **argv, int i)
 {
 	if (i + 1 >= argc) {
-		pc_cli_error(PC_EXIT_USAGE, "option %s needs a value", argv[i]);
+		cli_error(CLI_EXIT_USAGE, "option %s needs a value", argv[i]);
 		return 0;
 	}
 	return 1;
 }
 
-/* The mosaic of RAW when it is a frame listed in its directory's meta.json (a recording written
- * by render or capture): 1 and *m set, else 0 (not a recording, not one of its frames, or
- * frames without a polarizer mosaic). */
-static int layout_from_recording(const char *path, pc_mosaic *m)
-{
-	const char *slash = strrchr(path, '/');
-	const char *file = slash ? slash + 1 : path;
-	char dir[4096], meta[4200];
-	if (!slash)
-		snprintf(dir, sizeof dir, ".");
-	else if ((size_t)snprintf(dir, sizeof dir, "%.*s", slash == path ? 1 : (int)(slash - path),
-				  path) >= sizeof dir)
-		return 0;
-	snprintf(meta, sizeof meta, "%s/meta.json", dir);
-	FILE *fp = fopen(meta, "r");
-	if (!fp)
-		return 0;
-	fclose(fp);
-	pc_recording *r = NULL;
-	if (pc_recording_open(&r, dir) != 0) {
-		pc_error_clear(); /* some other meta.json: not a recording */
-		return 0;
-	}
-	int found = 0;
-	const pc_recording_desc *d = pc_recording_get_desc(r);
-	for (size_t i = 0; d->polarized && !found && i < pc_recording_count(r); i++)
-		found = !strcmp(pc_recording_get_frame(r, i)->file, file);
-	if (found)
-		*m = d->mosaic;
-	pc_recording_free(r);
-	return found;
-}
-
-int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
+int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
 {
 	memset(o, 0, sizeof *o);
 	int nextra = 0, have_w = 0, have_h = 0, have_f = 0;
@@ -83,35 +51,35 @@ int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
 		const char *a = argv[i];
 		if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			o->out = argv[++i];
 		} else if (!strcmp(a, "--layout")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			o->layout = argv[++i];
 		} else if (!strcmp(a, "--method")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			o->method = argv[++i];
 		} else if (!strcmp(a, "--bits")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
-			if ((rc = pc_cli_parse_long("--bits", argv[++i], 1, 16, &v)))
-				return pc_cli_fail(rc, NULL);
+				return CLI_EXIT_USAGE;
+			if ((rc = cli_parse_long("--bits", argv[++i], 1, 16, &v)))
+				return cli_fail(rc, NULL);
 			o->bits = (unsigned)v;
 		} else if (!strcmp(a, "--threads")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
-			if ((rc = pc_cli_parse_long("--threads", argv[++i], 1, 1024, &v)))
-				return pc_cli_fail(rc, NULL);
+				return CLI_EXIT_USAGE;
+			if ((rc = cli_parse_long("--threads", argv[++i], 1, 1024, &v)))
+				return cli_fail(rc, NULL);
 			o->threads = (int)v;
 		} else if (!strcmp(a, "--reference")) {
 			o->reference = true;
 		} else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
-			if ((rc = pc_cli_parse_long(a, argv[++i], 1, 1 << 30, &v)))
-				return pc_cli_fail(rc, NULL);
+				return CLI_EXIT_USAGE;
+			if ((rc = cli_parse_long(a, argv[++i], 1, 1 << 30, &v)))
+				return cli_fail(rc, NULL);
 			if (a[2] == 'w') {
 				o->geometry.width = (uint32_t)v;
 				have_w = 1;
@@ -121,98 +89,68 @@ int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra)
 			}
 		} else if (!strcmp(a, "--offset") || !strcmp(a, "--stride")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			uint64_t u;
-			if ((rc = pc_cli_parse_u64(a, argv[++i], &u)))
-				return pc_cli_fail(rc, NULL);
+			if ((rc = cli_parse_u64(a, argv[++i], &u)))
+				return cli_fail(rc, NULL);
 			if (a[2] == 'o')
 				o->geometry.offset = (size_t)u;
 			else
 				o->geometry.stride = (size_t)u;
 		} else if (!strcmp(a, "--format")) {
 			if (!need(argc, argv, i))
-				return PC_EXIT_USAGE;
+				return CLI_EXIT_USAGE;
 			const char *name = argv[++i];
 			pc_pixfmt f = pc_format_from_name(name);
 			if (f == PC_FMT_INVALID) {
 				bool pol, col;
 				if (pc_format_from_genicam(name, &f, &pol, &col) != 0)
-					return pc_cli_error(PC_EXIT_USAGE, "--format '%s': %s", name,
+					return cli_error(CLI_EXIT_USAGE, "--format '%s': %s", name,
 							    pc_error_detail());
 			}
 			o->geometry.format = f;
 			have_f = 1;
 		} else if (a[0] == '-' && a[1]) {
 			if (!extra)
-				return pc_cli_error(PC_EXIT_USAGE, "unknown option '%s' (see polarcam %s "
+				return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see polarcam %s "
 								   "--help)", a, argv[0]);
 			extra[nextra++] = i;
 		} else if (!o->path) {
 			o->path = a;
 		} else {
-			return pc_cli_error(PC_EXIT_USAGE, "unexpected argument '%s' (one RAW file)", a);
+			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (one RAW file)", a);
 		}
 	}
 	if (extra)
 		extra[nextra] = 0;
 	if (have_w || have_h || have_f || o->geometry.offset || o->geometry.stride) {
 		if (!(have_w && have_h && have_f))
-			return pc_cli_error(PC_EXIT_USAGE, "a headerless raw needs --width, --height and "
+			return cli_error(CLI_EXIT_USAGE, "a headerless raw needs --width, --height and "
 							   "--format together");
 		o->have_geometry = true;
 	}
 	if (o->layout) {
 		if ((rc = pc_mosaic_parse(o->layout, &o->mosaic)))
-			return pc_cli_fail(rc, "--layout");
-	} else if (o->path && !o->have_geometry && layout_from_recording(o->path, &o->mosaic)) {
+			return cli_fail(rc, "--layout");
+	} else if (o->path && !o->have_geometry && pc_recording_frame_mosaic(o->path, &o->mosaic)) {
 		pc_mosaic_format(&o->mosaic, o->layout_buf, sizeof o->layout_buf);
 		o->layout = o->layout_buf;
 	} else {
 		o->layout = "90,45,135,0";
 		pc_mosaic_parse(o->layout, &o->mosaic);
 	}
-	if ((rc = pc_cli_method_for_mosaic(o->method, &o->mosaic, &o->dm)))
-		return pc_cli_fail(rc, NULL);
+	if ((rc = pc_process_method(o->method, &o->mosaic, &o->dm)))
+		return cli_fail(rc, NULL);
 	o->method = pc_demosaic_method_get(o->dm)->name;
 	return 0;
 }
 
-int pc_cli_method_for_mosaic(const char *given, const pc_mosaic *m, pc_demosaic_method *out)
+pc_raw_input cli_raw_input(const cli_raw *o)
 {
-	bool colour = m->period == 4;
-	int rc = pc_demosaic_method_from_name(given ? given : colour ? "bayer-first" : "bilinear",
-					      out);
-	if (rc)
-		return pc_error_prefix(rc, "--method: ");
-	const pc_demosaic_method_info *mi = pc_demosaic_method_get(*out);
-	char layout[64];
-	pc_mosaic_format(m, layout, sizeof layout);
-	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_error(PC_EINVAL, "--method %s: works on monochrome mosaics; the mosaic %s is "
-					   "colour-polarization (methods for it: bayer-first, "
-					   "bayer-eari)", mi->name, layout);
-	if (!colour && !(mi->flags & PC_DMF_MONO))
-		return pc_error(PC_EINVAL, "--method %s: needs a colour-polarization mosaic such as "
-					   "RGGB:90,45,135,0; the mosaic %s is monochrome", mi->name,
-				layout);
-	return 0;
+	return (pc_raw_input){ o->path, o->have_geometry ? &o->geometry : NULL, o->bits };
 }
 
-int pc_raw_cli_read(const pc_raw_cli *o, pc_view *raw, unsigned *bits)
+pc_process_opts cli_raw_process(const cli_raw *o)
 {
-	if (!o->path)
-		return pc_cli_error(PC_EXIT_USAGE, "no RAW file given");
-	int rc = pc_image_read_mosaic(o->path, o->have_geometry ? &o->geometry : NULL, o->bits, raw,
-				      bits);
-	if (rc)
-		return pc_cli_fail(rc, NULL);
-	if (raw->width % 2 || raw->height % 2 || raw->width < 4 || raw->height < 4) {
-		int st = pc_cli_error(PC_EXIT_USAGE, "%s: size %ux%u: a polarizer mosaic needs an even "
-						    "width and height of at least 4 (whole 2x2 "
-						    "analyser blocks)", o->path, raw->width,
-				      raw->height);
-		pc_view_free(raw);
-		return st;
-	}
-	return 0;
+	return (pc_process_opts){ o->mosaic, o->dm, { o->threads, o->reference, 0 } };
 }

@@ -1,14 +1,15 @@
 /* tools/raw_cli.h - the raw-input options shared by polarcam demosaic and process: the file,
  * its geometry when headerless, its bit depth, the mosaic layout, the method. */
-#ifndef POLARCAM_TOOLS_RAW_CLI_H
-#define POLARCAM_TOOLS_RAW_CLI_H
+#ifndef CLI_TOOLS_RAW_CLI_H
+#define CLI_TOOLS_RAW_CLI_H
 
 #include <stdbool.h>
 
 #include "polarcam/demosaic.h"
 #include "polarcam/io.h"
+#include "polarcam/process.h"
 
-typedef struct pc_raw_cli {
+typedef struct cli_raw {
 	const char *path;     /* RAW */
 	const char *out;      /* -o */
 	const char *layout;   /* --layout (default: RAW's recording's meta.json, or 90,45,135,0) */
@@ -22,24 +23,18 @@ typedef struct pc_raw_cli {
 	char layout_buf[64];
 	pc_mosaic mosaic;
 	pc_demosaic_method dm;
-} pc_raw_cli;
+} cli_raw;
 
 /* Help text of the shared options, for the commands' usage(). */
-extern const char pc_raw_cli_help[];
+extern const char cli_raw_help[];
 
 /* Parses argv (argv[0] = command). Options it does not know are returned through *extra (argv
  * indices, NULL-terminated list allocated by the caller with argc entries) when extra is not
- * NULL, otherwise they are errors. Returns 0 or a PC_EXIT_* status after printing the error. */
-int pc_raw_cli_parse(int argc, char **argv, pc_raw_cli *o, int *extra);
+ * NULL, otherwise they are errors. Returns 0 or a CLI_EXIT_* status after printing the error. */
+int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra);
 
-/* The demosaicking method for frames with mosaic m: the one named by given, or without a name
- * (NULL) bilinear for monochrome mosaics and bayer-first for colour-polarization ones. PC_EINVAL
- * (detail naming --method, the mosaic and the methods that would work) for an unknown name or a
- * method for the other kind of mosaic. */
-int pc_cli_method_for_mosaic(const char *given, const pc_mosaic *m, pc_demosaic_method *out);
-
-/* Reads and validates the raw (bit depth, values, NaN, size) into an owned view. Returns 0 or a
- * PC_EXIT_* status after printing an error that names the file. */
-int pc_raw_cli_read(const pc_raw_cli *o, pc_view *raw, unsigned *bits);
+/* The parsed options as the library takes them (polarcam/process.h). */
+pc_raw_input cli_raw_input(const cli_raw *o);
+pc_process_opts cli_raw_process(const cli_raw *o);
 
 #endif

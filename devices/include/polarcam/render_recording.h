@@ -1,0 +1,53 @@
+/* polarcam/render_recording.h - a scene rendered into a recording with its ground truth (what
+ * `polarcam render` does; the building block of dataset generation).
+ *
+ *   scene ──pc_sim_new──► simulator ──pc_sim_prepare (each generator state once, with truth)
+ *         ──pc_sim_frame (frame N from (seed, N))──► pc_recording_add ──► DIR
+ *
+ * DIR receives raw_NNNNNN.png and meta.json (polarcam/recording.h; "extra" holds
+ * pc_sim_describe_json plus "timings" and "first_frame"), truth_stokes.npy (H, W, 4) float32 —
+ * (H, W, 3, 4) for colour sensors, truth_stokes_psgNN.npy per generator state of a sequence —,
+ * truth_mueller.npy (H, W, 4, 4) (or (H, W, 3, 4, 4)) when the scene declares "mueller", and
+ * states.json (polarcam/states.h) for state sequences. The recording is refused (PC_EBUSY) in a
+ * directory that holds one unless overwrite; a failure part-way leaves the frames written so
+ * far and meta.json saying complete = false and why.
+ */
+#ifndef POLARCAM_RENDER_RECORDING_H
+#define POLARCAM_RENDER_RECORDING_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "polarcam/export.h"
+#include "polarcam/progress.h"
+#include "polarcam/sim.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct pc_render_opts {
+	const char *scene_path; /* the scene file; NULL: the built-in default scene */
+	const pc_scene *scene;  /* or a scene already loaded (then scene_path only names it) */
+	pc_sim_options sim;     /* seed, threads, ROI, pixel format */
+	uint64_t frames;        /* frames to write; 0: one cycle of the scene's states */
+	uint64_t first;         /* number of the first frame */
+	bool truth;             /* write truth_*.npy */
+	bool overwrite;         /* replace a recording already in the directory */
+	pc_progress progress;   /* phases "render" (rows of each state), "frames" */
+} pc_render_opts;
+
+typedef struct pc_render_report {
+	uint64_t frames;
+	uint32_t width, height;
+	char *timings; /* {render_s, frames_s, per_frame_s, write_s, total_s, peak_rss_mib}: JSON
+			  text, malloc'd (free it) */
+} pc_render_report;
+
+/* Renders into dir (created). rep may be NULL. */
+PC_API int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,240 @@
+/* Opening a source as asked, and the live source → Stokes stream (polarcam/stream.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "polarcam/stream.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "json.h"
+#include "polarcam/error.h"
+#include "polarcam/picture.h"
+
+void pc_stream_request_init(pc_stream_request *r)
+{
+	memset(r, 0, sizeof *r);
+	r->exposure_us = r->gain_db = r->fps = -1;
+	r->buffers = 8;
+}
+
+static int set_control(pc_source *s, pc_control_id id, double v)
+{
+	if (v < 0)
+		return 0;
+	double got;
+	int rc = pc_source_control_set(s, id, v, &got);
+	if (rc)
+		return pc_error_prefix(rc, "--%s: ", pc_control_name(id));
+	return 0;
+}
+
+/* Format and ROI as requested, or an error showing what the source would do instead. */
+static int negotiate(pc_source *s, const pc_stream_request *a)
+{
+	pc_source_format f;
+	pc_source_get_format(s, &f);
+	pc_source_format req;
+	memset(&req, 0, sizeof req);
+	req.format = f.format;
+	snprintf(req.format_name, sizeof req.format_name, "%s", f.format_name);
+	if (a->format) {
+		if (strlen(a->format) >= sizeof req.format_name)
+			return pc_error(PC_EINVAL, "--format '%s': name too long", a->format);
+		req.format = PC_FMT_INVALID;
+		snprintf(req.format_name, sizeof req.format_name, "%s", a->format);
+	}
+	if (a->roi_set) {
+		req.offset_x = a->roi[0];
+		req.offset_y = a->roi[1];
+		req.width = a->roi[2];
+		req.height = a->roi[3];
+	} else {
+		req.offset_x = f.offset_x;
+		req.offset_y = f.offset_y;
+	}
+	pc_source_format got = req;
+	pc_format_verdict v;
+	int rc = pc_source_try_format(s, &got, &v);
+	if (!rc && v == PC_FORMAT_INVALID)
+		rc = pc_error_prefix(PC_EINVAL, "%s: the source cannot deliver this: ", a->uri);
+	if (!rc && v == PC_FORMAT_ADJUSTED)
+		rc = pc_error(PC_EINVAL,
+			      "%s: the source would adjust the request to %s ROI %u,%u,%u,%u; ask "
+			      "for that explicitly",
+			      a->uri, got.format_name, got.offset_x, got.offset_y, got.width,
+			      got.height);
+	if (!rc)
+		rc = pc_source_set_format(s, &got);
+	return rc;
+}
+
+int pc_stream_open(const pc_stream_request *a, pc_source **out)
+{
+	*out = NULL;
+	pc_source *s = NULL;
+	int rc = pc_source_open(&s, a->uri);
+	if (rc)
+		return rc;
+	if (a->format || a->roi_set)
+		rc = negotiate(s, a);
+	if (!rc)
+		rc = set_control(s, PC_CTRL_EXPOSURE_US, a->exposure_us);
+	if (!rc)
+		rc = set_control(s, PC_CTRL_GAIN_DB, a->gain_db);
+	if (!rc)
+		rc = set_control(s, PC_CTRL_FRAME_RATE_HZ, a->fps);
+	if (!rc)
+		rc = pc_source_buffers_alloc(s, a->buffers);
+	if (rc) {
+		pc_source_close(s);
+		return rc;
+	}
+	*out = s;
+	return 0;
+}
+
+char *pc_source_format_json(const pc_source_format *f)
+{
+	json_t *j = json_object();
+	json_object_set_new(j, "format", json_string(f->format_name));
+	json_object_set_new(j, "storage", json_string(pc_format_info_get(f->format)->name));
+	json_object_set_new(j, "width", json_integer(f->width));
+	json_object_set_new(j, "height", json_integer(f->height));
+	json_object_set_new(j, "offset_x", json_integer(f->offset_x));
+	json_object_set_new(j, "offset_y", json_integer(f->offset_y));
+	json_object_set_new(j, "stride", json_integer((json_int_t)f->stride));
+	json_object_set_new(j, "sensor_width", json_integer(f->sensor_width));
+	json_object_set_new(j, "sensor_height", json_integer(f->sensor_height));
+	json_object_set_new(j, "polarized", json_boolean(f->polarized));
+	if (f->polarized) {
+		char m[48];
+		pc_mosaic_format(&f->mosaic, m, sizeof m);
+		json_object_set_new(j, "mosaic", json_string(m));
+	}
+	char *t = pc_json_text(j);
+	json_decref(j);
+	return t;
+}
+
+char *pc_source_stats_json(const pc_source_stats *st)
+{
+	json_t *j = json_object();
+	json_object_set_new(j, "completed", json_integer((json_int_t)st->completed));
+	json_object_set_new(j, "failed", json_integer((json_int_t)st->failed));
+	json_object_set_new(j, "dropped", json_integer((json_int_t)st->dropped));
+	json_object_set_new(j, "timeouts", json_integer((json_int_t)st->timeouts));
+	json_object_set_new(j, "underruns", json_integer((json_int_t)st->underruns));
+	json_object_set_new(j, "transport_failures",
+			    json_integer((json_int_t)st->transport_failures));
+	if (st->has_packets) {
+		json_object_set_new(j, "missing_packets",
+				    json_integer((json_int_t)st->missing_packets));
+		json_object_set_new(j, "resent_packets",
+				    json_integer((json_int_t)st->resent_packets));
+	} else {
+		json_object_set_new(j, "missing_packets", json_null());
+		json_object_set_new(j, "resent_packets", json_null());
+	}
+	json_object_set_new(j, "bytes", json_integer((json_int_t)st->bytes));
+	char *t = pc_json_text(j);
+	json_decref(j);
+	return t;
+}
+
+/* ---- live Stokes ---- */
+
+struct pc_stokes_stream {
+	pc_demosaic_method method;
+	uint32_t w, h; /* output size of the method */
+	float *planes; /* s0, dolp, aolp (each w*h) */
+	pc_stokes_out out;
+	uint8_t *rgb;     /* 3 panels side by side: (3w) x h RGB8 */
+	double process_s; /* time of the last pc_stokes_from_raw */
+};
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int pc_stokes_stream_new(pc_demosaic_method method, pc_stokes_stream **out)
+{
+	*out = calloc(1, sizeof **out);
+	if (!*out)
+		return pc_error(PC_ENOMEM, "Stokes stream");
+	(*out)->method = method;
+	return 0;
+}
+
+void pc_stokes_stream_free(pc_stokes_stream *s)
+{
+	if (!s)
+		return;
+	free(s->planes);
+	free(s->rgb);
+	free(s);
+}
+
+int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
+{
+	if (f->mosaic.period != 2 && f->mosaic.period != 4)
+		return pc_error(PC_EFORMAT, "the frames carry no polarizer mosaic: nothing to compute "
+					    "Stokes images from");
+	uint32_t w, h;
+	pc_demosaic_out_size(lv->method, f->view.width, f->view.height, &w, &h);
+	if (w != lv->w || h != lv->h || !lv->planes) {
+		free(lv->planes);
+		free(lv->rgb);
+		lv->w = w;
+		lv->h = h;
+		lv->planes = malloc((size_t)w * h * 3 * sizeof(float));
+		lv->rgb = malloc((size_t)w * 3 * h * 3);
+		if (!lv->planes || !lv->rgb)
+			return pc_error(PC_ENOMEM, "Stokes images %ux%u", w, h);
+		memset(&lv->out, 0, sizeof lv->out);
+		lv->out.s0 = (pc_fplane){ lv->planes, w, 1 };
+		lv->out.dolp = (pc_fplane){ lv->planes + (size_t)w * h, w, 1 };
+		lv->out.aolp = (pc_fplane){ lv->planes + 2 * (size_t)w * h, w, 1 };
+	}
+	double t0 = now_s();
+	int rc = pc_stokes_from_raw(&f->view, &f->mosaic, lv->method, NULL, &lv->out);
+	lv->process_s = now_s() - t0;
+	return rc;
+}
+
+const pc_stokes_out *pc_stokes_stream_planes(const pc_stokes_stream *s, uint32_t *width,
+					     uint32_t *height)
+{
+	if (width)
+		*width = s->w;
+	if (height)
+		*height = s->h;
+	return s->planes ? &s->out : NULL;
+}
+
+double pc_stokes_stream_seconds(const pc_stokes_stream *s)
+{
+	return s->process_s;
+}
+
+int pc_stokes_stream_picture(pc_stokes_stream *lv, const uint8_t **rgb)
+{
+	if (!lv->planes)
+		return pc_error(PC_ESTATE, "Stokes stream: no frame processed yet");
+	size_t stride = (size_t)lv->w * 3 * 3;
+	float hi = pc_picture_quantile(&lv->out.s0, lv->w, lv->h, 0.999);
+	if (!(hi > 0))
+		hi = 1;
+	int rc = pc_picture_grey(&lv->out.s0, lv->w, lv->h, 0, hi, lv->rgb, stride);
+	if (!rc)
+		rc = pc_picture_grey(&lv->out.dolp, lv->w, lv->h, 0, 1, lv->rgb + (size_t)lv->w * 3,
+				     stride);
+	if (!rc)
+		rc = pc_picture_aolp(&lv->out.aolp, &lv->out.dolp, lv->w, lv->h, PC_AOLP_VALUE, 1.0f,
+				     lv->rgb + (size_t)lv->w * 6, stride);
+	*rgb = rc ? NULL : lv->rgb;
+	return rc;
+}

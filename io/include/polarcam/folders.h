@@ -1,0 +1,95 @@
+/* polarcam/folders.h - the output folders of the pipelines: what `polarcam process`, `capture
+ * --process`, `mueller` and `demo` write, laid out in one place. Every file is written
+ * atomically; the folder is created when missing.
+ *
+ * A Stokes folder (pc_stokes_folder_write) holds, as asked:
+ *   stokes.npy     float32 (H, W, 3): S0, S1, S2
+ *   s0.npy         float32 (H, W): S0
+ *   dolp.npy       float32 (H, W): DoLP in [0, 1]
+ *   aolp.npy       float32 (H, W): AoLP in radians, [0, π) (polarcam/stokes.h's convention)
+ *   s0.png, dolp.png, aolp.png, aolp_sat.png   the pictures of pc_pictures_write_opts
+ *
+ * A Mueller folder (pc_mueller_folder_write) holds:
+ *   mueller.npy    float32 (H, W, 4, 4) (unless left out)
+ *   D, R, Delta    .npy (H, W) float32 and .png (grey, with a colour bar; NaN magenta)
+ *   rebuild_residual.npy/.png   when the circular entries were rebuilt
+ *   mueller.json   condition numbers, noise gains, pixel counts (see pc_mueller_folder_write)
+ *
+ * The figures folder (pc_figures_write) holds figNN.csv (x and one column per curve, then the
+ * same curves under the printed normalisation), figNN.png and figures.md (each claim, whether it
+ * reproduces, with the numbers).
+ */
+#ifndef POLARCAM_FOLDERS_H
+#define POLARCAM_FOLDERS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "polarcam/export.h"
+#include "polarcam/figures.h"
+#include "polarcam/io.h"
+#include "polarcam/mueller_imaging.h"
+#include "polarcam/progress.h"
+#include "polarcam/stokes.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- one map: NAME.npy and NAME.png ---- */
+
+/* Writes a float (H, W) map as DIR/NAME.npy and a grey picture DIR/NAME.png, linear from lo to
+ * hi, titled title, with a colour bar labelled label; non-finite values are drawn magenta and
+ * their share noted under the bar. */
+PC_API int pc_map_write(const char *dir, const char *name, const float *map, uint32_t width,
+		 uint32_t height, double lo, double hi, const char *title, const char *label);
+
+/* ---- Stokes folders ---- */
+
+enum pc_stokes_folder_files {
+	PC_SF_STOKES = 1u << 0,   /* stokes.npy (H, W, 3) */
+	PC_SF_S0 = 1u << 1,       /* s0.npy */
+	PC_SF_DOLP = 1u << 2,     /* dolp.npy */
+	PC_SF_AOLP = 1u << 3,     /* aolp.npy */
+	PC_SF_PICTURES = 1u << 4, /* s0.png, dolp.png, aolp.png, aolp_sat.png */
+};
+
+typedef struct pc_stokes_folder_opts {
+	unsigned files;            /* PC_SF_* */
+	pc_pictures_opts pictures; /* title prefix, display width, low-signal mask */
+} pc_stokes_folder_opts;
+
+/* Writes the files asked for from st (planes as pc_stokes_out; stokes.npy needs s0, s1, s2,
+ * the others their plane) into dir, in the order of the table above. */
+PC_API int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
+			   uint32_t height, const pc_stokes_folder_opts *opts);
+
+/* ---- Mueller folders ---- */
+
+typedef struct pc_mueller_folder_opts {
+	bool no_mueller;     /* leave mueller.npy out (64 bytes per pixel) */
+	const char *method;  /* demosaicking method name, for mueller.json */
+	double black_level;  /* for mueller.json */
+	double rebuild_tol;  /* for mueller.json and the residual picture's scale (0 .. 2·tol) */
+	pc_rebuild_sign rebuild_sign;
+} pc_mueller_folder_opts;
+
+/* Writes res into dir. mueller.json holds frames, width, height, method, black_level, cond_A,
+ * cond_G, cond_W, rank_A, rank_G, noise_gain, pixels_D_singular, pixels_nonphysical_filtered,
+ * pixels_undecomposable, determined, rebuild_circular (and when rebuilt: rebuild_tol,
+ * pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may be NULL) receives its
+ * content as one compact line (malloc'd). */
+PC_API int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
+			    const pc_mueller_folder_opts *opts, char **json);
+
+/* ---- the seed paper's figures (polarcam/figures.h) ---- */
+
+/* Writes figs[2..11] and the claims into dir; progress (may be NULL): phase "figures". */
+PC_API int pc_figures_write(const char *dir, const pc_figure figs[12], const pc_figure_claim *claims,
+		     size_t n_claims, const pc_progress *progress);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
