@@ -15,6 +15,13 @@
  * 1 % gains 0.7 dB there and costs at most 0.05 dB on the public scenes). */
 #define PC_RATIO_OFFSET 0.01
 
+/* The ratio method's guided tent (demosaic_ref.c, guided_tent): the offset e of its weights
+ * 1/(e + |Δguide|) as a fraction of full scale. Sweep on the stress suite / Lapray / Zhang
+ * (mean S0 gain over bilinear, dB; the plain tent: +2.21 / +3.19 / +4.42): 0.003: +4.06 /
+ * +3.22 / +4.55; 0.01: +3.92 / +3.29 / +4.58; 0.03: +3.68 / +3.30 / +4.56; 0.1: +3.26 /
+ * +3.28 / +4.51 (docs/demosaicking.md). */
+#define PC_RATIO_GUIDE_EPS 0.01
+
 /* ---- the overshoot limiter (demosaic_robust.c) ----
  * Every interpolated sample of channel c clamped to the range of channel c's raw samples in
  * the 5×5 window around it; own samples untouched. pc_dm_limited: the methods it belongs to.

@@ -56,11 +56,11 @@ typedef struct pc_ic_kernels {
 	void (*ratio_q)(float *restrict, const float *restrict, const float *restrict, float, long,
 			long);
 	void (*ratio_mean)(float *restrict, const float *restrict, const float *restrict,
-			   const float *restrict, const float *restrict, const float *restrict, float,
-			   long);
+			   const float *restrict, const float *restrict, const float *restrict,
+			   const float *restrict, const float *restrict, float, float, long);
 	void (*ratio_out)(float *restrict const[4], const float *restrict, const float *restrict,
-			  const float *restrict, const float *restrict, const float *restrict, float,
-			  long);
+			  const float *restrict, const float *restrict, const float *restrict,
+			  const float *restrict, const float *restrict, float, float, long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -221,7 +221,7 @@ typedef struct ic_band {
 	double eps2;
 	rcache raw, p0, ppi, guide, out1, guide2;
 	rcache rq1, rg2, rq2; /* ratio method: first ratio, second guide, second ratio */
-	float delta;
+	float delta, eps_ratio;
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
 			  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
@@ -407,9 +407,10 @@ static void fill_rg2(rcache *c, int y, float *const *rows)
 	/* other caches first: their fills may evict rows (pointers would dangle) */
 	const float *qa = rc_get(&b->rq1, y - 1)[0], *qb = rc_get(&b->rq1, y)[0],
 		    *qc = rc_get(&b->rq1, y + 1)[0];
-	const float *g = rc_get(&b->guide, y)[0];
+	const float *ga = rc_get(&b->guide, y - 1)[0], *g = rc_get(&b->guide, y)[0],
+		    *gc = rc_get(&b->guide, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
-	b->k->ratio_mean(rows[0], r, g, qa, qb, qc, b->delta, c->w);
+	b->k->ratio_mean(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, c->w);
 }
 
 static void fill_rq2(rcache *c, int y, float *const *rows)
@@ -426,12 +427,13 @@ static void ratio_output(ic_band *b, int y, float *const o[4])
 			     pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1) };
 	const float *qa = rc_get(&b->rq2, y - 1)[0], *qb = rc_get(&b->rq2, y)[0],
 		    *qc = rc_get(&b->rq2, y + 1)[0];
-	const float *g = rc_get(&b->rg2, y)[0];
+	const float *ga = rc_get(&b->rg2, y - 1)[0], *g = rc_get(&b->rg2, y)[0],
+		    *gc = rc_get(&b->rg2, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
 	float *os[4];
 	for (int k = 0; k < 4; k++)
 		os[k] = o[slot[k]];
-	b->k->ratio_out(os, r, g, qa, qb, qc, b->delta, b->raw.w);
+	b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->raw.w);
 }
 
 /* ---- drivers ---- */
@@ -479,6 +481,7 @@ static int setup_band(ic_band *b, const ic_job *j)
 		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
 		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
+		b->eps_ratio = (float)(PC_RATIO_GUIDE_EPS * j->fs);
 		fail |= rc_init(&b->guide, 8, 1, 1, w, h, fill_eari_guide, b);
 		fail |= rc_init(&b->rq1, 6, 1, 1, w, h, fill_rq1, b);
 		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);

@@ -376,18 +376,41 @@ static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
  * pixel keeps its own measurement. This is smooth-hue-transition (Cok 1987) in polarization:
  * I_c/S0 = (1 + DoLP·cos 2(AoLP − θ_c))/2 varies slowly where the intensity has edges. A
  * second pass repeats it with the mean of the first pass's four channels as the guide. */
+/* The guided tent of the ratio method: channel c's neighbours of (x, y) in the 3×3 window
+ * (the tent's sets: the horizontal pair, the vertical pair or the four diagonals, each with
+ * equal tent weights) averaged with weights 1/(e + |g(neighbour) − g(x, y)|), g the pass's
+ * guide: across an edge of the guide the far side's ratio, which belongs to another surface,
+ * counts little (a joint-bilateral range weight on the guide; Tomasi & Manduchi, ICCV 1998;
+ * Kopf et al., SIGGRAPH 2007). */
+static double guided_tent(const rimg *v, const rimg *g, const pc_mosaic *m, unsigned c, int x,
+			  int y, double e)
+{
+	double s = 0, ws = 0, g0 = at(g, x, y);
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++)
+			if (chan(m, x + dx, y + dy) == c) {
+				double w = 1.0 / (e + fabs(at(g, x + dx, y + dy) - g0));
+				s += w * at(v, x + dx, y + dy);
+				ws += w;
+			}
+	return s / ws;
+}
+
 static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
 {
-	rimg g = { 0 }, q = { 0 };
+	rimg g = { 0 }, q = { 0 }, gn = { 0 };
 	int rc = rimg_new(&g, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&q, r->w, r->h);
+	if (!rc)
+		rc = rimg_new(&gn, r->w, r->h);
 	if (rc) {
 		rimg_free(&g);
+		rimg_free(&q);
 		return rc;
 	}
 	eari_guide(r, m, pc_eari_params.guide_eps * fs, &g);
-	const double delta = PC_RATIO_OFFSET * fs;
+	const double delta = PC_RATIO_OFFSET * fs, e = PC_RATIO_GUIDE_EPS * fs;
 	for (int pass = 0; pass < PC_RATIO_PASSES; pass++) {
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++)
@@ -398,17 +421,20 @@ static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fpla
 				for (unsigned c = 0; c < 4; c++) {
 					double v = c == chan(m, x, y)
 							   ? at(r, x, y)
-							   : den * tent(&q, m, c, x, y) - delta;
+							   : den * guided_tent(&q, &g, m, c, x, y, e) -
+								     delta;
 					put(&out[c], x, y, v);
 					sum += v;
 				}
-				if (pass + 1 < PC_RATIO_PASSES)
-					*px(&g, x, y) = sum / 4; /* next pass's guide (read only at
-								  * this pixel before: in place) */
+				*px(&gn, x, y) = sum / 4; /* the next pass's guide */
 			}
+		rimg t = g;
+		g = gn;
+		gn = t;
 	}
 	rimg_free(&g);
 	rimg_free(&q);
+	rimg_free(&gn);
 	return 0;
 }
 
