@@ -112,13 +112,15 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
 			       PC_DMF_COLOR },
 		{ -9, 9, 1, 1 }, NULL, NULL, false, PC_DM_EARI },
 	[PC_DM_RATIO] = { { PC_DM_RATIO, "ratio",
-			  "inter-channel: our EARI guide, channels as guide x interpolated ratio "
-			  "(raw + 1 % FS)/(guide + 1 % FS), twice, overshoot limited; mean (worst): "
-			  "Lapray +3.19/+1.74 (+0.69/-0.03), Zhang +4.42/+4.11 (+3.83/+4.02), stress "
-			  "+2.21/+1.08 (+1.37/+0.26); the fast robust choice",
-			  "the guide pass plus two ratio passes (3x3 tents); about 2.7x bilinear's time",
+			  "inter-channel: our EARI guide, channels as guide x ratio (raw + 1 % FS)/"
+			  "(guide + 1 % FS) interpolated by a guide-weighted tent, twice, overshoot "
+			  "limited; mean (worst): Lapray +3.29/+1.80 (+0.62/-0.02), Zhang +4.58/+4.21 "
+			  "(+4.02/+4.17), stress +3.92/+1.69 (+1.77/+0.31); the fast robust choice",
+			  "the guide pass plus two ratio passes (3x3 guided tents); about 5x "
+			  "bilinear's time (one thread)",
 			  "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
-			  "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated",
+			  "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated; "
+			  "joint-bilateral weights (Kopf et al., SIGGRAPH 2007)",
 			  PC_DMF_MONO },
 		{ -4, 4, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_RATIO },
 	[PC_DM_EARI_MLRI] = { { PC_DM_EARI_MLRI, "eari-mlri",
@@ -126,7 +128,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
 			      "edge-aware guide, minimized-Laplacian RI in 11x11 windows); mean "
 			      "(worst): Lapray +3.60/+1.74 (+0.91/-0.20), Zhang +3.96/+4.07 "
 			      "(+3.14/+3.75), stress +5.24/+1.09 (+1.20/-4.58: rings into black)",
-			      "multi-pass float path, ~22 planes; about 60-200x bilinear (not yet "
+			      "multi-pass float path, ~22 planes; about 500x bilinear's CPU time (not "
 			      "within budget)",
 			      "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292) and their "
 			      "release; MLRI: Kiku et al., IEEE TIP 25(3) 2016",
@@ -137,8 +139,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
 				"the dark); the most accurate, no scene below -0.3 dB; mean (worst): "
 				"Lapray +3.51/+1.78 (+1.01/-0.12), Zhang +3.69/+3.74 (+3.03/+3.51), "
 				"stress +5.35/+2.29 (+1.87/+0.59)",
-				"eari-mlri's cost plus one 5x5 min/max pass (not yet within 5x "
-				"bilinear)",
+				"eari-mlri's cost plus one 5x5 min/max pass: about 500x bilinear's CPU "
+				"time (not within the 5x budget)",
 				"ours: Morimatsu et al. ICIP 2020's guide and Kiku et al. TIP 2016's "
 				"MLRI, held to each channel's local sample range",
 				PC_DMF_MONO },
