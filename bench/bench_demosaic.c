@@ -11,6 +11,7 @@
  * 16-bit Bayer demosaicking of the same frame — all measured in the same run, so that the
  * ratios hold even when the machine is shared. */
 #include <dirent.h>
+#include <glob.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdint.h>
@@ -416,11 +417,113 @@ static int noisy_track(const pc_demosaic_method *meths, size_t nm, int threads, 
 	return rc;
 }
 
+/* Stress track: the stress suite's scenes (scenes/stress) rendered with ground truth and
+ * scored by the library (pc_sim_eval_cases), every monochrome full-resolution method on each,
+ * gains over bilinear per scene, their mean and the worst scene (pc_eval_dataset_gain).
+ * Returns the JSON (NULL on failure). */
+static json_t *stress_track(const char *dir, int threads, FILE *tf)
+{
+	char pat[4096];
+	snprintf(pat, sizeof pat, "%s/*.json", dir);
+	glob_t g;
+	if (glob(pat, 0, NULL, &g)) {
+		fprintf(tf, "stress track: no scenes in %s\n", dir);
+		return NULL;
+	}
+	pc_demosaic_method ms[PC_DM_COUNT];
+	size_t nm = 0, bi = 0;
+	for (int k = 0; k < PC_DM_COUNT; k++) {
+		const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
+		if ((mi->flags & PC_DMF_MONO) && !(mi->flags & PC_DMF_HALF_RES)) {
+			if (k == PC_DM_BILINEAR)
+				bi = nm;
+			ms[nm++] = (pc_demosaic_method)k;
+		}
+	}
+	size_t ns = g.gl_pathc;
+	pc_eval_result *res = calloc(ns * nm, sizeof *res);
+	if (!res) {
+		globfree(&g);
+		return NULL;
+	}
+	pc_demosaic_opts o = { threads, false, 0 };
+	int rc = pc_sim_eval_cases((const char *const *)g.gl_pathv, ns, ms, nm, &o, threads,
+				   &host->progress, res);
+	host->progress_end(host->progress.user);
+	if (rc) {
+		host->fail(rc, "stress track");
+		free(res);
+		globfree(&g);
+		return NULL;
+	}
+	fprintf(tf, "\nstress track (%s, %zu scenes): gain over bilinear in S0 / DoLP PSNR, dB\n",
+		dir, ns);
+	fprintf(tf, "%-16s", "scene");
+	for (size_t k = 0; k < nm; k++)
+		if (k != bi)
+			fprintf(tf, " %15.15s", pc_demosaic_method_get(ms[k])->name);
+	fprintf(tf, " %15s\n", "bilinear S0/DoLP");
+	json_t *root = json_object();
+	json_t *jsc = json_array();
+	for (size_t s = 0; s < ns; s++) {
+		const char *b = strrchr(g.gl_pathv[s], '/');
+		b = b ? b + 1 : g.gl_pathv[s];
+		const pc_eval_metrics *bm = &res[s * nm + bi].m;
+		fprintf(tf, "%-16.16s", b);
+		json_t *js = json_object();
+		json_object_set_new(js, "scene", json_string(b));
+		for (size_t k = 0; k < nm; k++) {
+			const pc_eval_metrics *m = &res[s * nm + k].m;
+			if (k != bi)
+				fprintf(tf, " %+7.2f/%+7.2f", m->psnr_s0 - bm->psnr_s0,
+					m->psnr_dolp - bm->psnr_dolp);
+			json_t *jm = json_object();
+			json_object_set_new(jm, "psnr_s0", bench_json_real(m->psnr_s0));
+			json_object_set_new(jm, "psnr_dolp", bench_json_real(m->psnr_dolp));
+			json_object_set_new(jm, "aolp_wrmse_deg", bench_json_real(m->aolp_wrmse_deg));
+			json_object_set_new(js, pc_demosaic_method_get(ms[k])->name, jm);
+		}
+		fprintf(tf, " %7.2f/%7.2f\n", bm->psnr_s0, bm->psnr_dolp);
+		json_array_append_new(jsc, js);
+	}
+	json_t *jsum = json_object();
+	pc_eval_gain gains[PC_DM_COUNT];
+	for (size_t k = 0; k < nm; k++)
+		pc_eval_dataset_gain(res, ns * nm, res[0].dataset, ms[k], PC_DM_BILINEAR, &gains[k]);
+	for (int row = 0; row < 2; row++) {
+		fprintf(tf, "%-16s", row ? "worst" : "mean");
+		for (size_t k = 0; k < nm; k++) {
+			if (k == bi)
+				continue;
+			double a = row ? gains[k].s0_worst : gains[k].s0_mean;
+			double d = row ? gains[k].dolp_worst : gains[k].dolp_mean;
+			fprintf(tf, " %+7.2f/%+7.2f", a, d);
+			const char *name = pc_demosaic_method_get(ms[k])->name;
+			json_t *jm = json_object_get(jsum, name);
+			if (!jm) {
+				jm = json_object();
+				json_object_set_new(jsum, name, jm);
+			}
+			json_object_set_new(jm, row ? "s0_worst_gain_db" : "s0_mean_gain_db",
+					    bench_json_real(a));
+			json_object_set_new(jm, row ? "dolp_worst_gain_db" : "dolp_mean_gain_db",
+					    bench_json_real(d));
+		}
+		fprintf(tf, "\n");
+	}
+	json_object_set_new(root, "dir", json_string(dir));
+	json_object_set_new(root, "scenes", jsc);
+	json_object_set_new(root, "gain_over_bilinear", jsum);
+	free(res);
+	globfree(&g);
+	return root;
+}
+
 static void usage(FILE *fp)
 {
 	fprintf(fp,
-		"usage: polarcam bench demosaic [DATA_DIR] [-o DIR] [--reps N] [--threads N]\n"
-		"                               [--quick] [--json]\n"
+		"usage: polarcam bench demosaic [DATA_DIR] [--stress DIR] [-o DIR] [--reps N]\n"
+		"                               [--threads N] [--quick] [--json]\n"
 		"\n"
 		"What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
 		"every dataset in DATA_DIR/gt (default $POLARCAM_DATA; skipped with a message when\n"
@@ -439,6 +542,11 @@ static void usage(FILE *fp)
 		"with the machine's load (reported). Each time is given as wall-clock and as process\n"
 		"CPU time (all threads), which does not count waiting for cores that other work\n"
 		"holds.\n"
+		"\n"
+		"Stress track: every scene of the stress suite (--stress DIR, default\n"
+		"$POLARCAM_STRESS or ./scenes/stress; skipped when absent) rendered with ground truth\n"
+		"(polarcam eval SCENE.json): per scene, each monochrome method's S0 and DoLP PSNR gain\n"
+		"over bilinear, their mean and the worst scene.\n"
 		"\n"
 		"Noisy track (not with --quick): the simulator's default scene with its sensor noise,\n"
 		"one raw frame scored against the noise-free truth it renders (S0 PSNR, DoLP RMSE,\n"
@@ -510,7 +618,7 @@ static void pareto_plot(const char *path, const method_row *rows, size_t n, int 
 int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 {
 	host = h;
-	const char *data_dir = NULL, *out_dir = "bench-demosaic";
+	const char *data_dir = NULL, *out_dir = "bench-demosaic", *stress_dir = NULL;
 	long reps = 7, threads = 0;
 	bool json_out = false, quick = false;
 	for (int i = 1; i < argc; i++) {
@@ -527,6 +635,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			int rc = host->parse_long("--threads", argv[++i], 1, 1024, &threads);
 			if (rc)
 				return host->fail(rc, NULL);
+		} else if (!strcmp(argv[i], "--stress") && i + 1 < argc) {
+			stress_dir = argv[++i];
 		} else if (!strcmp(argv[i], "--json")) {
 			json_out = true;
 		} else if (!strcmp(argv[i], "--quick")) {
@@ -545,6 +655,10 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		data_dir = getenv("POLARCAM_DATA");
 		data_from = "POLARCAM_DATA";
 	}
+	if (!stress_dir && getenv("POLARCAM_STRESS") && *getenv("POLARCAM_STRESS"))
+		stress_dir = getenv("POLARCAM_STRESS");
+	if (!stress_dir && stat("scenes/stress", &sb) == 0 && S_ISDIR(sb.st_mode))
+		stress_dir = "scenes/stress";
 	if (data_dir && !(stat(data_dir, &sb) == 0 && S_ISDIR(sb.st_mode)))
 		return host->error(PC_BENCH_USAGE, "%s %s: not a directory", data_from, data_dir);
 	FILE *tf = json_out ? stderr : stdout;
@@ -1071,6 +1185,14 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	json_object_set_new(jg, "psnr_dolp", bench_json_real(ref_gap[2]));
 	json_object_set_new(root, "bilinear_minus_reference_db", jg);
 
+	if (stress_dir) {
+		json_t *jst = stress_track(stress_dir, (int)threads, tf);
+		if (jst)
+			json_object_set_new(root, "stress_track", jst);
+	} else {
+		fprintf(tf, "\nstress track skipped: no --stress DIR, $POLARCAM_STRESS or "
+			    "./scenes/stress\n");
+	}
 	int status = PC_BENCH_OK;
 	if ((rc = pc_mkdir_p(out_dir))) {
 		status = host->fail(rc, NULL);

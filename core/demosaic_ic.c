@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "cpu_internal.h"
+#include "demosaic_anchors.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
@@ -55,11 +56,11 @@ typedef struct pc_ic_kernels {
 	void (*ratio_q)(float *restrict, const float *restrict, const float *restrict, float, long,
 			long);
 	void (*ratio_mean)(float *restrict, const float *restrict, const float *restrict,
-			   const float *restrict, const float *restrict, const float *restrict, float,
-			   long);
+			   const float *restrict, const float *restrict, const float *restrict,
+			   const float *restrict, const float *restrict, float, float, long);
 	void (*ratio_out)(float *restrict const[4], const float *restrict, const float *restrict,
-			  const float *restrict, const float *restrict, const float *restrict, float,
-			  long);
+			  const float *restrict, const float *restrict, const float *restrict,
+			  const float *restrict, const float *restrict, float, float, long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -220,7 +221,7 @@ typedef struct ic_band {
 	double eps2;
 	rcache raw, p0, ppi, guide, out1, guide2;
 	rcache rq1, rg2, rq2; /* ratio method: first ratio, second guide, second ratio */
-	float delta;
+	float delta, eps_ratio;
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
 			  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
@@ -406,9 +407,10 @@ static void fill_rg2(rcache *c, int y, float *const *rows)
 	/* other caches first: their fills may evict rows (pointers would dangle) */
 	const float *qa = rc_get(&b->rq1, y - 1)[0], *qb = rc_get(&b->rq1, y)[0],
 		    *qc = rc_get(&b->rq1, y + 1)[0];
-	const float *g = rc_get(&b->guide, y)[0];
+	const float *ga = rc_get(&b->guide, y - 1)[0], *g = rc_get(&b->guide, y)[0],
+		    *gc = rc_get(&b->guide, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
-	b->k->ratio_mean(rows[0], r, g, qa, qb, qc, b->delta, c->w);
+	b->k->ratio_mean(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, c->w);
 }
 
 static void fill_rq2(rcache *c, int y, float *const *rows)
@@ -425,12 +427,13 @@ static void ratio_output(ic_band *b, int y, float *const o[4])
 			     pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1) };
 	const float *qa = rc_get(&b->rq2, y - 1)[0], *qb = rc_get(&b->rq2, y)[0],
 		    *qc = rc_get(&b->rq2, y + 1)[0];
-	const float *g = rc_get(&b->rg2, y)[0];
+	const float *ga = rc_get(&b->rg2, y - 1)[0], *g = rc_get(&b->rg2, y)[0],
+		    *gc = rc_get(&b->rg2, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
 	float *os[4];
 	for (int k = 0; k < 4; k++)
 		os[k] = o[slot[k]];
-	b->k->ratio_out(os, r, g, qa, qb, qc, b->delta, b->raw.w);
+	b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->raw.w);
 }
 
 /* ---- drivers ---- */
@@ -477,7 +480,8 @@ static int setup_band(ic_band *b, const ic_job *j)
 	case PC_DM_RATIO:
 		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
-		b->delta = (float)(j->fs / 65536.0);
+		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
+		b->eps_ratio = (float)(PC_RATIO_GUIDE_EPS * j->fs);
 		fail |= rc_init(&b->guide, 8, 1, 1, w, h, fill_eari_guide, b);
 		fail |= rc_init(&b->rq1, 6, 1, 1, w, h, fill_rq1, b);
 		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);
@@ -543,6 +547,15 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		j->err = 1;
 		return;
 	}
+	pc_dm_limiter limiter = { 0, { 0 }, NULL, PC_CPU_BASELINE }, *lim = NULL;
+	if (pc_dm_limited(j->method) && pc_dm_limiter_init(&limiter, w, j->level) == 0)
+		lim = &limiter;
+	if (pc_dm_limited(j->method) && !lim) {
+		free_band(&b);
+		pc_dm_free(rowbuf);
+		j->err = 1;
+		return;
+	}
 	float *vrow = rowbuf + 3; /* one padded row (pad 3) for the bicubic */
 	float *obuf = rowbuf + (size_t)w + 16;
 	for (uint32_t y = y0; y < y1; y++) {
@@ -595,6 +608,12 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		default:
 			break;
 		}
+		if (lim) { /* the overshoot limiter (demosaic_robust.c) on the finished row */
+			const float *r[5];
+			for (int k = 0; k < 5; k++)
+				r[k] = rc_get(&b.raw, yy - 2 + k)[0];
+			pc_dm_limit_row(lim, j->m, r, y, o, 1);
+		}
 		if (j->sink) {
 			const float *ch[4] = { o[0], o[1], o[2], o[3] };
 			j->sink->row(j->sink->ctx, y, ch);
@@ -614,6 +633,8 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 	}
 	free_band(&b);
 	pc_dm_free(rowbuf);
+	if (lim)
+		pc_dm_limiter_free(lim);
 }
 
 /* Row bands of at least 64 rows keep the recomputed halo rows a small fraction. */

@@ -170,28 +170,25 @@ int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_sca
 	return 0;
 }
 
-int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
-		   const pc_demosaic_opts *opts, pc_eval_metrics *out)
+int pc_eval_method_raw(const pc_eval_truth *t, const pc_view *raw, const pc_mosaic *m,
+		       pc_demosaic_method method, const pc_demosaic_opts *opts,
+		       pc_eval_metrics *out)
 {
-	pc_mosaic m = pc_mosaic_imx250mzr();
-	pc_view raw;
-	int rc = pc_eval_mosaic(t, &m, &raw);
-	if (rc)
-		return rc;
+	if (raw->width != t->width || raw->height != t->height)
+		return pc_error(PC_EINVAL, "evaluation: raw %ux%u, truth %ux%u: sizes differ",
+				raw->width, raw->height, t->width, t->height);
 	uint32_t ow, oh;
 	pc_demosaic_out_size(method, t->width, t->height, &ow, &oh);
 	float *buf = malloc(sizeof(float) * ow * oh * 4);
 	float *full = NULL;
-	if (!buf) {
-		pc_view_free(&raw);
+	if (!buf)
 		return pc_error(PC_ENOMEM, "evaluation: demosaicked images");
-	}
 	pc_fplane est[4];
 	pc_fplanes_separate(buf, ow, oh, 4, est);
 	pc_demosaic_opts o = opts ? *opts : (pc_demosaic_opts){ 0, false, 0 };
 	if (!(o.full_scale > 0))
 		o.full_scale = t->full_scale;
-	rc = pc_demosaic(&raw, &m, method, &o, est);
+	int rc = pc_demosaic(raw, m, method, &o, est);
 	if (!rc && (ow != t->width || oh != t->height)) {
 		/* half resolution: replicate each super-pixel over its 2×2 block */
 		full = malloc(sizeof(float) * t->width * t->height * 4);
@@ -212,6 +209,18 @@ int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
 		rc = pc_eval_score(t, est, t->full_scale, out);
 	free(full);
 	free(buf);
+	return rc;
+}
+
+int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
+		   const pc_demosaic_opts *opts, pc_eval_metrics *out)
+{
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	pc_view raw;
+	int rc = pc_eval_mosaic(t, &m, &raw);
+	if (rc)
+		return rc;
+	rc = pc_eval_method_raw(t, &raw, &m, method, opts, out);
 	pc_view_free(&raw);
 	return rc;
 }

@@ -106,7 +106,7 @@ static unsigned invert_count(uint8_t *restrict out, const uint8_t *restrict acc,
 }
 
 /* Per-band state: a cache of horizontally dilated flag rows. */
-#define VC_MAX 24
+#define VC_MAX 72
 typedef struct vband {
 	int k;
 	int32_t key[VC_MAX];

@@ -1,6 +1,7 @@
 /* Ground-truth directories for the evaluation protocol, and methods scored on them. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -127,4 +128,41 @@ int pc_eval_dataset_mean(const pc_eval_result *r, size_t n, const char *dataset,
 		for (size_t k = 0; k < sizeof *out / sizeof(double); k++)
 			(&out->psnr_i)[k] /= count;
 	return count;
+}
+
+int pc_eval_dataset_gain(const pc_eval_result *r, size_t n, const char *dataset,
+			 pc_demosaic_method meth, pc_demosaic_method base, pc_eval_gain *g)
+{
+	memset(g, 0, sizeof *g);
+	g->s0_worst = g->dolp_worst = INFINITY;
+	int cnt = 0;
+	for (size_t i = 0; i < n; i++) {
+		if (r[i].method != meth || strcmp(r[i].dataset, dataset))
+			continue;
+		for (size_t j = 0; j < n; j++) {
+			if (r[j].method != base || strcmp(r[j].scene, r[i].scene))
+				continue;
+			double ds = r[i].m.psnr_s0 - r[j].m.psnr_s0;
+			double dd = r[i].m.psnr_dolp - r[j].m.psnr_dolp;
+			g->s0_mean += ds;
+			g->dolp_mean += dd;
+			if (ds < g->s0_worst) {
+				g->s0_worst = ds;
+				g->s0_worst_scene = r[i].scene;
+			}
+			if (dd < g->dolp_worst) {
+				g->dolp_worst = dd;
+				g->dolp_worst_scene = r[i].scene;
+			}
+			cnt++;
+			break;
+		}
+	}
+	if (!cnt) {
+		g->s0_worst = g->dolp_worst = NAN;
+		return 0;
+	}
+	g->s0_mean /= cnt;
+	g->dolp_mean /= cnt;
+	return cnt;
 }

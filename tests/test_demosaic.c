@@ -111,7 +111,9 @@ static double fget(const pc_fplane *p, uint32_t x, uint32_t y)
 static const pc_demosaic_method mono_methods[] = { PC_DM_SUPERPIXEL_HALF, PC_DM_SUPERPIXEL,
 						    PC_DM_BILINEAR,	   PC_DM_BICUBIC,
 						    PC_DM_PPID,		   PC_DM_RI,
-						    PC_DM_EARI,		   PC_DM_RATIO };
+						    PC_DM_EARI,		   PC_DM_RATIO,
+						    PC_DM_EARI_MLRI,	   PC_DM_EARI_ROBUST,
+						    PC_DM_PCDP,		   PC_DM_IGRI2 };
 #define N_MONO (sizeof mono_methods / sizeof mono_methods[0])
 
 /* Fast vs reference on a random texture, all four phases. */

@@ -56,19 +56,25 @@ static pc_mosaic mosaic_for(pc_demosaic_method m)
 typedef struct support {
 	pc_demosaic_method m;
 	int lo, hi, block, scale;
+	int slack; /* 0: the stated support is exact (reached); else an upper bound whose reach on
+		    * random data is at least hi - slack */
 } support;
 
 static const support supports[] = {
-	{ PC_DM_SUPERPIXEL_HALF, 0, 1, 2, 2 }, /* its 2×2 block */
-	{ PC_DM_SUPERPIXEL, 0, 1, 2, 1 },      /* the block the pixel lies in */
-	{ PC_DM_BILINEAR, -1, 1, 1, 1 },       /* 3×3 tents */
-	{ PC_DM_BICUBIC, -3, 3, 1, 1 },        /* Keys' taps at ±1, ±3 */
-	{ PC_DM_PPID, -4, 4, 1, 1 },           /* PPI (±1, refined ±2) + 3×3 tent */
-	{ PC_DM_RI, -8, 8, 1, 1 },             /* PPI ±3, two ±2 windows, tent ±1 */
-	{ PC_DM_EARI, -7, 7, 1, 1 },           /* guide ±2, two ±2 windows, tent ±1 */
-	{ PC_DM_BAYER_FIRST, -3, 3, 1, 1 },    /* Bayer sub-image 3×3 (±2), tent ±1 */
-	{ PC_DM_BAYER_EARI, -9, 9, 1, 1 },     /* ±2, then EARI's ±7 */
-	{ PC_DM_RATIO, -4, 4, 1, 1 },          /* guide ±2, tent ±1, second pass's guide */
+	{ PC_DM_SUPERPIXEL_HALF, 0, 1, 2, 2, 0 }, /* its 2×2 block */
+	{ PC_DM_SUPERPIXEL, 0, 1, 2, 1, 0 },      /* the block the pixel lies in */
+	{ PC_DM_BILINEAR, -1, 1, 1, 1, 0 },       /* 3×3 tents */
+	{ PC_DM_BICUBIC, -3, 3, 1, 1, 0 },        /* Keys' taps at ±1, ±3 */
+	{ PC_DM_PPID, -4, 4, 1, 1, 0 },           /* PPI (±1, refined ±2) + 3×3 tent */
+	{ PC_DM_RI, -8, 8, 1, 1, 0 },             /* PPI ±3, two ±2 windows, tent ±1 */
+	{ PC_DM_EARI, -7, 7, 1, 1, 0 },           /* guide ±2, two ±2 windows, tent ±1 */
+	{ PC_DM_BAYER_FIRST, -3, 3, 1, 1, 0 },    /* Bayer sub-image 3×3 (±2), tent ±1 */
+	{ PC_DM_BAYER_EARI, -9, 9, 1, 1, 0 },     /* ±2, then EARI's ±7 */
+	{ PC_DM_RATIO, -4, 4, 1, 1, 0 },          /* guide ±2, tent ±1, second pass's guide */
+	{ PC_DM_EARI_MLRI, -16, 16, 1, 1, 0 },    /* guide ±3, Laplacian ±2, two ±5 windows, tent */
+	{ PC_DM_EARI_ROBUST, -16, 16, 1, 1, 0 },  /* the same; the limiter's ±2 inside */
+	{ PC_DM_PCDP, -2, 2, 1, 1, 0 },           /* bilinear ±1, then the tent of the differences */
+	{ PC_DM_IGRI2, -40, 40, 1, 1, 6 },        /* a bound: three stages of about ±13 */
 };
 #define N_SUP (sizeof supports / sizeof supports[0])
 
@@ -111,12 +117,14 @@ static float *reference_of(const pc_view *raw, pc_demosaic_method m, pc_fplane *
 
 static void test_supports(void)
 {
-	const uint32_t W = 40, H = 40;
-	/* interior samples of both parities, corners, edges */
-	const int pos[][2] = { { 19, 20 }, { 20, 21 }, { 0, 0 }, { 1, 0 }, { 39, 38 }, { 2, 39 },
-			       { 38, 1 } };
 	for (size_t k = 0; k < N_SUP; k++) {
 		const support *s = &supports[k];
+		/* large enough that an interior sample's change can reach the stated edge */
+		const uint32_t W = s->hi > 16 ? (uint32_t)(2 * s->hi + 8) : 40, H = W;
+		const int n = (int)W;
+		/* interior samples of both parities, corners, edges */
+		const int pos[][2] = { { n / 2 - 1, n / 2 }, { n / 2, n / 2 + 1 }, { 0, 0 }, { 1, 0 },
+				       { n - 1, n - 2 }, { 2, n - 1 }, { n - 2, 1 } };
 		pc_view raw;
 		CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0), 0);
 		fill_random(&raw, 600, 1400);
@@ -150,13 +158,15 @@ static void test_supports(void)
 				}
 			free(bb);
 		}
-		if (outside || (s->block == 1 && reach != s->hi))
+		const int reach_ok = s->slack ? reach >= s->hi - s->slack && reach <= s->hi
+					      : reach == s->hi;
+		if (outside || (s->block == 1 && !reach_ok))
 			fprintf(stderr, "  %s: %d changed pixels outside the stated support; reach %d, "
 					"stated %d\n", pc_demosaic_method_get(s->m)->name, outside, reach,
 				s->hi);
 		CHECK(outside == 0);
 		if (s->block == 1)
-			CHECK_EQ_INT(reach, s->hi);
+			CHECK(reach_ok);
 		printf("  %-16s support %d..%d: changes reach %d, none outside\n",
 		       pc_demosaic_method_get(s->m)->name, s->lo, s->hi, reach);
 		free(ba);
@@ -233,6 +243,10 @@ static void test_masks(void)
 	for (size_t f = 0; f < sizeof fmts / sizeof fmts[0]; f++)
 		for (size_t k = 0; k < N_SUP; k++) {
 			const support *s = &supports[k];
+			/* igri2's ±40 covers this frame: its mask is all invalid (the mask code is
+			 * the same for every method; its support is checked above) */
+			if (2 * s->hi + 1 > (int)H)
+				continue;
 			pc_view raw;
 			double sat, dead;
 			flagged_raw(fmts[f], W, H, &raw, flag, &sat, &dead);

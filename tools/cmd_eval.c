@@ -1,5 +1,7 @@
-/* polarcam eval TRUTH_DIR... [--method NAME|all]: score demosaicking methods against ground
- * truth with the frozen protocol (polarcam/eval.h). */
+/* polarcam eval [TRUTH_DIR|SCENE.json]... [--stress DIR] [--data DIR] [--method NAME|all]:
+ * score demosaicking methods against ground truth with the frozen protocol (polarcam/eval.h);
+ * the evaluation is one library call (pc_sim_eval_cases), the gains pc_eval_dataset_gain. */
+#include <glob.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,11 +13,13 @@
 #include "polarcam/error.h"
 #include "polarcam/eval.h"
 #include "polarcam/io.h"
+#include "polarcam/sim.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(fp,
-		"usage: polarcam eval TRUTH_DIR... [--method NAME|all] [--json PATH|-] [--reference]\n"
+		"usage: polarcam eval [TRUTH_DIR|SCENE.json]... [--stress DIR] [--data DIR]\n"
+		"                     [--method NAME|all] [--json PATH|-] [--reference]\n"
 		"\n"
 		"Scores demosaicking methods against ground truth with the frozen protocol of\n"
 		"docs/evaluation.md: the four analyser images normalised by their container's\n"
@@ -25,10 +29,18 @@ static void usage(FILE *fp)
 		"to [0, 90]) and its DoLP-weighted version.\n"
 		"\n"
 		"Each TRUTH_DIR holds the analyser images 0, 45, 90 and 135 (.tif/.tiff, .png, .bmp or\n"
-		".npy). Results are per scene and, per dataset (the directory above the scenes), the\n"
-		"mean over its scenes; datasets are never pooled.\n"
+		".npy). A SCENE.json (docs/scene-format.md; the stress suite in scenes/stress) is\n"
+		"rendered with ground truth: its raw frame 0 (with the sensor's noise and analyser\n"
+		"errors when the scene declares them) is scored against the noise-free ideal-analyser\n"
+		"images, normalised by the ADC's full scale. Results are per scene and, per dataset (the\n"
+		"directory above the scenes), the mean over its scenes; datasets are never pooled.\n"
+		"Bilinear is always run as the baseline: per dataset and method, the mean gain over\n"
+		"bilinear in S0 and DoLP and the worst scene's (with its name) are reported.\n"
 		"\n"
 		"options:\n"
+		"  --stress DIR       add every DIR/*.json scene (the stress suite: scenes/stress)\n"
+		"  --data DIR         add every public-dataset scene DIR/gt/*/* (skipped with a note\n"
+		"                     when DIR/gt is absent); default $POLARCAM_DATA when set\n"
 		"  --method NAME|all  a method of `polarcam demosaic --list` (default: all methods\n"
 		"                     for monochrome mosaics)\n"
 		"  --json PATH|-      also write the results as JSON to PATH (atomically), or print\n"
@@ -61,7 +73,20 @@ static void table_row(FILE *tf, const char *label, pc_demosaic_method method,
 		m->psnr_dolp, m->aolp_rmse_deg, m->aolp_wrmse_deg);
 }
 
-/* The table (per scene, then the mean of each dataset and method); returns the means as JSON. */
+static const char *base_name(const char *path)
+{
+	const char *sc = strrchr(path, '/');
+	while (sc && !sc[1] && sc > path) { /* trailing slash */
+		const char *p = sc - 1;
+		while (p > path && *p != '/')
+			p--;
+		sc = *p == '/' ? p : NULL;
+	}
+	return sc ? sc + 1 : path;
+}
+
+/* The table (per scene, then the mean of each dataset and method, then the gains over
+ * bilinear with the worst scene); returns the means and gains as JSON. */
 static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
 {
 	fprintf(tf, "%-28s %-10s %8s %8s %8s %8s %8s %8s %8s\n", "scene", "method", "I", "S0", "S1",
@@ -69,8 +94,7 @@ static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
 	fprintf(tf, "%-28s %-10s %8s %8s %8s %8s %8s %8s %8s\n", "", "", "dB", "dB", "dB", "dB",
 		"dB", "deg", "deg");
 	for (size_t i = 0; i < nres; i++) {
-		const char *sc = strrchr(res[i].scene, '/');
-		table_row(tf, sc && sc[1] ? sc + 1 : res[i].scene, res[i].method, &res[i].m);
+		table_row(tf, base_name(res[i].scene), res[i].method, &res[i].m);
 	}
 	json_t *jd = json_array();
 	for (size_t i = 0; i < nres; i++) {
@@ -88,7 +112,36 @@ static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
 		json_object_set_new(o, "dataset", json_string(res[i].dataset));
 		json_object_set_new(o, "method", json_string(pc_demosaic_method_get(res[i].method)->name));
 		json_object_set_new(o, "scenes", json_integer(cnt));
+		pc_eval_gain g;
+		if (pc_eval_dataset_gain(res, nres, res[i].dataset, res[i].method, PC_DM_BILINEAR,
+					 &g)) {
+			json_t *gj = json_object();
+			json_object_set_new(gj, "s0_mean", cli_json_real(g.s0_mean));
+			json_object_set_new(gj, "dolp_mean", cli_json_real(g.dolp_mean));
+			json_object_set_new(gj, "s0_worst", cli_json_real(g.s0_worst));
+			json_object_set_new(gj, "s0_worst_scene", json_string(base_name(g.s0_worst_scene)));
+			json_object_set_new(gj, "dolp_worst", cli_json_real(g.dolp_worst));
+			json_object_set_new(gj, "dolp_worst_scene",
+					    json_string(base_name(g.dolp_worst_scene)));
+			json_object_set_new(o, "gain_over_bilinear_db", gj);
+		}
 		json_array_append_new(jd, o);
+	}
+	fprintf(tf, "\ngain over bilinear (dB), per dataset: mean, and the worst scene\n");
+	fprintf(tf, "%-20s %-12s %8s %8s %8s %-20s %8s %-20s\n", "dataset", "method", "S0", "DoLP",
+		"worst S0", "(scene)", "worstDoLP", "(scene)");
+	for (size_t i = 0; i < nres; i++) {
+		int seen = 0;
+		for (size_t j = 0; j < i; j++)
+			seen |= !strcmp(res[j].dataset, res[i].dataset) && res[j].method == res[i].method;
+		pc_eval_gain g;
+		if (seen || res[i].method == PC_DM_BILINEAR ||
+		    !pc_eval_dataset_gain(res, nres, res[i].dataset, res[i].method, PC_DM_BILINEAR, &g))
+			continue;
+		fprintf(tf, "%-20.20s %-12s %+8.3f %+8.3f %+8.3f %-20.20s %+8.3f %-20.20s\n",
+			res[i].dataset, pc_demosaic_method_get(res[i].method)->name, g.s0_mean,
+			g.dolp_mean, g.s0_worst, base_name(g.s0_worst_scene), g.dolp_worst,
+			base_name(g.dolp_worst_scene));
 	}
 	return jd;
 }
@@ -143,6 +196,8 @@ static int methods_of(const char *arg, pc_demosaic_method *methods, size_t *n)
 						 "monochrome Sony layout; this method needs a "
 						 "colour-polarization mosaic", arg);
 	*n = 1;
+	if (methods[0] != PC_DM_BILINEAR) /* the baseline, always */
+		methods[(*n)++] = PC_DM_BILINEAR;
 	return CLI_EXIT_OK;
 }
 
@@ -160,8 +215,8 @@ static int run(const char *const *dirs, size_t ndirs, const char *method_arg,
 		return cli_error(CLI_EXIT_FAILURE, "out of memory");
 	cli_progress bar = { 0 };
 	pc_demosaic_opts o = { 0, reference, 0 };
-	int rc = pc_eval_dirs(dirs, ndirs, methods, nmeth, &o,
-			      &(pc_progress){ cli_progress_fn, &bar }, res);
+	int rc = pc_sim_eval_cases(dirs, ndirs, methods, nmeth, &o, 0,
+				   &(pc_progress){ cli_progress_fn, &bar }, res);
 	cli_progress_end(&bar);
 	if (rc) {
 		free(res);
@@ -177,40 +232,92 @@ static int run(const char *const *dirs, size_t ndirs, const char *method_arg,
 	return status;
 }
 
+/* Appends the paths matching a glob pattern (the stress scenes, the datasets' scenes), in
+ * order; -1 without memory. */
+static int add_glob(const char *pattern, char ***list, size_t *n)
+{
+	glob_t g;
+	int r = glob(pattern, 0, NULL, &g);
+	if (r == GLOB_NOMATCH)
+		return 0;
+	if (r)
+		return -1;
+	char **l = realloc(*list, sizeof *l * (*n + g.gl_pathc));
+	if (!l) {
+		globfree(&g);
+		return -1;
+	}
+	*list = l;
+	for (size_t i = 0; i < g.gl_pathc; i++)
+		if ((l[*n] = strdup(g.gl_pathv[i])))
+			(*n)++;
+	globfree(&g);
+	return 0;
+}
+
 int cli_cmd_eval(int argc, char **argv)
 {
 	if (cli_wants_help(argc, argv)) {
 		usage(stdout);
 		return CLI_EXIT_OK;
 	}
-	const char *method_arg = "all", *json_path = NULL;
-	bool reference = false;
-	const char **dirs = calloc((size_t)argc, sizeof *dirs);
+	const char *method_arg = "all", *json_path = NULL, *data_dir = getenv("POLARCAM_DATA");
+	bool reference = false, data_given = false;
+	char **dirs = NULL;
 	size_t ndirs = 0;
-	if (!dirs)
-		return cli_error(CLI_EXIT_FAILURE, "out of memory");
-	for (int i = 1; i < argc; i++) {
+	int status = CLI_EXIT_OK;
+	for (int i = 1; i < argc && status == CLI_EXIT_OK; i++) {
 		if (!strcmp(argv[i], "--method") && i + 1 < argc) {
 			method_arg = argv[++i];
 		} else if (!strcmp(argv[i], "--json") && i + 1 < argc) {
 			json_path = argv[++i];
 		} else if (!strcmp(argv[i], "--reference")) {
 			reference = true;
+		} else if (!strcmp(argv[i], "--stress") && i + 1 < argc) {
+			char pat[4096];
+			snprintf(pat, sizeof pat, "%s/*.json", argv[++i]);
+			size_t before = ndirs;
+			if (add_glob(pat, &dirs, &ndirs))
+				status = cli_error(CLI_EXIT_FAILURE, "--stress %s: out of memory", argv[i]);
+			else if (ndirs == before)
+				status = cli_error(CLI_EXIT_USAGE, "--stress %s: no scene files (*.json) "
+								   "there", argv[i]);
+		} else if (!strcmp(argv[i], "--data") && i + 1 < argc) {
+			data_dir = argv[++i];
+			data_given = true;
 		} else if (argv[i][0] == '-' && argv[i][1]) {
-			free(dirs);
-			return cli_error(CLI_EXIT_USAGE, "unknown or incomplete option '%s' (see "
-							 "polarcam eval --help)", argv[i]);
+			status = cli_error(CLI_EXIT_USAGE, "unknown or incomplete option '%s' (see "
+							   "polarcam eval --help)", argv[i]);
 		} else {
-			dirs[ndirs++] = argv[i];
+			char **l = realloc(dirs, sizeof *l * (ndirs + 1));
+			if (!l || !(l[ndirs] = strdup(argv[i]))) {
+				if (l)
+					dirs = l;
+				status = cli_error(CLI_EXIT_FAILURE, "out of memory");
+				break;
+			}
+			dirs = l;
+			ndirs++;
 		}
 	}
-	int status;
-	if (!ndirs) {
-		usage(stderr);
-		status = cli_error(CLI_EXIT_USAGE, "no TRUTH_DIR given");
-	} else {
-		status = run(dirs, ndirs, method_arg, json_path, reference);
+	if (status == CLI_EXIT_OK && data_dir && *data_dir) {
+		char pat[4096];
+		snprintf(pat, sizeof pat, "%s/gt/*/*", data_dir);
+		size_t before = ndirs;
+		if (add_glob(pat, &dirs, &ndirs))
+			status = cli_error(CLI_EXIT_FAILURE, "out of memory");
+		else if (ndirs == before)
+			cli_warn("%s/gt: no public-dataset scenes there; %s", data_dir,
+				 data_given ? "none added" : "skipped ($POLARCAM_DATA)");
 	}
+	if (status == CLI_EXIT_OK && !ndirs) {
+		usage(stderr);
+		status = cli_error(CLI_EXIT_USAGE, "no TRUTH_DIR or SCENE.json given");
+	}
+	if (status == CLI_EXIT_OK)
+		status = run((const char *const *)dirs, ndirs, method_arg, json_path, reference);
+	for (size_t d = 0; d < ndirs; d++)
+		free(dirs[d]);
 	free(dirs);
 	return status;
 }

@@ -52,6 +52,10 @@ typedef enum pc_demosaic_method {
 	PC_DM_BAYER_FIRST,         /* colour only: Bayer bilinear per analyser, then analysers */
 	PC_DM_BAYER_EARI,          /* colour only: Bayer bilinear per analyser, then EARI per colour */
 	PC_DM_RATIO,               /* edge-aware guide + ratio interpolation, two passes (ours) */
+	PC_DM_EARI_MLRI,           /* EARI as its authors define it: their guide + MLRI (anchor) */
+	PC_DM_EARI_ROBUST,         /* eari-mlri + the overshoot limiter (ours; recommended) */
+	PC_DM_PCDP,                /* polarization channel difference prior (Wu et al. 2021; anchor) */
+	PC_DM_IGRI2,               /* iterative guided residual interpolation 2 (Morimatsu 2021; anchor) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 

@@ -71,6 +71,12 @@ PC_API int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double 
 PC_API int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
 		   const pc_demosaic_opts *opts, pc_eval_metrics *out);
 
+/* Steps 3-5 on a given raw frame with mosaic m (a camera's or the simulator's frame of the
+ * scene the truth describes, noise and all), raw and truth of one size; full scale and
+ * normalisation as pc_eval_method. */
+PC_API int pc_eval_method_raw(const pc_eval_truth *t, const pc_view *raw, const pc_mosaic *m,
+		       pc_demosaic_method method, const pc_demosaic_opts *opts,
+		       pc_eval_metrics *out);
 
 /* ---- Stokes estimates against the simulator's ground truth (polarcam demo) ----
  *

@@ -165,6 +165,19 @@ PC_API int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic
 PC_API int pc_eval_dataset_mean(const pc_eval_result *res, size_t n, const char *dataset,
 			 pc_demosaic_method method, pc_eval_metrics *out);
 
+/* The gain of one method over a baseline on one dataset, scene by scene (the results of the
+ * same scene path): the mean gain in S0 and DoLP PSNR (dB) and the worst (lowest) with its
+ * scene (a pointer into res). */
+typedef struct pc_eval_gain {
+	double s0_mean, dolp_mean, s0_worst, dolp_worst;
+	const char *s0_worst_scene, *dolp_worst_scene;
+} pc_eval_gain;
+
+/* Returns how many scenes had both results (0: none, *out zeroed with NaN worsts). */
+PC_API int pc_eval_dataset_gain(const pc_eval_result *res, size_t n, const char *dataset,
+			 pc_demosaic_method method, pc_demosaic_method baseline,
+			 pc_eval_gain *out);
+
 /* Creates a directory (and parents) if missing. */
 PC_API int pc_mkdir_p(const char *path);
 

@@ -38,7 +38,9 @@
 #include <stdint.h>
 
 #include "polarcam/export.h"
+#include "polarcam/eval.h"
 #include "polarcam/frame.h"
+#include "polarcam/progress.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -235,6 +237,26 @@ PC_API int pc_sim_mean_dn(const pc_sim *sim, unsigned state, const pc_sim_contro
  * black level (and S1 = I0 − I90, S2 = I45 − I135) equals this factor times the truth Stokes
  * radiance (before noise, clipping and quantization): K·t_exp·2η·π/(4N²)·A_pix·λ/(hc). */
 PC_API double pc_sim_dn_per_radiance(const pc_sim *sim, const pc_sim_controls *controls, unsigned ch);
+
+/* An evaluation case for the demosaicking protocol (polarcam/eval.h, docs/demosaicking.md):
+ * renders state 0 and gives raw frame 0 (the sensor's whole chain: noise and analyser errors
+ * as the scene declares) and its ground truth, the four ideal-analyser images
+ * offset + k·(S0 + S1·cos 2θ + S2·sin 2θ)/2 without noise (k = pc_sim_dn_per_radiance),
+ * clipped to [0, 2^bits − 1] and normalised by 2^bits − 1. Monochrome sensors with even sizes
+ * of at least 32×32 (PC_ENOTSUP, PC_EINVAL otherwise). Free with pc_eval_truth_free and
+ * pc_view_free; score with pc_eval_method_raw and the frame's mosaic (pc_sim_get_info). */
+PC_API int pc_sim_eval_case(pc_sim *sim, pc_eval_truth *truth, pc_view *raw);
+
+/* Scores each method on each evaluation case into res[d·nmeth + k] (as pc_eval_dirs): a path
+ * ending in .json is a scene, loaded and rendered by pc_sim_eval_case (its frame 0 with its
+ * sensor, scored against the noise-free truth; the dataset is the scene's directory), any
+ * other a truth directory (pc_truth_load, mosaicked with the Sony layout). threads: the
+ * renderer's (0: default); opts as pc_eval_method (may be NULL); progress (may be NULL):
+ * phase "eval", results done. Errors name the path. pc_eval_result: polarcam/io.h. */
+struct pc_eval_result;
+PC_API int pc_sim_eval_cases(const char *const *paths, size_t n, const pc_demosaic_method *methods,
+		      size_t nmeth, const pc_demosaic_opts *opts, int threads,
+		      const pc_progress *progress, struct pc_eval_result *res);
 
 /* ---------------------------------------------------------------------------------------------
  * The sensor (physics.md §6). Figures as resolved from the preset and the scene's overrides.
