@@ -61,7 +61,7 @@ int pc_map_write(const char *dir, const char *name, const float *map, uint32_t w
 		char text[64];
 		snprintf(text, sizeof text, "NaN %.2g%%",
 			 100.0 * (double)undefined / ((double)width * height));
-		pc_legend_note note = { text, magenta };
+		pc_legend_note note = { text, magenta, NULL };
 		if (!rc)
 			rc = pc_image_write_png_ex(path, rgb, width, height, (size_t)width * 3, title,
 						   &bar, undefined ? &note : NULL, 1600);
@@ -130,9 +130,39 @@ static int write_stokes3(const char *dir, const pc_stokes_out *st, uint32_t w, u
 	return rc;
 }
 
+/* valid.npy (H, W) uint8: 1 valid, 0 invalid */
+static int write_valid(const char *dir, const pc_validity *v, uint32_t w, uint32_t h)
+{
+	char path[4096];
+	int rc = join(path, sizeof path, dir, "valid.npy");
+	if (rc)
+		return rc;
+	size_t shape[2] = { h, w };
+	if (v->row_stride == w)
+		return pc_npy_write(path, v->mask, PC_DT_U8, 2, shape);
+	uint8_t *t = malloc((size_t)w * h);
+	if (!t)
+		return pc_error(PC_ENOMEM, "%s", path);
+	for (uint32_t y = 0; y < h; y++)
+		memcpy(t + (size_t)y * w, v->mask + (size_t)y * v->row_stride, w);
+	rc = pc_npy_write(path, t, PC_DT_U8, 2, shape);
+	free(t);
+	return rc;
+}
+
 int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
 			   uint32_t height, const pc_stokes_folder_opts *opts)
 {
+	return pc_stokes_folder_write_valid(dir, st, width, height, opts, NULL);
+}
+
+int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
+				 uint32_t height, const pc_stokes_folder_opts *opts,
+				 const pc_validity *valid)
+{
+	if (valid && valid->mask && valid->row_stride < width)
+		return pc_error(PC_EINVAL, "Stokes folder: validity row stride %zu below the width %u",
+				valid->row_stride, width);
 	if (!dir || !st || !opts)
 		return pc_error(PC_EINVAL, "Stokes folder: missing argument");
 	int rc = pc_mkdir_p(dir);
@@ -144,8 +174,10 @@ int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t wi
 		rc = write_plane(dir, "dolp.npy", &st->dolp, width, height);
 	if (!rc && (opts->files & PC_SF_AOLP))
 		rc = write_plane(dir, "aolp.npy", &st->aolp, width, height);
+	if (!rc && valid && valid->mask)
+		rc = write_valid(dir, valid, width, height);
 	if (!rc && (opts->files & PC_SF_PICTURES))
-		rc = pc_pictures_write_opts(dir, st, width, height, &opts->pictures);
+		rc = pc_pictures_write_valid(dir, st, width, height, &opts->pictures, valid);
 	return rc;
 }
 

@@ -7,7 +7,10 @@
  *   s0.npy         float32 (H, W): S0
  *   dolp.npy       float32 (H, W): DoLP in [0, 1]
  *   aolp.npy       float32 (H, W): AoLP in radians, [0, π) (polarcam/stokes.h's convention)
- *   s0.png, dolp.png, aolp.png, aolp_sat.png   the pictures of pc_pictures_write_opts
+ *   valid.npy      uint8 (H, W): 1 valid, 0 where the value depends on a saturated, dead or
+ *                  distrusted sample (pc_stokes_folder_write_valid with a mask)
+ *   s0.png, dolp.png, aolp.png, aolp_sat.png   the pictures of pc_pictures_write_opts (invalid
+ *                  pixels marked, pc_pictures_write_valid)
  *
  * A Mueller folder (pc_mueller_folder_write) holds:
  *   mueller.npy    float32 (H, W, 4, 4) (unless left out)
@@ -64,6 +67,12 @@ typedef struct pc_stokes_folder_opts {
  * the others their plane) into dir, in the order of the table above. */
 PC_API int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
 			   uint32_t height, const pc_stokes_folder_opts *opts);
+
+/* The same with a validity mask (valid may be NULL, or its mask NULL: none): valid.npy is
+ * written after the .npy files and the pictures mark the invalid pixels. */
+PC_API int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
+				 uint32_t height, const pc_stokes_folder_opts *opts,
+				 const pc_validity *valid);
 
 /* ---- Mueller folders ---- */
 
