@@ -59,7 +59,11 @@ double pc_process_saturation(const pc_process_opts *o, pc_pixfmt format, unsigne
 {
 	if (o->saturation_level > 0)
 		return o->saturation_level;
-	if (o->saturation_level < 0 || format == PC_FMT_FLOAT32 || bits == 0 || bits > 16)
+	if (o->saturation_level < 0)
+		return 0;
+	if (o->stage)
+		return o->stage->saturation_level > 0 ? o->stage->saturation_level : 0;
+	if (format == PC_FMT_FLOAT32 || bits == 0 || bits > 16)
 		return 0;
 	return (double)((1u << bits) - 1u);
 }

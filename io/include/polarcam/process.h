@@ -49,7 +49,8 @@ typedef struct pc_raw_stage {
 	int (*run)(void *user, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,
 		   const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid);
 	void *user;
-	const char *name; /* for meta.json ("calibration") */
+	const char *name;        /* for meta.json ("calibration") */
+	double saturation_level; /* the stage's default saturation level (raw units; 0: none) */
 } pc_raw_stage;
 
 /* How a raw file is processed. */
@@ -59,8 +60,9 @@ typedef struct pc_process_opts {
 	pc_demosaic_opts demosaic; /* threads, reference */
 	/* the raw's levels (pc_pipeline_opts, polarcam/demosaic.h), raw units */
 	double black_level;      /* subtracted from every sample; 0: none */
-	double saturation_level; /* samples >= it are saturated; 0: the raw's full scale (2^bits − 1
-				  * for integer raws, none for float32 ones); < 0: not checked */
+	double saturation_level; /* samples >= it are saturated; 0: the stage's level, else the
+				  * raw's full scale (2^bits − 1 for integer raws, none for float32
+				  * ones); < 0: not checked */
 	double dead_level;       /* samples <= it are dead; 0: not checked */
 	uint32_t roi_x, roi_y;   /* the frame's ROI origin on the sensor (for stage checks) */
 	const pc_raw_stage *stage; /* NULL: the front door with the levels above */
