@@ -72,7 +72,7 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 		for (uint32_t x = 0; x < width; x++)
 			n_bad += !vm[(size_t)y * vs + x];
 	char bad_note[80] = "";
-	snprintf(bad_note, sizeof bad_note, "invalid %zu (%.2g%%)", n_bad,
+	snprintf(bad_note, sizeof bad_note, "invalid %.2g%%",
 		 100.0 * (double)n_bad / ((double)width * height));
 	pc_legend_note bad = { bad_note, pc_picture_invalid_rgb, NULL };
 	pc_legend_note note = { mask_note, pc_picture_mask_rgb, n_bad ? &bad : NULL };

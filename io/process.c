@@ -181,6 +181,28 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 static const char *const process_files[] = { "stokes.npy", "dolp.npy", "aolp.npy", "s0.png",
 					     "dolp.png",   "aolp.png", "aolp_sat.png", "valid.npy" };
 
+/* Means of S0 and DoLP over the valid pixels (all pixels without a mask): invalid ones depend
+ * on saturated or dead samples and stay out of the statistics. */
+static json_t *valid_stats(const pc_stokes_out *so, uint32_t w, uint32_t h, const pc_validity *v)
+{
+	double s0 = 0, dolp = 0;
+	uint64_t n = 0;
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++) {
+			if (v->mask && !v->mask[(size_t)y * v->row_stride + x])
+				continue;
+			s0 += so->s0.data[(size_t)y * so->s0.row_stride + (size_t)x * so->s0.pixel_stride];
+			dolp += so->dolp.data[(size_t)y * so->dolp.row_stride +
+					      (size_t)x * so->dolp.pixel_stride];
+			n++;
+		}
+	json_t *j = json_object();
+	json_object_set_new(j, "pixels", json_integer((json_int_t)n));
+	json_object_set_new(j, "s0_mean", n ? pc_json_real(s0 / (double)n) : json_null());
+	json_object_set_new(j, "dolp_mean", n ? pc_json_real(dolp / (double)n) : json_null());
+	return j;
+}
+
 /* meta.json of a processed frame */
 static json_t *process_meta(const pc_raw_input *in, const pc_process_opts *o, uint32_t rw,
 			    uint32_t rh, unsigned bits, double seconds, double sat,
@@ -253,6 +275,7 @@ int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char
 	if ((rc = pc_stokes_folder_write_valid(dir, &so, w, h, folder, &valid)))
 		goto out;
 	json_t *j = process_meta(in, o, rw, rh, bits, t_pipe, sat, &valid);
+	json_object_set_new(j, "valid_statistics", valid_stats(&so, w, h, &valid));
 	char *txt = json_dumps(j, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
 	char path[4096];
 	if (!txt)

@@ -93,7 +93,8 @@ PC_API int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, co
 /* Raw file → Stokes folder in dir (pc_stokes_folder_write_valid with files, pictures as given;
  * valid.npy when a level is checked) plus dir/meta.json: input, width, height, bits, layout,
  * method, reference, black_level, saturation_level, dead_level, invalid_pixels, calibration,
- * pipeline_seconds, aolp_convention, files. meta (may be NULL) receives meta.json's content as
+ * pipeline_seconds, aolp_convention, files, valid_statistics (pixels, s0_mean, dolp_mean over
+ * the valid pixels only). meta (may be NULL) receives meta.json's content as
  * one compact line (malloc'd). Nothing is written unless the computation succeeded. */
 PC_API int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
 		    const pc_stokes_folder_opts *folder, char **meta);
