@@ -11,7 +11,8 @@
  *   - bad calibration input (another ROI, another size, a colour mosaic, a corrupt file, a black
  *     level given twice): a non-zero exit status and nothing written;
  *   - capture --process and view: the simulator's declared black level, the calibration
- *     applied (the stimulus's DoLP), a mismatch refused before anything is recorded. */
+ *     applied (the stimulus's DoLP), a mismatch refused before anything is recorded;
+ *   - mueller: a pixel saturated in any frame is in valid.npy, values unchanged. */
 #include <jansson.h>
 #include <math.h>
 #include <stdarg.h>
@@ -215,6 +216,29 @@ static void black_level(void)
 	pc_array_free(&a0);
 }
 
+/* The expected bilinear validity: a pixel is invalid when its 3×3 neighbourhood (mirrored at
+ * the borders: -1 reads 1, W reads W-2) holds a sample >= sat; ANDed into want. Returns the
+ * number of such samples. */
+static size_t sat_mask(const pc_view *raw, unsigned sat, uint8_t *want)
+{
+	const int W = (int)raw->width, H = (int)raw->height;
+	size_t n_sat = 0;
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			bool ok = true;
+			for (int dy = -1; dy <= 1; dy++)
+				for (int dx = -1; dx <= 1; dx++) {
+					int yy = y + dy, xx = x + dx;
+					yy = yy < 0 ? -yy : yy >= H ? 2 * H - 2 - yy : yy;
+					xx = xx < 0 ? -xx : xx >= W ? 2 * W - 2 - xx : xx;
+					ok &= PC_ROW(raw, const uint16_t, (uint32_t)yy)[xx] < sat;
+				}
+			want[(size_t)y * (size_t)W + (size_t)x] &= ok;
+			n_sat += PC_ROW(raw, const uint16_t, (uint32_t)y)[x] >= sat;
+		}
+	return n_sat;
+}
+
 /* ---- 2: saturated samples in the mask, out of the statistics ---- */
 static void saturation(void)
 {
@@ -233,24 +257,11 @@ static void saturation(void)
 	unsigned bits = 0;
 	CHECK_EQ_INT(pc_image_read_mosaic(P("rb/raw_000000.png"), NULL, 0, &raw, &bits), 0);
 	CHECK_EQ_INT(bits, 12);
-	/* the expected mask: a pixel is invalid when its 3×3 neighbourhood (mirrored at the
-	 * borders: -1 reads 1, W reads W-2) holds a sample at 4095 */
 	uint8_t *want = malloc(n);
-	size_t n_sat = 0, n_want = 0;
-	for (uint32_t y = 0; y < H; y++)
-		for (uint32_t x = 0; x < W; x++) {
-			bool ok = true;
-			for (int dy = -1; dy <= 1; dy++)
-				for (int dx = -1; dx <= 1; dx++) {
-					int yy = (int)y + dy, xx = (int)x + dx;
-					yy = yy < 0 ? -yy : yy >= (int)H ? 2 * (int)H - 2 - yy : yy;
-					xx = xx < 0 ? -xx : xx >= (int)W ? 2 * (int)W - 2 - xx : xx;
-					ok &= PC_ROW(&raw, const uint16_t, (uint32_t)yy)[xx] < 4095;
-				}
-			want[(size_t)y * W + x] = ok;
-			n_want += !ok;
-			n_sat += PC_ROW(&raw, const uint16_t, y)[x] >= 4095;
-		}
+	memset(want, 1, n);
+	size_t n_sat = sat_mask(&raw, 4095, want), n_want = 0;
+	for (size_t p = 0; p < n; p++)
+		n_want += !want[p];
 	pc_view_free(&raw);
 	pc_array av, at, ad, adn;
 	bool got = pc_npy_read(P("pb/valid.npy"), &av) == 0 && av.dtype == PC_DT_U8 &&
@@ -388,6 +399,55 @@ static void calibrated(void)
 	CHECK(!exists(P("bad6")));
 }
 
+/* ---- 6: polarcam mueller: a pixel saturated in any frame is invalid ---- */
+static void mueller(void)
+{
+	char sp[1024];
+	snprintf(sp, sizeof sp, "%s/scenes/linear_psg.json", getenv("PC_SOURCE_DIR"));
+	CHECK_EQ_INT(run_cli("render", sp, "-o", P("lp"), "--roi", "200,200,48,48", "--no-truth",
+			 NULL), 0);
+	CHECK_EQ_INT(run_cli("mueller", P("lp"), "-o", P("m_s"), "--saturation", "1500", NULL), 0);
+	CHECK_EQ_INT(run_cli("mueller", P("lp"), "-o", P("m_n"), "--saturation", "none", NULL), 0);
+	const size_t n = 48 * 48;
+	uint8_t want[48 * 48];
+	memset(want, 1, n);
+	size_t frames = 0;
+	for (;; frames++) {
+		char f[64];
+		snprintf(f, sizeof f, "lp/raw_%06zu.png", frames);
+		if (!exists(P(f)))
+			break;
+		pc_view raw;
+		unsigned bits;
+		if (pc_image_read_mosaic(P(f), NULL, 0, &raw, &bits))
+			break;
+		sat_mask(&raw, 1500, want);
+		pc_view_free(&raw);
+	}
+	size_t n_want = 0;
+	for (size_t p = 0; p < n; p++)
+		n_want += !want[p];
+	char js[1200];
+	snprintf(js, sizeof js, "%s/mueller.json", P("m_s"));
+	json_t *j = json_load_file(js, 0, NULL);
+	double got = json_number_value(json_object_get(j, "pixels_invalid"));
+	json_decref(j);
+	printf("mueller: %zu frames, pixels with a sample >= 1500 DN in a frame's 3x3: %zu, "
+	       "reported %.0f\n", frames, n_want, got);
+	CHECK(frames >= 3 && n_want > 0 && n_want < n);
+	CHECK_NEAR(got, (double)n_want, 0);
+	pc_array av, a1, a2;
+	CHECK(pc_npy_read(P("m_s/valid.npy"), &av) == 0 && av.dtype == PC_DT_U8 &&
+	      pc_array_count(&av) == n && memcmp(av.data, want, n) == 0);
+	CHECK(!exists(P("m_n/valid.npy")));
+	/* nothing clamped: the maps are those computed without the check */
+	const float *d1 = load_f32(P("m_s/D.npy"), n, &a1), *d2 = load_f32(P("m_n/D.npy"), n, &a2);
+	CHECK(d1 && d2 && memcmp(d1, d2, n * sizeof *d1) == 0);
+	pc_array_free(&av);
+	pc_array_free(&a1);
+	pc_array_free(&a2);
+}
+
 /* ---- 5: the live paths: capture --process and view ---- */
 static json_t *meta_json(const char *dir)
 {
@@ -453,6 +513,7 @@ int main(void)
 	saturation();
 	calibrated();
 	live();
+	mueller();
 	char rm[1200];
 	snprintf(rm, sizeof rm, "rm -rf '%s'", tmp);
 	if (!pc_test_failures && system(rm))

@@ -16,6 +16,8 @@
  *   mueller.npy    float32 (H, W, 4, 4) (unless left out)
  *   D, R, Delta    .npy (H, W) float32 and .png (grey, with a colour bar; NaN magenta)
  *   rebuild_residual.npy/.png   when the circular entries were rebuilt
+ *   valid.npy      uint8 (H, W) when levels were checked: 0 where a frame's sample was
+ *                  saturated or dead (marked in the D, R, Delta pictures)
  *   mueller.json   condition numbers, noise gains, pixel counts (see pc_mueller_folder_write)
  *
  * The figures folder (pc_figures_write) holds figNN.csv (x and one column per curve, then the
@@ -86,7 +88,7 @@ typedef struct pc_mueller_folder_opts {
 
 /* Writes res into dir. mueller.json holds frames, width, height, method, black_level, cond_A,
  * cond_G, cond_W, rank_A, rank_G, noise_gain, pixels_D_singular, pixels_nonphysical_filtered,
- * pixels_undecomposable, determined, rebuild_circular (and when rebuilt: rebuild_tol,
+ * pixels_undecomposable, determined, saturation_level, pixels_invalid, rebuild_circular (and when rebuilt: rebuild_tol,
  * pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may be NULL) receives its
  * content as one compact line (malloc'd). */
 PC_API int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
