@@ -795,6 +795,35 @@ int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_
 	return 0;
 }
 
+/* per-pixel pseudo-inverses in place (pc_calib_pinv) */
+typedef struct pinv_ctx {
+	float *buf;
+	size_t np;
+	uint32_t W;
+	uint32_t *bad; /* per row: 1 + the first singular pixel's x, or 0 */
+} pinv_ctx;
+
+static void pinv_rows(void *vctx, uint32_t y0, uint32_t y1)
+{
+	const pinv_ctx *c = vctx;
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x = 0; x < c->W; x++) {
+			size_t p = (size_t)y * c->W + x;
+			double w[4][3], pinv[3][4];
+			for (int ch = 0; ch < 4; ch++)
+				for (int k = 0; k < 3; k++)
+					w[ch][k] = c->buf[(size_t)(4 * k + ch) * c->np + p];
+			if (pc_stokes_pinv1(w, pinv)) {
+				if (!c->bad[y])
+					c->bad[y] = x + 1;
+				continue;
+			}
+			for (int i = 0; i < 3; i++)
+				for (int ch = 0; ch < 4; ch++)
+					c->buf[(size_t)(4 * i + ch) * c->np + p] = (float)pinv[i][ch];
+		}
+}
+
 static bool is_superpixel(pc_demosaic_method m)
 {
 	return m == PC_DM_SUPERPIXEL || m == PC_DM_SUPERPIXEL_HALF;
@@ -823,45 +852,50 @@ int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_anal
 	if (ow != W || oh != H)
 		return pc_error(PC_ENOTSUP, "calibrated Stokes for a method with output %ux%u", ow, oh);
 	const size_t np = (size_t)W * H;
-	float *map = malloc(np * sizeof *map), *ch = malloc(4 * np * sizeof *ch);
-	float *wm = malloc(12 * np * sizeof *wm);
+	/* in place: component k of the analysis vectors demosaicked into planes 4k..4k+3 (W's
+	 * element (c, k) at (4k + c)·np), then per pixel the pseudo-inverse's element (i, c) into
+	 * (4i + c)·np - the same twelve slots */
+	free(cal->pinv_px);
+	cal->pinv_px = NULL;
+	cal->pinv_method = -1;
+	float *buf = malloc(12 * np * sizeof *buf), *map = malloc(np * sizeof *map);
+	uint32_t *bad = calloc(H, sizeof *bad);
 	int rc = 0;
-	if (!map || !ch || !wm) {
+	if (!buf || !map || !bad) {
 		rc = pc_error(PC_ENOMEM, "per-pixel analysis matrices (%zu pixels)", np);
 		goto out;
 	}
 	pc_demosaic_opts dopt = { .threads = threads };
-	for (int k = 0; k < 3; k++) {
+	for (int k = 0; k < 3 && !rc; k++) {
 		for (size_t p = 0; p < np; p++)
-			map[p] = cal->analysis[3 * p + k];
+			map[p] = cal->analysis[3 * p + (size_t)k];
 		pc_view v = { map, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
 		pc_fplane planes[4];
-		pc_fplanes_separate(ch, W, H, 4, planes);
-		if ((rc = pc_demosaic(&v, &cal->geo.mosaic, method, &dopt, planes)))
+		pc_fplanes_separate(buf + (size_t)k * 4 * np, W, H, 4, planes);
+		rc = pc_demosaic(&v, &cal->geo.mosaic, method, &dopt, planes);
+	}
+	if (rc)
+		goto out;
+	pinv_ctx pc = { buf, np, W, bad };
+	pc_parallel_rows(H, 0, threads, pinv_rows, &pc);
+	for (uint32_t y = 0; y < H; y++)
+		if (bad[y]) {
+			uint32_t x = bad[y] - 1;
+			rc = pc_error(PC_ENUMERIC, "calibration: the analyser matrix of output pixel "
+						   "(%u,%u) is singular (its demosaicked analysis vectors do "
+						   "not span S1, S2)", x, y);
 			goto out;
-		for (size_t p = 0; p < np; p++)
-			for (int c = 0; c < 4; c++)
-				wm[12 * p + 3 * c + k] = ch[(size_t)c * np + p];
-	}
-	free(cal->pinv_px);
-	cal->pinv_px = malloc(12 * np * sizeof(float));
-	if (!cal->pinv_px) {
-		rc = pc_error(PC_ENOMEM, "per-pixel pseudo-inverses");
-		goto out;
-	}
-	if ((rc = pc_stokes_pinv(wm, np, cal->pinv_px))) {
-		free(cal->pinv_px);
-		cal->pinv_px = NULL;
-		goto out;
-	}
+		}
+	cal->pinv_px = buf;
+	buf = NULL;
 	cal->pinv_method = (int)method;
 	pinv->m = cal->pinv_px;
 	pinv->grid_w = W;
 	pinv->grid_h = H;
 out:
+	free(buf);
 	free(map);
-	free(ch);
-	free(wm);
+	free(bad);
 	return rc;
 }
 
