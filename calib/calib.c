@@ -29,6 +29,10 @@ void pc_calib_free(pc_calib *cal)
 	free(cal->valid);
 	free(cal->provenance);
 	free(cal->pinv_px);
+	free(cal->apply_ig);
+	free(cal->apply_corr);
+	free(cal->apply_flag);
+	free(cal->apply_rows);
 	pc_calib_init(cal);
 }
 
@@ -52,6 +56,9 @@ int pc_calib_copy(pc_calib *dst, const pc_calib *src)
 	t.provenance = NULL;
 	t.pinv_px = NULL;
 	t.pinv_method = -1;
+	t.apply_ig = t.apply_corr = NULL;
+	t.apply_flag = NULL;
+	t.apply_rows = NULL;
 	size_t np = (size_t)src->geo.width * src->geo.height;
 	int rc;
 	if ((rc = dup_map((void **)&t.dark, src->dark, np * 4)) ||
@@ -788,6 +795,35 @@ int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_
 	return 0;
 }
 
+/* per-pixel pseudo-inverses in place (pc_calib_pinv) */
+typedef struct pinv_ctx {
+	float *buf;
+	size_t np;
+	uint32_t W;
+	uint32_t *bad; /* per row: 1 + the first singular pixel's x, or 0 */
+} pinv_ctx;
+
+static void pinv_rows(void *vctx, uint32_t y0, uint32_t y1)
+{
+	const pinv_ctx *c = vctx;
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x = 0; x < c->W; x++) {
+			size_t p = (size_t)y * c->W + x;
+			double w[4][3], pinv[3][4];
+			for (int ch = 0; ch < 4; ch++)
+				for (int k = 0; k < 3; k++)
+					w[ch][k] = c->buf[(size_t)(4 * k + ch) * c->np + p];
+			if (pc_stokes_pinv1(w, pinv)) {
+				if (!c->bad[y])
+					c->bad[y] = x + 1;
+				continue;
+			}
+			for (int i = 0; i < 3; i++)
+				for (int ch = 0; ch < 4; ch++)
+					c->buf[(size_t)(4 * i + ch) * c->np + p] = (float)pinv[i][ch];
+		}
+}
+
 static bool is_superpixel(pc_demosaic_method m)
 {
 	return m == PC_DM_SUPERPIXEL || m == PC_DM_SUPERPIXEL_HALF;
@@ -816,45 +852,50 @@ int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_anal
 	if (ow != W || oh != H)
 		return pc_error(PC_ENOTSUP, "calibrated Stokes for a method with output %ux%u", ow, oh);
 	const size_t np = (size_t)W * H;
-	float *map = malloc(np * sizeof *map), *ch = malloc(4 * np * sizeof *ch);
-	float *wm = malloc(12 * np * sizeof *wm);
+	/* in place: component k of the analysis vectors demosaicked into planes 4k..4k+3 (W's
+	 * element (c, k) at (4k + c)·np), then per pixel the pseudo-inverse's element (i, c) into
+	 * (4i + c)·np - the same twelve slots */
+	free(cal->pinv_px);
+	cal->pinv_px = NULL;
+	cal->pinv_method = -1;
+	float *buf = malloc(12 * np * sizeof *buf), *map = malloc(np * sizeof *map);
+	uint32_t *bad = calloc(H, sizeof *bad);
 	int rc = 0;
-	if (!map || !ch || !wm) {
+	if (!buf || !map || !bad) {
 		rc = pc_error(PC_ENOMEM, "per-pixel analysis matrices (%zu pixels)", np);
 		goto out;
 	}
 	pc_demosaic_opts dopt = { .threads = threads };
-	for (int k = 0; k < 3; k++) {
+	for (int k = 0; k < 3 && !rc; k++) {
 		for (size_t p = 0; p < np; p++)
-			map[p] = cal->analysis[3 * p + k];
+			map[p] = cal->analysis[3 * p + (size_t)k];
 		pc_view v = { map, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
 		pc_fplane planes[4];
-		pc_fplanes_separate(ch, W, H, 4, planes);
-		if ((rc = pc_demosaic(&v, &cal->geo.mosaic, method, &dopt, planes)))
+		pc_fplanes_separate(buf + (size_t)k * 4 * np, W, H, 4, planes);
+		rc = pc_demosaic(&v, &cal->geo.mosaic, method, &dopt, planes);
+	}
+	if (rc)
+		goto out;
+	pinv_ctx pc = { buf, np, W, bad };
+	pc_parallel_rows(H, 0, threads, pinv_rows, &pc);
+	for (uint32_t y = 0; y < H; y++)
+		if (bad[y]) {
+			uint32_t x = bad[y] - 1;
+			rc = pc_error(PC_ENUMERIC, "calibration: the analyser matrix of output pixel "
+						   "(%u,%u) is singular (its demosaicked analysis vectors do "
+						   "not span S1, S2)", x, y);
 			goto out;
-		for (size_t p = 0; p < np; p++)
-			for (int c = 0; c < 4; c++)
-				wm[12 * p + 3 * c + k] = ch[(size_t)c * np + p];
-	}
-	free(cal->pinv_px);
-	cal->pinv_px = malloc(12 * np * sizeof(float));
-	if (!cal->pinv_px) {
-		rc = pc_error(PC_ENOMEM, "per-pixel pseudo-inverses");
-		goto out;
-	}
-	if ((rc = pc_stokes_pinv(wm, np, cal->pinv_px))) {
-		free(cal->pinv_px);
-		cal->pinv_px = NULL;
-		goto out;
-	}
+		}
+	cal->pinv_px = buf;
+	buf = NULL;
 	cal->pinv_method = (int)method;
 	pinv->m = cal->pinv_px;
 	pinv->grid_w = W;
 	pinv->grid_h = H;
 out:
+	free(buf);
 	free(map);
-	free(ch);
-	free(wm);
+	free(bad);
 	return rc;
 }
 
@@ -865,65 +906,197 @@ int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *
 	int rc;
 	if (g && (rc = pc_calib_check(cal, g)))
 		return rc;
-	const uint32_t W = cal->geo.width, H = cal->geo.height;
-	const size_t np = (size_t)W * H;
-	uint32_t ow, oh;
-	pc_demosaic_out_size(method, W, H, &ow, &oh);
-	float *corr = malloc(np * sizeof *corr);
-	float *vf = valid_out ? malloc(np * sizeof *vf) : NULL;
-	float *vch = valid_out ? malloc(4 * (size_t)ow * oh * sizeof *vch) : NULL;
-	uint8_t *vraw = malloc(np);
-	if (!corr || !vraw || (valid_out && (!vf || !vch))) {
-		rc = pc_error(PC_ENOMEM, "calibrated pipeline (%zu pixels)", np);
-		goto out;
-	}
-	size_t nbad = 0;
-	if ((rc = pc_calib_correct(cal, raw, corr, vraw, &nbad)))
-		goto out;
-	pc_view v = { corr, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
-	/* the core's front door: the fused paths apply the pseudo-inverses too */
+	pc_frame f;
+	memset(&f, 0, sizeof f);
+	f.view = *raw;
+	f.mosaic = cal->geo.mosaic;
+	f.meta.offset_x = cal->geo.offset_x;
+	f.meta.offset_y = cal->geo.offset_y;
 	pc_pipeline_opts po = pc_pipeline_defaults();
 	po.method = method;
 	po.mosaic = cal->geo.mosaic;
 	po.threads = threads;
-	po.full_scale = cal->saturation > 0 ? cal->saturation : 0;
+	po.saturation_level = cal->saturation;
+	uint32_t ow, oh;
+	pc_demosaic_out_size(method, cal->geo.width, cal->geo.height, &ow, &oh);
+	pc_validity v = { valid_out, ow, 0 };
+	rc = pc_calib_apply(cal, &f, g ? g->bits : 0, &po, out, NULL,
+			    valid_out || n_invalid ? &v : NULL);
+	if (!rc && n_invalid)
+		*n_invalid = (size_t)v.n_invalid;
+	return rc;
+}
+
+/* ---- the calibration as a pipeline stage (pc_calib_apply) ---- */
+
+typedef struct apply_ctx {
+	const pc_calib *cal;
+	const pc_view *raw;
+	int kind;         /* 0: Mono8, 1: 16-bit container, 2: float32, 3: already in corr */
+	unsigned maxv;    /* integer formats: the largest value the bit depth allows */
+	double sat, dead; /* raw units; sat INFINITY / dead -INFINITY: not checked */
+	float *corr;
+	uint8_t *flag;
+	uint32_t *rows;   /* per row: flagged samples; rows[H + y]: values out of range */
+} apply_ctx;
+
+/* corr = (raw − dark)·(1/gain), flag = 1 where the sample is saturated, dead or invalid in the
+ * calibration (the model of polarcam/calib.h) */
+static void apply_rows(void *vctx, uint32_t y0, uint32_t y1)
+{
+	const apply_ctx *c = vctx;
+	const pc_calib *cal = c->cal;
+	const uint32_t W = cal->geo.width, H = cal->geo.height;
+	const float black = (float)cal->black_level;
+	const float sat = (float)c->sat, dead = (float)c->dead;
+	for (uint32_t y = y0; y < y1; y++) {
+		const size_t o = (size_t)y * W;
+		const float *dk = cal->dark ? cal->dark + o : NULL;
+		const float *ig = cal->apply_ig ? cal->apply_ig + o : NULL;
+		const uint8_t *cv = cal->valid ? cal->valid + o : NULL;
+		const uint8_t *r8 = (const uint8_t *)c->raw->data + (size_t)y * c->raw->stride;
+		const uint16_t *r16 = (const uint16_t *)(const void *)r8;
+		const float *rf = (const float *)(const void *)r8;
+		float *out = c->corr + o;
+		uint8_t *fl = c->flag + o;
+		uint32_t nb = 0, nr = 0;
+		for (uint32_t x = 0; x < W; x++) {
+			float v = c->kind == 0 ? (float)r8[x]
+				  : c->kind == 1 ? (float)r16[x]
+				  : c->kind == 2 ? rf[x] : out[x];
+			if (c->kind == 1 && r16[x] > c->maxv)
+				nr++;
+			if (c->kind == 2 && !isfinite(v)) {
+				nr++;
+				v = 0;
+			}
+			uint8_t bad = (uint8_t)((cv && !cv[x]) | (v >= sat) | (v <= dead));
+			fl[x] = bad;
+			nb += bad;
+			float d = (dk ? dk[x] : black);
+			out[x] = ig ? (v - d) * ig[x] : v - d;
+		}
+		c->rows[y] = nb;
+		c->rows[H + y] = nr;
+	}
+}
+
+int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,
+		   const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid)
+{
+	if (!cal || !f || !o || (!st && !ch))
+		return pc_error(PC_EINVAL, "calibrated pipeline: missing argument");
+	if (o->pinv)
+		return pc_error(PC_EINVAL, "calibrated pipeline: the analysers come from the "
+					   "calibration, not from the options");
+	if (o->black_level != 0)
+		return pc_error(PC_EINVAL, "calibrated pipeline: a black level of %g DN was given, but "
+					   "the calibration's dark map (or its black level, %g DN) is the "
+					   "black level; give one or the other", o->black_level,
+				cal->black_level);
+	const pc_view *raw = &f->view;
+	int rc = pc_view_check(raw);
+	if (rc)
+		return rc;
+	pc_calib_geometry g = { raw->width, raw->height, f->meta.offset_x, f->meta.offset_y, 0, 0,
+				bits, f->mosaic };
+	if (f->mosaic.period == 4)
+		return pc_error(PC_EINVAL, "frame of a colour-polarization mosaic: the calibration is "
+					   "for a monochrome polarizer mosaic (colour sensors are not "
+					   "calibrated yet)");
+	if ((rc = pc_calib_check(cal, &g)))
+		return rc;
+	const uint32_t W = cal->geo.width, H = cal->geo.height;
+	const size_t np = (size_t)W * H;
+	if (!cal->apply_corr) {
+		cal->apply_corr = malloc(np * sizeof(float));
+		cal->apply_flag = malloc(np);
+		cal->apply_rows = malloc(2 * (size_t)H * sizeof(uint32_t));
+		if (cal->gain)
+			cal->apply_ig = malloc(np * sizeof(float));
+		if (!cal->apply_corr || !cal->apply_flag || !cal->apply_rows ||
+		    (cal->gain && !cal->apply_ig)) {
+			free(cal->apply_corr);
+			free(cal->apply_flag);
+			free(cal->apply_rows);
+			free(cal->apply_ig);
+			cal->apply_corr = cal->apply_ig = NULL;
+			cal->apply_flag = NULL;
+			cal->apply_rows = NULL;
+			return pc_error(PC_ENOMEM, "calibrated pipeline (%zu pixels)", np);
+		}
+		for (size_t p = 0; cal->gain && p < np; p++)
+			cal->apply_ig[p] = cal->gain[p] > 0 ? 1.0f / cal->gain[p] : 1.0f;
+	}
+	const pc_format_info *fi = pc_format_info_get(raw->format);
+	apply_ctx c = { cal, raw, 3, 0, INFINITY, -INFINITY, cal->apply_corr, cal->apply_flag,
+			cal->apply_rows };
+	if (raw->format == PC_FMT_MONO8)
+		c.kind = 0;
+	else if (raw->format == PC_FMT_MONO10 || raw->format == PC_FMT_MONO12 ||
+		 raw->format == PC_FMT_MONO14 || raw->format == PC_FMT_MONO16)
+		c.kind = 1;
+	else if (raw->format == PC_FMT_FLOAT32)
+		c.kind = 2;
+	else if ((rc = pc_view_to_f32(raw, c.corr, (size_t)W * sizeof(float))))
+		return rc; /* packed formats: unpacked (and checked) first */
+	c.maxv = fi->is_float ? 0 : (1u << fi->bits) - 1u;
+	double sat = o->saturation_level;
+	if (sat > 0)
+		c.sat = sat;
+	if (o->dead_level > 0)
+		c.dead = o->dead_level;
+	pc_parallel_rows(H, 0, o->threads, apply_rows, &c);
+	uint64_t nflag = 0, nrange = 0;
+	for (uint32_t y = 0; y < H; y++) {
+		nflag += c.rows[y];
+		nrange += c.rows[H + y];
+	}
+	if (nrange)
+		return pc_error(PC_ERANGE, "%llu samples out of range (above the %u-bit range of %s, "
+					   "or not finite)", (unsigned long long)nrange, fi->bits, fi->name);
+	pc_view v = { c.corr, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
+	pc_pipeline_opts po = *o;
+	po.mosaic = cal->geo.mosaic;
+	po.black_level = 0;
+	po.saturation_level = po.dead_level = 0; /* flagged above, in raw units */
+	/* the signal's full scale for edge-aware weights: saturation above the black level */
+	po.full_scale = sat > cal->black_level ? sat - cal->black_level : 0;
 	pc_analyser_pinv pinv;
-	if (cal->parts & PC_CAL_ANALYSER) {
-		if ((rc = pc_calib_pinv(cal, method, threads, &pinv)))
-			goto out;
+	if (st && (cal->parts & PC_CAL_ANALYSER)) {
+		if ((rc = pc_calib_pinv(cal, o->method, o->threads, &pinv)))
+			return rc;
 		po.pinv = &pinv;
 	}
-	if ((rc = pc_stokes_run(&v, &po, out, NULL)))
-		goto out;
-	if (valid_out) {
-		/* an output pixel is valid when every sample it depends on is: demosaic the
-		 * validity as 0/1 and keep exact 1 (all weights on valid samples) */
-		for (size_t p = 0; p < np; p++)
-			vf[p] = vraw[p] ? 1.0f : 0.0f;
-		pc_view vv = { vf, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
-		pc_fplane vp[4];
-		pc_fplanes_separate(vch, ow, oh, 4, vp);
-		pc_demosaic_opts o2 = { .threads = threads, .full_scale = 1 };
-		pc_demosaic_method vm = is_superpixel(method) ? method : PC_DM_BILINEAR;
-		if ((rc = pc_demosaic(&vv, &cal->geo.mosaic, vm, &o2, vp)))
-			goto out;
-		size_t nb = 0;
-		const size_t on = (size_t)ow * oh;
-		for (size_t p = 0; p < on; p++) {
-			bool ok = true;
-			for (int c = 0; c < 4; c++)
-				ok &= vch[(size_t)c * on + p] > 0.9999f;
-			valid_out[p] = ok;
-			nb += !ok;
-		}
-		nbad = nb;
+	rc = st ? pc_stokes_run(&v, &po, st, NULL) : pc_demosaic_run(&v, &po, ch, NULL);
+	if (rc || !valid)
+		return rc;
+	uint32_t ow, oh;
+	pc_demosaic_out_size(o->method, W, H, &ow, &oh);
+	if (nflag == 0) {
+		/* nothing flagged: every output pixel is valid */
+		valid->n_invalid = 0;
+		for (uint32_t y = 0; valid->mask && y < oh; y++)
+			memset(valid->mask + (size_t)y * valid->row_stride, 1, ow);
+		return 0;
 	}
-	if (n_invalid)
-		*n_invalid = nbad;
-out:
-	free(corr);
-	free(vf);
-	free(vch);
-	free(vraw);
-	return rc;
+	/* an output pixel is invalid when a flagged sample lies in the method's support */
+	pc_view fv = { c.flag, W, H, W, PC_FMT_MONO8 };
+	pc_pipeline_opts vo = pc_pipeline_defaults();
+	vo.method = o->method;
+	vo.mosaic = cal->geo.mosaic;
+	vo.threads = o->threads;
+	vo.saturation_level = 1;
+	return pc_validity_run(&fv, &vo, valid);
+}
+
+static int stage_run(void *user, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,
+		     const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid)
+{
+	return pc_calib_apply(user, f, bits, o, st, ch, valid);
+}
+
+pc_raw_stage pc_calib_stage(pc_calib *cal, const char *name)
+{
+	return (pc_raw_stage){ stage_run, cal, name, cal->saturation };
 }

@@ -95,12 +95,28 @@ int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_f
 	if (rc)
 		return rc;
 	if (opts->pinv)
-		return pc_error(PC_EINVAL, "analyser pseudo-inverses apply to Stokes outputs "
-					   "(pc_stokes_run), not to demosaicked channels");
-	if ((rc = check_planes(&p, out)) || (rc = pc_dm_plan_check_validity(&p, valid)))
+		rc = pc_error(PC_EINVAL, "analyser pseudo-inverses apply to Stokes outputs "
+					 "(pc_stokes_run), not to demosaicked channels");
+	if (rc || (rc = check_planes(&p, out)) || (rc = pc_dm_plan_check_validity(&p, valid))) {
+		pc_dm_plan_end(&p);
 		return rc;
+	}
 	rc = pc_dm_plan_demosaic(&p, out);
 	if (!rc && valid)
+		rc = pc_dm_plan_validity(&p, valid);
+	pc_dm_plan_end(&p);
+	return rc;
+}
+
+int pc_validity_run(const pc_view *raw, const pc_pipeline_opts *opts, pc_validity *valid)
+{
+	if (!valid)
+		return pc_error(PC_EINVAL, "validity: no output given");
+	pc_dm_plan p;
+	int rc = pc_dm_plan_begin(raw, opts, &p);
+	if (rc)
+		return rc;
+	if (!(rc = pc_dm_plan_check_validity(&p, valid)))
 		rc = pc_dm_plan_validity(&p, valid);
 	pc_dm_plan_end(&p);
 	return rc;

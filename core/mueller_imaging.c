@@ -707,7 +707,9 @@ void pc_mueller_result_free(pc_mueller_result *res)
 	free(res->M);
 	free(res->maps);
 	free(res->residual);
+	free(res->valid);
 	res->M = res->maps = res->residual = NULL;
+	res->valid = NULL;
 }
 
 struct pc_mueller_run {
@@ -717,6 +719,9 @@ struct pc_mueller_run {
 	unsigned next;         /* the frame expected next */
 	uint32_t W, H, ow, oh; /* raw and demosaicked size (from frame 0) */
 	float *M, *planes;
+	uint8_t *valid, *fvalid; /* over all frames, of the current frame (levels checked) */
+	double sat;              /* resolved from frame 0 */
+	long invalid;
 };
 
 int pc_mueller_run_new(const pc_mueller_system *sys, const pc_mosaic *mosaic,
@@ -747,6 +752,8 @@ void pc_mueller_run_free(pc_mueller_run *run)
 		return;
 	free(run->M);
 	free(run->planes);
+	free(run->valid);
+	free(run->fvalid);
 	free(run);
 }
 
@@ -764,16 +771,35 @@ int pc_mueller_run_add(pc_mueller_run *r, unsigned frame, const pc_view *raw)
 		r->planes = malloc((size_t)r->ow * r->oh * 4 * sizeof *r->planes);
 		if (!r->M || !r->planes)
 			return pc_error(PC_ENOMEM, "Mueller images of %ux%u", r->ow, r->oh);
+		const pc_format_info *fi = pc_format_info_get(raw->format);
+		r->sat = r->o.saturation_level > 0 ? r->o.saturation_level
+			 : r->o.saturation_level < 0 || !fi || fi->is_float ? 0
+			 : (double)((1u << fi->bits) - 1u);
+		if (r->sat > 0 || r->o.dead_level > 0) {
+			r->valid = malloc((size_t)r->ow * r->oh);
+			r->fvalid = malloc((size_t)r->ow * r->oh);
+			if (!r->valid || !r->fvalid)
+				return pc_error(PC_ENOMEM, "validity of %ux%u", r->ow, r->oh);
+			memset(r->valid, 1, (size_t)r->ow * r->oh);
+		}
 	} else if (raw->width != r->W || raw->height != r->H) {
 		return pc_error(PC_EINVAL, "frame %u is %ux%u, frame 0 is %ux%u", frame, raw->width,
 				raw->height, r->W, r->H);
 	}
-	pc_demosaic_opts dopt = { r->o.threads, false, 0 };
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.method = r->o.method;
+	po.mosaic = r->mosaic;
+	po.threads = r->o.threads;
+	po.saturation_level = r->sat;
+	po.dead_level = r->o.dead_level > 0 ? r->o.dead_level : 0;
+	pc_validity fv = { r->fvalid, r->ow, 0 };
 	pc_fplane pl[4];
 	pc_fplanes_separate(r->planes, r->ow, r->oh, 4, pl);
-	int rc = pc_demosaic(raw, &r->mosaic, r->o.method, &dopt, pl);
+	int rc = pc_demosaic_run(raw, &po, pl, r->valid ? &fv : NULL);
 	if (rc)
 		return pc_error_prefix(rc, "frame %u: ", frame);
+	for (size_t k = 0; r->valid && fv.n_invalid && k < (size_t)r->ow * r->oh; k++)
+		r->valid[k] &= r->fvalid[k];
 	if (r->o.black_level != 0)
 		for (size_t k = 0; k < (size_t)r->ow * r->oh * 4; k++)
 			r->planes[k] -= (float)r->o.black_level;
@@ -818,5 +844,10 @@ int pc_mueller_run_finish(pc_mueller_run *r, pc_mueller_result *res)
 	res->rb_sign_undefined = rbc[1];
 	res->width = ow;
 	res->height = oh;
+	res->saturation_level = r->sat;
+	res->valid = r->valid;
+	r->valid = NULL;
+	for (size_t k = 0; res->valid && k < np; k++)
+		res->invalid += !res->valid[k];
 	return 0;
 }

@@ -2,6 +2,7 @@
 #include "polarcam/picture.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -203,6 +204,32 @@ size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t height,
 			pc_picture_mask_rgb(x, y, o + 3 * (size_t)x);
 			n++;
 		}
+	}
+	return n;
+}
+
+void pc_picture_invalid_rgb(uint32_t x, uint32_t y, uint8_t rgb[3])
+{
+	bool on = ((x / 2) + (y / 2)) % 2 == 0;
+	rgb[0] = on ? PC_PICTURE_INVALID_R : 0;
+	rgb[1] = on ? PC_PICTURE_INVALID_G : 0;
+	rgb[2] = on ? PC_PICTURE_INVALID_B : 0;
+}
+
+size_t pc_picture_mask_invalid(const uint8_t *valid, size_t valid_stride, uint32_t width,
+			       uint32_t height, uint8_t *rgb, size_t rgb_stride)
+{
+	size_t n = 0;
+	if (!valid || !rgb)
+		return 0;
+	for (uint32_t y = 0; y < height; y++) {
+		const uint8_t *v = valid + (size_t)y * valid_stride;
+		uint8_t *o = rgb + (size_t)y * rgb_stride;
+		for (uint32_t x = 0; x < width; x++)
+			if (!v[x]) {
+				pc_picture_invalid_rgb(x, y, o + 3 * (size_t)x);
+				n++;
+			}
 	}
 	return n;
 }

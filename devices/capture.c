@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "polarcam/capture.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,6 +22,7 @@ typedef struct capture {
 	pc_recording *rec;
 	pc_stokes_stream *live;
 	const char *method; /* name, with process */
+	double black;       /* DN: given, or what the source declares; 0: unknown */
 	double seconds, proc_sum, proc_max;
 	pc_capture_report *rep;
 } capture;
@@ -46,6 +48,21 @@ static void fail(capture *c, int code, const char *fmt, ...)
 	va_end(ap);
 }
 
+/* meta.json's extra: the sensor's black level when known, the process report */
+static void set_extra(capture *c, json_t *process)
+{
+	json_t *extra = json_object();
+	if (c->black > 0)
+		json_object_set_new(extra, "sensor", json_pack("{s:f}", "offset_dn", c->black));
+	if (process)
+		json_object_set(extra, "process", process);
+	char *t = json_object_size(extra) ? pc_json_text(extra) : NULL;
+	if (t)
+		pc_recording_set_json(c->rec, "extra", t);
+	free(t);
+	json_decref(extra);
+}
+
 /* The source, the method and the recording: nothing recorded when one of them is refused. */
 static int open_all(capture *c)
 {
@@ -63,8 +80,18 @@ static int open_all(capture *c)
 			return rc;
 		c->method = pc_demosaic_method_get(m)->name;
 	}
-	if (o->process && (rc = pc_stokes_stream_new(m, &c->live)))
+	if (!o->process && o->levels.calibration)
+		return pc_error(PC_EINVAL, "--calibration applies to --process (the recording keeps "
+					   "the raw frames)");
+	if (o->process && ((rc = pc_stokes_stream_new(m, &c->live)) ||
+			   (rc = pc_stokes_stream_set_levels(c->live, &o->levels, c->src))))
 		return rc;
+	/* the black level, for whoever processes the recording later */
+	pc_source_info info;
+	c->black = isnan(o->levels.black_level) ? 0 : o->levels.black_level;
+	if (isnan(o->levels.black_level) && pc_source_get_info(c->src, &info) == 0)
+		c->black = info.black_level;
+	pc_error_clear();
 	pc_recording_desc d;
 	memset(&d, 0, sizeof d);
 	d.source = o->stream.uri;
@@ -80,6 +107,7 @@ static int open_all(capture *c)
 	d.mosaic = c->f.mosaic;
 	if ((rc = pc_recording_create(&c->rec, o->dir, &d, o->overwrite)))
 		return pc_error_prefix(rc, "creating the recording: ");
+	set_extra(c, NULL);
 	return 0;
 }
 
@@ -150,27 +178,33 @@ static json_t *processed(capture *c)
 	snprintf(pdir, sizeof pdir, "%s/processed", c->o->dir);
 	pc_stokes_folder_opts fo = { PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP | PC_SF_PICTURES,
 				     { "capture", 0, 0 } };
-	int rc = pc_stokes_folder_write(pdir, so, w, h, &fo);
+	const pc_validity *valid = pc_stokes_stream_validity(c->live);
+	int rc = pc_stokes_folder_write_valid(pdir, so, w, h, &fo, valid);
 	if (rc)
 		fail(c, rc, "writing the processed pictures: %s", pc_error_detail());
-	double sum = 0;
+	/* the mean DoLP of the valid pixels: invalid ones depend on saturated samples */
+	double sum = 0, nv = 0;
 	for (size_t i = 0; i < (size_t)w * h; i++)
-		sum += so->dolp.data[i];
+		if (!valid->mask || valid->mask[i]) {
+			sum += so->dolp.data[i];
+			nv++;
+		}
+	double black, sat;
+	const char *calib;
+	pc_stokes_stream_levels_used(c->live, &black, &sat, &calib);
 	json_t *pj = json_object();
+	json_object_set_new(pj, "black_level", pc_json_real(black));
+	json_object_set_new(pj, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
+	json_object_set_new(pj, "calibration", calib ? json_string(calib) : json_null());
+	json_object_set_new(pj, "last_invalid_pixels", json_integer((json_int_t)valid->n_invalid));
 	json_object_set_new(pj, "method", json_string(c->method));
 	json_object_set_new(pj, "frames", json_integer((json_int_t)got));
 	json_object_set_new(pj, "mean_ms", pc_json_real(1e3 * c->proc_sum / (double)got));
 	json_object_set_new(pj, "max_ms", pc_json_real(1e3 * c->proc_max));
-	json_object_set_new(pj, "last_mean_dolp", pc_json_real(sum / ((double)w * h)));
+	json_object_set_new(pj, "last_mean_dolp", nv > 0 ? pc_json_real(sum / nv) : json_null());
 	json_object_set_new(pj, "width", json_integer(w));
 	json_object_set_new(pj, "height", json_integer(h));
-	json_t *extra = json_object();
-	json_object_set(extra, "process", pj);
-	char *t = pc_json_text(extra);
-	if (t)
-		pc_recording_set_json(c->rec, "extra", t);
-	free(t);
-	json_decref(extra);
+	set_extra(c, pj);
 	return pj;
 }
 
@@ -213,7 +247,7 @@ static void finish(capture *c, json_t *pj)
 int pc_capture(const pc_capture_opts *o, pc_capture_report *rep)
 {
 	memset(rep, 0, sizeof *rep);
-	capture c = { o, NULL, { 0 }, NULL, NULL, NULL, 0, 0, 0, rep };
+	capture c = { o, NULL, { 0 }, NULL, NULL, NULL, 0, 0, 0, 0, rep };
 	int rc = open_all(&c);
 	if (!rc) {
 		record(&c);

@@ -335,7 +335,7 @@ static int mueller_frames(pc_demo *d, pc_sim *msim, const pc_sim_info *in, uint8
 	pc_sim_get_states(msim, &st);
 	pc_mueller_system sys;
 	int rc = pc_mueller_system_init(&sys, st.n_psg, st.psg, st.n_psa, st.psa, st.analyser);
-	pc_mueller_run_opts ro = { PC_DM_BILINEAR, 0, d->o.threads, { PC_REBUILD_OFF, 0 } };
+	pc_mueller_run_opts ro = { PC_DM_BILINEAR, 0, d->o.threads, { PC_REBUILD_OFF, 0 }, 0, 0 };
 	pc_mueller_run *run = NULL;
 	if (!rc)
 		rc = pc_mueller_run_new(&sys, &in->mosaic, &ro, &run);

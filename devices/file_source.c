@@ -82,6 +82,7 @@ static int f_info(pc_source *s, pc_source_info *info)
 	snprintf(info->serial, sizeof info->serial, "%s",
 	         f->desc->source ? f->desc->source : "(unknown source)");
 	info->mosaic = f->desc->mosaic;
+	info->black_level = pc_recording_black_level(f->rec);
 	return 0;
 }
 

@@ -366,6 +366,15 @@ double pc_recording_black_level(const pc_recording *r)
 
 int pc_recording_frame_mosaic(const char *path, pc_mosaic *m)
 {
+	pc_recording_frame_meta fm;
+	int found = pc_recording_frame_info(path, &fm);
+	if (found && fm.polarized)
+		*m = fm.mosaic;
+	return found && fm.polarized;
+}
+
+int pc_recording_frame_info(const char *path, pc_recording_frame_meta *fm)
+{
 	const char *slash = strrchr(path, '/');
 	const char *file = slash ? slash + 1 : path;
 	char dir[4096];
@@ -393,10 +402,19 @@ int pc_recording_frame_mosaic(const char *path, pc_mosaic *m)
 	}
 	int found = 0;
 	const pc_recording_desc *d = pc_recording_get_desc(r);
-	for (size_t i = 0; d->polarized && !found && i < pc_recording_count(r); i++)
+	for (size_t i = 0; !found && i < pc_recording_count(r); i++)
 		found = !strcmp(pc_recording_get_frame(r, i)->file, file);
-	if (found)
-		*m = d->mosaic;
+	if (found) {
+		memset(fm, 0, sizeof *fm);
+		fm->mosaic = d->mosaic;
+		fm->polarized = d->polarized;
+		fm->black_level = pc_recording_black_level(r);
+		fm->bits = pc_format_info_get(d->format)->bits;
+		fm->offset_x = d->offset_x;
+		fm->offset_y = d->offset_y;
+		fm->sensor_width = d->sensor_width;
+		fm->sensor_height = d->sensor_height;
+	}
 	pc_recording_free(r);
 	return found;
 }

@@ -55,7 +55,9 @@ static int open_all(viewer *v)
 	if ((rc = pc_process_method(v->o->method, &f.mosaic, &m)))
 		return rc;
 	v->method = pc_demosaic_method_get(m)->name;
-	return pc_stokes_stream_new(m, &v->live);
+	if ((rc = pc_stokes_stream_new(m, &v->live)))
+		return rc;
+	return pc_stokes_stream_set_levels(v->live, &v->o->levels, v->src);
 }
 
 /* One frame on screen: 1 to go on, 0 when the user quit, < 0 on an error. */
@@ -162,6 +164,17 @@ int pc_viewer_run(const pc_viewer_opts *o, pc_viewer_report *rep)
 		json_object_set_new(j, "process_ms",
 				    pc_json_real(shown ? 1e3 * v.proc_total / (double)shown : 0));
 		json_object_set_new(j, "window", json_boolean(v.win != NULL));
+		double black = 0, sat = 0;
+		const char *calib = NULL;
+		if (v.live)
+			pc_stokes_stream_levels_used(v.live, &black, &sat, &calib);
+		json_object_set_new(j, "black_level", pc_json_real(black));
+		json_object_set_new(j, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
+		json_object_set_new(j, "calibration", calib ? json_string(calib) : json_null());
+		json_object_set_new(j, "last_invalid_pixels",
+				    v.live && shown ? json_integer((json_int_t)pc_stokes_stream_validity(
+							      v.live)->n_invalid)
+						    : json_null());
 		json_object_set_new(j, "error", rep->error ? json_string(rep->message) : json_null());
 		rep->json = pc_json_text(j);
 		json_decref(j);

@@ -36,8 +36,20 @@ static void magenta(uint32_t x, uint32_t y, uint8_t rgb[3])
 	rgb[0] = 255, rgb[1] = 0, rgb[2] = 255;
 }
 
+static int map_write(const char *dir, const char *name, const float *map, uint32_t width,
+		     uint32_t height, double lo, double hi, const char *title, const char *label,
+		     const uint8_t *valid, long invalid);
+
 int pc_map_write(const char *dir, const char *name, const float *map, uint32_t width,
 		 uint32_t height, double lo, double hi, const char *title, const char *label)
+{
+	return map_write(dir, name, map, width, height, lo, hi, title, label, NULL, 0);
+}
+
+/* pc_map_write with the invalid pixels (valid[p] == 0) marked and counted in the legend */
+static int map_write(const char *dir, const char *name, const float *map, uint32_t width,
+		     uint32_t height, double lo, double hi, const char *title, const char *label,
+		     const uint8_t *valid, long invalid)
 {
 	char path[4096], file[256];
 	snprintf(file, sizeof file, "%s.npy", name);
@@ -50,6 +62,8 @@ int pc_map_write(const char *dir, const char *name, const float *map, uint32_t w
 		return pc_error(PC_ENOMEM, "%s picture", name);
 	pc_fplane pl = { (float *)map, width, 1 };
 	rc = pc_picture_grey(&pl, width, height, (float)lo, (float)hi, rgb, (size_t)width * 3);
+	if (!rc && invalid)
+		pc_picture_mask_invalid(valid, width, width, height, rgb, (size_t)width * 3);
 	if (!rc) {
 		snprintf(file, sizeof file, "%s.png", name);
 		rc = join(path, sizeof path, dir, file);
@@ -61,10 +75,15 @@ int pc_map_write(const char *dir, const char *name, const float *map, uint32_t w
 		char text[64];
 		snprintf(text, sizeof text, "NaN %.2g%%",
 			 100.0 * (double)undefined / ((double)width * height));
-		pc_legend_note note = { text, magenta };
+		char btext[64];
+		snprintf(btext, sizeof btext, "invalid %.2g%%",
+			 100.0 * (double)invalid / ((double)width * height));
+		pc_legend_note bad = { btext, pc_picture_invalid_rgb, NULL };
+		pc_legend_note note = { text, magenta, invalid ? &bad : NULL };
 		if (!rc)
 			rc = pc_image_write_png_ex(path, rgb, width, height, (size_t)width * 3, title,
-						   &bar, undefined ? &note : NULL, 1600);
+						   &bar, undefined ? &note : invalid ? &bad : NULL,
+						   1600);
 	}
 	free(rgb);
 	return rc;
@@ -130,9 +149,39 @@ static int write_stokes3(const char *dir, const pc_stokes_out *st, uint32_t w, u
 	return rc;
 }
 
+/* valid.npy (H, W) uint8: 1 valid, 0 invalid */
+static int write_valid(const char *dir, const pc_validity *v, uint32_t w, uint32_t h)
+{
+	char path[4096];
+	int rc = join(path, sizeof path, dir, "valid.npy");
+	if (rc)
+		return rc;
+	size_t shape[2] = { h, w };
+	if (v->row_stride == w)
+		return pc_npy_write(path, v->mask, PC_DT_U8, 2, shape);
+	uint8_t *t = malloc((size_t)w * h);
+	if (!t)
+		return pc_error(PC_ENOMEM, "%s", path);
+	for (uint32_t y = 0; y < h; y++)
+		memcpy(t + (size_t)y * w, v->mask + (size_t)y * v->row_stride, w);
+	rc = pc_npy_write(path, t, PC_DT_U8, 2, shape);
+	free(t);
+	return rc;
+}
+
 int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
 			   uint32_t height, const pc_stokes_folder_opts *opts)
 {
+	return pc_stokes_folder_write_valid(dir, st, width, height, opts, NULL);
+}
+
+int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
+				 uint32_t height, const pc_stokes_folder_opts *opts,
+				 const pc_validity *valid)
+{
+	if (valid && valid->mask && valid->row_stride < width)
+		return pc_error(PC_EINVAL, "Stokes folder: validity row stride %zu below the width %u",
+				valid->row_stride, width);
 	if (!dir || !st || !opts)
 		return pc_error(PC_EINVAL, "Stokes folder: missing argument");
 	int rc = pc_mkdir_p(dir);
@@ -144,8 +193,10 @@ int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t wi
 		rc = write_plane(dir, "dolp.npy", &st->dolp, width, height);
 	if (!rc && (opts->files & PC_SF_AOLP))
 		rc = write_plane(dir, "aolp.npy", &st->aolp, width, height);
+	if (!rc && valid && valid->mask)
+		rc = write_valid(dir, valid, width, height);
 	if (!rc && (opts->files & PC_SF_PICTURES))
-		rc = pc_pictures_write_opts(dir, st, width, height, &opts->pictures);
+		rc = pc_pictures_write_valid(dir, st, width, height, &opts->pictures, valid);
 	return rc;
 }
 
@@ -168,6 +219,11 @@ static json_t *mueller_json(const pc_mueller_result *res, const pc_mueller_folde
 	json_object_set_new(js, "pixels_nonphysical_filtered", json_integer(res->nonphysical));
 	json_object_set_new(js, "pixels_undecomposable", json_integer(res->bad));
 	json_object_set_new(js, "determined", json_integer(sys->determined));
+	json_object_set_new(js, "saturation_level", res->saturation_level > 0
+							? pc_json_real(res->saturation_level)
+							: json_null());
+	json_object_set_new(js, "pixels_invalid",
+			    res->valid ? json_integer(res->invalid) : json_null());
 	json_object_set_new(js, "rebuild_circular",
 			    json_string(res->rebuilt ? pc_rebuild_sign_name(o->rebuild_sign)
 						     : "off"));
@@ -197,13 +253,22 @@ int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
 		if ((rc = write_npy(dir, "mueller.npy", res->M, 4, shape)))
 			return rc;
 	}
-	if ((rc = pc_map_write(dir, "D", res->maps, w, h, 0, 1, "Diattenuation D (Lu-Chipman)",
-			       "D")) ||
-	    (rc = pc_map_write(dir, "R", res->maps + np, w, h, 0, M_PI,
-			       "Retardance R (Lu-Chipman)", "R (rad)")) ||
-	    (rc = pc_map_write(dir, "Delta", res->maps + 2 * np, w, h, 0, 1,
-			       "Depolarization Delta (Lu-Chipman)", "Delta")))
+	const uint8_t *vm = res->valid;
+	const long nb = res->valid ? res->invalid : 0;
+	if ((rc = map_write(dir, "D", res->maps, w, h, 0, 1, "Diattenuation D (Lu-Chipman)", "D",
+			    vm, nb)) ||
+	    (rc = map_write(dir, "R", res->maps + np, w, h, 0, M_PI, "Retardance R (Lu-Chipman)",
+			    "R (rad)", vm, nb)) ||
+	    (rc = map_write(dir, "Delta", res->maps + 2 * np, w, h, 0, 1,
+			    "Depolarization Delta (Lu-Chipman)", "Delta", vm, nb)))
 		return pc_error_prefix(rc, "%s: ", dir);
+	if (res->valid) {
+		char path[4096];
+		size_t shape[2] = { h, w };
+		if ((rc = join(path, sizeof path, dir, "valid.npy")) ||
+		    (rc = pc_npy_write(path, res->valid, PC_DT_U8, 2, shape)))
+			return pc_error_prefix(rc, "%s: ", dir);
+	}
 	if (res->residual &&
 	    (rc = pc_map_write(dir, "rebuild_residual", res->residual, w, h, 0, 2 * o->rebuild_tol,
 			       "Residual of the 3x3 fit / M00 (pBRDF family)", "residual")))

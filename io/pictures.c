@@ -30,6 +30,12 @@ int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, 
 int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t width,
 			   uint32_t height, const pc_pictures_opts *opts)
 {
+	return pc_pictures_write_valid(dir, st, width, height, opts, NULL);
+}
+
+int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
+			    uint32_t height, const pc_pictures_opts *opts, const pc_validity *valid)
+{
 	if (!dir || !st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
 	pc_pictures_opts o = { NULL, 0, 0 };
@@ -57,17 +63,32 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 		snprintf(mask_note, sizeof mask_note, "S0 < %.4g", mask);
 		snprintf(mask_title, sizeof mask_title, "; hatched: S0 < %.4g, low signal", mask);
 	}
-	pc_legend_note note = { mask_note, pc_picture_mask_rgb };
-	const pc_legend_note *np = mask > -INFINITY ? &note : NULL;
-	int rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, (size_t)width * 3);
+	/* invalid pixels (saturated, dead or distrusted samples): a pink checker over
+	 * everything, counted in every picture's legend */
+	const uint8_t *vm = valid && valid->mask ? valid->mask : NULL;
+	const size_t vs = vm ? valid->row_stride : 0, rs = (size_t)width * 3;
+	size_t n_bad = 0;
+	for (uint32_t y = 0; vm && y < height; y++)
+		for (uint32_t x = 0; x < width; x++)
+			n_bad += !vm[(size_t)y * vs + x];
+	char bad_note[80] = "";
+	snprintf(bad_note, sizeof bad_note, "invalid %.2g%%",
+		 100.0 * (double)n_bad / ((double)width * height));
+	pc_legend_note bad = { bad_note, pc_picture_invalid_rgb, NULL };
+	pc_legend_note note = { mask_note, pc_picture_mask_rgb, n_bad ? &bad : NULL };
+	const pc_legend_note *np = mask > -INFINITY ? &note : n_bad ? &bad : NULL;
+	const pc_legend_note *nb = n_bad ? &bad : NULL;
+	int rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, rs);
+	pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
 	pc_colorbar bar = { "S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL };
 	snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
 	if (!rc)
-		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar, NULL, o.max_width);
+		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar, nb, o.max_width);
 	if (!rc) {
-		rc = pc_picture_grey(&st->dolp, width, height, 0, 1, rgb, (size_t)width * 3);
-		if (np)
-			pc_picture_mask_low(&st->s0, width, height, mask, rgb, (size_t)width * 3);
+		rc = pc_picture_grey(&st->dolp, width, height, 0, 1, rgb, rs);
+		if (mask > -INFINITY)
+			pc_picture_mask_low(&st->s0, width, height, mask, rgb, rs);
+		pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
 	}
 	pc_colorbar dbar = { "DoLP", 0, 1, NULL, 0, 0, pc_picture_grey_key, NULL };
 	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)%s", pre, mask_title);
@@ -79,8 +100,10 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 	for (int k = 0; k < 2 && !rc; k++) {
 		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], 1.0f, rgb,
 				     (size_t)width * 3);
-		if (!rc && np)
-			pc_picture_mask_low(&st->s0, width, height, mask, rgb, (size_t)width * 3);
+		if (!rc && mask > -INFINITY)
+			pc_picture_mask_low(&st->s0, width, height, mask, rgb, rs);
+		if (!rc)
+			pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
 		pc_colorbar abar = { "AoLP (deg, from x, counter-clockwise)", 0, 180, "DoLP", 0, 1,
 				     pc_picture_aolp_key, (void *)&styles[k] };
 		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)%s", pre, what[k],

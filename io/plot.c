@@ -508,9 +508,12 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 
 	if (bar) {
 		double bx = iw + fs, by = top + fs * 0.5, bh = fmax(ih - fs * 1.5, fs * 4);
-		int with_note = note && note->text && note->color && bh > fs * 8;
+		int n_notes = 0;
+		for (const pc_legend_note *q = note; q && n_notes < 4; q = q->next)
+			n_notes += q->text && q->color;
+		int with_note = n_notes > 0 && bh > fs * (6 + 2 * n_notes);
 		if (with_note)
-			bh -= fs * 2.5; /* room for the note's swatch below the bar */
+			bh -= fs * (1.0 + 1.5 * n_notes); /* room for the notes' swatches */
 		double bwid = bar->s_label ? fs * 3 : fs * 1.2;
 		int nt = (int)bh, ns = bar->s_label ? (int)bwid : 1;
 		for (int k = 0; k < nt; k++) {
@@ -556,12 +559,15 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 			snprintf(buf, sizeof buf, "%s %g..%g", bar->s_label, bar->smin, bar->smax);
 			text_at(cr, bx, by + bh + fs * 0.2, buf, 0, 0);
 		}
-		if (with_note) {
-			int sw = (int)(fs * 1.2), sy = (int)(by + bh + fs * 1.3);
+		int k_note = 0;
+		for (const pc_legend_note *q = note; with_note && q && k_note < 4; q = q->next) {
+			if (!q->text || !q->color)
+				continue;
+			int sw = (int)(fs * 1.2), sy = (int)(by + bh + fs * (1.3 + 1.5 * k_note++));
 			for (int yy = 0; yy < sw; yy++)
 				for (int xx = 0; xx < sw; xx++) {
 					uint8_t c[3];
-					note->color((uint32_t)xx, (uint32_t)yy, c);
+					q->color((uint32_t)xx, (uint32_t)yy, c);
 					cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
 					cairo_rectangle(cr, bx + xx, sy + yy, 1, 1);
 					cairo_fill(cr);
@@ -569,7 +575,7 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 			cairo_set_source_rgb(cr, 0, 0, 0);
 			cairo_rectangle(cr, bx, sy, sw, sw);
 			cairo_stroke(cr);
-			text_at(cr, bx + sw + fs * 0.3, sy + sw / 2.0, note->text, 0, 0.5);
+			text_at(cr, bx + sw + fs * 0.3, sy + sw / 2.0, q->text, 0, 0.5);
 		}
 	}
 	cairo_destroy(cr);

@@ -55,6 +55,57 @@ int pc_process_method(const char *name, const pc_mosaic *m, pc_demosaic_method *
 	return 0;
 }
 
+double pc_process_saturation(const pc_process_opts *o, pc_pixfmt format, unsigned bits)
+{
+	if (o->saturation_level > 0)
+		return o->saturation_level;
+	if (o->saturation_level < 0)
+		return 0;
+	if (o->stage)
+		return o->stage->saturation_level > 0 ? o->stage->saturation_level : 0;
+	if (format == PC_FMT_FLOAT32 || bits == 0 || bits > 16)
+		return 0;
+	return (double)((1u << bits) - 1u);
+}
+
+/* The front door's options for o and a raw of the given format and bit depth. */
+static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format, unsigned bits)
+{
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.method = o->method;
+	po.mosaic = o->mosaic;
+	po.threads = o->demosaic.threads;
+	po.reference = o->demosaic.reference;
+	po.full_scale = o->demosaic.full_scale;
+	if (!(po.full_scale > 0) && format != PC_FMT_FLOAT32 && bits >= 1 && bits <= 16)
+		po.full_scale = (double)((1u << bits) - 1u); /* sBIT: a 12-bit PNG in 16 bits */
+	po.black_level = o->stage ? 0 : o->black_level;
+	po.saturation_level = pc_process_saturation(o, format, bits);
+	po.dead_level = o->dead_level;
+	return po;
+}
+
+/* Raw → Stokes (st) or analyser images (ch) through the stage or the front door. */
+static int run_pipeline(const pc_process_opts *o, const pc_view *raw, unsigned bits,
+			const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid)
+{
+	pc_pipeline_opts po = pipeline_opts(o, raw->format, bits);
+	if (o->stage) {
+		if (o->black_level != 0)
+			return pc_error(PC_EINVAL, "a black level of %g and %s: the calibration's dark "
+						   "map is the black level; give one or the other",
+					o->black_level, o->stage->name ? o->stage->name : "a calibration");
+		pc_frame f;
+		memset(&f, 0, sizeof f);
+		f.view = *raw;
+		f.mosaic = o->mosaic;
+		f.meta.offset_x = o->roi_x;
+		f.meta.offset_y = o->roi_y;
+		return o->stage->run(o->stage->user, &f, bits, &po, st, ch, valid);
+	}
+	return st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
+}
+
 static bool has_suffix(const char *s, const char *suf)
 {
 	size_t n = strlen(s), m = strlen(suf);
@@ -84,29 +135,78 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	}
 	pc_fplane planes[PC_DEMOSAIC_MAX_CHANNELS];
 	pc_fplanes_interleaved(buf, ow, nch, planes);
+	/* the mask beside the output: OUT_valid.npy */
+	double sat = pc_process_saturation(o, raw.format, bits);
+	bool checked = sat > 0 || o->dead_level > 0 || o->stage;
+	char vpath[4096] = "";
+	if (checked) {
+		size_t stem = strlen(out_path) - (has_suffix(out_path, ".tiff") ||
+							  has_suffix(out_path, ".TIFF") ? 5 : 4);
+		if ((size_t)snprintf(vpath, sizeof vpath, "%.*s_valid.npy", (int)stem, out_path) >=
+		    sizeof vpath) {
+			pc_view_free(&raw);
+			free(buf);
+			return pc_error(PC_EINVAL, "-o %s: path too long", out_path);
+		}
+	}
+	pc_validity valid = { checked ? malloc((size_t)ow * oh) : NULL, ow, 0 };
+	if (checked && !valid.mask) {
+		pc_view_free(&raw);
+		free(buf);
+		return pc_error(PC_ENOMEM, "out of memory for the %ux%u validity mask", ow, oh);
+	}
 	double t0 = now_s();
-	rc = pc_demosaic(&raw, &o->mosaic, o->method, &o->demosaic, planes);
+	rc = run_pipeline(o, &raw, bits, NULL, planes, &valid);
 	double secs = now_s() - t0;
 	pc_view_free(&raw);
 	if (rc) {
 		free(buf);
+		free(valid.mask);
 		return pc_error_prefix(rc, "%s: ", in->path);
 	}
 	size_t shape[3] = { oh, ow, nch };
 	rc = tiff ? pc_tiff_write_array(out_path, buf, PC_DT_F32, oh, ow, nch)
 		  : pc_npy_write(out_path, buf, PC_DT_F32, 3, shape);
+	if (!rc && checked)
+		rc = pc_npy_write(vpath, valid.mask, PC_DT_U8, 2, shape);
 	free(buf);
-	if (!rc && rep)
-		*rep = (pc_demosaic_file_report){ ow, oh, nch, bits, secs };
+	free(valid.mask);
+	if (!rc && rep) {
+		*rep = (pc_demosaic_file_report){ ow, oh, nch, bits, secs, sat, valid.n_invalid, "" };
+		snprintf(rep->valid_path, sizeof rep->valid_path, "%s", vpath);
+	}
 	return rc;
 }
 
 static const char *const process_files[] = { "stokes.npy", "dolp.npy", "aolp.npy", "s0.png",
-					     "dolp.png",   "aolp.png", "aolp_sat.png" };
+					     "dolp.png",   "aolp.png", "aolp_sat.png", "valid.npy" };
+
+/* Means of S0 and DoLP over the valid pixels (all pixels without a mask): invalid ones depend
+ * on saturated or dead samples and stay out of the statistics. */
+static json_t *valid_stats(const pc_stokes_out *so, uint32_t w, uint32_t h, const pc_validity *v)
+{
+	double s0 = 0, dolp = 0;
+	uint64_t n = 0;
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++) {
+			if (v->mask && !v->mask[(size_t)y * v->row_stride + x])
+				continue;
+			s0 += so->s0.data[(size_t)y * so->s0.row_stride + (size_t)x * so->s0.pixel_stride];
+			dolp += so->dolp.data[(size_t)y * so->dolp.row_stride +
+					      (size_t)x * so->dolp.pixel_stride];
+			n++;
+		}
+	json_t *j = json_object();
+	json_object_set_new(j, "pixels", json_integer((json_int_t)n));
+	json_object_set_new(j, "s0_mean", n ? pc_json_real(s0 / (double)n) : json_null());
+	json_object_set_new(j, "dolp_mean", n ? pc_json_real(dolp / (double)n) : json_null());
+	return j;
+}
 
 /* meta.json of a processed frame */
 static json_t *process_meta(const pc_raw_input *in, const pc_process_opts *o, uint32_t rw,
-			    uint32_t rh, unsigned bits, double seconds)
+			    uint32_t rh, unsigned bits, double seconds, double sat,
+			    const pc_validity *valid)
 {
 	char layout[64];
 	pc_mosaic_format(&o->mosaic, layout, sizeof layout);
@@ -118,13 +218,22 @@ static json_t *process_meta(const pc_raw_input *in, const pc_process_opts *o, ui
 	json_object_set_new(j, "layout", json_string(layout));
 	json_object_set_new(j, "method", json_string(pc_demosaic_method_get(o->method)->name));
 	json_object_set_new(j, "reference", json_boolean(o->demosaic.reference));
+	json_object_set_new(j, "black_level", pc_json_real(o->stage ? 0 : o->black_level));
+	json_object_set_new(j, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
+	json_object_set_new(j, "dead_level",
+			    o->dead_level > 0 ? pc_json_real(o->dead_level) : json_null());
+	json_object_set_new(j, "invalid_pixels", valid->mask ? json_integer((json_int_t)valid->n_invalid)
+							     : json_null());
+	json_object_set_new(j, "calibration", o->stage && o->stage->name
+						      ? json_string(o->stage->name) : json_null());
 	json_object_set_new(j, "pipeline_seconds", pc_json_real(seconds));
 	json_object_set_new(j, "aolp_convention",
 			    json_string("radians in [0, pi), from the image x axis, "
 					"counter-clockwise as seen by the viewer"));
 	json_t *files = json_array();
 	for (size_t k = 0; k < sizeof process_files / sizeof process_files[0]; k++)
-		json_array_append_new(files, json_string(process_files[k]));
+		if (valid->mask || strcmp(process_files[k], "valid.npy"))
+			json_array_append_new(files, json_string(process_files[k]));
 	json_object_set_new(j, "files", files);
 	return j;
 }
@@ -142,9 +251,12 @@ int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char
 	uint32_t w, h;
 	pc_demosaic_out_size(o->method, raw.width, raw.height, &w, &h);
 	size_t n = (size_t)w * h;
+	double sat = pc_process_saturation(o, raw.format, bits);
+	bool checked = sat > 0 || o->dead_level > 0 || o->stage;
+	pc_validity valid = { checked ? malloc(n) : NULL, w, 0 };
 	float *stokes = malloc(sizeof(float) * n * 3), *dolp = malloc(sizeof(float) * n),
 	      *aolp = malloc(sizeof(float) * n);
-	if (!stokes || !dolp || !aolp) {
+	if (!stokes || !dolp || !aolp || (checked && !valid.mask)) {
 		rc = pc_error(PC_ENOMEM, "out of memory for %ux%u Stokes images", w, h);
 		pc_view_free(&raw);
 		goto out;
@@ -152,7 +264,7 @@ int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char
 	pc_stokes_out so = { { stokes, (size_t)w * 3, 3 }, { stokes + 1, (size_t)w * 3, 3 },
 			     { stokes + 2, (size_t)w * 3, 3 }, { dolp, w, 1 }, { aolp, w, 1 } };
 	double t0 = now_s();
-	rc = pc_stokes_from_raw(&raw, &o->mosaic, o->method, &o->demosaic, &so);
+	rc = run_pipeline(o, &raw, bits, &so, NULL, &valid);
 	double t_pipe = now_s() - t0;
 	uint32_t rw = raw.width, rh = raw.height;
 	pc_view_free(&raw);
@@ -160,9 +272,10 @@ int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char
 		pc_error_prefix(rc, "%s: ", in->path);
 		goto out;
 	}
-	if ((rc = pc_stokes_folder_write(dir, &so, w, h, folder)))
+	if ((rc = pc_stokes_folder_write_valid(dir, &so, w, h, folder, &valid)))
 		goto out;
-	json_t *j = process_meta(in, o, rw, rh, bits, t_pipe);
+	json_t *j = process_meta(in, o, rw, rh, bits, t_pipe, sat, &valid);
+	json_object_set_new(j, "valid_statistics", valid_stats(&so, w, h, &valid));
 	char *txt = json_dumps(j, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
 	char path[4096];
 	if (!txt)
@@ -179,5 +292,6 @@ out:
 	free(stokes);
 	free(dolp);
 	free(aolp);
+	free(valid.mask);
 	return rc;
 }

@@ -126,7 +126,7 @@ static void test_mueller(void)
 	/* the same directory again is refused, and nothing is touched */
 	CHECK_EQ_INT(pc_render_recording(tpath("rec"), &ro, NULL), PC_EBUSY);
 
-	pc_mueller_request rq = { NULL, NULL, { PC_DM_BILINEAR, NAN, 1, { PC_REBUILD_OFF, 0 } },
+	pc_mueller_request rq = { NULL, NULL, { PC_DM_BILINEAR, NAN, 1, { PC_REBUILD_OFF, 0 }, 0, 0 },
 				  { NULL, NULL } };
 	pc_mueller_result a, b, c;
 	pc_mueller_used ua, ub, uc;

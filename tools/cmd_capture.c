@@ -33,15 +33,19 @@ static void usage(FILE *fp)
 	    "it\n"
 	    "                      arrives; DIR/processed/ gets S0, DoLP, AoLP (.npy, float32) "
 	    "and\n"
+	    "                      valid.npy (uint8, 0 = depends on a saturated sample) and\n"
 	    "                      pictures of the last frame; meta.json the per-frame timings\n"
 	    "  --method M          demosaicking method for --process (default bilinear; for\n"
 	    "                      colour-polarization frames bayer-first, the colour methods\n"
 	    "                      being bayer-first and bayer-eari); S0, DoLP and AoLP of colour\n"
 	    "                      frames are those of the colour average (R + G + B)/3\n"
 	    "%s"
-	    "\nPrints one JSON line: frames recorded, format, statistics, error (if any).\n"
+	    "levels (--process; the black level is also written to meta.json for later):\n"
+	    "%s"
+	    "\nPrints one JSON line: frames recorded, format, statistics, error (if any); with\n"
+	    "--process the levels used and the last frame's invalid pixel count.\n"
 	    "Exit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments.\n",
-	    cli_stream_args_help());
+	    cli_stream_args_help(), cli_levels_help());
 }
 
 /* the recording and its report */
@@ -79,8 +83,11 @@ int cli_cmd_capture(int argc, char **argv)
 	long n = 0;
 	bool overwrite = false, process = false;
 	const char *method = NULL; /* the mosaic's default */
+	pc_stream_levels lv = pc_stream_levels_default();
 	for (int i = 1; i < argc; i++) {
 		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
+		if (rc == 0)
+			rc = cli_levels_parse(&lv, argc, argv, &i);
 		if (rc < 0)
 			return cli_fail(rc, "arguments");
 		if (rc > 0)
@@ -117,6 +124,6 @@ int cli_cmd_capture(int argc, char **argv)
 	if (!dir)
 		return cli_error(CLI_EXIT_USAGE, "missing -o DIR (output directory)");
 	pc_capture_opts o = { sa.req, (uint64_t)n, dir, overwrite, process, method, sa.timeout_ms,
-			      { NULL, NULL } };
+			      { NULL, NULL }, lv };
 	return run(&o);
 }

@@ -20,16 +20,19 @@ static void usage(FILE *fp)
 		"float32 of shape (H, W, 4) with channels I0, I45, I90, I135 (angles from the image\n"
 		"x axis, counter-clockwise as seen by the viewer), in the raw's units (a 12-bit raw\n"
 		"gives 0..4095). Colour-polarization layouts give (H, W, 12): R0 R45 R90 R135 G0 ...\n"
-		"B135. superpixel-half gives (H/2, W/2, ...). .npy is NumPy format; .tif/.tiff is a\n"
-		"float32 TIFF with one sample per channel. Outputs are written atomically; on any\n"
-		"error nothing is written.\n"
+		"B135. superpixel-half gives (H/2, W/2, ...). Values are above the black level. When\n"
+		"saturated (default) or dead samples are checked, OUT_valid.npy (uint8 (H, W): 0 where\n"
+		"a value depends on one) goes beside OUT and the JSON gives invalid_pixels. .npy is\n"
+		"NumPy format; .tif/.tiff is a float32 TIFF with one sample per channel. Outputs are\n"
+		"written atomically; on any error nothing is written.\n"
 		"\n"
 		"  --list              the methods, one line each on accuracy and cost\n"
 		"  -o, --output OUT    the output file (.npy, .tif or .tiff)\n"
 		"%s"
 		"  -h, --help          this help\n"
 		"\n"
-		"Prints one JSON line (output, shape, method, layout, bits, seconds). Exit status: 0\n"
+		"Prints one JSON line (output, shape, method, layout, bits, seconds, black_level,\n"
+		"saturation_level, calibration, valid, invalid_pixels). Exit status: 0\n"
 		"success, 1 failure, 2 bad arguments or bad input (odd size, truncated file, values\n"
 		"above the bit depth, NaN, bad layout).\n",
 		cli_raw_help);
@@ -98,8 +101,13 @@ int cli_cmd_demosaic(int argc, char **argv)
 		return cli_error(CLI_EXIT_USAGE, "no output given (-o OUT.npy or OUT.tif)");
 	pc_raw_input in = cli_raw_input(&o);
 	pc_process_opts po = cli_raw_process(&o);
+	pc_calib cal;
+	pc_raw_stage stage;
+	if ((st = cli_raw_calibration(&o, &cal, &stage, &po)))
+		return st;
 	pc_demosaic_file_report rep;
 	int rc = pc_demosaic_file(&in, &po, o.out, &rep);
+	pc_calib_free(&cal);
 	if (rc)
 		return cli_fail(rc, NULL);
 	char layout[64];
@@ -112,6 +120,14 @@ int cli_cmd_demosaic(int argc, char **argv)
 	json_object_set_new(j, "layout", json_string(layout));
 	json_object_set_new(j, "bits", json_integer(rep.bits));
 	json_object_set_new(j, "seconds", cli_json_real(rep.seconds));
+	json_object_set_new(j, "black_level", cli_json_real(po.black_level));
+	json_object_set_new(j, "black_level_from", json_string(o.black_from));
+	json_object_set_new(j, "saturation_level",
+			    rep.saturation_level > 0 ? cli_json_real(rep.saturation_level) : json_null());
+	json_object_set_new(j, "calibration", o.calibration ? json_string(o.calibration) : json_null());
+	json_object_set_new(j, "valid", *rep.valid_path ? json_string(rep.valid_path) : json_null());
+	json_object_set_new(j, "invalid_pixels",
+			    *rep.valid_path ? json_integer((json_int_t)rep.n_invalid) : json_null());
 	cli_print_json(j);
 	return CLI_EXIT_OK;
 }

@@ -44,6 +44,12 @@ static void usage(FILE *fp)
 		"                      resolution and is the fastest; polarcam demosaic --list)\n"
 		"  --black-level DN    subtracted from every raw value (default: the recording's sensor\n"
 		"                      offset, else 0)\n"
+		"  --saturation DN|none  a pixel whose demosaicking support holds a sample >= DN in\n"
+		"                      any frame is invalid: valid.npy (uint8), pixels_invalid in\n"
+		"                      mueller.json, a pink checker in the pictures; its values are\n"
+		"                      computed as for any pixel. Default: the frames' full scale\n"
+		"                      (2^bits - 1); 'none': not checked\n"
+		"  --dead-level DN     likewise for samples <= DN (default: not checked)\n"
 		"  --layout L          mosaic layout (default: the states file's, else 90,45,135,0)\n"
 		"  --no-mueller        do not write mueller.npy (it is 64 bytes per pixel)\n"
 		"  --rebuild-circular convention|+|-|off\n"
@@ -127,10 +133,12 @@ int cli_cmd_mueller(int argc, char **argv)
 		{ "threads", required_argument, NULL, 't' },   { "json", no_argument, NULL, 'J' },
 		{ "rebuild-circular", required_argument, NULL, 'C' },
 		{ "rebuild-tol", required_argument, NULL, 'T' },
+		{ "saturation", required_argument, NULL, 'X' },
+		{ "dead-level", required_argument, NULL, 'D' },
 		{ NULL, 0, NULL, 0 }
 	};
 	const char *states_path = NULL, *out = NULL, *method_name = "bilinear", *layout_arg = NULL;
-	double black = NAN;
+	double black = NAN, sat = 0, dead = 0;
 	long threads = 0;
 	bool write_m = true, json = false;
 	pc_rebuild_opts rb = { PC_REBUILD_CONVENTION, 0.05 };
@@ -153,6 +161,19 @@ int cli_cmd_mueller(int argc, char **argv)
 				return cli_fail(rc, NULL);
 			if (black < 0)
 				return cli_error(CLI_EXIT_USAGE, "--black-level %g: must be ≥ 0", black);
+			break;
+		case 'X':
+		case 'D':
+			if (c == 'X' && !strcmp(optarg, "none")) {
+				sat = -1;
+				break;
+			}
+			if ((rc = cli_parse_double(c == 'X' ? "--saturation" : "--dead-level", optarg,
+						   c == 'X' ? &sat : &dead)))
+				return cli_fail(rc, NULL);
+			if (!((c == 'X' ? sat : dead) > 0))
+				return cli_error(CLI_EXIT_USAGE, "%s %s: expected a level > 0 DN",
+						 c == 'X' ? "--saturation" : "--dead-level", optarg);
 			break;
 		case 'L':
 			layout_arg = optarg;
@@ -194,5 +215,5 @@ int cli_cmd_mueller(int argc, char **argv)
 	if (!strcmp(method_name, "superpixel"))
 		method = PC_DM_SUPERPIXEL_HALF;
 	return run(argc - optind, argv + optind, states_path, layout_arg, out,
-		   &(pc_mueller_run_opts){ method, black, (int)threads, rb }, write_m, json);
+		   &(pc_mueller_run_opts){ method, black, (int)threads, rb, sat, dead }, write_m, json);
 }

@@ -13,18 +13,22 @@
 static void usage(FILE *fp)
 {
 	fprintf(fp,
-		"usage: polarcam process RAW -o DIR [--method NAME] [--layout L]\n"
+		"usage: polarcam process RAW -o DIR [--method NAME] [--layout L] [--black-level DN]\n"
+		"                        [--saturation DN|none] [--calibration FILE]\n"
 		"\n"
 		"Runs the pipeline (demosaicking, Stokes, DoLP, AoLP) on a raw mosaic and writes into\n"
 		"DIR (created if missing):\n"
 		"  stokes.npy     float32 (H, W, 3): S0, S1, S2 in the raw's units\n"
 		"                 S0 = (I0+I45+I90+I135)/2, S1 = I0 - I90, S2 = I45 - I135\n"
 		"  dolp.npy       float32 (H, W): sqrt(S1^2+S2^2)/S0 clipped to [0, 1] (0 where S0 <= 0)\n"
+		"  valid.npy      uint8 (H, W): 0 where the value depends on a saturated or dead\n"
+		"                 sample (or one the calibration distrusts), else 1; their count is\n"
+		"                 invalid_pixels in meta.json, and the pictures mark them\n"
 		"  aolp.npy       float32 (H, W): 0.5 atan2(S2, S1) in radians, in [0, pi), from the\n"
 		"                 image x axis, counter-clockwise as seen by the viewer\n"
 		"  s0.png, dolp.png          grey pictures with colour bars\n"
 		"  aolp.png, aolp_sat.png    AoLP as hue, DoLP as value / saturation, with 2-D keys\n"
-		"  meta.json      input, layout, bit depth, method, timings\n"
+		"  meta.json      input, layout, bit depth, method, levels, invalid_pixels, timings\n"
 		"Colour-polarization layouts use the colour average of each analyser image. Every file\n"
 		"is written atomically, and only after the whole computation succeeded.\n"
 		"\n"
@@ -97,17 +101,23 @@ int cli_cmd_process(int argc, char **argv)
 		return cli_error(CLI_EXIT_USAGE, "no output directory given (-o DIR)");
 	pc_raw_input in = cli_raw_input(&o);
 	pc_process_opts po = cli_raw_process(&o);
+	pc_calib cal;
+	pc_raw_stage stage;
+	if ((st = cli_raw_calibration(&o, &cal, &stage, &po)))
+		return st;
 	pc_stokes_folder_opts fo = {
 		PC_SF_STOKES | PC_SF_DOLP | PC_SF_AOLP | PC_SF_PICTURES,
 		{ NULL, (uint32_t)pic_width, !mask_given ? 0 : mask_s0 > 0 ? mask_s0 : -1 }
 	};
 	char *meta = NULL;
 	int rc = pc_process_file(&in, &po, o.out, &fo, &meta);
+	pc_calib_free(&cal);
 	if (rc)
 		return cli_fail(rc, NULL);
 	json_t *j = json_loads(meta, 0, NULL);
 	free(meta);
 	json_object_set_new(j, "output", json_string(o.out));
+	json_object_set_new(j, "black_level_from", json_string(o.black_from));
 	cli_print_json(j);
 	return CLI_EXIT_OK;
 }

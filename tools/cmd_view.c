@@ -28,8 +28,11 @@ static void usage(FILE *fp)
 	    "no\n"
 	    "                      display this runs headless\n"
 	    "%s"
-	    "\nPrints one JSON line at the end: frames, display and processing rates.\n",
-	    cli_stream_args_help());
+	    "levels (invalid pixels are drawn as a pink checker):\n"
+	    "%s"
+	    "\nPrints one JSON line at the end: frames, display and processing rates, levels,\n"
+	    "the last frame's invalid pixel count.\n",
+	    cli_stream_args_help(), cli_levels_help());
 }
 
 /* the window and its report */
@@ -62,8 +65,11 @@ int cli_cmd_view(int argc, char **argv)
 	cli_stream_args_init(&sa);
 	const char *shot = NULL, *method = NULL; /* NULL: the mosaic's default */
 	long frames = 0, width = 1500;
+	pc_stream_levels lv = pc_stream_levels_default();
 	for (int i = 1; i < argc; i++) {
 		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
+		if (rc == 0)
+			rc = cli_levels_parse(&lv, argc, argv, &i);
 		if (rc < 0)
 			return cli_fail(rc, "arguments");
 		if (rc > 0)
@@ -94,6 +100,6 @@ int cli_cmd_view(int argc, char **argv)
 		return cli_error(CLI_EXIT_USAGE, "missing the source URI (see --help)");
 	bool headless = shot && frames > 0 && !getenv("DISPLAY");
 	pc_viewer_opts o = { sa.req, method, !headless, (uint32_t)width, (uint64_t)frames, shot,
-			     sa.timeout_ms, { NULL, NULL } };
+			     sa.timeout_ms, { NULL, NULL }, lv };
 	return run(&o);
 }

@@ -5,6 +5,7 @@
 
 #include <stdbool.h>
 
+#include "polarcam/calib.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/io.h"
 #include "polarcam/process.h"
@@ -18,6 +19,12 @@ typedef struct cli_raw {
 	int threads;          /* --threads (0: all) */
 	bool reference;       /* --reference */
 	bool have_geometry;   /* --width/--height/--format given */
+	double black_level;   /* --black-level (NAN: the recording's, else 0) */
+	double saturation;    /* --saturation (0: the raw's full scale; -1: none) */
+	double dead;          /* --dead-level (0: none) */
+	const char *calibration; /* --calibration FILE */
+	const char *black_from;  /* "option", "recording", "calibration" or "none" */
+	uint32_t roi_x, roi_y;   /* the recording's ROI origin */
 	pc_raw_geometry geometry;
 	/* resolved */
 	char layout_buf[64];
@@ -33,8 +40,12 @@ extern const char cli_raw_help[];
  * NULL, otherwise they are errors. Returns 0 or a CLI_EXIT_* status after printing the error. */
 int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra);
 
-/* The parsed options as the library takes them (polarcam/process.h). */
+/* The parsed options as the library takes them (polarcam/process.h). With --calibration, the
+ * file is read into *cal (pc_calib_read; free with pc_calib_free) and the stage put in *stage
+ * and the options; returns 0 or a CLI_EXIT_* status after printing the error. */
 pc_raw_input cli_raw_input(const cli_raw *o);
 pc_process_opts cli_raw_process(const cli_raw *o);
+int cli_raw_calibration(const cli_raw *o, pc_calib *cal, pc_raw_stage *stage,
+			pc_process_opts *po);
 
 #endif

@@ -32,6 +32,7 @@
 #include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
+#include "polarcam/process.h"
 #include "polarcam/stokes.h"
 
 #ifdef __cplusplus
@@ -81,6 +82,10 @@ typedef struct pc_calib {
 	/* cache of the per-pixel pseudo-inverses for one demosaicking method (pc_calib_pinv) */
 	float *pinv_px;
 	int pinv_method;
+	/* scratch of pc_calib_apply: 1/gain, the corrected frame, the flags, per-row counts */
+	float *apply_ig, *apply_corr;
+	uint8_t *apply_flag;
+	uint32_t *apply_rows;
 } pc_calib;
 
 PC_API void pc_calib_init(pc_calib *cal);
@@ -192,12 +197,34 @@ PC_API int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out,
  * points into the cache (valid until cal changes or is freed). */
 PC_API int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_analyser_pinv *pinv);
 
-/* The calibrated pipeline: check, correct, demosaic, Stokes with the calibrated analysers.
- * out as pc_stokes_from_raw (size pc_demosaic_out_size); valid_out (may be NULL, size of the
- * output) is 1 where every sample the pixel depends on is trusted. */
+/* The calibrated pipeline: check, correct, demosaic, Stokes with the calibrated analysers
+ * (pc_calib_apply with the calibration's saturation level). out as pc_stokes_from_raw (size
+ * pc_demosaic_out_size); valid_out (may be NULL, size of the output) is 1 where every sample
+ * the pixel depends on is trusted. */
 PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *g,
 		    pc_demosaic_method method, int threads, const pc_stokes_out *out,
 		    uint8_t *valid_out, size_t *n_invalid);
+
+/* The calibration as a pipeline stage, what `polarcam process/demosaic/capture --process/view
+ * --calibration F` run: checks that frame f matches the calibration (size, ROI origin
+ * f->meta.offset_x/y, mosaic, bit depth when both are known; a colour-polarization frame is
+ * refused), corrects every sample I = (raw − dark)·(1/gain) (the calibration's black level
+ * without a dark map), then through the core's front door demosaics (ch, when st is NULL) or
+ * computes Stokes with the calibrated analysers (pc_calib_pinv; the fused fast paths). A sample
+ * is flagged when the calibration distrusts its pixel (valid map), when it is at or above
+ * o->saturation_level (> 0; cal->saturation is the calibration's own) or at or below
+ * o->dead_level (> 0); valid (may be NULL) gets the output pixels whose method support holds a
+ * flagged sample (pc_validity_run), the same rule as the uncalibrated pipeline. o->black_level
+ * must be 0 (the dark map is the black level) and o->pinv NULL. Scratch memory is kept in cal
+ * (one frame size), so one calibration serves one thread at a time. */
+PC_API int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits,
+			  const pc_pipeline_opts *o, const pc_stokes_out *st, const pc_fplane *ch,
+			  pc_validity *valid);
+
+/* pc_calib_apply as a pc_raw_stage (polarcam/process.h) for pc_process_file, pc_demosaic_file
+ * and the live Stokes stream; name is reported in meta.json (e.g. the file's path); the stage's
+ * default saturation level is the calibration's. */
+PC_API pc_raw_stage pc_calib_stage(pc_calib *cal, const char *name);
 
 /* ---- the file (docs/calibration.md) ---- */
 

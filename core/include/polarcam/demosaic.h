@@ -150,6 +150,11 @@ typedef struct pc_validity {
 PC_API int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_fplane *out,
 		    pc_validity *valid);
 
+/* The validity output of pc_demosaic_run alone (valid required; nothing demosaicked): for a
+ * pipeline that demosaics elsewhere, e.g. a calibrated one that flags its own samples (a Mono8
+ * view of 0 = good, 1 = bad with saturation_level 1 gives the mask of the method's support). */
+PC_API int pc_validity_run(const pc_view *raw, const pc_pipeline_opts *opts, pc_validity *valid);
+
 /* pc_demosaic_run with method, mosaic m, and opts' threads, reference and full scale (opts may
  * be NULL): no black level, no validity. */
 PC_API int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,

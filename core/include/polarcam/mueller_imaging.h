@@ -165,6 +165,11 @@ typedef struct pc_mueller_run_opts {
 	double black_level;        /* DN subtracted from every demosaicked value */
 	int threads;               /* 0: pc_parallel default */
 	pc_rebuild_opts rebuild;   /* linear-only systems; sign PC_REBUILD_OFF: no rebuild */
+	double saturation_level;   /* raw DN: a pixel is invalid when, in any frame, its
+				      demosaicking support (polarcam/demosaic.h) holds a sample at
+				      or above it; 0: the frames' full scale (2^bits − 1; none for
+				      float32 frames); < 0: not checked */
+	double dead_level;         /* raw DN: likewise at or below it; 0: not checked */
 } pc_mueller_run_opts;
 
 typedef struct pc_mueller_result {
@@ -177,6 +182,10 @@ typedef struct pc_mueller_result {
 	long rb_rejected, rb_sign_undefined; /* rebuild: not of the family (M00 > 0) / sign
 						without a frame */
 	bool rebuilt; /* the circular entries were rebuilt from the 3×3 */
+	uint8_t *valid;          /* (H, W) 1 valid, 0 saturated/dead in some frame; NULL when no
+				    level was checked. Values are computed as for any pixel */
+	long invalid;            /* its 0s */
+	double saturation_level; /* checked (0: none) */
 } pc_mueller_result;
 
 typedef struct pc_mueller_run pc_mueller_run;

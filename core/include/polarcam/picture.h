@@ -53,6 +53,20 @@ PC_API size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t 
 /* The mask's colour at pixel (x, y) (for legends). */
 PC_API void pc_picture_mask_rgb(uint32_t x, uint32_t y, uint8_t rgb[3]);
 
+/* Invalid pixels (a validity mask of polarcam/demosaic.h: 0 where the value depends on a
+ * saturated or dead sample, or on one the calibration distrusts) are painted with a checker of
+ * PC_PICTURE_INVALID_RGB and black, 2 pixels per square (4 per period, so it survives a
+ * display downscale of 2), drawn over everything, the low-signal hatch included: no grey, hue
+ * or the hatch looks like it. valid: row stride valid_stride bytes; NULL paints nothing.
+ * Returns the number of pixels painted. */
+#define PC_PICTURE_INVALID_R 255
+#define PC_PICTURE_INVALID_G 0
+#define PC_PICTURE_INVALID_B 160
+PC_API size_t pc_picture_mask_invalid(const uint8_t *valid, size_t valid_stride, uint32_t width,
+				      uint32_t height, uint8_t *rgb, size_t rgb_stride);
+/* The invalid mark's colour at pixel (x, y) (for legends). */
+PC_API void pc_picture_invalid_rgb(uint32_t x, uint32_t y, uint8_t rgb[3]);
+
 /* HSV (h in [0, 1) of the circle, s, v in [0, 1]) to RGB8. */
 PC_API void pc_hsv_to_rgb8(double h, double s, double v, uint8_t rgb[3]);
 

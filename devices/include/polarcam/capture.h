@@ -31,6 +31,9 @@ typedef struct pc_capture_opts {
 	int timeout_ms;           /* longest wait for a frame */
 	pc_progress progress;     /* phase "capture", frames; non-zero stops the recording
 				     (PC_ECANCELED, "interrupted after N of M frames") */
+	pc_stream_levels levels;  /* black level (recorded in meta.json extra.sensor.offset_dn
+				     when known), saturation, calibration for process
+				     (polarcam/stream.h; pc_stream_levels_default()) */
 } pc_capture_opts;
 
 typedef struct pc_capture_report {

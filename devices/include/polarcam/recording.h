@@ -93,7 +93,8 @@ PC_API bool pc_recording_is_complete(const pc_recording *r);
 PC_API const char *pc_recording_dir(const pc_recording *r);
 
 /* The black level (DN) of the sensor that made the frames, when the recording says
- * (extra.sensor.offset_dn, as `polarcam render` writes it), else 0. */
+ * (extra.sensor.offset_dn, as `polarcam render` and `polarcam capture` of a source that
+ * declares one write it), else 0. */
 PC_API double pc_recording_black_level(const pc_recording *r);
 
 /* The mosaic of a raw file when it is a frame listed in its directory's meta.json (a recording
@@ -103,6 +104,19 @@ PC_API double pc_recording_black_level(const pc_recording *r);
  * not open: its mosaic is unknown, and guessing the monochrome default would be wrong for a
  * colour recording. */
 PC_API int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
+
+/* What a recording says about one of its frames (pc_recording_frame_info). */
+typedef struct pc_recording_frame_meta {
+	pc_mosaic mosaic;          /* the frames' mosaic (when polarized) */
+	bool polarized;
+	double black_level;        /* pc_recording_black_level: DN, 0 when not said */
+	unsigned bits;             /* significant bits of the frames */
+	uint32_t offset_x, offset_y, sensor_width, sensor_height; /* ROI origin, sensor size */
+} pc_recording_frame_meta;
+
+/* pc_recording_frame_mosaic with everything the recording says about the frame: 1 and *m set
+ * when path is a frame listed in its directory's meta.json, else 0. Never an error. */
+PC_API int pc_recording_frame_info(const char *path, pc_recording_frame_meta *m);
 
 /* Reads frame i into an owned view of the recording's storage format (Mono8 or 16-bit
  * Mono10/12/14/16 by bits). Checks the PNG's size and bit depth against meta.json and every

@@ -143,6 +143,8 @@ typedef struct pc_source_info {
 	uint32_t sensor_width, sensor_height;
 	bool polarized;   /* has a polarizer mosaic (from the profile table or the device) */
 	pc_mosaic mosaic; /* full-sensor mosaic (phase at sensor pixel 0,0) */
+	double black_level; /* DN the source declares (the simulator's sensor offset, a recording's
+			       meta.json); 0: not declared (cameras: give --black-level) */
 } pc_source_info;
 
 /* ---- buffers ---- */

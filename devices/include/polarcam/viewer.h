@@ -26,6 +26,8 @@ typedef struct pc_viewer_opts {
 	const char *screenshot;   /* the last picture shown, as PNG (NULL: none) */
 	int timeout_ms;           /* longest wait for a frame */
 	pc_progress progress;     /* phase "view", frames shown; non-zero stops */
+	pc_stream_levels levels;  /* black level, saturation (invalid pixels marked), calibration
+				     (polarcam/stream.h; pc_stream_levels_default()) */
 } pc_viewer_opts;
 
 typedef struct pc_viewer_report {

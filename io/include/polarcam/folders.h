@@ -7,12 +7,17 @@
  *   s0.npy         float32 (H, W): S0
  *   dolp.npy       float32 (H, W): DoLP in [0, 1]
  *   aolp.npy       float32 (H, W): AoLP in radians, [0, π) (polarcam/stokes.h's convention)
- *   s0.png, dolp.png, aolp.png, aolp_sat.png   the pictures of pc_pictures_write_opts
+ *   valid.npy      uint8 (H, W): 1 valid, 0 where the value depends on a saturated, dead or
+ *                  distrusted sample (pc_stokes_folder_write_valid with a mask)
+ *   s0.png, dolp.png, aolp.png, aolp_sat.png   the pictures of pc_pictures_write_opts (invalid
+ *                  pixels marked, pc_pictures_write_valid)
  *
  * A Mueller folder (pc_mueller_folder_write) holds:
  *   mueller.npy    float32 (H, W, 4, 4) (unless left out)
  *   D, R, Delta    .npy (H, W) float32 and .png (grey, with a colour bar; NaN magenta)
  *   rebuild_residual.npy/.png   when the circular entries were rebuilt
+ *   valid.npy      uint8 (H, W) when levels were checked: 0 where a frame's sample was
+ *                  saturated or dead (marked in the D, R, Delta pictures)
  *   mueller.json   condition numbers, noise gains, pixel counts (see pc_mueller_folder_write)
  *
  * The figures folder (pc_figures_write) holds figNN.csv (x and one column per curve, then the
@@ -65,6 +70,12 @@ typedef struct pc_stokes_folder_opts {
 PC_API int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
 			   uint32_t height, const pc_stokes_folder_opts *opts);
 
+/* The same with a validity mask (valid may be NULL, or its mask NULL: none): valid.npy is
+ * written after the .npy files and the pictures mark the invalid pixels. */
+PC_API int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
+				 uint32_t height, const pc_stokes_folder_opts *opts,
+				 const pc_validity *valid);
+
 /* ---- Mueller folders ---- */
 
 typedef struct pc_mueller_folder_opts {
@@ -77,7 +88,7 @@ typedef struct pc_mueller_folder_opts {
 
 /* Writes res into dir. mueller.json holds frames, width, height, method, black_level, cond_A,
  * cond_G, cond_W, rank_A, rank_G, noise_gain, pixels_D_singular, pixels_nonphysical_filtered,
- * pixels_undecomposable, determined, rebuild_circular (and when rebuilt: rebuild_tol,
+ * pixels_undecomposable, determined, saturation_level, pixels_invalid, rebuild_circular (and when rebuilt: rebuild_tol,
  * pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may be NULL) receives its
  * content as one compact line (malloc'd). */
 PC_API int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,

@@ -131,6 +131,14 @@ struct pc_stokes_out;
 /* opts may be NULL (no prefix, full size, default mask). */
 PC_API int pc_pictures_write_opts(const char *dir, const struct pc_stokes_out *st, uint32_t width,
 			   uint32_t height, const pc_pictures_opts *opts);
+/* The same with a validity mask (valid may be NULL or have a NULL mask: all valid): pixels
+ * whose value depends on a saturated, dead or distrusted sample are painted with the invalid
+ * mark of polarcam/picture.h (pc_picture_mask_invalid) in every picture, over the low-signal
+ * hatch, and their count is noted under each colour bar. */
+struct pc_validity;
+PC_API int pc_pictures_write_valid(const char *dir, const struct pc_stokes_out *st, uint32_t width,
+				   uint32_t height, const pc_pictures_opts *opts,
+				   const struct pc_validity *valid);
 /* The same with a title prefix (may be NULL) and the default mask. */
 PC_API int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
 		      uint32_t height, const char *title_prefix);

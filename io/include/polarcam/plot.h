@@ -67,6 +67,7 @@ PC_API int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t wid
 typedef struct pc_legend_note {
 	const char *text;
 	void (*color)(uint32_t x, uint32_t y, uint8_t rgb[3]);
+	const struct pc_legend_note *next; /* a further note below this one, or NULL */
 } pc_legend_note;
 
 /* pc_image_write_png with an optional note (NULL: none) under the colour bar. */
