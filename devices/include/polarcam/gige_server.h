@@ -29,6 +29,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/progress.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -45,6 +47,8 @@ typedef struct pc_gige_server_options {
 	                             when rendering cannot keep up) */
 	double frame_rate_hz;     /* initial AcquisitionFrameRate (0 = 25) */
 	double lost_packet_ratio; /* fault injection: fraction of GVSP packets not sent */
+	pc_progress progress;     /* phase "cycle" (frames rendered before serving, cycle > 0);
+				     non-zero stops the start (PC_ECANCELED) */
 } pc_gige_server_options;
 
 typedef struct pc_gige_server_stats {
