@@ -490,40 +490,10 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 		o.seconds = 1;
 		o.disk_frames = 4;
 	}
-	/* Run inside a private network namespace with only loopback: re-execute ourselves. */
-	if (!getenv("PC_BENCH_NETNS")) {
-		setenv("PC_BENCH_NETNS", "1", 1);
-		char **nargv = calloc((size_t)argc + 10, sizeof *nargv);
-		if (!nargv)
-			return host->error(PC_BENCH_FAILURE, "out of memory");
-		int n = 0;
-		nargv[n++] = "unshare";
-		nargv[n++] = "-n";
-		nargv[n++] = "sh";
-		nargv[n++] = "-c";
-		nargv[n++] = "ip link set lo up && exec \"$@\"";
-		char self[4096];
-		ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
-		if (len <= 0) {
-			free(nargv);
-			return host->error(PC_BENCH_FAILURE,
-			                    "cannot find this program (/proc/self/exe)");
-		}
-		self[len] = '\0';
-		nargv[n++] = "sh";
-		nargv[n++] = self;
-		nargv[n++] = "bench";
-		for (int i = 0; i < argc; i++)
-			nargv[n++] = argv[i];
-		nargv[n] = NULL;
-		fflush(NULL);
-		execvp("unshare", nargv);
-		free(nargv);
-		return host->error(PC_BENCH_FAILURE,
-		                    "cannot run in a private network namespace "
-		                    "(unshare -n needs root; Debian: util-linux, iproute2): "
-		                    "refusing to stream GigE Vision outside one");
-	}
+	/* inside a private network namespace with only loopback (bench_netns.c) */
+	int ns = bench_netns_reexec(host, argc, argv);
+	if (ns)
+		return ns;
 
 	if (!o.json)
 		printf("polarcam bench devices: scene %s, %s, packet size %llu, %g s per phase, "

@@ -57,6 +57,16 @@ if(PC_HAVE_ARAVIS)
     RESOURCE_LOCK gige RUN_SERIAL TRUE ENVIRONMENT "${PC_TEST_ENV};PC_BENCH_NETNS=1")
 endif()
 
+# The soak, one minute of it (bench/bench_soak.c): serve -> capture -> live pipeline at 2448x2048,
+# 30 fps; the process's file descriptors and threads (and RSS, outside AddressSanitizer) flat,
+# every frame equal to the simulator's. Exit 1 fails the test.
+if(PC_HAVE_ARAVIS)
+  add_test(NAME devices_soak COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/netns.sh
+    $<TARGET_FILE:polarcam> bench soak --minutes 1 --cycle 2 --capture-frames 5 --json)
+  set_tests_properties(devices_soak PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 900
+    RESOURCE_LOCK gige RUN_SERIAL TRUE ENVIRONMENT "${PC_TEST_ENV};PC_BENCH_NETNS=1")
+endif()
+
 # polarcam devices lists every backend (inside a namespace: enumeration may touch the network
 # stack even without --gige).
 add_test(NAME devices_list COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/netns.sh
