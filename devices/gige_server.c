@@ -63,7 +63,7 @@ struct pc_gige_server {
 	ArvGvFakeCamera *gv;
 	ArvFakeCamera *fc;
 	char *xml;
-	char xml_path[64];
+	char xml_path[4096];
 	served_fmt fmts[N_SERVED];
 	unsigned n_fmts;
 	pc_source *src;
@@ -532,13 +532,20 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 			rc = pc_error(PC_ENOMEM, "serve: GenICam description");
 	}
 	if (!rc) {
-		snprintf(srv->xml_path, sizeof srv->xml_path, "/tmp/polarcam-genicam-XXXXXX");
-		int fd = mkstemp(srv->xml_path);
+		/* Aravis reads the description from a file: a private one under $TMPDIR */
+		const char *tmp = getenv("TMPDIR");
+		if (!tmp || !*tmp)
+			tmp = "/tmp";
+		int n = snprintf(srv->xml_path, sizeof srv->xml_path, "%s/polarcam-genicam-XXXXXX",
+				 tmp);
+		int fd = n > 0 && (size_t)n < sizeof srv->xml_path ? mkstemp(srv->xml_path) : -1;
 		size_t len = strlen(srv->xml);
 		if (fd < 0 || write(fd, srv->xml, len) != (ssize_t)len)
-			rc =
-			    pc_error(PC_EIO, "serve: cannot write the GenICam description to /tmp");
-		if (fd >= 0)
+			rc = pc_error(PC_EIO, "serve: cannot write the GenICam description to %s",
+				      tmp);
+		if (fd < 0)
+			srv->xml_path[0] = 0; /* nothing to unlink */
+		else
 			close(fd);
 	}
 	if (!rc) {

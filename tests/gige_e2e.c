@@ -616,8 +616,7 @@ int main(void)
 	polarcam = getenv("POLARCAM");
 	if (!polarcam)
 		SKIP("POLARCAM (the built CLI) not set: run through ctest");
-	snprintf(base, sizeof base, "/tmp/pc_gige_XXXXXX");
-	if (!mkdtemp(base))
+	if (!pc_test_tmpdir(base, sizeof base, "pc_gige"))
 		SKIP("no temporary directory");
 	snprintf(rec_dir, sizeof rec_dir, "%s/rec", base);
 	make_recording();

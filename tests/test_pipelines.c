@@ -27,7 +27,7 @@
 #include "polarcam/render_recording.h"
 #include "polarcam/states.h"
 
-static char tmp[] = "/tmp/pc_pipelines_XXXXXX";
+static char tmp[64];
 
 static const char *tpath(const char *name)
 {
@@ -301,7 +301,7 @@ static void test_eval_stokes(void)
 
 int main(void)
 {
-	if (!mkdtemp(tmp))
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_pipelines"))
 		SKIP("cannot create a temporary directory");
 	test_states();
 	test_mueller();

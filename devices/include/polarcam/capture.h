@@ -29,6 +29,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/progress.h"
 #include "polarcam/recording.h"
 #include "polarcam/stream.h"
@@ -45,9 +46,9 @@ typedef enum pc_incomplete_policy {
 } pc_incomplete_policy;
 
 /* "skip", "keep", "fail"; NULL for anything else. */
-const char *pc_incomplete_policy_name(pc_incomplete_policy p);
+PC_API const char *pc_incomplete_policy_name(pc_incomplete_policy p);
 /* PC_EINVAL naming the choices for an unknown name. */
-int pc_incomplete_policy_from_name(const char *name, pc_incomplete_policy *out);
+PC_API int pc_incomplete_policy_from_name(const char *name, pc_incomplete_policy *out);
 
 typedef struct pc_capture_opts {
 	pc_stream_request stream; /* the source and how to open it */
@@ -92,8 +93,8 @@ typedef struct pc_capture_report {
 /* Records. A negative return means nothing was recorded (the method, the source or the
  * recording directory was refused; the detail says which); 0 means the recording exists, whole
  * or ended early as rep->error says. Free rep with pc_capture_report_free in both cases. */
-int pc_capture(const pc_capture_opts *opts, pc_capture_report *rep);
-void pc_capture_report_free(pc_capture_report *rep);
+PC_API int pc_capture(const pc_capture_opts *opts, pc_capture_report *rep);
+PC_API void pc_capture_report_free(pc_capture_report *rep);
 
 #ifdef __cplusplus
 }

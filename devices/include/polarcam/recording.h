@@ -48,6 +48,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
@@ -65,9 +66,9 @@ typedef enum pc_recording_store {
 } pc_recording_store;
 
 /* "png", "npy", "raw"; NULL for anything else. */
-const char *pc_recording_store_name(pc_recording_store s);
+PC_API const char *pc_recording_store_name(pc_recording_store s);
 /* PC_EINVAL naming the choices for an unknown name. */
-int pc_recording_store_from_name(const char *name, pc_recording_store *out);
+PC_API int pc_recording_store_from_name(const char *name, pc_recording_store *out);
 
 typedef struct pc_recording_desc {
 	const char *source;        /* URI or description, may be NULL */
@@ -90,18 +91,18 @@ typedef struct pc_recording_frame {
  * holds a recording (meta.json or raw_000000.png/.npy/.raw) unless overwrite: then old raw_*
  * files beyond the new recording's end are left alone but meta.json only lists the new frames.
  * Temporary files that killed writers left in dir are removed (pc_atomic_sweep). */
-int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
+PC_API int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
                         bool overwrite);
 /* Appends a frame: checks it matches the description, writes raw_NNNNNN.png (.npy, .raw)
  * atomically and records its metadata. meta.json is rewritten at most every 0.25 s while
  * recording. */
-int pc_recording_add(pc_recording *r, const pc_frame *frame);
+PC_API int pc_recording_add(pc_recording *r, const pc_frame *frame);
 /* Attaches JSON text objects written under "stats" / "extra" (NULL clears). PC_EINVAL when
  * the text is not a JSON object. */
-int pc_recording_set_json(pc_recording *r, const char *key, const char *json_object_text);
+PC_API int pc_recording_set_json(pc_recording *r, const char *key, const char *json_object_text);
 /* Writes the final meta.json: complete when error is NULL, else complete=false with the error
  * text. The recording stays usable for reading. */
-int pc_recording_finish(pc_recording *r, const char *error);
+PC_API int pc_recording_finish(pc_recording *r, const char *error);
 
 /* Opens a recording for reading and validates meta.json (every field; frames listed in
  * increasing sequence and non-decreasing time; files named raw_NNNNNN.png, .npy or .raw; a
@@ -109,33 +110,33 @@ int pc_recording_finish(pc_recording *r, const char *error);
  * raw_NNNNNN.png files without meta.json is accepted with defaults: frames numbered from
  * 000000 without gaps, format from the first PNG's bit depth (sBIT), IMX250MZR mosaic,
  * timestamps 0 (callers pace them). Errors name the file and the field. */
-int pc_recording_open(pc_recording **out, const char *dir);
-void pc_recording_free(pc_recording *r);
+PC_API int pc_recording_open(pc_recording **out, const char *dir);
+PC_API void pc_recording_free(pc_recording *r);
 
 /* Description and frames of an open recording (valid until freed). */
-const pc_recording_desc *pc_recording_get_desc(const pc_recording *r);
-size_t pc_recording_count(const pc_recording *r);
-const pc_recording_frame *pc_recording_get_frame(const pc_recording *r, size_t i);
-bool pc_recording_is_complete(const pc_recording *r);
-const char *pc_recording_dir(const pc_recording *r);
+PC_API const pc_recording_desc *pc_recording_get_desc(const pc_recording *r);
+PC_API size_t pc_recording_count(const pc_recording *r);
+PC_API const pc_recording_frame *pc_recording_get_frame(const pc_recording *r, size_t i);
+PC_API bool pc_recording_is_complete(const pc_recording *r);
+PC_API const char *pc_recording_dir(const pc_recording *r);
 
 /* The black level (DN) of the sensor that made the frames, when the recording says
  * (extra.sensor.offset_dn, as `polarcam render` writes it), else 0. */
-double pc_recording_black_level(const pc_recording *r);
+PC_API double pc_recording_black_level(const pc_recording *r);
 
 /* The mosaic of a raw file when it is a frame listed in its directory's meta.json (a recording
  * written by render or capture): 1 and *m set; 0 when it is not (no such recording, not one of
  * its frames, frames without a polarizer mosaic). Never an error. */
-int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
+PC_API int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
 
 /* Reads frame i into an owned view of the recording's storage format (Mono8 or 16-bit
  * Mono10/12/14/16 by bits). Checks the file's size and bit depth against meta.json and every
  * value against the bit depth. Free with pc_view_free. */
-int pc_recording_read(const pc_recording *r, size_t i, pc_view *out);
+PC_API int pc_recording_read(const pc_recording *r, size_t i, pc_view *out);
 
 /* The storage format of a recording of frames in fmt: Mono8 for <= 8 bits, else Mono10/12/14/16
  * by the significant bits. */
-pc_pixfmt pc_recording_storage_format(pc_pixfmt fmt);
+PC_API pc_pixfmt pc_recording_storage_format(pc_pixfmt fmt);
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/progress.h"
 #include "polarcam/recording.h"
 #include "polarcam/sim.h"
@@ -50,7 +51,7 @@ typedef struct pc_render_report {
 /* Renders into dir (created). rep may be NULL. PC_ECANCELED when the progress callback asked to
  * stop: the frames written so far stay, meta.json says complete = false, "interrupted after N
  * of M frames", with the timings. */
-int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
+PC_API int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
 
 #ifdef __cplusplus
 }
