@@ -257,13 +257,25 @@ typedef struct kill_totals {
 	unsigned rounds, files, frames, leftovers, cleaned;
 } kill_totals;
 
+/* Kills a run at a random moment: from its start (after_first false: any stage, the start up
+ * included), or from its first frame on disk (after_first: while frames are written, however
+ * slow the start is on a loaded machine). */
 static void kill_round(char *const args[], const char *dir, const sf_frames *f, double max_ms,
-		       char *const rerun[], kill_totals *t)
+		       bool after_first, char *const rerun[], kill_totals *t)
 {
-	char out[300];
+	char out[300], png[300], raw[300];
 	snprintf(out, sizeof out, "%s.out", dir);
+	snprintf(png, sizeof png, "%s/raw_000000.png", dir);
+	snprintf(raw, sizeof raw, "%s/raw_000000.raw", dir);
 	pid_t pid = start(args, out);
 	CHECK(pid > 0);
+	bool first = !after_first;
+	for (int w = 0; w < WAIT_MS && !first; w += 20) {
+		first = access(png, F_OK) == 0 || access(raw, F_OK) == 0;
+		if (!first)
+			sleep_ms(20);
+	}
+	CHECK(first);
 	sleep_ms(urand() * max_ms);
 	pc_child_stop(pid, SIGKILL, WAIT_MS);
 	sf_dir_report r;
@@ -300,7 +312,7 @@ static void test_kills(void)
 				 k % 4 == 3 ? "--process" : NULL, NULL };
 		char *rerun[] = { "capture", uri, "-n", "1", "-o", dir, "--store", (char *)store,
 				  "--overwrite", NULL };
-		kill_round(args, dir, &frames5, max_ms, rerun, &tc);
+		kill_round(args, dir, &frames5, max_ms, k % 4 >= 2, rerun, &tc);
 	}
 	for (int k = 0; k < 12; k++) {
 		char dir[200];
@@ -308,7 +320,7 @@ static void test_kills(void)
 		char *args[] = { "render", scene, "-o", dir, "-n", "30", "-s", "4", NULL };
 		char *rerun[] = { "render", scene, "-o", dir, "-n", "1", "-s", "4", "--overwrite",
 				  "--no-truth", NULL };
-		kill_round(args, dir, &frames4, max_ms, rerun, &tr);
+		kill_round(args, dir, &frames4, max_ms, k % 2, rerun, &tr);
 	}
 	printf("SIGKILL: capture %u kills: %u files under final names, all whole (%u frames "
 	       "compared), %u temporary leftovers, %u removed by the next run; render %u kills: "
