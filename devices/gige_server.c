@@ -455,7 +455,7 @@ static int choose_formats(pc_gige_server *srv)
 	return 0;
 }
 
-static int prepare_cycle(pc_gige_server *srv, unsigned k_frames)
+static int prepare_cycle(pc_gige_server *srv, unsigned k_frames, const pc_progress *progress)
 {
 	srv->cyc = calloc(k_frames, sizeof *srv->cyc);
 	if (!srv->cyc)
@@ -479,6 +479,10 @@ static int prepare_cycle(pc_gige_server *srv, unsigned k_frames)
 		rc = pc_source_requeue(srv->src, b);
 		if (rc)
 			return rc;
+		if (pc_progress_report(progress, "cycle", i + 1, k_frames))
+			return pc_error(PC_ECANCELED, "serve: stopped after rendering %u of the %u "
+			                              "cycle frames",
+			                i + 1, k_frames);
 	}
 	return 0;
 }
@@ -519,7 +523,7 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		if (!rc)
 			rc = pc_source_start(srv->src);
 		if (!rc && o->cycle)
-			rc = prepare_cycle(srv, o->cycle);
+			rc = prepare_cycle(srv, o->cycle, &o->progress);
 	}
 	if (!rc) {
 		srv->row16 = malloc((size_t)srv->sfmt.width * sizeof *srv->row16);

@@ -21,6 +21,8 @@ typedef struct job {
 	pc_sim_info in;
 	uint64_t frames;
 	pc_recording *rec;
+	uint64_t written;  /* frames in the recording */
+	bool stop;         /* the progress callback asked to stop */
 	char err[512]; /* why the recording ended early, for meta.json */
 	double t_prep, t_frames, t_write;
 } job;
@@ -29,13 +31,15 @@ typedef struct job {
 typedef struct prep_progress {
 	const pc_progress *p;
 	uint64_t base, total;
+	bool *stop; /* a stop asked for during a state is acted on when the state is done */
 } prep_progress;
 
 static void prep_cb(void *user, uint64_t done, uint64_t total)
 {
 	const prep_progress *a = user;
 	(void)total;
-	pc_progress_report(a->p, "render", a->base + done, a->total);
+	if (pc_progress_report(a->p, "render", a->base + done, a->total))
+		*a->stop = true;
 }
 
 static double now_s(void)
@@ -113,9 +117,17 @@ static int prepare(job *j)
 	/* rows per prepared state: H, or H + 2 (halo) + H (mixing) with crosstalk */
 	const uint64_t rows = (in->effects & PC_FX_CROSSTALK) ? 2 * (uint64_t)in->height + 2
 							       : in->height;
-	prep_progress pp = { &j->o->progress, 0, (uint64_t)n_psg_used * rows };
+	prep_progress pp = { &j->o->progress, 0, (uint64_t)n_psg_used * rows, &j->stop };
 	int rc = 0;
 	for (unsigned k = 0; k < n_psg_used && !rc; k++) {
+		if (j->stop) {
+			snprintf(j->err, sizeof j->err,
+				 "interrupted while rendering the scene (state %u of %u), before "
+				 "the first frame",
+				 k, n_psg_used);
+			rc = pc_error(PC_ECANCELED, "%s", j->err);
+			break;
+		}
 		unsigned g = (unsigned)((j->o->first + k) % in->n_psg);
 		pp.base = (uint64_t)k * rows;
 		if ((rc = pc_sim_prepare(j->sim, g, ts, k == 0 ? tm : NULL, prep_cb, &pp)))
@@ -137,6 +149,12 @@ static int frames(job *j)
 	if (rc)
 		return pc_error_prefix(rc, "frame buffer: ");
 	for (uint64_t i = 0; i < j->frames && !rc; i++) {
+		if (j->stop) {
+			snprintf(j->err, sizeof j->err, "interrupted after %llu of %llu frames",
+				 (unsigned long long)i, (unsigned long long)j->frames);
+			rc = pc_error(PC_ECANCELED, "%s", j->err);
+			break;
+		}
 		pc_frame fr;
 		uint64_t n = j->o->first + i;
 		double ta = now_s();
@@ -157,24 +175,19 @@ static int frames(job *j)
 			break;
 		}
 		j->t_write += now_s() - tb;
-		pc_progress_report(&j->o->progress, "frames", i + 1, j->frames);
+		j->written = i + 1;
+		if (pc_progress_report(&j->o->progress, "frames", i + 1, j->frames))
+			j->stop = true;
 	}
 	pc_view_free(&view);
 	return rc;
 }
 
-/* states.json, meta.json's extra (the simulator, timings) and the end of the recording. */
-static int finish(job *j, double t0, pc_render_report *rep)
+/* meta.json's extra: the simulator's description and the timings (also of a recording that
+ * ended early: per_frame_s over the frames made). */
+static int set_extra(job *j, double t0, pc_render_report *rep)
 {
 	int rc = 0;
-	char path[4096];
-	if (j->in.n_states > 1) {
-		pc_sim_states st;
-		pc_sim_get_states(j->sim, &st);
-		snprintf(path, sizeof path, "%s/states.json", j->dir);
-		if ((rc = pc_states_write(path, &st, &j->in.mosaic)))
-			return pc_error_prefix(rc, "%s: ", path);
-	}
 	char *desc = pc_sim_describe_json(j->sim, j->scene);
 	json_t *extra = desc ? json_loads(desc, 0, NULL) : NULL;
 	free(desc);
@@ -183,7 +196,8 @@ static int finish(job *j, double t0, pc_render_report *rep)
 	json_t *tj = json_object();
 	json_object_set_new(tj, "render_s", json_real(j->t_prep));
 	json_object_set_new(tj, "frames_s", json_real(j->t_frames));
-	json_object_set_new(tj, "per_frame_s", json_real(j->t_frames / (double)j->frames));
+	json_object_set_new(tj, "per_frame_s",
+			    j->written ? json_real(j->t_frames / (double)j->written) : json_null());
 	json_object_set_new(tj, "write_s", json_real(j->t_write));
 	json_object_set_new(tj, "total_s", json_real(now_s() - t0));
 	json_object_set_new(tj, "peak_rss_mib", pc_json_real(pc_peak_rss_mib()));
@@ -195,8 +209,23 @@ static int finish(job *j, double t0, pc_render_report *rep)
 	if (!rc && rep && !(rep->timings = pc_json_text(tj)))
 		rc = PC_ENOMEM;
 	json_decref(extra);
-	if (rc)
-		return pc_error_prefix(rc, "meta.json: ");
+	return rc ? pc_error_prefix(rc, "meta.json: ") : 0;
+}
+
+/* states.json, meta.json's extra and the end of the recording. */
+static int finish(job *j, double t0, pc_render_report *rep)
+{
+	int rc = 0;
+	char path[4096];
+	if (j->in.n_states > 1) {
+		pc_sim_states st;
+		pc_sim_get_states(j->sim, &st);
+		snprintf(path, sizeof path, "%s/states.json", j->dir);
+		if ((rc = pc_states_write(path, &st, &j->in.mosaic)))
+			return pc_error_prefix(rc, "%s: ", path);
+	}
+	if ((rc = set_extra(j, t0, rep)))
+		return rc;
 	if ((rc = pc_recording_finish(j->rec, NULL)))
 		return pc_error_prefix(rc, "%s: ", j->dir);
 	return 0;
@@ -216,7 +245,7 @@ static int start(job *j)
 	pc_recording_desc desc = { source,	    in->format,	   NULL,
 				   in->width,	    in->height,	   in->offset_x,
 				   in->offset_y,    in->sensor_width, in->sensor_height,
-				   true,	    in->mosaic };
+				   true,	    in->mosaic,	   o->store };
 	if ((rc = pc_recording_create(&j->rec, j->dir, &desc, o->overwrite)))
 		return pc_error_prefix(rc, "%s: ", j->dir);
 	return 0;
@@ -264,13 +293,16 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 		if (rc) { /* the recording says why it ended; the caller hears the first error */
 			char detail[512];
 			snprintf(detail, sizeof detail, "%s", pc_error_detail());
+			if (set_extra(&j, t0, NULL)) /* the timings so far, when they can be had */
+				pc_error_clear();
 			pc_recording_finish(j.rec, *j.err ? j.err : "render failed");
 			pc_error(rc, "%s", detail);
 		}
 		pc_recording_free(j.rec);
 	}
+	if (rep)
+		rep->frames = j.written;
 	if (!rc && rep) {
-		rep->frames = j.frames;
 		rep->width = j.in.width;
 		rep->height = j.in.height;
 	}

@@ -117,7 +117,7 @@ static void test_mueller(void)
 {
 	write_text(tpath("seq.json"), seq_scene);
 	pc_render_opts ro = { tpath("seq.json"), NULL, pc_sim_options_default(), 0, 0, true, false,
-			      { NULL, NULL } };
+			      { NULL, NULL }, PC_STORE_PNG };
 	ro.sim.seed = 5;
 	pc_render_report rep;
 	CHECK_EQ_INT(pc_render_recording(tpath("rec"), &ro, &rep), 0);

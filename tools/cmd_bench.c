@@ -21,6 +21,7 @@ static const struct {
 	{ "devices", "serve -> capture over loopback, live pipeline", pc_bench_devices },
 	{ "calib", "analyser calibration: angles x frames -> residual error, acquisition time", pc_bench_calib },
 	{ "dataset", "dataset samples/s per core, bytes per sample, 10^6-sample projection", pc_bench_dataset },
+	{ "soak", "serve -> capture -> live pipeline for N minutes: RSS, fds, threads flat", pc_bench_soak },
 };
 
 int cli_cmd_bench(int argc, char **argv)
@@ -44,6 +45,6 @@ int cli_cmd_bench(int argc, char **argv)
 			cli_progress_end(&bar);
 			return status;
 		}
-	return cli_error(CLI_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices, calib, dataset)",
+	return cli_error(CLI_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices, calib, dataset, soak)",
 			    argv[1]);
 }

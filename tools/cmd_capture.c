@@ -21,10 +21,14 @@ static void usage(FILE *fp)
 	    "the\n"
 	    "significant bits in sBIT: the same naming and bit depth as `polarcam render`) and\n"
 	    "DIR/meta.json (format, mosaic, per-frame sequence/timestamp/exposure/gain/status,\n"
-	    "stream statistics). Every file is written atomically: if the camera disappears or "
-	    "the\n"
-	    "command is interrupted, the command fails with a clear error and everything recorded\n"
-	    "so far stays intact (meta.json says complete=false and why).\n\n"
+	    "stream statistics). Frames go from the camera into a queue at once (sized from the\n"
+	    "frame rate and the measured writing speed, within --queue-mb) and are written by a\n"
+	    "thread of their own, so a slow disk never starves the camera of buffers. Every file\n"
+	    "is written atomically: if the camera disappears or the command is interrupted\n"
+	    "(SIGINT/SIGTERM: the frames already acquired are written; a second signal quits at\n"
+	    "once), the command fails with a clear error and everything recorded so far stays\n"
+	    "intact (meta.json says complete=false and why). complete=true means: every frame\n"
+	    "asked for is in, whole, and none was lost on the way to the disk.\n\n"
 	    "  URI                 sim:SCENE, file:DIR, aravis:ID, v4l2:/dev/videoN, libcamera:ID\n"
 	    "  -n N                frames to record (1..999999)\n"
 	    "  -o DIR              output directory (refused if it already holds a recording)\n"
@@ -35,6 +39,14 @@ static void usage(FILE *fp)
 	    "and\n"
 	    "                      valid.npy (uint8, 0 = depends on a saturated sample) and\n"
 	    "                      pictures of the last frame; meta.json the per-frame timings\n"
+	    "  --incomplete P      frames that arrive damaged (lost packets): skip (default: not\n"
+	    "                      recorded, counted, the next one taken), keep (recorded and\n"
+	    "                      flagged; the recording is then not complete) or fail (stop)\n"
+	    "  --store S           frame files: png (default), npy or raw (headerless; the\n"
+	    "                      fastest to write); all read by file:DIR sources\n"
+	    "  --queue-mb MB       memory for frames waiting to be written (default: half the\n"
+	    "                      available memory, at most 4096)\n"
+	    "  --write-delay-ms MS testing: the writer waits MS after each frame (a slow disk)\n"
 	    "  --method M          demosaicking method for --process (default bilinear; for\n"
 	    "                      colour-polarization frames bayer-first, the colour methods\n"
 	    "                      being bayer-first and bayer-eari); S0, DoLP and AoLP of colour\n"
@@ -42,9 +54,11 @@ static void usage(FILE *fp)
 	    "%s"
 	    "levels (--process; the black level is also written to meta.json for later):\n"
 	    "%s"
-	    "\nPrints one JSON line: frames recorded, format, statistics, error (if any); with\n"
-	    "--process the levels used and the last frame's invalid pixel count.\n"
-	    "Exit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments.\n",
+	    "\nPrints one JSON line: frames recorded, complete, format, statistics, incomplete\n"
+	    "frames skipped/kept, the queue (peak, lost, writing ms per frame), error (if any);\n"
+	    "with --process the levels used and the last frame's invalid pixel count.\n"
+	    "Exit status: 0 complete, 1 not complete (device/stream failure, interrupted, frames\n"
+	    "lost or kept damaged), 2 bad arguments.\n",
 	    cli_stream_args_help(), cli_levels_help());
 }
 
@@ -84,6 +98,10 @@ int cli_cmd_capture(int argc, char **argv)
 	bool overwrite = false, process = false;
 	const char *method = NULL; /* the mosaic's default */
 	pc_stream_levels lv = pc_stream_levels_default();
+	pc_incomplete_policy incomplete = PC_INCOMPLETE_SKIP;
+	pc_recording_store store = PC_STORE_PNG;
+	long queue_mb = 0;
+	double write_delay_ms = 0;
 	for (int i = 1; i < argc; i++) {
 		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
 		if (rc == 0)
@@ -105,10 +123,26 @@ int cli_cmd_capture(int argc, char **argv)
 			overwrite = true;
 		} else if (!strcmp(a, "--process")) {
 			process = true;
-		} else if (!strcmp(a, "--method")) {
+		} else if (!strcmp(a, "--method") || !strcmp(a, "--incomplete") ||
+			   !strcmp(a, "--store") || !strcmp(a, "--queue-mb") ||
+			   !strcmp(a, "--write-delay-ms")) {
 			if (i + 1 >= argc)
-				return cli_error(CLI_EXIT_USAGE, "--method needs a value (see --help)");
-			method = argv[++i];
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
+			const char *v = argv[++i];
+			if (!strcmp(a, "--method"))
+				method = v;
+			else if (!strcmp(a, "--incomplete"))
+				rc = pc_incomplete_policy_from_name(v, &incomplete);
+			else if (!strcmp(a, "--store"))
+				rc = pc_recording_store_from_name(v, &store);
+			else if (!strcmp(a, "--queue-mb"))
+				rc = cli_parse_long(a, v, 1, 1L << 30, &queue_mb);
+			else if (!(rc = cli_parse_double(a, v, &write_delay_ms)) &&
+				 (write_delay_ms < 0 || write_delay_ms > 3.6e6))
+				return cli_error(CLI_EXIT_USAGE, "--write-delay-ms %g: expected 0..3600000",
+						 write_delay_ms);
+			if (rc)
+				return cli_fail(rc, a);
 		} else if (a[0] == '-') {
 			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		} else if (!sa.req.uri) {
@@ -123,7 +157,9 @@ int cli_cmd_capture(int argc, char **argv)
 		return cli_error(CLI_EXIT_USAGE, "missing -n N (frames to record)");
 	if (!dir)
 		return cli_error(CLI_EXIT_USAGE, "missing -o DIR (output directory)");
-	pc_capture_opts o = { sa.req, (uint64_t)n, dir, overwrite, process, method, sa.timeout_ms,
-			      { NULL, NULL }, lv };
+	pc_capture_opts o = { sa.req,	      (uint64_t)n, dir,	   overwrite,
+			      process,	      method,	   sa.timeout_ms, { NULL, NULL },
+			      incomplete,     store,	   (uint64_t)queue_mb << 20,
+			      write_delay_ms, lv };
 	return run(&o);
 }

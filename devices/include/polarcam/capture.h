@@ -2,9 +2,26 @@
  * into a recording (polarcam/recording.h), optionally each through the live Stokes stream
  * (polarcam/stream.h) with the last frame's S0, DoLP, AoLP and pictures in DIR/processed/.
  *
+ * Acquisition and writing are decoupled: the calling thread dequeues each frame, copies it into
+ * a bounded queue and gives the buffer back to the source at once; a writer thread of the
+ * capture's own writes (and processes) the queued frames. The queue is sized from the frame
+ * period and the writer's measured time per frame, within a memory budget (devices/
+ * frame_queue.h); a frame that finds it full is lost, counted, and the recording is then not
+ * complete. A camera therefore never runs out of buffers because the disk is slow.
+ *
+ * Frames the source delivers damaged (PC_FRAME_INCOMPLETE or CORRUPT: lost packets) follow the
+ * incomplete policy: skip (default: not recorded, counted, the next frame taken; more than
+ * frames + 10 of them ends the capture), keep (recorded with their status in meta.json; the
+ * recording is then not complete) or fail (the capture ends at the first one).
+ *
+ * The recording is complete (meta.json "complete": true, rep->error 0) exactly when it holds
+ * every frame asked for, each whole, and no frame was lost between the source and the disk.
  * Every file is written atomically: when the camera disappears, the stream times out or the
- * caller stops it, the recording keeps every frame written so far and meta.json says
- * complete = false and why.
+ * caller stops it (progress), the frames already acquired are written, the recording keeps
+ * every frame and meta.json says complete = false and why, with the statistics.
+ *
+ * Threads: one writer thread per call, joined before pc_capture returns; the progress callback
+ * is called from the calling thread only.
  */
 #ifndef POLARCAM_CAPTURE_H
 #define POLARCAM_CAPTURE_H
@@ -14,11 +31,24 @@
 
 #include "polarcam/export.h"
 #include "polarcam/progress.h"
+#include "polarcam/recording.h"
 #include "polarcam/stream.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* What happens to a frame the source delivered damaged. */
+typedef enum pc_incomplete_policy {
+	PC_INCOMPLETE_SKIP = 0, /* not recorded, counted; the next frame is taken */
+	PC_INCOMPLETE_KEEP,     /* recorded, flagged "incomplete" in meta.json; not complete */
+	PC_INCOMPLETE_FAIL      /* the capture ends (PC_EIO) */
+} pc_incomplete_policy;
+
+/* "skip", "keep", "fail"; NULL for anything else. */
+PC_API const char *pc_incomplete_policy_name(pc_incomplete_policy p);
+/* PC_EINVAL naming the choices for an unknown name. */
+PC_API int pc_incomplete_policy_from_name(const char *name, pc_incomplete_policy *out);
 
 typedef struct pc_capture_opts {
 	pc_stream_request stream; /* the source and how to open it */
@@ -29,8 +59,17 @@ typedef struct pc_capture_opts {
 	const char *method;       /* demosaicking method for process; NULL: the mosaic's default
 				     (pc_process_method) */
 	int timeout_ms;           /* longest wait for a frame */
-	pc_progress progress;     /* phase "capture", frames; non-zero stops the recording
-				     (PC_ECANCELED, "interrupted after N of M frames") */
+	pc_progress progress;     /* phase "capture" (frames acquired of those asked), then
+				     "writing" (frames written of those acquired) while the queue
+				     drains; non-zero during "capture" stops the acquisition
+				     (PC_ECANCELED, "interrupted after N of M frames"); the frames
+				     acquired are written all the same */
+	pc_incomplete_policy incomplete;
+	pc_recording_store store;  /* how frames are stored (PNG by default) */
+	uint64_t queue_bytes;      /* memory for queued frames; 0: half the available memory, at
+				      most 4 GiB (at least two frames in any case) */
+	double write_delay_ms;     /* testing: the writer waits this long after each frame, as a
+				      slow disk would (0: none) */
 	pc_stream_levels levels;  /* black level (recorded in meta.json extra.sensor.offset_dn
 				     when known), saturation, calibration for process
 				     (polarcam/stream.h; pc_stream_levels_default()) */
@@ -38,11 +77,20 @@ typedef struct pc_capture_opts {
 
 typedef struct pc_capture_report {
 	uint64_t frames;   /* frames recorded */
-	int error;         /* 0 when every frame was recorded, else why the recording ended (PC_E*) */
+	bool complete;     /* what meta.json says: every frame asked for is in, whole */
+	uint64_t skipped;  /* incomplete frames not recorded (policy skip) */
+	uint64_t kept;     /* incomplete frames recorded (policy keep) */
+	uint64_t lost;     /* frames lost because the queue was full */
+	int error;         /* 0 when the recording is complete, else why not (PC_E*): PC_ECANCELED
+			      stopped, PC_EIO damaged frames kept or refused, PC_EOVERFLOW frames
+			      lost, or the source's or writer's error */
 	char message[512]; /* what ended it */
-	char *json;        /* {source, dir, frames, requested, seconds, fps, format, stats,
-			      process (with process: method, frames, mean_ms, max_ms, last_mean_dolp,
-			      width, height), error}: compact text, malloc'd */
+	char *json;        /* {source, dir, store, frames, requested, complete, seconds, fps,
+			      format, stats, incomplete {policy, skipped, kept}, queue {frame_bytes,
+			      limit, capacity, needed_max, peak, lost, written, write_ms_mean,
+			      write_ms_max, period_ms}, process (with process: method, frames,
+			      mean_ms, max_ms, last_mean_dolp, width, height), error}: compact text,
+			      malloc'd */
 } pc_capture_report;
 
 /* Records. A negative return means nothing was recorded (the method, the source or the

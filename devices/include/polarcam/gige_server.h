@@ -30,6 +30,7 @@
 #include <stdint.h>
 
 #include "polarcam/export.h"
+#include "polarcam/progress.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -47,6 +48,8 @@ typedef struct pc_gige_server_options {
 	                             when rendering cannot keep up) */
 	double frame_rate_hz;     /* initial AcquisitionFrameRate (0 = 25) */
 	double lost_packet_ratio; /* fault injection: fraction of GVSP packets not sent */
+	pc_progress progress;     /* phase "cycle" (frames rendered before serving, cycle > 0);
+				     non-zero stops the start (PC_ECANCELED) */
 } pc_gige_server_options;
 
 typedef struct pc_gige_server_stats {

@@ -4,7 +4,7 @@
  *   scene ──pc_sim_new──► simulator ──pc_sim_prepare (each generator state once, with truth)
  *         ──pc_sim_frame (frame N from (seed, N))──► pc_recording_add ──► DIR
  *
- * DIR receives raw_NNNNNN.png and meta.json (polarcam/recording.h; "extra" holds
+ * DIR receives raw_NNNNNN.png (.npy, .raw: opts.store) and meta.json (polarcam/recording.h; "extra" holds
  * pc_sim_describe_json plus "timings" and "first_frame"), truth_stokes.npy (H, W, 4) float32 —
  * (H, W, 3, 4) for colour sensors, truth_stokes_psgNN.npy per generator state of a sequence —,
  * truth_mueller.npy (H, W, 4, 4) (or (H, W, 3, 4, 4)) when the scene declares "mueller", and
@@ -21,6 +21,7 @@
 #include "polarcam/export.h"
 #include "polarcam/io.h"
 #include "polarcam/progress.h"
+#include "polarcam/recording.h"
 #include "polarcam/sim.h"
 
 #ifdef __cplusplus
@@ -35,11 +36,14 @@ typedef struct pc_render_opts {
 	uint64_t first;         /* number of the first frame */
 	bool truth;             /* write truth_*.npy */
 	bool overwrite;         /* replace a recording already in the directory */
-	pc_progress progress;   /* phases "render" (rows of each state), "frames" */
+	pc_progress progress;   /* phases "render" (rows of each state), "frames"; non-zero stops
+				   (PC_ECANCELED) after the state or frame in hand, the recording
+				   finished with complete = false and its timings */
+	pc_recording_store store; /* how frames are stored (PNG by default) */
 } pc_render_opts;
 
 typedef struct pc_render_report {
-	uint64_t frames;
+	uint64_t frames; /* frames in the recording (also when the call failed or was stopped) */
 	uint32_t width, height;
 	char *timings; /* {render_s, frames_s, per_frame_s, write_s, total_s, peak_rss_mib}: JSON
 			  text, malloc'd (free it) */
@@ -52,7 +56,9 @@ typedef struct pc_render_report {
 PC_API int pc_truth_write(const char *path, const pc_sim_info *in, const float *values, bool mueller,
 			  pc_dtype dtype);
 
-/* Renders into dir (created). rep may be NULL. */
+/* Renders into dir (created). rep may be NULL. PC_ECANCELED when the progress callback asked to
+ * stop: the frames written so far stay, meta.json says complete = false, "interrupted after N
+ * of M frames", with the timings. */
 PC_API int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
 
 #ifdef __cplusplus

@@ -36,6 +36,13 @@ PC_API void pc_atomic_abort(pc_atomic_file *af);
 /* Writes size bytes atomically. */
 PC_API int pc_write_file_atomic(const char *path, const void *data, size_t size);
 
+/* Removes what killed writers left in dir: the temporary files of pc_atomic_open
+ * (".NAME.tmpXXXXXX") whose lock no process holds any more (a writer holds an flock on its
+ * temporary file until it is renamed or removed; the kernel drops it when the writer dies).
+ * Files a live process is writing, in this process or another, are left alone. *removed (may
+ * be NULL) counts the files removed. A directory that does not exist holds nothing: 0. */
+PC_API int pc_atomic_sweep(const char *dir, unsigned *removed);
+
 /* ---- arrays (.npy) ---- */
 /* PC_DT_F16 (IEEE binary16 bits in uint16_t) is written, not read. */
 typedef enum pc_dtype { PC_DT_U8 = 1, PC_DT_U16, PC_DT_F32, PC_DT_F64, PC_DT_F16 } pc_dtype;
@@ -62,6 +69,11 @@ PC_API int pc_npy_read(const char *path, pc_array *out);
 /* PNG of a Mono8 view (8-bit) or any 9..16-bit integer view (16-bit PNG; the sBIT chunk records
  * the significant bits). Grey only. */
 PC_API int pc_png_write(const char *path, const pc_view *v);
+/* Headerless raw file of an integer view (atomic): rows one after the other without padding,
+ * each pixel in the view's container - 1 byte for 8-bit formats, 2 bytes little-endian with the
+ * value LSB-aligned for unpacked 9..16-bit formats, the packed bytes as they are for packed
+ * ones. pc_image_read reads it back with the geometry {width, height, format, 0, 0}. */
+PC_API int pc_raw_write(const char *path, const pc_view *v);
 /* 8-bit RGB PNG from interleaved rows (pictures, plots). */
 PC_API int pc_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
 		      size_t stride);
