@@ -442,7 +442,7 @@ static int write_sample_files(const pc_family *f, const pc_family_sample *s, uin
 	pc_recording_desc desc = { source,	    in->format,	   NULL,
 				   in->width,	    in->height,	   in->offset_x,
 				   in->offset_y,    in->sensor_width, in->sensor_height,
-				   true,	    in->mosaic };
+				   true,	    in->mosaic,	   PC_STORE_PNG };
 	pc_recording *rec = NULL;
 	int rc = pc_recording_create(&rec, tmp, &desc, false);
 	for (unsigned k = 0; k < s->n_frames && !rc; k++) {
