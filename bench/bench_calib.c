@@ -23,12 +23,12 @@ static const pc_bench_host *host;
 
 /* the scenes/calib stimuli, built here so that the benchmark runs from any directory */
 static const char *const scene_fmt =
-	"{\"camera\": {\"position\": [0, 0, 1], \"direction\": [0, 1, 0], \"focal_length_mm\": 50},"
-	" \"materials\": {\"unused\": {\"n\": 1.5, \"sigma\": 0.2}},"
-	" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": 1}],"
-	" \"background\": %g, \"effects\": {\"circular\": true},"
-	" \"sensor\": {\"preset\": \"imx250mzr_nonuniform\", \"offset_dn\": 60, \"exposure_us\": 10000"
-	"%s}}";
+    "{\"camera\": {\"position\": [0, 0, 1], \"direction\": [0, 1, 0], \"focal_length_mm\": 50},"
+    " \"materials\": {\"unused\": {\"n\": 1.5, \"sigma\": 0.2}},"
+    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": 1}],"
+    " \"background\": %g, \"effects\": {\"circular\": true},"
+    " \"sensor\": {\"preset\": \"imx250mzr_nonuniform\", \"offset_dn\": 60, \"exposure_us\": 10000"
+    "%s}}";
 
 typedef struct bstack {
 	pc_sim *sim;
@@ -48,7 +48,7 @@ static int bget(void *user, size_t i, pc_view *out)
 }
 
 static int bopen(bstack *b, double bg, const char *psa, uint32_t size, size_t n, uint64_t first,
-		 double angle, double dolp)
+                 double angle, double dolp)
 {
 	memset(b, 0, sizeof *b);
 	char text[1024], extra[256] = "";
@@ -117,8 +117,8 @@ static int errors(pc_calib *cal, bstack *t, size_t frames, double angle, double 
 	}
 	for (uint32_t y = 0; y < H; y++)
 		memcpy((char *)avg.data + y * avg.stride, acc + (size_t)y * W, W * sizeof(float));
-	pc_stokes_out out = { 0 };
-	pc_fplane *pl[5] = { &out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp };
+	pc_stokes_out out = {0};
+	pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
 	for (int k = 0; k < 5; k++) {
 		pl[k]->data = buf + (size_t)k * np;
 		pl[k]->row_stride = W;
@@ -162,7 +162,7 @@ static int speed_setup(uint32_t W, uint32_t H, pc_calib *cal, pc_view *raw)
 {
 	const size_t np = (size_t)W * H;
 	pc_calib_init(cal);
-	cal->geo = (pc_calib_geometry){ W, H, 0, 0, W, H, 12, pc_mosaic_imx250mzr() };
+	cal->geo = (pc_calib_geometry){W, H, 0, 0, W, H, 12, pc_mosaic_imx250mzr()};
 	cal->black_level = 60;
 	cal->saturation = 4095;
 	cal->parts = PC_CAL_DARK | PC_CAL_FLAT | PC_CAL_ANALYSER;
@@ -219,9 +219,9 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
 		return host->fail(PC_ENOMEM, "bench calib --speed");
 	}
 	pc_stokes_out out;
-	pc_fplane *pl[5] = { &out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp };
+	pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
 	for (int k = 0; k < 5; k++)
-		*pl[k] = (pc_fplane){ planes + (size_t)k * np, W, 1 };
+		*pl[k] = (pc_fplane){planes + (size_t)k * np, W, 1};
 	pc_frame f;
 	memset(&f, 0, sizeof f);
 	f.view = raw;
@@ -234,27 +234,27 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
 	pc_pipeline_opts pu = po;
 	pu.black_level = 60;
 	enum { IDEAL, IDEAL_NOMASK, CAL, CAL_NOMASK, NCASE };
-	static const char *const name[NCASE] = { "ideal", "ideal_no_mask", "calibrated",
-						 "calibrated_no_mask" };
+	static const char *const name[NCASE] = {"ideal", "ideal_no_mask", "calibrated",
+	                                        "calibrated_no_mask"};
 	double *t = calloc((size_t)NCASE * (size_t)reps, sizeof *t), best[NCASE], med[NCASE];
-	uint64_t inval[NCASE] = { 0 };
+	uint64_t inval[NCASE] = {0};
 	if (!t) {
 		rc = PC_ENOMEM;
 		goto out;
 	}
 	/* warm-up: the per-pixel pseudo-inverses are computed once per calibration */
-	pc_validity v = { mask, W, 0 };
+	pc_validity v = {mask, W, 0};
 	double t0 = bench_now();
 	if ((rc = pc_calib_apply(&cal, &f, 12, &po, &out, NULL, &v)))
 		goto out;
 	double prep = bench_now() - t0;
 	for (int r = 0; r < reps; r++)
 		for (int k = 0; k < NCASE; k++) { /* interleaved: load drifts hit every case */
-			v = (pc_validity){ mask, W, 0 };
+			v = (pc_validity){mask, W, 0};
 			pc_validity *vp = k == IDEAL || k == CAL ? &v : NULL;
 			t0 = bench_now();
 			rc = k <= IDEAL_NOMASK ? pc_stokes_run(&raw, &pu, &out, vp)
-					       : pc_calib_apply(&cal, &f, 12, &po, &out, NULL, vp);
+			                       : pc_calib_apply(&cal, &f, 12, &po, &out, NULL, vp);
 			t[(size_t)k * (size_t)reps + (size_t)r] = bench_now() - t0;
 			if (rc)
 				goto out;
@@ -266,7 +266,7 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
 		best[k] = tk[0];
 		med[k] = tk[reps / 2];
 	}
-	double load[3] = { NAN, NAN, NAN };
+	double load[3] = {NAN, NAN, NAN};
 	FILE *la = fopen("/proc/loadavg", "r");
 	if (la) {
 		if (fscanf(la, "%lf %lf %lf", &load[0], &load[1], &load[2]) != 3)
@@ -290,20 +290,21 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
 		json_object_set_new(j, "ratio_min", bench_json_real(best[CAL] / best[IDEAL]));
 		json_object_set_new(j, "ratio_median", bench_json_real(med[CAL] / med[IDEAL]));
 		json_object_set_new(j, "ratio_no_mask_median",
-				    bench_json_real(med[CAL_NOMASK] / med[IDEAL_NOMASK]));
+		                    bench_json_real(med[CAL_NOMASK] / med[IDEAL_NOMASK]));
 		host->print_json(j);
 	} else {
-		printf("bilinear Stokes pipeline, %ux%u Mono12, planar S0 S1 S2 DoLP AoLP, %d threads, "
-		       "%d repetitions interleaved (load %.2f %.2f %.2f)\n", W, H,
-		       pc_parallel_max_threads(), reps, load[0], load[1], load[2]);
+		printf("bilinear Stokes pipeline, %ux%u Mono12, planar S0 S1 S2 DoLP AoLP, %d "
+		       "threads, "
+		       "%d repetitions interleaved (load %.2f %.2f %.2f)\n",
+		       W, H, pc_parallel_max_threads(), reps, load[0], load[1], load[2]);
 		printf("  per-pixel pseudo-inverses prepared once: %.1f ms\n", 1e3 * prep);
 		for (int k = 0; k < NCASE; k++)
 			printf("  %-20s min %7.2f ms  median %7.2f ms  invalid %llu\n", name[k],
 			       1e3 * best[k], 1e3 * med[k], (unsigned long long)inval[k]);
 		printf("calibrated / ideal (black level, saturation check, mask): %.2f (min %.2f); "
-		       "goal <= 1.5\nwithout the mask: %.2f (min %.2f)\n", med[CAL] / med[IDEAL],
-		       best[CAL] / best[IDEAL], med[CAL_NOMASK] / med[IDEAL_NOMASK],
-		       best[CAL_NOMASK] / best[IDEAL_NOMASK]);
+		       "goal <= 1.5\nwithout the mask: %.2f (min %.2f)\n",
+		       med[CAL] / med[IDEAL], best[CAL] / best[IDEAL],
+		       med[CAL_NOMASK] / med[IDEAL_NOMASK], best[CAL_NOMASK] / best[IDEAL_NOMASK]);
 	}
 out:
 	free(t);
@@ -317,13 +318,13 @@ out:
 int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 {
 	host = h;
-	static const struct option opts[] = { { "size", required_argument, NULL, 's' },
-					      { "rotation-s", required_argument, NULL, 'r' },
-					      { "json", no_argument, NULL, 'J' },
-					      { "speed", no_argument, NULL, 'S' },
-					      { "reps", required_argument, NULL, 'n' },
-					      { "help", no_argument, NULL, 'h' },
-					      { NULL, 0, NULL, 0 } };
+	static const struct option opts[] = {{"size", required_argument, NULL, 's'},
+	                                     {"rotation-s", required_argument, NULL, 'r'},
+	                                     {"json", no_argument, NULL, 'J'},
+	                                     {"speed", no_argument, NULL, 'S'},
+	                                     {"reps", required_argument, NULL, 'n'},
+	                                     {"help", no_argument, NULL, 'h'},
+	                                     {NULL, 0, NULL, 0}};
 	long size = 64, reps = 10;
 	double rot_s = 2;
 	bool json = false, speed = false;
@@ -352,23 +353,34 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 				return host->fail(rc, NULL);
 			break;
 		case 'h':
-			printf("usage: polarcam bench calib [--size N] [--rotation-s S] [--json]\n"
-			       "       polarcam bench calib --speed [--reps N] [--json]\n\n"
-			       "--speed: the calibrated bilinear pipeline (pc_calib_apply: per-pixel dark\n"
-			       "and gain, per-pixel analyser pseudo-inverses, saturation and distrusted-\n"
-			       "pixel mask) against the uncalibrated one (pc_stokes_run with the black level\n"
-			       "and the saturation mask) on a 2448x2048 Mono12 frame, N repetitions each,\n"
-			       "interleaved (default 10): min, median and their ratio (goal <= 1.5), with\n"
-			       "the load average. Without --speed:\n"
-			       "Analyser calibration of the imx250mzr_nonuniform preset (N x N ROI, default\n"
-			       "64; dark and flat: 32 frames each) with K polarizer angles x F frames per\n"
-			       "angle: residual DoLP and AoLP RMS errors on DoLP-0.5 stimuli at 10, 55, 100\n"
-			       "and 145 deg (64 frames averaged), and the sweep's acquisition time: K*F\n"
-			       "frames at the sensor's 30 fps plus S seconds per polarizer rotation\n"
-			       "(default 2, a manual or motorised rotation mount).\n");
+			printf(
+			    "usage: polarcam bench calib [--size N] [--rotation-s S] [--json]\n"
+			    "       polarcam bench calib --speed [--reps N] [--json]\n\n"
+			    "--speed: the calibrated bilinear pipeline (pc_calib_apply: per-pixel "
+			    "dark\n"
+			    "and gain, per-pixel analyser pseudo-inverses, saturation and "
+			    "distrusted-\n"
+			    "pixel mask) against the uncalibrated one (pc_stokes_run with the "
+			    "black level\n"
+			    "and the saturation mask) on a 2448x2048 Mono12 frame, N repetitions "
+			    "each,\n"
+			    "interleaved (default 10): min, median and their ratio (goal <= 1.5), "
+			    "with\n"
+			    "the load average. Without --speed:\n"
+			    "Analyser calibration of the imx250mzr_nonuniform preset (N x N ROI, "
+			    "default\n"
+			    "64; dark and flat: 32 frames each) with K polarizer angles x F frames "
+			    "per\n"
+			    "angle: residual DoLP and AoLP RMS errors on DoLP-0.5 stimuli at 10, "
+			    "55, 100\n"
+			    "and 145 deg (64 frames averaged), and the sweep's acquisition time: "
+			    "K*F\n"
+			    "frames at the sensor's 30 fps plus S seconds per polarizer rotation\n"
+			    "(default 2, a manual or motorised rotation mount).\n");
 			return PC_BENCH_OK;
 		default:
-			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
+			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)",
+			                   argv[optind - 1]);
 		}
 	}
 	if (speed)
@@ -382,15 +394,16 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		return host->fail(rc, "bench calib");
 	if ((rc = pc_calib_dark(&dk.s, NULL, &dark)))
 		return host->fail(rc, "dark");
-	pc_calib_stack lv[2] = { fl.s, fh.s };
+	pc_calib_stack lv[2] = {fl.s, fh.s};
 	if ((rc = pc_calib_flat(lv, 2, &dark, NULL, &flat)))
 		return host->fail(rc, "flat");
-	static const double tang[4] = { 10, 55, 100, 145 };
+	static const double tang[4] = {10, 55, 100, 145};
 	bstack ts[4];
 	for (int k = 0; k < 4; k++) {
 		char psa[128];
-		snprintf(psa, sizeof psa, "{\"diattenuator\": {\"angle_deg\": %g, \"diattenuation\": 0.5}}",
-			 tang[k]);
+		snprintf(psa, sizeof psa,
+		         "{\"diattenuator\": {\"angle_deg\": %g, \"diattenuation\": 0.5}}",
+		         tang[k]);
 		if ((rc = bopen(&ts[k], 1.7, psa, S, 64, 4000000 + 100000 * k, tang[k], 0.5)))
 			return host->fail(rc, "test stimuli");
 	}
@@ -408,13 +421,15 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		ud += ed * ed / 4;
 		ua += ea * ea / 4;
 	}
-	static const unsigned Ks[] = { 3, 4, 6, 8, 12, 16 }, Fs[] = { 1, 4, 16, 64 };
+	static const unsigned Ks[] = {3, 4, 6, 8, 12, 16}, Fs[] = {1, 4, 16, 64};
 	json_t *rows = json_array();
 	if (!json)
-		printf("analyser calibration, %ux%u ROI, imx250mzr_nonuniform, DoLP-0.5 test stimuli\n"
-		       "uncalibrated (black level only): DoLP RMS %.5f, AoLP RMS %.3f deg\n\n"
-		       "%3s %4s %7s %10s %11s %12s\n", S, S, sqrt(ud), sqrt(ua), "K", "F", "frames",
-		       "time (s)", "DoLP RMS", "AoLP RMS deg");
+		printf(
+		    "analyser calibration, %ux%u ROI, imx250mzr_nonuniform, DoLP-0.5 test stimuli\n"
+		    "uncalibrated (black level only): DoLP RMS %.5f, AoLP RMS %.3f deg\n\n"
+		    "%3s %4s %7s %10s %11s %12s\n",
+		    S, S, sqrt(ud), sqrt(ua), "K", "F", "frames", "time (s)", "DoLP RMS",
+		    "AoLP RMS deg");
 	for (size_t i = 0; i < sizeof Ks / sizeof Ks[0]; i++)
 		for (size_t j = 0; j < sizeof Fs / sizeof Fs[0]; j++) {
 			unsigned K = Ks[i], F = Fs[j];
@@ -453,8 +468,8 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 				json_object_set_new(r, "aolp_rms_deg", json_real(sqrt(ca)));
 				json_array_append_new(rows, r);
 			} else {
-				printf("%3u %4u %7u %10.1f %11.5f %12.4f\n", K, F, K * F, tsec, sqrt(cd),
-				       sqrt(ca));
+				printf("%3u %4u %7u %10.1f %11.5f %12.4f\n", K, F, K * F, tsec,
+				       sqrt(cd), sqrt(ca));
 				fflush(stdout);
 			}
 		}

@@ -21,21 +21,23 @@ static const pc_bench_host *host;
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam bench dataset [options]\n"
-		"\n"
-		"Makes a few samples of a scene family (polarcam dataset, one thread) at 1224x1024 and\n"
-		"2448x2048 with float32 and float16 truth and prints samples/s per core (CPU time),\n"
-		"bytes per sample, and what 10^6 samples cost: core-hours and TB. The render alone is\n"
-		"the baseline: 'x render' is the whole pipeline's time over it.\n"
-		"\n"
-		"options:\n"
-		"  --spec FILE      the family (default scenes/dataset/demosaic.json here, or under\n"
-		"                   $PC_SOURCE_DIR)\n"
-		"  --count N        samples per row at 1224x1024 (default 3; half, at least 1, at\n"
-		"                   2448x2048)\n"
-		"  --dir DIR        where to write (default a temporary directory, removed after)\n"
-		"  --json           one JSON object per row\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam bench dataset [options]\n"
+	    "\n"
+	    "Makes a few samples of a scene family (polarcam dataset, one thread) at 1224x1024 "
+	    "and\n"
+	    "2448x2048 with float32 and float16 truth and prints samples/s per core (CPU time),\n"
+	    "bytes per sample, and what 10^6 samples cost: core-hours and TB. The render alone is\n"
+	    "the baseline: 'x render' is the whole pipeline's time over it.\n"
+	    "\n"
+	    "options:\n"
+	    "  --spec FILE      the family (default scenes/dataset/demosaic.json here, or under\n"
+	    "                   $PC_SOURCE_DIR)\n"
+	    "  --count N        samples per row at 1224x1024 (default 3; half, at least 1, at\n"
+	    "                   2448x2048)\n"
+	    "  --dir DIR        where to write (default a temporary directory, removed after)\n"
+	    "  --json           one JSON object per row\n");
 }
 
 static double cpu_now(void)
@@ -81,7 +83,9 @@ static int spec_with_truth(const char *spec, const char *dtype, const char *path
 			}
 		}
 	}
-	int rc = json_dump_file(j, path, JSON_INDENT(1)) ? pc_error(PC_EIO, "%s: cannot write", path) : 0;
+	int rc = json_dump_file(j, path, JSON_INDENT(1))
+	             ? pc_error(PC_EIO, "%s: cannot write", path)
+	             : 0;
 	json_decref(j);
 	return rc;
 }
@@ -93,11 +97,11 @@ int pc_bench_dataset(const pc_bench_host *h, int argc, char **argv)
 		usage(stdout);
 		return PC_BENCH_OK;
 	}
-	static const struct option opts[] = { { "spec", required_argument, NULL, 'S' },
-					      { "count", required_argument, NULL, 'n' },
-					      { "dir", required_argument, NULL, 'D' },
-					      { "json", no_argument, NULL, 'J' },
-					      { NULL, 0, NULL, 0 } };
+	static const struct option opts[] = {{"spec", required_argument, NULL, 'S'},
+	                                     {"count", required_argument, NULL, 'n'},
+	                                     {"dir", required_argument, NULL, 'D'},
+	                                     {"json", no_argument, NULL, 'J'},
+	                                     {NULL, 0, NULL, 0}};
 	const char *spec = NULL, *dir = NULL;
 	long count = 3;
 	bool json = false;
@@ -120,7 +124,8 @@ int pc_bench_dataset(const pc_bench_host *h, int argc, char **argv)
 			json = true;
 			break;
 		default:
-			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
+			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)",
+			                   argv[optind - 1]);
 		}
 	}
 	char specbuf[4096];
@@ -130,8 +135,9 @@ int pc_bench_dataset(const pc_bench_host *h, int argc, char **argv)
 		if (access(specbuf, R_OK) && src)
 			snprintf(specbuf, sizeof specbuf, "%s/scenes/dataset/demosaic.json", src);
 		if (access(specbuf, R_OK))
-			return host->error(PC_BENCH_USAGE, "no scenes/dataset/demosaic.json here: run from "
-							   "the source tree or pass --spec FILE");
+			return host->error(PC_BENCH_USAGE,
+			                   "no scenes/dataset/demosaic.json here: run from "
+			                   "the source tree or pass --spec FILE");
 		spec = specbuf;
 	}
 	char tmp[] = "/tmp/pc_bench_dataset_XXXXXX";
@@ -144,13 +150,15 @@ int pc_bench_dataset(const pc_bench_host *h, int argc, char **argv)
 	static const struct {
 		uint32_t w, h;
 		const char *truth;
-	} rows[] = { { 1224, 1024, "float32" }, { 1224, 1024, "float16" }, { 2448, 2048, "float32" },
-		     { 2448, 2048, "float16" } };
+	} rows[] = {{1224, 1024, "float32"},
+	            {1224, 1024, "float16"},
+	            {2448, 2048, "float32"},
+	            {2448, 2048, "float16"}};
 	if (!json)
 		printf("polarcam bench dataset: %s, one thread per sample (per core), CPU time\n\n"
 		       "%-10s %-8s %5s %10s %9s %8s %12s %10s %12s %9s\n",
-		       spec, "size", "truth", "n", "samples/s", "wall s/s", "x render",
-		       "MB/sample", "render s", "core-h/1e6", "TB/1e6");
+		       spec, "size", "truth", "n", "samples/s", "wall s/s", "x render", "MB/sample",
+		       "render s", "core-h/1e6", "TB/1e6");
 	int status = PC_BENCH_OK;
 	for (size_t k = 0; k < sizeof rows / sizeof rows[0]; k++) {
 		char sp[4400], out[4400];
@@ -165,7 +173,8 @@ int pc_bench_dataset(const pc_bench_host *h, int argc, char **argv)
 		o.spec = sp;
 		o.dir = out;
 		o.seed = 1;
-		o.count = rows[k].w > 2000 ? (uint64_t)(count / 2 > 0 ? count / 2 : 1) : (uint64_t)count;
+		o.count =
+		    rows[k].w > 2000 ? (uint64_t)(count / 2 > 0 ? count / 2 : 1) : (uint64_t)count;
 		o.shards = 1;
 		o.width = rows[k].w;
 		o.height = rows[k].h;
@@ -188,32 +197,38 @@ int pc_bench_dataset(const pc_bench_host *h, int argc, char **argv)
 			json_object_set_new(j, "truth", json_string(rows[k].truth));
 			json_object_set_new(j, "samples", json_integer((json_int_t)r.made));
 			json_object_set_new(j, "samples_per_s_per_core", bench_json_real(per_core));
-			json_object_set_new(j, "wall_s_per_sample", bench_json_real(wall / (double)r.made));
+			json_object_set_new(j, "wall_s_per_sample",
+			                    bench_json_real(wall / (double)r.made));
 			json_object_set_new(j, "pipeline_over_render", bench_json_real(ratio));
 			json_object_set_new(j, "bytes_per_sample", bench_json_real(bytes));
 			json_object_set_new(j, "core_hours_per_1e6", bench_json_real(core_h));
 			json_object_set_new(j, "tb_per_1e6", bench_json_real(tb));
 			host->print_json(j);
 		} else {
-			printf("%4ux%-5u %-8s %5llu %10.3f %9.2f %8.2f %12.2f %10.2f %12.0f %9.2f\n",
-			       rows[k].w, rows[k].h, rows[k].truth, (unsigned long long)r.made, per_core,
-			       wall / (double)r.made, ratio, bytes / 1e6, r.render_s / (double)r.made, core_h,
-			       tb);
+			printf(
+			    "%4ux%-5u %-8s %5llu %10.3f %9.2f %8.2f %12.2f %10.2f %12.0f %9.2f\n",
+			    rows[k].w, rows[k].h, rows[k].truth, (unsigned long long)r.made,
+			    per_core, wall / (double)r.made, ratio, bytes / 1e6,
+			    r.render_s / (double)r.made, core_h, tb);
 		}
 		fflush(stdout);
 	}
 	if (!json && status == PC_BENCH_OK) {
-		double la[3] = { 0, 0, 0 };
+		double la[3] = {0, 0, 0};
 		FILE *fp = fopen("/proc/loadavg", "r");
 		if (fp) {
 			if (fscanf(fp, "%lf %lf %lf", &la[0], &la[1], &la[2]) != 3)
 				la[0] = -1;
 			fclose(fp);
 		}
-		printf("\nsamples/s: per core from the process's CPU time; wall s/s: wall seconds per sample "
-		       "(longer on a shared machine); x render: (render + write + SHA-256 + manifest) / "
-		       "render; MB/sample: raw PNG + truth + scene + meta; core-h and TB for 10^6 samples "
-		       "at that rate and size. Load average at the end: %.2f %.2f %.2f on %ld cores.\n",
+		printf("\nsamples/s: per core from the process's CPU time; wall s/s: wall seconds "
+		       "per sample "
+		       "(longer on a shared machine); x render: (render + write + SHA-256 + "
+		       "manifest) / "
+		       "render; MB/sample: raw PNG + truth + scene + meta; core-h and TB for 10^6 "
+		       "samples "
+		       "at that rate and size. Load average at the end: %.2f %.2f %.2f on %ld "
+		       "cores.\n",
 		       la[0], la[1], la[2], sysconf(_SC_NPROCESSORS_ONLN));
 	}
 	if (!dir) {

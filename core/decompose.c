@@ -302,8 +302,8 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 	double q[4] = {1, 0, 0, 0}, lam1 = 0;
 	bool unique = false;
 	if (bmax > 0) {
-		/* ldexp per element, not a multiplication by 2^−e: for a subnormal bmax (a normalised
-		 * m33 of 1e-310) 2^−e itself overflows */
+		/* ldexp per element, not a multiplication by 2^−e: for a subnormal bmax (a
+		 * normalised m33 of 1e-310) 2^−e itself overflows */
 		int e = 0;
 		if (bmax < 1e-30 || bmax > 1e30)
 			frexp(bmax, &e);
@@ -311,8 +311,8 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 		for (int i = 0; i < 3; i++)
 			for (int j = 0; j < 3; j++)
 				Bn[i][j] = ldexp(B[i][j], -e);
-		unique = pc_closest_rotation((const double(*)[3])Bn, fabs(det3((const double(*)[3])Bn)),
-		                             q, &lam1);
+		unique = pc_closest_rotation((const double(*)[3])Bn,
+		                             fabs(det3((const double(*)[3])Bn)), q, &lam1);
 		lam1 = ldexp(lam1, e);
 	}
 	if (!unique || fabs(detmp) <= PC_LC_NONUNIQUE_DET * (lam1 / 3) * (lam1 / 3) * (lam1 / 3) ||

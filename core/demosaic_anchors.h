@@ -37,29 +37,29 @@ typedef struct pc_dm_limiter {
 	pc_cpu_level level;
 } pc_dm_limiter;
 int pc_dm_limited(pc_demosaic_method method);
-int pc_dm_range_limit(const pc_dm_input *in, const pc_mosaic *m, int threads,
-		      pc_cpu_level level, const pc_fplane *out);
+int pc_dm_range_limit(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
+                      const pc_fplane *out);
 int pc_dm_limiter_init(pc_dm_limiter *l, long w, pc_cpu_level level);
 void pc_dm_limiter_free(pc_dm_limiter *l);
 void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[5], uint32_t y,
-		     float *const o[4], size_t pixel_stride);
+                     float *const o[4], size_t pixel_stride);
 /* The limiter on a reference's output: img the raw minus black in double (rounded to float,
  * as the fast paths see it). */
-int pc_dm_range_limit_ref(const double *img, uint32_t width, uint32_t height,
-			  const pc_mosaic *m, const pc_fplane *out);
+int pc_dm_range_limit_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+                          const pc_fplane *out);
 
 /* ---- the anchors' double references ----
  * img, width, height, m, full_scale as pc_dm_ref (demosaic_ref.h). */
 int pc_dm_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-		   pc_demosaic_method method, double full_scale, const pc_fplane *out);
+                   pc_demosaic_method method, double full_scale, const pc_fplane *out);
 /* MLRI residual interpolation of every channel of img with the given guide (-1 without
  * memory). */
 int pc_dm_mlri_ri(const double *img, const double *guide, uint32_t width, uint32_t height,
-		  const pc_mosaic *m, double full_scale, const pc_fplane *out);
+                  const pc_mosaic *m, double full_scale, const pc_fplane *out);
 int pc_dm_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-		    double full_scale, const pc_fplane *out);
+                    double full_scale, const pc_fplane *out);
 int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-		   const pc_fplane *out);
+                   const pc_fplane *out);
 
 /* ---- the fast float paths (method-table kernels; tiny frames fall back to the reference,
  * converted to float) ---- */

@@ -108,7 +108,7 @@ static void boxs(const grid *s, grid *d, int h, int v)
 /* The release's MLRI guided filter (guidedfilter_MLRI_wei.m): guide gd, target r, masks,
  * Laplacians lg (of the masked guide) and lr (of the target), window (2v+1) × (2h+1). */
 static int mlri(const grid *gd, const grid *r, const grid *mask, const grid *lg, const grid *lr,
-		int h, int v, double eps, grid *q)
+                int h, int v, double eps, grid *q)
 {
 	int H = gd->h, W = gd->w;
 	size_t n = (size_t)H * W;
@@ -119,8 +119,8 @@ static int mlri(const grid *gd, const grid *r, const grid *mask, const grid *lg,
 				free(t[z].p);
 			return -1;
 		}
-	grid *N = &t[0], *Ip = &t[1], *II = &t[2], *mG = &t[3], *mR = &t[4], *A = &t[5],
-	     *B = &t[6], *X = &t[7], *Y = &t[8], *Z = &t[9];
+	grid *N = &t[0], *Ip = &t[1], *II = &t[2], *mG = &t[3], *mR = &t[4], *A = &t[5], *B = &t[6],
+	     *X = &t[7], *Y = &t[8], *Z = &t[9];
 	/* products at the masked samples */
 	for (size_t i = 0; i < n; i++) {
 		X->p[i] = lg->p[i] * lr->p[i] * mask->p[i];
@@ -147,7 +147,7 @@ static int mlri(const grid *gd, const grid *r, const grid *mask, const grid *lg,
 		Y->p[i] = r->p[i] * r->p[i] * mask->p[i];
 		Z->p[i] = r->p[i] * gd->p[i] * mask->p[i];
 	}
-	grid sGG = { NULL, 0, 0 }, sRR = { NULL, 0, 0 }, sRG = { NULL, 0, 0 };
+	grid sGG = {NULL, 0, 0}, sRR = {NULL, 0, 0}, sRG = {NULL, 0, 0};
 	if (grid_new(&sGG, H, W) || grid_new(&sRR, H, W) || grid_new(&sRG, H, W)) {
 		free(sGG.p);
 		free(sRR.p);
@@ -162,8 +162,8 @@ static int mlri(const grid *gd, const grid *r, const grid *mask, const grid *lg,
 	for (size_t i = 0; i < n; i++) {
 		double Nn = N->p[i] == 0 ? 1 : N->p[i], a = A->p[i], b = B->p[i];
 		double d2 = (sGG.p[i] * a * a + b * b * N->p[i] + sRR.p[i] + 2 * a * b * mG->p[i] -
-			     2 * b * mR->p[i] - 2 * a * sRG.p[i]) /
-			    Nn;
+		             2 * b * mR->p[i] - 2 * a * sRG.p[i]) /
+		            Nn;
 		double wt = 1.0 / (d2 < 0.01 ? 0.01 : d2);
 		X->p[i] = wt;
 		Y->p[i] = a * wt;
@@ -219,11 +219,11 @@ static int green_step(const grid *raw, int gpar, int rrow, grid *green)
 			Gc->p[k] = raw->p[k] * mG->p[k];
 			Bc->p[k] = raw->p[k] * mB->p[k];
 		}
-	static const double kh[3] = { 0.5, 0, 0.5 };
+	static const double kh[3] = {0.5, 0, 0.5};
 	filt1(raw, rh, kh, 1, 0);
 	filt1(raw, rv, kh, 1, 1);
 	grid *dh = &t[10], *dv = &t[11];
-	static const double F[5] = { -1, 0, 2, 0, -1 };
+	static const double F[5] = {-1, 0, 2, 0, -1};
 	for (int dir = 0; dir < 2 && 1; dir++) {
 		const grid *rd = dir == 0 ? rh : rv;
 		/* guides: green filled at R and B sites; red filled at the green sites of red rows
@@ -272,7 +272,7 @@ static int green_step(const grid *raw, int gpar, int rrow, grid *green)
 		if (mlri(gb, tmp, mGB, lb, la, 3, 3, eps, tGb))
 			goto fail;
 		/* residuals at the own sites, linearly interpolated along the direction */
-		grid *rs[4] = { &t[23], &t[24], &t[25], &t[26] }, *ri[4] = { &t[27], &t[28], la, lb };
+		grid *rs[4] = {&t[23], &t[24], &t[25], &t[26]}, *ri[4] = {&t[27], &t[28], la, lb};
 		for (size_t k = 0; k < n; k++) {
 			rs[0]->p[k] = (raw->p[k] - tGr->p[k]) * mGR->p[k];
 			rs[1]->p[k] = (raw->p[k] - tGb->p[k]) * mGB->p[k];
@@ -283,8 +283,8 @@ static int green_step(const grid *raw, int gpar, int rrow, grid *green)
 			filt1(rs[q], ri[q], kh, 1, dir);
 		grid *d = dir == 0 ? dh : dv;
 		for (size_t k = 0; k < n; k++) {
-			/* estimates: G at R sites (from GR residuals: the sites next to red along the
-			 * direction), G at B sites, R at GR sites, B at GB sites */
+			/* estimates: G at R sites (from GR residuals: the sites next to red along
+			 * the direction), G at B sites, R at GR sites, B at GB sites */
 			double Gr = (tGr->p[k] + ri[0]->p[k]) * mR->p[k];
 			double Gb = (tGb->p[k] + ri[1]->p[k]) * mB->p[k];
 			double Rg = (tR->p[k] + ri[2]->p[k]) * mGR->p[k];
@@ -294,7 +294,7 @@ static int green_step(const grid *raw, int gpar, int rrow, grid *green)
 	}
 	{
 		/* combine the directional colour differences */
-		static const double kd[3] = { 1, 0, -1 };
+		static const double kd[3] = {1, 0, -1};
 		grid *gh = &t[12], *gv = &t[13], *wh = &t[14], *wv = &t[15];
 		filt1(dh, gh, kd, 1, 0);
 		filt1(dv, gv, kd, 1, 1);
@@ -302,7 +302,7 @@ static int green_step(const grid *raw, int gpar, int rrow, grid *green)
 			gh->p[k] = fabs(gh->p[k]);
 			gv->p[k] = fabs(gv->p[k]);
 		}
-		static const double k3[3] = { 1, 1, 1 };
+		static const double k3[3] = {1, 1, 1};
 		grid *tmp = &t[16];
 		filt1(gh, tmp, k3, 1, 0);
 		filt1(tmp, wh, k3, 1, 1);
@@ -338,8 +338,8 @@ static int green_step(const grid *raw, int gpar, int rrow, grid *green)
 				double Wn = 1 / (pow(rep(wv, i - 1, j), 2) + 1e-2);
 				double Ws = 1 / (pow(rep(wv, i + 1, j), 2) + 1e-2);
 				double dif = (Wn * dn->p[k] + Ws * ds->p[k] + Ww * dw->p[k] +
-					      We * de->p[k]) /
-					     (Ww + We + Wn + Ws);
+				              We * de->p[k]) /
+				             (Ww + We + Wn + Ws);
 				green->p[k] = mG->p[k] ? raw->p[k] : dif + raw->p[k];
 			}
 	}
@@ -365,16 +365,17 @@ static void rot(int I, int J, int s1, int *r, int *c)
 }
 
 int pc_dm_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-			  double full_scale, const pc_fplane *out)
+                    double full_scale, const pc_fplane *out)
 {
 	if (m->period != 2)
 		return pc_error(PC_ENOTSUP, "igri2: monochrome mosaics only");
 	if ((m->channel[0][0] ^ m->channel[1][1]) != 2)
-		return pc_error(PC_ENOTSUP, "igri2: the layout must put orthogonal analysers on each "
-					    "diagonal (as 90,45,135,0 does)");
+		return pc_error(PC_ENOTSUP,
+		                "igri2: the layout must put orthogonal analysers on each "
+		                "diagonal (as 90,45,135,0 does)");
 	const int s1 = (int)height, s2 = (int)width;
 	const size_t n = (size_t)s1 * s2;
-	double *full[4] = { NULL, NULL, NULL, NULL };
+	double *full[4] = {NULL, NULL, NULL, NULL};
 	double *x = malloc(sizeof(double) * n), *guide = malloc(sizeof(double) * n);
 	int rc = x && guide ? 0 : -1;
 	for (int c = 0; c < 4 && !rc; c++)
@@ -416,7 +417,8 @@ int pc_dm_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc
 					if (((I + J) & 1) == L) {
 						int r, c;
 						rot(I, J, s1, &r, &c);
-						full[ch][(size_t)I * s2 + J] = clip01(G(&out1, r, c));
+						full[ch][(size_t)I * s2 + J] =
+						    clip01(G(&out1, r, c));
 					}
 		}
 		free(g.p);
@@ -444,7 +446,8 @@ int pc_dm_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc
 					size_t k = (size_t)I * s2 + J;
 					if (((I + J) & 1) == L) {
 						G(&in2, I, J) = full[ch][k];
-					} else { /* the other lattice's two analysers, both filled there */
+					} else { /* the other lattice's two analysers, both filled
+						    there */
 						unsigned a = m->channel[0][(L + 1) & 1], b = a ^ 2u;
 						G(&in2, I, J) = 0.5 * (full[a][k] + full[b][k]);
 					}
@@ -456,8 +459,9 @@ int pc_dm_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc
 		/* step 3: MLRI of every channel with the mean of the four as guide */
 		if (!rc) {
 			for (size_t k = 0; k < n; k++)
-				guide[k] = 0.25 * (st[k] + st[n + k] + st[2 * n + k] + st[3 * n + k]) *
-					   full_scale;
+				guide[k] = 0.25 *
+				           (st[k] + st[n + k] + st[2 * n + k] + st[3 * n + k]) *
+				           full_scale;
 			rc = pc_dm_mlri_ri(img, guide, width, height, m, full_scale, out);
 		}
 		free(st);

@@ -29,7 +29,7 @@
 #include "demosaic_anchors.h"
 #include "polarcam/error.h"
 
-#define MLRI_R 5
+#define MLRI_R      5
 #define MACHINE_EPS 2.220446049250313e-16
 
 typedef struct dimg {
@@ -60,7 +60,7 @@ static void box(const dimg *src, int R, dimg *dst, double *tmp)
 			s += at(src, x + R + 1, y) - at(src, x - R, y);
 		}
 	}
-	dimg t = { tmp, w, h };
+	dimg t = {tmp, w, h};
 	for (int x = 0; x < w; x++) { /* vertical */
 		double s = 0;
 		for (int dy = -R; dy <= R; dy++)
@@ -90,7 +90,7 @@ enum { NB = 14 };
 
 /* MLRI of channel c of raw r with guide g into out (planes[NB] are scratch images). */
 static void mlri_channel(const dimg *r, const dimg *g, const pc_mosaic *m, unsigned c, double fs,
-			 dimg *s, double *tmp, const pc_fplane *out)
+                         dimg *s, double *tmp, const pc_fplane *out)
 {
 	const int w = r->w, h = r->h;
 	const size_t n = (size_t)w * h;
@@ -104,9 +104,9 @@ static void mlri_channel(const dimg *r, const dimg *g, const pc_mosaic *m, unsig
 			int on = chan(m, x, y) == c;
 			double gv = at(g, x, y), iv = at(r, x, y);
 			double lg = 4 * gv - at(g, x - 2, y) - at(g, x + 2, y) - at(g, x, y - 2) -
-				    at(g, x, y + 2);
+			            at(g, x, y + 2);
 			double li = 4 * iv - at(r, x - 2, y) - at(r, x + 2, y) - at(r, x, y - 2) -
-				    at(r, x, y + 2);
+			            at(r, x, y + 2);
 			M->p[i] = on;
 			LGLI->p[i] = on ? lg * li : 0;
 			LG2->p[i] = on ? lg * lg : 0;
@@ -116,7 +116,7 @@ static void mlri_channel(const dimg *r, const dimg *g, const pc_mosaic *m, unsig
 			I2->p[i] = on ? iv * iv : 0;
 			GI->p[i] = on ? gv * iv : 0;
 		}
-	dimg *in[8] = { M, LGLI, LG2, G, I, G2, I2, GI };
+	dimg *in[8] = {M, LGLI, LG2, G, I, G2, I2, GI};
 	for (int k = 0; k < 8; k++) {
 		box(in[k], MLRI_R, X, tmp);
 		memcpy(in[k]->p, X->p, n * sizeof(double));
@@ -126,8 +126,8 @@ static void mlri_channel(const dimg *r, const dimg *g, const pc_mosaic *m, unsig
 		double a = (LGLI->p[i] / N) / (LG2->p[i] / N + eps);
 		double b = I->p[i] / N - a * G->p[i] / N;
 		double d2 = (G2->p[i] * a * a + b * b * M->p[i] + I2->p[i] + 2 * a * b * G->p[i] -
-			     2 * b * I->p[i] - 2 * a * GI->p[i]) /
-			    N;
+		             2 * b * I->p[i] - 2 * a * GI->p[i]) /
+		            N;
 		double wt = 1.0 / fmax(d2 / (fs * fs), 0.01);
 		A->p[i] = a * wt;
 		B->p[i] = b * wt;
@@ -152,8 +152,9 @@ static void mlri_channel(const dimg *r, const dimg *g, const pc_mosaic *m, unsig
 		for (int x = 0; x < w; x++) {
 			size_t i = (size_t)y * w + x;
 			double v = T->p[i] + tent(Y, m, c, x, y);
-			out[c].data[(size_t)y * out[c].row_stride + (size_t)x * out[c].pixel_stride] =
-				(float)v;
+			out[c]
+			    .data[(size_t)y * out[c].row_stride + (size_t)x * out[c].pixel_stride] =
+			    (float)v;
 		}
 }
 
@@ -175,10 +176,10 @@ static void ea_guide(const dimg *r, double fs, dimg *g, dimg *D)
 #undef HD
 #undef VD
 		}
-	static const double k[3] = { 0.125, 0.25, 0.125 };
+	static const double k[3] = {0.125, 0.25, 0.125};
 	for (int y = 0; y < h; y++)
 		for (int x = 0; x < w; x++) {
-			double X[4] = { 0, 0, 0, 0 }, wd[4] = { 0, 0, 0, 0 };
+			double X[4] = {0, 0, 0, 0}, wd[4] = {0, 0, 0, 0};
 			for (int t = -1; t <= 1; t++) {
 				X[0] += k[t + 1] * (at(r, x + t, y - 1) + at(r, x + t, y));
 				X[1] += k[t + 1] * (at(r, x + t, y) + at(r, x + t, y + 1));
@@ -203,22 +204,22 @@ static void ea_guide(const dimg *r, double fs, dimg *g, dimg *D)
 }
 
 int pc_dm_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-			 pc_demosaic_method method, double full_scale, const pc_fplane *out)
+                   pc_demosaic_method method, double full_scale, const pc_fplane *out)
 {
 	if (m->period != 2)
 		return pc_error(PC_ENOTSUP, "%s: monochrome mosaics only",
-				pc_demosaic_method_get(method)->name);
+		                pc_demosaic_method_get(method)->name);
 	const int w = (int)width, h = (int)height;
 	const size_t n = (size_t)w * h;
-	dimg r = { (double *)img, w, h };
+	dimg r = {(double *)img, w, h};
 	double *mem = malloc(sizeof(double) * n * (NB + 2));
 	if (!mem)
 		return pc_error(PC_ENOMEM, "%s reference: %dx%d images",
-				pc_demosaic_method_get(method)->name, w, h);
+		                pc_demosaic_method_get(method)->name, w, h);
 	dimg s[NB];
 	for (int k = 0; k < NB; k++)
-		s[k] = (dimg){ mem + n * (size_t)k, w, h };
-	dimg g = { mem + n * NB, w, h };
+		s[k] = (dimg){mem + n * (size_t)k, w, h};
+	dimg g = {mem + n * NB, w, h};
 	double *tmp = mem + n * (NB + 1);
 	ea_guide(&r, full_scale, &g, s);
 	for (unsigned c = 0; c < 4; c++)
@@ -228,17 +229,17 @@ int pc_dm_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_
 }
 
 int pc_dm_mlri_ri(const double *img, const double *guide, uint32_t width, uint32_t height,
-		  const pc_mosaic *m, double full_scale, const pc_fplane *out)
+                  const pc_mosaic *m, double full_scale, const pc_fplane *out)
 {
 	const int w = (int)width, h = (int)height;
 	const size_t n = (size_t)w * h;
-	dimg r = { (double *)img, w, h }, g = { (double *)guide, w, h };
+	dimg r = {(double *)img, w, h}, g = {(double *)guide, w, h};
 	double *mem = malloc(sizeof(double) * n * (NB + 1));
 	if (!mem)
 		return -1;
 	dimg s[NB];
 	for (int k = 0; k < NB; k++)
-		s[k] = (dimg){ mem + n * (size_t)k, w, h };
+		s[k] = (dimg){mem + n * (size_t)k, w, h};
 	for (unsigned c = 0; c < 4; c++)
 		mlri_channel(&r, &g, m, c, full_scale, s, mem + n * NB, out);
 	free(mem);

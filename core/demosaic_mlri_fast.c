@@ -12,8 +12,8 @@
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
-#define PAD 8
-#define MLRI_R 5
+#define PAD         8
+#define MLRI_R      5
 #define MACHINE_EPS 2.220446049250313e-16
 
 typedef struct plane {
@@ -50,7 +50,8 @@ static void pad_cols(plane p, long w, long y0, long y1)
 static void pad_rows(plane p, long h)
 {
 	for (int i = 1; i <= PAD; i++) {
-		memcpy(&P(p, -PAD, -i), &P(p, -PAD, pc_mirror(-i, (int)h)), sizeof(float) * (size_t)p.s);
+		memcpy(&P(p, -PAD, -i), &P(p, -PAD, pc_mirror(-i, (int)h)),
+		       sizeof(float) * (size_t)p.s);
 		memcpy(&P(p, -PAD, h - 1 + i), &P(p, -PAD, pc_mirror((int)h - 1 + i, (int)h)),
 		       sizeof(float) * (size_t)p.s);
 	}
@@ -129,13 +130,17 @@ static void band(void *ctx, uint32_t y0u, uint32_t y1u)
 		const float eps = (float)(MACHINE_EPS * j->fs);
 		for (long y = y0; y < y1; y++)
 			for (long x = 0; x < w; x++) {
-				float X[4] = { 0, 0, 0, 0 }, wd[4] = { 0, 0, 0, 0 };
-				static const float k[3] = { 0.125f, 0.25f, 0.125f };
+				float X[4] = {0, 0, 0, 0}, wd[4] = {0, 0, 0, 0};
+				static const float k[3] = {0.125f, 0.25f, 0.125f};
 				for (int t = -1; t <= 1; t++) {
-					X[0] += k[t + 1] * (P(j->R, x + t, y - 1) + P(j->R, x + t, y));
-					X[1] += k[t + 1] * (P(j->R, x + t, y) + P(j->R, x + t, y + 1));
-					X[2] += k[t + 1] * (P(j->R, x - 1, y + t) + P(j->R, x, y + t));
-					X[3] += k[t + 1] * (P(j->R, x, y + t) + P(j->R, x + 1, y + t));
+					X[0] +=
+					    k[t + 1] * (P(j->R, x + t, y - 1) + P(j->R, x + t, y));
+					X[1] +=
+					    k[t + 1] * (P(j->R, x + t, y) + P(j->R, x + t, y + 1));
+					X[2] +=
+					    k[t + 1] * (P(j->R, x - 1, y + t) + P(j->R, x, y + t));
+					X[3] +=
+					    k[t + 1] * (P(j->R, x, y + t) + P(j->R, x + 1, y + t));
 				}
 				for (int a = -2; a <= 2; a++)
 					for (int b = 0; b <= 2; b++) {
@@ -162,18 +167,34 @@ static void band(void *ctx, uint32_t y0u, uint32_t y1u)
 				if (chan(j->m, x, y) == j->c) {
 					float gv = P(j->G, x, y), iv = P(j->R, x, y);
 					float lg = 4 * gv - P(j->G, x - 2, y) - P(j->G, x + 2, y) -
-						   P(j->G, x, y - 2) - P(j->G, x, y + 2);
+					           P(j->G, x, y - 2) - P(j->G, x, y + 2);
 					float li = 4 * iv - P(j->R, x - 2, y) - P(j->R, x + 2, y) -
-						   P(j->R, x, y - 2) - P(j->R, x, y + 2);
+					           P(j->R, x, y - 2) - P(j->R, x, y + 2);
 					switch (q) {
-					case 0: v = 1; break;
-					case 1: v = lg * li; break;
-					case 2: v = lg * lg; break;
-					case 3: v = gv; break;
-					case 4: v = iv; break;
-					case 5: v = gv * gv; break;
-					case 6: v = iv * iv; break;
-					default: v = gv * iv; break;
+					case 0:
+						v = 1;
+						break;
+					case 1:
+						v = lg * li;
+						break;
+					case 2:
+						v = lg * lg;
+						break;
+					case 3:
+						v = gv;
+						break;
+					case 4:
+						v = iv;
+						break;
+					case 5:
+						v = gv * gv;
+						break;
+					case 6:
+						v = iv * iv;
+						break;
+					default:
+						v = gv * iv;
+						break;
 					}
 				}
 				P(j->Q, x, y) = v;
@@ -201,12 +222,13 @@ static void band(void *ctx, uint32_t y0u, uint32_t y1u)
 				double M = P(j->S[0], x, y), N = M > 0 ? M : 1;
 				double LGLI = P(j->S[1], x, y), LG2 = P(j->S[2], x, y);
 				double Gs = P(j->S[3], x, y), Is = P(j->S[4], x, y);
-				double G2 = P(j->S[5], x, y), I2 = P(j->S[6], x, y), GI = P(j->S[7], x, y);
+				double G2 = P(j->S[5], x, y), I2 = P(j->S[6], x, y),
+				       GI = P(j->S[7], x, y);
 				double a = (LGLI / N) / (LG2 / N + eps);
 				double b = Is / N - a * Gs / N;
-				double d2 = (G2 * a * a + b * b * M + I2 + 2 * a * b * Gs - 2 * b * Is -
-					     2 * a * GI) /
-					    N;
+				double d2 = (G2 * a * a + b * b * M + I2 + 2 * a * b * Gs -
+				             2 * b * Is - 2 * a * GI) /
+				            N;
 				double wt = 1.0 / fmax(d2 / fs2, 0.01);
 				P(j->A, x, y) = (float)(a * wt);
 				P(j->B, x, y) = (float)(b * wt);
@@ -221,7 +243,8 @@ static void band(void *ctx, uint32_t y0u, uint32_t y1u)
 		for (long y = y0; y < y1; y++)
 			for (long x = 0; x < w; x++) {
 				double ws = fmax(P(j->S[0 + 5], x, y), 0.01);
-				double t = P(j->S[3], x, y) / ws * P(j->G, x, y) + P(j->S[4], x, y) / ws;
+				double t =
+				    P(j->S[3], x, y) / ws * P(j->G, x, y) + P(j->S[4], x, y) / ws;
 				float tt = (float)fmin(fmax(t, 0), j->fs);
 				P(j->T, x, y) = tt;
 				P(j->Q, x, y) = P(j->R, x, y) - tt;
@@ -237,12 +260,13 @@ static void band(void *ctx, uint32_t y0u, uint32_t y1u)
 				for (int dy = -1; dy <= 1; dy++)
 					for (int dx = -1; dx <= 1; dx++)
 						if (chan(j->m, x + dx, y + dy) == j->c) {
-							float wt = (float)((2 - abs(dx)) * (2 - abs(dy)));
+							float wt =
+							    (float)((2 - abs(dx)) * (2 - abs(dy)));
 							s += wt * P(j->Q, x + dx, y + dy);
 							ws += wt;
 						}
 				o->data[(size_t)y * o->row_stride + (size_t)x * o->pixel_stride] =
-					P(j->T, x, y) + s / ws;
+				    P(j->T, x, y) + s / ws;
 			}
 		break;
 	}
@@ -270,7 +294,7 @@ static void box(mjob *j, int q, int threads)
 }
 
 static int mlri_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
-		     double full_scale, int threads, const pc_fplane *out)
+                     double full_scale, int threads, const pc_fplane *out)
 {
 	if (m->period != 2)
 		return PC_ENOTSUP;
@@ -289,13 +313,13 @@ static int mlri_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_meth
 	enum { NPL = 22 };
 	float *mem = pc_dm_alloc(sizeof(float) * plane_sz * NPL);
 	if (!mem)
-		return pc_error(PC_ENOMEM, "%s: %ldx%ld planes", pc_demosaic_method_get(method)->name,
-				j.w, j.h);
-	plane *all[NPL] = { &j.R, &j.G, &j.D[0], &j.D[1], &j.D[2], &j.D[3], &j.Q, &j.H, &j.S[0],
-			    &j.S[1], &j.S[2], &j.S[3], &j.S[4], &j.S[5], &j.S[6], &j.S[7], &j.A,
-			    &j.B, &j.W, &j.T, &j.X, NULL };
+		return pc_error(PC_ENOMEM, "%s: %ldx%ld planes",
+		                pc_demosaic_method_get(method)->name, j.w, j.h);
+	plane *all[NPL] = {&j.R,    &j.G,    &j.D[0], &j.D[1], &j.D[2], &j.D[3], &j.Q,    &j.H,
+	                   &j.S[0], &j.S[1], &j.S[2], &j.S[3], &j.S[4], &j.S[5], &j.S[6], &j.S[7],
+	                   &j.A,    &j.B,    &j.W,    &j.T,    &j.X,    NULL};
 	for (int k = 0; k < NPL && all[k]; k++)
-		*all[k] = (plane){ mem + plane_sz * (size_t)k, s };
+		*all[k] = (plane){mem + plane_sz * (size_t)k, s};
 	run(&j, ST_RAW, threads);
 	pad_rows(j.R, j.h);
 	run(&j, ST_D, threads);
@@ -314,7 +338,7 @@ static int mlri_fast(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_meth
 		}
 		run(&j, ST_ABW, threads);
 		/* box A, B, W into S[3], S[4], S[5] (the window sums are no longer needed) */
-		plane src[3] = { j.A, j.B, j.W };
+		plane src[3] = {j.A, j.B, j.W};
 		for (int k = 0; k < 3; k++) {
 			plane keep = j.X;
 			j.X = src[k];

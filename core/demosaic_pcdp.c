@@ -46,7 +46,7 @@ static unsigned chan(const pc_mosaic *m, int x, int y)
 
 /* tent of channel c's samples of f(x, y) around (x, y) */
 static double tent_of(const dimg *r, const pc_mosaic *m, unsigned c, int x, int y,
-		      double (*f)(const dimg *, const pc_mosaic *, unsigned, int, int), unsigned j)
+                      double (*f)(const dimg *, const pc_mosaic *, unsigned, int, int), unsigned j)
 {
 	double s = 0, ws = 0;
 	for (int dy = -1; dy <= 1; dy++)
@@ -79,11 +79,11 @@ static double diff_j(const dimg *r, const pc_mosaic *m, unsigned j, int x, int y
 }
 
 int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-			 const pc_fplane *out)
+                   const pc_fplane *out)
 {
 	if (m->period != 2)
 		return pc_error(PC_ENOTSUP, "pcdp: monochrome mosaics only");
-	dimg r = { img, (int)width, (int)height };
+	dimg r = {img, (int)width, (int)height};
 	for (int y = 0; y < r.h; y++)
 		for (int x = 0; x < r.w; x++)
 			for (unsigned i = 0; i < 4; i++) {
@@ -95,7 +95,7 @@ int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_
 					v += pcdp_weight(i, j) * (bil(&r, m, j, x, y) + d);
 				}
 				out[i].data[(size_t)y * out[i].row_stride +
-					    (size_t)x * out[i].pixel_stride] = (float)v;
+				            (size_t)x * out[i].pixel_stride] = (float)v;
 			}
 	return 0;
 }
@@ -127,8 +127,10 @@ static void pad_plane(const fjob *j, float *p, long y0, long y1)
 static void pad_rows(const fjob *j, float *p)
 {
 	for (int k = 1; k <= PAD; k++) {
-		memcpy(&AT(p, -PAD, -k), &AT(p, -PAD, pc_mirror(-k, (int)j->h)), sizeof(float) * (size_t)j->s);
-		memcpy(&AT(p, -PAD, j->h - 1 + k), &AT(p, -PAD, pc_mirror((int)j->h - 1 + k, (int)j->h)),
+		memcpy(&AT(p, -PAD, -k), &AT(p, -PAD, pc_mirror(-k, (int)j->h)),
+		       sizeof(float) * (size_t)j->s);
+		memcpy(&AT(p, -PAD, j->h - 1 + k),
+		       &AT(p, -PAD, pc_mirror((int)j->h - 1 + k, (int)j->h)),
 		       sizeof(float) * (size_t)j->s);
 	}
 }
@@ -146,7 +148,7 @@ static inline float tentf(const fjob *j, const float *p, unsigned c, long x, lon
 	if (m->channel[cy ^ 1][cx] == c)
 		return 0.5f * (AT(p, x, y - 1) + AT(p, x, y + 1));
 	return 0.25f * ((AT(p, x - 1, y - 1) + AT(p, x + 1, y - 1)) +
-			(AT(p, x - 1, y + 1) + AT(p, x + 1, y + 1)));
+	                (AT(p, x - 1, y + 1) + AT(p, x + 1, y + 1)));
 }
 
 static void fband(void *ctx, uint32_t y0u, uint32_t y1u)
@@ -170,7 +172,7 @@ static void fband(void *ctx, uint32_t y0u, uint32_t y1u)
 		for (long y = y0; y < y1; y++)
 			for (long x = 0; x < w; x++) {
 				float g = wt[0] * AT(j->B[0], x, y) + wt[1] * AT(j->B[1], x, y) +
-					  wt[2] * AT(j->B[2], x, y) + wt[3] * AT(j->B[3], x, y);
+				          wt[2] * AT(j->B[2], x, y) + wt[3] * AT(j->B[3], x, y);
 				AT(j->Rs, x, y) = AT(j->R, x, y) - g;
 			}
 		pad_plane(j, j->Rs, y0, y1);
@@ -183,15 +185,14 @@ static void fband(void *ctx, uint32_t y0u, uint32_t y1u)
 		for (long y = y0; y < y1; y++)
 			for (long x = 0; x < w; x++) {
 				float g = wt[0] * AT(j->B[0], x, y) + wt[1] * AT(j->B[1], x, y) +
-					  wt[2] * AT(j->B[2], x, y) + wt[3] * AT(j->B[3], x, y);
+				          wt[2] * AT(j->B[2], x, y) + wt[3] * AT(j->B[3], x, y);
 				o->data[(size_t)y * o->row_stride + (size_t)x * o->pixel_stride] =
-					g + tentf(j, j->Rs, i, x, y);
+				    g + tentf(j, j->Rs, i, x, y);
 			}
 	}
 }
 
-static int pcdp_fast(const pc_dm_input *in, const pc_mosaic *m, int threads,
-		     const pc_fplane *out)
+static int pcdp_fast(const pc_dm_input *in, const pc_mosaic *m, int threads, const pc_fplane *out)
 {
 	if (m->period != 2 || in->width < 4 || in->height < 4)
 		return PC_ENOTSUP;

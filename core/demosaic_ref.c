@@ -173,11 +173,12 @@ static void ppi_refine(const rimg *r, const rimg *p0, double eps, rimg *p)
 				for (int dx = -1; dx <= 1; dx++) {
 					if (!dx && !dy)
 						continue;
-					double g = fabs(at(r, x + 2 * dx, y + 2 * dy) - c) +
-						   fabs(at(r, x + dx, y + dy) - at(r, x - dx, y - dy));
+					double g =
+					    fabs(at(r, x + 2 * dx, y + 2 * dy) - c) +
+					    fabs(at(r, x + dx, y + dy) - at(r, x - dx, y - dy));
 					double gam = 1.0 / (eps + g);
 					num += gam * (at(p0, x + 2 * dx, y + 2 * dy) -
-						      at(r, x + 2 * dx, y + 2 * dy));
+					              at(r, x + 2 * dx, y + 2 * dy));
 					den += gam;
 				}
 			*px(p, x, y) = c + num / den;
@@ -187,7 +188,7 @@ static void ppi_refine(const rimg *r, const rimg *p0, double eps, rimg *p)
 /* PPID step 3 (ibid. eqs. 30-31, 34): I_c = PPI + tent-interpolated (raw − PPI) of channel c. */
 static int ref_ppid(const rimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
 {
-	rimg p0 = { 0 }, p = { 0 }, d = { 0 };
+	rimg p0 = {0}, p = {0}, d = {0};
 	int rc = rimg_new(&p0, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&p, r->w, r->h);
@@ -236,22 +237,24 @@ static void eari_guide(const rimg *r, const pc_mosaic *m, double eps, rimg *g)
 			double mh = 0.5 * (at(r, x - 1, y) + at(r, x + 1, y));
 			double mv = 0.5 * (at(r, x, y - 1) + at(r, x, y + 1));
 			double md = 0.25 * (at(r, x - 1, y - 1) + at(r, x + 1, y + 1) +
-					    at(r, x + 1, y - 1) + at(r, x - 1, y + 1));
+			                    at(r, x + 1, y - 1) + at(r, x - 1, y + 1));
 			/* gradients along the four axes */
 			double gax[4];
-			static const int ax[4][2] = { { 1, 0 }, { 0, 1 }, { 1, 1 }, { 1, -1 } };
+			static const int ax[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
 			for (int k = 0; k < 4; k++) {
 				int ox = ax[k][0], oy = ax[k][1];
 				gax[k] = fabs(at(r, x + ox, y + oy) - at(r, x - ox, y - oy)) +
-					 fabs(at(r, x + 2 * ox, y + 2 * oy) - c0) +
-					 fabs(at(r, x - 2 * ox, y - 2 * oy) - c0);
+				         fabs(at(r, x + 2 * ox, y + 2 * oy) - c0) +
+				         fabs(at(r, x - 2 * ox, y - 2 * oy) - c0);
 			}
 			double num = 0, den = 0, gmean = 0.25 * (gax[0] + gax[1] + gax[2] + gax[3]);
 			double other;
-			if (chan(m, x + 1, y + 1) == cp) { /* orthogonal analyser on the diagonals */
+			if (chan(m, x + 1, y + 1) ==
+			    cp) { /* orthogonal analyser on the diagonals */
 				for (int k = 2; k < 4; k++) {
 					int ox = ax[k][0], oy = ax[k][1];
-					double e = c0 + 0.5 * (at(r, x + ox, y + oy) + at(r, x - ox, y - oy));
+					double e = c0 + 0.5 * (at(r, x + ox, y + oy) +
+					                       at(r, x - ox, y - oy));
 					double wgt = 1.0 / (eps + gax[k]);
 					num += wgt * e;
 					den += wgt;
@@ -282,7 +285,7 @@ static void eari_guide(const rimg *r, const pc_mosaic *m, double eps, rimg *g)
  * then the tentative image T = mean_ω(a)·G + mean_ω(b). The residual raw − T at the samples is
  * tent-interpolated and added back: I_c = T + tent(raw − T). */
 static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsigned c, int rad,
-			  double eps2, rimg *a, rimg *b, rimg *t, const pc_fplane *out)
+                          double eps2, rimg *a, rimg *b, rimg *t, const pc_fplane *out)
 {
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++) {
@@ -291,7 +294,8 @@ static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsi
 				for (int dx = -rad; dx <= rad; dx++) {
 					if (chan(m, x + dx, y + dy) != c)
 						continue;
-					double gv = at(g, x + dx, y + dy), iv = at(r, x + dx, y + dy);
+					double gv = at(g, x + dx, y + dy),
+					       iv = at(r, x + dx, y + dy);
 					n++;
 					sg += gv;
 					si += iv;
@@ -326,9 +330,9 @@ static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsi
 }
 
 static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
-		  const pc_fplane *out)
+                  const pc_fplane *out)
 {
-	rimg p0 = { 0 }, g = { 0 }, a = { 0 }, b = { 0 }, t = { 0 };
+	rimg p0 = {0}, g = {0}, a = {0}, b = {0}, t = {0};
 	int rc = rimg_new(&p0, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&g, r->w, r->h);
@@ -348,17 +352,21 @@ static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
 		}
 		double e = pr->eps * fs;
 		for (int it = 0; it < pr->passes && !rc; it++) {
-			if (it) /* refine the guide: the mean analyser intensity S0/2 of the last pass */
+			if (it) /* refine the guide: the mean analyser intensity S0/2 of the last
+			           pass */
 				for (int y = 0; y < r->h; y++)
 					for (int x = 0; x < r->w; x++) {
 						double s = 0;
 						for (int c = 0; c < 4; c++)
-							s += out[c].data[(size_t)y * out[c].row_stride +
-									 (size_t)x * out[c].pixel_stride];
+							s += out[c].data[(size_t)y *
+							                     out[c].row_stride +
+							                 (size_t)x *
+							                     out[c].pixel_stride];
 						*px(&g, x, y) = s / 4;
 					}
 			for (unsigned c = 0; c < 4 && !rc; c++)
-				rc = ref_ri_channel(r, &g, m, c, pr->radius, e * e, &a, &b, &t, out);
+				rc =
+				    ref_ri_channel(r, &g, m, c, pr->radius, e * e, &a, &b, &t, out);
 		}
 	}
 	rimg_free(&p0);
@@ -383,7 +391,7 @@ static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
  * counts little (a joint-bilateral range weight on the guide; Tomasi & Manduchi, ICCV 1998;
  * Kopf et al., SIGGRAPH 2007). */
 static double guided_tent(const rimg *v, const rimg *g, const pc_mosaic *m, unsigned c, int x,
-			  int y, double e)
+                          int y, double e)
 {
 	double s = 0, ws = 0, g0 = at(g, x, y);
 	for (int dy = -1; dy <= 1; dy++)
@@ -398,7 +406,7 @@ static double guided_tent(const rimg *v, const rimg *g, const pc_mosaic *m, unsi
 
 static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
 {
-	rimg g = { 0 }, q = { 0 }, gn = { 0 };
+	rimg g = {0}, q = {0}, gn = {0};
 	int rc = rimg_new(&g, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&q, r->w, r->h);
@@ -414,15 +422,16 @@ static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fpla
 	for (int pass = 0; pass < PC_RATIO_PASSES; pass++) {
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++)
-				*px(&q, x, y) = (at(r, x, y) + delta) / (fmax(at(&g, x, y), 0) + delta);
+				*px(&q, x, y) =
+				    (at(r, x, y) + delta) / (fmax(at(&g, x, y), 0) + delta);
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++) {
 				double den = fmax(at(&g, x, y), 0) + delta, sum = 0;
 				for (unsigned c = 0; c < 4; c++) {
-					double v = c == chan(m, x, y)
-							   ? at(r, x, y)
-							   : den * guided_tent(&q, &g, m, c, x, y, e) -
-								     delta;
+					double v =
+					    c == chan(m, x, y)
+					        ? at(r, x, y)
+					        : den * guided_tent(&q, &g, m, c, x, y, e) - delta;
 					put(&out[c], x, y, v);
 					sum += v;
 				}
@@ -439,9 +448,9 @@ static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fpla
 }
 
 static int ref_method(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-		      pc_demosaic_method method, double full_scale, const pc_fplane *out)
+                      pc_demosaic_method method, double full_scale, const pc_fplane *out)
 {
-	rimg r = { (double *)img, (int)width, (int)height };
+	rimg r = {(double *)img, (int)width, (int)height};
 	switch (method) {
 	case PC_DM_SUPERPIXEL_HALF:
 		if (m->period == 4)
@@ -478,11 +487,11 @@ static int ref_method(const double *img, uint32_t width, uint32_t height, const 
 		break;
 	}
 	return pc_error(PC_ENOTSUP, "demosaicking method %d: no reference for this mosaic",
-			(int)method);
+	                (int)method);
 }
 
 int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-	      pc_demosaic_method method, double full_scale, const pc_fplane *out)
+              pc_demosaic_method method, double full_scale, const pc_fplane *out)
 {
 	int rc = ref_method(img, width, height, m, method, full_scale, out);
 	/* the robust methods' overshoot limiter (demosaic_robust.c; the fast paths apply it row

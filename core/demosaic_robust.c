@@ -58,13 +58,12 @@ void pc_dm_limiter_free(pc_dm_limiter *l)
 	l->mem = NULL;
 }
 
-
 typedef struct lim_kernels {
 	void (*ranges)(const float *restrict, float *restrict, float *restrict, float *restrict,
-		       float *restrict, long);
+	               float *restrict, long);
 	void (*combine)(const float *const[5], float *restrict, long);
 	void (*clamp)(float *restrict, const float *, const float *, const float *, const float *,
-		      const float *, long, int, long);
+	              const float *, long, int, long);
 } lim_kernels;
 
 #define KFN(name) name##_base
@@ -74,7 +73,7 @@ typedef struct lim_kernels {
 #undef KATTR
 #ifdef PC_CPU_X86
 #define KFN(name) name##_avx2
-#define KATTR __attribute__((target("avx2")))
+#define KATTR     __attribute__((target("avx2")))
 #include "demosaic_robust_kern.inc"
 #undef KFN
 #undef KATTR
@@ -84,9 +83,9 @@ typedef struct lim_kernels {
  * memory-bound). */
 static const lim_kernels *lim_k(pc_cpu_level level)
 {
-	static const lim_kernels base = { ranges_base, combine_base, clamp_base };
+	static const lim_kernels base = {ranges_base, combine_base, clamp_base};
 #ifdef PC_CPU_X86
-	static const lim_kernels avx2 = { ranges_avx2, combine_avx2, clamp_avx2 };
+	static const lim_kernels avx2 = {ranges_avx2, combine_avx2, clamp_avx2};
 	if (level >= PC_CPU_AVX2)
 		return &avx2;
 #else
@@ -109,7 +108,7 @@ static const float *row_ranges(pc_dm_limiter *l, const float *r, long vrow)
 }
 
 void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[5], uint32_t y,
-		     float *const o[4], size_t pixel_stride)
+                     float *const o[4], size_t pixel_stride)
 {
 	const long w = l->w;
 	const lim_kernels *k = lim_k(l->level);
@@ -124,8 +123,10 @@ void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[
 		for (unsigned px = 0; px < 2; px++) {
 			unsigned c = pc_dm_ch(m, px, py);
 			int same_row = ((y ^ py) & 1) == 0;
-			const float *sn = v + (same_row ? 2 : 6) * w, *sx = v + (same_row ? 3 : 7) * w;
-			const float *an = v + (same_row ? 0 : 4) * w, *ax = v + (same_row ? 1 : 5) * w;
+			const float *sn = v + (same_row ? 2 : 6) * w,
+			            *sx = v + (same_row ? 3 : 7) * w;
+			const float *an = v + (same_row ? 0 : 4) * w,
+			            *ax = v + (same_row ? 1 : 5) * w;
 			if (pixel_stride == 1) {
 				k->clamp(o[c], sn, sx, an, ax, v + 8 * w, (long)px, same_row, w);
 				continue;
@@ -163,7 +164,7 @@ static void limit_band(void *ctx, uint32_t y0, uint32_t y1)
 		j->err = 1;
 		return;
 	}
-	long have[5] = { LONG_MIN, LONG_MIN, LONG_MIN, LONG_MIN, LONG_MIN };
+	long have[5] = {LONG_MIN, LONG_MIN, LONG_MIN, LONG_MIN, LONG_MIN};
 	for (uint32_t y = y0; y < y1; y++) {
 		const float *r[5];
 		for (int k = 0; k < 5; k++) {
@@ -187,19 +188,19 @@ static void limit_band(void *ctx, uint32_t y0, uint32_t y1)
 	free(mem);
 }
 
-int pc_dm_range_limit(const pc_dm_input *in, const pc_mosaic *m, int threads,
-		      pc_cpu_level level, const pc_fplane *out)
+int pc_dm_range_limit(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
+                      const pc_fplane *out)
 {
 	for (int c = 1; c < 4; c++)
 		if (out[c].pixel_stride != out[0].pixel_stride)
 			return pc_error(PC_EINVAL, "output channels with different pixel strides");
-	limit_job j = { in, m, out, level, 0 };
+	limit_job j = {in, m, out, level, 0};
 	pc_parallel_rows(in->height, 32, threads, limit_band, &j);
 	return j.err ? pc_error(PC_ENOMEM, "range limiter: row scratch") : 0;
 }
 
-int pc_dm_range_limit_ref(const double *img, uint32_t width, uint32_t height,
-			  const pc_mosaic *m, const pc_fplane *out)
+int pc_dm_range_limit_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+                          const pc_fplane *out)
 {
 	size_t n = (size_t)width * height;
 	float *f = malloc(n * sizeof(float));

@@ -98,13 +98,14 @@ int pc_limit_check(pc_limit which, uint64_t value, const char *what)
 		if (e == 1)
 			lim = pc_limits[which].def;
 		else if (e)
-			return pc_error(PC_EINVAL, "%s: %s='%s': expected a positive integer, "
-						   "optionally with a suffix k, M, G, T or Ki, Mi, Gi, Ti",
-					what, pc_limits[which].env, getenv(pc_limits[which].env));
+			return pc_error(PC_EINVAL,
+			                "%s: %s='%s': expected a positive integer, "
+			                "optionally with a suffix k, M, G, T or Ki, Mi, Gi, Ti",
+			                what, pc_limits[which].env, getenv(pc_limits[which].env));
 	}
 	if (lim == 0 || value <= lim)
 		return 0;
 	return pc_error(PC_ERANGE, "%s: %llu %s exceed the limit of %llu (set %s to allow more)",
-			what, (unsigned long long)value, pc_limits[which].unit,
-			(unsigned long long)lim, pc_limits[which].env);
+	                what, (unsigned long long)value, pc_limits[which].unit,
+	                (unsigned long long)lim, pc_limits[which].env);
 }

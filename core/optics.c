@@ -222,19 +222,19 @@ void pc_mueller_rotator(double theta, double M[4][4])
 
 void pc_retarder_mueller(double angle_rad, double delta_rad, double m[4][4])
 {
-	/* Linear retarder, fast axis at θ from the x (s) axis towards y (p), retardance δ: the Jones
-	 * matrix R(−θ)·diag(1, e^{−iδ})·R(θ) (e^{+iωt}: the slow component lags) mapped to Mueller
-	 * with physics.md §1's A (S3 = 2 Im(E_s* E_p)). Worked out by hand:
+	/* Linear retarder, fast axis at θ from the x (s) axis towards y (p), retardance δ: the
+	 * Jones matrix R(−θ)·diag(1, e^{−iδ})·R(θ) (e^{+iωt}: the slow component lags) mapped to
+	 * Mueller with physics.md §1's A (S3 = 2 Im(E_s* E_p)). Worked out by hand:
 	 * [[1,0,0,0],[0,c²+s²cosδ, cs(1−cosδ), −s sinδ],[0, cs(1−cosδ), s²+c²cosδ, c sinδ],
 	 *  [0, s sinδ, −c sinδ, cosδ]] with c = cos2θ, s = sin2θ. Verified in tests against the
 	 * Jones calculus (tests/test_sim_render.c): a quarter-wave plate at 45° turns S1 = +1 into
 	 * S3 = +1 in this convention. */
 	double c = cos(2 * angle_rad), s = sin(2 * angle_rad);
 	double cd = cos(delta_rad), sd = sin(delta_rad);
-	double r[4][4] = { { 1, 0, 0, 0 },
-			   { 0, c * c + s * s * cd, c * s * (1 - cd), -s * sd },
-			   { 0, c * s * (1 - cd), s * s + c * c * cd, c * sd },
-			   { 0, s * sd, -c * sd, cd } };
+	double r[4][4] = {{1, 0, 0, 0},
+	                  {0, c * c + s * s * cd, c * s * (1 - cd), -s * sd},
+	                  {0, c * s * (1 - cd), s * s + c * c * cd, c * sd},
+	                  {0, s * sd, -c * sd, cd}};
 	memcpy(m, r, sizeof r);
 }
 
@@ -242,10 +242,10 @@ void pc_diattenuator_mueller(double angle_rad, double D, double m[4][4])
 {
 	double p = (1 + D) / 2, q = (1 - D) / 2, r = 2 * sqrt(p * q);
 	double c = cos(2 * angle_rad), s = sin(2 * angle_rad);
-	double t[4][4] = { { p + q, (p - q) * c, (p - q) * s, 0 },
-			   { (p - q) * c, (p + q) * c * c + r * s * s, (p + q - r) * c * s, 0 },
-			   { (p - q) * s, (p + q - r) * c * s, (p + q) * s * s + r * c * c, 0 },
-			   { 0, 0, 0, r } };
+	double t[4][4] = {{p + q, (p - q) * c, (p - q) * s, 0},
+	                  {(p - q) * c, (p + q) * c * c + r * s * s, (p + q - r) * c * s, 0},
+	                  {(p - q) * s, (p + q - r) * c * s, (p + q) * s * s + r * c * c, 0},
+	                  {0, 0, 0, r}};
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++)
 			m[i][j] = 0.5 * t[i][j];
@@ -477,15 +477,16 @@ static void pc_jacobi_herm4(double Hr[4][4], double Hi[4][4], double Vr[4][4], d
 				                            : (th >= 0 ? 1 : -1) /
 				                                  (fabs(th) + sqrt(th * th + 1));
 				double c = 1 / sqrt(t * t + 1), sn = t * c;
-				/* H ← Uᴴ H U with U = [[c, s], [−s e^{−iα}, c e^{−iα}]] on (p, q). Outside
-				 * the (p, q) block only columns p, q change through H U (rows p, q through
-				 * Uᴴ H are their conjugates: H stays Hermitian); the block itself becomes
-				 * diag(app − t|h|, aqq + t|h|). */
+				/* H ← Uᴴ H U with U = [[c, s], [−s e^{−iα}, c e^{−iα}]] on (p, q).
+				 * Outside the (p, q) block only columns p, q change through H U
+				 * (rows p, q through Uᴴ H are their conjugates: H stays Hermitian);
+				 * the block itself becomes diag(app − t|h|, aqq + t|h|). */
 				for (int k = 0; k < 4; k++) {
 					if (k == p || k == q)
 						continue;
 					double xr = Hr[k][p], xi = Hi[k][p];
-					double yr = Hr[k][q] * er + Hi[k][q] * ei; /* H_kq e^{−iα} */
+					double yr =
+					    Hr[k][q] * er + Hi[k][q] * ei; /* H_kq e^{−iα} */
 					double yi = Hi[k][q] * er - Hr[k][q] * ei;
 					Hr[k][p] = Hr[p][k] = c * xr - sn * yr;
 					Hi[k][p] = c * xi - sn * yi;

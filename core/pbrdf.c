@@ -496,8 +496,8 @@ int pc_pbrdf_eval(const pc_pbrdf *p, double theta_i, double theta_r, double dphi
 	return pc_pbrdf_eval_vec(p, k_i, k_r, s_i, s_r, f);
 }
 
-int pc_pbrdf_eval_deg(const pc_pbrdf *p, double theta_i_deg, double theta_r_deg,
-                      double dphi_deg, double f[4][4])
+int pc_pbrdf_eval_deg(const pc_pbrdf *p, double theta_i_deg, double theta_r_deg, double dphi_deg,
+                      double f[4][4])
 {
 	/* as pc_pbrdf_eval, with sines and cosines exact at multiples of 90° (pc_sincos_deg): at
 	 * Δφ = 180° the reflected direction is exactly in the plane of incidence */

@@ -49,7 +49,7 @@ static double now_s(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static const char *const policy_names[] = { "skip", "keep", "fail" };
+static const char *const policy_names[] = {"skip", "keep", "fail"};
 
 const char *pc_incomplete_policy_name(pc_incomplete_policy p)
 {
@@ -79,7 +79,7 @@ int pc_incomplete_policy_from_name(const char *name, pc_incomplete_policy *out)
 			return 0;
 		}
 	return pc_error(PC_EINVAL, "incomplete frames '%s': expected skip, keep or fail",
-			name ? name : "");
+	                name ? name : "");
 }
 
 /* The first reason the recording ended; later ones are dropped. Either thread. */
@@ -125,10 +125,10 @@ static int open_all(capture *c)
 		return pc_error_prefix(rc, "--method: ");
 	if (!pc_incomplete_policy_name(o->incomplete) || !pc_recording_store_name(o->store))
 		return pc_error(PC_EINVAL, "capture: incomplete policy %d / store %d unknown",
-				(int)o->incomplete, (int)o->store);
+		                (int)o->incomplete, (int)o->store);
 	if (!(o->write_delay_ms >= 0 && o->write_delay_ms <= 3.6e6))
 		return pc_error(PC_EINVAL, "capture: write delay %g ms: expected 0..3600000",
-				o->write_delay_ms);
+		                o->write_delay_ms);
 	if ((rc = pc_stream_open(&o->stream, &c->src)))
 		return pc_error_prefix(rc, "opening the source: ");
 	pc_source_get_format(c->src, &c->f);
@@ -139,10 +139,11 @@ static int open_all(capture *c)
 		c->method = pc_demosaic_method_get(m)->name;
 	}
 	if (!o->process && o->levels.calibration)
-		return pc_error(PC_EINVAL, "--calibration applies to --process (the recording keeps "
-					   "the raw frames)");
+		return pc_error(PC_EINVAL,
+		                "--calibration applies to --process (the recording keeps "
+		                "the raw frames)");
 	if (o->process && ((rc = pc_stokes_stream_new(m, &c->live)) ||
-			   (rc = pc_stokes_stream_set_levels(c->live, &o->levels, c->src))))
+	                   (rc = pc_stokes_stream_set_levels(c->live, &o->levels, c->src))))
 		return rc;
 	/* the black level, for whoever processes the recording later */
 	pc_source_info info;
@@ -154,7 +155,7 @@ static int open_all(capture *c)
 	(void)pc_format_row_bytes(c->f.format, c->f.width, &row);
 	size_t frame_bytes = c->f.height ? c->f.stride * (c->f.height - 1) + row : row;
 	if ((rc = fq_init(&c->q, frame_bytes,
-			  o->queue_bytes ? o->queue_bytes : default_queue_bytes())))
+	                  o->queue_bytes ? o->queue_bytes : default_queue_bytes())))
 		return rc;
 	c->q_ready = true;
 	pc_recording_desc d;
@@ -210,7 +211,7 @@ static void *writer_main(void *arg)
 		}
 		if (!rc && o->write_delay_ms > 0) {
 			double d = o->write_delay_ms / 1e3;
-			struct timespec ts = { (time_t)d, (long)((d - (double)(time_t)d) * 1e9) };
+			struct timespec ts = {(time_t)d, (long)((d - (double)(time_t)d) * 1e9)};
 			while (nanosleep(&ts, &ts) != 0)
 				;
 		}
@@ -309,7 +310,7 @@ static int acquire_one(capture *c, acq *a)
 static void record(capture *c)
 {
 	const pc_capture_opts *o = c->o;
-	acq a = { 0, o->frames, 0, 0, 0 };
+	acq a = {0, o->frames, 0, 0, 0};
 	double fps = 0;
 	if (pc_source_control_get(c->src, PC_CTRL_FRAME_RATE_HZ, &fps) == 0 && fps > 0)
 		a.fallback_period_s = 1 / fps;
@@ -367,7 +368,8 @@ static void record(capture *c)
 		     (double)qs.capacity * (double)qs.frame_bytes / 1e6, 1e3 * qs.write_mean_s,
 		     1e3 * qs.period_s);
 	if (a.kept)
-		fail(c, PC_EIO, "%llu of the %llu frames recorded arrived incomplete (kept: policy keep)",
+		fail(c, PC_EIO,
+		     "%llu of the %llu frames recorded arrived incomplete (kept: policy keep)",
 		     (unsigned long long)a.kept, (unsigned long long)c->rep->frames);
 }
 
@@ -381,8 +383,8 @@ static json_t *processed(capture *c)
 		return NULL;
 	char pdir[1100];
 	snprintf(pdir, sizeof pdir, "%s/processed", c->o->dir);
-	pc_stokes_folder_opts fo = { PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP | PC_SF_PICTURES,
-				     { "capture", 0, 0 } };
+	pc_stokes_folder_opts fo = {PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP | PC_SF_PICTURES,
+	                            {"capture", 0, 0}};
 	const pc_validity *valid = pc_stokes_stream_validity(c->live);
 	int rc = pc_stokes_folder_write_valid(pdir, so, w, h, &fo, valid);
 	if (rc)
@@ -436,8 +438,8 @@ static json_t *queue_json(capture *c)
 	json_object_set_new(j, "written", json_integer((json_int_t)q.written));
 	json_object_set_new(j, "write_ms_mean", pc_json_real(1e3 * q.write_mean_s));
 	json_object_set_new(j, "write_ms_max", pc_json_real(1e3 * q.write_max_s));
-	json_object_set_new(j, "period_ms", q.period_s > 0 ? pc_json_real(1e3 * q.period_s)
-							  : json_null());
+	json_object_set_new(j, "period_ms",
+	                    q.period_s > 0 ? pc_json_real(1e3 * q.period_s) : json_null());
 	return j;
 }
 
@@ -487,8 +489,7 @@ static void finish(capture *c, json_t *pj)
 	json_object_set_new(j, "queue", qj);
 	if (pj)
 		json_object_set(j, "process", pj);
-	json_object_set_new(j, "error",
-			    c->rep->error ? json_string(c->rep->message) : json_null());
+	json_object_set_new(j, "error", c->rep->error ? json_string(c->rep->message) : json_null());
 	c->rep->json = pc_json_text(j);
 	json_decref(j);
 	free(stats);

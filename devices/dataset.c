@@ -69,7 +69,8 @@ static int read_text(const char *path, char **out, size_t max)
 	*out = NULL;
 	FILE *fp = fopen(path, "rb");
 	if (!fp)
-		return errno == ENOENT ? PC_ENOENT : pc_error(PC_EIO, "%s: %s", path, strerror(errno));
+		return errno == ENOENT ? PC_ENOENT
+		                       : pc_error(PC_EIO, "%s: %s", path, strerror(errno));
 	size_t cap = 4096, n = 0;
 	char *b = malloc(cap);
 	int rc = 0;
@@ -227,13 +228,15 @@ static int manifest_line(const char *dir, uint64_t i, char **line, uint64_t *byt
 		uint64_t b;
 		snprintf(p, sizeof p, "%s/%s", sdir, names[k]);
 		if (!(rc = pc_sha256_file(p, hex, &b))) {
-			json_object_set_new(files, names[k],
-					    json_pack("{s:I, s:s}", "bytes", (json_int_t)b, "sha256", hex));
+			json_object_set_new(
+			    files, names[k],
+			    json_pack("{s:I, s:s}", "bytes", (json_int_t)b, "sha256", hex));
 			total += b;
 		}
 	}
 	free_list(names, n);
-	json_t *o = json_pack("{s:I, s:s, s:o}", "index", (json_int_t)i, "sample", rel, "files", files);
+	json_t *o =
+	    json_pack("{s:I, s:s, s:o}", "index", (json_int_t)i, "sample", rel, "files", files);
 	*line = rc ? NULL : json_dumps(o, JSON_COMPACT | JSON_SORT_KEYS);
 	json_decref(o);
 	if (!rc && !*line)
@@ -264,18 +267,22 @@ static int read_manifest(const char *path, uint64_t count, char **lines, const c
 		json_t *j = json_loads(p, 0, NULL);
 		json_t *ix = j ? json_object_get(j, "index") : NULL;
 		if (!json_is_integer(ix) || json_integer_value(ix) < 0 ||
-		    (uint64_t)json_integer_value(ix) >= count || !json_is_object(json_object_get(j, "files"))) {
+		    (uint64_t)json_integer_value(ix) >= count ||
+		    !json_is_object(json_object_get(j, "files"))) {
 			json_decref(j);
-			rc = pc_error(PC_EFORMAT, "%s: line %u: not a manifest line of this dataset "
-						  "(expected {\"index\": 0..%llu, \"files\": {...}, ...})",
-				      path, line, (unsigned long long)count - 1);
+			rc = pc_error(PC_EFORMAT,
+			              "%s: line %u: not a manifest line of this dataset "
+			              "(expected {\"index\": 0..%llu, \"files\": {...}, ...})",
+			              path, line, (unsigned long long)count - 1);
 			break;
 		}
 		uint64_t i = (uint64_t)json_integer_value(ix);
 		json_decref(j);
 		if (lines[i] && strcmp(lines[i], p)) {
-			rc = pc_error(PC_EFORMAT, "%s: line %u: sample %llu listed twice with different "
-						  "files", path, line, (unsigned long long)i);
+			rc = pc_error(PC_EFORMAT,
+			              "%s: line %u: sample %llu listed twice with different "
+			              "files",
+			              path, line, (unsigned long long)i);
 			break;
 		}
 		if (!lines[i] && !(lines[i] = strdup(p))) {
@@ -327,7 +334,9 @@ static int append_line(const char *path, const char *line)
 	t[n] = '\n';
 	ssize_t w = write(fd, t, n + 1); /* one write: O_APPEND keeps lines whole between writers */
 	free(t);
-	int rc = w == (ssize_t)(n + 1) && fsync(fd) == 0 ? 0 : pc_error(PC_EIO, "%s: write failed", path);
+	int rc = w == (ssize_t)(n + 1) && fsync(fd) == 0
+	             ? 0
+	             : pc_error(PC_EIO, "%s: write failed", path);
 	close(fd);
 	return rc;
 }
@@ -342,9 +351,10 @@ static char *dataset_text(const pc_family *f, uint64_t seed, uint64_t count)
 	free(spec);
 	if (!sj)
 		return NULL;
-	json_t *o = json_pack("{s:i, s:o, s:I, s:I, s:s}", "polarcam_dataset", 1, "family", sj, "seed",
-			      (json_int_t)seed, "count", (json_int_t)count, "layout",
-			      "samples/NNNNNNNN/{raw_NNNNNN.png, truth_stokes.npy, scene.json, meta.json}");
+	json_t *o =
+	    json_pack("{s:i, s:o, s:I, s:I, s:s}", "polarcam_dataset", 1, "family", sj, "seed",
+	              (json_int_t)seed, "count", (json_int_t)count, "layout",
+	              "samples/NNNNNNNN/{raw_NNNNNN.png, truth_stokes.npy, scene.json, meta.json}");
 	char *t = json_dumps(o, JSON_INDENT(1) | JSON_SORT_KEYS | JSON_REAL_PRECISION(17));
 	json_decref(o);
 	if (!t)
@@ -373,12 +383,15 @@ static int read_dataset(const char *dir, uint64_t *count, uint64_t *seed)
 	json_error_t je;
 	json_t *j = json_loads(t, 0, &je);
 	free(t);
-	json_t *c = j ? json_object_get(j, "count") : NULL, *s = j ? json_object_get(j, "seed") : NULL;
-	if (!json_is_integer(c) || json_integer_value(c) < 1 || (uint64_t)json_integer_value(c) > MAX_COUNT ||
-	    !json_is_integer(s)) {
+	json_t *c = j ? json_object_get(j, "count") : NULL,
+	       *s = j ? json_object_get(j, "seed") : NULL;
+	if (!json_is_integer(c) || json_integer_value(c) < 1 ||
+	    (uint64_t)json_integer_value(c) > MAX_COUNT || !json_is_integer(s)) {
 		json_decref(j);
-		return pc_error(PC_EFORMAT, "%s: expected a polarcam dataset description with \"count\" "
-					    "(1..%llu) and \"seed\"", p, MAX_COUNT);
+		return pc_error(PC_EFORMAT,
+		                "%s: expected a polarcam dataset description with \"count\" "
+		                "(1..%llu) and \"seed\"",
+		                p, MAX_COUNT);
 	}
 	*count = (uint64_t)json_integer_value(c);
 	if (seed)
@@ -392,7 +405,7 @@ static int read_dataset(const char *dir, uint64_t *count, uint64_t *seed)
 /* What the sample is, under meta.json's "extra": "sample" (index, seeds, exposure, statistics,
  * the truth file) beside the simulator's description, and "scene", the sample's scene. */
 static int sample_extra(const pc_family *f, const pc_family_sample *s, uint64_t seed,
-			const char *truth_file, char **text)
+                        const char *truth_file, char **text)
 {
 	json_t *x = s->sim_json ? json_loads(s->sim_json, 0, NULL) : NULL;
 	json_t *scene = json_loads(s->scene_json, 0, NULL);
@@ -407,15 +420,18 @@ static int sample_extra(const pc_family *f, const pc_family_sample *s, uint64_t 
 	json_object_set_new(m, "family_seed", json_integer((json_int_t)seed));
 	json_object_set_new(m, "index", json_integer((json_int_t)s->index));
 	json_object_set_new(m, "sim_seed", json_integer((json_int_t)s->sim_seed));
-	json_object_set_new(m, "rerender", json_sprintf("polarcam render scene.json --seed %llu -n %u",
-							 (unsigned long long)s->sim_seed, s->n_frames));
+	json_object_set_new(m, "rerender",
+	                    json_sprintf("polarcam render scene.json --seed %llu -n %u",
+	                                 (unsigned long long)s->sim_seed, s->n_frames));
 	if (truth_file) {
 		json_t *t = json_object();
 		json_object_set_new(t, "file", json_string(truth_file));
-		json_object_set_new(t, "dtype", json_string(s->truth == PC_TRUTH_F16 ? "float16" : "float32"));
-		json_object_set_new(t, "what", json_string("Stokes radiance S0..S3, W m^-2 sr^-1, image-"
-							   "plane frame (docs/scene-format.md); S3 NaN "
-							   "without the circular effect"));
+		json_object_set_new(t, "dtype",
+		                    json_string(s->truth == PC_TRUTH_F16 ? "float16" : "float32"));
+		json_object_set_new(t, "what",
+		                    json_string("Stokes radiance S0..S3, W m^-2 sr^-1, image-"
+		                                "plane frame (docs/scene-format.md); S3 NaN "
+		                                "without the circular effect"));
 		json_object_set_new(m, "truth", t);
 	}
 	json_object_set_new(m, "exposure_us", json_real(s->exposure_us));
@@ -433,27 +449,27 @@ static int sample_extra(const pc_family *f, const pc_family_sample *s, uint64_t 
 /* The sample directory tmp: a recording (raw_NNNNNN.png + meta.json, the writers of `polarcam
  * render`, polarcam/recording.h) with the truth (pc_truth_write) and scene.json beside it. */
 static int write_sample_files(const pc_family *f, const pc_family_sample *s, uint64_t seed,
-			      const char *tmp)
+                              const char *tmp)
 {
 	char p[4400], source[256];
 	snprintf(source, sizeof source, "family:%s?seed=%llu&sample=%llu", pc_family_name(f),
-		 (unsigned long long)seed, (unsigned long long)s->index);
+	         (unsigned long long)seed, (unsigned long long)s->index);
 	const pc_sim_info *in = &s->info;
-	pc_recording_desc desc = { source,	    in->format,	   NULL,
-				   in->width,	    in->height,	   in->offset_x,
-				   in->offset_y,    in->sensor_width, in->sensor_height,
-				   true,	    in->mosaic,	   PC_STORE_PNG };
+	pc_recording_desc desc = {source,       in->format,       NULL,
+	                          in->width,    in->height,       in->offset_x,
+	                          in->offset_y, in->sensor_width, in->sensor_height,
+	                          true,         in->mosaic,       PC_STORE_PNG};
 	pc_recording *rec = NULL;
 	int rc = pc_recording_create(&rec, tmp, &desc, false);
 	for (unsigned k = 0; k < s->n_frames && !rc; k++) {
-		pc_frame fr = { s->frames[k], s->frame_meta[k], in->mosaic };
+		pc_frame fr = {s->frames[k], s->frame_meta[k], in->mosaic};
 		rc = pc_recording_add(rec, &fr);
 	}
 	const char *truth_file = s->truth_stokes ? "truth_stokes.npy" : NULL;
 	if (!rc && truth_file) {
 		snprintf(p, sizeof p, "%s/%s", tmp, truth_file);
 		rc = pc_truth_write(p, in, s->truth_stokes, false,
-				    s->truth == PC_TRUTH_F16 ? PC_DT_F16 : PC_DT_F32);
+		                    s->truth == PC_TRUTH_F16 ? PC_DT_F16 : PC_DT_F32);
 	}
 	if (!rc) {
 		snprintf(p, sizeof p, "%s/scene.json", tmp);
@@ -483,7 +499,7 @@ static int write_sample_files(const pc_family *f, const pc_family_sample *s, uin
 /* ---- run ---- */
 
 int pc_dataset_shard_from_env(uint32_t shards_hint, uint32_t *shard, uint32_t *shards,
-			      const char **scheduler)
+                              const char **scheduler)
 {
 	const char *id = getenv("SLURM_ARRAY_TASK_ID"), *cnt = getenv("SLURM_ARRAY_TASK_COUNT");
 	const char *mn = getenv("SLURM_ARRAY_TASK_MIN");
@@ -492,17 +508,22 @@ int pc_dataset_shard_from_env(uint32_t shards_hint, uint32_t *shard, uint32_t *s
 	char tail;
 	if (id && *id) {
 		if (sscanf(id, "%llu%c", &a, &tail) != 1)
-			return pc_error(PC_EINVAL, "SLURM_ARRAY_TASK_ID='%s': expected an integer", id);
+			return pc_error(PC_EINVAL, "SLURM_ARRAY_TASK_ID='%s': expected an integer",
+			                id);
 		if (!cnt || sscanf(cnt, "%llu%c", &b, &tail) != 1 || b < 1 || b > UINT32_MAX)
-			return pc_error(PC_EINVAL, "SLURM_ARRAY_TASK_COUNT='%s': expected a positive "
-						   "integer (an array job sets it with the task id)",
-					cnt ? cnt : "");
+			return pc_error(PC_EINVAL,
+			                "SLURM_ARRAY_TASK_COUNT='%s': expected a positive "
+			                "integer (an array job sets it with the task id)",
+			                cnt ? cnt : "");
 		if (mn && *mn && sscanf(mn, "%llu%c", &c, &tail) != 1)
-			return pc_error(PC_EINVAL, "SLURM_ARRAY_TASK_MIN='%s': expected an integer", mn);
+			return pc_error(PC_EINVAL, "SLURM_ARRAY_TASK_MIN='%s': expected an integer",
+			                mn);
 		if (a < c || a - c >= b)
-			return pc_error(PC_EINVAL, "SLURM_ARRAY_TASK_ID=%llu outside the array of %llu tasks "
-						   "from %llu (sharding needs the ids MIN..MIN+COUNT-1, "
-						   "e.g. --array=0-%llu)", a, b, c, b - 1);
+			return pc_error(PC_EINVAL,
+			                "SLURM_ARRAY_TASK_ID=%llu outside the array of %llu tasks "
+			                "from %llu (sharding needs the ids MIN..MIN+COUNT-1, "
+			                "e.g. --array=0-%llu)",
+			                a, b, c, b - 1);
 		*shard = (uint32_t)(a - c);
 		*shards = (uint32_t)b;
 		*scheduler = "slurm";
@@ -510,13 +531,18 @@ int pc_dataset_shard_from_env(uint32_t shards_hint, uint32_t *shard, uint32_t *s
 	}
 	if (kidx && *kidx) {
 		if (sscanf(kidx, "%llu%c", &a, &tail) != 1)
-			return pc_error(PC_EINVAL, "JOB_COMPLETION_INDEX='%s': expected an integer", kidx);
+			return pc_error(PC_EINVAL, "JOB_COMPLETION_INDEX='%s': expected an integer",
+			                kidx);
 		b = shards_hint;
-		if (!b && (!kcnt || sscanf(kcnt, "%llu%c", &b, &tail) != 1 || b < 1 || b > UINT32_MAX))
-			return pc_error(PC_EINVAL, "JOB_COMPLETION_INDEX=%llu needs the number of shards: "
-						   "--shards M or POLARCAM_SHARDS (the Job's completions)", a);
+		if (!b &&
+		    (!kcnt || sscanf(kcnt, "%llu%c", &b, &tail) != 1 || b < 1 || b > UINT32_MAX))
+			return pc_error(PC_EINVAL,
+			                "JOB_COMPLETION_INDEX=%llu needs the number of shards: "
+			                "--shards M or POLARCAM_SHARDS (the Job's completions)",
+			                a);
 		if (a >= b)
-			return pc_error(PC_EINVAL, "JOB_COMPLETION_INDEX=%llu outside %llu shards", a, b);
+			return pc_error(PC_EINVAL, "JOB_COMPLETION_INDEX=%llu outside %llu shards",
+			                a, b);
 		*shard = (uint32_t)a;
 		*shards = (uint32_t)b;
 		*scheduler = "kubernetes";
@@ -530,7 +556,7 @@ static int prepare_dir(const pc_dataset_options *o, const pc_family *f)
 {
 	char p[4096];
 	int rc = pc_mkdir_p(o->dir);
-	const char *sub[] = { "samples", "manifests", "meshes" };
+	const char *sub[] = {"samples", "manifests", "meshes"};
 	for (int i = 0; i < 3 && !rc; i++) {
 		snprintf(p, sizeof p, "%s/%s", o->dir, sub[i]);
 		rc = pc_mkdir_p(p);
@@ -545,9 +571,10 @@ static int prepare_dir(const pc_dataset_options *o, const pc_family *f)
 	if (rc == PC_ENOENT)
 		rc = pc_write_file_atomic(p, want, strlen(want));
 	else if (!rc && strcmp(have, want))
-		rc = pc_error(PC_EBUSY, "%s holds another dataset (its dataset.json differs in the "
-					"family spec, the seed or the count): use another directory",
-			      o->dir);
+		rc = pc_error(PC_EBUSY,
+		              "%s holds another dataset (its dataset.json differs in the "
+		              "family spec, the seed or the count): use another directory",
+		              o->dir);
 	free(want);
 	free(have);
 	for (unsigned i = 0; !rc && i < pc_family_mesh_count(f); i++) {
@@ -618,13 +645,13 @@ int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r)
 		return pc_error(PC_EINVAL, "dataset: a spec and a directory are required");
 	if (o->count < 1 || o->count > MAX_COUNT)
 		return pc_error(PC_EINVAL, "dataset: count %llu: expected 1..%llu",
-				(unsigned long long)o->count, MAX_COUNT);
+		                (unsigned long long)o->count, MAX_COUNT);
 	if (o->seed > (uint64_t)INT64_MAX)
 		return pc_error(PC_EINVAL, "dataset: seed %llu: expected 0..2^63-1 (JSON integers)",
-				(unsigned long long)o->seed);
+		                (unsigned long long)o->seed);
 	if (o->shards < 1 || o->shard >= o->shards)
 		return pc_error(PC_EINVAL, "dataset: shard %u of %u: expected 0 <= I < M", o->shard,
-				o->shards);
+		                o->shards);
 	pc_family *f = NULL;
 	int rc = pc_family_load(o->spec, &f);
 	if (!rc && (o->width || o->height))
@@ -632,7 +659,8 @@ int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r)
 	if (!rc)
 		rc = prepare_dir(o, f);
 	char mpath[4096];
-	snprintf(mpath, sizeof mpath, "%s/manifests/shard-%u-of-%u.jsonl", o->dir, o->shard, o->shards);
+	snprintf(mpath, sizeof mpath, "%s/manifests/shard-%u-of-%u.jsonl", o->dir, o->shard,
+	         o->shards);
 	char **lines = NULL;
 	if (!rc && !(lines = calloc(o->count, sizeof *lines)))
 		rc = pc_error(PC_ENOMEM, "manifest of %llu samples", (unsigned long long)o->count);
@@ -653,7 +681,8 @@ int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r)
 		snprintf(final, sizeof final, "%s/%s", o->dir, rel);
 		if (is_dir(final)) {
 			if (!lines[i]) {
-				/* complete (renamed into place) but killed before its manifest line */
+				/* complete (renamed into place) but killed before its manifest line
+				 */
 				rc = manifest_line(o->dir, i, &lines[i], NULL);
 				if (!rc)
 					rc = append_line(mpath, lines[i]);
@@ -670,19 +699,22 @@ int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r)
 			r->render_s += t1 - t0;
 			if (!rc) {
 				snprintf(tmp, sizeof tmp, "%s/samples/.%08llu.tmp.%s.%ld", o->dir,
-					 (unsigned long long)i, host, (long)getpid());
+				         (unsigned long long)i, host, (long)getpid());
 				rm_rf(tmp);
 				if (mkdir(tmp, 0755))
 					rc = pc_error(PC_EIO, "%s: %s", tmp, strerror(errno));
 				if (!rc)
 					rc = write_sample_files(f, &s, o->seed, tmp);
 				if (!rc && rename(tmp, final)) {
-					/* another run of this shard (a requeued task whose first run is still
-					 * alive) put the same sample in place first: the same bytes */
-					if ((errno == ENOTEMPTY || errno == EEXIST) && is_dir(final))
+					/* another run of this shard (a requeued task whose first
+					 * run is still alive) put the same sample in place first:
+					 * the same bytes */
+					if ((errno == ENOTEMPTY || errno == EEXIST) &&
+					    is_dir(final))
 						rm_rf(tmp);
 					else
-						rc = pc_error(PC_EIO, "%s -> %s: %s", tmp, final, strerror(errno));
+						rc = pc_error(PC_EIO, "%s -> %s: %s", tmp, final,
+						              strerror(errno));
 				}
 				if (rc)
 					rm_rf(tmp);
@@ -711,9 +743,10 @@ int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r)
 		}
 		done++;
 		if (!rc && pc_progress_report(&o->progress, "samples", done, r->total))
-			rc = pc_error(PC_ECANCELED, "dataset: stopped after %llu of %llu samples of shard %u/%u",
-				      (unsigned long long)done, (unsigned long long)r->total, o->shard,
-				      o->shards);
+			rc = pc_error(PC_ECANCELED,
+			              "dataset: stopped after %llu of %llu samples of shard %u/%u",
+			              (unsigned long long)done, (unsigned long long)r->total,
+			              o->shard, o->shards);
 	}
 	if (!rc)
 		rc = write_manifest(mpath, lines, o->count); /* sorted, whole lines */
@@ -763,10 +796,11 @@ int pc_dataset_merge(const char *dir, uint64_t *count_out)
 		if (!lines[i] && !missing++)
 			first = i;
 	if (!rc && missing)
-		rc = pc_error(PC_EINVAL, "%s: %llu of %llu samples have no manifest line (the first: "
-					 "%llu): run the missing shards first; nothing written",
-			      dir, (unsigned long long)missing, (unsigned long long)count,
-			      (unsigned long long)first);
+		rc = pc_error(PC_EINVAL,
+		              "%s: %llu of %llu samples have no manifest line (the first: "
+		              "%llu): run the missing shards first; nothing written",
+		              dir, (unsigned long long)missing, (unsigned long long)count,
+		              (unsigned long long)first);
 	if (!rc) {
 		char p[4096];
 		snprintf(p, sizeof p, "%s/manifest.jsonl", dir);
@@ -781,7 +815,7 @@ int pc_dataset_merge(const char *dir, uint64_t *count_out)
 }
 
 static void bad(pc_dataset_verify_result *r, uint64_t i, bool corrupt, const char *fmt, ...)
-	__attribute__((format(printf, 4, 5)));
+    __attribute__((format(printf, 4, 5)));
 static void bad(pc_dataset_verify_result *r, uint64_t i, bool corrupt, const char *fmt, ...)
 {
 	if (corrupt)
@@ -838,7 +872,8 @@ int pc_dataset_verify(const char *dir, pc_dataset_verify_result *r)
 		}
 		if (n != json_object_size(files)) {
 			ok = false;
-			bad(r, i, true, "%s: %zu files, the manifest lists %zu", rel, n, json_object_size(files));
+			bad(r, i, true, "%s: %zu files, the manifest lists %zu", rel, n,
+			    json_object_size(files));
 		}
 		for (size_t k = 0; k < n && ok; k++) {
 			json_t *want = json_object_get(files, names[k]);
@@ -853,11 +888,14 @@ int pc_dataset_verify(const char *dir, pc_dataset_verify_result *r)
 				bad(r, i, true, "%s/%s: unreadable", rel, names[k]);
 			} else {
 				r->bytes += b;
-				if ((json_int_t)b != json_integer_value(json_object_get(want, "bytes")) ||
+				if ((json_int_t)b !=
+				        json_integer_value(json_object_get(want, "bytes")) ||
 				    !json_is_string(json_object_get(want, "sha256")) ||
-				    strcmp(hex, json_string_value(json_object_get(want, "sha256")))) {
+				    strcmp(hex,
+				           json_string_value(json_object_get(want, "sha256")))) {
 					ok = false;
-					bad(r, i, true, "%s/%s: size or SHA-256 differs from the manifest", rel,
+					bad(r, i, true,
+					    "%s/%s: size or SHA-256 differs from the manifest", rel,
 					    names[k]);
 				}
 			}

@@ -62,10 +62,10 @@ static int negotiate(pc_source *s, const pc_stream_request *a)
 		rc = pc_error_prefix(PC_EINVAL, "%s: the source cannot deliver this: ", a->uri);
 	if (!rc && v == PC_FORMAT_ADJUSTED)
 		rc = pc_error(PC_EINVAL,
-			      "%s: the source would adjust the request to %s ROI %u,%u,%u,%u; ask "
-			      "for that explicitly",
-			      a->uri, got.format_name, got.offset_x, got.offset_y, got.width,
-			      got.height);
+		              "%s: the source would adjust the request to %s ROI %u,%u,%u,%u; ask "
+		              "for that explicitly",
+		              a->uri, got.format_name, got.offset_x, got.offset_y, got.width,
+		              got.height);
 	if (!rc)
 		rc = pc_source_set_format(s, &got);
 	return rc;
@@ -128,12 +128,12 @@ char *pc_source_stats_json(const pc_source_stats *st)
 	json_object_set_new(j, "timeouts", json_integer((json_int_t)st->timeouts));
 	json_object_set_new(j, "underruns", json_integer((json_int_t)st->underruns));
 	json_object_set_new(j, "transport_failures",
-			    json_integer((json_int_t)st->transport_failures));
+	                    json_integer((json_int_t)st->transport_failures));
 	if (st->has_packets) {
 		json_object_set_new(j, "missing_packets",
-				    json_integer((json_int_t)st->missing_packets));
+		                    json_integer((json_int_t)st->missing_packets));
 		json_object_set_new(j, "resent_packets",
-				    json_integer((json_int_t)st->resent_packets));
+		                    json_integer((json_int_t)st->resent_packets));
 	} else {
 		json_object_set_new(j, "missing_packets", json_null());
 		json_object_set_new(j, "resent_packets", json_null());
@@ -151,30 +151,31 @@ struct pc_stokes_stream {
 	uint32_t w, h; /* output size of the method */
 	float *planes; /* s0, dolp, aolp (each w*h) */
 	pc_stokes_out out;
-	uint8_t *rgb;     /* 3 panels side by side: (3w) x h RGB8 */
-	double process_s; /* time of the last pc_stokes_from_raw */
+	uint8_t *rgb;        /* 3 panels side by side: (3w) x h RGB8 */
+	double process_s;    /* time of the last pc_stokes_from_raw */
 	pc_stream_levels lv; /* resolved: black_level finite */
 	pc_calib cal;        /* with lv.calibration */
 	bool have_cal;
-	uint8_t *valid;      /* w × h */
+	uint8_t *valid; /* w × h */
 	pc_validity validity;
 	double sat_used;
 };
 
 pc_stream_levels pc_stream_levels_default(void)
 {
-	return (pc_stream_levels){ NAN, 0, 0, NULL };
+	return (pc_stream_levels){NAN, 0, 0, NULL};
 }
 
 int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv, pc_source *src)
 {
 	pc_stream_levels l = lv ? *lv : pc_stream_levels_default();
 	if (l.calibration && !isnan(l.black_level))
-		return pc_error(PC_EINVAL, "--black-level and --calibration: the calibration's dark "
-					   "map is the black level; give one or the other");
+		return pc_error(PC_EINVAL,
+		                "--black-level and --calibration: the calibration's dark "
+		                "map is the black level; give one or the other");
 	if (!isnan(l.black_level) && !(l.black_level >= 0 && isfinite(l.black_level)))
 		return pc_error(PC_EINVAL, "black level %g: expected a finite level >= 0 DN",
-				l.black_level);
+		                l.black_level);
 	if (isnan(l.black_level)) {
 		pc_source_info info;
 		l.black_level = 0;
@@ -192,15 +193,21 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 		s->have_cal = true;
 		pc_source_format f;
 		if (src && pc_source_get_format(src, &f) == 0) {
-			pc_calib_geometry g = { f.width, f.height, f.offset_x, f.offset_y,
-						f.sensor_width, f.sensor_height,
-						pc_format_info_get(f.format)->bits, f.mosaic };
+			pc_calib_geometry g = {f.width,
+			                       f.height,
+			                       f.offset_x,
+			                       f.offset_y,
+			                       f.sensor_width,
+			                       f.sensor_height,
+			                       pc_format_info_get(f.format)->bits,
+			                       f.mosaic};
 			if (f.polarized && f.mosaic.period == 4)
-				rc = pc_error(PC_EINVAL, "the source's frames are colour-polarization: "
-							 "the calibration is for a monochrome mosaic");
+				rc = pc_error(PC_EINVAL,
+				              "the source's frames are colour-polarization: "
+				              "the calibration is for a monochrome mosaic");
 			else if (!f.polarized)
 				rc = pc_error(PC_EFORMAT, "the source's frames carry no polarizer "
-							  "mosaic");
+				                          "mosaic");
 			else
 				rc = pc_calib_check(&s->cal, &g);
 			if (rc)
@@ -217,7 +224,7 @@ const pc_validity *pc_stokes_stream_validity(const pc_stokes_stream *s)
 }
 
 void pc_stokes_stream_levels_used(const pc_stokes_stream *s, double *black, double *saturation,
-				  const char **calibration)
+                                  const char **calibration)
 {
 	if (black)
 		*black = s->have_cal ? 0 : s->lv.black_level;
@@ -260,8 +267,9 @@ void pc_stokes_stream_free(pc_stokes_stream *s)
 int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 {
 	if (f->mosaic.period != 2 && f->mosaic.period != 4)
-		return pc_error(PC_EFORMAT, "the frames carry no polarizer mosaic: nothing to compute "
-					    "Stokes images from");
+		return pc_error(PC_EFORMAT,
+		                "the frames carry no polarizer mosaic: nothing to compute "
+		                "Stokes images from");
 	uint32_t w, h;
 	pc_demosaic_out_size(lv->method, f->view.width, f->view.height, &w, &h);
 	if (w != lv->w || h != lv->h || !lv->planes) {
@@ -279,9 +287,9 @@ int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 			return pc_error(PC_ENOMEM, "Stokes images %ux%u", w, h);
 		}
 		memset(&lv->out, 0, sizeof lv->out);
-		lv->out.s0 = (pc_fplane){ lv->planes, w, 1 };
-		lv->out.dolp = (pc_fplane){ lv->planes + (size_t)w * h, w, 1 };
-		lv->out.aolp = (pc_fplane){ lv->planes + 2 * (size_t)w * h, w, 1 };
+		lv->out.s0 = (pc_fplane){lv->planes, w, 1};
+		lv->out.dolp = (pc_fplane){lv->planes + (size_t)w * h, w, 1};
+		lv->out.aolp = (pc_fplane){lv->planes + 2 * (size_t)w * h, w, 1};
 	}
 	const pc_format_info *fi = pc_format_info_get(f->view.format);
 	unsigned bits = fi ? fi->bits : 0;
@@ -289,23 +297,24 @@ int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 	po.method = lv->method;
 	po.mosaic = f->mosaic;
 	po.black_level = lv->have_cal ? 0 : lv->lv.black_level;
-	po.saturation_level = lv->lv.saturation_level > 0   ? lv->lv.saturation_level
-			      : lv->lv.saturation_level < 0 ? 0
-			      : lv->have_cal		    ? lv->cal.saturation
-			      : fi && !fi->is_float && bits <= 16 ? (double)((1u << bits) - 1u)
-								  : 0;
+	po.saturation_level = lv->lv.saturation_level > 0         ? lv->lv.saturation_level
+	                      : lv->lv.saturation_level < 0       ? 0
+	                      : lv->have_cal                      ? lv->cal.saturation
+	                      : fi && !fi->is_float && bits <= 16 ? (double)((1u << bits) - 1u)
+	                                                          : 0;
 	po.dead_level = lv->lv.dead_level;
 	lv->sat_used = po.saturation_level;
-	lv->validity = (pc_validity){ lv->valid, w, 0 };
+	lv->validity = (pc_validity){lv->valid, w, 0};
 	double t0 = now_s();
-	int rc = lv->have_cal ? pc_calib_apply(&lv->cal, f, bits, &po, &lv->out, NULL, &lv->validity)
-			      : pc_stokes_run(&f->view, &po, &lv->out, &lv->validity);
+	int rc = lv->have_cal
+	             ? pc_calib_apply(&lv->cal, f, bits, &po, &lv->out, NULL, &lv->validity)
+	             : pc_stokes_run(&f->view, &po, &lv->out, &lv->validity);
 	lv->process_s = now_s() - t0;
 	return rc;
 }
 
 const pc_stokes_out *pc_stokes_stream_planes(const pc_stokes_stream *s, uint32_t *width,
-					     uint32_t *height)
+                                             uint32_t *height)
 {
 	if (width)
 		*width = s->w;
@@ -330,13 +339,13 @@ int pc_stokes_stream_picture(pc_stokes_stream *lv, const uint8_t **rgb)
 	int rc = pc_picture_grey(&lv->out.s0, lv->w, lv->h, 0, hi, lv->rgb, stride);
 	if (!rc)
 		rc = pc_picture_grey(&lv->out.dolp, lv->w, lv->h, 0, 1, lv->rgb + (size_t)lv->w * 3,
-				     stride);
+		                     stride);
 	if (!rc)
-		rc = pc_picture_aolp(&lv->out.aolp, &lv->out.dolp, lv->w, lv->h, PC_AOLP_VALUE, 1.0f,
-				     lv->rgb + (size_t)lv->w * 6, stride);
+		rc = pc_picture_aolp(&lv->out.aolp, &lv->out.dolp, lv->w, lv->h, PC_AOLP_VALUE,
+		                     1.0f, lv->rgb + (size_t)lv->w * 6, stride);
 	for (int k = 0; !rc && lv->validity.n_invalid && k < 3; k++)
 		pc_picture_mask_invalid(lv->valid, lv->w, lv->w, lv->h,
-					lv->rgb + (size_t)lv->w * 3 * (size_t)k, stride);
+		                        lv->rgb + (size_t)lv->w * 3 * (size_t)k, stride);
 	*rgb = rc ? NULL : lv->rgb;
 	return rc;
 }

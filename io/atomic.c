@@ -44,8 +44,8 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 		free(af->tmp_path); /* not a file yet: nothing to unlink */
 		af->tmp_path = NULL;
 		pc_atomic_abort(af);
-		return pc_error(PC_EINVAL, "%s: file name of %zu bytes: too long (at most %d)", path,
-				base, NAME_MAX);
+		return pc_error(PC_EINVAL, "%s: file name of %zu bytes: too long (at most %d)",
+		                path, base, NAME_MAX);
 	}
 	const size_t decor = strlen("..tmpXXXXXX");
 	if (keep + decor > NAME_MAX) {
@@ -77,9 +77,11 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 		af->tmp_path = NULL;
 		pc_atomic_abort(af);
 		/* a name the file system cannot hold is a bad argument, not an I/O failure */
-		return pc_error(e == ENOENT ? PC_ENOENT : e == EACCES ? PC_EPERM
-						: e == ENAMETOOLONG ? PC_EINVAL : PC_EIO,
-				"%s: cannot create a file there: %s", path, strerror(e));
+		return pc_error(e == ENOENT         ? PC_ENOENT
+		                : e == EACCES       ? PC_EPERM
+		                : e == ENAMETOOLONG ? PC_EINVAL
+		                                    : PC_EIO,
+		                "%s: cannot create a file there: %s", path, strerror(e));
 	}
 	af->fp = fdopen(fd, "wb");
 	if (!af->fp) {
@@ -117,7 +119,8 @@ int pc_atomic_commit(pc_atomic_file *af)
 	 * temporary name */
 	if (rename(af->tmp_path, af->path) != 0) {
 		e = errno;
-		int rc = pc_error(PC_EIO, "%s: cannot rename into place: %s", af->path, strerror(e));
+		int rc =
+		    pc_error(PC_EIO, "%s: cannot rename into place: %s", af->path, strerror(e));
 		pc_atomic_abort(af);
 		return rc;
 	}
@@ -178,7 +181,8 @@ int pc_mkdir_p(const char *path)
 			*s = '\0';
 			if (mkdir(p, 0777) != 0 && errno != EEXIST) {
 				int e = errno;
-				int rc = pc_error(PC_EIO, "%s: cannot create directory: %s", p, strerror(e));
+				int rc = pc_error(PC_EIO, "%s: cannot create directory: %s", p,
+				                  strerror(e));
 				free(p);
 				return rc;
 			}

@@ -18,7 +18,7 @@ int pc_io_check_image(const char *path, uint64_t width, uint64_t height, uint64_
 {
 	char what[512];
 	snprintf(what, sizeof what, "%s: %llu x %llu image", path, (unsigned long long)width,
-		 (unsigned long long)height);
+	         (unsigned long long)height);
 	uint64_t pixels = width && height > UINT64_MAX / width ? UINT64_MAX : width * height;
 	int rc = pc_limit_check(PC_LIMIT_PIXELS, pixels, what);
 	if (!rc)

@@ -24,7 +24,8 @@ static uint16_t f32_to_f16(float x)
 			return (uint16_t)sign;
 		uint32_t full = m | 0x800000u;
 		unsigned shift = (unsigned)(14 - ex);
-		uint32_t h = full >> shift, rem = full & ((1u << shift) - 1), half = 1u << (shift - 1);
+		uint32_t h = full >> shift, rem = full & ((1u << shift) - 1),
+		         half = 1u << (shift - 1);
 		if (rem > half || (rem == half && (h & 1)))
 			h++;
 		return (uint16_t)(sign | h);
@@ -96,7 +97,7 @@ void pc_array_free(pc_array *a)
 }
 
 int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned ndim,
-		 const size_t *shape)
+                 const size_t *shape)
 {
 	const char *descr = dtype_descr(dtype);
 	if (!descr || ndim < 1 || ndim > 4)
@@ -106,14 +107,14 @@ int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned nd
 	size_t count = 1;
 	for (unsigned i = 0; i < ndim; i++) {
 		off += (size_t)snprintf(shp + off, sizeof shp - off, "%zu,%s", shape[i],
-					(ndim > 1 && i + 1 < ndim) ? " " : "");
+		                        (ndim > 1 && i + 1 < ndim) ? " " : "");
 		count *= shape[i];
 	}
 	if (ndim > 1 && off > 0 && shp[off - 1] == ',')
 		shp[--off] = '\0';
 	char hdr[256];
-	int hl = snprintf(hdr, sizeof hdr, "{'descr': '%s', 'fortran_order': False, 'shape': (%s), }",
-			  descr, shp);
+	int hl = snprintf(hdr, sizeof hdr,
+	                  "{'descr': '%s', 'fortran_order': False, 'shape': (%s), }", descr, shp);
 	size_t total = 10 + (size_t)hl + 1;
 	size_t padded = (total + 63) / 64 * 64;
 	size_t pad = padded - total;
@@ -121,7 +122,7 @@ int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned nd
 	int rc = pc_atomic_open(&af, path);
 	if (rc)
 		return rc;
-	unsigned char pre[10] = { 0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0, 0, 0 };
+	unsigned char pre[10] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0, 0, 0};
 	size_t hlen = (size_t)hl + pad + 1;
 	pre[8] = (unsigned char)(hlen & 0xff);
 	pre[9] = (unsigned char)(hlen >> 8);
@@ -163,7 +164,8 @@ int pc_npy_read(const char *path, pc_array *out)
 	memset(out, 0, sizeof *out);
 	FILE *fp = fopen(path, "rb");
 	if (!fp)
-		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", path, strerror(errno));
+		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", path,
+		                strerror(errno));
 	unsigned char pre[12];
 	int rc = 0;
 	char *hdr = NULL;
@@ -179,13 +181,16 @@ int pc_npy_read(const char *path, pc_array *out)
 			rc = pc_error(PC_EFORMAT, "%s: truncated .npy header", path);
 			goto out;
 		}
-		hlen = pre[8] | ((size_t)pre[9] << 8) | ((size_t)pre[10] << 16) | ((size_t)pre[11] << 24);
+		hlen = pre[8] | ((size_t)pre[9] << 8) | ((size_t)pre[10] << 16) |
+		       ((size_t)pre[11] << 24);
 	} else {
-		rc = pc_error(PC_EFORMAT, "%s: .npy version %u.%u not supported", path, pre[6], pre[7]);
+		rc = pc_error(PC_EFORMAT, "%s: .npy version %u.%u not supported", path, pre[6],
+		              pre[7]);
 		goto out;
 	}
 	if (hlen > 65536) {
-		rc = pc_error(PC_EFORMAT, "%s: .npy header of %zu bytes is implausible", path, hlen);
+		rc =
+		    pc_error(PC_EFORMAT, "%s: .npy header of %zu bytes is implausible", path, hlen);
 		goto out;
 	}
 	hdr = malloc(hlen + 1);
@@ -198,12 +203,13 @@ int pc_npy_read(const char *path, pc_array *out)
 	const char *fo = dict_value(hdr, "fortran_order");
 	const char *sh = dict_value(hdr, "shape");
 	if (!d || !fo || !sh) {
-		rc = pc_error(PC_EFORMAT, "%s: .npy header lacks descr, fortran_order or shape", path);
+		rc = pc_error(PC_EFORMAT, "%s: .npy header lacks descr, fortran_order or shape",
+		              path);
 		goto out;
 	}
 	if (strncmp(fo, "False", 5) != 0) {
-		rc = pc_error(PC_EFORMAT, "%s: Fortran-order arrays are not supported (save C order)",
-			      path);
+		rc = pc_error(PC_EFORMAT,
+		              "%s: Fortran-order arrays are not supported (save C order)", path);
 		goto out;
 	}
 	if (!strncmp(d, "'|u1'", 5) || !strncmp(d, "'<u1'", 5))
@@ -215,8 +221,9 @@ int pc_npy_read(const char *path, pc_array *out)
 	else if (!strncmp(d, "'<f8'", 5))
 		out->dtype = PC_DT_F64;
 	else {
-		rc = pc_error(PC_EFORMAT, "%s: dtype %.8s not supported (expected u1, <u2, <f4 or <f8)",
-			      path, d);
+		rc = pc_error(PC_EFORMAT,
+		              "%s: dtype %.8s not supported (expected u1, <u2, <f4 or <f8)", path,
+		              d);
 		goto out;
 	}
 	if (*sh != '(') {
@@ -234,21 +241,22 @@ int pc_npy_read(const char *path, pc_array *out)
 			break;
 		}
 		if (*sh < '0' || *sh > '9' || out->ndim >= 4) {
-			rc = pc_error(PC_EFORMAT, "%s: shape not understood or more than 4 dimensions",
-				      path);
+			rc = pc_error(PC_EFORMAT,
+			              "%s: shape not understood or more than 4 dimensions", path);
 			goto out;
 		}
 		uint64_t v = 0;
 		for (; *sh >= '0' && *sh <= '9'; sh++) {
 			if (v > (UINT64_MAX - 9) / 10) {
 				rc = pc_error(PC_EFORMAT, "%s: shape dimension %u too large", path,
-					      out->ndim);
+				              out->ndim);
 				goto out;
 			}
 			v = v * 10 + (uint64_t)(*sh - '0');
 		}
 		if (v > SIZE_MAX) {
-			rc = pc_error(PC_EFORMAT, "%s: shape dimension %u too large", path, out->ndim);
+			rc = pc_error(PC_EFORMAT, "%s: shape dimension %u too large", path,
+			              out->ndim);
 			goto out;
 		}
 		out->shape[out->ndim++] = (size_t)v;
@@ -282,16 +290,19 @@ int pc_npy_read(const char *path, pc_array *out)
 			count *= v;
 	}
 	if (overflow) {
-		rc = pc_error(PC_EFORMAT, "%s: the header's shape needs more than 2^64 bytes", path);
+		rc =
+		    pc_error(PC_EFORMAT, "%s: the header's shape needs more than 2^64 bytes", path);
 		goto out;
 	}
 	const uint64_t bytes = count * esize;
 	const uint64_t data_off = (pre[6] == 1 ? 10 : 12) + (uint64_t)hlen;
 	const uint64_t fsize = pc_io_file_size(fp);
 	if (fsize != UINT64_MAX && (fsize < data_off || fsize - data_off < bytes)) {
-		rc = pc_error(PC_EFORMAT, "%s: truncated: the header promises %llu data bytes, the "
-					  "file holds %llu", path, (unsigned long long)bytes,
-			      (unsigned long long)(fsize > data_off ? fsize - data_off : 0));
+		rc = pc_error(PC_EFORMAT,
+		              "%s: truncated: the header promises %llu data bytes, the "
+		              "file holds %llu",
+		              path, (unsigned long long)bytes,
+		              (unsigned long long)(fsize > data_off ? fsize - data_off : 0));
 		goto out;
 	}
 	{
@@ -301,7 +312,7 @@ int pc_npy_read(const char *path, pc_array *out)
 	}
 	if (bytes > SIZE_MAX) {
 		rc = pc_error(PC_ERANGE, "%s: %llu bytes do not fit this machine's address space",
-			      path, (unsigned long long)bytes);
+		              path, (unsigned long long)bytes);
 		goto out;
 	}
 	out->data = malloc(bytes ? (size_t)bytes : 1);
@@ -310,8 +321,8 @@ int pc_npy_read(const char *path, pc_array *out)
 		goto out;
 	}
 	if (fread(out->data, 1, (size_t)bytes, fp) != bytes) {
-		rc = pc_error(PC_EFORMAT, "%s: truncated: the header promises %llu data bytes", path,
-			      (unsigned long long)bytes);
+		rc = pc_error(PC_EFORMAT, "%s: truncated: the header promises %llu data bytes",
+		              path, (unsigned long long)bytes);
 		goto out;
 	}
 out:

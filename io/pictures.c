@@ -11,8 +11,8 @@
 #include "polarcam/stokes.h"
 
 static int write_one(const char *dir, const char *name, const uint8_t *rgb, uint32_t w, uint32_t h,
-		     const char *title, const pc_colorbar *bar, const pc_legend_note *note,
-		     uint32_t max_width)
+                     const char *title, const pc_colorbar *bar, const pc_legend_note *note,
+                     uint32_t max_width)
 {
 	char path[4096];
 	if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path)
@@ -21,24 +21,24 @@ static int write_one(const char *dir, const char *name, const uint8_t *rgb, uint
 }
 
 int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, uint32_t height,
-		      const char *title_prefix)
+                      const char *title_prefix)
 {
-	pc_pictures_opts o = { title_prefix, 0, 0 };
+	pc_pictures_opts o = {title_prefix, 0, 0};
 	return pc_pictures_write_opts(dir, st, width, height, &o);
 }
 
 int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t width,
-			   uint32_t height, const pc_pictures_opts *opts)
+                           uint32_t height, const pc_pictures_opts *opts)
 {
 	return pc_pictures_write_valid(dir, st, width, height, opts, NULL);
 }
 
 int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
-			    uint32_t height, const pc_pictures_opts *opts, const pc_validity *valid)
+                            uint32_t height, const pc_pictures_opts *opts, const pc_validity *valid)
 {
 	if (!dir || !st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
-	pc_pictures_opts o = { NULL, 0, 0 };
+	pc_pictures_opts o = {NULL, 0, 0};
 	if (opts)
 		o = *opts;
 	if (!isfinite(o.mask_s0))
@@ -55,9 +55,9 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	float hi = pc_picture_quantile(&st->s0, width, height, 0.999);
 	if (!(hi > 0))
 		hi = 1;
-	float mask = o.mask_s0 > 0 ? (float)o.mask_s0
-		     : o.mask_s0 == 0 ? (float)(PC_PICTURES_MASK_DEFAULT_REL * hi)
-				      : -INFINITY;
+	float mask = o.mask_s0 > 0    ? (float)o.mask_s0
+	             : o.mask_s0 == 0 ? (float)(PC_PICTURES_MASK_DEFAULT_REL * hi)
+	                              : -INFINITY;
 	char mask_note[64] = "", mask_title[128] = "";
 	if (mask > -INFINITY) {
 		snprintf(mask_note, sizeof mask_note, "S0 < %.4g", mask);
@@ -73,14 +73,14 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 			n_bad += !vm[(size_t)y * vs + x];
 	char bad_note[80] = "";
 	snprintf(bad_note, sizeof bad_note, "invalid %.2g%%",
-		 100.0 * (double)n_bad / ((double)width * height));
-	pc_legend_note bad = { bad_note, pc_picture_invalid_rgb, NULL };
-	pc_legend_note note = { mask_note, pc_picture_mask_rgb, n_bad ? &bad : NULL };
+	         100.0 * (double)n_bad / ((double)width * height));
+	pc_legend_note bad = {bad_note, pc_picture_invalid_rgb, NULL};
+	pc_legend_note note = {mask_note, pc_picture_mask_rgb, n_bad ? &bad : NULL};
 	const pc_legend_note *np = mask > -INFINITY ? &note : n_bad ? &bad : NULL;
 	const pc_legend_note *nb = n_bad ? &bad : NULL;
 	int rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, rs);
 	pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
-	pc_colorbar bar = { "S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL };
+	pc_colorbar bar = {"S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL};
 	snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
 	if (!rc)
 		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar, nb, o.max_width);
@@ -90,27 +90,33 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 			pc_picture_mask_low(&st->s0, width, height, mask, rgb, rs);
 		pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
 	}
-	pc_colorbar dbar = { "DoLP", 0, 1, NULL, 0, 0, pc_picture_grey_key, NULL };
+	pc_colorbar dbar = {"DoLP", 0, 1, NULL, 0, 0, pc_picture_grey_key, NULL};
 	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)%s", pre, mask_title);
 	if (!rc)
 		rc = write_one(dir, "dolp.png", rgb, width, height, title, &dbar, np, o.max_width);
-	static const pc_aolp_style styles[2] = { PC_AOLP_VALUE, PC_AOLP_SATURATION };
-	static const char *names[2] = { "aolp.png", "aolp_sat.png" };
-	static const char *what[2] = { "value", "saturation" };
+	static const pc_aolp_style styles[2] = {PC_AOLP_VALUE, PC_AOLP_SATURATION};
+	static const char *names[2] = {"aolp.png", "aolp_sat.png"};
+	static const char *what[2] = {"value", "saturation"};
 	for (int k = 0; k < 2 && !rc; k++) {
 		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], 1.0f, rgb,
-				     (size_t)width * 3);
+		                     (size_t)width * 3);
 		if (!rc && mask > -INFINITY)
 			pc_picture_mask_low(&st->s0, width, height, mask, rgb, rs);
 		if (!rc)
 			pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
-		pc_colorbar abar = { "AoLP (deg, from x, counter-clockwise)", 0, 180, "DoLP", 0, 1,
-				     pc_picture_aolp_key, (void *)&styles[k] };
+		pc_colorbar abar = {"AoLP (deg, from x, counter-clockwise)",
+		                    0,
+		                    180,
+		                    "DoLP",
+		                    0,
+		                    1,
+		                    pc_picture_aolp_key,
+		                    (void *)&styles[k]};
 		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)%s", pre, what[k],
-			 mask_title);
+		         mask_title);
 		if (!rc)
 			rc = write_one(dir, names[k], rgb, width, height, title, &abar, np,
-				       o.max_width);
+			               o.max_width);
 	}
 	free(rgb);
 	return rc;

@@ -26,9 +26,10 @@ int pc_raw_read(const pc_raw_input *in, pc_view *raw, unsigned *bits)
 	if (rc)
 		return rc;
 	if (raw->width % 2 || raw->height % 2 || raw->width < 4 || raw->height < 4) {
-		rc = pc_error(PC_EINVAL, "%s: size %ux%u: a polarizer mosaic needs an even width and "
-					 "height of at least 4 (whole 2x2 analyser blocks)",
-			      in->path, raw->width, raw->height);
+		rc = pc_error(PC_EINVAL,
+		              "%s: size %ux%u: a polarizer mosaic needs an even width and "
+		              "height of at least 4 (whole 2x2 analyser blocks)",
+		              in->path, raw->width, raw->height);
 		pc_view_free(raw);
 	}
 	return rc;
@@ -37,21 +38,26 @@ int pc_raw_read(const pc_raw_input *in, pc_view *raw, unsigned *bits)
 int pc_process_method(const char *name, const pc_mosaic *m, pc_demosaic_method *out)
 {
 	bool colour = m->period == 4;
-	int rc = pc_demosaic_method_from_name(name ? name : colour ? "bayer-first" : "bilinear",
-					      out);
+	int rc = pc_demosaic_method_from_name(name     ? name
+	                                      : colour ? "bayer-first"
+	                                               : "bilinear",
+	                                      out);
 	if (rc)
 		return pc_error_prefix(rc, "--method: ");
 	const pc_demosaic_method_info *mi = pc_demosaic_method_get(*out);
 	char layout[64];
 	pc_mosaic_format(m, layout, sizeof layout);
 	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_error(PC_EINVAL, "--method %s: works on monochrome mosaics; the mosaic %s is "
-					   "colour-polarization (methods for it: bayer-first, "
-					   "bayer-eari)", mi->name, layout);
+		return pc_error(PC_EINVAL,
+		                "--method %s: works on monochrome mosaics; the mosaic %s is "
+		                "colour-polarization (methods for it: bayer-first, "
+		                "bayer-eari)",
+		                mi->name, layout);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
-		return pc_error(PC_EINVAL, "--method %s: needs a colour-polarization mosaic such as "
-					   "RGGB:90,45,135,0; the mosaic %s is monochrome", mi->name,
-				layout);
+		return pc_error(PC_EINVAL,
+		                "--method %s: needs a colour-polarization mosaic such as "
+		                "RGGB:90,45,135,0; the mosaic %s is monochrome",
+		                mi->name, layout);
 	return 0;
 }
 
@@ -87,14 +93,16 @@ static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format
 
 /* Raw → Stokes (st) or analyser images (ch) through the stage or the front door. */
 static int run_pipeline(const pc_process_opts *o, const pc_view *raw, unsigned bits,
-			const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid)
+                        const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid)
 {
 	pc_pipeline_opts po = pipeline_opts(o, raw->format, bits);
 	if (o->stage) {
 		if (o->black_level != 0)
-			return pc_error(PC_EINVAL, "a black level of %g and %s: the calibration's dark "
-						   "map is the black level; give one or the other",
-					o->black_level, o->stage->name ? o->stage->name : "a calibration");
+			return pc_error(PC_EINVAL,
+			                "a black level of %g and %s: the calibration's dark "
+			                "map is the black level; give one or the other",
+			                o->black_level,
+			                o->stage->name ? o->stage->name : "a calibration");
 		pc_frame f;
 		memset(&f, 0, sizeof f);
 		f.view = *raw;
@@ -113,13 +121,13 @@ static bool has_suffix(const char *s, const char *suf)
 }
 
 int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const char *out_path,
-		     pc_demosaic_file_report *rep)
+                     pc_demosaic_file_report *rep)
 {
 	bool tiff = has_suffix(out_path, ".tif") || has_suffix(out_path, ".tiff") ||
-		    has_suffix(out_path, ".TIF") || has_suffix(out_path, ".TIFF");
+	            has_suffix(out_path, ".TIF") || has_suffix(out_path, ".TIFF");
 	if (!tiff && !has_suffix(out_path, ".npy") && !has_suffix(out_path, ".NPY"))
 		return pc_error(PC_EINVAL, "-o %s: the output is .npy or .tif/.tiff (float32)",
-				out_path);
+		                out_path);
 	pc_view raw;
 	unsigned bits;
 	int rc = pc_raw_read(in, &raw, &bits);
@@ -140,8 +148,9 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	bool checked = sat > 0 || o->dead_level > 0 || o->stage;
 	char vpath[4096] = "";
 	if (checked) {
-		size_t stem = strlen(out_path) - (has_suffix(out_path, ".tiff") ||
-							  has_suffix(out_path, ".TIFF") ? 5 : 4);
+		size_t stem =
+		    strlen(out_path) -
+		    (has_suffix(out_path, ".tiff") || has_suffix(out_path, ".TIFF") ? 5 : 4);
 		if ((size_t)snprintf(vpath, sizeof vpath, "%.*s_valid.npy", (int)stem, out_path) >=
 		    sizeof vpath) {
 			pc_view_free(&raw);
@@ -149,7 +158,7 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 			return pc_error(PC_EINVAL, "-o %s: path too long", out_path);
 		}
 	}
-	pc_validity valid = { checked ? malloc((size_t)ow * oh) : NULL, ow, 0 };
+	pc_validity valid = {checked ? malloc((size_t)ow * oh) : NULL, ow, 0};
 	if (checked && !valid.mask) {
 		pc_view_free(&raw);
 		free(buf);
@@ -164,22 +173,22 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 		free(valid.mask);
 		return pc_error_prefix(rc, "%s: ", in->path);
 	}
-	size_t shape[3] = { oh, ow, nch };
+	size_t shape[3] = {oh, ow, nch};
 	rc = tiff ? pc_tiff_write_array(out_path, buf, PC_DT_F32, oh, ow, nch)
-		  : pc_npy_write(out_path, buf, PC_DT_F32, 3, shape);
+	          : pc_npy_write(out_path, buf, PC_DT_F32, 3, shape);
 	if (!rc && checked)
 		rc = pc_npy_write(vpath, valid.mask, PC_DT_U8, 2, shape);
 	free(buf);
 	free(valid.mask);
 	if (!rc && rep) {
-		*rep = (pc_demosaic_file_report){ ow, oh, nch, bits, secs, sat, valid.n_invalid, "" };
+		*rep = (pc_demosaic_file_report){ow, oh, nch, bits, secs, sat, valid.n_invalid, ""};
 		snprintf(rep->valid_path, sizeof rep->valid_path, "%s", vpath);
 	}
 	return rc;
 }
 
-static const char *const process_files[] = { "stokes.npy", "dolp.npy", "aolp.npy", "s0.png",
-					     "dolp.png",   "aolp.png", "aolp_sat.png", "valid.npy" };
+static const char *const process_files[] = {"stokes.npy", "dolp.npy", "aolp.npy",     "s0.png",
+                                            "dolp.png",   "aolp.png", "aolp_sat.png", "valid.npy"};
 
 /* Means of S0 and DoLP over the valid pixels (all pixels without a mask): invalid ones depend
  * on saturated or dead samples and stay out of the statistics. */
@@ -191,9 +200,10 @@ static json_t *valid_stats(const pc_stokes_out *so, uint32_t w, uint32_t h, cons
 		for (uint32_t x = 0; x < w; x++) {
 			if (v->mask && !v->mask[(size_t)y * v->row_stride + x])
 				continue;
-			s0 += so->s0.data[(size_t)y * so->s0.row_stride + (size_t)x * so->s0.pixel_stride];
+			s0 += so->s0.data[(size_t)y * so->s0.row_stride +
+			                  (size_t)x * so->s0.pixel_stride];
 			dolp += so->dolp.data[(size_t)y * so->dolp.row_stride +
-					      (size_t)x * so->dolp.pixel_stride];
+			                      (size_t)x * so->dolp.pixel_stride];
 			n++;
 		}
 	json_t *j = json_object();
@@ -205,8 +215,8 @@ static json_t *valid_stats(const pc_stokes_out *so, uint32_t w, uint32_t h, cons
 
 /* meta.json of a processed frame */
 static json_t *process_meta(const pc_raw_input *in, const pc_process_opts *o, uint32_t rw,
-			    uint32_t rh, unsigned bits, double seconds, double sat,
-			    const pc_validity *valid)
+                            uint32_t rh, unsigned bits, double seconds, double sat,
+                            const pc_validity *valid)
 {
 	char layout[64];
 	pc_mosaic_format(&o->mosaic, layout, sizeof layout);
@@ -221,15 +231,15 @@ static json_t *process_meta(const pc_raw_input *in, const pc_process_opts *o, ui
 	json_object_set_new(j, "black_level", pc_json_real(o->stage ? 0 : o->black_level));
 	json_object_set_new(j, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
 	json_object_set_new(j, "dead_level",
-			    o->dead_level > 0 ? pc_json_real(o->dead_level) : json_null());
-	json_object_set_new(j, "invalid_pixels", valid->mask ? json_integer((json_int_t)valid->n_invalid)
-							     : json_null());
-	json_object_set_new(j, "calibration", o->stage && o->stage->name
-						      ? json_string(o->stage->name) : json_null());
+	                    o->dead_level > 0 ? pc_json_real(o->dead_level) : json_null());
+	json_object_set_new(j, "invalid_pixels",
+	                    valid->mask ? json_integer((json_int_t)valid->n_invalid) : json_null());
+	json_object_set_new(j, "calibration",
+	                    o->stage && o->stage->name ? json_string(o->stage->name) : json_null());
 	json_object_set_new(j, "pipeline_seconds", pc_json_real(seconds));
 	json_object_set_new(j, "aolp_convention",
-			    json_string("radians in [0, pi), from the image x axis, "
-					"counter-clockwise as seen by the viewer"));
+	                    json_string("radians in [0, pi), from the image x axis, "
+	                                "counter-clockwise as seen by the viewer"));
 	json_t *files = json_array();
 	for (size_t k = 0; k < sizeof process_files / sizeof process_files[0]; k++)
 		if (valid->mask || strcmp(process_files[k], "valid.npy"))
@@ -239,7 +249,7 @@ static json_t *process_meta(const pc_raw_input *in, const pc_process_opts *o, ui
 }
 
 int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
-		    const pc_stokes_folder_opts *folder, char **meta)
+                    const pc_stokes_folder_opts *folder, char **meta)
 {
 	if (meta)
 		*meta = NULL;
@@ -253,7 +263,7 @@ int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char
 	size_t n = (size_t)w * h;
 	double sat = pc_process_saturation(o, raw.format, bits);
 	bool checked = sat > 0 || o->dead_level > 0 || o->stage;
-	pc_validity valid = { checked ? malloc(n) : NULL, w, 0 };
+	pc_validity valid = {checked ? malloc(n) : NULL, w, 0};
 	float *stokes = malloc(sizeof(float) * n * 3), *dolp = malloc(sizeof(float) * n),
 	      *aolp = malloc(sizeof(float) * n);
 	if (!stokes || !dolp || !aolp || (checked && !valid.mask)) {
@@ -261,8 +271,11 @@ int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char
 		pc_view_free(&raw);
 		goto out;
 	}
-	pc_stokes_out so = { { stokes, (size_t)w * 3, 3 }, { stokes + 1, (size_t)w * 3, 3 },
-			     { stokes + 2, (size_t)w * 3, 3 }, { dolp, w, 1 }, { aolp, w, 1 } };
+	pc_stokes_out so = {{stokes, (size_t)w * 3, 3},
+	                    {stokes + 1, (size_t)w * 3, 3},
+	                    {stokes + 2, (size_t)w * 3, 3},
+	                    {dolp, w, 1},
+	                    {aolp, w, 1}};
 	double t0 = now_s();
 	rc = run_pipeline(o, &raw, bits, &so, NULL, &valid);
 	double t_pipe = now_s() - t0;

@@ -12,12 +12,12 @@
 #include "polarcam/eval.h"
 #include "polarcam/io.h"
 
-static const char *const exts[] = { ".tif", ".tiff", ".png", ".bmp", ".npy",
-				    ".TIF", ".TIFF", ".PNG", ".BMP" };
+static const char *const exts[] = {".tif", ".tiff", ".png", ".bmp", ".npy",
+                                   ".TIF", ".TIFF", ".PNG", ".BMP"};
 
 int pc_truth_load(const char *dir, pc_eval_truth *t)
 {
-	static const char *names[4] = { "0", "45", "90", "135" };
+	static const char *names[4] = {"0", "45", "90", "135"};
 	memset(t, 0, sizeof *t);
 	struct stat st;
 	if (!dir || stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
@@ -33,8 +33,10 @@ int pc_truth_load(const char *dir, pc_eval_truth *t)
 			found = stat(path, &st) == 0 && S_ISREG(st.st_mode);
 		}
 		if (!found) {
-			rc = pc_error(PC_ENOENT, "%s: no analyser image '%s' (expected %s.tif, .png, "
-						 ".bmp or .npy)", dir, names[c], names[c]);
+			rc = pc_error(PC_ENOENT,
+			              "%s: no analyser image '%s' (expected %s.tif, .png, "
+			              ".bmp or .npy)",
+			              dir, names[c], names[c]);
 			break;
 		}
 		rc = pc_image_read(path, NULL, &v[c], NULL);
@@ -81,8 +83,8 @@ static double now_s(void)
 }
 
 int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method *methods,
-		 size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
-		 pc_eval_result *res)
+                 size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
+                 pc_eval_result *res)
 {
 	size_t nres = 0;
 	for (size_t d = 0; d < ndirs; d++) {
@@ -111,7 +113,7 @@ int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method
 }
 
 int pc_eval_dataset_mean(const pc_eval_result *r, size_t n, const char *dataset,
-			 pc_demosaic_method meth, pc_eval_metrics *out)
+                         pc_demosaic_method meth, pc_eval_metrics *out)
 {
 	memset(out, 0, sizeof *out);
 	int count = 0;
@@ -131,7 +133,7 @@ int pc_eval_dataset_mean(const pc_eval_result *r, size_t n, const char *dataset,
 }
 
 int pc_eval_dataset_gain(const pc_eval_result *r, size_t n, const char *dataset,
-			 pc_demosaic_method meth, pc_demosaic_method base, pc_eval_gain *g)
+                         pc_demosaic_method meth, pc_demosaic_method base, pc_eval_gain *g)
 {
 	memset(g, 0, sizeof *g);
 	g->s0_worst = g->dolp_worst = INFINITY;

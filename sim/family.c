@@ -15,12 +15,12 @@
 #include "rng.h"
 #include "sim_impl.h"
 
-#define DEG (3.14159265358979323846 / 180.0)
+#define DEG        (3.14159265358979323846 / 180.0)
 #define MAX_MESHES 64
 
 struct pc_family {
-	json_t *spec;          /* validated, with the resolution override */
-	char *source;          /* file name for messages */
+	json_t *spec; /* validated, with the resolution override */
+	char *source; /* file name for messages */
 	char *base_dir;
 	char name[128];
 	uint32_t width, height;
@@ -35,7 +35,7 @@ typedef struct vctx {
 } vctx;
 
 static int verr(const vctx *v, const char *path, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
+    __attribute__((format(printf, 3, 4)));
 static int verr(const vctx *v, const char *path, const char *fmt, ...)
 {
 	char msg[512];
@@ -46,7 +46,7 @@ static int verr(const vctx *v, const char *path, const char *fmt, ...)
 	return pc_error(PC_EINVAL, "%s: %s: %s", v->src, path, msg);
 }
 
-static const char *dist_keys[] = { "uniform", "log_uniform", "int", "choice", NULL };
+static const char *dist_keys[] = {"uniform", "log_uniform", "int", "choice", NULL};
 
 /* A distribution object: exactly one of dist_keys (+ "weights" with "choice"). */
 static const char *dist_kind(const json_t *j)
@@ -64,13 +64,16 @@ static int check_weights(const vctx *v, const char *path, const json_t *d, size_
 	const json_t *w = json_object_get(d, "weights");
 	size_t allowed = w ? 2 : 1;
 	if (json_object_size(d) != allowed)
-		return verr(v, path, "a distribution object has one of \"uniform\", \"log_uniform\", "
-				     "\"int\", \"choice\" (with optional \"weights\") and nothing else");
+		return verr(v, path,
+		            "a distribution object has one of \"uniform\", \"log_uniform\", "
+		            "\"int\", \"choice\" (with optional \"weights\") and nothing else");
 	if (!w)
 		return 0;
 	if (!json_is_array(w) || json_array_size(w) != n)
-		return verr(v, path, "\"weights\" must be an array of %zu positive numbers (one per "
-				     "choice)", n);
+		return verr(v, path,
+		            "\"weights\" must be an array of %zu positive numbers (one per "
+		            "choice)",
+		            n);
 	double sum = 0;
 	for (size_t i = 0; i < n; i++) {
 		double x = json_number_value(json_array_get(w, i));
@@ -103,8 +106,10 @@ static int check_num(const vctx *v, const char *path, const json_t *j, double mi
 			return verr(v, path, "\"choice\" must be a non-empty array of numbers");
 		for (size_t i = 0; i < json_array_size(c); i++) {
 			const json_t *e = json_array_get(c, i);
-			if (!json_is_number(e) || !(json_number_value(e) >= min && json_number_value(e) <= max))
-				return verr(v, path, "choice[%zu] must be a number in [%g, %g]", i, min, max);
+			if (!json_is_number(e) ||
+			    !(json_number_value(e) >= min && json_number_value(e) <= max))
+				return verr(v, path, "choice[%zu] must be a number in [%g, %g]", i,
+				            min, max);
 		}
 		return check_weights(v, path, j, json_array_size(c));
 	}
@@ -116,10 +121,12 @@ static int check_num(const vctx *v, const char *path, const json_t *j, double mi
 	}
 	if (!json_is_array(r) || json_array_size(r) != 2 || !json_is_number(json_array_get(r, 0)) ||
 	    !json_is_number(json_array_get(r, 1)))
-		return verr(v, path, "expected a number, [lo, hi] (uniform), {\"uniform\": [lo, hi]}, "
-				     "{\"log_uniform\": [lo, hi]}, {\"int\": [lo, hi]} or "
-				     "{\"choice\": [...], \"weights\": [...]}");
-	double lo = json_number_value(json_array_get(r, 0)), hi = json_number_value(json_array_get(r, 1));
+		return verr(v, path,
+		            "expected a number, [lo, hi] (uniform), {\"uniform\": [lo, hi]}, "
+		            "{\"log_uniform\": [lo, hi]}, {\"int\": [lo, hi]} or "
+		            "{\"choice\": [...], \"weights\": [...]}");
+	double lo = json_number_value(json_array_get(r, 0)),
+	       hi = json_number_value(json_array_get(r, 1));
 	if (!(lo <= hi) || !(lo >= min) || !(hi <= max))
 		return verr(v, path, "[%g, %g] needs %g <= lo <= hi <= %g", lo, hi, min, max);
 	if (k && !strcmp(k, "log_uniform") && !(lo > 0))
@@ -137,7 +144,8 @@ static int check_any(const vctx *v, const char *path, const json_t *j, value_che
 		return verr(v, path, "missing");
 	const char *k = dist_kind(j);
 	if (k && strcmp(k, "choice"))
-		return verr(v, path, "only {\"choice\": [...], \"weights\": [...]} draws a non-number");
+		return verr(v, path,
+		            "only {\"choice\": [...], \"weights\": [...]} draws a non-number");
 	if (k) {
 		const json_t *c = json_object_get(j, "choice");
 		if (!json_is_array(c) || !json_array_size(c))
@@ -166,8 +174,9 @@ static int check_effect_value(const vctx *v, const char *path, const json_t *j)
 	if (strstr(path, "supersampling") && json_is_integer(j) && json_integer_value(j) >= 1 &&
 	    json_integer_value(j) <= 16)
 		return 0;
-	return verr(v, path, strstr(path, "supersampling") ? "expected true, false or an integer 1..16"
-							    : "expected true or false");
+	return verr(v, path,
+	            strstr(path, "supersampling") ? "expected true, false or an integer 1..16"
+	                                          : "expected true or false");
 }
 
 static int check_preset(const vctx *v, const char *path, const json_t *j)
@@ -178,7 +187,8 @@ static int check_preset(const vctx *v, const char *path, const json_t *j)
 				return 0;
 	char list[256] = "";
 	for (const char *const *p = pc_sensor_preset_names(); *p; p++)
-		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", *list ? ", " : "", *p);
+		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", *list ? ", " : "",
+		         *p);
 	return verr(v, path, "expected a sensor preset name (%s)", list);
 }
 
@@ -201,7 +211,7 @@ static int check_light_type(const vctx *v, const char *path, const json_t *j)
 static int check_string(const vctx *v, const char *path, const json_t *j)
 {
 	return json_is_string(j) && *json_string_value(j) ? 0
-							   : verr(v, path, "expected a file name");
+	                                                  : verr(v, path, "expected a file name");
 }
 
 /* Only the listed keys. */
@@ -211,15 +221,16 @@ static int check_keys(const vctx *v, const char *path, const json_t *o, const ch
 		return verr(v, path, "expected an object");
 	const char *k;
 	json_t *val;
-	json_object_foreach((json_t *)o, k, val) {
+	json_object_foreach((json_t *)o, k, val)
+	{
 		bool ok = false;
 		for (int i = 0; keys[i]; i++)
 			ok |= !strcmp(k, keys[i]);
 		if (!ok) {
 			char list[512] = "";
 			for (int i = 0; keys[i]; i++)
-				snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "",
-					 keys[i]);
+				snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+				         i ? ", " : "", keys[i]);
 			return verr(v, path, "unknown field \"%s\" (expected one of: %s)", k, list);
 		}
 	}
@@ -241,13 +252,13 @@ static int check_vec3(const vctx *v, const char *path, const json_t *j, double m
 }
 
 /* Optional field: checked when present. */
-#define OPT_NUM(obj, key, path, lo, hi)                                                           \
-	do {                                                                                      \
-		const json_t *x_ = json_object_get((obj), (key));                                 \
-		char p_[256];                                                                     \
-		snprintf(p_, sizeof p_, "%s.%s", (path), (key));                                  \
+#define OPT_NUM(obj, key, path, lo, hi)                                                            \
+	do {                                                                                       \
+		const json_t *x_ = json_object_get((obj), (key));                                  \
+		char p_[256];                                                                      \
+		snprintf(p_, sizeof p_, "%s.%s", (path), (key));                                   \
 		if (x_ && (rc = check_num(v, p_, x_, (lo), (hi))))                                 \
-			return rc;                                                                \
+			return rc;                                                                 \
 	} while (0)
 
 static int check_weighted_list(const vctx *v, const char *path, const json_t *a)
@@ -264,13 +275,13 @@ static int check_weighted_list(const vctx *v, const char *path, const json_t *a)
 
 static int check_material(const vctx *v, const char *path, const json_t *m)
 {
-	static const char *const keys[] = { "weight", "kind", "n", "k", "sigma", "diffuse", NULL };
+	static const char *const keys[] = {"weight", "kind", "n", "k", "sigma", "diffuse", NULL};
 	int rc = check_keys(v, path, m, keys);
 	if (rc)
 		return rc;
 	const json_t *kind = json_object_get(m, "kind");
 	if (kind && (!json_is_string(kind) || (strcmp(json_string_value(kind), "dielectric") &&
-					       strcmp(json_string_value(kind), "metal"))))
+	                                       strcmp(json_string_value(kind), "metal"))))
 		return verr(v, path, "kind must be \"dielectric\" or \"metal\"");
 	char p[256];
 	snprintf(p, sizeof p, "%s.n", path);
@@ -289,8 +300,8 @@ static int check_material(const vctx *v, const char *path, const json_t *m)
 
 static int check_shape(const vctx *v, const char *path, const json_t *s)
 {
-	static const char *const keys[] = { "weight", "type", "radius", "size", "rotation_deg", "file",
-					     "scale", "smooth", NULL };
+	static const char *const keys[] = {"weight", "type",  "radius", "size", "rotation_deg",
+	                                   "file",   "scale", "smooth", NULL};
 	int rc = check_keys(v, path, s, keys);
 	if (rc)
 		return rc;
@@ -327,19 +338,20 @@ static int check_shape(const vctx *v, const char *path, const json_t *s)
 			return rc;
 	}
 	if (strcmp(t, "mesh") && (json_object_get(s, "file") || json_object_get(s, "scale") ||
-				  json_object_get(s, "smooth")))
+	                          json_object_get(s, "smooth")))
 		return verr(v, path, "file, scale and smooth are for meshes");
-	if (strcmp(t, "sphere") == 0 && (json_object_get(s, "size") || json_object_get(s, "rotation_deg")))
+	if (strcmp(t, "sphere") == 0 &&
+	    (json_object_get(s, "size") || json_object_get(s, "rotation_deg")))
 		return verr(v, path, "a sphere has a radius (no size or rotation)");
 	if (strcmp(t, "box") == 0 && json_object_get(s, "radius"))
 		return verr(v, path, "a box has a size (no radius)");
 	return 0;
 }
 
-static const char *const effect_names[] = { "diffuse", "shadowing", "cast_shadows", "supersampling",
-					    "circular", "mueller", "noise", "prnu_dsnu",
-					    "extinction_ratio", "orientation_error", "transmission",
-					    "crosstalk", NULL };
+static const char *const effect_names[] = {
+    "diffuse", "shadowing", "cast_shadows",     "supersampling",     "circular",     "mueller",
+    "noise",   "prnu_dsnu", "extinction_ratio", "orientation_error", "transmission", "crosstalk",
+    NULL};
 
 /* An effects object: each effect a value or a choice of values. */
 static int check_effects(const vctx *v, const char *path, const json_t *fx)
@@ -349,7 +361,8 @@ static int check_effects(const vctx *v, const char *path, const json_t *fx)
 		return rc;
 	const char *k;
 	json_t *val;
-	json_object_foreach((json_t *)fx, k, val) {
+	json_object_foreach((json_t *)fx, k, val)
+	{
 		char p[320];
 		snprintf(p, sizeof p, "%s.%s", path, k);
 		if ((rc = check_any(v, p, val, check_effect_value)))
@@ -360,9 +373,9 @@ static int check_effects(const vctx *v, const char *path, const json_t *fx)
 
 static int validate(const vctx *v, const json_t *s)
 {
-	static const char *const top[] = { "polarcam_family", "name", "resolution", "frames", "truth",
-					   "sensor", "camera", "materials", "ground", "objects",
-					   "lights", "background", "effects", NULL };
+	static const char *const top[] = {
+	    "polarcam_family", "name",   "resolution", "frames", "truth",      "sensor",  "camera",
+	    "materials",       "ground", "objects",    "lights", "background", "effects", NULL};
 	int rc = check_keys(v, "(top level)", s, top);
 	if (rc)
 		return rc;
@@ -373,14 +386,16 @@ static int validate(const vctx *v, const json_t *s)
 	if (nm && (!json_is_string(nm) || strlen(json_string_value(nm)) >= 100))
 		return verr(v, "name", "expected a string of at most 99 characters");
 	const json_t *res = json_object_get(s, "resolution");
-	if (!json_is_array(res) || json_array_size(res) != 2 || !json_is_integer(json_array_get(res, 0)) ||
-	    !json_is_integer(json_array_get(res, 1)) || json_integer_value(json_array_get(res, 0)) < 4 ||
+	if (!json_is_array(res) || json_array_size(res) != 2 ||
+	    !json_is_integer(json_array_get(res, 0)) || !json_is_integer(json_array_get(res, 1)) ||
+	    json_integer_value(json_array_get(res, 0)) < 4 ||
 	    json_integer_value(json_array_get(res, 1)) < 4 ||
 	    json_integer_value(json_array_get(res, 0)) > 16384 ||
 	    json_integer_value(json_array_get(res, 1)) > 16384)
 		return verr(v, "resolution", "expected [width, height], integers in 4..16384");
 	const json_t *fr = json_object_get(s, "frames");
-	if (fr && (!json_is_integer(fr) || json_integer_value(fr) < 1 || json_integer_value(fr) > 64))
+	if (fr &&
+	    (!json_is_integer(fr) || json_integer_value(fr) < 1 || json_integer_value(fr) > 64))
 		return verr(v, "frames", "expected an integer 1..64");
 	const char *tr = json_string_value(json_object_get(s, "truth"));
 	if (json_object_get(s, "truth") &&
@@ -389,7 +404,8 @@ static int validate(const vctx *v, const json_t *s)
 	/* sensor */
 	const json_t *sen = json_object_get(s, "sensor");
 	if (sen) {
-		static const char *const keys[] = { "preset", "pixel_pitch_um", "gain_db", "exposure", NULL };
+		static const char *const keys[] = {"preset", "pixel_pitch_um", "gain_db",
+		                                   "exposure", NULL};
 		if ((rc = check_keys(v, "sensor", sen, keys)))
 			return rc;
 		const json_t *pr = json_object_get(sen, "preset");
@@ -399,45 +415,55 @@ static int validate(const vctx *v, const json_t *s)
 		OPT_NUM(sen, "gain_db", "sensor", 0, 48);
 		const json_t *ex = json_object_get(sen, "exposure");
 		if (ex) {
-			static const char *const ek[] = { "us", "auto_percentile", "auto_level", "min_us",
-							  "max_us", "auto_min_median", "auto_max_saturated",
-							  NULL };
+			static const char *const ek[] = {
+			    "us",     "auto_percentile", "auto_level",         "min_us",
+			    "max_us", "auto_min_median", "auto_max_saturated", NULL};
 			if ((rc = check_keys(v, "sensor.exposure", ex, ek)))
 				return rc;
 			bool us = json_object_get(ex, "us"), au = json_object_get(ex, "auto_level");
 			if (us == au)
-				return verr(v, "sensor.exposure", "expected either \"us\" (a distribution of "
-								  "exposures) or \"auto_level\" (auto-exposure)");
+				return verr(v, "sensor.exposure",
+				            "expected either \"us\" (a distribution of "
+				            "exposures) or \"auto_level\" (auto-exposure)");
 			OPT_NUM(ex, "us", "sensor.exposure", 1, 1e7);
 			OPT_NUM(ex, "auto_level", "sensor.exposure", 1e-3, 1);
-			const char *const af[] = { "auto_min_median", "auto_max_saturated" };
+			const char *const af[] = {"auto_min_median", "auto_max_saturated"};
 			for (int i = 0; i < 2; i++) {
 				const json_t *x = json_object_get(ex, af[i]);
 				if (x && (!json_is_number(x) || !(json_number_value(x) >= 0 &&
-								  json_number_value(x) <= 1)))
-					return verr(v, "sensor.exposure", "%s: expected a number in [0, 1]", af[i]);
+				                                  json_number_value(x) <= 1)))
+					return verr(v, "sensor.exposure",
+					            "%s: expected a number in [0, 1]", af[i]);
 				if (x && us)
-					return verr(v, "sensor.exposure", "%s belongs to the auto-exposure", af[i]);
+					return verr(v, "sensor.exposure",
+					            "%s belongs to the auto-exposure", af[i]);
 			}
 			const json_t *p = json_object_get(ex, "auto_percentile");
-			if (p && (!json_is_number(p) || !(json_number_value(p) > 0 && json_number_value(p) <= 100)))
-				return verr(v, "sensor.exposure.auto_percentile", "expected a number in (0, 100]");
-			const json_t *mn = json_object_get(ex, "min_us"), *mx = json_object_get(ex, "max_us");
-			double lo = mn ? json_number_value(mn) : 1, hi = mx ? json_number_value(mx) : 1e6;
-			if ((mn && !json_is_number(mn)) || (mx && !json_is_number(mx)) || !(lo >= 1) ||
-			    !(hi >= lo) || !(hi <= 1e7))
-				return verr(v, "sensor.exposure", "min_us and max_us: numbers with 1 <= min_us "
-								  "<= max_us <= 1e7");
+			if (p && (!json_is_number(p) ||
+			          !(json_number_value(p) > 0 && json_number_value(p) <= 100)))
+				return verr(v, "sensor.exposure.auto_percentile",
+				            "expected a number in (0, 100]");
+			const json_t *mn = json_object_get(ex, "min_us"),
+			             *mx = json_object_get(ex, "max_us");
+			double lo = mn ? json_number_value(mn) : 1,
+			       hi = mx ? json_number_value(mx) : 1e6;
+			if ((mn && !json_is_number(mn)) || (mx && !json_is_number(mx)) ||
+			    !(lo >= 1) || !(hi >= lo) || !(hi <= 1e7))
+				return verr(v, "sensor.exposure",
+				            "min_us and max_us: numbers with 1 <= min_us "
+				            "<= max_us <= 1e7");
 		}
 	}
 	/* camera */
 	const json_t *cam = json_object_get(s, "camera");
 	{
-		static const char *const keys[] = { "distance", "azimuth_deg", "elevation_deg", "roll_deg",
-						    "target", "fov_deg", "f_number", NULL };
+		static const char *const keys[] = {"distance", "azimuth_deg", "elevation_deg",
+		                                   "roll_deg", "target",      "fov_deg",
+		                                   "f_number", NULL};
 		if ((rc = check_keys(v, "camera", cam, keys)))
 			return rc;
-		if ((rc = check_num(v, "camera.distance", json_object_get(cam, "distance"), 1e-3, 1e6)))
+		if ((rc = check_num(v, "camera.distance", json_object_get(cam, "distance"), 1e-3,
+		                    1e6)))
 			return rc;
 		OPT_NUM(cam, "azimuth_deg", "camera", -3600, 3600);
 		OPT_NUM(cam, "elevation_deg", "camera", -89, 89);
@@ -461,7 +487,7 @@ static int validate(const vctx *v, const json_t *s)
 	/* ground */
 	const json_t *gr = json_object_get(s, "ground");
 	if (gr) {
-		static const char *const keys[] = { "probability", "size", "materials", NULL };
+		static const char *const keys[] = {"probability", "size", "materials", NULL};
 		if ((rc = check_keys(v, "ground", gr, keys)))
 			return rc;
 		const json_t *gm = json_object_get(gr, "materials");
@@ -476,19 +502,22 @@ static int validate(const vctx *v, const json_t *s)
 			}
 		}
 		const json_t *pp = json_object_get(gr, "probability");
-		if (pp && (!json_is_number(pp) || !(json_number_value(pp) >= 0 && json_number_value(pp) <= 1)))
+		if (pp && (!json_is_number(pp) ||
+		           !(json_number_value(pp) >= 0 && json_number_value(pp) <= 1)))
 			return verr(v, "ground.probability", "expected a number in [0, 1]");
 		OPT_NUM(gr, "size", "ground", 0, 1e6);
 	}
 	/* objects */
 	const json_t *obj = json_object_get(s, "objects");
 	if (obj) {
-		static const char *const keys[] = { "count", "region", "rest_on_ground", "shapes", NULL };
+		static const char *const keys[] = {"count", "region", "rest_on_ground", "shapes",
+		                                   NULL};
 		if ((rc = check_keys(v, "objects", obj, keys)))
 			return rc;
 		if ((rc = check_num(v, "objects.count", json_object_get(obj, "count"), 0, 256)))
 			return rc;
-		if ((rc = check_vec3(v, "objects.region", json_object_get(obj, "region"), -1e6, 1e6)))
+		if ((rc = check_vec3(v, "objects.region", json_object_get(obj, "region"), -1e6,
+		                     1e6)))
 			return rc;
 		const json_t *rg = json_object_get(obj, "rest_on_ground");
 		if (rg && !json_is_boolean(rg))
@@ -506,9 +535,15 @@ static int validate(const vctx *v, const json_t *s)
 	/* lights */
 	const json_t *li = json_object_get(s, "lights");
 	{
-		static const char *const keys[] = { "count", "type", "azimuth_deg", "elevation_deg",
-						    "irradiance_w_m2", "distance", "polarization",
-						    "dop", NULL };
+		static const char *const keys[] = {"count",
+		                                   "type",
+		                                   "azimuth_deg",
+		                                   "elevation_deg",
+		                                   "irradiance_w_m2",
+		                                   "distance",
+		                                   "polarization",
+		                                   "dop",
+		                                   NULL};
 		if ((rc = check_keys(v, "lights", li, keys)))
 			return rc;
 		if ((rc = check_num(v, "lights.count", json_object_get(li, "count"), 1, 64)))
@@ -518,28 +553,32 @@ static int validate(const vctx *v, const json_t *s)
 			return rc;
 		OPT_NUM(li, "azimuth_deg", "lights", -3600, 3600);
 		OPT_NUM(li, "elevation_deg", "lights", -90, 90);
-		if ((rc = check_num(v, "lights.irradiance_w_m2", json_object_get(li, "irradiance_w_m2"), 0,
-				    1e9)))
+		if ((rc = check_num(v, "lights.irradiance_w_m2",
+		                    json_object_get(li, "irradiance_w_m2"), 0, 1e9)))
 			return rc;
 		OPT_NUM(li, "distance", "lights", 1e-3, 1e6);
 		OPT_NUM(li, "dop", "lights", 0, 1);
 		const json_t *po = json_object_get(li, "polarization");
 		if (po) {
-			static const char *const pk[] = { "unpolarized", "linear", "circular", "elliptical",
-							  NULL };
+			static const char *const pk[] = {"unpolarized", "linear", "circular",
+			                                 "elliptical", NULL};
 			if ((rc = check_keys(v, "lights.polarization", po, pk)))
 				return rc;
 			double sum = 0;
 			const char *k;
 			json_t *w;
-			json_object_foreach((json_t *)po, k, w) {
+			json_object_foreach((json_t *)po, k, w)
+			{
 				if (!json_is_number(w) || !(json_number_value(w) >= 0))
-					return verr(v, "lights.polarization", "weight of \"%s\" must be a "
-									      "number >= 0", k);
+					return verr(v, "lights.polarization",
+					            "weight of \"%s\" must be a "
+					            "number >= 0",
+					            k);
 				sum += json_number_value(w);
 			}
 			if (!(sum > 0))
-				return verr(v, "lights.polarization", "the weights must not all be 0");
+				return verr(v, "lights.polarization",
+				            "the weights must not all be 0");
 		}
 	}
 	if (json_object_get(s, "background") &&
@@ -594,11 +633,12 @@ static double num(draw *d, const json_t *j, double def)
 	const char *k = dist_kind(j);
 	if (k && !strcmp(k, "choice")) {
 		const json_t *c = json_object_get(j, "choice");
-		return json_number_value(
-			json_array_get(c, pick_weighted(d, json_object_get(j, "weights"), json_array_size(c))));
+		return json_number_value(json_array_get(
+		    c, pick_weighted(d, json_object_get(j, "weights"), json_array_size(c))));
 	}
 	const json_t *r = k ? json_object_get(j, k) : j;
-	double lo = json_number_value(json_array_get(r, 0)), hi = json_number_value(json_array_get(r, 1));
+	double lo = json_number_value(json_array_get(r, 0)),
+	       hi = json_number_value(json_array_get(r, 1));
 	double u = uni(d);
 	if (k && !strcmp(k, "log_uniform"))
 		return lo * exp(u * log(hi / lo));
@@ -613,7 +653,8 @@ static const json_t *any(draw *d, const json_t *j)
 	if (!k)
 		return j;
 	const json_t *c = json_object_get(j, "choice");
-	return json_array_get(c, pick_weighted(d, json_object_get(j, "weights"), json_array_size(c)));
+	return json_array_get(c,
+	                      pick_weighted(d, json_object_get(j, "weights"), json_array_size(c)));
 }
 
 static const json_t *pick_list(draw *d, const json_t *a)
@@ -673,12 +714,12 @@ static const char *base_name(const char *p)
 /* Builds the scene document of sample index. dataset_paths: mesh files as "../../meshes/NAME"
  * (else as the spec names them). */
 static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bool dataset_paths,
-			   uint64_t *sim_seed, double *exposure_us)
+                           uint64_t *sim_seed, double *exposure_us)
 {
 	const json_t *s = f->spec;
 	draw d;
-	pc_rng_init(&d.r, seed, PC_RNG_FAMILY, (uint32_t)(index & 0xFFFFu), (uint32_t)(index >> 16 & 0xFFFFu),
-		    index >> 32);
+	pc_rng_init(&d.r, seed, PC_RNG_FAMILY, (uint32_t)(index & 0xFFFFu),
+	            (uint32_t)(index >> 16 & 0xFFFFu), index >> 32);
 	/* 63 bits: JSON integers are signed */
 	uint64_t hi = pc_rng_u32(&d.r); /* two statements: C leaves the order within one open */
 	uint64_t lo = pc_rng_u32(&d.r);
@@ -686,7 +727,7 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 	json_t *sc = json_object();
 	char nm[200];
 	snprintf(nm, sizeof nm, "%s #%llu (seed %llu)", f->name, (unsigned long long)index,
-		 (unsigned long long)seed);
+	         (unsigned long long)seed);
 	json_object_set_new(sc, "polarcam_scene", json_integer(1));
 	json_object_set_new(sc, "name", json_string(nm));
 	/* sensor */
@@ -694,11 +735,13 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 	json_t *sensor = json_object();
 	const json_t *preset = json_object_get(sen, "preset");
 	json_object_set_new(sensor, "preset",
-			    json_string(preset ? json_string_value(any(&d, preset)) : "imx250mzr"));
-	json_object_set_new(sensor, "resolution", json_pack("[i, i]", (int)f->width, (int)f->height));
+	                    json_string(preset ? json_string_value(any(&d, preset)) : "imx250mzr"));
+	json_object_set_new(sensor, "resolution",
+	                    json_pack("[i, i]", (int)f->width, (int)f->height));
 	double pitch = num(&d, json_object_get(sen, "pixel_pitch_um"), 3.45);
 	json_object_set_new(sensor, "pixel_pitch_um", json_real(pitch));
-	json_object_set_new(sensor, "gain_db", json_real(num(&d, json_object_get(sen, "gain_db"), 0)));
+	json_object_set_new(sensor, "gain_db",
+	                    json_real(num(&d, json_object_get(sen, "gain_db"), 0)));
 	const json_t *ex = json_object_get(sen, "exposure");
 	*exposure_us = num(&d, ex ? json_object_get(ex, "us") : NULL, 1000);
 	json_object_set_new(sensor, "exposure_us", json_real(*exposure_us));
@@ -713,19 +756,19 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 	double roll = num(&d, json_object_get(cam, "roll_deg"), 0) * DEG;
 	double fov = num(&d, json_object_get(cam, "fov_deg"), 40) * DEG;
 	double fnum = num(&d, json_object_get(cam, "f_number"), 4);
-	double pos[3] = { tgt[0] + dist * cos(el) * cos(az), tgt[1] + dist * cos(el) * sin(az),
-			  tgt[2] + dist * sin(el) };
+	double pos[3] = {tgt[0] + dist * cos(el) * cos(az), tgt[1] + dist * cos(el) * sin(az),
+	                 tgt[2] + dist * sin(el)};
 	/* roll: the up vector turned about the view direction */
-	double fw[3] = { tgt[0] - pos[0], tgt[1] - pos[1], tgt[2] - pos[2] };
+	double fw[3] = {tgt[0] - pos[0], tgt[1] - pos[1], tgt[2] - pos[2]};
 	double fl = sqrt(fw[0] * fw[0] + fw[1] * fw[1] + fw[2] * fw[2]);
 	for (int i = 0; i < 3; i++)
 		fw[i] /= fl;
-	double rt[3] = { fw[1], -fw[0], 0 }; /* forward × z */
+	double rt[3] = {fw[1], -fw[0], 0}; /* forward × z */
 	double rl = sqrt(rt[0] * rt[0] + rt[1] * rt[1]);
 	rt[0] /= rl;
 	rt[1] /= rl;
-	double u0[3] = { rt[1] * fw[2] - rt[2] * fw[1], rt[2] * fw[0] - rt[0] * fw[2],
-			 rt[0] * fw[1] - rt[1] * fw[0] }; /* right × forward */
+	double u0[3] = {rt[1] * fw[2] - rt[2] * fw[1], rt[2] * fw[0] - rt[0] * fw[2],
+	                rt[0] * fw[1] - rt[1] * fw[0]}; /* right × forward */
 	double up[3];
 	for (int i = 0; i < 3; i++)
 		up[i] = cos(roll) * u0[i] + sin(roll) * rt[i];
@@ -751,11 +794,12 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 		double lel = num(&d, json_object_get(li, "elevation_deg"), 45) * DEG;
 		double irr = num(&d, json_object_get(li, "irradiance_w_m2"), 100);
 		double ldist = num(&d, json_object_get(li, "distance"), 5);
-		double dir[3] = { cos(lel) * cos(laz), cos(lel) * sin(laz), sin(lel) };
+		double dir[3] = {cos(lel) * cos(laz), cos(lel) * sin(laz), sin(lel)};
 		json_object_set_new(l, "type", json_string(type));
 		if (!strcmp(type, "point")) {
-			json_object_set_new(l, "position", vec3(tgt[0] + ldist * dir[0], tgt[1] + ldist * dir[1],
-							       tgt[2] + ldist * dir[2]));
+			json_object_set_new(l, "position",
+			                    vec3(tgt[0] + ldist * dir[0], tgt[1] + ldist * dir[1],
+			                         tgt[2] + ldist * dir[2]));
 			json_object_set_new(l, "intensity_w_sr", json_real(irr * ldist * ldist));
 		} else {
 			json_object_set_new(l, "direction", vec3(dir[0], dir[1], dir[2]));
@@ -763,7 +807,8 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 		}
 		/* polarization: a kind by weight, then its state */
 		const json_t *po = json_object_get(li, "polarization");
-		static const char *const kinds[] = { "unpolarized", "linear", "circular", "elliptical" };
+		static const char *const kinds[] = {"unpolarized", "linear", "circular",
+		                                    "elliptical"};
 		double w[4], sum = 0;
 		for (int k = 0; k < 4; k++) {
 			const json_t *x = po ? json_object_get(po, kinds[k]) : NULL;
@@ -790,7 +835,8 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 		} else if (kind == 3) {
 			/* uniform on the Poincaré sphere: S3 = 2·a1 − 1, azimuth 2π·a2 */
 			double s3 = 2 * a1 - 1, c = sqrt(fmax(0, 1 - s3 * s3)), ph = 2 * M_PI * a2;
-			st = json_pack("{s:[f, f, f], s:f}", "stokes", c * cos(ph), c * sin(ph), s3, "dop", dop);
+			st = json_pack("{s:[f, f, f], s:f}", "stokes", c * cos(ph), c * sin(ph), s3,
+			               "dop", dop);
 			circular = true;
 		}
 		if (st)
@@ -802,13 +848,16 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 	const json_t *mats = json_object_get(s, "materials");
 	json_t *materials = json_object(), *objects = json_array();
 	const json_t *gr = json_object_get(s, "ground");
-	double gp = gr && json_object_get(gr, "probability") ? json_number_value(json_object_get(gr, "probability")) : 1;
+	double gp = gr && json_object_get(gr, "probability")
+	                ? json_number_value(json_object_get(gr, "probability"))
+	                : 1;
 	bool ground = gr && uni(&d) < gp;
 	if (ground) {
 		const json_t *gm = json_object_get(gr, "materials");
-		json_object_set_new(materials, "ground", sample_material(&d, pick_list(&d, gm ? gm : mats)));
-		json_t *o = json_pack("{s:s, s:[f,f,f], s:[f,f,f], s:s}", "type", "plane", "point", 0.0, 0.0,
-				      0.0, "normal", 0.0, 0.0, 1.0, "material", "ground");
+		json_object_set_new(materials, "ground",
+		                    sample_material(&d, pick_list(&d, gm ? gm : mats)));
+		json_t *o = json_pack("{s:s, s:[f,f,f], s:[f,f,f], s:s}", "type", "plane", "point",
+		                      0.0, 0.0, 0.0, "normal", 0.0, 0.0, 1.0, "material", "ground");
 		double size = num(&d, json_object_get(gr, "size"), 0);
 		if (size > 0)
 			json_object_set_new(o, "size", json_pack("[f, f]", size, size));
@@ -828,7 +877,7 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 		json_t *o = json_object();
 		json_object_set_new(o, "type", json_string(type));
 		json_object_set_new(o, "material", json_string(mname));
-		double bound = 0, lift = 0, rot[3] = { 0, 0, 0 };
+		double bound = 0, lift = 0, rot[3] = {0, 0, 0};
 		if (!strcmp(type, "sphere")) {
 			double r = num(&d, json_object_get(sh, "radius"), 0.5);
 			json_object_set_new(o, "radius", json_real(r));
@@ -866,20 +915,23 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 			const json_t *sm = json_object_get(sh, "smooth");
 			if (sm)
 				json_object_set(o, "smooth", (json_t *)any(&d, sm));
-			bound = scale; /* OBJ models are expected to fit the unit sphere (docs/dataset.md) */
+			bound = scale; /* OBJ models are expected to fit the unit sphere
+			                  (docs/dataset.md) */
 			lift = 0;
 		}
 		/* placement: up to 16 tries for a centre whose bounding sphere keeps clear of the
 		 * objects placed before; the last try is kept */
-		double c[3] = { 0, 0, 0 };
+		double c[3] = {0, 0, 0};
 		for (int t = 0; t < 16; t++) {
 			v3_num(&d, json_object_get(ob, "region"), 0, c);
 			if (rest && lift > 0)
 				c[2] = lift;
 			bool clear = true;
 			for (int k = 0; k < nplaced && clear; k++) {
-				double dx = c[0] - placed[k][0], dy = c[1] - placed[k][1], dz = c[2] - placed[k][2];
-				clear = dx * dx + dy * dy + dz * dz >= (bound + placed[k][3]) * (bound + placed[k][3]);
+				double dx = c[0] - placed[k][0], dy = c[1] - placed[k][1],
+				       dz = c[2] - placed[k][2];
+				clear = dx * dx + dy * dy + dz * dz >=
+				        (bound + placed[k][3]) * (bound + placed[k][3]);
 			}
 			if (clear)
 				break;
@@ -891,12 +943,14 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 			placed[nplaced][3] = bound;
 			nplaced++;
 		}
-		json_object_set_new(o, !strcmp(type, "mesh") ? "position" : "center", vec3(c[0], c[1], c[2]));
+		json_object_set_new(o, !strcmp(type, "mesh") ? "position" : "center",
+		                    vec3(c[0], c[1], c[2]));
 		json_array_append_new(objects, o);
 	}
 	json_object_set_new(sc, "materials", materials);
 	json_object_set_new(sc, "objects", objects);
-	json_object_set_new(sc, "background", json_real(num(&d, json_object_get(s, "background"), 0)));
+	json_object_set_new(sc, "background",
+	                    json_real(num(&d, json_object_get(s, "background"), 0)));
 	/* effects */
 	json_t *effects = json_object();
 	const json_t *fx = json_object_get(s, "effects");
@@ -914,11 +968,12 @@ static json_t *build_scene(const pc_family *f, uint64_t seed, uint64_t index, bo
 }
 
 int pc_family_scene(const pc_family *f, uint64_t seed, uint64_t index, char **scene_json,
-		    uint64_t *sim_seed)
+                    uint64_t *sim_seed)
 {
 	double e;
 	json_t *sc = build_scene(f, seed, index, false, sim_seed, &e);
-	*scene_json = json_dumps(sc, JSON_INDENT(1) | JSON_REAL_PRECISION(17) | JSON_PRESERVE_ORDER);
+	*scene_json =
+	    json_dumps(sc, JSON_INDENT(1) | JSON_REAL_PRECISION(17) | JSON_PRESERVE_ORDER);
 	json_decref(sc);
 	return *scene_json ? 0 : pc_error(PC_ENOMEM, "scene text");
 }
@@ -949,8 +1004,10 @@ static int add_mesh(pc_family *f, const vctx *v, const char *file)
 	const char *bn = base_name(file);
 	for (unsigned i = 0; i < f->n_mesh; i++)
 		if (!strcmp(f->mesh_name[i], bn))
-			return verr(v, "objects.shapes", "two mesh files named %s (a dataset stores meshes "
-							 "by file name)", bn);
+			return verr(v, "objects.shapes",
+			            "two mesh files named %s (a dataset stores meshes "
+			            "by file name)",
+			            bn);
 	char path[4096];
 	if (file[0] == '/')
 		snprintf(path, sizeof path, "%s", file);
@@ -973,7 +1030,7 @@ static int add_mesh(pc_family *f, const vctx *v, const char *file)
 
 static int finish(pc_family *f)
 {
-	vctx v = { f->source };
+	vctx v = {f->source};
 	int rc = validate(&v, f->spec);
 	if (rc)
 		return rc;
@@ -1015,8 +1072,8 @@ int pc_family_parse(const char *text, const char *name, const char *base_dir, pc
 	json_error_t je;
 	f->spec = json_loads(text, JSON_REJECT_DUPLICATES, &je);
 	if (!f->spec) {
-		int rc = pc_error(PC_EINVAL, "%s: line %d, column %d: %s", f->source, je.line, je.column,
-				  je.text);
+		int rc = pc_error(PC_EINVAL, "%s: line %d, column %d: %s", f->source, je.line,
+		                  je.column, je.text);
 		pc_family_free(f);
 		return rc;
 	}
@@ -1044,7 +1101,8 @@ int pc_family_load(const char *path, pc_family **out)
 			if (!nb) {
 				free(buf);
 				fclose(fp);
-				return pc_error(PC_EINVAL, "%s: larger than 64 MiB or out of memory", path);
+				return pc_error(PC_EINVAL,
+				                "%s: larger than 64 MiB or out of memory", path);
 			}
 			buf = nb;
 		}
@@ -1070,22 +1128,25 @@ int pc_family_load(const char *path, pc_family **out)
 int pc_family_set_resolution(pc_family *f, uint32_t width, uint32_t height)
 {
 	if (width < 4 || height < 4 || width > 16384 || height > 16384)
-		return pc_error(PC_EINVAL, "%s: resolution %ux%u: expected 4..16384 each", f->source,
-				width, height);
+		return pc_error(PC_EINVAL, "%s: resolution %ux%u: expected 4..16384 each",
+		                f->source, width, height);
 	/* every preset the spec may draw must tile */
 	const json_t *pr = json_object_get(json_object_get(f->spec, "sensor"), "preset");
 	const json_t *list = pr && dist_kind(pr) ? json_object_get(pr, "choice") : NULL;
 	size_t n = list ? json_array_size(list) : 1;
 	for (size_t i = 0; i < n; i++) {
 		const char *name = list ? json_string_value(json_array_get(list, i))
-					: pr ? json_string_value(pr) : "imx250mzr";
+		                   : pr ? json_string_value(pr)
+		                        : "imx250mzr";
 		pc_sensor_figures fig;
 		if (pc_sensor_preset(name, &fig))
-			return pc_error(PC_EINVAL, "%s: sensor.preset %s: unknown", f->source, name);
+			return pc_error(PC_EINVAL, "%s: sensor.preset %s: unknown", f->source,
+			                name);
 		unsigned per = fig.mosaic.period;
 		if (width % per || height % per)
-			return pc_error(PC_EINVAL, "%s: resolution %ux%u: the %s mosaic needs multiples of %u",
-					f->source, width, height, name, per);
+			return pc_error(PC_EINVAL,
+			                "%s: resolution %ux%u: the %s mosaic needs multiples of %u",
+			                f->source, width, height, name, per);
 	}
 	f->width = width;
 	f->height = height;
@@ -1101,8 +1162,9 @@ int pc_family_set_resolution(pc_family *f, uint32_t width, uint32_t height)
 		free(text);
 		pc_scene_free(scene);
 		if (rc)
-			return pc_error_prefix(rc, "%s: sample %llu of the spec is not a valid scene: ",
-					       f->source, (unsigned long long)i);
+			return pc_error_prefix(
+			    rc, "%s: sample %llu of the spec is not a valid scene: ", f->source,
+			    (unsigned long long)i);
 	}
 	return 0;
 }
@@ -1183,7 +1245,7 @@ static float select_kth(float *a, size_t n, size_t k)
 }
 
 int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int threads,
-		     pc_family_sample *out)
+                     pc_family_sample *out)
 {
 	memset(out, 0, sizeof *out);
 	out->index = index;
@@ -1204,8 +1266,9 @@ int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int thre
 	rc = pc_sim_new(scene, &o, &sim);
 	pc_sim_info *in = &out->info;
 	const char *tr = json_string_value(json_object_get(f->spec, "truth"));
-	out->truth = !tr || !strcmp(tr, "float32") ? PC_TRUTH_F32 : !strcmp(tr, "float16") ? PC_TRUTH_F16
-											  : PC_TRUTH_NONE;
+	out->truth = !tr || !strcmp(tr, "float32") ? PC_TRUTH_F32
+	             : !strcmp(tr, "float16")      ? PC_TRUTH_F16
+	                                           : PC_TRUTH_NONE;
 	const json_t *fr = json_object_get(f->spec, "frames");
 	out->n_frames = fr ? (unsigned)json_integer_value(fr) : 1;
 	size_t npix = 0;
@@ -1220,28 +1283,34 @@ int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int thre
 	}
 	if (!rc)
 		rc = pc_sim_prepare(sim, 0, out->truth_stokes, NULL, NULL, NULL);
-	/* exposure: the chosen percentile of the mean signal at the chosen fraction of full scale */
+	/* exposure: the chosen percentile of the mean signal at the chosen fraction of full scale
+	 */
 	const json_t *ex = json_object_get(json_object_get(f->spec, "sensor"), "exposure");
 	if (!rc && ex && json_object_get(ex, "auto_level")) {
 		draw d; /* its own stream: the level draw does not shift the scene's draws */
 		pc_rng_init(&d.r, seed, PC_RNG_FAMILY + 1, (uint32_t)(index & 0xFFFFu),
-			    (uint32_t)(index >> 16 & 0xFFFFu), index >> 32);
+		            (uint32_t)(index >> 16 & 0xFFFFu), index >> 32);
 		double level = num(&d, json_object_get(ex, "auto_level"), 0.8);
 		const json_t *pp = json_object_get(ex, "auto_percentile");
 		double pct = pp ? json_number_value(pp) : 99.5;
-		const json_t *mn = json_object_get(ex, "min_us"), *mx = json_object_get(ex, "max_us");
+		const json_t *mn = json_object_get(ex, "min_us"),
+		             *mx = json_object_get(ex, "max_us");
 		double lo = mn ? json_number_value(mn) : 1, hi = mx ? json_number_value(mx) : 1e6;
 		const json_t *jm = json_object_get(ex, "auto_min_median");
 		const json_t *js = json_object_get(ex, "auto_max_saturated");
-		double min_median = jm ? json_number_value(jm) : 0, max_sat = js ? json_number_value(js) : 1;
+		double min_median = jm ? json_number_value(jm) : 0,
+		       max_sat = js ? json_number_value(js) : 1;
 		float *r = malloc(npix * sizeof *r);
 		if (!r) {
 			rc = pc_error(PC_ENOMEM, "exposure statistics");
 		} else {
-			/* quantiles of the electron rate (e⁻/s): mean DN = K·rate·t above the offset */
+			/* quantiles of the electron rate (e⁻/s): mean DN = K·rate·t above the
+			 * offset */
 			memcpy(r, sim->rate[0], npix * sizeof *r);
-			size_t kq = (size_t)fmin((double)(npix - 1), floor(pct / 100 * (double)npix));
-			size_t ks = (size_t)fmin((double)(npix - 1), floor((1 - max_sat) * (double)npix));
+			size_t kq =
+			    (size_t)fmin((double)(npix - 1), floor(pct / 100 * (double)npix));
+			size_t ks =
+			    (size_t)fmin((double)(npix - 1), floor((1 - max_sat) * (double)npix));
 			double q = select_kth(r, npix, kq);
 			double qs = select_kth(r, npix, ks);
 			double q50 = select_kth(r, npix, npix / 2);
@@ -1255,14 +1324,15 @@ int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int thre
 				t_us = min_median * room / (K * q50) * 1e6;
 			if (max_sat < 1 && qs > 0)
 				t_us = fmin(t_us, room / (K * qs) * 1e6);
-			/* a round number of nanoseconds: short in the scene file, exact through JSON */
+			/* a round number of nanoseconds: short in the scene file, exact through
+			 * JSON */
 			t_us = round(fmin(hi, fmax(lo, t_us)) * 1e3) / 1e3;
 			exposure_us = t_us;
 		}
 	}
 	if (!rc) {
 		out->exposure_us = exposure_us;
-		pc_sim_controls ctl = { exposure_us, sim->fig.gain_db };
+		pc_sim_controls ctl = {exposure_us, sim->fig.gain_db};
 		out->frames = calloc(out->n_frames, sizeof *out->frames);
 		out->frame_meta = calloc(out->n_frames, sizeof *out->frame_meta);
 		if (!out->frames || !out->frame_meta)
@@ -1270,9 +1340,11 @@ int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int thre
 		for (unsigned i = 0; !rc && i < out->n_frames; i++) {
 			rc = pc_view_alloc(&out->frames[i], in->format, in->width, in->height, 64);
 			if (!rc)
-				rc = pc_sim_frame(sim, i, &ctl, &out->frames[i], &out->frame_meta[i]);
+				rc = pc_sim_frame(sim, i, &ctl, &out->frames[i],
+				                  &out->frame_meta[i]);
 		}
-		out->dn_per_radiance = pc_sim_dn_per_radiance(sim, &ctl, in->colour_channels == 3 ? 1 : 0);
+		out->dn_per_radiance =
+		    pc_sim_dn_per_radiance(sim, &ctl, in->colour_channels == 3 ? 1 : 0);
 	}
 	if (!rc) {
 		/* described as the scene file written for the sample configures it: the chosen
@@ -1306,8 +1378,10 @@ int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int thre
 		double e2;
 		json_decref(sc);
 		sc = build_scene(f, seed, index, true, &ss, &e2);
-		json_object_set_new(json_object_get(sc, "sensor"), "exposure_us", json_real(exposure_us));
-		out->scene_json = json_dumps(sc, JSON_INDENT(1) | JSON_REAL_PRECISION(17) | JSON_PRESERVE_ORDER);
+		json_object_set_new(json_object_get(sc, "sensor"), "exposure_us",
+		                    json_real(exposure_us));
+		out->scene_json =
+		    json_dumps(sc, JSON_INDENT(1) | JSON_REAL_PRECISION(17) | JSON_PRESERVE_ORDER);
 		if (!out->scene_json)
 			rc = pc_error(PC_ENOMEM, "scene text");
 	}

@@ -16,13 +16,16 @@ int pc_sim_eval_case(pc_sim *sim, pc_eval_truth *t, pc_view *raw)
 	pc_sim_info info;
 	pc_sim_get_info(sim, &info);
 	if (info.colour_channels != 1)
-		return pc_error(PC_ENOTSUP, "evaluation case: the scene's sensor is a colour sensor; "
-					    "the protocol scores monochrome polarizer mosaics");
+		return pc_error(PC_ENOTSUP,
+		                "evaluation case: the scene's sensor is a colour sensor; "
+		                "the protocol scores monochrome polarizer mosaics");
 	if (info.width % 2 || info.height % 2 || info.width < 2 * PC_EVAL_BORDER + 2 ||
 	    info.height < 2 * PC_EVAL_BORDER + 2)
-		return pc_error(PC_EINVAL, "evaluation case: frame %ux%u: even sizes of at least "
-					   "%dx%d are needed", info.width, info.height,
-				2 * PC_EVAL_BORDER + 2, 2 * PC_EVAL_BORDER + 2);
+		return pc_error(PC_EINVAL,
+		                "evaluation case: frame %ux%u: even sizes of at least "
+		                "%dx%d are needed",
+		                info.width, info.height, 2 * PC_EVAL_BORDER + 2,
+		                2 * PC_EVAL_BORDER + 2);
 	pc_sensor_figures fig;
 	pc_sim_get_sensor(sim, &fig);
 	const uint32_t w = info.width, h = info.height;
@@ -52,11 +55,12 @@ int pc_sim_eval_case(pc_sim *sim, pc_eval_truth *t, pc_view *raw)
 	 * be; normalised by the ADC's full scale 2^bits − 1 (the protocol's step 1). */
 	const double k = pc_sim_dn_per_radiance(sim, NULL, 0);
 	const double fs = (double)((1u << info.bits) - 1u);
-	static const double cs[4][2] = { { 1, 0 }, { 0, 1 }, { -1, 0 }, { 0, -1 } };
+	static const double cs[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
 	for (size_t i = 0; i < n; i++) {
 		const float *s = st + 4 * i;
 		for (int c = 0; c < 4; c++) {
-			double v = fig.offset_dn + k * 0.5 * (s[0] + cs[c][0] * s[1] + cs[c][1] * s[2]);
+			double v =
+			    fig.offset_dn + k * 0.5 * (s[0] + cs[c][0] * s[1] + cs[c][1] * s[2]);
 			t->ch[c][i] = fmin(fmax(v, 0), fs) / fs;
 		}
 	}
@@ -83,8 +87,7 @@ static int is_scene_file(const char *path)
 
 /* One evaluation case: a truth directory (mosaicked with the Sony layout) or a scene (rendered
  * with its sensor). */
-static int load_case(const char *path, int threads, pc_eval_truth *t, pc_view *raw,
-		     pc_mosaic *m)
+static int load_case(const char *path, int threads, pc_eval_truth *t, pc_view *raw, pc_mosaic *m)
 {
 	memset(raw, 0, sizeof *raw);
 	if (!is_scene_file(path)) {
@@ -116,8 +119,8 @@ static int load_case(const char *path, int threads, pc_eval_truth *t, pc_view *r
 }
 
 int pc_sim_eval_cases(const char *const *paths, size_t n, const pc_demosaic_method *methods,
-		      size_t nmeth, const pc_demosaic_opts *opts, int threads,
-		      const pc_progress *progress, pc_eval_result *res)
+                      size_t nmeth, const pc_demosaic_opts *opts, int threads,
+                      const pc_progress *progress, pc_eval_result *res)
 {
 	size_t nres = 0;
 	for (size_t d = 0; d < n; d++) {

@@ -117,10 +117,11 @@ int pc_sim_check_memory(const pc_sim *sim, bool truth)
 	const uint64_t need = pc_sim_memory_bytes(sim, truth), have = pc_sim_memory_available(&src);
 	if (need <= have)
 		return 0;
-	return pc_error(PC_ENOMEM, "a %ux%u render with %u polarization state%s needs about %.3g GiB, "
-				   "%.3g GiB available (%s): render a region (--roi), lower "
-				   "sensor.resolution, or set POLARCAM_MAX_MEMORY if more is available",
-			sim->info.width, sim->info.height, sim->n_states,
-			sim->n_states == 1 ? "" : "s", (double)need / (1 << 30),
-			(double)have / (1 << 30), src);
+	return pc_error(PC_ENOMEM,
+	                "a %ux%u render with %u polarization state%s needs about %.3g GiB, "
+	                "%.3g GiB available (%s): render a region (--roi), lower "
+	                "sensor.resolution, or set POLARCAM_MAX_MEMORY if more is available",
+	                sim->info.width, sim->info.height, sim->n_states,
+	                sim->n_states == 1 ? "" : "s", (double)need / (1 << 30),
+	                (double)have / (1 << 30), src);
 }

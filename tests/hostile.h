@@ -132,11 +132,11 @@ static int hostile_bmp(const char *path, int32_t w, int32_t h, size_t data_bytes
 }
 
 enum hostile_tiff_kind {
-	HOSTILE_TIFF_GREY8,        /* a valid 8-bit grey w × h strip TIFF (zeros) */
-	HOSTILE_TIFF_PALETTE,      /* 8-bit palette (photometric 3 and a colour map) */
+	HOSTILE_TIFF_GREY8,           /* a valid 8-bit grey w × h strip TIFF (zeros) */
+	HOSTILE_TIFF_PALETTE,         /* 8-bit palette (photometric 3 and a colour map) */
 	HOSTILE_TIFF_PALETTE_NOPHOTO, /* the same with the photometric tag renamed away */
-	HOSTILE_TIFF_YCBCR_TILED,  /* 16 × 16 tiles of YCbCr 2×2-subsampled samples */
-	HOSTILE_TIFF_SIGNED16,     /* 16-bit signed samples */
+	HOSTILE_TIFF_YCBCR_TILED,     /* 16 × 16 tiles of YCbCr 2×2-subsampled samples */
+	HOSTILE_TIFF_SIGNED16,        /* 16-bit signed samples */
 };
 
 /* Renames the first IFD entry with tag `from` to `to` (little-endian classic TIFF). */
@@ -154,7 +154,8 @@ static int hostile_tiff_retag(const char *path, uint16_t from, uint16_t to)
 			unsigned n = nb[0] | nb[1] << 8;
 			for (unsigned i = 0; i < n && rc; i++) {
 				uint8_t e[12];
-				if (fseek(fp, off + 2 + 12 * (long)i, SEEK_SET) || fread(e, 1, 12, fp) != 12)
+				if (fseek(fp, off + 2 + 12 * (long)i, SEEK_SET) ||
+				    fread(e, 1, 12, fp) != 12)
 					break;
 				if ((e[0] | e[1] << 8) == from) {
 					e[0] = (uint8_t)to;
@@ -186,7 +187,8 @@ static int hostile_tiff_set(const char *path, uint16_t tag, uint32_t v)
 			unsigned n = nb[0] | nb[1] << 8;
 			for (unsigned i = 0; i < n && rc; i++) {
 				uint8_t e[12];
-				if (fseek(fp, off + 2 + 12 * (long)i, SEEK_SET) || fread(e, 1, 12, fp) != 12)
+				if (fseek(fp, off + 2 + 12 * (long)i, SEEK_SET) ||
+				    fread(e, 1, 12, fp) != 12)
 					break;
 				if ((e[0] | e[1] << 8) != tag)
 					continue;
@@ -197,7 +199,8 @@ static int hostile_tiff_set(const char *path, uint16_t tag, uint32_t v)
 				} else {
 					hostile_le32(e + 8, v);
 				}
-				if (!fseek(fp, off + 2 + 12 * (long)i, SEEK_SET) && fwrite(e, 1, 12, fp) == 12)
+				if (!fseek(fp, off + 2 + 12 * (long)i, SEEK_SET) &&
+				    fwrite(e, 1, 12, fp) == 12)
 					rc = 0;
 			}
 		}
@@ -234,7 +237,8 @@ static int hostile_tiff(const char *path, enum hostile_tiff_kind kind, uint32_t 
 		int signed16 = kind == HOSTILE_TIFF_SIGNED16;
 		TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, signed16 ? 16 : 8);
 		TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 1);
-		TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, signed16 ? SAMPLEFORMAT_INT : SAMPLEFORMAT_UINT);
+		TIFFSetField(t, TIFFTAG_SAMPLEFORMAT,
+		             signed16 ? SAMPLEFORMAT_INT : SAMPLEFORMAT_UINT);
 		TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, h);
 		if (kind == HOSTILE_TIFF_PALETTE || kind == HOSTILE_TIFF_PALETTE_NOPHOTO) {
 			static uint16_t cm[3][256];

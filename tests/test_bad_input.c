@@ -75,7 +75,8 @@ static void snap_walk(snap *s, const char *dir, const char *rel)
 			s->size = realloc(s->size, s->cap * sizeof *s->size);
 			s->hash = realloc(s->hash, s->cap * sizeof *s->hash);
 		}
-		snprintf(s->name[s->n], sizeof s->name[0], "%s%s", r, S_ISDIR(st.st_mode) ? "/" : "");
+		snprintf(s->name[s->n], sizeof s->name[0], "%s%s", r,
+		         S_ISDIR(st.st_mode) ? "/" : "");
 		s->size[s->n] = 0;
 		s->hash[s->n] = S_ISREG(st.st_mode) ? fnv_file(path, &s->size[s->n]) : 0;
 		s->n++;
@@ -173,7 +174,7 @@ static void npy(const char *name, const char *descr, const char *shape, const vo
 {
 	char dict[160];
 	snprintf(dict, sizeof dict, "{'descr': '%s', 'fortran_order': False, 'shape': %s, }", descr,
-		 shape);
+	         shape);
 	hostile_npy(name, dict, d, n);
 }
 
@@ -202,14 +203,23 @@ static void make_recordings(void)
 		char *dir;
 		const char *scene, *roi;
 	} r[3] = {{rec_mono, "ideal_small.json", "100,100,8,8"},
-		  {rec_colour, "colour_small.json", "0,0,8,8"},
-		  {rec_psg, "mueller_tetrahedral.json", "0,0,8,8"}};
+	          {rec_colour, "colour_small.json", "0,0,8,8"},
+	          {rec_psg, "mueller_tetrahedral.json", "0,0,8,8"}};
 	for (int i = 0; i < 3; i++) {
 		char scene[512];
 		snprintf(scene, sizeof scene, "%s/scenes/%s", srcdir, r[i].scene);
 		snprintf(r[i].dir, 600, "%s/rec%d", root, i);
-		char *argv[] = {(char *)polarcam, "render", scene, "-o", r[i].dir, "--roi",
-				(char *)r[i].roi, "--no-truth", i < 2 ? "-n" : NULL, "2", NULL};
+		char *argv[] = {(char *)polarcam,
+		                "render",
+		                scene,
+		                "-o",
+		                r[i].dir,
+		                "--roi",
+		                (char *)r[i].roi,
+		                "--no-truth",
+		                i < 2 ? "-n" : NULL,
+		                "2",
+		                NULL};
 		int st = run_quiet(argv);
 		if (st != 0)
 			fprintf(stderr, "render %s: status %d\n", r[i].scene, st);
@@ -237,16 +247,17 @@ static void copy_rec(const char *src, const char *name)
 static const char *scene_json(const char *sensor, const char *objects, const char *materials)
 {
 	static char buf[8192];
-	snprintf(buf, sizeof buf,
-		 "{\"polarcam_scene\": 1, \"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0],"
-		 " \"focal_length_mm\": 12}, \"materials\": {%s}, \"lights\": [{\"type\": "
-		 "\"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": 100}], \"objects\": "
-		 "[%s], \"sensor\": {\"preset\": \"ideal\", \"resolution\": [8, 8]%s}}\n",
-		 materials ? materials : "\"m\": {\"n\": 1.5, \"k\": 0, \"sigma\": 0.2}",
-		 objects ? objects
-			 : "{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 0, 1], "
-			   "\"material\": \"m\"}",
-		 sensor ? sensor : "");
+	snprintf(
+	    buf, sizeof buf,
+	    "{\"polarcam_scene\": 1, \"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0],"
+	    " \"focal_length_mm\": 12}, \"materials\": {%s}, \"lights\": [{\"type\": "
+	    "\"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": 100}], \"objects\": "
+	    "[%s], \"sensor\": {\"preset\": \"ideal\", \"resolution\": [8, 8]%s}}\n",
+	    materials ? materials : "\"m\": {\"n\": 1.5, \"k\": 0, \"sigma\": 0.2}",
+	    objects ? objects
+	            : "{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 0, 1], "
+	              "\"material\": \"m\"}",
+	    sensor ? sensor : "");
 	return buf;
 }
 
@@ -259,9 +270,9 @@ static void mesh_scene(const char *obj_text)
 {
 	puts_file("m.obj", obj_text);
 	scene_file(NULL,
-		   "{\"type\": \"mesh\", \"file\": \"m.obj\", \"material\": \"m\"}, {\"type\": "
-		   "\"plane\", \"point\": [0, 0, -1], \"normal\": [0, 0, 1], \"material\": \"m\"}",
-		   NULL);
+	           "{\"type\": \"mesh\", \"file\": \"m.obj\", \"material\": \"m\"}, {\"type\": "
+	           "\"plane\", \"point\": [0, 0, -1], \"normal\": [0, 0, 1], \"material\": \"m\"}",
+	           NULL);
 }
 
 /* ---- the cases ---- */
@@ -272,28 +283,58 @@ static void s_png_trunc(void)
 	hostile_png("in.png", 64, 64, 16, 64);
 	truncate("in.png", 60);
 }
-static void s_png_claim(void) { hostile_png("in.png", 100000, 100000, 16, 0); }
-static void s_png_bomb(void) { hostile_png("in.png", 2000, 2000, 8, 2000); }
+static void s_png_claim(void)
+{
+	hostile_png("in.png", 100000, 100000, 16, 0);
+}
+static void s_png_bomb(void)
+{
+	hostile_png("in.png", 2000, 2000, 8, 2000);
+}
 static void s_png_rgb(void)
 {
 	char p[600];
 	snprintf(p, sizeof p, "%s/tests/fuzz/corpus/png/picture_rgb.png", srcdir);
 	cp(p, "in.png");
 }
-static void s_png_text(void) { puts_file("in.png", "this is not a PNG file\n"); }
-static void s_png_empty(void) { put("in.png", "", 0); }
-static void s_png_odd(void) { hostile_png("in.png", 5, 4, 8, 4); }
-static void s_png_tiny(void) { hostile_png("in.png", 2, 2, 8, 2); }
+static void s_png_text(void)
+{
+	puts_file("in.png", "this is not a PNG file\n");
+}
+static void s_png_empty(void)
+{
+	put("in.png", "", 0);
+}
+static void s_png_odd(void)
+{
+	hostile_png("in.png", 5, 4, 8, 4);
+}
+static void s_png_tiny(void)
+{
+	hostile_png("in.png", 2, 2, 8, 2);
+}
 static void s_png_12(void)
 {
 	char p[640];
 	snprintf(p, sizeof p, "%s/raw_000000.png", rec_mono);
 	cp(p, "in.png");
 }
-static void s_tif_pal(void) { hostile_tiff("in.tif", HOSTILE_TIFF_PALETTE, 4, 4); }
-static void s_tif_pal2(void) { hostile_tiff("in.tif", HOSTILE_TIFF_PALETTE_NOPHOTO, 4, 4); }
-static void s_tif_ycc(void) { hostile_tiff("in.tif", HOSTILE_TIFF_YCBCR_TILED, 16, 16); }
-static void s_tif_s16(void) { hostile_tiff("in.tif", HOSTILE_TIFF_SIGNED16, 4, 4); }
+static void s_tif_pal(void)
+{
+	hostile_tiff("in.tif", HOSTILE_TIFF_PALETTE, 4, 4);
+}
+static void s_tif_pal2(void)
+{
+	hostile_tiff("in.tif", HOSTILE_TIFF_PALETTE_NOPHOTO, 4, 4);
+}
+static void s_tif_ycc(void)
+{
+	hostile_tiff("in.tif", HOSTILE_TIFF_YCBCR_TILED, 16, 16);
+}
+static void s_tif_s16(void)
+{
+	hostile_tiff("in.tif", HOSTILE_TIFF_SIGNED16, 4, 4);
+}
 static void s_tif_claim(void)
 {
 	hostile_tiff("in.tif", HOSTILE_TIFF_GREY8, 8, 8);
@@ -316,8 +357,14 @@ static void s_tif_rgb(void)
 	snprintf(p, sizeof p, "%s/tests/fuzz/corpus/tiff/demosaic_f32x4.tif", srcdir);
 	cp(p, "in.tif");
 }
-static void s_bmp_claim(void) { hostile_bmp("in.bmp", 1 << 20, 1 << 20, 16); }
-static void s_bmp_trunc(void) { hostile_bmp("in.bmp", 400, 400, 100); }
+static void s_bmp_claim(void)
+{
+	hostile_bmp("in.bmp", 1 << 20, 1 << 20, 16);
+}
+static void s_bmp_trunc(void)
+{
+	hostile_bmp("in.bmp", 400, 400, 100);
+}
 static void s_bmp_colour(void)
 {
 	hostile_bmp("in.bmp", 4, 4, 16);
@@ -342,7 +389,10 @@ static void s_bmp_16(void)
 	fputc(16, fp);
 	fclose(fp);
 }
-static void s_npy_huge(void) { npy("in.npy", "<u2", "(10000000, 10000000)", NULL, 0); }
+static void s_npy_huge(void)
+{
+	npy("in.npy", "<u2", "(10000000, 10000000)", NULL, 0);
+}
 static void s_npy_f8(void)
 {
 	double *d = calloc(600 * 600, sizeof *d);
@@ -383,7 +433,10 @@ static void s_npy_neg(void)
 	uint8_t b[64] = {0};
 	npy("in.npy", "|u1", "(-8, 8)", b, 64);
 }
-static void s_npy_magic(void) { puts_file("in.npy", "NUMPY? no, this is text\n"); }
+static void s_npy_magic(void)
+{
+	puts_file("in.npy", "NUMPY? no, this is text\n");
+}
 static void s_npy_ver(void)
 {
 	uint8_t b[16] = {0x93, 'N', 'U', 'M', 'P', 'Y', 9, 0, 4, 0, '{', '}', ' ', '\n'};
@@ -471,7 +524,10 @@ static void s_rec_name(void)
 	copy_rec(rec_mono, "rec");
 	edit("rec/meta.json", "\"raw_000001.png\"", "\"raw_00000x.png\"");
 }
-static void s_sc_notjson(void) { puts_file("s.json", "{\"polarcam_scene\": 1, \"camera\": [\n"); }
+static void s_sc_notjson(void)
+{
+	puts_file("s.json", "{\"polarcam_scene\": 1, \"camera\": [\n");
+}
 static void s_sc_key(void)
 {
 	scene_file(NULL, NULL, NULL);
@@ -480,8 +536,9 @@ static void s_sc_key(void)
 static void s_sc_nocam(void)
 {
 	scene_file(NULL, NULL, NULL);
-	edit("s.json", "\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0], "
-		       "\"focal_length_mm\": 12}, ",
+	edit("s.json",
+	     "\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0], "
+	     "\"focal_length_mm\": 12}, ",
 	     "");
 }
 static void s_sc_res(void)
@@ -498,20 +555,39 @@ static void s_sc_sigma(void)
 {
 	scene_file(NULL, NULL, "\"m\": {\"n\": 1.5, \"k\": 0, \"sigma\": 1e-160}");
 }
-static void s_sc_n(void) { scene_file(NULL, NULL, "\"m\": {\"n\": -1, \"k\": 0, \"sigma\": 0.2}"); }
+static void s_sc_n(void)
+{
+	scene_file(NULL, NULL, "\"m\": {\"n\": -1, \"k\": 0, \"sigma\": 0.2}");
+}
 static void s_sc_sigmastr(void)
 {
 	scene_file(NULL, NULL, "\"m\": {\"n\": 1.5, \"k\": 0, \"sigma\": \"abc\"}");
 }
-static void s_sc_fps(void) { scene_file(", \"frame_rate_hz\": 1e-300", NULL, NULL); }
+static void s_sc_fps(void)
+{
+	scene_file(", \"frame_rate_hz\": 1e-300", NULL, NULL);
+}
 static void s_sc_meshmissing(void)
 {
-	scene_file(NULL, "{\"type\": \"mesh\", \"file\": \"nowhere.obj\", \"material\": \"m\"}", NULL);
+	scene_file(NULL, "{\"type\": \"mesh\", \"file\": \"nowhere.obj\", \"material\": \"m\"}",
+	           NULL);
 }
-static void s_obj_face(void) { mesh_scene("v 0 0 0\nv 1 0 0\nv 0 1 0\n\n# x\nf 1/abc 2 3\n"); }
-static void s_obj_far(void) { mesh_scene("v 1e300 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n"); }
-static void s_obj_many(void) { mesh_scene("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\n"); }
-static void s_obj_index(void) { mesh_scene("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"); }
+static void s_obj_face(void)
+{
+	mesh_scene("v 0 0 0\nv 1 0 0\nv 0 1 0\n\n# x\nf 1/abc 2 3\n");
+}
+static void s_obj_far(void)
+{
+	mesh_scene("v 1e300 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
+}
+static void s_obj_many(void)
+{
+	mesh_scene("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\n");
+}
+static void s_obj_index(void)
+{
+	mesh_scene("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+}
 static void s_sc_nul(void)
 {
 	const char *t = scene_json(NULL, NULL, NULL);
@@ -524,8 +600,9 @@ static void s_sc_nul(void)
 static void s_sc_nolights(void)
 {
 	scene_file(NULL, NULL, NULL);
-	edit("s.json", "[{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": "
-		       "100}]",
+	edit("s.json",
+	     "[{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": "
+	     "100}]",
 	     "[]");
 }
 static void s_sc_irr(void)
@@ -543,8 +620,14 @@ static void s_sc_ss(void)
 	scene_file(NULL, NULL, NULL);
 	edit("s.json", "\"sensor\"", "\"effects\": {\"supersampling\": 17}, \"sensor\"");
 }
-static void s_sc_bits(void) { scene_file(", \"bits\": 9", NULL, NULL); }
-static void s_sc_ok(void) { scene_file(NULL, NULL, NULL); }
+static void s_sc_bits(void)
+{
+	scene_file(", \"bits\": 9", NULL, NULL);
+}
+static void s_sc_ok(void)
+{
+	scene_file(NULL, NULL, NULL);
+}
 static void s_existing_rec(void)
 {
 	scene_file(NULL, NULL, NULL);
@@ -553,21 +636,23 @@ static void s_existing_rec(void)
 static void s_batch_p(void)
 {
 	char b[1024];
-	static const char head[] = "1.5 0 0.2 30 30 180\n1.5 0 x 30 30 180\n1.5 0 0.2 30 30 180\0junk\n"
-				   "1.5 0 \033[31mRED\x01 30 30 180\n1.5 0 0.2 30 30 1";
+	static const char head[] =
+	    "1.5 0 0.2 30 30 180\n1.5 0 x 30 30 180\n1.5 0 0.2 30 30 180\0junk\n"
+	    "1.5 0 \033[31mRED\x01 30 30 180\n1.5 0 0.2 30 30 1";
 	int o = (int)sizeof head - 1;
 	memcpy(b, head, sizeof head - 1);
 	memset(b + o, '0', 130);
 	o += 130;
-	o += snprintf(b + o, sizeof b - (size_t)o, "junk\n1 2 3\n1.5 0 0.2 95 30 180\n"
-						   "1.5 0 1e-160 0 0 0\n");
+	o += snprintf(b + o, sizeof b - (size_t)o,
+	              "junk\n1 2 3\n1.5 0 0.2 95 30 180\n"
+	              "1.5 0 1e-160 0 0 0\n");
 	put("batch.txt", b, (size_t)o);
 }
 static void s_batch_d(void)
 {
 	const char b[] = "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0\n"
-			 "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 7\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1e400\n"
-			 "1 0 0 0 0 1 0 0\0 0 0 1 0 0 0 0 1\n";
+	                 "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 7\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1e400\n"
+	                 "1 0 0 0 0 1 0 0\0 0 0 1 0 0 0 0 1\n";
 	put("batch.txt", b, sizeof b - 1);
 }
 static void s_states(const char *text)
@@ -575,17 +660,24 @@ static void s_states(const char *text)
 	copy_rec(rec_psg, "rec");
 	puts_file("st.json", text);
 }
-static void s_st_notjson(void) { s_states("{\"polarcam_states\": 1,\n \"psg\": ["); }
+static void s_st_notjson(void)
+{
+	s_states("{\"polarcam_states\": 1,\n \"psg\": [");
+}
 static void s_st_psg3(void)
 {
 	s_states("{\"polarcam_states\": 1, \"frame_order\": \"psg_fastest\", \"psg\": [[1, 0, 0]], "
-		 "\"psa\": [[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]]}");
+	         "\"psa\": [[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]]}");
 }
-static void s_st_nomagic(void) { s_states("{\"frame_order\": \"psg_fastest\"}"); }
+static void s_st_nomagic(void)
+{
+	s_states("{\"frame_order\": \"psg_fastest\"}");
+}
 static void s_st_order(void)
 {
-	s_states("{\"polarcam_states\": 1, \"frame_order\": \"psa_fastest\", \"psg\": [[1, 0, 0, 0]], "
-		 "\"psa\": [[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]]}");
+	s_states(
+	    "{\"polarcam_states\": 1, \"frame_order\": \"psa_fastest\", \"psg\": [[1, 0, 0, 0]], "
+	    "\"psa\": [[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]]}");
 }
 static void calib_seed(void)
 {
@@ -598,7 +690,10 @@ static void s_cal_trunc(void)
 	calib_seed();
 	truncate("c.npz", 1500);
 }
-static void s_cal_text(void) { puts_file("c.npz", "not a zip archive\n"); }
+static void s_cal_text(void)
+{
+	puts_file("c.npz", "not a zip archive\n");
+}
 static void s_cal_flip(void)
 {
 	calib_seed();
@@ -614,7 +709,10 @@ static void s_parent_file(void)
 	ok_png();
 	puts_file("afile", "x");
 }
-static void s_longname(void) { ok_png(); }
+static void s_longname(void)
+{
+	ok_png();
+}
 
 /* table rows leave the optional last fields (env, existing_out) out */
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -622,7 +720,7 @@ static void s_longname(void) { ok_png(); }
 typedef struct bad_case {
 	const char *name;
 	void (*setup)(void);
-	const char *args[20];   /* after "polarcam"; NULL-terminated */
+	const char *args[20]; /* after "polarcam"; NULL-terminated */
 	int status;
 	const char *needles[4]; /* each must appear in stderr */
 	const char *env;        /* "NAME=value" for this case, or NULL */
@@ -633,34 +731,88 @@ typedef struct bad_case {
 static const bad_case cases[] = {
     /* PNG */
     {"png truncated", s_png_trunc, {"process", "in.png", OUT}, 2, {"in.png"}},
-    {"png claims 100000^2", s_png_claim, {"process", "in.png", OUT}, 2, {"in.png", "POLARCAM_MAX_PIXELS"}},
-    {"png bomb over a lowered limit", s_png_bomb, {"process", "in.png", OUT}, 2, {"in.png", "4000000 pixels"}, "POLARCAM_MAX_PIXELS=1M", 1},
+    {"png claims 100000^2",
+     s_png_claim,
+     {"process", "in.png", OUT},
+     2,
+     {"in.png", "POLARCAM_MAX_PIXELS"}},
+    {"png bomb over a lowered limit",
+     s_png_bomb,
+     {"process", "in.png", OUT},
+     2,
+     {"in.png", "4000000 pixels"},
+     "POLARCAM_MAX_PIXELS=1M",
+     1},
     {"png colour", s_png_rgb, {"process", "in.png", OUT}, 2, {"in.png", "colour"}},
     {"png is text", s_png_text, {"process", "in.png", OUT}, 2, {"in.png"}},
     {"png empty", s_png_empty, {"demosaic", "in.png", "-o", "out.npy"}, 2, {"in.png"}},
     {"png odd width", s_png_odd, {"process", "in.png", OUT}, 2, {"in.png", "even"}},
     {"png 2x2", s_png_tiny, {"demosaic", "in.png", "-o", "out.npy"}, 2, {"in.png", "at least 4"}},
-    {"png 12-bit read as 8", s_png_12, {"process", "in.png", "--bits", "8", OUT}, 2, {"in.png", "bit depth"}, NULL, 1},
-    {"png 12-bit with --bits 4", s_png_12, {"process", "in.png", "--bits", "4", OUT}, 2, {"in.png"}},
+    {"png 12-bit read as 8",
+     s_png_12,
+     {"process", "in.png", "--bits", "8", OUT},
+     2,
+     {"in.png", "bit depth"},
+     NULL,
+     1},
+    {"png 12-bit with --bits 4",
+     s_png_12,
+     {"process", "in.png", "--bits", "4", OUT},
+     2,
+     {"in.png"}},
     /* TIFF */
     {"tiff palette", s_tif_pal, {"process", "in.tif", OUT}, 2, {"in.tif", "palette"}},
-    {"tiff palette without photometric", s_tif_pal2, {"process", "in.tif", OUT}, 2, {"in.tif", "palette"}, NULL, 1},
+    {"tiff palette without photometric",
+     s_tif_pal2,
+     {"process", "in.tif", OUT},
+     2,
+     {"in.tif", "palette"},
+     NULL,
+     1},
     {"tiff YCbCr tiles", s_tif_ycc, {"process", "in.tif", OUT}, 2, {"in.tif", "YCbCr"}},
-    {"tiff signed samples", s_tif_s16, {"demosaic", "in.tif", "-o", "out.npy"}, 2, {"in.tif", "signed"}},
-    {"tiff claims 100000^2", s_tif_claim, {"process", "in.tif", OUT}, 2, {"in.tif", "POLARCAM_MAX_PIXELS"}, NULL, 1},
+    {"tiff signed samples",
+     s_tif_s16,
+     {"demosaic", "in.tif", "-o", "out.npy"},
+     2,
+     {"in.tif", "signed"}},
+    {"tiff claims 100000^2",
+     s_tif_claim,
+     {"process", "in.tif", OUT},
+     2,
+     {"in.tif", "POLARCAM_MAX_PIXELS"},
+     NULL,
+     1},
     {"tiff strip beyond the file", s_tif_off, {"process", "in.tif", OUT}, 2, {"in.tif", "beyond"}},
     {"tiff truncated", s_tif_trunc, {"process", "in.tif", OUT}, 2, {"in.tif"}},
     {"tiff 4 channels", s_tif_rgb, {"process", "in.tif", OUT}, 2, {"in.tif", "samples per pixel"}},
     /* BMP */
-    {"bmp claims 2^20 x 2^20", s_bmp_claim, {"process", "in.bmp", OUT}, 2, {"in.bmp", "POLARCAM_MAX_PIXELS"}},
+    {"bmp claims 2^20 x 2^20",
+     s_bmp_claim,
+     {"process", "in.bmp", OUT},
+     2,
+     {"in.bmp", "POLARCAM_MAX_PIXELS"}},
     {"bmp truncated", s_bmp_trunc, {"process", "in.bmp", OUT}, 2, {"in.bmp", "truncated"}, NULL, 1},
     {"bmp colour palette", s_bmp_colour, {"process", "in.bmp", OUT}, 2, {"in.bmp", "colour"}},
     {"bmp compressed", s_bmp_rle, {"process", "in.bmp", OUT}, 2, {"in.bmp", "compressed"}},
     {"bmp 16-bit", s_bmp_16, {"process", "in.bmp", OUT}, 2, {"in.bmp", "16-bit"}},
     /* .npy */
-    {"npy declares (1e7, 1e7)", s_npy_huge, {"process", "in.npy", OUT}, 2, {"in.npy", "truncated"}, NULL, 1},
-    {"npy float64 beyond float32", s_npy_f8, {"process", "in.npy", OUT}, 2, {"in.npy", "(400,1)", "1e+39"}},
-    {"npy float32 at 3.4e38", s_npy_fmax, {"process", "in.npy", OUT}, 2, {"in.npy", "(0,0)", "2^24"}},
+    {"npy declares (1e7, 1e7)",
+     s_npy_huge,
+     {"process", "in.npy", OUT},
+     2,
+     {"in.npy", "truncated"},
+     NULL,
+     1},
+    {"npy float64 beyond float32",
+     s_npy_f8,
+     {"process", "in.npy", OUT},
+     2,
+     {"in.npy", "(400,1)", "1e+39"}},
+    {"npy float32 at 3.4e38",
+     s_npy_fmax,
+     {"process", "in.npy", OUT},
+     2,
+     {"in.npy", "(0,0)", "2^24"}},
     {"npy NaN", s_npy_nan, {"process", "in.npy", OUT}, 2, {"in.npy", "(1,1)", "NaN"}},
     {"npy Fortran order", s_npy_fortran, {"process", "in.npy", OUT}, 2, {"in.npy", "Fortran"}},
     {"npy big-endian", s_npy_be, {"demosaic", "in.npy", "-o", "out.npy"}, 2, {"in.npy", "dtype"}},
@@ -670,115 +822,505 @@ static const bad_case cases[] = {
     {"npy version 9", s_npy_ver, {"process", "in.npy", OUT}, 2, {"in.npy", "version"}},
     {"npy header 16 MB", s_npy_hlen, {"process", "in.npy", OUT}, 2, {"in.npy", "implausible"}},
     {"npy shape overflows", s_npy_ovf, {"process", "in.npy", OUT}, 2, {"in.npy", "2^64"}},
-    {"npy value above --bits 12", s_npy_u2big, {"process", "in.npy", "--bits", "12", OUT}, 2, {"in.npy", "5000"}, NULL, 1},
+    {"npy value above --bits 12",
+     s_npy_u2big,
+     {"process", "in.npy", "--bits", "12", OUT},
+     2,
+     {"in.npy", "5000"},
+     NULL,
+     1},
     /* headerless raw geometry */
-    {"raw stride 2^64-1", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--offset", "10", "--stride", "18446744073709551615", "-o", "out.npy"}, 2, {"r.bin", "beyond any file"}},
-    {"raw offset beyond the file", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--offset", "90", "-o", "out.npy"}, 2, {"r.bin", "truncated", "106"}},
-    {"raw stride 2^63", s_raw, {"process", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--stride", "9223372036854775808", OUT}, 2, {"r.bin"}, NULL, 1},
-    {"raw width 0", s_raw, {"demosaic", "r.bin", "--width", "0", "--height", "4", "--format", "Mono8", "-o", "out.npy"}, 2, {"--width"}},
-    {"raw width 2^30+1", s_raw, {"demosaic", "r.bin", "--width", "1073741825", "--height", "4", "--format", "Mono8", "-o", "out.npy"}, 2, {"--width", "[1, 1073741824]"}},
-    {"raw stride with junk", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--stride", "10junk", "-o", "out.npy"}, 2, {"--stride", "10junk"}},
-    {"raw offset negative", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--offset", "-1", "-o", "out.npy"}, 2, {"--offset"}},
-    {"raw offset hexadecimal", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--offset", "0x10", "-o", "out.npy"}, 2, {"--offset", "0x10"}},
-    {"raw unknown format", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Bogus12", "-o", "out.npy"}, 2, {"--format", "Bogus12"}},
-    {"raw geometry incomplete", s_raw, {"demosaic", "r.bin", "--width", "4", "--format", "Mono8", "-o", "out.npy"}, 2, {"--height"}},
-    {"raw Mono10p width 6", s_raw, {"demosaic", "r.bin", "--width", "6", "--height", "4", "--format", "Mono10p", "-o", "out.npy"}, 2, {"r.bin"}},
-    {"raw width 5 (odd)", s_raw, {"process", "r.bin", "--width", "6", "--height", "5", "--format", "Mono8", OUT}, 2, {"r.bin", "even"}, NULL, 1},
-    {"raw Mono12 holding 55245", s_raw12, {"process", "r.bin", "--width", "8", "--height", "8", "--format", "Mono12", OUT}, 2, {"r.bin", "pixel (3,3) = 55245"}, NULL, 1},
-    {"--bits 17", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--bits", "17", "-o", "out.npy"}, 2, {"--bits", "[1, 16]"}},
-    {"--threads 0", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--threads", "0", "-o", "out.npy"}, 2, {"--threads"}},
+    {"raw stride 2^64-1",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--offset", "10",
+      "--stride", "18446744073709551615", "-o", "out.npy"},
+     2,
+     {"r.bin", "beyond any file"}},
+    {"raw offset beyond the file",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--offset", "90",
+      "-o", "out.npy"},
+     2,
+     {"r.bin", "truncated", "106"}},
+    {"raw stride 2^63",
+     s_raw,
+     {"process", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--stride",
+      "9223372036854775808", OUT},
+     2,
+     {"r.bin"},
+     NULL,
+     1},
+    {"raw width 0",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "0", "--height", "4", "--format", "Mono8", "-o", "out.npy"},
+     2,
+     {"--width"}},
+    {"raw width 2^30+1",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "1073741825", "--height", "4", "--format", "Mono8", "-o",
+      "out.npy"},
+     2,
+     {"--width", "[1, 1073741824]"}},
+    {"raw stride with junk",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--stride",
+      "10junk", "-o", "out.npy"},
+     2,
+     {"--stride", "10junk"}},
+    {"raw offset negative",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--offset", "-1",
+      "-o", "out.npy"},
+     2,
+     {"--offset"}},
+    {"raw offset hexadecimal",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--offset", "0x10",
+      "-o", "out.npy"},
+     2,
+     {"--offset", "0x10"}},
+    {"raw unknown format",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Bogus12", "-o", "out.npy"},
+     2,
+     {"--format", "Bogus12"}},
+    {"raw geometry incomplete",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--format", "Mono8", "-o", "out.npy"},
+     2,
+     {"--height"}},
+    {"raw Mono10p width 6",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "6", "--height", "4", "--format", "Mono10p", "-o", "out.npy"},
+     2,
+     {"r.bin"}},
+    {"raw width 5 (odd)",
+     s_raw,
+     {"process", "r.bin", "--width", "6", "--height", "5", "--format", "Mono8", OUT},
+     2,
+     {"r.bin", "even"},
+     NULL,
+     1},
+    {"raw Mono12 holding 55245",
+     s_raw12,
+     {"process", "r.bin", "--width", "8", "--height", "8", "--format", "Mono12", OUT},
+     2,
+     {"r.bin", "pixel (3,3) = 55245"},
+     NULL,
+     1},
+    {"--bits 17",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--bits", "17",
+      "-o", "out.npy"},
+     2,
+     {"--bits", "[1, 16]"}},
+    {"--threads 0",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--threads", "0",
+      "-o", "out.npy"},
+     2,
+     {"--threads"}},
     /* recordings */
-    {"colour recording, corrupt meta.json", s_rec_corrupt, {"process", "rec/raw_000000.png", OUT}, 2, {"rec/raw_000000.png", "meta.json"}, NULL, 1},
-    {"meta.json polarized without mosaic", s_rec_nomosaic, {"process", "rec/raw_000000.png", OUT}, 2, {"meta.json", "mosaic"}},
-    {"meta.json frames out of order", s_rec_order, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "sequence"}},
-    {"recording frame missing", s_rec_missing, {"capture", "file:rec", "-n", "2", OUT}, 2, {"rec/raw_000001.png", "missing"}},
-    {"meta.json negative timestamp", s_rec_ts, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "timestamp_ns"}, NULL, 1},
-    {"meta.json version 2", s_rec_ver, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "polarcam_recording"}},
-    {"meta.json bits do not match the format", s_rec_bits, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "bits"}},
-    {"meta.json width 0", s_rec_width, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "width"}},
-    {"meta.json frame file name", s_rec_name, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "frames[1].file"}, NULL, 1},
-    {"meta.json without frames", s_rec_noframes, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json", "frames", "missing"}},
-    {"meta.json corrupt, capture", s_rec_corrupt, {"capture", "file:rec", "-n", "1", OUT}, 2, {"meta.json"}},
+    {"colour recording, corrupt meta.json",
+     s_rec_corrupt,
+     {"process", "rec/raw_000000.png", OUT},
+     2,
+     {"rec/raw_000000.png", "meta.json"},
+     NULL,
+     1},
+    {"meta.json polarized without mosaic",
+     s_rec_nomosaic,
+     {"process", "rec/raw_000000.png", OUT},
+     2,
+     {"meta.json", "mosaic"}},
+    {"meta.json frames out of order",
+     s_rec_order,
+     {"capture", "file:rec", "-n", "1", OUT},
+     2,
+     {"meta.json", "sequence"}},
+    {"recording frame missing",
+     s_rec_missing,
+     {"capture", "file:rec", "-n", "2", OUT},
+     2,
+     {"rec/raw_000001.png", "missing"}},
+    {"meta.json negative timestamp",
+     s_rec_ts,
+     {"capture", "file:rec", "-n", "1", OUT},
+     2,
+     {"meta.json", "timestamp_ns"},
+     NULL,
+     1},
+    {"meta.json version 2",
+     s_rec_ver,
+     {"capture", "file:rec", "-n", "1", OUT},
+     2,
+     {"meta.json", "polarcam_recording"}},
+    {"meta.json bits do not match the format",
+     s_rec_bits,
+     {"capture", "file:rec", "-n", "1", OUT},
+     2,
+     {"meta.json", "bits"}},
+    {"meta.json width 0",
+     s_rec_width,
+     {"capture", "file:rec", "-n", "1", OUT},
+     2,
+     {"meta.json", "width"}},
+    {"meta.json frame file name",
+     s_rec_name,
+     {"capture", "file:rec", "-n", "1", OUT},
+     2,
+     {"meta.json", "frames[1].file"},
+     NULL,
+     1},
+    {"meta.json without frames",
+     s_rec_noframes,
+     {"capture", "file:rec", "-n", "1", OUT},
+     2,
+     {"meta.json", "frames", "missing"}},
+    {"meta.json corrupt, capture",
+     s_rec_corrupt,
+     {"capture", "file:rec", "-n", "1", OUT},
+     2,
+     {"meta.json"}},
     /* scenes and meshes */
     {"scene not JSON", s_sc_notjson, {"render", "s.json", OUT}, 2, {"s.json", "line"}},
     {"scene unknown key", s_sc_key, {"render", "s.json", OUT}, 2, {"s.json", "camrea"}, NULL, 1},
     {"scene without camera", s_sc_nocam, {"render", "s.json", OUT}, 2, {"s.json", "camera"}},
-    {"scene resolution 65534^2", s_sc_res, {"render", "s.json", OUT}, 2, {"s.json", "sensor.resolution", "POLARCAM_MAX_PIXELS"}},
-    {"scene resolution odd", s_sc_resodd, {"render", "s.json", OUT}, 2, {"s.json", "sensor.resolution"}},
+    {"scene resolution 65534^2",
+     s_sc_res,
+     {"render", "s.json", OUT},
+     2,
+     {"s.json", "sensor.resolution", "POLARCAM_MAX_PIXELS"}},
+    {"scene resolution odd",
+     s_sc_resodd,
+     {"render", "s.json", OUT},
+     2,
+     {"s.json", "sensor.resolution"}},
     {"scene sigma 1e-160", s_sc_sigma, {"render", "s.json", OUT}, 2, {"s.json", "sigma"}, NULL, 1},
     {"scene n = -1", s_sc_n, {"render", "s.json", OUT}, 2, {"s.json", "materials.m.n"}},
     {"scene sigma a string", s_sc_sigmastr, {"render", "s.json", OUT}, 2, {"s.json", "sigma"}},
-    {"scene 1e-300 Hz, 2 frames", s_sc_fps, {"render", "s.json", "-n", "2", OUT}, 2, {"timestamp"}, NULL, 1},
-    {"scene mesh file missing", s_sc_meshmissing, {"render", "s.json", OUT}, 2, {"s.json", "nowhere.obj"}},
+    {"scene 1e-300 Hz, 2 frames",
+     s_sc_fps,
+     {"render", "s.json", "-n", "2", OUT},
+     2,
+     {"timestamp"},
+     NULL,
+     1},
+    {"scene mesh file missing",
+     s_sc_meshmissing,
+     {"render", "s.json", OUT},
+     2,
+     {"s.json", "nowhere.obj"}},
     {"obj face token junk", s_obj_face, {"render", "s.json", OUT}, 2, {"m.obj", "line 6", "1/abc"}},
     {"obj vertex 1e300", s_obj_far, {"render", "s.json", OUT}, 2, {"m.obj", "line 1"}, NULL, 1},
-    {"obj over the triangle limit", s_obj_many, {"render", "s.json", OUT}, 2, {"m.obj", "POLARCAM_MAX_TRIANGLES"}, "POLARCAM_MAX_TRIANGLES=1"},
-    {"obj index out of range", s_obj_index, {"render", "s.json", OUT}, 2, {"m.obj", "line 4", "out of range"}},
+    {"obj over the triangle limit",
+     s_obj_many,
+     {"render", "s.json", OUT},
+     2,
+     {"m.obj", "POLARCAM_MAX_TRIANGLES"},
+     "POLARCAM_MAX_TRIANGLES=1"},
+    {"obj index out of range",
+     s_obj_index,
+     {"render", "s.json", OUT},
+     2,
+     {"m.obj", "line 4", "out of range"}},
     {"scene with a NUL byte", s_sc_nul, {"render", "s.json", OUT}, 2, {"s.json", "NUL"}},
-    {"scene without lights", s_sc_nolights, {"render", "s.json", OUT}, 2, {"s.json", "lights"}, NULL, 1},
-    {"scene negative irradiance", s_sc_irr, {"render", "s.json", OUT}, 2, {"s.json", "irradiance_w_m2"}},
+    {"scene without lights",
+     s_sc_nolights,
+     {"render", "s.json", OUT},
+     2,
+     {"s.json", "lights"},
+     NULL,
+     1},
+    {"scene negative irradiance",
+     s_sc_irr,
+     {"render", "s.json", OUT},
+     2,
+     {"s.json", "irradiance_w_m2"}},
     {"scene duplicate key", s_sc_dup, {"render", "s.json", OUT}, 2, {"s.json", "name"}},
     {"scene supersampling 17", s_sc_ss, {"render", "s.json", OUT}, 2, {"s.json", "supersampling"}},
-    {"scene 9-bit sensor", s_sc_bits, {"render", "s.json", OUT}, 2, {"s.json", "sensor.bits"}, NULL, 1},
-    {"render beyond POLARCAM_MAX_MEMORY", s_sc_ok, {"render", "s.json", OUT}, 1, {"POLARCAM_MAX_MEMORY", "8x8"}, "POLARCAM_MAX_MEMORY=1k"},
-    {"POLARCAM_MAX_PIXELS not a size", s_sc_ok, {"render", "s.json", OUT}, 2, {"POLARCAM_MAX_PIXELS='many'"}, "POLARCAM_MAX_PIXELS=many", 1},
+    {"scene 9-bit sensor",
+     s_sc_bits,
+     {"render", "s.json", OUT},
+     2,
+     {"s.json", "sensor.bits"},
+     NULL,
+     1},
+    {"render beyond POLARCAM_MAX_MEMORY",
+     s_sc_ok,
+     {"render", "s.json", OUT},
+     1,
+     {"POLARCAM_MAX_MEMORY", "8x8"},
+     "POLARCAM_MAX_MEMORY=1k"},
+    {"POLARCAM_MAX_PIXELS not a size",
+     s_sc_ok,
+     {"render", "s.json", OUT},
+     2,
+     {"POLARCAM_MAX_PIXELS='many'"},
+     "POLARCAM_MAX_PIXELS=many",
+     1},
     /* render arguments */
-    {"render --first 2^63", s_sc_ok, {"render", "s.json", "--first", "9223372036854775808", OUT}, 2, {"--first", "[0, 9223372036854775807]"}},
-    {"render --first 2^64-1 -n 2", s_sc_ok, {"render", "s.json", "--first", "18446744073709551615", "-n", "2", OUT}, 2, {"--first"}, NULL, 1},
-    {"render --first beyond the timestamps", s_sc_ok, {"render", "s.json", "--first", "276701161105", "-n", "2", OUT}, 2, {"at most 276701161104"}},
-    {"render over POLARCAM_MAX_FRAMES", s_sc_ok, {"render", "s.json", "-n", "3", OUT}, 2, {"frames", "POLARCAM_MAX_FRAMES"}, "POLARCAM_MAX_FRAMES=2"},
-    {"capture over POLARCAM_MAX_FRAMES", NULL, {"capture", "sim:default", "-n", "5", OUT}, 2, {"-n", "POLARCAM_MAX_FRAMES"}, "POLARCAM_MAX_FRAMES=4", 1},
-    {"render --seed 0x10", s_sc_ok, {"render", "s.json", "--seed", "0x10", OUT}, 2, {"--seed", "0x10"}},
-    {"render --seed 10junk", s_sc_ok, {"render", "s.json", "--seed", "10junk", OUT}, 2, {"--seed"}, NULL, 1},
+    {"render --first 2^63",
+     s_sc_ok,
+     {"render", "s.json", "--first", "9223372036854775808", OUT},
+     2,
+     {"--first", "[0, 9223372036854775807]"}},
+    {"render --first 2^64-1 -n 2",
+     s_sc_ok,
+     {"render", "s.json", "--first", "18446744073709551615", "-n", "2", OUT},
+     2,
+     {"--first"},
+     NULL,
+     1},
+    {"render --first beyond the timestamps",
+     s_sc_ok,
+     {"render", "s.json", "--first", "276701161105", "-n", "2", OUT},
+     2,
+     {"at most 276701161104"}},
+    {"render over POLARCAM_MAX_FRAMES",
+     s_sc_ok,
+     {"render", "s.json", "-n", "3", OUT},
+     2,
+     {"frames", "POLARCAM_MAX_FRAMES"},
+     "POLARCAM_MAX_FRAMES=2"},
+    {"capture over POLARCAM_MAX_FRAMES",
+     NULL,
+     {"capture", "sim:default", "-n", "5", OUT},
+     2,
+     {"-n", "POLARCAM_MAX_FRAMES"},
+     "POLARCAM_MAX_FRAMES=4",
+     1},
+    {"render --seed 0x10",
+     s_sc_ok,
+     {"render", "s.json", "--seed", "0x10", OUT},
+     2,
+     {"--seed", "0x10"}},
+    {"render --seed 10junk",
+     s_sc_ok,
+     {"render", "s.json", "--seed", "10junk", OUT},
+     2,
+     {"--seed"},
+     NULL,
+     1},
     {"render -n 0", s_sc_ok, {"render", "s.json", "-n", "0", OUT}, 2, {"--frames"}},
-    {"render -n 1000001", s_sc_ok, {"render", "s.json", "-n", "1000001", OUT}, 2, {"--frames", "1000000"}},
-    {"render --roi with three numbers", s_sc_ok, {"render", "s.json", "--roi", "1,2,3", OUT}, 2, {"--roi"}},
-    {"render --roi of width 0", s_sc_ok, {"render", "s.json", "--roi", "0,0,0,8", OUT}, 2, {"--roi"}, NULL, 1},
-    {"render --roi beyond the sensor", s_sc_ok, {"render", "s.json", "--roi", "4,4,8,8", OUT}, 2, {"ROI"}},
-    {"render into a recording", s_existing_rec, {"render", "s.json", OUT}, 2, {"out", "--overwrite"}},
+    {"render -n 1000001",
+     s_sc_ok,
+     {"render", "s.json", "-n", "1000001", OUT},
+     2,
+     {"--frames", "1000000"}},
+    {"render --roi with three numbers",
+     s_sc_ok,
+     {"render", "s.json", "--roi", "1,2,3", OUT},
+     2,
+     {"--roi"}},
+    {"render --roi of width 0",
+     s_sc_ok,
+     {"render", "s.json", "--roi", "0,0,0,8", OUT},
+     2,
+     {"--roi"},
+     NULL,
+     1},
+    {"render --roi beyond the sensor",
+     s_sc_ok,
+     {"render", "s.json", "--roi", "4,4,8,8", OUT},
+     2,
+     {"ROI"}},
+    {"render into a recording",
+     s_existing_rec,
+     {"render", "s.json", OUT},
+     2,
+     {"out", "--overwrite"}},
     {"render -o without a value", s_sc_ok, {"render", "s.json", "-o"}, 2, {"-o"}},
     {"render scene missing", s_sc_ok, {"render", "nosuch.json", OUT}, 2, {"nosuch.json"}, NULL, 1},
     /* pbrdf and decompose arguments */
-    {"pbrdf --n 0", NULL, {"pbrdf", "--n", "0", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30"}, 2, {"--n"}},
-    {"pbrdf --k -1", NULL, {"pbrdf", "--n", "1.5", "--k", "-1", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30"}, 2, {"--k"}},
-    {"pbrdf --sigma 1e-160", NULL, {"pbrdf", "--n", "1.5", "--sigma", "1e-160", "--theta-i", "0", "--theta-r", "0"}, 2, {"sigma = 1e-160", "1e-50"}},
-    {"pbrdf --sigma 1e-320 (subnormal)", NULL, {"pbrdf", "--n", "1.5", "--sigma", "1e-320", "--theta-i", "0", "--theta-r", "0"}, 2, {"sigma = 9.99989e-321", "1e-50"}},
-    {"pbrdf --sigma 1e-400", NULL, {"pbrdf", "--n", "1.5", "--sigma", "1e-400", "--theta-i", "0", "--theta-r", "0"}, 2, {"--sigma", "smallest double"}},
-    {"pbrdf --theta-i 91", NULL, {"pbrdf", "--n", "1.5", "--sigma", "0.2", "--theta-i", "91", "--theta-r", "30"}, 2, {"--theta-i"}},
-    {"pbrdf --phi nan", NULL, {"pbrdf", "--n", "1.5", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30", "--phi", "nan"}, 2, {"--phi"}},
-    {"pbrdf --rho quad:1025", NULL, {"pbrdf", "--n", "1.5", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30", "--rho", "quad:1025"}, 2, {"--rho"}},
-    {"pbrdf --n 1e101", NULL, {"pbrdf", "--n", "1e101", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30"}, 2, {"1e+101", "1e100"}},
-    {"pbrdf --sigma step 0", NULL, {"pbrdf", "--n", "1.5", "--sigma", "0:1:0", "--theta-i", "30", "--theta-r", "30"}, 2, {"--sigma", "step"}},
-    {"pbrdf --diffuse foo", NULL, {"pbrdf", "--n", "1.5", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30", "--diffuse", "foo"}, 2, {"--diffuse", "foo"}},
-    {"pbrdf batch lines", s_batch_p, {"pbrdf", "--batch", "batch.txt"}, 2, {"batch.txt line 2: field 3 (sigma)", "line 3: byte 20 is a NUL", "line 4: field 3 (sigma) '\\x1b[31mRED\\x01'", "line 5: field 6 (phi)"}},
-    {"pbrdf batch lines, more", s_batch_p, {"pbrdf", "--batch", "batch.txt"}, 2, {"line 6: expected 6 numbers", "line 7", "theta_i", "line 8: sigma = 1e-160"}},
-    {"pbrdf batch file missing", NULL, {"pbrdf", "--batch", "nosuch.txt"}, 2, {"--batch", "nosuch.txt"}},
-    {"decompose 15 numbers", NULL, {"decompose", "1", "0", "0", "0", "0", "1", "0", "0", "0", "0", "1", "0", "0", "0", "0"}, 2, {"expected 16", "got 15"}},
-    {"decompose element x", NULL, {"decompose", "1", "0", "x", "0", "0", "1", "0", "0", "0", "0", "1", "0", "0", "0", "0"}, 2, {"element 3 (m02)"}},
-    {"decompose 1e400", NULL, {"decompose", "1e400", "0", "0", "0", "0", "1", "0", "0", "0", "0", "1", "0", "0", "0", "0"}, 2, {"element 1 (m00)"}},
-    {"decompose batch lines", s_batch_d, {"decompose", "--batch", "batch.txt"}, 2, {"line 2: expected 16 numbers", "line 3: expected 16 numbers", "line 4: field 16 (m33)", "line 5: byte 16 is a NUL"}},
+    {"pbrdf --n 0",
+     NULL,
+     {"pbrdf", "--n", "0", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30"},
+     2,
+     {"--n"}},
+    {"pbrdf --k -1",
+     NULL,
+     {"pbrdf", "--n", "1.5", "--k", "-1", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30"},
+     2,
+     {"--k"}},
+    {"pbrdf --sigma 1e-160",
+     NULL,
+     {"pbrdf", "--n", "1.5", "--sigma", "1e-160", "--theta-i", "0", "--theta-r", "0"},
+     2,
+     {"sigma = 1e-160", "1e-50"}},
+    {"pbrdf --sigma 1e-320 (subnormal)",
+     NULL,
+     {"pbrdf", "--n", "1.5", "--sigma", "1e-320", "--theta-i", "0", "--theta-r", "0"},
+     2,
+     {"sigma = 9.99989e-321", "1e-50"}},
+    {"pbrdf --sigma 1e-400",
+     NULL,
+     {"pbrdf", "--n", "1.5", "--sigma", "1e-400", "--theta-i", "0", "--theta-r", "0"},
+     2,
+     {"--sigma", "smallest double"}},
+    {"pbrdf --theta-i 91",
+     NULL,
+     {"pbrdf", "--n", "1.5", "--sigma", "0.2", "--theta-i", "91", "--theta-r", "30"},
+     2,
+     {"--theta-i"}},
+    {"pbrdf --phi nan",
+     NULL,
+     {"pbrdf", "--n", "1.5", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30", "--phi",
+      "nan"},
+     2,
+     {"--phi"}},
+    {"pbrdf --rho quad:1025",
+     NULL,
+     {"pbrdf", "--n", "1.5", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30", "--rho",
+      "quad:1025"},
+     2,
+     {"--rho"}},
+    {"pbrdf --n 1e101",
+     NULL,
+     {"pbrdf", "--n", "1e101", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30"},
+     2,
+     {"1e+101", "1e100"}},
+    {"pbrdf --sigma step 0",
+     NULL,
+     {"pbrdf", "--n", "1.5", "--sigma", "0:1:0", "--theta-i", "30", "--theta-r", "30"},
+     2,
+     {"--sigma", "step"}},
+    {"pbrdf --diffuse foo",
+     NULL,
+     {"pbrdf", "--n", "1.5", "--sigma", "0.2", "--theta-i", "30", "--theta-r", "30", "--diffuse",
+      "foo"},
+     2,
+     {"--diffuse", "foo"}},
+    {"pbrdf batch lines",
+     s_batch_p,
+     {"pbrdf", "--batch", "batch.txt"},
+     2,
+     {"batch.txt line 2: field 3 (sigma)", "line 3: byte 20 is a NUL",
+      "line 4: field 3 (sigma) '\\x1b[31mRED\\x01'", "line 5: field 6 (phi)"}},
+    {"pbrdf batch lines, more",
+     s_batch_p,
+     {"pbrdf", "--batch", "batch.txt"},
+     2,
+     {"line 6: expected 6 numbers", "line 7", "theta_i", "line 8: sigma = 1e-160"}},
+    {"pbrdf batch file missing",
+     NULL,
+     {"pbrdf", "--batch", "nosuch.txt"},
+     2,
+     {"--batch", "nosuch.txt"}},
+    {"decompose 15 numbers",
+     NULL,
+     {"decompose", "1", "0", "0", "0", "0", "1", "0", "0", "0", "0", "1", "0", "0", "0", "0"},
+     2,
+     {"expected 16", "got 15"}},
+    {"decompose element x",
+     NULL,
+     {"decompose", "1", "0", "x", "0", "0", "1", "0", "0", "0", "0", "1", "0", "0", "0", "0"},
+     2,
+     {"element 3 (m02)"}},
+    {"decompose 1e400",
+     NULL,
+     {"decompose", "1e400", "0", "0", "0", "0", "1", "0", "0", "0", "0", "1", "0", "0", "0", "0"},
+     2,
+     {"element 1 (m00)"}},
+    {"decompose batch lines",
+     s_batch_d,
+     {"decompose", "--batch", "batch.txt"},
+     2,
+     {"line 2: expected 16 numbers", "line 3: expected 16 numbers", "line 4: field 16 (m33)",
+      "line 5: byte 16 is a NUL"}},
     {"decompose unknown option", NULL, {"decompose", "--filter"}, 2, {"--filter"}},
     /* states.json and Mueller imaging */
-    {"states.json not JSON", s_st_notjson, {"mueller", "rec", "--states", "st.json", OUT}, 2, {"st.json", "line"}},
-    {"states.json psg of 3 numbers", s_st_psg3, {"mueller", "rec", "--states", "st.json", OUT}, 2, {"st.json", "psg[0]"}, NULL, 1},
-    {"states.json not a states file", s_st_nomagic, {"mueller", "rec", "--states", "st.json", OUT}, 2, {"st.json", "polarcam_states"}},
-    {"states.json frame order", s_st_order, {"mueller", "rec", "--states", "st.json", OUT}, 2, {"st.json", "frame_order"}},
+    {"states.json not JSON",
+     s_st_notjson,
+     {"mueller", "rec", "--states", "st.json", OUT},
+     2,
+     {"st.json", "line"}},
+    {"states.json psg of 3 numbers",
+     s_st_psg3,
+     {"mueller", "rec", "--states", "st.json", OUT},
+     2,
+     {"st.json", "psg[0]"},
+     NULL,
+     1},
+    {"states.json not a states file",
+     s_st_nomagic,
+     {"mueller", "rec", "--states", "st.json", OUT},
+     2,
+     {"st.json", "polarcam_states"}},
+    {"states.json frame order",
+     s_st_order,
+     {"mueller", "rec", "--states", "st.json", OUT},
+     2,
+     {"st.json", "frame_order"}},
     /* calibration files */
-    {"calibration truncated", s_cal_trunc, {"calibrate", "show", "c.npz", "--pictures", "out"}, 2, {"c.npz"}},
-    {"calibration not a zip", s_cal_text, {"calibrate", "show", "c.npz", "--pictures", "out"}, 2, {"c.npz", "zip"}, NULL, 1},
-    {"calibration with a flipped byte", s_cal_flip, {"calibrate", "show", "c.npz", "--pictures", "out"}, 2, {"c.npz"}},
+    {"calibration truncated",
+     s_cal_trunc,
+     {"calibrate", "show", "c.npz", "--pictures", "out"},
+     2,
+     {"c.npz"}},
+    {"calibration not a zip",
+     s_cal_text,
+     {"calibrate", "show", "c.npz", "--pictures", "out"},
+     2,
+     {"c.npz", "zip"},
+     NULL,
+     1},
+    {"calibration with a flipped byte",
+     s_cal_flip,
+     {"calibrate", "show", "c.npz", "--pictures", "out"},
+     2,
+     {"c.npz"}},
     /* other arguments and URIs */
-    {"demosaic --method nosuch", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--method", "nosuch", "-o", "out.npy"}, 2, {"--method", "nosuch"}},
-    {"demosaic --layout 1,2,3", s_raw, {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--layout", "1,2,3", "-o", "out.npy"}, 2, {"--layout"}},
-    {"process --picture-width abc", s_raw, {"process", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--picture-width", "abc", OUT}, 2, {"--picture-width"}, NULL, 1},
+    {"demosaic --method nosuch",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--method",
+      "nosuch", "-o", "out.npy"},
+     2,
+     {"--method", "nosuch"}},
+    {"demosaic --layout 1,2,3",
+     s_raw,
+     {"demosaic", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--layout",
+      "1,2,3", "-o", "out.npy"},
+     2,
+     {"--layout"}},
+    {"process --picture-width abc",
+     s_raw,
+     {"process", "r.bin", "--width", "4", "--height", "4", "--format", "Mono8", "--picture-width",
+      "abc", OUT},
+     2,
+     {"--picture-width"},
+     NULL,
+     1},
     {"capture sim: seed=x", NULL, {"capture", "sim:default?seed=x", "-n", "1", OUT}, 2, {"seed=x"}},
-    {"capture sim: unknown option", NULL, {"capture", "sim:default?nosuch=1", "-n", "1", OUT}, 2, {"nosuch"}},
-    {"capture file: missing", NULL, {"capture", "file:nowhere", "-n", "1", OUT}, 2, {"nowhere"}, NULL, 1},
+    {"capture sim: unknown option",
+     NULL,
+     {"capture", "sim:default?nosuch=1", "-n", "1", OUT},
+     2,
+     {"nosuch"}},
+    {"capture file: missing",
+     NULL,
+     {"capture", "file:nowhere", "-n", "1", OUT},
+     2,
+     {"nowhere"},
+     NULL,
+     1},
     {"capture -n 0", NULL, {"capture", "sim:default", "-n", "0", OUT}, 2, {"-n"}},
     {"capture unknown scheme", NULL, {"capture", "ftp:x", "-n", "1", OUT}, 2, {"ftp"}},
-    {"capture URI option twice", NULL, {"capture", "sim:default?seed=1&seed=2", "-n", "1", OUT}, 2, {"seed", "twice"}},
-    {"output under a file", s_parent_file, {"demosaic", "ok.npy", "-o", "afile/out.npy"}, 1, {"afile/out.npy"}},
-    {"output name over NAME_MAX", s_longname, {"demosaic", "ok.npy", "-o", "@LONG256"}, 2, {"aaaaaaaaaa", "too long"}},
+    {"capture URI option twice",
+     NULL,
+     {"capture", "sim:default?seed=1&seed=2", "-n", "1", OUT},
+     2,
+     {"seed", "twice"}},
+    {"output under a file",
+     s_parent_file,
+     {"demosaic", "ok.npy", "-o", "afile/out.npy"},
+     1,
+     {"afile/out.npy"}},
+    {"output name over NAME_MAX",
+     s_longname,
+     {"demosaic", "ok.npy", "-o", "@LONG256"},
+     2,
+     {"aaaaaaaaaa", "too long"}},
 };
 #undef OUT
 
@@ -845,17 +1387,19 @@ static void run_case(size_t i, const bad_case *c)
 	slurp("../stdout.txt", outbuf, sizeof outbuf);
 	bool ok = st == c->status;
 	if (!ok)
-		fprintf(stderr, "case %zu (%s): exit status %d, want %d\n", i, c->name, st, c->status);
+		fprintf(stderr, "case %zu (%s): exit status %d, want %d\n", i, c->name, st,
+		        c->status);
 	for (int k = 0; k < 4 && c->needles[k]; k++)
 		if (!count_needles(err, c->needles[k])) {
-			fprintf(stderr, "case %zu (%s): message lacks '%s'\n", i, c->name, c->needles[k]);
+			fprintf(stderr, "case %zu (%s): message lacks '%s'\n", i, c->name,
+			        c->needles[k]);
 			ok = false;
 		}
 	/* a message on one line per error, nothing for a terminal to interpret, no crash report */
 	for (const char *p = err; *p; p++)
 		if ((unsigned char)*p < 0x20 && *p != '\n') {
-			fprintf(stderr, "case %zu (%s): control byte %#x in the message\n", i, c->name,
-				(unsigned char)*p);
+			fprintf(stderr, "case %zu (%s): control byte %#x in the message\n", i,
+			        c->name, (unsigned char)*p);
 			ok = false;
 			break;
 		}
@@ -873,7 +1417,8 @@ static void run_case(size_t i, const bad_case *c)
 		json_error_t je;
 		json_t *j = json_loads(l, 0, &je);
 		if (!j) {
-			fprintf(stderr, "case %zu (%s): stdout line not JSON: %.120s\n", i, c->name, l);
+			fprintf(stderr, "case %zu (%s): stdout line not JSON: %.120s\n", i, c->name,
+			        l);
 			ok = false;
 		}
 		json_decref(j);
@@ -904,7 +1449,7 @@ static void long_name_ok(void)
 	ok_png();
 	char *argv[] = {(char *)polarcam, "demosaic", "ok.npy", "-o", long254, NULL};
 	int st = pc_child_wait(pc_child_spawn(argv, open("/dev/null", O_WRONLY), "../stderr.txt"),
-			       120000, NULL);
+	                       120000, NULL);
 	CHECK_EQ_INT(st, 0);
 	CHECK(access(long254, F_OK) == 0);
 	snap s = {0};
@@ -952,14 +1497,21 @@ static void float_bound_ok(void)
 		f[i] = k == 0 ? 0x1p24f : k == 1 ? -0x1p24f : k == 2 ? 0.0f : 0x1p24f * 1e-30f;
 	}
 	npy("in.npy", "<f4", "(32, 32)", f, sizeof f);
-	static const char *const methods[][2] = {
-	    {"superpixel-half", NULL}, {"superpixel", NULL}, {"bilinear", NULL}, {"bicubic", NULL},
-	    {"ppid", NULL},            {"ri", NULL},         {"eari", NULL},     {"ratio", NULL},
-	    {"bayer-first", "RGGB:90,45,135,0"},            {"bayer-eari", "RGGB:90,45,135,0"}};
+	static const char *const methods[][2] = {{"superpixel-half", NULL},
+	                                         {"superpixel", NULL},
+	                                         {"bilinear", NULL},
+	                                         {"bicubic", NULL},
+	                                         {"ppid", NULL},
+	                                         {"ri", NULL},
+	                                         {"eari", NULL},
+	                                         {"ratio", NULL},
+	                                         {"bayer-first", "RGGB:90,45,135,0"},
+	                                         {"bayer-eari", "RGGB:90,45,135,0"}};
 	for (size_t m = 0; m < sizeof methods / sizeof methods[0]; m++)
 		for (int ref = 0; ref < 2; ref++) {
-			char *argv[12] = {(char *)polarcam, "process", "in.npy", "-o", "o", "--method",
-					  (char *)methods[m][0]};
+			char *argv[12] = {
+			    (char *)polarcam,     "process", "in.npy", "-o", "o", "--method",
+			    (char *)methods[m][0]};
 			int a = 7;
 			if (methods[m][1]) {
 				argv[a++] = "--layout";
@@ -968,15 +1520,17 @@ static void float_bound_ok(void)
 			if (ref)
 				argv[a++] = "--reference";
 			argv[a] = NULL;
-			int st = pc_child_wait(pc_child_spawn(argv, open("/dev/null", O_WRONLY),
-							      "../stderr.txt"),
-					       120000, NULL);
+			int st = pc_child_wait(
+			    pc_child_spawn(argv, open("/dev/null", O_WRONLY), "../stderr.txt"),
+			    120000, NULL);
 			bool ok = st == 0 && npy_all_finite("o/stokes.npy") &&
-				  npy_all_finite("o/dolp.npy") && npy_all_finite("o/aolp.npy");
+			          npy_all_finite("o/dolp.npy") && npy_all_finite("o/aolp.npy");
 			CHECK(ok);
 			if (!ok)
-				fprintf(stderr, "  float raw at 2^24, %s%s: status %d or non-finite output\n",
-					methods[m][0], ref ? " --reference" : "", st);
+				fprintf(
+				    stderr,
+				    "  float raw at 2^24, %s%s: status %d or non-finite output\n",
+				    methods[m][0], ref ? " --reference" : "", st);
 			if (system("rm -rf o") != 0)
 				CHECK(0);
 		}

@@ -94,7 +94,7 @@ typedef struct err_stats {
 } err_stats;
 
 static err_stats compare(const float *dolp, const float *aolp, const truth *tr, uint32_t w,
-			 uint32_t h, const uint8_t *mask, int want)
+                         uint32_t h, const uint8_t *mask, int want)
 {
 	double s = 0, ss = 0, sa = 0;
 	size_t n = 0;
@@ -107,13 +107,14 @@ static err_stats compare(const float *dolp, const float *aolp, const truth *tr, 
 			s += e;
 			ss += e * e;
 			if (aolp) {
-				double ea = remainder(aolp[p] - truth_aolp(tr, p), M_PI) * 180 / M_PI;
+				double ea =
+				    remainder(aolp[p] - truth_aolp(tr, p), M_PI) * 180 / M_PI;
 				sa += ea * ea;
 			}
 			n++;
 		}
-	err_stats r = { n ? s / (double)n : NAN, n ? sqrt(ss / (double)n) : NAN,
-			n ? sqrt(sa / (double)n) : NAN, n };
+	err_stats r = {n ? s / (double)n : NAN, n ? sqrt(ss / (double)n) : NAN,
+	               n ? sqrt(sa / (double)n) : NAN, n};
 	return r;
 }
 
@@ -129,47 +130,50 @@ static int write_text(const char *path, const char *text)
 /* A uniform partially polarized field (DoLP 0.5 at AoLP 55°) or the default scene's objects,
  * the IMX250MZR's noise, PRNU and DSNU, ideal analysers, black level 100 DN. */
 static const char *const scene_uniform =
-	"{\"polarcam_scene\": 1, \"name\": \"offset test\","
-	" \"camera\": {\"position\": [0, 0, 1], \"direction\": [0, 1, 0], \"focal_length_mm\": 50},"
-	" \"materials\": {\"unused\": {\"n\": 1.5, \"sigma\": 0.2}},"
-	" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": 1}],"
-	" \"background\": 1.7,"
-	" \"effects\": {\"extinction_ratio\": false, \"orientation_error\": false,"
-	"   \"transmission\": false, \"crosstalk\": false},"
-	" \"sensor\": {\"preset\": \"imx250mzr\", \"offset_dn\": 100, \"exposure_us\": 5000,"
-	"   \"psa\": [{\"diattenuator\": {\"angle_deg\": 55, \"diattenuation\": 0.5}}]}}";
+    "{\"polarcam_scene\": 1, \"name\": \"offset test\","
+    " \"camera\": {\"position\": [0, 0, 1], \"direction\": [0, 1, 0], \"focal_length_mm\": 50},"
+    " \"materials\": {\"unused\": {\"n\": 1.5, \"sigma\": 0.2}},"
+    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": 1}],"
+    " \"background\": 1.7,"
+    " \"effects\": {\"extinction_ratio\": false, \"orientation_error\": false,"
+    "   \"transmission\": false, \"crosstalk\": false},"
+    " \"sensor\": {\"preset\": \"imx250mzr\", \"offset_dn\": 100, \"exposure_us\": 5000,"
+    "   \"psa\": [{\"diattenuator\": {\"angle_deg\": 55, \"diattenuation\": 0.5}}]}}";
 
 static const char *const scene_bright =
-	"{\"polarcam_scene\": 1, \"name\": \"highlights\","
-	" \"camera\": {\"position\": [0, -7.5, 3.0], \"look_at\": [0, 0.3, 0.7],"
-	"   \"up\": [0, 0, 1], \"focal_length_mm\": 12, \"f_number\": 4},"
-	" \"lights\": [{\"type\": \"directional\", \"direction\": [-0.55, -0.45, 0.70],"
-	"   \"irradiance_w_m2\": 300, \"polarization\": \"unpolarized\"}],"
-	" \"materials\": {\"black_paint\": {\"n\": 1.46, \"k\": 1.28, \"sigma\": 0.2},"
-	"   \"green_paint\": {\"n\": 1.47, \"k\": 0.47, \"sigma\": 0.1}},"
-	" \"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 0, 1],"
-	"   \"material\": \"green_paint\"},"
-	"   {\"type\": \"sphere\", \"center\": [-1.4, 0.4, 1.0], \"radius\": 1.0,"
-	"   \"material\": \"black_paint\"}],"
-	" \"effects\": {\"diffuse\": true, \"shadowing\": true, \"extinction_ratio\": false,"
-	"   \"orientation_error\": false, \"transmission\": false, \"crosstalk\": false},"
-	" \"sensor\": {\"preset\": \"imx250mzr\", \"offset_dn\": 100, \"exposure_us\": %s}}";
+    "{\"polarcam_scene\": 1, \"name\": \"highlights\","
+    " \"camera\": {\"position\": [0, -7.5, 3.0], \"look_at\": [0, 0.3, 0.7],"
+    "   \"up\": [0, 0, 1], \"focal_length_mm\": 12, \"f_number\": 4},"
+    " \"lights\": [{\"type\": \"directional\", \"direction\": [-0.55, -0.45, 0.70],"
+    "   \"irradiance_w_m2\": 300, \"polarization\": \"unpolarized\"}],"
+    " \"materials\": {\"black_paint\": {\"n\": 1.46, \"k\": 1.28, \"sigma\": 0.2},"
+    "   \"green_paint\": {\"n\": 1.47, \"k\": 0.47, \"sigma\": 0.1}},"
+    " \"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 0, 1],"
+    "   \"material\": \"green_paint\"},"
+    "   {\"type\": \"sphere\", \"center\": [-1.4, 0.4, 1.0], \"radius\": 1.0,"
+    "   \"material\": \"black_paint\"}],"
+    " \"effects\": {\"diffuse\": true, \"shadowing\": true, \"extinction_ratio\": false,"
+    "   \"orientation_error\": false, \"transmission\": false, \"crosstalk\": false},"
+    " \"sensor\": {\"preset\": \"imx250mzr\", \"offset_dn\": 100, \"exposure_us\": %s}}";
 
 /* ---- 1: the recording's black level ---- */
 static void black_level(void)
 {
 	CHECK_EQ_INT(write_text(P("uniform.json"), scene_uniform), 0);
 	CHECK_EQ_INT(run_cli("render", P("uniform.json"), "-o", P("ru"), "--roi", "1000,800,64,64",
-			 "-n", "1", NULL), 0);
+	                     "-n", "1", NULL),
+	             0);
 	CHECK_EQ_INT(run_cli("process", P("ru/raw_000000.png"), "-o", P("pu"), NULL), 0);
-	CHECK_EQ_INT(run_cli("process", P("ru/raw_000000.png"), "-o", P("pu0"), "--black-level",
-			 "0", NULL), 0);
+	CHECK_EQ_INT(
+	    run_cli("process", P("ru/raw_000000.png"), "-o", P("pu0"), "--black-level", "0", NULL),
+	    0);
 	CHECK_EQ_INT(run_cli("process", P("ru/raw_000000.png"), "-o", P("pu100"), "--black-level",
-			 "100", NULL), 0);
+	                     "100", NULL),
+	             0);
 	CHECK_NEAR(meta_number(P("pu"), "black_level", NULL), 100, 0);
 	pc_array ad, ad0, ad100, as;
 	const size_t n = 64 * 64;
-	const truth tr = { NULL, 0.5, 55 * M_PI / 180 };
+	const truth tr = {NULL, 0.5, 55 * M_PI / 180};
 	const float *d = load_f32(P("pu/dolp.npy"), n, &ad);
 	const float *d0 = load_f32(P("pu0/dolp.npy"), n, &ad0);
 	const float *d100 = load_f32(P("pu100/dolp.npy"), n, &ad100);
@@ -181,15 +185,16 @@ static void black_level(void)
 		/* the truth's DoLP, 0.5: the mean error is noise (Rice bias ~ σ²/(2·DoLP·S0²),
 		 * 1e-4 here) */
 		printf("black level from meta.json: DoLP error mean %+.5f rms %.5f; ignored: mean "
-		       "%+.5f rms %.5f\n", e.mean, e.rms, e0.mean, e0.rms);
+		       "%+.5f rms %.5f\n",
+		       e.mean, e.rms, e0.mean, e0.rms);
 		CHECK(fabs(e.mean) < 0.002);
 		/* ignoring it: DoLP·S0/(S0 + 2·black) with S0 the offset-corrected mean */
 		double s0 = 0;
 		for (size_t p = 0; p < n; p++)
 			s0 += s[3 * p] / (double)n;
 		double want = 0.5 * s0 / (s0 + 2 * 100);
-		printf("S0 %.1f DN: predicted DoLP without the black level %.5f, measured %.5f\n", s0,
-		       want, 0.5 + e0.mean);
+		printf("S0 %.1f DN: predicted DoLP without the black level %.5f, measured %.5f\n",
+		       s0, want, 0.5 + e0.mean);
 		CHECK_NEAR(0.5 + e0.mean, want, 0.002);
 		CHECK(e0.mean < -0.03);
 		/* --black-level 100 is the recording's own */
@@ -203,10 +208,12 @@ static void black_level(void)
 	/* demosaic: bilinear weights sum to 1, so the channels are the plain ones minus 100 */
 	CHECK_EQ_INT(run_cli("demosaic", P("ru/raw_000000.png"), "-o", P("dm.npy"), NULL), 0);
 	CHECK_EQ_INT(run_cli("demosaic", P("ru/raw_000000.png"), "-o", P("dm0.npy"),
-			 "--black-level", "0", NULL), 0);
+	                     "--black-level", "0", NULL),
+	             0);
 	CHECK(exists(P("dm_valid.npy")));
 	pc_array a1, a0;
-	const float *c1 = load_f32(P("dm.npy"), 4 * n, &a1), *c0 = load_f32(P("dm0.npy"), 4 * n, &a0);
+	const float *c1 = load_f32(P("dm.npy"), 4 * n, &a1),
+	            *c0 = load_f32(P("dm0.npy"), 4 * n, &a0);
 	CHECK(c1 && c0);
 	double worst = 0;
 	for (size_t i = 0; c1 && c0 && i < 4 * n; i++)
@@ -246,10 +253,12 @@ static void saturation(void)
 	snprintf(text, sizeof text, scene_bright, "900");
 	CHECK_EQ_INT(write_text(P("bright.json"), text), 0);
 	CHECK_EQ_INT(run_cli("render", P("bright.json"), "-o", P("rb"), "--roi", "600,700,96,96",
-			 "-n", "1", NULL), 0);
+	                     "-n", "1", NULL),
+	             0);
 	CHECK_EQ_INT(run_cli("process", P("rb/raw_000000.png"), "-o", P("pb"), NULL), 0);
 	CHECK_EQ_INT(run_cli("process", P("rb/raw_000000.png"), "-o", P("pbn"), "--saturation",
-			 "none", NULL), 0);
+	                     "none", NULL),
+	             0);
 	CHECK(exists(P("pb/valid.npy")) && !exists(P("pbn/valid.npy")));
 	const uint32_t W = 96, H = 96;
 	const size_t n = (size_t)W * H;
@@ -265,7 +274,7 @@ static void saturation(void)
 	pc_view_free(&raw);
 	pc_array av, at, ad, adn;
 	bool got = pc_npy_read(P("pb/valid.npy"), &av) == 0 && av.dtype == PC_DT_U8 &&
-		   av.ndim == 2 && av.shape[0] == H && av.shape[1] == W;
+	           av.ndim == 2 && av.shape[0] == H && av.shape[1] == W;
 	CHECK(got);
 	printf("saturated samples %zu, invalid pixels expected %zu, reported %.0f\n", n_sat, n_want,
 	       meta_number(P("pb"), "invalid_pixels", NULL));
@@ -293,15 +302,17 @@ static void saturation(void)
 		}
 		CHECK_NEAR(meta_number(P("pb"), "valid_statistics", "pixels"), (double)nv, 0);
 		CHECK_NEAR(meta_number(P("pb"), "valid_statistics", "dolp_mean"), sv / (double)nv,
-			   1e-6);
+		           1e-6);
 		CHECK_NEAR(meta_number(P("pbn"), "valid_statistics", "dolp_mean"), sa / (double)n,
-			   1e-6);
+		           1e-6);
 		/* what the mask catches: DoLP near clipped samples is wrong, elsewhere right */
-		const truth tr = { t, 0, 0 };
+		const truth tr = {t, 0, 0};
 		err_stats ev = compare(d, NULL, &tr, W, H, want, 1);
 		err_stats ei = compare(d, NULL, &tr, W, H, want, 0);
-		printf("DoLP error against the truth: valid pixels (%zu) rms %.4f, invalid (%zu) rms "
-		       "%.4f\n", ev.n, ev.rms, ei.n, ei.rms);
+		printf(
+		    "DoLP error against the truth: valid pixels (%zu) rms %.4f, invalid (%zu) rms "
+		    "%.4f\n",
+		    ev.n, ev.rms, ei.n, ei.rms);
 		CHECK(ei.n > 0 && ei.rms > 5 * ev.rms);
 	}
 	free(want);
@@ -313,7 +324,7 @@ static void saturation(void)
 
 /* ---- 3, 4: a calibration from polarcam calibrate ---- */
 static int render_calib(const char *scene, const char *out, const char *roi, const char *first,
-			const char *n)
+                        const char *n)
 {
 	char sp[1024];
 	snprintf(sp, sizeof sp, "%s/scenes/calib/%s.json", getenv("PC_SOURCE_DIR"), scene);
@@ -331,18 +342,21 @@ static void calibrated(void)
 	CHECK_EQ_INT(render_calib("polarizer_120", "p120", roi, "500", "16"), 0);
 	CHECK_EQ_INT(run_cli("calibrate", "dark", P("dark"), "-o", P("d.npz"), NULL), 0);
 	CHECK_EQ_INT(run_cli("calibrate", "flat", P("fl"), P("fh"), "--dark", P("d.npz"), "-o",
-			 P("f.npz"), NULL), 0);
+	                     P("f.npz"), NULL),
+	             0);
 	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			 P("f.npz"), "-o", P("a.npz"), NULL), 0);
+	                     P("f.npz"), "-o", P("a.npz"), NULL),
+	             0);
 	/* a stimulus not used for calibration: DoLP 0.5 at AoLP 55° */
 	CHECK_EQ_INT(render_calib("dolp50_055", "t", roi, "900", "1"), 0);
 	CHECK_EQ_INT(run_cli("process", P("t/raw_000000.png"), "-o", P("pt_u"), NULL), 0);
 	CHECK_EQ_INT(run_cli("process", P("t/raw_000000.png"), "-o", P("pt_c"), "--calibration",
-			 P("a.npz"), NULL), 0);
+	                     P("a.npz"), NULL),
+	             0);
 	CHECK(exists(P("pt_c/valid.npy")));
 	const size_t n = 64 * 64;
 	pc_array du, dc, au, ac, av;
-	const truth tr = { NULL, 0.5, 55 * M_PI / 180 };
+	const truth tr = {NULL, 0.5, 55 * M_PI / 180};
 	const float *u = load_f32(P("pt_u/dolp.npy"), n, &du);
 	const float *c = load_f32(P("pt_c/dolp.npy"), n, &dc);
 	const float *ua = load_f32(P("pt_u/aolp.npy"), n, &au);
@@ -354,8 +368,8 @@ static void calibrated(void)
 		err_stats ec = compare(c, ca, &tr, 64, 64, av.data, 1);
 		printf("one frame of DoLP 0.5 at 55 deg, imx250mzr_nonuniform: uncalibrated DoLP "
 		       "error mean %+.5f rms %.5f, AoLP rms %.3f deg; calibrated (%zu valid "
-		       "pixels) mean %+.5f rms %.5f, AoLP rms %.3f deg\n", eu.mean, eu.rms,
-		       eu.aolp_rms_deg, ec.n, ec.mean, ec.rms, ec.aolp_rms_deg);
+		       "pixels) mean %+.5f rms %.5f, AoLP rms %.3f deg\n",
+		       eu.mean, eu.rms, eu.aolp_rms_deg, ec.n, ec.mean, ec.rms, ec.aolp_rms_deg);
 		CHECK(ec.n > 3 * n / 4);
 		CHECK(ec.rms < 0.8 * eu.rms);
 		CHECK(fabs(ec.mean) < 0.5 * fabs(eu.mean));
@@ -369,33 +383,40 @@ static void calibrated(void)
 	pc_array_free(&av);
 	/* demosaic with the calibration: the mask beside it */
 	CHECK_EQ_INT(run_cli("demosaic", P("t/raw_000000.png"), "-o", P("tc.npy"), "--calibration",
-			 P("a.npz"), NULL), 0);
+	                     P("a.npz"), NULL),
+	             0);
 	CHECK(exists(P("tc.npy")) && exists(P("tc_valid.npy")));
 
 	/* bad calibration input: refused, nothing written */
 	CHECK_EQ_INT(render_calib("dolp50_055", "moved", "1002,800,64,64", "900", "1"), 0);
-	CHECK_EQ_INT(run_cli("process", P("moved/raw_000000.png"), "-o", P("bad1"),
-			 "--calibration", P("a.npz"), NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("process", P("moved/raw_000000.png"), "-o", P("bad1"), "--calibration",
+	                     P("a.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad1")));
 	CHECK_EQ_INT(render_calib("dolp50_055", "small", "1000,800,64,32", "900", "1"), 0);
-	CHECK_EQ_INT(run_cli("process", P("small/raw_000000.png"), "-o", P("bad2"),
-			 "--calibration", P("a.npz"), NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("process", P("small/raw_000000.png"), "-o", P("bad2"), "--calibration",
+	                     P("a.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad2")));
 	CHECK_EQ_INT(run_cli("demosaic", P("small/raw_000000.png"), "-o", P("bad2.npy"),
-			 "--calibration", P("a.npz"), NULL), CLI_STATUS_USAGE);
+	                     "--calibration", P("a.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad2.npy")) && !exists(P("bad2_valid.npy")));
 	CHECK_EQ_INT(run_cli("process", P("t/raw_000000.png"), "-o", P("bad3"), "--layout",
-			 "RGGB:90,45,135,0", "--calibration", P("a.npz"), NULL), CLI_STATUS_USAGE);
+	                     "RGGB:90,45,135,0", "--calibration", P("a.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad3")));
 	CHECK_EQ_INT(write_text(P("corrupt.npz"), "PK\003\004 this is not a zip archive"), 0);
 	CHECK(run_cli("process", P("t/raw_000000.png"), "-o", P("bad4"), "--calibration",
-		      P("corrupt.npz"), NULL) != 0);
+	              P("corrupt.npz"), NULL) != 0);
 	CHECK(!exists(P("bad4")));
 	CHECK_EQ_INT(run_cli("process", P("t/raw_000000.png"), "-o", P("bad5"), "--calibration",
-			 P("a.npz"), "--black-level", "60", NULL), CLI_STATUS_USAGE);
+	                     P("a.npz"), "--black-level", "60", NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad5")));
 	CHECK_EQ_INT(run_cli("process", P("t/raw_000000.png"), "-o", P("bad6"), "--calibration",
-			 P("missing.npz"), NULL) != 0, 1);
+	                     P("missing.npz"), NULL) != 0,
+	             1);
 	CHECK(!exists(P("bad6")));
 }
 
@@ -404,8 +425,8 @@ static void mueller(void)
 {
 	char sp[1024];
 	snprintf(sp, sizeof sp, "%s/scenes/linear_psg.json", getenv("PC_SOURCE_DIR"));
-	CHECK_EQ_INT(run_cli("render", sp, "-o", P("lp"), "--roi", "200,200,48,48", "--no-truth",
-			 NULL), 0);
+	CHECK_EQ_INT(
+	    run_cli("render", sp, "-o", P("lp"), "--roi", "200,200,48,48", "--no-truth", NULL), 0);
 	CHECK_EQ_INT(run_cli("mueller", P("lp"), "-o", P("m_s"), "--saturation", "1500", NULL), 0);
 	CHECK_EQ_INT(run_cli("mueller", P("lp"), "-o", P("m_n"), "--saturation", "none", NULL), 0);
 	const size_t n = 48 * 48;
@@ -433,7 +454,8 @@ static void mueller(void)
 	double got = json_number_value(json_object_get(j, "pixels_invalid"));
 	json_decref(j);
 	printf("mueller: %zu frames, pixels with a sample >= 1500 DN in a frame's 3x3: %zu, "
-	       "reported %.0f\n", frames, n_want, got);
+	       "reported %.0f\n",
+	       frames, n_want, got);
 	CHECK(frames >= 3 && n_want > 0 && n_want < n);
 	CHECK_NEAR(got, (double)n_want, 0);
 	pc_array av, a1, a2;
@@ -460,41 +482,47 @@ static void live(void)
 {
 	char uri[1200];
 	snprintf(uri, sizeof uri, "sim:%s/scenes/calib/dolp50_055.json?fps=0&first=900",
-		 getenv("PC_SOURCE_DIR"));
+	         getenv("PC_SOURCE_DIR"));
 	/* uncalibrated: the simulator declares its black level (60 DN) */
 	CHECK_EQ_INT(run_cli("capture", uri, "-n", "1", "-o", P("cap_u"), "--roi", "1000,800,64,64",
-			 "--process", NULL), 0);
+	                     "--process", NULL),
+	             0);
 	json_t *j = meta_json(P("cap_u"));
 	json_t *ex = json_object_get(j, "extra");
 	CHECK_NEAR(json_number_value(json_object_get(json_object_get(ex, "sensor"), "offset_dn")),
-		   60, 0);
-	CHECK_NEAR(json_number_value(json_object_get(json_object_get(ex, "process"),
-						     "black_level")), 60, 0);
+	           60, 0);
+	CHECK_NEAR(
+	    json_number_value(json_object_get(json_object_get(ex, "process"), "black_level")), 60,
+	    0);
 	CHECK(exists(P("cap_u/processed/valid.npy")));
 	json_decref(j);
 	/* calibrated: the DoLP is the stimulus's */
 	CHECK_EQ_INT(run_cli("capture", uri, "-n", "1", "-o", P("cap_c"), "--roi", "1000,800,64,64",
-			 "--process", "--calibration", P("a.npz"), NULL), 0);
+	                     "--process", "--calibration", P("a.npz"), NULL),
+	             0);
 	j = meta_json(P("cap_c"));
 	json_t *pr = json_object_get(json_object_get(j, "extra"), "process");
 	double dolp = json_number_value(json_object_get(pr, "last_mean_dolp"));
-	printf("capture --process --calibration: mean DoLP of the valid pixels %.5f (stimulus 0.5)\n",
-	       dolp);
+	printf(
+	    "capture --process --calibration: mean DoLP of the valid pixels %.5f (stimulus 0.5)\n",
+	    dolp);
 	CHECK_NEAR(dolp, 0.5, 0.005);
 	CHECK(json_is_string(json_object_get(pr, "calibration")));
 	json_decref(j);
 	/* another ROI: refused before anything is recorded */
 	CHECK_EQ_INT(run_cli("capture", uri, "-n", "1", "-o", P("cap_bad"), "--roi",
-			 "1002,800,64,64", "--process", "--calibration", P("a.npz"), NULL),
-		     CLI_STATUS_USAGE);
+	                     "1002,800,64,64", "--process", "--calibration", P("a.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("cap_bad/meta.json")) && !exists(P("cap_bad/raw_000000.png")));
 	/* view, headless: the calibrated stream, and the mismatch refused */
 	unsetenv("DISPLAY");
-	CHECK_EQ_INT(run_cli("view", uri, "--roi", "1000,800,64,64", "--frames", "1", "--screenshot",
-			 P("view.png"), "--calibration", P("a.npz"), NULL), 0);
+	CHECK_EQ_INT(run_cli("view", uri, "--roi", "1000,800,64,64", "--frames", "1",
+	                     "--screenshot", P("view.png"), "--calibration", P("a.npz"), NULL),
+	             0);
 	CHECK(exists(P("view.png")));
-	CHECK_EQ_INT(run_cli("view", uri, "--roi", "1000,800,64,32", "--frames", "1", "--screenshot",
-			 P("view_bad.png"), "--calibration", P("a.npz"), NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("view", uri, "--roi", "1000,800,64,32", "--frames", "1",
+	                     "--screenshot", P("view_bad.png"), "--calibration", P("a.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("view_bad.png")));
 }
 

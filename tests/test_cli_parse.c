@@ -21,8 +21,8 @@ static void test_integers(void)
 	CHECK(u == 10);
 	CHECK_EQ_INT(cli_parse_u64("--seed", "18446744073709551615", &u), 0);
 	CHECK(u == UINT64_MAX);
-	static const char *const junk[] = {"0x10", "10junk", " 5", "+5", "-1", "5 ", "1e3", "",
-					   "0b1", "1,000", "\xef\xbc\x91"};
+	static const char *const junk[] = {"0x10", "10junk", " 5",  "+5",    "-1",          "5 ",
+	                                   "1e3",  "",       "0b1", "1,000", "\xef\xbc\x91"};
 	for (size_t i = 0; i < sizeof junk / sizeof junk[0]; i++) {
 		CHECK_EQ_INT(cli_parse_u64("--seed", junk[i], &u), PC_EINVAL);
 		CHECK(strstr(pc_error_detail(), "--seed") != NULL);
@@ -30,7 +30,7 @@ static void test_integers(void)
 	CHECK_EQ_INT(cli_parse_u64("--seed", "18446744073709551616", &u), PC_EINVAL);
 	CHECK(strstr(pc_error_detail(), "[0, 18446744073709551615]") != NULL);
 	CHECK_EQ_INT(cli_parse_u64_range("--first", "9223372036854775808", 0, INT64_MAX, &u),
-		     PC_EINVAL);
+	             PC_EINVAL);
 	CHECK(strstr(pc_error_detail(), "[0, 9223372036854775807]") != NULL);
 	CHECK_EQ_INT(cli_parse_u64_range("--first", "9223372036854775807", 0, INT64_MAX, &u), 0);
 	/* overflow followed by junk is still reported as junk */
@@ -48,9 +48,9 @@ static void test_integers(void)
 	CHECK_EQ_INT(cli_parse_long("--x", "-9223372036854775808", LONG_MIN, LONG_MAX, &l), 0);
 	CHECK(l == LONG_MIN);
 	CHECK_EQ_INT(cli_parse_long("--x", "-9223372036854775809", LONG_MIN, LONG_MAX, &l),
-		     PC_EINVAL);
+	             PC_EINVAL);
 	CHECK_EQ_INT(cli_parse_long("--x", "9223372036854775808", LONG_MIN, LONG_MAX, &l),
-		     PC_EINVAL);
+	             PC_EINVAL);
 	CHECK_EQ_INT(cli_parse_long("--x", "--3", -5, 5, &l), PC_EINVAL);
 	CHECK_EQ_INT(cli_parse_long("--x", "-", -5, 5, &l), PC_EINVAL);
 }
@@ -108,7 +108,8 @@ static void test_quote(void)
 	/* overlong (E0 9A B0, found by fuzz_batch_decompose: jansson refused the error object),
 	 * a surrogate (ED A0 80), beyond U+10FFFF (F4 90 80 80); U+10FFFF itself is kept */
 	cli_quote("\xe0\x9a\xb0|\xed\xa0\x80|\xf4\x90\x80\x80|\xf4\x8f\xbf\xbf", 17, q, sizeof q);
-	CHECK(strcmp(q, "\\xe0\\x9a\\xb0|\\xed\\xa0\\x80|\\xf4\\x90\\x80\\x80|\xf4\x8f\xbf\xbf") == 0);
+	CHECK(strcmp(q, "\\xe0\\x9a\\xb0|\\xed\\xa0\\x80|\\xf4\\x90\\x80\\x80|\xf4\x8f\xbf\xbf") ==
+	      0);
 	const char zero[3] = {'a', 0, 'b'};
 	cli_quote(zero, 3, q, sizeof q);
 	CHECK(strcmp(q, "a\\x00b") == 0);

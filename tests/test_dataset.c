@@ -35,24 +35,33 @@ static char spec_path[1200];
 
 /* A small family: 48x32, every kind of draw, a mesh. */
 static const char *small_spec =
-	"{\"polarcam_family\": 1, \"name\": \"small\", \"resolution\": [48, 32], \"truth\": \"float32\","
-	" \"sensor\": {\"preset\": {\"choice\": [\"imx250mzr\", \"ideal\"]}, \"gain_db\": [0, 6],"
-	"   \"exposure\": {\"auto_percentile\": 99, \"auto_level\": [0.5, 0.9]}},"
-	" \"camera\": {\"distance\": [3, 6], \"azimuth_deg\": [0, 360], \"elevation_deg\": [15, 50],"
-	"   \"roll_deg\": [-10, 10], \"target\": [[-0.3, 0.3], [-0.3, 0.3], [0.2, 0.5]], \"fov_deg\": [30, 50]},"
-	" \"materials\": [{\"kind\": \"dielectric\", \"n\": [1.3, 1.8], \"k\": [0, 0.2], \"sigma\": {\"log_uniform\": [0.05, 0.5]}},"
-	"   {\"weight\": 0.5, \"kind\": \"metal\", \"n\": [0.2, 2], \"k\": [2, 6], \"sigma\": [0.05, 0.3], \"diffuse\": \"none\"}],"
-	" \"ground\": {\"probability\": 1, \"materials\": [{\"n\": 1.5, \"sigma\": 0.3}]},"
-	" \"objects\": {\"count\": {\"int\": [1, 4]}, \"region\": [[-1.5, 1.5], [-1.5, 1.5], [0.2, 0.8]],"
-	"   \"rest_on_ground\": true, \"shapes\": [{\"type\": \"sphere\", \"radius\": [0.2, 0.6]},"
-	"   {\"type\": \"box\", \"size\": [0.3, 0.8], \"rotation_deg\": [0, 0, [0, 90]]},"
-	"   {\"type\": \"mesh\", \"file\": \"torus.obj\", \"scale\": [0.4, 0.8], \"rotation_deg\": [[0, 90], 0, 0]}]},"
-	" \"lights\": {\"count\": {\"int\": [1, 2]}, \"type\": {\"choice\": [\"directional\", \"point\"]},"
-	"   \"azimuth_deg\": [0, 360], \"elevation_deg\": [20, 70], \"irradiance_w_m2\": {\"log_uniform\": [50, 300]},"
-	"   \"distance\": [3, 6], \"polarization\": {\"unpolarized\": 1, \"linear\": 1, \"circular\": 1, \"elliptical\": 1},"
-	"   \"dop\": [0.2, 1]},"
-	" \"background\": [0.1, 1],"
-	" \"effects\": {\"diffuse\": true, \"cast_shadows\": {\"choice\": [true, false]}}}";
+    "{\"polarcam_family\": 1, \"name\": \"small\", \"resolution\": [48, 32], \"truth\": "
+    "\"float32\","
+    " \"sensor\": {\"preset\": {\"choice\": [\"imx250mzr\", \"ideal\"]}, \"gain_db\": [0, 6],"
+    "   \"exposure\": {\"auto_percentile\": 99, \"auto_level\": [0.5, 0.9]}},"
+    " \"camera\": {\"distance\": [3, 6], \"azimuth_deg\": [0, 360], \"elevation_deg\": [15, 50],"
+    "   \"roll_deg\": [-10, 10], \"target\": [[-0.3, 0.3], [-0.3, 0.3], [0.2, 0.5]], \"fov_deg\": "
+    "[30, 50]},"
+    " \"materials\": [{\"kind\": \"dielectric\", \"n\": [1.3, 1.8], \"k\": [0, 0.2], \"sigma\": "
+    "{\"log_uniform\": [0.05, 0.5]}},"
+    "   {\"weight\": 0.5, \"kind\": \"metal\", \"n\": [0.2, 2], \"k\": [2, 6], \"sigma\": [0.05, "
+    "0.3], \"diffuse\": \"none\"}],"
+    " \"ground\": {\"probability\": 1, \"materials\": [{\"n\": 1.5, \"sigma\": 0.3}]},"
+    " \"objects\": {\"count\": {\"int\": [1, 4]}, \"region\": [[-1.5, 1.5], [-1.5, 1.5], [0.2, "
+    "0.8]],"
+    "   \"rest_on_ground\": true, \"shapes\": [{\"type\": \"sphere\", \"radius\": [0.2, 0.6]},"
+    "   {\"type\": \"box\", \"size\": [0.3, 0.8], \"rotation_deg\": [0, 0, [0, 90]]},"
+    "   {\"type\": \"mesh\", \"file\": \"torus.obj\", \"scale\": [0.4, 0.8], \"rotation_deg\": "
+    "[[0, 90], 0, 0]}]},"
+    " \"lights\": {\"count\": {\"int\": [1, 2]}, \"type\": {\"choice\": [\"directional\", "
+    "\"point\"]},"
+    "   \"azimuth_deg\": [0, 360], \"elevation_deg\": [20, 70], \"irradiance_w_m2\": "
+    "{\"log_uniform\": [50, 300]},"
+    "   \"distance\": [3, 6], \"polarization\": {\"unpolarized\": 1, \"linear\": 1, \"circular\": "
+    "1, \"elliptical\": 1},"
+    "   \"dop\": [0.2, 1]},"
+    " \"background\": [0.1, 1],"
+    " \"effects\": {\"diffuse\": true, \"cast_shadows\": {\"choice\": [true, false]}}}";
 
 static char *slurp(const char *path, size_t *n)
 {
@@ -96,7 +105,7 @@ static bool same_file(const char *a, const char *b)
 }
 
 static int make(const char *dir, uint64_t seed, uint64_t count, uint32_t shard, uint32_t shards,
-		int threads)
+                int threads)
 {
 	pc_dataset_options o;
 	memset(&o, 0, sizeof o);
@@ -147,19 +156,24 @@ static void test_validation(void)
 {
 	bad_spec("\"polarcam_family\": 1", "\"polarcam_family\": 2", "polarcam_family: must be 1");
 	bad_spec("\"gain_db\": [0, 6]", "\"gain_db\": [6, 0]", "sensor.gain_db: [6, 0] needs");
-	bad_spec("\"gain_db\": [0, 6]", "\"gain_db\": [0, 6], \"gian\": 1", "unknown field \"gian\"");
-	bad_spec("{\"log_uniform\": [50, 300]}", "{\"log_uniform\": [0, 300]}", "log_uniform needs lo > 0");
+	bad_spec("\"gain_db\": [0, 6]", "\"gain_db\": [0, 6], \"gian\": 1",
+	         "unknown field \"gian\"");
+	bad_spec("{\"log_uniform\": [50, 300]}", "{\"log_uniform\": [0, 300]}",
+	         "log_uniform needs lo > 0");
 	bad_spec("{\"int\": [1, 4]}", "{\"int\": [1, 4.5]}", "int needs integer bounds");
 	bad_spec("\"torus.obj\"", "\"nothere.obj\"", "nothere.obj: cannot be opened");
 	bad_spec("[48, 32]", "[49, 32]", "needs multiples of 2");
 	bad_spec("\"circular\": 1,", "\"circular\": -1,", "weight of \"circular\" must be");
-	bad_spec("\"choice\": [true, false]}", "\"choice\": [true, 3]}", "effects.cast_shadows.choice[1]: expected true or false");
-	bad_spec("{\"choice\": [\"imx250mzr\", \"ideal\"]}", "\"imx999\"", "sensor.preset: expected a sensor preset");
+	bad_spec("\"choice\": [true, false]}", "\"choice\": [true, 3]}",
+	         "effects.cast_shadows.choice[1]: expected true or false");
+	bad_spec("{\"choice\": [\"imx250mzr\", \"ideal\"]}", "\"imx999\"",
+	         "sensor.preset: expected a sensor preset");
 	bad_spec("\"weight\": 0.5,", "\"weight\": 0,", "materials: [1].weight must be");
 	bad_spec("\"effects\": {\"diffuse\": true, \"cast_shadows\": {\"choice\": [true, false]}}",
-		 "\"effects\": {\"choice\": [{\"noise\": false}, {\"difuse\": true}]}",
-		 "effects.choice[1]: unknown field \"difuse\"");
-	bad_spec("\"auto_level\": [0.5, 0.9]", "\"us\": 100, \"auto_level\": [0.5, 0.9]", "either \"us\"");
+	         "\"effects\": {\"choice\": [{\"noise\": false}, {\"difuse\": true}]}",
+	         "effects.choice[1]: unknown field \"difuse\"");
+	bad_spec("\"auto_level\": [0.5, 0.9]", "\"us\": 100, \"auto_level\": [0.5, 0.9]",
+	         "either \"us\"");
 	/* syntax */
 	pc_family *f = NULL;
 	CHECK(pc_family_parse("{\"polarcam_family\": 1,", "y.json", tmp, &f) < 0 &&
@@ -209,7 +223,8 @@ static void test_scenes(void)
 		pc_scene *scene = NULL;
 		int rc = pc_scene_parse(t, "drawn", tmp, &scene);
 		if (rc)
-			fprintf(stderr, "sample %llu: %s\n", (unsigned long long)i, pc_error_detail());
+			fprintf(stderr, "sample %llu: %s\n", (unsigned long long)i,
+			        pc_error_detail());
 		CHECK(rc == 0);
 		pc_scene_free(scene);
 		distinct += prev && strcmp(prev, t);
@@ -220,9 +235,10 @@ static void test_scenes(void)
 	CHECK(distinct == 199);
 	pc_family_free(f);
 	/* effect sets: one set drawn per sample, both sets drawn over 40 samples */
-	const char *from = "\"effects\": {\"diffuse\": true, \"cast_shadows\": {\"choice\": [true, false]}}";
+	const char *from =
+	    "\"effects\": {\"diffuse\": true, \"cast_shadows\": {\"choice\": [true, false]}}";
 	const char *to = "\"effects\": {\"choice\": [{\"noise\": false, \"diffuse\": true},"
-			 " {\"supersampling\": 2, \"crosstalk\": false}], \"weights\": [1, 3]}";
+	                 " {\"supersampling\": 2, \"crosstalk\": false}], \"weights\": [1, 3]}";
 	const char *at = strstr(small_spec, from);
 	CHECK(at != NULL);
 	if (!at)
@@ -241,9 +257,9 @@ static void test_scenes(void)
 		json_t *j = json_loads(text, 0, NULL);
 		json_t *fx = json_object_get(j, "effects");
 		bool in_a = json_is_false(json_object_get(fx, "noise")) &&
-			    json_is_true(json_object_get(fx, "diffuse"));
+		            json_is_true(json_object_get(fx, "diffuse"));
 		bool in_b = json_integer_value(json_object_get(fx, "supersampling")) == 2 &&
-			    json_is_false(json_object_get(fx, "crosstalk"));
+		            json_is_false(json_object_get(fx, "crosstalk"));
 		CHECK(in_a != in_b); /* exactly one set, whole */
 		set_a += in_a;
 		set_b += in_b;
@@ -262,7 +278,7 @@ static void test_sharding(void)
 	CHECK(make(ref, 11, N, 0, 1, 1) == 0);
 	CHECK(pc_dataset_merge(ref, NULL) == 0);
 	snprintf(a, sizeof a, "%s/manifest.jsonl", ref);
-	const uint32_t shardings[] = { 2, 4, 7 };
+	const uint32_t shardings[] = {2, 4, 7};
 	for (int k = 0; k < 3; k++) {
 		snprintf(d, sizeof d, "%s/sh%u", tmp, shardings[k]);
 		for (uint32_t s = shardings[k]; s-- > 0;) /* shards in reverse order, 2 threads */
@@ -318,18 +334,19 @@ static void test_kill_restart(const char *polarcam)
 	char d[1200], a[1400], b[1400];
 	snprintf(d, sizeof d, "%s/killed", tmp);
 	if (!polarcam) {
-		fprintf(stderr, "POLARCAM not set: the kill test needs the CLI (run through ctest)\n");
+		fprintf(stderr,
+		        "POLARCAM not set: the kill test needs the CLI (run through ctest)\n");
 		return;
 	}
 	pid_t pid = fork();
 	if (pid == 0) {
 		freopen("/dev/null", "w", stdout);
-		execl(polarcam, "polarcam", "dataset", spec_path, "-o", d, "--count", "9", "--seed", "11",
-		      "-t", "1", (char *)NULL);
+		execl(polarcam, "polarcam", "dataset", spec_path, "-o", d, "--count", "9", "--seed",
+		      "11", "-t", "1", (char *)NULL);
 		_exit(127);
 	}
 	/* kill it once 3 samples are in place (poll), before it finishes */
-	struct timespec ts = { 0, 2000000 };
+	struct timespec ts = {0, 2000000};
 	int status = 0;
 	bool killed = false;
 	for (int k = 0; k < 60000; k++) {
@@ -375,7 +392,7 @@ static void test_kill_restart(const char *polarcam)
 	CHECK(count_samples(d) == N);
 	snprintf(p, sizeof p, "%s/samples/.%08d.tmp.%s.%d", d, 7, host, 9999999);
 	struct stat st;
-	CHECK(stat(p, &st) != 0);  /* the stale temporary directory is gone */
+	CHECK(stat(p, &st) != 0);    /* the stale temporary directory is gone */
 	CHECK(stat(live, &st) == 0); /* the live one is not */
 	rmdir(live);
 	CHECK(pc_dataset_merge(d, NULL) == 0);
@@ -435,7 +452,9 @@ static void test_verify(void)
 	CHECK(pc_dataset_verify(d, &r) == 0 && r.corrupt == 2);
 	/* a missing sample, and merge refusing while a shard's lines are missing */
 	snprintf(d, sizeof d, "%s/sh7", tmp);
-	snprintf(p, sizeof p, "rm -rf %s/samples/00000006 %s/manifests/shard-6-of-7.jsonl %s/manifest.jsonl", d, d, d);
+	snprintf(p, sizeof p,
+	         "rm -rf %s/samples/00000006 %s/manifests/shard-6-of-7.jsonl %s/manifest.jsonl", d,
+	         d, d);
 	CHECK(system(p) == 0);
 	CHECK(pc_dataset_verify(d, &r) == 0 && r.missing == 1 && r.first_bad == 6);
 	CHECK(pc_dataset_merge(d, NULL) == PC_EINVAL && strstr(pc_error_detail(), "the first: 6"));
@@ -464,7 +483,8 @@ static void test_rerender(const char *polarcam)
 		if (!meta)
 			continue;
 		json_t *extra = json_object_get(meta, "extra");
-		json_int_t seed = json_integer_value(json_object_get(json_object_get(extra, "sample"), "sim_seed"));
+		json_int_t seed = json_integer_value(
+		    json_object_get(json_object_get(extra, "sample"), "sim_seed"));
 		json_t *scene = json_object_get(extra, "scene");
 		json_t *objs = json_object_get(scene, "objects");
 		for (size_t k = 0; k < json_array_size(objs); k++)
@@ -474,15 +494,17 @@ static void test_rerender(const char *polarcam)
 		pc_recording *rec = NULL;
 		CHECK(pc_recording_open(&rec, s) == 0);
 		if (rec) {
-			json_t *off = json_object_get(json_object_get(scene, "sensor"), "offset_dn");
+			json_t *off =
+			    json_object_get(json_object_get(scene, "sensor"), "offset_dn");
 			CHECK(pc_recording_is_complete(rec) && pc_recording_count(rec) >= 1);
 			if (off)
 				CHECK(pc_recording_black_level(rec) == json_number_value(off));
 			pc_recording_free(rec);
 		}
 		snprintf(out, sizeof out, "%s/rr%d", tmp, i);
-		snprintf(cmd, sizeof cmd, "'%s' render '%s/scene.json' --seed %lld -o '%s' > /dev/null", polarcam,
-			 s, (long long)seed, out);
+		snprintf(cmd, sizeof cmd,
+		         "'%s' render '%s/scene.json' --seed %lld -o '%s' > /dev/null", polarcam, s,
+		         (long long)seed, out);
 		CHECK(system(cmd) == 0);
 		snprintf(a, sizeof a, "%s/raw_000000.png", s);
 		snprintf(b, sizeof b, "%s/raw_000000.png", out);
@@ -496,9 +518,12 @@ static void test_rerender(const char *polarcam)
 		CHECK(rm != NULL);
 		if (rm) {
 			json_t *rx = json_object_get(rm, "extra");
-			CHECK(json_equal(json_object_get(meta, "frames"), json_object_get(rm, "frames")));
-			CHECK(json_equal(json_object_get(extra, "sensor"), json_object_get(rx, "sensor")));
-			CHECK(json_equal(json_object_get(extra, "effects"), json_object_get(rx, "effects")));
+			CHECK(json_equal(json_object_get(meta, "frames"),
+			                 json_object_get(rm, "frames")));
+			CHECK(json_equal(json_object_get(extra, "sensor"),
+			                 json_object_get(rx, "sensor")));
+			CHECK(json_equal(json_object_get(extra, "effects"),
+			                 json_object_get(rx, "effects")));
 			json_decref(rm);
 		}
 		json_decref(meta);
@@ -510,17 +535,22 @@ static void test_rerender(const char *polarcam)
 
 static void test_f16(void)
 {
-	const float in[] = { 1.0f, -2.0f, 65504.0f, 65520.0f, 1e9f, 6.103515625e-05f, 5.9604645e-08f,
-			     2.98e-08f, 2.9802322e-08f, 1.00048828125f, 1.00146484375f, 0.0f, -0.0f,
-			     NAN, INFINITY, 0.333333343f };
-	const uint16_t want[] = { 0x3C00, 0xC000, 0x7BFF, 0x7C00, 0x7C00, 0x0400, 0x0001,
-				  0x0000, 0x0000, 0x3C00, 0x3C02, 0x0000, 0x8000,
-				  0x7E00, 0x7C00, 0x3555 };
+	const float in[] = {1.0f,           -2.0f,
+	                    65504.0f,       65520.0f,
+	                    1e9f,           6.103515625e-05f,
+	                    5.9604645e-08f, 2.98e-08f,
+	                    2.9802322e-08f, 1.00048828125f,
+	                    1.00146484375f, 0.0f,
+	                    -0.0f,          NAN,
+	                    INFINITY,       0.333333343f};
+	const uint16_t want[] = {0x3C00, 0xC000, 0x7BFF, 0x7C00, 0x7C00, 0x0400, 0x0001, 0x0000,
+	                         0x0000, 0x3C00, 0x3C02, 0x0000, 0x8000, 0x7E00, 0x7C00, 0x3555};
 	uint16_t got[16];
 	pc_f32_to_f16(in, got, 16);
 	for (int i = 0; i < 16; i++) {
 		if (got[i] != want[i])
-			fprintf(stderr, "f16(%g) = %04x, expected %04x\n", (double)in[i], got[i], want[i]);
+			fprintf(stderr, "f16(%g) = %04x, expected %04x\n", (double)in[i], got[i],
+			        want[i]);
 		CHECK(got[i] == want[i]);
 	}
 #if defined(__FLT16_MAX__)
@@ -604,9 +634,11 @@ static void test_sha_env(void)
 	setenv("SLURM_ARRAY_TASK_ID", "5", 1);
 	setenv("SLURM_ARRAY_TASK_COUNT", "4", 1);
 	setenv("SLURM_ARRAY_TASK_MIN", "3", 1);
-	CHECK(pc_dataset_shard_from_env(0, &s, &m, &sch) == 1 && s == 2 && m == 4 && !strcmp(sch, "slurm"));
+	CHECK(pc_dataset_shard_from_env(0, &s, &m, &sch) == 1 && s == 2 && m == 4 &&
+	      !strcmp(sch, "slurm"));
 	setenv("SLURM_ARRAY_TASK_ID", "7", 1);
-	CHECK(pc_dataset_shard_from_env(0, &s, &m, &sch) < 0 && strstr(pc_error_detail(), "outside"));
+	CHECK(pc_dataset_shard_from_env(0, &s, &m, &sch) < 0 &&
+	      strstr(pc_error_detail(), "outside"));
 	setenv("SLURM_ARRAY_TASK_ID", "x", 1);
 	CHECK(pc_dataset_shard_from_env(0, &s, &m, &sch) < 0 &&
 	      strstr(pc_error_detail(), "SLURM_ARRAY_TASK_ID='x'"));
@@ -615,7 +647,8 @@ static void test_sha_env(void)
 	unsetenv("SLURM_ARRAY_TASK_MIN");
 	setenv("JOB_COMPLETION_INDEX", "3", 1);
 	unsetenv("POLARCAM_SHARDS");
-	CHECK(pc_dataset_shard_from_env(0, &s, &m, &sch) < 0 && strstr(pc_error_detail(), "--shards"));
+	CHECK(pc_dataset_shard_from_env(0, &s, &m, &sch) < 0 &&
+	      strstr(pc_error_detail(), "--shards"));
 	CHECK(pc_dataset_shard_from_env(8, &s, &m, &sch) == 1 && s == 3 && m == 8 &&
 	      !strcmp(sch, "kubernetes"));
 	setenv("POLARCAM_SHARDS", "3", 1);
@@ -641,11 +674,12 @@ static void test_cli(const char *polarcam)
 	char a[4000], d[1200];
 	struct stat st;
 	snprintf(d, sizeof d, "%s/cli", tmp);
-	const char *bad[] = { "--shard 4/4", "--shard 1-2", "--shard x", "--resolution 0x5",
-			      "--count 0", "--count 3 --seed -1", "--count 3 --frobnicate" };
+	const char *bad[] = {"--shard 4/4",           "--shard 1-2", "--shard x",
+	                     "--resolution 0x5",      "--count 0",   "--count 3 --seed -1",
+	                     "--count 3 --frobnicate"};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
 		snprintf(a, sizeof a, "dataset '%s' -o '%s' %s%s", spec_path, d, bad[i],
-			 strstr(bad[i], "--count") ? "" : " --count 3");
+		         strstr(bad[i], "--count") ? "" : " --count 3");
 		int rc = cli(polarcam, a);
 		if (rc != 2)
 			fprintf(stderr, "polarcam %s: exit %d, expected 2\n", a, rc);
@@ -693,7 +727,8 @@ static void test_demosaic_family(const char *src)
 		pc_family_sample_free(&s);
 	}
 	printf("test_dataset: demosaic family, 16 samples at 160x128: worst saturated %.2f %%, "
-	       "darkest median %.1f %% of full scale\n", 100 * worst_sat, 100 * worst_median);
+	       "darkest median %.1f %% of full scale\n",
+	       100 * worst_sat, 100 * worst_median);
 	CHECK(worst_sat < 0.02);     /* few saturated pixels: the glints */
 	CHECK(worst_median > 0.005); /* not black */
 	pc_family_free(f);
@@ -715,7 +750,7 @@ int main(void)
 	} else {
 		/* a small tetrahedron instead of the shipped torus */
 		spit(obj, "v 0 0 0.5\nv 0.5 0 -0.3\nv -0.3 0.4 -0.3\nv -0.3 -0.4 -0.3\n"
-			  "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n");
+		          "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n");
 	}
 	snprintf(spec_path, sizeof spec_path, "%s/small.json", tmp);
 	spit(spec_path, small_spec);

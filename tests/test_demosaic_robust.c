@@ -14,8 +14,8 @@
 
 enum { W = 48, H = 40 };
 
-static const pc_demosaic_method limited[] = { PC_DM_BICUBIC, PC_DM_PPID,  PC_DM_RI,
-					      PC_DM_EARI,    PC_DM_RATIO, PC_DM_EARI_ROBUST };
+static const pc_demosaic_method limited[] = {PC_DM_BICUBIC, PC_DM_PPID,  PC_DM_RI,
+                                             PC_DM_EARI,    PC_DM_RATIO, PC_DM_EARI_ROBUST};
 #define N_LIM (sizeof limited / sizeof limited[0])
 
 static uint64_t rng = 88172645463325252ull;
@@ -51,7 +51,8 @@ static void check_bound(const pc_view *raw, const pc_mosaic *m, const float *buf
 				for (int dy = -2; dy <= 2; dy++)
 					for (int dx = -2; dx <= 2; dx++) {
 						int xx = mirror(x + dx, W), yy = mirror(y + dy, H);
-						if (pc_mosaic_channel(m, (uint32_t)xx, (uint32_t)yy) != c)
+						if (pc_mosaic_channel(m, (uint32_t)xx,
+						                      (uint32_t)yy) != c)
 							continue;
 						double v = PC_ROW(raw, const uint16_t, yy)[xx];
 						lo = fmin(lo, v);
@@ -59,7 +60,8 @@ static void check_bound(const pc_view *raw, const pc_mosaic *m, const float *buf
 					}
 				double v = buf[(size_t)c * W * H + (size_t)y * W + x];
 				if ((v < lo || v > hi) && bad < 4)
-					fprintf(stderr, "  (%d,%d) ch %u: %.9g not in [%g, %g]\n", x, y, c, v, lo, hi);
+					fprintf(stderr, "  (%d,%d) ch %u: %.9g not in [%g, %g]\n",
+					        x, y, c, v, lo, hi);
 				bad += v < lo || v > hi;
 			}
 	if (bad)
@@ -74,8 +76,8 @@ static void test_bound(void)
 	/* texture with hard edges: random blocks, random polarization */
 	for (int y = 0; y < H; y++)
 		for (int x = 0; x < W; x++)
-			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)lround(
-				((x / 5 + y / 3) % 3 == 0 ? 2600 : 200) * (0.5 + urand()));
+			PC_ROW(&raw, uint16_t, y)
+	[x] = (uint16_t)lround(((x / 5 + y / 3) % 3 == 0 ? 2600 : 200) * (0.5 + urand()));
 	float *buf = malloc(sizeof(float) * W * H * 4);
 	pc_fplane p[4];
 	pc_fplanes_separate(buf, W, H, 4, p);
@@ -84,12 +86,12 @@ static void test_bound(void)
 		pc_mosaic m = pc_mosaic_shift(&base, ph & 1, ph >> 1);
 		for (size_t k = 0; k < N_LIM; k++)
 			for (int ref = 0; ref < 2; ref++) {
-				pc_demosaic_opts o = { 0, ref != 0, 0 };
+				pc_demosaic_opts o = {0, ref != 0, 0};
 				CHECK_EQ_INT(pc_demosaic(&raw, &m, limited[k], &o, p), 0);
 				char what[96];
 				snprintf(what, sizeof what, "%s%s phase %u",
-					 pc_demosaic_method_get(limited[k])->name,
-					 ref ? " (reference)" : "", ph);
+				         pc_demosaic_method_get(limited[k])->name,
+				         ref ? " (reference)" : "", ph);
 				check_bound(&raw, &m, buf, what);
 			}
 	}
@@ -106,7 +108,7 @@ static void test_dark_beside_bright(void)
 	pc_view raw;
 	pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0);
 	pc_mosaic m = pc_mosaic_imx250mzr();
-	const double th[4] = { 0, M_PI / 4, M_PI / 2, 3 * M_PI / 4 }, aolp = 0.4, dolp = 0.9;
+	const double th[4] = {0, M_PI / 4, M_PI / 2, 3 * M_PI / 4}, aolp = 0.4, dolp = 0.9;
 	for (int y = 0; y < H; y++)
 		for (int x = 0; x < W; x++) {
 			double r = hypot(x - 20.3, y - 18.7);
@@ -118,7 +120,7 @@ static void test_dark_beside_bright(void)
 	float *buf = malloc(sizeof(float) * W * H * 4);
 	pc_fplane p[4];
 	pc_fplanes_separate(buf, W, H, 4, p);
-	const pc_demosaic_method ms[2] = { PC_DM_EARI_ROBUST, PC_DM_EARI_MLRI };
+	const pc_demosaic_method ms[2] = {PC_DM_EARI_ROBUST, PC_DM_EARI_MLRI};
 	for (int k = 0; k < 2; k++) {
 		CHECK_EQ_INT(pc_demosaic(&raw, &m, ms[k], NULL, p), 0);
 		size_t nonzero = 0, far = 0;

@@ -38,7 +38,7 @@ static bool finite16(const double f[4][4])
 
 /* physics.md §2 in long double complex: w = sqrt(ñ² − sin²β) on Re w ≥ 0, Im w ≤ 0. */
 static void fresnel_ref(long double n, long double k, long double c, long double s2,
-			long double complex *rs, long double complex *rp)
+                        long double complex *rs, long double complex *rp)
 {
 	long double complex nt = n - k * I;
 	long double complex eps = nt * nt;
@@ -51,8 +51,8 @@ static void fresnel_ref(long double n, long double k, long double c, long double
 
 static void test_fresnel_extreme(void)
 {
-	static const double ns[] = {1e-300, 1e-200, 1e-100, 1e-20, 0x1p-61, 0x1p-59, 0.1, 1.0, 1.5,
-				    0x1p59, 0x1p61, 1e20, 1e90, 1e100};
+	static const double ns[] = {1e-300, 1e-200, 1e-100, 1e-20,  0x1p-61, 0x1p-59, 0.1,
+	                            1.0,    1.5,    0x1p59, 0x1p61, 1e20,    1e90,    1e100};
 	static const double ks[] = {0, 1e-200, 1e-50, 0.5, 1e50, 1e90, 1e100};
 	static const double betas[] = {0, 1e-200, 1e-100, 1e-10, 0.3, 1.0, 1.5707963267};
 	double worst = 0;
@@ -73,8 +73,9 @@ static void test_fresnel_extreme(void)
 				long double complex rs, rp;
 				fresnel_ref(ns[a], ks[b], c, s2, &rs, &rp);
 				/* at the critical angle of a lossless n < 1 (sinβ = n) r_p jumps
-				 * from +1 to −1 within a relative change of 1e-16 of the inputs, and at
-				 * grazing with n = 1 both are 0/0: only finite values with |r| <= 1 */
+				 * from +1 to −1 within a relative change of 1e-16 of the inputs,
+				 * and at grazing with n = 1 both are 0/0: only finite values with
+				 * |r| <= 1 */
 				const double nn = ns[a], sb = sqrt(s2);
 				if ((ks[b] == 0 && fabs(nn - sb) <= 1e-6 * fmax(nn, sb)) ||
 				    (c == 0 && nn == 1 && ks[b] == 0)) {
@@ -83,17 +84,18 @@ static void test_fresnel_extreme(void)
 					continue;
 				}
 				double e = fmax(fmax(fabs(r.rs_re - (double)creall(rs)),
-						     fabs(r.rs_im - (double)cimagl(rs))),
-						fmax(fabs(r.rp_re - (double)creall(rp)),
-						     fabs(r.rp_im - (double)cimagl(rp))));
+				                     fabs(r.rs_im - (double)cimagl(rs))),
+				                fmax(fabs(r.rp_re - (double)creall(rp)),
+				                     fabs(r.rp_im - (double)cimagl(rp))));
 				bool ok = isfinite(r.rs_re) && isfinite(r.rs_im) &&
-					  isfinite(r.rp_re) && isfinite(r.rp_im) && e <= 1e-12;
+				          isfinite(r.rp_re) && isfinite(r.rp_im) && e <= 1e-12;
 				CHECK(ok);
 				if (!ok)
-					fprintf(stderr, "  n=%g k=%g cos=%g: rs=(%g,%g) rp=(%g,%g), "
-							"reference rs=(%Lg,%Lg) rp=(%Lg,%Lg)\n",
-						ns[a], ks[b], c, r.rs_re, r.rs_im, r.rp_re, r.rp_im,
-						creall(rs), cimagl(rs), creall(rp), cimagl(rp));
+					fprintf(stderr,
+					        "  n=%g k=%g cos=%g: rs=(%g,%g) rp=(%g,%g), "
+					        "reference rs=(%Lg,%Lg) rp=(%Lg,%Lg)\n",
+					        ns[a], ks[b], c, r.rs_re, r.rs_im, r.rp_re, r.rp_im,
+					        creall(rs), cimagl(rs), creall(rp), cimagl(rp));
 				if (isfinite(e))
 					worst = fmax(worst, e);
 				n_cases++;
@@ -108,7 +110,7 @@ static pc_pbrdf *make(double n, double k, double sigma, pc_diffuse d)
 	pc_pbrdf *p = NULL;
 	if (pc_pbrdf_new(&m, &p)) {
 		fprintf(stderr, "pc_pbrdf_new(n=%g, k=%g, sigma=%g): %s\n", n, k, sigma,
-			pc_error_detail());
+		        pc_error_detail());
 		exit(1);
 	}
 	return p;
@@ -118,7 +120,7 @@ static pc_pbrdf *make(double n, double k, double sigma, pc_diffuse d)
  * coincide with the facet's there, so no rotation enters; physics.md §2's reference matrix at
  * 30° has exactly this form), with K = 1/(8πσ² cos²θ): cos θ_N = 1, G = 1, P_D = 1/(8πσ²). */
 static void check_specular(const char *what, double n, double k, double sigma, double theta_deg,
-			   double a, double b, double c, double s)
+                           double a, double b, double c, double s)
 {
 	pc_pbrdf *p = make(n, k, sigma, PC_DIFFUSE_NONE);
 	double f[4][4];
@@ -127,8 +129,10 @@ static void check_specular(const char *what, double n, double k, double sigma, d
 	if (theta_deg == 0)
 		ct = 1;
 	double K = 1 / (8 * PC_PI * sigma * sigma * ct * ct);
-	const double want[4][4] = {
-	    {K * a, K * b, 0, 0}, {K * b, K * a, 0, 0}, {0, 0, K * c, K * s}, {0, 0, -K * s, K * c}};
+	const double want[4][4] = {{K * a, K * b, 0, 0},
+	                           {K * b, K * a, 0, 0},
+	                           {0, 0, K * c, K * s},
+	                           {0, 0, -K * s, K * c}};
 	bool ok = finite16(f);
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++)
@@ -136,12 +140,13 @@ static void check_specular(const char *what, double n, double k, double sigma, d
 				ok = false;
 	CHECK(ok);
 	if (!ok) {
-		fprintf(stderr, "  %s (n=%g k=%g sigma=%g theta=%g): got / want\n", what, n, k, sigma,
-			theta_deg);
+		fprintf(stderr, "  %s (n=%g k=%g sigma=%g theta=%g): got / want\n", what, n, k,
+		        sigma, theta_deg);
 		for (int i = 0; i < 4; i++)
-			fprintf(stderr, "   %13.6e %13.6e %13.6e %13.6e | %13.6e %13.6e %13.6e %13.6e\n",
-				f[i][0], f[i][1], f[i][2], f[i][3], want[i][0], want[i][1],
-				want[i][2], want[i][3]);
+			fprintf(stderr,
+			        "   %13.6e %13.6e %13.6e %13.6e | %13.6e %13.6e %13.6e %13.6e\n",
+			        f[i][0], f[i][1], f[i][2], f[i][3], want[i][0], want[i][1],
+			        want[i][2], want[i][3]);
 	}
 	pc_pbrdf_free(p);
 }
@@ -169,7 +174,7 @@ static void test_pbrdf_limits(void)
 		double Rp = (double)(creall(rp) * creall(rp) + cimagl(rp) * cimagl(rp));
 		long double complex x = rs * conjl(rp);
 		check_specular("sigma = 1e-20", 1.5, 0, 1e-20, th, 0.5 * (Rs + Rp), 0.5 * (Rs - Rp),
-			       (double)creall(x), (double)cimagl(x));
+		               (double)creall(x), (double)cimagl(x));
 	}
 	/* the smallest σ accepted is finite at its peak; below it a refusal naming sigma */
 	check_specular("sigma = SIGMA_MIN", 1.5, 0, PC_PBRDF_SIGMA_MIN, 0, 0.04, 0, -0.04, 0);
@@ -191,22 +196,30 @@ static void test_pbrdf_finite_sweep(void)
 	int bad = 0, nonphys = 0, n = 0;
 	for (int it = 0; it < 400; it++) {
 		double nn = exp(log(1e-300) + urand() * (log(1e100) - log(1e-300)));
-		double kk = urand() < 0.3 ? 0 : exp(log(1e-300) + urand() * (log(1e100) - log(1e-300)));
-		double sg = exp(log(PC_PBRDF_SIGMA_MIN) + urand() * (log(1e3) - log(PC_PBRDF_SIGMA_MIN)));
+		double kk =
+		    urand() < 0.3 ? 0 : exp(log(1e-300) + urand() * (log(1e100) - log(1e-300)));
+		double sg =
+		    exp(log(PC_PBRDF_SIGMA_MIN) + urand() * (log(1e3) - log(PC_PBRDF_SIGMA_MIN)));
 		pc_diffuse d = (pc_diffuse)(it % 3);
-		pc_material m = {nn, kk, sg, d, it & 4 ? PC_SHADOW_NONE : PC_SHADOW_TS,
-				 PC_RHO_QUAD, 4};
+		pc_material m = {nn,          kk, sg, d, it & 4 ? PC_SHADOW_NONE : PC_SHADOW_TS,
+		                 PC_RHO_QUAD, 4};
 		pc_pbrdf *p = NULL;
 		if (pc_pbrdf_new(&m, &p)) {
 			bad++;
-			fprintf(stderr, "  pc_pbrdf_new(%g, %g, %g): %s\n", nn, kk, sg, pc_error_detail());
+			fprintf(stderr, "  pc_pbrdf_new(%g, %g, %g): %s\n", nn, kk, sg,
+			        pc_error_detail());
 			continue;
 		}
 		for (int g = 0; g < 20; g++) {
 			/* directions: exact specular, backscatter, normal, grazing, random */
-			static const double special[][3] = {{0, 0, 0}, {0, 0, 180}, {30, 30, 180},
-							    {30, 30, 0}, {89.9999, 89.9999, 180},
-							    {90, 45, 180}, {45, 90, 0}, {89, 1, 90}};
+			static const double special[][3] = {{0, 0, 0},
+			                                    {0, 0, 180},
+			                                    {30, 30, 180},
+			                                    {30, 30, 0},
+			                                    {89.9999, 89.9999, 180},
+			                                    {90, 45, 180},
+			                                    {45, 90, 0},
+			                                    {89, 1, 90}};
 			double ti, tr, ph;
 			if (g < 8) {
 				ti = special[g][0];
@@ -222,12 +235,14 @@ static void test_pbrdf_finite_sweep(void)
 			n++;
 			if (!finite16(f)) {
 				bad++;
-				fprintf(stderr, "  not finite: n=%g k=%g sigma=%g at (%g, %g, %g)\n", nn, kk,
-					sg, ti, tr, ph);
+				fprintf(stderr,
+				        "  not finite: n=%g k=%g sigma=%g at (%g, %g, %g)\n", nn,
+				        kk, sg, ti, tr, ph);
 			} else if (f[0][0] > 0 && !pc_mueller_is_physical(f, 1e-9)) {
 				nonphys++;
-				fprintf(stderr, "  not physical: n=%g k=%g sigma=%g at (%g, %g, %g)\n", nn,
-					kk, sg, ti, tr, ph);
+				fprintf(stderr,
+				        "  not physical: n=%g k=%g sigma=%g at (%g, %g, %g)\n", nn,
+				        kk, sg, ti, tr, ph);
 			}
 		}
 		pc_pbrdf_free(p);
@@ -255,9 +270,9 @@ static void decompose_both(const double M[4][4], unsigned opt, pc_lu_chipman *lc
 	pc_lu_chipman_decompose(M, opt | PC_LC_NO_FACTORS, &s);
 	CHECK_EQ_INT(pc_lu_chipman_map(&M[0][0], 1, opt & PC_LC_FILTER, &mo), 0);
 	*same = (memcmp(&D, &s.D, 8) == 0 || (isnan(D) && isnan(s.D))) &&
-		(memcmp(&R, &s.R, 8) == 0 || (isnan(R) && isnan(s.R))) &&
-		(memcmp(&Delta, &s.Delta, 8) == 0 || (isnan(Delta) && isnan(s.Delta))) &&
-		flags == s.flags;
+	        (memcmp(&R, &s.R, 8) == 0 || (isnan(R) && isnan(s.R))) &&
+	        (memcmp(&Delta, &s.Delta, 8) == 0 || (isnan(Delta) && isnan(s.Delta))) &&
+	        flags == s.flags;
 }
 
 static void test_decompose_scaled(void)
@@ -275,8 +290,8 @@ static void test_decompose_scaled(void)
 	const int dyadic[4] = {1, 1, 1, 0};
 	/* powers of two are exact; 1e308 and 1e-300 are not, but stay normal (relative rounding
 	 * 1e-16) */
-	const double scales[] = {1, 1e308, 0x1p1000, 1e-300, 0x1p-1030, 0x1p-1062, 0x1p-300,
-				 0x1p300};
+	const double scales[] = {1,         1e308,     0x1p1000, 1e-300,
+	                         0x1p-1030, 0x1p-1062, 0x1p-300, 0x1p300};
 	const int subnormal[] = {0, 0, 0, 0, 1, 1, 0, 0};
 	int n = 0, mismatch = 0;
 	for (int b = 0; b < 4; b++) {
@@ -296,21 +311,23 @@ static void test_decompose_scaled(void)
 				n++;
 				if (!same) {
 					mismatch++;
-					fprintf(stderr, "  map kernel differs: base %d scale %g opt %u\n", b,
-						scales[k], opt);
+					fprintf(stderr,
+					        "  map kernel differs: base %d scale %g opt %u\n",
+					        b, scales[k], opt);
 				}
 				bool ok = lc.physical && lc.flags == ref.flags &&
-					  fabs(lc.D - ref.D) <= 1e-14 && lc.m00 == M[0][0];
+				          fabs(lc.D - ref.D) <= 1e-14 && lc.m00 == M[0][0];
 				if (!(ref.flags & PC_LC_D_SINGULAR))
 					ok = ok && fabs(lc.R - ref.R) <= 1e-14 &&
 					     fabs(lc.Delta - ref.Delta) <= 1e-14;
 				CHECK(ok);
 				if (!ok)
-					fprintf(stderr, "  base %d scale %g: D %.17g R %.17g Delta %.17g "
-							"flags %#x physical %d; unscaled %.17g %.17g %.17g "
-							"%#x\n", b, scales[k], lc.D, lc.R, lc.Delta,
-						lc.flags, lc.physical, ref.D, ref.R, ref.Delta,
-						ref.flags);
+					fprintf(stderr,
+					        "  base %d scale %g: D %.17g R %.17g Delta %.17g "
+					        "flags %#x physical %d; unscaled %.17g %.17g %.17g "
+					        "%#x\n",
+					        b, scales[k], lc.D, lc.R, lc.Delta, lc.flags,
+					        lc.physical, ref.D, ref.R, ref.Delta, ref.flags);
 			}
 		}
 	}
@@ -335,8 +352,10 @@ static void test_decompose_scaled(void)
 	for (int a = 0; a < 2; a++)
 		for (int e = 0; e < 2; e++) {
 			double M00 = e ? 1e10 : 1;
-			double Mz[4][4] = {{M00, 0, 0, 0}, {0, xs[a] * M00, 0, 0}, {0, 0, xs[a] * M00, 0},
-					   {0, 0, 0, 1e-310 * M00}};
+			double Mz[4][4] = {{M00, 0, 0, 0},
+			                   {0, xs[a] * M00, 0, 0},
+			                   {0, 0, xs[a] * M00, 0},
+			                   {0, 0, 0, 1e-310 * M00}};
 			bool same;
 			decompose_both(Mz, 0, &lc, &same);
 			CHECK(same);
@@ -351,7 +370,8 @@ static void test_decompose_scaled(void)
 static void test_optics_scaled(void)
 {
 	/* realisability and the Cloude filter do not depend on the scale of M */
-	const double M[4][4] = {{1, 0.3, 0, 0}, {0.3, 1, 0, 0}, {0, 0, 0.9, 0.1}, {0, 0, -0.1, 0.9}};
+	const double M[4][4] = {
+	    {1, 0.3, 0, 0}, {0.3, 1, 0, 0}, {0, 0, 0.9, 0.1}, {0, 0, -0.1, 0.9}};
 	const double bad[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, -1}};
 	double Fref[4][4];
 	pc_mueller_cloude_filter(bad, Fref, NULL);

@@ -38,7 +38,7 @@ static sf_frames frames4; /* seed 4: render */
 
 static void sleep_ms(double ms)
 {
-	struct timespec ts = { (time_t)(ms / 1e3), (long)(fmod(ms, 1e3) * 1e6) };
+	struct timespec ts = {(time_t)(ms / 1e3), (long)(fmod(ms, 1e3) * 1e6)};
 	while (nanosleep(&ts, &ts) && errno == EINTR)
 		;
 }
@@ -113,8 +113,7 @@ static void test_capture_sigterm(void)
 	snprintf(out, sizeof out, "%s/term.out", tmp);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=25", scene);
 	snprintf(probe, sizeof probe, "%s/raw_000002.png", dir);
-	char *args[] = { "capture", uri, "-n", "100000", "-o", dir, "--write-delay-ms", "200",
-			 NULL };
+	char *args[] = {"capture", uri, "-n", "100000", "-o", dir, "--write-delay-ms", "200", NULL};
 	pid_t pid = start(args, out);
 	CHECK(pid > 0);
 	CHECK(wait_file(probe, WAIT_MS));
@@ -147,7 +146,8 @@ static void test_capture_sigterm(void)
 	CHECK_EQ_INT(json_array_size(json_object_get(m, "frames")), reported);
 	CHECK(json_integer_value(json_object_get(json_object_get(m, "stats"), "completed")) >=
 	      reported);
-	json_t *mq = json_object_get(json_object_get(json_object_get(m, "extra"), "capture"), "queue");
+	json_t *mq =
+	    json_object_get(json_object_get(json_object_get(m, "extra"), "capture"), "queue");
 	CHECK_EQ_INT(json_integer_value(json_object_get(mq, "written")), reported);
 	CHECK_EQ_INT(count_frames(dir), reported);
 	sf_dir_report r;
@@ -169,7 +169,7 @@ static void test_capture_sigint_process(void)
 	snprintf(out, sizeof out, "%s/int.out", tmp);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=20", scene);
 	snprintf(probe, sizeof probe, "%s/raw_000001.png", dir);
-	char *args[] = { "capture", uri, "-n", "100000", "-o", dir, "--process", NULL };
+	char *args[] = {"capture", uri, "-n", "100000", "-o", dir, "--process", NULL};
 	pid_t pid = start(args, out);
 	CHECK(wait_file(probe, WAIT_MS));
 	CHECK_EQ_INT(pc_child_stop(pid, SIGINT, WAIT_MS), 1);
@@ -177,7 +177,7 @@ static void test_capture_sigint_process(void)
 	CHECK(m && json_is_false(json_object_get(m, "complete")));
 	json_t *pj = json_object_get(json_object_get(m, "extra"), "process");
 	CHECK_EQ_INT(json_integer_value(json_object_get(pj, "frames")),
-		     json_array_size(json_object_get(m, "frames")));
+	             json_array_size(json_object_get(m, "frames")));
 	char p[300];
 	snprintf(p, sizeof p, "%s/processed/dolp.npy", dir);
 	pc_array a;
@@ -199,7 +199,7 @@ static void test_render_sigint(void)
 	snprintf(dir, sizeof dir, "%s/render", tmp);
 	snprintf(out, sizeof out, "%s/render.out", tmp);
 	snprintf(probe, sizeof probe, "%s/raw_000002.png", dir);
-	char *args[] = { "render", scene, "-o", dir, "-n", "100000", "-s", "4", NULL };
+	char *args[] = {"render", scene, "-o", dir, "-n", "100000", "-s", "4", NULL};
 	pid_t pid = start(args, out);
 	CHECK(wait_file(probe, WAIT_MS));
 	CHECK_EQ_INT(pc_child_stop(pid, SIGINT, WAIT_MS), 1);
@@ -236,8 +236,8 @@ static void test_second_signal(void)
 	snprintf(out, sizeof out, "%s/twice.out", tmp);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=50", scene);
 	snprintf(probe, sizeof probe, "%s/raw_000000.png", dir);
-	char *args[] = { "capture", uri, "-n", "100000", "-o", dir, "--write-delay-ms", "2000",
-			 NULL };
+	char *args[] = {"capture",          uri,    "-n", "100000", "-o", dir,
+	                "--write-delay-ms", "2000", NULL};
 	pid_t pid = start(args, out);
 	CHECK(wait_file(probe, WAIT_MS));
 	sleep_ms(500); /* a queue of frames waits for the 2 s writer */
@@ -261,7 +261,7 @@ typedef struct kill_totals {
  * included), or from its first frame on disk (after_first: while frames are written, however
  * slow the start is on a loaded machine). */
 static void kill_round(char *const args[], const char *dir, const sf_frames *f, double max_ms,
-		       bool after_first, char *const rerun[], kill_totals *t)
+                       bool after_first, char *const rerun[], kill_totals *t)
 {
 	char out[300], png[300], raw[300];
 	snprintf(out, sizeof out, "%s.out", dir);
@@ -301,25 +301,27 @@ static void kill_round(char *const args[], const char *dir, const sf_frames *f, 
 
 static void test_kills(void)
 {
-	kill_totals tc = { 0 }, tr = { 0 };
+	kill_totals tc = {0}, tr = {0};
 	const double max_ms = 2500; /* past the end of some runs: kills at every stage */
 	for (int k = 0; k < 16; k++) {
 		char dir[200], uri[800];
 		snprintf(dir, sizeof dir, "%s/kill_c%02d", tmp, k);
 		snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=0", scene);
 		const char *store = k % 2 ? "raw" : "png";
-		char *args[] = { "capture", uri, "-n", "40", "-o", dir, "--store", (char *)store,
-				 k % 4 == 3 ? "--process" : NULL, NULL };
-		char *rerun[] = { "capture", uri, "-n", "1", "-o", dir, "--store", (char *)store,
-				  "--overwrite", NULL };
+		char *args[] = {"capture", uri,           "-n",
+		                "40",      "-o",          dir,
+		                "--store", (char *)store, k % 4 == 3 ? "--process" : NULL,
+		                NULL};
+		char *rerun[] = {"capture", uri,       "-n",          "1",           "-o",
+		                 dir,       "--store", (char *)store, "--overwrite", NULL};
 		kill_round(args, dir, &frames5, max_ms, k % 4 >= 2, rerun, &tc);
 	}
 	for (int k = 0; k < 12; k++) {
 		char dir[200];
 		snprintf(dir, sizeof dir, "%s/kill_r%02d", tmp, k);
-		char *args[] = { "render", scene, "-o", dir, "-n", "30", "-s", "4", NULL };
-		char *rerun[] = { "render", scene, "-o", dir, "-n", "1", "-s", "4", "--overwrite",
-				  "--no-truth", NULL };
+		char *args[] = {"render", scene, "-o", dir, "-n", "30", "-s", "4", NULL};
+		char *rerun[] = {"render", scene, "-o",          dir,          "-n", "1",
+		                 "-s",     "4",   "--overwrite", "--no-truth", NULL};
 		kill_round(args, dir, &frames4, max_ms, k % 2, rerun, &tr);
 	}
 	printf("SIGKILL: capture %u kills: %u files under final names, all whole (%u frames "
@@ -348,7 +350,7 @@ static void test_sweep(void)
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=0", scene);
 	char out[300];
 	snprintf(out, sizeof out, "%s.out", dir);
-	char *args[] = { "capture", uri, "-n", "2", "-o", dir, NULL };
+	char *args[] = {"capture", uri, "-n", "2", "-o", dir, NULL};
 	CHECK_EQ_INT(pc_child_wait(start(args, out), WAIT_MS, NULL), 0);
 	CHECK(access(dead, F_OK) != 0);
 	CHECK(access(live, F_OK) == 0);

@@ -73,18 +73,20 @@ static void test_npy(void)
 			d[i] = 1;
 		d[n / 2 + 3] = 1e39;
 		char dict[96];
-		snprintf(dict, sizeof dict, "{'descr': '<f8', 'fortran_order': False, 'shape': (%d, %d), }",
-			 big ? 600 : 4, big ? 600 : 4);
+		snprintf(dict, sizeof dict,
+		         "{'descr': '<f8', 'fortran_order': False, 'shape': (%d, %d), }",
+		         big ? 600 : 4, big ? 600 : 4);
 		CHECK_EQ_INT(hostile_npy(tmp("f64.npy"), dict, d, n * sizeof *d), 0);
 		expect_fail(tmp("f64.npy"), NULL, PC_ERANGE, "1e+39");
 		free(d);
 	}
 	/* (10^7, 10^7) u2 with no data: refused as truncated (input error), nothing allocated: the
 	 * address-space limit below makes a 200 TB malloc attempt fail loudly */
-	CHECK_EQ_INT(hostile_npy(tmp("huge.npy"),
-				 "{'descr': '<u2', 'fortran_order': False, 'shape': (10000000, 10000000), }",
-				 NULL, 0),
-		     0);
+	CHECK_EQ_INT(
+	    hostile_npy(tmp("huge.npy"),
+	                "{'descr': '<u2', 'fortran_order': False, 'shape': (10000000, 10000000), }",
+	                NULL, 0),
+	    0);
 	expect_fail(tmp("huge.npy"), NULL, PC_EFORMAT, "truncated");
 	/* shapes whose byte count overflows 64 bits, negative and malformed dimensions */
 	static const char *const bad[] = {
@@ -102,10 +104,11 @@ static void test_npy(void)
 	/* within the file but beyond the pixel limit: PC_ERANGE naming the variable */
 	{
 		uint8_t *px = calloc(1, 10000);
-		CHECK_EQ_INT(hostile_npy(tmp("lim.npy"),
-					 "{'descr': '|u1', 'fortran_order': False, 'shape': (100, 100), }",
-					 px, 10000),
-			     0);
+		CHECK_EQ_INT(
+		    hostile_npy(tmp("lim.npy"),
+		                "{'descr': '|u1', 'fortran_order': False, 'shape': (100, 100), }",
+		                px, 10000),
+		    0);
 		free(px);
 		setenv("POLARCAM_MAX_PIXELS", "9999", 1);
 		expect_fail(tmp("lim.npy"), NULL, PC_ERANGE, "POLARCAM_MAX_PIXELS");
@@ -145,7 +148,8 @@ static void test_raw(void)
 	CHECK_EQ_INT(PC_ROW(&v, uint8_t, 2)[1], 81);
 	pc_view_free(&v);
 	/* a Mono12 raw (LSB-aligned in 16 bits) holding 55245: the container holds it, the
-	 * format's 12 bits do not (found by fuzz_raw: pc_view_check_bits took 12 for the capacity) */
+	 * format's 12 bits do not (found by fuzz_raw: pc_view_check_bits took 12 for the capacity)
+	 */
 	uint16_t m12[16];
 	for (int i = 0; i < 16; i++)
 		m12[i] = (uint16_t)(i * 200);
@@ -239,18 +243,22 @@ static void test_float_raw(void)
 	float f[16];
 	for (int i = 0; i < 16; i++)
 		f[i] = (i & 1) ? 3.4e38f : 1.0f;
-	CHECK_EQ_INT(hostile_npy(tmp("fmax.npy"), "{'descr': '<f4', 'fortran_order': False, "
-						  "'shape': (4, 4), }", f, sizeof f),
-		     0);
+	CHECK_EQ_INT(hostile_npy(tmp("fmax.npy"),
+	                         "{'descr': '<f4', 'fortran_order': False, "
+	                         "'shape': (4, 4), }",
+	                         f, sizeof f),
+	             0);
 	pc_view v;
 	CHECK_EQ_INT(pc_image_read_mosaic(tmp("fmax.npy"), NULL, 0, &v, NULL), PC_ERANGE);
 	CHECK(strstr(pc_error_detail(), "(1,0)") && strstr(pc_error_detail(), "fmax.npy"));
 	f[1] = -0x1p24f; /* the bound itself is accepted */
 	for (int i = 3; i < 16; i += 2)
 		f[i] = 0x1p24f;
-	CHECK_EQ_INT(hostile_npy(tmp("fok.npy"), "{'descr': '<f4', 'fortran_order': False, "
-						 "'shape': (4, 4), }", f, sizeof f),
-		     0);
+	CHECK_EQ_INT(hostile_npy(tmp("fok.npy"),
+	                         "{'descr': '<f4', 'fortran_order': False, "
+	                         "'shape': (4, 4), }",
+	                         f, sizeof f),
+	             0);
 	CHECK_EQ_INT(pc_image_read_mosaic(tmp("fok.npy"), NULL, 0, &v, NULL), 0);
 	pc_view_free(&v);
 }

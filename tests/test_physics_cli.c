@@ -294,8 +294,8 @@ static void test_hard_cases_cli(void)
 	const char *cond[] = {"--n 1.5 --k 1e90", "--n 1e100", "--n 1e100 --k 1e100"};
 	for (int i = 0; i < 3; i++) {
 		char a[200];
-		snprintf(a, sizeof a, "pbrdf %s --sigma 0.2 --theta-i 30 --theta-r 30 --diffuse none",
-			 cond[i]);
+		snprintf(a, sizeof a,
+		         "pbrdf %s --sigma 0.2 --theta-i 30 --theta-r 30 --diffuse none", cond[i]);
 		run(&r, a, NULL);
 		CHECK_EQ_INT(r.status, 0);
 		CHECK_EQ_INT(r.nlines, 1);

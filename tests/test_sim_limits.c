@@ -20,15 +20,17 @@ static char dir[64];
 static const char *scene_text(const char *sensor_extra, const char *objects)
 {
 	static char buf[4096];
-	snprintf(buf, sizeof buf,
-		 "{\"polarcam_scene\": 1, \"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]"
-		 ", \"focal_length_mm\": 12}, \"materials\": {\"m\": {\"n\": 1.5, \"k\": 0, \"sigma\": "
-		 "0.2}}, \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], "
-		 "\"irradiance_w_m2\": 100}], \"objects\": [%s], \"sensor\": {\"preset\": \"ideal\", "
-		 "\"resolution\": [8, 8]%s}}",
-		 objects ? objects : "{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 0, 1], "
-				     "\"material\": \"m\"}",
-		 sensor_extra ? sensor_extra : "");
+	snprintf(
+	    buf, sizeof buf,
+	    "{\"polarcam_scene\": 1, \"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]"
+	    ", \"focal_length_mm\": 12}, \"materials\": {\"m\": {\"n\": 1.5, \"k\": 0, \"sigma\": "
+	    "0.2}}, \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], "
+	    "\"irradiance_w_m2\": 100}], \"objects\": [%s], \"sensor\": {\"preset\": \"ideal\", "
+	    "\"resolution\": [8, 8]%s}}",
+	    objects ? objects
+	            : "{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 0, 1], "
+	              "\"material\": \"m\"}",
+	    sensor_extra ? sensor_extra : "");
 	return buf;
 }
 
@@ -112,7 +114,8 @@ static void test_resolution_limit(void)
 	setenv("POLARCAM_MAX_PIXELS", "63", 1);
 	CHECK_EQ_INT(pc_scene_parse(scene_text(NULL, NULL), "t.json", dir, &s), PC_ERANGE);
 	CHECK(strstr(pc_error_detail(), "sensor.resolution") &&
-	      strstr(pc_error_detail(), "POLARCAM_MAX_PIXELS") && strstr(pc_error_detail(), "t.json"));
+	      strstr(pc_error_detail(), "POLARCAM_MAX_PIXELS") &&
+	      strstr(pc_error_detail(), "t.json"));
 	setenv("POLARCAM_MAX_PIXELS", "64", 1);
 	CHECK_EQ_INT(pc_scene_parse(scene_text(NULL, NULL), "t.json", dir, &s), 0);
 	pc_scene_free(s);
@@ -140,8 +143,8 @@ static int load_mesh(const char *name, const char *scale)
 {
 	char obj[256];
 	snprintf(obj, sizeof obj,
-		 "{\"type\": \"mesh\", \"file\": \"%s\", \"scale\": %s, \"material\": \"m\"}", name,
-		 scale);
+	         "{\"type\": \"mesh\", \"file\": \"%s\", \"scale\": %s, \"material\": \"m\"}", name,
+	         scale);
 	pc_scene *s = NULL;
 	int rc = pc_scene_parse(scene_text(NULL, obj), "t.json", dir, &s);
 	pc_scene_free(s);
@@ -157,7 +160,8 @@ static void test_obj(void)
 	CHECK_EQ_INT(load_mesh("ok.obj", "1"), 0);
 	/* strict face tokens: junk after an index, texture junk, zero indices */
 	static const char *const bad[] = {"f 1 2 3x\n", "f 1/abc 2 3\n", "f 1/2/3/4 2 3\n",
-					  "f 0 1 2\n", "f 1//0 2 3\n", "f 1 2 -9\n", "f 1 2 +3\n"};
+	                                  "f 0 1 2\n",  "f 1//0 2 3\n",  "f 1 2 -9\n",
+	                                  "f 1 2 +3\n"};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
 		snprintf(text, sizeof text, "%s%s", verts, bad[i]);
 		write_obj("bad.obj", text);

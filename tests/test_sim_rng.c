@@ -14,14 +14,14 @@
 static void test_kat(void)
 {
 	/* Random123 kat_vectors, philox4x32 10 rounds */
-	static const uint32_t ctr[3][4] = { { 0, 0, 0, 0 },
-					    { 0xffffffff, 0xffffffff, 0xffffffff, 0xffffffff },
-					    { 0x243f6a88, 0x85a308d3, 0x13198a2e, 0x03707344 } };
-	static const uint32_t key[3][2] = { { 0, 0 }, { 0xffffffff, 0xffffffff },
-					    { 0xa4093822, 0x299f31d0 } };
-	static const uint32_t want[3][4] = { { 0x6627e8d5, 0xe169c58d, 0xbc57ac4c, 0x9b00dbd8 },
-					     { 0x408f276d, 0x41c83b0e, 0xa20bc7c6, 0x6d5451fd },
-					     { 0xd16cfe09, 0x94fdcceb, 0x5001e420, 0x24126ea1 } };
+	static const uint32_t ctr[3][4] = {{0, 0, 0, 0},
+	                                   {0xffffffff, 0xffffffff, 0xffffffff, 0xffffffff},
+	                                   {0x243f6a88, 0x85a308d3, 0x13198a2e, 0x03707344}};
+	static const uint32_t key[3][2] = {
+	    {0, 0}, {0xffffffff, 0xffffffff}, {0xa4093822, 0x299f31d0}};
+	static const uint32_t want[3][4] = {{0x6627e8d5, 0xe169c58d, 0xbc57ac4c, 0x9b00dbd8},
+	                                    {0x408f276d, 0x41c83b0e, 0xa20bc7c6, 0x6d5451fd},
+	                                    {0xd16cfe09, 0x94fdcceb, 0x5001e420, 0x24126ea1}};
 	for (int i = 0; i < 3; i++) {
 		uint32_t out[4];
 		pc_philox4x32_10(ctr[i], key[i], out);
@@ -68,7 +68,7 @@ static void check_poisson(double mu, int n)
 	for (int i = 0; i < n; i++) {
 		pc_rng r;
 		pc_rng_init(&r, 11, PC_RNG_TEST, (uint32_t)(i & 0xffff), (uint32_t)(i >> 16),
-			    (uint64_t)(mu * 1000));
+		            (uint64_t)(mu * 1000));
 		double k = pc_rng_poisson(&r, mu);
 		CHECK(k >= 0 && k == floor(k));
 		s += k;
@@ -95,8 +95,8 @@ static void check_poisson(double mu, int n)
 	 * generous): a correct sampler fails this with probability < 1e-4 */
 	double crit = dof + 3.72 * sqrt(2.0 * dof) + 8;
 	if (!(chi2 < crit))
-		fprintf(stderr, "Poisson mu=%g: chi2 = %.1f with %d dof (crit %.1f)\n", mu, chi2, dof,
-			crit);
+		fprintf(stderr, "Poisson mu=%g: chi2 = %.1f with %d dof (crit %.1f)\n", mu, chi2,
+		        dof, crit);
 	CHECK(chi2 < crit);
 	free(pmf);
 	free(cnt);
@@ -150,8 +150,8 @@ static void test_quantile(void)
 static void test_normal_read(void)
 {
 	double worst = 0;
-	uint64_t below[5] = { 0 }, n = 0;
-	const double zs[5] = { -2, -1, 0, 1, 2 };
+	uint64_t below[5] = {0}, n = 0;
+	const double zs[5] = {-2, -1, 0, 1, 2};
 	for (uint64_t w = 0; w < (1ull << 32); w += 4096) {
 		for (uint64_t d = 0; d < 2; d++) {
 			uint32_t u = (uint32_t)(w + d * 1234);
@@ -167,11 +167,14 @@ static void test_normal_read(void)
 	for (int s = -1; s <= 1; s += 2)
 		for (int64_t dw = -2000; dw <= 2000; dw++) {
 			int64_t w = (int64_t)2147483648 + s * (int64_t)(0.425 * 4294967296.0) + dw;
-			double zr = pc_u32_to_normal_read((uint32_t)w), zd = pc_u32_to_normal((uint32_t)w);
+			double zr = pc_u32_to_normal_read((uint32_t)w),
+			       zd = pc_u32_to_normal((uint32_t)w);
 			worst = fmax(worst, fabs(zr - zd));
 		}
-	fprintf(stderr, "test_sim_rng: read-noise normal (float PPND7 centre) within %.2g of AS 241 "
-			"(double)\n", worst);
+	fprintf(stderr,
+	        "test_sim_rng: read-noise normal (float PPND7 centre) within %.2g of AS 241 "
+	        "(double)\n",
+	        worst);
 	CHECK(worst <= 1e-6);
 	for (int k = 0; k < 5; k++) {
 		double phi = 0.5 * erfc(-zs[k] / sqrt(2));
@@ -273,7 +276,10 @@ static void test_kernels(void)
 		pc_rng_init(&r, 9, PC_RNG_TEST, (uint32_t)i, 0, 0);
 		double u = pc_rng_uniform(&r);
 		/* rates × 1 ms: 0, below 10, around 10, up to beyond the full well */
-		rate[i] = (float)(i % 11 == 0 ? 0 : i % 5 == 0 ? u * 2e4 : i % 7 == 0 ? 9e3 + u * 2e3 : u * 1.2e7);
+		rate[i] = (float)(i % 11 == 0  ? 0
+		                  : i % 5 == 0 ? u * 2e4
+		                  : i % 7 == 0 ? 9e3 + u * 2e3
+		                               : u * 1.2e7);
 		dsnu[i] = (float)(pc_rng_uniform(&r) * 4 - 2);
 	}
 	int base = pc_noise_isa(), tested = 0;
@@ -282,27 +288,28 @@ static void test_kernels(void)
 			continue;
 		tested++;
 		for (int c = 0; c < 8; c++) {
-			pc_frame_args a = { .seed = 0x123456789abcdefull + (uint64_t)c,
-					    .frame = 1000000007ull * (uint64_t)c,
-					    .sx0 = (uint32_t)(3 * c),
-					    .sy = (uint32_t)(17 * c + 1),
-					    .n = (uint32_t)(N - 13 * c),
-					    .rate = rate,
-					    .dsnu = c & 1 ? dsnu : NULL,
-					    .t_s = 1e-3,
-					    .dark_e = c & 2 ? 0.5 : 0,
-					    .full_well_e = 10500,
-					    .K = 4095.0 / 10500,
-					    .offset_dn = c & 4 ? 64 : 0,
-					    .read_e = c == 3 ? 0 : 2.3,
-					    .max_dn = 4095,
-					    .noise = c != 5,
-					    .out = got };
+			pc_frame_args a = {.seed = 0x123456789abcdefull + (uint64_t)c,
+			                   .frame = 1000000007ull * (uint64_t)c,
+			                   .sx0 = (uint32_t)(3 * c),
+			                   .sy = (uint32_t)(17 * c + 1),
+			                   .n = (uint32_t)(N - 13 * c),
+			                   .rate = rate,
+			                   .dsnu = c & 1 ? dsnu : NULL,
+			                   .t_s = 1e-3,
+			                   .dark_e = c & 2 ? 0.5 : 0,
+			                   .full_well_e = 10500,
+			                   .K = 4095.0 / 10500,
+			                   .offset_dn = c & 4 ? 64 : 0,
+			                   .read_e = c == 3 ? 0 : 2.3,
+			                   .max_dn = 4095,
+			                   .noise = c != 5,
+			                   .out = got};
 			pc_noise_frame_row(&a);
 			a.out = want;
 			pc_noise_frame_row_ref(&a);
 			CHECK(!memcmp(got, want, a.n * sizeof *got));
-			double *pg[4] = { zg[0], zg[1], zg[2], zg[3] }, *pw[4] = { zw[0], zw[1], zw[2], zw[3] };
+			double *pg[4] = {zg[0], zg[1], zg[2], zg[3]},
+			       *pw[4] = {zw[0], zw[1], zw[2], zw[3]};
 			unsigned mask = c == 0 ? 15 : (unsigned)(c & 15);
 			memset(zg, 0, sizeof zg);
 			memset(zw, 0, sizeof zw);
@@ -313,7 +320,8 @@ static void test_kernels(void)
 	}
 	CHECK(tested >= 1);
 	CHECK(pc_noise_set_isa(base) >= 0);
-	printf("test_sim_rng: kernels identical to the scalar reference on %d instance%s (in use: %s)\n",
+	printf("test_sim_rng: kernels identical to the scalar reference on %d instance%s (in use: "
+	       "%s)\n",
 	       tested, tested == 1 ? "" : "s", pc_noise_isa_name(base));
 }
 

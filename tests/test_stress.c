@@ -76,7 +76,8 @@ static void test_ideal_raw_is_truth(const char *name)
 	for (uint32_t y = 0; y < c.t.height; y++)
 		for (uint32_t x = 0; x < c.t.width; x++) {
 			unsigned ch = pc_mosaic_channel(&c.info.mosaic, x, y);
-			double d = fabs(raw_at(&c.raw, x, y) - c.t.ch[ch][(size_t)y * c.t.width + x] * fs);
+			double d =
+			    fabs(raw_at(&c.raw, x, y) - c.t.ch[ch][(size_t)y * c.t.width + x] * fs);
 			worst = fmax(worst, d);
 		}
 	printf("%s: ideal sensor, worst |raw - truth| = %.4f DN\n", name, worst);
@@ -110,7 +111,7 @@ static void test_noisy(const char *name, double lo, double hi)
 	for (size_t i = 0; i < n; i++)
 		v[i] = 0.25 * (c.t.ch[0][i] + c.t.ch[1][i] + c.t.ch[2][i] + c.t.ch[3][i]);
 	/* partial selection by counting is enough here: histogram in 1/4096 bins */
-	size_t hist[4097] = { 0 };
+	size_t hist[4097] = {0};
 	for (size_t i = 0; i < n; i++)
 		hist[(size_t)lround(fmin(v[i], 1.0) * 4096)]++;
 	size_t acc = 0;
@@ -142,7 +143,8 @@ static void test_chart(void)
 		double m = 0.25 * (c.t.ch[0][i] + c.t.ch[1][i] + c.t.ch[2][i] + c.t.ch[3][i]);
 		dark += m < 0.02;
 		bright += m > 0.4;
-		sat += c.t.ch[0][i] >= 1 || c.t.ch[1][i] >= 1 || c.t.ch[2][i] >= 1 || c.t.ch[3][i] >= 1;
+		sat += c.t.ch[0][i] >= 1 || c.t.ch[1][i] >= 1 || c.t.ch[2][i] >= 1 ||
+		       c.t.ch[3][i] >= 1;
 	}
 	printf("chart: %.1f %% dark, %.1f %% bright, %.1f %% saturated\n", 100.0 * dark / n,
 	       100.0 * bright / n, 100.0 * sat / n);
@@ -159,9 +161,9 @@ static void test_gloss(void)
 		CHECK(0);
 		return;
 	}
-	size_t n = (size_t)c.t.width * c.t.height, bins[8] = { 0 };
+	size_t n = (size_t)c.t.width * c.t.height, bins[8] = {0};
 	for (size_t i = 0; i < n; i++) {
-		double I[4] = { c.t.ch[0][i], c.t.ch[1][i], c.t.ch[2][i], c.t.ch[3][i] };
+		double I[4] = {c.t.ch[0][i], c.t.ch[1][i], c.t.ch[2][i], c.t.ch[3][i]};
 		if (I[0] >= 1 || I[1] >= 1 || I[2] >= 1 || I[3] >= 1)
 			continue;
 		double s0 = 0.5 * (I[0] + I[1] + I[2] + I[3]), s1 = I[0] - I[2], s2 = I[1] - I[3];
@@ -196,7 +198,8 @@ static void test_texture(const char *name)
 			double d[2];
 			for (int k = 0; k < 2; k++) {
 				size_t i = (size_t)y * w + x + 2 * k;
-				double I[4] = { c.t.ch[0][i], c.t.ch[1][i], c.t.ch[2][i], c.t.ch[3][i] };
+				double I[4] = {c.t.ch[0][i], c.t.ch[1][i], c.t.ch[2][i],
+				               c.t.ch[3][i]};
 				double s0 = 0.5 * (I[0] + I[1] + I[2] + I[3]), s1 = I[0] - I[2],
 				       s2 = I[1] - I[3];
 				d[k] = s0 > 0 ? sqrt(s1 * s1 + s2 * s2) / s0 : 0;
@@ -233,8 +236,8 @@ int main(void)
 	if (!src)
 		SKIP("PC_SOURCE_DIR not set: the stress scenes (scenes/stress) are not reachable");
 	snprintf(src_dir, sizeof src_dir, "%s", src);
-	static const char *ideal[] = { "chart.json", "gloss.json", "star.json", "gratings.json",
-				       "text.json" };
+	static const char *ideal[] = {"chart.json", "gloss.json", "star.json", "gratings.json",
+	                              "text.json"};
 	for (size_t i = 0; i < sizeof ideal / sizeof *ideal; i++)
 		test_ideal_raw_is_truth(ideal[i]);
 	test_noisy("noise_high.json", 0.4, 0.65);

@@ -18,13 +18,12 @@ const char *cli_name = "";
 /* Messages go to a terminal: every byte that is not printable UTF-8 is escaped
  * (cli_quote), whatever the message quotes (file names, tokens of a binary file). */
 __attribute__((format(printf, 2, 0))) static void cli_vmessage(const char *kind, const char *fmt,
-								va_list ap)
+                                                               va_list ap)
 {
 	char msg[2048], q[4 * sizeof msg + 8];
 	int n = vsnprintf(msg, sizeof msg, fmt, ap);
 	size_t len = n < 0 ? 0 : (size_t)n < sizeof msg ? (size_t)n : sizeof msg - 1;
-	fprintf(stderr, "polarcam %s: %s: %s\n", cli_name, kind,
-		cli_quote(msg, len, q, sizeof q));
+	fprintf(stderr, "polarcam %s: %s: %s\n", cli_name, kind, cli_quote(msg, len, q, sizeof q));
 }
 
 int cli_error(int status, const char *fmt, ...)
@@ -88,8 +87,8 @@ const char *cli_quote(const char *s, size_t len, char *buf, size_t size)
 		if (c >= 0x20 && c < 0x7f) {
 			n = 1;
 		} else if (c >= 0xc2 && c <= 0xf4) {
-			/* well-formed UTF-8 (RFC 3629 table): no overlong forms, no surrogates, nothing
-			 * above U+10FFFF; the second byte's range depends on the first */
+			/* well-formed UTF-8 (RFC 3629 table): no overlong forms, no surrogates,
+			 * nothing above U+10FFFF; the second byte's range depends on the first */
 			n = c < 0xe0 ? 2 : c < 0xf0 ? 3 : 4;
 			unsigned char lo = c == 0xe0 ? 0xa0 : c == 0xf0 ? 0x90 : 0x80;
 			unsigned char hi = c == 0xed ? 0x9f : c == 0xf4 ? 0x8f : 0xbf;
@@ -142,11 +141,13 @@ int cli_parse_double(const char *opt, const char *arg, double *out)
 		 * a subnormal result is the nearest double and is kept (the caller's range check
 		 * then speaks about the value); a result of 0 from non-zero digits is refused. */
 		if (v == 0)
-			return pc_error(PC_EINVAL, "%s '%s': below the smallest double (4.9e-324): "
-						   "it would read as 0", opt, q);
+			return pc_error(PC_EINVAL,
+			                "%s '%s': below the smallest double (4.9e-324): "
+			                "it would read as 0",
+			                opt, q);
 		if (fabs(v) > DBL_MAX)
-			return pc_error(PC_EINVAL, "%s '%s': beyond the double range (1.8e308)", opt,
-					q);
+			return pc_error(PC_EINVAL, "%s '%s': beyond the double range (1.8e308)",
+			                opt, q);
 	}
 	*out = v;
 	return 0;
@@ -185,35 +186,37 @@ int cli_parse_long(const char *opt, const char *arg, long min, long max, long *o
 	uint64_t u = 0;
 	int bad = parse_decimal_u64(arg + (neg ? 1 : 0), &u);
 	if (bad == 1)
-		return pc_error(PC_EINVAL, "%s '%s': not an integer (decimal digits%s expected)", opt,
-				q, min < 0 ? ", optionally after '-'," : "");
+		return pc_error(PC_EINVAL, "%s '%s': not an integer (decimal digits%s expected)",
+		                opt, q, min < 0 ? ", optionally after '-'," : "");
 	if (bad == 2 || (!neg && u > (uint64_t)max) ||
 	    (neg && (min >= 0 || u > (uint64_t)(-(min + 1)) + 1)))
-		return pc_error(PC_EINVAL, "%s '%s': expected an integer in [%ld, %ld]", opt, q, min,
-				max);
+		return pc_error(PC_EINVAL, "%s '%s': expected an integer in [%ld, %ld]", opt, q,
+		                min, max);
 	long v = neg ? (long)(-(int64_t)(u - 1) - 1) : (long)u;
 	if (v < min || v > max)
-		return pc_error(PC_EINVAL, "%s '%s': expected an integer in [%ld, %ld]", opt, q, min,
-				max);
+		return pc_error(PC_EINVAL, "%s '%s': expected an integer in [%ld, %ld]", opt, q,
+		                min, max);
 	*out = v;
 	return 0;
 }
 
-int cli_parse_u64_range(const char *opt, const char *arg, uint64_t min, uint64_t max,
-			   uint64_t *out)
+int cli_parse_u64_range(const char *opt, const char *arg, uint64_t min, uint64_t max, uint64_t *out)
 {
 	if (!arg || !*arg)
-		return pc_error(PC_EINVAL, "%s: missing value (expected a non-negative integer)", opt);
+		return pc_error(PC_EINVAL, "%s: missing value (expected a non-negative integer)",
+		                opt);
 	char q[PC_QUOTE_MAX];
 	cli_quote(arg, strlen(arg), q, sizeof q);
 	uint64_t v = 0;
 	int bad = parse_decimal_u64(arg, &v);
 	if (bad == 1)
-		return pc_error(PC_EINVAL, "%s '%s': not a non-negative integer (decimal digits "
-					   "expected)", opt, q);
+		return pc_error(PC_EINVAL,
+		                "%s '%s': not a non-negative integer (decimal digits "
+		                "expected)",
+		                opt, q);
 	if (bad == 2 || v < min || v > max)
 		return pc_error(PC_EINVAL, "%s '%s': expected an integer in [%llu, %llu]", opt, q,
-				(unsigned long long)min, (unsigned long long)max);
+		                (unsigned long long)min, (unsigned long long)max);
 	*out = v;
 	return 0;
 }
@@ -248,19 +251,21 @@ int cli_parse_range(const char *opt, const char *arg, double **values, size_t *c
 	for (int i = 0; i < 3; i++) {
 		const char *e = i < 2 ? strchr(p, ':') : p + strlen(p);
 		if (!e || (size_t)(e - p) >= sizeof buf[i])
-			return pc_error(PC_EINVAL, "%s '%s': expected a number or a range start:stop:step",
-					opt, arg);
+			return pc_error(PC_EINVAL,
+			                "%s '%s': expected a number or a range start:stop:step",
+			                opt, arg);
 		memcpy(buf[i], p, (size_t)(e - p));
 		buf[i][e - p] = '\0';
 		parts[i] = buf[i];
 		p = e + 1;
 	}
 	if (strchr(parts[2], ':'))
-		return pc_error(PC_EINVAL, "%s '%s': a range has exactly three parts start:stop:step", opt,
-				arg);
+		return pc_error(PC_EINVAL,
+		                "%s '%s': a range has exactly three parts start:stop:step", opt,
+		                arg);
 	double a, b, s;
-	static const char *names[3] = { "start", "stop", "step" };
-	double *dst[3] = { &a, &b, &s };
+	static const char *names[3] = {"start", "stop", "step"};
+	double *dst[3] = {&a, &b, &s};
 	for (int i = 0; i < 3; i++) {
 		char o[96];
 		snprintf(o, sizeof o, "%s (range %s)", opt, names[i]);
@@ -269,8 +274,10 @@ int cli_parse_range(const char *opt, const char *arg, double **values, size_t *c
 			return rc;
 	}
 	if (s == 0 || (b - a) / s < 0)
-		return pc_error(PC_EINVAL, "%s '%s': the step must be non-zero and go from start towards "
-					   "stop", opt, arg);
+		return pc_error(PC_EINVAL,
+		                "%s '%s': the step must be non-zero and go from start towards "
+		                "stop",
+		                opt, arg);
 	double nf = floor((b - a) / s + 1e-9) + 1;
 	if (nf > 1e7)
 		return pc_error(PC_EINVAL, "%s '%s': more than 10^7 values", opt, arg);
@@ -364,8 +371,8 @@ void cli_progress_update(cli_progress *p, uint64_t done)
 	bar[width] = '\0';
 	double el = t - p->t_start;
 	double eta = frac > 0 ? el * (1 - frac) / frac : 0;
-	fprintf(stderr, "\r%s [%s] %5.1f%% %.1fs elapsed, %.1fs left  ", p->label, bar, 100 * frac, el,
-		eta);
+	fprintf(stderr, "\r%s [%s] %5.1f%% %.1fs elapsed, %.1fs left  ", p->label, bar, 100 * frac,
+	        el, eta);
 	fflush(stderr);
 	p->drawn = true;
 }
@@ -448,7 +455,7 @@ int cli_lines_next(cli_lines *l, char **line)
 		if (n < 0) {
 			if (ferror(l->fp))
 				return pc_error(PC_EIO, "%s line %lu: %s", l->name, l->lineno + 1,
-						strerror(errno ? errno : EIO));
+				                strerror(errno ? errno : EIO));
 			return 0;
 		}
 		l->lineno++;
@@ -475,13 +482,13 @@ void cli_lines_close(cli_lines *l)
 	memset(l, 0, sizeof *l);
 }
 
-int cli_parse_fields_n(const char *line, size_t n, const char *const *names, int want,
-			  double *out)
+int cli_parse_fields_n(const char *line, size_t n, const char *const *names, int want, double *out)
 {
 	const char *nul = memchr(line, '\0', n);
 	if (nul)
-		return pc_error(PC_EFORMAT, "byte %zu is a NUL: not a line of text (a binary file?)",
-				(size_t)(nul - line) + 1);
+		return pc_error(PC_EFORMAT,
+		                "byte %zu is a NUL: not a line of text (a binary file?)",
+		                (size_t)(nul - line) + 1);
 	char list[256] = "";
 	for (int i = 0; i < want && names; i++) {
 		size_t len = strlen(list);
@@ -490,7 +497,8 @@ int cli_parse_fields_n(const char *line, size_t n, const char *const *names, int
 	const char *p = line, *end = line + n;
 	int got = 0;
 	for (;;) {
-		while (p < end && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == ','))
+		while (p < end &&
+		       (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == ','))
 			p++;
 		if (p == end)
 			break;
@@ -498,12 +506,13 @@ int cli_parse_fields_n(const char *line, size_t n, const char *const *names, int
 		while (e < end && *e != ' ' && *e != '\t' && *e != '\r' && *e != '\n' && *e != ',')
 			e++;
 		if (got < want) {
-			/* the whole token, however long: a number may carry many digits, and text cut
-			 * at a fixed length would hide junk behind them */
+			/* the whole token, however long: a number may carry many digits, and text
+			 * cut at a fixed length would hide junk behind them */
 			char *tok = strndup(p, (size_t)(e - p)), opt[160];
 			if (!tok)
 				return pc_error(PC_ENOMEM, "field %d", got + 1);
-			snprintf(opt, sizeof opt, "field %d (%s)", got + 1, names ? names[got] : "value");
+			snprintf(opt, sizeof opt, "field %d (%s)", got + 1,
+			         names ? names[got] : "value");
 			int rc = cli_parse_double(opt, tok, &out[got]);
 			free(tok);
 			if (rc)
@@ -529,7 +538,7 @@ json_t *cli_json_error_line(unsigned long line, int code)
 	if (*d)
 		d = cli_quote(d, strlen(d), q, sizeof q);
 	return json_pack("{s:I, s:s, s:s}", "line", (json_int_t)line, "error",
-			 *d ? d : pc_strerror(code), "code", pc_errname(code));
+	                 *d ? d : pc_strerror(code), "code", pc_errname(code));
 }
 
 void cli_batch_error(const cli_lines *in, int rc, int *status)

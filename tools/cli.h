@@ -22,9 +22,9 @@ extern const char *cli_name;
 /* Prints "polarcam CMD: error: <fmt>" to stderr and returns status. */
 int cli_error(int status, const char *fmt, ...)
 #if defined(__GNUC__)
-	__attribute__((format(printf, 2, 3)))
+    __attribute__((format(printf, 2, 3)))
 #endif
-	;
+    ;
 
 /* Prints "polarcam CMD: error: <what>: <pc_error_detail() or pc_strerror(code)>" and returns
  * CLI_EXIT_USAGE for input errors (PC_EINVAL, PC_ERANGE, PC_EFORMAT, PC_ENOENT) or
@@ -37,9 +37,9 @@ int cli_status(int code);
 /* Prints a warning to stderr. */
 void cli_warn(const char *fmt, ...)
 #if defined(__GNUC__)
-	__attribute__((format(printf, 1, 2)))
+    __attribute__((format(printf, 1, 2)))
 #endif
-	;
+    ;
 
 /* Parses a finite double (subnormal values are kept; text that underflows to 0 or overflows is
  * refused); on failure sets the error detail naming opt and returns PC_EINVAL. */
@@ -49,7 +49,7 @@ int cli_parse_double(const char *opt, const char *arg, double *out);
  * with a message that names opt and states the range. */
 int cli_parse_long(const char *opt, const char *arg, long min, long max, long *out);
 int cli_parse_u64_range(const char *opt, const char *arg, uint64_t min, uint64_t max,
-			uint64_t *out);
+                        uint64_t *out);
 /* [0, UINT64_MAX] */
 int cli_parse_u64(const char *opt, const char *arg, uint64_t *out);
 
@@ -126,8 +126,7 @@ void cli_lines_close(cli_lines *l);
 int cli_parse_fields(const char *line, const char *const *names, int want, double *out);
 /* The same for the first n bytes of line, which may hold NUL bytes (refused: PC_EFORMAT naming
  * the byte): pass cli_lines.len for a batch line. */
-int cli_parse_fields_n(const char *line, size_t n, const char *const *names, int want,
-		       double *out);
+int cli_parse_fields_n(const char *line, size_t n, const char *const *names, int want, double *out);
 
 /* {"line": L, "error": <detail>, "code": "PC_E..."}: the batch-mode error object. */
 json_t *cli_json_error_line(unsigned long line, int code);

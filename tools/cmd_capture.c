@@ -66,8 +66,8 @@ static void usage(FILE *fp)
 static int run(pc_capture_opts *o)
 {
 	cli_catch_signals();
-	cli_progress bar = { 0 };
-	o->progress = (pc_progress){ cli_progress_stoppable, &bar };
+	cli_progress bar = {0};
+	o->progress = (pc_progress){cli_progress_stoppable, &bar};
 	pc_capture_report rep;
 	int rc = pc_capture(o, &rep);
 	cli_progress_end(&bar);
@@ -79,8 +79,9 @@ static int run(pc_capture_opts *o)
 	cli_print_json(json_loads(rep.json, 0, NULL));
 	int status = CLI_EXIT_OK;
 	if (rep.error)
-		status = cli_error(cli_status(rep.error), "%s (the %llu frames recorded are intact in %s)",
-				   rep.message, (unsigned long long)rep.frames, o->dir);
+		status = cli_error(cli_status(rep.error),
+		                   "%s (the %llu frames recorded are intact in %s)", rep.message,
+		                   (unsigned long long)rep.frames, o->dir);
 	pc_capture_report_free(&rep);
 	return status;
 }
@@ -113,7 +114,8 @@ int cli_cmd_capture(int argc, char **argv)
 		const char *a = argv[i];
 		if (!strcmp(a, "-n") || !strcmp(a, "-o")) {
 			if (i + 1 >= argc)
-				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
+				                 a);
 			if (!strcmp(a, "-o"))
 				dir = argv[++i];
 			else if ((rc = cli_parse_long("-n", argv[++i], 1, 999999, &n)) ||
@@ -124,10 +126,11 @@ int cli_cmd_capture(int argc, char **argv)
 		} else if (!strcmp(a, "--process")) {
 			process = true;
 		} else if (!strcmp(a, "--method") || !strcmp(a, "--incomplete") ||
-			   !strcmp(a, "--store") || !strcmp(a, "--queue-mb") ||
-			   !strcmp(a, "--write-delay-ms")) {
+		           !strcmp(a, "--store") || !strcmp(a, "--queue-mb") ||
+		           !strcmp(a, "--write-delay-ms")) {
 			if (i + 1 >= argc)
-				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
+				                 a);
 			const char *v = argv[++i];
 			if (!strcmp(a, "--method"))
 				method = v;
@@ -138,9 +141,10 @@ int cli_cmd_capture(int argc, char **argv)
 			else if (!strcmp(a, "--queue-mb"))
 				rc = cli_parse_long(a, v, 1, 1L << 30, &queue_mb);
 			else if (!(rc = cli_parse_double(a, v, &write_delay_ms)) &&
-				 (write_delay_ms < 0 || write_delay_ms > 3.6e6))
-				return cli_error(CLI_EXIT_USAGE, "--write-delay-ms %g: expected 0..3600000",
-						 write_delay_ms);
+			         (write_delay_ms < 0 || write_delay_ms > 3.6e6))
+				return cli_error(CLI_EXIT_USAGE,
+				                 "--write-delay-ms %g: expected 0..3600000",
+				                 write_delay_ms);
 			if (rc)
 				return cli_fail(rc, a);
 		} else if (a[0] == '-') {
@@ -148,7 +152,8 @@ int cli_cmd_capture(int argc, char **argv)
 		} else if (!sa.req.uri) {
 			sa.req.uri = a;
 		} else {
-			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (see --help)", a);
+			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (see --help)",
+			                 a);
 		}
 	}
 	if (!sa.req.uri)
@@ -157,9 +162,18 @@ int cli_cmd_capture(int argc, char **argv)
 		return cli_error(CLI_EXIT_USAGE, "missing -n N (frames to record)");
 	if (!dir)
 		return cli_error(CLI_EXIT_USAGE, "missing -o DIR (output directory)");
-	pc_capture_opts o = { sa.req,	      (uint64_t)n, dir,	   overwrite,
-			      process,	      method,	   sa.timeout_ms, { NULL, NULL },
-			      incomplete,     store,	   (uint64_t)queue_mb << 20,
-			      write_delay_ms, lv };
+	pc_capture_opts o = {sa.req,
+	                     (uint64_t)n,
+	                     dir,
+	                     overwrite,
+	                     process,
+	                     method,
+	                     sa.timeout_ms,
+	                     {NULL, NULL},
+	                     incomplete,
+	                     store,
+	                     (uint64_t)queue_mb << 20,
+	                     write_delay_ms,
+	                     lv};
 	return run(&o);
 }

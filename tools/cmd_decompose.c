@@ -135,14 +135,14 @@ int cli_cmd_decompose(int argc, char **argv)
 		} else if (!only_positional && !strcmp(a, "--batch")) {
 			if (i + 1 >= argc)
 				return cli_error(CLI_EXIT_USAGE,
-				                    "--batch: missing FILE (or - for stdin)");
+				                 "--batch: missing FILE (or - for stdin)");
 			batch = argv[++i];
 		} else if (!only_positional && !strncmp(a, "--batch=", 8)) {
 			batch = a + 8;
 		} else if (!only_positional && a[0] == '-' && a[1] && a[1] != '.' &&
 		           !(a[1] >= '0' && a[1] <= '9')) {
 			return cli_error(CLI_EXIT_USAGE,
-			                    "unknown option '%s' (polarcam decompose --help)", a);
+			                 "unknown option '%s' (polarcam decompose --help)", a);
 		} else {
 			if (count < 16) {
 				char opt[48];
@@ -165,9 +165,9 @@ int cli_cmd_decompose(int argc, char **argv)
 		return run_batch(batch, options);
 	}
 	if (count != 16)
-		return cli_error(
-		    CLI_EXIT_USAGE,
-		    "expected 16 matrix elements m00 m01 ... m33 (row by row), got %d", count);
+		return cli_error(CLI_EXIT_USAGE,
+		                 "expected 16 matrix elements m00 m01 ... m33 (row by row), got %d",
+		                 count);
 	pc_lu_chipman lc;
 	rc = pc_lu_chipman_decompose((const double(*)[4])m, options, &lc);
 	if (rc)

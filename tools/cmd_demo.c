@@ -12,36 +12,39 @@
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam demo [-o DIR] [options]\n"
-		"\n"
-		"The main job, on the built-in default scene (the seed paper's black and green paints on\n"
-		"spheres and a ground plane, IMX250MZR-class sensor, 2448x2048):\n"
-		"  1. renders the ground truth and one raw frame through the sensor model;\n"
-		"  2. runs the raw frame through the pipeline (demosaicking -> Stokes -> DoLP/AoLP) with\n"
-		"     several methods, timing each, and scores them against the truth;\n"
-		"  3. renders a Mueller-imaging sequence of the same scene (tetrahedral generator x\n"
-		"     quarter-wave analyser, 8 frames, at 612x512 with the same field of view),\n"
-		"     reconstructs per-pixel Mueller matrices and compares the Lu-Chipman D, R, Delta\n"
-		"     maps with the truth;\n"
-		"  4. writes pictures, .npy arrays and report.md / report.json into DIR.\n"
-		"\n"
-		"options:\n"
-		"  -o, --output DIR    output directory (default polarcam-demo)\n"
-		"  --scene FILE        another scene instead of the default\n"
-		"  -s, --seed S        noise seed (default 1)\n"
-		"  --methods LIST      demosaicking methods to compare (default\n"
-		"                      superpixel,bilinear,bicubic,ppid,eari,ratio)\n"
-		"  --no-mueller        skip step 3\n"
-		"  -t, --threads N     threads\n"
-		"Exit status: 0 success, 1 failure, 2 bad arguments.\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam demo [-o DIR] [options]\n"
+	    "\n"
+	    "The main job, on the built-in default scene (the seed paper's black and green paints "
+	    "on\n"
+	    "spheres and a ground plane, IMX250MZR-class sensor, 2448x2048):\n"
+	    "  1. renders the ground truth and one raw frame through the sensor model;\n"
+	    "  2. runs the raw frame through the pipeline (demosaicking -> Stokes -> DoLP/AoLP) "
+	    "with\n"
+	    "     several methods, timing each, and scores them against the truth;\n"
+	    "  3. renders a Mueller-imaging sequence of the same scene (tetrahedral generator x\n"
+	    "     quarter-wave analyser, 8 frames, at 612x512 with the same field of view),\n"
+	    "     reconstructs per-pixel Mueller matrices and compares the Lu-Chipman D, R, Delta\n"
+	    "     maps with the truth;\n"
+	    "  4. writes pictures, .npy arrays and report.md / report.json into DIR.\n"
+	    "\n"
+	    "options:\n"
+	    "  -o, --output DIR    output directory (default polarcam-demo)\n"
+	    "  --scene FILE        another scene instead of the default\n"
+	    "  -s, --seed S        noise seed (default 1)\n"
+	    "  --methods LIST      demosaicking methods to compare (default\n"
+	    "                      superpixel,bilinear,bicubic,ppid,eari,ratio)\n"
+	    "  --no-mueller        skip step 3\n"
+	    "  -t, --threads N     threads\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments.\n");
 }
 
 /* the job and its report */
 static int run(pc_demo_opts *o, const char *out)
 {
-	cli_progress bar = { 0 };
-	o->progress = (pc_progress){ cli_progress_fn, &bar };
+	cli_progress bar = {0};
+	o->progress = (pc_progress){cli_progress_fn, &bar};
 	pc_demo *demo = NULL;
 	int rc = pc_demo_new(o, &demo);
 	if (rc)
@@ -69,12 +72,13 @@ int cli_cmd_demo(int argc, char **argv)
 		usage(stdout);
 		return CLI_EXIT_OK;
 	}
-	static const struct option opts[] = {
-		{ "output", required_argument, NULL, 'o' }, { "scene", required_argument, NULL, 'S' },
-		{ "seed", required_argument, NULL, 's' },   { "methods", required_argument, NULL, 'M' },
-		{ "no-mueller", no_argument, NULL, 'N' },   { "threads", required_argument, NULL, 't' },
-		{ NULL, 0, NULL, 0 }
-	};
+	static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
+	                                     {"scene", required_argument, NULL, 'S'},
+	                                     {"seed", required_argument, NULL, 's'},
+	                                     {"methods", required_argument, NULL, 'M'},
+	                                     {"no-mueller", no_argument, NULL, 'N'},
+	                                     {"threads", required_argument, NULL, 't'},
+	                                     {NULL, 0, NULL, 0}};
 	const char *out = "polarcam-demo", *scene_path = NULL;
 	const char *methods_arg = "superpixel,bilinear,bicubic,ppid,eari,ratio";
 	uint64_t seed = 1;
@@ -106,13 +110,16 @@ int cli_cmd_demo(int argc, char **argv)
 				return cli_fail(rc, NULL);
 			break;
 		case ':':
-			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
+			                 argv[optind - 1]);
 		default:
-			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)",
+			                 argv[optind - 1]);
 		}
 	}
 	if (optind < argc)
-		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (see --help)", argv[optind]);
+		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (see --help)",
+		                 argv[optind]);
 	/* methods */
 	pc_demosaic_method methods[PC_DM_COUNT];
 	unsigned nm = 0;
@@ -132,6 +139,6 @@ int cli_cmd_demo(int argc, char **argv)
 		if (!nm)
 			return cli_error(CLI_EXIT_USAGE, "--methods: empty list");
 	}
-	pc_demo_opts o = { scene_path, seed, methods, nm, do_mueller, (int)threads, { NULL, NULL } };
+	pc_demo_opts o = {scene_path, seed, methods, nm, do_mueller, (int)threads, {NULL, NULL}};
 	return run(&o, out);
 }

@@ -12,30 +12,32 @@
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam demosaic --list [--json]\n"
-		"       polarcam demosaic RAW --method NAME [--layout L] -o OUT.npy|OUT.tif\n"
-		"\n"
-		"Demosaics a raw polarizer mosaic into full-resolution analyser images. OUT is\n"
-		"float32 of shape (H, W, 4) with channels I0, I45, I90, I135 (angles from the image\n"
-		"x axis, counter-clockwise as seen by the viewer), in the raw's units (a 12-bit raw\n"
-		"gives 0..4095). Colour-polarization layouts give (H, W, 12): R0 R45 R90 R135 G0 ...\n"
-		"B135. superpixel-half gives (H/2, W/2, ...). Values are above the black level. When\n"
-		"saturated (default) or dead samples are checked, OUT_valid.npy (uint8 (H, W): 0 where\n"
-		"a value depends on one) goes beside OUT and the JSON gives invalid_pixels. .npy is\n"
-		"NumPy format; .tif/.tiff is a float32 TIFF with one sample per channel. Outputs are\n"
-		"written atomically; on any error nothing is written.\n"
-		"\n"
-		"  --list              the methods, one line each on accuracy and cost\n"
-		"  -o, --output OUT    the output file (.npy, .tif or .tiff)\n"
-		"%s"
-		"  -h, --help          this help\n"
-		"\n"
-		"Prints one JSON line (output, shape, method, layout, bits, seconds, black_level,\n"
-		"saturation_level, calibration, valid, invalid_pixels). Exit status: 0\n"
-		"success, 1 failure, 2 bad arguments or bad input (odd size, truncated file, values\n"
-		"above the bit depth, NaN, bad layout).\n",
-		cli_raw_help);
+	fprintf(
+	    fp,
+	    "usage: polarcam demosaic --list [--json]\n"
+	    "       polarcam demosaic RAW --method NAME [--layout L] -o OUT.npy|OUT.tif\n"
+	    "\n"
+	    "Demosaics a raw polarizer mosaic into full-resolution analyser images. OUT is\n"
+	    "float32 of shape (H, W, 4) with channels I0, I45, I90, I135 (angles from the image\n"
+	    "x axis, counter-clockwise as seen by the viewer), in the raw's units (a 12-bit raw\n"
+	    "gives 0..4095). Colour-polarization layouts give (H, W, 12): R0 R45 R90 R135 G0 ...\n"
+	    "B135. superpixel-half gives (H/2, W/2, ...). Values are above the black level. When\n"
+	    "saturated (default) or dead samples are checked, OUT_valid.npy (uint8 (H, W): 0 "
+	    "where\n"
+	    "a value depends on one) goes beside OUT and the JSON gives invalid_pixels. .npy is\n"
+	    "NumPy format; .tif/.tiff is a float32 TIFF with one sample per channel. Outputs are\n"
+	    "written atomically; on any error nothing is written.\n"
+	    "\n"
+	    "  --list              the methods, one line each on accuracy and cost\n"
+	    "  -o, --output OUT    the output file (.npy, .tif or .tiff)\n"
+	    "%s"
+	    "  -h, --help          this help\n"
+	    "\n"
+	    "Prints one JSON line (output, shape, method, layout, bits, seconds, black_level,\n"
+	    "saturation_level, calibration, valid, invalid_pixels). Exit status: 0\n"
+	    "success, 1 failure, 2 bad arguments or bad input (odd size, truncated file, values\n"
+	    "above the bit depth, NaN, bad layout).\n",
+	    cli_raw_help);
 }
 
 static int list_methods(int json)
@@ -43,9 +45,10 @@ static int list_methods(int json)
 	json_t *arr = json ? json_array() : NULL;
 	for (int k = 0; k < PC_DM_COUNT; k++) {
 		const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
-		const char *kind = (mi->flags & PC_DMF_MONO) && (mi->flags & PC_DMF_COLOR) ? "mono+colour"
-				   : (mi->flags & PC_DMF_COLOR)			     ? "colour"
-											     : "mono";
+		const char *kind = (mi->flags & PC_DMF_MONO) && (mi->flags & PC_DMF_COLOR)
+		                       ? "mono+colour"
+		                   : (mi->flags & PC_DMF_COLOR) ? "colour"
+		                                                : "mono";
 		if (json) {
 			json_t *o = json_object();
 			json_object_set_new(o, "name", json_string(mi->name));
@@ -54,7 +57,7 @@ static int list_methods(int json)
 			json_object_set_new(o, "cost", json_string(mi->cost));
 			json_object_set_new(o, "source", json_string(mi->source));
 			json_object_set_new(o, "half_resolution",
-					    json_boolean(mi->flags & PC_DMF_HALF_RES));
+			                    json_boolean(mi->flags & PC_DMF_HALF_RES));
 			json_array_append_new(arr, o);
 		} else {
 			printf("%-16s [%s]\n    accuracy: %s\n    cost:     %s\n    after:    %s\n",
@@ -64,10 +67,13 @@ static int list_methods(int json)
 	if (json)
 		cli_print_json(arr);
 	else
-		printf("(accuracy: gains over bilinear in S0/DoLP PSNR, dB, under the frozen protocol:\n"
-		       " mean over each dataset's scenes and, in brackets, its worst scene; datasets:\n"
+		printf("(accuracy: gains over bilinear in S0/DoLP PSNR, dB, under the frozen "
+		       "protocol:\n"
+		       " mean over each dataset's scenes and, in brackets, its worst scene; "
+		       "datasets:\n"
 		       " Lapray NIR (7 scenes), Zhang (2), and the stress suite scenes/stress (8,\n"
-		       " rendered, polarcam eval --stress); times: polarcam bench demosaic, 2448x2048\n"
+		       " rendered, polarcam eval --stress); times: polarcam bench demosaic, "
+		       "2448x2048\n"
 		       " 12-bit frames; run it for this machine's figures. No method here needs\n"
 		       " denoising to beat bilinear on the noisy stress scenes.)\n");
 	return CLI_EXIT_OK;
@@ -86,7 +92,8 @@ int cli_cmd_demosaic(int argc, char **argv)
 				if (!strcmp(argv[k], "--json"))
 					json = 1;
 				else if (strcmp(argv[k], "--list"))
-					return cli_error(CLI_EXIT_USAGE, "--list takes only --json");
+					return cli_error(CLI_EXIT_USAGE,
+					                 "--list takes only --json");
 			return list_methods(json);
 		}
 	cli_raw o;
@@ -114,8 +121,9 @@ int cli_cmd_demosaic(int argc, char **argv)
 	pc_mosaic_format(&o.mosaic, layout, sizeof layout);
 	json_t *j = json_object();
 	json_object_set_new(j, "output", json_string(o.out));
-	json_object_set_new(j, "shape", json_pack("[I, I, I]", (json_int_t)rep.height,
-						  (json_int_t)rep.width, (json_int_t)rep.channels));
+	json_object_set_new(j, "shape",
+	                    json_pack("[I, I, I]", (json_int_t)rep.height, (json_int_t)rep.width,
+	                              (json_int_t)rep.channels));
 	json_object_set_new(j, "method", json_string(pc_demosaic_method_get(o.dm)->name));
 	json_object_set_new(j, "layout", json_string(layout));
 	json_object_set_new(j, "bits", json_integer(rep.bits));
@@ -123,11 +131,15 @@ int cli_cmd_demosaic(int argc, char **argv)
 	json_object_set_new(j, "black_level", cli_json_real(po.black_level));
 	json_object_set_new(j, "black_level_from", json_string(o.black_from));
 	json_object_set_new(j, "saturation_level",
-			    rep.saturation_level > 0 ? cli_json_real(rep.saturation_level) : json_null());
-	json_object_set_new(j, "calibration", o.calibration ? json_string(o.calibration) : json_null());
-	json_object_set_new(j, "valid", *rep.valid_path ? json_string(rep.valid_path) : json_null());
+	                    rep.saturation_level > 0 ? cli_json_real(rep.saturation_level)
+	                                             : json_null());
+	json_object_set_new(j, "calibration",
+	                    o.calibration ? json_string(o.calibration) : json_null());
+	json_object_set_new(j, "valid",
+	                    *rep.valid_path ? json_string(rep.valid_path) : json_null());
 	json_object_set_new(j, "invalid_pixels",
-			    *rep.valid_path ? json_integer((json_int_t)rep.n_invalid) : json_null());
+	                    *rep.valid_path ? json_integer((json_int_t)rep.n_invalid)
+	                                    : json_null());
 	cli_print_json(j);
 	return CLI_EXIT_OK;
 }

@@ -17,38 +17,41 @@
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam eval [TRUTH_DIR|SCENE.json]... [--stress DIR] [--data DIR]\n"
-		"                     [--method NAME|all] [--json PATH|-] [--reference]\n"
-		"\n"
-		"Scores demosaicking methods against ground truth with the frozen protocol of\n"
-		"docs/evaluation.md: the four analyser images normalised by their container's\n"
-		"full scale, cropped to even size, mosaicked with the Sony layout [90 45; 135 0],\n"
-		"demosaicked, and compared outside a 15-pixel border: PSNR (dB, peak 1) of the four\n"
-		"I channels (mean), S0/2, (S1+1)/2, (S2+1)/2 and DoLP; AoLP RMSE in degrees (wrapped\n"
-		"to [0, 90]) and its DoLP-weighted version.\n"
-		"\n"
-		"Each TRUTH_DIR holds the analyser images 0, 45, 90 and 135 (.tif/.tiff, .png, .bmp or\n"
-		".npy). A SCENE.json (docs/scene-format.md; the stress suite in scenes/stress) is\n"
-		"rendered with ground truth: its raw frame 0 (with the sensor's noise and analyser\n"
-		"errors when the scene declares them) is scored against the noise-free ideal-analyser\n"
-		"images, normalised by the ADC's full scale. Results are per scene and, per dataset (the\n"
-		"directory above the scenes), the mean over its scenes; datasets are never pooled.\n"
-		"Bilinear is always run as the baseline: per dataset and method, the mean gain over\n"
-		"bilinear in S0 and DoLP and the worst scene's (with its name) are reported.\n"
-		"\n"
-		"options:\n"
-		"  --stress DIR       add every DIR/*.json scene (the stress suite: scenes/stress)\n"
-		"  --data DIR         add every public-dataset scene DIR/gt/*/* (skipped with a note\n"
-		"                     when DIR/gt is absent); default $POLARCAM_DATA when set\n"
-		"  --method NAME|all  a method of `polarcam demosaic --list` (default: all methods\n"
-		"                     for monochrome mosaics)\n"
-		"  --json PATH|-      also write the results as JSON to PATH (atomically), or print\n"
-		"                     JSON on stdout instead of the table with -\n"
-		"  --reference        run the double-precision reference implementations (slow)\n"
-		"  -h, --help         this help\n"
-		"\n"
-		"Exit status: 0 success, 1 failure, 2 bad arguments or unreadable truth.\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam eval [TRUTH_DIR|SCENE.json]... [--stress DIR] [--data DIR]\n"
+	    "                     [--method NAME|all] [--json PATH|-] [--reference]\n"
+	    "\n"
+	    "Scores demosaicking methods against ground truth with the frozen protocol of\n"
+	    "docs/evaluation.md: the four analyser images normalised by their container's\n"
+	    "full scale, cropped to even size, mosaicked with the Sony layout [90 45; 135 0],\n"
+	    "demosaicked, and compared outside a 15-pixel border: PSNR (dB, peak 1) of the four\n"
+	    "I channels (mean), S0/2, (S1+1)/2, (S2+1)/2 and DoLP; AoLP RMSE in degrees (wrapped\n"
+	    "to [0, 90]) and its DoLP-weighted version.\n"
+	    "\n"
+	    "Each TRUTH_DIR holds the analyser images 0, 45, 90 and 135 (.tif/.tiff, .png, .bmp "
+	    "or\n"
+	    ".npy). A SCENE.json (docs/scene-format.md; the stress suite in scenes/stress) is\n"
+	    "rendered with ground truth: its raw frame 0 (with the sensor's noise and analyser\n"
+	    "errors when the scene declares them) is scored against the noise-free ideal-analyser\n"
+	    "images, normalised by the ADC's full scale. Results are per scene and, per dataset "
+	    "(the\n"
+	    "directory above the scenes), the mean over its scenes; datasets are never pooled.\n"
+	    "Bilinear is always run as the baseline: per dataset and method, the mean gain over\n"
+	    "bilinear in S0 and DoLP and the worst scene's (with its name) are reported.\n"
+	    "\n"
+	    "options:\n"
+	    "  --stress DIR       add every DIR/*.json scene (the stress suite: scenes/stress)\n"
+	    "  --data DIR         add every public-dataset scene DIR/gt/*/* (skipped with a note\n"
+	    "                     when DIR/gt is absent); default $POLARCAM_DATA when set\n"
+	    "  --method NAME|all  a method of `polarcam demosaic --list` (default: all methods\n"
+	    "                     for monochrome mosaics)\n"
+	    "  --json PATH|-      also write the results as JSON to PATH (atomically), or print\n"
+	    "                     JSON on stdout instead of the table with -\n"
+	    "  --reference        run the double-precision reference implementations (slow)\n"
+	    "  -h, --help         this help\n"
+	    "\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or unreadable truth.\n");
 }
 
 static json_t *metrics_json(const pc_eval_metrics *m)
@@ -66,11 +69,11 @@ static json_t *metrics_json(const pc_eval_metrics *m)
 }
 
 static void table_row(FILE *tf, const char *label, pc_demosaic_method method,
-		      const pc_eval_metrics *m)
+                      const pc_eval_metrics *m)
 {
 	fprintf(tf, "%-28.28s %-10s %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f\n", label,
-		pc_demosaic_method_get(method)->name, m->psnr_i, m->psnr_s0, m->psnr_s1, m->psnr_s2,
-		m->psnr_dolp, m->aolp_rmse_deg, m->aolp_wrmse_deg);
+	        pc_demosaic_method_get(method)->name, m->psnr_i, m->psnr_s0, m->psnr_s1, m->psnr_s2,
+	        m->psnr_dolp, m->aolp_rmse_deg, m->aolp_wrmse_deg);
 }
 
 static const char *base_name(const char *path)
@@ -90,9 +93,9 @@ static const char *base_name(const char *path)
 static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
 {
 	fprintf(tf, "%-28s %-10s %8s %8s %8s %8s %8s %8s %8s\n", "scene", "method", "I", "S0", "S1",
-		"S2", "DoLP", "AoLP", "wAoLP");
+	        "S2", "DoLP", "AoLP", "wAoLP");
 	fprintf(tf, "%-28s %-10s %8s %8s %8s %8s %8s %8s %8s\n", "", "", "dB", "dB", "dB", "dB",
-		"dB", "deg", "deg");
+	        "dB", "deg", "deg");
 	for (size_t i = 0; i < nres; i++) {
 		table_row(tf, base_name(res[i].scene), res[i].method, &res[i].m);
 	}
@@ -100,7 +103,8 @@ static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
 	for (size_t i = 0; i < nres; i++) {
 		int seen = 0;
 		for (size_t j = 0; j < i; j++)
-			seen |= !strcmp(res[j].dataset, res[i].dataset) && res[j].method == res[i].method;
+			seen |= !strcmp(res[j].dataset, res[i].dataset) &&
+			        res[j].method == res[i].method;
 		if (seen)
 			continue;
 		pc_eval_metrics mm;
@@ -110,45 +114,49 @@ static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
 		table_row(tf, label, res[i].method, &mm);
 		json_t *o = metrics_json(&mm);
 		json_object_set_new(o, "dataset", json_string(res[i].dataset));
-		json_object_set_new(o, "method", json_string(pc_demosaic_method_get(res[i].method)->name));
+		json_object_set_new(o, "method",
+		                    json_string(pc_demosaic_method_get(res[i].method)->name));
 		json_object_set_new(o, "scenes", json_integer(cnt));
 		pc_eval_gain g;
 		if (pc_eval_dataset_gain(res, nres, res[i].dataset, res[i].method, PC_DM_BILINEAR,
-					 &g)) {
+		                         &g)) {
 			json_t *gj = json_object();
 			json_object_set_new(gj, "s0_mean", cli_json_real(g.s0_mean));
 			json_object_set_new(gj, "dolp_mean", cli_json_real(g.dolp_mean));
 			json_object_set_new(gj, "s0_worst", cli_json_real(g.s0_worst));
-			json_object_set_new(gj, "s0_worst_scene", json_string(base_name(g.s0_worst_scene)));
+			json_object_set_new(gj, "s0_worst_scene",
+			                    json_string(base_name(g.s0_worst_scene)));
 			json_object_set_new(gj, "dolp_worst", cli_json_real(g.dolp_worst));
 			json_object_set_new(gj, "dolp_worst_scene",
-					    json_string(base_name(g.dolp_worst_scene)));
+			                    json_string(base_name(g.dolp_worst_scene)));
 			json_object_set_new(o, "gain_over_bilinear_db", gj);
 		}
 		json_array_append_new(jd, o);
 	}
 	fprintf(tf, "\ngain over bilinear (dB), per dataset: mean, and the worst scene\n");
 	fprintf(tf, "%-20s %-12s %8s %8s %8s %-20s %8s %-20s\n", "dataset", "method", "S0", "DoLP",
-		"worst S0", "(scene)", "worstDoLP", "(scene)");
+	        "worst S0", "(scene)", "worstDoLP", "(scene)");
 	for (size_t i = 0; i < nres; i++) {
 		int seen = 0;
 		for (size_t j = 0; j < i; j++)
-			seen |= !strcmp(res[j].dataset, res[i].dataset) && res[j].method == res[i].method;
+			seen |= !strcmp(res[j].dataset, res[i].dataset) &&
+			        res[j].method == res[i].method;
 		pc_eval_gain g;
 		if (seen || res[i].method == PC_DM_BILINEAR ||
-		    !pc_eval_dataset_gain(res, nres, res[i].dataset, res[i].method, PC_DM_BILINEAR, &g))
+		    !pc_eval_dataset_gain(res, nres, res[i].dataset, res[i].method, PC_DM_BILINEAR,
+		                          &g))
 			continue;
 		fprintf(tf, "%-20.20s %-12s %+8.3f %+8.3f %+8.3f %-20.20s %+8.3f %-20.20s\n",
-			res[i].dataset, pc_demosaic_method_get(res[i].method)->name, g.s0_mean,
-			g.dolp_mean, g.s0_worst, base_name(g.s0_worst_scene), g.dolp_worst,
-			base_name(g.dolp_worst_scene));
+		        res[i].dataset, pc_demosaic_method_get(res[i].method)->name, g.s0_mean,
+		        g.dolp_mean, g.s0_worst, base_name(g.s0_worst_scene), g.dolp_worst,
+		        base_name(g.dolp_worst_scene));
 	}
 	return jd;
 }
 
 /* --json PATH|-: every result and the dataset means */
-static int write_json(const char *json_path, const pc_eval_result *res, size_t nres,
-		      bool reference, json_t *jd)
+static int write_json(const char *json_path, const pc_eval_result *res, size_t nres, bool reference,
+                      json_t *jd)
 {
 	json_t *root = json_object();
 	json_t *js = json_array();
@@ -156,12 +164,14 @@ static int write_json(const char *json_path, const pc_eval_result *res, size_t n
 		json_t *o = metrics_json(&res[i].m);
 		json_object_set_new(o, "scene", json_string(res[i].scene));
 		json_object_set_new(o, "dataset", json_string(res[i].dataset));
-		json_object_set_new(o, "method", json_string(pc_demosaic_method_get(res[i].method)->name));
+		json_object_set_new(o, "method",
+		                    json_string(pc_demosaic_method_get(res[i].method)->name));
 		json_object_set_new(o, "seconds", cli_json_real(res[i].seconds));
 		json_array_append_new(js, o);
 	}
-	json_object_set_new(root, "protocol", json_string("polarcam frozen protocol: "
-							  "docs/evaluation.md"));
+	json_object_set_new(root, "protocol",
+	                    json_string("polarcam frozen protocol: "
+	                                "docs/evaluation.md"));
 	json_object_set_new(root, "reference", json_boolean(reference));
 	json_object_set_new(root, "scenes", js);
 	json_object_set_new(root, "datasets", jd);
@@ -182,7 +192,8 @@ static int methods_of(const char *arg, pc_demosaic_method *methods, size_t *n)
 	*n = 0;
 	if (!strcmp(arg, "all")) {
 		for (int k = 0; k < PC_DM_COUNT; k++) {
-			const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
+			const pc_demosaic_method_info *mi =
+			    pc_demosaic_method_get((pc_demosaic_method)k);
 			if ((mi->flags & PC_DMF_MONO) && !(mi->flags & PC_DMF_HALF_RES))
 				methods[(*n)++] = (pc_demosaic_method)k;
 		}
@@ -192,9 +203,11 @@ static int methods_of(const char *arg, pc_demosaic_method *methods, size_t *n)
 	if (rc)
 		return cli_fail(rc, "--method");
 	if (!(pc_demosaic_method_get(methods[0])->flags & PC_DMF_MONO))
-		return cli_error(CLI_EXIT_USAGE, "--method %s: the protocol mosaics with the "
-						 "monochrome Sony layout; this method needs a "
-						 "colour-polarization mosaic", arg);
+		return cli_error(CLI_EXIT_USAGE,
+		                 "--method %s: the protocol mosaics with the "
+		                 "monochrome Sony layout; this method needs a "
+		                 "colour-polarization mosaic",
+		                 arg);
 	*n = 1;
 	if (methods[0] != PC_DM_BILINEAR) /* the baseline, always */
 		methods[(*n)++] = PC_DM_BILINEAR;
@@ -202,8 +215,8 @@ static int methods_of(const char *arg, pc_demosaic_method *methods, size_t *n)
 }
 
 /* the evaluation and its report */
-static int run(const char *const *dirs, size_t ndirs, const char *method_arg,
-	       const char *json_path, bool reference)
+static int run(const char *const *dirs, size_t ndirs, const char *method_arg, const char *json_path,
+               bool reference)
 {
 	pc_demosaic_method methods[PC_DM_COUNT];
 	size_t nmeth;
@@ -213,10 +226,10 @@ static int run(const char *const *dirs, size_t ndirs, const char *method_arg,
 	pc_eval_result *res = calloc(ndirs * nmeth, sizeof *res);
 	if (!res)
 		return cli_error(CLI_EXIT_FAILURE, "out of memory");
-	cli_progress bar = { 0 };
-	pc_demosaic_opts o = { 0, reference, 0 };
+	cli_progress bar = {0};
+	pc_demosaic_opts o = {0, reference, 0};
 	int rc = pc_sim_eval_cases(dirs, ndirs, methods, nmeth, &o, 0,
-				   &(pc_progress){ cli_progress_fn, &bar }, res);
+	                           &(pc_progress){cli_progress_fn, &bar}, res);
 	cli_progress_end(&bar);
 	if (rc) {
 		free(res);
@@ -278,16 +291,21 @@ int cli_cmd_eval(int argc, char **argv)
 			snprintf(pat, sizeof pat, "%s/*.json", argv[++i]);
 			size_t before = ndirs;
 			if (add_glob(pat, &dirs, &ndirs))
-				status = cli_error(CLI_EXIT_FAILURE, "--stress %s: out of memory", argv[i]);
+				status = cli_error(CLI_EXIT_FAILURE, "--stress %s: out of memory",
+				                   argv[i]);
 			else if (ndirs == before)
-				status = cli_error(CLI_EXIT_USAGE, "--stress %s: no scene files (*.json) "
-								   "there", argv[i]);
+				status = cli_error(CLI_EXIT_USAGE,
+				                   "--stress %s: no scene files (*.json) "
+				                   "there",
+				                   argv[i]);
 		} else if (!strcmp(argv[i], "--data") && i + 1 < argc) {
 			data_dir = argv[++i];
 			data_given = true;
 		} else if (argv[i][0] == '-' && argv[i][1]) {
-			status = cli_error(CLI_EXIT_USAGE, "unknown or incomplete option '%s' (see "
-							   "polarcam eval --help)", argv[i]);
+			status = cli_error(CLI_EXIT_USAGE,
+			                   "unknown or incomplete option '%s' (see "
+			                   "polarcam eval --help)",
+			                   argv[i]);
 		} else {
 			char **l = realloc(dirs, sizeof *l * (ndirs + 1));
 			if (!l || !(l[ndirs] = strdup(argv[i]))) {
@@ -308,7 +326,7 @@ int cli_cmd_eval(int argc, char **argv)
 			status = cli_error(CLI_EXIT_FAILURE, "out of memory");
 		else if (ndirs == before)
 			cli_warn("%s/gt: no public-dataset scenes there; %s", data_dir,
-				 data_given ? "none added" : "skipped ($POLARCAM_DATA)");
+			         data_given ? "none added" : "skipped ($POLARCAM_DATA)");
 	}
 	if (status == CLI_EXIT_OK && !ndirs) {
 		usage(stderr);

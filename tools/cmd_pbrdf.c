@@ -39,7 +39,8 @@ static void usage(FILE *fp)
 	    "0).\n"
 	    "rho_s is the specular albedo used in the diffuse term (null for --diffuse none).\n"
 	    "flags: \"outside_validity\" (sigma > 0.5), \"mirror\" (sigma < 0.01: rho_s is the\n"
-	    "Fresnel mirror limit), \"below_horizon\" (theta = 90: the matrix is 0), \"zero\" (the\n"
+	    "Fresnel mirror limit), \"below_horizon\" (theta = 90: the matrix is 0), \"zero\" "
+	    "(the\n"
 	    "matrix is 0 above the horizon: off the specular lobe without a diffuse term),\n"
 	    "\"D_singular\". sigma must be at least 1e-50 (below it the specular peak leaves the\n"
 	    "double range); angles are exact at multiples of 90 degrees.\n"
@@ -168,10 +169,9 @@ static void warn_material(const pc_pbrdf *p, double sigma)
 {
 	static double last = -1;
 	if ((pc_pbrdf_flags(p) & PC_PBRDF_OUTSIDE_VALIDITY) && sigma != last) {
-		cli_warn(
-		    "sigma = %g > %g: outside the single-scattering V-groove model's validity "
-		    "(energy is lost)",
-		    sigma, PC_PBRDF_SIGMA_VALID_MAX);
+		cli_warn("sigma = %g > %g: outside the single-scattering V-groove model's validity "
+		         "(energy is lost)",
+		         sigma, PC_PBRDF_SIGMA_VALID_MAX);
 		last = sigma;
 	}
 }
@@ -212,14 +212,13 @@ static int run_batch(const char *path, const pbrdf_opts *o)
 
 /* --n ... --phi with ranges: one line per value */
 static int run_ranges(const pbrdf_opts *op, const char *arg_n, const char *arg_k,
-		      const char *arg_sigma, const char *arg_ti, const char *arg_tr,
-		      const char *arg_phi)
+                      const char *arg_sigma, const char *arg_ti, const char *arg_tr,
+                      const char *arg_phi)
 {
 	const pbrdf_opts o = *op;
 	int rc;
 	double n, k;
-	if ((rc = cli_parse_double("--n", arg_n, &n)) ||
-	    (rc = cli_parse_double("--k", arg_k, &k)))
+	if ((rc = cli_parse_double("--n", arg_n, &n)) || (rc = cli_parse_double("--k", arg_k, &k)))
 		return cli_fail(rc, NULL);
 	if (!(n > 0))
 		return cli_error(CLI_EXIT_USAGE, "--n %g: must be > 0", n);
@@ -237,8 +236,8 @@ static int run_ranges(const pbrdf_opts *op, const char *arg_n, const char *arg_k
 	}
 	for (size_t i = 0; i < nsg; i++)
 		if (!(sg[i] > 0)) {
-			status = cli_error(CLI_EXIT_USAGE, "--sigma %g: must be > 0 (rms slope)",
-			                      sg[i]);
+			status =
+			    cli_error(CLI_EXIT_USAGE, "--sigma %g: must be > 0 (rms slope)", sg[i]);
 			goto out;
 		}
 	for (size_t i = 0; i < nti; i++)
@@ -286,17 +285,17 @@ static int parse_mode(pbrdf_opts *o, int c, const char *arg)
 		else if (!strcmp(arg, "none"))
 			o->diffuse = PC_DIFFUSE_NONE;
 		else
-			return cli_error(
-			    CLI_EXIT_USAGE,
-			    "--diffuse '%s': expected fresnel, geometric or none", arg);
+			return cli_error(CLI_EXIT_USAGE,
+			                 "--diffuse '%s': expected fresnel, geometric or none",
+			                 arg);
 	} else if (c == O_SHADOW) {
 		if (!strcmp(arg, "ts"))
 			o->shadowing = PC_SHADOW_TS;
 		else if (!strcmp(arg, "none"))
 			o->shadowing = PC_SHADOW_NONE;
 		else
-			return cli_error(
-			    CLI_EXIT_USAGE, "--shadowing '%s': expected ts or none", arg);
+			return cli_error(CLI_EXIT_USAGE, "--shadowing '%s': expected ts or none",
+			                 arg);
 	} else {
 		if (!strcmp(arg, "table")) {
 			o->rho_mode = PC_RHO_TABLE;
@@ -307,10 +306,9 @@ static int parse_mode(pbrdf_opts *o, int c, const char *arg)
 			o->rho_mode = PC_RHO_QUAD;
 			o->rho_order = (int)N;
 		} else {
-			return cli_error(
-			    CLI_EXIT_USAGE,
-			    "--rho '%s': expected quad:N (N in [2, 1024]) or table",
-			    arg);
+			return cli_error(CLI_EXIT_USAGE,
+			                 "--rho '%s': expected quad:N (N in [2, 1024]) or table",
+			                 arg);
 		}
 	}
 	return 0;
@@ -374,20 +372,18 @@ int cli_cmd_pbrdf(int argc, char **argv)
 			return cli_error(CLI_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
 		default:
 			return cli_error(CLI_EXIT_USAGE,
-			                    "unknown option '%s' (polarcam pbrdf --help)",
-			                    argv[optind - 1]);
+			                 "unknown option '%s' (polarcam pbrdf --help)",
+			                 argv[optind - 1]);
 		}
 	}
 	if (optind < argc)
-		return cli_error(CLI_EXIT_USAGE,
-		                    "unexpected argument '%s' (polarcam pbrdf --help)",
-		                    argv[optind]);
+		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (polarcam pbrdf --help)",
+		                 argv[optind]);
 	if (batch) {
 		if (arg_n || arg_sigma || arg_ti || arg_tr)
-			return cli_error(
-			    CLI_EXIT_USAGE,
-			    "--batch reads n, k, sigma and the angles from its lines; "
-			    "do not also give --n/--sigma/--theta-i/--theta-r");
+			return cli_error(CLI_EXIT_USAGE,
+			                 "--batch reads n, k, sigma and the angles from its lines; "
+			                 "do not also give --n/--sigma/--theta-i/--theta-r");
 		return run_batch(batch, &o);
 	}
 	const struct {
@@ -397,6 +393,6 @@ int cli_cmd_pbrdf(int argc, char **argv)
 	for (size_t i = 0; i < sizeof req / sizeof req[0]; i++)
 		if (!req[i].val)
 			return cli_error(CLI_EXIT_USAGE, "%s is required (polarcam pbrdf --help)",
-			                    req[i].opt);
+			                 req[i].opt);
 	return run_ranges(&o, arg_n, arg_k, arg_sigma, arg_ti, arg_tr, arg_phi);
 }

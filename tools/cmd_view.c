@@ -39,7 +39,7 @@ static void usage(FILE *fp)
 static int run(pc_viewer_opts *o)
 {
 	cli_catch_signals();
-	o->progress = (pc_progress){ cli_progress_stoppable, NULL };
+	o->progress = (pc_progress){cli_progress_stoppable, NULL};
 	pc_viewer_report rep;
 	int rc = pc_viewer_run(o, &rep);
 	pc_devices_shutdown();
@@ -78,15 +78,16 @@ int cli_cmd_view(int argc, char **argv)
 		if (!strcmp(a, "--method") || !strcmp(a, "--width") || !strcmp(a, "--frames") ||
 		    !strcmp(a, "--screenshot")) {
 			if (i + 1 >= argc)
-				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
+				                 a);
 			const char *v = argv[++i];
 			if (!strcmp(a, "--method"))
 				method = v;
 			else if (!strcmp(a, "--screenshot"))
 				shot = v;
 			else if ((rc = cli_parse_long(a, v, !strcmp(a, "--width") ? 64 : 1,
-						      !strcmp(a, "--width") ? 16384 : 100000000,
-						      !strcmp(a, "--width") ? &width : &frames)))
+			                              !strcmp(a, "--width") ? 16384 : 100000000,
+			                              !strcmp(a, "--width") ? &width : &frames)))
 				return cli_fail(rc, "arguments");
 		} else if (a[0] == '-') {
 			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
@@ -99,7 +100,8 @@ int cli_cmd_view(int argc, char **argv)
 	if (!sa.req.uri)
 		return cli_error(CLI_EXIT_USAGE, "missing the source URI (see --help)");
 	bool headless = shot && frames > 0 && !getenv("DISPLAY");
-	pc_viewer_opts o = { sa.req, method, !headless, (uint32_t)width, (uint64_t)frames, shot,
-			     sa.timeout_ms, { NULL, NULL }, lv };
+	pc_viewer_opts o = {sa.req,          method,           !headless,
+	                    (uint32_t)width, (uint64_t)frames, shot,
+	                    sa.timeout_ms,   {NULL, NULL},     lv};
 	return run(&o);
 }

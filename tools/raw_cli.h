@@ -11,17 +11,17 @@
 #include "polarcam/process.h"
 
 typedef struct cli_raw {
-	const char *path;     /* RAW */
-	const char *out;      /* -o */
-	const char *layout;   /* --layout (default: RAW's recording's meta.json, or 90,45,135,0) */
-	const char *method;   /* --method (default bilinear; bayer-first for colour layouts) */
-	unsigned bits;        /* --bits (0: from the file) */
-	int threads;          /* --threads (0: all) */
-	bool reference;       /* --reference */
-	bool have_geometry;   /* --width/--height/--format given */
-	double black_level;   /* --black-level (NAN: the recording's, else 0) */
-	double saturation;    /* --saturation (0: the raw's full scale; -1: none) */
-	double dead;          /* --dead-level (0: none) */
+	const char *path;   /* RAW */
+	const char *out;    /* -o */
+	const char *layout; /* --layout (default: RAW's recording's meta.json, or 90,45,135,0) */
+	const char *method; /* --method (default bilinear; bayer-first for colour layouts) */
+	unsigned bits;      /* --bits (0: from the file) */
+	int threads;        /* --threads (0: all) */
+	bool reference;     /* --reference */
+	bool have_geometry; /* --width/--height/--format given */
+	double black_level; /* --black-level (NAN: the recording's, else 0) */
+	double saturation;  /* --saturation (0: the raw's full scale; -1: none) */
+	double dead;        /* --dead-level (0: none) */
 	const char *calibration; /* --calibration FILE */
 	const char *black_from;  /* "option", "recording", "calibration" or "none" */
 	uint32_t roi_x, roi_y;   /* the recording's ROI origin */
@@ -45,7 +45,6 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra);
  * and the options; returns 0 or a CLI_EXIT_* status after printing the error. */
 pc_raw_input cli_raw_input(const cli_raw *o);
 pc_process_opts cli_raw_process(const cli_raw *o);
-int cli_raw_calibration(const cli_raw *o, pc_calib *cal, pc_raw_stage *stage,
-			pc_process_opts *po);
+int cli_raw_calibration(const cli_raw *o, pc_calib *cal, pc_raw_stage *stage, pc_process_opts *po);
 
 #endif

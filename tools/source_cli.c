@@ -112,7 +112,7 @@ int cli_levels_parse(pc_stream_levels *lv, int argc, char **argv, int *i)
 	bool black = !strcmp(o, "--black-level");
 	if (!(d >= 0) || (!black && !(d > 0)))
 		return pc_error(PC_EINVAL, "%s %s: expected a level %s 0 in raw units", o, v,
-				black ? ">=" : ">");
+		                black ? ">=" : ">");
 	if (black)
 		lv->black_level = d;
 	else if (!strcmp(o, "--saturation"))

@@ -57,10 +57,11 @@ int pcpy_view(void *data, uint32_t width, uint32_t height, size_t stride, pcpy_d
 	switch (dtype) {
 	case PCPY_U8:
 		if (bits > 8)
-			return pc_error(PC_EINVAL,
-			                "bits=%u: uint8 data holds at most 8 bits (pass uint16 data "
-			                "for 9..16-bit frames)",
-			                bits);
+			return pc_error(
+			    PC_EINVAL,
+			    "bits=%u: uint8 data holds at most 8 bits (pass uint16 data "
+			    "for 9..16-bit frames)",
+			    bits);
 		f = PC_FMT_MONO8;
 		break;
 	case PCPY_U16:
@@ -70,7 +71,7 @@ int pcpy_view(void *data, uint32_t width, uint32_t height, size_t stride, pcpy_d
 			                "data for 8-bit frames)",
 			                bits);
 		/* the LSB-aligned container format says the depth (as pc_image_read_mosaic) */
-		f = bits == 10 ? PC_FMT_MONO10
+		f = bits == 10   ? PC_FMT_MONO10
 		    : bits == 12 ? PC_FMT_MONO12
 		    : bits == 14 ? PC_FMT_MONO14
 		                 : PC_FMT_MONO16;
@@ -151,7 +152,8 @@ int pcpy_method(const char *name, const pc_mosaic *m, int *method)
 		char lay[64], list[512] = "";
 		pc_mosaic_format(m, lay, sizeof lay);
 		for (unsigned i = 0; i < PC_DM_COUNT; i++) {
-			const pc_demosaic_method_info *o = pc_demosaic_method_get((pc_demosaic_method)i);
+			const pc_demosaic_method_info *o =
+			    pc_demosaic_method_get((pc_demosaic_method)i);
 			if (o && (o->flags & need)) {
 				if (*list)
 					strncat(list, ", ", sizeof list - strlen(list) - 1);
@@ -303,14 +305,14 @@ int pcpy_calib_stokes(pcpy_calib *c, const pc_view *raw, const pc_mosaic *m, uns
 	int rc;
 	pthread_rwlock_rdlock(&c->lock);
 	if (calib_cached(&c->cal, method)) {
-		rc = pc_calib_stokes(&c->cal, raw, &g, (pc_demosaic_method)method, threads, out, valid,
-		                     &nbad);
+		rc = pc_calib_stokes(&c->cal, raw, &g, (pc_demosaic_method)method, threads, out,
+		                     valid, &nbad);
 		pthread_rwlock_unlock(&c->lock);
 	} else {
 		pthread_rwlock_unlock(&c->lock);
 		pthread_rwlock_wrlock(&c->lock);
-		rc = pc_calib_stokes(&c->cal, raw, &g, (pc_demosaic_method)method, threads, out, valid,
-		                     &nbad);
+		rc = pc_calib_stokes(&c->cal, raw, &g, (pc_demosaic_method)method, threads, out,
+		                     valid, &nbad);
 		pthread_rwlock_unlock(&c->lock);
 	}
 	if (n_invalid)
@@ -322,8 +324,9 @@ int pcpy_calib_pinv_grid(const pcpy_calib *c, int method, uint32_t *gw, uint32_t
 {
 	const pc_calib *cal = &c->cal;
 	if (!(cal->parts & PC_CAL_ANALYSER))
-		return pc_error(PC_EINVAL, "the calibration has no analyser part (polarcam calibrate "
-		                           "analyser)");
+		return pc_error(PC_EINVAL,
+		                "the calibration has no analyser part (polarcam calibrate "
+		                "analyser)");
 	*gw = calib_superpixel(method) ? cal->geo.width / 2 : cal->geo.width;
 	*gh = calib_superpixel(method) ? cal->geo.height / 2 : cal->geo.height;
 	return 0;
@@ -366,10 +369,12 @@ int pcpy_picture(pcpy_picture_kind kind, const pc_fplane *img, const pc_fplane *
 		                fabsf(pc_picture_quantile(img, w, h, 0.999)));
 		if (!(q > 0))
 			q = 1;
-		return pc_picture_grey(img, w, h, isnan(lo) ? -q : lo, isnan(hi) ? q : hi, rgb, stride);
+		return pc_picture_grey(img, w, h, isnan(lo) ? -q : lo, isnan(hi) ? q : hi, rgb,
+		                       stride);
 	}
 	case PCPY_PIC_DOLP:
-		rc = pc_picture_grey(img, w, h, isnan(lo) ? 0 : lo, isnan(hi) ? 1 : hi, rgb, stride);
+		rc =
+		    pc_picture_grey(img, w, h, isnan(lo) ? 0 : lo, isnan(hi) ? 1 : hi, rgb, stride);
 		break;
 	case PCPY_PIC_AOLP:
 	case PCPY_PIC_AOLP_SAT:
@@ -427,7 +432,7 @@ struct pcpy_pbrdf_cache {
 		pc_pbrdf *p;
 		double n, k, sigma;
 		bool shared; /* pinned in g_pbrdf (else owned by this call) */
-	} *e;
+	} * e;
 	size_t n, cap;
 	size_t last; /* the entry of the previous element (consecutive elements share it) */
 };
@@ -504,7 +509,8 @@ static int material(pcpy_pbrdf_cache *c, const pc_material *m, const pc_pbrdf **
 			slot = UINT32_MAX;
 			for (unsigned j = 0; j < g_pbrdf.n; j++)
 				if (!g_pbrdf.e[j].pins &&
-				    (slot == UINT32_MAX || g_pbrdf.e[j].used < g_pbrdf.e[slot].used))
+				    (slot == UINT32_MAX ||
+				     g_pbrdf.e[j].used < g_pbrdf.e[slot].used))
 					slot = j;
 			if (slot != UINT32_MAX)
 				victim = g_pbrdf.e[slot].p;
@@ -568,7 +574,8 @@ int pcpy_pbrdf_diffuse(const char *name, int *out)
 	else if (!strcmp(name, "none"))
 		*out = PC_DIFFUSE_NONE;
 	else
-		return pc_error(PC_EINVAL, "diffuse='%s': expected fresnel, geometric or none", name);
+		return pc_error(PC_EINVAL, "diffuse='%s': expected fresnel, geometric or none",
+		                name);
 	return 0;
 }
 
@@ -623,14 +630,13 @@ struct pcpy_render {
 };
 
 int pcpy_render_new(const char *scene_path, const char *scene_text, uint64_t seed,
-                    const uint32_t roi[4], int threads, pcpy_render **out,
-                    pcpy_render_info *info)
+                    const uint32_t roi[4], int threads, pcpy_render **out, pcpy_render_info *info)
 {
 	pcpy_render *r = calloc(1, sizeof *r);
 	if (!r)
 		return pc_error(PC_ENOMEM, "render");
 	r->prepared = -1;
-	int rc = scene_text  ? pc_scene_parse(scene_text, "scene", NULL, &r->scene)
+	int rc = scene_text   ? pc_scene_parse(scene_text, "scene", NULL, &r->scene)
 	         : scene_path ? pc_scene_load(scene_path, &r->scene)
 	                      : pc_scene_load_default(&r->scene);
 	pc_sim_options o = pc_sim_options_default();
@@ -699,7 +705,8 @@ int pcpy_render_frame(pcpy_render *r, uint64_t n, uint16_t *raw, float *truth, f
 	int rc;
 	/* as `polarcam render`: the state's signal (and truth) once, then the frame */
 	if (truth || mueller || !pc_sim_is_prepared(r->sim, g)) {
-		if ((rc = pc_sim_prepare(r->sim, g, truth, (r->in.effects & PC_FX_MUELLER) ? mueller : NULL, NULL,
+		if ((rc = pc_sim_prepare(r->sim, g, truth,
+		                         (r->in.effects & PC_FX_MUELLER) ? mueller : NULL, NULL,
 		                         NULL)))
 			return rc;
 	}
@@ -785,7 +792,8 @@ int pcpy_source_open(const char *uri, const pcpy_stream_args *a, pc_source **out
 		pc_format_verdict v;
 		rc = pc_source_try_format(s, &got, &v);
 		if (!rc && v == PC_FORMAT_INVALID)
-			rc = pc_error_prefix(PC_EINVAL, "%s: the source cannot deliver this: ", uri);
+			rc =
+			    pc_error_prefix(PC_EINVAL, "%s: the source cannot deliver this: ", uri);
 		if (!rc && v == PC_FORMAT_ADJUSTED)
 			rc = pc_error(PC_EINVAL,
 			              "%s: the source would adjust the request to %s roi=(%u, %u, "

@@ -80,10 +80,10 @@ int pcpy_demosaic(const pc_view *raw, const pc_mosaic *m, int method, int thread
 typedef struct pcpy_stokes_opts {
 	int method;
 	int threads;
-	double full_scale;         /* raw units; 0: the format's (pcpy_full_scale) */
-	double black_level;        /* raw units, subtracted before demosaicking; 0: none */
-	double saturation_level;   /* raw units; samples >= it make outputs invalid; 0: unchecked */
-	double dead_level;         /* raw units; samples <= it make outputs invalid; 0: unchecked */
+	double full_scale;       /* raw units; 0: the format's (pcpy_full_scale) */
+	double black_level;      /* raw units, subtracted before demosaicking; 0: none */
+	double saturation_level; /* raw units; samples >= it make outputs invalid; 0: unchecked */
+	double dead_level;       /* raw units; samples <= it make outputs invalid; 0: unchecked */
 	const pc_analyser_pinv *pinv; /* NULL: ideal analysers */
 } pcpy_stokes_opts;
 
@@ -124,13 +124,13 @@ int pcpy_calib_pinv_copy(pcpy_calib *c, int method, int threads, float *dst);
 /* ---- pictures (without the GIL) ---- */
 
 typedef enum pcpy_picture_kind {
-	PCPY_PIC_GREY = 0,  /* image linear lo..hi (lo/hi NaN: 0 .. 99.9th percentile) */
-	PCPY_PIC_SIGNED,    /* image linear lo..hi (NaN: -q .. q, q = the larger 99.9th
-	                       percentile of either sign), for S1 and S2 */
-	PCPY_PIC_DOLP,      /* image 0..1 (+ low-signal mask from s0) */
-	PCPY_PIC_AOLP,      /* hue = aolp, value = dolp (+ mask) */
-	PCPY_PIC_AOLP_SAT,  /* hue = aolp, saturation = dolp (+ mask) */
-	PCPY_PIC_AOLP_HUE,  /* hue = aolp only */
+	PCPY_PIC_GREY = 0, /* image linear lo..hi (lo/hi NaN: 0 .. 99.9th percentile) */
+	PCPY_PIC_SIGNED,   /* image linear lo..hi (NaN: -q .. q, q = the larger 99.9th
+	                      percentile of either sign), for S1 and S2 */
+	PCPY_PIC_DOLP,     /* image 0..1 (+ low-signal mask from s0) */
+	PCPY_PIC_AOLP,     /* hue = aolp, value = dolp (+ mask) */
+	PCPY_PIC_AOLP_SAT, /* hue = aolp, saturation = dolp (+ mask) */
+	PCPY_PIC_AOLP_HUE, /* hue = aolp only */
 } pcpy_picture_kind;
 
 /* The false colours of `polarcam process`'s s0.png, dolp.png, aolp.png and aolp_sat.png
@@ -177,8 +177,7 @@ typedef struct pcpy_render_info {
 /* scene_path NULL and scene_text NULL: the default scene; scene_text: a scene document
  * (name for messages, OBJ paths relative to the current directory). roi NULL: full sensor. */
 int pcpy_render_new(const char *scene_path, const char *scene_text, uint64_t seed,
-                    const uint32_t roi[4], int threads, pcpy_render **out,
-                    pcpy_render_info *info);
+                    const uint32_t roi[4], int threads, pcpy_render **out, pcpy_render_info *info);
 /* Frame n into raw (h x w uint16, LSB-aligned) and meta; truth (h x w x C x 4 floats, may be
  * NULL) and mueller (h x w x C x 16, may be NULL) of its state. */
 int pcpy_render_frame(pcpy_render *r, uint64_t n, uint16_t *raw, float *truth, float *mueller,

@@ -129,8 +129,8 @@ static const char *dtype_name(PyArrayObject *a)
 static PyArrayObject *as_ndarray(PyObject *o, const char *name, const char *expect)
 {
 	if (!PyArray_Check(o)) {
-		PyErr_Format(PyExc_TypeError, "%s: expected a numpy.ndarray %s, got %s", name, expect,
-		             Py_TYPE(o)->tp_name);
+		PyErr_Format(PyExc_TypeError, "%s: expected a numpy.ndarray %s, got %s", name,
+		             expect, Py_TYPE(o)->tp_name);
 		return NULL;
 	}
 	return (PyArrayObject *)o;
@@ -148,12 +148,13 @@ static int axis_strides(PyArrayObject *a, const char *name, int need_adjacent, s
 	         rs % isz == 0 && ps % isz == 0 && (!need_adjacent || ps == isz) &&
 	         (h <= 1 || rs >= ps * w);
 	if (!ok) {
-		PyErr_Format(PyExc_ValueError,
-		             "%s: strides (%zd, %zd) bytes cannot be used in place (pixels of a row "
-		             "must be %s, rows ascending, aligned, native byte order): pass "
-		             "numpy.ascontiguousarray(%s) (a copy)",
-		             name, (Py_ssize_t)rs, (Py_ssize_t)ps,
-		             need_adjacent ? "adjacent" : "at positive element strides", name);
+		PyErr_Format(
+		    PyExc_ValueError,
+		    "%s: strides (%zd, %zd) bytes cannot be used in place (pixels of a row "
+		    "must be %s, rows ascending, aligned, native byte order): pass "
+		    "numpy.ascontiguousarray(%s) (a copy)",
+		    name, (Py_ssize_t)rs, (Py_ssize_t)ps,
+		    need_adjacent ? "adjacent" : "at positive element strides", name);
 		return -1;
 	}
 	*row = (size_t)(rs / isz);
@@ -165,8 +166,8 @@ static int dims_ok(PyArrayObject *a, const char *name)
 {
 	for (int i = 0; i < PyArray_NDIM(a); i++)
 		if (PyArray_DIM(a, i) > (npy_intp)UINT32_MAX / 2) {
-			PyErr_Format(PyExc_ValueError, "%s: axis %d of size %zd is too large", name, i,
-			             (Py_ssize_t)PyArray_DIM(a, i));
+			PyErr_Format(PyExc_ValueError, "%s: axis %d of size %zd is too large", name,
+			             i, (Py_ssize_t)PyArray_DIM(a, i));
 			return -1;
 		}
 	return 0;
@@ -176,8 +177,8 @@ static int dims_ok(PyArrayObject *a, const char *name)
 static int raw_view(PyArrayObject *a, const char *name, unsigned bits, pc_view *v)
 {
 	if (PyArray_NDIM(a) != 2) {
-		PyErr_Format(PyExc_ValueError, "%s: expected a 2-D (H, W) raw mosaic, got %d-D", name,
-		             PyArray_NDIM(a));
+		PyErr_Format(PyExc_ValueError, "%s: expected a 2-D (H, W) raw mosaic, got %d-D",
+		             name, PyArray_NDIM(a));
 		return -1;
 	}
 	pcpy_dtype dt;
@@ -201,8 +202,9 @@ static int raw_view(PyArrayObject *a, const char *name, unsigned bits, pc_view *
 	size_t row, pix;
 	if (dims_ok(a, name) || axis_strides(a, name, 1, &row, &pix))
 		return -1;
-	int rc = pcpy_view(PyArray_DATA(a), (uint32_t)PyArray_DIM(a, 1), (uint32_t)PyArray_DIM(a, 0),
-	                   row * (size_t)PyArray_ITEMSIZE(a), dt, bits, v);
+	int rc =
+	    pcpy_view(PyArray_DATA(a), (uint32_t)PyArray_DIM(a, 1), (uint32_t)PyArray_DIM(a, 0),
+	              row * (size_t)PyArray_ITEMSIZE(a), dt, bits, v);
 	if (rc) {
 		raise_pc(rc);
 		return -1;
@@ -358,8 +360,8 @@ static PyObject *py_methods(PyObject *self, PyObject *noargs)
 		if (!mi)
 			break;
 		PyObject *d = Py_BuildValue(
-		    "{s:s,s:s,s:s,s:s,s:O,s:O,s:O}", "name", mi->name, "accuracy", mi->accuracy, "cost",
-		    mi->cost, "source", mi->source, "monochrome",
+		    "{s:s,s:s,s:s,s:s,s:O,s:O,s:O}", "name", mi->name, "accuracy", mi->accuracy,
+		    "cost", mi->cost, "source", mi->source, "monochrome",
 		    (mi->flags & PC_DMF_MONO) ? Py_True : Py_False, "colour",
 		    (mi->flags & PC_DMF_COLOR) ? Py_True : Py_False, "half_resolution",
 		    (mi->flags & PC_DMF_HALF_RES) ? Py_True : Py_False);
@@ -384,9 +386,9 @@ static PyObject *py_backends(PyObject *self, PyObject *noargs)
 		const char *scheme = pcpy_backend(i, &built, &summary);
 		if (!scheme)
 			break;
-		PyObject *d = Py_BuildValue("{s:s,s:O,s:s}", "scheme", scheme, "built",
-		                            built ? Py_True : Py_False, "summary",
-		                            summary ? summary : "");
+		PyObject *d =
+		    Py_BuildValue("{s:s,s:O,s:s}", "scheme", scheme, "built",
+		                  built ? Py_True : Py_False, "summary", summary ? summary : "");
 		if (!d || PyList_Append(l, d)) {
 			Py_XDECREF(d);
 			Py_DECREF(l);
@@ -408,8 +410,8 @@ static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
 	PyObject *raw_o, *bits_o = Py_None, *out_o = Py_None;
 	const char *method = NULL, *layout = "90,45,135,0";
 	int threads = 0;
-	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zsOiO:demosaic", kwl, &raw_o, &method, &layout,
-	                                 &bits_o, &threads, &out_o))
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zsOiO:demosaic", kwl, &raw_o, &method,
+	                                 &layout, &bits_o, &threads, &out_o))
 		return NULL;
 	unsigned bits;
 	pc_mosaic m;
@@ -436,8 +438,8 @@ static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
 		if (PyArray_TYPE(out) != NPY_FLOAT32 || PyArray_NDIM(out) != 3 ||
 		    PyArray_DIM(out, 0) != oh || PyArray_DIM(out, 1) != ow ||
 		    PyArray_DIM(out, 2) != nch) {
-			PyErr_Format(PyExc_ValueError, "out: expected float32 of shape (%u, %u, %u)", oh,
-			             ow, nch);
+			PyErr_Format(PyExc_ValueError,
+			             "out: expected float32 of shape (%u, %u, %u)", oh, ow, nch);
 			return NULL;
 		}
 		if (!PyArray_ISWRITEABLE(out)) {
@@ -459,7 +461,8 @@ static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
 	}
 	pc_fplane planes[PC_DEMOSAIC_MAX_CHANNELS];
 	for (unsigned c = 0; c < nch; c++)
-		planes[c] = (pc_fplane){(float *)PyArray_DATA(out) + (size_t)(cs / 4) * c, row, pix};
+		planes[c] =
+		    (pc_fplane){(float *)PyArray_DATA(out) + (size_t)(cs / 4) * c, row, pix};
 	unsigned check = bits_to_check(&v, bits);
 	Py_BEGIN_ALLOW_THREADS;
 	rc = check ? pcpy_check_bits(&v, check) : 0;
@@ -503,11 +506,12 @@ static int get_calibration(PyObject *o, pc_analyser_pinv *p, int *have_pinv,
 		return *cal ? 0 : -1;
 	}
 	if (!PyArray_Check(o)) {
-		PyErr_Format(PyExc_TypeError,
-		             "calibration: expected None, a Calibration, the path of a calibration "
-		             "file, or a float32 (3, 4, GH, GW) array of analyser pseudo-inverses; got "
-		             "%s",
-		             Py_TYPE(o)->tp_name);
+		PyErr_Format(
+		    PyExc_TypeError,
+		    "calibration: expected None, a Calibration, the path of a calibration "
+		    "file, or a float32 (3, 4, GH, GW) array of analyser pseudo-inverses; got "
+		    "%s",
+		    Py_TYPE(o)->tp_name);
 		return -1;
 	}
 	PyArrayObject *a = (PyArrayObject *)o;
@@ -515,9 +519,10 @@ static int get_calibration(PyObject *o, pc_analyser_pinv *p, int *have_pinv,
 	if (PyArray_TYPE(a) != NPY_FLOAT32 || !PyArray_IS_C_CONTIGUOUS(a) ||
 	    !PyArray_ISALIGNED(a) || (nd != 2 && nd != 4) || PyArray_DIM(a, 0) != 3 ||
 	    PyArray_DIM(a, 1) != 4) {
-		PyErr_SetString(PyExc_ValueError,
-		                "calibration: expected a C-contiguous float32 array of shape (3, 4) "
-		                "or (3, 4, GH, GW) (numpy.ascontiguousarray(x, numpy.float32))");
+		PyErr_SetString(
+		    PyExc_ValueError,
+		    "calibration: expected a C-contiguous float32 array of shape (3, 4) "
+		    "or (3, 4, GH, GW) (numpy.ascontiguousarray(x, numpy.float32))");
 		return -1;
 	}
 	if (dims_ok(a, "calibration"))
@@ -610,9 +615,9 @@ fail:
 static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 {
 	(void)self;
-	static char *kwl[] = {"raw",     "method", "layout",           "bits",       "black_level",
-	                      "calibration", "threads", "out", "saturation_level", "dead_level",
-	                      NULL};
+	static char *kwl[] = {
+	    "raw",     "method", "layout",           "bits",       "black_level", "calibration",
+	    "threads", "out",    "saturation_level", "dead_level", NULL};
 	PyObject *raw_o, *bits_o = Py_None, *black_o = Py_None, *cal_o = Py_None, *out_o = Py_None;
 	PyObject *sat_o = Py_None, *dead_o = Py_None;
 	const char *method = NULL, *layout = NULL;
@@ -621,8 +626,8 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 	                                 &layout, &bits_o, &black_o, &cal_o, &threads, &out_o,
 	                                 &sat_o, &dead_o))
 		return NULL;
-	PyArrayObject *raw = as_ndarray(raw_o, "raw",
-	                                "(H, W) raw mosaic, or (H, W, 4) float32 analyser images");
+	PyArrayObject *raw =
+	    as_ndarray(raw_o, "raw", "(H, W) raw mosaic, or (H, W, 4) float32 analyser images");
 	if (!raw)
 		return NULL;
 	unsigned bits;
@@ -647,11 +652,12 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 	if (PyArray_NDIM(raw) == 3) {
 		/* already demosaicked: (H, W, 4) I0, I45, I90, I135 */
 		if (PyArray_TYPE(raw) != NPY_FLOAT32 || PyArray_DIM(raw, 2) != 4) {
-			PyErr_Format(PyExc_ValueError,
-			             "raw: a 3-D input must be float32 (H, W, 4) analyser images I0, "
-			             "I45, I90, I135 (got %s with %zd channels; colour (H, W, 12): "
-			             "average the colours of each analyser first)",
-			             dtype_name(raw), (Py_ssize_t)PyArray_DIM(raw, 2));
+			PyErr_Format(
+			    PyExc_ValueError,
+			    "raw: a 3-D input must be float32 (H, W, 4) analyser images I0, "
+			    "I45, I90, I135 (got %s with %zd channels; colour (H, W, 12): "
+			    "average the colours of each analyser first)",
+			    dtype_name(raw), (Py_ssize_t)PyArray_DIM(raw, 2));
 			goto out;
 		}
 		if (black_o != Py_None || bits || checked || cal) {
@@ -666,13 +672,15 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 			goto out;
 		npy_intp cs = PyArray_STRIDE(raw, 2);
 		if (cs <= 0 || cs % 4) {
-			PyErr_SetString(PyExc_ValueError, "raw: the channel stride must be positive");
+			PyErr_SetString(PyExc_ValueError,
+			                "raw: the channel stride must be positive");
 			goto out;
 		}
 		uint32_t w = (uint32_t)PyArray_DIM(raw, 1), h = (uint32_t)PyArray_DIM(raw, 0);
 		pc_fplane in[4];
 		for (int c = 0; c < 4; c++)
-			in[c] = (pc_fplane){(float *)PyArray_DATA(raw) + (size_t)(cs / 4) * c, row, pix};
+			in[c] = (pc_fplane){(float *)PyArray_DATA(raw) + (size_t)(cs / 4) * c, row,
+			                    pix};
 		if (!(res = stokes_outputs(out_o, w, h, &so)))
 			goto out;
 		Py_BEGIN_ALLOW_THREADS;
@@ -685,10 +693,11 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 			goto out;
 		o.full_scale = pcpy_full_scale(&v, bits);
 		if (cal && (black_o != Py_None || checked)) {
-			PyErr_SetString(PyExc_ValueError,
-			                "calibration: a calibration file brings its own dark offsets (or "
-			                "black level), saturation level and trusted pixels; black_level, "
-			                "saturation_level and dead_level cannot be given with it");
+			PyErr_SetString(
+			    PyExc_ValueError,
+			    "calibration: a calibration file brings its own dark offsets (or "
+			    "black level), saturation level and trusted pixels; black_level, "
+			    "saturation_level and dead_level cannot be given with it");
 			goto out;
 		}
 		if (layout) {
@@ -749,8 +758,9 @@ static PyObject *py_analyser_pinv(PyObject *self, PyObject *arg)
 	int nd = PyArray_NDIM(a);
 	if (PyArray_TYPE(a) != NPY_FLOAT32 || !PyArray_IS_C_CONTIGUOUS(a) || nd < 2 ||
 	    PyArray_DIM(a, nd - 2) != 4 || PyArray_DIM(a, nd - 1) != 3) {
-		PyErr_SetString(PyExc_ValueError, "W: expected a C-contiguous float32 array of shape "
-		                                  "(..., 4, 3) (analyser rows of I0, I45, I90, I135)");
+		PyErr_SetString(PyExc_ValueError,
+		                "W: expected a C-contiguous float32 array of shape "
+		                "(..., 4, 3) (analyser rows of I0, I45, I90, I135)");
 		return NULL;
 	}
 	npy_intp dims[NPY_MAXDIMS];
@@ -778,8 +788,8 @@ static PyObject *py_analyser_pinv(PyObject *self, PyObject *arg)
  */
 
 /* The picture of img (with dolp, s0 where the kind uses them; any may be NULL). */
-static PyObject *picture_of(PyObject *img, PyObject *dolp, PyObject *s0, const char *kind,
-                            float lo, float hi, double mask)
+static PyObject *picture_of(PyObject *img, PyObject *dolp, PyObject *s0, const char *kind, float lo,
+                            float hi, double mask)
 {
 	pcpy_picture_kind k;
 	if (!strcmp(kind, "s0") || !strcmp(kind, "grey"))
@@ -795,9 +805,9 @@ static PyObject *picture_of(PyObject *img, PyObject *dolp, PyObject *s0, const c
 	else if (!strcmp(kind, "aolp_hue"))
 		k = PCPY_PIC_AOLP_HUE;
 	else {
-		PyErr_Format(PyExc_ValueError,
-		             "kind='%s': expected s0, s1, s2, dolp, aolp, aolp_sat, aolp_hue or grey",
-		             kind);
+		PyErr_Format(
+		    PyExc_ValueError,
+		    "kind='%s': expected s0, s1, s2, dolp, aolp, aolp_sat, aolp_hue or grey", kind);
 		return NULL;
 	}
 	pc_fplane pi, pd, ps;
@@ -805,16 +815,18 @@ static PyObject *picture_of(PyObject *img, PyObject *dolp, PyObject *s0, const c
 	if (fplane_any(img, "image", &pi, &w, &h))
 		return NULL;
 	if ((k == PCPY_PIC_AOLP || k == PCPY_PIC_AOLP_SAT) && !dolp) {
-		PyErr_Format(PyExc_ValueError, "kind='%s' shows DoLP as %s: pass dolp= (or a Stokes), "
-		                               "or use kind='aolp_hue'",
+		PyErr_Format(PyExc_ValueError,
+		             "kind='%s' shows DoLP as %s: pass dolp= (or a Stokes), "
+		             "or use kind='aolp_hue'",
 		             kind, k == PCPY_PIC_AOLP ? "value" : "saturation");
 		return NULL;
 	}
 	int use_dolp = dolp && (k == PCPY_PIC_AOLP || k == PCPY_PIC_AOLP_SAT);
 	int use_s0 = s0 && (k == PCPY_PIC_DOLP || k == PCPY_PIC_AOLP || k == PCPY_PIC_AOLP_SAT);
-	if (use_dolp && (fplane_any(dolp, "dolp", &pd, &w2, &h2) ||
-	                 ((w2 != w || h2 != h) &&
-	                  (PyErr_SetString(PyExc_ValueError, "dolp: shape differs from image"), 1))))
+	if (use_dolp &&
+	    (fplane_any(dolp, "dolp", &pd, &w2, &h2) ||
+	     ((w2 != w || h2 != h) &&
+	      (PyErr_SetString(PyExc_ValueError, "dolp: shape differs from image"), 1))))
 		return NULL;
 	if (use_s0 && (fplane_any(s0, "s0", &ps, &w2, &h2) ||
 	               ((w2 != w || h2 != h) &&
@@ -857,9 +869,10 @@ static PyObject *py_picture(PyObject *self, PyObject *args, PyObject *kw)
 		if (t == -1 && PyErr_Occurred())
 			return NULL;
 		if (!(t >= 0)) {
-			err_printf(PyExc_ValueError, "mask_s0=%g: expected a threshold >= 0 (0: no "
-			                               "mask, None: 1 %% of the S0 99.9th percentile)",
-			             t);
+			err_printf(PyExc_ValueError,
+			           "mask_s0=%g: expected a threshold >= 0 (0: no "
+			           "mask, None: 1 %% of the S0 99.9th percentile)",
+			           t);
 			return NULL;
 		}
 		mask = t > 0 ? t : -1; /* the adapter: 0 default, < 0 none */
@@ -890,9 +903,10 @@ static PyObject *py_picture(PyObject *self, PyObject *args, PyObject *kw)
 		if (!img || img == Py_None) {
 			for (int i = 0; i < 5; i++)
 				Py_XDECREF(a[i]);
-			PyErr_Format(PyExc_TypeError,
-			             "image: expected a numpy array or a Stokes with a '%s' array, got %s",
-			             want, Py_TYPE(img_o)->tp_name);
+			PyErr_Format(
+			    PyExc_TypeError,
+			    "image: expected a numpy array or a Stokes with a '%s' array, got %s",
+			    want, Py_TYPE(img_o)->tp_name);
 			return NULL;
 		}
 		if (dolp == Py_None)
@@ -902,8 +916,9 @@ static PyObject *py_picture(PyObject *self, PyObject *args, PyObject *kw)
 	} else {
 		img = img_o;
 		if (!kind) {
-			PyErr_SetString(PyExc_TypeError, "picture(array): say what the array is with "
-			                                 "kind= ('s0', 'dolp', 'aolp', ...)");
+			PyErr_SetString(PyExc_TypeError,
+			                "picture(array): say what the array is with "
+			                "kind= ('s0', 'dolp', 'aolp', ...)");
 			return NULL;
 		}
 		dolp = dolp_o != Py_None ? dolp_o : NULL;
@@ -927,11 +942,12 @@ static PyObject *py_pbrdf(PyObject *self, PyObject *args, PyObject *kw)
 	PyObject *in_o[6] = {0};
 	const char *diffuse = "fresnel", *shadowing = "ts", *rho = "table";
 	if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOO|Osss:pbrdf", kwl, &in_o[0], &in_o[1],
-	                                 &in_o[2], &in_o[3], &in_o[4], &in_o[5], &diffuse, &shadowing,
-	                                 &rho))
+	                                 &in_o[2], &in_o[3], &in_o[4], &in_o[5], &diffuse,
+	                                 &shadowing, &rho))
 		return NULL;
 	int dif, sh, rmode, rorder, rc;
-	if ((rc = pcpy_pbrdf_diffuse(diffuse, &dif)) || (rc = pcpy_pbrdf_shadowing(shadowing, &sh)) ||
+	if ((rc = pcpy_pbrdf_diffuse(diffuse, &dif)) ||
+	    (rc = pcpy_pbrdf_shadowing(shadowing, &sh)) ||
 	    (rc = pcpy_pbrdf_rho(rho, &rmode, &rorder)))
 		return raise_pc(rc);
 	static const char *names[6] = {"n", "k", "sigma", "theta_i", "theta_r", "phi"};
@@ -952,8 +968,8 @@ static PyObject *py_pbrdf(PyObject *self, PyObject *args, PyObject *kw)
 		Py_DECREF(o);
 		if (!a[i]) {
 			PyErr_Clear();
-			PyErr_Format(PyExc_TypeError, "%s: expected a number or an array of numbers",
-			             names[i]);
+			PyErr_Format(PyExc_TypeError,
+			             "%s: expected a number or an array of numbers", names[i]);
 			goto done;
 		}
 	}
@@ -998,10 +1014,11 @@ static PyObject *py_pbrdf(PyObject *self, PyObject *args, PyObject *kw)
 	Py_END_ALLOW_THREADS;
 	if (rc) {
 		PyObject *exc = exc_type(rc);
-		err_printf(exc, "element %zd (n=%g, k=%g, sigma=%g, theta_i=%g, theta_r=%g, phi=%g): "
-		                  "%s",
-		             (Py_ssize_t)idx, bad[0], bad[1], bad[2], bad[3], bad[4], bad[5],
-		             pcpy_error_detail());
+		err_printf(exc,
+		           "element %zd (n=%g, k=%g, sigma=%g, theta_i=%g, theta_r=%g, phi=%g): "
+		           "%s",
+		           (Py_ssize_t)idx, bad[0], bad[1], bad[2], bad[3], bad[4], bad[5],
+		           pcpy_error_detail());
 		Py_CLEAR(out);
 	}
 done:
@@ -1044,7 +1061,8 @@ static PyObject *py_decompose(PyObject *self, PyObject *args, PyObject *kw)
 		return NULL;
 	int nd = PyArray_NDIM(M);
 	if (nd < 2 || PyArray_DIM(M, nd - 1) != 4 || PyArray_DIM(M, nd - 2) != 4) {
-		PyErr_SetString(PyExc_ValueError, "M: expected Mueller matrices of shape (..., 4, 4)");
+		PyErr_SetString(PyExc_ValueError,
+		                "M: expected Mueller matrices of shape (..., 4, 4)");
 		Py_DECREF(M);
 		return NULL;
 	}
@@ -1061,9 +1079,9 @@ static PyObject *py_decompose(PyObject *self, PyObject *args, PyObject *kw)
 	static const struct {
 		int extra;
 		int type;
-	} spec[15] = {{0, NPY_DOUBLE}, {0, NPY_DOUBLE}, {0, NPY_DOUBLE}, {0, NPY_BOOL},
-	              {3, NPY_DOUBLE}, {3, NPY_DOUBLE}, {0, NPY_UINT32}, {0, NPY_BOOL},
-	              {0, NPY_DOUBLE}, {0, NPY_DOUBLE}, {0, NPY_DOUBLE}, {0, NPY_DOUBLE},
+	} spec[15] = {{0, NPY_DOUBLE},  {0, NPY_DOUBLE},  {0, NPY_DOUBLE}, {0, NPY_BOOL},
+	              {3, NPY_DOUBLE},  {3, NPY_DOUBLE},  {0, NPY_UINT32}, {0, NPY_BOOL},
+	              {0, NPY_DOUBLE},  {0, NPY_DOUBLE},  {0, NPY_DOUBLE}, {0, NPY_DOUBLE},
 	              {16, NPY_DOUBLE}, {16, NPY_DOUBLE}, {16, NPY_DOUBLE}};
 	void *p[15];
 	for (int f = 0; f < 15; f++) {
@@ -1174,8 +1192,8 @@ static PyObject *py_render(PyObject *self, PyObject *args, PyObject *kw)
 	static char *kwl[] = {"scene", "seed", "frame", "roi", "threads", NULL};
 	PyObject *scene_o = Py_None, *seed_o = NULL, *frame_o = NULL, *roi_o = Py_None;
 	int threads = 0;
-	if (!PyArg_ParseTupleAndKeywords(args, kw, "|OOOOi:render", kwl, &scene_o, &seed_o, &frame_o,
-	                                 &roi_o, &threads))
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "|OOOOi:render", kwl, &scene_o, &seed_o,
+	                                 &frame_o, &roi_o, &threads))
 		return NULL;
 	unsigned long long seed = 0;
 	if (seed_o && ((seed = PyLong_AsUnsignedLongLong(seed_o)) == (unsigned long long)-1 &&
@@ -1240,7 +1258,8 @@ static PyObject *py_render(PyObject *self, PyObject *args, PyObject *kw)
 		goto done;
 	}
 	npy_intp rd[3] = {nf, in.height, in.width};
-	raw = multi ? PyArray_SimpleNew(3, rd, NPY_UINT16) : PyArray_SimpleNew(2, rd + 1, NPY_UINT16);
+	raw =
+	    multi ? PyArray_SimpleNew(3, rd, NPY_UINT16) : PyArray_SimpleNew(2, rd + 1, NPY_UINT16);
 	npy_intp td[5] = {in.height, in.width, in.colour_channels, 4, 4};
 	if (in.colour_channels == 1) {
 		td[2] = 4;
@@ -1269,16 +1288,17 @@ static PyObject *py_render(PyObject *self, PyObject *args, PyObject *kw)
 	uint16_t *rawp = PyArray_DATA((PyArrayObject *)raw);
 	for (i = 0; i < nf; i++) {
 		Py_BEGIN_ALLOW_THREADS;
-		rc = pcpy_render_frame(r, frames[i], rawp + plane * (size_t)i,
-		                       i ? NULL : PyArray_DATA((PyArrayObject *)truth),
-		                       i || !mueller ? NULL : PyArray_DATA((PyArrayObject *)mueller),
-		                       &fm);
+		rc = pcpy_render_frame(
+		    r, frames[i], rawp + plane * (size_t)i,
+		    i ? NULL : PyArray_DATA((PyArrayObject *)truth),
+		    i || !mueller ? NULL : PyArray_DATA((PyArrayObject *)mueller), &fm);
 		Py_END_ALLOW_THREADS;
 		if (rc)
 			break;
 		PyList_SET_ITEM(seqs, i, PyLong_FromUnsignedLongLong(fm.sequence));
 		PyList_SET_ITEM(stamps, i, PyLong_FromUnsignedLongLong(fm.timestamp_ns));
-		PyList_SET_ITEM(states, i, PyLong_FromUnsignedLong(pcpy_render_state(r, frames[i])));
+		PyList_SET_ITEM(states, i,
+		                PyLong_FromUnsignedLong(pcpy_render_state(r, frames[i])));
 	}
 	if (rc) {
 		Py_DECREF(seqs);
@@ -1304,45 +1324,45 @@ static PyObject *py_render(PyObject *self, PyObject *args, PyObject *kw)
 	free(sj);
 	PyObject *scene_doc = sjs ? json_call("loads", sjs) : NULL;
 	Py_XDECREF(sjs);
-	PyObject *dpr =
-	    in.colour_channels == 1
-	        ? PyFloat_FromDouble(in.dn_per_radiance[0])
-	        : Py_BuildValue("[ddd]", in.dn_per_radiance[0], in.dn_per_radiance[1],
-	                        in.dn_per_radiance[2]);
-	int bad = dict_set(meta, "scene_name", PyUnicode_FromString(in.scene_name)) ||
-	          dict_set(meta, "scene", scene_doc ? scene_doc : (Py_INCREF(Py_None), Py_None)) ||
-	          dict_set(meta, "seed", PyLong_FromUnsignedLongLong(seed)) ||
-	          dict_set(meta, "frame", multi ? PySequence_List(fseq)
-	                                        : PyLong_FromUnsignedLongLong(one)) ||
-	          dict_set(meta, "sequence", multi ? (Py_INCREF(seqs), seqs)
-	                                           : PyLong_FromUnsignedLongLong(fm.sequence)) ||
-	          dict_set(meta, "timestamp_ns",
-	                   multi ? (Py_INCREF(stamps), stamps)
-	                         : PyLong_FromUnsignedLongLong(fm.timestamp_ns)) ||
-	          dict_set(meta, "state", multi ? (Py_INCREF(states), states)
-	                                        : (Py_INCREF(PyList_GET_ITEM(states, 0)),
-	                                           PyList_GET_ITEM(states, 0))) ||
-	          dict_set(meta, "truth_state", (Py_INCREF(PyList_GET_ITEM(states, 0)),
-	                                         PyList_GET_ITEM(states, 0))) ||
-	          dict_set(meta, "exposure_us", PyFloat_FromDouble(fm.exposure_us)) ||
-	          dict_set(meta, "gain_db", PyFloat_FromDouble(fm.gain_db)) ||
-	          dict_set(meta, "status", PyLong_FromUnsignedLong(fm.status)) ||
-	          dict_set(meta, "width", PyLong_FromUnsignedLong(in.width)) ||
-	          dict_set(meta, "height", PyLong_FromUnsignedLong(in.height)) ||
-	          dict_set(meta, "offset_x", PyLong_FromUnsignedLong(in.offset_x)) ||
-	          dict_set(meta, "offset_y", PyLong_FromUnsignedLong(in.offset_y)) ||
-	          dict_set(meta, "sensor_width", PyLong_FromUnsignedLong(in.sensor_width)) ||
-	          dict_set(meta, "sensor_height", PyLong_FromUnsignedLong(in.sensor_height)) ||
-	          dict_set(meta, "format", PyUnicode_FromString(in.format)) ||
-	          dict_set(meta, "bits", PyLong_FromUnsignedLong(in.bits)) ||
-	          dict_set(meta, "layout", PyUnicode_FromString(in.layout)) ||
-	          dict_set(meta, "colour_channels", PyLong_FromUnsignedLong(in.colour_channels)) ||
-	          dict_set(meta, "effects", effects) ||
-	          dict_set(meta, "n_states", PyLong_FromUnsignedLong(in.n_states)) ||
-	          dict_set(meta, "frame_rate_hz", PyFloat_FromDouble(in.frame_rate_hz)) ||
-	          dict_set(meta, "black_level_dn", PyFloat_FromDouble(in.black_level_dn)) ||
-	          dict_set(meta, "dn_per_radiance", dpr) ||
-	          (mueller && PyDict_SetItemString(meta, "truth_mueller", mueller));
+	PyObject *dpr = in.colour_channels == 1
+	                    ? PyFloat_FromDouble(in.dn_per_radiance[0])
+	                    : Py_BuildValue("[ddd]", in.dn_per_radiance[0], in.dn_per_radiance[1],
+	                                    in.dn_per_radiance[2]);
+	int bad =
+	    dict_set(meta, "scene_name", PyUnicode_FromString(in.scene_name)) ||
+	    dict_set(meta, "scene", scene_doc ? scene_doc : (Py_INCREF(Py_None), Py_None)) ||
+	    dict_set(meta, "seed", PyLong_FromUnsignedLongLong(seed)) ||
+	    dict_set(meta, "frame",
+	             multi ? PySequence_List(fseq) : PyLong_FromUnsignedLongLong(one)) ||
+	    dict_set(meta, "sequence",
+	             multi ? (Py_INCREF(seqs), seqs) : PyLong_FromUnsignedLongLong(fm.sequence)) ||
+	    dict_set(meta, "timestamp_ns",
+	             multi ? (Py_INCREF(stamps), stamps)
+	                   : PyLong_FromUnsignedLongLong(fm.timestamp_ns)) ||
+	    dict_set(meta, "state",
+	             multi ? (Py_INCREF(states), states)
+	                   : (Py_INCREF(PyList_GET_ITEM(states, 0)), PyList_GET_ITEM(states, 0))) ||
+	    dict_set(meta, "truth_state",
+	             (Py_INCREF(PyList_GET_ITEM(states, 0)), PyList_GET_ITEM(states, 0))) ||
+	    dict_set(meta, "exposure_us", PyFloat_FromDouble(fm.exposure_us)) ||
+	    dict_set(meta, "gain_db", PyFloat_FromDouble(fm.gain_db)) ||
+	    dict_set(meta, "status", PyLong_FromUnsignedLong(fm.status)) ||
+	    dict_set(meta, "width", PyLong_FromUnsignedLong(in.width)) ||
+	    dict_set(meta, "height", PyLong_FromUnsignedLong(in.height)) ||
+	    dict_set(meta, "offset_x", PyLong_FromUnsignedLong(in.offset_x)) ||
+	    dict_set(meta, "offset_y", PyLong_FromUnsignedLong(in.offset_y)) ||
+	    dict_set(meta, "sensor_width", PyLong_FromUnsignedLong(in.sensor_width)) ||
+	    dict_set(meta, "sensor_height", PyLong_FromUnsignedLong(in.sensor_height)) ||
+	    dict_set(meta, "format", PyUnicode_FromString(in.format)) ||
+	    dict_set(meta, "bits", PyLong_FromUnsignedLong(in.bits)) ||
+	    dict_set(meta, "layout", PyUnicode_FromString(in.layout)) ||
+	    dict_set(meta, "colour_channels", PyLong_FromUnsignedLong(in.colour_channels)) ||
+	    dict_set(meta, "effects", effects) ||
+	    dict_set(meta, "n_states", PyLong_FromUnsignedLong(in.n_states)) ||
+	    dict_set(meta, "frame_rate_hz", PyFloat_FromDouble(in.frame_rate_hz)) ||
+	    dict_set(meta, "black_level_dn", PyFloat_FromDouble(in.black_level_dn)) ||
+	    dict_set(meta, "dn_per_radiance", dpr) ||
+	    (mueller && PyDict_SetItemString(meta, "truth_mueller", mueller));
 	Py_DECREF(seqs);
 	Py_DECREF(stamps);
 	Py_DECREF(states);
@@ -1418,7 +1438,7 @@ static int parse_controls(PyObject *kw, pcpy_stream_args *a, int *timeout_ms,
 				return -1;
 			if (!(v >= 0) || (dst == &a->exposure_us && v == 0)) {
 				err_printf(PyExc_ValueError, "%s=%g: expected %s", k, v,
-				             dst == &a->exposure_us ? "> 0" : ">= 0");
+				           dst == &a->exposure_us ? "> 0" : ">= 0");
 				return -1;
 			}
 			*dst = v;
@@ -1432,8 +1452,9 @@ static int parse_controls(PyObject *kw, pcpy_stream_args *a, int *timeout_ms,
 			if (val == Py_None)
 				continue;
 			if (!PyUnicode_Check(val)) {
-				PyErr_SetString(PyExc_TypeError,
-				                "format: expected a pixel format name such as 'Mono12'");
+				PyErr_SetString(
+				    PyExc_TypeError,
+				    "format: expected a pixel format name such as 'Mono12'");
 				return -1;
 			}
 			Py_INCREF(val);
@@ -1611,8 +1632,8 @@ static PyObject *src_read_frame(SourceObject *so, int timeout_ms, int at_end_sto
 	PyStructSequence_SET_ITEM(fr, 5, PyLong_FromUnsignedLong(m.status));
 	PyStructSequence_SET_ITEM(fr, 6, PyLong_FromUnsignedLong(m.offset_x));
 	PyStructSequence_SET_ITEM(fr, 7, PyLong_FromUnsignedLong(m.offset_y));
-	PyStructSequence_SET_ITEM(fr, 8, f.polarized ? PyUnicode_FromString(layout)
-	                                             : (Py_INCREF(Py_None), Py_None));
+	PyStructSequence_SET_ITEM(
+	    fr, 8, f.polarized ? PyUnicode_FromString(layout) : (Py_INCREF(Py_None), Py_None));
 	PyStructSequence_SET_ITEM(fr, 9, PyLong_FromUnsignedLong(bits));
 	for (int i = 1; i < 10; i++)
 		if (!PyStructSequence_GET_ITEM(fr, i)) {
@@ -1634,8 +1655,8 @@ static PyObject *src_read(SourceObject *so, PyObject *args, PyObject *kw)
 		if (v == -1 && PyErr_Occurred())
 			return NULL;
 		if (v < -1 || v > 3600000) {
-			PyErr_Format(PyExc_ValueError, "timeout_ms=%ld: expected -1 (forever) .. 3600000",
-			             v);
+			PyErr_Format(PyExc_ValueError,
+			             "timeout_ms=%ld: expected -1 (forever) .. 3600000", v);
 			return NULL;
 		}
 		t = (int)v;
@@ -1675,8 +1696,9 @@ static int control_arg(PyObject *name, int *id)
 	const char *n = PyUnicode_Check(name) ? PyUnicode_AsUTF8(name) : NULL;
 	if (!n) {
 		PyErr_Clear();
-		PyErr_SetString(PyExc_TypeError, "control: expected a name ('exposure_us', 'gain_db', "
-		                                  "'frame_rate_hz')");
+		PyErr_SetString(PyExc_TypeError,
+		                "control: expected a name ('exposure_us', 'gain_db', "
+		                "'frame_rate_hz')");
 		return -1;
 	}
 	if ((*id = pcpy_control_id(n)) < 0) {
@@ -1723,8 +1745,8 @@ static PyObject *src_controls(SourceObject *so, PyObject *noargs)
 		double v;
 		if (pcpy_control_query(so->s, id, &ci) || pcpy_control_get(so->s, id, &v))
 			continue; /* not supported by this source */
-		PyObject *e = Py_BuildValue("{s:d,s:d,s:d,s:d,s:O,s:d}", "min", ci.min, "max", ci.max,
-		                            "step", ci.step, "default", ci.def, "live",
+		PyObject *e = Py_BuildValue("{s:d,s:d,s:d,s:d,s:O,s:d}", "min", ci.min, "max",
+		                            ci.max, "step", ci.step, "default", ci.def, "live",
 		                            ci.live ? Py_True : Py_False, "value", v);
 		if (dict_set(d, pcpy_control_name(id), e))
 			Py_CLEAR(d);
@@ -1742,13 +1764,14 @@ static PyObject *src_stats(SourceObject *so, PyObject *noargs)
 	if (rc)
 		return raise_pc(rc);
 	PyObject *d = Py_BuildValue(
-	    "{s:K,s:K,s:K,s:K,s:K,s:K,s:K}", "completed", (unsigned long long)st.completed, "failed",
-	    (unsigned long long)st.failed, "dropped", (unsigned long long)st.dropped, "timeouts",
-	    (unsigned long long)st.timeouts, "underruns", (unsigned long long)st.underruns,
-	    "transport_failures", (unsigned long long)st.transport_failures, "bytes",
-	    (unsigned long long)st.bytes);
+	    "{s:K,s:K,s:K,s:K,s:K,s:K,s:K}", "completed", (unsigned long long)st.completed,
+	    "failed", (unsigned long long)st.failed, "dropped", (unsigned long long)st.dropped,
+	    "timeouts", (unsigned long long)st.timeouts, "underruns",
+	    (unsigned long long)st.underruns, "transport_failures",
+	    (unsigned long long)st.transport_failures, "bytes", (unsigned long long)st.bytes);
 	if (d && st.has_packets) {
-		if (dict_set(d, "missing_packets", PyLong_FromUnsignedLongLong(st.missing_packets)) ||
+		if (dict_set(d, "missing_packets",
+		             PyLong_FromUnsignedLongLong(st.missing_packets)) ||
 		    dict_set(d, "resent_packets", PyLong_FromUnsignedLongLong(st.resent_packets)))
 			Py_CLEAR(d);
 	} else if (d) {
@@ -1854,8 +1877,8 @@ static PyGetSetDef src_getset[] = {
      "What the source is: {scheme, id, vendor, model, serial, driver, sensor_width, "
      "sensor_height, polarized, layout}.",
      NULL},
-    {"state", (getter)src_get_state, NULL,
-     "'open', 'ready', 'streaming', 'failed' or 'closed'.", NULL},
+    {"state", (getter)src_get_state, NULL, "'open', 'ready', 'streaming', 'failed' or 'closed'.",
+     NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
 static PyObject *src_self_iter(PyObject *o)
@@ -1932,14 +1955,12 @@ static PyObject *cal_repr(CalibrationObject *self)
 	const pc_calib *c = cal_of(self);
 	char lay[64];
 	pcpy_layout_format(&c->geo.mosaic, lay, sizeof lay);
-	return PyUnicode_FromFormat("<polarcam.Calibration %R: %ux%u at (%u, %u), %u bits, layout "
-	                            "%s, parts%s%s%s%s>",
-	                            self->path, c->geo.width, c->geo.height, c->geo.offset_x,
-	                            c->geo.offset_y, c->geo.bits, lay,
-	                            (c->parts & PC_CAL_DARK) ? " dark" : "",
-	                            (c->parts & PC_CAL_FLAT) ? " flat" : "",
-	                            (c->parts & PC_CAL_ANALYSER) ? " analyser" : "",
-	                            (c->parts & PC_CAL_ECM) ? " ecm" : "");
+	return PyUnicode_FromFormat(
+	    "<polarcam.Calibration %R: %ux%u at (%u, %u), %u bits, layout "
+	    "%s, parts%s%s%s%s>",
+	    self->path, c->geo.width, c->geo.height, c->geo.offset_x, c->geo.offset_y, c->geo.bits,
+	    lay, (c->parts & PC_CAL_DARK) ? " dark" : "", (c->parts & PC_CAL_FLAT) ? " flat" : "",
+	    (c->parts & PC_CAL_ANALYSER) ? " analyser" : "", (c->parts & PC_CAL_ECM) ? " ecm" : "");
 }
 
 /* A read-only view of memory owned by the calibration (kept alive by the array). */
@@ -1960,8 +1981,17 @@ static PyObject *cal_view(CalibrationObject *self, const void *data, int nd, npy
 	return a;
 }
 
-enum { CAL_DARK, CAL_DARK_NOISE, CAL_GAIN, CAL_ANALYSIS, CAL_RESIDUAL, CAL_VALID, CAL_PINV_SP,
-       CAL_ECM_W, CAL_ECM_A };
+enum {
+	CAL_DARK,
+	CAL_DARK_NOISE,
+	CAL_GAIN,
+	CAL_ANALYSIS,
+	CAL_RESIDUAL,
+	CAL_VALID,
+	CAL_PINV_SP,
+	CAL_ECM_W,
+	CAL_ECM_A
+};
 
 static PyObject *cal_map(CalibrationObject *self, void *which)
 {
@@ -1992,7 +2022,8 @@ static PyObject *cal_map(CalibrationObject *self, void *which)
 	case CAL_ECM_A: {
 		if (!(c->parts & PC_CAL_ECM))
 			Py_RETURN_NONE;
-		npy_intp d[2] = {4 * (npy_intp)c->n_psa, 4}, st[2] = {sizeof c->ecm_A[0], sizeof(double)};
+		npy_intp d[2] = {4 * (npy_intp)c->n_psa, 4},
+		         st[2] = {sizeof c->ecm_A[0], sizeof(double)};
 		return cal_view(self, c->ecm_A, 2, d, NPY_FLOAT64, st);
 	}
 	}
@@ -2004,8 +2035,8 @@ enum { CAL_WIDTH, CAL_HEIGHT, CAL_OFFSET_X, CAL_OFFSET_Y, CAL_SENSOR_W, CAL_SENS
 static PyObject *cal_int(CalibrationObject *self, void *which)
 {
 	const pc_calib_geometry *g = &cal_of(self)->geo;
-	const unsigned v[] = {g->width,         g->height,        g->offset_x, g->offset_y,
-	                      g->sensor_width,  g->sensor_height, g->bits};
+	const unsigned v[] = {g->width,        g->height,        g->offset_x, g->offset_y,
+	                      g->sensor_width, g->sensor_height, g->bits};
 	return PyLong_FromUnsignedLong(v[(int)(intptr_t)which]);
 }
 
@@ -2119,7 +2150,10 @@ static PyMethodDef cal_methods[] = {
      "copy. ValueError without an analyser part."},
     {NULL, NULL, 0, NULL}};
 
-#define CAL_GET(name, fn, which, doc) {name, (getter)fn, NULL, doc, (void *)(intptr_t)(which)}
+#define CAL_GET(name, fn, which, doc)                                                              \
+	{                                                                                          \
+		name, (getter)fn, NULL, doc, (void *)(intptr_t)(which)                             \
+	}
 static PyGetSetDef cal_getset[] = {
     {"path", (getter)cal_path, NULL, "str: the file read", NULL},
     {"camera", (getter)cal_camera, NULL, "str: the camera (source) it was measured on", NULL},
@@ -2234,7 +2268,6 @@ static PyObject *py_c_pipeline_seconds(PyObject *self, PyObject *args, PyObject 
 /* ------------------------------------------------------------------------------------------
  * the module
  */
-
 
 PyDoc_STRVAR(
     doc_demosaic,
@@ -2362,9 +2395,15 @@ static PyMethodDef module_methods[] = {
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {
-    PyModuleDef_HEAD_INIT, "polarcam._polarcam",
-    "The polarcam C library in memory: see the polarcam package.", -1, module_methods,
-    NULL, NULL, NULL, NULL};
+    PyModuleDef_HEAD_INIT,
+    "polarcam._polarcam",
+    "The polarcam C library in memory: see the polarcam package.",
+    -1,
+    module_methods,
+    NULL,
+    NULL,
+    NULL,
+    NULL};
 
 PyMODINIT_FUNC PyInit__polarcam(void)
 {

@@ -24,15 +24,15 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-#define FUZZ_ASSERT(cond, ...)                                                           \
-	do {                                                                             \
-		if (!(cond)) {                                                           \
-			fprintf(stderr, "%s:%d: property failed: %s: ", __FILE__, __LINE__, \
-				#cond);                                                  \
-			fprintf(stderr, __VA_ARGS__);                                    \
-			fputc('\n', stderr);                                             \
-			abort();                                                         \
-		}                                                                        \
+#define FUZZ_ASSERT(cond, ...)                                                                     \
+	do {                                                                                       \
+		if (!(cond)) {                                                                     \
+			fprintf(stderr, "%s:%d: property failed: %s: ", __FILE__, __LINE__,        \
+			        #cond);                                                            \
+			fprintf(stderr, __VA_ARGS__);                                              \
+			fputc('\n', stderr);                                                       \
+			abort();                                                                   \
+		}                                                                                  \
 	} while (0)
 
 static char fuzz_dir_buf[96];
@@ -52,8 +52,10 @@ static inline const char *fuzz_dir(void)
 {
 	if (!fuzz_dir_buf[0]) {
 		struct stat st;
-		const char *base = stat("/dev/shm", &st) == 0 && S_ISDIR(st.st_mode) ? "/dev/shm" : "/tmp";
-		snprintf(fuzz_dir_buf, sizeof fuzz_dir_buf, "%s/pc_fuzz_%ld_XXXXXX", base, (long)getpid());
+		const char *base =
+		    stat("/dev/shm", &st) == 0 && S_ISDIR(st.st_mode) ? "/dev/shm" : "/tmp";
+		snprintf(fuzz_dir_buf, sizeof fuzz_dir_buf, "%s/pc_fuzz_%ld_XXXXXX", base,
+		         (long)getpid());
 		if (!mkdtemp(fuzz_dir_buf)) {
 			perror("fuzz: mkdtemp");
 			abort();

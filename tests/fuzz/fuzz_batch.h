@@ -11,8 +11,7 @@
 
 static void fuzz_batch_line(const double *v, const uint8_t *data, size_t size);
 
-static inline void fuzz_batch(const uint8_t *data, size_t size, const char *const *names,
-			      int want)
+static inline void fuzz_batch(const uint8_t *data, size_t size, const char *const *names, int want)
 {
 	const char *p = fuzz_file("batch.txt", data, size);
 	cli_lines in;
@@ -26,12 +25,12 @@ static inline void fuzz_batch(const uint8_t *data, size_t size, const char *cons
 		if (rc) {
 			json_t *j = cli_json_error_line(in.lineno, rc);
 			FUZZ_ASSERT(j != NULL, "error object for line %lu: %s", in.lineno,
-				    pc_error_detail());
+			            pc_error_detail());
 			char *s = json_dumps(j, JSON_COMPACT | JSON_ENSURE_ASCII);
 			FUZZ_ASSERT(s != NULL, "json_dumps");
 			for (const char *c = s; *c; c++) /* nothing for a terminal to interpret */
 				FUZZ_ASSERT((unsigned char)*c >= 0x20 && (unsigned char)*c < 0x7f,
-					    "byte %#x in %s", (unsigned char)*c, s);
+				            "byte %#x in %s", (unsigned char)*c, s);
 			free(s);
 			json_decref(j);
 			continue;

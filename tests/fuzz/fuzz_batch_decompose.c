@@ -46,17 +46,18 @@ static void fuzz_batch_line(const double *v, const uint8_t *data, size_t size)
 		mo.Delta = &Delta;
 		mo.flags = &flags;
 		FUZZ_ASSERT(pc_lu_chipman_map(&M[0][0], 1, opt, &mo) == 0, "map");
-		FUZZ_ASSERT(same(D, s.D) && same(R, s.R) && same(Delta, s.Delta) && flags == s.flags,
-			    "map %g %g %g %#x, scalar %g %g %g %#x", D, R, Delta, flags, s.D, s.R,
-			    s.Delta, s.flags);
+		FUZZ_ASSERT(same(D, s.D) && same(R, s.R) && same(Delta, s.Delta) &&
+		                flags == s.flags,
+		            "map %g %g %g %#x, scalar %g %g %g %#x", D, R, Delta, flags, s.D, s.R,
+		            s.Delta, s.flags);
 	}
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	static const char *const names[16] = {"m00", "m01", "m02", "m03", "m10", "m11",
-					      "m12", "m13", "m20", "m21", "m22", "m23",
-					      "m30", "m31", "m32", "m33"};
+	                                      "m12", "m13", "m20", "m21", "m22", "m23",
+	                                      "m30", "m31", "m32", "m33"};
 	fuzz_batch(data, size, names, 16);
 	return 0;
 }

@@ -18,8 +18,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	}
 	const pc_calib_geometry *g = &c.geo;
 	FUZZ_ASSERT(g->width >= 4 && g->height >= 4 && g->width % 2 == 0 && g->height % 2 == 0 &&
-		    (uint64_t)g->width * g->height <= pc_limit_get(PC_LIMIT_PIXELS),
-		    "%ux%u", g->width, g->height);
+	                (uint64_t)g->width * g->height <= pc_limit_get(PC_LIMIT_PIXELS),
+	            "%ux%u", g->width, g->height);
 	const size_t n = (size_t)g->width * g->height;
 	FUZZ_ASSERT(!(c.parts & PC_CAL_DARK) || (c.dark && c.dark_noise), "dark maps");
 	FUZZ_ASSERT(!(c.parts & PC_CAL_FLAT) || c.gain, "gain map");
@@ -31,7 +31,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			(void)fuzz_touch(c.valid + i, 1, 1, 1);
 	}
 	if (c.pinv_sp)
-		(void)fuzz_touch(c.pinv_sp, (size_t)(g->width / 2) * (g->height / 2) * 12 * 4, 0, 1);
+		(void)fuzz_touch(c.pinv_sp, (size_t)(g->width / 2) * (g->height / 2) * 12 * 4, 0,
+		                 1);
 	FUZZ_ASSERT(pc_calib_check(&c, g) == 0, "own geometry refused: %s", pc_error_detail());
 	pc_calib_free(&c);
 	return 0;

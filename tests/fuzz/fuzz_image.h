@@ -18,10 +18,10 @@ static inline void fuzz_check_view(const pc_view *v, const char *path)
 	const pc_format_info *fi = pc_format_info_get(v->format);
 	FUZZ_ASSERT(fi && v->data && v->width > 0 && v->height > 0, "%s", path);
 	FUZZ_ASSERT((uint64_t)v->width * v->height <= pc_limit_get(PC_LIMIT_PIXELS), "%ux%u",
-		    v->width, v->height);
+	            v->width, v->height);
 	size_t row;
 	FUZZ_ASSERT(pc_format_row_bytes(v->format, v->width, &row) == 0 && v->stride >= row, "%s",
-		    fi->name);
+	            fi->name);
 	(void)fuzz_touch(v->data, row, v->stride, v->height);
 }
 
@@ -33,9 +33,14 @@ static inline void fuzz_pipeline(const pc_view *v, unsigned sel)
 	if (v->width % 2 || v->height % 2 || v->width < 4 || v->height < 4 ||
 	    (uint64_t)v->width * v->height > 128 * 128)
 		return;
-	static const pc_demosaic_method mono[] = {PC_DM_SUPERPIXEL_HALF, PC_DM_SUPERPIXEL,
-						  PC_DM_BILINEAR, PC_DM_BICUBIC, PC_DM_PPID,
-						  PC_DM_RI, PC_DM_EARI, PC_DM_RATIO};
+	static const pc_demosaic_method mono[] = {PC_DM_SUPERPIXEL_HALF,
+	                                          PC_DM_SUPERPIXEL,
+	                                          PC_DM_BILINEAR,
+	                                          PC_DM_BICUBIC,
+	                                          PC_DM_PPID,
+	                                          PC_DM_RI,
+	                                          PC_DM_EARI,
+	                                          PC_DM_RATIO};
 	const pc_demosaic_method method = mono[sel % 8];
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	uint32_t ow, oh;
@@ -55,13 +60,14 @@ static inline void fuzz_pipeline(const pc_view *v, unsigned sel)
 	FUZZ_ASSERT(rc == 0, "pipeline refused an accepted mosaic: %s", pc_error_detail());
 	for (size_t i = 0; i < n; i++) {
 		FUZZ_ASSERT(isfinite(st.s0.data[i]) && isfinite(st.s1.data[i]) &&
-			    isfinite(st.s2.data[i]),
-			    "%s%s: pixel %zu: S = (%g, %g, %g)", pc_demosaic_method_get(method)->name,
-			    o.reference ? " (reference)" : "", i, st.s0.data[i], st.s1.data[i],
-			    st.s2.data[i]);
-		FUZZ_ASSERT(st.dolp.data[i] >= 0 && st.dolp.data[i] <= 1, "DoLP %g", st.dolp.data[i]);
+		                isfinite(st.s2.data[i]),
+		            "%s%s: pixel %zu: S = (%g, %g, %g)",
+		            pc_demosaic_method_get(method)->name, o.reference ? " (reference)" : "",
+		            i, st.s0.data[i], st.s1.data[i], st.s2.data[i]);
+		FUZZ_ASSERT(st.dolp.data[i] >= 0 && st.dolp.data[i] <= 1, "DoLP %g",
+		            st.dolp.data[i]);
 		FUZZ_ASSERT(st.aolp.data[i] >= 0 && st.aolp.data[i] < 3.1415927f, "AoLP %g",
-			    st.aolp.data[i]);
+		            st.aolp.data[i]);
 	}
 	free(buf);
 }
@@ -78,7 +84,7 @@ static inline void fuzz_read_image(const char *path, const pc_raw_geometry *g, u
 	} else {
 		const char *base = strrchr(path, '/') + 1;
 		FUZZ_ASSERT(strstr(pc_error_detail(), base) || rc == PC_ENOMEM, "rc %d: %s", rc,
-			    pc_error_detail());
+		            pc_error_detail());
 	}
 	unsigned bo = 0;
 	rc = pc_image_read_mosaic(path, g, bits, &v, &bo);
@@ -87,7 +93,7 @@ static inline void fuzz_read_image(const char *path, const pc_raw_geometry *g, u
 		const pc_format_info *fi = pc_format_info_get(v.format);
 		/* the promise of pc_image_read_mosaic: every value fits the depth it reports */
 		FUZZ_ASSERT(pc_view_check_bits(&v, fi->is_float ? 32 : bo) == 0, "%s: %s", path,
-			    pc_error_detail());
+		            pc_error_detail());
 		fuzz_pipeline(&v, bits ^ bo);
 		pc_view_free(&v);
 	}

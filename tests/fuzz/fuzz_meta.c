@@ -17,18 +17,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	}
 	const pc_recording_desc *d = pc_recording_get_desc(r);
 	FUZZ_ASSERT(d->width > 0 && d->height > 0 && pc_format_info_get(d->format), "%ux%u",
-		    d->width, d->height);
+	            d->width, d->height);
 	FUZZ_ASSERT(!d->polarized || d->mosaic.period == 2 || d->mosaic.period == 4, "period %u",
-		    d->mosaic.period);
+	            d->mosaic.period);
 	for (size_t i = 0; i < pc_recording_count(r); i++) {
 		const pc_recording_frame *f = pc_recording_get_frame(r, i);
-		FUZZ_ASSERT(f && strlen(f->file) == 14 && !strncmp(f->file, "raw_", 4), "frame %zu", i);
-		FUZZ_ASSERT(f->sequence <= (uint64_t)INT64_MAX && f->timestamp_ns <= (uint64_t)INT64_MAX,
-			    "frame %zu", i);
+		FUZZ_ASSERT(f && strlen(f->file) == 14 && !strncmp(f->file, "raw_", 4), "frame %zu",
+		            i);
+		FUZZ_ASSERT(f->sequence <= (uint64_t)INT64_MAX &&
+		                f->timestamp_ns <= (uint64_t)INT64_MAX,
+		            "frame %zu", i);
 		if (i) {
 			const pc_recording_frame *p = pc_recording_get_frame(r, i - 1);
 			FUZZ_ASSERT(f->sequence > p->sequence && f->timestamp_ns >= p->timestamp_ns,
-				    "frame %zu order", i);
+			            "frame %zu order", i);
 		}
 	}
 	pc_view v;

@@ -10,7 +10,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	pc_array a;
 	if (pc_npy_read(p, &a) == 0) {
 		size_t n = pc_array_count(&a);
-		size_t es = a.dtype == PC_DT_U8 ? 1 : a.dtype == PC_DT_U16 ? 2 : a.dtype == PC_DT_F32 ? 4 : 8;
+		size_t es = a.dtype == PC_DT_U8    ? 1
+		            : a.dtype == PC_DT_U16 ? 2
+		            : a.dtype == PC_DT_F32 ? 4
+		                                   : 8;
 		(void)fuzz_touch(a.data, n * es, 0, 1);
 		pc_array_free(&a);
 	}

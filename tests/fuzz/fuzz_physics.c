@@ -44,8 +44,8 @@ static double take_log(rd *r, double lo, double hi)
 	case 1:
 		return hi;
 	default: /* exp(log(lo)) may round below lo: clamp */
-		return fmin(hi, fmax(lo, exp(log(lo) + (double)(v >> 11) * 0x1p-53 *
-						      (log(hi) - log(lo)))));
+		return fmin(
+		    hi, fmax(lo, exp(log(lo) + (double)(v >> 11) * 0x1p-53 * (log(hi) - log(lo)))));
 	}
 }
 
@@ -75,16 +75,20 @@ static void fresnel(rd *r)
 	pc_fresnel_angle(n, k, beta, &f);
 	double rs = hypot(f.rs_re, f.rs_im), rp = hypot(f.rp_re, f.rp_im);
 	FUZZ_ASSERT(isfinite(rs) && isfinite(rp) && rs <= 1 + 1e-12 && rp <= 1 + 1e-12,
-		    "n=%.17g k=%.17g beta=%.17g: |rs|=%g |rp|=%g", n, k, beta, rs, rp);
+	            "n=%.17g k=%.17g beta=%.17g: |rs|=%g |rp|=%g", n, k, beta, rs, rp);
 	FUZZ_ASSERT(rp <= rs + 1e-9, "n=%.17g k=%.17g beta=%.17g: |rp|=%.17g > |rs|=%.17g", n, k,
-		    beta, rp, rs);
+	            beta, rp, rs);
 }
 
 static void pbrdf(rd *r, uint8_t mode)
 {
-	pc_material m = {take_log(r, 1e-300, 1e100), 0, take_log(r, PC_PBRDF_SIGMA_MIN, 1e3),
-			 (pc_diffuse)(mode % 3), (pc_shadowing)((mode >> 2) & 1),
-			 (pc_rho_mode)((mode >> 3) & 1), 2 + (mode >> 4) % 3};
+	pc_material m = {take_log(r, 1e-300, 1e100),
+	                 0,
+	                 take_log(r, PC_PBRDF_SIGMA_MIN, 1e3),
+	                 (pc_diffuse)(mode % 3),
+	                 (pc_shadowing)((mode >> 2) & 1),
+	                 (pc_rho_mode)((mode >> 3) & 1),
+	                 2 + (mode >> 4) % 3};
 	if (take64(r) & 1)
 		m.k = take_log(r, 1e-300, 1e100);
 	if (m.rho_mode == PC_RHO_TABLE && m.sigma > PC_RHO_TABLE_SIGMA_MAX)
@@ -92,22 +96,23 @@ static void pbrdf(rd *r, uint8_t mode)
 	pc_pbrdf *p = NULL;
 	int rc = pc_pbrdf_new(&m, &p);
 	FUZZ_ASSERT(rc == 0, "in-range material refused: n=%.17g k=%.17g sigma=%.17g: %s", m.n, m.k,
-		    m.sigma, pc_error_detail());
+	            m.sigma, pc_error_detail());
 	for (int g = 0; g < 4; g++) {
-		double ti = take_lin(r, 0, 90), tr = take_lin(r, 0, 90), ph = take_lin(r, -360, 360);
+		double ti = take_lin(r, 0, 90), tr = take_lin(r, 0, 90),
+		       ph = take_lin(r, -360, 360);
 		if (g == 1)
 			tr = ti, ph = 180; /* the exact specular direction */
 		double f[4][4];
 		pc_pbrdf_eval_deg(p, ti, tr, ph, f);
 		for (int i = 0; i < 16; i++)
 			FUZZ_ASSERT(isfinite(f[i / 4][i % 4]),
-				    "n=%.17g k=%.17g sigma=%.17g (%.17g, %.17g, %.17g): f[%d] = %g", m.n,
-				    m.k, m.sigma, ti, tr, ph, i, f[i / 4][i % 4]);
+			            "n=%.17g k=%.17g sigma=%.17g (%.17g, %.17g, %.17g): f[%d] = %g",
+			            m.n, m.k, m.sigma, ti, tr, ph, i, f[i / 4][i % 4]);
 		if (!(f[0][0] > 0))
 			continue;
 		FUZZ_ASSERT(pc_mueller_is_physical(f, 1e-9),
-			    "not physical: n=%.17g k=%.17g sigma=%.17g (%.17g, %.17g, %.17g)", m.n, m.k,
-			    m.sigma, ti, tr, ph);
+		            "not physical: n=%.17g k=%.17g sigma=%.17g (%.17g, %.17g, %.17g)", m.n,
+		            m.k, m.sigma, ti, tr, ph);
 		pc_lu_chipman lc;
 		FUZZ_ASSERT(pc_lu_chipman_decompose(f, PC_LC_FILTER, &lc) == 0, "decompose");
 		FUZZ_ASSERT(lc.D >= 0 && lc.D <= 1, "D = %g", lc.D);
@@ -154,10 +159,10 @@ static void decompose(rd *r, uint8_t mode)
 	if (F[0][0] > 0 && changed && fmx > 0x1p-960 && !pc_mueller_is_physical(F, 1e-6)) {
 		for (int i = 0; i < 4; i++)
 			fprintf(stderr, "M %.17g %.17g %.17g %.17g | F %.17g %.17g %.17g %.17g\n",
-				M[i][0], M[i][1], M[i][2], M[i][3], F[i][0], F[i][1], F[i][2],
-				F[i][3]);
+			        M[i][0], M[i][1], M[i][2], M[i][3], F[i][0], F[i][1], F[i][2],
+			        F[i][3]);
 		FUZZ_ASSERT(0, "filtered matrix not physical (min eigenvalue/trace %g)",
-			    pc_mueller_min_coherency_eig(F));
+		            pc_mueller_min_coherency_eig(F));
 	}
 	for (unsigned opt = 0; opt <= PC_LC_FILTER; opt += PC_LC_FILTER) {
 		pc_lu_chipman s;
@@ -171,14 +176,16 @@ static void decompose(rd *r, uint8_t mode)
 		mo.Delta = &Delta;
 		mo.flags = &flags;
 		FUZZ_ASSERT(pc_lu_chipman_map(&M[0][0], 1, opt, &mo) == 0, "map");
-		FUZZ_ASSERT(same(D, s.D) && same(R, s.R) && same(Delta, s.Delta) && flags == s.flags,
-			    "map differs from scalar");
+		FUZZ_ASSERT(same(D, s.D) && same(R, s.R) && same(Delta, s.Delta) &&
+		                flags == s.flags,
+		            "map differs from scalar");
 	}
 }
 
 static void sincos(rd *r)
 {
-	double d = take64(r) & 1 ? take_raw(r) : 90.0 * (double)(int64_t)(take64(r) % 2000001 - 1000000);
+	double d =
+	    take64(r) & 1 ? take_raw(r) : 90.0 * (double)(int64_t)(take64(r) % 2000001 - 1000000);
 	if (!isfinite(d))
 		return;
 	double s, c;

@@ -37,7 +37,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (pc_image_read(p, &g, &v, NULL) == 0) {
 		fuzz_check_view(&v, p);
 		FUZZ_ASSERT(v.width == g.width && v.height == g.height && v.format == g.format,
-			    "%ux%u", v.width, v.height);
+		            "%ux%u", v.width, v.height);
 		pc_view_free(&v);
 	}
 	fuzz_read_image(p, &g, data[6] % 17);

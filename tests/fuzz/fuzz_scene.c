@@ -20,7 +20,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (rc) {
 		FUZZ_ASSERT(scene == NULL, "scene set on failure");
 		FUZZ_ASSERT(strstr(pc_error_detail(), "fuzz.json") || rc == PC_ENOMEM, "%s",
-			    pc_error_detail());
+		            pc_error_detail());
 		return 0;
 	}
 	pc_sim_options o = pc_sim_options_default();
@@ -37,16 +37,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			const bool circ = in.effects & PC_FX_CIRCULAR;
 			for (size_t i = 0; i < n; i += 4) {
 				FUZZ_ASSERT(isfinite(ts[i]) && ts[i] >= 0 && isfinite(ts[i + 1]) &&
-					    isfinite(ts[i + 2]) && (!circ || isfinite(ts[i + 3])),
-					    "truth pixel %zu: %g %g %g %g", i / 4, ts[i], ts[i + 1],
-					    ts[i + 2], ts[i + 3]);
+				                isfinite(ts[i + 2]) &&
+				                (!circ || isfinite(ts[i + 3])),
+				            "truth pixel %zu: %g %g %g %g", i / 4, ts[i], ts[i + 1],
+				            ts[i + 2], ts[i + 3]);
 			}
 			pc_view v;
 			if (pc_view_alloc(&v, in.format, in.width, in.height, 1) == 0) {
 				pc_frame_meta meta;
 				if (pc_sim_frame(sim, 0, NULL, &v, &meta) == 0)
 					FUZZ_ASSERT(pc_view_check_bits(&v, in.bits) == 0, "%s",
-						    pc_error_detail());
+					            pc_error_detail());
 				pc_view_free(&v);
 			}
 		}

@@ -18,7 +18,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		return 0;
 	}
 	FUZZ_ASSERT(st.n_psg >= 1 && st.n_psg <= 64 && st.n_psa >= 1 && st.n_psa <= 64, "%u %u",
-		    st.n_psg, st.n_psa);
+	            st.n_psg, st.n_psa);
 	FUZZ_ASSERT(memchr(layout, '\0', sizeof layout) != NULL, "layout not terminated");
 	for (unsigned i = 0; i < st.n_psg; i++)
 		for (int k = 0; k < 4; k++)

@@ -18,7 +18,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (pc_mosaic_parse(t, &m) == 0) {
 		char buf[128];
 		pc_mosaic_format(&m, buf, sizeof buf);
-		FUZZ_ASSERT(pc_mosaic_parse(buf, &m2) == 0, "'%s' formats to '%s', which fails", t, buf);
+		FUZZ_ASSERT(pc_mosaic_parse(buf, &m2) == 0, "'%s' formats to '%s', which fails", t,
+		            buf);
 		FUZZ_ASSERT(memcmp(&m, &m2, sizeof m) == 0, "'%s' -> '%s' differs", t, buf);
 	}
 	pc_pixfmt f = pc_format_from_name(t);

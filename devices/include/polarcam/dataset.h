@@ -34,26 +34,26 @@ extern "C" {
 #endif
 
 typedef struct pc_dataset_options {
-	const char *spec;        /* family spec file */
-	const char *dir;         /* dataset directory (created if missing) */
-	uint64_t seed;           /* family seed */
-	uint64_t count;          /* samples 0 .. count − 1 */
-	uint32_t shard, shards;  /* this run makes the samples i with i mod shards = shard */
-	uint32_t width, height;  /* resolution override (0, 0: the spec's) */
-	int threads;             /* per sample (0 = all cores) */
-	uint64_t stop_after;     /* stop after making this many samples (0 = no limit; tests) */
-	pc_progress progress;    /* phase "samples": this shard's samples done (made or skipped)
-				  * out of its total; non-zero stops the run (PC_ECANCELED) after
-				  * the sample in hand, every finished sample kept */
+	const char *spec;       /* family spec file */
+	const char *dir;        /* dataset directory (created if missing) */
+	uint64_t seed;          /* family seed */
+	uint64_t count;         /* samples 0 .. count − 1 */
+	uint32_t shard, shards; /* this run makes the samples i with i mod shards = shard */
+	uint32_t width, height; /* resolution override (0, 0: the spec's) */
+	int threads;            /* per sample (0 = all cores) */
+	uint64_t stop_after;    /* stop after making this many samples (0 = no limit; tests) */
+	pc_progress progress;   /* phase "samples": this shard's samples done (made or skipped)
+	                         * out of its total; non-zero stops the run (PC_ECANCELED) after
+	                         * the sample in hand, every finished sample kept */
 } pc_dataset_options;
 
 typedef struct pc_dataset_result {
-	uint64_t total;          /* samples of this shard */
-	uint64_t made, skipped;  /* made now, found complete */
-	uint64_t repaired;       /* complete samples whose manifest line was missing */
-	uint64_t bytes;          /* bytes written now */
-	double render_s, write_s;/* wall time rendering and writing (hashing included) */
-	uint64_t worst_index;    /* the sample with the most saturated pixels made now */
+	uint64_t total;           /* samples of this shard */
+	uint64_t made, skipped;   /* made now, found complete */
+	uint64_t repaired;        /* complete samples whose manifest line was missing */
+	uint64_t bytes;           /* bytes written now */
+	double render_s, write_s; /* wall time rendering and writing (hashing included) */
+	uint64_t worst_index;     /* the sample with the most saturated pixels made now */
 	double worst_saturated, min_median_dn;
 } pc_dataset_result;
 
@@ -66,20 +66,20 @@ PC_API int pc_dataset_run(const pc_dataset_options *o, pc_dataset_result *r);
  * sets *shard and *shards when found, 0 when none is set, < 0 on malformed values (the error
  * names the variable). *scheduler names it ("slurm", "kubernetes"). */
 PC_API int pc_dataset_shard_from_env(uint32_t shards_hint, uint32_t *shard, uint32_t *shards,
-			      const char **scheduler);
+                                     const char **scheduler);
 
 /* Shard manifests → manifest.jsonl (sorted by index, every sample 0..count−1 exactly once,
  * lines of the same sample identical across shards). Nothing is written when incomplete. */
 PC_API int pc_dataset_merge(const char *dir, uint64_t *count);
 
 typedef struct pc_dataset_verify_result {
-	uint64_t count;          /* samples the dataset declares */
-	uint64_t ok;             /* complete with every hash right */
-	uint64_t missing;        /* no manifest line or no directory */
-	uint64_t corrupt;        /* a file missing, extra, of another size or hash */
-	uint64_t first_bad;      /* index of the first missing or corrupt sample */
+	uint64_t count;     /* samples the dataset declares */
+	uint64_t ok;        /* complete with every hash right */
+	uint64_t missing;   /* no manifest line or no directory */
+	uint64_t corrupt;   /* a file missing, extra, of another size or hash */
+	uint64_t first_bad; /* index of the first missing or corrupt sample */
 	char first_problem[512];
-	uint64_t bytes;          /* bytes hashed */
+	uint64_t bytes; /* bytes hashed */
 } pc_dataset_verify_result;
 
 /* Completeness and hashes against manifest.jsonl (or, before a merge, the shard manifests).

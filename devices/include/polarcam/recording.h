@@ -76,7 +76,7 @@ typedef struct pc_recording_desc {
 	const char *device_format; /* device's name for it, may be NULL */
 	uint32_t width, height, offset_x, offset_y, sensor_width, sensor_height;
 	bool polarized;
-	pc_mosaic mosaic; /* phase at pixel (0,0) of the frames */
+	pc_mosaic mosaic;         /* phase at pixel (0,0) of the frames */
 	pc_recording_store store; /* how frames are written (PNG by default) */
 } pc_recording_desc;
 
@@ -92,7 +92,7 @@ typedef struct pc_recording_frame {
  * files beyond the new recording's end are left alone but meta.json only lists the new frames.
  * Temporary files that killed writers left in dir are removed (pc_atomic_sweep). */
 PC_API int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
-                        bool overwrite);
+                               bool overwrite);
 /* Appends a frame: checks it matches the description, writes raw_NNNNNN.png (.npy, .raw)
  * atomically and records its metadata. meta.json is rewritten at most every 0.25 s while
  * recording. */
@@ -135,10 +135,10 @@ PC_API int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
 
 /* What a recording says about one of its frames (pc_recording_frame_info). */
 typedef struct pc_recording_frame_meta {
-	pc_mosaic mosaic;          /* the frames' mosaic (when polarized) */
+	pc_mosaic mosaic; /* the frames' mosaic (when polarized) */
 	bool polarized;
-	double black_level;        /* pc_recording_black_level: DN, 0 when not said */
-	unsigned bits;             /* significant bits of the frames */
+	double black_level; /* pc_recording_black_level: DN, 0 when not said */
+	unsigned bits;      /* significant bits of the frames */
 	uint32_t offset_x, offset_y, sensor_width, sensor_height; /* ROI origin, sensor size */
 } pc_recording_frame_meta;
 

@@ -27,8 +27,8 @@ extern "C" {
 
 typedef struct pc_stream_request {
 	const char *uri;
-	const char *format;               /* a device pixel format by name; NULL: the source's */
-	bool roi_set;                     /* roi = x, y, width, height on the sensor */
+	const char *format; /* a device pixel format by name; NULL: the source's */
+	bool roi_set;       /* roi = x, y, width, height on the sensor */
 	uint32_t roi[4];
 	double exposure_us, gain_db, fps; /* < 0: leave alone */
 	unsigned buffers;                 /* 1..64 */
@@ -55,9 +55,9 @@ PC_API char *pc_source_stats_json(const pc_source_stats *st);
  * pc_process_opts gives them for files (polarcam/process.h). */
 typedef struct pc_stream_levels {
 	double black_level;      /* DN subtracted; NAN: what the source declares
-				    (pc_source_info.black_level), else 0 */
+	                            (pc_source_info.black_level), else 0 */
 	double saturation_level; /* DN; 0: the calibration's, else the frames' full scale
-				    (2^bits − 1); < 0: not checked */
+	                            (2^bits − 1); < 0: not checked */
 	double dead_level;       /* DN; 0: not checked */
 	const char *calibration; /* a `polarcam calibrate` file (polarcam/calib.h); NULL: none */
 } pc_stream_levels;
@@ -77,13 +77,13 @@ PC_API void pc_stokes_stream_free(pc_stokes_stream *s);
  * black level. A black level given with a calibration is refused (the dark map is the black
  * level). */
 PC_API int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
-				       pc_source *src);
+                                       pc_source *src);
 
 /* The last frame's validity (mask of the output size, 1 valid; n_invalid) and the black and
  * saturation levels used (0: none), the calibration file (NULL: none). */
 PC_API const pc_validity *pc_stokes_stream_validity(const pc_stokes_stream *s);
 PC_API void pc_stokes_stream_levels_used(const pc_stokes_stream *s, double *black,
-					 double *saturation, const char **calibration);
+                                         double *saturation, const char **calibration);
 
 /* Runs a frame (which must carry a polarizer mosaic: PC_EFORMAT otherwise) through the
  * pipeline into the stream's S0, DoLP and AoLP planes; sizes follow the frame. */
@@ -91,7 +91,7 @@ PC_API int pc_stokes_stream_process(pc_stokes_stream *s, const pc_frame *f);
 
 /* The planes of the last frame (s1, s2 not computed) and their size. */
 PC_API const pc_stokes_out *pc_stokes_stream_planes(const pc_stokes_stream *s, uint32_t *width,
-					     uint32_t *height);
+                                                    uint32_t *height);
 /* Seconds the last pc_stokes_stream_process spent in pc_stokes_from_raw. */
 PC_API double pc_stokes_stream_seconds(const pc_stokes_stream *s);
 

@@ -48,7 +48,8 @@ extern "C" {
  * hi, titled title, with a colour bar labelled label; non-finite values are drawn magenta and
  * their share noted under the bar. */
 PC_API int pc_map_write(const char *dir, const char *name, const float *map, uint32_t width,
-		 uint32_t height, double lo, double hi, const char *title, const char *label);
+                        uint32_t height, double lo, double hi, const char *title,
+                        const char *label);
 
 /* ---- Stokes folders ---- */
 
@@ -68,37 +69,38 @@ typedef struct pc_stokes_folder_opts {
 /* Writes the files asked for from st (planes as pc_stokes_out; stokes.npy needs s0, s1, s2,
  * the others their plane) into dir, in the order of the table above. */
 PC_API int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
-			   uint32_t height, const pc_stokes_folder_opts *opts);
+                                  uint32_t height, const pc_stokes_folder_opts *opts);
 
 /* The same with a validity mask (valid may be NULL, or its mask NULL: none): valid.npy is
  * written after the .npy files and the pictures mark the invalid pixels. */
 PC_API int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
-				 uint32_t height, const pc_stokes_folder_opts *opts,
-				 const pc_validity *valid);
+                                        uint32_t height, const pc_stokes_folder_opts *opts,
+                                        const pc_validity *valid);
 
 /* ---- Mueller folders ---- */
 
 typedef struct pc_mueller_folder_opts {
-	bool no_mueller;     /* leave mueller.npy out (64 bytes per pixel) */
-	const char *method;  /* demosaicking method name, for mueller.json */
-	double black_level;  /* for mueller.json */
-	double rebuild_tol;  /* for mueller.json and the residual picture's scale (0 .. 2·tol) */
+	bool no_mueller;    /* leave mueller.npy out (64 bytes per pixel) */
+	const char *method; /* demosaicking method name, for mueller.json */
+	double black_level; /* for mueller.json */
+	double rebuild_tol; /* for mueller.json and the residual picture's scale (0 .. 2·tol) */
 	pc_rebuild_sign rebuild_sign;
 } pc_mueller_folder_opts;
 
 /* Writes res into dir. mueller.json holds frames, width, height, method, black_level, cond_A,
  * cond_G, cond_W, rank_A, rank_G, noise_gain, pixels_D_singular, pixels_nonphysical_filtered,
- * pixels_undecomposable, determined, saturation_level, pixels_invalid, rebuild_circular (and when rebuilt: rebuild_tol,
- * pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may be NULL) receives its
- * content as one compact line (malloc'd). */
+ * pixels_undecomposable, determined, saturation_level, pixels_invalid, rebuild_circular (and when
+ * rebuilt: rebuild_tol, pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may be NULL)
+ * receives its content as one compact line (malloc'd). */
 PC_API int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
-			    const pc_mueller_folder_opts *opts, char **json);
+                                   const pc_mueller_folder_opts *opts, char **json);
 
 /* ---- the seed paper's figures (polarcam/figures.h) ---- */
 
 /* Writes figs[2..11] and the claims into dir; progress (may be NULL): phase "figures". */
-PC_API int pc_figures_write(const char *dir, const pc_figure figs[12], const pc_figure_claim *claims,
-		     size_t n_claims, const pc_progress *progress);
+PC_API int pc_figures_write(const char *dir, const pc_figure figs[12],
+                            const pc_figure_claim *claims, size_t n_claims,
+                            const pc_progress *progress);
 
 #ifdef __cplusplus
 }

@@ -50,9 +50,9 @@ typedef enum pc_dtype { PC_DT_U8 = 1, PC_DT_U16, PC_DT_F32, PC_DT_F64, PC_DT_F16
 PC_API void pc_f32_to_f16(const float *in, uint16_t *out, size_t n);
 
 typedef struct pc_array {
-	void *data;       /* C order, owned */
+	void *data; /* C order, owned */
 	pc_dtype dtype;
-	unsigned ndim;    /* 1..4 */
+	unsigned ndim; /* 1..4 */
 	size_t shape[4];
 } pc_array;
 
@@ -61,7 +61,7 @@ PC_API void pc_array_free(pc_array *a);
 
 /* Writes a C-order array as NumPy format 1.0 (little-endian). */
 PC_API int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned ndim,
-		 const size_t *shape);
+                        const size_t *shape);
 /* Reads .npy (u1, <u2, <f4, <f8; C order; format 1.0/2.0). */
 PC_API int pc_npy_read(const char *path, pc_array *out);
 
@@ -76,7 +76,7 @@ PC_API int pc_png_write(const char *path, const pc_view *v);
 PC_API int pc_raw_write(const char *path, const pc_view *v);
 /* 8-bit RGB PNG from interleaved rows (pictures, plots). */
 PC_API int pc_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
-		      size_t stride);
+                             size_t stride);
 
 /* Raw geometry for headerless files: width, height, format, offset into the file, stride
  * (0 = tight). */
@@ -93,7 +93,7 @@ typedef struct pc_raw_geometry {
  * the file declares (PNG sBIT, TIFF BitsPerSample, 32 for float) and may be NULL. Float images
  * holding NaN or infinity are rejected (PC_ERANGE naming the file and the pixel). */
 PC_API int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_view *out,
-		  unsigned *significant_bits);
+                         unsigned *significant_bits);
 
 /* Reads a raw mosaic for processing: pc_image_read, then the bit depth. bits = 0 takes the
  * depth the file declares (PNG sBIT, TIFF/npy container); otherwise the file's container must
@@ -102,14 +102,14 @@ PC_API int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_v
  * Integer views come back as Mono8/Mono10/12/14/16 matching the depth; *bits_out (may be NULL)
  * receives it (32 for float). */
 PC_API int pc_image_read_mosaic(const char *path, const pc_raw_geometry *geometry, unsigned bits,
-			 pc_view *out, unsigned *bits_out);
+                                pc_view *out, unsigned *bits_out);
 
 /* TIFF of a Mono8, 9..16-bit (stored as 16-bit) or Float32 view. */
 PC_API int pc_tiff_write(const char *path, const pc_view *v);
 /* TIFF of a C-order (height, width, channels) array of u8, u16 or f32 samples (interleaved;
  * channels 1..16; extra samples are marked "unspecified"). */
 PC_API int pc_tiff_write_array(const char *path, const void *data, pc_dtype dtype, uint32_t height,
-			uint32_t width, unsigned channels);
+                               uint32_t width, unsigned channels);
 /* Reads a single-channel TIFF (8/16-bit unsigned, 32-bit float) into an owned view. */
 PC_API int pc_tiff_read(const char *path, pc_view *out, unsigned *significant_bits);
 /* Reads a TIFF as an array: (H, W) or (H, W, C) of u8, u16 or f32. */
@@ -135,25 +135,25 @@ PC_API int pc_bmp_read(const char *path, pc_view *out);
 #define PC_PICTURES_MASK_DEFAULT_REL 0.01
 typedef struct pc_pictures_opts {
 	const char *title_prefix; /* NULL: none */
-	uint32_t max_width;	  /* downscale for display to at most this width; 0: full size */
-	double mask_s0;		  /* low-signal mask threshold (see above) */
+	uint32_t max_width;       /* downscale for display to at most this width; 0: full size */
+	double mask_s0;           /* low-signal mask threshold (see above) */
 } pc_pictures_opts;
 
 struct pc_stokes_out;
 /* opts may be NULL (no prefix, full size, default mask). */
 PC_API int pc_pictures_write_opts(const char *dir, const struct pc_stokes_out *st, uint32_t width,
-			   uint32_t height, const pc_pictures_opts *opts);
+                                  uint32_t height, const pc_pictures_opts *opts);
 /* The same with a validity mask (valid may be NULL or have a NULL mask: all valid): pixels
  * whose value depends on a saturated, dead or distrusted sample are painted with the invalid
  * mark of polarcam/picture.h (pc_picture_mask_invalid) in every picture, over the low-signal
  * hatch, and their count is noted under each colour bar. */
 struct pc_validity;
 PC_API int pc_pictures_write_valid(const char *dir, const struct pc_stokes_out *st, uint32_t width,
-				   uint32_t height, const pc_pictures_opts *opts,
-				   const struct pc_validity *valid);
+                                   uint32_t height, const pc_pictures_opts *opts,
+                                   const struct pc_validity *valid);
 /* The same with a title prefix (may be NULL) and the default mask. */
 PC_API int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
-		      uint32_t height, const char *title_prefix);
+                             uint32_t height, const char *title_prefix);
 
 /* Loads a ground-truth directory for the evaluation protocol (polarcam/eval.h): the analyser
  * images named 0, 45, 90 and 135 with any extension pc_image_read knows (.tif, .tiff, .png,
@@ -166,24 +166,24 @@ PC_API void pc_truth_dataset(const char *dir, char *buf, size_t size);
 
 /* One method scored on one truth directory by the protocol (polarcam/eval.h). */
 typedef struct pc_eval_result {
-	const char *scene;         /* the directory as given */
-	char dataset[256];         /* pc_truth_dataset */
+	const char *scene; /* the directory as given */
+	char dataset[256]; /* pc_truth_dataset */
 	pc_demosaic_method method;
 	pc_eval_metrics m;
-	double seconds;            /* of pc_eval_method */
+	double seconds; /* of pc_eval_method */
 } pc_eval_result;
 
 /* Scores each method on each truth directory (pc_truth_load, pc_eval_method; opts may be
  * NULL) into res[d·nmeth + k]; progress (may be NULL): phase "eval", results done. Errors name
  * the directory. */
 PC_API int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method *methods,
-		 size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
-		 pc_eval_result *res);
+                        size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
+                        pc_eval_result *res);
 
 /* The mean metrics of the results of one dataset and method (datasets are never pooled);
  * returns how many results it averaged. */
 PC_API int pc_eval_dataset_mean(const pc_eval_result *res, size_t n, const char *dataset,
-			 pc_demosaic_method method, pc_eval_metrics *out);
+                                pc_demosaic_method method, pc_eval_metrics *out);
 
 /* The gain of one method over a baseline on one dataset, scene by scene (the results of the
  * same scene path): the mean gain in S0 and DoLP PSNR (dB) and the worst (lowest) with its
@@ -195,8 +195,8 @@ typedef struct pc_eval_gain {
 
 /* Returns how many scenes had both results (0: none, *out zeroed with NaN worsts). */
 PC_API int pc_eval_dataset_gain(const pc_eval_result *res, size_t n, const char *dataset,
-			 pc_demosaic_method method, pc_demosaic_method baseline,
-			 pc_eval_gain *out);
+                                pc_demosaic_method method, pc_demosaic_method baseline,
+                                pc_eval_gain *out);
 
 /* Creates a directory (and parents) if missing. */
 PC_API int pc_mkdir_p(const char *path);

@@ -47,7 +47,7 @@ PC_API int pc_process_method(const char *name, const pc_mosaic *m, pc_demosaic_m
  * valid (which may be NULL). It refuses frames that do not match it, naming the mismatch. */
 typedef struct pc_raw_stage {
 	int (*run)(void *user, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,
-		   const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid);
+	           const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid);
 	void *user;
 	const char *name;        /* for meta.json ("calibration") */
 	double saturation_level; /* the stage's default saturation level (raw units; 0: none) */
@@ -59,12 +59,12 @@ typedef struct pc_process_opts {
 	pc_demosaic_method method;
 	pc_demosaic_opts demosaic; /* threads, reference */
 	/* the raw's levels (pc_pipeline_opts, polarcam/demosaic.h), raw units */
-	double black_level;      /* subtracted from every sample; 0: none */
-	double saturation_level; /* samples >= it are saturated; 0: the stage's level, else the
-				  * raw's full scale (2^bits − 1 for integer raws, none for float32
-				  * ones); < 0: not checked */
-	double dead_level;       /* samples <= it are dead; 0: not checked */
-	uint32_t roi_x, roi_y;   /* the frame's ROI origin on the sensor (for stage checks) */
+	double black_level;        /* subtracted from every sample; 0: none */
+	double saturation_level;   /* samples >= it are saturated; 0: the stage's level, else the
+	                            * raw's full scale (2^bits − 1 for integer raws, none for float32
+	                            * ones); < 0: not checked */
+	double dead_level;         /* samples <= it are dead; 0: not checked */
+	uint32_t roi_x, roi_y;     /* the frame's ROI origin on the sensor (for stage checks) */
 	const pc_raw_stage *stage; /* NULL: the front door with the levels above */
 } pc_process_opts;
 
@@ -88,7 +88,7 @@ typedef struct pc_demosaic_file_report {
  * level is checked, the validity mask goes beside it as OUT_valid.npy (uint8 (H, W), 1 valid).
  * rep may be NULL. */
 PC_API int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const char *out_path,
-		     pc_demosaic_file_report *rep);
+                            pc_demosaic_file_report *rep);
 
 /* Raw file → Stokes folder in dir (pc_stokes_folder_write_valid with files, pictures as given;
  * valid.npy when a level is checked) plus dir/meta.json: input, width, height, bits, layout,
@@ -97,7 +97,7 @@ PC_API int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, co
  * the valid pixels only). meta (may be NULL) receives meta.json's content as
  * one compact line (malloc'd). Nothing is written unless the computation succeeded. */
 PC_API int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
-		    const pc_stokes_folder_opts *folder, char **meta);
+                           const pc_stokes_folder_opts *folder, char **meta);
 
 #ifdef __cplusplus
 }

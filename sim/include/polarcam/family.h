@@ -38,7 +38,8 @@ typedef struct pc_family pc_family;
  * Mesh files are resolved relative to the spec's directory. */
 PC_API int pc_family_load(const char *path, pc_family **out);
 /* The same from text; name is used in messages, base_dir resolves mesh files (NULL = "."). */
-PC_API int pc_family_parse(const char *text, const char *name, const char *base_dir, pc_family **out);
+PC_API int pc_family_parse(const char *text, const char *name, const char *base_dir,
+                           pc_family **out);
 PC_API void pc_family_free(pc_family *f);
 
 /* Replaces the spec's resolution (multiples of the mosaic period of every sensor preset the
@@ -60,10 +61,10 @@ typedef enum pc_family_truth { PC_TRUTH_NONE, PC_TRUTH_F32, PC_TRUTH_F16 } pc_fa
 /* One rendered sample. */
 typedef struct pc_family_sample {
 	uint64_t index;
-	uint64_t sim_seed;         /* the simulator's noise seed of this sample (< 2^63) */
-	char *scene_json;          /* the complete scene (scene format, exposure chosen), with mesh
-	                            * files as "../../meshes/NAME": DIR/samples/NNNNNN/scene.json */
-	pc_sim_info info;          /* size, format, mosaic, bits, effects */
+	uint64_t sim_seed; /* the simulator's noise seed of this sample (< 2^63) */
+	char *scene_json;  /* the complete scene (scene format, exposure chosen), with mesh
+	                    * files as "../../meshes/NAME": DIR/samples/NNNNNN/scene.json */
+	pc_sim_info info;  /* size, format, mosaic, bits, effects */
 	unsigned n_frames;
 	pc_view *frames;           /* n_frames raw frames 0..n−1 in the natural format */
 	pc_frame_meta *frame_meta; /* theirs, as pc_sim_frame reports it */
@@ -82,11 +83,11 @@ typedef struct pc_family_sample {
  * 0 = all) → truth → exposure (the spec's auto-exposure sets the chosen percentile of the mean
  * signal to the chosen fraction of full scale) → frames. */
 PC_API int pc_family_render(const pc_family *f, uint64_t seed, uint64_t index, int threads,
-		     pc_family_sample *out);
+                            pc_family_sample *out);
 /* Only the scene document of sample index (mesh files as the spec names them, resolved against
  * its directory) and its simulator seed, before the exposure is chosen (tests, previews). */
 PC_API int pc_family_scene(const pc_family *f, uint64_t seed, uint64_t index, char **scene_json,
-		    uint64_t *sim_seed);
+                           uint64_t *sim_seed);
 PC_API void pc_family_sample_free(pc_family_sample *s);
 
 #ifdef __cplusplus
