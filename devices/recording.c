@@ -439,6 +439,8 @@ int pc_recording_frame_mosaic(const char *path, pc_mosaic *m)
 {
 	pc_recording_frame_meta fm;
 	int found = pc_recording_frame_info(path, &fm);
+	if (found < 0)
+		return found;
 	if (found && fm.polarized)
 		*m = fm.mosaic;
 	return found && fm.polarized;

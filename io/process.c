@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "polarcam/process.h"
 
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -156,6 +157,19 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 			pc_view_free(&raw);
 			free(buf);
 			return pc_error(PC_EINVAL, "-o %s: path too long", out_path);
+		}
+		/* checked before anything is written: the mask's name must be a legal file name */
+		const char *vslash = strrchr(vpath, '/');
+		size_t vbase = strlen(vslash ? vslash + 1 : vpath);
+		if (vbase > NAME_MAX) {
+			pc_view_free(&raw);
+			free(buf);
+			return pc_error(
+			    PC_EINVAL,
+			    "-o %s: the validity mask beside it, %s, would be a file name of "
+			    "%zu bytes: too long (at most %d); choose a shorter output name, or "
+			    "--saturation none without a dead level for no mask",
+			    out_path, vslash ? vslash + 1 : vpath, vbase, NAME_MAX);
 		}
 	}
 	pc_validity valid = {checked ? malloc((size_t)ow * oh) : NULL, ow, 0};

@@ -179,7 +179,11 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
 	}
 	/* what the recording says about RAW when it is one of its frames */
 	pc_recording_frame_meta fm;
-	bool in_rec = o->path && !o->have_geometry && pc_recording_frame_info(o->path, &fm);
+	int info = o->path && !o->have_geometry ? pc_recording_frame_info(o->path, &fm) : 0;
+	if (info < 0 && !o->layout)
+		return cli_fail(info, NULL);
+	pc_error_clear();
+	bool in_rec = info > 0;
 	if (in_rec) {
 		o->roi_x = fm.offset_x;
 		o->roi_y = fm.offset_y;

@@ -561,8 +561,8 @@ int pcpy_pbrdf_eval(pcpy_pbrdf_cache *c, double n, double k, double sigma, doubl
 		if (rc)
 			return rc;
 	}
-	const double deg = PC_PI / 180;
-	return pc_pbrdf_eval(p, theta_i_deg * deg, theta_r_deg * deg, phi_deg * deg, f);
+	/* degrees as the CLI: sines and cosines exact at multiples of 90° */
+	return pc_pbrdf_eval_deg(p, theta_i_deg, theta_r_deg, phi_deg, f);
 }
 
 int pcpy_pbrdf_diffuse(const char *name, int *out)

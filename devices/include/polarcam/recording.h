@@ -143,7 +143,9 @@ typedef struct pc_recording_frame_meta {
 } pc_recording_frame_meta;
 
 /* pc_recording_frame_mosaic with everything the recording says about the frame: 1 and *m set
- * when path is a frame listed in its directory's meta.json, else 0. Never an error. */
+ * when path is a frame listed in its directory's meta.json, else 0; an error (negative) as
+ * pc_recording_frame_mosaic's, for a frame named like a recording's beside a meta.json that
+ * does not open. */
 PC_API int pc_recording_frame_info(const char *path, pc_recording_frame_meta *m);
 
 /* Reads frame i into an owned view of the recording's storage format (Mono8 or 16-bit
