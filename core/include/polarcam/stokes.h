@@ -1,7 +1,7 @@
 /* polarcam/stokes.h - linear Stokes images, DoLP and AoLP from analyser images or raw mosaics.
  *
  * Formulas (ideal analysers at 0°, 45°, 90°, 135°; the frozen evaluation protocol,
- * ../shared/data/README.md, step 4):
+ * docs/evaluation.md, step 4):
  *   S0 = (I0 + I45 + I90 + I135) / 2,  S1 = I0 − I90,  S2 = I45 − I135,
  *   DoLP = sqrt(S1² + S2²) / S0, clipped to [0, 1] (0 where S0 <= 0),
  *   AoLP = ½·atan2(S2, S1) in radians, mapped to [0, π).
