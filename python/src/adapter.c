@@ -14,6 +14,7 @@
 #include "polarcam/pbrdf.h"
 #include "polarcam/picture.h"
 #include "polarcam/sim.h"
+#include "polarcam/stream.h"
 
 #ifndef PCPY_VERSION
 #error "PCPY_VERSION (the project version) must be defined by the build"
@@ -748,78 +749,21 @@ void pcpy_render_free(pcpy_render *r)
 
 /* ---- frame sources ---- */
 
-static int set_control(pc_source *s, pc_control_id id, double v)
-{
-	if (v < 0)
-		return 0;
-	int rc = pc_source_control_set(s, id, v, NULL);
-	return rc ? pc_error_prefix(rc, "%s: ", pc_control_name(id)) : 0;
-}
-
-/* Format/ROI negotiation and controls as `polarcam capture` does them (tools/source_cli.c,
- * pc_stream_open; issue 9 moves that into the library: then this calls it). */
+/* Format/ROI negotiation, controls and buffers as `polarcam capture` does them: the library's
+ * pc_stream_open. */
 int pcpy_source_open(const char *uri, const pcpy_stream_args *a, pc_source **out)
 {
-	*out = NULL;
-	pc_source *s = NULL;
-	int rc = pc_source_open(&s, uri);
-	if (rc)
-		return rc;
-	if (a->format || a->roi_set) {
-		pc_source_format f, req;
-		pc_source_get_format(s, &f);
-		memset(&req, 0, sizeof req);
-		req.format = f.format;
-		snprintf(req.format_name, sizeof req.format_name, "%s", f.format_name);
-		if (a->format) {
-			if (strlen(a->format) >= sizeof req.format_name) {
-				pc_source_close(s);
-				return pc_error(PC_EINVAL, "format '%s': name too long", a->format);
-			}
-			req.format = PC_FMT_INVALID;
-			snprintf(req.format_name, sizeof req.format_name, "%s", a->format);
-		}
-		if (a->roi_set) {
-			req.offset_x = a->roi[0];
-			req.offset_y = a->roi[1];
-			req.width = a->roi[2];
-			req.height = a->roi[3];
-		} else {
-			req.offset_x = f.offset_x;
-			req.offset_y = f.offset_y;
-		}
-		pc_source_format got = req;
-		pc_format_verdict v;
-		rc = pc_source_try_format(s, &got, &v);
-		if (!rc && v == PC_FORMAT_INVALID)
-			rc =
-			    pc_error_prefix(PC_EINVAL, "%s: the source cannot deliver this: ", uri);
-		if (!rc && v == PC_FORMAT_ADJUSTED)
-			rc = pc_error(PC_EINVAL,
-			              "%s: the source would adjust the request to %s roi=(%u, %u, "
-			              "%u, %u); ask for that explicitly",
-			              uri, got.format_name, got.offset_x, got.offset_y, got.width,
-			              got.height);
-		if (!rc)
-			rc = pc_source_set_format(s, &got);
-		if (rc) {
-			pc_source_close(s);
-			return rc;
-		}
-	}
-	rc = set_control(s, PC_CTRL_EXPOSURE_US, a->exposure_us);
-	if (!rc)
-		rc = set_control(s, PC_CTRL_GAIN_DB, a->gain_db);
-	if (!rc)
-		rc = set_control(s, PC_CTRL_FRAME_RATE_HZ, a->frame_rate_hz);
-	if (!rc)
-		rc = pc_source_buffers_alloc(s, a->buffers);
-	if (rc) {
-		pc_source_close(s);
-		return rc;
-	}
-	*out = s;
-	return 0;
+	pc_stream_request r;
+	pc_stream_request_init(&r);
+	r.uri = uri;
+	r.format = a->format;
+	r.roi_set = a->roi_set;
+	memcpy(r.roi, a->roi, sizeof r.roi);
+	r.exposure_us = a->exposure_us;
+	r.gain_db = a->gain_db;
+	r.fps = a->frame_rate_hz;
+	r.buffers = a->buffers;
+	return pc_stream_open(&r, out);
 }
 
 void pcpy_source_close(pc_source *s)
