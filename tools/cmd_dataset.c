@@ -64,28 +64,37 @@ static int parse_shard(const char *arg, uint32_t *i, uint32_t *m)
 	return 0;
 }
 
+/* The arguments of `dataset verify|merge`: one DIR and --json. */
+static int parse_dir_args(int argc, char **argv, const char *sub, const char **dir, bool *json)
+{
+	for (int k = 2; k < argc; k++) {
+		if (!strcmp(argv[k], "--json"))
+			*json = true;
+		else if (argv[k][0] == '-')
+			return cli_error(CLI_EXIT_USAGE, "dataset %s: unknown option '%s'", sub,
+			                 argv[k]);
+		else if (*dir)
+			return cli_error(CLI_EXIT_USAGE,
+			                 "dataset %s: one directory, got '%s' and '%s'", sub, *dir,
+			                 argv[k]);
+		else
+			*dir = argv[k];
+	}
+	if (!*dir)
+		return cli_error(CLI_EXIT_USAGE, "dataset %s: DIR is required (see --help)", sub);
+	return 0;
+}
+
 static int run_verify(int argc, char **argv)
 {
 	bool json = false;
 	const char *dir = NULL;
-	for (int k = 2; k < argc; k++) {
-		if (!strcmp(argv[k], "--json"))
-			json = true;
-		else if (argv[k][0] == '-')
-			return cli_error(CLI_EXIT_USAGE, "dataset verify: unknown option '%s'",
-			                 argv[k]);
-		else if (dir)
-			return cli_error(CLI_EXIT_USAGE,
-			                 "dataset verify: one directory, got '%s' and '%s'", dir,
-			                 argv[k]);
-		else
-			dir = argv[k];
-	}
-	if (!dir)
-		return cli_error(CLI_EXIT_USAGE, "dataset verify: DIR is required (see --help)");
+	int rc = parse_dir_args(argc, argv, "verify", &dir, &json);
+	if (rc)
+		return rc;
 	pc_dataset_verify_result r;
 	double t0 = cli_now();
-	int rc = pc_dataset_verify(dir, &r);
+	rc = pc_dataset_verify(dir, &r);
 	if (rc)
 		return cli_fail(rc, dir);
 	bool good = r.ok == r.count;
@@ -113,23 +122,11 @@ static int run_merge(int argc, char **argv)
 {
 	bool json = false;
 	const char *dir = NULL;
-	for (int k = 2; k < argc; k++) {
-		if (!strcmp(argv[k], "--json"))
-			json = true;
-		else if (argv[k][0] == '-')
-			return cli_error(CLI_EXIT_USAGE, "dataset merge: unknown option '%s'",
-			                 argv[k]);
-		else if (dir)
-			return cli_error(CLI_EXIT_USAGE,
-			                 "dataset merge: one directory, got '%s' and '%s'", dir,
-			                 argv[k]);
-		else
-			dir = argv[k];
-	}
-	if (!dir)
-		return cli_error(CLI_EXIT_USAGE, "dataset merge: DIR is required (see --help)");
+	int rc = parse_dir_args(argc, argv, "merge", &dir, &json);
+	if (rc)
+		return rc;
 	uint64_t n = 0;
-	int rc = pc_dataset_merge(dir, &n);
+	rc = pc_dataset_merge(dir, &n);
 	if (rc)
 		return cli_fail(rc, dir);
 	if (json)
