@@ -6,13 +6,9 @@
 #include <math.h>
 
 #include "fuzz_batch.h"
+#include "fuzz_lu_chipman.h"
 #include "polarcam/decompose.h"
 #include "polarcam/optics.h"
-
-static bool same(double a, double b)
-{
-	return (isnan(a) && isnan(b)) || memcmp(&a, &b, sizeof a) == 0;
-}
 
 static void fuzz_batch_line(const double *v, const uint8_t *data, size_t size)
 {
@@ -20,37 +16,13 @@ static void fuzz_batch_line(const double *v, const uint8_t *data, size_t size)
 	(void)size;
 	double M[4][4];
 	memcpy(M, v, sizeof M);
-	pc_lu_chipman lc;
-	FUZZ_ASSERT(pc_lu_chipman_decompose(M, PC_LC_FILTER, &lc) == 0, "%s", pc_error_detail());
-	if (!(lc.flags & PC_LC_ZERO_M00)) {
-		FUZZ_ASSERT(lc.D >= 0 && lc.D <= 1, "D = %.17g", lc.D);
-		if (!(lc.flags & (PC_LC_D_SINGULAR | PC_LC_ZERO_M00))) {
-			FUZZ_ASSERT(lc.Delta >= 0 && lc.Delta <= 1, "Delta = %.17g", lc.Delta);
-			FUZZ_ASSERT(lc.R >= 0 && lc.R <= M_PI + 1e-12, "R = %.17g", lc.R);
-		}
-	}
+	pc_lu_chipman lc = fuzz_lc_ranges(M);
 	if (lc.physical && !(lc.flags & PC_LC_ZERO_M00)) {
 		pc_lu_chipman u;
 		pc_lu_chipman_decompose(M, 0, &u);
 		FUZZ_ASSERT(u.D <= 1 + 1e-6, "physical matrix with D = %.17g", u.D);
 	}
-	for (unsigned opt = 0; opt <= PC_LC_FILTER; opt += PC_LC_FILTER) {
-		pc_lu_chipman s;
-		pc_lu_chipman_decompose(M, opt | PC_LC_NO_FACTORS, &s);
-		double D, R, Delta;
-		unsigned flags;
-		pc_lc_map mo;
-		memset(&mo, 0, sizeof mo);
-		mo.D = &D;
-		mo.R = &R;
-		mo.Delta = &Delta;
-		mo.flags = &flags;
-		FUZZ_ASSERT(pc_lu_chipman_map(&M[0][0], 1, opt, &mo) == 0, "map");
-		FUZZ_ASSERT(same(D, s.D) && same(R, s.R) && same(Delta, s.Delta) &&
-		                flags == s.flags,
-		            "map %g %g %g %#x, scalar %g %g %g %#x", D, R, Delta, flags, s.D, s.R,
-		            s.Delta, s.flags);
-	}
+	fuzz_lc_map_vs_scalar(M);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

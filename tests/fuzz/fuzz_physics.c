@@ -11,6 +11,7 @@
 #include <math.h>
 
 #include "fuzz.h"
+#include "fuzz_lu_chipman.h"
 #include "polarcam/decompose.h"
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
@@ -120,11 +121,6 @@ static void pbrdf(rd *r, uint8_t mode)
 	pc_pbrdf_free(p);
 }
 
-static bool same(double a, double b)
-{
-	return (isnan(a) && isnan(b)) || memcmp(&a, &b, sizeof a) == 0;
-}
-
 static void decompose(rd *r, uint8_t mode)
 {
 	double M[4][4];
@@ -135,15 +131,7 @@ static void decompose(rd *r, uint8_t mode)
 	}
 	if (mode & 2)
 		M[0][0] = fabs(M[0][0]) + fabs(M[0][1]) + fabs(M[1][0]);
-	pc_lu_chipman lc;
-	FUZZ_ASSERT(pc_lu_chipman_decompose(M, PC_LC_FILTER, &lc) == 0, "%s", pc_error_detail());
-	if (!(lc.flags & PC_LC_ZERO_M00)) {
-		FUZZ_ASSERT(lc.D >= 0 && lc.D <= 1, "D = %.17g", lc.D);
-		if (!(lc.flags & PC_LC_D_SINGULAR)) {
-			FUZZ_ASSERT(lc.Delta >= 0 && lc.Delta <= 1, "Delta = %.17g", lc.Delta);
-			FUZZ_ASSERT(lc.R >= 0 && lc.R <= M_PI + 1e-12, "R = %.17g", lc.R);
-		}
-	}
+	fuzz_lc_ranges(M);
 	double F[4][4];
 	bool changed;
 	pc_mueller_cloude_filter(M, F, &changed);
@@ -164,22 +152,7 @@ static void decompose(rd *r, uint8_t mode)
 		FUZZ_ASSERT(0, "filtered matrix not physical (min eigenvalue/trace %g)",
 		            pc_mueller_min_coherency_eig(F));
 	}
-	for (unsigned opt = 0; opt <= PC_LC_FILTER; opt += PC_LC_FILTER) {
-		pc_lu_chipman s;
-		pc_lu_chipman_decompose(M, opt | PC_LC_NO_FACTORS, &s);
-		double D, R, Delta;
-		unsigned flags;
-		pc_lc_map mo;
-		memset(&mo, 0, sizeof mo);
-		mo.D = &D;
-		mo.R = &R;
-		mo.Delta = &Delta;
-		mo.flags = &flags;
-		FUZZ_ASSERT(pc_lu_chipman_map(&M[0][0], 1, opt, &mo) == 0, "map");
-		FUZZ_ASSERT(same(D, s.D) && same(R, s.R) && same(Delta, s.Delta) &&
-		                flags == s.flags,
-		            "map differs from scalar");
-	}
+	fuzz_lc_map_vs_scalar(M);
 }
 
 static void sincos(rd *r)
