@@ -66,7 +66,7 @@ case $cmd in
     build build
     out=${2:-polarcam-demo}
     say "running: build/tools/polarcam demo -o $out"
-    build/tools/polarcam demo -o "$out"
+    build/tools/polarcam demo -o "$out" --overwrite
     ;;
   test)
     install_pkgs $BUILD_PKGS $TEST_PKGS

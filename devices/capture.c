@@ -18,10 +18,13 @@ typedef struct capture {
 	const pc_capture_opts *o;
 	pc_source *src;
 	pc_source_format f;
+	pc_outdir od; /* the recording is made in od.tmp and put in place at the end */
 	pc_recording *rec;
 	pc_stokes_stream *live;
 	const char *method; /* name, with process */
 	double seconds, proc_sum, proc_max;
+	uint64_t kept;      /* frames whose Stokes images were written */
+	bool last_kept;     /* the last processed frame's were */
 	pc_capture_report *rep;
 } capture;
 
@@ -54,6 +57,9 @@ static int open_all(capture *c)
 	int rc = o->method ? pc_demosaic_method_from_name(o->method, &m) : 0;
 	if (rc) /* a misspelt name is refused before the camera is opened */
 		return pc_error_prefix(rc, "--method: ");
+	/* so is an occupied output folder */
+	if ((rc = pc_outdir_begin(&c->od, o->dir, o->overwrite ? PC_OUT_OVERWRITE : 0)))
+		return rc;
 	if ((rc = pc_stream_open(&o->stream, &c->src)))
 		return pc_error_prefix(rc, "opening the source: ");
 	pc_source_get_format(c->src, &c->f);
@@ -78,9 +84,28 @@ static int open_all(capture *c)
 	d.sensor_height = c->f.sensor_height;
 	d.polarized = c->f.polarized;
 	d.mosaic = c->f.mosaic;
-	if ((rc = pc_recording_create(&c->rec, o->dir, &d, o->overwrite)))
+	if ((rc = pc_recording_create(&c->rec, c->od.tmp, &d, false)))
 		return pc_error_prefix(rc, "creating the recording: ");
 	return 0;
+}
+
+/* Files of the last processed frame (number n) in DIR/processed/. */
+static int keep(capture *c, uint64_t n, unsigned files)
+{
+	uint32_t w, h;
+	const pc_stokes_out *so = pc_stokes_stream_planes(c->live, &w, &h);
+	char pdir[4200];
+	snprintf(pdir, sizeof pdir, "%s/processed", c->od.tmp);
+	pc_stokes_folder_opts fo = { .files = files,
+				     .pictures = { .title_prefix = "capture" },
+				     .numbered = true,
+				     .number = n };
+	int rc = pc_stokes_folder_write(pdir, so, w, h, &fo);
+	if (!rc && (files & PC_SF_DOLP)) {
+		c->kept++;
+		c->last_kept = true;
+	}
+	return rc;
 }
 
 /* Dequeue → record (→ Stokes) → requeue, until the frames are in or something ends it. */
@@ -124,6 +149,9 @@ static void record(capture *c)
 			c->proc_sum += s;
 			if (s > c->proc_max)
 				c->proc_max = s;
+			c->last_kept = false;
+			if (!rc && o->keep_every && got % o->keep_every == 0)
+				rc = keep(c, got, PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP);
 		}
 		int rc2 = pc_source_requeue(c->src, b);
 		if (rc || rc2) {
@@ -138,7 +166,8 @@ static void record(capture *c)
 	c->rep->frames = got;
 }
 
-/* The last frame's Stokes images and pictures in DIR/processed/, and the "process" report. */
+/* The last frame's Stokes images (when not kept already) and pictures in DIR/processed/, and
+ * the "process" report. */
 static json_t *processed(capture *c)
 {
 	uint32_t w, h;
@@ -146,19 +175,18 @@ static json_t *processed(capture *c)
 	uint64_t got = c->rep->frames;
 	if (!so || got == 0)
 		return NULL;
-	char pdir[1100];
-	snprintf(pdir, sizeof pdir, "%s/processed", c->o->dir);
-	pc_stokes_folder_opts fo = { PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP | PC_SF_PICTURES,
-				     { "capture", 0, 0 } };
-	int rc = pc_stokes_folder_write(pdir, so, w, h, &fo);
+	unsigned files = PC_SF_PICTURES | (c->last_kept ? 0 : PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP);
+	int rc = keep(c, got - 1, files);
 	if (rc)
-		fail(c, rc, "writing the processed pictures: %s", pc_error_detail());
+		fail(c, rc, "writing the processed frames: %s", pc_error_detail());
 	double sum = 0;
 	for (size_t i = 0; i < (size_t)w * h; i++)
 		sum += so->dolp.data[i];
 	json_t *pj = json_object();
 	json_object_set_new(pj, "method", json_string(c->method));
 	json_object_set_new(pj, "frames", json_integer((json_int_t)got));
+	json_object_set_new(pj, "kept", json_integer((json_int_t)c->kept));
+	json_object_set_new(pj, "keep_every", json_integer((json_int_t)c->o->keep_every));
 	json_object_set_new(pj, "mean_ms", pc_json_real(1e3 * c->proc_sum / (double)got));
 	json_object_set_new(pj, "max_ms", pc_json_real(1e3 * c->proc_max));
 	json_object_set_new(pj, "last_mean_dolp", pc_json_real(sum / ((double)w * h)));
@@ -213,7 +241,10 @@ static void finish(capture *c, json_t *pj)
 int pc_capture(const pc_capture_opts *o, pc_capture_report *rep)
 {
 	memset(rep, 0, sizeof *rep);
-	capture c = { o, NULL, { 0 }, NULL, NULL, NULL, 0, 0, 0, rep };
+	capture c;
+	memset(&c, 0, sizeof c);
+	c.o = o;
+	c.rep = rep;
 	int rc = open_all(&c);
 	if (!rc) {
 		record(&c);
@@ -224,6 +255,17 @@ int pc_capture(const pc_capture_opts *o, pc_capture_report *rep)
 	pc_recording_free(c.rec);
 	pc_stokes_stream_free(c.live);
 	pc_source_close(c.src);
+	/* Frames from a camera cannot be made again: a recording that ended early is kept (and
+	 * replaces an older one) once it holds a frame. With none, nothing is put in place. */
+	if (!rc && rep->frames == 0) {
+		rc = pc_error(rep->error ? rep->error : PC_EIO, "%s: no frame recorded: %s", o->dir,
+			      rep->message);
+		pc_capture_report_free(rep);
+	}
+	if (!rc && (rc = pc_outdir_commit(&c.od)))
+		pc_capture_report_free(rep);
+	if (rc)
+		pc_outdir_abort(&c.od);
 	return rc;
 }
 

@@ -159,7 +159,7 @@ static int step_truth(pc_demo *d, const char *out, pc_view *raw, float *tp, demo
 	fr.view = *raw;
 	fr.mosaic = d->in.mosaic;
 	pc_recording *rec = NULL;
-	if ((rc = pc_recording_create(&rec, out, &desc, true)) ||
+	if ((rc = pc_recording_create(&rec, out, &desc, false)) ||
 	    (rc = pc_recording_add(rec, &fr))) {
 		pc_recording_free(rec);
 		pc_error_prefix(rc, "%s: ", out);
@@ -189,7 +189,7 @@ static int step_truth(pc_demo *d, const char *out, pc_view *raw, float *tp, demo
 	}
 	pc_stokes_out so = { { tp, W, 1 }, { NULL, 0, 0 }, { NULL, 0, 0 }, { tp + np, W, 1 },
 			     { tp + 2 * np, W, 1 } };
-	pc_stokes_folder_opts fo = { PC_SF_PICTURES, { "truth", 0, 0 } };
+	pc_stokes_folder_opts fo = { .files = PC_SF_PICTURES, .pictures = { .title_prefix = "truth" } };
 	if ((rc = join(path, sizeof path, out, "truth")) ||
 	    (rc = pc_stokes_folder_write(path, &so, W, H, &fo)))
 		pc_error_prefix(rc, "%s: ", path);
@@ -238,7 +238,8 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 			char sub[96], dir[4096];
 			if (snprintf(sub, sizeof sub, "pipeline_%.40s", name) >= (int)sizeof sub)
 				sub[sizeof sub - 1] = '\0';
-			pc_stokes_folder_opts fo = { PC_SF_PICTURES, { r->method[m], 0, 0 } };
+			pc_stokes_folder_opts fo = { .files = PC_SF_PICTURES,
+						     .pictures = { .title_prefix = r->method[m] } };
 			if ((rc = join(dir, sizeof dir, out, sub)) ||
 			    (rc = pc_stokes_folder_write(dir, &eo, W, H, &fo))) {
 				pc_error_prefix(rc, "%s: ", dir);
@@ -246,7 +247,7 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 			}
 		}
 		/* stokes.npy (H, W, 3): S0, S1, S2 in DN from the bilinear pipeline */
-		pc_stokes_folder_opts fs = { PC_SF_STOKES, { NULL, 0, 0 } };
+		pc_stokes_folder_opts fs = { .files = PC_SF_STOKES };
 		if (bilinear && (rc = pc_stokes_folder_write(out, &eo, W, H, &fs)))
 			break;
 	}
@@ -615,7 +616,7 @@ static int step_report(const pc_demo *d, const char *out, const demo_results *r,
 	return rc ? pc_error_prefix(rc, "report.md: ") : 0;
 }
 
-int pc_demo_run(pc_demo *d, const char *out, char **report)
+int pc_demo_run(pc_demo *d, const char *dir, char **report)
 {
 	if (report)
 		*report = NULL;
@@ -624,9 +625,11 @@ int pc_demo_run(pc_demo *d, const char *out, char **report)
 	demo_results *r = calloc(1, sizeof *r);
 	float *tp = malloc(np * 3 * sizeof *tp);
 	pc_view raw = { 0 };
+	pc_outdir od = { 0 };
 	int rc = !r || !tp ? pc_error(PC_ENOMEM, "demo") : 0;
-	if (!rc && (rc = pc_mkdir_p(out)))
-		pc_error_prefix(rc, "%s: ", out);
+	if (!rc)
+		rc = pc_outdir_begin(&od, dir, d->o.overwrite ? PC_OUT_OVERWRITE : 0);
+	const char *out = od.tmp; /* the folder is made beside dir and put in place at the end */
 	if (!rc)
 		rc = step_truth(d, out, &raw, tp, r);
 	if (!rc)
@@ -639,6 +642,9 @@ int pc_demo_run(pc_demo *d, const char *out, char **report)
 		rc = step_mueller(d, out, r);
 	if (!rc)
 		rc = step_report(d, out, r, t_all, report);
+	if (!rc)
+		rc = pc_outdir_commit(&od);
+	pc_outdir_abort(&od);
 	if (r)
 		free(r->simulation);
 	free(r);

@@ -9,7 +9,7 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *opt
 	(void)opt;
 	if (out)
 		*out = NULL;
-	return pc_error(PC_ENOTSUP, "serve: built without Aravis (Debian: libaravis-dev, then "
+	return pc_error(PC_EUNAVAIL, "serve: built without Aravis (Debian: libaravis-dev, then "
 	                            "re-run cmake)");
 }
 

@@ -15,13 +15,13 @@
 
 typedef struct job {
 	const pc_render_opts *o;
-	const char *dir;
+	pc_outdir od;
+	const char *dir; /* od.tmp: where the files go until the folder is complete */
 	const pc_scene *scene;
 	pc_sim *sim;
 	pc_sim_info in;
 	uint64_t frames;
 	pc_recording *rec;
-	char err[512]; /* why the recording ended early, for meta.json */
 	double t_prep, t_frames, t_write;
 } job;
 
@@ -122,18 +122,13 @@ static int frames(job *j)
 		double tb = now_s();
 		j->t_frames += tb - ta;
 		if (rc) {
-			snprintf(j->err, sizeof j->err, "frame %llu: %s", (unsigned long long)n,
-				 pc_error_detail());
-			pc_error_prefix(rc, "frame: ");
+			pc_error_prefix(rc, "frame %llu: ", (unsigned long long)n);
 			break;
 		}
 		fr.view = view;
 		fr.mosaic = j->in.mosaic;
-		if ((rc = pc_recording_add(j->rec, &fr))) {
-			snprintf(j->err, sizeof j->err, "%s", pc_error_detail());
-			pc_error_prefix(rc, "%s: ", j->dir);
+		if ((rc = pc_recording_add(j->rec, &fr)))
 			break;
-		}
 		j->t_write += now_s() - tb;
 		pc_progress_report(&j->o->progress, "frames", i + 1, j->frames);
 	}
@@ -175,18 +170,17 @@ static int finish(job *j, double t0, pc_render_report *rep)
 	json_decref(extra);
 	if (rc)
 		return pc_error_prefix(rc, "meta.json: ");
-	if ((rc = pc_recording_finish(j->rec, NULL)))
-		return pc_error_prefix(rc, "%s: ", j->dir);
-	return 0;
+	return pc_recording_finish(j->rec, NULL);
 }
 
-/* The recording first: an occupied directory is refused before any work. */
-static int start(job *j)
+/* The output folder first: an occupied one is refused before any work. */
+static int start(job *j, const char *dir)
 {
 	const pc_render_opts *o = j->o;
-	int rc = pc_mkdir_p(j->dir);
+	int rc = pc_outdir_begin(&j->od, dir, o->overwrite ? PC_OUT_OVERWRITE : 0);
 	if (rc)
-		return pc_error_prefix(rc, "%s: ", j->dir);
+		return rc;
+	j->dir = j->od.tmp;
 	char source[1024];
 	snprintf(source, sizeof source, "sim:%s?seed=%llu", o->scene_path ? o->scene_path : "default",
 		 (unsigned long long)o->sim.seed);
@@ -195,9 +189,7 @@ static int start(job *j)
 				   in->width,	    in->height,	   in->offset_x,
 				   in->offset_y,    in->sensor_width, in->sensor_height,
 				   true,	    in->mosaic };
-	if ((rc = pc_recording_create(&j->rec, j->dir, &desc, o->overwrite)))
-		return pc_error_prefix(rc, "%s: ", j->dir);
-	return 0;
+	return pc_recording_create(&j->rec, j->dir, &desc, false);
 }
 
 int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_report *rep)
@@ -210,7 +202,6 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 	job j;
 	memset(&j, 0, sizeof j);
 	j.o = o;
-	j.dir = dir;
 	pc_scene *loaded = NULL;
 	int rc = 0;
 	if (!(j.scene = o->scene))
@@ -223,7 +214,7 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 	if (!rc) {
 		pc_sim_get_info(j.sim, &j.in);
 		j.frames = o->frames ? o->frames : j.in.n_states;
-		rc = start(&j);
+		rc = start(&j, dir);
 	}
 	if (!rc)
 		rc = prepare(&j);
@@ -231,15 +222,12 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 		rc = frames(&j);
 	if (!rc)
 		rc = finish(&j, t0, rep);
-	if (j.rec) {
-		if (rc) { /* the recording says why it ended; the caller hears the first error */
-			char detail[512];
-			snprintf(detail, sizeof detail, "%s", pc_error_detail());
-			pc_recording_finish(j.rec, *j.err ? j.err : "render failed");
-			pc_error(rc, "%s", detail);
-		}
-		pc_recording_free(j.rec);
-	}
+	pc_recording_free(j.rec);
+	/* the folder is put in place whole, or not at all (the old one, if any, stays) */
+	if (!rc)
+		rc = pc_outdir_commit(&j.od);
+	else
+		pc_outdir_abort(&j.od);
 	if (!rc && rep) {
 		rep->frames = j.frames;
 		rep->width = j.in.width;

@@ -10,12 +10,13 @@
 #include "polarcam/plot.h"
 #include "polarcam/stokes.h"
 
-static int write_one(const char *dir, const char *name, const uint8_t *rgb, uint32_t w, uint32_t h,
-		     const char *title, const pc_colorbar *bar, const pc_legend_note *note,
-		     uint32_t max_width)
+static int write_one(const char *dir, const char *name, const char *suffix, const uint8_t *rgb,
+		     uint32_t w, uint32_t h, const char *title, const pc_colorbar *bar,
+		     const pc_legend_note *note, uint32_t max_width)
 {
 	char path[4096];
-	if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path)
+	if ((size_t)snprintf(path, sizeof path, "%s/%s%s.png", dir, name, suffix ? suffix : "") >=
+	    sizeof path)
 		return pc_error(PC_EINVAL, "%s: directory path too long", dir);
 	return pc_image_write_png_ex(path, rgb, w, h, (size_t)w * 3, title, bar, note, max_width);
 }
@@ -23,7 +24,7 @@ static int write_one(const char *dir, const char *name, const uint8_t *rgb, uint
 int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, uint32_t height,
 		      const char *title_prefix)
 {
-	pc_pictures_opts o = { title_prefix, 0, 0 };
+	pc_pictures_opts o = { title_prefix, 0, 0, NULL };
 	return pc_pictures_write_opts(dir, st, width, height, &o);
 }
 
@@ -32,7 +33,7 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 {
 	if (!dir || !st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
-	pc_pictures_opts o = { NULL, 0, 0 };
+	pc_pictures_opts o = { NULL, 0, 0, NULL };
 	if (opts)
 		o = *opts;
 	if (!isfinite(o.mask_s0))
@@ -63,7 +64,7 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 	pc_colorbar bar = { "S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL };
 	snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
 	if (!rc)
-		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar, NULL, o.max_width);
+		rc = write_one(dir, "s0", o.suffix, rgb, width, height, title, &bar, NULL, o.max_width);
 	if (!rc) {
 		rc = pc_picture_grey(&st->dolp, width, height, 0, 1, rgb, (size_t)width * 3);
 		if (np)
@@ -72,9 +73,9 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 	pc_colorbar dbar = { "DoLP", 0, 1, NULL, 0, 0, pc_picture_grey_key, NULL };
 	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)%s", pre, mask_title);
 	if (!rc)
-		rc = write_one(dir, "dolp.png", rgb, width, height, title, &dbar, np, o.max_width);
+		rc = write_one(dir, "dolp", o.suffix, rgb, width, height, title, &dbar, np, o.max_width);
 	static const pc_aolp_style styles[2] = { PC_AOLP_VALUE, PC_AOLP_SATURATION };
-	static const char *names[2] = { "aolp.png", "aolp_sat.png" };
+	static const char *names[2] = { "aolp", "aolp_sat" };
 	static const char *what[2] = { "value", "saturation" };
 	for (int k = 0; k < 2 && !rc; k++) {
 		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], 1.0f, rgb,
@@ -86,7 +87,7 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)%s", pre, what[k],
 			 mask_title);
 		if (!rc)
-			rc = write_one(dir, names[k], rgb, width, height, title, &abar, np,
+			rc = write_one(dir, names[k], o.suffix, rgb, width, height, title, &abar, np,
 				       o.max_width);
 	}
 	free(rgb);

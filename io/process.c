@@ -69,9 +69,12 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	if (!tiff && !has_suffix(out_path, ".npy") && !has_suffix(out_path, ".NPY"))
 		return pc_error(PC_EINVAL, "-o %s: the output is .npy or .tif/.tiff (float32)",
 				out_path);
+	int rc = pc_output_check(out_path, o->overwrite ? PC_OUT_OVERWRITE : 0, false);
+	if (rc)
+		return rc;
 	pc_view raw;
 	unsigned bits;
-	int rc = pc_raw_read(in, &raw, &bits);
+	rc = pc_raw_read(in, &raw, &bits);
 	if (rc)
 		return rc;
 	uint32_t ow, oh;
@@ -101,70 +104,153 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	return rc;
 }
 
-static const char *const process_files[] = { "stokes.npy", "dolp.npy", "aolp.npy", "s0.png",
-					     "dolp.png",   "aolp.png", "aolp_sat.png" };
+/* The files of a Stokes folder, as meta.json lists them. */
+static json_t *files_json(unsigned files, bool numbered, bool stack)
+{
+	static const struct {
+		unsigned flag;
+		const char *name[4];
+	} t[5] = { { PC_SF_STOKES, { "stokes.npy" } },
+		   { PC_SF_S0, { "s0.npy" } },
+		   { PC_SF_DOLP, { "dolp.npy" } },
+		   { PC_SF_AOLP, { "aolp.npy" } },
+		   { PC_SF_PICTURES, { "s0.png", "dolp.png", "aolp.png", "aolp_sat.png" } } };
+	json_t *a = json_array();
+	for (int k = 0; k < 5; k++)
+		for (int i = 0; i < 4 && t[k].name[i] && (files & t[k].flag); i++) {
+			const char *n = t[k].name[i];
+			char buf[64];
+			if (numbered && (!stack || t[k].flag == PC_SF_PICTURES)) {
+				const char *dot = strrchr(n, '.');
+				snprintf(buf, sizeof buf, "%.*s_NNNNNN%s", (int)(dot - n), n, dot);
+				n = buf;
+			}
+			json_array_append_new(a, json_string(n));
+		}
+	return a;
+}
 
-/* meta.json of a processed frame */
-static json_t *process_meta(const pc_raw_input *in, const pc_process_opts *o, uint32_t rw,
-			    uint32_t rh, unsigned bits, double seconds)
+/* meta.json of a processed frame or batch: what every Stokes folder of process says */
+static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_t rw, uint32_t rh,
+			    unsigned bits)
 {
 	char layout[64];
 	pc_mosaic_format(&o->mosaic, layout, sizeof layout);
 	json_t *j = json_object();
-	json_object_set_new(j, "input", json_string(in->path));
+	if (input)
+		json_object_set_new(j, "input", json_string(input));
 	json_object_set_new(j, "width", json_integer(rw));
 	json_object_set_new(j, "height", json_integer(rh));
 	json_object_set_new(j, "bits", json_integer(bits));
 	json_object_set_new(j, "layout", json_string(layout));
 	json_object_set_new(j, "method", json_string(pc_demosaic_method_get(o->method)->name));
 	json_object_set_new(j, "reference", json_boolean(o->demosaic.reference));
-	json_object_set_new(j, "pipeline_seconds", pc_json_real(seconds));
 	json_object_set_new(j, "aolp_convention",
 			    json_string("radians in [0, pi), from the image x axis, "
 					"counter-clockwise as seen by the viewer"));
-	json_t *files = json_array();
-	for (size_t k = 0; k < sizeof process_files / sizeof process_files[0]; k++)
-		json_array_append_new(files, json_string(process_files[k]));
-	json_object_set_new(j, "files", files);
 	return j;
 }
 
-int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
-		    const pc_stokes_folder_opts *folder, char **meta)
-{
-	if (meta)
-		*meta = NULL;
-	pc_view raw;
-	unsigned bits;
-	int rc = pc_raw_read(in, &raw, &bits);
-	if (rc)
-		return rc;
+/* One frame's planes: S0, S1, S2 interleaved (H, W, 3) as stokes.npy holds them, DoLP, AoLP. */
+typedef struct frame_buf {
+	float *stokes, *dolp, *aolp, *s0; /* s0: a contiguous copy for stacks of s0.npy */
+	pc_stokes_out so;
 	uint32_t w, h;
-	pc_demosaic_out_size(o->method, raw.width, raw.height, &w, &h);
+} frame_buf;
+
+static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0)
+{
 	size_t n = (size_t)w * h;
-	float *stokes = malloc(sizeof(float) * n * 3), *dolp = malloc(sizeof(float) * n),
-	      *aolp = malloc(sizeof(float) * n);
-	if (!stokes || !dolp || !aolp) {
-		rc = pc_error(PC_ENOMEM, "out of memory for %ux%u Stokes images", w, h);
-		pc_view_free(&raw);
-		goto out;
+	memset(f, 0, sizeof *f);
+	f->stokes = malloc(sizeof(float) * n * 3);
+	f->dolp = malloc(sizeof(float) * n);
+	f->aolp = malloc(sizeof(float) * n);
+	f->s0 = s0 ? malloc(sizeof(float) * n) : NULL;
+	if (!f->stokes || !f->dolp || !f->aolp || (s0 && !f->s0))
+		return pc_error(PC_ENOMEM, "out of memory for %ux%u Stokes images", w, h);
+	f->so = (pc_stokes_out){ { f->stokes, (size_t)w * 3, 3 }, { f->stokes + 1, (size_t)w * 3, 3 },
+				 { f->stokes + 2, (size_t)w * 3, 3 }, { f->dolp, w, 1 },
+				 { f->aolp, w, 1 } };
+	f->w = w;
+	f->h = h;
+	return 0;
+}
+
+static void frame_buf_free(frame_buf *f)
+{
+	free(f->stokes);
+	free(f->dolp);
+	free(f->aolp);
+	free(f->s0);
+	memset(f, 0, sizeof *f);
+}
+
+/* The stacked arrays of a batch: (N, H, W, 3) stokes.npy, (N, H, W) s0, dolp, aolp. */
+typedef struct stack {
+	pc_npy_stream s[4];
+	bool open[4];
+} stack;
+
+static const char *const stack_names[4] = { "stokes.npy", "s0.npy", "dolp.npy", "aolp.npy" };
+static const unsigned stack_flags[4] = { PC_SF_STOKES, PC_SF_S0, PC_SF_DOLP, PC_SF_AOLP };
+
+static int stack_open(stack *st, const char *dir, unsigned files, size_t n, uint32_t w,
+		      uint32_t h)
+{
+	for (int k = 0; k < 4; k++) {
+		if (!(files & stack_flags[k]))
+			continue;
+		char path[4096];
+		size_t shape[4] = { n, h, w, 3 };
+		if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, stack_names[k]) >= sizeof path)
+			return pc_error(PC_EINVAL, "%s: path too long", dir);
+		int rc = pc_npy_stream_open(&st->s[k], path, PC_DT_F32, k == 0 ? 4 : 3, shape);
+		if (rc)
+			return rc;
+		st->open[k] = true;
 	}
-	pc_stokes_out so = { { stokes, (size_t)w * 3, 3 }, { stokes + 1, (size_t)w * 3, 3 },
-			     { stokes + 2, (size_t)w * 3, 3 }, { dolp, w, 1 }, { aolp, w, 1 } };
-	double t0 = now_s();
-	rc = pc_stokes_from_raw(&raw, &o->mosaic, o->method, &o->demosaic, &so);
-	double t_pipe = now_s() - t0;
-	uint32_t rw = raw.width, rh = raw.height;
-	pc_view_free(&raw);
-	if (rc) {
-		pc_error_prefix(rc, "%s: ", in->path);
-		goto out;
+	return 0;
+}
+
+static int stack_add(stack *st, frame_buf *f)
+{
+	size_t n = (size_t)f->w * f->h;
+	if (f->s0)
+		for (size_t i = 0; i < n; i++)
+			f->s0[i] = f->stokes[3 * i];
+	const float *data[4] = { f->stokes, f->s0, f->dolp, f->aolp };
+	for (int k = 0; k < 4; k++) {
+		if (!st->open[k])
+			continue;
+		int rc = pc_npy_stream_write(&st->s[k], data[k], sizeof(float) * n * (k ? 1 : 3));
+		if (rc) {
+			st->open[k] = false; /* aborted by the failed write */
+			return rc;
+		}
 	}
-	if ((rc = pc_stokes_folder_write(dir, &so, w, h, folder)))
-		goto out;
-	json_t *j = process_meta(in, o, rw, rh, bits, t_pipe);
+	return 0;
+}
+
+static int stack_close(stack *st, bool commit)
+{
+	int rc = 0;
+	for (int k = 0; k < 4; k++) {
+		if (!st->open[k])
+			continue;
+		st->open[k] = false;
+		if (commit && !rc)
+			rc = pc_npy_stream_commit(&st->s[k]);
+		else
+			pc_npy_stream_abort(&st->s[k]);
+	}
+	return rc;
+}
+
+static int write_meta(const char *dir, json_t *j, char **meta)
+{
 	char *txt = json_dumps(j, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
 	char path[4096];
+	int rc;
 	if (!txt)
 		rc = pc_error(PC_ENOMEM, "meta.json");
 	else if ((size_t)snprintf(path, sizeof path, "%s/meta.json", dir) >= sizeof path)
@@ -173,11 +259,138 @@ int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char
 		rc = pc_write_file_atomic(path, txt, strlen(txt));
 	free(txt);
 	if (!rc && meta && !(*meta = pc_json_text(j)))
-		rc = PC_ENOMEM;
-	json_decref(j);
-out:
-	free(stokes);
-	free(dolp);
-	free(aolp);
+		rc = pc_error(PC_ENOMEM, "meta.json");
 	return rc;
+}
+
+/* A batch (numbered) or a single file (plain names) into the folder tmp. */
+static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool numbered,
+		     const char *tmp, const pc_stokes_folder_opts *folder, json_t **meta_out)
+{
+	frame_buf f = { 0 };
+	stack st;
+	memset(&st, 0, sizeof st);
+	json_t *frames = json_array();
+	uint32_t rw0 = 0, rh0 = 0;
+	unsigned bits0 = 0;
+	double t_all = 0;
+	int rc = 0;
+	const bool stack_on = numbered && b->stack;
+	for (size_t k = 0; k < b->count && !rc; k++) {
+		const pc_raw_input *in = &b->inputs[k];
+		uint64_t number = b->numbers ? b->numbers[k] : k;
+		pc_view raw;
+		unsigned bits;
+		if ((rc = pc_raw_read(in, &raw, &bits)))
+			break;
+		if (k == 0) {
+			uint32_t w, h;
+			pc_demosaic_out_size(o->method, raw.width, raw.height, &w, &h);
+			rw0 = raw.width, rh0 = raw.height, bits0 = bits;
+			rc = frame_buf_alloc(&f, w, h, stack_on && (folder->files & PC_SF_S0));
+			if (!rc && stack_on)
+				rc = stack_open(&st, tmp, folder->files, b->count, w, h);
+		} else if (raw.width != rw0 || raw.height != rh0 || bits != bits0) {
+			rc = pc_error(PC_EINVAL, "%s: %ux%u, %u-bit, but %s is %ux%u, %u-bit: a batch "
+						 "is one size and bit depth", in->path, raw.width,
+				      raw.height, bits, b->inputs[0].path, rw0, rh0, bits0);
+		}
+		double t0 = now_s(), dt = 0;
+		if (!rc) {
+			rc = pc_stokes_from_raw(&raw, &o->mosaic, o->method, &o->demosaic, &f.so);
+			dt = now_s() - t0;
+			t_all += dt;
+			if (rc)
+				pc_error_prefix(rc, "%s: ", in->path);
+		}
+		pc_view_free(&raw);
+		if (rc)
+			break;
+		pc_stokes_folder_opts fo = *folder;
+		fo.numbered = numbered;
+		fo.number = number;
+		bool pictures = (folder->files & PC_SF_PICTURES) &&
+				(!numbered || (b->pictures_every && k % b->pictures_every == 0));
+		fo.files = (stack_on ? 0 : folder->files) & ~(unsigned)PC_SF_PICTURES;
+		if (pictures)
+			fo.files |= PC_SF_PICTURES;
+		if (stack_on)
+			rc = stack_add(&st, &f);
+		if (!rc)
+			rc = pc_stokes_folder_write(tmp, &f.so, f.w, f.h, &fo);
+		json_array_append_new(frames, json_pack("{s:s, s:I, s:o, s:b}", "input", in->path,
+							"number", (json_int_t)number,
+							"pipeline_seconds", pc_json_real(dt),
+							"pictures", pictures));
+		if (!rc && pc_progress_report(&b->progress, "process", k + 1, b->count))
+			rc = pc_error(PC_ECANCELED, "stopped after %zu of %zu frames", k + 1,
+				      b->count);
+	}
+	if (!rc)
+		rc = stack_close(&st, true);
+	stack_close(&st, false);
+	frame_buf_free(&f);
+	if (rc) {
+		json_decref(frames);
+		return rc;
+	}
+	json_t *j = process_meta(o, numbered ? NULL : b->inputs[0].path, rw0, rh0, bits0);
+	if (numbered) {
+		json_object_set_new(j, "frames", frames);
+		json_object_set_new(j, "stack", json_boolean(stack_on));
+		json_object_set_new(j, "pictures_every",
+				    b->pictures_every >= b->count && b->count > 0
+					    ? json_null() /* the first frame only */
+					    : json_integer((json_int_t)b->pictures_every));
+	} else {
+		json_t *f0 = json_array_get(frames, 0);
+		json_object_set(j, "pipeline_seconds", json_object_get(f0, "pipeline_seconds"));
+		json_decref(frames);
+	}
+	if (numbered)
+		json_object_set_new(j, "pipeline_seconds", pc_json_real(t_all));
+	json_object_set_new(j, "files", files_json(folder->files, numbered, stack_on));
+	*meta_out = j;
+	return 0;
+}
+
+static int process_folder(const pc_process_batch *b, const pc_process_opts *o, bool numbered,
+			  const char *dir, const pc_stokes_folder_opts *folder, char **meta)
+{
+	if (meta)
+		*meta = NULL;
+	if (!b->count)
+		return pc_error(PC_EINVAL, "no raw file given");
+	pc_outdir od;
+	int rc = pc_outdir_begin(&od, dir, o->overwrite ? PC_OUT_OVERWRITE : 0);
+	if (rc)
+		return rc;
+	json_t *j = NULL;
+	rc = run_batch(b, o, numbered, od.tmp, folder, &j);
+	if (!rc)
+		rc = write_meta(od.tmp, j, meta);
+	json_decref(j);
+	if (!rc)
+		rc = pc_outdir_commit(&od);
+	pc_outdir_abort(&od);
+	if (rc && meta) {
+		free(*meta);
+		*meta = NULL;
+	}
+	return rc;
+}
+
+int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
+		    const pc_stokes_folder_opts *folder, char **meta)
+{
+	pc_process_batch b = { in, 1, NULL, false, 1, { NULL, NULL } };
+	return process_folder(&b, o, false, dir, folder, meta);
+}
+
+int pc_process_files(const pc_process_batch *b, const pc_process_opts *o, const char *dir,
+		     const pc_stokes_folder_opts *folder, char **meta)
+{
+	if (!b || (b->count && !b->inputs))
+		return pc_error(PC_EINVAL, "process: missing argument");
+	return process_folder(b, o, true, dir, folder, meta);
 }

@@ -13,6 +13,25 @@
 #include "polarcam/error.h"
 
 const char *cli_name = "";
+bool cli_quiet;
+
+void cli_info(const char *fmt, ...)
+{
+	if (cli_quiet)
+		return;
+	va_list ap;
+	fprintf(stderr, "polarcam %s: ", cli_name);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+}
+
+bool cli_parse_only(void)
+{
+	const char *e = getenv("POLARCAM_PARSE_ONLY");
+	return e && !strcmp(e, "1");
+}
 
 int cli_error(int status, const char *fmt, ...)
 {
@@ -27,6 +46,8 @@ int cli_error(int status, const char *fmt, ...)
 
 void cli_warn(const char *fmt, ...)
 {
+	if (cli_quiet)
+		return;
 	va_list ap;
 	fprintf(stderr, "polarcam %s: warning: ", cli_name);
 	va_start(ap, fmt);
@@ -44,7 +65,10 @@ int cli_status(int code)
 	case PC_ERANGE:
 	case PC_EFORMAT:
 	case PC_ENOENT:
+	case PC_EEXIST:
 		return CLI_EXIT_USAGE;
+	case PC_EUNAVAIL:
+		return CLI_EXIT_UNAVAILABLE;
 	default:
 		return CLI_EXIT_FAILURE;
 	}
@@ -222,7 +246,9 @@ void cli_progress_begin(cli_progress *p, const char *label, uint64_t total)
 	p->label = label;
 	p->total = total;
 	const char *env = getenv("POLARCAM_PROGRESS");
-	if (env && *env)
+	if (cli_quiet)
+		p->enabled = false;
+	else if (env && *env)
 		p->enabled = strcmp(env, "0") != 0;
 	else
 		p->enabled = isatty(STDERR_FILENO);

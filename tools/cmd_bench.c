@@ -31,6 +31,10 @@ int cli_cmd_bench(int argc, char **argv)
 			    "Benchmarks report ratios against baselines measured in the same run.\n\n");
 		for (size_t i = 0; i < n; i++)
 			fprintf(fp, "  %-9s %s\n", benches[i].name, benches[i].summary);
+		fprintf(fp, "\nexamples:\n"
+			    "  polarcam bench physics\n"
+			    "  polarcam bench demosaic --reps 3 -o bench-demosaic --overwrite\n"
+			    "  polarcam bench render --json\n");
 		return argc < 2 ? CLI_EXIT_USAGE : CLI_EXIT_OK;
 	}
 	for (size_t i = 0; i < n; i++)

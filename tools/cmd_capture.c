@@ -16,35 +16,41 @@ static void usage(FILE *fp)
 	fprintf(
 	    fp,
 	    "usage: polarcam capture URI -n N -o DIR [options]\n\n"
-	    "Records N frames from a frame source as DIR/raw_NNNNNN.png (8-bit, or 16-bit with "
-	    "the\n"
+	    "Records N frames from a frame source as DIR/raw_NNNNNN.png (8-bit, or 16-bit with the\n"
 	    "significant bits in sBIT: the same naming and bit depth as `polarcam render`) and\n"
 	    "DIR/meta.json (format, mosaic, per-frame sequence/timestamp/exposure/gain/status,\n"
-	    "stream statistics). Every file is written atomically: if the camera disappears or "
-	    "the\n"
-	    "command is interrupted, the command fails with a clear error and everything recorded\n"
-	    "so far stays intact (meta.json says complete=false and why).\n\n"
+	    "stream statistics); docs/outputs.md. The recording is made beside DIR and renamed\n"
+	    "into place at the end. If the camera disappears or the command is interrupted, the\n"
+	    "command fails with a clear error and everything recorded so far is kept (meta.json\n"
+	    "says complete=false and why); with no frame at all nothing is written.\n\n"
 	    "  URI                 sim:SCENE, file:DIR, aravis:ID, v4l2:/dev/videoN, libcamera:ID\n"
 	    "  -n N                frames to record (1..999999)\n"
-	    "  -o DIR              output directory (refused if it already holds a recording)\n"
-	    "  --overwrite         record into a directory that already holds a recording\n"
-	    "  --process           run every frame through the pipeline (demosaic -> Stokes) as "
-	    "it\n"
-	    "                      arrives; DIR/processed/ gets S0, DoLP, AoLP (.npy, float32) "
-	    "and\n"
-	    "                      pictures of the last frame; meta.json the per-frame timings\n"
+	    "  -o DIR              output folder (refused when it exists, unless --overwrite)\n"
+	    "  --overwrite         replace DIR as a whole when it exists\n"
+	    "  --process           run every frame through the pipeline (demosaic -> Stokes) as it\n"
+	    "                      arrives; DIR/processed/ gets s0_NNNNNN.npy, dolp_NNNNNN.npy,\n"
+	    "                      aolp_NNNNNN.npy (float32, H x W) of every frame, or of those\n"
+	    "                      --keep-every chooses, and pictures of the last frame\n"
+	    "  --keep-every K      with --process: keep the .npy of frames 0, K, 2K, ... and of the\n"
+	    "                      last (default 1: every frame; 0: the last frame only)\n"
 	    "  --method M          demosaicking method for --process (default bilinear; for\n"
 	    "                      colour-polarization frames bayer-first, the colour methods\n"
 	    "                      being bayer-first and bayer-eari); S0, DoLP and AoLP of colour\n"
 	    "                      frames are those of the colour average (R + G + B)/3\n"
+	    "  --json              print the report as one JSON line on stdout: frames recorded,\n"
+	    "                      format, statistics, error (if any)\n"
 	    "%s"
-	    "\nPrints one JSON line: frames recorded, format, statistics, error (if any).\n"
-	    "Exit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments.\n",
+	    "\nExit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments or DIR\n"
+	    "exists, 77 backend not built in or device absent.\n"
+	    "\nexamples:\n"
+	    "  polarcam capture 'sim:default?seed=3' -n 10 -o rec/ --process\n"
+	    "  polarcam capture aravis:192.168.1.20 -n 100 -o rec/ --format PolarizeMono12p --json\n"
+	    "  polarcam capture v4l2:/dev/video0 -n 50 -o rec/ --process --keep-every 10 --overwrite\n",
 	    cli_stream_args_help());
 }
 
 /* the recording and its report */
-static int run(pc_capture_opts *o)
+static int run(pc_capture_opts *o, bool json)
 {
 	cli_catch_signals();
 	cli_progress bar = { 0 };
@@ -57,11 +63,14 @@ static int run(pc_capture_opts *o)
 		pc_capture_report_free(&rep);
 		return cli_fail(rc, NULL);
 	}
-	cli_print_json(json_loads(rep.json, 0, NULL));
+	if (json)
+		cli_print_json(json_loads(rep.json, 0, NULL));
 	int status = CLI_EXIT_OK;
 	if (rep.error)
-		status = cli_error(cli_status(rep.error), "%s (the %llu frames recorded are intact in %s)",
+		status = cli_error(cli_status(rep.error), "%s (the %llu frames recorded are kept in %s)",
 				   rep.message, (unsigned long long)rep.frames, o->dir);
+	else
+		cli_info("recorded %llu frames in %s", (unsigned long long)rep.frames, o->dir);
 	pc_capture_report_free(&rep);
 	return status;
 }
@@ -75,8 +84,8 @@ int cli_cmd_capture(int argc, char **argv)
 	cli_stream_args sa;
 	cli_stream_args_init(&sa);
 	const char *dir = NULL;
-	long n = 0;
-	bool overwrite = false, process = false;
+	long n = 0, keep_every = 1;
+	bool overwrite = false, process = false, json = false;
 	const char *method = NULL; /* the mosaic's default */
 	for (int i = 1; i < argc; i++) {
 		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
@@ -85,21 +94,24 @@ int cli_cmd_capture(int argc, char **argv)
 		if (rc > 0)
 			continue;
 		const char *a = argv[i];
-		if (!strcmp(a, "-n") || !strcmp(a, "-o")) {
+		if (!strcmp(a, "-n") || !strcmp(a, "-o") || !strcmp(a, "--keep-every") ||
+		    !strcmp(a, "--method")) {
 			if (i + 1 >= argc)
 				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
+			const char *v = argv[++i];
 			if (!strcmp(a, "-o"))
-				dir = argv[++i];
-			else if ((rc = cli_parse_long("-n", argv[++i], 1, 999999, &n)))
+				dir = v;
+			else if (!strcmp(a, "--method"))
+				method = v;
+			else if ((rc = cli_parse_long(a, v, a[1] == 'n' ? 1 : 0, 999999,
+						      a[1] == 'n' ? &n : &keep_every)))
 				return cli_fail(rc, "arguments");
 		} else if (!strcmp(a, "--overwrite")) {
 			overwrite = true;
 		} else if (!strcmp(a, "--process")) {
 			process = true;
-		} else if (!strcmp(a, "--method")) {
-			if (i + 1 >= argc)
-				return cli_error(CLI_EXIT_USAGE, "--method needs a value (see --help)");
-			method = argv[++i];
+		} else if (!strcmp(a, "--json")) {
+			json = true;
 		} else if (a[0] == '-') {
 			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		} else if (!sa.req.uri) {
@@ -113,8 +125,16 @@ int cli_cmd_capture(int argc, char **argv)
 	if (!n)
 		return cli_error(CLI_EXIT_USAGE, "missing -n N (frames to record)");
 	if (!dir)
-		return cli_error(CLI_EXIT_USAGE, "missing -o DIR (output directory)");
-	pc_capture_opts o = { sa.req, (uint64_t)n, dir, overwrite, process, method, sa.timeout_ms,
-			      { NULL, NULL } };
-	return run(&o);
+		return cli_error(CLI_EXIT_USAGE, "missing -o DIR (output folder)");
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
+	pc_capture_opts o = { .stream = sa.req,
+			      .frames = (uint64_t)n,
+			      .dir = dir,
+			      .overwrite = overwrite,
+			      .process = process,
+			      .method = method,
+			      .keep_every = (uint64_t)keep_every,
+			      .timeout_ms = sa.timeout_ms };
+	return run(&o, json);
 }

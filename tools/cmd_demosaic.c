@@ -14,7 +14,7 @@ static void usage(FILE *fp)
 {
 	fprintf(fp,
 		"usage: polarcam demosaic --list [--json]\n"
-		"       polarcam demosaic RAW --method NAME [--layout L] -o OUT.npy|OUT.tif\n"
+		"       polarcam demosaic RAW --method NAME [--layout L] -o OUT.npy|OUT.tif [--json]\n"
 		"\n"
 		"Demosaics a raw polarizer mosaic into full-resolution analyser images. OUT is\n"
 		"float32 of shape (H, W, 4) with channels I0, I45, I90, I135 (angles from the image\n"
@@ -22,16 +22,24 @@ static void usage(FILE *fp)
 		"gives 0..4095). Colour-polarization layouts give (H, W, 12): R0 R45 R90 R135 G0 ...\n"
 		"B135. superpixel-half gives (H/2, W/2, ...). .npy is NumPy format; .tif/.tiff is a\n"
 		"float32 TIFF with one sample per channel. Outputs are written atomically; on any\n"
-		"error nothing is written.\n"
+		"error nothing is written; an existing OUT is refused unless --overwrite.\n"
 		"\n"
 		"  --list              the methods, one line each on accuracy and cost\n"
 		"  -o, --output OUT    the output file (.npy, .tif or .tiff)\n"
+		"  --overwrite         replace OUT when it exists\n"
+		"  --json              print one JSON line (output, shape, method, layout, bits,\n"
+		"                      seconds) on stdout; with --list, the methods as JSON\n"
 		"%s"
 		"  -h, --help          this help\n"
 		"\n"
-		"Prints one JSON line (output, shape, method, layout, bits, seconds). Exit status: 0\n"
-		"success, 1 failure, 2 bad arguments or bad input (odd size, truncated file, values\n"
-		"above the bit depth, NaN, bad layout).\n",
+		"Exit status: 0 success, 1 failure, 2 bad arguments or bad input (odd size, truncated\n"
+		"file, values above the bit depth, NaN, bad layout) or OUT exists.\n"
+		"\n"
+		"examples:\n"
+		"  polarcam demosaic --list\n"
+		"  polarcam demosaic rec/raw_000000.png --method eari -o i.npy\n"
+		"  polarcam demosaic raw.bin --width 2448 --height 2048 --format PolarizeMono12p "
+		"--layout 90,45,135,0 -o i.tif --json\n",
 		cli_raw_help);
 }
 
@@ -83,8 +91,22 @@ int cli_cmd_demosaic(int argc, char **argv)
 					return cli_error(CLI_EXIT_USAGE, "--list takes only --json");
 			return list_methods(json);
 		}
+	bool overwrite = false, json = false;
+	char **args = calloc((size_t)argc + 1, sizeof *args);
+	int nargs = 0;
+	if (!args)
+		return cli_error(CLI_EXIT_FAILURE, "out of memory");
+	for (int i = 0; i < argc; i++) {
+		if (!strcmp(argv[i], "--overwrite"))
+			overwrite = true;
+		else if (!strcmp(argv[i], "--json"))
+			json = true;
+		else
+			args[nargs++] = argv[i];
+	}
 	cli_raw o;
-	int st = cli_raw_parse(argc, argv, &o, NULL);
+	int st = cli_raw_parse(nargs, args, &o, NULL, false);
+	free(args);
 	if (st)
 		return st;
 	if (!o.path) {
@@ -93,12 +115,20 @@ int cli_cmd_demosaic(int argc, char **argv)
 	}
 	if (!o.out)
 		return cli_error(CLI_EXIT_USAGE, "no output given (-o OUT.npy or OUT.tif)");
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	pc_raw_input in = cli_raw_input(&o);
 	pc_process_opts po = cli_raw_process(&o);
+	po.overwrite = overwrite;
 	pc_demosaic_file_report rep;
 	int rc = pc_demosaic_file(&in, &po, o.out, &rep);
 	if (rc)
 		return cli_fail(rc, NULL);
+	if (!json) {
+		cli_info("wrote %s (%ux%ux%u float32, %s)", o.out, rep.height, rep.width,
+			 rep.channels, pc_demosaic_method_get(o.dm)->name);
+		return CLI_EXIT_OK;
+	}
 	char layout[64];
 	pc_mosaic_format(&o.mosaic, layout, sizeof layout);
 	json_t *j = json_object();

@@ -15,7 +15,8 @@
 static void usage(FILE *fp)
 {
 	fprintf(fp,
-		"usage: polarcam eval TRUTH_DIR... [--method NAME|all] [--json PATH|-] [--reference]\n"
+		"usage: polarcam eval TRUTH_DIR... [--method NAME|all] [--json -|PATH [--overwrite]]\n"
+		"                     [--reference]\n"
 		"\n"
 		"Scores demosaicking methods against ground truth with the frozen protocol of\n"
 		"../shared/data/README.md: the four analyser images normalised by their container's\n"
@@ -31,12 +32,18 @@ static void usage(FILE *fp)
 		"options:\n"
 		"  --method NAME|all  a method of `polarcam demosaic --list` (default: all methods\n"
 		"                     for monochrome mosaics)\n"
-		"  --json PATH|-      also write the results as JSON to PATH (atomically), or print\n"
-		"                     JSON on stdout instead of the table with -\n"
+		"  --json -|PATH      print the results as one JSON line on stdout instead of the\n"
+		"                     table (-), or also write them as JSON to PATH (atomically;\n"
+		"                     an existing PATH is refused unless --overwrite)\n"
 		"  --reference        run the double-precision reference implementations (slow)\n"
 		"  -h, --help         this help\n"
 		"\n"
-		"Exit status: 0 success, 1 failure, 2 bad arguments or unreadable truth.\n");
+		"Exit status: 0 success, 1 failure, 2 bad arguments or unreadable truth.\n"
+		"\n"
+		"examples:\n"
+		"  polarcam eval data/gt/lapray-nir/* --method all\n"
+		"  polarcam eval data/gt/lapray-nir/* --method ratio --json -\n"
+		"  polarcam eval data/gt/*/* --json results.json --overwrite\n");
 }
 
 static json_t *metrics_json(const pc_eval_metrics *m)
@@ -184,7 +191,7 @@ int cli_cmd_eval(int argc, char **argv)
 		return CLI_EXIT_OK;
 	}
 	const char *method_arg = "all", *json_path = NULL;
-	bool reference = false;
+	bool reference = false, overwrite = false;
 	const char **dirs = calloc((size_t)argc, sizeof *dirs);
 	size_t ndirs = 0;
 	if (!dirs)
@@ -196,6 +203,8 @@ int cli_cmd_eval(int argc, char **argv)
 			json_path = argv[++i];
 		} else if (!strcmp(argv[i], "--reference")) {
 			reference = true;
+		} else if (!strcmp(argv[i], "--overwrite")) {
+			overwrite = true;
 		} else if (argv[i][0] == '-' && argv[i][1]) {
 			free(dirs);
 			return cli_error(CLI_EXIT_USAGE, "unknown or incomplete option '%s' (see "
@@ -204,10 +213,15 @@ int cli_cmd_eval(int argc, char **argv)
 			dirs[ndirs++] = argv[i];
 		}
 	}
-	int status;
+	int status, rc;
 	if (!ndirs) {
 		usage(stderr);
 		status = cli_error(CLI_EXIT_USAGE, "no TRUTH_DIR given");
+	} else if (json_path && strcmp(json_path, "-") &&
+		   (rc = pc_output_check(json_path, overwrite ? PC_OUT_OVERWRITE : 0, false))) {
+		status = cli_fail(rc, NULL);
+	} else if (cli_parse_only()) {
+		status = CLI_EXIT_OK;
 	} else {
 		status = run(dirs, ndirs, method_arg, json_path, reference);
 	}

@@ -41,9 +41,18 @@ static int need(int argc, char **argv, int i)
 	return 1;
 }
 
-int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
+void cli_raw_free(cli_raw *o)
+{
+	free(o->paths);
+	o->paths = NULL;
+	o->npaths = 0;
+}
+
+int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 {
 	memset(o, 0, sizeof *o);
+	if (many && !(o->paths = calloc((size_t)argc + 1, sizeof *o->paths)))
+		return cli_error(CLI_EXIT_FAILURE, "out of memory");
 	int nextra = 0, have_w = 0, have_h = 0, have_f = 0;
 	long v;
 	int rc;
@@ -115,8 +124,11 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
 				return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see polarcam %s "
 								   "--help)", a, argv[0]);
 			extra[nextra++] = i;
-		} else if (!o->path) {
-			o->path = a;
+		} else if (!o->path || many) {
+			if (!o->path)
+				o->path = a;
+			if (many)
+				o->paths[o->npaths++] = a;
 		} else {
 			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (one RAW file)", a);
 		}
@@ -152,5 +164,5 @@ pc_raw_input cli_raw_input(const cli_raw *o)
 
 pc_process_opts cli_raw_process(const cli_raw *o)
 {
-	return (pc_process_opts){ o->mosaic, o->dm, { o->threads, o->reference, 0 } };
+	return (pc_process_opts){ o->mosaic, o->dm, { o->threads, o->reference, 0 }, false };
 }

@@ -96,8 +96,9 @@ const char *pc_recording_dir(const pc_recording *r);
 double pc_recording_black_level(const pc_recording *r);
 
 /* The mosaic of a raw file when it is a frame listed in its directory's meta.json (a recording
- * written by render or capture): 1 and *m set; 0 when it is not (no such recording, not one of
- * its frames, frames without a polarizer mosaic). Never an error. */
+ * written by render or capture), or of a recording directory itself: 1 and *m set; 0 when it is
+ * not (no such recording, not one of its frames, frames without a polarizer mosaic). Never an
+ * error. */
 int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
 
 /* Reads frame i into an owned view of the recording's storage format (Mono8 or 16-bit

@@ -8,9 +8,10 @@
  * pc_sim_describe_json plus "timings" and "first_frame"), truth_stokes.npy (H, W, 4) float32 —
  * (H, W, 3, 4) for colour sensors, truth_stokes_psgNN.npy per generator state of a sequence —,
  * truth_mueller.npy (H, W, 4, 4) (or (H, W, 3, 4, 4)) when the scene declares "mueller", and
- * states.json (polarcam/states.h) for state sequences. The recording is refused (PC_EBUSY) in a
- * directory that holds one unless overwrite; a failure part-way leaves the frames written so
- * far and meta.json saying complete = false and why.
+ * states.json (polarcam/states.h) for state sequences. DIR is an output folder written as a set
+ * (polarcam/io.h, pc_outdir): refused (PC_EEXIST) when it exists and is not empty unless
+ * overwrite, and put in place whole only when every file is written; a failure leaves nothing
+ * of the new run and an older DIR as it was.
  */
 #ifndef POLARCAM_RENDER_RECORDING_H
 #define POLARCAM_RENDER_RECORDING_H
@@ -32,7 +33,7 @@ typedef struct pc_render_opts {
 	uint64_t frames;        /* frames to write; 0: one cycle of the scene's states */
 	uint64_t first;         /* number of the first frame */
 	bool truth;             /* write truth_*.npy */
-	bool overwrite;         /* replace a recording already in the directory */
+	bool overwrite;         /* replace an existing output folder (polarcam/io.h's rule) */
 	pc_progress progress;   /* phases "render" (rows of each state), "frames" */
 } pc_render_opts;
 
@@ -43,7 +44,7 @@ typedef struct pc_render_report {
 			  text, malloc'd (free it) */
 } pc_render_report;
 
-/* Renders into dir (created). rep may be NULL. */
+/* Renders into dir (created with its parents). rep may be NULL. */
 int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
 
 #ifdef __cplusplus

@@ -15,6 +15,7 @@
 #include "polarcam/folders.h"
 #include "polarcam/io.h"
 #include "polarcam/mosaic.h"
+#include "polarcam/progress.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -43,6 +44,7 @@ typedef struct pc_process_opts {
 	pc_mosaic mosaic;
 	pc_demosaic_method method;
 	pc_demosaic_opts demosaic; /* threads, reference */
+	bool overwrite;            /* replace an existing output (polarcam/io.h's rule) */
 } pc_process_opts;
 
 /* What pc_demosaic_file did. */
@@ -53,17 +55,43 @@ typedef struct pc_demosaic_file_report {
 } pc_demosaic_file_report;
 
 /* Raw file → analyser images (H, W, 4), or (H, W, 12) for colour-polarization mosaics, float32
- * in the raw's units, written to out_path: NumPy .npy, or a float32 TIFF for .tif/.tiff. rep
- * may be NULL. */
+ * in the raw's units, written to out_path: NumPy .npy, or a float32 TIFF for .tif/.tiff. An
+ * existing out_path is refused (PC_EEXIST) unless o->overwrite. rep may be NULL. */
 int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const char *out_path,
 		     pc_demosaic_file_report *rep);
 
 /* Raw file → Stokes folder in dir (pc_stokes_folder_write with files, pictures as given) plus
  * dir/meta.json: input, width, height, bits, layout, method, reference, pipeline_seconds,
  * aolp_convention, files. meta (may be NULL) receives meta.json's content as one compact line
- * (malloc'd). Nothing is written unless the computation succeeded. */
+ * (malloc'd). dir is an output folder written as a set (polarcam/io.h, pc_outdir): an existing
+ * one is refused (PC_EEXIST) unless o->overwrite, and nothing is put in place unless every file
+ * was written. */
 int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
 		    const pc_stokes_folder_opts *folder, char **meta);
+
+/* Several raw files through the pipeline into one Stokes folder (what `polarcam process` does
+ * with several files; a recording's frames: pc_process_recording, polarcam/process_recording.h).
+ * Frame k (of number numbers[k]) gives stokes_NNNNNN.npy, dolp_NNNNNN.npy, ... (the files
+ * folder->files asks for, named as in polarcam/folders.h), or with stack one array per quantity
+ * holding every frame in order: stokes.npy (N, H, W, 3), s0.npy, dolp.npy, aolp.npy (N, H, W).
+ * Pictures (s0_NNNNNN.png, ...) of the frames at positions 0, pictures_every, 2·pictures_every,
+ * ... when folder->files has PC_SF_PICTURES (0: none). Every input must have the size and bit
+ * depth of the first. meta.json adds to pc_process_file's fields (input and pipeline_seconds
+ * apart) frames [{input, number, pipeline_seconds, pictures}], stack, pictures_every and the
+ * total pipeline_seconds; "files" names the per-frame files with NNNNNN. dir is written as a
+ * set (polarcam/io.h, pc_outdir), so a failure or a stop part-way leaves nothing. */
+typedef struct pc_process_batch {
+	const pc_raw_input *inputs;
+	size_t count;
+	const uint64_t *numbers;  /* the frame number naming each input's outputs; NULL: 0, 1, ... */
+	bool stack;               /* one array per quantity instead of files per frame */
+	uint64_t pictures_every;  /* see above */
+	pc_progress progress;     /* phase "process", frames done; a non-zero return stops
+				     (PC_ECANCELED) */
+} pc_process_batch;
+
+int pc_process_files(const pc_process_batch *b, const pc_process_opts *o, const char *dir,
+		     const pc_stokes_folder_opts *folder, char **meta);
 
 #ifdef __cplusplus
 }
