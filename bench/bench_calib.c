@@ -186,6 +186,8 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
 		}
 	}
+	if (host->parse_only)
+		return PC_BENCH_OK;
 	const uint32_t S = (uint32_t)size;
 	bstack dk, fl, fh;
 	pc_calib dark, flat;

@@ -513,6 +513,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	int orc = pc_output_check(out_dir, overwrite ? PC_OUT_OVERWRITE : 0, true);
 	if (orc)
 		return host->fail(orc, NULL);
+	if (host->parse_only)
+		return PC_BENCH_OK;
 	FILE *tf = json_out ? stderr : stdout;
 	int nthreads = threads ? (int)threads : pc_parallel_max_threads();
 	char load0[128], load1[128];

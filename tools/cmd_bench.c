@@ -40,9 +40,11 @@ int cli_cmd_bench(int argc, char **argv)
 	for (size_t i = 0; i < n; i++)
 		if (!strcmp(argv[1], benches[i].name)) {
 			cli_progress bar = { 0 };
-			const pc_bench_host host = { cli_error, cli_fail, cli_warn, cli_parse_long,
+			const pc_bench_host host = { cli_error,	      cli_fail,
+						     cli_warn,	      cli_parse_long,
 						     cli_parse_double, cli_print_json,
-						     { cli_progress_fn, &bar }, progress_end };
+						     { cli_progress_fn, &bar }, progress_end,
+						     cli_parse_only() };
 			int status = benches[i].run(&host, argc - 1, argv + 1);
 			cli_progress_end(&bar);
 			return status;
