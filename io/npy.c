@@ -232,8 +232,13 @@ int pc_npy_read(const char *path, pc_array *out)
 	else if (!strncmp(d, "'<f8'", 5))
 		out->dtype = PC_DT_F64;
 	else {
-		rc = pc_error(PC_EFORMAT, "%s: dtype %.8s not supported (expected u1, <u2, <f4 or <f8)",
-			      path, d);
+		/* the descr as written, between its quotes */
+		int n = 0;
+		if (*d == '\'' || *d == '"')
+			while (n < 16 && d[1 + n] && d[1 + n] != *d)
+				n++;
+		rc = pc_error(PC_EFORMAT, "%s: dtype '%.*s' not supported (expected u1, <u2, <f4 or "
+					  "<f8)", path, n, d + 1);
 		goto out;
 	}
 	if (*sh != '(') {

@@ -2,9 +2,11 @@
 #define _POSIX_C_SOURCE 200809L
 #include "polarcam/process.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include "json.h"
@@ -22,6 +24,12 @@ int pc_raw_read(const pc_raw_input *in, pc_view *raw, unsigned *bits)
 {
 	if (!in || !in->path)
 		return pc_error(PC_EINVAL, "no raw file given");
+	struct stat sb;
+	if (stat(in->path, &sb) != 0)
+		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", in->path,
+				strerror(errno));
+	if (S_ISDIR(sb.st_mode))
+		return pc_error(PC_EINVAL, "%s: a folder, not a raw file", in->path);
 	int rc = pc_image_read_mosaic(in->path, in->geometry, in->bits, raw, bits);
 	if (rc)
 		return rc;
@@ -361,6 +369,13 @@ static int process_folder(const pc_process_batch *b, const pc_process_opts *o, b
 		*meta = NULL;
 	if (!b->count)
 		return pc_error(PC_EINVAL, "no raw file given");
+	/* inputs that are not there are named before the output is looked at */
+	for (size_t k = 0; k < b->count; k++) {
+		struct stat sb;
+		if (!b->inputs[k].path || stat(b->inputs[k].path, &sb) != 0)
+			return pc_error(PC_ENOENT, "%s: %s", b->inputs[k].path ? b->inputs[k].path : "",
+					strerror(errno));
+	}
 	pc_outdir od;
 	int rc = pc_outdir_begin(&od, dir, o->overwrite ? PC_OUT_OVERWRITE : 0);
 	if (rc)

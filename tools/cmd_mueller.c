@@ -82,12 +82,14 @@ static int run(int nargs, char **args, const char *states_path, const char *layo
 	       const char *out, const pc_mueller_run_opts *ro, bool write_m, bool overwrite,
 	       bool json)
 {
+	struct stat sb;
+	if (nargs == 1 && stat(args[0], &sb) != 0)
+		return cli_error(CLI_EXIT_USAGE, "%s: no such file or recording folder", args[0]);
 	/* an occupied output is refused before the work */
 	int rc = pc_output_check(out, overwrite ? PC_OUT_OVERWRITE : 0, true);
 	if (rc)
 		return cli_fail(rc, NULL);
-	struct stat sb;
-	bool is_dir = nargs == 1 && stat(args[0], &sb) == 0 && S_ISDIR(sb.st_mode);
+	bool is_dir = nargs == 1 && S_ISDIR(sb.st_mode);
 	cli_progress bar = { 0 };
 	pc_mueller_request rq = { states_path, layout, *ro, { cli_progress_fn, &bar } };
 	pc_mueller_result res;
