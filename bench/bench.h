@@ -50,6 +50,12 @@ int pc_bench_demosaic(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_render(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_devices(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_calib(const pc_bench_host *host, int argc, char **argv);
+int pc_bench_soak(const pc_bench_host *host, int argc, char **argv);
+
+/* Benchmarks that stream GigE Vision run in a private network namespace with only loopback:
+ * outside one, this re-executes `polarcam bench argv...` under `unshare -n` (never returns when
+ * that works; the failure status otherwise); inside one (PC_BENCH_NETNS set) it returns 0. */
+int bench_netns_reexec(const pc_bench_host *host, int argc, char **argv);
 
 /* ---- small helpers of the benchmark files ---- */
 

@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "bench.h"
+#include "polarcam/cpu.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/error.h"
 #include "polarcam/eval.h"
@@ -136,6 +137,41 @@ static void copy_band(void *ctx, uint32_t y0, uint32_t y1)
 	memcpy(j->dst + (size_t)y0 * j->row, j->src + (size_t)y0 * j->row, (size_t)(y1 - y0) * j->row);
 }
 
+/* ---- calibrated analysers for the calibrated pipeline's timing ---- */
+typedef struct pc_bench_pinv {
+	float *m;
+	pc_analyser_pinv pv;
+} pc_bench_pinv;
+
+/* gw × gh cells of perturbed analyser matrices (a fixed pattern) and their pseudo-inverses;
+ * m stays NULL when memory or the inversion fails (the row is then left out). */
+static void bench_make_pinv(pc_bench_pinv *b, uint32_t gw, uint32_t gh)
+{
+	size_t n = (size_t)gw * gh;
+	float *w = malloc(sizeof(float) * 12 * n), *p = malloc(sizeof(float) * 12 * n);
+	uint32_t r = 12345;
+	for (size_t k = 0; w && p && k < n; k++)
+		for (int c = 0; c < 4; c++) {
+			double u[3];
+			for (int i = 0; i < 3; i++) {
+				r = r * 1664525u + 1013904223u;
+				u[i] = (r >> 8) / 16777216.0;
+			}
+			double t = (45.0 * c + 2 * (u[0] - 0.5)) * M_PI / 180;
+			double e = 0.93 + 0.06 * u[1], g = 0.9 + 0.2 * u[2];
+			w[12 * k + 3 * c] = (float)(0.5 * g);
+			w[12 * k + 3 * c + 1] = (float)(0.5 * g * e * cos(2 * t));
+			w[12 * k + 3 * c + 2] = (float)(0.5 * g * e * sin(2 * t));
+		}
+	if (w && p && pc_stokes_pinv(w, n, p) == 0) {
+		b->m = p;
+		b->pv = (pc_analyser_pinv){ p, gw, gh };
+	} else {
+		free(p);
+	}
+	free(w);
+}
+
 /* ---- the full pipeline's memory floor: its own bytes, its store kind ---- */
 /* Reads the 16-bit raw and writes five float planes (S0, S1, S2, DoLP, AoLP's places) with the
  * pipeline's store kind (pc_stokes_streams): the time the pipeline could not beat if its
@@ -148,11 +184,11 @@ typedef struct floor_job {
 	int nt;
 } floor_job;
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#include <immintrin.h>
-
 /* the program running the benchmark (bench.h) */
 static const pc_bench_host *host;
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
 #define PC_BENCH_X86 1
 __attribute__((target("avx2"))) static void floor_rows_avx2(const floor_job *j, uint32_t y0,
 							    uint32_t y1)
@@ -189,7 +225,7 @@ static void floor_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	const floor_job *j = ctx;
 #ifdef PC_BENCH_X86
-	if (__builtin_cpu_supports("avx2")) {
+	if (pc_cpu_active() >= PC_CPU_AVX2) {
 		floor_rows_avx2(j, y0, y1);
 		return;
 	}
@@ -387,13 +423,16 @@ static void usage(FILE *fp)
 		"                               [--threads N] [--quick] [--json]\n"
 		"\n"
 		"What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
-		"every dataset in DATA_DIR/gt (default /work/shared/data, skipped with a message\n"
-		"when absent): S0 and DoLP PSNR and the DoLP-weighted AoLP RMSE, per dataset (mean of\n"
+		"every dataset in DATA_DIR/gt (default $POLARCAM_DATA; skipped with a message when\n"
+		"neither is given; layout and datasets: docs/evaluation.md): S0 and DoLP PSNR and the DoLP-weighted AoLP RMSE, per dataset (mean of\n"
 		"its scenes), bilinear as the baseline, and our bilinear against a straightforward\n"
 		"double-precision reference bilinear. Time: per 2448x2048 frame of 12-bit data in\n"
 		"16-bit containers, median of N runs (default 7; 3 with --quick) on warm buffers, for\n"
-		"every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32);\n"
-		"its memory floor (read its input, write its 5 float planes with the store kind the\n"
+		"every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32),\n"
+		"also with calibrated analysers (perturbed 3x4 pseudo-inverses per 2x2 super-pixel,\n"
+		"and per pixel; calibrated / uncalibrated is the ratio to read) and with a black\n"
+		"level, saturation and dead levels and the validity mask; the pipeline's\n"
+		"memory floor (read its input, write its 5 float planes with the store kind the\n"
 		"pipeline uses on this machine) and pipeline / floor; a memory copy of bilinear's\n"
 		"input and output bytes; OpenCV's bilinear 16-bit Bayer demosaicking of the same\n"
 		"frame when OpenCV is built in. All in one run: read the ratios, absolute times move\n"
@@ -505,10 +544,13 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		}
 	}
 	struct stat sb;
-	if (!data_dir && stat("/work/shared/data", &sb) == 0 && S_ISDIR(sb.st_mode))
-		data_dir = "/work/shared/data";
+	const char *data_from = "DATA_DIR";
+	if (!data_dir && getenv("POLARCAM_DATA") && *getenv("POLARCAM_DATA")) {
+		data_dir = getenv("POLARCAM_DATA");
+		data_from = "POLARCAM_DATA";
+	}
 	if (data_dir && !(stat(data_dir, &sb) == 0 && S_ISDIR(sb.st_mode)))
-		return host->error(PC_BENCH_USAGE, "%s: not a directory", data_dir);
+		return host->error(PC_BENCH_USAGE, "%s %s: not a directory", data_from, data_dir);
 	/* an occupied output folder is refused before the measurements */
 	int orc = pc_output_check(out_dir, overwrite ? PC_OUT_OVERWRITE : 0, true);
 	if (orc)
@@ -519,8 +561,9 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	int nthreads = threads ? (int)threads : pc_parallel_max_threads();
 	char load0[128], load1[128];
 	loadavg(load0, sizeof load0);
-	fprintf(tf, "polarcam bench demosaic: %d thread(s), median of %ld runs; load average at "
-		    "start: %s\n", nthreads, reps, load0);
+	fprintf(tf, "polarcam bench demosaic: %d thread(s), %s kernels, median of %ld runs; load "
+		    "average at start: %s\n", nthreads, pc_cpu_level_name(pc_cpu_active()), reps,
+		load0);
 
 	/* ---------------- time ---------------- */
 	pc_view raw;
@@ -556,6 +599,9 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		J_PIPE_BIL = PC_DM_COUNT,
 		J_PIPE_EARI,
 		J_PIPE_RATIO,
+		J_PIPE_CAL,   /* bilinear pipeline, per-super-pixel analyser pseudo-inverses */
+		J_PIPE_CALPX, /* ... per-pixel ones */
+		J_PIPE_LEVELS, /* bilinear pipeline + black level + saturation/dead validity mask */
 		J_COPY,
 		J_OPENCV,
 		J_BIL16,
@@ -571,6 +617,22 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			b16p[c] = b16 + (size_t)c * plane;
 	}
 	pc_stokes_out so = { planes[0], planes[1], planes[2], planes[3], planes[4] };
+	/* calibrated analysers: perturbed analyser matrices (orientations ±1°, extinction 0.93 to
+	 * 0.99, gains 0.9 to 1.1, a fixed pattern) per 2×2 super-pixel and per pixel, as a
+	 * calibration would give them (pc_stokes_pinv) */
+	pc_bench_pinv cal_sp = { 0 }, cal_px = { 0 };
+	bench_make_pinv(&cal_sp, FW / 2, FH / 2);
+	bench_make_pinv(&cal_px, FW, FH);
+	pc_pipeline_opts cal_o = pc_pipeline_defaults();
+	cal_o.threads = (int)threads;
+	pc_pipeline_opts lev_o = cal_o;
+	lev_o.black_level = 64;
+	lev_o.saturation_level = 4095;
+	lev_o.dead_level = 0.5;
+	uint8_t *vmask = aligned_alloc(64, plane);
+	if (vmask)
+		memset(vmask, 0, plane);
+	uint64_t lev_invalid = 0;
 	/* the pipeline's floor: the same planes, the same store kind */
 	floor_job fj = { &raw, { planes[0].data, planes[1].data, planes[2].data, planes[3].data,
 				 planes[4].data }, planes[0].row_stride, pc_stokes_streams(&so, FW, FH) };
@@ -630,6 +692,16 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 						   : j == J_PIPE_EARI ? PC_DM_EARI
 								      : PC_DM_RATIO,
 						   &opts, &so);
+			} else if (j == J_PIPE_CAL || j == J_PIPE_CALPX) {
+				pc_bench_pinv *c = j == J_PIPE_CAL ? &cal_sp : &cal_px;
+				cal_o.pinv = c->m ? &c->pv : NULL;
+				if (c->m)
+					pc_stokes_run(&raw, &cal_o, &so, NULL);
+			} else if (j == J_PIPE_LEVELS) {
+				pc_validity v = { vmask, FW, 0 };
+				if (vmask)
+					pc_stokes_run(&raw, &lev_o, &so, &v);
+				lev_invalid = v.n_invalid;
 			} else if (j == J_BIL16) {
 				if (b16)
 					pc_demosaic_bilinear_u16(&raw, &mono, 2, (int)threads, b16p,
@@ -663,6 +735,11 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	for (int k = 0; k < PC_DM_COUNT; k++)
 		rows[k].t = tall[k];
 	timing t_pipe[3] = { tall[J_PIPE_BIL], tall[J_PIPE_EARI], tall[J_PIPE_RATIO] };
+	timing t_cal = tall[J_PIPE_CAL], t_calpx = tall[J_PIPE_CALPX], t_lev = tall[J_PIPE_LEVELS];
+	int have_cal = cal_sp.m != NULL, have_calpx = cal_px.m != NULL;
+	free(cal_sp.m);
+	free(cal_px.m);
+	free(vmask);
 	timing t_copy = tall[J_COPY];
 	timing t_b16 = tall[J_BIL16];
 	timing t_floor = tall[J_FLOOR];
@@ -790,8 +867,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			}
 		}
 	} else {
-		fprintf(tf, "no data directory (DATA_DIR or /work/shared/data): accuracy skipped, time "
-			    "only\n\n");
+		fprintf(tf, "no data directory (DATA_DIR or POLARCAM_DATA; docs/evaluation.md): "
+			    "accuracy skipped, time only\n\n");
 	}
 	/* ---------------- noisy track ---------------- */
 	pc_demosaic_method nmeth[PC_DM_COUNT];
@@ -872,6 +949,21 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		t_pipe[0].median_ms, t_pipe[0].min_ms, t_pipe[0].cpu_ms, t_pipe[0].median_ms / bil,
 		t_pipe[1].median_ms, t_pipe[1].min_ms, t_pipe[1].cpu_ms, t_pipe[2].median_ms,
 		t_pipe[2].min_ms, t_pipe[2].cpu_ms);
+	if (have_cal)
+		fprintf(tf, "calibrated bilinear pipeline (one 3x4 analyser pseudo-inverse per 2x2 "
+			    "super-pixel, %.0f MB of them): %.2f / %.2f ms (cpu %.2f ms); calibrated / "
+			    "uncalibrated = %.2f (best %.2f; goal <= 1.5)\n",
+			1e-6 * (double)plane * 12, t_cal.median_ms, t_cal.min_ms, t_cal.cpu_ms,
+			t_cal.median_ms / t_pipe[0].median_ms, t_cal.min_ms / t_pipe[0].min_ms);
+	if (have_calpx)
+		fprintf(tf, "calibrated bilinear pipeline, one matrix per pixel (%.0f MB of them): %.2f "
+			    "/ %.2f ms (cpu %.2f ms); / uncalibrated = %.2f (best %.2f)\n",
+			1e-6 * (double)plane * 48, t_calpx.median_ms, t_calpx.min_ms, t_calpx.cpu_ms,
+			t_calpx.median_ms / t_pipe[0].median_ms, t_calpx.min_ms / t_pipe[0].min_ms);
+	fprintf(tf, "bilinear pipeline with black level, saturation and dead levels and the "
+		    "validity mask (%llu pixels flagged): %.2f / %.2f ms (cpu %.2f ms); / plain = %.2f "
+		    "(best %.2f)\n", (unsigned long long)lev_invalid, t_lev.median_ms, t_lev.min_ms,
+		t_lev.cpu_ms, t_lev.median_ms / t_pipe[0].median_ms, t_lev.min_ms / t_pipe[0].min_ms);
 	fprintf(tf, "full pipeline's memory floor (read the %.1f MB raw, write 5 float32 planes, "
 		    "%.1f MB in all, %s stores like the pipeline): %.2f ms (best %.2f, cpu %.2f ms); "
 		    "pipeline / floor = %.2f (best %.2f)\n",
@@ -966,6 +1058,12 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	json_object_set_new(root, "bilinear_u16_over_opencv", bench_json_real(t_b16.median_ms / t_cv.median_ms));
 	json_object_set_new(root, "opencv_cpu_ms", bench_json_real(t_cv.cpu_ms));
 	json_object_set_new(root, "pipeline_eari_ms", bench_json_real(t_pipe[1].median_ms));
+	json_object_set_new(root, "pipeline_bilinear_calibrated_ms",
+			    have_cal ? bench_json_real(t_cal.median_ms) : json_null());
+	json_object_set_new(root, "pipeline_bilinear_calibrated_per_pixel_ms",
+			    have_calpx ? bench_json_real(t_calpx.median_ms) : json_null());
+	json_object_set_new(root, "pipeline_bilinear_levels_mask_ms", bench_json_real(t_lev.median_ms));
+	json_object_set_new(root, "cpu_level", json_string(pc_cpu_level_name(pc_cpu_active())));
 	json_object_set_new(root, "pipeline_ratio_ms", bench_json_real(t_pipe[2].median_ms));
 	json_object_set_new(root, "pipeline_bilinear_best_ms", bench_json_real(t_pipe[0].min_ms));
 	json_object_set_new(root, "pipeline_eari_best_ms", bench_json_real(t_pipe[1].min_ms));

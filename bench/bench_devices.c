@@ -13,6 +13,13 @@
  *               frame processing time against the frame period, drops, and the latency trend
  *               (a growing queue shows as latency rising frame after frame)
  *   alone       the pipeline on one frame without transport (its baseline)
+ *   disk-png, disk-npy, disk-raw
+ *               capture to disk (pc_capture: acquisition, the bounded queue, the writer
+ *               thread) of --disk-frames frames at 30 fps in each store: the sustained rate
+ *               is what the writer can keep up with indefinitely, 1 / (mean seconds per frame
+ *               written, fsync included); the recorded rate is frames / (capture time, the
+ *               queue's drain included); ratios against the 30 fps goal and against raw
+ *               (the cheapest store) of this run
  *
  * Frame rates are steady-state rates: (frames received - 1) / (time the last one was received -
  * time the first one was received), both taken when the client's dequeue returns. The start of
@@ -26,9 +33,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
 #include "bench.h"
+#include "polarcam/capture.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
 #include "polarcam/parallel.h"
@@ -47,7 +57,19 @@ typedef struct bench_opts {
 	bool quick, json;
 	pc_demosaic_method method;
 	const char *method_name;
+	const char *dir;      /* where the disk phases write (NULL: a temporary directory) */
+	unsigned disk_frames; /* frames per disk phase */
 } bench_opts;
+
+typedef struct disk_result {
+	const char *store;
+	uint64_t frames, lost, skipped, file_bytes;
+	double seconds, write_ms_mean, write_ms_max, sustained_fps, recorded_fps;
+	long long peak;
+	bool complete;
+	int error;
+	char errmsg[256];
+} disk_result;
 
 typedef struct phase_result {
 	double fps, mbps, seconds;
@@ -239,6 +261,126 @@ static void print_phase(const bench_opts *o, const char *name, double goal, cons
 	fflush(stdout);
 }
 
+/* The file system a directory is on, by statfs magic (the common ones). */
+static const char *fs_name(const char *dir)
+{
+	struct statfs sf;
+	if (statfs(dir, &sf) != 0)
+		return "?";
+	switch ((unsigned long)sf.f_type) {
+	case 0xEF53: return "ext4";
+	case 0x58465342: return "xfs";
+	case 0x9123683E: return "btrfs";
+	case 0x01021994: return "tmpfs (memory)";
+	case 0x6969: return "nfs";
+	case 0x794c7630: return "overlayfs";
+	default: return "other";
+	}
+}
+
+/* pc_capture from the camera at 30 fps into dir/STORE, then the files removed. */
+static void disk_phase(const bench_opts *o, const char *dir, pc_recording_store store,
+		       disk_result *r)
+{
+	memset(r, 0, sizeof *r);
+	r->store = pc_recording_store_name(store);
+	char uri[128], sub[1200];
+	snprintf(uri, sizeof uri, "aravis:127.0.0.1?packet_size=%llu",
+		 (unsigned long long)o->packet_size);
+	snprintf(sub, sizeof sub, "%s/disk-%s", dir, r->store);
+	pc_capture_opts co;
+	memset(&co, 0, sizeof co);
+	pc_stream_request_init(&co.stream);
+	co.stream.uri = uri;
+	co.stream.format = o->format;
+	co.stream.fps = 30;
+	co.stream.buffers = 16;
+	co.frames = o->disk_frames;
+	co.dir = sub;
+	co.overwrite = true;
+	co.timeout_ms = 5000;
+	co.store = store;
+	co.progress = host->progress;
+	pc_capture_report rep;
+	int rc = pc_capture(&co, &rep);
+	if (host->progress_end)
+		host->progress_end(host->progress.user);
+	if (rc) {
+		r->error = rc;
+		snprintf(r->errmsg, sizeof r->errmsg, "%s", pc_error_detail());
+		return;
+	}
+	json_t *j = json_loads(rep.json, 0, NULL);
+	json_t *q = json_object_get(j, "queue");
+	r->frames = rep.frames;
+	r->lost = rep.lost;
+	r->skipped = rep.skipped;
+	r->complete = rep.complete;
+	r->seconds = json_number_value(json_object_get(j, "seconds"));
+	r->write_ms_mean = json_number_value(json_object_get(q, "write_ms_mean"));
+	r->write_ms_max = json_number_value(json_object_get(q, "write_ms_max"));
+	r->peak = (long long)json_integer_value(json_object_get(q, "peak"));
+	r->sustained_fps = r->write_ms_mean > 0 ? 1e3 / r->write_ms_mean : 0;
+	r->recorded_fps = r->seconds > 0 ? (double)r->frames / r->seconds : 0;
+	if (rep.error) {
+		r->error = rep.error;
+		snprintf(r->errmsg, sizeof r->errmsg, "%.255s", rep.message);
+	}
+	char f[1300];
+	struct stat st;
+	snprintf(f, sizeof f, "%s/raw_000000.%s", sub, r->store);
+	if (stat(f, &st) == 0)
+		r->file_bytes = (uint64_t)st.st_size;
+	json_decref(j);
+	pc_capture_report_free(&rep);
+	/* the frames are not kept: a benchmark leaves nothing behind */
+	for (uint64_t k = 0; k < r->frames + r->lost + 16; k++) {
+		snprintf(f, sizeof f, "%s/raw_%06llu.%s", sub, (unsigned long long)k, r->store);
+		unlink(f);
+	}
+	snprintf(f, sizeof f, "%s/meta.json", sub);
+	unlink(f);
+	rmdir(sub);
+}
+
+static void print_disk(const bench_opts *o, const disk_result *r, double raw_fps)
+{
+	double ratio = raw_fps > 0 ? r->sustained_fps / raw_fps : NAN;
+	if (o->json) {
+		json_t *j = json_object();
+		char name[32];
+		snprintf(name, sizeof name, "disk-%s", r->store);
+		json_object_set_new(j, "phase", json_string(name));
+		json_object_set_new(j, "goal_fps", json_real(30));
+		json_object_set_new(j, "sustained_fps", bench_json_real(r->sustained_fps));
+		json_object_set_new(j, "ratio_to_goal", bench_json_real(r->sustained_fps / 30));
+		json_object_set_new(j, "ratio_to_raw", bench_json_real(ratio));
+		json_object_set_new(j, "recorded_fps", bench_json_real(r->recorded_fps));
+		json_object_set_new(j, "write_ms_mean", bench_json_real(r->write_ms_mean));
+		json_object_set_new(j, "write_ms_max", bench_json_real(r->write_ms_max));
+		json_object_set_new(j, "file_bytes", json_integer((json_int_t)r->file_bytes));
+		json_object_set_new(j, "mb_per_s",
+				    bench_json_real(r->sustained_fps * (double)r->file_bytes / 1e6));
+		json_object_set_new(j, "frames", json_integer((json_int_t)r->frames));
+		json_object_set_new(j, "queue_peak", json_integer(r->peak));
+		json_object_set_new(j, "lost", json_integer((json_int_t)r->lost));
+		json_object_set_new(j, "skipped", json_integer((json_int_t)r->skipped));
+		json_object_set_new(j, "complete", json_boolean(r->complete));
+		json_object_set_new(j, "error", r->error ? json_string(r->errmsg) : json_null());
+		host->print_json(j);
+		return;
+	}
+	printf("disk-%-5s %8.1f fps sustained (%5.2fx the 30 fps goal, %.2fx raw) %6.1f ms/frame "
+	       "(max %.1f), %.1f MB/frame = %.0f MB/s; recorded %.1f fps, %llu frames, queue "
+	       "peak %lld, lost %llu, damaged skipped %llu%s%s\n",
+	       r->store, r->sustained_fps, r->sustained_fps / 30, ratio, r->write_ms_mean,
+	       r->write_ms_max, (double)r->file_bytes / 1e6,
+	       r->sustained_fps * (double)r->file_bytes / 1e6, r->recorded_fps,
+	       (unsigned long long)r->frames, r->peak, (unsigned long long)r->lost,
+	       (unsigned long long)r->skipped, r->error ? "; " : "", r->error ? r->errmsg : "");
+	fflush(stdout);
+}
+
 static int serve(const bench_opts *o, unsigned cycle, pc_gige_server **srv, double *prep_s)
 {
 	char uri[700];
@@ -274,12 +416,18 @@ static void usage(FILE *fp)
 	    "  --seconds S        seconds per phase (default 5)\n"
 	    "  --cycle K          distinct pre-rendered frames the camera cycles through (default "
 	    "4)\n"
+	    "  --disk-frames N    frames per disk phase (default 30)\n"
+	    "  --dir DIR          where the disk phases write (default: a new directory in\n"
+	    "                     $TMPDIR or /tmp; the frames are removed after each phase)\n"
 	    "  --quick            small scene, 1 s phases (a smoke run, for the test suite)\n"
 	    "  --json             one JSON line per phase\n\n"
 	    "Phases: transport (pre-rendered frames, 1000 fps asked: unpaced, it saturates the\n"
 	    "path on purpose, so missing packets there are expected), serve30 (the same paced at\n"
 	    "30 fps: should lose nothing), pipeline (30 fps with demosaic + Stokes per frame),\n"
-	    "alone (the pipeline without transport), live (frames rendered while streaming).\n"
+	    "alone (the pipeline without transport), live (frames rendered while streaming),\n"
+	    "disk-png, disk-npy, disk-raw (capture to files at 30 fps: the sustained rate is\n"
+	    "1 / the writer's mean time per frame, fsync included; the recorded rate counts the\n"
+	    "queue's drain).\n"
 	    "fps is the steady-state rate: (frames received - 1) divided by the time\n"
 	    "from the first to the last frame the client received; the stream's\n"
 	    "start-up is not counted.\n");
@@ -292,7 +440,8 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 		usage(stdout);
 		return PC_BENCH_OK;
 	}
-	bench_opts o = {"default", 65000, 5, 4, "Mono16", false, false, PC_DM_BILINEAR, "bilinear"};
+	bench_opts o = {"default", 65000, 5, 4, "Mono16", false, false, PC_DM_BILINEAR, "bilinear",
+			NULL, 30};
 	char scene_buf[600];
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
@@ -317,6 +466,11 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 			if (!rc && (o.seconds < 0.2 || o.seconds > 600))
 				rc = pc_error(PC_EINVAL, "--seconds %g: expected 0.2..600",
 				              o.seconds);
+		} else if (i + 1 < argc && !strcmp(a, "--disk-frames")) {
+			rc = host->parse_long(a, argv[++i], 1, 100000, &l);
+			o.disk_frames = (unsigned)l;
+		} else if (i + 1 < argc && !strcmp(a, "--dir")) {
+			o.dir = argv[++i];
 		} else if (i + 1 < argc && !strcmp(a, "--cycle")) {
 			rc = host->parse_long(a, argv[++i], 1, 64, &l);
 			o.cycle = (unsigned)l;
@@ -336,41 +490,12 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 		if (!strcmp(o.scene, "default"))
 			o.scene = scene_buf;
 		o.seconds = 1;
+		o.disk_frames = 4;
 	}
-	/* Run inside a private network namespace with only loopback: re-execute ourselves. */
-	if (!getenv("PC_BENCH_NETNS")) {
-		setenv("PC_BENCH_NETNS", "1", 1);
-		char **nargv = calloc((size_t)argc + 10, sizeof *nargv);
-		if (!nargv)
-			return host->error(PC_BENCH_FAILURE, "out of memory");
-		int n = 0;
-		nargv[n++] = "unshare";
-		nargv[n++] = "-n";
-		nargv[n++] = "sh";
-		nargv[n++] = "-c";
-		nargv[n++] = "ip link set lo up && exec \"$@\"";
-		char self[4096];
-		ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
-		if (len <= 0) {
-			free(nargv);
-			return host->error(PC_BENCH_FAILURE,
-			                    "cannot find this program (/proc/self/exe)");
-		}
-		self[len] = '\0';
-		nargv[n++] = "sh";
-		nargv[n++] = self;
-		nargv[n++] = "bench";
-		for (int i = 0; i < argc; i++)
-			nargv[n++] = argv[i];
-		nargv[n] = NULL;
-		fflush(NULL);
-		execvp("unshare", nargv);
-		free(nargv);
-		return host->error(PC_BENCH_FAILURE,
-		                    "cannot run in a private network namespace "
-		                    "(unshare -n needs root; Debian: util-linux, iproute2): "
-		                    "refusing to stream GigE Vision outside one");
-	}
+	/* inside a private network namespace with only loopback (bench_netns.c) */
+	int ns = bench_netns_reexec(host, argc, argv);
+	if (ns)
+		return ns;
 
 	if (!o.json)
 		printf("polarcam bench devices: scene %s, %s, packet size %llu, %g s per phase, "
@@ -396,6 +521,34 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 	print_phase(&o, "serve30", 30, &at30);
 	stream_phase(&o, 30, true, &pipe);
 	print_phase(&o, "pipeline", 30, &pipe);
+
+	/* capture to disk in each store, from the same camera */
+	char tmpdir[600] = "";
+	const char *ddir = o.dir;
+	if (!ddir) {
+		const char *t = getenv("TMPDIR");
+		snprintf(tmpdir, sizeof tmpdir, "%s/polarcam-bench-XXXXXX", t && *t ? t : "/tmp");
+		ddir = mkdtemp(tmpdir);
+	}
+	disk_result disk[3];
+	bool disk_hard = false;
+	memset(disk, 0, sizeof disk);
+	if (!ddir) {
+		host->warn("no directory for the disk phases (TMPDIR): skipped");
+	} else {
+		if (!o.json)
+			printf("disk phases in %s (%s), %u frames each\n", ddir, fs_name(ddir),
+			       o.disk_frames);
+		static const pc_recording_store order[3] = { PC_STORE_RAW, PC_STORE_NPY,
+							     PC_STORE_PNG };
+		for (int k = 0; k < 3; k++) {
+			disk_phase(&o, ddir, order[k], &disk[k]);
+			disk_hard |= disk[k].frames == 0 && disk[k].error;
+			print_disk(&o, &disk[k], disk[0].sustained_fps);
+		}
+		if (!o.dir)
+			rmdir(ddir);
+	}
 	pc_gige_server_stop(srv);
 
 	/* the pipeline alone on one frame of the same size (its baseline) */
@@ -491,6 +644,19 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 		    alone.proc_ms_mean > 0 ? pipe.proc_ms_mean / alone.proc_ms_mean : 0,
 		    pipe.lat_slope_ms_per_s, transport.fps, transport.mbps,
 		    (unsigned long long)transport.missing_packets);
+		if (disk[0].store)
+			printf("         capture to disk (sustained, writer alone): raw %.1f fps, "
+			       ".npy %.1f fps (%.2fx raw), PNG %.1f fps (%.2fx raw) against the 30 "
+			       "fps goal\n",
+			       disk[0].sustained_fps, disk[1].sustained_fps,
+			       disk[0].sustained_fps > 0
+				   ? disk[1].sustained_fps / disk[0].sustained_fps
+				   : 0,
+			       disk[2].sustained_fps,
+			       disk[0].sustained_fps > 0
+				   ? disk[2].sustained_fps / disk[0].sustained_fps
+				   : 0);
 	}
-	return transport.error || at30.error || pipe.error ? PC_BENCH_FAILURE : PC_BENCH_OK;
+	return transport.error || at30.error || pipe.error || disk_hard ? PC_BENCH_FAILURE
+								       : PC_BENCH_OK;
 }

@@ -303,7 +303,7 @@ int pc_bench_physics(const pc_bench_host *h, int argc, char **argv)
 			    "256 with --quick). --quick: smaller sample, ~5 s. --json: one JSON "
 			    "object on\n"
 			    "stdout after the tables (tables then go to stderr).\n"
-			    "Environment: POLARCAM_NO_AVX512=1 / POLARCAM_NO_AVX2=1 time the "
+			    "Environment: POLARCAM_CPU=avx2 / POLARCAM_CPU=baseline time the "
 			    "narrower\n"
 			    "map kernels (AVX2 / the scalar loop).\n");
 			return 0;

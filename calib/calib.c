@@ -552,7 +552,8 @@ static int build_pinv_sp(pc_calib *cal)
 					for (int k = 0; k < 3; k++)
 						w[c][k] = a[k];
 				}
-			float *o = cal->pinv_sp + 12 * ((size_t)j * gw + i);
+			/* the twelve planes of pc_analyser_pinv: element (r, c) at (4r + c)·n */
+			const size_t n = (size_t)gw * gh, cell = (size_t)j * gw + i;
 			if (pc_stokes_pinv1(w, pinv)) {
 				double id[4][3];
 				pc_stokes_ideal_analyser(id);
@@ -563,7 +564,7 @@ static int build_pinv_sp(pc_calib *cal)
 			}
 			for (int r = 0; r < 3; r++)
 				for (int c = 0; c < 4; c++)
-					o[4 * r + c] = (float)pinv[r][c];
+					cal->pinv_sp[(size_t)(4 * r + c) * n + cell] = (float)pinv[r][c];
 		}
 	return 0;
 }
@@ -868,11 +869,11 @@ int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *
 	const size_t np = (size_t)W * H;
 	uint32_t ow, oh;
 	pc_demosaic_out_size(method, W, H, &ow, &oh);
-	float *corr = malloc(np * sizeof *corr), *ch = malloc(4 * (size_t)ow * oh * sizeof *ch);
+	float *corr = malloc(np * sizeof *corr);
 	float *vf = valid_out ? malloc(np * sizeof *vf) : NULL;
 	float *vch = valid_out ? malloc(4 * (size_t)ow * oh * sizeof *vch) : NULL;
 	uint8_t *vraw = malloc(np);
-	if (!corr || !ch || !vraw || (valid_out && (!vf || !vch))) {
+	if (!corr || !vraw || (valid_out && (!vf || !vch))) {
 		rc = pc_error(PC_ENOMEM, "calibrated pipeline (%zu pixels)", np);
 		goto out;
 	}
@@ -880,19 +881,19 @@ int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *
 	if ((rc = pc_calib_correct(cal, raw, corr, vraw, &nbad)))
 		goto out;
 	pc_view v = { corr, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
-	pc_fplane planes[4];
-	pc_fplanes_separate(ch, ow, oh, 4, planes);
-	pc_demosaic_opts dopt = { .threads = threads,
-				  .full_scale = cal->saturation > 0 ? cal->saturation : 0 };
-	if ((rc = pc_demosaic(&v, &cal->geo.mosaic, method, &dopt, planes)))
-		goto out;
-	pc_analyser_pinv pinv, *pp = NULL;
+	/* the core's front door: the fused paths apply the pseudo-inverses too */
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.method = method;
+	po.mosaic = cal->geo.mosaic;
+	po.threads = threads;
+	po.full_scale = cal->saturation > 0 ? cal->saturation : 0;
+	pc_analyser_pinv pinv;
 	if (cal->parts & PC_CAL_ANALYSER) {
 		if ((rc = pc_calib_pinv(cal, method, threads, &pinv)))
 			goto out;
-		pp = &pinv;
+		po.pinv = &pinv;
 	}
-	if ((rc = pc_stokes_from_channels(planes, ow, oh, pp, out)))
+	if ((rc = pc_stokes_run(&v, &po, out, NULL)))
 		goto out;
 	if (valid_out) {
 		/* an output pixel is valid when every sample it depends on is: demosaic the
@@ -921,7 +922,6 @@ int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *
 		*n_invalid = nbad;
 out:
 	free(corr);
-	free(ch);
 	free(vf);
 	free(vch);
 	free(vraw);

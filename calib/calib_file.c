@@ -174,7 +174,7 @@ int pc_calib_write(const char *path, const pc_calib *c)
 	zip_error_fini(&ze);
 	zip_source_keep(mem);
 	const uint32_t W = c->geo.width, H = c->geo.height;
-	const size_t s2[2] = { H, W }, s3[3] = { H, W, 3 }, s4[4] = { H / 2, W / 2, 3, 4 };
+	const size_t s2[2] = { H, W }, s3[3] = { H, W, 3 }, s4[4] = { 3, 4, H / 2, W / 2 };
 	int rc = 0;
 	char *meta = meta_text(c);
 	if (!meta)
@@ -413,7 +413,7 @@ int pc_calib_read(const char *path, pc_calib *c)
 		c->provenance = prov ? json_dumps(prov, JSON_COMPACT | JSON_REAL_PRECISION(17)) : NULL;
 	}
 	const size_t s2[2] = { (size_t)h, (size_t)w }, s3[3] = { (size_t)h, (size_t)w, 3 };
-	const size_t s4[4] = { (size_t)h / 2, (size_t)w / 2, 3, 4 };
+	const size_t s4[4] = { 3, 4, (size_t)h / 2, (size_t)w / 2 };
 	bool dark = c->parts & PC_CAL_DARK, flat = c->parts & PC_CAL_FLAT;
 	bool an = c->parts & PC_CAL_ANALYSER;
 	if (!rc)

@@ -10,17 +10,27 @@ function(pc_optional name mode)
   pkg_check_modules(${name} IMPORTED_TARGET ${ARGN})
   if(${name}_FOUND)
     set(PC_HAVE_${name} ON PARENT_SCOPE)
+    set_property(GLOBAL PROPERTY PC_PKG_MODULES_${name} ${ARGN})
   elseif(mode STREQUAL "ON")
     message(FATAL_ERROR "${name} was asked for (PC_WITH_${name}=ON) but pkg-config did not find: ${ARGN}")
   endif()
 endfunction()
 
+# pc_required(NAME pkg-config-module): imported target PkgConfig::NAME or a configure error.
+function(pc_required name module)
+  pkg_check_modules(${name} REQUIRED IMPORTED_TARGET ${module})
+  # for the installed polarcam.pc and polarcamConfig.cmake (cmake/Install.cmake)
+  set_property(GLOBAL PROPERTY PC_PKG_MODULES_${name} ${module})
+endfunction()
+
 # Required: libpng and libtiff for image I/O, jansson for JSON (scene files, output).
-pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
-pkg_check_modules(TIFF REQUIRED IMPORTED_TARGET libtiff-4)
-pkg_check_modules(JANSSON REQUIRED IMPORTED_TARGET jansson)
+pc_required(PNG libpng)
+pc_required(TIFF libtiff-4)
+pc_required(JANSSON jansson)
 # cairo draws the PNG plots and annotated pictures (io/plot.c).
-pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)
+pc_required(CAIRO cairo)
+# libzip writes and reads the calibration file (.npz, calib/calib_file.c).
+pc_required(LIBZIP libzip)
 
 pc_optional(ARAVIS ${PC_WITH_ARAVIS} aravis-0.8)
 pc_optional(LIBCAMERA ${PC_WITH_LIBCAMERA} libcamera)
@@ -54,3 +64,6 @@ if(NOT PC_WITH_OPENMP STREQUAL "OFF")
 endif()
 
 find_library(PC_LIBM m)
+# POSIX threads (the capture's writer thread): found here so that the imported target is visible
+# where libpolarcam is linked
+find_package(Threads REQUIRED)

@@ -8,7 +8,8 @@ foreach(opt PC_WITH_ARAVIS PC_WITH_LIBCAMERA PC_WITH_LIBUSB PC_WITH_OPENCV PC_WI
   set_property(CACHE ${opt} PROPERTY STRINGS AUTO ON OFF)
 endforeach()
 
-option(PC_WERROR "Treat warnings as errors" ON)
+# Off for users (a newer compiler's new warning must not break their build); ./do test turns it on.
+option(PC_WERROR "Treat warnings as errors" OFF)
 option(PC_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
 option(PC_NATIVE "Optimise for the build machine (-march=native)" OFF)
 option(PC_BUILD_TESTS "Build the test programs" ON)
@@ -38,17 +39,38 @@ endif()
 # Physics stays IEEE: no -ffast-math anywhere (it would break the NaN validation and the
 # cancellation-free formulas of physics.md section 2).
 
-# pc_layer(NAME SOURCES...): a static library for a layer, or an interface target while the layer
-# has no sources yet, with its public headers in NAME/include.
+# Position-independent objects everywhere: the layers' objects also make libpolarcam.so.
+set(CMAKE_POSITION_INDEPENDENT_CODE ON)
+# Only what a public header marks PC_API (polarcam/export.h; cmake/pc_api.py) leaves the shared
+# library.
+set(CMAKE_C_VISIBILITY_PRESET hidden)
+set(CMAKE_CXX_VISIBILITY_PRESET hidden)
+set(CMAKE_VISIBILITY_INLINES_HIDDEN ON)
+
+# pc_layer(NAME SOURCES file... [HEADERS file...]): the layer's target pc_NAME, a static library
+# of position-independent objects (tests link the narrowest layer they need; libpolarcam.so and
+# libpolarcam.a are made of the same objects, cmake/Library.cmake), or an interface target while
+# the layer has no sources. HEADERS are the layer's public headers, include/polarcam/*.h, which
+# are installed; headers beside the sources are internal and are not.
 function(pc_layer name)
-  set(srcs ${ARGN})
-  if(srcs)
-    add_library(pc_${name} STATIC ${srcs})
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "SOURCES;HEADERS")
+  if(arg_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "pc_layer(${name}): unexpected arguments ${arg_UNPARSED_ARGUMENTS}")
+  endif()
+  if(arg_SOURCES)
+    add_library(pc_${name} STATIC ${arg_SOURCES})
     target_include_directories(pc_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
   else()
     add_library(pc_${name} INTERFACE)
     target_include_directories(pc_${name} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)
   endif()
+  set_property(GLOBAL APPEND PROPERTY PC_LAYERS pc_${name})
+  foreach(h ${arg_HEADERS})
+    if(NOT h MATCHES "^include/polarcam/[^/]+\\.h$")
+      message(FATAL_ERROR "pc_layer(${name}): public header ${h} is not include/polarcam/*.h")
+    endif()
+    set_property(GLOBAL APPEND PROPERTY PC_PUBLIC_HEADERS ${CMAKE_CURRENT_SOURCE_DIR}/${h})
+  endforeach()
 endfunction()
 
 # pc_link(NAME VISIBILITY deps...) that works for both static and interface layers.

@@ -2,7 +2,7 @@
  * pc_lu_chipman_decompose (core/decompose.c, PC_LC_NO_FACTORS) vectorised across matrices in
  * structure-of-arrays form. decompose_map_kern.inc holds the kernel (GCC vector extensions); on
  * x86-64 it is compiled once for AVX2 (4 lanes) and once for AVX-512 (8 lanes), chosen at run
- * time with __builtin_cpu_supports. Both are bit-identical to the scalar code
+ * time by polarcam/cpu.h. Both are bit-identical to the scalar code
  * (tests/test_decompose_map.c). Elsewhere, and on x86-64 CPUs without AVX2, the map is the scalar
  * reference matrix by matrix: a 2-lane SSE2/NEON-width instance of the kernel was measured
  * slower than the scalar code (305 vs 220 ns per matrix; it pays for both sides of every select
@@ -12,17 +12,27 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "decompose_internal.h"
 #include "polarcam/decompose.h"
+
+#include "cpu_internal.h"
+#include "decompose_internal.h"
+#include "polarcam/cpu.h"
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
 
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+#ifdef PC_CPU_X86
 #define PC_LC_X86_DISPATCH 1
 #include <immintrin.h>
+#ifndef __clang__
 /* vectors travel between static inline helpers of one instance only, never across an ABI
  * boundary */
 #pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+#endif
+/* bit-identical to the scalar reference: no fused multiply-adds in any instance (GCC does not
+ * contract in ISO C mode; clang would where the target has FMA) */
+#ifdef __clang__
+#pragma STDC FP_CONTRACT OFF
 #endif
 
 /* One matrix through the scalar reference, written into the map at index i. */
@@ -83,7 +93,12 @@ typedef long pc_vm8 __attribute__((vector_size(64)));
 #undef VANY
 
 #define KFN(name) pc_lc_##name##_avx512
+/* GCC prefers 256-bit vectors unless told; clang takes the explicit 512-bit width as it is */
+#ifdef __clang__
+#define KATTR     __attribute__((target("avx512f,avx512vl,avx512dq"), min_vector_width(512)))
+#else
 #define KATTR     __attribute__((target("avx512f,avx512vl,avx512dq,prefer-vector-width=512")))
+#endif
 #define VD        pc_vd8
 #define VM        pc_vm8
 #define VW        8
@@ -98,40 +113,22 @@ typedef long pc_vm8 __attribute__((vector_size(64)));
 #undef VSQRT
 #undef VANY
 
-static int pc_lc_env_off(const char *name)
-{
-	const char *e = getenv(name);
-	return e && *e && strcmp(e, "0") != 0;
-}
-
-static int pc_lc_has_avx512(void)
-{
-	__builtin_cpu_init();
-	return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-	       __builtin_cpu_supports("avx512dq");
-}
-
-static int pc_lc_has_avx2(void)
-{
-	__builtin_cpu_init();
-	return __builtin_cpu_supports("avx2");
-}
 #endif /* PC_LC_X86_DISPATCH */
 
+/* The instance polarcam/cpu.h asks for (AVX-512, AVX2 or the scalar reference). */
 static pc_lc_isa pc_lc_auto_isa(void)
 {
-	static volatile int cached = -1; /* benign race: every thread computes the same value */
-	if (cached < 0) {
-		int isa = PC_LC_ISA_PORTABLE;
 #ifdef PC_LC_X86_DISPATCH
-		if (pc_lc_has_avx512() && !pc_lc_env_off("POLARCAM_NO_AVX512"))
-			isa = PC_LC_ISA_AVX512;
-		else if (pc_lc_has_avx2() && !pc_lc_env_off("POLARCAM_NO_AVX2"))
-			isa = PC_LC_ISA_AVX2;
-#endif
-		cached = isa;
+	switch (pc_cpu_active()) {
+	case PC_CPU_AVX512:
+		return PC_LC_ISA_AVX512;
+	case PC_CPU_AVX2:
+		return PC_LC_ISA_AVX2;
+	default:
+		break;
 	}
-	return (pc_lc_isa)cached;
+#endif
+	return PC_LC_ISA_PORTABLE;
 }
 
 const char *pc_lu_chipman_map_isa_name(void)
@@ -169,13 +166,13 @@ int pc_lu_chipman_map_isa(const double *M, size_t n, unsigned options, const pc_
 		return 0;
 #ifdef PC_LC_X86_DISPATCH
 	case PC_LC_ISA_AVX2:
-		if (!pc_lc_has_avx2())
+		if (pc_cpu_supported() < PC_CPU_AVX2)
 			break;
 		for (size_t i = 0; i < n; i += 4)
 			pc_lc_lc_block_avx2(M, i, n - i < 4 ? n - i : 4, options, out);
 		return 0;
 	case PC_LC_ISA_AVX512:
-		if (!pc_lc_has_avx512())
+		if (pc_cpu_supported() < PC_CPU_AVX512)
 			break;
 		for (size_t i = 0; i < n; i += 8)
 			pc_lc_lc_block_avx512(M, i, n - i < 8 ? n - i : 8, options, out);

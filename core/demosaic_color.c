@@ -16,18 +16,19 @@
  *     I_{k,c} for the four analysers: bilinear for "bayer-first" (the colour-first baseline of
  *     Morimatsu et al. 2020), EARI for "bayer-eari".
  *
- * The reference runs both steps in double (step 2 through the monochrome references); the fast
- * path runs step 1 in float on row bands and step 2 through the monochrome fast paths. */
+ * This file holds step 1 (demosaic_color.h): in double for the reference, in float on row bands
+ * for the fast path. The front door runs step 2 through the monochrome paths of the method
+ * table (the reference or the fast kernel of the method's second step). */
+#include "demosaic_color.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
-/* The monochrome polarizer part of a colour mosaic. */
-static pc_mosaic mono_part(const pc_mosaic *m)
+pc_mosaic pc_dm_color_mono(const pc_mosaic *m)
 {
 	pc_mosaic r;
 	memset(&r, 0, sizeof r);
@@ -36,11 +37,6 @@ static pc_mosaic mono_part(const pc_mosaic *m)
 		for (int x = 0; x < 4; x++)
 			r.channel[y][x] = m->channel[y & 1][x & 1];
 	return r;
-}
-
-static pc_demosaic_method second_step(pc_demosaic_method method)
-{
-	return method == PC_DM_BAYER_EARI ? PC_DM_EARI : PC_DM_BILINEAR;
 }
 
 /* Step 1 for one sub-image row j of analyser c: colour k at sub-pixel (i, j) from the raw. The
@@ -180,66 +176,32 @@ static void colf_band(void *ctx, uint32_t j0, uint32_t j1)
 	}
 }
 
-int pc_demosaic_color(const pc_view *raw, const double *img_ref, const pc_mosaic *m,
-		      pc_demosaic_method method, const pc_demosaic_opts *opts, double full_scale,
-		      const pc_fplane *out);
-int pc_demosaic_color(const pc_view *raw, const double *img_ref, const pc_mosaic *m,
-		      pc_demosaic_method method, const pc_demosaic_opts *opts, double full_scale,
-		      const pc_fplane *out)
+void pc_dm_color_split_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+			   double *mk[3])
 {
-	uint32_t w = raw->width, h = raw->height;
-	size_t n = (size_t)w * h;
-	int reference = img_ref != NULL;
-	pc_mosaic mono = mono_part(m);
-	int rc = 0;
-	void *mk[3] = { NULL, NULL, NULL };
-	float *fin = NULL;
-	size_t esz = reference ? sizeof(double) : sizeof(float);
-	for (int k = 0; k < 3; k++)
-		if (!(mk[k] = malloc(n * esz)))
-			rc = pc_error(PC_ENOMEM, "colour demosaicking: %ux%u images", w, h);
-	if (!rc && !reference) {
-		fin = malloc(n * sizeof(float));
-		if (!fin)
-			rc = pc_error(PC_ENOMEM, "colour demosaicking: %ux%u input", w, h);
-		else
-			rc = pc_view_to_f32(raw, fin, (size_t)w * sizeof(float));
-		if (rc)
-			pc_error_prefix(rc, "raw: ");
-	}
-	if (!rc && reference) {
-		col_job cj = { img_ref, get_f64, m, w, h, { mk[0], mk[1], mk[2] }, 1 };
-		col_band(&cj, 0, h / 2);
-	} else if (!rc) {
-		/* mirrored neighbour columns (full-resolution x) of every sub-column, per parity */
-		uint32_t sw = w / 2;
-		int32_t *xm = malloc(sizeof(int32_t) * 2 * sw), *xp = malloc(sizeof(int32_t) * 2 * sw);
-		if (!xm || !xp) {
-			rc = pc_error(PC_ENOMEM, "colour demosaicking: column tables");
-		} else {
-			for (uint32_t px = 0; px < 2; px++)
-				for (uint32_t i = 0; i < sw; i++) {
-					xm[px * sw + i] = (int32_t)(px + 2 * (uint32_t)pc_mirror((int)i - 1, (int)sw));
-					xp[px * sw + i] = (int32_t)(px + 2 * (uint32_t)pc_mirror((int)i + 1, (int)sw));
-				}
-			colf_job cj = { fin, m, w, h, { mk[0], mk[1], mk[2] }, xm, xp };
-			pc_parallel_rows(h / 2, 0, opts ? opts->threads : 0, colf_band, &cj);
-		}
+	col_job cj = { img, get_f64, m, w, h, { mk[0], mk[1], mk[2] }, 1 };
+	col_band(&cj, 0, h / 2);
+}
+
+int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int threads,
+		      float *mk[3])
+{
+	/* mirrored neighbour columns (full-resolution x) of every sub-column, per parity */
+	uint32_t sw = w / 2;
+	int32_t *xm = malloc(sizeof(int32_t) * 2 * sw), *xp = malloc(sizeof(int32_t) * 2 * sw);
+	if (!xm || !xp) {
 		free(xm);
 		free(xp);
+		return pc_error(PC_ENOMEM, "colour demosaicking: column tables");
 	}
-	for (unsigned k = 0; k < 3 && !rc; k++) {
-		const pc_fplane *o = out + 4 * k;
-		if (reference) {
-			rc = pc_demosaic_ref(mk[k], w, h, &mono, second_step(method), full_scale, o);
-		} else {
-			pc_view v = { mk[k], w, h, (size_t)w * sizeof(float), PC_FMT_FLOAT32 };
-			pc_demosaic_opts o2 = { opts ? opts->threads : 0, false, full_scale };
-			rc = pc_demosaic(&v, &mono, second_step(method), &o2, o);
+	for (uint32_t px = 0; px < 2; px++)
+		for (uint32_t i = 0; i < sw; i++) {
+			xm[px * sw + i] = (int32_t)(px + 2 * (uint32_t)pc_mirror((int)i - 1, (int)sw));
+			xp[px * sw + i] = (int32_t)(px + 2 * (uint32_t)pc_mirror((int)i + 1, (int)sw));
 		}
-	}
-	for (int k = 0; k < 3; k++)
-		free(mk[k]);
-	free(fin);
-	return rc;
+	colf_job cj = { img, m, w, h, { mk[0], mk[1], mk[2] }, xm, xp };
+	pc_parallel_rows(h / 2, 0, threads, colf_band, &cj);
+	free(xm);
+	free(xp);
+	return 0;
 }

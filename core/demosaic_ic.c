@@ -1,4 +1,5 @@
-/* Fast float paths of bicubic, PPID, RI and EARI (the references are in demosaic_ref.c).
+/* Fast float paths of bicubic, PPID, RI, EARI and ratio (demosaic_ic.h; the references are in
+ * demosaic_ref.c).
  *
  * Every intermediate image of a method (coarse and refined PPI, guide, guided-filter
  * coefficients, tentative estimates, residuals, the first EARI pass) is produced row by row
@@ -10,19 +11,22 @@
  * image are mirrored rows. The guided filter's statistics are summed in double, as in the
  * reference: G² and G·R sums in float lose the small variances (measured on a random texture:
  * 4e-4 of full scale off the double reference with float sums, 2e-7 with double sums). */
+#include "demosaic_ic.h"
+
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
+#include "cpu_internal.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
-#include "polarcam/stokes.h"
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define PC_HAVE_X86_DISPATCH 1
+/* IEEE arithmetic as written in every instance (clang would fuse multiply-adds where the
+ * target has FMA; GCC does not contract in ISO C mode) */
+#ifdef __clang__
+#pragma STDC FP_CONTRACT OFF
 #endif
 
 typedef struct pc_ic_kernels {
@@ -58,6 +62,17 @@ typedef struct pc_ic_kernels {
 			  long);
 } pc_ic_kernels;
 
+/* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
+ * recurrences across iterations that its vectoriser (LLVM 14) refuses ("value that could not
+ * be identified as reduction is used outside the loop"); an offset the optimiser cannot see
+ * through (an empty asm on a register holding 1 or 2) keeps them plain loads, and the loops
+ * vectorise. GCC vectorises the loops as written, so the offsets stay constants there. */
+#ifdef __clang__
+#define PC_OPAQUE(v) __asm__("" : "+r"(v))
+#else
+#define PC_OPAQUE(v) ((void)0)
+#endif
+
 /* The guided filter's window radius is fixed at compile time (PC_GF_R) so that its window
  * sums unroll and vectorise; the parameter tables must agree. */
 #define PC_GF_R 2
@@ -69,39 +84,38 @@ _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2"
 #undef KFN
 #undef KATTR
 
-#ifdef PC_HAVE_X86_DISPATCH
+#ifdef PC_CPU_X86
 #define KFN(name) name##_avx2
 #define KATTR __attribute__((target("avx2,fma")))
 #include "demosaic_ic_kern.inc"
 #undef KFN
 #undef KATTR
-/* AVX-512: 16 float or 8 double lanes and 32 registers for the guided filter's sums */
+/* AVX-512: 16 float or 8 double lanes and 32 registers for the guided filter's sums (GCC
+ * prefers 256-bit vectors unless told; clang's generic tuning uses 512-bit ones) */
 #define KFN(name) name##_avx512
+#ifdef __clang__
+#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,fma"), min_vector_width(512)))
+#else
 #define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,fma,prefer-vector-width=512")))
+#endif
 #include "demosaic_ic_kern.inc"
 #undef KFN
 #undef KATTR
 #endif
 
-static const pc_ic_kernels *kernels(void)
+static const pc_ic_kernels *kernels(pc_cpu_level level)
 {
-#ifdef PC_HAVE_X86_DISPATCH
-	static int cached = -1;
-	if (cached < 0) {
-		const char *e = getenv("POLARCAM_NO_AVX2"), *e5 = getenv("POLARCAM_NO_AVX512");
-		__builtin_cpu_init();
-		cached = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-			 !(e && *e && *e != '0');
-		if (cached && __builtin_cpu_supports("avx512f") &&
-		    __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") &&
-		    __builtin_cpu_supports("avx512bw") && !(e5 && *e5 && *e5 != '0'))
-			cached = 2;
-	}
-	if (cached == 2)
+#ifdef PC_CPU_X86
+	switch (level) {
+	case PC_CPU_AVX512:
 		return &kernels_avx512;
-	if (cached)
+	case PC_CPU_AVX2:
 		return &kernels_avx2;
+	default:
+		break;
+	}
 #endif
+	(void)level;
 	return &kernels_base;
 }
 
@@ -425,8 +439,9 @@ typedef struct ic_job {
 	const pc_mosaic *m;
 	pc_demosaic_method method;
 	double fs;
+	pc_cpu_level level;
 	const pc_fplane *out;
-	const struct pc_stokes_out *st; /* fused pipeline: Stokes outputs instead of out */
+	const pc_dm_row_sink *sink; /* rows handed on instead of written to out */
 	int planar, nt, err;
 } ic_job;
 
@@ -450,7 +465,7 @@ static int setup_band(ic_band *b, const ic_job *j)
 	memset(b, 0, sizeof *b);
 	b->in = j->in;
 	b->m = j->m;
-	b->k = kernels();
+	b->k = kernels(j->level);
 	long w = j->in->width;
 	int h = (int)j->in->height;
 	int fail = rc_init(&b->raw, 12, 1, 3, w, h, fill_raw, b);
@@ -535,7 +550,7 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		/* rows go straight into planar outputs, or through obuf (in cache) into strided
 		 * outputs or, with non-temporal stores, into large aligned planes */
 		for (unsigned c = 0; c < 4; c++)
-			o[c] = j->planar && !j->nt && !j->st
+			o[c] = j->planar && !j->nt && !j->sink
 				       ? j->out[c].data + (size_t)y * j->out[c].row_stride
 				       : obuf + (size_t)c * (size_t)w;
 		int yy = (int)y;
@@ -580,15 +595,15 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		default:
 			break;
 		}
-		if (j->st) {
+		if (j->sink) {
 			const float *ch[4] = { o[0], o[1], o[2], o[3] };
-			pc_dm_stokes_row(ch, (uint32_t)w, y, j->st, j->nt);
+			j->sink->row(j->sink->ctx, y, ch);
 		} else if (j->nt) {
 			float *dst[4];
 			const float *src[4] = { o[0], o[1], o[2], o[3] };
 			for (unsigned c = 0; c < 4; c++)
 				dst[c] = j->out[c].data + (size_t)y * j->out[c].row_stride;
-			pc_dm_stream_rows(dst, src, 4, (uint32_t)w);
+			pc_dm_stream_rows(dst, src, 4, (uint32_t)w, j->level);
 		} else if (!j->planar)
 			for (unsigned c = 0; c < 4; c++) {
 				const pc_fplane *p = &j->out[c];
@@ -601,50 +616,33 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 	pc_dm_free(rowbuf);
 }
 
-int pc_demosaic_ic(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
-		   double full_scale, int threads, const pc_fplane *out);
-int pc_demosaic_ic(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
-		   double full_scale, int threads, const pc_fplane *out)
+/* Row bands of at least 64 rows keep the recomputed halo rows a small fraction. */
+static void run(ic_job *j, int threads)
 {
-	if (m->period != 2)
-		return PC_ENOTSUP;
-	if (method != PC_DM_BICUBIC && method != PC_DM_PPID && method != PC_DM_RI &&
-	    method != PC_DM_EARI && method != PC_DM_RATIO)
-		return PC_ENOTSUP;
-	ic_job j = { in, m, method, full_scale, out, NULL, 1, 0, 0 };
+	int nt = threads > 0 ? threads : pc_parallel_max_threads();
+	uint32_t band = j->in->height / (uint32_t)(2 * (nt > 0 ? nt : 1));
+	if (band < 64)
+		band = 64;
+	pc_parallel_rows(j->in->height, band, threads, ic_band_run, j);
+}
+
+int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
+{
+	ic_job j = { call->in, call->m, call->method, call->full_scale, call->level, out, NULL,
+		     1, 0, 0 };
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
-	j.nt = j.planar && pc_dm_stream_wanted(out, 4, in->width, in->height);
-	/* bands of at least 64 rows keep the recomputed halo rows a small fraction */
-	int nt = threads > 0 ? threads : pc_parallel_max_threads();
-	uint32_t band = in->height / (uint32_t)(2 * (nt > 0 ? nt : 1));
-	if (band < 64)
-		band = 64;
-	pc_parallel_rows(in->height, band, threads, ic_band_run, &j);
-	return j.err ? pc_error(PC_ENOMEM, "%s: row caches", pc_demosaic_method_get(method)->name)
-		     : 0;
+	j.nt = j.planar && pc_dm_stream_wanted(out, 4, call->in->width, call->in->height,
+					       call->level);
+	run(&j, call->threads);
+	return j.err ? pc_error(PC_ENOMEM, "row caches of %u-pixel rows", call->in->width) : 0;
 }
 
-int pc_stokes_ic_fused(const pc_dm_input *in, const pc_mosaic *m, pc_demosaic_method method,
-		       double full_scale, int threads, const struct pc_stokes_out *out)
+int pc_dm_ic_rows(const pc_dm_call *call, const pc_dm_row_sink *sink)
 {
-	if (m->period != 2)
-		return PC_ENOTSUP;
-	if (method != PC_DM_BICUBIC && method != PC_DM_PPID && method != PC_DM_RI &&
-	    method != PC_DM_EARI && method != PC_DM_RATIO)
-		return PC_ENOTSUP;
-	const pc_fplane *planes[5] = { &out->s0, &out->s1, &out->s2, &out->dolp, &out->aolp };
-	for (int k = 0; k < 5; k++)
-		if (planes[k]->data && planes[k]->pixel_stride != 1)
-			return PC_ENOTSUP;
-	ic_job j = { in, m, method, full_scale, NULL, out, 0, 0, 0 };
-	j.nt = pc_dm_stokes_stream_wanted(out, in->width, in->height);
-	int nt = threads > 0 ? threads : pc_parallel_max_threads();
-	uint32_t band = in->height / (uint32_t)(2 * (nt > 0 ? nt : 1));
-	if (band < 64)
-		band = 64;
-	pc_parallel_rows(in->height, band, threads, ic_band_run, &j);
-	return j.err ? pc_error(PC_ENOMEM, "%s: row caches", pc_demosaic_method_get(method)->name)
-		     : 0;
+	ic_job j = { call->in, call->m, call->method, call->full_scale, call->level, NULL, sink,
+		     0, 0, 0 };
+	run(&j, call->threads);
+	return j.err ? pc_error(PC_ENOMEM, "row caches of %u-pixel rows", call->in->width) : 0;
 }

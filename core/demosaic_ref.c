@@ -13,11 +13,12 @@
  * window interpolates every channel. Borders: whole-sample mirror (pc_mirror), which keeps the
  * parity of every index and so the analyser at every mirrored position.
  */
+#include "demosaic_ref.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
 #include "polarcam/error.h"
 
 typedef struct rimg {
@@ -408,8 +409,8 @@ static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fpla
 	return 0;
 }
 
-int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-		    pc_demosaic_method method, double full_scale, const pc_fplane *out)
+int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+	      pc_demosaic_method method, double full_scale, const pc_fplane *out)
 {
 	rimg r = { (double *)img, (int)width, (int)height };
 	switch (method) {
@@ -440,6 +441,6 @@ int pc_demosaic_ref(const double *img, uint32_t width, uint32_t height, const pc
 	default:
 		break;
 	}
-	return pc_error(PC_ENOTSUP, "demosaicking method %s: not implemented for this mosaic yet",
-			pc_demosaic_method_get(method)->name);
+	return pc_error(PC_ENOTSUP, "demosaicking method %d: no reference for this mosaic",
+			(int)method);
 }

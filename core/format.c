@@ -86,9 +86,10 @@ pc_pixfmt pc_format_from_v4l2(uint32_t fourcc)
 }
 
 /* GenICam names polarcam takes raw mosaics from. Standard names and values: PFNC 2.x; vendors'
- * polarized raw names: hardware.md (LUCID Arena GenICam descriptions and LUCID's PFNC header with
- * its custom values, FLIR Spinnaker's Polarized* and BayerRGPolarized* entries, whose values live
- * in each camera's XML). Vendor values collide with Aravis's custom ones: match names only. */
+ * polarized raw names: docs/hardware.md (LUCID Arena GenICam descriptions and LUCID's PFNC
+ * header with its custom values, FLIR Spinnaker's Polarized* and BayerRGPolarized* entries, whose
+ * values live in each camera's XML). Vendor values collide with Aravis's custom ones: match names
+ * only. */
 static const pc_genicam_format pc_genicam_table[] = {
 	{ "Mono8", PC_FMT_MONO8, false, false, 0x01080001u, "PFNC" },
 	{ "Mono10", PC_FMT_MONO10, false, false, 0x01100003u, "PFNC" },

@@ -18,7 +18,7 @@ static void mosaic_fill_mono(pc_mosaic *m, const unsigned ch[2][2])
 
 pc_mosaic pc_mosaic_imx250mzr(void)
 {
-	/* Sony IMX250MZR datasheet / hardware.md: top-left [90 45; 135 0]. */
+	/* Sony IMX250MZR datasheet / docs/hardware.md: top-left [90 45; 135 0]. */
 	static const unsigned ch[2][2] = { { 2, 1 }, { 3, 0 } };
 	pc_mosaic m;
 	mosaic_fill_mono(&m, ch);

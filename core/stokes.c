@@ -1,42 +1,20 @@
-/* Stokes images, DoLP and AoLP (formulas and conventions in polarcam/stokes.h). */
+/* The Stokes front doors (polarcam/stokes.h): raw → Stokes through one validation and the
+ * method table's path (fused bilinear, row-cache rows into the Stokes row kernel, or channel
+ * images then Stokes), ideal or calibrated analysers, and the validity of every output pixel;
+ * Stokes from analyser images; the analyser-matrix pseudo-inverse. Kernels: stokes_kernels.c. */
 #include "polarcam/stokes.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "demosaic_internal.h"
+#include "demosaic_plan.h"
 #include "polarcam/error.h"
-#include "polarcam/parallel.h"
-#include "stokes_internal.h"
+#include "stokes_kernels.h"
 
 float pc_aolp_f(float s1, float s2)
 {
-	float ax = fabsf(s1), ay = fabsf(s2);
-	float mx = ax > ay ? ax : ay, mn = ax > ay ? ay : ax;
-	float t = mx > 0 ? mn / mx : 0.0f;
-	float u = t * t;
-	float p = PC_ATAN_C7;
-	p = p * u + PC_ATAN_C6;
-	p = p * u + PC_ATAN_C5;
-	p = p * u + PC_ATAN_C4;
-	p = p * u + PC_ATAN_C3;
-	p = p * u + PC_ATAN_C2;
-	p = p * u + PC_ATAN_C1;
-	p = p * u + PC_ATAN_C0;
-	float r = p * t; /* atan(min/max) in [0, π/4] */
-	if (ay > ax)
-		r = PC_PI_2F - r;
-	if (s1 < 0)
-		r = PC_PIF - r;
-	if (s2 < 0)
-		r = -r;
-	float h = 0.5f * r;
-	if (h < 0)
-		h += PC_PIF;
-	if (h >= PC_PIF)
-		h -= PC_PIF;
-	return h;
+	return pc_st_aolp(s1, s2);
 }
 
 void pc_stokes_ideal_analyser(double w[4][3])
@@ -114,62 +92,9 @@ int pc_stokes_pinv(const float *w, size_t n, float *pinv)
 			return pc_error_prefix(rc, "analyser matrix %zu: ", k);
 		for (int i = 0; i < 3; i++)
 			for (int c = 0; c < 4; c++)
-				pinv[12 * k + 4 * i + c] = (float)p[i][c];
+				pinv[(size_t)(4 * i + c) * n + k] = (float)p[i][c];
 	}
 	return 0;
-}
-
-/* ---- Stokes from analyser images ---- */
-typedef struct st_ch_job {
-	const pc_fplane *in;
-	uint32_t w, h;
-	const pc_analyser_pinv *pinv;
-	const pc_stokes_out *out;
-} st_ch_job;
-
-static void put(const pc_fplane *p, uint32_t x, uint32_t y, float v)
-{
-	if (p->data)
-		p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] = v;
-}
-
-static void stokes_channels_band(void *ctx, uint32_t y0, uint32_t y1)
-{
-	const st_ch_job *j = ctx;
-	int want_da = j->out->dolp.data || j->out->aolp.data;
-	for (uint32_t y = y0; y < y1; y++) {
-		const float *row[4];
-		for (int c = 0; c < 4; c++)
-			row[c] = j->in[c].data + (size_t)y * j->in[c].row_stride;
-		const float *pm = NULL;
-		uint32_t gy = j->pinv ? (uint32_t)((uint64_t)y * j->pinv->grid_h / j->h) : 0;
-		for (uint32_t x = 0; x < j->w; x++) {
-			float i0 = row[0][(size_t)x * j->in[0].pixel_stride];
-			float i1 = row[1][(size_t)x * j->in[1].pixel_stride];
-			float i2 = row[2][(size_t)x * j->in[2].pixel_stride];
-			float i3 = row[3][(size_t)x * j->in[3].pixel_stride];
-			float s0, s1, s2;
-			if (j->pinv) {
-				uint32_t gx = (uint32_t)((uint64_t)x * j->pinv->grid_w / j->w);
-				pm = j->pinv->m + 12 * ((size_t)gy * j->pinv->grid_w + gx);
-				s0 = pm[0] * i0 + pm[1] * i1 + pm[2] * i2 + pm[3] * i3;
-				s1 = pm[4] * i0 + pm[5] * i1 + pm[6] * i2 + pm[7] * i3;
-				s2 = pm[8] * i0 + pm[9] * i1 + pm[10] * i2 + pm[11] * i3;
-			} else {
-				s0 = 0.5f * ((i0 + i1) + (i2 + i3));
-				s1 = i0 - i2;
-				s2 = i1 - i3;
-			}
-			put(&j->out->s0, x, y, s0);
-			put(&j->out->s1, x, y, s1);
-			put(&j->out->s2, x, y, s2);
-			if (want_da) {
-				float d = pc_dolp_f(s0, s1, s2);
-				put(&j->out->dolp, x, y, d);
-				put(&j->out->aolp, x, y, pc_aolp_f(s1, s2));
-			}
-		}
-	}
 }
 
 static int check_out(const pc_stokes_out *out, uint32_t w)
@@ -192,6 +117,31 @@ static int check_out(const pc_stokes_out *out, uint32_t w)
 	return 0;
 }
 
+
+static int check_pinv(const pc_analyser_pinv *pinv, uint32_t w, uint32_t h)
+{
+	if (!pinv->m || pinv->grid_w == 0 || pinv->grid_h == 0)
+		return pc_error(PC_EINVAL, "Stokes: analyser pseudo-inverse grid empty");
+	if (pinv->grid_w > w || pinv->grid_h > h)
+		return pc_error(PC_EINVAL, "Stokes: analyser pseudo-inverse grid %ux%u larger than "
+					   "the %ux%u output", pinv->grid_w, pinv->grid_h, w, h);
+	return 0;
+}
+
+/* Stokes from channel images: the vectorised planar kernel where it applies, else the scalar
+ * one. */
+static void stokes_channels(const pc_fplane in[4], uint32_t w, uint32_t h,
+			    const pc_analyser_pinv *pinv, int threads, pc_cpu_level level,
+			    bool reference, const pc_stokes_out *out)
+{
+	pc_st_calib cal;
+	if (pinv)
+		pc_st_calib_init(pinv, w, h, &cal);
+	if (!reference && pc_st_planar(in, w, h, pinv ? &cal : NULL, threads, level, out) == 0)
+		return;
+	pc_st_generic(in, w, h, pinv ? &cal : NULL, threads, out);
+}
+
 int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t height,
 			    const pc_analyser_pinv *pinv, const pc_stokes_out *out)
 {
@@ -200,66 +150,27 @@ int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t heig
 	for (int c = 0; c < 4; c++)
 		if (!in[c].data || in[c].pixel_stride < 1)
 			return pc_error(PC_EINVAL, "Stokes: analyser image %d missing", c);
-	if (pinv && (!pinv->m || pinv->grid_w == 0 || pinv->grid_h == 0))
-		return pc_error(PC_EINVAL, "Stokes: analyser pseudo-inverse grid empty");
 	int rc = check_out(out, width);
+	if (!rc && pinv)
+		rc = check_pinv(pinv, width, height);
 	if (rc)
 		return rc;
-	if (!pinv && pc_stokes_planar_fast(in, width, height, out) == 0)
-		return 0;
-	st_ch_job j = { in, width, height, pinv, out };
-	pc_parallel_rows(height, 0, 0, stokes_channels_band, &j);
+	stokes_channels(in, width, height, pinv, 0, pc_cpu_active(), false, out);
 	return 0;
 }
 
-int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
-		       const pc_demosaic_opts *opts, const pc_stokes_out *out)
+/* Demosaic into channel images, then Stokes (colour: the colour average of each analyser). */
+static int stokes_two_step(pc_dm_plan *p, const pc_stokes_out *out)
 {
-	int rc = pc_view_check(raw);
-	if (rc)
-		return pc_error_prefix(rc, "raw: ");
-	rc = pc_mosaic_check(m);
-	if (rc)
-		return rc;
-	uint32_t ow, oh;
-	pc_demosaic_out_size(method, raw->width, raw->height, &ow, &oh);
-	rc = check_out(out, ow);
-	if (rc)
-		return rc;
-	int reference = opts && opts->reference;
-	if (method == PC_DM_BILINEAR && m->period == 2 && !reference && raw->width % 2 == 0 &&
-	    raw->height % 2 == 0 && raw->width >= 4 && raw->height >= 4) {
-		pc_dm_input in;
-		void *owned;
-		rc = pc_dm_prepare_input(raw, &in, &owned);
-		if (rc)
-			return rc;
-		rc = pc_stokes_bilinear_fused(&in, m, opts ? opts->threads : 0, out);
-		pc_dm_free(owned);
-		return rc;
-	}
-	if (m->period == 2 && !reference && ow == raw->width && raw->width % 2 == 0 &&
-	    raw->height % 2 == 0 && raw->width >= 4 && raw->height >= 4) {
-		/* row-cache methods: demosaic rows turned into Stokes rows in cache */
-		pc_dm_input in;
-		void *owned;
-		rc = pc_dm_prepare_input(raw, &in, &owned);
-		if (rc)
-			return rc;
-		rc = pc_stokes_ic_fused(&in, m, method, pc_dm_full_scale(raw, opts),
-					opts ? opts->threads : 0, out);
-		pc_dm_free(owned);
-		if (rc != PC_ENOTSUP)
-			return rc;
-	}
-	unsigned nch = pc_demosaic_channels(m);
-	size_t plane = (size_t)ow * oh;
+	const uint32_t ow = p->ow, oh = p->oh;
+	const unsigned nch = p->nch;
+	const size_t plane = (size_t)ow * oh;
 	float *buf = pc_dm_alloc(plane * nch * sizeof(float));
 	if (!buf)
 		return pc_error(PC_ENOMEM, "Stokes: %u channel images of %ux%u", nch, ow, oh);
 	pc_fplane ch[PC_DEMOSAIC_MAX_CHANNELS];
-	pc_fplanes_separate(buf, ow, oh, nch, ch);
-	rc = pc_demosaic(raw, m, method, opts, ch);
+	pc_dm_planes_separate(buf, ow, oh, nch, ch);
+	int rc = pc_dm_plan_demosaic(p, ch);
 	if (!rc && nch == 12) {
 		/* colour: the colour average of each analyser image, in place in planes 0..3 */
 		for (unsigned c = 0; c < 4; c++)
@@ -268,7 +179,62 @@ int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_metho
 						3.0f;
 	}
 	if (!rc)
-		rc = pc_stokes_from_channels(ch, ow, oh, NULL, out);
+		stokes_channels(ch, ow, oh, p->opts.pinv, p->opts.threads, p->level, false, out);
 	pc_dm_free(buf);
 	return rc;
+}
+
+int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out,
+		  pc_validity *valid)
+{
+	pc_dm_plan p;
+	int rc = pc_dm_plan_begin(raw, opts, &p);
+	if (rc)
+		return rc;
+	if ((rc = check_out(out, p.ow)) || (rc = pc_dm_plan_check_validity(&p, valid)) ||
+	    (opts->pinv && (rc = check_pinv(opts->pinv, p.ow, p.oh))))
+		return rc;
+	pc_st_calib cal, *calp = NULL;
+	if (opts->pinv) {
+		pc_st_calib_init(opts->pinv, p.ow, p.oh, &cal);
+		calp = &cal;
+	}
+	/* the path: fused where the method, the outputs and the grid allow */
+	const bool fast = !p.colour && !opts->reference && (!calp || cal.xkind != PC_ST_X_OTHER);
+	const pc_dm_input *in = NULL;
+	if (fast && (p.def->fused_bilinear || (p.def->rows && pc_st_planar_out(out))))
+		rc = pc_dm_plan_input(&p, &in);
+	if (rc) {
+		pc_dm_plan_end(&p);
+		return rc;
+	}
+	if (in && p.def->fused_bilinear) {
+		rc = pc_st_fused_bilinear(in, &opts->mosaic, calp, opts->threads, p.level, out);
+	} else if (in) {
+		pc_st_sink sink = { out, calp, p.ow, pc_st_stream_wanted(out, p.ow, p.oh, p.level),
+				    p.level };
+		pc_dm_row_sink rs = { pc_st_sink_row, &sink };
+		pc_dm_call c = pc_dm_plan_call(&p);
+		rc = p.def->rows(&c, &rs);
+	} else {
+		rc = stokes_two_step(&p, out);
+	}
+	if (!rc && valid)
+		rc = pc_dm_plan_validity(&p, valid);
+	pc_dm_plan_end(&p);
+	return rc;
+}
+
+int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
+		       const pc_demosaic_opts *opts, const pc_stokes_out *out)
+{
+	if (!m)
+		return pc_mosaic_check(m); /* "mosaic missing" */
+	pc_pipeline_opts o = pc_dm_opts_legacy(m, method, opts);
+	return pc_stokes_run(raw, &o, out, NULL);
+}
+
+bool pc_stokes_streams(const pc_stokes_out *out, uint32_t width, uint32_t height)
+{
+	return out && pc_st_stream_wanted(out, width, height, pc_cpu_active());
 }

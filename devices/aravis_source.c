@@ -1,6 +1,6 @@
 /* aravis: source - GigE Vision and USB3 Vision cameras through Aravis 0.8.
  *
- *   aravis:ID[?packet_size=N&reverse_x=1&reverse_y=1&mosaic=90,45,135,0]
+ *   aravis:ID[?packet_size=N&reverse_x=1&reverse_y=1&mosaic=90,45,135,0&realtime=0]
  *
  * ID is what arv_camera_new accepts: an IP address (opened directly, no discovery broadcast),
  * a device id or a serial number (found through Aravis's discovery: run that inside a network
@@ -19,15 +19,28 @@
  * Frame ids: GigE Vision 1.x block ids are 16 bits and wrap (skipping 0 on real cameras); they
  * are unwrapped into a 64-bit sequence so that gaps still count as dropped frames.
  * A camera that stops answering (control lost, or a register read failing after a dequeue
- * timeout) is PC_EDISCONNECTED. */
+ * timeout) is PC_EDISCONNECTED.
+ *
+ * Aravis's stream thread receives the packets; when it waits for a CPU longer than the socket
+ * buffer lasts (net.core.rmem_max, 4 MiB by default: 13 ms of a 2448x2048 stream at 30 fps),
+ * packets are lost and frames arrive incomplete. So the thread asks for real-time scheduling
+ * (SCHED_FIFO priority 10, as Aravis's own tools do), else for nice -10, else keeps what it has
+ * (both need privileges: CAP_SYS_NICE, or RLIMIT_RTPRIO / RLIMIT_NICE); realtime=0 leaves it
+ * alone. It only waits for packets, so it never holds a CPU for long. */
 #include "polarcam/camera_profile.h"
 #include "polarcam/error.h"
 #include "polarcam/source.h"
 
 #include <arv.h>
+#include <errno.h>
+#include <pthread.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include "backend_util.h"
 #include "backends.h"
@@ -55,6 +68,7 @@ typedef struct arv_src {
 	bool has_reverse_x, has_reverse_y;
 	bool reverse_x, reverse_y;
 	uint64_t packet_size; /* 0 = auto */
+	bool realtime;        /* the stream thread asks for real-time scheduling */
 	arv_fmt *fmts;
 	unsigned n_fmts;
 	int64_t cur_code;
@@ -142,7 +156,10 @@ static int a_open(pc_source *s, const char *arg)
 	if (!a)
 		return pc_error(PC_ENOMEM, "aravis source");
 	bool rx = false, ry = false;
+	a->realtime = true;
 	int rc = pc_source_option_u64(s, "packet_size", 576, 65500, &a->packet_size);
+	if (!rc)
+		rc = pc_source_option_bool(s, "realtime", &a->realtime);
 	if (!rc)
 		rc = pc_source_option_bool(s, "reverse_x", &rx);
 	if (!rc)
@@ -507,12 +524,31 @@ static void collect_stats(arv_src *a, pc_source_stats *st)
 	}
 }
 
+/* Aravis calls this in its stream thread; at its start the thread asks for priority. */
+static void stream_cb(void *user, ArvStreamCallbackType type, ArvBuffer *buffer)
+{
+	(void)buffer;
+	const arv_src *a = user;
+	if (type != ARV_STREAM_CALLBACK_TYPE_INIT || !a->realtime)
+		return;
+	struct sched_param sp;
+	memset(&sp, 0, sizeof sp);
+	sp.sched_priority = 10;
+	if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0)
+		return;
+	id_t tid = (id_t)syscall(SYS_gettid);
+	errno = 0;
+	int nice_now = getpriority(PRIO_PROCESS, tid);
+	if (errno == 0 && nice_now > -10)
+		(void)setpriority(PRIO_PROCESS, tid, -10); /* may be refused: normal priority */
+}
+
 static int a_queue(pc_source *s, pc_buffer *b)
 {
 	arv_src *a = pc_source_priv(s);
 	if (!a->stream) {
 		GError *err = NULL;
-		a->stream = arv_camera_create_stream(a->cam, NULL, NULL, &err);
+		a->stream = arv_camera_create_stream(a->cam, stream_cb, a, &err);
 		if (!a->stream)
 			return gerr(g_atomic_int_get(&a->lost) ? PC_EDISCONNECTED : PC_EIO, &err,
 			            "creating the stream");
@@ -737,7 +773,8 @@ int pc_aravis_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 	return 0;
 }
 
-static const char *const a_options[] = {"packet_size", "reverse_x", "reverse_y", "mosaic", NULL};
+static const char *const a_options[] = {"packet_size", "reverse_x", "reverse_y", "mosaic",
+                                        "realtime",    NULL};
 
 const pc_source_ops pc_aravis_source_ops = {
     .open = a_open,

@@ -1,18 +1,28 @@
-/* A source recorded, optionally through the Stokes stream (polarcam/capture.h). */
+/* A source recorded, optionally through the Stokes stream (polarcam/capture.h).
+ *
+ *   calling thread:  dequeue ─► policy for damaged frames ─► copy into the queue ─► requeue
+ *                                                                  │ (frame_queue.h)
+ *   writer thread:                         pc_recording_add (─► Stokes) ◄──┘
+ */
 #define _POSIX_C_SOURCE 200809L
 #include "polarcam/capture.h"
 
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
+#include "frame_queue.h"
 #include "json.h"
 #include "polarcam/error.h"
 #include "polarcam/folders.h"
 #include "polarcam/process.h"
 #include "polarcam/recording.h"
+
+#define GIB (1024.0 * 1024.0 * 1024.0)
 
 typedef struct capture {
 	const pc_capture_opts *o;
@@ -23,9 +33,14 @@ typedef struct capture {
 	pc_stokes_stream *live;
 	const char *method; /* name, with process */
 	double seconds, proc_sum, proc_max;
-	uint64_t kept;      /* frames whose Stokes images were written */
+	uint64_t kept;      /* frames whose Stokes images were written (writer thread) */
 	bool last_kept;     /* the last processed frame's were */
 	pc_capture_report *rep;
+	frame_queue q;
+	bool q_ready;
+	pthread_mutex_t lock; /* rep->error / message, werr */
+	int werr;             /* the writer's failure: acquisition stops */
+	uint64_t proc_n;      /* frames processed (writer thread) */
 } capture;
 
 static double now_s(void)
@@ -35,21 +50,58 @@ static double now_s(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* The first reason the recording ended; later ones are dropped. */
-static void fail(capture *c, int code, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-static void fail(capture *c, int code, const char *fmt, ...)
+static const char *const policy_names[] = { "skip", "keep", "fail" };
+
+const char *pc_incomplete_policy_name(pc_incomplete_policy p)
 {
-	if (c->rep->error)
-		return;
-	c->rep->error = code;
-	va_list ap;
-	va_start(ap, fmt);
-	vsnprintf(c->rep->message, sizeof c->rep->message, fmt, ap);
-	va_end(ap);
+	return (unsigned)p < 3 ? policy_names[p] : NULL;
 }
 
-/* The source, the method and the recording: nothing recorded when one of them is refused. */
+int pc_incomplete_policy_from_name(const char *name, pc_incomplete_policy *out)
+{
+	for (unsigned i = 0; name && i < 3; i++)
+		if (!strcmp(name, policy_names[i])) {
+			*out = (pc_incomplete_policy)i;
+			return 0;
+		}
+	return pc_error(PC_EINVAL, "incomplete frames '%s': expected skip, keep or fail",
+			name ? name : "");
+}
+
+/* The first reason the recording ended; later ones are dropped. Either thread. */
+static void fail(capture *c, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void fail(capture *c, int code, const char *fmt, ...)
+{
+	pthread_mutex_lock(&c->lock);
+	if (!c->rep->error) {
+		c->rep->error = code;
+		va_list ap;
+		va_start(ap, fmt);
+		vsnprintf(c->rep->message, sizeof c->rep->message, fmt, ap);
+		va_end(ap);
+	}
+	pthread_mutex_unlock(&c->lock);
+}
+
+static int failed(capture *c)
+{
+	pthread_mutex_lock(&c->lock);
+	int e = c->rep->error;
+	pthread_mutex_unlock(&c->lock);
+	return e;
+}
+
+/* Half the available memory, at most 4 GiB. */
+static uint64_t default_queue_bytes(void)
+{
+	long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+	double avail = pages > 0 && size > 0 ? (double)pages * (double)size : GIB;
+	double b = avail / 2;
+	return (uint64_t)(b < 4 * GIB ? b : 4 * GIB);
+}
+
+/* The source, the method, the recording and the queue: nothing recorded when one of them is
+ * refused. */
 static int open_all(capture *c)
 {
 	const pc_capture_opts *o = c->o;
@@ -57,6 +109,12 @@ static int open_all(capture *c)
 	int rc = o->method ? pc_demosaic_method_from_name(o->method, &m) : 0;
 	if (rc) /* a misspelt name is refused before the camera is opened */
 		return pc_error_prefix(rc, "--method: ");
+	if (!pc_incomplete_policy_name(o->incomplete) || !pc_recording_store_name(o->store))
+		return pc_error(PC_EINVAL, "capture: incomplete policy %d / store %d unknown",
+				(int)o->incomplete, (int)o->store);
+	if (!(o->write_delay_ms >= 0 && o->write_delay_ms <= 3.6e6))
+		return pc_error(PC_EINVAL, "capture: write delay %g ms: expected 0..3600000",
+				o->write_delay_ms);
 	/* so is an occupied output folder */
 	if ((rc = pc_outdir_begin(&c->od, o->dir, o->overwrite ? PC_OUT_OVERWRITE : 0)))
 		return rc;
@@ -71,6 +129,13 @@ static int open_all(capture *c)
 	}
 	if (o->process && (rc = pc_stokes_stream_new(m, &c->live)))
 		return rc;
+	size_t row = 0;
+	(void)pc_format_row_bytes(c->f.format, c->f.width, &row);
+	size_t frame_bytes = c->f.height ? c->f.stride * (c->f.height - 1) + row : row;
+	if ((rc = fq_init(&c->q, frame_bytes,
+			  o->queue_bytes ? o->queue_bytes : default_queue_bytes())))
+		return rc;
+	c->q_ready = true;
 	pc_recording_desc d;
 	memset(&d, 0, sizeof d);
 	d.source = o->stream.uri;
@@ -84,12 +149,13 @@ static int open_all(capture *c)
 	d.sensor_height = c->f.sensor_height;
 	d.polarized = c->f.polarized;
 	d.mosaic = c->f.mosaic;
+	d.store = o->store;
 	if ((rc = pc_recording_create(&c->rec, c->od.tmp, &d, false)))
 		return pc_error_prefix(rc, "creating the recording: ");
 	return 0;
 }
 
-/* Files of the last processed frame (number n) in DIR/processed/. */
+/* Files of processed frame number n in DIR/processed/ (writer thread, or after it ended). */
 static int keep(capture *c, uint64_t n, unsigned files)
 {
 	uint32_t w, h;
@@ -108,75 +174,208 @@ static int keep(capture *c, uint64_t n, unsigned files)
 	return rc;
 }
 
-/* Dequeue → record (→ Stokes) → requeue, until the frames are in or something ends it. */
-static void record(capture *c)
+/* ---- the writer thread ---- */
+
+static void *writer_main(void *arg)
 {
+	capture *c = arg;
 	const pc_capture_opts *o = c->o;
-	uint64_t got = 0, n = o->frames;
-	int stop = 0;
-	int src = pc_source_start(c->src);
-	if (src)
-		fail(c, src, "starting the stream: %s", pc_error_detail());
-	double t0 = now_s();
-	if (o->process && !c->f.polarized)
-		fail(c, PC_EFORMAT, "--process: the source's frames carry no polarizer mosaic");
-	while (!c->rep->error && got < n) {
-		if (stop) {
-			fail(c, PC_ECANCELED, "interrupted after %llu of %llu frames",
-			     (unsigned long long)got, (unsigned long long)n);
-			break;
+	fq_item *it;
+	while ((it = fq_pop(&c->q))) {
+		pthread_mutex_lock(&c->lock);
+		int werr = c->werr;
+		pthread_mutex_unlock(&c->lock);
+		if (werr) { /* after a failed write nothing more is written */
+			fq_done(&c->q, it, false, 0);
+			continue;
 		}
-		pc_buffer *b = NULL;
-		int rc = pc_source_dequeue(c->src, o->timeout_ms, &b);
-		if (rc == PC_EDISCONNECTED)
-			fail(c, rc, "the camera disappeared after %llu of %llu frames: %s",
-			     (unsigned long long)got, (unsigned long long)n, pc_error_detail());
-		else if (rc == PC_ETIMEDOUT)
-			fail(c, rc, "no frame within %d ms after %llu of %llu frames: %s",
-			     o->timeout_ms, (unsigned long long)got, (unsigned long long)n,
-			     pc_error_detail());
-		else if (rc == PC_EEND)
-			fail(c, rc, "the source ended after %llu of %llu frames",
-			     (unsigned long long)got, (unsigned long long)n);
-		else if (rc)
-			fail(c, rc, "frame %llu: %s", (unsigned long long)got, pc_error_detail());
-		if (rc)
-			break;
-		rc = pc_recording_add(c->rec, &b->frame);
+		double t0 = now_s();
+		int rc = pc_recording_add(c->rec, &it->frame);
 		if (!rc && o->process) {
-			rc = pc_stokes_stream_process(c->live, &b->frame);
+			rc = pc_stokes_stream_process(c->live, &it->frame);
 			double s = pc_stokes_stream_seconds(c->live);
 			c->proc_sum += s;
+			c->proc_n++;
 			if (s > c->proc_max)
 				c->proc_max = s;
 			c->last_kept = false;
-			if (!rc && o->keep_every && got % o->keep_every == 0)
-				rc = keep(c, got, PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP);
+			uint64_t pos = pc_recording_count(c->rec) - 1; /* this frame's position */
+			if (!rc && o->keep_every && pos % o->keep_every == 0)
+				rc = keep(c, pos, PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP);
 		}
-		int rc2 = pc_source_requeue(c->src, b);
-		if (rc || rc2) {
-			fail(c, rc ? rc : rc2, "%s frame %llu: %s", rc ? "writing" : "requeueing",
-			     (unsigned long long)got, pc_error_detail());
-			break;
+		if (!rc && o->write_delay_ms > 0) {
+			double d = o->write_delay_ms / 1e3;
+			struct timespec ts = { (time_t)d, (long)((d - (double)(time_t)d) * 1e9) };
+			while (nanosleep(&ts, &ts) != 0)
+				;
 		}
-		got++;
-		stop = pc_progress_report(&o->progress, "capture", got, n);
+		if (rc) {
+			fail(c, rc, "%s frame %llu (sequence %llu): %s",
+			     o->process ? "writing or processing" : "writing",
+			     (unsigned long long)pc_recording_count(c->rec),
+			     (unsigned long long)it->frame.meta.sequence, pc_error_detail());
+			pthread_mutex_lock(&c->lock);
+			c->werr = rc;
+			pthread_mutex_unlock(&c->lock);
+		}
+		fq_done(&c->q, it, rc == 0, now_s() - t0);
 	}
-	c->seconds = now_s() - t0;
-	c->rep->frames = got;
+	return NULL;
 }
 
-/* The last frame's Stokes images (when not kept already) and pictures in DIR/processed/, and
- * the "process" report. */
+/* ---- acquisition (the calling thread) ---- */
+
+typedef struct acq {
+	uint64_t acquired, n, skipped, kept;
+	double fallback_period_s;
+} acq;
+
+/* One damaged frame by the policy: 0 to record it, 1 to take the next, -1 to stop. */
+static int damaged(capture *c, acq *a, const pc_frame *fr)
+{
+	const char *what = fr->meta.status & PC_FRAME_CORRUPT ? "corrupt" : "incomplete";
+	switch (c->o->incomplete) {
+	case PC_INCOMPLETE_KEEP:
+		return 0; /* counted once it is in the queue */
+	case PC_INCOMPLETE_FAIL:
+		fail(c, PC_EIO,
+		     "frame %llu (sequence %llu) arrived %s (lost packets) and incomplete frames "
+		     "end the capture (policy fail)",
+		     (unsigned long long)a->acquired, (unsigned long long)fr->meta.sequence, what);
+		return -1;
+	default:
+		a->skipped++;
+		if (a->skipped > a->n + 10) {
+			fail(c, PC_EIO,
+			     "%llu damaged frames skipped for %llu recorded of %llu: the source "
+			     "delivers too few whole frames",
+			     (unsigned long long)a->skipped, (unsigned long long)a->acquired,
+			     (unsigned long long)a->n);
+			return -1;
+		}
+		return 1;
+	}
+}
+
+/* Dequeue, and unless the source failed, hand the frame to the queue. 1: go on, 0: stop. */
+static int acquire_one(capture *c, acq *a)
+{
+	const pc_capture_opts *o = c->o;
+	pc_buffer *b = NULL;
+	int rc = pc_source_dequeue(c->src, o->timeout_ms, &b);
+	unsigned long long got = a->acquired, n = a->n;
+	if (rc == PC_EDISCONNECTED)
+		fail(c, rc, "the camera disappeared after %llu of %llu frames: %s", got, n,
+		     pc_error_detail());
+	else if (rc == PC_ETIMEDOUT)
+		fail(c, rc, "no frame within %d ms after %llu of %llu frames: %s", o->timeout_ms,
+		     got, n, pc_error_detail());
+	else if (rc == PC_EEND)
+		fail(c, rc, "the source ended after %llu of %llu frames", got, n);
+	else if (rc)
+		fail(c, rc, "frame %llu: %s", got, pc_error_detail());
+	if (rc)
+		return 0;
+	fq_arrival(&c->q, now_s());
+	int take = 0;
+	const bool bad = b->frame.meta.status & (PC_FRAME_INCOMPLETE | PC_FRAME_CORRUPT);
+	if (bad)
+		take = damaged(c, a, &b->frame);
+	int pushed = take == 0 ? fq_push(&c->q, &b->frame) : 1;
+	if (pushed < 0) /* the slot could not be made: lost like a full queue */
+		pc_error_clear();
+	int rc2 = pc_source_requeue(c->src, b);
+	if (rc2) {
+		fail(c, rc2, "requeueing frame %llu: %s", got, pc_error_detail());
+		return 0;
+	}
+	if (take < 0)
+		return 0;
+	if (take == 0 && pushed == 0) {
+		a->acquired++;
+		a->kept += bad;
+	}
+	fq_plan(&c->q, a->n - a->acquired, a->fallback_period_s);
+	return 1;
+}
+
+/* Dequeue → queue → requeue until the frames are in or something ends it; then the writer
+ * finishes the queue. */
+static void record(capture *c)
+{
+	const pc_capture_opts *o = c->o;
+	acq a = { 0, o->frames, 0, 0, 0 };
+	double fps = 0;
+	if (pc_source_control_get(c->src, PC_CTRL_FRAME_RATE_HZ, &fps) == 0 && fps > 0)
+		a.fallback_period_s = 1 / fps;
+	pc_error_clear();
+	int src = pc_source_start(c->src);
+	if (src)
+		fail(c, src, "starting the stream: %s", pc_error_detail());
+	if (o->process && !c->f.polarized)
+		fail(c, PC_EFORMAT, "--process: the source's frames carry no polarizer mosaic");
+	pthread_t writer;
+	bool have_writer = false;
+	if (!failed(c)) {
+		if (pthread_create(&writer, NULL, writer_main, c) == 0)
+			have_writer = true;
+		else
+			fail(c, PC_ENOMEM, "cannot start the writer thread");
+	}
+	double t0 = now_s();
+	int stop = 0;
+	while (!failed(c) && a.acquired < a.n) {
+		if (stop) {
+			fail(c, PC_ECANCELED, "interrupted after %llu of %llu frames",
+			     (unsigned long long)a.acquired, (unsigned long long)a.n);
+			break;
+		}
+		if (!acquire_one(c, &a))
+			break;
+		stop = pc_progress_report(&o->progress, "capture", a.acquired, a.n);
+	}
+	/* the camera stops sending now; what was acquired is written */
+	pc_source_state s = pc_source_get_state(c->src);
+	if (s == PC_SOURCE_STREAMING || s == PC_SOURCE_FAILED)
+		pc_source_stop(c->src);
+	fq_close(&c->q);
+	fq_stats qs;
+	while (have_writer && fq_pending(&c->q) > 0) {
+		fq_get_stats(&c->q, &qs);
+		pc_progress_report(&o->progress, "writing", qs.written, qs.pushed);
+		fq_wait(&c->q, 100);
+	}
+	if (have_writer)
+		pthread_join(writer, NULL);
+	c->seconds = now_s() - t0;
+	fq_get_stats(&c->q, &qs);
+	c->rep->frames = pc_recording_count(c->rec);
+	c->rep->skipped = a.skipped;
+	c->rep->kept = a.kept;
+	c->rep->lost = qs.lost;
+	/* the recording is not complete when frames were lost or kept damaged */
+	if (qs.lost)
+		fail(c, PC_EOVERFLOW,
+		     "the writer fell behind: %llu frames lost with the queue full at %zu frames "
+		     "(%.0f MB; %.1f ms per frame written, one every %.1f ms arriving)",
+		     (unsigned long long)qs.lost, qs.capacity,
+		     (double)qs.capacity * (double)qs.frame_bytes / 1e6, 1e3 * qs.write_mean_s,
+		     1e3 * qs.period_s);
+	if (a.kept)
+		fail(c, PC_EIO, "%llu of the %llu frames recorded arrived incomplete (kept: policy keep)",
+		     (unsigned long long)a.kept, (unsigned long long)c->rep->frames);
+}
+
+/* The last frame's Stokes images and pictures in DIR/processed/, and the "process" report. */
 static json_t *processed(capture *c)
 {
 	uint32_t w, h;
 	const pc_stokes_out *so = pc_stokes_stream_planes(c->live, &w, &h);
-	uint64_t got = c->rep->frames;
+	uint64_t got = c->proc_n;
 	if (!so || got == 0)
 		return NULL;
 	unsigned files = PC_SF_PICTURES | (c->last_kept ? 0 : PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP);
-	int rc = keep(c, got - 1, files);
+	int rc = keep(c, pc_recording_count(c->rec) - 1, files);
 	if (rc)
 		fail(c, rc, "writing the processed frames: %s", pc_error_detail());
 	double sum = 0;
@@ -192,42 +391,80 @@ static json_t *processed(capture *c)
 	json_object_set_new(pj, "last_mean_dolp", pc_json_real(sum / ((double)w * h)));
 	json_object_set_new(pj, "width", json_integer(w));
 	json_object_set_new(pj, "height", json_integer(h));
-	json_t *extra = json_object();
-	json_object_set(extra, "process", pj);
-	char *t = pc_json_text(extra);
-	if (t)
-		pc_recording_set_json(c->rec, "extra", t);
-	free(t);
-	json_decref(extra);
 	return pj;
+}
+
+/* {policy, skipped, kept} and the queue's figures */
+static json_t *incomplete_json(const capture *c)
+{
+	json_t *j = json_object();
+	json_object_set_new(j, "policy", json_string(pc_incomplete_policy_name(c->o->incomplete)));
+	json_object_set_new(j, "skipped", json_integer((json_int_t)c->rep->skipped));
+	json_object_set_new(j, "kept", json_integer((json_int_t)c->rep->kept));
+	return j;
+}
+
+static json_t *queue_json(capture *c)
+{
+	fq_stats q;
+	fq_get_stats(&c->q, &q);
+	json_t *j = json_object();
+	json_object_set_new(j, "frame_bytes", json_integer((json_int_t)q.frame_bytes));
+	json_object_set_new(j, "limit", json_integer((json_int_t)q.limit));
+	json_object_set_new(j, "capacity", json_integer((json_int_t)q.capacity));
+	json_object_set_new(j, "needed_max", json_integer((json_int_t)q.needed_max));
+	json_object_set_new(j, "peak", json_integer((json_int_t)q.peak));
+	json_object_set_new(j, "lost", json_integer((json_int_t)q.lost));
+	json_object_set_new(j, "written", json_integer((json_int_t)q.written));
+	json_object_set_new(j, "write_ms_mean", pc_json_real(1e3 * q.write_mean_s));
+	json_object_set_new(j, "write_ms_max", pc_json_real(1e3 * q.write_max_s));
+	json_object_set_new(j, "period_ms", q.period_s > 0 ? pc_json_real(1e3 * q.period_s)
+							  : json_null());
+	return j;
 }
 
 /* Statistics into meta.json, the recording finished, the report. */
 static void finish(capture *c, json_t *pj)
 {
 	const pc_capture_opts *o = c->o;
-	pc_source_state s = pc_source_get_state(c->src);
-	if (s == PC_SOURCE_STREAMING || s == PC_SOURCE_FAILED)
-		pc_source_stop(c->src);
 	pc_source_stats st;
 	pc_source_get_stats(c->src, &st);
 	char *stats = pc_source_stats_json(&st), *fmt = pc_source_format_json(&c->f);
 	if (stats)
 		pc_recording_set_json(c->rec, "stats", stats);
+	json_t *inc = incomplete_json(c), *qj = queue_json(c);
+	json_t *extra = json_object();
+	json_t *cj = json_object();
+	json_object_set(cj, "incomplete", inc);
+	json_object_set(cj, "queue", qj);
+	json_object_set_new(cj, "seconds", pc_json_real(c->seconds));
+	json_object_set_new(extra, "capture", cj);
+	if (pj)
+		json_object_set(extra, "process", pj);
+	char *t = pc_json_text(extra);
+	if (t)
+		pc_recording_set_json(c->rec, "extra", t);
+	free(t);
+	json_decref(extra);
 	int rc = pc_recording_finish(c->rec, c->rep->error ? c->rep->message : NULL);
 	if (rc)
 		fail(c, rc, "writing meta.json: %s", pc_error_detail());
+	c->rep->complete = !c->rep->error && pc_recording_is_complete(c->rec);
 	const uint64_t got = c->rep->frames;
 	const double dt = c->seconds;
 	json_t *j = json_object();
 	json_object_set_new(j, "source", json_string(o->stream.uri));
 	json_object_set_new(j, "dir", json_string(o->dir));
+	json_object_set_new(j, "store", json_string(pc_recording_store_name(o->store)));
 	json_object_set_new(j, "frames", json_integer((json_int_t)got));
 	json_object_set_new(j, "requested", json_integer((json_int_t)o->frames));
+	json_object_set_new(j, "complete", json_boolean(c->rep->complete));
 	json_object_set_new(j, "seconds", pc_json_real(dt));
 	json_object_set_new(j, "fps", pc_json_real(dt > 0 ? (double)got / dt : 0));
 	json_object_set_new(j, "format", fmt ? json_loads(fmt, 0, NULL) : json_null());
 	json_object_set_new(j, "stats", stats ? json_loads(stats, 0, NULL) : json_null());
+	json_object_set_new(j, "incomplete", inc);
+	json_object_set_new(j, "queue", qj);
 	if (pj)
 		json_object_set(j, "process", pj);
 	json_object_set_new(j, "error",
@@ -245,6 +482,7 @@ int pc_capture(const pc_capture_opts *o, pc_capture_report *rep)
 	memset(&c, 0, sizeof c);
 	c.o = o;
 	c.rep = rep;
+	pthread_mutex_init(&c.lock, NULL);
 	int rc = open_all(&c);
 	if (!rc) {
 		record(&c);
@@ -255,6 +493,9 @@ int pc_capture(const pc_capture_opts *o, pc_capture_report *rep)
 	pc_recording_free(c.rec);
 	pc_stokes_stream_free(c.live);
 	pc_source_close(c.src);
+	if (c.q_ready)
+		fq_destroy(&c.q);
+	pthread_mutex_destroy(&c.lock);
 	/* Frames from a camera cannot be made again: a recording that ended early is kept (and
 	 * replaces an older one) once it holds a frame. With none, nothing is put in place. */
 	if (!rc && rep->frames == 0) {

@@ -47,9 +47,13 @@ report(ctx *c, bool ok, const char *check, const char *fmt, ...)
 	if (ok) {
 		c->res->passed++;
 	} else {
-		if (!c->res->failed)
-			snprintf(c->res->first_failure, sizeof c->res->first_failure, "%s: %s",
-			         check, detail);
+		if (!c->res->failed) {
+			/* A long message keeps its start and says it was cut. */
+			char *ff = c->res->first_failure;
+			size_t cap = sizeof c->res->first_failure;
+			if (snprintf(ff, cap, "%s: %s", check, detail) >= (int)cap)
+				memcpy(ff + cap - 4, "...", 4);
+		}
 		c->res->failed++;
 	}
 	if (c->opt->log)

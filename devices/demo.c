@@ -155,7 +155,7 @@ static int step_truth(pc_demo *d, const char *out, pc_view *raw, float *tp, demo
 	pc_recording_desc desc = { source,	    d->in.format,	 NULL,
 				   W,		    H,			 d->in.offset_x,
 				   d->in.offset_y,  d->in.sensor_width, d->in.sensor_height,
-				   true,	    d->in.mosaic };
+				   true,	    d->in.mosaic,	 PC_STORE_PNG };
 	fr.view = *raw;
 	fr.mosaic = d->in.mosaic;
 	pc_recording *rec = NULL;

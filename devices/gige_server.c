@@ -63,7 +63,7 @@ struct pc_gige_server {
 	ArvGvFakeCamera *gv;
 	ArvFakeCamera *fc;
 	char *xml;
-	char xml_path[64];
+	char xml_path[4096];
 	served_fmt fmts[N_SERVED];
 	unsigned n_fmts;
 	pc_source *src;
@@ -455,7 +455,7 @@ static int choose_formats(pc_gige_server *srv)
 	return 0;
 }
 
-static int prepare_cycle(pc_gige_server *srv, unsigned k_frames)
+static int prepare_cycle(pc_gige_server *srv, unsigned k_frames, const pc_progress *progress)
 {
 	srv->cyc = calloc(k_frames, sizeof *srv->cyc);
 	if (!srv->cyc)
@@ -479,6 +479,10 @@ static int prepare_cycle(pc_gige_server *srv, unsigned k_frames)
 		rc = pc_source_requeue(srv->src, b);
 		if (rc)
 			return rc;
+		if (pc_progress_report(progress, "cycle", i + 1, k_frames))
+			return pc_error(PC_ECANCELED, "serve: stopped after rendering %u of the %u "
+			                              "cycle frames",
+			                i + 1, k_frames);
 	}
 	return 0;
 }
@@ -519,7 +523,7 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		if (!rc)
 			rc = pc_source_start(srv->src);
 		if (!rc && o->cycle)
-			rc = prepare_cycle(srv, o->cycle);
+			rc = prepare_cycle(srv, o->cycle, &o->progress);
 	}
 	if (!rc) {
 		srv->row16 = malloc((size_t)srv->sfmt.width * sizeof *srv->row16);
@@ -528,13 +532,20 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 			rc = pc_error(PC_ENOMEM, "serve: GenICam description");
 	}
 	if (!rc) {
-		snprintf(srv->xml_path, sizeof srv->xml_path, "/tmp/polarcam-genicam-XXXXXX");
-		int fd = mkstemp(srv->xml_path);
+		/* Aravis reads the description from a file: a private one under $TMPDIR */
+		const char *tmp = getenv("TMPDIR");
+		if (!tmp || !*tmp)
+			tmp = "/tmp";
+		int n = snprintf(srv->xml_path, sizeof srv->xml_path, "%s/polarcam-genicam-XXXXXX",
+				 tmp);
+		int fd = n > 0 && (size_t)n < sizeof srv->xml_path ? mkstemp(srv->xml_path) : -1;
 		size_t len = strlen(srv->xml);
 		if (fd < 0 || write(fd, srv->xml, len) != (ssize_t)len)
-			rc =
-			    pc_error(PC_EIO, "serve: cannot write the GenICam description to /tmp");
-		if (fd >= 0)
+			rc = pc_error(PC_EIO, "serve: cannot write the GenICam description to %s",
+				      tmp);
+		if (fd < 0)
+			srv->xml_path[0] = 0; /* nothing to unlink */
+		else
 			close(fd);
 	}
 	if (!rc) {

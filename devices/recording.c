@@ -1,4 +1,4 @@
-/* Recordings: raw_NNNNNN.png + meta.json (layout in polarcam/recording.h). */
+/* Recordings: raw_NNNNNN.png (.npy, .raw) + meta.json (layout in polarcam/recording.h). */
 #include "polarcam/recording.h"
 
 #include <dirent.h>
@@ -74,6 +74,38 @@ static bool file_exists(const char *dir, const char *name)
 	return e;
 }
 
+static const char *const store_ext[] = { "png", "npy", "raw" };
+
+const char *pc_recording_store_name(pc_recording_store s)
+{
+	return (unsigned)s < 3 ? store_ext[s] : NULL;
+}
+
+int pc_recording_store_from_name(const char *name, pc_recording_store *out)
+{
+	for (unsigned i = 0; name && i < 3; i++)
+		if (!strcmp(name, store_ext[i])) {
+			*out = (pc_recording_store)i;
+			return 0;
+		}
+	return pc_error(PC_EINVAL, "store '%s': expected png, npy or raw", name ? name : "");
+}
+
+/* The store of a frame file name "raw_NNNNNN.EXT", or -1. */
+static int store_of_file(const char *name)
+{
+	unsigned num;
+	char ext[4];
+	int used = 0;
+	if (strlen(name) != 14 || strspn(name + 4, "0123456789") != 6 ||
+	    sscanf(name, "raw_%6u.%3[a-z]%n", &num, ext, &used) != 2 || used != 14)
+		return -1;
+	for (int i = 0; i < 3; i++)
+		if (!strcmp(ext, store_ext[i]))
+			return i;
+	return -1;
+}
+
 static char *dup_or_null(const char *s)
 {
 	return s ? strdup(s) : NULL;
@@ -110,6 +142,9 @@ static int check_desc(const pc_recording_desc *d)
 	if (d->mosaic.period != 0 && d->mosaic.period != 2 && d->mosaic.period != 4)
 		return pc_error(PC_EINVAL, "recording: mosaic period %u: expected 2 or 4",
 		                d->mosaic.period);
+	if (!pc_recording_store_name(d->store))
+		return pc_error(PC_EINVAL, "recording: store %d: expected png, npy or raw",
+		                (int)d->store);
 	return 0;
 }
 
@@ -125,11 +160,15 @@ int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_
 	rc = pc_mkdir_p(dir);
 	if (rc)
 		return rc;
-	if (!overwrite && (file_exists(dir, "meta.json") || file_exists(dir, "raw_000000.png")))
+	if (!overwrite && (file_exists(dir, "meta.json") || file_exists(dir, "raw_000000.png") ||
+	                   file_exists(dir, "raw_000000.npy") || file_exists(dir, "raw_000000.raw")))
 		return pc_error(PC_EBUSY,
-		                "%s: already holds a recording (meta.json / raw_000000.png); "
+		                "%s: already holds a recording (meta.json / raw_000000.*); "
 		                "choose another directory or overwrite",
 		                dir);
+	/* what writers killed before their rename left (never listed, never read) */
+	if ((rc = pc_atomic_sweep(dir, NULL)))
+		return rc;
 	pc_recording *r = calloc(1, sizeof *r);
 	if (!r)
 		return pc_error(PC_ENOMEM, "recording");
@@ -185,6 +224,7 @@ static int write_meta(pc_recording *r)
 	json_object_set_new(m, "sensor_height", json_integer(r->desc.sensor_height));
 	json_object_set_new(m, "polarized", json_boolean(r->desc.polarized));
 	json_object_set_new(m, "mosaic", mosaic[0] ? json_string(mosaic) : json_null());
+	json_object_set_new(m, "store", json_string(store_ext[r->desc.store]));
 	json_t *fr = json_array();
 	for (size_t i = 0; i < r->n; i++) {
 		const pc_recording_frame *f = &r->frames[i];
@@ -213,6 +253,56 @@ static int write_meta(pc_recording *r)
 	free(path);
 	free(text);
 	return rc;
+}
+
+/* A frame in the storage format without padding: the view itself when it is already that,
+ * else unpacked or copied into row_tmp. */
+static int storage_view(pc_recording *r, const pc_view *v, pc_view *out)
+{
+	const pc_format_info *fi = pc_format_info_get(v->format);
+	const pc_format_info *si = pc_format_info_get(r->storage);
+	const size_t bpp = si->group_bytes, row = (size_t)v->width * bpp;
+	if (fi->packing == PC_PACK_NONE && fi->group_bytes == bpp && v->stride == row) {
+		*out = (pc_view){ v->data, v->width, v->height, row, r->storage };
+		return 0;
+	}
+	size_t need = (size_t)v->width * v->height;
+	if (r->row_tmp_size < need) {
+		free(r->row_tmp);
+		r->row_tmp = malloc(need * sizeof *r->row_tmp);
+		r->row_tmp_size = r->row_tmp ? need : 0;
+	}
+	if (!r->row_tmp)
+		return pc_error(PC_ENOMEM, "unpacking a %ux%u frame", v->width, v->height);
+	*out = (pc_view){ r->row_tmp, v->width, v->height, row, r->storage };
+	if (fi->packing == PC_PACK_NONE && fi->group_bytes == bpp) {
+		for (uint32_t y = 0; y < v->height; y++)
+			memcpy((uint8_t *)r->row_tmp + y * row, PC_ROW(v, const uint8_t, y), row);
+		return 0;
+	}
+	return pc_view_to_u16(v, r->row_tmp, row);
+}
+
+static int write_frame(pc_recording *r, const char *path, const pc_view *v)
+{
+	const pc_format_info *fi = pc_format_info_get(v->format);
+	if (r->desc.store == PC_STORE_PNG && fi->packing == PC_PACK_NONE)
+		return pc_png_write(path, v); /* any stride */
+	pc_view u;
+	int rc = storage_view(r, v, &u);
+	if (rc)
+		return rc;
+	switch (r->desc.store) {
+	case PC_STORE_NPY: {
+		size_t shape[2] = { u.height, u.width };
+		return pc_npy_write(path, u.data, u.format == PC_FMT_MONO8 ? PC_DT_U8 : PC_DT_U16, 2,
+		                    shape);
+	}
+	case PC_STORE_RAW:
+		return pc_raw_write(path, &u);
+	default:
+		return pc_png_write(path, &u);
+	}
 }
 
 int pc_recording_add(pc_recording *r, const pc_frame *f)
@@ -247,7 +337,7 @@ int pc_recording_add(pc_recording *r, const pc_frame *f)
 	}
 	pc_recording_frame *rf = &r->frames[r->n];
 	memset(rf, 0, sizeof *rf);
-	snprintf(rf->file, sizeof rf->file, "raw_%06zu.png", r->n);
+	snprintf(rf->file, sizeof rf->file, "raw_%06zu.%s", r->n, store_ext[r->desc.store]);
 	rf->sequence = f->meta.sequence;
 	rf->timestamp_ns = f->meta.timestamp_ns;
 	rf->exposure_us = f->meta.exposure_us;
@@ -257,27 +347,7 @@ int pc_recording_add(pc_recording *r, const pc_frame *f)
 	char *path = path_join(r->dir, rf->file);
 	if (!path)
 		return pc_error(PC_ENOMEM, "recording");
-	const pc_format_info *fi = pc_format_info_get(v->format);
-	if (fi->packing == PC_PACK_NONE) {
-		rc = pc_png_write(path, v);
-	} else {
-		/* packed device formats are stored unpacked (the PNG holds the significant bits) */
-		size_t need = (size_t)v->width * v->height;
-		if (r->row_tmp_size < need) {
-			free(r->row_tmp);
-			r->row_tmp = malloc(need * sizeof *r->row_tmp);
-			r->row_tmp_size = r->row_tmp ? need : 0;
-		}
-		if (!r->row_tmp)
-			rc = pc_error(PC_ENOMEM, "unpacking a %ux%u frame", v->width, v->height);
-		else
-			rc = pc_view_to_u16(v, r->row_tmp, (size_t)v->width * 2);
-		if (!rc) {
-			pc_view u = {r->row_tmp, v->width, v->height, (size_t)v->width * 2,
-			             r->storage};
-			rc = pc_png_write(path, &u);
-		}
-	}
+	rc = write_frame(r, path, v);
 	free(path);
 	if (rc)
 		return rc;
@@ -424,14 +494,11 @@ static int parse_frames(pc_recording *r, const pc_json_src *js, json_t *arr)
 			return rc;
 		pc_recording_frame *f = &r->frames[i];
 		const char *name = NULL;
-		unsigned num;
-		char tail;
 		pc_json_path(p, sizeof p, where, "file");
 		if ((rc = pc_json_get_str(js, o, where, "file", PC_JSON_REQUIRED, &name)))
 			return rc;
-		if (strlen(name) != 14 || sscanf(name, "raw_%6u.pn%c", &num, &tail) != 2 ||
-		    tail != 'g' || strspn(name + 4, "0123456789") != 6)
-			return pc_json_error(js, p, "expected \"raw_NNNNNN.png\"");
+		if (store_of_file(name) < 0)
+			return pc_json_error(js, p, "expected \"raw_NNNNNN.png\" (or .npy, .raw)");
 		snprintf(f->file, sizeof f->file, "%s", name);
 		if ((rc = pc_json_get_u64(js, o, where, "sequence", PC_JSON_REQUIRED, INT64_MAX,
 					  &f->sequence)) ||
@@ -528,6 +595,10 @@ static int open_meta(pc_recording *r, const char *path)
 		else if ((rc = pc_mosaic_parse(t, &mosaic)))
 			rc = pc_error_prefix(PC_EFORMAT, "%s: mosaic: ", path);
 	}
+	json_t *store = json_object_get(m, "store");
+	pc_recording_store sv = PC_STORE_PNG;
+	if (!rc && store && pc_recording_store_from_name(json_string_value(store), &sv))
+		rc = pc_json_error(&js, "store", "expected \"png\", \"npy\" or \"raw\"");
 	const char *src = json_string_value(json_object_get(m, "source"));
 	const char *dev = json_string_value(json_object_get(m, "device_format"));
 	if (!rc &&
@@ -555,6 +626,7 @@ static int open_meta(pc_recording *r, const char *path)
 		r->desc.sensor_height = sh ? (uint32_t)sh : (uint32_t)(h + oy);
 		r->desc.polarized = pol ? polarized : mosaic.period != 0;
 		r->desc.mosaic = mosaic;
+		r->desc.store = sv;
 		r->stats = json_incref(json_object_get(m, "stats"));
 		r->extra = json_incref(json_object_get(m, "extra"));
 	}
@@ -662,12 +734,30 @@ int pc_recording_read(const pc_recording *r, size_t i, pc_view *out)
 		return pc_error(PC_ENOMEM, "recording");
 	unsigned bits = 0;
 	pc_view v;
-	int rc = pc_image_read(p, NULL, &v, &bits);
+	int rc = 0;
+	const pc_format_info *fi = pc_format_info_get(r->storage);
+	if (store_of_file(r->frames[i].file) == PC_STORE_RAW) {
+		/* headerless: the geometry is meta.json's, and the file holds exactly that */
+		pc_raw_geometry g = { r->desc.width, r->desc.height, r->storage, 0, 0 };
+		uint64_t want = (uint64_t)r->desc.width * r->desc.height * fi->group_bytes;
+		struct stat st;
+		if (stat(p, &st) != 0)
+			rc = pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", p,
+			              strerror(errno));
+		else if ((uint64_t)st.st_size != want)
+			rc = pc_error(PC_EFORMAT,
+			              "%s: %lld bytes, meta.json says %ux%u %s (%llu bytes)", p,
+			              (long long)st.st_size, r->desc.width, r->desc.height, fi->name,
+			              (unsigned long long)want);
+		else
+			rc = pc_image_read(p, &g, &v, &bits);
+	} else {
+		rc = pc_image_read(p, NULL, &v, &bits);
+	}
 	if (rc) {
 		free(p);
 		return rc;
 	}
-	const pc_format_info *fi = pc_format_info_get(r->storage);
 	bool is8 = v.format == PC_FMT_MONO8;
 	if (v.width != r->desc.width || v.height != r->desc.height || (fi->bits <= 8) != is8 ||
 	    v.format == PC_FMT_FLOAT32 || (!is8 && bits != fi->bits && bits != 16)) {

@@ -15,13 +15,17 @@
 
 typedef struct job {
 	const pc_render_opts *o;
+	const char *name; /* the output folder as the caller named it (messages) */
 	pc_outdir od;
-	const char *dir; /* od.tmp: where the files go until the folder is complete */
+	const char *dir; /* od.tmp: where the files go until the folder is put in place */
 	const pc_scene *scene;
 	pc_sim *sim;
 	pc_sim_info in;
 	uint64_t frames;
 	pc_recording *rec;
+	uint64_t written;  /* frames in the recording */
+	bool stop;         /* the progress callback asked to stop */
+	char err[512]; /* why the recording ended early, for meta.json */
 	double t_prep, t_frames, t_write;
 } job;
 
@@ -29,13 +33,15 @@ typedef struct job {
 typedef struct prep_progress {
 	const pc_progress *p;
 	uint64_t base, total;
+	bool *stop; /* a stop asked for during a state is acted on when the state is done */
 } prep_progress;
 
 static void prep_cb(void *user, uint64_t done, uint64_t total)
 {
 	const prep_progress *a = user;
 	(void)total;
-	pc_progress_report(a->p, "render", a->base + done, a->total);
+	if (pc_progress_report(a->p, "render", a->base + done, a->total))
+		*a->stop = true;
 }
 
 static double now_s(void)
@@ -91,9 +97,17 @@ static int prepare(job *j)
 	/* rows per prepared state: H, or H + 2 (halo) + H (mixing) with crosstalk */
 	const uint64_t rows = (in->effects & PC_FX_CROSSTALK) ? 2 * (uint64_t)in->height + 2
 							       : in->height;
-	prep_progress pp = { &j->o->progress, 0, (uint64_t)n_psg_used * rows };
+	prep_progress pp = { &j->o->progress, 0, (uint64_t)n_psg_used * rows, &j->stop };
 	int rc = 0;
 	for (unsigned k = 0; k < n_psg_used && !rc; k++) {
+		if (j->stop) {
+			snprintf(j->err, sizeof j->err,
+				 "interrupted while rendering the scene (state %u of %u), before "
+				 "the first frame",
+				 k, n_psg_used);
+			rc = pc_error(PC_ECANCELED, "%s", j->err);
+			break;
+		}
 		unsigned g = (unsigned)((j->o->first + k) % in->n_psg);
 		pp.base = (uint64_t)k * rows;
 		if ((rc = pc_sim_prepare(j->sim, g, ts, k == 0 ? tm : NULL, prep_cb, &pp)))
@@ -115,6 +129,12 @@ static int frames(job *j)
 	if (rc)
 		return pc_error_prefix(rc, "frame buffer: ");
 	for (uint64_t i = 0; i < j->frames && !rc; i++) {
+		if (j->stop) {
+			snprintf(j->err, sizeof j->err, "interrupted after %llu of %llu frames",
+				 (unsigned long long)i, (unsigned long long)j->frames);
+			rc = pc_error(PC_ECANCELED, "%s", j->err);
+			break;
+		}
 		pc_frame fr;
 		uint64_t n = j->o->first + i;
 		double ta = now_s();
@@ -122,32 +142,32 @@ static int frames(job *j)
 		double tb = now_s();
 		j->t_frames += tb - ta;
 		if (rc) {
-			pc_error_prefix(rc, "frame %llu: ", (unsigned long long)n);
+			snprintf(j->err, sizeof j->err, "frame %llu: %s", (unsigned long long)n,
+				 pc_error_detail());
+			pc_error_prefix(rc, "frame: ");
 			break;
 		}
 		fr.view = view;
 		fr.mosaic = j->in.mosaic;
-		if ((rc = pc_recording_add(j->rec, &fr)))
+		if ((rc = pc_recording_add(j->rec, &fr))) {
+			snprintf(j->err, sizeof j->err, "%s", pc_error_detail());
+			pc_error_prefix(rc, "%s: ", j->name);
 			break;
+		}
 		j->t_write += now_s() - tb;
-		pc_progress_report(&j->o->progress, "frames", i + 1, j->frames);
+		j->written = i + 1;
+		if (pc_progress_report(&j->o->progress, "frames", i + 1, j->frames))
+			j->stop = true;
 	}
 	pc_view_free(&view);
 	return rc;
 }
 
-/* states.json, meta.json's extra (the simulator, timings) and the end of the recording. */
-static int finish(job *j, double t0, pc_render_report *rep)
+/* meta.json's extra: the simulator's description and the timings (also of a recording that
+ * ended early: per_frame_s over the frames made). */
+static int set_extra(job *j, double t0, pc_render_report *rep)
 {
 	int rc = 0;
-	char path[4096];
-	if (j->in.n_states > 1) {
-		pc_sim_states st;
-		pc_sim_get_states(j->sim, &st);
-		snprintf(path, sizeof path, "%s/states.json", j->dir);
-		if ((rc = pc_states_write(path, &st, &j->in.mosaic)))
-			return pc_error_prefix(rc, "%s: ", path);
-	}
 	char *desc = pc_sim_describe_json(j->sim, j->scene);
 	json_t *extra = desc ? json_loads(desc, 0, NULL) : NULL;
 	free(desc);
@@ -156,7 +176,8 @@ static int finish(job *j, double t0, pc_render_report *rep)
 	json_t *tj = json_object();
 	json_object_set_new(tj, "render_s", json_real(j->t_prep));
 	json_object_set_new(tj, "frames_s", json_real(j->t_frames));
-	json_object_set_new(tj, "per_frame_s", json_real(j->t_frames / (double)j->frames));
+	json_object_set_new(tj, "per_frame_s",
+			    j->written ? json_real(j->t_frames / (double)j->written) : json_null());
 	json_object_set_new(tj, "write_s", json_real(j->t_write));
 	json_object_set_new(tj, "total_s", json_real(now_s() - t0));
 	json_object_set_new(tj, "peak_rss_mib", pc_json_real(pc_peak_rss_mib()));
@@ -168,16 +189,33 @@ static int finish(job *j, double t0, pc_render_report *rep)
 	if (!rc && rep && !(rep->timings = pc_json_text(tj)))
 		rc = PC_ENOMEM;
 	json_decref(extra);
-	if (rc)
-		return pc_error_prefix(rc, "meta.json: ");
-	return pc_recording_finish(j->rec, NULL);
+	return rc ? pc_error_prefix(rc, "meta.json: ") : 0;
+}
+
+/* states.json, meta.json's extra and the end of the recording. */
+static int finish(job *j, double t0, pc_render_report *rep)
+{
+	int rc = 0;
+	char path[4096];
+	if (j->in.n_states > 1) {
+		pc_sim_states st;
+		pc_sim_get_states(j->sim, &st);
+		snprintf(path, sizeof path, "%s/states.json", j->dir);
+		if ((rc = pc_states_write(path, &st, &j->in.mosaic)))
+			return pc_error_prefix(rc, "%s: ", path);
+	}
+	if ((rc = set_extra(j, t0, rep)))
+		return rc;
+	if ((rc = pc_recording_finish(j->rec, NULL)))
+		return pc_error_prefix(rc, "%s: ", j->name);
+	return 0;
 }
 
 /* The output folder first: an occupied one is refused before any work. */
-static int start(job *j, const char *dir)
+static int start(job *j)
 {
 	const pc_render_opts *o = j->o;
-	int rc = pc_outdir_begin(&j->od, dir, o->overwrite ? PC_OUT_OVERWRITE : 0);
+	int rc = pc_outdir_begin(&j->od, j->name, o->overwrite ? PC_OUT_OVERWRITE : 0);
 	if (rc)
 		return rc;
 	j->dir = j->od.tmp;
@@ -188,8 +226,10 @@ static int start(job *j, const char *dir)
 	pc_recording_desc desc = { source,	    in->format,	   NULL,
 				   in->width,	    in->height,	   in->offset_x,
 				   in->offset_y,    in->sensor_width, in->sensor_height,
-				   true,	    in->mosaic };
-	return pc_recording_create(&j->rec, j->dir, &desc, false);
+				   true,	    in->mosaic,	   o->store };
+	if ((rc = pc_recording_create(&j->rec, j->dir, &desc, false)))
+		return pc_error_prefix(rc, "%s: ", j->name);
+	return 0;
 }
 
 int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_report *rep)
@@ -202,6 +242,7 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 	job j;
 	memset(&j, 0, sizeof j);
 	j.o = o;
+	j.name = dir;
 	pc_scene *loaded = NULL;
 	int rc = 0;
 	if (!(j.scene = o->scene))
@@ -214,7 +255,7 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 	if (!rc) {
 		pc_sim_get_info(j.sim, &j.in);
 		j.frames = o->frames ? o->frames : j.in.n_states;
-		rc = start(&j, dir);
+		rc = start(&j);
 	}
 	if (!rc)
 		rc = prepare(&j);
@@ -222,14 +263,34 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 		rc = frames(&j);
 	if (!rc)
 		rc = finish(&j, t0, rep);
-	pc_recording_free(j.rec);
-	/* the folder is put in place whole, or not at all (the old one, if any, stays) */
-	if (!rc)
-		rc = pc_outdir_commit(&j.od);
-	else
+	if (j.rec) {
+		if (rc) { /* the recording says why it ended; the caller hears the first error */
+			char detail[512];
+			snprintf(detail, sizeof detail, "%s", pc_error_detail());
+			if (set_extra(&j, t0, NULL)) /* the timings so far, when they can be had */
+				pc_error_clear();
+			pc_recording_finish(j.rec, *j.err ? j.err : "render failed");
+			pc_error(rc, "%s", detail);
+		}
+		pc_recording_free(j.rec);
+	}
+	/* The folder is put in place whole, or not at all (the old one, if any, stays); a
+	 * recording stopped by the caller is put in place with the frames written (meta.json says
+	 * complete = false). */
+	if (!rc || (rc == PC_ECANCELED && j.written)) {
+		char detail[512];
+		snprintf(detail, sizeof detail, "%s", rc ? pc_error_detail() : "");
+		int crc = pc_outdir_commit(&j.od);
+		if (crc)
+			rc = crc;
+		else if (rc)
+			pc_error(rc, "%s", detail);
+	} else {
 		pc_outdir_abort(&j.od);
+	}
+	if (rep)
+		rep->frames = rc && rc != PC_ECANCELED ? 0 : j.written;
 	if (!rc && rep) {
-		rep->frames = j.frames;
 		rep->width = j.in.width;
 		rep->height = j.in.height;
 	}

@@ -1,9 +1,18 @@
-#define _POSIX_C_SOURCE 200809L
+/* Atomic files: a temporary file beside the destination, renamed into place when whole.
+ *
+ * A process killed before the rename (SIGKILL, a crash, a power cut) can leave only the
+ * temporary file, never a partial file under the final name. Temporary files are named
+ * ".NAME.tmpXXXXXX" (mkstemp) and their writer holds an exclusive flock() on them from creation
+ * to the rename or removal, so that pc_atomic_sweep can tell a leftover (nobody holds its lock:
+ * the kernel released it when the writer died) from a file being written now. */
 #include "polarcam/io.h"
 
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -27,7 +36,23 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 	size_t dir = slash ? (size_t)(slash - path + 1) : 0;
 	memcpy(af->tmp_path, path, dir);
 	snprintf(af->tmp_path + dir, n + 32 - dir, ".%s.tmpXXXXXX", path + dir);
-	int fd = mkstemp(af->tmp_path);
+	/* The lock taken at once marks the file as being written. A sweeper that found it in the
+	 * instant between mkstemp and flock, unlocked, may have removed it: then the name has no
+	 * link any more (st_nlink == 0) and a new temporary file is made. */
+	char *tmpl = af->tmp_path + strlen(af->tmp_path) - 6;
+	int fd = -1;
+	for (int attempt = 0; attempt < 8; attempt++) {
+		memcpy(tmpl, "XXXXXX", 6);
+		fd = mkstemp(af->tmp_path);
+		if (fd < 0)
+			break;
+		struct stat st;
+		if (flock(fd, LOCK_EX) == 0 && fstat(fd, &st) == 0 && st.st_nlink > 0)
+			break;
+		close(fd);
+		fd = -1;
+		errno = EAGAIN;
+	}
 	if (fd < 0) {
 		int e = errno;
 		free(af->tmp_path);
@@ -54,15 +79,11 @@ int pc_atomic_commit(pc_atomic_file *af)
 	if (fflush(af->fp) != 0)
 		bad = 1;
 	int e = errno;
-	if (!bad && fsync(fileno(af->fp)) != 0) {
+	int fd = fileno(af->fp);
+	if (!bad && fsync(fd) != 0) {
 		bad = 1;
 		e = errno;
 	}
-	if (fclose(af->fp) != 0 && !bad) {
-		bad = 1;
-		e = errno;
-	}
-	af->fp = NULL;
 	if (bad) {
 		int rc = pc_error(PC_EIO, "%s: write failed: %s", af->path, strerror(e));
 		pc_atomic_abort(af);
@@ -71,7 +92,9 @@ int pc_atomic_commit(pc_atomic_file *af)
 	/* mkstemp creates 0600; give the file the usual permissions (umask applies). */
 	mode_t um = umask(0);
 	umask(um);
-	chmod(af->tmp_path, 0666 & ~um);
+	fchmod(fd, 0666 & ~um);
+	/* renamed while the lock is held: a sweeper never sees the whole file unlocked under its
+	 * temporary name */
 	if (rename(af->tmp_path, af->path) != 0) {
 		e = errno;
 		int rc = pc_error(PC_EIO, "%s: cannot rename into place: %s", af->path, strerror(e));
@@ -80,6 +103,14 @@ int pc_atomic_commit(pc_atomic_file *af)
 	}
 	free(af->tmp_path);
 	af->tmp_path = NULL;
+	if (fclose(af->fp) != 0) { /* the data was flushed and synced: nothing is lost here */
+		e = errno;
+		af->fp = NULL;
+		int rc = pc_error(PC_EIO, "%s: closing: %s", af->path, strerror(e));
+		pc_atomic_abort(af);
+		return rc;
+	}
+	af->fp = NULL;
 	free(af->path);
 	af->path = NULL;
 	return 0;
@@ -87,14 +118,14 @@ int pc_atomic_commit(pc_atomic_file *af)
 
 void pc_atomic_abort(pc_atomic_file *af)
 {
-	if (af->fp) {
-		fclose(af->fp);
-		af->fp = NULL;
-	}
-	if (af->tmp_path) {
+	if (af->tmp_path) { /* removed before the lock goes with the close */
 		unlink(af->tmp_path);
 		free(af->tmp_path);
 		af->tmp_path = NULL;
+	}
+	if (af->fp) {
+		fclose(af->fp);
+		af->fp = NULL;
 	}
 	free(af->path);
 	af->path = NULL;
@@ -141,5 +172,52 @@ int pc_mkdir_p(const char *path)
 	free(p);
 	if (!ok)
 		return pc_error(PC_EIO, "%s: exists and is not a directory", path);
+	return 0;
+}
+
+/* ".NAME.tmpXXXXXX" as pc_atomic_open makes them (NAME possibly cut short). */
+static int is_atomic_tmp_name(const char *n)
+{
+	size_t len = strlen(n);
+	if (len < 1 + 4 + 6 + 1 || n[0] != '.' || memcmp(n + len - 10, ".tmp", 4) != 0)
+		return 0;
+	for (size_t i = len - 6; i < len; i++) {
+		char c = n[i];
+		if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9')))
+			return 0;
+	}
+	return 1;
+}
+
+int pc_atomic_sweep(const char *dir, unsigned *removed)
+{
+	if (removed)
+		*removed = 0;
+	if (!dir || !*dir)
+		return pc_error(PC_EINVAL, "sweep: directory path is empty");
+	DIR *d = opendir(dir);
+	if (!d) {
+		int e = errno;
+		if (e == ENOENT)
+			return 0; /* nothing was ever written there */
+		return pc_error(e == EACCES ? PC_EPERM : PC_EIO, "%s: %s", dir, strerror(e));
+	}
+	int dfd = dirfd(d);
+	struct dirent *de;
+	while ((de = readdir(d))) {
+		if (!is_atomic_tmp_name(de->d_name))
+			continue;
+		int fd = openat(dfd, de->d_name, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+		if (fd < 0)
+			continue;
+		struct stat st;
+		/* a regular file whose lock nobody holds: its writer is gone */
+		if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+		    flock(fd, LOCK_EX | LOCK_NB) == 0 && unlinkat(dfd, de->d_name, 0) == 0 &&
+		    removed)
+			(*removed)++;
+		close(fd);
+	}
+	closedir(d);
 	return 0;
 }

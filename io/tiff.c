@@ -20,6 +20,10 @@ typedef struct tiff_ctx {
 	char msg[256];
 } tiff_ctx;
 
+/* fmt is libtiff's printf format for ap: the attribute lets the compiler check that use. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 4, 0)))
+#endif
 static int tiff_on_error(TIFF *t, void *ud, const char *module, const char *fmt, va_list ap)
 {
 	(void)t;

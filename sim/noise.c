@@ -8,13 +8,20 @@
 
 #include "rng.h"
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#include "polarcam/cpu.h"
+
+#if defined(__x86_64__) && defined(__GNUC__)
 #define PC_NOISE_X86 1
 #include <immintrin.h>
 #endif
 
 /* Vectors travel between static inline helpers only, never across an ABI boundary. */
+#ifndef __clang__
 #pragma GCC diagnostic ignored "-Wpsabi"
+#else
+/* the instances compute what the scalar reference computes: no fused multiply-adds */
+#pragma STDC FP_CONTRACT OFF
+#endif
 
 /* ---- scalar reference ---- */
 
@@ -174,28 +181,12 @@ void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n
 #undef KFLOOR
 #undef KMOVEMASK
 
-static int cpu_has(int isa)
-{
-	__builtin_cpu_init();
-	if (isa == 2)
-		return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-		       __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
-		       __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-	if (isa == 1)
-		return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-	return isa == 0;
-}
-#else
-static int cpu_has(int isa)
-{
-	return isa == 0;
-}
 #endif
 
-static int env_off(const char *name)
+/* Instance i runs where polarcam/cpu.h's level i does (0 baseline: the scalar reference). */
+static int cpu_has(int isa)
 {
-	const char *e = getenv(name);
-	return e && *e && *e != '0';
+	return isa >= 0 && isa <= (int)pc_cpu_supported();
 }
 
 static int isa_in_use = -1;
@@ -203,15 +194,7 @@ static int isa_in_use = -1;
 int pc_noise_isa(void)
 {
 	int isa = __atomic_load_n(&isa_in_use, __ATOMIC_RELAXED);
-	if (isa < 0) {
-		isa = 0;
-		if (cpu_has(1) && !env_off("POLARCAM_NO_AVX2"))
-			isa = 1;
-		if (isa == 1 && cpu_has(2) && !env_off("POLARCAM_NO_AVX512"))
-			isa = 2;
-		__atomic_store_n(&isa_in_use, isa, __ATOMIC_RELAXED);
-	}
-	return isa;
+	return isa >= 0 ? isa : (int)pc_cpu_active();
 }
 
 int pc_noise_set_isa(int isa)

@@ -37,9 +37,9 @@ void pc_noise_fixed_row(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n, un
 void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
 			    double *z[4]);
 
-/* Kernel instances: 0 = the scalar reference, 1 = AVX2, 2 = AVX-512 (x86-64 with GCC). pc_noise_isa() is the
- * one in use (the best this CPU runs; the environment variables POLARCAM_NO_AVX512 and
- * POLARCAM_NO_AVX2 step down); pc_noise_set_isa() forces one that the CPU supports and returns
+/* Kernel instances: 0 = the scalar reference, 1 = AVX2, 2 = AVX-512 (x86-64, GCC or clang).
+ * pc_noise_isa() is the one in use (pc_cpu_active() of polarcam/cpu.h: the best this CPU runs,
+ * capped by POLARCAM_CPU); pc_noise_set_isa() forces one that the CPU supports and returns
  * the previous (tests); it returns −1 when the CPU cannot run the one asked for. */
 int pc_noise_isa(void);
 int pc_noise_set_isa(int isa);

@@ -236,7 +236,7 @@ static int parse_camera(const pctx *c, json_t *v, pc_sim_camera *cam)
 		return rc;
 	cam->focal_length_mm = 12;
 	cam->f_number = 4;
-	pc_v3 pos = v3(0, -5, 2), up = v3(0, 0, 1), fwd = v3(0, 1, 0), at;
+	pc_v3 pos = v3(0, -5, 2), up = v3(0, 0, 1), fwd = v3(0, 1, 0), at = pos;
 	if ((rc = pc_json_get_num(&c->js, v, P, "focal_length_mm", PC_JSON_OPTIONAL, 0, true, 1e5, &cam->focal_length_mm)) ||
 	    (rc = pc_json_get_num(&c->js, v, P, "f_number", PC_JSON_OPTIONAL, 0.3, false, 1000, &cam->f_number)) ||
 	    (rc = get_v3(c, v, P, "position", PC_JSON_REQUIRED, &pos)) ||
@@ -476,7 +476,7 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 			return rc;
 		o->u = v3_any_perp(o->n);
 		if (json_object_get(v, "u_axis")) {
-			pc_v3 u;
+			pc_v3 u = o->u;
 			if ((rc = get_v3(c, v, path, "u_axis", PC_JSON_REQUIRED, &u)))
 				return rc;
 			o->u = v3_perp_unit(u, o->n, v3(0, 0, 0));

@@ -5,8 +5,8 @@
  * the nearest hit (spheres and planes in vectorised loops, other objects per ray); the surface
  * frames; per light its direction, the shadow tests and the local vectors; finally, per ray and
  * light, the pBRDF and the Stokes sum. The loops are independent across rays, so they pipeline
- * and vectorise (built without errno for sqrt, with AVX2 and AVX-512 clones chosen at run
- * time); every value is computed with the operations of the per-ray formulas of
+ * and vectorise (built without errno for sqrt; shade_stages.inc is compiled once per
+ * instruction-set level of polarcam/cpu.h and chosen at run time); every value is computed with the operations of the per-ray formulas of
  * geometry_inline.h and vec.h in the same order, so the result does not depend on the batch
  * size or the instruction set (IEEE arithmetic, no FMA contraction in ISO C builds). */
 #include <limits.h>
@@ -14,15 +14,16 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "polarcam/cpu.h"
 #include "polarcam/pbrdf.h"
 #include "sim_impl.h"
 
 #define NB 64
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define STAGE __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define STAGE
+/* IEEE arithmetic as written, whatever the instance (clang would otherwise fuse multiply-adds
+ * where the target has FMA) */
+#ifdef __clang__
+#pragma STDC FP_CONTRACT OFF
 #endif
 
 typedef struct batch {
@@ -46,26 +47,6 @@ typedef struct batch {
 	double ki[3][NB], si[3][NB];
 	int64_t skip[NB], lit[NB];
 } batch;
-
-/* ---- stages ---- */
-
-/* Camera rays: d = unit(A + u·right), u = (px − cx)·pitch. */
-STAGE static void stage_rays(const pc_sim *sim, pc_v3 A, batch *b)
-{
-	const pc_v3 R = sim->scene->camera.right;
-	const double cx = sim->cx, pitch = sim->pitch_m;
-#pragma omp simd
-	for (unsigned r = 0; r < b->n; r++) {
-		double u = (b->px[r] - cx) * pitch;
-		double x = A.x + R.x * u, y = A.y + R.y * u, z = A.z + R.z * u;
-		double l = sqrt(x * x + y * y + z * z);
-		double inv = 1.0 / l;
-		int ok = l > 0;
-		b->dx[r] = ok ? x * inv : x;
-		b->dy[r] = ok ? y * inv : y;
-		b->dz[r] = ok ? z * inv : z;
-	}
-}
 
 /* pc_sphere_hit_oc's arithmetic without branches: *t and whether it is a hit in (0, tmax). */
 static inline int64_t sphere_t(double ocx, double ocy, double ocz, double rad, double c, double dx,
@@ -112,230 +93,47 @@ static inline int64_t plane_t(plane_c p, double num, double ox, double oy, doubl
 	return (int64_t)(hit & ((p.finite == 0) | (out == 0))); /* infinite planes: no rectangle */
 }
 
-/* Nearest hits of the batch's camera rays (the camera centre is their origin). */
-STAGE static void stage_primary(const pc_sim *sim, const int32_t *lo, const int32_t *hi, batch *b)
+/* ---- stages (shade_stages.inc), one instance per instruction-set level ---- */
+
+typedef struct shade_stages {
+	void (*rays)(const pc_sim *sim, pc_v3 A, batch *b);
+	void (*primary)(const pc_sim *sim, const int32_t *lo, const int32_t *hi, batch *b);
+	void (*surface)(const pc_sim *sim, batch *b);
+	void (*light)(const pc_sim *sim, bool cast_shadows, batch *b);
+} shade_stages;
+
+#define KFN(name) name##_baseline
+#define KATTR
+#include "shade_stages.inc"
+#undef KFN
+#undef KATTR
+#if defined(__x86_64__) && defined(__GNUC__)
+#define KFN(name) name##_avx2
+#define KATTR __attribute__((target("avx2")))
+#include "shade_stages.inc"
+#undef KFN
+#undef KATTR
+#define KFN(name) name##_avx512
+#define KATTR __attribute__((target("avx512f")))
+#include "shade_stages.inc"
+#undef KFN
+#undef KATTR
+#endif
+
+static const shade_stages *stages_now(void)
 {
-	const pc_scene *sc = sim->scene;
-	const pc_v3 o = sc->camera.position;
-	const unsigned n = b->n;
-	for (unsigned r = 0; r < n; r++) {
-		b->t[r] = INFINITY;
-		b->obj[r] = -1;
-	}
-	const int32_t cmin = b->col[0], cmax = b->col[n - 1];
-	for (unsigned i = 0; i < sc->n_objects; i++) {
-		const pc_sim_object *ob = &sc->objects[i];
-		int32_t l = INT32_MIN, h = INT32_MAX;
-		if (i < sim->n_cull) {
-			l = lo[i];
-			h = hi[i];
-			if (h < cmin || l > cmax)
-				continue; /* no ray of the batch reaches the bounding sphere */
-		}
-		if (i < PC_CULL_MAX && ob->type == PC_OBJ_SPHERE) {
-			const pc_v3 oc = sim->prim_oc[i], c = ob->center;
-			const double C = sim->prim_c[i], rad = ob->radius, inv_r = 1.0 / rad;
-#pragma omp simd
-			for (unsigned r = 0; r < n; r++) {
-				double tt;
-				int64_t hit = sphere_t(oc.x, oc.y, oc.z, rad, C, b->dx[r], b->dy[r], b->dz[r],
-						    b->t[r], &tt) &
-					   (b->col[r] >= l) & (b->col[r] <= h);
-				/* pc_sphere_normal */
-				double nx = ((o.x + b->dx[r] * tt) - c.x) * inv_r;
-				double ny = ((o.y + b->dy[r] * tt) - c.y) * inv_r;
-				double nz = ((o.z + b->dz[r] * tt) - c.z) * inv_r;
-				b->t[r] = hit ? tt : b->t[r];
-				b->obj[r] = hit ? (int64_t)i : b->obj[r];
-				b->nx[r] = hit ? nx : b->nx[r];
-				b->ny[r] = hit ? ny : b->ny[r];
-				b->nz[r] = hit ? nz : b->nz[r];
-				b->gx[r] = hit ? nx : b->gx[r];
-				b->gy[r] = hit ? ny : b->gy[r];
-				b->gz[r] = hit ? nz : b->gz[r];
-			}
-		} else if (i < PC_CULL_MAX && ob->type == PC_OBJ_PLANE) {
-			const double num = sim->prim_num[i];
-			const pc_v3 pn = ob->n;
-			const plane_c pc = plane_of(ob);
-#pragma omp simd
-			for (unsigned r = 0; r < n; r++) {
-				double tt;
-				int64_t hit = plane_t(pc, num, o.x, o.y, o.z, b->dx[r], b->dy[r], b->dz[r], b->t[r],
-						   &tt) &
-					   (b->col[r] >= l) & (b->col[r] <= h);
-				b->t[r] = hit ? tt : b->t[r];
-				b->obj[r] = hit ? (int64_t)i : b->obj[r];
-				b->nx[r] = hit ? pn.x : b->nx[r];
-				b->ny[r] = hit ? pn.y : b->ny[r];
-				b->nz[r] = hit ? pn.z : b->nz[r];
-				b->gx[r] = hit ? pn.x : b->gx[r];
-				b->gy[r] = hit ? pn.y : b->gy[r];
-				b->gz[r] = hit ? pn.z : b->gz[r];
-			}
-		} else {
-			for (unsigned r = 0; r < n; r++) {
-				if (b->col[r] < l || b->col[r] > h)
-					continue;
-				double tt;
-				pc_v3 nn, ng;
-				if (pc_object_hit(ob, o, v3(b->dx[r], b->dy[r], b->dz[r]), 0, b->t[r], false, &tt,
-						  &nn, &ng)) {
-					b->t[r] = tt;
-					b->obj[r] = (int64_t)i;
-					b->nx[r] = nn.x;
-					b->ny[r] = nn.y;
-					b->nz[r] = nn.z;
-					b->gx[r] = ng.x;
-					b->gy[r] = ng.y;
-					b->gz[r] = ng.z;
-				}
-			}
-		}
+	switch (pc_cpu_active()) {
+#if defined(__x86_64__) && defined(__GNUC__)
+	case PC_CPU_AVX512:
+		return &stages_avx512;
+	case PC_CPU_AVX2:
+		return &stages_avx2;
+#endif
+	default:
+		return &stages_baseline;
 	}
 }
 
-/* Hit points, normals towards the viewer, the local frame (t1 = v3_any_perp(n), t2 = n × t1),
- * k_r and s_r (camera x projected ⟂ k_r) in it, and the shadow-ray origins. */
-STAGE static void stage_surface(const pc_sim *sim, batch *b)
-{
-	const pc_sim_camera *cam = &sim->scene->camera;
-	const pc_v3 o = cam->position, R = cam->right, U = cam->up;
-#pragma omp simd
-	for (unsigned r = 0; r < b->n; r++) {
-		double dx = b->dx[r], dy = b->dy[r], dz = b->dz[r], t = b->t[r];
-		double x = o.x + dx * t, y = o.y + dy * t, z = o.z + dz * t;
-		double kx = -dx, ky = -dy, kz = -dz;
-		double nx = b->nx[r], ny = b->ny[r], nz = b->nz[r];
-		double gx = b->gx[r], gy = b->gy[r], gz = b->gz[r];
-		int flip = gx * kx + gy * ky + gz * kz < 0;
-		gx = flip ? -gx : gx;
-		gy = flip ? -gy : gy;
-		gz = flip ? -gz : gz;
-		nx = flip ? -nx : nx;
-		ny = flip ? -ny : ny;
-		nz = flip ? -nz : nz;
-		/* v3_any_perp */
-		double ax = fabs(nx) < 0.6 ? 1 : 0;
-		double ay = fabs(nx) < 0.6 ? 0 : fabs(ny) < 0.6 ? 1 : 0;
-		double az = fabs(nx) < 0.6 ? 0 : fabs(ny) < 0.6 ? 0 : 1;
-		double an = ax * nx + ay * ny + az * nz;
-		double px = ax + nx * -an, py = ay + ny * -an, pz = az + nz * -an;
-		double pl = sqrt(px * px + py * py + pz * pz);
-		double pinv = 1.0 / pl;
-		int pok = pl > 0;
-		double t1x = pok ? px * pinv : px, t1y = pok ? py * pinv : py, t1z = pok ? pz * pinv : pz;
-		/* v3_cross(n, t1) */
-		double t2x = ny * t1z - nz * t1y, t2y = nz * t1x - nx * t1z, t2z = nx * t1y - ny * t1x;
-		/* s_r: camera right ⟂ k_r (perp_unit of a unit vector, fallback camera up) */
-		double rk = R.x * kx + R.y * ky + R.z * kz;
-		double qx = R.x + kx * -rk, qy = R.y + ky * -rk, qz = R.z + kz * -rk;
-		double ql = sqrt(qx * qx + qy * qy + qz * qz);
-		double qinv = 1.0 / ql;
-		int qok = (ql < 1e-9) == 0;
-		double srx = qok ? qx * qinv : U.x, sry = qok ? qy * qinv : U.y, srz = qok ? qz * qinv : U.z;
-		b->kr[0][r] = kx * t1x + ky * t1y + kz * t1z;
-		b->kr[1][r] = kx * t2x + ky * t2y + kz * t2z;
-		b->kr[2][r] = kx * nx + ky * ny + kz * nz;
-		b->sr[0][r] = srx * t1x + sry * t1y + srz * t1z;
-		b->sr[1][r] = srx * t2x + sry * t2y + srz * t2z;
-		b->sr[2][r] = srx * nx + sry * ny + srz * nz;
-		double m = fabs(x) > fabs(y) ? fabs(x) : fabs(y);
-		m = m > fabs(z) ? m : fabs(z);
-		double eps = 1e-7 * (1 + m);
-		b->xx[r] = x;
-		b->xy[r] = y;
-		b->xz[r] = z;
-		b->ox[r] = x + gx * eps;
-		b->oy[r] = y + gy * eps;
-		b->oz[r] = z + gz * eps;
-		b->fx[r] = gx;
-		b->fy[r] = gy;
-		b->fz[r] = gz;
-		b->nx[r] = nx;
-		b->ny[r] = ny;
-		b->nz[r] = nz;
-		b->t1x[r] = t1x;
-		b->t1y[r] = t1y;
-		b->t1z[r] = t1z;
-		b->t2x[r] = t2x;
-		b->t2y[r] = t2y;
-		b->t2z[r] = t2z;
-	}
-}
-
-/* For the light in b->l*, b->s*, b->dist: cos θ_i, which rays it reaches (cos θ_i > 0, not
- * shadowed: a ray leaving a plane, or a convex solid outwards, cannot meet it again), and k_i,
- * s_i in the local frame. */
-STAGE static void stage_light(const pc_sim *sim, bool cast_shadows, batch *b)
-{
-	const pc_scene *sc = sim->scene;
-	const unsigned n = b->n;
-#pragma omp simd
-	for (unsigned r = 0; r < n; r++) {
-		double kx = -b->lx[r], ky = -b->ly[r], kz = -b->lz[r];
-		double c = kx * b->nx[r] + ky * b->ny[r] + kz * b->nz[r];
-		b->cosi[r] = c;
-		b->lit[r] = (b->obj[r] >= 0) & (c > 0);
-		b->ki[0][r] = kx * b->t1x[r] + ky * b->t1y[r] + kz * b->t1z[r];
-		b->ki[1][r] = kx * b->t2x[r] + ky * b->t2y[r] + kz * b->t2z[r];
-		b->ki[2][r] = kx * b->nx[r] + ky * b->ny[r] + kz * b->nz[r];
-		b->si[0][r] = b->sx[r] * b->t1x[r] + b->sy[r] * b->t1y[r] + b->sz[r] * b->t1z[r];
-		b->si[1][r] = b->sx[r] * b->t2x[r] + b->sy[r] * b->t2y[r] + b->sz[r] * b->t2z[r];
-		b->si[2][r] = b->sx[r] * b->nx[r] + b->sy[r] * b->ny[r] + b->sz[r] * b->nz[r];
-	}
-	if (!cast_shadows)
-		return;
-	for (unsigned r = 0; r < n; r++) {
-		int64_t i = b->obj[r];
-		bool skip = false;
-		if (i >= 0 && pc_object_convex(&sc->objects[i]))
-			skip = sc->objects[i].type == PC_OBJ_PLANE ||
-			       -b->lx[r] * b->gx[r] + -b->ly[r] * b->gy[r] + -b->lz[r] * b->gz[r] > 0;
-		b->skip[r] = skip;
-	}
-	for (unsigned i = 0; i < sc->n_objects; i++) {
-		const pc_sim_object *ob = &sc->objects[i];
-		if (ob->type == PC_OBJ_SPHERE) {
-			const pc_v3 c = ob->center;
-			const double rad = ob->radius;
-#pragma omp simd
-			for (unsigned r = 0; r < n; r++) {
-				double ocx = b->ox[r] - c.x, ocy = b->oy[r] - c.y, ocz = b->oz[r] - c.z;
-				double C = (ocx * ocx + ocy * ocy + ocz * ocz) - rad * rad;
-				double tt;
-				int64_t hit = sphere_t(ocx, ocy, ocz, rad, C, -b->lx[r], -b->ly[r], -b->lz[r],
-						    b->dist[r] * (1 - 1e-9), &tt);
-				int64_t self = b->skip[r] & (b->obj[r] == (int64_t)i);
-				b->lit[r] = b->lit[r] & ((hit & (self == 0)) == 0);
-			}
-		} else if (ob->type == PC_OBJ_PLANE) {
-			const double pnx = ob->n.x, pny = ob->n.y, pnz = ob->n.z;
-			const double ppx = ob->p.x, ppy = ob->p.y, ppz = ob->p.z;
-			const plane_c pc = plane_of(ob);
-#pragma omp simd
-			for (unsigned r = 0; r < n; r++) {
-				double num = (ppx - b->ox[r]) * pnx + (ppy - b->oy[r]) * pny + (ppz - b->oz[r]) * pnz;
-				double tt;
-				int64_t hit = plane_t(pc, num, b->ox[r], b->oy[r], b->oz[r], -b->lx[r], -b->ly[r],
-						   -b->lz[r], b->dist[r] * (1 - 1e-9), &tt);
-				int64_t self = b->skip[r] & (b->obj[r] == (int64_t)i);
-				b->lit[r] = b->lit[r] & ((hit & (self == 0)) == 0);
-			}
-		} else {
-			for (unsigned r = 0; r < n; r++) {
-				if (!b->lit[r] || (b->skip[r] && b->obj[r] == (int64_t)i))
-					continue;
-				double tt;
-				pc_v3 nn, ng;
-				if (pc_object_hit(ob, v3(b->ox[r], b->oy[r], b->oz[r]),
-						  v3(-b->lx[r], -b->ly[r], -b->lz[r]), 0, b->dist[r] * (1 - 1e-9), true,
-						  &tt, &nn, &ng))
-					b->lit[r] = 0;
-			}
-		}
-	}
-}
 
 /* ---- the batch ---- */
 
@@ -347,9 +145,10 @@ static void shade_batch(const pc_sim *sim, const int32_t *lo, const int32_t *hi,
 	const pc_scene *sc = sim->scene;
 	const unsigned nout = chan ? 1 : sim->nch;
 	const bool circular = sim->circular, shadows = sim->fx & PC_FX_CAST_SHADOWS;
-	stage_rays(sim, A, b);
-	stage_primary(sim, lo, hi, b);
-	stage_surface(sim, b);
+	const shade_stages *st = stages_now();
+	st->rays(sim, A, b);
+	st->primary(sim, lo, hi, b);
+	st->surface(sim, b);
 	for (unsigned r = 0; r < b->n; r++)
 		for (unsigned k = 0; k < nout; k++) {
 			unsigned ch = chan ? chan[r] : k;
@@ -382,7 +181,7 @@ static void shade_batch(const pc_sim *sim, const int32_t *lo, const int32_t *hi,
 			b->dist[r] = dist;
 			b->factor[r] = factor;
 		}
-		stage_light(sim, shadows, b);
+		st->light(sim, shadows, b);
 		const double *Sl = l->stokes[g % l->n_states];
 		for (unsigned r = 0; r < b->n; r++) {
 			if (!b->lit[r])

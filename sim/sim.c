@@ -487,8 +487,11 @@ out:
 
 /* ---- frames ---- */
 
+/* Writes *t_s and *K on every path (NaN on error), so that callers' outputs are never read
+ * uninitialised whatever the compiler can prove about pc_error()'s return value. */
 static int resolve_controls(const pc_sim *sim, const pc_sim_controls *c, double *t_s, double *K)
 {
+	*t_s = *K = NAN;
 	double exp_us = c ? c->exposure_us : sim->fig.exposure_us;
 	double gain_db = c ? c->gain_db : sim->fig.gain_db;
 	if (!(exp_us > 0) || !isfinite(exp_us) || exp_us > 1e9)

@@ -65,6 +65,27 @@ static int pc_test_checks;
 		exit(77);                                          \
 	} while (0)
 
+/* Makes a new private directory $TMPDIR/NAME.XXXXXX (/tmp when TMPDIR is unset or empty) and
+ * writes its path into buf. NULL, with the reason on stderr, when it does not fit or cannot be
+ * made. */
+static inline char *pc_test_tmpdir(char *buf, size_t size, const char *name)
+{
+	const char *t = getenv("TMPDIR");
+	if (!t || !*t)
+		t = "/tmp";
+	int n = snprintf(buf, size, "%s/%s.XXXXXX", t, name);
+	if (n < 0 || (size_t)n >= size) {
+		fprintf(stderr, "temporary directory %s/%s.XXXXXX: longer than %zu bytes\n", t, name,
+			size - 1);
+		return NULL;
+	}
+	if (!mkdtemp(buf)) {
+		perror(buf);
+		return NULL;
+	}
+	return buf;
+}
+
 static inline int pc_test_finish(const char *name)
 {
 	if (pc_test_failures) {

@@ -498,8 +498,7 @@ int main(void)
 	if (!polarcam || !src)
 		SKIP("POLARCAM / PC_SOURCE_DIR not set: run through ctest");
 	snprintf(scene, sizeof scene, "%s/scenes/colour_small.json", src);
-	snprintf(base, sizeof base, "/tmp/pc_gigec_XXXXXX");
-	if (!mkdtemp(base))
+	if (!pc_test_tmpdir(base, sizeof base, "pc_gigec"))
 		SKIP("no temporary directory");
 	if (run_render() == 0) {
 		char seed[16], errp[160], ready[1024];

@@ -11,11 +11,16 @@
  *   - `polarcam capture` records frames equal to the recording, with 0 missing packets
  *   - killing the server mid-capture ends capture with a clear error and intact files
  *   - packets lost on purpose surface as failed frames (compliance fault "corrupt")
- *   - a client that stops and restarts at once (two GVCP writes apart) gets frame 0 again */
+ *   - a client that stops and restarts at once (two GVCP writes apart) gets frame 0 again
+ *   - Aravis's stream thread runs SCHED_FIFO 10 when the process may ask for it (the kernel's
+ *     answer read back per thread), none does with realtime=0 */
 #include <arv.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <dirent.h>
 #include <poll.h>
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -260,6 +265,75 @@ static void test_client(void)
 		CHECK_EQ_INT(s1 - s0, 199 + st.dropped); /* contiguous but for counted losses */
 		pc_source_close(s);
 	}
+}
+
+/* ---- real-time scheduling of the stream thread ---- */
+
+/* Threads of this process under SCHED_FIFO at priority prio (read from the kernel per thread). */
+static unsigned fifo_threads(int prio)
+{
+	unsigned n = 0;
+	DIR *d = opendir("/proc/self/task");
+	if (!d)
+		return 0;
+	struct dirent *e;
+	while ((e = readdir(d))) {
+		pid_t tid = (pid_t)atoi(e->d_name);
+		if (tid <= 0)
+			continue;
+		struct sched_param sp;
+		if (sched_getscheduler(tid) == SCHED_FIFO && sched_getparam(tid, &sp) == 0 &&
+		    sp.sched_priority == prio)
+			n++;
+	}
+	closedir(d);
+	return n;
+}
+
+static void *idle_thread(void *arg)
+{
+	return arg;
+}
+
+/* Whether this process may make a thread SCHED_FIFO 10 (CAP_SYS_NICE or RLIMIT_RTPRIO): asked
+ * on a thread created for the question. */
+static bool may_realtime(void)
+{
+	pthread_attr_t at;
+	pthread_attr_init(&at);
+	struct sched_param sp = {.sched_priority = 10};
+	pthread_attr_setinheritsched(&at, PTHREAD_EXPLICIT_SCHED);
+	pthread_attr_setschedpolicy(&at, SCHED_FIFO);
+	pthread_attr_setschedparam(&at, &sp);
+	pthread_t t;
+	bool ok = pthread_create(&t, &at, idle_thread, NULL) == 0;
+	if (ok)
+		pthread_join(t, NULL);
+	pthread_attr_destroy(&at);
+	return ok;
+}
+
+static void test_realtime(void)
+{
+	uint64_t s0, s1;
+	bool may = may_realtime();
+	CHECK_EQ_INT(fifo_threads(10), 0);
+	/* the stream thread exists once frames arrive: its first act was the request */
+	pc_source *s = open_cam("", "PolarizeMono12", 0, 0, 16, 8);
+	if (s) {
+		CHECK_EQ_INT(stream_and_compare(s, 3, 0, 0, false, 0, &s0, &s1), 3);
+		CHECK_EQ_INT(fifo_threads(10), may ? 1 : 0);
+		pc_source_close(s);
+	}
+	CHECK_EQ_INT(fifo_threads(10), 0); /* it ended with the stream */
+	s = open_cam("&realtime=0", "PolarizeMono12", 0, 0, 16, 8);
+	if (s) {
+		CHECK_EQ_INT(stream_and_compare(s, 3, 0, 0, false, 0, &s0, &s1), 3);
+		CHECK_EQ_INT(fifo_threads(10), 0);
+		pc_source_close(s);
+	}
+	printf("realtime: %s\n", may ? "the stream thread ran SCHED_FIFO 10"
+	                              : "not permitted here: checked that no thread asked for more");
 }
 
 /* ---- a client that stops and restarts at once ---- */
@@ -616,8 +690,7 @@ int main(void)
 	polarcam = getenv("POLARCAM");
 	if (!polarcam)
 		SKIP("POLARCAM (the built CLI) not set: run through ctest");
-	snprintf(base, sizeof base, "/tmp/pc_gige_XXXXXX");
-	if (!mkdtemp(base))
+	if (!pc_test_tmpdir(base, sizeof base, "pc_gige"))
 		SKIP("no temporary directory");
 	snprintf(rec_dir, sizeof rec_dir, "%s/rec", base);
 	make_recording();
@@ -628,6 +701,7 @@ int main(void)
 	CHECK(srv > 0);
 	if (srv > 0) {
 		test_client();
+		test_realtime();
 		test_fast_restart();
 		test_compliance(PC_FAULT_NONE);
 		test_capture();

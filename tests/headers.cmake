@@ -1,5 +1,5 @@
 # Every public header compiles alone, as C11 and as C++17.
-file(GLOB PC_PUBLIC_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/*/include/polarcam/*.h)
+get_property(PC_PUBLIC_HEADERS GLOBAL PROPERTY PC_PUBLIC_HEADERS) # the layers' HEADERS lists
 set(hdr_srcs)
 foreach(h ${PC_PUBLIC_HEADERS})
   get_filename_component(hn ${h} NAME_WE)

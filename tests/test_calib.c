@@ -405,10 +405,9 @@ int main(void)
 
 	/* ---- the file: round trip, mismatches, corruption ---- */
 	{
-		char path[] = "/tmp/pc_test_calib_XXXXXX";
-		int fd = mkstemp(path);
-		CHECK(fd >= 0);
-		close(fd);
+		char dir[64] = "", path[128];
+		CHECK(pc_test_tmpdir(dir, sizeof dir, "pc_test_calib") != NULL);
+		snprintf(path, sizeof path, "%s/calibration.npz", dir);
 		CHECK_EQ_INT(pc_calib_write(path, &cal), 0);
 		pc_calib back;
 		CHECK_EQ_INT(pc_calib_read(path, &back), 0);
@@ -455,6 +454,7 @@ int main(void)
 		printf("corrupted file: %s\n", pc_error_detail());
 		free(b);
 		unlink(path);
+		rmdir(dir);
 	}
 
 	/* ---- bad input ---- */

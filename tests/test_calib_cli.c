@@ -14,7 +14,7 @@
 #include "polarcam/calib.h"
 #include "run_cli.h"
 
-static char tmp[] = "/tmp/pc_calib_cli_XXXXXX";
+static char tmp[64];
 
 static bool exists(const char *p)
 {
@@ -49,7 +49,7 @@ int main(void)
 		SKIP("%s not found (PC_SOURCE_DIR unset?)", probe);
 	if (!run_cli_exe())
 		SKIP("POLARCAM (the built CLI) is not set or not executable: run through ctest");
-	if (!mkdtemp(tmp))
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_calib_cli"))
 		SKIP("cannot create a temporary directory");
 
 	CHECK_EQ_INT(render("dark", "dark", "0", "8"), 0);

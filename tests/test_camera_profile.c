@@ -160,7 +160,7 @@ static void test_roi_and_mirror(void)
 static void test_collisions_and_errors(void)
 {
 	/* Only names decide. LUCID's PolarizeMono16 value 0x81100007 is Aravis's
-	 * CUSTOM_BAYER_RG_16 (hardware.md), and polarcam serve gives the same value to
+	 * CUSTOM_BAYER_RG_16 (docs/hardware.md), and polarcam serve gives the same value to
 	 * BayerRGPolarized16 on its colour camera: the two names still map apart. */
 	size_t n;
 	const pc_genicam_format *t = pc_genicam_formats(&n);

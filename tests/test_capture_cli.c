@@ -280,8 +280,7 @@ int main(void)
 	if (!polarcam || !src)
 		SKIP("POLARCAM / PC_SOURCE_DIR not set: run through ctest");
 	snprintf(scene, sizeof scene, "%s/scenes/ideal_small.json", src);
-	snprintf(tmp, sizeof tmp, "/tmp/pc_capcli_XXXXXX");
-	if (!mkdtemp(tmp))
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_capcli"))
 		SKIP("no temporary directory");
 	test_render_identical();
 	test_disconnect();

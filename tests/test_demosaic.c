@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "polarcam/cpu.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/error.h"
 #include "polarcam/stokes.h"
@@ -625,15 +626,21 @@ static void test_streaming_outputs(void)
 int main(void)
 {
 	setenv("POLARCAM_NT_MIN_BYTES", "0", 1); /* before the first kernel call caches it */
-	test_streaming_outputs();
-	test_bilinear_by_hand();
-	test_fast_vs_reference();
-	test_aolp_orientation();
-	test_flip();
-	test_polynomials();
-	test_formats_layouts();
-	test_color();
-	test_bilinear_u16();
-	test_bad_calls();
+	/* every kernel instance this machine runs (polarcam/cpu.h), held to the same references */
+	for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
+		CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
+		test_streaming_outputs();
+		test_bilinear_by_hand();
+		test_fast_vs_reference();
+		test_aolp_orientation();
+		test_flip();
+		test_polynomials();
+		test_formats_layouts();
+		test_color();
+		test_bilinear_u16();
+		test_bad_calls();
+		printf("  instance %s: done\n", pc_cpu_level_name((pc_cpu_level)l));
+	}
+	pc_cpu_force(PC_CPU_LEVELS);
 	return pc_test_finish("test_demosaic");
 }

@@ -379,8 +379,8 @@ static void test_malformed(const char *base)
 
 int main(void)
 {
-	char base[] = "/tmp/pc_test_file_XXXXXX";
-	if (!mkdtemp(base))
+	char base[64];
+	if (!pc_test_tmpdir(base, sizeof base, "pc_test_file"))
 		SKIP("cannot create a temporary directory");
 	char dir[256];
 	snprintf(dir, sizeof dir, "%s/rec", base);

@@ -361,8 +361,7 @@ static void test_pictures(void)
 
 int main(void)
 {
-	snprintf(dir, sizeof dir, "/tmp/pc_test_io.XXXXXX");
-	if (!mkdtemp(dir))
+	if (!pc_test_tmpdir(dir, sizeof dir, "pc_test_io"))
 		SKIP("cannot create a temporary directory");
 	test_tiff();
 	test_npy();

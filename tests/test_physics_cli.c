@@ -12,7 +12,7 @@
 #include "check.h"
 
 static const char *polarcam;
-static char tmpdir[] = "/tmp/pc_physics_cli_XXXXXX";
+static char tmpdir[64];
 
 typedef struct result {
 	int status;
@@ -333,7 +333,7 @@ int main(void)
 	polarcam = getenv("POLARCAM");
 	if (!polarcam || access(polarcam, X_OK) != 0)
 		SKIP("POLARCAM (path of the built CLI) is not set or not executable");
-	if (!mkdtemp(tmpdir))
+	if (!pc_test_tmpdir(tmpdir, sizeof tmpdir, "pc_physics_cli"))
 		SKIP("cannot create a temporary directory");
 	test_pbrdf();
 	test_decompose();

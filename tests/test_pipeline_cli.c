@@ -291,8 +291,7 @@ int main(void)
 	exe = getenv("POLARCAM");
 	if (!exe || !*exe)
 		SKIP("POLARCAM (the built CLI) is not set; run through ctest");
-	snprintf(dir, sizeof dir, "/tmp/pc_test_pcli.XXXXXX");
-	if (!mkdtemp(dir))
+	if (!pc_test_tmpdir(dir, sizeof dir, "pc_test_pcli"))
 		SKIP("cannot create a temporary directory");
 	setenv("POLARCAM_PROGRESS", "0", 1);
 	test_demosaic_cmd();

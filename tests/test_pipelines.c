@@ -27,7 +27,7 @@
 #include "polarcam/render_recording.h"
 #include "polarcam/states.h"
 
-static char tmp[] = "/tmp/pc_pipelines_XXXXXX";
+static char tmp[64];
 
 static const char *tpath(const char *name)
 {
@@ -117,7 +117,7 @@ static void test_mueller(void)
 {
 	write_text(tpath("seq.json"), seq_scene);
 	pc_render_opts ro = { tpath("seq.json"), NULL, pc_sim_options_default(), 0, 0, true, false,
-			      { NULL, NULL } };
+			      { NULL, NULL }, PC_STORE_PNG };
 	ro.sim.seed = 5;
 	pc_render_report rep;
 	CHECK_EQ_INT(pc_render_recording(tpath("rec"), &ro, &rep), 0);
@@ -303,7 +303,7 @@ static void test_eval_stokes(void)
 
 int main(void)
 {
-	if (!mkdtemp(tmp))
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_pipelines"))
 		SKIP("cannot create a temporary directory");
 	test_states();
 	test_mueller();

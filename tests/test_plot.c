@@ -33,8 +33,8 @@ static void grey(double t, double s, uint8_t rgb[3], void *ctx)
 
 int main(void)
 {
-	char dir[] = "/tmp/pc_test_plot_XXXXXX";
-	CHECK(mkdtemp(dir) != NULL);
+	char dir[64];
+	CHECK(pc_test_tmpdir(dir, sizeof dir, "pc_test_plot") != NULL);
 	char path[256];
 	snprintf(path, sizeof path, "%s/line.png", dir);
 

@@ -19,7 +19,7 @@
 #include "polarcam/recording.h"
 #include "polarcam/sim.h"
 
-static char tmp[] = "/tmp/pc_sim_cli_XXXXXX";
+static char tmp[64];
 
 static bool exists(const char *dir, const char *name)
 {
@@ -387,7 +387,7 @@ static void test_demo(void)
 
 int main(void)
 {
-	if (!mkdtemp(tmp))
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_sim_cli"))
 		SKIP("cannot create a temporary directory");
 	setenv("POLARCAM_PROGRESS", "0", 1);
 	if (!run_cli_exe())

@@ -8,7 +8,10 @@
  *    incident field projected perpendicular to k_r, Mueller from Jones via physics.md §1's A)
  *    under a linearly polarized light seen by a downward camera, with and without camera roll;
  *  - the retarder Mueller matrix against the Jones calculus;
- *  - an OBJ cube equals the box primitive; supersampling at 1 sample equals no supersampling. */
+ *  - an OBJ cube equals the box primitive; supersampling at 1 sample equals no supersampling;
+ *  - every instruction-set instance of the batch shader (polarcam/cpu.h) passes all of the
+ *    above, and all give the same Stokes values bit for bit (a pBRDF scene with cast shadows,
+ *    spheres, planes and a mesh). */
 #include <complex.h>
 #include <math.h>
 #include <stdio.h>
@@ -17,6 +20,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "polarcam/cpu.h"
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
 #include "polarcam/sim.h"
@@ -299,8 +303,8 @@ static void test_retarder(void)
 
 static void test_mesh_equals_box(void)
 {
-	char dir[] = "/tmp/pc_sim_render_XXXXXX";
-	CHECK(mkdtemp(dir) != NULL);
+	char dir[64];
+	CHECK(pc_test_tmpdir(dir, sizeof dir, "pc_sim_render") != NULL);
 	char obj[256];
 	snprintf(obj, sizeof obj, "%s/cube.obj", dir);
 	FILE *fp = fopen(obj, "w");
@@ -391,13 +395,74 @@ static void test_supersampling_neutral(void)
 	pc_sim_free(sc);
 }
 
+/* The truth of a scene with every kind of stage work (spheres and planes in the vectorised
+ * loops, a box through the per-ray path, cast shadows, the real pBRDF) at one level. */
+static double *render_at(pc_cpu_level level)
+{
+	const char *text =
+		"{\"camera\": {\"position\": [0.4, -4, 2.5], \"look_at\": [0, 0, 0.5], \"focal_length_mm\": 8},"
+		" \"sensor\": {\"resolution\": [48, 32], \"pixel_pitch_um\": 100},"
+		" \"materials\": {\"m\": {\"n\": 1.5, \"sigma\": 0.2}, \"k\": {\"n\": 1.46, \"k\": 1.28, \"sigma\": 0.3}},"
+		" \"lights\": [{\"type\": \"point\", \"position\": [1, -1, 4], \"intensity_w_sr\": 100},"
+		"   {\"type\": \"directional\", \"direction\": [0.3, -0.2, 1], \"irradiance_w_m2\": 20}],"
+		" \"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0.6], \"radius\": 0.6, \"material\": \"m\"},"
+		"   {\"type\": \"box\", \"center\": [1.2,0.5,0.3], \"size\": [0.5,0.5,0.6], \"material\": \"k\"},"
+		"   {\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": \"k\"}],"
+		" \"effects\": {\"cast_shadows\": true}}";
+	if (pc_cpu_force(level))
+		return NULL;
+	pc_sim *sim = make_sim(text, NULL);
+	double *S = sim ? malloc(sizeof(double) * 4 * W * H) : NULL;
+	if (S && pc_sim_truth_rows(sim, 0, 0, H, S, NULL)) {
+		free(S);
+		S = NULL;
+	}
+	pc_sim_free(sim);
+	pc_cpu_force(PC_CPU_LEVELS);
+	return S;
+}
+
+static void test_instances_agree(void)
+{
+	double *base = render_at(PC_CPU_BASELINE);
+	CHECK(base != NULL);
+	if (!base)
+		return;
+	int lit = 0;
+	for (int i = 0; i < W * H; i++)
+		lit += base[4 * i] > 0;
+	CHECK(lit > W * H / 2); /* the scene is seen, not background */
+	for (int l = PC_CPU_AVX2; l <= (int)pc_cpu_supported(); l++) {
+		double *S = render_at((pc_cpu_level)l);
+		CHECK(S != NULL);
+		if (!S)
+			continue;
+		size_t differ = 0;
+		for (int i = 0; i < 4 * W * H; i++)
+			differ += memcmp(&S[i], &base[i], sizeof(double)) != 0;
+		if (differ)
+			fprintf(stderr, "  %s: %zu Stokes values differ from the baseline instance\n",
+				pc_cpu_level_name((pc_cpu_level)l), differ);
+		CHECK(differ == 0);
+		free(S);
+	}
+	free(base);
+}
+
 int main(void)
 {
-	test_radiometry();
-	test_shadows();
-	test_aolp_convention();
-	test_retarder();
-	test_mesh_equals_box();
-	test_supersampling_neutral();
+	/* every batch-shader instance this machine runs, held to the same answers */
+	for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
+		CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
+		test_radiometry();
+		test_shadows();
+		test_aolp_convention();
+		test_retarder();
+		test_mesh_equals_box();
+		test_supersampling_neutral();
+		printf("  shader instance %s: done\n", pc_cpu_level_name((pc_cpu_level)l));
+	}
+	CHECK_EQ_INT(pc_cpu_force(PC_CPU_LEVELS), 0);
+	test_instances_agree();
 	return pc_test_finish("test_sim_render");
 }

@@ -246,8 +246,8 @@ static void test_states_and_psa(void)
 
 static void test_obj(void)
 {
-	char dir[] = "/tmp/pc_sim_scene_XXXXXX";
-	CHECK(mkdtemp(dir) != NULL);
+	char dir[64];
+	CHECK(pc_test_tmpdir(dir, sizeof dir, "pc_sim_scene") != NULL);
 	char path[256], scene[256];
 	snprintf(path, sizeof path, "%s/tet.obj", dir);
 	FILE *fp = fopen(path, "w");

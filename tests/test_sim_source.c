@@ -223,8 +223,7 @@ int main(void)
 	const char *src = getenv("PC_SOURCE_DIR"), *polarcam = getenv("POLARCAM");
 	if (!src || !polarcam)
 		SKIP("PC_SOURCE_DIR / POLARCAM not set: run through ctest");
-	snprintf(tmp, sizeof tmp, "/tmp/pc_simsrc_XXXXXX");
-	if (!mkdtemp(tmp))
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_simsrc"))
 		SKIP("no temporary directory");
 	test_pacer();
 	/* a monochrome and a colour-polarization scene through the same checks */

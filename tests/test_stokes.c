@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "polarcam/cpu.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/error.h"
 #include "polarcam/picture.h"
@@ -389,11 +390,17 @@ int main(void)
 	/* every aligned planar case streams (non-temporal stores), also on machines whose default
 	 * never does (AMD); the unaligned and interleaved cases take ordinary stores */
 	setenv("POLARCAM_NT_MIN_BYTES", "0", 1);
-	test_aolp_kernel();
-	test_convention();
-	test_pinv();
-	test_fused();
-	test_fused_ic();
-	test_pictures();
+	/* every kernel instance this machine runs (polarcam/cpu.h), held to the same references */
+	for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
+		CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
+		test_aolp_kernel();
+		test_convention();
+		test_pinv();
+		test_fused();
+		test_fused_ic();
+		test_pictures();
+		printf("  instance %s: done\n", pc_cpu_level_name((pc_cpu_level)l));
+	}
+	pc_cpu_force(PC_CPU_LEVELS);
 	return pc_test_finish("test_stokes");
 }

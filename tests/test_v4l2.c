@@ -137,11 +137,9 @@ static void test_list(const char *dir)
 
 int main(void)
 {
-	char dir[] = "/tmp/pc-test-v4l2.XXXXXX";
-	if (!mkdtemp(dir)) {
-		perror("mkdtemp");
+	char dir[64];
+	if (!pc_test_tmpdir(dir, sizeof dir, "pc-test-v4l2"))
 		return 1;
-	}
 	test_cvt_published();
 	test_open_errors(dir);
 	test_list(dir);

@@ -4,9 +4,10 @@
 # one boot. The kernel and module pieces are cached in the build directory (qemu-cache/).
 #
 # pc_guest_v4l2 is linked statically. The sanitizer runtimes cannot be linked into a static
-# program, so in the ASan+UBSan build (PC_SANITIZE) it is linked dynamically and run-guest.sh
-# copies the shared libraries it needs (libasan, libubsan, libc, ...) into the initramfs: the
-# guest checks then run under the sanitizers too.
+# program, nor clang's OpenMP runtime (Debian ships no libomp.a), so in the ASan+UBSan build
+# (PC_SANITIZE) and with clang it is linked dynamically and run-guest.sh copies the shared
+# libraries it needs (libasan, libubsan, libomp, libc, ...) into the initramfs: the guest checks
+# then run under the sanitizers too.
 set(PC_GUEST_DIR ${CMAKE_CURRENT_SOURCE_DIR}/qemu)
 # The guest program is the project's own code: the frame-source wrappers, the registry, the
 # compliance test and the V4L2 backend, compiled again here with only the V4L2 backend in the
@@ -23,7 +24,8 @@ add_executable(pc_guest_v4l2
 target_include_directories(pc_guest_v4l2 PRIVATE ${PC_GUEST_DIR} ${PC_DEV}/include ${PC_DEV}
   ${PROJECT_SOURCE_DIR}/core/include)
 target_compile_definitions(pc_guest_v4l2 PRIVATE PC_HAVE_V4L2=1)
-if(PC_SANITIZE)
+if(PC_SANITIZE OR NOT CMAKE_C_COMPILER_ID STREQUAL "GNU")
+  # clang: Debian's libomp has no static archive; run-guest.sh copies the shared libraries
   target_link_libraries(pc_guest_v4l2 PRIVATE pc_core)
 else()
   # The OpenMP imported target names libgomp.so; a static link needs the archive, which gcc's

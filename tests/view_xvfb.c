@@ -150,8 +150,8 @@ int main(void)
 		SKIP("POLARCAM / PC_SOURCE_DIR not set: run through ctest");
 	if (system("command -v Xvfb >/dev/null && command -v xwd >/dev/null") != 0)
 		SKIP("Xvfb or xwd missing (Debian: xvfb, x11-apps)");
-	char tmp[] = "/tmp/pc_view_XXXXXX";
-	if (!mkdtemp(tmp))
+	char tmp[64];
+	if (!pc_test_tmpdir(tmp, sizeof tmp, "pc_view"))
 		SKIP("no temporary directory");
 	/* Xvfb picks a free display itself (-displayfd) and writes its number when it is ready:
 	 * two builds' tests running at once cannot take the same display, and nothing is guessed

@@ -300,9 +300,15 @@ int cli_progress_fn(void *user, const char *phase, uint64_t done, uint64_t total
 
 volatile sig_atomic_t cli_stop_requested;
 
+/* The first signal asks the running call to stop cleanly; a second one, while it is still
+ * finishing, takes the default action at once (files stay whole: every writer is atomic). */
 static void on_signal(int sig)
 {
-	(void)sig;
+	if (cli_stop_requested) {
+		signal(sig, SIG_DFL);
+		raise(sig);
+		return;
+	}
 	cli_stop_requested = 1;
 }
 
@@ -311,6 +317,8 @@ void cli_catch_signals(void)
 	struct sigaction sa;
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
+	sa.sa_flags = SA_RESTART; /* the library's reads and writes go on; it polls the flag */
+	sigemptyset(&sa.sa_mask);
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
 }

@@ -99,8 +99,9 @@ void cli_progress_end(cli_progress *p);
  * with the phase. Finish with cli_progress_end. Never asks to stop. */
 int cli_progress_fn(void *user, const char *phase, uint64_t done, uint64_t total);
 
-/* Long commands (capture, view, serve) stop cleanly on SIGINT/SIGTERM: cli_catch_signals()
- * installs the handlers, which set cli_stop_requested. */
+/* Long commands (capture, render, view, serve) stop cleanly on SIGINT/SIGTERM:
+ * cli_catch_signals() installs the handlers, which set cli_stop_requested; a second signal
+ * while the command is still finishing ends the process at once (the signal's default). */
 extern volatile sig_atomic_t cli_stop_requested;
 void cli_catch_signals(void);
 /* cli_progress_fn (user may be NULL: no bar) that asks the library call to stop once a signal

@@ -20,6 +20,7 @@ static const struct {
 	{ "render", "render time per effect set, Mpixel/s, peak memory", pc_bench_render },
 	{ "devices", "serve -> capture over loopback, live pipeline", pc_bench_devices },
 	{ "calib", "analyser calibration: angles x frames -> residual error, acquisition time", pc_bench_calib },
+	{ "soak", "serve -> capture -> live pipeline for N minutes: RSS, fds, threads flat", pc_bench_soak },
 };
 
 int cli_cmd_bench(int argc, char **argv)
@@ -49,6 +50,6 @@ int cli_cmd_bench(int argc, char **argv)
 			cli_progress_end(&bar);
 			return status;
 		}
-	return cli_error(CLI_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices, calib)",
+	return cli_error(CLI_EXIT_USAGE, "unknown benchmark '%s' (physics, demosaic, render, devices, calib, soak)",
 			    argv[1]);
 }

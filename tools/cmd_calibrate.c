@@ -17,6 +17,7 @@
 #include "polarcam/folders.h"
 #include "polarcam/recording.h"
 #include "polarcam/states.h"
+#include "polarcam/version.h"
 
 static void usage(FILE *fp)
 {
@@ -313,7 +314,7 @@ static void add_provenance(pc_calib *c, json_t *step)
 	if (!json_is_object(p)) {
 		json_decref(p);
 		p = json_object();
-		json_object_set_new(p, "software", json_string("polarcam " PC_VERSION));
+		json_object_set_new(p, "software", json_string("polarcam " PC_VERSION_STRING));
 		json_object_set_new(p, "steps", json_array());
 	}
 	json_array_append_new(json_object_get(p, "steps"), step);

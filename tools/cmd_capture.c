@@ -19,10 +19,15 @@ static void usage(FILE *fp)
 	    "Records N frames from a frame source as DIR/raw_NNNNNN.png (8-bit, or 16-bit with the\n"
 	    "significant bits in sBIT: the same naming and bit depth as `polarcam render`) and\n"
 	    "DIR/meta.json (format, mosaic, per-frame sequence/timestamp/exposure/gain/status,\n"
-	    "stream statistics); docs/outputs.md. The recording is made beside DIR and renamed\n"
-	    "into place at the end. If the camera disappears or the command is interrupted, the\n"
-	    "command fails with a clear error and everything recorded so far is kept (meta.json\n"
-	    "says complete=false and why); with no frame at all nothing is written.\n\n"
+	    "stream statistics); docs/outputs.md. Frames go from the camera into a queue at once\n"
+	    "(sized from the frame rate and the measured writing speed, within --queue-mb) and are\n"
+	    "written by a thread of their own, so a slow disk never starves the camera of buffers.\n"
+	    "The recording is made beside DIR and renamed into place at the end. If the camera\n"
+	    "disappears or the command is interrupted (SIGINT/SIGTERM: the frames already acquired\n"
+	    "are written; a second signal quits at once), the command fails with a clear error and\n"
+	    "everything recorded so far is kept (meta.json says complete=false and why); with no\n"
+	    "frame at all nothing is written. complete=true means: every frame asked for is in,\n"
+	    "whole, and none was lost on the way to the disk.\n\n"
 	    "  URI                 sim:SCENE, file:DIR, aravis:ID, v4l2:/dev/videoN, libcamera:ID\n"
 	    "  -n N                frames to record (1..999999)\n"
 	    "  -o DIR              output folder (refused when it exists, unless --overwrite)\n"
@@ -33,18 +38,28 @@ static void usage(FILE *fp)
 	    "                      --keep-every chooses, and pictures of the last frame\n"
 	    "  --keep-every K      with --process: keep the .npy of frames 0, K, 2K, ... and of the\n"
 	    "                      last (default 1: every frame; 0: the last frame only)\n"
+	    "  --incomplete P      frames that arrive damaged (lost packets): skip (default: not\n"
+	    "                      recorded, counted, the next one taken), keep (recorded and\n"
+	    "                      flagged; the recording is then not complete) or fail (stop)\n"
+	    "  --store S           frame files: png (default), npy or raw (headerless; the\n"
+	    "                      fastest to write); all read by file:DIR sources\n"
+	    "  --queue-mb MB       memory for frames waiting to be written (default: half the\n"
+	    "                      available memory, at most 4096)\n"
+	    "  --write-delay-ms MS testing: the writer waits MS after each frame (a slow disk)\n"
 	    "  --method M          demosaicking method for --process (default bilinear; for\n"
 	    "                      colour-polarization frames bayer-first, the colour methods\n"
 	    "                      being bayer-first and bayer-eari); S0, DoLP and AoLP of colour\n"
 	    "                      frames are those of the colour average (R + G + B)/3\n"
 	    "  --json              print the report as one JSON line on stdout: frames recorded,\n"
-	    "                      format, statistics, error (if any)\n"
+	    "                      complete, format, statistics, incomplete frames skipped/kept,\n"
+	    "                      the queue (peak, lost, writing ms per frame), error (if any)\n"
 	    "%s"
-	    "\nExit status: 0 all frames recorded, 1 device/stream failure, 2 bad arguments or DIR\n"
-	    "exists, 77 backend not built in or device absent.\n"
+	    "\nExit status: 0 complete, 1 not complete (device/stream failure, interrupted, frames\n"
+	    "lost or kept damaged), 2 bad arguments or DIR exists, 77 backend not built in or\n"
+	    "device absent.\n"
 	    "\nexamples:\n"
 	    "  polarcam capture 'sim:default?seed=3' -n 10 -o rec/ --process\n"
-	    "  polarcam capture aravis:192.168.1.20 -n 100 -o rec/ --format PolarizeMono12p --json\n"
+	    "  polarcam capture aravis:192.168.1.20 -n 100 -o rec/ --store raw --json\n"
 	    "  polarcam capture v4l2:/dev/video0 -n 50 -o rec/ --process --keep-every 10 --overwrite\n",
 	    cli_stream_args_help());
 }
@@ -87,6 +102,10 @@ int cli_cmd_capture(int argc, char **argv)
 	long n = 0, keep_every = 1;
 	bool overwrite = false, process = false, json = false;
 	const char *method = NULL; /* the mosaic's default */
+	pc_incomplete_policy incomplete = PC_INCOMPLETE_SKIP;
+	pc_recording_store store = PC_STORE_PNG;
+	long queue_mb = 0;
+	double write_delay_ms = 0;
 	for (int i = 1; i < argc; i++) {
 		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
 		if (rc < 0)
@@ -112,6 +131,23 @@ int cli_cmd_capture(int argc, char **argv)
 			process = true;
 		} else if (!strcmp(a, "--json")) {
 			json = true;
+		} else if (!strcmp(a, "--incomplete") || !strcmp(a, "--store") ||
+			   !strcmp(a, "--queue-mb") || !strcmp(a, "--write-delay-ms")) {
+			if (i + 1 >= argc)
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
+			const char *v = argv[++i];
+			if (!strcmp(a, "--incomplete"))
+				rc = pc_incomplete_policy_from_name(v, &incomplete);
+			else if (!strcmp(a, "--store"))
+				rc = pc_recording_store_from_name(v, &store);
+			else if (!strcmp(a, "--queue-mb"))
+				rc = cli_parse_long(a, v, 1, 1L << 30, &queue_mb);
+			else if (!(rc = cli_parse_double(a, v, &write_delay_ms)) &&
+				 (write_delay_ms < 0 || write_delay_ms > 3.6e6))
+				return cli_error(CLI_EXIT_USAGE, "--write-delay-ms %g: expected 0..3600000",
+						 write_delay_ms);
+			if (rc)
+				return cli_fail(rc, a);
 		} else if (a[0] == '-') {
 			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		} else if (!sa.req.uri) {
@@ -135,6 +171,10 @@ int cli_cmd_capture(int argc, char **argv)
 			      .process = process,
 			      .method = method,
 			      .keep_every = (uint64_t)keep_every,
-			      .timeout_ms = sa.timeout_ms };
+			      .timeout_ms = sa.timeout_ms,
+			      .incomplete = incomplete,
+			      .store = store,
+			      .queue_bytes = (uint64_t)queue_mb << 20,
+			      .write_delay_ms = write_delay_ms };
 	return run(&o, json);
 }

@@ -19,7 +19,7 @@ static void usage(FILE *fp)
 		"                     [--reference]\n"
 		"\n"
 		"Scores demosaicking methods against ground truth with the frozen protocol of\n"
-		"../shared/data/README.md: the four analyser images normalised by their container's\n"
+		"docs/evaluation.md: the four analyser images normalised by their container's\n"
 		"full scale, cropped to even size, mosaicked with the Sony layout [90 45; 135 0],\n"
 		"demosaicked, and compared outside a 15-pixel border: PSNR (dB, peak 1) of the four\n"
 		"I channels (mean), S0/2, (S1+1)/2, (S2+1)/2 and DoLP; AoLP RMSE in degrees (wrapped\n"
@@ -115,7 +115,7 @@ static int write_json(const char *json_path, const pc_eval_result *res, size_t n
 		json_array_append_new(js, o);
 	}
 	json_object_set_new(root, "protocol", json_string("polarcam frozen protocol: "
-							  "../shared/data/README.md"));
+							  "docs/evaluation.md"));
 	json_object_set_new(root, "reference", json_boolean(reference));
 	json_object_set_new(root, "scenes", js);
 	json_object_set_new(root, "datasets", jd);

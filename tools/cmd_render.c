@@ -40,12 +40,18 @@ static void usage(FILE *fp)
 		"      --no-truth      do not write truth_*.npy\n"
 		"  -t, --threads N     threads (default: all cores)\n"
 		"      --overwrite     replace DIR as a whole when it exists\n"
+		"      --store S       frame files: png (default), npy or raw (headerless, geometry\n"
+		"                      in meta.json); all read by file:DIR sources\n"
 		"      --json          print a summary as one JSON line on stdout\n"
 		"  -h, --help          this help\n"
 		"\n"
 		"Progress goes to stderr when it is a terminal (POLARCAM_PROGRESS=1 forces it).\n"
 		"Files and fields: docs/outputs.md.\n"
-		"Exit status: 0 success, 1 failure, 2 bad arguments or scene, or DIR exists.\n"
+		"SIGINT/SIGTERM stop after the frame in hand (or the scene's render): the frames written\n"
+		"are put in place, meta.json says complete=false, \"interrupted after N of M frames\",\n"
+		"with timings.\n"
+		"Exit status: 0 success, 1 failure or interrupted, 2 bad arguments or scene, or DIR\n"
+		"exists.\n"
 		"\n"
 		"examples:\n"
 		"  polarcam render -o out/\n"
@@ -79,11 +85,17 @@ static int parse_roi(const char *arg, pc_sim_options *o)
 /* the recording and its report */
 static int run(const char *out, pc_render_opts *ro, bool json)
 {
+	cli_catch_signals();
 	cli_progress bar = { 0 };
-	ro->progress = (pc_progress){ cli_progress_fn, &bar };
+	ro->progress = (pc_progress){ cli_progress_stoppable, &bar };
 	pc_render_report rep;
 	int rc = pc_render_recording(out, ro, &rep);
 	cli_progress_end(&bar);
+	if (rc == PC_ECANCELED)
+		return cli_error(CLI_EXIT_FAILURE,
+				 "%s (the %llu frames written are intact in %s; meta.json says "
+				 "complete=false)",
+				 pc_error_detail(), (unsigned long long)rep.frames, out);
 	if (rc)
 		return cli_fail(rc, NULL);
 	if (json) {
@@ -113,12 +125,14 @@ int cli_cmd_render(int argc, char **argv)
 		{ "first", required_argument, NULL, 'F' },  { "seed", required_argument, NULL, 's' },
 		{ "roi", required_argument, NULL, 'R' },    { "no-truth", no_argument, NULL, 'T' },
 		{ "threads", required_argument, NULL, 't' }, { "overwrite", no_argument, NULL, 'W' },
-		{ "json", no_argument, NULL, 'J' },         { NULL, 0, NULL, 0 }
+		{ "json", no_argument, NULL, 'J' },         { "store", required_argument, NULL, 'S' },
+		{ NULL, 0, NULL, 0 }
 	};
 	const char *out = NULL;
 	long frames = -1, threads = 0;
 	uint64_t first = 0, seed = 0;
 	bool truth = true, overwrite = false, json = false;
+	pc_recording_store store = PC_STORE_PNG;
 	pc_sim_options o = pc_sim_options_default();
 	int c, rc;
 	optind = 1;
@@ -157,6 +171,10 @@ int cli_cmd_render(int argc, char **argv)
 		case 'J':
 			json = true;
 			break;
+		case 'S':
+			if ((rc = pc_recording_store_from_name(optarg, &store)))
+				return cli_fail(rc, "--store");
+			break;
 		case ':':
 			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
 		default:
@@ -176,6 +194,6 @@ int cli_cmd_render(int argc, char **argv)
 	o.seed = seed;
 	o.threads = (int)threads;
 	pc_render_opts ro = { scene_path, NULL, o, frames > 0 ? (uint64_t)frames : 0, first, truth,
-			      overwrite, { NULL, NULL } };
+			      overwrite, { NULL, NULL }, store };
 	return run(out, &ro, json);
 }

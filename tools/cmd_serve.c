@@ -44,6 +44,8 @@ static void usage(FILE *fp)
 	    "                      is refused unless --overwrite)\n"
 	    "  --overwrite         replace FILE\n"
 	    "  --json              accepted: the output is always JSON lines\n\n"
+	    "SIGINT/SIGTERM stop the camera cleanly (also while the cycle is being rendered) and\n"
+	    "print the statistics; exit status 0 then, 1 when the frame source failed.\n"
 	    "On start it prints one JSON line {\"serving\": ...} on stdout; at the end one with "
 	    "the\n"
 	    "statistics. Camera discovery answers go to the interface's network: in tests run it\n"
@@ -63,16 +65,23 @@ static int run(const pc_gige_server_options *op, const char *genicam, double dur
 	pc_gige_server_options o = *op;
 	const char *uri = o.source_uri;
 	pc_gige_server *srv = NULL;
+	/* a signal during the start (rendering the cycle) ends it cleanly too */
+	cli_catch_signals();
+	cli_progress bar = { 0 };
+	o.progress = (pc_progress){ cli_progress_stoppable, &bar };
 	int rc = pc_gige_server_start(&srv, &o);
+	cli_progress_end(&bar);
 	if (rc) {
 		pc_devices_shutdown();
+		if (rc == PC_ECANCELED)
+			return cli_error(CLI_EXIT_FAILURE, "interrupted while starting: %s",
+			                 pc_error_detail());
 		return cli_fail(rc, "serve");
 	}
 	if (genicam) {
 		const char *xml = pc_gige_server_genicam(srv);
-		FILE *fp = fopen(genicam, "w");
-		if (!fp || fputs(xml, fp) < 0 || fclose(fp) != 0)
-			cli_warn("cannot write %s", genicam);
+		if (pc_write_file_atomic(genicam, xml, strlen(xml)))
+			cli_warn("cannot write %s: %s", genicam, pc_error_detail());
 	}
 	pc_gige_server_stats st;
 	pc_gige_server_get_stats(srv, &st);
@@ -90,7 +99,6 @@ static int run(const pc_gige_server_options *op, const char *genicam, double dur
 	cli_print_json(j);
 	fflush(stdout);
 
-	cli_catch_signals();
 	double t0 = cli_now();
 	char msg[256] = "";
 	int err = 0;

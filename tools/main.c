@@ -3,6 +3,7 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "polarcam/version.h"
 
 static const cli_command cli_commands[] = {
 #define CLI_COMMAND_ENTRY(name, summary) { #name, summary, cli_cmd_##name },
@@ -36,7 +37,7 @@ int main(int argc, char **argv)
 		return CLI_EXIT_OK;
 	}
 	if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
-		printf("polarcam %s\n", PC_VERSION);
+		printf("polarcam %s\n", pc_version());
 		return CLI_EXIT_OK;
 	}
 	/* --quiet / -q belongs to every command: taken out here (up to a "--") */

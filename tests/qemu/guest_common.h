@@ -19,6 +19,9 @@ static inline double gt_now(void)
 }
 
 /* Each result line ends with the seconds since the previous one: what that check cost. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 0)))
+#endif
 static inline void gt_vline(const char *tag, const char *name, const char *fmt, va_list ap)
 {
 	double now = gt_now();

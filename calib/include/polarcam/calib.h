@@ -29,6 +29,7 @@
 #include <stdint.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 #include "polarcam/stokes.h"
@@ -69,7 +70,7 @@ typedef struct pc_calib {
 	float *gain;               /* (H, W) relative gain, mean 1 over valid pixels */
 	float *analysis;           /* (H, W, 3) analysis vectors (a0, a1, a2), after dark and gain */
 	float *residual;           /* (H, W) RMS residual of the analyser fit, DN (K > 3) */
-	float *pinv_sp;            /* (H/2, W/2, 3, 4) pseudo-inverses per 2×2 super-pixel */
+	float *pinv_sp;            /* (3, 4, H/2, W/2) pseudo-inverses per 2×2 super-pixel */
 	uint8_t *valid;            /* (H, W) 1 = trusted pixel, 0 = dead, hot, saturated, unfit */
 	/* ECM (global over the field): generator W (4 × n_psg) and analyser A (4·n_psa × 4) in
 	 * the frame order of polarcam mueller (generator fastest). */
@@ -82,10 +83,10 @@ typedef struct pc_calib {
 	int pinv_method;
 } pc_calib;
 
-void pc_calib_init(pc_calib *cal);
-void pc_calib_free(pc_calib *cal);
+PC_API void pc_calib_init(pc_calib *cal);
+PC_API void pc_calib_free(pc_calib *cal);
 /* Deep copy (maps, provenance; not the cache). */
-int pc_calib_copy(pc_calib *dst, const pc_calib *src);
+PC_API int pc_calib_copy(pc_calib *dst, const pc_calib *src);
 
 /* One recording of one stimulus: n frames of the geometry, read on demand. */
 typedef int (*pc_calib_frame_fn)(void *user, size_t i, pc_view *out);
@@ -116,13 +117,13 @@ typedef struct pc_calib_opts {
 /* Dark: N ≥ 2 dark frames → per-pixel offset (mean) and temporal noise (σ). Pixels whose
  * offset is more than 8 robust σ above the median (hot) are invalid. out is (re)initialised
  * and holds only the dark part. */
-int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_calib *out);
+PC_API int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_calib *out);
 
 /* Flat: n_levels ≥ 2 stacks of uniform unpolarized light at different levels → per-pixel
  * gain: the slope of the pixel's mean against the level's mean over the pixels of its analyser
  * channel (least squares through the levels, so any residual offset cancels), normalised to mean
  * 1 over valid pixels. base (may be NULL) supplies the dark; out gets base's parts + the gain. */
-int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib *base,
+PC_API int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib *base,
 		  const pc_calib_opts *o, pc_calib *out);
 
 /* Analyser: K stimuli of a uniform linearly polarized field, stimulus k with Stokes
@@ -135,7 +136,7 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
  * the uncalibrated (I0 + I45 + I90 + I135)/2). Errors: K too small, angles not spanning
  * (PC_ENUMERIC, "singular fit"), saturated stimuli, size mismatches. angles_out (may be NULL)
  * receives the K angles used (estimated ones in unknown-angles mode). */
-int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base,
+PC_API int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base,
 		      const pc_calib_opts *o, pc_calib *out, double *angles_out);
 
 /* ---- ECM (Compain, Poirier & Drévillon 1999) ---- */
@@ -156,20 +157,20 @@ typedef struct pc_ecm_result {
  * orientations of samples 2 and 3 (default 90° and 30°); they are refined by minimising the
  * smallest eigenvalue of K within ±20°. PC_ENUMERIC when B_air is singular or K's null space
  * is not one-dimensional. */
-int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
+PC_API int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
 		 const double theta_guess_deg[2], pc_ecm_result *r);
 
 /* Mueller matrix of a linear diattenuating retarder with transmission axis at θ: principal
  * intensity transmittances p = 2τcos²ψ and q = 2τsin²ψ and retardance δ (the ECM sample model,
  * Compain et al. 1999 eq. 9, rotated: M = R(−θ)·M₀·R(θ)). */
-void pc_ecm_sample_mueller(double tau, double psi_rad, double delta_rad, double theta_rad,
+PC_API void pc_ecm_sample_mueller(double tau, double psi_rad, double delta_rad, double theta_rad,
 			   double M[4][4]);
 
 /* ECM from recordings: each sample's stack holds n_psg·n_psa frames (or whole multiples:
  * cycles are averaged); the intensity matrix is the mean over the valid pixels of each
  * analyser channel, after base's dark (or black level). The result goes into out (base's
  * parts + PC_CAL_ECM). */
-int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa,
+PC_API int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa,
 		 const double theta_guess_deg[2], const pc_calib *base, const pc_calib_opts *o,
 		 pc_calib *out, pc_ecm_result *res);
 
@@ -177,34 +178,34 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 
 /* 0 when frames of geometry g can be processed with cal; otherwise PC_EINVAL naming the
  * mismatch ("frame 640x480 at ROI (0,0), calibration 612x512 at (0,0): size differs"). */
-int pc_calib_check(const pc_calib *cal, const pc_calib_geometry *g);
+PC_API int pc_calib_check(const pc_calib *cal, const pc_calib_geometry *g);
 
 /* The corrected raw: out[p] = (raw_p − dark_p)/g_p (or raw − black_level without a dark),
  * float (H, W) with row stride width; valid_out (may be NULL) gets 0 where the pixel is invalid
  * in the calibration or the sample is at or above the saturation level. Returns the number of
  * invalid pixels through n_invalid (may be NULL). */
-int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_t *valid_out,
+PC_API int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_t *valid_out,
 		     size_t *n_invalid);
 
 /* Per-output-pixel pseudo-inverses for a demosaicking method into cal's cache: superpixel
  * methods use pinv_sp; the others demosaic the analysis-vector maps with the method. *pinv
  * points into the cache (valid until cal changes or is freed). */
-int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_analyser_pinv *pinv);
+PC_API int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_analyser_pinv *pinv);
 
 /* The calibrated pipeline: check, correct, demosaic, Stokes with the calibrated analysers.
  * out as pc_stokes_from_raw (size pc_demosaic_out_size); valid_out (may be NULL, size of the
  * output) is 1 where every sample the pixel depends on is trusted. */
-int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *g,
+PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *g,
 		    pc_demosaic_method method, int threads, const pc_stokes_out *out,
 		    uint8_t *valid_out, size_t *n_invalid);
 
 /* ---- the file (docs/calibration.md) ---- */
 
 /* Writes cal as a NumPy .npz (a zip of .npy arrays) atomically. */
-int pc_calib_write(const char *path, const pc_calib *cal);
+PC_API int pc_calib_write(const char *path, const pc_calib *cal);
 /* Reads and validates a calibration file (every array's dtype and shape, the version, the
  * metadata); errors name the file and the member. */
-int pc_calib_read(const char *path, pc_calib *cal);
+PC_API int pc_calib_read(const char *path, pc_calib *cal);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -48,7 +50,7 @@ typedef struct pc_lu_chipman {
  * when PC_LC_ZERO_M00; R_axis when R = 0). With PC_LC_NO_FACTORS the three factor matrices are
  * not written and `physical` is false unless PC_LC_FILTER asked for the check. Conventions and
  * tolerances: docs/physics-notes.md. */
-int pc_lu_chipman_decompose(const double M[4][4], unsigned options, pc_lu_chipman *out);
+PC_API int pc_lu_chipman_decompose(const double M[4][4], unsigned options, pc_lu_chipman *out);
 
 /* Outputs of pc_lu_chipman_map as structure of arrays, n entries each. A NULL pointer is not
  * written, and the work only it needs is skipped (R_axis, R_linear, R_circular cost two
@@ -60,9 +62,9 @@ typedef struct pc_lc_map {
 	unsigned *flags; /* pc_lc_flags */
 } pc_lc_map;
 
-/* Instruction set of the map kernel; AUTO picks the widest this CPU has (AVX-512, AVX2, else
- * PORTABLE: the scalar reference matrix by matrix). The environment variables
- * POLARCAM_NO_AVX512 and POLARCAM_NO_AVX2 (non-empty, not "0") exclude a level from AUTO. */
+/* Instruction set of the map kernel; AUTO follows pc_cpu_active() (polarcam/cpu.h: the widest
+ * this CPU has, capped by the environment variable POLARCAM_CPU): AVX-512, AVX2, else PORTABLE
+ * (the scalar reference matrix by matrix). */
 typedef enum pc_lc_isa {
 	PC_LC_ISA_AUTO = 0,
 	PC_LC_ISA_PORTABLE,
@@ -78,14 +80,14 @@ typedef enum pc_lc_isa {
  * realisability check rejects under PC_LC_FILTER go through the scalar path (Cloude filter).
  * Single-threaded and reentrant: callers split large maps across threads. Returns 0, or
  * PC_EINVAL for NULL pointers with n > 0 or unknown option bits. */
-int pc_lu_chipman_map(const double *M, size_t n, unsigned options, const pc_lc_map *out);
+PC_API int pc_lu_chipman_map(const double *M, size_t n, unsigned options, const pc_lc_map *out);
 
 /* The same with an explicit instruction set; PC_ENOTSUP when this CPU or build lacks it. */
-int pc_lu_chipman_map_isa(const double *M, size_t n, unsigned options, const pc_lc_map *out,
+PC_API int pc_lu_chipman_map_isa(const double *M, size_t n, unsigned options, const pc_lc_map *out,
                           pc_lc_isa isa);
 
 /* Name of the instruction set AUTO uses here ("avx512", "avx2", "scalar"). */
-const char *pc_lu_chipman_map_isa_name(void);
+PC_API const char *pc_lu_chipman_map_isa_name(void);
 
 #ifdef __cplusplus
 }

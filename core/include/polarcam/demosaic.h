@@ -22,6 +22,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
@@ -70,16 +71,16 @@ typedef struct pc_demosaic_method_info {
 } pc_demosaic_method_info;
 
 /* Table entry of a method, NULL for out-of-range values. */
-const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m);
+PC_API const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m);
 
 /* Method by command-line name. PC_EINVAL listing the valid names when unknown. */
-int pc_demosaic_method_from_name(const char *name, pc_demosaic_method *m);
+PC_API int pc_demosaic_method_from_name(const char *name, pc_demosaic_method *m);
 
 /* Number of output channels for a mosaic: 4 (monochrome) or 12 (colour). */
-unsigned pc_demosaic_channels(const pc_mosaic *m);
+PC_API unsigned pc_demosaic_channels(const pc_mosaic *m);
 
 /* Output size of a method for a raw of width × height. */
-void pc_demosaic_out_size(pc_demosaic_method m, uint32_t width, uint32_t height, uint32_t *ow,
+PC_API void pc_demosaic_out_size(pc_demosaic_method m, uint32_t width, uint32_t height, uint32_t *ow,
 			  uint32_t *oh);
 
 typedef struct pc_demosaic_opts {
@@ -89,12 +90,65 @@ typedef struct pc_demosaic_opts {
 			   * format (2^bits - 1), or 1.0 for float32 raws */
 } pc_demosaic_opts;
 
-/* Demosaics raw (any integer pc_pixfmt, packed or not, or finite float32) with mosaic m into
- * pc_demosaic_channels(m) output images of pc_demosaic_out_size(). opts may be NULL.
+/* ---- the front door: raw → demosaic (→ Stokes, polarcam/stokes.h) with one options struct ----
+ *
+ * Black level: subtracted from every raw sample before demosaicking (so outputs are in raw
+ * units above black; DoLP is unbiased by the sensor's offset). Values below the black level
+ * become negative, and stay so: nothing is clamped.
+ * Saturation and dead levels: an output pixel whose value depends on a raw sample >= the
+ * saturation level or <= the dead level (raw units, before the black level) is flagged in the
+ * validity output; its value is computed as for any other pixel. "Depends on" is the method's
+ * support: the 3×3 neighbourhood for bilinear, the 2×2 super-pixel for the super-pixel
+ * methods, wider boxes for the others (docs/demosaicking.md lists them), with the borders'
+ * mirror applied. */
+
+struct pc_analyser_pinv; /* polarcam/stokes.h */
+
+typedef struct pc_pipeline_opts {
+	pc_demosaic_method method;
+	pc_mosaic mosaic;        /* the raw's mosaic, phase included (pc_frame.mosaic) */
+	int threads;             /* 0: pc_parallel default; 1: the caller's thread only */
+	bool reference;          /* the double-precision references instead of the fast paths */
+	double full_scale;       /* the raw's full scale for edge-aware weights (raw units); 0:
+				  * 2^bits − 1, or 1.0 for float32 raws. The methods use
+				  * full_scale − black_level. */
+	double black_level;      /* raw units, >= 0 and below full scale; 0: none */
+	double saturation_level; /* raw units; samples >= it are saturated; 0: not checked */
+	double dead_level;       /* raw units; samples <= it are dead; 0: not checked (to flag
+				  * samples of 0 in an integer raw, give 0.5) */
+	/* pc_stokes_run only: calibrated analysers (polarcam/stokes.h), NULL for ideal ones;
+	 * pc_demosaic_run refuses it */
+	const struct pc_analyser_pinv *pinv;
+} pc_pipeline_opts;
+
+/* Bilinear on Sony's IMX250MZR mosaic, default threads, fast paths, full scale from the format,
+ * no black level, no saturation or dead checks, ideal analysers. */
+PC_API pc_pipeline_opts pc_pipeline_defaults(void);
+
+/* Which output pixels are valid. mask: NULL (only the count is wanted) or the output size in
+ * bytes, row stride row_stride bytes, written 1 (valid) or 0 (depends on a saturated or dead
+ * sample). n_invalid: set by the call to the number of 0s (0 when no level is checked). */
+typedef struct pc_validity {
+	uint8_t *mask;
+	size_t row_stride;
+	uint64_t n_invalid;
+} pc_validity;
+
+/* Demosaics raw (any integer pc_pixfmt, packed or not, or finite float32) into
+ * pc_demosaic_channels(&opts->mosaic) output images of pc_demosaic_out_size(); valid may be
+ * NULL. Validates everything once, then takes the path of the method table: the reference,
+ * the fast kernel, or for colour mosaics the colour step then the monochrome one.
  * Errors (PC_EINVAL with a detail message): invalid view or mosaic, odd or too small sizes
  * (at least 4×4, even; colour: at least 8×8), a method that does not support the mosaic kind,
- * missing output planes, NaN or infinite float input (PC_ERANGE naming the pixel). */
-int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
+ * missing output planes, levels that are negative, not finite, a black level at or above full
+ * scale, a dead level at or above the saturation level, opts->pinv set; NaN or infinite float
+ * input (PC_ERANGE naming the pixel). */
+PC_API int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_fplane *out,
+		    pc_validity *valid);
+
+/* pc_demosaic_run with method, mosaic m, and opts' threads, reference and full scale (opts may
+ * be NULL): no black level, no validity. */
+PC_API int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
 		const pc_demosaic_opts *opts, const pc_fplane *out);
 
 /* Bilinear into 16-bit planes, for live paths that keep integers (display, recording, 16-bit
@@ -104,14 +158,14 @@ int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method metho
  * container format (Mono10/12/14/16) and bits + frac_bits <= 16 (PC_ERANGE otherwise), with
  * the same sizes and mosaics as pc_demosaic. Equal to pc_demosaic's bilinear scaled and rounded
  * (tested). */
-int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned frac_bits,
+PC_API int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned frac_bits,
 			     int threads, uint16_t *const out[4], size_t out_stride);
 
 /* Fills planes[0..channels) for an interleaved C-order (height, width, channels) float buffer. */
-void pc_fplanes_interleaved(float *base, uint32_t width, unsigned channels, pc_fplane *planes);
+PC_API void pc_fplanes_interleaved(float *base, uint32_t width, unsigned channels, pc_fplane *planes);
 
 /* Fills planes[0..channels) for channels consecutive width × height planes (channel-major). */
-void pc_fplanes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
+PC_API void pc_fplanes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
 			 pc_fplane *planes);
 
 #ifdef __cplusplus

@@ -7,6 +7,8 @@
 #ifndef POLARCAM_ERROR_H
 #define POLARCAM_ERROR_H
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -40,30 +42,30 @@ enum pc_errno {
 };
 
 /* Static description of an error code ("unknown error" for codes not in the list). */
-const char *pc_strerror(int code);
+PC_API const char *pc_strerror(int code);
 
 /* Symbolic name of an error code ("PC_EINVAL"), for JSON output. */
-const char *pc_errname(int code);
+PC_API const char *pc_errname(int code);
 
 /* Sets the calling thread's detail message (printf format) and returns code, so that callers
  * can write: return pc_error(PC_EINVAL, "sigma = %g: must be > 0", s); */
-int pc_error(int code, const char *fmt, ...)
+PC_API int pc_error(int code, const char *fmt, ...)
 #if defined(__GNUC__)
 	__attribute__((format(printf, 2, 3)))
 #endif
 	;
 
 /* Prefixes the current detail message with more context ("scene.json: " + detail). Returns code. */
-int pc_error_prefix(int code, const char *fmt, ...)
+PC_API int pc_error_prefix(int code, const char *fmt, ...)
 #if defined(__GNUC__)
 	__attribute__((format(printf, 2, 3)))
 #endif
 	;
 
 /* The calling thread's detail message; "" when none was set. Valid until the next pc_error*. */
-const char *pc_error_detail(void);
+PC_API const char *pc_error_detail(void);
 
-void pc_error_clear(void);
+PC_API void pc_error_clear(void);
 
 #ifdef __cplusplus
 }

@@ -1,5 +1,5 @@
-/* polarcam/eval.h - the frozen demosaicking evaluation protocol (../shared/data/README.md, the
- * one the field's public evaluation code uses, Tokyo Tech / Lapray):
+/* polarcam/eval.h - the frozen demosaicking evaluation protocol (docs/evaluation.md, the one
+ * the field's public evaluation code uses, Tokyo Tech / Lapray):
  *
  *  1. the four analyser images as float64, normalised to [0, 1] by the container's full scale
  *     (16-bit containers: 65535, even for 12-bit data; 8-bit: 255; float data as is);
@@ -21,6 +21,7 @@
 #include <stdint.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
@@ -52,22 +53,22 @@ typedef struct pc_eval_metrics {
 /* Steps 1-2 from four analyser images in the order I0, I45, I90, I135 (same size; Mono8,
  * 16-bit containers or Float32, all the same container). Odd sizes lose their last row or
  * column. Errors name the image (0°, 45°, ...) and the problem. */
-int pc_eval_truth_from_views(const pc_view views[4], pc_eval_truth *t);
-void pc_eval_truth_free(pc_eval_truth *t);
+PC_API int pc_eval_truth_from_views(const pc_view views[4], pc_eval_truth *t);
+PC_API void pc_eval_truth_free(pc_eval_truth *t);
 
 /* The raw mosaic of the truth with layout m, in the truth's container (values × full scale,
  * exact). Owned view: free with pc_view_free. */
-int pc_eval_mosaic(const pc_eval_truth *t, const pc_mosaic *m, pc_view *raw);
+PC_API int pc_eval_mosaic(const pc_eval_truth *t, const pc_mosaic *m, pc_view *raw);
 
 /* Steps 4-5: scores four demosaicked channels (in the raw's units; divided by est_scale to
  * normalise) against the truth. Images must be at least 2·PC_EVAL_BORDER + 1 in each size. */
-int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_scale,
+PC_API int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_scale,
 		  pc_eval_metrics *out);
 
 /* Steps 2-5 for one method: mosaic with the Sony layout, demosaic (opts may be NULL), score.
  * Half-resolution methods are scored after replication to full size (each 2×2 block takes its
  * super-pixel's values). */
-int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
+PC_API int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
 		   const pc_demosaic_opts *opts, pc_eval_metrics *out);
 
 
@@ -90,20 +91,20 @@ typedef struct pc_eval_stokes_metrics {
 
 /* S0 (times scale), DoLP and AoLP planes of n truth Stokes vectors (n × 4 floats: S0..S3), in
  * double through pc_stokes_dolp (then clipped to 1) and pc_stokes_aolp_rad (polarcam/optics.h). */
-void pc_eval_truth_planes(const float *truth_stokes, size_t n, double scale, float *s0,
+PC_API void pc_eval_truth_planes(const float *truth_stokes, size_t n, double scale, float *s0,
 			  float *dolp, float *aolp);
 
 /* Scores estimate planes (W × H, contiguous) against truth planes in the same units. Scored
  * pixels: truth S0 above 2 % of full_scale, brightest analyser (S0·(1 + DoLP)/2) below 95 % of
  * it. NaN metrics when no pixel qualifies. */
-int pc_eval_stokes(const float *s0, const float *dolp, const float *aolp, const float *t_s0,
+PC_API int pc_eval_stokes(const float *s0, const float *dolp, const float *aolp, const float *t_s0,
 		   const float *t_dolp, const float *t_aolp, uint32_t width, uint32_t height,
 		   double full_scale, pc_eval_stokes_metrics *out);
 
 /* Median |est − truth| over the n pixels whose weight exceeds wmin and whose values are finite
  * (angle_pi: differences of angles in [0, π], folded to [0, π/2]); *used (may be NULL) counts
  * them. NaN when none. */
-double pc_eval_median_abs_err(const float *est, const float *truth, const float *weight, size_t n,
+PC_API double pc_eval_median_abs_err(const float *est, const float *truth, const float *weight, size_t n,
 			      double wmin, bool angle_pi, long *used);
 
 #ifdef __cplusplus

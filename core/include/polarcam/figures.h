@@ -17,6 +17,8 @@
 
 #include <stddef.h>
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -43,7 +45,7 @@ typedef struct pc_figure {
 typedef enum pc_verdict { PC_VERDICT_NO = 0, PC_VERDICT_YES, PC_VERDICT_PARTLY } pc_verdict;
 
 /* "does not reproduce", "reproduces", "partly" */
-const char *pc_verdict_name(pc_verdict v);
+PC_API const char *pc_verdict_name(pc_verdict v);
 
 typedef struct pc_figure_claim {
 	int figure;
@@ -54,11 +56,11 @@ typedef struct pc_figure_claim {
 } pc_figure_claim;
 
 /* Computes figs[2] .. figs[11] (figs[0], figs[1] unused). */
-int pc_figures_compute(pc_figure figs[12]);
+PC_API int pc_figures_compute(pc_figure figs[12]);
 
 /* Checks the paper's claims against computed figures: fills claims (at most max) and returns
  * how many there are (PC_FIGURE_MAX_CLAIMS is enough). */
-size_t pc_figures_check(const pc_figure figs[12], pc_figure_claim *claims, size_t max);
+PC_API size_t pc_figures_check(const pc_figure figs[12], pc_figure_claim *claims, size_t max);
 
 #ifdef __cplusplus
 }

@@ -11,6 +11,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -57,17 +59,17 @@ typedef struct pc_format_info {
 } pc_format_info;
 
 /* Table entry of a format, or NULL for PC_FMT_INVALID / out-of-range values. */
-const pc_format_info *pc_format_info_get(pc_pixfmt fmt);
+PC_API const pc_format_info *pc_format_info_get(pc_pixfmt fmt);
 
 /* Minimum bytes of one row of width pixels. Fails (PC_EINVAL) when width is not a multiple of
  * the packing group or the size overflows. */
-int pc_format_row_bytes(pc_pixfmt fmt, uint32_t width, size_t *row_bytes);
+PC_API int pc_format_row_bytes(pc_pixfmt fmt, uint32_t width, size_t *row_bytes);
 
 /* Format by polarcam/GenICam name, case-sensitive ("Mono12", "Mono12p"). PC_FMT_INVALID if none. */
-pc_pixfmt pc_format_from_name(const char *name);
+PC_API pc_pixfmt pc_format_from_name(const char *name);
 
 /* Format by V4L2 fourcc. PC_FMT_INVALID if none. */
-pc_pixfmt pc_format_from_v4l2(uint32_t fourcc);
+PC_API pc_pixfmt pc_format_from_v4l2(uint32_t fourcc);
 
 /* A GenICam PixelFormat enumeration entry name as cameras report it, including vendors'
  * polarized raw names (LUCID PolarizeMono8/12/12p/12Packed/16, FLIR Polarized8/10p/12p/16,
@@ -77,7 +79,7 @@ pc_pixfmt pc_format_from_v4l2(uint32_t fourcc);
  * polarizer mosaic and *colour whether it declares a colour filter array on top of it.
  * Returns PC_ENOTSUP for names polarcam cannot process (processed formats such as
  * PolarizedStokes_* or RGB), PC_EINVAL for unknown names. */
-int pc_format_from_genicam(const char *name, pc_pixfmt *fmt, bool *polarized, bool *colour);
+PC_API int pc_format_from_genicam(const char *name, pc_pixfmt *fmt, bool *polarized, bool *colour);
 
 /* One GenICam PixelFormat enumeration entry polarcam can take raw mosaics from. */
 typedef struct pc_genicam_format {
@@ -92,10 +94,10 @@ typedef struct pc_genicam_format {
 
 /* The table of GenICam names polarcam accepts (standard mono names and vendors' polarized raw
  * names); *count receives its length. For cameras' GenICam descriptions and listings. */
-const pc_genicam_format *pc_genicam_formats(size_t *count);
+PC_API const pc_genicam_format *pc_genicam_formats(size_t *count);
 
 /* V4L2 fourcc as a printable 4-character string in buf (at least 5 bytes). */
-const char *pc_fourcc_str(uint32_t fourcc, char buf[5]);
+PC_API const char *pc_fourcc_str(uint32_t fourcc, char buf[5]);
 
 #define PC_FOURCC(a, b, c, d) \
 	((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))

@@ -27,6 +27,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -40,15 +42,15 @@ typedef struct pc_mosaic {
 } pc_mosaic;
 
 /* Sony IMX250MZR: [90 45; 135 0]. */
-pc_mosaic pc_mosaic_imx250mzr(void);
+PC_API pc_mosaic pc_mosaic_imx250mzr(void);
 
 /* Sony IMX250MYR: [90 45; 135 0] blocks under RGGB. */
-pc_mosaic pc_mosaic_imx250myr(void);
+PC_API pc_mosaic pc_mosaic_imx250myr(void);
 
 /* Monochrome mosaic from the four angles of the 2×2 block in row-major order (top-left,
  * top-right, bottom-left, bottom-right), e.g. {90, 45, 135, 0}. PC_EINVAL unless the angles
  * are a permutation of 0, 45, 90, 135. */
-int pc_mosaic_from_angles(const int angles_deg[4], pc_mosaic *out);
+PC_API int pc_mosaic_from_angles(const int angles_deg[4], pc_mosaic *out);
 
 /* Parses a layout string [BAYER:]A,B,C,D[@DX,DY]:
  *   A,B,C,D  the analyser angles of the 2×2 block, row-major ("90,45,135,0" is IMX250MZR);
@@ -58,30 +60,30 @@ int pc_mosaic_from_angles(const int angles_deg[4], pc_mosaic *out);
  *   @DX,DY   the phase: pixel (0,0) of the image is pixel (DX,DY) of the pattern described
  *            (0..1, or 0..3 with a colour filter), as after a crop at an odd offset.
  * The names "imx250mzr" and "imx250myr" are accepted too. Errors name the offending token. */
-int pc_mosaic_parse(const char *layout, pc_mosaic *out);
+PC_API int pc_mosaic_parse(const char *layout, pc_mosaic *out);
 
 /* Writes the layout in the syntax pc_mosaic_parse reads ("90,45,135,0",
  * "RGGB:90,45,135,0@1,0"); pc_mosaic_parse of the result gives the same mosaic. */
-void pc_mosaic_format(const pc_mosaic *m, char *buf, unsigned size);
+PC_API void pc_mosaic_format(const pc_mosaic *m, char *buf, unsigned size);
 
 /* Validates a mosaic: period 2 without colour or period 4 with whole 2×2 polarizer blocks under
  * a Bayer pattern; a 2×2 polarizer pattern holding each analyser once. PC_EINVAL otherwise. */
-int pc_mosaic_check(const pc_mosaic *m);
+PC_API int pc_mosaic_check(const pc_mosaic *m);
 
 /* Whether a and b describe the same pattern: the same period and the same analyser and colour
  * at every position of it (what pc_mosaic_channel / pc_mosaic_color read). */
-bool pc_mosaic_equal(const pc_mosaic *a, const pc_mosaic *b);
+PC_API bool pc_mosaic_equal(const pc_mosaic *a, const pc_mosaic *b);
 
 /* For a colour mosaic: (*ox, *oy) in 0..1 where the 2×2 colour blocks start. PC_EINVAL (no
  * detail message) when m is monochrome or its colours are not constant on 2×2 blocks. */
-int pc_mosaic_color_origin(const pc_mosaic *m, unsigned *ox, unsigned *oy);
+PC_API int pc_mosaic_color_origin(const pc_mosaic *m, unsigned *ox, unsigned *oy);
 
 /* The mosaic seen by a crop whose origin is (x0, y0) on this mosaic. */
-pc_mosaic pc_mosaic_shift(const pc_mosaic *m, uint32_t x0, uint32_t y0);
+PC_API pc_mosaic pc_mosaic_shift(const pc_mosaic *m, uint32_t x0, uint32_t y0);
 
 /* The mosaic of an image flipped horizontally (ReverseX) or vertically (ReverseY) whose full
  * width/height is w/h. Flips mirror angles: an analyser at θ becomes one at 180° − θ. */
-pc_mosaic pc_mosaic_flip(const pc_mosaic *m, int flip_x, int flip_y, uint32_t w, uint32_t h);
+PC_API pc_mosaic pc_mosaic_flip(const pc_mosaic *m, int flip_x, int flip_y, uint32_t w, uint32_t h);
 
 static inline unsigned pc_mosaic_channel(const pc_mosaic *m, uint32_t x, uint32_t y)
 {
@@ -95,7 +97,7 @@ static inline pc_cfa_color pc_mosaic_color(const pc_mosaic *m, uint32_t x, uint3
 
 /* Position (dx, dy) in 0..1 of channel c inside a 2×2 block starting at an even position of
  * this (monochrome) mosaic. */
-void pc_mosaic_channel_pos(const pc_mosaic *m, unsigned c, unsigned *dx, unsigned *dy);
+PC_API void pc_mosaic_channel_pos(const pc_mosaic *m, unsigned c, unsigned *dx, unsigned *dy);
 
 #ifdef __cplusplus
 }

@@ -28,6 +28,7 @@
 #include <stdbool.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
@@ -52,12 +53,12 @@ typedef struct pc_mueller_system {
 /* Builds the system from n_psg generator Stokes vectors, n_psa PSA Mueller matrices (NULL with
  * n_psa = 1 means no PSA element) and the four channel analyser rows (NULL: ideal). Errors:
  * counts out of range, non-finite input, rank below 3 (PC_ENUMERIC, naming A or G). */
-int pc_mueller_system_init(pc_mueller_system *s, unsigned n_psg, const double (*psg)[4],
+PC_API int pc_mueller_system_init(pc_mueller_system *s, unsigned n_psg, const double (*psg)[4],
 			   unsigned n_psa, const double (*psa)[4][4], const double (*analyser)[4]);
 
 /* The scalar double reference: M from the n_psg·n_psa·4 intensities of one pixel,
  * I[(g + n_psg·a)·4 + c]. Undetermined elements are NaN. */
-void pc_mueller_solve(const pc_mueller_system *s, const double *I, double M[4][4]);
+PC_API void pc_mueller_solve(const pc_mueller_system *s, const double *I, double M[4][4]);
 
 /* Adds frame j's contribution to per-pixel Mueller matrices: M is float (H, W, 4, 4), zeroed
  * by the caller before the first frame; ch[c] are the frame's four analyser images (channel c
@@ -65,11 +66,11 @@ void pc_mueller_solve(const pc_mueller_system *s, const double *I, double M[4][4
  * A⁺·I·G⁺ (undetermined elements stay 0: pc_mueller_finish marks them NaN). Accumulation in
  * float: relative error ≤ ~1e-6 against pc_mueller_solve (tested), far below shot noise. Runs
  * row bands on pc_parallel threads (threads 0 = default). */
-int pc_mueller_accumulate(const pc_mueller_system *s, unsigned frame, const pc_fplane ch[4],
+PC_API int pc_mueller_accumulate(const pc_mueller_system *s, unsigned frame, const pc_fplane ch[4],
 			  uint32_t width, uint32_t height, int threads, float *M);
 
 /* Marks the undetermined elements of every pixel NaN. */
-void pc_mueller_finish(const pc_mueller_system *s, uint32_t width, uint32_t height, float *M);
+PC_API void pc_mueller_finish(const pc_mueller_system *s, uint32_t width, uint32_t height, float *M);
 
 /* ---- The 4×4 from the 3×3 linear block for the pBRDF family (physics.md §7) ----
  *
@@ -117,12 +118,12 @@ typedef struct pc_rebuild_info {
  * the input is rejected (PC_RB_REJECTED). tol (relative to N00, ≥ 0) bounds the residual and
  * the realisability excesses. info may be NULL. Returns 0, or PC_EINVAL for non-finite input,
  * a negative or non-finite tol, or sign PC_REBUILD_OFF. */
-int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, double tol,
+PC_API int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, double tol,
 				   double M[4][4], pc_rebuild_info *info);
 
 /* Parses "convention", "+", "-", "off" (also "plus", "minus"); PC_EINVAL otherwise. */
-int pc_rebuild_sign_from_name(const char *name, pc_rebuild_sign *out);
-const char *pc_rebuild_sign_name(pc_rebuild_sign sign);
+PC_API int pc_rebuild_sign_from_name(const char *name, pc_rebuild_sign *out);
+PC_API const char *pc_rebuild_sign_name(pc_rebuild_sign sign);
 
 
 /* ---- Lu–Chipman maps of a Mueller image ---- */
@@ -136,20 +137,20 @@ typedef struct pc_rebuild_opts {
 
 /* True when the rebuild applies to a system with these determined elements: rb given and not
  * off, the 3×3 linear block determined and not the whole matrix. */
-bool pc_mueller_rebuild_applies(const pc_rebuild_opts *rb, unsigned determined);
+PC_API bool pc_mueller_rebuild_applies(const pc_rebuild_opts *rb, unsigned determined);
 
 /* Lu–Chipman D, R, Δ of every pixel of a (H, W, 4, 4) Mueller image through the batched kernel
  * (pc_lu_chipman_map with PC_LC_FILTER | PC_LC_NO_FACTORS: non-physical matrices are
  * Cloude-filtered first), NaN where undefined and everywhere when determined is not the whole
  * matrix. counts (may be NULL): pixels with D ≈ 1 or M00 ≤ 0, not physical (filtered, or M00 ≤
  * 0), not decomposable (non-finite). Row bands on pc_parallel threads. */
-void pc_mueller_maps(const float *M, uint32_t width, uint32_t height, unsigned determined,
+PC_API void pc_mueller_maps(const float *M, uint32_t width, uint32_t height, unsigned determined,
 		     int threads, float *D, float *R, float *Delta, long counts[3]);
 /* The same, first rebuilding the circular entries in M (in place) where
  * pc_mueller_rebuild_applies: rejected pixels get NaN there and NaN maps; residual (may be NULL)
  * receives the rebuild residual / M00 per pixel; rb_counts: rejected (inconsistent or not
  * realisable; M00 ≤ 0 is not counted), sign undefined. */
-void pc_mueller_maps_rebuild(float *M, uint32_t width, uint32_t height, unsigned determined,
+PC_API void pc_mueller_maps_rebuild(float *M, uint32_t width, uint32_t height, unsigned determined,
 			     const pc_rebuild_opts *rb, int threads, float *D, float *R,
 			     float *Delta, float *residual, long counts[3], long rb_counts[2]);
 
@@ -182,16 +183,16 @@ typedef struct pc_mueller_run pc_mueller_run;
 
 /* Starts a run for the system (copied) and the frames' mosaic (monochrome polarizer mosaics
  * only: PC_EINVAL naming the layout otherwise). */
-int pc_mueller_run_new(const pc_mueller_system *sys, const pc_mosaic *mosaic,
+PC_API int pc_mueller_run_new(const pc_mueller_system *sys, const pc_mosaic *mosaic,
 		       const pc_mueller_run_opts *opts, pc_mueller_run **out);
 /* Adds frame number frame (0 .. n_psg·n_psa − 1, in order: the float sums depend on it); every
  * frame must have frame 0's size. */
-int pc_mueller_run_add(pc_mueller_run *run, unsigned frame, const pc_view *raw);
+PC_API int pc_mueller_run_add(pc_mueller_run *run, unsigned frame, const pc_view *raw);
 /* After the last frame: the Mueller image and its maps (the run hands its buffers over; free
  * them with pc_mueller_result_free). */
-int pc_mueller_run_finish(pc_mueller_run *run, pc_mueller_result *res);
-void pc_mueller_run_free(pc_mueller_run *run);
-void pc_mueller_result_free(pc_mueller_result *res);
+PC_API int pc_mueller_run_finish(pc_mueller_run *run, pc_mueller_result *res);
+PC_API void pc_mueller_run_free(pc_mueller_run *run);
+PC_API void pc_mueller_result_free(pc_mueller_result *res);
 
 #ifdef __cplusplus
 }

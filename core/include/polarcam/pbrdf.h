@@ -10,6 +10,8 @@
 #ifndef POLARCAM_PBRDF_H
 #define POLARCAM_PBRDF_H
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -45,18 +47,18 @@ typedef struct pc_pbrdf pc_pbrdf;
 
 /* Validates m (errors name the field: "sigma = -1: must be > 0") and prepares it. Cheap
  * enough to call once per material of a scene. */
-int pc_pbrdf_new(const pc_material *m, pc_pbrdf **out);
-void pc_pbrdf_free(pc_pbrdf *p);
+PC_API int pc_pbrdf_new(const pc_material *m, pc_pbrdf **out);
+PC_API void pc_pbrdf_free(pc_pbrdf *p);
 
 /* f in sr⁻¹ for macro angles in radians (θ_i, θ_r in [0, π/2], Δφ any), in the macro frames of
  * physics.md §1. */
-int pc_pbrdf_eval(const pc_pbrdf *p, double theta_i, double theta_r, double dphi, double f[4][4]);
+PC_API int pc_pbrdf_eval(const pc_pbrdf *p, double theta_i, double theta_r, double dphi, double f[4][4]);
 
 /* The same from unit vectors in a local frame whose +z is the macro surface normal: k_i, k_r as
  * above; s_i ⟂ k_i and s_r ⟂ k_r are unit s-vectors of the caller's Stokes frames (any
  * orientation; physics.md §2 with s_Mi, s_Mr replaced by them). Returns an all-zero matrix
  * (and 0) below the horizon. */
-int pc_pbrdf_eval_vec(const pc_pbrdf *p, const double k_i[3], const double k_r[3],
+PC_API int pc_pbrdf_eval_vec(const pc_pbrdf *p, const double k_i[3], const double k_r[3],
                       const double s_i[3], const double s_r[3], double f[4][4]);
 
 /* ρ^s(θ_i) of this material (physics.md §2 eq. 11; §5 quadrature or table). In PC_RHO_QUAD
@@ -64,7 +66,7 @@ int pc_pbrdf_eval_vec(const pc_pbrdf *p, const double k_i[3], const double k_r[3
  * PC_RHO_TABLE mode the bicubic table value; for σ < PC_PBRDF_SIGMA_MIRROR the mirror limit
  * (Fresnel reflectance F(θ_i) for PC_DIFFUSE_FRESNEL, 1 for PC_DIFFUSE_GEOMETRIC). With
  * PC_SHADOW_NONE ρ^s grows like 1/cosθ_i and is +inf at θ_i = 90°. NaN for PC_DIFFUSE_NONE. */
-double pc_pbrdf_rho_s(const pc_pbrdf *p, double theta_i);
+PC_API double pc_pbrdf_rho_s(const pc_pbrdf *p, double theta_i);
 
 /* Additions (physics area). */
 
@@ -86,28 +88,28 @@ enum pc_pbrdf_flags {
 };
 
 /* pc_pbrdf_flags of a prepared material. */
-unsigned pc_pbrdf_flags(const pc_pbrdf *p);
+PC_API unsigned pc_pbrdf_flags(const pc_pbrdf *p);
 
 /* The material as validated (rho_order resolved to the order actually used). */
-const pc_material *pc_pbrdf_material(const pc_pbrdf *p);
+PC_API const pc_material *pc_pbrdf_material(const pc_pbrdf *p);
 
 /* ρ^s(θ_i) as pc_pbrdf_eval uses it: a per-material table in cosθ_i (PC_PBRDF_RHO_NODES nodes,
  * cubic interpolation) built at creation from the material's rule, so that evaluation costs a
  * few ns. Its difference from pc_pbrdf_rho_s() is the interpolation error, stated in
  * docs/physics-notes.md and tested. Argument: cosθ_i in [0, 1]. */
-double pc_pbrdf_rho_s_fast(const pc_pbrdf *p, double cos_theta_i);
+PC_API double pc_pbrdf_rho_s_fast(const pc_pbrdf *p, double cos_theta_i);
 #define PC_PBRDF_RHO_NODES 257
 
 /* ρ^s(θ_i) by the N×N slope-space rule of physics.md §5 for any order N ≥ 1 (allocates nothing
  * for N ≤ 1024; larger N returns NaN), ignoring the material's rho_mode and the mirror switch.
  * For tests and the accuracy-vs-cost benchmark. */
-double pc_pbrdf_rho_s_quad(const pc_pbrdf *p, double theta_i, int order);
+PC_API double pc_pbrdf_rho_s_quad(const pc_pbrdf *p, double theta_i, int order);
 
 /* Mueller reflectance matrix (dimensionless) of the ideal mirror reflection of this material
  * (the σ → 0 limit of the specular lobe) for light arriving from k_i, leaving along
  * k_r = (−k_ix, −k_iy, k_iz), with the caller's s-vectors s_i ⟂ k_i, s_r ⟂ k_r as in
  * pc_pbrdf_eval_vec. All-zero for k_iz ≤ 0. */
-int pc_pbrdf_mirror(const pc_pbrdf *p, const double k_i[3], const double s_i[3],
+PC_API int pc_pbrdf_mirror(const pc_pbrdf *p, const double k_i[3], const double s_i[3],
                     const double s_r[3], double R[4][4]);
 
 #ifdef __cplusplus

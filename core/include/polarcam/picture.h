@@ -15,6 +15,7 @@
 #include <stdint.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -28,17 +29,17 @@ typedef enum pc_aolp_style {
 
 /* Grey picture of a float image, linear from lo (black) to hi (white). Non-finite values are
  * drawn magenta so that they cannot hide. */
-int pc_picture_grey(const pc_fplane *in, uint32_t width, uint32_t height, float lo, float hi,
+PC_API int pc_picture_grey(const pc_fplane *in, uint32_t width, uint32_t height, float lo, float hi,
 		    uint8_t *rgb, size_t rgb_stride);
 
 /* AoLP false colour; dolp may be NULL for PC_AOLP_HUE_ONLY. dolp_max (> 0) is the DoLP shown
  * at full value/saturation. */
-int pc_picture_aolp(const pc_fplane *aolp, const pc_fplane *dolp, uint32_t width, uint32_t height,
+PC_API int pc_picture_aolp(const pc_fplane *aolp, const pc_fplane *dolp, uint32_t width, uint32_t height,
 		    pc_aolp_style style, float dolp_max, uint8_t *rgb, size_t rgb_stride);
 
 /* The q-quantile (0..1) of the finite values of an image (histogram-based, 4096 bins between
  * the minimum and maximum; exact to 1/4096 of the range). For display ranges. */
-float pc_picture_quantile(const pc_fplane *in, uint32_t width, uint32_t height, double q);
+PC_API float pc_picture_quantile(const pc_fplane *in, uint32_t width, uint32_t height, double q);
 
 /* Low-signal mask: where S0 is below threshold (or not finite), DoLP and AoLP are dominated by
  * noise (their noise grows like σ/S0; the simulator's cast shadows show as white DoLP speckle),
@@ -47,18 +48,18 @@ float pc_picture_quantile(const pc_fplane *in, uint32_t width, uint32_t height, 
  * AoLP colour looks like. Returns the number of pixels painted. */
 #define PC_PICTURE_MASK_RGB0 52
 #define PC_PICTURE_MASK_RGB1 84
-size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t height, float threshold,
+PC_API size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t height, float threshold,
 			   uint8_t *rgb, size_t rgb_stride);
 /* The mask's colour at pixel (x, y) (for legends). */
-void pc_picture_mask_rgb(uint32_t x, uint32_t y, uint8_t rgb[3]);
+PC_API void pc_picture_mask_rgb(uint32_t x, uint32_t y, uint8_t rgb[3]);
 
 /* HSV (h in [0, 1) of the circle, s, v in [0, 1]) to RGB8. */
-void pc_hsv_to_rgb8(double h, double s, double v, uint8_t rgb[3]);
+PC_API void pc_hsv_to_rgb8(double h, double s, double v, uint8_t rgb[3]);
 
 /* Legend colours: t along the bar (0..1), s across it (2-D keys). ctx: pointer to a
  * pc_aolp_style for pc_picture_aolp_key; unused for pc_picture_grey_key. */
-void pc_picture_grey_key(double t, double s, uint8_t rgb[3], void *ctx);
-void pc_picture_aolp_key(double t, double s, uint8_t rgb[3], void *ctx);
+PC_API void pc_picture_grey_key(double t, double s, uint8_t rgb[3], void *ctx);
+PC_API void pc_picture_aolp_key(double t, double s, uint8_t rgb[3], void *ctx);
 
 #ifdef __cplusplus
 }

@@ -15,7 +15,9 @@
  * Calibrated cameras: each analyser c responds I_c = W_c · (S0, S1, S2) with a 4×3 analyser
  * matrix W (ideal: W_c = ½·(1, cos 2θ_c, sin 2θ_c)). Least squares gives S = W⁺·I with the
  * 3×4 pseudo-inverse W⁺ = (WᵀW)⁻¹Wᵀ, computed once per calibration (pc_stokes_pinv) and
- * applied per pixel (pc_stokes_from_channels with a pc_analyser_pinv).
+ * applied per pixel: by the front door (pc_stokes_run with pc_pipeline_opts.pinv, in every
+ * path, the fused fast ones included), or to analyser images (pc_stokes_from_channels).
+ * S_i = (W⁺_i0·I0 + W⁺_i1·I1) + (W⁺_i2·I2 + W⁺_i3·I3): the ideal W⁺ gives the formulas above.
  */
 #ifndef POLARCAM_STOKES_H
 #define POLARCAM_STOKES_H
@@ -25,6 +27,7 @@
 #include <stdint.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
@@ -37,49 +40,63 @@ typedef struct pc_stokes_out {
 	pc_fplane s0, s1, s2, dolp, aolp;
 } pc_stokes_out;
 
-/* Per-pixel (or per-region) analyser pseudo-inverses: a grid_w × grid_h grid of 3×4 row-major
- * matrices (12 floats each, C order (grid_h, grid_w, 3, 4)); output pixel (x, y) of a W × H image
- * uses cell (x·grid_w / W, y·grid_h / H). A 1×1 grid is one matrix for the whole image. */
+/* Per-pixel (or per-region) analyser pseudo-inverses: a grid_w × grid_h grid of 3×4 matrices,
+ * stored as twelve planes, C order (3, 4, grid_h, grid_w): element (i, c) of cell (gx, gy) -
+ * Stokes component i, analyser c - is m[((4·i + c)·grid_h + gy)·grid_w + gx]. Output pixel
+ * (x, y) of a W × H image uses cell (x·grid_w / W, y·grid_h / H) (integer division). A 1×1
+ * grid is one matrix for the whole image, a W × H grid one per pixel, a W/2 × H/2 grid one per
+ * 2×2 super-pixel; these three run in the vectorised kernels, other grids in a scalar one.
+ * The elements must be finite (pc_stokes_pinv makes them; the kernels do not check). */
 typedef struct pc_analyser_pinv {
 	const float *m;
 	uint32_t grid_w, grid_h;
 } pc_analyser_pinv;
 
 /* The ideal analyser matrix: W[c] = ½·(1, cos 2θ_c, sin 2θ_c), θ_c = 45°·c. */
-void pc_stokes_ideal_analyser(double w[4][3]);
+PC_API void pc_stokes_ideal_analyser(double w[4][3]);
 
 /* 3×4 pseudo-inverse (WᵀW)⁻¹Wᵀ of a 4×3 analyser matrix, in double. PC_ENUMERIC when W is
  * rank-deficient (reciprocal condition number of WᵀW below 1e-10). */
-int pc_stokes_pinv1(const double w[4][3], double pinv[3][4]);
+PC_API int pc_stokes_pinv1(const double w[4][3], double pinv[3][4]);
 
-/* Pseudo-inverses of n analyser matrices (n × 4 × 3 floats) into n × 3 × 4 floats. Fails with
- * PC_ENUMERIC naming the first singular matrix. */
-int pc_stokes_pinv(const float *w, size_t n, float *pinv);
+/* Pseudo-inverses of n analyser matrices (n × 4 × 3 floats, C order) into the twelve planes of
+ * a pc_analyser_pinv of n cells (12 × n floats: element (i, c) of matrix k at pinv[(4i + c)·n +
+ * k]). Fails with PC_ENUMERIC naming the first singular matrix. */
+PC_API int pc_stokes_pinv(const float *w, size_t n, float *pinv);
 
 /* Stokes, DoLP and AoLP of width × height pixels from four analyser images (I0, I45, I90,
  * I135). pinv NULL: the ideal formulas above; otherwise the least-squares pseudo-inverses. */
-int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t height,
+PC_API int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t height,
 			    const pc_analyser_pinv *pinv, const pc_stokes_out *out);
 
-/* The pipeline: demosaic raw with method, then Stokes/DoLP/AoLP, without full-size
- * intermediate images (bilinear is fused into one pass; other methods run in row bands).
- * Colour-polarization mosaics use the colour average (R + G + B)/3 of each analyser image.
- * Output size is pc_demosaic_out_size(method, ...). opts may be NULL; opts->reference runs the
- * double-precision references of both stages. */
-int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
+/* The front door of the pipeline: demosaic raw (black level subtracted), then Stokes/DoLP/AoLP
+ * through ideal analysers or, with opts->pinv, calibrated ones - without full-size
+ * intermediate images where the method allows (bilinear is fused into one pass, the row-cache
+ * methods hand rows from cache; planar outputs), and the validity of every output pixel
+ * (polarcam/demosaic.h; valid may be NULL). Colour-polarization mosaics use the colour average
+ * (R + G + B)/3 of each analyser image. Output size is pc_demosaic_out_size(method, ...);
+ * opts->reference runs the double-precision demosaicking reference, then the Stokes kernels of
+ * pc_stokes_from_channels. Errors as pc_demosaic_run (opts->pinv allowed), plus missing outputs
+ * and a pinv grid that is empty or larger than the output. */
+PC_API int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out,
+		  pc_validity *valid);
+
+/* pc_stokes_run with method, mosaic m, and opts' threads, reference and full scale (opts may
+ * be NULL): ideal analysers, no black level, no validity. */
+PC_API int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
 		       const pc_demosaic_opts *opts, const pc_stokes_out *out);
 
-/* Whether pc_stokes_from_raw with PC_DM_BILINEAR (or a row-cache method) writes these width ×
+/* Whether pc_stokes_run with PC_DM_BILINEAR (or a row-cache method) writes these width ×
  * height outputs with non-temporal (cache-bypassing) stores on this machine: AVX2, planar
  * 64-byte aligned outputs with 64-byte aligned rows, at least 32 MB of them, and not on AMD
  * processors, where ordinary stores measured faster (docs/demosaicking.md);
  * POLARCAM_NT_MIN_BYTES overrides the size threshold. For benchmarks that compare the
  * pipeline with a memory floor written the same way. */
-bool pc_stokes_streams(const pc_stokes_out *out, uint32_t width, uint32_t height);
+PC_API bool pc_stokes_streams(const pc_stokes_out *out, uint32_t width, uint32_t height);
 
 /* AoLP = ½·atan2(s2, s1) mapped to [0, π), the float kernel used by the fast paths
  * (maximum error 3e-7 rad against double, tested). */
-float pc_aolp_f(float s1, float s2);
+PC_API float pc_aolp_f(float s1, float s2);
 
 #ifdef __cplusplus
 }

@@ -2,7 +2,7 @@
  * description does not say: which raw pixel formats carry the polarizer mosaic, the ADC bit
  * depth and the mosaic layout at sensor pixel (0,0) (before ROI offsets and ReverseX/Y).
  *
- * Sources (hardware.md): LUCID Arena PolarizeMono* names; FLIR Spinnaker Polarized* and
+ * Sources (docs/hardware.md): LUCID Arena PolarizeMono* names; FLIR Spinnaker Polarized* and
  * BayerRGPolarized* names; Basler's polarized models use the standard Mono* names. All IMX250MZR
  * cameras listed read out [90 45; 135 0] at the top-left; the colour-polarization IMX250MYR
  * cameras (LUCID TRI050S-Q, FLIR BFS-U3-51S5PC) put those 2x2 blocks under an RGGB Bayer
@@ -12,6 +12,7 @@
 
 #include <stdbool.h>
 
+#include "polarcam/export.h"
 #include "polarcam/format.h"
 #include "polarcam/mosaic.h"
 
@@ -30,10 +31,10 @@ typedef struct pc_camera_profile {
 
 /* The profile for a device, or NULL when polarcam knows none (then a polarized pixel-format
  * name alone still marks the data as a mosaic, with the IMX250MZR layout). */
-const pc_camera_profile *pc_camera_profile_find(const char *vendor, const char *model);
+PC_API const pc_camera_profile *pc_camera_profile_find(const char *vendor, const char *model);
 
 /* True when name is listed in the profile's raw formats. */
-bool pc_camera_profile_has_format(const pc_camera_profile *p, const char *name);
+PC_API bool pc_camera_profile_has_format(const pc_camera_profile *p, const char *name);
 
 /* What a camera's pixel format, identified by its GenICam enumeration NAME, delivers. */
 typedef struct pc_camera_format {
@@ -51,11 +52,11 @@ typedef struct pc_camera_format {
  * layout's 2x2 blocks under RGGB with red at sensor pixel (0,0), as the name says.
  * Errors: those of pc_format_from_genicam (PC_ENOTSUP for colour or processed formats without
  * a raw mosaic, PC_EINVAL for unknown names), PC_EINVAL for an invalid override. */
-int pc_camera_format_get(const pc_camera_profile *p, const char *name,
+PC_API int pc_camera_format_get(const pc_camera_profile *p, const char *name,
                          const pc_mosaic *mosaic_override, pc_camera_format *out);
 
 /* The table, NULL-terminated by an entry with vendor NULL. */
-const pc_camera_profile *pc_camera_profiles(void);
+PC_API const pc_camera_profile *pc_camera_profiles(void);
 
 #ifdef __cplusplus
 }

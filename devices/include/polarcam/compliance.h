@@ -24,6 +24,8 @@
 
 #include <stdbool.h>
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -37,8 +39,8 @@ typedef enum pc_fault_kind {
 } pc_fault_kind;
 
 /* "none", "drop", ...; parse returns PC_FAULT_NONE for NULL and -1 for unknown names. */
-const char *pc_fault_name(pc_fault_kind k);
-int pc_fault_parse(const char *name);
+PC_API const char *pc_fault_name(pc_fault_kind k);
+PC_API int pc_fault_parse(const char *name);
 
 typedef enum pc_check_result { PC_CHECK_PASS = 0, PC_CHECK_FAIL, PC_CHECK_SKIP } pc_check_result;
 
@@ -64,7 +66,7 @@ typedef struct pc_compliance_result {
 
 /* Runs every check against the source at uri. Returns 0 when the run completed (look at
  * result->failed), a negative error when the source could not even be opened. */
-int pc_source_compliance(const char *uri, const pc_compliance_options *opt,
+PC_API int pc_source_compliance(const char *uri, const pc_compliance_options *opt,
                          pc_compliance_result *result);
 
 #ifdef __cplusplus

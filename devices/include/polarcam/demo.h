@@ -16,6 +16,7 @@
 #include <stdint.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 #include "polarcam/progress.h"
 
 #ifdef __cplusplus
@@ -43,13 +44,13 @@ typedef struct pc_demo_info {
 } pc_demo_info;
 
 /* Loads the scene and builds the simulator (monochrome sensors only: PC_EINVAL otherwise). */
-int pc_demo_new(const pc_demo_opts *opts, pc_demo **out);
-void pc_demo_get_info(const pc_demo *demo, pc_demo_info *info);
+PC_API int pc_demo_new(const pc_demo_opts *opts, pc_demo **out);
+PC_API void pc_demo_get_info(const pc_demo *demo, pc_demo_info *info);
 /* Runs the job into out_dir, an output folder written as a set (polarcam/io.h, pc_outdir:
  * refused when it exists unless opts->overwrite, put in place only when complete). report_md
  * (may be NULL) receives report.md's text (malloc'd), also when writing it failed. */
-int pc_demo_run(pc_demo *demo, const char *out_dir, char **report_md);
-void pc_demo_free(pc_demo *demo);
+PC_API int pc_demo_run(pc_demo *demo, const char *out_dir, char **report_md);
+PC_API void pc_demo_free(pc_demo *demo);
 
 #ifdef __cplusplus
 }

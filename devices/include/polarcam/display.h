@@ -9,6 +9,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -16,23 +18,23 @@ extern "C" {
 typedef struct pc_display pc_display;
 
 /* True when this build can open windows (OpenCV highgui found at configure time). */
-bool pc_display_available(void);
+PC_API bool pc_display_available(void);
 
 /* Opens a window titled title. PC_ENOTSUP without OpenCV, PC_EIO when no display can be
  * opened (no $DISPLAY / X server). */
-int pc_display_open(pc_display **out, const char *title);
+PC_API int pc_display_open(pc_display **out, const char *title);
 
 /* Shows an RGB8 image with an overlay line of text at the top-left (may be NULL) and waits up
  * to wait_ms for a key. Returns the key code (>= 0), -1 when no key was pressed, or a negative
  * PC_E* code (PC_ECANCELED when the window was closed). */
-int pc_display_show(pc_display *d, const uint8_t *rgb, uint32_t width, uint32_t height,
+PC_API int pc_display_show(pc_display *d, const uint8_t *rgb, uint32_t width, uint32_t height,
                     size_t stride, const char *overlay);
 
-void pc_display_close(pc_display *d);
+PC_API void pc_display_close(pc_display *d);
 
 /* Resizes RGB8 src into dst (area averaging when shrinking): OpenCV when available, else a
  * nearest-neighbour loop. */
-int pc_display_resize_rgb8(const uint8_t *src, uint32_t sw, uint32_t sh, size_t sstride,
+PC_API int pc_display_resize_rgb8(const uint8_t *src, uint32_t sw, uint32_t sh, size_t sstride,
                            uint8_t *dst, uint32_t dw, uint32_t dh, size_t dstride);
 
 #ifdef __cplusplus

@@ -29,6 +29,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
+#include "polarcam/progress.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -45,6 +48,8 @@ typedef struct pc_gige_server_options {
 	                             when rendering cannot keep up) */
 	double frame_rate_hz;     /* initial AcquisitionFrameRate (0 = 25) */
 	double lost_packet_ratio; /* fault injection: fraction of GVSP packets not sent */
+	pc_progress progress;     /* phase "cycle" (frames rendered before serving, cycle > 0);
+				     non-zero stops the start (PC_ECANCELED) */
 } pc_gige_server_options;
 
 typedef struct pc_gige_server_stats {
@@ -60,17 +65,17 @@ typedef struct pc_gige_server_stats {
 
 /* Starts serving. Errors: PC_ENOTSUP without Aravis, PC_EBUSY when the address cannot be
  * bound, source errors. */
-int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *opt);
-void pc_gige_server_get_stats(pc_gige_server *srv, pc_gige_server_stats *st);
+PC_API int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *opt);
+PC_API void pc_gige_server_get_stats(pc_gige_server *srv, pc_gige_server_stats *st);
 /* 0 while healthy; the producer's error code after a failure (the detail message is copied into
  * msg). A server whose source failed keeps answering GVCP but sends no frames. */
-int pc_gige_server_error(pc_gige_server *srv, char *msg, unsigned size);
+PC_API int pc_gige_server_error(pc_gige_server *srv, char *msg, unsigned size);
 /* The GenICam XML the camera serves (owned by the server). */
-const char *pc_gige_server_genicam(pc_gige_server *srv);
-void pc_gige_server_stop(pc_gige_server *srv);
+PC_API const char *pc_gige_server_genicam(pc_gige_server *srv);
+PC_API void pc_gige_server_stop(pc_gige_server *srv);
 
 /* Process-wide clean-up of the camera library (Aravis's caches), for programs before exit. */
-void pc_devices_shutdown(void);
+PC_API void pc_devices_shutdown(void);
 
 #ifdef __cplusplus
 }

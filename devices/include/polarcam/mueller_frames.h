@@ -12,6 +12,7 @@
 
 #include <stddef.h>
 
+#include "polarcam/export.h"
 #include "polarcam/mueller_imaging.h"
 #include "polarcam/progress.h"
 #include "polarcam/sim.h"
@@ -38,18 +39,18 @@ typedef struct pc_mueller_used {
 } pc_mueller_used;
 
 /* The frames of a recording directory, in recording order. */
-int pc_mueller_from_recording(const char *dir, const pc_mueller_request *rq,
+PC_API int pc_mueller_from_recording(const char *dir, const pc_mueller_request *rq,
 			      pc_mueller_result *res, pc_mueller_used *used);
 
 /* Raw mosaic files (PNG, TIFF, .npy, BMP: pc_image_read_mosaic) in sequence order;
  * rq->states_path is required. */
-int pc_mueller_from_files(const char *const *files, size_t n, const pc_mueller_request *rq,
+PC_API int pc_mueller_from_files(const char *const *files, size_t n, const pc_mueller_request *rq,
 			  pc_mueller_result *res, pc_mueller_used *used);
 
 /* n_psg·n_psa frames dequeued from a streaming source (frame j is the j-th dequeued: a gap in
  * the sequence numbers is an error, PC_EIO, since a lost frame breaks the states' order), under
  * the states st. The mosaic is the frames' own unless rq->layout is given. */
-int pc_mueller_from_source(pc_source *src, const pc_sim_states *st, int timeout_ms,
+PC_API int pc_mueller_from_source(pc_source *src, const pc_sim_states *st, int timeout_ms,
 			   const pc_mueller_request *rq, pc_mueller_result *res,
 			   pc_mueller_used *used);
 

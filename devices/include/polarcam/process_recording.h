@@ -5,6 +5,7 @@
 #ifndef POLARCAM_PROCESS_RECORDING_H
 #define POLARCAM_PROCESS_RECORDING_H
 
+#include "polarcam/export.h"
 #include "polarcam/process.h"
 
 #ifdef __cplusplus
@@ -16,7 +17,7 @@ extern "C" {
  * (its inputs, count and numbers are the recording's). o->mosaic is used as given: take the
  * recording's with pc_recording_frame_mosaic. PC_EFORMAT for a recording without a polarizer
  * mosaic, PC_EINVAL for one without frames. */
-int pc_process_recording(const char *rec_dir, const pc_process_batch *b,
+PC_API int pc_process_recording(const char *rec_dir, const pc_process_batch *b,
 			 const pc_process_opts *o, const char *dir,
 			 const pc_stokes_folder_opts *folder, char **meta);
 

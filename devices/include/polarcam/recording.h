@@ -8,7 +8,14 @@
  *                                             holding the significant bits for 9..16-bit formats
  *                                             (values LSB-aligned, as Mono10/12/16); packed
  *                                             device formats (Mono12p...) are unpacked first
+ *   or raw_NNNNNN.npy                         the same pixels as a NumPy (H, W) array, u1 or <u2
+ *   or raw_NNNNNN.raw                         the same pixels headerless: rows without padding,
+ *                                             1 byte per pixel (8-bit) or 2 bytes little-endian,
+ *                                             W, H and the format from meta.json
  *   DIR/meta.json                             the recording's description (below)
+ *
+ * The three stores (pc_recording_store) hold the same values; PNG is compressed (about half the
+ * bytes of the others for 12-bit frames) and costs the most time to write, raw costs the least.
  *
  * meta.json (written atomically, rewritten while recording, complete=true at the end):
  *
@@ -20,6 +27,7 @@
  *     "offset_x": 0, "offset_y": 0,             ROI origin on the sensor
  *     "sensor_width": 2448, "sensor_height": 2048,
  *     "polarized": true, "mosaic": "90,45,135,0",  mosaic phase at pixel (0,0) of the frames
+ *     "store": "png",                           how the frames are stored (png, npy, raw)
  *     "frames": [ { "file": "raw_000000.png", "sequence": 0, "timestamp_ns": 0,
  *                   "exposure_us": 10000, "gain_db": 0, "status": [] }, ... ],
  *     "complete": true, "error": null,         false + message when recording ended early
@@ -27,7 +35,11 @@
  *
  * Every frame file is written atomically (temporary file + rename), so a recording that ended
  * early (a camera unplugged, the process killed) holds only whole frames, and meta.json lists
- * the frames written before its last rewrite.
+ * the frames written before its last rewrite. While a recording is being written meta.json says
+ * complete = false with error null; it says complete = true only once every frame is in. A
+ * process killed while writing a frame leaves its temporary file (".raw_NNNNNN.png.tmpXXXXXX",
+ * never listed); the next recording made in the directory removes such leftovers
+ * (pc_atomic_sweep).
  */
 #ifndef POLARCAM_RECORDING_H
 #define POLARCAM_RECORDING_H
@@ -36,6 +48,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
 
@@ -45,6 +58,18 @@ extern "C" {
 
 typedef struct pc_recording pc_recording;
 
+/* How frames are stored (the files' extension). */
+typedef enum pc_recording_store {
+	PC_STORE_PNG = 0, /* raw_NNNNNN.png */
+	PC_STORE_NPY,     /* raw_NNNNNN.npy */
+	PC_STORE_RAW      /* raw_NNNNNN.raw */
+} pc_recording_store;
+
+/* "png", "npy", "raw"; NULL for anything else. */
+PC_API const char *pc_recording_store_name(pc_recording_store s);
+/* PC_EINVAL naming the choices for an unknown name. */
+PC_API int pc_recording_store_from_name(const char *name, pc_recording_store *out);
+
 typedef struct pc_recording_desc {
 	const char *source;        /* URI or description, may be NULL */
 	pc_pixfmt format;          /* the frames' pixel format (any integer format) */
@@ -52,6 +77,7 @@ typedef struct pc_recording_desc {
 	uint32_t width, height, offset_x, offset_y, sensor_width, sensor_height;
 	bool polarized;
 	pc_mosaic mosaic; /* phase at pixel (0,0) of the frames */
+	pc_recording_store store; /* how frames are written (PNG by default) */
 } pc_recording_desc;
 
 typedef struct pc_recording_frame {
@@ -62,53 +88,56 @@ typedef struct pc_recording_frame {
 } pc_recording_frame;
 
 /* Starts a recording in dir (created if missing). Refuses (PC_EBUSY) a directory that already
- * holds a recording (meta.json or raw_000000.png) unless overwrite: then old raw_*.png files
- * beyond the new recording's end are left alone but meta.json only lists the new frames. */
-int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
+ * holds a recording (meta.json or raw_000000.png/.npy/.raw) unless overwrite: then old raw_*
+ * files beyond the new recording's end are left alone but meta.json only lists the new frames.
+ * Temporary files that killed writers left in dir are removed (pc_atomic_sweep). */
+PC_API int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
                         bool overwrite);
-/* Appends a frame: checks it matches the description, writes raw_NNNNNN.png atomically and
- * records its metadata. meta.json is rewritten at most every 0.25 s while recording. */
-int pc_recording_add(pc_recording *r, const pc_frame *frame);
+/* Appends a frame: checks it matches the description, writes raw_NNNNNN.png (.npy, .raw)
+ * atomically and records its metadata. meta.json is rewritten at most every 0.25 s while
+ * recording. */
+PC_API int pc_recording_add(pc_recording *r, const pc_frame *frame);
 /* Attaches JSON text objects written under "stats" / "extra" (NULL clears). PC_EINVAL when
  * the text is not a JSON object. */
-int pc_recording_set_json(pc_recording *r, const char *key, const char *json_object_text);
+PC_API int pc_recording_set_json(pc_recording *r, const char *key, const char *json_object_text);
 /* Writes the final meta.json: complete when error is NULL, else complete=false with the error
  * text. The recording stays usable for reading. */
-int pc_recording_finish(pc_recording *r, const char *error);
+PC_API int pc_recording_finish(pc_recording *r, const char *error);
 
 /* Opens a recording for reading and validates meta.json (every field; frames listed in
- * increasing sequence and non-decreasing time; files named raw_NNNNNN.png). A directory of
+ * increasing sequence and non-decreasing time; files named raw_NNNNNN.png, .npy or .raw; a
+ * raw frame's file holds exactly W x H pixels). A directory of
  * raw_NNNNNN.png files without meta.json is accepted with defaults: frames numbered from
  * 000000 without gaps, format from the first PNG's bit depth (sBIT), IMX250MZR mosaic,
  * timestamps 0 (callers pace them). Errors name the file and the field. */
-int pc_recording_open(pc_recording **out, const char *dir);
-void pc_recording_free(pc_recording *r);
+PC_API int pc_recording_open(pc_recording **out, const char *dir);
+PC_API void pc_recording_free(pc_recording *r);
 
 /* Description and frames of an open recording (valid until freed). */
-const pc_recording_desc *pc_recording_get_desc(const pc_recording *r);
-size_t pc_recording_count(const pc_recording *r);
-const pc_recording_frame *pc_recording_get_frame(const pc_recording *r, size_t i);
-bool pc_recording_is_complete(const pc_recording *r);
-const char *pc_recording_dir(const pc_recording *r);
+PC_API const pc_recording_desc *pc_recording_get_desc(const pc_recording *r);
+PC_API size_t pc_recording_count(const pc_recording *r);
+PC_API const pc_recording_frame *pc_recording_get_frame(const pc_recording *r, size_t i);
+PC_API bool pc_recording_is_complete(const pc_recording *r);
+PC_API const char *pc_recording_dir(const pc_recording *r);
 
 /* The black level (DN) of the sensor that made the frames, when the recording says
  * (extra.sensor.offset_dn, as `polarcam render` writes it), else 0. */
-double pc_recording_black_level(const pc_recording *r);
+PC_API double pc_recording_black_level(const pc_recording *r);
 
 /* The mosaic of a raw file when it is a frame listed in its directory's meta.json (a recording
  * written by render or capture), or of a recording directory itself: 1 and *m set; 0 when it is
  * not (no such recording, not one of its frames, frames without a polarizer mosaic). Never an
  * error. */
-int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
+PC_API int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
 
 /* Reads frame i into an owned view of the recording's storage format (Mono8 or 16-bit
- * Mono10/12/14/16 by bits). Checks the PNG's size and bit depth against meta.json and every
+ * Mono10/12/14/16 by bits). Checks the file's size and bit depth against meta.json and every
  * value against the bit depth. Free with pc_view_free. */
-int pc_recording_read(const pc_recording *r, size_t i, pc_view *out);
+PC_API int pc_recording_read(const pc_recording *r, size_t i, pc_view *out);
 
 /* The storage format of a recording of frames in fmt: Mono8 for <= 8 bits, else Mono10/12/14/16
  * by the significant bits. */
-pc_pixfmt pc_recording_storage_format(pc_pixfmt fmt);
+PC_API pc_pixfmt pc_recording_storage_format(pc_pixfmt fmt);
 
 #ifdef __cplusplus
 }

@@ -4,7 +4,7 @@
  *   scene ──pc_sim_new──► simulator ──pc_sim_prepare (each generator state once, with truth)
  *         ──pc_sim_frame (frame N from (seed, N))──► pc_recording_add ──► DIR
  *
- * DIR receives raw_NNNNNN.png and meta.json (polarcam/recording.h; "extra" holds
+ * DIR receives raw_NNNNNN.png (.npy, .raw: opts.store) and meta.json (polarcam/recording.h; "extra" holds
  * pc_sim_describe_json plus "timings" and "first_frame"), truth_stokes.npy (H, W, 4) float32 —
  * (H, W, 3, 4) for colour sensors, truth_stokes_psgNN.npy per generator state of a sequence —,
  * truth_mueller.npy (H, W, 4, 4) (or (H, W, 3, 4, 4)) when the scene declares "mueller", and
@@ -19,7 +19,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/progress.h"
+#include "polarcam/recording.h"
 #include "polarcam/sim.h"
 
 #ifdef __cplusplus
@@ -34,18 +36,24 @@ typedef struct pc_render_opts {
 	uint64_t first;         /* number of the first frame */
 	bool truth;             /* write truth_*.npy */
 	bool overwrite;         /* replace an existing output folder (polarcam/io.h's rule) */
-	pc_progress progress;   /* phases "render" (rows of each state), "frames" */
+	pc_progress progress;   /* phases "render" (rows of each state), "frames"; non-zero stops
+				   (PC_ECANCELED) after the state or frame in hand, the recording
+				   finished with complete = false and its timings */
+	pc_recording_store store; /* how frames are stored (PNG by default) */
 } pc_render_opts;
 
 typedef struct pc_render_report {
-	uint64_t frames;
+	uint64_t frames; /* frames in the recording (also when the call failed or was stopped) */
 	uint32_t width, height;
 	char *timings; /* {render_s, frames_s, per_frame_s, write_s, total_s, peak_rss_mib}: JSON
 			  text, malloc'd (free it) */
 } pc_render_report;
 
-/* Renders into dir (created with its parents). rep may be NULL. */
-int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
+/* Renders into dir (created with its parents), an output folder written as a set (polarcam/io.h,
+ * pc_outdir). rep may be NULL. PC_ECANCELED when the progress callback asked to stop: the frames
+ * written so far are put in place, meta.json says complete = false, "interrupted after N of M
+ * frames", with the timings (nothing is put in place when no frame was written). */
+PC_API int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
 
 #ifdef __cplusplus
 }

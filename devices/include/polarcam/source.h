@@ -48,6 +48,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/format.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
@@ -66,7 +67,7 @@ typedef enum pc_source_state {
 	PC_SOURCE_CLOSED     /* only seen by backends during close */
 } pc_source_state;
 
-const char *pc_source_state_name(pc_source_state s);
+PC_API const char *pc_source_state_name(pc_source_state s);
 
 /* ---- format negotiation (libcamera's Valid / Adjusted / Invalid) ---- */
 
@@ -76,7 +77,7 @@ typedef enum pc_format_verdict {
 	PC_FORMAT_INVALID    /* nothing close is possible; the detail message says why */
 } pc_format_verdict;
 
-const char *pc_format_verdict_name(pc_format_verdict v);
+PC_API const char *pc_format_verdict_name(pc_format_verdict v);
 
 /* What a source delivers. In a request, zero fields mean "the source's choice" (format
  * PC_FMT_INVALID, width/height 0 = the whole sensor from the offset, stride 0 = the source's
@@ -106,7 +107,7 @@ typedef enum pc_control_id {
 	PC_CTRL_COUNT
 } pc_control_id;
 
-const char *pc_control_name(pc_control_id id); /* "exposure_us", "gain_db", "frame_rate_hz" */
+PC_API const char *pc_control_name(pc_control_id id); /* "exposure_us", "gain_db", "frame_rate_hz" */
 
 typedef struct pc_control_info {
 	double min, max; /* inclusive range */
@@ -167,50 +168,50 @@ typedef struct pc_buffer {
  * known but not built in, the detail says which package is missing; or no such device for a
  * device backend, one with an enumerate function), PC_ENOENT (no such scene / directory),
  * others from the backend. */
-int pc_source_open(pc_source **out, const char *uri);
+PC_API int pc_source_open(pc_source **out, const char *uri);
 /* Stops if streaming, frees the buffers and closes. NULL is fine. */
-void pc_source_close(pc_source *s);
+PC_API void pc_source_close(pc_source *s);
 
-pc_source_state pc_source_get_state(const pc_source *s);
-int pc_source_get_info(pc_source *s, pc_source_info *info);
+PC_API pc_source_state pc_source_get_state(const pc_source *s);
+PC_API int pc_source_get_info(pc_source *s, pc_source_info *info);
 
 /* The current format (valid in every state but CLOSED). */
-int pc_source_get_format(pc_source *s, pc_source_format *fmt);
+PC_API int pc_source_get_format(pc_source *s, pc_source_format *fmt);
 /* Checks a request without applying it: *fmt is completed or adjusted in place and *verdict
  * says which. Returns 0 whenever a verdict was reached (also PC_FORMAT_INVALID, with a detail
  * message), a negative error for bad arguments, wrong state or a failing device. OPEN only. */
-int pc_source_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *verdict);
+PC_API int pc_source_try_format(pc_source *s, pc_source_format *fmt, pc_format_verdict *verdict);
 /* Applies a format. The request must be exactly valid (negotiate with try_format first); an
  * adjustable request fails with PC_EFORMAT and changes nothing. OPEN only. */
-int pc_source_set_format(pc_source *s, const pc_source_format *fmt);
+PC_API int pc_source_set_format(pc_source *s, const pc_source_format *fmt);
 
-int pc_source_control_query(pc_source *s, pc_control_id id, pc_control_info *info);
-int pc_source_control_get(pc_source *s, pc_control_id id, double *value);
+PC_API int pc_source_control_query(pc_source *s, pc_control_id id, pc_control_info *info);
+PC_API int pc_source_control_get(pc_source *s, pc_control_id id, double *value);
 /* Sets a control. Outside [min, max] is PC_ERANGE (never clamped silently); the value applied
  * after rounding to the device's step is written to *applied (may be NULL). While streaming
  * only live controls may change (else PC_ESTATE). */
-int pc_source_control_set(pc_source *s, pc_control_id id, double value, double *applied);
+PC_API int pc_source_control_set(pc_source *s, pc_control_id id, double value, double *applied);
 
 /* Creates the pool of count buffers (1..64) for the current format: OPEN -> READY. */
-int pc_source_buffers_alloc(pc_source *s, unsigned count);
+PC_API int pc_source_buffers_alloc(pc_source *s, unsigned count);
 /* Frees the pool (every buffer must have been requeued): READY/FAILED -> OPEN. */
-int pc_source_buffers_free(pc_source *s);
-unsigned pc_source_buffer_count(const pc_source *s);
+PC_API int pc_source_buffers_free(pc_source *s);
+PC_API unsigned pc_source_buffer_count(const pc_source *s);
 
 /* READY -> STREAMING: every queued buffer is handed to the source. */
-int pc_source_start(pc_source *s);
+PC_API int pc_source_start(pc_source *s);
 /* Pops the next filled buffer, waiting at most timeout_ms (< 0: forever). PC_ETIMEDOUT when
  * nothing came, PC_EDISCONNECTED when the device is gone (the source is then FAILED); a
  * frame the transport delivered damaged is returned (0) with INCOMPLETE/CORRUPT status flags.
  * The wrapper validates every frame against the negotiated format (PC_EIO otherwise). */
-int pc_source_dequeue(pc_source *s, int timeout_ms, pc_buffer **buf);
+PC_API int pc_source_dequeue(pc_source *s, int timeout_ms, pc_buffer **buf);
 /* Pushes a dequeued buffer back into the pool (to the source when streaming). */
-int pc_source_requeue(pc_source *s, pc_buffer *buf);
+PC_API int pc_source_requeue(pc_source *s, pc_buffer *buf);
 /* STREAMING/FAILED -> READY (FAILED stays FAILED): every buffer the application does not
  * hold is back in the pool when it returns. */
-int pc_source_stop(pc_source *s);
+PC_API int pc_source_stop(pc_source *s);
 
-int pc_source_get_stats(pc_source *s, pc_source_stats *st);
+PC_API int pc_source_get_stats(pc_source *s, pc_source_stats *st);
 
 /* ---- the registry ---- */
 
@@ -247,8 +248,8 @@ typedef struct pc_source_backend {
 } pc_source_backend;
 
 /* The backends, built in or not, in a fixed order; NULL after the last. */
-const pc_source_backend *pc_source_backend_get(unsigned index);
-const pc_source_backend *pc_source_backend_find(const char *scheme);
+PC_API const pc_source_backend *pc_source_backend_get(unsigned index);
+PC_API const pc_source_backend *pc_source_backend_find(const char *scheme);
 
 /* ---- writing a backend (used by devices/ and by tests that model broken backends) ----
  *
@@ -287,26 +288,26 @@ struct pc_source_ops {
 };
 
 /* Opens a source with explicit ops (as the registry does for a scheme). */
-int pc_source_open_ops(pc_source **out, const pc_source_ops *ops, const char *scheme,
+PC_API int pc_source_open_ops(pc_source **out, const pc_source_ops *ops, const char *scheme,
                        const char *arg_with_options);
 
 /* Backend helpers. */
-void *pc_source_priv(pc_source *s);
-void pc_source_set_priv(pc_source *s, void *priv);
+PC_API void *pc_source_priv(pc_source *s);
+PC_API void pc_source_set_priv(pc_source *s, void *priv);
 /* The current (applied) format, for backends. */
-const pc_source_format *pc_source_current_format(const pc_source *s);
+PC_API const pc_source_format *pc_source_current_format(const pc_source *s);
 /* An option's value as given, or NULL when absent. Marks it as read. */
-const char *pc_source_option(pc_source *s, const char *key);
+PC_API const char *pc_source_option(pc_source *s, const char *key);
 /* Typed options: 0 and *out untouched when absent; PC_EINVAL naming the URI option when
  * malformed or outside [min, max]. */
-int pc_source_option_double(pc_source *s, const char *key, double min, double max, double *out);
-int pc_source_option_u64(pc_source *s, const char *key, uint64_t min, uint64_t max, uint64_t *out);
-int pc_source_option_bool(pc_source *s, const char *key, bool *out);
+PC_API int pc_source_option_double(pc_source *s, const char *key, double min, double max, double *out);
+PC_API int pc_source_option_u64(pc_source *s, const char *key, uint64_t min, uint64_t max, uint64_t *out);
+PC_API int pc_source_option_bool(pc_source *s, const char *key, bool *out);
 
 /* Fills the output fields of a request from the format table: frame_bytes from stride and
  * height, the mosaic shifted by the ROI offset from the full-sensor mosaic. Checks that stride
  * holds a row. For backends. */
-int pc_source_format_complete(pc_source_format *fmt, const pc_mosaic *sensor_mosaic);
+PC_API int pc_source_format_complete(pc_source_format *fmt, const pc_mosaic *sensor_mosaic);
 
 #ifdef __cplusplus
 }

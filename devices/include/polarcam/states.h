@@ -16,6 +16,7 @@
 
 #include <stddef.h>
 
+#include "polarcam/export.h"
 #include "polarcam/mosaic.h"
 #include "polarcam/sim.h"
 
@@ -24,12 +25,12 @@ extern "C" {
 #endif
 
 /* Writes st (and the frames' mosaic, may be NULL) as path, atomically. */
-int pc_states_write(const char *path, const pc_sim_states *st, const pc_mosaic *mosaic);
+PC_API int pc_states_write(const char *path, const pc_sim_states *st, const pc_mosaic *mosaic);
 
 /* Reads path into st; layout (may be NULL) receives the "layout" string ("" when absent). A
  * file without "analyser" gets the ideal rows ½(1, cos 2θ, sin 2θ, 0). Errors name the file and
  * the field (PC_EFORMAT; PC_ENOENT when it cannot be opened). */
-int pc_states_read(const char *path, pc_sim_states *st, char *layout, size_t layout_size);
+PC_API int pc_states_read(const char *path, pc_sim_states *st, char *layout, size_t layout_size);
 
 #ifdef __cplusplus
 }

@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "polarcam/export.h"
 #include "polarcam/source.h"
 
 #ifdef __cplusplus
@@ -42,15 +43,15 @@ enum {
 
 /* Pure diagnosis: writes the problems found (or "") into note and returns true when the device
  * should stream. usbfs_mb < 0 means unknown. vid/pid and bus/address appear in the advice. */
-bool pc_usb3v_diagnose(int speed, int open_status, long usbfs_mb, unsigned vid, unsigned pid,
+PC_API bool pc_usb3v_diagnose(int speed, int open_status, long usbfs_mb, unsigned vid, unsigned pid,
                        unsigned bus, unsigned address, char *note, size_t size);
 
 /* The usbfs memory limit in MB from /sys/module/usbcore/parameters/usbfs_memory_mb, -1 when
  * it cannot be read. */
-long pc_usbfs_memory_mb(void);
+PC_API long pc_usbfs_memory_mb(void);
 
 /* Lists USB3 Vision devices (needs libusb: PC_ENOTSUP without). */
-int pc_usb3v_list(pc_device_fn fn, void *ctx);
+PC_API int pc_usb3v_list(pc_device_fn fn, void *ctx);
 
 #ifdef __cplusplus
 }

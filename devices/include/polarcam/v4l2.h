@@ -18,6 +18,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/format.h"
 
 #ifdef __cplusplus
@@ -53,16 +54,16 @@ typedef struct pc_v4l2_info {
  * multi-planar one (formats with one plane only: every format of the table). Fails with
  * PC_ENOTSUP (naming what the node offers) when the node cannot stream in that direction, PC_ENOENT
  * when it does not exist, PC_EPERM when it cannot be opened for lack of permission. */
-int pc_v4l2_open(const char *path, pc_v4l2_dir dir, pc_v4l2 **out);
+PC_API int pc_v4l2_open(const char *path, pc_v4l2_dir dir, pc_v4l2 **out);
 /* Stops streaming if needed, unmaps the buffers and closes the node. NULL is fine. */
-void pc_v4l2_close(pc_v4l2 *dev);
-const pc_v4l2_info *pc_v4l2_get_info(const pc_v4l2 *dev);
+PC_API void pc_v4l2_close(pc_v4l2 *dev);
+PC_API const pc_v4l2_info *pc_v4l2_get_info(const pc_v4l2 *dev);
 
 /* ---- formats ---- */
 
 /* Pixel formats the node offers in its direction (VIDIOC_ENUM_FMT), in driver order.
  * Writes at most cap fourccs; *count receives the total. */
-int pc_v4l2_enum_formats(pc_v4l2 *dev, uint32_t *fourccs, size_t cap, size_t *count);
+PC_API int pc_v4l2_enum_formats(pc_v4l2 *dev, uint32_t *fourccs, size_t cap, size_t *count);
 
 typedef struct pc_v4l2_format {
 	uint32_t fourcc;
@@ -79,25 +80,25 @@ typedef struct pc_v4l2_size_range {
 	uint32_t min_height, max_height, step_height;
 	bool discrete;
 } pc_v4l2_size_range;
-int pc_v4l2_frame_sizes(pc_v4l2 *dev, uint32_t fourcc, pc_v4l2_size_range *out);
+PC_API int pc_v4l2_frame_sizes(pc_v4l2 *dev, uint32_t fourcc, pc_v4l2_size_range *out);
 
 /* What the driver would make of (fourcc, width, height, bytesperline): VIDIOC_TRY_FMT, no state
  * change. bytesperline 0 lets the driver choose; a larger value asks for padded rows (drivers
  * may ignore it). The answer may differ from the request: compare to tell valid from adjusted.
  * Progressive frames only: a driver that insists on fields gives PC_ENOTSUP. */
-int pc_v4l2_try_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
+PC_API int pc_v4l2_try_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
                        size_t bytesperline, pc_v4l2_format *got);
 /* VIDIOC_S_FMT. Fails with PC_EFORMAT when the driver answers with a fourcc polarcam cannot
  * read or a bytesperline/sizeimage too small for the table's row size (corrupt answer). */
-int pc_v4l2_set_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
+PC_API int pc_v4l2_set_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
                        size_t bytesperline, pc_v4l2_format *got);
 /* VIDIOC_G_FMT. */
-int pc_v4l2_get_format(pc_v4l2 *dev, pc_v4l2_format *got);
+PC_API int pc_v4l2_get_format(pc_v4l2 *dev, pc_v4l2_format *got);
 
 /* ---- inputs, outputs, DV timings ---- */
 
 /* VIDIOC_S_INPUT on capture nodes, VIDIOC_S_OUTPUT on output nodes. */
-int pc_v4l2_select_io(pc_v4l2 *dev, unsigned index);
+PC_API int pc_v4l2_select_io(pc_v4l2 *dev, unsigned index);
 
 /* BT.656/1120 digital video timings, the fields of struct v4l2_bt_timings that matter. */
 typedef struct pc_dv_timings {
@@ -112,14 +113,14 @@ typedef struct pc_dv_timings {
 
 /* VESA Coordinated Video Timings 1.2, reduced blanking version 2, progressive: the timings of
  * width x height at refresh_hz. Pure computation (no device). */
-int pc_dv_timings_cvt_rb2(uint32_t width, uint32_t height, double refresh_hz, pc_dv_timings *out);
+PC_API int pc_dv_timings_cvt_rb2(uint32_t width, uint32_t height, double refresh_hz, pc_dv_timings *out);
 /* Frame rate the timings produce: pixelclock / (total width * total height). */
-double pc_dv_timings_fps(const pc_dv_timings *t);
+PC_API double pc_dv_timings_fps(const pc_dv_timings *t);
 
 /* VIDIOC_S_DV_TIMINGS, then VIDIOC_G_DV_TIMINGS to check that the node took them (a receiver
  * can accept and silently keep others: PC_EINVAL naming both sizes). */
-int pc_v4l2_set_dv_timings(pc_v4l2 *dev, const pc_dv_timings *t);
-int pc_v4l2_get_dv_timings(pc_v4l2 *dev, pc_dv_timings *t);
+PC_API int pc_v4l2_set_dv_timings(pc_v4l2 *dev, const pc_dv_timings *t);
+PC_API int pc_v4l2_get_dv_timings(pc_v4l2 *dev, pc_dv_timings *t);
 
 /* ---- controls ---- */
 
@@ -141,13 +142,13 @@ typedef struct pc_v4l2_ctrl {
 } pc_v4l2_ctrl;
 
 /* PC_ENOENT when the node has no such control. */
-int pc_v4l2_ctrl_query(pc_v4l2 *dev, uint32_t id, pc_v4l2_ctrl *out);
+PC_API int pc_v4l2_ctrl_query(pc_v4l2 *dev, uint32_t id, pc_v4l2_ctrl *out);
 /* Finds a control by its name, ignoring case ("Loop Video"). */
-int pc_v4l2_ctrl_find(pc_v4l2 *dev, const char *name, pc_v4l2_ctrl *out);
+PC_API int pc_v4l2_ctrl_find(pc_v4l2 *dev, const char *name, pc_v4l2_ctrl *out);
 /* Sets a control; a value outside [minimum, maximum] or off the step grid is PC_ERANGE naming
  * the control and its range, never clamped. */
-int pc_v4l2_ctrl_set(pc_v4l2 *dev, uint32_t id, int64_t value);
-int pc_v4l2_ctrl_get(pc_v4l2 *dev, uint32_t id, int64_t *value);
+PC_API int pc_v4l2_ctrl_set(pc_v4l2 *dev, uint32_t id, int64_t value);
+PC_API int pc_v4l2_ctrl_get(pc_v4l2 *dev, uint32_t id, int64_t *value);
 
 /* Well-known control ids (values of linux/v4l2-controls.h) for callers without kernel headers. */
 #define PC_V4L2_CID_GAIN              0x00980913u
@@ -164,13 +165,13 @@ typedef struct pc_v4l2_rate_range {
 	bool discrete;
 	unsigned count; /* discrete rates */
 } pc_v4l2_rate_range;
-int pc_v4l2_frame_rates(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
+PC_API int pc_v4l2_frame_rates(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
                         pc_v4l2_rate_range *out);
 
 /* Frame interval as a rate (VIDIOC_G_PARM / S_PARM). PC_ENOTSUP when the node has no
  * V4L2_CAP_TIMEPERFRAME. set stores what the driver chose in *actual_fps (may be NULL). */
-int pc_v4l2_get_frame_rate(pc_v4l2 *dev, double *fps);
-int pc_v4l2_set_frame_rate(pc_v4l2 *dev, double fps, double *actual_fps);
+PC_API int pc_v4l2_get_frame_rate(pc_v4l2 *dev, double *fps);
+PC_API int pc_v4l2_set_frame_rate(pc_v4l2 *dev, double fps, double *actual_fps);
 
 /* ---- streaming (memory-mapped buffers) ---- */
 
@@ -191,30 +192,30 @@ typedef struct pc_v4l2_buffer {
  * count mmap buffers and maps them; *granted (may be NULL) receives what the driver gave,
  * which can differ from count. stream_off returns every buffer to the application (none is
  * queued afterwards). buffers_free unmaps and releases them (stream_off first). */
-int pc_v4l2_buffers_alloc(pc_v4l2 *dev, unsigned count, unsigned *granted);
-int pc_v4l2_buffer_memory(const pc_v4l2 *dev, unsigned index, void **data, size_t *length);
-int pc_v4l2_stream_on(pc_v4l2 *dev);
-int pc_v4l2_stream_off(pc_v4l2 *dev);
-int pc_v4l2_buffers_free(pc_v4l2 *dev);
+PC_API int pc_v4l2_buffers_alloc(pc_v4l2 *dev, unsigned count, unsigned *granted);
+PC_API int pc_v4l2_buffer_memory(const pc_v4l2 *dev, unsigned index, void **data, size_t *length);
+PC_API int pc_v4l2_stream_on(pc_v4l2 *dev);
+PC_API int pc_v4l2_stream_off(pc_v4l2 *dev);
+PC_API int pc_v4l2_buffers_free(pc_v4l2 *dev);
 
 /* All at once: buffers_alloc(nbuf), on capture nodes queue every buffer (output nodes hand
  * out buffers with pc_v4l2_output_acquire()), stream_on. */
-int pc_v4l2_stream_start(pc_v4l2 *dev, unsigned nbuf);
-unsigned pc_v4l2_buffer_count(const pc_v4l2 *dev);
+PC_API int pc_v4l2_stream_start(pc_v4l2 *dev, unsigned nbuf);
+PC_API unsigned pc_v4l2_buffer_count(const pc_v4l2 *dev);
 
 /* Waits up to timeout_ms (negative: forever) for a filled capture buffer (or, on output nodes,
  * a consumed one) and dequeues it. PC_ETIMEDOUT, PC_EDISCONNECTED, PC_EIO. With no buffer
  * queued nothing can arrive: it waits out the timeout and answers PC_ETIMEDOUT (PC_ESTATE when
  * the timeout is infinite). */
-int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf);
+PC_API int pc_v4l2_dequeue(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf);
 /* Gives a buffer to the driver (before stream_on or while streaming). On output nodes bytesused
  * is the image size to send (0 = the format's sizeimage); capture nodes ignore it. */
-int pc_v4l2_queue(pc_v4l2 *dev, unsigned index, size_t bytesused);
+PC_API int pc_v4l2_queue(pc_v4l2 *dev, unsigned index, size_t bytesused);
 /* Output nodes: a buffer the application may fill, either one never queued yet or one the
  * driver has consumed (waiting up to timeout_ms). */
-int pc_v4l2_output_acquire(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf);
+PC_API int pc_v4l2_output_acquire(pc_v4l2 *dev, int timeout_ms, pc_v4l2_buffer *buf);
 /* stream_off + buffers_free. Safe to call when not streaming. */
-int pc_v4l2_stream_stop(pc_v4l2 *dev);
+PC_API int pc_v4l2_stream_stop(pc_v4l2 *dev);
 
 /* ---- listing ---- */
 
@@ -231,7 +232,7 @@ typedef struct pc_v4l2_node {
 /* Lists the video nodes dev_dir/videoN (dev_dir NULL = "/dev"), sorted by N. Nodes that cannot
  * be opened are listed with error set, not skipped. *nodes is malloc'd (free()). An absent
  * dev_dir or no nodes gives 0 and *count = 0. */
-int pc_v4l2_list(const char *dev_dir, pc_v4l2_node **nodes, size_t *count);
+PC_API int pc_v4l2_list(const char *dev_dir, pc_v4l2_node **nodes, size_t *count);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/progress.h"
 #include "polarcam/stream.h"
 
@@ -38,8 +39,8 @@ typedef struct pc_viewer_report {
 /* Runs the window. A negative return means nothing was shown (method, window or source
  * refused); 0 means it ran, until the end or as rep->error says. Free rep with
  * pc_viewer_report_free. */
-int pc_viewer_run(const pc_viewer_opts *opts, pc_viewer_report *rep);
-void pc_viewer_report_free(pc_viewer_report *rep);
+PC_API int pc_viewer_run(const pc_viewer_opts *opts, pc_viewer_report *rep);
+PC_API void pc_viewer_report_free(pc_viewer_report *rep);
 
 #ifdef __cplusplus
 }

@@ -27,6 +27,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/figures.h"
 #include "polarcam/io.h"
 #include "polarcam/mueller_imaging.h"
@@ -42,7 +43,7 @@ extern "C" {
 /* Writes a float (H, W) map as DIR/NAME.npy and a grey picture DIR/NAME.png, linear from lo to
  * hi, titled title, with a colour bar labelled label; non-finite values are drawn magenta and
  * their share noted under the bar. */
-int pc_map_write(const char *dir, const char *name, const float *map, uint32_t width,
+PC_API int pc_map_write(const char *dir, const char *name, const float *map, uint32_t width,
 		 uint32_t height, double lo, double hi, const char *title, const char *label);
 
 /* ---- Stokes folders ---- */
@@ -64,7 +65,7 @@ typedef struct pc_stokes_folder_opts {
 
 /* Writes the files asked for from st (planes as pc_stokes_out; stokes.npy needs s0, s1, s2,
  * the others their plane) into dir (created when missing), in the order of the table above. */
-int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
+PC_API int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
 			   uint32_t height, const pc_stokes_folder_opts *opts);
 
 /* ---- Mueller folders ---- */
@@ -84,14 +85,14 @@ typedef struct pc_mueller_folder_opts {
  * pixels_undecomposable, determined, rebuild_circular (and when rebuilt: rebuild_tol,
  * pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may be NULL) receives its
  * content as one compact line (malloc'd). */
-int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
+PC_API int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
 			    const pc_mueller_folder_opts *opts, char **json);
 
 /* ---- the seed paper's figures (polarcam/figures.h) ---- */
 
 /* Writes figs[2..11] and the claims into dir, an output folder written as a set (polarcam/io.h,
  * pc_outdir; flags: PC_OUT_OVERWRITE); progress (may be NULL): phase "figures". */
-int pc_figures_write(const char *dir, unsigned flags, const pc_figure figs[12],
+PC_API int pc_figures_write(const char *dir, unsigned flags, const pc_figure figs[12],
 		     const pc_figure_claim *claims, size_t n_claims, const pc_progress *progress);
 
 #ifdef __cplusplus

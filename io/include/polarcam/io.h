@@ -13,6 +13,7 @@
 #include <stdio.h>
 
 #include "polarcam/eval.h"
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/progress.h"
 
@@ -27,14 +28,21 @@ typedef struct pc_atomic_file {
 	char *tmp_path; /* temporary path in the same directory */
 } pc_atomic_file;
 
-int pc_atomic_open(pc_atomic_file *af, const char *path);
+PC_API int pc_atomic_open(pc_atomic_file *af, const char *path);
 /* Flushes, fsyncs, closes and renames into place. On failure the temporary file is removed. */
-int pc_atomic_commit(pc_atomic_file *af);
+PC_API int pc_atomic_commit(pc_atomic_file *af);
 /* Closes and removes the temporary file. Safe to call after a failed commit or twice. */
-void pc_atomic_abort(pc_atomic_file *af);
+PC_API void pc_atomic_abort(pc_atomic_file *af);
 
 /* Writes size bytes atomically. */
-int pc_write_file_atomic(const char *path, const void *data, size_t size);
+PC_API int pc_write_file_atomic(const char *path, const void *data, size_t size);
+
+/* Removes what killed writers left in dir: the temporary files of pc_atomic_open
+ * (".NAME.tmpXXXXXX") whose lock no process holds any more (a writer holds an flock on its
+ * temporary file until it is renamed or removed; the kernel drops it when the writer dies).
+ * Files a live process is writing, in this process or another, are left alone. *removed (may
+ * be NULL) counts the files removed. A directory that does not exist holds nothing: 0. */
+PC_API int pc_atomic_sweep(const char *dir, unsigned *removed);
 
 /* ---- outputs: the one rule, and folders written as a set ----
  *
@@ -64,7 +72,7 @@ int pc_write_file_atomic(const char *path, const void *data, size_t size);
 
 /* The rule alone, checked without writing anything (to refuse before long work): 0 when path
  * may be written as a folder (folder true) or a file. */
-int pc_output_check(const char *path, unsigned flags, bool folder);
+PC_API int pc_output_check(const char *path, unsigned flags, bool folder);
 
 typedef struct pc_outdir {
 	char *path; /* the folder asked for */
@@ -73,13 +81,13 @@ typedef struct pc_outdir {
 } pc_outdir;
 
 /* Checks the rule (pc_output_check) and creates od->tmp. */
-int pc_outdir_begin(pc_outdir *od, const char *path, unsigned flags);
+PC_API int pc_outdir_begin(pc_outdir *od, const char *path, unsigned flags);
 /* Puts od->tmp in place at od->path (replacing the old folder when one was allowed) and frees
  * od. On failure the old folder is untouched and the temporary one removed. */
-int pc_outdir_commit(pc_outdir *od);
+PC_API int pc_outdir_commit(pc_outdir *od);
 /* Removes the temporary folder and frees od. Safe after a failed commit, twice, or on a zeroed
  * pc_outdir. */
-void pc_outdir_abort(pc_outdir *od);
+PC_API void pc_outdir_abort(pc_outdir *od);
 
 /* ---- arrays (.npy) ---- */
 typedef enum pc_dtype { PC_DT_U8 = 1, PC_DT_U16, PC_DT_F32, PC_DT_F64 } pc_dtype;
@@ -91,11 +99,11 @@ typedef struct pc_array {
 	size_t shape[4];
 } pc_array;
 
-size_t pc_array_count(const pc_array *a);
-void pc_array_free(pc_array *a);
+PC_API size_t pc_array_count(const pc_array *a);
+PC_API void pc_array_free(pc_array *a);
 
 /* Writes a C-order array as NumPy format 1.0 (little-endian). */
-int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned ndim,
+PC_API int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned ndim,
 		 const size_t *shape);
 /* A .npy written piece by piece (a stack of frames as they are computed): open with the whole
  * array's shape, write its bytes in C order in any number of pieces, commit (atomic, like every
@@ -105,21 +113,26 @@ typedef struct pc_npy_stream {
 	pc_atomic_file af;
 	size_t bytes, written;
 } pc_npy_stream;
-int pc_npy_stream_open(pc_npy_stream *s, const char *path, pc_dtype dtype, unsigned ndim,
+PC_API int pc_npy_stream_open(pc_npy_stream *s, const char *path, pc_dtype dtype, unsigned ndim,
 		       const size_t *shape);
-int pc_npy_stream_write(pc_npy_stream *s, const void *data, size_t bytes);
-int pc_npy_stream_commit(pc_npy_stream *s);
-void pc_npy_stream_abort(pc_npy_stream *s);
+PC_API int pc_npy_stream_write(pc_npy_stream *s, const void *data, size_t bytes);
+PC_API int pc_npy_stream_commit(pc_npy_stream *s);
+PC_API void pc_npy_stream_abort(pc_npy_stream *s);
 
 /* Reads .npy (u1, <u2, <f4, <f8; C order; format 1.0/2.0). */
-int pc_npy_read(const char *path, pc_array *out);
+PC_API int pc_npy_read(const char *path, pc_array *out);
 
 /* ---- images ---- */
 /* PNG of a Mono8 view (8-bit) or any 9..16-bit integer view (16-bit PNG; the sBIT chunk records
  * the significant bits). Grey only. */
-int pc_png_write(const char *path, const pc_view *v);
+PC_API int pc_png_write(const char *path, const pc_view *v);
+/* Headerless raw file of an integer view (atomic): rows one after the other without padding,
+ * each pixel in the view's container - 1 byte for 8-bit formats, 2 bytes little-endian with the
+ * value LSB-aligned for unpacked 9..16-bit formats, the packed bytes as they are for packed
+ * ones. pc_image_read reads it back with the geometry {width, height, format, 0, 0}. */
+PC_API int pc_raw_write(const char *path, const pc_view *v);
 /* 8-bit RGB PNG from interleaved rows (pictures, plots). */
-int pc_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
+PC_API int pc_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
 		      size_t stride);
 
 /* Raw geometry for headerless files: width, height, format, offset into the file, stride
@@ -136,7 +149,7 @@ typedef struct pc_raw_geometry {
  * (Mono8, Mono16 or Float32; raw files keep their format); *significant_bits is the bit depth
  * the file declares (PNG sBIT, TIFF BitsPerSample, 32 for float) and may be NULL. Float images
  * holding NaN or infinity are rejected (PC_ERANGE naming the file and the pixel). */
-int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_view *out,
+PC_API int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_view *out,
 		  unsigned *significant_bits);
 
 /* Reads a raw mosaic for processing: pc_image_read, then the bit depth. bits = 0 takes the
@@ -145,24 +158,24 @@ int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_view *ou
  * must fit the depth (PC_ERANGE naming file and pixel: 12-bit data holding 4096 is corrupt).
  * Integer views come back as Mono8/Mono10/12/14/16 matching the depth; *bits_out (may be NULL)
  * receives it (32 for float). */
-int pc_image_read_mosaic(const char *path, const pc_raw_geometry *geometry, unsigned bits,
+PC_API int pc_image_read_mosaic(const char *path, const pc_raw_geometry *geometry, unsigned bits,
 			 pc_view *out, unsigned *bits_out);
 
 /* TIFF of a Mono8, 9..16-bit (stored as 16-bit) or Float32 view. */
-int pc_tiff_write(const char *path, const pc_view *v);
+PC_API int pc_tiff_write(const char *path, const pc_view *v);
 /* TIFF of a C-order (height, width, channels) array of u8, u16 or f32 samples (interleaved;
  * channels 1..16; extra samples are marked "unspecified"). */
-int pc_tiff_write_array(const char *path, const void *data, pc_dtype dtype, uint32_t height,
+PC_API int pc_tiff_write_array(const char *path, const void *data, pc_dtype dtype, uint32_t height,
 			uint32_t width, unsigned channels);
 /* Reads a single-channel TIFF (8/16-bit unsigned, 32-bit float) into an owned view. */
-int pc_tiff_read(const char *path, pc_view *out, unsigned *significant_bits);
+PC_API int pc_tiff_read(const char *path, pc_view *out, unsigned *significant_bits);
 /* Reads a TIFF as an array: (H, W) or (H, W, C) of u8, u16 or f32. */
-int pc_tiff_read_array(const char *path, pc_array *out);
+PC_API int pc_tiff_read_array(const char *path, pc_array *out);
 
 /* Reads a grey PNG (1..16-bit; 1/2/4-bit expanded to 8) into an owned Mono8 or Mono16 view. */
-int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits);
+PC_API int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits);
 /* Reads an uncompressed grey BMP (8-bit grey palette, or 24/32-bit with R = G = B) as Mono8. */
-int pc_bmp_read(const char *path, pc_view *out);
+PC_API int pc_bmp_read(const char *path, pc_view *out);
 
 /* Writes the standard pictures of a Stokes image into dir, each with a title and a colour bar:
  * s0.png (grey, 0 to the 99.9th percentile), dolp.png (grey, 0..1), aolp.png (hue = AoLP,
@@ -186,20 +199,20 @@ typedef struct pc_pictures_opts {
 
 struct pc_stokes_out;
 /* opts may be NULL (no prefix, full size, default mask). */
-int pc_pictures_write_opts(const char *dir, const struct pc_stokes_out *st, uint32_t width,
+PC_API int pc_pictures_write_opts(const char *dir, const struct pc_stokes_out *st, uint32_t width,
 			   uint32_t height, const pc_pictures_opts *opts);
 /* The same with a title prefix (may be NULL) and the default mask. */
-int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
+PC_API int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
 		      uint32_t height, const char *title_prefix);
 
 /* Loads a ground-truth directory for the evaluation protocol (polarcam/eval.h): the analyser
  * images named 0, 45, 90 and 135 with any extension pc_image_read knows (.tif, .tiff, .png,
  * .bmp, .npy). Errors name the directory and the missing or bad file. */
 struct pc_eval_truth;
-int pc_truth_load(const char *dir, struct pc_eval_truth *t);
+PC_API int pc_truth_load(const char *dir, struct pc_eval_truth *t);
 /* The dataset a truth directory belongs to: the name of its parent directory ("lapray-nir"
  * for .../gt/lapray-nir/fabrics), or "." when it has none. */
-void pc_truth_dataset(const char *dir, char *buf, size_t size);
+PC_API void pc_truth_dataset(const char *dir, char *buf, size_t size);
 
 /* One method scored on one truth directory by the protocol (polarcam/eval.h). */
 typedef struct pc_eval_result {
@@ -213,21 +226,21 @@ typedef struct pc_eval_result {
 /* Scores each method on each truth directory (pc_truth_load, pc_eval_method; opts may be
  * NULL) into res[d·nmeth + k]; progress (may be NULL): phase "eval", results done. Errors name
  * the directory. */
-int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method *methods,
+PC_API int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method *methods,
 		 size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
 		 pc_eval_result *res);
 
 /* The mean metrics of the results of one dataset and method (datasets are never pooled);
  * returns how many results it averaged. */
-int pc_eval_dataset_mean(const pc_eval_result *res, size_t n, const char *dataset,
+PC_API int pc_eval_dataset_mean(const pc_eval_result *res, size_t n, const char *dataset,
 			 pc_demosaic_method method, pc_eval_metrics *out);
 
 /* Creates a directory (and parents) if missing. */
-int pc_mkdir_p(const char *path);
+PC_API int pc_mkdir_p(const char *path);
 
 /* Peak resident set size of this process in MiB (VmHWM of /proc/self/status), or -1 where
  * the system does not say. */
-double pc_peak_rss_mib(void);
+PC_API double pc_peak_rss_mib(void);
 
 #ifdef __cplusplus
 }

@@ -11,6 +11,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -24,25 +26,25 @@ typedef enum pc_plot_style {
 	PC_PLOT_DASHED       /* dashed polyline (references, limits) */
 } pc_plot_style;
 
-pc_plot *pc_plot_new(const char *title, const char *xlabel, const char *ylabel);
-void pc_plot_free(pc_plot *p);
+PC_API pc_plot *pc_plot_new(const char *title, const char *xlabel, const char *ylabel);
+PC_API void pc_plot_free(pc_plot *p);
 
 /* Fixed axis ranges (default: automatic from the data, padded to nice ticks). */
-void pc_plot_set_xrange(pc_plot *p, double min, double max);
-void pc_plot_set_yrange(pc_plot *p, double min, double max);
+PC_API void pc_plot_set_xrange(pc_plot *p, double min, double max);
+PC_API void pc_plot_set_yrange(pc_plot *p, double min, double max);
 /* Logarithmic axes (non-positive values are skipped). */
-void pc_plot_set_log(pc_plot *p, bool log_x, bool log_y);
+PC_API void pc_plot_set_log(pc_plot *p, bool log_x, bool log_y);
 
 /* Adds a series (the data are copied). Colours cycle through a fixed palette; label may be NULL
  * (no legend entry). */
-int pc_plot_add_series(pc_plot *p, const char *label, const double *x, const double *y, size_t n,
+PC_API int pc_plot_add_series(pc_plot *p, const char *label, const double *x, const double *y, size_t n,
 		       pc_plot_style style);
 
 /* Writes a text label next to the data point (x, y). */
-int pc_plot_add_label(pc_plot *p, double x, double y, const char *text);
+PC_API int pc_plot_add_label(pc_plot *p, double x, double y, const char *text);
 
 /* Renders to a PNG of width × height pixels (atomically). */
-int pc_plot_write_png(const pc_plot *p, const char *path, int width, int height);
+PC_API int pc_plot_write_png(const pc_plot *p, const char *path, int width, int height);
 
 /* Colour key for pc_image_write_png: color(t, s) gives the colour at value fraction t ∈ [0, 1]
  * (along the bar) and, for 2-D keys, second fraction s ∈ [0, 1] (across the bar). */
@@ -57,7 +59,7 @@ typedef struct pc_colorbar {
 
 /* Writes an RGB8 image with a title above it and, when bar is non-NULL, a colour bar with ticks
  * on its right. Images wider than max_width (0 = no limit) are downscaled for display. */
-int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
+PC_API int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
 		       size_t stride, const char *title, const pc_colorbar *bar, uint32_t max_width);
 
 /* A legend entry below a colour bar: a swatch coloured by color(x, y) (pixel coordinates inside
@@ -68,7 +70,7 @@ typedef struct pc_legend_note {
 } pc_legend_note;
 
 /* pc_image_write_png with an optional note (NULL: none) under the colour bar. */
-int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
+PC_API int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
 			  size_t stride, const char *title, const pc_colorbar *bar,
 			  const pc_legend_note *note, uint32_t max_width);
 

@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "polarcam/demosaic.h"
+#include "polarcam/export.h"
 #include "polarcam/folders.h"
 #include "polarcam/io.h"
 #include "polarcam/mosaic.h"
@@ -31,13 +32,13 @@ typedef struct pc_raw_input {
 /* Reads and validates a raw mosaic (pc_image_read_mosaic: bit depth, every value, NaN) into an
  * owned view, and checks it holds whole 2×2 analyser blocks (even width and height, at least 4);
  * bits (may be NULL) receives the bit depth. Errors name the file. */
-int pc_raw_read(const pc_raw_input *in, pc_view *raw, unsigned *bits);
+PC_API int pc_raw_read(const pc_raw_input *in, pc_view *raw, unsigned *bits);
 
 /* The demosaicking method for frames with mosaic m: the one named (NULL: bilinear for
  * monochrome mosaics, bayer-first for colour-polarization ones). PC_EINVAL (the detail names
  * --method, the mosaic and the methods that would work) for an unknown name or a method for the
  * other kind of mosaic. */
-int pc_process_method(const char *name, const pc_mosaic *m, pc_demosaic_method *out);
+PC_API int pc_process_method(const char *name, const pc_mosaic *m, pc_demosaic_method *out);
 
 /* How a raw file is processed. */
 typedef struct pc_process_opts {
@@ -57,7 +58,7 @@ typedef struct pc_demosaic_file_report {
 /* Raw file → analyser images (H, W, 4), or (H, W, 12) for colour-polarization mosaics, float32
  * in the raw's units, written to out_path: NumPy .npy, or a float32 TIFF for .tif/.tiff. An
  * existing out_path is refused (PC_EEXIST) unless o->overwrite. rep may be NULL. */
-int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const char *out_path,
+PC_API int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const char *out_path,
 		     pc_demosaic_file_report *rep);
 
 /* Raw file → Stokes folder in dir (pc_stokes_folder_write with files, pictures as given) plus
@@ -66,7 +67,7 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
  * (malloc'd). dir is an output folder written as a set (polarcam/io.h, pc_outdir): an existing
  * one is refused (PC_EEXIST) unless o->overwrite, and nothing is put in place unless every file
  * was written. */
-int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
+PC_API int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
 		    const pc_stokes_folder_opts *folder, char **meta);
 
 /* Several raw files through the pipeline into one Stokes folder (what `polarcam process` does
@@ -90,7 +91,7 @@ typedef struct pc_process_batch {
 				     (PC_ECANCELED) */
 } pc_process_batch;
 
-int pc_process_files(const pc_process_batch *b, const pc_process_opts *o, const char *dir,
+PC_API int pc_process_files(const pc_process_batch *b, const pc_process_opts *o, const char *dir,
 		     const pc_stokes_folder_opts *folder, char **meta);
 
 #ifdef __cplusplus

@@ -37,6 +37,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "polarcam/export.h"
 #include "polarcam/frame.h"
 
 #ifdef __cplusplus
@@ -51,24 +52,24 @@ typedef struct pc_scene pc_scene;
 /* Loads and validates a scene file. OBJ meshes are resolved relative to the file's directory.
  * Errors name the file and the line (JSON syntax) or the field path and what was expected:
  * "scenes/x.json: objects[2].material.sigma = -1: must be > 0". */
-int pc_scene_load(const char *path, pc_scene **out);
+PC_API int pc_scene_load(const char *path, pc_scene **out);
 
 /* The same from text; name is used in messages, base_dir resolves OBJ paths (NULL = "."). */
-int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_scene **out);
+PC_API int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_scene **out);
 
 /* The built-in default scene: the seed paper's black paint (ñ = 1.46 − 1.28i, σ = 0.2) and
  * green paint (1.47 − 0.47i, σ = 0.1) on spheres and a ground plane under a directional light,
  * IMX250MZR-class sensor, 2448×2048. */
-int pc_scene_load_default(pc_scene **out);
+PC_API int pc_scene_load_default(pc_scene **out);
 /* Its JSON text (static storage). */
-const char *pc_scene_default_text(void);
+PC_API const char *pc_scene_default_text(void);
 
-void pc_scene_free(pc_scene *scene);
+PC_API void pc_scene_free(pc_scene *scene);
 
 /* The scene's name, and the scene document as parsed (compact JSON, malloc'd; the caller frees
  * it), for meta.json. The resolved sensor figures are in pc_sim_get_sensor(). */
-const char *pc_scene_name(const pc_scene *scene);
-char *pc_scene_to_json(const pc_scene *scene);
+PC_API const char *pc_scene_name(const pc_scene *scene);
+PC_API char *pc_scene_to_json(const pc_scene *scene);
 
 /* ---------------------------------------------------------------------------------------------
  * Effects. Every effect is opt-in (declared by the scene; sensor presets declare theirs) and the
@@ -92,11 +93,11 @@ enum pc_sim_effect {
 };
 
 /* "diffuse", "shadowing", "cast_shadows", ... (the names of the scene file); NULL if unknown. */
-const char *pc_sim_effect_name(unsigned effect_bit);
+PC_API const char *pc_sim_effect_name(unsigned effect_bit);
 /* The bit for a name, 0 if unknown. */
-unsigned pc_sim_effect_from_name(const char *name);
+PC_API unsigned pc_sim_effect_from_name(const char *name);
 /* The effect set a scene declares (PC_FX_* bits). */
-unsigned pc_scene_effects(const pc_scene *scene);
+PC_API unsigned pc_scene_effects(const pc_scene *scene);
 
 /* ---------------------------------------------------------------------------------------------
  * The simulator.
@@ -129,14 +130,14 @@ typedef struct pc_sim_options {
 	const pc_sim_brdf *brdf;  /* NULL = the physics core's pBRDF (pc_pbrdf_eval_vec) */
 } pc_sim_options;
 
-pc_sim_options pc_sim_options_default(void);
+PC_API pc_sim_options pc_sim_options_default(void);
 
 /* Builds the simulator: validates the options against the scene, prepares materials (pBRDF
  * tables), lights, geometry (mesh BVHs), the sensor's fixed patterns and the pipelines. Does
  * not render yet (see pc_sim_prepare). The sim keeps what it needs of the scene; the scene
  * may be freed afterwards. */
-int pc_sim_new(const pc_scene *scene, const pc_sim_options *opt, pc_sim **out);
-void pc_sim_free(pc_sim *sim);
+PC_API int pc_sim_new(const pc_scene *scene, const pc_sim_options *opt, pc_sim **out);
+PC_API void pc_sim_free(pc_sim *sim);
 
 typedef struct pc_sim_info {
 	uint32_t width, height;               /* output frame size (the ROI) */
@@ -153,7 +154,7 @@ typedef struct pc_sim_info {
 	uint64_t seed;
 } pc_sim_info;
 
-void pc_sim_get_info(const pc_sim *sim, pc_sim_info *info);
+PC_API void pc_sim_get_info(const pc_sim *sim, pc_sim_info *info);
 
 /* Per-frame controls (what a camera lets a user change while streaming). Changing them needs no
  * re-rendering: the rendered signal is cached per second of exposure. */
@@ -172,43 +173,43 @@ typedef struct pc_sim_controls {
  * Not thread-safe against other calls on the same sim. progress (may be NULL) is called with
  * rows done out of the total from the calling thread. */
 typedef void (*pc_sim_progress_fn)(void *user, uint64_t done, uint64_t total);
-int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *truth_mueller,
+PC_API int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *truth_mueller,
 		   pc_sim_progress_fn progress, void *progress_user);
 
 /* True when state's signal is cached. */
-bool pc_sim_is_prepared(const pc_sim *sim, unsigned state);
+PC_API bool pc_sim_is_prepared(const pc_sim *sim, unsigned state);
 
 /* Raw frame n into dst (format, width and height as pc_sim_get_info; any stride). controls may
  * be NULL (the scene's exposure and gain). Prepares the frame's state when needed (therefore
  * not thread-safe unless every state was prepared: then it only reads the sim, and several
  * threads may produce different frames at once). meta (may be NULL) gets sequence = n,
  * timestamp_ns = n / frame_rate, exposure, gain, PC_FRAME_SIMULATED and the ROI offset. */
-int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_view *dst,
+PC_API int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_view *dst,
 		 pc_frame_meta *meta);
 
 /* Rows [y0, y1) of frame n into dst rows [y0, y1) (dst is the whole frame's view). The state
  * must be prepared (PC_ESTATE otherwise). Const and thread-safe: bands may be produced in any
  * order and on any thread, the result is bit-identical to pc_sim_frame. */
-int pc_sim_frame_rows(const pc_sim *sim, uint64_t n, const pc_sim_controls *controls,
+PC_API int pc_sim_frame_rows(const pc_sim *sim, uint64_t n, const pc_sim_controls *controls,
 		      pc_view *dst, uint32_t y0, uint32_t y1);
 
 /* Ground truth in double for rows [y0, y1) of the ROI without touching any cache (tests,
  * exact comparisons): stokes (may be NULL) gets (y1−y0)·W·C·4 doubles, mueller (may be NULL,
  * needs PC_FX_MUELLER) (y1−y0)·W·C·16. Thread-safe. */
-int pc_sim_truth_rows(const pc_sim *sim, unsigned state, uint32_t y0, uint32_t y1, double *stokes,
+PC_API int pc_sim_truth_rows(const pc_sim *sim, unsigned state, uint32_t y0, uint32_t y1, double *stokes,
 		      double *mueller);
 
 /* The mean raw value (DN, before quantization and noise, after clipping at full well) that
  * pixel (x, y) of the ROI would have in state under controls: for photon-transfer and bias
  * tests and for calibration. The state must be prepared. */
-int pc_sim_mean_dn(const pc_sim *sim, unsigned state, const pc_sim_controls *controls, uint32_t x,
+PC_API int pc_sim_mean_dn(const pc_sim *sim, unsigned state, const pc_sim_controls *controls, uint32_t x,
 		   uint32_t y, double *mean_dn);
 
 /* The scale between a Stokes estimate in DN and the truth radiance, for colour channel ch under
  * controls (NULL: the scene's): with ideal analysers, S_est = (I0 + I45 + I90 + I135)/2 above the
  * black level (and S1 = I0 − I90, S2 = I45 − I135) equals this factor times the truth Stokes
  * radiance (before noise, clipping and quantization): K·t_exp·2η·π/(4N²)·A_pix·λ/(hc). */
-double pc_sim_dn_per_radiance(const pc_sim *sim, const pc_sim_controls *controls, unsigned ch);
+PC_API double pc_sim_dn_per_radiance(const pc_sim *sim, const pc_sim_controls *controls, unsigned ch);
 
 /* ---------------------------------------------------------------------------------------------
  * The sensor (physics.md §6). Figures as resolved from the preset and the scene's overrides.
@@ -240,16 +241,16 @@ typedef struct pc_sensor_figures {
 	unsigned effects;           /* the sensor effects the preset/scene declares */
 } pc_sensor_figures;
 
-void pc_sim_get_sensor(const pc_sim *sim, pc_sensor_figures *fig);
+PC_API void pc_sim_get_sensor(const pc_sim *sim, pc_sensor_figures *fig);
 
 /* Preset names, NULL-terminated. */
-const char *const *pc_sensor_preset_names(void);
+PC_API const char *const *pc_sensor_preset_names(void);
 
 /* The simulator as a JSON object (compact text, malloc'd; NULL when out of memory): {"scene":
  * the scene document (scene may be NULL), "scene_name", "seed", "effects": [names], "sensor":
  * {preset, size, pitch, bits, layout, QE, noise figures, analyser errors, exposure...}, "roi",
  * "n_states"}. What `polarcam render` writes under meta.json's "extra". */
-char *pc_sim_describe_json(const pc_sim *sim, const pc_scene *scene);
+PC_API char *pc_sim_describe_json(const pc_sim *sim, const pc_scene *scene);
 
 /* ---------------------------------------------------------------------------------------------
  * Polarization states of a frame sequence (Mueller imaging, physics.md §7).
@@ -265,7 +266,7 @@ typedef struct pc_sim_states {
 	double analyser[4][4];
 } pc_sim_states;
 
-void pc_sim_get_states(const pc_sim *sim, pc_sim_states *states);
+PC_API void pc_sim_get_states(const pc_sim *sim, pc_sim_states *states);
 
 #ifdef __cplusplus
 }

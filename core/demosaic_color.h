@@ -1,0 +1,21 @@
+/* Internal to core: step 1 of the colour-polarization methods (demosaic_color.c) - Bayer
+ * demosaicking of each analyser's half-resolution sub-image, giving for each colour k a
+ * full-resolution monochrome polarizer mosaic M_k that step 2 demosaics with a monochrome
+ * method. Not a public header. */
+#ifndef POLARCAM_DEMOSAIC_COLOR_H
+#define POLARCAM_DEMOSAIC_COLOR_H
+
+#include "demosaic_common.h"
+
+/* The monochrome polarizer part of a colour mosaic (the mosaic of every M_k). */
+pc_mosaic pc_dm_color_mono(const pc_mosaic *m);
+
+/* Step 1 of the reference in double: img the raw (minus black), C order w × h; mk[k] w × h. */
+void pc_dm_color_split_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+			   double *mk[3]);
+
+/* Step 1 in float on row bands; PC_ENOMEM for its column tables. */
+int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int threads,
+		      float *mk[3]);
+
+#endif

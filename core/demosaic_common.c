@@ -1,0 +1,289 @@
+/* The helpers shared by every demosaicking and Stokes kernel (demosaic_common.h). */
+#include "demosaic_common.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cpu_internal.h"
+#include "polarcam/error.h"
+#include "polarcam/format.h"
+
+#ifdef PC_CPU_X86
+#include <immintrin.h>
+#endif
+
+void *pc_dm_alloc(size_t bytes)
+{
+	return aligned_alloc(64, (bytes + 63) / 64 * 64 + 64);
+}
+
+void pc_dm_free(void *p)
+{
+	free(p);
+}
+
+void pc_dm_planes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
+			   pc_fplane *planes)
+{
+	for (unsigned c = 0; c < channels; c++) {
+		planes[c].data = base + (size_t)c * width * height;
+		planes[c].row_stride = width;
+		planes[c].pixel_stride = 1;
+	}
+}
+
+/* ---- input ---- */
+
+int pc_dm_prepare_input(const pc_view *raw, double black, pc_dm_input *in, void **owned)
+{
+	*owned = NULL;
+	const pc_format_info *fi = pc_format_info_get(raw->format);
+	in->width = raw->width;
+	in->height = raw->height;
+	in->black = (float)black;
+	in->black_d = black;
+	if (fi->is_float) {
+		int rc = pc_view_check_bits(raw, 32);
+		if (rc)
+			return pc_error_prefix(rc, "raw: ");
+		in->data = raw->data;
+		in->stride = raw->stride;
+		in->type = PC_DMT_F32;
+		return 0;
+	}
+	if (fi->packing == PC_PACK_NONE) {
+		in->data = raw->data;
+		in->stride = raw->stride;
+		in->type = fi->bits <= 8 ? PC_DMT_U8 : PC_DMT_U16;
+		return 0;
+	}
+	size_t stride = ((size_t)raw->width * 2 + 63) / 64 * 64;
+	uint16_t *u = pc_dm_alloc(stride * raw->height);
+	if (!u)
+		return pc_error(PC_ENOMEM, "raw %ux%u: cannot unpack", raw->width, raw->height);
+	int rc = pc_view_to_u16(raw, u, stride);
+	if (rc) {
+		pc_dm_free(u);
+		return pc_error_prefix(rc, "raw: ");
+	}
+	*owned = u;
+	in->data = (const uint8_t *)u;
+	in->stride = stride;
+	in->type = PC_DMT_U16;
+	return 0;
+}
+
+pc_dm_input pc_dm_input_f32(const float *data, uint32_t width, uint32_t height)
+{
+	pc_dm_input in = { (const uint8_t *)data, (size_t)width * sizeof(float), PC_DMT_F32, width,
+			   height, 0.0f, 0.0 };
+	return in;
+}
+
+void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst)
+{
+	const uint8_t *row = in->data + (size_t)y * in->stride;
+	uint32_t w = in->width;
+	const float k = in->black;
+	/* without a black level, the conversion alone (one operation less per sample) */
+	switch (in->type) {
+	case PC_DMT_U8:
+		if (k == 0) {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = row[x];
+		} else {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = (float)row[x] - k;
+		}
+		break;
+	case PC_DMT_U16: {
+		const uint16_t *r = (const uint16_t *)(const void *)row;
+		if (k == 0) {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = r[x];
+		} else {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = (float)r[x] - k;
+		}
+		break;
+	}
+	case PC_DMT_F32:
+		if (k == 0) {
+			memcpy(dst, row, (size_t)w * sizeof(float));
+		} else {
+			const float *r = (const float *)(const void *)row;
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = r[x] - k;
+		}
+		break;
+	}
+	dst[-1] = dst[w > 1 ? 1 : 0];
+	dst[w] = dst[w > 1 ? w - 2 : 0];
+}
+
+int pc_dm_raw_to_float(const pc_view *raw, double black, float **out)
+{
+	size_t n = (size_t)raw->width * raw->height;
+	float *f = malloc(n * sizeof *f);
+	if (!f)
+		return pc_error(PC_ENOMEM, "raw %ux%u: cannot convert to float", raw->width,
+				raw->height);
+	int rc = pc_view_to_f32(raw, f, (size_t)raw->width * sizeof *f);
+	if (rc) {
+		free(f);
+		return pc_error_prefix(rc, "raw: ");
+	}
+	if (black != 0) {
+		const float k = (float)black;
+		for (size_t i = 0; i < n; i++)
+			f[i] -= k;
+	}
+	*out = f;
+	return 0;
+}
+
+int pc_dm_raw_to_double(const pc_view *raw, double black, double **out)
+{
+	float *f = NULL;
+	int rc = pc_dm_raw_to_float(raw, 0, &f);
+	if (rc)
+		return rc;
+	size_t n = (size_t)raw->width * raw->height;
+	double *d = malloc(n * sizeof *d);
+	if (!d) {
+		free(f);
+		return pc_error(PC_ENOMEM, "raw %ux%u: cannot allocate the reference's input",
+				raw->width, raw->height);
+	}
+	for (size_t i = 0; i < n; i++)
+		d[i] = (double)f[i] - black;
+	free(f);
+	*out = d;
+	return 0;
+}
+
+/* ---- the 3-row ring ---- */
+
+int pc_dm_ring_init(pc_dm_ring *r, uint32_t w)
+{
+	r->pitch = ((size_t)w + 2 + 15) / 16 * 16;
+	r->buf = pc_dm_alloc(3 * r->pitch * sizeof(float));
+	if (!r->buf)
+		return -1;
+	for (int i = 0; i < 3; i++) {
+		r->row[i] = r->buf + i * r->pitch + 1;
+		r->have[i] = -1;
+	}
+	return 0;
+}
+
+const float *pc_dm_ring_get(pc_dm_ring *r, const pc_dm_input *in, int y)
+{
+	int sy = pc_mirror(y, (int)in->height);
+	for (int i = 0; i < 3; i++)
+		if (r->have[i] == sy)
+			return r->row[i];
+	/* evict the slot holding the smallest row (bands walk downwards) */
+	int k = 0;
+	for (int i = 1; i < 3; i++)
+		if (r->have[i] < r->have[k])
+			k = i;
+	pc_dm_row_to_float(in, (uint32_t)sy, r->row[k]);
+	r->have[k] = sy;
+	return r->row[k];
+}
+
+void pc_dm_ring_free(pc_dm_ring *r)
+{
+	pc_dm_free(r->buf);
+	r->buf = NULL;
+}
+
+/* ---- streaming stores ---- */
+
+/* 32 MB, except on AMD processors, where the default is never; POLARCAM_NT_MIN_BYTES
+ * overrides it (the tests use 0 to exercise the streaming paths on small frames). On the AMD
+ * EPYC (Zen 3, 2 cores, KVM) of round 3 (docs/status/pipeline.md) every streaming kernel ran
+ * slower with non-temporal stores than with ordinary ones, one thread, same run: fused
+ * bilinear pipeline 23 → 12 ms, bilinear 10 → 6.7 ms, ratio pipeline 33 → 27 ms; a plain
+ * stream of the same bytes was fast either way, so it is the mix of compute and streaming
+ * stores that stalls there. The AVX-512 machine the kernels were first tuned on gained from
+ * them. Read once: every thread computes the same value. */
+size_t pc_dm_nt_min_bytes(void)
+{
+	static _Atomic size_t cached = (size_t)-1; /* not read yet */
+	size_t c = cached;
+	if (c == (size_t)-1) {
+		const char *e = getenv("POLARCAM_NT_MIN_BYTES");
+		char *end;
+		unsigned long long v = e && *e ? strtoull(e, &end, 10) : 0;
+		size_t dflt = pc_cpu_is_amd() ? (size_t)-2 /* never */ : (size_t)32 << 20;
+		c = e && *e && !*end && v < (size_t)-1 ? (size_t)v : dflt;
+		cached = c;
+	}
+	return c;
+}
+
+int pc_dm_planes_aligned(const pc_fplane *p, unsigned n)
+{
+	for (unsigned c = 0; c < n; c++)
+		if (!p[c].data || ((uintptr_t)p[c].data & 63) || ((p[c].row_stride * 4) & 63) ||
+		    p[c].pixel_stride != 1)
+			return 0;
+	return 1;
+}
+
+int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h,
+			pc_cpu_level level)
+{
+	return level >= PC_CPU_AVX2 && pc_dm_planes_aligned(p, n) &&
+	       (size_t)w * h * 4 * n >= pc_dm_nt_min_bytes();
+}
+
+#ifdef PC_CPU_X86
+__attribute__((target("avx2"))) static void stream_rows_avx2(float *const dst[],
+							     const float *const src[], unsigned n,
+							     uint32_t w)
+{
+	for (unsigned k = 0; k < n; k++) {
+		uint32_t x = 0;
+		for (; x + 16 <= w; x += 16) {
+			_mm256_stream_ps(dst[k] + x, _mm256_loadu_ps(src[k] + x));
+			_mm256_stream_ps(dst[k] + x + 8, _mm256_loadu_ps(src[k] + x + 8));
+		}
+		for (; x < w; x++)
+			dst[k][x] = src[k][x];
+	}
+	_mm_sfence();
+}
+#endif
+
+int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, uint32_t w,
+		      pc_cpu_level level)
+{
+#ifdef PC_CPU_X86
+	if (level >= PC_CPU_AVX2) {
+		stream_rows_avx2(dst, src, n, w);
+		return 0;
+	}
+#endif
+	(void)dst;
+	(void)src;
+	(void)n;
+	(void)w;
+	(void)level;
+	return PC_ENOTSUP;
+}
+
+void pc_dm_sfence(void)
+{
+#ifdef PC_CPU_X86
+	_mm_sfence();
+#endif
+}

@@ -1,0 +1,177 @@
+/* Internal to core's demosaic → Stokes pipeline: the helpers every kernel shares (the lowest
+ * tier; it calls no kernel). Input preparation (a raw view as 8-bit, 16-bit or float rows, the
+ * black level recorded), row conversion to padded float rows, scratch allocation, the 3-row
+ * ring of the one-pass kernels, streaming (non-temporal) stores, the mirror rule and the
+ * methods' parameters. Not a public header. */
+#ifndef POLARCAM_DEMOSAIC_COMMON_H
+#define POLARCAM_DEMOSAIC_COMMON_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "polarcam/cpu.h"
+#include "polarcam/demosaic.h"
+#include "polarcam/frame.h"
+#include "polarcam/mosaic.h"
+
+/* Loop vectorisation that does not depend on the -O level: OpenMP simd (ignored without OpenMP). */
+#ifdef _OPENMP
+#define PC_SIMD _Pragma("omp simd")
+#else
+#define PC_SIMD
+#endif
+
+/* Whole-sample mirror (reflect-101) of index i into [0, n): -1 -> 1, n -> n-2, periodic with
+ * period 2n-2 for far-out indices. Keeps the parity of i (n >= 2), hence the 2×2 analyser. */
+static inline int pc_mirror(int i, int n)
+{
+	if (i >= 0 && i < n)
+		return i;
+	if (n == 1)
+		return 0;
+	int p = 2 * n - 2;
+	i %= p;
+	if (i < 0)
+		i += p;
+	return i < n ? i : p - i;
+}
+
+/* Analyser channel at row parity py (0/1) and column parity px of a monochrome mosaic. */
+static inline unsigned pc_dm_ch(const pc_mosaic *m, unsigned px, unsigned py)
+{
+	return m->channel[py & 1][px & 1];
+}
+
+/* ---- the prepared input ---- */
+
+/* The raw as a kernel reads it: a plane of 8-bit, 16-bit or float samples (raw units) and the
+ * black level that row conversion subtracts. */
+typedef enum pc_dm_type { PC_DMT_U8, PC_DMT_U16, PC_DMT_F32 } pc_dm_type;
+
+typedef struct pc_dm_input {
+	const uint8_t *data;
+	size_t stride; /* bytes */
+	pc_dm_type type;
+	uint32_t width, height;
+	float black;   /* subtracted from every sample by the float row conversions */
+	double black_d; /* the same, subtracted in double by pc_dm_input_to_double */
+} pc_dm_input;
+
+/* Prepares a (validated) raw view: integer and float planes are used in place (float checked
+ * for NaN and infinity, PC_ERANGE naming the pixel); packed formats are unpacked into *owned
+ * (free with pc_dm_free). */
+int pc_dm_prepare_input(const pc_view *raw, double black, pc_dm_input *in, void **owned);
+
+/* A float plane as an input (no copy): the colour methods' intermediate images. */
+pc_dm_input pc_dm_input_f32(const float *data, uint32_t width, uint32_t height);
+
+/* Row y minus the black level as floats at dst[0..w), mirrored one pixel on each side:
+ * dst[-1] = row[1], dst[w] = row[w-2] (dst must have room for both). */
+void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst);
+
+/* The whole raw minus the black level as floats (row stride w; the colour methods' input) or
+ * doubles (the references' input), C order, through pc_view_to_f32 (integer samples above the
+ * format's bit depth: PC_ERANGE naming the pixel). Free with free(). */
+int pc_dm_raw_to_float(const pc_view *raw, double black, float **out);
+int pc_dm_raw_to_double(const pc_view *raw, double black, double **out);
+
+/* Sample (x, y) in raw units, before the black level (validity checks). */
+static inline float pc_dm_sample(const pc_dm_input *in, uint32_t x, uint32_t y)
+{
+	const uint8_t *row = in->data + (size_t)y * in->stride;
+	switch (in->type) {
+	case PC_DMT_U8:
+		return row[x];
+	case PC_DMT_U16:
+		return ((const uint16_t *)(const void *)row)[x];
+	default:
+		return ((const float *)(const void *)row)[x];
+	}
+}
+
+/* channels consecutive width × height planes (pc_fplanes_separate) */
+void pc_dm_planes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
+			   pc_fplane *planes);
+
+/* ---- scratch memory (64-byte aligned; NULL on failure) ---- */
+void *pc_dm_alloc(size_t bytes);
+void pc_dm_free(void *p);
+
+/* ---- the 3-row ring of padded float rows y-1, y, y+1 (one-pass kernels) ---- */
+typedef struct pc_dm_ring {
+	float *buf;
+	size_t pitch; /* floats per padded row */
+	float *row[3];
+	int32_t have[3]; /* which mirrored source row each slot holds */
+} pc_dm_ring;
+
+int pc_dm_ring_init(pc_dm_ring *r, uint32_t w);
+/* The padded row for source row y (mirrored), converting it if not already in the ring; bands
+ * walk downwards. */
+const float *pc_dm_ring_get(pc_dm_ring *r, const pc_dm_input *in, int y);
+void pc_dm_ring_free(pc_dm_ring *r);
+
+/* ---- streaming (non-temporal) stores ---- */
+
+/* Output bytes from which non-temporal stores pay: 32 MB, never on AMD processors (measured
+ * slower there, docs/demosaicking.md); POLARCAM_NT_MIN_BYTES overrides it (read once). */
+size_t pc_dm_nt_min_bytes(void);
+
+/* Whether n planes are planar (pixel_stride 1), present, 64-byte aligned with 64-byte aligned
+ * rows (whole cache lines; the AVX-512 streaming stores need it). */
+int pc_dm_planes_aligned(const pc_fplane *p, unsigned n);
+
+/* Whether n planes of w × h floats are worth streaming at this CPU level (aligned, large,
+ * AVX2 present). */
+int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h,
+			pc_cpu_level level);
+
+/* Copies n rows of w floats with non-temporal stores (dst rows 64-byte aligned), one row after
+ * the other so that every store sequence fills whole cache lines; then a store fence. For
+ * kernels that compute a row in cache and then write it out; PC_ENOTSUP below AVX2, where the
+ * caller keeps ordinary stores. */
+int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, uint32_t w,
+		      pc_cpu_level level);
+
+/* The store fence that ends a sequence of non-temporal stores (nothing off x86-64). */
+void pc_dm_sfence(void);
+
+/* ---- one kernel call: the prepared input and what the front door resolved ---- */
+typedef struct pc_dm_call {
+	const pc_dm_input *in;
+	const pc_mosaic *m; /* a monochrome mosaic */
+	pc_demosaic_method method;
+	double full_scale; /* the signal's full scale: the raw's minus the black level */
+	int threads;       /* 0: pc_parallel default */
+	pc_cpu_level level;
+} pc_dm_call;
+
+/* ---- row sinks: a kernel that produces whole demosaicked rows hands them on ---- */
+typedef struct pc_dm_row_sink {
+	/* row y of the four analyser channels (channel order), w floats each, in cache */
+	void (*row)(void *ctx, uint32_t y, const float *const ch[4]);
+	void *ctx;
+} pc_dm_row_sink;
+
+/* ---- the methods' parameters (shared by the references and the fast paths) ---- */
+
+/* Residual interpolation parameters: the guided filter's window radius in pixels, the square
+ * root of its regulariser as a fraction of full scale, the number of passes (each pass after
+ * the first uses the mean of the previous pass's four channels as its guide), and for EARI the
+ * guide's edge-weight offset as a fraction of full scale. Chosen on the Lapray NIR and Zhang
+ * scenes together (docs/demosaicking.md has the sweep). */
+typedef struct pc_ri_params {
+	int radius;
+	double eps;
+	int passes;
+	double guide_eps;
+} pc_ri_params;
+
+static const pc_ri_params pc_ri_params_default = { 2, 0.01, 1, 0 };
+static const pc_ri_params pc_eari_params = { 2, 0.003, 1, 0.1 };
+
+/* Passes of the ratio method (PC_DM_RATIO): the second uses the first's mean as its guide
+ * (Lapray NIR: +0.25 dB S0; Zhang: +1.0 dB S0, +0.8 dB DoLP over a single pass). */
+#define PC_RATIO_PASSES 2
+
+#endif

@@ -1,0 +1,320 @@
+/* The method table and the one validation of the demosaic → Stokes front doors
+ * (demosaic_plan.h): every method's description, support and kernels in one row; a call
+ * validated and resolved once into a plan; the demosaicking paths (reference, fast, colour). */
+#include "demosaic_plan.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "demosaic_color.h"
+#include "demosaic_fast.h"
+#include "demosaic_ic.h"
+#include "demosaic_ref.h"
+#include "polarcam/error.h"
+#include "polarcam/format.h"
+
+/* Supports { lo, hi, block, scale } (validity.h): the raw samples each output pixel depends on,
+ * from the methods' neighbourhoods composed stage by stage (demosaic_ref.c): bilinear 3×3;
+ * bicubic ±3 (Keys' four taps at ±1, ±3); PPID ±4 (coarse PPI ±1, refined ±2 around it, then a
+ * 3×3 tent of the differences); RI ±8 (PPI guide ±3, coefficients over a ±2 window of it, their
+ * means over another ±2, the residual's 3×3 tent); EARI ±7 (its guide is ±2); ratio ±4 (guide
+ * ±2, 3×3 tent, the second pass's guide the first pass's mean); bayer-first ±3 (the analyser
+ * sub-image's 3×3 is ±2, then a 3×3 tent); bayer-eari ±9 (±2, then EARI). tests/test_demosaic.c
+ * perturbs single samples of the references and checks that nothing outside changes. */
+static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
+	[PC_DM_SUPERPIXEL_HALF] = { { PC_DM_SUPERPIXEL_HALF, "superpixel-half",
+				    "no interpolation error, half resolution; 2x2 IFoV misregistration "
+				    "shows as false DoLP on edges",
+				    "cheapest: one read of the raw, a quarter-size output",
+				    "the 2x2 super-pixel of DoFP sensors (e.g. Ratliff et al. 2009)",
+				    PC_DMF_MONO | PC_DMF_HALF_RES },
+		{ 0, 1, 2, 2 }, pc_dm_superpixel_half, NULL, false, PC_DM_SUPERPIXEL_HALF },
+	[PC_DM_SUPERPIXEL] = { { PC_DM_SUPERPIXEL, "superpixel",
+			       "full-size output of the 2x2 super-pixel values; blocky, lowest "
+			       "accuracy", "memory-bound, like a copy",
+			       "the 2x2 super-pixel replicated over its block",
+			       PC_DMF_MONO },
+		{ 0, 1, 2, 1 }, pc_dm_superpixel, NULL, false, PC_DM_SUPERPIXEL },
+	[PC_DM_BILINEAR] = { { PC_DM_BILINEAR, "bilinear",
+			     "the baseline: per-channel tent interpolation, false DoLP on edges (Lapray NIR: S0 "
+			     "47.7 dB, DoLP 35.6 dB)",
+			     "memory-bound: 3x3 neighbourhood, one pass",
+			     "Gao & Gruev, Opt. Express 19(27) 2011, bilinear DoFP interpolation",
+			     PC_DMF_MONO },
+		{ -1, 1, 1, 1 }, pc_dm_bilinear, NULL, true, PC_DM_BILINEAR },
+	[PC_DM_BICUBIC] = { { PC_DM_BICUBIC, "bicubic",
+			    "sharper than bilinear, slight ringing; still per channel (Lapray: S0 +1.8 dB, "
+			    "DoLP +0.9 dB over bilinear)",
+			    "7x7 neighbourhood, separable; about 1.2-1.3x bilinear's time",
+			    "Keys cubic convolution (a = -1/2) per channel, as in Gao & Gruev 2011",
+			    PC_DMF_MONO },
+		{ -3, 3, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_BICUBIC },
+	[PC_DM_PPID] = { { PC_DM_PPID, "ppid",
+			 "inter-channel: interpolates differences to an edge-aware pseudo-"
+			 "panchromatic image (Zhang: S0 +5.0 dB; Lapray: -0.7 dB over bilinear)",
+			 "5x5 neighbourhood, three fused passes; about 3.5x bilinear's time",
+			 "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
+			 "Lapray, Bigue, Sensors 18(11) 3688, 2018",
+			 PC_DMF_MONO },
+		{ -4, 4, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_PPID },
+	[PC_DM_RI] = { { PC_DM_RI, "ri",
+		       "inter-channel: guided-filter tentative estimates plus interpolated "
+		       "residuals (Lapray: S0 +1.2 dB; Zhang: +4.0 dB over bilinear)",
+		       "guided filters (5x5 windows) per channel; about 11x bilinear's time",
+		       "Kiku, Monno, Tanaka, Okutomi, ICIP 2013; for DoFP: Ahmed, Zhao, Gruev, "
+		       "Zhang, Bermak, Opt. Express 25(9) 2017",
+		       PC_DMF_MONO },
+		{ -8, 8, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_RI },
+	[PC_DM_EARI] = { { PC_DM_EARI, "eari",
+			 "inter-channel: residual interpolation guided by an edge-aware "
+			 "intensity image; the most accurate on Lapray (Lapray: S0 +3.8 dB, DoLP "
+			 "+2.2 dB; Zhang: +3.7/+3.5 dB over bilinear)",
+			 "like ri plus an edge-aware guide pass; about 10x bilinear's time",
+			 "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292)",
+			 PC_DMF_MONO },
+		{ -7, 7, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_EARI },
+	[PC_DM_BAYER_FIRST] = { { PC_DM_BAYER_FIRST, "bayer-first",
+				"colour-polarization: bilinear Bayer demosaicking of each analyser "
+				"sub-image, then bilinear up-sampling of the analysers",
+				"a colour pass plus three bilinear passes; about 22x bilinear's time",
+				"the colour-first baseline of colour-polarization demosaicking "
+				"(Morimatsu et al. 2020, Sec. 3.2)",
+				PC_DMF_COLOR },
+		{ -3, 3, 1, 1 }, NULL, NULL, false, PC_DM_BILINEAR },
+	[PC_DM_BAYER_EARI] = { { PC_DM_BAYER_EARI, "bayer-eari",
+			       "colour-polarization: bilinear Bayer demosaicking of each analyser "
+			       "sub-image, then EARI across the analysers of each colour; better "
+			       "polarization than bayer-first",
+			       "bayer-first's colour step plus three EARI runs; about 50x bilinear's time",
+			       "colour-first as Morimatsu et al. 2020, with the polarization step of "
+			       "their EARI",
+			       PC_DMF_COLOR },
+		{ -9, 9, 1, 1 }, NULL, NULL, false, PC_DM_EARI },
+	[PC_DM_RATIO] = { { PC_DM_RATIO, "ratio",
+			  "inter-channel: EARI's edge-aware intensity guide, channels as guide x "
+			  "interpolated ratio raw/guide, twice (Lapray: S0 +3.6 dB, DoLP +2.0 dB; "
+			  "Zhang: +4.8/+4.5 dB over bilinear)",
+			  "the guide pass plus two ratio passes (3x3 tents); about 2.7x bilinear's time",
+			  "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
+			  "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated",
+			  PC_DMF_MONO },
+		{ -4, 4, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_RATIO },
+};
+
+const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
+{
+	if ((int)m < 0 || (int)m >= PC_DM_COUNT)
+		return NULL;
+	return &pc_dm_methods[m];
+}
+
+/* ---- validation ---- */
+
+pc_pipeline_opts pc_dm_opts_legacy(const pc_mosaic *m, pc_demosaic_method method,
+				   const pc_demosaic_opts *opts)
+{
+	pc_pipeline_opts o;
+	memset(&o, 0, sizeof o);
+	o.method = method;
+	if (m)
+		o.mosaic = *m; /* else period 0: pc_mosaic_check refuses it */
+	if (opts) {
+		o.threads = opts->threads;
+		o.reference = opts->reference;
+		o.full_scale = opts->full_scale;
+	}
+	return o;
+}
+
+static int check_level(const char *name, double v)
+{
+	if (!isfinite(v) || v < 0)
+		return pc_error(PC_EINVAL, "%s %g: expected a finite value >= 0 (raw units; 0: none)",
+				name, v);
+	return 0;
+}
+
+int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_plan *p)
+{
+	memset(p, 0, sizeof *p);
+	if (!opts)
+		return pc_error(PC_EINVAL, "pipeline options missing");
+	int rc = pc_view_check(raw);
+	if (rc)
+		return pc_error_prefix(rc, "raw: ");
+	const pc_mosaic *m = &opts->mosaic;
+	rc = pc_mosaic_check(m);
+	if (rc)
+		return rc;
+	const pc_dm_method_def *def = pc_dm_method_def_get(opts->method);
+	if (!def)
+		return pc_error(PC_EINVAL, "demosaicking method %d: unknown", (int)opts->method);
+	const pc_demosaic_method_info *mi = &def->info;
+	int colour = m->period == 4;
+	if (colour && !(mi->flags & PC_DMF_COLOR))
+		return pc_error(PC_EINVAL, "method %s works on monochrome polarizer mosaics only; "
+					   "this mosaic has a colour filter (try bayer-first or "
+					   "bayer-eari)", mi->name);
+	if (!colour && !(mi->flags & PC_DMF_MONO))
+		return pc_error(PC_EINVAL, "method %s works on colour-polarization mosaics only",
+				mi->name);
+	uint32_t minsz = colour ? 8 : 4;
+	if (raw->width % 2 || raw->height % 2)
+		return pc_error(PC_EINVAL, "raw size %ux%u: width and height must be even (whole 2x2 "
+					   "analyser blocks); crop one column or row", raw->width,
+				raw->height);
+	if (raw->width < minsz || raw->height < minsz)
+		return pc_error(PC_EINVAL, "raw size %ux%u: at least %ux%u pixels are needed",
+				raw->width, raw->height, minsz, minsz);
+	if (raw->width > (1u << 30) || raw->height > (1u << 30))
+		return pc_error(PC_EINVAL, "raw size %ux%u: too large", raw->width, raw->height);
+	if ((rc = check_level("black level", opts->black_level)) ||
+	    (rc = check_level("saturation level", opts->saturation_level)) ||
+	    (rc = check_level("dead level", opts->dead_level)))
+		return rc;
+	if (opts->saturation_level > 0 && opts->dead_level > 0 &&
+	    !(opts->dead_level < opts->saturation_level))
+		return pc_error(PC_EINVAL, "dead level %g: must be below the saturation level %g",
+				opts->dead_level, opts->saturation_level);
+	const pc_format_info *fi = pc_format_info_get(raw->format);
+	double fs = opts->full_scale > 0 && isfinite(opts->full_scale)
+			    ? opts->full_scale
+			    : fi->is_float ? 1.0 : (double)((1u << fi->bits) - 1u);
+	if (!(opts->black_level < fs))
+		return pc_error(PC_EINVAL, "black level %g: must be below the full scale %g",
+				opts->black_level, fs);
+	p->raw = raw;
+	p->def = def;
+	p->opts = *opts;
+	p->colour = colour;
+	const bool half = mi->flags & PC_DMF_HALF_RES;
+	p->ow = half ? raw->width / 2 : raw->width;
+	p->oh = half ? raw->height / 2 : raw->height;
+	p->nch = colour ? 12u : 4u;
+	p->full_scale = fs - opts->black_level;
+	p->level = pc_cpu_active();
+	return 0;
+}
+
+void pc_dm_plan_end(pc_dm_plan *p)
+{
+	pc_dm_free(p->owned);
+	p->owned = NULL;
+	p->prepared = false;
+}
+
+int pc_dm_plan_input(pc_dm_plan *p, const pc_dm_input **in)
+{
+	if (!p->prepared) {
+		int rc = pc_dm_prepare_input(p->raw, p->opts.black_level, &p->in, &p->owned);
+		if (rc)
+			return rc;
+		p->prepared = true;
+	}
+	*in = &p->in;
+	return 0;
+}
+
+pc_dm_call pc_dm_plan_call(const pc_dm_plan *p)
+{
+	pc_dm_call c = { &p->in, &p->opts.mosaic, p->opts.method, p->full_scale, p->opts.threads,
+			 p->level };
+	return c;
+}
+
+/* ---- demosaicking paths ---- */
+
+/* The reference of a monochrome method on a raw in double. */
+static int mono_reference(const pc_dm_plan *p, const double *img, const pc_mosaic *m,
+			  pc_demosaic_method method, const pc_fplane *out)
+{
+	return pc_dm_ref(img, p->raw->width, p->raw->height, m, method, p->full_scale, out);
+}
+
+static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
+{
+	const uint32_t w = p->raw->width, h = p->raw->height;
+	const size_t n = (size_t)w * h;
+	const pc_mosaic mono = pc_dm_color_mono(&p->opts.mosaic);
+	const pc_demosaic_method second = p->def->second;
+	const pc_dm_method_def *sdef = pc_dm_method_def_get(second);
+	const bool reference = p->opts.reference || !sdef->fast;
+	int rc = 0;
+	void *mk[3] = { NULL, NULL, NULL };
+	double *img = NULL;
+	float *fin = NULL;
+	size_t esz = reference ? sizeof(double) : sizeof(float);
+	for (int k = 0; k < 3 && !rc; k++)
+		if (!(mk[k] = malloc(n * esz)))
+			rc = pc_error(PC_ENOMEM, "colour demosaicking: %ux%u images", w, h);
+	if (!rc && reference) {
+		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
+		if (!rc) {
+			double *md[3] = { mk[0], mk[1], mk[2] };
+			pc_dm_color_split_ref(img, w, h, &p->opts.mosaic, md);
+		}
+		for (unsigned k = 0; k < 3 && !rc; k++)
+			rc = mono_reference(p, mk[k], &mono, second, out + 4 * k);
+	} else if (!rc) {
+		rc = pc_dm_raw_to_float(p->raw, p->opts.black_level, &fin);
+		float *mf[3] = { mk[0], mk[1], mk[2] };
+		if (!rc)
+			rc = pc_dm_color_split(fin, w, h, &p->opts.mosaic, p->opts.threads, mf);
+		for (unsigned k = 0; k < 3 && !rc; k++) {
+			pc_dm_input in = pc_dm_input_f32(mf[k], w, h);
+			pc_dm_call c = { &in, &mono, second, p->full_scale, p->opts.threads, p->level };
+			rc = sdef->fast(&c, out + 4 * k);
+		}
+	}
+	for (int k = 0; k < 3; k++)
+		free(mk[k]);
+	free(img);
+	free(fin);
+	return rc;
+}
+
+int pc_dm_plan_demosaic(pc_dm_plan *p, const pc_fplane *out)
+{
+	if (p->colour)
+		return colour_demosaic(p, out);
+	if (!p->opts.reference && p->def->fast) {
+		const pc_dm_input *in;
+		int rc = pc_dm_plan_input(p, &in);
+		if (rc)
+			return rc;
+		pc_dm_call c = pc_dm_plan_call(p);
+		return p->def->fast(&c, out);
+	}
+	double *img = NULL;
+	int rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
+	if (!rc)
+		rc = mono_reference(p, img, &p->opts.mosaic, p->opts.method, out);
+	free(img);
+	return rc;
+}
+
+/* ---- validity ---- */
+
+int pc_dm_plan_check_validity(const pc_dm_plan *p, const pc_validity *v)
+{
+	if (v && v->mask && v->row_stride < p->ow)
+		return pc_error(PC_EINVAL, "validity mask: row stride %zu bytes below the width %u",
+				v->row_stride, p->ow);
+	return 0;
+}
+
+int pc_dm_plan_validity(pc_dm_plan *p, pc_validity *v)
+{
+	const pc_dm_input *in;
+	v->n_invalid = 0;
+	pc_dm_levels lv = { p->opts.saturation_level, p->opts.dead_level };
+	if (!(lv.saturation > 0) && !(lv.dead > 0) && !v->mask)
+		return 0;
+	int rc = pc_dm_plan_input(p, &in);
+	if (rc)
+		return rc;
+	return pc_dm_validity(in, &p->def->support, &lv, p->ow, p->oh, p->opts.threads, v->mask,
+			      v->row_stride, &v->n_invalid);
+}

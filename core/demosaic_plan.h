@@ -1,0 +1,81 @@
+/* Internal to core: the one table of demosaicking methods and the one validation of a call
+ * (demosaic_plan.c), shared by the two front doors, pc_demosaic_run (demosaic.c) and
+ * pc_stokes_run (stokes.c). A plan is a validated raw and pipeline options with everything
+ * resolved once (sizes, full scale, CPU level, the prepared input); the table says which
+ * kernel runs each stage. Not a public header.
+ *
+ * Adding a method: a row in pc_dm_methods (demosaic_plan.c) with its public description, its
+ * support (the raw samples an output depends on: checked against the reference by
+ * perturbation in tests/test_demosaic.c), its monochrome reference in pc_dm_ref (or, for a
+ * colour method, the monochrome method of its second step), and where it has them its fast
+ * kernel and its row-sink kernel (the fused Stokes pipeline). */
+#ifndef POLARCAM_DEMOSAIC_PLAN_H
+#define POLARCAM_DEMOSAIC_PLAN_H
+
+#include <stdbool.h>
+
+#include "demosaic_common.h"
+#include "polarcam/demosaic.h"
+#include "validity.h"
+
+typedef struct pc_dm_method_def {
+	pc_demosaic_method_info info;
+	pc_dm_support support;
+	/* monochrome: the fast float kernel into channel planes (NULL: the double reference,
+	 * converted to float, is the implementation) */
+	int (*fast)(const pc_dm_call *call, const pc_fplane *out);
+	/* monochrome: the kernel that hands finished rows to a sink (the fused Stokes pipeline;
+	 * planar Stokes outputs); NULL: none */
+	int (*rows)(const pc_dm_call *call, const pc_dm_row_sink *sink);
+	/* monochrome: the fused bilinear demosaic + Stokes kernel computes this method */
+	bool fused_bilinear;
+	/* colour: the monochrome method of step 2 (demosaic_color.h) */
+	pc_demosaic_method second;
+} pc_dm_method_def;
+
+/* The table row of a method, NULL for values out of range. */
+const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m);
+
+typedef struct pc_dm_plan {
+	const pc_view *raw;
+	const pc_dm_method_def *def;
+	pc_pipeline_opts opts;
+	bool colour;
+	uint32_t ow, oh; /* output size */
+	unsigned nch;    /* output channels: 4 or 12 */
+	double full_scale; /* the signal's: the raw's full scale minus the black level */
+	pc_cpu_level level; /* read once per call */
+	pc_dm_input in;     /* prepared on first use (pc_dm_plan_input) */
+	void *owned;
+	bool prepared;
+} pc_dm_plan;
+
+/* The pipeline options of the older entry points (pc_demosaic, pc_stokes_from_raw): method,
+ * mosaic m (NULL: an invalid one, refused by pc_dm_plan_begin), and threads, reference and
+ * full scale from opts (may be NULL); everything else as pc_pipeline_defaults(). */
+pc_pipeline_opts pc_dm_opts_legacy(const pc_mosaic *m, pc_demosaic_method method,
+				   const pc_demosaic_opts *opts);
+
+/* Validates the raw and the options (everything but the outputs and opts->pinv, which the
+ * front doors check) and resolves them. Errors: PC_EINVAL (or PC_ERANGE) with a detail message
+ * naming the field. Nothing to free on error. */
+int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_plan *p);
+void pc_dm_plan_end(pc_dm_plan *p);
+
+/* The prepared input (unpacked, float checked), made on the first call. */
+int pc_dm_plan_input(pc_dm_plan *p, const pc_dm_input **in);
+
+/* The kernel call of a monochrome plan (after pc_dm_plan_input). */
+pc_dm_call pc_dm_plan_call(const pc_dm_plan *p);
+
+/* Demosaics into the plan's channel planes (checked by the caller): the reference, the fast
+ * kernel, or for colour mosaics step 1 then step 2 through the table. */
+int pc_dm_plan_demosaic(pc_dm_plan *p, const pc_fplane *out);
+
+/* Checks a validity output for the plan's output size (PC_EINVAL naming the field). */
+int pc_dm_plan_check_validity(const pc_dm_plan *p, const pc_validity *v);
+
+/* Fills the validity output (mask and count) from the raw and the method's support. */
+int pc_dm_plan_validity(pc_dm_plan *p, pc_validity *v);
+
+#endif

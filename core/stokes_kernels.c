@@ -1,0 +1,370 @@
+/* The Stokes kernels (stokes_kernels.h): the row kernels of stokes_kern.inc built once per
+ * instruction-set level (simd.h), and their drivers - the fused bilinear pass over row bands,
+ * the row sink of the row-cache methods, the planar pass, and the scalar generic pass. */
+#include "stokes_kernels.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "polarcam/error.h"
+#include "polarcam/parallel.h"
+#include "simd.h"
+
+#define PC_INST PC_INST_BASELINE
+#include "simd_instance_begin.h"
+#include "stokes_kern.inc"
+#include "simd_instance_end.h"
+
+#ifdef PC_CPU_X86
+#define PC_INST PC_INST_AVX2
+#include "simd_instance_begin.h"
+#include "stokes_kern.inc"
+#include "simd_instance_end.h"
+
+#define PC_INST PC_INST_AVX512
+#include "simd_instance_begin.h"
+#include "stokes_kern.inc"
+#include "simd_instance_end.h"
+#endif
+
+/* ---- dispatch of one row to the instance of the call's level ---- */
+
+static void row_bilinear(pc_cpu_level l, const float *a, const float *b, const float *c,
+			 uint32_t w, const float k1[4], const float k2[4], int exact,
+			 float *const o[5], int nt)
+{
+#ifdef PC_CPU_X86
+	if (l >= PC_CPU_AVX512)
+		stokes_row_avx512(a, b, c, w, k1, k2, exact, o, nt);
+	else if (l >= PC_CPU_AVX2)
+		stokes_row_avx2(a, b, c, w, k1, k2, exact, o, nt);
+	else
+#endif
+		stokes_row_base(a, b, c, w, k1, k2, exact, o, 0);
+	(void)l;
+}
+
+static void row_bilinear_cal(pc_cpu_level l, const float *a, const float *b, const float *c,
+			     uint32_t w, const float *const P[12], int xkind, int exact,
+			     float *const o[5], int nt)
+{
+#ifdef PC_CPU_X86
+	if (l >= PC_CPU_AVX512)
+		stokes_row_cal_avx512(a, b, c, w, P, xkind, exact, o, nt);
+	else if (l >= PC_CPU_AVX2)
+		stokes_row_cal_avx2(a, b, c, w, P, xkind, exact, o, nt);
+	else
+#endif
+		stokes_row_cal_base(a, b, c, w, P, xkind, exact, o, 0);
+	(void)l;
+}
+
+static void row_channels(pc_cpu_level l, const float *const ch[4], uint32_t w,
+			 const float *const *P, int xkind, float *const o[5], int nt)
+{
+#ifdef PC_CPU_X86
+	if (l >= PC_CPU_AVX512) {
+		if (P)
+			stokes4_row_cal_avx512(ch[0], ch[1], ch[2], ch[3], w, P, xkind, o, nt);
+		else
+			stokes4_row_avx512(ch[0], ch[1], ch[2], ch[3], w, o, nt);
+		return;
+	}
+	if (l >= PC_CPU_AVX2) {
+		if (P)
+			stokes4_row_cal_avx2(ch[0], ch[1], ch[2], ch[3], w, P, xkind, o, nt);
+		else
+			stokes4_row_avx2(ch[0], ch[1], ch[2], ch[3], w, o, nt);
+		return;
+	}
+#endif
+	(void)l;
+	if (P)
+		stokes4_row_cal_base(ch[0], ch[1], ch[2], ch[3], w, P, xkind, o, 0);
+	else
+		stokes4_row_base(ch[0], ch[1], ch[2], ch[3], w, o, 0);
+}
+
+/* The calibration rows of output row y, element (i, channel ch[k]) at P[4i + k]. */
+static void cal_rows(const pc_st_calib *cal, const unsigned ch[4], uint32_t y,
+		     const float *P[12])
+{
+	for (unsigned i = 0; i < 3; i++)
+		for (unsigned k = 0; k < 4; k++)
+			P[4 * i + k] = pc_st_calib_row(cal, i, ch[k], y);
+}
+
+/* ---- calibration ---- */
+
+void pc_st_calib_init(const pc_analyser_pinv *pinv, uint32_t w, uint32_t h, pc_st_calib *c)
+{
+	c->pinv = pinv;
+	c->plane = (size_t)pinv->grid_w * pinv->grid_h;
+	c->w = w;
+	c->h = h;
+	uint32_t gw = pinv->grid_w;
+	c->xkind = gw == 1 ? PC_ST_X_UNIFORM
+		   : gw == w ? PC_ST_X_PIXEL
+		   : (uint64_t)gw * 2 == w ? PC_ST_X_PAIR
+					  : PC_ST_X_OTHER;
+}
+
+/* ---- outputs ---- */
+
+static void out_planes(const pc_stokes_out *out, const pc_fplane *p[5])
+{
+	p[0] = &out->s0;
+	p[1] = &out->s1;
+	p[2] = &out->s2;
+	p[3] = &out->dolp;
+	p[4] = &out->aolp;
+}
+
+int pc_st_planar_out(const pc_stokes_out *out)
+{
+	const pc_fplane *p[5];
+	out_planes(out, p);
+	for (int k = 0; k < 5; k++)
+		if (p[k]->data && p[k]->pixel_stride != 1)
+			return 0;
+	return 1;
+}
+
+int pc_st_stream_wanted(const pc_stokes_out *out, uint32_t w, uint32_t h, pc_cpu_level level)
+{
+	const pc_fplane *p[5];
+	out_planes(out, p);
+	int n = 0;
+	for (int k = 0; k < 5; k++) {
+		if (!p[k]->data)
+			continue;
+		n++;
+		if (!pc_dm_planes_aligned(p[k], 1))
+			return 0;
+	}
+	return level >= PC_CPU_AVX2 && (size_t)w * h * 4 * n >= pc_dm_nt_min_bytes();
+}
+
+/* Rows y of the wanted planar outputs (NULL where not wanted). */
+static void out_rows(const pc_stokes_out *out, uint32_t y, float *o[5])
+{
+	const pc_fplane *p[5];
+	out_planes(out, p);
+	for (int k = 0; k < 5; k++)
+		o[k] = p[k]->data ? p[k]->data + (size_t)y * p[k]->row_stride : NULL;
+}
+
+/* ---- fused bilinear + Stokes ---- */
+typedef struct fused_job {
+	const pc_dm_input *in;
+	const pc_mosaic *m;
+	const pc_st_calib *cal;
+	const pc_stokes_out *out;
+	pc_cpu_level level;
+	int planar, nt, exact, err;
+} fused_job;
+
+static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	fused_job *j = ctx;
+	uint32_t w = j->in->width;
+	pc_dm_ring rg;
+	float *tmp = NULL;
+	if (pc_dm_ring_init(&rg, w) || (!j->planar && !(tmp = pc_dm_alloc(5 * (size_t)w * 4)))) {
+		pc_dm_ring_free(&rg);
+		j->err = 1;
+		return;
+	}
+	const pc_fplane *planes[5];
+	out_planes(j->out, planes);
+	for (uint32_t y = y0; y < y1; y++) {
+		const float *a = pc_dm_ring_get(&rg, j->in, (int)y - 1);
+		const float *b = pc_dm_ring_get(&rg, j->in, (int)y);
+		const float *c = pc_dm_ring_get(&rg, j->in, (int)y + 1);
+		unsigned ch[4] = { pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
+				   pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1) };
+		float *o[5];
+		for (int k = 0; k < 5; k++)
+			o[k] = !planes[k]->data ? NULL
+			       : j->planar	? planes[k]->data + (size_t)y * planes[k]->row_stride
+						: tmp + (size_t)k * w;
+		if (j->cal) {
+			const float *P[12];
+			cal_rows(j->cal, ch, y, P);
+			row_bilinear_cal(j->level, a, b, c, w, P, j->cal->xkind, j->exact, o, j->nt);
+		} else {
+			/* S1 = I0 − I90 and S2 = I45 − I135 as signed sums of the four slots */
+			float k1[4], k2[4];
+			for (int k = 0; k < 4; k++) {
+				k1[k] = ch[k] == 0 ? 1.0f : ch[k] == 2 ? -1.0f : 0.0f;
+				k2[k] = ch[k] == 1 ? 1.0f : ch[k] == 3 ? -1.0f : 0.0f;
+			}
+			row_bilinear(j->level, a, b, c, w, k1, k2, j->exact, o, j->nt);
+		}
+		if (!j->planar)
+			for (int k = 0; k < 5; k++) {
+				if (!o[k])
+					continue;
+				float *d = planes[k]->data + (size_t)y * planes[k]->row_stride;
+				for (uint32_t x = 0; x < w; x++)
+					d[(size_t)x * planes[k]->pixel_stride] = o[k][x];
+			}
+	}
+	if (j->nt)
+		pc_dm_sfence();
+	pc_dm_free(tmp);
+	pc_dm_ring_free(&rg);
+}
+
+int pc_st_fused_bilinear(const pc_dm_input *in, const pc_mosaic *m, const pc_st_calib *cal,
+			 int threads, pc_cpu_level level, const pc_stokes_out *out)
+{
+	fused_job j = { in, m, cal, out, level, 1, 0, 0, 0 };
+	const pc_fplane *planes[5];
+	out_planes(out, planes);
+	int aligned = 1, n = 0;
+	for (int k = 0; k < 5; k++) {
+		if (!planes[k]->data)
+			continue;
+		n++;
+		if (planes[k]->pixel_stride != 1)
+			j.planar = 0;
+		if (!pc_dm_planes_aligned(planes[k], 1))
+			aligned = 0;
+	}
+	/* float raws may be tiny or huge: exact quotients (see dolp_aolp) */
+	j.exact = in->type == PC_DMT_F32;
+	j.nt = level >= PC_CPU_AVX2 && j.planar && aligned &&
+	       (size_t)in->width * in->height * 4 * n >= pc_dm_nt_min_bytes();
+	pc_parallel_rows(in->height, 0, threads, fused_band, &j);
+	return j.err ? pc_error(PC_ENOMEM, "stokes: row buffers") : 0;
+}
+
+/* ---- the row sink ---- */
+
+void pc_st_sink_row(void *sink, uint32_t y, const float *const ch[4])
+{
+	const pc_st_sink *s = sink;
+	float *o[5];
+	out_rows(s->out, y, o);
+	if (s->cal) {
+		static const unsigned id[4] = { 0, 1, 2, 3 };
+		const float *P[12];
+		cal_rows(s->cal, id, y, P);
+		row_channels(s->level, ch, s->w, P, s->cal->xkind, o, s->nt);
+	} else {
+		row_channels(s->level, ch, s->w, NULL, 0, o, s->nt);
+	}
+	if (s->nt)
+		pc_dm_sfence();
+}
+
+/* ---- Stokes from planar channel images ---- */
+typedef struct planar_job {
+	const pc_fplane *in;
+	uint32_t w;
+	const pc_st_calib *cal;
+	const pc_stokes_out *out;
+	pc_cpu_level level;
+	int nt;
+} planar_job;
+
+static void planar_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	planar_job *j = ctx;
+	static const unsigned id[4] = { 0, 1, 2, 3 };
+	for (uint32_t y = y0; y < y1; y++) {
+		const float *r[4];
+		for (int c = 0; c < 4; c++)
+			r[c] = j->in[c].data + (size_t)y * j->in[c].row_stride;
+		float *o[5];
+		out_rows(j->out, y, o);
+		if (j->cal) {
+			const float *P[12];
+			cal_rows(j->cal, id, y, P);
+			row_channels(j->level, r, j->w, P, j->cal->xkind, o, j->nt);
+		} else {
+			row_channels(j->level, r, j->w, NULL, 0, o, j->nt);
+		}
+	}
+	if (j->nt)
+		pc_dm_sfence();
+}
+
+int pc_st_planar(const pc_fplane in[4], uint32_t w, uint32_t h, const pc_st_calib *cal,
+		 int threads, pc_cpu_level level, const pc_stokes_out *out)
+{
+	for (int c = 0; c < 4; c++)
+		if (in[c].pixel_stride != 1)
+			return PC_ENOTSUP;
+	if (!pc_st_planar_out(out) || (cal && cal->xkind == PC_ST_X_OTHER))
+		return PC_ENOTSUP;
+	planar_job j = { in, w, cal, out, level, pc_st_stream_wanted(out, w, h, level) };
+	pc_parallel_rows(h, 0, threads, planar_band, &j);
+	return 0;
+}
+
+/* ---- the generic scalar pass ---- */
+typedef struct generic_job {
+	const pc_fplane *in;
+	uint32_t w;
+	const pc_st_calib *cal;
+	const pc_stokes_out *out;
+} generic_job;
+
+static void put(const pc_fplane *p, uint32_t x, uint32_t y, float v)
+{
+	if (p->data)
+		p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] = v;
+}
+
+static void generic_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	const generic_job *j = ctx;
+	const int want_da = j->out->dolp.data || j->out->aolp.data;
+	const pc_analyser_pinv *pi = j->cal ? j->cal->pinv : NULL;
+	for (uint32_t y = y0; y < y1; y++) {
+		const float *row[4];
+		for (int c = 0; c < 4; c++)
+			row[c] = j->in[c].data + (size_t)y * j->in[c].row_stride;
+		const float *P[12];
+		if (pi) {
+			static const unsigned id[4] = { 0, 1, 2, 3 };
+			cal_rows(j->cal, id, y, P);
+		}
+		for (uint32_t x = 0; x < j->w; x++) {
+			float v[4];
+			for (int c = 0; c < 4; c++)
+				v[c] = row[c][(size_t)x * j->in[c].pixel_stride];
+			float s0, s1, s2;
+			if (pi) {
+				uint32_t gx = (uint32_t)((uint64_t)x * pi->grid_w / j->w);
+				float s[3];
+				for (int i = 0; i < 3; i++)
+					s[i] = (P[4 * i][gx] * v[0] + P[4 * i + 1][gx] * v[1]) +
+					       (P[4 * i + 2][gx] * v[2] + P[4 * i + 3][gx] * v[3]);
+				s0 = s[0];
+				s1 = s[1];
+				s2 = s[2];
+			} else {
+				s0 = 0.5f * ((v[0] + v[1]) + (v[2] + v[3]));
+				s1 = v[0] - v[2];
+				s2 = v[1] - v[3];
+			}
+			put(&j->out->s0, x, y, s0);
+			put(&j->out->s1, x, y, s1);
+			put(&j->out->s2, x, y, s2);
+			if (want_da) {
+				put(&j->out->dolp, x, y, pc_st_dolp(s0, s1, s2));
+				put(&j->out->aolp, x, y, pc_st_aolp(s1, s2));
+			}
+		}
+	}
+}
+
+void pc_st_generic(const pc_fplane in[4], uint32_t w, uint32_t h, const pc_st_calib *cal,
+		   int threads, const pc_stokes_out *out)
+{
+	generic_job j = { in, w, cal, out };
+	pc_parallel_rows(h, 0, threads, generic_band, &j);
+}
