@@ -48,8 +48,8 @@ static int capture(const char *dir, const char *n, char *const extra[], json_t *
 	char errp[200];
 	snprintf(errp, sizeof errp, "%s.err", dir);
 	char *argv[32] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=65000",
-			   "-n", (char *)n, "-o", (char *)dir, "--timeout-ms", "20000", NULL };
-	int k = 9;
+			   "-n", (char *)n, "-o", (char *)dir, "--timeout-ms", "20000", "--json", NULL };
+	int k = 10;
 	for (int i = 0; extra && extra[i] && k < 31; i++)
 		argv[k++] = extra[i];
 	argv[k] = NULL;
@@ -205,15 +205,16 @@ static void test_lost_packets(void)
 /* SIGTERM to a capture behind its writer: what was acquired is written. */
 static void test_capture_sigterm(void)
 {
-	char dir[160], probe[200], errp[200];
+	char dir[160], errp[200];
 	snprintf(dir, sizeof dir, "%s/term", base);
-	snprintf(probe, sizeof probe, "%s/raw_000001.raw", dir);
 	snprintf(errp, sizeof errp, "%s.err", dir);
 	char *argv[] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=65000", "-n",
-			 "100000", "-o", dir, "--write-delay-ms", "300", "--store", "raw", NULL };
+			 "100000", "-o", dir, "--write-delay-ms", "300", "--store", "raw", "--json",
+			 NULL };
 	int fd;
 	pid_t pid = spawn(argv, &fd, errp);
-	for (int t = 0; t < 600 && access(probe, F_OK) != 0; t++) {
+	/* the second frame written (in the folder's temporary sibling until the end) */
+	for (int t = 0; t < 600 && !sf_out_file_exists(dir, "raw_000001.raw"); t++) {
 		struct timespec ts = { 0, 100000000 };
 		nanosleep(&ts, NULL);
 	}

@@ -82,7 +82,7 @@ static int run(pc_capture_opts *o, bool json)
 		cli_print_json(json_loads(rep.json, 0, NULL));
 	int status = CLI_EXIT_OK;
 	if (rep.error)
-		status = cli_error(cli_status(rep.error), "%s (the %llu frames recorded are kept in %s)",
+		status = cli_error(cli_status(rep.error), "%s (the %llu frames recorded are kept intact in %s)",
 				   rep.message, (unsigned long long)rep.frames, o->dir);
 	else
 		cli_info("recorded %llu frames in %s", (unsigned long long)rep.frames, o->dir);
