@@ -78,7 +78,9 @@ typedef struct rec_check {
 	uint64_t seq_span; /* last - first + 1 */
 } rec_check;
 
-/* Every recorded frame: a whole one equals simulator frame (sequence - first) mod CYCLE. */
+/* Every recorded frame: a whole one equals simulator frame (sequence - first + k) mod CYCLE,
+ * with one k for the whole recording (the camera's first frames may have been skipped, so the
+ * first recorded frame need not be the cycle's first: k is found from the first whole frame). */
 static rec_check check_recording(const char *dir)
 {
 	rec_check c = { 0 };
@@ -88,6 +90,7 @@ static rec_check check_recording(const char *dir)
 		return c;
 	c.frames = pc_recording_count(r);
 	uint64_t s0 = c.frames ? pc_recording_get_frame(r, 0)->sequence : 0;
+	int k = -1;
 	for (size_t i = 0; i < c.frames; i++) {
 		const pc_recording_frame *f = pc_recording_get_frame(r, i);
 		c.seq_span = f->sequence - s0 + 1;
@@ -100,7 +103,11 @@ static rec_check check_recording(const char *dir)
 			c.bad++;
 			continue;
 		}
-		if (sf_checksum(&v) == frames.sum[(f->sequence - s0) % CYCLE])
+		uint64_t sum = sf_checksum(&v);
+		for (int j = 0; k < 0 && j < CYCLE; j++)
+			if (sum == frames.sum[(f->sequence - s0 + (uint64_t)j) % CYCLE])
+				k = j;
+		if (k >= 0 && sum == frames.sum[(f->sequence - s0 + (uint64_t)k) % CYCLE])
 			c.whole++;
 		else
 			c.bad++;
@@ -176,6 +183,13 @@ static void test_lost_packets(void)
 		char *extra[] = { "--incomplete", (char *)policy[p], "--store", "raw", NULL };
 		json_t *rep = NULL;
 		int st = capture(dir, "4", extra, &rep);
+		if (!rep && p == 2) {
+			/* the first frame came damaged: no frame, so nothing is put in place */
+			CHECK_EQ_INT(st, 1);
+			CHECK(access(dir, F_OK) != 0);
+			printf("lost packets, fail: exit 1 at the first frame, nothing written\n");
+			continue;
+		}
 		rec_check c = check_recording(dir);
 		json_int_t failed = geti(rep, "stats", "failed");
 		CHECK_EQ_INT(c.bad, 0);
