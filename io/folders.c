@@ -54,7 +54,7 @@ int pc_map_write(const char *dir, const char *name, const float *map, uint32_t w
 	if (!rc) {
 		snprintf(file, sizeof file, "%s.png", name);
 		rc = join(path, sizeof path, dir, file);
-		pc_colorbar bar = { label, lo, hi, NULL, 0, 0, pc_picture_grey_key, NULL };
+		pc_colorbar bar = { label, lo, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0 };
 		/* pc_picture_grey draws non-finite values magenta: say what they mean when present */
 		size_t undefined = 0;
 		for (size_t i = 0; i < (size_t)width * height; i++)

@@ -530,7 +530,7 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 		cairo_rectangle(cr, bx, by, bwid, bh);
 		cairo_stroke(cr);
 		cairo_set_font_size(cr, fs * 0.8);
-		double step = nice_step(bar->vmax - bar->vmin, 5);
+		double step = bar->tick_step > 0 ? bar->tick_step : nice_step(bar->vmax - bar->vmin, 5);
 		char buf[64];
 		if (step > 0 && isfinite(step)) {
 			for (int k = 0; k < 50; k++) {

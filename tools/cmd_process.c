@@ -51,6 +51,10 @@ static void usage(FILE *fp)
 		"                      with S0 < T (raw units; e.g. a few noise sigmas) are a dark grey\n"
 		"                      hatch, stated in the title and legend. Default: 1%% of the S0\n"
 		"                      99.9th percentile; 0 = no mask. The .npy files are never masked.\n"
+		"  --dolp-max V|auto   DoLP range of dolp.png (and the DoLP at full colour in the AoLP\n"
+		"                      pictures): 0..V (0 < V <= 1; default 1), or auto: 0 to the\n"
+		"                      unmasked pixels' 99th percentile, rounded up to 0.05. The range\n"
+		"                      is printed on the key.\n"
 		"  --json              print meta.json's content as one JSON line on stdout\n"
 		"%s"
 		"  -h, --help          this help\n"
@@ -67,7 +71,7 @@ static void usage(FILE *fp)
 /* process's own options (the rest are the shared raw options) */
 typedef struct proc_args {
 	long pic_width, pictures_every;
-	double mask_s0;
+	double mask_s0, dolp_hi;
 	bool mask_given, stack, pictures, overwrite, json;
 } proc_args;
 
@@ -79,7 +83,7 @@ static int parse_own(int argc, char **argv, proc_args *a, char **args, int *narg
 		const char *o = argv[i];
 		int rc = 0;
 		if (!strcmp(o, "--picture-width") || !strcmp(o, "--mask-s0") ||
-		    !strcmp(o, "--pictures-every")) {
+		    !strcmp(o, "--pictures-every") || !strcmp(o, "--dolp-max")) {
 			if (i + 1 >= argc)
 				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", o);
 			const char *v = argv[++i];
@@ -87,6 +91,14 @@ static int parse_own(int argc, char **argv, proc_args *a, char **args, int *narg
 				rc = cli_parse_long(o, v, 0, 30000, &a->pic_width);
 			else if (!strcmp(o, "--pictures-every"))
 				rc = cli_parse_long(o, v, 1, 999999, &a->pictures_every);
+			else if (!strcmp(o, "--dolp-max") && !strcmp(v, "auto"))
+				a->dolp_hi = -1;
+			else if (!strcmp(o, "--dolp-max")) {
+				if (!(rc = cli_parse_double(o, v, &a->dolp_hi)) &&
+				    !(a->dolp_hi > 0 && a->dolp_hi <= 1))
+					rc = pc_error(PC_ERANGE, "--dolp-max %s: expected auto or a DoLP in "
+								 "(0, 1]", v);
+			}
 			else if (!(rc = cli_parse_double(o, v, &a->mask_s0)) && !(a->mask_s0 >= 0))
 				rc = pc_error(PC_ERANGE, "--mask-s0 %s: expected a threshold >= 0 (0: no "
 							 "mask)", v);
@@ -115,8 +127,9 @@ static int run(const cli_raw *o, const proc_args *a, char **meta)
 	po.overwrite = a->overwrite;
 	pc_stokes_folder_opts fo = {
 		PC_SF_STOKES | PC_SF_DOLP | PC_SF_AOLP | (a->pictures ? PC_SF_PICTURES : 0),
-		{ NULL, (uint32_t)a->pic_width, !a->mask_given ? 0 : a->mask_s0 > 0 ? a->mask_s0 : -1,
-		  NULL },
+		{ .max_width = (uint32_t)a->pic_width,
+		  .mask_s0 = !a->mask_given ? 0 : a->mask_s0 > 0 ? a->mask_s0 : -1,
+		  .dolp_hi = a->dolp_hi },
 		false,
 		0
 	};
@@ -157,7 +170,7 @@ int cli_cmd_process(int argc, char **argv)
 		usage(stdout);
 		return CLI_EXIT_OK;
 	}
-	proc_args a = { 1224, 0, 0, false, false, true, false, false };
+	proc_args a = { 1224, 0, 0, 0, false, false, true, false, false };
 	char **args = calloc((size_t)argc + 1, sizeof *args);
 	int nargs = 0;
 	if (!args)

@@ -188,14 +188,30 @@ PC_API int pc_bmp_read(const char *path, pc_view *out);
  * under the colour bar. The threshold is opts->mask_s0 in S0 units (raw units) when > 0;
  * 0 (and pc_pictures_write) uses PC_PICTURES_MASK_DEFAULT_REL of the S0 99.9th percentile
  * (the top of the S0 picture's scale); < 0 disables the mask. Callers that know their sensor's
- * noise can pass a few σ of S0 instead. */
+ * noise can pass a few σ of S0 instead.
+ *
+ * Scales for comparing pictures: s0_hi > 0 fixes the top of the S0 scale (pictures of a truth
+ * and of estimates then share one scale); 0 takes the image's own 99.9th percentile (the mask
+ * default follows the scale's top either way). dolp_hi sets the DoLP range 0..dolp_hi of
+ * dolp.png and the DoLP shown at full value/saturation in the AoLP pictures: > 0 that value
+ * (at most 1), 0 the full range 0..1, < 0 automatic: the 99th percentile of DoLP over the
+ * unmasked pixels rounded up to a multiple of 0.05 (typical scenes' DoLP stays far below 1 and
+ * looks black on 0..1). The range used is printed on the key ("DoLP 0..0.35, auto"). AoLP keys
+ * have ticks at 0, 45, 90, 135, 180°. */
 #define PC_PICTURES_MASK_DEFAULT_REL 0.01
 typedef struct pc_pictures_opts {
 	const char *title_prefix; /* NULL: none */
 	uint32_t max_width;	  /* downscale for display to at most this width; 0: full size */
 	double mask_s0;		  /* low-signal mask threshold (see above) */
 	const char *suffix;	  /* added to the file names before .png ("_000012"); NULL: none */
+	double s0_hi;		  /* top of the S0 scale; 0: the image's 99.9th percentile */
+	double dolp_hi;		  /* DoLP range 0..dolp_hi; 0: 0..1; < 0: automatic */
 } pc_pictures_opts;
+
+/* The automatic DoLP range of pc_pictures_opts (dolp_hi < 0): the 99th percentile of the finite
+ * DoLP values where S0 >= mask (all pixels when mask is not finite or <= 0), rounded up to a
+ * multiple of 0.05, at least 0.05 and at most 1. */
+PC_API double pc_pictures_dolp_auto(const float *dolp, const float *s0, size_t n, double mask);
 
 struct pc_stokes_out;
 /* opts may be NULL (no prefix, full size, default mask). */
