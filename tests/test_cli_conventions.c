@@ -476,6 +476,67 @@ static void test_batch(void)
 	CHECK(!exists(tmp("bx")) && leftovers("bx") == 0);
 }
 
+/* ---- messages: each names the file and what was expected ---- */
+
+/* Writes a (2, 2) .npy of dtype descr (4-byte items) by hand. */
+static void write_npy(const char *path, const char *descr)
+{
+	char hdr[128];
+	int n = snprintf(hdr, sizeof hdr, "{'descr': '%s', 'fortran_order': False, 'shape': (2, 2), }",
+			 descr);
+	while ((n + 10 + 1) % 64)
+		hdr[n++] = ' ';
+	hdr[n++] = '\n';
+	FILE *fp = fopen(path, "wb");
+	if (!fp)
+		return;
+	unsigned char pre[10] = { 0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0, (unsigned char)(n & 0xff),
+				  (unsigned char)(n >> 8) };
+	fwrite(pre, 1, sizeof pre, fp);
+	fwrite(hdr, 1, (size_t)n, fp);
+	int32_t v[4] = { 1, 2, 3, 4 };
+	fwrite(v, sizeof v, 1, fp);
+	fclose(fp);
+}
+
+static void test_messages(void)
+{
+	/* rec/ (test_outputs): 12-bit frames in 16-bit PNGs. --bits 8 names the depth the file
+	 * holds (it said "16-bit data") */
+	CHECK_EQ_INT(run("process rec/raw_000000.png --bits 8 -o m1"), 2);
+	CHECK(contains(tmp("err.txt"), "holds 12-bit data in 16-bit samples, not 8-bit data"));
+	CHECK(!exists(tmp("m1")));
+	/* an int32 .npy: the dtype as written, without a stray quote */
+	write_npy(tmp("i4.npy"), "<i4");
+	CHECK_EQ_INT(run("process i4.npy -o m2"), 2);
+	CHECK(contains(tmp("err.txt"), "i4.npy: dtype '<i4' not supported"));
+	CHECK(!contains(tmp("err.txt"), "'<i4''"));
+	/* a raw file that is not there, and a folder that is no recording */
+	CHECK_EQ_INT(run("process no_such.png -o m3"), 2);
+	CHECK(contains(tmp("err.txt"), "no_such.png: No such file or directory"));
+	CHECK(!exists(tmp("m3")));
+	/* a scene that cannot be opened: the system's reason */
+	CHECK_EQ_INT(run("render no_such_scene.json -o m4"), 2);
+	CHECK(contains(tmp("err.txt"), "no_such_scene.json: cannot open the scene file: No such "
+				       "file or directory"));
+	/* mueller of a recording made without polarization states */
+	CHECK_EQ_INT(run("mueller rec -o m5"), 2);
+	CHECK(contains(tmp("err.txt"), "no states.json"));
+	CHECK(!exists(tmp("m5")));
+	/* view --screenshot names a PNG or is refused before anything is opened (it wrote PNG
+	 * data under a .jpg name) */
+	CHECK_EQ_INT(run_env("env -u DISPLAY -u WAYLAND_DISPLAY",
+			     "view sim:default --frames 1 --screenshot shot.jpg"), 2);
+	CHECK(contains(tmp("err.txt"), "shot.jpg: screenshots are written as PNG only"));
+	CHECK(!exists(tmp("shot.jpg")));
+	/* a DoLP range outside (0, 1] */
+	CHECK_EQ_INT(run("process rec/raw_000000.png --dolp-max 2 -o m6"), 2);
+	CHECK(contains(tmp("err.txt"), "--dolp-max 2: expected auto or a DoLP in (0, 1]"));
+	/* and accepted: automatic, printed on the key (the title says it too) */
+	CHECK_EQ_INT(run("process rec/raw_000000.png --dolp-max auto -o m7"), 0);
+	CHECK(exists(tmp("m7/dolp.png")));
+}
+
 int main(void)
 {
 	exe = getenv("POLARCAM");
@@ -490,6 +551,7 @@ int main(void)
 	test_stdout_stderr();
 	test_help_examples_all();
 	test_batch();
+	test_messages();
 	char cmd[128];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
 	if (system(cmd) != 0)
