@@ -24,19 +24,24 @@ static int write_one(const char *dir, const char *name, const char *suffix, cons
 double pc_pictures_dolp_auto(const float *dolp, const float *s0, size_t n, double mask)
 {
 	/* 99th percentile from a histogram of 2000 bins over [0, 1] (values above 1 in the last):
-	 * exact to 0.0005, far below the 0.05 rounding */
+	 * the largest value in the percentile's bin, at most 0.0005 above the percentile and a
+	 * value of the data (so that DoLP 0.9 everywhere gives 0.9, not the bin's edge) */
 	enum { NB = 2000 };
 	static const double q = 0.99, step = 0.05;
 	size_t *hist = calloc(NB, sizeof *hist), used = 0;
-	if (!hist || !dolp)
+	float *top_of = calloc(NB, sizeof *top_of);
+	if (!hist || !top_of || !dolp)
 		goto none;
 	const bool masked = s0 && isfinite(mask) && mask > 0;
 	for (size_t i = 0; i < n; i++) {
 		float d = dolp[i];
 		if (!isfinite(d) || (masked && !(s0[i] >= mask)))
 			continue;
-		long b = d <= 0 ? 0 : d >= 1 ? NB - 1 : (long)(d * NB);
-		hist[b]++;
+		long b = d <= 0 ? 0 : d >= 1 ? NB - 1 : (long)((double)d * NB);
+		if (b >= NB)
+			b = NB - 1;
+		if (!hist[b]++ || d > top_of[b])
+			top_of[b] = d;
 		used++;
 	}
 	if (!used)
@@ -46,11 +51,13 @@ double pc_pictures_dolp_auto(const float *dolp, const float *s0, size_t n, doubl
 	for (; b < NB - 1; b++)
 		if ((acc += hist[b]) >= want)
 			break;
+	double top = top_of[b], hi = ceil(top / step - 1e-9) * step;
 	free(hist);
-	double top = (double)(b + 1) / NB, hi = ceil(top / step - 1e-9) * step;
+	free(top_of);
 	return hi < step ? step : hi > 1 ? 1 : hi;
 none:
 	free(hist);
+	free(top_of);
 	return 1;
 }
 
