@@ -193,9 +193,11 @@ static int step_truth(pc_demo *d, const char *out, pc_view *raw, float *tp, demo
 	pc_stokes_out so = { { tp, W, 1 }, { NULL, 0, 0 }, { NULL, 0, 0 }, { tp + np, W, 1 },
 			     { tp + 2 * np, W, 1 } };
 	/* one scale for the truth's and every estimate's pictures: the truth's S0 99.9th
-	 * percentile and its automatic DoLP range (over the pixels above the default mask) */
+	 * percentile, at most the S0 a saturated super-pixel gives (2 x full scale: an estimate
+	 * cannot exceed it, the truth can), and the truth's automatic DoLP range (over the pixels
+	 * above the default mask) */
 	const pc_fplane ts0 = { tp, W, 1 };
-	r->s0_hi = pc_picture_quantile(&ts0, W, H, 0.999);
+	r->s0_hi = fmin(pc_picture_quantile(&ts0, W, H, 0.999), 2 * full);
 	if (!(r->s0_hi > 0))
 		r->s0_hi = 1;
 	r->dolp_hi = pc_pictures_dolp_auto(tp + np, tp, np, PC_PICTURES_MASK_DEFAULT_REL * r->s0_hi);
@@ -599,9 +601,10 @@ static void report_md(FILE *mf, const pc_demo *d, const demo_results *r, double 
 	}
 	fprintf(mf, "\nThe DoLP bias is positive where the signal is low: the estimator's noise "
 		    "floor (physics.md §6). Pictures: `truth/` and `pipeline_<method>/` of every method "
-		    "(s0, dolp, aolp, aolp_sat), all on the truth's scales: S0 0..%.4g DN, DoLP "
-		    "0..%.2f (automatic: the truth's 99th percentile); `stokes.npy` is the bilinear "
-		    "estimate (H, W, 3) in DN.\n\n", r->s0_hi, r->dolp_hi);
+		    "(s0, dolp, aolp, aolp_sat), all on one scale: S0 0..%.4g DN (the truth's 99.9th "
+		    "percentile, at most the S0 of a saturated super-pixel), DoLP 0..%.2f (automatic: "
+		    "the truth's 99th percentile); `stokes.npy` is the bilinear estimate (H, W, 3) in "
+		    "DN. How to read them: docs/pictures.md.\n\n", r->s0_hi, r->dolp_hi);
 	if (d->o.mueller)
 		fprintf(mf, "## Mueller imaging\n\nThe same scene at %ux%u (same field of view), "
 			    "tetrahedral generator (polarizer + 132° retarder at ±15.1°, ±51.7°) × quarter-"
