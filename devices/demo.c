@@ -590,13 +590,13 @@ static void report_md(FILE *mf, const pc_demo *d, const demo_results *r, double 
 		    "S0, DoLP and AoLP (the same call and outputs for every method), the fastest of 3 "
 		    "runs after an untimed one, %d threads; each method takes its own path (bilinear is "
 		    "fused into one pass, docs/demosaicking.md).\n\n"
-		    "| method | time (s) | S0 rel. RMS | DoLP bias | DoLP RMS | AoLP err (deg, weighted) | AoLP median (deg) |\n"
+		    "| method | time (ms) | S0 rel. RMS | DoLP bias | DoLP RMS | AoLP err (deg, weighted) | AoLP median (deg) |\n"
 		    "|---|---|---|---|---|---|---|\n", r->scale, r->acc[0].pixels, r->saturated,
 		d->o.threads > 0 ? d->o.threads : pc_parallel_max_threads());
 	for (unsigned m = 0; m < d->o.n_methods; m++) {
 		const pc_eval_stokes_metrics *a = &r->acc[m];
-		fprintf(mf, "| %s%s | %.3f | %.4f | %+.4f | %.4f | %.2f | %.2f |\n", r->method[m],
-			m == r->best ? " (best DoLP)" : "", r->seconds[m], a->s0_rel_rms, a->dolp_bias,
+		fprintf(mf, "| %s%s | %.2f | %.4f | %+.4f | %.4f | %.2f | %.2f |\n", r->method[m],
+			m == r->best ? " (best DoLP)" : "", 1e3 * r->seconds[m], a->s0_rel_rms, a->dolp_bias,
 			a->dolp_rms, a->aolp_err_deg, a->aolp_median_deg);
 	}
 	fprintf(mf, "\nThe DoLP bias is positive where the signal is low: the estimator's noise "

@@ -510,7 +510,9 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 		double bx = iw + fs, by = top + fs * 0.5, bh = fmax(ih - fs * 1.5, fs * 4);
 		int with_note = note && note->text && note->color && bh > fs * 8;
 		if (with_note)
-			bh -= fs * 2.5; /* room for the note's swatch below the bar */
+			bh -= fs * 3.0; /* room for the note's swatch below the bar */
+		else if (bar->s_label)
+			bh -= fs * 0.5; /* room for the key's second range below the last tick */
 		double bwid = bar->s_label ? fs * 3 : fs * 1.2;
 		int nt = (int)bh, ns = bar->s_label ? (int)bwid : 1;
 		for (int k = 0; k < nt; k++) {
@@ -554,10 +556,10 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 		}
 		if (bar->s_label) {
 			snprintf(buf, sizeof buf, "%s %g..%g", bar->s_label, bar->smin, bar->smax);
-			text_at(cr, bx, by + bh + fs * 0.2, buf, 0, 0);
+			text_at(cr, bx, by + bh + fs * 0.7, buf, 0, 0); /* below the last tick's label */
 		}
 		if (with_note) {
-			int sw = (int)(fs * 1.2), sy = (int)(by + bh + fs * 1.3);
+			int sw = (int)(fs * 1.2), sy = (int)(by + bh + fs * 1.8);
 			for (int yy = 0; yy < sw; yy++)
 				for (int xx = 0; xx < sw; xx++) {
 					uint8_t c[3];
