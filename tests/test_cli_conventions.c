@@ -503,26 +503,27 @@ static void test_messages(void)
 {
 	/* rec/ (test_outputs): 12-bit frames in 16-bit PNGs. --bits 8 names the depth the file
 	 * holds (it said "16-bit data") */
-	CHECK_EQ_INT(run("process rec/raw_000000.png --bits 8 -o m1"), 2);
+	CHECK_EQ_INT(run("process rec/raw_000000.png --bits 8 -o msg1"), 2);
 	CHECK(contains(tmp("err.txt"), "holds 12-bit data in 16-bit samples, not 8-bit data"));
-	CHECK(!exists(tmp("m1")));
-	/* an int32 .npy: the dtype as written, without a stray quote */
+	CHECK(!exists(tmp("msg1")));
+	/* an int32 .npy: the dtype as written, without a stray quote (outputs msgN: test_stdout_stderr
+	 * wrote m2) */
 	write_npy(tmp("i4.npy"), "<i4");
-	CHECK_EQ_INT(run("process i4.npy -o m2"), 2);
+	CHECK_EQ_INT(run("process i4.npy -o msg2"), 2);
 	CHECK(contains(tmp("err.txt"), "i4.npy: dtype '<i4' not supported"));
 	CHECK(!contains(tmp("err.txt"), "'<i4''"));
 	/* a raw file that is not there, and a folder that is no recording */
-	CHECK_EQ_INT(run("process no_such.png -o m3"), 2);
+	CHECK_EQ_INT(run("process no_such.png -o msg3"), 2);
 	CHECK(contains(tmp("err.txt"), "no_such.png: No such file or directory"));
-	CHECK(!exists(tmp("m3")));
+	CHECK(!exists(tmp("msg3")));
 	/* a scene that cannot be opened: the system's reason */
-	CHECK_EQ_INT(run("render no_such_scene.json -o m4"), 2);
+	CHECK_EQ_INT(run("render no_such_scene.json -o msg4"), 2);
 	CHECK(contains(tmp("err.txt"), "no_such_scene.json: cannot open the scene file: No such "
 				       "file or directory"));
 	/* mueller of a recording made without polarization states */
-	CHECK_EQ_INT(run("mueller rec -o m5"), 2);
+	CHECK_EQ_INT(run("mueller rec -o msg5"), 2);
 	CHECK(contains(tmp("err.txt"), "no states.json"));
-	CHECK(!exists(tmp("m5")));
+	CHECK(!exists(tmp("msg5")));
 	/* view --screenshot names a PNG or is refused before anything is opened (it wrote PNG
 	 * data under a .jpg name) */
 	CHECK_EQ_INT(run_env("env -u DISPLAY -u WAYLAND_DISPLAY",
@@ -530,11 +531,11 @@ static void test_messages(void)
 	CHECK(contains(tmp("err.txt"), "shot.jpg: screenshots are written as PNG only"));
 	CHECK(!exists(tmp("shot.jpg")));
 	/* a DoLP range outside (0, 1] */
-	CHECK_EQ_INT(run("process rec/raw_000000.png --dolp-max 2 -o m6"), 2);
+	CHECK_EQ_INT(run("process rec/raw_000000.png --dolp-max 2 -o msg6"), 2);
 	CHECK(contains(tmp("err.txt"), "--dolp-max 2: expected auto or a DoLP in (0, 1]"));
 	/* and accepted: automatic, printed on the key (the title says it too) */
-	CHECK_EQ_INT(run("process rec/raw_000000.png --dolp-max auto -o m7"), 0);
-	CHECK(exists(tmp("m7/dolp.png")));
+	CHECK_EQ_INT(run("process rec/raw_000000.png --dolp-max auto -o msg7"), 0);
+	CHECK(exists(tmp("msg7/dolp.png")));
 }
 
 int main(void)
