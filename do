@@ -3,8 +3,11 @@
 #   ./do demo [DIR]   install build packages, build, render the default scene and run the pipeline
 #   ./do test         install build and test packages, build three times with -Wall -Wextra
 #                     -Werror (GCC plain, GCC ASan+UBSan, clang Release), run the whole test
-#                     suite in the GCC builds and the compiler-dependent part in the clang one
+#                     suite in the GCC builds and the compiler-dependent part in the clang one,
+#                     then each libFuzzer harness for a few seconds (clang)
 #   ./do build        install build packages and build (build/)
+#   ./do fuzz [SECONDS] [HARNESS...]  build the libFuzzer harnesses (clang) and fuzz each for
+#                     SECONDS (default 600) from its corpus (tests/fuzz/README.md)
 #   ./do format-check list the files that differ from .clang-format (exit 1 if any)
 #   ./do format       reformat them in place
 #   ./do deps [test]  only install the Debian packages
@@ -15,15 +18,19 @@ export DEBIAN_FRONTEND=noninteractive
 
 # Debian 12 packages. Build: compiler, CMake, libraries. Optional backends are auto-detected and
 # installed here so that a fresh machine builds everything.
-BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-dev libcairo2-dev
+BUILD_PKGS="build-essential cmake pkg-config libpng-dev libtiff-dev libjansson-dev libcairo2-dev nettle-dev
   fonts-dejavu-core
   libaravis-dev aravis-tools-cli libusb-1.0-0-dev libopencv-core-dev libopencv-imgproc-dev
-  libopencv-highgui-dev libzip-dev liblapack-dev"
+  libopencv-highgui-dev libzip-dev liblapack-dev
+  python3-dev python3-numpy"
 # Tests: network namespaces, the QEMU guest with Debian's kernel and vivid, Xvfb for the window;
+# a single-node Slurm cluster (tests/slurm.sh starts its own daemons; none run otherwise);
 # libudev-dev for `pkg-config --static --libs polarcam` (libusb-1.0.pc names -ludev); clang and
-# its OpenMP runtime for the clang build.
+# its OpenMP runtime for the clang build; pytest and pip (the Python module's tests and its
+# offline pip install).
 TEST_PKGS="iproute2 util-linux qemu-system-x86 busybox-static cpio kmod v4l-utils xvfb xauth x11-apps
-  libcamera-dev libudev-dev clang libomp-dev"
+  libcamera-dev libudev-dev clang libomp-dev python3-pytest python3-pip python3-setuptools
+  slurmctld slurmd slurm-client munge"
 # Formatting: ./do format, ./do format-check.
 FORMAT_PKGS="clang-format git"
 
@@ -47,7 +54,11 @@ install_pkgs() {
 
 build() { # build DIR [cmake options...]
   local dir=$1; shift
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >"$dir.configure.log" 2>&1 ||
+  # The Python module is built for Debian's interpreter, the one python3-numpy is installed for
+  # (another python3 first on PATH, a pyenv or a venv, may lack NumPy).
+  local py=()
+  [[ -x /usr/bin/python3 ]] && py=(-DPython3_EXECUTABLE=/usr/bin/python3)
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${py[@]}" "$@" >"$dir.configure.log" 2>&1 ||
     { mkdir -p "$dir"; cat "$dir.configure.log" >&2; exit 1; }
   # show warnings and errors, not the progress lines; pipefail keeps cmake's exit status
   if ! cmake --build "$dir" -j "$JOBS" 2>&1 |
@@ -57,13 +68,36 @@ build() { # build DIR [cmake options...]
   fi
 }
 
+# The libFuzzer build (tests/fuzz.cmake): clang with -fsanitize=fuzzer,address,undefined on
+# everything, asserts on (-O1 -g, no NDEBUG), no optional backends (no hardware, no threads).
+have_libfuzzer() {
+  command -v clang >/dev/null 2>&1 &&
+    [[ -n $(find "$(clang -print-resource-dir 2>/dev/null)" -name 'libclang_rt.fuzzer-*.a' 2>/dev/null) ]]
+}
+build_fuzz() {
+  local dir=build-fuzz
+  CC=clang CXX=clang++ cmake -S . -B $dir -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_C_FLAGS="-O1 -g" \
+    -DCMAKE_CXX_FLAGS="-O1 -g" -DPC_FUZZ=ON -DPC_WERROR=OFF -DPC_WITH_ARAVIS=OFF \
+    -DPC_WITH_OPENCV=OFF -DPC_WITH_LIBUSB=OFF -DPC_WITH_OPENMP=OFF -DPC_WITH_LIBCAMERA=OFF \
+    >"$dir.configure.log" 2>&1 || { mkdir -p $dir; cat "$dir.configure.log" >&2; return 1; }
+  cmake --build $dir -j "$JOBS" --target fuzz_all 2>&1 |
+    { grep -vE '^\[ *[0-9]+%\]|^(Consolidate|Scanning|Built target)|warning|note:|^ |^In file' || true; } >&2
+  [[ ${PIPESTATUS[0]} == 0 ]]
+}
+
 # The C, C++ and kernel-fragment sources of the project, as git knows them.
 format_files() {
   git ls-files -- '*.c' '*.h' '*.cpp' '*.inc' '*.h.in'
 }
 
 # ctest -E regex of the tests that the clang build leaves to the GCC builds (see ./do test).
-CLANG_SKIP='^(v4l2_guest|devices_gige_.*|devices_bench_smoke|devices_view_xvfb|devices_list)$'
+# python_pip builds a fresh copy of the whole project with the default compiler (not clang):
+# once, in build-ci, is enough.
+# The long end-to-end runs (soak, kills, the bad-input table, memory loops, install consumers)
+# exercise the same library code as in the GCC builds: once there is enough (CI's 20 minutes).
+CLANG_SKIP='^(v4l2_guest|devices_gige_.*|devices_bench_smoke|devices_view_xvfb|devices_list|python_pip|devices_soak|test_interrupt|test_bad_input|test_capture_faults|python_memory|install_consumer_.*|dataset_slurm)$'
+# The soak judges RSS only without ASan (its quarantine grows): once, in build-ci.
+ASAN_SKIP='^(devices_soak)$'
 
 # The files among them that clang-format would change.
 format_differs() {
@@ -113,7 +147,15 @@ case $cmd in
     say "all $(format_files | wc -l) files follow .clang-format"
     ;;
   test)
-    install_pkgs $BUILD_PKGS $TEST_PKGS
+    install_pkgs $BUILD_PKGS $TEST_PKGS $FORMAT_PKGS
+    # formatting first: it takes seconds, and a file off .clang-format fails the run
+    mapfile -t bad < <(format_differs)
+    if ((${#bad[@]})); then
+      printf '%s\n' "${bad[@]}"
+      say "${#bad[@]} files differ from .clang-format (./do format fixes them)"
+      exit 1
+    fi
+    say "format: all $(format_files | wc -l) files follow .clang-format"
     start=$SECONDS
     # the time of each step, with the load average when it ended (the machine may be shared)
     laps=() mark=$SECONDS
@@ -140,7 +182,8 @@ case $cmd in
       say "tests in $dir"
       (cd "$dir" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
         LSAN_OPTIONS=suppressions=$PWD/../tests/lsan.supp:print_suppressions=0 \
-        ctest --output-on-failure -j "$JOBS" --timeout 900) || status=1
+        ctest --output-on-failure -j "$JOBS" --timeout 900 \
+          $([[ $dir == build-asan ]] && echo "-E $ASAN_SKIP")) || status=1
       lap "tests in $dir"
     done
     gcc_s=$((SECONDS - start))
@@ -160,13 +203,40 @@ case $cmd in
       lap "build build-clang (failed)"
       status=1
     fi
+    # every libFuzzer harness for POLARCAM_FUZZ_SECONDS seconds (the corpora also replay in the
+    # builds above: ctest fuzz_replay_*)
+    # Only when asked (POLARCAM_FUZZ_SECONDS): the fuzz build is a fourth full build, and CI
+    # has 20 minutes; `./do fuzz` runs the campaigns.
+    if [[ -z ${POLARCAM_FUZZ_SECONDS:-} ]]; then
+      say "fuzzing: the corpora were replayed (fuzz_replay_*); POLARCAM_FUZZ_SECONDS=N fuzzes too"
+    elif have_libfuzzer; then
+      say "fuzzing: build-fuzz (clang, libFuzzer + ASan + UBSan)"
+      if build_fuzz; then
+        tests/fuzz/run.sh build-fuzz "${POLARCAM_FUZZ_SECONDS:-5}" build-fuzz/fuzz-ci || status=1
+        lap "fuzzing in build-fuzz"
+      else
+        lap "build build-fuzz (failed)"
+        status=1
+      fi
+    else
+      say "clang with libFuzzer not found: the fuzz harnesses were only replayed (fuzz_replay_*)"
+    fi
     for l in "${laps[@]}"; do say "  $l"; done
-    say "GCC builds and tests: $gcc_s s; clang build and tests: $((SECONDS - start - gcc_s)) s"
+    say "GCC builds and tests: $gcc_s s; clang builds, tests and fuzzing: $((SECONDS - start - gcc_s)) s"
     say "tests finished in $((SECONDS - start)) s: $([[ $status == 0 ]] && echo PASSED || echo FAILED)"
     exit $status
     ;;
+  fuzz)
+    install_pkgs $BUILD_PKGS clang
+    have_libfuzzer || { say "clang's libFuzzer runtime is missing (Debian: clang)"; exit 1; }
+    build_fuzz || { say "the fuzz build failed"; exit 1; }
+    secs=${2:-600}
+    shift $(($# < 2 ? $# : 2))
+    say "fuzzing each harness for $secs s (corpora kept in build-fuzz/fuzz-work)"
+    tests/fuzz/run.sh build-fuzz "$secs" build-fuzz/fuzz-work "$@"
+    ;;
   *)
-    sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'
     [[ $cmd == help || $cmd == -h || $cmd == --help ]] || exit 2
     ;;
 esac

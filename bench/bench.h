@@ -23,16 +23,16 @@ typedef struct pc_bench_host {
 	/* Prints an error; returns status. */
 	int (*error)(int status, const char *fmt, ...)
 #if defined(__GNUC__)
-		__attribute__((format(printf, 2, 3)))
+	    __attribute__((format(printf, 2, 3)))
 #endif
-		;
+	    ;
 	/* Prints a library error (pc_error_detail) after what; returns the exit status for code. */
 	int (*fail)(int code, const char *what);
 	void (*warn)(const char *fmt, ...)
 #if defined(__GNUC__)
-		__attribute__((format(printf, 1, 2)))
+	    __attribute__((format(printf, 1, 2)))
 #endif
-		;
+	    ;
 	/* An integer in [min, max] / a finite number, or PC_EINVAL naming opt. */
 	int (*parse_long)(const char *opt, const char *arg, long min, long max, long *out);
 	int (*parse_double)(const char *opt, const char *arg, double *out);
@@ -50,6 +50,7 @@ int pc_bench_demosaic(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_render(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_devices(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_calib(const pc_bench_host *host, int argc, char **argv);
+int pc_bench_dataset(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_soak(const pc_bench_host *host, int argc, char **argv);
 
 /* Benchmarks that stream GigE Vision run in a private network namespace with only loopback:

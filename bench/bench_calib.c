@@ -13,6 +13,7 @@
 #include "bench.h"
 #include "polarcam/calib.h"
 #include "polarcam/error.h"
+#include "polarcam/parallel.h"
 #include "polarcam/sim.h"
 
 /* the program running the benchmark (bench.h) */
@@ -22,12 +23,12 @@ static const pc_bench_host *host;
 
 /* the scenes/calib stimuli, built here so that the benchmark runs from any directory */
 static const char *const scene_fmt =
-	"{\"camera\": {\"position\": [0, 0, 1], \"direction\": [0, 1, 0], \"focal_length_mm\": 50},"
-	" \"materials\": {\"unused\": {\"n\": 1.5, \"sigma\": 0.2}},"
-	" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": 1}],"
-	" \"background\": %g, \"effects\": {\"circular\": true},"
-	" \"sensor\": {\"preset\": \"imx250mzr_nonuniform\", \"offset_dn\": 60, \"exposure_us\": 10000"
-	"%s}}";
+    "{\"camera\": {\"position\": [0, 0, 1], \"direction\": [0, 1, 0], \"focal_length_mm\": 50},"
+    " \"materials\": {\"unused\": {\"n\": 1.5, \"sigma\": 0.2}},"
+    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": 1}],"
+    " \"background\": %g, \"effects\": {\"circular\": true},"
+    " \"sensor\": {\"preset\": \"imx250mzr_nonuniform\", \"offset_dn\": 60, \"exposure_us\": 10000"
+    "%s}}";
 
 typedef struct bstack {
 	pc_sim *sim;
@@ -47,7 +48,7 @@ static int bget(void *user, size_t i, pc_view *out)
 }
 
 static int bopen(bstack *b, double bg, const char *psa, uint32_t size, size_t n, uint64_t first,
-		 double angle, double dolp)
+                 double angle, double dolp)
 {
 	memset(b, 0, sizeof *b);
 	char text[1024], extra[256] = "";
@@ -116,8 +117,8 @@ static int errors(pc_calib *cal, bstack *t, size_t frames, double angle, double 
 	}
 	for (uint32_t y = 0; y < H; y++)
 		memcpy((char *)avg.data + y * avg.stride, acc + (size_t)y * W, W * sizeof(float));
-	pc_stokes_out out = { 0 };
-	pc_fplane *pl[5] = { &out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp };
+	pc_stokes_out out = {0};
+	pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
 	for (int k = 0; k < 5; k++) {
 		pl[k]->data = buf + (size_t)k * np;
 		pl[k]->row_stride = W;
@@ -145,17 +146,188 @@ static int errors(pc_calib *cal, bstack *t, size_t frames, double angle, double 
 	return rc;
 }
 
+/* ---- --speed: the calibrated pipeline against the uncalibrated one, same run ---- */
+
+static int cmp_dbl(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
+}
+
+/* A synthetic full-sensor calibration (dark 60 DN ± 2, gain 1 ± 2 %, analysers with ±1°
+ * orientation and extinction 0.93 to 0.99, one pixel in 10^4 distrusted) and a 12-bit frame
+ * (values 200 to 3000, one sample in 10^4 at full scale): the timing does not depend on the
+ * values, the validity work does on their flags. */
+static int speed_setup(uint32_t W, uint32_t H, pc_calib *cal, pc_view *raw)
+{
+	const size_t np = (size_t)W * H;
+	pc_calib_init(cal);
+	cal->geo = (pc_calib_geometry){W, H, 0, 0, W, H, 12, pc_mosaic_imx250mzr()};
+	cal->black_level = 60;
+	cal->saturation = 4095;
+	cal->parts = PC_CAL_DARK | PC_CAL_FLAT | PC_CAL_ANALYSER;
+	cal->dark = malloc(np * sizeof(float));
+	cal->gain = malloc(np * sizeof(float));
+	cal->analysis = malloc(3 * np * sizeof(float));
+	cal->pinv_sp = malloc(3 * np * sizeof(float)); /* (3, 4, H/2, W/2): not used by bilinear */
+	cal->valid = malloc(np);
+	int rc = pc_view_alloc(raw, PC_FMT_MONO12, W, H, 64);
+	if (rc || !cal->dark || !cal->gain || !cal->analysis || !cal->pinv_sp || !cal->valid) {
+		if (!rc)
+			pc_view_free(raw);
+		pc_calib_free(cal);
+		return rc ? rc : PC_ENOMEM;
+	}
+	uint64_t st = 0x9e3779b97f4a7c15ull;
+	for (uint32_t y = 0; y < H; y++) {
+		uint16_t *r = PC_ROW(raw, uint16_t, y);
+		for (uint32_t x = 0; x < W; x++) {
+			size_t p = (size_t)y * W + x;
+			st = st * 6364136223846793005ull + 1442695040888963407ull;
+			double u = (double)(st >> 11) / 9007199254740992.0;
+			double v = (double)((st >> 7) & 0xffff) / 65536.0;
+			unsigned c = pc_mosaic_channel(&cal->geo.mosaic, x, y);
+			double th = c * M_PI / 4 + (u - 0.5) * 2 * DEG, ex = 0.93 + 0.06 * v;
+			cal->dark[p] = (float)(60 + 4 * (u - 0.5));
+			cal->gain[p] = (float)(1 + 0.04 * (v - 0.5));
+			cal->analysis[3 * p] = 0.5f;
+			cal->analysis[3 * p + 1] = (float)(0.5 * ex * cos(2 * th));
+			cal->analysis[3 * p + 2] = (float)(0.5 * ex * sin(2 * th));
+			cal->valid[p] = (st >> 40) % 10000 != 0;
+			r[x] = (st >> 24) % 10000 == 0 ? 4095 : (uint16_t)(200 + 2800 * u);
+		}
+	}
+	for (size_t k = 0; k < 3 * np; k++)
+		cal->pinv_sp[k] = 0;
+	return 0;
+}
+
+static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
+{
+	pc_calib cal;
+	pc_view raw;
+	int rc = speed_setup(W, H, &cal, &raw);
+	if (rc)
+		return host->fail(rc, "bench calib --speed");
+	const size_t np = (size_t)W * H;
+	float *planes = NULL;
+	uint8_t *mask = malloc(np);
+	if (posix_memalign((void **)&planes, 64, 5 * np * sizeof(float)) || !mask) {
+		pc_calib_free(&cal);
+		pc_view_free(&raw);
+		free(mask);
+		return host->fail(PC_ENOMEM, "bench calib --speed");
+	}
+	pc_stokes_out out;
+	pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
+	for (int k = 0; k < 5; k++)
+		*pl[k] = (pc_fplane){planes + (size_t)k * np, W, 1};
+	pc_frame f;
+	memset(&f, 0, sizeof f);
+	f.view = raw;
+	f.mosaic = cal.geo.mosaic;
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.method = PC_DM_BILINEAR;
+	po.mosaic = cal.geo.mosaic;
+	po.saturation_level = 4095;
+	/* what `polarcam process` runs: the black level, the saturation check and the mask */
+	pc_pipeline_opts pu = po;
+	pu.black_level = 60;
+	enum { IDEAL, IDEAL_NOMASK, CAL, CAL_NOMASK, NCASE };
+	static const char *const name[NCASE] = {"ideal", "ideal_no_mask", "calibrated",
+	                                        "calibrated_no_mask"};
+	double *t = calloc((size_t)NCASE * (size_t)reps, sizeof *t), best[NCASE], med[NCASE];
+	uint64_t inval[NCASE] = {0};
+	if (!t) {
+		rc = PC_ENOMEM;
+		goto out;
+	}
+	/* warm-up: the per-pixel pseudo-inverses are computed once per calibration */
+	pc_validity v = {mask, W, 0};
+	double t0 = bench_now();
+	if ((rc = pc_calib_apply(&cal, &f, 12, &po, &out, NULL, &v)))
+		goto out;
+	double prep = bench_now() - t0;
+	for (int r = 0; r < reps; r++)
+		for (int k = 0; k < NCASE; k++) { /* interleaved: load drifts hit every case */
+			v = (pc_validity){mask, W, 0};
+			pc_validity *vp = k == IDEAL || k == CAL ? &v : NULL;
+			t0 = bench_now();
+			rc = k <= IDEAL_NOMASK ? pc_stokes_run(&raw, &pu, &out, vp)
+			                       : pc_calib_apply(&cal, &f, 12, &po, &out, NULL, vp);
+			t[(size_t)k * (size_t)reps + (size_t)r] = bench_now() - t0;
+			if (rc)
+				goto out;
+			inval[k] = v.n_invalid;
+		}
+	for (int k = 0; k < NCASE; k++) {
+		double *tk = t + (size_t)k * (size_t)reps;
+		qsort(tk, (size_t)reps, sizeof *tk, cmp_dbl);
+		best[k] = tk[0];
+		med[k] = tk[reps / 2];
+	}
+	double load[3] = {NAN, NAN, NAN};
+	FILE *la = fopen("/proc/loadavg", "r");
+	if (la) {
+		if (fscanf(la, "%lf %lf %lf", &load[0], &load[1], &load[2]) != 3)
+			load[0] = NAN;
+		fclose(la);
+	}
+	if (json) {
+		json_t *j = json_object();
+		json_object_set_new(j, "width", json_integer(W));
+		json_object_set_new(j, "height", json_integer(H));
+		json_object_set_new(j, "repetitions", json_integer(reps));
+		json_object_set_new(j, "load_1min", bench_json_real(load[0]));
+		json_object_set_new(j, "pinv_prepare_ms", bench_json_real(1e3 * prep));
+		for (int k = 0; k < NCASE; k++) {
+			char key[64];
+			snprintf(key, sizeof key, "%s_ms_min", name[k]);
+			json_object_set_new(j, key, bench_json_real(1e3 * best[k]));
+			snprintf(key, sizeof key, "%s_ms_median", name[k]);
+			json_object_set_new(j, key, bench_json_real(1e3 * med[k]));
+		}
+		json_object_set_new(j, "ratio_min", bench_json_real(best[CAL] / best[IDEAL]));
+		json_object_set_new(j, "ratio_median", bench_json_real(med[CAL] / med[IDEAL]));
+		json_object_set_new(j, "ratio_no_mask_median",
+		                    bench_json_real(med[CAL_NOMASK] / med[IDEAL_NOMASK]));
+		host->print_json(j);
+	} else {
+		printf("bilinear Stokes pipeline, %ux%u Mono12, planar S0 S1 S2 DoLP AoLP, %d "
+		       "threads, "
+		       "%d repetitions interleaved (load %.2f %.2f %.2f)\n",
+		       W, H, pc_parallel_max_threads(), reps, load[0], load[1], load[2]);
+		printf("  per-pixel pseudo-inverses prepared once: %.1f ms\n", 1e3 * prep);
+		for (int k = 0; k < NCASE; k++)
+			printf("  %-20s min %7.2f ms  median %7.2f ms  invalid %llu\n", name[k],
+			       1e3 * best[k], 1e3 * med[k], (unsigned long long)inval[k]);
+		printf("calibrated / ideal (black level, saturation check, mask): %.2f (min %.2f); "
+		       "goal <= 1.5\nwithout the mask: %.2f (min %.2f)\n",
+		       med[CAL] / med[IDEAL], best[CAL] / best[IDEAL],
+		       med[CAL_NOMASK] / med[IDEAL_NOMASK], best[CAL_NOMASK] / best[IDEAL_NOMASK]);
+	}
+out:
+	free(t);
+	free(planes);
+	free(mask);
+	pc_view_free(&raw);
+	pc_calib_free(&cal);
+	return rc ? host->fail(rc, "bench calib --speed") : PC_BENCH_OK;
+}
+
 int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 {
 	host = h;
-	static const struct option opts[] = { { "size", required_argument, NULL, 's' },
-					      { "rotation-s", required_argument, NULL, 'r' },
-					      { "json", no_argument, NULL, 'J' },
-					      { "help", no_argument, NULL, 'h' },
-					      { NULL, 0, NULL, 0 } };
-	long size = 64;
+	static const struct option opts[] = {{"size", required_argument, NULL, 's'},
+	                                     {"rotation-s", required_argument, NULL, 'r'},
+	                                     {"json", no_argument, NULL, 'J'},
+	                                     {"speed", no_argument, NULL, 'S'},
+	                                     {"reps", required_argument, NULL, 'n'},
+	                                     {"help", no_argument, NULL, 'h'},
+	                                     {NULL, 0, NULL, 0}};
+	long size = 64, reps = 10;
 	double rot_s = 2;
-	bool json = false;
+	bool json = false, speed = false;
 	int c, rc;
 	optind = 1;
 	opterr = 0;
@@ -173,21 +345,48 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		case 'J':
 			json = true;
 			break;
+		case 'S':
+			speed = true;
+			break;
+		case 'n':
+			if ((rc = host->parse_long("--reps", optarg, 1, 1000, &reps)))
+				return host->fail(rc, NULL);
+			break;
 		case 'h':
-			printf("usage: polarcam bench calib [--size N] [--rotation-s S] [--json]\n\n"
-			       "Analyser calibration of the imx250mzr_nonuniform preset (N x N ROI, default\n"
-			       "64; dark and flat: 32 frames each) with K polarizer angles x F frames per\n"
-			       "angle: residual DoLP and AoLP RMS errors on DoLP-0.5 stimuli at 10, 55, 100\n"
-			       "and 145 deg (64 frames averaged), and the sweep's acquisition time: K*F\n"
-			       "frames at the sensor's 30 fps plus S seconds per polarizer rotation\n"
-			       "(default 2, a manual or motorised rotation mount).\n");
+			printf(
+			    "usage: polarcam bench calib [--size N] [--rotation-s S] [--json]\n"
+			    "       polarcam bench calib --speed [--reps N] [--json]\n\n"
+			    "--speed: the calibrated bilinear pipeline (pc_calib_apply: per-pixel "
+			    "dark\n"
+			    "and gain, per-pixel analyser pseudo-inverses, saturation and "
+			    "distrusted-\n"
+			    "pixel mask) against the uncalibrated one (pc_stokes_run with the "
+			    "black level\n"
+			    "and the saturation mask) on a 2448x2048 Mono12 frame, N repetitions "
+			    "each,\n"
+			    "interleaved (default 10): min, median and their ratio (goal <= 1.5), "
+			    "with\n"
+			    "the load average. Without --speed:\n"
+			    "Analyser calibration of the imx250mzr_nonuniform preset (N x N ROI, "
+			    "default\n"
+			    "64; dark and flat: 32 frames each) with K polarizer angles x F frames "
+			    "per\n"
+			    "angle: residual DoLP and AoLP RMS errors on DoLP-0.5 stimuli at 10, "
+			    "55, 100\n"
+			    "and 145 deg (64 frames averaged), and the sweep's acquisition time: "
+			    "K*F\n"
+			    "frames at the sensor's 30 fps plus S seconds per polarizer rotation\n"
+			    "(default 2, a manual or motorised rotation mount).\n");
 			return PC_BENCH_OK;
 		default:
-			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)", argv[optind - 1]);
+			return host->error(PC_BENCH_USAGE, "bad option '%s' (see --help)",
+			                   argv[optind - 1]);
 		}
 	}
 	if (host->parse_only)
 		return PC_BENCH_OK;
+	if (speed)
+		return bench_speed(2448, 2048, (int)reps, json);
 	const uint32_t S = (uint32_t)size;
 	bstack dk, fl, fh;
 	pc_calib dark, flat;
@@ -197,15 +396,16 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		return host->fail(rc, "bench calib");
 	if ((rc = pc_calib_dark(&dk.s, NULL, &dark)))
 		return host->fail(rc, "dark");
-	pc_calib_stack lv[2] = { fl.s, fh.s };
+	pc_calib_stack lv[2] = {fl.s, fh.s};
 	if ((rc = pc_calib_flat(lv, 2, &dark, NULL, &flat)))
 		return host->fail(rc, "flat");
-	static const double tang[4] = { 10, 55, 100, 145 };
+	static const double tang[4] = {10, 55, 100, 145};
 	bstack ts[4];
 	for (int k = 0; k < 4; k++) {
 		char psa[128];
-		snprintf(psa, sizeof psa, "{\"diattenuator\": {\"angle_deg\": %g, \"diattenuation\": 0.5}}",
-			 tang[k]);
+		snprintf(psa, sizeof psa,
+		         "{\"diattenuator\": {\"angle_deg\": %g, \"diattenuation\": 0.5}}",
+		         tang[k]);
 		if ((rc = bopen(&ts[k], 1.7, psa, S, 64, 4000000 + 100000 * k, tang[k], 0.5)))
 			return host->fail(rc, "test stimuli");
 	}
@@ -223,13 +423,15 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		ud += ed * ed / 4;
 		ua += ea * ea / 4;
 	}
-	static const unsigned Ks[] = { 3, 4, 6, 8, 12, 16 }, Fs[] = { 1, 4, 16, 64 };
+	static const unsigned Ks[] = {3, 4, 6, 8, 12, 16}, Fs[] = {1, 4, 16, 64};
 	json_t *rows = json_array();
 	if (!json)
-		printf("analyser calibration, %ux%u ROI, imx250mzr_nonuniform, DoLP-0.5 test stimuli\n"
-		       "uncalibrated (black level only): DoLP RMS %.5f, AoLP RMS %.3f deg\n\n"
-		       "%3s %4s %7s %10s %11s %12s\n", S, S, sqrt(ud), sqrt(ua), "K", "F", "frames",
-		       "time (s)", "DoLP RMS", "AoLP RMS deg");
+		printf(
+		    "analyser calibration, %ux%u ROI, imx250mzr_nonuniform, DoLP-0.5 test stimuli\n"
+		    "uncalibrated (black level only): DoLP RMS %.5f, AoLP RMS %.3f deg\n\n"
+		    "%3s %4s %7s %10s %11s %12s\n",
+		    S, S, sqrt(ud), sqrt(ua), "K", "F", "frames", "time (s)", "DoLP RMS",
+		    "AoLP RMS deg");
 	for (size_t i = 0; i < sizeof Ks / sizeof Ks[0]; i++)
 		for (size_t j = 0; j < sizeof Fs / sizeof Fs[0]; j++) {
 			unsigned K = Ks[i], F = Fs[j];
@@ -268,8 +470,8 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 				json_object_set_new(r, "aolp_rms_deg", json_real(sqrt(ca)));
 				json_array_append_new(rows, r);
 			} else {
-				printf("%3u %4u %7u %10.1f %11.5f %12.4f\n", K, F, K * F, tsec, sqrt(cd),
-				       sqrt(ca));
+				printf("%3u %4u %7u %10.1f %11.5f %12.4f\n", K, F, K * F, tsec,
+				       sqrt(cd), sqrt(ca));
 				fflush(stdout);
 			}
 		}

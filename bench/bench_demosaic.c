@@ -11,6 +11,7 @@
  * 16-bit Bayer demosaicking of the same frame — all measured in the same run, so that the
  * ratios hold even when the machine is shared. */
 #include <dirent.h>
+#include <glob.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdint.h>
@@ -34,8 +35,8 @@
 
 #ifdef PC_HAVE_OPENCV
 int pc_bench_opencv_bayer16(const uint16_t *src, size_t src_stride, uint16_t *dst,
-			    size_t dst_stride, int width, int height, int threads, char *err,
-			    size_t err_size);
+                            size_t dst_stride, int width, int height, int threads, char *err,
+                            size_t err_size);
 const char *pc_bench_opencv_version(void);
 #endif
 
@@ -75,7 +76,7 @@ typedef struct timing {
 static timing summarize(double *t, int n)
 {
 	qsort(t, (size_t)n, sizeof *t, cmp_double);
-	timing r = { 1e3 * (n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2])), 1e3 * t[0], NAN };
+	timing r = {1e3 * (n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2])), 1e3 * t[0], NAN};
 	return r;
 }
 
@@ -106,7 +107,8 @@ static int make_frame(const char *data_dir, pc_view *raw, char *what, size_t wha
 			for (uint32_t x = 0; x < FW; x++) {
 				/* tile with the scene's mosaic phase kept (even tile sizes) */
 				uint32_t sx = x % t.width, sy = y % t.height;
-				double v = t.ch[pc_mosaic_channel(&m, x, y)][(size_t)sy * t.width + sx];
+				double v =
+				    t.ch[pc_mosaic_channel(&m, x, y)][(size_t)sy * t.width + sx];
 				PC_ROW(raw, uint16_t, y)[x] = (uint16_t)lround(v * 4095.0);
 			}
 		pc_eval_truth_free(&t);
@@ -134,7 +136,8 @@ typedef struct copy_job {
 static void copy_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	copy_job *j = ctx;
-	memcpy(j->dst + (size_t)y0 * j->row, j->src + (size_t)y0 * j->row, (size_t)(y1 - y0) * j->row);
+	memcpy(j->dst + (size_t)y0 * j->row, j->src + (size_t)y0 * j->row,
+	       (size_t)(y1 - y0) * j->row);
 }
 
 /* ---- calibrated analysers for the calibrated pipeline's timing ---- */
@@ -165,7 +168,7 @@ static void bench_make_pinv(pc_bench_pinv *b, uint32_t gw, uint32_t gh)
 		}
 	if (w && p && pc_stokes_pinv(w, n, p) == 0) {
 		b->m = p;
-		b->pv = (pc_analyser_pinv){ p, gw, gh };
+		b->pv = (pc_analyser_pinv){p, gw, gh};
 	} else {
 		free(p);
 	}
@@ -191,7 +194,7 @@ static const pc_bench_host *host;
 #include <immintrin.h>
 #define PC_BENCH_X86 1
 __attribute__((target("avx2"))) static void floor_rows_avx2(const floor_job *j, uint32_t y0,
-							    uint32_t y1)
+                                                            uint32_t y1)
 {
 	for (uint32_t y = y0; y < y1; y++) {
 		const uint16_t *r = PC_ROW(j->raw, const uint16_t, y);
@@ -199,9 +202,9 @@ __attribute__((target("avx2"))) static void floor_rows_avx2(const floor_job *j, 
 		uint32_t x = 0, w = j->raw->width;
 		for (; x + 16 <= w; x += 16) {
 			__m256 a = _mm256_cvtepi32_ps(
-				_mm256_cvtepu16_epi32(_mm_loadu_si128((const __m128i *)(r + x))));
+			    _mm256_cvtepu16_epi32(_mm_loadu_si128((const __m128i *)(r + x))));
 			__m256 b = _mm256_cvtepi32_ps(
-				_mm256_cvtepu16_epi32(_mm_loadu_si128((const __m128i *)(r + x + 8))));
+			    _mm256_cvtepu16_epi32(_mm_loadu_si128((const __m128i *)(r + x + 8))));
 			for (int p = 0; p < 5; p++) {
 				if (j->nt) {
 					_mm256_stream_ps(j->o[p] + off + x, a);
@@ -245,8 +248,8 @@ typedef struct method_row {
 	pc_demosaic_method m;
 	timing t;
 	int colour;
-	int n_ds;                 /* datasets scored */
-	pc_eval_metrics acc[4];   /* per dataset */
+	int n_ds;               /* datasets scored */
+	pc_eval_metrics acc[4]; /* per dataset */
 	char ds_name[4][64];
 } method_row;
 
@@ -257,12 +260,12 @@ typedef struct method_row {
  * averaged. */
 static double colour_gain(unsigned k, uint32_t x, uint32_t y)
 {
-	const double kx[3] = { 97, 131, 173 }, ky[3] = { 151, 89, 113 }, base[3] = { 0.55, 0.7, 0.4 };
+	const double kx[3] = {97, 131, 173}, ky[3] = {151, 89, 113}, base[3] = {0.55, 0.7, 0.4};
 	return base[k] + 0.3 * sin(2 * M_PI * x / kx[k] + k) * cos(2 * M_PI * y / ky[k]);
 }
 
 static int colour_track(const pc_eval_truth *t, pc_demosaic_method meth,
-			const pc_demosaic_opts *opts, pc_eval_metrics *mean)
+                        const pc_demosaic_opts *opts, pc_eval_metrics *mean)
 {
 	pc_mosaic m = pc_mosaic_imx250myr();
 	uint32_t w = t->width, h = t->height;
@@ -274,14 +277,16 @@ static int colour_track(const pc_eval_truth *t, pc_demosaic_method meth,
 	for (uint32_t y = 0; y < h; y++)
 		for (uint32_t x = 0; x < w; x++) {
 			unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
-			double v = colour_gain(k, x, y) * t->ch[pc_mosaic_channel(&m, x, y)][(size_t)y * w + x];
+			double v = colour_gain(k, x, y) *
+			           t->ch[pc_mosaic_channel(&m, x, y)][(size_t)y * w + x];
 			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)lround(v * 65535);
 		}
 	float *buf = malloc(sizeof(float) * n * 12);
 	pc_eval_truth tk = *t;
 	for (int c = 0; c < 4; c++)
 		tk.ch[c] = malloc(sizeof(double) * n);
-	rc = buf && tk.ch[0] && tk.ch[1] && tk.ch[2] && tk.ch[3] ? 0 : pc_error(PC_ENOMEM, "colour");
+	rc =
+	    buf && tk.ch[0] && tk.ch[1] && tk.ch[2] && tk.ch[3] ? 0 : pc_error(PC_ENOMEM, "colour");
 	pc_fplane o[12];
 	if (!rc) {
 		pc_fplanes_separate(buf, w, h, 12, o);
@@ -295,8 +300,9 @@ static int colour_track(const pc_eval_truth *t, pc_demosaic_method meth,
 			for (uint32_t y = 0; y < h; y++)
 				for (uint32_t x = 0; x < w; x++)
 					tk.ch[c][(size_t)y * w + x] =
-						lround(colour_gain(k, x, y) * t->ch[c][(size_t)y * w + x] *
-						       65535) / 65535.0;
+					    lround(colour_gain(k, x, y) *
+					           t->ch[c][(size_t)y * w + x] * 65535) /
+					    65535.0;
 		pc_eval_metrics mk;
 		rc = pc_eval_score(&tk, &o[4 * k], 65535, &mk);
 		for (size_t q = 0; q < sizeof mk / sizeof(double); q++)
@@ -320,7 +326,7 @@ typedef struct noisy_row {
 } noisy_row;
 
 static int noisy_track(const pc_demosaic_method *meths, size_t nm, int threads, noisy_row *res,
-		       char *what, size_t what_size)
+                       char *what, size_t what_size)
 {
 	pc_scene *scene = NULL;
 	pc_sim *sim = NULL;
@@ -343,15 +349,15 @@ static int noisy_track(const pc_demosaic_method *meths, size_t nm, int threads, 
 	uint32_t w = info.width, h = info.height;
 	size_t n = (size_t)w * h;
 	float *truth = malloc(sizeof(float) * n * 4), *ch = malloc(sizeof(float) * n * 4);
-	pc_view raw = { 0 };
+	pc_view raw = {0};
 	rc = truth && ch ? pc_view_alloc(&raw, info.format, w, h, 0) : pc_error(PC_ENOMEM, "noisy");
 	if (!rc)
 		rc = pc_sim_prepare(sim, 0, truth, NULL, NULL, NULL);
 	if (!rc)
 		rc = pc_sim_frame(sim, 0, NULL, &raw, NULL);
 	double k = pc_sim_dn_per_radiance(sim, NULL, 0);
-	snprintf(what, what_size, "simulator default scene %ux%u, %u-bit, effects 0x%x, seed %llu", w,
-		 h, info.bits, info.effects, (unsigned long long)info.seed);
+	snprintf(what, what_size, "simulator default scene %ux%u, %u-bit, effects 0x%x, seed %llu",
+	         w, h, info.bits, info.effects, (unsigned long long)info.seed);
 	double peak = 0;
 	for (size_t i = 0; i < n && !rc; i++)
 		peak = fmax(peak, truth[4 * i]);
@@ -375,7 +381,7 @@ static int noisy_track(const pc_demosaic_method *meths, size_t nm, int threads, 
 	for (size_t q = 0; q < nm && !rc; q++) {
 		pc_fplane pl[4];
 		pc_fplanes_separate(ch, w, h, 4, pl);
-		pc_demosaic_opts o = { threads, false, 0 };
+		pc_demosaic_opts o = {threads, false, 0};
 		rc = pc_demosaic(&raw, &info.mosaic, meths[q], &o, pl);
 		double se = 0, de = 0, a2 = 0, ws = 0, cnt = 0;
 		for (uint32_t y = PC_EVAL_BORDER; y + PC_EVAL_BORDER < h && !rc; y++)
@@ -390,8 +396,14 @@ static int noisy_track(const pc_demosaic_method *meths, size_t nm, int threads, 
 				       s2 = I[1] - I[3];
 				double d = s0 > 0 ? fmin(sqrt(s1 * s1 + s2 * s2) / s0, 1) : 0;
 				const float *t = truth + 4 * i;
-				double td = t[0] > 0 ? fmin(sqrt((double)t[1] * t[1] + (double)t[2] * t[2]) / t[0], 1) : 0;
-				double ad = fabs(0.5 * atan2(s2, s1) - 0.5 * atan2(t[2], t[1])) * 180 / M_PI;
+				double td =
+				    t[0] > 0
+				        ? fmin(sqrt((double)t[1] * t[1] + (double)t[2] * t[2]) /
+				                   t[0],
+				               1)
+				        : 0;
+				double ad = fabs(0.5 * atan2(s2, s1) - 0.5 * atan2(t[2], t[1])) *
+				            180 / M_PI;
 				ad = fmod(ad, 180.0);
 				if (ad > 90)
 					ad = 180 - ad;
@@ -416,48 +428,161 @@ static int noisy_track(const pc_demosaic_method *meths, size_t nm, int threads, 
 	return rc;
 }
 
+/* Stress track: the stress suite's scenes (scenes/stress) rendered with ground truth and
+ * scored by the library (pc_sim_eval_cases), every monochrome full-resolution method on each,
+ * gains over bilinear per scene, their mean and the worst scene (pc_eval_dataset_gain).
+ * Returns the JSON (NULL on failure). */
+static json_t *stress_track(const char *dir, int threads, FILE *tf)
+{
+	char pat[4096];
+	snprintf(pat, sizeof pat, "%s/*.json", dir);
+	glob_t g;
+	if (glob(pat, 0, NULL, &g)) {
+		fprintf(tf, "stress track: no scenes in %s\n", dir);
+		return NULL;
+	}
+	pc_demosaic_method ms[PC_DM_COUNT];
+	size_t nm = 0, bi = 0;
+	for (int k = 0; k < PC_DM_COUNT; k++) {
+		const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
+		if ((mi->flags & PC_DMF_MONO) && !(mi->flags & PC_DMF_HALF_RES)) {
+			if (k == PC_DM_BILINEAR)
+				bi = nm;
+			ms[nm++] = (pc_demosaic_method)k;
+		}
+	}
+	size_t ns = g.gl_pathc;
+	pc_eval_result *res = calloc(ns * nm, sizeof *res);
+	if (!res) {
+		globfree(&g);
+		return NULL;
+	}
+	pc_demosaic_opts o = {threads, false, 0};
+	int rc = pc_sim_eval_cases((const char *const *)g.gl_pathv, ns, ms, nm, &o, threads,
+	                           &host->progress, res);
+	host->progress_end(host->progress.user);
+	if (rc) {
+		host->fail(rc, "stress track");
+		free(res);
+		globfree(&g);
+		return NULL;
+	}
+	fprintf(tf, "\nstress track (%s, %zu scenes): gain over bilinear in S0 / DoLP PSNR, dB\n",
+	        dir, ns);
+	fprintf(tf, "%-16s", "scene");
+	for (size_t k = 0; k < nm; k++)
+		if (k != bi)
+			fprintf(tf, " %15.15s", pc_demosaic_method_get(ms[k])->name);
+	fprintf(tf, " %15s\n", "bilinear S0/DoLP");
+	json_t *root = json_object();
+	json_t *jsc = json_array();
+	for (size_t s = 0; s < ns; s++) {
+		const char *b = strrchr(g.gl_pathv[s], '/');
+		b = b ? b + 1 : g.gl_pathv[s];
+		const pc_eval_metrics *bm = &res[s * nm + bi].m;
+		fprintf(tf, "%-16.16s", b);
+		json_t *js = json_object();
+		json_object_set_new(js, "scene", json_string(b));
+		for (size_t k = 0; k < nm; k++) {
+			const pc_eval_metrics *m = &res[s * nm + k].m;
+			if (k != bi)
+				fprintf(tf, " %+7.2f/%+7.2f", m->psnr_s0 - bm->psnr_s0,
+				        m->psnr_dolp - bm->psnr_dolp);
+			json_t *jm = json_object();
+			json_object_set_new(jm, "psnr_s0", bench_json_real(m->psnr_s0));
+			json_object_set_new(jm, "psnr_dolp", bench_json_real(m->psnr_dolp));
+			json_object_set_new(jm, "aolp_wrmse_deg",
+			                    bench_json_real(m->aolp_wrmse_deg));
+			json_object_set_new(js, pc_demosaic_method_get(ms[k])->name, jm);
+		}
+		fprintf(tf, " %7.2f/%7.2f\n", bm->psnr_s0, bm->psnr_dolp);
+		json_array_append_new(jsc, js);
+	}
+	json_t *jsum = json_object();
+	pc_eval_gain gains[PC_DM_COUNT];
+	for (size_t k = 0; k < nm; k++)
+		pc_eval_dataset_gain(res, ns * nm, res[0].dataset, ms[k], PC_DM_BILINEAR,
+		                     &gains[k]);
+	for (int row = 0; row < 2; row++) {
+		fprintf(tf, "%-16s", row ? "worst" : "mean");
+		for (size_t k = 0; k < nm; k++) {
+			if (k == bi)
+				continue;
+			double a = row ? gains[k].s0_worst : gains[k].s0_mean;
+			double d = row ? gains[k].dolp_worst : gains[k].dolp_mean;
+			fprintf(tf, " %+7.2f/%+7.2f", a, d);
+			const char *name = pc_demosaic_method_get(ms[k])->name;
+			json_t *jm = json_object_get(jsum, name);
+			if (!jm) {
+				jm = json_object();
+				json_object_set_new(jsum, name, jm);
+			}
+			json_object_set_new(jm, row ? "s0_worst_gain_db" : "s0_mean_gain_db",
+			                    bench_json_real(a));
+			json_object_set_new(jm, row ? "dolp_worst_gain_db" : "dolp_mean_gain_db",
+			                    bench_json_real(d));
+		}
+		fprintf(tf, "\n");
+	}
+	json_object_set_new(root, "dir", json_string(dir));
+	json_object_set_new(root, "scenes", jsc);
+	json_object_set_new(root, "gain_over_bilinear", jsum);
+	free(res);
+	globfree(&g);
+	return root;
+}
+
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam bench demosaic [DATA_DIR] [-o DIR [--overwrite]] [--reps N]\n"
-		"                               [--threads N] [--quick] [--json]\n"
-		"\n"
-		"What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
-		"every dataset in DATA_DIR/gt (default $POLARCAM_DATA; skipped with a message when\n"
-		"neither is given; layout and datasets: docs/evaluation.md): S0 and DoLP PSNR and the DoLP-weighted AoLP RMSE, per dataset (mean of\n"
-		"its scenes), bilinear as the baseline, and our bilinear against a straightforward\n"
-		"double-precision reference bilinear. Time: per 2448x2048 frame of 12-bit data in\n"
-		"16-bit containers, median of N runs (default 7; 3 with --quick) on warm buffers, for\n"
-		"every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32),\n"
-		"also with calibrated analysers (perturbed 3x4 pseudo-inverses per 2x2 super-pixel,\n"
-		"and per pixel; calibrated / uncalibrated is the ratio to read) and with a black\n"
-		"level, saturation and dead levels and the validity mask; the pipeline's\n"
-		"memory floor (read its input, write its 5 float planes with the store kind the\n"
-		"pipeline uses on this machine) and pipeline / floor; a memory copy of bilinear's\n"
-		"input and output bytes; OpenCV's bilinear 16-bit Bayer demosaicking of the same\n"
-		"frame when OpenCV is built in. All in one run: read the ratios, absolute times move\n"
-		"with the machine's load (reported). Each time is given as wall-clock and as process\n"
-		"CPU time (all threads), which does not count waiting for cores that other work\n"
-		"holds.\n"
-		"\n"
-		"Noisy track (not with --quick): the simulator's default scene with its sensor noise,\n"
-		"one raw frame scored against the noise-free truth it renders (S0 PSNR, DoLP RMSE,\n"
-		"DoLP-weighted AoLP RMSE).\n"
-		"\n"
-		"Writes DIR/demosaic.json, DIR/pareto_s0.png and DIR/pareto_dolp.png (default DIR:\n"
-		"bench-demosaic; made beside DIR and renamed into place at the end, an existing DIR\n"
-		"refused unless --overwrite) and prints a table; --json prints the JSON on stdout\n"
-		"instead.\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam bench demosaic [DATA_DIR] [--stress DIR] [-o DIR [--overwrite]] "
+	    "[--reps N]\n"
+	    "                               [--threads N] [--quick] [--json]\n"
+	    "\n"
+	    "What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
+	    "every dataset in DATA_DIR/gt (default $POLARCAM_DATA; skipped with a message when\n"
+	    "neither is given; layout and datasets: docs/evaluation.md): S0 and DoLP PSNR and the "
+	    "DoLP-weighted AoLP RMSE, per dataset (mean of\n"
+	    "its scenes), bilinear as the baseline, and our bilinear against a straightforward\n"
+	    "double-precision reference bilinear. Time: per 2448x2048 frame of 12-bit data in\n"
+	    "16-bit containers, median of N runs (default 7; 3 with --quick) on warm buffers, for\n"
+	    "every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32),\n"
+	    "also with calibrated analysers (perturbed 3x4 pseudo-inverses per 2x2 super-pixel,\n"
+	    "and per pixel; calibrated / uncalibrated is the ratio to read) and with a black\n"
+	    "level, saturation and dead levels and the validity mask; the pipeline's\n"
+	    "memory floor (read its input, write its 5 float planes with the store kind the\n"
+	    "pipeline uses on this machine) and pipeline / floor; a memory copy of bilinear's\n"
+	    "input and output bytes; OpenCV's bilinear 16-bit Bayer demosaicking of the same\n"
+	    "frame when OpenCV is built in. All in one run: read the ratios, absolute times move\n"
+	    "with the machine's load (reported). Each time is given as wall-clock and as process\n"
+	    "CPU time (all threads), which does not count waiting for cores that other work\n"
+	    "holds.\n"
+	    "\n"
+	    "Stress track: every scene of the stress suite (--stress DIR, default\n"
+	    "$POLARCAM_STRESS or ./scenes/stress; skipped when absent) rendered with ground truth\n"
+	    "(polarcam eval SCENE.json): per scene, each monochrome method's S0 and DoLP PSNR "
+	    "gain\n"
+	    "over bilinear, their mean and the worst scene.\n"
+	    "\n"
+	    "Noisy track (not with --quick): the simulator's default scene with its sensor noise,\n"
+	    "one raw frame scored against the noise-free truth it renders (S0 PSNR, DoLP RMSE,\n"
+	    "DoLP-weighted AoLP RMSE).\n"
+	    "\n"
+	    "Writes DIR/demosaic.json, DIR/pareto_s0.png and DIR/pareto_dolp.png (default DIR:\n"
+	    "bench-demosaic; made beside DIR and renamed into place at the end, an existing DIR\n"
+	    "refused unless --overwrite) and prints a table; --json prints the JSON on stdout\n"
+	    "instead.\n");
 }
 
 static void pareto_plot(const char *path, const method_row *rows, size_t n, int ds, int dolp,
-			double bil_ms)
+                        double bil_ms)
 {
 	char title[256];
 	snprintf(title, sizeof title, "Demosaicking: %s PSNR vs time (%s, 2448x2048 frame)",
-		 dolp ? "DoLP" : "S0", rows[0].ds_name[ds]);
+	         dolp ? "DoLP" : "S0", rows[0].ds_name[ds]);
 	pc_plot *p = pc_plot_new(title, "time per frame (ms, log scale)",
-				 dolp ? "DoLP PSNR (dB)" : "S0 PSNR (dB)");
+	                         dolp ? "DoLP PSNR (dB)" : "S0 PSNR (dB)");
 	if (!p)
 		return;
 	pc_plot_set_log(p, true, false);
@@ -494,7 +619,7 @@ static void pareto_plot(const char *path, const method_row *rows, size_t n, int 
 				fx[b] = tx, fy[b] = ty;
 			}
 	pc_plot_add_series(p, "Pareto front", fx, fy, nf, PC_PLOT_DASHED);
-	double bx[2] = { bil_ms * 5, bil_ms * 5 }, by[2];
+	double bx[2] = {bil_ms * 5, bil_ms * 5}, by[2];
 	by[0] = 1e9, by[1] = -1e9;
 	for (size_t i = 0; i < n; i++)
 		if (!rows[i].colour && rows[i].n_ds > ds) {
@@ -512,7 +637,7 @@ static void pareto_plot(const char *path, const method_row *rows, size_t n, int 
 int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 {
 	host = h;
-	const char *data_dir = NULL, *out_dir = "bench-demosaic";
+	const char *data_dir = NULL, *out_dir = "bench-demosaic", *stress_dir = NULL;
 	long reps = 7, threads = 0;
 	bool json_out = false, quick = false, overwrite = false;
 	for (int i = 1; i < argc; i++) {
@@ -529,6 +654,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			int rc = host->parse_long("--threads", argv[++i], 1, 1024, &threads);
 			if (rc)
 				return host->fail(rc, NULL);
+		} else if (!strcmp(argv[i], "--stress") && i + 1 < argc) {
+			stress_dir = argv[++i];
 		} else if (!strcmp(argv[i], "--json")) {
 			json_out = true;
 		} else if (!strcmp(argv[i], "--overwrite")) {
@@ -537,8 +664,10 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			quick = true;
 			reps = 3;
 		} else if (argv[i][0] == '-') {
-			return host->error(PC_BENCH_USAGE, "unknown option '%s' (polarcam bench demosaic "
-							   "--help)", argv[i]);
+			return host->error(PC_BENCH_USAGE,
+			                   "unknown option '%s' (polarcam bench demosaic "
+			                   "--help)",
+			                   argv[i]);
 		} else {
 			data_dir = argv[i];
 		}
@@ -549,6 +678,10 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		data_dir = getenv("POLARCAM_DATA");
 		data_from = "POLARCAM_DATA";
 	}
+	if (!stress_dir && getenv("POLARCAM_STRESS") && *getenv("POLARCAM_STRESS"))
+		stress_dir = getenv("POLARCAM_STRESS");
+	if (!stress_dir && stat("scenes/stress", &sb) == 0 && S_ISDIR(sb.st_mode))
+		stress_dir = "scenes/stress";
 	if (data_dir && !(stat(data_dir, &sb) == 0 && S_ISDIR(sb.st_mode)))
 		return host->error(PC_BENCH_USAGE, "%s %s: not a directory", data_from, data_dir);
 	/* an occupied output folder is refused before the measurements */
@@ -561,9 +694,10 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	int nthreads = threads ? (int)threads : pc_parallel_max_threads();
 	char load0[128], load1[128];
 	loadavg(load0, sizeof load0);
-	fprintf(tf, "polarcam bench demosaic: %d thread(s), %s kernels, median of %ld runs; load "
-		    "average at start: %s\n", nthreads, pc_cpu_level_name(pc_cpu_active()), reps,
-		load0);
+	fprintf(tf,
+	        "polarcam bench demosaic: %d thread(s), %s kernels, median of %ld runs; load "
+	        "average at start: %s\n",
+	        nthreads, pc_cpu_level_name(pc_cpu_active()), reps, load0);
 
 	/* ---------------- time ---------------- */
 	pc_view raw;
@@ -584,7 +718,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	memset(obuf, 0, plane * 12 * sizeof(float)); /* pre-fault */
 	pc_fplane planes[12];
 	pc_fplanes_separate(obuf, FW, FH, 12, planes);
-	pc_demosaic_opts opts = { (int)threads, false, 0 };
+	pc_demosaic_opts opts = {(int)threads, false, 0};
 	method_row rows[PC_DM_COUNT];
 	size_t nrows = 0;
 	pc_mosaic mono = pc_mosaic_imx250mzr(), colour = pc_mosaic_imx250myr();
@@ -599,8 +733,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		J_PIPE_BIL = PC_DM_COUNT,
 		J_PIPE_EARI,
 		J_PIPE_RATIO,
-		J_PIPE_CAL,   /* bilinear pipeline, per-super-pixel analyser pseudo-inverses */
-		J_PIPE_CALPX, /* ... per-pixel ones */
+		J_PIPE_CAL,    /* bilinear pipeline, per-super-pixel analyser pseudo-inverses */
+		J_PIPE_CALPX,  /* ... per-pixel ones */
 		J_PIPE_LEVELS, /* bilinear pipeline + black level + saturation/dead validity mask */
 		J_COPY,
 		J_OPENCV,
@@ -616,11 +750,11 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		for (int c = 0; c < 4; c++)
 			b16p[c] = b16 + (size_t)c * plane;
 	}
-	pc_stokes_out so = { planes[0], planes[1], planes[2], planes[3], planes[4] };
+	pc_stokes_out so = {planes[0], planes[1], planes[2], planes[3], planes[4]};
 	/* calibrated analysers: perturbed analyser matrices (orientations ±1°, extinction 0.93 to
 	 * 0.99, gains 0.9 to 1.1, a fixed pattern) per 2×2 super-pixel and per pixel, as a
 	 * calibration would give them (pc_stokes_pinv) */
-	pc_bench_pinv cal_sp = { 0 }, cal_px = { 0 };
+	pc_bench_pinv cal_sp = {0}, cal_px = {0};
 	bench_make_pinv(&cal_sp, FW / 2, FH / 2);
 	bench_make_pinv(&cal_px, FW, FH);
 	pc_pipeline_opts cal_o = pc_pipeline_defaults();
@@ -634,12 +768,15 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		memset(vmask, 0, plane);
 	uint64_t lev_invalid = 0;
 	/* the pipeline's floor: the same planes, the same store kind */
-	floor_job fj = { &raw, { planes[0].data, planes[1].data, planes[2].data, planes[3].data,
-				 planes[4].data }, planes[0].row_stride, pc_stokes_streams(&so, FW, FH) };
+	floor_job fj = {
+	    &raw,
+	    {planes[0].data, planes[1].data, planes[2].data, planes[3].data, planes[4].data},
+	    planes[0].row_stride,
+	    pc_stokes_streams(&so, FW, FH)};
 	size_t floor_bytes = plane * 2 + plane * 4 * 5;
 	size_t bytes = plane * 2 + plane * 16; /* bilinear's 10 MB input and 80 MB output */
 	uint8_t *csrc = aligned_alloc(64, bytes), *cdst = aligned_alloc(64, bytes);
-	copy_job cj = { cdst, csrc, bytes / FH };
+	copy_job cj = {cdst, csrc, bytes / FH};
 	if (csrc && cdst) {
 		memset(csrc, 1, bytes);
 		memset(cdst, 2, bytes);
@@ -652,12 +789,12 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	if (bgr) {
 		memset(bgr, 0, plane * 3 * sizeof(uint16_t));
 		char err[160] = "";
-		if (pc_bench_opencv_bayer16(raw.data, raw.stride, bgr, (size_t)FW * 6, FW, FH, nthreads,
-					    err, sizeof err) == 0) {
+		if (pc_bench_opencv_bayer16(raw.data, raw.stride, bgr, (size_t)FW * 6, FW, FH,
+		                            nthreads, err, sizeof err) == 0) {
 			have_cv = 1;
 			snprintf(cv_note, sizeof cv_note,
-				 "OpenCV %s cvtColor(COLOR_BayerBG2BGR), 16-bit, %d thread(s)",
-				 pc_bench_opencv_version(), nthreads);
+			         "OpenCV %s cvtColor(COLOR_BayerBG2BGR), 16-bit, %d thread(s)",
+			         pc_bench_opencv_version(), nthreads);
 		} else {
 			snprintf(cv_note, sizeof cv_note, "%s", err);
 		}
@@ -684,28 +821,29 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 				rc = pc_demosaic(&raw, m, rows[j].m, &opts, planes);
 				if (rc) {
 					host->progress_end(host->progress.user);
-					return host->fail(rc, pc_demosaic_method_get(rows[j].m)->name);
+					return host->fail(rc,
+					                  pc_demosaic_method_get(rows[j].m)->name);
 				}
 			} else if (j == J_PIPE_BIL || j == J_PIPE_EARI || j == J_PIPE_RATIO) {
 				pc_stokes_from_raw(&raw, &mono,
-						   j == J_PIPE_BIL    ? PC_DM_BILINEAR
-						   : j == J_PIPE_EARI ? PC_DM_EARI
-								      : PC_DM_RATIO,
-						   &opts, &so);
+				                   j == J_PIPE_BIL    ? PC_DM_BILINEAR
+				                   : j == J_PIPE_EARI ? PC_DM_EARI
+				                                      : PC_DM_RATIO,
+				                   &opts, &so);
 			} else if (j == J_PIPE_CAL || j == J_PIPE_CALPX) {
 				pc_bench_pinv *c = j == J_PIPE_CAL ? &cal_sp : &cal_px;
 				cal_o.pinv = c->m ? &c->pv : NULL;
 				if (c->m)
 					pc_stokes_run(&raw, &cal_o, &so, NULL);
 			} else if (j == J_PIPE_LEVELS) {
-				pc_validity v = { vmask, FW, 0 };
+				pc_validity v = {vmask, FW, 0};
 				if (vmask)
 					pc_stokes_run(&raw, &lev_o, &so, &v);
 				lev_invalid = v.n_invalid;
 			} else if (j == J_BIL16) {
 				if (b16)
 					pc_demosaic_bilinear_u16(&raw, &mono, 2, (int)threads, b16p,
-								 (size_t)FW * 2);
+					                         (size_t)FW * 2);
 			} else if (j == J_FLOOR) {
 				pc_parallel_rows(FH, 0, (int)threads, floor_band, &fj);
 			} else if (j == J_COPY) {
@@ -714,8 +852,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			} else if (have_cv) {
 #ifdef PC_HAVE_OPENCV
 				char err[160];
-				pc_bench_opencv_bayer16(raw.data, raw.stride, bgr, (size_t)FW * 6, FW, FH,
-							nthreads, err, sizeof err);
+				pc_bench_opencv_bayer16(raw.data, raw.stride, bgr, (size_t)FW * 6,
+				                        FW, FH, nthreads, err, sizeof err);
 #endif
 			}
 			double dt = now_s() - t0, dc = cpu_s() - c0;
@@ -724,7 +862,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 				cj_t[(size_t)j * (size_t)reps + (size_t)rep] = dc;
 			}
 		}
-		pc_progress_report(&host->progress, "timing", (uint64_t)(rep + 2), (uint64_t)reps + 1);
+		pc_progress_report(&host->progress, "timing", (uint64_t)(rep + 2),
+		                   (uint64_t)reps + 1);
 	}
 	host->progress_end(host->progress.user);
 	timing tall[J_N];
@@ -734,7 +873,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	}
 	for (int k = 0; k < PC_DM_COUNT; k++)
 		rows[k].t = tall[k];
-	timing t_pipe[3] = { tall[J_PIPE_BIL], tall[J_PIPE_EARI], tall[J_PIPE_RATIO] };
+	timing t_pipe[3] = {tall[J_PIPE_BIL], tall[J_PIPE_EARI], tall[J_PIPE_RATIO]};
 	timing t_cal = tall[J_PIPE_CAL], t_calpx = tall[J_PIPE_CALPX], t_lev = tall[J_PIPE_LEVELS];
 	int have_cal = cal_sp.m != NULL, have_calpx = cal_px.m != NULL;
 	free(cal_sp.m);
@@ -744,7 +883,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	timing t_b16 = tall[J_BIL16];
 	timing t_floor = tall[J_FLOOR];
 	free(b16);
-	timing t_cv = { NAN, NAN, NAN };
+	timing t_cv = {NAN, NAN, NAN};
 	if (have_cv)
 		t_cv = tall[J_OPENCV];
 	free(tj);
@@ -757,13 +896,13 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	free(ts);
 
 	/* ---------------- accuracy ---------------- */
-	double ref_gap[3] = { NAN, NAN, NAN }; /* our bilinear − reference bilinear: I, S0, DoLP */
+	double ref_gap[3] = {NAN, NAN, NAN}; /* our bilinear − reference bilinear: I, S0, DoLP */
 	int have_acc = 0;
 	if (data_dir) {
 		char gt[2048];
 		if ((size_t)snprintf(gt, sizeof gt, "%s/gt", data_dir) >= sizeof gt)
 			return host->error(PC_BENCH_USAGE, "%s: path too long", data_dir);
-		const char *datasets[] = { "lapray-nir", "zhang" };
+		const char *datasets[] = {"lapray-nir", "zhang"};
 		for (int d = 0; d < 2; d++) {
 			char dpath[3072];
 			snprintf(dpath, sizeof dpath, "%.2047s/%s", gt, datasets[d]);
@@ -794,7 +933,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			have_acc = 1;
 			pc_progress_report(&host->progress, datasets[d], 0, nscenes);
 			int scored = 0;
-			pc_eval_metrics refbil = { 0 }, fastbil = { 0 };
+			pc_eval_metrics refbil = {0}, fastbil = {0};
 			for (size_t s = 0; s < nscenes; s++) {
 				char spath[4096];
 				snprintf(spath, sizeof spath, "%.3071s/%.1000s", dpath, names[s]);
@@ -805,17 +944,23 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 				}
 				for (size_t i = 0; i < nrows; i++) {
 					if (rows[i].colour) {
-						/* the synthetic colour track, on the Lapray scenes */
+						/* the synthetic colour track, on the Lapray scenes
+						 */
 						pc_eval_metrics cm;
-						if (d != 0 || colour_track(&t, rows[i].m, &opts, &cm) != 0)
+						if (d != 0 ||
+						    colour_track(&t, rows[i].m, &opts, &cm) != 0)
 							continue;
 						if (scored == 0) {
-							memset(&rows[i].acc[0], 0, sizeof rows[i].acc[0]);
-							snprintf(rows[i].ds_name[0], sizeof rows[i].ds_name[0],
-								 "colourised %s", datasets[d]);
+							memset(&rows[i].acc[0], 0,
+							       sizeof rows[i].acc[0]);
+							snprintf(rows[i].ds_name[0],
+							         sizeof rows[i].ds_name[0],
+							         "colourised %s", datasets[d]);
 						}
-						for (size_t q = 0; q < sizeof cm / sizeof(double); q++)
-							(&rows[i].acc[0].psnr_i)[q] += (&cm.psnr_i)[q];
+						for (size_t q = 0; q < sizeof cm / sizeof(double);
+						     q++)
+							(&rows[i].acc[0].psnr_i)[q] +=
+							    (&cm.psnr_i)[q];
 						continue;
 					}
 					pc_eval_metrics mm;
@@ -824,19 +969,23 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 					int di = rows[i].n_ds;
 					if (scored == 0) {
 						memset(&rows[i].acc[di], 0, sizeof rows[i].acc[di]);
-						snprintf(rows[i].ds_name[di], sizeof rows[i].ds_name[di],
-							 "%s", datasets[d]);
+						snprintf(rows[i].ds_name[di],
+						         sizeof rows[i].ds_name[di], "%s",
+						         datasets[d]);
 					}
 					double *a = &rows[i].acc[di].psnr_i;
 					const double *b = &mm.psnr_i;
 					for (size_t q = 0; q < sizeof mm / sizeof(double); q++)
 						a[q] += b[q];
 					if (rows[i].m == PC_DM_BILINEAR) {
-						pc_demosaic_opts ro = { (int)threads, true, 0 };
+						pc_demosaic_opts ro = {(int)threads, true, 0};
 						pc_eval_metrics rm;
-						if (pc_eval_method(&t, PC_DM_BILINEAR, &ro, &rm) == 0) {
-							for (size_t q = 0; q < sizeof mm / sizeof(double); q++) {
-								(&refbil.psnr_i)[q] += (&rm.psnr_i)[q];
+						if (pc_eval_method(&t, PC_DM_BILINEAR, &ro, &rm) ==
+						    0) {
+							for (size_t q = 0;
+							     q < sizeof mm / sizeof(double); q++) {
+								(&refbil.psnr_i)[q] +=
+								    (&rm.psnr_i)[q];
 								(&fastbil.psnr_i)[q] += b[q];
 							}
 						}
@@ -856,7 +1005,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 				if (rows[i].colour && d != 0)
 					continue;
 				double *a = &rows[i].acc[rows[i].n_ds].psnr_i;
-				for (size_t q = 0; q < sizeof(pc_eval_metrics) / sizeof(double); q++)
+				for (size_t q = 0; q < sizeof(pc_eval_metrics) / sizeof(double);
+				     q++)
 					a[q] /= scored;
 				rows[i].n_ds++;
 			}
@@ -868,7 +1018,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		}
 	} else {
 		fprintf(tf, "no data directory (DATA_DIR or POLARCAM_DATA; docs/evaluation.md): "
-			    "accuracy skipped, time only\n\n");
+		            "accuracy skipped, time only\n\n");
 	}
 	/* ---------------- noisy track ---------------- */
 	pc_demosaic_method nmeth[PC_DM_COUNT];
@@ -901,17 +1051,17 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	for (size_t i = 0; i < nrows; i++)
 		if (rows[i].m == PC_DM_BILINEAR)
 			brow = &rows[i];
-	fprintf(tf, "%-16s %9s %7s %8s %7s %8s %7s", "method", "ms/frame", "x bil", "best ms", "x bil",
-		"cpu ms", "x bil");
+	fprintf(tf, "%-16s %9s %7s %8s %7s %8s %7s", "method", "ms/frame", "x bil", "best ms",
+	        "x bil", "cpu ms", "x bil");
 	for (int d = 0; have_acc && brow && d < brow->n_ds; d++)
 		fprintf(tf, " | %-10.10s %7s %7s %7s %7s", brow->ds_name[d], "S0 dB", "dS0",
-			"DoLP dB", "dDoLP");
+		        "DoLP dB", "dDoLP");
 	fprintf(tf, " | %s\n", have_acc ? "wAoLP deg" : "");
 	for (size_t i = 0; i < nrows; i++) {
 		const method_row *r = &rows[i];
-		fprintf(tf, "%-16s %9.2f %7.2f %8.2f %7.2f %8.2f %7.2f", pc_demosaic_method_get(r->m)->name,
-			r->t.median_ms, r->t.median_ms / bil, r->t.min_ms, r->t.min_ms / bil_min,
-			r->t.cpu_ms, r->t.cpu_ms / bil_cpu);
+		fprintf(tf, "%-16s %9.2f %7.2f %8.2f %7.2f %8.2f %7.2f",
+		        pc_demosaic_method_get(r->m)->name, r->t.median_ms, r->t.median_ms / bil,
+		        r->t.min_ms, r->t.min_ms / bil_min, r->t.cpu_ms, r->t.cpu_ms / bil_cpu);
 		for (int d = 0; have_acc && brow && d < brow->n_ds; d++) {
 			if (r->colour && r->n_ds && d == 0) {
 				/* colour rows: against bayer-first, on the colourised track */
@@ -919,13 +1069,15 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 				for (size_t q = 0; q < nrows; q++)
 					if (rows[q].m == PC_DM_BAYER_FIRST)
 						bf = &rows[q];
-				fprintf(tf, " | %-10s %7.3f %+7.3f %7.3f %+7.3f", "colour*", r->acc[0].psnr_s0,
-					r->acc[0].psnr_s0 - bf->acc[0].psnr_s0, r->acc[0].psnr_dolp,
-					r->acc[0].psnr_dolp - bf->acc[0].psnr_dolp);
+				fprintf(tf, " | %-10s %7.3f %+7.3f %7.3f %+7.3f", "colour*",
+				        r->acc[0].psnr_s0, r->acc[0].psnr_s0 - bf->acc[0].psnr_s0,
+				        r->acc[0].psnr_dolp,
+				        r->acc[0].psnr_dolp - bf->acc[0].psnr_dolp);
 			} else if (r->n_ds > d && !r->colour)
-				fprintf(tf, " | %-10s %7.3f %+7.3f %7.3f %+7.3f", "", r->acc[d].psnr_s0,
-					r->acc[d].psnr_s0 - brow->acc[d].psnr_s0, r->acc[d].psnr_dolp,
-					r->acc[d].psnr_dolp - brow->acc[d].psnr_dolp);
+				fprintf(tf, " | %-10s %7.3f %+7.3f %7.3f %+7.3f", "",
+				        r->acc[d].psnr_s0, r->acc[d].psnr_s0 - brow->acc[d].psnr_s0,
+				        r->acc[d].psnr_dolp,
+				        r->acc[d].psnr_dolp - brow->acc[d].psnr_dolp);
 			else
 				fprintf(tf, " | %-10s %7s %7s %7s %7s", "", "colour", "", "", "");
 		}
@@ -934,59 +1086,75 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		fprintf(tf, "\n");
 	}
 	if (have_noisy) {
-		fprintf(tf, "\nnoisy track: %s; %.0f %% of the pixels scored (lit, unsaturated)\n"
-			    "%-16s %9s %10s %10s\n", noisy_what, 100 * noisy[0].fraction, "method",
-			"S0 dB", "DoLP RMSE", "wAoLP deg");
+		fprintf(tf,
+		        "\nnoisy track: %s; %.0f %% of the pixels scored (lit, unsaturated)\n"
+		        "%-16s %9s %10s %10s\n",
+		        noisy_what, 100 * noisy[0].fraction, "method", "S0 dB", "DoLP RMSE",
+		        "wAoLP deg");
 		for (size_t q = 0; q < nn; q++)
-			fprintf(tf, "%-16s %9.3f %10.4f %10.3f\n", pc_demosaic_method_get(nmeth[q])->name,
-				noisy[q].psnr_s0, noisy[q].dolp_rmse, noisy[q].waolp_deg);
+			fprintf(tf, "%-16s %9.3f %10.4f %10.3f\n",
+			        pc_demosaic_method_get(nmeth[q])->name, noisy[q].psnr_s0,
+			        noisy[q].dolp_rmse, noisy[q].waolp_deg);
 	}
-	fprintf(tf, "\n* colour rows: synthetic colour track (Lapray NIR scenes with smooth per-colour "
-		    "gains, IMX250MYR mosaic), deltas against bayer-first\n");
-	fprintf(tf, "full pipeline (demosaic + S0,S1,S2,DoLP,AoLP float32), median / best wall "
-		    "(cpu): bilinear %.2f / %.2f ms (cpu %.2f ms; %.2f x bilinear demosaic), eari "
-		    "%.2f / %.2f ms (cpu %.2f ms), ratio %.2f / %.2f ms (cpu %.2f ms)\n",
-		t_pipe[0].median_ms, t_pipe[0].min_ms, t_pipe[0].cpu_ms, t_pipe[0].median_ms / bil,
-		t_pipe[1].median_ms, t_pipe[1].min_ms, t_pipe[1].cpu_ms, t_pipe[2].median_ms,
-		t_pipe[2].min_ms, t_pipe[2].cpu_ms);
+	fprintf(tf,
+	        "\n* colour rows: synthetic colour track (Lapray NIR scenes with smooth per-colour "
+	        "gains, IMX250MYR mosaic), deltas against bayer-first\n");
+	fprintf(tf,
+	        "full pipeline (demosaic + S0,S1,S2,DoLP,AoLP float32), median / best wall "
+	        "(cpu): bilinear %.2f / %.2f ms (cpu %.2f ms; %.2f x bilinear demosaic), eari "
+	        "%.2f / %.2f ms (cpu %.2f ms), ratio %.2f / %.2f ms (cpu %.2f ms)\n",
+	        t_pipe[0].median_ms, t_pipe[0].min_ms, t_pipe[0].cpu_ms, t_pipe[0].median_ms / bil,
+	        t_pipe[1].median_ms, t_pipe[1].min_ms, t_pipe[1].cpu_ms, t_pipe[2].median_ms,
+	        t_pipe[2].min_ms, t_pipe[2].cpu_ms);
 	if (have_cal)
-		fprintf(tf, "calibrated bilinear pipeline (one 3x4 analyser pseudo-inverse per 2x2 "
-			    "super-pixel, %.0f MB of them): %.2f / %.2f ms (cpu %.2f ms); calibrated / "
-			    "uncalibrated = %.2f (best %.2f; goal <= 1.5)\n",
-			1e-6 * (double)plane * 12, t_cal.median_ms, t_cal.min_ms, t_cal.cpu_ms,
-			t_cal.median_ms / t_pipe[0].median_ms, t_cal.min_ms / t_pipe[0].min_ms);
+		fprintf(tf,
+		        "calibrated bilinear pipeline (one 3x4 analyser pseudo-inverse per 2x2 "
+		        "super-pixel, %.0f MB of them): %.2f / %.2f ms (cpu %.2f ms); calibrated / "
+		        "uncalibrated = %.2f (best %.2f; goal <= 1.5)\n",
+		        1e-6 * (double)plane * 12, t_cal.median_ms, t_cal.min_ms, t_cal.cpu_ms,
+		        t_cal.median_ms / t_pipe[0].median_ms, t_cal.min_ms / t_pipe[0].min_ms);
 	if (have_calpx)
-		fprintf(tf, "calibrated bilinear pipeline, one matrix per pixel (%.0f MB of them): %.2f "
-			    "/ %.2f ms (cpu %.2f ms); / uncalibrated = %.2f (best %.2f)\n",
-			1e-6 * (double)plane * 48, t_calpx.median_ms, t_calpx.min_ms, t_calpx.cpu_ms,
-			t_calpx.median_ms / t_pipe[0].median_ms, t_calpx.min_ms / t_pipe[0].min_ms);
-	fprintf(tf, "bilinear pipeline with black level, saturation and dead levels and the "
-		    "validity mask (%llu pixels flagged): %.2f / %.2f ms (cpu %.2f ms); / plain = %.2f "
-		    "(best %.2f)\n", (unsigned long long)lev_invalid, t_lev.median_ms, t_lev.min_ms,
-		t_lev.cpu_ms, t_lev.median_ms / t_pipe[0].median_ms, t_lev.min_ms / t_pipe[0].min_ms);
-	fprintf(tf, "full pipeline's memory floor (read the %.1f MB raw, write 5 float32 planes, "
-		    "%.1f MB in all, %s stores like the pipeline): %.2f ms (best %.2f, cpu %.2f ms); "
-		    "pipeline / floor = %.2f (best %.2f)\n",
-		1e-6 * (double)(plane * 2), 1e-6 * (double)floor_bytes,
-		fj.nt ? "non-temporal" : "ordinary",
-		t_floor.median_ms, t_floor.min_ms, t_floor.cpu_ms,
-		t_pipe[0].median_ms / t_floor.median_ms, t_pipe[0].min_ms / t_floor.min_ms);
-	fprintf(tf, "memory copy of bilinear's %zu MB of input+output: %.2f ms (best %.2f, cpu %.2f "
-		    "ms); bilinear / copy = %.2f (best %.2f)\n", bytes >> 20, t_copy.median_ms,
-		t_copy.min_ms, t_copy.cpu_ms, bil / t_copy.median_ms, bil_min / t_copy.min_ms);
+		fprintf(
+		    tf,
+		    "calibrated bilinear pipeline, one matrix per pixel (%.0f MB of them): %.2f "
+		    "/ %.2f ms (cpu %.2f ms); / uncalibrated = %.2f (best %.2f)\n",
+		    1e-6 * (double)plane * 48, t_calpx.median_ms, t_calpx.min_ms, t_calpx.cpu_ms,
+		    t_calpx.median_ms / t_pipe[0].median_ms, t_calpx.min_ms / t_pipe[0].min_ms);
+	fprintf(tf,
+	        "bilinear pipeline with black level, saturation and dead levels and the "
+	        "validity mask (%llu pixels flagged): %.2f / %.2f ms (cpu %.2f ms); / plain = %.2f "
+	        "(best %.2f)\n",
+	        (unsigned long long)lev_invalid, t_lev.median_ms, t_lev.min_ms, t_lev.cpu_ms,
+	        t_lev.median_ms / t_pipe[0].median_ms, t_lev.min_ms / t_pipe[0].min_ms);
+	fprintf(tf,
+	        "full pipeline's memory floor (read the %.1f MB raw, write 5 float32 planes, "
+	        "%.1f MB in all, %s stores like the pipeline): %.2f ms (best %.2f, cpu %.2f ms); "
+	        "pipeline / floor = %.2f (best %.2f)\n",
+	        1e-6 * (double)(plane * 2), 1e-6 * (double)floor_bytes,
+	        fj.nt ? "non-temporal" : "ordinary", t_floor.median_ms, t_floor.min_ms,
+	        t_floor.cpu_ms, t_pipe[0].median_ms / t_floor.median_ms,
+	        t_pipe[0].min_ms / t_floor.min_ms);
+	fprintf(tf,
+	        "memory copy of bilinear's %zu MB of input+output: %.2f ms (best %.2f, cpu %.2f "
+	        "ms); bilinear / copy = %.2f (best %.2f)\n",
+	        bytes >> 20, t_copy.median_ms, t_copy.min_ms, t_copy.cpu_ms, bil / t_copy.median_ms,
+	        bil_min / t_copy.min_ms);
 	fprintf(tf, "bilinear into 16-bit planes (exact, x4; 40 MB out): %.2f ms (cpu %.2f ms)\n",
-		t_b16.median_ms, t_b16.cpu_ms);
+	        t_b16.median_ms, t_b16.cpu_ms);
 	if (isfinite(t_cv.median_ms))
-		fprintf(tf, "%s: %.2f ms (cpu %.2f ms); bilinear / OpenCV = %.2f (cpu %.2f); 16-bit "
-			    "bilinear / OpenCV = %.2f (cpu %.2f)\n",
-			cv_note, t_cv.median_ms, t_cv.cpu_ms, bil / t_cv.median_ms,
-			bil_cpu / t_cv.cpu_ms, t_b16.median_ms / t_cv.median_ms,
-			t_b16.cpu_ms / t_cv.cpu_ms);
+		fprintf(tf,
+		        "%s: %.2f ms (cpu %.2f ms); bilinear / OpenCV = %.2f (cpu %.2f); 16-bit "
+		        "bilinear / OpenCV = %.2f (cpu %.2f)\n",
+		        cv_note, t_cv.median_ms, t_cv.cpu_ms, bil / t_cv.median_ms,
+		        bil_cpu / t_cv.cpu_ms, t_b16.median_ms / t_cv.median_ms,
+		        t_b16.cpu_ms / t_cv.cpu_ms);
 	else
 		fprintf(tf, "OpenCV comparison: %s\n", cv_note);
 	if (have_acc)
-		fprintf(tf, "our bilinear - double reference bilinear (lapray-nir): I %+.2e dB, S0 "
-			    "%+.2e dB, DoLP %+.2e dB\n", ref_gap[0], ref_gap[1], ref_gap[2]);
+		fprintf(tf,
+		        "our bilinear - double reference bilinear (lapray-nir): I %+.2e dB, S0 "
+		        "%+.2e dB, DoLP %+.2e dB\n",
+		        ref_gap[0], ref_gap[1], ref_gap[2]);
 	fprintf(tf, "load average at end: %s\n", load1);
 
 	json_t *root = json_object();
@@ -1016,12 +1184,15 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			json_object_set_new(jd, "psnr_s2", bench_json_real(a->psnr_s2));
 			json_object_set_new(jd, "psnr_dolp", bench_json_real(a->psnr_dolp));
 			json_object_set_new(jd, "aolp_rmse_deg", bench_json_real(a->aolp_rmse_deg));
-			json_object_set_new(jd, "aolp_wrmse_deg", bench_json_real(a->aolp_wrmse_deg));
+			json_object_set_new(jd, "aolp_wrmse_deg",
+			                    bench_json_real(a->aolp_wrmse_deg));
 			if (brow && brow->n_ds > d) {
-				json_object_set_new(jd, "d_psnr_s0",
-						    bench_json_real(a->psnr_s0 - brow->acc[d].psnr_s0));
-				json_object_set_new(jd, "d_psnr_dolp",
-						    bench_json_real(a->psnr_dolp - brow->acc[d].psnr_dolp));
+				json_object_set_new(
+				    jd, "d_psnr_s0",
+				    bench_json_real(a->psnr_s0 - brow->acc[d].psnr_s0));
+				json_object_set_new(
+				    jd, "d_psnr_dolp",
+				    bench_json_real(a->psnr_dolp - brow->acc[d].psnr_dolp));
 			}
 			json_object_set_new(ja, r->ds_name[d], jd);
 		}
@@ -1033,10 +1204,10 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		json_t *jn = json_array();
 		for (size_t q = 0; q < nn; q++)
 			json_array_append_new(jn, json_pack("{s:s, s:f, s:f, s:f}", "method",
-							    pc_demosaic_method_get(nmeth[q])->name,
-							    "psnr_s0", noisy[q].psnr_s0, "dolp_rmse",
-							    noisy[q].dolp_rmse, "aolp_wrmse_deg",
-							    noisy[q].waolp_deg));
+			                                    pc_demosaic_method_get(nmeth[q])->name,
+			                                    "psnr_s0", noisy[q].psnr_s0,
+			                                    "dolp_rmse", noisy[q].dolp_rmse,
+			                                    "aolp_wrmse_deg", noisy[q].waolp_deg));
 		json_object_set_new(root, "noisy_track", jn);
 		json_object_set_new(root, "noisy_track_input", json_string(noisy_what));
 	}
@@ -1048,21 +1219,23 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	json_object_set_new(root, "pipeline_floor_cpu_ms", bench_json_real(t_floor.cpu_ms));
 	json_object_set_new(root, "pipeline_floor_bytes", json_integer((json_int_t)floor_bytes));
 	json_object_set_new(root, "pipeline_floor_stores",
-			    json_string(fj.nt ? "non-temporal" : "ordinary"));
+	                    json_string(fj.nt ? "non-temporal" : "ordinary"));
 	json_object_set_new(root, "pipeline_bilinear_over_floor",
-			    bench_json_real(t_pipe[0].median_ms / t_floor.median_ms));
+	                    bench_json_real(t_pipe[0].median_ms / t_floor.median_ms));
 	json_object_set_new(root, "pipeline_bilinear_over_floor_best",
-			    bench_json_real(t_pipe[0].min_ms / t_floor.min_ms));
+	                    bench_json_real(t_pipe[0].min_ms / t_floor.min_ms));
 	json_object_set_new(root, "bilinear_u16_ms", bench_json_real(t_b16.median_ms));
 	json_object_set_new(root, "bilinear_u16_cpu_ms", bench_json_real(t_b16.cpu_ms));
-	json_object_set_new(root, "bilinear_u16_over_opencv", bench_json_real(t_b16.median_ms / t_cv.median_ms));
+	json_object_set_new(root, "bilinear_u16_over_opencv",
+	                    bench_json_real(t_b16.median_ms / t_cv.median_ms));
 	json_object_set_new(root, "opencv_cpu_ms", bench_json_real(t_cv.cpu_ms));
 	json_object_set_new(root, "pipeline_eari_ms", bench_json_real(t_pipe[1].median_ms));
 	json_object_set_new(root, "pipeline_bilinear_calibrated_ms",
-			    have_cal ? bench_json_real(t_cal.median_ms) : json_null());
+	                    have_cal ? bench_json_real(t_cal.median_ms) : json_null());
 	json_object_set_new(root, "pipeline_bilinear_calibrated_per_pixel_ms",
-			    have_calpx ? bench_json_real(t_calpx.median_ms) : json_null());
-	json_object_set_new(root, "pipeline_bilinear_levels_mask_ms", bench_json_real(t_lev.median_ms));
+	                    have_calpx ? bench_json_real(t_calpx.median_ms) : json_null());
+	json_object_set_new(root, "pipeline_bilinear_levels_mask_ms",
+	                    bench_json_real(t_lev.median_ms));
 	json_object_set_new(root, "cpu_level", json_string(pc_cpu_level_name(pc_cpu_active())));
 	json_object_set_new(root, "pipeline_ratio_ms", bench_json_real(t_pipe[2].median_ms));
 	json_object_set_new(root, "pipeline_bilinear_best_ms", bench_json_real(t_pipe[0].min_ms));
@@ -1081,6 +1254,14 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	json_object_set_new(jg, "psnr_dolp", bench_json_real(ref_gap[2]));
 	json_object_set_new(root, "bilinear_minus_reference_db", jg);
 
+	if (stress_dir) {
+		json_t *jst = stress_track(stress_dir, (int)threads, tf);
+		if (jst)
+			json_object_set_new(root, "stress_track", jst);
+	} else {
+		fprintf(tf, "\nstress track skipped: no --stress DIR, $POLARCAM_STRESS or "
+		            "./scenes/stress\n");
+	}
 	int status = PC_BENCH_OK;
 	pc_outdir od;
 	if ((rc = pc_outdir_begin(&od, out_dir, overwrite ? PC_OUT_OVERWRITE : 0))) {
@@ -1102,7 +1283,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			status = host->fail(rc, NULL);
 		pc_outdir_abort(&od);
 		fprintf(tf, "wrote %s/demosaic.json%s\n", out_dir,
-			have_acc ? ", pareto_s0.png, pareto_dolp.png" : "");
+		        have_acc ? ", pareto_s0.png, pareto_dolp.png" : "");
 	}
 	if (json_out)
 		host->print_json(root);

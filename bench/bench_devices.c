@@ -268,25 +268,32 @@ static const char *fs_name(const char *dir)
 	if (statfs(dir, &sf) != 0)
 		return "?";
 	switch ((unsigned long)sf.f_type) {
-	case 0xEF53: return "ext4";
-	case 0x58465342: return "xfs";
-	case 0x9123683E: return "btrfs";
-	case 0x01021994: return "tmpfs (memory)";
-	case 0x6969: return "nfs";
-	case 0x794c7630: return "overlayfs";
-	default: return "other";
+	case 0xEF53:
+		return "ext4";
+	case 0x58465342:
+		return "xfs";
+	case 0x9123683E:
+		return "btrfs";
+	case 0x01021994:
+		return "tmpfs (memory)";
+	case 0x6969:
+		return "nfs";
+	case 0x794c7630:
+		return "overlayfs";
+	default:
+		return "other";
 	}
 }
 
 /* pc_capture from the camera at 30 fps into dir/STORE, then the files removed. */
 static void disk_phase(const bench_opts *o, const char *dir, pc_recording_store store,
-		       disk_result *r)
+                       disk_result *r)
 {
 	memset(r, 0, sizeof *r);
 	r->store = pc_recording_store_name(store);
 	char uri[128], sub[1200];
 	snprintf(uri, sizeof uri, "aravis:127.0.0.1?packet_size=%llu",
-		 (unsigned long long)o->packet_size);
+	         (unsigned long long)o->packet_size);
 	snprintf(sub, sizeof sub, "%s/disk-%s", dir, r->store);
 	pc_capture_opts co;
 	memset(&co, 0, sizeof co);
@@ -359,8 +366,8 @@ static void print_disk(const bench_opts *o, const disk_result *r, double raw_fps
 		json_object_set_new(j, "write_ms_mean", bench_json_real(r->write_ms_mean));
 		json_object_set_new(j, "write_ms_max", bench_json_real(r->write_ms_max));
 		json_object_set_new(j, "file_bytes", json_integer((json_int_t)r->file_bytes));
-		json_object_set_new(j, "mb_per_s",
-				    bench_json_real(r->sustained_fps * (double)r->file_bytes / 1e6));
+		json_object_set_new(
+		    j, "mb_per_s", bench_json_real(r->sustained_fps * (double)r->file_bytes / 1e6));
 		json_object_set_new(j, "frames", json_integer((json_int_t)r->frames));
 		json_object_set_new(j, "queue_peak", json_integer(r->peak));
 		json_object_set_new(j, "lost", json_integer((json_int_t)r->lost));
@@ -440,8 +447,8 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 		usage(stdout);
 		return PC_BENCH_OK;
 	}
-	bench_opts o = {"default", 65000, 5, 4, "Mono16", false, false, PC_DM_BILINEAR, "bilinear",
-			NULL, 30};
+	bench_opts o = {"default", 65000,          5,          4,    "Mono16", false,
+	                false,     PC_DM_BILINEAR, "bilinear", NULL, 30};
 	char scene_buf[600];
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
@@ -476,7 +483,7 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 			o.cycle = (unsigned)l;
 		} else {
 			return host->error(PC_BENCH_USAGE,
-			                    "unknown or incomplete option '%s' (see --help)", a);
+			                   "unknown or incomplete option '%s' (see --help)", a);
 		}
 		if (rc)
 			return host->fail(rc, "arguments");
@@ -539,8 +546,8 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 		if (!o.json)
 			printf("disk phases in %s (%s), %u frames each\n", ddir, fs_name(ddir),
 			       o.disk_frames);
-		static const pc_recording_store order[3] = { PC_STORE_RAW, PC_STORE_NPY,
-							     PC_STORE_PNG };
+		static const pc_recording_store order[3] = {PC_STORE_RAW, PC_STORE_NPY,
+		                                            PC_STORE_PNG};
 		for (int k = 0; k < 3; k++) {
 			disk_phase(&o, ddir, order[k], &disk[k]);
 			disk_hard |= disk[k].frames == 0 && disk[k].error;
@@ -597,7 +604,8 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 		}
 		if (o.json) {
 			json_t *j = phase_json("alone", 0, &alone);
-			json_object_set_new(j, "process_ms_mean", bench_json_real(alone.proc_ms_mean));
+			json_object_set_new(j, "process_ms_mean",
+			                    bench_json_real(alone.proc_ms_mean));
 			json_object_set_new(j, "simulator_frame_s",
 			                    sim_n ? bench_json_real(sim_t / sim_n) : json_null());
 			host->print_json(j);
@@ -650,13 +658,13 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 			       "fps goal\n",
 			       disk[0].sustained_fps, disk[1].sustained_fps,
 			       disk[0].sustained_fps > 0
-				   ? disk[1].sustained_fps / disk[0].sustained_fps
-				   : 0,
+			           ? disk[1].sustained_fps / disk[0].sustained_fps
+			           : 0,
 			       disk[2].sustained_fps,
 			       disk[0].sustained_fps > 0
-				   ? disk[2].sustained_fps / disk[0].sustained_fps
-				   : 0);
+			           ? disk[2].sustained_fps / disk[0].sustained_fps
+			           : 0);
 	}
 	return transport.error || at30.error || pipe.error || disk_hard ? PC_BENCH_FAILURE
-								       : PC_BENCH_OK;
+	                                                                : PC_BENCH_OK;
 }

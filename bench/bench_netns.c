@@ -38,7 +38,7 @@ int bench_netns_reexec(const pc_bench_host *host, int argc, char **argv)
 	execvp("unshare", nargv);
 	free(nargv);
 	return host->error(PC_BENCH_FAILURE,
-			   "cannot run in a private network namespace (unshare -n needs root; "
-			   "Debian: util-linux, iproute2): refusing to stream GigE Vision outside "
-			   "one");
+	                   "cannot run in a private network namespace (unshare -n needs root; "
+	                   "Debian: util-linux, iproute2): refusing to stream GigE Vision outside "
+	                   "one");
 }

@@ -1,7 +1,8 @@
 /* polarcam bench physics: Lu–Chipman throughput against a textbook eigen-route baseline measured
- * in the same run (1 and 2 threads; the scalar path and the batched map kernel), pBRDF evaluations per second with and without the diffuse
- * term, material creation cost, and the ρ^s accuracy-vs-cost table (every quadrature order, the
- * per-material evaluation table, the 64×32 table mode) against a high-order reference. */
+ * in the same run (1 and 2 threads; the scalar path and the batched map kernel), pBRDF evaluations
+ * per second with and without the diffuse term, material creation cost, and the ρ^s
+ * accuracy-vs-cost table (every quadrature order, the per-material evaluation table, the 64×32
+ * table mode) against a high-order reference. */
 #include <jansson.h>
 #include <math.h>
 #include <stdint.h>
@@ -202,8 +203,8 @@ static double time_lc(const double (*Ms)[4][4], lc_kind kind, unsigned opts, int
  * outputs, or D, R and Δ only as the D/R/Δ maps of `polarcam mueller` need). */
 enum { LC_CHUNK = 256 };
 
-static double time_map(const double (*Ms)[4][4], unsigned opts, bool all, int threads,
-                       long iters, int reps)
+static double time_map(const double (*Ms)[4][4], unsigned opts, bool all, int threads, long iters,
+                       int reps)
 {
 	const long nch = iters / LC_CHUNK;
 	double best = INFINITY;
@@ -216,11 +217,15 @@ static double time_map(const double (*Ms)[4][4], unsigned opts, bool all, int th
 			double D[LC_CHUNK], R[LC_CHUNK], De[LC_CHUNK], Dv[3][LC_CHUNK],
 			    ax[3][LC_CHUNK], Rl[LC_CHUNK], Rc[LC_CHUNK], di[LC_CHUNK];
 			unsigned fl[LC_CHUNK];
-			pc_lc_map out = {D, {NULL, NULL, NULL}, R, {NULL, NULL, NULL},
-			                 NULL, NULL, De, NULL, NULL};
+			pc_lc_map out = {
+			    D,   {NULL, NULL, NULL}, R, {NULL, NULL, NULL}, NULL, NULL, De, NULL,
+			    NULL};
 			if (all) {
-				pc_lc_map a = {D, {Dv[0], Dv[1], Dv[2]}, R, {ax[0], ax[1], ax[2]},
-				               Rl, Rc, De, di, fl};
+				pc_lc_map a = {D,  {Dv[0], Dv[1], Dv[2]},
+				               R,  {ax[0], ax[1], ax[2]},
+				               Rl, Rc,
+				               De, di,
+				               fl};
 				out = a;
 			}
 #ifdef _OPENMP
@@ -253,10 +258,10 @@ static long map_vs_scalar(const double (*Ms)[4][4], unsigned opts)
 	for (int n = 0; n < NM; n++) {
 		pc_lu_chipman lc;
 		pc_lu_chipman_decompose(Ms[n], opts | PC_LC_NO_FACTORS, &lc);
-		const double a[12] = {lc.D, lc.R, lc.Delta, lc.R_linear, lc.R_circular,
-		                      lc.depol_index, lc.D_vec[0], lc.D_vec[1], lc.D_vec[2],
-		                      lc.R_axis[0], lc.R_axis[1], lc.R_axis[2]};
-		const double b[12] = {D[n], R[n], De[n], Rl[n], Rc[n], di[n],
+		const double a[12] = {lc.D,          lc.R,           lc.Delta,     lc.R_linear,
+		                      lc.R_circular, lc.depol_index, lc.D_vec[0],  lc.D_vec[1],
+		                      lc.D_vec[2],   lc.R_axis[0],   lc.R_axis[1], lc.R_axis[2]};
+		const double b[12] = {D[n],     R[n],     De[n],    Rl[n],    Rc[n],    di[n],
 		                      Dv[0][n], Dv[1][n], Dv[2][n], ax[0][n], ax[1][n], ax[2][n]};
 		bool diff = fl[n] != lc.flags;
 		for (int k = 0; k < 12; k++)
@@ -291,8 +296,10 @@ int pc_bench_physics(const pc_bench_host *h, int argc, char **argv)
 		else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
 			printf(
 			    "usage: polarcam bench physics [--quick] [--json]\n\n"
-			    "Lu-Chipman decompositions per second (1 and 2 threads; scalar path and\n"
-			    "the batched map kernel pc_lu_chipman_map) against a textbook eigen-route\n"
+			    "Lu-Chipman decompositions per second (1 and 2 threads; scalar path "
+			    "and\n"
+			    "the batched map kernel pc_lu_chipman_map) against a textbook "
+			    "eigen-route\n"
 			    "baseline timed in the same run; pBRDF evaluations per "
 			    "second\n"
 			    "with and without the diffuse term; material creation cost; the rho^s\n"
@@ -320,11 +327,12 @@ int pc_bench_physics(const pc_bench_host *h, int argc, char **argv)
 #ifdef _OPENMP
 	max_threads = omp_get_max_threads();
 #endif
-	fprintf(out,
-	        "polarcam bench physics (%s; %d hardware threads available to OpenMP; Lu-Chipman "
-	        "timings are the best of many short windows, the others best of 3; ratios measured in "
-	        "this run)\n\n",
-	        quick ? "quick" : "full", max_threads);
+	fprintf(
+	    out,
+	    "polarcam bench physics (%s; %d hardware threads available to OpenMP; Lu-Chipman "
+	    "timings are the best of many short windows, the others best of 3; ratios measured in "
+	    "this run)\n\n",
+	    quick ? "quick" : "full", max_threads);
 
 	/* --- Lu–Chipman --- */
 	double(*Ms)[4][4] = malloc(NM * sizeof *Ms);
@@ -395,14 +403,13 @@ int pc_bench_physics(const pc_bench_host *h, int argc, char **argv)
 	json_t *jl = json_array();
 	for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
 		fprintf(out, "  %-60s %10.1f %12.2f %12.2f %9.2fx\n", rows[i].name, rows[i].ns,
-		        1e3 / rows[i].ns, 1e3 / rows[i].ns / rows[i].threads,
-		        ns_base / rows[i].ns);
-		json_array_append_new(
-		    jl, json_pack("{s:s, s:i, s:f, s:f, s:f, s:f}", "method", rows[i].name,
-		                  "threads", rows[i].threads, "ns_per_matrix", rows[i].ns,
-		                  "per_second", 1e9 / rows[i].ns, "per_second_per_core",
-		                  1e9 / rows[i].ns / rows[i].threads, "speedup_vs_baseline",
-		                  ns_base / rows[i].ns));
+		        1e3 / rows[i].ns, 1e3 / rows[i].ns / rows[i].threads, ns_base / rows[i].ns);
+		json_array_append_new(jl, json_pack("{s:s, s:i, s:f, s:f, s:f, s:f}", "method",
+		                                    rows[i].name, "threads", rows[i].threads,
+		                                    "ns_per_matrix", rows[i].ns, "per_second",
+		                                    1e9 / rows[i].ns, "per_second_per_core",
+		                                    1e9 / rows[i].ns / rows[i].threads,
+		                                    "speedup_vs_baseline", ns_base / rows[i].ns));
 	}
 	fprintf(out,
 	        "  scalar path, per core with PC_LC_NO_FACTORS: %.2f M/s; 2-thread scaling %.2fx\n",

@@ -114,7 +114,8 @@ static int make_refs(const soak_opts *o, refs *r)
 		r->width = v->width;
 		r->height = v->height;
 		size_t row = (size_t)v->width * 2;
-		if (pc_format_info_get(v->format)->group_bytes != 2 || !(r->row0[k] = malloc(row * v->height)))
+		if (pc_format_info_get(v->format)->group_bytes != 2 ||
+		    !(r->row0[k] = malloc(row * v->height)))
 			rc = pc_error(PC_EFORMAT, "soak: expected a 9..16-bit simulator");
 		for (uint32_t y = 0; !rc && y < v->height; y++)
 			memcpy(r->row0[k] + y * row, PC_ROW(v, const uint8_t, y), row);
@@ -158,7 +159,7 @@ static bool frame_ok(const refs *r, anchor *a, uint64_t seq, const pc_view *v)
 	if (!a->set) {
 		for (unsigned k = 0; k < r->k; k++)
 			if (same(r, k, v)) {
-				*a = (anchor){ true, seq, k };
+				*a = (anchor){true, seq, k};
 				return true;
 			}
 		return false;
@@ -234,8 +235,7 @@ static void stream_request(const soak_opts *o, pc_stream_request *sr, char *uri,
 }
 
 /* The live pipeline for `seconds`. */
-static void live(const soak_opts *o, const refs *r, double seconds, pc_stokes_stream *ss,
-		 period *p)
+static void live(const soak_opts *o, const refs *r, double seconds, pc_stokes_stream *ss, period *p)
 {
 	char uri[128];
 	pc_stream_request sr;
@@ -249,7 +249,7 @@ static void live(const soak_opts *o, const refs *r, double seconds, pc_stokes_st
 		pc_source_close(s);
 		return;
 	}
-	anchor a = { 0 };
+	anchor a = {0};
 	double t0 = bench_now(), t_first = 0, t_last = 0, proc = 0;
 	while (!soak_stop && bench_now() - t0 < seconds) {
 		pc_buffer *b = NULL;
@@ -281,7 +281,8 @@ static void live(const soak_opts *o, const refs *r, double seconds, pc_stokes_st
 	p->dropped += st.dropped;
 	p->underruns += st.underruns;
 	p->missing_packets += st.missing_packets;
-	p->fps = p->frames > 1 && t_last > t_first ? (double)(p->frames - 1) / (t_last - t_first) : 0;
+	p->fps =
+	    p->frames > 1 && t_last > t_first ? (double)(p->frames - 1) / (t_last - t_first) : 0;
 	p->proc_ms = p->processed ? 1e3 * proc / (double)p->processed : 0;
 	pc_source_close(s);
 }
@@ -316,7 +317,7 @@ static void capture(const soak_opts *o, const refs *r, const char *dir, period *
 		set_error(p, rc, "capture: reading the recording");
 		return;
 	}
-	anchor a = { 0 };
+	anchor a = {0};
 	for (size_t i = 0; i < pc_recording_count(rec); i++) {
 		pc_view v;
 		if (pc_recording_read(rec, i, &v)) {
@@ -330,8 +331,7 @@ static void capture(const soak_opts *o, const refs *r, const char *dir, period *
 	pc_recording_free(rec);
 }
 
-static void run_period(const soak_opts *o, const refs *r, const char *dir, double live_s,
-		       period *p)
+static void run_period(const soak_opts *o, const refs *r, const char *dir, double live_s, period *p)
 {
 	memset(p, 0, sizeof *p);
 	pc_stokes_stream *ss = NULL;
@@ -391,27 +391,29 @@ static void print_period(const soak_opts *o, int minute, const period *p, const 
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam bench soak [--minutes N] [options]\n\n"
-		"serve -> capture -> live pipeline for N minutes in one process, inside a private\n"
-		"network namespace (see bench/bench_soak.c): each minute the live Stokes pipeline on\n"
-		"the camera's frames, then a capture --process of a few frames, then a sample of the\n"
-		"process's RSS, open file descriptors and threads. Every frame received or recorded is\n"
-		"compared with the frame the simulator regenerates from (seed, frame number).\n\n"
-		"  --minutes N         minutes to run (default 60; fractions allowed)\n"
-		"  --fps F             the camera's frame rate (default 30)\n"
-		"  --scene S           simulator scene (default: the built-in 2448x2048 scene)\n"
-		"  --cycle K           frames rendered once and served in turn (default 4)\n"
-		"  --capture-frames N  frames of each minute's capture (default 15)\n"
-		"  --period S          seconds between samples (default 60)\n"
-		"  --dir DIR           where the captures go (default: a new directory in $TMPDIR\n"
-		"                      or /tmp, removed at the end)\n"
-		"  --quick             small scene (scenes/ideal_small.json), for smoke runs\n"
-		"  --json              one JSON line per minute and one with the verdict\n\n"
-		"Pass: after a warm-up (10 s live + one capture, whose sample is the baseline), every\n"
-		"sample has the baseline's file descriptors and threads, RSS within max(16 MiB, 5%%)\n"
-		"of the baseline's, and no frame differs from the simulator's. Exit 0 pass, 1 fail.\n"
-		"The achieved frame rate is reported beside it.\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam bench soak [--minutes N] [options]\n\n"
+	    "serve -> capture -> live pipeline for N minutes in one process, inside a private\n"
+	    "network namespace (see bench/bench_soak.c): each minute the live Stokes pipeline on\n"
+	    "the camera's frames, then a capture --process of a few frames, then a sample of the\n"
+	    "process's RSS, open file descriptors and threads. Every frame received or recorded "
+	    "is\n"
+	    "compared with the frame the simulator regenerates from (seed, frame number).\n\n"
+	    "  --minutes N         minutes to run (default 60; fractions allowed)\n"
+	    "  --fps F             the camera's frame rate (default 30)\n"
+	    "  --scene S           simulator scene (default: the built-in 2448x2048 scene)\n"
+	    "  --cycle K           frames rendered once and served in turn (default 4)\n"
+	    "  --capture-frames N  frames of each minute's capture (default 15)\n"
+	    "  --period S          seconds between samples (default 60)\n"
+	    "  --dir DIR           where the captures go (default: a new directory in $TMPDIR\n"
+	    "                      or /tmp, removed at the end)\n"
+	    "  --quick             small scene (scenes/ideal_small.json), for smoke runs\n"
+	    "  --json              one JSON line per minute and one with the verdict\n\n"
+	    "Pass: after a warm-up (10 s live + one capture, whose sample is the baseline), every\n"
+	    "sample has the baseline's file descriptors and threads, RSS within max(16 MiB, 5%%)\n"
+	    "of the baseline's, and no frame differs from the simulator's. Exit 0 pass, 1 fail.\n"
+	    "The achieved frame rate is reported beside it.\n");
 }
 
 static int parse(int argc, char **argv, soak_opts *o)
@@ -427,7 +429,8 @@ static int parse(int argc, char **argv, soak_opts *o)
 		} else if (i + 1 < argc && !strcmp(a, "--minutes")) {
 			rc = host->parse_double(a, argv[++i], &o->minutes);
 			if (!rc && !(o->minutes > 0 && o->minutes <= 7 * 24 * 60))
-				rc = pc_error(PC_EINVAL, "--minutes %g: expected (0, 10080]", o->minutes);
+				rc = pc_error(PC_EINVAL, "--minutes %g: expected (0, 10080]",
+				              o->minutes);
 		} else if (i + 1 < argc && !strcmp(a, "--fps")) {
 			rc = host->parse_double(a, argv[++i], &o->fps);
 			if (!rc && !(o->fps > 0 && o->fps <= 1000))
@@ -435,7 +438,8 @@ static int parse(int argc, char **argv, soak_opts *o)
 		} else if (i + 1 < argc && !strcmp(a, "--period")) {
 			rc = host->parse_double(a, argv[++i], &o->period_s);
 			if (!rc && !(o->period_s >= 10 && o->period_s <= 3600))
-				rc = pc_error(PC_EINVAL, "--period %g: expected 10..3600 s", o->period_s);
+				rc = pc_error(PC_EINVAL, "--period %g: expected 10..3600 s",
+				              o->period_s);
 		} else if (i + 1 < argc && !strcmp(a, "--scene")) {
 			o->scene = argv[++i];
 		} else if (i + 1 < argc && !strcmp(a, "--dir")) {
@@ -447,8 +451,8 @@ static int parse(int argc, char **argv, soak_opts *o)
 			rc = host->parse_long(a, argv[++i], 1, 1000, &l);
 			o->capture_frames = (unsigned)l;
 		} else {
-			return host->error(PC_BENCH_USAGE, "unknown or incomplete option '%s' (see --help)",
-					   a);
+			return host->error(PC_BENCH_USAGE,
+			                   "unknown or incomplete option '%s' (see --help)", a);
 		}
 		if (rc)
 			return host->fail(rc, "arguments");
@@ -463,14 +467,15 @@ int pc_bench_soak(const pc_bench_host *h, int argc, char **argv)
 		usage(stdout);
 		return PC_BENCH_OK;
 	}
-	soak_opts o = { "default", 60, 60, 30, 4, 15, NULL, "PolarizeMono12", false, false };
+	soak_opts o = {"default", 60, 60, 30, 4, 15, NULL, "PolarizeMono12", false, false};
 	int st = parse(argc, argv, &o);
 	if (st)
 		return st;
 	char scene_buf[600];
 	if (o.quick && !strcmp(o.scene, "default")) {
 		const char *src = getenv("PC_SOURCE_DIR");
-		snprintf(scene_buf, sizeof scene_buf, "%s/scenes/ideal_small.json", src ? src : ".");
+		snprintf(scene_buf, sizeof scene_buf, "%s/scenes/ideal_small.json",
+		         src ? src : ".");
 		o.scene = scene_buf;
 	}
 	if ((st = bench_netns_reexec(host, argc, argv)))
@@ -489,7 +494,7 @@ int pc_bench_soak(const pc_bench_host *h, int argc, char **argv)
 		snprintf(tmpdir, sizeof tmpdir, "%s/polarcam-soak-XXXXXX", t && *t ? t : "/tmp");
 		if (!(dir = mkdtemp(tmpdir)))
 			return host->error(PC_BENCH_FAILURE, "cannot make a directory in %s",
-					   t && *t ? t : "/tmp");
+			                   t && *t ? t : "/tmp");
 	}
 	snprintf(capdir, sizeof capdir, "%s/capture", dir);
 	refs r;
@@ -588,11 +593,10 @@ int pc_bench_soak(const pc_bench_host *h, int argc, char **argv)
 	bool pass = done > 0 && !bad_fd && !bad_thr && !bad_rss && !differ && !errors;
 	char crit[256];
 	snprintf(crit, sizeof crit,
-		 "fds and threads equal to the baseline's at every sample, RSS within %.1f MiB "
-		 "(max(16 MiB, 5%%)) of the baseline's %.1f MiB%s, no frame different from the "
-		 "simulator's, no error",
-		 tol_mib, base.rss_mib,
-		 RSS_JUDGED ? "" : " (not judged: AddressSanitizer build)");
+	         "fds and threads equal to the baseline's at every sample, RSS within %.1f MiB "
+	         "(max(16 MiB, 5%%)) of the baseline's %.1f MiB%s, no frame different from the "
+	         "simulator's, no error",
+	         tol_mib, base.rss_mib, RSS_JUDGED ? "" : " (not judged: AddressSanitizer build)");
 	if (o.json) {
 		json_t *j = json_object();
 		json_object_set_new(j, "soak_minutes", bench_json_real(done * o.period_s / 60));
@@ -614,15 +618,15 @@ int pc_bench_soak(const pc_bench_host *h, int argc, char **argv)
 		json_object_set_new(j, "interrupted", json_boolean(soak_stop != 0));
 		host->print_json(j);
 	} else {
-		printf("\n%s after %d minute(s)%s: RSS %+.1f MiB at most from the baseline %.1f MiB "
-		       "(trend %+.2f MiB/min), fds %s, threads %s, %llu frames differ; live rate "
-		       "%.1f fps on average (lowest minute %.1f) for the %g fps goal, %llu damaged "
-		       "frames of %llu\ncriterion: %s\n",
-		       pass ? "PASS" : "FAIL", done, soak_stop ? " (interrupted)" : "", max_delta,
-		       base.rss_mib, slope, bad_fd ? "changed" : "flat",
-		       bad_thr ? "changed" : "flat", (unsigned long long)differ,
-		       done ? fps_sum / done : NAN, done ? fps_min : NAN, o.fps,
-		       (unsigned long long)damaged, (unsigned long long)frames, crit);
+		printf(
+		    "\n%s after %d minute(s)%s: RSS %+.1f MiB at most from the baseline %.1f MiB "
+		    "(trend %+.2f MiB/min), fds %s, threads %s, %llu frames differ; live rate "
+		    "%.1f fps on average (lowest minute %.1f) for the %g fps goal, %llu damaged "
+		    "frames of %llu\ncriterion: %s\n",
+		    pass ? "PASS" : "FAIL", done, soak_stop ? " (interrupted)" : "", max_delta,
+		    base.rss_mib, slope, bad_fd ? "changed" : "flat", bad_thr ? "changed" : "flat",
+		    (unsigned long long)differ, done ? fps_sum / done : NAN, done ? fps_min : NAN,
+		    o.fps, (unsigned long long)damaged, (unsigned long long)frames, crit);
 	}
 	/* the last capture is not kept */
 	if (o.dir)

@@ -9,12 +9,12 @@
 #include <opencv2/imgproc.hpp>
 
 extern "C" int pc_bench_opencv_bayer16(const uint16_t *src, size_t src_stride, uint16_t *dst,
-				       size_t dst_stride, int width, int height, int threads,
-				       char *err, size_t err_size);
+                                       size_t dst_stride, int width, int height, int threads,
+                                       char *err, size_t err_size);
 
 extern "C" int pc_bench_opencv_bayer16(const uint16_t *src, size_t src_stride, uint16_t *dst,
-				       size_t dst_stride, int width, int height, int threads,
-				       char *err, size_t err_size)
+                                       size_t dst_stride, int width, int height, int threads,
+                                       char *err, size_t err_size)
 {
 	try {
 		cv::setNumThreads(threads);

@@ -29,6 +29,10 @@ void pc_calib_free(pc_calib *cal)
 	free(cal->valid);
 	free(cal->provenance);
 	free(cal->pinv_px);
+	free(cal->apply_ig);
+	free(cal->apply_corr);
+	free(cal->apply_flag);
+	free(cal->apply_rows);
 	pc_calib_init(cal);
 }
 
@@ -52,6 +56,9 @@ int pc_calib_copy(pc_calib *dst, const pc_calib *src)
 	t.provenance = NULL;
 	t.pinv_px = NULL;
 	t.pinv_method = -1;
+	t.apply_ig = t.apply_corr = NULL;
+	t.apply_flag = NULL;
+	t.apply_rows = NULL;
 	size_t np = (size_t)src->geo.width * src->geo.height;
 	int rc;
 	if ((rc = dup_map((void **)&t.dark, src->dark, np * 4)) ||
@@ -62,7 +69,7 @@ int pc_calib_copy(pc_calib *dst, const pc_calib *src)
 	    (rc = dup_map((void **)&t.pinv_sp, src->pinv_sp, np / 4 * 48)) ||
 	    (rc = dup_map((void **)&t.valid, src->valid, np)) ||
 	    (rc = dup_map((void **)&t.provenance, src->provenance,
-			  src->provenance ? strlen(src->provenance) + 1 : 0))) {
+	                  src->provenance ? strlen(src->provenance) + 1 : 0))) {
 		pc_calib_free(&t);
 		return rc;
 	}
@@ -77,7 +84,7 @@ static void geo_text(const pc_calib_geometry *g, char *buf, size_t n)
 	char m[64];
 	pc_mosaic_format(&g->mosaic, m, sizeof m);
 	snprintf(buf, n, "%ux%u at ROI (%u,%u), %u bits, layout %s", g->width, g->height,
-		 g->offset_x, g->offset_y, g->bits, m);
+	         g->offset_x, g->offset_y, g->bits, m);
 }
 
 int pc_calib_check(const pc_calib *cal, const pc_calib_geometry *g)
@@ -93,7 +100,7 @@ int pc_calib_check(const pc_calib *cal, const pc_calib_geometry *g)
 	else if (g->bits && c->bits && g->bits != c->bits)
 		what = "bit depth differs";
 	else if (g->sensor_width && c->sensor_width &&
-		 (g->sensor_width != c->sensor_width || g->sensor_height != c->sensor_height))
+	         (g->sensor_width != c->sensor_width || g->sensor_height != c->sensor_height))
 		what = "sensor size differs";
 	if (!what)
 		return 0;
@@ -106,9 +113,9 @@ int pc_calib_check(const pc_calib *cal, const pc_calib_geometry *g)
 /* ---- frame stacks: per-pixel mean (and variance) in double ---- */
 
 typedef struct stack_stats {
-	double *mean;   /* (H, W) */
-	double *var;    /* (H, W) sample variance, or NULL */
-	uint8_t *sat;   /* (H, W) 1 = at or above saturation in some frame */
+	double *mean; /* (H, W) */
+	double *var;  /* (H, W) sample variance, or NULL */
+	uint8_t *sat; /* (H, W) 1 = at or above saturation in some frame */
 	size_t n_sat;
 } stack_stats;
 
@@ -129,8 +136,8 @@ static double sat_level(const pc_calib_opts *o, unsigned bits)
 
 /* Mean (Welford: numerically stable variance) over the stack's frames. */
 static int stack_read(const pc_calib_stack *s, const pc_calib_geometry *want, bool want_var,
-		      double saturation, stack_stats *st, uint64_t *done, uint64_t total,
-		      const pc_calib_opts *o)
+                      double saturation, stack_stats *st, uint64_t *done, uint64_t total,
+                      const pc_calib_opts *o)
 {
 	memset(st, 0, sizeof *st);
 	if (s->n == 0)
@@ -155,7 +162,7 @@ static int stack_read(const pc_calib_stack *s, const pc_calib_geometry *want, bo
 		return pc_error(PC_ENOMEM, "%s: %zu pixels", s->name, np);
 	}
 	for (size_t i = 0; i < s->n; i++) {
-		pc_view v = { 0 };
+		pc_view v = {0};
 		int rc = s->get(s->user, i, &v);
 		if (rc) {
 			free(row);
@@ -166,8 +173,9 @@ static int stack_read(const pc_calib_stack *s, const pc_calib_geometry *want, bo
 			pc_view_free(&v);
 			free(row);
 			stats_free(st);
-			return pc_error(PC_EINVAL, "%s: frame %zu is %ux%u, the recording says %ux%u",
-					s->name, i, v.width, v.height, W, H);
+			return pc_error(PC_EINVAL,
+			                "%s: frame %zu is %ux%u, the recording says %ux%u", s->name,
+			                i, v.width, v.height, W, H);
 		}
 		rc = pc_view_to_f32(&v, row, (size_t)W * sizeof(float));
 		pc_view_free(&v);
@@ -248,11 +256,14 @@ static int start_from(pc_calib *out, const pc_calib *base, const pc_calib_geomet
 static int check_mono(const pc_calib_geometry *g, const char *name)
 {
 	if (g->mosaic.period != 2)
-		return pc_error(PC_ENOTSUP, "%s: colour-polarization mosaics are not calibrated yet "
-					    "(monochrome 2x2 mosaics only)", name);
+		return pc_error(PC_ENOTSUP,
+		                "%s: colour-polarization mosaics are not calibrated yet "
+		                "(monochrome 2x2 mosaics only)",
+		                name);
 	if (g->width < 4 || g->height < 4 || g->width % 2 || g->height % 2)
-		return pc_error(PC_EINVAL, "%s: %ux%u: calibration needs even sizes of at least 4x4",
-				name, g->width, g->height);
+		return pc_error(PC_EINVAL,
+		                "%s: %ux%u: calibration needs even sizes of at least 4x4", name,
+		                g->width, g->height);
 	return 0;
 }
 
@@ -263,8 +274,10 @@ int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_calib *out
 	pc_calib_init(out);
 	int rc;
 	if (s->n < 2)
-		return pc_error(PC_EINVAL, "%s: %zu dark frame%s: at least 2 are needed for the temporal "
-				"noise", s->name, s->n, s->n == 1 ? "" : "s");
+		return pc_error(PC_EINVAL,
+		                "%s: %zu dark frame%s: at least 2 are needed for the temporal "
+		                "noise",
+		                s->name, s->n, s->n == 1 ? "" : "s");
 	if ((rc = check_mono(&s->geo, s->name)))
 		return rc;
 	stack_stats st;
@@ -274,8 +287,9 @@ int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_calib *out
 		return rc;
 	const size_t np = (size_t)s->geo.width * s->geo.height;
 	if (st.n_sat * 10 > np) {
-		rc = pc_error(PC_EINVAL, "%s: %zu of %zu pixels saturated: not dark frames (lens cap on?)",
-			      s->name, st.n_sat, np);
+		rc = pc_error(PC_EINVAL,
+		              "%s: %zu of %zu pixels saturated: not dark frames (lens cap on?)",
+		              s->name, st.n_sat, np);
 		stats_free(&st);
 		return rc;
 	}
@@ -327,18 +341,21 @@ static inline double dark_of(const pc_calib *c, size_t p)
 /* ---- flat ---- */
 
 int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib *base,
-		  const pc_calib_opts *o, pc_calib *out)
+                  const pc_calib_opts *o, pc_calib *out)
 {
 	pc_calib_init(out);
 	if (n_levels < 2)
-		return pc_error(PC_EINVAL, "flat: %zu level%s given: at least 2 light levels are needed "
-				"(the gain is a slope)", n_levels, n_levels == 1 ? "" : "s");
+		return pc_error(PC_EINVAL,
+		                "flat: %zu level%s given: at least 2 light levels are needed "
+		                "(the gain is a slope)",
+		                n_levels, n_levels == 1 ? "" : "s");
 	int rc;
 	const pc_calib_geometry *g = base ? &base->geo : &levels[0].geo;
 	if ((rc = check_mono(g, levels[0].name)))
 		return rc;
 	const size_t np = (size_t)g->width * g->height;
-	double sat = base && (!o || !(o->saturation > 0)) ? base->saturation : sat_level(o, g->bits);
+	double sat =
+	    base && (!o || !(o->saturation > 0)) ? base->saturation : sat_level(o, g->bits);
 	double max_frac = o && o->max_saturated_frac > 0 ? o->max_saturated_frac : 1e-4;
 	double *y = malloc(n_levels * np * sizeof *y);
 	uint8_t *bad = calloc(np, 1);
@@ -361,12 +378,14 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 		if ((rc = stack_read(&levels[l], g, false, sat, &st, &done, total, o)))
 			goto out;
 		if ((double)st.n_sat > max_frac * (double)np) {
-			rc = pc_error(PC_EINVAL, "%s: %zu of %zu pixels saturated (at %g DN or above): "
-					  "lower the exposure or the light", levels[l].name, st.n_sat, np, sat);
+			rc = pc_error(PC_EINVAL,
+			              "%s: %zu of %zu pixels saturated (at %g DN or above): "
+			              "lower the exposure or the light",
+			              levels[l].name, st.n_sat, np, sat);
 			stats_free(&st);
 			goto out;
 		}
-		double s[4] = { 0 }, n[4] = { 0 };
+		double s[4] = {0}, n[4] = {0};
 		for (uint32_t yy = 0; yy < g->height; yy++)
 			for (uint32_t x = 0; x < g->width; x++) {
 				size_t p = (size_t)yy * g->width + x;
@@ -391,8 +410,10 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 		hi = fmax(hi, m);
 	}
 	if (!(hi - lo > 0.05 * fabs(hi)) || !(hi > 0)) {
-		rc = pc_error(PC_ENUMERIC, "flat: the levels' means span %.4g to %.4g DN: they must "
-				   "differ by at least 5 %% (singular fit)", lo, hi);
+		rc = pc_error(PC_ENUMERIC,
+		              "flat: the levels' means span %.4g to %.4g DN: they must "
+		              "differ by at least 5 %% (singular fit)",
+		              lo, hi);
 		goto out;
 	}
 	if ((rc = start_from(out, base, g)))
@@ -473,9 +494,9 @@ static double inv3(const double a[3][3], double inv[3][3])
 
 /* Per pixel a_p = (U Uᵀ)⁻¹ U I_p with U the 3×K stimulus matrix; residual RMS (K > 3). */
 static int fit_vectors(const double *I, size_t K, size_t np, const double (*u)[3], double *a,
-		       double *res, double *rcond_out)
+                       double *res, double *rcond_out)
 {
-	double N[3][3] = { { 0 } }, Ni[3][3];
+	double N[3][3] = {{0}}, Ni[3][3];
 	for (size_t k = 0; k < K; k++)
 		for (int i = 0; i < 3; i++)
 			for (int j = 0; j < 3; j++)
@@ -486,7 +507,7 @@ static int fit_vectors(const double *I, size_t K, size_t np, const double (*u)[3
 	if (!(rcond > 1e-8))
 		return PC_ENUMERIC;
 	for (size_t p = 0; p < np; p++) {
-		double b[3] = { 0, 0, 0 };
+		double b[3] = {0, 0, 0};
 		for (size_t k = 0; k < K; k++)
 			for (int i = 0; i < 3; i++)
 				b[i] += u[k][i] * I[k * np + p];
@@ -495,8 +516,9 @@ static int fit_vectors(const double *I, size_t K, size_t np, const double (*u)[3
 		if (res) {
 			double ss = 0;
 			for (size_t k = 0; k < K; k++) {
-				double e = I[k * np + p] - (a[3 * p] * u[k][0] + a[3 * p + 1] * u[k][1] +
-							    a[3 * p + 2] * u[k][2]);
+				double e =
+				    I[k * np + p] - (a[3 * p] * u[k][0] + a[3 * p + 1] * u[k][1] +
+				                     a[3 * p + 2] * u[k][2]);
 				ss += e * e;
 			}
 			res[p] = K > 3 ? sqrt(ss / (double)(K - 3)) : 0;
@@ -515,7 +537,7 @@ static void stim_vec(double s0, double P, double theta, double u[3])
 /* Mean orientation error over valid pixels: ½·atan2(a2, a1) minus the nominal channel angle,
  * wrapped to (−90°, 90°]. */
 static double mean_orientation_error(const pc_calib_geometry *g, const double *a,
-				     const uint8_t *valid)
+                                     const uint8_t *valid)
 {
 	double s = 0;
 	size_t n = 0;
@@ -560,25 +582,30 @@ static int build_pinv_sp(pc_calib *cal)
 				pc_stokes_pinv1(id, pinv);
 				for (uint32_t dy = 0; dy < 2; dy++)
 					for (uint32_t dx = 0; dx < 2; dx++)
-						cal->valid[(size_t)(2 * j + dy) * W + 2 * i + dx] = 0;
+						cal->valid[(size_t)(2 * j + dy) * W + 2 * i + dx] =
+						    0;
 			}
 			for (int r = 0; r < 3; r++)
 				for (int c = 0; c < 4; c++)
-					cal->pinv_sp[(size_t)(4 * r + c) * n + cell] = (float)pinv[r][c];
+					cal->pinv_sp[(size_t)(4 * r + c) * n + cell] =
+					    (float)pinv[r][c];
 		}
 	return 0;
 }
 
 int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base,
-		      const pc_calib_opts *o, pc_calib *out, double *angles_out)
+                      const pc_calib_opts *o, pc_calib *out, double *angles_out)
 {
 	pc_calib_init(out);
 	bool unknown = o && o->unknown_angles;
 	if (K < 3 || (unknown && K < 4))
-		return pc_error(PC_EINVAL, "analyser: %zu stimul%s given: at least %d analyser angles "
-				"are needed%s", K, K == 1 ? "us" : "i", unknown ? 4 : 3,
-				unknown ? " with unknown angles (3 per pixel + the angles)" : " (3 unknowns "
-				"per pixel)");
+		return pc_error(PC_EINVAL,
+		                "analyser: %zu stimul%s given: at least %d analyser angles "
+		                "are needed%s",
+		                K, K == 1 ? "us" : "i", unknown ? 4 : 3,
+		                unknown ? " with unknown angles (3 per pixel + the angles)"
+		                        : " (3 unknowns "
+		                          "per pixel)");
 	if (K > 256)
 		return pc_error(PC_EINVAL, "analyser: at most 256 stimuli");
 	const pc_calib_geometry *g = base ? &base->geo : &stim[0].geo;
@@ -592,11 +619,14 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 			return pc_error(PC_EINVAL, "%s: DoLP %g > 1", stim[k].name, stim[k].dolp);
 		theta[k] = stim[k].angle_deg * DEG;
 		if (!unknown && !isfinite(theta[k]))
-			return pc_error(PC_EINVAL, "%s: the stimulus angle is unknown (give the angles, "
-					"or use the unknown-angles mode)", stim[k].name);
+			return pc_error(PC_EINVAL,
+			                "%s: the stimulus angle is unknown (give the angles, "
+			                "or use the unknown-angles mode)",
+			                stim[k].name);
 	}
 	const size_t np = (size_t)g->width * g->height;
-	double sat = base && (!o || !(o->saturation > 0)) ? base->saturation : sat_level(o, g->bits);
+	double sat =
+	    base && (!o || !(o->saturation > 0)) ? base->saturation : sat_level(o, g->bits);
 	double max_frac = o && o->max_saturated_frac > 0 ? o->max_saturated_frac : 1e-4;
 	double *I = malloc(K * np * sizeof *I), *a = malloc(3 * np * sizeof *a);
 	double *res = malloc(np * sizeof *res);
@@ -613,8 +643,10 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 		if ((rc = stack_read(&stim[k], g, false, sat, &st, &done, total, o)))
 			goto out;
 		if ((double)st.n_sat > max_frac * (double)np) {
-			rc = pc_error(PC_EINVAL, "%s: %zu of %zu pixels saturated (at %g DN or above): "
-					  "lower the exposure", stim[k].name, st.n_sat, np, sat);
+			rc = pc_error(PC_EINVAL,
+			              "%s: %zu of %zu pixels saturated (at %g DN or above): "
+			              "lower the exposure",
+			              stim[k].name, st.n_sat, np, sat);
 			stats_free(&st);
 			goto out;
 		}
@@ -638,7 +670,7 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 		/* initial angles: the ideal-analyser Stokes of the sensor-wide channel means */
 		double m[256][4];
 		for (size_t k = 0; k < K; k++) {
-			double s[4] = { 0 }, n[4] = { 0 };
+			double s[4] = {0}, n[4] = {0};
 			for (uint32_t y = 0; y < g->height; y++)
 				for (uint32_t x = 0; x < g->width; x++) {
 					size_t p = (size_t)y * g->width + x;
@@ -677,7 +709,8 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 				theta[k] += step;
 				maxstep = fmax(maxstep, fabs(step));
 			}
-			/* gauge: the angles are relative; fix the mean analyser orientation error to 0 */
+			/* gauge: the angles are relative; fix the mean analyser orientation error
+			 * to 0 */
 			for (size_t k = 0; k < K; k++)
 				stim_vec(1, P[k], theta[k], u[k]);
 			if ((rc = fit_vectors(I, K, np, (const double(*)[3])u, a, NULL, &rcond)))
@@ -689,8 +722,10 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 				break;
 		}
 		if (rc) {
-			rc = pc_error(PC_ENUMERIC, "analyser: the estimated angles collapsed (singular "
-					   "fit): the stimuli must cover at least 3 distinct angles mod 180°");
+			rc = pc_error(
+			    PC_ENUMERIC,
+			    "analyser: the estimated angles collapsed (singular "
+			    "fit): the stimuli must cover at least 3 distinct angles mod 180°");
 			goto out;
 		}
 	}
@@ -699,11 +734,13 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 	if ((rc = fit_vectors(I, K, np, (const double(*)[3])u, a, res, &rcond))) {
 		char list[512] = "";
 		for (size_t k = 0; k < K && strlen(list) < 480; k++)
-			snprintf(list + strlen(list), sizeof list - strlen(list), "%s%.4g", k ? "," : "",
-				 theta[k] / DEG);
-		rc = pc_error(PC_ENUMERIC, "analyser: the angles %s deg do not determine cos 2θ and "
-				   "sin 2θ (singular fit, reciprocal condition %.3g): use angles spread "
-				   "over 180°", list, rcond);
+			snprintf(list + strlen(list), sizeof list - strlen(list), "%s%.4g",
+			         k ? "," : "", theta[k] / DEG);
+		rc = pc_error(PC_ENUMERIC,
+		              "analyser: the angles %s deg do not determine cos 2θ and "
+		              "sin 2θ (singular fit, reciprocal condition %.3g): use angles spread "
+		              "over 180°",
+		              list, rcond);
 		goto out;
 	}
 	/* scale: mean a0 over valid pixels = ½ */
@@ -715,7 +752,8 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 			n++;
 		}
 	if (!(s > 0) || n == 0) {
-		rc = pc_error(PC_ENUMERIC, "analyser: no signal (mean response %g DN)", n ? s / n : 0);
+		rc = pc_error(PC_ENUMERIC, "analyser: no signal (mean response %g DN)",
+		              n ? s / n : 0);
 		goto out;
 	}
 	double scale = 0.5 / (s / (double)n);
@@ -740,9 +778,9 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 		goto out;
 	if (angles_out)
 		for (size_t k = 0; k < K; k++)
-			angles_out[k] = remainder(theta[k] / DEG, 180.0) < 0 ?
-						remainder(theta[k] / DEG, 180.0) + 180 :
-						remainder(theta[k] / DEG, 180.0);
+			angles_out[k] = remainder(theta[k] / DEG, 180.0) < 0
+			                    ? remainder(theta[k] / DEG, 180.0) + 180
+			                    : remainder(theta[k] / DEG, 180.0);
 	out->parts |= PC_CAL_ANALYSER;
 	free(out->pinv_px);
 	out->pinv_px = NULL;
@@ -761,12 +799,12 @@ out:
 /* ---- applying ---- */
 
 int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_t *valid_out,
-		     size_t *n_invalid)
+                     size_t *n_invalid)
 {
 	const uint32_t W = cal->geo.width, H = cal->geo.height;
 	if (raw->width != W || raw->height != H)
-		return pc_error(PC_EINVAL, "frame %ux%u, calibration %ux%u: size differs", raw->width,
-				raw->height, W, H);
+		return pc_error(PC_EINVAL, "frame %ux%u, calibration %ux%u: size differs",
+		                raw->width, raw->height, W, H);
 	int rc = pc_view_to_f32(raw, out, (size_t)W * sizeof(float));
 	if (rc)
 		return rc;
@@ -788,6 +826,36 @@ int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_
 	return 0;
 }
 
+/* per-pixel pseudo-inverses in place (pc_calib_pinv) */
+typedef struct pinv_ctx {
+	float *buf;
+	size_t np;
+	uint32_t W;
+	uint32_t *bad; /* per row: 1 + the first singular pixel's x, or 0 */
+} pinv_ctx;
+
+static void pinv_rows(void *vctx, uint32_t y0, uint32_t y1)
+{
+	const pinv_ctx *c = vctx;
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x = 0; x < c->W; x++) {
+			size_t p = (size_t)y * c->W + x;
+			double w[4][3], pinv[3][4];
+			for (int ch = 0; ch < 4; ch++)
+				for (int k = 0; k < 3; k++)
+					w[ch][k] = c->buf[(size_t)(4 * k + ch) * c->np + p];
+			if (pc_stokes_pinv1(w, pinv)) {
+				if (!c->bad[y])
+					c->bad[y] = x + 1;
+				continue;
+			}
+			for (int i = 0; i < 3; i++)
+				for (int ch = 0; ch < 4; ch++)
+					c->buf[(size_t)(4 * i + ch) * c->np + p] =
+					    (float)pinv[i][ch];
+		}
+}
+
 static bool is_superpixel(pc_demosaic_method m)
 {
 	return m == PC_DM_SUPERPIXEL || m == PC_DM_SUPERPIXEL_HALF;
@@ -796,8 +864,9 @@ static bool is_superpixel(pc_demosaic_method m)
 int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_analyser_pinv *pinv)
 {
 	if (!(cal->parts & PC_CAL_ANALYSER) || !cal->analysis || !cal->pinv_sp)
-		return pc_error(PC_EINVAL, "the calibration has no analyser part (polarcam calibrate "
-					   "analyser)");
+		return pc_error(PC_EINVAL,
+		                "the calibration has no analyser part (polarcam calibrate "
+		                "analyser)");
 	const uint32_t W = cal->geo.width, H = cal->geo.height;
 	if (is_superpixel(method)) {
 		pinv->m = cal->pinv_sp;
@@ -814,116 +883,261 @@ int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_anal
 	uint32_t ow, oh;
 	pc_demosaic_out_size(method, W, H, &ow, &oh);
 	if (ow != W || oh != H)
-		return pc_error(PC_ENOTSUP, "calibrated Stokes for a method with output %ux%u", ow, oh);
+		return pc_error(PC_ENOTSUP, "calibrated Stokes for a method with output %ux%u", ow,
+		                oh);
 	const size_t np = (size_t)W * H;
-	float *map = malloc(np * sizeof *map), *ch = malloc(4 * np * sizeof *ch);
-	float *wm = malloc(12 * np * sizeof *wm);
+	/* in place: component k of the analysis vectors demosaicked into planes 4k..4k+3 (W's
+	 * element (c, k) at (4k + c)·np), then per pixel the pseudo-inverse's element (i, c) into
+	 * (4i + c)·np - the same twelve slots */
+	free(cal->pinv_px);
+	cal->pinv_px = NULL;
+	cal->pinv_method = -1;
+	float *buf = malloc(12 * np * sizeof *buf), *map = malloc(np * sizeof *map);
+	uint32_t *bad = calloc(H, sizeof *bad);
 	int rc = 0;
-	if (!map || !ch || !wm) {
+	if (!buf || !map || !bad) {
 		rc = pc_error(PC_ENOMEM, "per-pixel analysis matrices (%zu pixels)", np);
 		goto out;
 	}
-	pc_demosaic_opts dopt = { .threads = threads };
-	for (int k = 0; k < 3; k++) {
+	pc_demosaic_opts dopt = {.threads = threads};
+	for (int k = 0; k < 3 && !rc; k++) {
 		for (size_t p = 0; p < np; p++)
-			map[p] = cal->analysis[3 * p + k];
-		pc_view v = { map, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
+			map[p] = cal->analysis[3 * p + (size_t)k];
+		pc_view v = {map, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32};
 		pc_fplane planes[4];
-		pc_fplanes_separate(ch, W, H, 4, planes);
-		if ((rc = pc_demosaic(&v, &cal->geo.mosaic, method, &dopt, planes)))
+		pc_fplanes_separate(buf + (size_t)k * 4 * np, W, H, 4, planes);
+		rc = pc_demosaic(&v, &cal->geo.mosaic, method, &dopt, planes);
+	}
+	if (rc)
+		goto out;
+	pinv_ctx pc = {buf, np, W, bad};
+	pc_parallel_rows(H, 0, threads, pinv_rows, &pc);
+	for (uint32_t y = 0; y < H; y++)
+		if (bad[y]) {
+			uint32_t x = bad[y] - 1;
+			rc = pc_error(PC_ENUMERIC,
+			              "calibration: the analyser matrix of output pixel "
+			              "(%u,%u) is singular (its demosaicked analysis vectors do "
+			              "not span S1, S2)",
+			              x, y);
 			goto out;
-		for (size_t p = 0; p < np; p++)
-			for (int c = 0; c < 4; c++)
-				wm[12 * p + 3 * c + k] = ch[(size_t)c * np + p];
-	}
-	free(cal->pinv_px);
-	cal->pinv_px = malloc(12 * np * sizeof(float));
-	if (!cal->pinv_px) {
-		rc = pc_error(PC_ENOMEM, "per-pixel pseudo-inverses");
-		goto out;
-	}
-	if ((rc = pc_stokes_pinv(wm, np, cal->pinv_px))) {
-		free(cal->pinv_px);
-		cal->pinv_px = NULL;
-		goto out;
-	}
+		}
+	cal->pinv_px = buf;
+	buf = NULL;
 	cal->pinv_method = (int)method;
 	pinv->m = cal->pinv_px;
 	pinv->grid_w = W;
 	pinv->grid_h = H;
 out:
+	free(buf);
 	free(map);
-	free(ch);
-	free(wm);
+	free(bad);
 	return rc;
 }
 
 int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *g,
-		    pc_demosaic_method method, int threads, const pc_stokes_out *out,
-		    uint8_t *valid_out, size_t *n_invalid)
+                    pc_demosaic_method method, int threads, const pc_stokes_out *out,
+                    uint8_t *valid_out, size_t *n_invalid)
 {
 	int rc;
 	if (g && (rc = pc_calib_check(cal, g)))
 		return rc;
-	const uint32_t W = cal->geo.width, H = cal->geo.height;
-	const size_t np = (size_t)W * H;
-	uint32_t ow, oh;
-	pc_demosaic_out_size(method, W, H, &ow, &oh);
-	float *corr = malloc(np * sizeof *corr);
-	float *vf = valid_out ? malloc(np * sizeof *vf) : NULL;
-	float *vch = valid_out ? malloc(4 * (size_t)ow * oh * sizeof *vch) : NULL;
-	uint8_t *vraw = malloc(np);
-	if (!corr || !vraw || (valid_out && (!vf || !vch))) {
-		rc = pc_error(PC_ENOMEM, "calibrated pipeline (%zu pixels)", np);
-		goto out;
-	}
-	size_t nbad = 0;
-	if ((rc = pc_calib_correct(cal, raw, corr, vraw, &nbad)))
-		goto out;
-	pc_view v = { corr, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
-	/* the core's front door: the fused paths apply the pseudo-inverses too */
+	pc_frame f;
+	memset(&f, 0, sizeof f);
+	f.view = *raw;
+	f.mosaic = cal->geo.mosaic;
+	f.meta.offset_x = cal->geo.offset_x;
+	f.meta.offset_y = cal->geo.offset_y;
 	pc_pipeline_opts po = pc_pipeline_defaults();
 	po.method = method;
 	po.mosaic = cal->geo.mosaic;
 	po.threads = threads;
-	po.full_scale = cal->saturation > 0 ? cal->saturation : 0;
+	po.saturation_level = cal->saturation;
+	uint32_t ow, oh;
+	pc_demosaic_out_size(method, cal->geo.width, cal->geo.height, &ow, &oh);
+	pc_validity v = {valid_out, ow, 0};
+	rc = pc_calib_apply(cal, &f, g ? g->bits : 0, &po, out, NULL,
+	                    valid_out || n_invalid ? &v : NULL);
+	if (!rc && n_invalid)
+		*n_invalid = (size_t)v.n_invalid;
+	return rc;
+}
+
+/* ---- the calibration as a pipeline stage (pc_calib_apply) ---- */
+
+typedef struct apply_ctx {
+	const pc_calib *cal;
+	const pc_view *raw;
+	int kind;         /* 0: Mono8, 1: 16-bit container, 2: float32, 3: already in corr */
+	unsigned maxv;    /* integer formats: the largest value the bit depth allows */
+	double sat, dead; /* raw units; sat INFINITY / dead -INFINITY: not checked */
+	float *corr;
+	uint8_t *flag;
+	uint32_t *rows; /* per row: flagged samples; rows[H + y]: values out of range */
+} apply_ctx;
+
+/* corr = (raw − dark)·(1/gain), flag = 1 where the sample is saturated, dead or invalid in the
+ * calibration (the model of polarcam/calib.h) */
+static void apply_rows(void *vctx, uint32_t y0, uint32_t y1)
+{
+	const apply_ctx *c = vctx;
+	const pc_calib *cal = c->cal;
+	const uint32_t W = cal->geo.width, H = cal->geo.height;
+	const float black = (float)cal->black_level;
+	const float sat = (float)c->sat, dead = (float)c->dead;
+	for (uint32_t y = y0; y < y1; y++) {
+		const size_t o = (size_t)y * W;
+		const float *dk = cal->dark ? cal->dark + o : NULL;
+		const float *ig = cal->apply_ig ? cal->apply_ig + o : NULL;
+		const uint8_t *cv = cal->valid ? cal->valid + o : NULL;
+		const uint8_t *r8 = (const uint8_t *)c->raw->data + (size_t)y * c->raw->stride;
+		const uint16_t *r16 = (const uint16_t *)(const void *)r8;
+		const float *rf = (const float *)(const void *)r8;
+		float *out = c->corr + o;
+		uint8_t *fl = c->flag + o;
+		uint32_t nb = 0, nr = 0;
+		for (uint32_t x = 0; x < W; x++) {
+			float v = c->kind == 0   ? (float)r8[x]
+			          : c->kind == 1 ? (float)r16[x]
+			          : c->kind == 2 ? rf[x]
+			                         : out[x];
+			if (c->kind == 1 && r16[x] > c->maxv)
+				nr++;
+			if (c->kind == 2 && !isfinite(v)) {
+				nr++;
+				v = 0;
+			}
+			uint8_t bad = (uint8_t)((cv && !cv[x]) | (v >= sat) | (v <= dead));
+			fl[x] = bad;
+			nb += bad;
+			float d = (dk ? dk[x] : black);
+			out[x] = ig ? (v - d) * ig[x] : v - d;
+		}
+		c->rows[y] = nb;
+		c->rows[H + y] = nr;
+	}
+}
+
+int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,
+                   const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid)
+{
+	if (!cal || !f || !o || (!st && !ch))
+		return pc_error(PC_EINVAL, "calibrated pipeline: missing argument");
+	if (o->pinv)
+		return pc_error(PC_EINVAL, "calibrated pipeline: the analysers come from the "
+		                           "calibration, not from the options");
+	if (o->black_level != 0)
+		return pc_error(PC_EINVAL,
+		                "calibrated pipeline: a black level of %g DN was given, but "
+		                "the calibration's dark map (or its black level, %g DN) is the "
+		                "black level; give one or the other",
+		                o->black_level, cal->black_level);
+	const pc_view *raw = &f->view;
+	int rc = pc_view_check(raw);
+	if (rc)
+		return rc;
+	pc_calib_geometry g = {raw->width, raw->height, f->meta.offset_x, f->meta.offset_y, 0,
+	                       0,          bits,        f->mosaic};
+	if (f->mosaic.period == 4)
+		return pc_error(PC_EINVAL,
+		                "frame of a colour-polarization mosaic: the calibration is "
+		                "for a monochrome polarizer mosaic (colour sensors are not "
+		                "calibrated yet)");
+	if ((rc = pc_calib_check(cal, &g)))
+		return rc;
+	const uint32_t W = cal->geo.width, H = cal->geo.height;
+	const size_t np = (size_t)W * H;
+	if (!cal->apply_corr) {
+		cal->apply_corr = malloc(np * sizeof(float));
+		cal->apply_flag = malloc(np);
+		cal->apply_rows = malloc(2 * (size_t)H * sizeof(uint32_t));
+		if (cal->gain)
+			cal->apply_ig = malloc(np * sizeof(float));
+		if (!cal->apply_corr || !cal->apply_flag || !cal->apply_rows ||
+		    (cal->gain && !cal->apply_ig)) {
+			free(cal->apply_corr);
+			free(cal->apply_flag);
+			free(cal->apply_rows);
+			free(cal->apply_ig);
+			cal->apply_corr = cal->apply_ig = NULL;
+			cal->apply_flag = NULL;
+			cal->apply_rows = NULL;
+			return pc_error(PC_ENOMEM, "calibrated pipeline (%zu pixels)", np);
+		}
+		for (size_t p = 0; cal->gain && p < np; p++)
+			cal->apply_ig[p] = cal->gain[p] > 0 ? 1.0f / cal->gain[p] : 1.0f;
+	}
+	const pc_format_info *fi = pc_format_info_get(raw->format);
+	apply_ctx c = {
+	    cal, raw, 3, 0, INFINITY, -INFINITY, cal->apply_corr, cal->apply_flag, cal->apply_rows};
+	if (raw->format == PC_FMT_MONO8)
+		c.kind = 0;
+	else if (raw->format == PC_FMT_MONO10 || raw->format == PC_FMT_MONO12 ||
+	         raw->format == PC_FMT_MONO14 || raw->format == PC_FMT_MONO16)
+		c.kind = 1;
+	else if (raw->format == PC_FMT_FLOAT32)
+		c.kind = 2;
+	else if ((rc = pc_view_to_f32(raw, c.corr, (size_t)W * sizeof(float))))
+		return rc; /* packed formats: unpacked (and checked) first */
+	c.maxv = fi->is_float ? 0 : (1u << fi->bits) - 1u;
+	double sat = o->saturation_level;
+	if (sat > 0)
+		c.sat = sat;
+	if (o->dead_level > 0)
+		c.dead = o->dead_level;
+	pc_parallel_rows(H, 0, o->threads, apply_rows, &c);
+	uint64_t nflag = 0, nrange = 0;
+	for (uint32_t y = 0; y < H; y++) {
+		nflag += c.rows[y];
+		nrange += c.rows[H + y];
+	}
+	if (nrange)
+		return pc_error(PC_ERANGE,
+		                "%llu samples out of range (above the %u-bit range of %s, "
+		                "or not finite)",
+		                (unsigned long long)nrange, fi->bits, fi->name);
+	pc_view v = {c.corr, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32};
+	pc_pipeline_opts po = *o;
+	po.mosaic = cal->geo.mosaic;
+	po.black_level = 0;
+	po.saturation_level = po.dead_level = 0; /* flagged above, in raw units */
+	/* the signal's full scale for edge-aware weights: saturation above the black level */
+	po.full_scale = sat > cal->black_level ? sat - cal->black_level : 0;
 	pc_analyser_pinv pinv;
-	if (cal->parts & PC_CAL_ANALYSER) {
-		if ((rc = pc_calib_pinv(cal, method, threads, &pinv)))
-			goto out;
+	if (st && (cal->parts & PC_CAL_ANALYSER)) {
+		if ((rc = pc_calib_pinv(cal, o->method, o->threads, &pinv)))
+			return rc;
 		po.pinv = &pinv;
 	}
-	if ((rc = pc_stokes_run(&v, &po, out, NULL)))
-		goto out;
-	if (valid_out) {
-		/* an output pixel is valid when every sample it depends on is: demosaic the
-		 * validity as 0/1 and keep exact 1 (all weights on valid samples) */
-		for (size_t p = 0; p < np; p++)
-			vf[p] = vraw[p] ? 1.0f : 0.0f;
-		pc_view vv = { vf, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32 };
-		pc_fplane vp[4];
-		pc_fplanes_separate(vch, ow, oh, 4, vp);
-		pc_demosaic_opts o2 = { .threads = threads, .full_scale = 1 };
-		pc_demosaic_method vm = is_superpixel(method) ? method : PC_DM_BILINEAR;
-		if ((rc = pc_demosaic(&vv, &cal->geo.mosaic, vm, &o2, vp)))
-			goto out;
-		size_t nb = 0;
-		const size_t on = (size_t)ow * oh;
-		for (size_t p = 0; p < on; p++) {
-			bool ok = true;
-			for (int c = 0; c < 4; c++)
-				ok &= vch[(size_t)c * on + p] > 0.9999f;
-			valid_out[p] = ok;
-			nb += !ok;
-		}
-		nbad = nb;
+	rc = st ? pc_stokes_run(&v, &po, st, NULL) : pc_demosaic_run(&v, &po, ch, NULL);
+	if (rc || !valid)
+		return rc;
+	uint32_t ow, oh;
+	pc_demosaic_out_size(o->method, W, H, &ow, &oh);
+	if (nflag == 0) {
+		/* nothing flagged: every output pixel is valid */
+		valid->n_invalid = 0;
+		for (uint32_t y = 0; valid->mask && y < oh; y++)
+			memset(valid->mask + (size_t)y * valid->row_stride, 1, ow);
+		return 0;
 	}
-	if (n_invalid)
-		*n_invalid = nbad;
-out:
-	free(corr);
-	free(vf);
-	free(vch);
-	free(vraw);
-	return rc;
+	/* an output pixel is invalid when a flagged sample lies in the method's support */
+	pc_view fv = {c.flag, W, H, W, PC_FMT_MONO8};
+	pc_pipeline_opts vo = pc_pipeline_defaults();
+	vo.method = o->method;
+	vo.mosaic = cal->geo.mosaic;
+	vo.threads = o->threads;
+	vo.saturation_level = 1;
+	return pc_validity_run(&fv, &vo, valid);
+}
+
+static int stage_run(void *user, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,
+                     const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid)
+{
+	return pc_calib_apply(user, f, bits, o, st, ch, valid);
+}
+
+pc_raw_stage pc_calib_stage(pc_calib *cal, const char *name)
+{
+	return (pc_raw_stage){stage_run, cal, name, cal->saturation};
 }

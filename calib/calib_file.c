@@ -4,6 +4,7 @@
  * docs/calibration.md, "The calibration file". */
 #include <jansson.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +13,7 @@
 #include "polarcam/calib.h"
 #include "polarcam/error.h"
 #include "polarcam/io.h"
+#include "polarcam/limits.h"
 
 /* ---- .npy in memory (format 1.0: magic, version, little-endian header length, a Python dict
  * literal padded with spaces to a multiple of 64 bytes, then C-order little-endian data) ---- */
@@ -22,17 +24,19 @@ typedef struct npy_buf {
 } npy_buf;
 
 static int npy_make(const char *descr, unsigned ndim, const size_t *shape, const void *data,
-		    size_t elem, npy_buf *out)
+                    size_t elem, npy_buf *out)
 {
 	char hdr[256], sh[128] = "";
 	size_t n = 1;
 	for (unsigned i = 0; i < ndim; i++) {
 		snprintf(sh + strlen(sh), sizeof sh - strlen(sh), "%zu%s", shape[i],
-			 ndim == 1 ? "," : i + 1 < ndim ? ", " : "");
+		         ndim == 1      ? ","
+		         : i + 1 < ndim ? ", "
+		                        : "");
 		n *= shape[i];
 	}
-	int len = snprintf(hdr, sizeof hdr, "{'descr': '%s', 'fortran_order': False, 'shape': (%s), }",
-			   descr, sh);
+	int len = snprintf(hdr, sizeof hdr,
+	                   "{'descr': '%s', 'fortran_order': False, 'shape': (%s), }", descr, sh);
 	size_t total = 10 + (size_t)len + 1;
 	size_t pad = (64 - total % 64) % 64;
 	size_t hlen = (size_t)len + pad + 1;
@@ -47,13 +51,14 @@ static int npy_make(const char *descr, unsigned ndim, const size_t *shape, const
 	memcpy(p + 10, hdr, (size_t)len);
 	memset(p + 10 + len, ' ', pad);
 	p[10 + hlen - 1] = '\n';
-	memcpy(p + 10 + hlen, data, n * elem); /* x86-64 and every supported target: little-endian */
+	memcpy(p + 10 + hlen, data,
+	       n * elem); /* x86-64 and every supported target: little-endian */
 	return 0;
 }
 
 /* Parses a member: dtype must be descr, shape is returned (ndim ≤ 4). */
 static int npy_parse(const char *file, const char *member, const unsigned char *b, size_t size,
-		     const char *descr, unsigned *ndim, size_t shape[4], const unsigned char **data)
+                     const char *descr, unsigned *ndim, size_t shape[4], const unsigned char **data)
 {
 	if (size < 10 || memcmp(b, "\x93NUMPY", 6) || b[6] != 1)
 		return pc_error(PC_EFORMAT, "%s: %s: not a NumPy 1.0 array", file, member);
@@ -77,21 +82,30 @@ static int npy_parse(const char *file, const char *member, const unsigned char *
 	s += 10;
 	*ndim = 0;
 	size_t n = 1;
+	/* decimal dimensions only, each below 2^31, the product checked: a shape whose byte count
+	 * wraps must not match the member's size */
 	while (*s && *s != ')') {
-		char *end;
-		unsigned long v = strtoul(s, &end, 10);
-		if (end == s || *ndim >= 4)
+		if (*s < '0' || *s > '9' || *ndim >= 4)
 			return pc_error(PC_EFORMAT, "%s: %s: bad shape", file, member);
+		size_t v = 0;
+		for (; *s >= '0' && *s <= '9'; s++) {
+			v = v * 10 + (size_t)(*s - '0');
+			if (v >= (size_t)1 << 31)
+				return pc_error(PC_EFORMAT, "%s: %s: bad shape", file, member);
+		}
 		shape[(*ndim)++] = v;
+		if (v && n > SIZE_MAX / 8 / v)
+			return pc_error(PC_EFORMAT, "%s: %s: bad shape", file, member);
 		n *= v;
-		s = end;
 		while (*s == ',' || *s == ' ')
 			s++;
 	}
+	if (*s != ')')
+		return pc_error(PC_EFORMAT, "%s: %s: bad shape", file, member);
 	size_t elem = descr[2] == '8' ? 8 : descr[2] == '4' ? 4 : 1;
-	if (10 + hlen + n * elem != size)
-		return pc_error(PC_EFORMAT, "%s: %s: %zu data bytes, the shape needs %zu", file, member,
-				size - 10 - hlen, n * elem);
+	if (size < 10 + hlen || size - 10 - hlen != n * elem)
+		return pc_error(PC_EFORMAT, "%s: %s: %zu data bytes, the shape needs %zu", file,
+		                member, size - 10 - hlen, n * elem);
 	*data = b + 10 + hlen;
 	return 0;
 }
@@ -116,14 +130,14 @@ static int add_member(zip_t *z, const char *name, npy_buf *b)
 }
 
 static int add_array(zip_t *z, const char *name, const char *descr, size_t elem, unsigned ndim,
-		     const size_t *shape, const void *data)
+                     const size_t *shape, const void *data)
 {
 	npy_buf b;
 	int rc = npy_make(descr, ndim, shape, data, elem, &b);
 	return rc ? rc : add_member(z, name, &b);
 }
 
-static const char *const part_names[4] = { "dark", "flat", "analyser", "ecm" };
+static const char *const part_names[4] = {"dark", "flat", "analyser", "ecm"};
 
 static char *meta_text(const pc_calib *c)
 {
@@ -174,7 +188,7 @@ int pc_calib_write(const char *path, const pc_calib *c)
 	zip_error_fini(&ze);
 	zip_source_keep(mem);
 	const uint32_t W = c->geo.width, H = c->geo.height;
-	const size_t s2[2] = { H, W }, s3[3] = { H, W, 3 }, s4[4] = { 3, 4, H / 2, W / 2 };
+	const size_t s2[2] = {H, W}, s3[3] = {H, W, 3}, s4[4] = {3, 4, H / 2, W / 2};
 	int rc = 0;
 	char *meta = meta_text(c);
 	if (!meta)
@@ -205,7 +219,7 @@ int pc_calib_write(const char *path, const pc_calib *c)
 		for (unsigned k = 0; k < 4 * c->n_psa; k++)
 			for (int a = 0; a < 4; a++)
 				Am[k * 4 + a] = c->ecm_A[k][a];
-		const size_t sw[2] = { 4, c->n_psg }, sa[2] = { 4 * (size_t)c->n_psa, 4 };
+		const size_t sw[2] = {4, c->n_psg}, sa[2] = {4 * (size_t)c->n_psa, 4};
 		rc = add_array(z, "ecm_generator.npy", "<f8", 8, 2, sw, Wm);
 		if (!rc)
 			rc = add_array(z, "ecm_analyser.npy", "<f8", 8, 2, sa, Am);
@@ -232,8 +246,8 @@ int pc_calib_write(const char *path, const pc_calib *c)
 		free(bytes);
 		zip_source_close(mem);
 		zip_source_free(mem);
-		return pc_error(bytes ? PC_EIO : PC_ENOMEM, "%s: zip: reading the archive back failed",
-				path);
+		return pc_error(bytes ? PC_EIO : PC_ENOMEM,
+		                "%s: zip: reading the archive back failed", path);
 	}
 	zip_source_close(mem);
 	zip_source_free(mem);
@@ -244,8 +258,11 @@ int pc_calib_write(const char *path, const pc_calib *c)
 
 /* ---- reading ---- */
 
-static int read_member(zip_t *z, const char *file, const char *name, bool required,
-		       unsigned char **buf, size_t *size)
+/* max: the largest size the member can have (its .npy header and the array the metadata
+ * implies); the archive's own claim is checked against it, and against what its compressed
+ * bytes can hold (stored: equal; deflate: at most 1032:1, RFC 1951), before allocating. */
+static int read_member(zip_t *z, const char *file, const char *name, bool required, uint64_t max,
+                       unsigned char **buf, size_t *size)
 {
 	*buf = NULL;
 	*size = 0;
@@ -253,8 +270,22 @@ static int read_member(zip_t *z, const char *file, const char *name, bool requir
 	if (idx < 0)
 		return required ? pc_error(PC_EFORMAT, "%s: member %s missing", file, name) : 0;
 	zip_stat_t st;
-	if (zip_stat_index(z, (zip_uint64_t)idx, 0, &st) < 0 || st.size > ((zip_uint64_t)1 << 34))
+	if (zip_stat_index(z, (zip_uint64_t)idx, 0, &st) < 0 ||
+	    (st.valid & (ZIP_STAT_SIZE | ZIP_STAT_COMP_SIZE | ZIP_STAT_COMP_METHOD)) !=
+	        (ZIP_STAT_SIZE | ZIP_STAT_COMP_SIZE | ZIP_STAT_COMP_METHOD))
 		return pc_error(PC_EFORMAT, "%s: %s: unreadable", file, name);
+	if (st.comp_method != ZIP_CM_STORE && st.comp_method != ZIP_CM_DEFLATE)
+		return pc_error(PC_EFORMAT,
+		                "%s: %s: compression method %d (expected stored or "
+		                "deflate, as numpy.savez writes)",
+		                file, name, (int)st.comp_method);
+	if (st.size > max || (st.comp_method == ZIP_CM_STORE && st.size != st.comp_size) ||
+	    (st.comp_method == ZIP_CM_DEFLATE && st.size / 1032 > st.comp_size))
+		return pc_error(PC_EFORMAT,
+		                "%s: %s: the archive claims %llu bytes (%llu compressed); "
+		                "at most %llu expected",
+		                file, name, (unsigned long long)st.size,
+		                (unsigned long long)st.comp_size, (unsigned long long)max);
 	zip_file_t *f = zip_fopen_index(z, (zip_uint64_t)idx, 0);
 	if (!f)
 		return pc_error(PC_EFORMAT, "%s: %s: %s", file, name, zip_strerror(z));
@@ -266,7 +297,7 @@ static int read_member(zip_t *z, const char *file, const char *name, bool requir
 		free(*buf);
 		*buf = NULL;
 		return pc_error(PC_EFORMAT, "%s: %s: corrupt (read %lld of %llu bytes)", file, name,
-				(long long)got, (unsigned long long)st.size);
+		                (long long)got, (unsigned long long)st.size);
 	}
 	*size = st.size;
 	return 0;
@@ -274,13 +305,21 @@ static int read_member(zip_t *z, const char *file, const char *name, bool requir
 
 /* Loads member name (if present, or required) as descr with the given shape into a new
  * buffer. */
-static int load_map(zip_t *z, const char *file, const char *name, const char *descr,
-		    unsigned ndim, const size_t *shape, bool required, void **out)
+static int load_map(zip_t *z, const char *file, const char *name, const char *descr, unsigned ndim,
+                    const size_t *shape, bool required, void **out)
 {
 	*out = NULL;
 	unsigned char *b;
 	size_t size;
-	int rc = read_member(z, file, name, required, &b, &size);
+	size_t elem0 = descr[2] == '8' ? 8 : descr[2] == '4' ? 4 : 1;
+	uint64_t max = 10 + 512;
+	{
+		uint64_t n0 = elem0;
+		for (unsigned i = 0; i < ndim; i++)
+			n0 *= shape[i]; /* shapes from the metadata: at most 65535² × 12 × 8 */
+		max += n0;
+	}
+	int rc = read_member(z, file, name, required, max, &b, &size);
 	if (rc || !b)
 		return rc;
 	unsigned nd;
@@ -300,10 +339,11 @@ static int load_map(zip_t *z, const char *file, const char *name, const char *de
 		free(b);
 		char want[96] = "";
 		for (unsigned i = 0; i < ndim; i++)
-			snprintf(want + strlen(want), sizeof want - strlen(want), "%s%zu", i ? "," : "",
-				 shape[i]);
-		return pc_error(PC_EFORMAT, "%s: %s: shape does not match the metadata (expected (%s))",
-				file, name, want);
+			snprintf(want + strlen(want), sizeof want - strlen(want), "%s%zu",
+			         i ? "," : "", shape[i]);
+		return pc_error(PC_EFORMAT,
+		                "%s: %s: shape does not match the metadata (expected (%s))", file,
+		                name, want);
 	}
 	size_t elem = descr[2] == '8' ? 8 : descr[2] == '4' ? 4 : 1;
 	*out = malloc(n * elem > 0 ? n * elem : 1);
@@ -320,8 +360,8 @@ static int meta_int(json_t *m, const char *file, const char *key, long lo, long 
 {
 	json_t *x = json_object_get(m, key);
 	if (!json_is_integer(x) || json_integer_value(x) < lo || json_integer_value(x) > hi)
-		return pc_error(PC_EFORMAT, "%s: meta.%s: expected an integer in [%ld, %ld]", file, key,
-				lo, hi);
+		return pc_error(PC_EFORMAT, "%s: meta.%s: expected an integer in [%ld, %ld]", file,
+		                key, lo, hi);
 	*v = (long)json_integer_value(x);
 	return 0;
 }
@@ -334,38 +374,51 @@ int pc_calib_read(const char *path, pc_calib *c)
 	if (!z) {
 		zip_error_t ze;
 		zip_error_init_with_code(&ze, err);
-		int rc = pc_error(err == ZIP_ER_NOENT || err == ZIP_ER_OPEN ? PC_ENOENT : PC_EFORMAT,
-				  "%s: not a readable calibration file (zip: %s)", path,
-				  zip_error_strerror(&ze));
+		int rc = pc_error(
+		    err == ZIP_ER_NOENT || err == ZIP_ER_OPEN ? PC_ENOENT : PC_EFORMAT,
+		    "%s: not a readable calibration file (zip: %s)", path, zip_error_strerror(&ze));
 		zip_error_fini(&ze);
 		return rc;
 	}
 	unsigned char *mb = NULL;
 	size_t ms = 0;
 	json_t *m = NULL;
-	int rc = read_member(z, path, "meta.npy", true, &mb, &ms);
-	unsigned nd;
+	int rc = read_member(z, path, "meta.npy", true, 1u << 20, &mb, &ms);
+	unsigned nd = 0;
 	size_t sh[4];
 	const unsigned char *md = NULL;
 	if (!rc)
 		rc = npy_parse(path, "meta.npy", mb, ms, "|u1", &nd, sh, &md);
+	if (!rc && nd != 1)
+		rc = pc_error(PC_EFORMAT, "%s: meta.npy: expected a 1-D array of JSON text", path);
 	if (!rc) {
 		json_error_t je;
 		m = json_loadb((const char *)md, sh[0], JSON_REJECT_DUPLICATES, &je);
 		if (!json_is_object(m))
-			rc = pc_error(PC_EFORMAT, "%s: meta.npy: not a JSON object (%s)", path, je.text);
+			rc = pc_error(PC_EFORMAT, "%s: meta.npy: not a JSON object (%s)", path,
+			              je.text);
 	}
 	long v = 0, w = 0, h = 0;
 	if (!rc && !(rc = meta_int(m, path, "polarcam_calibration", 1, 1000000, &v)) &&
 	    v > PC_CALIB_FILE_VERSION)
-		rc = pc_error(PC_EFORMAT, "%s: calibration file version %ld: this polarcam reads up "
-				  "to version %d", path, v, PC_CALIB_FILE_VERSION);
+		rc = pc_error(PC_EFORMAT,
+		              "%s: calibration file version %ld: this polarcam reads up "
+		              "to version %d",
+		              path, v, PC_CALIB_FILE_VERSION);
 	if (!rc && !(rc = meta_int(m, path, "width", 4, 65535, &w)) &&
 	    !(rc = meta_int(m, path, "height", 4, 65535, &h))) {
 		c->geo.width = (uint32_t)w;
 		c->geo.height = (uint32_t)h;
 		if (w % 2 || h % 2)
 			rc = pc_error(PC_EFORMAT, "%s: meta: %ldx%ld is not even", path, w, h);
+		/* the maps are this size (the analysis map 12 bytes per pixel): the limits of
+		 * polarcam/limits.h before anything is read */
+		char what[600];
+		snprintf(what, sizeof what, "%s: %ldx%ld calibration", path, w, h);
+		if (!rc)
+			rc = pc_limit_check(PC_LIMIT_PIXELS, (uint64_t)w * (uint64_t)h, what);
+		if (!rc)
+			rc = pc_limit_check(PC_LIMIT_BYTES, (uint64_t)w * (uint64_t)h * 12, what);
 	}
 	if (!rc && !(rc = meta_int(m, path, "offset_x", 0, 65535, &v)))
 		c->geo.offset_x = (uint32_t)v;
@@ -380,14 +433,16 @@ int pc_calib_read(const char *path, pc_calib *c)
 	if (!rc) {
 		json_t *lay = json_object_get(m, "layout");
 		if (!json_is_string(lay) || pc_mosaic_parse(json_string_value(lay), &c->geo.mosaic))
-			rc = pc_error(PC_EFORMAT, "%s: meta.layout: expected a mosaic layout", path);
+			rc =
+			    pc_error(PC_EFORMAT, "%s: meta.layout: expected a mosaic layout", path);
 	}
 	if (!rc) {
-		json_t *b = json_object_get(m, "black_level"), *s = json_object_get(m, "saturation");
+		json_t *b = json_object_get(m, "black_level"),
+		       *s = json_object_get(m, "saturation");
 		json_t *cam = json_object_get(m, "camera");
 		if (!json_is_number(b) || !json_is_number(s))
-			rc = pc_error(PC_EFORMAT, "%s: meta: black_level and saturation must be numbers",
-				      path);
+			rc = pc_error(PC_EFORMAT,
+			              "%s: meta: black_level and saturation must be numbers", path);
 		else {
 			c->black_level = json_number_value(b);
 			c->saturation = json_number_value(s);
@@ -410,18 +465,21 @@ int pc_calib_read(const char *path, pc_calib *c)
 	}
 	if (!rc) {
 		json_t *prov = json_object_get(m, "provenance");
-		c->provenance = prov ? json_dumps(prov, JSON_COMPACT | JSON_REAL_PRECISION(17)) : NULL;
+		c->provenance =
+		    prov ? json_dumps(prov, JSON_COMPACT | JSON_REAL_PRECISION(17)) : NULL;
 	}
-	const size_t s2[2] = { (size_t)h, (size_t)w }, s3[3] = { (size_t)h, (size_t)w, 3 };
-	const size_t s4[4] = { 3, 4, (size_t)h / 2, (size_t)w / 2 };
+	const size_t s2[2] = {(size_t)h, (size_t)w}, s3[3] = {(size_t)h, (size_t)w, 3};
+	const size_t s4[4] = {3, 4, (size_t)h / 2, (size_t)w / 2};
 	bool dark = c->parts & PC_CAL_DARK, flat = c->parts & PC_CAL_FLAT;
 	bool an = c->parts & PC_CAL_ANALYSER;
 	if (!rc)
-		rc = load_map(z, path, "valid.npy", "|u1", 2, s2, dark || flat || an, (void **)&c->valid);
+		rc = load_map(z, path, "valid.npy", "|u1", 2, s2, dark || flat || an,
+		              (void **)&c->valid);
 	if (!rc)
 		rc = load_map(z, path, "dark.npy", "<f4", 2, s2, dark, (void **)&c->dark);
 	if (!rc)
-		rc = load_map(z, path, "dark_noise.npy", "<f4", 2, s2, dark, (void **)&c->dark_noise);
+		rc = load_map(z, path, "dark_noise.npy", "<f4", 2, s2, dark,
+		              (void **)&c->dark_noise);
 	if (!rc)
 		rc = load_map(z, path, "gain.npy", "<f4", 2, s2, flat, (void **)&c->gain);
 	if (!rc)
@@ -429,7 +487,8 @@ int pc_calib_read(const char *path, pc_calib *c)
 	if (!rc)
 		rc = load_map(z, path, "residual.npy", "<f4", 2, s2, false, (void **)&c->residual);
 	if (!rc)
-		rc = load_map(z, path, "pinv_superpixel.npy", "<f4", 4, s4, an, (void **)&c->pinv_sp);
+		rc = load_map(z, path, "pinv_superpixel.npy", "<f4", 4, s4, an,
+		              (void **)&c->pinv_sp);
 	if (!rc && (c->parts & PC_CAL_ECM)) {
 		long g = 0, a = 0;
 		if (!(rc = meta_int(m, path, "n_psg", 1, PC_CALIB_MAX_STATES, &g)) &&
@@ -437,11 +496,11 @@ int pc_calib_read(const char *path, pc_calib *c)
 			c->n_psg = (unsigned)g;
 			c->n_psa = (unsigned)a;
 			double *Wm = NULL, *Am = NULL;
-			const size_t sw[2] = { 4, (size_t)g }, sa[2] = { 4 * (size_t)a, 4 };
+			const size_t sw[2] = {4, (size_t)g}, sa[2] = {4 * (size_t)a, 4};
 			if (!(rc = load_map(z, path, "ecm_generator.npy", "<f8", 2, sw, true,
-					    (void **)&Wm)) &&
+			                    (void **)&Wm)) &&
 			    !(rc = load_map(z, path, "ecm_analyser.npy", "<f8", 2, sa, true,
-					    (void **)&Am))) {
+			                    (void **)&Am))) {
 				for (int r = 0; r < 4; r++)
 					for (long k = 0; k < g; k++)
 						c->ecm_W[r][k] = Wm[r * g + k];
@@ -457,10 +516,13 @@ int pc_calib_read(const char *path, pc_calib *c)
 	size_t np = (size_t)w * (size_t)h;
 	for (size_t p = 0; !rc && p < np; p++) {
 		if ((c->dark && !isfinite(c->dark[p])) || (c->gain && !(c->gain[p] > 0)) ||
-		    (c->analysis && !(isfinite(c->analysis[3 * p]) && isfinite(c->analysis[3 * p + 1]) &&
-				      isfinite(c->analysis[3 * p + 2]))))
-			rc = pc_error(PC_EFORMAT, "%s: pixel (%zu, %zu): non-finite map value or gain "
-					  "≤ 0", path, p % (size_t)w, p / (size_t)w);
+		    (c->analysis &&
+		     !(isfinite(c->analysis[3 * p]) && isfinite(c->analysis[3 * p + 1]) &&
+		       isfinite(c->analysis[3 * p + 2]))))
+			rc = pc_error(PC_EFORMAT,
+			              "%s: pixel (%zu, %zu): non-finite map value or gain "
+			              "≤ 0",
+			              path, p % (size_t)w, p / (size_t)w);
 	}
 	free(mb);
 	json_decref(m);

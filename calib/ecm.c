@@ -25,12 +25,12 @@
 
 /* LAPACK (Fortran calling convention, column-major). */
 extern void dgeev_(const char *jobvl, const char *jobvr, const int *n, double *a, const int *lda,
-		   double *wr, double *wi, double *vl, const int *ldvl, double *vr, const int *ldvr,
-		   double *work, const int *lwork, int *info);
+                   double *wr, double *wi, double *vl, const int *ldvl, double *vr, const int *ldvr,
+                   double *work, const int *lwork, int *info);
 extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
-		   double *w, double *work, const int *lwork, int *info);
+                   double *w, double *work, const int *lwork, int *info);
 extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b,
-		   const int *ldb, int *info);
+                   const int *ldb, int *info);
 
 void pc_ecm_sample_mueller(double tau, double psi, double delta, double theta, double M[4][4])
 {
@@ -38,10 +38,10 @@ void pc_ecm_sample_mueller(double tau, double psi, double delta, double theta, d
 	 * [0, 0, −sin2ψ sinΔ, sin2ψ cosΔ]] (transmission axis along x when cos 2ψ > 0), then
 	 * M = R(−θ)·M₀·R(θ) with R the rotator of physics.md §2 (pc_mueller_rotator). */
 	double c = cos(2 * psi), s = sin(2 * psi);
-	double M0[4][4] = { { tau, tau * c, 0, 0 },
-			    { tau * c, tau, 0, 0 },
-			    { 0, 0, tau * s * cos(delta), tau * s * sin(delta) },
-			    { 0, 0, -tau * s * sin(delta), tau * s * cos(delta) } };
+	double M0[4][4] = {{tau, tau * c, 0, 0},
+	                   {tau * c, tau, 0, 0},
+	                   {0, 0, tau * s * cos(delta), tau * s * sin(delta)},
+	                   {0, 0, -tau * s * sin(delta), tau * s * cos(delta)}};
 	double Rp[4][4], Rm[4][4], T[4][4];
 	pc_mueller_rotator(theta, Rp);
 	pc_mueller_rotator(-theta, Rm);
@@ -63,7 +63,7 @@ static int solve4(const double a_cm[16], double *b, int nrhs)
  * τ sin2ψ e^{±iΔ} and the real pair 2τcos²ψ, 2τsin²ψ. polarizer: Δ may be undefined (all real:
  * then Δ = 0). */
 static int sample_params(const double C[4][4], bool polarizer, double *tau, double *psi,
-			 double *delta)
+                         double *delta)
 {
 	double a[16], wr[4], wi[4], work[64];
 	for (int r = 0; r < 4; r++)
@@ -89,7 +89,7 @@ static int sample_params(const double C[4][4], bool polarizer, double *tau, doub
 			if (i != ci && wi[i] < 0 &&
 			    (cj < 0 || fabs(wi[i] + wi[ci]) < fabs(wi[cj] + wi[ci])))
 				cj = i;
-		double re[2] = { 0, 0 };
+		double re[2] = {0, 0};
 		int k = 0;
 		for (int i = 0; i < 4; i++)
 			if (i != ci && i != cj && k < 2)
@@ -123,11 +123,11 @@ static int sample_params(const double C[4][4], bool polarizer, double *tau, doub
 
 /* K = Σ_i H_iᵀH_i for the samples 1..3 (air gives H = 0) and its eigen-decomposition. */
 static int k_matrix(const double M[4][4][4], const double C[4][4][4], double eval[16],
-		    double evec[256])
+                    double evec[256])
 {
-	double K[256] = { 0 };
+	double K[256] = {0};
 	for (int i = 1; i < 4; i++) {
-		double H[16][16] = { { 0 } };
+		double H[16][16] = {{0}};
 		for (int r = 0; r < 4; r++)
 			for (int c = 0; c < 4; c++)
 				for (int k = 0; k < 4; k++) {
@@ -198,19 +198,22 @@ static void golden(const ecm_ctx *e, double theta[4], int idx, double lo, double
 }
 
 int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
-		 const double theta_guess_deg[2], pc_ecm_result *r)
+                 const double theta_guess_deg[2], pc_ecm_result *r)
 {
 	memset(r, 0, sizeof *r);
 	if (n_psg != 4)
-		return pc_error(PC_EINVAL, "ECM: %u generator states: exactly 4 are needed (a 4x4 "
-					   "generator matrix)", n_psg);
+		return pc_error(PC_EINVAL,
+		                "ECM: %u generator states: exactly 4 are needed (a 4x4 "
+		                "generator matrix)",
+		                n_psg);
 	if (n_psa < 1 || n_psa > PC_CALIB_MAX_STATES)
 		return pc_error(PC_EINVAL, "ECM: %u analyser states", n_psa);
 	const unsigned R = 4 * n_psa;
 	for (int i = 0; i < 4; i++)
 		for (unsigned k = 0; k < R * 4; k++)
 			if (!isfinite(B[i][k]))
-				return pc_error(PC_EINVAL, "ECM: sample %d: non-finite intensity", i);
+				return pc_error(PC_EINVAL, "ECM: sample %d: non-finite intensity",
+				                i);
 	/* B_0⁺ = (B_0ᵀB_0)⁻¹B_0ᵀ; C_i = B_0⁺B_i */
 	double N[16], Bt[4 * 4 * PC_CALIB_MAX_STATES];
 	for (int a = 0; a < 4; a++)
@@ -224,8 +227,9 @@ int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
 		for (unsigned k = 0; k < R; k++)
 			Bt[a + 4 * k] = B[0][k * 4 + a]; /* column k of B_0ᵀ */
 	if (solve4(N, Bt, (int)R))
-		return pc_error(PC_ENUMERIC, "ECM: the air measurement B_0 = A·W is singular (is every "
-					     "generator and analyser state distinct?)");
+		return pc_error(PC_ENUMERIC,
+		                "ECM: the air measurement B_0 = A·W is singular (is every "
+		                "generator and analyser state distinct?)");
 	ecm_ctx e;
 	memset(&e, 0, sizeof e);
 	for (int i = 0; i < 4; i++)
@@ -236,27 +240,29 @@ int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
 					s += Bt[a + 4 * k] * B[i][k * 4 + b];
 				e.C[i][a][b] = s;
 			}
-	static const char *const names[4] = { "air", "polarizer 1", "polarizer 2", "retarder" };
+	static const char *const names[4] = {"air", "polarizer 1", "polarizer 2", "retarder"};
 	e.tau[0] = 1;
 	for (int i = 1; i < 4; i++) {
 		int rc = sample_params((const double(*)[4])e.C[i], i < 3, &e.tau[i], &e.psi[i],
-				       &e.delta[i]);
+		                       &e.delta[i]);
 		if (rc)
-			return pc_error(PC_ENUMERIC, "ECM: %s: %s", names[i],
-					rc == -2 ? "its eigenvalues are all real: the retardance must be "
-						   "away from 0 and 180 deg (a quarter-wave plate is best)" :
-						   "eigenvalues undefined (singular fit)");
+			return pc_error(
+			    PC_ENUMERIC, "ECM: %s: %s", names[i],
+			    rc == -2 ? "its eigenvalues are all real: the retardance must be "
+			               "away from 0 and 180 deg (a quarter-wave plate is best)"
+			             : "eigenvalues undefined (singular fit)");
 	}
-	double theta[4] = { 0, 0, (theta_guess_deg ? theta_guess_deg[0] : 90) * DEG,
-			    (theta_guess_deg ? theta_guess_deg[1] : 30) * DEG };
+	double theta[4] = {0, 0, (theta_guess_deg ? theta_guess_deg[0] : 90) * DEG,
+	                   (theta_guess_deg ? theta_guess_deg[1] : 30) * DEG};
 	const double span = 20 * DEG;
 	double g2 = theta[2], g3 = theta[3];
 	/* coordinate descent with golden-section line searches over shrinking brackets (the
 	 * valley of λ16 may be diagonal in (θ2, θ3)), until both angles move by < 1e-10 rad */
 	for (int pass = 0; pass < 400; pass++) {
 		double o2 = theta[2], o3 = theta[3];
-		double w = pass < 2 ? span : fmax(4 * fmax(fabs(theta[2] - g2), fabs(theta[3] - g3)),
-						  1e-7);
+		double w = pass < 2
+		               ? span
+		               : fmax(4 * fmax(fabs(theta[2] - g2), fabs(theta[3] - g3)), 1e-7);
 		if (pass >= 2)
 			w = fmin(w, span);
 		golden(&e, theta, 2, fmax(g2 - span, theta[2] - w), fmin(g2 + span, theta[2] + w));
@@ -276,10 +282,11 @@ int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
 	r->lambda16 = ev[0];
 	r->lambda15 = ev[1];
 	if (!(ev[1] > 1e3 * fmax(ev[0], 0)) || !(ev[1] > 1e-12 * ev[15]))
-		return pc_error(PC_ENUMERIC, "ECM: K's null space is not one-dimensional "
-					     "(λ15/λ16 = %.3g, λ15/λ1 = %.3g): the reference samples "
-					     "do not determine the generator (singular fit)",
-				ev[0] > 0 ? ev[1] / ev[0] : INFINITY, ev[1] / ev[15]);
+		return pc_error(PC_ENUMERIC,
+		                "ECM: K's null space is not one-dimensional "
+		                "(λ15/λ16 = %.3g, λ15/λ1 = %.3g): the reference samples "
+		                "do not determine the generator (singular fit)",
+		                ev[0] > 0 ? ev[1] / ev[0] : INFINITY, ev[1] / ev[15]);
 	double Wcm[16]; /* W = vec⁻¹(eigenvector of λ16), column-major */
 	memcpy(Wcm, V, sizeof Wcm);
 	double m0 = 0;
@@ -331,8 +338,8 @@ int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
 }
 
 int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa,
-		 const double theta_guess_deg[2], const pc_calib *base, const pc_calib_opts *o,
-		 pc_calib *out, pc_ecm_result *res)
+                 const double theta_guess_deg[2], const pc_calib *base, const pc_calib_opts *o,
+                 pc_calib *out, pc_ecm_result *res)
 {
 	pc_calib_init(out);
 	const unsigned nf = n_psg * n_psa;
@@ -343,13 +350,15 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 		return pc_error(PC_ENOTSUP, "ECM: colour-polarization mosaics are not supported");
 	const uint32_t W = g->width, H = g->height;
 	const size_t np = (size_t)W * H;
-	double *B[4] = { 0 };
+	double *B[4] = {0};
 	float *row = malloc(np * sizeof *row);
 	int rc = 0;
 	if (!row)
 		return pc_error(PC_ENOMEM, "ECM");
-	double sat = base && (!o || !(o->saturation > 0)) ? base->saturation :
-			     (o && o->saturation > 0 ? o->saturation : (double)((1u << g->bits) - 1u));
+	double sat =
+	    base && (!o || !(o->saturation > 0))
+	        ? base->saturation
+	        : (o && o->saturation > 0 ? o->saturation : (double)((1u << g->bits) - 1u));
 	uint64_t done = 0, total = 0;
 	for (int i = 0; i < 4; i++)
 		total += samples[i].n;
@@ -363,8 +372,10 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 			break;
 		}
 		if (s->n < nf || s->n % nf) {
-			rc = pc_error(PC_EINVAL, "%s: %zu frames: expected a multiple of the %u states "
-					  "(%u generator x %u analyser)", s->name, s->n, nf, n_psg, n_psa);
+			rc = pc_error(PC_EINVAL,
+			              "%s: %zu frames: expected a multiple of the %u states "
+			              "(%u generator x %u analyser)",
+			              s->name, s->n, nf, n_psg, n_psa);
 			break;
 		}
 		if (!(B[i] = calloc((size_t)4 * nf, sizeof(double)))) {
@@ -372,19 +383,19 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 			break;
 		}
 		for (size_t j = 0; j < s->n && !rc; j++) {
-			pc_view v = { 0 };
+			pc_view v = {0};
 			if ((rc = s->get(s->user, j, &v))) {
 				rc = pc_error_prefix(rc, "%s: frame %zu: ", s->name, j);
 				break;
 			}
-			rc = v.width != W || v.height != H ?
-				     pc_error(PC_EINVAL, "%s: frame %zu is %ux%u, expected %ux%u", s->name,
-					      j, v.width, v.height, W, H) :
-				     pc_view_to_f32(&v, row, (size_t)W * sizeof(float));
+			rc = v.width != W || v.height != H
+			         ? pc_error(PC_EINVAL, "%s: frame %zu is %ux%u, expected %ux%u",
+			                    s->name, j, v.width, v.height, W, H)
+			         : pc_view_to_f32(&v, row, (size_t)W * sizeof(float));
 			pc_view_free(&v);
 			if (rc)
 				break;
-			double sum[4] = { 0 }, n[4] = { 0 };
+			double sum[4] = {0}, n[4] = {0};
 			size_t nsat = 0;
 			for (uint32_t y = 0; y < H; y++)
 				for (uint32_t x = 0; x < W; x++) {
@@ -395,8 +406,9 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 					}
 					if (base && base->valid && !base->valid[p])
 						continue;
-					double val = row[p] - (base && base->dark ? base->dark[p] :
-							       base ? base->black_level : 0);
+					double val = row[p] - (base && base->dark ? base->dark[p]
+					                       : base ? base->black_level
+					                              : 0);
 					if (base && base->gain)
 						val /= base->gain[p];
 					unsigned c = pc_mosaic_channel(&g->mosaic, x, y);
@@ -404,14 +416,16 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 					n[c]++;
 				}
 			if (nsat > np / 1000) {
-				rc = pc_error(PC_EINVAL, "%s: frame %zu: %zu pixels saturated: lower the "
-						  "exposure", s->name, j, nsat);
+				rc = pc_error(PC_EINVAL,
+				              "%s: frame %zu: %zu pixels saturated: lower the "
+				              "exposure",
+				              s->name, j, nsat);
 				break;
 			}
 			unsigned st = (unsigned)(j % nf), gg = st % n_psg, aa = st / n_psg;
 			for (int c = 0; c < 4; c++)
 				B[i][(4 * aa + c) * n_psg + gg] +=
-					(n[c] ? sum[c] / n[c] : 0) / (double)(s->n / nf);
+				    (n[c] ? sum[c] / n[c] : 0) / (double)(s->n / nf);
 			done++;
 			if (o && o->progress)
 				o->progress(o->progress_user, done, total);

@@ -31,6 +31,8 @@ pc_required(JANSSON jansson)
 pc_required(CAIRO cairo)
 # libzip writes and reads the calibration file (.npz, calib/calib_file.c).
 pc_required(LIBZIP libzip)
+# nettle: SHA-256 of dataset files (devices/dataset.c).
+pc_required(NETTLE nettle)
 
 pc_optional(ARAVIS ${PC_WITH_ARAVIS} aravis-0.8)
 pc_optional(LIBCAMERA ${PC_WITH_LIBCAMERA} libcamera)

@@ -65,9 +65,9 @@ target_link_options(polarcam_shared PRIVATE
   LINKER:--version-script=${CMAKE_CURRENT_LIST_DIR}/libpolarcam.map)
 set_property(TARGET polarcam_shared APPEND PROPERTY LINK_DEPENDS
   ${CMAKE_CURRENT_LIST_DIR}/libpolarcam.map)
-# Every symbol resolved at link time (not with the sanitizers: their runtime comes with the
-# program).
-if(NOT PC_SANITIZE)
+# Every symbol resolved at link time (not with the sanitizers or libFuzzer: their runtime comes
+# with the program).
+if(NOT PC_SANITIZE AND NOT PC_FUZZ)
   target_link_options(polarcam_shared PRIVATE LINKER:--no-undefined)
 endif()
 # The static library's users link its dependencies themselves: in the build tree the same

@@ -4,7 +4,8 @@ set(PC_WITH_LIBCAMERA OFF CACHE STRING "libcamera backend (AUTO|ON|OFF); off unl
 set(PC_WITH_LIBUSB AUTO CACHE STRING "libusb USB3 Vision diagnosis (AUTO|ON|OFF)")
 set(PC_WITH_OPENCV AUTO CACHE STRING "OpenCV (live window, comparison benchmarks) (AUTO|ON|OFF)")
 set(PC_WITH_OPENMP ON CACHE STRING "OpenMP row-band parallelism (AUTO|ON|OFF)")
-foreach(opt PC_WITH_ARAVIS PC_WITH_LIBCAMERA PC_WITH_LIBUSB PC_WITH_OPENCV PC_WITH_OPENMP)
+set(PC_WITH_PYTHON AUTO CACHE STRING "Python module polarcam (python3-dev, python3-numpy) (AUTO|ON|OFF)")
+foreach(opt PC_WITH_ARAVIS PC_WITH_LIBCAMERA PC_WITH_LIBUSB PC_WITH_OPENCV PC_WITH_OPENMP PC_WITH_PYTHON)
   set_property(CACHE ${opt} PROPERTY STRINGS AUTO ON OFF)
 endforeach()
 
@@ -31,6 +32,16 @@ add_compile_options("$<$<COMPILE_LANGUAGE:CXX>:${PC_WARN_FLAGS}>")
 
 if(PC_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+# libFuzzer harnesses (tests/fuzz.cmake): clang only; every library is instrumented for coverage.
+option(PC_FUZZ "Build the libFuzzer harnesses fuzz_* (clang; implies ASan + UBSan)" OFF)
+if(PC_FUZZ)
+  if(NOT CMAKE_C_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "PC_FUZZ needs clang (CC=clang CXX=clang++): libFuzzer is part of it")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
+                      -fno-omit-frame-pointer)
   add_link_options(-fsanitize=address,undefined)
 endif()
 if(PC_NATIVE)

@@ -76,9 +76,10 @@ int pc_cpu_force(pc_cpu_level level)
 		return 0;
 	}
 	if ((int)level < 0 || level > pc_cpu_supported())
-		return pc_error(PC_ENOTSUP, "CPU level %s: not supported by this machine or build "
-					    "(at most %s)", pc_cpu_level_name(level),
-				pc_cpu_level_name(pc_cpu_supported()));
+		return pc_error(PC_ENOTSUP,
+		                "CPU level %s: not supported by this machine or build "
+		                "(at most %s)",
+		                pc_cpu_level_name(level), pc_cpu_level_name(pc_cpu_supported()));
 	atomic_store_explicit(&cpu_forced, (int)level, memory_order_relaxed);
 	return 0;
 }

@@ -184,6 +184,18 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 		out->flags |= PC_LC_ZERO_M00;
 		return 0;
 	}
+	/* Far from 1 (a physical matrix times 1e308 overflows the coherency matrix's sums; M00 =
+	 * 1e-310 makes 1/M00 infinite): scale by the power of two 2^−e that brings max|M_ij| into
+	 * [0.5, 1). Exact, and the factors, D, R and Δ are of M/M00, so nothing else changes;
+	 * inside [2^−256, 2^256] the matrix is left alone (bit-identical results, and
+	 * pc_lu_chipman_map's vector kernel hands the rest to this code). */
+	{
+		const int e = pc_lc_scale_exp(M_in);
+		if (e)
+			for (int i = 0; i < 4; i++)
+				for (int j = 0; j < 4; j++)
+					M[i][j] = ldexp(M_in[i][j], -e);
+	}
 	if (factors || filter) {
 		/* realisability: coherency matrix positive semi-definite (physics.md §4) */
 		out->physical = pc_mueller_is_physical(M, PC_PHYS_TOL);
@@ -191,7 +203,7 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 			out->flags |= PC_LC_NONPHYSICAL;
 			if (filter) {
 				bool changed;
-				pc_mueller_cloude_filter(M_in, M, &changed);
+				pc_mueller_cloude_filter(M, M, &changed);
 				out->filtered = changed;
 				if (changed)
 					out->flags |= PC_LC_FILTERED;
@@ -290,19 +302,18 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 	double q[4] = {1, 0, 0, 0}, lam1 = 0;
 	bool unique = false;
 	if (bmax > 0) {
-		double bs = 1;
-		if (bmax < 1e-30 || bmax > 1e30) {
-			int e;
+		/* ldexp per element, not a multiplication by 2^−e: for a subnormal bmax (a
+		 * normalised m33 of 1e-310) 2^−e itself overflows */
+		int e = 0;
+		if (bmax < 1e-30 || bmax > 1e30)
 			frexp(bmax, &e);
-			bs = ldexp(1.0, -e);
-		}
-		const double Bn[3][3] = {
-		    {bs * B[0][0], bs * B[0][1], bs * B[0][2]},
-		    {bs * B[1][0], bs * B[1][1], bs * B[1][2]},
-		    {bs * B[2][0], bs * B[2][1], bs * B[2][2]},
-		};
-		unique = pc_closest_rotation(Bn, fabs(det3(Bn)), q, &lam1);
-		lam1 /= bs;
+		double Bn[3][3];
+		for (int i = 0; i < 3; i++)
+			for (int j = 0; j < 3; j++)
+				Bn[i][j] = ldexp(B[i][j], -e);
+		unique = pc_closest_rotation((const double(*)[3])Bn,
+		                             fabs(det3((const double(*)[3])Bn)), q, &lam1);
+		lam1 = ldexp(lam1, e);
 	}
 	if (!unique || fabs(detmp) <= PC_LC_NONUNIQUE_DET * (lam1 / 3) * (lam1 / 3) * (lam1 / 3) ||
 	    !(lam1 > 0))

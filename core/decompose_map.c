@@ -95,15 +95,15 @@ typedef long pc_vm8 __attribute__((vector_size(64)));
 #define KFN(name) pc_lc_##name##_avx512
 /* GCC prefers 256-bit vectors unless told; clang takes the explicit 512-bit width as it is */
 #ifdef __clang__
-#define KATTR     __attribute__((target("avx512f,avx512vl,avx512dq"), min_vector_width(512)))
+#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq"), min_vector_width(512)))
 #else
-#define KATTR     __attribute__((target("avx512f,avx512vl,avx512dq,prefer-vector-width=512")))
+#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,prefer-vector-width=512")))
 #endif
-#define VD        pc_vd8
-#define VM        pc_vm8
-#define VW        8
-#define VSQRT(v)  ((pc_vd8)_mm512_sqrt_pd((__m512d)(v)))
-#define VANY(m)   (_mm512_test_epi64_mask((__m512i)(m), (__m512i)(m)) != 0)
+#define VD       pc_vd8
+#define VM       pc_vm8
+#define VW       8
+#define VSQRT(v) ((pc_vd8)_mm512_sqrt_pd((__m512d)(v)))
+#define VANY(m)  (_mm512_test_epi64_mask((__m512i)(m), (__m512i)(m)) != 0)
 #include "decompose_map_kern.inc"
 #undef KFN
 #undef KATTR

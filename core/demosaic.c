@@ -20,17 +20,18 @@ int pc_demosaic_method_from_name(const char *name, pc_demosaic_method *m)
 	char list[256];
 	size_t off = 0;
 	for (int i = 0; i < PC_DM_COUNT; i++) {
-		if (name && strcmp(name, pc_dm_method_def_get((pc_demosaic_method)i)->info.name) == 0) {
+		if (name &&
+		    strcmp(name, pc_dm_method_def_get((pc_demosaic_method)i)->info.name) == 0) {
 			*m = (pc_demosaic_method)i;
 			return 0;
 		}
 		off += (size_t)snprintf(list + off, sizeof list - off, "%s%s", i ? ", " : "",
-					pc_dm_method_def_get((pc_demosaic_method)i)->info.name);
+		                        pc_dm_method_def_get((pc_demosaic_method)i)->info.name);
 		if (off >= sizeof list)
 			off = sizeof list - 1;
 	}
 	return pc_error(PC_EINVAL, "demosaicking method '%s': unknown (expected one of %s)",
-			name ? name : "", list);
+	                name ? name : "", list);
 }
 
 unsigned pc_demosaic_channels(const pc_mosaic *m)
@@ -39,7 +40,7 @@ unsigned pc_demosaic_channels(const pc_mosaic *m)
 }
 
 void pc_demosaic_out_size(pc_demosaic_method m, uint32_t width, uint32_t height, uint32_t *ow,
-			  uint32_t *oh)
+                          uint32_t *oh)
 {
 	const pc_demosaic_method_info *mi = pc_demosaic_method_get(m);
 	int half = mi && (mi->flags & PC_DMF_HALF_RES);
@@ -57,7 +58,7 @@ void pc_fplanes_interleaved(float *base, uint32_t width, unsigned channels, pc_f
 }
 
 void pc_fplanes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
-			 pc_fplane *planes)
+                         pc_fplane *planes)
 {
 	pc_dm_planes_separate(base, width, height, channels, planes);
 }
@@ -80,25 +81,28 @@ static int check_planes(const pc_dm_plan *p, const pc_fplane *out)
 			return pc_error(PC_EINVAL, "output channel %u: no data pointer", c);
 		if (out[c].pixel_stride < 1 ||
 		    out[c].row_stride < (size_t)(p->ow - 1) * out[c].pixel_stride + 1)
-			return pc_error(PC_EINVAL, "output channel %u: strides %zu/%zu too small for "
-						   "width %u", c, out[c].row_stride,
-					out[c].pixel_stride, p->ow);
+			return pc_error(PC_EINVAL,
+			                "output channel %u: strides %zu/%zu too small for "
+			                "width %u",
+			                c, out[c].row_stride, out[c].pixel_stride, p->ow);
 	}
 	return 0;
 }
 
 int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_fplane *out,
-		    pc_validity *valid)
+                    pc_validity *valid)
 {
 	pc_dm_plan p;
 	int rc = pc_dm_plan_begin(raw, opts, &p);
 	if (rc)
 		return rc;
 	if (opts->pinv)
-		return pc_error(PC_EINVAL, "analyser pseudo-inverses apply to Stokes outputs "
-					   "(pc_stokes_run), not to demosaicked channels");
-	if ((rc = check_planes(&p, out)) || (rc = pc_dm_plan_check_validity(&p, valid)))
+		rc = pc_error(PC_EINVAL, "analyser pseudo-inverses apply to Stokes outputs "
+		                         "(pc_stokes_run), not to demosaicked channels");
+	if (rc || (rc = check_planes(&p, out)) || (rc = pc_dm_plan_check_validity(&p, valid))) {
+		pc_dm_plan_end(&p);
 		return rc;
+	}
 	rc = pc_dm_plan_demosaic(&p, out);
 	if (!rc && valid)
 		rc = pc_dm_plan_validity(&p, valid);
@@ -106,8 +110,22 @@ int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_f
 	return rc;
 }
 
+int pc_validity_run(const pc_view *raw, const pc_pipeline_opts *opts, pc_validity *valid)
+{
+	if (!valid)
+		return pc_error(PC_EINVAL, "validity: no output given");
+	pc_dm_plan p;
+	int rc = pc_dm_plan_begin(raw, opts, &p);
+	if (rc)
+		return rc;
+	if (!(rc = pc_dm_plan_check_validity(&p, valid)))
+		rc = pc_dm_plan_validity(&p, valid);
+	pc_dm_plan_end(&p);
+	return rc;
+}
+
 int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
-		const pc_demosaic_opts *opts, const pc_fplane *out)
+                const pc_demosaic_opts *opts, const pc_fplane *out)
 {
 	if (!m)
 		return pc_mosaic_check(m); /* "mosaic missing" */

@@ -49,8 +49,8 @@ static double get_f64(const void *img, uint32_t w, int x, int y)
 	return ((const double *)img)[(size_t)y * w + x];
 }
 
-static double bayer_tent(const void *img, rawget_fn get, const pc_mosaic *m, uint32_t w,
-			 uint32_t h, unsigned cx, unsigned cy, int i, int j, unsigned colour)
+static double bayer_tent(const void *img, rawget_fn get, const pc_mosaic *m, uint32_t w, uint32_t h,
+                         unsigned cx, unsigned cy, int i, int j, unsigned colour)
 {
 	int sw = (int)(w / 2), sh = (int)(h / 2);
 	/* a sample of the colour keeps its value (for G the tent would also average the four
@@ -91,8 +91,8 @@ static void col_band(void *ctx, uint32_t j0, uint32_t j1)
 			for (uint32_t i = 0; i < cj->w / 2; i++) {
 				size_t at = (size_t)(cy + 2 * j) * cj->w + cx + 2 * i;
 				for (unsigned k = 0; k < 3; k++) {
-					double v = bayer_tent(cj->img, cj->get, cj->m, cj->w, cj->h, cx,
-							      cy, (int)i, (int)j, PC_CFA_R + k);
+					double v = bayer_tent(cj->img, cj->get, cj->m, cj->w, cj->h,
+					                      cx, cy, (int)i, (int)j, PC_CFA_R + k);
 					if (cj->dbl)
 						((double *)cj->mk[k])[at] = v;
 					else
@@ -110,7 +110,7 @@ static void col_band(void *ctx, uint32_t j0, uint32_t j1)
 enum { BK_SELF, BK_H, BK_V, BK_DIAG, BK_PLUS };
 
 static int bayer_kind(const pc_mosaic *m, unsigned cx, unsigned cy, unsigned pi, unsigned pj,
-		      unsigned colour)
+                      unsigned colour)
 {
 	/* colours of the 3×3 sub-neighbourhood of a sub-pixel with parities (pi, pj) */
 #define COL(di, dj) pc_mosaic_color(m, cx + 2 * (pi + 2 + (di)), cy + 2 * (pj + 2 + (dj)))
@@ -145,8 +145,8 @@ static void colf_band(void *ctx, uint32_t j0, uint32_t j1)
 			const float *r2 = cj->img + (size_t)(cy + 2 * (uint32_t)jp) * w;
 			size_t row = (size_t)(cy + 2 * j) * w;
 			for (unsigned k = 0; k < 3; k++) {
-				int kind[2] = { bayer_kind(cj->m, cx, cy, 0, j & 1, PC_CFA_R + k),
-						bayer_kind(cj->m, cx, cy, 1, j & 1, PC_CFA_R + k) };
+				int kind[2] = {bayer_kind(cj->m, cx, cy, 0, j & 1, PC_CFA_R + k),
+				               bayer_kind(cj->m, cx, cy, 1, j & 1, PC_CFA_R + k)};
 				float *dst = cj->mk[k] + row;
 				for (uint32_t i = 0; i < sw; i++) {
 					uint32_t x = cx + 2 * i;
@@ -177,14 +177,14 @@ static void colf_band(void *ctx, uint32_t j0, uint32_t j1)
 }
 
 void pc_dm_color_split_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
-			   double *mk[3])
+                           double *mk[3])
 {
-	col_job cj = { img, get_f64, m, w, h, { mk[0], mk[1], mk[2] }, 1 };
+	col_job cj = {img, get_f64, m, w, h, {mk[0], mk[1], mk[2]}, 1};
 	col_band(&cj, 0, h / 2);
 }
 
 int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int threads,
-		      float *mk[3])
+                      float *mk[3])
 {
 	/* mirrored neighbour columns (full-resolution x) of every sub-column, per parity */
 	uint32_t sw = w / 2;
@@ -196,10 +196,12 @@ int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic 
 	}
 	for (uint32_t px = 0; px < 2; px++)
 		for (uint32_t i = 0; i < sw; i++) {
-			xm[px * sw + i] = (int32_t)(px + 2 * (uint32_t)pc_mirror((int)i - 1, (int)sw));
-			xp[px * sw + i] = (int32_t)(px + 2 * (uint32_t)pc_mirror((int)i + 1, (int)sw));
+			xm[px * sw + i] =
+			    (int32_t)(px + 2 * (uint32_t)pc_mirror((int)i - 1, (int)sw));
+			xp[px * sw + i] =
+			    (int32_t)(px + 2 * (uint32_t)pc_mirror((int)i + 1, (int)sw));
 		}
-	colf_job cj = { img, m, w, h, { mk[0], mk[1], mk[2] }, xm, xp };
+	colf_job cj = {img, m, w, h, {mk[0], mk[1], mk[2]}, xm, xp};
 	pc_parallel_rows(h / 2, 0, threads, colf_band, &cj);
 	free(xm);
 	free(xp);

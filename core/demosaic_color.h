@@ -12,10 +12,10 @@ pc_mosaic pc_dm_color_mono(const pc_mosaic *m);
 
 /* Step 1 of the reference in double: img the raw (minus black), C order w × h; mk[k] w × h. */
 void pc_dm_color_split_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
-			   double *mk[3]);
+                           double *mk[3]);
 
 /* Step 1 in float on row bands; PC_ENOMEM for its column tables. */
 int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int threads,
-		      float *mk[3]);
+                      float *mk[3]);
 
 #endif

@@ -24,7 +24,7 @@ void pc_dm_free(void *p)
 }
 
 void pc_dm_planes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
-			   pc_fplane *planes)
+                           pc_fplane *planes)
 {
 	for (unsigned c = 0; c < channels; c++) {
 		planes[c].data = base + (size_t)c * width * height;
@@ -76,8 +76,13 @@ int pc_dm_prepare_input(const pc_view *raw, double black, pc_dm_input *in, void 
 
 pc_dm_input pc_dm_input_f32(const float *data, uint32_t width, uint32_t height)
 {
-	pc_dm_input in = { (const uint8_t *)data, (size_t)width * sizeof(float), PC_DMT_F32, width,
-			   height, 0.0f, 0.0 };
+	pc_dm_input in = {(const uint8_t *)data,
+	                  (size_t)width * sizeof(float),
+	                  PC_DMT_F32,
+	                  width,
+	                  height,
+	                  0.0f,
+	                  0.0};
 	return in;
 }
 
@@ -133,7 +138,7 @@ int pc_dm_raw_to_float(const pc_view *raw, double black, float **out)
 	float *f = malloc(n * sizeof *f);
 	if (!f)
 		return pc_error(PC_ENOMEM, "raw %ux%u: cannot convert to float", raw->width,
-				raw->height);
+		                raw->height);
 	int rc = pc_view_to_f32(raw, f, (size_t)raw->width * sizeof *f);
 	if (rc) {
 		free(f);
@@ -159,7 +164,7 @@ int pc_dm_raw_to_double(const pc_view *raw, double black, double **out)
 	if (!d) {
 		free(f);
 		return pc_error(PC_ENOMEM, "raw %ux%u: cannot allocate the reference's input",
-				raw->width, raw->height);
+		                raw->width, raw->height);
 	}
 	for (size_t i = 0; i < n; i++)
 		d[i] = (double)f[i] - black;
@@ -239,17 +244,15 @@ int pc_dm_planes_aligned(const pc_fplane *p, unsigned n)
 	return 1;
 }
 
-int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h,
-			pc_cpu_level level)
+int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h, pc_cpu_level level)
 {
 	return level >= PC_CPU_AVX2 && pc_dm_planes_aligned(p, n) &&
 	       (size_t)w * h * 4 * n >= pc_dm_nt_min_bytes();
 }
 
 #ifdef PC_CPU_X86
-__attribute__((target("avx2"))) static void stream_rows_avx2(float *const dst[],
-							     const float *const src[], unsigned n,
-							     uint32_t w)
+__attribute__((target("avx2"))) static void
+stream_rows_avx2(float *const dst[], const float *const src[], unsigned n, uint32_t w)
 {
 	for (unsigned k = 0; k < n; k++) {
 		uint32_t x = 0;
@@ -265,7 +268,7 @@ __attribute__((target("avx2"))) static void stream_rows_avx2(float *const dst[],
 #endif
 
 int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, uint32_t w,
-		      pc_cpu_level level)
+                      pc_cpu_level level)
 {
 #ifdef PC_CPU_X86
 	if (level >= PC_CPU_AVX2) {

@@ -53,7 +53,7 @@ typedef struct pc_dm_input {
 	size_t stride; /* bytes */
 	pc_dm_type type;
 	uint32_t width, height;
-	float black;   /* subtracted from every sample by the float row conversions */
+	float black;    /* subtracted from every sample by the float row conversions */
 	double black_d; /* the same, subtracted in double by pc_dm_input_to_double */
 } pc_dm_input;
 
@@ -91,7 +91,7 @@ static inline float pc_dm_sample(const pc_dm_input *in, uint32_t x, uint32_t y)
 
 /* channels consecutive width × height planes (pc_fplanes_separate) */
 void pc_dm_planes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
-			   pc_fplane *planes);
+                           pc_fplane *planes);
 
 /* ---- scratch memory (64-byte aligned; NULL on failure) ---- */
 void *pc_dm_alloc(size_t bytes);
@@ -123,15 +123,14 @@ int pc_dm_planes_aligned(const pc_fplane *p, unsigned n);
 
 /* Whether n planes of w × h floats are worth streaming at this CPU level (aligned, large,
  * AVX2 present). */
-int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h,
-			pc_cpu_level level);
+int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h, pc_cpu_level level);
 
 /* Copies n rows of w floats with non-temporal stores (dst rows 64-byte aligned), one row after
  * the other so that every store sequence fills whole cache lines; then a store fence. For
  * kernels that compute a row in cache and then write it out; PC_ENOTSUP below AVX2, where the
  * caller keeps ordinary stores. */
 int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, uint32_t w,
-		      pc_cpu_level level);
+                      pc_cpu_level level);
 
 /* The store fence that ends a sequence of non-temporal stores (nothing off x86-64). */
 void pc_dm_sfence(void);
@@ -167,8 +166,8 @@ typedef struct pc_ri_params {
 	double guide_eps;
 } pc_ri_params;
 
-static const pc_ri_params pc_ri_params_default = { 2, 0.01, 1, 0 };
-static const pc_ri_params pc_eari_params = { 2, 0.003, 1, 0.1 };
+static const pc_ri_params pc_ri_params_default = {2, 0.01, 1, 0};
+static const pc_ri_params pc_eari_params = {2, 0.003, 1, 0.1};
 
 /* Passes of the ratio method (PC_DM_RATIO): the second uses the first's mean as its guide
  * (Lapray NIR: +0.25 dB S0; Zhang: +1.0 dB S0, +0.8 dB DoLP over a single pass). */

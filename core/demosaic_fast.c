@@ -56,12 +56,13 @@ static void bilinear_band(void *ctx, uint32_t y0, uint32_t y1)
 		const float *a = pc_dm_ring_get(&rg, j->in, (int)y - 1);
 		const float *b = pc_dm_ring_get(&rg, j->in, (int)y);
 		const float *c = pc_dm_ring_get(&rg, j->in, (int)y + 1);
-		unsigned slot[4] = { pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
-				     pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1) };
+		unsigned slot[4] = {pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
+		                    pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1)};
 		float *o[4];
 		for (int k = 0; k < 4; k++)
-			o[k] = j->planar ? j->out[slot[k]].data + (size_t)y * j->out[slot[k]].row_stride
-					 : tmp + (size_t)k * w;
+			o[k] = j->planar
+			           ? j->out[slot[k]].data + (size_t)y * j->out[slot[k]].row_stride
+			           : tmp + (size_t)k * w;
 #ifdef PC_CPU_X86
 		if (j->level >= PC_CPU_AVX512)
 			bilinear_row_avx512(a, b, c, w, o, j->nt);
@@ -87,7 +88,7 @@ static void bilinear_band(void *ctx, uint32_t y0, uint32_t y1)
 int pc_dm_bilinear(const pc_dm_call *call, const pc_fplane *out)
 {
 	const pc_dm_input *in = call->in;
-	bil_job j = { in, call->m, out, call->level, 1, 0, 0 };
+	bil_job j = {in, call->m, out, call->level, 1, 0, 0};
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
@@ -118,7 +119,7 @@ static void superpixel_band(void *ctx, uint32_t y0, uint32_t y1)
 	for (uint32_t by = y0 & ~1u; by < y1; by += 2) {
 		pc_dm_row_to_float(j->in, by, r0);
 		pc_dm_row_to_float(j->in, by + 1, r1);
-		const float *rows[2] = { r0, r1 };
+		const float *rows[2] = {r0, r1};
 		for (unsigned c = 0; c < 4; c++) {
 			unsigned dx, dy;
 			pc_mosaic_channel_pos(j->m, c, &dx, &dy);
@@ -142,7 +143,7 @@ static void superpixel_band(void *ctx, uint32_t y0, uint32_t y1)
 
 static int superpixel(const pc_dm_call *call, int half, const pc_fplane *out)
 {
-	sp_job j = { call->in, call->m, out, half, 0 };
+	sp_job j = {call->in, call->m, out, half, 0};
 	pc_parallel_rows(call->in->height, 8, call->threads, superpixel_band, &j);
 	return j.err ? pc_error(PC_ENOMEM, "superpixel: row buffers") : 0;
 }
@@ -170,21 +171,21 @@ typedef struct b16_job {
 /* One row: S, H, V, D as in bilinear_row, in integers. With q = 2 − frac, a value v·2^frac is
  * (4v) >> q rounded: (4v + (q ? 1 << (q − 1) : 0)) >> q, where 4v is an exact integer. */
 static inline __attribute__((always_inline)) void
-b16_row(const uint16_t *restrict a, const uint16_t *restrict b,
-		    const uint16_t *restrict c, long w, unsigned q, uint16_t *restrict o0,
-		    uint16_t *restrict o1, uint16_t *restrict o2, uint16_t *restrict o3)
+b16_row(const uint16_t *restrict a, const uint16_t *restrict b, const uint16_t *restrict c, long w,
+        unsigned q, uint16_t *restrict o0, uint16_t *restrict o1, uint16_t *restrict o2,
+        uint16_t *restrict o3)
 {
 	const uint32_t rnd = q ? 1u << (q - 1) : 0;
-#define PC_B16_PIXEL(x, xm, xp)                                                                  \
-	do {                                                                                     \
-		uint32_t S4 = 4u * b[x], H4 = 2u * ((uint32_t)b[xm] + b[xp]);                   \
-		uint32_t V4 = 2u * ((uint32_t)a[x] + c[x]);                                      \
-		uint32_t D4 = ((uint32_t)a[xm] + a[xp]) + ((uint32_t)c[xm] + c[xp]);            \
-		int odd = (int)((x)&1);                                                          \
-		o0[x] = (uint16_t)(((odd ? H4 : S4) + rnd) >> q);                                \
-		o1[x] = (uint16_t)(((odd ? S4 : H4) + rnd) >> q);                                \
-		o2[x] = (uint16_t)(((odd ? D4 : V4) + rnd) >> q);                                \
-		o3[x] = (uint16_t)(((odd ? V4 : D4) + rnd) >> q);                                \
+#define PC_B16_PIXEL(x, xm, xp)                                                                    \
+	do {                                                                                       \
+		uint32_t S4 = 4u * b[x], H4 = 2u * ((uint32_t)b[xm] + b[xp]);                      \
+		uint32_t V4 = 2u * ((uint32_t)a[x] + c[x]);                                        \
+		uint32_t D4 = ((uint32_t)a[xm] + a[xp]) + ((uint32_t)c[xm] + c[xp]);               \
+		int odd = (int)((x)&1);                                                            \
+		o0[x] = (uint16_t)(((odd ? H4 : S4) + rnd) >> q);                                  \
+		o1[x] = (uint16_t)(((odd ? S4 : H4) + rnd) >> q);                                  \
+		o2[x] = (uint16_t)(((odd ? D4 : V4) + rnd) >> q);                                  \
+		o3[x] = (uint16_t)(((odd ? V4 : D4) + rnd) >> q);                                  \
 	} while (0)
 	PC_B16_PIXEL(0, 1, 1);
 	PC_SIMD
@@ -194,12 +195,13 @@ b16_row(const uint16_t *restrict a, const uint16_t *restrict b,
 #undef PC_B16_PIXEL
 }
 
-#define PC_B16_INSTANCE(name, attr)                                                               \
-	static attr void name(const uint16_t *restrict a, const uint16_t *restrict b,            \
-			      const uint16_t *restrict c, long w, unsigned q, uint16_t *restrict o0, \
-			      uint16_t *restrict o1, uint16_t *restrict o2, uint16_t *restrict o3)   \
-	{                                                                                        \
-		b16_row(a, b, c, w, q, o0, o1, o2, o3);                                          \
+#define PC_B16_INSTANCE(name, attr)                                                                \
+	static attr void name(const uint16_t *restrict a, const uint16_t *restrict b,              \
+	                      const uint16_t *restrict c, long w, unsigned q,                      \
+	                      uint16_t *restrict o0, uint16_t *restrict o1, uint16_t *restrict o2, \
+	                      uint16_t *restrict o3)                                               \
+	{                                                                                          \
+		b16_row(a, b, c, w, q, o0, o1, o2, o3);                                            \
 	}
 PC_B16_INSTANCE(b16_row_base, )
 #ifdef PC_CPU_X86
@@ -213,12 +215,14 @@ static void b16_band(void *ctx, uint32_t y0, uint32_t y1)
 	b16_job *j = ctx;
 	const pc_view *r = j->raw;
 	for (uint32_t y = y0; y < y1; y++) {
-		const uint16_t *a = PC_ROW(r, const uint16_t, (uint32_t)pc_mirror((int)y - 1, (int)r->height));
+		const uint16_t *a =
+		    PC_ROW(r, const uint16_t, (uint32_t)pc_mirror((int)y - 1, (int)r->height));
 		const uint16_t *b = PC_ROW(r, const uint16_t, y);
-		const uint16_t *c = PC_ROW(r, const uint16_t, (uint32_t)pc_mirror((int)y + 1, (int)r->height));
+		const uint16_t *c =
+		    PC_ROW(r, const uint16_t, (uint32_t)pc_mirror((int)y + 1, (int)r->height));
 		uint16_t *o[4];
-		unsigned slot[4] = { pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y), pc_dm_ch(j->m, 0, y + 1),
-				     pc_dm_ch(j->m, 1, y + 1) };
+		unsigned slot[4] = {pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
+		                    pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1)};
 		for (int k = 0; k < 4; k++)
 			o[k] = (uint16_t *)((uint8_t *)j->out[slot[k]] + (size_t)y * j->ostride);
 #ifdef PC_CPU_X86
@@ -233,7 +237,7 @@ static void b16_band(void *ctx, uint32_t y0, uint32_t y1)
 }
 
 int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned frac_bits,
-			     int threads, uint16_t *const out[4], size_t out_stride)
+                             int threads, uint16_t *const out[4], size_t out_stride)
 {
 	int rc = pc_view_check(raw);
 	if (rc)
@@ -244,22 +248,29 @@ int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned fr
 		return pc_error(PC_EINVAL, "16-bit bilinear: monochrome polarizer mosaics only");
 	const pc_format_info *fi = pc_format_info_get(raw->format);
 	if (fi->is_float || fi->packing != PC_PACK_NONE || fi->bits <= 8)
-		return pc_error(PC_ENOTSUP, "16-bit bilinear: raw format %s; expected a 16-bit "
-					    "container (Mono10/12/14/16)", fi->name);
+		return pc_error(PC_ENOTSUP,
+		                "16-bit bilinear: raw format %s; expected a 16-bit "
+		                "container (Mono10/12/14/16)",
+		                fi->name);
 	if (frac_bits > 2 || fi->bits + frac_bits > 16)
-		return pc_error(PC_ERANGE, "16-bit bilinear: %u-bit data with %u fraction bits do not "
-					   "fit 16 bits (frac_bits 0..2, bits + frac_bits <= 16)",
-				fi->bits, frac_bits);
+		return pc_error(PC_ERANGE,
+		                "16-bit bilinear: %u-bit data with %u fraction bits do not "
+		                "fit 16 bits (frac_bits 0..2, bits + frac_bits <= 16)",
+		                fi->bits, frac_bits);
 	if (raw->width % 2 || raw->height % 2 || raw->width < 4 || raw->height < 4)
-		return pc_error(PC_EINVAL, "raw size %ux%u: width and height must be even and at "
-					   "least 4", raw->width, raw->height);
+		return pc_error(PC_EINVAL,
+		                "raw size %ux%u: width and height must be even and at "
+		                "least 4",
+		                raw->width, raw->height);
 	if (!out || out_stride < (size_t)raw->width * 2)
-		return pc_error(PC_EINVAL, "16-bit bilinear: output planes missing or stride %zu "
-					   "below %u bytes", out_stride, 2 * raw->width);
+		return pc_error(PC_EINVAL,
+		                "16-bit bilinear: output planes missing or stride %zu "
+		                "below %u bytes",
+		                out_stride, 2 * raw->width);
 	for (int c = 0; c < 4; c++)
 		if (!out[c])
 			return pc_error(PC_EINVAL, "16-bit bilinear: output plane %d missing", c);
-	b16_job j = { raw, m, frac_bits, out, out_stride, pc_cpu_active() };
+	b16_job j = {raw, m, frac_bits, out, out_stride, pc_cpu_active()};
 	pc_parallel_rows(raw->height, 0, threads, b16_band, &j);
 	return 0;
 }

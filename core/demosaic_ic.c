@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "cpu_internal.h"
+#include "demosaic_anchors.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
@@ -31,35 +32,35 @@
 
 typedef struct pc_ic_kernels {
 	void (*cubic4_rows)(float *restrict, const float *restrict, const float *restrict,
-			    const float *restrict, const float *restrict, long, long);
+	                    const float *restrict, const float *restrict, long, long);
 	void (*cubic_h)(float *restrict, float *restrict, const float *restrict, long);
 	void (*tent_add)(float *restrict const[4], const float *const[4], const float *restrict,
-			 const float *restrict, const float *restrict, long);
+	                 const float *restrict, const float *restrict, long);
 	void (*ppi_coarse)(float *restrict, const float *restrict, const float *restrict,
-			   const float *restrict, long, long);
+	                   const float *restrict, long, long);
 	void (*ppi_refine)(float *restrict, const float *const[5], const float *const[3], float,
-			   long, long);
+	                   long, long);
 	void (*sub)(float *restrict, const float *restrict, const float *restrict, long, long);
 	void (*eari_guide)(float *restrict, const float *const[5], int, int, float, long, long);
 	void (*gf_vsum)(double *restrict, const float *, const float *, int, double, long, long,
-			long);
+	                long);
 	void (*gf_ab2)(float *restrict, float *restrict, float *restrict, float *restrict,
-		       const double *, int, double, float, long, long);
+	               const double *, int, double, float, long, long);
 	void (*acc)(float *restrict, const float *restrict, const float *restrict, long, long);
 	void (*gf_t)(float *restrict, const float *restrict, const float *restrict,
-		     const float *restrict, float, long);
+	             const float *restrict, float, long);
 	void (*resid)(float *restrict, const float *restrict, const float *restrict,
-		      const float *restrict, long);
+	              const float *restrict, long);
 	void (*mean4)(float *restrict, const float *, const float *, const float *, const float *,
-		      long);
+	              long);
 	void (*ratio_q)(float *restrict, const float *restrict, const float *restrict, float, long,
-			long);
+	                long);
 	void (*ratio_mean)(float *restrict, const float *restrict, const float *restrict,
-			   const float *restrict, const float *restrict, const float *restrict, float,
-			   long);
+	                   const float *restrict, const float *restrict, const float *restrict,
+	                   const float *restrict, const float *restrict, float, float, long);
 	void (*ratio_out)(float *restrict const[4], const float *restrict, const float *restrict,
-			  const float *restrict, const float *restrict, const float *restrict, float,
-			  long);
+	                  const float *restrict, const float *restrict, const float *restrict,
+	                  const float *restrict, const float *restrict, float, float, long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -86,7 +87,7 @@ _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2"
 
 #ifdef PC_CPU_X86
 #define KFN(name) name##_avx2
-#define KATTR __attribute__((target("avx2,fma")))
+#define KATTR     __attribute__((target("avx2,fma")))
 #include "demosaic_ic_kern.inc"
 #undef KFN
 #undef KATTR
@@ -94,9 +95,11 @@ _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2"
  * prefers 256-bit vectors unless told; clang's generic tuning uses 512-bit ones) */
 #define KFN(name) name##_avx512
 #ifdef __clang__
-#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,fma"), min_vector_width(512)))
+#define KATTR                                                                                      \
+	__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,fma"), min_vector_width(512)))
 #else
-#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,fma,prefer-vector-width=512")))
+#define KATTR                                                                                      \
+	__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,fma,prefer-vector-width=512")))
 #endif
 #include "demosaic_ic_kern.inc"
 #undef KFN
@@ -123,7 +126,7 @@ static const pc_ic_kernels *kernels(pc_cpu_level level)
 typedef struct rcache rcache;
 typedef void (*rc_fill_fn)(rcache *c, int y, float *const *rows);
 
-#define RC_MAX_K 24
+#define RC_MAX_K      24
 #define RC_MAX_PLANES 8
 
 struct rcache {
@@ -137,8 +140,7 @@ struct rcache {
 	void *ctx;
 };
 
-static int rc_init(rcache *c, int k, int planes, int pad, long w, int h, rc_fill_fn fill,
-		   void *ctx)
+static int rc_init(rcache *c, int k, int planes, int pad, long w, int h, rc_fill_fn fill, void *ctx)
 {
 	memset(c, 0, sizeof *c);
 	c->k = k;
@@ -220,9 +222,9 @@ typedef struct ic_band {
 	double eps2;
 	rcache raw, p0, ppi, guide, out1, guide2;
 	rcache rq1, rg2, rq2; /* ratio method: first ratio, second guide, second ratio */
-	float delta;
+	float delta, eps_ratio;
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
-			  * guide, s2 by the mean of s1's channels (two-pass variants) */
+	                  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
 	float *tmp; /* scratch rows */
 } ic_band;
@@ -237,7 +239,7 @@ static void fill_p0(rcache *c, int y, float *const *rows)
 {
 	ic_band *b = c->ctx;
 	const float *a = rc_get(&b->raw, y - 1)[0], *m = rc_get(&b->raw, y)[0],
-		    *d = rc_get(&b->raw, y + 1)[0];
+	            *d = rc_get(&b->raw, y + 1)[0];
 	b->k->ppi_coarse(rows[0], a, m, d, 0, c->w);
 }
 
@@ -271,7 +273,7 @@ static void fill_eari_guide(rcache *c, int y, float *const *rows)
 	for (int i = 0; i < 5; i++)
 		r[i] = rc_get(&b->raw, y - 2 + i)[0];
 	b->k->eari_guide(rows[0], r, ortho_kind(b->m, 0, y), ortho_kind(b->m, 1, y), b->eps_guide,
-			 0, c->w);
+	                 0, c->w);
 }
 
 /* Guided-filter coefficients of row k for the four channels: planes 0..3 = a_c, 4..7 = b_c. */
@@ -296,13 +298,13 @@ static void fill_ab_stage(ic_band *b, gf_stage *st, int k, float *const *rows)
 		st->vs_age = 0;
 	}
 	st->vs_k = k;
-	int ny[2] = { 0, 0 };
+	int ny[2] = {0, 0};
 	for (int yy = k - (int)r; yy <= k + (int)r; yy++)
 		ny[yy & 1]++;
 	for (int py = 0; py < 2; py++) {
 		unsigned ce = pc_dm_ch(b->m, 0, (unsigned)py), co = pc_dm_ch(b->m, 1, (unsigned)py);
 		b->k->gf_ab2(rows[ce], rows[4 + ce], rows[co], rows[4 + co], vs, py, ny[py],
-			     (float)b->eps2, w, st->vs_stride);
+		             (float)b->eps2, w, st->vs_stride);
 	}
 }
 
@@ -348,7 +350,7 @@ static void fill_t_stage(ic_band *b, gf_stage *st, int y, float *const *rows)
 		b->k->gf_t(rows[c4], sab[c4], sab[4 + c4], g, inv_n, w);
 	const float *raw = rc_get(&b->raw, y)[0];
 	b->k->resid(rows[4], raw, rows[pc_dm_ch(b->m, 0, (unsigned)y)],
-		    rows[pc_dm_ch(b->m, 1, (unsigned)y)], w);
+	            rows[pc_dm_ch(b->m, 1, (unsigned)y)], w);
 }
 
 static void fill_t1(rcache *c, int y, float *const *rows)
@@ -366,9 +368,10 @@ static void fill_t2(rcache *c, int y, float *const *rows)
 /* I_c = T_c + tent_c(E) for row y of a residual-interpolation stage into o[channel]. */
 static void ri_output(ic_band *b, rcache *t, int y, float *const o[4])
 {
-	unsigned slot[4] = { pc_dm_ch(b->m, 0, (unsigned)y), pc_dm_ch(b->m, 1, (unsigned)y),
-			     pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1) };
-	float *const *tm = rc_get(t, y - 1), *const *t0 = rc_get(t, y), *const *tp = rc_get(t, y + 1);
+	unsigned slot[4] = {pc_dm_ch(b->m, 0, (unsigned)y), pc_dm_ch(b->m, 1, (unsigned)y),
+	                    pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1)};
+	float *const *tm = rc_get(t, y - 1), *const *t0 = rc_get(t, y),
+	             *const *tp = rc_get(t, y + 1);
 	float *os[4];
 	const float *ts[4];
 	for (int k = 0; k < 4; k++) {
@@ -405,10 +408,11 @@ static void fill_rg2(rcache *c, int y, float *const *rows)
 	ic_band *b = c->ctx;
 	/* other caches first: their fills may evict rows (pointers would dangle) */
 	const float *qa = rc_get(&b->rq1, y - 1)[0], *qb = rc_get(&b->rq1, y)[0],
-		    *qc = rc_get(&b->rq1, y + 1)[0];
-	const float *g = rc_get(&b->guide, y)[0];
+	            *qc = rc_get(&b->rq1, y + 1)[0];
+	const float *ga = rc_get(&b->guide, y - 1)[0], *g = rc_get(&b->guide, y)[0],
+	            *gc = rc_get(&b->guide, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
-	b->k->ratio_mean(rows[0], r, g, qa, qb, qc, b->delta, c->w);
+	b->k->ratio_mean(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, c->w);
 }
 
 static void fill_rq2(rcache *c, int y, float *const *rows)
@@ -421,16 +425,17 @@ static void fill_rq2(rcache *c, int y, float *const *rows)
 
 static void ratio_output(ic_band *b, int y, float *const o[4])
 {
-	unsigned slot[4] = { pc_dm_ch(b->m, 0, (unsigned)y), pc_dm_ch(b->m, 1, (unsigned)y),
-			     pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1) };
+	unsigned slot[4] = {pc_dm_ch(b->m, 0, (unsigned)y), pc_dm_ch(b->m, 1, (unsigned)y),
+	                    pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1)};
 	const float *qa = rc_get(&b->rq2, y - 1)[0], *qb = rc_get(&b->rq2, y)[0],
-		    *qc = rc_get(&b->rq2, y + 1)[0];
-	const float *g = rc_get(&b->rg2, y)[0];
+	            *qc = rc_get(&b->rq2, y + 1)[0];
+	const float *ga = rc_get(&b->rg2, y - 1)[0], *g = rc_get(&b->rg2, y)[0],
+	            *gc = rc_get(&b->rg2, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
 	float *os[4];
 	for (int k = 0; k < 4; k++)
 		os[k] = o[slot[k]];
-	b->k->ratio_out(os, r, g, qa, qb, qc, b->delta, b->raw.w);
+	b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->raw.w);
 }
 
 /* ---- drivers ---- */
@@ -447,12 +452,11 @@ typedef struct ic_job {
 
 static void free_band(ic_band *b)
 {
-	rcache *all[] = { &b->raw,    &b->p0,	 &b->ppi,  &b->guide, &b->out1, &b->guide2,
-			  &b->s1.ab,  &b->s1.t,	 &b->s2.ab, &b->s2.t,  &b->rq1,	 &b->rg2,
-			  &b->rq2 };
+	rcache *all[] = {&b->raw,  &b->p0,    &b->ppi,  &b->guide, &b->out1, &b->guide2, &b->s1.ab,
+	                 &b->s1.t, &b->s2.ab, &b->s2.t, &b->rq1,   &b->rg2,  &b->rq2};
 	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
 		rc_free(all[i]);
-	gf_stage *st[2] = { &b->s1, &b->s2 };
+	gf_stage *st[2] = {&b->s1, &b->s2};
 	for (int i = 0; i < 2; i++) {
 		pc_dm_free(st[i]->vs);
 		pc_dm_free(st[i]->sab);
@@ -477,7 +481,8 @@ static int setup_band(ic_band *b, const ic_job *j)
 	case PC_DM_RATIO:
 		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
-		b->delta = (float)(j->fs / 65536.0);
+		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
+		b->eps_ratio = (float)(PC_RATIO_GUIDE_EPS * j->fs);
 		fail |= rc_init(&b->guide, 8, 1, 1, w, h, fill_eari_guide, b);
 		fail |= rc_init(&b->rq1, 6, 1, 1, w, h, fill_rq1, b);
 		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);
@@ -486,8 +491,8 @@ static int setup_band(ic_band *b, const ic_job *j)
 	case PC_DM_PPID:
 	case PC_DM_RI:
 	case PC_DM_EARI: {
-		const pc_ri_params *pr = j->method == PC_DM_EARI ? &pc_eari_params
-								 : &pc_ri_params_default;
+		const pc_ri_params *pr =
+		    j->method == PC_DM_EARI ? &pc_eari_params : &pc_ri_params_default;
 		b->eps_ppi = (float)(j->fs / 255.0);
 		b->eps_guide = (float)(pr->guide_eps * j->fs);
 		if (pr->radius != PC_GF_R)
@@ -506,8 +511,8 @@ static int setup_band(ic_band *b, const ic_job *j)
 		b->passes = pr->passes;
 		b->s1.guide = j->method == PC_DM_EARI ? &b->guide : &b->ppi;
 		b->s2.guide = &b->guide2;
-		gf_stage *st[2] = { &b->s1, &b->s2 };
-		rc_fill_fn fab[2] = { fill_ab1, fill_ab2 }, ft[2] = { fill_t1, fill_t2 };
+		gf_stage *st[2] = {&b->s1, &b->s2};
+		rc_fill_fn fab[2] = {fill_ab1, fill_ab2}, ft[2] = {fill_t1, fill_t2};
 		for (int i = 0; i < pr->passes && i < 2; i++) {
 			st[i]->vs_stride = w + 2 * pr->radius + 8;
 			st[i]->vs = pc_dm_alloc(sizeof(double) * 8 * (size_t)st[i]->vs_stride);
@@ -536,8 +541,16 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 	ic_band b;
 	long w = j->in->width;
 	float *rowbuf = NULL;
-	if (setup_band(&b, j) ||
-	    !(rowbuf = pc_dm_alloc(sizeof(float) * 5 * ((size_t)w + 16)))) {
+	if (setup_band(&b, j) || !(rowbuf = pc_dm_alloc(sizeof(float) * 5 * ((size_t)w + 16)))) {
+		free_band(&b);
+		pc_dm_free(rowbuf);
+		j->err = 1;
+		return;
+	}
+	pc_dm_limiter limiter = {0, {0}, NULL, PC_CPU_BASELINE}, *lim = NULL;
+	if (pc_dm_limited(j->method) && pc_dm_limiter_init(&limiter, w, j->level) == 0)
+		lim = &limiter;
+	if (pc_dm_limited(j->method) && !lim) {
 		free_band(&b);
 		pc_dm_free(rowbuf);
 		j->err = 1;
@@ -551,8 +564,8 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		 * outputs or, with non-temporal stores, into large aligned planes */
 		for (unsigned c = 0; c < 4; c++)
 			o[c] = j->planar && !j->nt && !j->sink
-				       ? j->out[c].data + (size_t)y * j->out[c].row_stride
-				       : obuf + (size_t)c * (size_t)w;
+			           ? j->out[c].data + (size_t)y * j->out[c].row_stride
+			           : obuf + (size_t)c * (size_t)w;
 		int yy = (int)y;
 		switch (j->method) {
 		case PC_DM_BICUBIC: {
@@ -561,8 +574,8 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			const float *self = rc_get(&b.raw, yy)[0];
 			b.k->cubic_h(o[e0], o[e1], self, w);
 			b.k->cubic4_rows(vrow, rc_get(&b.raw, yy - 3)[0], rc_get(&b.raw, yy - 1)[0],
-					 rc_get(&b.raw, yy + 1)[0], rc_get(&b.raw, yy + 3)[0], -3,
-					 w + 3);
+			                 rc_get(&b.raw, yy + 1)[0], rc_get(&b.raw, yy + 3)[0], -3,
+			                 w + 3);
 			b.k->cubic_h(o[f0], o[f1], vrow, w);
 			break;
 		}
@@ -576,10 +589,10 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 				b.k->sub(d[i], raw, p, -1, w + 1);
 			}
 			const float *p = rc_get(&b.ppi, yy)[0];
-			unsigned slot[4] = { pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
-					     pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1) };
+			unsigned slot[4] = {pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
+			                    pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1)};
 			float *os[4];
-			const float *ts[4] = { p, p, p, p };
+			const float *ts[4] = {p, p, p, p};
 			for (int k = 0; k < 4; k++)
 				os[k] = o[slot[k]];
 			b.k->tent_add(os, ts, d[0], d[1], d[2], w);
@@ -595,12 +608,18 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		default:
 			break;
 		}
+		if (lim) { /* the overshoot limiter (demosaic_robust.c) on the finished row */
+			const float *r[5];
+			for (int k = 0; k < 5; k++)
+				r[k] = rc_get(&b.raw, yy - 2 + k)[0];
+			pc_dm_limit_row(lim, j->m, r, y, o, 1);
+		}
 		if (j->sink) {
-			const float *ch[4] = { o[0], o[1], o[2], o[3] };
+			const float *ch[4] = {o[0], o[1], o[2], o[3]};
 			j->sink->row(j->sink->ctx, y, ch);
 		} else if (j->nt) {
 			float *dst[4];
-			const float *src[4] = { o[0], o[1], o[2], o[3] };
+			const float *src[4] = {o[0], o[1], o[2], o[3]};
 			for (unsigned c = 0; c < 4; c++)
 				dst[c] = j->out[c].data + (size_t)y * j->out[c].row_stride;
 			pc_dm_stream_rows(dst, src, 4, (uint32_t)w, j->level);
@@ -614,6 +633,8 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 	}
 	free_band(&b);
 	pc_dm_free(rowbuf);
+	if (lim)
+		pc_dm_limiter_free(lim);
 }
 
 /* Row bands of at least 64 rows keep the recomputed halo rows a small fraction. */
@@ -628,21 +649,21 @@ static void run(ic_job *j, int threads)
 
 int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
 {
-	ic_job j = { call->in, call->m, call->method, call->full_scale, call->level, out, NULL,
-		     1, 0, 0 };
+	ic_job j = {call->in, call->m, call->method, call->full_scale, call->level, out, NULL, 1,
+	            0,        0};
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
-	j.nt = j.planar && pc_dm_stream_wanted(out, 4, call->in->width, call->in->height,
-					       call->level);
+	j.nt =
+	    j.planar && pc_dm_stream_wanted(out, 4, call->in->width, call->in->height, call->level);
 	run(&j, call->threads);
 	return j.err ? pc_error(PC_ENOMEM, "row caches of %u-pixel rows", call->in->width) : 0;
 }
 
 int pc_dm_ic_rows(const pc_dm_call *call, const pc_dm_row_sink *sink)
 {
-	ic_job j = { call->in, call->m, call->method, call->full_scale, call->level, NULL, sink,
-		     0, 0, 0 };
+	ic_job j = {call->in, call->m, call->method, call->full_scale, call->level, NULL, sink, 0,
+	            0,        0};
 	run(&j, call->threads);
 	return j.err ? pc_error(PC_ENOMEM, "row caches of %u-pixel rows", call->in->width) : 0;
 }

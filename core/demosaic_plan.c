@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "demosaic_anchors.h"
 #include "demosaic_color.h"
 #include "demosaic_fast.h"
 #include "demosaic_ic.h"
@@ -23,84 +24,204 @@
  * ±2, 3×3 tent, the second pass's guide the first pass's mean); bayer-first ±3 (the analyser
  * sub-image's 3×3 is ±2, then a 3×3 tent); bayer-eari ±9 (±2, then EARI). tests/test_demosaic.c
  * perturbs single samples of the references and checks that nothing outside changes. */
+/* eari-mlri, eari-robust ±16 (guide ±3, the Laplacians ±2, the slope fit over ±5 windows,
+ * the weighted average of the coefficients over another ±5, the residual's tent ±1; the
+ * limiter's ±2 lies inside); pcdp ±2 (the bilinear estimates ±1, then the tent of the
+ * differences); igri2 ±40, a bound: three stages of about ±13 each (the green step: MLRI
+ * on ±2 Laplacians in ±3 windows, their ±3 averages, the directional residual, 5-tap
+ * Gaussians and 3×3 gradient sums; a step of the 45°-rotated grid moves one pixel in x and
+ * y), measured reach 35-40 on random data (tests/test_front_door.c). */
+#define MLRI_LO -16
+#define MLRI_HI 16
+#define PCDP_LO -2
+#define PCDP_HI 2
+#define IGRI_LO -40
+#define IGRI_HI 40
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
-	[PC_DM_SUPERPIXEL_HALF] = { { PC_DM_SUPERPIXEL_HALF, "superpixel-half",
-				    "no interpolation error, half resolution; 2x2 IFoV misregistration "
-				    "shows as false DoLP on edges",
-				    "cheapest: one read of the raw, a quarter-size output",
-				    "the 2x2 super-pixel of DoFP sensors (e.g. Ratliff et al. 2009)",
-				    PC_DMF_MONO | PC_DMF_HALF_RES },
-		{ 0, 1, 2, 2 }, pc_dm_superpixel_half, NULL, false, PC_DM_SUPERPIXEL_HALF },
-	[PC_DM_SUPERPIXEL] = { { PC_DM_SUPERPIXEL, "superpixel",
-			       "full-size output of the 2x2 super-pixel values; blocky, lowest "
-			       "accuracy", "memory-bound, like a copy",
-			       "the 2x2 super-pixel replicated over its block",
-			       PC_DMF_MONO },
-		{ 0, 1, 2, 1 }, pc_dm_superpixel, NULL, false, PC_DM_SUPERPIXEL },
-	[PC_DM_BILINEAR] = { { PC_DM_BILINEAR, "bilinear",
-			     "the baseline: per-channel tent interpolation, false DoLP on edges (Lapray NIR: S0 "
-			     "47.7 dB, DoLP 35.6 dB)",
-			     "memory-bound: 3x3 neighbourhood, one pass",
-			     "Gao & Gruev, Opt. Express 19(27) 2011, bilinear DoFP interpolation",
-			     PC_DMF_MONO },
-		{ -1, 1, 1, 1 }, pc_dm_bilinear, NULL, true, PC_DM_BILINEAR },
-	[PC_DM_BICUBIC] = { { PC_DM_BICUBIC, "bicubic",
-			    "sharper than bilinear, slight ringing; still per channel (Lapray: S0 +1.8 dB, "
-			    "DoLP +0.9 dB over bilinear)",
-			    "7x7 neighbourhood, separable; about 1.2-1.3x bilinear's time",
-			    "Keys cubic convolution (a = -1/2) per channel, as in Gao & Gruev 2011",
-			    PC_DMF_MONO },
-		{ -3, 3, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_BICUBIC },
-	[PC_DM_PPID] = { { PC_DM_PPID, "ppid",
-			 "inter-channel: interpolates differences to an edge-aware pseudo-"
-			 "panchromatic image (Zhang: S0 +5.0 dB; Lapray: -0.7 dB over bilinear)",
-			 "5x5 neighbourhood, three fused passes; about 3.5x bilinear's time",
-			 "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
-			 "Lapray, Bigue, Sensors 18(11) 3688, 2018",
-			 PC_DMF_MONO },
-		{ -4, 4, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_PPID },
-	[PC_DM_RI] = { { PC_DM_RI, "ri",
-		       "inter-channel: guided-filter tentative estimates plus interpolated "
-		       "residuals (Lapray: S0 +1.2 dB; Zhang: +4.0 dB over bilinear)",
-		       "guided filters (5x5 windows) per channel; about 11x bilinear's time",
-		       "Kiku, Monno, Tanaka, Okutomi, ICIP 2013; for DoFP: Ahmed, Zhao, Gruev, "
-		       "Zhang, Bermak, Opt. Express 25(9) 2017",
-		       PC_DMF_MONO },
-		{ -8, 8, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_RI },
-	[PC_DM_EARI] = { { PC_DM_EARI, "eari",
-			 "inter-channel: residual interpolation guided by an edge-aware "
-			 "intensity image; the most accurate on Lapray (Lapray: S0 +3.8 dB, DoLP "
-			 "+2.2 dB; Zhang: +3.7/+3.5 dB over bilinear)",
-			 "like ri plus an edge-aware guide pass; about 10x bilinear's time",
-			 "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292)",
-			 PC_DMF_MONO },
-		{ -7, 7, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_EARI },
-	[PC_DM_BAYER_FIRST] = { { PC_DM_BAYER_FIRST, "bayer-first",
-				"colour-polarization: bilinear Bayer demosaicking of each analyser "
-				"sub-image, then bilinear up-sampling of the analysers",
-				"a colour pass plus three bilinear passes; about 22x bilinear's time",
-				"the colour-first baseline of colour-polarization demosaicking "
-				"(Morimatsu et al. 2020, Sec. 3.2)",
-				PC_DMF_COLOR },
-		{ -3, 3, 1, 1 }, NULL, NULL, false, PC_DM_BILINEAR },
-	[PC_DM_BAYER_EARI] = { { PC_DM_BAYER_EARI, "bayer-eari",
-			       "colour-polarization: bilinear Bayer demosaicking of each analyser "
-			       "sub-image, then EARI across the analysers of each colour; better "
-			       "polarization than bayer-first",
-			       "bayer-first's colour step plus three EARI runs; about 50x bilinear's time",
-			       "colour-first as Morimatsu et al. 2020, with the polarization step of "
-			       "their EARI",
-			       PC_DMF_COLOR },
-		{ -9, 9, 1, 1 }, NULL, NULL, false, PC_DM_EARI },
-	[PC_DM_RATIO] = { { PC_DM_RATIO, "ratio",
-			  "inter-channel: EARI's edge-aware intensity guide, channels as guide x "
-			  "interpolated ratio raw/guide, twice (Lapray: S0 +3.6 dB, DoLP +2.0 dB; "
-			  "Zhang: +4.8/+4.5 dB over bilinear)",
-			  "the guide pass plus two ratio passes (3x3 tents); about 2.7x bilinear's time",
-			  "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
-			  "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated",
-			  PC_DMF_MONO },
-		{ -4, 4, 1, 1 }, pc_dm_ic, pc_dm_ic_rows, false, PC_DM_RATIO },
+    [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
+                                "no interpolation error, half resolution; 2x2 IFoV misregistration "
+                                "shows as false DoLP on edges",
+                                "cheapest: one read of the raw, a quarter-size output",
+                                "the 2x2 super-pixel of DoFP sensors (e.g. Ratliff et al. 2009)",
+                                PC_DMF_MONO | PC_DMF_HALF_RES},
+                               {0, 1, 2, 2},
+                               pc_dm_superpixel_half,
+                               NULL,
+                               false,
+                               PC_DM_SUPERPIXEL_HALF},
+    [PC_DM_SUPERPIXEL] = {{PC_DM_SUPERPIXEL, "superpixel",
+                           "full-size output of the 2x2 super-pixel values; blocky, lowest "
+                           "accuracy",
+                           "memory-bound, like a copy",
+                           "the 2x2 super-pixel replicated over its block", PC_DMF_MONO},
+                          {0, 1, 2, 1},
+                          pc_dm_superpixel,
+                          NULL,
+                          false,
+                          PC_DM_SUPERPIXEL},
+    [PC_DM_BILINEAR] =
+        {{PC_DM_BILINEAR, "bilinear",
+          "the baseline every gain below is measured against: per-channel tent "
+          "interpolation, false DoLP on edges (Lapray NIR: S0 48.7 dB, DoLP 36.0 dB)",
+          "memory-bound: 3x3 neighbourhood, one pass",
+          "Gao & Gruev, Opt. Express 19(27) 2011, bilinear DoFP interpolation", PC_DMF_MONO},
+         {-1, 1, 1, 1},
+         pc_dm_bilinear,
+         NULL,
+         true,
+         PC_DM_BILINEAR},
+    [PC_DM_BICUBIC] = {{PC_DM_BICUBIC, "bicubic",
+                        "sharper than bilinear, per channel, overshoot limited; S0/DoLP dB over "
+                        "bilinear, mean (worst scene): Lapray +1.72/+0.82 (+0.46/+0.00), Zhang "
+                        "+1.10/+1.17 (+0.78/+0.98), stress +0.18/-0.17 (+0.01/-0.83)",
+                        "7x7 neighbourhood, separable; about 1.2-1.3x bilinear's time",
+                        "Keys cubic convolution (a = -1/2) per channel, as in Gao & Gruev 2011",
+                        PC_DMF_MONO},
+                       {-3, 3, 1, 1},
+                       pc_dm_ic,
+                       pc_dm_ic_rows,
+                       false,
+                       PC_DM_BICUBIC},
+    [PC_DM_PPID] = {{PC_DM_PPID, "ppid",
+                     "inter-channel: differences to an edge-aware pseudo-panchromatic image, "
+                     "overshoot limited; mean (worst): Lapray -0.02/-0.20 (-3.19/-1.44), Zhang "
+                     "+4.71/+3.11 (+4.71/+2.79), stress +3.57/+1.64 (+0.39/-0.13)",
+                     "5x5 neighbourhood, three fused passes; about 3.5x bilinear's time",
+                     "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
+                     "Lapray, Bigue, Sensors 18(11) 3688, 2018",
+                     PC_DMF_MONO},
+                    {-4, 4, 1, 1},
+                    pc_dm_ic,
+                    pc_dm_ic_rows,
+                    false,
+                    PC_DM_PPID},
+    [PC_DM_RI] = {{PC_DM_RI, "ri",
+                   "inter-channel: guided-filter tentative estimates plus interpolated "
+                   "residuals, overshoot limited; mean (worst): Lapray +1.21/+1.08 "
+                   "(-0.52/+0.16), Zhang +3.78/+3.01 (+3.24/+2.97), stress +3.88/+1.11 "
+                   "(+1.32/-0.29)",
+                   "guided filters (5x5 windows) per channel; about 11x bilinear's time",
+                   "Kiku, Monno, Tanaka, Okutomi, ICIP 2013; for DoFP: Ahmed, Zhao, Gruev, "
+                   "Zhang, Bermak, Opt. Express 25(9) 2017",
+                   PC_DMF_MONO},
+                  {-8, 8, 1, 1},
+                  pc_dm_ic,
+                  pc_dm_ic_rows,
+                  false,
+                  PC_DM_RI},
+    [PC_DM_EARI] = {{PC_DM_EARI, "eari",
+                     "inter-channel: residual interpolation guided by an edge-aware "
+                     "intensity image (our detector), overshoot limited; mean (worst): Lapray "
+                     "+3.37/+1.90 (+1.32/+0.34), Zhang +3.46/+3.32 (+2.79/+3.01), stress "
+                     "+2.88/+1.04 (+1.51/-0.14)",
+                     "like ri plus an edge-aware guide pass; about 10x bilinear's time",
+                     "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292)",
+                     PC_DMF_MONO},
+                    {-7, 7, 1, 1},
+                    pc_dm_ic,
+                    pc_dm_ic_rows,
+                    false,
+                    PC_DM_EARI},
+    [PC_DM_BAYER_FIRST] = {{PC_DM_BAYER_FIRST, "bayer-first",
+                            "colour-polarization: bilinear Bayer demosaicking of each analyser "
+                            "sub-image, then bilinear up-sampling of the analysers",
+                            "a colour pass plus three bilinear passes; about 22x bilinear's time",
+                            "the colour-first baseline of colour-polarization demosaicking "
+                            "(Morimatsu et al. 2020, Sec. 3.2)",
+                            PC_DMF_COLOR},
+                           {-3, 3, 1, 1},
+                           NULL,
+                           NULL,
+                           false,
+                           PC_DM_BILINEAR},
+    [PC_DM_BAYER_EARI] =
+        {{PC_DM_BAYER_EARI, "bayer-eari",
+          "colour-polarization: bilinear Bayer demosaicking of each analyser "
+          "sub-image, then EARI across the analysers of each colour; better "
+          "polarization than bayer-first",
+          "bayer-first's colour step plus three EARI runs; about 50x bilinear's time",
+          "colour-first as Morimatsu et al. 2020, with the polarization step of "
+          "their EARI",
+          PC_DMF_COLOR},
+         {-9, 9, 1, 1},
+         NULL,
+         NULL,
+         false,
+         PC_DM_EARI},
+    [PC_DM_RATIO] = {{PC_DM_RATIO, "ratio",
+                      "inter-channel: our EARI guide, channels as guide x ratio (raw + 1 % FS)/"
+                      "(guide + 1 % FS) interpolated by a guide-weighted tent, twice, overshoot "
+                      "limited; mean (worst): Lapray +3.29/+1.80 (+0.62/-0.02), Zhang +4.58/+4.21 "
+                      "(+4.02/+4.17), stress +3.92/+1.69 (+1.77/+0.31); the fast robust choice",
+                      "the guide pass plus two ratio passes (3x3 guided tents); about 5x "
+                      "bilinear's time (one thread)",
+                      "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
+                      "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated; "
+                      "joint-bilateral weights (Kopf et al., SIGGRAPH 2007)",
+                      PC_DMF_MONO},
+                     {-4, 4, 1, 1},
+                     pc_dm_ic,
+                     pc_dm_ic_rows,
+                     false,
+                     PC_DM_RATIO},
+    [PC_DM_EARI_MLRI] =
+        {{PC_DM_EARI_MLRI, "eari-mlri",
+          "anchor: EARI as its authors define it (their polarization-invariant "
+          "edge-aware guide, minimized-Laplacian RI in 11x11 windows); mean "
+          "(worst): Lapray +3.60/+1.74 (+0.91/-0.20), Zhang +3.96/+4.07 "
+          "(+3.14/+3.75), stress +5.24/+1.09 (+1.20/-4.58: rings into black)",
+          "multi-pass float path, ~22 planes; about 500x bilinear's CPU time (not "
+          "within budget)",
+          "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292) and their "
+          "release; MLRI: Kiku et al., IEEE TIP 25(3) 2016",
+          PC_DMF_MONO},
+         {MLRI_LO, MLRI_HI, 1, 1},
+         pc_dm_mlri_fast,
+         NULL,
+         false,
+         PC_DM_EARI_MLRI},
+    [PC_DM_EARI_ROBUST] = {{PC_DM_EARI_ROBUST, "eari-robust",
+                            "inter-channel: eari-mlri with the overshoot limiter (no ringing into "
+                            "the dark); the most accurate, no scene below -0.3 dB; mean (worst): "
+                            "Lapray +3.51/+1.78 (+1.01/-0.12), Zhang +3.69/+3.74 (+3.03/+3.51), "
+                            "stress +5.35/+2.29 (+1.87/+0.59)",
+                            "eari-mlri's cost plus one 5x5 min/max pass: about 500x bilinear's CPU "
+                            "time (not within the 5x budget)",
+                            "ours: Morimatsu et al. ICIP 2020's guide and Kiku et al. TIP 2016's "
+                            "MLRI, held to each channel's local sample range",
+                            PC_DMF_MONO},
+                           {MLRI_LO, MLRI_HI, 1, 1},
+                           pc_dm_mlri_fast,
+                           NULL,
+                           false,
+                           PC_DM_EARI_ROBUST},
+    [PC_DM_PCDP] = {{PC_DM_PCDP, "pcdp",
+                     "anchor: residual interpolation with the other channels' bilinear "
+                     "estimates as guide, the orthogonal one weighted sqrt(2); mean (worst): "
+                     "Lapray +3.01/+0.78 (+0.97/-0.54), Zhang +3.88/+4.01 (+3.08/+3.78), stress "
+                     "+2.58/+0.76 (+1.32/-0.89)",
+                     "four bilinear planes plus four residual tents",
+                     "Wu et al., Opt. Express 29(14) 2021 (polarization channel difference prior)",
+                     PC_DMF_MONO},
+                    {PCDP_LO, PCDP_HI, 1, 1},
+                    pc_dm_pcdp_fast,
+                    NULL,
+                    false,
+                    PC_DM_PCDP},
+    [PC_DM_IGRI2] = {{PC_DM_IGRI2, "igri2",
+                      "anchor: residual interpolation on the rotated diagonal lattices, then "
+                      "across them, then MLRI with the mean as guide; mean (worst): Lapray "
+                      "+2.91/+1.41 (-0.50/-0.72), Zhang +5.80/+4.47 (+5.24/+4.45), stress "
+                      "+5.72/-0.13 (+0.81/-7.74: rings into black)",
+                      "the double reference (no fast path yet): hundreds of times bilinear",
+                      "Morimatsu, Monno, Tanaka, Okutomi, IEEE Sensors J. 21(24) 2021 (IGRI2) and "
+                      "their release",
+                      PC_DMF_MONO},
+                     {IGRI_LO, IGRI_HI, 1, 1},
+                     NULL,
+                     NULL,
+                     false,
+                     PC_DM_IGRI2},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
@@ -113,7 +234,7 @@ const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
 /* ---- validation ---- */
 
 pc_pipeline_opts pc_dm_opts_legacy(const pc_mosaic *m, pc_demosaic_method method,
-				   const pc_demosaic_opts *opts)
+                                   const pc_demosaic_opts *opts)
 {
 	pc_pipeline_opts o;
 	memset(&o, 0, sizeof o);
@@ -131,8 +252,8 @@ pc_pipeline_opts pc_dm_opts_legacy(const pc_mosaic *m, pc_demosaic_method method
 static int check_level(const char *name, double v)
 {
 	if (!isfinite(v) || v < 0)
-		return pc_error(PC_EINVAL, "%s %g: expected a finite value >= 0 (raw units; 0: none)",
-				name, v);
+		return pc_error(
+		    PC_EINVAL, "%s %g: expected a finite value >= 0 (raw units; 0: none)", name, v);
 	return 0;
 }
 
@@ -154,20 +275,23 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 	const pc_demosaic_method_info *mi = &def->info;
 	int colour = m->period == 4;
 	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_error(PC_EINVAL, "method %s works on monochrome polarizer mosaics only; "
-					   "this mosaic has a colour filter (try bayer-first or "
-					   "bayer-eari)", mi->name);
+		return pc_error(PC_EINVAL,
+		                "method %s works on monochrome polarizer mosaics only; "
+		                "this mosaic has a colour filter (try bayer-first or "
+		                "bayer-eari)",
+		                mi->name);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_error(PC_EINVAL, "method %s works on colour-polarization mosaics only",
-				mi->name);
+		                mi->name);
 	uint32_t minsz = colour ? 8 : 4;
 	if (raw->width % 2 || raw->height % 2)
-		return pc_error(PC_EINVAL, "raw size %ux%u: width and height must be even (whole 2x2 "
-					   "analyser blocks); crop one column or row", raw->width,
-				raw->height);
+		return pc_error(PC_EINVAL,
+		                "raw size %ux%u: width and height must be even (whole 2x2 "
+		                "analyser blocks); crop one column or row",
+		                raw->width, raw->height);
 	if (raw->width < minsz || raw->height < minsz)
 		return pc_error(PC_EINVAL, "raw size %ux%u: at least %ux%u pixels are needed",
-				raw->width, raw->height, minsz, minsz);
+		                raw->width, raw->height, minsz, minsz);
 	if (raw->width > (1u << 30) || raw->height > (1u << 30))
 		return pc_error(PC_EINVAL, "raw size %ux%u: too large", raw->width, raw->height);
 	if ((rc = check_level("black level", opts->black_level)) ||
@@ -177,14 +301,14 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 	if (opts->saturation_level > 0 && opts->dead_level > 0 &&
 	    !(opts->dead_level < opts->saturation_level))
 		return pc_error(PC_EINVAL, "dead level %g: must be below the saturation level %g",
-				opts->dead_level, opts->saturation_level);
+		                opts->dead_level, opts->saturation_level);
 	const pc_format_info *fi = pc_format_info_get(raw->format);
-	double fs = opts->full_scale > 0 && isfinite(opts->full_scale)
-			    ? opts->full_scale
-			    : fi->is_float ? 1.0 : (double)((1u << fi->bits) - 1u);
+	double fs = opts->full_scale > 0 && isfinite(opts->full_scale) ? opts->full_scale
+	            : fi->is_float                                     ? 1.0
+	                           : (double)((1u << fi->bits) - 1u);
 	if (!(opts->black_level < fs))
 		return pc_error(PC_EINVAL, "black level %g: must be below the full scale %g",
-				opts->black_level, fs);
+		                opts->black_level, fs);
 	p->raw = raw;
 	p->def = def;
 	p->opts = *opts;
@@ -219,8 +343,8 @@ int pc_dm_plan_input(pc_dm_plan *p, const pc_dm_input **in)
 
 pc_dm_call pc_dm_plan_call(const pc_dm_plan *p)
 {
-	pc_dm_call c = { &p->in, &p->opts.mosaic, p->opts.method, p->full_scale, p->opts.threads,
-			 p->level };
+	pc_dm_call c = {&p->in,        &p->opts.mosaic, p->opts.method,
+	                p->full_scale, p->opts.threads, p->level};
 	return c;
 }
 
@@ -228,7 +352,7 @@ pc_dm_call pc_dm_plan_call(const pc_dm_plan *p)
 
 /* The reference of a monochrome method on a raw in double. */
 static int mono_reference(const pc_dm_plan *p, const double *img, const pc_mosaic *m,
-			  pc_demosaic_method method, const pc_fplane *out)
+                          pc_demosaic_method method, const pc_fplane *out)
 {
 	return pc_dm_ref(img, p->raw->width, p->raw->height, m, method, p->full_scale, out);
 }
@@ -242,7 +366,7 @@ static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 	const pc_dm_method_def *sdef = pc_dm_method_def_get(second);
 	const bool reference = p->opts.reference || !sdef->fast;
 	int rc = 0;
-	void *mk[3] = { NULL, NULL, NULL };
+	void *mk[3] = {NULL, NULL, NULL};
 	double *img = NULL;
 	float *fin = NULL;
 	size_t esz = reference ? sizeof(double) : sizeof(float);
@@ -252,19 +376,20 @@ static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 	if (!rc && reference) {
 		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
 		if (!rc) {
-			double *md[3] = { mk[0], mk[1], mk[2] };
+			double *md[3] = {mk[0], mk[1], mk[2]};
 			pc_dm_color_split_ref(img, w, h, &p->opts.mosaic, md);
 		}
 		for (unsigned k = 0; k < 3 && !rc; k++)
 			rc = mono_reference(p, mk[k], &mono, second, out + 4 * k);
 	} else if (!rc) {
 		rc = pc_dm_raw_to_float(p->raw, p->opts.black_level, &fin);
-		float *mf[3] = { mk[0], mk[1], mk[2] };
+		float *mf[3] = {mk[0], mk[1], mk[2]};
 		if (!rc)
 			rc = pc_dm_color_split(fin, w, h, &p->opts.mosaic, p->opts.threads, mf);
 		for (unsigned k = 0; k < 3 && !rc; k++) {
 			pc_dm_input in = pc_dm_input_f32(mf[k], w, h);
-			pc_dm_call c = { &in, &mono, second, p->full_scale, p->opts.threads, p->level };
+			pc_dm_call c = {&in,           &mono,           second,
+			                p->full_scale, p->opts.threads, p->level};
 			rc = sdef->fast(&c, out + 4 * k);
 		}
 	}
@@ -301,7 +426,7 @@ int pc_dm_plan_check_validity(const pc_dm_plan *p, const pc_validity *v)
 {
 	if (v && v->mask && v->row_stride < p->ow)
 		return pc_error(PC_EINVAL, "validity mask: row stride %zu bytes below the width %u",
-				v->row_stride, p->ow);
+		                v->row_stride, p->ow);
 	return 0;
 }
 
@@ -309,12 +434,12 @@ int pc_dm_plan_validity(pc_dm_plan *p, pc_validity *v)
 {
 	const pc_dm_input *in;
 	v->n_invalid = 0;
-	pc_dm_levels lv = { p->opts.saturation_level, p->opts.dead_level };
+	pc_dm_levels lv = {p->opts.saturation_level, p->opts.dead_level};
 	if (!(lv.saturation > 0) && !(lv.dead > 0) && !v->mask)
 		return 0;
 	int rc = pc_dm_plan_input(p, &in);
 	if (rc)
 		return rc;
 	return pc_dm_validity(in, &p->def->support, &lv, p->ow, p->oh, p->opts.threads, v->mask,
-			      v->row_stride, &v->n_invalid);
+	                      v->row_stride, &v->n_invalid);
 }

@@ -41,9 +41,9 @@ typedef struct pc_dm_plan {
 	const pc_dm_method_def *def;
 	pc_pipeline_opts opts;
 	bool colour;
-	uint32_t ow, oh; /* output size */
-	unsigned nch;    /* output channels: 4 or 12 */
-	double full_scale; /* the signal's: the raw's full scale minus the black level */
+	uint32_t ow, oh;    /* output size */
+	unsigned nch;       /* output channels: 4 or 12 */
+	double full_scale;  /* the signal's: the raw's full scale minus the black level */
 	pc_cpu_level level; /* read once per call */
 	pc_dm_input in;     /* prepared on first use (pc_dm_plan_input) */
 	void *owned;
@@ -54,7 +54,7 @@ typedef struct pc_dm_plan {
  * mosaic m (NULL: an invalid one, refused by pc_dm_plan_begin), and threads, reference and
  * full scale from opts (may be NULL); everything else as pc_pipeline_defaults(). */
 pc_pipeline_opts pc_dm_opts_legacy(const pc_mosaic *m, pc_demosaic_method method,
-				   const pc_demosaic_opts *opts);
+                                   const pc_demosaic_opts *opts);
 
 /* Validates the raw and the options (everything but the outputs and opts->pinv, which the
  * front doors check) and resolves them. Errors: PC_EINVAL (or PC_ERANGE) with a detail message

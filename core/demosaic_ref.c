@@ -15,6 +15,8 @@
  */
 #include "demosaic_ref.h"
 
+#include "demosaic_anchors.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -171,11 +173,12 @@ static void ppi_refine(const rimg *r, const rimg *p0, double eps, rimg *p)
 				for (int dx = -1; dx <= 1; dx++) {
 					if (!dx && !dy)
 						continue;
-					double g = fabs(at(r, x + 2 * dx, y + 2 * dy) - c) +
-						   fabs(at(r, x + dx, y + dy) - at(r, x - dx, y - dy));
+					double g =
+					    fabs(at(r, x + 2 * dx, y + 2 * dy) - c) +
+					    fabs(at(r, x + dx, y + dy) - at(r, x - dx, y - dy));
 					double gam = 1.0 / (eps + g);
 					num += gam * (at(p0, x + 2 * dx, y + 2 * dy) -
-						      at(r, x + 2 * dx, y + 2 * dy));
+					              at(r, x + 2 * dx, y + 2 * dy));
 					den += gam;
 				}
 			*px(p, x, y) = c + num / den;
@@ -185,7 +188,7 @@ static void ppi_refine(const rimg *r, const rimg *p0, double eps, rimg *p)
 /* PPID step 3 (ibid. eqs. 30-31, 34): I_c = PPI + tent-interpolated (raw − PPI) of channel c. */
 static int ref_ppid(const rimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
 {
-	rimg p0 = { 0 }, p = { 0 }, d = { 0 };
+	rimg p0 = {0}, p = {0}, d = {0};
 	int rc = rimg_new(&p0, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&p, r->w, r->h);
@@ -234,22 +237,24 @@ static void eari_guide(const rimg *r, const pc_mosaic *m, double eps, rimg *g)
 			double mh = 0.5 * (at(r, x - 1, y) + at(r, x + 1, y));
 			double mv = 0.5 * (at(r, x, y - 1) + at(r, x, y + 1));
 			double md = 0.25 * (at(r, x - 1, y - 1) + at(r, x + 1, y + 1) +
-					    at(r, x + 1, y - 1) + at(r, x - 1, y + 1));
+			                    at(r, x + 1, y - 1) + at(r, x - 1, y + 1));
 			/* gradients along the four axes */
 			double gax[4];
-			static const int ax[4][2] = { { 1, 0 }, { 0, 1 }, { 1, 1 }, { 1, -1 } };
+			static const int ax[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
 			for (int k = 0; k < 4; k++) {
 				int ox = ax[k][0], oy = ax[k][1];
 				gax[k] = fabs(at(r, x + ox, y + oy) - at(r, x - ox, y - oy)) +
-					 fabs(at(r, x + 2 * ox, y + 2 * oy) - c0) +
-					 fabs(at(r, x - 2 * ox, y - 2 * oy) - c0);
+				         fabs(at(r, x + 2 * ox, y + 2 * oy) - c0) +
+				         fabs(at(r, x - 2 * ox, y - 2 * oy) - c0);
 			}
 			double num = 0, den = 0, gmean = 0.25 * (gax[0] + gax[1] + gax[2] + gax[3]);
 			double other;
-			if (chan(m, x + 1, y + 1) == cp) { /* orthogonal analyser on the diagonals */
+			if (chan(m, x + 1, y + 1) ==
+			    cp) { /* orthogonal analyser on the diagonals */
 				for (int k = 2; k < 4; k++) {
 					int ox = ax[k][0], oy = ax[k][1];
-					double e = c0 + 0.5 * (at(r, x + ox, y + oy) + at(r, x - ox, y - oy));
+					double e = c0 + 0.5 * (at(r, x + ox, y + oy) +
+					                       at(r, x - ox, y - oy));
 					double wgt = 1.0 / (eps + gax[k]);
 					num += wgt * e;
 					den += wgt;
@@ -280,7 +285,7 @@ static void eari_guide(const rimg *r, const pc_mosaic *m, double eps, rimg *g)
  * then the tentative image T = mean_ω(a)·G + mean_ω(b). The residual raw − T at the samples is
  * tent-interpolated and added back: I_c = T + tent(raw − T). */
 static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsigned c, int rad,
-			  double eps2, rimg *a, rimg *b, rimg *t, const pc_fplane *out)
+                          double eps2, rimg *a, rimg *b, rimg *t, const pc_fplane *out)
 {
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++) {
@@ -289,7 +294,8 @@ static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsi
 				for (int dx = -rad; dx <= rad; dx++) {
 					if (chan(m, x + dx, y + dy) != c)
 						continue;
-					double gv = at(g, x + dx, y + dy), iv = at(r, x + dx, y + dy);
+					double gv = at(g, x + dx, y + dy),
+					       iv = at(r, x + dx, y + dy);
 					n++;
 					sg += gv;
 					si += iv;
@@ -324,9 +330,9 @@ static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsi
 }
 
 static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
-		  const pc_fplane *out)
+                  const pc_fplane *out)
 {
-	rimg p0 = { 0 }, g = { 0 }, a = { 0 }, b = { 0 }, t = { 0 };
+	rimg p0 = {0}, g = {0}, a = {0}, b = {0}, t = {0};
 	int rc = rimg_new(&p0, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&g, r->w, r->h);
@@ -346,17 +352,21 @@ static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
 		}
 		double e = pr->eps * fs;
 		for (int it = 0; it < pr->passes && !rc; it++) {
-			if (it) /* refine the guide: the mean analyser intensity S0/2 of the last pass */
+			if (it) /* refine the guide: the mean analyser intensity S0/2 of the last
+			           pass */
 				for (int y = 0; y < r->h; y++)
 					for (int x = 0; x < r->w; x++) {
 						double s = 0;
 						for (int c = 0; c < 4; c++)
-							s += out[c].data[(size_t)y * out[c].row_stride +
-									 (size_t)x * out[c].pixel_stride];
+							s += out[c].data[(size_t)y *
+							                     out[c].row_stride +
+							                 (size_t)x *
+							                     out[c].pixel_stride];
 						*px(&g, x, y) = s / 4;
 					}
 			for (unsigned c = 0; c < 4 && !rc; c++)
-				rc = ref_ri_channel(r, &g, m, c, pr->radius, e * e, &a, &b, &t, out);
+				rc =
+				    ref_ri_channel(r, &g, m, c, pr->radius, e * e, &a, &b, &t, out);
 		}
 	}
 	rimg_free(&p0);
@@ -374,45 +384,73 @@ static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
  * pixel keeps its own measurement. This is smooth-hue-transition (Cok 1987) in polarization:
  * I_c/S0 = (1 + DoLP·cos 2(AoLP − θ_c))/2 varies slowly where the intensity has edges. A
  * second pass repeats it with the mean of the first pass's four channels as the guide. */
+/* The guided tent of the ratio method: channel c's neighbours of (x, y) in the 3×3 window
+ * (the tent's sets: the horizontal pair, the vertical pair or the four diagonals, each with
+ * equal tent weights) averaged with weights 1/(e + |g(neighbour) − g(x, y)|), g the pass's
+ * guide: across an edge of the guide the far side's ratio, which belongs to another surface,
+ * counts little (a joint-bilateral range weight on the guide; Tomasi & Manduchi, ICCV 1998;
+ * Kopf et al., SIGGRAPH 2007). */
+static double guided_tent(const rimg *v, const rimg *g, const pc_mosaic *m, unsigned c, int x,
+                          int y, double e)
+{
+	double s = 0, ws = 0, g0 = at(g, x, y);
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++)
+			if (chan(m, x + dx, y + dy) == c) {
+				double w = 1.0 / (e + fabs(at(g, x + dx, y + dy) - g0));
+				s += w * at(v, x + dx, y + dy);
+				ws += w;
+			}
+	return s / ws;
+}
+
 static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
 {
-	rimg g = { 0 }, q = { 0 };
+	rimg g = {0}, q = {0}, gn = {0};
 	int rc = rimg_new(&g, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&q, r->w, r->h);
+	if (!rc)
+		rc = rimg_new(&gn, r->w, r->h);
 	if (rc) {
 		rimg_free(&g);
+		rimg_free(&q);
 		return rc;
 	}
 	eari_guide(r, m, pc_eari_params.guide_eps * fs, &g);
-	const double delta = fs / 65536.0;
+	const double delta = PC_RATIO_OFFSET * fs, e = PC_RATIO_GUIDE_EPS * fs;
 	for (int pass = 0; pass < PC_RATIO_PASSES; pass++) {
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++)
-				*px(&q, x, y) = at(r, x, y) / (fmax(at(&g, x, y), 0) + delta);
+				*px(&q, x, y) =
+				    (at(r, x, y) + delta) / (fmax(at(&g, x, y), 0) + delta);
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++) {
 				double den = fmax(at(&g, x, y), 0) + delta, sum = 0;
 				for (unsigned c = 0; c < 4; c++) {
-					double v = c == chan(m, x, y) ? at(r, x, y)
-								      : den * tent(&q, m, c, x, y);
+					double v =
+					    c == chan(m, x, y)
+					        ? at(r, x, y)
+					        : den * guided_tent(&q, &g, m, c, x, y, e) - delta;
 					put(&out[c], x, y, v);
 					sum += v;
 				}
-				if (pass + 1 < PC_RATIO_PASSES)
-					*px(&g, x, y) = sum / 4; /* next pass's guide (read only at
-								  * this pixel before: in place) */
+				*px(&gn, x, y) = sum / 4; /* the next pass's guide */
 			}
+		rimg t = g;
+		g = gn;
+		gn = t;
 	}
 	rimg_free(&g);
 	rimg_free(&q);
+	rimg_free(&gn);
 	return 0;
 }
 
-int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-	      pc_demosaic_method method, double full_scale, const pc_fplane *out)
+static int ref_method(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+                      pc_demosaic_method method, double full_scale, const pc_fplane *out)
 {
-	rimg r = { (double *)img, (int)width, (int)height };
+	rimg r = {(double *)img, (int)width, (int)height};
 	switch (method) {
 	case PC_DM_SUPERPIXEL_HALF:
 		if (m->period == 4)
@@ -438,9 +476,42 @@ int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosai
 		return ref_ri(&r, m, full_scale, 1, out);
 	case PC_DM_RATIO:
 		return ref_ratio(&r, m, full_scale, out);
+	case PC_DM_EARI_MLRI:
+	case PC_DM_EARI_ROBUST:
+		return pc_dm_ref_mlri(img, width, height, m, method, full_scale, out);
+	case PC_DM_PCDP:
+		return pc_dm_ref_pcdp(img, width, height, m, out);
+	case PC_DM_IGRI2:
+		return pc_dm_ref_igri2(img, width, height, m, full_scale, out);
 	default:
 		break;
 	}
 	return pc_error(PC_ENOTSUP, "demosaicking method %d: no reference for this mosaic",
-			(int)method);
+	                (int)method);
+}
+
+int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+              pc_demosaic_method method, double full_scale, const pc_fplane *out)
+{
+	int rc = ref_method(img, width, height, m, method, full_scale, out);
+	/* the robust methods' overshoot limiter (demosaic_robust.c; the fast paths apply it row
+	 * by row) */
+	if (!rc && m->period == 2 && pc_dm_limited(method))
+		rc = pc_dm_range_limit_ref(img, width, height, m, out);
+	return rc;
+}
+
+int pc_dm_ref_of_call(const pc_dm_call *call, const pc_fplane *out)
+{
+	const pc_dm_input *in = call->in;
+	const uint32_t w = in->width, h = in->height;
+	double *img = malloc(sizeof(double) * (size_t)w * h);
+	if (!img)
+		return pc_error(PC_ENOMEM, "demosaicking reference: %ux%u image", w, h);
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++)
+			img[(size_t)y * w + x] = (double)pc_dm_sample(in, x, y) - in->black_d;
+	int rc = pc_dm_ref(img, w, h, call->m, call->method, call->full_scale, out);
+	free(img);
+	return rc;
 }

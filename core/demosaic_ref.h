@@ -10,6 +10,6 @@
  * (a colour mosaic's monochrome part for the colour methods' second step); full_scale as in
  * pc_dm_call (> 0). PC_ENOTSUP for methods without a monochrome reference. */
 int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-	      pc_demosaic_method method, double full_scale, const pc_fplane *out);
+              pc_demosaic_method method, double full_scale, const pc_fplane *out);
 
 #endif

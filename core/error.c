@@ -12,8 +12,8 @@ const char *pc_strerror(int code)
 	switch (code) {
 	case PC_OK:
 		return "success";
-#define PC_ERRNO_TEXT(name, value, text) \
-	case name:                       \
+#define PC_ERRNO_TEXT(name, value, text)                                                           \
+	case name:                                                                                 \
 		return text;
 		PC_ERRNO_MAP(PC_ERRNO_TEXT)
 #undef PC_ERRNO_TEXT
@@ -27,8 +27,8 @@ const char *pc_errname(int code)
 	switch (code) {
 	case PC_OK:
 		return "PC_OK";
-#define PC_ERRNO_NAME(name, value, text) \
-	case name:                       \
+#define PC_ERRNO_NAME(name, value, text)                                                           \
+	case name:                                                                                 \
 		return #name;
 		PC_ERRNO_MAP(PC_ERRNO_NAME)
 #undef PC_ERRNO_NAME

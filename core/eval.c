@@ -9,7 +9,7 @@
 #include "polarcam/format.h"
 #include "polarcam/optics.h"
 
-static const char *ch_name[4] = { "0 deg", "45 deg", "90 deg", "135 deg" };
+static const char *ch_name[4] = {"0 deg", "45 deg", "90 deg", "135 deg"};
 
 void pc_eval_truth_free(pc_eval_truth *t)
 {
@@ -29,18 +29,20 @@ int pc_eval_truth_from_views(const pc_view views[4], pc_eval_truth *t)
 		if (rc)
 			return pc_error_prefix(rc, "%s image: ", ch_name[c]);
 		if (views[c].width != views[0].width || views[c].height != views[0].height)
-			return pc_error(PC_EINVAL, "%s image is %ux%u, the 0 deg image %ux%u: the four "
-						   "analyser images must have one size", ch_name[c],
-					views[c].width, views[c].height, views[0].width,
-					views[0].height);
+			return pc_error(PC_EINVAL,
+			                "%s image is %ux%u, the 0 deg image %ux%u: the four "
+			                "analyser images must have one size",
+			                ch_name[c], views[c].width, views[c].height, views[0].width,
+			                views[0].height);
 	}
 	const pc_format_info *f0 = pc_format_info_get(views[0].format);
 	for (int c = 1; c < 4; c++) {
 		const pc_format_info *fc = pc_format_info_get(views[c].format);
 		if ((fc->bits <= 8) != (f0->bits <= 8) || fc->is_float != f0->is_float)
-			return pc_error(PC_EINVAL, "%s image is %s, the 0 deg image %s: the four analyser "
-						   "images must share one container", ch_name[c],
-					fc->name, f0->name);
+			return pc_error(PC_EINVAL,
+			                "%s image is %s, the 0 deg image %s: the four analyser "
+			                "images must share one container",
+			                ch_name[c], fc->name, f0->name);
 	}
 	/* step 1: the container's full scale, not the significant bits */
 	t->full_scale = f0->is_float ? 1.0 : f0->bits <= 8 ? 255.0 : 65535.0;
@@ -49,10 +51,11 @@ int pc_eval_truth_from_views(const pc_view views[4], pc_eval_truth *t)
 	t->width = views[0].width & ~1u;
 	t->height = views[0].height & ~1u;
 	if (t->width < 2 * PC_EVAL_BORDER + 2 || t->height < 2 * PC_EVAL_BORDER + 2)
-		return pc_error(PC_EINVAL, "analyser images of %ux%u: at least %ux%u are needed (the "
-					   "protocol excludes a %d-pixel border)", views[0].width,
-				views[0].height, 2 * PC_EVAL_BORDER + 2, 2 * PC_EVAL_BORDER + 2,
-				PC_EVAL_BORDER);
+		return pc_error(PC_EINVAL,
+		                "analyser images of %ux%u: at least %ux%u are needed (the "
+		                "protocol excludes a %d-pixel border)",
+		                views[0].width, views[0].height, 2 * PC_EVAL_BORDER + 2,
+		                2 * PC_EVAL_BORDER + 2, PC_EVAL_BORDER);
 	size_t n = (size_t)t->width * t->height;
 	float *row = malloc(sizeof(float) * views[0].width);
 	if (!row)
@@ -62,7 +65,8 @@ int pc_eval_truth_from_views(const pc_view views[4], pc_eval_truth *t)
 		if (!t->ch[c]) {
 			free(row);
 			pc_eval_truth_free(t);
-			return pc_error(PC_ENOMEM, "evaluation truth of %ux%u", t->width, t->height);
+			return pc_error(PC_ENOMEM, "evaluation truth of %ux%u", t->width,
+			                t->height);
 		}
 		for (uint32_t y = 0; y < t->height; y++) {
 			pc_view r = views[c];
@@ -90,7 +94,7 @@ int pc_eval_mosaic(const pc_eval_truth *t, const pc_mosaic *m, pc_view *raw)
 	for (uint32_t y = 0; y < t->height; y++)
 		for (uint32_t x = 0; x < t->width; x++) {
 			double v = t->ch[pc_mosaic_channel(m, x, y)][(size_t)y * t->width + x] *
-				   t->full_scale;
+			           t->full_scale;
 			if (t->format == PC_FMT_MONO8)
 				PC_ROW(raw, uint8_t, y)[x] = (uint8_t)lround(v);
 			else if (t->format == PC_FMT_MONO16)
@@ -118,7 +122,7 @@ static void stokes(const double I[4], double s[5])
 }
 
 int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_scale,
-		  pc_eval_metrics *out)
+                  pc_eval_metrics *out)
 {
 	memset(out, 0, sizeof *out);
 	if (!(est_scale > 0))
@@ -126,8 +130,8 @@ int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_sca
 	const uint32_t b = PC_EVAL_BORDER;
 	if (t->width <= 2 * b || t->height <= 2 * b)
 		return pc_error(PC_EINVAL, "evaluation: image %ux%u smaller than its border",
-				t->width, t->height);
-	double sse_i[4] = { 0 }, sse_s[3] = { 0 }, sse_d = 0, a2 = 0, wa2 = 0, wsum = 0;
+		                t->width, t->height);
+	double sse_i[4] = {0}, sse_s[3] = {0}, sse_d = 0, a2 = 0, wa2 = 0, wsum = 0;
 	double n = 0;
 	for (uint32_t y = b; y < t->height - b; y++)
 		for (uint32_t x = b; x < t->width - b; x++) {
@@ -136,13 +140,14 @@ int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_sca
 			for (int c = 0; c < 4; c++) {
 				It[c] = t->ch[c][i];
 				Ie[c] = est[c].data[(size_t)y * est[c].row_stride +
-						    (size_t)x * est[c].pixel_stride] /
-					est_scale;
+				                    (size_t)x * est[c].pixel_stride] /
+				        est_scale;
 				sse_i[c] += (Ie[c] - It[c]) * (Ie[c] - It[c]);
 			}
 			stokes(It, st);
 			stokes(Ie, se);
-			/* S0/2, (S1+1)/2, (S2+1)/2: differences are halves of the Stokes differences */
+			/* S0/2, (S1+1)/2, (S2+1)/2: differences are halves of the Stokes
+			 * differences */
 			for (int k = 0; k < 3; k++)
 				sse_s[k] += 0.25 * (se[k] - st[k]) * (se[k] - st[k]);
 			sse_d += (se[3] - st[3]) * (se[3] - st[3]);
@@ -170,28 +175,25 @@ int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_sca
 	return 0;
 }
 
-int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
-		   const pc_demosaic_opts *opts, pc_eval_metrics *out)
+int pc_eval_method_raw(const pc_eval_truth *t, const pc_view *raw, const pc_mosaic *m,
+                       pc_demosaic_method method, const pc_demosaic_opts *opts,
+                       pc_eval_metrics *out)
 {
-	pc_mosaic m = pc_mosaic_imx250mzr();
-	pc_view raw;
-	int rc = pc_eval_mosaic(t, &m, &raw);
-	if (rc)
-		return rc;
+	if (raw->width != t->width || raw->height != t->height)
+		return pc_error(PC_EINVAL, "evaluation: raw %ux%u, truth %ux%u: sizes differ",
+		                raw->width, raw->height, t->width, t->height);
 	uint32_t ow, oh;
 	pc_demosaic_out_size(method, t->width, t->height, &ow, &oh);
 	float *buf = malloc(sizeof(float) * ow * oh * 4);
 	float *full = NULL;
-	if (!buf) {
-		pc_view_free(&raw);
+	if (!buf)
 		return pc_error(PC_ENOMEM, "evaluation: demosaicked images");
-	}
 	pc_fplane est[4];
 	pc_fplanes_separate(buf, ow, oh, 4, est);
-	pc_demosaic_opts o = opts ? *opts : (pc_demosaic_opts){ 0, false, 0 };
+	pc_demosaic_opts o = opts ? *opts : (pc_demosaic_opts){0, false, 0};
 	if (!(o.full_scale > 0))
 		o.full_scale = t->full_scale;
-	rc = pc_demosaic(&raw, &m, method, &o, est);
+	int rc = pc_demosaic(raw, m, method, &o, est);
 	if (!rc && (ow != t->width || oh != t->height)) {
 		/* half resolution: replicate each super-pixel over its 2×2 block */
 		full = malloc(sizeof(float) * t->width * t->height * 4);
@@ -204,7 +206,7 @@ int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
 				for (uint32_t y = 0; y < t->height; y++)
 					for (uint32_t x = 0; x < t->width; x++)
 						rep[c].data[(size_t)y * t->width + x] =
-							est[c].data[(size_t)(y / 2) * ow + x / 2];
+						    est[c].data[(size_t)(y / 2) * ow + x / 2];
 			memcpy(est, rep, sizeof rep);
 		}
 	}
@@ -212,6 +214,18 @@ int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
 		rc = pc_eval_score(t, est, t->full_scale, out);
 	free(full);
 	free(buf);
+	return rc;
+}
+
+int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method, const pc_demosaic_opts *opts,
+                   pc_eval_metrics *out)
+{
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	pc_view raw;
+	int rc = pc_eval_mosaic(t, &m, &raw);
+	if (rc)
+		return rc;
+	rc = pc_eval_method_raw(t, &raw, &m, method, opts, out);
 	pc_view_free(&raw);
 	return rc;
 }
@@ -240,10 +254,10 @@ static double aolp_diff(double a, double b)
 }
 
 void pc_eval_truth_planes(const float *ts, size_t n, double scale, float *s0, float *dolp,
-			  float *aolp)
+                          float *aolp)
 {
 	for (size_t i = 0; i < n; i++) {
-		const double S[4] = { ts[4 * i], ts[4 * i + 1], ts[4 * i + 2], 0 };
+		const double S[4] = {ts[4 * i], ts[4 * i + 1], ts[4 * i + 2], 0};
 		s0[i] = (float)(S[0] * scale);
 		dolp[i] = (float)fmin(1, pc_stokes_dolp(S));
 		aolp[i] = (float)pc_stokes_aolp_rad(S);
@@ -251,8 +265,8 @@ void pc_eval_truth_planes(const float *ts, size_t n, double scale, float *s0, fl
 }
 
 int pc_eval_stokes(const float *s0, const float *dolp, const float *aolp, const float *t_s0,
-		   const float *t_dolp, const float *t_aolp, uint32_t W, uint32_t H, double full,
-		   pc_eval_stokes_metrics *acc)
+                   const float *t_dolp, const float *t_aolp, uint32_t W, uint32_t H, double full,
+                   pc_eval_stokes_metrics *acc)
 {
 	memset(acc, 0, sizeof *acc);
 	double se = 0, sb = 0, sd = 0, sa = 0, sw = 0;
@@ -288,7 +302,7 @@ int pc_eval_stokes(const float *s0, const float *dolp, const float *aolp, const 
 }
 
 double pc_eval_median_abs_err(const float *est, const float *truth, const float *w, size_t n,
-			      double wmin, bool angle_pi, long *used)
+                              double wmin, bool angle_pi, long *used)
 {
 	double *v = malloc(sizeof(double) * (n ? n : 1));
 	size_t k = 0;

@@ -19,7 +19,7 @@ typedef struct quantities {
 
 const char *pc_verdict_name(pc_verdict v)
 {
-	static const char *const names[] = { "does not reproduce", "reproduces", "partly" };
+	static const char *const names[] = {"does not reproduce", "reproduces", "partly"};
 	return v >= PC_VERDICT_NO && v <= PC_VERDICT_PARTLY ? names[v] : "?";
 }
 
@@ -30,7 +30,7 @@ typedef struct claims {
 } claims;
 
 static void claim(claims *r, int fig, const char *text, pc_verdict v, pc_verdict vp,
-		  const char *evidence)
+                  const char *evidence)
 {
 	if (r->n >= r->max)
 		return;
@@ -164,8 +164,8 @@ static pc_verdict c_interior(const pc_figure *F, int sign, bool printed, char *e
 	return all_any(good, F->nc);
 }
 
-static pc_verdict c_monotone(const pc_figure *F, double x0, double x1, int sign, bool printed, char *ev,
-                          size_t evn)
+static pc_verdict c_monotone(const pc_figure *F, double x0, double x1, int sign, bool printed,
+                             char *ev, size_t evn)
 {
 	int good = 0, i0 = xi(F, x0), i1 = xi(F, x1);
 	size_t o = 0;
@@ -184,8 +184,8 @@ static pc_verdict c_monotone(const pc_figure *F, double x0, double x1, int sign,
 
 /* "a larger curve parameter gives a larger (sign +1) or smaller (−1) value" on [x0, x1]: the
  * curves are ordered at every point of the range. */
-static pc_verdict c_ordered(const pc_figure *F, double x0, double x1, int sign, bool printed, char *ev,
-                         size_t evn)
+static pc_verdict c_ordered(const pc_figure *F, double x0, double x1, int sign, bool printed,
+                            char *ev, size_t evn)
 {
 	int i0 = xi(F, x0), i1 = xi(F, x1), good = 0, n = 0;
 	for (int i = i0; i <= i1; i++) {
@@ -478,7 +478,8 @@ static void check_claims(const pc_figure *figs, claims *r)
 		    "largest difference of R between sigma = 0.2, 0.5, 0.7: %.2e rad (in-plane R "
 		    "is arg(r_s/r_p) at beta = (theta_i + theta_r)/2 for every sigma)",
 		    worst);
-		claim(r, 10, "R vs theta_i does not depend on sigma", worst < 1e-9 ? PC_VERDICT_YES : PC_VERDICT_NO,
+		claim(r, 10, "R vs theta_i does not depend on sigma",
+		      worst < 1e-9 ? PC_VERDICT_YES : PC_VERDICT_NO,
 		      worstp < 1e-9 ? PC_VERDICT_YES : PC_VERDICT_NO, ev);
 	}
 	F = &figs[11];
@@ -492,7 +493,7 @@ static void check_claims(const pc_figure *figs, claims *r)
 
 size_t pc_figures_check(const pc_figure figs[12], pc_figure_claim *out, size_t max)
 {
-	claims r = { out, 0, max };
+	claims r = {out, 0, max};
 	check_claims(figs, &r);
 	return r.n;
 }

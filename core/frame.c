@@ -13,10 +13,11 @@ int pc_view_check(const pc_view *v)
 		return pc_error(PC_EINVAL, "view missing");
 	const pc_format_info *fi = pc_format_info_get(v->format);
 	if (!fi)
-		return pc_error(PC_EINVAL, "view format %d: not a known pixel format", (int)v->format);
+		return pc_error(PC_EINVAL, "view format %d: not a known pixel format",
+		                (int)v->format);
 	if (v->width == 0 || v->height == 0)
-		return pc_error(PC_EINVAL, "view size %ux%u: width and height must be > 0", v->width,
-				v->height);
+		return pc_error(PC_EINVAL, "view size %ux%u: width and height must be > 0",
+		                v->width, v->height);
 	if (!v->data)
 		return pc_error(PC_EINVAL, "view data pointer is NULL");
 	size_t row;
@@ -24,11 +25,11 @@ int pc_view_check(const pc_view *v)
 	if (rc)
 		return rc;
 	if (v->stride < row)
-		return pc_error(PC_EINVAL, "view stride %zu bytes: a %u-pixel %s row needs %zu", v->stride,
-				v->width, fi->name, row);
+		return pc_error(PC_EINVAL, "view stride %zu bytes: a %u-pixel %s row needs %zu",
+		                v->stride, v->width, fi->name, row);
 	if (v->stride > SIZE_MAX / v->height)
-		return pc_error(PC_EOVERFLOW, "view %ux%u stride %zu: size overflows", v->width, v->height,
-				v->stride);
+		return pc_error(PC_EOVERFLOW, "view %ux%u stride %zu: size overflows", v->width,
+		                v->height, v->stride);
 	return 0;
 }
 
@@ -49,7 +50,8 @@ int pc_view_alloc(pc_view *v, pc_pixfmt fmt, uint32_t width, uint32_t height, si
 	size_t bytes = stride * height;
 	void *p = aligned_alloc(64, (bytes + 63) / 64 * 64);
 	if (!p)
-		return pc_error(PC_ENOMEM, "image %ux%u: cannot allocate %zu bytes", width, height, bytes);
+		return pc_error(PC_ENOMEM, "image %ux%u: cannot allocate %zu bytes", width, height,
+		                bytes);
 	v->data = p;
 	v->width = width;
 	v->height = height;
@@ -73,16 +75,17 @@ int pc_view_crop(const pc_view *v, uint32_t x0, uint32_t y0, uint32_t w, uint32_
 		return rc;
 	const pc_format_info *fi = pc_format_info_get(v->format);
 	if (fi->packing != PC_PACK_NONE && (x0 % fi->group_pixels || w % fi->group_pixels))
-		return pc_error(PC_ENOTSUP, "crop of packed format %s at x = %u, width %u: a packed "
-					    "crop must start and end on %u-pixel groups (unpack first)",
-				fi->name, x0, w, fi->group_pixels);
+		return pc_error(PC_ENOTSUP,
+		                "crop of packed format %s at x = %u, width %u: a packed "
+		                "crop must start and end on %u-pixel groups (unpack first)",
+		                fi->name, x0, w, fi->group_pixels);
 	if (w == 0 || h == 0 || x0 > v->width || y0 > v->height || w > v->width - x0 ||
 	    h > v->height - y0)
-		return pc_error(PC_ERANGE, "crop %ux%u at (%u,%u) does not fit in %ux%u", w, h, x0, y0,
-				v->width, v->height);
+		return pc_error(PC_ERANGE, "crop %ux%u at (%u,%u) does not fit in %ux%u", w, h, x0,
+		                y0, v->width, v->height);
 	*out = *v;
 	out->data = (uint8_t *)v->data + (size_t)y0 * v->stride +
-		    (size_t)(x0 / fi->group_pixels) * fi->group_bytes;
+	            (size_t)(x0 / fi->group_pixels) * fi->group_bytes;
 	out->width = w;
 	out->height = h;
 	return 0;
@@ -91,7 +94,8 @@ int pc_view_crop(const pc_view *v, uint32_t x0, uint32_t y0, uint32_t w, uint32_
 void *pc_view_row_checked(const pc_view *v, uint32_t y, const char *file, int line)
 {
 	if (y >= v->height) {
-		fprintf(stderr, "%s:%d: row %u outside a view of height %u\n", file, line, y, v->height);
+		fprintf(stderr, "%s:%d: row %u outside a view of height %u\n", file, line, y,
+		        v->height);
 		abort();
 	}
 	return pc_view_row_unchecked(v, y);
@@ -116,7 +120,7 @@ static void unpack_row(pc_pixfmt fmt, const uint8_t *s, uint16_t *d, uint32_t n)
 	case PC_FMT_MONO10P: /* LSB-first stream, 4 px in 5 bytes */
 		for (x = 0; x < n; x += 4, s += 5) {
 			uint64_t b = (uint64_t)s[0] | (uint64_t)s[1] << 8 | (uint64_t)s[2] << 16 |
-				     (uint64_t)s[3] << 24 | (uint64_t)s[4] << 32;
+			             (uint64_t)s[3] << 24 | (uint64_t)s[4] << 32;
 			for (int k = 0; k < 4; k++)
 				d[x + k] = (uint16_t)((b >> (10 * k)) & 0x3ff);
 		}
@@ -288,7 +292,7 @@ int pc_view_to_u16(const pc_view *src, uint16_t *dst, size_t dst_stride)
 		return pc_error(PC_EFORMAT, "float32 image: expected integer raw data");
 	if (dst_stride < (size_t)src->width * 2)
 		return pc_error(PC_EINVAL, "destination stride %zu: needs %zu bytes", dst_stride,
-				(size_t)src->width * 2);
+		                (size_t)src->width * 2);
 	uint16_t maxv = (uint16_t)((1u << fi->bits) - 1u);
 	for (uint32_t y = 0; y < src->height; y++) {
 		uint16_t *d = (uint16_t *)((uint8_t *)dst + (size_t)y * dst_stride);
@@ -296,9 +300,11 @@ int pc_view_to_u16(const pc_view *src, uint16_t *dst, size_t dst_stride)
 		if (fi->bits < 16 && fi->packing == PC_PACK_NONE && fi->bits > 8)
 			for (uint32_t x = 0; x < src->width; x++)
 				if (d[x] > maxv)
-					return pc_error(PC_ERANGE, "pixel (%u,%u) = %u: above the %u-bit range "
-								   "(max %u) of %s", x, y, d[x], fi->bits,
-							maxv, fi->name);
+					return pc_error(
+					    PC_ERANGE,
+					    "pixel (%u,%u) = %u: above the %u-bit range "
+					    "(max %u) of %s",
+					    x, y, d[x], fi->bits, maxv, fi->name);
 	}
 	return 0;
 }
@@ -310,7 +316,7 @@ int pc_view_to_f32(const pc_view *src, float *dst, size_t dst_stride)
 		return rc;
 	if (dst_stride < (size_t)src->width * 4)
 		return pc_error(PC_EINVAL, "destination stride %zu: needs %zu bytes", dst_stride,
-				(size_t)src->width * 4);
+		                (size_t)src->width * 4);
 	const pc_format_info *fi = pc_format_info_get(src->format);
 	if (fi->is_float) {
 		for (uint32_t y = 0; y < src->height; y++) {
@@ -318,8 +324,10 @@ int pc_view_to_f32(const pc_view *src, float *dst, size_t dst_stride)
 			float *d = (float *)((uint8_t *)dst + (size_t)y * dst_stride);
 			for (uint32_t x = 0; x < src->width; x++) {
 				if (!isfinite(s[x]))
-					return pc_error(PC_ERANGE, "pixel (%u,%u) is %s: expected a finite value",
-							x, y, isnan(s[x]) ? "NaN" : "infinite");
+					return pc_error(
+					    PC_ERANGE,
+					    "pixel (%u,%u) is %s: expected a finite value", x, y,
+					    isnan(s[x]) ? "NaN" : "infinite");
 				d[x] = s[x];
 			}
 		}
@@ -336,8 +344,9 @@ int pc_view_to_f32(const pc_view *src, float *dst, size_t dst_stride)
 			if (fi->bits < 16 && tmp[x] > maxv) {
 				unsigned v = tmp[x];
 				free(tmp);
-				return pc_error(PC_ERANGE, "pixel (%u,%u) = %u: above the %u-bit range of %s",
-						x, y, v, fi->bits, fi->name);
+				return pc_error(PC_ERANGE,
+				                "pixel (%u,%u) = %u: above the %u-bit range of %s",
+				                x, y, v, fi->bits, fi->name);
 			}
 			d[x] = (float)tmp[x];
 		}
@@ -356,11 +365,13 @@ int pc_view_from_u16(const uint16_t *src, size_t src_stride, pc_view *dst)
 		return pc_error(PC_EFORMAT, "float32 destination: expected an integer format");
 	uint32_t maxv = (1u << fi->bits) - 1u;
 	for (uint32_t y = 0; y < dst->height; y++) {
-		const uint16_t *s = (const uint16_t *)((const uint8_t *)src + (size_t)y * src_stride);
+		const uint16_t *s =
+		    (const uint16_t *)((const uint8_t *)src + (size_t)y * src_stride);
 		for (uint32_t x = 0; x < dst->width; x++)
 			if (s[x] > maxv)
-				return pc_error(PC_ERANGE, "pixel (%u,%u) = %u: above the %u-bit range of %s",
-						x, y, s[x], fi->bits, fi->name);
+				return pc_error(PC_ERANGE,
+				                "pixel (%u,%u) = %u: above the %u-bit range of %s",
+				                x, y, s[x], fi->bits, fi->name);
 		pack_row(dst->format, s, PC_ROW(dst, uint8_t, y), dst->width);
 	}
 	return 0;
@@ -377,15 +388,21 @@ int pc_view_check_bits(const pc_view *v, unsigned bits)
 			const float *r = PC_ROW(v, const float, y);
 			for (uint32_t x = 0; x < v->width; x++)
 				if (!isfinite(r[x]))
-					return pc_error(PC_ERANGE, "pixel (%u,%u) is %s: expected a finite "
-								   "value", x, y,
-							isnan(r[x]) ? "NaN" : "infinite");
+					return pc_error(PC_ERANGE,
+					                "pixel (%u,%u) is %s: expected a finite "
+					                "value",
+					                x, y, isnan(r[x]) ? "NaN" : "infinite");
 		}
 		return 0;
 	}
 	if (bits == 0 || bits > 16)
 		return pc_error(PC_EINVAL, "%u significant bits: expected 1..16", bits);
-	if (bits >= fi->bits)
+	/* what the container can hold: packed samples have exactly fi->bits, but Mono10/12/14
+	 * are LSB-aligned in 16 bits and can hold more than their name says (a headerless raw
+	 * read as Mono12 may carry 55245) */
+	const unsigned capacity =
+	    fi->packing == PC_PACK_NONE ? 8 * fi->group_bytes / fi->group_pixels : fi->bits;
+	if (bits >= capacity)
 		return 0; /* the container cannot hold more */
 	uint32_t maxv = (1u << bits) - 1u;
 	if (v->format == PC_FMT_MONO8) {
@@ -393,8 +410,10 @@ int pc_view_check_bits(const pc_view *v, unsigned bits)
 			const uint8_t *r = PC_ROW(v, const uint8_t, y);
 			for (uint32_t x = 0; x < v->width; x++)
 				if (r[x] > maxv)
-					return pc_error(PC_ERANGE, "pixel (%u,%u) = %u: above the %u-bit "
-								   "range (max %u)", x, y, r[x], bits, maxv);
+					return pc_error(PC_ERANGE,
+					                "pixel (%u,%u) = %u: above the %u-bit "
+					                "range (max %u)",
+					                x, y, r[x], bits, maxv);
 		}
 		return 0;
 	}
@@ -407,8 +426,10 @@ int pc_view_check_bits(const pc_view *v, unsigned bits)
 			if (tmp[x] > maxv) {
 				unsigned val = tmp[x];
 				free(tmp);
-				return pc_error(PC_ERANGE, "pixel (%u,%u) = %u: above the %u-bit range "
-							   "(max %u)", x, y, val, bits, maxv);
+				return pc_error(PC_ERANGE,
+				                "pixel (%u,%u) = %u: above the %u-bit range "
+				                "(max %u)",
+				                x, y, val, bits, maxv);
 			}
 	}
 	free(tmp);
@@ -416,7 +437,7 @@ int pc_view_check_bits(const pc_view *v, unsigned bits)
 }
 
 int pc_frame_crop(const pc_frame *f, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
-		  pc_frame *out)
+                  pc_frame *out)
 {
 	if (!f || !out)
 		return pc_error(PC_EINVAL, "frame missing");
@@ -443,9 +464,10 @@ int pc_view_flip(const pc_view *src, int flip_x, int flip_y, pc_view *dst)
 	if (fi->packing != PC_PACK_NONE)
 		return pc_error(PC_ENOTSUP, "flip of packed format %s: unpack first", fi->name);
 	if (dst->format != src->format || dst->width != src->width || dst->height != src->height)
-		return pc_error(PC_EINVAL, "flip: destination %ux%u %s differs from source %ux%u %s",
-				dst->width, dst->height, pc_format_info_get(dst->format)->name,
-				src->width, src->height, fi->name);
+		return pc_error(PC_EINVAL,
+		                "flip: destination %ux%u %s differs from source %ux%u %s",
+		                dst->width, dst->height, pc_format_info_get(dst->format)->name,
+		                src->width, src->height, fi->name);
 	if (dst->data == src->data)
 		return pc_error(PC_EINVAL, "flip: in-place flips are not supported");
 	size_t bpp = fi->group_bytes;

@@ -16,10 +16,10 @@
  * Returns the rank and the condition number of the determined part; inv_gram = (XᵀX)⁺ and the
  * mask of determined coordinates (unit vectors inside the range). */
 static unsigned pinv_setup(const double *X, size_t ld, unsigned n, double inv_gram[4][4],
-			   double *cond, unsigned *mask)
+                           double *cond, unsigned *mask)
 {
 	static const double zero[4][4];
-	double S[4][4] = { { 0 } }, e[4], V[4][4];
+	double S[4][4] = {{0}}, e[4], V[4][4];
 	for (unsigned r = 0; r < n; r++)
 		for (int i = 0; i < 4; i++)
 			for (int j = 0; j < 4; j++)
@@ -61,12 +61,14 @@ static unsigned pinv_setup(const double *X, size_t ld, unsigned n, double inv_gr
 }
 
 int pc_mueller_system_init(pc_mueller_system *s, unsigned n_psg, const double (*psg)[4],
-			   unsigned n_psa, const double (*psa)[4][4], const double (*analyser)[4])
+                           unsigned n_psa, const double (*psa)[4][4], const double (*analyser)[4])
 {
 	memset(s, 0, sizeof *s);
-	if (n_psg < 1 || n_psg > PC_MUELLER_MAX_STATES || n_psa < 1 || n_psa > PC_MUELLER_MAX_STATES)
-		return pc_error(PC_EINVAL, "%u generator and %u analyser states: each must be in [1, %d]",
-				n_psg, n_psa, PC_MUELLER_MAX_STATES);
+	if (n_psg < 1 || n_psg > PC_MUELLER_MAX_STATES || n_psa < 1 ||
+	    n_psa > PC_MUELLER_MAX_STATES)
+		return pc_error(PC_EINVAL,
+		                "%u generator and %u analyser states: each must be in [1, %d]",
+		                n_psg, n_psa, PC_MUELLER_MAX_STATES);
 	if (!psg)
 		return pc_error(PC_EINVAL, "generator states missing");
 	if (!psa && n_psa != 1)
@@ -85,8 +87,9 @@ int pc_mueller_system_init(pc_mueller_system *s, unsigned n_psg, const double (*
 	for (unsigned g = 0; g < n_psg; g++)
 		for (int i = 0; i < 4; i++) {
 			if (!isfinite(psg[g][i]))
-				return pc_error(PC_EINVAL, "generator state %u: non-finite Stokes element %d",
-						g, i);
+				return pc_error(PC_EINVAL,
+				                "generator state %u: non-finite Stokes element %d",
+				                g, i);
 			s->G[i][g] = psg[g][i];
 		}
 	for (unsigned a = 0; a < n_psa; a++)
@@ -96,8 +99,10 @@ int pc_mueller_system_init(pc_mueller_system *s, unsigned n_psg, const double (*
 				for (int k = 0; k < 4; k++) {
 					double p = psa ? psa[a][k][j] : (k == j);
 					if (!isfinite(p) || !isfinite(w[c][k]))
-						return pc_error(PC_EINVAL, "analyser state %u: non-finite "
-									   "element", a);
+						return pc_error(PC_EINVAL,
+						                "analyser state %u: non-finite "
+						                "element",
+						                a);
 					v += w[c][k] * p;
 				}
 				s->A[4 * a + (unsigned)c][j] = v;
@@ -112,12 +117,15 @@ int pc_mueller_system_init(pc_mueller_system *s, unsigned n_psg, const double (*
 	s->rank_A = pinv_setup(&s->A[0][0], 4, 4 * n_psa, iA, &s->cond_A, &mA);
 	s->rank_G = pinv_setup(&Gt[0][0], 4, n_psg, iG, &s->cond_G, &mG);
 	if (s->rank_A < 3)
-		return pc_error(PC_ENUMERIC, "the analyser states have rank %u: at least 3 needed "
-					     "(the 4 mosaic channels alone give 3)", s->rank_A);
+		return pc_error(PC_ENUMERIC,
+		                "the analyser states have rank %u: at least 3 needed "
+		                "(the 4 mosaic channels alone give 3)",
+		                s->rank_A);
 	if (s->rank_G < 3)
-		return pc_error(PC_ENUMERIC, "the %u generator states have rank %u: at least 3 "
-					     "linearly independent Stokes vectors are needed", n_psg,
-				s->rank_G);
+		return pc_error(PC_ENUMERIC,
+		                "the %u generator states have rank %u: at least 3 "
+		                "linearly independent Stokes vectors are needed",
+		                n_psg, s->rank_G);
 	s->cond_W = s->cond_A * s->cond_G;
 	/* A⁺ = (AᵀA)⁺Aᵀ (4 × 4n_psa); G⁺ = Gᵀ(GGᵀ)⁺ (n_psg × 4) */
 	for (int i = 0; i < 4; i++)
@@ -189,31 +197,31 @@ static void acc_rows(void *ctx, uint32_t y0, uint32_t y1)
 			float I3 = p[3][(size_t)x * a->ch[3].pixel_stride];
 			for (int kl = 0; kl < 16; kl++)
 				m[kl] += a->coef[0][kl] * I0 + a->coef[1][kl] * I1 +
-					 a->coef[2][kl] * I2 + a->coef[3][kl] * I3;
+				         a->coef[2][kl] * I2 + a->coef[3][kl] * I3;
 		}
 	}
 }
 
 int pc_mueller_accumulate(const pc_mueller_system *s, unsigned frame, const pc_fplane ch[4],
-			  uint32_t width, uint32_t height, int threads, float *M)
+                          uint32_t width, uint32_t height, int threads, float *M)
 {
 	if (frame >= s->n_psg * s->n_psa)
 		return pc_error(PC_EINVAL, "frame %u: the sequence has %u frames", frame,
-				s->n_psg * s->n_psa);
+		                s->n_psg * s->n_psa);
 	for (int c = 0; c < 4; c++)
 		if (!ch[c].data)
 			return pc_error(PC_EINVAL, "frame %u: analyser image %d missing", frame, c);
 	if (!M || width == 0 || height == 0)
 		return pc_error(PC_EINVAL, "empty Mueller image");
 	unsigned g = frame % s->n_psg, a = frame / s->n_psg;
-	acc_ctx ctx = { ch, width, M, { { 0 } } };
+	acc_ctx ctx = {ch, width, M, {{0}}};
 	for (int c = 0; c < 4; c++)
 		for (int k = 0; k < 4; k++)
 			for (int l = 0; l < 4; l++)
 				ctx.coef[c][4 * k + l] =
-					(s->determined >> (4 * k + l) & 1)
-						? (float)(s->Ap[k][4 * a + (unsigned)c] * s->Gp[g][l])
-						: 0.0f;
+				    (s->determined >> (4 * k + l) & 1)
+				        ? (float)(s->Ap[k][4 * a + (unsigned)c] * s->Gp[g][l])
+				        : 0.0f;
 	pc_parallel_rows(height, 0, threads, acc_rows, &ctx);
 	return 0;
 }
@@ -253,10 +261,10 @@ static double cmag(double re, double im)
 static void rb_project(const double cz[4][2], double al, double ga, double p[4], double q[4])
 {
 	const double ca = cos(al), sa = sin(al), cg = cos(ga), sg = sin(ga);
-	const double e[4][2] = { { ca, sa },
-				 { cg, sg },
-				 { ca * cg + sa * sg, sa * cg - ca * sg },
-				 { ca * cg - sa * sg, sa * cg + ca * sg } };
+	const double e[4][2] = {{ca, sa},
+	                        {cg, sg},
+	                        {ca * cg + sa * sg, sa * cg - ca * sg},
+	                        {ca * cg - sa * sg, sa * cg + ca * sg}};
 	for (int j = 0; j < 4; j++) {
 		p[j] = cz[j][0] * e[j][0] + cz[j][1] * e[j][1];
 		q[j] = cz[j][1] * e[j][0] - cz[j][0] * e[j][1];
@@ -268,7 +276,7 @@ static void rb_project(const double cz[4][2], double al, double ga, double p[4],
  * G = (p1 + p2)²/2 + 2p3² + 2p4². Returns G and its gradient and Hessian in (α, γ)
  * (∂p_j/∂θ_j = q_j, ∂q_j/∂θ_j = −p_j). */
 static double rb_objective(const double cz[4][2], double al, double ga, double grad[2],
-			   double hess[3])
+                           double hess[3])
 {
 	double p[4], q[4];
 	rb_project(cz, al, ga, p, q);
@@ -298,7 +306,7 @@ static void rb_flip(const double p[4], int fa, int fg, double pf[4])
 static double rb_misfit(const double cz[4][2], const double p[4])
 {
 	const double b = fmax(0, 0.5 * (p[0] + p[1]));
-	const double m[4] = { b, b, fmax(0, p[2]), fmax(0, p[3]) };
+	const double m[4] = {b, b, fmax(0, p[2]), fmax(0, p[3])};
 	double f = 0;
 	for (int j = 0; j < 4; j++)
 		f += (j < 2 ? 1 : 2) *
@@ -369,21 +377,21 @@ static double rb_refine(const double cz[4][2], double a0, double g0, double *al,
 }
 
 int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, double tol,
-				   double M[4][4], pc_rebuild_info *info)
+                                   double M[4][4], pc_rebuild_info *info)
 {
 	pc_rebuild_info tmp;
 	pc_rebuild_info *in = info ? info : &tmp;
 	memset(in, 0, sizeof *in);
 	if (sign != PC_REBUILD_CONVENTION && sign != PC_REBUILD_PLUS && sign != PC_REBUILD_MINUS)
 		return pc_error(PC_EINVAL, "rebuild sign %d: expected convention, plus or minus",
-				(int)sign);
+		                (int)sign);
 	if (!(tol >= 0) || !isfinite(tol))
 		return pc_error(PC_EINVAL, "rebuild tolerance %g: must be finite and ≥ 0", tol);
 	for (int k = 0; k < 3; k++)
 		for (int l = 0; l < 3; l++)
 			if (!isfinite(N[k][l]))
-				return pc_error(PC_EINVAL, "linear block element (%d, %d) is not finite",
-						k, l);
+				return pc_error(
+				    PC_EINVAL, "linear block element (%d, %d) is not finite", k, l);
 	for (int k = 0; k < 4; k++)
 		for (int l = 0; l < 4; l++)
 			M[k][l] = k < 3 && l < 3 ? N[k][l] : NAN;
@@ -403,7 +411,7 @@ int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, d
 	const double zc_re = 0.5 * (n[1][1] + n[2][2]), zc_im = -0.5 * (n[1][2] - n[2][1]);
 	const double za_re = 0.5 * (n[1][1] - n[2][2]), za_im = 0.5 * (n[1][2] + n[2][1]);
 
-	const double cz[4][2] = { { c_re, c_im }, { r_re, r_im }, { zc_re, zc_im }, { za_re, za_im } };
+	const double cz[4][2] = {{c_re, c_im}, {r_re, r_im}, {zc_re, zc_im}, {za_re, za_im}};
 	/* Starting angles. (1) 2α from c² and z_c z_a, 2γ from r² and z_a z̄_c: both terms of each
 	 * pair have the phase 2α (2γ) in the model, so any positive weighting is exact for members
 	 * of the family; the factor 4 weights them like their shares of the Frobenius misfit
@@ -445,8 +453,9 @@ int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, d
 		/* starts that coincide modulo π (always, for members of the family) run once */
 		bool seen = false;
 		for (int q = 0; q < st; q++)
-			seen = seen || (fabs(remainder(starts[st][0] - starts[q][0], PC_PI)) < 1e-9 &&
-					fabs(remainder(starts[st][1] - starts[q][1], PC_PI)) < 1e-9);
+			seen =
+			    seen || (fabs(remainder(starts[st][0] - starts[q][0], PC_PI)) < 1e-9 &&
+			             fabs(remainder(starts[st][1] - starts[q][1], PC_PI)) < 1e-9);
 		if (seen)
 			continue;
 		double a = 0, g = 0;
@@ -466,7 +475,7 @@ int pc_mueller_rebuild_from_linear(const double N[3][3], pc_rebuild_sign sign, d
 	double rho_a = fmax(0, za_re * cs + za_im * ss);
 	double A = rho_c + rho_a, C = rho_c - rho_a, d = 1 - A;
 	/* the misfit, entry by entry (the complex form above is the same sum) */
-	double u[2] = { ca, sa }, v[2] = { -sa, ca }, w[2] = { cg, sg }, z[2] = { -sg, cg };
+	double u[2] = {ca, sa}, v[2] = {-sa, ca}, w[2] = {cg, sg}, z[2] = {-sg, cg};
 	double fit[3][3];
 	fit[0][0] = 1;
 	for (int k = 0; k < 2; k++) {
@@ -526,15 +535,19 @@ int pc_rebuild_sign_from_name(const char *name, pc_rebuild_sign *out)
 	static const struct {
 		const char *name;
 		pc_rebuild_sign sign;
-	} tab[] = { { "convention", PC_REBUILD_CONVENTION }, { "+", PC_REBUILD_PLUS },
-		    { "plus", PC_REBUILD_PLUS },             { "-", PC_REBUILD_MINUS },
-		    { "minus", PC_REBUILD_MINUS },           { "off", PC_REBUILD_OFF } };
+	} tab[] = {{"convention", PC_REBUILD_CONVENTION},
+	           {"+", PC_REBUILD_PLUS},
+	           {"plus", PC_REBUILD_PLUS},
+	           {"-", PC_REBUILD_MINUS},
+	           {"minus", PC_REBUILD_MINUS},
+	           {"off", PC_REBUILD_OFF}};
 	for (size_t i = 0; name && i < sizeof tab / sizeof tab[0]; i++)
 		if (!strcmp(name, tab[i].name)) {
 			*out = tab[i].sign;
 			return 0;
 		}
-	return pc_error(PC_EINVAL, "'%s': expected convention, +, - or off", name ? name : "(null)");
+	return pc_error(PC_EINVAL, "'%s': expected convention, +, - or off",
+	                name ? name : "(null)");
 }
 
 const char *pc_rebuild_sign_name(pc_rebuild_sign sign)
@@ -560,7 +573,7 @@ typedef struct lc_ctx {
 	float *D, *R, *Delta, *residual;
 	uint32_t width;
 	unsigned determined;
-	const pc_rebuild_opts *rb; /* non-NULL: rebuild the circular entries from the 3×3 */
+	const pc_rebuild_opts *rb;       /* non-NULL: rebuild the circular entries from the 3×3 */
 	long singular, nonphysical, bad; /* counted per band, summed under a lock-free atomic */
 	long rb_rejected, rb_undefined;
 } lc_ctx;
@@ -583,8 +596,8 @@ static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 	long singular = 0, nonphys = 0, bad = 0, rejected = 0, undefined = 0;
 	double Mb[16 * CH], D[CH], R[CH], De[CH];
 	unsigned fl[CH];
-	const pc_lc_map out = { D, { NULL, NULL, NULL }, R, { NULL, NULL, NULL }, NULL, NULL,
-				De, NULL, fl };
+	const pc_lc_map out = {D, {NULL, NULL, NULL}, R, {NULL, NULL, NULL}, NULL, NULL, De, NULL,
+	                       fl};
 	for (uint32_t y = y0; y < y1; y++)
 		for (uint32_t x0 = 0; x0 < c->width; x0 += CH) {
 			size_t n = c->width - x0 < CH ? c->width - x0 : CH;
@@ -606,8 +619,8 @@ static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 					for (int k = 0; k < 3; k++)
 						for (int l = 0; l < 3; l++)
 							N[k][l] = m[4 * k + l];
-					if (pc_mueller_rebuild_from_linear(N, c->rb->sign, c->rb->tol, R4,
-									   &in)) {
+					if (pc_mueller_rebuild_from_linear(N, c->rb->sign,
+					                                   c->rb->tol, R4, &in)) {
 						in.flags = PC_RB_ZERO; /* non-finite input */
 						in.residual = NAN;
 						for (int k = 0; k < 4; k++)
@@ -618,11 +631,13 @@ static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 						c->residual[i0 + j] = (float)in.residual;
 					/* M00 ≤ 0 (background, shadow) is no rejection: nothing
 					 * was there to rebuild */
-					rejected += (in.flags & (PC_RB_INCONSISTENT | PC_RB_NONPHYSICAL)) != 0;
+					rejected += (in.flags &
+					             (PC_RB_INCONSISTENT | PC_RB_NONPHYSICAL)) != 0;
 					undefined += (in.flags & PC_RB_SIGN_UNDEFINED) != 0;
 					for (int k = 0; k < 4; k++)
 						for (int l = 0; l < 4; l++) {
-							Mb[16 * j + 4 * (size_t)k + (size_t)l] = R4[k][l];
+							Mb[16 * j + 4 * (size_t)k + (size_t)l] =
+							    R4[k][l];
 							if (mw && (k == 3 || l == 3))
 								mw[4 * k + l] = (float)R4[k][l];
 						}
@@ -645,7 +660,8 @@ static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 				c->R[i] = (float)R[j];
 				c->Delta[i] = (float)De[j];
 				singular += (fl[j] & (PC_LC_D_SINGULAR | PC_LC_ZERO_M00)) != 0;
-				/* not physical: rejected by the check, or M00 ≤ 0 (never checked) */
+				/* not physical: rejected by the check, or M00 ≤ 0 (never checked)
+				 */
 				nonphys += (fl[j] & (PC_LC_NONPHYSICAL | PC_LC_ZERO_M00)) != 0;
 			}
 		}
@@ -672,12 +688,12 @@ static void lc_rows(void *ctx, uint32_t y0, uint32_t y1)
 }
 
 void pc_mueller_maps_rebuild(float *M, uint32_t width, uint32_t height, unsigned determined,
-			     const pc_rebuild_opts *rb, int threads, float *D, float *R,
-			     float *Delta, float *residual, long counts[3], long rb_counts[2])
+                             const pc_rebuild_opts *rb, int threads, float *D, float *R,
+                             float *Delta, float *residual, long counts[3], long rb_counts[2])
 {
 	bool use = pc_mueller_rebuild_applies(rb, determined);
-	lc_ctx lc = { M, M, D, R, Delta, use ? residual : NULL, width, determined,
-		      use ? rb : NULL, 0, 0, 0, 0, 0 };
+	lc_ctx lc = {M, M, D, R, Delta, use ? residual : NULL, width, determined, use ? rb : NULL,
+	             0, 0, 0, 0, 0};
 	pc_parallel_rows(height, 0, threads, lc_rows, &lc);
 	if (counts) {
 		counts[0] = lc.singular;
@@ -691,9 +707,9 @@ void pc_mueller_maps_rebuild(float *M, uint32_t width, uint32_t height, unsigned
 }
 
 void pc_mueller_maps(const float *M, uint32_t width, uint32_t height, unsigned determined,
-		     int threads, float *D, float *R, float *Delta, long counts[3])
+                     int threads, float *D, float *R, float *Delta, long counts[3])
 {
-	lc_ctx lc = { M, NULL, D, R, Delta, NULL, width, determined, NULL, 0, 0, 0, 0, 0 };
+	lc_ctx lc = {M, NULL, D, R, Delta, NULL, width, determined, NULL, 0, 0, 0, 0, 0};
 	pc_parallel_rows(height, 0, threads, lc_rows, &lc);
 	if (counts) {
 		counts[0] = lc.singular;
@@ -707,7 +723,9 @@ void pc_mueller_result_free(pc_mueller_result *res)
 	free(res->M);
 	free(res->maps);
 	free(res->residual);
+	free(res->valid);
 	res->M = res->maps = res->residual = NULL;
+	res->valid = NULL;
 }
 
 struct pc_mueller_run {
@@ -717,10 +735,13 @@ struct pc_mueller_run {
 	unsigned next;         /* the frame expected next */
 	uint32_t W, H, ow, oh; /* raw and demosaicked size (from frame 0) */
 	float *M, *planes;
+	uint8_t *valid, *fvalid; /* over all frames, of the current frame (levels checked) */
+	double sat;              /* resolved from frame 0 */
+	long invalid;
 };
 
 int pc_mueller_run_new(const pc_mueller_system *sys, const pc_mosaic *mosaic,
-		       const pc_mueller_run_opts *opts, pc_mueller_run **out)
+                       const pc_mueller_run_opts *opts, pc_mueller_run **out)
 {
 	*out = NULL;
 	if (!sys || !mosaic || !opts)
@@ -728,8 +749,10 @@ int pc_mueller_run_new(const pc_mueller_system *sys, const pc_mosaic *mosaic,
 	if (mosaic->period != 2) {
 		char lay[64];
 		pc_mosaic_format(mosaic, lay, sizeof lay);
-		return pc_error(PC_EINVAL, "colour-polarization mosaics are not supported by Mueller "
-					   "imaging yet (layout %s)", lay);
+		return pc_error(PC_EINVAL,
+		                "colour-polarization mosaics are not supported by Mueller "
+		                "imaging yet (layout %s)",
+		                lay);
 	}
 	pc_mueller_run *r = calloc(1, sizeof *r);
 	if (!r)
@@ -747,6 +770,8 @@ void pc_mueller_run_free(pc_mueller_run *run)
 		return;
 	free(run->M);
 	free(run->planes);
+	free(run->valid);
+	free(run->fvalid);
 	free(run);
 }
 
@@ -754,8 +779,9 @@ int pc_mueller_run_add(pc_mueller_run *r, unsigned frame, const pc_view *raw)
 {
 	const unsigned nframes = r->sys.n_psg * r->sys.n_psa;
 	if (frame != r->next || frame >= nframes)
-		return pc_error(PC_EINVAL, "Mueller imaging: frame %u given, frame %u of %u expected",
-				frame, r->next, nframes);
+		return pc_error(PC_EINVAL,
+		                "Mueller imaging: frame %u given, frame %u of %u expected", frame,
+		                r->next, nframes);
 	if (frame == 0) {
 		r->W = raw->width;
 		r->H = raw->height;
@@ -764,16 +790,36 @@ int pc_mueller_run_add(pc_mueller_run *r, unsigned frame, const pc_view *raw)
 		r->planes = malloc((size_t)r->ow * r->oh * 4 * sizeof *r->planes);
 		if (!r->M || !r->planes)
 			return pc_error(PC_ENOMEM, "Mueller images of %ux%u", r->ow, r->oh);
+		const pc_format_info *fi = pc_format_info_get(raw->format);
+		r->sat = r->o.saturation_level > 0 ? r->o.saturation_level
+		         : r->o.saturation_level < 0 || !fi || fi->is_float
+		             ? 0
+		             : (double)((1u << fi->bits) - 1u);
+		if (r->sat > 0 || r->o.dead_level > 0) {
+			r->valid = malloc((size_t)r->ow * r->oh);
+			r->fvalid = malloc((size_t)r->ow * r->oh);
+			if (!r->valid || !r->fvalid)
+				return pc_error(PC_ENOMEM, "validity of %ux%u", r->ow, r->oh);
+			memset(r->valid, 1, (size_t)r->ow * r->oh);
+		}
 	} else if (raw->width != r->W || raw->height != r->H) {
 		return pc_error(PC_EINVAL, "frame %u is %ux%u, frame 0 is %ux%u", frame, raw->width,
-				raw->height, r->W, r->H);
+		                raw->height, r->W, r->H);
 	}
-	pc_demosaic_opts dopt = { r->o.threads, false, 0 };
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.method = r->o.method;
+	po.mosaic = r->mosaic;
+	po.threads = r->o.threads;
+	po.saturation_level = r->sat;
+	po.dead_level = r->o.dead_level > 0 ? r->o.dead_level : 0;
+	pc_validity fv = {r->fvalid, r->ow, 0};
 	pc_fplane pl[4];
 	pc_fplanes_separate(r->planes, r->ow, r->oh, 4, pl);
-	int rc = pc_demosaic(raw, &r->mosaic, r->o.method, &dopt, pl);
+	int rc = pc_demosaic_run(raw, &po, pl, r->valid ? &fv : NULL);
 	if (rc)
 		return pc_error_prefix(rc, "frame %u: ", frame);
+	for (size_t k = 0; r->valid && fv.n_invalid && k < (size_t)r->ow * r->oh; k++)
+		r->valid[k] &= r->fvalid[k];
 	if (r->o.black_level != 0)
 		for (size_t k = 0; k < (size_t)r->ow * r->oh * 4; k++)
 			r->planes[k] -= (float)r->o.black_level;
@@ -788,7 +834,8 @@ int pc_mueller_run_finish(pc_mueller_run *r, pc_mueller_result *res)
 	memset(res, 0, sizeof *res);
 	const unsigned nframes = r->sys.n_psg * r->sys.n_psa;
 	if (r->next != nframes)
-		return pc_error(PC_EINVAL, "Mueller imaging: %u of %u frames added", r->next, nframes);
+		return pc_error(PC_EINVAL, "Mueller imaging: %u of %u frames added", r->next,
+		                nframes);
 	res->sys = r->sys;
 	const uint32_t ow = r->ow, oh = r->oh;
 	pc_mueller_finish(&r->sys, ow, oh, r->M);
@@ -802,7 +849,7 @@ int pc_mueller_run_finish(pc_mueller_run *r, pc_mueller_result *res)
 		pc_mueller_result_free(res);
 		return pc_error(PC_ENOMEM, "decomposition maps");
 	}
-	long counts[3], rbc[2] = { 0, 0 };
+	long counts[3], rbc[2] = {0, 0};
 	const pc_rebuild_opts *rb = &r->o.rebuild;
 	res->rebuilt = pc_mueller_rebuild_applies(rb, res->sys.determined);
 	if (res->rebuilt && !(res->residual = malloc(np * sizeof *res->residual))) {
@@ -810,7 +857,7 @@ int pc_mueller_run_finish(pc_mueller_run *r, pc_mueller_result *res)
 		return pc_error(PC_ENOMEM, "rebuild residual map");
 	}
 	pc_mueller_maps_rebuild(res->M, ow, oh, res->sys.determined, rb, r->o.threads, res->maps,
-				res->maps + np, res->maps + 2 * np, res->residual, counts, rbc);
+	                        res->maps + np, res->maps + 2 * np, res->residual, counts, rbc);
 	res->singular = counts[0];
 	res->nonphysical = counts[1];
 	res->bad = counts[2];
@@ -818,5 +865,10 @@ int pc_mueller_run_finish(pc_mueller_run *r, pc_mueller_result *res)
 	res->rb_sign_undefined = rbc[1];
 	res->width = ow;
 	res->height = oh;
+	res->saturation_level = r->sat;
+	res->valid = r->valid;
+	r->valid = NULL;
+	for (size_t k = 0; res->valid && k < np; k++)
+		res->invalid += !res->valid[k];
 	return 0;
 }

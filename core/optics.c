@@ -9,8 +9,100 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* F(ρ) = (1 − ρ)/(1 + ρ) for ρ = (zr + i zi)·2^E with (zr, zi) finite: r_s = F(w/cosβ),
+ * r_p = F(w/(ñ² cosβ)) (physics.md §2 divided through). The exponent is kept apart so that ρ
+ * may lie far outside the double range: for |ρ| > 2^30, F(ρ) = −F(1/ρ) with 1/ρ formed from the
+ * reduced mantissa, and ldexp underflows gracefully towards the limits F(0) = 1, F(∞) = −1. */
+static void pc_fresnel_F(double zr, double zi, int E, double *fr, double *fi)
+{
+	double m = fmax(fabs(zr), fabs(zi));
+	if (m == 0) { /* ρ = 0 */
+		*fr = 1;
+		*fi = 0;
+		return;
+	}
+	int em;
+	frexp(m, &em);
+	zr = ldexp(zr, -em);
+	zi = ldexp(zi, -em);
+	E += em;
+	double sign = 1;
+	if (E > 30) { /* ρ → 1/ρ = conj(z)/|z|²·2^−E, F(ρ) = −F(1/ρ) */
+		double d = zr * zr + zi * zi; /* in [0.25, 2] */
+		zr = ldexp(zr / d, -E);
+		zi = ldexp(-zi / d, -E);
+		sign = -1;
+	} else {
+		zr = ldexp(zr, E);
+		zi = ldexp(zi, E);
+	}
+	/* (1 − z)/(1 + z), |z| ≤ 2^31: no overflow in |1 + z|² */
+	double nr = 1 - zr, ni = -zi, dr = 1 + zr, di = zi;
+	double inv = 1.0 / (dr * dr + di * di);
+	*fr = sign * (nr * dr + ni * di) * inv;
+	*fi = sign * (ni * dr - nr * di) * inv;
+}
+
+/* pc_fresnel_eval for ñ far from 1 (|ñ| outside [2^−60, 2^60]), where ñ², ñ⁴ and the squared
+ * moduli of the direct formulas leave the double range (n = 1e100, k = 1e90: overflow; n =
+ * 1e-200: ñ² underflows and r_p becomes 0/0 at normal incidence). Everything is scaled by 2^−e
+ * with 2^e ≈ max(n, k, sinβ), so that what matters relative to the largest term is kept:
+ * w = 2^e w', r_s = F(2^e w'/cosβ), r_p = F(2^−e w'/(ñ'² cosβ)), F as above. The limits come out
+ * exactly: a perfect conductor (|ñ| → ∞: r_s → −1, r_p → +1) and ñ → 0 (w → −i sinβ:
+ * r_s → e^{2iβ}, r_p → −1). Tested against a long-double evaluation of the direct formulas. */
+static void pc_fresnel_eval_scaled(double n, double k, double cos_beta, double sin2_beta,
+                                   pc_fresnel *out)
+{
+	double sb = sqrt(sin2_beta);
+	double mx = fmax(fmax(n, k), sb);
+	int e;
+	frexp(mx, &e);
+	const double ns = ldexp(n, -e), ks = ldexp(k, -e), s2s = ldexp(sb, -e);
+	/* ñ'² and w' = sqrt(ñ'² − s'²) on the branch Re w ≥ 0, Im w ≤ 0, as in pc_fresnel_eval */
+	const double er = (ns - ks) * (ns + ks), ei = -2.0 * ns * ks;
+	const double A = er - s2s * s2s, B = ei;
+	const double mod = hypot(A, B);
+	double wr, wi;
+	if (A >= 0) {
+		wr = sqrt(0.5 * (mod + A));
+		wi = wr > 0 ? B / (2.0 * wr) : 0.0;
+	} else {
+		wi = -sqrt(0.5 * (mod - A));
+		wr = B / (2.0 * wi);
+	}
+	const double c = cos_beta;
+	if (!(c > 0)) { /* grazing: ρ_s = ρ_p = ∞ */
+		out->rs_re = out->rp_re = -1;
+		out->rs_im = out->rp_im = 0;
+		return;
+	}
+	int ec;
+	const double cm = frexp(c, &ec); /* c = cm·2^ec, cm in [0.5, 1) */
+	/* ρ_s = w/c = (w'/cm)·2^(e − ec) */
+	pc_fresnel_F(wr / cm, wi / cm, e - ec, &out->rs_re, &out->rs_im);
+	/* ρ_p = w/(ñ² c) = w'/(ñ'² cm)·2^(−e − ec) */
+	const double pr = er * cm, pi = ei * cm;
+	const double pm = fmax(fabs(pr), fabs(pi));
+	if (pm == 0) { /* ñ'² underflowed: ρ_p = ∞ */
+		out->rp_re = -1;
+		out->rp_im = 0;
+		return;
+	}
+	int ep;
+	frexp(pm, &ep);
+	const double qr = ldexp(pr, -ep), qi = ldexp(pi, -ep); /* max |q| in [0.5, 1) */
+	const double qd = qr * qr + qi * qi;
+	pc_fresnel_F((wr * qr + wi * qi) / qd, (wi * qr - wr * qi) / qd, -e - ec - ep, &out->rp_re,
+	             &out->rp_im);
+}
+
 void pc_fresnel_eval(double n, double k, double cos_beta, double sin2_beta, pc_fresnel *out)
 {
+	const double mx = n > k ? n : k;
+	if (!(mx >= 0x1p-60 && mx <= 0x1p60)) {
+		pc_fresnel_eval_scaled(n, k, cos_beta, sin2_beta, out);
+		return;
+	}
 	/* ñ² = (n − ik)² = n² − k² − 2ink (physics.md §1: ñ = n − ik, k ≥ 0). */
 	double er = n * n - k * k, ei = -2.0 * n * k;
 	/* w = sqrt(ñ² − sin²β) on the branch Re w ≥ 0, Im w ≤ 0 (physics.md §2), computed without
@@ -29,18 +121,23 @@ void pc_fresnel_eval(double n, double k, double cos_beta, double sin2_beta, pc_f
 	double c = cos_beta;
 	/* r_s = (cosβ − w)/(cosβ + w) */
 	double nr = c - wr, ni = -wi, dr = c + wr, di = wi;
-	double inv = 1.0 / (dr * dr + di * di);
-	out->rs_re = (nr * dr + ni * di) * inv;
-	out->rs_im = (ni * dr - nr * di) * inv;
+	double d2 = dr * dr + di * di;
 	/* r_p = (ñ² cosβ − w)/(ñ² cosβ + w) */
 	double ec_r = er * c, ec_i = ei * c;
-	nr = ec_r - wr;
-	ni = ec_i - wi;
-	dr = ec_r + wr;
-	di = ec_i + wi;
-	inv = 1.0 / (dr * dr + di * di);
-	out->rp_re = (nr * dr + ni * di) * inv;
-	out->rp_im = (ni * dr - nr * di) * inv;
+	double pnr = ec_r - wr, pni = ec_i - wi, pdr = ec_r + wr, pdi = ec_i + wi;
+	double p2 = pdr * pdr + pdi * pdi;
+	if (!(d2 >= 0x1p-900 && p2 >= 0x1p-900)) {
+		/* cosβ + w → 0 only near grazing with ñ ≈ 1 (or at the critical angle): the squared
+		 * moduli would underflow */
+		pc_fresnel_eval_scaled(n, k, cos_beta, sin2_beta, out);
+		return;
+	}
+	double inv = 1.0 / d2;
+	out->rs_re = (nr * dr + ni * di) * inv;
+	out->rs_im = (ni * dr - nr * di) * inv;
+	inv = 1.0 / p2;
+	out->rp_re = (pnr * pdr + pni * pdi) * inv;
+	out->rp_im = (pni * pdr - pnr * pdi) * inv;
 }
 
 void pc_fresnel_angle(double n, double k, double beta, pc_fresnel *out)
@@ -125,19 +222,19 @@ void pc_mueller_rotator(double theta, double M[4][4])
 
 void pc_retarder_mueller(double angle_rad, double delta_rad, double m[4][4])
 {
-	/* Linear retarder, fast axis at θ from the x (s) axis towards y (p), retardance δ: the Jones
-	 * matrix R(−θ)·diag(1, e^{−iδ})·R(θ) (e^{+iωt}: the slow component lags) mapped to Mueller
-	 * with physics.md §1's A (S3 = 2 Im(E_s* E_p)). Worked out by hand:
+	/* Linear retarder, fast axis at θ from the x (s) axis towards y (p), retardance δ: the
+	 * Jones matrix R(−θ)·diag(1, e^{−iδ})·R(θ) (e^{+iωt}: the slow component lags) mapped to
+	 * Mueller with physics.md §1's A (S3 = 2 Im(E_s* E_p)). Worked out by hand:
 	 * [[1,0,0,0],[0,c²+s²cosδ, cs(1−cosδ), −s sinδ],[0, cs(1−cosδ), s²+c²cosδ, c sinδ],
 	 *  [0, s sinδ, −c sinδ, cosδ]] with c = cos2θ, s = sin2θ. Verified in tests against the
 	 * Jones calculus (tests/test_sim_render.c): a quarter-wave plate at 45° turns S1 = +1 into
 	 * S3 = +1 in this convention. */
 	double c = cos(2 * angle_rad), s = sin(2 * angle_rad);
 	double cd = cos(delta_rad), sd = sin(delta_rad);
-	double r[4][4] = { { 1, 0, 0, 0 },
-			   { 0, c * c + s * s * cd, c * s * (1 - cd), -s * sd },
-			   { 0, c * s * (1 - cd), s * s + c * c * cd, c * sd },
-			   { 0, s * sd, -c * sd, cd } };
+	double r[4][4] = {{1, 0, 0, 0},
+	                  {0, c * c + s * s * cd, c * s * (1 - cd), -s * sd},
+	                  {0, c * s * (1 - cd), s * s + c * c * cd, c * sd},
+	                  {0, s * sd, -c * sd, cd}};
 	memcpy(m, r, sizeof r);
 }
 
@@ -145,10 +242,10 @@ void pc_diattenuator_mueller(double angle_rad, double D, double m[4][4])
 {
 	double p = (1 + D) / 2, q = (1 - D) / 2, r = 2 * sqrt(p * q);
 	double c = cos(2 * angle_rad), s = sin(2 * angle_rad);
-	double t[4][4] = { { p + q, (p - q) * c, (p - q) * s, 0 },
-			   { (p - q) * c, (p + q) * c * c + r * s * s, (p + q - r) * c * s, 0 },
-			   { (p - q) * s, (p + q - r) * c * s, (p + q) * s * s + r * c * c, 0 },
-			   { 0, 0, 0, r } };
+	double t[4][4] = {{p + q, (p - q) * c, (p - q) * s, 0},
+	                  {(p - q) * c, (p + q) * c * c + r * s * s, (p + q - r) * c * s, 0},
+	                  {(p - q) * s, (p + q - r) * c * s, (p + q) * s * s + r * c * c, 0},
+	                  {0, 0, 0, r}};
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++)
 			m[i][j] = 0.5 * t[i][j];
@@ -275,8 +372,29 @@ void pc_mueller_coherency(const double M[4][4], double H_re[4][4], double H_im[4
 				}
 }
 
-bool pc_mueller_is_physical(const double M[4][4], double tol)
+/* M scaled by the power of two 2^−e that brings max|M_ij| into [0.5, 1) when it lies outside
+ * [2^−256, 2^256] (e = 0 and a plain copy otherwise): the coherency matrix sums entries and the
+ * filter squares them, which overflow for M ~ 1e308 and lose everything for M ~ 1e-310; the
+ * quantities below are scale-invariant or scale back exactly. Returns e. */
+static int pc_mueller_scaled(const double M[4][4], double S[4][4])
 {
+	double mx = 0;
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			mx = fmax(mx, fabs(M[i][j]));
+	int e = 0;
+	if (mx > 0 && isfinite(mx) && (mx < 0x1p-256 || mx > 0x1p256))
+		frexp(mx, &e);
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			S[i][j] = e ? ldexp(M[i][j], -e) : M[i][j];
+	return e;
+}
+
+bool pc_mueller_is_physical(const double M_in[4][4], double tol)
+{
+	double M[4][4];
+	pc_mueller_scaled(M_in, M);
 	/* λ_min(H) ≥ −tol·tr H  ⇔  H + tol·tr H·I is positive definite  ⇔  its LDLᴴ factorisation
 	 * has positive pivots (Hermitian Cholesky without pivoting). */
 	double Hr[4][4], Hi[4][4];
@@ -359,15 +477,16 @@ static void pc_jacobi_herm4(double Hr[4][4], double Hi[4][4], double Vr[4][4], d
 				                            : (th >= 0 ? 1 : -1) /
 				                                  (fabs(th) + sqrt(th * th + 1));
 				double c = 1 / sqrt(t * t + 1), sn = t * c;
-				/* H ← Uᴴ H U with U = [[c, s], [−s e^{−iα}, c e^{−iα}]] on (p, q). Outside
-				 * the (p, q) block only columns p, q change through H U (rows p, q through
-				 * Uᴴ H are their conjugates: H stays Hermitian); the block itself becomes
-				 * diag(app − t|h|, aqq + t|h|). */
+				/* H ← Uᴴ H U with U = [[c, s], [−s e^{−iα}, c e^{−iα}]] on (p, q).
+				 * Outside the (p, q) block only columns p, q change through H U
+				 * (rows p, q through Uᴴ H are their conjugates: H stays Hermitian);
+				 * the block itself becomes diag(app − t|h|, aqq + t|h|). */
 				for (int k = 0; k < 4; k++) {
 					if (k == p || k == q)
 						continue;
 					double xr = Hr[k][p], xi = Hi[k][p];
-					double yr = Hr[k][q] * er + Hi[k][q] * ei; /* H_kq e^{−iα} */
+					double yr =
+					    Hr[k][q] * er + Hi[k][q] * ei; /* H_kq e^{−iα} */
 					double yi = Hi[k][q] * er - Hr[k][q] * ei;
 					Hr[k][p] = Hr[p][k] = c * xr - sn * yr;
 					Hi[k][p] = c * xi - sn * yi;
@@ -442,9 +561,10 @@ void pc_hermitian4_eigvals(const double H_re[4][4], const double H_im[4][4], dou
 	qsort(eval, 4, sizeof eval[0], pc_cmp_double);
 }
 
-double pc_mueller_min_coherency_eig(const double M[4][4])
+double pc_mueller_min_coherency_eig(const double M_in[4][4])
 {
-	double Hr[4][4], Hi[4][4], ev[4];
+	double M[4][4], Hr[4][4], Hi[4][4], ev[4];
+	pc_mueller_scaled(M_in, M);
 	pc_mueller_coherency(M, Hr, Hi);
 	double tr = Hr[0][0] + Hr[1][1] + Hr[2][2] + Hr[3][3];
 	if (!(tr > 0))
@@ -453,9 +573,10 @@ double pc_mueller_min_coherency_eig(const double M[4][4])
 	return ev[0] / tr;
 }
 
-void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *changed)
+void pc_mueller_cloude_filter(const double M_in[4][4], double out[4][4], bool *changed)
 {
-	double Hr[4][4], Hi[4][4], Vr[4][4], Vi[4][4];
+	double M[4][4], Hr[4][4], Hi[4][4], Vr[4][4], Vi[4][4];
+	const int e = pc_mueller_scaled(M_in, M);
 	pc_mueller_coherency(M, Hr, Hi);
 	double tr = Hr[0][0] + Hr[1][1] + Hr[2][2] + Hr[3][3];
 	double lam[4], lmin = INFINITY;
@@ -467,8 +588,8 @@ void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *chan
 	if (changed)
 		*changed = ch;
 	if (!ch) {
-		if (out != M)
-			memcpy(out, M, 16 * sizeof(double));
+		if (out != M_in)
+			memcpy(out, M_in, 16 * sizeof(double));
 		return;
 	}
 	/* H' = Σ max(λ_k, 0) v_k v_kᴴ */
@@ -485,12 +606,18 @@ void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *chan
 			Hi[i][j] = ai;
 		}
 	pc_coherency_to_mueller(Hr, Hi, out);
+	if (e)
+		for (int i = 0; i < 4; i++)
+			for (int j = 0; j < 4; j++)
+				out[i][j] = ldexp(out[i][j], e);
 }
 
-double pc_mueller_depol_index(const double M[4][4])
+double pc_mueller_depol_index(const double M_in[4][4])
 {
-	if (!(M[0][0] > 0))
+	if (!(M_in[0][0] > 0))
 		return NAN;
+	double M[4][4];
+	pc_mueller_scaled(M_in, M);
 	double s = 0;
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++)
@@ -510,4 +637,41 @@ double pc_atan2(double y, double x)
 	if (x < 0)
 		a = PC_PI - a;
 	return signbit(y) ? -a : a;
+}
+
+void pc_sincos_deg(double deg, double *s, double *c)
+{
+	if (!isfinite(deg)) {
+		*s = *c = NAN;
+		return;
+	}
+	double r = fmod(deg, 360.0); /* exact, |r| < 360 */
+	if (r < 0)
+		r += 360.0; /* [0, 360]: the rounding of r + 360 keeps the angle within an ulp */
+	double q = nearbyint(r / 90.0); /* 0..4 */
+	double d = r - 90.0 * q;        /* exact (Sterbenz), |d| ≤ 45 */
+	double x = d * (PC_PI / 180.0);
+	double sd = sin(x), cd = cos(x);
+	switch ((int)q & 3) {
+	case 0:
+		*s = sd;
+		*c = cd;
+		break;
+	case 1:
+		*s = cd;
+		*c = -sd;
+		break;
+	case 2:
+		*s = -sd;
+		*c = -cd;
+		break;
+	default:
+		*s = -cd;
+		*c = sd;
+		break;
+	}
+	if (*s == 0)
+		*s = 0.0; /* no −0 */
+	if (*c == 0)
+		*c = 0.0;
 }

@@ -7,6 +7,7 @@
 #include "polarcam/pbrdf.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -265,6 +266,18 @@ int pc_pbrdf_new(const pc_material *m, pc_pbrdf **out)
 		return pc_error(PC_ERANGE, "n = %g, k = %g: must be below 1e100", m->n, m->k);
 	if (!isfinite(m->sigma) || !(m->sigma > 0))
 		return pc_error(PC_EINVAL, "sigma = %g: must be a finite rms slope > 0", m->sigma);
+	if (m->sigma < PC_PBRDF_SIGMA_MIN) {
+		/* all the digits when the short form would print the bound itself */
+		char sg[32];
+		snprintf(sg, sizeof sg, "%g", m->sigma);
+		if (strtod(sg, NULL) >= PC_PBRDF_SIGMA_MIN)
+			snprintf(sg, sizeof sg, "%.17g", m->sigma);
+		return pc_error(PC_ERANGE,
+		                "sigma = %s: below %g, where the specular peak 1/(8 pi sigma^2) "
+		                "leaves the double range (docs/physics-notes.md, hard cases); for "
+		                "an ideal mirror use pc_pbrdf_mirror",
+		                sg, PC_PBRDF_SIGMA_MIN);
+	}
 	if (m->sigma > 1e3)
 		return pc_error(PC_ERANGE, "sigma = %g: must be at most 1000", m->sigma);
 	if ((unsigned)m->diffuse > PC_DIFFUSE_NONE)
@@ -421,8 +434,11 @@ int pc_pbrdf_eval_vec(const pc_pbrdf *p, const double k_i[3], const double k_r[3
 	const double ci = k_i[2], cr = k_r[2];
 	double h[3] = {k_i[0] + k_r[0], k_i[1] + k_r[1], k_i[2] + k_r[2]};
 	double h2 = pc_dot(h, h);
-	/* below or at the horizon, or k_r = −k_i (|k_i + k_r| < ε, physics.md §4): nothing */
-	if (!(ci > 0) || !(cr > 0) || !(h2 > 1e-24)) {
+	/* below or at the horizon, or k_r = −k_i (|k_i + k_r| < ε, physics.md §4): nothing.
+	 * "At" includes cosθ ≤ PC_PBRDF_COS_HORIZON: without shadowing K ∝ 1/(cosθ_i cosθ_r),
+	 * which would leave the double range there (angles in degrees never come that close:
+	 * cos 90° is 0 exactly, the next double below 90° gives cos ≈ 2.5e-16). */
+	if (!(ci > PC_PBRDF_COS_HORIZON) || !(cr > PC_PBRDF_COS_HORIZON) || !(h2 > 1e-24)) {
 		memset(f, 0, 16 * sizeof(double));
 		return 0;
 	}
@@ -477,6 +493,22 @@ int pc_pbrdf_eval(const pc_pbrdf *p, double theta_i, double theta_r, double dphi
 	double k_r[3] = {sr * cp, sr * sp, cr};
 	double s_i[3] = {0, 1, 0};    /* s_Mi = (−sinφ_i, cosφ_i, 0) */
 	double s_r[3] = {sp, -cp, 0}; /* s_Mr = (sinφ_r, −cosφ_r, 0) */
+	return pc_pbrdf_eval_vec(p, k_i, k_r, s_i, s_r, f);
+}
+
+int pc_pbrdf_eval_deg(const pc_pbrdf *p, double theta_i_deg, double theta_r_deg, double dphi_deg,
+                      double f[4][4])
+{
+	/* as pc_pbrdf_eval, with sines and cosines exact at multiples of 90° (pc_sincos_deg): at
+	 * Δφ = 180° the reflected direction is exactly in the plane of incidence */
+	double si, ci, sr, cr, sp, cp;
+	pc_sincos_deg(theta_i_deg, &si, &ci);
+	pc_sincos_deg(theta_r_deg, &sr, &cr);
+	pc_sincos_deg(dphi_deg, &sp, &cp);
+	double k_i[3] = {si, 0, ci};
+	double k_r[3] = {sr * cp, sr * sp, cr};
+	double s_i[3] = {0, 1, 0};
+	double s_r[3] = {sp, -cp, 0};
 	return pc_pbrdf_eval_vec(p, k_i, k_r, s_i, s_r, f);
 }
 

@@ -2,6 +2,7 @@
 #include "polarcam/picture.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,18 +57,18 @@ void pc_hsv_to_rgb8(double h, double s, double v, uint8_t rgb[3])
 }
 
 static int check(const pc_fplane *p, uint32_t w, uint32_t h, const uint8_t *rgb, size_t stride,
-		 const char *what)
+                 const char *what)
 {
 	if (!p || !p->data || p->pixel_stride < 1 || w == 0 || h == 0)
 		return pc_error(PC_EINVAL, "%s picture: no input or empty size", what);
 	if (!rgb || stride < (size_t)w * 3)
 		return pc_error(PC_EINVAL, "%s picture: RGB buffer stride %zu below %u bytes", what,
-				stride, 3 * w);
+		                stride, 3 * w);
 	return 0;
 }
 
 int pc_picture_grey(const pc_fplane *in, uint32_t width, uint32_t height, float lo, float hi,
-		    uint8_t *rgb, size_t rgb_stride)
+                    uint8_t *rgb, size_t rgb_stride)
 {
 	int rc = check(in, width, height, rgb, rgb_stride, "grey");
 	if (rc)
@@ -90,7 +91,7 @@ int pc_picture_grey(const pc_fplane *in, uint32_t width, uint32_t height, float 
 }
 
 int pc_picture_aolp(const pc_fplane *aolp, const pc_fplane *dolp, uint32_t width, uint32_t height,
-		    pc_aolp_style style, float dolp_max, uint8_t *rgb, size_t rgb_stride)
+                    pc_aolp_style style, float dolp_max, uint8_t *rgb, size_t rgb_stride)
 {
 	int rc = check(aolp, width, height, rgb, rgb_stride, "AoLP");
 	if (rc)
@@ -188,7 +189,7 @@ void pc_picture_mask_rgb(uint32_t x, uint32_t y, uint8_t rgb[3])
 }
 
 size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t height, float threshold,
-			   uint8_t *rgb, size_t rgb_stride)
+                           uint8_t *rgb, size_t rgb_stride)
 {
 	size_t n = 0;
 	if (!s0 || !s0->data || !rgb)
@@ -203,6 +204,32 @@ size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t height,
 			pc_picture_mask_rgb(x, y, o + 3 * (size_t)x);
 			n++;
 		}
+	}
+	return n;
+}
+
+void pc_picture_invalid_rgb(uint32_t x, uint32_t y, uint8_t rgb[3])
+{
+	bool on = ((x / 2) + (y / 2)) % 2 == 0;
+	rgb[0] = on ? PC_PICTURE_INVALID_R : 0;
+	rgb[1] = on ? PC_PICTURE_INVALID_G : 0;
+	rgb[2] = on ? PC_PICTURE_INVALID_B : 0;
+}
+
+size_t pc_picture_mask_invalid(const uint8_t *valid, size_t valid_stride, uint32_t width,
+                               uint32_t height, uint8_t *rgb, size_t rgb_stride)
+{
+	size_t n = 0;
+	if (!valid || !rgb)
+		return 0;
+	for (uint32_t y = 0; y < height; y++) {
+		const uint8_t *v = valid + (size_t)y * valid_stride;
+		uint8_t *o = rgb + (size_t)y * rgb_stride;
+		for (uint32_t x = 0; x < width; x++)
+			if (!v[x]) {
+				pc_picture_invalid_rgb(x, y, o + 3 * (size_t)x);
+				n++;
+			}
 	}
 	return n;
 }

@@ -33,7 +33,7 @@ void pc_stokes_ideal_analyser(double w[4][3])
 
 int pc_stokes_pinv1(const double w[4][3], double pinv[3][4])
 {
-	double a[3][3] = { { 0 } };
+	double a[3][3] = {{0}};
 	for (int i = 0; i < 3; i++)
 		for (int j = 0; j < 3; j++)
 			for (int c = 0; c < 4; c++)
@@ -61,9 +61,10 @@ int pc_stokes_pinv1(const double w[4][3], double pinv[3][4])
 		ni = ci > ni ? ci : ni;
 	}
 	if (!(fabs(det) > 0) || !isfinite(det) || fabs(det) / (n1 * ni) < 1e-10)
-		return pc_error(PC_ENUMERIC, "analyser matrix is (nearly) rank-deficient: W^T W has "
-					     "reciprocal condition %.3g", det == 0 ? 0.0
-									: fabs(det) / (n1 * ni));
+		return pc_error(PC_ENUMERIC,
+		                "analyser matrix is (nearly) rank-deficient: W^T W has "
+		                "reciprocal condition %.3g",
+		                det == 0 ? 0.0 : fabs(det) / (n1 * ni));
 	for (int i = 0; i < 3; i++)
 		for (int c = 0; c < 4; c++) {
 			double s = 0;
@@ -84,8 +85,10 @@ int pc_stokes_pinv(const float *w, size_t n, float *pinv)
 			for (int i = 0; i < 3; i++) {
 				wd[c][i] = w[12 * k + 3 * c + i];
 				if (!isfinite(wd[c][i]))
-					return pc_error(PC_ERANGE, "analyser matrix %zu: element (%d,%d) "
-								   "is not finite", k, c, i);
+					return pc_error(PC_ERANGE,
+					                "analyser matrix %zu: element (%d,%d) "
+					                "is not finite",
+					                k, c, i);
 			}
 		int rc = pc_stokes_pinv1(wd, p);
 		if (rc)
@@ -101,38 +104,41 @@ static int check_out(const pc_stokes_out *out, uint32_t w)
 {
 	if (!out)
 		return pc_error(PC_EINVAL, "Stokes outputs missing");
-	const pc_fplane *p[5] = { &out->s0, &out->s1, &out->s2, &out->dolp, &out->aolp };
-	static const char *names[5] = { "S0", "S1", "S2", "DoLP", "AoLP" };
+	const pc_fplane *p[5] = {&out->s0, &out->s1, &out->s2, &out->dolp, &out->aolp};
+	static const char *names[5] = {"S0", "S1", "S2", "DoLP", "AoLP"};
 	int n = 0;
 	for (int k = 0; k < 5; k++) {
 		if (!p[k]->data)
 			continue;
 		n++;
-		if (p[k]->pixel_stride < 1 || p[k]->row_stride < (size_t)(w - 1) * p[k]->pixel_stride + 1)
-			return pc_error(PC_EINVAL, "%s output: strides %zu/%zu too small for width %u",
-					names[k], p[k]->row_stride, p[k]->pixel_stride, w);
+		if (p[k]->pixel_stride < 1 ||
+		    p[k]->row_stride < (size_t)(w - 1) * p[k]->pixel_stride + 1)
+			return pc_error(PC_EINVAL,
+			                "%s output: strides %zu/%zu too small for width %u",
+			                names[k], p[k]->row_stride, p[k]->pixel_stride, w);
 	}
 	if (!n)
 		return pc_error(PC_EINVAL, "no Stokes output requested");
 	return 0;
 }
 
-
 static int check_pinv(const pc_analyser_pinv *pinv, uint32_t w, uint32_t h)
 {
 	if (!pinv->m || pinv->grid_w == 0 || pinv->grid_h == 0)
 		return pc_error(PC_EINVAL, "Stokes: analyser pseudo-inverse grid empty");
 	if (pinv->grid_w > w || pinv->grid_h > h)
-		return pc_error(PC_EINVAL, "Stokes: analyser pseudo-inverse grid %ux%u larger than "
-					   "the %ux%u output", pinv->grid_w, pinv->grid_h, w, h);
+		return pc_error(PC_EINVAL,
+		                "Stokes: analyser pseudo-inverse grid %ux%u larger than "
+		                "the %ux%u output",
+		                pinv->grid_w, pinv->grid_h, w, h);
 	return 0;
 }
 
 /* Stokes from channel images: the vectorised planar kernel where it applies, else the scalar
  * one. */
 static void stokes_channels(const pc_fplane in[4], uint32_t w, uint32_t h,
-			    const pc_analyser_pinv *pinv, int threads, pc_cpu_level level,
-			    bool reference, const pc_stokes_out *out)
+                            const pc_analyser_pinv *pinv, int threads, pc_cpu_level level,
+                            bool reference, const pc_stokes_out *out)
 {
 	pc_st_calib cal;
 	if (pinv)
@@ -143,7 +149,7 @@ static void stokes_channels(const pc_fplane in[4], uint32_t w, uint32_t h,
 }
 
 int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t height,
-			    const pc_analyser_pinv *pinv, const pc_stokes_out *out)
+                            const pc_analyser_pinv *pinv, const pc_stokes_out *out)
 {
 	if (!in || width == 0 || height == 0)
 		return pc_error(PC_EINVAL, "Stokes: no input or empty size %ux%u", width, height);
@@ -175,8 +181,8 @@ static int stokes_two_step(pc_dm_plan *p, const pc_stokes_out *out)
 		/* colour: the colour average of each analyser image, in place in planes 0..3 */
 		for (unsigned c = 0; c < 4; c++)
 			for (size_t i = 0; i < plane; i++)
-				ch[c].data[i] = (ch[c].data[i] + ch[4 + c].data[i] + ch[8 + c].data[i]) /
-						3.0f;
+				ch[c].data[i] =
+				    (ch[c].data[i] + ch[4 + c].data[i] + ch[8 + c].data[i]) / 3.0f;
 	}
 	if (!rc)
 		stokes_channels(ch, ow, oh, p->opts.pinv, p->opts.threads, p->level, false, out);
@@ -185,7 +191,7 @@ static int stokes_two_step(pc_dm_plan *p, const pc_stokes_out *out)
 }
 
 int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out,
-		  pc_validity *valid)
+                  pc_validity *valid)
 {
 	pc_dm_plan p;
 	int rc = pc_dm_plan_begin(raw, opts, &p);
@@ -211,9 +217,9 @@ int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_sto
 	if (in && p.def->fused_bilinear) {
 		rc = pc_st_fused_bilinear(in, &opts->mosaic, calp, opts->threads, p.level, out);
 	} else if (in) {
-		pc_st_sink sink = { out, calp, p.ow, pc_st_stream_wanted(out, p.ow, p.oh, p.level),
-				    p.level };
-		pc_dm_row_sink rs = { pc_st_sink_row, &sink };
+		pc_st_sink sink = {out, calp, p.ow, pc_st_stream_wanted(out, p.ow, p.oh, p.level),
+		                   p.level};
+		pc_dm_row_sink rs = {pc_st_sink_row, &sink};
 		pc_dm_call c = pc_dm_plan_call(&p);
 		rc = p.def->rows(&c, &rs);
 	} else {
@@ -226,7 +232,7 @@ int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_sto
 }
 
 int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
-		       const pc_demosaic_opts *opts, const pc_stokes_out *out)
+                       const pc_demosaic_opts *opts, const pc_stokes_out *out)
 {
 	if (!m)
 		return pc_mosaic_check(m); /* "mosaic missing" */

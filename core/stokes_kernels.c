@@ -29,9 +29,8 @@
 
 /* ---- dispatch of one row to the instance of the call's level ---- */
 
-static void row_bilinear(pc_cpu_level l, const float *a, const float *b, const float *c,
-			 uint32_t w, const float k1[4], const float k2[4], int exact,
-			 float *const o[5], int nt)
+static void row_bilinear(pc_cpu_level l, const float *a, const float *b, const float *c, uint32_t w,
+                         const float k1[4], const float k2[4], int exact, float *const o[5], int nt)
 {
 #ifdef PC_CPU_X86
 	if (l >= PC_CPU_AVX512)
@@ -45,8 +44,8 @@ static void row_bilinear(pc_cpu_level l, const float *a, const float *b, const f
 }
 
 static void row_bilinear_cal(pc_cpu_level l, const float *a, const float *b, const float *c,
-			     uint32_t w, const float *const P[12], int xkind, int exact,
-			     float *const o[5], int nt)
+                             uint32_t w, const float *const P[12], int xkind, int exact,
+                             float *const o[5], int nt)
 {
 #ifdef PC_CPU_X86
 	if (l >= PC_CPU_AVX512)
@@ -60,7 +59,7 @@ static void row_bilinear_cal(pc_cpu_level l, const float *a, const float *b, con
 }
 
 static void row_channels(pc_cpu_level l, const float *const ch[4], uint32_t w,
-			 const float *const *P, int xkind, float *const o[5], int nt)
+                         const float *const *P, int xkind, float *const o[5], int nt)
 {
 #ifdef PC_CPU_X86
 	if (l >= PC_CPU_AVX512) {
@@ -86,8 +85,7 @@ static void row_channels(pc_cpu_level l, const float *const ch[4], uint32_t w,
 }
 
 /* The calibration rows of output row y, element (i, channel ch[k]) at P[4i + k]. */
-static void cal_rows(const pc_st_calib *cal, const unsigned ch[4], uint32_t y,
-		     const float *P[12])
+static void cal_rows(const pc_st_calib *cal, const unsigned ch[4], uint32_t y, const float *P[12])
 {
 	for (unsigned i = 0; i < 3; i++)
 		for (unsigned k = 0; k < 4; k++)
@@ -103,10 +101,10 @@ void pc_st_calib_init(const pc_analyser_pinv *pinv, uint32_t w, uint32_t h, pc_s
 	c->w = w;
 	c->h = h;
 	uint32_t gw = pinv->grid_w;
-	c->xkind = gw == 1 ? PC_ST_X_UNIFORM
-		   : gw == w ? PC_ST_X_PIXEL
-		   : (uint64_t)gw * 2 == w ? PC_ST_X_PAIR
-					  : PC_ST_X_OTHER;
+	c->xkind = gw == 1                 ? PC_ST_X_UNIFORM
+	           : gw == w               ? PC_ST_X_PIXEL
+	           : (uint64_t)gw * 2 == w ? PC_ST_X_PAIR
+	                                   : PC_ST_X_OTHER;
 }
 
 /* ---- outputs ---- */
@@ -181,17 +179,18 @@ static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
 		const float *a = pc_dm_ring_get(&rg, j->in, (int)y - 1);
 		const float *b = pc_dm_ring_get(&rg, j->in, (int)y);
 		const float *c = pc_dm_ring_get(&rg, j->in, (int)y + 1);
-		unsigned ch[4] = { pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
-				   pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1) };
+		unsigned ch[4] = {pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
+		                  pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1)};
 		float *o[5];
 		for (int k = 0; k < 5; k++)
 			o[k] = !planes[k]->data ? NULL
-			       : j->planar	? planes[k]->data + (size_t)y * planes[k]->row_stride
-						: tmp + (size_t)k * w;
+			       : j->planar ? planes[k]->data + (size_t)y * planes[k]->row_stride
+			                   : tmp + (size_t)k * w;
 		if (j->cal) {
 			const float *P[12];
 			cal_rows(j->cal, ch, y, P);
-			row_bilinear_cal(j->level, a, b, c, w, P, j->cal->xkind, j->exact, o, j->nt);
+			row_bilinear_cal(j->level, a, b, c, w, P, j->cal->xkind, j->exact, o,
+			                 j->nt);
 		} else {
 			/* S1 = I0 − I90 and S2 = I45 − I135 as signed sums of the four slots */
 			float k1[4], k2[4];
@@ -217,9 +216,9 @@ static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
 }
 
 int pc_st_fused_bilinear(const pc_dm_input *in, const pc_mosaic *m, const pc_st_calib *cal,
-			 int threads, pc_cpu_level level, const pc_stokes_out *out)
+                         int threads, pc_cpu_level level, const pc_stokes_out *out)
 {
-	fused_job j = { in, m, cal, out, level, 1, 0, 0, 0 };
+	fused_job j = {in, m, cal, out, level, 1, 0, 0, 0};
 	const pc_fplane *planes[5];
 	out_planes(out, planes);
 	int aligned = 1, n = 0;
@@ -248,7 +247,7 @@ void pc_st_sink_row(void *sink, uint32_t y, const float *const ch[4])
 	float *o[5];
 	out_rows(s->out, y, o);
 	if (s->cal) {
-		static const unsigned id[4] = { 0, 1, 2, 3 };
+		static const unsigned id[4] = {0, 1, 2, 3};
 		const float *P[12];
 		cal_rows(s->cal, id, y, P);
 		row_channels(s->level, ch, s->w, P, s->cal->xkind, o, s->nt);
@@ -272,7 +271,7 @@ typedef struct planar_job {
 static void planar_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	planar_job *j = ctx;
-	static const unsigned id[4] = { 0, 1, 2, 3 };
+	static const unsigned id[4] = {0, 1, 2, 3};
 	for (uint32_t y = y0; y < y1; y++) {
 		const float *r[4];
 		for (int c = 0; c < 4; c++)
@@ -291,15 +290,15 @@ static void planar_band(void *ctx, uint32_t y0, uint32_t y1)
 		pc_dm_sfence();
 }
 
-int pc_st_planar(const pc_fplane in[4], uint32_t w, uint32_t h, const pc_st_calib *cal,
-		 int threads, pc_cpu_level level, const pc_stokes_out *out)
+int pc_st_planar(const pc_fplane in[4], uint32_t w, uint32_t h, const pc_st_calib *cal, int threads,
+                 pc_cpu_level level, const pc_stokes_out *out)
 {
 	for (int c = 0; c < 4; c++)
 		if (in[c].pixel_stride != 1)
 			return PC_ENOTSUP;
 	if (!pc_st_planar_out(out) || (cal && cal->xkind == PC_ST_X_OTHER))
 		return PC_ENOTSUP;
-	planar_job j = { in, w, cal, out, level, pc_st_stream_wanted(out, w, h, level) };
+	planar_job j = {in, w, cal, out, level, pc_st_stream_wanted(out, w, h, level)};
 	pc_parallel_rows(h, 0, threads, planar_band, &j);
 	return 0;
 }
@@ -329,7 +328,7 @@ static void generic_band(void *ctx, uint32_t y0, uint32_t y1)
 			row[c] = j->in[c].data + (size_t)y * j->in[c].row_stride;
 		const float *P[12];
 		if (pi) {
-			static const unsigned id[4] = { 0, 1, 2, 3 };
+			static const unsigned id[4] = {0, 1, 2, 3};
 			cal_rows(j->cal, id, y, P);
 		}
 		for (uint32_t x = 0; x < j->w; x++) {
@@ -363,8 +362,8 @@ static void generic_band(void *ctx, uint32_t y0, uint32_t y1)
 }
 
 void pc_st_generic(const pc_fplane in[4], uint32_t w, uint32_t h, const pc_st_calib *cal,
-		   int threads, const pc_stokes_out *out)
+                   int threads, const pc_stokes_out *out)
 {
-	generic_job j = { in, w, cal, out };
+	generic_job j = {in, w, cal, out};
 	pc_parallel_rows(h, 0, threads, generic_band, &j);
 }

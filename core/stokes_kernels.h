@@ -25,7 +25,7 @@
 #define PC_ATAN_C6 0.0219490069f
 #define PC_ATAN_C7 -0.00407394544f
 
-#define PC_PIF 3.14159265358979323846f
+#define PC_PIF   3.14159265358979323846f
 #define PC_PI_2F 1.57079632679489661923f
 
 /* DoLP = min(|(s1, s2)| / s0, 1), 0 where s0 <= 0, with |(s1, s2)| = max·√(1 + (min/max)²)
@@ -89,7 +89,7 @@ void pc_st_calib_init(const pc_analyser_pinv *pinv, uint32_t w, uint32_t h, pc_s
 
 /* Element (i, c) of the matrix row gy: P[4i + c][gx] (grid column gx). */
 static inline const float *pc_st_calib_row(const pc_st_calib *c, unsigned i, unsigned ch,
-					   uint32_t y)
+                                           uint32_t y)
 {
 	uint32_t gy = (uint32_t)((uint64_t)y * c->pinv->grid_h / c->h);
 	return c->pinv->m + (size_t)(4 * i + ch) * c->plane + (size_t)gy * c->pinv->grid_w;
@@ -101,7 +101,7 @@ static inline const float *pc_st_calib_row(const pc_st_calib *c, unsigned i, uns
  * and AoLP, in row bands, without channel images. cal NULL: ideal analysers; else its xkind
  * must not be PC_ST_X_OTHER. Any output strides. */
 int pc_st_fused_bilinear(const pc_dm_input *in, const pc_mosaic *m, const pc_st_calib *cal,
-			 int threads, pc_cpu_level level, const pc_stokes_out *out);
+                         int threads, pc_cpu_level level, const pc_stokes_out *out);
 
 /* A row sink (demosaic_common.h) that turns each demosaicked row into Stokes rows: planar
  * outputs only; cal as above. */
@@ -116,12 +116,12 @@ void pc_st_sink_row(void *sink, uint32_t y, const float *const ch[4]);
 
 /* Stokes from four planar channel images (vectorised); PC_ENOTSUP when an input or output is
  * not planar, or cal's xkind is PC_ST_X_OTHER. */
-int pc_st_planar(const pc_fplane in[4], uint32_t w, uint32_t h, const pc_st_calib *cal,
-		 int threads, pc_cpu_level level, const pc_stokes_out *out);
+int pc_st_planar(const pc_fplane in[4], uint32_t w, uint32_t h, const pc_st_calib *cal, int threads,
+                 pc_cpu_level level, const pc_stokes_out *out);
 
 /* Stokes from four channel images with any strides and any grid (scalar). */
 void pc_st_generic(const pc_fplane in[4], uint32_t w, uint32_t h, const pc_st_calib *cal,
-		   int threads, const pc_stokes_out *out);
+                   int threads, const pc_stokes_out *out);
 
 /* Whether the wanted outputs (all planar and aligned) are written with non-temporal stores. */
 int pc_st_stream_wanted(const pc_stokes_out *out, uint32_t w, uint32_t h, pc_cpu_level level);

@@ -23,9 +23,9 @@ typedef struct vjob {
 	const pc_dm_input *in;
 	pc_dm_support sup;
 	int use_sat, use_dead;
-	double sat, dead;   /* float samples */
-	uint32_t isat;      /* integer samples: flagged when >= isat (65536: never) */
-	uint32_t idead1;    /* ... or < idead1 (0: never) */
+	double sat, dead; /* float samples */
+	uint32_t isat;    /* integer samples: flagged when >= isat (65536: never) */
+	uint32_t idead1;  /* ... or < idead1 (0: never) */
 	uint32_t ow, oh;
 	uint8_t *mask;
 	size_t stride;
@@ -34,26 +34,26 @@ typedef struct vjob {
 } vjob;
 
 /* Flags (0/1) of integer samples r[0..w): >= hi or < lo1. Returns whether any is set. */
-#define PC_FLAG_INT(T)                                                                           \
-	static unsigned flag_##T(const T *restrict r, uint32_t w, uint32_t hi, uint32_t lo1,     \
-				 uint8_t *restrict p)                                            \
-	{                                                                                        \
-		unsigned any = 0;                                                                \
-		PC_SIMD_OR_ANY                                                                   \
-		for (uint32_t x = 0; x < w; x++) {                                               \
-			uint32_t v = r[x];                                                       \
-			unsigned f = (unsigned)(v >= hi) | (unsigned)(v < lo1);                  \
-			p[x] = (uint8_t)f;                                                       \
-			any |= f;                                                                \
-		}                                                                                \
-		return any;                                                                      \
+#define PC_FLAG_INT(T)                                                                             \
+	static unsigned flag_##T(const T *restrict r, uint32_t w, uint32_t hi, uint32_t lo1,       \
+	                         uint8_t *restrict p)                                              \
+	{                                                                                          \
+		unsigned any = 0;                                                                  \
+		PC_SIMD_OR_ANY                                                                     \
+		for (uint32_t x = 0; x < w; x++) {                                                 \
+			uint32_t v = r[x];                                                         \
+			unsigned f = (unsigned)(v >= hi) | (unsigned)(v < lo1);                    \
+			p[x] = (uint8_t)f;                                                         \
+			any |= f;                                                                  \
+		}                                                                                  \
+		return any;                                                                        \
 	}
 PC_FLAG_INT(uint8_t)
 PC_FLAG_INT(uint16_t)
 #undef PC_FLAG_INT
 
 static unsigned flag_float(const float *restrict r, uint32_t w, double hi, double lo,
-			   uint8_t *restrict p)
+                           uint8_t *restrict p)
 {
 	unsigned any = 0;
 	PC_SIMD_OR_ANY
@@ -75,11 +75,11 @@ static int flag_row(const vjob *j, uint32_t y, uint8_t *p)
 		return flag_uint8_t(row, in->width, j->isat, j->idead1, p) != 0;
 	case PC_DMT_U16:
 		return flag_uint16_t((const uint16_t *)(const void *)row, in->width, j->isat,
-				     j->idead1, p) != 0;
+		                     j->idead1, p) != 0;
 	default:
 		return flag_float((const float *)(const void *)row, in->width,
-				  j->use_sat ? j->sat : INFINITY, j->use_dead ? j->dead : -INFINITY,
-				  p) != 0;
+		                  j->use_sat ? j->sat : INFINITY, j->use_dead ? j->dead : -INFINITY,
+		                  p) != 0;
 	}
 }
 
@@ -96,7 +96,7 @@ static unsigned invert_count(uint8_t *restrict out, const uint8_t *restrict acc,
 {
 	unsigned cnt = 0;
 #ifdef _OPENMP
-#pragma omp simd reduction(+:cnt)
+#pragma omp simd reduction(+ : cnt)
 #endif
 	for (uint32_t x = 0; x < n; x++) {
 		cnt += acc[x];
@@ -106,7 +106,7 @@ static unsigned invert_count(uint8_t *restrict out, const uint8_t *restrict acc,
 }
 
 /* Per-band state: a cache of horizontally dilated flag rows. */
-#define VC_MAX 24
+#define VC_MAX 72
 typedef struct vband {
 	int k;
 	int32_t key[VC_MAX];
@@ -191,7 +191,8 @@ static void vband_run(void *ctx, uint32_t Y0, uint32_t Y1)
 		int ay = (int)anchor(s, Y), seen = 0;
 		for (int d = s->lo; d <= s->hi; d++) {
 			int any;
-			const uint8_t *h = hd_row(j, &b, pc_mirror(ay + d, (int)j->in->height), &any);
+			const uint8_t *h =
+			    hd_row(j, &b, pc_mirror(ay + d, (int)j->in->height), &any);
 			if (!any)
 				continue;
 			if (!seen)
@@ -211,8 +212,8 @@ static void vband_run(void *ctx, uint32_t Y0, uint32_t Y1)
 }
 
 int pc_dm_validity(const pc_dm_input *in, const pc_dm_support *sup, const pc_dm_levels *lv,
-		   uint32_t ow, uint32_t oh, int threads, uint8_t *mask, size_t stride,
-		   uint64_t *n_invalid)
+                   uint32_t ow, uint32_t oh, int threads, uint8_t *mask, size_t stride,
+                   uint64_t *n_invalid)
 {
 	*n_invalid = 0;
 	int use_sat = lv->saturation > 0, use_dead = lv->dead > 0;
@@ -232,8 +233,8 @@ int pc_dm_validity(const pc_dm_input *in, const pc_dm_support *sup, const pc_dm_
 	j->sat = lv->saturation;
 	j->dead = lv->dead;
 	/* integer samples: >= sat is >= ceil(sat), <= dead is < floor(dead) + 1 */
-	j->isat = use_sat ? (lv->saturation > 65536 ? 65536u : (uint32_t)ceil(lv->saturation))
-			  : 65536u;
+	j->isat =
+	    use_sat ? (lv->saturation > 65536 ? 65536u : (uint32_t)ceil(lv->saturation)) : 65536u;
 	j->idead1 = use_dead ? (uint32_t)floor(lv->dead > 65535 ? 65535 : lv->dead) + 1u : 0u;
 	j->ow = ow;
 	j->oh = oh;

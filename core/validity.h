@@ -27,7 +27,7 @@ typedef struct pc_dm_levels {
 /* Writes mask (ow × oh bytes, row stride `stride`; NULL: count only) with 1 for valid and 0 for
  * invalid output pixels and returns their count in *n_invalid. PC_ENOMEM for row buffers. */
 int pc_dm_validity(const pc_dm_input *in, const pc_dm_support *sup, const pc_dm_levels *lv,
-		   uint32_t ow, uint32_t oh, int threads, uint8_t *mask, size_t stride,
-		   uint64_t *n_invalid);
+                   uint32_t ow, uint32_t oh, int threads, uint8_t *mask, size_t stride,
+                   uint64_t *n_invalid);
 
 #endif

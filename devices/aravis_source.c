@@ -773,8 +773,8 @@ int pc_aravis_enumerate(unsigned flags, pc_device_fn fn, void *ctx)
 	return 0;
 }
 
-static const char *const a_options[] = {"packet_size", "reverse_x", "reverse_y", "mosaic",
-                                        "realtime",    NULL};
+static const char *const a_options[] = {"packet_size", "reverse_x", "reverse_y",
+                                        "mosaic",      "realtime",  NULL};
 
 const pc_source_ops pc_aravis_source_ops = {
     .open = a_open,

@@ -62,7 +62,12 @@ uint64_t pc_pacer_due_ns(const pc_pacer *p, uint64_t k)
 {
 	if (k <= p->k0)
 		return p->t0_ns;
-	return p->t0_ns + (uint64_t)((double)(k - p->k0) * p->period_ns + 0.5);
+	/* a rate of 1e-300 Hz or a huge k puts the frame beyond 2^64 ns: never due (the float to
+	 * integer conversion would be undefined) */
+	const double d = (double)(k - p->k0) * p->period_ns + 0.5;
+	if (!(d < 0x1p64) || (uint64_t)d > UINT64_MAX - p->t0_ns)
+		return UINT64_MAX;
+	return p->t0_ns + (uint64_t)d;
 }
 
 int pc_copy_roi(const pc_view *src, uint32_t x0, uint32_t y0, pc_view *dst, uint16_t *tmp)

@@ -7,6 +7,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "polarcam/capture.h"
 
+#include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -32,9 +33,10 @@ typedef struct capture {
 	pc_recording *rec;
 	pc_stokes_stream *live;
 	const char *method; /* name, with process */
+	double black;       /* DN: given, or what the source declares; 0: unknown */
 	double seconds, proc_sum, proc_max;
-	uint64_t kept;      /* frames whose Stokes images were written (writer thread) */
-	bool last_kept;     /* the last processed frame's were */
+	uint64_t kept;  /* frames whose Stokes images were written (writer thread) */
+	bool last_kept; /* the last processed frame's were */
 	pc_capture_report *rep;
 	frame_queue q;
 	bool q_ready;
@@ -50,11 +52,26 @@ static double now_s(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static const char *const policy_names[] = { "skip", "keep", "fail" };
+static const char *const policy_names[] = {"skip", "keep", "fail"};
 
 const char *pc_incomplete_policy_name(pc_incomplete_policy p)
 {
 	return (unsigned)p < 3 ? policy_names[p] : NULL;
+}
+
+/* meta.json's extra: the sensor's black level when known, the process report */
+static void set_extra(capture *c, json_t *process)
+{
+	json_t *extra = json_object();
+	if (c->black > 0)
+		json_object_set_new(extra, "sensor", json_pack("{s:f}", "offset_dn", c->black));
+	if (process)
+		json_object_set(extra, "process", process);
+	char *t = json_object_size(extra) ? pc_json_text(extra) : NULL;
+	if (t)
+		pc_recording_set_json(c->rec, "extra", t);
+	free(t);
+	json_decref(extra);
 }
 
 int pc_incomplete_policy_from_name(const char *name, pc_incomplete_policy *out)
@@ -65,7 +82,7 @@ int pc_incomplete_policy_from_name(const char *name, pc_incomplete_policy *out)
 			return 0;
 		}
 	return pc_error(PC_EINVAL, "incomplete frames '%s': expected skip, keep or fail",
-			name ? name : "");
+	                name ? name : "");
 }
 
 /* The first reason the recording ended; later ones are dropped. Either thread. */
@@ -111,10 +128,10 @@ static int open_all(capture *c)
 		return pc_error_prefix(rc, "--method: ");
 	if (!pc_incomplete_policy_name(o->incomplete) || !pc_recording_store_name(o->store))
 		return pc_error(PC_EINVAL, "capture: incomplete policy %d / store %d unknown",
-				(int)o->incomplete, (int)o->store);
+		                (int)o->incomplete, (int)o->store);
 	if (!(o->write_delay_ms >= 0 && o->write_delay_ms <= 3.6e6))
 		return pc_error(PC_EINVAL, "capture: write delay %g ms: expected 0..3600000",
-				o->write_delay_ms);
+		                o->write_delay_ms);
 	/* so is an occupied output folder */
 	if ((rc = pc_outdir_begin(&c->od, o->dir, o->overwrite ? PC_OUT_OVERWRITE : 0)))
 		return rc;
@@ -127,13 +144,24 @@ static int open_all(capture *c)
 			return rc;
 		c->method = pc_demosaic_method_get(m)->name;
 	}
-	if (o->process && (rc = pc_stokes_stream_new(m, &c->live)))
+	if (!o->process && o->levels.calibration)
+		return pc_error(PC_EINVAL,
+		                "--calibration applies to --process (the recording keeps "
+		                "the raw frames)");
+	if (o->process && ((rc = pc_stokes_stream_new(m, &c->live)) ||
+	                   (rc = pc_stokes_stream_set_levels(c->live, &o->levels, c->src))))
 		return rc;
+	/* the black level, for whoever processes the recording later */
+	pc_source_info info;
+	c->black = isnan(o->levels.black_level) ? 0 : o->levels.black_level;
+	if (isnan(o->levels.black_level) && pc_source_get_info(c->src, &info) == 0)
+		c->black = info.black_level;
+	pc_error_clear();
 	size_t row = 0;
 	(void)pc_format_row_bytes(c->f.format, c->f.width, &row);
 	size_t frame_bytes = c->f.height ? c->f.stride * (c->f.height - 1) + row : row;
 	if ((rc = fq_init(&c->q, frame_bytes,
-			  o->queue_bytes ? o->queue_bytes : default_queue_bytes())))
+	                  o->queue_bytes ? o->queue_bytes : default_queue_bytes())))
 		return rc;
 	c->q_ready = true;
 	pc_recording_desc d;
@@ -152,6 +180,7 @@ static int open_all(capture *c)
 	d.store = o->store;
 	if ((rc = pc_recording_create(&c->rec, c->od.tmp, &d, false)))
 		return pc_error_prefix(rc, "creating the recording: ");
+	set_extra(c, NULL);
 	return 0;
 }
 
@@ -162,11 +191,10 @@ static int keep(capture *c, uint64_t n, unsigned files)
 	const pc_stokes_out *so = pc_stokes_stream_planes(c->live, &w, &h);
 	char pdir[4200];
 	snprintf(pdir, sizeof pdir, "%s/processed", c->od.tmp);
-	pc_stokes_folder_opts fo = { .files = files,
-				     .pictures = { .title_prefix = "capture" },
-				     .numbered = true,
-				     .number = n };
-	int rc = pc_stokes_folder_write(pdir, so, w, h, &fo);
+	pc_stokes_folder_opts fo = {
+	    .files = files, .pictures = {.title_prefix = "capture"}, .numbered = true, .number = n};
+	int rc =
+	    pc_stokes_folder_write_valid(pdir, so, w, h, &fo, pc_stokes_stream_validity(c->live));
 	if (!rc && (files & PC_SF_DOLP)) {
 		c->kept++;
 		c->last_kept = true;
@@ -205,7 +233,7 @@ static void *writer_main(void *arg)
 		}
 		if (!rc && o->write_delay_ms > 0) {
 			double d = o->write_delay_ms / 1e3;
-			struct timespec ts = { (time_t)d, (long)((d - (double)(time_t)d) * 1e9) };
+			struct timespec ts = {(time_t)d, (long)((d - (double)(time_t)d) * 1e9)};
 			while (nanosleep(&ts, &ts) != 0)
 				;
 		}
@@ -304,7 +332,7 @@ static int acquire_one(capture *c, acq *a)
 static void record(capture *c)
 {
 	const pc_capture_opts *o = c->o;
-	acq a = { 0, o->frames, 0, 0, 0 };
+	acq a = {0, o->frames, 0, 0, 0};
 	double fps = 0;
 	if (pc_source_control_get(c->src, PC_CTRL_FRAME_RATE_HZ, &fps) == 0 && fps > 0)
 		a.fallback_period_s = 1 / fps;
@@ -362,7 +390,8 @@ static void record(capture *c)
 		     (double)qs.capacity * (double)qs.frame_bytes / 1e6, 1e3 * qs.write_mean_s,
 		     1e3 * qs.period_s);
 	if (a.kept)
-		fail(c, PC_EIO, "%llu of the %llu frames recorded arrived incomplete (kept: policy keep)",
+		fail(c, PC_EIO,
+		     "%llu of the %llu frames recorded arrived incomplete (kept: policy keep)",
 		     (unsigned long long)a.kept, (unsigned long long)c->rep->frames);
 }
 
@@ -378,17 +407,29 @@ static json_t *processed(capture *c)
 	int rc = keep(c, pc_recording_count(c->rec) - 1, files);
 	if (rc)
 		fail(c, rc, "writing the processed frames: %s", pc_error_detail());
-	double sum = 0;
+	const pc_validity *valid = pc_stokes_stream_validity(c->live);
+	/* the mean DoLP of the valid pixels: invalid ones depend on saturated samples */
+	double sum = 0, nv = 0;
 	for (size_t i = 0; i < (size_t)w * h; i++)
-		sum += so->dolp.data[i];
+		if (!valid->mask || valid->mask[i]) {
+			sum += so->dolp.data[i];
+			nv++;
+		}
+	double black, sat;
+	const char *calib;
+	pc_stokes_stream_levels_used(c->live, &black, &sat, &calib);
 	json_t *pj = json_object();
+	json_object_set_new(pj, "black_level", pc_json_real(black));
+	json_object_set_new(pj, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
+	json_object_set_new(pj, "calibration", calib ? json_string(calib) : json_null());
+	json_object_set_new(pj, "last_invalid_pixels", json_integer((json_int_t)valid->n_invalid));
 	json_object_set_new(pj, "method", json_string(c->method));
 	json_object_set_new(pj, "frames", json_integer((json_int_t)got));
 	json_object_set_new(pj, "kept", json_integer((json_int_t)c->kept));
 	json_object_set_new(pj, "keep_every", json_integer((json_int_t)c->o->keep_every));
 	json_object_set_new(pj, "mean_ms", pc_json_real(1e3 * c->proc_sum / (double)got));
 	json_object_set_new(pj, "max_ms", pc_json_real(1e3 * c->proc_max));
-	json_object_set_new(pj, "last_mean_dolp", pc_json_real(sum / ((double)w * h)));
+	json_object_set_new(pj, "last_mean_dolp", nv > 0 ? pc_json_real(sum / nv) : json_null());
 	json_object_set_new(pj, "width", json_integer(w));
 	json_object_set_new(pj, "height", json_integer(h));
 	return pj;
@@ -418,8 +459,8 @@ static json_t *queue_json(capture *c)
 	json_object_set_new(j, "written", json_integer((json_int_t)q.written));
 	json_object_set_new(j, "write_ms_mean", pc_json_real(1e3 * q.write_mean_s));
 	json_object_set_new(j, "write_ms_max", pc_json_real(1e3 * q.write_max_s));
-	json_object_set_new(j, "period_ms", q.period_s > 0 ? pc_json_real(1e3 * q.period_s)
-							  : json_null());
+	json_object_set_new(j, "period_ms",
+	                    q.period_s > 0 ? pc_json_real(1e3 * q.period_s) : json_null());
 	return j;
 }
 
@@ -434,6 +475,8 @@ static void finish(capture *c, json_t *pj)
 		pc_recording_set_json(c->rec, "stats", stats);
 	json_t *inc = incomplete_json(c), *qj = queue_json(c);
 	json_t *extra = json_object();
+	if (c->black > 0) /* the black level, for whoever processes the recording later */
+		json_object_set_new(extra, "sensor", json_pack("{s:f}", "offset_dn", c->black));
 	json_t *cj = json_object();
 	json_object_set(cj, "incomplete", inc);
 	json_object_set(cj, "queue", qj);
@@ -467,8 +510,7 @@ static void finish(capture *c, json_t *pj)
 	json_object_set_new(j, "queue", qj);
 	if (pj)
 		json_object_set(j, "process", pj);
-	json_object_set_new(j, "error",
-			    c->rep->error ? json_string(c->rep->message) : json_null());
+	json_object_set_new(j, "error", c->rep->error ? json_string(c->rep->message) : json_null());
 	c->rep->json = pc_json_text(j);
 	json_decref(j);
 	free(stats);
@@ -500,7 +542,7 @@ int pc_capture(const pc_capture_opts *o, pc_capture_report *rep)
 	 * replaces an older one) once it holds a frame. With none, nothing is put in place. */
 	if (!rc && rep->frames == 0) {
 		rc = pc_error(rep->error ? rep->error : PC_EIO, "%s: no frame recorded: %s", o->dir,
-			      rep->message);
+		              rep->message);
 		pc_capture_report_free(rep);
 	}
 	if (!rc && (rc = pc_outdir_commit(&c.od)))

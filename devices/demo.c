@@ -36,7 +36,7 @@ typedef struct demo_results {
 	pc_eval_stokes_metrics acc[PC_DM_COUNT];
 	unsigned best;
 	long saturated;
-	double scale; /* DN per W m^-2 sr^-1 */
+	double scale;          /* DN per W m^-2 sr^-1 */
 	double s0_hi, dolp_hi; /* the pictures' shared scales (the truth's) */
 	double t_render, t_frame, t_mueller;
 	char *simulation; /* pc_sim_describe_json */
@@ -84,11 +84,11 @@ int pc_demo_new(const pc_demo_opts *opts, pc_demo **out)
 		return pc_error(PC_ENOMEM, "demo");
 	d->o = *opts;
 	for (unsigned m = 0; m < opts->n_methods; m++)
-		d->methods[m] = opts->methods[m] == PC_DM_SUPERPIXEL_HALF ? PC_DM_SUPERPIXEL
-									   : opts->methods[m];
+		d->methods[m] =
+		    opts->methods[m] == PC_DM_SUPERPIXEL_HALF ? PC_DM_SUPERPIXEL : opts->methods[m];
 	d->o.methods = d->methods;
 	int rc = opts->scene_path ? pc_scene_load(opts->scene_path, &d->scene)
-				  : pc_scene_load_default(&d->scene);
+	                          : pc_scene_load_default(&d->scene);
 	pc_sim_options so = pc_sim_options_default();
 	so.seed = opts->seed;
 	so.threads = opts->threads;
@@ -97,8 +97,9 @@ int pc_demo_new(const pc_demo_opts *opts, pc_demo **out)
 	if (!rc) {
 		pc_sim_get_info(d->sim, &d->in);
 		if (d->in.colour_channels != 1)
-			rc = pc_error(PC_EINVAL, "the demo handles monochrome sensors; render colour "
-						 "scenes with polarcam render");
+			rc = pc_error(PC_EINVAL,
+			              "the demo handles monochrome sensors; render colour "
+			              "scenes with polarcam render");
 	}
 	if (rc) {
 		pc_demo_free(d);
@@ -134,7 +135,7 @@ static int step_truth(pc_demo *d, const char *out, pc_view *raw, float *tp, demo
 	float *ts = malloc(np * 4 * sizeof *ts);
 	if (!ts)
 		return pc_error(PC_ENOMEM, "ground truth of %ux%u", W, H);
-	sim_progress sp = { &d->o.progress, "render" };
+	sim_progress sp = {&d->o.progress, "render"};
 	double t0 = now_s();
 	int rc = pc_sim_prepare(d->sim, 0, ts, NULL, sim_progress_cb, &sp);
 	r->t_render = now_s() - t0;
@@ -154,11 +155,19 @@ static int step_truth(pc_demo *d, const char *out, pc_view *raw, float *tp, demo
 	}
 	char source[1024], path[4096];
 	snprintf(source, sizeof source, "sim:%s?seed=%llu",
-		 d->o.scene_path ? d->o.scene_path : "default", (unsigned long long)d->o.seed);
-	pc_recording_desc desc = { source,	    d->in.format,	 NULL,
-				   W,		    H,			 d->in.offset_x,
-				   d->in.offset_y,  d->in.sensor_width, d->in.sensor_height,
-				   true,	    d->in.mosaic,	 PC_STORE_PNG };
+	         d->o.scene_path ? d->o.scene_path : "default", (unsigned long long)d->o.seed);
+	pc_recording_desc desc = {source,
+	                          d->in.format,
+	                          NULL,
+	                          W,
+	                          H,
+	                          d->in.offset_x,
+	                          d->in.offset_y,
+	                          d->in.sensor_width,
+	                          d->in.sensor_height,
+	                          true,
+	                          d->in.mosaic,
+	                          PC_STORE_PNG};
 	fr.view = *raw;
 	fr.mosaic = d->in.mosaic;
 	pc_recording *rec = NULL;
@@ -177,7 +186,7 @@ static int step_truth(pc_demo *d, const char *out, pc_view *raw, float *tp, demo
 		pc_error_prefix(rc, "meta.json: ");
 		goto out;
 	}
-	size_t shp[3] = { H, W, 4 };
+	size_t shp[3] = {H, W, 4};
 	if ((rc = join(path, sizeof path, out, "truth_stokes.npy")) ||
 	    (rc = pc_npy_write(path, ts, PC_DT_F32, 3, shp)))
 		goto out;
@@ -190,21 +199,21 @@ static int step_truth(pc_demo *d, const char *out, pc_view *raw, float *tp, demo
 		for (uint32_t x = 0; x < W; x++)
 			r->saturated += row[x] >= full;
 	}
-	pc_stokes_out so = { { tp, W, 1 }, { NULL, 0, 0 }, { NULL, 0, 0 }, { tp + np, W, 1 },
-			     { tp + 2 * np, W, 1 } };
+	pc_stokes_out so = {
+	    {tp, W, 1}, {NULL, 0, 0}, {NULL, 0, 0}, {tp + np, W, 1}, {tp + 2 * np, W, 1}};
 	/* one scale for the truth's and every estimate's pictures: the truth's S0 99.9th
 	 * percentile, at most the S0 a saturated super-pixel gives (2 x full scale: an estimate
 	 * cannot exceed it, the truth can), and the truth's automatic DoLP range (over the pixels
 	 * above the default mask) */
-	const pc_fplane ts0 = { tp, W, 1 };
+	const pc_fplane ts0 = {tp, W, 1};
 	r->s0_hi = fmin(pc_picture_quantile(&ts0, W, H, 0.999), 2 * full);
 	if (!(r->s0_hi > 0))
 		r->s0_hi = 1;
-	r->dolp_hi = pc_pictures_dolp_auto(tp + np, tp, np, PC_PICTURES_MASK_DEFAULT_REL * r->s0_hi);
-	pc_stokes_folder_opts fo = { .files = PC_SF_PICTURES,
-				     .pictures = { .title_prefix = "truth",
-						   .s0_hi = r->s0_hi,
-						   .dolp_hi = r->dolp_hi } };
+	r->dolp_hi =
+	    pc_pictures_dolp_auto(tp + np, tp, np, PC_PICTURES_MASK_DEFAULT_REL * r->s0_hi);
+	pc_stokes_folder_opts fo = {
+	    .files = PC_SF_PICTURES,
+	    .pictures = {.title_prefix = "truth", .s0_hi = r->s0_hi, .dolp_hi = r->dolp_hi}};
 	if ((rc = join(path, sizeof path, out, "truth")) ||
 	    (rc = pc_stokes_folder_write(path, &so, W, H, &fo)))
 		pc_error_prefix(rc, "%s: ", path);
@@ -216,7 +225,7 @@ out:
 /* Step 2: the pipeline with each method, timed and scored; pictures of every method on the
  * truth's scales, stokes.npy of bilinear. */
 static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const float *tp,
-			 demo_results *r)
+                         demo_results *r)
 {
 	const uint32_t W = d->in.width, H = d->in.height;
 	const size_t np = (size_t)W * H;
@@ -224,9 +233,12 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 	float *ep = malloc(np * 5 * sizeof *ep);
 	if (!ep)
 		return pc_error(PC_ENOMEM, "Stokes images of %ux%u", W, H);
-	const pc_stokes_out eo = { { ep, W, 1 },	  { ep + np, W, 1 },	 { ep + 2 * np, W, 1 },
-				   { ep + 3 * np, W, 1 }, { ep + 4 * np, W, 1 } };
-	pc_demosaic_opts dopt = { d->o.threads, false, 0 };
+	const pc_stokes_out eo = {{ep, W, 1},
+	                          {ep + np, W, 1},
+	                          {ep + 2 * np, W, 1},
+	                          {ep + 3 * np, W, 1},
+	                          {ep + 4 * np, W, 1}};
+	pc_demosaic_opts dopt = {d->o.threads, false, 0};
 	/* Every method is timed the same way: the same call (raw -> S0, S1, S2, DoLP, AoLP into
 	 * the same buffers, pc_stokes_from_raw, each method on its own path), one untimed run
 	 * first (thread start-up, first-touch and the method's own buffers), then the fastest of
@@ -248,8 +260,8 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 			break;
 		}
 		snprintf(r->method[m], sizeof r->method[m], "%s", name);
-		rc = pc_eval_stokes(eo.s0.data, eo.dolp.data, eo.aolp.data, tp, tp + np, tp + 2 * np,
-				    W, H, full, &r->acc[m]);
+		rc = pc_eval_stokes(eo.s0.data, eo.dolp.data, eo.aolp.data, tp, tp + np,
+		                    tp + 2 * np, W, H, full, &r->acc[m]);
 		if (rc)
 			break;
 		if (r->acc[m].dolp_rms < r->acc[r->best].dolp_rms)
@@ -259,10 +271,10 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 			char sub[96], dir[4096];
 			if (snprintf(sub, sizeof sub, "pipeline_%.40s", name) >= (int)sizeof sub)
 				sub[sizeof sub - 1] = '\0';
-			pc_stokes_folder_opts fo = { .files = PC_SF_PICTURES,
-						     .pictures = { .title_prefix = r->method[m],
-								   .s0_hi = r->s0_hi,
-								   .dolp_hi = r->dolp_hi } };
+			pc_stokes_folder_opts fo = {.files = PC_SF_PICTURES,
+			                            .pictures = {.title_prefix = r->method[m],
+			                                         .s0_hi = r->s0_hi,
+			                                         .dolp_hi = r->dolp_hi}};
 			if ((rc = join(dir, sizeof dir, out, sub)) ||
 			    (rc = pc_stokes_folder_write(dir, &eo, W, H, &fo))) {
 				pc_error_prefix(rc, "%s: ", dir);
@@ -270,7 +282,7 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 			}
 		}
 		/* stokes.npy (H, W, 3): S0, S1, S2 in DN from the bilinear pipeline */
-		pc_stokes_folder_opts fs = { .files = PC_SF_STOKES };
+		pc_stokes_folder_opts fs = {.files = PC_SF_STOKES};
 		if (bilinear && (rc = pc_stokes_folder_write(out, &eo, W, H, &fs)))
 			break;
 	}
@@ -282,7 +294,7 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
  * tetrahedral PSG (polarizer 0° + 132° retarder at ±15.1°, ±51.7°; physics.md §7), a
  * quarter-wave plate at 0° and 45° in front of the camera, circular + mueller effects. */
 static char *mueller_variant(const char *scene_text, uint32_t w, uint32_t h, double pitch_um,
-			     double exposure_us)
+                             double exposure_us)
 {
 	json_t *d = json_loads(scene_text, 0, NULL);
 	if (!d)
@@ -292,14 +304,15 @@ static char *mueller_variant(const char *scene_text, uint32_t w, uint32_t h, dou
 	json_t *lights = json_object_get(d, "lights");
 	size_t li;
 	json_t *l;
-	json_array_foreach(lights, li, l) {
+	json_array_foreach(lights, li, l)
+	{
 		json_object_del(l, "polarization");
 		json_t *st = json_array();
-		const double ang[4] = { 15.1, 51.7, -51.7, -15.1 };
+		const double ang[4] = {15.1, 51.7, -51.7, -15.1};
 		for (int i = 0; i < 4; i++)
-			json_array_append_new(st, json_pack("{s:f, s:{s:f, s:f}}", "polarizer_deg", 0.0,
-							    "retarder", "angle_deg", ang[i],
-							    "retardance_deg", 132.0));
+			json_array_append_new(st, json_pack("{s:f, s:{s:f, s:f}}", "polarizer_deg",
+			                                    0.0, "retarder", "angle_deg", ang[i],
+			                                    "retardance_deg", 132.0));
 		json_object_set_new(l, "states", st);
 	}
 	json_t *fx = json_object_get(d, "effects");
@@ -318,9 +331,9 @@ static char *mueller_variant(const char *scene_text, uint32_t w, uint32_t h, dou
 	json_object_set_new(sen, "pixel_pitch_um", json_real(pitch_um));
 	json_object_set_new(sen, "exposure_us", json_real(exposure_us));
 	json_object_set_new(sen, "psa",
-			    json_pack("[{s:{s:f, s:f}}, {s:{s:f, s:f}}]", "retarder", "angle_deg", 0.0,
-				      "retardance_deg", 90.0, "retarder", "angle_deg", 45.0,
-				      "retardance_deg", 90.0));
+	                    json_pack("[{s:{s:f, s:f}}, {s:{s:f, s:f}}]", "retarder", "angle_deg",
+	                              0.0, "retardance_deg", 90.0, "retarder", "angle_deg", 45.0,
+	                              "retardance_deg", 90.0));
 	char *txt = json_dumps(d, JSON_COMPACT | JSON_REAL_PRECISION(17));
 	json_decref(d);
 	return txt;
@@ -335,8 +348,8 @@ static int mueller_sim(pc_demo *d, uint32_t mw, uint32_t mh, pc_scene **mscene, 
 	/* same sensor area: 4× the pitch; 1/16 of the exposure keeps the signal per pixel */
 	double ratio = (double)d->in.sensor_width / mw;
 	char *mtext = doc ? mueller_variant(doc, mw, mh, fig.pixel_pitch_um * ratio,
-					    fig.exposure_us / (ratio * ratio))
-			  : NULL;
+	                                    fig.exposure_us / (ratio * ratio))
+	                  : NULL;
 	free(doc);
 	if (!mtext)
 		return pc_error(PC_ENOMEM, "cannot build the Mueller scene");
@@ -353,19 +366,19 @@ static int mueller_sim(pc_demo *d, uint32_t mw, uint32_t mh, pc_scene **mscene, 
 /* Frames 0..n−1 of the Mueller sequence through the run; sat[i] marks pixels saturated in some
  * frame. */
 static int mueller_frames(pc_demo *d, pc_sim *msim, const pc_sim_info *in, uint8_t *sat,
-			  pc_mueller_result *res)
+                          pc_mueller_result *res)
 {
 	pc_sim_states st;
 	pc_sim_get_states(msim, &st);
 	pc_mueller_system sys;
 	int rc = pc_mueller_system_init(&sys, st.n_psg, st.psg, st.n_psa, st.psa, st.analyser);
-	pc_mueller_run_opts ro = { PC_DM_BILINEAR, 0, d->o.threads, { PC_REBUILD_OFF, 0 } };
+	pc_mueller_run_opts ro = {PC_DM_BILINEAR, 0, d->o.threads, {PC_REBUILD_OFF, 0}, 0, 0};
 	pc_mueller_run *run = NULL;
 	if (!rc)
 		rc = pc_mueller_run_new(&sys, &in->mosaic, &ro, &run);
 	const uint16_t full = (uint16_t)((1u << in->bits) - 1);
 	for (unsigned j = 0; !rc && j < in->n_states; j++) {
-		pc_view v = { 0 };
+		pc_view v = {0};
 		if (!(rc = pc_view_alloc(&v, in->format, in->width, in->height, 64)))
 			rc = pc_sim_frame(msim, j, NULL, &v, NULL);
 		if (!rc && in->bits > 8)
@@ -390,7 +403,7 @@ static int mueller_frames(pc_demo *d, pc_sim *msim, const pc_sim_info *in, uint8
  * saturated (the bilinear demosaic spreads a saturated pixel to its neighbours: they are
  * excluded too). */
 static float *mueller_weights(const float *tM, const uint8_t *sat, uint32_t mw, uint32_t mh,
-			      double mscale, long *n_saturated)
+                              double mscale, long *n_saturated)
 {
 	size_t mnp = (size_t)mw * mh;
 	float *w = malloc(mnp * sizeof *w);
@@ -413,24 +426,24 @@ static float *mueller_weights(const float *tM, const uint8_t *sat, uint32_t mw, 
 
 /* The maps, their truth and the comparison. */
 static int mueller_compare(const char *dir, const pc_mueller_result *res, const float *tM,
-			   const float *tmaps, const float *w, demo_results *r)
+                           const float *tmaps, const float *w, demo_results *r)
 {
 	const uint32_t mw = r->mw, mh = r->mh;
 	const size_t mnp = (size_t)mw * mh;
-	const char *names[3] = { "D", "R", "Delta" }, *labels[3] = { "D", "R (rad)", "Delta" };
-	const double his[3] = { 1, M_PI, 1 };
+	const char *names[3] = {"D", "R", "Delta"}, *labels[3] = {"D", "R (rad)", "Delta"};
+	const double his[3] = {1, M_PI, 1};
 	int rc = 0;
 	for (int k = 0; k < 3 && !rc; k++) {
 		char nm[32], title[96];
 		snprintf(title, sizeof title, "%s from 8 simulated frames (cond %.2f)", names[k],
-			 res->sys.cond_W);
-		if ((rc = pc_map_write(dir, names[k], res->maps + (size_t)k * mnp, mw, mh, 0, his[k],
-				       title, labels[k])))
+		         res->sys.cond_W);
+		if ((rc = pc_map_write(dir, names[k], res->maps + (size_t)k * mnp, mw, mh, 0,
+		                       his[k], title, labels[k])))
 			break;
 		snprintf(nm, sizeof nm, "truth_%s", names[k]);
 		snprintf(title, sizeof title, "%s ground truth", names[k]);
 		if ((rc = pc_map_write(dir, nm, tmaps + (size_t)k * mnp, mw, mh, 0, his[k], title,
-				       labels[k])))
+		                       labels[k])))
 			break;
 		/* retardance is defined where the light keeps its polarization: compare R only
 		 * where the truth depolarization Δ < 0.5 */
@@ -443,15 +456,15 @@ static int mueller_compare(const char *dir, const pc_mueller_result *res, const 
 					wr[i] = tmaps[2 * mnp + i] < 0.5f ? w[i] : 0;
 			wk = wr ? wr : w;
 		}
-		r->med[k] = pc_eval_median_abs_err(res->maps + (size_t)k * mnp,
-						   tmaps + (size_t)k * mnp, wk, mnp, 0.5, k == 1,
-						   &r->used[k]);
+		r->med[k] =
+		    pc_eval_median_abs_err(res->maps + (size_t)k * mnp, tmaps + (size_t)k * mnp, wk,
+		                           mnp, 0.5, k == 1, &r->used[k]);
 		free(wr);
 	}
 	if (rc)
 		return pc_error_prefix(rc, "%s: ", dir);
 	char path[4096];
-	size_t ms[4] = { mh, mw, 4, 4 };
+	size_t ms[4] = {mh, mw, 4, 4};
 	if ((rc = join(path, sizeof path, dir, "truth_mueller.npy")) ||
 	    (rc = pc_npy_write(path, tM, PC_DT_F32, 4, ms)) ||
 	    (rc = join(path, sizeof path, dir, "mueller.npy")) ||
@@ -469,7 +482,7 @@ static int step_mueller(pc_demo *d, const char *out, demo_results *r)
 	r->mh = mh;
 	pc_scene *mscene = NULL;
 	pc_sim *msim = NULL;
-	pc_mueller_result res = { 0 };
+	pc_mueller_result res = {0};
 	float *tM = malloc(mnp * 16 * sizeof *tM), *tmaps = malloc(mnp * 3 * sizeof *tmaps);
 	float *w = NULL;
 	uint8_t *sat = calloc(mnp, 1);
@@ -494,9 +507,9 @@ static int step_mueller(pc_demo *d, const char *out, demo_results *r)
 		r->nonphysical = res.nonphysical;
 		/* truth maps from the truth Mueller image */
 		pc_mueller_maps(tM, mw, mh, 0xFFFFu, d->o.threads, tmaps, tmaps + mnp,
-				tmaps + 2 * mnp, NULL);
+		                tmaps + 2 * mnp, NULL);
 		w = mueller_weights(tM, sat, mw, mh, pc_sim_dn_per_radiance(msim, NULL, 0),
-				    &r->m_saturated);
+		                    &r->m_saturated);
 		if (!w)
 			rc = pc_error(PC_ENOMEM, "Mueller weights");
 	}
@@ -547,13 +560,14 @@ static json_t *report_json(const pc_demo *d, const demo_results *r, double t_tot
 	json_object_set_new(report, "pipeline", jm);
 	/* the pictures' shared scales */
 	json_object_set_new(report, "pictures",
-			    json_pack("{s:f, s:f}", "s0_hi", r->s0_hi, "dolp_hi", r->dolp_hi));
+	                    json_pack("{s:f, s:f}", "s0_hi", r->s0_hi, "dolp_hi", r->dolp_hi));
 	/* how "seconds" was measured: the same for every method */
 	json_object_set_new(report, "pipeline_timing",
-			    json_pack("{s:s, s:i, s:i, s:i}", "what", "raw -> S0, S1, S2, DoLP, AoLP "
-				      "(pc_stokes_from_raw)", "untimed_runs", 1, "timed_runs", 3,
-				      "threads", d->o.threads > 0 ? d->o.threads
-								  : pc_parallel_max_threads()));
+	                    json_pack("{s:s, s:i, s:i, s:i}", "what",
+	                              "raw -> S0, S1, S2, DoLP, AoLP "
+	                              "(pc_stokes_from_raw)",
+	                              "untimed_runs", 1, "timed_runs", 3, "threads",
+	                              d->o.threads > 0 ? d->o.threads : pc_parallel_max_threads()));
 	if (d->o.mueller) {
 		json_t *mj = json_object();
 		json_object_set_new(mj, "width", json_integer(r->mw));
@@ -567,7 +581,8 @@ static json_t *report_json(const pc_demo *d, const demo_results *r, double t_tot
 		json_object_set_new(mj, "median_abs_err_Delta", pc_json_real(r->med[2]));
 		json_object_set_new(mj, "pixels_compared", json_integer(r->used[0]));
 		json_object_set_new(mj, "pixels_compared_R", json_integer(r->used[1]));
-		json_object_set_new(mj, "pixels_nonphysical_filtered", json_integer(r->nonphysical));
+		json_object_set_new(mj, "pixels_nonphysical_filtered",
+		                    json_integer(r->nonphysical));
 		json_object_set_new(report, "mueller", mj);
 	}
 	return report;
@@ -576,63 +591,79 @@ static json_t *report_json(const pc_demo *d, const demo_results *r, double t_tot
 static void report_md(FILE *mf, const pc_demo *d, const demo_results *r, double t_total)
 {
 	fprintf(mf, "# polarcam demo\n\nScene `%s` (%ux%u), seed %llu. Effects:",
-		pc_scene_name(d->scene), d->in.width, d->in.height, (unsigned long long)d->o.seed);
+	        pc_scene_name(d->scene), d->in.width, d->in.height, (unsigned long long)d->o.seed);
 	for (unsigned i = 0; i < PC_FX_COUNT_; i++)
 		if (d->in.effects & (1u << i))
 			fprintf(mf, " %s", pc_sim_effect_name(1u << i));
-	fprintf(mf, ".\nRender %.2f s (ray casting + pBRDF, once), one noisy frame %.2f s, total %.1f s, "
-		    "peak memory %.0f MiB.\n\n", r->t_render, r->t_frame, t_total, pc_peak_rss_mib());
-	fprintf(mf, "## Pipeline estimates against the ground truth\n\n"
-		    "Raw frame 0 (`raw_000000.png`) demosaicked and turned into Stokes/DoLP/AoLP, compared "
-		    "with `truth_stokes.npy` (converted to DN: %.4g DN per W m^-2 sr^-1) over %ld pixels that "
-		    "are neither dark (S0 < 2 %% of full scale) nor saturated; %ld raw pixels are saturated. "
-		    "AoLP errors over pixels with truth DoLP > 0.05, weighted by DoLP. Time: raw frame to "
-		    "S0, DoLP and AoLP (the same call and outputs for every method), the fastest of 3 "
-		    "runs after an untimed one, %d threads; each method takes its own path (bilinear is "
-		    "fused into one pass, docs/demosaicking.md).\n\n"
-		    "| method | time (ms) | S0 rel. RMS | DoLP bias | DoLP RMS | AoLP err (deg, weighted) | AoLP median (deg) |\n"
-		    "|---|---|---|---|---|---|---|\n", r->scale, r->acc[0].pixels, r->saturated,
-		d->o.threads > 0 ? d->o.threads : pc_parallel_max_threads());
+	fprintf(
+	    mf,
+	    ".\nRender %.2f s (ray casting + pBRDF, once), one noisy frame %.2f s, total %.1f s, "
+	    "peak memory %.0f MiB.\n\n",
+	    r->t_render, r->t_frame, t_total, pc_peak_rss_mib());
+	fprintf(
+	    mf,
+	    "## Pipeline estimates against the ground truth\n\n"
+	    "Raw frame 0 (`raw_000000.png`) demosaicked and turned into Stokes/DoLP/AoLP, compared "
+	    "with `truth_stokes.npy` (converted to DN: %.4g DN per W m^-2 sr^-1) over %ld pixels "
+	    "that "
+	    "are neither dark (S0 < 2 %% of full scale) nor saturated; %ld raw pixels are "
+	    "saturated. "
+	    "AoLP errors over pixels with truth DoLP > 0.05, weighted by DoLP. Time: raw frame to "
+	    "S0, DoLP and AoLP (the same call and outputs for every method), the fastest of 3 "
+	    "runs after an untimed one, %d threads; each method takes its own path (bilinear is "
+	    "fused into one pass, docs/demosaicking.md).\n\n"
+	    "| method | time (ms) | S0 rel. RMS | DoLP bias | DoLP RMS | AoLP err (deg, weighted) "
+	    "| AoLP median (deg) |\n"
+	    "|---|---|---|---|---|---|---|\n",
+	    r->scale, r->acc[0].pixels, r->saturated,
+	    d->o.threads > 0 ? d->o.threads : pc_parallel_max_threads());
 	for (unsigned m = 0; m < d->o.n_methods; m++) {
 		const pc_eval_stokes_metrics *a = &r->acc[m];
 		fprintf(mf, "| %s%s | %.2f | %.4f | %+.4f | %.4f | %.2f | %.2f |\n", r->method[m],
-			m == r->best ? " (best DoLP)" : "", 1e3 * r->seconds[m], a->s0_rel_rms, a->dolp_bias,
-			a->dolp_rms, a->aolp_err_deg, a->aolp_median_deg);
+		        m == r->best ? " (best DoLP)" : "", 1e3 * r->seconds[m], a->s0_rel_rms,
+		        a->dolp_bias, a->dolp_rms, a->aolp_err_deg, a->aolp_median_deg);
 	}
-	fprintf(mf, "\nThe DoLP bias is positive where the signal is low: the estimator's noise "
-		    "floor (physics.md §6). Pictures: `truth/` and `pipeline_<method>/` of every method "
-		    "(s0, dolp, aolp, aolp_sat), all on one scale: S0 0..%.4g DN (the truth's 99.9th "
-		    "percentile, at most the S0 of a saturated super-pixel), DoLP 0..%.2f (automatic: "
-		    "the truth's 99th percentile); `stokes.npy` is the bilinear estimate (H, W, 3) in "
-		    "DN. How to read them: docs/pictures.md.\n\n", r->s0_hi, r->dolp_hi);
+	fprintf(
+	    mf,
+	    "\nThe DoLP bias is positive where the signal is low: the estimator's noise "
+	    "floor (physics.md §6). Pictures: `truth/` and `pipeline_<method>/` of every method "
+	    "(s0, dolp, aolp, aolp_sat), all on one scale: S0 0..%.4g DN (the truth's 99.9th "
+	    "percentile, at most the S0 of a saturated super-pixel), DoLP 0..%.2f (automatic: "
+	    "the truth's 99th percentile); `stokes.npy` is the bilinear estimate (H, W, 3) in "
+	    "DN. How to read them: docs/pictures.md.\n\n",
+	    r->s0_hi, r->dolp_hi);
 	if (d->o.mueller)
-		fprintf(mf, "## Mueller imaging\n\nThe same scene at %ux%u (same field of view), "
-			    "tetrahedral generator (polarizer + 132° retarder at ±15.1°, ±51.7°) × quarter-"
-			    "wave analyser at 0°/45° in front of the DoFP: %u frames, cond(A) = %.3f, "
-			    "cond(G) = %.3f, cond(W) = %.3f. Per-pixel least squares (bilinear demosaic), then "
-			    "Lu–Chipman; compared with the decomposition of the Mueller ground truth over "
-			    "the lit pixels (signal above 100 DN) that no frame saturates (%ld pixels are "
-			    "excluded as saturated or next to a saturated one):\n\n"
-			    "| map | median abs. error | pixels |\n|---|---|---|\n| D | %.4f | %ld |\n"
-			    "| R (rad, where truth Delta < 0.5) | %.4f | %ld |\n| Delta | %.4f | %ld |\n\n"
-			    "%ld pixels had non-physical noisy matrices (Cloude-filtered "
-			    "before decomposing). Files: `mueller/` (D, R, Delta and truth_* as .npy and "
-			    ".png, mueller.npy, truth_mueller.npy).\n",
-			r->mw, r->mh, r->sys.n_psg * r->sys.n_psa, r->sys.cond_A, r->sys.cond_G,
-			r->sys.cond_W, r->m_saturated, r->med[0], r->used[0], r->med[1], r->used[1],
-			r->med[2], r->used[2], r->nonphysical);
+		fprintf(
+		    mf,
+		    "## Mueller imaging\n\nThe same scene at %ux%u (same field of view), "
+		    "tetrahedral generator (polarizer + 132° retarder at ±15.1°, ±51.7°) × quarter-"
+		    "wave analyser at 0°/45° in front of the DoFP: %u frames, cond(A) = %.3f, "
+		    "cond(G) = %.3f, cond(W) = %.3f. Per-pixel least squares (bilinear demosaic), "
+		    "then "
+		    "Lu–Chipman; compared with the decomposition of the Mueller ground truth over "
+		    "the lit pixels (signal above 100 DN) that no frame saturates (%ld pixels are "
+		    "excluded as saturated or next to a saturated one):\n\n"
+		    "| map | median abs. error | pixels |\n|---|---|---|\n| D | %.4f | %ld |\n"
+		    "| R (rad, where truth Delta < 0.5) | %.4f | %ld |\n| Delta | %.4f | %ld |\n\n"
+		    "%ld pixels had non-physical noisy matrices (Cloude-filtered "
+		    "before decomposing). Files: `mueller/` (D, R, Delta and truth_* as .npy and "
+		    ".png, mueller.npy, truth_mueller.npy).\n",
+		    r->mw, r->mh, r->sys.n_psg * r->sys.n_psa, r->sys.cond_A, r->sys.cond_G,
+		    r->sys.cond_W, r->m_saturated, r->med[0], r->used[0], r->med[1], r->used[1],
+		    r->med[2], r->used[2], r->nonphysical);
 }
 
 /* Step 4: report.json and report.md. */
 static int step_report(const pc_demo *d, const char *out, const demo_results *r, double t_all,
-		       char **md_out)
+                       char **md_out)
 {
 	double t_total = now_s() - t_all;
 	json_t *report = report_json(d, r, t_total);
 	char *rj = json_dumps(report, JSON_INDENT(1) | JSON_REAL_PRECISION(10));
 	json_decref(report);
 	char path[4096];
-	int rc = !rj ? pc_error(PC_ENOMEM, "report.json") : join(path, sizeof path, out, "report.json");
+	int rc =
+	    !rj ? pc_error(PC_ENOMEM, "report.json") : join(path, sizeof path, out, "report.json");
 	if (!rc)
 		rc = pc_write_file_atomic(path, rj, strlen(rj));
 	free(rj);
@@ -663,8 +694,8 @@ int pc_demo_run(pc_demo *d, const char *dir, char **report)
 	const size_t np = (size_t)d->in.width * d->in.height;
 	demo_results *r = calloc(1, sizeof *r);
 	float *tp = malloc(np * 3 * sizeof *tp);
-	pc_view raw = { 0 };
-	pc_outdir od = { 0 };
+	pc_view raw = {0};
+	pc_outdir od = {0};
 	int rc = !r || !tp ? pc_error(PC_ENOMEM, "demo") : 0;
 	if (!rc)
 		rc = pc_outdir_begin(&od, dir, d->o.overwrite ? PC_OUT_OVERWRITE : 0);

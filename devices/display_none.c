@@ -14,7 +14,7 @@ int pc_display_open(pc_display **out, const char *title)
 	(void)title;
 	*out = NULL;
 	return pc_error(PC_EUNAVAIL, "no live window in this build: OpenCV (Debian: "
-	                            "libopencv-highgui-dev) was not found at configure time");
+	                             "libopencv-highgui-dev) was not found at configure time");
 }
 
 int pc_display_show(pc_display *d, const uint8_t *rgb, uint32_t width, uint32_t height,

@@ -54,8 +54,12 @@ static int f_open(pc_source *s, const char *arg)
 	const pc_recording_frame *last = pc_recording_get_frame(f->rec, n - 1);
 	f->seq_span = last->sequence - first->sequence + 1;
 	uint64_t dt = n > 1 ? (last->timestamp_ns - first->timestamp_ns) / (n - 1) : 0;
-	if (dt == 0)
-		dt = f->fps > 0 ? (uint64_t)(1e9 / f->fps) : 1000000;
+	if (dt == 0) {
+		/* one frame, or all at one time: the nominal period (within 2^62 ns, so that the
+		 * float conversion is defined for any fps > 0) */
+		const double per = f->fps > 0 ? 1e9 / f->fps : 1e6;
+		dt = per < 0x1p62 ? (uint64_t)per : (uint64_t)1 << 62;
+	}
 	f->ts_span = last->timestamp_ns - first->timestamp_ns + dt;
 	pc_source_set_priv(s, f);
 	return 0;
@@ -78,6 +82,7 @@ static int f_info(pc_source *s, pc_source_info *info)
 	snprintf(info->serial, sizeof info->serial, "%s",
 	         f->desc->source ? f->desc->source : "(unknown source)");
 	info->mosaic = f->desc->mosaic;
+	info->black_level = pc_recording_black_level(f->rec);
 	return 0;
 }
 

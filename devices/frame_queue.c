@@ -78,8 +78,8 @@ int fq_push(frame_queue *q, const pc_frame *f)
 		pthread_mutex_lock(&q->lock);
 		q->st.lost++;
 		pthread_mutex_unlock(&q->lock);
-		return pc_error(PC_EINVAL, "frame queue: a frame of %zu bytes in slots of %zu", bytes,
-				q->st.frame_bytes);
+		return pc_error(PC_EINVAL, "frame queue: a frame of %zu bytes in slots of %zu",
+		                bytes, q->st.frame_bytes);
 	}
 	pthread_mutex_lock(&q->lock);
 	size_t pending = q->queued + q->in_hand;
@@ -105,7 +105,7 @@ int fq_push(frame_queue *q, const pc_frame *f)
 			q->st.lost++;
 			pthread_mutex_unlock(&q->lock);
 			return pc_error(PC_ENOMEM, "frame queue: a slot of %zu bytes",
-					q->st.frame_bytes);
+			                q->st.frame_bytes);
 		}
 	}
 	it->frame = *f;

@@ -48,7 +48,7 @@ static const served_name served_colour[] = {
 #define N_SERVED (sizeof served_mono / sizeof served_mono[0])
 /* fmts[] holds either list: the colour list must not be the longer one */
 _Static_assert(sizeof served_colour / sizeof served_colour[0] <= N_SERVED,
-	       "served_colour longer than fmts[]");
+               "served_colour longer than fmts[]");
 /* GigE Vision model names; polarcam/camera_profile.h holds what clients learn from them */
 #define MODEL_MONO   "polarcam-sim"
 #define MODEL_COLOUR "polarcam-sim-colour"
@@ -480,8 +480,9 @@ static int prepare_cycle(pc_gige_server *srv, unsigned k_frames, const pc_progre
 		if (rc)
 			return rc;
 		if (pc_progress_report(progress, "cycle", i + 1, k_frames))
-			return pc_error(PC_ECANCELED, "serve: stopped after rendering %u of the %u "
-			                              "cycle frames",
+			return pc_error(PC_ECANCELED,
+			                "serve: stopped after rendering %u of the %u "
+			                "cycle frames",
 			                i + 1, k_frames);
 	}
 	return 0;
@@ -537,12 +538,12 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		if (!tmp || !*tmp)
 			tmp = "/tmp";
 		int n = snprintf(srv->xml_path, sizeof srv->xml_path, "%s/polarcam-genicam-XXXXXX",
-				 tmp);
+		                 tmp);
 		int fd = n > 0 && (size_t)n < sizeof srv->xml_path ? mkstemp(srv->xml_path) : -1;
 		size_t len = strlen(srv->xml);
 		if (fd < 0 || write(fd, srv->xml, len) != (ssize_t)len)
 			rc = pc_error(PC_EIO, "serve: cannot write the GenICam description to %s",
-				      tmp);
+			              tmp);
 		if (fd < 0)
 			srv->xml_path[0] = 0; /* nothing to unlink */
 		else

@@ -10,7 +10,7 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *opt
 	if (out)
 		*out = NULL;
 	return pc_error(PC_EUNAVAIL, "serve: built without Aravis (Debian: libaravis-dev, then "
-	                            "re-run cmake)");
+	                             "re-run cmake)");
 }
 
 void pc_gige_server_get_stats(pc_gige_server *srv, pc_gige_server_stats *st)

@@ -9,9 +9,8 @@
 #include "polarcam/error.h"
 #include "polarcam/recording.h"
 
-int pc_process_recording(const char *rec_dir, const pc_process_batch *b,
-			 const pc_process_opts *o, const char *dir,
-			 const pc_stokes_folder_opts *folder, char **meta)
+int pc_process_recording(const char *rec_dir, const pc_process_batch *b, const pc_process_opts *o,
+                         const char *dir, const pc_stokes_folder_opts *folder, char **meta)
 {
 	if (meta)
 		*meta = NULL;
@@ -25,7 +24,7 @@ int pc_process_recording(const char *rec_dir, const pc_process_batch *b,
 	size_t n = pc_recording_count(r);
 	if (!d->polarized)
 		rc = pc_error(PC_EFORMAT, "%s: the recording's frames carry no polarizer mosaic",
-			      rec_dir);
+		              rec_dir);
 	else if (!n)
 		rc = pc_error(PC_EINVAL, "%s: the recording holds no frame", rec_dir);
 	pc_raw_input *in = rc ? NULL : calloc(n, sizeof *in);
@@ -43,7 +42,7 @@ int pc_process_recording(const char *rec_dir, const pc_process_batch *b,
 		snprintf(paths[i], len, "%s/%s", rec_dir, file);
 		/* raw_NNNNNN.png (the reader checked the name) */
 		num[i] = strtoull(file + 4, NULL, 10);
-		in[i] = (pc_raw_input){ paths[i], NULL, 0 };
+		in[i] = (pc_raw_input){paths[i], NULL, 0};
 	}
 	if (!rc) {
 		pc_process_batch rb = *b;

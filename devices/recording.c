@@ -12,6 +12,7 @@
 #include <time.h>
 
 #include "polarcam/error.h"
+#include "polarcam/limits.h"
 #include "polarcam/io.h"
 #include "json.h"
 
@@ -74,7 +75,7 @@ static bool file_exists(const char *dir, const char *name)
 	return e;
 }
 
-static const char *const store_ext[] = { "png", "npy", "raw" };
+static const char *const store_ext[] = {"png", "npy", "raw"};
 
 const char *pc_recording_store_name(pc_recording_store s)
 {
@@ -160,8 +161,9 @@ int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_
 	rc = pc_mkdir_p(dir);
 	if (rc)
 		return rc;
-	if (!overwrite && (file_exists(dir, "meta.json") || file_exists(dir, "raw_000000.png") ||
-	                   file_exists(dir, "raw_000000.npy") || file_exists(dir, "raw_000000.raw")))
+	if (!overwrite &&
+	    (file_exists(dir, "meta.json") || file_exists(dir, "raw_000000.png") ||
+	     file_exists(dir, "raw_000000.npy") || file_exists(dir, "raw_000000.raw")))
 		return pc_error(PC_EBUSY,
 		                "%s: already holds a recording (meta.json / raw_000000.*); "
 		                "choose another directory or overwrite",
@@ -263,7 +265,7 @@ static int storage_view(pc_recording *r, const pc_view *v, pc_view *out)
 	const pc_format_info *si = pc_format_info_get(r->storage);
 	const size_t bpp = si->group_bytes, row = (size_t)v->width * bpp;
 	if (fi->packing == PC_PACK_NONE && fi->group_bytes == bpp && v->stride == row) {
-		*out = (pc_view){ v->data, v->width, v->height, row, r->storage };
+		*out = (pc_view){v->data, v->width, v->height, row, r->storage};
 		return 0;
 	}
 	size_t need = (size_t)v->width * v->height;
@@ -274,7 +276,7 @@ static int storage_view(pc_recording *r, const pc_view *v, pc_view *out)
 	}
 	if (!r->row_tmp)
 		return pc_error(PC_ENOMEM, "unpacking a %ux%u frame", v->width, v->height);
-	*out = (pc_view){ r->row_tmp, v->width, v->height, row, r->storage };
+	*out = (pc_view){r->row_tmp, v->width, v->height, row, r->storage};
 	if (fi->packing == PC_PACK_NONE && fi->group_bytes == bpp) {
 		for (uint32_t y = 0; y < v->height; y++)
 			memcpy((uint8_t *)r->row_tmp + y * row, PC_ROW(v, const uint8_t, y), row);
@@ -294,9 +296,9 @@ static int write_frame(pc_recording *r, const char *path, const pc_view *v)
 		return rc;
 	switch (r->desc.store) {
 	case PC_STORE_NPY: {
-		size_t shape[2] = { u.height, u.width };
-		return pc_npy_write(path, u.data, u.format == PC_FMT_MONO8 ? PC_DT_U8 : PC_DT_U16, 2,
-		                    shape);
+		size_t shape[2] = {u.height, u.width};
+		return pc_npy_write(path, u.data, u.format == PC_FMT_MONO8 ? PC_DT_U8 : PC_DT_U16,
+		                    2, shape);
 	}
 	case PC_STORE_RAW:
 		return pc_raw_write(path, &u);
@@ -449,27 +451,58 @@ int pc_recording_frame_mosaic(const char *path, pc_mosaic *m)
 		pc_recording_free(r);
 		return ok;
 	}
+	pc_recording_frame_meta fm;
+	int found = pc_recording_frame_info(path, &fm);
+	if (found < 0)
+		return found;
+	if (found && fm.polarized)
+		*m = fm.mosaic;
+	return found && fm.polarized;
+}
+
+int pc_recording_frame_info(const char *path, pc_recording_frame_meta *fm)
+{
 	const char *slash = strrchr(path, '/');
 	const char *file = slash ? slash + 1 : path;
 	char dir[4096];
 	if (!slash)
 		snprintf(dir, sizeof dir, ".");
 	else if ((size_t)snprintf(dir, sizeof dir, "%.*s", slash == path ? 1 : (int)(slash - path),
-				  path) >= sizeof dir)
+	                          path) >= sizeof dir)
 		return 0;
 	if (!file_exists(dir, "meta.json"))
 		return 0;
 	pc_recording *r = NULL;
-	if (pc_recording_open(&r, dir) != 0) {
+	int rc = pc_recording_open(&r, dir);
+	if (rc) {
+		/* a frame named like a recording's beside a meta.json that does not open:
+		 * processing a colour recording's frame as monochrome would be silently wrong */
+		unsigned num;
+		char tail;
+		if (strlen(file) == 14 && sscanf(file, "raw_%6u.pn%c", &num, &tail) == 2 &&
+		    tail == 'g')
+			return pc_error_prefix(rc,
+			                       "%s is a recording's frame, but its description is "
+			                       "unreadable (give --layout to process it anyway): ",
+			                       path);
 		pc_error_clear(); /* some other meta.json: not a recording */
 		return 0;
 	}
 	int found = 0;
 	const pc_recording_desc *d = pc_recording_get_desc(r);
-	for (size_t i = 0; d->polarized && !found && i < pc_recording_count(r); i++)
+	for (size_t i = 0; !found && i < pc_recording_count(r); i++)
 		found = !strcmp(pc_recording_get_frame(r, i)->file, file);
-	if (found)
-		*m = d->mosaic;
+	if (found) {
+		memset(fm, 0, sizeof *fm);
+		fm->mosaic = d->mosaic;
+		fm->polarized = d->polarized;
+		fm->black_level = pc_recording_black_level(r);
+		fm->bits = pc_format_info_get(d->format)->bits;
+		fm->offset_x = d->offset_x;
+		fm->offset_y = d->offset_y;
+		fm->sensor_width = d->sensor_width;
+		fm->sensor_height = d->sensor_height;
+	}
 	pc_recording_free(r);
 	return found;
 }
@@ -481,6 +514,9 @@ static int parse_frames(pc_recording *r, const pc_json_src *js, json_t *arr)
 	size_t n = json_array_size(arr);
 	if (n > 999999)
 		return pc_json_error(js, "frames", "%zu frames: at most 999999", n);
+	int lrc = pc_limit_check(PC_LIMIT_FRAMES, n, js->file);
+	if (lrc)
+		return lrc;
 	r->frames = calloc(n ? n : 1, sizeof *r->frames);
 	if (!r->frames)
 		return pc_error(PC_ENOMEM, "%s", js->file);
@@ -501,13 +537,13 @@ static int parse_frames(pc_recording *r, const pc_json_src *js, json_t *arr)
 			return pc_json_error(js, p, "expected \"raw_NNNNNN.png\" (or .npy, .raw)");
 		snprintf(f->file, sizeof f->file, "%s", name);
 		if ((rc = pc_json_get_u64(js, o, where, "sequence", PC_JSON_REQUIRED, INT64_MAX,
-					  &f->sequence)) ||
+		                          &f->sequence)) ||
 		    (rc = pc_json_get_u64(js, o, where, "timestamp_ns", PC_JSON_REQUIRED, INT64_MAX,
-					  &f->timestamp_ns)) ||
+		                          &f->timestamp_ns)) ||
 		    (rc = pc_json_get_num(js, o, where, "exposure_us", PC_JSON_OPTIONAL, -INFINITY,
-					  false, INFINITY, &f->exposure_us)) ||
-		    (rc = pc_json_get_num(js, o, where, "gain_db", PC_JSON_OPTIONAL, -INFINITY, false,
-					  INFINITY, &f->gain_db)))
+		                          false, INFINITY, &f->exposure_us)) ||
+		    (rc = pc_json_get_num(js, o, where, "gain_db", PC_JSON_OPTIONAL, -INFINITY,
+		                          false, INFINITY, &f->gain_db)))
 			return rc;
 		json_t *st = json_object_get(o, "status");
 		pc_json_path(p, sizeof p, where, "status");
@@ -525,16 +561,16 @@ static int parse_frames(pc_recording *r, const pc_json_src *js, json_t *arr)
 				char q[128];
 				pc_json_path_index(q, sizeof q, p, k);
 				return pc_json_error(js, q,
-						     "expected \"incomplete\", \"corrupt\" or "
-						     "\"simulated\"");
+				                     "expected \"incomplete\", \"corrupt\" or "
+				                     "\"simulated\"");
 			}
 		}
 		pc_json_path(p, sizeof p, where, "sequence");
 		if (i > 0 && f->sequence <= r->frames[i - 1].sequence)
-			return pc_json_error(js, p,
-					     "= %llu: must be greater than the previous frame's %llu",
-					     (unsigned long long)f->sequence,
-					     (unsigned long long)r->frames[i - 1].sequence);
+			return pc_json_error(
+			    js, p, "= %llu: must be greater than the previous frame's %llu",
+			    (unsigned long long)f->sequence,
+			    (unsigned long long)r->frames[i - 1].sequence);
 		pc_json_path(p, sizeof p, where, "timestamp_ns");
 		if (i > 0 && f->timestamp_ns < r->frames[i - 1].timestamp_ns)
 			return pc_json_error(js, p, "earlier than the previous frame's");
@@ -549,12 +585,13 @@ static int open_meta(pc_recording *r, const char *path)
 	int rc = pc_json_load(path, true, &m);
 	if (rc)
 		return rc;
-	const pc_json_src js = { path, PC_EFORMAT };
+	const pc_json_src js = {path, PC_EFORMAT};
 	uint64_t ver = 0, bits = 0, w = 0, h = 0, ox = 0, oy = 0, sw = 0, sh = 0;
 	rc = pc_json_get_u64(&js, m, "", "polarcam_recording", PC_JSON_REQUIRED, 1000, &ver);
 	if (!rc && ver != PC_RECORDING_VERSION)
-		rc = pc_json_error(&js, "polarcam_recording", "= %llu: this polarcam reads version %d",
-				   (unsigned long long)ver, PC_RECORDING_VERSION);
+		rc = pc_json_error(&js, "polarcam_recording",
+		                   "= %llu: this polarcam reads version %d",
+		                   (unsigned long long)ver, PC_RECORDING_VERSION);
 	if (!rc)
 		rc = pc_json_get_u64(&js, m, "", "bits", PC_JSON_REQUIRED, 16, &bits);
 	if (!rc)
@@ -574,11 +611,12 @@ static int open_meta(pc_recording *r, const char *path)
 	const char *fmt = json_string_value(json_object_get(m, "format"));
 	pc_pixfmt pf = fmt ? pc_format_from_name(fmt) : PC_FMT_INVALID;
 	if (!rc && (pf == PC_FMT_INVALID || pc_recording_storage_format(pf) != pf))
-		rc = pc_json_error(&js, "format", "'%s': expected Mono8, Mono10, Mono12, Mono14 or Mono16",
-				   fmt ? fmt : "(missing)");
+		rc = pc_json_error(&js, "format",
+		                   "'%s': expected Mono8, Mono10, Mono12, Mono14 or Mono16",
+		                   fmt ? fmt : "(missing)");
 	if (!rc && pc_format_info_get(pf)->bits != bits)
 		rc = pc_json_error(&js, "bits", "= %llu: does not match format %s",
-				   (unsigned long long)bits, fmt);
+		                   (unsigned long long)bits, fmt);
 	json_t *pol = json_object_get(m, "polarized");
 	bool polarized = false;
 	if (!rc)
@@ -590,11 +628,15 @@ static int open_meta(pc_recording *r, const char *path)
 		const char *t = json_string_value(mos);
 		if (!t)
 			rc = pc_json_error(&js, "mosaic",
-					   "expected a string such as \"90,45,135,0\", got %s",
-					   pc_json_kind(mos));
+			                   "expected a string such as \"90,45,135,0\", got %s",
+			                   pc_json_kind(mos));
 		else if ((rc = pc_mosaic_parse(t, &mosaic)))
 			rc = pc_error_prefix(PC_EFORMAT, "%s: mosaic: ", path);
 	}
+	if (!rc && pol && polarized && mosaic.period == 0)
+		rc = pc_json_error(&js, "mosaic",
+		                   "missing, but 'polarized' is true (a polarized recording states "
+		                   "its mosaic, e.g. \"90,45,135,0\")");
 	json_t *store = json_object_get(m, "store");
 	pc_recording_store sv = PC_STORE_PNG;
 	if (!rc && store && pc_recording_store_from_name(json_string_value(store), &sv))
@@ -712,6 +754,13 @@ int pc_recording_open(pc_recording **out, const char *dir)
 		rc = open_meta(r, meta);
 	else
 		rc = open_bare(r, dir);
+	/* every frame meta.json lists must be there: a reader (capture file:, process) must not
+	 * find out after writing the frames before a missing one */
+	for (size_t i = 0; !rc && i < r->n; i++)
+		if (!file_exists(dir, r->frames[i].file))
+			rc = pc_error(PC_ENOENT,
+			              "%s/%s: listed in %s/meta.json as frame %zu, missing", dir,
+			              r->frames[i].file, dir, i);
 	free(meta);
 	if (rc) {
 		pc_recording_free(r);
@@ -738,7 +787,7 @@ int pc_recording_read(const pc_recording *r, size_t i, pc_view *out)
 	const pc_format_info *fi = pc_format_info_get(r->storage);
 	if (store_of_file(r->frames[i].file) == PC_STORE_RAW) {
 		/* headerless: the geometry is meta.json's, and the file holds exactly that */
-		pc_raw_geometry g = { r->desc.width, r->desc.height, r->storage, 0, 0 };
+		pc_raw_geometry g = {r->desc.width, r->desc.height, r->storage, 0, 0};
 		uint64_t want = (uint64_t)r->desc.width * r->desc.height * fi->group_bytes;
 		struct stat st;
 		if (stat(p, &st) != 0)
@@ -747,8 +796,8 @@ int pc_recording_read(const pc_recording *r, size_t i, pc_view *out)
 		else if ((uint64_t)st.st_size != want)
 			rc = pc_error(PC_EFORMAT,
 			              "%s: %lld bytes, meta.json says %ux%u %s (%llu bytes)", p,
-			              (long long)st.st_size, r->desc.width, r->desc.height, fi->name,
-			              (unsigned long long)want);
+			              (long long)st.st_size, r->desc.width, r->desc.height,
+			              fi->name, (unsigned long long)want);
 		else
 			rc = pc_image_read(p, &g, &v, &bits);
 	} else {

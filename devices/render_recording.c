@@ -23,9 +23,9 @@ typedef struct job {
 	pc_sim_info in;
 	uint64_t frames;
 	pc_recording *rec;
-	uint64_t written;  /* frames in the recording */
-	bool stop;         /* the progress callback asked to stop */
-	char err[512]; /* why the recording ended early, for meta.json */
+	uint64_t written; /* frames in the recording */
+	bool stop;        /* the progress callback asked to stop */
+	char err[512];    /* why the recording ended early, for meta.json */
 	double t_prep, t_frames, t_write;
 } job;
 
@@ -51,28 +51,53 @@ static double now_s(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+int pc_truth_write(const char *path, const pc_sim_info *in, const float *values, bool mueller,
+                   pc_dtype dtype)
+{
+	if (!path || !in || !values || (dtype != PC_DT_F32 && dtype != PC_DT_F16))
+		return pc_error(PC_EINVAL,
+		                "truth: path, info, values and a float32/float16 dtype are "
+		                "required");
+	const bool colour = in->colour_channels == 3;
+	/* (H, W[, 3], 4[, 4]) */
+	size_t shape[5] = {in->height, in->width, 3, 4, 4}, nd = 2,
+	       n = (size_t)in->height * in->width;
+	if (colour)
+		nd++;
+	shape[nd++] = 4;
+	if (mueller)
+		shape[nd++] = 4;
+	for (size_t k = 2; k < nd; k++)
+		n *= shape[k];
+	int rc;
+	if (dtype == PC_DT_F16) {
+		uint16_t *h = malloc(n * sizeof *h);
+		if (!h)
+			return pc_error(PC_ENOMEM, "%s: float16 truth of %ux%u", path, in->width,
+			                in->height);
+		pc_f32_to_f16(values, h, n);
+		rc = pc_npy_write(path, h, PC_DT_F16, (unsigned)nd, shape);
+		free(h);
+	} else {
+		rc = pc_npy_write(path, values, PC_DT_F32, (unsigned)nd, shape);
+	}
+	return rc; /* pc_npy_write's errors name the path */
+}
+
 /* The truth of generator state g (and the Mueller truth with the first one). */
 static int write_truth(job *j, unsigned g, bool first, const float *ts, const float *tm)
 {
-	const pc_sim_info *in = &j->in;
-	const size_t C = in->colour_channels;
 	char path[4096];
-	size_t shape[4] = { in->height, in->width, C == 3 ? 3 : 4, 4 };
-	if (in->n_psg > 1)
+	if (j->in.n_psg > 1)
 		snprintf(path, sizeof path, "%s/truth_stokes_psg%02u.npy", j->dir, g);
 	else
 		snprintf(path, sizeof path, "%s/truth_stokes.npy", j->dir);
-	int rc = pc_npy_write(path, ts, PC_DT_F32, C == 3 ? 4 : 3, shape);
+	int rc = pc_truth_write(path, &j->in, ts, false, PC_DT_F32);
 	if (!rc && first && tm) {
 		snprintf(path, sizeof path, "%s/truth_mueller.npy", j->dir);
-		size_t ms[5] = { in->height, in->width, 3, 4, 4 };
-		if (C == 1) {
-			ms[2] = 4;
-			ms[3] = 4;
-		}
-		rc = pc_npy_write(path, tm, PC_DT_F32, C == 3 ? 5 : 4, ms);
+		rc = pc_truth_write(path, &j->in, tm, true, PC_DT_F32);
 	}
-	return rc ? pc_error_prefix(rc, "%s: ", path) : 0;
+	return rc;
 }
 
 /* Each generator state the frames use, rendered once (with its truth). */
@@ -89,22 +114,22 @@ static int prepare(job *j)
 			free(ts);
 			free(tm);
 			return pc_error(PC_ENOMEM, "out of memory for the ground truth of %ux%u",
-					in->width, in->height);
+			                in->width, in->height);
 		}
 	}
 	double t0 = now_s();
 	unsigned n_psg_used = j->frames < in->n_psg ? (unsigned)j->frames : in->n_psg;
 	/* rows per prepared state: H, or H + 2 (halo) + H (mixing) with crosstalk */
-	const uint64_t rows = (in->effects & PC_FX_CROSSTALK) ? 2 * (uint64_t)in->height + 2
-							       : in->height;
-	prep_progress pp = { &j->o->progress, 0, (uint64_t)n_psg_used * rows, &j->stop };
+	const uint64_t rows =
+	    (in->effects & PC_FX_CROSSTALK) ? 2 * (uint64_t)in->height + 2 : in->height;
+	prep_progress pp = {&j->o->progress, 0, (uint64_t)n_psg_used * rows, &j->stop};
 	int rc = 0;
 	for (unsigned k = 0; k < n_psg_used && !rc; k++) {
 		if (j->stop) {
 			snprintf(j->err, sizeof j->err,
-				 "interrupted while rendering the scene (state %u of %u), before "
-				 "the first frame",
-				 k, n_psg_used);
+			         "interrupted while rendering the scene (state %u of %u), before "
+			         "the first frame",
+			         k, n_psg_used);
 			rc = pc_error(PC_ECANCELED, "%s", j->err);
 			break;
 		}
@@ -124,14 +149,14 @@ static int prepare(job *j)
 /* The frames into the recording. */
 static int frames(job *j)
 {
-	pc_view view = { 0 };
+	pc_view view = {0};
 	int rc = pc_view_alloc(&view, j->in.format, j->in.width, j->in.height, 64);
 	if (rc)
 		return pc_error_prefix(rc, "frame buffer: ");
 	for (uint64_t i = 0; i < j->frames && !rc; i++) {
 		if (j->stop) {
 			snprintf(j->err, sizeof j->err, "interrupted after %llu of %llu frames",
-				 (unsigned long long)i, (unsigned long long)j->frames);
+			         (unsigned long long)i, (unsigned long long)j->frames);
 			rc = pc_error(PC_ECANCELED, "%s", j->err);
 			break;
 		}
@@ -143,7 +168,7 @@ static int frames(job *j)
 		j->t_frames += tb - ta;
 		if (rc) {
 			snprintf(j->err, sizeof j->err, "frame %llu: %s", (unsigned long long)n,
-				 pc_error_detail());
+			         pc_error_detail());
 			pc_error_prefix(rc, "frame: ");
 			break;
 		}
@@ -177,7 +202,7 @@ static int set_extra(job *j, double t0, pc_render_report *rep)
 	json_object_set_new(tj, "render_s", json_real(j->t_prep));
 	json_object_set_new(tj, "frames_s", json_real(j->t_frames));
 	json_object_set_new(tj, "per_frame_s",
-			    j->written ? json_real(j->t_frames / (double)j->written) : json_null());
+	                    j->written ? json_real(j->t_frames / (double)j->written) : json_null());
 	json_object_set_new(tj, "write_s", json_real(j->t_write));
 	json_object_set_new(tj, "total_s", json_real(now_s() - t0));
 	json_object_set_new(tj, "peak_rss_mib", pc_json_real(pc_peak_rss_mib()));
@@ -220,13 +245,13 @@ static int start(job *j)
 		return rc;
 	j->dir = j->od.tmp;
 	char source[1024];
-	snprintf(source, sizeof source, "sim:%s?seed=%llu", o->scene_path ? o->scene_path : "default",
-		 (unsigned long long)o->sim.seed);
+	snprintf(source, sizeof source, "sim:%s?seed=%llu",
+	         o->scene_path ? o->scene_path : "default", (unsigned long long)o->sim.seed);
 	const pc_sim_info *in = &j->in;
-	pc_recording_desc desc = { source,	    in->format,	   NULL,
-				   in->width,	    in->height,	   in->offset_x,
-				   in->offset_y,    in->sensor_width, in->sensor_height,
-				   true,	    in->mosaic,	   o->store };
+	pc_recording_desc desc = {source,       in->format,       NULL,
+	                          in->width,    in->height,       in->offset_x,
+	                          in->offset_y, in->sensor_width, in->sensor_height,
+	                          true,         in->mosaic,       o->store};
 	if ((rc = pc_recording_create(&j->rec, j->dir, &desc, false)))
 		return pc_error_prefix(rc, "%s: ", j->name);
 	return 0;
@@ -247,7 +272,7 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 	int rc = 0;
 	if (!(j.scene = o->scene))
 		rc = o->scene_path ? pc_scene_load(o->scene_path, &loaded)
-				   : pc_scene_load_default(&loaded);
+		                   : pc_scene_load_default(&loaded);
 	if (!j.scene)
 		j.scene = loaded;
 	if (!rc && (rc = pc_sim_new(j.scene, &o->sim, &j.sim)))
@@ -255,8 +280,16 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 	if (!rc) {
 		pc_sim_get_info(j.sim, &j.in);
 		j.frames = o->frames ? o->frames : j.in.n_states;
-		rc = start(&j);
+		/* refused before anything is written: frame numbers and timestamps that meta.json
+		 * cannot hold, and a render that cannot fit in memory */
+		if ((rc = pc_sim_check_frames(j.sim, o->first, j.frames)))
+			pc_error_prefix(rc, "--first/--frames: ");
+		else if ((rc = pc_sim_check_memory(j.sim, o->truth)))
+			pc_error_prefix(rc,
+			                "%s: ", o->scene_path ? o->scene_path : "default scene");
 	}
+	if (!rc)
+		rc = start(&j);
 	if (!rc)
 		rc = prepare(&j);
 	if (!rc)

@@ -163,6 +163,9 @@ static int s_info(pc_source *s, pc_source_info *info)
 	info->polarized = true;
 	/* the full sensor's mosaic: the natural-format info is for the full sensor */
 	info->mosaic = m->full.mosaic;
+	pc_sensor_figures fig;
+	pc_sim_get_sensor(m->sim, &fig);
+	info->black_level = fig.offset_dn;
 	return 0;
 }
 

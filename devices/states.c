@@ -36,15 +36,15 @@ int pc_states_write(const char *path, const pc_sim_states *st, const pc_mosaic *
 	json_object_set_new(o, "analyser", an);
 	char *txt = json_dumps(o, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
 	json_decref(o);
-	int rc = txt ? pc_write_file_atomic(path, txt, strlen(txt))
-		     : pc_error(PC_ENOMEM, "%s", path);
+	int rc =
+	    txt ? pc_write_file_atomic(path, txt, strlen(txt)) : pc_error(PC_ENOMEM, "%s", path);
 	free(txt);
 	return rc;
 }
 
 /* An array of 1..64 entries. */
 static int state_list(const pc_json_src *js, json_t *d, const char *key, const char *what,
-		      json_t **out)
+                      json_t **out)
 {
 	json_t *v = json_object_get(d, key);
 	if (!json_is_array(v) || json_array_size(v) < 1 || json_array_size(v) > 64)
@@ -77,12 +77,12 @@ int pc_states_read(const char *path, pc_sim_states *st, char *layout, size_t lay
 	if (rc)
 		return rc;
 	memset(st, 0, sizeof *st);
-	const pc_json_src js = { path, PC_EFORMAT };
+	const pc_json_src js = {path, PC_EFORMAT};
 	char p[32];
 	json_t *v = json_object_get(d, "polarcam_states"), *g = NULL, *a = NULL;
 	if (!json_is_integer(v) || json_integer_value(v) != 1) {
 		rc = pc_json_error(&js, "polarcam_states",
-				   "missing or not 1 (not a polarcam states file)");
+		                   "missing or not 1 (not a polarcam states file)");
 		goto out;
 	}
 	v = json_object_get(d, "frame_order");
@@ -123,7 +123,7 @@ int pc_states_read(const char *path, pc_sim_states *st, char *layout, size_t lay
 	if (layout && layout_size) {
 		if (v && !json_is_string(v)) {
 			rc = pc_json_error(&js, "layout",
-					   "expected a layout string such as \"90,45,135,0\"");
+			                   "expected a layout string such as \"90,45,135,0\"");
 			goto out;
 		}
 		snprintf(layout, layout_size, "%s", v ? json_string_value(v) : "");

@@ -2,12 +2,14 @@
 #define _POSIX_C_SOURCE 200809L
 #include "polarcam/stream.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "json.h"
+#include "polarcam/calib.h"
 #include "polarcam/error.h"
 #include "polarcam/picture.h"
 
@@ -60,10 +62,10 @@ static int negotiate(pc_source *s, const pc_stream_request *a)
 		rc = pc_error_prefix(PC_EINVAL, "%s: the source cannot deliver this: ", a->uri);
 	if (!rc && v == PC_FORMAT_ADJUSTED)
 		rc = pc_error(PC_EINVAL,
-			      "%s: the source would adjust the request to %s ROI %u,%u,%u,%u; ask "
-			      "for that explicitly",
-			      a->uri, got.format_name, got.offset_x, got.offset_y, got.width,
-			      got.height);
+		              "%s: the source would adjust the request to %s ROI %u,%u,%u,%u; ask "
+		              "for that explicitly",
+		              a->uri, got.format_name, got.offset_x, got.offset_y, got.width,
+		              got.height);
 	if (!rc)
 		rc = pc_source_set_format(s, &got);
 	return rc;
@@ -126,12 +128,12 @@ char *pc_source_stats_json(const pc_source_stats *st)
 	json_object_set_new(j, "timeouts", json_integer((json_int_t)st->timeouts));
 	json_object_set_new(j, "underruns", json_integer((json_int_t)st->underruns));
 	json_object_set_new(j, "transport_failures",
-			    json_integer((json_int_t)st->transport_failures));
+	                    json_integer((json_int_t)st->transport_failures));
 	if (st->has_packets) {
 		json_object_set_new(j, "missing_packets",
-				    json_integer((json_int_t)st->missing_packets));
+		                    json_integer((json_int_t)st->missing_packets));
 		json_object_set_new(j, "resent_packets",
-				    json_integer((json_int_t)st->resent_packets));
+		                    json_integer((json_int_t)st->resent_packets));
 	} else {
 		json_object_set_new(j, "missing_packets", json_null());
 		json_object_set_new(j, "resent_packets", json_null());
@@ -149,9 +151,88 @@ struct pc_stokes_stream {
 	uint32_t w, h; /* output size of the method */
 	float *planes; /* s0, dolp, aolp (each w*h) */
 	pc_stokes_out out;
-	uint8_t *rgb;     /* 3 panels side by side: (3w) x h RGB8 */
-	double process_s; /* time of the last pc_stokes_from_raw */
+	uint8_t *rgb;        /* 3 panels side by side: (3w) x h RGB8 */
+	double process_s;    /* time of the last pc_stokes_from_raw */
+	pc_stream_levels lv; /* resolved: black_level finite */
+	pc_calib cal;        /* with lv.calibration */
+	bool have_cal;
+	uint8_t *valid; /* w × h */
+	pc_validity validity;
+	double sat_used;
 };
+
+pc_stream_levels pc_stream_levels_default(void)
+{
+	return (pc_stream_levels){NAN, 0, 0, NULL};
+}
+
+int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv, pc_source *src)
+{
+	pc_stream_levels l = lv ? *lv : pc_stream_levels_default();
+	if (l.calibration && !isnan(l.black_level))
+		return pc_error(PC_EINVAL,
+		                "--black-level and --calibration: the calibration's dark "
+		                "map is the black level; give one or the other");
+	if (!isnan(l.black_level) && !(l.black_level >= 0 && isfinite(l.black_level)))
+		return pc_error(PC_EINVAL, "black level %g: expected a finite level >= 0 DN",
+		                l.black_level);
+	if (isnan(l.black_level)) {
+		pc_source_info info;
+		l.black_level = 0;
+		if (!l.calibration && src && pc_source_get_info(src, &info) == 0)
+			l.black_level = info.black_level;
+		pc_error_clear();
+	}
+	if (s->have_cal)
+		pc_calib_free(&s->cal);
+	s->have_cal = false;
+	if (l.calibration) {
+		int rc = pc_calib_read(l.calibration, &s->cal);
+		if (rc)
+			return pc_error_prefix(rc, "--calibration: ");
+		s->have_cal = true;
+		pc_source_format f;
+		if (src && pc_source_get_format(src, &f) == 0) {
+			pc_calib_geometry g = {f.width,
+			                       f.height,
+			                       f.offset_x,
+			                       f.offset_y,
+			                       f.sensor_width,
+			                       f.sensor_height,
+			                       pc_format_info_get(f.format)->bits,
+			                       f.mosaic};
+			if (f.polarized && f.mosaic.period == 4)
+				rc = pc_error(PC_EINVAL,
+				              "the source's frames are colour-polarization: "
+				              "the calibration is for a monochrome mosaic");
+			else if (!f.polarized)
+				rc = pc_error(PC_EFORMAT, "the source's frames carry no polarizer "
+				                          "mosaic");
+			else
+				rc = pc_calib_check(&s->cal, &g);
+			if (rc)
+				return pc_error_prefix(rc, "--calibration %s: ", l.calibration);
+		}
+	}
+	s->lv = l;
+	return 0;
+}
+
+const pc_validity *pc_stokes_stream_validity(const pc_stokes_stream *s)
+{
+	return &s->validity;
+}
+
+void pc_stokes_stream_levels_used(const pc_stokes_stream *s, double *black, double *saturation,
+                                  const char **calibration)
+{
+	if (black)
+		*black = s->have_cal ? 0 : s->lv.black_level;
+	if (saturation)
+		*saturation = s->sat_used;
+	if (calibration)
+		*calibration = s->have_cal ? s->lv.calibration : NULL;
+}
 
 static double now_s(void)
 {
@@ -166,6 +247,8 @@ int pc_stokes_stream_new(pc_demosaic_method method, pc_stokes_stream **out)
 	if (!*out)
 		return pc_error(PC_ENOMEM, "Stokes stream");
 	(*out)->method = method;
+	(*out)->lv = pc_stream_levels_default();
+	(*out)->lv.black_level = 0;
 	return 0;
 }
 
@@ -175,38 +258,63 @@ void pc_stokes_stream_free(pc_stokes_stream *s)
 		return;
 	free(s->planes);
 	free(s->rgb);
+	free(s->valid);
+	if (s->have_cal)
+		pc_calib_free(&s->cal);
 	free(s);
 }
 
 int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 {
 	if (f->mosaic.period != 2 && f->mosaic.period != 4)
-		return pc_error(PC_EFORMAT, "the frames carry no polarizer mosaic: nothing to compute "
-					    "Stokes images from");
+		return pc_error(PC_EFORMAT,
+		                "the frames carry no polarizer mosaic: nothing to compute "
+		                "Stokes images from");
 	uint32_t w, h;
 	pc_demosaic_out_size(lv->method, f->view.width, f->view.height, &w, &h);
 	if (w != lv->w || h != lv->h || !lv->planes) {
 		free(lv->planes);
 		free(lv->rgb);
+		free(lv->valid);
 		lv->w = w;
 		lv->h = h;
 		lv->planes = malloc((size_t)w * h * 3 * sizeof(float));
 		lv->rgb = malloc((size_t)w * 3 * h * 3);
-		if (!lv->planes || !lv->rgb)
+		lv->valid = malloc((size_t)w * h);
+		if (!lv->planes || !lv->rgb || !lv->valid) {
+			free(lv->planes);
+			lv->planes = NULL;
 			return pc_error(PC_ENOMEM, "Stokes images %ux%u", w, h);
+		}
 		memset(&lv->out, 0, sizeof lv->out);
-		lv->out.s0 = (pc_fplane){ lv->planes, w, 1 };
-		lv->out.dolp = (pc_fplane){ lv->planes + (size_t)w * h, w, 1 };
-		lv->out.aolp = (pc_fplane){ lv->planes + 2 * (size_t)w * h, w, 1 };
+		lv->out.s0 = (pc_fplane){lv->planes, w, 1};
+		lv->out.dolp = (pc_fplane){lv->planes + (size_t)w * h, w, 1};
+		lv->out.aolp = (pc_fplane){lv->planes + 2 * (size_t)w * h, w, 1};
 	}
+	const pc_format_info *fi = pc_format_info_get(f->view.format);
+	unsigned bits = fi ? fi->bits : 0;
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.method = lv->method;
+	po.mosaic = f->mosaic;
+	po.black_level = lv->have_cal ? 0 : lv->lv.black_level;
+	po.saturation_level = lv->lv.saturation_level > 0         ? lv->lv.saturation_level
+	                      : lv->lv.saturation_level < 0       ? 0
+	                      : lv->have_cal                      ? lv->cal.saturation
+	                      : fi && !fi->is_float && bits <= 16 ? (double)((1u << bits) - 1u)
+	                                                          : 0;
+	po.dead_level = lv->lv.dead_level;
+	lv->sat_used = po.saturation_level;
+	lv->validity = (pc_validity){lv->valid, w, 0};
 	double t0 = now_s();
-	int rc = pc_stokes_from_raw(&f->view, &f->mosaic, lv->method, NULL, &lv->out);
+	int rc = lv->have_cal
+	             ? pc_calib_apply(&lv->cal, f, bits, &po, &lv->out, NULL, &lv->validity)
+	             : pc_stokes_run(&f->view, &po, &lv->out, &lv->validity);
 	lv->process_s = now_s() - t0;
 	return rc;
 }
 
 const pc_stokes_out *pc_stokes_stream_planes(const pc_stokes_stream *s, uint32_t *width,
-					     uint32_t *height)
+                                             uint32_t *height)
 {
 	if (width)
 		*width = s->w;
@@ -231,10 +339,13 @@ int pc_stokes_stream_picture(pc_stokes_stream *lv, const uint8_t **rgb)
 	int rc = pc_picture_grey(&lv->out.s0, lv->w, lv->h, 0, hi, lv->rgb, stride);
 	if (!rc)
 		rc = pc_picture_grey(&lv->out.dolp, lv->w, lv->h, 0, 1, lv->rgb + (size_t)lv->w * 3,
-				     stride);
+		                     stride);
 	if (!rc)
-		rc = pc_picture_aolp(&lv->out.aolp, &lv->out.dolp, lv->w, lv->h, PC_AOLP_VALUE, 1.0f,
-				     lv->rgb + (size_t)lv->w * 6, stride);
+		rc = pc_picture_aolp(&lv->out.aolp, &lv->out.dolp, lv->w, lv->h, PC_AOLP_VALUE,
+		                     1.0f, lv->rgb + (size_t)lv->w * 6, stride);
+	for (int k = 0; !rc && lv->validity.n_invalid && k < 3; k++)
+		pc_picture_mask_invalid(lv->valid, lv->w, lv->w, lv->h,
+		                        lv->rgb + (size_t)lv->w * 3 * (size_t)k, stride);
 	*rgb = rc ? NULL : lv->rgb;
 	return rc;
 }

@@ -51,8 +51,8 @@ static int open_all(viewer *v)
 	const char *shot = v->o->screenshot;
 	size_t len = shot ? strlen(shot) : 0;
 	if (shot && (len < 5 || strcasecmp(shot + len - 4, ".png")))
-		return pc_error(PC_EINVAL,
-				"%s: screenshots are written as PNG only: name the file .png", shot);
+		return pc_error(
+		    PC_EINVAL, "%s: screenshots are written as PNG only: name the file .png", shot);
 	if (v->o->window && (rc = pc_display_open(&v->win, "polarcam view")))
 		return pc_error_prefix(rc, "opening the window: ");
 	if ((rc = pc_stream_open(&v->o->stream, &v->src)))
@@ -62,7 +62,9 @@ static int open_all(viewer *v)
 	if ((rc = pc_process_method(v->o->method, &f.mosaic, &m)))
 		return rc;
 	v->method = pc_demosaic_method_get(m)->name;
-	return pc_stokes_stream_new(m, &v->live);
+	if ((rc = pc_stokes_stream_new(m, &v->live)))
+		return rc;
+	return pc_stokes_stream_set_levels(v->live, &v->o->levels, v->src);
 }
 
 /* One frame on screen: 1 to go on, 0 when the user quit, < 0 on an error. */
@@ -85,7 +87,7 @@ static int show(viewer *v, uint64_t seq)
 			return fail(v, pc_error(PC_ENOMEM, "picture"), "");
 	}
 	rc = pc_display_resize_rgb8(rgb, 3 * w, h, (size_t)w * 9, v->small, v->dw, v->dh,
-				    (size_t)v->dw * 3);
+	                            (size_t)v->dw * 3);
 	v->rep->frames++;
 	double t = now_s();
 	if (v->rep->frames > 1)
@@ -93,10 +95,10 @@ static int show(viewer *v, uint64_t seq)
 	v->t_last = t;
 	char overlay[160];
 	snprintf(overlay, sizeof overlay, "S0 | DoLP | AoLP   %.1f fps   frame %llu   %s", v->fps,
-		 (unsigned long long)seq, v->method);
+	         (unsigned long long)seq, v->method);
 	if (v->win && !rc) {
-		int key = pc_display_show(v->win, v->small, v->dw, v->dh, (size_t)v->dw * 3,
-					  overlay);
+		int key =
+		    pc_display_show(v->win, v->small, v->dw, v->dh, (size_t)v->dw * 3, overlay);
 		if (key == 'q' || key == 27 || key == PC_ECANCELED)
 			return 0;
 		if (key < -1)
@@ -123,8 +125,8 @@ static void loop(viewer *v)
 		int rc = pc_source_dequeue(v->src, o->timeout_ms, &b);
 		if (rc) {
 			char what[64];
-			snprintf(what, sizeof what, "after %llu frames: ",
-				 (unsigned long long)v->rep->frames);
+			snprintf(what, sizeof what,
+			         "after %llu frames: ", (unsigned long long)v->rep->frames);
 			fail(v, rc, what);
 			break;
 		}
@@ -133,7 +135,8 @@ static void loop(viewer *v)
 		int rc2 = pc_source_requeue(v->src, b);
 		if (rc || rc2) {
 			char what[64];
-			snprintf(what, sizeof what, "frame %llu: ", (unsigned long long)v->rep->frames);
+			snprintf(what, sizeof what,
+			         "frame %llu: ", (unsigned long long)v->rep->frames);
 			fail(v, rc ? rc : rc2, what);
 			break;
 		}
@@ -148,7 +151,7 @@ static void loop(viewer *v)
 int pc_viewer_run(const pc_viewer_opts *o, pc_viewer_report *rep)
 {
 	memset(rep, 0, sizeof *rep);
-	viewer v = { o, NULL, NULL, NULL, NULL, NULL, 0, 0, 0, 0, 0, 0, rep };
+	viewer v = {o, NULL, NULL, NULL, NULL, NULL, 0, 0, 0, 0, 0, 0, rep};
 	int rc = open_all(&v);
 	if (!rc) {
 		double t0 = now_s();
@@ -167,9 +170,23 @@ int pc_viewer_run(const pc_viewer_opts *o, pc_viewer_report *rep)
 		json_object_set_new(j, "frames", json_integer((json_int_t)shown));
 		json_object_set_new(j, "fps", pc_json_real(dt > 0 ? (double)shown / dt : 0));
 		json_object_set_new(j, "process_ms",
-				    pc_json_real(shown ? 1e3 * v.proc_total / (double)shown : 0));
+		                    pc_json_real(shown ? 1e3 * v.proc_total / (double)shown : 0));
 		json_object_set_new(j, "window", json_boolean(v.win != NULL));
-		json_object_set_new(j, "error", rep->error ? json_string(rep->message) : json_null());
+		double black = 0, sat = 0;
+		const char *calib = NULL;
+		if (v.live)
+			pc_stokes_stream_levels_used(v.live, &black, &sat, &calib);
+		json_object_set_new(j, "black_level", pc_json_real(black));
+		json_object_set_new(j, "saturation_level",
+		                    sat > 0 ? pc_json_real(sat) : json_null());
+		json_object_set_new(j, "calibration", calib ? json_string(calib) : json_null());
+		json_object_set_new(
+		    j, "last_invalid_pixels",
+		    v.live && shown
+		        ? json_integer((json_int_t)pc_stokes_stream_validity(v.live)->n_invalid)
+		        : json_null());
+		json_object_set_new(j, "error",
+		                    rep->error ? json_string(rep->message) : json_null());
 		rep->json = pc_json_text(j);
 		json_decref(j);
 	}

@@ -9,6 +9,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,7 +26,7 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 		return pc_error(PC_EINVAL, "output path is empty");
 	size_t n = strlen(path);
 	af->path = malloc(n + 1);
-	af->tmp_path = malloc(n + 32);
+	af->tmp_path = calloc(1, n + 32); /* zeroed: pc_atomic_abort may see it before mkstemp */
 	if (!af->path || !af->tmp_path) {
 		pc_atomic_abort(af);
 		return pc_error(PC_ENOMEM, "%s: out of memory", path);
@@ -35,7 +36,24 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 	const char *slash = strrchr(path, '/');
 	size_t dir = slash ? (size_t)(slash - path + 1) : 0;
 	memcpy(af->tmp_path, path, dir);
-	snprintf(af->tmp_path + dir, n + 32 - dir, ".%s.tmpXXXXXX", path + dir);
+	/* ".NAME.tmpXXXXXX" must itself be a legal name: NAME is cut (at a UTF-8 character
+	 * boundary) so that the temporary name stays within NAME_MAX bytes even when NAME, legal
+	 * itself, is up to NAME_MAX long; mkstemp's XXXXXX keep it unique. */
+	size_t base = n - dir, keep = base;
+	if (base > NAME_MAX) {
+		free(af->tmp_path); /* not a file yet: nothing to unlink */
+		af->tmp_path = NULL;
+		pc_atomic_abort(af);
+		return pc_error(PC_EINVAL, "%s: file name of %zu bytes: too long (at most %d)",
+		                path, base, NAME_MAX);
+	}
+	const size_t decor = strlen("..tmpXXXXXX");
+	if (keep + decor > NAME_MAX) {
+		keep = NAME_MAX - decor;
+		while (keep > 0 && ((unsigned char)path[dir + keep] & 0xc0) == 0x80)
+			keep--;
+	}
+	snprintf(af->tmp_path + dir, n + 32 - dir, ".%.*s.tmpXXXXXX", (int)keep, path + dir);
 	/* The lock taken at once marks the file as being written. A sweeper that found it in the
 	 * instant between mkstemp and flock, unlocked, may have removed it: then the name has no
 	 * link any more (st_nlink == 0) and a new temporary file is made. */
@@ -58,8 +76,12 @@ int pc_atomic_open(pc_atomic_file *af, const char *path)
 		free(af->tmp_path);
 		af->tmp_path = NULL;
 		pc_atomic_abort(af);
-		return pc_error(e == ENOENT ? PC_ENOENT : e == EACCES ? PC_EPERM : PC_EIO,
-				"%s: cannot create a file there: %s", path, strerror(e));
+		/* a name the file system cannot hold is a bad argument, not an I/O failure */
+		return pc_error(e == ENOENT         ? PC_ENOENT
+		                : e == EACCES       ? PC_EPERM
+		                : e == ENAMETOOLONG ? PC_EINVAL
+		                                    : PC_EIO,
+		                "%s: cannot create a file there: %s", path, strerror(e));
 	}
 	af->fp = fdopen(fd, "wb");
 	if (!af->fp) {
@@ -97,7 +119,8 @@ int pc_atomic_commit(pc_atomic_file *af)
 	 * temporary name */
 	if (rename(af->tmp_path, af->path) != 0) {
 		e = errno;
-		int rc = pc_error(PC_EIO, "%s: cannot rename into place: %s", af->path, strerror(e));
+		int rc =
+		    pc_error(PC_EIO, "%s: cannot rename into place: %s", af->path, strerror(e));
 		pc_atomic_abort(af);
 		return rc;
 	}
@@ -158,7 +181,8 @@ int pc_mkdir_p(const char *path)
 			*s = '\0';
 			if (mkdir(p, 0777) != 0 && errno != EEXIST) {
 				int e = errno;
-				int rc = pc_error(PC_EIO, "%s: cannot create directory: %s", p, strerror(e));
+				int rc = pc_error(PC_EIO, "%s: cannot create directory: %s", p,
+				                  strerror(e));
 				free(p);
 				return rc;
 			}

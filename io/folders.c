@@ -24,7 +24,7 @@ static int join(char *buf, size_t size, const char *dir, const char *name)
 }
 
 static int write_npy(const char *dir, const char *name, const float *data, unsigned ndim,
-		     const size_t *shape)
+                     const size_t *shape)
 {
 	char path[4096];
 	int rc = join(path, sizeof path, dir, name);
@@ -37,35 +37,58 @@ static void magenta(uint32_t x, uint32_t y, uint8_t rgb[3])
 	rgb[0] = 255, rgb[1] = 0, rgb[2] = 255;
 }
 
+static int map_write(const char *dir, const char *name, const float *map, uint32_t width,
+                     uint32_t height, double lo, double hi, const char *title, const char *label,
+                     const uint8_t *valid, long invalid);
+
 int pc_map_write(const char *dir, const char *name, const float *map, uint32_t width,
-		 uint32_t height, double lo, double hi, const char *title, const char *label)
+                 uint32_t height, double lo, double hi, const char *title, const char *label)
+{
+	return map_write(dir, name, map, width, height, lo, hi, title, label, NULL, 0);
+}
+
+/* pc_map_write with the invalid pixels (valid[p] == 0) marked and counted in the legend */
+static int map_write(const char *dir, const char *name, const float *map, uint32_t width,
+                     uint32_t height, double lo, double hi, const char *title, const char *label,
+                     const uint8_t *valid, long invalid)
 {
 	char path[4096], file[256];
 	snprintf(file, sizeof file, "%s.npy", name);
-	size_t shape[2] = { height, width };
+	size_t shape[2] = {height, width};
 	int rc = write_npy(dir, file, map, 2, shape);
 	if (rc)
 		return rc;
 	uint8_t *rgb = malloc((size_t)width * height * 3);
 	if (!rgb)
 		return pc_error(PC_ENOMEM, "%s picture", name);
-	pc_fplane pl = { (float *)map, width, 1 };
+	pc_fplane pl = {(float *)map, width, 1};
 	rc = pc_picture_grey(&pl, width, height, (float)lo, (float)hi, rgb, (size_t)width * 3);
+	if (!rc && invalid)
+		pc_picture_mask_invalid(valid, width, width, height, rgb, (size_t)width * 3);
 	if (!rc) {
 		snprintf(file, sizeof file, "%s.png", name);
 		rc = join(path, sizeof path, dir, file);
-		pc_colorbar bar = { label, lo, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0 };
-		/* pc_picture_grey draws non-finite values magenta: say what they mean when present */
+		pc_colorbar bar = {label, lo, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
+		/* pc_picture_grey draws non-finite values magenta: say what they mean when present
+		 */
 		size_t undefined = 0;
 		for (size_t i = 0; i < (size_t)width * height; i++)
 			undefined += !isfinite(map[i]);
 		char text[64];
 		snprintf(text, sizeof text, "NaN %.2g%%",
-			 100.0 * (double)undefined / ((double)width * height));
-		pc_legend_note note = { text, magenta };
+		         100.0 * (double)undefined / ((double)width * height));
+		char btext[64];
+		snprintf(btext, sizeof btext, "invalid %.2g%%",
+		         100.0 * (double)invalid / ((double)width * height));
+		pc_legend_note bad = {btext, pc_picture_invalid_rgb, NULL};
+		pc_legend_note note = {text, magenta, invalid ? &bad : NULL};
 		if (!rc)
-			rc = pc_image_write_png_ex(path, rgb, width, height, (size_t)width * 3, title,
-						   &bar, undefined ? &note : NULL, 1600);
+			rc = pc_image_write_png_ex(path, rgb, width, height, (size_t)width * 3,
+			                           title, &bar,
+			                           undefined ? &note
+			                           : invalid ? &bad
+			                                     : NULL,
+			                           1600);
 	}
 	free(rgb);
 	return rc;
@@ -82,14 +105,14 @@ static const float *contiguous(const pc_fplane *p, uint32_t w, uint32_t h, float
 		return NULL;
 	for (uint32_t y = 0; y < h; y++)
 		for (uint32_t x = 0; x < w; x++)
-			t[(size_t)y * w + x] = p->data[(size_t)y * p->row_stride +
-						       (size_t)x * p->pixel_stride];
+			t[(size_t)y * w + x] =
+			    p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride];
 	*tmp = t;
 	return t;
 }
 
 static int write_plane(const char *dir, const char *name, const pc_fplane *p, uint32_t w,
-		       uint32_t h)
+                       uint32_t h)
 {
 	if (!p->data)
 		return pc_error(PC_EINVAL, "%s/%s: no such plane was computed", dir, name);
@@ -97,7 +120,7 @@ static int write_plane(const char *dir, const char *name, const pc_fplane *p, ui
 	const float *d = contiguous(p, w, h, &tmp);
 	if (!d)
 		return pc_error(PC_ENOMEM, "%s/%s", dir, name);
-	size_t shape[2] = { h, w };
+	size_t shape[2] = {h, w};
 	int rc = write_npy(dir, name, d, 2, shape);
 	free(tmp);
 	return rc;
@@ -105,17 +128,17 @@ static int write_plane(const char *dir, const char *name, const pc_fplane *p, ui
 
 /* stokes.npy (H, W, 3): directly when s0, s1, s2 already interleave that way. */
 static int write_stokes3(const char *dir, const char *name, const pc_stokes_out *st, uint32_t w,
-			 uint32_t h)
+                         uint32_t h)
 {
-	const pc_fplane *s[3] = { &st->s0, &st->s1, &st->s2 };
+	const pc_fplane *s[3] = {&st->s0, &st->s1, &st->s2};
 	bool inter = true;
 	for (int k = 0; k < 3; k++) {
 		if (!s[k]->data)
 			return pc_error(PC_EINVAL, "%s/%s: S0, S1 and S2 are needed", dir, name);
 		inter &= s[k]->data == st->s0.data + k && s[k]->pixel_stride == 3 &&
-			 s[k]->row_stride == (size_t)w * 3;
+		         s[k]->row_stride == (size_t)w * 3;
 	}
-	size_t shape[3] = { h, w, 3 };
+	size_t shape[3] = {h, w, 3};
 	if (inter)
 		return write_npy(dir, name, st->s0.data, 3, shape);
 	float *t = malloc(sizeof(float) * w * h * 3);
@@ -125,16 +148,48 @@ static int write_stokes3(const char *dir, const char *name, const pc_stokes_out 
 		for (uint32_t x = 0; x < w; x++)
 			for (int k = 0; k < 3; k++)
 				t[((size_t)y * w + x) * 3 + (size_t)k] =
-					s[k]->data[(size_t)y * s[k]->row_stride +
-						   (size_t)x * s[k]->pixel_stride];
+				    s[k]->data[(size_t)y * s[k]->row_stride +
+				               (size_t)x * s[k]->pixel_stride];
 	int rc = write_npy(dir, name, t, 3, shape);
 	free(t);
 	return rc;
 }
 
-int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
-			   uint32_t height, const pc_stokes_folder_opts *opts)
+/* valid.npy (H, W) uint8: 1 valid, 0 invalid */
+static int write_valid(const char *dir, const char *name, const pc_validity *v, uint32_t w,
+                       uint32_t h)
 {
+	char path[4096];
+	int rc = join(path, sizeof path, dir, name);
+	if (rc)
+		return rc;
+	size_t shape[2] = {h, w};
+	if (v->row_stride == w)
+		return pc_npy_write(path, v->mask, PC_DT_U8, 2, shape);
+	uint8_t *t = malloc((size_t)w * h);
+	if (!t)
+		return pc_error(PC_ENOMEM, "%s", path);
+	for (uint32_t y = 0; y < h; y++)
+		memcpy(t + (size_t)y * w, v->mask + (size_t)y * v->row_stride, w);
+	rc = pc_npy_write(path, t, PC_DT_U8, 2, shape);
+	free(t);
+	return rc;
+}
+
+int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
+                           uint32_t height, const pc_stokes_folder_opts *opts)
+{
+	return pc_stokes_folder_write_valid(dir, st, width, height, opts, NULL);
+}
+
+int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
+                                 uint32_t height, const pc_stokes_folder_opts *opts,
+                                 const pc_validity *valid)
+{
+	if (valid && valid->mask && valid->row_stride < width)
+		return pc_error(PC_EINVAL,
+		                "Stokes folder: validity row stride %zu below the width %u",
+		                valid->row_stride, width);
 	if (!dir || !st || !opts)
 		return pc_error(PC_EINVAL, "Stokes folder: missing argument");
 	char sfx[32] = "", name[64];
@@ -149,22 +204,26 @@ int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t wi
 		unsigned flag;
 		const char *name;
 		size_t plane; /* offset of the pc_fplane in pc_stokes_out */
-	} planes[3] = { { PC_SF_S0, "s0", offsetof(pc_stokes_out, s0) },
-			{ PC_SF_DOLP, "dolp", offsetof(pc_stokes_out, dolp) },
-			{ PC_SF_AOLP, "aolp", offsetof(pc_stokes_out, aolp) } };
+	} planes[3] = {{PC_SF_S0, "s0", offsetof(pc_stokes_out, s0)},
+	               {PC_SF_DOLP, "dolp", offsetof(pc_stokes_out, dolp)},
+	               {PC_SF_AOLP, "aolp", offsetof(pc_stokes_out, aolp)}};
 	for (int k = 0; k < 3 && !rc; k++)
 		if (opts->files & planes[k].flag) {
 			snprintf(name, sizeof name, "%s%s.npy", planes[k].name, sfx);
-			rc = write_plane(dir, name,
-					 (const pc_fplane *)(const void *)((const char *)st +
-									   planes[k].plane),
-					 width, height);
+			rc = write_plane(
+			    dir, name,
+			    (const pc_fplane *)(const void *)((const char *)st + planes[k].plane),
+			    width, height);
 		}
+	if (!rc && valid && valid->mask && !opts->no_valid_file) {
+		snprintf(name, sizeof name, "valid%s.npy", sfx);
+		rc = write_valid(dir, name, valid, width, height);
+	}
 	if (!rc && (opts->files & PC_SF_PICTURES)) {
 		pc_pictures_opts po = opts->pictures;
 		if (opts->numbered)
 			po.suffix = sfx;
-		rc = pc_pictures_write_opts(dir, st, width, height, &po);
+		rc = pc_pictures_write_valid(dir, st, width, height, &po, valid);
 	}
 	return rc;
 }
@@ -188,39 +247,53 @@ static json_t *mueller_json(const pc_mueller_result *res, const pc_mueller_folde
 	json_object_set_new(js, "pixels_nonphysical_filtered", json_integer(res->nonphysical));
 	json_object_set_new(js, "pixels_undecomposable", json_integer(res->bad));
 	json_object_set_new(js, "determined", json_integer(sys->determined));
-	json_object_set_new(js, "rebuild_circular",
-			    json_string(res->rebuilt ? pc_rebuild_sign_name(o->rebuild_sign)
-						     : "off"));
+	json_object_set_new(js, "saturation_level",
+	                    res->saturation_level > 0 ? pc_json_real(res->saturation_level)
+	                                              : json_null());
+	json_object_set_new(js, "pixels_invalid",
+	                    res->valid ? json_integer(res->invalid) : json_null());
+	json_object_set_new(
+	    js, "rebuild_circular",
+	    json_string(res->rebuilt ? pc_rebuild_sign_name(o->rebuild_sign) : "off"));
 	if (res->rebuilt) {
 		json_object_set_new(js, "rebuild_tol", json_real(o->rebuild_tol));
 		json_object_set_new(js, "pixels_rebuild_rejected", json_integer(res->rb_rejected));
 		json_object_set_new(js, "pixels_rebuild_sign_undefined",
-				    json_integer(res->rb_sign_undefined));
+		                    json_integer(res->rb_sign_undefined));
 	}
 	return js;
 }
 
 static int mueller_folder(const char *dir, const pc_mueller_result *res,
-			  const pc_mueller_folder_opts *o, char **json)
+                          const pc_mueller_folder_opts *o, char **json)
 {
 	const uint32_t w = res->width, h = res->height;
 	const size_t np = (size_t)w * h;
 	int rc = 0;
 	if (!o->no_mueller) {
-		size_t shape[4] = { h, w, 4, 4 };
+		size_t shape[4] = {h, w, 4, 4};
 		if ((rc = write_npy(dir, "mueller.npy", res->M, 4, shape)))
 			return rc;
 	}
-	if ((rc = pc_map_write(dir, "D", res->maps, w, h, 0, 1, "Diattenuation D (Lu-Chipman)",
-			       "D")) ||
-	    (rc = pc_map_write(dir, "R", res->maps + np, w, h, 0, M_PI,
-			       "Retardance R (Lu-Chipman)", "R (rad)")) ||
-	    (rc = pc_map_write(dir, "Delta", res->maps + 2 * np, w, h, 0, 1,
-			       "Depolarization Delta (Lu-Chipman)", "Delta")))
+	const uint8_t *vm = res->valid;
+	const long nb = res->valid ? res->invalid : 0;
+	if ((rc = map_write(dir, "D", res->maps, w, h, 0, 1, "Diattenuation D (Lu-Chipman)", "D",
+	                    vm, nb)) ||
+	    (rc = map_write(dir, "R", res->maps + np, w, h, 0, M_PI, "Retardance R (Lu-Chipman)",
+	                    "R (rad)", vm, nb)) ||
+	    (rc = map_write(dir, "Delta", res->maps + 2 * np, w, h, 0, 1,
+	                    "Depolarization Delta (Lu-Chipman)", "Delta", vm, nb)))
 		return rc;
+	if (res->valid) {
+		char path[4096];
+		size_t shape[2] = {h, w};
+		if ((rc = join(path, sizeof path, dir, "valid.npy")) ||
+		    (rc = pc_npy_write(path, res->valid, PC_DT_U8, 2, shape)))
+			return rc;
+	}
 	if (res->residual &&
 	    (rc = pc_map_write(dir, "rebuild_residual", res->residual, w, h, 0, 2 * o->rebuild_tol,
-			       "Residual of the 3x3 fit / M00 (pBRDF family)", "residual")))
+	                       "Residual of the 3x3 fit / M00 (pBRDF family)", "residual")))
 		return rc;
 	json_t *js = mueller_json(res, o);
 	char *txt = json_dumps(js, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
@@ -237,7 +310,7 @@ static int mueller_folder(const char *dir, const pc_mueller_result *res,
 }
 
 int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
-			    const pc_mueller_folder_opts *o, char **json)
+                            const pc_mueller_folder_opts *o, char **json)
 {
 	if (json)
 		*json = NULL;
@@ -310,7 +383,7 @@ static int write_png(const char *dir, const pc_figure *F, bool with_printed)
 }
 
 static int figures_folder(const char *dir, const pc_figure figs[12], const pc_figure_claim *claims,
-			  size_t n_claims, const pc_progress *progress)
+                          size_t n_claims, const pc_progress *progress)
 {
 	int rc = 0;
 	for (int f = 2; f <= 11 && !rc; f++) {
@@ -326,28 +399,29 @@ static int figures_folder(const char *dir, const pc_figure figs[12], const pc_fi
 	FILE *fp = open_memstream(&md, &len);
 	if (!fp)
 		return pc_error(PC_ENOMEM, "figures.md");
-	fprintf(fp, "# The seed paper's claims under the corrected model\n\n"
-		    "Generated by `polarcam figures -o DIR` (core/figures.c). Model: "
-		    "docs/physics.md (8&pi;&sigma;&sup2;, Torrance–Sparrow G, Fresnel-weighted diffuse "
-		    "term, &rho;^s by the 64×64 slope-space rule). \"Printed\" repeats the check with "
-		    "the paper's eq. 3 as printed (4&pi;&sigma;&sup2;: specular part doubled, diffuse "
-		    "(1 − 2&rho;^s)/&pi;). Black paint ñ = 1.46 − 1.28i, &sigma; = 0.2 unless stated; "
-		    "&theta;_r = 15, 30, 45, 60° for Figs. 3–8 (the paper does not give them); angles "
-		    "in degrees, R in radians.\n\n"
-		    "| Fig. | claim of the paper | corrected model | as printed | numbers "
-		    "(corrected) |\n"
-		    "|---|---|---|---|---|\n");
+	fprintf(fp,
+	        "# The seed paper's claims under the corrected model\n\n"
+	        "Generated by `polarcam figures -o DIR` (core/figures.c). Model: "
+	        "docs/physics.md (8&pi;&sigma;&sup2;, Torrance–Sparrow G, Fresnel-weighted diffuse "
+	        "term, &rho;^s by the 64×64 slope-space rule). \"Printed\" repeats the check with "
+	        "the paper's eq. 3 as printed (4&pi;&sigma;&sup2;: specular part doubled, diffuse "
+	        "(1 − 2&rho;^s)/&pi;). Black paint ñ = 1.46 − 1.28i, &sigma; = 0.2 unless stated; "
+	        "&theta;_r = 15, 30, 45, 60° for Figs. 3–8 (the paper does not give them); angles "
+	        "in degrees, R in radians.\n\n"
+	        "| Fig. | claim of the paper | corrected model | as printed | numbers "
+	        "(corrected) |\n"
+	        "|---|---|---|---|---|\n");
 	int n_yes = 0, n_no = 0, n_partly = 0;
 	for (size_t k = 0; k < n_claims; k++) {
 		const pc_figure_claim *c = &claims[k];
 		fprintf(fp, "| %d | %s | **%s** | %s | %s |\n", c->figure, c->text,
-			pc_verdict_name(c->corrected), pc_verdict_name(c->printed), c->evidence);
+		        pc_verdict_name(c->corrected), pc_verdict_name(c->printed), c->evidence);
 		n_yes += c->corrected == PC_VERDICT_YES;
 		n_no += c->corrected == PC_VERDICT_NO;
 		n_partly += c->corrected == PC_VERDICT_PARTLY;
 	}
 	fprintf(fp, "\nCorrected model: %d claims reproduce, %d partly, %d do not.\n", n_yes,
-		n_partly, n_no);
+	        n_partly, n_no);
 	fclose(fp);
 	char path[4096];
 	rc = join(path, sizeof path, dir, "figures.md");
@@ -358,7 +432,7 @@ static int figures_folder(const char *dir, const pc_figure figs[12], const pc_fi
 }
 
 int pc_figures_write(const char *dir, unsigned flags, const pc_figure figs[12],
-		     const pc_figure_claim *claims, size_t n_claims, const pc_progress *progress)
+                     const pc_figure_claim *claims, size_t n_claims, const pc_progress *progress)
 {
 	pc_outdir od;
 	int rc = pc_outdir_begin(&od, dir, flags);

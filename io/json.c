@@ -24,6 +24,8 @@ int pc_json_error(const pc_json_src *src, const char *path, const char *fmt, ...
 
 const char *pc_json_kind(const json_t *v)
 {
+	if (!v) /* a member that is not there (json_typeof reads through the pointer) */
+		return "nothing (the member is missing)";
 	switch (json_typeof(v)) {
 	case JSON_OBJECT:
 		return "an object";
@@ -62,11 +64,12 @@ int pc_json_need_object(const pc_json_src *src, const json_t *v, const char *pat
 }
 
 int pc_json_check_keys(const pc_json_src *src, json_t *obj, const char *path,
-		       const char *const *allowed)
+                       const char *const *allowed)
 {
 	const char *key;
 	json_t *val;
-	json_object_foreach(obj, key, val) {
+	json_object_foreach(obj, key, val)
+	{
 		bool ok = false;
 		for (const char *const *a = allowed; *a; a++)
 			if (!strcmp(key, *a))
@@ -88,7 +91,7 @@ int pc_json_check_keys(const pc_json_src *src, json_t *obj, const char *path,
 
 /* The field, or NULL: *rc is then 0 (optional) or the "missing" error. p receives its path. */
 static json_t *field(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		     int required, char *p, size_t psize, int *rc)
+                     int required, char *p, size_t psize, int *rc)
 {
 	pc_json_path(p, psize, path, key);
 	json_t *v = json_object_get(obj, key);
@@ -97,7 +100,7 @@ static json_t *field(const pc_json_src *src, json_t *obj, const char *path, cons
 }
 
 int pc_json_get_num(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		    int required, double lo, bool lo_open, double hi, double *out)
+                    int required, double lo, bool lo_open, double hi, double *out)
 {
 	char p[256];
 	int rc;
@@ -112,18 +115,18 @@ int pc_json_get_num(const pc_json_src *src, json_t *obj, const char *path, const
 	if (lo_open ? !(x > lo) : !(x >= lo)) {
 		if (hi < INFINITY)
 			return pc_json_error(src, p, "= %g: must be in %s%g, %g]", x,
-					     lo_open ? "(" : "[", lo, hi);
+			                     lo_open ? "(" : "[", lo, hi);
 		return pc_json_error(src, p, "= %g: must be %s %g", x, lo_open ? ">" : "≥", lo);
 	}
 	if (x > hi)
 		return pc_json_error(src, p, "= %g: must be in %s%g, %g]", x, lo_open ? "(" : "[",
-				     lo, hi);
+		                     lo, hi);
 	*out = x;
 	return 0;
 }
 
 int pc_json_get_int(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		    int required, long lo, long hi, long *out)
+                    int required, long lo, long hi, long *out)
 {
 	char p[256];
 	int rc;
@@ -135,13 +138,13 @@ int pc_json_get_int(const pc_json_src *src, json_t *obj, const char *path, const
 	json_int_t x = json_integer_value(v);
 	if (x < lo || x > hi)
 		return pc_json_error(src, p, "= %lld: must be an integer in [%ld, %ld]",
-				     (long long)x, lo, hi);
+		                     (long long)x, lo, hi);
 	*out = (long)x;
 	return 0;
 }
 
 int pc_json_get_u64(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		    int required, uint64_t max, uint64_t *out)
+                    int required, uint64_t max, uint64_t *out)
 {
 	char p[256];
 	int rc;
@@ -151,13 +154,13 @@ int pc_json_get_u64(const pc_json_src *src, json_t *obj, const char *path, const
 	if (!json_is_integer(v) || json_integer_value(v) < 0 ||
 	    (uint64_t)json_integer_value(v) > max)
 		return pc_json_error(src, p, "expected an integer in [0, %llu]",
-				     (unsigned long long)max);
+		                     (unsigned long long)max);
 	*out = (uint64_t)json_integer_value(v);
 	return 0;
 }
 
 int pc_json_get_bool(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		     int required, bool *out)
+                     int required, bool *out)
 {
 	char p[256];
 	int rc;
@@ -171,7 +174,7 @@ int pc_json_get_bool(const pc_json_src *src, json_t *obj, const char *path, cons
 }
 
 int pc_json_get_str(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		    int required, const char **out)
+                    int required, const char **out)
 {
 	char p[256];
 	int rc;
@@ -184,19 +187,18 @@ int pc_json_get_str(const pc_json_src *src, json_t *obj, const char *path, const
 	return 0;
 }
 
-int pc_json_nums(const pc_json_src *src, const json_t *v, const char *path, double *out,
-		 size_t n)
+int pc_json_nums(const pc_json_src *src, const json_t *v, const char *path, double *out, size_t n)
 {
 	if (!json_is_array(v) || json_array_size(v) != n)
 		return pc_json_error(src, path, "expected an array of %zu numbers, got %s%s", n,
-				     pc_json_kind(v), json_is_array(v) ? " of another length" : "");
+		                     pc_json_kind(v), json_is_array(v) ? " of another length" : "");
 	for (size_t i = 0; i < n; i++) {
 		json_t *e = json_array_get(v, i);
 		if (!json_is_number(e) || !isfinite(json_number_value(e))) {
 			char q[288];
 			pc_json_path_index(q, sizeof q, path, i);
 			return pc_json_error(src, q, "expected a finite number, got %s",
-					     pc_json_kind(e));
+			                     pc_json_kind(e));
 		}
 		out[i] = json_number_value(e);
 	}
@@ -204,7 +206,7 @@ int pc_json_nums(const pc_json_src *src, const json_t *v, const char *path, doub
 }
 
 int pc_json_get_nums(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		     int required, double *out, size_t n)
+                     int required, double *out, size_t n)
 {
 	char p[256];
 	int rc;

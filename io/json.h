@@ -27,9 +27,9 @@ enum { PC_JSON_OPTIONAL = 0, PC_JSON_REQUIRED = 1 };
  * "FILE: MESSAGE" for an empty PATH) and returns src->code. */
 int pc_json_error(const pc_json_src *src, const char *path, const char *fmt, ...)
 #if defined(__GNUC__)
-	__attribute__((format(printf, 3, 4)))
+    __attribute__((format(printf, 3, 4)))
 #endif
-	;
+    ;
 
 /* "an object", "an array", "a string", "a number", "a boolean", "null" (for messages). */
 const char *pc_json_kind(const json_t *v);
@@ -43,29 +43,28 @@ int pc_json_need_object(const pc_json_src *src, const json_t *v, const char *pat
 /* Unknown fields are errors (a typo must not silently become a default): every key of obj must
  * be in allowed (NULL-terminated); the message lists them. */
 int pc_json_check_keys(const pc_json_src *src, json_t *obj, const char *path,
-		       const char *const *allowed);
+                       const char *const *allowed);
 
 /* Typed fields of obj. Absent: an error when required, else 0 with *out untouched. */
 /* A finite number in [lo, hi] (open at lo when lo_open; hi = INFINITY for none). */
 int pc_json_get_num(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		    int required, double lo, bool lo_open, double hi, double *out);
+                    int required, double lo, bool lo_open, double hi, double *out);
 /* An integer in [lo, hi]. */
 int pc_json_get_int(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		    int required, long lo, long hi, long *out);
+                    int required, long lo, long hi, long *out);
 /* A non-negative integer up to max. */
 int pc_json_get_u64(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		    int required, uint64_t max, uint64_t *out);
+                    int required, uint64_t max, uint64_t *out);
 int pc_json_get_bool(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		     int required, bool *out);
+                     int required, bool *out);
 /* A string (valid while the document lives). */
 int pc_json_get_str(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		    int required, const char **out);
+                    int required, const char **out);
 /* An array of exactly n finite numbers. */
 int pc_json_get_nums(const pc_json_src *src, json_t *obj, const char *path, const char *key,
-		     int required, double *out, size_t n);
+                     int required, double *out, size_t n);
 /* The same for a value already in hand (an array element); path names it. */
-int pc_json_nums(const pc_json_src *src, const json_t *v, const char *path, double *out,
-		 size_t n);
+int pc_json_nums(const pc_json_src *src, const json_t *v, const char *path, double *out, size_t n);
 
 /* Reads and parses a file (duplicate keys refused): PC_ENOENT when it cannot be opened,
  * PC_EFORMAT "FILE: line L: ..." for bad JSON or (when need_object) a document that is not an

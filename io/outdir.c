@@ -18,8 +18,8 @@
 
 /* The description file every polarcam output folder carries: a folder holding one of them was
  * written by polarcam and may be replaced with PC_OUT_OVERWRITE. */
-static const char *const own_markers[] = { "meta.json", "report.json", "mueller.json",
-					   "figures.md", "demosaic.json" };
+static const char *const own_markers[] = {"meta.json", "report.json", "mueller.json", "figures.md",
+                                          "demosaic.json"};
 
 static int errno_code(int e)
 {
@@ -78,8 +78,10 @@ int pc_output_check(const char *path, unsigned flags, bool folder)
 	}
 	const bool over = flags & PC_OUT_OVERWRITE;
 	if (S_ISLNK(st.st_mode))
-		return pc_error(PC_EEXIST, "%s: is a symbolic link; give the %s it points to (a link "
-					   "is never replaced)", path, folder ? "folder" : "file");
+		return pc_error(PC_EEXIST,
+		                "%s: is a symbolic link; give the %s it points to (a link "
+		                "is never replaced)",
+		                path, folder ? "folder" : "file");
 	if (folder) {
 		if (!S_ISDIR(st.st_mode))
 			return pc_error(PC_EEXIST, "%s: exists and is not a folder", path);
@@ -89,16 +91,21 @@ int pc_output_check(const char *path, unsigned flags, bool folder)
 		if (empty)
 			return 0;
 		if (!over)
-			return pc_error(PC_EEXIST, "%s: exists and is not empty (--overwrite replaces "
-						   "it as a whole)", path);
+			return pc_error(PC_EEXIST,
+			                "%s: exists and is not empty (--overwrite replaces "
+			                "it as a whole)",
+			                path);
 		if (holds_cwd(path))
-			return pc_error(PC_EEXIST, "%s: is the current directory or contains it; not "
-						   "replaced, even with --overwrite", path);
+			return pc_error(PC_EEXIST,
+			                "%s: is the current directory or contains it; not "
+			                "replaced, even with --overwrite",
+			                path);
 		if (!holds_marker(path))
-			return pc_error(PC_EEXIST, "%s: holds files polarcam did not write (none of "
-						   "meta.json, report.json, mueller.json, figures.md, "
-						   "demosaic.json); not replaced, even with --overwrite",
-					path);
+			return pc_error(PC_EEXIST,
+			                "%s: holds files polarcam did not write (none of "
+			                "meta.json, report.json, mueller.json, figures.md, "
+			                "demosaic.json); not replaced, even with --overwrite",
+			                path);
 		return 0;
 	}
 	if (!S_ISREG(st.st_mode))
@@ -122,8 +129,8 @@ static int split(const char *path, char *parent, char *name)
 	char *slash = strrchr(buf, '/');
 	const char *base = slash ? slash + 1 : buf;
 	if (!*base || !strcmp(base, ".") || !strcmp(base, ".."))
-		return pc_error(PC_EINVAL, "%s: name the output folder itself (not '.', '..' or '/')",
-				path);
+		return pc_error(PC_EINVAL,
+		                "%s: name the output folder itself (not '.', '..' or '/')", path);
 	size_t bl = strlen(base);
 	if (bl > NAME_MAX)
 		return pc_error(PC_EINVAL, "%s: name too long", path);
@@ -215,7 +222,7 @@ int pc_outdir_begin(pc_outdir *od, const char *path, unsigned flags)
 		return pc_error(PC_EINVAL, "%s: path too long", path);
 	if (!mkdtemp(tmp))
 		return pc_error(errno_code(errno), "%s: cannot create a folder beside it: %s", path,
-				strerror(errno));
+		                strerror(errno));
 	od->path = strdup(path);
 	od->tmp = strdup(tmp);
 	od->flags = flags;
@@ -272,15 +279,15 @@ int pc_outdir_commit(pc_outdir *od)
 	if (lstat(od->path, &st) != 0 || (S_ISDIR(st.st_mode) && dir_empty(od->path) == 1)) {
 		if (rename(od->tmp, od->path) != 0)
 			rc = pc_error(errno == ENOTEMPTY || errno == EEXIST ? PC_EEXIST : PC_EIO,
-				      "%s: cannot rename the new folder into place: %s", od->path,
-				      strerror(errno));
+			              "%s: cannot rename the new folder into place: %s", od->path,
+			              strerror(errno));
 	} else {
 		/* the rule again: the folder may have appeared since pc_outdir_begin */
 		rc = pc_output_check(od->path, od->flags, true);
 		int e = rc ? 0 : exchange(od->tmp, od->path);
 		if (e)
 			rc = pc_error(PC_EIO, "%s: cannot swap the new folder into place: %s",
-				      od->path, strerror(e));
+			              od->path, strerror(e));
 		/* od->tmp now holds the old folder (or, on failure, still the new one) */
 	}
 	char parent[PATH_MAX], name[NAME_MAX + 1];

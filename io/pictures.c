@@ -11,8 +11,8 @@
 #include "polarcam/stokes.h"
 
 static int write_one(const char *dir, const char *name, const char *suffix, const uint8_t *rgb,
-		     uint32_t w, uint32_t h, const char *title, const pc_colorbar *bar,
-		     const pc_legend_note *note, uint32_t max_width)
+                     uint32_t w, uint32_t h, const char *title, const pc_colorbar *bar,
+                     const pc_legend_note *note, uint32_t max_width)
 {
 	char path[4096];
 	if ((size_t)snprintf(path, sizeof path, "%s/%s%s.png", dir, name, suffix ? suffix : "") >=
@@ -62,25 +62,33 @@ none:
 }
 
 int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, uint32_t height,
-		      const char *title_prefix)
+                      const char *title_prefix)
 {
-	pc_pictures_opts o = { title_prefix, 0, 0, NULL, 0, 0 };
+	pc_pictures_opts o = {title_prefix, 0, 0, NULL, 0, 0};
 	return pc_pictures_write_opts(dir, st, width, height, &o);
 }
 
 int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t width,
-			   uint32_t height, const pc_pictures_opts *opts)
+                           uint32_t height, const pc_pictures_opts *opts)
+{
+	return pc_pictures_write_valid(dir, st, width, height, opts, NULL);
+}
+
+int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
+                            uint32_t height, const pc_pictures_opts *opts, const pc_validity *valid)
 {
 	if (!dir || !st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
-	pc_pictures_opts o = { NULL, 0, 0, NULL, 0, 0 };
+	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
 	if (opts)
 		o = *opts;
 	if (!isfinite(o.mask_s0))
 		return pc_error(PC_EINVAL, "pictures: mask threshold %g is not finite", o.mask_s0);
 	if (!(isfinite(o.s0_hi) && o.s0_hi >= 0) || !isfinite(o.dolp_hi))
-		return pc_error(PC_EINVAL, "pictures: S0 scale %g / DoLP range %g: expected a finite "
-					   "S0 scale >= 0 and a finite DoLP range", o.s0_hi, o.dolp_hi);
+		return pc_error(PC_EINVAL,
+		                "pictures: S0 scale %g / DoLP range %g: expected a finite "
+		                "S0 scale >= 0 and a finite DoLP range",
+		                o.s0_hi, o.dolp_hi);
 	/* "truth" -> "truth: S0 ..." */
 	char pre[96] = "";
 	if (o.title_prefix && *o.title_prefix)
@@ -91,12 +99,13 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 	char title[320];
 	/* S0: 0 to its 99.9th percentile (a few specular pixels must not darken the rest), or to
 	 * the scale given (pictures to compare) */
-	float hi = o.s0_hi > 0 ? (float)o.s0_hi : pc_picture_quantile(&st->s0, width, height, 0.999);
+	float hi =
+	    o.s0_hi > 0 ? (float)o.s0_hi : pc_picture_quantile(&st->s0, width, height, 0.999);
 	if (!(hi > 0))
 		hi = 1;
-	float mask = o.mask_s0 > 0 ? (float)o.mask_s0
-		     : o.mask_s0 == 0 ? (float)(PC_PICTURES_MASK_DEFAULT_REL * hi)
-				      : -INFINITY;
+	float mask = o.mask_s0 > 0    ? (float)o.mask_s0
+	             : o.mask_s0 == 0 ? (float)(PC_PICTURES_MASK_DEFAULT_REL * hi)
+	                              : -INFINITY;
 	char mask_note[64] = "", mask_title[128] = "";
 	if (mask > -INFINITY) {
 		snprintf(mask_note, sizeof mask_note, "S0 < %.4g", mask);
@@ -107,14 +116,19 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 	char dlabel[64] = "DoLP";
 	if (o.dolp_hi < 0) {
 		float *dd = malloc((size_t)width * height * 2 * sizeof *dd);
-		if (!dd)
+		if (!dd) {
+			free(rgb);
 			return pc_error(PC_ENOMEM, "pictures: %ux%u DoLP copy", width, height);
+		}
 		float *ss = dd + (size_t)width * height;
 		for (uint32_t y = 0; y < height; y++)
 			for (uint32_t x = 0; x < width; x++) {
 				const pc_fplane *d = &st->dolp, *s = &st->s0;
+				bool bad = valid && valid->mask &&
+				           !valid->mask[(size_t)y * valid->row_stride + x];
+				/* invalid pixels stay out of the range (NaN is skipped) */
 				dd[(size_t)y * width + x] =
-				    d->data[y * d->row_stride + x * d->pixel_stride];
+				    bad ? NAN : d->data[y * d->row_stride + x * d->pixel_stride];
 				ss[(size_t)y * width + x] =
 				    s->data[y * s->row_stride + x * s->pixel_stride];
 			}
@@ -124,44 +138,63 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 	} else if (dhi < 1) {
 		snprintf(dlabel, sizeof dlabel, "DoLP (0..%.2f)", dhi);
 	}
-	pc_legend_note note = { mask_note, pc_picture_mask_rgb };
-	const pc_legend_note *np = mask > -INFINITY ? &note : NULL;
-	int rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, (size_t)width * 3);
-	pc_colorbar bar = { "S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0 };
+	/* invalid pixels (saturated, dead or distrusted samples): a pink checker over
+	 * everything, counted in every picture's legend */
+	const uint8_t *vm = valid && valid->mask ? valid->mask : NULL;
+	const size_t vs = vm ? valid->row_stride : 0, rs = (size_t)width * 3;
+	size_t n_bad = 0;
+	for (uint32_t y = 0; vm && y < height; y++)
+		for (uint32_t x = 0; x < width; x++)
+			n_bad += !vm[(size_t)y * vs + x];
+	char bad_note[80] = "";
+	snprintf(bad_note, sizeof bad_note, "invalid %.2g%%",
+	         100.0 * (double)n_bad / ((double)width * height));
+	pc_legend_note bad = {bad_note, pc_picture_invalid_rgb, NULL};
+	pc_legend_note note = {mask_note, pc_picture_mask_rgb, n_bad ? &bad : NULL};
+	const pc_legend_note *np = mask > -INFINITY ? &note : n_bad ? &bad : NULL;
+	const pc_legend_note *nb = n_bad ? &bad : NULL;
+	int rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, rs);
+	pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
+	pc_colorbar bar = {"S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
 	snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
 	if (!rc)
-		rc = write_one(dir, "s0", o.suffix, rgb, width, height, title, &bar, NULL, o.max_width);
+		rc = write_one(dir, "s0", o.suffix, rgb, width, height, title, &bar, nb,
+		               o.max_width);
 	if (!rc) {
-		rc = pc_picture_grey(&st->dolp, width, height, 0, (float)dhi, rgb, (size_t)width * 3);
-		if (np)
-			pc_picture_mask_low(&st->s0, width, height, mask, rgb, (size_t)width * 3);
+		rc = pc_picture_grey(&st->dolp, width, height, 0, (float)dhi, rgb, rs);
+		if (mask > -INFINITY)
+			pc_picture_mask_low(&st->s0, width, height, mask, rgb, rs);
+		pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
 	}
-	pc_colorbar dbar = { dlabel, 0, dhi, NULL, 0, 0, pc_picture_grey_key, NULL, 0 };
+	pc_colorbar dbar = {dlabel, 0, dhi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
 	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)%s", pre, mask_title);
 	if (!rc)
-		rc = write_one(dir, "dolp", o.suffix, rgb, width, height, title, &dbar, np, o.max_width);
-	static const pc_aolp_style styles[2] = { PC_AOLP_VALUE, PC_AOLP_SATURATION };
-	static const char *names[2] = { "aolp", "aolp_sat" };
-	static const char *what[2] = { "value", "saturation" };
+		rc = write_one(dir, "dolp", o.suffix, rgb, width, height, title, &dbar, np,
+		               o.max_width);
+	static const pc_aolp_style styles[2] = {PC_AOLP_VALUE, PC_AOLP_SATURATION};
+	static const char *names[2] = {"aolp", "aolp_sat"};
+	static const char *what[2] = {"value", "saturation"};
 	for (int k = 0; k < 2 && !rc; k++) {
-		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], (float)dhi, rgb,
-				     (size_t)width * 3);
-		if (!rc && np)
-			pc_picture_mask_low(&st->s0, width, height, mask, rgb, (size_t)width * 3);
-		pc_colorbar abar = { "AoLP (deg, from x, counter-clockwise)",
-				     0,
-				     180,
-				     "DoLP",
-				     0,
-				     dhi,
-				     pc_picture_aolp_key,
-				     (void *)&styles[k],
-				     45 };
-		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)%s", pre, what[k],
-			 mask_title);
+		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], (float)dhi,
+		                     rgb, rs);
+		if (!rc && mask > -INFINITY)
+			pc_picture_mask_low(&st->s0, width, height, mask, rgb, rs);
 		if (!rc)
-			rc = write_one(dir, names[k], o.suffix, rgb, width, height, title, &abar, np,
-				       o.max_width);
+			pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
+		pc_colorbar abar = {"AoLP (deg, from x, counter-clockwise)",
+		                    0,
+		                    180,
+		                    "DoLP",
+		                    0,
+		                    dhi,
+		                    pc_picture_aolp_key,
+		                    (void *)&styles[k],
+		                    45};
+		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)%s", pre, what[k],
+		         mask_title);
+		if (!rc)
+			rc = write_one(dir, names[k], o.suffix, rgb, width, height, title, &abar,
+			               np, o.max_width);
 	}
 	free(rgb);
 	return rc;

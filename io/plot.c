@@ -33,9 +33,9 @@ struct pc_plot {
 
 /* Tableau-10-like palette, distinguishable and print-friendly. */
 static const double palette[][3] = {
-	{ 0.12, 0.47, 0.71 }, { 1.00, 0.50, 0.05 }, { 0.17, 0.63, 0.17 }, { 0.84, 0.15, 0.16 },
-	{ 0.58, 0.40, 0.74 }, { 0.55, 0.34, 0.29 }, { 0.89, 0.47, 0.76 }, { 0.50, 0.50, 0.50 },
-	{ 0.74, 0.74, 0.13 }, { 0.09, 0.75, 0.81 },
+    {0.12, 0.47, 0.71}, {1.00, 0.50, 0.05}, {0.17, 0.63, 0.17}, {0.84, 0.15, 0.16},
+    {0.58, 0.40, 0.74}, {0.55, 0.34, 0.29}, {0.89, 0.47, 0.76}, {0.50, 0.50, 0.50},
+    {0.74, 0.74, 0.13}, {0.09, 0.75, 0.81},
 };
 #define PALETTE_N (sizeof palette / sizeof palette[0])
 
@@ -101,7 +101,7 @@ void pc_plot_set_log(pc_plot *p, bool log_x, bool log_y)
 }
 
 int pc_plot_add_series(pc_plot *p, const char *label, const double *x, const double *y, size_t n,
-		       pc_plot_style style)
+                       pc_plot_style style)
 {
 	if (!p || (!x && n) || (!y && n))
 		return pc_error(PC_EINVAL, "plot series: missing data");
@@ -160,11 +160,11 @@ static double nice_step(double range, int target_ticks)
 typedef struct axis {
 	double min, max; /* in plotted units (log10 for log axes) */
 	bool log;
-	double step;     /* tick step in plotted units */
+	double step; /* tick step in plotted units */
 } axis;
 
 static void axis_auto(axis *a, double dmin, double dmax, bool fixed, double fmin, double fmax,
-		      bool log_axis)
+                      bool log_axis)
 {
 	a->log = log_axis;
 	if (fixed) {
@@ -228,7 +228,8 @@ static void format_tick(const axis *a, double t, char *buf, size_t n)
 static cairo_status_t write_cb(void *closure, const unsigned char *data, unsigned int length)
 {
 	FILE *fp = closure;
-	return fwrite(data, 1, length, fp) == length ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
+	return fwrite(data, 1, length, fp) == length ? CAIRO_STATUS_SUCCESS
+	                                             : CAIRO_STATUS_WRITE_ERROR;
 }
 
 static int surface_to_png(cairo_surface_t *s, const char *path)
@@ -240,7 +241,8 @@ static int surface_to_png(cairo_surface_t *s, const char *path)
 	cairo_status_t st = cairo_surface_write_to_png_stream(s, write_cb, af.fp);
 	if (st != CAIRO_STATUS_SUCCESS) {
 		pc_atomic_abort(&af);
-		return pc_error(PC_EIO, "%s: PNG encoding failed: %s", path, cairo_status_to_string(st));
+		return pc_error(PC_EIO, "%s: PNG encoding failed: %s", path,
+		                cairo_status_to_string(st));
 	}
 	return pc_atomic_commit(&af);
 }
@@ -256,13 +258,14 @@ static void text_at(cairo_t *cr, double x, double y, const char *s, double ax, d
 int pc_plot_write_png(const pc_plot *p, const char *path, int width, int height)
 {
 	if (!p || width < 200 || height < 150 || width > 10000 || height > 10000)
-		return pc_error(PC_EINVAL, "%s: plot size %dx%d outside 200x150 .. 10000x10000", path,
-				width, height);
+		return pc_error(PC_EINVAL, "%s: plot size %dx%d outside 200x150 .. 10000x10000",
+		                path, width, height);
 	double dxmin = INFINITY, dxmax = -INFINITY, dymin = INFINITY, dymax = -INFINITY;
 	for (size_t i = 0; i < p->nseries; i++)
 		for (size_t k = 0; k < p->series[i].n; k++) {
 			double x = p->series[i].x[k], y = p->series[i].y[k];
-			if (!isfinite(x) || !isfinite(y) || (p->log_x && x <= 0) || (p->log_y && y <= 0))
+			if (!isfinite(x) || !isfinite(y) || (p->log_x && x <= 0) ||
+			    (p->log_y && y <= 0))
 				continue;
 			dxmin = fmin(dxmin, x);
 			dxmax = fmax(dxmax, x);
@@ -277,14 +280,15 @@ int pc_plot_write_png(const pc_plot *p, const char *path, int width, int height)
 	cairo_t *cr = cairo_create(s);
 	cairo_set_source_rgb(cr, 1, 1, 1);
 	cairo_paint(cr);
-	cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+	cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+	                       CAIRO_FONT_WEIGHT_NORMAL);
 	double fs = height / 40.0 < 11 ? 11 : height / 40.0;
 	cairo_set_font_size(cr, fs);
 
 	double left = fs * 5.5, right = fs * 1.5, top = fs * 3, bottom = fs * 4;
 	double pw = width - left - right, ph = height - top - bottom;
-#define PX(v) (left + ((v) - ax.min) / (ax.max - ax.min) * pw)
-#define PY(v) (top + ph - ((v) - ay.min) / (ay.max - ay.min) * ph)
+#define PX(v) (left + ((v)-ax.min) / (ax.max - ax.min) * pw)
+#define PY(v) (top + ph - ((v)-ay.min) / (ay.max - ay.min) * ph)
 
 	/* grid and ticks */
 	char buf[64];
@@ -346,7 +350,7 @@ int pc_plot_write_png(const pc_plot *p, const char *path, int width, int height)
 		cairo_set_source_rgb(cr, c[0], c[1], c[2]);
 		cairo_set_line_width(cr, 2);
 		if (se->style == PC_PLOT_DASHED) {
-			double dash[2] = { 6, 4 };
+			double dash[2] = {6, 4};
 			cairo_set_dash(cr, dash, 2, 0);
 		} else {
 			cairo_set_dash(cr, NULL, 0, 0);
@@ -416,7 +420,7 @@ int pc_plot_write_png(const pc_plot *p, const char *path, int width, int height)
 			cairo_set_source_rgb(cr, c[0], c[1], c[2]);
 			cairo_set_line_width(cr, 2);
 			if (p->series[i].style == PC_PLOT_DASHED) {
-				double dash[2] = { 6, 4 };
+				double dash[2] = {6, 4};
 				cairo_set_dash(cr, dash, 2, 0);
 			}
 			if (p->series[i].style == PC_PLOT_POINTS) {
@@ -438,26 +442,26 @@ int pc_plot_write_png(const pc_plot *p, const char *path, int width, int height)
 	cairo_destroy(cr);
 	cairo_surface_flush(s);
 	int rc = cairo_surface_status(s) == CAIRO_STATUS_SUCCESS
-			 ? surface_to_png(s, path)
-			 : pc_error(PC_ENOMEM, "%s: cannot draw the plot", path);
+	             ? surface_to_png(s, path)
+	             : pc_error(PC_ENOMEM, "%s: cannot draw the plot", path);
 	cairo_surface_destroy(s);
 	return rc;
 }
 
 int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
-		       size_t stride, const char *title, const pc_colorbar *bar, uint32_t max_width)
+                       size_t stride, const char *title, const pc_colorbar *bar, uint32_t max_width)
 {
 	return pc_image_write_png_ex(path, rgb, width, height, stride, title, bar, NULL, max_width);
 }
 
 int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
-			  size_t stride, const char *title, const pc_colorbar *bar,
-			  const pc_legend_note *note, uint32_t max_width)
+                          size_t stride, const char *title, const pc_colorbar *bar,
+                          const pc_legend_note *note, uint32_t max_width)
 {
 	if (!rgb || width == 0 || height == 0 || stride < (size_t)width * 3 || width > 30000 ||
 	    height > 30000)
-		return pc_error(PC_EINVAL, "%s: bad image geometry %ux%u stride %zu", path, width, height,
-				stride);
+		return pc_error(PC_EINVAL, "%s: bad image geometry %ux%u stride %zu", path, width,
+		                height, stride);
 	double scale = (max_width && width > max_width) ? (double)max_width / width : 1.0;
 	int iw = (int)lround(width * scale), ih = (int)lround(height * scale);
 	if (iw < 1)
@@ -472,7 +476,8 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 		H = ih + top + (int)(fs * 2);
 
 	/* the picture itself, as a cairo surface (xRGB little-endian words) */
-	cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)width, (int)height);
+	cairo_surface_t *img =
+	    cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)width, (int)height);
 	if (cairo_surface_status(img) != CAIRO_STATUS_SUCCESS) {
 		cairo_surface_destroy(img);
 		return pc_error(PC_ENOMEM, "%s: image of %ux%u", path, width, height);
@@ -484,8 +489,8 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 		const uint8_t *s = rgb + (size_t)y * stride;
 		uint32_t *d = (uint32_t *)(void *)(dst + (size_t)y * (size_t)dstride);
 		for (uint32_t x = 0; x < width; x++)
-			d[x] = 0xff000000u | ((uint32_t)s[3 * x] << 16) | ((uint32_t)s[3 * x + 1] << 8) |
-			       s[3 * x + 2];
+			d[x] = 0xff000000u | ((uint32_t)s[3 * x] << 16) |
+			       ((uint32_t)s[3 * x + 1] << 8) | s[3 * x + 2];
 	}
 	cairo_surface_mark_dirty(img);
 
@@ -493,13 +498,15 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 	cairo_t *cr = cairo_create(out);
 	cairo_set_source_rgb(cr, 1, 1, 1);
 	cairo_paint(cr);
-	cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+	cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+	                       CAIRO_FONT_WEIGHT_NORMAL);
 	cairo_set_font_size(cr, fs);
 	cairo_save(cr);
 	cairo_translate(cr, 0, top);
 	cairo_scale(cr, scale, scale);
 	cairo_set_source_surface(cr, img, 0, 0);
-	cairo_pattern_set_filter(cairo_get_source(cr), scale < 1 ? CAIRO_FILTER_GOOD : CAIRO_FILTER_NEAREST);
+	cairo_pattern_set_filter(cairo_get_source(cr),
+	                         scale < 1 ? CAIRO_FILTER_GOOD : CAIRO_FILTER_NEAREST);
 	cairo_paint(cr);
 	cairo_restore(cr);
 	cairo_set_source_rgb(cr, 0, 0, 0);
@@ -508,9 +515,12 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 
 	if (bar) {
 		double bx = iw + fs, by = top + fs * 0.5, bh = fmax(ih - fs * 1.5, fs * 4);
-		int with_note = note && note->text && note->color && bh > fs * 8;
+		int n_notes = 0;
+		for (const pc_legend_note *q = note; q && n_notes < 4; q = q->next)
+			n_notes += q->text && q->color;
+		int with_note = n_notes > 0 && bh > fs * (6 + 2 * n_notes);
 		if (with_note)
-			bh -= fs * 3.0; /* room for the note's swatch below the bar */
+			bh -= fs * (1.5 + 1.5 * n_notes); /* room for the notes' swatches */
 		else if (bar->s_label)
 			bh -= fs * 0.5; /* room for the key's second range below the last tick */
 		double bwid = bar->s_label ? fs * 3 : fs * 1.2;
@@ -519,11 +529,12 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 			double t = 1.0 - (k + 0.5) / nt;
 			for (int j = 0; j < ns; j++) {
 				double sfrac = ns > 1 ? (j + 0.5) / ns : 1.0;
-				uint8_t c[3] = { 0, 0, 0 };
+				uint8_t c[3] = {0, 0, 0};
 				if (bar->color)
 					bar->color(t, sfrac, c, bar->ctx);
 				cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
-				cairo_rectangle(cr, bx + (ns > 1 ? j : 0), by + k, ns > 1 ? 1 : bwid, 1.2);
+				cairo_rectangle(cr, bx + (ns > 1 ? j : 0), by + k,
+				                ns > 1 ? 1 : bwid, 1.2);
 				cairo_fill(cr);
 			}
 		}
@@ -532,14 +543,16 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 		cairo_rectangle(cr, bx, by, bwid, bh);
 		cairo_stroke(cr);
 		cairo_set_font_size(cr, fs * 0.8);
-		double step = bar->tick_step > 0 ? bar->tick_step : nice_step(bar->vmax - bar->vmin, 5);
+		double step =
+		    bar->tick_step > 0 ? bar->tick_step : nice_step(bar->vmax - bar->vmin, 5);
 		char buf[64];
 		if (step > 0 && isfinite(step)) {
 			for (int k = 0; k < 50; k++) {
 				double v = ceil(bar->vmin / step - 1e-9) * step + k * step;
 				if (v > bar->vmax + 1e-9 * step)
 					break;
-				double yy = by + bh * (1 - (v - bar->vmin) / (bar->vmax - bar->vmin));
+				double yy =
+				    by + bh * (1 - (v - bar->vmin) / (bar->vmax - bar->vmin));
 				snprintf(buf, sizeof buf, "%g", fabs(v) < step * 1e-9 ? 0.0 : v);
 				cairo_move_to(cr, bx + bwid, yy);
 				cairo_line_to(cr, bx + bwid + fs * 0.3, yy);
@@ -556,29 +569,34 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 		}
 		if (bar->s_label) {
 			snprintf(buf, sizeof buf, "%s %g..%g", bar->s_label, bar->smin, bar->smax);
-			text_at(cr, bx, by + bh + fs * 0.7, buf, 0, 0); /* below the last tick's label */
+			text_at(cr, bx, by + bh + fs * 0.7, buf, 0,
+			        0); /* below the last tick's label */
 		}
-		if (with_note) {
-			int sw = (int)(fs * 1.2), sy = (int)(by + bh + fs * 1.8);
+		int k_note = 0;
+		for (const pc_legend_note *q = note; with_note && q && k_note < 4; q = q->next) {
+			if (!q->text || !q->color)
+				continue;
+			int sw = (int)(fs * 1.2), sy = (int)(by + bh + fs * (1.8 + 1.5 * k_note++));
 			for (int yy = 0; yy < sw; yy++)
 				for (int xx = 0; xx < sw; xx++) {
 					uint8_t c[3];
-					note->color((uint32_t)xx, (uint32_t)yy, c);
-					cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
+					q->color((uint32_t)xx, (uint32_t)yy, c);
+					cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0,
+					                     c[2] / 255.0);
 					cairo_rectangle(cr, bx + xx, sy + yy, 1, 1);
 					cairo_fill(cr);
 				}
 			cairo_set_source_rgb(cr, 0, 0, 0);
 			cairo_rectangle(cr, bx, sy, sw, sw);
 			cairo_stroke(cr);
-			text_at(cr, bx + sw + fs * 0.3, sy + sw / 2.0, note->text, 0, 0.5);
+			text_at(cr, bx + sw + fs * 0.3, sy + sw / 2.0, q->text, 0, 0.5);
 		}
 	}
 	cairo_destroy(cr);
 	cairo_surface_destroy(img);
 	int rc = cairo_surface_status(out) == CAIRO_STATUS_SUCCESS
-			 ? surface_to_png(out, path)
-			 : pc_error(PC_ENOMEM, "%s: cannot draw the image", path);
+	             ? surface_to_png(out, path)
+	             : pc_error(PC_ENOMEM, "%s: cannot draw the image", path);
 	cairo_surface_destroy(out);
 	return rc;
 }

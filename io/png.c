@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_internal.h"
 #include "polarcam/error.h"
 
 /* libpng's error callback: keep the message, longjmp back to the caller. */
@@ -26,14 +27,14 @@ static void png_warn(png_structp png, png_const_charp msg)
 	(void)msg;
 }
 
-static int pc_png_write_rows_(const char *path, uint32_t w, uint32_t h, int bit_depth, int color_type,
-			  int sbit, const uint8_t *const *rows)
+static int pc_png_write_rows_(const char *path, uint32_t w, uint32_t h, int bit_depth,
+                              int color_type, int sbit, const uint8_t *const *rows)
 {
 	pc_atomic_file af;
 	int rc = pc_atomic_open(&af, path);
 	if (rc)
 		return rc;
-	png_ctx ctx = { { 0 } };
+	png_ctx ctx = {{0}};
 	png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &ctx, png_err, png_warn);
 	png_infop info = png ? png_create_info_struct(png) : NULL;
 	if (!png || !info) {
@@ -51,7 +52,7 @@ static int pc_png_write_rows_(const char *path, uint32_t w, uint32_t h, int bit_
 	png_set_compression_level(png, 1);
 	png_set_filter(png, 0, PNG_FILTER_SUB);
 	png_set_IHDR(png, info, w, h, bit_depth, color_type, PNG_INTERLACE_NONE,
-		     PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+	             PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
 	if (sbit > 0 && sbit < bit_depth) {
 		png_color_8 sb;
 		memset(&sb, 0, sizeof sb);
@@ -75,11 +76,12 @@ int pc_png_write(const char *path, const pc_view *v)
 		return pc_error_prefix(rc, "%s: ", path);
 	const pc_format_info *fi = pc_format_info_get(v->format);
 	if (fi->is_float)
-		return pc_error(PC_EFORMAT, "%s: PNG cannot hold float32 data (use .npy or TIFF)", path);
+		return pc_error(PC_EFORMAT, "%s: PNG cannot hold float32 data (use .npy or TIFF)",
+		                path);
 	const uint8_t **rows = malloc(sizeof *rows * v->height);
 	if (!rows)
 		return pc_error(PC_ENOMEM, "%s", path);
-	pc_view tmp = { 0 };
+	pc_view tmp = {0};
 	const pc_view *src = v;
 	if (fi->packing != PC_PACK_NONE) {
 		rc = pc_view_alloc(&tmp, PC_FMT_MONO16, v->width, v->height, 1);
@@ -95,18 +97,19 @@ int pc_png_write(const char *path, const pc_view *v)
 	for (uint32_t y = 0; y < v->height; y++)
 		rows[y] = PC_ROW(src, const uint8_t, y);
 	int depth = fi->bits <= 8 ? 8 : 16;
-	rc = pc_png_write_rows_(path, v->width, v->height, depth, PNG_COLOR_TYPE_GRAY, (int)fi->bits, rows);
+	rc = pc_png_write_rows_(path, v->width, v->height, depth, PNG_COLOR_TYPE_GRAY,
+	                        (int)fi->bits, rows);
 	free(rows);
 	pc_view_free(&tmp);
 	return rc;
 }
 
 int pc_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
-		      size_t stride)
+                      size_t stride)
 {
 	if (!rgb || width == 0 || height == 0 || stride < (size_t)width * 3)
-		return pc_error(PC_EINVAL, "%s: bad RGB image geometry %ux%u stride %zu", path, width,
-				height, stride);
+		return pc_error(PC_EINVAL, "%s: bad RGB image geometry %ux%u stride %zu", path,
+		                width, height, stride);
 	const uint8_t **rows = malloc(sizeof *rows * height);
 	if (!rows)
 		return pc_error(PC_ENOMEM, "%s", path);
@@ -122,8 +125,9 @@ int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits)
 	memset(out, 0, sizeof *out);
 	FILE *fp = fopen(path, "rb");
 	if (!fp)
-		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", path, strerror(errno));
-	png_ctx ctx = { { 0 } };
+		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", path,
+		                strerror(errno));
+	png_ctx ctx = {{0}};
 	png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &ctx, png_err, png_warn);
 	png_infop info = png ? png_create_info_struct(png) : NULL;
 	uint8_t **volatile rows = NULL;
@@ -140,6 +144,9 @@ int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits)
 		return pc_error(PC_EFORMAT, "%s: not a valid PNG or truncated: %s", path, ctx.msg);
 	}
 	png_init_io(png, fp);
+	/* libpng's own dimension limit (default 10^6 per side) only as a backstop: the pixel and
+	 * byte limits are checked below, before anything is decoded */
+	png_set_user_limits(png, 0x7fffffffu, 0x7fffffffu);
 	png_read_info(png, info);
 	png_uint_32 w, h;
 	int depth, ctype, ilace;
@@ -147,8 +154,34 @@ int pc_png_read(const char *path, pc_view *out, unsigned *significant_bits)
 	if (ctype != PNG_COLOR_TYPE_GRAY) {
 		png_destroy_read_struct(&png, &info, NULL);
 		fclose(fp);
-		return pc_error(PC_EFORMAT, "%s: a colour PNG (type %d); raw mosaics are single-channel "
-					    "grey", path, ctype);
+		return pc_error(PC_EFORMAT,
+		                "%s: a colour PNG (type %d); raw mosaics are single-channel "
+		                "grey",
+		                path, ctype);
+	}
+	/* Before decoding: the limits, and the file's length. The filtered rows (a filter byte and
+	 * ceil(w·depth/8) bytes each) are deflate-compressed, and deflate cannot do better than
+	 * 1032:1 (a 258-byte match in two 1-bit codes, RFC 1951), so a file shorter than that
+	 * fraction of them cannot hold the image its header declares. */
+	{
+		const uint64_t out_bytes = (uint64_t)w * h * (depth == 16 ? 2u : 1u);
+		const uint64_t filtered =
+		    (uint64_t)h * (1 + ((uint64_t)w * (unsigned)depth + 7) / 8);
+		const uint64_t fsize = pc_io_file_size(fp);
+		int lrc = pc_io_check_image(path, w, h, out_bytes);
+		if (!lrc && fsize != UINT64_MAX && fsize < filtered / 1032)
+			lrc = pc_error(PC_EFORMAT,
+			               "%s: truncated: a %ux%u %d-bit PNG needs at least "
+			               "%llu bytes even at deflate's maximum compression, "
+			               "the file has %llu",
+			               path, (unsigned)w, (unsigned)h, depth,
+			               (unsigned long long)(filtered / 1032),
+			               (unsigned long long)fsize);
+		if (lrc) {
+			png_destroy_read_struct(&png, &info, NULL);
+			fclose(fp);
+			return lrc;
+		}
 	}
 	if (depth < 8)
 		png_set_expand_gray_1_2_4_to_8(png);

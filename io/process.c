@@ -3,6 +3,7 @@
 #include "polarcam/process.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,16 +28,17 @@ int pc_raw_read(const pc_raw_input *in, pc_view *raw, unsigned *bits)
 	struct stat sb;
 	if (stat(in->path, &sb) != 0)
 		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", in->path,
-				strerror(errno));
+		                strerror(errno));
 	if (S_ISDIR(sb.st_mode))
 		return pc_error(PC_EINVAL, "%s: a folder, not a raw file", in->path);
 	int rc = pc_image_read_mosaic(in->path, in->geometry, in->bits, raw, bits);
 	if (rc)
 		return rc;
 	if (raw->width % 2 || raw->height % 2 || raw->width < 4 || raw->height < 4) {
-		rc = pc_error(PC_EINVAL, "%s: size %ux%u: a polarizer mosaic needs an even width and "
-					 "height of at least 4 (whole 2x2 analyser blocks)",
-			      in->path, raw->width, raw->height);
+		rc = pc_error(PC_EINVAL,
+		              "%s: size %ux%u: a polarizer mosaic needs an even width and "
+		              "height of at least 4 (whole 2x2 analyser blocks)",
+		              in->path, raw->width, raw->height);
 		pc_view_free(raw);
 	}
 	return rc;
@@ -45,22 +47,80 @@ int pc_raw_read(const pc_raw_input *in, pc_view *raw, unsigned *bits)
 int pc_process_method(const char *name, const pc_mosaic *m, pc_demosaic_method *out)
 {
 	bool colour = m->period == 4;
-	int rc = pc_demosaic_method_from_name(name ? name : colour ? "bayer-first" : "bilinear",
-					      out);
+	int rc = pc_demosaic_method_from_name(name     ? name
+	                                      : colour ? "bayer-first"
+	                                               : "bilinear",
+	                                      out);
 	if (rc)
 		return pc_error_prefix(rc, "--method: ");
 	const pc_demosaic_method_info *mi = pc_demosaic_method_get(*out);
 	char layout[64];
 	pc_mosaic_format(m, layout, sizeof layout);
 	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_error(PC_EINVAL, "--method %s: works on monochrome mosaics; the mosaic %s is "
-					   "colour-polarization (methods for it: bayer-first, "
-					   "bayer-eari)", mi->name, layout);
+		return pc_error(PC_EINVAL,
+		                "--method %s: works on monochrome mosaics; the mosaic %s is "
+		                "colour-polarization (methods for it: bayer-first, "
+		                "bayer-eari)",
+		                mi->name, layout);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
-		return pc_error(PC_EINVAL, "--method %s: needs a colour-polarization mosaic such as "
-					   "RGGB:90,45,135,0; the mosaic %s is monochrome", mi->name,
-				layout);
+		return pc_error(PC_EINVAL,
+		                "--method %s: needs a colour-polarization mosaic such as "
+		                "RGGB:90,45,135,0; the mosaic %s is monochrome",
+		                mi->name, layout);
 	return 0;
+}
+
+double pc_process_saturation(const pc_process_opts *o, pc_pixfmt format, unsigned bits)
+{
+	if (o->saturation_level > 0)
+		return o->saturation_level;
+	if (o->saturation_level < 0)
+		return 0;
+	if (o->stage)
+		return o->stage->saturation_level > 0 ? o->stage->saturation_level : 0;
+	if (format == PC_FMT_FLOAT32 || bits == 0 || bits > 16)
+		return 0;
+	return (double)((1u << bits) - 1u);
+}
+
+/* The front door's options for o and a raw of the given format and bit depth. */
+static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format, unsigned bits)
+{
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.method = o->method;
+	po.mosaic = o->mosaic;
+	po.threads = o->demosaic.threads;
+	po.reference = o->demosaic.reference;
+	po.full_scale = o->demosaic.full_scale;
+	if (!(po.full_scale > 0) && format != PC_FMT_FLOAT32 && bits >= 1 && bits <= 16)
+		po.full_scale = (double)((1u << bits) - 1u); /* sBIT: a 12-bit PNG in 16 bits */
+	po.black_level = o->stage ? 0 : o->black_level;
+	po.saturation_level = pc_process_saturation(o, format, bits);
+	po.dead_level = o->dead_level;
+	return po;
+}
+
+/* Raw → Stokes (st) or analyser images (ch) through the stage or the front door. */
+static int run_pipeline(const pc_process_opts *o, const pc_view *raw, unsigned bits,
+                        const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid)
+{
+	pc_pipeline_opts po = pipeline_opts(o, raw->format, bits);
+	if (o->stage) {
+		if (o->black_level != 0)
+			return pc_error(PC_EINVAL,
+			                "a black level of %g and %s: the calibration's dark "
+			                "map is the black level; give one or the other",
+			                o->black_level,
+			                o->stage->name ? o->stage->name : "a calibration");
+		pc_frame f;
+		memset(&f, 0, sizeof f);
+		f.view = *raw;
+		f.mosaic = o->mosaic;
+		f.meta.offset_x = o->roi_x;
+		f.meta.offset_y = o->roi_y;
+		return o->stage->run(o->stage->user, &f, bits, &po, st, ch, valid);
+	}
+	return st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
 }
 
 static bool has_suffix(const char *s, const char *suf)
@@ -70,13 +130,13 @@ static bool has_suffix(const char *s, const char *suf)
 }
 
 int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const char *out_path,
-		     pc_demosaic_file_report *rep)
+                     pc_demosaic_file_report *rep)
 {
 	bool tiff = has_suffix(out_path, ".tif") || has_suffix(out_path, ".tiff") ||
-		    has_suffix(out_path, ".TIF") || has_suffix(out_path, ".TIFF");
+	            has_suffix(out_path, ".TIF") || has_suffix(out_path, ".TIFF");
 	if (!tiff && !has_suffix(out_path, ".npy") && !has_suffix(out_path, ".NPY"))
 		return pc_error(PC_EINVAL, "-o %s: the output is .npy or .tif/.tiff (float32)",
-				out_path);
+		                out_path);
 	int rc = pc_output_check(out_path, o->overwrite ? PC_OUT_OVERWRITE : 0, false);
 	if (rc)
 		return rc;
@@ -95,36 +155,80 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	}
 	pc_fplane planes[PC_DEMOSAIC_MAX_CHANNELS];
 	pc_fplanes_interleaved(buf, ow, nch, planes);
+	/* the mask beside the output: OUT_valid.npy */
+	double sat = pc_process_saturation(o, raw.format, bits);
+	bool checked = sat > 0 || o->dead_level > 0 || o->stage;
+	char vpath[4096] = "";
+	if (checked) {
+		size_t stem =
+		    strlen(out_path) -
+		    (has_suffix(out_path, ".tiff") || has_suffix(out_path, ".TIFF") ? 5 : 4);
+		if ((size_t)snprintf(vpath, sizeof vpath, "%.*s_valid.npy", (int)stem, out_path) >=
+		    sizeof vpath) {
+			pc_view_free(&raw);
+			free(buf);
+			return pc_error(PC_EINVAL, "-o %s: path too long", out_path);
+		}
+		/* checked before anything is written: the mask's name must be a legal file name */
+		const char *vslash = strrchr(vpath, '/');
+		size_t vbase = strlen(vslash ? vslash + 1 : vpath);
+		if (vbase > NAME_MAX) {
+			pc_view_free(&raw);
+			free(buf);
+			return pc_error(
+			    PC_EINVAL,
+			    "-o %s: the validity mask beside it, %s, would be a file name of "
+			    "%zu bytes: too long (at most %d); choose a shorter output name, or "
+			    "--saturation none without a dead level for no mask",
+			    out_path, vslash ? vslash + 1 : vpath, vbase, NAME_MAX);
+		}
+	}
+	pc_validity valid = {checked ? malloc((size_t)ow * oh) : NULL, ow, 0};
+	if (checked && !valid.mask) {
+		pc_view_free(&raw);
+		free(buf);
+		return pc_error(PC_ENOMEM, "out of memory for the %ux%u validity mask", ow, oh);
+	}
 	double t0 = now_s();
-	rc = pc_demosaic(&raw, &o->mosaic, o->method, &o->demosaic, planes);
+	rc = run_pipeline(o, &raw, bits, NULL, planes, &valid);
 	double secs = now_s() - t0;
 	pc_view_free(&raw);
 	if (rc) {
 		free(buf);
+		free(valid.mask);
 		return pc_error_prefix(rc, "%s: ", in->path);
 	}
-	size_t shape[3] = { oh, ow, nch };
+	size_t shape[3] = {oh, ow, nch};
 	rc = tiff ? pc_tiff_write_array(out_path, buf, PC_DT_F32, oh, ow, nch)
-		  : pc_npy_write(out_path, buf, PC_DT_F32, 3, shape);
+	          : pc_npy_write(out_path, buf, PC_DT_F32, 3, shape);
+	if (!rc && checked)
+		rc = pc_npy_write(vpath, valid.mask, PC_DT_U8, 2, shape);
 	free(buf);
-	if (!rc && rep)
-		*rep = (pc_demosaic_file_report){ ow, oh, nch, bits, secs };
+	free(valid.mask);
+	if (!rc && rep) {
+		*rep = (pc_demosaic_file_report){ow, oh, nch, bits, secs, sat, valid.n_invalid, ""};
+		snprintf(rep->valid_path, sizeof rep->valid_path, "%s", vpath);
+	}
 	return rc;
 }
 
 /* The files of a Stokes folder, as meta.json lists them. */
-static json_t *files_json(unsigned files, bool numbered, bool stack)
+static json_t *files_json(unsigned files, bool numbered, bool stack, bool valid)
 {
+	enum { VALID = 1u << 30 }; /* valid.npy: when a level was checked */
 	static const struct {
 		unsigned flag;
 		const char *name[4];
-	} t[5] = { { PC_SF_STOKES, { "stokes.npy" } },
-		   { PC_SF_S0, { "s0.npy" } },
-		   { PC_SF_DOLP, { "dolp.npy" } },
-		   { PC_SF_AOLP, { "aolp.npy" } },
-		   { PC_SF_PICTURES, { "s0.png", "dolp.png", "aolp.png", "aolp_sat.png" } } };
+	} t[6] = {{PC_SF_STOKES, {"stokes.npy"}},
+	          {PC_SF_S0, {"s0.npy"}},
+	          {PC_SF_DOLP, {"dolp.npy"}},
+	          {PC_SF_AOLP, {"aolp.npy"}},
+	          {VALID, {"valid.npy"}},
+	          {PC_SF_PICTURES, {"s0.png", "dolp.png", "aolp.png", "aolp_sat.png"}}};
+	if (valid)
+		files |= VALID;
 	json_t *a = json_array();
-	for (int k = 0; k < 5; k++)
+	for (int k = 0; k < 6; k++)
 		for (int i = 0; i < 4 && t[k].name[i] && (files & t[k].flag); i++) {
 			const char *n = t[k].name[i];
 			char buf[64];
@@ -138,9 +242,32 @@ static json_t *files_json(unsigned files, bool numbered, bool stack)
 	return a;
 }
 
+/* Means of S0 and DoLP over the valid pixels (all pixels without a mask): invalid ones depend
+ * on saturated or dead samples and stay out of the statistics. */
+static json_t *valid_stats(const pc_stokes_out *so, uint32_t w, uint32_t h, const pc_validity *v)
+{
+	double s0 = 0, dolp = 0;
+	uint64_t n = 0;
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++) {
+			if (v->mask && !v->mask[(size_t)y * v->row_stride + x])
+				continue;
+			s0 += so->s0.data[(size_t)y * so->s0.row_stride +
+			                  (size_t)x * so->s0.pixel_stride];
+			dolp += so->dolp.data[(size_t)y * so->dolp.row_stride +
+			                      (size_t)x * so->dolp.pixel_stride];
+			n++;
+		}
+	json_t *j = json_object();
+	json_object_set_new(j, "pixels", json_integer((json_int_t)n));
+	json_object_set_new(j, "s0_mean", n ? pc_json_real(s0 / (double)n) : json_null());
+	json_object_set_new(j, "dolp_mean", n ? pc_json_real(dolp / (double)n) : json_null());
+	return j;
+}
+
 /* meta.json of a processed frame or batch: what every Stokes folder of process says */
 static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_t rw, uint32_t rh,
-			    unsigned bits)
+                            unsigned bits, double sat, bool checked, uint64_t n_invalid)
 {
 	char layout[64];
 	pc_mosaic_format(&o->mosaic, layout, sizeof layout);
@@ -153,9 +280,17 @@ static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_
 	json_object_set_new(j, "layout", json_string(layout));
 	json_object_set_new(j, "method", json_string(pc_demosaic_method_get(o->method)->name));
 	json_object_set_new(j, "reference", json_boolean(o->demosaic.reference));
+	json_object_set_new(j, "black_level", pc_json_real(o->stage ? 0 : o->black_level));
+	json_object_set_new(j, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
+	json_object_set_new(j, "dead_level",
+	                    o->dead_level > 0 ? pc_json_real(o->dead_level) : json_null());
+	json_object_set_new(j, "invalid_pixels",
+	                    checked ? json_integer((json_int_t)n_invalid) : json_null());
+	json_object_set_new(j, "calibration",
+	                    o->stage && o->stage->name ? json_string(o->stage->name) : json_null());
 	json_object_set_new(j, "aolp_convention",
-			    json_string("radians in [0, pi), from the image x axis, "
-					"counter-clockwise as seen by the viewer"));
+	                    json_string("radians in [0, pi), from the image x axis, "
+	                                "counter-clockwise as seen by the viewer"));
 	return j;
 }
 
@@ -163,10 +298,11 @@ static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_
 typedef struct frame_buf {
 	float *stokes, *dolp, *aolp, *s0; /* s0: a contiguous copy for stacks of s0.npy */
 	pc_stokes_out so;
+	pc_validity valid; /* mask NULL when no level is checked */
 	uint32_t w, h;
 } frame_buf;
 
-static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0)
+static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0, bool checked)
 {
 	size_t n = (size_t)w * h;
 	memset(f, 0, sizeof *f);
@@ -174,11 +310,14 @@ static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0)
 	f->dolp = malloc(sizeof(float) * n);
 	f->aolp = malloc(sizeof(float) * n);
 	f->s0 = s0 ? malloc(sizeof(float) * n) : NULL;
-	if (!f->stokes || !f->dolp || !f->aolp || (s0 && !f->s0))
+	f->valid = (pc_validity){checked ? malloc(n) : NULL, w, 0};
+	if (!f->stokes || !f->dolp || !f->aolp || (s0 && !f->s0) || (checked && !f->valid.mask))
 		return pc_error(PC_ENOMEM, "out of memory for %ux%u Stokes images", w, h);
-	f->so = (pc_stokes_out){ { f->stokes, (size_t)w * 3, 3 }, { f->stokes + 1, (size_t)w * 3, 3 },
-				 { f->stokes + 2, (size_t)w * 3, 3 }, { f->dolp, w, 1 },
-				 { f->aolp, w, 1 } };
+	f->so = (pc_stokes_out){{f->stokes, (size_t)w * 3, 3},
+	                        {f->stokes + 1, (size_t)w * 3, 3},
+	                        {f->stokes + 2, (size_t)w * 3, 3},
+	                        {f->dolp, w, 1},
+	                        {f->aolp, w, 1}};
 	f->w = w;
 	f->h = h;
 	return 0;
@@ -190,29 +329,35 @@ static void frame_buf_free(frame_buf *f)
 	free(f->dolp);
 	free(f->aolp);
 	free(f->s0);
+	free(f->valid.mask);
 	memset(f, 0, sizeof *f);
 }
 
-/* The stacked arrays of a batch: (N, H, W, 3) stokes.npy, (N, H, W) s0, dolp, aolp. */
+/* The stacked arrays of a batch: (N, H, W, 3) stokes.npy, (N, H, W) s0, dolp, aolp and, when
+ * a level is checked, valid.npy (N, H, W) uint8. */
 typedef struct stack {
-	pc_npy_stream s[4];
-	bool open[4];
+	pc_npy_stream s[5];
+	bool open[5];
 } stack;
 
-static const char *const stack_names[4] = { "stokes.npy", "s0.npy", "dolp.npy", "aolp.npy" };
-static const unsigned stack_flags[4] = { PC_SF_STOKES, PC_SF_S0, PC_SF_DOLP, PC_SF_AOLP };
+enum { STACK_VALID = 1u << 30 };
+static const char *const stack_names[5] = {"stokes.npy", "s0.npy", "dolp.npy", "aolp.npy",
+                                           "valid.npy"};
+static const unsigned stack_flags[5] = {PC_SF_STOKES, PC_SF_S0, PC_SF_DOLP, PC_SF_AOLP,
+                                        STACK_VALID};
 
-static int stack_open(stack *st, const char *dir, unsigned files, size_t n, uint32_t w,
-		      uint32_t h)
+static int stack_open(stack *st, const char *dir, unsigned files, size_t n, uint32_t w, uint32_t h)
 {
-	for (int k = 0; k < 4; k++) {
+	for (int k = 0; k < 5; k++) {
 		if (!(files & stack_flags[k]))
 			continue;
 		char path[4096];
-		size_t shape[4] = { n, h, w, 3 };
-		if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, stack_names[k]) >= sizeof path)
+		size_t shape[4] = {n, h, w, 3};
+		if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, stack_names[k]) >=
+		    sizeof path)
 			return pc_error(PC_EINVAL, "%s: path too long", dir);
-		int rc = pc_npy_stream_open(&st->s[k], path, PC_DT_F32, k == 0 ? 4 : 3, shape);
+		int rc = pc_npy_stream_open(&st->s[k], path, k == 4 ? PC_DT_U8 : PC_DT_F32,
+		                            k == 0 ? 4 : 3, shape);
 		if (rc)
 			return rc;
 		st->open[k] = true;
@@ -226,11 +371,12 @@ static int stack_add(stack *st, frame_buf *f)
 	if (f->s0)
 		for (size_t i = 0; i < n; i++)
 			f->s0[i] = f->stokes[3 * i];
-	const float *data[4] = { f->stokes, f->s0, f->dolp, f->aolp };
-	for (int k = 0; k < 4; k++) {
+	const void *data[5] = {f->stokes, f->s0, f->dolp, f->aolp, f->valid.mask};
+	for (int k = 0; k < 5; k++) {
 		if (!st->open[k])
 			continue;
-		int rc = pc_npy_stream_write(&st->s[k], data[k], sizeof(float) * n * (k ? 1 : 3));
+		size_t bytes = k == 4 ? n : sizeof(float) * n * (k ? 1 : 3);
+		int rc = pc_npy_stream_write(&st->s[k], data[k], bytes);
 		if (rc) {
 			st->open[k] = false; /* aborted by the failed write */
 			return rc;
@@ -242,7 +388,7 @@ static int stack_add(stack *st, frame_buf *f)
 static int stack_close(stack *st, bool commit)
 {
 	int rc = 0;
-	for (int k = 0; k < 4; k++) {
+	for (int k = 0; k < 5; k++) {
 		if (!st->open[k])
 			continue;
 		st->open[k] = false;
@@ -273,15 +419,17 @@ static int write_meta(const char *dir, json_t *j, char **meta)
 
 /* A batch (numbered) or a single file (plain names) into the folder tmp. */
 static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool numbered,
-		     const char *tmp, const pc_stokes_folder_opts *folder, json_t **meta_out)
+                     const char *tmp, const pc_stokes_folder_opts *folder, json_t **meta_out)
 {
-	frame_buf f = { 0 };
+	frame_buf f = {0};
 	stack st;
 	memset(&st, 0, sizeof st);
 	json_t *frames = json_array();
 	uint32_t rw0 = 0, rh0 = 0;
 	unsigned bits0 = 0;
-	double t_all = 0;
+	double t_all = 0, sat = 0;
+	bool checked = false;
+	uint64_t n_invalid = 0;
 	int rc = 0;
 	const bool stack_on = numbered && b->stack;
 	for (size_t k = 0; k < b->count && !rc; k++) {
@@ -295,17 +443,24 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 			uint32_t w, h;
 			pc_demosaic_out_size(o->method, raw.width, raw.height, &w, &h);
 			rw0 = raw.width, rh0 = raw.height, bits0 = bits;
-			rc = frame_buf_alloc(&f, w, h, stack_on && (folder->files & PC_SF_S0));
+			sat = pc_process_saturation(o, raw.format, bits);
+			checked = sat > 0 || o->dead_level > 0 || o->stage;
+			rc = frame_buf_alloc(&f, w, h, stack_on && (folder->files & PC_SF_S0),
+			                     checked);
 			if (!rc && stack_on)
-				rc = stack_open(&st, tmp, folder->files, b->count, w, h);
+				rc = stack_open(&st, tmp,
+				                folder->files | (checked ? STACK_VALID : 0),
+				                b->count, w, h);
 		} else if (raw.width != rw0 || raw.height != rh0 || bits != bits0) {
-			rc = pc_error(PC_EINVAL, "%s: %ux%u, %u-bit, but %s is %ux%u, %u-bit: a batch "
-						 "is one size and bit depth", in->path, raw.width,
-				      raw.height, bits, b->inputs[0].path, rw0, rh0, bits0);
+			rc = pc_error(PC_EINVAL,
+			              "%s: %ux%u, %u-bit, but %s is %ux%u, %u-bit: a batch "
+			              "is one size and bit depth",
+			              in->path, raw.width, raw.height, bits, b->inputs[0].path, rw0,
+			              rh0, bits0);
 		}
 		double t0 = now_s(), dt = 0;
 		if (!rc) {
-			rc = pc_stokes_from_raw(&raw, &o->mosaic, o->method, &o->demosaic, &f.so);
+			rc = run_pipeline(o, &raw, bits, &f.so, NULL, &f.valid);
 			dt = now_s() - t0;
 			t_all += dt;
 			if (rc)
@@ -317,22 +472,30 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 		pc_stokes_folder_opts fo = *folder;
 		fo.numbered = numbered;
 		fo.number = number;
+		fo.no_valid_file = stack_on;
 		bool pictures = (folder->files & PC_SF_PICTURES) &&
-				(!numbered || (b->pictures_every && k % b->pictures_every == 0));
+		                (!numbered || (b->pictures_every && k % b->pictures_every == 0));
 		fo.files = (stack_on ? 0 : folder->files) & ~(unsigned)PC_SF_PICTURES;
 		if (pictures)
 			fo.files |= PC_SF_PICTURES;
 		if (stack_on)
 			rc = stack_add(&st, &f);
 		if (!rc)
-			rc = pc_stokes_folder_write(tmp, &f.so, f.w, f.h, &fo);
-		json_array_append_new(frames, json_pack("{s:s, s:I, s:o, s:b}", "input", in->path,
-							"number", (json_int_t)number,
-							"pipeline_seconds", pc_json_real(dt),
-							"pictures", pictures));
+			rc = pc_stokes_folder_write_valid(tmp, &f.so, f.w, f.h, &fo, &f.valid);
+		n_invalid += f.valid.n_invalid;
+		json_t *fj = json_pack("{s:s, s:I, s:o, s:b}", "input", in->path, "number",
+		                       (json_int_t)number, "pipeline_seconds", pc_json_real(dt),
+		                       "pictures", pictures);
+		json_object_set_new(fj, "invalid_pixels",
+		                    checked ? json_integer((json_int_t)f.valid.n_invalid)
+		                            : json_null());
+		if (!numbered)
+			json_object_set_new(fj, "valid_statistics",
+			                    valid_stats(&f.so, f.w, f.h, &f.valid));
+		json_array_append_new(frames, fj);
 		if (!rc && pc_progress_report(&b->progress, "process", k + 1, b->count))
 			rc = pc_error(PC_ECANCELED, "stopped after %zu of %zu frames", k + 1,
-				      b->count);
+			              b->count);
 	}
 	if (!rc)
 		rc = stack_close(&st, true);
@@ -342,28 +505,30 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 		json_decref(frames);
 		return rc;
 	}
-	json_t *j = process_meta(o, numbered ? NULL : b->inputs[0].path, rw0, rh0, bits0);
+	json_t *j = process_meta(o, numbered ? NULL : b->inputs[0].path, rw0, rh0, bits0, sat,
+	                         checked, n_invalid);
 	if (numbered) {
 		json_object_set_new(j, "frames", frames);
 		json_object_set_new(j, "stack", json_boolean(stack_on));
 		json_object_set_new(j, "pictures_every",
-				    b->pictures_every >= b->count && b->count > 0
-					    ? json_null() /* the first frame only */
-					    : json_integer((json_int_t)b->pictures_every));
+		                    b->pictures_every >= b->count && b->count > 0
+		                        ? json_null() /* the first frame only */
+		                        : json_integer((json_int_t)b->pictures_every));
 	} else {
 		json_t *f0 = json_array_get(frames, 0);
 		json_object_set(j, "pipeline_seconds", json_object_get(f0, "pipeline_seconds"));
+		json_object_set(j, "valid_statistics", json_object_get(f0, "valid_statistics"));
 		json_decref(frames);
 	}
 	if (numbered)
 		json_object_set_new(j, "pipeline_seconds", pc_json_real(t_all));
-	json_object_set_new(j, "files", files_json(folder->files, numbered, stack_on));
+	json_object_set_new(j, "files", files_json(folder->files, numbered, stack_on, checked));
 	*meta_out = j;
 	return 0;
 }
 
 static int process_folder(const pc_process_batch *b, const pc_process_opts *o, bool numbered,
-			  const char *dir, const pc_stokes_folder_opts *folder, char **meta)
+                          const char *dir, const pc_stokes_folder_opts *folder, char **meta)
 {
 	if (meta)
 		*meta = NULL;
@@ -373,8 +538,9 @@ static int process_folder(const pc_process_batch *b, const pc_process_opts *o, b
 	for (size_t k = 0; k < b->count; k++) {
 		struct stat sb;
 		if (!b->inputs[k].path || stat(b->inputs[k].path, &sb) != 0)
-			return pc_error(PC_ENOENT, "%s: %s", b->inputs[k].path ? b->inputs[k].path : "",
-					strerror(errno));
+			return pc_error(PC_ENOENT, "%s: %s",
+			                b->inputs[k].path ? b->inputs[k].path : "",
+			                strerror(errno));
 	}
 	pc_outdir od;
 	int rc = pc_outdir_begin(&od, dir, o->overwrite ? PC_OUT_OVERWRITE : 0);
@@ -396,14 +562,14 @@ static int process_folder(const pc_process_batch *b, const pc_process_opts *o, b
 }
 
 int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
-		    const pc_stokes_folder_opts *folder, char **meta)
+                    const pc_stokes_folder_opts *folder, char **meta)
 {
-	pc_process_batch b = { in, 1, NULL, false, 1, { NULL, NULL } };
+	pc_process_batch b = {in, 1, NULL, false, 1, {NULL, NULL}};
 	return process_folder(&b, o, false, dir, folder, meta);
 }
 
 int pc_process_files(const pc_process_batch *b, const pc_process_opts *o, const char *dir,
-		     const pc_stokes_folder_opts *folder, char **meta)
+                     const pc_stokes_folder_opts *folder, char **meta)
 {
 	if (!b || (b->count && !b->inputs))
 		return pc_error(PC_EINVAL, "process: missing argument");

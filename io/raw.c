@@ -26,14 +26,14 @@ int pc_raw_write(const char *path, const pc_view *v)
 	const pc_format_info *fi = pc_format_info_get(v->format);
 	if (fi->is_float)
 		return pc_error(PC_EINVAL, "%s: raw files hold integer pixels, not %s", path,
-				fi->name);
+		                fi->name);
 	size_t row;
 	if ((rc = pc_format_row_bytes(v->format, v->width, &row)))
 		return pc_error_prefix(rc, "%s: ", path);
 	/* 16-bit containers are little-endian in the file: swapped row by row on a big-endian
 	 * host, written as they are otherwise */
-	const int swap = fi->packing == PC_PACK_NONE && fi->group_bytes == 2 &&
-			 !host_is_little_endian();
+	const int swap =
+	    fi->packing == PC_PACK_NONE && fi->group_bytes == 2 && !host_is_little_endian();
 	uint8_t *tmp = swap ? malloc(row) : NULL;
 	if (swap && !tmp)
 		return pc_error(PC_ENOMEM, "%s: row buffer", path);

@@ -1,6 +1,7 @@
 /* Ground-truth directories for the evaluation protocol, and methods scored on them. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,12 +12,12 @@
 #include "polarcam/eval.h"
 #include "polarcam/io.h"
 
-static const char *const exts[] = { ".tif", ".tiff", ".png", ".bmp", ".npy",
-				    ".TIF", ".TIFF", ".PNG", ".BMP" };
+static const char *const exts[] = {".tif", ".tiff", ".png", ".bmp", ".npy",
+                                   ".TIF", ".TIFF", ".PNG", ".BMP"};
 
 int pc_truth_load(const char *dir, pc_eval_truth *t)
 {
-	static const char *names[4] = { "0", "45", "90", "135" };
+	static const char *names[4] = {"0", "45", "90", "135"};
 	memset(t, 0, sizeof *t);
 	struct stat st;
 	if (!dir || stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
@@ -32,8 +33,10 @@ int pc_truth_load(const char *dir, pc_eval_truth *t)
 			found = stat(path, &st) == 0 && S_ISREG(st.st_mode);
 		}
 		if (!found) {
-			rc = pc_error(PC_ENOENT, "%s: no analyser image '%s' (expected %s.tif, .png, "
-						 ".bmp or .npy)", dir, names[c], names[c]);
+			rc = pc_error(PC_ENOENT,
+			              "%s: no analyser image '%s' (expected %s.tif, .png, "
+			              ".bmp or .npy)",
+			              dir, names[c], names[c]);
 			break;
 		}
 		rc = pc_image_read(path, NULL, &v[c], NULL);
@@ -80,8 +83,8 @@ static double now_s(void)
 }
 
 int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method *methods,
-		 size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
-		 pc_eval_result *res)
+                 size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
+                 pc_eval_result *res)
 {
 	size_t nres = 0;
 	for (size_t d = 0; d < ndirs; d++) {
@@ -110,7 +113,7 @@ int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method
 }
 
 int pc_eval_dataset_mean(const pc_eval_result *r, size_t n, const char *dataset,
-			 pc_demosaic_method meth, pc_eval_metrics *out)
+                         pc_demosaic_method meth, pc_eval_metrics *out)
 {
 	memset(out, 0, sizeof *out);
 	int count = 0;
@@ -127,4 +130,41 @@ int pc_eval_dataset_mean(const pc_eval_result *r, size_t n, const char *dataset,
 		for (size_t k = 0; k < sizeof *out / sizeof(double); k++)
 			(&out->psnr_i)[k] /= count;
 	return count;
+}
+
+int pc_eval_dataset_gain(const pc_eval_result *r, size_t n, const char *dataset,
+                         pc_demosaic_method meth, pc_demosaic_method base, pc_eval_gain *g)
+{
+	memset(g, 0, sizeof *g);
+	g->s0_worst = g->dolp_worst = INFINITY;
+	int cnt = 0;
+	for (size_t i = 0; i < n; i++) {
+		if (r[i].method != meth || strcmp(r[i].dataset, dataset))
+			continue;
+		for (size_t j = 0; j < n; j++) {
+			if (r[j].method != base || strcmp(r[j].scene, r[i].scene))
+				continue;
+			double ds = r[i].m.psnr_s0 - r[j].m.psnr_s0;
+			double dd = r[i].m.psnr_dolp - r[j].m.psnr_dolp;
+			g->s0_mean += ds;
+			g->dolp_mean += dd;
+			if (ds < g->s0_worst) {
+				g->s0_worst = ds;
+				g->s0_worst_scene = r[i].scene;
+			}
+			if (dd < g->dolp_worst) {
+				g->dolp_worst = dd;
+				g->dolp_worst_scene = r[i].scene;
+			}
+			cnt++;
+			break;
+		}
+	}
+	if (!cnt) {
+		g->s0_worst = g->dolp_worst = NAN;
+		return 0;
+	}
+	g->s0_mean /= cnt;
+	g->dolp_mean /= cnt;
+	return cnt;
 }

@@ -57,7 +57,7 @@ char *pc_sim_describe_json(const pc_sim *sim, const pc_scene *scene)
 	unsigned nch = in.colour_channels;
 	json_object_set_new(s, "qe", pc_json_vec(nch == 3 ? f.qe : &f.qe[1], nch));
 	json_object_set_new(s, "wavelength_nm",
-			    pc_json_vec(nch == 3 ? f.wavelength_nm : &f.wavelength_nm[1], nch));
+	                    pc_json_vec(nch == 3 ? f.wavelength_nm : &f.wavelength_nm[1], nch));
 	json_object_set_new(s, "full_well_e", pc_json_real(f.full_well_e));
 	json_object_set_new(s, "read_noise_e", pc_json_real(f.read_noise_e));
 	json_object_set_new(s, "dark_current_e_s", pc_json_real(f.dark_current_e_s));

@@ -18,28 +18,47 @@ struct pc_bvh_node {
 static inline bool aabb_hit(pc_v3 bmin, pc_v3 bmax, pc_v3 o, pc_v3 inv, double tmin, double tmax)
 {
 	double t0 = (bmin.x - o.x) * inv.x, t1 = (bmax.x - o.x) * inv.x;
-	if (t0 > t1) { double t = t0; t0 = t1; t1 = t; }
-	if (t0 > tmin) tmin = t0;
-	if (t1 < tmax) tmax = t1;
+	if (t0 > t1) {
+		double t = t0;
+		t0 = t1;
+		t1 = t;
+	}
+	if (t0 > tmin)
+		tmin = t0;
+	if (t1 < tmax)
+		tmax = t1;
 	t0 = (bmin.y - o.y) * inv.y;
 	t1 = (bmax.y - o.y) * inv.y;
-	if (t0 > t1) { double t = t0; t0 = t1; t1 = t; }
-	if (t0 > tmin) tmin = t0;
-	if (t1 < tmax) tmax = t1;
+	if (t0 > t1) {
+		double t = t0;
+		t0 = t1;
+		t1 = t;
+	}
+	if (t0 > tmin)
+		tmin = t0;
+	if (t1 < tmax)
+		tmax = t1;
 	t0 = (bmin.z - o.z) * inv.z;
 	t1 = (bmax.z - o.z) * inv.z;
-	if (t0 > t1) { double t = t0; t0 = t1; t1 = t; }
-	if (t0 > tmin) tmin = t0;
-	if (t1 < tmax) tmax = t1;
+	if (t0 > t1) {
+		double t = t0;
+		t0 = t1;
+		t1 = t;
+	}
+	if (t0 > tmin)
+		tmin = t0;
+	if (t1 < tmax)
+		tmax = t1;
 	return tmin <= tmax;
 }
 
 static bool hit_sphere(const pc_sim_object *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
-		       double *t, pc_v3 *n)
+                       double *t, pc_v3 *n)
 {
 	pc_v3 oc = v3_sub(o, s->center);
 	double tt;
-	if (!pc_sphere_hit_oc(oc, s->radius, v3_dot(oc, oc) - s->radius * s->radius, d, tmin, tmax, &tt))
+	if (!pc_sphere_hit_oc(oc, s->radius, v3_dot(oc, oc) - s->radius * s->radius, d, tmin, tmax,
+	                      &tt))
 		return false;
 	*t = tt;
 	*n = pc_sphere_normal(s, o, d, tt);
@@ -57,11 +76,12 @@ static bool hit_plane(const pc_sim_object *p, pc_v3 o, pc_v3 d, double tmin, dou
 }
 
 static bool hit_box(const pc_sim_object *b, pc_v3 o, pc_v3 d, double tmin, double tmax, double *t,
-		    pc_v3 *n)
+                    pc_v3 *n)
 {
 	pc_v3 ol = m3_apply_t(&b->rot, v3_sub(o, b->center)), dl = m3_apply_t(&b->rot, d);
-	double lo[3] = { -b->half.x, -b->half.y, -b->half.z }, hi[3] = { b->half.x, b->half.y, b->half.z };
-	double oo[3] = { ol.x, ol.y, ol.z }, dd[3] = { dl.x, dl.y, dl.z };
+	double lo[3] = {-b->half.x, -b->half.y, -b->half.z},
+	       hi[3] = {b->half.x, b->half.y, b->half.z};
+	double oo[3] = {ol.x, ol.y, ol.z}, dd[3] = {dl.x, dl.y, dl.z};
 	double t0 = -INFINITY, t1 = INFINITY;
 	int ax0 = -1, ax1 = -1;
 	double sg0 = 0, sg1 = 0;
@@ -73,9 +93,23 @@ static bool hit_box(const pc_sim_object *b, pc_v3 o, pc_v3 d, double tmin, doubl
 		}
 		double a = (lo[i] - oo[i]) / dd[i], c = (hi[i] - oo[i]) / dd[i];
 		double sa = -1, sc = 1;
-		if (a > c) { double x = a; a = c; c = x; sa = 1; sc = -1; }
-		if (a > t0) { t0 = a; ax0 = i; sg0 = sa; }
-		if (c < t1) { t1 = c; ax1 = i; sg1 = sc; }
+		if (a > c) {
+			double x = a;
+			a = c;
+			c = x;
+			sa = 1;
+			sc = -1;
+		}
+		if (a > t0) {
+			t0 = a;
+			ax0 = i;
+			sg0 = sa;
+		}
+		if (c < t1) {
+			t1 = c;
+			ax1 = i;
+			sg1 = sc;
+		}
 	}
 	if (t0 > t1)
 		return false;
@@ -83,9 +117,13 @@ static bool hit_box(const pc_sim_object *b, pc_v3 o, pc_v3 d, double tmin, doubl
 	int ax;
 	double sg;
 	if (t0 > tmin && t0 < tmax) {
-		tt = t0; ax = ax0; sg = sg0;
+		tt = t0;
+		ax = ax0;
+		sg = sg0;
 	} else if (t1 > tmin && t1 < tmax) {
-		tt = t1; ax = ax1; sg = sg1;
+		tt = t1;
+		ax = ax1;
+		sg = sg1;
 	} else {
 		return false;
 	}
@@ -100,7 +138,7 @@ static bool hit_box(const pc_sim_object *b, pc_v3 o, pc_v3 d, double tmin, doubl
 /* Möller & Trumbore, "Fast, minimum storage ray/triangle intersection", J. Graphics Tools
  * 2(1):21–28, 1997. Returns t and barycentrics (u, v). */
 static inline bool hit_tri(pc_v3 o, pc_v3 d, pc_v3 a, pc_v3 b, pc_v3 c, double tmin, double tmax,
-			   double *t, double *u, double *v)
+                           double *t, double *u, double *v)
 {
 	pc_v3 e1 = v3_sub(b, a), e2 = v3_sub(c, a);
 	pc_v3 p = v3_cross(d, e2);
@@ -126,7 +164,7 @@ static inline bool hit_tri(pc_v3 o, pc_v3 d, pc_v3 a, pc_v3 b, pc_v3 c, double t
 }
 
 static bool hit_mesh(const pc_mesh *m, pc_v3 o, pc_v3 d, double tmin, double tmax, bool any,
-		     double *t, pc_v3 *n, pc_v3 *ng)
+                     double *t, pc_v3 *n, pc_v3 *ng)
 {
 	pc_v3 inv = v3(1.0 / d.x, 1.0 / d.y, 1.0 / d.z);
 	uint32_t stack[64];
@@ -144,8 +182,8 @@ static bool hit_mesh(const pc_mesh *m, pc_v3 o, pc_v3 d, double tmin, double tma
 				uint32_t tri = m->tri_order[nd->first + i];
 				const uint32_t *ix = &m->tri[3 * tri];
 				double tt, u, v;
-				if (hit_tri(o, d, m->v[ix[0]], m->v[ix[1]], m->v[ix[2]], tmin, tmax, &tt,
-					    &u, &v)) {
+				if (hit_tri(o, d, m->v[ix[0]], m->v[ix[1]], m->v[ix[2]], tmin, tmax,
+				            &tt, &u, &v)) {
 					if (any)
 						return true;
 					tmax = tt;
@@ -160,7 +198,9 @@ static bool hit_mesh(const pc_mesh *m, pc_v3 o, pc_v3 d, double tmin, double tma
 			/* visit the child on the ray's side first */
 			uint32_t l = self + 1, r = nd->first;
 			if (v3_get(d, nd->axis) < 0) {
-				uint32_t x = l; l = r; r = x;
+				uint32_t x = l;
+				l = r;
+				r = x;
 			}
 			if (sp + 2 > 64)
 				continue; /* depth is bounded by the builder; never reached */
@@ -171,13 +211,15 @@ static bool hit_mesh(const pc_mesh *m, pc_v3 o, pc_v3 d, double tmin, double tma
 	if (!found)
 		return false;
 	const uint32_t *ix = &m->tri[3 * best];
-	pc_v3 g = v3_unit(v3_cross(v3_sub(m->v[ix[1]], m->v[ix[0]]), v3_sub(m->v[ix[2]], m->v[ix[0]])));
+	pc_v3 g =
+	    v3_unit(v3_cross(v3_sub(m->v[ix[1]], m->v[ix[0]]), v3_sub(m->v[ix[2]], m->v[ix[0]])));
 	*t = tmax;
 	*ng = g;
 	if (m->vn) {
 		const uint32_t *jn = &m->tri_n[3 * best];
-		pc_v3 s = v3_add(v3_add(v3_scale(m->vn[jn[0]], 1 - bu - bv), v3_scale(m->vn[jn[1]], bu)),
-				 v3_scale(m->vn[jn[2]], bv));
+		pc_v3 s =
+		    v3_add(v3_add(v3_scale(m->vn[jn[0]], 1 - bu - bv), v3_scale(m->vn[jn[1]], bu)),
+		           v3_scale(m->vn[jn[2]], bv));
 		double l = v3_len(s);
 		*n = l > 1e-12 ? v3_scale(s, 1 / l) : g;
 		/* keep the shading normal on the geometric normal's side */
@@ -189,8 +231,8 @@ static bool hit_mesh(const pc_mesh *m, pc_v3 o, pc_v3 d, double tmin, double tma
 	return true;
 }
 
-bool pc_object_hit(const pc_sim_object *ob, pc_v3 o, pc_v3 d, double tmin, double tmax,
-		       bool any, double *t, pc_v3 *n, pc_v3 *ng)
+bool pc_object_hit(const pc_sim_object *ob, pc_v3 o, pc_v3 d, double tmin, double tmax, bool any,
+                   double *t, pc_v3 *n, pc_v3 *ng)
 {
 	switch (ob->type) {
 	case PC_OBJ_PLANE:
@@ -247,7 +289,7 @@ bool pc_object_bsphere(const pc_sim_object *ob, pc_v3 *c, double *r)
 }
 
 bool pc_scene_intersect_cull(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
-			     int32_t x, const pc_cull *cull, pc_hit *hit)
+                             int32_t x, const pc_cull *cull, pc_hit *hit)
 {
 	bool found = false;
 	for (unsigned i = 0; i < s->n_objects; i++) {
@@ -268,7 +310,7 @@ bool pc_scene_intersect_cull(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, d
 }
 
 bool pc_scene_occluded_skip(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
-			    unsigned skip)
+                            unsigned skip)
 {
 	for (unsigned i = 0; i < s->n_objects; i++) {
 		double t;
@@ -423,7 +465,7 @@ static int bvh_node(bvh_build *B, uint32_t first, uint32_t count, int depth)
 
 int pc_bvh_build(pc_mesh *m)
 {
-	bvh_build B = { m, NULL, 0, 64, 30 };
+	bvh_build B = {m, NULL, 0, 64, 30};
 	if (m->n_triangles == 0)
 		return pc_error(PC_EFORMAT, "mesh has no triangles");
 	m->tri_order = malloc(m->n_triangles * sizeof *m->tri_order);
@@ -436,7 +478,8 @@ int pc_bvh_build(pc_mesh *m)
 	for (uint32_t i = 0; i < m->n_triangles; i++) {
 		const uint32_t *ix = &m->tri[3 * i];
 		m->tri_order[i] = i;
-		B.centroid[i] = v3_scale(v3_add(v3_add(m->v[ix[0]], m->v[ix[1]]), m->v[ix[2]]), 1.0 / 3);
+		B.centroid[i] =
+		    v3_scale(v3_add(v3_add(m->v[ix[0]], m->v[ix[1]]), m->v[ix[2]]), 1.0 / 3);
 	}
 	int rc = bvh_node(&B, 0, m->n_triangles, 0);
 	free(B.centroid);
@@ -444,7 +487,7 @@ int pc_bvh_build(pc_mesh *m)
 		return pc_error(PC_ENOMEM, "mesh BVH (%u triangles)", m->n_triangles);
 	if (rc == -2)
 		return pc_error(PC_EFORMAT, "mesh BVH: more than 65535 triangles share one "
-					    "position (degenerate mesh)");
+		                            "position (degenerate mesh)");
 	m->n_nodes = B.n_nodes;
 	return 0;
 }

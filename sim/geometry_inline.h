@@ -12,8 +12,8 @@
  * the nearest t in (tmin, tmax). The discriminant is computed from the distance of the centre
  * to the ray (r² − |h|², h ⟂ d), which does not cancel for distant spheres (Haines et al.,
  * "Precision improvements for ray/sphere intersection", Ray Tracing Gems, 2019, ch. 7). */
-static inline bool pc_sphere_hit_oc(pc_v3 oc, double r, double c, pc_v3 d, double tmin,
-				    double tmax, double *t)
+static inline bool pc_sphere_hit_oc(pc_v3 oc, double r, double c, pc_v3 d, double tmin, double tmax,
+                                    double *t)
 {
 	double b = v3_dot(oc, d);
 	if (c > 0 && b > 0 && tmin >= 0)

@@ -13,13 +13,13 @@
 typedef struct pc_frame_args {
 	uint64_t seed, frame;
 	uint32_t sx0, sy, n;
-	const float *rate;      /* electron rate [e⁻/s] (PRNU applied) */
-	const float *dsnu;      /* DSNU offsets [e⁻], or NULL */
-	double t_s;             /* exposure [s] */
-	double dark_e;          /* dark electrons per pixel (with noise; else 0) */
+	const float *rate; /* electron rate [e⁻/s] (PRNU applied) */
+	const float *dsnu; /* DSNU offsets [e⁻], or NULL */
+	double t_s;        /* exposure [s] */
+	double dark_e;     /* dark electrons per pixel (with noise; else 0) */
 	double full_well_e, K, offset_dn, read_e, max_dn;
-	bool noise;             /* shot + dark (Poisson) and read noise */
-	uint16_t *out;          /* n LSB-aligned values */
+	bool noise;    /* shot + dark (Poisson) and read noise */
+	uint16_t *out; /* n LSB-aligned values */
 } pc_frame_args;
 
 /* The chain of physics.md §6 steps 3–6 (see sensor.c) for one row segment. Per pixel one
@@ -33,9 +33,9 @@ void pc_noise_frame_row_ref(const pc_frame_args *a);
 /* Fixed-pattern normal deviates of pixels (sx0 + i, sy), i < n: deviate k (mask bit k) from
  * word k of the Philox block with counter (y·65536 + x, PC_RNG_FIXED, 0, 0). */
 void pc_noise_fixed_row(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
-			double *z[4]);
+                        double *z[4]);
 void pc_noise_fixed_row_ref(uint64_t seed, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
-			    double *z[4]);
+                            double *z[4]);
 
 /* Kernel instances: 0 = the scalar reference, 1 = AVX2, 2 = AVX-512 (x86-64, GCC or clang).
  * pc_noise_isa() is the one in use (pc_cpu_active() of polarcam/cpu.h: the best this CPU runs,

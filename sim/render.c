@@ -63,7 +63,7 @@ double pc_light_frame(const pc_sim_light *l, pc_v3 x, pc_v3 *d, pc_v3 *s, double
 
 /* The physics core as the BRDF (the default; shading calls it directly). */
 static int eval_pbrdf(void *user, unsigned material, unsigned ch, const double k_i[3],
-		      const double k_r[3], const double s_i[3], const double s_r[3], double f[4][4])
+                      const double k_r[3], const double s_i[3], const double s_r[3], double f[4][4])
 {
 	const pc_sim *sim = user;
 	return pc_pbrdf_eval_vec(sim->pbrdf[material * sim->nch + ch], k_i, k_r, s_i, s_r, f);

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "polarcam/error.h"
+#include "polarcam/limits.h"
 #include "polarcam/mosaic.h"
 #include "polarcam/optics.h"
 #include "json.h"
@@ -36,7 +37,7 @@ typedef struct {
 /* Optional string field that must be one of the keywords (NULL-terminated table). *out is the
  * keyword's value, or -1 when the field is absent; `expected` lists them for the error. */
 static int get_enum(const pctx *c, json_t *obj, const char *path, const char *key,
-		    const pc_scene_keyword *words, const char *expected, int *out)
+                    const pc_scene_keyword *words, const char *expected, int *out)
 {
 	const char *s = NULL;
 	int rc = pc_json_get_str(&c->js, obj, path, key, PC_JSON_OPTIONAL, &s);
@@ -54,7 +55,7 @@ static int get_enum(const pctx *c, json_t *obj, const char *path, const char *ke
 }
 
 static int get_v3(const pctx *c, json_t *obj, const char *path, const char *key, int required,
-		  pc_v3 *out)
+                  pc_v3 *out)
 {
 	double a[3];
 	if (!json_object_get(obj, key)) {
@@ -73,7 +74,7 @@ static int get_v3(const pctx *c, json_t *obj, const char *path, const char *key,
 }
 
 static int get_unit_v3(const pctx *c, json_t *obj, const char *path, const char *key, int required,
-		       pc_v3 *out)
+                       pc_v3 *out)
 {
 	pc_v3 v = *out;
 	int rc = get_v3(c, obj, path, key, required, &v);
@@ -92,7 +93,7 @@ static int get_unit_v3(const pctx *c, json_t *obj, const char *path, const char 
 
 /* A number, or an array of 3 numbers (R, G, B), each in [lo, hi]. */
 static int get_num_rgb(const pctx *c, json_t *obj, const char *path, const char *key, int required,
-		       double lo, bool lo_open, double hi, double out[3])
+                       double lo, bool lo_open, double hi, double out[3])
 {
 	char p[256];
 	pc_json_path(p, sizeof p, path, key);
@@ -111,7 +112,8 @@ static int get_num_rgb(const pctx *c, json_t *obj, const char *path, const char 
 			if (lo_open ? !(a[i] > lo) : !(a[i] >= lo)) {
 				char q[288];
 				pc_json_path_index(q, sizeof q, p, (size_t)i);
-				return pc_json_error(&c->js, q, "= %g: must be %s %g", a[i], lo_open ? ">" : "≥", lo);
+				return pc_json_error(&c->js, q, "= %g: must be %s %g", a[i],
+				                     lo_open ? ">" : "≥", lo);
 			}
 			if (a[i] > hi) {
 				char q[288];
@@ -134,13 +136,16 @@ static int get_num_rgb(const pctx *c, json_t *obj, const char *path, const char 
 
 static int parse_retarder(const pctx *c, json_t *v, const char *path, double m[4][4])
 {
-	static const char *const keys[] = { "angle_deg", "retardance_deg", NULL };
+	static const char *const keys[] = {"angle_deg", "retardance_deg", NULL};
 	int rc;
-	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, path)) ||
+	    (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	double a = 0, d = 0;
-	if ((rc = pc_json_get_num(&c->js, v, path, "angle_deg", PC_JSON_REQUIRED, -360, false, 360, &a)) ||
-	    (rc = pc_json_get_num(&c->js, v, path, "retardance_deg", PC_JSON_REQUIRED, 0, false, 360, &d)))
+	if ((rc = pc_json_get_num(&c->js, v, path, "angle_deg", PC_JSON_REQUIRED, -360, false, 360,
+	                          &a)) ||
+	    (rc = pc_json_get_num(&c->js, v, path, "retardance_deg", PC_JSON_REQUIRED, 0, false,
+	                          360, &d)))
 		return rc;
 	pc_retarder_mueller(a * DEG, d * DEG, m);
 	return 0;
@@ -158,17 +163,22 @@ static int parse_pol(const pctx *c, json_t *v, const char *path, double S[4])
 			S[1] = S[2] = S[3] = 0;
 			return 0;
 		}
-		return pc_json_error(&c->js, path, "'%s': expected \"unpolarized\" or an object (linear_deg, "
-				     "circular, stokes or polarizer_deg)", json_string_value(v));
+		return pc_json_error(&c->js, path,
+		                     "'%s': expected \"unpolarized\" or an object (linear_deg, "
+		                     "circular, stokes or polarizer_deg)",
+		                     json_string_value(v));
 	}
-	static const char *const keys[] = { "linear_deg", "circular", "stokes", "polarizer_deg",
-					    "retarder", "dop", NULL };
-	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
+	static const char *const keys[] = {"linear_deg", "circular", "stokes", "polarizer_deg",
+	                                   "retarder",   "dop",      NULL};
+	if ((rc = pc_json_need_object(&c->js, v, path)) ||
+	    (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	int kinds = !!json_object_get(v, "linear_deg") + !!json_object_get(v, "circular") +
-		    !!json_object_get(v, "stokes") + !!json_object_get(v, "polarizer_deg");
+	            !!json_object_get(v, "stokes") + !!json_object_get(v, "polarizer_deg");
 	if (kinds != 1)
-		return pc_json_error(&c->js, path, "give exactly one of linear_deg, circular, stokes, polarizer_deg");
+		return pc_json_error(
+		    &c->js, path,
+		    "give exactly one of linear_deg, circular, stokes, polarizer_deg");
 	double dop = 1;
 	if ((rc = pc_json_get_num(&c->js, v, path, "dop", PC_JSON_OPTIONAL, 0, false, 1, &dop)))
 		return rc;
@@ -176,16 +186,19 @@ static int parse_pol(const pctx *c, json_t *v, const char *path, double S[4])
 	S[1] = S[2] = S[3] = 0;
 	if (json_object_get(v, "linear_deg")) {
 		double a;
-		if ((rc = pc_json_get_num(&c->js, v, path, "linear_deg", PC_JSON_REQUIRED, -360, false, 360, &a)))
+		if ((rc = pc_json_get_num(&c->js, v, path, "linear_deg", PC_JSON_REQUIRED, -360,
+		                          false, 360, &a)))
 			return rc;
 		S[1] = dop * cos(2 * a * DEG);
 		S[2] = dop * sin(2 * a * DEG);
 	} else if (json_object_get(v, "circular")) {
 		long h;
-		if ((rc = pc_json_get_int(&c->js, v, path, "circular", PC_JSON_REQUIRED, -1, 1, &h)))
+		if ((rc =
+		         pc_json_get_int(&c->js, v, path, "circular", PC_JSON_REQUIRED, -1, 1, &h)))
 			return rc;
 		if (h == 0)
-			return pc_json_error(&c->js, path, "circular = 0: must be +1 (S3 > 0) or -1 (S3 < 0)");
+			return pc_json_error(&c->js, path,
+			                     "circular = 0: must be +1 (S3 > 0) or -1 (S3 < 0)");
 		S[3] = dop * (double)h;
 	} else if (json_object_get(v, "stokes")) {
 		double s[3];
@@ -195,16 +208,20 @@ static int parse_pol(const pctx *c, json_t *v, const char *path, double S[4])
 		if (p > 1 + 1e-12) {
 			char q[256];
 			pc_json_path(q, sizeof q, path, "stokes");
-			return pc_json_error(&c->js, q, "degree of polarization %g > 1 (normalized [S1, S2, S3] "
-					  "with S0 = 1)", p);
+			return pc_json_error(
+			    &c->js, q,
+			    "degree of polarization %g > 1 (normalized [S1, S2, S3] "
+			    "with S0 = 1)",
+			    p);
 		}
 		for (int i = 0; i < 3; i++)
 			S[i + 1] = dop * s[i];
 	} else {
 		double a;
-		if ((rc = pc_json_get_num(&c->js, v, path, "polarizer_deg", PC_JSON_REQUIRED, -360, false, 360, &a)))
+		if ((rc = pc_json_get_num(&c->js, v, path, "polarizer_deg", PC_JSON_REQUIRED, -360,
+		                          false, 360, &a)))
 			return rc;
-		double in[4] = { 1, dop * cos(2 * a * DEG), dop * sin(2 * a * DEG), 0 };
+		double in[4] = {1, dop * cos(2 * a * DEG), dop * sin(2 * a * DEG), 0};
 		json_t *r = json_object_get(v, "retarder");
 		if (r) {
 			double m[4][4];
@@ -220,7 +237,8 @@ static int parse_pol(const pctx *c, json_t *v, const char *path, double S[4])
 		}
 	}
 	if (json_object_get(v, "retarder") && !json_object_get(v, "polarizer_deg"))
-		return pc_json_error(&c->js, path, "retarder needs polarizer_deg (the polarizer in front of it)");
+		return pc_json_error(&c->js, path,
+		                     "retarder needs polarizer_deg (the polarizer in front of it)");
 	return 0;
 }
 
@@ -228,23 +246,28 @@ static int parse_pol(const pctx *c, json_t *v, const char *path, double S[4])
 
 static int parse_camera(const pctx *c, json_t *v, pc_sim_camera *cam)
 {
-	static const char *const keys[] = { "focal_length_mm", "f_number", "position", "look_at",
-					    "direction", "up", "principal_point", NULL };
+	static const char *const keys[] = {"focal_length_mm", "f_number",  "position",
+	                                   "look_at",         "direction", "up",
+	                                   "principal_point", NULL};
 	const char *P = "camera";
 	int rc;
-	if ((rc = pc_json_need_object(&c->js, v, P)) || (rc = pc_json_check_keys(&c->js, v, P, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, P)) ||
+	    (rc = pc_json_check_keys(&c->js, v, P, keys)))
 		return rc;
 	cam->focal_length_mm = 12;
 	cam->f_number = 4;
 	pc_v3 pos = v3(0, -5, 2), up = v3(0, 0, 1), fwd = v3(0, 1, 0), at = pos;
-	if ((rc = pc_json_get_num(&c->js, v, P, "focal_length_mm", PC_JSON_OPTIONAL, 0, true, 1e5, &cam->focal_length_mm)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "f_number", PC_JSON_OPTIONAL, 0.3, false, 1000, &cam->f_number)) ||
+	if ((rc = pc_json_get_num(&c->js, v, P, "focal_length_mm", PC_JSON_OPTIONAL, 0, true, 1e5,
+	                          &cam->focal_length_mm)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "f_number", PC_JSON_OPTIONAL, 0.3, false, 1000,
+	                          &cam->f_number)) ||
 	    (rc = get_v3(c, v, P, "position", PC_JSON_REQUIRED, &pos)) ||
 	    (rc = get_unit_v3(c, v, P, "up", PC_JSON_OPTIONAL, &up)))
 		return rc;
 	bool has_at = json_object_get(v, "look_at"), has_dir = json_object_get(v, "direction");
 	if (has_at == has_dir)
-		return pc_json_error(&c->js, P, "give exactly one of look_at ([x, y, z] point) or direction");
+		return pc_json_error(&c->js, P,
+		                     "give exactly one of look_at ([x, y, z] point) or direction");
 	if (has_at) {
 		if ((rc = get_v3(c, v, P, "look_at", PC_JSON_REQUIRED, &at)))
 			return rc;
@@ -260,11 +283,13 @@ static int parse_camera(const pctx *c, json_t *v, pc_sim_camera *cam)
 	cam->position = pos;
 	cam->forward = fwd;
 	cam->right = v3_unit(right);
-	cam->up = v3_cross(cam->right, fwd); /* right × up = −forward: (right, up, −fwd) right-handed */
+	cam->up =
+	    v3_cross(cam->right, fwd); /* right × up = −forward: (right, up, −fwd) right-handed */
 	cam->principal_x = cam->principal_y = NAN;
 	if (json_object_get(v, "principal_point")) {
 		double pp[2];
-		if ((rc = pc_json_get_nums(&c->js, v, P, "principal_point", PC_JSON_REQUIRED, pp, 2)))
+		if ((rc = pc_json_get_nums(&c->js, v, P, "principal_point", PC_JSON_REQUIRED, pp,
+		                           2)))
 			return rc;
 		cam->principal_x = pp[0];
 		cam->principal_y = pp[1];
@@ -273,17 +298,19 @@ static int parse_camera(const pctx *c, json_t *v, pc_sim_camera *cam)
 }
 
 static int parse_material(const pctx *c, json_t *v, const char *path, const char *name,
-			  pc_sim_material *m)
+                          pc_sim_material *m)
 {
-	static const char *const keys[] = { "n", "k", "sigma", "diffuse", "shadowing", "rho",
-					    "rho_order", NULL };
+	static const char *const keys[] = {"n",         "k",   "sigma",     "diffuse",
+	                                   "shadowing", "rho", "rho_order", NULL};
 	int rc;
-	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, path)) ||
+	    (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	if (strlen(name) >= sizeof m->name)
-		return pc_json_error(&c->js, path, "material name longer than %zu characters", sizeof m->name - 1);
+		return pc_json_error(&c->js, path, "material name longer than %zu characters",
+		                     sizeof m->name - 1);
 	snprintf(m->name, sizeof m->name, "%s", name);
-	double n[3] = { 0 }, k[3] = { 0, 0, 0 }, sigma = 0;
+	double n[3] = {0}, k[3] = {0, 0, 0}, sigma = 0;
 	if ((rc = get_num_rgb(c, v, path, "n", PC_JSON_REQUIRED, 0, true, 100, n)) ||
 	    (rc = get_num_rgb(c, v, path, "k", PC_JSON_OPTIONAL, 0, false, 100, k)) ||
 	    (rc = pc_json_get_num(&c->js, v, path, "sigma", PC_JSON_REQUIRED, 0, true, 10, &sigma)))
@@ -292,21 +319,20 @@ static int parse_material(const pctx *c, json_t *v, const char *path, const char
 	pc_shadowing shadow = PC_SHADOW_TS;
 	pc_rho_mode rho = PC_RHO_TABLE;
 	long order = 0;
-	static const pc_scene_keyword diffuses[] = { { "fresnel", PC_DIFFUSE_FRESNEL },
-						     { "geometric", PC_DIFFUSE_GEOMETRIC },
-						     { "none", PC_DIFFUSE_NONE },
-						     { NULL, 0 } };
-	static const pc_scene_keyword shadowings[] = { { "ts", PC_SHADOW_TS },
-						       { "none", PC_SHADOW_NONE },
-						       { NULL, 0 } };
-	static const pc_scene_keyword rhos[] = { { "table", PC_RHO_TABLE },
-						 { "quad", PC_RHO_QUAD },
-						 { NULL, 0 } };
+	static const pc_scene_keyword diffuses[] = {{"fresnel", PC_DIFFUSE_FRESNEL},
+	                                            {"geometric", PC_DIFFUSE_GEOMETRIC},
+	                                            {"none", PC_DIFFUSE_NONE},
+	                                            {NULL, 0}};
+	static const pc_scene_keyword shadowings[] = {
+	    {"ts", PC_SHADOW_TS}, {"none", PC_SHADOW_NONE}, {NULL, 0}};
+	static const pc_scene_keyword rhos[] = {
+	    {"table", PC_RHO_TABLE}, {"quad", PC_RHO_QUAD}, {NULL, 0}};
 	int e;
 	if ((rc = get_enum(c, v, path, "diffuse", diffuses, "fresnel, geometric or none", &e)))
 		return rc;
 	diffuse = e < 0 ? diffuse : (pc_diffuse)e;
-	if ((rc = get_enum(c, v, path, "shadowing", shadowings, "ts (Torrance-Sparrow) or none", &e)))
+	if ((rc = get_enum(c, v, path, "shadowing", shadowings, "ts (Torrance-Sparrow) or none",
+	                   &e)))
 		return rc;
 	shadow = e < 0 ? shadow : (pc_shadowing)e;
 	if ((rc = get_enum(c, v, path, "rho", rhos, "table or quad", &e)))
@@ -333,14 +359,14 @@ static int parse_material(const pctx *c, json_t *v, const char *path, const char
 	return 0;
 }
 
-static int parse_states(const pctx *c, json_t *arr, const char *path, unsigned *n,
-			double S[][4])
+static int parse_states(const pctx *c, json_t *arr, const char *path, unsigned *n, double S[][4])
 {
 	if (!json_is_array(arr) || json_array_size(arr) == 0)
-		return pc_json_error(&c->js, path, "expected a non-empty array of polarization states");
+		return pc_json_error(&c->js, path,
+		                     "expected a non-empty array of polarization states");
 	if (json_array_size(arr) > PC_SIM_MAX_STATES)
 		return pc_json_error(&c->js, path, "%zu states: at most %d", json_array_size(arr),
-			    PC_SIM_MAX_STATES);
+		                     PC_SIM_MAX_STATES);
 	for (size_t i = 0; i < json_array_size(arr); i++) {
 		char p[256];
 		pc_json_path_index(p, sizeof p, path, i);
@@ -354,11 +380,18 @@ static int parse_states(const pctx *c, json_t *arr, const char *path, unsigned *
 
 static int parse_light(const pctx *c, json_t *v, const char *path, pc_sim_light *l)
 {
-	static const char *const keys[] = { "type", "direction", "position", "irradiance_w_m2",
-					    "intensity_w_sr", "polarization", "reference", "states",
-					    NULL };
+	static const char *const keys[] = {"type",
+	                                   "direction",
+	                                   "position",
+	                                   "irradiance_w_m2",
+	                                   "intensity_w_sr",
+	                                   "polarization",
+	                                   "reference",
+	                                   "states",
+	                                   NULL};
 	int rc;
-	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, path)) ||
+	    (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	const char *type = NULL;
 	if ((rc = pc_json_get_str(&c->js, v, path, "type", PC_JSON_REQUIRED, &type)))
@@ -367,19 +400,25 @@ static int parse_light(const pctx *c, json_t *v, const char *path, pc_sim_light 
 	if (!strcmp(type, "directional")) {
 		l->type = PC_LIGHT_DIRECTIONAL;
 		if ((rc = get_unit_v3(c, v, path, "direction", PC_JSON_REQUIRED, &l->direction)) ||
-		    (rc = get_num_rgb(c, v, path, "irradiance_w_m2", PC_JSON_REQUIRED, 0, false, 1e12, l->power)))
+		    (rc = get_num_rgb(c, v, path, "irradiance_w_m2", PC_JSON_REQUIRED, 0, false,
+		                      1e12, l->power)))
 			return rc;
 		if (json_object_get(v, "position") || json_object_get(v, "intensity_w_sr"))
-			return pc_json_error(&c->js, path, "a directional light has direction and irradiance_w_m2 "
-					     "(position and intensity_w_sr are for point lights)");
+			return pc_json_error(
+			    &c->js, path,
+			    "a directional light has direction and irradiance_w_m2 "
+			    "(position and intensity_w_sr are for point lights)");
 	} else if (!strcmp(type, "point")) {
 		l->type = PC_LIGHT_POINT;
 		if ((rc = get_v3(c, v, path, "position", PC_JSON_REQUIRED, &l->position)) ||
-		    (rc = get_num_rgb(c, v, path, "intensity_w_sr", PC_JSON_REQUIRED, 0, false, 1e15, l->power)))
+		    (rc = get_num_rgb(c, v, path, "intensity_w_sr", PC_JSON_REQUIRED, 0, false,
+		                      1e15, l->power)))
 			return rc;
 		if (json_object_get(v, "direction") || json_object_get(v, "irradiance_w_m2"))
-			return pc_json_error(&c->js, path, "a point light has position and intensity_w_sr "
-					     "(direction and irradiance_w_m2 are for directional lights)");
+			return pc_json_error(
+			    &c->js, path,
+			    "a point light has position and intensity_w_sr "
+			    "(direction and irradiance_w_m2 are for directional lights)");
 	} else {
 		pc_json_path(p, sizeof p, path, "type");
 		return pc_json_error(&c->js, p, "'%s': expected directional or point", type);
@@ -392,7 +431,8 @@ static int parse_light(const pctx *c, json_t *v, const char *path, pc_sim_light 
 	json_t *pol = json_object_get(v, "polarization");
 	json_t *states = json_object_get(v, "states");
 	if (pol && states)
-		return pc_json_error(&c->js, path, "give polarization (one state) or states (a sequence), not both");
+		return pc_json_error(
+		    &c->js, path, "give polarization (one state) or states (a sequence), not both");
 	l->n_states = 1;
 	l->stokes[0][0] = 1;
 	if (pol) {
@@ -408,19 +448,22 @@ static int parse_light(const pctx *c, json_t *v, const char *path, pc_sim_light 
 		for (unsigned i = 0; i < l->n_states; i++)
 			if (fabs(l->stokes[i][3]) > 1e-12) {
 				pc_json_path(p, sizeof p, path, pol ? "polarization" : "states");
-				return pc_json_error(&c->js, p, "has a circular component (S3 = %g): declare "
-						  "\"circular\": true in effects", l->stokes[i][3]);
+				return pc_json_error(&c->js, p,
+				                     "has a circular component (S3 = %g): declare "
+				                     "\"circular\": true in effects",
+				                     l->stokes[i][3]);
 			}
 	return 0;
 }
 
 static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_object *o)
 {
-	static const char *const keys[] = { "type", "material", "point", "normal", "size", "u_axis",
-					    "center", "radius", "rotation_deg", "file", "position",
-					    "scale", "smooth", NULL };
+	static const char *const keys[] = {
+	    "type",   "material",     "point", "normal",   "size",  "u_axis", "center",
+	    "radius", "rotation_deg", "file",  "position", "scale", "smooth", NULL};
 	int rc;
-	if ((rc = pc_json_need_object(&c->js, v, path)) || (rc = pc_json_check_keys(&c->js, v, path, keys)))
+	if ((rc = pc_json_need_object(&c->js, v, path)) ||
+	    (rc = pc_json_check_keys(&c->js, v, path, keys)))
 		return rc;
 	const char *type = NULL, *mat = NULL;
 	if ((rc = pc_json_get_str(&c->js, v, path, "type", PC_JSON_REQUIRED, &type)) ||
@@ -441,10 +484,10 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 	static const struct {
 		const char *type;
 		const char *fields;
-	} allowed[] = { { "plane", " point normal size u_axis " },
-			{ "sphere", " center radius " },
-			{ "box", " center size rotation_deg " },
-			{ "mesh", " file position scale rotation_deg smooth " } };
+	} allowed[] = {{"plane", " point normal size u_axis "},
+	               {"sphere", " center radius "},
+	               {"box", " center size rotation_deg "},
+	               {"mesh", " file position scale rotation_deg smooth "}};
 	int ti = -1;
 	for (int i = 0; i < 4; i++)
 		if (!strcmp(type, allowed[i].type))
@@ -455,7 +498,8 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 	}
 	const char *key;
 	json_t *val;
-	json_object_foreach(v, key, val) {
+	json_object_foreach(v, key, val)
+	{
 		if (!strcmp(key, "type") || !strcmp(key, "material"))
 			continue;
 		char pat[40];
@@ -463,10 +507,10 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 		if (!strstr(allowed[ti].fields, pat)) {
 			pc_json_path(p, sizeof p, path, key);
 			return pc_json_error(&c->js, p, "not a field of a %s (its fields:%s)", type,
-				    allowed[ti].fields);
+			                     allowed[ti].fields);
 		}
 	}
-	double rot_deg[3] = { 0, 0, 0 };
+	double rot_deg[3] = {0, 0, 0};
 	switch (ti) {
 	case 0: { /* plane */
 		o->type = PC_OBJ_PLANE;
@@ -488,12 +532,15 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 		o->v = v3_cross(o->n, o->u);
 		if (json_object_get(v, "size")) {
 			double sz[2];
-			if ((rc = pc_json_get_nums(&c->js, v, path, "size", PC_JSON_REQUIRED, sz, 2)))
+			if ((rc = pc_json_get_nums(&c->js, v, path, "size", PC_JSON_REQUIRED, sz,
+			                           2)))
 				return rc;
 			if (!(sz[0] > 0 && sz[1] > 0)) {
 				pc_json_path(p, sizeof p, path, "size");
-				return pc_json_error(&c->js, p, "must be two positive lengths [along u_axis, along "
-						  "normal × u_axis] (omit it for an infinite plane)");
+				return pc_json_error(
+				    &c->js, p,
+				    "must be two positive lengths [along u_axis, along "
+				    "normal × u_axis] (omit it for an infinite plane)");
 			}
 			o->half_u = sz[0] / 2;
 			o->half_v = sz[1] / 2;
@@ -503,7 +550,8 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 	case 1: /* sphere */
 		o->type = PC_OBJ_SPHERE;
 		if ((rc = get_v3(c, v, path, "center", PC_JSON_REQUIRED, &o->center)) ||
-		    (rc = pc_json_get_num(&c->js, v, path, "radius", PC_JSON_REQUIRED, 0, true, INFINITY, &o->radius)))
+		    (rc = pc_json_get_num(&c->js, v, path, "radius", PC_JSON_REQUIRED, 0, true,
+		                          INFINITY, &o->radius)))
 			return rc;
 		break;
 	case 2: { /* box */
@@ -511,7 +559,8 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 		double sz[3];
 		if ((rc = get_v3(c, v, path, "center", PC_JSON_REQUIRED, &o->center)) ||
 		    (rc = pc_json_get_nums(&c->js, v, path, "size", PC_JSON_REQUIRED, sz, 3)) ||
-		    (rc = pc_json_get_nums(&c->js, v, path, "rotation_deg", PC_JSON_OPTIONAL, rot_deg, 3)))
+		    (rc = pc_json_get_nums(&c->js, v, path, "rotation_deg", PC_JSON_OPTIONAL,
+		                           rot_deg, 3)))
 			return rc;
 		if (!(sz[0] > 0 && sz[1] > 0 && sz[2] > 0)) {
 			pc_json_path(p, sizeof p, path, "size");
@@ -528,13 +577,15 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 		bool smooth = true;
 		if ((rc = pc_json_get_str(&c->js, v, path, "file", PC_JSON_REQUIRED, &file)) ||
 		    (rc = get_v3(c, v, path, "position", PC_JSON_OPTIONAL, &pos)) ||
-		    (rc = pc_json_get_nums(&c->js, v, path, "rotation_deg", PC_JSON_OPTIONAL, rot_deg, 3)) ||
+		    (rc = pc_json_get_nums(&c->js, v, path, "rotation_deg", PC_JSON_OPTIONAL,
+		                           rot_deg, 3)) ||
 		    (rc = pc_json_get_bool(&c->js, v, path, "smooth", PC_JSON_OPTIONAL, &smooth)))
 			return rc;
 		json_t *sc = json_object_get(v, "scale");
 		if (sc && json_is_number(sc)) {
 			double s;
-			if ((rc = pc_json_get_num(&c->js, v, path, "scale", PC_JSON_REQUIRED, 0, true, INFINITY, &s)))
+			if ((rc = pc_json_get_num(&c->js, v, path, "scale", PC_JSON_REQUIRED, 0,
+			                          true, INFINITY, &s)))
 				return rc;
 			scale = v3(s, s, s);
 		} else if (sc) {
@@ -567,8 +618,8 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 /* ---- effects ---- */
 
 static const char *const pc_fx_names[PC_FX_COUNT_] = {
-	"diffuse", "shadowing", "cast_shadows", "supersampling", "circular", "mueller",
-	"noise", "prnu_dsnu", "extinction_ratio", "orientation_error", "transmission", "crosstalk",
+    "diffuse", "shadowing", "cast_shadows",     "supersampling",     "circular",     "mueller",
+    "noise",   "prnu_dsnu", "extinction_ratio", "orientation_error", "transmission", "crosstalk",
 };
 
 const char *pc_sim_effect_name(unsigned effect_bit)
@@ -587,8 +638,8 @@ unsigned pc_sim_effect_from_name(const char *name)
 	return 0;
 }
 
-#define PC_FX_SENSOR_MASK                                                                   \
-	(PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION | PC_FX_ORIENTATION |             \
+#define PC_FX_SENSOR_MASK                                                                          \
+	(PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION | PC_FX_ORIENTATION |                    \
 	 PC_FX_TRANSMISSION | PC_FX_CROSSTALK)
 
 static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned *fx, unsigned *ss)
@@ -603,7 +654,8 @@ static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned 
 		return rc;
 	const char *key;
 	json_t *val;
-	json_object_foreach(v, key, val) {
+	json_object_foreach(v, key, val)
+	{
 		char p[256];
 		pc_json_path(p, sizeof p, P, key);
 		unsigned bit = pc_sim_effect_from_name(key);
@@ -614,13 +666,15 @@ static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned 
 				if (i + 1 < PC_FX_COUNT_)
 					strncat(list, ", ", sizeof list - strlen(list) - 1);
 			}
-			return pc_json_error(&c->js, p, "unknown effect (expected one of: %s)", list);
+			return pc_json_error(&c->js, p, "unknown effect (expected one of: %s)",
+			                     list);
 		}
 		if (bit == PC_FX_SUPERSAMPLING && json_is_integer(val)) {
 			json_int_t n = json_integer_value(val);
 			if (n < 1 || n > 16)
-				return pc_json_error(&c->js, p, "= %lld: samples per pixel side must be in [1, 16]",
-					    (long long)n);
+				return pc_json_error(
+				    &c->js, p, "= %lld: samples per pixel side must be in [1, 16]",
+				    (long long)n);
 			*ss = (unsigned)n;
 			if (n > 1)
 				*fx |= bit;
@@ -629,9 +683,10 @@ static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned 
 			continue;
 		}
 		if (!json_is_boolean(val))
-			return pc_json_error(&c->js, p, "expected true or false%s, got %s",
-				    bit == PC_FX_SUPERSAMPLING ? " or samples per pixel side (1-16)" : "",
-				    pc_json_kind(val));
+			return pc_json_error(
+			    &c->js, p, "expected true or false%s, got %s",
+			    bit == PC_FX_SUPERSAMPLING ? " or samples per pixel side (1-16)" : "",
+			    pc_json_kind(val));
 		if (json_is_true(val)) {
 			*fx |= bit;
 			if (bit == PC_FX_SUPERSAMPLING)
@@ -647,19 +702,38 @@ static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned 
 
 static int parse_sensor(const pctx *c, json_t *v, pc_sensor_figures *f)
 {
-	static const char *const keys[] = {
-		"preset", "resolution", "pixel_pitch_um", "bits", "qe", "wavelength_nm",
-		"full_well_e", "read_noise_e", "dark_current_e_s", "dsnu_e", "prnu",
-		"gain_dn_per_e", "offset_dn", "extinction_ratio", "extinction_ratio_sigma",
-		"orientation_sigma_deg",
-		"orientation_offset_deg", "transmission_sigma", "transmission", "crosstalk",
-		"exposure_us", "gain_db", "frame_rate_hz", "layout", "psa", NULL
-	};
+	static const char *const keys[] = {"preset",
+	                                   "resolution",
+	                                   "pixel_pitch_um",
+	                                   "bits",
+	                                   "qe",
+	                                   "wavelength_nm",
+	                                   "full_well_e",
+	                                   "read_noise_e",
+	                                   "dark_current_e_s",
+	                                   "dsnu_e",
+	                                   "prnu",
+	                                   "gain_dn_per_e",
+	                                   "offset_dn",
+	                                   "extinction_ratio",
+	                                   "extinction_ratio_sigma",
+	                                   "orientation_sigma_deg",
+	                                   "orientation_offset_deg",
+	                                   "transmission_sigma",
+	                                   "transmission",
+	                                   "crosstalk",
+	                                   "exposure_us",
+	                                   "gain_db",
+	                                   "frame_rate_hz",
+	                                   "layout",
+	                                   "psa",
+	                                   NULL};
 	const char *P = "sensor";
 	int rc;
 	const char *preset = "ideal";
 	if (v) {
-		if ((rc = pc_json_need_object(&c->js, v, P)) || (rc = pc_json_check_keys(&c->js, v, P, keys)) ||
+		if ((rc = pc_json_need_object(&c->js, v, P)) ||
+		    (rc = pc_json_check_keys(&c->js, v, P, keys)) ||
 		    (rc = pc_json_get_str(&c->js, v, P, "preset", PC_JSON_OPTIONAL, &preset)))
 			return rc;
 	}
@@ -671,67 +745,103 @@ static int parse_sensor(const pctx *c, json_t *v, pc_sensor_figures *f)
 			if (names[1])
 				strncat(list, ", ", sizeof list - strlen(list) - 1);
 		}
-		return pc_json_error(&c->js, "sensor.preset", "'%s': expected one of %s", preset, list);
+		return pc_json_error(&c->js, "sensor.preset", "'%s': expected one of %s", preset,
+		                     list);
 	}
 	if (!v)
 		return 0;
-	double res[2] = { f->width, f->height };
+	double res[2] = {f->width, f->height};
 	long bits = f->bits;
 	if ((rc = pc_json_get_nums(&c->js, v, P, "resolution", PC_JSON_OPTIONAL, res, 2)))
 		return rc;
 	if (res[0] != floor(res[0]) || res[1] != floor(res[1]) || res[0] < 2 || res[1] < 2 ||
 	    res[0] > 65535 || res[1] > 65535 || fmod(res[0], f->mosaic.period) != 0 ||
 	    fmod(res[1], f->mosaic.period) != 0)
-		return pc_json_error(&c->js, "sensor.resolution", "[%g, %g]: expected two integers in [2, 65535], "
-				   "multiples of the mosaic period %u", res[0], res[1], f->mosaic.period);
+		return pc_json_error(&c->js, "sensor.resolution",
+		                     "[%g, %g]: expected two integers in [2, 65535], "
+		                     "multiples of the mosaic period %u",
+		                     res[0], res[1], f->mosaic.period);
+	{
+		/* the frame, its per-state caches and the truth are all this size: the same pixel
+		 * limit as an image file (polarcam/limits.h), checked before anything is allocated
+		 */
+		char what[600];
+		snprintf(what, sizeof what, "%s: sensor.resolution [%g, %g]", c->js.file, res[0],
+		         res[1]);
+		if ((rc = pc_limit_check(PC_LIMIT_PIXELS, (uint64_t)(res[0] * res[1]), what)))
+			return rc;
+	}
 	f->width = (uint32_t)res[0];
 	f->height = (uint32_t)res[1];
-	if ((rc = pc_json_get_num(&c->js, v, P, "pixel_pitch_um", PC_JSON_OPTIONAL, 0, true, 1000, &f->pixel_pitch_um)) ||
+	if ((rc = pc_json_get_num(&c->js, v, P, "pixel_pitch_um", PC_JSON_OPTIONAL, 0, true, 1000,
+	                          &f->pixel_pitch_um)) ||
 	    (rc = pc_json_get_int(&c->js, v, P, "bits", PC_JSON_OPTIONAL, 8, 16, &bits)))
 		return rc;
 	if (bits != 8 && bits != 10 && bits != 12 && bits != 16)
-		return pc_json_error(&c->js, "sensor.bits", "= %ld: expected 8, 10, 12 or 16", bits);
+		return pc_json_error(&c->js, "sensor.bits", "= %ld: expected 8, 10, 12 or 16",
+		                     bits);
 	f->bits = (unsigned)bits;
 	if ((rc = get_num_rgb(c, v, P, "qe", PC_JSON_OPTIONAL, 0, true, 1, f->qe)) ||
-	    (rc = get_num_rgb(c, v, P, "wavelength_nm", PC_JSON_OPTIONAL, 100, false, 20000, f->wavelength_nm)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "full_well_e", PC_JSON_OPTIONAL, 1, false, 1e9, &f->full_well_e)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "read_noise_e", PC_JSON_OPTIONAL, 0, false, 1e6, &f->read_noise_e)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "dark_current_e_s", PC_JSON_OPTIONAL, 0, false, 1e9, &f->dark_current_e_s)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "dsnu_e", PC_JSON_OPTIONAL, 0, false, 1e6, &f->dsnu_e)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "prnu", PC_JSON_OPTIONAL, 0, false, 0.5, &f->prnu)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "gain_dn_per_e", PC_JSON_OPTIONAL, 0, true, 1e6, &f->gain_dn_per_e)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "offset_dn", PC_JSON_OPTIONAL, 0, false, 65535, &f->offset_dn)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "extinction_ratio", PC_JSON_OPTIONAL, 1, true, INFINITY, &f->extinction_ratio)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "extinction_ratio_sigma", PC_JSON_OPTIONAL, 0, false, 2,
-			  &f->extinction_ratio_sigma)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "orientation_sigma_deg", PC_JSON_OPTIONAL, 0, false, 45,
-			  &f->orientation_sigma_deg)) ||
-	    (rc = pc_json_get_nums(&c->js, v, P, "orientation_offset_deg", PC_JSON_OPTIONAL, f->orientation_offset_deg, 4)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "transmission_sigma", PC_JSON_OPTIONAL, 0, false, 0.5, &f->transmission_sigma)) ||
-	    (rc = pc_json_get_nums(&c->js, v, P, "transmission", PC_JSON_OPTIONAL, f->transmission, 4)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "crosstalk", PC_JSON_OPTIONAL, 0, false, 0.2, &f->crosstalk)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "exposure_us", PC_JSON_OPTIONAL, 0, true, 1e9, &f->exposure_us)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "gain_db", PC_JSON_OPTIONAL, 0, false, 60, &f->gain_db)) ||
-	    (rc = pc_json_get_num(&c->js, v, P, "frame_rate_hz", PC_JSON_OPTIONAL, 0, true, 1e6, &f->frame_rate_hz)))
+	    (rc = get_num_rgb(c, v, P, "wavelength_nm", PC_JSON_OPTIONAL, 100, false, 20000,
+	                      f->wavelength_nm)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "full_well_e", PC_JSON_OPTIONAL, 1, false, 1e9,
+	                          &f->full_well_e)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "read_noise_e", PC_JSON_OPTIONAL, 0, false, 1e6,
+	                          &f->read_noise_e)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "dark_current_e_s", PC_JSON_OPTIONAL, 0, false, 1e9,
+	                          &f->dark_current_e_s)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "dsnu_e", PC_JSON_OPTIONAL, 0, false, 1e6,
+	                          &f->dsnu_e)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "prnu", PC_JSON_OPTIONAL, 0, false, 0.5,
+	                          &f->prnu)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "gain_dn_per_e", PC_JSON_OPTIONAL, 0, true, 1e6,
+	                          &f->gain_dn_per_e)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "offset_dn", PC_JSON_OPTIONAL, 0, false, 65535,
+	                          &f->offset_dn)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "extinction_ratio", PC_JSON_OPTIONAL, 1, true,
+	                          INFINITY, &f->extinction_ratio)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "extinction_ratio_sigma", PC_JSON_OPTIONAL, 0,
+	                          false, 2, &f->extinction_ratio_sigma)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "orientation_sigma_deg", PC_JSON_OPTIONAL, 0, false,
+	                          45, &f->orientation_sigma_deg)) ||
+	    (rc = pc_json_get_nums(&c->js, v, P, "orientation_offset_deg", PC_JSON_OPTIONAL,
+	                           f->orientation_offset_deg, 4)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "transmission_sigma", PC_JSON_OPTIONAL, 0, false,
+	                          0.5, &f->transmission_sigma)) ||
+	    (rc = pc_json_get_nums(&c->js, v, P, "transmission", PC_JSON_OPTIONAL, f->transmission,
+	                           4)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "crosstalk", PC_JSON_OPTIONAL, 0, false, 0.2,
+	                          &f->crosstalk)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "exposure_us", PC_JSON_OPTIONAL, 0, true, 1e9,
+	                          &f->exposure_us)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "gain_db", PC_JSON_OPTIONAL, 0, false, 60,
+	                          &f->gain_db)) ||
+	    (rc = pc_json_get_num(&c->js, v, P, "frame_rate_hz", PC_JSON_OPTIONAL, 0, true, 1e6,
+	                          &f->frame_rate_hz)))
 		return rc;
 	for (int i = 0; i < 4; i++) {
 		if (fabs(f->orientation_offset_deg[i]) > 45)
-			return pc_json_error(&c->js, "sensor.orientation_offset_deg", "[%d] = %g: must be within "
-					   "±45°", i, f->orientation_offset_deg[i]);
+			return pc_json_error(&c->js, "sensor.orientation_offset_deg",
+			                     "[%d] = %g: must be within "
+			                     "±45°",
+			                     i, f->orientation_offset_deg[i]);
 		if (!(f->transmission[i] > 0 && f->transmission[i] <= 2))
-			return pc_json_error(&c->js, "sensor.transmission", "[%d] = %g: must be in (0, 2]", i,
-				    f->transmission[i]);
+			return pc_json_error(&c->js, "sensor.transmission",
+			                     "[%d] = %g: must be in (0, 2]", i, f->transmission[i]);
 	}
 	const char *layout = NULL;
 	if ((rc = pc_json_get_str(&c->js, v, P, "layout", PC_JSON_OPTIONAL, &layout)))
 		return rc;
 	if (layout) {
-		/* "90,45,135,0" (monochrome), "RGGB:90,45,135,0" (colour), optional "@dx,dy" phase */
+		/* "90,45,135,0" (monochrome), "RGGB:90,45,135,0" (colour), optional "@dx,dy" phase
+		 */
 		if ((rc = pc_mosaic_parse(layout, &f->mosaic)))
 			return pc_error_prefix(rc, "%s: sensor.layout: ", c->js.file);
 		if (f->width % f->mosaic.period || f->height % f->mosaic.period)
-			return pc_json_error(&c->js, "sensor.layout", "period %u does not divide the resolution "
-					   "%ux%u", f->mosaic.period, f->width, f->height);
+			return pc_json_error(&c->js, "sensor.layout",
+			                     "period %u does not divide the resolution "
+			                     "%ux%u",
+			                     f->mosaic.period, f->width, f->height);
 	}
 	return 0;
 }
@@ -747,17 +857,19 @@ static int parse_element(const pctx *c, json_t *e, const char *p, double m[4][4]
 			m[k][k] = 1;
 		return 0;
 	}
-	static const char *const keys[] = { "retarder", "mueller", "polarizer_deg", "diattenuator",
-					    "chain", NULL };
+	static const char *const keys[] = {"retarder",     "mueller", "polarizer_deg",
+	                                   "diattenuator", "chain",   NULL};
 	int rc;
-	if ((rc = pc_json_need_object(&c->js, e, p)) || (rc = pc_json_check_keys(&c->js, e, p, keys)))
+	if ((rc = pc_json_need_object(&c->js, e, p)) ||
+	    (rc = pc_json_check_keys(&c->js, e, p, keys)))
 		return rc;
 	json_t *r = json_object_get(e, "retarder"), *mm = json_object_get(e, "mueller");
 	json_t *pol = json_object_get(e, "polarizer_deg"), *di = json_object_get(e, "diattenuator");
 	json_t *ch = json_object_get(e, "chain");
 	if (!!r + !!mm + !!pol + !!di + !!ch != 1)
-		return pc_json_error(&c->js, p, "give exactly one of retarder, polarizer_deg, diattenuator, "
-				  "mueller or chain");
+		return pc_json_error(&c->js, p,
+		                     "give exactly one of retarder, polarizer_deg, diattenuator, "
+		                     "mueller or chain");
 	char q[288];
 	if (r) {
 		pc_json_path(q, sizeof q, p, "retarder");
@@ -765,18 +877,22 @@ static int parse_element(const pctx *c, json_t *e, const char *p, double m[4][4]
 	}
 	if (pol) {
 		double a = 0;
-		if ((rc = pc_json_get_num(&c->js, e, p, "polarizer_deg", PC_JSON_REQUIRED, -360, false, 360, &a)))
+		if ((rc = pc_json_get_num(&c->js, e, p, "polarizer_deg", PC_JSON_REQUIRED, -360,
+		                          false, 360, &a)))
 			return rc;
 		pc_diattenuator_mueller(a * DEG, 1, m);
 		return 0;
 	}
 	if (di) {
-		static const char *const dkeys[] = { "angle_deg", "diattenuation", NULL };
+		static const char *const dkeys[] = {"angle_deg", "diattenuation", NULL};
 		pc_json_path(q, sizeof q, p, "diattenuator");
 		double a = 0, D = 0;
-		if ((rc = pc_json_need_object(&c->js, di, q)) || (rc = pc_json_check_keys(&c->js, di, q, dkeys)) ||
-		    (rc = pc_json_get_num(&c->js, di, q, "angle_deg", PC_JSON_REQUIRED, -360, false, 360, &a)) ||
-		    (rc = pc_json_get_num(&c->js, di, q, "diattenuation", PC_JSON_REQUIRED, 0, false, 1, &D)))
+		if ((rc = pc_json_need_object(&c->js, di, q)) ||
+		    (rc = pc_json_check_keys(&c->js, di, q, dkeys)) ||
+		    (rc = pc_json_get_num(&c->js, di, q, "angle_deg", PC_JSON_REQUIRED, -360, false,
+		                          360, &a)) ||
+		    (rc = pc_json_get_num(&c->js, di, q, "diattenuation", PC_JSON_REQUIRED, 0,
+		                          false, 1, &D)))
 			return rc;
 		pc_diattenuator_mueller(a * DEG, D, m);
 		return 0;
@@ -787,7 +903,7 @@ static int parse_element(const pctx *c, json_t *e, const char *p, double m[4][4]
 			return pc_json_error(&c->js, q, "expected an array of 1 to 16 elements");
 		if (depth > 4)
 			return pc_json_error(&c->js, q, "chains nested deeper than 4");
-		double acc[4][4] = { { 1, 0, 0, 0 }, { 0, 1, 0, 0 }, { 0, 0, 1, 0 }, { 0, 0, 0, 1 } };
+		double acc[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
 		for (size_t i = 0; i < json_array_size(ch); i++) {
 			char qi[300];
 			pc_json_path_index(qi, sizeof qi, q, i);
@@ -812,7 +928,8 @@ static int parse_element(const pctx *c, json_t *e, const char *p, double m[4][4]
 		for (int col = 0; col < 4; col++) {
 			json_t *x = json_array_get(rr, (size_t)col);
 			if (!json_is_number(x) || !isfinite(json_number_value(x)))
-				return pc_json_error(&c->js, qr, "[%d]: expected a finite number", col);
+				return pc_json_error(&c->js, qr, "[%d]: expected a finite number",
+				                     col);
 			m[row][col] = json_number_value(x);
 		}
 	}
@@ -823,9 +940,11 @@ static int parse_psa(const pctx *c, json_t *v, pc_scene *s)
 {
 	const char *P = "sensor.psa";
 	if (!json_is_array(v) || json_array_size(v) == 0)
-		return pc_json_error(&c->js, P, "expected a non-empty array of analyser states (\"none\", "
-				  "{\"retarder\": {...}}, {\"polarizer_deg\": a}, {\"diattenuator\": "
-				  "{...}}, {\"mueller\": [[4×4]]} or {\"chain\": [...]})");
+		return pc_json_error(
+		    &c->js, P,
+		    "expected a non-empty array of analyser states (\"none\", "
+		    "{\"retarder\": {...}}, {\"polarizer_deg\": a}, {\"diattenuator\": "
+		    "{...}}, {\"mueller\": [[4×4]]} or {\"chain\": [...]})");
 	if (json_array_size(v) > PC_SIM_MAX_STATES)
 		return pc_json_error(&c->js, P, "at most %d states", PC_SIM_MAX_STATES);
 	for (size_t i = 0; i < json_array_size(v); i++) {
@@ -882,11 +1001,11 @@ static void object_bounds(pc_sim_object *o)
 	case PC_OBJ_BOX: {
 		/* world extent of the rotated box: |R|ᵀ·half per axis (rot maps local→world) */
 		pc_v3 e;
-		double h[3] = { o->half.x, o->half.y, o->half.z };
+		double h[3] = {o->half.x, o->half.y, o->half.z};
 		double ext[3];
 		for (int i = 0; i < 3; i++)
 			ext[i] = fabs(o->rot.m[i][0]) * h[0] + fabs(o->rot.m[i][1]) * h[1] +
-				 fabs(o->rot.m[i][2]) * h[2];
+			         fabs(o->rot.m[i][2]) * h[2];
 		e = v3(ext[0], ext[1], ext[2]);
 		o->bmin = v3_sub(o->center, e);
 		o->bmax = v3_add(o->center, e);
@@ -895,7 +1014,8 @@ static void object_bounds(pc_sim_object *o)
 	case PC_OBJ_PLANE:
 		if (o->half_u > 0) {
 			pc_v3 a = v3_scale(o->u, o->half_u), b = v3_scale(o->v, o->half_v);
-			pc_v3 e = v3(fabs(a.x) + fabs(b.x), fabs(a.y) + fabs(b.y), fabs(a.z) + fabs(b.z));
+			pc_v3 e =
+			    v3(fabs(a.x) + fabs(b.x), fabs(a.y) + fabs(b.y), fabs(a.z) + fabs(b.z));
 			o->bmin = v3_sub(o->p, e);
 			o->bmax = v3_add(o->p, e);
 		} else {
@@ -918,22 +1038,25 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 	json_error_t jerr;
 	json_t *doc = json_loads(text, JSON_REJECT_DUPLICATES, &jerr);
 	if (!doc)
-		return pc_error(PC_EFORMAT, "%s: line %d, column %d: %s", name, jerr.line, jerr.column,
-				jerr.text);
+		return pc_error(PC_EFORMAT, "%s: line %d, column %d: %s", name, jerr.line,
+		                jerr.column, jerr.text);
 	pc_scene *s = calloc(1, sizeof *s);
 	if (!s) {
 		json_decref(doc);
 		return pc_error(PC_ENOMEM, "%s: scene", name);
 	}
 	s->refcount = 1;
-	pctx c = { { name, PC_EINVAL }, base_dir ? base_dir : ".", s, false };
+	pctx c = {{name, PC_EINVAL}, base_dir ? base_dir : ".", s, false};
 	int rc = 0;
-	static const char *const keys[] = { "polarcam_scene", "name", "camera", "lights", "materials",
-					    "objects", "effects", "sensor", "background", NULL };
-	if ((rc = pc_json_need_object(&c.js, doc, "")) || (rc = pc_json_check_keys(&c.js, doc, "", keys)))
+	static const char *const keys[] = {"polarcam_scene", "name",    "camera",  "lights",
+	                                   "materials",      "objects", "effects", "sensor",
+	                                   "background",     NULL};
+	if ((rc = pc_json_need_object(&c.js, doc, "")) ||
+	    (rc = pc_json_check_keys(&c.js, doc, "", keys)))
 		goto fail;
 	long version = 1;
-	if ((rc = pc_json_get_int(&c.js, doc, "", "polarcam_scene", PC_JSON_OPTIONAL, 1, 1, &version)))
+	if ((rc = pc_json_get_int(&c.js, doc, "", "polarcam_scene", PC_JSON_OPTIONAL, 1, 1,
+	                          &version)))
 		goto fail;
 	const char *sname = NULL;
 	if ((rc = pc_json_get_str(&c.js, doc, "", "name", PC_JSON_OPTIONAL, &sname)))
@@ -950,7 +1073,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		goto fail;
 	c.colour = s->sensor.mosaic.period == 4;
 	if ((rc = parse_effects(&c, json_object_get(doc, "effects"), s->sensor.effects, &s->effects,
-				&s->supersampling)))
+	                        &s->supersampling)))
 		goto fail;
 	s->sensor.effects = s->effects & PC_FX_SENSOR_MASK;
 	json_t *psa = json_object_get(json_object_get(doc, "sensor"), "psa");
@@ -963,14 +1086,18 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		if (!(s->effects & PC_FX_CIRCULAR))
 			for (unsigned i = 0; i < s->n_psa; i++)
 				for (int k = 0; k < 3; k++) /* M33 alone couples nothing */
-					if (fabs(s->psa[i][3][k]) > 1e-12 || fabs(s->psa[i][k][3]) > 1e-12) {
-						rc = pc_json_error(&c.js, "sensor.psa", "state %u couples circular "
-								  "polarization: declare \"circular\": true "
-								  "in effects", i);
+					if (fabs(s->psa[i][3][k]) > 1e-12 ||
+					    fabs(s->psa[i][k][3]) > 1e-12) {
+						rc = pc_json_error(
+						    &c.js, "sensor.psa",
+						    "state %u couples circular "
+						    "polarization: declare \"circular\": true "
+						    "in effects",
+						    i);
 						goto fail;
 					}
 	}
-	double bg[3] = { 0, 0, 0 };
+	double bg[3] = {0, 0, 0};
 	if ((rc = get_num_rgb(&c, doc, "", "background", PC_JSON_OPTIONAL, 0, false, 1e12, bg)))
 		goto fail;
 	for (int i = 0; i < 3; i++)
@@ -986,9 +1113,10 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 
 	json_t *mats = json_object_get(doc, "materials");
 	if (!mats || !json_is_object(mats) || json_object_size(mats) == 0) {
-		rc = pc_json_error(&c.js, "materials", mats ? "expected an object of named materials, got %s"
-						: "missing (required): an object of named materials%s",
-			  mats ? pc_json_kind(mats) : "");
+		rc = pc_json_error(&c.js, "materials",
+		                   mats ? "expected an object of named materials, got %s"
+		                        : "missing (required): an object of named materials%s",
+		                   mats ? pc_json_kind(mats) : "");
 		goto fail;
 	}
 	s->materials = calloc(json_object_size(mats), sizeof *s->materials);
@@ -999,7 +1127,8 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 	{
 		const char *key;
 		json_t *val;
-		json_object_foreach(mats, key, val) {
+		json_object_foreach(mats, key, val)
+		{
 			char p[256];
 			pc_json_path(p, sizeof p, "materials", key);
 			if ((rc = parse_material(&c, val, p, key, &s->materials[s->n_materials])))
@@ -1029,23 +1158,28 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		unsigned n = s->lights[i].n_states;
 		if (n > 1) {
 			if (n_psg > 1 && n != n_psg) {
-				rc = pc_json_error(&c.js, p, "states: %u states, but another light has %u (lights "
-						 "with sequences must have equally many)", n, n_psg);
+				rc = pc_json_error(
+				    &c.js, p,
+				    "states: %u states, but another light has %u (lights "
+				    "with sequences must have equally many)",
+				    n, n_psg);
 				goto fail;
 			}
 			n_psg = n;
 		}
 	}
 	if ((uint64_t)n_psg * s->n_psa > 4096) {
-		rc = pc_json_error(&c.js, "sensor.psa", "%u PSG × %u PSA states: at most 4096 frames per cycle",
-			  n_psg, s->n_psa);
+		rc = pc_json_error(&c.js, "sensor.psa",
+		                   "%u PSG × %u PSA states: at most 4096 frames per cycle", n_psg,
+		                   s->n_psa);
 		goto fail;
 	}
 
 	json_t *objs = json_object_get(doc, "objects");
 	json_t *no_objects = NULL;
 	if (!objs)
-		objs = no_objects = json_array(); /* optional: an empty scene shows the background */
+		objs = no_objects =
+		    json_array(); /* optional: an empty scene shows the background */
 	if (!objs || !json_is_array(objs)) {
 		json_decref(no_objects);
 		rc = pc_json_error(&c.js, "objects", "expected an array of objects");
@@ -1084,8 +1218,8 @@ int pc_scene_load(const char *path, pc_scene **out)
 		return pc_error(PC_EINVAL, "scene path is NULL");
 	FILE *fp = fopen(path, "rb");
 	if (!fp)
-		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: cannot open the scene file: %s",
-				path, strerror(errno));
+		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO,
+		                "%s: cannot open the scene file: %s", path, strerror(errno));
 	char *buf = NULL;
 	size_t len = 0, cap = 0;
 	for (;;) {
@@ -1094,8 +1228,8 @@ int pc_scene_load(const char *path, pc_scene **out)
 			if (cap > ((size_t)64 << 20)) {
 				free(buf);
 				fclose(fp);
-				return pc_error(PC_EFORMAT, "%s: larger than 64 MiB: not a scene file",
-						path);
+				return pc_error(PC_EFORMAT,
+				                "%s: larger than 64 MiB: not a scene file", path);
 			}
 			char *nb = realloc(buf, cap);
 			if (!nb) {

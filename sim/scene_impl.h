@@ -10,7 +10,7 @@
 #include "vec.h"
 
 #define PC_SIM_MAX_STATES 64
-#define PC_SIM_MAX_CH 3
+#define PC_SIM_MAX_CH     3
 
 typedef struct pc_sim_material {
 	char name[64];
@@ -21,13 +21,13 @@ enum pc_light_type { PC_LIGHT_DIRECTIONAL = 0, PC_LIGHT_POINT };
 
 typedef struct pc_sim_light {
 	int type;
-	pc_v3 direction;           /* directional: unit vector from the scene towards the light */
-	pc_v3 position;            /* point */
+	pc_v3 direction;             /* directional: unit vector from the scene towards the light */
+	pc_v3 position;              /* point */
 	double power[PC_SIM_MAX_CH]; /* W/m² at normal incidence (directional) or W/sr (point) */
 	bool has_reference;
-	pc_v3 reference;           /* user's polarization reference axis (world) */
-	pc_v3 frame_d, frame_s;    /* directional: the beam's Stokes frame, computed once */
-	unsigned n_states;         /* ≥ 1; > 1 for a PSG sequence */
+	pc_v3 reference;        /* user's polarization reference axis (world) */
+	pc_v3 frame_d, frame_s; /* directional: the beam's Stokes frame, computed once */
+	unsigned n_states;      /* ≥ 1; > 1 for a PSG sequence */
 	double stokes[PC_SIM_MAX_STATES][4]; /* normalized (S0 = 1), in the light's frame */
 } pc_sim_light;
 
@@ -71,12 +71,12 @@ typedef struct pc_sim_camera {
 struct pc_scene {
 	int refcount; /* atomic in scene.c */
 	char *name;
-	char *source;      /* path or "<default>" */
-	char *json_text;   /* canonical text of the input (json_dumps of the parsed document) */
+	char *source;    /* path or "<default>" */
+	char *json_text; /* canonical text of the input (json_dumps of the parsed document) */
 	pc_sim_camera camera;
 	pc_sensor_figures sensor;
 	unsigned effects;
-	unsigned supersampling; /* n for n×n when PC_FX_SUPERSAMPLING */
+	unsigned supersampling;           /* n for n×n when PC_FX_SUPERSAMPLING */
 	double background[PC_SIM_MAX_CH]; /* unpolarized radiance of rays that hit nothing */
 	unsigned n_materials, n_lights, n_objects;
 	pc_sim_material *materials;
@@ -103,14 +103,14 @@ void pc_light_prepare(pc_sim_light *l);
 
 /* Mesh loading (obj.c) and BVH (bvh.c). */
 int pc_obj_load(const char *path, const pc_m3 *rot, pc_v3 scale, pc_v3 translate, bool smooth,
-		pc_mesh **out);
+                pc_mesh **out);
 void pc_mesh_free(pc_mesh *m);
 int pc_bvh_build(pc_mesh *m);
 
 /* Ray queries (geometry.c). t in (tmin, tmax). */
 typedef struct pc_hit {
 	double t;
-	pc_v3 n; /* unit shading normal (not yet flipped towards the viewer) */
+	pc_v3 n;  /* unit shading normal (not yet flipped towards the viewer) */
 	pc_v3 ng; /* unit geometric normal */
 	unsigned object;
 } pc_hit;
@@ -121,7 +121,7 @@ bool pc_scene_occluded(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double 
 /* Any object: nearest (any = false) or some (any = true) hit in (tmin, tmax), with the shading
  * and geometric normals. */
 bool pc_object_hit(const pc_sim_object *ob, pc_v3 o, pc_v3 d, double tmin, double tmax, bool any,
-		   double *t, pc_v3 *n, pc_v3 *ng);
+                   double *t, pc_v3 *n, pc_v3 *ng);
 /* A sphere containing the object (false for unbounded objects: infinite planes). */
 bool pc_object_bsphere(const pc_sim_object *ob, pc_v3 *c, double *r);
 /* Planes, spheres and boxes: a ray leaving the surface away from the body (or, for a plane,
@@ -134,9 +134,9 @@ typedef struct pc_cull {
 	const int32_t *lo, *hi;
 } pc_cull;
 bool pc_scene_intersect_cull(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
-			     int32_t x, const pc_cull *cull, pc_hit *hit);
+                             int32_t x, const pc_cull *cull, pc_hit *hit);
 /* pc_scene_occluded ignoring object skip (UINT_MAX: none). */
 bool pc_scene_occluded_skip(const pc_scene *s, pc_v3 o, pc_v3 d, double tmin, double tmax,
-			    unsigned skip);
+                            unsigned skip);
 
 #endif

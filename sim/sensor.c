@@ -48,8 +48,8 @@ static void preset_imx250_common(pc_sensor_figures *f)
 	f->mosaic = pc_mosaic_imx250mzr();
 }
 
-static const char *const preset_names[] = { "ideal", "imx250mzr", "imx250myr",
-					      "imx250mzr_nonuniform", NULL };
+static const char *const preset_names[] = {"ideal", "imx250mzr", "imx250myr",
+                                           "imx250mzr_nonuniform", NULL};
 
 const char *const *pc_sensor_preset_names(void)
 {
@@ -69,7 +69,7 @@ int pc_sensor_preset(const char *name, pc_sensor_figures *f)
 	} else if (!strcmp(name, "imx250mzr")) {
 		preset_imx250_common(f);
 		f->effects = PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION | PC_FX_ORIENTATION |
-			     PC_FX_TRANSMISSION | PC_FX_CROSSTALK;
+		             PC_FX_TRANSMISSION | PC_FX_CROSSTALK;
 	} else if (!strcmp(name, "imx250myr")) {
 		preset_imx250_common(f);
 		/* colour: the CFA costs transmission; per-channel QE for unpolarized light at the
@@ -83,13 +83,14 @@ int pc_sensor_preset(const char *name, pc_sensor_figures *f)
 		f->extinction_ratio = 200; /* lower in red: physics.md §6 */
 		f->mosaic = pc_mosaic_imx250myr();
 		f->effects = PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION | PC_FX_ORIENTATION |
-			     PC_FX_TRANSMISSION | PC_FX_CROSSTALK;
+		             PC_FX_TRANSMISSION | PC_FX_CROSSTALK;
 	} else if (!strcmp(name, "imx250mzr_nonuniform")) {
 		/* The IMX250MZR with the analyser non-uniformity a full characterisation finds
-		 * (docs/calibration.md, "The realistic preset", gives each figure's source): per-pixel
-		 * ER log-normal around 200 (σ of ln ER 0.35: 5–95 % ≈ 110–360), orientation errors
-		 * σ 0.8° per pixel plus systematic channel offsets of a few tenths of a degree,
-		 * transmission σ 2 % per pixel plus channel mismatch of ±2 %, PRNU 1 %. */
+		 * (docs/calibration.md, "The realistic preset", gives each figure's source):
+		 * per-pixel ER log-normal around 200 (σ of ln ER 0.35: 5–95 % ≈ 110–360),
+		 * orientation errors σ 0.8° per pixel plus systematic channel offsets of a few
+		 * tenths of a degree, transmission σ 2 % per pixel plus channel mismatch of ±2 %,
+		 * PRNU 1 %. */
 		preset_imx250_common(f);
 		f->extinction_ratio = 200;
 		f->extinction_ratio_sigma = 0.35;
@@ -105,7 +106,7 @@ int pc_sensor_preset(const char *name, pc_sensor_figures *f)
 		f->transmission[3] = 0.99;
 		f->prnu = 0.01;
 		f->effects = PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION | PC_FX_ORIENTATION |
-			     PC_FX_TRANSMISSION | PC_FX_CROSSTALK;
+		             PC_FX_TRANSMISSION | PC_FX_CROSSTALK;
 	} else {
 		return PC_EINVAL;
 	}
@@ -116,19 +117,20 @@ int pc_sensor_preset(const char *name, pc_sensor_figures *f)
 /* ---- per-pixel analyser (physics.md §6 step 2) ---- */
 
 void pc_sensor_fixed_row(const pc_sim *sim, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
-			 double *z0, double *z1, double *z2, double *z3, double *z4)
+                         double *z0, double *z1, double *z2, double *z3, double *z4)
 {
 	mask &= sim->fp_mask;
 	if (mask & PC_FP_ALL & ~PC_FP_ER) {
-		double *z[4] = { z0, z1, z2, z3 };
+		double *z[4] = {z0, z1, z2, z3};
 		pc_noise_fixed_row(sim->opt.seed, sy, sx0, n, mask & ~PC_FP_ER, z);
 	}
 	if (mask & PC_FP_ER) {
 		/* the ER deviate: word 0 of the pixel's second fixed-pattern block; drawn once per
 		 * prepared state, so scalar code costs nothing per frame */
-		const uint32_t key[2] = { (uint32_t)sim->opt.seed, (uint32_t)(sim->opt.seed >> 32) };
+		const uint32_t key[2] = {(uint32_t)sim->opt.seed, (uint32_t)(sim->opt.seed >> 32)};
 		for (uint32_t i = 0; i < n; i++) {
-			const uint32_t ctr[4] = { (sy << 16) | ((sx0 + i) & 0xFFFFu), PC_RNG_FIXED, 1, 0 };
+			const uint32_t ctr[4] = {(sy << 16) | ((sx0 + i) & 0xFFFFu), PC_RNG_FIXED,
+			                         1, 0};
 			uint32_t w[4];
 			pc_philox4x32_10(ctr, key, w);
 			z4[i] = pc_u32_to_normal(w[0]);
@@ -151,11 +153,11 @@ unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy)
 }
 
 /* cos 2θ and sin 2θ of the nominal analyser angles θ = 45°·c, exactly. */
-static const double cos2_nominal[4] = { 1, 0, -1, 0 }, sin2_nominal[4] = { 0, 1, 0, -1 };
+static const double cos2_nominal[4] = {1, 0, -1, 0}, sin2_nominal[4] = {0, 1, 0, -1};
 
 /* An ideal analyser at the nominal angle: a = ½(1, cos2θ, sin2θ, 0). */
 static void analyse_ideal(const pc_sim *sim, unsigned c, double zo, double zt, double ze,
-			  double a[4])
+                          double a[4])
 {
 	(void)sim;
 	(void)zo;
@@ -173,10 +175,15 @@ static inline void small_sincos(double x, double *c, double *s)
 {
 	if (fabs(x) <= 0.1) {
 		double x2 = x * x;
-		*c = 1 - x2 * (1.0 / 2 - x2 * (1.0 / 24 - x2 * (1.0 / 720 - x2 * (1.0 / 40320 -
-			  x2 * (1.0 / 3628800 - x2 * (1.0 / 479001600))))));
-		*s = x * (1 - x2 * (1.0 / 6 - x2 * (1.0 / 120 - x2 * (1.0 / 5040 - x2 * (1.0 / 362880 -
-			  x2 * (1.0 / 39916800))))));
+		*c = 1 - x2 * (1.0 / 2 -
+		               x2 * (1.0 / 24 -
+		                     x2 * (1.0 / 720 -
+		                           x2 * (1.0 / 40320 -
+		                                 x2 * (1.0 / 3628800 - x2 * (1.0 / 479001600))))));
+		*s = x *
+		     (1 - x2 * (1.0 / 6 - x2 * (1.0 / 120 -
+		                                x2 * (1.0 / 5040 - x2 * (1.0 / 362880 -
+		                                                         x2 * (1.0 / 39916800))))));
 	} else {
 		*c = cos(x);
 		*s = sin(x);
@@ -189,7 +196,7 @@ static inline void small_sincos(double x, double *c, double *s)
  * parts are fixed per pixel (keyed by seed and position, not by frame). cos 2θ and sin 2θ by
  * the angle-addition formulas from the exact nominal values and cos 2e, sin 2e. */
 static void analyse_real(const pc_sim *sim, unsigned c, double zo, double zt, double ze,
-			 double a[4])
+                         double a[4])
 {
 	const pc_sensor_figures *f = &sim->fig;
 	double c2 = cos2_nominal[c], s2 = sin2_nominal[c], d = 1, t = 1;
@@ -223,27 +230,27 @@ static void analyse_real(const pc_sim *sim, unsigned c, double zo, double zt, do
 /* ---- the per-frame chain (steps 3–6), one row of the ROI into LSB-aligned uint16 ---- */
 
 static void frame_row(const pc_sim *sim, uint64_t n, double t_s, double K, uint32_t y,
-		      uint16_t *row)
+                      uint16_t *row)
 {
 	const uint32_t W = sim->info.width;
 	const bool noise = sim->fx & PC_FX_NOISE;
 	pc_frame_args a = {
-		.seed = sim->opt.seed,
-		.frame = n,
-		.sx0 = sim->info.offset_x,
-		.sy = sim->info.offset_y + y,
-		.n = W,
-		.rate = sim->rate[n % sim->n_states] + (size_t)y * W,
-		.dsnu = (sim->fx & PC_FX_PRNU_DSNU) ? sim->dsnu + (size_t)y * W : NULL,
-		.t_s = t_s,
-		.dark_e = noise ? sim->fig.dark_current_e_s * t_s : 0,
-		.full_well_e = sim->fig.full_well_e,
-		.K = K,
-		.offset_dn = sim->fig.offset_dn,
-		.read_e = sim->fig.read_noise_e,
-		.max_dn = sim->max_dn,
-		.noise = noise,
-		.out = row,
+	    .seed = sim->opt.seed,
+	    .frame = n,
+	    .sx0 = sim->info.offset_x,
+	    .sy = sim->info.offset_y + y,
+	    .n = W,
+	    .rate = sim->rate[n % sim->n_states] + (size_t)y * W,
+	    .dsnu = (sim->fx & PC_FX_PRNU_DSNU) ? sim->dsnu + (size_t)y * W : NULL,
+	    .t_s = t_s,
+	    .dark_e = noise ? sim->fig.dark_current_e_s * t_s : 0,
+	    .full_well_e = sim->fig.full_well_e,
+	    .K = K,
+	    .offset_dn = sim->fig.offset_dn,
+	    .read_e = sim->fig.read_noise_e,
+	    .max_dn = sim->max_dn,
+	    .noise = noise,
+	    .out = row,
 	};
 	pc_noise_frame_row(&a);
 }
@@ -268,16 +275,16 @@ void pc_sensor_setup(pc_sim *sim)
 	/* Camera equation for a distant scene (Smith, Modern Optical Engineering, 4th ed., §8.2;
 	 * EMVA 1288 §2.1 for photons = A·E·t·λ/(hc)): sensor irradiance E = π·L/(4N²) for radiance
 	 * L through an f/N lens (no vignetting or lens transmission loss modelled), photons per
-	 * second = E·A_pix·λ/(hc). The η applied is the QE for unpolarized light as EMVA reports for
-	 * polarization sensors; the analyser row a (t/2 for an ideal polarizer) is compensated by 2:
-	 * electrons = 2η·(a·S). */
+	 * second = E·A_pix·λ/(hc). The η applied is the QE for unpolarized light as EMVA reports
+	 * for polarization sensors; the analyser row a (t/2 for an ideal polarizer) is compensated
+	 * by 2: electrons = 2η·(a·S). */
 	const double h = 6.62607015e-34, c = 299792458.0;
 	double N = sim->scene->camera.f_number;
 	double A = sim->pitch_m * sim->pitch_m;
 	for (unsigned ch = 0; ch < 3; ch++) {
 		double lambda = f->wavelength_nm[sim->nch == 1 ? 1 : ch] * 1e-9;
 		double qe = f->qe[sim->nch == 1 ? 1 : ch];
-		sim->e_per_radiance[ch] = 2 * qe * (3.14159265358979323846 / (4 * N * N)) * A *
-					  lambda / (h * c);
+		sim->e_per_radiance[ch] =
+		    2 * qe * (3.14159265358979323846 / (4 * N * N)) * A * lambda / (h * c);
 	}
 }

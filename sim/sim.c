@@ -7,6 +7,7 @@
 
 #include "polarcam/error.h"
 #include "polarcam/format.h"
+#include "polarcam/limits.h"
 #include "polarcam/parallel.h"
 #include "sim_impl.h"
 
@@ -64,15 +65,16 @@ int pc_sim_new(const pc_scene *scene, const pc_sim_options *opt, pc_sim **out)
 		rh = f->height;
 	}
 	if (rw == 0 || rh == 0 || (uint64_t)rx + rw > f->width || (uint64_t)ry + rh > f->height)
-		return pc_error(PC_EINVAL, "ROI %ux%u at (%u, %u) does not fit the %ux%u sensor", rw, rh,
-				rx, ry, f->width, f->height);
+		return pc_error(PC_EINVAL, "ROI %ux%u at (%u, %u) does not fit the %ux%u sensor",
+		                rw, rh, rx, ry, f->width, f->height);
 	unsigned bits = f->bits;
 	pc_pixfmt fmt = o.format == PC_FMT_INVALID ? natural_format(bits) : o.format;
 	const pc_format_info *fi = pc_format_info_get(fmt);
 	if (!fi || fi->is_float || fi->bits < bits)
-		return pc_error(PC_EINVAL, "pixel format %s cannot hold the sensor's %u-bit values "
-					   "(integer formats with at least %u bits)", fi ? fi->name : "?",
-				bits, bits);
+		return pc_error(PC_EINVAL,
+		                "pixel format %s cannot hold the sensor's %u-bit values "
+		                "(integer formats with at least %u bits)",
+		                fi ? fi->name : "?", bits, bits);
 	size_t row_bytes;
 	int rc = pc_format_row_bytes(fmt, rw, &row_bytes);
 	if (rc)
@@ -125,10 +127,11 @@ int pc_sim_new(const pc_scene *scene, const pc_sim_options *opt, pc_sim **out)
 		for (unsigned m = 0; m < scene->n_materials; m++)
 			for (unsigned ch = 0; ch < sim->nch; ch++) {
 				rc = pc_pbrdf_new(&scene->materials[m].m[sim->nch == 1 ? 0 : ch],
-						  &sim->pbrdf[m * sim->nch + ch]);
+				                  &sim->pbrdf[m * sim->nch + ch]);
 				if (rc) {
-					rc = pc_error_prefix(rc, "%s: materials.%s: ", scene->source,
-							     scene->materials[m].name);
+					rc =
+					    pc_error_prefix(rc, "%s: materials.%s: ", scene->source,
+					                    scene->materials[m].name);
 					pc_sim_free(sim);
 					return rc;
 				}
@@ -157,7 +160,7 @@ void pc_sim_get_sensor(const pc_sim *sim, pc_sensor_figures *fig)
 {
 	*fig = sim->fig;
 	fig->effects = sim->fx & (PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION |
-				  PC_FX_ORIENTATION | PC_FX_TRANSMISSION | PC_FX_CROSSTALK);
+	                          PC_FX_ORIENTATION | PC_FX_TRANSMISSION | PC_FX_CROSSTALK);
 }
 
 void pc_sim_get_states(const pc_sim *sim, pc_sim_states *st)
@@ -201,20 +204,20 @@ typedef struct prep_ctx {
 	pc_sim *sim;
 	unsigned g;
 	float *truth_s, *truth_m;
-	float **dst;         /* n_psa destination images (ROI) */
-	float **halo;        /* n_psa images of (W+2)·(H+2), or NULL */
-	float *dsnu;         /* the DSNU image to fill (first prepare), or NULL */
-	bool psa_identity;   /* one PSA state, the identity: skip its product */
+	float **dst;       /* n_psa destination images (ROI) */
+	float **halo;      /* n_psa images of (W+2)·(H+2), or NULL */
+	float *dsnu;       /* the DSNU image to fill (first prepare), or NULL */
+	bool psa_identity; /* one PSA state, the identity: skip its product */
 	int err;
 } prep_ctx;
 
 /* Analysed electron rate (before PRNU and crosstalk) of a pixel of colour channel pch and
  * analyser channel ach with Stokes radiance S, for each PSA state. */
 static inline void prep_rate(const prep_ctx *c, const double *Sin, unsigned pch, unsigned ach,
-			     double zo, double zt, double ze, float *out_rate)
+                             double zo, double zt, double ze, float *out_rate)
 {
 	const pc_sim *sim = c->sim;
-	double S[4] = { Sin[0], Sin[1], Sin[2], sim->circular ? Sin[3] : 0 }, Sp[4];
+	double S[4] = {Sin[0], Sin[1], Sin[2], sim->circular ? Sin[3] : 0}, Sp[4];
 	/* S3 is not carried without "circular" (and not coupled: scene validation) */
 	double an[4];
 	sim->analyse(sim, ach, zo, zt, ze, an);
@@ -253,8 +256,8 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		c->err = PC_ENOMEM;
 		return;
 	}
-	double *z[5] = { zb, zb + cols, zb + 2 * (size_t)cols, zb + 3 * (size_t)cols,
-			 zb + 4 * (size_t)cols };
+	double *z[5] = {zb, zb + cols, zb + 2 * (size_t)cols, zb + 3 * (size_t)cols,
+	                zb + 4 * (size_t)cols};
 	/* a row's Stokes vectors (every channel when the row writes truth) and Mueller matrices */
 	const unsigned nch = sim->nch;
 	double *Srow = malloc((size_t)cols * nch * 4 * sizeof *Srow);
@@ -287,7 +290,7 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		if (row_in_roi && prnu_on)
 			mask |= PC_FP_PRNU | (c->dsnu ? PC_FP_DSNU : 0);
 		pc_sensor_fixed_row(sim, (uint32_t)sy, (uint32_t)(sx0 + xlo), xhi - xlo, mask,
-				    z[0] + xlo, z[1] + xlo, z[2] + xlo, z[3] + xlo, z[4] + xlo);
+		                    z[0] + xlo, z[1] + xlo, z[2] + xlo, z[3] + xlo, z[4] + xlo);
 		pc_render_row rr;
 		pc_render_row_begin(sim, (uint32_t)sy, &rr);
 		/* colour and analyser channel of the row's pixels by column phase */
@@ -304,9 +307,9 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		const bool truth_row = row_in_roi && (c->truth_s || c->truth_m);
 		const bool all_ch = truth_row && nch > 1;
 		const unsigned nout = all_ch ? nch : 1;
-		pc_render_span(sim, &rr, (uint32_t)(sx0 + xlo), xhi - xlo, all_ch ? NULL : chan + xlo,
-			       c->g, Srow + (size_t)xlo * nout * 4,
-			       truth_row && c->truth_m ? Mrow + (size_t)xlo * nout * 16 : NULL);
+		pc_render_span(sim, &rr, (uint32_t)(sx0 + xlo), xhi - xlo,
+		               all_ch ? NULL : chan + xlo, c->g, Srow + (size_t)xlo * nout * 4,
+		               truth_row && c->truth_m ? Mrow + (size_t)xlo * nout * 16 : NULL);
 		for (uint32_t xx = xlo; xx < xhi; xx++) {
 			const uint32_t k = (xx - xlo) & pmask;
 			const bool in_roi = row_in_roi && (!halo || (xx >= 1 && xx <= W));
@@ -317,11 +320,13 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 					const double *Sp = Srow + ((size_t)xx * nout + ch) * 4;
 					if (c->truth_s)
 						for (int q = 0; q < 4; q++)
-							c->truth_s[(pix * nch + ch) * 4 + q] = (float)Sp[q];
+							c->truth_s[(pix * nch + ch) * 4 + q] =
+							    (float)Sp[q];
 					if (c->truth_m)
 						for (int q = 0; q < 16; q++)
-							c->truth_m[(pix * nch + ch) * 16 + q] =
-								(float)Mrow[((size_t)xx * nout + ch) * 16 + q];
+							c->truth_m[(pix * nch + ch) * 16 +
+							           q] = (float)
+							    Mrow[((size_t)xx * nout + ch) * 16 + q];
 				}
 			}
 			const double *Spix = Srow + ((size_t)xx * nout + (all_ch ? pch[k] : 0)) * 4;
@@ -369,11 +374,13 @@ static void crosstalk_rows(void *ctx, uint32_t y0, uint32_t y1)
 			size_t i = (size_t)y * W + x;
 			double prnu = prnu_on ? c->dst[0][i] : 1.0;
 			for (unsigned a = 0; a < sim->n_psa; a++) {
-				const float *up = c->halo[a] + (size_t)y * (W + 2), *mid = up + (W + 2),
-					    *dn = mid + (W + 2);
+				const float *up = c->halo[a] + (size_t)y * (W + 2),
+				            *mid = up + (W + 2), *dn = mid + (W + 2);
 				double self = mid[x + 1];
-				double l = sx > 0 ? mid[x] : self, r = sx + 1 < SW ? mid[x + 2] : self;
-				double u = sy > 0 ? up[x + 1] : self, d = sy + 1 < SH ? dn[x + 1] : self;
+				double l = sx > 0 ? mid[x] : self,
+				       r = sx + 1 < SW ? mid[x + 2] : self;
+				double u = sy > 0 ? up[x + 1] : self,
+				       d = sy + 1 < SH ? dn[x + 1] : self;
 				double v = (1 - 4 * k) * self + k * (l + r + u + d);
 				c->dst[a][i] = (float)(v * prnu);
 			}
@@ -395,12 +402,12 @@ static void chunk_rows(void *ctx, uint32_t y0, uint32_t y1)
 }
 
 static void run_rows(const pc_sim *sim, uint32_t rows, pc_rows_fn fn, void *ctx,
-		     pc_sim_progress_fn progress, void *user, uint64_t *done, uint64_t total)
+                     pc_sim_progress_fn progress, void *user, uint64_t *done, uint64_t total)
 {
 	const uint32_t chunk = 512;
 	for (uint32_t y = 0; y < rows; y += chunk) {
 		uint32_t n = rows - y < chunk ? rows - y : chunk;
-		chunk_ctx cc = { fn, ctx, y };
+		chunk_ctx cc = {fn, ctx, y};
 		pc_parallel_rows(n, 4, sim->opt.threads, chunk_rows, &cc);
 		*done += n;
 		if (progress)
@@ -409,13 +416,14 @@ static void run_rows(const pc_sim *sim, uint32_t rows, pc_rows_fn fn, void *ctx,
 }
 
 int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *truth_mueller,
-		   pc_sim_progress_fn progress, void *progress_user)
+                   pc_sim_progress_fn progress, void *progress_user)
 {
 	if (state >= sim->n_states)
-		return pc_error(PC_EINVAL, "state %u: the scene has %u states", state, sim->n_states);
+		return pc_error(PC_EINVAL, "state %u: the scene has %u states", state,
+		                sim->n_states);
 	if (truth_mueller && !(sim->fx & PC_FX_MUELLER))
 		return pc_error(PC_ENOTSUP, "Mueller ground truth needs \"mueller\": true in the "
-					    "scene's effects");
+		                            "scene's effects");
 	const uint32_t W = sim->info.width, H = sim->info.height;
 	const size_t npix = (size_t)W * H;
 	unsigned g = state % sim->n_psg;
@@ -427,12 +435,13 @@ int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *trut
 		return 0;
 	float *dsnu_new = NULL;
 	if ((sim->fx & PC_FX_PRNU_DSNU) && !sim->dsnu) {
-		/* filled by this render: the same Philox block as the pixel's other fixed patterns */
+		/* filled by this render: the same Philox block as the pixel's other fixed patterns
+		 */
 		dsnu_new = malloc(npix * sizeof *dsnu_new);
 		if (!dsnu_new)
 			return pc_error(PC_ENOMEM, "DSNU image (%zu pixels)", npix);
 	}
-	float *dst[PC_SIM_MAX_STATES] = { 0 }, *halo[PC_SIM_MAX_STATES] = { 0 };
+	float *dst[PC_SIM_MAX_STATES] = {0}, *halo[PC_SIM_MAX_STATES] = {0};
 	int rc = 0;
 	for (unsigned a = 0; a < sim->n_psa; a++) {
 		dst[a] = malloc(npix * sizeof(float));
@@ -447,7 +456,7 @@ int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *trut
 			halo[a] = calloc((size_t)(W + 2) * (H + 2), sizeof(float));
 			if (!halo[a]) {
 				rc = pc_error(PC_ENOMEM, "crosstalk buffer (%zu pixels)",
-					      (size_t)(W + 2) * (H + 2));
+				              (size_t)(W + 2) * (H + 2));
 				goto out;
 			}
 		}
@@ -455,7 +464,8 @@ int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *trut
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++)
 			ident &= sim->scene->psa[0][i][j] == (i == j);
-	prep_ctx pc = { sim, g, truth_stokes, truth_mueller, dst, xt ? halo : NULL, dsnu_new, ident, 0 };
+	prep_ctx pc = {sim,   g, truth_stokes, truth_mueller, dst, xt ? halo : NULL, dsnu_new,
+	               ident, 0};
 	uint64_t done = 0, total = xt ? (uint64_t)(H + 2) + H : H;
 	run_rows(sim, xt ? H + 2 : H, prep_rows, &pc, progress, progress_user, &done, total);
 	if (pc.err) {
@@ -463,7 +473,7 @@ int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *trut
 		goto out;
 	}
 	if (xt) {
-		xt_ctx xc = { sim, halo, dst };
+		xt_ctx xc = {sim, halo, dst};
 		run_rows(sim, H, crosstalk_rows, &xc, progress, progress_user, &done, total);
 	}
 	for (unsigned a = 0; a < sim->n_psa; a++) {
@@ -510,11 +520,11 @@ static int check_dst(const pc_sim *sim, const pc_view *dst)
 		return rc;
 	if (dst->width != sim->info.width || dst->height != sim->info.height)
 		return pc_error(PC_EINVAL, "frame view is %ux%u, the simulator produces %ux%u",
-				dst->width, dst->height, sim->info.width, sim->info.height);
+		                dst->width, dst->height, sim->info.width, sim->info.height);
 	const pc_format_info *fi = pc_format_info_get(dst->format);
 	if (fi->is_float || fi->bits < sim->info.bits)
-		return pc_error(PC_EINVAL, "frame view format %s cannot hold %u-bit values", fi->name,
-				sim->info.bits);
+		return pc_error(PC_EINVAL, "frame view format %s cannot hold %u-bit values",
+		                fi->name, sim->info.bits);
 	return 0;
 }
 
@@ -527,7 +537,7 @@ typedef struct frame_ctx {
 } frame_ctx;
 
 static int frame_band(const pc_sim *sim, uint64_t n, double t_s, double K, pc_view *dst,
-		      uint32_t y0, uint32_t y1)
+                      uint32_t y0, uint32_t y1)
 {
 	const pc_format_info *fi = pc_format_info_get(dst->format);
 	const uint32_t W = sim->info.width;
@@ -549,7 +559,7 @@ static int frame_band(const pc_sim *sim, uint64_t n, double t_s, double K, pc_vi
 				row[x] = (uint8_t)tmp[x];
 		} else {
 			sim->frame_row(sim, n, t_s, K, y, tmp);
-			pc_view one = { row, W, 1, dst->stride, dst->format };
+			pc_view one = {row, W, 1, dst->stride, dst->format};
 			rc = pc_view_from_u16(tmp, W * sizeof *tmp, &one);
 		}
 	}
@@ -569,27 +579,69 @@ static void frame_rows_par(void *ctx, uint32_t y0, uint32_t y1)
 	}
 }
 
-int pc_sim_frame_rows(const pc_sim *sim, uint64_t n, const pc_sim_controls *controls,
-		      pc_view *dst, uint32_t y0, uint32_t y1)
+int pc_sim_frame_rows(const pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_view *dst,
+                      uint32_t y0, uint32_t y1)
 {
 	int rc = check_dst(sim, dst);
 	if (rc)
 		return rc;
 	if (y0 > y1 || y1 > sim->info.height)
 		return pc_error(PC_EINVAL, "rows [%u, %u) outside the frame's %u rows", y0, y1,
-				sim->info.height);
+		                sim->info.height);
 	unsigned s = (unsigned)(n % sim->n_states);
 	if (!sim->rate[s])
-		return pc_error(PC_ESTATE, "state %u of frame %llu is not prepared (pc_sim_prepare)", s,
-				(unsigned long long)n);
+		return pc_error(PC_ESTATE,
+		                "state %u of frame %llu is not prepared (pc_sim_prepare)", s,
+		                (unsigned long long)n);
 	double t_s, K;
 	if ((rc = resolve_controls(sim, controls, &t_s, &K)))
 		return rc;
 	return frame_band(sim, n, t_s, K, dst, y0, y1);
 }
 
+/* timestamp_ns = n / frame_rate_hz, rounded; PC_ERANGE when it is not below 2^63 (recordings
+ * store it as a signed 64-bit JSON integer), never an out-of-range float conversion. */
+static int frame_timestamp(const pc_sim *sim, uint64_t n, uint64_t *ts)
+{
+	const double t = (double)n * 1e9 / sim->fig.frame_rate_hz + 0.5;
+	if (!(t < 0x1p63))
+		return pc_error(PC_ERANGE,
+		                "frame %llu: timestamp %llu / %g Hz = %.4g s does not fit "
+		                "64-bit nanoseconds (2^63 ns = 292 years)",
+		                (unsigned long long)n, (unsigned long long)n,
+		                sim->fig.frame_rate_hz, t * 1e-9);
+	*ts = (uint64_t)t;
+	return 0;
+}
+
+int pc_sim_check_frames(const pc_sim *sim, uint64_t first, uint64_t count)
+{
+	if (count == 0)
+		return 0;
+	int rc = pc_limit_check(PC_LIMIT_FRAMES, count, "frames");
+	if (rc)
+		return rc;
+	const uint64_t max_seq = (uint64_t)INT64_MAX;
+	/* the largest n with n·1e9/fps + 0.5 < 2^63 */
+	double lim = (0x1p63 - 1024) * sim->fig.frame_rate_hz / 1e9;
+	uint64_t max_n = lim >= 0x1p63 ? max_seq : (uint64_t)lim;
+	if (max_n > max_seq)
+		max_n = max_seq;
+	if (first > max_n || count - 1 > max_n - first)
+		return pc_error(
+		    PC_ERANGE,
+		    "frames %llu to %llu: frame numbers and their timestamps "
+		    "(n / %g Hz in ns) must fit 64-bit signed integers; with "
+		    "%llu frames the first frame can be at most %llu",
+		    (unsigned long long)first, (unsigned long long)(first + (count - 1)),
+		    sim->fig.frame_rate_hz, (unsigned long long)count,
+		    (unsigned long long)(max_n - (count - 1 <= max_n ? count - 1 : max_n)));
+	uint64_t ts;
+	return frame_timestamp(sim, first + (count - 1), &ts);
+}
+
 int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_view *dst,
-		 pc_frame_meta *meta)
+                 pc_frame_meta *meta)
 {
 	int rc = check_dst(sim, dst);
 	if (rc)
@@ -597,17 +649,21 @@ int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_vi
 	double t_s, K;
 	if ((rc = resolve_controls(sim, controls, &t_s, &K)))
 		return rc;
+	uint64_t ts = 0; /* set by frame_timestamp when it returns 0 (GCC cannot see it) */
+	if ((rc = frame_timestamp(sim, n, &ts)))
+		return rc;
 	unsigned s = (unsigned)(n % sim->n_states);
 	if (!sim->rate[s] && (rc = pc_sim_prepare(sim, s, NULL, NULL, NULL, NULL)))
 		return rc;
-	frame_ctx fc = { sim, n, t_s, K, dst, 0 };
-	pc_parallel_rows(sim->info.height, 16, sim->opt.threads, frame_rows_par, &fc); /* small bands: rows differ in cost */
+	frame_ctx fc = {sim, n, t_s, K, dst, 0};
+	pc_parallel_rows(sim->info.height, 16, sim->opt.threads, frame_rows_par,
+	                 &fc); /* small bands: rows differ in cost */
 	if (fc.err)
 		return fc.err;
 	if (meta) {
 		memset(meta, 0, sizeof *meta);
 		meta->sequence = n;
-		meta->timestamp_ns = (uint64_t)((double)n * 1e9 / sim->fig.frame_rate_hz + 0.5);
+		meta->timestamp_ns = ts;
 		meta->exposure_us = t_s * 1e6;
 		meta->gain_db = controls ? controls->gain_db : sim->fig.gain_db;
 		meta->status = PC_FRAME_SIMULATED;
@@ -618,13 +674,13 @@ int pc_sim_frame(pc_sim *sim, uint64_t n, const pc_sim_controls *controls, pc_vi
 }
 
 int pc_sim_mean_dn(const pc_sim *sim, unsigned state, const pc_sim_controls *controls, uint32_t x,
-		   uint32_t y, double *mean_dn)
+                   uint32_t y, double *mean_dn)
 {
 	if (state >= sim->n_states || !sim->rate[state])
 		return pc_error(PC_ESTATE, "state %u is not prepared", state);
 	if (x >= sim->info.width || y >= sim->info.height)
 		return pc_error(PC_EINVAL, "pixel (%u, %u) outside the %ux%u frame", x, y,
-				sim->info.width, sim->info.height);
+		                sim->info.width, sim->info.height);
 	double t_s, K;
 	int rc = resolve_controls(sim, controls, &t_s, &K);
 	if (rc)
@@ -678,24 +734,25 @@ static void truth_rows_fn(void *ctx, uint32_t y0, uint32_t y1)
 				double Sb[256 * PC_SIM_MAX_CH * 4];
 				uint32_t n = W - x0 < 256 ? W - x0 : 256;
 				pc_render_span(sim, &rr, sim->info.offset_x + x0, n, NULL, c->g, Sb,
-					       M + (size_t)x0 * sim->nch * 16);
+				               M + (size_t)x0 * sim->nch * 16);
 			}
 		}
 	}
 }
 
 int pc_sim_truth_rows(const pc_sim *sim, unsigned state, uint32_t y0, uint32_t y1, double *stokes,
-		      double *mueller)
+                      double *mueller)
 {
 	if (state >= sim->n_states)
-		return pc_error(PC_EINVAL, "state %u: the scene has %u states", state, sim->n_states);
+		return pc_error(PC_EINVAL, "state %u: the scene has %u states", state,
+		                sim->n_states);
 	if (y0 > y1 || y1 > sim->info.height)
 		return pc_error(PC_EINVAL, "rows [%u, %u) outside the frame's %u rows", y0, y1,
-				sim->info.height);
+		                sim->info.height);
 	if (mueller && !(sim->fx & PC_FX_MUELLER))
 		return pc_error(PC_ENOTSUP, "Mueller ground truth needs \"mueller\": true in the "
-					    "scene's effects");
-	truth_ctx c = { sim, state % sim->n_psg, y0, stokes, mueller };
+		                            "scene's effects");
+	truth_ctx c = {sim, state % sim->n_psg, y0, stokes, mueller};
 	/* stokes/mueller point at row y0: shift the row index */
 	pc_parallel_rows(y1 - y0, 0, sim->opt.threads, truth_rows_fn, &c);
 	return 0;

@@ -13,7 +13,7 @@ typedef struct pc_sim pc_sim;
 
 /* Objects with primary-ray culling (render.c); further objects are always tested. */
 #define PC_CULL_MAX 32
-#define PC_SS_MAX 16
+#define PC_SS_MAX   16
 
 /* What one sensor row's camera rays share (render.c): the ray bases of its sub-rows and the
  * columns in which each culled object can be hit. */
@@ -26,18 +26,18 @@ typedef struct pc_render_row {
 /* Analyser row a (physics.md §6) of a pixel of analyser channel c (0..3 for 0°..135°) with its
  * orientation, transmission and extinction-ratio deviates. */
 typedef void (*pc_analyse_fn)(const pc_sim *sim, unsigned c, double zo, double zt, double ze,
-			      double a[4]);
+                              double a[4]);
 typedef void (*pc_frame_row_fn)(const pc_sim *sim, uint64_t n, double exposure_s, double gain,
-				uint32_t y, uint16_t *row);
+                                uint32_t y, uint16_t *row);
 
 struct pc_sim {
-	pc_scene *scene;          /* shared, reference-counted */
+	pc_scene *scene; /* shared, reference-counted */
 	pc_sim_options opt;
 	pc_sim_info info;
 	pc_sensor_figures fig;
-	unsigned fx;              /* effects in force */
-	unsigned nch;             /* colour channels rendered: 1 or 3 */
-	bool circular;            /* carry S3 */
+	unsigned fx;   /* effects in force */
+	unsigned nch;  /* colour channels rendered: 1 or 3 */
+	bool circular; /* carry S3 */
 	/* BRDF: either the physics core (pbrdf[material·nch + ch]) or an override */
 	pc_pbrdf **pbrdf;
 	pc_sim_brdf brdf;
@@ -64,7 +64,7 @@ struct pc_sim {
 	float **rate;
 	float *dsnu;
 	uint32_t max_dn;
-	unsigned fp_mask;         /* fixed-pattern deviates the declared effects use */
+	unsigned fp_mask; /* fixed-pattern deviates the declared effects use */
 };
 
 /* render.c */
@@ -78,10 +78,10 @@ void pc_render_row_begin(const pc_sim *sim, uint32_t sy, pc_render_row *rr);
  * (M[16i..] the Mueller matrix, row-major; M may be NULL), or, with chan NULL, for every
  * channel c < nch into S[(i·nch + c)·4 ..] and M[(i·nch + c)·16 ..]. */
 void pc_render_span(const pc_sim *sim, const pc_render_row *rr, uint32_t sx0, uint32_t n,
-		    const uint8_t *chan, unsigned g, double *S, double *M);
+                    const uint8_t *chan, unsigned g, double *S, double *M);
 /* One pixel, colour channel ch. */
 void pc_render_pixel(const pc_sim *sim, const pc_render_row *rr, uint32_t sx, unsigned ch,
-		     unsigned g, double S[4], double M[4][4]);
+                     unsigned g, double S[4], double M[4][4]);
 
 /* sensor.c */
 void pc_sensor_setup(pc_sim *sim);
@@ -92,9 +92,15 @@ unsigned pc_sensor_channel(const pc_sim *sim, uint32_t sx, uint32_t sy);
  * and the extinction-ratio deviate z4[i] (word 0 of a second block, counter word 2 = 1, drawn
  * only when the scene declares an ER spread); only the deviates in mask (bit k for zk) that the
  * declared effects use are written. */
-enum { PC_FP_ORIENT = 1, PC_FP_TRANS = 2, PC_FP_PRNU = 4, PC_FP_DSNU = 8, PC_FP_ER = 16,
-       PC_FP_ALL = 31 };
+enum {
+	PC_FP_ORIENT = 1,
+	PC_FP_TRANS = 2,
+	PC_FP_PRNU = 4,
+	PC_FP_DSNU = 8,
+	PC_FP_ER = 16,
+	PC_FP_ALL = 31
+};
 void pc_sensor_fixed_row(const pc_sim *sim, uint32_t sy, uint32_t sx0, uint32_t n, unsigned mask,
-			 double *z0, double *z1, double *z2, double *z3, double *z4);
+                         double *z0, double *z1, double *z2, double *z3, double *z4);
 
 #endif

@@ -10,25 +10,46 @@ typedef struct pc_v3 {
 
 static inline pc_v3 v3(double x, double y, double z)
 {
-	pc_v3 r = { x, y, z };
+	pc_v3 r = {x, y, z};
 	return r;
 }
-static inline pc_v3 v3_add(pc_v3 a, pc_v3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
-static inline pc_v3 v3_sub(pc_v3 a, pc_v3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
-static inline pc_v3 v3_scale(pc_v3 a, double s) { return v3(a.x * s, a.y * s, a.z * s); }
-static inline pc_v3 v3_neg(pc_v3 a) { return v3(-a.x, -a.y, -a.z); }
-static inline double v3_dot(pc_v3 a, pc_v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline pc_v3 v3_add(pc_v3 a, pc_v3 b)
+{
+	return v3(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+static inline pc_v3 v3_sub(pc_v3 a, pc_v3 b)
+{
+	return v3(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+static inline pc_v3 v3_scale(pc_v3 a, double s)
+{
+	return v3(a.x * s, a.y * s, a.z * s);
+}
+static inline pc_v3 v3_neg(pc_v3 a)
+{
+	return v3(-a.x, -a.y, -a.z);
+}
+static inline double v3_dot(pc_v3 a, pc_v3 b)
+{
+	return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 static inline pc_v3 v3_cross(pc_v3 a, pc_v3 b)
 {
 	return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
-static inline double v3_len(pc_v3 a) { return sqrt(v3_dot(a, a)); }
+static inline double v3_len(pc_v3 a)
+{
+	return sqrt(v3_dot(a, a));
+}
 static inline pc_v3 v3_unit(pc_v3 a)
 {
 	double l = v3_len(a);
 	return l > 0 ? v3_scale(a, 1.0 / l) : a;
 }
-static inline pc_v3 v3_madd(pc_v3 a, pc_v3 b, double s) { return v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s); }
+static inline pc_v3 v3_madd(pc_v3 a, pc_v3 b, double s)
+{
+	return v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s);
+}
 static inline pc_v3 v3_min(pc_v3 a, pc_v3 b)
 {
 	return v3(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z);
@@ -37,7 +58,10 @@ static inline pc_v3 v3_max(pc_v3 a, pc_v3 b)
 {
 	return v3(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
-static inline double v3_get(pc_v3 a, int i) { return i == 0 ? a.x : i == 1 ? a.y : a.z; }
+static inline double v3_get(pc_v3 a, int i)
+{
+	return i == 0 ? a.x : i == 1 ? a.y : a.z;
+}
 
 /* Component of a perpendicular to unit n, normalised; fallback when a ∥ n. */
 static inline pc_v3 v3_perp_unit(pc_v3 a, pc_v3 n, pc_v3 fallback)
@@ -64,15 +88,15 @@ typedef struct pc_m3 {
 static inline pc_v3 m3_apply(const pc_m3 *r, pc_v3 v)
 {
 	return v3(r->m[0][0] * v.x + r->m[0][1] * v.y + r->m[0][2] * v.z,
-		  r->m[1][0] * v.x + r->m[1][1] * v.y + r->m[1][2] * v.z,
-		  r->m[2][0] * v.x + r->m[2][1] * v.y + r->m[2][2] * v.z);
+	          r->m[1][0] * v.x + r->m[1][1] * v.y + r->m[1][2] * v.z,
+	          r->m[2][0] * v.x + r->m[2][1] * v.y + r->m[2][2] * v.z);
 }
 /* Rᵀ·v (the inverse rotation). */
 static inline pc_v3 m3_apply_t(const pc_m3 *r, pc_v3 v)
 {
 	return v3(r->m[0][0] * v.x + r->m[1][0] * v.y + r->m[2][0] * v.z,
-		  r->m[0][1] * v.x + r->m[1][1] * v.y + r->m[2][1] * v.z,
-		  r->m[0][2] * v.x + r->m[1][2] * v.y + r->m[2][2] * v.z);
+	          r->m[0][1] * v.x + r->m[1][1] * v.y + r->m[2][1] * v.z,
+	          r->m[0][2] * v.x + r->m[1][2] * v.y + r->m[2][2] * v.z);
 }
 
 /* R = Rz(γ)·Ry(β)·Rx(α) for rotation_deg = [α, β, γ] (extrinsic x, then y, then z). */
@@ -82,9 +106,9 @@ static inline pc_m3 m3_from_euler_deg(const double deg[3])
 	double ca = cos(deg[0] * k), sa = sin(deg[0] * k);
 	double cb = cos(deg[1] * k), sb = sin(deg[1] * k);
 	double cg = cos(deg[2] * k), sg = sin(deg[2] * k);
-	pc_m3 r = { { { cg * cb, cg * sb * sa - sg * ca, cg * sb * ca + sg * sa },
-		      { sg * cb, sg * sb * sa + cg * ca, sg * sb * ca - cg * sa },
-		      { -sb, cb * sa, cb * ca } } };
+	pc_m3 r = {{{cg * cb, cg * sb * sa - sg * ca, cg * sb * ca + sg * sa},
+	            {sg * cb, sg * sb * sa + cg * ca, sg * sb * ca - cg * sa},
+	            {-sb, cb * sa, cb * ca}}};
 	return r;
 }
 

@@ -334,7 +334,7 @@ static void test_realtime(void)
 		pc_source_close(s);
 	}
 	printf("realtime: %s\n", may ? "the stream thread ran SCHED_FIFO 10"
-	                              : "not permitted here: checked that no thread asked for more");
+	                             : "not permitted here: checked that no thread asked for more");
 }
 
 /* ---- a client that stops and restarts at once ---- */

@@ -37,8 +37,9 @@ static pid_t start_serve(const char *lost, int *fd)
 {
 	char errp[160];
 	snprintf(errp, sizeof errp, "%s/serve.err", base);
-	char *args[] = { "default", "--seed", "2", "--cycle", "3", "--fps", "10",
-			 lost ? "--lost-packets" : NULL, (char *)lost, NULL };
+	char *args[] = {"default",    "--seed", "2",  "--cycle",
+	                "3",          "--fps",  "10", lost ? "--lost-packets" : NULL,
+	                (char *)lost, NULL};
 	return serve_start(polarcam, args, errp, fd, NULL, 0);
 }
 
@@ -47,8 +48,17 @@ static int capture(const char *dir, const char *n, char *const extra[], json_t *
 {
 	char errp[200];
 	snprintf(errp, sizeof errp, "%s.err", dir);
-	char *argv[32] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=65000",
-			   "-n", (char *)n, "-o", (char *)dir, "--timeout-ms", "20000", "--json", NULL };
+	char *argv[32] = {(char *)polarcam,
+	                  "capture",
+	                  "aravis:127.0.0.1?packet_size=65000",
+	                  "-n",
+	                  (char *)n,
+	                  "-o",
+	                  (char *)dir,
+	                  "--timeout-ms",
+	                  "20000",
+	                  "--json",
+	                  NULL};
 	int k = 10;
 	for (int i = 0; extra && extra[i] && k < 31; i++)
 		argv[k++] = extra[i];
@@ -83,7 +93,7 @@ typedef struct rec_check {
  * first recorded frame need not be the cycle's first: k is found from the first whole frame). */
 static rec_check check_recording(const char *dir)
 {
-	rec_check c = { 0 };
+	rec_check c = {0};
 	pc_recording *r = NULL;
 	CHECK_EQ_INT(pc_recording_open(&r, dir), 0);
 	if (!r)
@@ -123,7 +133,7 @@ static void test_repro(void)
 {
 	char dir[160];
 	snprintf(dir, sizeof dir, "%s/repro", base);
-	char *extra[] = { "--write-delay-ms", "400", NULL };
+	char *extra[] = {"--write-delay-ms", "400", NULL};
 	json_t *rep = NULL;
 	int st = capture(dir, "10", extra, &rep);
 	CHECK_EQ_INT(st, 0);
@@ -152,7 +162,7 @@ static void test_queue_full(void)
 {
 	char dir[160];
 	snprintf(dir, sizeof dir, "%s/full", base);
-	char *extra[] = { "--write-delay-ms", "400", "--queue-mb", "30", "--store", "raw", NULL };
+	char *extra[] = {"--write-delay-ms", "400", "--queue-mb", "30", "--store", "raw", NULL};
 	json_t *rep = NULL;
 	CHECK_EQ_INT(capture(dir, "10", extra, &rep), 1);
 	CHECK(json_is_false(json_object_get(rep, "complete")));
@@ -162,8 +172,8 @@ static void test_queue_full(void)
 	CHECK_EQ_INT(c.frames, 10);
 	CHECK_EQ_INT(c.bad, 0);
 	/* every camera frame number between the first and the last recorded is accounted for */
-	CHECK_EQ_INT((json_int_t)c.seq_span - 10, lost + geti(rep, "incomplete", "skipped") +
-							 geti(rep, "stats", "dropped"));
+	CHECK_EQ_INT((json_int_t)c.seq_span - 10,
+	             lost + geti(rep, "incomplete", "skipped") + geti(rep, "stats", "dropped"));
 	printf("queue full: %lld frames lost, said so (exit 1, complete=false)\n", (long long)lost);
 	json_decref(rep);
 }
@@ -176,11 +186,11 @@ static void test_lost_packets(void)
 	CHECK(srv > 0);
 	if (srv <= 0)
 		return;
-	static const char *const policy[] = { "skip", "keep", "fail" };
+	static const char *const policy[] = {"skip", "keep", "fail"};
 	for (int p = 0; p < 3; p++) {
 		char dir[160];
 		snprintf(dir, sizeof dir, "%s/lossy_%s", base, policy[p]);
-		char *extra[] = { "--incomplete", (char *)policy[p], "--store", "raw", NULL };
+		char *extra[] = {"--incomplete", (char *)policy[p], "--store", "raw", NULL};
 		json_t *rep = NULL;
 		int st = capture(dir, "4", extra, &rep);
 		if (!rep && p == 2) {
@@ -222,14 +232,24 @@ static void test_capture_sigterm(void)
 	char dir[160], errp[200];
 	snprintf(dir, sizeof dir, "%s/term", base);
 	snprintf(errp, sizeof errp, "%s.err", dir);
-	char *argv[] = { (char *)polarcam, "capture", "aravis:127.0.0.1?packet_size=65000", "-n",
-			 "100000", "-o", dir, "--write-delay-ms", "300", "--store", "raw", "--json",
-			 NULL };
+	char *argv[] = {(char *)polarcam,
+	                "capture",
+	                "aravis:127.0.0.1?packet_size=65000",
+	                "-n",
+	                "100000",
+	                "-o",
+	                dir,
+	                "--write-delay-ms",
+	                "300",
+	                "--store",
+	                "raw",
+	                "--json",
+	                NULL};
 	int fd;
 	pid_t pid = spawn(argv, &fd, errp);
 	/* the second frame written (in the folder's temporary sibling until the end) */
 	for (int t = 0; t < 600 && !sf_out_file_exists(dir, "raw_000001.raw"); t++) {
-		struct timespec ts = { 0, 100000000 };
+		struct timespec ts = {0, 100000000};
 		nanosleep(&ts, NULL);
 	}
 	kill(pid, SIGTERM);
@@ -259,7 +279,7 @@ static void test_serve_start_signal(void)
 	char errp[160];
 	snprintf(errp, sizeof errp, "%s/serve_long.err", base);
 	setenv("POLARCAM_PROGRESS", "1", 1);
-	char *argv[] = { (char *)polarcam, "serve", "default", "--cycle", "200", NULL };
+	char *argv[] = {(char *)polarcam, "serve", "default", "--cycle", "200", NULL};
 	int fd;
 	pid_t pid = spawn(argv, &fd, errp);
 	unsetenv("POLARCAM_PROGRESS");
@@ -275,7 +295,7 @@ static void test_serve_start_signal(void)
 			fclose(fp);
 		}
 		rendering = txt && strstr(txt, "cycle");
-		struct timespec ts = { 0, 100000000 };
+		struct timespec ts = {0, 100000000};
 		nanosleep(&ts, NULL);
 	}
 	CHECK(rendering);
@@ -306,7 +326,7 @@ int main(void)
 	char ready[1024];
 	char errp[160];
 	snprintf(errp, sizeof errp, "%s/serve.err", base);
-	char *args[] = { "default", "--seed", "2", "--cycle", "3", "--fps", "10", NULL };
+	char *args[] = {"default", "--seed", "2", "--cycle", "3", "--fps", "10", NULL};
 	pid_t srv = serve_start(polarcam, args, errp, &fd, ready, sizeof ready);
 	CHECK(srv > 0);
 	if (srv > 0) {

@@ -30,7 +30,7 @@
 static inline uint64_t sf_checksum(const pc_view *v)
 {
 	uint64_t h = 1469598103934665603ull;
-	uint32_t dims[2] = { v->width, v->height };
+	uint32_t dims[2] = {v->width, v->height};
 	const uint8_t *d = (const uint8_t *)dims;
 	for (size_t i = 0; i < sizeof dims; i++)
 		h = (h ^ d[i]) * 1099511628211ull;
@@ -101,11 +101,11 @@ static inline void sf_free(sf_frames *f)
 /* A PNG is whole when it ends with the IEND chunk (written last; a torn file does not). */
 static inline bool sf_png_whole(const char *path)
 {
-	static const uint8_t iend[12] = { 0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82 };
+	static const uint8_t iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
 	FILE *fp = fopen(path, "rb");
 	uint8_t tail[12];
 	bool ok = fp && fseek(fp, -12, SEEK_END) == 0 && fread(tail, 1, 12, fp) == 12 &&
-		  !memcmp(tail, iend, 12);
+	          !memcmp(tail, iend, 12);
 	if (fp)
 		fclose(fp);
 	return ok;
@@ -137,12 +137,12 @@ typedef struct sf_dir_report {
 /* Frame file N of a recording of the simulator: the frame number is the sequence meta.json
  * lists for it, or N for a file written after meta.json's last rewrite (recordings that
  * start at frame 0 without gaps). */
-static inline bool sf_frame_ok(const char *dir, const char *name, uint64_t number, const sf_frames *f)
+static inline bool sf_frame_ok(const char *dir, const char *name, uint64_t number,
+                               const sf_frames *f)
 {
 	char p[1200];
 	snprintf(p, sizeof p, "%s/%s", dir, name);
-	pc_raw_geometry g = { f->width, f->height,
-			      pc_recording_storage_format(f->format), 0, 0 };
+	pc_raw_geometry g = {f->width, f->height, pc_recording_storage_format(f->format), 0, 0};
 	bool raw = strstr(name, ".raw") != NULL;
 	pc_view v;
 	if (raw) { /* exactly W x H values of two bytes */
@@ -158,7 +158,7 @@ static inline bool sf_frame_ok(const char *dir, const char *name, uint64_t numbe
 	bool ok = number < f->n && sf_checksum(&v) == f->sum[number];
 	if (!ok)
 		fprintf(stderr, "%s: not frame %llu of the simulator\n", p,
-			(unsigned long long)number);
+		        (unsigned long long)number);
 	pc_view_free(&v);
 	return ok;
 }
@@ -166,8 +166,8 @@ static inline bool sf_frame_ok(const char *dir, const char *name, uint64_t numbe
 static inline void sf_check_dir(const char *dir, const sf_frames *f, sf_dir_report *r);
 
 /* meta.json read as JSON (not through the recording reader): the frames it lists. */
-static inline void sf_check_meta(const char *dir, const sf_frames *f, sf_dir_report *r, char *listed,
-			  size_t n_listed_max)
+static inline void sf_check_meta(const char *dir, const sf_frames *f, sf_dir_report *r,
+                                 char *listed, size_t n_listed_max)
 {
 	char p[1200];
 	snprintf(p, sizeof p, "%s/meta.json", dir);
@@ -257,7 +257,7 @@ static inline void sf_check_dir(const char *dir, const sf_frames *f, sf_dir_repo
 			r->leftovers += sub.leftovers;
 			r->bad += sub.bad;
 		} else if (strcmp(n, "states.json") && strcmp(n, "capture.out") &&
-			   strcmp(n, "capture.err")) {
+		           strcmp(n, "capture.err")) {
 			fprintf(stderr, "%s: an unexpected file\n", p);
 			r->bad++;
 		}

@@ -17,7 +17,12 @@
 #include "polarcam/sim.h"
 
 #define DEG (M_PI / 180)
-enum { RX = 2304, RY = 1856, RW = 64, RH = 64 }; /* the test scene: a smooth, strongly polarized part of the ground */
+enum {
+	RX = 2304,
+	RY = 1856,
+	RW = 64,
+	RH = 64
+}; /* the test scene: a smooth, strongly polarized part of the ground */
 
 typedef struct simstack {
 	pc_sim *sim;
@@ -45,7 +50,7 @@ static const char *srcdir(void)
 /* A sim of scenes/calib/NAME.json over the test ROI; n frames from frame number 100000·series;
  * angle/dolp for stimuli. */
 static int open_stack(simstack *ss, const char *name, size_t n, double angle, double dolp,
-		      uint64_t series)
+                      uint64_t series)
 {
 	memset(ss, 0, sizeof *ss);
 	char path[1024];
@@ -119,7 +124,8 @@ static int average(simstack *ss, size_t n, uint64_t first, pc_view *out)
 			acc[p] += row[p] / (float)n;
 	}
 	for (uint32_t y = 0; y < RH; y++)
-		memcpy((char *)out->data + y * out->stride, acc + (size_t)y * RW, RW * sizeof(float));
+		memcpy((char *)out->data + y * out->stride, acc + (size_t)y * RW,
+		       RW * sizeof(float));
 	free(acc);
 	free(row);
 	return rc;
@@ -138,11 +144,11 @@ static double aolp_err_deg(double a, double b)
 
 /* DoLP/AoLP RMS errors over the interior of a stimulus (dolp 0.5 at angle) */
 static void stokes_errors(pc_calib *cal, const pc_view *avg, double angle, double *e_dolp,
-			  double *e_aolp, double *w_dolp)
+                          double *e_aolp, double *w_dolp)
 {
 	float *buf = malloc(5 * RW * RH * sizeof *buf);
-	pc_stokes_out out = { 0 };
-	pc_fplane *pl[5] = { &out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp };
+	pc_stokes_out out = {0};
+	pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
 	for (int k = 0; k < 5; k++) {
 		pl[k]->data = buf + (size_t)k * RW * RH;
 		pl[k]->row_stride = RW;
@@ -155,7 +161,8 @@ static void stokes_errors(pc_calib *cal, const pc_view *avg, double angle, doubl
 	for (uint32_t y = 2; y < RH - 2; y++)
 		for (uint32_t x = 2; x < RW - 2; x++) {
 			size_t p = (size_t)y * RW + x;
-			double d = out.dolp.data[p] - 0.5, a = aolp_err_deg(out.aolp.data[p], angle * DEG);
+			double d = out.dolp.data[p] - 0.5,
+			       a = aolp_err_deg(out.aolp.data[p], angle * DEG);
 			sd += d * d;
 			sa += a * a;
 			wd = fmax(wd, fabs(d));
@@ -196,8 +203,9 @@ int main(void)
 	pc_sensor_figures fig;
 	pc_sim_get_sensor(dk.sim, &fig);
 	double K = fig.gain_dn_per_e, t = fig.exposure_us * 1e-6;
-	double sig_t = sqrt(K * K * (fig.read_noise_e * fig.read_noise_e + fig.dark_current_e_s * t) +
-			    1.0 / 12); /* read + dark shot + quantization, DN */
+	double sig_t =
+	    sqrt(K * K * (fig.read_noise_e * fig.read_noise_e + fig.dark_current_e_s * t) +
+	         1.0 / 12); /* read + dark shot + quantization, DN */
 	double worst = 0, noise = 0;
 	for (size_t p = 0; p < RW * RH; p++) {
 		worst = fmax(worst, fabs(dark.dark[p] - mean_dn(&dk, p)));
@@ -205,7 +213,8 @@ int main(void)
 	}
 	noise /= RW * RH;
 	printf("dark: worst |offset - truth| %.3f DN (sigma/sqrt(N) = %.3f), mean noise %.3f DN "
-	       "(model %.3f)\n", worst, sig_t / sqrt((double)ND), noise, sig_t);
+	       "(model %.3f)\n",
+	       worst, sig_t / sqrt((double)ND), noise, sig_t);
 	CHECK(worst < 6 * sig_t / sqrt((double)ND) + 0.05);
 	CHECK_REL(noise, sig_t, 0.1);
 	CHECK_NEAR(dark.black_level, fig.offset_dn, 0.2);
@@ -214,11 +223,11 @@ int main(void)
 	simstack fl, fh;
 	CHECK_EQ_INT(open_stack(&fl, "flat_low", NF, NAN, NAN, 2), 0);
 	CHECK_EQ_INT(open_stack(&fh, "flat_high", NF, NAN, NAN, 3), 0);
-	pc_calib_stack lv[2] = { fl.s, fh.s };
+	pc_calib_stack lv[2] = {fl.s, fh.s};
 	pc_calib flat;
 	CHECK_EQ_INT(pc_calib_flat(lv, 2, &dark, NULL, &flat), 0);
 	{
-		double cm[2][4] = { { 0 } }, cn[4] = { 0 }, *tr = malloc(RW * RH * sizeof *tr);
+		double cm[2][4] = {{0}}, cn[4] = {0}, *tr = malloc(RW * RH * sizeof *tr);
 		for (size_t p = 0; p < RW * RH; p++) {
 			unsigned c = pc_mosaic_channel(&dk.info.mosaic, p % RW, p / RW);
 			cm[0][c] += mean_dn(&fl, p) - mean_dn(&dk, p);
@@ -228,7 +237,8 @@ int main(void)
 		double s = 0;
 		for (size_t p = 0; p < RW * RH; p++) {
 			unsigned c = pc_mosaic_channel(&dk.info.mosaic, p % RW, p / RW);
-			tr[p] = (mean_dn(&fh, p) - mean_dn(&fl, p)) / ((cm[1][c] - cm[0][c]) / cn[c]);
+			tr[p] =
+			    (mean_dn(&fh, p) - mean_dn(&fl, p)) / ((cm[1][c] - cm[0][c]) / cn[c]);
 			s += tr[p];
 		}
 		double e2 = 0, gsd = 0;
@@ -257,7 +267,7 @@ int main(void)
 	}
 
 	/* ---- analyser, known angles ---- */
-	static const int ang[6] = { 0, 30, 60, 90, 120, 150 };
+	static const int ang[6] = {0, 30, 60, 90, 120, 150};
 	simstack pst[6];
 	pc_calib_stack stim[6];
 	for (int k = 0; k < 6; k++) {
@@ -273,7 +283,7 @@ int main(void)
 		/* per channel: mean orientation error = the preset's systematic offset (crosstalk
 		 * from the ±45° neighbours does not turn the analyser); mean diattenuation =
 		 * (1 − 4·crosstalk)·E[d] */
-		double oe[4] = { 0 }, dd = 0, n4[4] = { 0 };
+		double oe[4] = {0}, dd = 0, n4[4] = {0};
 		for (size_t p = 0; p < RW * RH; p++) {
 			unsigned c = pc_mosaic_channel(&dk.info.mosaic, p % RW, p / RW);
 			const float *a = cal.analysis + 3 * p;
@@ -282,7 +292,8 @@ int main(void)
 			n4[c]++;
 		}
 		double ed = (1 - 4 * fig.crosstalk) * expected_mean_d();
-		printf("analyser: mean diattenuation %.5f (model %.5f); orientation offsets", dd / (RW * RH), ed);
+		printf("analyser: mean diattenuation %.5f (model %.5f); orientation offsets",
+		       dd / (RW * RH), ed);
 		for (int c = 0; c < 4; c++) {
 			printf(" %.3f (%.2f)", oe[c] / n4[c], fig.orientation_offset_deg[c]);
 			/* random per-pixel errors average over 1024 pixels to 0.8°/32 = 0.025° */
@@ -298,9 +309,9 @@ int main(void)
 	uncal.geo = cal.geo;
 	uncal.black_level = dark.black_level;
 	uncal.saturation = cal.saturation;
-	static const int tang[4] = { 10, 55, 100, 145 };
-	double wc_d = 0, wc_a = 0, wu_d = INFINITY, wu_a = INFINITY, cal_d2 = 0, cal_a2 = 0, un_d2 = 0,
-	       un_a2 = 0;
+	static const int tang[4] = {10, 55, 100, 145};
+	double wc_d = 0, wc_a = 0, wu_d = INFINITY, wu_a = INFINITY, cal_d2 = 0, cal_a2 = 0,
+	       un_d2 = 0, un_a2 = 0;
 	for (int k = 0; k < 4; k++) {
 		char nm[64];
 		snprintf(nm, sizeof nm, "dolp50_%03d", tang[k]);
@@ -311,8 +322,10 @@ int main(void)
 		double cd, ca, ud, ua, cw;
 		stokes_errors(&cal, &avg, tang[k], &cd, &ca, &cw);
 		stokes_errors(&uncal, &avg, tang[k], &ud, &ua, NULL);
-		printf("DoLP 0.5 at %3d deg: calibrated DoLP RMS %.5f (worst %.4f) AoLP RMS %.4f deg; "
-		       "uncalibrated %.5f, %.4f deg\n", tang[k], cd, cw, ca, ud, ua);
+		printf(
+		    "DoLP 0.5 at %3d deg: calibrated DoLP RMS %.5f (worst %.4f) AoLP RMS %.4f deg; "
+		    "uncalibrated %.5f, %.4f deg\n",
+		    tang[k], cd, cw, ca, ud, ua);
 		cal_d2 += cd * cd / 4;
 		cal_a2 += ca * ca / 4;
 		un_d2 += ud * ud / 4;
@@ -325,8 +338,9 @@ int main(void)
 		close_stack(&ts);
 	}
 	printf("all: calibrated DoLP RMS %.5f AoLP RMS %.4f deg; uncalibrated %.5f %.4f deg "
-	       "(ratios %.1f, %.1f)\n", sqrt(cal_d2), sqrt(cal_a2), sqrt(un_d2), sqrt(un_a2),
-	       sqrt(un_d2 / cal_d2), sqrt(un_a2 / cal_a2));
+	       "(ratios %.1f, %.1f)\n",
+	       sqrt(cal_d2), sqrt(cal_a2), sqrt(un_d2), sqrt(un_a2), sqrt(un_d2 / cal_d2),
+	       sqrt(un_a2 / cal_a2));
 	CHECK(wc_d <= 0.002);
 	CHECK(wc_a <= 0.1);
 	CHECK(wu_d >= 10 * wc_d);
@@ -343,19 +357,19 @@ int main(void)
 		CHECK_EQ_INT(average(&ts, 64, 0, &avg), 0);
 		float *buf = malloc(5 * RW * RH * sizeof *buf);
 		uint8_t *valid = malloc(RW * RH);
-		double e2[2] = { 0, 0 };
+		double e2[2] = {0, 0};
 		size_t n = 0;
 		for (int pass = 0; pass < 2; pass++) {
-			pc_stokes_out out = { 0 };
-			pc_fplane *pl[5] = { &out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp };
+			pc_stokes_out out = {0};
+			pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
 			for (int k = 0; k < 5; k++) {
 				pl[k]->data = buf + (size_t)k * RW * RH;
 				pl[k]->row_stride = RW;
 				pl[k]->pixel_stride = 1;
 			}
-			CHECK_EQ_INT(pc_calib_stokes(pass ? &uncal : &cal, &avg, NULL, PC_DM_BILINEAR, 1, &out,
-						     valid, NULL),
-				     0);
+			CHECK_EQ_INT(pc_calib_stokes(pass ? &uncal : &cal, &avg, NULL,
+			                             PC_DM_BILINEAR, 1, &out, valid, NULL),
+			             0);
 			double s0s[RW * RH];
 			size_t m = 0;
 			for (size_t p = 0; p < RW * RH; p++)
@@ -375,8 +389,10 @@ int main(void)
 				}
 		}
 		double rc_ = sqrt(e2[0] / (double)n), ru = sqrt(e2[1] / (double)n);
-		printf("rendered scene (%zu high-signal pixels): DoLP RMSE calibrated %.5f, uncalibrated "
-		       "%.5f (ratio %.1f)\n", n, rc_, ru, ru / rc_);
+		printf("rendered scene (%zu high-signal pixels): DoLP RMSE calibrated %.5f, "
+		       "uncalibrated "
+		       "%.5f (ratio %.1f)\n",
+		       n, rc_, ru, ru / rc_);
 		CHECK(n > 500);
 		CHECK(ru >= 5 * rc_);
 		free(buf);
@@ -389,12 +405,13 @@ int main(void)
 	/* ---- self-calibration: the angles come back (up to the gauge: mean orientation error 0,
 	 * so every angle moves by minus the mean of the channel offsets) ---- */
 	{
-		pc_calib_opts o = { .unknown_angles = true };
+		pc_calib_opts o = {.unknown_angles = true};
 		pc_calib selfc;
 		double ea[6];
 		CHECK_EQ_INT(pc_calib_analyser(stim, 6, &flat, &o, &selfc, ea), 0);
 		double shift = -(fig.orientation_offset_deg[0] + fig.orientation_offset_deg[1] +
-				 fig.orientation_offset_deg[2] + fig.orientation_offset_deg[3]) / 4;
+		                 fig.orientation_offset_deg[2] + fig.orientation_offset_deg[3]) /
+		               4;
 		double w = 0;
 		for (int k = 0; k < 6; k++)
 			w = fmax(w, fabs(remainder(ea[k] - ang[k] - shift, 180)));
@@ -462,20 +479,20 @@ int main(void)
 		pc_calib bad;
 		CHECK_EQ_INT(pc_calib_analyser(stim, 2, &flat, NULL, &bad, NULL), PC_EINVAL);
 		CHECK(strstr(pc_error_detail(), "at least 3") != NULL);
-		pc_calib_stack sing[3] = { stim[0], stim[3], stim[0] }; /* 0, 90, 0: no sin 2θ */
+		pc_calib_stack sing[3] = {stim[0], stim[3], stim[0]}; /* 0, 90, 0: no sin 2θ */
 		CHECK_EQ_INT(pc_calib_analyser(sing, 3, &flat, NULL, &bad, NULL), PC_ENUMERIC);
 		CHECK(strstr(pc_error_detail(), "singular fit") != NULL);
-		pc_calib_opts o = { .saturation = 1500 }; /* the stimuli reach ~2800 DN */
+		pc_calib_opts o = {.saturation = 1500}; /* the stimuli reach ~2800 DN */
 		CHECK_EQ_INT(pc_calib_analyser(stim, 6, &flat, &o, &bad, NULL), PC_EINVAL);
 		CHECK(strstr(pc_error_detail(), "saturated") != NULL);
-		pc_calib_stack one[1] = { fl.s };
+		pc_calib_stack one[1] = {fl.s};
 		CHECK_EQ_INT(pc_calib_flat(one, 1, &dark, NULL, &bad), PC_EINVAL);
-		pc_calib_stack same[2] = { fl.s, fl.s };
+		pc_calib_stack same[2] = {fl.s, fl.s};
 		CHECK_EQ_INT(pc_calib_flat(same, 2, &dark, NULL, &bad), PC_ENUMERIC);
 		/* a recording of another ROI against the calibration */
 		simstack other;
 		CHECK_EQ_INT(open_stack(&other, "polarizer_000", 2, 0, 1, 5), 0);
-		pc_calib_stack moved[3] = { stim[0], stim[1], other.s };
+		pc_calib_stack moved[3] = {stim[0], stim[1], other.s};
 		moved[2].geo.offset_x += 2;
 		CHECK_EQ_INT(pc_calib_analyser(moved, 3, &flat, NULL, &bad, NULL), PC_EINVAL);
 		CHECK(strstr(pc_error_detail(), "ROI offset differs") != NULL);
@@ -487,21 +504,21 @@ int main(void)
 		double W[4][4], Ar[8][4], M[5][4][4];
 		/* PSG: polarizer at 0 + retarder 136° at 15.9, 51.0, −52.5, −14.6 (errors of a few
 		 * degrees); PSA: quarter-wave plates of 86° at 0.7° and 44.1° before the DoFP */
-		static const double ra[4] = { 15.9, 51.0, -52.5, -14.6 };
+		static const double ra[4] = {15.9, 51.0, -52.5, -14.6};
 		for (int g = 0; g < 4; g++) {
-			double R[4][4], s0[4] = { 1, 1, 0, 0 }, s[4];
+			double R[4][4], s0[4] = {1, 1, 0, 0}, s[4];
 			pc_retarder_mueller(ra[g] * DEG, 136 * DEG, R);
 			pc_mueller_apply(R, s0, s);
 			for (int i = 0; i < 4; i++)
 				W[i][g] = s[i] * (1 + 0.01 * g);
 		}
-		static const double pa[2] = { 0.7, 44.1 };
+		static const double pa[2] = {0.7, 44.1};
 		for (int a = 0; a < 2; a++) {
 			double R[4][4];
 			pc_retarder_mueller(pa[a] * DEG, 86 * DEG, R);
 			for (int c = 0; c < 4; c++) {
 				double th = (45.0 * c + 0.3 * c) * DEG;
-				double w[4] = { 0.5, 0.49 * cos(2 * th), 0.49 * sin(2 * th), 0 };
+				double w[4] = {0.5, 0.49 * cos(2 * th), 0.49 * sin(2 * th), 0};
 				for (int j = 0; j < 4; j++) {
 					Ar[4 * a + c][j] = 0;
 					for (int k = 0; k < 4; k++)
@@ -526,7 +543,7 @@ int main(void)
 							s += Ar[k][a] * M[i][a][b] * W[b][g];
 					B[i][k * 4 + g] = s;
 				}
-		const double *Bp[4] = { B[0], B[1], B[2], B[3] };
+		const double *Bp[4] = {B[0], B[1], B[2], B[3]};
 		pc_ecm_result r;
 		CHECK_EQ_INT(pc_ecm_solve(Bp, 4, 2, NULL, &r), 0);
 		CHECK_NEAR(r.theta_deg[2], 88.5, 1e-4);
@@ -536,13 +553,13 @@ int main(void)
 		for (int i = 0; i < 4; i++)
 			for (int g = 0; g < 4; g++)
 				e = fmax(e, fabs(r.W[i][g] - W[i][g] / m0));
-		printf("ECM exact: generator max error %.2e, theta %.6f %.6f, lambda15/16 %.3g\n", e,
-		       r.theta_deg[2], r.theta_deg[3], r.lambda15 / fmax(r.lambda16, 1e-300));
+		printf("ECM exact: generator max error %.2e, theta %.6f %.6f, lambda15/16 %.3g\n",
+		       e, r.theta_deg[2], r.theta_deg[3], r.lambda15 / fmax(r.lambda16, 1e-300));
 		CHECK(e < 1e-7);
 		/* the unseen sample through the recovered system: M = A⁺ B W⁻¹ */
 		pc_mueller_system sys;
-		double psg[4][4], psa[2][4][4], an[4][4] = { { 1, 0, 0, 0 }, { 0, 1, 0, 0 },
-							     { 0, 0, 1, 0 }, { 0, 0, 0, 1 } };
+		double psg[4][4], psa[2][4][4],
+		    an[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
 		for (int g = 0; g < 4; g++)
 			for (int i = 0; i < 4; i++)
 				psg[g][i] = r.W[i][g];
@@ -550,7 +567,9 @@ int main(void)
 			for (int i = 0; i < 4; i++)
 				memcpy(psa[a][i], r.A[4 * a + i], sizeof psa[a][i]);
 		CHECK_EQ_INT(pc_mueller_system_init(&sys, 4, (const double(*)[4])psg, 2,
-						    (const double(*)[4][4])psa, (const double(*)[4])an), 0);
+		                                    (const double(*)[4][4])psa,
+		                                    (const double(*)[4])an),
+		             0);
 		double I[32], Mx[4][4], em = 0;
 		for (int a = 0; a < 2; a++)
 			for (int g = 0; g < 4; g++)
@@ -563,7 +582,7 @@ int main(void)
 		printf("ECM exact: unseen sample max |M error| %.2e\n", em);
 		CHECK(em < 1e-7);
 		/* a bad reference set: air instead of the retarder (no retardance to see) */
-		const double *Bs[4] = { B[0], B[1], B[2], B[0] };
+		const double *Bs[4] = {B[0], B[1], B[2], B[0]};
 		int rc = pc_ecm_solve(Bs, 4, 2, NULL, &r);
 		CHECK_EQ_INT(rc, PC_ENUMERIC);
 		printf("ECM degenerate references: %s\n", pc_error_detail());
@@ -573,8 +592,8 @@ int main(void)
 	 * to 1°) in scenes/calib/ecm_*; the sample not used for calibration comes back within 2×
 	 * the error of the ideal polarimeter (no errors, nominal states) ---- */
 	{
-		static const char *const refs[4] = { "ecm_air", "ecm_polarizer_000", "ecm_polarizer_090",
-						     "ecm_retarder_030" };
+		static const char *const refs[4] = {"ecm_air", "ecm_polarizer_000",
+		                                    "ecm_polarizer_090", "ecm_retarder_030"};
 		simstack es[4];
 		pc_calib_stack estk[4];
 		for (int i = 0; i < 4; i++) {
@@ -584,20 +603,25 @@ int main(void)
 		pc_calib ecal;
 		pc_ecm_result r;
 		CHECK_EQ_INT(pc_calib_ecm(estk, 4, 2, NULL, &dark, NULL, &ecal, &r), 0);
-		printf("ECM sim: polarizer2 %.3f deg, retarder %.3f deg at %.3f deg, model residual "
-		       "%.2e\n", r.theta_deg[2], r.delta_deg[3], r.theta_deg[3], r.residual);
+		printf(
+		    "ECM sim: polarizer2 %.3f deg, retarder %.3f deg at %.3f deg, model residual "
+		    "%.2e\n",
+		    r.theta_deg[2], r.delta_deg[3], r.theta_deg[3], r.residual);
 		CHECK_NEAR(r.theta_deg[2], 90, 0.05);
 		CHECK_NEAR(r.theta_deg[3], 30, 0.05);
 		CHECK_NEAR(r.delta_deg[3], 90, 0.1);
 		/* truth: diattenuator D = 0.3 at 25° (p + q = 1), then a 60° retarder at 70° */
 		double Dm[4][4], Rm[4][4], T[4][4];
 		{
-			double th = 25 * DEG, D = 0.3, pp = (1 + D) / 2, q = (1 - D) / 2, rr = 2 * sqrt(pp * q);
+			double th = 25 * DEG, D = 0.3, pp = (1 + D) / 2, q = (1 - D) / 2,
+			       rr = 2 * sqrt(pp * q);
 			double c = cos(2 * th), sn = sin(2 * th);
-			double tm[4][4] = { { pp + q, (pp - q) * c, (pp - q) * sn, 0 },
-					   { (pp - q) * c, (pp + q) * c * c + rr * sn * sn, (pp + q - rr) * c * sn, 0 },
-					   { (pp - q) * sn, (pp + q - rr) * c * sn, (pp + q) * sn * sn + rr * c * c, 0 },
-					   { 0, 0, 0, rr } };
+			double tm[4][4] = {{pp + q, (pp - q) * c, (pp - q) * sn, 0},
+			                   {(pp - q) * c, (pp + q) * c * c + rr * sn * sn,
+			                    (pp + q - rr) * c * sn, 0},
+			                   {(pp - q) * sn, (pp + q - rr) * c * sn,
+			                    (pp + q) * sn * sn + rr * c * c, 0},
+			                   {0, 0, 0, rr}};
 			for (int i = 0; i < 4; i++)
 				for (int j = 0; j < 4; j++)
 					Dm[i][j] = 0.5 * tm[i][j];
@@ -608,18 +632,20 @@ int main(void)
 		double errs[2];
 		for (int pass = 0; pass < 2; pass++) {
 			simstack ss;
-			CHECK_EQ_INT(open_stack(&ss, pass ? "ecm_sample_ideal" : "ecm_sample", 16, NAN, NAN,
-						30 + pass), 0);
-			double I[32] = { 0 };
+			CHECK_EQ_INT(open_stack(&ss, pass ? "ecm_sample_ideal" : "ecm_sample", 16,
+			                        NAN, NAN, 30 + pass),
+			             0);
+			double I[32] = {0};
 			float *row = malloc(RW * RH * sizeof *row);
 			for (size_t j = 0; j < 16; j++) {
 				pc_view v;
 				CHECK_EQ_INT(sim_get(&ss, j, &v), 0);
 				pc_view_to_f32(&v, row, RW * sizeof(float));
 				pc_view_free(&v);
-				double sum[4] = { 0 }, n[4] = { 0 };
+				double sum[4] = {0}, n[4] = {0};
 				for (size_t p = 0; p < RW * RH; p++) {
-					unsigned c = pc_mosaic_channel(&ss.info.mosaic, p % RW, p / RW);
+					unsigned c =
+					    pc_mosaic_channel(&ss.info.mosaic, p % RW, p / RW);
 					sum[c] += row[p] - dark.dark[p];
 					n[c]++;
 				}
@@ -630,31 +656,37 @@ int main(void)
 			close_stack(&ss);
 			pc_mueller_system sys;
 			if (pass == 0) {
-				double psg[4][4], psa[2][4][4], an[4][4] = { { 1, 0, 0, 0 }, { 0, 1, 0, 0 },
-									     { 0, 0, 1, 0 }, { 0, 0, 0, 1 } };
+				double psg[4][4], psa[2][4][4],
+				    an[4][4] = {
+				        {1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
 				for (int g = 0; g < 4; g++)
 					for (int i = 0; i < 4; i++)
 						psg[g][i] = ecal.ecm_W[i][g];
 				for (int a = 0; a < 2; a++)
 					for (int i = 0; i < 4; i++)
-						memcpy(psa[a][i], ecal.ecm_A[4 * a + i], sizeof psa[a][i]);
-				CHECK_EQ_INT(pc_mueller_system_init(&sys, 4, (const double(*)[4])psg, 2,
-								    (const double(*)[4][4])psa,
-								    (const double(*)[4])an), 0);
+						memcpy(psa[a][i], ecal.ecm_A[4 * a + i],
+						       sizeof psa[a][i]);
+				CHECK_EQ_INT(pc_mueller_system_init(&sys, 4,
+				                                    (const double(*)[4])psg, 2,
+				                                    (const double(*)[4][4])psa,
+				                                    (const double(*)[4])an),
+				             0);
 			} else {
-				/* the nominal polarimeter: polarizer + 132° retarder at ±15.1°, ±51.7°,
-				 * quarter-wave plates at 0° and 45°, ideal DoFP rows */
-				static const double ra[4] = { 15.1, 51.7, -51.7, -15.1 };
+				/* the nominal polarimeter: polarizer + 132° retarder at ±15.1°,
+				 * ±51.7°, quarter-wave plates at 0° and 45°, ideal DoFP rows */
+				static const double ra[4] = {15.1, 51.7, -51.7, -15.1};
 				double psg[4][4], psa[2][4][4];
 				for (int g = 0; g < 4; g++) {
-					double R[4][4], s0[4] = { 1, 1, 0, 0 };
+					double R[4][4], s0[4] = {1, 1, 0, 0};
 					pc_retarder_mueller(ra[g] * DEG, 132 * DEG, R);
 					pc_mueller_apply(R, s0, psg[g]);
 				}
 				pc_retarder_mueller(0, 90 * DEG, psa[0]);
 				pc_retarder_mueller(45 * DEG, 90 * DEG, psa[1]);
-				CHECK_EQ_INT(pc_mueller_system_init(&sys, 4, (const double(*)[4])psg, 2,
-								    (const double(*)[4][4])psa, NULL), 0);
+				CHECK_EQ_INT(
+				    pc_mueller_system_init(&sys, 4, (const double(*)[4])psg, 2,
+				                           (const double(*)[4][4])psa, NULL),
+				    0);
 			}
 			double M[4][4], e2 = 0;
 			pc_mueller_solve(&sys, I, M);
@@ -664,7 +696,8 @@ int main(void)
 			}
 			errs[pass] = sqrt(e2 / 15);
 		}
-		printf("ECM sim: sample error (RMS of M/M00) calibrated %.5f, ideal polarimeter %.5f\n",
+		printf("ECM sim: sample error (RMS of M/M00) calibrated %.5f, ideal polarimeter "
+		       "%.5f\n",
 		       errs[0], errs[1]);
 		CHECK(errs[0] <= 2 * errs[1]);
 		CHECK(errs[0] < 0.01);

@@ -36,8 +36,8 @@ static int render(const char *scene, const char *out, const char *first, const c
 	char sp[1024];
 	const char *src = getenv("PC_SOURCE_DIR");
 	snprintf(sp, sizeof sp, "%s/scenes/calib/%s.json", src ? src : ".", scene);
-	return run_cli("render", sp, "-o", P(out), "--roi", "1000,800,32,32", "-n", n,
-		   "--first", first, "--no-truth", NULL);
+	return run_cli("render", sp, "-o", P(out), "--roi", "1000,800,32,32", "-n", n, "--first",
+	               first, "--no-truth", NULL);
 }
 
 int main(void)
@@ -60,14 +60,14 @@ int main(void)
 	CHECK_EQ_INT(render("polarizer_120", "p120", "500", "8"), 0);
 	CHECK_EQ_INT(render("polarizer_030", "p30", "600", "8"), 0);
 
-	CHECK_EQ_INT(run_cli("calibrate", "dark", P("dark"), "-o", P("d.npz"), "--json",
-			 NULL), 0);
-	CHECK_EQ_INT(run_cli("calibrate", "flat", P("fl"), P("fh"), "--dark", P("d.npz"),
-			 "-o", P("f.npz"), "--json", NULL), 0);
+	CHECK_EQ_INT(run_cli("calibrate", "dark", P("dark"), "-o", P("d.npz"), "--json", NULL), 0);
+	CHECK_EQ_INT(run_cli("calibrate", "flat", P("fl"), P("fh"), "--dark", P("d.npz"), "-o",
+	                     P("f.npz"), "--json", NULL),
+	             0);
 	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			 P("f.npz"), "-o", P("a.npz"), "--json", NULL), 0);
-	CHECK_EQ_INT(run_cli("calibrate", "show", P("a.npz"), "--pictures", P("pics"), NULL),
-		     0);
+	                     P("f.npz"), "-o", P("a.npz"), "--json", NULL),
+	             0);
+	CHECK_EQ_INT(run_cli("calibrate", "show", P("a.npz"), "--pictures", P("pics"), NULL), 0);
 	CHECK(exists(P("pics/gain.png")) && exists(P("pics/orientation_error.png")));
 	pc_calib c;
 	CHECK_EQ_INT(pc_calib_read(P("a.npz"), &c), 0);
@@ -77,31 +77,38 @@ int main(void)
 	pc_calib_free(&c);
 	/* explicit angles, the unknown-angles mode */
 	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			 P("f.npz"), "--angles", "0,60,120", "-o", P("a2.npz"), NULL), 0);
+	                     P("f.npz"), "--angles", "0,60,120", "-o", P("a2.npz"), NULL),
+	             0);
 	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p30"), P("p60"), P("p120"),
-			 "--flat", P("f.npz"), "--unknown-angles", "-o", P("a3.npz"), NULL), 0);
+	                     "--flat", P("f.npz"), "--unknown-angles", "-o", P("a3.npz"), NULL),
+	             0);
 
 	/* bad input: exit status, nothing written */
-	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), "--flat",
-			 P("f.npz"), "-o", P("bad1.npz"), NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), "--flat", P("f.npz"), "-o",
+	                     P("bad1.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad1.npz")));
 	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			 P("f.npz"), "--saturation", "1000", "-o", P("bad2.npz"), NULL), CLI_STATUS_USAGE);
+	                     P("f.npz"), "--saturation", "1000", "-o", P("bad2.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad2.npz")));
-	CHECK(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-		  P("f.npz"), "--angles", "0,90,0", "-o", P("bad3.npz"), NULL) != 0);
+	CHECK(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat", P("f.npz"),
+	              "--angles", "0,90,0", "-o", P("bad3.npz"), NULL) != 0);
 	CHECK(!exists(P("bad3.npz")));
 	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			 P("f.npz"), "--angles", "0,60", "-o", P("bad4.npz"), NULL), CLI_STATUS_USAGE);
+	                     P("f.npz"), "--angles", "0,60", "-o", P("bad4.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad4.npz")));
 	/* another ROI */
 	{
 		char sp[1024];
 		snprintf(sp, sizeof sp, "%s/scenes/calib/polarizer_120.json", src);
 		CHECK_EQ_INT(run_cli("render", sp, "-o", P("moved"), "--roi", "1002,800,32,32",
-				 "-n", "2", "--no-truth", NULL), 0);
+		                     "-n", "2", "--no-truth", NULL),
+		             0);
 		CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("moved"),
-				 "--flat", P("f.npz"), "-o", P("bad5.npz"), NULL), CLI_STATUS_USAGE);
+		                     "--flat", P("f.npz"), "-o", P("bad5.npz"), NULL),
+		             CLI_STATUS_USAGE);
 		CHECK(!exists(P("bad5.npz")));
 	}
 	/* a corrupt calibration file */
@@ -110,56 +117,64 @@ int main(void)
 		fputs("PK\003\004 this is not a zip archive", f);
 		fclose(f);
 		CHECK(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			  P("corrupt.npz"), "-o", P("bad6.npz"), NULL) != 0);
+		              P("corrupt.npz"), "-o", P("bad6.npz"), NULL) != 0);
 		CHECK(!exists(P("bad6.npz")));
 		CHECK(run_cli("calibrate", "show", P("corrupt.npz"), NULL) != 0);
 	}
 	/* a dark file given as --flat */
 	CHECK_EQ_INT(run_cli("calibrate", "analyser", P("p0"), P("p60"), P("p120"), "--flat",
-			 P("d.npz"), "-o", P("bad7.npz"), NULL), CLI_STATUS_USAGE);
+	                     P("d.npz"), "-o", P("bad7.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad7.npz")));
 
 	/* the .npz opens with Python's zipfile and its members are NumPy 1.0 arrays */
 	if (system("python3 -c 'import zipfile' >/dev/null 2>&1") == 0) {
 		char cmd[2048];
-		snprintf(cmd, sizeof cmd,
-			 "python3 -c \"import zipfile, ast, struct, json, sys\n"
-			 "z = zipfile.ZipFile('%s')\n"
-			 "names = set(z.namelist())\n"
-			 "assert {'meta.npy', 'dark.npy', 'gain.npy', 'analysis.npy', 'valid.npy'} <= names, names\n"
-			 "b = z.read('analysis.npy')\n"
-			 "assert b[:6] == b'\\\\x93NUMPY'\n"
-			 "h = ast.literal_eval(b[10:10 + struct.unpack('<H', b[8:10])[0]].decode())\n"
-			 "assert h['shape'] == (32, 32, 3) and h['descr'] == '<f4', h\n"
-			 "m = z.read('meta.npy'); hl = struct.unpack('<H', m[8:10])[0]\n"
-			 "meta = json.loads(m[10 + hl:].decode())\n"
-			 "assert meta['polarcam_calibration'] == 1 and meta['offset_x'] == 1000, meta\n\"",
-			 P("a.npz"));
+		snprintf(
+		    cmd, sizeof cmd,
+		    "python3 -c \"import zipfile, ast, struct, json, sys\n"
+		    "z = zipfile.ZipFile('%s')\n"
+		    "names = set(z.namelist())\n"
+		    "assert {'meta.npy', 'dark.npy', 'gain.npy', 'analysis.npy', 'valid.npy'} <= "
+		    "names, names\n"
+		    "b = z.read('analysis.npy')\n"
+		    "assert b[:6] == b'\\\\x93NUMPY'\n"
+		    "h = ast.literal_eval(b[10:10 + struct.unpack('<H', b[8:10])[0]].decode())\n"
+		    "assert h['shape'] == (32, 32, 3) and h['descr'] == '<f4', h\n"
+		    "m = z.read('meta.npy'); hl = struct.unpack('<H', m[8:10])[0]\n"
+		    "meta = json.loads(m[10 + hl:].decode())\n"
+		    "assert meta['polarcam_calibration'] == 1 and meta['offset_x'] == 1000, "
+		    "meta\n\"",
+		    P("a.npz"));
 		CHECK_EQ_INT(system(cmd), 0);
 	} else {
 		printf("python3 not found: the zipfile check is skipped\n");
 	}
 
 	/* ECM end to end: references → calibration + states file → polarcam mueller */
-	static const char *const refs[4] = { "ecm_air", "ecm_polarizer_000", "ecm_polarizer_090",
-					     "ecm_retarder_030" };
+	static const char *const refs[4] = {"ecm_air", "ecm_polarizer_000", "ecm_polarizer_090",
+	                                    "ecm_retarder_030"};
 	for (int i = 0; i < 4; i++)
 		CHECK_EQ_INT(render(refs[i], refs[i], "1000", "16"), 0);
 	CHECK_EQ_INT(render("ecm_sample", "sample", "2000", "8"), 0);
 	char st[1024];
 	snprintf(st, sizeof st, "%s/scenes/calib/ecm_nominal_states.json", src);
 	CHECK_EQ_INT(run_cli("calibrate", "ecm", "--states", st, "--air", P("ecm_air"),
-			 "--polarizer", P("ecm_polarizer_000"), "--polarizer2", P("ecm_polarizer_090"),
-			 "--retarder", P("ecm_retarder_030"), "--dark", P("d.npz"), "-o", P("ecm.npz"),
-			 "--states-out", P("ecm_states.json"), "--json", NULL), 0);
+	                     "--polarizer", P("ecm_polarizer_000"), "--polarizer2",
+	                     P("ecm_polarizer_090"), "--retarder", P("ecm_retarder_030"), "--dark",
+	                     P("d.npz"), "-o", P("ecm.npz"), "--states-out", P("ecm_states.json"),
+	                     "--json", NULL),
+	             0);
 	CHECK(exists(P("ecm_states.json")));
-	CHECK_EQ_INT(run_cli("mueller", P("sample"), "--states", P("ecm_states.json"), "-o",
-			 P("m"), NULL), 0);
+	CHECK_EQ_INT(
+	    run_cli("mueller", P("sample"), "--states", P("ecm_states.json"), "-o", P("m"), NULL),
+	    0);
 	CHECK(exists(P("m/mueller.npy")));
 	/* ECM with a missing reference: usage error, nothing written */
 	CHECK_EQ_INT(run_cli("calibrate", "ecm", "--states", st, "--air", P("ecm_air"),
-			 "--polarizer", P("ecm_polarizer_000"), "--retarder", P("ecm_retarder_030"),
-			 "-o", P("bad8.npz"), NULL), CLI_STATUS_USAGE);
+	                     "--polarizer", P("ecm_polarizer_000"), "--retarder",
+	                     P("ecm_retarder_030"), "-o", P("bad8.npz"), NULL),
+	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("bad8.npz")));
 
 	char rm[1200];

@@ -117,9 +117,10 @@ static void test_render_identical(void)
 	CHECK_EQ_INT(run(a), 2);
 	CHECK(strstr(out, "exists and is not empty") != NULL);
 	/* --keep-every 2 over 3 frames keeps frames 0 and 2 (the last) */
-	snprintf(a, sizeof a,
-		 "capture 'sim:%s?seed=11&fps=0' -n 3 -o '%s/c' --process --keep-every 2 --overwrite",
-		 scene, tmp);
+	snprintf(
+	    a, sizeof a,
+	    "capture 'sim:%s?seed=11&fps=0' -n 3 -o '%s/c' --process --keep-every 2 --overwrite",
+	    scene, tmp);
 	CHECK_EQ_INT(run(a), 0);
 	for (int k = 0; k < 3; k++) {
 		snprintf(p0, sizeof p0, "%s/c/processed/dolp_%06d.npy", tmp, k);
@@ -194,7 +195,7 @@ static void test_colour(const char *src)
 	snprintf(a, sizeof a, "render '%s' -o '%s/rc' -n 2 -s 11 --no-truth", cs, tmp);
 	CHECK_EQ_INT(run(a), 0);
 	snprintf(a, sizeof a, "capture 'sim:%s?seed=11&fps=0' -n 2 -o '%s/cc' --process --json", cs,
-		 tmp);
+	         tmp);
 	CHECK_EQ_INT(run(a), 0);
 	CHECK(strstr(out, "\"method\":\"bayer-first\"") != NULL);
 	CHECK(strstr(out, "\"mosaic\":\"RGGB:90,45,135,0\"") != NULL);

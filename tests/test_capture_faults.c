@@ -32,7 +32,7 @@ static int run(const char *args, json_t **rep, char *err, size_t err_size)
 	char cmd[3000], ep[200];
 	snprintf(ep, sizeof ep, "%s/last.err", tmp);
 	snprintf(cmd, sizeof cmd, "'%s' %s%s 2>'%s'", polarcam, args,
-		 strncmp(args, "capture ", 8) ? "" : " --json", ep);
+	         strncmp(args, "capture ", 8) ? "" : " --json", ep);
 	FILE *p = popen(cmd, "r");
 	if (!p)
 		return -1;
@@ -90,7 +90,8 @@ static size_t check_frames(const char *dir, uint64_t *seq, size_t max, unsigned 
 			       sf_checksum(&v) != frames.sum_cut[fr->sequence];
 			v.height++;
 		} else {
-			bad += fr->sequence >= frames.n || sf_checksum(&v) != frames.sum[fr->sequence];
+			bad +=
+			    fr->sequence >= frames.n || sf_checksum(&v) != frames.sum[fr->sequence];
 		}
 		pc_view_free(&v);
 	}
@@ -107,22 +108,22 @@ static void test_policies(void)
 	unsigned flagged;
 	/* skip: frames 2 and 5 are damaged; the recording is 0 1 3 4 6 7, complete */
 	snprintf(a, sizeof a, "capture 'sim:%s?seed=5&fps=0&corrupt_every=3' -n 6 -o '%s/skip'",
-		 scene, tmp);
+	         scene, tmp);
 	CHECK_EQ_INT(run(a, &rep, err, sizeof err), 0);
 	CHECK(json_is_true(json_object_get(rep, "complete")));
 	CHECK_EQ_INT(geti(rep, "incomplete", "skipped"), 2);
 	json_decref(rep);
 	snprintf(a, sizeof a, "%s/skip", tmp);
 	CHECK_EQ_INT(check_frames(a, seq, 64, &flagged), 6);
-	static const uint64_t want_skip[6] = { 0, 1, 3, 4, 6, 7 };
+	static const uint64_t want_skip[6] = {0, 1, 3, 4, 6, 7};
 	for (int i = 0; i < 6; i++)
 		CHECK_EQ_INT(seq[i], want_skip[i]);
 	CHECK_EQ_INT(flagged, 0);
 	/* keep: 0..5 with 2 and 5 flagged; not complete, exit 1 */
 	snprintf(a, sizeof a,
-		 "capture 'sim:%s?seed=5&fps=0&corrupt_every=3' -n 6 -o '%s/keep' --incomplete "
-		 "keep",
-		 scene, tmp);
+	         "capture 'sim:%s?seed=5&fps=0&corrupt_every=3' -n 6 -o '%s/keep' --incomplete "
+	         "keep",
+	         scene, tmp);
 	CHECK_EQ_INT(run(a, &rep, err, sizeof err), 1);
 	CHECK(json_is_false(json_object_get(rep, "complete")));
 	CHECK_EQ_INT(geti(rep, "incomplete", "kept"), 2);
@@ -135,9 +136,9 @@ static void test_policies(void)
 	CHECK_EQ_INT(flagged, 2);
 	/* fail: stops at frame 2 with frames 0 and 1 recorded */
 	snprintf(a, sizeof a,
-		 "capture 'sim:%s?seed=5&fps=0&corrupt_every=3' -n 6 -o '%s/fail' --incomplete "
-		 "fail",
-		 scene, tmp);
+	         "capture 'sim:%s?seed=5&fps=0&corrupt_every=3' -n 6 -o '%s/fail' --incomplete "
+	         "fail",
+	         scene, tmp);
 	CHECK_EQ_INT(run(a, &rep, err, sizeof err), 1);
 	CHECK(strstr(err, "sequence 2") != NULL);
 	CHECK_EQ_INT(geti(rep, "frames", NULL), 2);
@@ -146,7 +147,7 @@ static void test_policies(void)
 	CHECK_EQ_INT(check_frames(a, seq, 64, &flagged), 2);
 	/* every frame damaged: skip gives up after frames + 10 */
 	snprintf(a, sizeof a, "capture 'sim:%s?seed=5&fps=0&corrupt_every=1' -n 2 -o '%s/allbad'",
-		 scene, tmp);
+	         scene, tmp);
 	CHECK_EQ_INT(run(a, &rep, err, sizeof err), 1);
 	CHECK(rep == NULL); /* no frame: no recording, nothing put in place (the output rule) */
 	CHECK(strstr(err, "13 damaged frames skipped") != NULL);
@@ -167,8 +168,8 @@ static void test_slow_writer(void)
 	char a[2000], err[4096];
 	json_t *rep = NULL;
 	snprintf(a, sizeof a,
-		 "capture 'sim:%s?seed=5&fps=30' -n 24 -o '%s/slow' --write-delay-ms 100", scene,
-		 tmp);
+	         "capture 'sim:%s?seed=5&fps=30' -n 24 -o '%s/slow' --write-delay-ms 100", scene,
+	         tmp);
 	CHECK_EQ_INT(run(a, &rep, err, sizeof err), 0);
 	CHECK(json_is_true(json_object_get(rep, "complete")));
 	json_t *q = json_object_get(rep, "queue");
@@ -200,9 +201,9 @@ static void test_queue_full(void)
 	char a[2000], err[4096];
 	json_t *rep = NULL;
 	snprintf(a, sizeof a,
-		 "capture 'sim:%s?seed=5&fps=30' -n 20 -o '%s/full' --write-delay-ms 100 "
-		 "--queue-mb 1",
-		 scene, tmp);
+	         "capture 'sim:%s?seed=5&fps=30' -n 20 -o '%s/full' --write-delay-ms 100 "
+	         "--queue-mb 1",
+	         scene, tmp);
 	CHECK_EQ_INT(run(a, &rep, err, sizeof err), 1);
 	CHECK(json_is_false(json_object_get(rep, "complete")));
 	json_int_t lost = geti(rep, "queue", "lost");
@@ -228,18 +229,18 @@ static void test_queue_full(void)
 /* The three stores hold the same frames; file: reads each back. */
 static void test_stores(void)
 {
-	static const char *const stores[] = { "png", "npy", "raw" };
+	static const char *const stores[] = {"png", "npy", "raw"};
 	char a[2000], err[4096];
 	for (int s = 0; s < 3; s++) {
 		snprintf(a, sizeof a, "capture 'sim:%s?seed=5&fps=0' -n 3 -o '%s/st_%s' --store %s",
-			 scene, tmp, stores[s], stores[s]);
+		         scene, tmp, stores[s], stores[s]);
 		CHECK_EQ_INT(run(a, NULL, err, sizeof err), 0);
 		char f[300];
 		snprintf(f, sizeof f, "%s/st_%s/raw_000002.%s", tmp, stores[s], stores[s]);
 		CHECK(access(f, F_OK) == 0);
 		/* replayed by file: into a PNG recording */
 		snprintf(a, sizeof a, "capture 'file:%s/st_%s' -n 3 -o '%s/re_%s'", tmp, stores[s],
-			 tmp, stores[s]);
+		         tmp, stores[s]);
 		CHECK_EQ_INT(run(a, NULL, err, sizeof err), 0);
 		uint64_t seq[8];
 		unsigned flagged;
@@ -268,7 +269,7 @@ static void test_stores(void)
 	CHECK(strstr(err, "png, npy or raw") != NULL);
 	/* render --store npy: the simulator's frames, read by the recording reader */
 	snprintf(a, sizeof a, "render '%s' -o '%s/rnpy' -n 2 -s 5 --no-truth --store npy", scene,
-		 tmp);
+	         tmp);
 	CHECK_EQ_INT(run(a, NULL, err, sizeof err), 0);
 	uint64_t seq[4];
 	unsigned flagged;

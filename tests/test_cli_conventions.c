@@ -47,7 +47,7 @@ static int run_env(const char *pre, const char *args)
 {
 	char cmd[4096];
 	snprintf(cmd, sizeof cmd, "cd '%s' && %s '%s' %s >out.txt 2>err.txt", dir, pre ? pre : "",
-		 exe, args);
+	         exe, args);
 	int st = system(cmd);
 	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
@@ -156,8 +156,7 @@ static int json_lines(void)
 
 /* One writing command: first run 0, again 2 naming the output, a stray file in it, then
  * --overwrite 0 with the stray file gone and nothing left beside. */
-static void check_overwrite(const char *what, const char *args, const char *out,
-			    const char *marker)
+static void check_overwrite(const char *what, const char *args, const char *out, const char *marker)
 {
 	char a[2048], stray[600];
 	snprintf(a, sizeof a, "%s %s", args, out);
@@ -191,27 +190,31 @@ static void test_outputs(void)
 {
 	char a[2048];
 	snprintf(a, sizeof a, "render '%s/scenes/ideal_small.json' -n 2 --seed 2 --roi %s -o", src,
-		 ROI);
+	         ROI);
 	check_overwrite("render", a, "rec", "rec/meta.json");
 	check_overwrite("process", "process rec/raw_000000.png -o", "p", "p/meta.json");
 	check_overwrite("process batch", "process rec -o", "pb", "pb/meta.json");
 	check_overwrite("demosaic", "demosaic rec/raw_000000.png -o", "i.npy", "i.npy");
-	snprintf(a, sizeof a, "capture 'sim:%s/scenes/ideal_small.json?fps=0' --roi %s -n 2 "
-			      "--process -o", src, ROI);
+	snprintf(a, sizeof a,
+	         "capture 'sim:%s/scenes/ideal_small.json?fps=0' --roi %s -n 2 "
+	         "--process -o",
+	         src, ROI);
 	check_overwrite("capture", a, "cap", "cap/meta.json");
 	snprintf(a, sizeof a, "render '%s/scenes/mueller_tetrahedral.json' --roi 0,0,64,48 -o seq",
-		 src);
+	         src);
 	CHECK_EQ_INT(run(a), 0);
 	check_overwrite("mueller", "mueller seq --no-mueller -o", "m", "m/mueller.json");
 	check_overwrite("figures", "figures -o", "fig", "fig/figures.md");
-	snprintf(a, sizeof a, "demo --scene '%s/scenes/ideal_small.json' --methods bilinear,ratio "
-			      "--no-mueller -o", src);
+	snprintf(a, sizeof a,
+	         "demo --scene '%s/scenes/ideal_small.json' --methods bilinear,ratio "
+	         "--no-mueller -o",
+	         src);
 	check_overwrite("demo", a, "demo", "demo/report.json");
 	snprintf(a, sizeof a, "render '%s/scenes/calib/dark.json' -n 2 --roi %s -o dark", src, ROI);
 	CHECK_EQ_INT(run(a), 0);
 	CHECK_EQ_INT(run("calibrate dark dark -o cal.npz"), 0);
 	check_overwrite("calibrate show", "calibrate show cal.npz --pictures", "maps",
-			"maps/meta.json");
+	                "maps/meta.json");
 	/* calibrate -o: an existing file is refused, but the file a step starts from (--dark,
 	 * --flat) may be its output: the step updates it */
 	CHECK_EQ_INT(run("calibrate dark dark -o cal.npz"), 2);
@@ -242,7 +245,7 @@ static void test_outputs(void)
 	snprintf(keep, sizeof keep, "cp -r '%s/p' '%s/p.before'", dir, dir);
 	CHECK_EQ_INT(system(keep), 0);
 	CHECK(run_env("trap '' XFSZ; ulimit -f 64;",
-		      "process rec/raw_000001.png -o p --overwrite --picture-width 0") != 0);
+	              "process rec/raw_000001.png -o p --overwrite --picture-width 0") != 0);
 	CHECK(contains(tmp("err.txt"), "write") || contains(tmp("err.txt"), "large"));
 	CHECK(same_bytes(tmp("p/stokes.npy"), tmp("p.before/stokes.npy")));
 	CHECK(same_bytes(tmp("p/meta.json"), tmp("p.before/meta.json")));
@@ -261,7 +264,7 @@ static void test_exit_statuses(void)
 	CHECK(contains(tmp("err.txt"), "polarcam-no-such-node"));
 	/* no display for the window */
 	CHECK_EQ_INT(run_env("env -u DISPLAY -u WAYLAND_DISPLAY", "view sim:default --frames 1"),
-		     77);
+	             77);
 	/* bad arguments: 2 */
 	CHECK_EQ_INT(run("capture nosuch:x -n 1 -o x"), 2);
 	CHECK_EQ_INT(run("process"), 2);
@@ -299,14 +302,15 @@ static void test_stdout_stderr(void)
 {
 	char a[2048];
 	snprintf(a, sizeof a, "render '%s/scenes/ideal_small.json' -n 3 --roi %s -o r2 --overwrite",
-		 src, ROI);
+	         src, ROI);
 	check_split(a, 1);
 	check_split("process r2 -o p2 --overwrite", 1);
 	check_split("process r2/raw_000000.png -o p3 --overwrite", 1);
 	check_split("demosaic r2/raw_000000.png -o i2.npy --overwrite", 1);
-	snprintf(a, sizeof a, "capture 'sim:%s/scenes/ideal_small.json?fps=0' --roi %s -n 2 -o c2 "
-			      "--overwrite",
-		 src, ROI);
+	snprintf(a, sizeof a,
+	         "capture 'sim:%s/scenes/ideal_small.json?fps=0' --roi %s -n 2 -o c2 "
+	         "--overwrite",
+	         src, ROI);
 	check_split(a, 1);
 	check_split("mueller seq -o m2 --overwrite", 1);
 	check_split("figures -o f2 --overwrite", 0);
@@ -364,21 +368,22 @@ static void test_help_examples_all(void)
 			char want[64];
 			snprintf(want, sizeof want, "  polarcam %s ", names[c]);
 			bool ok = !strncmp(e, want, strlen(want)) ||
-				  !strcmp(e + 2, want + 2 + 0) /* no arguments */ ||
-				  (strlen(e) == strlen(want) - 1 && !strncmp(e, want, strlen(e)));
+			          !strcmp(e + 2, want + 2 + 0) /* no arguments */ ||
+			          (strlen(e) == strlen(want) - 1 && !strncmp(e, want, strlen(e)));
 			CHECK(ok);
 			if (!ok)
 				fprintf(stderr, "%s: not an example of it: '%s'\n", names[c], e);
 			nex++;
 			char cmd[4096];
-			snprintf(cmd, sizeof cmd, "cd '%s' && POLARCAM_PARSE_ONLY=1 '%s' %s >out2.txt 2>&1",
-				 dir, exe, e + strlen("  polarcam "));
+			snprintf(cmd, sizeof cmd,
+			         "cd '%s' && POLARCAM_PARSE_ONLY=1 '%s' %s >out2.txt 2>&1", dir,
+			         exe, e + strlen("  polarcam "));
 			int st = system(cmd);
 			int code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 			if (code != 0) {
 				char *o = slurp(tmp("out2.txt"), NULL);
-				fprintf(stderr, "example does not parse (exit %d): %s\n%s\n", code, e,
-					o ? o : "");
+				fprintf(stderr, "example does not parse (exit %d): %s\n%s\n", code,
+				        e, o ? o : "");
 				free(o);
 			}
 			CHECK_EQ_INT(code, 0);
@@ -417,14 +422,14 @@ static void test_batch(void)
 {
 	char a[2048];
 	snprintf(a, sizeof a, "render '%s/scenes/ideal_small.json' -n 3 --seed 4 --roi %s -o br",
-		 src, ROI);
+	         src, ROI);
 	CHECK_EQ_INT(run(a), 0);
 	CHECK_EQ_INT(run("process br -o bp --method ratio"), 0);
 	CHECK_EQ_INT(run("process br/raw_000000.png br/raw_000001.png br/raw_000002.png -o bf "
-			 "--method ratio"),
-		     0);
+	                 "--method ratio"),
+	             0);
 	CHECK_EQ_INT(run("process br -o bs --method ratio --stack"), 0);
-	static const char *q[3] = { "stokes", "dolp", "aolp" };
+	static const char *q[3] = {"stokes", "dolp", "aolp"};
 	size_t ls[3];
 	char *stack[3];
 	for (int k = 0; k < 3; k++) {
@@ -482,19 +487,27 @@ static void test_batch(void)
 static void write_npy(const char *path, const char *descr)
 {
 	char hdr[128];
-	int n = snprintf(hdr, sizeof hdr, "{'descr': '%s', 'fortran_order': False, 'shape': (2, 2), }",
-			 descr);
+	int n = snprintf(hdr, sizeof hdr,
+	                 "{'descr': '%s', 'fortran_order': False, 'shape': (2, 2), }", descr);
 	while ((n + 10 + 1) % 64)
 		hdr[n++] = ' ';
 	hdr[n++] = '\n';
 	FILE *fp = fopen(path, "wb");
 	if (!fp)
 		return;
-	unsigned char pre[10] = { 0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0, (unsigned char)(n & 0xff),
-				  (unsigned char)(n >> 8) };
+	unsigned char pre[10] = {0x93,
+	                         'N',
+	                         'U',
+	                         'M',
+	                         'P',
+	                         'Y',
+	                         1,
+	                         0,
+	                         (unsigned char)(n & 0xff),
+	                         (unsigned char)(n >> 8)};
 	fwrite(pre, 1, sizeof pre, fp);
 	fwrite(hdr, 1, (size_t)n, fp);
-	int32_t v[4] = { 1, 2, 3, 4 };
+	int32_t v[4] = {1, 2, 3, 4};
 	fwrite(v, sizeof v, 1, fp);
 	fclose(fp);
 }
@@ -506,8 +519,8 @@ static void test_messages(void)
 	CHECK_EQ_INT(run("process rec/raw_000000.png --bits 8 -o msg1"), 2);
 	CHECK(contains(tmp("err.txt"), "holds 12-bit data in 16-bit samples, not 8-bit data"));
 	CHECK(!exists(tmp("msg1")));
-	/* an int32 .npy: the dtype as written, without a stray quote (outputs msgN: test_stdout_stderr
-	 * wrote m2) */
+	/* an int32 .npy: the dtype as written, without a stray quote (outputs msgN:
+	 * test_stdout_stderr wrote m2) */
 	write_npy(tmp("i4.npy"), "<i4");
 	CHECK_EQ_INT(run("process i4.npy -o msg2"), 2);
 	CHECK(contains(tmp("err.txt"), "i4.npy: dtype '<i4' not supported"));
@@ -519,7 +532,7 @@ static void test_messages(void)
 	/* a scene that cannot be opened: the system's reason */
 	CHECK_EQ_INT(run("render no_such_scene.json -o msg4"), 2);
 	CHECK(contains(tmp("err.txt"), "no_such_scene.json: cannot open the scene file: No such "
-				       "file or directory"));
+	                               "file or directory"));
 	/* mueller of a recording made without polarization states */
 	CHECK_EQ_INT(run("mueller rec -o msg5"), 2);
 	CHECK(contains(tmp("err.txt"), "no states.json"));
@@ -527,7 +540,8 @@ static void test_messages(void)
 	/* view --screenshot names a PNG or is refused before anything is opened (it wrote PNG
 	 * data under a .jpg name) */
 	CHECK_EQ_INT(run_env("env -u DISPLAY -u WAYLAND_DISPLAY",
-			     "view sim:default --frames 1 --screenshot shot.jpg"), 2);
+	                     "view sim:default --frames 1 --screenshot shot.jpg"),
+	             2);
 	CHECK(contains(tmp("err.txt"), "shot.jpg: screenshots are written as PNG only"));
 	CHECK(!exists(tmp("shot.jpg")));
 	/* a DoLP range outside (0, 1] */

@@ -29,8 +29,8 @@ static int level_from_cpuinfo(void)
 		if (strncmp(line, "flags", 5) != 0)
 			continue;
 		/* whole words only: "avx512f" must not match "avx512fp16" alone */
-		const char *want2[] = { " avx2", " fma" };
-		const char *want5[] = { " avx512f", " avx512vl", " avx512dq", " avx512bw" };
+		const char *want2[] = {" avx2", " fma"};
+		const char *want5[] = {" avx512f", " avx512vl", " avx512dq", " avx512bw"};
 		bool has2 = true, has5 = true;
 		char *nl = strchr(line, '\n');
 		if (nl)
@@ -62,7 +62,7 @@ static int level_in_child(const char *self, const char *value)
 		setenv("POLARCAM_CPU", value, 1);
 	else
 		unsetenv("POLARCAM_CPU");
-	char *argv[] = { (char *)self, (char *)"--print-level", NULL };
+	char *argv[] = {(char *)self, (char *)"--print-level", NULL};
 	pid_t pid = pc_child_spawn(argv, -1, NULL);
 	int st = pc_child_wait(pid, 30000, NULL);
 	unsetenv("POLARCAM_CPU");
@@ -103,7 +103,7 @@ int main(int argc, char **argv)
 	/* the automatic choice without the environment variable is the supported level */
 	CHECK_EQ_INT(level_in_child(argv[0], NULL), sup);
 	/* the cap: never above what the machine has; unknown names give the baseline */
-	const char *names[] = { "baseline", "avx2", "avx512" };
+	const char *names[] = {"baseline", "avx2", "avx512"};
 	for (int l = 0; l < PC_CPU_LEVELS; l++)
 		CHECK_EQ_INT(level_in_child(argv[0], names[l]), l < (int)sup ? l : (int)sup);
 	CHECK_EQ_INT(level_in_child(argv[0], "sse9"), PC_CPU_BASELINE);

@@ -191,13 +191,13 @@ static void round_trip(enum lc_kind kind, stats *st, double tol_scale)
 static void test_round_trips(void)
 {
 	static const char *names[LC_NKINDS] = {"general",
-	                                      "pure diattenuator",
-	                                      "pure retarder",
-	                                      "isotropic depolariser",
-	                                      "two equal eigenvalues",
-	                                      "det m' < 0",
-	                                      "D = 0.99999, 1 - 2e-6",
-	                                      "R at 0 and pi"};
+	                                       "pure diattenuator",
+	                                       "pure retarder",
+	                                       "isotropic depolariser",
+	                                       "two equal eigenvalues",
+	                                       "det m' < 0",
+	                                       "D = 0.99999, 1 - 2e-6",
+	                                       "R at 0 and pi"};
 	int total = 0;
 	for (int k = 0; k < LC_NKINDS; k++) {
 		stats st = {names[k], 0, 0, 0, 0, 0, 0, 0};
@@ -283,7 +283,7 @@ static void test_against_reference(void)
 					M[i][j] = i + j ? nrand() * 0.4 : 1;
 		if (!(M[0][0] > 0.2))
 			continue;
-		ref_lc r = { 0 };
+		ref_lc r = {0};
 		ref_decompose(M, &r);
 		pc_lu_chipman lc;
 		CHECK_EQ_INT(pc_lu_chipman_decompose(M, 0, &lc), 0);

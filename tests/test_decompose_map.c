@@ -62,7 +62,7 @@ static void maps_alloc(maps *m, size_t n)
 
 static void maps_free(maps *m)
 {
-	double *all[] = {m->D,  m->Dv[0], m->Dv[1], m->Dv[2], m->R,     m->ax[0],
+	double *all[] = {m->D,     m->Dv[0], m->Dv[1], m->Dv[2], m->R,     m->ax[0],
 	                 m->ax[1], m->ax[2], m->Rl,    m->Rc,    m->Delta, m->di};
 	for (size_t k = 0; k < sizeof all / sizeof all[0]; k++)
 		free(all[k]);
@@ -71,14 +71,10 @@ static void maps_free(maps *m)
 
 static pc_lc_map maps_view(const maps *m, size_t off)
 {
-	pc_lc_map v = {m->D + off,
-	               {m->Dv[0] + off, m->Dv[1] + off, m->Dv[2] + off},
-	               m->R + off,
-	               {m->ax[0] + off, m->ax[1] + off, m->ax[2] + off},
-	               m->Rl + off,
-	               m->Rc + off,
-	               m->Delta + off,
-	               m->di + off,
+	pc_lc_map v = {m->D + off,     {m->Dv[0] + off, m->Dv[1] + off, m->Dv[2] + off},
+	               m->R + off,     {m->ax[0] + off, m->ax[1] + off, m->ax[2] + off},
+	               m->Rl + off,    m->Rc + off,
+	               m->Delta + off, m->di + off,
 	               m->flags + off};
 	return v;
 }
@@ -96,12 +92,11 @@ typedef struct mismatch {
 	long first; /* index of the first mismatching matrix, −1 if none */
 } mismatch;
 
-static const char *field_names[13] = {"D",      "D_vec[0]", "D_vec[1]", "D_vec[2]", "R",
-                                      "axis[0]", "axis[1]",  "axis[2]",  "R_linear", "R_circular",
-                                      "Delta",  "depol_index", "flags"};
+static const char *field_names[13] = {
+    "D",       "D_vec[0]", "D_vec[1]",   "D_vec[2]", "R",           "axis[0]", "axis[1]",
+    "axis[2]", "R_linear", "R_circular", "Delta",    "depol_index", "flags"};
 
-static void compare_one(const double *M16, unsigned options, const maps *m, size_t i,
-                        mismatch *mm)
+static void compare_one(const double *M16, unsigned options, const maps *m, size_t i, mismatch *mm)
 {
 	pc_lu_chipman lc;
 	double M[4][4];
@@ -114,9 +109,9 @@ static void compare_one(const double *M16, unsigned options, const maps *m, size
 			lc.D_vec[k] = lc.R_axis[k] = NAN;
 		lc.flags = PC_LC_NONFINITE;
 	}
-	const double ref[12] = {lc.D,         lc.D_vec[0], lc.D_vec[1], lc.D_vec[2],
-	                        lc.R,         lc.R_axis[0], lc.R_axis[1], lc.R_axis[2],
-	                        lc.R_linear,  lc.R_circular, lc.Delta,    lc.depol_index};
+	const double ref[12] = {lc.D,        lc.D_vec[0],   lc.D_vec[1],  lc.D_vec[2],
+	                        lc.R,        lc.R_axis[0],  lc.R_axis[1], lc.R_axis[2],
+	                        lc.R_linear, lc.R_circular, lc.Delta,     lc.depol_index};
 	const double got[12] = {m->D[i],  m->Dv[0][i], m->Dv[1][i], m->Dv[2][i],
 	                        m->R[i],  m->ax[0][i], m->ax[1][i], m->ax[2][i],
 	                        m->Rl[i], m->Rc[i],    m->Delta[i], m->di[i]};
@@ -136,7 +131,8 @@ static void compare_one(const double *M16, unsigned options, const maps *m, size
 		for (int k = 0; k < 12; k++)
 			fprintf(stderr, "  %-12s scalar %.17g  map %.17g\n", field_names[k], ref[k],
 			        got[k]);
-		fprintf(stderr, "  flags        scalar 0x%x  map 0x%x\n  M =", lc.flags, m->flags[i]);
+		fprintf(stderr, "  flags        scalar 0x%x  map 0x%x\n  M =", lc.flags,
+		        m->flags[i]);
 		for (int k = 0; k < 16; k++)
 			fprintf(stderr, " %.17g", M16[k]);
 		fprintf(stderr, "\n");
@@ -239,7 +235,8 @@ static void add_threshold(mats *s)
 		}
 		double lam[4] = {urand(), urand(), urand(), 0};
 		if (t % 4 == 0)
-			lam[1] = lam[2] = 0; /* rank 1 (non-depolarising) plus the threshold eigenvalue */
+			lam[1] = lam[2] =
+			    0; /* rank 1 (non-depolarising) plus the threshold eigenvalue */
 		double tr = lam[0] + lam[1] + lam[2];
 		double c = 1 + (urand() - 0.5) * (t % 2 ? 1e-3 : 1e-6);
 		lam[3] = -c * 1e-9 * tr / (1 - c * 1e-9);
@@ -343,7 +340,8 @@ static void add_hard(mats *s)
 
 static void run_isa(const mats *s, pc_lc_isa isa, const char *name)
 {
-	const unsigned opts[] = {0, PC_LC_NO_FACTORS, PC_LC_FILTER, PC_LC_FILTER | PC_LC_NO_FACTORS};
+	const unsigned opts[] = {0, PC_LC_NO_FACTORS, PC_LC_FILTER,
+	                         PC_LC_FILTER | PC_LC_NO_FACTORS};
 	for (size_t o = 0; o < sizeof opts / sizeof opts[0]; o++) {
 		maps m;
 		maps_alloc(&m, s->n);
@@ -362,12 +360,13 @@ static void run_isa(const mats *s, pc_lc_isa isa, const char *name)
 		for (int k = 0; k < 13; k++) {
 			tot += mm.field[k];
 			if (mm.field[k])
-				fprintf(stderr, "%s options %u: %ld mismatches in %s\n", name, opts[o],
-				        mm.field[k], field_names[k]);
+				fprintf(stderr, "%s options %u: %ld mismatches in %s\n", name,
+				        opts[o], mm.field[k], field_names[k]);
 		}
 		CHECK_EQ_INT(tot, 0);
-		printf("%-9s options %u: %zu matrices, %ld fields differ from the scalar reference\n",
-		       name, opts[o], s->n, tot);
+		printf(
+		    "%-9s options %u: %zu matrices, %ld fields differ from the scalar reference\n",
+		    name, opts[o], s->n, tot);
 
 		/* tails and offsets: short calls at odd offsets, only D, R, Δ requested; the rest
 		 * stays untouched */
@@ -376,9 +375,15 @@ static void run_isa(const mats *s, pc_lc_isa isa, const char *name)
 		size_t off = 0;
 		for (size_t len = 1; off < s->n && len < 40; len += 3) {
 			size_t l = len < s->n - off ? len : s->n - off;
-			pc_lc_map v2 = {m2.D + off, {NULL, NULL, NULL}, m2.R + off,
-			                {NULL, NULL, NULL}, NULL, NULL, m2.Delta + off,
-			                NULL, NULL};
+			pc_lc_map v2 = {m2.D + off,
+			                {NULL, NULL, NULL},
+			                m2.R + off,
+			                {NULL, NULL, NULL},
+			                NULL,
+			                NULL,
+			                m2.Delta + off,
+			                NULL,
+			                NULL};
 			CHECK_EQ_INT(pc_lu_chipman_map_isa(s->M[off], l, opts[o], &v2, isa), 0);
 			off += l + 101; /* skip some: spread over the set */
 		}
@@ -492,7 +497,7 @@ static void test_maps_caller(const mats *s)
 		float d = NAN, r = NAN, de = NAN;
 		pc_lu_chipman lc;
 		if (!finite || pc_lu_chipman_decompose((const double(*)[4])Md,
-		                                        PC_LC_FILTER | PC_LC_NO_FACTORS, &lc)) {
+		                                       PC_LC_FILTER | PC_LC_NO_FACTORS, &lc)) {
 			want[2]++;
 		} else {
 			d = (float)lc.D;
@@ -526,7 +531,7 @@ static void test_maps_caller(const mats *s)
 static void test_errors(void)
 {
 	double M[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, D = 0;
-	pc_lc_map v = {&D, {NULL, NULL, NULL}, NULL, {NULL, NULL, NULL}, NULL, NULL, NULL, NULL,
+	pc_lc_map v = {&D,  {NULL, NULL, NULL}, NULL, {NULL, NULL, NULL}, NULL, NULL, NULL, NULL,
 	               NULL};
 	CHECK_EQ_INT(pc_lu_chipman_map(NULL, 0, 0, &v), 0); /* nothing to do */
 	CHECK_EQ_INT(pc_lu_chipman_map(NULL, 1, 0, &v), PC_EINVAL);

@@ -61,8 +61,8 @@ static void scene_free(scene *s)
  * centre (smoothly varying orientation); kind 2: random texture (for fast vs reference). */
 static scene make_scene(int w, int h, int kind, double theta)
 {
-	scene s = { w, h, malloc(sizeof(double) * w * h), malloc(sizeof(double) * w * h),
-		    malloc(sizeof(double) * w * h) };
+	scene s = {w, h, malloc(sizeof(double) * w * h), malloc(sizeof(double) * w * h),
+	           malloc(sizeof(double) * w * h)};
 	for (int y = 0; y < h; y++)
 		for (int x = 0; x < w; x++) {
 			size_t i = (size_t)y * w + x;
@@ -91,8 +91,10 @@ static void mosaic_scene(const scene *s, const pc_mosaic *m, pc_view *v)
 	pc_view_alloc(v, PC_FMT_MONO16, (uint32_t)s->w, (uint32_t)s->h, 0);
 	for (int y = 0; y < s->h; y++)
 		for (int x = 0; x < s->w; x++) {
-			double val = analyser(s, x, y, pc_mosaic_channel(m, (uint32_t)x, (uint32_t)y));
-			PC_ROW(v, uint16_t, y)[x] = (uint16_t)lround(val < 0 ? 0 : val > 4095 ? 4095 : val);
+			double val =
+			    analyser(s, x, y, pc_mosaic_channel(m, (uint32_t)x, (uint32_t)y));
+			PC_ROW(v, uint16_t, y)
+			[x] = (uint16_t)lround(val < 0 ? 0 : val > 4095 ? 4095 : val);
 		}
 }
 
@@ -108,10 +110,18 @@ static double fget(const pc_fplane *p, uint32_t x, uint32_t y)
 	return p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride];
 }
 
-static const pc_demosaic_method mono_methods[] = { PC_DM_SUPERPIXEL_HALF, PC_DM_SUPERPIXEL,
-						    PC_DM_BILINEAR,	   PC_DM_BICUBIC,
-						    PC_DM_PPID,		   PC_DM_RI,
-						    PC_DM_EARI,		   PC_DM_RATIO };
+static const pc_demosaic_method mono_methods[] = {PC_DM_SUPERPIXEL_HALF,
+                                                  PC_DM_SUPERPIXEL,
+                                                  PC_DM_BILINEAR,
+                                                  PC_DM_BICUBIC,
+                                                  PC_DM_PPID,
+                                                  PC_DM_RI,
+                                                  PC_DM_EARI,
+                                                  PC_DM_RATIO,
+                                                  PC_DM_EARI_MLRI,
+                                                  PC_DM_EARI_ROBUST,
+                                                  PC_DM_PCDP,
+                                                  PC_DM_IGRI2};
 #define N_MONO (sizeof mono_methods / sizeof mono_methods[0])
 
 /* Fast vs reference on a random texture, all four phases. */
@@ -129,14 +139,15 @@ static void test_fast_vs_reference(void)
 			pc_demosaic_out_size(meth, raw.width, raw.height, &ow, &oh);
 			pc_fplane f[4], r[4];
 			float *fb = alloc_planes(ow, oh, 4, f), *rb = alloc_planes(ow, oh, 4, r);
-			pc_demosaic_opts ref = { 0, true, 0 };
+			pc_demosaic_opts ref = {0, true, 0};
 			CHECK_EQ_INT(pc_demosaic(&raw, &m, meth, NULL, f), 0);
 			CHECK_EQ_INT(pc_demosaic(&raw, &m, meth, &ref, r), 0);
 			double worst = 0;
 			for (unsigned c = 0; c < 4; c++)
 				for (uint32_t y = 0; y < oh; y++)
 					for (uint32_t x = 0; x < ow; x++) {
-						double d = fabs(fget(&f[c], x, y) - fget(&r[c], x, y));
+						double d =
+						    fabs(fget(&f[c], x, y) - fget(&r[c], x, y));
 						worst = d > worst ? d : worst;
 					}
 			/* every full-resolution method keeps each pixel's own measurement */
@@ -147,17 +158,18 @@ static void test_fast_vs_reference(void)
 						unsigned c = pc_mosaic_channel(&m, x, y);
 						double v = PC_ROW(&raw, uint16_t, y)[x];
 						keeps &= fabs(fget(&f[c], x, y) - v) <= 1e-3 &&
-							 fabs(fget(&r[c], x, y) - v) <= 1e-9;
+						         fabs(fget(&r[c], x, y) - v) <= 1e-9;
 					}
 				CHECK(keeps);
 			}
 			double tol = tol_for(meth) * 4095;
 			if (ph == 0)
-				printf("  %-16s max |fast - reference| = %.3g (%.2g of full scale)\n",
-				       pc_demosaic_method_get(meth)->name, worst, worst / 4095);
+				printf(
+				    "  %-16s max |fast - reference| = %.3g (%.2g of full scale)\n",
+				    pc_demosaic_method_get(meth)->name, worst, worst / 4095);
 			if (worst > tol)
 				fprintf(stderr, "  %s phase %u: max |fast - ref| = %g > %g\n",
-					pc_demosaic_method_get(meth)->name, ph, worst, tol);
+				        pc_demosaic_method_get(meth)->name, ph, worst, tol);
 			CHECK(worst <= tol);
 			free(fb);
 			free(rb);
@@ -171,7 +183,7 @@ static void test_fast_vs_reference(void)
  * mirrors AoLP. Every method, every phase, uniform targets at several angles and a sunburst. */
 static void test_aolp_orientation(void)
 {
-	const double angles_deg[] = { 0, 20, 45, 70, 90, 110, 135, 160 };
+	const double angles_deg[] = {0, 20, 45, 70, 90, 110, 135, 160};
 	for (unsigned ph = 0; ph < 4; ph++) {
 		pc_mosaic base = pc_mosaic_imx250mzr();
 		pc_mosaic m = pc_mosaic_shift(&base, ph & 1, ph >> 1);
@@ -188,8 +200,8 @@ static void test_aolp_orientation(void)
 				float *buf = malloc(sizeof(float) * ow * oh * 2);
 				pc_stokes_out so;
 				memset(&so, 0, sizeof so);
-				so.aolp = (pc_fplane){ buf, ow, 1 };
-				so.dolp = (pc_fplane){ buf + (size_t)ow * oh, ow, 1 };
+				so.aolp = (pc_fplane){buf, ow, 1};
+				so.dolp = (pc_fplane){buf + (size_t)ow * oh, ow, 1};
 				CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, meth, NULL, &so), 0);
 				/* interior only; the sunburst's centre has no single orientation */
 				double worst = 0;
@@ -197,9 +209,11 @@ static void test_aolp_orientation(void)
 				for (uint32_t y = 4 / scale; y < oh - 4 / scale; y++)
 					for (uint32_t x = 4 / scale; x < ow - 4 / scale; x++) {
 						double want = th;
-						double cx = (x * scale + (scale - 1) * 0.5), cy = (y * scale + (scale - 1) * 0.5);
+						double cx = (x * scale + (scale - 1) * 0.5),
+						       cy = (y * scale + (scale - 1) * 0.5);
 						if (sun) {
-							double dx = cx - s.w / 2.0 + 0.25, dy = s.h / 2.0 - cy + 0.25;
+							double dx = cx - s.w / 2.0 + 0.25,
+							       dy = s.h / 2.0 - cy + 0.25;
 							if (dx * dx + dy * dy < 36)
 								continue;
 							want = fmod(atan2(dy, dx) + 2 * M_PI, M_PI);
@@ -213,10 +227,11 @@ static void test_aolp_orientation(void)
 				 * error but no 45°/90° confusions */
 				double tol = sun ? 8.0 : 0.05;
 				if (worst * 180 / M_PI > tol)
-					fprintf(stderr, "  %s phase %u %s %g deg: AoLP error %.3g deg\n",
-						pc_demosaic_method_get(meth)->name, ph,
-						sun ? "sunburst" : "uniform", angles_deg[a % 8],
-						worst * 180 / M_PI);
+					fprintf(stderr,
+					        "  %s phase %u %s %g deg: AoLP error %.3g deg\n",
+					        pc_demosaic_method_get(meth)->name, ph,
+					        sun ? "sunburst" : "uniform", angles_deg[a % 8],
+					        worst * 180 / M_PI);
 				CHECK(worst * 180 / M_PI <= tol);
 				free(buf);
 				pc_view_free(&raw);
@@ -240,7 +255,7 @@ static void test_flip(void)
 	float a[24 * 16];
 	pc_stokes_out so;
 	memset(&so, 0, sizeof so);
-	so.aolp = (pc_fplane){ a, 24, 1 };
+	so.aolp = (pc_fplane){a, 24, 1};
 	CHECK_EQ_INT(pc_stokes_from_raw(&flipped, &fm, PC_DM_BILINEAR, NULL, &so), 0);
 	CHECK_NEAR(a[8 * 24 + 9], M_PI - th, 2e-3);
 	pc_view_free(&raw);
@@ -257,7 +272,7 @@ static void test_polynomials(void)
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	pc_view raw;
 	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
-	const double a[4] = { 0.5, 0.7, 0.9, 1.1 };
+	const double a[4] = {0.5, 0.7, 0.9, 1.1};
 	for (int deg = 1; deg <= 2; deg++) {
 		for (uint32_t y = 0; y < H; y++)
 			for (uint32_t x = 0; x < W; x++) {
@@ -271,7 +286,7 @@ static void test_polynomials(void)
 		for (int reference = 0; reference < 2; reference++) {
 			pc_fplane o[4];
 			float *buf = alloc_planes(W, H, 4, o);
-			pc_demosaic_opts opts = { 0, reference, 0 };
+			pc_demosaic_opts opts = {0, reference, 0};
 			CHECK_EQ_INT(pc_demosaic(&raw, &m, meth, &opts, o), 0);
 			double worst = 0;
 			for (unsigned c = 0; c < 4; c++)
@@ -279,25 +294,26 @@ static void test_polynomials(void)
 					for (uint32_t x = 4; x < W - 4; x++) {
 						double v = 100 + a[c] * (3.0 * x + 2.0 * y);
 						if (deg == 2)
-							v += a[c] * (0.2 * x * x - 0.1 * x * y + 0.15 * y * y);
+							v += a[c] * (0.2 * x * x - 0.1 * x * y +
+							             0.15 * y * y);
 						double d = fabs(fget(&o[c], x, y) - v);
 						worst = d > worst ? d : worst;
 					}
 			CHECK(worst < 2e-3);
 			if (worst >= 2e-3)
 				fprintf(stderr, "  %s (ref %d) degree %d: error %g\n",
-					pc_demosaic_method_get(meth)->name, reference, deg, worst);
+				        pc_demosaic_method_get(meth)->name, reference, deg, worst);
 			free(buf);
 		}
 	}
 	/* inter-channel: I_c = k_c · S0(x, y) with S0 a ramp and k_0 + k_90 = k_45 + k_135 (a
 	 * constant polarization state, as Malus' law requires) */
-	const double k4[4] = { 0.5, 0.6, 0.9, 0.8 };
+	const double k4[4] = {0.5, 0.6, 0.9, 0.8};
 	for (uint32_t y = 0; y < H; y++)
 		for (uint32_t x = 0; x < W; x++)
-			PC_ROW(&raw, float, y)[x] =
-				(float)(k4[pc_mosaic_channel(&m, x, y)] * (500 + 10.0 * x + 7.0 * y));
-	const pc_demosaic_method ic[] = { PC_DM_PPID, PC_DM_RI, PC_DM_EARI, PC_DM_RATIO };
+			PC_ROW(&raw, float, y)
+	[x] = (float)(k4[pc_mosaic_channel(&m, x, y)] * (500 + 10.0 * x + 7.0 * y));
+	const pc_demosaic_method ic[] = {PC_DM_PPID, PC_DM_RI, PC_DM_EARI, PC_DM_RATIO};
 	for (size_t k = 0; k < sizeof ic / sizeof ic[0]; k++) {
 		pc_fplane o[4];
 		float *buf = alloc_planes(W, H, 4, o);
@@ -306,13 +322,14 @@ static void test_polynomials(void)
 		for (unsigned c = 0; c < 4; c++)
 			for (uint32_t y = 4; y < H - 4; y++)
 				for (uint32_t x = 4; x < W - 4; x++) {
-					double d = fabs(fget(&o[c], x, y) - k4[c] * (500 + 10.0 * x + 7.0 * y));
+					double d = fabs(fget(&o[c], x, y) -
+					                k4[c] * (500 + 10.0 * x + 7.0 * y));
 					worst = d > worst ? d : worst;
 				}
 		/* relative to values of ~1000: well below the data's own scale */
 		if (worst > 0.5)
-			fprintf(stderr, "  %s on a ramp: error %g\n", pc_demosaic_method_get(ic[k])->name,
-				worst);
+			fprintf(stderr, "  %s on a ramp: error %g\n",
+			        pc_demosaic_method_get(ic[k])->name, worst);
 		CHECK(worst <= 0.5);
 		free(buf);
 	}
@@ -331,15 +348,15 @@ static void test_polynomials(void)
  * I45 = horizontal (x=-1 -> 1): 20; I135 = vertical (y=-1 -> 1): 50. */
 static void test_bilinear_by_hand(void)
 {
-	uint16_t px[4][4] = { { 10, 20, 30, 40 }, { 50, 60, 70, 80 }, { 90, 11, 12, 13 },
-			      { 14, 15, 16, 17 } };
-	pc_view raw = { px, 4, 4, sizeof px[0], PC_FMT_MONO12 };
+	uint16_t px[4][4] = {
+	    {10, 20, 30, 40}, {50, 60, 70, 80}, {90, 11, 12, 13}, {14, 15, 16, 17}};
+	pc_view raw = {px, 4, 4, sizeof px[0], PC_FMT_MONO12};
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	for (int reference = 0; reference < 2; reference++) {
 		float buf[4 * 16];
 		pc_fplane o[4];
 		pc_fplanes_interleaved(buf, 4, 4, o);
-		pc_demosaic_opts opts = { 1, reference, 0 };
+		pc_demosaic_opts opts = {1, reference, 0};
 		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BILINEAR, &opts, o), 0);
 		CHECK_NEAR(buf[(1 * 4 + 1) * 4 + 0], 60, 0);
 		CHECK_NEAR(buf[(1 * 4 + 1) * 4 + 2], 35.5, 0);
@@ -350,7 +367,8 @@ static void test_bilinear_by_hand(void)
 		CHECK_NEAR(buf[0 * 4 + 2], 10, 0);
 		CHECK_NEAR(buf[0 * 4 + 3], 50, 0);
 	}
-	/* super-pixel: block (0,0) is 10/20/50/60 -> I0 60, I45 20, I90 10, I135 50 everywhere in it */
+	/* super-pixel: block (0,0) is 10/20/50/60 -> I0 60, I45 20, I90 10, I135 50 everywhere in
+	 * it */
 	float half[4 * 4];
 	pc_fplane h[4];
 	pc_fplanes_separate(half, 2, 2, 4, h);
@@ -382,7 +400,7 @@ static void test_formats_layouts(void)
 		float *ab = alloc_planes(ow, oh, 4, a), *bb = alloc_planes(ow, oh, 4, b);
 		float *cb = malloc(sizeof(float) * ow * oh * 4), *db = alloc_planes(ow, oh, 4, d);
 		pc_fplanes_interleaved(cb, ow, 4, c);
-		pc_demosaic_opts one = { 1, false, 4095 }, fs = { 0, false, 4095 };
+		pc_demosaic_opts one = {1, false, 4095}, fs = {0, false, 4095};
 		CHECK_EQ_INT(pc_demosaic(&raw16, &m, meth, &fs, a), 0);
 		CHECK_EQ_INT(pc_demosaic(&raw12p, &m, meth, &one, b), 0);
 		CHECK_EQ_INT(pc_demosaic(&rawf, &m, meth, &fs, c), 0);
@@ -392,13 +410,13 @@ static void test_formats_layouts(void)
 			for (uint32_t y = 0; y < oh; y++)
 				for (uint32_t x = 0; x < ow; x++) {
 					double v = fget(&a[ch], x, y);
-					same &= v == fget(&b[ch], x, y) && v == fget(&c[ch], x, y) &&
-						v == fget(&d[ch], x, y);
+					same &= v == fget(&b[ch], x, y) &&
+					        v == fget(&c[ch], x, y) && v == fget(&d[ch], x, y);
 				}
 		CHECK(same);
 		if (!same)
 			fprintf(stderr, "  %s differs across formats/layouts/threads\n",
-				pc_demosaic_method_get(meth)->name);
+			        pc_demosaic_method_get(meth)->name);
 		free(ab);
 		free(bb);
 		free(cb);
@@ -420,14 +438,15 @@ static void mosaic_color(const scene *s, const pc_mosaic *m, const double gain[3
 			unsigned c = pc_mosaic_channel(m, (uint32_t)x, (uint32_t)y);
 			unsigned k = pc_mosaic_color(m, (uint32_t)x, (uint32_t)y) - PC_CFA_R;
 			double val = gain[k] * analyser(s, x, y, c);
-			PC_ROW(v, uint16_t, y)[x] = (uint16_t)lround(val < 0 ? 0 : val > 4095 ? 4095 : val);
+			PC_ROW(v, uint16_t, y)
+			[x] = (uint16_t)lround(val < 0 ? 0 : val > 4095 ? 4095 : val);
 		}
 }
 
 static void test_color(void)
 {
-	const pc_demosaic_method cm[2] = { PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI };
-	const double gain[3] = { 0.6, 1.0, 0.35 };
+	const pc_demosaic_method cm[2] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI};
+	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
 	for (unsigned ph = 0; ph < 16; ph++) {
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
@@ -438,15 +457,16 @@ static void test_color(void)
 			mosaic_color(&tex, &m, gain, &raw);
 			pc_fplane f[12], r[12];
 			float *fb = alloc_planes(40, 32, 12, f), *rb = alloc_planes(40, 32, 12, r);
-			pc_demosaic_opts ref = { 0, true, 0 };
+			pc_demosaic_opts ref = {0, true, 0};
 			CHECK_EQ_INT(pc_demosaic(&raw, &m, cm[meth], NULL, f), 0);
 			CHECK_EQ_INT(pc_demosaic(&raw, &m, cm[meth], &ref, r), 0);
 			double worst = 0;
 			for (int i = 0; i < 40 * 32 * 12; i++)
 				worst = fmax(worst, fabs(fb[i] - rb[i]));
 			if (ph == 0)
-				printf("  %-16s max |fast - reference| = %.3g (%.2g of full scale)\n",
-				       pc_demosaic_method_get(cm[meth])->name, worst, worst / 4095);
+				printf(
+				    "  %-16s max |fast - reference| = %.3g (%.2g of full scale)\n",
+				    pc_demosaic_method_get(cm[meth])->name, worst, worst / 4095);
 			CHECK(worst <= 1e-5 * 4095);
 			/* each pixel keeps its own measurement in its (colour, analyser) channel */
 			int keeps = 1;
@@ -456,7 +476,7 @@ static void test_color(void)
 					unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
 					double v = PC_ROW(&raw, uint16_t, y)[x];
 					keeps &= fabs(f[4 * k + c].data[y * 40 + x] - v) <= 1e-3 &&
-						 fabs(r[4 * k + c].data[y * 40 + x] - v) <= 1e-9;
+					         fabs(r[4 * k + c].data[y * 40 + x] - v) <= 1e-9;
 				}
 			CHECK(keeps);
 			pc_view_free(&raw);
@@ -471,11 +491,14 @@ static void test_color(void)
 					for (unsigned c = 0; c < 4; c++) {
 						double want = gain[k] * analyser(&u, 0, 0, c);
 						for (int i = 0; i < 40 * 32; i++)
-							werr = fmax(werr, fabs(f[4 * k + c].data[i] - want));
+							werr =
+							    fmax(werr,
+							         fabs(f[4 * k + c].data[i] - want));
 					}
 					for (int i = 0; i < 40 * 32; i++) {
 						double s1 = f[4 * k].data[i] - f[4 * k + 2].data[i];
-						double s2 = f[4 * k + 1].data[i] - f[4 * k + 3].data[i];
+						double s2 =
+						    f[4 * k + 1].data[i] - f[4 * k + 3].data[i];
 						double al = fmod(0.5 * atan2(s2, s1) + M_PI, M_PI);
 						double d = fabs(al - th);
 						waolp = fmax(waolp, fmin(d, M_PI - d));
@@ -484,9 +507,11 @@ static void test_color(void)
 				CHECK(werr <= 0.6); /* 12-bit rounding of the mosaic */
 				CHECK(waolp * 180 / M_PI <= 0.1);
 				if (waolp * 180 / M_PI > 0.1 || werr > 0.6)
-					fprintf(stderr, "  %s phase %u,%u theta %g: value error %g, AoLP "
-							"error %g deg\n", pc_demosaic_method_get(cm[meth])->name,
-						ph % 4, ph / 4, th * 180 / M_PI, werr, waolp * 180 / M_PI);
+					fprintf(stderr,
+					        "  %s phase %u,%u theta %g: value error %g, AoLP "
+					        "error %g deg\n",
+					        pc_demosaic_method_get(cm[meth])->name, ph % 4,
+					        ph / 4, th * 180 / M_PI, werr, waolp * 180 / M_PI);
 				pc_view_free(&raw);
 				scene_free(&u);
 			}
@@ -496,8 +521,8 @@ static void test_color(void)
 		scene_free(&tex);
 	}
 	/* monochrome methods refuse colour mosaics and vice versa */
-	uint16_t px[8][8] = { { 0 } };
-	pc_view v = { px, 8, 8, sizeof px[0], PC_FMT_MONO16 };
+	uint16_t px[8][8] = {{0}};
+	pc_view v = {px, 8, 8, sizeof px[0], PC_FMT_MONO16};
 	float buf[12 * 64];
 	pc_fplane o[12];
 	pc_fplanes_separate(buf, 8, 8, 12, o);
@@ -523,12 +548,13 @@ static void test_bilinear_u16(void)
 		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BILINEAR, NULL, f), 0);
 		for (unsigned frac = 0; frac <= 2; frac++) {
 			uint16_t *u = malloc(sizeof(uint16_t) * 38 * 30 * 4);
-			uint16_t *o[4] = { u, u + 38 * 30, u + 2 * 38 * 30, u + 3 * 38 * 30 };
+			uint16_t *o[4] = {u, u + 38 * 30, u + 2 * 38 * 30, u + 3 * 38 * 30};
 			CHECK_EQ_INT(pc_demosaic_bilinear_u16(&raw, &m, frac, 0, o, 38 * 2), 0);
 			int same = 1;
 			for (unsigned c = 0; c < 4; c++)
 				for (int i = 0; i < 38 * 30; i++)
-					same &= o[c][i] == (uint16_t)floor(f[c].data[i] * (1 << frac) + 0.5);
+					same &= o[c][i] ==
+					        (uint16_t)floor(f[c].data[i] * (1 << frac) + 0.5);
 			CHECK(same);
 			free(u);
 		}
@@ -536,42 +562,42 @@ static void test_bilinear_u16(void)
 		pc_view_free(&raw);
 	}
 	scene_free(&s);
-	uint16_t px[4][4] = { { 0 } }, outb[4][16];
-	uint16_t *o[4] = { outb[0], outb[1], outb[2], outb[3] };
-	pc_view v16 = { px, 4, 4, sizeof px[0], PC_FMT_MONO16 };
+	uint16_t px[4][4] = {{0}}, outb[4][16];
+	uint16_t *o[4] = {outb[0], outb[1], outb[2], outb[3]};
+	pc_view v16 = {px, 4, 4, sizeof px[0], PC_FMT_MONO16};
 	CHECK_EQ_INT(pc_demosaic_bilinear_u16(&v16, &base, 1, 0, o, 8), PC_ERANGE);
 	CHECK_EQ_INT(pc_demosaic_bilinear_u16(&v16, &base, 0, 0, o, 8), 0);
-	pc_view v8 = { px, 4, 4, sizeof px[0], PC_FMT_MONO8 };
+	pc_view v8 = {px, 4, 4, sizeof px[0], PC_FMT_MONO8};
 	CHECK_EQ_INT(pc_demosaic_bilinear_u16(&v8, &base, 0, 0, o, 8), PC_ENOTSUP);
-	pc_view odd = { px, 3, 4, sizeof px[0], PC_FMT_MONO12 };
+	pc_view odd = {px, 3, 4, sizeof px[0], PC_FMT_MONO12};
 	CHECK_EQ_INT(pc_demosaic_bilinear_u16(&odd, &base, 2, 0, o, 8), PC_EINVAL);
 }
 
 static void test_bad_calls(void)
 {
-	uint16_t px[6][6] = { { 0 } };
+	uint16_t px[6][6] = {{0}};
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	float buf[4 * 36];
 	pc_fplane o[4];
 	pc_fplanes_separate(buf, 6, 6, 4, o);
-	pc_view odd = { px, 5, 6, sizeof px[0], PC_FMT_MONO16 };
+	pc_view odd = {px, 5, 6, sizeof px[0], PC_FMT_MONO16};
 	CHECK_EQ_INT(pc_demosaic(&odd, &m, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
 	CHECK(strstr(pc_error_detail(), "even") != NULL);
-	pc_view tiny = { px, 2, 2, sizeof px[0], PC_FMT_MONO16 };
+	pc_view tiny = {px, 2, 2, sizeof px[0], PC_FMT_MONO16};
 	CHECK_EQ_INT(pc_demosaic(&tiny, &m, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
-	pc_view zero = { px, 0, 6, sizeof px[0], PC_FMT_MONO16 };
+	pc_view zero = {px, 0, 6, sizeof px[0], PC_FMT_MONO16};
 	CHECK_EQ_INT(pc_demosaic(&zero, &m, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
-	pc_view ok = { px, 6, 6, sizeof px[0], PC_FMT_MONO16 };
+	pc_view ok = {px, 6, 6, sizeof px[0], PC_FMT_MONO16};
 	pc_mosaic colour = pc_mosaic_imx250myr();
 	CHECK_EQ_INT(pc_demosaic(&ok, &colour, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
 	pc_mosaic bad = m;
 	bad.channel[0][0] = bad.channel[0][1];
 	CHECK_EQ_INT(pc_demosaic(&ok, &bad, PC_DM_BILINEAR, NULL, o), PC_EINVAL);
-	pc_fplane none[4] = { { 0 } };
+	pc_fplane none[4] = {{0}};
 	CHECK_EQ_INT(pc_demosaic(&ok, &m, PC_DM_BILINEAR, NULL, none), PC_EINVAL);
 	CHECK_EQ_INT(pc_demosaic(&ok, &m, (pc_demosaic_method)99, NULL, o), PC_EINVAL);
-	float f[4][4] = { { 1, 2, 3, 4 }, { 5, NAN, 7, 8 }, { 1, 2, 3, 4 }, { 1, 2, 3, 4 } };
-	pc_view fv = { f, 4, 4, sizeof f[0], PC_FMT_FLOAT32 };
+	float f[4][4] = {{1, 2, 3, 4}, {5, NAN, 7, 8}, {1, 2, 3, 4}, {1, 2, 3, 4}};
+	pc_view fv = {f, 4, 4, sizeof f[0], PC_FMT_FLOAT32};
 	CHECK_EQ_INT(pc_demosaic(&fv, &m, PC_DM_BILINEAR, NULL, o), PC_ERANGE);
 	CHECK(strstr(pc_error_detail(), "(1,1) is NaN") != NULL);
 	pc_demosaic_method meth;
@@ -599,13 +625,15 @@ static void test_streaming_outputs(void)
 	for (uint32_t y = 0; y < H; y++)
 		for (uint32_t x = 0; x < W; x++) {
 			r = r * 1664525u + 1013904223u;
-			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)(2048 + 1500 * sin(0.02 * x + 0.03 * y) +
-								  ((r >> 20) & 255));
+			PC_ROW(&raw, uint16_t, y)
+			[x] =
+			    (uint16_t)(2048 + 1500 * sin(0.02 * x + 0.03 * y) + ((r >> 20) & 255));
 		}
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	size_t n = (size_t)W * H;
-	float *a = aligned_alloc(64, sizeof(float) * 4 * n), *b = malloc(sizeof(float) * (4 * n + 1));
-	const pc_demosaic_method meths[] = { PC_DM_BILINEAR, PC_DM_BICUBIC, PC_DM_PPID, PC_DM_RATIO };
+	float *a = aligned_alloc(64, sizeof(float) * 4 * n),
+	      *b = malloc(sizeof(float) * (4 * n + 1));
+	const pc_demosaic_method meths[] = {PC_DM_BILINEAR, PC_DM_BICUBIC, PC_DM_PPID, PC_DM_RATIO};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
 		pc_fplane pa[4], pb[4];
 		pc_fplanes_separate(a, W, H, 4, pa);
@@ -615,7 +643,7 @@ static void test_streaming_outputs(void)
 		int same = !memcmp(a, b + 1, sizeof(float) * 4 * n);
 		if (!same)
 			fprintf(stderr, "  %s: streamed output differs\n",
-				pc_demosaic_method_get(meths[k])->name);
+			        pc_demosaic_method_get(meths[k])->name);
 		CHECK(same);
 	}
 	free(a);

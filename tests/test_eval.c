@@ -30,7 +30,7 @@ static void make_truth(pc_eval_truth *t, double base[4])
 static void test_hand_values(void)
 {
 	/* truth: unpolarized 0.4 in every channel (S0 = 0.8, DoLP 0) */
-	double base[4] = { 0.4, 0.4, 0.4, 0.4 };
+	double base[4] = {0.4, 0.4, 0.4, 0.4};
 	pc_eval_truth t;
 	make_truth(&t, base);
 	/* estimate: I0 off by +0.01 everywhere, others exact */
@@ -84,7 +84,7 @@ static void test_hand_values(void)
 static double conv_bilinear(const double *img, const pc_mosaic *m, unsigned c, int x, int y)
 {
 	/* zero-filled sparse channel, reflect-101 borders, kernel [1 2 1; 2 4 2; 1 2 1]/4 */
-	static const double k[3][3] = { { 1, 2, 1 }, { 2, 4, 2 }, { 1, 2, 1 } };
+	static const double k[3][3] = {{1, 2, 1}, {2, 4, 2}, {1, 2, 1}};
 	double s = 0;
 	for (int dy = -1; dy <= 1; dy++)
 		for (int dx = -1; dx <= 1; dx++) {
@@ -103,15 +103,17 @@ static void test_bilinear_protocol(void)
 	pc_view v[4];
 	uint32_t r = 7;
 	for (int c = 0; c < 4; c++)
-		CHECK_EQ_INT(pc_view_alloc(&v[c], PC_FMT_MONO16, W + 1, H + 1, 0), 0); /* odd: cropped */
+		CHECK_EQ_INT(pc_view_alloc(&v[c], PC_FMT_MONO16, W + 1, H + 1, 0),
+		             0); /* odd: cropped */
 	for (int y = 0; y <= H; y++)
 		for (int x = 0; x <= W; x++) {
 			r = r * 1664525u + 1013904223u;
-			double s0 = 20000 + 20000 * ((r >> 8) & 1023) / 1023.0 * (0.5 + 0.5 * sin(x * 0.7));
+			double s0 =
+			    20000 + 20000 * ((r >> 8) & 1023) / 1023.0 * (0.5 + 0.5 * sin(x * 0.7));
 			double p = 0.3 + 0.2 * cos(y * 0.3), a = 0.05 * x + 0.02 * y;
 			for (int c = 0; c < 4; c++)
-				PC_ROW(&v[c], uint16_t, y)[x] = (uint16_t)lround(
-					s0 / 2 * (1 + p * cos(2 * (a - c * M_PI / 4))));
+				PC_ROW(&v[c], uint16_t, y)
+			[x] = (uint16_t)lround(s0 / 2 * (1 + p * cos(2 * (a - c * M_PI / 4))));
 		}
 	pc_eval_truth t;
 	CHECK_EQ_INT(pc_eval_truth_from_views(v, &t), 0);
@@ -124,7 +126,8 @@ static void test_bilinear_protocol(void)
 	double *mos = malloc(sizeof(double) * W * H);
 	for (int y = 0; y < H; y++)
 		for (int x = 0; x < W; x++)
-			mos[y * W + x] = t.ch[pc_mosaic_channel(&m, (uint32_t)x, (uint32_t)y)][y * W + x];
+			mos[y * W + x] =
+			    t.ch[pc_mosaic_channel(&m, (uint32_t)x, (uint32_t)y)][y * W + x];
 	float *e = malloc(sizeof(float) * W * H * 4);
 	pc_fplane est[4];
 	pc_fplanes_separate(e, W, H, 4, est);
@@ -143,7 +146,7 @@ static void test_bilinear_protocol(void)
 		if (!(mi->flags & PC_DMF_MONO))
 			continue;
 		pc_eval_metrics a, b;
-		pc_demosaic_opts ro = { 0, true, 0 };
+		pc_demosaic_opts ro = {0, true, 0};
 		CHECK_EQ_INT(pc_eval_method(&t, (pc_demosaic_method)k, NULL, &a), 0);
 		CHECK_EQ_INT(pc_eval_method(&t, (pc_demosaic_method)k, &ro, &b), 0);
 		CHECK_NEAR(a.psnr_s0, b.psnr_s0, 0.01);
@@ -153,7 +156,7 @@ static void test_bilinear_protocol(void)
 	free(e);
 	pc_eval_truth_free(&t);
 	/* bad truths: different sizes, different containers, too small */
-	pc_view bad[4] = { v[0], v[1], v[2], v[3] };
+	pc_view bad[4] = {v[0], v[1], v[2], v[3]};
 	bad[2].width = W - 1;
 	CHECK_EQ_INT(pc_eval_truth_from_views(bad, &t), PC_EINVAL);
 	CHECK(strstr(pc_error_detail(), "90 deg") != NULL);

@@ -19,10 +19,10 @@ static void test_packing(void)
 	enum { W = 8, H = 3 };
 	uint16_t src[H][W], back[H][W];
 	uint32_t seed = 12345;
-	const pc_pixfmt fmts[] = { PC_FMT_MONO8, PC_FMT_MONO10, PC_FMT_MONO12, PC_FMT_MONO14,
-				   PC_FMT_MONO16, PC_FMT_MONO10P, PC_FMT_MONO12P,
-				   PC_FMT_MONO12PACKED, PC_FMT_Y10P, PC_FMT_Y12P, PC_FMT_MONO14P,
-				   PC_FMT_MONO10PACKED, PC_FMT_Y10BPACK, PC_FMT_Y14P };
+	const pc_pixfmt fmts[] = {
+	    PC_FMT_MONO8,   PC_FMT_MONO10,       PC_FMT_MONO12,       PC_FMT_MONO14, PC_FMT_MONO16,
+	    PC_FMT_MONO10P, PC_FMT_MONO12P,      PC_FMT_MONO12PACKED, PC_FMT_Y10P,   PC_FMT_Y12P,
+	    PC_FMT_MONO14P, PC_FMT_MONO10PACKED, PC_FMT_Y10BPACK,     PC_FMT_Y14P};
 	for (size_t f = 0; f < sizeof fmts / sizeof fmts[0]; f++) {
 		const pc_format_info *fi = pc_format_info_get(fmts[f]);
 		CHECK(fi != NULL);
@@ -84,8 +84,8 @@ static void test_packing(void)
 		pc_view_free(&v);
 	}
 	/* a 12-bit frame holding 4096 is an error naming the pixel */
-	uint16_t bad[2][4] = { { 1, 2, 3, 4 }, { 5, 4096, 7, 8 } };
-	pc_view v = { bad, 4, 2, sizeof bad[0], PC_FMT_MONO12 };
+	uint16_t bad[2][4] = {{1, 2, 3, 4}, {5, 4096, 7, 8}};
+	pc_view v = {bad, 4, 2, sizeof bad[0], PC_FMT_MONO12};
 	uint16_t out[2][4];
 	CHECK_EQ_INT(pc_view_to_u16(&v, &out[0][0], sizeof out[0]), PC_ERANGE);
 	CHECK(strstr(pc_error_detail(), "(1,1)") != NULL);
@@ -95,7 +95,7 @@ static void test_packing(void)
 	CHECK_EQ_INT(pc_format_row_bytes(PC_FMT_MONO10P, 2448, &rb), 0);
 	CHECK_EQ_INT(rb, 2448 * 10 / 8);
 	/* stride below the row size is rejected */
-	pc_view s = { bad, 4, 2, 6, PC_FMT_MONO16 };
+	pc_view s = {bad, 4, 2, 6, PC_FMT_MONO16};
 	CHECK_EQ_INT(pc_view_check(&s), PC_EINVAL);
 }
 
@@ -110,7 +110,7 @@ static void test_genicam_names(void)
 	CHECK_EQ_INT(pc_format_from_genicam("Mono16", &f, &pol, &col), 0);
 	CHECK(f == PC_FMT_MONO16 && !pol);
 	CHECK_EQ_INT(pc_format_from_genicam("PolarizedStokes_S0_S1_S2_Mono8", &f, &pol, &col),
-		     PC_ENOTSUP);
+	             PC_ENOTSUP);
 	CHECK_EQ_INT(pc_format_from_genicam("Y12P", &f, &pol, &col), PC_EINVAL);
 	CHECK(pc_format_from_v4l2(PC_FOURCC('Y', '1', '6', ' ')) == PC_FMT_MONO16);
 	CHECK(pc_format_from_v4l2(PC_FOURCC('Y', '1', '4', 'P')) == PC_FMT_Y14P);
@@ -140,7 +140,7 @@ static void test_genicam_names(void)
 		const pc_format_info *info = pc_format_info_get((pc_pixfmt)fi);
 		if (info->pfnc_code)
 			CHECK_EQ_INT((info->pfnc_code >> 16) & 0xff,
-				     8 * info->group_bytes / info->group_pixels);
+			             8 * info->group_bytes / info->group_pixels);
 	}
 }
 
@@ -153,7 +153,7 @@ static void test_crop_flip(void)
 			px[y][x] = (uint16_t)(100 * y + x);
 	pc_frame f;
 	memset(&f, 0, sizeof f);
-	f.view = (pc_view){ px, 8, 4, sizeof px[0], PC_FMT_MONO16 };
+	f.view = (pc_view){px, 8, 4, sizeof px[0], PC_FMT_MONO16};
 	f.mosaic = pc_mosaic_imx250mzr();
 	pc_frame c;
 	CHECK_EQ_INT(pc_frame_crop(&f, 3, 1, 4, 2, &c), 0);
@@ -163,7 +163,7 @@ static void test_crop_flip(void)
 	for (unsigned y = 0; y < 2; y++)
 		for (unsigned x = 0; x < 4; x++)
 			CHECK_EQ_INT(pc_mosaic_channel(&c.mosaic, x, y),
-				     pc_mosaic_channel(&f.mosaic, x + 3, y + 1));
+			             pc_mosaic_channel(&f.mosaic, x + 3, y + 1));
 	CHECK_EQ_INT(pc_frame_crop(&f, 6, 0, 4, 2, &c), PC_ERANGE);
 	pc_view packed;
 	CHECK_EQ_INT(pc_view_alloc(&packed, PC_FMT_MONO10P, 8, 2, 1), 0);
@@ -182,15 +182,16 @@ static void test_crop_flip(void)
 				CHECK_EQ_INT(pc_mosaic_check(&fm), 0);
 				for (uint32_t y = 0; y < 5; y++)
 					for (uint32_t x = 0; x < w; x++) {
-						uint32_t sx = fx ? w - 1 - x : x, sy = fy ? 4 - y : y;
+						uint32_t sx = fx ? w - 1 - x : x,
+						         sy = fy ? 4 - y : y;
 						unsigned c0 = pc_mosaic_channel(&m, sx, sy);
 						unsigned want = fx != fy ? (4 - c0) % 4 : c0;
 						CHECK_EQ_INT(pc_mosaic_channel(&fm, x, y), want);
 						CHECK_EQ_INT(pc_mosaic_color(&fm, x, y),
-							     pc_mosaic_color(&m, sx, sy));
+						             pc_mosaic_color(&m, sx, sy));
 					}
 			}
-	pc_view src = { px, 8, 4, sizeof px[0], PC_FMT_MONO16 }, dst;
+	pc_view src = {px, 8, 4, sizeof px[0], PC_FMT_MONO16}, dst;
 	CHECK_EQ_INT(pc_view_alloc(&dst, PC_FMT_MONO16, 8, 4, 0), 0);
 	CHECK_EQ_INT(pc_view_flip(&src, 1, 1, &dst), 0);
 	CHECK_EQ_INT(PC_ROW(&dst, uint16_t, 0)[0], 307);
@@ -200,14 +201,14 @@ static void test_crop_flip(void)
 
 static void test_check_bits(void)
 {
-	uint16_t v12[2][2] = { { 0, 4095 }, { 17, 4096 } };
-	pc_view v = { v12, 2, 2, sizeof v12[0], PC_FMT_MONO16 };
+	uint16_t v12[2][2] = {{0, 4095}, {17, 4096}};
+	pc_view v = {v12, 2, 2, sizeof v12[0], PC_FMT_MONO16};
 	CHECK_EQ_INT(pc_view_check_bits(&v, 12), PC_ERANGE);
 	CHECK(strstr(pc_error_detail(), "(1,1)") != NULL && strstr(pc_error_detail(), "4096"));
 	CHECK_EQ_INT(pc_view_check_bits(&v, 13), 0);
 	CHECK_EQ_INT(pc_view_check_bits(&v, 0), PC_EINVAL);
-	float fl[2][3] = { { 0, 1, 2 }, { 3, NAN, 5 } };
-	pc_view vf = { fl, 3, 2, sizeof fl[0], PC_FMT_FLOAT32 };
+	float fl[2][3] = {{0, 1, 2}, {3, NAN, 5}};
+	pc_view vf = {fl, 3, 2, sizeof fl[0], PC_FMT_FLOAT32};
 	CHECK_EQ_INT(pc_view_check_bits(&vf, 32), PC_ERANGE);
 	CHECK(strstr(pc_error_detail(), "(1,1) is NaN") != NULL);
 	fl[1][1] = INFINITY;
@@ -215,8 +216,8 @@ static void test_check_bits(void)
 	CHECK(strstr(pc_error_detail(), "infinite") != NULL);
 	fl[1][1] = 4;
 	CHECK_EQ_INT(pc_view_check_bits(&vf, 32), 0);
-	uint8_t b8[1][4] = { { 1, 2, 3, 200 } };
-	pc_view v8 = { b8, 4, 1, 4, PC_FMT_MONO8 };
+	uint8_t b8[1][4] = {{1, 2, 3, 200}};
+	pc_view v8 = {b8, 4, 1, 4, PC_FMT_MONO8};
 	CHECK_EQ_INT(pc_view_check_bits(&v8, 7), PC_ERANGE);
 }
 
@@ -238,7 +239,8 @@ static void test_mosaic(void)
 	pc_mosaic s = pc_mosaic_shift(&m, 1, 3);
 	for (unsigned y = 0; y < 4; y++)
 		for (unsigned x = 0; x < 4; x++)
-			CHECK_EQ_INT(pc_mosaic_channel(&s, x, y), pc_mosaic_channel(&m, x + 1, y + 3));
+			CHECK_EQ_INT(pc_mosaic_channel(&s, x, y),
+			             pc_mosaic_channel(&m, x + 1, y + 3));
 	/* colour: 4x4 period, colour of the 2x2 block */
 	pc_mosaic c = pc_mosaic_imx250myr();
 	CHECK_EQ_INT(pc_mosaic_color(&c, 0, 0), PC_CFA_R);
@@ -249,15 +251,16 @@ static void test_mosaic(void)
 	CHECK_EQ_INT(pc_mosaic_color(&cs, 0, 0), PC_CFA_B);
 	/* horizontal flip of a 4-wide image: pixel x shows sensor pixel 3-x, 45° <-> 135° */
 	pc_mosaic fx = pc_mosaic_flip(&m, 1, 0, 4, 2);
-	CHECK_EQ_INT(pc_mosaic_channel(&fx, 0, 0), 3); /* sensor (3,0) is 45°, mirrored 135° */
-	CHECK_EQ_INT(pc_mosaic_channel(&fx, 1, 0), 2); /* sensor (2,0) is 90°, stays 90° */
+	CHECK_EQ_INT(pc_mosaic_channel(&fx, 0, 0), 3);  /* sensor (3,0) is 45°, mirrored 135° */
+	CHECK_EQ_INT(pc_mosaic_channel(&fx, 1, 0), 2);  /* sensor (2,0) is 90°, stays 90° */
 	pc_mosaic fxy = pc_mosaic_flip(&m, 1, 1, 4, 2); /* 180° rotation keeps angles */
 	CHECK_EQ_INT(pc_mosaic_channel(&fxy, 0, 0), 0); /* sensor (3,1) is 0° */
 
 	/* layout strings: parse(format(m)) == m for every phase of both sensors */
 	for (unsigned dy = 0; dy < 4; dy++)
 		for (unsigned dx = 0; dx < 4; dx++) {
-			pc_mosaic ms[2] = { pc_mosaic_shift(&m, dx, dy), pc_mosaic_shift(&c, dx, dy) };
+			pc_mosaic ms[2] = {pc_mosaic_shift(&m, dx, dy),
+			                   pc_mosaic_shift(&c, dx, dy)};
 			for (int k = 0; k < 2; k++) {
 				char buf[64];
 				pc_mosaic back;
@@ -266,7 +269,8 @@ static void test_mosaic(void)
 				CHECK_EQ_INT(pc_mosaic_parse(buf, &back), 0);
 				CHECK(memcmp(&back, &ms[k], sizeof back) == 0);
 				if (memcmp(&back, &ms[k], sizeof back) != 0)
-					fprintf(stderr, "  layout '%s' (shift %u,%u)\n", buf, dx, dy);
+					fprintf(stderr, "  layout '%s' (shift %u,%u)\n", buf, dx,
+					        dy);
 			}
 		}
 	pc_mosaic q;

@@ -46,7 +46,7 @@ static double fget(const pc_fplane *p, uint32_t x, uint32_t y)
 static pc_mosaic mosaic_for(pc_demosaic_method m)
 {
 	return pc_demosaic_method_get(m)->flags & PC_DMF_COLOR ? pc_mosaic_imx250myr()
-							       : pc_mosaic_imx250mzr();
+	                                                       : pc_mosaic_imx250mzr();
 }
 
 /* ---- supports ----
@@ -56,19 +56,25 @@ static pc_mosaic mosaic_for(pc_demosaic_method m)
 typedef struct support {
 	pc_demosaic_method m;
 	int lo, hi, block, scale;
+	int slack; /* 0: the stated support is exact (reached); else an upper bound whose reach on
+	            * random data is at least hi - slack */
 } support;
 
 static const support supports[] = {
-	{ PC_DM_SUPERPIXEL_HALF, 0, 1, 2, 2 }, /* its 2×2 block */
-	{ PC_DM_SUPERPIXEL, 0, 1, 2, 1 },      /* the block the pixel lies in */
-	{ PC_DM_BILINEAR, -1, 1, 1, 1 },       /* 3×3 tents */
-	{ PC_DM_BICUBIC, -3, 3, 1, 1 },        /* Keys' taps at ±1, ±3 */
-	{ PC_DM_PPID, -4, 4, 1, 1 },           /* PPI (±1, refined ±2) + 3×3 tent */
-	{ PC_DM_RI, -8, 8, 1, 1 },             /* PPI ±3, two ±2 windows, tent ±1 */
-	{ PC_DM_EARI, -7, 7, 1, 1 },           /* guide ±2, two ±2 windows, tent ±1 */
-	{ PC_DM_BAYER_FIRST, -3, 3, 1, 1 },    /* Bayer sub-image 3×3 (±2), tent ±1 */
-	{ PC_DM_BAYER_EARI, -9, 9, 1, 1 },     /* ±2, then EARI's ±7 */
-	{ PC_DM_RATIO, -4, 4, 1, 1 },          /* guide ±2, tent ±1, second pass's guide */
+    {PC_DM_SUPERPIXEL_HALF, 0, 1, 2, 2, 0}, /* its 2×2 block */
+    {PC_DM_SUPERPIXEL, 0, 1, 2, 1, 0},      /* the block the pixel lies in */
+    {PC_DM_BILINEAR, -1, 1, 1, 1, 0},       /* 3×3 tents */
+    {PC_DM_BICUBIC, -3, 3, 1, 1, 0},        /* Keys' taps at ±1, ±3 */
+    {PC_DM_PPID, -4, 4, 1, 1, 0},           /* PPI (±1, refined ±2) + 3×3 tent */
+    {PC_DM_RI, -8, 8, 1, 1, 0},             /* PPI ±3, two ±2 windows, tent ±1 */
+    {PC_DM_EARI, -7, 7, 1, 1, 0},           /* guide ±2, two ±2 windows, tent ±1 */
+    {PC_DM_BAYER_FIRST, -3, 3, 1, 1, 0},    /* Bayer sub-image 3×3 (±2), tent ±1 */
+    {PC_DM_BAYER_EARI, -9, 9, 1, 1, 0},     /* ±2, then EARI's ±7 */
+    {PC_DM_RATIO, -4, 4, 1, 1, 0},          /* guide ±2, tent ±1, second pass's guide */
+    {PC_DM_EARI_MLRI, -16, 16, 1, 1, 0},    /* guide ±3, Laplacian ±2, two ±5 windows, tent */
+    {PC_DM_EARI_ROBUST, -16, 16, 1, 1, 0},  /* the same; the limiter's ±2 inside */
+    {PC_DM_PCDP, -2, 2, 1, 1, 0},           /* bilinear ±1, then the tent of the differences */
+    {PC_DM_IGRI2, -40, 40, 1, 1, 6},        /* a bound: three stages of about ±13 */
 };
 #define N_SUP (sizeof supports / sizeof supports[0])
 
@@ -94,8 +100,8 @@ static void fill_random(pc_view *v, double lo, double hi)
 }
 
 /* The reference of a method on raw into nch planes of the output size (buf owns them). */
-static float *reference_of(const pc_view *raw, pc_demosaic_method m, pc_fplane *pl,
-			   uint32_t *ow, uint32_t *oh)
+static float *reference_of(const pc_view *raw, pc_demosaic_method m, pc_fplane *pl, uint32_t *ow,
+                           uint32_t *oh)
 {
 	pc_pipeline_opts o = pc_pipeline_defaults();
 	o.method = m;
@@ -111,12 +117,14 @@ static float *reference_of(const pc_view *raw, pc_demosaic_method m, pc_fplane *
 
 static void test_supports(void)
 {
-	const uint32_t W = 40, H = 40;
-	/* interior samples of both parities, corners, edges */
-	const int pos[][2] = { { 19, 20 }, { 20, 21 }, { 0, 0 }, { 1, 0 }, { 39, 38 }, { 2, 39 },
-			       { 38, 1 } };
 	for (size_t k = 0; k < N_SUP; k++) {
 		const support *s = &supports[k];
+		/* large enough that an interior sample's change can reach the stated edge */
+		const uint32_t W = s->hi > 16 ? (uint32_t)(2 * s->hi + 8) : 40, H = W;
+		const int n = (int)W;
+		/* interior samples of both parities, corners, edges */
+		const int pos[][2] = {{n / 2 - 1, n / 2}, {n / 2, n / 2 + 1}, {0, 0},    {1, 0},
+		                      {n - 1, n - 2},     {2, n - 1},         {n - 2, 1}};
 		pc_view raw;
 		CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0), 0);
 		fill_random(&raw, 600, 1400);
@@ -139,24 +147,29 @@ static void test_supports(void)
 						changed |= fget(&a[c], x, y) != fget(&b[c], x, y);
 					if (!changed)
 						continue;
-					if (!(reads(s, (int)W, (int)x, sx) && reads(s, (int)H, (int)y, sy)))
+					if (!(reads(s, (int)W, (int)x, sx) &&
+					      reads(s, (int)H, (int)y, sy)))
 						outside++;
 					/* the interior samples: how far the change reaches */
 					if (p < 2 && s->block == 1) {
-						int d = abs((int)x - sx) > abs((int)y - sy) ? abs((int)x - sx)
-											: abs((int)y - sy);
+						int d = abs((int)x - sx) > abs((int)y - sy)
+						            ? abs((int)x - sx)
+						            : abs((int)y - sy);
 						reach = d > reach ? d : reach;
 					}
 				}
 			free(bb);
 		}
-		if (outside || (s->block == 1 && reach != s->hi))
-			fprintf(stderr, "  %s: %d changed pixels outside the stated support; reach %d, "
-					"stated %d\n", pc_demosaic_method_get(s->m)->name, outside, reach,
-				s->hi);
+		const int reach_ok =
+		    s->slack ? reach >= s->hi - s->slack && reach <= s->hi : reach == s->hi;
+		if (outside || (s->block == 1 && !reach_ok))
+			fprintf(stderr,
+			        "  %s: %d changed pixels outside the stated support; reach %d, "
+			        "stated %d\n",
+			        pc_demosaic_method_get(s->m)->name, outside, reach, s->hi);
 		CHECK(outside == 0);
 		if (s->block == 1)
-			CHECK_EQ_INT(reach, s->hi);
+			CHECK(reach_ok);
 		printf("  %-16s support %d..%d: changes reach %d, none outside\n",
 		       pc_demosaic_method_get(s->m)->name, s->lo, s->hi, reach);
 		free(ba);
@@ -167,8 +180,8 @@ static void test_supports(void)
 /* ---- validity masks ---- */
 
 /* The slow mask: 1 where no sample the support reads is flagged. Returns the 0 count. */
-static size_t slow_mask(const support *s, const uint8_t *flag, uint32_t W, uint32_t H,
-			uint32_t ow, uint32_t oh, uint8_t *mask)
+static size_t slow_mask(const support *s, const uint8_t *flag, uint32_t W, uint32_t H, uint32_t ow,
+                        uint32_t oh, uint8_t *mask)
 {
 	size_t bad = 0;
 	for (uint32_t y = 0; y < oh; y++)
@@ -188,7 +201,7 @@ static size_t slow_mask(const support *s, const uint8_t *flag, uint32_t W, uint3
 
 /* Compares a library mask (row stride `stride`) with the slow one. */
 static int same_mask(const uint8_t *lib, size_t stride, const uint8_t *want, uint32_t ow,
-		     uint32_t oh)
+                     uint32_t oh)
 {
 	for (uint32_t y = 0; y < oh; y++)
 		if (memcmp(lib + (size_t)y * stride, want + (size_t)y * ow, ow))
@@ -199,7 +212,7 @@ static int same_mask(const uint8_t *lib, size_t stride, const uint8_t *want, uin
 /* A raw of format fmt (Mono12, Mono12p, Mono8 or Float32) with ~0.15 % saturated and
  * ~0.1 % dead samples, more on the first row (borders); flag[] marks them. */
 static void flagged_raw(pc_pixfmt fmt, uint32_t W, uint32_t H, pc_view *raw, uint8_t *flag,
-			double *sat, double *dead)
+                        double *sat, double *dead)
 {
 	double full = fmt == PC_FMT_MONO8 ? 255 : fmt == PC_FMT_FLOAT32 ? 1.0 : 4095;
 	*sat = full;
@@ -226,13 +239,17 @@ static void flagged_raw(pc_pixfmt fmt, uint32_t W, uint32_t H, pc_view *raw, uin
 
 static void test_masks(void)
 {
-	const pc_pixfmt fmts[] = { PC_FMT_MONO12, PC_FMT_MONO12P, PC_FMT_MONO8, PC_FMT_FLOAT32 };
+	const pc_pixfmt fmts[] = {PC_FMT_MONO12, PC_FMT_MONO12P, PC_FMT_MONO8, PC_FMT_FLOAT32};
 	const uint32_t W = 98, H = 64;
 	const size_t gotsz = (size_t)(W + 3) * H;
 	uint8_t *flag = malloc(W * H), *want = malloc(W * H), *got = malloc(gotsz);
 	for (size_t f = 0; f < sizeof fmts / sizeof fmts[0]; f++)
 		for (size_t k = 0; k < N_SUP; k++) {
 			const support *s = &supports[k];
+			/* igri2's ±40 covers this frame: its mask is all invalid (the mask code is
+			 * the same for every method; its support is checked above) */
+			if (2 * s->hi + 1 > (int)H)
+				continue;
 			pc_view raw;
 			double sat, dead;
 			flagged_raw(fmts[f], W, H, &raw, flag, &sat, &dead);
@@ -253,7 +270,7 @@ static void test_masks(void)
 			for (int ref = 0; ref < 2; ref++) {
 				o.reference = ref;
 				memset(got, 7, gotsz);
-				pc_validity v = { got, ow + 3, 0 };
+				pc_validity v = {got, ow + 3, 0};
 				CHECK_EQ_INT(pc_demosaic_run(&raw, &o, pl, &v), 0);
 				CHECK(same_mask(got, ow + 3, want, ow, oh));
 				CHECK_EQ_INT(v.n_invalid, nbad);
@@ -263,21 +280,21 @@ static void test_masks(void)
 			 * (two-step), and the count alone */
 			pc_stokes_out so;
 			memset(&so, 0, sizeof so);
-			so.s0 = (pc_fplane){ buf, ow, 1 };
-			so.dolp = (pc_fplane){ buf + (size_t)ow * oh, ow, 1 };
-			pc_validity v = { got, ow, 0 };
+			so.s0 = (pc_fplane){buf, ow, 1};
+			so.dolp = (pc_fplane){buf + (size_t)ow * oh, ow, 1};
+			pc_validity v = {got, ow, 0};
 			CHECK_EQ_INT(pc_stokes_run(&raw, &o, &so, &v), 0);
 			CHECK(same_mask(got, ow, want, ow, oh));
 			CHECK_EQ_INT(v.n_invalid, nbad);
-			so.s0 = (pc_fplane){ buf, (size_t)ow * 2, 2 };
-			so.dolp = (pc_fplane){ buf + 1, (size_t)ow * 2, 2 };
-			pc_validity vc = { NULL, 0, 12345 };
+			so.s0 = (pc_fplane){buf, (size_t)ow * 2, 2};
+			so.dolp = (pc_fplane){buf + 1, (size_t)ow * 2, 2};
+			pc_validity vc = {NULL, 0, 12345};
 			CHECK_EQ_INT(pc_stokes_run(&raw, &o, &so, &vc), 0);
 			CHECK_EQ_INT(vc.n_invalid, nbad);
 			/* no levels: everything valid */
 			o.saturation_level = o.dead_level = 0;
 			memset(got, 0, W * H);
-			pc_validity vn = { got, ow, 99 };
+			pc_validity vn = {got, ow, 99};
 			CHECK_EQ_INT(pc_stokes_run(&raw, &o, &so, &vn), 0);
 			CHECK_EQ_INT(vn.n_invalid, 0);
 			int all = 1;
@@ -297,7 +314,7 @@ static void test_masks(void)
 /* A uniform field (S0, DoLP p, AoLP th) over an offset `black`, Malus' law, rounded to 12 bits:
  * I_c = black + S0/2·(1 + p cos 2(th − θ_c)). */
 static void offset_frame(const pc_mosaic *m, uint32_t W, uint32_t H, double black, double s0,
-			 double p, double th, pc_view *raw)
+                         double p, double th, pc_view *raw)
 {
 	CHECK_EQ_INT(pc_view_alloc(raw, PC_FMT_MONO12, W, H, 0), 0);
 	for (uint32_t y = 0; y < H; y++)
@@ -312,9 +329,15 @@ static void test_black_level(void)
 {
 	const uint32_t W = 48, H = 40;
 	const double black = 240, s0 = 1200, p = 0.4, th = 30 * M_PI / 180;
-	const pc_demosaic_method meths[] = { PC_DM_SUPERPIXEL_HALF, PC_DM_BILINEAR, PC_DM_BICUBIC,
-					     PC_DM_PPID, PC_DM_RI, PC_DM_EARI, PC_DM_RATIO,
-					     PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI };
+	const pc_demosaic_method meths[] = {PC_DM_SUPERPIXEL_HALF,
+	                                    PC_DM_BILINEAR,
+	                                    PC_DM_BICUBIC,
+	                                    PC_DM_PPID,
+	                                    PC_DM_RI,
+	                                    PC_DM_EARI,
+	                                    PC_DM_RATIO,
+	                                    PC_DM_BAYER_FIRST,
+	                                    PC_DM_BAYER_EARI};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
 		pc_pipeline_opts o = pc_pipeline_defaults();
 		o.method = meths[k];
@@ -326,9 +349,9 @@ static void test_black_level(void)
 		float *buf = malloc(sizeof(float) * ow * oh * 3);
 		pc_stokes_out so;
 		memset(&so, 0, sizeof so);
-		so.s0 = (pc_fplane){ buf, ow, 1 };
-		so.dolp = (pc_fplane){ buf + (size_t)ow * oh, ow, 1 };
-		so.aolp = (pc_fplane){ buf + 2 * (size_t)ow * oh, ow, 1 };
+		so.s0 = (pc_fplane){buf, ow, 1};
+		so.dolp = (pc_fplane){buf + (size_t)ow * oh, ow, 1};
+		so.aolp = (pc_fplane){buf + 2 * (size_t)ow * oh, ow, 1};
 		double e_with = 0, e_s0 = 0, e_aolp = 0, bias = 1;
 		for (int with = 0; with < 2; with++) {
 			o.black_level = with ? black : 0;
@@ -347,9 +370,10 @@ static void test_black_level(void)
 		}
 		/* 12-bit rounding of I (±0.5) moves DoLP by at most ~2·0.5/S0 = 8e-4 and S0 by 1 */
 		if (e_with > 1e-3 || e_s0 > 1.0 || bias < 0.1)
-			fprintf(stderr, "  %s: DoLP error %g with the black level (S0 %g, AoLP %g rad), "
-					"%g without\n", pc_demosaic_method_get(o.method)->name, e_with, e_s0,
-				e_aolp, bias);
+			fprintf(stderr,
+			        "  %s: DoLP error %g with the black level (S0 %g, AoLP %g rad), "
+			        "%g without\n",
+			        pc_demosaic_method_get(o.method)->name, e_with, e_s0, e_aolp, bias);
 		CHECK(e_with <= 1e-3);
 		CHECK(e_s0 <= 1.0);
 		CHECK(e_aolp <= 1e-3);
@@ -371,7 +395,8 @@ static void test_black_level(void)
 		uint32_t ow, oh;
 		pc_demosaic_out_size(o.method, W, H, &ow, &oh);
 		unsigned nch = pc_demosaic_channels(&o.mosaic);
-		float *fb = malloc(sizeof(float) * ow * oh * nch), *rb = malloc(sizeof(float) * ow * oh * nch);
+		float *fb = malloc(sizeof(float) * ow * oh * nch),
+		      *rb = malloc(sizeof(float) * ow * oh * nch);
 		pc_fplane f[12], r[12];
 		pc_fplanes_separate(fb, ow, oh, nch, f);
 		pc_fplanes_separate(rb, ow, oh, nch, r);
@@ -410,7 +435,8 @@ static float *make_pinv(uint32_t gw, uint32_t gh, int ideal)
 			w[12 * k + 3 * c + 2] = (float)(0.5 * g * e * sin(2 * t));
 		}
 	if (ideal) {
-		static const float P[3][4] = { { 0.5f, 0.5f, 0.5f, 0.5f }, { 1, 0, -1, 0 }, { 0, 1, 0, -1 } };
+		static const float P[3][4] = {
+		    {0.5f, 0.5f, 0.5f, 0.5f}, {1, 0, -1, 0}, {0, 1, 0, -1}};
 		for (int i = 0; i < 3; i++)
 			for (int c = 0; c < 4; c++)
 				for (size_t k = 0; k < n; k++)
@@ -424,12 +450,12 @@ static float *make_pinv(uint32_t gw, uint32_t gh, int ideal)
 
 /* Stokes in double of channel values I (channel order) through the matrix of output pixel
  * (x, y) of a W × H output. */
-static void stokes_ref(const pc_analyser_pinv *pv, uint32_t W, uint32_t H, uint32_t x,
-		       uint32_t y, const double I[4], double S[5])
+static void stokes_ref(const pc_analyser_pinv *pv, uint32_t W, uint32_t H, uint32_t x, uint32_t y,
+                       const double I[4], double S[5])
 {
 	size_t n = (size_t)pv->grid_w * pv->grid_h;
 	size_t cell = (size_t)((uint64_t)y * pv->grid_h / H) * pv->grid_w +
-		      (size_t)((uint64_t)x * pv->grid_w / W);
+	              (size_t)((uint64_t)x * pv->grid_w / W);
 	for (int i = 0; i < 3; i++) {
 		S[i] = 0;
 		for (int c = 0; c < 4; c++)
@@ -457,16 +483,17 @@ static void calibrated_one(const cal_case *cc, const pc_view *raw, double *worst
 	uint32_t gw = cc->grid == 0 ? 1 : cc->grid == 1 ? ow / 2 : cc->grid == 2 ? ow : ow / 4;
 	uint32_t gh = cc->grid == 0 ? 1 : cc->grid == 1 ? oh / 2 : cc->grid == 2 ? oh : oh / 3;
 	float *pm = make_pinv(gw, gh, 0);
-	pc_analyser_pinv pv = { pm, gw, gh };
+	pc_analyser_pinv pv = {pm, gw, gh};
 	o.pinv = &pv;
 	size_t n = (size_t)ow * oh;
 	/* 64-byte aligned planes with aligned rows where ow allows: the streaming stores too */
 	float *buf = aligned_alloc(64, sizeof(float) * ((n + 15) / 16 * 16) * 5);
 	pc_stokes_out so;
-	pc_fplane *pl[5] = { &so.s0, &so.s1, &so.s2, &so.dolp, &so.aolp };
+	pc_fplane *pl[5] = {&so.s0, &so.s1, &so.s2, &so.dolp, &so.aolp};
 	for (int q = 0; q < 5; q++)
-		*pl[q] = cc->interleaved ? (pc_fplane){ buf + q, (size_t)ow * 5, 5 }
-					 : (pc_fplane){ buf + (size_t)q * ((n + 15) / 16 * 16), ow, 1 };
+		*pl[q] = cc->interleaved
+		             ? (pc_fplane){buf + q, (size_t)ow * 5, 5}
+		             : (pc_fplane){buf + (size_t)q * ((n + 15) / 16 * 16), ow, 1};
 	CHECK_EQ_INT(pc_stokes_run(raw, &o, &so, NULL), 0);
 	pc_fplane ch[12];
 	uint32_t rw, rh;
@@ -477,8 +504,9 @@ static void calibrated_one(const cal_case *cc, const pc_view *raw, double *worst
 			double I[4], S[5];
 			for (int c = 0; c < 4; c++)
 				I[c] = colour ? (fget(&ch[c], x, y) + fget(&ch[4 + c], x, y) +
-						 fget(&ch[8 + c], x, y)) / 3
-					      : fget(&ch[c], x, y);
+				                 fget(&ch[8 + c], x, y)) /
+				                    3
+				              : fget(&ch[c], x, y);
 			stokes_ref(&pv, ow, oh, x, y, I, S);
 			for (int q = 0; q < 3; q++)
 				worst[q] = fmax(worst[q], fabs(fget(pl[q], x, y) - S[q]) / 4095);
@@ -500,15 +528,25 @@ static void test_calibrated_vs_reference(void)
 	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
 	fill_random(&raw, 300, 3800);
 	const cal_case cases[] = {
-		{ PC_DM_BILINEAR, 0, 0 },	  { PC_DM_BILINEAR, 1, 0 }, { PC_DM_BILINEAR, 2, 0 },
-		{ PC_DM_BILINEAR, 3, 0 },	  { PC_DM_BILINEAR, 1, 1 }, { PC_DM_RATIO, 1, 0 },
-		{ PC_DM_RATIO, 2, 0 },		  { PC_DM_RATIO, 1, 1 },    { PC_DM_EARI, 0, 0 },
-		{ PC_DM_BICUBIC, 1, 0 },	  { PC_DM_PPID, 2, 0 },	    { PC_DM_RI, 1, 0 },
-		{ PC_DM_SUPERPIXEL, 1, 0 },	  { PC_DM_SUPERPIXEL_HALF, 1, 0 },
-		{ PC_DM_SUPERPIXEL_HALF, 2, 1 }, { PC_DM_BAYER_FIRST, 1, 0 },
+	    {PC_DM_BILINEAR, 0, 0},
+	    {PC_DM_BILINEAR, 1, 0},
+	    {PC_DM_BILINEAR, 2, 0},
+	    {PC_DM_BILINEAR, 3, 0},
+	    {PC_DM_BILINEAR, 1, 1},
+	    {PC_DM_RATIO, 1, 0},
+	    {PC_DM_RATIO, 2, 0},
+	    {PC_DM_RATIO, 1, 1},
+	    {PC_DM_EARI, 0, 0},
+	    {PC_DM_BICUBIC, 1, 0},
+	    {PC_DM_PPID, 2, 0},
+	    {PC_DM_RI, 1, 0},
+	    {PC_DM_SUPERPIXEL, 1, 0},
+	    {PC_DM_SUPERPIXEL_HALF, 1, 0},
+	    {PC_DM_SUPERPIXEL_HALF, 2, 1},
+	    {PC_DM_BAYER_FIRST, 1, 0},
 	};
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-		double worst[5] = { 0 };
+		double worst[5] = {0};
 		calibrated_one(&cases[k], &raw, worst);
 		/* Tolerances against S = P·I in double on the reference channels: the float
 		 * products and sums (two roundings of terms up to |P|·4095, |P| < 1.3) give 1e-6
@@ -517,16 +555,18 @@ static void test_calibrated_vs_reference(void)
 		 * 1e-5 of full scale per channel, times Σ|P_ic| <= 3. DoLP follows with S0 >= 300:
 		 * 2e-6 and 1e-4; AoLP (rad) times |(S1, S2)| as S, plus the arctangent's 3e-7. */
 		int exact_ch = cases[k].m == PC_DM_BILINEAR || cases[k].m == PC_DM_SUPERPIXEL ||
-			       cases[k].m == PC_DM_SUPERPIXEL_HALF;
+		               cases[k].m == PC_DM_SUPERPIXEL_HALF;
 		double ts = exact_ch ? 1e-6 : 3e-5, td = exact_ch ? 2e-6 : 1e-4, ta = ts + 3e-7;
 		int ok = worst[0] <= ts && worst[1] <= ts && worst[2] <= ts && worst[3] <= td &&
-			 worst[4] <= ta;
+		         worst[4] <= ta;
 		if (!ok || k == 0)
-			fprintf(ok ? stdout : stderr,
-				"  calibrated %s grid %d%s: S %.2g %.2g %.2g of full scale, DoLP %.2g, "
-				"AoLP·|(S1, S2)| %.2g of full scale\n", pc_demosaic_method_get(cases[k].m)->name,
-				cases[k].grid, cases[k].interleaved ? " interleaved" : "", worst[0],
-				worst[1], worst[2], worst[3], worst[4]);
+			fprintf(
+			    ok ? stdout : stderr,
+			    "  calibrated %s grid %d%s: S %.2g %.2g %.2g of full scale, DoLP %.2g, "
+			    "AoLP·|(S1, S2)| %.2g of full scale\n",
+			    pc_demosaic_method_get(cases[k].m)->name, cases[k].grid,
+			    cases[k].interleaved ? " interleaved" : "", worst[0], worst[1],
+			    worst[2], worst[3], worst[4]);
 		CHECK(ok);
 	}
 	pc_view_free(&raw);
@@ -534,8 +574,8 @@ static void test_calibrated_vs_reference(void)
 	pc_view craw;
 	CHECK_EQ_INT(pc_view_alloc(&craw, PC_FMT_MONO12, W, H, 0), 0);
 	fill_random(&craw, 300, 3800);
-	double worst[5] = { 0 };
-	cal_case cc = { PC_DM_BAYER_EARI, 1, 0 };
+	double worst[5] = {0};
+	cal_case cc = {PC_DM_BAYER_EARI, 1, 0};
 	calibrated_one(&cc, &craw, worst);
 	CHECK(worst[0] <= 3e-5 && worst[1] <= 3e-5 && worst[2] <= 3e-5 && worst[3] <= 1e-4);
 	pc_view_free(&craw);
@@ -550,8 +590,8 @@ static void test_ideal_matrix(void)
 	pc_view raw;
 	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
 	fill_random(&raw, 0, 4095);
-	const pc_demosaic_method meths[] = { PC_DM_BILINEAR, PC_DM_RATIO, PC_DM_EARI,
-					     PC_DM_SUPERPIXEL };
+	const pc_demosaic_method meths[] = {PC_DM_BILINEAR, PC_DM_RATIO, PC_DM_EARI,
+	                                    PC_DM_SUPERPIXEL};
 	size_t n = (size_t)W * H;
 	float *a = malloc(sizeof(float) * n * 5), *b = malloc(sizeof(float) * n * 5);
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++)
@@ -559,15 +599,15 @@ static void test_ideal_matrix(void)
 			uint32_t gw = g == 0 ? 1 : g == 1 ? W / 2 : g == 2 ? W : W / 4;
 			uint32_t gh = g == 0 ? 1 : g == 1 ? H / 2 : g == 2 ? H : H / 4;
 			float *pm = make_pinv(gw, gh, 1);
-			pc_analyser_pinv pv = { pm, gw, gh };
+			pc_analyser_pinv pv = {pm, gw, gh};
 			pc_pipeline_opts o = pc_pipeline_defaults();
 			o.method = meths[k];
 			pc_stokes_out sa, sb;
-			pc_fplane *pa[5] = { &sa.s0, &sa.s1, &sa.s2, &sa.dolp, &sa.aolp };
-			pc_fplane *pb[5] = { &sb.s0, &sb.s1, &sb.s2, &sb.dolp, &sb.aolp };
+			pc_fplane *pa[5] = {&sa.s0, &sa.s1, &sa.s2, &sa.dolp, &sa.aolp};
+			pc_fplane *pb[5] = {&sb.s0, &sb.s1, &sb.s2, &sb.dolp, &sb.aolp};
 			for (int q = 0; q < 5; q++) {
-				*pa[q] = (pc_fplane){ a + (size_t)q * n, W, 1 };
-				*pb[q] = (pc_fplane){ b + (size_t)q * n, W, 1 };
+				*pa[q] = (pc_fplane){a + (size_t)q * n, W, 1};
+				*pb[q] = (pc_fplane){b + (size_t)q * n, W, 1};
 			}
 			CHECK_EQ_INT(pc_stokes_run(&raw, &o, &sa, NULL), 0);
 			o.pinv = &pv;
@@ -583,9 +623,11 @@ static void test_ideal_matrix(void)
 				dd = fmax(dd, i >= 4 * n ? fmin(d, M_PI - d) : d);
 			}
 			if (!same_s || (g < 3 && !same_da) || dd > 1e-6)
-				fprintf(stderr, "  ideal matrix, %s grid %d: S %s, DoLP/AoLP differ by %g\n",
-					pc_demosaic_method_get(meths[k])->name, g,
-					same_s ? "equal" : "differ", dd);
+				fprintf(
+				    stderr,
+				    "  ideal matrix, %s grid %d: S %s, DoLP/AoLP differ by %g\n",
+				    pc_demosaic_method_get(meths[k])->name, g,
+				    same_s ? "equal" : "differ", dd);
 			CHECK(same_s);
 			if (g < 3)
 				CHECK(same_da);
@@ -603,7 +645,7 @@ static void test_ideal_matrix(void)
 		for (int i = 0; i < 3; i++)
 			wf[3 * c + i] = (float)w[c][i];
 	CHECK_EQ_INT(pc_stokes_pinv(wf, 1, pf), 0);
-	static const float P[12] = { 0.5f, 0.5f, 0.5f, 0.5f, 1, 0, -1, 0, 0, 1, 0, -1 };
+	static const float P[12] = {0.5f, 0.5f, 0.5f, 0.5f, 1, 0, -1, 0, 0, 1, 0, -1};
 	for (int i = 0; i < 12; i++)
 		CHECK_NEAR(pf[i], P[i], 1e-7);
 }
@@ -614,7 +656,7 @@ static void test_calibration_recovers_truth(void)
 {
 	const uint32_t W = 64, H = 48, gw = W / 2, gh = H / 2;
 	const double s0 = 3000, p = 0.5, th = 70 * M_PI / 180;
-	const double S[3] = { s0, s0 * p * cos(2 * th), s0 * p * sin(2 * th) };
+	const double S[3] = {s0, s0 * p * cos(2 * th), s0 * p * sin(2 * th)};
 	size_t n = (size_t)gw * gh;
 	float *w = malloc(sizeof(float) * 12 * n), *pm = malloc(sizeof(float) * 12 * n);
 	for (size_t k = 0; k < n; k++)
@@ -633,18 +675,19 @@ static void test_calibration_recovers_truth(void)
 		for (uint32_t x = 0; x < W; x++) {
 			unsigned c = pc_mosaic_channel(&m, x, y);
 			const float *wc = w + 12 * ((size_t)(y / 2) * gw + x / 2) + 3 * c;
-			PC_ROW(&raw, float, y)[x] = (float)(wc[0] * S[0] + wc[1] * S[1] + wc[2] * S[2]);
+			PC_ROW(&raw, float, y)
+			[x] = (float)(wc[0] * S[0] + wc[1] * S[1] + wc[2] * S[2]);
 		}
-	pc_analyser_pinv pv = { pm, gw, gh };
+	pc_analyser_pinv pv = {pm, gw, gh};
 	pc_pipeline_opts o = pc_pipeline_defaults();
 	o.method = PC_DM_SUPERPIXEL; /* one super-pixel's four samples: no interpolation error */
 	o.full_scale = 4095;
 	float *buf = malloc(sizeof(float) * W * H * 2);
 	pc_stokes_out so;
 	memset(&so, 0, sizeof so);
-	so.dolp = (pc_fplane){ buf, W, 1 };
-	so.aolp = (pc_fplane){ buf + (size_t)W * H, W, 1 };
-	double err[2][2] = { { 0 } };
+	so.dolp = (pc_fplane){buf, W, 1};
+	so.aolp = (pc_fplane){buf + (size_t)W * H, W, 1};
+	double err[2][2] = {{0}};
 	for (int cal = 0; cal < 2; cal++) {
 		o.pinv = cal ? &pv : NULL;
 		CHECK_EQ_INT(pc_stokes_run(&raw, &o, &so, NULL), 0);
@@ -675,7 +718,7 @@ static void test_bad_options(void)
 	pc_fplanes_separate(buf, 8, 8, 4, pl);
 	pc_stokes_out so;
 	memset(&so, 0, sizeof so);
-	so.s0 = (pc_fplane){ buf, 8, 1 };
+	so.s0 = (pc_fplane){buf, 8, 1};
 	pc_pipeline_opts o = pc_pipeline_defaults();
 	CHECK_EQ_INT(pc_demosaic_run(&raw, &o, pl, NULL), 0);
 	CHECK_EQ_INT(pc_demosaic_run(&raw, NULL, pl, NULL), PC_EINVAL);
@@ -695,10 +738,10 @@ static void test_bad_options(void)
 	CHECK(strstr(pc_error_detail(), "dead level") != NULL);
 	o.dead_level = 0;
 	uint8_t mask[64];
-	pc_validity v = { mask, 7, 0 }; /* stride below the width */
+	pc_validity v = {mask, 7, 0}; /* stride below the width */
 	CHECK_EQ_INT(pc_stokes_run(&raw, &o, &so, &v), PC_EINVAL);
-	float pm[12] = { 0 };
-	pc_analyser_pinv pv = { pm, 1, 1 };
+	float pm[12] = {0};
+	pc_analyser_pinv pv = {pm, 1, 1};
 	o.pinv = &pv;
 	CHECK_EQ_INT(pc_demosaic_run(&raw, &o, pl, NULL), PC_EINVAL); /* Stokes only */
 	CHECK_EQ_INT(pc_stokes_run(&raw, &o, &so, NULL), 0);

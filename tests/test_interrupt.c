@@ -42,7 +42,7 @@ static sf_frames frames4; /* seed 4: render */
 
 static void sleep_ms(double ms)
 {
-	struct timespec ts = { (time_t)(ms / 1e3), (long)(fmod(ms, 1e3) * 1e6) };
+	struct timespec ts = {(time_t)(ms / 1e3), (long)(fmod(ms, 1e3) * 1e6)};
 	while (nanosleep(&ts, &ts) && errno == EINTR)
 		;
 }
@@ -117,8 +117,8 @@ static void test_capture_sigterm(void)
 	snprintf(dir, sizeof dir, "%s/term", tmp);
 	snprintf(out, sizeof out, "%s/term.out", tmp);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=25", scene);
-	char *args[] = { "capture", uri, "-n", "100000", "-o", dir, "--write-delay-ms", "200",
-			 "--json", NULL };
+	char *args[] = {"capture",          uri,   "-n",     "100000", "-o", dir,
+	                "--write-delay-ms", "200", "--json", NULL};
 	pid_t pid = start(args, out);
 	CHECK(pid > 0);
 	CHECK(wait_out(dir, "raw_000002.png", WAIT_MS));
@@ -152,7 +152,8 @@ static void test_capture_sigterm(void)
 	CHECK_EQ_INT(json_array_size(json_object_get(m, "frames")), reported);
 	CHECK(json_integer_value(json_object_get(json_object_get(m, "stats"), "completed")) >=
 	      reported);
-	json_t *mq = json_object_get(json_object_get(json_object_get(m, "extra"), "capture"), "queue");
+	json_t *mq =
+	    json_object_get(json_object_get(json_object_get(m, "extra"), "capture"), "queue");
 	CHECK_EQ_INT(json_integer_value(json_object_get(mq, "written")), reported);
 	CHECK_EQ_INT(count_frames(dir), reported);
 	sf_dir_report r;
@@ -173,7 +174,7 @@ static void test_capture_sigint_process(void)
 	snprintf(dir, sizeof dir, "%s/int", tmp);
 	snprintf(out, sizeof out, "%s/int.out", tmp);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=20", scene);
-	char *args[] = { "capture", uri, "-n", "100000", "-o", dir, "--process", NULL };
+	char *args[] = {"capture", uri, "-n", "100000", "-o", dir, "--process", NULL};
 	pid_t pid = start(args, out);
 	CHECK(wait_out(dir, "raw_000001.png", WAIT_MS));
 	CHECK_EQ_INT(pc_child_stop(pid, SIGINT, WAIT_MS), 1);
@@ -181,11 +182,11 @@ static void test_capture_sigint_process(void)
 	CHECK(m && json_is_false(json_object_get(m, "complete")));
 	json_t *pj = json_object_get(json_object_get(m, "extra"), "process");
 	CHECK_EQ_INT(json_integer_value(json_object_get(pj, "frames")),
-		     json_array_size(json_object_get(m, "frames")));
+	             json_array_size(json_object_get(m, "frames")));
 	char p[300];
 	/* every frame's planes are kept (--keep-every 1): the last one's too */
 	snprintf(p, sizeof p, "%s/processed/dolp_%06zu.npy", dir,
-		 json_array_size(json_object_get(m, "frames")) - 1);
+	         json_array_size(json_object_get(m, "frames")) - 1);
 	pc_array a;
 	CHECK_EQ_INT(pc_npy_read(p, &a), 0);
 	if (a.data)
@@ -204,7 +205,7 @@ static void test_render_sigint(void)
 	char dir[200], out[220];
 	snprintf(dir, sizeof dir, "%s/render", tmp);
 	snprintf(out, sizeof out, "%s/render.out", tmp);
-	char *args[] = { "render", scene, "-o", dir, "-n", "100000", "-s", "4", NULL };
+	char *args[] = {"render", scene, "-o", dir, "-n", "100000", "-s", "4", NULL};
 	pid_t pid = start(args, out);
 	CHECK(wait_out(dir, "raw_000002.png", WAIT_MS));
 	CHECK_EQ_INT(pc_child_stop(pid, SIGINT, WAIT_MS), 1);
@@ -240,8 +241,8 @@ static void test_second_signal(void)
 	snprintf(dir, sizeof dir, "%s/twice", tmp);
 	snprintf(out, sizeof out, "%s/twice.out", tmp);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=50", scene);
-	char *args[] = { "capture", uri, "-n", "100000", "-o", dir, "--write-delay-ms", "2000",
-			 NULL };
+	char *args[] = {"capture",          uri,    "-n", "100000", "-o", dir,
+	                "--write-delay-ms", "2000", NULL};
 	pid_t pid = start(args, out);
 	CHECK(wait_out(dir, "raw_000000.png", WAIT_MS));
 	sleep_ms(500); /* a queue of frames waits for the 2 s writer */
@@ -269,7 +270,7 @@ typedef struct kill_totals {
  * included), or from its first frame on disk (after_first: while frames are written, however
  * slow the start is on a loaded machine). */
 static void kill_round(char *const args[], const char *dir, const sf_frames *f, double max_ms,
-		       bool after_first, char *const rerun[], kill_totals *t)
+                       bool after_first, char *const rerun[], kill_totals *t)
 {
 	char out[300];
 	snprintf(out, sizeof out, "%s.out", dir);
@@ -278,7 +279,7 @@ static void kill_round(char *const args[], const char *dir, const sf_frames *f, 
 	bool first = !after_first;
 	for (int w = 0; w < WAIT_MS && !first; w += 20) {
 		first = sf_out_file_exists(dir, "raw_000000.png") ||
-			sf_out_file_exists(dir, "raw_000000.raw");
+		        sf_out_file_exists(dir, "raw_000000.raw");
 		if (!first)
 			sleep_ms(20);
 	}
@@ -317,25 +318,27 @@ static void kill_round(char *const args[], const char *dir, const sf_frames *f, 
 
 static void test_kills(void)
 {
-	kill_totals tc = { 0 }, tr = { 0 };
+	kill_totals tc = {0}, tr = {0};
 	const double max_ms = 2500; /* past the end of some runs: kills at every stage */
 	for (int k = 0; k < 16; k++) {
 		char dir[200], uri[800];
 		snprintf(dir, sizeof dir, "%s/kill_c%02d", tmp, k);
 		snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=0", scene);
 		const char *store = k % 2 ? "raw" : "png";
-		char *args[] = { "capture", uri, "-n", "40", "-o", dir, "--store", (char *)store,
-				 k % 4 == 3 ? "--process" : NULL, NULL };
-		char *rerun[] = { "capture", uri, "-n", "1", "-o", dir, "--store", (char *)store,
-				  "--overwrite", NULL };
+		char *args[] = {"capture", uri,           "-n",
+		                "40",      "-o",          dir,
+		                "--store", (char *)store, k % 4 == 3 ? "--process" : NULL,
+		                NULL};
+		char *rerun[] = {"capture", uri,       "-n",          "1",           "-o",
+		                 dir,       "--store", (char *)store, "--overwrite", NULL};
 		kill_round(args, dir, &frames5, max_ms, k % 4 >= 2, rerun, &tc);
 	}
 	for (int k = 0; k < 12; k++) {
 		char dir[200];
 		snprintf(dir, sizeof dir, "%s/kill_r%02d", tmp, k);
-		char *args[] = { "render", scene, "-o", dir, "-n", "30", "-s", "4", NULL };
-		char *rerun[] = { "render", scene, "-o", dir, "-n", "1", "-s", "4", "--overwrite",
-				  "--no-truth", NULL };
+		char *args[] = {"render", scene, "-o", dir, "-n", "30", "-s", "4", NULL};
+		char *rerun[] = {"render", scene, "-o",          dir,          "-n", "1",
+		                 "-s",     "4",   "--overwrite", "--no-truth", NULL};
 		kill_round(args, dir, &frames4, max_ms, k % 2, rerun, &tr);
 	}
 	printf("SIGKILL: capture %u kills: %u files under final names, all whole (%u frames "
@@ -387,7 +390,7 @@ static void test_sweep(void)
 	snprintf(out_dir, sizeof out_dir, "%s/swept", tmp);
 	snprintf(dead_dir, sizeof dead_dir, "%s/.swept.tmp-%s-%ld-Ab12Cd", tmp, host, (long)gone);
 	snprintf(live_dir, sizeof live_dir, "%s/.swept.tmp-%s-%ld-Xy34Zw", tmp, host,
-		 (long)getpid());
+	         (long)getpid());
 	CHECK_EQ_INT(mkdir(dead_dir, 0755), 0);
 	CHECK_EQ_INT(mkdir(live_dir, 0755), 0);
 	char inner[500];
@@ -398,7 +401,7 @@ static void test_sweep(void)
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=0", scene);
 	char out[300];
 	snprintf(out, sizeof out, "%s.out", out_dir);
-	char *args[] = { "capture", uri, "-n", "2", "-o", out_dir, NULL };
+	char *args[] = {"capture", uri, "-n", "2", "-o", out_dir, NULL};
 	CHECK_EQ_INT(pc_child_wait(start(args, out), WAIT_MS, NULL), 0);
 	CHECK(access(dead_dir, F_OK) != 0);
 	CHECK(access(live_dir, F_OK) == 0);

@@ -61,14 +61,14 @@ static int views_equal(const pc_view *a, const pc_view *b)
 	const pc_format_info *fa = pc_format_info_get(a->format);
 	for (uint32_t y = 0; y < a->height; y++)
 		if (memcmp(PC_ROW(a, uint8_t, y), PC_ROW(b, uint8_t, y),
-			   (size_t)a->width * fa->group_bytes / fa->group_pixels))
+		           (size_t)a->width * fa->group_bytes / fa->group_pixels))
 			return 0;
 	return 1;
 }
 
 static void test_tiff(void)
 {
-	const pc_pixfmt fmts[] = { PC_FMT_MONO8, PC_FMT_MONO16, PC_FMT_FLOAT32 };
+	const pc_pixfmt fmts[] = {PC_FMT_MONO8, PC_FMT_MONO16, PC_FMT_FLOAT32};
 	for (size_t i = 0; i < 3; i++) {
 		pc_view v, back;
 		CHECK_EQ_INT(pc_view_alloc(&v, fmts[i], 13, 7, 64), 0); /* padded stride */
@@ -98,7 +98,7 @@ static void test_tiff(void)
 		pc_view_free(&v);
 	}
 	/* a packed 12-bit view is written as 16-bit with the same values */
-	uint16_t vals[2][4] = { { 1, 4095, 17, 300 }, { 2048, 0, 5, 4000 } };
+	uint16_t vals[2][4] = {{1, 4095, 17, 300}, {2048, 0, 5, 4000}};
 	pc_view packed, back;
 	CHECK_EQ_INT(pc_view_alloc(&packed, PC_FMT_MONO12P, 4, 2, 1), 0);
 	CHECK_EQ_INT(pc_view_from_u16(&vals[0][0], sizeof vals[0], &packed), 0);
@@ -130,7 +130,7 @@ static void test_tiff(void)
 	/* signed 16-bit samples: unsupported, said clearly */
 	TIFF *t = TIFFOpen(tmp("s.tif"), "w");
 	CHECK(t != NULL);
-	int16_t srow[4] = { -1, 2, 3, 4 };
+	int16_t srow[4] = {-1, 2, 3, 4};
 	TIFFSetField(t, TIFFTAG_IMAGEWIDTH, 4u);
 	TIFFSetField(t, TIFFTAG_IMAGELENGTH, 1u);
 	TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 1);
@@ -142,7 +142,7 @@ static void test_tiff(void)
 	CHECK_EQ_INT(pc_image_read(tmp("s.tif"), NULL, &back, NULL), PC_EFORMAT);
 	CHECK(strstr(pc_error_detail(), "signed") != NULL);
 	/* float TIFF with NaN */
-	float fnan[2][2] = { { 1, 2 }, { NAN, 4 } };
+	float fnan[2][2] = {{1, 2}, {NAN, 4}};
 	CHECK_EQ_INT(pc_tiff_write_array(tmp("n.tif"), fnan, PC_DT_F32, 2, 2, 1), 0);
 	CHECK_EQ_INT(pc_image_read(tmp("n.tif"), NULL, &back, NULL), PC_ERANGE);
 	CHECK(strstr(pc_error_detail(), "n.tif") && strstr(pc_error_detail(), "(0,1) is NaN"));
@@ -161,7 +161,7 @@ static void test_npy(void)
 	float arr[3][2][4];
 	for (int i = 0; i < 24; i++)
 		(&arr[0][0][0])[i] = (float)i * 0.5f - 3.0f;
-	size_t shape[3] = { 3, 2, 4 };
+	size_t shape[3] = {3, 2, 4};
 	CHECK_EQ_INT(pc_npy_write(tmp("a.npy"), arr, PC_DT_F32, 3, shape), 0);
 	pc_array a;
 	CHECK_EQ_INT(pc_npy_read(tmp("a.npy"), &a), 0);
@@ -175,8 +175,8 @@ static void test_npy(void)
 	fclose(fp);
 	CHECK_EQ_INT((10 + (pre[8] | pre[9] << 8)) % 64, 0);
 
-	uint16_t img[2][3] = { { 1, 2, 3 }, { 4000, 5, 6 } };
-	size_t s2[2] = { 2, 3 };
+	uint16_t img[2][3] = {{1, 2, 3}, {4000, 5, 6}};
+	size_t s2[2] = {2, 3};
 	CHECK_EQ_INT(pc_npy_write(tmp("u.npy"), img, PC_DT_U16, 2, s2), 0);
 	pc_view v;
 	unsigned bits;
@@ -190,8 +190,8 @@ static void test_npy(void)
 	CHECK(strstr(pc_error_detail(), "u.npy") && strstr(pc_error_detail(), "(2,1) = 4096"));
 	CHECK(v.data == NULL);
 	/* NaN in float input */
-	float fimg[2][2] = { { 1, INFINITY }, { 3, 4 } };
-	CHECK_EQ_INT(pc_npy_write(tmp("f.npy"), fimg, PC_DT_F32, 2, (size_t[]){ 2, 2 }), 0);
+	float fimg[2][2] = {{1, INFINITY}, {3, 4}};
+	CHECK_EQ_INT(pc_npy_write(tmp("f.npy"), fimg, PC_DT_F32, 2, (size_t[]){2, 2}), 0);
 	CHECK_EQ_INT(pc_image_read(tmp("f.npy"), NULL, &v, NULL), PC_ERANGE);
 	CHECK(strstr(pc_error_detail(), "f.npy") && strstr(pc_error_detail(), "infinite"));
 	/* truncated data */
@@ -281,11 +281,11 @@ static void test_bmp(void)
 
 static void test_raw(void)
 {
-	const pc_pixfmt fmts[] = { PC_FMT_MONO8,	PC_FMT_MONO10,	   PC_FMT_MONO12,
-				   PC_FMT_MONO14,	PC_FMT_MONO16,	   PC_FMT_MONO10P,
-				   PC_FMT_MONO12P,	PC_FMT_MONO14P,	   PC_FMT_MONO12PACKED,
-				   PC_FMT_MONO10PACKED, PC_FMT_Y10P,	   PC_FMT_Y12P,
-				   PC_FMT_Y14P,		PC_FMT_Y10BPACK };
+	const pc_pixfmt fmts[] = {PC_FMT_MONO8,        PC_FMT_MONO10,  PC_FMT_MONO12,
+	                          PC_FMT_MONO14,       PC_FMT_MONO16,  PC_FMT_MONO10P,
+	                          PC_FMT_MONO12P,      PC_FMT_MONO14P, PC_FMT_MONO12PACKED,
+	                          PC_FMT_MONO10PACKED, PC_FMT_Y10P,    PC_FMT_Y12P,
+	                          PC_FMT_Y14P,         PC_FMT_Y10BPACK};
 	enum { W = 8, H = 4 };
 	for (size_t i = 0; i < sizeof fmts / sizeof fmts[0]; i++) {
 		const pc_format_info *fi = pc_format_info_get(fmts[i]);
@@ -301,7 +301,7 @@ static void test_raw(void)
 		uint8_t *file = calloc(1, bytes);
 		memcpy(file + 7, v.data, v.stride * H);
 		CHECK_EQ_INT(pc_write_file_atomic(tmp("r.raw"), file, bytes), 0);
-		pc_raw_geometry g = { W, H, fmts[i], 7, v.stride };
+		pc_raw_geometry g = {W, H, fmts[i], 7, v.stride};
 		pc_view r;
 		unsigned sb;
 		CHECK_EQ_INT(pc_image_read(tmp("r.raw"), &g, &r, &sb), 0);
@@ -317,10 +317,10 @@ static void test_raw(void)
 		free(file);
 		pc_view_free(&v);
 	}
-	pc_raw_geometry zero = { 0, 4, PC_FMT_MONO16, 0, 0 };
+	pc_raw_geometry zero = {0, 4, PC_FMT_MONO16, 0, 0};
 	pc_view r;
 	CHECK_EQ_INT(pc_image_read(tmp("r.raw"), &zero, &r, NULL), PC_EINVAL);
-	pc_raw_geometry odd = { 6, 4, PC_FMT_MONO10P, 0, 0 }; /* not a multiple of 4 pixels */
+	pc_raw_geometry odd = {6, 4, PC_FMT_MONO10P, 0, 0}; /* not a multiple of 4 pixels */
 	CHECK_EQ_INT(pc_image_read(tmp("r.raw"), &odd, &r, NULL), PC_EINVAL);
 }
 
@@ -337,14 +337,14 @@ static void test_pictures(void)
 	}
 	pc_stokes_out so;
 	memset(&so, 0, sizeof so);
-	so.s0 = (pc_fplane){ s0, W, 1 };
-	so.dolp = (pc_fplane){ dl, W, 1 };
-	so.aolp = (pc_fplane){ al, W, 1 };
+	so.s0 = (pc_fplane){s0, W, 1};
+	so.dolp = (pc_fplane){dl, W, 1};
+	so.aolp = (pc_fplane){al, W, 1};
 	CHECK_EQ_INT(pc_pictures_write(dir, &so, W, H, "truth"), 0);
-	const char *names[4] = { "s0.png", "dolp.png", "aolp.png", "aolp_sat.png" };
+	const char *names[4] = {"s0.png", "dolp.png", "aolp.png", "aolp_sat.png"};
 	for (int k = 0; k < 4; k++)
 		CHECK(access(tmp(names[k]), F_OK) == 0);
-	pc_pictures_opts o = { .title_prefix = "m", .mask_s0 = 45.0 };
+	pc_pictures_opts o = {.title_prefix = "m", .mask_s0 = 45.0};
 	CHECK_EQ_INT(pc_pictures_write_opts(dir, &so, W, H, &o), 0);
 	o.mask_s0 = -1;
 	CHECK_EQ_INT(pc_pictures_write_opts(dir, &so, W, H, &o), 0);

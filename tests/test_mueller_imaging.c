@@ -23,7 +23,7 @@
 /* tetrahedral PSG: polarizer at 0° then a 132° retarder at ±15.1°, ±51.7° */
 static void tetra_psg(double psg[4][4])
 {
-	const double ang[4] = { 15.1, 51.7, -51.7, -15.1 };
+	const double ang[4] = {15.1, 51.7, -51.7, -15.1};
 	for (int g = 0; g < 4; g++) {
 		double R[4][4];
 		pc_retarder_mueller(ang[g] * DEG, 132 * DEG, R);
@@ -96,24 +96,25 @@ static void test_conditioning(void)
 	CHECK_EQ_INT(s.rank_A, 3);
 	/* two generator states cannot determine even the linear block */
 	CHECK_EQ_INT(pc_mueller_system_init(&s, 2, lin, 1, NULL, NULL), PC_ENUMERIC);
-	double bad[1][4] = { { 1, NAN, 0, 0 } };
+	double bad[1][4] = {{1, NAN, 0, 0}};
 	CHECK_EQ_INT(pc_mueller_system_init(&s, 1, bad, 1, NULL, NULL), PC_EINVAL);
 }
 
 static void random_mueller(double M[4][4])
 {
 	/* a retarder · diattenuator · depolarizer product with random parameters */
-	double R[4][4], D[4][4] = { { 0 } }, P[4][4] = { { 0 } };
+	double R[4][4], D[4][4] = {{0}}, P[4][4] = {{0}};
 	pc_retarder_mueller(urand() * M_PI, urand() * M_PI, R);
 	double d = 0.9 * urand(), ang = urand() * M_PI, c = cos(2 * ang), s = sin(2 * ang);
 	double q = sqrt(1 - d * d);
-	double dv[3] = { d * c, d * s, 0 };
+	double dv[3] = {d * c, d * s, 0};
 	D[0][0] = 1;
 	for (int i = 0; i < 3; i++)
 		D[0][i + 1] = D[i + 1][0] = dv[i];
 	for (int i = 0; i < 3; i++)
 		for (int j = 0; j < 3; j++)
-			D[i + 1][j + 1] = q * (i == j) + (d > 0 ? (1 - q) * dv[i] * dv[j] / (d * d) : 0);
+			D[i + 1][j + 1] =
+			    q * (i == j) + (d > 0 ? (1 - q) * dv[i] * dv[j] / (d * d) : 0);
 	P[0][0] = 1;
 	for (int i = 1; i < 4; i++)
 		P[i][i] = 0.3 + 0.7 * urand();
@@ -146,15 +147,17 @@ static void test_round_trip(void)
 
 	/* the float accumulator over an image against the double reference */
 	const uint32_t W = 37, H = 11;
-	float *planes = malloc(sizeof(float) * 8 * 4 * W * H), *Mimg = calloc(16 * W * H, sizeof(float));
-	double (*truth)[4][4] = malloc(sizeof(double) * 16 * W * H);
+	float *planes = malloc(sizeof(float) * 8 * 4 * W * H),
+	      *Mimg = calloc(16 * W * H, sizeof(float));
+	double(*truth)[4][4] = malloc(sizeof(double) * 16 * W * H);
 	for (uint32_t p = 0; p < W * H; p++) {
 		double I[32];
 		random_mueller(truth[p]);
 		synth(&s, truth[p], I);
 		for (int j = 0; j < 8; j++)
 			for (int c = 0; c < 4; c++)
-				planes[((size_t)j * 4 + c) * W * H + p] = (float)(1000 * I[j * 4 + c]);
+				planes[((size_t)j * 4 + c) * W * H + p] =
+				    (float)(1000 * I[j * 4 + c]);
 	}
 	for (unsigned j = 0; j < 8; j++) {
 		pc_fplane ch[4];
@@ -170,9 +173,9 @@ static void test_round_trip(void)
 	for (uint32_t p = 0; p < W * H; p++)
 		for (int k = 0; k < 16; k++)
 			rel = fmax(rel, fabs(Mimg[16 * p + k] / 1000 - truth[p][k / 4][k % 4]) /
-					       fabs(truth[p][0][0]));
+			                    fabs(truth[p][0][0]));
 	CHECK(rel < 2e-6); /* float accumulation, stated in mueller_imaging.h */
-	pc_fplane none[4] = { { 0 } };
+	pc_fplane none[4] = {{0}};
 	CHECK_EQ_INT(pc_mueller_accumulate(&s, 8, none, W, H, 0, Mimg), PC_EINVAL);
 	free(planes);
 	free(Mimg);
@@ -211,7 +214,7 @@ static void test_noise_gain(void)
 	random_mueller(M);
 	const int n = 20000;
 	const double sigma = 0.01;
-	double sum[4][4] = { { 0 } }, sum2[4][4] = { { 0 } };
+	double sum[4][4] = {{0}}, sum2[4][4] = {{0}};
 	for (int t = 0; t < n; t++) {
 		double I[32], R[4][4];
 		synth(&s, M, I);
@@ -229,7 +232,7 @@ static void test_noise_gain(void)
 		for (int j = 0; j < 4; j++) {
 			double sd = sqrt(sum2[i][j] / n - (sum[i][j] / n) * (sum[i][j] / n));
 			double want = sigma * s.noise_gain[i][j];
-			CHECK_NEAR(sd / want, 1, 0.04);         /* 1/sqrt(2n) = 0.5 %: generous */
+			CHECK_NEAR(sd / want, 1, 0.04); /* 1/sqrt(2n) = 0.5 %: generous */
 			CHECK(fabs(sum[i][j] / n) < 5 * want / sqrt(n)); /* unbiased */
 		}
 }
@@ -239,9 +242,13 @@ static void test_noise_gain(void)
 static double M0[4][4];
 
 static int brdf_fixed(void *u, unsigned m, unsigned ch, const double ki[3], const double kr[3],
-		      const double si[3], const double sr[3], double f[4][4])
+                      const double si[3], const double sr[3], double f[4][4])
 {
-	(void)u; (void)m; (void)ch; (void)si; (void)sr;
+	(void)u;
+	(void)m;
+	(void)ch;
+	(void)si;
+	(void)sr;
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++)
 			f[i][j] = ki[2] > 0 && kr[2] > 0 ? M0[i][j] / M_PI : 0;
@@ -252,36 +259,44 @@ static void test_simulated_sequence(void)
 {
 	/* the object: a retarder (70° at 30°) after a diattenuator (D = 0.4 at 0°), partly
 	 * depolarizing */
-	double R[4][4], D[4][4] = { { 1, 0.4, 0, 0 }, { 0.4, 1, 0, 0 }, { 0, 0, 0, 0 }, { 0, 0, 0, 0 } };
+	double R[4][4], D[4][4] = {{1, 0.4, 0, 0}, {0.4, 1, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
 	double q = sqrt(1 - 0.16);
 	D[2][2] = D[3][3] = q;
-	double P[4][4] = { { 1, 0, 0, 0 }, { 0, 0.85, 0, 0 }, { 0, 0, 0.85, 0 }, { 0, 0, 0, 0.7 } };
+	double P[4][4] = {{1, 0, 0, 0}, {0, 0.85, 0, 0}, {0, 0, 0.85, 0}, {0, 0, 0, 0.7}};
 	pc_retarder_mueller(30 * DEG, 70 * DEG, R);
 	mat_mul(R, D, M0);
 	mat_mul(P, M0, M0);
 	/* downward camera, light from straight above with tetrahedral PSG states, QWP PSA */
 	const char *text =
-		"{\"camera\": {\"position\": [0, 0, 10], \"direction\": [0, 0, -1], \"up\": [0, 1, 0]},"
-		" \"materials\": {\"m\": {\"n\": 1.5, \"sigma\": 0.1}},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": 20,"
-		"   \"reference\": [1, 0, 0], \"states\": ["
-		"     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 15.1, \"retardance_deg\": 132}},"
-		"     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 51.7, \"retardance_deg\": 132}},"
-		"     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": -51.7, \"retardance_deg\": 132}},"
-		"     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": -15.1, \"retardance_deg\": 132}}]}],"
-		" \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": \"m\"}],"
-		" \"effects\": {\"circular\": true, \"mueller\": true, \"noise\": true},"
-		" \"sensor\": {\"preset\": \"ideal\", \"resolution\": [64, 64], \"bits\": 16, \"offset_dn\": 200,"
-		"   \"gain_dn_per_e\": 1, \"read_noise_e\": 2, \"full_well_e\": 1e6, \"exposure_us\": 1000,"
-		"   \"psa\": [{\"retarder\": {\"angle_deg\": 0, \"retardance_deg\": 90}},"
-		"            {\"retarder\": {\"angle_deg\": 45, \"retardance_deg\": 90}}]}}";
+	    "{\"camera\": {\"position\": [0, 0, 10], \"direction\": [0, 0, -1], \"up\": [0, 1, 0]},"
+	    " \"materials\": {\"m\": {\"n\": 1.5, \"sigma\": 0.1}},"
+	    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], "
+	    "\"irradiance_w_m2\": 20,"
+	    "   \"reference\": [1, 0, 0], \"states\": ["
+	    "     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 15.1, \"retardance_deg\": "
+	    "132}},"
+	    "     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 51.7, \"retardance_deg\": "
+	    "132}},"
+	    "     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": -51.7, \"retardance_deg\": "
+	    "132}},"
+	    "     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": -15.1, \"retardance_deg\": "
+	    "132}}]}],"
+	    " \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], "
+	    "\"material\": \"m\"}],"
+	    " \"effects\": {\"circular\": true, \"mueller\": true, \"noise\": true},"
+	    " \"sensor\": {\"preset\": \"ideal\", \"resolution\": [64, 64], \"bits\": 16, "
+	    "\"offset_dn\": 200,"
+	    "   \"gain_dn_per_e\": 1, \"read_noise_e\": 2, \"full_well_e\": 1e6, \"exposure_us\": "
+	    "1000,"
+	    "   \"psa\": [{\"retarder\": {\"angle_deg\": 0, \"retardance_deg\": 90}},"
+	    "            {\"retarder\": {\"angle_deg\": 45, \"retardance_deg\": 90}}]}}";
 	pc_scene *sc = NULL;
 	CHECK_EQ_INT(pc_scene_parse(text, "seq", ".", &sc), 0);
 	if (!sc) {
 		fprintf(stderr, "%s\n", pc_error_detail());
 		return;
 	}
-	pc_sim_brdf b = { brdf_fixed, NULL };
+	pc_sim_brdf b = {brdf_fixed, NULL};
 	pc_sim_options o = pc_sim_options_default();
 	o.brdf = &b;
 	o.seed = 3;
@@ -296,7 +311,8 @@ static void test_simulated_sequence(void)
 	pc_sim_states st;
 	pc_sim_get_states(sim, &st);
 	pc_mueller_system s;
-	CHECK_EQ_INT(pc_mueller_system_init(&s, st.n_psg, st.psg, st.n_psa, st.psa, st.analyser), 0);
+	CHECK_EQ_INT(pc_mueller_system_init(&s, st.n_psg, st.psg, st.n_psa, st.psa, st.analyser),
+	             0);
 	CHECK_NEAR(s.cond_A, 2.0, 1e-9);
 	/* frames → superpixel analyser images (half resolution) → accumulate */
 	const uint32_t w = 32, h = 32;
@@ -310,7 +326,8 @@ static void test_simulated_sequence(void)
 			const uint16_t *row = PC_ROW(&v, uint16_t, y);
 			for (uint32_t x = 0; x < 64; x++) {
 				unsigned c = pc_mosaic_channel(&in.mosaic, x, y);
-				ch[(size_t)c * w * h + (y / 2) * w + x / 2] = (float)(row[x] - 200.0);
+				ch[(size_t)c * w * h + (y / 2) * w + x / 2] =
+				    (float)(row[x] - 200.0);
 				mean_dn += (row[x] - 200.0) / (8 * 64 * 64);
 			}
 		}
@@ -329,7 +346,8 @@ static void test_simulated_sequence(void)
 	CHECK_EQ_INT(pc_sim_truth_rows(sim, 0, 32, 33, NULL, tm), 0);
 	memcpy(T, tm + 16 * 32, sizeof T);
 	for (int k = 0; k < 16; k++)
-		CHECK_NEAR(T[k] / T[0], M0[k / 4][k % 4], 2e-4); /* off-axis pixel: frames tilt slightly */
+		CHECK_NEAR(T[k] / T[0], M0[k / 4][k % 4],
+		           2e-4); /* off-axis pixel: frames tilt slightly */
 	/* normalized reconstruction against M0 within the predicted noise: per intensity
 	 * σ ≈ sqrt(mean + σ_d²) DN (Poisson + read noise at K = 1) */
 	double sigma_I = sqrt(mean_dn + 4);
@@ -343,10 +361,12 @@ static void test_simulated_sequence(void)
 			e += d;
 			e2 += d * d;
 		}
-		double n = w * h, rms = sqrt(e2 / n), pred = sigma_I * s.noise_gain[k / 4][k % 4] / m00;
+		double n = w * h, rms = sqrt(e2 / n),
+		       pred = sigma_I * s.noise_gain[k / 4][k % 4] / m00;
 		/* the noise is not uniform (Poisson varies with the intensity), so allow ±50 % */
 		if (!(rms > 0.5 * pred && rms < 1.5 * pred))
-			fprintf(stderr, "M[%d][%d]: rms %.4g, predicted %.4g\n", k / 4, k % 4, rms, pred);
+			fprintf(stderr, "M[%d][%d]: rms %.4g, predicted %.4g\n", k / 4, k % 4, rms,
+			        pred);
 		CHECK(rms > 0.5 * pred && rms < 1.5 * pred);
 		CHECK(fabs(e / n) < 5 * pred / sqrt(n) + 3e-4);
 	}

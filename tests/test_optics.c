@@ -325,7 +325,8 @@ static void test_coherency(void)
 			worst_ev = fmax(worst_ev, fabs(ev[i] - ls[i]) / lmax);
 		}
 	}
-	printf("Hermitian 4x4 eigenvalues (known spectra, scales 1e-20..1e20): worst %.1e of max|lambda|\n",
+	printf("Hermitian 4x4 eigenvalues (known spectra, scales 1e-20..1e20): worst %.1e of "
+	       "max|lambda|\n",
 	       worst_ev);
 	/* convex combinations of pure matrices are realisable */
 	for (int t = 0; t < 100; t++) {
@@ -355,7 +356,7 @@ static void test_is_physical(void)
 {
 	int agree = 0, n = 0, nonphys = 0;
 	for (int t = 0; t < 3000; t++) {
-		double M[4][4] = { { 0 } };
+		double M[4][4] = {{0}};
 		/* a convex sum of pure matrices, plus noise of varying size */
 		for (int c = 0; c < 3; c++) {
 			double complex J[2][2];

@@ -285,6 +285,75 @@ static void test_decompose(void)
 }
 
 /* figures: all files written; Fig. 10's R columns agree across σ (physics.md §2 invariant) */
+/* The hard cases of issue 13 through the commands (docs/physics-notes.md, "Extreme inputs"):
+ * finite matrices at the analytic limits, not NaN flagged below_horizon or all zero. */
+static void test_hard_cases_cli(void)
+{
+	static result r;
+	/* perfect conductor: K·diag(1, 1, −1, −1), K = 1/(8πσ² cos²θ) without a diffuse term */
+	const char *cond[] = {"--n 1.5 --k 1e90", "--n 1e100", "--n 1e100 --k 1e100"};
+	for (int i = 0; i < 3; i++) {
+		char a[200];
+		snprintf(a, sizeof a,
+		         "pbrdf %s --sigma 0.2 --theta-i 30 --theta-r 30 --diffuse none", cond[i]);
+		run(&r, a, NULL);
+		CHECK_EQ_INT(r.status, 0);
+		CHECK_EQ_INT(r.nlines, 1);
+		if (r.nlines == 1) {
+			const double K = 1 / (8 * M_PI * 0.04 * 0.75);
+			CHECK_REL(mat(r.lines[0], "mueller", 0, 0), K, 1e-12);
+			CHECK_REL(mat(r.lines[0], "mueller", 1, 1), K, 1e-12);
+			CHECK_REL(mat(r.lines[0], "mueller", 2, 2), -K, 1e-12);
+			CHECK_REL(mat(r.lines[0], "mueller", 3, 3), -K, 1e-12);
+			CHECK(!has_flag(r.lines[0], "below_horizon"));
+		}
+		release(&r);
+	}
+	/* ñ → 0 at normal incidence: r_s = 1, r_p = −1: K·diag(1, 1, −1, −1), K = 1/(8πσ²) */
+	run(&r, "pbrdf --n 1e-200 --sigma 0.2 --theta-i 0 --theta-r 0 --diffuse none", NULL);
+	CHECK_EQ_INT(r.status, 0);
+	if (r.nlines == 1) {
+		CHECK_REL(mat(r.lines[0], "mueller", 0, 0), 1 / (8 * M_PI * 0.04), 1e-12);
+		CHECK_REL(mat(r.lines[0], "mueller", 3, 3), -1 / (8 * M_PI * 0.04), 1e-12);
+	}
+	release(&r);
+	/* σ = 1e-20 exactly at the specular direction: F(30°)/(8πσ² cos²30°), not 0; glass:
+	 * F = (R_s + R_p)/2 at 30° for n = 1.5 */
+	run(&r, "pbrdf --n 1.5 --sigma 1e-20 --theta-i 30 --theta-r 30 --diffuse none", NULL);
+	CHECK_EQ_INT(r.status, 0);
+	if (r.nlines == 1) {
+		double c = cos(M_PI / 6), s2 = 0.25, w = sqrt(2.25 - s2);
+		double rs = (c - w) / (c + w), rp = (2.25 * c - w) / (2.25 * c + w);
+		double F = 0.5 * (rs * rs + rp * rp);
+		CHECK_REL(mat(r.lines[0], "mueller", 0, 0), F / (8 * M_PI * 1e-40 * 0.75), 1e-12);
+	}
+	release(&r);
+	/* σ below 1e-50: refused naming sigma */
+	expect_usage_error("pbrdf --n 1.5 --sigma 1e-160 --theta-i 0 --theta-r 0", NULL, "sigma");
+	expect_usage_error("pbrdf --n 1.5 --sigma 1e-320 --theta-i 0 --theta-r 0", NULL, "1e-50");
+	/* Lu–Chipman: the identity and an ideal polarizer times 1e308 are physical; a normalised
+	 * m33 of 1e-310 gives Δ = 1 − 1e-310/3 = 1 */
+	run(&r, "decompose 1e308 0 0 0 0 1e308 0 0 0 0 1e308 0 0 0 0 1e308", NULL);
+	CHECK_EQ_INT(r.status, 0);
+	if (r.nlines == 1) {
+		CHECK(json_is_true(json_object_get(r.lines[0], "physical")));
+		CHECK_NEAR(num(r.lines[0], "D"), 0, 0);
+		CHECK_NEAR(num(r.lines[0], "R"), 0, 1e-15);
+		CHECK_NEAR(num(r.lines[0], "Delta"), 0, 1e-15);
+	}
+	release(&r);
+	run(&r, "decompose 0.5e308 0.5e308 0 0 0.5e308 0.5e308 0 0 0 0 0 0 0 0 0 0", NULL);
+	if (r.nlines == 1) {
+		CHECK(json_is_true(json_object_get(r.lines[0], "physical")));
+		CHECK_NEAR(num(r.lines[0], "D"), 1, 1e-15);
+	}
+	release(&r);
+	run(&r, "decompose 1e10 0 0 0 0 0 0 0 0 0 0 0 0 0 0 1e-300", NULL);
+	if (r.nlines == 1)
+		CHECK_NEAR(num(r.lines[0], "Delta"), 1, 1e-15);
+	release(&r);
+}
+
 static void test_figures(void)
 {
 	static result r;
@@ -337,6 +406,7 @@ int main(void)
 		SKIP("cannot create a temporary directory");
 	test_pbrdf();
 	test_decompose();
+	test_hard_cases_cli();
 	test_figures();
 	test_help();
 	char cmd[400];

@@ -67,8 +67,8 @@ static void make_raw(pc_view *v, uint32_t w, uint32_t h)
 			unsigned c = pc_mosaic_channel(&m, x, y);
 			double s0 = 2000 + 1000 * sin(0.2 * x) * cos(0.15 * y);
 			double a = 0.3 + 0.01 * x;
-			PC_ROW(v, uint16_t, y)[x] =
-				(uint16_t)lround(s0 / 2 * (1 + 0.4 * cos(2 * (a - c * M_PI / 4))));
+			PC_ROW(v, uint16_t, y)
+			[x] = (uint16_t)lround(s0 / 2 * (1 + 0.4 * cos(2 * (a - c * M_PI / 4))));
 		}
 }
 
@@ -78,14 +78,16 @@ static void test_demosaic_cmd(void)
 	CHECK(file_contains(tmp("out.txt"), "usage: polarcam demosaic"));
 	CHECK_EQ_INT(run("demosaic --list"), 0);
 	for (int k = 0; k < PC_DM_COUNT; k++)
-		CHECK(file_contains(tmp("out.txt"), pc_demosaic_method_get((pc_demosaic_method)k)->name));
+		CHECK(file_contains(tmp("out.txt"),
+		                    pc_demosaic_method_get((pc_demosaic_method)k)->name));
 	CHECK_EQ_INT(run("demosaic --list --json"), 0);
 
 	pc_view raw;
 	make_raw(&raw, 32, 24);
 	CHECK_EQ_INT(pc_png_write(tmp("raw.png"), &raw), 0);
 	char args[512];
-	snprintf(args, sizeof args, "demosaic %s --method eari -o %s", tmp("raw.png"), tmp("d.npy"));
+	snprintf(args, sizeof args, "demosaic %s --method eari -o %s", tmp("raw.png"),
+	         tmp("d.npy"));
 	CHECK_EQ_INT(run(args), 0);
 	pc_array a;
 	CHECK_EQ_INT(pc_npy_read(tmp("d.npy"), &a), 0);
@@ -111,8 +113,8 @@ static void test_demosaic_cmd(void)
 	CHECK_EQ_INT(pc_view_from_u16(raw.data, raw.stride, &packed), 0);
 	CHECK_EQ_INT(pc_write_file_atomic(tmp("raw.bin"), packed.data, packed.stride * 24), 0);
 	snprintf(args, sizeof args,
-		 "demosaic %s --width 32 --height 24 --format PolarizeMono12p -o %s", tmp("raw.bin"),
-		 tmp("p.npy"));
+	         "demosaic %s --width 32 --height 24 --format PolarizeMono12p -o %s",
+	         tmp("raw.bin"), tmp("p.npy"));
 	CHECK_EQ_INT(run(args), 0);
 	pc_view_free(&packed);
 	pc_view_free(&raw);
@@ -132,9 +134,9 @@ static void test_bad_input(void)
 	CHECK(file_contains(tmp("err.txt"), "odd.png") && file_contains(tmp("err.txt"), "even"));
 	CHECK(!exists(tmp("x.npy")));
 	/* 12-bit data with a value above 4095 */
-	uint16_t px[4][4] = { { 1, 2, 3, 4 }, { 5, 6, 7, 8 }, { 9, 10, 4096, 12 }, { 1, 2, 3, 4 } };
-	pc_view big = { px, 4, 4, sizeof px[0], PC_FMT_MONO16 };
-	size_t s2[2] = { 4, 4 };
+	uint16_t px[4][4] = {{1, 2, 3, 4}, {5, 6, 7, 8}, {9, 10, 4096, 12}, {1, 2, 3, 4}};
+	pc_view big = {px, 4, 4, sizeof px[0], PC_FMT_MONO16};
+	size_t s2[2] = {4, 4};
 	CHECK_EQ_INT(pc_npy_write(tmp("big.npy"), px, PC_DT_U16, 2, s2), 0);
 	(void)big;
 	snprintf(args, sizeof args, "process %s --bits 12 -o %s", tmp("big.npy"), tmp("outdir"));
@@ -142,13 +144,13 @@ static void test_bad_input(void)
 	CHECK(file_contains(tmp("err.txt"), "big.npy") && file_contains(tmp("err.txt"), "4096"));
 	CHECK(!exists(tmp("outdir")));
 	/* wrong bit depth: 8-bit data declared 12-bit */
-	uint8_t p8[4][4] = { { 0 } };
+	uint8_t p8[4][4] = {{0}};
 	CHECK_EQ_INT(pc_npy_write(tmp("b8.npy"), p8, PC_DT_U8, 2, s2), 0);
 	snprintf(args, sizeof args, "demosaic %s --bits 12 -o %s", tmp("b8.npy"), tmp("x.npy"));
 	CHECK_EQ_INT(run(args), 2);
 	CHECK(file_contains(tmp("err.txt"), "bit depth"));
 	/* NaN */
-	float pf[4][4] = { { 0 } };
+	float pf[4][4] = {{0}};
 	pf[1][2] = NAN;
 	CHECK_EQ_INT(pc_npy_write(tmp("nan.npy"), pf, PC_DT_F32, 2, s2), 0);
 	snprintf(args, sizeof args, "demosaic %s -o %s", tmp("nan.npy"), tmp("x.npy"));
@@ -163,19 +165,20 @@ static void test_bad_input(void)
 	CHECK_EQ_INT(run(args), 2);
 	CHECK(file_contains(tmp("err.txt"), "t.tif"));
 	snprintf(args, sizeof args, "demosaic %s --width 32 --height 24 --format Mono16 -o %s",
-		 tmp("t.tif"), tmp("x.npy"));
+	         tmp("t.tif"), tmp("x.npy"));
 	CHECK_EQ_INT(run(args), 2);
 	CHECK(file_contains(tmp("err.txt"), "truncated"));
 	/* layouts that are not permutations of 0/45/90/135 */
 	snprintf(args, sizeof args, "demosaic %s --layout 90,45,135,45 -o %s", tmp("odd.png"),
-		 tmp("x.npy"));
+	         tmp("x.npy"));
 	CHECK_EQ_INT(run(args), 2);
 	CHECK(file_contains(tmp("err.txt"), "permutation"));
 	snprintf(args, sizeof args, "demosaic %s --layout 90,45,13 -o %s", tmp("odd.png"),
-		 tmp("x.npy"));
+	         tmp("x.npy"));
 	CHECK_EQ_INT(run(args), 2);
 	/* unknown method, unknown option, missing file, no output */
-	snprintf(args, sizeof args, "demosaic %s --method magic -o %s", tmp("odd.png"), tmp("x.npy"));
+	snprintf(args, sizeof args, "demosaic %s --method magic -o %s", tmp("odd.png"),
+	         tmp("x.npy"));
 	CHECK_EQ_INT(run(args), 2);
 	CHECK(file_contains(tmp("err.txt"), "bilinear"));
 	CHECK_EQ_INT(run("demosaic --frobnicate"), 2);
@@ -196,8 +199,8 @@ static void test_process_cmd(void)
 	char args[512];
 	snprintf(args, sizeof args, "process %s -o %s --method ppid", tmp("p.png"), tmp("proc"));
 	CHECK_EQ_INT(run(args), 0);
-	const char *files[] = { "stokes.npy", "dolp.npy", "aolp.npy", "s0.png",
-				"dolp.png",   "aolp.png", "aolp_sat.png", "meta.json" };
+	const char *files[] = {"stokes.npy", "dolp.npy", "aolp.npy",     "s0.png",
+	                       "dolp.png",   "aolp.png", "aolp_sat.png", "meta.json"};
 	for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
 		char name[64];
 		snprintf(name, sizeof name, "proc/%s", files[k]);
@@ -213,9 +216,9 @@ static void test_process_cmd(void)
 	float *s = malloc(sizeof(float) * 40 * 32 * 3);
 	pc_stokes_out so;
 	memset(&so, 0, sizeof so);
-	so.s0 = (pc_fplane){ s, 120, 3 };
-	so.s1 = (pc_fplane){ s + 1, 120, 3 };
-	so.s2 = (pc_fplane){ s + 2, 120, 3 };
+	so.s0 = (pc_fplane){s, 120, 3};
+	so.s1 = (pc_fplane){s + 1, 120, 3};
+	so.s2 = (pc_fplane){s + 2, 120, 3};
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, PC_DM_PPID, NULL, &so), 0);
 	CHECK(memcmp(s, st.data, sizeof(float) * 40 * 32 * 3) == 0);
@@ -247,21 +250,22 @@ static void test_eval_cmd(void)
 	mkdir(tmp("gt"), 0777);
 	mkdir(tmp("gt/scene"), 0777);
 	pc_view v[4];
-	const char *names[4] = { "gt/scene/0.tif", "gt/scene/45.tif", "gt/scene/90.tif",
-				 "gt/scene/135.tif" };
+	const char *names[4] = {"gt/scene/0.tif", "gt/scene/45.tif", "gt/scene/90.tif",
+	                        "gt/scene/135.tif"};
 	for (int c = 0; c < 4; c++) {
 		pc_view_alloc(&v[c], PC_FMT_MONO16, 48, 40, 0);
 		for (uint32_t y = 0; y < 40; y++)
 			for (uint32_t x = 0; x < 48; x++) {
 				double s0 = 30000 + 20000 * sin(0.3 * x + 0.2 * y);
-				PC_ROW(&v[c], uint16_t, y)[x] = (uint16_t)lround(
-					s0 / 2 * (1 + 0.3 * cos(2 * (0.02 * x - c * M_PI / 4))));
+				PC_ROW(&v[c], uint16_t, y)
+				[x] = (uint16_t)lround(
+				    s0 / 2 * (1 + 0.3 * cos(2 * (0.02 * x - c * M_PI / 4))));
 			}
 		CHECK_EQ_INT(pc_tiff_write(tmp(names[c]), &v[c]), 0);
 	}
 	char args[512];
 	snprintf(args, sizeof args, "eval %s --method bilinear --json %s", tmp("gt/scene"),
-		 tmp("e.json"));
+	         tmp("e.json"));
 	CHECK_EQ_INT(run(args), 0);
 	CHECK(file_contains(tmp("out.txt"), "bilinear"));
 	json_error_t je;

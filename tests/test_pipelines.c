@@ -50,20 +50,21 @@ static void write_text(const char *path, const char *text)
 /* a plane under a tetrahedral PSG, a quarter-wave PSA, 32×24, noise on, 12 bits, black level
  * 64 DN */
 static const char *seq_scene =
-	"{\"camera\": {\"position\": [0, -3, 6], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]},"
-	" \"materials\": {\"m\": {\"n\": 1.5, \"k\": 0.3, \"sigma\": 0.15}},"
-	" \"lights\": [{\"type\": \"directional\", \"direction\": [0.3, -0.5, 0.8],"
-	"   \"irradiance_w_m2\": 100, \"states\": ["
-	"     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 15.1, \"retardance_deg\": 132}},"
-	"     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 51.7, \"retardance_deg\": 132}},"
-	"     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": -51.7, \"retardance_deg\": 132}},"
-	"     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": -15.1, \"retardance_deg\": 132}}]}],"
-	" \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": \"m\"}],"
-	" \"effects\": {\"circular\": true, \"mueller\": true, \"noise\": true},"
-	" \"sensor\": {\"preset\": \"imx250mzr\", \"resolution\": [32, 24], \"exposure_us\": 400,"
-	"   \"offset_dn\": 64,"
-	"   \"psa\": [{\"retarder\": {\"angle_deg\": 0, \"retardance_deg\": 90}},"
-	"            {\"retarder\": {\"angle_deg\": 45, \"retardance_deg\": 90}}]}}";
+    "{\"camera\": {\"position\": [0, -3, 6], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]},"
+    " \"materials\": {\"m\": {\"n\": 1.5, \"k\": 0.3, \"sigma\": 0.15}},"
+    " \"lights\": [{\"type\": \"directional\", \"direction\": [0.3, -0.5, 0.8],"
+    "   \"irradiance_w_m2\": 100, \"states\": ["
+    "     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 15.1, \"retardance_deg\": 132}},"
+    "     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 51.7, \"retardance_deg\": 132}},"
+    "     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": -51.7, \"retardance_deg\": 132}},"
+    "     {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": -15.1, \"retardance_deg\": 132}}]}],"
+    " \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": "
+    "\"m\"}],"
+    " \"effects\": {\"circular\": true, \"mueller\": true, \"noise\": true},"
+    " \"sensor\": {\"preset\": \"imx250mzr\", \"resolution\": [32, 24], \"exposure_us\": 400,"
+    "   \"offset_dn\": 64,"
+    "   \"psa\": [{\"retarder\": {\"angle_deg\": 0, \"retardance_deg\": 90}},"
+    "            {\"retarder\": {\"angle_deg\": 45, \"retardance_deg\": 90}}]}}";
 
 static void test_states(void)
 {
@@ -73,7 +74,8 @@ static void test_states(void)
 	st.n_psa = 2;
 	for (unsigned i = 0; i < 3; i++)
 		for (int k = 0; k < 4; k++)
-			st.psg[i][k] = k == 0 ? 1 : sin(1.0 + i + 0.37 * k) / 3; /* not short decimals */
+			st.psg[i][k] =
+			    k == 0 ? 1 : sin(1.0 + i + 0.37 * k) / 3; /* not short decimals */
 	for (unsigned a = 0; a < 2; a++)
 		for (int r = 0; r < 4; r++)
 			for (int c = 0; c < 4; c++)
@@ -90,15 +92,17 @@ static void test_states(void)
 	CHECK(!memcmp(back.psg, st.psg, sizeof st.psg) && !memcmp(back.psa, st.psa, sizeof st.psa));
 	CHECK(!memcmp(back.analyser, st.analyser, sizeof st.analyser));
 	/* a file without analyser rows gets the ideal ones; a bad matrix is named */
-	write_text(tpath("s2.json"), "{\"polarcam_states\": 1, \"frame_order\": \"psg_fastest\","
-				     " \"psg\": [[1, 0, 0, 0]], \"psa\": [[[1,0,0,0],[0,1,0,0],[0,0,1,0],"
-				     "[0,0,0,1]]]}");
+	write_text(tpath("s2.json"),
+	           "{\"polarcam_states\": 1, \"frame_order\": \"psg_fastest\","
+	           " \"psg\": [[1, 0, 0, 0]], \"psa\": [[[1,0,0,0],[0,1,0,0],[0,0,1,0],"
+	           "[0,0,0,1]]]}");
 	CHECK_EQ_INT(pc_states_read(tpath("s2.json"), &back, NULL, 0), 0);
 	CHECK_NEAR(back.analyser[1][2], 0.5, 1e-15); /* 45°: ½(1, cos 90°, sin 90°, 0) */
 	CHECK_NEAR(back.analyser[2][1], -0.5, 1e-15);
-	write_text(tpath("s3.json"), "{\"polarcam_states\": 1, \"frame_order\": \"psg_fastest\","
-				     " \"psg\": [[1, 0, 0, 0]], \"psa\": [[[1,0,0,0],[0,1,0],[0,0,1,0],"
-				     "[0,0,0,1]]]}");
+	write_text(tpath("s3.json"),
+	           "{\"polarcam_states\": 1, \"frame_order\": \"psg_fastest\","
+	           " \"psg\": [[1, 0, 0, 0]], \"psa\": [[[1,0,0,0],[0,1,0],[0,0,1,0],"
+	           "[0,0,0,1]]]}");
 	CHECK_EQ_INT(pc_states_read(tpath("s3.json"), &back, NULL, 0), PC_EFORMAT);
 	CHECK(strstr(pc_error_detail(), "s3.json: psa[0]") != NULL);
 	CHECK_EQ_INT(pc_states_read(tpath("none.json"), &back, NULL, 0), PC_ENOENT);
@@ -116,8 +120,9 @@ static int cmp_results(const pc_mueller_result *a, const pc_mueller_result *b)
 static void test_mueller(void)
 {
 	write_text(tpath("seq.json"), seq_scene);
-	pc_render_opts ro = { tpath("seq.json"), NULL, pc_sim_options_default(), 0, 0, true, false,
-			      { NULL, NULL }, PC_STORE_PNG };
+	pc_render_opts ro = {
+	    tpath("seq.json"), NULL,        pc_sim_options_default(), 0, 0, true, false,
+	    {NULL, NULL},      PC_STORE_PNG};
 	ro.sim.seed = 5;
 	pc_render_report rep;
 	CHECK_EQ_INT(pc_render_recording(tpath("rec"), &ro, &rep), 0);
@@ -126,8 +131,8 @@ static void test_mueller(void)
 	/* the same directory again is refused, and nothing is touched */
 	CHECK_EQ_INT(pc_render_recording(tpath("rec"), &ro, NULL), PC_EEXIST);
 
-	pc_mueller_request rq = { NULL, NULL, { PC_DM_BILINEAR, NAN, 1, { PC_REBUILD_OFF, 0 } },
-				  { NULL, NULL } };
+	pc_mueller_request rq = {
+	    NULL, NULL, {PC_DM_BILINEAR, NAN, 1, {PC_REBUILD_OFF, 0}, 0, 0}, {NULL, NULL}};
 	pc_mueller_result a, b, c;
 	pc_mueller_used ua, ub, uc;
 	CHECK_EQ_INT(pc_mueller_from_recording(tpath("rec"), &rq, &a, &ua), 0);
@@ -184,7 +189,7 @@ static void test_mueller(void)
 	double worst = 0;
 	for (int k = 0; k < 16; k++)
 		worst = fmax(worst, fabs(a.M[16 * (y * 32 + x) + (unsigned)k] - M[k / 4][k % 4]) /
-					    M[0][0]);
+		                        M[0][0]);
 	printf("Mueller pixel (10, 7) vs pc_mueller_solve: max |dM|/M00 = %.2e\n", worst);
 	CHECK(worst < 1e-5); /* float accumulation (mueller_imaging.h: ~1e-6) */
 	pc_mueller_result_free(&a);
@@ -209,7 +214,7 @@ static void test_capture_stop(void)
 	o.dir = tpath("cap");
 	o.process = true;
 	o.timeout_ms = 60000;
-	o.progress = (pc_progress){ stop_after_two, NULL };
+	o.progress = (pc_progress){stop_after_two, NULL};
 	pc_capture_report rep;
 	CHECK_EQ_INT(pc_capture(&o, &rep), 0);
 	CHECK_EQ_INT(rep.error, PC_ECANCELED);
@@ -232,7 +237,7 @@ static void test_capture_stop(void)
 	/* a method for the other kind of mosaic: nothing is recorded */
 	o.method = "bayer-first";
 	o.dir = tpath("cap2");
-	o.progress = (pc_progress){ NULL, NULL };
+	o.progress = (pc_progress){NULL, NULL};
 	CHECK_EQ_INT(pc_capture(&o, &rep), PC_EINVAL);
 	pc_capture_report_free(&rep);
 	CHECK(access(tpath("cap2"), F_OK) != 0);
@@ -248,11 +253,14 @@ static void test_stokes_folder(void)
 		dolp[i] = 0.01f * (float)i;
 		aolp[i] = 0.1f * (float)i;
 	}
-	pc_stokes_out a = { { inter, W * 3, 3 }, { inter + 1, W * 3, 3 }, { inter + 2, W * 3, 3 },
-			    { dolp, W, 1 }, { aolp, W, 1 } };
-	pc_stokes_out b = { { sep, W, 1 }, { sep + N, W, 1 }, { sep + 2 * N, W, 1 },
-			    { dolp, W, 1 }, { aolp, W, 1 } };
-	pc_stokes_folder_opts o = { .files = PC_SF_STOKES | PC_SF_S0 | PC_SF_AOLP };
+	pc_stokes_out a = {{inter, W * 3, 3},
+	                   {inter + 1, W * 3, 3},
+	                   {inter + 2, W * 3, 3},
+	                   {dolp, W, 1},
+	                   {aolp, W, 1}};
+	pc_stokes_out b = {
+	    {sep, W, 1}, {sep + N, W, 1}, {sep + 2 * N, W, 1}, {dolp, W, 1}, {aolp, W, 1}};
+	pc_stokes_folder_opts o = {.files = PC_SF_STOKES | PC_SF_S0 | PC_SF_AOLP};
 	CHECK_EQ_INT(pc_stokes_folder_write(tpath("sfa"), &a, W, H, &o), 0);
 	CHECK_EQ_INT(pc_stokes_folder_write(tpath("sfb"), &b, W, H, &o), 0);
 	pc_array x, y, s0;
@@ -260,7 +268,8 @@ static void test_stokes_folder(void)
 	CHECK_EQ_INT(pc_npy_read(tpath("sfb/stokes.npy"), &y), 0);
 	CHECK_EQ_INT(pc_npy_read(tpath("sfa/s0.npy"), &s0), 0);
 	CHECK(x.ndim == 3 && x.shape[0] == H && x.shape[1] == W && x.shape[2] == 3);
-	CHECK(y.ndim == 3 && !memcmp(x.data, inter, sizeof inter) && !memcmp(y.data, inter, sizeof inter));
+	CHECK(y.ndim == 3 && !memcmp(x.data, inter, sizeof inter) &&
+	      !memcmp(y.data, inter, sizeof inter));
 	CHECK(s0.ndim == 2 && ((float *)s0.data)[7] == inter[21]);
 	CHECK(access(tpath("sfa/dolp.npy"), F_OK) != 0); /* not asked for */
 	pc_array_free(&x);
@@ -272,7 +281,7 @@ static void test_eval_stokes(void)
 {
 	/* truth Stokes (S0, S1, S2, S3): DoLP 1/2 at AoLP 0; DoLP 1/2 at AoLP 3π/4 (S2 < 0);
 	 * S0 = 0 (dark) */
-	const float ts[3 * 4] = { 2, 1, 0, NAN, 2, 0, -1, NAN, 0, 0, 0, NAN };
+	const float ts[3 * 4] = {2, 1, 0, NAN, 2, 0, -1, NAN, 0, 0, 0, NAN};
 	float s0[3], dl[3], ao[3];
 	pc_eval_truth_planes(ts, 3, 10, s0, dl, ao);
 	CHECK_NEAR(s0[0], 20, 0);
@@ -282,10 +291,10 @@ static void test_eval_stokes(void)
 	CHECK_NEAR(ao[1], 3 * M_PI / 4, 1e-6);
 	CHECK_NEAR(dl[2], 0, 0);
 	/* estimates: S0 10 % high on pixel 0, exact on pixel 1; DoLP +0.1 and −0.1; AoLP 0.1 rad
-	 * off across the 0/π seam (π − 0.05 vs 0.05) and 0.2 rad off; full scale 100 leaves the dark
-	 * pixel out (S0 below 2 % of it) */
-	const float e_s0[3] = { 22, 20, 0 }, e_dl[3] = { 0.6f, 0.4f, 0 };
-	const float t_ao[3] = { 0.05f, 1.0f, 0 }, e_ao[3] = { (float)(M_PI - 0.05), 1.2f, 0 };
+	 * off across the 0/π seam (π − 0.05 vs 0.05) and 0.2 rad off; full scale 100 leaves the
+	 * dark pixel out (S0 below 2 % of it) */
+	const float e_s0[3] = {22, 20, 0}, e_dl[3] = {0.6f, 0.4f, 0};
+	const float t_ao[3] = {0.05f, 1.0f, 0}, e_ao[3] = {(float)(M_PI - 0.05), 1.2f, 0};
 	pc_eval_stokes_metrics m;
 	CHECK_EQ_INT(pc_eval_stokes(e_s0, e_dl, e_ao, s0, dl, t_ao, 3, 1, 100, &m), 0);
 	CHECK(m.pixels == 2 && m.aolp_pixels == 2);
@@ -295,7 +304,7 @@ static void test_eval_stokes(void)
 	/* weights 0.5 and 0.5: mean of 0.1 and 0.2 rad */
 	CHECK_NEAR(m.aolp_err_deg, 0.15 * 180 / M_PI, 1e-4);
 	CHECK_NEAR(m.aolp_median_deg, 0.15 * 180 / M_PI, 1e-4);
-	const float est[4] = { 1, 2, NAN, 3 }, tru[4] = { 1.5f, 2, 2, 0 }, w[4] = { 1, 1, 1, 0 };
+	const float est[4] = {1, 2, NAN, 3}, tru[4] = {1.5f, 2, 2, 0}, w[4] = {1, 1, 1, 0};
 	long used;
 	CHECK_NEAR(pc_eval_median_abs_err(est, tru, w, 4, 0.5, false, &used), 0.25, 1e-7);
 	CHECK(used == 2);

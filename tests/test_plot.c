@@ -74,7 +74,7 @@ int main(void)
 	pc_plot *p = pc_plot_new("test", "x", "y");
 	pc_plot_set_xrange(p, 0, 1);
 	pc_plot_set_yrange(p, 0, 1);
-	double x[2] = { 0.5, 0.5 }, y[2] = { 0, 1 };
+	double x[2] = {0.5, 0.5}, y[2] = {0, 1};
 	CHECK_EQ_INT(pc_plot_add_series(p, NULL, x, y, 2, PC_PLOT_LINE), 0);
 	CHECK_EQ_INT(pc_plot_write_png(p, path, 800, 600), 0);
 	cairo_surface_t *s = cairo_image_surface_create_from_png(path);
@@ -103,7 +103,7 @@ int main(void)
 	/* log axes, legend, labels, NaN gaps: renders without error */
 	p = pc_plot_new("log", "time (ms)", "error");
 	pc_plot_set_log(p, true, true);
-	double lx[4] = { 1, 10, NAN, 1000 }, ly[4] = { 1e-1, 1e-3, 1, 1e-6 };
+	double lx[4] = {1, 10, NAN, 1000}, ly[4] = {1e-1, 1e-3, 1, 1e-6};
 	CHECK_EQ_INT(pc_plot_add_series(p, "a", lx, ly, 4, PC_PLOT_LINE_POINTS), 0);
 	CHECK_EQ_INT(pc_plot_add_series(p, "b", lx, ly, 4, PC_PLOT_DASHED), 0);
 	CHECK_EQ_INT(pc_plot_add_label(p, 10, 1e-3, "knee"), 0);
@@ -115,7 +115,7 @@ int main(void)
 	uint8_t img[16 * 8 * 3];
 	for (int i = 0; i < 16 * 8 * 3; i++)
 		img[i] = (uint8_t)(i * 7);
-	pc_colorbar bar = { "S0", 0, 1, NULL, 0, 0, grey, NULL, 0 };
+	pc_colorbar bar = {"S0", 0, 1, NULL, 0, 0, grey, NULL, 0};
 	snprintf(path, sizeof path, "%s/img.png", dir);
 	CHECK_EQ_INT(pc_image_write_png(path, img, 16, 8, 16 * 3, "picture", &bar, 0), 0);
 	s = cairo_image_surface_create_from_png(path);

@@ -37,15 +37,19 @@ static void write_file(const char *path, const char *text)
 }
 
 static const char *small_scene =
-	"{\"camera\": {\"position\": [0, -7.5, 3.0], \"look_at\": [0, 0.3, 0.7], \"focal_length_mm\": 12},"
-	" \"materials\": {\"black\": {\"n\": 1.46, \"k\": 1.28, \"sigma\": 0.2},"
-	"                 \"green\": {\"n\": 1.47, \"k\": 0.47, \"sigma\": 0.1}},"
-	" \"lights\": [{\"type\": \"directional\", \"direction\": [-0.55, -0.45, 0.70], \"irradiance_w_m2\": 300}],"
-	" \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": \"green\"},"
-	"   {\"type\": \"sphere\", \"center\": [-1.4, 0.4, 1.0], \"radius\": 1.0, \"material\": \"black\"}],"
-	" \"effects\": {\"diffuse\": true, \"shadowing\": true, \"cast_shadows\": true},"
-	" \"sensor\": {\"preset\": \"imx250mzr\", \"resolution\": [64, 48], \"pixel_pitch_um\": 132,"
-	"   \"exposure_us\": 0.5}}";
+    "{\"camera\": {\"position\": [0, -7.5, 3.0], \"look_at\": [0, 0.3, 0.7], \"focal_length_mm\": "
+    "12},"
+    " \"materials\": {\"black\": {\"n\": 1.46, \"k\": 1.28, \"sigma\": 0.2},"
+    "                 \"green\": {\"n\": 1.47, \"k\": 0.47, \"sigma\": 0.1}},"
+    " \"lights\": [{\"type\": \"directional\", \"direction\": [-0.55, -0.45, 0.70], "
+    "\"irradiance_w_m2\": 300}],"
+    " \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": "
+    "\"green\"},"
+    "   {\"type\": \"sphere\", \"center\": [-1.4, 0.4, 1.0], \"radius\": 1.0, \"material\": "
+    "\"black\"}],"
+    " \"effects\": {\"diffuse\": true, \"shadowing\": true, \"cast_shadows\": true},"
+    " \"sensor\": {\"preset\": \"imx250mzr\", \"resolution\": [64, 48], \"pixel_pitch_um\": 132,"
+    "   \"exposure_us\": 0.5}}";
 
 static void test_render(void)
 {
@@ -54,8 +58,9 @@ static void test_render(void)
 	snprintf(out, sizeof out, "%s/r", tmp);
 	write_file(scene, small_scene);
 	CHECK_EQ_INT(run_cli("render", "--help", NULL), 0);
-	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--frames", "2", "--seed", "7",
-			 "--first", "3", NULL), 0);
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--frames", "2", "--seed", "7", "--first",
+	                     "3", NULL),
+	             0);
 	CHECK(exists(out, "raw_000000.png") && exists(out, "raw_000001.png"));
 	CHECK(exists(out, "meta.json") && exists(out, "truth_stokes.npy"));
 	CHECK(!exists(out, "truth_mueller.npy") && !exists(out, "states.json"));
@@ -119,13 +124,16 @@ static void test_render(void)
 	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--overwrite", "--no-truth", NULL), 0);
 	/* bad input: exit 2, nothing written */
 	snprintf(bad, sizeof bad, "%s/bad.json", tmp);
-	write_file(bad, "{\"camera\": {\"position\": [0, 0, 1], \"look_at\": [0, 0, 0]},\n \"lights\": 3}");
+	write_file(
+	    bad,
+	    "{\"camera\": {\"position\": [0, 0, 1], \"look_at\": [0, 0, 0]},\n \"lights\": 3}");
 	snprintf(out, sizeof out, "%s/nothing", tmp);
 	CHECK_EQ_INT(run_cli("render", bad, "-o", out, NULL), CLI_STATUS_USAGE);
 	CHECK_EQ_INT(run_cli("render", "/nonexistent.json", "-o", out, NULL), CLI_STATUS_USAGE);
 	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--frames", "0", NULL), CLI_STATUS_USAGE);
 	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--roi", "1,2,3", NULL), CLI_STATUS_USAGE);
-	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--roi", "60,0,8,8", NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--roi", "60,0,8,8", NULL),
+	             CLI_STATUS_USAGE);
 	CHECK_EQ_INT(run_cli("render", scene, "--bogus", NULL), CLI_STATUS_USAGE);
 	CHECK_EQ_INT(run_cli("render", scene, NULL), CLI_STATUS_USAGE);
 	struct stat st;
@@ -144,18 +152,21 @@ static void test_mueller(void)
 	/* the small scene with a tetrahedral PSG and a quarter-wave PSA */
 	json_t *d = json_loads(small_scene, 0, NULL);
 	json_t *l = json_array_get(json_object_get(d, "lights"), 0);
-	json_object_set_new(l, "states", json_pack("[{s:f,s:{s:f,s:f}},{s:f,s:{s:f,s:f}},{s:f,s:{s:f,s:f}},{s:f,s:{s:f,s:f}}]",
-		"polarizer_deg", 0.0, "retarder", "angle_deg", 15.1, "retardance_deg", 132.0,
-		"polarizer_deg", 0.0, "retarder", "angle_deg", 51.7, "retardance_deg", 132.0,
-		"polarizer_deg", 0.0, "retarder", "angle_deg", -51.7, "retardance_deg", 132.0,
-		"polarizer_deg", 0.0, "retarder", "angle_deg", -15.1, "retardance_deg", 132.0));
+	json_object_set_new(
+	    l, "states",
+	    json_pack("[{s:f,s:{s:f,s:f}},{s:f,s:{s:f,s:f}},{s:f,s:{s:f,s:f}},{s:f,s:{s:f,s:f}}]",
+	              "polarizer_deg", 0.0, "retarder", "angle_deg", 15.1, "retardance_deg", 132.0,
+	              "polarizer_deg", 0.0, "retarder", "angle_deg", 51.7, "retardance_deg", 132.0,
+	              "polarizer_deg", 0.0, "retarder", "angle_deg", -51.7, "retardance_deg", 132.0,
+	              "polarizer_deg", 0.0, "retarder", "angle_deg", -15.1, "retardance_deg",
+	              132.0));
 	json_t *fx = json_object_get(d, "effects");
 	json_object_set_new(fx, "circular", json_true());
 	json_object_set_new(fx, "mueller", json_true());
 	json_object_set_new(json_object_get(d, "sensor"), "psa",
-			    json_pack("[{s:{s:f,s:f}},{s:{s:f,s:f}}]", "retarder", "angle_deg", 0.0,
-				      "retardance_deg", 90.0, "retarder", "angle_deg", 45.0,
-				      "retardance_deg", 90.0));
+	                    json_pack("[{s:{s:f,s:f}},{s:{s:f,s:f}}]", "retarder", "angle_deg", 0.0,
+	                              "retardance_deg", 90.0, "retarder", "angle_deg", 45.0,
+	                              "retardance_deg", 90.0));
 	json_dump_file(d, scene, 0);
 	json_decref(d);
 	CHECK_EQ_INT(run_cli("render", scene, "-o", out, NULL), 0);
@@ -182,11 +193,10 @@ static void test_mueller(void)
 	snprintf(f0, sizeof f0, "%s/raw_000000.png", out);
 	snprintf(f1, sizeof f1, "%s/raw_000001.png", out);
 	snprintf(st, sizeof st, "%s/states.json", out);
-	CHECK_EQ_INT(run_cli("mueller", f0, f1, "--states", st, "-o", res, NULL),
-		     CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("mueller", f0, f1, "--states", st, "-o", res, NULL), CLI_STATUS_USAGE);
 	CHECK_EQ_INT(run_cli("mueller", f0, "-o", res, NULL), CLI_STATUS_USAGE);
 	CHECK_EQ_INT(run_cli("mueller", out, "-o", res, "--method", "nope", NULL),
-		     CLI_STATUS_USAGE);
+	             CLI_STATUS_USAGE);
 }
 
 static int cmp_dbl(const void *a, const void *b)
@@ -237,23 +247,23 @@ static void test_mueller_linear(void)
 	if (!d)
 		return;
 	/* the same field of view at a third of the resolution, ideal noise-free sensor */
-	double exposure = json_number_value(json_object_get(json_object_get(d, "sensor"),
-							   "exposure_us"));
+	double exposure =
+	    json_number_value(json_object_get(json_object_get(d, "sensor"), "exposure_us"));
 	CHECK(exposure > 0);
-	json_object_set_new(d, "sensor", json_pack("{s:s,s:[i,i],s:f,s:f}", "preset", "ideal",
-						   "resolution", 204, 170, "pixel_pitch_um", 41.4,
-						   "exposure_us", exposure / 9)); /* pixels 9x larger */
+	json_object_set_new(d, "sensor",
+	                    json_pack("{s:s,s:[i,i],s:f,s:f}", "preset", "ideal", "resolution", 204,
+	                              170, "pixel_pitch_um", 41.4, "exposure_us",
+	                              exposure / 9)); /* pixels 9x larger */
 	json_dump_file(d, scene, 0);
 	json_decref(d);
 	CHECK_EQ_INT(run_cli("render", scene, "-o", out, "--seed", "1", NULL), 0);
 	CHECK_EQ_INT(run_cli("mueller", out, "-o", res, NULL), 0);
 	CHECK_EQ_INT(run_cli("mueller", out, "-o", resp, "--rebuild-circular", "+", NULL), 0);
-	CHECK_EQ_INT(run_cli("mueller", out, "-o", reso, "--rebuild-circular", "off", NULL),
-		     0);
-	CHECK_EQ_INT(run_cli("mueller", out, "-o", reso, "--rebuild-circular", "positive",
-			 NULL), CLI_STATUS_USAGE);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", reso, "--rebuild-circular", "off", NULL), 0);
+	CHECK_EQ_INT(run_cli("mueller", out, "-o", reso, "--rebuild-circular", "positive", NULL),
+	             CLI_STATUS_USAGE);
 	CHECK_EQ_INT(run_cli("mueller", out, "-o", reso, "--rebuild-tol", "-1", NULL),
-		     CLI_STATUS_USAGE);
+	             CLI_STATUS_USAGE);
 	CHECK(exists(res, "rebuild_residual.npy") && !exists(reso, "rebuild_residual.npy"));
 	char p[1024];
 	snprintf(p, sizeof p, "%s/mueller.json", res);
@@ -281,13 +291,14 @@ static void test_mueller_linear(void)
 	unsigned char *sat = calloc(np, 1);
 	for (int f = 0; f < 3; f++) {
 		char fp[1024];
-		pc_view v = { 0 };
+		pc_view v = {0};
 		snprintf(fp, sizeof fp, "%s/raw_%06d.png", out, f);
 		CHECK_EQ_INT(pc_png_read(fp, &v, NULL), 0);
 		CHECK(v.width == W && v.height == H);
 		for (size_t y = 0; v.data && y < H; y++)
 			for (size_t x = 0; x < W; x++)
-				if (((const uint16_t *)((const char *)v.data + y * v.stride))[x] >= 4095)
+				if (((const uint16_t *)((const char *)v.data + y * v.stride))[x] >=
+				    4095)
 					sat[y * W + x] = 1;
 		pc_view_free(&v);
 	}
@@ -310,8 +321,9 @@ static void test_mueller_linear(void)
 			const float *t = T + 16 * i, *mm = M + 16 * i, *mp = Mp + 16 * i;
 			/* '+' flips exactly the sign-carrying entries */
 			for (int k = 1; k < 3; k++)
-				worst_sign_pair = fmax(worst_sign_pair, fabs(mm[4 * k + 3] + mp[4 * k + 3]) +
-									fabs(mm[12 + k] + mp[12 + k]));
+				worst_sign_pair =
+				    fmax(worst_sign_pair, fabs(mm[4 * k + 3] + mp[4 * k + 3]) +
+				                              fabs(mm[12 + k] + mp[12 + k]));
 			if (isnan(Dm[i]))
 				continue;
 			double Tm[4][4];
@@ -329,7 +341,7 @@ static void test_mueller_linear(void)
 			double e = 0;
 			for (int k = 0; k < 4; k++)
 				e = fmax(e, fmax(fabs(mm[4 * k + 3] / mm[0] - t[4 * k + 3] / t[0]),
-						 fabs(mm[12 + k] / mm[0] - t[12 + k] / t[0])));
+				                 fabs(mm[12 + k] / mm[0] - t[12 + k] / t[0])));
 			eC[nC++] = e;
 			/* the sign: of the larger of M13, M23 where it is clearly above the
 			 * reconstruction's error (p95 ~6e-4 of M00) */
@@ -344,7 +356,8 @@ static void test_mueller_linear(void)
 	double dmed = pct(eD, nD, 0.5), d95 = pct(eD, nD, 0.95), emed = pct(eE, nD, 0.5),
 	       e95 = pct(eE, nD, 0.95), rmed = pct(eR, nR, 0.5), r95 = pct(eR, nR, 0.95),
 	       cmed = pct(eC, nC, 0.5), c95 = pct(eC, nC, 0.95);
-	printf("linear Mueller imaging (%zux%zu, ideal sensor, bilinear): %zu interior lit unsaturated pixels, "
+	printf("linear Mueller imaging (%zux%zu, ideal sensor, bilinear): %zu interior lit "
+	       "unsaturated pixels, "
 	       "%zu decomposed (%ld rejected in the whole image); |dD| median %.2e p95 %.2e; "
 	       "|dDelta| median %.2e p95 %.2e; |dR| (truth Delta < 0.9: %zu px) median %.2e p95 "
 	       "%.2e rad; circular entries / M00 median %.2e p95 %.2e; sign of M13/M23 agrees in "
@@ -365,7 +378,7 @@ static void test_mueller_linear(void)
 	free(eE);
 	free(eR);
 	free(eC);
-	pc_array *arrs[] = { &aT, &aM, &aP, &aD, &aR, &aE, &aO };
+	pc_array *arrs[] = {&aT, &aM, &aP, &aD, &aR, &aE, &aO};
 	for (size_t k = 0; k < sizeof arrs / sizeof arrs[0]; k++)
 		pc_array_free(arrs[k]);
 }
@@ -376,9 +389,11 @@ static void test_demo(void)
 	snprintf(scene, sizeof scene, "%s/small.json", tmp);
 	snprintf(out, sizeof out, "%s/demo", tmp);
 	CHECK_EQ_INT(run_cli("demo", "--help", NULL), 0);
-	CHECK_EQ_INT(run_cli("demo", "--scene", scene, "-o", out, "--methods", "bilinear,superpixel",
-			 NULL), 0);
-	CHECK(exists(out, "report.md") && exists(out, "report.json") && exists(out, "raw_000000.png"));
+	CHECK_EQ_INT(
+	    run_cli("demo", "--scene", scene, "-o", out, "--methods", "bilinear,superpixel", NULL),
+	    0);
+	CHECK(exists(out, "report.md") && exists(out, "report.json") &&
+	      exists(out, "raw_000000.png"));
 	CHECK(exists(out, "truth/dolp.png") && exists(out, "pipeline_bilinear/aolp.png"));
 	CHECK(exists(out, "mueller/D.png") && exists(out, "mueller/truth_Delta.npy"));
 	CHECK(exists(out, "stokes.npy"));

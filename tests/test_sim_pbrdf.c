@@ -45,14 +45,16 @@ static void rotate_frame(const double sa[3], const double pa[3], const double sb
 
 /* The Mueller matrix printed by `$POLARCAM pbrdf` (independent process, 17 digits), or 0. */
 static int cli_pbrdf(double n, double k, double sigma, double ti, double tr, double phi,
-		     double f[4][4])
+                     double f[4][4])
 {
 	const char *exe = getenv("POLARCAM");
 	if (!exe)
 		return 0;
 	char cmd[1024];
-	snprintf(cmd, sizeof cmd, "%s pbrdf --n %.17g --k %.17g --sigma %.17g --theta-i %.17g "
-				  "--theta-r %.17g --phi %.17g --rho table 2>/dev/null", exe, n, k, sigma, ti, tr, phi);
+	snprintf(cmd, sizeof cmd,
+	         "%s pbrdf --n %.17g --k %.17g --sigma %.17g --theta-i %.17g "
+	         "--theta-r %.17g --phi %.17g --rho table 2>/dev/null",
+	         exe, n, k, sigma, ti, tr, phi);
 	FILE *p = popen(cmd, "r");
 	if (!p)
 		return 0;
@@ -79,26 +81,27 @@ static int cli_pbrdf(double n, double k, double sigma, double ti, double tr, dou
 }
 
 static void check_geometry(double ti_deg, double tr_deg, double dphi_deg, const char *pol,
-			   bool diffuse)
+                           bool diffuse)
 {
 	const double D = M_PI / 180, ti = ti_deg * D, tr = tr_deg * D, dphi = dphi_deg * D;
 	const double n = 1.46, k = 1.28, sigma = 0.2, E = 50;
 	/* light from φ_i = 0, camera along k_r at φ_r = Δφ, both aimed at the origin */
-	double L[3] = { sin(ti), 0, cos(ti) };
-	double kr[3] = { sin(tr) * cos(dphi), sin(tr) * sin(dphi), cos(tr) };
-	double ref[3] = { 1, 1, 0.3 }; /* a light reference that is neither s nor p */
+	double L[3] = {sin(ti), 0, cos(ti)};
+	double kr[3] = {sin(tr) * cos(dphi), sin(tr) * sin(dphi), cos(tr)};
+	double ref[3] = {1, 1, 0.3}; /* a light reference that is neither s nor p */
 	char text[4096];
 	snprintf(text, sizeof text,
-		 "{\"camera\": {\"position\": [%.17g, %.17g, %.17g], \"look_at\": [0, 0, 0],"
-		 "   \"principal_point\": [8.5, 8.5], \"focal_length_mm\": 50},"
-		 " \"sensor\": {\"resolution\": [16, 16]},"
-		 " \"materials\": {\"paint\": {\"n\": %.17g, \"k\": %.17g, \"sigma\": %.17g}},"
-		 " \"lights\": [{\"type\": \"directional\", \"direction\": [%.17g, %.17g, %.17g],"
-		 "   \"irradiance_w_m2\": %g, \"reference\": [%g, %g, %g], \"polarization\": %s}],"
-		 " \"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 0, 1], \"material\": \"paint\"}],"
-		 " \"effects\": {\"diffuse\": %s, \"shadowing\": true, \"circular\": true}}",
-		 5 * kr[0], 5 * kr[1], 5 * kr[2], n, k, sigma, L[0], L[1], L[2], E, ref[0], ref[1],
-		 ref[2], pol, diffuse ? "true" : "false");
+	         "{\"camera\": {\"position\": [%.17g, %.17g, %.17g], \"look_at\": [0, 0, 0],"
+	         "   \"principal_point\": [8.5, 8.5], \"focal_length_mm\": 50},"
+	         " \"sensor\": {\"resolution\": [16, 16]},"
+	         " \"materials\": {\"paint\": {\"n\": %.17g, \"k\": %.17g, \"sigma\": %.17g}},"
+	         " \"lights\": [{\"type\": \"directional\", \"direction\": [%.17g, %.17g, %.17g],"
+	         "   \"irradiance_w_m2\": %g, \"reference\": [%g, %g, %g], \"polarization\": %s}],"
+	         " \"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 0, "
+	         "1], \"material\": \"paint\"}],"
+	         " \"effects\": {\"diffuse\": %s, \"shadowing\": true, \"circular\": true}}",
+	         5 * kr[0], 5 * kr[1], 5 * kr[2], n, k, sigma, L[0], L[1], L[2], E, ref[0], ref[1],
+	         ref[2], pol, diffuse ? "true" : "false");
 	pc_scene *sc = NULL;
 	int rc = pc_scene_parse(text, "plane", ".", &sc);
 	CHECK_EQ_INT(rc, 0);
@@ -113,26 +116,28 @@ static void check_geometry(double ti_deg, double tr_deg, double dphi_deg, const 
 		return;
 	double row[16 * 4];
 	CHECK_EQ_INT(pc_sim_truth_rows(sim, 0, 8, 9, row, NULL), 0);
-	const double *S_pix = row + 4 * 8; /* pixel (8, 8): its centre ray hits the origin exactly */
+	const double *S_pix =
+	    row + 4 * 8; /* pixel (8, 8): its centre ray hits the origin exactly */
 
 	/* the light's Stokes vector in its own frame (s_L = ref ⟂ d, p_L = d × s_L) */
 	pc_sim_states st;
 	pc_sim_get_states(sim, &st);
 	double S[4];
 	memcpy(S, st.psg[0], sizeof S);
-	double d[3] = { -L[0], -L[1], -L[2] }, sL[3], pL[3];
+	double d[3] = {-L[0], -L[1], -L[2]}, sL[3], pL[3];
 	double rd = dot(ref, d);
 	for (int i = 0; i < 3; i++)
 		sL[i] = ref[i] - rd * d[i];
 	unit(sL);
 	cross(d, sL, pL);
 	/* → incident macro frame s_Mi = (−sinφ_i, cosφ_i, 0), p_Mi = d_i × s_Mi (physics.md §1) */
-	double sMi[3] = { 0, 1, 0 }, pMi[3];
+	double sMi[3] = {0, 1, 0}, pMi[3];
 	cross(d, sMi, pMi);
 	rotate_frame(sL, pL, sMi, S);
 	/* the pBRDF in macro frames, in-process and from the command line */
-	pc_material m = { n, k, sigma, diffuse ? PC_DIFFUSE_FRESNEL : PC_DIFFUSE_NONE, PC_SHADOW_TS,
-			  PC_RHO_TABLE, 0 };
+	pc_material m = {
+	    n, k, sigma, diffuse ? PC_DIFFUSE_FRESNEL : PC_DIFFUSE_NONE, PC_SHADOW_TS, PC_RHO_TABLE,
+	    0};
 	pc_pbrdf *pb = NULL;
 	CHECK_EQ_INT(pc_pbrdf_new(&m, &pb), 0);
 	double f[4][4], fc[4][4];
@@ -141,8 +146,9 @@ static void check_geometry(double ti_deg, double tr_deg, double dphi_deg, const 
 	static int cli_note;
 	if (diffuse && !cli_pbrdf(n, k, sigma, ti_deg, tr_deg, dphi_deg, fc)) {
 		if (!cli_note++)
-			fprintf(stderr, "note: `polarcam pbrdf` gave no Mueller matrix: compared with "
-					"pc_pbrdf_eval in-process only\n");
+			fprintf(stderr,
+			        "note: `polarcam pbrdf` gave no Mueller matrix: compared with "
+			        "pc_pbrdf_eval in-process only\n");
 	} else if (diffuse)
 		for (int i = 0; i < 4; i++)
 			for (int j = 0; j < 4; j++)
@@ -156,17 +162,17 @@ static void check_geometry(double ti_deg, double tr_deg, double dphi_deg, const 
 	}
 	/* outgoing macro frame s_Mr = (sinφ_r, −cosφ_r, 0), p_Mr = d_r × s_Mr, d_r = k_r → the
 	 * camera's frame: s = camera x (right) ⟂ k_r, p = k_r × s */
-	double sMr[3] = { sin(dphi), -cos(dphi), 0 }, pMr[3];
+	double sMr[3] = {sin(dphi), -cos(dphi), 0}, pMr[3];
 	cross(kr, sMr, pMr);
-	double fwd[3] = { -kr[0], -kr[1], -kr[2] }, up[3] = { 0, 0, 1 }, right[3];
+	double fwd[3] = {-kr[0], -kr[1], -kr[2]}, up[3] = {0, 0, 1}, right[3];
 	cross(fwd, up, right);
 	unit(right);
 	rotate_frame(sMr, pMr, right, So);
 	double scale = fabs(So[0]);
 	for (int i = 0; i < 4; i++) {
 		if (!(fabs(S_pix[i] - So[i]) <= 1e-9 * scale))
-			fprintf(stderr, "θi=%g θr=%g Δφ=%g %s: S%d = %.17g, expected %.17g\n", ti_deg,
-				tr_deg, dphi_deg, pol, i, S_pix[i], So[i]);
+			fprintf(stderr, "θi=%g θr=%g Δφ=%g %s: S%d = %.17g, expected %.17g\n",
+			        ti_deg, tr_deg, dphi_deg, pol, i, S_pix[i], So[i]);
 		CHECK_NEAR(S_pix[i], So[i], 1e-9 * scale);
 	}
 	CHECK(So[0] > 0);
@@ -176,13 +182,16 @@ static void check_geometry(double ti_deg, double tr_deg, double dphi_deg, const 
 /* switched-off effects equal materials that declare the neutral choice */
 static void check_neutral(const char *effect, const char *material_field)
 {
-#define NEUTRAL_FMT "{\"camera\": {\"position\": [0, -4, 2.5], \"look_at\": [0, 0, 0.5]}," \
-			  " \"sensor\": {\"resolution\": [32, 24], \"pixel_pitch_um\": 100}," \
-			  " \"materials\": {\"paint\": {\"n\": 1.47, \"k\": 0.47, \"sigma\": 0.1%s}}," \
-			  " \"lights\": [{\"type\": \"point\", \"position\": [1, 2, 3], \"intensity_w_sr\": 100}]," \
-			  " \"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0.5], \"radius\": 0.5, \"material\": \"paint\"}," \
-			  "   {\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": \"paint\"}]," \
-			  " \"effects\": {\"%s\": %s}}"
+#define NEUTRAL_FMT                                                                                \
+	"{\"camera\": {\"position\": [0, -4, 2.5], \"look_at\": [0, 0, 0.5]},"                     \
+	" \"sensor\": {\"resolution\": [32, 24], \"pixel_pitch_um\": 100},"                        \
+	" \"materials\": {\"paint\": {\"n\": 1.47, \"k\": 0.47, \"sigma\": 0.1%s}},"               \
+	" \"lights\": [{\"type\": \"point\", \"position\": [1, 2, 3], \"intensity_w_sr\": 100}],"  \
+	" \"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0.5], \"radius\": 0.5, "           \
+	"\"material\": \"paint\"},"                                                                \
+	"   {\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": "         \
+	"\"paint\"}],"                                                                             \
+	" \"effects\": {\"%s\": %s}}"
 	char a[2048], b[2048], mf[128];
 	snprintf(mf, sizeof mf, ", %s", material_field);
 	snprintf(a, sizeof a, NEUTRAL_FMT, "", effect, "false");
@@ -197,7 +206,8 @@ static void check_neutral(const char *effect, const char *material_field)
 	}
 	CHECK(xa && xb);
 	if (xa && xb) {
-		double *A = malloc(sizeof(double) * 4 * 32 * 24), *B = malloc(sizeof(double) * 4 * 32 * 24);
+		double *A = malloc(sizeof(double) * 4 * 32 * 24),
+		       *B = malloc(sizeof(double) * 4 * 32 * 24);
 		pc_sim_truth_rows(xa, 0, 0, 24, A, NULL);
 		pc_sim_truth_rows(xb, 0, 0, 24, B, NULL);
 		int same = 1;

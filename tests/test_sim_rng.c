@@ -14,14 +14,14 @@
 static void test_kat(void)
 {
 	/* Random123 kat_vectors, philox4x32 10 rounds */
-	static const uint32_t ctr[3][4] = { { 0, 0, 0, 0 },
-					    { 0xffffffff, 0xffffffff, 0xffffffff, 0xffffffff },
-					    { 0x243f6a88, 0x85a308d3, 0x13198a2e, 0x03707344 } };
-	static const uint32_t key[3][2] = { { 0, 0 }, { 0xffffffff, 0xffffffff },
-					    { 0xa4093822, 0x299f31d0 } };
-	static const uint32_t want[3][4] = { { 0x6627e8d5, 0xe169c58d, 0xbc57ac4c, 0x9b00dbd8 },
-					     { 0x408f276d, 0x41c83b0e, 0xa20bc7c6, 0x6d5451fd },
-					     { 0xd16cfe09, 0x94fdcceb, 0x5001e420, 0x24126ea1 } };
+	static const uint32_t ctr[3][4] = {{0, 0, 0, 0},
+	                                   {0xffffffff, 0xffffffff, 0xffffffff, 0xffffffff},
+	                                   {0x243f6a88, 0x85a308d3, 0x13198a2e, 0x03707344}};
+	static const uint32_t key[3][2] = {
+	    {0, 0}, {0xffffffff, 0xffffffff}, {0xa4093822, 0x299f31d0}};
+	static const uint32_t want[3][4] = {{0x6627e8d5, 0xe169c58d, 0xbc57ac4c, 0x9b00dbd8},
+	                                    {0x408f276d, 0x41c83b0e, 0xa20bc7c6, 0x6d5451fd},
+	                                    {0xd16cfe09, 0x94fdcceb, 0x5001e420, 0x24126ea1}};
 	for (int i = 0; i < 3; i++) {
 		uint32_t out[4];
 		pc_philox4x32_10(ctr[i], key[i], out);
@@ -68,7 +68,7 @@ static void check_poisson(double mu, int n)
 	for (int i = 0; i < n; i++) {
 		pc_rng r;
 		pc_rng_init(&r, 11, PC_RNG_TEST, (uint32_t)(i & 0xffff), (uint32_t)(i >> 16),
-			    (uint64_t)(mu * 1000));
+		            (uint64_t)(mu * 1000));
 		double k = pc_rng_poisson(&r, mu);
 		CHECK(k >= 0 && k == floor(k));
 		s += k;
@@ -95,8 +95,8 @@ static void check_poisson(double mu, int n)
 	 * generous): a correct sampler fails this with probability < 1e-4 */
 	double crit = dof + 3.72 * sqrt(2.0 * dof) + 8;
 	if (!(chi2 < crit))
-		fprintf(stderr, "Poisson mu=%g: chi2 = %.1f with %d dof (crit %.1f)\n", mu, chi2, dof,
-			crit);
+		fprintf(stderr, "Poisson mu=%g: chi2 = %.1f with %d dof (crit %.1f)\n", mu, chi2,
+		        dof, crit);
 	CHECK(chi2 < crit);
 	free(pmf);
 	free(cnt);
@@ -140,6 +140,46 @@ static void test_quantile(void)
 	}
 	CHECK(pc_normal_quantile(0.5) == 0);
 	CHECK_NEAR(pc_u32_to_normal(0), -6.34, 0.01); /* the tail cut documented in rng.h */
+}
+
+/* The read noise's float PPND7 central region against the double AS 241 quantile: every 4096th
+ * word and both ends of the central region, |error| ≤ 1e-6 (Wichura's bound for PPND7 is
+ * ~1e-7 relative; float rounding adds up to ~6e-8 relative); the tail is PPND16 itself; odd
+ * symmetry; and the distribution: the fraction of words at or below z = −2, −1, 0, 1, 2 equals
+ * Φ(z) to the word resolution. */
+static void test_normal_read(void)
+{
+	double worst = 0;
+	uint64_t below[5] = {0}, n = 0;
+	const double zs[5] = {-2, -1, 0, 1, 2};
+	for (uint64_t w = 0; w < (1ull << 32); w += 4096) {
+		for (uint64_t d = 0; d < 2; d++) {
+			uint32_t u = (uint32_t)(w + d * 1234);
+			double zr = pc_u32_to_normal_read(u), zd = pc_u32_to_normal(u);
+			worst = fmax(worst, fabs(zr - zd));
+			CHECK_NEAR(pc_u32_to_normal_read(~u), -zr, 1e-6 * (1 + fabs(zr)));
+			for (int k = 0; k < 5; k++)
+				below[k] += zr <= zs[k];
+			n++;
+		}
+	}
+	/* where the regions meet: q = ±0.425 */
+	for (int s = -1; s <= 1; s += 2)
+		for (int64_t dw = -2000; dw <= 2000; dw++) {
+			int64_t w = (int64_t)2147483648 + s * (int64_t)(0.425 * 4294967296.0) + dw;
+			double zr = pc_u32_to_normal_read((uint32_t)w),
+			       zd = pc_u32_to_normal((uint32_t)w);
+			worst = fmax(worst, fabs(zr - zd));
+		}
+	fprintf(stderr,
+	        "test_sim_rng: read-noise normal (float PPND7 centre) within %.2g of AS 241 "
+	        "(double)\n",
+	        worst);
+	CHECK(worst <= 1e-6);
+	for (int k = 0; k < 5; k++) {
+		double phi = 0.5 * erfc(-zs[k] / sqrt(2));
+		CHECK_NEAR((double)below[k] / (double)n, phi, 2e-6);
+	}
 }
 
 static void test_log_factorial(void)
@@ -197,6 +237,30 @@ static void test_log_pure(void)
 	CHECK_NEAR(pc_log_pure(2), M_LN2, 1e-16);
 }
 
+/* The scalar-shared exponential against libm over the range the sensor chain uses (−10 .. 0,
+ * the inversion's e^−mu) and the whole documented range |x| ≤ 700. */
+static void test_exp_pure(void)
+{
+	double worst = 0, worst_inv = 0;
+	for (int i = 0; i < 200000; i++) {
+		pc_rng r;
+		pc_rng_init(&r, 6, PC_RNG_TEST, (uint32_t)(i & 0xffff), (uint32_t)(i >> 16), 0);
+		double u = pc_rng_uniform(&r);
+		double x = i % 2 ? -10 * u : (u - 0.5) * 1400;
+		double want = exp(x), got = pc_exp_pure(x);
+		double ulp = nextafter(want, INFINITY) - want;
+		double d = fabs(got - want) / ulp;
+		worst = fmax(worst, d);
+		if (i % 2)
+			worst_inv = fmax(worst_inv, d);
+	}
+	printf("test_sim_rng: pc_exp_pure within %.2f ulp of libm (%.2f on [-10, 0])\n", worst,
+	       worst_inv);
+	CHECK(worst <= 2.0);
+	CHECK(pc_exp_pure(0) == 1);
+	CHECK_NEAR(pc_exp_pure(-1), exp(-1), 2e-16);
+}
+
 /* The frame and fixed-pattern kernels: every vector instance this CPU can run produces exactly
  * the scalar reference's values, over means from 0 through the inversion/PTRS switch to
  * saturation, with and without DSNU, read noise and noise, at odd offsets and lengths (vector
@@ -212,7 +276,10 @@ static void test_kernels(void)
 		pc_rng_init(&r, 9, PC_RNG_TEST, (uint32_t)i, 0, 0);
 		double u = pc_rng_uniform(&r);
 		/* rates × 1 ms: 0, below 10, around 10, up to beyond the full well */
-		rate[i] = (float)(i % 11 == 0 ? 0 : i % 5 == 0 ? u * 2e4 : i % 7 == 0 ? 9e3 + u * 2e3 : u * 1.2e7);
+		rate[i] = (float)(i % 11 == 0  ? 0
+		                  : i % 5 == 0 ? u * 2e4
+		                  : i % 7 == 0 ? 9e3 + u * 2e3
+		                               : u * 1.2e7);
 		dsnu[i] = (float)(pc_rng_uniform(&r) * 4 - 2);
 	}
 	int base = pc_noise_isa(), tested = 0;
@@ -221,27 +288,28 @@ static void test_kernels(void)
 			continue;
 		tested++;
 		for (int c = 0; c < 8; c++) {
-			pc_frame_args a = { .seed = 0x123456789abcdefull + (uint64_t)c,
-					    .frame = 1000000007ull * (uint64_t)c,
-					    .sx0 = (uint32_t)(3 * c),
-					    .sy = (uint32_t)(17 * c + 1),
-					    .n = (uint32_t)(N - 13 * c),
-					    .rate = rate,
-					    .dsnu = c & 1 ? dsnu : NULL,
-					    .t_s = 1e-3,
-					    .dark_e = c & 2 ? 0.5 : 0,
-					    .full_well_e = 10500,
-					    .K = 4095.0 / 10500,
-					    .offset_dn = c & 4 ? 64 : 0,
-					    .read_e = c == 3 ? 0 : 2.3,
-					    .max_dn = 4095,
-					    .noise = c != 5,
-					    .out = got };
+			pc_frame_args a = {.seed = 0x123456789abcdefull + (uint64_t)c,
+			                   .frame = 1000000007ull * (uint64_t)c,
+			                   .sx0 = (uint32_t)(3 * c),
+			                   .sy = (uint32_t)(17 * c + 1),
+			                   .n = (uint32_t)(N - 13 * c),
+			                   .rate = rate,
+			                   .dsnu = c & 1 ? dsnu : NULL,
+			                   .t_s = 1e-3,
+			                   .dark_e = c & 2 ? 0.5 : 0,
+			                   .full_well_e = 10500,
+			                   .K = 4095.0 / 10500,
+			                   .offset_dn = c & 4 ? 64 : 0,
+			                   .read_e = c == 3 ? 0 : 2.3,
+			                   .max_dn = 4095,
+			                   .noise = c != 5,
+			                   .out = got};
 			pc_noise_frame_row(&a);
 			a.out = want;
 			pc_noise_frame_row_ref(&a);
 			CHECK(!memcmp(got, want, a.n * sizeof *got));
-			double *pg[4] = { zg[0], zg[1], zg[2], zg[3] }, *pw[4] = { zw[0], zw[1], zw[2], zw[3] };
+			double *pg[4] = {zg[0], zg[1], zg[2], zg[3]},
+			       *pw[4] = {zw[0], zw[1], zw[2], zw[3]};
 			unsigned mask = c == 0 ? 15 : (unsigned)(c & 15);
 			memset(zg, 0, sizeof zg);
 			memset(zw, 0, sizeof zw);
@@ -252,7 +320,8 @@ static void test_kernels(void)
 	}
 	CHECK(tested >= 1);
 	CHECK(pc_noise_set_isa(base) >= 0);
-	printf("test_sim_rng: kernels identical to the scalar reference on %d instance%s (in use: %s)\n",
+	printf("test_sim_rng: kernels identical to the scalar reference on %d instance%s (in use: "
+	       "%s)\n",
 	       tested, tested == 1 ? "" : "s", pc_noise_isa_name(base));
 }
 
@@ -262,9 +331,11 @@ int main(void)
 	test_moments();
 	test_poisson();
 	test_quantile();
+	test_normal_read();
 	test_log_factorial();
 	test_determinism();
 	test_log_pure();
+	test_exp_pure();
 	test_kernels();
 	return pc_test_finish("test_sim_rng");
 }

@@ -15,11 +15,12 @@
 
 /* A minimal valid scene with one substitution: the JSON fragment "@X@" is replaced. */
 static const char *base =
-	"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-	" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-	" \"materials\": {\"paint\": {\"n\": 1.5, \"k\": 0, \"sigma\": 0.2}},"
-	" \"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 1], \"radius\": 1, \"material\": \"paint\"}]"
-	"@X@}";
+    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
+    " \"materials\": {\"paint\": {\"n\": 1.5, \"k\": 0, \"sigma\": 0.2}},"
+    " \"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 1], \"radius\": 1, \"material\": "
+    "\"paint\"}]"
+    "@X@}";
 
 static char *with(const char *x)
 {
@@ -92,93 +93,102 @@ static void test_errors(void)
 {
 	expect_error("{\"camera\": [1, 2,\n\n  }", PC_EFORMAT, "line 3", NULL);
 	expect_error(with(", \"sensor\": {\"preset\": \"imx999\"}"), PC_EINVAL, "sensor.preset",
-		     "imx250mzr");
+	             "imx250mzr");
 	expect_error(with(", \"effects\": {\"difuse\": true}"), PC_EINVAL, "effects.difuse",
-		     "unknown effect");
+	             "unknown effect");
 	expect_error(with(", \"effects\": {\"supersampling\": 40}"), PC_EINVAL,
-		     "effects.supersampling", "[1, 16]");
-	expect_error(with(", \"sensor\": {\"bits\": 11}"), PC_EINVAL, "sensor.bits", "8, 10, 12 or 16");
+	             "effects.supersampling", "[1, 16]");
+	expect_error(with(", \"sensor\": {\"bits\": 11}"), PC_EINVAL, "sensor.bits",
+	             "8, 10, 12 or 16");
 	expect_error(with(", \"sensor\": {\"resolution\": [101, 100]}"), PC_EINVAL,
-		     "sensor.resolution", "multiples");
+	             "sensor.resolution", "multiples");
 	expect_error(with(", \"sensor\": {\"layout\": \"90,45,90,0\"}"), PC_EINVAL, "sensor.layout",
-		     NULL);
+	             NULL);
 	expect_error(with(", \"sensor\": {\"extinction_ratio\": 0.5}"), PC_EINVAL,
-		     "sensor.extinction_ratio", "> 1");
+	             "sensor.extinction_ratio", "> 1");
 	expect_error(with(", \"sensor\": {\"psa\": [{\"retarder\": {\"angle_deg\": 0, "
-			  "\"retardance_deg\": 90}}]}"),
-		     PC_EINVAL, "sensor.psa", "circular");
+	                  "\"retardance_deg\": 90}}]}"),
+	             PC_EINVAL, "sensor.psa", "circular");
 	expect_error(with(", \"extra\": 1"), PC_EINVAL, "extra", "unknown field");
 	expect_error(with(", \"background\": -1"), PC_EINVAL, "background = -1", "must be in [0");
 
 	const char *bad_mat =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"k\": -1, \"sigma\": 0.2}},"
-		" \"objects\": []}";
+	    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], "
+	    "\"irradiance_w_m2\": 10}],"
+	    " \"materials\": {\"paint\": {\"n\": 1.5, \"k\": -1, \"sigma\": 0.2}},"
+	    " \"objects\": []}";
 	expect_error(bad_mat, PC_EINVAL, "materials.paint.k = -1", "must be in [0");
-	const char *bad_sigma =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": -1}},"
-		" \"objects\": []}";
+	const char *bad_sigma = "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	                        " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, "
+	                        "1], \"irradiance_w_m2\": 10}],"
+	                        " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": -1}},"
+	                        " \"objects\": []}";
 	expect_error(bad_sigma, PC_EINVAL, "materials.paint.sigma = -1", "must be");
 	const char *bad_rho =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1, \"rho\": \"quadx\"}},"
-		" \"objects\": []}";
+	    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], "
+	    "\"irradiance_w_m2\": 10}],"
+	    " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1, \"rho\": \"quadx\"}},"
+	    " \"objects\": []}";
 	expect_error(bad_rho, PC_EINVAL, "materials.paint.rho", "'quadx': expected table or quad");
 	const char *bad_shadowing =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1, \"shadowing\": \"TS\"}},"
-		" \"objects\": []}";
+	    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], "
+	    "\"irradiance_w_m2\": 10}],"
+	    " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1, \"shadowing\": \"TS\"}},"
+	    " \"objects\": []}";
 	expect_error(bad_shadowing, PC_EINVAL, "materials.paint.shadowing", "'TS': expected ts");
 	const char *num_diffuse =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1, \"diffuse\": 1}},"
-		" \"objects\": []}";
+	    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], "
+	    "\"irradiance_w_m2\": 10}],"
+	    " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1, \"diffuse\": 1}},"
+	    " \"objects\": []}";
 	expect_error(num_diffuse, PC_EINVAL, "materials.paint.diffuse", "expected a string");
-	const char *no_mat =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}},"
-		" \"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": \"gold\"}]}";
+	const char *no_mat = "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	                     " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], "
+	                     "\"irradiance_w_m2\": 10}],"
+	                     " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}},"
+	                     " \"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], "
+	                     "\"radius\": 1, \"material\": \"gold\"}]}";
 	expect_error(no_mat, PC_EINVAL, "objects[0].material", "'gold'");
-	const char *bad_field =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}},"
-		" \"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"normal\": [0,0,1], \"material\": \"paint\"}]}";
+	const char *bad_field = "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	                        " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, "
+	                        "1], \"irradiance_w_m2\": 10}],"
+	                        " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}},"
+	                        " \"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], "
+	                        "\"radius\": 1, \"normal\": [0,0,1], \"material\": \"paint\"}]}";
 	expect_error(bad_field, PC_EINVAL, "objects[0].normal", "not a field of a sphere");
-	const char *zero_radius =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}},"
-		" \"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 0, \"material\": \"paint\"}]}";
+	const char *zero_radius = "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	                          " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, "
+	                          "1], \"irradiance_w_m2\": 10}],"
+	                          " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}},"
+	                          " \"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], "
+	                          "\"radius\": 0, \"material\": \"paint\"}]}";
 	expect_error(zero_radius, PC_EINVAL, "objects[0].radius", "> 0");
 	const char *circ =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 1], \"intensity_w_sr\": 10,"
-		"   \"polarization\": {\"circular\": 1}}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": []}";
+	    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 1], \"intensity_w_sr\": 10,"
+	    "   \"polarization\": {\"circular\": 1}}],"
+	    " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": []}";
 	expect_error(circ, PC_EINVAL, "lights[0].polarization", "circular");
 	const char *stokes =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 1], \"intensity_w_sr\": 10,"
-		"   \"states\": [\"unpolarized\", {\"stokes\": [1, 1, 0]}]}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": []}";
+	    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 1], \"intensity_w_sr\": 10,"
+	    "   \"states\": [\"unpolarized\", {\"stokes\": [1, 1, 0]}]}],"
+	    " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": []}";
 	expect_error(stokes, PC_EINVAL, "lights[0].states[1].stokes", "> 1");
 	const char *cam =
-		"{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 1], \"intensity_w_sr\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": []}";
+	    "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 1], \"intensity_w_sr\": 10}],"
+	    " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": []}";
 	expect_error(cam, PC_EINVAL, "camera.up", "parallel");
 	const char *dir_point =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"intensity_w_sr\": 10}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": []}";
+	    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], "
+	    "\"intensity_w_sr\": 10}],"
+	    " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": []}";
 	expect_error(dir_point, PC_EINVAL, "lights[0]", "irradiance_w_m2");
 	expect_error("[1, 2]", PC_EINVAL, "expected an object", NULL);
 }
@@ -188,11 +198,12 @@ static void test_errors(void)
 static void test_material_keywords(void)
 {
 	const char *t =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		" \"materials\": {\"a\": {\"n\": 1.5, \"sigma\": 0.1, \"diffuse\": \"geometric\","
-		"   \"shadowing\": \"none\", \"rho\": \"quad\"}, \"b\": {\"n\": 1.5, \"sigma\": 0.1}},"
-		" \"objects\": [], \"effects\": {\"diffuse\": true, \"shadowing\": true}}";
+	    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], "
+	    "\"irradiance_w_m2\": 10}],"
+	    " \"materials\": {\"a\": {\"n\": 1.5, \"sigma\": 0.1, \"diffuse\": \"geometric\","
+	    "   \"shadowing\": \"none\", \"rho\": \"quad\"}, \"b\": {\"n\": 1.5, \"sigma\": 0.1}},"
+	    " \"objects\": [], \"effects\": {\"diffuse\": true, \"shadowing\": true}}";
 	pc_scene *s;
 	CHECK_EQ_INT(pc_scene_parse(t, "t.json", ".", &s), 0);
 	if (!s)
@@ -222,13 +233,16 @@ static void test_material_keywords(void)
 static void test_states_and_psa(void)
 {
 	const char *t =
-		"{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10,"
-		"   \"states\": [{\"linear_deg\": 0}, {\"linear_deg\": 60}, {\"linear_deg\": 120},"
-		"                {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 45, \"retardance_deg\": 90}}]}],"
-		" \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": [],"
-		" \"effects\": {\"circular\": true},"
-		" \"sensor\": {\"psa\": [\"none\", {\"retarder\": {\"angle_deg\": 30, \"retardance_deg\": 90}}]}}";
+	    "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
+	    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], "
+	    "\"irradiance_w_m2\": 10,"
+	    "   \"states\": [{\"linear_deg\": 0}, {\"linear_deg\": 60}, {\"linear_deg\": 120},"
+	    "                {\"polarizer_deg\": 0, \"retarder\": {\"angle_deg\": 45, "
+	    "\"retardance_deg\": 90}}]}],"
+	    " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}}, \"objects\": [],"
+	    " \"effects\": {\"circular\": true},"
+	    " \"sensor\": {\"psa\": [\"none\", {\"retarder\": {\"angle_deg\": 30, "
+	    "\"retardance_deg\": 90}}]}}";
 	pc_scene *s;
 	CHECK_EQ_INT(pc_scene_parse(t, "t.json", ".", &s), 0);
 	if (!s)
@@ -253,15 +267,17 @@ static void test_obj(void)
 	FILE *fp = fopen(path, "w");
 	/* a tetrahedron: 4 vertices, 4 faces (one quad-free), comments and ignored records */
 	fprintf(fp, "# tetrahedron\no tet\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\n"
-		    "f 1 3 2\nf 1 2 4\nf 1/1 4 3\nf -3 -2 -1\n");
+	            "f 1 3 2\nf 1 2 4\nf 1/1 4 3\nf -3 -2 -1\n");
 	fclose(fp);
 	snprintf(scene, sizeof scene, "%s/s.json", dir);
 	fp = fopen(scene, "w");
 	fprintf(fp, "{\"camera\": {\"position\": [0, -5, 2], \"look_at\": [0, 0, 0]},"
-		    " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], \"irradiance_w_m2\": 10}],"
-		    " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}},"
-		    " \"objects\": [{\"type\": \"mesh\", \"file\": \"tet.obj\", \"scale\": 2, \"position\": [1, 0, 0],"
-		    " \"material\": \"paint\"}]}");
+	            " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1], "
+	            "\"irradiance_w_m2\": 10}],"
+	            " \"materials\": {\"paint\": {\"n\": 1.5, \"sigma\": 0.1}},"
+	            " \"objects\": [{\"type\": \"mesh\", \"file\": \"tet.obj\", \"scale\": 2, "
+	            "\"position\": [1, 0, 0],"
+	            " \"material\": \"paint\"}]}");
 	fclose(fp);
 	pc_scene *s = NULL;
 	CHECK_EQ_INT(pc_scene_load(scene, &s), 0);
@@ -338,7 +354,8 @@ static void test_examples(void)
 	const char *src = getenv("PC_SOURCE_DIR");
 	char path[2048];
 	snprintf(path, sizeof path, "%s/scenes/default.json", src);
-	json_t *a = json_load_file(path, 0, NULL), *b = json_loads(pc_scene_default_text(), 0, NULL);
+	json_t *a = json_load_file(path, 0, NULL),
+	       *b = json_loads(pc_scene_default_text(), 0, NULL);
 	CHECK(a && b && json_equal(a, b));
 	json_decref(a);
 	json_decref(b);
@@ -355,7 +372,7 @@ static void check_exposure(const char *path, const char *name)
 {
 	pc_scene *s = NULL;
 	pc_sim *sim = NULL;
-	pc_view v = { 0 };
+	pc_view v = {0};
 	uint16_t *u = NULL;
 	CHECK_EQ_INT(pc_scene_load(path, &s), 0);
 	pc_sim_options o = pc_sim_options_default();
@@ -380,8 +397,8 @@ static void check_exposure(const char *path, const char *name)
 		free(hist);
 		double fs = (double)sat / (double)np, fm = (double)median / full;
 		if (!(fs < 0.15) || !(fm > 0.05))
-			fprintf(stderr, "%s: %.1f %% saturated, median %u of %u\n", name,
-				100 * fs, median, full);
+			fprintf(stderr, "%s: %.1f %% saturated, median %u of %u\n", name, 100 * fs,
+			        median, full);
 		CHECK(fs < 0.15);
 		CHECK(fm > 0.05);
 	} else {

@@ -23,17 +23,19 @@
 #include "sim_stand_in.h"
 
 /* A downward camera over a ground plane, light from straight above: uniform scenes. */
-#define SCENE_FMT                                                                                \
-	"{\"camera\": {\"position\": [0, 0, 10], \"direction\": [0, 0, -1], \"up\": [0, 1, 0],"     \
-	" \"focal_length_mm\": 12},"                                                                 \
-	" \"materials\": {\"m\": {\"n\": 1.5, \"sigma\": 0.1}},"                                      \
-	" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], \"irradiance_w_m2\": %.17g," \
-	"   \"reference\": [1, 0, 0], \"polarization\": %s}],"                                         \
-	" \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": \"m\"}]," \
+#define SCENE_FMT                                                                                  \
+	"{\"camera\": {\"position\": [0, 0, 10], \"direction\": [0, 0, -1], \"up\": [0, 1, 0],"    \
+	" \"focal_length_mm\": 12},"                                                               \
+	" \"materials\": {\"m\": {\"n\": 1.5, \"sigma\": 0.1}},"                                   \
+	" \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], "                     \
+	"\"irradiance_w_m2\": %.17g,"                                                              \
+	"   \"reference\": [1, 0, 0], \"polarization\": %s}],"                                     \
+	" \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], "           \
+	"\"material\": \"m\"}],"                                                                   \
 	" \"effects\": {%s}, \"sensor\": {%s}}"
 
 static pc_sim *sim_new(double E, const char *pol, const char *fx, const char *sensor,
-		       pc_sim_brdf *brdf, uint64_t seed, const pc_sim_options *opt_in)
+                       pc_sim_brdf *brdf, uint64_t seed, const pc_sim_options *opt_in)
 {
 	char text[8192];
 	snprintf(text, sizeof text, SCENE_FMT, E, pol, fx, sensor);
@@ -73,13 +75,15 @@ static uint16_t *frame_u16(pc_sim *sim, uint64_t n, const pc_sim_controls *c)
 
 static void test_photon_transfer(void)
 {
-	pc_sim_brdf lam = { brdf_lambert, NULL };
+	pc_sim_brdf lam = {brdf_lambert, NULL};
 	const double K = 0.25, sd = 3.0, fw = 12000, off = 40;
 	char sensor[512];
 	snprintf(sensor, sizeof sensor,
-		 "\"preset\": \"ideal\", \"resolution\": [256, 256], \"bits\": 12, \"gain_dn_per_e\": %g,"
-		 " \"read_noise_e\": %g, \"full_well_e\": %g, \"offset_dn\": %g, \"dark_current_e_s\": 0",
-		 K, sd, fw, off);
+	         "\"preset\": \"ideal\", \"resolution\": [256, 256], \"bits\": 12, "
+	         "\"gain_dn_per_e\": %g,"
+	         " \"read_noise_e\": %g, \"full_well_e\": %g, \"offset_dn\": %g, "
+	         "\"dark_current_e_s\": 0",
+	         K, sd, fw, off);
 	pc_sim *sim = sim_new(100, "\"unpolarized\"", "\"noise\": true", sensor, &lam, 1, NULL);
 	pc_sim *dark = sim_new(0, "\"unpolarized\"", "\"noise\": true", sensor, &lam, 2, NULL);
 	CHECK(sim && dark);
@@ -88,22 +92,23 @@ static void test_photon_transfer(void)
 	const int N = 256 * 256;
 	CHECK_EQ_INT(pc_sim_prepare(sim, 0, NULL, NULL, NULL, NULL), 0);
 	double mean_dn;
-	pc_sim_controls c = { 10, 0 };
+	pc_sim_controls c = {10, 0};
 	CHECK_EQ_INT(pc_sim_mean_dn(sim, 0, &c, 64, 64, &mean_dn), 0);
 	double e_per_us = (mean_dn - off) / K / 10; /* electrons per µs of exposure */
 	/* the cached signal is float32: against the double truth through pc_sim_dn_per_radiance
 	 * (ideal analyser, unpolarized light: ½·S0), to float precision */
 	double S[4 * 256];
 	CHECK_EQ_INT(pc_sim_truth_rows(sim, 0, 64, 65, S, NULL), 0);
-	CHECK_NEAR((mean_dn - off) / (pc_sim_dn_per_radiance(sim, &c, 0) * 0.5 * S[4 * 64]), 1, 1e-6);
-	CHECK(e_per_us * 10 < 0.1 * fw);            /* the calibration point is far from saturation */
+	CHECK_NEAR((mean_dn - off) / (pc_sim_dn_per_radiance(sim, &c, 0) * 0.5 * S[4 * 64]), 1,
+	           1e-6);
+	CHECK(e_per_us * 10 < 0.1 * fw); /* the calibration point is far from saturation */
 	/* mean and temporal variance from two frames (EMVA 1288 §6.3: var = var(A − B)/2) */
 	double mu[16], var[16];
 	int np = 0;
-	double fr[] = { 0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 1.5 };
+	double fr[] = {0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 1.5};
 	for (size_t i = 0; i < sizeof fr / sizeof fr[0]; i++) {
 		pc_sim *s = fr[i] == 0 ? dark : sim;
-		pc_sim_controls cc = { fr[i] == 0 ? 1000 : fr[i] * fw / e_per_us, 0 };
+		pc_sim_controls cc = {fr[i] == 0 ? 1000 : fr[i] * fw / e_per_us, 0};
 		/* four frame pairs: the temporal variance to ~0.3 % */
 		double sm = 0, vsum = 0;
 		for (int pair = 0; pair < 4; pair++) {
@@ -128,7 +133,8 @@ static void test_photon_transfer(void)
 	double sd_est = sqrt(var[0] - 1.0 / 12) / K;
 	CHECK_NEAR(sd_est / sd, 1, 0.05);
 	CHECK_NEAR(mu[0], off, 0.05);
-	/* K: least-squares slope of σ²_y − σ²_y.dark against µ_y − µ_y.dark over the linear range */
+	/* K: least-squares slope of σ²_y − σ²_y.dark against µ_y − µ_y.dark over the linear range
+	 */
 	double sxx = 0, sxy = 0;
 	for (int i = 1; i <= 8; i++) {
 		double x = mu[i] - mu[0], y = var[i] - var[0];
@@ -211,15 +217,17 @@ static double dolp4(const double I[4])
 
 static void dolp_case(double p, double E)
 {
-	pc_sim_brdf pr = { brdf_projector, NULL };
+	pc_sim_brdf pr = {brdf_projector, NULL};
 	const double K = 1, sd = 2.3, off = 100;
 	char pol[128], sensor[512];
 	snprintf(pol, sizeof pol, "{\"linear_deg\": 20, \"dop\": %g}", p);
-	snprintf(sensor, sizeof sensor,
-		 "\"preset\": \"ideal\", \"resolution\": [96, 96], \"bits\": 16, \"gain_dn_per_e\": %g,"
-		 " \"read_noise_e\": %g, \"full_well_e\": 1e9, \"offset_dn\": %g, \"dark_current_e_s\": 0,"
-		 " \"exposure_us\": 1000",
-		 K, sd, off);
+	snprintf(
+	    sensor, sizeof sensor,
+	    "\"preset\": \"ideal\", \"resolution\": [96, 96], \"bits\": 16, \"gain_dn_per_e\": %g,"
+	    " \"read_noise_e\": %g, \"full_well_e\": 1e9, \"offset_dn\": %g, \"dark_current_e_s\": "
+	    "0,"
+	    " \"exposure_us\": 1000",
+	    K, sd, off);
 	pc_sim *sim = sim_new(E, pol, "\"noise\": true", sensor, &pr, 5, NULL);
 	CHECK(sim != NULL);
 	if (!sim)
@@ -251,7 +259,7 @@ static void dolp_case(double p, double E)
 					for (int dx = 0; dx < 2; dx++) {
 						uint32_t x = 2 * bx + dx, y = 2 * by + dy;
 						I[pc_mosaic_channel(&in.mosaic, x, y)] =
-							(fr[y * Wd + x] - off) / K;
+						    (fr[y * Wd + x] - off) / K;
 					}
 				a[na++] = dolp4(I);
 			}
@@ -282,12 +290,14 @@ static void dolp_case(double p, double E)
 		vb += (b[i] - mb) * (b[i] - mb) / (nb - 1);
 	double D = ks2(a, na, b, nb);
 	printf("DoLP p=%.1f at %.0f e- per pixel: mean %.4f (reference MC %.4f), std %.4f (%.4f), "
-	       "KS D = %.4f (critical %.4f at 0.1%%)\n", p, mean[0], ma, mb, sqrt(va), sqrt(vb), D,
+	       "KS D = %.4f (critical %.4f at 0.1%%)\n",
+	       p, mean[0], ma, mb, sqrt(va), sqrt(vb), D,
 	       1.95 * sqrt((double)(na + nb) / ((double)na * nb)));
 	double crit = 1.95 * sqrt((double)(na + nb) / ((double)na * nb)); /* α = 0.001 */
 	if (!(D < crit))
-		fprintf(stderr, "DoLP p=%g: KS D = %.4f > %.4f (mean %.4f vs %.4f, std %.4f vs %.4f)\n",
-			p, D, crit, ma, mb, sqrt(va), sqrt(vb));
+		fprintf(stderr,
+		        "DoLP p=%g: KS D = %.4f > %.4f (mean %.4f vs %.4f, std %.4f vs %.4f)\n", p,
+		        D, crit, ma, mb, sqrt(va), sqrt(vb));
 	CHECK(D < crit);
 	/* analytic checks with the mean signal per channel m (electrons) */
 	double m = 0;
@@ -320,7 +330,7 @@ static void test_dolp_statistics(void)
 /* ---- neutral effects, reproducibility, ROI, bands, packing, exposure ---- */
 
 static const char *noisy_sensor =
-	"\"preset\": \"imx250mzr\", \"resolution\": [64, 48], \"exposure_us\": 300";
+    "\"preset\": \"imx250mzr\", \"resolution\": [64, 48], \"exposure_us\": 300";
 
 static int frames_equal(pc_sim *a, pc_sim *b, uint64_t n)
 {
@@ -335,17 +345,19 @@ static int frames_equal(pc_sim *a, pc_sim *b, uint64_t n)
 
 static void neutral_pair(const char *fx_off, const char *fx_on, const char *sensor_on)
 {
-	pc_sim_brdf pr = { brdf_projector, NULL };
+	pc_sim_brdf pr = {brdf_projector, NULL};
 	char s_on[1024];
 	snprintf(s_on, sizeof s_on, "%s, %s", noisy_sensor, sensor_on);
-	pc_sim *a = sim_new(50, "{\"linear_deg\": 30, \"dop\": 0.4}", fx_off, noisy_sensor, &pr, 9, NULL);
+	pc_sim *a =
+	    sim_new(50, "{\"linear_deg\": 30, \"dop\": 0.4}", fx_off, noisy_sensor, &pr, 9, NULL);
 	pc_sim *b = sim_new(50, "{\"linear_deg\": 30, \"dop\": 0.4}", fx_on, s_on, &pr, 9, NULL);
 	CHECK(a && b);
 	if (a && b) {
 		pc_sim_info ia, ib;
 		pc_sim_get_info(a, &ia);
 		pc_sim_get_info(b, &ib);
-		CHECK(ia.effects != ib.effects); /* the effect really is on in one and off in the other */
+		CHECK(ia.effects !=
+		      ib.effects); /* the effect really is on in one and off in the other */
 		int eq = frames_equal(a, b, 3);
 		if (!eq)
 			fprintf(stderr, "neutral %s differs from %s\n", fx_on, fx_off);
@@ -357,26 +369,27 @@ static void neutral_pair(const char *fx_off, const char *fx_on, const char *sens
 
 static void test_neutral_effects(void)
 {
-	/* the preset declares every sensor effect; switch one off, or keep it on at neutral values */
+	/* the preset declares every sensor effect; switch one off, or keep it on at neutral values
+	 */
 	neutral_pair("\"extinction_ratio\": false", "\"extinction_ratio\": true",
-		     "\"extinction_ratio\": 1e300");
+	             "\"extinction_ratio\": 1e300");
 	neutral_pair("\"orientation_error\": false", "\"orientation_error\": true",
-		     "\"orientation_sigma_deg\": 0, \"orientation_offset_deg\": [0, 0, 0, 0]");
+	             "\"orientation_sigma_deg\": 0, \"orientation_offset_deg\": [0, 0, 0, 0]");
 	neutral_pair("\"transmission\": false", "\"transmission\": true",
-		     "\"transmission_sigma\": 0, \"transmission\": [1, 1, 1, 1]");
+	             "\"transmission_sigma\": 0, \"transmission\": [1, 1, 1, 1]");
 	neutral_pair("\"crosstalk\": false", "\"crosstalk\": true", "\"crosstalk\": 0");
 	neutral_pair("\"prnu_dsnu\": false", "\"prnu_dsnu\": true", "\"prnu\": 0, \"dsnu_e\": 0");
 	neutral_pair("\"circular\": false", "\"circular\": true", "\"bits\": 12");
 	neutral_pair("\"mueller\": false", "\"mueller\": true", "\"bits\": 12");
 	neutral_pair("\"cast_shadows\": false", "\"cast_shadows\": true", "\"bits\": 12");
 	/* and a non-neutral value does change the frame */
-	pc_sim_brdf pr = { brdf_projector, NULL };
+	pc_sim_brdf pr = {brdf_projector, NULL};
 	char s_on[1024];
 	snprintf(s_on, sizeof s_on, "%s, \"crosstalk\": 0.05", noisy_sensor);
 	pc_sim *a = sim_new(50, "{\"linear_deg\": 30, \"dop\": 0.4}", "\"crosstalk\": false",
-			    noisy_sensor, &pr, 9, NULL);
+	                    noisy_sensor, &pr, 9, NULL);
 	pc_sim *b = sim_new(50, "{\"linear_deg\": 30, \"dop\": 0.4}", "\"crosstalk\": true", s_on,
-			    &pr, 9, NULL);
+	                    &pr, 9, NULL);
 	CHECK(a && b && !frames_equal(a, b, 3));
 	pc_sim_free(a);
 	pc_sim_free(b);
@@ -384,7 +397,7 @@ static void test_neutral_effects(void)
 
 static void test_reproducible(void)
 {
-	pc_sim_brdf pr = { brdf_projector, NULL };
+	pc_sim_brdf pr = {brdf_projector, NULL};
 	const char *pol = "{\"linear_deg\": 30, \"dop\": 0.4}";
 	pc_sim *a = sim_new(50, pol, "", noisy_sensor, &pr, 77, NULL);
 	pc_sim *b = sim_new(50, pol, "", noisy_sensor, &pr, 77, NULL);
@@ -393,7 +406,8 @@ static void test_reproducible(void)
 	if (!a || !b || !c)
 		return;
 	/* frame 5 first in b: frames depend on their number only, not on what came before */
-	uint16_t *b5 = frame_u16(b, 5, NULL), *a4 = frame_u16(a, 4, NULL), *a5 = frame_u16(a, 5, NULL);
+	uint16_t *b5 = frame_u16(b, 5, NULL), *a4 = frame_u16(a, 4, NULL),
+	         *a5 = frame_u16(a, 5, NULL);
 	uint16_t *c5 = frame_u16(c, 5, NULL);
 	size_t n = 64 * 48;
 	CHECK(!memcmp(a5, b5, n * 2));
@@ -462,21 +476,21 @@ static void test_reproducible(void)
 
 	/* exposure: the mean DN above the offset scales linearly (no re-render) */
 	double m1, m2;
-	pc_sim_controls c1 = { 100, 0 }, c2 = { 300, 0 }, c3 = { 300, 6 };
+	pc_sim_controls c1 = {100, 0}, c2 = {300, 0}, c3 = {300, 6};
 	CHECK_EQ_INT(pc_sim_mean_dn(a, 0, &c1, 10, 10, &m1), 0);
 	CHECK_EQ_INT(pc_sim_mean_dn(a, 0, &c2, 10, 10, &m2), 0);
 	pc_sensor_figures fig;
 	pc_sim_get_sensor(a, &fig);
 	double dsnu_dn = 0; /* DSNU is an offset: remove it by a third point */
 	double m0;
-	pc_sim_controls c0 = { 1e-3, 0 };
+	pc_sim_controls c0 = {1e-3, 0};
 	CHECK_EQ_INT(pc_sim_mean_dn(a, 0, &c0, 10, 10, &m0), 0);
 	dsnu_dn = m0 - fig.offset_dn;
 	CHECK_NEAR((m2 - fig.offset_dn - dsnu_dn) / (m1 - fig.offset_dn - dsnu_dn), 3, 1e-3);
 	double m3;
 	CHECK_EQ_INT(pc_sim_mean_dn(a, 0, &c3, 10, 10, &m3), 0);
 	CHECK_NEAR((m3 - fig.offset_dn) / (m2 - fig.offset_dn), pow(10, 6.0 / 20), 1e-9);
-	pc_sim_controls bad = { -1, 0 };
+	pc_sim_controls bad = {-1, 0};
 	CHECK_EQ_INT(pc_sim_mean_dn(a, 0, &bad, 10, 10, &m3), PC_EINVAL);
 	free(a4);
 	free(a5);
@@ -490,9 +504,12 @@ static void test_reproducible(void)
 
 /* Lambertian with albedo 1, 2, 3 for colour channels R, G, B */
 static int brdf_rgb(void *u, unsigned m, unsigned ch, const double ki[3], const double kr[3],
-		    const double si[3], const double sr[3], double f[4][4])
+                    const double si[3], const double sr[3], double f[4][4])
 {
-	(void)u; (void)m; (void)si; (void)sr;
+	(void)u;
+	(void)m;
+	(void)si;
+	(void)sr;
 	memset(f, 0, 16 * sizeof(double));
 	if (ki[2] > 0 && kr[2] > 0)
 		f[0][0] = (1.0 + ch) / (2 * M_PI);
@@ -503,12 +520,13 @@ static int brdf_rgb(void *u, unsigned m, unsigned ch, const double ki[3], const 
  * energy; the truth has three channels. */
 static void test_colour(void)
 {
-	pc_sim_brdf b = { brdf_rgb, NULL };
-	pc_sim *sim = sim_new(20, "\"unpolarized\"", "",
-			      "\"preset\": \"ideal\", \"layout\": \"RGGB:90,45,135,0\", \"resolution\": [16, 16],"
-			      " \"exposure_us\": 1,"
-			      " \"qe\": [0.2, 0.3, 0.25], \"wavelength_nm\": [600, 530, 460]",
-			      &b, 1, NULL);
+	pc_sim_brdf b = {brdf_rgb, NULL};
+	pc_sim *sim = sim_new(
+	    20, "\"unpolarized\"", "",
+	    "\"preset\": \"ideal\", \"layout\": \"RGGB:90,45,135,0\", \"resolution\": [16, 16],"
+	    " \"exposure_us\": 1,"
+	    " \"qe\": [0.2, 0.3, 0.25], \"wavelength_nm\": [600, 530, 460]",
+	    &b, 1, NULL);
 	CHECK(sim != NULL);
 	if (!sim)
 		return;
@@ -524,9 +542,9 @@ static void test_colour(void)
 	CHECK_EQ_INT(pc_sim_prepare(sim, 0, NULL, NULL, NULL, NULL), 0);
 	/* mean DN of a pixel above offset = K·t·η·(λ/hc)·…·albedo: ratios of neighbouring R, G, B
 	 * pixels (same analyser channel, unpolarized light) are (η λ albedo) ratios */
-	const double qe[3] = { 0.2, 0.3, 0.25 }, lam[3] = { 600, 530, 460 };
-	double m[3] = { 0, 0, 0 };
-	int seen[3] = { 0, 0, 0 };
+	const double qe[3] = {0.2, 0.3, 0.25}, lam[3] = {600, 530, 460};
+	double m[3] = {0, 0, 0};
+	int seen[3] = {0, 0, 0};
 	for (uint32_t y = 4; y < 8; y++)
 		for (uint32_t x = 4; x < 8; x++) {
 			if (pc_mosaic_channel(&in.mosaic, x, y) != 0)
@@ -544,7 +562,7 @@ static void test_colour(void)
 	for (int k = 1; k < 3; k++)
 		CHECK_NEAR((m[k] / m[0]) / (qe[k] * lam[k] * (1 + k) / (qe[0] * lam[0])), 1, 2e-3);
 	CHECK_NEAR(pc_sim_dn_per_radiance(sim, NULL, 2) / pc_sim_dn_per_radiance(sim, NULL, 0),
-		   qe[2] * lam[2] / (qe[0] * lam[0]), 1e-12);
+	           qe[2] * lam[2] / (qe[0] * lam[0]), 1e-12);
 	pc_sim_free(sim);
 }
 
@@ -552,11 +570,13 @@ static void test_colour(void)
  * (mean µ_I·t, Poisson variance) */
 static void test_bits_dark(void)
 {
-	pc_sim_brdf lam = { brdf_lambert, NULL };
-	pc_sim *s8 = sim_new(1e4, "\"unpolarized\"", "",
-			     "\"preset\": \"ideal\", \"resolution\": [16, 16], \"bits\": 8", &lam, 1, NULL);
-	pc_sim *s10 = sim_new(1e4, "\"unpolarized\"", "",
-			      "\"preset\": \"ideal\", \"resolution\": [16, 16], \"bits\": 10", &lam, 1, NULL);
+	pc_sim_brdf lam = {brdf_lambert, NULL};
+	pc_sim *s8 =
+	    sim_new(1e4, "\"unpolarized\"", "",
+	            "\"preset\": \"ideal\", \"resolution\": [16, 16], \"bits\": 8", &lam, 1, NULL);
+	pc_sim *s10 =
+	    sim_new(1e4, "\"unpolarized\"", "",
+	            "\"preset\": \"ideal\", \"resolution\": [16, 16], \"bits\": 10", &lam, 1, NULL);
 	CHECK(s8 && s10);
 	if (s8 && s10) {
 		pc_sim_info a, b;
@@ -572,11 +592,12 @@ static void test_bits_dark(void)
 	pc_sim_free(s8);
 	pc_sim_free(s10);
 	/* dark: 1000 e⁻/s for 0.5 s = 500 e⁻, K = 1, no read noise */
-	pc_sim *d = sim_new(0, "\"unpolarized\"", "\"noise\": true",
-			    "\"preset\": \"ideal\", \"resolution\": [128, 128], \"bits\": 16,"
-			    " \"gain_dn_per_e\": 1, \"dark_current_e_s\": 1000, \"exposure_us\": 5e5,"
-			    " \"full_well_e\": 1e5",
-			    &lam, 3, NULL);
+	pc_sim *d =
+	    sim_new(0, "\"unpolarized\"", "\"noise\": true",
+	            "\"preset\": \"ideal\", \"resolution\": [128, 128], \"bits\": 16,"
+	            " \"gain_dn_per_e\": 1, \"dark_current_e_s\": 1000, \"exposure_us\": 5e5,"
+	            " \"full_well_e\": 1e5",
+	            &lam, 3, NULL);
 	CHECK(d != NULL);
 	if (d) {
 		uint16_t *f = frame_u16(d, 0, NULL);

@@ -59,10 +59,10 @@ static void test_convention(void)
 			I[c] = (float)(s0 / 2 * (1 + p * cos(2 * (th - c * M_PI / 4))));
 		pc_fplane in[4];
 		for (int c = 0; c < 4; c++)
-			in[c] = (pc_fplane){ &I[c], 1, 1 };
+			in[c] = (pc_fplane){&I[c], 1, 1};
 		float o[5];
-		pc_stokes_out so = { { &o[0], 1, 1 }, { &o[1], 1, 1 }, { &o[2], 1, 1 }, { &o[3], 1, 1 },
-				     { &o[4], 1, 1 } };
+		pc_stokes_out so = {
+		    {&o[0], 1, 1}, {&o[1], 1, 1}, {&o[2], 1, 1}, {&o[3], 1, 1}, {&o[4], 1, 1}};
 		CHECK_EQ_INT(pc_stokes_from_channels(in, 1, 1, NULL, &so), 0);
 		CHECK_NEAR(o[0], s0, 1e-6);
 		CHECK_NEAR(o[1], s0 * p * cos(2 * th), 1e-6);
@@ -72,17 +72,17 @@ static void test_convention(void)
 		CHECK(fmin(d, M_PI - d) < 1e-6);
 	}
 	/* DoLP clipped to 1 and 0 where S0 <= 0 (frozen protocol) */
-	float I[4] = { 1, 0, -1, 0 }; /* S0 = 0 */
-	float J[4] = { 2, 0.5f, 0, 0.5f }; /* S0 = 1.5, |S| = 2 */
+	float I[4] = {1, 0, -1, 0};      /* S0 = 0 */
+	float J[4] = {2, 0.5f, 0, 0.5f}; /* S0 = 1.5, |S| = 2 */
 	pc_fplane in[4], jn[4];
 	for (int c = 0; c < 4; c++) {
-		in[c] = (pc_fplane){ &I[c], 1, 1 };
-		jn[c] = (pc_fplane){ &J[c], 1, 1 };
+		in[c] = (pc_fplane){&I[c], 1, 1};
+		jn[c] = (pc_fplane){&J[c], 1, 1};
 	}
 	float d;
 	pc_stokes_out so;
 	memset(&so, 0, sizeof so);
-	so.dolp = (pc_fplane){ &d, 1, 1 };
+	so.dolp = (pc_fplane){&d, 1, 1};
 	CHECK_EQ_INT(pc_stokes_from_channels(in, 1, 1, NULL, &so), 0);
 	CHECK_NEAR(d, 0, 0);
 	CHECK_EQ_INT(pc_stokes_from_channels(jn, 1, 1, NULL, &so), 0);
@@ -98,12 +98,12 @@ static void test_pinv(void)
 	pc_stokes_ideal_analyser(w);
 	CHECK_EQ_INT(pc_stokes_pinv1(w, p), 0);
 	/* the ideal pseudo-inverse is S0 = ½ΣI, S1 = I0 − I90, S2 = I45 − I135 */
-	const double want[3][4] = { { 0.5, 0.5, 0.5, 0.5 }, { 1, 0, -1, 0 }, { 0, 1, 0, -1 } };
+	const double want[3][4] = {{0.5, 0.5, 0.5, 0.5}, {1, 0, -1, 0}, {0, 1, 0, -1}};
 	for (int i = 0; i < 3; i++)
 		for (int c = 0; c < 4; c++)
 			CHECK_NEAR(p[i][c], want[i][c], 1e-12);
 	/* a non-ideal analyser (extinction, orientation errors, gains): W⁺W = identity */
-	const double ang[4] = { 1.5, 44.0, 91.0, 134.0 }, ext[4] = { 0.98, 0.95, 0.97, 0.99 };
+	const double ang[4] = {1.5, 44.0, 91.0, 134.0}, ext[4] = {0.98, 0.95, 0.97, 0.99};
 	for (int c = 0; c < 4; c++) {
 		double t = ang[c] * M_PI / 180;
 		w[c][0] = 0.5 * (1.0 + 0.02 * c);
@@ -124,20 +124,20 @@ static void test_pinv(void)
 		for (int i = 0; i < 3; i++)
 			wf[3 * c + i] = (float)w[c][i];
 	CHECK_EQ_INT(pc_stokes_pinv(wf, 1, pf), 0);
-	const double S[3] = { 3.0, 0.4, -0.7 };
+	const double S[3] = {3.0, 0.4, -0.7};
 	float I[4];
 	for (int c = 0; c < 4; c++)
 		I[c] = (float)(wf[3 * c] * S[0] + wf[3 * c + 1] * S[1] + wf[3 * c + 2] * S[2]);
 	pc_fplane in[4];
 	for (int c = 0; c < 4; c++)
-		in[c] = (pc_fplane){ &I[c], 1, 1 };
+		in[c] = (pc_fplane){&I[c], 1, 1};
 	float o[3];
 	pc_stokes_out so;
 	memset(&so, 0, sizeof so);
-	so.s0 = (pc_fplane){ &o[0], 1, 1 };
-	so.s1 = (pc_fplane){ &o[1], 1, 1 };
-	so.s2 = (pc_fplane){ &o[2], 1, 1 };
-	pc_analyser_pinv grid = { pf, 1, 1 };
+	so.s0 = (pc_fplane){&o[0], 1, 1};
+	so.s1 = (pc_fplane){&o[1], 1, 1};
+	so.s2 = (pc_fplane){&o[2], 1, 1};
+	pc_analyser_pinv grid = {pf, 1, 1};
 	CHECK_EQ_INT(pc_stokes_from_channels(in, 1, 1, &grid, &so), 0);
 	for (int i = 0; i < 3; i++)
 		CHECK_NEAR(o[i], S[i], 2e-6);
@@ -190,14 +190,14 @@ static void fused_one(const fused_case *fc)
 	size_t pl_floats = (n + 15) / 16 * 16;
 	float *buf = aligned_alloc(64, sizeof(float) * pl_floats * 5);
 	pc_stokes_out so;
-	pc_fplane *pl[5] = { &so.s0, &so.s1, &so.s2, &so.dolp, &so.aolp };
+	pc_fplane *pl[5] = {&so.s0, &so.s1, &so.s2, &so.dolp, &so.aolp};
 	for (int k = 0; k < 5; k++)
-		*pl[k] = (pc_fplane){ buf + (size_t)k * pl_floats, W, 1 };
+		*pl[k] = (pc_fplane){buf + (size_t)k * pl_floats, W, 1};
 	CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, PC_DM_BILINEAR, NULL, &so), 0);
 	float *ch = malloc(sizeof(float) * n * 4);
 	pc_fplane c4[4];
 	pc_fplanes_separate(ch, W, H, 4, c4);
-	pc_demosaic_opts ref = { 0, true, 0 };
+	pc_demosaic_opts ref = {0, true, 0};
 	CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BILINEAR, &ref, c4), 0);
 	double ws = 0, wd = 0, wa = 0;
 	int in_range = 1;
@@ -222,28 +222,28 @@ static void fused_one(const fused_case *fc)
 	CHECK(in_range);
 	if (ws > 1e-6 || wd > 2e-6 || wa > 1e-6)
 		fprintf(stderr, "  fused %ux%u %s: S %g of full scale, DoLP %g, AoLP %g\n", W, H,
-			pc_format_info_get(fc->fmt)->name, ws, wd, wa);
+		        pc_format_info_get(fc->fmt)->name, ws, wd, wa);
 	/* interleaved (H, W, 3) Stokes and a threads=1 run give the same numbers */
 	float *il = malloc(sizeof(float) * n * 3);
 	pc_stokes_out si;
 	memset(&si, 0, sizeof si);
-	si.s0 = (pc_fplane){ il, 3 * W, 3 };
-	si.s1 = (pc_fplane){ il + 1, 3 * W, 3 };
-	si.s2 = (pc_fplane){ il + 2, 3 * W, 3 };
-	pc_demosaic_opts one = { 1, false, 0 };
+	si.s0 = (pc_fplane){il, 3 * W, 3};
+	si.s1 = (pc_fplane){il + 1, 3 * W, 3};
+	si.s2 = (pc_fplane){il + 2, 3 * W, 3};
+	pc_demosaic_opts one = {1, false, 0};
 	CHECK(!pc_stokes_streams(&si, W, H)); /* interleaved: ordinary stores */
 	CHECK(!pc_stokes_streams(NULL, W, H));
 	CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, PC_DM_BILINEAR, &one, &si), 0);
 	int same = 1;
 	for (size_t i = 0; i < n; i++)
 		same &= il[3 * i] == pl[0]->data[i] && il[3 * i + 1] == pl[1]->data[i] &&
-			il[3 * i + 2] == pl[2]->data[i];
+		        il[3 * i + 2] == pl[2]->data[i];
 	CHECK(same);
 	/* DoLP and AoLP alone (no Stokes planes wanted) are the same numbers */
 	pc_stokes_out da;
 	memset(&da, 0, sizeof da);
-	da.dolp = (pc_fplane){ il, W, 1 };
-	da.aolp = (pc_fplane){ il + n, W, 1 };
+	da.dolp = (pc_fplane){il, W, 1};
+	da.aolp = (pc_fplane){il + n, W, 1};
 	CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, PC_DM_BILINEAR, NULL, &da), 0);
 	same = 1;
 	for (size_t i = 0; i < n; i++)
@@ -258,13 +258,13 @@ static void fused_one(const fused_case *fc)
 static void test_fused(void)
 {
 	const fused_case cases[] = {
-		{ 46, 34, PC_FMT_MONO12, 1 },	 /* 16 + 16 + 8 + 6: every loop of the kernel */
-		{ 64, 8, PC_FMT_MONO12, 1 },	 /* whole 16-pixel blocks only */
-		{ 4, 4, PC_FMT_MONO12, 1 },	 /* the smallest frame: scalar only */
-		{ 30, 6, PC_FMT_MONO8, 1 },
-		{ 40, 12, PC_FMT_FLOAT32, 1e-25 },
-		{ 40, 12, PC_FMT_FLOAT32, 1e25 },
-		{ 1296, 1296, PC_FMT_MONO12, 1 }, /* non-temporal stores */
+	    {46, 34, PC_FMT_MONO12, 1}, /* 16 + 16 + 8 + 6: every loop of the kernel */
+	    {64, 8, PC_FMT_MONO12, 1},  /* whole 16-pixel blocks only */
+	    {4, 4, PC_FMT_MONO12, 1},   /* the smallest frame: scalar only */
+	    {30, 6, PC_FMT_MONO8, 1},
+	    {40, 12, PC_FMT_FLOAT32, 1e-25},
+	    {40, 12, PC_FMT_FLOAT32, 1e25},
+	    {1296, 1296, PC_FMT_MONO12, 1}, /* non-temporal stores */
 	};
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
 		fused_one(&cases[i]);
@@ -282,20 +282,20 @@ static void test_fused_ic(void)
 	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
 	for (uint32_t y = 0; y < H; y++)
 		for (uint32_t x = 0; x < W; x++)
-			PC_ROW(&raw, uint16_t, y)[x] =
-				(uint16_t)(2000 + 1200 * sin(0.3 * x) * cos(0.21 * y) + 37 * ((x * 7 + y * 3) % 11));
+			PC_ROW(&raw, uint16_t, y)
+	[x] = (uint16_t)(2000 + 1200 * sin(0.3 * x) * cos(0.21 * y) + 37 * ((x * 7 + y * 3) % 11));
 	size_t n = (size_t)W * H;
 	float *a = malloc(sizeof(float) * n * 5), *b = malloc(sizeof(float) * n * 5),
 	      *ch = malloc(sizeof(float) * n * 4);
-	const pc_demosaic_method meths[] = { PC_DM_BICUBIC, PC_DM_PPID, PC_DM_RI, PC_DM_EARI,
-					     PC_DM_RATIO };
+	const pc_demosaic_method meths[] = {PC_DM_BICUBIC, PC_DM_PPID, PC_DM_RI, PC_DM_EARI,
+	                                    PC_DM_RATIO};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
 		pc_stokes_out sa, sb;
-		pc_fplane *pa[5] = { &sa.s0, &sa.s1, &sa.s2, &sa.dolp, &sa.aolp };
-		pc_fplane *pb[5] = { &sb.s0, &sb.s1, &sb.s2, &sb.dolp, &sb.aolp };
+		pc_fplane *pa[5] = {&sa.s0, &sa.s1, &sa.s2, &sa.dolp, &sa.aolp};
+		pc_fplane *pb[5] = {&sb.s0, &sb.s1, &sb.s2, &sb.dolp, &sb.aolp};
 		for (int q = 0; q < 5; q++) {
-			*pa[q] = (pc_fplane){ a + (size_t)q * n, W, 1 };
-			*pb[q] = (pc_fplane){ b + q, (size_t)W * 5, 5 }; /* interleaved (H, W, 5) */
+			*pa[q] = (pc_fplane){a + (size_t)q * n, W, 1};
+			*pb[q] = (pc_fplane){b + q, (size_t)W * 5, 5}; /* interleaved (H, W, 5) */
 		}
 		CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, meths[k], NULL, &sa), 0);
 		CHECK_EQ_INT(pc_stokes_from_raw(&raw, &m, meths[k], NULL, &sb), 0);
@@ -304,9 +304,9 @@ static void test_fused_ic(void)
 		CHECK_EQ_INT(pc_demosaic(&raw, &m, meths[k], NULL, c4), 0);
 		pc_stokes_out sc;
 		float *c5 = malloc(sizeof(float) * n * 5);
-		pc_fplane *pc5[5] = { &sc.s0, &sc.s1, &sc.s2, &sc.dolp, &sc.aolp };
+		pc_fplane *pc5[5] = {&sc.s0, &sc.s1, &sc.s2, &sc.dolp, &sc.aolp};
 		for (int q = 0; q < 5; q++)
-			*pc5[q] = (pc_fplane){ c5 + (size_t)q * n, W, 1 };
+			*pc5[q] = (pc_fplane){c5 + (size_t)q * n, W, 1};
 		CHECK_EQ_INT(pc_stokes_from_channels(c4, W, H, NULL, &sc), 0);
 		/* planar: the same kernels, bit for bit; interleaved: S bit for bit, DoLP and AoLP
 		 * through the scalar formulas (without fused multiply-adds) within 1e-6 */
@@ -326,8 +326,9 @@ static void test_fused_ic(void)
 				}
 			}
 		if (!same || worst > 1e-6)
-			fprintf(stderr, "  fused %s differs from demosaic + Stokes (DoLP/AoLP by %g)\n",
-				pc_demosaic_method_get(meths[k])->name, worst);
+			fprintf(stderr,
+			        "  fused %s differs from demosaic + Stokes (DoLP/AoLP by %g)\n",
+			        pc_demosaic_method_get(meths[k])->name, worst);
 		CHECK(same);
 		CHECK(worst <= 1e-6);
 		free(c5);
@@ -340,9 +341,9 @@ static void test_fused_ic(void)
 
 static void test_pictures(void)
 {
-	float a[4] = { 0, (float)(M_PI / 3), (float)(M_PI / 2), 3.0f };
-	float d[4] = { 1, 1, 0, 0.5f };
-	pc_fplane ap = { a, 4, 1 }, dp = { d, 4, 1 };
+	float a[4] = {0, (float)(M_PI / 3), (float)(M_PI / 2), 3.0f};
+	float d[4] = {1, 1, 0, 0.5f};
+	pc_fplane ap = {a, 4, 1}, dp = {d, 4, 1};
 	uint8_t rgb[12];
 	CHECK_EQ_INT(pc_picture_aolp(&ap, &dp, 4, 1, PC_AOLP_VALUE, 1.0f, rgb, 12), 0);
 	/* AoLP 0: red; π/3: hue 1/3 = green; DoLP 0: black */
@@ -356,8 +357,8 @@ static void test_pictures(void)
 	CHECK_EQ_INT(pc_picture_grey(&dp, 4, 1, 1, 1, rgb, 12), PC_EINVAL);
 	CHECK_EQ_INT(pc_picture_aolp(&ap, NULL, 4, 1, PC_AOLP_VALUE, 1.0f, rgb, 12), PC_EINVAL);
 	/* low-signal mask: S0 below the threshold or not finite gets the hatch, the rest is kept */
-	float s0v[4] = { 5, 50, NAN, 49.99f };
-	pc_fplane s0p = { s0v, 4, 1 };
+	float s0v[4] = {5, 50, NAN, 49.99f};
+	pc_fplane s0p = {s0v, 4, 1};
 	uint8_t img[12];
 	memset(img, 200, sizeof img);
 	CHECK_EQ_INT((int)pc_picture_mask_low(&s0p, 4, 1, 50, img, 12), 3);
@@ -381,7 +382,7 @@ static void test_pictures(void)
 	float q[100];
 	for (int i = 0; i < 100; i++)
 		q[i] = (float)i;
-	pc_fplane qp = { q, 100, 1 };
+	pc_fplane qp = {q, 100, 1};
 	CHECK_NEAR(pc_picture_quantile(&qp, 100, 1, 0.5), 50, 0.1);
 }
 

@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -33,14 +34,23 @@ bool cli_parse_only(void)
 	return e && !strcmp(e, "1");
 }
 
+/* Messages go to a terminal: every byte that is not printable UTF-8 is escaped
+ * (cli_quote), whatever the message quotes (file names, tokens of a binary file). */
+__attribute__((format(printf, 2, 0))) static void cli_vmessage(const char *kind, const char *fmt,
+                                                               va_list ap)
+{
+	char msg[2048], q[4 * sizeof msg + 8];
+	int n = vsnprintf(msg, sizeof msg, fmt, ap);
+	size_t len = n < 0 ? 0 : (size_t)n < sizeof msg ? (size_t)n : sizeof msg - 1;
+	fprintf(stderr, "polarcam %s: %s: %s\n", cli_name, kind, cli_quote(msg, len, q, sizeof q));
+}
+
 int cli_error(int status, const char *fmt, ...)
 {
 	va_list ap;
-	fprintf(stderr, "polarcam %s: error: ", cli_name);
 	va_start(ap, fmt);
-	vfprintf(stderr, fmt, ap);
+	cli_vmessage("error", fmt, ap);
 	va_end(ap);
-	fputc('\n', stderr);
 	return status;
 }
 
@@ -49,11 +59,9 @@ void cli_warn(const char *fmt, ...)
 	if (cli_quiet)
 		return;
 	va_list ap;
-	fprintf(stderr, "polarcam %s: warning: ", cli_name);
 	va_start(ap, fmt);
-	vfprintf(stderr, fmt, ap);
+	cli_vmessage("warning", fmt, ap);
 	va_end(ap);
-	fputc('\n', stderr);
 }
 
 int cli_status(int code)
@@ -84,17 +92,110 @@ int cli_fail(int code, const char *what)
 	return cli_status(code);
 }
 
+/* Untrusted text (arguments, lines of a batch file) echoed in a message: at most `max` bytes,
+ * control bytes and bytes that are not UTF-8 written as \xNN, so that a binary file cannot
+ * drive the terminal (ESC sequences) or hide the rest of a message. */
+const char *cli_quote(const char *s, size_t len, char *buf, size_t size)
+{
+	static const char hex[] = "0123456789abcdef";
+	if (size < 8) {
+		if (size)
+			buf[0] = '\0';
+		return buf;
+	}
+	const size_t room = size - 4; /* "..." and the NUL stay available */
+	size_t o = 0, i = 0;
+	while (i < len) {
+		unsigned char c = (unsigned char)s[i];
+		size_t n = 0; /* length of a valid UTF-8 sequence starting here (0: none) */
+		if (c >= 0x20 && c < 0x7f) {
+			n = 1;
+		} else if (c >= 0xc2 && c <= 0xf4) {
+			/* well-formed UTF-8 (RFC 3629 table): no overlong forms, no surrogates,
+			 * nothing above U+10FFFF; the second byte's range depends on the first */
+			n = c < 0xe0 ? 2 : c < 0xf0 ? 3 : 4;
+			unsigned char lo = c == 0xe0 ? 0xa0 : c == 0xf0 ? 0x90 : 0x80;
+			unsigned char hi = c == 0xed ? 0x9f : c == 0xf4 ? 0x8f : 0xbf;
+			for (size_t k = 1; k < n; k++) {
+				unsigned char b = i + k < len ? (unsigned char)s[i + k] : 0;
+				if (b < (k == 1 ? lo : 0x80) || b > (k == 1 ? hi : 0xbf))
+					n = 0;
+			}
+		}
+		size_t piece = n ? n : 4;
+		if (o + piece > room)
+			break;
+		if (n) {
+			memcpy(buf + o, s + i, n);
+			i += n;
+			o += n;
+		} else {
+			buf[o++] = '\\';
+			buf[o++] = 'x';
+			buf[o++] = hex[c >> 4];
+			buf[o++] = hex[c & 15];
+			i++;
+		}
+	}
+	if (i < len) {
+		memcpy(buf + o, "...", 3);
+		o += 3;
+	}
+	buf[o] = '\0';
+	return buf;
+}
+
+#define PC_QUOTE_MAX 160
+
 int cli_parse_double(const char *opt, const char *arg, double *out)
 {
 	if (!arg || !*arg)
 		return pc_error(PC_EINVAL, "%s: missing value (expected a number)", opt);
+	char q[PC_QUOTE_MAX];
+	cli_quote(arg, strlen(arg), q, sizeof q);
 	char *end;
 	errno = 0;
 	double v = strtod(arg, &end);
 	if (end == arg || *end != '\0')
-		return pc_error(PC_EINVAL, "%s '%s': not a number", opt, arg);
-	if (!isfinite(v) || errno == ERANGE)
-		return pc_error(PC_EINVAL, "%s '%s': expected a finite number", opt, arg);
+		return pc_error(PC_EINVAL, "%s '%s': not a number", opt, q);
+	if (!isfinite(v))
+		return pc_error(PC_EINVAL, "%s '%s': expected a finite number", opt, q);
+	if (errno == ERANGE) {
+		/* strtod reports ERANGE for overflow (±HUGE_VAL, caught above) and for underflow:
+		 * a subnormal result is the nearest double and is kept (the caller's range check
+		 * then speaks about the value); a result of 0 from non-zero digits is refused. */
+		if (v == 0)
+			return pc_error(PC_EINVAL,
+			                "%s '%s': below the smallest double (4.9e-324): "
+			                "it would read as 0",
+			                opt, q);
+		if (fabs(v) > DBL_MAX)
+			return pc_error(PC_EINVAL, "%s '%s': beyond the double range (1.8e308)",
+			                opt, q);
+	}
+	*out = v;
+	return 0;
+}
+
+/* Decimal digits only (no sign, no space, no 0x, no octal reading of a leading 0): the value,
+ * or 1 when the text is not an integer, 2 when it exceeds UINT64_MAX. */
+static int parse_decimal_u64(const char *s, uint64_t *out)
+{
+	if (!*s)
+		return 1;
+	uint64_t v = 0;
+	for (; *s; s++) {
+		if (*s < '0' || *s > '9')
+			return 1;
+		unsigned d = (unsigned)(*s - '0');
+		if (v > (UINT64_MAX - d) / 10) {
+			for (s++; *s; s++) /* junk after an overflow is still junk */
+				if (*s < '0' || *s > '9')
+					return 1;
+			return 2;
+		}
+		v = v * 10 + d;
+	}
 	*out = v;
 	return 0;
 }
@@ -103,29 +204,50 @@ int cli_parse_long(const char *opt, const char *arg, long min, long max, long *o
 {
 	if (!arg || !*arg)
 		return pc_error(PC_EINVAL, "%s: missing value (expected an integer)", opt);
-	char *end;
-	errno = 0;
-	long v = strtol(arg, &end, 10);
-	if (end == arg || *end != '\0' || errno)
-		return pc_error(PC_EINVAL, "%s '%s': not an integer", opt, arg);
+	char q[PC_QUOTE_MAX];
+	cli_quote(arg, strlen(arg), q, sizeof q);
+	bool neg = arg[0] == '-' && min < 0;
+	uint64_t u = 0;
+	int bad = parse_decimal_u64(arg + (neg ? 1 : 0), &u);
+	if (bad == 1)
+		return pc_error(PC_EINVAL, "%s '%s': not an integer (decimal digits%s expected)",
+		                opt, q, min < 0 ? ", optionally after '-'," : "");
+	if (bad == 2 || (!neg && u > (uint64_t)max) ||
+	    (neg && (min >= 0 || u > (uint64_t)(-(min + 1)) + 1)))
+		return pc_error(PC_EINVAL, "%s '%s': expected an integer in [%ld, %ld]", opt, q,
+		                min, max);
+	long v = neg ? (long)(-(int64_t)(u - 1) - 1) : (long)u;
 	if (v < min || v > max)
-		return pc_error(PC_EINVAL, "%s %ld: expected an integer in [%ld, %ld]", opt, v, min, max);
+		return pc_error(PC_EINVAL, "%s '%s': expected an integer in [%ld, %ld]", opt, q,
+		                min, max);
+	*out = v;
+	return 0;
+}
+
+int cli_parse_u64_range(const char *opt, const char *arg, uint64_t min, uint64_t max, uint64_t *out)
+{
+	if (!arg || !*arg)
+		return pc_error(PC_EINVAL, "%s: missing value (expected a non-negative integer)",
+		                opt);
+	char q[PC_QUOTE_MAX];
+	cli_quote(arg, strlen(arg), q, sizeof q);
+	uint64_t v = 0;
+	int bad = parse_decimal_u64(arg, &v);
+	if (bad == 1)
+		return pc_error(PC_EINVAL,
+		                "%s '%s': not a non-negative integer (decimal digits "
+		                "expected)",
+		                opt, q);
+	if (bad == 2 || v < min || v > max)
+		return pc_error(PC_EINVAL, "%s '%s': expected an integer in [%llu, %llu]", opt, q,
+		                (unsigned long long)min, (unsigned long long)max);
 	*out = v;
 	return 0;
 }
 
 int cli_parse_u64(const char *opt, const char *arg, uint64_t *out)
 {
-	if (!arg || !*arg || *arg == '-')
-		return pc_error(PC_EINVAL, "%s '%s': expected a non-negative integer", opt,
-				arg ? arg : "");
-	char *end;
-	errno = 0;
-	unsigned long long v = strtoull(arg, &end, 0);
-	if (end == arg || *end != '\0' || errno)
-		return pc_error(PC_EINVAL, "%s '%s': not a non-negative integer", opt, arg);
-	*out = v;
-	return 0;
+	return cli_parse_u64_range(opt, arg, 0, UINT64_MAX, out);
 }
 
 int cli_parse_range(const char *opt, const char *arg, double **values, size_t *count)
@@ -153,19 +275,21 @@ int cli_parse_range(const char *opt, const char *arg, double **values, size_t *c
 	for (int i = 0; i < 3; i++) {
 		const char *e = i < 2 ? strchr(p, ':') : p + strlen(p);
 		if (!e || (size_t)(e - p) >= sizeof buf[i])
-			return pc_error(PC_EINVAL, "%s '%s': expected a number or a range start:stop:step",
-					opt, arg);
+			return pc_error(PC_EINVAL,
+			                "%s '%s': expected a number or a range start:stop:step",
+			                opt, arg);
 		memcpy(buf[i], p, (size_t)(e - p));
 		buf[i][e - p] = '\0';
 		parts[i] = buf[i];
 		p = e + 1;
 	}
 	if (strchr(parts[2], ':'))
-		return pc_error(PC_EINVAL, "%s '%s': a range has exactly three parts start:stop:step", opt,
-				arg);
+		return pc_error(PC_EINVAL,
+		                "%s '%s': a range has exactly three parts start:stop:step", opt,
+		                arg);
 	double a, b, s;
-	static const char *names[3] = { "start", "stop", "step" };
-	double *dst[3] = { &a, &b, &s };
+	static const char *names[3] = {"start", "stop", "step"};
+	double *dst[3] = {&a, &b, &s};
 	for (int i = 0; i < 3; i++) {
 		char o[96];
 		snprintf(o, sizeof o, "%s (range %s)", opt, names[i]);
@@ -174,8 +298,10 @@ int cli_parse_range(const char *opt, const char *arg, double **values, size_t *c
 			return rc;
 	}
 	if (s == 0 || (b - a) / s < 0)
-		return pc_error(PC_EINVAL, "%s '%s': the step must be non-zero and go from start towards "
-					   "stop", opt, arg);
+		return pc_error(PC_EINVAL,
+		                "%s '%s': the step must be non-zero and go from start towards "
+		                "stop",
+		                opt, arg);
 	double nf = floor((b - a) / s + 1e-9) + 1;
 	if (nf > 1e7)
 		return pc_error(PC_EINVAL, "%s '%s': more than 10^7 values", opt, arg);
@@ -271,8 +397,8 @@ void cli_progress_update(cli_progress *p, uint64_t done)
 	bar[width] = '\0';
 	double el = t - p->t_start;
 	double eta = frac > 0 ? el * (1 - frac) / frac : 0;
-	fprintf(stderr, "\r%s [%s] %5.1f%% %.1fs elapsed, %.1fs left  ", p->label, bar, 100 * frac, el,
-		eta);
+	fprintf(stderr, "\r%s [%s] %5.1f%% %.1fs elapsed, %.1fs left  ", p->label, bar, 100 * frac,
+	        el, eta);
 	fflush(stderr);
 	p->drawn = true;
 }
@@ -355,15 +481,20 @@ int cli_lines_next(cli_lines *l, char **line)
 		if (n < 0) {
 			if (ferror(l->fp))
 				return pc_error(PC_EIO, "%s line %lu: %s", l->name, l->lineno + 1,
-						strerror(errno ? errno : EIO));
+				                strerror(errno ? errno : EIO));
 			return 0;
 		}
 		l->lineno++;
-		char *s = l->buf;
-		while (*s == ' ' || *s == '\t')
+		char *s = l->buf, *end = l->buf + n;
+		while (s < end && (*s == ' ' || *s == '\t'))
 			s++;
-		if (*s == '\0' || *s == '\n' || *s == '\r' || *s == '#')
+		if (s == end || *s == '\n' || *s == '\r' || *s == '#')
 			continue;
+		/* the data line: up to the newline, NUL bytes included (cli_parse_fields_n
+		 * refuses them rather than reading a binary line up to its first NUL) */
+		if (end > s && end[-1] == '\n')
+			end--;
+		l->len = (size_t)(end - s);
 		*line = s;
 		return 1;
 	}
@@ -377,30 +508,39 @@ void cli_lines_close(cli_lines *l)
 	memset(l, 0, sizeof *l);
 }
 
-int cli_parse_fields(const char *line, const char *const *names, int want, double *out)
+int cli_parse_fields_n(const char *line, size_t n, const char *const *names, int want, double *out)
 {
+	const char *nul = memchr(line, '\0', n);
+	if (nul)
+		return pc_error(PC_EFORMAT,
+		                "byte %zu is a NUL: not a line of text (a binary file?)",
+		                (size_t)(nul - line) + 1);
 	char list[256] = "";
 	for (int i = 0; i < want && names; i++) {
 		size_t len = strlen(list);
 		snprintf(list + len, sizeof list - len, "%s%s", i ? " " : "", names[i]);
 	}
-	const char *p = line;
+	const char *p = line, *end = line + n;
 	int got = 0;
 	for (;;) {
-		while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == ',')
+		while (p < end &&
+		       (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == ','))
 			p++;
-		if (!*p)
+		if (p == end)
 			break;
 		const char *e = p;
-		while (*e && *e != ' ' && *e != '\t' && *e != '\r' && *e != '\n' && *e != ',')
+		while (e < end && *e != ' ' && *e != '\t' && *e != '\r' && *e != '\n' && *e != ',')
 			e++;
 		if (got < want) {
-			char tok[128], opt[160];
-			size_t len = (size_t)(e - p) < sizeof tok - 1 ? (size_t)(e - p) : sizeof tok - 1;
-			memcpy(tok, p, len);
-			tok[len] = '\0';
-			snprintf(opt, sizeof opt, "field %d (%s)", got + 1, names ? names[got] : "value");
+			/* the whole token, however long: a number may carry many digits, and text
+			 * cut at a fixed length would hide junk behind them */
+			char *tok = strndup(p, (size_t)(e - p)), opt[160];
+			if (!tok)
+				return pc_error(PC_ENOMEM, "field %d", got + 1);
+			snprintf(opt, sizeof opt, "field %d (%s)", got + 1,
+			         names ? names[got] : "value");
 			int rc = cli_parse_double(opt, tok, &out[got]);
+			free(tok);
 			if (rc)
 				return rc;
 		}
@@ -412,11 +552,19 @@ int cli_parse_fields(const char *line, const char *const *names, int want, doubl
 	return 0;
 }
 
+int cli_parse_fields(const char *line, const char *const *names, int want, double *out)
+{
+	return cli_parse_fields_n(line, strlen(line), names, want, out);
+}
+
 json_t *cli_json_error_line(unsigned long line, int code)
 {
 	const char *d = pc_error_detail();
+	char q[4 * 1024 + 8]; /* JSON strings must be UTF-8: the detail may quote binary input */
+	if (*d)
+		d = cli_quote(d, strlen(d), q, sizeof q);
 	return json_pack("{s:I, s:s, s:s}", "line", (json_int_t)line, "error",
-			 *d ? d : pc_strerror(code), "code", pc_errname(code));
+	                 *d ? d : pc_strerror(code), "code", pc_errname(code));
 }
 
 void cli_batch_error(const cli_lines *in, int rc, int *status)

@@ -28,9 +28,9 @@ extern bool cli_quiet;
 /* A message on stderr ("polarcam CMD: <fmt>") unless --quiet. */
 void cli_info(const char *fmt, ...)
 #if defined(__GNUC__)
-	__attribute__((format(printf, 1, 2)))
+    __attribute__((format(printf, 1, 2)))
 #endif
-	;
+    ;
 
 /* True when POLARCAM_PARSE_ONLY=1: commands stop after parsing their arguments, with exit
  * status 0 (the test of the examples in every --help uses it). */
@@ -39,9 +39,9 @@ bool cli_parse_only(void);
 /* Prints "polarcam CMD: error: <fmt>" to stderr and returns status. */
 int cli_error(int status, const char *fmt, ...)
 #if defined(__GNUC__)
-	__attribute__((format(printf, 2, 3)))
+    __attribute__((format(printf, 2, 3)))
 #endif
-	;
+    ;
 
 /* Prints "polarcam CMD: error: <what>: <pc_error_detail() or pc_strerror(code)>" and returns
  * cli_status(code). */
@@ -55,15 +55,26 @@ int cli_status(int code);
 /* Prints a warning to stderr (unless --quiet). */
 void cli_warn(const char *fmt, ...)
 #if defined(__GNUC__)
-	__attribute__((format(printf, 1, 2)))
+    __attribute__((format(printf, 1, 2)))
 #endif
-	;
+    ;
 
-/* Parses a finite double; on failure sets the error detail naming opt and returns PC_EINVAL. */
+/* Parses a finite double (subnormal values are kept; text that underflows to 0 or overflows is
+ * refused); on failure sets the error detail naming opt and returns PC_EINVAL. */
 int cli_parse_double(const char *opt, const char *arg, double *out);
-/* Parses a non-negative integer in [min, max]. */
+/* Integers are decimal: digits only (a leading '-' where min < 0), no sign, space, 0x prefix or
+ * octal reading of a leading 0; text after the digits and values outside [min, max] are refused
+ * with a message that names opt and states the range. */
 int cli_parse_long(const char *opt, const char *arg, long min, long max, long *out);
+int cli_parse_u64_range(const char *opt, const char *arg, uint64_t min, uint64_t max,
+                        uint64_t *out);
+/* [0, UINT64_MAX] */
 int cli_parse_u64(const char *opt, const char *arg, uint64_t *out);
+
+/* Untrusted text (an argument, a token of a batch line) for a message: the first len bytes of s
+ * with control bytes and bytes that are not UTF-8 written as \xNN, cut with "..." to fit size
+ * (>= 8). Returns buf. cli_error and cli_warn pass every message through it. */
+const char *cli_quote(const char *s, size_t len, char *buf, size_t size);
 
 /* A numeric option that may be a range "start:stop:step" (inclusive of stop within
  * step·1e-9). values is malloc'd. */
@@ -119,6 +130,7 @@ typedef struct cli_lines {
 	char *buf;
 	size_t cap;
 	unsigned long lineno;
+	size_t len; /* bytes of the last data line (NUL bytes included, newline excluded) */
 } cli_lines;
 
 /* Opens path (error detail names it). */
@@ -130,6 +142,9 @@ void cli_lines_close(cli_lines *l);
 /* Parses exactly `want` whitespace-separated finite numbers; names[i] names field i in errors
  * ("field 3 (sigma) 'abc': not a number", "expected 6 numbers (n k sigma ...), got 5"). */
 int cli_parse_fields(const char *line, const char *const *names, int want, double *out);
+/* The same for the first n bytes of line, which may hold NUL bytes (refused: PC_EFORMAT naming
+ * the byte): pass cli_lines.len for a batch line. */
+int cli_parse_fields_n(const char *line, size_t n, const char *const *names, int want, double *out);
 
 /* {"line": L, "error": <detail>, "code": "PC_E..."}: the batch-mode error object. */
 json_t *cli_json_error_line(unsigned long line, int code);

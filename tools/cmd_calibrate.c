@@ -21,62 +21,64 @@
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam calibrate dark REC -o F [options]\n"
-		"       polarcam calibrate flat REC... [--dark F] -o F [options]\n"
-		"       polarcam calibrate analyser REC... [--angles A,B,...|--unknown-angles]\n"
-		"                                 [--dark F] [--flat F] -o F [options]\n"
-		"       polarcam calibrate ecm --states NOMINAL --air REC --polarizer REC\n"
-		"                              --polarizer2 REC --retarder REC [--dark F] -o F\n"
-		"                              [--states-out FILE]\n"
-		"       polarcam calibrate show F [--pictures DIR]\n"
-		"       (every step also takes --overwrite and --json)\n"
-		"\n"
-		"Calibrates a division-of-focal-plane polarization camera from recordings (polarcam\n"
-		"render or capture output, one uniform stimulus each). The steps build one file per\n"
-		"camera (.npz, readable with numpy.load; docs/calibration.md): each step copies the\n"
-		"parts of the file given with --dark/--flat and adds its own.\n"
-		"\n"
-		"  dark      N >= 2 frames with the lens capped: per-pixel offset and temporal noise\n"
-		"  flat      one recording per light level (>= 2 levels) of uniform unpolarized light:\n"
-		"            per-pixel gain (the slope through the levels)\n"
-		"  analyser  one recording per polarizer angle (>= 3 angles; >= 4 with\n"
-		"            --unknown-angles) of a uniform linearly polarized field: per-pixel\n"
-		"            analysis vectors and 4x3 analysis matrices. The angle of each recording\n"
-		"            comes from --angles (degrees, in the order of the recordings) or, for a\n"
-		"            rendered recording, from its meta.json\n"
-		"  ecm       eigenvalue calibration of a Mueller imaging setup (Compain et al. 1999):\n"
-		"            4 recordings of one full state cycle each (air, polarizer at 0 deg,\n"
-		"            polarizer near 90 deg, retarder near 30 deg); writes the generator and\n"
-		"            analyser matrices into F and, with --states-out, as a states file that\n"
-		"            polarcam mueller --states reads\n"
-		"  show      JSON summary of a calibration file: parts, residuals, map statistics\n"
-		"\n"
-		"options:\n"
-		"  -o, --output F       the calibration file to write (atomically; an existing F is\n"
-		"                       refused unless --overwrite, or unless it is the --dark/--flat\n"
-		"                       file the step starts from, which is then updated)\n"
-		"  --overwrite          replace F (and --pictures DIR, --states-out FILE)\n"
-		"  --dark F, --flat F   earlier calibration files to start from\n"
-		"  --angles A,B,...     analyser stimuli angles in degrees\n"
-		"  --unknown-angles     estimate the angles (self-calibration)\n"
-		"  --dolp P             the stimuli's DoLP (default: meta.json, else 1)\n"
-		"  --saturation DN      samples at or above it are saturated (default 2^bits - 1)\n"
-		"  --camera TEXT        camera model recorded in the file (default: the recording's\n"
-		"                       source)\n"
-		"  --theta2 DEG, --theta3 DEG  ECM: nominal orientations of the second polarizer and\n"
-		"                       the retarder (default 90 and 30; refined within +-20 deg)\n"
-		"  --pictures DIR       show: write maps of gain, orientation error, extinction ratio\n"
-		"                       into the folder DIR (with meta.json: the summary)\n"
-		"  --json               print the summary as one JSON line on stdout (show always\n"
-		"                       prints it)\n"
-		"Exit status: 0 success, 1 failure, 2 bad arguments or input, or an output exists\n"
-		"(nothing is written).\n"
-		"\n"
-		"examples:\n"
-		"  polarcam calibrate dark rec/dark -o cam.npz\n"
-		"  polarcam calibrate flat rec/fl rec/fh --dark cam.npz -o cam.npz --json\n"
-		"  polarcam calibrate show cam.npz --pictures cam-maps/\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam calibrate dark REC -o F [options]\n"
+	    "       polarcam calibrate flat REC... [--dark F] -o F [options]\n"
+	    "       polarcam calibrate analyser REC... [--angles A,B,...|--unknown-angles]\n"
+	    "                                 [--dark F] [--flat F] -o F [options]\n"
+	    "       polarcam calibrate ecm --states NOMINAL --air REC --polarizer REC\n"
+	    "                              --polarizer2 REC --retarder REC [--dark F] -o F\n"
+	    "                              [--states-out FILE]\n"
+	    "       polarcam calibrate show F [--pictures DIR]\n"
+	    "       (every step also takes --overwrite and --json)\n"
+	    "\n"
+	    "Calibrates a division-of-focal-plane polarization camera from recordings (polarcam\n"
+	    "render or capture output, one uniform stimulus each). The steps build one file per\n"
+	    "camera (.npz, readable with numpy.load; docs/calibration.md): each step copies the\n"
+	    "parts of the file given with --dark/--flat and adds its own.\n"
+	    "\n"
+	    "  dark      N >= 2 frames with the lens capped: per-pixel offset and temporal noise\n"
+	    "  flat      one recording per light level (>= 2 levels) of uniform unpolarized "
+	    "light:\n"
+	    "            per-pixel gain (the slope through the levels)\n"
+	    "  analyser  one recording per polarizer angle (>= 3 angles; >= 4 with\n"
+	    "            --unknown-angles) of a uniform linearly polarized field: per-pixel\n"
+	    "            analysis vectors and 4x3 analysis matrices. The angle of each recording\n"
+	    "            comes from --angles (degrees, in the order of the recordings) or, for a\n"
+	    "            rendered recording, from its meta.json\n"
+	    "  ecm       eigenvalue calibration of a Mueller imaging setup (Compain et al. 1999):\n"
+	    "            4 recordings of one full state cycle each (air, polarizer at 0 deg,\n"
+	    "            polarizer near 90 deg, retarder near 30 deg); writes the generator and\n"
+	    "            analyser matrices into F and, with --states-out, as a states file that\n"
+	    "            polarcam mueller --states reads\n"
+	    "  show      JSON summary of a calibration file: parts, residuals, map statistics\n"
+	    "\n"
+	    "options:\n"
+	    "  -o, --output F       the calibration file to write (atomically; an existing F is\n"
+	    "                       refused unless --overwrite, or unless it is the --dark/--flat\n"
+	    "                       file the step starts from, which is then updated)\n"
+	    "  --overwrite          replace F (and --pictures DIR, --states-out FILE)\n"
+	    "  --dark F, --flat F   earlier calibration files to start from\n"
+	    "  --angles A,B,...     analyser stimuli angles in degrees\n"
+	    "  --unknown-angles     estimate the angles (self-calibration)\n"
+	    "  --dolp P             the stimuli's DoLP (default: meta.json, else 1)\n"
+	    "  --saturation DN      samples at or above it are saturated (default 2^bits - 1)\n"
+	    "  --camera TEXT        camera model recorded in the file (default: the recording's\n"
+	    "                       source)\n"
+	    "  --theta2 DEG, --theta3 DEG  ECM: nominal orientations of the second polarizer and\n"
+	    "                       the retarder (default 90 and 30; refined within +-20 deg)\n"
+	    "  --pictures DIR       show: write maps of gain, orientation error, extinction ratio\n"
+	    "                       into the folder DIR (with meta.json: the summary)\n"
+	    "  --json               print the summary as one JSON line on stdout (show always\n"
+	    "                       prints it)\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or input, or an output exists\n"
+	    "(nothing is written).\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam calibrate dark rec/dark -o cam.npz\n"
+	    "  polarcam calibrate flat rec/fl rec/fh --dark cam.npz -o cam.npz --json\n"
+	    "  polarcam calibrate show cam.npz --pictures cam-maps/\n");
 }
 
 /* ---- recordings as frame stacks ---- */
@@ -204,7 +206,7 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 	char lay[64];
 	pc_mosaic_format(&c->geo.mosaic, lay, sizeof lay);
 	json_t *parts = json_array();
-	static const char *const names[4] = { "dark", "flat", "analyser", "ecm" };
+	static const char *const names[4] = {"dark", "flat", "analyser", "ecm"};
 	for (int i = 0; i < 4; i++)
 		if (c->parts & (1u << i))
 			json_array_append_new(parts, json_string(names[i]));
@@ -221,7 +223,8 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 	size_t nv = 0;
 	for (size_t p = 0; c->valid && p < np; p++)
 		nv += c->valid[p] != 0;
-	json_object_set_new(o, "pixels_invalid", json_integer((json_int_t)(c->valid ? np - nv : 0)));
+	json_object_set_new(o, "pixels_invalid",
+	                    json_integer((json_int_t)(c->valid ? np - nv : 0)));
 	double *v = malloc(np * sizeof *v);
 	float *pic = pictures ? malloc(np * sizeof *pic) : NULL;
 	if (!v || (pictures && !pic)) {
@@ -230,18 +233,18 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 		*rc_out = PC_ENOMEM;
 		return o;
 	}
-#define COLLECT(expr)                                                                             \
-	do {                                                                                      \
-		n = 0;                                                                            \
-		for (uint32_t y = 0; y < H; y++)                                                  \
-			for (uint32_t x = 0; x < W; x++) {                                        \
-				size_t p = (size_t)y * W + x;                                     \
-				double val = (expr);                                              \
-				if (pic)                                                          \
-					pic[p] = (float)val;                                      \
-				if (!c->valid || c->valid[p])                                     \
-					v[n++] = val;                                             \
-			}                                                                         \
+#define COLLECT(expr)                                                                              \
+	do {                                                                                       \
+		n = 0;                                                                             \
+		for (uint32_t y = 0; y < H; y++)                                                   \
+			for (uint32_t x = 0; x < W; x++) {                                         \
+				size_t p = (size_t)y * W + x;                                      \
+				double val = (expr);                                               \
+				if (pic)                                                           \
+					pic[p] = (float)val;                                       \
+				if (!c->valid || c->valid[p])                                      \
+					v[n++] = val;                                              \
+			}                                                                          \
 	} while (0)
 	size_t n;
 	int rc = 0;
@@ -255,30 +258,31 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 		COLLECT(c->gain[p]);
 		json_object_set_new(o, "gain", stats_json(v, n));
 		if (pic && !rc)
-			rc = pc_map_write(pictures, "gain", pic, W, H, 0.9, 1.1, "Relative gain (flat)",
-					  "gain");
+			rc = pc_map_write(pictures, "gain", pic, W, H, 0.9, 1.1,
+			                  "Relative gain (flat)", "gain");
 	}
 	if (c->analysis) {
 		const float *a = c->analysis;
-		/* per pixel: transmission t = 2·a0, diattenuation d = |(a1, a2)|/a0 (ER = (1 + d)/(1 − d)),
-		 * orientation ½·atan2(a2, a1) minus the nominal channel angle (physics.md §6) */
+		/* per pixel: transmission t = 2·a0, diattenuation d = |(a1, a2)|/a0 (ER = (1 +
+		 * d)/(1 − d)), orientation ½·atan2(a2, a1) minus the nominal channel angle
+		 * (physics.md §6) */
 		COLLECT(2 * a[3 * p]);
 		json_object_set_new(o, "transmission", stats_json(v, n));
 		COLLECT(hypot(a[3 * p + 1], a[3 * p + 2]) / a[3 * p]);
 		json_object_set_new(o, "diattenuation", stats_json(v, n));
 		COLLECT((1 + hypot(a[3 * p + 1], a[3 * p + 2]) / a[3 * p]) /
-			fmax(1e-9, 1 - hypot(a[3 * p + 1], a[3 * p + 2]) / a[3 * p]));
+		        fmax(1e-9, 1 - hypot(a[3 * p + 1], a[3 * p + 2]) / a[3 * p]));
 		json_object_set_new(o, "extinction_ratio", stats_json(v, n));
 		if (pic && !rc)
 			rc = pc_map_write(pictures, "extinction_ratio", pic, W, H, 0, 600,
-					  "Extinction ratio per pixel", "ER");
+			                  "Extinction ratio per pixel", "ER");
 		COLLECT(remainder(0.5 * atan2(a[3 * p + 2], a[3 * p + 1]) * 180 / M_PI -
-					  45.0 * pc_mosaic_channel(&c->geo.mosaic, x, y),
-				  180.0));
+		                      45.0 * pc_mosaic_channel(&c->geo.mosaic, x, y),
+		                  180.0));
 		json_object_set_new(o, "orientation_error_deg", stats_json(v, n));
 		if (pic && !rc)
 			rc = pc_map_write(pictures, "orientation_error", pic, W, H, -3, 3,
-					  "Analyser orientation error (deg)", "deg");
+			                  "Analyser orientation error (deg)", "deg");
 		if (c->residual) {
 			COLLECT(c->residual[p]);
 			json_object_set_new(o, "fit_residual_dn", stats_json(v, n));
@@ -342,19 +346,26 @@ typedef struct args {
 
 static int parse(int argc, char **argv, args *a)
 {
-	static const struct option opts[] = {
-		{ "output", required_argument, NULL, 'o' },  { "dark", required_argument, NULL, 'D' },
-		{ "flat", required_argument, NULL, 'F' },    { "angles", required_argument, NULL, 'A' },
-		{ "unknown-angles", no_argument, NULL, 'U' }, { "dolp", required_argument, NULL, 'P' },
-		{ "saturation", required_argument, NULL, 'S' }, { "json", no_argument, NULL, 'J' },
-		{ "states", required_argument, NULL, 's' },  { "states-out", required_argument, NULL, 'T' },
-		{ "air", required_argument, NULL, '0' },     { "polarizer", required_argument, NULL, '1' },
-		{ "polarizer2", required_argument, NULL, '2' }, { "retarder", required_argument, NULL, '3' },
-		{ "theta2", required_argument, NULL, 'a' },  { "theta3", required_argument, NULL, 'b' },
-		{ "pictures", required_argument, NULL, 'p' }, { "camera", required_argument, NULL, 'c' },
-		{ "overwrite", no_argument, NULL, 'W' },
-		{ NULL, 0, NULL, 0 }
-	};
+	static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
+	                                     {"dark", required_argument, NULL, 'D'},
+	                                     {"flat", required_argument, NULL, 'F'},
+	                                     {"angles", required_argument, NULL, 'A'},
+	                                     {"unknown-angles", no_argument, NULL, 'U'},
+	                                     {"dolp", required_argument, NULL, 'P'},
+	                                     {"saturation", required_argument, NULL, 'S'},
+	                                     {"json", no_argument, NULL, 'J'},
+	                                     {"states", required_argument, NULL, 's'},
+	                                     {"states-out", required_argument, NULL, 'T'},
+	                                     {"air", required_argument, NULL, '0'},
+	                                     {"polarizer", required_argument, NULL, '1'},
+	                                     {"polarizer2", required_argument, NULL, '2'},
+	                                     {"retarder", required_argument, NULL, '3'},
+	                                     {"theta2", required_argument, NULL, 'a'},
+	                                     {"theta3", required_argument, NULL, 'b'},
+	                                     {"pictures", required_argument, NULL, 'p'},
+	                                     {"camera", required_argument, NULL, 'c'},
+	                                     {"overwrite", no_argument, NULL, 'W'},
+	                                     {NULL, 0, NULL, 0}};
 	memset(a, 0, sizeof *a);
 	a->dolp = NAN;
 	a->theta2 = 90;
@@ -364,30 +375,58 @@ static int parse(int argc, char **argv, args *a)
 	opterr = 0;
 	while ((c = getopt_long(argc, argv, ":o:", opts, NULL)) != -1) {
 		switch (c) {
-		case 'o': a->out = optarg; break;
-		case 'D': a->dark = optarg; break;
-		case 'F': a->flat = optarg; break;
-		case 'A': a->angles = optarg; break;
-		case 'U': a->unknown = true; break;
-		case 'J': a->json = true; break;
-		case 'W': a->overwrite = true; break;
-		case 's': a->states = optarg; break;
-		case 'T': a->states_out = optarg; break;
-		case 'p': a->pictures = optarg; break;
-		case 'c': a->camera = optarg; break;
-		case '0': case '1': case '2': case '3': a->ecm[c - '0'] = optarg; break;
+		case 'o':
+			a->out = optarg;
+			break;
+		case 'D':
+			a->dark = optarg;
+			break;
+		case 'F':
+			a->flat = optarg;
+			break;
+		case 'A':
+			a->angles = optarg;
+			break;
+		case 'U':
+			a->unknown = true;
+			break;
+		case 'J':
+			a->json = true;
+			break;
+		case 'W':
+			a->overwrite = true;
+			break;
+		case 's':
+			a->states = optarg;
+			break;
+		case 'T':
+			a->states_out = optarg;
+			break;
+		case 'p':
+			a->pictures = optarg;
+			break;
+		case 'c':
+			a->camera = optarg;
+			break;
+		case '0':
+		case '1':
+		case '2':
+		case '3':
+			a->ecm[c - '0'] = optarg;
+			break;
 		case 'P':
 			if ((rc = cli_parse_double("--dolp", optarg, &a->dolp)))
 				return cli_fail(rc, NULL);
 			if (!(a->dolp > 0 && a->dolp <= 1))
-				return cli_error(CLI_EXIT_USAGE, "--dolp %g: must be in (0, 1]", a->dolp);
+				return cli_error(CLI_EXIT_USAGE, "--dolp %g: must be in (0, 1]",
+				                 a->dolp);
 			break;
 		case 'S':
 			if ((rc = cli_parse_double("--saturation", optarg, &a->saturation)))
 				return cli_fail(rc, NULL);
 			if (!(a->saturation > 0))
 				return cli_error(CLI_EXIT_USAGE, "--saturation %g: must be > 0",
-						    a->saturation);
+				                 a->saturation);
 			break;
 		case 'a':
 			if ((rc = cli_parse_double("--theta2", optarg, &a->theta2)))
@@ -398,9 +437,11 @@ static int parse(int argc, char **argv, args *a)
 				return cli_fail(rc, NULL);
 			break;
 		case ':':
-			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
+			                 argv[optind - 1]);
 		default:
-			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)",
+			                 argv[optind - 1]);
 		}
 	}
 	a->first = optind;
@@ -416,7 +457,7 @@ static int outputs_ok(const args *a, int *st)
 	const char *base = a->flat ? a->flat : a->dark;
 	struct stat so, sb;
 	bool update = base && stat(a->out, &so) == 0 && stat(base, &sb) == 0 &&
-		      so.st_dev == sb.st_dev && so.st_ino == sb.st_ino;
+	              so.st_dev == sb.st_dev && so.st_ino == sb.st_ino;
 	int rc = pc_output_check(a->out, a->overwrite || update ? PC_OUT_OVERWRITE : 0, false);
 	if (!rc && a->states_out)
 		rc = pc_output_check(a->states_out, a->overwrite ? PC_OUT_OVERWRITE : 0, false);
@@ -461,11 +502,13 @@ static int finish(pc_calib *cal, const args *a, json_t *step)
 		json_t *parts = json_object_get(s, "parts");
 		char list[64] = "";
 		for (size_t i = 0; i < json_array_size(parts); i++)
-			snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "",
-				 json_string_value(json_array_get(parts, i)));
+			snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+			         i ? ", " : "", json_string_value(json_array_get(parts, i)));
 		cli_info("wrote %s (%s; %lld invalid pixels); polarcam calibrate show %s for the "
-			 "details", a->out, list,
-			 (long long)json_integer_value(json_object_get(s, "pixels_invalid")), a->out);
+		         "details",
+		         a->out, list,
+		         (long long)json_integer_value(json_object_get(s, "pixels_invalid")),
+		         a->out);
 		json_decref(s);
 	}
 	return CLI_EXIT_OK;
@@ -527,21 +570,26 @@ static int sub_stacks(int argc, char **argv, const char *what)
 				break;
 		}
 		if (*p || k != nrec) {
-			status = cli_error(CLI_EXIT_USAGE, "--angles '%s': expected %d comma-separated "
-							      "angles in degrees (one per recording)", a.angles, nrec);
+			status = cli_error(CLI_EXIT_USAGE,
+			                   "--angles '%s': expected %d comma-separated "
+			                   "angles in degrees (one per recording)",
+			                   a.angles, nrec);
 			goto done;
 		}
 	}
 	cli_progress bar;
 	cli_progress_begin(&bar, what, 1);
-	pc_calib_opts o = { .saturation = a.saturation, .unknown_angles = a.unknown,
-			    .progress = progress_cb, .progress_user = &bar };
+	pc_calib_opts o = {.saturation = a.saturation,
+	                   .unknown_angles = a.unknown,
+	                   .progress = progress_cb,
+	                   .progress_user = &bar};
 	if (!strcmp(what, "dark"))
 		rc = pc_calib_dark(&stk[0], &o, &out);
 	else if (!strcmp(what, "flat"))
 		rc = pc_calib_flat(stk, (size_t)nrec, have_base ? &base : NULL, &o, &out);
 	else
-		rc = pc_calib_analyser(stk, (size_t)nrec, have_base ? &base : NULL, &o, &out, angles);
+		rc = pc_calib_analyser(stk, (size_t)nrec, have_base ? &base : NULL, &o, &out,
+		                       angles);
 	cli_progress_end(&bar);
 	if (rc) {
 		status = cli_fail(rc, NULL);
@@ -561,7 +609,8 @@ static int sub_stacks(int argc, char **argv, const char *what)
 		json_object_set_new(in, "exposure_us", cli_json_real(stk[i].exposure_us));
 		if (!strcmp(what, "analyser")) {
 			json_object_set_new(in, "angle_deg", cli_json_real(angles[i]));
-			json_object_set_new(in, "dolp", cli_json_real(isfinite(stk[i].dolp) ? stk[i].dolp : 1));
+			json_object_set_new(in, "dolp",
+			                    cli_json_real(isfinite(stk[i].dolp) ? stk[i].dolp : 1));
 		}
 		json_array_append_new(ins, in);
 		frames += stk[i].n;
@@ -594,7 +643,7 @@ static int write_states(const char *path, const pc_calib *c, const char *layout)
 	json_object_set_new(d, "calibrated", json_string("ecm"));
 	json_t *g = json_array(), *a = json_array(), *an = json_array();
 	for (unsigned k = 0; k < c->n_psg; k++) {
-		double v[4] = { c->ecm_W[0][k], c->ecm_W[1][k], c->ecm_W[2][k], c->ecm_W[3][k] };
+		double v[4] = {c->ecm_W[0][k], c->ecm_W[1][k], c->ecm_W[2][k], c->ecm_W[3][k]};
 		json_array_append_new(g, cli_json_vec(v, 4));
 	}
 	/* A's rows r_{a,c} = w_c·P_a with w_c the unit rows: P_a holds rows 4a..4a+3 of A */
@@ -605,7 +654,7 @@ static int write_states(const char *path, const pc_calib *c, const char *layout)
 		json_array_append_new(a, cli_json_matrix4(P));
 	}
 	for (int r = 0; r < 4; r++) {
-		double e[4] = { 0, 0, 0, 0 };
+		double e[4] = {0, 0, 0, 0};
 		e[r] = 1;
 		json_array_append_new(an, cli_json_vec(e, 4));
 	}
@@ -630,8 +679,8 @@ static int sub_ecm(int argc, char **argv)
 		return cli_error(CLI_EXIT_USAGE, "-o F is required (see --help)");
 	if (!a.states)
 		return cli_error(CLI_EXIT_USAGE, "--states NOMINAL is required (the nominal states "
-						   "file: frame order and counts)");
-	static const char *const opt[4] = { "--air", "--polarizer", "--polarizer2", "--retarder" };
+		                                 "file: frame order and counts)");
+	static const char *const opt[4] = {"--air", "--polarizer", "--polarizer2", "--retarder"};
 	for (int i = 0; i < 4; i++)
 		if (!a.ecm[i])
 			return cli_error(CLI_EXIT_USAGE, "%s REC is required (see --help)", opt[i]);
@@ -663,9 +712,9 @@ static int sub_ecm(int argc, char **argv)
 	}
 	cli_progress bar;
 	cli_progress_begin(&bar, "ecm", 1);
-	pc_calib_opts o = { .saturation = a.saturation, .progress = progress_cb,
-			    .progress_user = &bar };
-	double th[2] = { a.theta2, a.theta3 };
+	pc_calib_opts o = {
+	    .saturation = a.saturation, .progress = progress_cb, .progress_user = &bar};
+	double th[2] = {a.theta2, a.theta3};
 	pc_ecm_result r;
 	rc = pc_calib_ecm(stk, nom.n_psg, nom.n_psa, th, have_base ? &base : NULL, &o, &out, &r);
 	cli_progress_end(&bar);
@@ -679,7 +728,7 @@ static int sub_ecm(int argc, char **argv)
 	json_object_set_new(step, "step", json_string("ecm"));
 	json_object_set_new(step, "states", json_string(a.states));
 	json_t *sm = json_array();
-	static const char *const nm[4] = { "air", "polarizer", "polarizer2", "retarder" };
+	static const char *const nm[4] = {"air", "polarizer", "polarizer2", "retarder"};
 	for (int i = 0; i < 4; i++) {
 		json_t *s = json_object();
 		json_object_set_new(s, "sample", json_string(nm[i]));
@@ -692,7 +741,7 @@ static int sub_ecm(int argc, char **argv)
 	}
 	json_object_set_new(step, "samples", sm);
 	json_object_set_new(step, "lambda15_over_lambda16",
-			    cli_json_real(r.lambda16 > 0 ? r.lambda15 / r.lambda16 : INFINITY));
+	                    cli_json_real(r.lambda16 > 0 ? r.lambda15 / r.lambda16 : INFINITY));
 	json_object_set_new(step, "model_residual", cli_json_real(r.residual));
 	if (a.states_out) {
 		char lay[64];
@@ -727,9 +776,9 @@ static int sub_show(int argc, char **argv)
 	if (rc)
 		return cli_fail(rc, NULL);
 	/* the pictures folder is written as a set, with the summary as its meta.json */
-	pc_outdir od = { 0 };
-	if (a.pictures && (rc = pc_outdir_begin(&od, a.pictures,
-						 a.overwrite ? PC_OUT_OVERWRITE : 0))) {
+	pc_outdir od = {0};
+	if (a.pictures &&
+	    (rc = pc_outdir_begin(&od, a.pictures, a.overwrite ? PC_OUT_OVERWRITE : 0))) {
 		pc_calib_free(&c);
 		return cli_fail(rc, NULL);
 	}
@@ -741,7 +790,8 @@ static int sub_show(int argc, char **argv)
 	if (!rc && a.pictures) {
 		char path[4096], *t = json_dumps(s, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
 		snprintf(path, sizeof path, "%s/meta.json", od.tmp);
-		rc = t ? pc_write_file_atomic(path, t, strlen(t)) : pc_error(PC_ENOMEM, "meta.json");
+		rc =
+		    t ? pc_write_file_atomic(path, t, strlen(t)) : pc_error(PC_ENOMEM, "meta.json");
 		free(t);
 		if (!rc)
 			rc = pc_outdir_commit(&od);
@@ -772,6 +822,6 @@ int cli_cmd_calibrate(int argc, char **argv)
 		return sub_ecm(argc - 1, argv + 1);
 	if (!strcmp(sub, "show"))
 		return sub_show(argc - 1, argv + 1);
-	return cli_error(CLI_EXIT_USAGE, "unknown subcommand '%s' (dark, flat, analyser, ecm, show)",
-			    sub);
+	return cli_error(CLI_EXIT_USAGE,
+	                 "unknown subcommand '%s' (dark, flat, analyser, ecm, show)", sub);
 }

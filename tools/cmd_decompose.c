@@ -103,7 +103,7 @@ static int run_batch(const char *path, unsigned options)
 	while ((rc = cli_lines_next(&in, &line)) > 0) {
 		double m[16];
 		pc_lu_chipman lc;
-		rc = cli_parse_fields(line, pc_m_names, 16, m);
+		rc = cli_parse_fields_n(line, in.len, pc_m_names, 16, m);
 		if (!rc)
 			rc = pc_lu_chipman_decompose((const double(*)[4])m, options, &lc);
 		if (rc) {
@@ -143,14 +143,14 @@ int cli_cmd_decompose(int argc, char **argv)
 		} else if (!only_positional && !strcmp(a, "--batch")) {
 			if (i + 1 >= argc)
 				return cli_error(CLI_EXIT_USAGE,
-				                    "--batch: missing FILE (or - for stdin)");
+				                 "--batch: missing FILE (or - for stdin)");
 			batch = argv[++i];
 		} else if (!only_positional && !strncmp(a, "--batch=", 8)) {
 			batch = a + 8;
 		} else if (!only_positional && a[0] == '-' && a[1] && a[1] != '.' &&
 		           !(a[1] >= '0' && a[1] <= '9')) {
 			return cli_error(CLI_EXIT_USAGE,
-			                    "unknown option '%s' (polarcam decompose --help)", a);
+			                 "unknown option '%s' (polarcam decompose --help)", a);
 		} else {
 			if (count < 16) {
 				char opt[48];
@@ -175,9 +175,9 @@ int cli_cmd_decompose(int argc, char **argv)
 		return run_batch(batch, options);
 	}
 	if (count != 16)
-		return cli_error(
-		    CLI_EXIT_USAGE,
-		    "expected 16 matrix elements m00 m01 ... m33 (row by row), got %d", count);
+		return cli_error(CLI_EXIT_USAGE,
+		                 "expected 16 matrix elements m00 m01 ... m33 (row by row), got %d",
+		                 count);
 	if (cli_parse_only())
 		return CLI_EXIT_OK;
 	pc_lu_chipman lc;

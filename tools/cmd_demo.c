@@ -12,47 +12,50 @@
 
 static void usage(FILE *fp)
 {
-	fprintf(fp,
-		"usage: polarcam demo [-o DIR] [options]\n"
-		"\n"
-		"The main job, on the built-in default scene (the seed paper's black and green paints on\n"
-		"spheres and a ground plane, IMX250MZR-class sensor, 2448x2048):\n"
-		"  1. renders the ground truth and one raw frame through the sensor model;\n"
-		"  2. runs the raw frame through the pipeline (demosaicking -> Stokes -> DoLP/AoLP) with\n"
-		"     several methods, timing each, and scores them against the truth;\n"
-		"  3. renders a Mueller-imaging sequence of the same scene (tetrahedral generator x\n"
-		"     quarter-wave analyser, 8 frames, at 612x512 with the same field of view),\n"
-		"     reconstructs per-pixel Mueller matrices and compares the Lu-Chipman D, R, Delta\n"
-		"     maps with the truth;\n"
-		"  4. writes pictures, .npy arrays and report.md / report.json into DIR.\n"
-		"\n"
-		"options:\n"
-		"  -o, --output DIR    output folder (default polarcam-demo), made beside DIR and\n"
-		"                      renamed into place when complete\n"
-		"  --overwrite         replace DIR as a whole when it exists\n"
-		"  --scene FILE        another scene instead of the default\n"
-		"  -s, --seed S        noise seed (default 1)\n"
-		"  --methods LIST      demosaicking methods to compare (default\n"
-		"                      superpixel,bilinear,bicubic,ppid,eari,ratio)\n"
-		"  --no-mueller        skip step 3\n"
-		"  -t, --threads N     threads\n"
-		"  --json              print report.json's content as one line on stdout (report.md\n"
-		"                      goes to stderr, as without --json)\n"
-		"\n"
-		"Files and their fields: docs/outputs.md; how to read the pictures: docs/pictures.md.\n"
-		"Exit status: 0 success, 1 failure, 2 bad arguments or DIR exists.\n"
-		"\n"
-		"examples:\n"
-		"  polarcam demo -o polarcam-demo\n"
-		"  polarcam demo -o demo2 --methods bilinear,ratio --no-mueller --seed 7\n"
-		"  polarcam demo --scene scenes/mesh.json -o mesh-demo --overwrite --json\n");
+	fprintf(
+	    fp,
+	    "usage: polarcam demo [-o DIR] [options]\n"
+	    "\n"
+	    "The main job, on the built-in default scene (the seed paper's black and green paints "
+	    "on\n"
+	    "spheres and a ground plane, IMX250MZR-class sensor, 2448x2048):\n"
+	    "  1. renders the ground truth and one raw frame through the sensor model;\n"
+	    "  2. runs the raw frame through the pipeline (demosaicking -> Stokes -> DoLP/AoLP) "
+	    "with\n"
+	    "     several methods, timing each, and scores them against the truth;\n"
+	    "  3. renders a Mueller-imaging sequence of the same scene (tetrahedral generator x\n"
+	    "     quarter-wave analyser, 8 frames, at 612x512 with the same field of view),\n"
+	    "     reconstructs per-pixel Mueller matrices and compares the Lu-Chipman D, R, Delta\n"
+	    "     maps with the truth;\n"
+	    "  4. writes pictures, .npy arrays and report.md / report.json into DIR.\n"
+	    "\n"
+	    "options:\n"
+	    "  -o, --output DIR    output folder (default polarcam-demo), made beside DIR and\n"
+	    "                      renamed into place when complete\n"
+	    "  --overwrite         replace DIR as a whole when it exists\n"
+	    "  --scene FILE        another scene instead of the default\n"
+	    "  -s, --seed S        noise seed (default 1)\n"
+	    "  --methods LIST      demosaicking methods to compare (default\n"
+	    "                      superpixel,bilinear,bicubic,ppid,eari,ratio)\n"
+	    "  --no-mueller        skip step 3\n"
+	    "  -t, --threads N     threads\n"
+	    "  --json              print report.json's content as one line on stdout (report.md\n"
+	    "                      goes to stderr, as without --json)\n"
+	    "\n"
+	    "Files and their fields: docs/outputs.md; how to read the pictures: docs/pictures.md.\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or DIR exists.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam demo -o polarcam-demo\n"
+	    "  polarcam demo -o demo2 --methods bilinear,ratio --no-mueller --seed 7\n"
+	    "  polarcam demo --scene scenes/mesh.json -o mesh-demo --overwrite --json\n");
 }
 
 /* the job and its report */
 static int run(pc_demo_opts *o, const char *out, bool json)
 {
-	cli_progress bar = { 0 };
-	o->progress = (pc_progress){ cli_progress_fn, &bar };
+	cli_progress bar = {0};
+	o->progress = (pc_progress){cli_progress_fn, &bar};
 	pc_demo *demo = NULL;
 	int rc = pc_demo_new(o, &demo);
 	if (rc)
@@ -63,7 +66,7 @@ static int run(pc_demo_opts *o, const char *out, bool json)
 	for (unsigned i = 0; i < PC_FX_COUNT_; i++)
 		if (in.effects & (1u << i))
 			snprintf(fx + strlen(fx), sizeof fx - strlen(fx), " %s",
-				 pc_sim_effect_name(1u << i));
+			         pc_sim_effect_name(1u << i));
 	cli_info("%s, %ux%u, effects:%s", in.scene_name, in.width, in.height, fx);
 	char *md = NULL;
 	rc = pc_demo_run(demo, out, &md);
@@ -92,13 +95,15 @@ int cli_cmd_demo(int argc, char **argv)
 		usage(stdout);
 		return CLI_EXIT_OK;
 	}
-	static const struct option opts[] = {
-		{ "output", required_argument, NULL, 'o' }, { "scene", required_argument, NULL, 'S' },
-		{ "seed", required_argument, NULL, 's' },   { "methods", required_argument, NULL, 'M' },
-		{ "no-mueller", no_argument, NULL, 'N' },   { "threads", required_argument, NULL, 't' },
-		{ "overwrite", no_argument, NULL, 'W' },    { "json", no_argument, NULL, 'J' },
-		{ NULL, 0, NULL, 0 }
-	};
+	static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
+	                                     {"scene", required_argument, NULL, 'S'},
+	                                     {"seed", required_argument, NULL, 's'},
+	                                     {"methods", required_argument, NULL, 'M'},
+	                                     {"no-mueller", no_argument, NULL, 'N'},
+	                                     {"threads", required_argument, NULL, 't'},
+	                                     {"overwrite", no_argument, NULL, 'W'},
+	                                     {"json", no_argument, NULL, 'J'},
+	                                     {NULL, 0, NULL, 0}};
 	const char *out = "polarcam-demo", *scene_path = NULL;
 	const char *methods_arg = "superpixel,bilinear,bicubic,ppid,eari,ratio";
 	uint64_t seed = 1;
@@ -136,13 +141,16 @@ int cli_cmd_demo(int argc, char **argv)
 				return cli_fail(rc, NULL);
 			break;
 		case ':':
-			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
+			                 argv[optind - 1]);
 		default:
-			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
+			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)",
+			                 argv[optind - 1]);
 		}
 	}
 	if (optind < argc)
-		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (see --help)", argv[optind]);
+		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (see --help)",
+		                 argv[optind]);
 	/* methods */
 	pc_demosaic_method methods[PC_DM_COUNT];
 	unsigned nm = 0;
@@ -164,12 +172,12 @@ int cli_cmd_demo(int argc, char **argv)
 	}
 	if (cli_parse_only())
 		return CLI_EXIT_OK;
-	pc_demo_opts o = { .scene_path = scene_path,
-			   .seed = seed,
-			   .methods = methods,
-			   .n_methods = nm,
-			   .mueller = do_mueller,
-			   .overwrite = overwrite,
-			   .threads = (int)threads };
+	pc_demo_opts o = {.scene_path = scene_path,
+	                  .seed = seed,
+	                  .methods = methods,
+	                  .n_methods = nm,
+	                  .mueller = do_mueller,
+	                  .overwrite = overwrite,
+	                  .threads = (int)threads};
 	return run(&o, out, json);
 }

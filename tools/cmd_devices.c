@@ -153,7 +153,7 @@ int cli_cmd_devices(int argc, char **argv)
 		           !strcmp(a, "--frames")) {
 			if (i + 1 >= argc)
 				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
-				                    a);
+				                 a);
 			const char *v = argv[++i];
 			if (!strcmp(a, "--check")) {
 				check = v;
@@ -161,9 +161,9 @@ int cli_cmd_devices(int argc, char **argv)
 				fault = pc_fault_parse(v);
 				if (fault < 0)
 					return cli_error(CLI_EXIT_USAGE,
-					                    "--fault '%s': expected drop, "
-					                    "timeout, disconnect or corrupt",
-					                    v);
+					                 "--fault '%s': expected drop, "
+					                 "timeout, disconnect or corrupt",
+					                 v);
 			} else {
 				int rc = cli_parse_long(a, v, 1, 100000, &frames);
 				if (rc)

@@ -57,19 +57,18 @@ static int run(const char *dir, bool overwrite, bool json)
 		free(claims);
 		return cli_error(CLI_EXIT_FAILURE, "out of memory");
 	}
-	cli_progress bar = { 0 };
-	pc_progress pr = { cli_progress_fn, &bar };
+	cli_progress bar = {0};
+	pc_progress pr = {cli_progress_fn, &bar};
 	int rc = pc_figures_compute(figs);
 	size_t n = rc ? 0 : pc_figures_check(figs, claims, PC_FIGURE_MAX_CLAIMS);
 	if (!rc)
 		rc = pc_figures_write(dir, overwrite ? PC_OUT_OVERWRITE : 0, figs, claims, n, &pr);
 	cli_progress_end(&bar);
 	for (size_t k = 0; !rc && json && k < n; k++)
-		cli_print_json(json_pack("{s:i, s:s, s:s, s:s, s:s}", "figure", claims[k].figure,
-					 "claim", claims[k].text, "corrected",
-					 pc_verdict_name(claims[k].corrected), "printed",
-					 pc_verdict_name(claims[k].printed), "evidence",
-					 claims[k].evidence));
+		cli_print_json(json_pack(
+		    "{s:i, s:s, s:s, s:s, s:s}", "figure", claims[k].figure, "claim",
+		    claims[k].text, "corrected", pc_verdict_name(claims[k].corrected), "printed",
+		    pc_verdict_name(claims[k].printed), "evidence", claims[k].evidence));
 	free(figs);
 	free(claims);
 	if (rc)
@@ -104,8 +103,8 @@ int cli_cmd_figures(int argc, char **argv)
 			return cli_error(CLI_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
 		else
 			return cli_error(CLI_EXIT_USAGE,
-			                    "unknown option '%s' (polarcam figures --help)",
-			                    argv[optind - 1]);
+			                 "unknown option '%s' (polarcam figures --help)",
+			                 argv[optind - 1]);
 	}
 	if (optind < argc)
 		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s'", argv[optind]);

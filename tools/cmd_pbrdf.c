@@ -12,8 +12,6 @@
 #include "polarcam/optics.h"
 #include "polarcam/pbrdf.h"
 
-#define DEG (PC_PI / 180)
-
 static void usage(FILE *fp)
 {
 	fprintf(
@@ -41,7 +39,11 @@ static void usage(FILE *fp)
 	    "0).\n"
 	    "rho_s is the specular albedo used in the diffuse term (null for --diffuse none).\n"
 	    "flags: \"outside_validity\" (sigma > 0.5), \"mirror\" (sigma < 0.01: rho_s is the\n"
-	    "Fresnel mirror limit), \"below_horizon\", \"D_singular\".\n"
+	    "Fresnel mirror limit), \"below_horizon\" (theta = 90: the matrix is 0), \"zero\" "
+	    "(the\n"
+	    "matrix is 0 above the horizon: off the specular lobe without a diffuse term),\n"
+	    "\"D_singular\". sigma must be at least 1e-50 (below it the specular peak leaves the\n"
+	    "double range); angles are exact at multiples of 90 degrees.\n"
 	    "\n"
 	    "options:\n"
 	    "  --n N             refractive index n > 0 of n~ = n - ik\n"
@@ -71,7 +73,8 @@ static void usage(FILE *fp)
 	    "\n"
 	    "examples:\n"
 	    "  polarcam pbrdf --n 1.46 --k 1.28 --sigma 0.2 --theta-i 40 --theta-r 55 --phi 150\n"
-	    "  polarcam pbrdf --n 1.5 --sigma 0.1:0.5:0.1 --theta-i 0:85:5 --theta-r 30 --rho quad:32\n"
+	    "  polarcam pbrdf --n 1.5 --sigma 0.1:0.5:0.1 --theta-i 0:85:5 --theta-r 30 --rho "
+	    "quad:32\n"
 	    "  polarcam pbrdf --batch inputs.txt --diffuse none\n");
 }
 
@@ -122,7 +125,7 @@ static json_t *evaluate(const pc_pbrdf *p, double ti_deg, double tr_deg, double 
 {
 	const pc_material *m = pc_pbrdf_material(p);
 	double f[4][4];
-	pc_pbrdf_eval(p, ti_deg * DEG, tr_deg * DEG, phi_deg * DEG, f);
+	pc_pbrdf_eval_deg(p, ti_deg, tr_deg, phi_deg, f);
 	json_t *flags = json_array();
 	if (pc_pbrdf_flags(p) & PC_PBRDF_OUTSIDE_VALIDITY)
 		json_array_append_new(flags, json_string("outside_validity"));
@@ -140,10 +143,16 @@ static json_t *evaluate(const pc_pbrdf *p, double ti_deg, double tr_deg, double 
 				json_array_append_new(flags, json_string("D_singular"));
 		}
 	} else {
-		json_array_append_new(flags, json_string("below_horizon"));
+		/* all zero: at or below the horizon, or (without a diffuse term) off the lobe */
+		double st, ct, sr, cr;
+		pc_sincos_deg(ti_deg, &st, &ct);
+		pc_sincos_deg(tr_deg, &sr, &cr);
+		bool horizon = !(ct > PC_PBRDF_COS_HORIZON) || !(cr > PC_PBRDF_COS_HORIZON);
+		json_array_append_new(flags, json_string(horizon ? "below_horizon" : "zero"));
 	}
-	double rho =
-	    m->diffuse == PC_DIFFUSE_NONE ? NAN : pc_pbrdf_rho_s_fast(p, cos(ti_deg * DEG));
+	double sti, cti;
+	pc_sincos_deg(ti_deg, &sti, &cti);
+	double rho = m->diffuse == PC_DIFFUSE_NONE ? NAN : pc_pbrdf_rho_s_fast(p, cti);
 	json_t *o = json_object();
 	if (line)
 		json_object_set_new(o, "line", json_integer((json_int_t)line));
@@ -167,10 +176,9 @@ static void warn_material(const pc_pbrdf *p, double sigma)
 {
 	static double last = -1;
 	if ((pc_pbrdf_flags(p) & PC_PBRDF_OUTSIDE_VALIDITY) && sigma != last) {
-		cli_warn(
-		    "sigma = %g > %g: outside the single-scattering V-groove model's validity "
-		    "(energy is lost)",
-		    sigma, PC_PBRDF_SIGMA_VALID_MAX);
+		cli_warn("sigma = %g > %g: outside the single-scattering V-groove model's validity "
+		         "(energy is lost)",
+		         sigma, PC_PBRDF_SIGMA_VALID_MAX);
 		last = sigma;
 	}
 }
@@ -188,7 +196,7 @@ static int run_batch(const char *path, const pbrdf_opts *o)
 	while ((rc = cli_lines_next(&in, &line)) > 0) {
 		double v[6];
 		const pc_pbrdf *p = NULL;
-		rc = cli_parse_fields(line, names, 6, v);
+		rc = cli_parse_fields_n(line, in.len, names, 6, v);
 		if (!rc)
 			rc = check_theta("theta_i", v[3]);
 		if (!rc)
@@ -211,14 +219,13 @@ static int run_batch(const char *path, const pbrdf_opts *o)
 
 /* --n ... --phi with ranges: one line per value */
 static int run_ranges(const pbrdf_opts *op, const char *arg_n, const char *arg_k,
-		      const char *arg_sigma, const char *arg_ti, const char *arg_tr,
-		      const char *arg_phi)
+                      const char *arg_sigma, const char *arg_ti, const char *arg_tr,
+                      const char *arg_phi)
 {
 	const pbrdf_opts o = *op;
 	int rc;
 	double n, k;
-	if ((rc = cli_parse_double("--n", arg_n, &n)) ||
-	    (rc = cli_parse_double("--k", arg_k, &k)))
+	if ((rc = cli_parse_double("--n", arg_n, &n)) || (rc = cli_parse_double("--k", arg_k, &k)))
 		return cli_fail(rc, NULL);
 	if (!(n > 0))
 		return cli_error(CLI_EXIT_USAGE, "--n %g: must be > 0", n);
@@ -236,8 +243,8 @@ static int run_ranges(const pbrdf_opts *op, const char *arg_n, const char *arg_k
 	}
 	for (size_t i = 0; i < nsg; i++)
 		if (!(sg[i] > 0)) {
-			status = cli_error(CLI_EXIT_USAGE, "--sigma %g: must be > 0 (rms slope)",
-			                      sg[i]);
+			status =
+			    cli_error(CLI_EXIT_USAGE, "--sigma %g: must be > 0 (rms slope)", sg[i]);
 			goto out;
 		}
 	for (size_t i = 0; i < nti; i++)
@@ -285,17 +292,17 @@ static int parse_mode(pbrdf_opts *o, int c, const char *arg)
 		else if (!strcmp(arg, "none"))
 			o->diffuse = PC_DIFFUSE_NONE;
 		else
-			return cli_error(
-			    CLI_EXIT_USAGE,
-			    "--diffuse '%s': expected fresnel, geometric or none", arg);
+			return cli_error(CLI_EXIT_USAGE,
+			                 "--diffuse '%s': expected fresnel, geometric or none",
+			                 arg);
 	} else if (c == O_SHADOW) {
 		if (!strcmp(arg, "ts"))
 			o->shadowing = PC_SHADOW_TS;
 		else if (!strcmp(arg, "none"))
 			o->shadowing = PC_SHADOW_NONE;
 		else
-			return cli_error(
-			    CLI_EXIT_USAGE, "--shadowing '%s': expected ts or none", arg);
+			return cli_error(CLI_EXIT_USAGE, "--shadowing '%s': expected ts or none",
+			                 arg);
 	} else {
 		if (!strcmp(arg, "table")) {
 			o->rho_mode = PC_RHO_TABLE;
@@ -306,10 +313,9 @@ static int parse_mode(pbrdf_opts *o, int c, const char *arg)
 			o->rho_mode = PC_RHO_QUAD;
 			o->rho_order = (int)N;
 		} else {
-			return cli_error(
-			    CLI_EXIT_USAGE,
-			    "--rho '%s': expected quad:N (N in [2, 1024]) or table",
-			    arg);
+			return cli_error(CLI_EXIT_USAGE,
+			                 "--rho '%s': expected quad:N (N in [2, 1024]) or table",
+			                 arg);
 		}
 	}
 	return 0;
@@ -376,20 +382,18 @@ int cli_cmd_pbrdf(int argc, char **argv)
 			return cli_error(CLI_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
 		default:
 			return cli_error(CLI_EXIT_USAGE,
-			                    "unknown option '%s' (polarcam pbrdf --help)",
-			                    argv[optind - 1]);
+			                 "unknown option '%s' (polarcam pbrdf --help)",
+			                 argv[optind - 1]);
 		}
 	}
 	if (optind < argc)
-		return cli_error(CLI_EXIT_USAGE,
-		                    "unexpected argument '%s' (polarcam pbrdf --help)",
-		                    argv[optind]);
+		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (polarcam pbrdf --help)",
+		                 argv[optind]);
 	if (batch) {
 		if (arg_n || arg_sigma || arg_ti || arg_tr)
-			return cli_error(
-			    CLI_EXIT_USAGE,
-			    "--batch reads n, k, sigma and the angles from its lines; "
-			    "do not also give --n/--sigma/--theta-i/--theta-r");
+			return cli_error(CLI_EXIT_USAGE,
+			                 "--batch reads n, k, sigma and the angles from its lines; "
+			                 "do not also give --n/--sigma/--theta-i/--theta-r");
 		if (cli_parse_only())
 			return CLI_EXIT_OK;
 		return run_batch(batch, &o);
@@ -401,7 +405,7 @@ int cli_cmd_pbrdf(int argc, char **argv)
 	for (size_t i = 0; i < sizeof req / sizeof req[0]; i++)
 		if (!req[i].val)
 			return cli_error(CLI_EXIT_USAGE, "%s is required (polarcam pbrdf --help)",
-			                    req[i].opt);
+			                 req[i].opt);
 	if (cli_parse_only())
 		return CLI_EXIT_OK;
 	return run_ranges(&o, arg_n, arg_k, arg_sigma, arg_ti, arg_tr, arg_phi);

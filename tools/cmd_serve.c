@@ -67,8 +67,8 @@ static int run(const pc_gige_server_options *op, const char *genicam, double dur
 	pc_gige_server *srv = NULL;
 	/* a signal during the start (rendering the cycle) ends it cleanly too */
 	cli_catch_signals();
-	cli_progress bar = { 0 };
-	o.progress = (pc_progress){ cli_progress_stoppable, &bar };
+	cli_progress bar = {0};
+	o.progress = (pc_progress){cli_progress_stoppable, &bar};
 	int rc = pc_gige_server_start(&srv, &o);
 	cli_progress_end(&bar);
 	if (rc) {
@@ -148,8 +148,8 @@ int cli_cmd_serve(int argc, char **argv)
 		if (a[0] != '-') {
 			if (scene)
 				return cli_error(CLI_EXIT_USAGE,
-				                    "more than one scene given ('%s', '%s')", scene,
-				                    a);
+				                 "more than one scene given ('%s', '%s')", scene,
+				                 a);
 			scene = a;
 			continue;
 		}
@@ -200,9 +200,9 @@ int cli_cmd_serve(int argc, char **argv)
 		const char *sc = scene ? scene : "default";
 		if (strchr(sc, '?') || strchr(sc, '&'))
 			return cli_error(CLI_EXIT_USAGE,
-			                    "scene '%s': '?' and '&' are not allowed in a "
-			                    "scene path",
-			                    sc);
+			                 "scene '%s': '?' and '&' are not allowed in a "
+			                 "scene path",
+			                 sc);
 		snprintf(uri, sizeof uri, "sim:%s?seed=%llu", sc, (unsigned long long)seed);
 	}
 	o.source_uri = uri;

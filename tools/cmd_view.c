@@ -31,7 +31,9 @@ static void usage(FILE *fp)
 	    "                      unless --overwrite\n"
 	    "  --overwrite         replace FILE\n"
 	    "  --json              print one JSON line at the end on stdout: frames, display and\n"
-	    "                      processing rates\n"
+	    "                      processing rates, levels, the last frame's invalid pixels\n"
+	    "%s"
+	    "levels (invalid pixels are drawn as a pink checker):\n"
 	    "%s"
 	    "\nExit status: 0 success, 1 failure, 2 bad arguments or FILE exists, 77 no display,\n"
 	    "no live window in this build, backend not built in or device absent.\n"
@@ -39,14 +41,14 @@ static void usage(FILE *fp)
 	    "  polarcam view 'sim:default?fps=5'\n"
 	    "  polarcam view 'file:rec/?loop=1&fps=10' --method superpixel --width 1200\n"
 	    "  polarcam view sim:default --frames 3 --screenshot view.png --overwrite --json\n",
-	    cli_stream_args_help());
+	    cli_stream_args_help(), cli_levels_help());
 }
 
 /* the window and its report */
 static int run(pc_viewer_opts *o, bool json)
 {
 	cli_catch_signals();
-	o->progress = (pc_progress){ cli_progress_stoppable, NULL };
+	o->progress = (pc_progress){cli_progress_stoppable, NULL};
 	pc_viewer_report rep;
 	int rc = pc_viewer_run(o, &rep);
 	pc_devices_shutdown();
@@ -74,8 +76,11 @@ int cli_cmd_view(int argc, char **argv)
 	const char *shot = NULL, *method = NULL; /* NULL: the mosaic's default */
 	long frames = 0, width = 1500;
 	bool overwrite = false, json = false;
+	pc_stream_levels lv = pc_stream_levels_default();
 	for (int i = 1; i < argc; i++) {
 		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
+		if (rc == 0)
+			rc = cli_levels_parse(&lv, argc, argv, &i);
 		if (rc < 0)
 			return cli_fail(rc, "arguments");
 		if (rc > 0)
@@ -84,15 +89,16 @@ int cli_cmd_view(int argc, char **argv)
 		if (!strcmp(a, "--method") || !strcmp(a, "--width") || !strcmp(a, "--frames") ||
 		    !strcmp(a, "--screenshot")) {
 			if (i + 1 >= argc)
-				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)", a);
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
+				                 a);
 			const char *v = argv[++i];
 			if (!strcmp(a, "--method"))
 				method = v;
 			else if (!strcmp(a, "--screenshot"))
 				shot = v;
 			else if ((rc = cli_parse_long(a, v, !strcmp(a, "--width") ? 64 : 1,
-						      !strcmp(a, "--width") ? 16384 : 100000000,
-						      !strcmp(a, "--width") ? &width : &frames)))
+			                              !strcmp(a, "--width") ? 16384 : 100000000,
+			                              !strcmp(a, "--width") ? &width : &frames)))
 				return cli_fail(rc, "arguments");
 		} else if (!strcmp(a, "--overwrite")) {
 			overwrite = true;
@@ -114,7 +120,8 @@ int cli_cmd_view(int argc, char **argv)
 	if (cli_parse_only())
 		return CLI_EXIT_OK;
 	bool headless = shot && frames > 0 && !getenv("DISPLAY");
-	pc_viewer_opts o = { sa.req, method, !headless, (uint32_t)width, (uint64_t)frames, shot,
-			     sa.timeout_ms, { NULL, NULL } };
+	pc_viewer_opts o = {sa.req,          method,           !headless,
+	                    (uint32_t)width, (uint64_t)frames, shot,
+	                    sa.timeout_ms,   {NULL, NULL},     lv};
 	return run(&o, json);
 }

@@ -1,5 +1,6 @@
 #include "raw_cli.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,27 +11,41 @@
 #include "polarcam/recording.h"
 
 const char cli_raw_help[] =
-	"input:\n"
-	"  RAW                 the raw mosaic: .png (8/16-bit grey; sBIT gives the bit depth),\n"
-	"                      .tif/.tiff (8/16-bit or float32), .npy (2-D u1, <u2, <f4, <f8),\n"
-	"                      .bmp (8-bit grey), or a headerless file with --width/--height/\n"
-	"                      --format\n"
-	"  --width W --height H --format NAME [--offset BYTES] [--stride BYTES]\n"
-	"                      geometry of a headerless raw file; NAME is a pixel format (Mono8,\n"
-	"                      Mono10/12/14/16, Mono10p/12p/14p, Mono10Packed, Mono12Packed,\n"
-	"                      Y10P, Y12P, Y14P, Y10BPACK, Float32) or a camera's GenICam name\n"
-	"                      (PolarizeMono12p, Polarized16, BayerRGPolarized8, ...)\n"
-	"  --bits N            significant bits of the data (default: what the file declares);\n"
-	"                      values above 2^N - 1 are an error, never clamped\n"
-	"  --layout L          mosaic layout [BAYER:]A,B,C,D[@DX,DY], the analyser angles of the\n"
-	"                      top-left 2x2 block row by row (RGGB:90,45,135,0 or imx250myr for\n"
-	"                      the colour sensor; @DX,DY for a crop at an odd offset). Default:\n"
-	"                      the mosaic in meta.json when RAW is a frame of a polarcam recording\n"
-	"                      (render, capture), else 90,45,135,0 = Sony IMX250MZR\n"
-	"  --method NAME       demosaicking method (polarcam demosaic --list; default bilinear,\n"
-	"                      bayer-first for colour-polarization layouts)\n"
-	"  --threads N         threads (default: all cores)\n"
-	"  --reference         run the double-precision reference implementation (slow)\n";
+    "input:\n"
+    "  RAW                 the raw mosaic: .png (8/16-bit grey; sBIT gives the bit depth),\n"
+    "                      .tif/.tiff (8/16-bit or float32), .npy (2-D u1, <u2, <f4, <f8),\n"
+    "                      .bmp (8-bit grey), or a headerless file with --width/--height/\n"
+    "                      --format\n"
+    "  --width W --height H --format NAME [--offset BYTES] [--stride BYTES]\n"
+    "                      geometry of a headerless raw file; NAME is a pixel format (Mono8,\n"
+    "                      Mono10/12/14/16, Mono10p/12p/14p, Mono10Packed, Mono12Packed,\n"
+    "                      Y10P, Y12P, Y14P, Y10BPACK, Float32) or a camera's GenICam name\n"
+    "                      (PolarizeMono12p, Polarized16, BayerRGPolarized8, ...)\n"
+    "  --bits N            significant bits of the data (default: what the file declares);\n"
+    "                      values above 2^N - 1 are an error, never clamped\n"
+    "  --layout L          mosaic layout [BAYER:]A,B,C,D[@DX,DY], the analyser angles of the\n"
+    "                      top-left 2x2 block row by row (RGGB:90,45,135,0 or imx250myr for\n"
+    "                      the colour sensor; @DX,DY for a crop at an odd offset). Default:\n"
+    "                      the mosaic in meta.json when RAW is a frame of a polarcam recording\n"
+    "                      (render, capture), else 90,45,135,0 = Sony IMX250MZR\n"
+    "  --method NAME       demosaicking method (polarcam demosaic --list; default bilinear,\n"
+    "                      bayer-first for colour-polarization layouts)\n"
+    "levels (raw units, before the black level; docs/calibration.md):\n"
+    "  --black-level DN    subtracted from every raw value before demosaicking. Default: the\n"
+    "                      recording's (meta.json extra.sensor.offset_dn, written by render\n"
+    "                      and by capture of a source that declares it) when RAW is one of\n"
+    "                      its frames, else 0. Values below it stay negative (never clamped)\n"
+    "  --saturation DN|none  samples >= DN are saturated: every output pixel whose value\n"
+    "                      depends on one is flagged invalid (valid.npy, the count in the\n"
+    "                      JSON, a pink checker in the pictures). Default: the raw's full\n"
+    "                      scale 2^bits - 1 (none for float32 raws); 'none': not checked\n"
+    "  --dead-level DN     samples <= DN are dead and flagged likewise (default: not checked)\n"
+    "  --calibration FILE  apply a `polarcam calibrate` file: per-pixel dark and gain, the\n"
+    "                      calibrated analysers, its distrusted pixels flagged. The frame must\n"
+    "                      match it (size, ROI, mosaic, bit depth); the dark map replaces\n"
+    "                      --black-level. Default saturation: the file's\n"
+    "  --threads N         threads (default: all cores)\n"
+    "  --reference         run the double-precision reference implementation (slow)\n";
 
 static int need(int argc, char **argv, int i)
 {
@@ -53,6 +68,7 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 	memset(o, 0, sizeof *o);
 	if (many && !(o->paths = calloc((size_t)argc + 1, sizeof *o->paths)))
 		return cli_error(CLI_EXIT_FAILURE, "out of memory");
+	o->black_level = NAN;
 	int nextra = 0, have_w = 0, have_h = 0, have_f = 0;
 	long v;
 	int rc;
@@ -82,6 +98,34 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 			if ((rc = cli_parse_long("--threads", argv[++i], 1, 1024, &v)))
 				return cli_fail(rc, NULL);
 			o->threads = (int)v;
+		} else if (!strcmp(a, "--black-level") || !strcmp(a, "--dead-level") ||
+		           !strcmp(a, "--saturation")) {
+			if (!need(argc, argv, i))
+				return CLI_EXIT_USAGE;
+			const char *val = argv[++i];
+			double d;
+			if (a[2] == 's' && !strcmp(val, "none")) {
+				o->saturation = -1;
+				continue;
+			}
+			if ((rc = cli_parse_double(a, val, &d)))
+				return cli_fail(rc, NULL);
+			if (!(d >= 0) || (a[2] != 'b' && !(d > 0)))
+				return cli_error(CLI_EXIT_USAGE,
+				                 "%s %s: expected a level %s 0 in raw "
+				                 "units%s",
+				                 a, val, a[2] == 'b' ? ">=" : ">",
+				                 a[2] == 's' ? " (or 'none')" : "");
+			if (a[2] == 'b')
+				o->black_level = d;
+			else if (a[2] == 's')
+				o->saturation = d;
+			else
+				o->dead = d;
+		} else if (!strcmp(a, "--calibration")) {
+			if (!need(argc, argv, i))
+				return CLI_EXIT_USAGE;
+			o->calibration = argv[++i];
 		} else if (!strcmp(a, "--reference")) {
 			o->reference = true;
 		} else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
@@ -115,14 +159,16 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 				bool pol, col;
 				if (pc_format_from_genicam(name, &f, &pol, &col) != 0)
 					return cli_error(CLI_EXIT_USAGE, "--format '%s': %s", name,
-							    pc_error_detail());
+					                 pc_error_detail());
 			}
 			o->geometry.format = f;
 			have_f = 1;
 		} else if (a[0] == '-' && a[1]) {
 			if (!extra)
-				return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see polarcam %s "
-								   "--help)", a, argv[0]);
+				return cli_error(CLI_EXIT_USAGE,
+				                 "unknown option '%s' (see polarcam %s "
+				                 "--help)",
+				                 a, argv[0]);
 			extra[nextra++] = i;
 		} else if (!o->path || many) {
 			if (!o->path)
@@ -130,21 +176,47 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 			if (many)
 				o->paths[o->npaths++] = a;
 		} else {
-			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (one RAW file)", a);
+			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (one RAW file)",
+			                 a);
 		}
 	}
 	if (extra)
 		extra[nextra] = 0;
 	if (have_w || have_h || have_f || o->geometry.offset || o->geometry.stride) {
 		if (!(have_w && have_h && have_f))
-			return cli_error(CLI_EXIT_USAGE, "a headerless raw needs --width, --height and "
-							   "--format together");
+			return cli_error(CLI_EXIT_USAGE,
+			                 "a headerless raw needs --width, --height and "
+			                 "--format together");
 		o->have_geometry = true;
 	}
+	/* what the recording says about RAW when it is one of its frames */
+	pc_recording_frame_meta fm;
+	int info = o->path && !o->have_geometry ? pc_recording_frame_info(o->path, &fm) : 0;
+	if (info < 0 && !o->layout)
+		return cli_fail(info, NULL);
+	pc_error_clear();
+	bool in_rec = info > 0;
+	if (in_rec) {
+		o->roi_x = fm.offset_x;
+		o->roi_y = fm.offset_y;
+	}
+	if (o->calibration && !isnan(o->black_level))
+		return cli_error(CLI_EXIT_USAGE,
+		                 "--black-level and --calibration: the calibration's "
+		                 "dark map is the black level; give one or the other");
+	o->black_from = o->calibration                 ? "calibration"
+	                : !isnan(o->black_level)       ? "option"
+	                : in_rec && fm.black_level > 0 ? "recording"
+	                                               : "none";
+	if (isnan(o->black_level))
+		o->black_level = !o->calibration && in_rec ? fm.black_level : 0;
 	if (o->layout) {
 		if ((rc = pc_mosaic_parse(o->layout, &o->mosaic)))
 			return cli_fail(rc, "--layout");
-	} else if (o->path && !o->have_geometry && pc_recording_frame_mosaic(o->path, &o->mosaic)) {
+	} else if (o->path && !o->have_geometry &&
+	           (rc = pc_recording_frame_mosaic(o->path, &o->mosaic)) != 0) {
+		if (rc < 0)
+			return cli_fail(rc, NULL);
 		pc_mosaic_format(&o->mosaic, o->layout_buf, sizeof o->layout_buf);
 		o->layout = o->layout_buf;
 	} else {
@@ -159,10 +231,32 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 
 pc_raw_input cli_raw_input(const cli_raw *o)
 {
-	return (pc_raw_input){ o->path, o->have_geometry ? &o->geometry : NULL, o->bits };
+	return (pc_raw_input){o->path, o->have_geometry ? &o->geometry : NULL, o->bits};
 }
 
 pc_process_opts cli_raw_process(const cli_raw *o)
 {
-	return (pc_process_opts){ o->mosaic, o->dm, { o->threads, o->reference, 0 }, false };
+	return (pc_process_opts){.mosaic = o->mosaic,
+	                         .method = o->dm,
+	                         .demosaic = {o->threads, o->reference, 0},
+	                         .overwrite = false,
+	                         .black_level = o->black_level,
+	                         .saturation_level = o->saturation,
+	                         .dead_level = o->dead,
+	                         .roi_x = o->roi_x,
+	                         .roi_y = o->roi_y};
+}
+
+int cli_raw_calibration(const cli_raw *o, pc_calib *cal, pc_raw_stage *stage, pc_process_opts *po)
+{
+	pc_calib_init(cal);
+	if (!o->calibration)
+		return 0;
+	int rc = pc_calib_read(o->calibration, cal);
+	if (rc)
+		return cli_fail(rc, "--calibration");
+	*stage = pc_calib_stage(cal, o->calibration);
+	po->stage = stage;
+	po->black_level = 0;
+	return 0;
 }

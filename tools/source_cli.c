@@ -74,3 +74,50 @@ int cli_stream_args_parse(cli_stream_args *a, int argc, char **argv, int *i)
 	}
 	return rc ? rc : 1;
 }
+
+const char *cli_levels_help(void)
+{
+	return "  --black-level DN    subtracted from every raw value (default: what the source\n"
+	       "                      declares - the simulator's sensor offset, a recording's\n"
+	       "                      meta.json - else 0)\n"
+	       "  --saturation DN|none  pixels whose value depends on a sample >= DN are invalid,\n"
+	       "                      counted and marked with a pink checker (default: full scale\n"
+	       "                      2^bits - 1, or the calibration's)\n"
+	       "  --dead-level DN     likewise for samples <= DN (default: not checked)\n"
+	       "  --calibration FILE  a `polarcam calibrate` file: dark, gain, calibrated\n"
+	       "                      analysers; refused unless the frames match it\n";
+}
+
+int cli_levels_parse(pc_stream_levels *lv, int argc, char **argv, int *i)
+{
+	const char *o = argv[*i];
+	if (strcmp(o, "--black-level") && strcmp(o, "--saturation") && strcmp(o, "--dead-level") &&
+	    strcmp(o, "--calibration"))
+		return 0;
+	if (*i + 1 >= argc)
+		return pc_error(PC_EINVAL, "%s needs a value", o);
+	const char *v = argv[++*i];
+	if (!strcmp(o, "--calibration")) {
+		lv->calibration = v;
+		return 1;
+	}
+	if (!strcmp(o, "--saturation") && !strcmp(v, "none")) {
+		lv->saturation_level = -1;
+		return 1;
+	}
+	double d;
+	int rc = cli_parse_double(o, v, &d);
+	if (rc)
+		return rc;
+	bool black = !strcmp(o, "--black-level");
+	if (!(d >= 0) || (!black && !(d > 0)))
+		return pc_error(PC_EINVAL, "%s %s: expected a level %s 0 in raw units", o, v,
+		                black ? ">=" : ">");
+	if (black)
+		lv->black_level = d;
+	else if (!strcmp(o, "--saturation"))
+		lv->saturation_level = d;
+	else
+		lv->dead_level = d;
+	return 1;
+}

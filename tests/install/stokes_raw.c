@@ -15,7 +15,7 @@ static void check(int rc)
 }
 
 static void save(const char *dir, const char *name, const float *a, unsigned ndim,
-		 const size_t *shape)
+                 const size_t *shape)
 {
 	char path[4096];
 	if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path)
@@ -43,13 +43,13 @@ int main(int argc, char **argv)
 	if (!s || !dolp || !aolp)
 		check(pc_error(PC_ENOMEM, "%ux%u Stokes images", w, h));
 	/* S0, S1, S2 interleaved in one (H, W, 3) array; DoLP, AoLP planes. Strides in floats. */
-	pc_stokes_out out = { { s, row, 3 }, { s + 1, row, 3 }, { s + 2, row, 3 },
-			      { dolp, w, 1 }, { aolp, w, 1 } };
+	pc_stokes_out out = {
+	    {s, row, 3}, {s + 1, row, 3}, {s + 2, row, 3}, {dolp, w, 1}, {aolp, w, 1}};
 	check(pc_stokes_from_raw(&raw, &mosaic, method, NULL, &out));
 	check(pc_mkdir_p(argv[4]));
-	save(argv[4], "stokes.npy", s, 3, (size_t[]){ h, w, 3 });
-	save(argv[4], "dolp.npy", dolp, 2, (size_t[]){ h, w });
-	save(argv[4], "aolp.npy", aolp, 2, (size_t[]){ h, w });
+	save(argv[4], "stokes.npy", s, 3, (size_t[]){h, w, 3});
+	save(argv[4], "dolp.npy", dolp, 2, (size_t[]){h, w});
+	save(argv[4], "aolp.npy", aolp, 2, (size_t[]){h, w});
 	pc_view_free(&raw);
 	free(s);
 	free(dolp);

@@ -22,7 +22,8 @@ static inline double gt_now(void)
 #if defined(__GNUC__)
 __attribute__((format(printf, 3, 0)))
 #endif
-static inline void gt_vline(const char *tag, const char *name, const char *fmt, va_list ap)
+static inline void
+gt_vline(const char *tag, const char *name, const char *fmt, va_list ap)
 {
 	double now = gt_now();
 	if (gt_t_last == 0.0)

@@ -32,6 +32,7 @@
 #include "polarcam/export.h"
 #include "polarcam/frame.h"
 #include "polarcam/mosaic.h"
+#include "polarcam/process.h"
 #include "polarcam/stokes.h"
 
 #ifdef __cplusplus
@@ -40,7 +41,7 @@ extern "C" {
 
 /* Version of the calibration file (calib_version.npy). Readers refuse newer versions. */
 #define PC_CALIB_FILE_VERSION 1
-#define PC_CALIB_MAX_STATES 64
+#define PC_CALIB_MAX_STATES   64
 
 /* What a calibration applies to: frames must match it exactly (pc_calib_check). */
 typedef struct pc_calib_geometry {
@@ -60,27 +61,31 @@ enum pc_calib_parts {
 };
 
 typedef struct pc_calib {
-	unsigned parts;            /* PC_CAL_* bits present */
-	char camera[128];          /* camera model / source description */
+	unsigned parts;   /* PC_CAL_* bits present */
+	char camera[128]; /* camera model / source description */
 	pc_calib_geometry geo;
-	double black_level;        /* DN: mean dark offset (or the declared black level) */
-	double saturation;         /* DN: samples at or above it are not trusted */
-	float *dark;               /* (H, W) per-pixel offset, DN */
-	float *dark_noise;         /* (H, W) temporal σ of one frame, DN */
-	float *gain;               /* (H, W) relative gain, mean 1 over valid pixels */
-	float *analysis;           /* (H, W, 3) analysis vectors (a0, a1, a2), after dark and gain */
-	float *residual;           /* (H, W) RMS residual of the analyser fit, DN (K > 3) */
-	float *pinv_sp;            /* (3, 4, H/2, W/2) pseudo-inverses per 2×2 super-pixel */
-	uint8_t *valid;            /* (H, W) 1 = trusted pixel, 0 = dead, hot, saturated, unfit */
+	double black_level; /* DN: mean dark offset (or the declared black level) */
+	double saturation;  /* DN: samples at or above it are not trusted */
+	float *dark;        /* (H, W) per-pixel offset, DN */
+	float *dark_noise;  /* (H, W) temporal σ of one frame, DN */
+	float *gain;        /* (H, W) relative gain, mean 1 over valid pixels */
+	float *analysis;    /* (H, W, 3) analysis vectors (a0, a1, a2), after dark and gain */
+	float *residual;    /* (H, W) RMS residual of the analyser fit, DN (K > 3) */
+	float *pinv_sp;     /* (3, 4, H/2, W/2) pseudo-inverses per 2×2 super-pixel */
+	uint8_t *valid;     /* (H, W) 1 = trusted pixel, 0 = dead, hot, saturated, unfit */
 	/* ECM (global over the field): generator W (4 × n_psg) and analyser A (4·n_psa × 4) in
 	 * the frame order of polarcam mueller (generator fastest). */
 	unsigned n_psg, n_psa;
 	double ecm_W[4][PC_CALIB_MAX_STATES];
 	double ecm_A[4 * PC_CALIB_MAX_STATES][4];
-	char *provenance;          /* JSON object text (malloc'd): inputs, options, residuals */
+	char *provenance; /* JSON object text (malloc'd): inputs, options, residuals */
 	/* cache of the per-pixel pseudo-inverses for one demosaicking method (pc_calib_pinv) */
 	float *pinv_px;
 	int pinv_method;
+	/* scratch of pc_calib_apply: 1/gain, the corrected frame, the flags, per-row counts */
+	float *apply_ig, *apply_corr;
+	uint8_t *apply_flag;
+	uint32_t *apply_rows;
 } pc_calib;
 
 PC_API void pc_calib_init(pc_calib *cal);
@@ -91,25 +96,25 @@ PC_API int pc_calib_copy(pc_calib *dst, const pc_calib *src);
 /* One recording of one stimulus: n frames of the geometry, read on demand. */
 typedef int (*pc_calib_frame_fn)(void *user, size_t i, pc_view *out);
 typedef struct pc_calib_stack {
-	const char *name;           /* for messages (the recording's path) */
+	const char *name; /* for messages (the recording's path) */
 	pc_calib_geometry geo;
-	size_t n;                   /* frames */
-	pc_calib_frame_fn get;      /* frame i into an owned view (freed by the library) */
+	size_t n;              /* frames */
+	pc_calib_frame_fn get; /* frame i into an owned view (freed by the library) */
 	void *user;
-	double exposure_us;         /* flat levels: the exposure (or any level measure), NAN unknown */
-	double angle_deg;           /* analyser stimulus: polarizer angle (AoLP), NAN unknown */
-	double dolp;                /* analyser stimulus: its DoLP (1 for a good polarizer) */
+	double exposure_us; /* flat levels: the exposure (or any level measure), NAN unknown */
+	double angle_deg;   /* analyser stimulus: polarizer angle (AoLP), NAN unknown */
+	double dolp;        /* analyser stimulus: its DoLP (1 for a good polarizer) */
 } pc_calib_stack;
 
 /* Progress: called with work done out of total from the calling thread (may be NULL). */
 typedef void (*pc_calib_progress_fn)(void *user, uint64_t done, uint64_t total);
 
 typedef struct pc_calib_opts {
-	double saturation;          /* DN; 0 = 2^bits − 1 */
-	double max_saturated_frac;  /* refuse a stimulus with more saturated pixels than this
-	                               (default 1e-4 when 0); fewer are marked invalid */
-	bool unknown_angles;        /* analyser: self-calibration, the angles are estimated */
-	unsigned iterations;        /* unknown angles: alternating iterations (0 = 50) */
+	double saturation;         /* DN; 0 = 2^bits − 1 */
+	double max_saturated_frac; /* refuse a stimulus with more saturated pixels than this
+	                              (default 1e-4 when 0); fewer are marked invalid */
+	bool unknown_angles;       /* analyser: self-calibration, the angles are estimated */
+	unsigned iterations;       /* unknown angles: alternating iterations (0 = 50) */
 	pc_calib_progress_fn progress;
 	void *progress_user;
 } pc_calib_opts;
@@ -124,7 +129,7 @@ PC_API int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_cal
  * channel (least squares through the levels, so any residual offset cancels), normalised to mean
  * 1 over valid pixels. base (may be NULL) supplies the dark; out gets base's parts + the gain. */
 PC_API int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib *base,
-		  const pc_calib_opts *o, pc_calib *out);
+                         const pc_calib_opts *o, pc_calib *out);
 
 /* Analyser: K stimuli of a uniform linearly polarized field, stimulus k with Stokes
  * s_k = s0·(1, P_k cos 2θ_k, P_k sin 2θ_k) of equal intensity s0 (a polarizer turned in front
@@ -137,7 +142,7 @@ PC_API int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc
  * (PC_ENUMERIC, "singular fit"), saturated stimuli, size mismatches. angles_out (may be NULL)
  * receives the K angles used (estimated ones in unknown-angles mode). */
 PC_API int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base,
-		      const pc_calib_opts *o, pc_calib *out, double *angles_out);
+                             const pc_calib_opts *o, pc_calib *out, double *angles_out);
 
 /* ---- ECM (Compain, Poirier & Drévillon 1999) ---- */
 
@@ -145,12 +150,12 @@ PC_API int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_cali
  * near 90°, retarder. B[i] is the (4·n_psa) × n_psg intensity matrix of sample i, row
  * 4a + c, column g (B[i][(4a + c)·n_psg + g]). */
 typedef struct pc_ecm_result {
-	double W[4][PC_CALIB_MAX_STATES];     /* generator, scaled so that mean W[0][g] = 1 */
-	double A[4 * PC_CALIB_MAX_STATES][4]; /* analyser */
+	double W[4][PC_CALIB_MAX_STATES];        /* generator, scaled so that mean W[0][g] = 1 */
+	double A[4 * PC_CALIB_MAX_STATES][4];    /* analyser */
 	double tau[4], psi_deg[4], delta_deg[4]; /* samples' parameters from the eigenvalues */
-	double theta_deg[4];                  /* samples' orientations (0 for the first polarizer) */
-	double lambda16, lambda15;            /* smallest eigenvalues of K (their ratio: quality) */
-	double residual;                      /* ‖A M_i W − B_i‖_F / ‖B_i‖_F, worst over samples */
+	double theta_deg[4];       /* samples' orientations (0 for the first polarizer) */
+	double lambda16, lambda15; /* smallest eigenvalues of K (their ratio: quality) */
+	double residual;           /* ‖A M_i W − B_i‖_F / ‖B_i‖_F, worst over samples */
 } pc_ecm_result;
 
 /* Solves ECM. n_psg must be 4, n_psa ≥ 1. theta_guess_deg (may be NULL) are the nominal
@@ -158,21 +163,21 @@ typedef struct pc_ecm_result {
  * smallest eigenvalue of K within ±20°. PC_ENUMERIC when B_air is singular or K's null space
  * is not one-dimensional. */
 PC_API int pc_ecm_solve(const double *const B[4], unsigned n_psg, unsigned n_psa,
-		 const double theta_guess_deg[2], pc_ecm_result *r);
+                        const double theta_guess_deg[2], pc_ecm_result *r);
 
 /* Mueller matrix of a linear diattenuating retarder with transmission axis at θ: principal
  * intensity transmittances p = 2τcos²ψ and q = 2τsin²ψ and retardance δ (the ECM sample model,
  * Compain et al. 1999 eq. 9, rotated: M = R(−θ)·M₀·R(θ)). */
 PC_API void pc_ecm_sample_mueller(double tau, double psi_rad, double delta_rad, double theta_rad,
-			   double M[4][4]);
+                                  double M[4][4]);
 
 /* ECM from recordings: each sample's stack holds n_psg·n_psa frames (or whole multiples:
  * cycles are averaged); the intensity matrix is the mean over the valid pixels of each
  * analyser channel, after base's dark (or black level). The result goes into out (base's
  * parts + PC_CAL_ECM). */
 PC_API int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa,
-		 const double theta_guess_deg[2], const pc_calib *base, const pc_calib_opts *o,
-		 pc_calib *out, pc_ecm_result *res);
+                        const double theta_guess_deg[2], const pc_calib *base,
+                        const pc_calib_opts *o, pc_calib *out, pc_ecm_result *res);
 
 /* ---- applying a calibration ---- */
 
@@ -185,19 +190,42 @@ PC_API int pc_calib_check(const pc_calib *cal, const pc_calib_geometry *g);
  * in the calibration or the sample is at or above the saturation level. Returns the number of
  * invalid pixels through n_invalid (may be NULL). */
 PC_API int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_t *valid_out,
-		     size_t *n_invalid);
+                            size_t *n_invalid);
 
 /* Per-output-pixel pseudo-inverses for a demosaicking method into cal's cache: superpixel
  * methods use pinv_sp; the others demosaic the analysis-vector maps with the method. *pinv
  * points into the cache (valid until cal changes or is freed). */
-PC_API int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_analyser_pinv *pinv);
+PC_API int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads,
+                         pc_analyser_pinv *pinv);
 
-/* The calibrated pipeline: check, correct, demosaic, Stokes with the calibrated analysers.
- * out as pc_stokes_from_raw (size pc_demosaic_out_size); valid_out (may be NULL, size of the
- * output) is 1 where every sample the pixel depends on is trusted. */
+/* The calibrated pipeline: check, correct, demosaic, Stokes with the calibrated analysers
+ * (pc_calib_apply with the calibration's saturation level). out as pc_stokes_from_raw (size
+ * pc_demosaic_out_size); valid_out (may be NULL, size of the output) is 1 where every sample
+ * the pixel depends on is trusted. */
 PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *g,
-		    pc_demosaic_method method, int threads, const pc_stokes_out *out,
-		    uint8_t *valid_out, size_t *n_invalid);
+                           pc_demosaic_method method, int threads, const pc_stokes_out *out,
+                           uint8_t *valid_out, size_t *n_invalid);
+
+/* The calibration as a pipeline stage, what `polarcam process/demosaic/capture --process/view
+ * --calibration F` run: checks that frame f matches the calibration (size, ROI origin
+ * f->meta.offset_x/y, mosaic, bit depth when both are known; a colour-polarization frame is
+ * refused), corrects every sample I = (raw − dark)·(1/gain) (the calibration's black level
+ * without a dark map), then through the core's front door demosaics (ch, when st is NULL) or
+ * computes Stokes with the calibrated analysers (pc_calib_pinv; the fused fast paths). A sample
+ * is flagged when the calibration distrusts its pixel (valid map), when it is at or above
+ * o->saturation_level (> 0; cal->saturation is the calibration's own) or at or below
+ * o->dead_level (> 0); valid (may be NULL) gets the output pixels whose method support holds a
+ * flagged sample (pc_validity_run), the same rule as the uncalibrated pipeline. o->black_level
+ * must be 0 (the dark map is the black level) and o->pinv NULL. Scratch memory is kept in cal
+ * (one frame size), so one calibration serves one thread at a time. */
+PC_API int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits,
+                          const pc_pipeline_opts *o, const pc_stokes_out *st, const pc_fplane *ch,
+                          pc_validity *valid);
+
+/* pc_calib_apply as a pc_raw_stage (polarcam/process.h) for pc_process_file, pc_demosaic_file
+ * and the live Stokes stream; name is reported in meta.json (e.g. the file's path); the stage's
+ * default saturation level is the calibration's. */
+PC_API pc_raw_stage pc_calib_stage(pc_calib *cal, const char *name);
 
 /* ---- the file (docs/calibration.md) ---- */
 

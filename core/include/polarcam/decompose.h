@@ -84,7 +84,7 @@ PC_API int pc_lu_chipman_map(const double *M, size_t n, unsigned options, const 
 
 /* The same with an explicit instruction set; PC_ENOTSUP when this CPU or build lacks it. */
 PC_API int pc_lu_chipman_map_isa(const double *M, size_t n, unsigned options, const pc_lc_map *out,
-                          pc_lc_isa isa);
+                                 pc_lc_isa isa);
 
 /* Name of the instruction set AUTO uses here ("avx512", "avx2", "scalar"). */
 PC_API const char *pc_lu_chipman_map_isa_name(void);

@@ -47,11 +47,15 @@ typedef enum pc_demosaic_method {
 	PC_DM_BILINEAR,            /* per-channel bilinear (tent) interpolation */
 	PC_DM_BICUBIC,             /* per-channel separable cubic convolution (Keys, a = -1/2) */
 	PC_DM_PPID,                /* pseudo-panchromatic image difference (Mihoubi et al.) */
-	PC_DM_RI,                  /* guided-filter residual interpolation (Kiku et al., Ahmed et al.) */
-	PC_DM_EARI,                /* edge-aware residual interpolation (Morimatsu et al.) */
-	PC_DM_BAYER_FIRST,         /* colour only: Bayer bilinear per analyser, then analysers */
-	PC_DM_BAYER_EARI,          /* colour only: Bayer bilinear per analyser, then EARI per colour */
-	PC_DM_RATIO,               /* edge-aware guide + ratio interpolation, two passes (ours) */
+	PC_DM_RI,          /* guided-filter residual interpolation (Kiku et al., Ahmed et al.) */
+	PC_DM_EARI,        /* edge-aware residual interpolation (Morimatsu et al.) */
+	PC_DM_BAYER_FIRST, /* colour only: Bayer bilinear per analyser, then analysers */
+	PC_DM_BAYER_EARI,  /* colour only: Bayer bilinear per analyser, then EARI per colour */
+	PC_DM_RATIO,       /* edge-aware guide + ratio interpolation, two passes (ours) */
+	PC_DM_EARI_MLRI,   /* EARI as its authors define it: their guide + MLRI (anchor) */
+	PC_DM_EARI_ROBUST, /* eari-mlri + the overshoot limiter (ours; recommended) */
+	PC_DM_PCDP,        /* polarization channel difference prior (Wu et al. 2021; anchor) */
+	PC_DM_IGRI2,       /* iterative guided residual interpolation 2 (Morimatsu 2021; anchor) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
@@ -80,14 +84,14 @@ PC_API int pc_demosaic_method_from_name(const char *name, pc_demosaic_method *m)
 PC_API unsigned pc_demosaic_channels(const pc_mosaic *m);
 
 /* Output size of a method for a raw of width × height. */
-PC_API void pc_demosaic_out_size(pc_demosaic_method m, uint32_t width, uint32_t height, uint32_t *ow,
-			  uint32_t *oh);
+PC_API void pc_demosaic_out_size(pc_demosaic_method m, uint32_t width, uint32_t height,
+                                 uint32_t *ow, uint32_t *oh);
 
 typedef struct pc_demosaic_opts {
-	int threads;      /* 0: pc_parallel default; 1: the caller's thread only */
-	bool reference;   /* run the scalar double-precision reference instead of the fast path */
-	double full_scale;/* the raw's full-scale value for edge-aware weights; 0: from the
-			   * format (2^bits - 1), or 1.0 for float32 raws */
+	int threads;       /* 0: pc_parallel default; 1: the caller's thread only */
+	bool reference;    /* run the scalar double-precision reference instead of the fast path */
+	double full_scale; /* the raw's full-scale value for edge-aware weights; 0: from the
+	                    * format (2^bits - 1), or 1.0 for float32 raws */
 } pc_demosaic_opts;
 
 /* ---- the front door: raw → demosaic (→ Stokes, polarcam/stokes.h) with one options struct ----
@@ -110,12 +114,12 @@ typedef struct pc_pipeline_opts {
 	int threads;             /* 0: pc_parallel default; 1: the caller's thread only */
 	bool reference;          /* the double-precision references instead of the fast paths */
 	double full_scale;       /* the raw's full scale for edge-aware weights (raw units); 0:
-				  * 2^bits − 1, or 1.0 for float32 raws. The methods use
-				  * full_scale − black_level. */
+	                          * 2^bits − 1, or 1.0 for float32 raws. The methods use
+	                          * full_scale − black_level. */
 	double black_level;      /* raw units, >= 0 and below full scale; 0: none */
 	double saturation_level; /* raw units; samples >= it are saturated; 0: not checked */
 	double dead_level;       /* raw units; samples <= it are dead; 0: not checked (to flag
-				  * samples of 0 in an integer raw, give 0.5) */
+	                          * samples of 0 in an integer raw, give 0.5) */
 	/* pc_stokes_run only: calibrated analysers (polarcam/stokes.h), NULL for ideal ones;
 	 * pc_demosaic_run refuses it */
 	const struct pc_analyser_pinv *pinv;
@@ -144,12 +148,17 @@ typedef struct pc_validity {
  * scale, a dead level at or above the saturation level, opts->pinv set; NaN or infinite float
  * input (PC_ERANGE naming the pixel). */
 PC_API int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_fplane *out,
-		    pc_validity *valid);
+                           pc_validity *valid);
+
+/* The validity output of pc_demosaic_run alone (valid required; nothing demosaicked): for a
+ * pipeline that demosaics elsewhere, e.g. a calibrated one that flags its own samples (a Mono8
+ * view of 0 = good, 1 = bad with saturation_level 1 gives the mask of the method's support). */
+PC_API int pc_validity_run(const pc_view *raw, const pc_pipeline_opts *opts, pc_validity *valid);
 
 /* pc_demosaic_run with method, mosaic m, and opts' threads, reference and full scale (opts may
  * be NULL): no black level, no validity. */
 PC_API int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
-		const pc_demosaic_opts *opts, const pc_fplane *out);
+                       const pc_demosaic_opts *opts, const pc_fplane *out);
 
 /* Bilinear into 16-bit planes, for live paths that keep integers (display, recording, 16-bit
  * outputs like OpenCV's): out[c] is the plane of analyser c (row stride out_stride bytes), each
@@ -159,14 +168,15 @@ PC_API int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_metho
  * the same sizes and mosaics as pc_demosaic. Equal to pc_demosaic's bilinear scaled and rounded
  * (tested). */
 PC_API int pc_demosaic_bilinear_u16(const pc_view *raw, const pc_mosaic *m, unsigned frac_bits,
-			     int threads, uint16_t *const out[4], size_t out_stride);
+                                    int threads, uint16_t *const out[4], size_t out_stride);
 
 /* Fills planes[0..channels) for an interleaved C-order (height, width, channels) float buffer. */
-PC_API void pc_fplanes_interleaved(float *base, uint32_t width, unsigned channels, pc_fplane *planes);
+PC_API void pc_fplanes_interleaved(float *base, uint32_t width, unsigned channels,
+                                   pc_fplane *planes);
 
 /* Fills planes[0..channels) for channels consecutive width × height planes (channel-major). */
 PC_API void pc_fplanes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
-			 pc_fplane *planes);
+                                pc_fplane *planes);
 
 #ifdef __cplusplus
 }

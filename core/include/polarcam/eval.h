@@ -33,21 +33,21 @@ extern "C" {
 
 /* Ground truth after protocol steps 1-2. */
 typedef struct pc_eval_truth {
-	double *ch[4];      /* I0, I45, I90, I135 normalised to [0, 1], width × height, C order */
+	double *ch[4]; /* I0, I45, I90, I135 normalised to [0, 1], width × height, C order */
 	uint32_t width, height;
-	double full_scale;  /* the container's full scale the values were divided by */
-	pc_pixfmt format;   /* the container format (Mono8, Mono16 or Float32) */
+	double full_scale; /* the container's full scale the values were divided by */
+	pc_pixfmt format;  /* the container format (Mono8, Mono16 or Float32) */
 } pc_eval_truth;
 
 typedef struct pc_eval_metrics {
-	double psnr_i;          /* mean of the four I channels' PSNRs (dB) */
-	double psnr_i_ch[4];    /* each channel's PSNR */
-	double psnr_s0;         /* of S0/2 */
-	double psnr_s1;         /* of (S1+1)/2 */
-	double psnr_s2;         /* of (S2+1)/2 */
+	double psnr_i;       /* mean of the four I channels' PSNRs (dB) */
+	double psnr_i_ch[4]; /* each channel's PSNR */
+	double psnr_s0;      /* of S0/2 */
+	double psnr_s1;      /* of (S1+1)/2 */
+	double psnr_s2;      /* of (S2+1)/2 */
 	double psnr_dolp;
-	double aolp_rmse_deg;   /* wrapped to [0°, 90°] */
-	double aolp_wrmse_deg;  /* weighted by the ground-truth DoLP */
+	double aolp_rmse_deg;  /* wrapped to [0°, 90°] */
+	double aolp_wrmse_deg; /* weighted by the ground-truth DoLP */
 } pc_eval_metrics;
 
 /* Steps 1-2 from four analyser images in the order I0, I45, I90, I135 (same size; Mono8,
@@ -63,14 +63,20 @@ PC_API int pc_eval_mosaic(const pc_eval_truth *t, const pc_mosaic *m, pc_view *r
 /* Steps 4-5: scores four demosaicked channels (in the raw's units; divided by est_scale to
  * normalise) against the truth. Images must be at least 2·PC_EVAL_BORDER + 1 in each size. */
 PC_API int pc_eval_score(const pc_eval_truth *t, const pc_fplane est[4], double est_scale,
-		  pc_eval_metrics *out);
+                         pc_eval_metrics *out);
 
 /* Steps 2-5 for one method: mosaic with the Sony layout, demosaic (opts may be NULL), score.
  * Half-resolution methods are scored after replication to full size (each 2×2 block takes its
  * super-pixel's values). */
 PC_API int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
-		   const pc_demosaic_opts *opts, pc_eval_metrics *out);
+                          const pc_demosaic_opts *opts, pc_eval_metrics *out);
 
+/* Steps 3-5 on a given raw frame with mosaic m (a camera's or the simulator's frame of the
+ * scene the truth describes, noise and all), raw and truth of one size; full scale and
+ * normalisation as pc_eval_method. */
+PC_API int pc_eval_method_raw(const pc_eval_truth *t, const pc_view *raw, const pc_mosaic *m,
+                              pc_demosaic_method method, const pc_demosaic_opts *opts,
+                              pc_eval_metrics *out);
 
 /* ---- Stokes estimates against the simulator's ground truth (polarcam demo) ----
  *
@@ -79,11 +85,11 @@ PC_API int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method,
  * over the pixels that are neither dark nor saturated. */
 
 typedef struct pc_eval_stokes_metrics {
-	double s0_rel_rms;      /* RMS of (S0 − T0)/T0 */
-	double dolp_bias;       /* mean of DoLP − truth DoLP */
-	double dolp_rms;        /* RMS of DoLP − truth DoLP */
-	double aolp_err_deg;    /* mean AoLP difference (wrapped to [0°, 90°]) weighted by the truth
-				   DoLP, over pixels with truth DoLP > 0.05 */
+	double s0_rel_rms;   /* RMS of (S0 − T0)/T0 */
+	double dolp_bias;    /* mean of DoLP − truth DoLP */
+	double dolp_rms;     /* RMS of DoLP − truth DoLP */
+	double aolp_err_deg; /* mean AoLP difference (wrapped to [0°, 90°]) weighted by the truth
+	                        DoLP, over pixels with truth DoLP > 0.05 */
 	double aolp_median_deg; /* its median over the same pixels (unweighted) */
 	long pixels;            /* pixels scored */
 	long aolp_pixels;       /* of them with truth DoLP > 0.05 */
@@ -92,20 +98,20 @@ typedef struct pc_eval_stokes_metrics {
 /* S0 (times scale), DoLP and AoLP planes of n truth Stokes vectors (n × 4 floats: S0..S3), in
  * double through pc_stokes_dolp (then clipped to 1) and pc_stokes_aolp_rad (polarcam/optics.h). */
 PC_API void pc_eval_truth_planes(const float *truth_stokes, size_t n, double scale, float *s0,
-			  float *dolp, float *aolp);
+                                 float *dolp, float *aolp);
 
 /* Scores estimate planes (W × H, contiguous) against truth planes in the same units. Scored
  * pixels: truth S0 above 2 % of full_scale, brightest analyser (S0·(1 + DoLP)/2) below 95 % of
  * it. NaN metrics when no pixel qualifies. */
 PC_API int pc_eval_stokes(const float *s0, const float *dolp, const float *aolp, const float *t_s0,
-		   const float *t_dolp, const float *t_aolp, uint32_t width, uint32_t height,
-		   double full_scale, pc_eval_stokes_metrics *out);
+                          const float *t_dolp, const float *t_aolp, uint32_t width, uint32_t height,
+                          double full_scale, pc_eval_stokes_metrics *out);
 
 /* Median |est − truth| over the n pixels whose weight exceeds wmin and whose values are finite
  * (angle_pi: differences of angles in [0, π], folded to [0, π/2]); *used (may be NULL) counts
  * them. NaN when none. */
-PC_API double pc_eval_median_abs_err(const float *est, const float *truth, const float *weight, size_t n,
-			      double wmin, bool angle_pi, long *used);
+PC_API double pc_eval_median_abs_err(const float *est, const float *truth, const float *weight,
+                                     size_t n, double wmin, bool angle_pi, long *used);
 
 #ifdef __cplusplus
 }

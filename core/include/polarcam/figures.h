@@ -49,10 +49,10 @@ PC_API const char *pc_verdict_name(pc_verdict v);
 
 typedef struct pc_figure_claim {
 	int figure;
-	const char *text;      /* the paper's claim */
-	pc_verdict corrected;  /* under the corrected model */
-	pc_verdict printed;    /* under the printed normalisation */
-	char evidence[1024];   /* the numbers (corrected model) */
+	const char *text;     /* the paper's claim */
+	pc_verdict corrected; /* under the corrected model */
+	pc_verdict printed;   /* under the printed normalisation */
+	char evidence[1024];  /* the numbers (corrected model) */
 } pc_figure_claim;
 
 /* Computes figs[2] .. figs[11] (figs[0], figs[1] unused). */

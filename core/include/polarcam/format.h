@@ -24,16 +24,16 @@ typedef enum pc_pixfmt {
 	PC_FMT_MONO12, /* 12 bits LSB-aligned in uint16 */
 	PC_FMT_MONO14, /* 14 bits LSB-aligned in uint16 */
 	PC_FMT_MONO16,
-	PC_FMT_MONO10P,       /* GenICam PFNC Mono10p: LSB-first bit stream, 4 px in 5 bytes */
-	PC_FMT_MONO12P,       /* GenICam PFNC Mono12p: LSB-first bit stream, 2 px in 3 bytes */
-	PC_FMT_MONO12PACKED,  /* GigE Vision Mono12Packed: [a11..4][b3..0|a3..0][b11..4] */
-	PC_FMT_Y10P,          /* V4L2 'Y10P' (MIPI CSI-2 RAW10): 4 high bytes, then 2-bit lows */
-	PC_FMT_Y12P,          /* V4L2 'Y12P' (MIPI CSI-2 RAW12): 2 high bytes, then 4-bit lows */
-	PC_FMT_FLOAT32,       /* one native-endian float plane */
-	PC_FMT_MONO14P,       /* GenICam PFNC Mono14p: LSB-first bit stream, 4 px in 7 bytes */
-	PC_FMT_MONO10PACKED,  /* GigE Vision Mono10Packed: [a9..2][00 b1..0 00 a1..0][b9..2] */
-	PC_FMT_Y10BPACK,      /* V4L2 'Y10B': MSB-first bit stream, 4 px in 5 bytes */
-	PC_FMT_Y14P,          /* V4L2 'Y14P' (MIPI CSI-2 RAW14): 4 high bytes, then 6-bit lows */
+	PC_FMT_MONO10P,      /* GenICam PFNC Mono10p: LSB-first bit stream, 4 px in 5 bytes */
+	PC_FMT_MONO12P,      /* GenICam PFNC Mono12p: LSB-first bit stream, 2 px in 3 bytes */
+	PC_FMT_MONO12PACKED, /* GigE Vision Mono12Packed: [a11..4][b3..0|a3..0][b11..4] */
+	PC_FMT_Y10P,         /* V4L2 'Y10P' (MIPI CSI-2 RAW10): 4 high bytes, then 2-bit lows */
+	PC_FMT_Y12P,         /* V4L2 'Y12P' (MIPI CSI-2 RAW12): 2 high bytes, then 4-bit lows */
+	PC_FMT_FLOAT32,      /* one native-endian float plane */
+	PC_FMT_MONO14P,      /* GenICam PFNC Mono14p: LSB-first bit stream, 4 px in 7 bytes */
+	PC_FMT_MONO10PACKED, /* GigE Vision Mono10Packed: [a9..2][00 b1..0 00 a1..0][b9..2] */
+	PC_FMT_Y10BPACK,     /* V4L2 'Y10B': MSB-first bit stream, 4 px in 5 bytes */
+	PC_FMT_Y14P,         /* V4L2 'Y14P' (MIPI CSI-2 RAW14): 4 high bytes, then 6-bit lows */
 	PC_FMT_COUNT
 } pc_pixfmt;
 
@@ -48,14 +48,14 @@ typedef enum pc_packing {
 
 typedef struct pc_format_info {
 	pc_pixfmt fmt;
-	const char *name;         /* polarcam's name, equal to the standard GenICam name */
-	unsigned bits;            /* significant bits per pixel (32 for float) */
-	unsigned group_pixels;    /* pixels per packing group (1 when unpacked) */
-	unsigned group_bytes;     /* bytes per packing group */
+	const char *name;      /* polarcam's name, equal to the standard GenICam name */
+	unsigned bits;         /* significant bits per pixel (32 for float) */
+	unsigned group_pixels; /* pixels per packing group (1 when unpacked) */
+	unsigned group_bytes;  /* bytes per packing group */
 	pc_packing packing;
 	bool is_float;
-	uint32_t v4l2_fourcc;     /* 0 when V4L2 has no such format */
-	uint32_t pfnc_code;       /* GenICam PFNC value of the standard name, 0 if none */
+	uint32_t v4l2_fourcc; /* 0 when V4L2 has no such format */
+	uint32_t pfnc_code;   /* GenICam PFNC value of the standard name, 0 if none */
 } pc_format_info;
 
 /* Table entry of a format, or NULL for PC_FMT_INVALID / out-of-range values. */
@@ -88,7 +88,7 @@ typedef struct pc_genicam_format {
 	bool polarized;     /* the name declares a polarizer mosaic */
 	bool colour;        /* ... with a Bayer colour filter on top (IMX250MYR) */
 	uint32_t code;      /* the value cameras use (PFNC or the vendor's custom value), 0 if
-			     * unknown; never identify a format by this value alone */
+	                     * unknown; never identify a format by this value alone */
 	const char *vendor; /* "PFNC", "LUCID", "FLIR" */
 } pc_genicam_format;
 
@@ -99,7 +99,7 @@ PC_API const pc_genicam_format *pc_genicam_formats(size_t *count);
 /* V4L2 fourcc as a printable 4-character string in buf (at least 5 bytes). */
 PC_API const char *pc_fourcc_str(uint32_t fourcc, char buf[5]);
 
-#define PC_FOURCC(a, b, c, d) \
+#define PC_FOURCC(a, b, c, d)                                                                      \
 	((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
 
 #ifdef __cplusplus

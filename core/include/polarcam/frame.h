@@ -36,7 +36,7 @@ typedef struct pc_frame_meta {
 	uint64_t timestamp_ns; /* capture time (source clock), monotonic */
 	double exposure_us;
 	double gain_db;
-	uint32_t status;       /* pc_frame_status flags */
+	uint32_t status;             /* pc_frame_status flags */
 	uint32_t offset_x, offset_y; /* ROI origin on the full sensor */
 } pc_frame_meta;
 
@@ -52,11 +52,13 @@ PC_API int pc_view_check(const pc_view *v);
 
 /* Allocates an owned view (64-byte aligned rows; stride = row bytes rounded up to 64 unless
  * stride_align is 1). Free with pc_view_free. */
-PC_API int pc_view_alloc(pc_view *v, pc_pixfmt fmt, uint32_t width, uint32_t height, size_t stride_align);
+PC_API int pc_view_alloc(pc_view *v, pc_pixfmt fmt, uint32_t width, uint32_t height,
+                         size_t stride_align);
 PC_API void pc_view_free(pc_view *v);
 
 /* A sub-view of (x0, y0, w, h) sharing the data (unpacked formats only). */
-PC_API int pc_view_crop(const pc_view *v, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, pc_view *out);
+PC_API int pc_view_crop(const pc_view *v, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
+                        pc_view *out);
 
 /* Unpacks any integer format to LSB-aligned uint16 rows (dst_stride in bytes). Fails with
  * PC_ERANGE naming the first pixel whose value exceeds the format's bit depth (a 12-bit frame
@@ -80,7 +82,7 @@ PC_API int pc_view_check_bits(const pc_view *v, unsigned bits);
 /* A frame of the (x0, y0, w, h) part of f sharing its data: the mosaic is shifted by the crop
  * offset (an odd offset changes the phase) and meta.offset_x/y advance by it. */
 PC_API int pc_frame_crop(const pc_frame *f, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
-		  pc_frame *out);
+                         pc_frame *out);
 
 /* Copies src into dst (same size and unpacked format) mirrored horizontally (flip_x) and/or
  * vertically (flip_y), as a camera's ReverseX/ReverseY would deliver it. The mosaic of the

@@ -36,9 +36,9 @@ extern "C" {
 typedef enum pc_cfa_color { PC_CFA_NONE = 0, PC_CFA_R, PC_CFA_G, PC_CFA_B } pc_cfa_color;
 
 typedef struct pc_mosaic {
-	uint8_t period;          /* 2 (monochrome) or 4 (colour-polarization) */
-	uint8_t channel[4][4];   /* analyser channel 0..3 at (y mod period, x mod period) */
-	uint8_t color[4][4];     /* pc_cfa_color at (y mod period, x mod period) */
+	uint8_t period;        /* 2 (monochrome) or 4 (colour-polarization) */
+	uint8_t channel[4][4]; /* analyser channel 0..3 at (y mod period, x mod period) */
+	uint8_t color[4][4];   /* pc_cfa_color at (y mod period, x mod period) */
 } pc_mosaic;
 
 /* Sony IMX250MZR: [90 45; 135 0]. */

@@ -19,7 +19,8 @@ typedef void (*pc_rows_fn)(void *ctx, uint32_t y0, uint32_t y1);
 
 /* Runs fn over rows [0, height) in bands of band_rows (0: chosen automatically), with at most
  * threads threads (0: pc_parallel_max_threads()). */
-PC_API void pc_parallel_rows(uint32_t height, uint32_t band_rows, int threads, pc_rows_fn fn, void *ctx);
+PC_API void pc_parallel_rows(uint32_t height, uint32_t band_rows, int threads, pc_rows_fn fn,
+                             void *ctx);
 
 /* The threads pc_parallel_rows uses by default: OpenMP's maximum (OMP_NUM_THREADS), 1 without
  * OpenMP. */

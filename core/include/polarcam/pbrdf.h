@@ -52,14 +52,21 @@ PC_API void pc_pbrdf_free(pc_pbrdf *p);
 
 /* f in sr⁻¹ for macro angles in radians (θ_i, θ_r in [0, π/2], Δφ any), in the macro frames of
  * physics.md §1. */
-PC_API int pc_pbrdf_eval(const pc_pbrdf *p, double theta_i, double theta_r, double dphi, double f[4][4]);
+PC_API int pc_pbrdf_eval(const pc_pbrdf *p, double theta_i, double theta_r, double dphi,
+                         double f[4][4]);
+
+/* The same with the three angles in degrees, their sines and cosines exact at multiples of 90°
+ * (pc_sincos_deg): the exact specular direction Δφ = 180°, θ_i = θ_r is hit exactly, which
+ * matters for narrow lobes (σ = 1e-20 has a lobe 1e-20 rad wide; sin(π) in radians is 1e-16). */
+PC_API int pc_pbrdf_eval_deg(const pc_pbrdf *p, double theta_i_deg, double theta_r_deg,
+                             double dphi_deg, double f[4][4]);
 
 /* The same from unit vectors in a local frame whose +z is the macro surface normal: k_i, k_r as
  * above; s_i ⟂ k_i and s_r ⟂ k_r are unit s-vectors of the caller's Stokes frames (any
  * orientation; physics.md §2 with s_Mi, s_Mr replaced by them). Returns an all-zero matrix
  * (and 0) below the horizon. */
 PC_API int pc_pbrdf_eval_vec(const pc_pbrdf *p, const double k_i[3], const double k_r[3],
-                      const double s_i[3], const double s_r[3], double f[4][4]);
+                             const double s_i[3], const double s_r[3], double f[4][4]);
 
 /* ρ^s(θ_i) of this material (physics.md §2 eq. 11; §5 quadrature or table). In PC_RHO_QUAD
  * mode this is the direct N×N slope-space quadrature (slow: ~N² integrand evaluations); in
@@ -74,6 +81,14 @@ PC_API double pc_pbrdf_rho_s(const pc_pbrdf *p, double theta_i);
  * integrand is a delta-like lobe and ρ^s equals its σ → 0 limit to 2e-4. The pointwise BRDF is
  * still the formula (a very narrow lobe); renderers may prefer pc_pbrdf_mirror(). */
 #define PC_PBRDF_SIGMA_MIRROR 0.01
+/* Smallest σ pc_pbrdf_new accepts: the specular peak 1/(8πσ²)·G/(cos⁴θ_N cosθ_i cosθ_r) must
+ * stay within the double range for every direction above PC_PBRDF_COS_HORIZON (derivation:
+ * docs/physics-notes.md, hard cases). Smaller σ is refused (PC_ERANGE); it is a mirror
+ * (pc_pbrdf_mirror). */
+#define PC_PBRDF_SIGMA_MIN 1e-50
+/* Directions with cosθ ≤ this count as at the horizon (all-zero matrix): without shadowing
+ * K ∝ 1/(cosθ_i cosθ_r) would overflow closer to it. */
+#define PC_PBRDF_COS_HORIZON 1e-60
 /* Above this σ the single-scattering V-groove model loses energy: outside its validity. */
 #define PC_PBRDF_SIGMA_VALID_MAX 0.5
 /* σ range of the PC_RHO_TABLE grid (32 log-spaced nodes) and its cosθ_i nodes. */
@@ -110,7 +125,7 @@ PC_API double pc_pbrdf_rho_s_quad(const pc_pbrdf *p, double theta_i, int order);
  * k_r = (−k_ix, −k_iy, k_iz), with the caller's s-vectors s_i ⟂ k_i, s_r ⟂ k_r as in
  * pc_pbrdf_eval_vec. All-zero for k_iz ≤ 0. */
 PC_API int pc_pbrdf_mirror(const pc_pbrdf *p, const double k_i[3], const double s_i[3],
-                    const double s_r[3], double R[4][4]);
+                           const double s_r[3], double R[4][4]);
 
 #ifdef __cplusplus
 }

@@ -30,12 +30,13 @@ typedef enum pc_aolp_style {
 /* Grey picture of a float image, linear from lo (black) to hi (white). Non-finite values are
  * drawn magenta so that they cannot hide. */
 PC_API int pc_picture_grey(const pc_fplane *in, uint32_t width, uint32_t height, float lo, float hi,
-		    uint8_t *rgb, size_t rgb_stride);
+                           uint8_t *rgb, size_t rgb_stride);
 
 /* AoLP false colour; dolp may be NULL for PC_AOLP_HUE_ONLY. dolp_max (> 0) is the DoLP shown
  * at full value/saturation. */
-PC_API int pc_picture_aolp(const pc_fplane *aolp, const pc_fplane *dolp, uint32_t width, uint32_t height,
-		    pc_aolp_style style, float dolp_max, uint8_t *rgb, size_t rgb_stride);
+PC_API int pc_picture_aolp(const pc_fplane *aolp, const pc_fplane *dolp, uint32_t width,
+                           uint32_t height, pc_aolp_style style, float dolp_max, uint8_t *rgb,
+                           size_t rgb_stride);
 
 /* The q-quantile (0..1) of the finite values of an image (histogram-based, 4096 bins between
  * the minimum and maximum; exact to 1/4096 of the range). For display ranges. */
@@ -48,10 +49,24 @@ PC_API float pc_picture_quantile(const pc_fplane *in, uint32_t width, uint32_t h
  * AoLP colour looks like. Returns the number of pixels painted. */
 #define PC_PICTURE_MASK_RGB0 52
 #define PC_PICTURE_MASK_RGB1 84
-PC_API size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t height, float threshold,
-			   uint8_t *rgb, size_t rgb_stride);
+PC_API size_t pc_picture_mask_low(const pc_fplane *s0, uint32_t width, uint32_t height,
+                                  float threshold, uint8_t *rgb, size_t rgb_stride);
 /* The mask's colour at pixel (x, y) (for legends). */
 PC_API void pc_picture_mask_rgb(uint32_t x, uint32_t y, uint8_t rgb[3]);
+
+/* Invalid pixels (a validity mask of polarcam/demosaic.h: 0 where the value depends on a
+ * saturated or dead sample, or on one the calibration distrusts) are painted with a checker of
+ * PC_PICTURE_INVALID_RGB and black, 2 pixels per square (4 per period, so it survives a
+ * display downscale of 2), drawn over everything, the low-signal hatch included: no grey, hue
+ * or the hatch looks like it. valid: row stride valid_stride bytes; NULL paints nothing.
+ * Returns the number of pixels painted. */
+#define PC_PICTURE_INVALID_R 255
+#define PC_PICTURE_INVALID_G 0
+#define PC_PICTURE_INVALID_B 160
+PC_API size_t pc_picture_mask_invalid(const uint8_t *valid, size_t valid_stride, uint32_t width,
+                                      uint32_t height, uint8_t *rgb, size_t rgb_stride);
+/* The invalid mark's colour at pixel (x, y) (for legends). */
+PC_API void pc_picture_invalid_rgb(uint32_t x, uint32_t y, uint8_t rgb[3]);
 
 /* HSV (h in [0, 1) of the circle, s, v in [0, 1]) to RGB8. */
 PC_API void pc_hsv_to_rgb8(double h, double s, double v, uint8_t rgb[3]);

@@ -27,7 +27,7 @@ typedef struct pc_progress {
 
 /* Calls p's callback when there is one: its answer, 0 otherwise (p may be NULL). */
 static inline int pc_progress_report(const pc_progress *p, const char *phase, uint64_t done,
-				     uint64_t total)
+                                     uint64_t total)
 {
 	return p && p->fn ? p->fn(p->user, phase, done, total) : 0;
 }

@@ -1,7 +1,7 @@
 /* polarcam/stokes.h - linear Stokes images, DoLP and AoLP from analyser images or raw mosaics.
  *
  * Formulas (ideal analysers at 0°, 45°, 90°, 135°; the frozen evaluation protocol,
- * ../shared/data/README.md, step 4):
+ * docs/evaluation.md, step 4):
  *   S0 = (I0 + I45 + I90 + I135) / 2,  S1 = I0 − I90,  S2 = I45 − I135,
  *   DoLP = sqrt(S1² + S2²) / S0, clipped to [0, 1] (0 where S0 <= 0),
  *   AoLP = ½·atan2(S2, S1) in radians, mapped to [0, π).
@@ -67,7 +67,7 @@ PC_API int pc_stokes_pinv(const float *w, size_t n, float *pinv);
 /* Stokes, DoLP and AoLP of width × height pixels from four analyser images (I0, I45, I90,
  * I135). pinv NULL: the ideal formulas above; otherwise the least-squares pseudo-inverses. */
 PC_API int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t height,
-			    const pc_analyser_pinv *pinv, const pc_stokes_out *out);
+                                   const pc_analyser_pinv *pinv, const pc_stokes_out *out);
 
 /* The front door of the pipeline: demosaic raw (black level subtracted), then Stokes/DoLP/AoLP
  * through ideal analysers or, with opts->pinv, calibrated ones - without full-size
@@ -79,12 +79,12 @@ PC_API int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32
  * pc_stokes_from_channels. Errors as pc_demosaic_run (opts->pinv allowed), plus missing outputs
  * and a pinv grid that is empty or larger than the output. */
 PC_API int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out,
-		  pc_validity *valid);
+                         pc_validity *valid);
 
 /* pc_stokes_run with method, mosaic m, and opts' threads, reference and full scale (opts may
  * be NULL): ideal analysers, no black level, no validity. */
 PC_API int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
-		       const pc_demosaic_opts *opts, const pc_stokes_out *out);
+                              const pc_demosaic_opts *opts, const pc_stokes_out *out);
 
 /* Whether pc_stokes_run with PC_DM_BILINEAR (or a row-cache method) writes these width ×
  * height outputs with non-temporal (cache-bypassing) stores on this machine: AVX2, planar

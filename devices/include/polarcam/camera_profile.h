@@ -53,7 +53,7 @@ typedef struct pc_camera_format {
  * Errors: those of pc_format_from_genicam (PC_ENOTSUP for colour or processed formats without
  * a raw mosaic, PC_EINVAL for unknown names), PC_EINVAL for an invalid override. */
 PC_API int pc_camera_format_get(const pc_camera_profile *p, const char *name,
-                         const pc_mosaic *mosaic_override, pc_camera_format *out);
+                                const pc_mosaic *mosaic_override, pc_camera_format *out);
 
 /* The table, NULL-terminated by an entry with vendor NULL. */
 PC_API const pc_camera_profile *pc_camera_profiles(void);

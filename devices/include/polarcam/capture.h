@@ -62,22 +62,25 @@ typedef struct pc_capture_opts {
 	bool overwrite;           /* replace an existing output folder (polarcam/io.h's rule) */
 	bool process;             /* every frame through the Stokes stream */
 	const char *method;       /* demosaicking method for process; NULL: the mosaic's default
-				     (pc_process_method) */
+	                             (pc_process_method) */
 	uint64_t keep_every;      /* with process: DIR/processed/ keeps s0_NNNNNN.npy,
-				     dolp_NNNNNN.npy, aolp_NNNNNN.npy of the frames at positions
-				     0, k, 2k, ... and of the last; 0: of the last frame only */
+	                             dolp_NNNNNN.npy, aolp_NNNNNN.npy of the frames at positions
+	                             0, k, 2k, ... and of the last; 0: of the last frame only */
 	int timeout_ms;           /* longest wait for a frame */
 	pc_progress progress;     /* phase "capture" (frames acquired of those asked), then
-				     "writing" (frames written of those acquired) while the queue
-				     drains; non-zero during "capture" stops the acquisition
-				     (PC_ECANCELED, "interrupted after N of M frames"); the frames
-				     acquired are written all the same */
+	                             "writing" (frames written of those acquired) while the queue
+	                             drains; non-zero during "capture" stops the acquisition
+	                             (PC_ECANCELED, "interrupted after N of M frames"); the frames
+	                             acquired are written all the same */
 	pc_incomplete_policy incomplete;
-	pc_recording_store store;  /* how frames are stored (PNG by default) */
-	uint64_t queue_bytes;      /* memory for queued frames; 0: half the available memory, at
-				      most 4 GiB (at least two frames in any case) */
-	double write_delay_ms;     /* testing: the writer waits this long after each frame, as a
-				      slow disk would (0: none) */
+	pc_recording_store store; /* how frames are stored (PNG by default) */
+	uint64_t queue_bytes;     /* memory for queued frames; 0: half the available memory, at
+	                             most 4 GiB (at least two frames in any case) */
+	double write_delay_ms;    /* testing: the writer waits this long after each frame, as a
+	                             slow disk would (0: none) */
+	pc_stream_levels levels;  /* black level (recorded in meta.json extra.sensor.offset_dn
+	                             when known), saturation, calibration for process
+	                             (polarcam/stream.h; pc_stream_levels_default()) */
 } pc_capture_opts;
 
 typedef struct pc_capture_report {
@@ -87,15 +90,15 @@ typedef struct pc_capture_report {
 	uint64_t kept;     /* incomplete frames recorded (policy keep) */
 	uint64_t lost;     /* frames lost because the queue was full */
 	int error;         /* 0 when the recording is complete, else why not (PC_E*): PC_ECANCELED
-			      stopped, PC_EIO damaged frames kept or refused, PC_EOVERFLOW frames
-			      lost, or the source's or writer's error */
+	                      stopped, PC_EIO damaged frames kept or refused, PC_EOVERFLOW frames
+	                      lost, or the source's or writer's error */
 	char message[512]; /* what ended it */
 	char *json;        /* {source, dir, store, frames, requested, complete, seconds, fps,
-			      format, stats, incomplete {policy, skipped, kept}, queue {frame_bytes,
-			      limit, capacity, needed_max, peak, lost, written, write_ms_mean,
-			      write_ms_max, period_ms}, process (with process: method, frames, kept,
-			      keep_every, mean_ms, max_ms, last_mean_dolp, width, height), error}:
-			      compact text, malloc'd */
+	                      format, stats, incomplete {policy, skipped, kept}, queue {frame_bytes,
+	                      limit, capacity, needed_max, peak, lost, written, write_ms_mean,
+	                      write_ms_max, period_ms}, process (with process: method, frames, kept,
+	                      keep_every, mean_ms, max_ms, last_mean_dolp, width, height), error}:
+	                      compact text, malloc'd */
 } pc_capture_report;
 
 /* Records. A negative return means nothing was put in place (the method, the source or the

@@ -67,7 +67,7 @@ typedef struct pc_compliance_result {
 /* Runs every check against the source at uri. Returns 0 when the run completed (look at
  * result->failed), a negative error when the source could not even be opened. */
 PC_API int pc_source_compliance(const char *uri, const pc_compliance_options *opt,
-                         pc_compliance_result *result);
+                                pc_compliance_result *result);
 
 #ifdef __cplusplus
 }

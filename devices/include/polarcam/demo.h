@@ -27,12 +27,12 @@ typedef struct pc_demo_opts {
 	const char *scene_path;            /* NULL: the built-in default scene */
 	uint64_t seed;                     /* noise seed */
 	const pc_demosaic_method *methods; /* compared methods (half-resolution ones run as their
-					      full-resolution variant) */
+	                                      full-resolution variant) */
 	unsigned n_methods;
-	bool mueller;          /* run the Mueller-imaging step */
-	bool overwrite;        /* replace an existing output folder (polarcam/io.h's rule) */
-	int threads;           /* 0: all */
-	pc_progress progress;  /* phases "render", "mueller render", "mueller frames" */
+	bool mueller;         /* run the Mueller-imaging step */
+	bool overwrite;       /* replace an existing output folder (polarcam/io.h's rule) */
+	int threads;          /* 0: all */
+	pc_progress progress; /* phases "render", "mueller render", "mueller frames" */
 } pc_demo_opts;
 
 typedef struct pc_demo pc_demo;

@@ -28,14 +28,14 @@ PC_API int pc_display_open(pc_display **out, const char *title);
  * to wait_ms for a key. Returns the key code (>= 0), -1 when no key was pressed, or a negative
  * PC_E* code (PC_ECANCELED when the window was closed). */
 PC_API int pc_display_show(pc_display *d, const uint8_t *rgb, uint32_t width, uint32_t height,
-                    size_t stride, const char *overlay);
+                           size_t stride, const char *overlay);
 
 PC_API void pc_display_close(pc_display *d);
 
 /* Resizes RGB8 src into dst (area averaging when shrinking): OpenCV when available, else a
  * nearest-neighbour loop. */
 PC_API int pc_display_resize_rgb8(const uint8_t *src, uint32_t sw, uint32_t sh, size_t sstride,
-                           uint8_t *dst, uint32_t dw, uint32_t dh, size_t dstride);
+                                  uint8_t *dst, uint32_t dw, uint32_t dh, size_t dstride);
 
 #ifdef __cplusplus
 }

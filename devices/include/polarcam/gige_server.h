@@ -49,7 +49,7 @@ typedef struct pc_gige_server_options {
 	double frame_rate_hz;     /* initial AcquisitionFrameRate (0 = 25) */
 	double lost_packet_ratio; /* fault injection: fraction of GVSP packets not sent */
 	pc_progress progress;     /* phase "cycle" (frames rendered before serving, cycle > 0);
-				     non-zero stops the start (PC_ECANCELED) */
+	                             non-zero stops the start (PC_ECANCELED) */
 } pc_gige_server_options;
 
 typedef struct pc_gige_server_stats {

@@ -26,7 +26,7 @@ typedef struct pc_mueller_request {
 	const char *states_path; /* states.json; NULL: RECORDING/states.json (recordings only) */
 	const char *layout;      /* the frames' mosaic; NULL: the states file's, else IMX250MZR */
 	pc_mueller_run_opts run; /* method, threads, rebuild; run.black_level NaN: the
-				    recording's black level (pc_recording_black_level), else 0 */
+	                            recording's black level (pc_recording_black_level), else 0 */
 	pc_progress progress;    /* phase "mueller", frames */
 } pc_mueller_request;
 
@@ -40,19 +40,19 @@ typedef struct pc_mueller_used {
 
 /* The frames of a recording directory, in recording order. */
 PC_API int pc_mueller_from_recording(const char *dir, const pc_mueller_request *rq,
-			      pc_mueller_result *res, pc_mueller_used *used);
+                                     pc_mueller_result *res, pc_mueller_used *used);
 
 /* Raw mosaic files (PNG, TIFF, .npy, BMP: pc_image_read_mosaic) in sequence order;
  * rq->states_path is required. */
 PC_API int pc_mueller_from_files(const char *const *files, size_t n, const pc_mueller_request *rq,
-			  pc_mueller_result *res, pc_mueller_used *used);
+                                 pc_mueller_result *res, pc_mueller_used *used);
 
 /* n_psg·n_psa frames dequeued from a streaming source (frame j is the j-th dequeued: a gap in
  * the sequence numbers is an error, PC_EIO, since a lost frame breaks the states' order), under
  * the states st. The mosaic is the frames' own unless rq->layout is given. */
 PC_API int pc_mueller_from_source(pc_source *src, const pc_sim_states *st, int timeout_ms,
-			   const pc_mueller_request *rq, pc_mueller_result *res,
-			   pc_mueller_used *used);
+                                  const pc_mueller_request *rq, pc_mueller_result *res,
+                                  pc_mueller_used *used);
 
 #ifdef __cplusplus
 }

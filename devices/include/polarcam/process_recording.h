@@ -18,8 +18,8 @@ extern "C" {
  * recording's with pc_recording_frame_mosaic. PC_EFORMAT for a recording without a polarizer
  * mosaic, PC_EINVAL for one without frames. */
 PC_API int pc_process_recording(const char *rec_dir, const pc_process_batch *b,
-			 const pc_process_opts *o, const char *dir,
-			 const pc_stokes_folder_opts *folder, char **meta);
+                                const pc_process_opts *o, const char *dir,
+                                const pc_stokes_folder_opts *folder, char **meta);
 
 #ifdef __cplusplus
 }

@@ -76,7 +76,7 @@ typedef struct pc_recording_desc {
 	const char *device_format; /* device's name for it, may be NULL */
 	uint32_t width, height, offset_x, offset_y, sensor_width, sensor_height;
 	bool polarized;
-	pc_mosaic mosaic; /* phase at pixel (0,0) of the frames */
+	pc_mosaic mosaic;         /* phase at pixel (0,0) of the frames */
 	pc_recording_store store; /* how frames are written (PNG by default) */
 } pc_recording_desc;
 
@@ -92,7 +92,7 @@ typedef struct pc_recording_frame {
  * files beyond the new recording's end are left alone but meta.json only lists the new frames.
  * Temporary files that killed writers left in dir are removed (pc_atomic_sweep). */
 PC_API int pc_recording_create(pc_recording **out, const char *dir, const pc_recording_desc *desc,
-                        bool overwrite);
+                               bool overwrite);
 /* Appends a frame: checks it matches the description, writes raw_NNNNNN.png (.npy, .raw)
  * atomically and records its metadata. meta.json is rewritten at most every 0.25 s while
  * recording. */
@@ -121,14 +121,32 @@ PC_API bool pc_recording_is_complete(const pc_recording *r);
 PC_API const char *pc_recording_dir(const pc_recording *r);
 
 /* The black level (DN) of the sensor that made the frames, when the recording says
- * (extra.sensor.offset_dn, as `polarcam render` writes it), else 0. */
+ * (extra.sensor.offset_dn, as `polarcam render` and `polarcam capture` of a source that
+ * declares one write it), else 0. */
 PC_API double pc_recording_black_level(const pc_recording *r);
 
 /* The mosaic of a raw file when it is a frame listed in its directory's meta.json (a recording
  * written by render or capture), or of a recording directory itself: 1 and *m set; 0 when it is
- * not (no such recording, not one of its frames, frames without a polarizer mosaic). Never an
- * error. */
+ * not (no such recording, not one of its frames, frames without a polarizer mosaic). An error
+ * (negative, detail naming both files) only for a file named like a recording's frame
+ * (raw_NNNNNN.png) beside a meta.json that does not open: its mosaic is unknown, and guessing
+ * the monochrome default would be wrong for a colour recording. */
 PC_API int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
+
+/* What a recording says about one of its frames (pc_recording_frame_info). */
+typedef struct pc_recording_frame_meta {
+	pc_mosaic mosaic; /* the frames' mosaic (when polarized) */
+	bool polarized;
+	double black_level; /* pc_recording_black_level: DN, 0 when not said */
+	unsigned bits;      /* significant bits of the frames */
+	uint32_t offset_x, offset_y, sensor_width, sensor_height; /* ROI origin, sensor size */
+} pc_recording_frame_meta;
+
+/* pc_recording_frame_mosaic with everything the recording says about the frame: 1 and *m set
+ * when path is a frame listed in its directory's meta.json, else 0; an error (negative) as
+ * pc_recording_frame_mosaic's, for a frame named like a recording's beside a meta.json that
+ * does not open. */
+PC_API int pc_recording_frame_info(const char *path, pc_recording_frame_meta *m);
 
 /* Reads frame i into an owned view of the recording's storage format (Mono8 or 16-bit
  * Mono10/12/14/16 by bits). Checks the file's size and bit depth against meta.json and every

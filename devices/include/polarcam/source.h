@@ -107,7 +107,8 @@ typedef enum pc_control_id {
 	PC_CTRL_COUNT
 } pc_control_id;
 
-PC_API const char *pc_control_name(pc_control_id id); /* "exposure_us", "gain_db", "frame_rate_hz" */
+PC_API const char *
+pc_control_name(pc_control_id id); /* "exposure_us", "gain_db", "frame_rate_hz" */
 
 typedef struct pc_control_info {
 	double min, max; /* inclusive range */
@@ -141,8 +142,10 @@ typedef struct pc_source_info {
 	char vendor[64], model[64], serial[64];
 	char driver[64]; /* backend / transport ("aravis-gv", "vivid", "polarcam-sim") */
 	uint32_t sensor_width, sensor_height;
-	bool polarized;   /* has a polarizer mosaic (from the profile table or the device) */
-	pc_mosaic mosaic; /* full-sensor mosaic (phase at sensor pixel 0,0) */
+	bool polarized;     /* has a polarizer mosaic (from the profile table or the device) */
+	pc_mosaic mosaic;   /* full-sensor mosaic (phase at sensor pixel 0,0) */
+	double black_level; /* DN the source declares (the simulator's sensor offset, a recording's
+	                       meta.json); 0: not declared (cameras: give --black-level) */
 } pc_source_info;
 
 /* ---- buffers ---- */
@@ -289,7 +292,7 @@ struct pc_source_ops {
 
 /* Opens a source with explicit ops (as the registry does for a scheme). */
 PC_API int pc_source_open_ops(pc_source **out, const pc_source_ops *ops, const char *scheme,
-                       const char *arg_with_options);
+                              const char *arg_with_options);
 
 /* Backend helpers. */
 PC_API void *pc_source_priv(pc_source *s);
@@ -300,8 +303,10 @@ PC_API const pc_source_format *pc_source_current_format(const pc_source *s);
 PC_API const char *pc_source_option(pc_source *s, const char *key);
 /* Typed options: 0 and *out untouched when absent; PC_EINVAL naming the URI option when
  * malformed or outside [min, max]. */
-PC_API int pc_source_option_double(pc_source *s, const char *key, double min, double max, double *out);
-PC_API int pc_source_option_u64(pc_source *s, const char *key, uint64_t min, uint64_t max, uint64_t *out);
+PC_API int pc_source_option_double(pc_source *s, const char *key, double min, double max,
+                                   double *out);
+PC_API int pc_source_option_u64(pc_source *s, const char *key, uint64_t min, uint64_t max,
+                                uint64_t *out);
 PC_API int pc_source_option_bool(pc_source *s, const char *key, bool *out);
 
 /* Fills the output fields of a request from the format table: frame_bytes from stride and

@@ -5,8 +5,10 @@
  *   controls, READY with its buffers. An adjusted answer (libcamera's Adjusted) is an error that
  *   shows what the source proposes: requests are never silently changed.
  *
- *   pc_stokes_stream: each dequeued frame → pc_stokes_from_raw → S0, DoLP, AoLP planes (sized
- *   by the frames), and on demand one picture of three panels S0 | DoLP | AoLP.
+ *   pc_stokes_stream: each dequeued frame → the front door (pc_stokes_run with the black level and
+ *   the saturation check; or a calibration, pc_calib_apply) → S0, DoLP, AoLP planes and the
+ *   validity mask (sized by the frames), and on demand one picture of three panels
+ *   S0 | DoLP | AoLP with the invalid pixels marked.
  */
 #ifndef POLARCAM_STREAM_H
 #define POLARCAM_STREAM_H
@@ -25,8 +27,8 @@ extern "C" {
 
 typedef struct pc_stream_request {
 	const char *uri;
-	const char *format;               /* a device pixel format by name; NULL: the source's */
-	bool roi_set;                     /* roi = x, y, width, height on the sensor */
+	const char *format; /* a device pixel format by name; NULL: the source's */
+	bool roi_set;       /* roi = x, y, width, height on the sensor */
 	uint32_t roi[4];
 	double exposure_us, gain_db, fps; /* < 0: leave alone */
 	unsigned buffers;                 /* 1..64 */
@@ -49,10 +51,39 @@ PC_API char *pc_source_stats_json(const pc_source_stats *st);
 
 /* ---- live Stokes ---- */
 
+/* The raw's levels and calibration for a live stream (capture --process, view), as
+ * pc_process_opts gives them for files (polarcam/process.h). */
+typedef struct pc_stream_levels {
+	double black_level;      /* DN subtracted; NAN: what the source declares
+	                            (pc_source_info.black_level), else 0 */
+	double saturation_level; /* DN; 0: the calibration's, else the frames' full scale
+	                            (2^bits − 1); < 0: not checked */
+	double dead_level;       /* DN; 0: not checked */
+	const char *calibration; /* a `polarcam calibrate` file (polarcam/calib.h); NULL: none */
+} pc_stream_levels;
+
+/* The defaults: black level from the source, saturation at full scale, no dead level, no
+ * calibration. */
+PC_API pc_stream_levels pc_stream_levels_default(void);
+
 typedef struct pc_stokes_stream pc_stokes_stream;
 
 PC_API int pc_stokes_stream_new(pc_demosaic_method method, pc_stokes_stream **out);
 PC_API void pc_stokes_stream_free(pc_stokes_stream *s);
+
+/* Sets the levels (lv NULL: pc_stream_levels_default) before the first frame: reads the
+ * calibration file and checks it against src's format (size, ROI, mosaic, bit depth), so that
+ * a mismatch is refused before anything is recorded; src (may be NULL) also gives the declared
+ * black level. A black level given with a calibration is refused (the dark map is the black
+ * level). */
+PC_API int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
+                                       pc_source *src);
+
+/* The last frame's validity (mask of the output size, 1 valid; n_invalid) and the black and
+ * saturation levels used (0: none), the calibration file (NULL: none). */
+PC_API const pc_validity *pc_stokes_stream_validity(const pc_stokes_stream *s);
+PC_API void pc_stokes_stream_levels_used(const pc_stokes_stream *s, double *black,
+                                         double *saturation, const char **calibration);
 
 /* Runs a frame (which must carry a polarizer mosaic: PC_EFORMAT otherwise) through the
  * pipeline into the stream's S0, DoLP and AoLP planes; sizes follow the frame. */
@@ -60,12 +91,13 @@ PC_API int pc_stokes_stream_process(pc_stokes_stream *s, const pc_frame *f);
 
 /* The planes of the last frame (s1, s2 not computed) and their size. */
 PC_API const pc_stokes_out *pc_stokes_stream_planes(const pc_stokes_stream *s, uint32_t *width,
-					     uint32_t *height);
+                                                    uint32_t *height);
 /* Seconds the last pc_stokes_stream_process spent in pc_stokes_from_raw. */
 PC_API double pc_stokes_stream_seconds(const pc_stokes_stream *s);
 
 /* Draws S0 (grey, 0 to the 99.9th percentile), DoLP (grey, 0..1) and AoLP (hue = AoLP,
- * value = DoLP) of the last frame side by side: *rgb is (3·width) × height RGB8 with the stride
+ * value = DoLP) of the last frame side by side, invalid pixels marked in each
+ * (pc_picture_mask_invalid): *rgb is (3·width) × height RGB8 with the stride
  * 9·width bytes, owned by the stream (valid until the next process). */
 PC_API int pc_stokes_stream_picture(pc_stokes_stream *s, const uint8_t **rgb);
 

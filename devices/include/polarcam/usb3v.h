@@ -44,7 +44,7 @@ enum {
 /* Pure diagnosis: writes the problems found (or "") into note and returns true when the device
  * should stream. usbfs_mb < 0 means unknown. vid/pid and bus/address appear in the advice. */
 PC_API bool pc_usb3v_diagnose(int speed, int open_status, long usbfs_mb, unsigned vid, unsigned pid,
-                       unsigned bus, unsigned address, char *note, size_t size);
+                              unsigned bus, unsigned address, char *note, size_t size);
 
 /* The usbfs memory limit in MB from /sys/module/usbcore/parameters/usbfs_memory_mb, -1 when
  * it cannot be read. */

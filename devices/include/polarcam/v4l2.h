@@ -87,11 +87,11 @@ PC_API int pc_v4l2_frame_sizes(pc_v4l2 *dev, uint32_t fourcc, pc_v4l2_size_range
  * may ignore it). The answer may differ from the request: compare to tell valid from adjusted.
  * Progressive frames only: a driver that insists on fields gives PC_ENOTSUP. */
 PC_API int pc_v4l2_try_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
-                       size_t bytesperline, pc_v4l2_format *got);
+                              size_t bytesperline, pc_v4l2_format *got);
 /* VIDIOC_S_FMT. Fails with PC_EFORMAT when the driver answers with a fourcc polarcam cannot
  * read or a bytesperline/sizeimage too small for the table's row size (corrupt answer). */
 PC_API int pc_v4l2_set_format(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
-                       size_t bytesperline, pc_v4l2_format *got);
+                              size_t bytesperline, pc_v4l2_format *got);
 /* VIDIOC_G_FMT. */
 PC_API int pc_v4l2_get_format(pc_v4l2 *dev, pc_v4l2_format *got);
 
@@ -113,7 +113,8 @@ typedef struct pc_dv_timings {
 
 /* VESA Coordinated Video Timings 1.2, reduced blanking version 2, progressive: the timings of
  * width x height at refresh_hz. Pure computation (no device). */
-PC_API int pc_dv_timings_cvt_rb2(uint32_t width, uint32_t height, double refresh_hz, pc_dv_timings *out);
+PC_API int pc_dv_timings_cvt_rb2(uint32_t width, uint32_t height, double refresh_hz,
+                                 pc_dv_timings *out);
 /* Frame rate the timings produce: pixelclock / (total width * total height). */
 PC_API double pc_dv_timings_fps(const pc_dv_timings *t);
 
@@ -166,7 +167,7 @@ typedef struct pc_v4l2_rate_range {
 	unsigned count; /* discrete rates */
 } pc_v4l2_rate_range;
 PC_API int pc_v4l2_frame_rates(pc_v4l2 *dev, uint32_t fourcc, uint32_t width, uint32_t height,
-                        pc_v4l2_rate_range *out);
+                               pc_v4l2_rate_range *out);
 
 /* Frame interval as a rate (VIDIOC_G_PARM / S_PARM). PC_ENOTSUP when the node has no
  * V4L2_CAP_TIMEPERFRAME. set stores what the driver chose in *actual_fps (may be NULL). */

@@ -20,18 +20,20 @@ typedef struct pc_viewer_opts {
 	pc_stream_request stream; /* the source */
 	const char *method;       /* demosaicking method; NULL: the mosaic's default */
 	bool window;              /* show a window; without one (headless), frames and screenshot
-				     say what to do */
+	                             say what to do */
 	uint32_t width;           /* width of the three panels on screen */
 	uint64_t frames;          /* stop after this many frames; 0: until q, Esc or stopped */
 	const char *screenshot;   /* the last picture shown, as PNG (NULL: none); a name not
-				     ending in .png is refused (PC_EINVAL) */
+	                             ending in .png is refused (PC_EINVAL) */
 	int timeout_ms;           /* longest wait for a frame */
 	pc_progress progress;     /* phase "view", frames shown; non-zero stops */
+	pc_stream_levels levels;  /* black level, saturation (invalid pixels marked), calibration
+	                             (polarcam/stream.h; pc_stream_levels_default()) */
 } pc_viewer_opts;
 
 typedef struct pc_viewer_report {
-	uint64_t frames;          /* frames shown */
-	int error;                /* 0, or what ended the stream early (PC_E*) */
+	uint64_t frames; /* frames shown */
+	int error;       /* 0, or what ended the stream early (PC_E*) */
 	char message[512];
 	unsigned screenshots_failed; /* 's' screenshots that could not be written */
 	char *json; /* {source, frames, fps, process_ms, window, error}: compact, malloc'd */

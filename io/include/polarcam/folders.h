@@ -8,12 +8,17 @@
  *   s0.npy         float32 (H, W): S0
  *   dolp.npy       float32 (H, W): DoLP in [0, 1]
  *   aolp.npy       float32 (H, W): AoLP in radians, [0, π) (polarcam/stokes.h's convention)
- *   s0.png, dolp.png, aolp.png, aolp_sat.png   the pictures of pc_pictures_write_opts
+ *   valid.npy      uint8 (H, W): 1 valid, 0 where the value depends on a saturated, dead or
+ *                  distrusted sample (pc_stokes_folder_write_valid with a mask)
+ *   s0.png, dolp.png, aolp.png, aolp_sat.png   the pictures of pc_pictures_write_opts (invalid
+ *                  pixels marked, pc_pictures_write_valid)
  *
  * A Mueller folder (pc_mueller_folder_write) holds:
  *   mueller.npy    float32 (H, W, 4, 4) (unless left out)
  *   D, R, Delta    .npy (H, W) float32 and .png (grey, with a colour bar; NaN magenta)
  *   rebuild_residual.npy/.png   when the circular entries were rebuilt
+ *   valid.npy      uint8 (H, W) when levels were checked: 0 where a frame's sample was
+ *                  saturated or dead (marked in the D, R, Delta pictures)
  *   mueller.json   condition numbers, noise gains, pixel counts (see pc_mueller_folder_write)
  *
  * The figures folder (pc_figures_write) holds figNN.csv (x and one column per curve, then the
@@ -44,7 +49,8 @@ extern "C" {
  * hi, titled title, with a colour bar labelled label; non-finite values are drawn magenta and
  * their share noted under the bar. */
 PC_API int pc_map_write(const char *dir, const char *name, const float *map, uint32_t width,
-		 uint32_t height, double lo, double hi, const char *title, const char *label);
+                        uint32_t height, double lo, double hi, const char *title,
+                        const char *label);
 
 /* ---- Stokes folders ---- */
 
@@ -59,41 +65,51 @@ enum pc_stokes_folder_files {
 typedef struct pc_stokes_folder_opts {
 	unsigned files;            /* PC_SF_* */
 	pc_pictures_opts pictures; /* title prefix, display width, low-signal mask */
-	bool numbered;             /* names carry a frame number: stokes_NNNNNN.npy, s0_NNNNNN.png */
+	bool numbered; /* names carry a frame number: stokes_NNNNNN.npy, s0_NNNNNN.png */
 	uint64_t number;
+	bool no_valid_file; /* the mask goes elsewhere (a batch's stacked valid.npy): the pictures
+	                     * still mark it, valid.npy is not written here */
 } pc_stokes_folder_opts;
 
 /* Writes the files asked for from st (planes as pc_stokes_out; stokes.npy needs s0, s1, s2,
  * the others their plane) into dir (created when missing), in the order of the table above. */
 PC_API int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
-			   uint32_t height, const pc_stokes_folder_opts *opts);
+                                  uint32_t height, const pc_stokes_folder_opts *opts);
+
+/* The same with a validity mask (valid may be NULL, or its mask NULL: none): valid.npy is
+ * written after the .npy files and the pictures mark the invalid pixels. */
+PC_API int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
+                                        uint32_t height, const pc_stokes_folder_opts *opts,
+                                        const pc_validity *valid);
 
 /* ---- Mueller folders ---- */
 
 typedef struct pc_mueller_folder_opts {
-	bool no_mueller;     /* leave mueller.npy out (64 bytes per pixel) */
-	const char *method;  /* demosaicking method name, for mueller.json */
-	double black_level;  /* for mueller.json */
-	double rebuild_tol;  /* for mueller.json and the residual picture's scale (0 .. 2·tol) */
+	bool no_mueller;    /* leave mueller.npy out (64 bytes per pixel) */
+	const char *method; /* demosaicking method name, for mueller.json */
+	double black_level; /* for mueller.json */
+	double rebuild_tol; /* for mueller.json and the residual picture's scale (0 .. 2·tol) */
 	pc_rebuild_sign rebuild_sign;
-	bool overwrite;      /* replace an existing folder (polarcam/io.h's rule) */
+	bool overwrite; /* replace an existing folder (polarcam/io.h's rule) */
 } pc_mueller_folder_opts;
 
 /* Writes res into dir, an output folder written as a set (polarcam/io.h, pc_outdir: refused
- * when it exists unless opts->overwrite, put in place only when complete). mueller.json holds frames, width, height, method, black_level, cond_A,
- * cond_G, cond_W, rank_A, rank_G, noise_gain, pixels_D_singular, pixels_nonphysical_filtered,
- * pixels_undecomposable, determined, rebuild_circular (and when rebuilt: rebuild_tol,
- * pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may be NULL) receives its
- * content as one compact line (malloc'd). */
+ * when it exists unless opts->overwrite, put in place only when complete; valid.npy with the
+ * rest). mueller.json holds frames, width, height, method, black_level, cond_A, cond_G, cond_W,
+ * rank_A, rank_G, noise_gain, pixels_D_singular, pixels_nonphysical_filtered,
+ * pixels_undecomposable, determined, saturation_level, pixels_invalid, rebuild_circular (and
+ * when rebuilt: rebuild_tol, pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may
+ * be NULL) receives its content as one compact line (malloc'd). */
 PC_API int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
-			    const pc_mueller_folder_opts *opts, char **json);
+                                   const pc_mueller_folder_opts *opts, char **json);
 
 /* ---- the seed paper's figures (polarcam/figures.h) ---- */
 
 /* Writes figs[2..11] and the claims into dir, an output folder written as a set (polarcam/io.h,
  * pc_outdir; flags: PC_OUT_OVERWRITE); progress (may be NULL): phase "figures". */
 PC_API int pc_figures_write(const char *dir, unsigned flags, const pc_figure figs[12],
-		     const pc_figure_claim *claims, size_t n_claims, const pc_progress *progress);
+                            const pc_figure_claim *claims, size_t n_claims,
+                            const pc_progress *progress);
 
 #ifdef __cplusplus
 }

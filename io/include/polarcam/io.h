@@ -90,12 +90,15 @@ PC_API int pc_outdir_commit(pc_outdir *od);
 PC_API void pc_outdir_abort(pc_outdir *od);
 
 /* ---- arrays (.npy) ---- */
-typedef enum pc_dtype { PC_DT_U8 = 1, PC_DT_U16, PC_DT_F32, PC_DT_F64 } pc_dtype;
+/* PC_DT_F16 (IEEE binary16 bits in uint16_t) is written, not read. */
+typedef enum pc_dtype { PC_DT_U8 = 1, PC_DT_U16, PC_DT_F32, PC_DT_F64, PC_DT_F16 } pc_dtype;
+/* float32 → binary16 bits, round to nearest even (overflow → ±inf, NaN kept). */
+PC_API void pc_f32_to_f16(const float *in, uint16_t *out, size_t n);
 
 typedef struct pc_array {
-	void *data;       /* C order, owned */
+	void *data; /* C order, owned */
 	pc_dtype dtype;
-	unsigned ndim;    /* 1..4 */
+	unsigned ndim; /* 1..4 */
 	size_t shape[4];
 } pc_array;
 
@@ -104,7 +107,7 @@ PC_API void pc_array_free(pc_array *a);
 
 /* Writes a C-order array as NumPy format 1.0 (little-endian). */
 PC_API int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned ndim,
-		 const size_t *shape);
+                        const size_t *shape);
 /* A .npy written piece by piece (a stack of frames as they are computed): open with the whole
  * array's shape, write its bytes in C order in any number of pieces, commit (atomic, like every
  * writer; PC_ESTATE when fewer bytes than the shape holds were written). A failed write
@@ -114,7 +117,7 @@ typedef struct pc_npy_stream {
 	size_t bytes, written;
 } pc_npy_stream;
 PC_API int pc_npy_stream_open(pc_npy_stream *s, const char *path, pc_dtype dtype, unsigned ndim,
-		       const size_t *shape);
+                              const size_t *shape);
 PC_API int pc_npy_stream_write(pc_npy_stream *s, const void *data, size_t bytes);
 PC_API int pc_npy_stream_commit(pc_npy_stream *s);
 PC_API void pc_npy_stream_abort(pc_npy_stream *s);
@@ -133,7 +136,7 @@ PC_API int pc_png_write(const char *path, const pc_view *v);
 PC_API int pc_raw_write(const char *path, const pc_view *v);
 /* 8-bit RGB PNG from interleaved rows (pictures, plots). */
 PC_API int pc_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
-		      size_t stride);
+                             size_t stride);
 
 /* Raw geometry for headerless files: width, height, format, offset into the file, stride
  * (0 = tight). */
@@ -150,7 +153,7 @@ typedef struct pc_raw_geometry {
  * the file declares (PNG sBIT, TIFF BitsPerSample, 32 for float) and may be NULL. Float images
  * holding NaN or infinity are rejected (PC_ERANGE naming the file and the pixel). */
 PC_API int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_view *out,
-		  unsigned *significant_bits);
+                         unsigned *significant_bits);
 
 /* Reads a raw mosaic for processing: pc_image_read, then the bit depth. bits = 0 takes the
  * depth the file declares (PNG sBIT, TIFF/npy container); otherwise the file's container must
@@ -159,14 +162,14 @@ PC_API int pc_image_read(const char *path, const pc_raw_geometry *geometry, pc_v
  * Integer views come back as Mono8/Mono10/12/14/16 matching the depth; *bits_out (may be NULL)
  * receives it (32 for float). */
 PC_API int pc_image_read_mosaic(const char *path, const pc_raw_geometry *geometry, unsigned bits,
-			 pc_view *out, unsigned *bits_out);
+                                pc_view *out, unsigned *bits_out);
 
 /* TIFF of a Mono8, 9..16-bit (stored as 16-bit) or Float32 view. */
 PC_API int pc_tiff_write(const char *path, const pc_view *v);
 /* TIFF of a C-order (height, width, channels) array of u8, u16 or f32 samples (interleaved;
  * channels 1..16; extra samples are marked "unspecified"). */
 PC_API int pc_tiff_write_array(const char *path, const void *data, pc_dtype dtype, uint32_t height,
-			uint32_t width, unsigned channels);
+                               uint32_t width, unsigned channels);
 /* Reads a single-channel TIFF (8/16-bit unsigned, 32-bit float) into an owned view. */
 PC_API int pc_tiff_read(const char *path, pc_view *out, unsigned *significant_bits);
 /* Reads a TIFF as an array: (H, W) or (H, W, C) of u8, u16 or f32. */
@@ -201,11 +204,11 @@ PC_API int pc_bmp_read(const char *path, pc_view *out);
 #define PC_PICTURES_MASK_DEFAULT_REL 0.01
 typedef struct pc_pictures_opts {
 	const char *title_prefix; /* NULL: none */
-	uint32_t max_width;	  /* downscale for display to at most this width; 0: full size */
-	double mask_s0;		  /* low-signal mask threshold (see above) */
-	const char *suffix;	  /* added to the file names before .png ("_000012"); NULL: none */
-	double s0_hi;		  /* top of the S0 scale; 0: the image's 99.9th percentile */
-	double dolp_hi;		  /* DoLP range 0..dolp_hi; 0: 0..1; < 0: automatic */
+	uint32_t max_width;       /* downscale for display to at most this width; 0: full size */
+	double mask_s0;           /* low-signal mask threshold (see above) */
+	const char *suffix;       /* added to the file names before .png ("_000012"); NULL: none */
+	double s0_hi;             /* top of the S0 scale; 0: the image's 99.9th percentile */
+	double dolp_hi;           /* DoLP range 0..dolp_hi; 0: 0..1; < 0: automatic */
 } pc_pictures_opts;
 
 /* The automatic DoLP range of pc_pictures_opts (dolp_hi < 0): the 99th percentile of the finite
@@ -216,10 +219,18 @@ PC_API double pc_pictures_dolp_auto(const float *dolp, const float *s0, size_t n
 struct pc_stokes_out;
 /* opts may be NULL (no prefix, full size, default mask). */
 PC_API int pc_pictures_write_opts(const char *dir, const struct pc_stokes_out *st, uint32_t width,
-			   uint32_t height, const pc_pictures_opts *opts);
+                                  uint32_t height, const pc_pictures_opts *opts);
+/* The same with a validity mask (valid may be NULL or have a NULL mask: all valid): pixels
+ * whose value depends on a saturated, dead or distrusted sample are painted with the invalid
+ * mark of polarcam/picture.h (pc_picture_mask_invalid) in every picture, over the low-signal
+ * hatch, and their count is noted under each colour bar. */
+struct pc_validity;
+PC_API int pc_pictures_write_valid(const char *dir, const struct pc_stokes_out *st, uint32_t width,
+                                   uint32_t height, const pc_pictures_opts *opts,
+                                   const struct pc_validity *valid);
 /* The same with a title prefix (may be NULL) and the default mask. */
 PC_API int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
-		      uint32_t height, const char *title_prefix);
+                             uint32_t height, const char *title_prefix);
 
 /* Loads a ground-truth directory for the evaluation protocol (polarcam/eval.h): the analyser
  * images named 0, 45, 90 and 135 with any extension pc_image_read knows (.tif, .tiff, .png,
@@ -232,24 +243,37 @@ PC_API void pc_truth_dataset(const char *dir, char *buf, size_t size);
 
 /* One method scored on one truth directory by the protocol (polarcam/eval.h). */
 typedef struct pc_eval_result {
-	const char *scene;         /* the directory as given */
-	char dataset[256];         /* pc_truth_dataset */
+	const char *scene; /* the directory as given */
+	char dataset[256]; /* pc_truth_dataset */
 	pc_demosaic_method method;
 	pc_eval_metrics m;
-	double seconds;            /* of pc_eval_method */
+	double seconds; /* of pc_eval_method */
 } pc_eval_result;
 
 /* Scores each method on each truth directory (pc_truth_load, pc_eval_method; opts may be
  * NULL) into res[d·nmeth + k]; progress (may be NULL): phase "eval", results done. Errors name
  * the directory. */
 PC_API int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method *methods,
-		 size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
-		 pc_eval_result *res);
+                        size_t nmeth, const pc_demosaic_opts *opts, const pc_progress *progress,
+                        pc_eval_result *res);
 
 /* The mean metrics of the results of one dataset and method (datasets are never pooled);
  * returns how many results it averaged. */
 PC_API int pc_eval_dataset_mean(const pc_eval_result *res, size_t n, const char *dataset,
-			 pc_demosaic_method method, pc_eval_metrics *out);
+                                pc_demosaic_method method, pc_eval_metrics *out);
+
+/* The gain of one method over a baseline on one dataset, scene by scene (the results of the
+ * same scene path): the mean gain in S0 and DoLP PSNR (dB) and the worst (lowest) with its
+ * scene (a pointer into res). */
+typedef struct pc_eval_gain {
+	double s0_mean, dolp_mean, s0_worst, dolp_worst;
+	const char *s0_worst_scene, *dolp_worst_scene;
+} pc_eval_gain;
+
+/* Returns how many scenes had both results (0: none, *out zeroed with NaN worsts). */
+PC_API int pc_eval_dataset_gain(const pc_eval_result *res, size_t n, const char *dataset,
+                                pc_demosaic_method method, pc_demosaic_method baseline,
+                                pc_eval_gain *out);
 
 /* Creates a directory (and parents) if missing. */
 PC_API int pc_mkdir_p(const char *path);

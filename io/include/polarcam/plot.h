@@ -37,8 +37,8 @@ PC_API void pc_plot_set_log(pc_plot *p, bool log_x, bool log_y);
 
 /* Adds a series (the data are copied). Colours cycle through a fixed palette; label may be NULL
  * (no legend entry). */
-PC_API int pc_plot_add_series(pc_plot *p, const char *label, const double *x, const double *y, size_t n,
-		       pc_plot_style style);
+PC_API int pc_plot_add_series(pc_plot *p, const char *label, const double *x, const double *y,
+                              size_t n, pc_plot_style style);
 
 /* Writes a text label next to the data point (x, y). */
 PC_API int pc_plot_add_label(pc_plot *p, double x, double y, const char *text);
@@ -55,25 +55,28 @@ typedef struct pc_colorbar {
 	double smin, smax;
 	void (*color)(double t, double s, uint8_t rgb[3], void *ctx);
 	void *ctx;
-	double tick_step;    /* ticks every tick_step from vmin (AoLP: 45); 0: "nice" steps */
+	double tick_step; /* ticks every tick_step from vmin (AoLP: 45); 0: "nice" steps */
 } pc_colorbar;
 
 /* Writes an RGB8 image with a title above it and, when bar is non-NULL, a colour bar with ticks
  * on its right. Images wider than max_width (0 = no limit) are downscaled for display. */
 PC_API int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
-		       size_t stride, const char *title, const pc_colorbar *bar, uint32_t max_width);
+                              size_t stride, const char *title, const pc_colorbar *bar,
+                              uint32_t max_width);
 
 /* A legend entry below a colour bar: a swatch coloured by color(x, y) (pixel coordinates inside
  * the swatch, so that it can show a hatch) and a short text, e.g. "S0 < 82". */
 typedef struct pc_legend_note {
 	const char *text;
 	void (*color)(uint32_t x, uint32_t y, uint8_t rgb[3]);
+	const struct pc_legend_note *next; /* a further note below this one, or NULL */
 } pc_legend_note;
 
 /* pc_image_write_png with an optional note (NULL: none) under the colour bar. */
-PC_API int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
-			  size_t stride, const char *title, const pc_colorbar *bar,
-			  const pc_legend_note *note, uint32_t max_width);
+PC_API int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width,
+                                 uint32_t height, size_t stride, const char *title,
+                                 const pc_colorbar *bar, const pc_legend_note *note,
+                                 uint32_t max_width);
 
 #ifdef __cplusplus
 }

@@ -8,7 +8,8 @@
 
 #include <polarcam/polarcam.h>
 
-namespace {
+namespace
+{
 
 struct failure {
 	int rc;
@@ -17,14 +18,14 @@ struct failure {
 void check(int rc)
 {
 	if (rc)
-		throw failure{ rc };
+		throw failure{rc};
 }
 
 void save(const std::string &dir, const char *name, const std::vector<float> &a,
-	  std::vector<size_t> shape)
+          std::vector<size_t> shape)
 {
 	check(pc_npy_write((dir + "/" + name).c_str(), a.data(), PC_DT_F32,
-			   static_cast<unsigned>(shape.size()), shape.data()));
+	                   static_cast<unsigned>(shape.size()), shape.data()));
 }
 
 } // namespace
@@ -36,8 +37,9 @@ int main(int argc, char **argv)
 		return 2;
 	}
 	if (std::strcmp(pc_version(), PC_VERSION_STRING) != 0) {
-		std::fprintf(stderr, "stokes_pipeline: compiled against polarcam %s, runs with %s\n",
-			     PC_VERSION_STRING, pc_version());
+		std::fprintf(stderr,
+		             "stokes_pipeline: compiled against polarcam %s, runs with %s\n",
+		             PC_VERSION_STRING, pc_version());
 		return 1;
 	}
 	pc_view raw{};
@@ -51,18 +53,22 @@ int main(int argc, char **argv)
 		pc_demosaic_out_size(method, raw.width, raw.height, &w, &h);
 		const size_t n = size_t(w) * h, row = 3 * size_t(w);
 		std::vector<float> s(3 * n), dolp(n), aolp(n);
-		pc_stokes_out out{ { s.data(), row, 3 }, { s.data() + 1, row, 3 }, { s.data() + 2, row, 3 },
-				   { dolp.data(), w, 1 }, { aolp.data(), w, 1 } };
+		pc_stokes_out out{{s.data(), row, 3},
+		                  {s.data() + 1, row, 3},
+		                  {s.data() + 2, row, 3},
+		                  {dolp.data(), w, 1},
+		                  {aolp.data(), w, 1}};
 		// Default threads, as `polarcam process`: the row-band methods (ri, eari) round
 		// differently with another number of bands (differences ~1e-6 relative).
 		pc_demosaic_opts opts{};
 		check(pc_stokes_from_raw(&raw, &mosaic, method, &opts, &out));
 		check(pc_mkdir_p(argv[4]));
-		save(argv[4], "stokes.npy", s, { h, w, 3 });
-		save(argv[4], "dolp.npy", dolp, { h, w });
-		save(argv[4], "aolp.npy", aolp, { h, w });
+		save(argv[4], "stokes.npy", s, {h, w, 3});
+		save(argv[4], "dolp.npy", dolp, {h, w});
+		save(argv[4], "aolp.npy", aolp, {h, w});
 	} catch (const failure &f) {
-		std::fprintf(stderr, "stokes_pipeline: %s: %s\n", pc_strerror(f.rc), pc_error_detail());
+		std::fprintf(stderr, "stokes_pipeline: %s: %s\n", pc_strerror(f.rc),
+		             pc_error_detail());
 		pc_view_free(&raw);
 		return 1;
 	}

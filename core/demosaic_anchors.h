@@ -1,0 +1,73 @@
+/* Internal to core: the robust rungs and the field's anchors of the demosaicking ladder - the
+ * overshoot limiter (demosaic_robust.c), eari-mlri / eari-robust (references in
+ * demosaic_mlri.c, fast path in demosaic_mlri_fast.c), PCDP (demosaic_pcdp.c) and IGRI2
+ * (demosaic_igri.c). Their rows in the method table are in demosaic_plan.c. Not a public
+ * header. */
+#ifndef POLARCAM_DEMOSAIC_ANCHORS_H
+#define POLARCAM_DEMOSAIC_ANCHORS_H
+
+#include "demosaic_common.h"
+
+/* The ratio method's offset as a fraction of full scale: ratios (raw + δ)/(guide + δ), so that
+ * in the dark, where the guide is of the order of the noise, the method turns into difference
+ * (residual) interpolation instead of dividing small numbers (docs/demosaicking.md, the sweep:
+ * 1/65536 of full scale lost 0.3 dB S0 against bilinear on the darkest noisy stress scene,
+ * 1 % gains 0.7 dB there and costs at most 0.05 dB on the public scenes). */
+#define PC_RATIO_OFFSET 0.01
+
+/* The ratio method's guided tent (demosaic_ref.c, guided_tent): the offset e of its weights
+ * 1/(e + |Δguide|) as a fraction of full scale. Sweep on the stress suite / Lapray / Zhang
+ * (mean S0 gain over bilinear, dB; the plain tent: +2.21 / +3.19 / +4.42): 0.003: +4.06 /
+ * +3.22 / +4.55; 0.01: +3.92 / +3.29 / +4.58; 0.03: +3.68 / +3.30 / +4.56; 0.1: +3.26 /
+ * +3.28 / +4.51 (docs/demosaicking.md). */
+#define PC_RATIO_GUIDE_EPS 0.01
+
+/* ---- the overshoot limiter (demosaic_robust.c) ----
+ * Every interpolated sample of channel c clamped to the range of channel c's raw samples in
+ * the 5×5 window around it; own samples untouched. pc_dm_limited: the methods it belongs to.
+ * pc_dm_range_limit: monochrome mosaics, out the full-resolution planes of the input's size
+ * (one pixel stride for all four). Row by row: a pc_dm_limiter per thread (init: 0 or -1
+ * without memory), then for rows in increasing order pc_dm_limit_row with r[k] the raw's row
+ * y−2+k as floats padded by two mirrored samples on each side (the row ranges are cached by
+ * row index), o[c] channel c's row. */
+typedef struct pc_dm_limiter {
+	long w;
+	long key[5];
+	float *mem;
+	pc_cpu_level level;
+} pc_dm_limiter;
+int pc_dm_limited(pc_demosaic_method method);
+int pc_dm_range_limit(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
+                      const pc_fplane *out);
+int pc_dm_limiter_init(pc_dm_limiter *l, long w, pc_cpu_level level);
+void pc_dm_limiter_free(pc_dm_limiter *l);
+void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[5], uint32_t y,
+                     float *const o[4], size_t pixel_stride);
+/* The limiter on a reference's output: img the raw minus black in double (rounded to float,
+ * as the fast paths see it). */
+int pc_dm_range_limit_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+                          const pc_fplane *out);
+
+/* ---- the anchors' double references ----
+ * img, width, height, m, full_scale as pc_dm_ref (demosaic_ref.h). */
+int pc_dm_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+                   pc_demosaic_method method, double full_scale, const pc_fplane *out);
+/* MLRI residual interpolation of every channel of img with the given guide (-1 without
+ * memory). */
+int pc_dm_mlri_ri(const double *img, const double *guide, uint32_t width, uint32_t height,
+                  const pc_mosaic *m, double full_scale, const pc_fplane *out);
+int pc_dm_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+                    double full_scale, const pc_fplane *out);
+int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+                   const pc_fplane *out);
+
+/* ---- the fast float paths (method-table kernels; tiny frames fall back to the reference,
+ * converted to float) ---- */
+int pc_dm_mlri_fast(const pc_dm_call *call, const pc_fplane *out);
+int pc_dm_pcdp_fast(const pc_dm_call *call, const pc_fplane *out);
+
+/* The reference of call's method on its input, into float planes (the fast paths' fallback
+ * for frames too small for their padding). */
+int pc_dm_ref_of_call(const pc_dm_call *call, const pc_fplane *out);
+
+#endif

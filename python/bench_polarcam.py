@@ -1,0 +1,251 @@
+#!/usr/bin/env python3
+"""Benchmark of the polarcam Python module (not a test: it prints, it does not judge).
+
+In one run, on one 2448x2048 12-bit frame of the default scene (or --raw FILE.npy):
+  1. polarcam.stokes (bilinear -> S0, S1, S2, DoLP, AoLP) against the same C pipeline timed in
+     C without the interpreter (goal: <= 1.1x), with new output arrays and with out=;
+  2. against polanalyser's bilinear pipeline when polanalyser is importable (it is not a
+     Debian package: skipped with a message), and against OUR plain-numpy restatement of that
+     pipeline (bilinear by a 3x3 convolution of each analyser's samples, Stokes by the
+     analyser pseudo-inverse, DoLP, AoLP; float64 as polanalyser), labelled as ours;
+  3. two Python threads on two cores against one (goal >= 1.7x one thread's throughput: the
+     GIL is released while the library computes);
+  4. the calibrated pipeline: stokes(raw, calibration=Calibration) of a full-frame calibration
+     file (written here with numpy: per-pixel dark, gain and analysers with the spreads of the
+     imx250mzr_nonuniform preset) against the uncalibrated stokes(raw, black_level=...), and
+     per-pixel pseudo-inverses passed as an array (the front door's fused calibrated path).
+Times are medians of interleaved repeats; the machine may be shared, so the ratios (measured
+in the same run) and the load average are what to read.
+
+usage: python3 python/bench_polarcam.py [--raw FILE.npy] [--repeats N] [--threads-repeats N]
+       (PYTHONPATH=build/python when polarcam is not installed)
+"""
+import argparse
+import json
+import os
+import statistics
+import sys
+import tempfile
+import threading
+import time
+
+import numpy as np
+
+# this file sits beside the package's sources (python/polarcam/, without the built module):
+# import the built or installed package instead
+_here = os.path.dirname(os.path.abspath(__file__))
+sys.path[:] = [p for p in sys.path if os.path.abspath(p or os.curdir) != _here]
+import polarcam  # noqa: E402
+from polarcam import _polarcam  # noqa: E402
+
+
+def load():
+    return os.getloadavg()[0]
+
+
+def median_ms(ts):
+    return 1e3 * statistics.median(ts)
+
+
+def numpy_pipeline(raw):
+    """OUR numpy restatement of polanalyser's bilinear -> Stokes -> DoLP/AoLP (not
+    polanalyser itself): each analyser's samples spread by the bilinear kernel
+    [1 2 1; 2 4 2; 1 2 1] / 4 over a zero-filled plane, S = A+ I with A the ideal analyser
+    matrix 0.5 (1, cos 2t, sin 2t), DoLP = |S12| / S0, AoLP = atan2(S2, S1) / 2 mod pi."""
+    h, w = raw.shape
+    img = raw.astype(np.float64)
+    # layout 90,45,135,0: (row, column) of each angle's samples in the 2x2 block
+    pos = {0: (1, 1), 45: (0, 1), 90: (0, 0), 135: (1, 0)}
+    chans = []
+    for ang in (0, 45, 90, 135):
+        dy, dx = pos[ang]
+        sparse = np.zeros((h + 2, w + 2))
+        sparse[1 + dy:h + 1:2, 1 + dx:w + 1:2] = img[dy::2, dx::2]
+        c = (4 * sparse[1:-1, 1:-1] + 2 * (sparse[:-2, 1:-1] + sparse[2:, 1:-1] +
+                                           sparse[1:-1, :-2] + sparse[1:-1, 2:]) +
+             sparse[:-2, :-2] + sparse[:-2, 2:] + sparse[2:, :-2] + sparse[2:, 2:]) / 4
+        chans.append(c)
+    images = np.stack(chans, axis=-1)  # (H, W, 4)
+    t = np.radians([0, 45, 90, 135])
+    A = 0.5 * np.stack([np.ones(4), np.cos(2 * t), np.sin(2 * t)], axis=1)  # (4, 3)
+    stokes = images @ np.linalg.pinv(A).T  # (H, W, 3)
+    s0, s1, s2 = stokes[..., 0], stokes[..., 1], stokes[..., 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dolp = np.sqrt(s1 ** 2 + s2 ** 2) / s0
+    aolp = np.mod(0.5 * np.arctan2(s2, s1), np.pi)
+    return s0, s1, s2, dolp, aolp
+
+
+def polanalyser_pipeline(pa, raw):
+    img = pa.demosaicing(raw, pa.COLOR_PolarMono)
+    images = np.stack(img, axis=-1) if isinstance(img, list) else img
+    stokes = pa.calcStokes(images, np.radians([0, 45, 90, 135]))
+    return pa.cvtStokesToDoLP(stokes), pa.cvtStokesToAoLP(stokes)
+
+
+def write_calibration(path, h, w, bits, seed=1):
+    """A calibration file (docs/calibration.md) of a non-ideal camera: dark 60 DN + 1 DN
+    spread, gain 1 +- 1 %, analysers with orientation errors of 0.8 deg, transmission 2 %,
+    diattenuation 0.95 (the spreads of the imx250mzr_nonuniform preset)."""
+    rng = np.random.default_rng(seed)
+    th = np.zeros((h, w))
+    for dy, row in enumerate(((90, 45), (135, 0))):
+        for dx, a in enumerate(row):
+            th[dy::2, dx::2] = a
+    th = np.radians(th + rng.normal(0, 0.8, (h, w)))
+    t = 1 + rng.normal(0, 0.02, (h, w))
+    d = 0.95
+    analysis = 0.5 * t[..., None] * np.stack([np.ones((h, w)), d * np.cos(2 * th),
+                                              d * np.sin(2 * th)], -1)
+    # W+ per 2x2 block: the four pixels' analysis vectors, rows in analyser order 0/45/90/135
+    order = {0: (1, 1), 45: (0, 1), 90: (0, 0), 135: (1, 0)}
+    Wb = np.stack([analysis[dy::2, dx::2] for dy, dx in (order[a] for a in (0, 45, 90, 135))],
+                  axis=2)  # (H/2, W/2, 4, 3)
+    pinv_sp = np.linalg.pinv(Wb).transpose(2, 3, 0, 1)
+    meta = {"polarcam_calibration": 1, "camera": "bench", "width": w, "height": h,
+            "offset_x": 0, "offset_y": 0, "sensor_width": 0, "sensor_height": 0, "bits": bits,
+            "layout": "90,45,135,0", "black_level": 60.0, "saturation": float(2 ** bits - 1),
+            "parts": ["dark", "flat", "analyser"], "provenance": {"software": "bench"}}
+    f32 = lambda a: np.ascontiguousarray(a, np.float32)  # noqa: E731
+    np.savez(path, meta=np.frombuffer(json.dumps(meta).encode(), np.uint8),
+             valid=np.ones((h, w), np.uint8), dark=f32(60 + rng.normal(0, 1, (h, w))),
+             dark_noise=f32(np.ones((h, w))), gain=f32(1 + rng.normal(0, 0.01, (h, w))),
+             analysis=f32(analysis), residual=f32(np.zeros((h, w))), pinv_superpixel=f32(pinv_sp))
+
+
+def timed(fn, n):
+    ts = []
+    for _ in range(n):
+        t0 = time.perf_counter()
+        fn()
+        ts.append(time.perf_counter() - t0)
+    return ts
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--raw", help="a (2048, 2448) uint16 .npy raw frame (default: render)")
+    ap.add_argument("--repeats", type=int, default=15)
+    ap.add_argument("--threads-repeats", type=int, default=20)
+    a = ap.parse_args()
+    print(f"polarcam {polarcam.__version__} Python module benchmark; "
+          f"{os.cpu_count()} CPUs, load average {load():.2f} at start")
+    if a.raw:
+        raw = np.load(a.raw)
+        bits = 12
+    else:
+        t0 = time.perf_counter()
+        raw, _, meta = polarcam.render(seed=0)
+        bits = meta["bits"]
+        print(f"frame: the default scene, seed 0, {raw.shape[1]}x{raw.shape[0]} "
+              f"{bits}-bit (rendered in {time.perf_counter() - t0:.1f} s)")
+    h, w = raw.shape
+    out = polarcam.Stokes([np.ones((h, w), np.float32) for _ in range(5)])
+
+    # 1. Python vs C (all cores, the library's default)
+    polarcam.stokes(raw, out=out)
+    c, py_out, py_new, py_bits, alloc = [], [], [], [], []
+    for _ in range(a.repeats):  # interleaved: load changes hit all alike
+        c += _polarcam._c_pipeline_seconds(raw, out, repeats=1)
+        py_out += timed(lambda: polarcam.stokes(raw, out=out), 1)
+        py_new += timed(lambda: polarcam.stokes(raw), 1)
+        py_bits += timed(lambda: polarcam.stokes(raw, bits=bits, out=out), 1)
+        # the floor of new arrays: five fresh (H, W) float32 arrays written once
+        alloc += timed(lambda: [np.empty((h, w), np.float32).fill(0) for _ in range(5)], 1)
+    cm = median_ms(c)
+    print(f"\n1. bilinear -> Stokes/DoLP/AoLP on {w}x{h}, all cores, median of {a.repeats} "
+          f"(load {load():.2f})")
+    print(f"   C pipeline (timed in C)                      {cm:8.2f} ms   1.00x")
+    for name, ts in (("polarcam.stokes(raw, out=out)", py_out),
+                     ("polarcam.stokes(raw) (new arrays)", py_new),
+                     (f"polarcam.stokes(raw, bits={bits}, out=out) (+check)", py_bits)):
+        print(f"   {name:45s}{median_ms(ts):8.2f} ms   {median_ms(ts) / cm:.2f}x")
+    print(f"   (numpy: 5 new {w}x{h} float32 arrays, filled  {median_ms(alloc):8.2f} ms: the "
+          f"cost of fresh memory)")
+    # the same on one core (the comparison with single-threaded numpy)
+    c1 = _polarcam._c_pipeline_seconds(raw, out, threads=1, repeats=max(3, a.repeats // 3))
+    p1 = timed(lambda: polarcam.stokes(raw, out=out, threads=1), max(3, a.repeats // 3))
+    print(f"   one core: C {median_ms(c1):.2f} ms, polarcam.stokes {median_ms(p1):.2f} ms "
+          f"({median_ms(p1) / median_ms(c1):.2f}x)")
+
+    # 2. polanalyser and our numpy restatement of its pipeline (one core: numpy's loops)
+    print(f"\n2. against polanalyser's bilinear pipeline (load {load():.2f})")
+    try:
+        import polanalyser as pa  # noqa: F401
+    except ImportError:
+        pa = None
+        print("   polanalyser: not importable (it is not a Debian package): skipped")
+    n2 = 3
+    npy = timed(lambda: numpy_pipeline(raw), n2)
+    print(f"   OUR numpy restatement of it (not polanalyser) {median_ms(npy):8.1f} ms   "
+          f"polarcam.stokes one core is {median_ms(npy) / median_ms(p1):.0f}x faster, "
+          f"all cores {median_ms(npy) / median_ms(py_out):.0f}x")
+    ref = numpy_pipeline(raw)
+    st = polarcam.stokes(raw)
+    inner = (slice(2, -2), slice(2, -2))
+    dd = np.abs(st.dolp[inner] - np.clip(np.nan_to_num(ref[3][inner]), 0, 1)).max()
+    print(f"   same result: max |DoLP difference| inside the 2-pixel border {dd:.1e}")
+    if pa is not None:
+        try:
+            tp = timed(lambda: polanalyser_pipeline(pa, raw), n2)
+            print(f"   polanalyser {getattr(pa, '__version__', '?')}               "
+                  f"{median_ms(tp):8.1f} ms   polarcam.stokes is "
+                  f"{median_ms(tp) / median_ms(py_out):.0f}x faster (goal >= 20x)")
+        except Exception as e:  # an API of another polanalyser version
+            print(f"   polanalyser: its pipeline failed here ({e!r}): skipped")
+
+    # 3. two Python threads on two cores, each on its own arrays, one core each
+    n = a.threads_repeats
+    outs = [polarcam.Stokes([np.ones((h, w), np.float32) for _ in range(5)])
+            for _ in range(2)]
+
+    def work(k):
+        for _ in range(n):
+            polarcam.stokes(raw, out=outs[k], threads=1)
+
+    t0 = time.perf_counter()
+    work(0)
+    one = time.perf_counter() - t0
+    ths = [threading.Thread(target=work, args=(k,)) for k in range(2)]
+    t0 = time.perf_counter()
+    for t in ths:
+        t.start()
+    for t in ths:
+        t.join()
+    two = time.perf_counter() - t0
+    print(f"\n3. threads (each polarcam.stokes(raw, threads=1), {n} frames each; load "
+          f"{load():.2f})")
+    print(f"   one thread:  {n / one:6.1f} frames/s")
+    print(f"   two threads: {2 * n / two:6.1f} frames/s   {2 * one / two:.2f}x one thread's "
+          f"throughput (goal >= 1.7x on two idle cores)")
+
+    # 4. calibrated pipeline
+    with tempfile.TemporaryDirectory(prefix="polarcam-bench-") as tmp:
+        path = os.path.join(tmp, "cam.npz")
+        write_calibration(path, h, w, bits)
+        t0 = time.perf_counter()
+        cal = polarcam.Calibration(path)
+        t_read = time.perf_counter() - t0
+        first = timed(lambda: polarcam.stokes(raw, calibration=cal, out=out), 1)
+        pinv = cal.pinv("bilinear")
+        n4 = max(3, a.repeats // 3)
+        unc, calt, arr = [], [], []
+        for _ in range(n4):
+            unc += timed(lambda: polarcam.stokes(raw, black_level=60.0, out=out), 1)
+            calt += timed(lambda: polarcam.stokes(raw, calibration=cal, out=out), 1)
+            arr += timed(lambda: polarcam.stokes(raw, black_level=60.0, calibration=pinv,
+                                                 out=out), 1)
+        um = median_ms(unc)
+        print(f"\n4. calibrated bilinear pipeline, all cores, median of {n4} (load "
+              f"{load():.2f})")
+        print(f"   reading the {w}x{h} calibration file {1e3 * t_read:.0f} ms; first calibrated "
+              f"frame (builds the per-pixel W+) {median_ms(first):.0f} ms")
+        for name, ts in (("stokes(raw, black_level=60) (uncalibrated)", unc),
+                         ("stokes(raw, calibration=Calibration)", calt),
+                         ("stokes(raw, black_level, calibration=W+ array)", arr)):
+            print(f"   {name:47s}{median_ms(ts):8.2f} ms   {median_ms(ts) / um:.2f}x")
+    print(f"\nload average at the end: {load():.2f} (ratios above are same-run)")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

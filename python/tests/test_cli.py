@@ -1,0 +1,253 @@
+"""Every function of the polarcam module against the command line on the same input: where
+the C path is deterministic the values are bit-identical (the module calls the same library
+functions; the CLI's JSON prints 17 significant digits, which round-trips a double)."""
+import json
+import math
+import os
+
+import numpy as np
+import pytest
+
+import polarcam
+from conftest import REPO, json_lines, read_png_rgb
+
+SCENES = os.path.join(REPO, "scenes")
+ROI = (0, 0, 320, 240)
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory):
+    """polarcam render --seed 3 --roi (2 frames) into a recording directory, read back."""
+    import subprocess
+
+    from conftest import CLI
+
+    if not CLI:
+        pytest.skip("POLARCAM_CLI is not set: run through ctest")
+    d = tmp_path_factory.mktemp("rec")
+    subprocess.run([CLI, "render", "-o", str(d), "--seed", "3", "--frames", "2", "--roi",
+                    ",".join(map(str, ROI))], check=True, capture_output=True)
+    return d
+
+
+def stokes_cli_layout(raw, **kw):
+    """polarcam.stokes into the output layout of polarcam process: S0, S1, S2 interleaved in
+    one (H, W, 3) array, DoLP and AoLP planes."""
+    method = kw.get("method")
+    h, w = raw.shape if method != "superpixel-half" else (raw.shape[0] // 2, raw.shape[1] // 2)
+    s = np.empty((h, w, 3), np.float32)
+    dolp, aolp = np.empty((h, w), np.float32), np.empty((h, w), np.float32)
+    polarcam.stokes(raw, out=(s[..., 0], s[..., 1], s[..., 2], dolp, aolp), **kw)
+    return s, dolp, aolp
+
+
+def test_render_equals_cli(recording):
+    raw, truth, meta = polarcam.render(seed=3, frame=[0, 1], roi=ROI)
+    assert raw.shape == (2, ROI[3], ROI[2]) and raw.dtype == np.uint16
+    # the raw frames as the CLI wrote them (PNG + sBIT), read back by the file: source
+    with polarcam.open(f"file:{recording}") as src:
+        frames = list(src)
+    assert len(frames) == 2
+    for k, fr in enumerate(frames):
+        np.testing.assert_array_equal(fr.raw, raw[k])
+        assert fr.sequence == meta["sequence"][k] and fr.timestamp_ns == meta["timestamp_ns"][k]
+        assert fr.layout == meta["layout"] and fr.bits == meta["bits"] == 12
+    cli_truth = np.load(recording / "truth_stokes.npy")
+    assert cli_truth.dtype == np.float32 and cli_truth.shape == truth.shape
+    np.testing.assert_array_equal(cli_truth, truth)
+    rec = json.loads((recording / "meta.json").read_text())
+    assert rec["mosaic"] == meta["layout"] and rec["bits"] == meta["bits"]
+    assert rec["extra"]["seed"] == 3
+    # a different seed is a different frame: the comparison above can fail
+    assert not np.array_equal(polarcam.render(seed=4, roi=ROI)[0], raw[0])
+
+
+@pytest.mark.parametrize("method", ["bilinear", "superpixel-half", "bicubic", "eari", "ratio"])
+def test_stokes_equals_process(cli, recording, tmp_path, method):
+    png = recording / "raw_000000.png"
+    cli("process", png, "-o", tmp_path, "--method", method, "--picture-width", "0")
+    with polarcam.open(f"file:{recording}") as src:
+        fr = src.read()
+    s = np.load(tmp_path / "stokes.npy")
+    dolp, aolp = np.load(tmp_path / "dolp.npy"), np.load(tmp_path / "aolp.npy")
+    # the CLI's output layout (S0, S1, S2 interleaved in one (H, W, 3) array): bit-identical
+    mine = stokes_cli_layout(fr.raw, method=method, layout=fr.layout, bits=fr.bits)
+    np.testing.assert_array_equal(mine[0], s)
+    np.testing.assert_array_equal(mine[1], dolp)
+    np.testing.assert_array_equal(mine[2], aolp)
+    # new (planar) arrays: the same S0..S2; methods without a fused Stokes pass take the
+    # library's planar SIMD Stokes kernel there, whose DoLP may differ from the interleaved
+    # (scalar) one in the last bit (core/demosaic_fast.c pc_stokes_planar_fast)
+    st = polarcam.stokes(fr.raw, method=method, layout=fr.layout, bits=fr.bits)
+    for i, name in enumerate(("s0", "s1", "s2")):
+        np.testing.assert_array_equal(getattr(st, name), s[..., i], err_msg=name)
+    np.testing.assert_allclose(st.dolp, dolp, rtol=3e-7, atol=0)
+    np.testing.assert_allclose(st.aolp, aolp, rtol=0, atol=4e-7)
+    if method == "bilinear":
+        # the pictures: polarcam.picture draws the pixels of the annotated PNGs
+        h, w = st.s0.shape
+        top = int(max(12.0, min(w, h) / 40.0) * 2.2)  # io/plot.c: title band
+        for kind, name in (("s0", "s0"), ("dolp", "dolp"), ("aolp", "aolp"),
+                           ("aolp_sat", "aolp_sat")):
+            png_rgb = read_png_rgb(tmp_path / f"{name}.png")[top:top + h, :w, :3]
+            np.testing.assert_array_equal(polarcam.picture(st, kind=kind), png_rgb,
+                                          err_msg=kind)
+
+
+def test_demosaic_equals_cli(cli, recording, tmp_path):
+    png = recording / "raw_000000.png"
+    with polarcam.open(f"file:{recording}") as src:
+        fr = src.read()
+    for method in ("bilinear", "ppid", "ratio"):
+        out = tmp_path / f"{method}.npy"
+        cli("demosaic", png, "--method", method, "-o", out)
+        np.testing.assert_array_equal(
+            polarcam.demosaic(fr.raw, method=method, layout=fr.layout, bits=fr.bits),
+            np.load(out), err_msg=method)
+
+
+def test_colour_equals_cli(cli, tmp_path):
+    scene = os.path.join(SCENES, "colour_small.json")
+    cli("render", scene, "-o", tmp_path / "rec", "--seed", "11")
+    raw, truth, meta = polarcam.render(scene, seed=11)
+    assert meta["layout"].startswith("RGGB:") and truth.shape[2:] == (3, 4)
+    with polarcam.open(f"file:{tmp_path / 'rec'}") as src:
+        np.testing.assert_array_equal(src.read().raw, raw)
+    np.testing.assert_array_equal(np.load(tmp_path / "rec" / "truth_stokes.npy"), truth)
+    # process: the recording's layout and the colour default method (bayer-first)
+    cli("process", tmp_path / "rec" / "raw_000000.png", "-o", tmp_path / "p")
+    s, dolp, aolp = stokes_cli_layout(raw, layout=meta["layout"], bits=meta["bits"])
+    np.testing.assert_array_equal(s, np.load(tmp_path / "p" / "stokes.npy"))
+    np.testing.assert_array_equal(dolp, np.load(tmp_path / "p" / "dolp.npy"))
+    np.testing.assert_array_equal(aolp, np.load(tmp_path / "p" / "aolp.npy"))
+    cli("demosaic", tmp_path / "rec" / "raw_000000.png", "--method", "bayer-eari", "-o",
+        tmp_path / "d.npy")
+    np.testing.assert_array_equal(
+        polarcam.demosaic(raw, method="bayer-eari", layout=meta["layout"], bits=12),
+        np.load(tmp_path / "d.npy"))
+
+
+def _cli_mueller(lines):
+    return np.array([o["mueller"] for o in lines], dtype=np.float64)
+
+
+@pytest.mark.parametrize("rho,py_rho", [("table", "table"), ("quad:16", "quad"),
+                                        ("quad:8", "quad:8")])
+def test_pbrdf_equals_cli(cli, rho, py_rho):
+    lines = json_lines(cli("pbrdf", "--n", "1.46", "--k", "1.28", "--sigma", "0.1:0.3:0.1",
+                           "--theta-i", "0:80:20", "--theta-r", "55", "--phi", "150",
+                           "--rho", rho).stdout)
+    # the inputs as the CLI used them (its ranges are START + i*STEP)
+    inp = {k: np.array([o[k] for o in lines]) for k in ("n", "k", "sigma", "theta_i",
+                                                        "theta_r", "phi")}
+    assert len(lines) == 15 and inp["sigma"][::5] == pytest.approx([0.1, 0.2, 0.3])
+    f = polarcam.pbrdf(inp["n"], inp["k"], inp["sigma"], inp["theta_i"], inp["theta_r"],
+                       inp["phi"], rho=py_rho)
+    assert f.shape == (15, 4, 4) and f.dtype == np.float64
+    np.testing.assert_array_equal(f, _cli_mueller(lines))
+    # broadcasting gives the same matrices as the flat call
+    g = polarcam.pbrdf(1.46, 1.28, inp["sigma"][::5, None], inp["theta_i"][None, :5], 55, 150,
+                       rho=py_rho)
+    assert g.shape == (3, 5, 4, 4)
+    np.testing.assert_array_equal(g.reshape(-1, 4, 4), f)
+
+
+def test_pbrdf_options_equal_cli(cli):
+    for diffuse, shadowing in (("geometric", "none"), ("none", "ts")):
+        lines = json_lines(cli("pbrdf", "--n", "1.5", "--sigma", "0.25", "--theta-i", "35",
+                               "--theta-r", "0:90:30", "--phi", "180", "--diffuse", diffuse,
+                               "--shadowing", shadowing, "--rho", "table").stdout)
+        f = polarcam.pbrdf(1.5, 0, 0.25, 35, np.arange(0, 91, 30.0), diffuse=diffuse,
+                           shadowing=shadowing)
+        np.testing.assert_array_equal(f, _cli_mueller(lines))
+
+
+def _matrices():
+    rng = np.random.default_rng(7)
+    ms = [np.eye(4),
+          np.diag([1.0, 0.9, 0.9, 0.9]),                                  # depolarizer
+          np.array([[1, 1, 0, 0], [1, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]]) / 2.0,  # polarizer
+          np.array([[1, 0.3, 0, 0], [0.3, 1, 0, 0], [0, 0, 0.9, 0.1], [0, 0, -0.1, 0.9]]),
+          np.zeros((4, 4))]
+    for _ in range(8):
+        m = rng.normal(size=(4, 4)) * 0.3
+        m[0, 0] = 1.5
+        ms.append(m)  # mostly non-physical: the Cloude filter path
+    return np.array(ms)
+
+
+def _nan(v):
+    return np.nan if v is None else v
+
+
+@pytest.mark.parametrize("filt", [True, False])
+def test_decompose_equals_cli(cli, tmp_path, filt):
+    ms = _matrices()
+    batch = tmp_path / "m.txt"
+    batch.write_text("\n".join(" ".join(repr(float(v)) for v in m.ravel()) for m in ms) + "\n")
+    args = ["decompose", "--batch", batch] + ([] if filt else ["--no-filter"])
+    lines = json_lines(cli(*args).stdout)
+    d = polarcam.decompose(ms, filter=filt)
+    names = {"D_singular": polarcam.LC_D_SINGULAR, "R_nonunique": polarcam.LC_R_NONUNIQUE,
+             "nonphysical": polarcam.LC_NONPHYSICAL, "filtered": polarcam.LC_FILTERED,
+             "clamped": polarcam.LC_CLAMPED, "zero_m00": polarcam.LC_ZERO_M00}
+    assert len(lines) == len(ms)
+    for i, o in enumerate(lines):
+        for key in ("D", "R", "Delta", "m00", "R_linear", "R_circular", "depol_index"):
+            np.testing.assert_array_equal(getattr(d, key)[i], _nan(o[key]), err_msg=f"{i} {key}")
+        np.testing.assert_array_equal(d.diattenuation[i], [_nan(v) for v in o["diattenuation"]])
+        np.testing.assert_array_equal(d.retardance_axis[i],
+                                      [_nan(v) for v in o["retardance_axis"]])
+        for key in ("M_D", "M_R", "M_Delta"):
+            np.testing.assert_array_equal(getattr(d, key)[i],
+                                          [[_nan(v) for v in r] for r in o[key]], err_msg=key)
+        assert bool(d.physical[i]) == o["physical"] and bool(d.filtered[i]) == o["filtered"]
+        assert int(d.flags[i]) == sum(names[n] for n in o["flags"]), (i, o["flags"])
+
+
+def test_errors_carry_the_library_message(cli, tmp_path):
+    """The same bad input gives the CLI's message (the library's detail) and the documented
+    exception."""
+    bad = tmp_path / "bad.json"
+    doc = json.load(open(os.path.join(SCENES, "ideal_small.json")))
+    doc["materials"]["black_paint"]["sigma"] = -1
+    bad.write_text(json.dumps(doc))
+    p = cli("render", bad, "-o", tmp_path / "o", check=False)
+    assert p.returncode == 2
+    with pytest.raises(ValueError) as e:
+        polarcam.render(str(bad))
+    assert "sigma" in str(e.value) and str(e.value) in p.stderr, (str(e.value), p.stderr)
+    assert e.value.errname == "PC_EINVAL"
+    # a 12-bit frame holding 4096: the library's value check names the pixel
+    raw = np.full((240, 320), 100, np.uint16)
+    raw[5, 7] = 4096
+    np.save(tmp_path / "r.npy", raw)
+    p = cli("process", tmp_path / "r.npy", "--bits", "12", "-o", tmp_path / "p", check=False)
+    assert p.returncode == 2 and not (tmp_path / "p" / "stokes.npy").exists()
+    with pytest.raises(ValueError) as e:
+        polarcam.stokes(raw, bits=12)
+    detail = str(e.value).removeprefix("raw: ")
+    assert "pixel (7,5) = 4096" in detail and detail in p.stderr, (str(e.value), p.stderr)
+    assert e.value.errname == "PC_ERANGE"
+    # an unknown method: the library's list of methods
+    p = cli("process", tmp_path / "r.npy", "-o", tmp_path / "p", "--method", "nope",
+            check=False)
+    with pytest.raises(ValueError) as e:
+        polarcam.stokes(raw, method="nope")
+    detail = str(e.value).removeprefix("method: ")
+    assert "bilinear" in detail and detail in p.stderr, (str(e.value), p.stderr)
+    # an odd size: the library's message
+    with pytest.raises(ValueError, match="even"):
+        polarcam.stokes(raw[:239])
+    # a missing scene file: OSError (FileNotFoundError) naming it
+    with pytest.raises(OSError) as e:
+        polarcam.render(str(tmp_path / "missing.json"))
+    assert "missing.json" in str(e.value)
+
+
+def test_pbrdf_degrees_match_cli_conversion():
+    """Angles are degrees as on the command line: theta_i = 0 is normal incidence, and the
+    specular direction (theta_r = theta_i, phi = 180) carries the specular peak."""
+    f = polarcam.pbrdf(1.5, 0, 0.1, 30, np.array([20.0, 30.0, 40.0]), 180)
+    assert f[1, 0, 0] > f[0, 0, 0] and f[1, 0, 0] > f[2, 0, 0]
+    assert math.isfinite(f[1, 0, 0])

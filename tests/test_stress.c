@@ -1,0 +1,253 @@
+/* The demosaicking stress suite (scenes/stress, docs/demosaicking.md): each scene's evaluation
+ * case (pc_sim_eval_case) against the simulator's own sensor path, and the scenes are what
+ * they claim to be (dark and bright patches with saturated glints, DoLP near 1 at every AoLP,
+ * polarization texture, three exposures). Needs the source tree (PC_SOURCE_DIR). */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "polarcam/error.h"
+#include "polarcam/eval.h"
+#include "polarcam/sim.h"
+
+static char src_dir[2048];
+
+typedef struct scase {
+	pc_eval_truth t;
+	pc_view raw;
+	pc_sim_info info;
+	pc_sensor_figures fig;
+} scase;
+
+static int load(const char *name, uint32_t roi_w, uint32_t roi_h, scase *c)
+{
+	char path[4096];
+	snprintf(path, sizeof path, "%s/scenes/stress/%s", src_dir, name);
+	pc_scene *scene = NULL;
+	pc_sim *sim = NULL;
+	int rc = pc_scene_load(path, &scene);
+	pc_sim_options so = pc_sim_options_default();
+	so.roi_width = roi_w;
+	so.roi_height = roi_h;
+	if (roi_w) { /* a central region (even offsets keep the mosaic phase) */
+		so.roi_x = (512 - roi_w) / 4 * 2;
+		so.roi_y = (384 - roi_h) / 4 * 2;
+	}
+	if (!rc)
+		rc = pc_sim_new(scene, &so, &sim);
+	pc_scene_free(scene);
+	if (!rc) {
+		pc_sim_get_info(sim, &c->info);
+		pc_sim_get_sensor(sim, &c->fig);
+		rc = pc_sim_eval_case(sim, &c->t, &c->raw);
+	}
+	pc_sim_free(sim);
+	if (rc)
+		fprintf(stderr, "%s: %s\n", path, pc_error_detail());
+	return rc;
+}
+
+static void unload(scase *c)
+{
+	pc_eval_truth_free(&c->t);
+	pc_view_free(&c->raw);
+}
+
+static double raw_at(const pc_view *v, uint32_t x, uint32_t y)
+{
+	return PC_ROW(v, const uint16_t, y)[x];
+}
+
+/* Noise-free scenes with the ideal sensor: the raw frame the sensor model makes is the truth
+ * (our formula for ideal analysers) at each pixel's analyser, rounded: within half a DN plus
+ * float rounding. */
+static void test_ideal_raw_is_truth(const char *name)
+{
+	scase c;
+	if (load(name, 128, 96, &c)) {
+		CHECK(0);
+		return;
+	}
+	double fs = c.t.full_scale, worst = 0;
+	CHECK_NEAR(fs, 4095, 0);
+	for (uint32_t y = 0; y < c.t.height; y++)
+		for (uint32_t x = 0; x < c.t.width; x++) {
+			unsigned ch = pc_mosaic_channel(&c.info.mosaic, x, y);
+			double d =
+			    fabs(raw_at(&c.raw, x, y) - c.t.ch[ch][(size_t)y * c.t.width + x] * fs);
+			worst = fmax(worst, d);
+		}
+	printf("%s: ideal sensor, worst |raw - truth| = %.4f DN\n", name, worst);
+	CHECK(worst <= 0.5 + 1e-3);
+	unload(&c);
+}
+
+/* The noisy scenes (IMX250MZR preset): the raw's mean over lit unsaturated pixels matches the
+ * truth's within the analyser non-idealities (ER 300, 1 % transmission, 1 % crosstalk: a
+ * few per cent), and the exposure is what the name says (the brightest tenth's level). */
+static void test_noisy(const char *name, double lo, double hi)
+{
+	scase c;
+	if (load(name, 0, 0, &c)) {
+		CHECK(0);
+		return;
+	}
+	double fs = c.t.full_scale, sr = 0, st = 0, peak = 0;
+	for (uint32_t y = 0; y < c.t.height; y++)
+		for (uint32_t x = 0; x < c.t.width; x++) {
+			unsigned ch = pc_mosaic_channel(&c.info.mosaic, x, y);
+			double tv = c.t.ch[ch][(size_t)y * c.t.width + x] * fs;
+			if (tv >= fs - 1)
+				continue;
+			sr += raw_at(&c.raw, x, y);
+			st += tv;
+		}
+	/* the 90th percentile of the truth's mean intensity: the bright patches' level */
+	size_t n = (size_t)c.t.width * c.t.height;
+	double *v = malloc(sizeof(double) * n);
+	for (size_t i = 0; i < n; i++)
+		v[i] = 0.25 * (c.t.ch[0][i] + c.t.ch[1][i] + c.t.ch[2][i] + c.t.ch[3][i]);
+	/* partial selection by counting is enough here: histogram in 1/4096 bins */
+	size_t hist[4097] = {0};
+	for (size_t i = 0; i < n; i++)
+		hist[(size_t)lround(fmin(v[i], 1.0) * 4096)]++;
+	size_t acc = 0;
+	for (int b = 4096; b >= 0; b--) {
+		acc += hist[b];
+		if (acc >= n / 10) {
+			peak = b / 4096.0;
+			break;
+		}
+	}
+	free(v);
+	printf("%s: raw/truth mean %.4f, bright level %.4f of full scale\n", name, sr / st, peak);
+	CHECK_NEAR(sr / st, 1.0, 0.03);
+	CHECK(peak >= lo && peak <= hi);
+	unload(&c);
+}
+
+/* The chart: dark patches (< 2 % of full scale) beside bright ones (> 40 %) and saturated
+ * glints, each on at least 5 % (glints 0.5 %) of the frame. */
+static void test_chart(void)
+{
+	scase c;
+	if (load("chart.json", 0, 0, &c)) {
+		CHECK(0);
+		return;
+	}
+	size_t n = (size_t)c.t.width * c.t.height, dark = 0, bright = 0, sat = 0;
+	for (size_t i = 0; i < n; i++) {
+		double m = 0.25 * (c.t.ch[0][i] + c.t.ch[1][i] + c.t.ch[2][i] + c.t.ch[3][i]);
+		dark += m < 0.02;
+		bright += m > 0.4;
+		sat += c.t.ch[0][i] >= 1 || c.t.ch[1][i] >= 1 || c.t.ch[2][i] >= 1 ||
+		       c.t.ch[3][i] >= 1;
+	}
+	printf("chart: %.1f %% dark, %.1f %% bright, %.1f %% saturated\n", 100.0 * dark / n,
+	       100.0 * bright / n, 100.0 * sat / n);
+	CHECK(dark > n / 20 && bright > n / 20 && sat > n / 200);
+	unload(&c);
+}
+
+/* Glossy spheres: DoLP > 0.8 somewhere in each of the eight 22.5° AoLP bins, on unsaturated
+ * pixels. */
+static void test_gloss(void)
+{
+	scase c;
+	if (load("gloss.json", 0, 0, &c)) {
+		CHECK(0);
+		return;
+	}
+	size_t n = (size_t)c.t.width * c.t.height, bins[8] = {0};
+	for (size_t i = 0; i < n; i++) {
+		double I[4] = {c.t.ch[0][i], c.t.ch[1][i], c.t.ch[2][i], c.t.ch[3][i]};
+		if (I[0] >= 1 || I[1] >= 1 || I[2] >= 1 || I[3] >= 1)
+			continue;
+		double s0 = 0.5 * (I[0] + I[1] + I[2] + I[3]), s1 = I[0] - I[2], s2 = I[1] - I[3];
+		if (s0 < 0.01 || sqrt(s1 * s1 + s2 * s2) / s0 < 0.8)
+			continue;
+		double a = 0.5 * atan2(s2, s1);
+		if (a < 0)
+			a += M_PI;
+		bins[(int)(a / (M_PI / 8)) & 7]++;
+	}
+	for (int b = 0; b < 8; b++) {
+		printf("gloss: DoLP > 0.9 at AoLP %5.1f-%5.1f deg: %zu pixels\n", 22.5 * b,
+		       22.5 * (b + 1), bins[b]);
+		CHECK(bins[b] >= 10);
+	}
+	unload(&c);
+}
+
+/* Pattern scenes: the pattern carries polarization texture (DoLP differs by > 0.4 between
+ * neighbours somewhere) inside a central region. */
+static void test_texture(const char *name)
+{
+	scase c;
+	if (load(name, 256, 192, &c)) {
+		CHECK(0);
+		return;
+	}
+	size_t n = 0;
+	uint32_t w = c.t.width;
+	for (uint32_t y = 0; y < c.t.height; y++)
+		for (uint32_t x = 0; x + 2 < w; x++) {
+			double d[2];
+			for (int k = 0; k < 2; k++) {
+				size_t i = (size_t)y * w + x + 2 * k;
+				double I[4] = {c.t.ch[0][i], c.t.ch[1][i], c.t.ch[2][i],
+				               c.t.ch[3][i]};
+				double s0 = 0.5 * (I[0] + I[1] + I[2] + I[3]), s1 = I[0] - I[2],
+				       s2 = I[1] - I[3];
+				d[k] = s0 > 0 ? sqrt(s1 * s1 + s2 * s2) / s0 : 0;
+			}
+			n += fabs(d[0] - d[1]) > 0.4;
+		}
+	printf("%s: %zu pixel pairs 2 px apart differ by > 0.4 in DoLP\n", name, n);
+	CHECK(n >= 100);
+	unload(&c);
+}
+
+/* pc_eval_method_raw on the Sony mosaic of a truth is pc_eval_method. */
+static void test_method_raw(void)
+{
+	scase c;
+	if (load("star.json", 96, 64, &c)) {
+		CHECK(0);
+		return;
+	}
+	pc_mosaic m = pc_mosaic_imx250mzr();
+	pc_view raw;
+	CHECK(pc_eval_mosaic(&c.t, &m, &raw) == 0);
+	pc_eval_metrics a, b;
+	CHECK(pc_eval_method(&c.t, PC_DM_EARI, NULL, &a) == 0);
+	CHECK(pc_eval_method_raw(&c.t, &raw, &m, PC_DM_EARI, NULL, &b) == 0);
+	CHECK(memcmp(&a, &b, sizeof a) == 0);
+	pc_view_free(&raw);
+	unload(&c);
+}
+
+int main(void)
+{
+	const char *src = getenv("PC_SOURCE_DIR");
+	if (!src)
+		SKIP("PC_SOURCE_DIR not set: the stress scenes (scenes/stress) are not reachable");
+	snprintf(src_dir, sizeof src_dir, "%s", src);
+	static const char *ideal[] = {"chart.json", "gloss.json", "star.json", "gratings.json",
+	                              "text.json"};
+	for (size_t i = 0; i < sizeof ideal / sizeof *ideal; i++)
+		test_ideal_raw_is_truth(ideal[i]);
+	test_noisy("noise_high.json", 0.4, 0.65);
+	test_noisy("noise_mid.json", 0.055, 0.085);
+	test_noisy("noise_low.json", 0.01, 0.016);
+	test_chart();
+	test_gloss();
+	test_texture("star.json");
+	test_texture("gratings.json");
+	test_texture("text.json");
+	test_method_raw();
+	return pc_test_finish("test_stress");
+}
