@@ -23,7 +23,10 @@ static const char *const own_markers[] = {"meta.json", "report.json", "mueller.j
 
 static int errno_code(int e)
 {
-	return e == ENOENT ? PC_ENOENT : e == EACCES || e == EPERM ? PC_EPERM : PC_EIO;
+	return e == ENOENT                 ? PC_ENOENT
+	       : e == EACCES || e == EPERM ? PC_EPERM
+	       : e == ENAMETOOLONG         ? PC_EINVAL /* a bad name given, not a failure */
+	                                   : PC_EIO;
 }
 
 /* 1 when dir holds no entry but . and .., 0 when it holds some, < 0 on error. */
