@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "json.h"
 #include "polarcam/error.h"
@@ -129,6 +130,43 @@ static bool has_suffix(const char *s, const char *suf)
 	return n >= m && !strcmp(s + n - m, suf);
 }
 
+/* OUT and OUT_valid.npy as one set: both written complete into a temporary folder beside them,
+ * then renamed into place, so that neither replaces an older one unless both were written. */
+static int write_set(const char *out_path, const char *vpath, bool tiff, const float *buf,
+                     const size_t shape[3], const uint8_t *mask)
+{
+	char dir[4096], tmp[4200], t1[4300], t2[4300];
+	const char *slash = strrchr(out_path, '/');
+	if ((size_t)snprintf(dir, sizeof dir, "%.*s",
+	                     slash ? (slash == out_path ? 1 : (int)(slash - out_path)) : 1,
+	                     slash ? out_path : ".") >= sizeof dir)
+		return pc_error(PC_EINVAL, "-o %s: path too long", out_path);
+	int rc = pc_mkdir_p(dir);
+	if (rc)
+		return rc;
+	snprintf(tmp, sizeof tmp, "%s/.polarcam-set.tmp-%ld-XXXXXX", dir, (long)getpid());
+	if (!mkdtemp(tmp))
+		return pc_error(errno == EACCES ? PC_EPERM : PC_EIO,
+		                "%s: cannot make a temporary folder beside it: %s", out_path,
+		                strerror(errno));
+	snprintf(t1, sizeof t1, "%s/out.%s", tmp, tiff ? "tif" : "npy");
+	snprintf(t2, sizeof t2, "%s/valid.npy", tmp);
+	rc = tiff ? pc_tiff_write_array(t1, buf, PC_DT_F32, (uint32_t)shape[0], (uint32_t)shape[1],
+	                                (unsigned)shape[2])
+	          : pc_npy_write(t1, buf, PC_DT_F32, 3, shape);
+	if (!rc)
+		rc = pc_npy_write(t2, mask, PC_DT_U8, 2, shape);
+	if (rc)
+		pc_error_prefix(rc, "-o %s: ", out_path);
+	else if (rename(t1, out_path) != 0 || rename(t2, vpath) != 0)
+		rc = pc_error(PC_EIO, "-o %s: cannot rename into place: %s", out_path,
+		              strerror(errno));
+	unlink(t1);
+	unlink(t2);
+	rmdir(tmp);
+	return rc;
+}
+
 int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const char *out_path,
                      pc_demosaic_file_report *rep)
 {
@@ -183,6 +221,12 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 			    out_path, vslash ? vslash + 1 : vpath, vbase, NAME_MAX);
 		}
 	}
+	/* the mask is part of the output: the same rule (refused unless --overwrite) */
+	if (checked && (rc = pc_output_check(vpath, o->overwrite ? PC_OUT_OVERWRITE : 0, false))) {
+		pc_view_free(&raw);
+		free(buf);
+		return rc;
+	}
 	pc_validity valid = {checked ? malloc((size_t)ow * oh) : NULL, ow, 0};
 	if (checked && !valid.mask) {
 		pc_view_free(&raw);
@@ -199,10 +243,9 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 		return pc_error_prefix(rc, "%s: ", in->path);
 	}
 	size_t shape[3] = {oh, ow, nch};
-	rc = tiff ? pc_tiff_write_array(out_path, buf, PC_DT_F32, oh, ow, nch)
-	          : pc_npy_write(out_path, buf, PC_DT_F32, 3, shape);
-	if (!rc && checked)
-		rc = pc_npy_write(vpath, valid.mask, PC_DT_U8, 2, shape);
+	rc = checked ? write_set(out_path, vpath, tiff, buf, shape, valid.mask)
+	     : tiff  ? pc_tiff_write_array(out_path, buf, PC_DT_F32, oh, ow, nch)
+	             : pc_npy_write(out_path, buf, PC_DT_F32, 3, shape);
 	free(buf);
 	free(valid.mask);
 	if (!rc && rep) {

@@ -195,6 +195,16 @@ static void test_outputs(void)
 	check_overwrite("process", "process rec/raw_000000.png -o", "p", "p/meta.json");
 	check_overwrite("process batch", "process rec -o", "pb", "pb/meta.json");
 	check_overwrite("demosaic", "demosaic rec/raw_000000.png -o", "i.npy", "i.npy");
+	/* the validity mask beside it belongs to the set: alone it is refused as well, and
+	 * nothing (neither i.npy nor a temporary) is written then */
+	CHECK(exists(tmp("i_valid.npy")));
+	CHECK_EQ_INT(remove(tmp("i.npy")), 0);
+	CHECK_EQ_INT(run("demosaic rec/raw_000000.png -o i.npy"), 2);
+	CHECK(contains(tmp("err.txt"), "i_valid.npy") && contains(tmp("err.txt"), "--overwrite"));
+	CHECK(!exists(tmp("i.npy")));
+	CHECK_EQ_INT(run("demosaic rec/raw_000000.png -o i.npy --overwrite"), 0);
+	CHECK(exists(tmp("i.npy")) && exists(tmp("i_valid.npy")));
+	CHECK_EQ_INT(leftovers("i.npy") + leftovers("polarcam-set"), 0);
 	snprintf(a, sizeof a,
 	         "capture 'sim:%s/scenes/ideal_small.json?fps=0' --roi %s -n 2 "
 	         "--process -o",
