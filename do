@@ -121,7 +121,7 @@ case $cmd in
     build build
     out=${2:-polarcam-demo}
     say "running: build/tools/polarcam demo -o $out"
-    build/tools/polarcam demo -o "$out"
+    build/tools/polarcam demo -o "$out" --overwrite
     ;;
   format-check)
     install_pkgs $FORMAT_PKGS

@@ -41,6 +41,8 @@ typedef struct pc_bench_host {
 	/* Progress: a phase (its own bar), and the end of the last one. */
 	pc_progress progress;
 	void (*progress_end)(void *progress_user);
+	/* Stop after parsing the arguments, with PC_BENCH_OK (the CLI's POLARCAM_PARSE_ONLY). */
+	bool parse_only;
 } pc_bench_host;
 
 int pc_bench_physics(const pc_bench_host *host, int argc, char **argv);

@@ -383,6 +383,8 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 			                   argv[optind - 1]);
 		}
 	}
+	if (host->parse_only)
+		return PC_BENCH_OK;
 	if (speed)
 		return bench_speed(2448, 2048, (int)reps, json);
 	const uint32_t S = (uint32_t)size;

@@ -536,7 +536,8 @@ static void usage(FILE *fp)
 {
 	fprintf(
 	    fp,
-	    "usage: polarcam bench demosaic [DATA_DIR] [--stress DIR] [-o DIR] [--reps N]\n"
+	    "usage: polarcam bench demosaic [DATA_DIR] [--stress DIR] [-o DIR [--overwrite]] "
+	    "[--reps N]\n"
 	    "                               [--threads N] [--quick] [--json]\n"
 	    "\n"
 	    "What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
@@ -569,7 +570,9 @@ static void usage(FILE *fp)
 	    "DoLP-weighted AoLP RMSE).\n"
 	    "\n"
 	    "Writes DIR/demosaic.json, DIR/pareto_s0.png and DIR/pareto_dolp.png (default DIR:\n"
-	    "bench-demosaic) and prints a table; --json prints the JSON on stdout instead.\n");
+	    "bench-demosaic; made beside DIR and renamed into place at the end, an existing DIR\n"
+	    "refused unless --overwrite) and prints a table; --json prints the JSON on stdout\n"
+	    "instead.\n");
 }
 
 static void pareto_plot(const char *path, const method_row *rows, size_t n, int ds, int dolp,
@@ -636,7 +639,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	host = h;
 	const char *data_dir = NULL, *out_dir = "bench-demosaic", *stress_dir = NULL;
 	long reps = 7, threads = 0;
-	bool json_out = false, quick = false;
+	bool json_out = false, quick = false, overwrite = false;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
 			usage(stdout);
@@ -655,6 +658,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			stress_dir = argv[++i];
 		} else if (!strcmp(argv[i], "--json")) {
 			json_out = true;
+		} else if (!strcmp(argv[i], "--overwrite")) {
+			overwrite = true;
 		} else if (!strcmp(argv[i], "--quick")) {
 			quick = true;
 			reps = 3;
@@ -679,6 +684,12 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		stress_dir = "scenes/stress";
 	if (data_dir && !(stat(data_dir, &sb) == 0 && S_ISDIR(sb.st_mode)))
 		return host->error(PC_BENCH_USAGE, "%s %s: not a directory", data_from, data_dir);
+	/* an occupied output folder is refused before the measurements */
+	int orc = pc_output_check(out_dir, overwrite ? PC_OUT_OVERWRITE : 0, true);
+	if (orc)
+		return host->fail(orc, NULL);
+	if (host->parse_only)
+		return PC_BENCH_OK;
 	FILE *tf = json_out ? stderr : stdout;
 	int nthreads = threads ? (int)threads : pc_parallel_max_threads();
 	char load0[128], load1[128];
@@ -1252,21 +1263,25 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		            "./scenes/stress\n");
 	}
 	int status = PC_BENCH_OK;
-	if ((rc = pc_mkdir_p(out_dir))) {
+	pc_outdir od;
+	if ((rc = pc_outdir_begin(&od, out_dir, overwrite ? PC_OUT_OVERWRITE : 0))) {
 		status = host->fail(rc, NULL);
 	} else {
 		char path[4096];
-		snprintf(path, sizeof path, "%s/demosaic.json", out_dir);
+		snprintf(path, sizeof path, "%s/demosaic.json", od.tmp);
 		char *txt = json_dumps(root, JSON_INDENT(1) | JSON_REAL_PRECISION(10));
 		if (!txt || (rc = pc_write_file_atomic(path, txt, strlen(txt))))
 			status = host->fail(rc ? rc : PC_ENOMEM, path);
 		free(txt);
 		if (have_acc && brow) {
-			snprintf(path, sizeof path, "%s/pareto_s0.png", out_dir);
+			snprintf(path, sizeof path, "%s/pareto_s0.png", od.tmp);
 			pareto_plot(path, rows, nrows, 0, 0, bil);
-			snprintf(path, sizeof path, "%s/pareto_dolp.png", out_dir);
+			snprintf(path, sizeof path, "%s/pareto_dolp.png", od.tmp);
 			pareto_plot(path, rows, nrows, 0, 1, bil);
 		}
+		if (status == PC_BENCH_OK && (rc = pc_outdir_commit(&od)))
+			status = host->fail(rc, NULL);
+		pc_outdir_abort(&od);
 		fprintf(tf, "wrote %s/demosaic.json%s\n", out_dir,
 		        have_acc ? ", pareto_s0.png, pareto_dolp.png" : "");
 	}

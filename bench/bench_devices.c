@@ -488,6 +488,8 @@ int pc_bench_devices(const pc_bench_host *h, int argc, char **argv)
 		if (rc)
 			return host->fail(rc, "arguments");
 	}
+	if (host->parse_only)
+		return PC_BENCH_OK;
 	if (o.quick) {
 		const char *src = getenv("PC_SOURCE_DIR");
 		snprintf(scene_buf, sizeof scene_buf, "%s/scenes/ideal_small.json",

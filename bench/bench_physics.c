@@ -319,6 +319,8 @@ int pc_bench_physics(const pc_bench_host *h, int argc, char **argv)
 			return 2;
 		}
 	}
+	if (host->parse_only)
+		return PC_BENCH_OK;
 	FILE *out = json ? stderr : stdout;
 	json_t *root = json_object();
 	int max_threads = 1;

@@ -256,6 +256,8 @@ int pc_bench_render(const pc_bench_host *h, int argc, char **argv)
 				                   "--sets: unknown set '%s' (see --help)", p);
 		}
 	}
+	if (host->parse_only)
+		return PC_BENCH_OK;
 	result res[sizeof sets / sizeof sets[0]];
 	memset(res, 0, sizeof res);
 	int nthreads = threads ? (int)threads : pc_parallel_max_threads();

@@ -29,11 +29,14 @@ typedef struct capture {
 	const pc_capture_opts *o;
 	pc_source *src;
 	pc_source_format f;
+	pc_outdir od; /* the recording is made in od.tmp and put in place at the end */
 	pc_recording *rec;
 	pc_stokes_stream *live;
 	const char *method; /* name, with process */
 	double black;       /* DN: given, or what the source declares; 0: unknown */
 	double seconds, proc_sum, proc_max;
+	uint64_t kept;  /* frames whose Stokes images were written (writer thread) */
+	bool last_kept; /* the last processed frame's were */
 	pc_capture_report *rep;
 	frame_queue q;
 	bool q_ready;
@@ -129,6 +132,9 @@ static int open_all(capture *c)
 	if (!(o->write_delay_ms >= 0 && o->write_delay_ms <= 3.6e6))
 		return pc_error(PC_EINVAL, "capture: write delay %g ms: expected 0..3600000",
 		                o->write_delay_ms);
+	/* so is an occupied output folder */
+	if ((rc = pc_outdir_begin(&c->od, o->dir, o->overwrite ? PC_OUT_OVERWRITE : 0)))
+		return rc;
 	if ((rc = pc_stream_open(&o->stream, &c->src)))
 		return pc_error_prefix(rc, "opening the source: ");
 	pc_source_get_format(c->src, &c->f);
@@ -172,18 +178,28 @@ static int open_all(capture *c)
 	d.polarized = c->f.polarized;
 	d.mosaic = c->f.mosaic;
 	d.store = o->store;
-	if ((rc = pc_recording_create(&c->rec, o->dir, &d, o->overwrite)))
+	if ((rc = pc_recording_create(&c->rec, c->od.tmp, &d, false)))
 		return pc_error_prefix(rc, "creating the recording: ");
 	set_extra(c, NULL);
-	{ /* leftovers of a killed run in the processed pictures' folder: swept whether or not
-	   * this run processes, since a run killed while processing leaves them there for any
-	   * later capture into the same recording */
-		char pdir[1100];
-		snprintf(pdir, sizeof pdir, "%s/processed", o->dir);
-		if (pc_atomic_sweep(pdir, NULL))
-			pc_error_clear(); /* only tidying: the folder is rewritten whole */
-	}
 	return 0;
+}
+
+/* Files of processed frame number n in DIR/processed/ (writer thread, or after it ended). */
+static int keep(capture *c, uint64_t n, unsigned files)
+{
+	uint32_t w, h;
+	const pc_stokes_out *so = pc_stokes_stream_planes(c->live, &w, &h);
+	char pdir[4200];
+	snprintf(pdir, sizeof pdir, "%s/processed", c->od.tmp);
+	pc_stokes_folder_opts fo = {
+	    .files = files, .pictures = {.title_prefix = "capture"}, .numbered = true, .number = n};
+	int rc =
+	    pc_stokes_folder_write_valid(pdir, so, w, h, &fo, pc_stokes_stream_validity(c->live));
+	if (!rc && (files & PC_SF_DOLP)) {
+		c->kept++;
+		c->last_kept = true;
+	}
+	return rc;
 }
 
 /* ---- the writer thread ---- */
@@ -210,6 +226,10 @@ static void *writer_main(void *arg)
 			c->proc_n++;
 			if (s > c->proc_max)
 				c->proc_max = s;
+			c->last_kept = false;
+			uint64_t pos = pc_recording_count(c->rec) - 1; /* this frame's position */
+			if (!rc && o->keep_every && pos % o->keep_every == 0)
+				rc = keep(c, pos, PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP);
 		}
 		if (!rc && o->write_delay_ms > 0) {
 			double d = o->write_delay_ms / 1e3;
@@ -383,14 +403,11 @@ static json_t *processed(capture *c)
 	uint64_t got = c->proc_n;
 	if (!so || got == 0)
 		return NULL;
-	char pdir[1100];
-	snprintf(pdir, sizeof pdir, "%s/processed", c->o->dir);
-	pc_stokes_folder_opts fo = {PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP | PC_SF_PICTURES,
-	                            {"capture", 0, 0}};
-	const pc_validity *valid = pc_stokes_stream_validity(c->live);
-	int rc = pc_stokes_folder_write_valid(pdir, so, w, h, &fo, valid);
+	unsigned files = PC_SF_PICTURES | (c->last_kept ? 0 : PC_SF_S0 | PC_SF_DOLP | PC_SF_AOLP);
+	int rc = keep(c, pc_recording_count(c->rec) - 1, files);
 	if (rc)
-		fail(c, rc, "writing the processed pictures: %s", pc_error_detail());
+		fail(c, rc, "writing the processed frames: %s", pc_error_detail());
+	const pc_validity *valid = pc_stokes_stream_validity(c->live);
 	/* the mean DoLP of the valid pixels: invalid ones depend on saturated samples */
 	double sum = 0, nv = 0;
 	for (size_t i = 0; i < (size_t)w * h; i++)
@@ -408,6 +425,8 @@ static json_t *processed(capture *c)
 	json_object_set_new(pj, "last_invalid_pixels", json_integer((json_int_t)valid->n_invalid));
 	json_object_set_new(pj, "method", json_string(c->method));
 	json_object_set_new(pj, "frames", json_integer((json_int_t)got));
+	json_object_set_new(pj, "kept", json_integer((json_int_t)c->kept));
+	json_object_set_new(pj, "keep_every", json_integer((json_int_t)c->o->keep_every));
 	json_object_set_new(pj, "mean_ms", pc_json_real(1e3 * c->proc_sum / (double)got));
 	json_object_set_new(pj, "max_ms", pc_json_real(1e3 * c->proc_max));
 	json_object_set_new(pj, "last_mean_dolp", nv > 0 ? pc_json_real(sum / nv) : json_null());
@@ -519,6 +538,17 @@ int pc_capture(const pc_capture_opts *o, pc_capture_report *rep)
 	if (c.q_ready)
 		fq_destroy(&c.q);
 	pthread_mutex_destroy(&c.lock);
+	/* Frames from a camera cannot be made again: a recording that ended early is kept (and
+	 * replaces an older one) once it holds a frame. With none, nothing is put in place. */
+	if (!rc && rep->frames == 0) {
+		rc = pc_error(rep->error ? rep->error : PC_EIO, "%s: no frame recorded: %s", o->dir,
+		              rep->message);
+		pc_capture_report_free(rep);
+	}
+	if (!rc && (rc = pc_outdir_commit(&c.od)))
+		pc_capture_report_free(rep);
+	if (rc)
+		pc_outdir_abort(&c.od);
 	return rc;
 }
 

@@ -27,7 +27,8 @@ extern "C" int pc_display_open(pc_display **out, const char *title)
 {
 	*out = nullptr;
 	if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
-		return pc_error(PC_EIO, "no display: $DISPLAY is not set (run under X, or Xvfb)");
+		return pc_error(PC_EUNAVAIL,
+		                "no display: $DISPLAY is not set (run under X, or Xvfb)");
 	pc_display *d = new (std::nothrow) pc_display;
 	if (!d)
 		return pc_error(PC_ENOMEM, "window");

@@ -9,8 +9,8 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *opt
 	(void)opt;
 	if (out)
 		*out = NULL;
-	return pc_error(PC_ENOTSUP, "serve: built without Aravis (Debian: libaravis-dev, then "
-	                            "re-run cmake)");
+	return pc_error(PC_EUNAVAIL, "serve: built without Aravis (Debian: libaravis-dev, then "
+	                             "re-run cmake)");
 }
 
 void pc_gige_server_get_stats(pc_gige_server *srv, pc_gige_server_stats *st)

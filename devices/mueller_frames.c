@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "polarcam/error.h"
 #include "polarcam/io.h"
@@ -110,6 +111,15 @@ int pc_mueller_from_recording(const char *dir, const pc_mueller_request *rq, pc_
 		    sizeof states) {
 			pc_recording_free(r);
 			return pc_error(PC_EINVAL, "%s: path too long", dir);
+		}
+		if (access(states, F_OK) != 0) {
+			pc_recording_free(r);
+			return pc_error(PC_ENOENT,
+			                "%s: no states.json: the frames were not recorded "
+			                "under a sequence of polarization states (render writes "
+			                "it for scenes with \"states\"); give them with --states "
+			                "FILE",
+			                dir);
 		}
 		q.states_path = states;
 	}

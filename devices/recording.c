@@ -437,6 +437,20 @@ double pc_recording_black_level(const pc_recording *r)
 
 int pc_recording_frame_mosaic(const char *path, pc_mosaic *m)
 {
+	struct stat sb;
+	if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode)) { /* a recording itself */
+		pc_recording *r = NULL;
+		if (pc_recording_open(&r, path) != 0) {
+			pc_error_clear();
+			return 0;
+		}
+		const pc_recording_desc *d = pc_recording_get_desc(r);
+		int ok = d->polarized;
+		if (ok)
+			*m = d->mosaic;
+		pc_recording_free(r);
+		return ok;
+	}
 	pc_recording_frame_meta fm;
 	int found = pc_recording_frame_info(path, &fm);
 	if (found < 0)

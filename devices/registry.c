@@ -90,7 +90,8 @@ int pc_usb3v_list(pc_device_fn fn, void *ctx)
 #else
 	(void)fn;
 	(void)ctx;
-	return pc_error(PC_ENOTSUP, "USB3 Vision diagnosis needs libusb (Debian: libusb-1.0-0-dev, "
-	                            "then re-run cmake)");
+	return pc_error(PC_EUNAVAIL,
+	                "USB3 Vision diagnosis needs libusb (Debian: libusb-1.0-0-dev, "
+	                "then re-run cmake)");
 #endif
 }

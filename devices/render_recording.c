@@ -15,7 +15,9 @@
 
 typedef struct job {
 	const pc_render_opts *o;
-	const char *dir;
+	const char *name; /* the output folder as the caller named it (messages) */
+	pc_outdir od;
+	const char *dir; /* od.tmp: where the files go until the folder is put in place */
 	const pc_scene *scene;
 	pc_sim *sim;
 	pc_sim_info in;
@@ -174,7 +176,7 @@ static int frames(job *j)
 		fr.mosaic = j->in.mosaic;
 		if ((rc = pc_recording_add(j->rec, &fr))) {
 			snprintf(j->err, sizeof j->err, "%s", pc_error_detail());
-			pc_error_prefix(rc, "%s: ", j->dir);
+			pc_error_prefix(rc, "%s: ", j->name);
 			break;
 		}
 		j->t_write += now_s() - tb;
@@ -230,17 +232,18 @@ static int finish(job *j, double t0, pc_render_report *rep)
 	if ((rc = set_extra(j, t0, rep)))
 		return rc;
 	if ((rc = pc_recording_finish(j->rec, NULL)))
-		return pc_error_prefix(rc, "%s: ", j->dir);
+		return pc_error_prefix(rc, "%s: ", j->name);
 	return 0;
 }
 
-/* The recording first: an occupied directory is refused before any work. */
+/* The output folder first: an occupied one is refused before any work. */
 static int start(job *j)
 {
 	const pc_render_opts *o = j->o;
-	int rc = pc_mkdir_p(j->dir);
+	int rc = pc_outdir_begin(&j->od, j->name, o->overwrite ? PC_OUT_OVERWRITE : 0);
 	if (rc)
-		return pc_error_prefix(rc, "%s: ", j->dir);
+		return rc;
+	j->dir = j->od.tmp;
 	char source[1024];
 	snprintf(source, sizeof source, "sim:%s?seed=%llu",
 	         o->scene_path ? o->scene_path : "default", (unsigned long long)o->sim.seed);
@@ -249,8 +252,8 @@ static int start(job *j)
 	                          in->width,    in->height,       in->offset_x,
 	                          in->offset_y, in->sensor_width, in->sensor_height,
 	                          true,         in->mosaic,       o->store};
-	if ((rc = pc_recording_create(&j->rec, j->dir, &desc, o->overwrite)))
-		return pc_error_prefix(rc, "%s: ", j->dir);
+	if ((rc = pc_recording_create(&j->rec, j->dir, &desc, false)))
+		return pc_error_prefix(rc, "%s: ", j->name);
 	return 0;
 }
 
@@ -264,7 +267,7 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 	job j;
 	memset(&j, 0, sizeof j);
 	j.o = o;
-	j.dir = dir;
+	j.name = dir;
 	pc_scene *loaded = NULL;
 	int rc = 0;
 	if (!(j.scene = o->scene))
@@ -304,8 +307,22 @@ int pc_render_recording(const char *dir, const pc_render_opts *o, pc_render_repo
 		}
 		pc_recording_free(j.rec);
 	}
+	/* The folder is put in place whole, or not at all (the old one, if any, stays); a
+	 * recording stopped by the caller is put in place with the frames written (meta.json says
+	 * complete = false). */
+	if (!rc || (rc == PC_ECANCELED && j.written)) {
+		char detail[512];
+		snprintf(detail, sizeof detail, "%s", rc ? pc_error_detail() : "");
+		int crc = pc_outdir_commit(&j.od);
+		if (crc)
+			rc = crc;
+		else if (rc)
+			pc_error(rc, "%s", detail);
+	} else {
+		pc_outdir_abort(&j.od);
+	}
 	if (rep)
-		rep->frames = j.written;
+		rep->frames = rc && rc != PC_ECANCELED ? 0 : j.written;
 	if (!rc && rep) {
 		rep->width = j.in.width;
 		rep->height = j.in.height;

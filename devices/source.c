@@ -366,9 +366,11 @@ int pc_source_open(pc_source **out, const char *uri)
 		                scheme, list);
 	}
 	if (!b->ops)
-		return pc_error(PC_ENOTSUP, "source URI '%s': the %s: backend is not built in: %s",
+		return pc_error(PC_EUNAVAIL, "source URI '%s': the %s: backend is not built in: %s",
 		                uri, scheme, b->missing ? b->missing : "disabled");
 	int rc = pc_source_open_ops(out, b->ops, scheme, colon + 1);
+	if (rc == PC_ENOENT && b->enumerate) /* a device backend: the device is absent */
+		rc = PC_EUNAVAIL;
 	if (rc && rc != PC_ENOMEM)
 		return pc_error_prefix(rc, "%s: ", uri);
 	return rc;

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 
 #include "json.h"
@@ -46,6 +47,12 @@ static int open_all(viewer *v)
 	int rc = v->o->method ? pc_demosaic_method_from_name(v->o->method, &m) : 0;
 	if (rc)
 		return pc_error_prefix(rc, "--method: ");
+	/* screenshots are PNG: a name promising another format is refused, not filled with PNG */
+	const char *shot = v->o->screenshot;
+	size_t len = shot ? strlen(shot) : 0;
+	if (shot && (len < 5 || strcasecmp(shot + len - 4, ".png")))
+		return pc_error(
+		    PC_EINVAL, "%s: screenshots are written as PNG only: name the file .png", shot);
 	if (v->o->window && (rc = pc_display_open(&v->win, "polarcam view")))
 		return pc_error_prefix(rc, "opening the window: ");
 	if ((rc = pc_stream_open(&v->o->stream, &v->src)))

@@ -3,6 +3,7 @@
 #include "polarcam/folders.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,7 +68,7 @@ static int map_write(const char *dir, const char *name, const float *map, uint32
 	if (!rc) {
 		snprintf(file, sizeof file, "%s.png", name);
 		rc = join(path, sizeof path, dir, file);
-		pc_colorbar bar = {label, lo, hi, NULL, 0, 0, pc_picture_grey_key, NULL};
+		pc_colorbar bar = {label, lo, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
 		/* pc_picture_grey draws non-finite values magenta: say what they mean when present
 		 */
 		size_t undefined = 0;
@@ -126,38 +127,40 @@ static int write_plane(const char *dir, const char *name, const pc_fplane *p, ui
 }
 
 /* stokes.npy (H, W, 3): directly when s0, s1, s2 already interleave that way. */
-static int write_stokes3(const char *dir, const pc_stokes_out *st, uint32_t w, uint32_t h)
+static int write_stokes3(const char *dir, const char *name, const pc_stokes_out *st, uint32_t w,
+                         uint32_t h)
 {
 	const pc_fplane *s[3] = {&st->s0, &st->s1, &st->s2};
 	bool inter = true;
 	for (int k = 0; k < 3; k++) {
 		if (!s[k]->data)
-			return pc_error(PC_EINVAL, "%s/stokes.npy: S0, S1 and S2 are needed", dir);
+			return pc_error(PC_EINVAL, "%s/%s: S0, S1 and S2 are needed", dir, name);
 		inter &= s[k]->data == st->s0.data + k && s[k]->pixel_stride == 3 &&
 		         s[k]->row_stride == (size_t)w * 3;
 	}
 	size_t shape[3] = {h, w, 3};
 	if (inter)
-		return write_npy(dir, "stokes.npy", st->s0.data, 3, shape);
+		return write_npy(dir, name, st->s0.data, 3, shape);
 	float *t = malloc(sizeof(float) * w * h * 3);
 	if (!t)
-		return pc_error(PC_ENOMEM, "%s/stokes.npy", dir);
+		return pc_error(PC_ENOMEM, "%s/%s", dir, name);
 	for (uint32_t y = 0; y < h; y++)
 		for (uint32_t x = 0; x < w; x++)
 			for (int k = 0; k < 3; k++)
 				t[((size_t)y * w + x) * 3 + (size_t)k] =
 				    s[k]->data[(size_t)y * s[k]->row_stride +
 				               (size_t)x * s[k]->pixel_stride];
-	int rc = write_npy(dir, "stokes.npy", t, 3, shape);
+	int rc = write_npy(dir, name, t, 3, shape);
 	free(t);
 	return rc;
 }
 
 /* valid.npy (H, W) uint8: 1 valid, 0 invalid */
-static int write_valid(const char *dir, const pc_validity *v, uint32_t w, uint32_t h)
+static int write_valid(const char *dir, const char *name, const pc_validity *v, uint32_t w,
+                       uint32_t h)
 {
 	char path[4096];
-	int rc = join(path, sizeof path, dir, "valid.npy");
+	int rc = join(path, sizeof path, dir, name);
 	if (rc)
 		return rc;
 	size_t shape[2] = {h, w};
@@ -189,19 +192,39 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 		                valid->row_stride, width);
 	if (!dir || !st || !opts)
 		return pc_error(PC_EINVAL, "Stokes folder: missing argument");
+	char sfx[32] = "", name[64];
+	if (opts->numbered)
+		snprintf(sfx, sizeof sfx, "_%06llu", (unsigned long long)opts->number);
 	int rc = pc_mkdir_p(dir);
-	if (!rc && (opts->files & PC_SF_STOKES))
-		rc = write_stokes3(dir, st, width, height);
-	if (!rc && (opts->files & PC_SF_S0))
-		rc = write_plane(dir, "s0.npy", &st->s0, width, height);
-	if (!rc && (opts->files & PC_SF_DOLP))
-		rc = write_plane(dir, "dolp.npy", &st->dolp, width, height);
-	if (!rc && (opts->files & PC_SF_AOLP))
-		rc = write_plane(dir, "aolp.npy", &st->aolp, width, height);
-	if (!rc && valid && valid->mask)
-		rc = write_valid(dir, valid, width, height);
-	if (!rc && (opts->files & PC_SF_PICTURES))
-		rc = pc_pictures_write_valid(dir, st, width, height, &opts->pictures, valid);
+	if (!rc && (opts->files & PC_SF_STOKES)) {
+		snprintf(name, sizeof name, "stokes%s.npy", sfx);
+		rc = write_stokes3(dir, name, st, width, height);
+	}
+	static const struct {
+		unsigned flag;
+		const char *name;
+		size_t plane; /* offset of the pc_fplane in pc_stokes_out */
+	} planes[3] = {{PC_SF_S0, "s0", offsetof(pc_stokes_out, s0)},
+	               {PC_SF_DOLP, "dolp", offsetof(pc_stokes_out, dolp)},
+	               {PC_SF_AOLP, "aolp", offsetof(pc_stokes_out, aolp)}};
+	for (int k = 0; k < 3 && !rc; k++)
+		if (opts->files & planes[k].flag) {
+			snprintf(name, sizeof name, "%s%s.npy", planes[k].name, sfx);
+			rc = write_plane(
+			    dir, name,
+			    (const pc_fplane *)(const void *)((const char *)st + planes[k].plane),
+			    width, height);
+		}
+	if (!rc && valid && valid->mask && !opts->no_valid_file) {
+		snprintf(name, sizeof name, "valid%s.npy", sfx);
+		rc = write_valid(dir, name, valid, width, height);
+	}
+	if (!rc && (opts->files & PC_SF_PICTURES)) {
+		pc_pictures_opts po = opts->pictures;
+		if (opts->numbered)
+			po.suffix = sfx;
+		rc = pc_pictures_write_valid(dir, st, width, height, &po, valid);
+	}
 	return rc;
 }
 
@@ -241,18 +264,12 @@ static json_t *mueller_json(const pc_mueller_result *res, const pc_mueller_folde
 	return js;
 }
 
-int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
-                            const pc_mueller_folder_opts *o, char **json)
+static int mueller_folder(const char *dir, const pc_mueller_result *res,
+                          const pc_mueller_folder_opts *o, char **json)
 {
-	if (json)
-		*json = NULL;
-	if (!dir || !res || !o)
-		return pc_error(PC_EINVAL, "Mueller folder: missing argument");
 	const uint32_t w = res->width, h = res->height;
 	const size_t np = (size_t)w * h;
-	int rc = pc_mkdir_p(dir);
-	if (rc)
-		return pc_error_prefix(rc, "%s: ", dir);
+	int rc = 0;
 	if (!o->no_mueller) {
 		size_t shape[4] = {h, w, 4, 4};
 		if ((rc = write_npy(dir, "mueller.npy", res->M, 4, shape)))
@@ -266,18 +283,18 @@ int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
 	                    "R (rad)", vm, nb)) ||
 	    (rc = map_write(dir, "Delta", res->maps + 2 * np, w, h, 0, 1,
 	                    "Depolarization Delta (Lu-Chipman)", "Delta", vm, nb)))
-		return pc_error_prefix(rc, "%s: ", dir);
+		return rc;
 	if (res->valid) {
 		char path[4096];
 		size_t shape[2] = {h, w};
 		if ((rc = join(path, sizeof path, dir, "valid.npy")) ||
 		    (rc = pc_npy_write(path, res->valid, PC_DT_U8, 2, shape)))
-			return pc_error_prefix(rc, "%s: ", dir);
+			return rc;
 	}
 	if (res->residual &&
 	    (rc = pc_map_write(dir, "rebuild_residual", res->residual, w, h, 0, 2 * o->rebuild_tol,
 	                       "Residual of the 3x3 fit / M00 (pBRDF family)", "residual")))
-		return pc_error_prefix(rc, "%s: ", dir);
+		return rc;
 	json_t *js = mueller_json(res, o);
 	char *txt = json_dumps(js, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
 	char path[4096];
@@ -287,9 +304,31 @@ int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
 		rc = pc_write_file_atomic(path, txt, strlen(txt));
 	free(txt);
 	if (!rc && json && !(*json = pc_json_text(js)))
-		rc = PC_ENOMEM;
+		rc = pc_error(PC_ENOMEM, "mueller.json");
 	json_decref(js);
-	return rc ? pc_error_prefix(rc, "mueller.json: ") : 0;
+	return rc;
+}
+
+int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
+                            const pc_mueller_folder_opts *o, char **json)
+{
+	if (json)
+		*json = NULL;
+	if (!dir || !res || !o)
+		return pc_error(PC_EINVAL, "Mueller folder: missing argument");
+	pc_outdir od;
+	int rc = pc_outdir_begin(&od, dir, o->overwrite ? PC_OUT_OVERWRITE : 0);
+	if (rc)
+		return rc;
+	rc = mueller_folder(od.tmp, res, o, json);
+	if (!rc)
+		rc = pc_outdir_commit(&od);
+	pc_outdir_abort(&od);
+	if (rc && json) {
+		free(*json);
+		*json = NULL;
+	}
+	return rc;
 }
 
 /* ---- the seed paper's figures ---- */
@@ -343,10 +382,10 @@ static int write_png(const char *dir, const pc_figure *F, bool with_printed)
 	return rc;
 }
 
-int pc_figures_write(const char *dir, const pc_figure figs[12], const pc_figure_claim *claims,
-                     size_t n_claims, const pc_progress *progress)
+static int figures_folder(const char *dir, const pc_figure figs[12], const pc_figure_claim *claims,
+                          size_t n_claims, const pc_progress *progress)
 {
-	int rc = pc_mkdir_p(dir);
+	int rc = 0;
 	for (int f = 2; f <= 11 && !rc; f++) {
 		rc = write_csv(dir, &figs[f]);
 		if (!rc)
@@ -354,7 +393,7 @@ int pc_figures_write(const char *dir, const pc_figure figs[12], const pc_figure_
 		pc_progress_report(progress, "figures", (uint64_t)f, 12);
 	}
 	if (rc)
-		return pc_error_prefix(rc, "%s: ", dir);
+		return rc;
 	char *md = NULL;
 	size_t len = 0;
 	FILE *fp = open_memstream(&md, &len);
@@ -389,5 +428,19 @@ int pc_figures_write(const char *dir, const pc_figure figs[12], const pc_figure_
 	if (!rc)
 		rc = pc_write_file_atomic(path, md, len);
 	free(md);
-	return rc ? pc_error_prefix(rc, "%s: ", dir) : 0;
+	return rc;
+}
+
+int pc_figures_write(const char *dir, unsigned flags, const pc_figure figs[12],
+                     const pc_figure_claim *claims, size_t n_claims, const pc_progress *progress)
+{
+	pc_outdir od;
+	int rc = pc_outdir_begin(&od, dir, flags);
+	if (rc)
+		return rc;
+	rc = figures_folder(od.tmp, figs, claims, n_claims, progress);
+	if (!rc)
+		rc = pc_outdir_commit(&od);
+	pc_outdir_abort(&od);
+	return rc;
 }

@@ -231,13 +231,16 @@ int pc_image_read_mosaic(const char *path, const pc_raw_geometry *geometry, unsi
 	if (bits == 0)
 		bits = declared && declared <= container ? declared : container;
 	if (bits < 1 || bits > 16 || (bits <= 8) != (container <= 8) || bits > container) {
+		/* what the file holds: its declared depth (PNG sBIT, TIFF BitsPerSample) in samples
+		 * of its container */
 		unsigned cont = container <= 8 ? 8 : 16;
+		unsigned held = declared && declared <= container ? declared : container;
 		pc_view_free(out);
 		return pc_error(PC_EFORMAT,
 		                "%s: holds %u-bit data in %u-bit samples, not %u-bit "
-		                "data (wrong bit depth: 8-bit data needs 8-bit samples, "
-		                "9..16-bit data 16-bit samples)",
-		                path, container, cont, bits);
+		                "data (wrong bit depth: 1..8-bit data comes in 8-bit "
+		                "samples, 9..16-bit data in 16-bit samples)",
+		                path, held, cont, bits);
 	}
 	rc = pc_view_check_bits(out, bits);
 	if (rc) {

@@ -96,19 +96,20 @@ void pc_array_free(pc_array *a)
 	a->data = NULL;
 }
 
-int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned ndim,
-                 const size_t *shape)
+/* The header of a C-order array; *count receives its element count. */
+static int write_header(FILE *fp, const char *path, pc_dtype dtype, unsigned ndim,
+                        const size_t *shape, size_t *count)
 {
 	const char *descr = dtype_descr(dtype);
 	if (!descr || ndim < 1 || ndim > 4)
 		return pc_error(PC_EINVAL, "%s: unsupported dtype or ndim %u", path, ndim);
 	char shp[128];
 	size_t off = 0;
-	size_t count = 1;
+	*count = 1;
 	for (unsigned i = 0; i < ndim; i++) {
 		off += (size_t)snprintf(shp + off, sizeof shp - off, "%zu,%s", shape[i],
 		                        (ndim > 1 && i + 1 < ndim) ? " " : "");
-		count *= shape[i];
+		*count *= shape[i];
 	}
 	if (ndim > 1 && off > 0 && shp[off - 1] == ',')
 		shp[--off] = '\0';
@@ -118,26 +119,81 @@ int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned nd
 	size_t total = 10 + (size_t)hl + 1;
 	size_t padded = (total + 63) / 64 * 64;
 	size_t pad = padded - total;
-	pc_atomic_file af;
-	int rc = pc_atomic_open(&af, path);
-	if (rc)
-		return rc;
 	unsigned char pre[10] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0, 0, 0};
 	size_t hlen = (size_t)hl + pad + 1;
 	pre[8] = (unsigned char)(hlen & 0xff);
 	pre[9] = (unsigned char)(hlen >> 8);
-	fwrite(pre, 1, 10, af.fp);
-	fwrite(hdr, 1, (size_t)hl, af.fp);
+	fwrite(pre, 1, 10, fp);
+	fwrite(hdr, 1, (size_t)hl, fp);
 	for (size_t i = 0; i < pad; i++)
-		fputc(' ', af.fp);
-	fputc('\n', af.fp);
-	size_t bytes = count * dtype_size(dtype);
-	if (bytes && fwrite(data, 1, bytes, af.fp) != bytes) {
-		int e = errno;
-		pc_atomic_abort(&af);
-		return pc_error(PC_EIO, "%s: write failed: %s", path, strerror(e));
+		fputc(' ', fp);
+	fputc('\n', fp);
+	return 0;
+}
+
+int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned ndim,
+                 const size_t *shape)
+{
+	pc_npy_stream s;
+	int rc = pc_npy_stream_open(&s, path, dtype, ndim, shape);
+	if (!rc)
+		rc = pc_npy_stream_write(&s, data, s.bytes);
+	return rc ? rc : pc_npy_stream_commit(&s);
+}
+
+int pc_npy_stream_open(pc_npy_stream *s, const char *path, pc_dtype dtype, unsigned ndim,
+                       const size_t *shape)
+{
+	memset(s, 0, sizeof *s);
+	size_t count = 0;
+	if (!dtype_descr(dtype) || ndim < 1 || ndim > 4)
+		return pc_error(PC_EINVAL, "%s: unsupported dtype or ndim %u", path, ndim);
+	int rc = pc_atomic_open(&s->af, path);
+	if (rc)
+		return rc;
+	if ((rc = write_header(s->af.fp, path, dtype, ndim, shape, &count))) {
+		pc_atomic_abort(&s->af);
+		return rc;
 	}
-	return pc_atomic_commit(&af);
+	s->bytes = count * dtype_size(dtype);
+	return 0;
+}
+
+int pc_npy_stream_write(pc_npy_stream *s, const void *data, size_t bytes)
+{
+	if (!s->af.fp)
+		return pc_error(PC_ESTATE, ".npy stream not open");
+	if (bytes > s->bytes - s->written) {
+		int rc = pc_error(PC_EINVAL, "%s: %zu bytes more than the array holds", s->af.path,
+		                  bytes - (s->bytes - s->written));
+		pc_npy_stream_abort(s);
+		return rc;
+	}
+	if (bytes && fwrite(data, 1, bytes, s->af.fp) != bytes) {
+		int rc = pc_error(PC_EIO, "%s: write failed: %s", s->af.path, strerror(errno));
+		pc_npy_stream_abort(s);
+		return rc;
+	}
+	s->written += bytes;
+	return 0;
+}
+
+int pc_npy_stream_commit(pc_npy_stream *s)
+{
+	if (!s->af.fp)
+		return pc_error(PC_ESTATE, ".npy stream not open");
+	if (s->written != s->bytes) {
+		int rc = pc_error(PC_ESTATE, "%s: %zu of %zu bytes written", s->af.path, s->written,
+		                  s->bytes);
+		pc_npy_stream_abort(s);
+		return rc;
+	}
+	return pc_atomic_commit(&s->af);
+}
+
+void pc_npy_stream_abort(pc_npy_stream *s)
+{
+	pc_atomic_abort(&s->af);
 }
 
 /* Finds 'key': in the header dict and returns a pointer just after the colon. */
@@ -221,9 +277,15 @@ int pc_npy_read(const char *path, pc_array *out)
 	else if (!strncmp(d, "'<f8'", 5))
 		out->dtype = PC_DT_F64;
 	else {
+		/* the descr as written, between its quotes */
+		int n = 0;
+		if (*d == '\'' || *d == '"')
+			while (n < 16 && d[1 + n] && d[1 + n] != *d)
+				n++;
 		rc = pc_error(PC_EFORMAT,
-		              "%s: dtype %.8s not supported (expected u1, <u2, <f4 or <f8)", path,
-		              d);
+		              "%s: dtype '%.*s' not supported (expected u1, <u2, <f4 or "
+		              "<f8)",
+		              path, n, d + 1);
 		goto out;
 	}
 	if (*sh != '(') {

@@ -10,20 +10,61 @@
 #include "polarcam/plot.h"
 #include "polarcam/stokes.h"
 
-static int write_one(const char *dir, const char *name, const uint8_t *rgb, uint32_t w, uint32_t h,
-                     const char *title, const pc_colorbar *bar, const pc_legend_note *note,
-                     uint32_t max_width)
+static int write_one(const char *dir, const char *name, const char *suffix, const uint8_t *rgb,
+                     uint32_t w, uint32_t h, const char *title, const pc_colorbar *bar,
+                     const pc_legend_note *note, uint32_t max_width)
 {
 	char path[4096];
-	if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, name) >= sizeof path)
+	if ((size_t)snprintf(path, sizeof path, "%s/%s%s.png", dir, name, suffix ? suffix : "") >=
+	    sizeof path)
 		return pc_error(PC_EINVAL, "%s: directory path too long", dir);
 	return pc_image_write_png_ex(path, rgb, w, h, (size_t)w * 3, title, bar, note, max_width);
+}
+
+double pc_pictures_dolp_auto(const float *dolp, const float *s0, size_t n, double mask)
+{
+	/* 99th percentile from a histogram of 2000 bins over [0, 1] (values above 1 in the last):
+	 * the largest value in the percentile's bin, at most 0.0005 above the percentile and a
+	 * value of the data (so that DoLP 0.9 everywhere gives 0.9, not the bin's edge) */
+	enum { NB = 2000 };
+	static const double q = 0.99, step = 0.05;
+	size_t *hist = calloc(NB, sizeof *hist), used = 0;
+	float *top_of = calloc(NB, sizeof *top_of);
+	if (!hist || !top_of || !dolp)
+		goto none;
+	const bool masked = s0 && isfinite(mask) && mask > 0;
+	for (size_t i = 0; i < n; i++) {
+		float d = dolp[i];
+		if (!isfinite(d) || (masked && !(s0[i] >= mask)))
+			continue;
+		long b = d <= 0 ? 0 : d >= 1 ? NB - 1 : (long)((double)d * NB);
+		if (b >= NB)
+			b = NB - 1;
+		if (!hist[b]++ || d > top_of[b])
+			top_of[b] = d;
+		used++;
+	}
+	if (!used)
+		goto none;
+	size_t want = (size_t)ceil(q * (double)used), acc = 0;
+	long b = 0;
+	for (; b < NB - 1; b++)
+		if ((acc += hist[b]) >= want)
+			break;
+	double top = top_of[b], hi = ceil(top / step - 1e-9) * step;
+	free(hist);
+	free(top_of);
+	return hi < step ? step : hi > 1 ? 1 : hi;
+none:
+	free(hist);
+	free(top_of);
+	return 1;
 }
 
 int pc_pictures_write(const char *dir, const pc_stokes_out *st, uint32_t width, uint32_t height,
                       const char *title_prefix)
 {
-	pc_pictures_opts o = {title_prefix, 0, 0};
+	pc_pictures_opts o = {title_prefix, 0, 0, NULL, 0, 0};
 	return pc_pictures_write_opts(dir, st, width, height, &o);
 }
 
@@ -38,11 +79,16 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 {
 	if (!dir || !st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
-	pc_pictures_opts o = {NULL, 0, 0};
+	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
 	if (opts)
 		o = *opts;
 	if (!isfinite(o.mask_s0))
 		return pc_error(PC_EINVAL, "pictures: mask threshold %g is not finite", o.mask_s0);
+	if (!(isfinite(o.s0_hi) && o.s0_hi >= 0) || !isfinite(o.dolp_hi))
+		return pc_error(PC_EINVAL,
+		                "pictures: S0 scale %g / DoLP range %g: expected a finite "
+		                "S0 scale >= 0 and a finite DoLP range",
+		                o.s0_hi, o.dolp_hi);
 	/* "truth" -> "truth: S0 ..." */
 	char pre[96] = "";
 	if (o.title_prefix && *o.title_prefix)
@@ -51,8 +97,10 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	if (!rgb)
 		return pc_error(PC_ENOMEM, "pictures: %ux%u RGB buffer", width, height);
 	char title[320];
-	/* S0: 0 to its 99.9th percentile (a few specular pixels must not darken the rest) */
-	float hi = pc_picture_quantile(&st->s0, width, height, 0.999);
+	/* S0: 0 to its 99.9th percentile (a few specular pixels must not darken the rest), or to
+	 * the scale given (pictures to compare) */
+	float hi =
+	    o.s0_hi > 0 ? (float)o.s0_hi : pc_picture_quantile(&st->s0, width, height, 0.999);
 	if (!(hi > 0))
 		hi = 1;
 	float mask = o.mask_s0 > 0    ? (float)o.mask_s0
@@ -62,6 +110,33 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	if (mask > -INFINITY) {
 		snprintf(mask_note, sizeof mask_note, "S0 < %.4g", mask);
 		snprintf(mask_title, sizeof mask_title, "; hatched: S0 < %.4g, low signal", mask);
+	}
+	/* the DoLP range: given, full, or automatic over the unmasked pixels */
+	double dhi = o.dolp_hi > 0 ? fmin(o.dolp_hi, 1) : 1;
+	char dlabel[64] = "DoLP";
+	if (o.dolp_hi < 0) {
+		float *dd = malloc((size_t)width * height * 2 * sizeof *dd);
+		if (!dd) {
+			free(rgb);
+			return pc_error(PC_ENOMEM, "pictures: %ux%u DoLP copy", width, height);
+		}
+		float *ss = dd + (size_t)width * height;
+		for (uint32_t y = 0; y < height; y++)
+			for (uint32_t x = 0; x < width; x++) {
+				const pc_fplane *d = &st->dolp, *s = &st->s0;
+				bool bad = valid && valid->mask &&
+				           !valid->mask[(size_t)y * valid->row_stride + x];
+				/* invalid pixels stay out of the range (NaN is skipped) */
+				dd[(size_t)y * width + x] =
+				    bad ? NAN : d->data[y * d->row_stride + x * d->pixel_stride];
+				ss[(size_t)y * width + x] =
+				    s->data[y * s->row_stride + x * s->pixel_stride];
+			}
+		dhi = pc_pictures_dolp_auto(dd, ss, (size_t)width * height, mask);
+		free(dd);
+		snprintf(dlabel, sizeof dlabel, "DoLP (0..%.2f, auto)", dhi);
+	} else if (dhi < 1) {
+		snprintf(dlabel, sizeof dlabel, "DoLP (0..%.2f)", dhi);
 	}
 	/* invalid pixels (saturated, dead or distrusted samples): a pink checker over
 	 * everything, counted in every picture's legend */
@@ -80,26 +155,28 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	const pc_legend_note *nb = n_bad ? &bad : NULL;
 	int rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, rs);
 	pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
-	pc_colorbar bar = {"S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL};
+	pc_colorbar bar = {"S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
 	snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
 	if (!rc)
-		rc = write_one(dir, "s0.png", rgb, width, height, title, &bar, nb, o.max_width);
+		rc = write_one(dir, "s0", o.suffix, rgb, width, height, title, &bar, nb,
+		               o.max_width);
 	if (!rc) {
-		rc = pc_picture_grey(&st->dolp, width, height, 0, 1, rgb, rs);
+		rc = pc_picture_grey(&st->dolp, width, height, 0, (float)dhi, rgb, rs);
 		if (mask > -INFINITY)
 			pc_picture_mask_low(&st->s0, width, height, mask, rgb, rs);
 		pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
 	}
-	pc_colorbar dbar = {"DoLP", 0, 1, NULL, 0, 0, pc_picture_grey_key, NULL};
+	pc_colorbar dbar = {dlabel, 0, dhi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
 	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)%s", pre, mask_title);
 	if (!rc)
-		rc = write_one(dir, "dolp.png", rgb, width, height, title, &dbar, np, o.max_width);
+		rc = write_one(dir, "dolp", o.suffix, rgb, width, height, title, &dbar, np,
+		               o.max_width);
 	static const pc_aolp_style styles[2] = {PC_AOLP_VALUE, PC_AOLP_SATURATION};
-	static const char *names[2] = {"aolp.png", "aolp_sat.png"};
+	static const char *names[2] = {"aolp", "aolp_sat"};
 	static const char *what[2] = {"value", "saturation"};
 	for (int k = 0; k < 2 && !rc; k++) {
-		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], 1.0f, rgb,
-		                     (size_t)width * 3);
+		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], (float)dhi,
+		                     rgb, rs);
 		if (!rc && mask > -INFINITY)
 			pc_picture_mask_low(&st->s0, width, height, mask, rgb, rs);
 		if (!rc)
@@ -109,14 +186,15 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 		                    180,
 		                    "DoLP",
 		                    0,
-		                    1,
+		                    dhi,
 		                    pc_picture_aolp_key,
-		                    (void *)&styles[k]};
+		                    (void *)&styles[k],
+		                    45};
 		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)%s", pre, what[k],
 		         mask_title);
 		if (!rc)
-			rc = write_one(dir, names[k], rgb, width, height, title, &abar, np,
-			               o.max_width);
+			rc = write_one(dir, names[k], o.suffix, rgb, width, height, title, &abar,
+			               np, o.max_width);
 	}
 	free(rgb);
 	return rc;

@@ -520,7 +520,9 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 			n_notes += q->text && q->color;
 		int with_note = n_notes > 0 && bh > fs * (6 + 2 * n_notes);
 		if (with_note)
-			bh -= fs * (1.0 + 1.5 * n_notes); /* room for the notes' swatches */
+			bh -= fs * (1.5 + 1.5 * n_notes); /* room for the notes' swatches */
+		else if (bar->s_label)
+			bh -= fs * 0.5; /* room for the key's second range below the last tick */
 		double bwid = bar->s_label ? fs * 3 : fs * 1.2;
 		int nt = (int)bh, ns = bar->s_label ? (int)bwid : 1;
 		for (int k = 0; k < nt; k++) {
@@ -541,7 +543,8 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 		cairo_rectangle(cr, bx, by, bwid, bh);
 		cairo_stroke(cr);
 		cairo_set_font_size(cr, fs * 0.8);
-		double step = nice_step(bar->vmax - bar->vmin, 5);
+		double step =
+		    bar->tick_step > 0 ? bar->tick_step : nice_step(bar->vmax - bar->vmin, 5);
 		char buf[64];
 		if (step > 0 && isfinite(step)) {
 			for (int k = 0; k < 50; k++) {
@@ -566,13 +569,14 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 		}
 		if (bar->s_label) {
 			snprintf(buf, sizeof buf, "%s %g..%g", bar->s_label, bar->smin, bar->smax);
-			text_at(cr, bx, by + bh + fs * 0.2, buf, 0, 0);
+			text_at(cr, bx, by + bh + fs * 0.7, buf, 0,
+			        0); /* below the last tick's label */
 		}
 		int k_note = 0;
 		for (const pc_legend_note *q = note; with_note && q && k_note < 4; q = q->next) {
 			if (!q->text || !q->color)
 				continue;
-			int sw = (int)(fs * 1.2), sy = (int)(by + bh + fs * (1.3 + 1.5 * k_note++));
+			int sw = (int)(fs * 1.2), sy = (int)(by + bh + fs * (1.8 + 1.5 * k_note++));
 			for (int yy = 0; yy < sw; yy++)
 				for (int xx = 0; xx < sw; xx++) {
 					uint8_t c[3];

@@ -2,11 +2,14 @@
 #define _POSIX_C_SOURCE 200809L
 #include "polarcam/process.h"
 
+#include <errno.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "json.h"
 #include "polarcam/error.h"
@@ -23,6 +26,12 @@ int pc_raw_read(const pc_raw_input *in, pc_view *raw, unsigned *bits)
 {
 	if (!in || !in->path)
 		return pc_error(PC_EINVAL, "no raw file given");
+	struct stat sb;
+	if (stat(in->path, &sb) != 0)
+		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO, "%s: %s", in->path,
+		                strerror(errno));
+	if (S_ISDIR(sb.st_mode))
+		return pc_error(PC_EINVAL, "%s: a folder, not a raw file", in->path);
 	int rc = pc_image_read_mosaic(in->path, in->geometry, in->bits, raw, bits);
 	if (rc)
 		return rc;
@@ -121,6 +130,43 @@ static bool has_suffix(const char *s, const char *suf)
 	return n >= m && !strcmp(s + n - m, suf);
 }
 
+/* OUT and OUT_valid.npy as one set: both written complete into a temporary folder beside them,
+ * then renamed into place, so that neither replaces an older one unless both were written. */
+static int write_set(const char *out_path, const char *vpath, bool tiff, const float *buf,
+                     const size_t shape[3], const uint8_t *mask)
+{
+	char dir[4096], tmp[4200], t1[4300], t2[4300];
+	const char *slash = strrchr(out_path, '/');
+	if ((size_t)snprintf(dir, sizeof dir, "%.*s",
+	                     slash ? (slash == out_path ? 1 : (int)(slash - out_path)) : 1,
+	                     slash ? out_path : ".") >= sizeof dir)
+		return pc_error(PC_EINVAL, "-o %s: path too long", out_path);
+	int rc = pc_mkdir_p(dir);
+	if (rc)
+		return rc;
+	snprintf(tmp, sizeof tmp, "%s/.polarcam-set.tmp-%ld-XXXXXX", dir, (long)getpid());
+	if (!mkdtemp(tmp))
+		return pc_error(errno == EACCES ? PC_EPERM : PC_EIO,
+		                "%s: cannot make a temporary folder beside it: %s", out_path,
+		                strerror(errno));
+	snprintf(t1, sizeof t1, "%s/out.%s", tmp, tiff ? "tif" : "npy");
+	snprintf(t2, sizeof t2, "%s/valid.npy", tmp);
+	rc = tiff ? pc_tiff_write_array(t1, buf, PC_DT_F32, (uint32_t)shape[0], (uint32_t)shape[1],
+	                                (unsigned)shape[2])
+	          : pc_npy_write(t1, buf, PC_DT_F32, 3, shape);
+	if (!rc)
+		rc = pc_npy_write(t2, mask, PC_DT_U8, 2, shape);
+	if (rc)
+		pc_error_prefix(rc, "-o %s: ", out_path);
+	else if (rename(t1, out_path) != 0 || rename(t2, vpath) != 0)
+		rc = pc_error(PC_EIO, "-o %s: cannot rename into place: %s", out_path,
+		              strerror(errno));
+	unlink(t1);
+	unlink(t2);
+	rmdir(tmp);
+	return rc;
+}
+
 int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const char *out_path,
                      pc_demosaic_file_report *rep)
 {
@@ -129,9 +175,12 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	if (!tiff && !has_suffix(out_path, ".npy") && !has_suffix(out_path, ".NPY"))
 		return pc_error(PC_EINVAL, "-o %s: the output is .npy or .tif/.tiff (float32)",
 		                out_path);
+	int rc = pc_output_check(out_path, o->overwrite ? PC_OUT_OVERWRITE : 0, false);
+	if (rc)
+		return rc;
 	pc_view raw;
 	unsigned bits;
-	int rc = pc_raw_read(in, &raw, &bits);
+	rc = pc_raw_read(in, &raw, &bits);
 	if (rc)
 		return rc;
 	uint32_t ow, oh;
@@ -172,6 +221,12 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 			    out_path, vslash ? vslash + 1 : vpath, vbase, NAME_MAX);
 		}
 	}
+	/* the mask is part of the output: the same rule (refused unless --overwrite) */
+	if (checked && (rc = pc_output_check(vpath, o->overwrite ? PC_OUT_OVERWRITE : 0, false))) {
+		pc_view_free(&raw);
+		free(buf);
+		return rc;
+	}
 	pc_validity valid = {checked ? malloc((size_t)ow * oh) : NULL, ow, 0};
 	if (checked && !valid.mask) {
 		pc_view_free(&raw);
@@ -188,10 +243,9 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 		return pc_error_prefix(rc, "%s: ", in->path);
 	}
 	size_t shape[3] = {oh, ow, nch};
-	rc = tiff ? pc_tiff_write_array(out_path, buf, PC_DT_F32, oh, ow, nch)
-	          : pc_npy_write(out_path, buf, PC_DT_F32, 3, shape);
-	if (!rc && checked)
-		rc = pc_npy_write(vpath, valid.mask, PC_DT_U8, 2, shape);
+	rc = checked ? write_set(out_path, vpath, tiff, buf, shape, valid.mask)
+	     : tiff  ? pc_tiff_write_array(out_path, buf, PC_DT_F32, oh, ow, nch)
+	             : pc_npy_write(out_path, buf, PC_DT_F32, 3, shape);
 	free(buf);
 	free(valid.mask);
 	if (!rc && rep) {
@@ -201,8 +255,35 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	return rc;
 }
 
-static const char *const process_files[] = {"stokes.npy", "dolp.npy", "aolp.npy",     "s0.png",
-                                            "dolp.png",   "aolp.png", "aolp_sat.png", "valid.npy"};
+/* The files of a Stokes folder, as meta.json lists them. */
+static json_t *files_json(unsigned files, bool numbered, bool stack, bool valid)
+{
+	enum { VALID = 1u << 30 }; /* valid.npy: when a level was checked */
+	static const struct {
+		unsigned flag;
+		const char *name[4];
+	} t[6] = {{PC_SF_STOKES, {"stokes.npy"}},
+	          {PC_SF_S0, {"s0.npy"}},
+	          {PC_SF_DOLP, {"dolp.npy"}},
+	          {PC_SF_AOLP, {"aolp.npy"}},
+	          {VALID, {"valid.npy"}},
+	          {PC_SF_PICTURES, {"s0.png", "dolp.png", "aolp.png", "aolp_sat.png"}}};
+	if (valid)
+		files |= VALID;
+	json_t *a = json_array();
+	for (int k = 0; k < 6; k++)
+		for (int i = 0; i < 4 && t[k].name[i] && (files & t[k].flag); i++) {
+			const char *n = t[k].name[i];
+			char buf[64];
+			if (numbered && (!stack || t[k].flag == PC_SF_PICTURES)) {
+				const char *dot = strrchr(n, '.');
+				snprintf(buf, sizeof buf, "%.*s_NNNNNN%s", (int)(dot - n), n, dot);
+				n = buf;
+			}
+			json_array_append_new(a, json_string(n));
+		}
+	return a;
+}
 
 /* Means of S0 and DoLP over the valid pixels (all pixels without a mask): invalid ones depend
  * on saturated or dead samples and stay out of the statistics. */
@@ -227,15 +308,15 @@ static json_t *valid_stats(const pc_stokes_out *so, uint32_t w, uint32_t h, cons
 	return j;
 }
 
-/* meta.json of a processed frame */
-static json_t *process_meta(const pc_raw_input *in, const pc_process_opts *o, uint32_t rw,
-                            uint32_t rh, unsigned bits, double seconds, double sat,
-                            const pc_validity *valid)
+/* meta.json of a processed frame or batch: what every Stokes folder of process says */
+static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_t rw, uint32_t rh,
+                            unsigned bits, double sat, bool checked, uint64_t n_invalid)
 {
 	char layout[64];
 	pc_mosaic_format(&o->mosaic, layout, sizeof layout);
 	json_t *j = json_object();
-	json_object_set_new(j, "input", json_string(in->path));
+	if (input)
+		json_object_set_new(j, "input", json_string(input));
 	json_object_set_new(j, "width", json_integer(rw));
 	json_object_set_new(j, "height", json_integer(rh));
 	json_object_set_new(j, "bits", json_integer(bits));
@@ -247,64 +328,126 @@ static json_t *process_meta(const pc_raw_input *in, const pc_process_opts *o, ui
 	json_object_set_new(j, "dead_level",
 	                    o->dead_level > 0 ? pc_json_real(o->dead_level) : json_null());
 	json_object_set_new(j, "invalid_pixels",
-	                    valid->mask ? json_integer((json_int_t)valid->n_invalid) : json_null());
+	                    checked ? json_integer((json_int_t)n_invalid) : json_null());
 	json_object_set_new(j, "calibration",
 	                    o->stage && o->stage->name ? json_string(o->stage->name) : json_null());
-	json_object_set_new(j, "pipeline_seconds", pc_json_real(seconds));
 	json_object_set_new(j, "aolp_convention",
 	                    json_string("radians in [0, pi), from the image x axis, "
 	                                "counter-clockwise as seen by the viewer"));
-	json_t *files = json_array();
-	for (size_t k = 0; k < sizeof process_files / sizeof process_files[0]; k++)
-		if (valid->mask || strcmp(process_files[k], "valid.npy"))
-			json_array_append_new(files, json_string(process_files[k]));
-	json_object_set_new(j, "files", files);
 	return j;
 }
 
-int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
-                    const pc_stokes_folder_opts *folder, char **meta)
-{
-	if (meta)
-		*meta = NULL;
-	pc_view raw;
-	unsigned bits;
-	int rc = pc_raw_read(in, &raw, &bits);
-	if (rc)
-		return rc;
+/* One frame's planes: S0, S1, S2 interleaved (H, W, 3) as stokes.npy holds them, DoLP, AoLP. */
+typedef struct frame_buf {
+	float *stokes, *dolp, *aolp, *s0; /* s0: a contiguous copy for stacks of s0.npy */
+	pc_stokes_out so;
+	pc_validity valid; /* mask NULL when no level is checked */
 	uint32_t w, h;
-	pc_demosaic_out_size(o->method, raw.width, raw.height, &w, &h);
+} frame_buf;
+
+static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0, bool checked)
+{
 	size_t n = (size_t)w * h;
-	double sat = pc_process_saturation(o, raw.format, bits);
-	bool checked = sat > 0 || o->dead_level > 0 || o->stage;
-	pc_validity valid = {checked ? malloc(n) : NULL, w, 0};
-	float *stokes = malloc(sizeof(float) * n * 3), *dolp = malloc(sizeof(float) * n),
-	      *aolp = malloc(sizeof(float) * n);
-	if (!stokes || !dolp || !aolp || (checked && !valid.mask)) {
-		rc = pc_error(PC_ENOMEM, "out of memory for %ux%u Stokes images", w, h);
-		pc_view_free(&raw);
-		goto out;
+	memset(f, 0, sizeof *f);
+	f->stokes = malloc(sizeof(float) * n * 3);
+	f->dolp = malloc(sizeof(float) * n);
+	f->aolp = malloc(sizeof(float) * n);
+	f->s0 = s0 ? malloc(sizeof(float) * n) : NULL;
+	f->valid = (pc_validity){checked ? malloc(n) : NULL, w, 0};
+	if (!f->stokes || !f->dolp || !f->aolp || (s0 && !f->s0) || (checked && !f->valid.mask))
+		return pc_error(PC_ENOMEM, "out of memory for %ux%u Stokes images", w, h);
+	f->so = (pc_stokes_out){{f->stokes, (size_t)w * 3, 3},
+	                        {f->stokes + 1, (size_t)w * 3, 3},
+	                        {f->stokes + 2, (size_t)w * 3, 3},
+	                        {f->dolp, w, 1},
+	                        {f->aolp, w, 1}};
+	f->w = w;
+	f->h = h;
+	return 0;
+}
+
+static void frame_buf_free(frame_buf *f)
+{
+	free(f->stokes);
+	free(f->dolp);
+	free(f->aolp);
+	free(f->s0);
+	free(f->valid.mask);
+	memset(f, 0, sizeof *f);
+}
+
+/* The stacked arrays of a batch: (N, H, W, 3) stokes.npy, (N, H, W) s0, dolp, aolp and, when
+ * a level is checked, valid.npy (N, H, W) uint8. */
+typedef struct stack {
+	pc_npy_stream s[5];
+	bool open[5];
+} stack;
+
+enum { STACK_VALID = 1u << 30 };
+static const char *const stack_names[5] = {"stokes.npy", "s0.npy", "dolp.npy", "aolp.npy",
+                                           "valid.npy"};
+static const unsigned stack_flags[5] = {PC_SF_STOKES, PC_SF_S0, PC_SF_DOLP, PC_SF_AOLP,
+                                        STACK_VALID};
+
+static int stack_open(stack *st, const char *dir, unsigned files, size_t n, uint32_t w, uint32_t h)
+{
+	for (int k = 0; k < 5; k++) {
+		if (!(files & stack_flags[k]))
+			continue;
+		char path[4096];
+		size_t shape[4] = {n, h, w, 3};
+		if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, stack_names[k]) >=
+		    sizeof path)
+			return pc_error(PC_EINVAL, "%s: path too long", dir);
+		int rc = pc_npy_stream_open(&st->s[k], path, k == 4 ? PC_DT_U8 : PC_DT_F32,
+		                            k == 0 ? 4 : 3, shape);
+		if (rc)
+			return rc;
+		st->open[k] = true;
 	}
-	pc_stokes_out so = {{stokes, (size_t)w * 3, 3},
-	                    {stokes + 1, (size_t)w * 3, 3},
-	                    {stokes + 2, (size_t)w * 3, 3},
-	                    {dolp, w, 1},
-	                    {aolp, w, 1}};
-	double t0 = now_s();
-	rc = run_pipeline(o, &raw, bits, &so, NULL, &valid);
-	double t_pipe = now_s() - t0;
-	uint32_t rw = raw.width, rh = raw.height;
-	pc_view_free(&raw);
-	if (rc) {
-		pc_error_prefix(rc, "%s: ", in->path);
-		goto out;
+	return 0;
+}
+
+static int stack_add(stack *st, frame_buf *f)
+{
+	size_t n = (size_t)f->w * f->h;
+	if (f->s0)
+		for (size_t i = 0; i < n; i++)
+			f->s0[i] = f->stokes[3 * i];
+	const void *data[5] = {f->stokes, f->s0, f->dolp, f->aolp, f->valid.mask};
+	for (int k = 0; k < 5; k++) {
+		if (!st->open[k])
+			continue;
+		size_t bytes = k == 4 ? n : sizeof(float) * n * (k ? 1 : 3);
+		int rc = pc_npy_stream_write(&st->s[k], data[k], bytes);
+		if (rc) {
+			st->open[k] = false; /* aborted by the failed write */
+			return rc;
+		}
 	}
-	if ((rc = pc_stokes_folder_write_valid(dir, &so, w, h, folder, &valid)))
-		goto out;
-	json_t *j = process_meta(in, o, rw, rh, bits, t_pipe, sat, &valid);
-	json_object_set_new(j, "valid_statistics", valid_stats(&so, w, h, &valid));
+	return 0;
+}
+
+static int stack_close(stack *st, bool commit)
+{
+	int rc = 0;
+	for (int k = 0; k < 5; k++) {
+		if (!st->open[k])
+			continue;
+		st->open[k] = false;
+		if (commit && !rc)
+			rc = pc_npy_stream_commit(&st->s[k]);
+		else
+			pc_npy_stream_abort(&st->s[k]);
+	}
+	return rc;
+}
+
+static int write_meta(const char *dir, json_t *j, char **meta)
+{
 	char *txt = json_dumps(j, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
 	char path[4096];
+	int rc;
 	if (!txt)
 		rc = pc_error(PC_ENOMEM, "meta.json");
 	else if ((size_t)snprintf(path, sizeof path, "%s/meta.json", dir) >= sizeof path)
@@ -313,12 +456,165 @@ int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char
 		rc = pc_write_file_atomic(path, txt, strlen(txt));
 	free(txt);
 	if (!rc && meta && !(*meta = pc_json_text(j)))
-		rc = PC_ENOMEM;
-	json_decref(j);
-out:
-	free(stokes);
-	free(dolp);
-	free(aolp);
-	free(valid.mask);
+		rc = pc_error(PC_ENOMEM, "meta.json");
 	return rc;
+}
+
+/* A batch (numbered) or a single file (plain names) into the folder tmp. */
+static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool numbered,
+                     const char *tmp, const pc_stokes_folder_opts *folder, json_t **meta_out)
+{
+	frame_buf f = {0};
+	stack st;
+	memset(&st, 0, sizeof st);
+	json_t *frames = json_array();
+	uint32_t rw0 = 0, rh0 = 0;
+	unsigned bits0 = 0;
+	double t_all = 0, sat = 0;
+	bool checked = false;
+	uint64_t n_invalid = 0;
+	int rc = 0;
+	const bool stack_on = numbered && b->stack;
+	for (size_t k = 0; k < b->count && !rc; k++) {
+		const pc_raw_input *in = &b->inputs[k];
+		uint64_t number = b->numbers ? b->numbers[k] : k;
+		pc_view raw;
+		unsigned bits;
+		if ((rc = pc_raw_read(in, &raw, &bits)))
+			break;
+		if (k == 0) {
+			uint32_t w, h;
+			pc_demosaic_out_size(o->method, raw.width, raw.height, &w, &h);
+			rw0 = raw.width, rh0 = raw.height, bits0 = bits;
+			sat = pc_process_saturation(o, raw.format, bits);
+			checked = sat > 0 || o->dead_level > 0 || o->stage;
+			rc = frame_buf_alloc(&f, w, h, stack_on && (folder->files & PC_SF_S0),
+			                     checked);
+			if (!rc && stack_on)
+				rc = stack_open(&st, tmp,
+				                folder->files | (checked ? STACK_VALID : 0),
+				                b->count, w, h);
+		} else if (raw.width != rw0 || raw.height != rh0 || bits != bits0) {
+			rc = pc_error(PC_EINVAL,
+			              "%s: %ux%u, %u-bit, but %s is %ux%u, %u-bit: a batch "
+			              "is one size and bit depth",
+			              in->path, raw.width, raw.height, bits, b->inputs[0].path, rw0,
+			              rh0, bits0);
+		}
+		double t0 = now_s(), dt = 0;
+		if (!rc) {
+			rc = run_pipeline(o, &raw, bits, &f.so, NULL, &f.valid);
+			dt = now_s() - t0;
+			t_all += dt;
+			if (rc)
+				pc_error_prefix(rc, "%s: ", in->path);
+		}
+		pc_view_free(&raw);
+		if (rc)
+			break;
+		pc_stokes_folder_opts fo = *folder;
+		fo.numbered = numbered;
+		fo.number = number;
+		fo.no_valid_file = stack_on;
+		bool pictures = (folder->files & PC_SF_PICTURES) &&
+		                (!numbered || (b->pictures_every && k % b->pictures_every == 0));
+		fo.files = (stack_on ? 0 : folder->files) & ~(unsigned)PC_SF_PICTURES;
+		if (pictures)
+			fo.files |= PC_SF_PICTURES;
+		if (stack_on)
+			rc = stack_add(&st, &f);
+		if (!rc)
+			rc = pc_stokes_folder_write_valid(tmp, &f.so, f.w, f.h, &fo, &f.valid);
+		n_invalid += f.valid.n_invalid;
+		json_t *fj = json_pack("{s:s, s:I, s:o, s:b}", "input", in->path, "number",
+		                       (json_int_t)number, "pipeline_seconds", pc_json_real(dt),
+		                       "pictures", pictures);
+		json_object_set_new(fj, "invalid_pixels",
+		                    checked ? json_integer((json_int_t)f.valid.n_invalid)
+		                            : json_null());
+		if (!numbered)
+			json_object_set_new(fj, "valid_statistics",
+			                    valid_stats(&f.so, f.w, f.h, &f.valid));
+		json_array_append_new(frames, fj);
+		if (!rc && pc_progress_report(&b->progress, "process", k + 1, b->count))
+			rc = pc_error(PC_ECANCELED, "stopped after %zu of %zu frames", k + 1,
+			              b->count);
+	}
+	if (!rc)
+		rc = stack_close(&st, true);
+	stack_close(&st, false);
+	frame_buf_free(&f);
+	if (rc) {
+		json_decref(frames);
+		return rc;
+	}
+	json_t *j = process_meta(o, numbered ? NULL : b->inputs[0].path, rw0, rh0, bits0, sat,
+	                         checked, n_invalid);
+	if (numbered) {
+		json_object_set_new(j, "frames", frames);
+		json_object_set_new(j, "stack", json_boolean(stack_on));
+		json_object_set_new(j, "pictures_every",
+		                    b->pictures_every >= b->count && b->count > 0
+		                        ? json_null() /* the first frame only */
+		                        : json_integer((json_int_t)b->pictures_every));
+	} else {
+		json_t *f0 = json_array_get(frames, 0);
+		json_object_set(j, "pipeline_seconds", json_object_get(f0, "pipeline_seconds"));
+		json_object_set(j, "valid_statistics", json_object_get(f0, "valid_statistics"));
+		json_decref(frames);
+	}
+	if (numbered)
+		json_object_set_new(j, "pipeline_seconds", pc_json_real(t_all));
+	json_object_set_new(j, "files", files_json(folder->files, numbered, stack_on, checked));
+	*meta_out = j;
+	return 0;
+}
+
+static int process_folder(const pc_process_batch *b, const pc_process_opts *o, bool numbered,
+                          const char *dir, const pc_stokes_folder_opts *folder, char **meta)
+{
+	if (meta)
+		*meta = NULL;
+	if (!b->count)
+		return pc_error(PC_EINVAL, "no raw file given");
+	/* inputs that are not there are named before the output is looked at */
+	for (size_t k = 0; k < b->count; k++) {
+		struct stat sb;
+		if (!b->inputs[k].path || stat(b->inputs[k].path, &sb) != 0)
+			return pc_error(PC_ENOENT, "%s: %s",
+			                b->inputs[k].path ? b->inputs[k].path : "",
+			                strerror(errno));
+	}
+	pc_outdir od;
+	int rc = pc_outdir_begin(&od, dir, o->overwrite ? PC_OUT_OVERWRITE : 0);
+	if (rc)
+		return rc;
+	json_t *j = NULL;
+	rc = run_batch(b, o, numbered, od.tmp, folder, &j);
+	if (!rc)
+		rc = write_meta(od.tmp, j, meta);
+	json_decref(j);
+	if (!rc)
+		rc = pc_outdir_commit(&od);
+	pc_outdir_abort(&od);
+	if (rc && meta) {
+		free(*meta);
+		*meta = NULL;
+	}
+	return rc;
+}
+
+int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
+                    const pc_stokes_folder_opts *folder, char **meta)
+{
+	pc_process_batch b = {in, 1, NULL, false, 1, {NULL, NULL}};
+	return process_folder(&b, o, false, dir, folder, meta);
+}
+
+int pc_process_files(const pc_process_batch *b, const pc_process_opts *o, const char *dir,
+                     const pc_stokes_folder_opts *folder, char **meta)
+{
+	if (!b || (b->count && !b->inputs))
+		return pc_error(PC_EINVAL, "process: missing argument");
+	return process_folder(b, o, true, dir, folder, meta);
 }

@@ -90,8 +90,8 @@ int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method
 	for (size_t d = 0; d < ndirs; d++) {
 		pc_eval_truth t;
 		int rc = pc_truth_load(dirs[d], &t);
-		if (rc)
-			return pc_error_prefix(rc, "%s: ", dirs[d]);
+		if (rc) /* the detail names the directory */
+			return rc;
 		for (size_t k = 0; k < nmeth; k++) {
 			pc_eval_result *r = &res[nres];
 			r->scene = dirs[d];

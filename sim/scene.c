@@ -3,6 +3,7 @@
 #include "polarcam/sim.h"
 
 #include <jansson.h>
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdatomic.h>
@@ -1217,7 +1218,8 @@ int pc_scene_load(const char *path, pc_scene **out)
 		return pc_error(PC_EINVAL, "scene path is NULL");
 	FILE *fp = fopen(path, "rb");
 	if (!fp)
-		return pc_error(PC_ENOENT, "%s: cannot open scene file", path);
+		return pc_error(errno == ENOENT ? PC_ENOENT : PC_EIO,
+		                "%s: cannot open the scene file: %s", path, strerror(errno));
 	char *buf = NULL;
 	size_t len = 0, cap = 0;
 	for (;;) {

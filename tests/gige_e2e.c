@@ -31,6 +31,7 @@
 
 #include "check.h"
 #include "gige_peer.h"
+#include "out_peek.h"
 #include "polarcam/compliance.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
@@ -525,6 +526,7 @@ static int run_capture(const char *dir, const char *n, char *out, size_t size, p
 	                "PolarizeMono12",
 	                "--fps",
 	                "50",
+	                "--json",
 	                NULL};
 	int fd;
 	pid_t pid = spawn(argv, &fd, errp);
@@ -588,9 +590,8 @@ static void test_kill(pid_t server, int server_fd)
 	int fd;
 	run_capture(dir, "100000", out, sizeof out, &cap, &fd);
 	/* let it record some frames (50 fps), then kill the camera */
-	char probe[200];
-	snprintf(probe, sizeof probe, "%s/raw_000007.png", dir);
-	for (int t = 0; t < 300 && access(probe, F_OK) != 0; t++) {
+	/* (written in the folder's temporary sibling until the end) */
+	for (int t = 0; t < 300 && !sf_out_file_exists(dir, "raw_000007.png"); t++) {
 		struct timespec ts = {0, 100000000};
 		nanosleep(&ts, NULL);
 	}
@@ -648,6 +649,7 @@ static void test_serve_equals_render(void)
 	                "4",
 	                "-o",
 	                cdir,
+	                "--json",
 	                NULL};
 	int cfd;
 	pid_t cap = spawn(argv, &cfd, errp);

@@ -2,7 +2,9 @@
  * recording: the frames a sim: source regenerates from (scene, seed, frame number), as
  * checksums of their pixel values; and the check that a directory holds only whole, readable
  * files under final names (what a process killed at any moment may leave), with its temporary
- * leftovers recognisable (".NAME.tmpXXXXXX", pc_atomic_open). */
+ * leftovers recognisable (".NAME.tmpXXXXXX", pc_atomic_open); and where a command works on an
+ * output folder before it puts it in place (the sibling ".NAME.tmp-HOST-PID-XXXXXX",
+ * pc_outdir in polarcam/io.h). */
 #ifndef POLARCAM_TESTS_SIM_FRAMES_H
 #define POLARCAM_TESTS_SIM_FRAMES_H
 
@@ -14,8 +16,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "check.h"
+#include "out_peek.h"
 #include "polarcam/error.h"
 #include "polarcam/io.h"
 #include "polarcam/recording.h"

@@ -724,7 +724,8 @@ typedef struct bad_case {
 	int status;
 	const char *needles[4]; /* each must appear in stderr */
 	const char *env;        /* "NAME=value" for this case, or NULL */
-	int existing_out;       /* create out/ with a sentinel first (must stay untouched) */
+	int existing_out;       /* create out/ with a sentinel first (must stay untouched, even
+	                         * with --overwrite, which run_case adds) */
 } bad_case;
 
 #define OUT "-o", "out"
@@ -1355,6 +1356,8 @@ static void run_case(size_t i, const bad_case *c)
 	if (c->existing_out) {
 		mkdir("out", 0777);
 		puts_file("out/sentinel.txt", "an earlier result that must stay\n");
+		/* an earlier polarcam output (its description), which --overwrite may replace */
+		puts_file("out/meta.json", "{\"earlier\": true}\n");
 		puts_file("out.npy", "an earlier output that must stay\n");
 	}
 	if (c->env) {
@@ -1370,6 +1373,10 @@ static void run_case(size_t i, const bad_case *c)
 	int a = 1;
 	for (int k = 0; k < 20 && c->args[k] && a < 23; k++)
 		argv[a++] = !strcmp(c->args[k], "@LONG256") ? long256 : (char *)c->args[k];
+	/* the earlier output must stay even when the user allows replacing it (without
+	 * --overwrite the output rule refuses before the input is read) */
+	if (c->existing_out && a < 23)
+		argv[a++] = (char *)"--overwrite";
 	argv[a] = NULL;
 	int out = open("../stdout.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
 	pid_t pid = pc_child_spawn(argv, out, "../stderr.txt");

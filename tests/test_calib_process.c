@@ -494,7 +494,7 @@ static void live(void)
 	CHECK_NEAR(
 	    json_number_value(json_object_get(json_object_get(ex, "process"), "black_level")), 60,
 	    0);
-	CHECK(exists(P("cap_u/processed/valid.npy")));
+	CHECK(exists(P("cap_u/processed/valid_000000.npy")));
 	json_decref(j);
 	/* calibrated: the DoLP is the stimulus's */
 	CHECK_EQ_INT(run_cli("capture", uri, "-n", "1", "-o", P("cap_c"), "--roi", "1000,800,64,64",

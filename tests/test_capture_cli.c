@@ -3,9 +3,11 @@
  *   - --process writes DoLP that matches the superpixel formula computed here from the raw
  *     values (S0 = ΣI/2, S1 = I0 − I90, S2 = I45 − I135: stokes.h / physics.md)
  *   - a camera that disappears (sim disconnect_after) ends with exit 1, a clear message and
- *     the frames so far intact (meta.json complete=false with the error)
+ *     the frames so far kept (meta.json complete=false with the error)
  *   - a recording that ends early (file:) and bad arguments give clear errors, exit 1/2
- *   - an existing recording is never overwritten without --overwrite
+ *   - an existing recording is never overwritten without --overwrite (exit 2)
+ *   - --process keeps every frame's S0, DoLP, AoLP (processed/dolp_NNNNNN.npy), or those
+ *     --keep-every chooses and the last
  *   - a colour-polarization scene (IMX250MYR): capture == render, --process runs bayer-first
  *     on the recorded mosaic (mean S0 against the colour-average formula computed here from
  *     the raw values and the layout drawn by hand; `polarcam process` of a recorded frame takes
@@ -16,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "polarcam/io.h"
@@ -46,7 +49,7 @@ static void test_render_identical(void)
 	CHECK_EQ_INT(run(a), 0);
 	snprintf(a, sizeof a,
 	         "capture 'sim:%s?seed=11&fps=0' -n 2 -o '%s/c' --process --method "
-	         "superpixel-half",
+	         "superpixel-half --json",
 	         scene, tmp);
 	CHECK_EQ_INT(run(a), 0);
 	CHECK(strstr(out, "\"frames\":2") != NULL);
@@ -69,7 +72,7 @@ static void test_render_identical(void)
 		if (k == 1) {
 			/* DoLP of the last frame against the superpixel formula */
 			char pn[128];
-			snprintf(pn, sizeof pn, "%s/c/processed/dolp.npy", tmp);
+			snprintf(pn, sizeof pn, "%s/c/processed/dolp_000001.npy", tmp);
 			pc_array d;
 			CHECK_EQ_INT(pc_npy_read(pn, &d), 0);
 			CHECK_EQ_INT(d.ndim, 2);
@@ -94,7 +97,7 @@ static void test_render_identical(void)
 			CHECK(checked > 100);
 			CHECK_EQ_INT(bad, 0);
 			pc_array_free(&d);
-			snprintf(pn, sizeof pn, "%s/c/processed/aolp.png", tmp);
+			snprintf(pn, sizeof pn, "%s/c/processed/aolp_000001.png", tmp);
 			FILE *fp = fopen(pn, "rb");
 			CHECK(fp != NULL);
 			if (fp)
@@ -103,10 +106,26 @@ static void test_render_identical(void)
 		pc_view_free(&v1);
 		pc_view_free(&v2);
 	}
+	/* every frame's DoLP was kept (--keep-every 1, the default) */
+	char p0[128];
+	snprintf(p0, sizeof p0, "%s/c/processed/dolp_000000.npy", tmp);
+	pc_array d0;
+	CHECK_EQ_INT(pc_npy_read(p0, &d0), 0);
+	pc_array_free(&d0);
 	/* never over an existing recording */
 	snprintf(a, sizeof a, "capture 'sim:%s?fps=0' -n 1 -o '%s/c'", scene, tmp);
-	CHECK(run(a) != 0);
-	CHECK(strstr(out, "already holds a recording") != NULL);
+	CHECK_EQ_INT(run(a), 2);
+	CHECK(strstr(out, "exists and is not empty") != NULL);
+	/* --keep-every 2 over 3 frames keeps frames 0 and 2 (the last) */
+	snprintf(
+	    a, sizeof a,
+	    "capture 'sim:%s?seed=11&fps=0' -n 3 -o '%s/c' --process --keep-every 2 --overwrite",
+	    scene, tmp);
+	CHECK_EQ_INT(run(a), 0);
+	for (int k = 0; k < 3; k++) {
+		snprintf(p0, sizeof p0, "%s/c/processed/dolp_%06d.npy", tmp, k);
+		CHECK_EQ_INT(access(p0, F_OK) == 0, k != 1);
+	}
 }
 
 static void test_disconnect(void)
@@ -117,7 +136,7 @@ static void test_disconnect(void)
 	         dir);
 	CHECK_EQ_INT(run(a), 1);
 	CHECK(strstr(out, "disappeared after 3 of 10 frames") != NULL);
-	CHECK(strstr(out, "intact") != NULL);
+	CHECK(strstr(out, "kept") != NULL);
 	pc_recording *r = NULL;
 	CHECK_EQ_INT(pc_recording_open(&r, dir), 0);
 	if (r) {
@@ -175,7 +194,8 @@ static void test_colour(const char *src)
 	snprintf(cs, sizeof cs, "%s/scenes/colour_small.json", src);
 	snprintf(a, sizeof a, "render '%s' -o '%s/rc' -n 2 -s 11 --no-truth", cs, tmp);
 	CHECK_EQ_INT(run(a), 0);
-	snprintf(a, sizeof a, "capture 'sim:%s?seed=11&fps=0' -n 2 -o '%s/cc' --process", cs, tmp);
+	snprintf(a, sizeof a, "capture 'sim:%s?seed=11&fps=0' -n 2 -o '%s/cc' --process --json", cs,
+	         tmp);
 	CHECK_EQ_INT(run(a), 0);
 	CHECK(strstr(out, "\"method\":\"bayer-first\"") != NULL);
 	CHECK(strstr(out, "\"mosaic\":\"RGGB:90,45,135,0\"") != NULL);
@@ -214,7 +234,7 @@ static void test_colour(const char *src)
 		for (int c = 0; c < 4; c++)
 			want += sum[k][c] / cnt[k][c] / 6;
 	char pn[160];
-	snprintf(pn, sizeof pn, "%s/cc/processed/s0.npy", tmp);
+	snprintf(pn, sizeof pn, "%s/cc/processed/s0_000001.npy", tmp);
 	size_t n = 0, n2 = 0;
 	float *s0 = npy(pn, &n);
 	CHECK(s0 != NULL && n == (size_t)v2.width * v2.height);
@@ -223,11 +243,11 @@ static void test_colour(const char *src)
 		mean += s0[i] / (double)n;
 	CHECK_REL(mean, want, 0.005); /* measured 0.05 % here */
 	/* process of a recorded frame: the layout and method from the recording's meta.json */
-	snprintf(a, sizeof a, "process '%s' -o '%s/pc'", p2, tmp);
+	snprintf(a, sizeof a, "process '%s' -o '%s/pc' --json", p2, tmp);
 	CHECK_EQ_INT(run(a), 0);
 	CHECK(strstr(out, "\"layout\":\"RGGB:90,45,135,0\"") &&
 	      strstr(out, "\"method\":\"bayer-first\""));
-	snprintf(pn, sizeof pn, "%s/cc/processed/dolp.npy", tmp);
+	snprintf(pn, sizeof pn, "%s/cc/processed/dolp_000001.npy", tmp);
 	float *d1 = npy(pn, &n);
 	snprintf(pn, sizeof pn, "%s/pc/dolp.npy", tmp);
 	float *d2 = npy(pn, &n2);

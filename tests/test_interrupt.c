@@ -9,8 +9,12 @@
  *   - a second signal while the first one's clean-up runs ends the process at once, files whole
  *   - SIGKILL at random moments of capture (PNG and raw stores, --process) and render: every
  *     file under a final name is whole and holds the frame its name or meta.json says; what
- *     is left is recognisable (".NAME.tmpXXXXXX") and the next run in the directory removes
- *     it, but not a temporary file that a live writer holds */
+ *     is left is recognisable (the output folder's temporary sibling ".NAME.tmp-HOST-PID-XXXXXX"
+ *     of polarcam/io.h's pc_outdir, files ".NAME.tmpXXXXXX" in it) and the next run for the
+ *     same output removes it, but not the temporary folder of a live process nor a temporary
+ *     file that a live writer holds (pc_atomic_sweep)
+ * While a command runs, its frames are in the temporary sibling; the output folder appears
+ * whole at the end (also when interrupted, with the frames written). */
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -43,11 +47,12 @@ static void sleep_ms(double ms)
 		;
 }
 
-/* Waits until path exists (polling; the command's own pace decides). */
-static bool wait_file(const char *path, int timeout_ms)
+/* Waits until file name exists in output folder dir or in the temporary sibling it is written
+ * in (polling; the command's own pace decides). */
+static bool wait_out(const char *dir, const char *name, int timeout_ms)
 {
 	for (int t = 0; t < timeout_ms; t += 20) {
-		if (access(path, F_OK) == 0)
+		if (sf_out_file_exists(dir, name))
 			return true;
 		sleep_ms(20);
 	}
@@ -112,12 +117,13 @@ static void test_capture_sigterm(void)
 	snprintf(dir, sizeof dir, "%s/term", tmp);
 	snprintf(out, sizeof out, "%s/term.out", tmp);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=25", scene);
-	snprintf(probe, sizeof probe, "%s/raw_000002.png", dir);
-	char *args[] = {"capture", uri, "-n", "100000", "-o", dir, "--write-delay-ms", "200", NULL};
+	char *args[] = {"capture",          uri,   "-n",     "100000", "-o", dir,
+	                "--write-delay-ms", "200", "--json", NULL};
 	pid_t pid = start(args, out);
 	CHECK(pid > 0);
-	CHECK(wait_file(probe, WAIT_MS));
-	unsigned on_disk_at_signal = count_frames(dir);
+	CHECK(wait_out(dir, "raw_000002.png", WAIT_MS));
+	CHECK(sf_work_dirs(dir, probe, sizeof probe) == 1); /* the recording being made */
+	unsigned on_disk_at_signal = count_frames(probe);
 	int st = pc_child_stop(pid, SIGTERM, WAIT_MS);
 	CHECK_EQ_INT(st, 1);
 	char *o = slurp(out);
@@ -164,14 +170,13 @@ static void test_capture_sigterm(void)
 /* SIGINT during a capture --process: the processed pictures of the last frame come too. */
 static void test_capture_sigint_process(void)
 {
-	char dir[200], out[220], uri[800], probe[260];
+	char dir[200], out[220], uri[800];
 	snprintf(dir, sizeof dir, "%s/int", tmp);
 	snprintf(out, sizeof out, "%s/int.out", tmp);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=20", scene);
-	snprintf(probe, sizeof probe, "%s/raw_000001.png", dir);
 	char *args[] = {"capture", uri, "-n", "100000", "-o", dir, "--process", NULL};
 	pid_t pid = start(args, out);
-	CHECK(wait_file(probe, WAIT_MS));
+	CHECK(wait_out(dir, "raw_000001.png", WAIT_MS));
 	CHECK_EQ_INT(pc_child_stop(pid, SIGINT, WAIT_MS), 1);
 	json_t *m = meta_of(dir);
 	CHECK(m && json_is_false(json_object_get(m, "complete")));
@@ -179,7 +184,9 @@ static void test_capture_sigint_process(void)
 	CHECK_EQ_INT(json_integer_value(json_object_get(pj, "frames")),
 	             json_array_size(json_object_get(m, "frames")));
 	char p[300];
-	snprintf(p, sizeof p, "%s/processed/dolp.npy", dir);
+	/* every frame's planes are kept (--keep-every 1): the last one's too */
+	snprintf(p, sizeof p, "%s/processed/dolp_%06zu.npy", dir,
+	         json_array_size(json_object_get(m, "frames")) - 1);
 	pc_array a;
 	CHECK_EQ_INT(pc_npy_read(p, &a), 0);
 	if (a.data)
@@ -195,13 +202,12 @@ static void test_capture_sigint_process(void)
 /* SIGINT during a render: the frames so far, complete=false, the timings. */
 static void test_render_sigint(void)
 {
-	char dir[200], out[220], probe[260];
+	char dir[200], out[220];
 	snprintf(dir, sizeof dir, "%s/render", tmp);
 	snprintf(out, sizeof out, "%s/render.out", tmp);
-	snprintf(probe, sizeof probe, "%s/raw_000002.png", dir);
 	char *args[] = {"render", scene, "-o", dir, "-n", "100000", "-s", "4", NULL};
 	pid_t pid = start(args, out);
-	CHECK(wait_file(probe, WAIT_MS));
+	CHECK(wait_out(dir, "raw_000002.png", WAIT_MS));
 	CHECK_EQ_INT(pc_child_stop(pid, SIGINT, WAIT_MS), 1);
 	json_t *m = meta_of(dir);
 	CHECK(m && json_is_false(json_object_get(m, "complete")));
@@ -235,20 +241,23 @@ static void test_second_signal(void)
 	snprintf(dir, sizeof dir, "%s/twice", tmp);
 	snprintf(out, sizeof out, "%s/twice.out", tmp);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=50", scene);
-	snprintf(probe, sizeof probe, "%s/raw_000000.png", dir);
 	char *args[] = {"capture",          uri,    "-n", "100000", "-o", dir,
 	                "--write-delay-ms", "2000", NULL};
 	pid_t pid = start(args, out);
-	CHECK(wait_file(probe, WAIT_MS));
+	CHECK(wait_out(dir, "raw_000000.png", WAIT_MS));
 	sleep_ms(500); /* a queue of frames waits for the 2 s writer */
 	kill(pid, SIGTERM);
 	sleep_ms(300);
 	int st = pc_child_stop(pid, SIGTERM, WAIT_MS);
 	CHECK_EQ_INT(st, 128 + SIGTERM);
+	/* ended at once: the folder was not put in place; what it was writing is whole */
+	CHECK(access(dir, F_OK) != 0);
+	CHECK(sf_work_dirs(dir, probe, sizeof probe) == 1);
 	sf_dir_report r;
 	memset(&r, 0, sizeof r);
-	sf_check_dir(dir, &frames5, &r);
+	sf_check_dir(probe, &frames5, &r);
 	CHECK_EQ_INT(r.bad, 0);
+	CHECK(r.frames >= 1);
 }
 
 /* ---- SIGKILL at random moments ---- */
@@ -263,24 +272,31 @@ typedef struct kill_totals {
 static void kill_round(char *const args[], const char *dir, const sf_frames *f, double max_ms,
                        bool after_first, char *const rerun[], kill_totals *t)
 {
-	char out[300], png[300], raw[300];
+	char out[300];
 	snprintf(out, sizeof out, "%s.out", dir);
-	snprintf(png, sizeof png, "%s/raw_000000.png", dir);
-	snprintf(raw, sizeof raw, "%s/raw_000000.raw", dir);
 	pid_t pid = start(args, out);
 	CHECK(pid > 0);
 	bool first = !after_first;
 	for (int w = 0; w < WAIT_MS && !first; w += 20) {
-		first = access(png, F_OK) == 0 || access(raw, F_OK) == 0;
+		first = sf_out_file_exists(dir, "raw_000000.png") ||
+		        sf_out_file_exists(dir, "raw_000000.raw");
 		if (!first)
 			sleep_ms(20);
 	}
 	CHECK(first);
 	sleep_ms(urand() * max_ms);
 	pc_child_stop(pid, SIGKILL, WAIT_MS);
+	/* the output folder (when it was put in place) and the temporary sibling (when not) */
 	sf_dir_report r;
 	memset(&r, 0, sizeof r);
 	sf_check_dir(dir, f, &r);
+	char work[1100];
+	unsigned n_work = sf_work_dirs(dir, work, sizeof work);
+	CHECK(n_work <= 1);
+	if (n_work) {
+		sf_check_dir(work, f, &r);
+		r.leftovers++;
+	}
 	CHECK_EQ_INT(r.bad, 0);
 	t->rounds++;
 	t->files += r.files;
@@ -296,6 +312,7 @@ static void kill_round(char *const args[], const char *dir, const sf_frames *f, 
 	sf_check_dir(dir, f, &r2);
 	CHECK_EQ_INT(r2.bad, 0);
 	CHECK_EQ_INT(r2.leftovers, 0);
+	CHECK_EQ_INT(sf_work_dirs(dir, NULL, 0), 0);
 	t->cleaned += r.leftovers - r2.leftovers;
 }
 
@@ -332,38 +349,64 @@ static void test_kills(void)
 	CHECK(tc.frames > 0 && tr.frames > 0);
 }
 
-/* Leftovers made on purpose: one unlocked (a dead writer's) is removed by the next capture,
- * one whose lock this test holds (a live writer's) is left alone. */
+/* Leftovers made on purpose.
+ * Files (pc_atomic_sweep, which pc_recording_create runs in its folder): one unlocked (a dead
+ * writer's) is removed, one whose lock this test holds (a live writer's) is left alone.
+ * Folders (pc_outdir): the temporary sibling of a process that is gone is removed by the next
+ * capture into the same output, that of a live process (this test) is left alone. */
 static void test_sweep(void)
 {
-	char dir[200], pdir[220], dead[300], live[300], pdead[300], uri[800];
+	char dir[200], dead[300], live[300], uri[800];
 	snprintf(dir, sizeof dir, "%s/sweep", tmp);
-	snprintf(pdir, sizeof pdir, "%s/processed", dir);
 	snprintf(dead, sizeof dead, "%s/.raw_000007.png.tmpAb12Cd", dir);
 	snprintf(live, sizeof live, "%s/.raw_000008.png.tmpXy34Zw", dir);
-	/* a run killed while processing: its leftover is removed by a capture without --process */
-	snprintf(pdead, sizeof pdead, "%s/.s0_000003.png.tmpQq11Rr", pdir);
 	mkdir(dir, 0755);
-	mkdir(pdir, 0755);
 	int fd1 = open(dead, O_WRONLY | O_CREAT, 0600);
 	int fd2 = open(live, O_WRONLY | O_CREAT, 0600);
-	int fd3 = open(pdead, O_WRONLY | O_CREAT, 0600);
-	CHECK(fd1 >= 0 && fd2 >= 0 && fd3 >= 0);
+	CHECK(fd1 >= 0 && fd2 >= 0);
 	if (fd1 >= 0)
 		close(fd1);
-	if (fd3 >= 0)
-		close(fd3);
 	CHECK_EQ_INT(flock(fd2, LOCK_EX), 0);
-	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=0", scene);
-	char out[300];
-	snprintf(out, sizeof out, "%s.out", dir);
-	char *args[] = {"capture", uri, "-n", "2", "-o", dir, NULL};
-	CHECK_EQ_INT(pc_child_wait(start(args, out), WAIT_MS, NULL), 0);
+	unsigned removed = 0;
+	CHECK_EQ_INT(pc_atomic_sweep(dir, &removed), 0);
+	CHECK_EQ_INT(removed, 1);
 	CHECK(access(dead, F_OK) != 0);
-	CHECK(access(pdead, F_OK) != 0);
 	CHECK(access(live, F_OK) == 0);
 	if (fd2 >= 0)
 		close(fd2);
+
+	/* a process that is gone: a child that has exited and been waited for */
+	pid_t gone = fork();
+	if (gone == 0)
+		_exit(0);
+	CHECK(gone > 0 && pc_child_wait(gone, WAIT_MS, NULL) == 0);
+	char host[64] = "host", out_dir[200], dead_dir[400], live_dir[400];
+	if (gethostname(host, sizeof host) != 0)
+		strcpy(host, "host");
+	host[sizeof host - 1] = '\0';
+	for (char *c = host; *c; c++)
+		if (*c == '/' || *c == '-')
+			*c = '_';
+	snprintf(out_dir, sizeof out_dir, "%s/swept", tmp);
+	snprintf(dead_dir, sizeof dead_dir, "%s/.swept.tmp-%s-%ld-Ab12Cd", tmp, host, (long)gone);
+	snprintf(live_dir, sizeof live_dir, "%s/.swept.tmp-%s-%ld-Xy34Zw", tmp, host,
+	         (long)getpid());
+	CHECK_EQ_INT(mkdir(dead_dir, 0755), 0);
+	CHECK_EQ_INT(mkdir(live_dir, 0755), 0);
+	char inner[500];
+	snprintf(inner, sizeof inner, "%s/raw_000000.png", dead_dir);
+	int fd3 = open(inner, O_WRONLY | O_CREAT, 0600);
+	if (fd3 >= 0)
+		close(fd3);
+	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=0", scene);
+	char out[300];
+	snprintf(out, sizeof out, "%s.out", out_dir);
+	char *args[] = {"capture", uri, "-n", "2", "-o", out_dir, NULL};
+	CHECK_EQ_INT(pc_child_wait(start(args, out), WAIT_MS, NULL), 0);
+	CHECK(access(dead_dir, F_OK) != 0);
+	CHECK(access(live_dir, F_OK) == 0);
+	CHECK_EQ_INT(sf_work_dirs(out_dir, NULL, 0), 1); /* the live one only */
+	rmdir(live_dir);
 }
 
 int main(void)

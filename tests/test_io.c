@@ -344,7 +344,7 @@ static void test_pictures(void)
 	const char *names[4] = {"s0.png", "dolp.png", "aolp.png", "aolp_sat.png"};
 	for (int k = 0; k < 4; k++)
 		CHECK(access(tmp(names[k]), F_OK) == 0);
-	pc_pictures_opts o = {"m", 0, 45.0};
+	pc_pictures_opts o = {.title_prefix = "m", .mask_s0 = 45.0};
 	CHECK_EQ_INT(pc_pictures_write_opts(dir, &so, W, H, &o), 0);
 	o.mask_s0 = -1;
 	CHECK_EQ_INT(pc_pictures_write_opts(dir, &so, W, H, &o), 0);

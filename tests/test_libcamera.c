@@ -34,7 +34,7 @@ int main(void)
 
 	pc_source *s = NULL;
 	rc = pc_source_open(&s, "libcamera:no-such-camera");
-	CHECK_EQ_INT(rc, PC_ENOENT);
+	CHECK_EQ_INT(rc, PC_EUNAVAIL);
 	CHECK(s == NULL);
 	CHECK(strstr(pc_error_detail(), "no-such-camera") != NULL);
 	CHECK(strstr(pc_error_detail(), "camera") != NULL);
@@ -42,7 +42,7 @@ int main(void)
 
 	/* an index beyond the cameras present */
 	rc = pc_source_open(&s, "libcamera:99");
-	CHECK_EQ_INT(rc, PC_ENOENT);
+	CHECK_EQ_INT(rc, PC_EUNAVAIL);
 	rc = pc_source_open(&s, "libcamera:");
 	CHECK_EQ_INT(rc, PC_EINVAL);
 	rc = pc_source_open(&s, "libcamera:x?bogus=1");

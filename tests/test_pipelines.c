@@ -129,7 +129,7 @@ static void test_mueller(void)
 	CHECK(rep.frames == 8 && rep.width == 32 && rep.height == 24);
 	free(rep.timings);
 	/* the same directory again is refused, and nothing is touched */
-	CHECK_EQ_INT(pc_render_recording(tpath("rec"), &ro, NULL), PC_EBUSY);
+	CHECK_EQ_INT(pc_render_recording(tpath("rec"), &ro, NULL), PC_EEXIST);
 
 	pc_mueller_request rq = {
 	    NULL, NULL, {PC_DM_BILINEAR, NAN, 1, {PC_REBUILD_OFF, 0}, 0, 0}, {NULL, NULL}};
@@ -227,18 +227,20 @@ static void test_capture_stop(void)
 		CHECK(pc_recording_count(r) == 2 && !pc_recording_is_complete(r));
 		pc_recording_free(r);
 	}
-	/* the last frame's Stokes images were written all the same */
+	/* the last frame's Stokes images were written all the same (keep_every 0: the last only) */
 	pc_array d;
-	CHECK_EQ_INT(pc_npy_read(tpath("cap/processed/dolp.npy"), &d), 0);
+	CHECK_EQ_INT(pc_npy_read(tpath("cap/processed/dolp_000001.npy"), &d), 0);
 	CHECK(d.ndim == 2 && d.shape[0] == 24 && d.shape[1] == 32);
 	pc_array_free(&d);
+	CHECK(access(tpath("cap/processed/dolp_000000.npy"), F_OK) != 0);
+	CHECK(access(tpath("cap/processed/s0_000001.png"), F_OK) == 0);
 	/* a method for the other kind of mosaic: nothing is recorded */
 	o.method = "bayer-first";
 	o.dir = tpath("cap2");
 	o.progress = (pc_progress){NULL, NULL};
 	CHECK_EQ_INT(pc_capture(&o, &rep), PC_EINVAL);
 	pc_capture_report_free(&rep);
-	CHECK(access(tpath("cap2/meta.json"), F_OK) != 0);
+	CHECK(access(tpath("cap2"), F_OK) != 0);
 }
 
 static void test_stokes_folder(void)
@@ -258,7 +260,7 @@ static void test_stokes_folder(void)
 	                   {aolp, W, 1}};
 	pc_stokes_out b = {
 	    {sep, W, 1}, {sep + N, W, 1}, {sep + 2 * N, W, 1}, {dolp, W, 1}, {aolp, W, 1}};
-	pc_stokes_folder_opts o = {PC_SF_STOKES | PC_SF_S0 | PC_SF_AOLP, {NULL, 0, 0}};
+	pc_stokes_folder_opts o = {.files = PC_SF_STOKES | PC_SF_S0 | PC_SF_AOLP};
 	CHECK_EQ_INT(pc_stokes_folder_write(tpath("sfa"), &a, W, H, &o), 0);
 	CHECK_EQ_INT(pc_stokes_folder_write(tpath("sfb"), &b, W, H, &o), 0);
 	pc_array x, y, s0;

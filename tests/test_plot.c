@@ -9,6 +9,7 @@
 
 #include "check.h"
 #include "polarcam/error.h"
+#include "polarcam/io.h"
 #include "polarcam/plot.h"
 
 static int count_files(const char *dir)
@@ -31,8 +32,38 @@ static void grey(double t, double s, uint8_t rgb[3], void *ctx)
 	rgb[0] = rgb[1] = rgb[2] = (uint8_t)(255 * t);
 }
 
+/* The automatic DoLP range against the percentile worked out by hand: N values spread evenly
+ * over [0, 0.3) put their 99th percentile at 0.297, rounded up to 0.30; the same number of
+ * pixels at DoLP 0.9 under the mask threshold leave it there, and count without the mask. */
+static void test_dolp_auto(void)
+{
+	enum { N = 10000 };
+	float *d = malloc(2 * N * sizeof *d), *s = malloc(2 * N * sizeof *s);
+	for (int i = 0; i < N; i++) {
+		d[i] = 0.3f * (float)i / N;
+		s[i] = 1000;
+		d[N + i] = 0.9f; /* dark pixels: noise */
+		s[N + i] = 5;
+	}
+	CHECK_NEAR(pc_pictures_dolp_auto(d, s, N, 10), 0.30, 1e-12);
+	CHECK_NEAR(pc_pictures_dolp_auto(d, s, 2 * N, 10), 0.30, 1e-12);
+	CHECK_NEAR(pc_pictures_dolp_auto(d, s, 2 * N, 0), 0.90, 1e-12); /* no mask */
+	/* the floor and the ceiling: all zero gives 0.05, values above 1 give 1 */
+	for (int i = 0; i < N; i++)
+		d[i] = 0;
+	CHECK_NEAR(pc_pictures_dolp_auto(d, s, N, 0), 0.05, 1e-12);
+	for (int i = 0; i < N; i++)
+		d[i] = 1.5f;
+	CHECK_NEAR(pc_pictures_dolp_auto(d, s, N, 0), 1.0, 1e-12);
+	/* nothing usable (every pixel masked or not finite): the full range */
+	CHECK_NEAR(pc_pictures_dolp_auto(d, s, N, 1e9), 1.0, 1e-12);
+	free(d);
+	free(s);
+}
+
 int main(void)
 {
+	test_dolp_auto();
 	char dir[64];
 	CHECK(pc_test_tmpdir(dir, sizeof dir, "pc_test_plot") != NULL);
 	char path[256];
@@ -84,7 +115,7 @@ int main(void)
 	uint8_t img[16 * 8 * 3];
 	for (int i = 0; i < 16 * 8 * 3; i++)
 		img[i] = (uint8_t)(i * 7);
-	pc_colorbar bar = {"S0", 0, 1, NULL, 0, 0, grey, NULL};
+	pc_colorbar bar = {"S0", 0, 1, NULL, 0, 0, grey, NULL, 0};
 	snprintf(path, sizeof path, "%s/img.png", dir);
 	CHECK_EQ_INT(pc_image_write_png(path, img, 16, 8, 16 * 3, "picture", &bar, 0), 0);
 	s = cairo_image_surface_create_from_png(path);

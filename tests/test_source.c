@@ -208,7 +208,7 @@ static void test_registry_and_uris(void)
 		if (!b->ops) {
 			char uri[64];
 			snprintf(uri, sizeof uri, "%s:x", b->scheme);
-			CHECK_EQ_INT(pc_source_open(&s, uri), PC_ENOTSUP);
+			CHECK_EQ_INT(pc_source_open(&s, uri), PC_EUNAVAIL);
 			CHECK(strstr(pc_error_detail(), "not built") != NULL);
 		}
 	}

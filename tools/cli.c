@@ -14,6 +14,25 @@
 #include "polarcam/error.h"
 
 const char *cli_name = "";
+bool cli_quiet;
+
+void cli_info(const char *fmt, ...)
+{
+	if (cli_quiet)
+		return;
+	va_list ap;
+	fprintf(stderr, "polarcam %s: ", cli_name);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+}
+
+bool cli_parse_only(void)
+{
+	const char *e = getenv("POLARCAM_PARSE_ONLY");
+	return e && !strcmp(e, "1");
+}
 
 /* Messages go to a terminal: every byte that is not printable UTF-8 is escaped
  * (cli_quote), whatever the message quotes (file names, tokens of a binary file). */
@@ -37,6 +56,8 @@ int cli_error(int status, const char *fmt, ...)
 
 void cli_warn(const char *fmt, ...)
 {
+	if (cli_quiet)
+		return;
 	va_list ap;
 	va_start(ap, fmt);
 	cli_vmessage("warning", fmt, ap);
@@ -52,7 +73,10 @@ int cli_status(int code)
 	case PC_ERANGE:
 	case PC_EFORMAT:
 	case PC_ENOENT:
+	case PC_EEXIST:
 		return CLI_EXIT_USAGE;
+	case PC_EUNAVAIL:
+		return CLI_EXIT_UNAVAILABLE;
 	default:
 		return CLI_EXIT_FAILURE;
 	}
@@ -348,7 +372,9 @@ void cli_progress_begin(cli_progress *p, const char *label, uint64_t total)
 	p->label = label;
 	p->total = total;
 	const char *env = getenv("POLARCAM_PROGRESS");
-	if (env && *env)
+	if (cli_quiet)
+		p->enabled = false;
+	else if (env && *env)
 		p->enabled = strcmp(env, "0") != 0;
 	else
 		p->enabled = isatty(STDERR_FILENO);

@@ -9,15 +9,32 @@
 #include <stdint.h>
 #include <stdio.h>
 
-/* Exit statuses of every command. */
+/* Exit statuses of every command (README, "Conventions"). */
 enum {
 	CLI_EXIT_OK = 0,
-	CLI_EXIT_FAILURE = 1, /* the work failed (I/O, device, numerics) */
-	CLI_EXIT_USAGE = 2,   /* bad arguments or bad input data */
+	CLI_EXIT_FAILURE = 1,      /* the work failed (I/O, device, numerics) */
+	CLI_EXIT_USAGE = 2,        /* bad arguments, bad input data, an output that exists */
+	CLI_EXIT_UNAVAILABLE = 77, /* a backend not built in, a device or display absent */
 };
 
 /* The running command's name ("pbrdf"), set by main, used in messages. */
 extern const char *cli_name;
+
+/* The output rule of every command: stdout carries results only (JSON lines with --json; the
+ * command's table where it prints one), stderr carries progress, messages, warnings and errors.
+ * --quiet (-q), taken out of argv by main for every command, leaves only errors on stderr. */
+extern bool cli_quiet;
+
+/* A message on stderr ("polarcam CMD: <fmt>") unless --quiet. */
+void cli_info(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+
+/* True when POLARCAM_PARSE_ONLY=1: commands stop after parsing their arguments, with exit
+ * status 0 (the test of the examples in every --help uses it). */
+bool cli_parse_only(void);
 
 /* Prints "polarcam CMD: error: <fmt>" to stderr and returns status. */
 int cli_error(int status, const char *fmt, ...)
@@ -27,14 +44,15 @@ int cli_error(int status, const char *fmt, ...)
     ;
 
 /* Prints "polarcam CMD: error: <what>: <pc_error_detail() or pc_strerror(code)>" and returns
- * CLI_EXIT_USAGE for input errors (PC_EINVAL, PC_ERANGE, PC_EFORMAT, PC_ENOENT) or
- * CLI_EXIT_FAILURE for the others. */
+ * cli_status(code). */
 int cli_fail(int code, const char *what);
 
-/* Exit status for a library error code (see cli_fail). */
+/* Exit status for a library error code: CLI_EXIT_USAGE for input errors (PC_EINVAL, PC_ERANGE,
+ * PC_EFORMAT, PC_ENOENT) and an output that exists (PC_EEXIST), CLI_EXIT_UNAVAILABLE for
+ * PC_EUNAVAIL, CLI_EXIT_FAILURE for the others. */
 int cli_status(int code);
 
-/* Prints a warning to stderr. */
+/* Prints a warning to stderr (unless --quiet). */
 void cli_warn(const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 1, 2)))
@@ -74,7 +92,7 @@ json_t *cli_json_matrix4(const double m[4][4]);
 json_t *cli_json_vec(const double *v, unsigned n);
 
 /* Progress on stderr for long work: shown when stderr is a terminal or POLARCAM_PROGRESS=1,
- * never when POLARCAM_PROGRESS=0. Rate-limited to ~10 updates per second. */
+ * never when POLARCAM_PROGRESS=0 or --quiet. Rate-limited to ~10 updates per second. */
 typedef struct cli_progress {
 	const char *label;
 	uint64_t total;

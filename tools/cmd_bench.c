@@ -38,6 +38,10 @@ int cli_cmd_bench(int argc, char **argv)
 		        "Benchmarks report ratios against baselines measured in the same run.\n\n");
 		for (size_t i = 0; i < n; i++)
 			fprintf(fp, "  %-9s %s\n", benches[i].name, benches[i].summary);
+		fprintf(fp, "\nexamples:\n"
+		            "  polarcam bench physics\n"
+		            "  polarcam bench demosaic --reps 3 -o bench-demosaic --overwrite\n"
+		            "  polarcam bench render --json\n");
 		return argc < 2 ? CLI_EXIT_USAGE : CLI_EXIT_OK;
 	}
 	for (size_t i = 0; i < n; i++)
@@ -50,7 +54,8 @@ int cli_cmd_bench(int argc, char **argv)
 			                            cli_parse_double,
 			                            cli_print_json,
 			                            {cli_progress_fn, &bar},
-			                            progress_end};
+			                            progress_end,
+			                            cli_parse_only()};
 			int status = benches[i].run(&host, argc - 1, argv + 1);
 			cli_progress_end(&bar);
 			return status;

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli.h"
 #include "commands.h"
@@ -30,6 +31,7 @@ static void usage(FILE *fp)
 	    "                              --polarizer2 REC --retarder REC [--dark F] -o F\n"
 	    "                              [--states-out FILE]\n"
 	    "       polarcam calibrate show F [--pictures DIR]\n"
+	    "       (every step also takes --overwrite and --json)\n"
 	    "\n"
 	    "Calibrates a division-of-focal-plane polarization camera from recordings (polarcam\n"
 	    "render or capture output, one uniform stimulus each). The steps build one file per\n"
@@ -53,7 +55,10 @@ static void usage(FILE *fp)
 	    "  show      JSON summary of a calibration file: parts, residuals, map statistics\n"
 	    "\n"
 	    "options:\n"
-	    "  -o, --output F       the calibration file to write (atomically)\n"
+	    "  -o, --output F       the calibration file to write (atomically; an existing F is\n"
+	    "                       refused unless --overwrite, or unless it is the --dark/--flat\n"
+	    "                       file the step starts from, which is then updated)\n"
+	    "  --overwrite          replace F (and --pictures DIR, --states-out FILE)\n"
 	    "  --dark F, --flat F   earlier calibration files to start from\n"
 	    "  --angles A,B,...     analyser stimuli angles in degrees\n"
 	    "  --unknown-angles     estimate the angles (self-calibration)\n"
@@ -64,8 +69,16 @@ static void usage(FILE *fp)
 	    "  --theta2 DEG, --theta3 DEG  ECM: nominal orientations of the second polarizer and\n"
 	    "                       the retarder (default 90 and 30; refined within +-20 deg)\n"
 	    "  --pictures DIR       show: write maps of gain, orientation error, extinction ratio\n"
-	    "  --json               print the summary as one JSON line on stdout\n"
-	    "Exit status: 0 success, 1 failure, 2 bad arguments or input (nothing is written).\n");
+	    "                       into the folder DIR (with meta.json: the summary)\n"
+	    "  --json               print the summary as one JSON line on stdout (show always\n"
+	    "                       prints it)\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or input, or an output exists\n"
+	    "(nothing is written).\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam calibrate dark rec/dark -o cam.npz\n"
+	    "  polarcam calibrate flat rec/fl rec/fh --dark cam.npz -o cam.npz --json\n"
+	    "  polarcam calibrate show cam.npz --pictures cam-maps/\n");
 }
 
 /* ---- recordings as frame stacks ---- */
@@ -326,7 +339,7 @@ static void progress_cb(void *user, uint64_t done, uint64_t total)
 typedef struct args {
 	const char *out, *dark, *flat, *angles, *states, *states_out, *pictures, *camera;
 	const char *ecm[4];
-	bool unknown, json;
+	bool unknown, json, overwrite;
 	double dolp, saturation, theta2, theta3;
 	int first; /* first positional argument */
 } args;
@@ -351,6 +364,7 @@ static int parse(int argc, char **argv, args *a)
 	                                     {"theta3", required_argument, NULL, 'b'},
 	                                     {"pictures", required_argument, NULL, 'p'},
 	                                     {"camera", required_argument, NULL, 'c'},
+	                                     {"overwrite", no_argument, NULL, 'W'},
 	                                     {NULL, 0, NULL, 0}};
 	memset(a, 0, sizeof *a);
 	a->dolp = NAN;
@@ -378,6 +392,9 @@ static int parse(int argc, char **argv, args *a)
 			break;
 		case 'J':
 			a->json = true;
+			break;
+		case 'W':
+			a->overwrite = true;
 			break;
 		case 's':
 			a->states = optarg;
@@ -431,6 +448,23 @@ static int parse(int argc, char **argv, args *a)
 	return 0;
 }
 
+/* The output rule for -o F (and --states-out): F may be replaced with --overwrite, or when it is
+ * the --dark/--flat file the step starts from (the step then updates it: the new file holds
+ * its parts and the step's). Then the parse-only stop. Returns 0 to go on, 1 to stop (status in
+ * *st). */
+static int outputs_ok(const args *a, int *st)
+{
+	const char *base = a->flat ? a->flat : a->dark;
+	struct stat so, sb;
+	bool update = base && stat(a->out, &so) == 0 && stat(base, &sb) == 0 &&
+	              so.st_dev == sb.st_dev && so.st_ino == sb.st_ino;
+	int rc = pc_output_check(a->out, a->overwrite || update ? PC_OUT_OVERWRITE : 0, false);
+	if (!rc && a->states_out)
+		rc = pc_output_check(a->states_out, a->overwrite ? PC_OUT_OVERWRITE : 0, false);
+	*st = rc ? cli_fail(rc, NULL) : CLI_EXIT_OK;
+	return rc || cli_parse_only();
+}
+
 /* Reads --dark/--flat into base (flat wins: it already holds the dark it was made with). */
 static int load_base(const args *a, pc_calib *base, bool *have)
 {
@@ -466,13 +500,15 @@ static int finish(pc_calib *cal, const args *a, json_t *step)
 		cli_print_json(s);
 	} else {
 		json_t *parts = json_object_get(s, "parts");
-		fprintf(stderr, "polarcam calibrate: wrote %s (", a->out);
+		char list[64] = "";
 		for (size_t i = 0; i < json_array_size(parts); i++)
-			fprintf(stderr, "%s%s", i ? ", " : "",
-			        json_string_value(json_array_get(parts, i)));
-		fprintf(
-		    stderr, "; %lld invalid pixels); polarcam calibrate show %s for the details\n",
-		    (long long)json_integer_value(json_object_get(s, "pixels_invalid")), a->out);
+			snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+			         i ? ", " : "", json_string_value(json_array_get(parts, i)));
+		cli_info("wrote %s (%s; %lld invalid pixels); polarcam calibrate show %s for the "
+		         "details",
+		         a->out, list,
+		         (long long)json_integer_value(json_object_get(s, "pixels_invalid")),
+		         a->out);
 		json_decref(s);
 	}
 	return CLI_EXIT_OK;
@@ -491,6 +527,8 @@ static int sub_stacks(int argc, char **argv, const char *what)
 		return cli_error(CLI_EXIT_USAGE, "no recordings given (see --help)");
 	if (!strcmp(what, "dark") && nrec != 1)
 		return cli_error(CLI_EXIT_USAGE, "dark takes one recording, %d given", nrec);
+	if (outputs_ok(&a, &st))
+		return st;
 	rec_stack *rs = calloc((size_t)nrec, sizeof *rs);
 	pc_calib_stack *stk = calloc((size_t)nrec, sizeof *stk);
 	double *angles = calloc((size_t)nrec, sizeof *angles);
@@ -648,6 +686,8 @@ static int sub_ecm(int argc, char **argv)
 			return cli_error(CLI_EXIT_USAGE, "%s REC is required (see --help)", opt[i]);
 	if (argc > a.first)
 		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s'", argv[a.first]);
+	if (outputs_ok(&a, &st))
+		return st;
 	pc_sim_states nom;
 	char layout[64] = "";
 	int rc = pc_states_read(a.states, &nom, layout, sizeof layout);
@@ -729,21 +769,38 @@ static int sub_show(int argc, char **argv)
 		return st;
 	if (argc - a.first != 1)
 		return cli_error(CLI_EXIT_USAGE, "show takes one calibration file");
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	pc_calib c;
 	int rc = pc_calib_read(argv[a.first], &c);
 	if (rc)
 		return cli_fail(rc, NULL);
-	if (a.pictures && (rc = pc_mkdir_p(a.pictures))) {
+	/* the pictures folder is written as a set, with the summary as its meta.json */
+	pc_outdir od = {0};
+	if (a.pictures &&
+	    (rc = pc_outdir_begin(&od, a.pictures, a.overwrite ? PC_OUT_OVERWRITE : 0))) {
 		pc_calib_free(&c);
-		return cli_fail(rc, a.pictures);
+		return cli_fail(rc, NULL);
 	}
-	json_t *s = summary(&c, a.pictures, &rc);
+	json_t *s = summary(&c, od.tmp, &rc);
 	pc_calib_free(&c);
+	json_object_set_new(s, "file", json_string(argv[a.first]));
+	if (a.pictures)
+		json_object_set_new(s, "pictures", json_string(a.pictures));
+	if (!rc && a.pictures) {
+		char path[4096], *t = json_dumps(s, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
+		snprintf(path, sizeof path, "%s/meta.json", od.tmp);
+		rc =
+		    t ? pc_write_file_atomic(path, t, strlen(t)) : pc_error(PC_ENOMEM, "meta.json");
+		free(t);
+		if (!rc)
+			rc = pc_outdir_commit(&od);
+	}
+	pc_outdir_abort(&od);
 	if (rc) {
 		json_decref(s);
-		return cli_fail(rc, a.pictures);
+		return cli_fail(rc, NULL);
 	}
-	json_object_set_new(s, "file", json_string(argv[a.first]));
 	cli_print_json(s);
 	return CLI_EXIT_OK;
 }

@@ -47,8 +47,16 @@ static void usage(FILE *fp)
 	    "\n"
 	    "Progress goes to stderr when it is a terminal (POLARCAM_PROGRESS=1 forces it, =0\n"
 	    "silences it); under a scheduler only the summary line is printed.\n"
+	    "A dataset directory is resumable, so it is the one output a run adds to instead of\n"
+	    "refusing (each sample is still made beside it and renamed into place whole).\n"
 	    "Exit status: 0 success, 1 failure (or verify found problems), 2 bad arguments or "
-	    "spec.\n");
+	    "spec.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam dataset scenes/dataset/demosaic.json -o ds/ --count 100 --seed 1\n"
+	    "  polarcam dataset scenes/dataset/demosaic.json -o ds/ --count 100 --shard 0/4 "
+	    "--json\n"
+	    "  polarcam dataset verify ds/ --json\n");
 }
 
 static int parse_shard(const char *arg, uint32_t *i, uint32_t *m)
@@ -92,6 +100,8 @@ static int run_verify(int argc, char **argv)
 	int rc = parse_dir_args(argc, argv, "verify", &dir, &json);
 	if (rc)
 		return rc;
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	pc_dataset_verify_result r;
 	double t0 = cli_now();
 	rc = pc_dataset_verify(dir, &r);
@@ -125,6 +135,8 @@ static int run_merge(int argc, char **argv)
 	int rc = parse_dir_args(argc, argv, "merge", &dir, &json);
 	if (rc)
 		return rc;
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	uint64_t n = 0;
 	rc = pc_dataset_merge(dir, &n);
 	if (rc)
@@ -232,6 +244,8 @@ int cli_cmd_dataset(int argc, char **argv)
 		if (rc < 0)
 			return cli_error(CLI_EXIT_USAGE, "%s", pc_error_detail());
 	}
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	cli_progress bar = {0};
 	o.progress = (pc_progress){cli_progress_stoppable, &bar};
 	cli_catch_signals();

@@ -47,7 +47,13 @@ static void usage(FILE *fp)
 	    "                    line with its \"line\"; a bad line prints {\"line\": L, "
 	    "\"error\":\n"
 	    "                    ..., \"code\": ...} and the others are still processed\n"
-	    "Exit status: 0 success, 1 failure, 2 bad arguments or a bad batch line.\n");
+	    "  --json            accepted: the output is always JSON lines\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or a bad batch line.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam decompose 1 0.3 0 0  0.3 1 0 0  0 0 0.9 0.1  0 0 -0.1 0.9\n"
+	    "  polarcam decompose --no-filter 1 0 0 0 0 1 0 0 0 0 -1 0 0 0 0 -1\n"
+	    "  polarcam decompose --batch matrices.txt\n");
 }
 
 static const char *const pc_m_names[16] = {"m00", "m01", "m02", "m03", "m10", "m11", "m12", "m13",
@@ -130,6 +136,8 @@ int cli_cmd_decompose(int argc, char **argv)
 		double v;
 		if (!only_positional && !strcmp(a, "--")) {
 			only_positional = true;
+		} else if (!only_positional && !strcmp(a, "--json")) {
+			/* the output is JSON lines anyway */
 		} else if (!only_positional && !strcmp(a, "--no-filter")) {
 			options &= ~(unsigned)PC_LC_FILTER;
 		} else if (!only_positional && !strcmp(a, "--batch")) {
@@ -162,12 +170,16 @@ int cli_cmd_decompose(int argc, char **argv)
 			    "--batch reads the matrices from FILE; do not also give %d "
 			    "numbers on the command line",
 			    count);
+		if (cli_parse_only())
+			return CLI_EXIT_OK;
 		return run_batch(batch, options);
 	}
 	if (count != 16)
 		return cli_error(CLI_EXIT_USAGE,
 		                 "expected 16 matrix elements m00 m01 ... m33 (row by row), got %d",
 		                 count);
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	pc_lu_chipman lc;
 	rc = pc_lu_chipman_decompose((const double(*)[4])m, options, &lc);
 	if (rc)

@@ -30,18 +30,29 @@ static void usage(FILE *fp)
 	    "  4. writes pictures, .npy arrays and report.md / report.json into DIR.\n"
 	    "\n"
 	    "options:\n"
-	    "  -o, --output DIR    output directory (default polarcam-demo)\n"
+	    "  -o, --output DIR    output folder (default polarcam-demo), made beside DIR and\n"
+	    "                      renamed into place when complete\n"
+	    "  --overwrite         replace DIR as a whole when it exists\n"
 	    "  --scene FILE        another scene instead of the default\n"
 	    "  -s, --seed S        noise seed (default 1)\n"
 	    "  --methods LIST      demosaicking methods to compare (default\n"
 	    "                      superpixel,bilinear,bicubic,ppid,eari,ratio)\n"
 	    "  --no-mueller        skip step 3\n"
 	    "  -t, --threads N     threads\n"
-	    "Exit status: 0 success, 1 failure, 2 bad arguments.\n");
+	    "  --json              print report.json's content as one line on stdout (report.md\n"
+	    "                      goes to stderr, as without --json)\n"
+	    "\n"
+	    "Files and their fields: docs/outputs.md; how to read the pictures: docs/pictures.md.\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or DIR exists.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam demo -o polarcam-demo\n"
+	    "  polarcam demo -o demo2 --methods bilinear,ratio --no-mueller --seed 7\n"
+	    "  polarcam demo --scene scenes/mesh.json -o mesh-demo --overwrite --json\n");
 }
 
 /* the job and its report */
-static int run(pc_demo_opts *o, const char *out)
+static int run(pc_demo_opts *o, const char *out, bool json)
 {
 	cli_progress bar = {0};
 	o->progress = (pc_progress){cli_progress_fn, &bar};
@@ -51,19 +62,31 @@ static int run(pc_demo_opts *o, const char *out)
 		return cli_fail(rc, NULL);
 	pc_demo_info in;
 	pc_demo_get_info(demo, &in);
-	fprintf(stderr, "polarcam demo: %s, %ux%u, effects:", in.scene_name, in.width, in.height);
+	char fx[512] = "";
 	for (unsigned i = 0; i < PC_FX_COUNT_; i++)
 		if (in.effects & (1u << i))
-			fprintf(stderr, " %s", pc_sim_effect_name(1u << i));
-	fprintf(stderr, "\n");
+			snprintf(fx + strlen(fx), sizeof fx - strlen(fx), " %s",
+			         pc_sim_effect_name(1u << i));
+	cli_info("%s, %ux%u, effects:%s", in.scene_name, in.width, in.height, fx);
 	char *md = NULL;
 	rc = pc_demo_run(demo, out, &md);
 	cli_progress_end(&bar);
 	pc_demo_free(demo);
-	if (md)
-		fputs(md, stdout);
+	if (md && !rc && !cli_quiet)
+		fputs(md, stderr);
 	free(md);
-	return rc ? cli_fail(rc, NULL) : CLI_EXIT_OK;
+	if (rc)
+		return cli_fail(rc, NULL);
+	if (json) {
+		char path[4096];
+		snprintf(path, sizeof path, "%s/report.json", out);
+		json_t *j = json_load_file(path, 0, NULL);
+		if (!j)
+			return cli_error(CLI_EXIT_FAILURE, "%s: cannot read it back", path);
+		json_object_set_new(j, "output", json_string(out));
+		cli_print_json(j);
+	}
+	return CLI_EXIT_OK;
 }
 
 int cli_cmd_demo(int argc, char **argv)
@@ -78,12 +101,14 @@ int cli_cmd_demo(int argc, char **argv)
 	                                     {"methods", required_argument, NULL, 'M'},
 	                                     {"no-mueller", no_argument, NULL, 'N'},
 	                                     {"threads", required_argument, NULL, 't'},
+	                                     {"overwrite", no_argument, NULL, 'W'},
+	                                     {"json", no_argument, NULL, 'J'},
 	                                     {NULL, 0, NULL, 0}};
 	const char *out = "polarcam-demo", *scene_path = NULL;
 	const char *methods_arg = "superpixel,bilinear,bicubic,ppid,eari,ratio";
 	uint64_t seed = 1;
 	long threads = 0;
-	bool do_mueller = true;
+	bool do_mueller = true, overwrite = false, json = false;
 	int c, rc;
 	optind = 1;
 	opterr = 0;
@@ -104,6 +129,12 @@ int cli_cmd_demo(int argc, char **argv)
 			break;
 		case 'N':
 			do_mueller = false;
+			break;
+		case 'W':
+			overwrite = true;
+			break;
+		case 'J':
+			json = true;
 			break;
 		case 't':
 			if ((rc = cli_parse_long("--threads", optarg, 1, 1024, &threads)))
@@ -139,6 +170,14 @@ int cli_cmd_demo(int argc, char **argv)
 		if (!nm)
 			return cli_error(CLI_EXIT_USAGE, "--methods: empty list");
 	}
-	pc_demo_opts o = {scene_path, seed, methods, nm, do_mueller, (int)threads, {NULL, NULL}};
-	return run(&o, out);
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
+	pc_demo_opts o = {.scene_path = scene_path,
+	                  .seed = seed,
+	                  .methods = methods,
+	                  .n_methods = nm,
+	                  .mueller = do_mueller,
+	                  .overwrite = overwrite,
+	                  .threads = (int)threads};
+	return run(&o, out, json);
 }

@@ -15,7 +15,7 @@ static void usage(FILE *fp)
 	fprintf(
 	    fp,
 	    "usage: polarcam demosaic --list [--json]\n"
-	    "       polarcam demosaic RAW --method NAME [--layout L] -o OUT.npy|OUT.tif\n"
+	    "       polarcam demosaic RAW --method NAME [--layout L] -o OUT.npy|OUT.tif [--json]\n"
 	    "\n"
 	    "Demosaics a raw polarizer mosaic into full-resolution analyser images. OUT is\n"
 	    "float32 of shape (H, W, 4) with channels I0, I45, I90, I135 (angles from the image\n"
@@ -26,17 +26,28 @@ static void usage(FILE *fp)
 	    "where\n"
 	    "a value depends on one) goes beside OUT and the JSON gives invalid_pixels. .npy is\n"
 	    "NumPy format; .tif/.tiff is a float32 TIFF with one sample per channel. Outputs are\n"
-	    "written atomically; on any error nothing is written.\n"
+	    "written atomically, OUT and OUT_valid.npy as a set (both in place or neither); on\n"
+	    "any error nothing is written; an existing OUT or OUT_valid.npy is refused unless\n"
+	    "--overwrite.\n"
 	    "\n"
 	    "  --list              the methods, one line each on accuracy and cost\n"
 	    "  -o, --output OUT    the output file (.npy, .tif or .tiff)\n"
+	    "  --overwrite         replace OUT when it exists\n"
+	    "  --json              print one JSON line (output, shape, method, layout, bits,\n"
+	    "                      seconds) on stdout; with --list, the methods as JSON\n"
 	    "%s"
 	    "  -h, --help          this help\n"
 	    "\n"
-	    "Prints one JSON line (output, shape, method, layout, bits, seconds, black_level,\n"
-	    "saturation_level, calibration, valid, invalid_pixels). Exit status: 0\n"
-	    "success, 1 failure, 2 bad arguments or bad input (odd size, truncated file, values\n"
-	    "above the bit depth, NaN, bad layout).\n",
+	    "JSON fields: output, shape, method, layout, bits, seconds, black_level,\n"
+	    "saturation_level, calibration, valid, invalid_pixels.\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or bad input (odd size, truncated\n"
+	    "file, values above the bit depth, NaN, bad layout) or OUT exists.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam demosaic --list\n"
+	    "  polarcam demosaic rec/raw_000000.png --method eari -o i.npy\n"
+	    "  polarcam demosaic raw.bin --width 2448 --height 2048 --format PolarizeMono12p "
+	    "--layout 90,45,135,0 -o i.tif --json\n",
 	    cli_raw_help);
 }
 
@@ -96,8 +107,22 @@ int cli_cmd_demosaic(int argc, char **argv)
 					                 "--list takes only --json");
 			return list_methods(json);
 		}
+	bool overwrite = false, json = false;
+	char **args = calloc((size_t)argc + 1, sizeof *args);
+	int nargs = 0;
+	if (!args)
+		return cli_error(CLI_EXIT_FAILURE, "out of memory");
+	for (int i = 0; i < argc; i++) {
+		if (!strcmp(argv[i], "--overwrite"))
+			overwrite = true;
+		else if (!strcmp(argv[i], "--json"))
+			json = true;
+		else
+			args[nargs++] = argv[i];
+	}
 	cli_raw o;
-	int st = cli_raw_parse(argc, argv, &o, NULL);
+	int st = cli_raw_parse(nargs, args, &o, NULL, false);
+	free(args);
 	if (st)
 		return st;
 	if (!o.path) {
@@ -106,8 +131,11 @@ int cli_cmd_demosaic(int argc, char **argv)
 	}
 	if (!o.out)
 		return cli_error(CLI_EXIT_USAGE, "no output given (-o OUT.npy or OUT.tif)");
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	pc_raw_input in = cli_raw_input(&o);
 	pc_process_opts po = cli_raw_process(&o);
+	po.overwrite = overwrite;
 	pc_calib cal;
 	pc_raw_stage stage;
 	if ((st = cli_raw_calibration(&o, &cal, &stage, &po)))
@@ -117,6 +145,11 @@ int cli_cmd_demosaic(int argc, char **argv)
 	pc_calib_free(&cal);
 	if (rc)
 		return cli_fail(rc, NULL);
+	if (!json) {
+		cli_info("wrote %s (%ux%ux%u float32, %s)", o.out, rep.height, rep.width,
+		         rep.channels, pc_demosaic_method_get(o.dm)->name);
+		return CLI_EXIT_OK;
+	}
 	char layout[64];
 	pc_mosaic_format(&o.mosaic, layout, sizeof layout);
 	json_t *j = json_object();

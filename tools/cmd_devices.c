@@ -33,7 +33,14 @@ static void usage(FILE *fp)
 	    "                 corrupt) that must surface as the documented error\n"
 	    "  --frames N     with --check: frames to stream (default 8)\n"
 	    "  --finite       with --check: the source may end before N frames (file: without "
-	    "loop)\n");
+	    "loop)\n"
+	    "Exit status: 0 success, 1 a listing or a check failed, 2 bad arguments, 77 the\n"
+	    "--check URI's backend is not built in or its device is absent.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam devices\n"
+	    "  polarcam devices --gige --json\n"
+	    "  polarcam devices --check 'sim:default?drop_every=5' --fault drop\n");
 }
 
 typedef struct list_ctx {
@@ -166,6 +173,8 @@ int cli_cmd_devices(int argc, char **argv)
 			return cli_error(CLI_EXIT_USAGE, "unknown argument '%s' (see --help)", a);
 		}
 	}
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	if (check)
 		return run_check(check, fault, frames, finite, json);
 	if (fault != PC_FAULT_NONE || finite)

@@ -20,7 +20,7 @@ static void usage(FILE *fp)
 	fprintf(
 	    fp,
 	    "usage: polarcam eval [TRUTH_DIR|SCENE.json]... [--stress DIR] [--data DIR]\n"
-	    "                     [--method NAME|all] [--json PATH|-] [--reference]\n"
+	    "                     [--method NAME|all] [--json PATH|- [--overwrite]] [--reference]\n"
 	    "\n"
 	    "Scores demosaicking methods against ground truth with the frozen protocol of\n"
 	    "docs/evaluation.md: the four analyser images normalised by their container's\n"
@@ -46,12 +46,18 @@ static void usage(FILE *fp)
 	    "                     when DIR/gt is absent); default $POLARCAM_DATA when set\n"
 	    "  --method NAME|all  a method of `polarcam demosaic --list` (default: all methods\n"
 	    "                     for monochrome mosaics)\n"
-	    "  --json PATH|-      also write the results as JSON to PATH (atomically), or print\n"
-	    "                     JSON on stdout instead of the table with -\n"
+	    "  --json -|PATH      print the results as one JSON line on stdout instead of the\n"
+	    "                     table (-), or also write them as JSON to PATH (atomically;\n"
+	    "                     an existing PATH is refused unless --overwrite)\n"
 	    "  --reference        run the double-precision reference implementations (slow)\n"
 	    "  -h, --help         this help\n"
 	    "\n"
-	    "Exit status: 0 success, 1 failure, 2 bad arguments or unreadable truth.\n");
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or unreadable truth.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam eval data/gt/lapray-nir/* --method all\n"
+	    "  polarcam eval data/gt/lapray-nir/* --method ratio --json -\n"
+	    "  polarcam eval data/gt/*/* --json results.json --overwrite\n");
 }
 
 static json_t *metrics_json(const pc_eval_metrics *m)
@@ -275,7 +281,7 @@ int cli_cmd_eval(int argc, char **argv)
 		return CLI_EXIT_OK;
 	}
 	const char *method_arg = "all", *json_path = NULL, *data_dir = getenv("POLARCAM_DATA");
-	bool reference = false, data_given = false;
+	bool reference = false, data_given = false, overwrite = false;
 	char **dirs = NULL;
 	size_t ndirs = 0;
 	int status = CLI_EXIT_OK;
@@ -286,6 +292,8 @@ int cli_cmd_eval(int argc, char **argv)
 			json_path = argv[++i];
 		} else if (!strcmp(argv[i], "--reference")) {
 			reference = true;
+		} else if (!strcmp(argv[i], "--overwrite")) {
+			overwrite = true;
 		} else if (!strcmp(argv[i], "--stress") && i + 1 < argc) {
 			char pat[4096];
 			snprintf(pat, sizeof pat, "%s/*.json", argv[++i]);
@@ -331,6 +339,16 @@ int cli_cmd_eval(int argc, char **argv)
 	if (status == CLI_EXIT_OK && !ndirs) {
 		usage(stderr);
 		status = cli_error(CLI_EXIT_USAGE, "no TRUTH_DIR or SCENE.json given");
+	} else if (status == CLI_EXIT_OK && json_path && strcmp(json_path, "-")) {
+		int rc = pc_output_check(json_path, overwrite ? PC_OUT_OVERWRITE : 0, false);
+		if (rc)
+			status = cli_fail(rc, NULL);
+	}
+	if (status == CLI_EXIT_OK && cli_parse_only()) {
+		for (size_t d = 0; d < ndirs; d++)
+			free(dirs[d]);
+		free(dirs);
+		return CLI_EXIT_OK;
 	}
 	if (status == CLI_EXIT_OK)
 		status = run((const char *const *)dirs, ndirs, method_arg, json_path, reference);

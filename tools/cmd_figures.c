@@ -15,7 +15,7 @@ static void usage(FILE *fp)
 {
 	fprintf(
 	    fp,
-	    "usage: polarcam figures -o DIR [--json]\n"
+	    "usage: polarcam figures -o DIR [--overwrite] [--json]\n"
 	    "\n"
 	    "Reproduces Figs. 2-11 of the seed paper (Zhang, Wang, He, Acta Optica Sinica 38(3)\n"
 	    "0329002, 2018) with the corrected model of docs/physics.md (8*pi*sigma^2 facet\n"
@@ -36,13 +36,19 @@ static void usage(FILE *fp)
 	    "it reproduces, with the numbers). Angles in degrees, R in radians.\n"
 	    "\n"
 	    "options:\n"
-	    "  -o, --output DIR  output directory (created)\n"
+	    "  -o, --output DIR  output folder, made beside DIR and renamed into place when\n"
+	    "                    complete (refused when it exists, unless --overwrite)\n"
+	    "  --overwrite       replace DIR as a whole when it exists\n"
 	    "  --json            print one JSON line per claim on stdout\n"
-	    "Exit status: 0 success, 1 failure, 2 bad arguments.\n");
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or DIR exists.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam figures -o figures/\n"
+	    "  polarcam figures -o figures/ --overwrite --json\n");
 }
 
 /* the figures, the claims, the files and the report */
-static int run(const char *dir, bool json)
+static int run(const char *dir, bool overwrite, bool json)
 {
 	pc_figure *figs = calloc(12, sizeof *figs);
 	pc_figure_claim *claims = calloc(PC_FIGURE_MAX_CLAIMS, sizeof *claims);
@@ -56,7 +62,7 @@ static int run(const char *dir, bool json)
 	int rc = pc_figures_compute(figs);
 	size_t n = rc ? 0 : pc_figures_check(figs, claims, PC_FIGURE_MAX_CLAIMS);
 	if (!rc)
-		rc = pc_figures_write(dir, figs, claims, n, &pr);
+		rc = pc_figures_write(dir, overwrite ? PC_OUT_OVERWRITE : 0, figs, claims, n, &pr);
 	cli_progress_end(&bar);
 	for (size_t k = 0; !rc && json && k < n; k++)
 		cli_print_json(json_pack(
@@ -66,9 +72,8 @@ static int run(const char *dir, bool json)
 	free(figs);
 	free(claims);
 	if (rc)
-		return cli_fail(rc, "figures");
-	fprintf(stderr, "polarcam figures: wrote fig02..fig11 (.csv, .png) and figures.md to %s\n",
-	        dir);
+		return cli_fail(rc, NULL);
+	cli_info("wrote fig02..fig11 (.csv, .png) and figures.md to %s", dir);
 	return CLI_EXIT_OK;
 }
 
@@ -80,9 +85,10 @@ int cli_cmd_figures(int argc, char **argv)
 	}
 	static const struct option lo[] = {{"output", required_argument, NULL, 'o'},
 	                                   {"json", no_argument, NULL, 'j'},
+	                                   {"overwrite", no_argument, NULL, 'W'},
 	                                   {NULL, 0, NULL, 0}};
 	const char *dir = NULL;
-	bool json = false;
+	bool json = false, overwrite = false;
 	int c;
 	opterr = 0;
 	optind = 1;
@@ -91,6 +97,8 @@ int cli_cmd_figures(int argc, char **argv)
 			dir = optarg;
 		else if (c == 'j')
 			json = true;
+		else if (c == 'W')
+			overwrite = true;
 		else if (c == ':')
 			return cli_error(CLI_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
 		else
@@ -102,5 +110,7 @@ int cli_cmd_figures(int argc, char **argv)
 		return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s'", argv[optind]);
 	if (!dir)
 		return cli_error(CLI_EXIT_USAGE, "-o DIR is required (polarcam figures --help)");
-	return run(dir, json);
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
+	return run(dir, overwrite, json);
 }

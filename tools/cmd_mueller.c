@@ -43,7 +43,9 @@ static void usage(FILE *fp)
 	    "\n"
 	    "options:\n"
 	    "  --states FILE       the states file (default: RECORDING_DIR/states.json)\n"
-	    "  -o, --output DIR    output directory\n"
+	    "  -o, --output DIR    output folder, made beside DIR and renamed into place when\n"
+	    "                      complete (refused when it exists, unless --overwrite)\n"
+	    "  --overwrite         replace DIR as a whole when it exists\n"
 	    "  --method NAME       demosaicking method (default bilinear; 'superpixel' halves the\n"
 	    "                      resolution and is the fastest; polarcam demosaic --list)\n"
 	    "  --black-level DN    subtracted from every raw value (default: the recording's "
@@ -79,30 +81,44 @@ static void usage(FILE *fp)
 	    "                      (docs/status/sim.md); lower it for cleaner data\n"
 	    "  -t, --threads N     threads\n"
 	    "  --json              print mueller.json's content as one line on stdout\n"
-	    "Exit status: 0 success, 1 failure, 2 bad arguments or input.\n");
+	    "Files and fields: docs/outputs.md.\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or input, or DIR exists.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam mueller seq/ -o mueller/\n"
+	    "  polarcam mueller f0.png f1.png f2.png f3.png --states states.json -o m/ "
+	    "--no-mueller\n"
+	    "  polarcam mueller seq/ -o m/ --method superpixel --rebuild-circular off --json\n");
 }
 
 /* frames → Mueller image → folder, and the report */
 static int run(int nargs, char **args, const char *states_path, const char *layout, const char *out,
-               const pc_mueller_run_opts *ro, bool write_m, bool json)
+               const pc_mueller_run_opts *ro, bool write_m, bool overwrite, bool json)
 {
 	struct stat sb;
-	bool is_dir = nargs == 1 && stat(args[0], &sb) == 0 && S_ISDIR(sb.st_mode);
+	if (nargs == 1 && stat(args[0], &sb) != 0)
+		return cli_error(CLI_EXIT_USAGE, "%s: no such file or recording folder", args[0]);
+	/* an occupied output is refused before the work */
+	int rc = pc_output_check(out, overwrite ? PC_OUT_OVERWRITE : 0, true);
+	if (rc)
+		return cli_fail(rc, NULL);
+	bool is_dir = nargs == 1 && S_ISDIR(sb.st_mode);
 	cli_progress bar = {0};
 	pc_mueller_request rq = {states_path, layout, *ro, {cli_progress_fn, &bar}};
 	pc_mueller_result res;
 	pc_mueller_used used;
-	int rc = is_dir ? pc_mueller_from_recording(args[0], &rq, &res, &used)
-	                : pc_mueller_from_files((const char *const *)args, (size_t)nargs, &rq, &res,
-	                                        &used);
+	rc = is_dir ? pc_mueller_from_recording(args[0], &rq, &res, &used)
+	            : pc_mueller_from_files((const char *const *)args, (size_t)nargs, &rq, &res,
+	                                    &used);
 	cli_progress_end(&bar);
 	if (rc)
 		return cli_fail(rc, NULL);
 	if (used.frames_given > used.frames_used)
 		cli_warn("%zu frames given, using the first %zu (one cycle of the states)",
 		         used.frames_given, used.frames_used);
-	pc_mueller_folder_opts fo = {!write_m, pc_demosaic_method_get(ro->method)->name,
-	                             used.black_level, ro->rebuild.tol, ro->rebuild.sign};
+	pc_mueller_folder_opts fo = {!write_m,         pc_demosaic_method_get(ro->method)->name,
+	                             used.black_level, ro->rebuild.tol,
+	                             ro->rebuild.sign, overwrite};
 	char *text = NULL;
 	rc = pc_mueller_folder_write(out, &res, &fo, &text);
 	const pc_mueller_system *sys = &res.sys;
@@ -123,6 +139,8 @@ static int run(int nargs, char **args, const char *states_path, const char *layo
 	}
 	if (json)
 		cli_print_json(json_loads(text, 0, NULL));
+	else
+		cli_info("wrote %s", out);
 	free(text);
 	return CLI_EXIT_OK;
 }
@@ -143,13 +161,14 @@ int cli_cmd_mueller(int argc, char **argv)
 	                                     {"json", no_argument, NULL, 'J'},
 	                                     {"rebuild-circular", required_argument, NULL, 'C'},
 	                                     {"rebuild-tol", required_argument, NULL, 'T'},
+	                                     {"overwrite", no_argument, NULL, 'W'},
 	                                     {"saturation", required_argument, NULL, 'X'},
 	                                     {"dead-level", required_argument, NULL, 'D'},
 	                                     {NULL, 0, NULL, 0}};
 	const char *states_path = NULL, *out = NULL, *method_name = "bilinear", *layout_arg = NULL;
 	double black = NAN, sat = 0, dead = 0;
 	long threads = 0;
-	bool write_m = true, json = false;
+	bool write_m = true, json = false, overwrite = false;
 	pc_rebuild_opts rb = {PC_REBUILD_CONVENTION, 0.05};
 	int c, rc;
 	optind = 1;
@@ -199,6 +218,9 @@ int cli_cmd_mueller(int argc, char **argv)
 		case 'J':
 			json = true;
 			break;
+		case 'W':
+			overwrite = true;
+			break;
 		case 'C':
 			if ((rc = pc_rebuild_sign_from_name(optarg, &rb.sign)))
 				return cli_fail(rc, "--rebuild-circular");
@@ -228,7 +250,9 @@ int cli_cmd_mueller(int argc, char **argv)
 		return cli_fail(rc, "--method");
 	if (!strcmp(method_name, "superpixel"))
 		method = PC_DM_SUPERPIXEL_HALF;
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	return run(argc - optind, argv + optind, states_path, layout_arg, out,
 	           &(pc_mueller_run_opts){method, black, (int)threads, rb, sat, dead}, write_m,
-	           json);
+	           overwrite, json);
 }

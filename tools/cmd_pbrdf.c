@@ -68,7 +68,14 @@ static void usage(FILE *fp)
 	    "                    and print one object per line with its \"line\"; a bad line "
 	    "prints\n"
 	    "                    {\"line\": L, \"error\": ..., \"code\": ...}, the rest go on\n"
-	    "Exit status: 0 success, 1 failure, 2 bad arguments or a bad batch line.\n");
+	    "  --json            accepted: the output is always JSON lines\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or a bad batch line.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam pbrdf --n 1.46 --k 1.28 --sigma 0.2 --theta-i 40 --theta-r 55 --phi 150\n"
+	    "  polarcam pbrdf --n 1.5 --sigma 0.1:0.5:0.1 --theta-i 0:85:5 --theta-r 30 --rho "
+	    "quad:32\n"
+	    "  polarcam pbrdf --batch inputs.txt --diffuse none\n");
 }
 
 typedef struct pbrdf_opts {
@@ -331,6 +338,7 @@ int cli_cmd_pbrdf(int argc, char **argv)
 	    {"shadowing", required_argument, NULL, O_SHADOW},
 	    {"rho", required_argument, NULL, O_RHO},
 	    {"batch", required_argument, NULL, O_BATCH},
+	    {"json", no_argument, NULL, 'J'},
 	    {NULL, 0, NULL, 0},
 	};
 	pbrdf_opts o = {PC_DIFFUSE_FRESNEL, PC_SHADOW_TS, PC_RHO_QUAD, 0};
@@ -368,6 +376,8 @@ int cli_cmd_pbrdf(int argc, char **argv)
 		case O_BATCH:
 			batch = optarg;
 			break;
+		case 'J': /* the output is JSON lines anyway */
+			break;
 		case ':':
 			return cli_error(CLI_EXIT_USAGE, "%s: missing value", argv[optind - 1]);
 		default:
@@ -384,6 +394,8 @@ int cli_cmd_pbrdf(int argc, char **argv)
 			return cli_error(CLI_EXIT_USAGE,
 			                 "--batch reads n, k, sigma and the angles from its lines; "
 			                 "do not also give --n/--sigma/--theta-i/--theta-r");
+		if (cli_parse_only())
+			return CLI_EXIT_OK;
 		return run_batch(batch, &o);
 	}
 	const struct {
@@ -394,5 +406,7 @@ int cli_cmd_pbrdf(int argc, char **argv)
 		if (!req[i].val)
 			return cli_error(CLI_EXIT_USAGE, "%s is required (polarcam pbrdf --help)",
 			                 req[i].opt);
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	return run_ranges(&o, arg_n, arg_k, arg_sigma, arg_ti, arg_tr, arg_phi);
 }

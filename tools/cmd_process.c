@@ -1,24 +1,30 @@
-/* polarcam process: raw mosaic -> Stokes, DoLP, AoLP and pictures (polarcam/process.h). */
+/* polarcam process: raw mosaics -> Stokes, DoLP, AoLP and pictures (polarcam/process.h; a
+ * recording: polarcam/process_recording.h). */
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli.h"
 #include "commands.h"
 #include "polarcam/error.h"
 #include "polarcam/folders.h"
 #include "polarcam/process.h"
+#include "polarcam/process_recording.h"
 #include "raw_cli.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(
 	    fp,
-	    "usage: polarcam process RAW -o DIR [--method NAME] [--layout L] [--black-level DN]\n"
-	    "                        [--saturation DN|none] [--calibration FILE]\n"
+	    "usage: polarcam process RAW -o DIR [options]\n"
+	    "       polarcam process RAW... | RECORDING_DIR -o DIR [--stack] [options]\n"
+	    "       (options among them: --method NAME --layout L --black-level DN\n"
+	    "        --saturation DN|none --calibration FILE)\n"
 	    "\n"
-	    "Runs the pipeline (demosaicking, Stokes, DoLP, AoLP) on a raw mosaic and writes into\n"
-	    "DIR (created if missing):\n"
+	    "Runs the pipeline (demosaicking, Stokes, DoLP, AoLP) on raw mosaics and writes into\n"
+	    "DIR (docs/outputs.md):\n"
 	    "  stokes.npy     float32 (H, W, 3): S0, S1, S2 in the raw's units\n"
 	    "                 S0 = (I0+I45+I90+I135)/2, S1 = I0 - I90, S2 = I45 - I135\n"
 	    "  dolp.npy       float32 (H, W): sqrt(S1^2+S2^2)/S0 clipped to [0, 1] (0 where S0 <= "
@@ -31,11 +37,26 @@ static void usage(FILE *fp)
 	    "  s0.png, dolp.png          grey pictures with colour bars\n"
 	    "  aolp.png, aolp_sat.png    AoLP as hue, DoLP as value / saturation, with 2-D keys\n"
 	    "  meta.json      input, layout, bit depth, method, levels, invalid_pixels, timings\n"
-	    "Colour-polarization layouts use the colour average of each analyser image. Every "
-	    "file\n"
-	    "is written atomically, and only after the whole computation succeeded.\n"
+	    "Several RAW files, or a recording folder (render, capture: its frames in order), "
+	    "give\n"
+	    "one set per frame, stokes_NNNNNN.npy, dolp_NNNNNN.npy, aolp_NNNNNN.npy and, when a\n"
+	    "level is checked, valid_NNNNNN.npy (NNNNNN: the recording's frame number, else the\n"
+	    "position in the list), or with --stack one array per quantity: stokes.npy (N, H, W,\n"
+	    "3), dolp.npy, aolp.npy (N, H, W) and valid.npy (N, H, W); pictures of the first "
+	    "frame\n"
+	    "(s0_000000.png, ...) unless --pictures-every says otherwise. A recording's black\n"
+	    "level (meta.json) is used as for one of its frames.\n"
+	    "Colour-polarization layouts use the colour average of each analyser image. DIR is\n"
+	    "written as a whole: made beside DIR and renamed into place once every file is "
+	    "written;\n"
+	    "an existing DIR is refused unless --overwrite, which replaces it as a whole.\n"
 	    "\n"
-	    "  -o, --output DIR    output directory\n"
+	    "  -o, --output DIR    output folder\n"
+	    "  --overwrite         replace DIR when it exists\n"
+	    "  --stack             several frames: one (N, ...) array per quantity\n"
+	    "  --pictures-every K  several frames: pictures of frames 0, K, 2K, ... (default: the\n"
+	    "                      first frame only)\n"
+	    "  --no-pictures       no PNG pictures\n"
 	    "  --picture-width N   downscale the PNG pictures to at most N pixels wide for "
 	    "display\n"
 	    "                      (default 1224; 0 = full resolution, slower to write)\n"
@@ -46,11 +67,139 @@ static void usage(FILE *fp)
 	    "                      hatch, stated in the title and legend. Default: 1%% of the S0\n"
 	    "                      99.9th percentile; 0 = no mask. The .npy files are never "
 	    "masked.\n"
+	    "  --dolp-max V|auto   DoLP range of dolp.png (and the DoLP at full colour in the "
+	    "AoLP\n"
+	    "                      pictures): 0..V (0 < V <= 1; default 1), or auto: 0 to the\n"
+	    "                      unmasked pixels' 99th percentile, rounded up to 0.05. The "
+	    "range\n"
+	    "                      is printed on the key.\n"
+	    "  --json              print meta.json's content as one JSON line on stdout\n"
 	    "%s"
 	    "  -h, --help          this help\n"
 	    "\n"
-	    "Exit status: 0 success, 1 failure, 2 bad arguments or bad input.\n",
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or bad input, or DIR exists.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam process rec/raw_000000.png -o out/\n"
+	    "  polarcam process rec/ -o frames/ --stack --method ratio --json\n"
+	    "  polarcam process raw.bin --width 2448 --height 2048 --format Mono12p -o out/ "
+	    "--overwrite\n",
 	    cli_raw_help);
+}
+
+/* process's own options (the rest are the shared raw options) */
+typedef struct proc_args {
+	long pic_width, pictures_every;
+	double mask_s0, dolp_hi;
+	bool mask_given, stack, pictures, overwrite, json;
+} proc_args;
+
+/* Takes process's options out of argv into a, the others into args. */
+static int parse_own(int argc, char **argv, proc_args *a, char **args, int *nargs)
+{
+	*nargs = 0;
+	for (int i = 0; i < argc; i++) {
+		const char *o = argv[i];
+		int rc = 0;
+		if (!strcmp(o, "--picture-width") || !strcmp(o, "--mask-s0") ||
+		    !strcmp(o, "--pictures-every") || !strcmp(o, "--dolp-max")) {
+			if (i + 1 >= argc)
+				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
+				                 o);
+			const char *v = argv[++i];
+			if (!strcmp(o, "--picture-width"))
+				rc = cli_parse_long(o, v, 0, 30000, &a->pic_width);
+			else if (!strcmp(o, "--pictures-every"))
+				rc = cli_parse_long(o, v, 1, 999999, &a->pictures_every);
+			else if (!strcmp(o, "--dolp-max") && !strcmp(v, "auto"))
+				a->dolp_hi = -1;
+			else if (!strcmp(o, "--dolp-max")) {
+				if (!(rc = cli_parse_double(o, v, &a->dolp_hi)) &&
+				    !(a->dolp_hi > 0 && a->dolp_hi <= 1))
+					rc = pc_error(PC_ERANGE,
+					              "--dolp-max %s: expected auto or a DoLP in "
+					              "(0, 1]",
+					              v);
+			} else if (!(rc = cli_parse_double(o, v, &a->mask_s0)) &&
+			           !(a->mask_s0 >= 0))
+				rc = pc_error(PC_ERANGE,
+				              "--mask-s0 %s: expected a threshold >= 0 (0: no "
+				              "mask)",
+				              v);
+			a->mask_given |= !strcmp(o, "--mask-s0");
+			if (rc)
+				return cli_fail(rc, NULL);
+		} else if (!strcmp(o, "--stack")) {
+			a->stack = true;
+		} else if (!strcmp(o, "--no-pictures")) {
+			a->pictures = false;
+		} else if (!strcmp(o, "--overwrite")) {
+			a->overwrite = true;
+		} else if (!strcmp(o, "--json")) {
+			a->json = true;
+		} else {
+			args[(*nargs)++] = argv[i];
+		}
+	}
+	return 0;
+}
+
+/* the library call for what was given: one file, several, or a recording folder */
+static int run_with(const cli_raw *o, const proc_args *a, pc_process_opts po, char **meta)
+{
+	pc_stokes_folder_opts fo = {.files = PC_SF_STOKES | PC_SF_DOLP | PC_SF_AOLP |
+	                                     (a->pictures ? PC_SF_PICTURES : 0),
+	                            .pictures = {.max_width = (uint32_t)a->pic_width,
+	                                         .mask_s0 = !a->mask_given   ? 0
+	                                                    : a->mask_s0 > 0 ? a->mask_s0
+	                                                                     : -1,
+	                                         .dolp_hi = a->dolp_hi}};
+	struct stat sb;
+	bool folder = o->npaths == 1 && stat(o->path, &sb) == 0 && S_ISDIR(sb.st_mode);
+	if (o->npaths == 1 && !folder && !a->stack) {
+		pc_raw_input in = cli_raw_input(o);
+		return pc_process_file(&in, &po, o->out, &fo, meta);
+	}
+	cli_progress bar = {0};
+	pc_process_batch b = {NULL,
+	                      0,
+	                      NULL,
+	                      a->stack,
+	                      a->pictures_every ? (uint64_t)a->pictures_every : UINT64_MAX,
+	                      {cli_progress_stoppable, &bar}};
+	cli_catch_signals();
+	int rc;
+	if (folder) {
+		rc = pc_process_recording(o->path, &b, &po, o->out, &fo, meta);
+	} else {
+		pc_raw_input *in = calloc(o->npaths, sizeof *in);
+		if (!in)
+			return pc_error(PC_ENOMEM, "inputs");
+		for (size_t k = 0; k < o->npaths; k++) {
+			in[k] = cli_raw_input(o);
+			in[k].path = o->paths[k];
+		}
+		b.inputs = in;
+		b.count = o->npaths;
+		rc = pc_process_files(&b, &po, o->out, &fo, meta);
+		free(in);
+	}
+	cli_progress_end(&bar);
+	return rc;
+}
+
+/* run_with the calibration, when one is given, as the stage */
+static int run(const cli_raw *o, const proc_args *a, char **meta, int *status)
+{
+	pc_process_opts po = cli_raw_process(o);
+	po.overwrite = a->overwrite;
+	pc_calib cal;
+	pc_raw_stage stage;
+	if ((*status = cli_raw_calibration(o, &cal, &stage, &po)))
+		return 0;
+	int rc = run_with(o, a, po, meta);
+	pc_calib_free(&cal);
+	return rc;
 }
 
 int cli_cmd_process(int argc, char **argv)
@@ -59,76 +208,58 @@ int cli_cmd_process(int argc, char **argv)
 		usage(stdout);
 		return CLI_EXIT_OK;
 	}
-	/* --picture-width is process's own; the rest are the shared raw options */
-	long pic_width = 1224;
-	double mask_s0 = 0; /* 0: the library default */
-	int mask_given = 0;
+	proc_args a = {1224, 0, 0, 0, false, false, true, false, false};
 	char **args = calloc((size_t)argc + 1, sizeof *args);
 	int nargs = 0;
 	if (!args)
 		return cli_error(CLI_EXIT_FAILURE, "out of memory");
-	for (int i = 0; i < argc; i++) {
-		if (!strcmp(argv[i], "--picture-width")) {
-			int rc = i + 1 < argc
-			             ? cli_parse_long("--picture-width", argv[i + 1], 0, 30000,
-			                              &pic_width)
-			             : pc_error(PC_EINVAL, "--picture-width needs a value");
-			if (rc) {
-				free(args);
-				return cli_fail(rc, NULL);
-			}
-			i++;
-			continue;
-		}
-		if (!strcmp(argv[i], "--mask-s0")) {
-			int rc = i + 1 < argc ? cli_parse_double("--mask-s0", argv[i + 1], &mask_s0)
-			                      : pc_error(PC_EINVAL, "--mask-s0 needs a value");
-			if (!rc && !(mask_s0 >= 0))
-				rc = pc_error(PC_ERANGE,
-				              "--mask-s0 %s: expected a threshold >= 0 "
-				              "(0: no mask)",
-				              argv[i + 1]);
-			if (rc) {
-				free(args);
-				return cli_fail(rc, NULL);
-			}
-			mask_given = 1;
-			i++;
-			continue;
-		}
-		args[nargs++] = argv[i];
-	}
 	cli_raw o;
-	int st = cli_raw_parse(nargs, args, &o, NULL);
+	memset(&o, 0, sizeof o);
+	int st = parse_own(argc, argv, &a, args, &nargs);
+	if (!st)
+		st = cli_raw_parse(nargs, args, &o, NULL, true);
 	free(args);
-	if (st)
+	if (st) {
+		cli_raw_free(&o);
 		return st;
+	}
 	if (!o.path) {
 		usage(stderr);
-		return cli_error(CLI_EXIT_USAGE, "no RAW file given");
+		st = cli_error(CLI_EXIT_USAGE, "no RAW file given");
+	} else if (!o.out) {
+		st = cli_error(CLI_EXIT_USAGE, "no output folder given (-o DIR)");
+	} else if (o.npaths > 1 && o.have_geometry == false) {
+		struct stat sb;
+		for (size_t k = 0; k < o.npaths && !st; k++)
+			if (stat(o.paths[k], &sb) == 0 && S_ISDIR(sb.st_mode))
+				st = cli_error(CLI_EXIT_USAGE,
+				               "%s: a recording folder is processed "
+				               "alone, not with other inputs",
+				               o.paths[k]);
 	}
-	if (!o.out)
-		return cli_error(CLI_EXIT_USAGE, "no output directory given (-o DIR)");
-	pc_raw_input in = cli_raw_input(&o);
-	pc_process_opts po = cli_raw_process(&o);
-	pc_calib cal;
-	pc_raw_stage stage;
-	if ((st = cli_raw_calibration(&o, &cal, &stage, &po)))
+	if (st || cli_parse_only()) {
+		cli_raw_free(&o);
 		return st;
-	pc_stokes_folder_opts fo = {PC_SF_STOKES | PC_SF_DOLP | PC_SF_AOLP | PC_SF_PICTURES,
-	                            {NULL, (uint32_t)pic_width,
-	                             !mask_given   ? 0
-	                             : mask_s0 > 0 ? mask_s0
-	                                           : -1}};
+	}
 	char *meta = NULL;
-	int rc = pc_process_file(&in, &po, o.out, &fo, &meta);
-	pc_calib_free(&cal);
-	if (rc)
+	int rc = run(&o, &a, &meta, &st);
+	if (st) {
+		cli_raw_free(&o);
+		return st;
+	}
+	if (rc) {
+		cli_raw_free(&o);
 		return cli_fail(rc, NULL);
-	json_t *j = json_loads(meta, 0, NULL);
+	}
+	if (a.json) {
+		json_t *j = json_loads(meta, 0, NULL);
+		json_object_set_new(j, "output", json_string(o.out));
+		json_object_set_new(j, "black_level_from", json_string(o.black_from));
+		cli_print_json(j);
+	} else {
+		cli_info("wrote %s", o.out);
+	}
 	free(meta);
-	json_object_set_new(j, "output", json_string(o.out));
-	json_object_set_new(j, "black_level_from", json_string(o.black_from));
-	cli_print_json(j);
+	cli_raw_free(&o);
 	return CLI_EXIT_OK;
 }

@@ -35,7 +35,8 @@ static void usage(FILE *fp)
 	    "                      seed, effects, timings and peak memory under \"extra\"\n"
 	    "\n"
 	    "options:\n"
-	    "  -o, --output DIR    output directory (created if missing)\n"
+	    "  -o, --output DIR    output folder, made beside DIR and renamed into place when\n"
+	    "                      complete (refused when it exists, unless --overwrite)\n"
 	    "  -n, --frames N      number of frames (default 1, or one cycle of the scene's "
 	    "states)\n"
 	    "      --first N       number of the first frame (default 0)\n"
@@ -44,18 +45,27 @@ static void usage(FILE *fp)
 	    "crop)\n"
 	    "      --no-truth      do not write truth_*.npy\n"
 	    "  -t, --threads N     threads (default: all cores)\n"
-	    "      --overwrite     replace a recording already in DIR\n"
+	    "      --overwrite     replace DIR as a whole when it exists\n"
 	    "      --store S       frame files: png (default), npy or raw (headerless, geometry\n"
 	    "                      in meta.json); all read by file:DIR sources\n"
 	    "      --json          print a summary as one JSON line on stdout\n"
 	    "  -h, --help          this help\n"
 	    "\n"
 	    "Progress goes to stderr when it is a terminal (POLARCAM_PROGRESS=1 forces it).\n"
+	    "Files and fields: docs/outputs.md.\n"
 	    "SIGINT/SIGTERM stop after the frame in hand (or the scene's render): the frames "
 	    "written\n"
-	    "stay, meta.json says complete=false, \"interrupted after N of M frames\", with "
-	    "timings.\n"
-	    "Exit status: 0 success, 1 failure or interrupted, 2 bad arguments or scene.\n");
+	    "are put in place, meta.json says complete=false, \"interrupted after N of M "
+	    "frames\",\n"
+	    "with timings.\n"
+	    "Exit status: 0 success, 1 failure or interrupted, 2 bad arguments or scene, or DIR\n"
+	    "exists.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam render -o out/\n"
+	    "  polarcam render scenes/mesh.json -o out/ --frames 10 --seed 3 --roi "
+	    "100,101,512,384\n"
+	    "  polarcam render scenes/mueller_tetrahedral.json -o seq/ --overwrite --json\n");
 }
 
 static int parse_roi(const char *arg, pc_sim_options *o)
@@ -92,8 +102,6 @@ static int run(const char *out, pc_render_opts *ro, bool json)
 	pc_render_report rep;
 	int rc = pc_render_recording(out, ro, &rep);
 	cli_progress_end(&bar);
-	if (rc == PC_EBUSY)
-		return cli_error(CLI_EXIT_USAGE, "%s (use --overwrite)", pc_error_detail());
 	if (rc == PC_ECANCELED)
 		return cli_error(CLI_EXIT_FAILURE,
 		                 "%s (the %llu frames written are intact in %s; meta.json says "
@@ -109,6 +117,9 @@ static int run(const char *out, pc_render_opts *ro, bool json)
 		json_object_set_new(sum, "height", json_integer(rep.height));
 		json_object_set_new(sum, "timings", json_loads(rep.timings, 0, NULL));
 		cli_print_json(sum);
+	} else {
+		cli_info("wrote %llu frames (%ux%u) to %s", (unsigned long long)rep.frames,
+		         rep.width, rep.height, out);
 	}
 	free(rep.timings);
 	return CLI_EXIT_OK;
@@ -194,6 +205,8 @@ int cli_cmd_render(int argc, char **argv)
 	const char *scene_path = optind < argc ? argv[optind] : NULL;
 	if (scene_path && !strcmp(scene_path, "default"))
 		scene_path = NULL;
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	o.seed = seed;
 	o.threads = (int)threads;
 	pc_render_opts ro = {scene_path, NULL,  o,         frames > 0 ? (uint64_t)frames : 0,

@@ -40,13 +40,23 @@ static void usage(FILE *fp)
 	    "benchmarks)\n"
 	    "  --lost-packets R    fault injection: drop this fraction of stream packets\n"
 	    "  --duration SEC      stop after SEC seconds (default: until SIGINT/SIGTERM)\n"
-	    "  --genicam FILE      also write the camera's GenICam XML to FILE\n\n"
+	    "  --genicam FILE      also write the camera's GenICam XML to FILE (an existing FILE\n"
+	    "                      is refused unless --overwrite)\n"
+	    "  --overwrite         replace FILE\n"
+	    "  --json              accepted: the output is always JSON lines\n\n"
 	    "SIGINT/SIGTERM stop the camera cleanly (also while the cycle is being rendered) and\n"
 	    "print the statistics; exit status 0 then, 1 when the frame source failed.\n"
 	    "On start it prints one JSON line {\"serving\": ...} on stdout; at the end one with "
 	    "the\n"
 	    "statistics. Camera discovery answers go to the interface's network: in tests run it\n"
-	    "inside `unshare -n` with only loopback up.\n");
+	    "inside `unshare -n` with only loopback up.\n"
+	    "Exit status: 0 stopped by SIGINT/SIGTERM or --duration, 1 failure, 2 bad arguments,\n"
+	    "77 built without Aravis.\n"
+	    "\n"
+	    "examples:\n"
+	    "  polarcam serve scenes/mesh.json --seed 3\n"
+	    "  polarcam serve --source 'file:rec/?loop=1' --fps 10 --duration 60\n"
+	    "  polarcam serve --address 127.0.0.1 --genicam camera.xml --overwrite\n");
 }
 
 /* the camera until a signal or the duration, and its statistics */
@@ -125,11 +135,16 @@ int cli_cmd_serve(int argc, char **argv)
 	pc_gige_server_options o = {0};
 	uint64_t seed = 0;
 	double duration = 0;
+	bool overwrite = false;
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
 		int rc = 0;
 		long l;
+		if (!strcmp(a, "--overwrite") || !strcmp(a, "--json")) {
+			overwrite |= !strcmp(a, "--overwrite");
+			continue;
+		}
 		if (a[0] != '-') {
 			if (scene)
 				return cli_error(CLI_EXIT_USAGE,
@@ -191,6 +206,10 @@ int cli_cmd_serve(int argc, char **argv)
 		snprintf(uri, sizeof uri, "sim:%s?seed=%llu", sc, (unsigned long long)seed);
 	}
 	o.source_uri = uri;
-
+	int rc = genicam ? pc_output_check(genicam, overwrite ? PC_OUT_OVERWRITE : 0, false) : 0;
+	if (rc)
+		return cli_fail(rc, NULL);
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	return run(&o, genicam, duration);
 }

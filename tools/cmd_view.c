@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "polarcam/error.h"
 #include "polarcam/gige_server.h"
+#include "polarcam/io.h"
 #include "polarcam/viewer.h"
 #include "source_cli.h"
 
@@ -24,19 +25,27 @@ static void usage(FILE *fp)
 	    "                      polarization frames; superpixel is faster)\n"
 	    "  --width PX          window width for the three panels (default 1500)\n"
 	    "  --frames N          stop after N frames (default: until q)\n"
-	    "  --screenshot FILE   write the last picture shown to FILE (PNG); with --frames and "
-	    "no\n"
-	    "                      display this runs headless\n"
+	    "  --screenshot FILE   write the last picture shown to FILE.png (PNG only: another\n"
+	    "                      name is refused); with --frames and no display this runs\n"
+	    "                      headless. An existing FILE is refused\n"
+	    "                      unless --overwrite\n"
+	    "  --overwrite         replace FILE\n"
+	    "  --json              print one JSON line at the end on stdout: frames, display and\n"
+	    "                      processing rates, levels, the last frame's invalid pixels\n"
 	    "%s"
 	    "levels (invalid pixels are drawn as a pink checker):\n"
 	    "%s"
-	    "\nPrints one JSON line at the end: frames, display and processing rates, levels,\n"
-	    "the last frame's invalid pixel count.\n",
+	    "\nExit status: 0 success, 1 failure, 2 bad arguments or FILE exists, 77 no display,\n"
+	    "no live window in this build, backend not built in or device absent.\n"
+	    "\nexamples:\n"
+	    "  polarcam view 'sim:default?fps=5'\n"
+	    "  polarcam view 'file:rec/?loop=1&fps=10' --method superpixel --width 1200\n"
+	    "  polarcam view sim:default --frames 3 --screenshot view.png --overwrite --json\n",
 	    cli_stream_args_help(), cli_levels_help());
 }
 
 /* the window and its report */
-static int run(pc_viewer_opts *o)
+static int run(pc_viewer_opts *o, bool json)
 {
 	cli_catch_signals();
 	o->progress = (pc_progress){cli_progress_stoppable, NULL};
@@ -49,7 +58,8 @@ static int run(pc_viewer_opts *o)
 	}
 	if (rep.screenshots_failed)
 		cli_warn("%u screenshots could not be written", rep.screenshots_failed);
-	cli_print_json(json_loads(rep.json, 0, NULL));
+	if (json)
+		cli_print_json(json_loads(rep.json, 0, NULL));
 	int status = rep.error ? cli_error(cli_status(rep.error), "%s", rep.message) : CLI_EXIT_OK;
 	pc_viewer_report_free(&rep);
 	return status;
@@ -65,6 +75,7 @@ int cli_cmd_view(int argc, char **argv)
 	cli_stream_args_init(&sa);
 	const char *shot = NULL, *method = NULL; /* NULL: the mosaic's default */
 	long frames = 0, width = 1500;
+	bool overwrite = false, json = false;
 	pc_stream_levels lv = pc_stream_levels_default();
 	for (int i = 1; i < argc; i++) {
 		int rc = cli_stream_args_parse(&sa, argc, argv, &i);
@@ -89,6 +100,10 @@ int cli_cmd_view(int argc, char **argv)
 			                              !strcmp(a, "--width") ? 16384 : 100000000,
 			                              !strcmp(a, "--width") ? &width : &frames)))
 				return cli_fail(rc, "arguments");
+		} else if (!strcmp(a, "--overwrite")) {
+			overwrite = true;
+		} else if (!strcmp(a, "--json")) {
+			json = true;
 		} else if (a[0] == '-') {
 			return cli_error(CLI_EXIT_USAGE, "unknown option '%s' (see --help)", a);
 		} else if (!sa.req.uri) {
@@ -99,9 +114,14 @@ int cli_cmd_view(int argc, char **argv)
 	}
 	if (!sa.req.uri)
 		return cli_error(CLI_EXIT_USAGE, "missing the source URI (see --help)");
+	int rc = shot ? pc_output_check(shot, overwrite ? PC_OUT_OVERWRITE : 0, false) : 0;
+	if (rc)
+		return cli_fail(rc, NULL);
+	if (cli_parse_only())
+		return CLI_EXIT_OK;
 	bool headless = shot && frames > 0 && !getenv("DISPLAY");
 	pc_viewer_opts o = {sa.req,          method,           !headless,
 	                    (uint32_t)width, (uint64_t)frames, shot,
 	                    sa.timeout_ms,   {NULL, NULL},     lv};
-	return run(&o);
+	return run(&o, json);
 }

@@ -20,7 +20,12 @@ static void usage(FILE *fp)
 		fprintf(fp, "  %-10s %s\n", cli_commands[i].name, cli_commands[i].summary);
 	fprintf(
 	    fp,
-	    "\nExit status: 0 success, 1 failure, 2 bad arguments or input, 77 not available.\n");
+	    "\nEvery command: --help (with examples), --quiet/-q (errors only on stderr), --json\n"
+	    "(results as JSON lines on stdout) where it reports, --overwrite where it writes.\n"
+	    "stdout carries results only; progress, messages and errors go to stderr.\n"
+	    "Exit status: 0 success, 1 failure, 2 bad arguments or input (also: the output\n"
+	    "exists, use --overwrite), 77 not available (backend not built, device or display\n"
+	    "absent).\n");
 	fprintf(fp,
 	        "\nLimits on untrusted input (docs/reliability.md), sizes like 400M or 4Gi:\n"
 	        "  POLARCAM_MAX_PIXELS     pixels of one image or scene (default 100M)\n"
@@ -44,6 +49,21 @@ int main(int argc, char **argv)
 		printf("polarcam %s\n", pc_version());
 		return CLI_EXIT_OK;
 	}
+	/* --quiet / -q belongs to every command: taken out here (up to a "--") */
+	int n = 2;
+	for (int i = 2; i < argc; i++) {
+		if (!strcmp(argv[i], "--")) {
+			while (i < argc)
+				argv[n++] = argv[i++];
+			break;
+		}
+		if (!strcmp(argv[i], "--quiet") || !strcmp(argv[i], "-q"))
+			cli_quiet = true;
+		else
+			argv[n++] = argv[i];
+	}
+	argc = n;
+	argv[argc] = NULL;
 	for (size_t i = 0; i < sizeof cli_commands / sizeof cli_commands[0]; i++) {
 		if (strcmp(argv[1], cli_commands[i].name) == 0) {
 			cli_name = cli_commands[i].name;

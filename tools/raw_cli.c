@@ -56,9 +56,18 @@ static int need(int argc, char **argv, int i)
 	return 1;
 }
 
-int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
+void cli_raw_free(cli_raw *o)
+{
+	free(o->paths);
+	o->paths = NULL;
+	o->npaths = 0;
+}
+
+int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 {
 	memset(o, 0, sizeof *o);
+	if (many && !(o->paths = calloc((size_t)argc + 1, sizeof *o->paths)))
+		return cli_error(CLI_EXIT_FAILURE, "out of memory");
 	o->black_level = NAN;
 	int nextra = 0, have_w = 0, have_h = 0, have_f = 0;
 	long v;
@@ -161,8 +170,11 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra)
 				                 "--help)",
 				                 a, argv[0]);
 			extra[nextra++] = i;
-		} else if (!o->path) {
-			o->path = a;
+		} else if (!o->path || many) {
+			if (!o->path)
+				o->path = a;
+			if (many)
+				o->paths[o->npaths++] = a;
 		} else {
 			return cli_error(CLI_EXIT_USAGE, "unexpected argument '%s' (one RAW file)",
 			                 a);
@@ -227,6 +239,7 @@ pc_process_opts cli_raw_process(const cli_raw *o)
 	return (pc_process_opts){.mosaic = o->mosaic,
 	                         .method = o->dm,
 	                         .demosaic = {o->threads, o->reference, 0},
+	                         .overwrite = false,
 	                         .black_level = o->black_level,
 	                         .saturation_level = o->saturation,
 	                         .dead_level = o->dead,

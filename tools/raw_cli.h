@@ -11,7 +11,9 @@
 #include "polarcam/process.h"
 
 typedef struct cli_raw {
-	const char *path;   /* RAW */
+	const char *path;   /* RAW (the first, with several) */
+	const char **paths; /* every RAW given (malloc'd when many files are allowed) */
+	size_t npaths;
 	const char *out;    /* -o */
 	const char *layout; /* --layout (default: RAW's recording's meta.json, or 90,45,135,0) */
 	const char *method; /* --method (default bilinear; bayer-first for colour layouts) */
@@ -37,8 +39,11 @@ extern const char cli_raw_help[];
 
 /* Parses argv (argv[0] = command). Options it does not know are returned through *extra (argv
  * indices, NULL-terminated list allocated by the caller with argc entries) when extra is not
- * NULL, otherwise they are errors. Returns 0 or a CLI_EXIT_* status after printing the error. */
-int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra);
+ * NULL, otherwise they are errors. With many, several RAW files (or a recording folder) are
+ * taken into o->paths; free them with cli_raw_free. Returns 0 or a CLI_EXIT_* status after
+ * printing the error. */
+int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many);
+void cli_raw_free(cli_raw *o);
 
 /* The parsed options as the library takes them (polarcam/process.h). With --calibration, the
  * file is read into *cal (pc_calib_read; free with pc_calib_free) and the stage put in *stage

@@ -8,6 +8,7 @@
  */
 
 #include <errno.h>
+#include <glob.h>
 #include <math.h>
 #include <signal.h>
 #include <stdarg.h>
@@ -1333,10 +1334,22 @@ static void check_cli_disconnect(const char *cli)
 		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
 		_exit(127);
 	}
-	/* wait until a few frames are on disk, then pull the plug */
+	/* wait until a few frames are on disk, then pull the plug. The recording is made in a
+	 * temporary sibling folder (/tmp/.capd.tmp-HOST-PID-XXXXXX, polarcam/io.h's pc_outdir)
+	 * and renamed to /tmp/capd only when capture ends: the frames show up there first. Had
+	 * the wait looked only at /tmp/capd, it would time out while the 400 frames were
+	 * recorded and press Disconnect too late (the run exited 0 with 400 frames). */
 	double t0 = gt_now();
-	while (!file_exists("/tmp/capd/raw_000002.png") && gt_now() - t0 < 60.0)
-		usleep(50000);
+	bool seen = false;
+	while (!seen && gt_now() - t0 < 60.0) {
+		glob_t g;
+		memset(&g, 0, sizeof g);
+		seen = glob("/tmp/.capd.tmp-*/raw_000002.png", 0, NULL, &g) == 0 ||
+		       file_exists("/tmp/capd/raw_000002.png");
+		globfree(&g);
+		if (!seen)
+			usleep(20000);
+	}
 	int rc = pc_v4l2_ctrl_set(dev, c.id, 1);
 	int status = 0;
 	waitpid(pid, &status, 0);
@@ -1365,6 +1378,11 @@ static void check_cli_disconnect(const char *cli)
 	}
 	if (rc)
 		gt_fail(name, "pressing Disconnect: %s", pc_error_detail());
+	else if (!seen)
+		gt_fail(name,
+		        "no third frame within 60 s (neither /tmp/capd nor its temporary "
+		        "folder); exit %d, stderr: %.300s",
+		        st, err);
 	else if (st != 1 || !strstr(err, "disconnect") ||
 	         !file_exists("/tmp/capd/raw_000002.png") || !json_false(out, "complete"))
 		gt_fail(name, "exit %d, stderr: %.300s, meta.json: %.200s", st, err, out);

@@ -30,7 +30,9 @@ extern "C" {
 	X(PC_EOVERFLOW, -14, "size or count overflow")                                             \
 	X(PC_EPERM, -15, "permission denied")                                                      \
 	X(PC_ECANCELED, -16, "operation canceled")                                                 \
-	X(PC_EEND, -17, "end of stream")
+	X(PC_EEND, -17, "end of stream")                                                           \
+	X(PC_EEXIST, -18, "output already exists")                                                 \
+	X(PC_EUNAVAIL, -19, "not available here (backend not built, or device absent)")
 
 enum pc_errno {
 	PC_OK = 0,

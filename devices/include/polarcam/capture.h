@@ -1,6 +1,10 @@
 /* polarcam/capture.h - a source recorded (what `polarcam capture` does): frames from any URI
  * into a recording (polarcam/recording.h), optionally each through the live Stokes stream
- * (polarcam/stream.h) with the last frame's S0, DoLP, AoLP and pictures in DIR/processed/.
+ * (polarcam/stream.h) with S0, DoLP, AoLP of every frame (or of a chosen subset) and pictures
+ * of the last one in DIR/processed/ (names: polarcam/folders.h, numbered by frame).
+ *
+ * The recording is an output folder written as a set (polarcam/io.h, pc_outdir): it is made
+ * beside DIR and put in place at the end, replacing an older one only with overwrite.
  *
  * Acquisition and writing are decoupled: the calling thread dequeues each frame, copies it into
  * a bounded queue and gives the buffer back to the source at once; a writer thread of the
@@ -18,7 +22,8 @@
  * every frame asked for, each whole, and no frame was lost between the source and the disk.
  * Every file is written atomically: when the camera disappears, the stream times out or the
  * caller stops it (progress), the frames already acquired are written, the recording keeps
- * every frame and meta.json says complete = false and why, with the statistics.
+ * every frame and meta.json says complete = false and why, with the statistics; with no frame
+ * at all, nothing is put in place.
  *
  * Threads: one writer thread per call, joined before pc_capture returns; the progress callback
  * is called from the calling thread only.
@@ -54,10 +59,13 @@ typedef struct pc_capture_opts {
 	pc_stream_request stream; /* the source and how to open it */
 	uint64_t frames;          /* frames to record */
 	const char *dir;          /* the recording */
-	bool overwrite;           /* record over an existing recording */
+	bool overwrite;           /* replace an existing output folder (polarcam/io.h's rule) */
 	bool process;             /* every frame through the Stokes stream */
 	const char *method;       /* demosaicking method for process; NULL: the mosaic's default
 	                             (pc_process_method) */
+	uint64_t keep_every;      /* with process: DIR/processed/ keeps s0_NNNNNN.npy,
+	                             dolp_NNNNNN.npy, aolp_NNNNNN.npy of the frames at positions
+	                             0, k, 2k, ... and of the last; 0: of the last frame only */
 	int timeout_ms;           /* longest wait for a frame */
 	pc_progress progress;     /* phase "capture" (frames acquired of those asked), then
 	                             "writing" (frames written of those acquired) while the queue
@@ -88,14 +96,15 @@ typedef struct pc_capture_report {
 	char *json;        /* {source, dir, store, frames, requested, complete, seconds, fps,
 	                      format, stats, incomplete {policy, skipped, kept}, queue {frame_bytes,
 	                      limit, capacity, needed_max, peak, lost, written, write_ms_mean,
-	                      write_ms_max, period_ms}, process (with process: method, frames,
-	                      mean_ms, max_ms, last_mean_dolp, width, height), error}: compact text,
-	                      malloc'd */
+	                      write_ms_max, period_ms}, process (with process: method, frames, kept,
+	                      keep_every, mean_ms, max_ms, last_mean_dolp, width, height), error}:
+	                      compact text, malloc'd */
 } pc_capture_report;
 
-/* Records. A negative return means nothing was recorded (the method, the source or the
- * recording directory was refused; the detail says which); 0 means the recording exists, whole
- * or ended early as rep->error says. Free rep with pc_capture_report_free in both cases. */
+/* Records. A negative return means nothing was put in place (the method, the source or the
+ * output folder was refused, or no frame came; the detail says which); 0 means the recording
+ * exists, whole or ended early as rep->error says. Free rep with pc_capture_report_free in both
+ * cases. */
 PC_API int pc_capture(const pc_capture_opts *opts, pc_capture_report *rep);
 PC_API void pc_capture_report_free(pc_capture_report *rep);
 

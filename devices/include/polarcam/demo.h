@@ -30,6 +30,7 @@ typedef struct pc_demo_opts {
 	                                      full-resolution variant) */
 	unsigned n_methods;
 	bool mueller;         /* run the Mueller-imaging step */
+	bool overwrite;       /* replace an existing output folder (polarcam/io.h's rule) */
 	int threads;          /* 0: all */
 	pc_progress progress; /* phases "render", "mueller render", "mueller frames" */
 } pc_demo_opts;
@@ -45,8 +46,9 @@ typedef struct pc_demo_info {
 /* Loads the scene and builds the simulator (monochrome sensors only: PC_EINVAL otherwise). */
 PC_API int pc_demo_new(const pc_demo_opts *opts, pc_demo **out);
 PC_API void pc_demo_get_info(const pc_demo *demo, pc_demo_info *info);
-/* Runs the job into out_dir (created). report_md (may be NULL) receives report.md's text
- * (malloc'd), also when writing it failed. */
+/* Runs the job into out_dir, an output folder written as a set (polarcam/io.h, pc_outdir:
+ * refused when it exists unless opts->overwrite, put in place only when complete). report_md
+ * (may be NULL) receives report.md's text (malloc'd), also when writing it failed. */
 PC_API int pc_demo_run(pc_demo *demo, const char *out_dir, char **report_md);
 PC_API void pc_demo_free(pc_demo *demo);
 

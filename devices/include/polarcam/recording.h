@@ -126,11 +126,11 @@ PC_API const char *pc_recording_dir(const pc_recording *r);
 PC_API double pc_recording_black_level(const pc_recording *r);
 
 /* The mosaic of a raw file when it is a frame listed in its directory's meta.json (a recording
- * written by render or capture): 1 and *m set; 0 when it is not (no such recording, not one of
- * its frames, frames without a polarizer mosaic). An error (negative, detail naming both files)
- * only for a file named like a recording's frame (raw_NNNNNN.png) beside a meta.json that does
- * not open: its mosaic is unknown, and guessing the monochrome default would be wrong for a
- * colour recording. */
+ * written by render or capture), or of a recording directory itself: 1 and *m set; 0 when it is
+ * not (no such recording, not one of its frames, frames without a polarizer mosaic). An error
+ * (negative, detail naming both files) only for a file named like a recording's frame
+ * (raw_NNNNNN.png) beside a meta.json that does not open: its mosaic is unknown, and guessing
+ * the monochrome default would be wrong for a colour recording. */
 PC_API int pc_recording_frame_mosaic(const char *path, pc_mosaic *m);
 
 /* What a recording says about one of its frames (pc_recording_frame_info). */

@@ -8,9 +8,10 @@
  * holds pc_sim_describe_json plus "timings" and "first_frame"), truth_stokes.npy (H, W, 4) float32
  * — (H, W, 3, 4) for colour sensors, truth_stokes_psgNN.npy per generator state of a sequence —,
  * truth_mueller.npy (H, W, 4, 4) (or (H, W, 3, 4, 4)) when the scene declares "mueller", and
- * states.json (polarcam/states.h) for state sequences. The recording is refused (PC_EBUSY) in a
- * directory that holds one unless overwrite; a failure part-way leaves the frames written so
- * far and meta.json saying complete = false and why.
+ * states.json (polarcam/states.h) for state sequences. DIR is an output folder written as a set
+ * (polarcam/io.h, pc_outdir): refused (PC_EEXIST) when it exists and is not empty unless
+ * overwrite, and put in place whole only when every file is written; a failure leaves nothing
+ * of the new run and an older DIR as it was.
  */
 #ifndef POLARCAM_RENDER_RECORDING_H
 #define POLARCAM_RENDER_RECORDING_H
@@ -35,7 +36,7 @@ typedef struct pc_render_opts {
 	uint64_t frames;          /* frames to write; 0: one cycle of the scene's states */
 	uint64_t first;           /* number of the first frame */
 	bool truth;               /* write truth_*.npy */
-	bool overwrite;           /* replace a recording already in the directory */
+	bool overwrite;           /* replace an existing output folder (polarcam/io.h's rule) */
 	pc_progress progress;     /* phases "render" (rows of each state), "frames"; non-zero stops
 	                             (PC_ECANCELED) after the state or frame in hand, the recording
 	                             finished with complete = false and its timings */
@@ -56,9 +57,10 @@ typedef struct pc_render_report {
 PC_API int pc_truth_write(const char *path, const pc_sim_info *in, const float *values,
                           bool mueller, pc_dtype dtype);
 
-/* Renders into dir (created). rep may be NULL. PC_ECANCELED when the progress callback asked to
- * stop: the frames written so far stay, meta.json says complete = false, "interrupted after N
- * of M frames", with the timings. */
+/* Renders into dir (created with its parents), an output folder written as a set (polarcam/io.h,
+ * pc_outdir). rep may be NULL. PC_ECANCELED when the progress callback asked to stop: the frames
+ * written so far are put in place, meta.json says complete = false, "interrupted after N of M
+ * frames", with the timings (nothing is put in place when no frame was written). */
 PC_API int pc_render_recording(const char *dir, const pc_render_opts *opts, pc_render_report *rep);
 
 #ifdef __cplusplus

@@ -167,9 +167,10 @@ typedef struct pc_buffer {
 
 /* ---- the public API ---- */
 
-/* Opens a source by URI. Errors: PC_EINVAL (malformed URI, unknown option), PC_ENOTSUP (scheme
- * known but not built in, the detail says which package is missing), PC_ENOENT (no such
- * device / scene / directory), others from the backend. */
+/* Opens a source by URI. Errors: PC_EINVAL (malformed URI, unknown option), PC_EUNAVAIL (scheme
+ * known but not built in, the detail says which package is missing; or no such device for a
+ * device backend, one with an enumerate function), PC_ENOENT (no such scene / directory),
+ * others from the backend. */
 PC_API int pc_source_open(pc_source **out, const char *uri);
 /* Stops if streaming, frees the buffers and closes. NULL is fine. */
 PC_API void pc_source_close(pc_source *s);

@@ -23,7 +23,8 @@ typedef struct pc_viewer_opts {
 	                             say what to do */
 	uint32_t width;           /* width of the three panels on screen */
 	uint64_t frames;          /* stop after this many frames; 0: until q, Esc or stopped */
-	const char *screenshot;   /* the last picture shown, as PNG (NULL: none) */
+	const char *screenshot;   /* the last picture shown, as PNG (NULL: none); a name not
+	                             ending in .png is refused (PC_EINVAL) */
 	int timeout_ms;           /* longest wait for a frame */
 	pc_progress progress;     /* phase "view", frames shown; non-zero stops */
 	pc_stream_levels levels;  /* black level, saturation (invalid pixels marked), calibration

@@ -2,7 +2,8 @@
  * --process`, `mueller` and `demo` write, laid out in one place. Every file is written
  * atomically; the folder is created when missing.
  *
- * A Stokes folder (pc_stokes_folder_write) holds, as asked:
+ * A Stokes folder (pc_stokes_folder_write) holds, as asked (frame N of a series: the same names
+ * with _NNNNNN before the extension, NNNNNN the frame number in six or more digits):
  *   stokes.npy     float32 (H, W, 3): S0, S1, S2
  *   s0.npy         float32 (H, W): S0
  *   dolp.npy       float32 (H, W): DoLP in [0, 1]
@@ -64,10 +65,14 @@ enum pc_stokes_folder_files {
 typedef struct pc_stokes_folder_opts {
 	unsigned files;            /* PC_SF_* */
 	pc_pictures_opts pictures; /* title prefix, display width, low-signal mask */
+	bool numbered; /* names carry a frame number: stokes_NNNNNN.npy, s0_NNNNNN.png */
+	uint64_t number;
+	bool no_valid_file; /* the mask goes elsewhere (a batch's stacked valid.npy): the pictures
+	                     * still mark it, valid.npy is not written here */
 } pc_stokes_folder_opts;
 
 /* Writes the files asked for from st (planes as pc_stokes_out; stokes.npy needs s0, s1, s2,
- * the others their plane) into dir, in the order of the table above. */
+ * the others their plane) into dir (created when missing), in the order of the table above. */
 PC_API int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
                                   uint32_t height, const pc_stokes_folder_opts *opts);
 
@@ -85,20 +90,24 @@ typedef struct pc_mueller_folder_opts {
 	double black_level; /* for mueller.json */
 	double rebuild_tol; /* for mueller.json and the residual picture's scale (0 .. 2·tol) */
 	pc_rebuild_sign rebuild_sign;
+	bool overwrite; /* replace an existing folder (polarcam/io.h's rule) */
 } pc_mueller_folder_opts;
 
-/* Writes res into dir. mueller.json holds frames, width, height, method, black_level, cond_A,
- * cond_G, cond_W, rank_A, rank_G, noise_gain, pixels_D_singular, pixels_nonphysical_filtered,
- * pixels_undecomposable, determined, saturation_level, pixels_invalid, rebuild_circular (and when
- * rebuilt: rebuild_tol, pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may be NULL)
- * receives its content as one compact line (malloc'd). */
+/* Writes res into dir, an output folder written as a set (polarcam/io.h, pc_outdir: refused
+ * when it exists unless opts->overwrite, put in place only when complete; valid.npy with the
+ * rest). mueller.json holds frames, width, height, method, black_level, cond_A, cond_G, cond_W,
+ * rank_A, rank_G, noise_gain, pixels_D_singular, pixels_nonphysical_filtered,
+ * pixels_undecomposable, determined, saturation_level, pixels_invalid, rebuild_circular (and
+ * when rebuilt: rebuild_tol, pixels_rebuild_rejected, pixels_rebuild_sign_undefined). json (may
+ * be NULL) receives its content as one compact line (malloc'd). */
 PC_API int pc_mueller_folder_write(const char *dir, const pc_mueller_result *res,
                                    const pc_mueller_folder_opts *opts, char **json);
 
 /* ---- the seed paper's figures (polarcam/figures.h) ---- */
 
-/* Writes figs[2..11] and the claims into dir; progress (may be NULL): phase "figures". */
-PC_API int pc_figures_write(const char *dir, const pc_figure figs[12],
+/* Writes figs[2..11] and the claims into dir, an output folder written as a set (polarcam/io.h,
+ * pc_outdir; flags: PC_OUT_OVERWRITE); progress (may be NULL): phase "figures". */
+PC_API int pc_figures_write(const char *dir, unsigned flags, const pc_figure figs[12],
                             const pc_figure_claim *claims, size_t n_claims,
                             const pc_progress *progress);
 

@@ -7,6 +7,7 @@
 #ifndef POLARCAM_IO_H
 #define POLARCAM_IO_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -43,6 +44,51 @@ PC_API int pc_write_file_atomic(const char *path, const void *data, size_t size)
  * be NULL) counts the files removed. A directory that does not exist holds nothing: 0. */
 PC_API int pc_atomic_sweep(const char *dir, unsigned *removed);
 
+/* ---- outputs: the one rule, and folders written as a set ----
+ *
+ * Every pipeline that writes an output (a file or a folder) follows one rule: an output that
+ * exists and is not empty is refused (PC_EEXIST, the detail naming it) unless the caller asks
+ * for PC_OUT_OVERWRITE. An empty file or folder, or a missing one, is simply written (missing
+ * parent folders are created).
+ *
+ * A folder is written as a set: pc_outdir_begin makes a temporary sibling folder
+ * ".NAME.tmp-HOST-PID-XXXXXX" beside it, the caller writes every file into od->tmp, and
+ * pc_outdir_commit puts the whole folder in place with one rename. With PC_OUT_OVERWRITE an
+ * existing folder is swapped out in the same step (renameat2 RENAME_EXCHANGE, or two renames
+ * where the file system lacks it) and removed only once the new one is in place. The folder at
+ * PATH is therefore always the old one or the new one, whole: no file of an older run survives
+ * a new one, and a failure (a full disk, an error, an interruption) leaves the old folder as it
+ * was, with pc_outdir_abort removing the temporary one. A run killed outright leaves its
+ * temporary folder; the next pc_outdir_begin for the same PATH on the same host removes those
+ * whose process is gone.
+ *
+ * Overwriting is refused, even with PC_OUT_OVERWRITE, for what polarcam cannot have written
+ * and would delete with it: a folder holding none of meta.json, report.json, mueller.json,
+ * figures.md or demosaic.json (the description every polarcam output folder carries; `bench
+ * demosaic` writes the last), a symbolic link, a file
+ * where a folder is expected (and the reverse), and the current directory or a folder that
+ * contains it. */
+#define PC_OUT_OVERWRITE 1u
+
+/* The rule alone, checked without writing anything (to refuse before long work): 0 when path
+ * may be written as a folder (folder true) or a file. */
+PC_API int pc_output_check(const char *path, unsigned flags, bool folder);
+
+typedef struct pc_outdir {
+	char *path; /* the folder asked for */
+	char *tmp;  /* the temporary sibling folder to write into */
+	unsigned flags;
+} pc_outdir;
+
+/* Checks the rule (pc_output_check) and creates od->tmp. */
+PC_API int pc_outdir_begin(pc_outdir *od, const char *path, unsigned flags);
+/* Puts od->tmp in place at od->path (replacing the old folder when one was allowed) and frees
+ * od. On failure the old folder is untouched and the temporary one removed. */
+PC_API int pc_outdir_commit(pc_outdir *od);
+/* Removes the temporary folder and frees od. Safe after a failed commit, twice, or on a zeroed
+ * pc_outdir. */
+PC_API void pc_outdir_abort(pc_outdir *od);
+
 /* ---- arrays (.npy) ---- */
 /* PC_DT_F16 (IEEE binary16 bits in uint16_t) is written, not read. */
 typedef enum pc_dtype { PC_DT_U8 = 1, PC_DT_U16, PC_DT_F32, PC_DT_F64, PC_DT_F16 } pc_dtype;
@@ -62,6 +108,20 @@ PC_API void pc_array_free(pc_array *a);
 /* Writes a C-order array as NumPy format 1.0 (little-endian). */
 PC_API int pc_npy_write(const char *path, const void *data, pc_dtype dtype, unsigned ndim,
                         const size_t *shape);
+/* A .npy written piece by piece (a stack of frames as they are computed): open with the whole
+ * array's shape, write its bytes in C order in any number of pieces, commit (atomic, like every
+ * writer; PC_ESTATE when fewer bytes than the shape holds were written). A failed write
+ * aborts the stream. */
+typedef struct pc_npy_stream {
+	pc_atomic_file af;
+	size_t bytes, written;
+} pc_npy_stream;
+PC_API int pc_npy_stream_open(pc_npy_stream *s, const char *path, pc_dtype dtype, unsigned ndim,
+                              const size_t *shape);
+PC_API int pc_npy_stream_write(pc_npy_stream *s, const void *data, size_t bytes);
+PC_API int pc_npy_stream_commit(pc_npy_stream *s);
+PC_API void pc_npy_stream_abort(pc_npy_stream *s);
+
 /* Reads .npy (u1, <u2, <f4, <f8; C order; format 1.0/2.0). */
 PC_API int pc_npy_read(const char *path, pc_array *out);
 
@@ -131,13 +191,30 @@ PC_API int pc_bmp_read(const char *path, pc_view *out);
  * under the colour bar. The threshold is opts->mask_s0 in S0 units (raw units) when > 0;
  * 0 (and pc_pictures_write) uses PC_PICTURES_MASK_DEFAULT_REL of the S0 99.9th percentile
  * (the top of the S0 picture's scale); < 0 disables the mask. Callers that know their sensor's
- * noise can pass a few σ of S0 instead. */
+ * noise can pass a few σ of S0 instead.
+ *
+ * Scales for comparing pictures: s0_hi > 0 fixes the top of the S0 scale (pictures of a truth
+ * and of estimates then share one scale); 0 takes the image's own 99.9th percentile (the mask
+ * default follows the scale's top either way). dolp_hi sets the DoLP range 0..dolp_hi of
+ * dolp.png and the DoLP shown at full value/saturation in the AoLP pictures: > 0 that value
+ * (at most 1), 0 the full range 0..1, < 0 automatic: the 99th percentile of DoLP over the
+ * unmasked pixels rounded up to a multiple of 0.05 (typical scenes' DoLP stays far below 1 and
+ * looks black on 0..1). The range used is printed on the key ("DoLP 0..0.35, auto"). AoLP keys
+ * have ticks at 0, 45, 90, 135, 180°. */
 #define PC_PICTURES_MASK_DEFAULT_REL 0.01
 typedef struct pc_pictures_opts {
 	const char *title_prefix; /* NULL: none */
 	uint32_t max_width;       /* downscale for display to at most this width; 0: full size */
 	double mask_s0;           /* low-signal mask threshold (see above) */
+	const char *suffix;       /* added to the file names before .png ("_000012"); NULL: none */
+	double s0_hi;             /* top of the S0 scale; 0: the image's 99.9th percentile */
+	double dolp_hi;           /* DoLP range 0..dolp_hi; 0: 0..1; < 0: automatic */
 } pc_pictures_opts;
+
+/* The automatic DoLP range of pc_pictures_opts (dolp_hi < 0): the 99th percentile of the finite
+ * DoLP values where S0 >= mask (all pixels when mask is not finite or <= 0), rounded up to a
+ * multiple of 0.05, at least 0.05 and at most 1. */
+PC_API double pc_pictures_dolp_auto(const float *dolp, const float *s0, size_t n, double mask);
 
 struct pc_stokes_out;
 /* opts may be NULL (no prefix, full size, default mask). */

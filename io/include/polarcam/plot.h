@@ -55,6 +55,7 @@ typedef struct pc_colorbar {
 	double smin, smax;
 	void (*color)(double t, double s, uint8_t rgb[3], void *ctx);
 	void *ctx;
+	double tick_step; /* ticks every tick_step from vmin (AoLP: 45); 0: "nice" steps */
 } pc_colorbar;
 
 /* Writes an RGB8 image with a title above it and, when bar is non-NULL, a colour bar with ticks

@@ -16,6 +16,7 @@
 #include "polarcam/folders.h"
 #include "polarcam/io.h"
 #include "polarcam/mosaic.h"
+#include "polarcam/progress.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -58,6 +59,7 @@ typedef struct pc_process_opts {
 	pc_mosaic mosaic;
 	pc_demosaic_method method;
 	pc_demosaic_opts demosaic; /* threads, reference */
+	bool overwrite;            /* replace an existing output (polarcam/io.h's rule) */
 	/* the raw's levels (pc_pipeline_opts, polarcam/demosaic.h), raw units */
 	double black_level;        /* subtracted from every sample; 0: none */
 	double saturation_level;   /* samples >= it are saturated; 0: the stage's level, else the
@@ -86,6 +88,8 @@ typedef struct pc_demosaic_file_report {
  * in the raw's units above the black level (o->black_level, or the stage's calibration),
  * written to out_path: NumPy .npy, or a float32 TIFF for .tif/.tiff. When a saturation or dead
  * level is checked, the validity mask goes beside it as OUT_valid.npy (uint8 (H, W), 1 valid).
+ * The output and its mask are one set: an existing one of them is refused (PC_EEXIST) unless
+ * o->overwrite, both are written to temporaries and put in place only when both are complete.
  * rep may be NULL. */
 PC_API int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const char *out_path,
                             pc_demosaic_file_report *rep);
@@ -94,10 +98,38 @@ PC_API int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, co
  * valid.npy when a level is checked) plus dir/meta.json: input, width, height, bits, layout,
  * method, reference, black_level, saturation_level, dead_level, invalid_pixels, calibration,
  * pipeline_seconds, aolp_convention, files, valid_statistics (pixels, s0_mean, dolp_mean over
- * the valid pixels only). meta (may be NULL) receives meta.json's content as
- * one compact line (malloc'd). Nothing is written unless the computation succeeded. */
+ * the valid pixels only). meta (may be NULL) receives meta.json's content as one compact line
+ * (malloc'd). dir is an output folder written as a set (polarcam/io.h, pc_outdir): an existing
+ * one is refused (PC_EEXIST) unless o->overwrite, and nothing is put in place unless every file
+ * (valid.npy among them) was written. */
 PC_API int pc_process_file(const pc_raw_input *in, const pc_process_opts *o, const char *dir,
                            const pc_stokes_folder_opts *folder, char **meta);
+
+/* Several raw files through the pipeline into one Stokes folder (what `polarcam process` does
+ * with several files; a recording's frames: pc_process_recording, polarcam/process_recording.h).
+ * Frame k (of number numbers[k]) gives stokes_NNNNNN.npy, dolp_NNNNNN.npy, ... (the files
+ * folder->files asks for, named as in polarcam/folders.h), or with stack one array per quantity
+ * holding every frame in order: stokes.npy (N, H, W, 3), s0.npy, dolp.npy, aolp.npy (N, H, W).
+ * Pictures (s0_NNNNNN.png, ...) of the frames at positions 0, pictures_every, 2·pictures_every,
+ * ... when folder->files has PC_SF_PICTURES (0: none). Every input must have the size and bit
+ * depth of the first. meta.json adds to pc_process_file's fields (input and pipeline_seconds
+ * apart) frames [{input, number, pipeline_seconds, pictures}], stack, pictures_every and the
+ * total pipeline_seconds, invalid_pixels summed over the frames (per frame in frames[]); "files"
+ * names the per-frame files with NNNNNN. With a level checked each frame's mask is
+ * valid_NNNNNN.npy, or with stack one valid.npy (N, H, W) uint8. dir is written as a
+ * set (polarcam/io.h, pc_outdir), so a failure or a stop part-way leaves nothing. */
+typedef struct pc_process_batch {
+	const pc_raw_input *inputs;
+	size_t count;
+	const uint64_t *numbers; /* the frame number naming each input's outputs; NULL: 0, 1, ... */
+	bool stack;              /* one array per quantity instead of files per frame */
+	uint64_t pictures_every; /* see above */
+	pc_progress progress;    /* phase "process", frames done; a non-zero return stops
+	                            (PC_ECANCELED) */
+} pc_process_batch;
+
+PC_API int pc_process_files(const pc_process_batch *b, const pc_process_opts *o, const char *dir,
+                            const pc_stokes_folder_opts *folder, char **meta);
 
 #ifdef __cplusplus
 }
