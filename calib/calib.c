@@ -975,12 +975,22 @@ typedef struct apply_ctx {
  * of flagged samples and of samples out of the format's range. The correction itself
  * (raw − dark)·(1/gain) happens in the core's pipeline as it reads the raw
  * (pc_pipeline_opts.dark, gain_inv). */
+#ifdef _OPENMP
+#define PC_CAL_SIMD_SUM _Pragma("omp simd reduction(+ : nb, nr)")
+#else
+#define PC_CAL_SIMD_SUM
+#endif
+
 static void apply_rows(void *vctx, uint32_t y0, uint32_t y1)
 {
 	const apply_ctx *c = vctx;
 	const pc_calib *cal = c->cal;
 	const uint32_t W = cal->geo.width, H = cal->geo.height;
 	const float sat = c->sat, dead = c->dead;
+	/* integer samples: v >= sat ⇔ v >= ceil(sat), v <= dead ⇔ v <= floor(dead) */
+	const int32_t isat = sat > 65536.0f ? 65536 : (int32_t)ceilf(sat);
+	const int32_t idead = dead < -1.0f ? -1 : (int32_t)floorf(dead);
+	const int32_t maxv = (int32_t)c->maxv;
 	for (uint32_t y = y0; y < y1; y++) {
 		const size_t o = (size_t)y * W;
 		const uint8_t *cv = cal->valid ? cal->valid + o : NULL;
@@ -989,20 +999,30 @@ static void apply_rows(void *vctx, uint32_t y0, uint32_t y1)
 		const float *rf = c->kind == 3 ? c->unpacked + o : (const float *)(const void *)r8;
 		uint8_t *fl = c->flag ? c->flag + o : NULL;
 		uint32_t nb = 0, nr = 0;
-		for (uint32_t x = 0; x < W; x++) {
-			float v = c->kind == 0   ? (float)r8[x]
-			          : c->kind == 1 ? (float)r16[x]
-			                         : rf[x];
-			if (c->kind == 1 && r16[x] > c->maxv)
-				nr++;
-			if (c->kind == 2 && !isfinite(v)) {
-				nr++;
-				v = 0;
+		if (c->kind == 1 && !fl) {
+			/* the common case, counts only: vectorisable */
+			PC_CAL_SIMD_SUM
+			for (uint32_t x = 0; x < W; x++) {
+				int32_t v = r16[x];
+				nr += v > maxv;
+				nb += (uint32_t)((cv && !cv[x]) | (v >= isat) | (v <= idead));
 			}
-			uint8_t bad = (uint8_t)((cv && !cv[x]) | (v >= sat) | (v <= dead));
-			if (fl)
-				fl[x] = bad;
-			nb += bad;
+		} else {
+			for (uint32_t x = 0; x < W; x++) {
+				float v = c->kind == 0   ? (float)r8[x]
+				          : c->kind == 1 ? (float)r16[x]
+				                         : rf[x];
+				if (c->kind == 1 && r16[x] > c->maxv)
+					nr++;
+				if (c->kind == 2 && !isfinite(v)) {
+					nr++;
+					v = 0;
+				}
+				uint8_t bad = (uint8_t)((cv && !cv[x]) | (v >= sat) | (v <= dead));
+				if (fl)
+					fl[x] = bad;
+				nb += bad;
+			}
 		}
 		c->rows[y] = nb;
 		c->rows[H + y] = nr;

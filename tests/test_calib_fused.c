@@ -85,7 +85,8 @@ static void make_raw(const pc_calib *cal, pc_view *raw)
 			double S[3] = {s0, s0 * P * cos(2 * a), s0 * P * sin(2 * a)};
 			const float *v = cal->analysis + 3 * p;
 			double i = v[0] * S[0] + v[1] * S[1] + v[2] * S[2];
-			PC_ROW(raw, uint16_t, y)[x] = (uint16_t)lround(cal->dark[p] + cal->gain[p] * i);
+			PC_ROW(raw, uint16_t, y)
+			[x] = (uint16_t)lround(cal->dark[p] + cal->gain[p] * i);
 		}
 }
 
@@ -102,9 +103,11 @@ static double bil(const double *f, int nc, int k, const pc_mosaic *m, unsigned c
 	for (int dy = -1; dy <= 1; dy++)
 		for (int dx = -1; dx <= 1; dx++) {
 			int xx = mir(x + dx, W), yy = mir(y + dy, H);
-			/* the channel of the unmirrored neighbour: the mosaic's phase is mirrored too,
-			 * and on even sizes a mirrored neighbour has the neighbour's channel */
-			if (pc_mosaic_channel(m, (unsigned)(x + dx + 2), (unsigned)(y + dy + 2)) != c)
+			/* the channel of the unmirrored neighbour: the mosaic's phase is mirrored
+			 * too, and on even sizes a mirrored neighbour has the neighbour's channel
+			 */
+			if (pc_mosaic_channel(m, (unsigned)(x + dx + 2), (unsigned)(y + dy + 2)) !=
+			    c)
 				continue;
 			s += f[((size_t)yy * W + (size_t)xx) * (size_t)nc + (size_t)k];
 			n++;
@@ -201,7 +204,8 @@ int main(void)
 		double worst[5] = {0};
 		for (size_t p = 0; p < (size_t)W * H; p++)
 			for (int k = 0; k < 5; k++) {
-				double d = fabs(a.buf[(size_t)k * W * H + p] - b.buf[(size_t)k * W * H + p]);
+				double d = fabs(a.buf[(size_t)k * W * H + p] -
+				                b.buf[(size_t)k * W * H + p]);
 				if (k == 4)
 					d = fmin(d, M_PI - d); /* AoLP wraps at π */
 				worst[k] = fmax(worst[k], k < 3 ? d / b.buf[p] : d);
@@ -249,7 +253,8 @@ int main(void)
 			double S[3];
 			reference(&cal, I, A, x, y, S);
 			for (int k = 0; k < 3; k++)
-				wS = fmax(wS, fabs(o.buf[(size_t)k * np + p] - S[k]) / (2e-6 * S[0] + 2e-4));
+				wS = fmax(wS, fabs(o.buf[(size_t)k * np + p] - S[k]) /
+				                  (2e-6 * S[0] + 2e-4));
 			double dolp = hypot(S[1], S[2]) / S[0];
 			wD = fmax(wD, fabs(o.buf[3 * np + p] - dolp));
 			if (dolp > 0.05) {
