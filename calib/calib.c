@@ -30,6 +30,7 @@ void pc_calib_free(pc_calib *cal)
 	free(cal->provenance);
 	free(cal->pinv_px);
 	free(cal->apply_ig);
+	free(cal->apply_flag);
 	pc_calib_init(cal);
 }
 
@@ -54,6 +55,8 @@ int pc_calib_copy(pc_calib *dst, const pc_calib *src)
 	t.pinv_px = NULL;
 	t.pinv_method = -1;
 	t.apply_ig = NULL;
+	t.apply_flag = NULL;
+	t.apply_busy = 0;
 	size_t np = (size_t)src->geo.width * src->geo.height;
 	int rc;
 	if ((rc = dup_map((void **)&t.dark, src->dark, np * 4)) ||
@@ -999,8 +1002,18 @@ static void apply_rows(void *vctx, uint32_t y0, uint32_t y1)
 		const float *rf = c->kind == 3 ? c->unpacked + o : (const float *)(const void *)r8;
 		uint8_t *fl = c->flag ? c->flag + o : NULL;
 		uint32_t nb = 0, nr = 0;
-		if (c->kind == 1 && !fl) {
-			/* the common case, counts only: vectorisable */
+		if (c->kind == 1 && fl) {
+			/* the common case (16-bit containers): vectorisable */
+			PC_CAL_SIMD_SUM
+			for (uint32_t x = 0; x < W; x++) {
+				int32_t v = r16[x];
+				nr += v > maxv;
+				uint8_t bad =
+				    (uint8_t)((cv && !cv[x]) | (v >= isat) | (v <= idead));
+				fl[x] = bad;
+				nb += bad;
+			}
+		} else if (c->kind == 1) {
 			PC_CAL_SIMD_SUM
 			for (uint32_t x = 0; x < W; x++) {
 				int32_t v = r16[x];
@@ -1130,8 +1143,26 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	if (o->dead_level > 0)
 		c.dead = (float)o->dead_level;
 	uint64_t nflag = 0, nrange = 0;
+	/* the flag map when a validity is wanted: the calibration's own (no page faults per
+	 * frame) unless another call holds it */
+	bool own_flag = false;
+	if (!rc && valid) {
+		if (!__atomic_exchange_n(&cal->apply_busy, 1, __ATOMIC_ACQUIRE)) {
+			if (!cal->apply_flag)
+				cal->apply_flag = malloc(np);
+			flag = cal->apply_flag;
+			if (!flag)
+				__atomic_store_n(&cal->apply_busy, 0, __ATOMIC_RELEASE);
+		}
+		if (!flag) {
+			own_flag = true;
+			flag = malloc(np);
+		}
+		if (!flag)
+			rc = pc_error(PC_ENOMEM, "calibrated pipeline: flags (%zu pixels)", np);
+		c.flag = flag;
+	}
 	if (!rc) {
-		/* counts first; the flag map only when a sample is flagged and it is wanted */
 		pc_parallel_rows(H, 0, o->threads, apply_rows, &c);
 		for (uint32_t y = 0; y < H; y++) {
 			nflag += rows[y];
@@ -1142,13 +1173,6 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 			              "%llu samples out of range (above the %u-bit range of %s, "
 			              "or not finite)",
 			              (unsigned long long)nrange, fi->bits, fi->name);
-	}
-	if (!rc && nflag && valid) {
-		if (!(flag = malloc(np)))
-			rc = pc_error(PC_ENOMEM, "calibrated pipeline: flags (%zu pixels)", np);
-		c.flag = flag;
-		if (!rc)
-			pc_parallel_rows(H, 0, o->threads, apply_rows, &c);
 	}
 	pc_pipeline_opts po = *o;
 	po.mosaic = cal->geo.mosaic;
@@ -1165,28 +1189,27 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 		rc = st ? pc_stokes_run(raw, &po, st, NULL) : pc_demosaic_run(raw, &po, ch, NULL);
 	free(unpacked);
 	free(rows);
-	if (rc || !valid) {
-		free(flag);
-		return rc;
-	}
-	uint32_t ow, oh;
-	pc_demosaic_out_size(o->method, W, H, &ow, &oh);
-	if (nflag == 0) {
+	if (!rc && valid && nflag) {
+		/* an output pixel is invalid when a flagged sample lies in the method's support */
+		pc_view fv = {flag, W, H, W, PC_FMT_MONO8};
+		pc_pipeline_opts vo = pc_pipeline_defaults();
+		vo.method = o->method;
+		vo.mosaic = cal->geo.mosaic;
+		vo.threads = o->threads;
+		vo.saturation_level = 1;
+		rc = pc_validity_run(&fv, &vo, valid);
+	} else if (!rc && valid) {
 		/* nothing flagged: every output pixel is valid */
+		uint32_t ow, oh;
+		pc_demosaic_out_size(o->method, W, H, &ow, &oh);
 		valid->n_invalid = 0;
 		for (uint32_t y = 0; valid->mask && y < oh; y++)
 			memset(valid->mask + (size_t)y * valid->row_stride, 1, ow);
-		return 0;
 	}
-	/* an output pixel is invalid when a flagged sample lies in the method's support */
-	pc_view fv = {flag, W, H, W, PC_FMT_MONO8};
-	pc_pipeline_opts vo = pc_pipeline_defaults();
-	vo.method = o->method;
-	vo.mosaic = cal->geo.mosaic;
-	vo.threads = o->threads;
-	vo.saturation_level = 1;
-	rc = pc_validity_run(&fv, &vo, valid);
-	free(flag);
+	if (own_flag)
+		free(flag);
+	else if (flag)
+		__atomic_store_n(&cal->apply_busy, 0, __ATOMIC_RELEASE);
 	return rc;
 }
 

@@ -84,6 +84,10 @@ typedef struct pc_calib {
 	int pinv_method;
 	/* 1/gain, computed once (pc_calib_prepare or the first pc_calib_apply) */
 	float *apply_ig;
+	/* pc_calib_apply's flag map, reused by one call at a time (apply_busy, taken atomically;
+	 * a concurrent call allocates its own) */
+	uint8_t *apply_flag;
+	int apply_busy;
 } pc_calib;
 
 PC_API void pc_calib_init(pc_calib *cal);
