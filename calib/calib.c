@@ -30,9 +30,7 @@ void pc_calib_free(pc_calib *cal)
 	free(cal->provenance);
 	free(cal->pinv_px);
 	free(cal->apply_ig);
-	free(cal->apply_corr);
 	free(cal->apply_flag);
-	free(cal->apply_rows);
 	pc_calib_init(cal);
 }
 
@@ -56,9 +54,9 @@ int pc_calib_copy(pc_calib *dst, const pc_calib *src)
 	t.provenance = NULL;
 	t.pinv_px = NULL;
 	t.pinv_method = -1;
-	t.apply_ig = t.apply_corr = NULL;
+	t.apply_ig = NULL;
 	t.apply_flag = NULL;
-	t.apply_rows = NULL;
+	t.apply_busy = 0;
 	size_t np = (size_t)src->geo.width * src->geo.height;
 	int rc;
 	if ((rc = dup_map((void **)&t.dark, src->dark, np * 4)) ||
@@ -968,54 +966,112 @@ int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *
 typedef struct apply_ctx {
 	const pc_calib *cal;
 	const pc_view *raw;
-	int kind;         /* 0: Mono8, 1: 16-bit container, 2: float32, 3: already in corr */
-	unsigned maxv;    /* integer formats: the largest value the bit depth allows */
-	double sat, dead; /* raw units; sat INFINITY / dead -INFINITY: not checked */
-	float *corr;
-	uint8_t *flag;
-	uint32_t *rows; /* per row: flagged samples; rows[H + y]: values out of range */
+	const float *unpacked; /* packed formats: the samples as floats (row stride width) */
+	int kind;              /* 0: Mono8, 1: 16-bit container, 2: float32, 3: unpacked */
+	unsigned maxv;         /* integer formats: the largest value the bit depth allows */
+	float sat, dead;       /* raw units; sat INFINITY / dead -INFINITY: not checked */
+	uint8_t *flag;         /* NULL: count only */
+	uint32_t *rows;        /* per row: flagged samples; rows[H + y]: values out of range */
 } apply_ctx;
 
-/* corr = (raw − dark)·(1/gain), flag = 1 where the sample is saturated, dead or invalid in the
- * calibration (the model of polarcam/calib.h) */
+/* flag = 1 where the sample is saturated, dead or invalid in the calibration; per-row counts
+ * of flagged samples and of samples out of the format's range. The correction itself
+ * (raw − dark)·(1/gain) happens in the core's pipeline as it reads the raw
+ * (pc_pipeline_opts.dark, gain_inv). */
+#ifdef _OPENMP
+#define PC_CAL_SIMD_SUM _Pragma("omp simd reduction(+ : nb, nr)")
+#else
+#define PC_CAL_SIMD_SUM
+#endif
+
 static void apply_rows(void *vctx, uint32_t y0, uint32_t y1)
 {
 	const apply_ctx *c = vctx;
 	const pc_calib *cal = c->cal;
 	const uint32_t W = cal->geo.width, H = cal->geo.height;
-	const float black = (float)cal->black_level;
-	const float sat = (float)c->sat, dead = (float)c->dead;
+	const float sat = c->sat, dead = c->dead;
+	/* integer samples: v >= sat ⇔ v >= ceil(sat), v <= dead ⇔ v <= floor(dead) */
+	const int32_t isat = sat > 65536.0f ? 65536 : (int32_t)ceilf(sat);
+	const int32_t idead = dead < -1.0f ? -1 : (int32_t)floorf(dead);
+	const int32_t maxv = (int32_t)c->maxv;
 	for (uint32_t y = y0; y < y1; y++) {
 		const size_t o = (size_t)y * W;
-		const float *dk = cal->dark ? cal->dark + o : NULL;
-		const float *ig = cal->apply_ig ? cal->apply_ig + o : NULL;
 		const uint8_t *cv = cal->valid ? cal->valid + o : NULL;
 		const uint8_t *r8 = (const uint8_t *)c->raw->data + (size_t)y * c->raw->stride;
 		const uint16_t *r16 = (const uint16_t *)(const void *)r8;
-		const float *rf = (const float *)(const void *)r8;
-		float *out = c->corr + o;
-		uint8_t *fl = c->flag + o;
+		const float *rf = c->kind == 3 ? c->unpacked + o : (const float *)(const void *)r8;
+		uint8_t *fl = c->flag ? c->flag + o : NULL;
 		uint32_t nb = 0, nr = 0;
-		for (uint32_t x = 0; x < W; x++) {
-			float v = c->kind == 0   ? (float)r8[x]
-			          : c->kind == 1 ? (float)r16[x]
-			          : c->kind == 2 ? rf[x]
-			                         : out[x];
-			if (c->kind == 1 && r16[x] > c->maxv)
-				nr++;
-			if (c->kind == 2 && !isfinite(v)) {
-				nr++;
-				v = 0;
+		if (c->kind == 1 && fl) {
+			/* the common case (16-bit containers): vectorisable */
+			PC_CAL_SIMD_SUM
+			for (uint32_t x = 0; x < W; x++) {
+				int32_t v = r16[x];
+				nr += v > maxv;
+				uint8_t bad =
+				    (uint8_t)((cv && !cv[x]) | (v >= isat) | (v <= idead));
+				fl[x] = bad;
+				nb += bad;
 			}
-			uint8_t bad = (uint8_t)((cv && !cv[x]) | (v >= sat) | (v <= dead));
-			fl[x] = bad;
-			nb += bad;
-			float d = (dk ? dk[x] : black);
-			out[x] = ig ? (v - d) * ig[x] : v - d;
+		} else if (c->kind == 1) {
+			PC_CAL_SIMD_SUM
+			for (uint32_t x = 0; x < W; x++) {
+				int32_t v = r16[x];
+				nr += v > maxv;
+				nb += (uint32_t)((cv && !cv[x]) | (v >= isat) | (v <= idead));
+			}
+		} else {
+			for (uint32_t x = 0; x < W; x++) {
+				float v = c->kind == 0   ? (float)r8[x]
+				          : c->kind == 1 ? (float)r16[x]
+				                         : rf[x];
+				if (c->kind == 1 && r16[x] > c->maxv)
+					nr++;
+				if (c->kind == 2 && !isfinite(v)) {
+					nr++;
+					v = 0;
+				}
+				uint8_t bad = (uint8_t)((cv && !cv[x]) | (v >= sat) | (v <= dead));
+				if (fl)
+					fl[x] = bad;
+				nb += bad;
+			}
 		}
 		c->rows[y] = nb;
 		c->rows[H + y] = nr;
 	}
+}
+
+/* 1/gain, once per calibration (0 or negative gains: 1) */
+static int inverse_gain(pc_calib *cal)
+{
+	if (!cal->gain || cal->apply_ig)
+		return 0;
+	const size_t np = (size_t)cal->geo.width * cal->geo.height;
+	float *ig = malloc(np * sizeof *ig);
+	if (!ig)
+		return pc_error(PC_ENOMEM, "calibrated pipeline: inverse gains (%zu pixels)", np);
+	for (size_t p = 0; p < np; p++)
+		ig[p] = cal->gain[p] > 0 ? 1.0f / cal->gain[p] : 1.0f;
+	cal->apply_ig = ig;
+	return 0;
+}
+
+int pc_calib_prepare(pc_calib *cal, pc_demosaic_method method, int threads)
+{
+	int rc = inverse_gain(cal);
+	if (!rc && (cal->parts & PC_CAL_ANALYSER)) {
+		pc_analyser_pinv pinv;
+		rc = pc_calib_pinv(cal, method, threads, &pinv);
+	}
+	return rc;
+}
+
+bool pc_calib_prepared(const pc_calib *cal, pc_demosaic_method method)
+{
+	return (!cal->gain || cal->apply_ig) &&
+	       (!(cal->parts & PC_CAL_ANALYSER) || is_superpixel(method) ||
+	        (cal->pinv_px && cal->pinv_method == (int)method));
 }
 
 int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,
@@ -1032,6 +1088,9 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 		                "the calibration's dark map (or its black level, %g DN) is the "
 		                "black level; give one or the other",
 		                o->black_level, cal->black_level);
+	if (o->dark || o->gain_inv)
+		return pc_error(PC_EINVAL, "calibrated pipeline: the dark and gain maps come from "
+		                           "the calibration, not from the options");
 	const pc_view *raw = &f->view;
 	int rc = pc_view_check(raw);
 	if (rc)
@@ -1045,31 +1104,23 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 		                "calibrated yet)");
 	if ((rc = pc_calib_check(cal, &g)))
 		return rc;
+	/* what is computed once per calibration (1/gain, the per-pixel pseudo-inverses) */
+	if ((rc = inverse_gain(cal)))
+		return rc;
+	pc_analyser_pinv pinv;
+	if (st && (cal->parts & PC_CAL_ANALYSER) &&
+	    (rc = pc_calib_pinv(cal, o->method, o->threads, &pinv)))
+		return rc;
 	const uint32_t W = cal->geo.width, H = cal->geo.height;
 	const size_t np = (size_t)W * H;
-	if (!cal->apply_corr) {
-		cal->apply_corr = malloc(np * sizeof(float));
-		cal->apply_flag = malloc(np);
-		cal->apply_rows = malloc(2 * (size_t)H * sizeof(uint32_t));
-		if (cal->gain)
-			cal->apply_ig = malloc(np * sizeof(float));
-		if (!cal->apply_corr || !cal->apply_flag || !cal->apply_rows ||
-		    (cal->gain && !cal->apply_ig)) {
-			free(cal->apply_corr);
-			free(cal->apply_flag);
-			free(cal->apply_rows);
-			free(cal->apply_ig);
-			cal->apply_corr = cal->apply_ig = NULL;
-			cal->apply_flag = NULL;
-			cal->apply_rows = NULL;
-			return pc_error(PC_ENOMEM, "calibrated pipeline (%zu pixels)", np);
-		}
-		for (size_t p = 0; cal->gain && p < np; p++)
-			cal->apply_ig[p] = cal->gain[p] > 0 ? 1.0f / cal->gain[p] : 1.0f;
-	}
 	const pc_format_info *fi = pc_format_info_get(raw->format);
-	apply_ctx c = {
-	    cal, raw, 3, 0, INFINITY, -INFINITY, cal->apply_corr, cal->apply_flag, cal->apply_rows};
+	/* per call (no scratch in cal: concurrent calls on one prepared calibration are safe) */
+	uint32_t *rows = malloc(2 * (size_t)H * sizeof *rows);
+	float *unpacked = NULL;
+	uint8_t *flag = NULL;
+	if (!rows)
+		return pc_error(PC_ENOMEM, "calibrated pipeline (%u rows)", H);
+	apply_ctx c = {cal, raw, NULL, 3, 0, INFINITY, -INFINITY, NULL, rows};
 	if (raw->format == PC_FMT_MONO8)
 		c.kind = 0;
 	else if (raw->format == PC_FMT_MONO10 || raw->format == PC_FMT_MONO12 ||
@@ -1077,58 +1128,89 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 		c.kind = 1;
 	else if (raw->format == PC_FMT_FLOAT32)
 		c.kind = 2;
-	else if ((rc = pc_view_to_f32(raw, c.corr, (size_t)W * sizeof(float))))
-		return rc; /* packed formats: unpacked (and checked) first */
-	c.maxv = fi->is_float ? 0 : (1u << fi->bits) - 1u;
-	double sat = o->saturation_level;
-	if (sat > 0)
-		c.sat = sat;
-	if (o->dead_level > 0)
-		c.dead = o->dead_level;
-	pc_parallel_rows(H, 0, o->threads, apply_rows, &c);
-	uint64_t nflag = 0, nrange = 0;
-	for (uint32_t y = 0; y < H; y++) {
-		nflag += c.rows[y];
-		nrange += c.rows[H + y];
+	if (c.kind == 3) {
+		/* packed formats: unpacked (and checked) for the flags */
+		if (!(unpacked = malloc(np * sizeof *unpacked)))
+			rc = pc_error(PC_ENOMEM, "calibrated pipeline (%zu pixels)", np);
+		else
+			rc = pc_view_to_f32(raw, unpacked, (size_t)W * sizeof(float));
+		c.unpacked = unpacked;
 	}
-	if (nrange)
-		return pc_error(PC_ERANGE,
-		                "%llu samples out of range (above the %u-bit range of %s, "
-		                "or not finite)",
-		                (unsigned long long)nrange, fi->bits, fi->name);
-	pc_view v = {c.corr, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32};
+	c.maxv = fi->is_float ? 0 : (1u << fi->bits) - 1u;
+	const double sat = o->saturation_level;
+	if (sat > 0)
+		c.sat = (float)sat;
+	if (o->dead_level > 0)
+		c.dead = (float)o->dead_level;
+	uint64_t nflag = 0, nrange = 0;
+	/* the flag map when a validity is wanted: the calibration's own (no page faults per
+	 * frame) unless another call holds it */
+	bool own_flag = false;
+	if (!rc && valid) {
+		if (!__atomic_exchange_n(&cal->apply_busy, 1, __ATOMIC_ACQUIRE)) {
+			if (!cal->apply_flag)
+				cal->apply_flag = malloc(np);
+			flag = cal->apply_flag;
+			if (!flag)
+				__atomic_store_n(&cal->apply_busy, 0, __ATOMIC_RELEASE);
+		}
+		if (!flag) {
+			own_flag = true;
+			flag = malloc(np);
+		}
+		if (!flag)
+			rc = pc_error(PC_ENOMEM, "calibrated pipeline: flags (%zu pixels)", np);
+		c.flag = flag;
+	}
+	if (!rc) {
+		pc_parallel_rows(H, 0, o->threads, apply_rows, &c);
+		for (uint32_t y = 0; y < H; y++) {
+			nflag += rows[y];
+			nrange += rows[H + y];
+		}
+		if (nrange)
+			rc = pc_error(PC_ERANGE,
+			              "%llu samples out of range (above the %u-bit range of %s, "
+			              "or not finite)",
+			              (unsigned long long)nrange, fi->bits, fi->name);
+	}
 	pc_pipeline_opts po = *o;
 	po.mosaic = cal->geo.mosaic;
-	po.black_level = 0;
-	po.saturation_level = po.dead_level = 0; /* flagged above, in raw units */
+	po.dark = cal->dark;
+	po.gain_inv = cal->apply_ig;
+	po.black_level = cal->dark ? 0 : cal->black_level;
+	po.saturation_level = po.dead_level = 0; /* flagged above, with the calibration's map */
 	/* the signal's full scale for edge-aware weights: saturation above the black level */
-	po.full_scale = sat > cal->black_level ? sat - cal->black_level : 0;
-	pc_analyser_pinv pinv;
-	if (st && (cal->parts & PC_CAL_ANALYSER)) {
-		if ((rc = pc_calib_pinv(cal, o->method, o->threads, &pinv)))
-			return rc;
+	if (sat > cal->black_level)
+		po.full_scale = sat - cal->black_level + po.black_level;
+	if (st && (cal->parts & PC_CAL_ANALYSER))
 		po.pinv = &pinv;
-	}
-	rc = st ? pc_stokes_run(&v, &po, st, NULL) : pc_demosaic_run(&v, &po, ch, NULL);
-	if (rc || !valid)
-		return rc;
-	uint32_t ow, oh;
-	pc_demosaic_out_size(o->method, W, H, &ow, &oh);
-	if (nflag == 0) {
+	if (!rc)
+		rc = st ? pc_stokes_run(raw, &po, st, NULL) : pc_demosaic_run(raw, &po, ch, NULL);
+	free(unpacked);
+	free(rows);
+	if (!rc && valid && nflag) {
+		/* an output pixel is invalid when a flagged sample lies in the method's support */
+		pc_view fv = {flag, W, H, W, PC_FMT_MONO8};
+		pc_pipeline_opts vo = pc_pipeline_defaults();
+		vo.method = o->method;
+		vo.mosaic = cal->geo.mosaic;
+		vo.threads = o->threads;
+		vo.saturation_level = 1;
+		rc = pc_validity_run(&fv, &vo, valid);
+	} else if (!rc && valid) {
 		/* nothing flagged: every output pixel is valid */
+		uint32_t ow, oh;
+		pc_demosaic_out_size(o->method, W, H, &ow, &oh);
 		valid->n_invalid = 0;
 		for (uint32_t y = 0; valid->mask && y < oh; y++)
 			memset(valid->mask + (size_t)y * valid->row_stride, 1, ow);
-		return 0;
 	}
-	/* an output pixel is invalid when a flagged sample lies in the method's support */
-	pc_view fv = {c.flag, W, H, W, PC_FMT_MONO8};
-	pc_pipeline_opts vo = pc_pipeline_defaults();
-	vo.method = o->method;
-	vo.mosaic = cal->geo.mosaic;
-	vo.threads = o->threads;
-	vo.saturation_level = 1;
-	return pc_validity_run(&fv, &vo, valid);
+	if (own_flag)
+		free(flag);
+	else if (flag)
+		__atomic_store_n(&cal->apply_busy, 0, __ATOMIC_RELEASE);
+	return rc;
 }
 
 static int stage_run(void *user, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,

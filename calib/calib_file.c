@@ -262,9 +262,9 @@ int pc_calib_write(const char *path, const pc_calib *c)
  * implies); the archive's own claim is checked against it, and against what its compressed
  * bytes can hold (stored: equal; deflate: at most 1032:1, RFC 1951), before allocating. */
 static int read_member(zip_t *z, const char *file, const char *name, bool required, uint64_t max,
-                       unsigned char **buf, size_t *size)
+                       zip_file_t **fp, size_t *size)
 {
-	*buf = NULL;
+	*fp = NULL;
 	*size = 0;
 	zip_int64_t idx = zip_name_locate(z, name, 0);
 	if (idx < 0)
@@ -286,31 +286,31 @@ static int read_member(zip_t *z, const char *file, const char *name, bool requir
 		                "at most %llu expected",
 		                file, name, (unsigned long long)st.size,
 		                (unsigned long long)st.comp_size, (unsigned long long)max);
-	zip_file_t *f = zip_fopen_index(z, (zip_uint64_t)idx, 0);
-	if (!f)
+	*fp = zip_fopen_index(z, (zip_uint64_t)idx, 0);
+	if (!*fp)
 		return pc_error(PC_EFORMAT, "%s: %s: %s", file, name, zip_strerror(z));
-	*buf = malloc(st.size ? st.size : 1);
-	zip_int64_t got = *buf ? zip_fread(f, *buf, st.size) : -1;
-	int bad = got != (zip_int64_t)st.size;
-	zip_fclose(f);
-	if (bad) {
-		free(*buf);
-		*buf = NULL;
-		return pc_error(PC_EFORMAT, "%s: %s: corrupt (read %lld of %llu bytes)", file, name,
-		                (long long)got, (unsigned long long)st.size);
-	}
 	*size = st.size;
 	return 0;
 }
 
+/* Exactly n bytes of member f (libzip checks the CRC at the member's end). */
+static int read_exact(zip_file_t *f, const char *file, const char *name, void *dst, size_t n,
+                      size_t total)
+{
+	zip_int64_t got = n ? zip_fread(f, dst, n) : 0;
+	if (got != (zip_int64_t)n)
+		return pc_error(PC_EFORMAT, "%s: %s: corrupt (read %lld of %zu bytes)", file, name,
+		                (long long)got, total);
+	return 0;
+}
+
 /* Loads member name (if present, or required) as descr with the given shape into a new
- * buffer. */
+ * buffer: the .npy header is read and checked first, then the array straight into the buffer
+ * (one copy; the 200-MB maps of a full sensor used to be read into a temporary first). */
 static int load_map(zip_t *z, const char *file, const char *name, const char *descr, unsigned ndim,
                     const size_t *shape, bool required, void **out)
 {
 	*out = NULL;
-	unsigned char *b;
-	size_t size;
 	size_t elem0 = descr[2] == '8' ? 8 : descr[2] == '4' ? 4 : 1;
 	uint64_t max = 10 + 512;
 	{
@@ -319,41 +319,83 @@ static int load_map(zip_t *z, const char *file, const char *name, const char *de
 			n0 *= shape[i]; /* shapes from the metadata: at most 65535² × 12 × 8 */
 		max += n0;
 	}
-	int rc = read_member(z, file, name, required, max, &b, &size);
-	if (rc || !b)
+	zip_file_t *f;
+	size_t size;
+	int rc = read_member(z, file, name, required, max, &f, &size);
+	if (rc || !f)
 		return rc;
+	/* the header: magic, version, length, then the dictionary (< 512 bytes, npy_parse) */
+	unsigned char hdr[10 + 512];
+	size_t hl = size < 10 ? size : 10;
+	if (!(rc = read_exact(f, file, name, hdr, hl, size)) && hl == 10 &&
+	    !memcmp(hdr, "\x93NUMPY", 6)) {
+		size_t hlen = hdr[8] | (size_t)hdr[9] << 8;
+		if (hlen < 512 && 10 + hlen <= size) {
+			rc = read_exact(f, file, name, hdr + 10, hlen, size);
+			hl += hlen;
+		}
+	}
 	unsigned nd;
 	size_t sh[4];
 	const unsigned char *data;
-	if ((rc = npy_parse(file, name, b, size, descr, &nd, sh, &data))) {
-		free(b);
-		return rc;
-	}
-	bool ok = nd == ndim;
+	/* npy_parse reads only the header bytes and checks the data size against size */
+	if (!rc)
+		rc = npy_parse(file, name, hdr, size, descr, &nd, sh, &data);
+	bool ok = !rc && nd == ndim;
 	size_t n = 1;
 	for (unsigned i = 0; ok && i < nd; i++) {
 		ok = sh[i] == shape[i];
 		n *= sh[i];
 	}
-	if (!ok) {
-		free(b);
+	if (!rc && !ok) {
 		char want[96] = "";
 		for (unsigned i = 0; i < ndim; i++)
 			snprintf(want + strlen(want), sizeof want - strlen(want), "%s%zu",
 			         i ? "," : "", shape[i]);
-		return pc_error(PC_EFORMAT,
-		                "%s: %s: shape does not match the metadata (expected (%s))", file,
-		                name, want);
+		rc = pc_error(PC_EFORMAT,
+		              "%s: %s: shape does not match the metadata (expected (%s))", file,
+		              name, want);
 	}
 	size_t elem = descr[2] == '8' ? 8 : descr[2] == '4' ? 4 : 1;
-	*out = malloc(n * elem > 0 ? n * elem : 1);
-	if (!*out) {
-		free(b);
-		return pc_error(PC_ENOMEM, "%s: %s", file, name);
+	if (!rc && !(*out = malloc(n * elem > 0 ? n * elem : 1)))
+		rc = pc_error(PC_ENOMEM, "%s: %s", file, name);
+	if (!rc)
+		rc = read_exact(f, file, name, *out, n * elem, size);
+	/* one more read meets the member's end, where libzip compares the CRC */
+	unsigned char extra;
+	if (!rc && zip_fread(f, &extra, 1) != 0)
+		rc = pc_error(PC_EFORMAT, "%s: %s: corrupt (%s)", file, name, zip_file_strerror(f));
+	if (rc) {
+		free(*out);
+		*out = NULL;
 	}
-	memcpy(*out, data, n * elem);
-	free(b);
-	return 0;
+	zip_fclose(f);
+	return rc;
+}
+
+/* A whole (small) member into a new buffer (*buf NULL when absent and not required). */
+static int read_member_buf(zip_t *z, const char *file, const char *name, bool required,
+                           uint64_t max, unsigned char **buf, size_t *size)
+{
+	*buf = NULL;
+	zip_file_t *f;
+	int rc = read_member(z, file, name, required, max, &f, size);
+	if (rc || !f)
+		return rc;
+	*buf = malloc(*size ? *size : 1);
+	if (!*buf)
+		rc = pc_error(PC_ENOMEM, "%s: %s", file, name);
+	else
+		rc = read_exact(f, file, name, *buf, *size, *size);
+	unsigned char extra;
+	if (!rc && zip_fread(f, &extra, 1) != 0)
+		rc = pc_error(PC_EFORMAT, "%s: %s: corrupt (%s)", file, name, zip_file_strerror(f));
+	zip_fclose(f);
+	if (rc) {
+		free(*buf);
+		*buf = NULL;
+	}
+	return rc;
 }
 
 static int meta_int(json_t *m, const char *file, const char *key, long lo, long hi, long *v)
@@ -383,7 +425,7 @@ int pc_calib_read(const char *path, pc_calib *c)
 	unsigned char *mb = NULL;
 	size_t ms = 0;
 	json_t *m = NULL;
-	int rc = read_member(z, path, "meta.npy", true, 1u << 20, &mb, &ms);
+	int rc = read_member_buf(z, path, "meta.npy", true, 1u << 20, &mb, &ms);
 	unsigned nd = 0;
 	size_t sh[4];
 	const unsigned char *md = NULL;

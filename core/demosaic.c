@@ -4,6 +4,7 @@
 #include "polarcam/demosaic.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "demosaic_plan.h"
@@ -103,7 +104,17 @@ int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_f
 		pc_dm_plan_end(&p);
 		return rc;
 	}
-	rc = pc_dm_plan_demosaic(&p, out);
+	if (opts->dark || opts->gain_inv) {
+		/* per-pixel correction: demosaic a corrected float copy */
+		float *img;
+		pc_view v;
+		pc_pipeline_opts o;
+		if (!(rc = pc_dm_plan_corrected(&p, &img, &v, &o)))
+			rc = pc_demosaic_run(&v, &o, out, NULL);
+		free(img);
+	} else {
+		rc = pc_dm_plan_demosaic(&p, out);
+	}
 	if (!rc && valid)
 		rc = pc_dm_plan_validity(&p, valid);
 	pc_dm_plan_end(&p);

@@ -43,6 +43,7 @@ int pc_dm_prepare_input(const pc_view *raw, double black, pc_dm_input *in, void 
 	in->height = raw->height;
 	in->black = (float)black;
 	in->black_d = black;
+	in->dark = in->gain_inv = NULL;
 	if (fi->is_float) {
 		int rc = pc_view_check_bits(raw, 32);
 		if (rc)
@@ -82,8 +83,52 @@ pc_dm_input pc_dm_input_f32(const float *data, uint32_t width, uint32_t height)
 	                  width,
 	                  height,
 	                  0.0f,
-	                  0.0};
+	                  0.0,
+	                  NULL,
+	                  NULL};
 	return in;
+}
+
+/* Row y corrected per pixel: (sample − dark)·gain_inv, the arithmetic of the calibration's
+ * correction (polarcam/calib.h) in float, with the black level where there is no dark map. */
+static void row_corrected(const pc_dm_input *in, uint32_t y, float *dst)
+{
+	const uint8_t *row = in->data + (size_t)y * in->stride;
+	const uint32_t w = in->width;
+	const size_t o = (size_t)y * w;
+	const float k = in->black;
+	const float *dk = in->dark ? in->dark + o : NULL;
+	const float *ig = in->gain_inv ? in->gain_inv + o : NULL;
+	switch (in->type) {
+	case PC_DMT_U8:
+		PC_SIMD
+		for (uint32_t x = 0; x < w; x++)
+			dst[x] = row[x];
+		break;
+	case PC_DMT_U16: {
+		const uint16_t *r = (const uint16_t *)(const void *)row;
+		PC_SIMD
+		for (uint32_t x = 0; x < w; x++)
+			dst[x] = r[x];
+		break;
+	}
+	case PC_DMT_F32:
+		memcpy(dst, row, (size_t)w * sizeof(float));
+		break;
+	}
+	if (dk && ig) {
+		PC_SIMD
+		for (uint32_t x = 0; x < w; x++)
+			dst[x] = (dst[x] - dk[x]) * ig[x];
+	} else if (dk) {
+		PC_SIMD
+		for (uint32_t x = 0; x < w; x++)
+			dst[x] = dst[x] - dk[x];
+	} else {
+		PC_SIMD
+		for (uint32_t x = 0; x < w; x++)
+			dst[x] = (dst[x] - k) * ig[x];
+	}
 }
 
 void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst)
@@ -91,6 +136,12 @@ void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst)
 	const uint8_t *row = in->data + (size_t)y * in->stride;
 	uint32_t w = in->width;
 	const float k = in->black;
+	if (in->dark || in->gain_inv) {
+		row_corrected(in, y, dst);
+		dst[-1] = dst[w > 1 ? 1 : 0];
+		dst[w] = dst[w > 1 ? w - 2 : 0];
+		return;
+	}
 	/* without a black level, the conversion alone (one operation less per sample) */
 	switch (in->type) {
 	case PC_DMT_U8:

@@ -55,6 +55,9 @@ typedef struct pc_dm_input {
 	uint32_t width, height;
 	float black;    /* subtracted from every sample by the float row conversions */
 	double black_d; /* the same, subtracted in double by pc_dm_input_to_double */
+	/* per-pixel correction of pc_dm_row_to_float only (pc_pipeline_opts.dark, gain_inv):
+	 * (sample − dark[x])·gain_inv[x] on row y of width-stride maps; NULL: none */
+	const float *dark, *gain_inv;
 } pc_dm_input;
 
 /* Prepares a (validated) raw view: integer and float planes are used in place (float checked
@@ -65,7 +68,8 @@ int pc_dm_prepare_input(const pc_view *raw, double black, pc_dm_input *in, void 
 /* A float plane as an input (no copy): the colour methods' intermediate images. */
 pc_dm_input pc_dm_input_f32(const float *data, uint32_t width, uint32_t height);
 
-/* Row y minus the black level as floats at dst[0..w), mirrored one pixel on each side:
+/* Row y minus the black level (or the dark map, times the inverse gains, when the input has
+ * them) as floats at dst[0..w), mirrored one pixel on each side:
  * dst[-1] = row[1], dst[w] = row[w-2] (dst must have room for both). */
 void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst);
 

@@ -341,6 +341,38 @@ int pc_dm_plan_input(pc_dm_plan *p, const pc_dm_input **in)
 	return 0;
 }
 
+int pc_dm_plan_corrected(pc_dm_plan *p, float **img, pc_view *view, pc_pipeline_opts *o)
+{
+	*img = NULL;
+	const pc_dm_input *in0;
+	int rc = pc_dm_plan_input(p, &in0);
+	if (rc)
+		return rc;
+	pc_dm_input in = *in0;
+	in.dark = p->opts.dark;
+	in.gain_inv = p->opts.gain_inv;
+	const uint32_t w = in.width, h = in.height;
+	float *f = malloc((size_t)w * h * sizeof *f), *row = malloc(((size_t)w + 2) * sizeof *row);
+	if (!f || !row) {
+		free(f);
+		free(row);
+		return pc_error(PC_ENOMEM, "raw %ux%u: cannot correct", w, h);
+	}
+	for (uint32_t y = 0; y < h; y++) {
+		pc_dm_row_to_float(&in, y, row + 1);
+		memcpy(f + (size_t)y * w, row + 1, (size_t)w * sizeof *f);
+	}
+	free(row);
+	*img = f;
+	*view = (pc_view){f, w, h, (size_t)w * sizeof *f, PC_FMT_FLOAT32};
+	*o = p->opts;
+	o->dark = o->gain_inv = NULL;
+	o->black_level = 0;
+	o->saturation_level = o->dead_level = 0;
+	o->full_scale = p->full_scale;
+	return 0;
+}
+
 pc_dm_call pc_dm_plan_call(const pc_dm_plan *p)
 {
 	pc_dm_call c = {&p->in,        &p->opts.mosaic, p->opts.method,

@@ -65,6 +65,12 @@ void pc_dm_plan_end(pc_dm_plan *p);
 /* The prepared input (unpacked, float checked), made on the first call. */
 int pc_dm_plan_input(pc_dm_plan *p, const pc_dm_input **in);
 
+/* The plan's raw corrected per pixel (opts.dark, opts.gain_inv) as a float image (*img, free
+ * with free(); *view over it) and the options that process it as the plan would the raw: no
+ * correction, no black level, no level checks (the validity comes from the raw's plan), the
+ * same signal full scale. */
+int pc_dm_plan_corrected(pc_dm_plan *p, float **img, pc_view *view, pc_pipeline_opts *o);
+
 /* The kernel call of a monochrome plan (after pc_dm_plan_input). */
 pc_dm_call pc_dm_plan_call(const pc_dm_plan *p);
 

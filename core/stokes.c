@@ -214,8 +214,21 @@ int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_sto
 		pc_dm_plan_end(&p);
 		return rc;
 	}
+	const bool corrected = opts->dark || opts->gain_inv;
 	if (in && p.def->fused_bilinear) {
-		rc = pc_st_fused_bilinear(in, &opts->mosaic, calp, opts->threads, p.level, out);
+		/* one pass: each raw row corrected (dark, gain) as it is read into the ring */
+		pc_dm_input ci = *in;
+		ci.dark = opts->dark;
+		ci.gain_inv = opts->gain_inv;
+		rc = pc_st_fused_bilinear(&ci, &opts->mosaic, calp, opts->threads, p.level, out);
+	} else if (corrected) {
+		/* the other paths: a corrected float copy through the same front door */
+		float *img;
+		pc_view v;
+		pc_pipeline_opts o;
+		if (!(rc = pc_dm_plan_corrected(&p, &img, &v, &o)))
+			rc = pc_stokes_run(&v, &o, out, NULL);
+		free(img);
 	} else if (in) {
 		pc_st_sink sink = {out, calp, p.ow, pc_st_stream_wanted(out, p.ow, p.oh, p.level),
 		                   p.level};

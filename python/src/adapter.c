@@ -287,8 +287,7 @@ static bool calib_superpixel(int method)
 /* Whether pc_calib_stokes with this method only reads the pc_calib (call with a lock held). */
 static bool calib_cached(const pc_calib *cal, int method)
 {
-	return !(cal->parts & PC_CAL_ANALYSER) || calib_superpixel(method) ||
-	       (cal->pinv_px && cal->pinv_method == method);
+	return pc_calib_prepared(cal, (pc_demosaic_method)method);
 }
 
 int pcpy_calib_stokes(pcpy_calib *c, const pc_view *raw, const pc_mosaic *m, unsigned bits,

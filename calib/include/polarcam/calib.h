@@ -82,10 +82,12 @@ typedef struct pc_calib {
 	/* cache of the per-pixel pseudo-inverses for one demosaicking method (pc_calib_pinv) */
 	float *pinv_px;
 	int pinv_method;
-	/* scratch of pc_calib_apply: 1/gain, the corrected frame, the flags, per-row counts */
-	float *apply_ig, *apply_corr;
+	/* 1/gain, computed once (pc_calib_prepare or the first pc_calib_apply) */
+	float *apply_ig;
+	/* pc_calib_apply's flag map, reused by one call at a time (apply_busy, taken atomically;
+	 * a concurrent call allocates its own) */
 	uint8_t *apply_flag;
-	uint32_t *apply_rows;
+	int apply_busy;
 } pc_calib;
 
 PC_API void pc_calib_init(pc_calib *cal);
@@ -216,11 +218,20 @@ PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geo
  * o->saturation_level (> 0; cal->saturation is the calibration's own) or at or below
  * o->dead_level (> 0); valid (may be NULL) gets the output pixels whose method support holds a
  * flagged sample (pc_validity_run), the same rule as the uncalibrated pipeline. o->black_level
- * must be 0 (the dark map is the black level) and o->pinv NULL. Scratch memory is kept in cal
- * (one frame size), so one calibration serves one thread at a time. */
+ * must be 0 (the dark map is the black level), o->pinv, o->dark and o->gain_inv NULL. The
+ * correction is fused into the core's pipeline (pc_pipeline_opts.dark, gain_inv): the fused
+ * bilinear Stokes pass reads the raw once. Per-call memory only; the once-per-calibration
+ * parts are made on the first call (pc_calib_prepare), after which calls only read cal. */
 PC_API int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits,
                           const pc_pipeline_opts *o, const pc_stokes_out *st, const pc_fplane *ch,
                           pc_validity *valid);
+
+/* Computes what pc_calib_apply needs once per calibration and demosaicking method (the inverse
+ * gains; the per-pixel pseudo-inverses of pc_calib_pinv), so that later calls only read cal.
+ * pc_calib_prepared: whether that is done (then pc_calib_apply, pc_calib_stokes with this
+ * method only read cal and may run concurrently). */
+PC_API int pc_calib_prepare(pc_calib *cal, pc_demosaic_method method, int threads);
+PC_API bool pc_calib_prepared(const pc_calib *cal, pc_demosaic_method method);
 
 /* pc_calib_apply as a pc_raw_stage (polarcam/process.h) for pc_process_file, pc_demosaic_file
  * and the live Stokes stream; name is reported in meta.json (e.g. the file's path); the stage's

@@ -123,6 +123,15 @@ typedef struct pc_pipeline_opts {
 	/* pc_stokes_run only: calibrated analysers (polarcam/stokes.h), NULL for ideal ones;
 	 * pc_demosaic_run refuses it */
 	const struct pc_analyser_pinv *pinv;
+	/* Per-pixel correction before demosaicking (a calibration's dark offsets and gains,
+	 * polarcam/calib.h): sample p = y·width + x becomes (raw_p − dark[p])·gain_inv[p], in
+	 * float, with black_level in place of dark[p] when dark is NULL and no factor when
+	 * gain_inv is NULL. Maps of width × height floats, row stride width; NULL: none. The
+	 * saturation and dead levels still apply to the raw samples. The fused bilinear Stokes
+	 * pipeline applies it while reading each raw row; the other paths correct a float copy of
+	 * the raw first. */
+	const float *dark;
+	const float *gain_inv;
 } pc_pipeline_opts;
 
 /* Bilinear on Sony's IMX250MZR mosaic, default threads, fast paths, full scale from the format,

@@ -1,0 +1,339 @@
+/* tests/test_calib_fused.c - the calibrated bilinear pipeline (pc_calib_apply), whose dark and
+ * gain correction the core applies while reading the raw (pc_pipeline_opts.dark, gain_inv)
+ * and whose per-pixel pseudo-inverses are made once per calibration:
+ *   1. an identity calibration (dark = the black level, gain 1, ideal analysers) gives the
+ *      uncalibrated pipeline's Stokes images (analytic case);
+ *   2. a non-ideal calibration (dark, gain, analysers with orientation and extinction errors)
+ *      against a double-precision restatement of the model of polarcam/calib.h written here:
+ *      I = (raw − dark)/gain, bilinear of I and of the analysis vectors (mirrored borders),
+ *      S = (WᵀW)⁻¹WᵀI solved by Cramer's rule. Stated tolerance (float kernel):
+ *      |ΔS| ≤ 2e-6·S0 + 2e-4 DN, |ΔDoLP| ≤ 1e-5, |ΔAoLP| ≤ 1e-5 rad where DoLP > 0.05;
+ *   3. the same through the other path (opts.reference: the corrected float copy of the
+ *      raw, then the reference demosaic), from a packed Mono12p raw, and from Mono16;
+ *   4. the validity mask: a saturated sample and a pixel the calibration distrusts each
+ *      invalidate exactly their 3×3 bilinear support (9 + 9 output pixels);
+ *   5. a second call after the calibration is prepared reads cal only (pc_calib_prepared) and
+ *      gives identical results. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "polarcam/calib.h"
+#include "polarcam/error.h"
+
+enum { W = 64, H = 48 };
+
+static uint64_t rng_state = 0x243f6a8885a308d3ull;
+static double urand(void)
+{
+	rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
+	return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+static void calib_alloc(pc_calib *cal, bool ideal)
+{
+	const size_t np = (size_t)W * H;
+	pc_calib_init(cal);
+	cal->geo = (pc_calib_geometry){W, H, 0, 0, W, H, 12, pc_mosaic_imx250mzr()};
+	cal->black_level = 64;
+	cal->saturation = 4095;
+	cal->parts = PC_CAL_DARK | PC_CAL_FLAT | PC_CAL_ANALYSER;
+	cal->dark = malloc(np * sizeof(float));
+	cal->gain = malloc(np * sizeof(float));
+	cal->analysis = malloc(3 * np * sizeof(float));
+	cal->pinv_sp = calloc(3 * np, sizeof(float)); /* superpixel methods only */
+	cal->valid = malloc(np);
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			size_t p = (size_t)y * W + x;
+			unsigned c = pc_mosaic_channel(&cal->geo.mosaic, x, y);
+			double th = c * M_PI / 4, ex = 1, t = 1;
+			cal->dark[p] = 64;
+			cal->gain[p] = 1;
+			if (!ideal) {
+				th += (urand() - 0.5) * 4 * M_PI / 180;
+				ex = 0.9 + 0.09 * urand();
+				t = 1 + 0.05 * (urand() - 0.5);
+				cal->dark[p] = (float)(64 + 6 * (urand() - 0.5));
+				cal->gain[p] = (float)(1 + 0.1 * (urand() - 0.5));
+			}
+			cal->analysis[3 * p] = (float)(0.5 * t);
+			cal->analysis[3 * p + 1] = (float)(0.5 * t * ex * cos(2 * th));
+			cal->analysis[3 * p + 2] = (float)(0.5 * t * ex * sin(2 * th));
+			if (ideal) { /* exact zeros where cos/sin round off */
+				if (c == 1 || c == 3)
+					cal->analysis[3 * p + 1] = 0;
+				if (c == 2)
+					cal->analysis[3 * p + 2] = 0;
+			}
+			cal->valid[p] = 1;
+		}
+}
+
+/* A smooth polarized scene (DoLP 0.2..0.6, AoLP turning) seen through the calibration's model:
+ * raw = dark + gain·(a·S), rounded; 12-bit Mono12 in a 16-bit container. */
+static void make_raw(const pc_calib *cal, pc_view *raw)
+{
+	CHECK_EQ_INT(pc_view_alloc(raw, PC_FMT_MONO12, W, H, 64), 0);
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			size_t p = (size_t)y * W + x;
+			double s0 = 2000 + 800 * sin(x * 0.1) * cos(y * 0.07);
+			double P = 0.4 + 0.2 * sin(0.05 * (x + y)), a = 0.03 * x + 0.02 * y;
+			double S[3] = {s0, s0 * P * cos(2 * a), s0 * P * sin(2 * a)};
+			const float *v = cal->analysis + 3 * p;
+			double i = v[0] * S[0] + v[1] * S[1] + v[2] * S[2];
+			PC_ROW(raw, uint16_t, y)
+			[x] = (uint16_t)lround(cal->dark[p] + cal->gain[p] * i);
+		}
+}
+
+static int mir(int v, int n)
+{
+	return v < 0 ? -v : v >= n ? 2 * n - 2 - v : v;
+}
+
+/* bilinear of channel c at (x, y) over a double plane f with nc components per pixel */
+static double bil(const double *f, int nc, int k, const pc_mosaic *m, unsigned c, int x, int y)
+{
+	double s = 0;
+	int n = 0;
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++) {
+			int xx = mir(x + dx, W), yy = mir(y + dy, H);
+			/* the channel of the unmirrored neighbour: the mosaic's phase is mirrored
+			 * too, and on even sizes a mirrored neighbour has the neighbour's channel
+			 */
+			if (pc_mosaic_channel(m, (unsigned)(x + dx + 2), (unsigned)(y + dy + 2)) !=
+			    c)
+				continue;
+			s += f[((size_t)yy * W + (size_t)xx) * (size_t)nc + (size_t)k];
+			n++;
+		}
+	return s / n;
+}
+
+/* the double reference of polarcam/calib.h's model at output pixel (x, y) */
+static void reference(const pc_calib *cal, const double *I, const double *A, int x, int y,
+                      double S[3])
+{
+	const pc_mosaic *m = &cal->geo.mosaic;
+	double Wm[4][3], iv[4];
+	for (unsigned c = 0; c < 4; c++) {
+		iv[c] = bil(I, 1, 0, m, c, x, y);
+		for (int k = 0; k < 3; k++)
+			Wm[c][k] = bil(A, 3, k, m, c, x, y);
+	}
+	double a[3][3] = {{0}}, b[3] = {0};
+	for (int i = 0; i < 3; i++) {
+		for (int j = 0; j < 3; j++)
+			for (int c = 0; c < 4; c++)
+				a[i][j] += Wm[c][i] * Wm[c][j];
+		for (int c = 0; c < 4; c++)
+			b[i] += Wm[c][i] * iv[c];
+	}
+	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+	             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+	             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+	for (int k = 0; k < 3; k++) {
+		double t[3][3];
+		memcpy(t, a, sizeof t);
+		for (int i = 0; i < 3; i++)
+			t[i][k] = b[i];
+		S[k] = (t[0][0] * (t[1][1] * t[2][2] - t[1][2] * t[2][1]) -
+		        t[0][1] * (t[1][0] * t[2][2] - t[1][2] * t[2][0]) +
+		        t[0][2] * (t[1][0] * t[2][1] - t[1][1] * t[2][0])) /
+		       det;
+	}
+}
+
+typedef struct outs {
+	float *buf;
+	uint8_t *mask;
+	pc_stokes_out st;
+	pc_validity v;
+} outs;
+
+static void outs_init(outs *o)
+{
+	o->buf = malloc(5 * (size_t)W * H * sizeof(float));
+	o->mask = malloc((size_t)W * H);
+	memset(&o->st, 0, sizeof o->st);
+	pc_fplane *pl[5] = {&o->st.s0, &o->st.s1, &o->st.s2, &o->st.dolp, &o->st.aolp};
+	for (int k = 0; k < 5; k++)
+		*pl[k] = (pc_fplane){o->buf + (size_t)k * W * H, W, 1};
+	o->v = (pc_validity){o->mask, W, 0};
+}
+
+static int run_ref(pc_calib *cal, const pc_view *raw, outs *o, bool reference)
+{
+	pc_frame f;
+	memset(&f, 0, sizeof f);
+	f.view = *raw;
+	f.mosaic = cal->geo.mosaic;
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.saturation_level = cal->saturation;
+	po.threads = 2;
+	po.reference = reference;
+	return pc_calib_apply(cal, &f, 12, &po, &o->st, NULL, &o->v);
+}
+
+static int run(pc_calib *cal, const pc_view *raw, outs *o)
+{
+	return run_ref(cal, raw, o, false);
+}
+
+int main(void)
+{
+	/* ---- 1. identity calibration = the uncalibrated pipeline ---- */
+	{
+		pc_calib cal;
+		calib_alloc(&cal, true);
+		pc_view raw;
+		make_raw(&cal, &raw);
+		outs a, b;
+		outs_init(&a);
+		outs_init(&b);
+		CHECK_EQ_INT(run(&cal, &raw, &a), 0);
+		pc_pipeline_opts po = pc_pipeline_defaults();
+		po.black_level = 64;
+		po.saturation_level = 4095;
+		CHECK_EQ_INT(pc_stokes_run(&raw, &po, &b.st, &b.v), 0);
+		double worst[5] = {0};
+		for (size_t p = 0; p < (size_t)W * H; p++)
+			for (int k = 0; k < 5; k++) {
+				double d = fabs(a.buf[(size_t)k * W * H + p] -
+				                b.buf[(size_t)k * W * H + p]);
+				if (k == 4)
+					d = fmin(d, M_PI - d); /* AoLP wraps at π */
+				worst[k] = fmax(worst[k], k < 3 ? d / b.buf[p] : d);
+			}
+		printf("identity calibration vs uncalibrated: worst |dS|/S0 %.2g %.2g %.2g, "
+		       "dDoLP %.2g, dAoLP %.2g rad\n",
+		       worst[0], worst[1], worst[2], worst[3], worst[4]);
+		for (int k = 0; k < 3; k++)
+			CHECK(worst[k] <= 1e-6);
+		CHECK(worst[3] <= 1e-6);
+		CHECK(worst[4] <= 1e-5);
+		CHECK_EQ_INT(a.v.n_invalid, 0);
+		CHECK_EQ_INT(b.v.n_invalid, 0);
+		free(a.buf);
+		free(a.mask);
+		free(b.buf);
+		free(b.mask);
+		pc_view_free(&raw);
+		pc_calib_free(&cal);
+	}
+
+	/* ---- 2.-5. a non-ideal calibration ---- */
+	pc_calib cal;
+	calib_alloc(&cal, false);
+	pc_view raw;
+	make_raw(&cal, &raw);
+	const size_t np = (size_t)W * H;
+	double *I = malloc(np * sizeof *I), *A = malloc(3 * np * sizeof *A);
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			size_t p = (size_t)y * W + x;
+			I[p] = ((double)PC_ROW(&raw, uint16_t, y)[x] - cal.dark[p]) / cal.gain[p];
+			for (int k = 0; k < 3; k++)
+				A[3 * p + k] = cal.analysis[3 * p + k];
+		}
+	CHECK(!pc_calib_prepared(&cal, PC_DM_BILINEAR));
+	outs o;
+	outs_init(&o);
+	CHECK_EQ_INT(run(&cal, &raw, &o), 0);
+	CHECK(pc_calib_prepared(&cal, PC_DM_BILINEAR));
+	double wS = 0, wD = 0, wA = 0;
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			size_t p = (size_t)y * W + (size_t)x;
+			double S[3];
+			reference(&cal, I, A, x, y, S);
+			for (int k = 0; k < 3; k++)
+				wS = fmax(wS, fabs(o.buf[(size_t)k * np + p] - S[k]) /
+				                  (2e-6 * S[0] + 2e-4));
+			double dolp = hypot(S[1], S[2]) / S[0];
+			wD = fmax(wD, fabs(o.buf[3 * np + p] - dolp));
+			if (dolp > 0.05) {
+				double aolp = fmod(0.5 * atan2(S[2], S[1]) + M_PI, M_PI);
+				double d = fabs(o.buf[4 * np + p] - aolp);
+				wA = fmax(wA, fmin(d, M_PI - d));
+			}
+		}
+	printf("non-ideal calibration vs the double reference: worst |dS| %.3g of the "
+	       "tolerance, dDoLP %.2g, dAoLP %.2g rad\n",
+	       wS, wD, wA);
+	CHECK(wS <= 1);
+	CHECK(wD <= 1e-5);
+	CHECK(wA <= 1e-5);
+	CHECK_EQ_INT(o.v.n_invalid, 0);
+
+	/* 3. the corrected-copy path (packed Mono12p) and a Mono16 container give the same */
+	{
+		pc_view pk, m16;
+		CHECK_EQ_INT(pc_view_alloc(&pk, PC_FMT_MONO12P, W, H, 64), 0);
+		CHECK_EQ_INT(pc_view_from_u16(raw.data, raw.stride, &pk), 0);
+		m16 = raw;
+		m16.format = PC_FMT_MONO16;
+		outs q, r, t;
+		outs_init(&q);
+		outs_init(&r);
+		outs_init(&t);
+		CHECK_EQ_INT(run(&cal, &pk, &q), 0);
+		CHECK_EQ_INT(run(&cal, &m16, &r), 0);
+		CHECK_EQ_INT(run_ref(&cal, &raw, &t, true), 0);
+		double wq = 0, wr = 0, wt = 0;
+		for (size_t i = 0; i < 3 * np; i++) {
+			double s0 = o.buf[i % np];
+			wq = fmax(wq, fabs(q.buf[i] - o.buf[i]) / s0);
+			wr = fmax(wr, fabs(r.buf[i] - o.buf[i]) / s0);
+			wt = fmax(wt, fabs(t.buf[i] - o.buf[i]) / s0);
+		}
+		printf("Mono12p, Mono16, reference path vs Mono12 fused: worst |dS|/S0 %.2g, "
+		       "%.2g, %.2g\n",
+		       wq, wr, wt);
+		CHECK(wq == 0);
+		CHECK(wr == 0);
+		CHECK(wt <= 2e-6);
+		CHECK_EQ_INT(t.v.n_invalid, 0);
+		outs *all[3] = {&q, &r, &t};
+		for (int k = 0; k < 3; k++) {
+			free(all[k]->buf);
+			free(all[k]->mask);
+		}
+		pc_view_free(&pk);
+	}
+
+	/* 4. validity: one saturated sample, one distrusted pixel */
+	{
+		PC_ROW(&raw, uint16_t, 10)[12] = 4095;
+		cal.valid[(size_t)30 * W + 40] = 0;
+		CHECK_EQ_INT(run(&cal, &raw, &o), 0);
+		CHECK_EQ_INT(o.v.n_invalid, 18);
+		size_t inside = 0;
+		for (int y = 0; y < H; y++)
+			for (int x = 0; x < W; x++) {
+				bool near = (abs(y - 10) <= 1 && abs(x - 12) <= 1) ||
+				            (abs(y - 30) <= 1 && abs(x - 40) <= 1);
+				inside += near && !o.mask[(size_t)y * W + (size_t)x];
+				CHECK(o.mask[(size_t)y * W + (size_t)x] == !near);
+			}
+		CHECK_EQ_INT(inside, 18);
+		/* a sample above the 12-bit range is refused, not clamped */
+		PC_ROW(&raw, uint16_t, 3)[3] = 5000;
+		CHECK_EQ_INT(run(&cal, &raw, &o), PC_ERANGE);
+		printf("out of range: %s\n", pc_error_detail());
+		PC_ROW(&raw, uint16_t, 3)[3] = 100;
+	}
+
+	free(o.buf);
+	free(o.mask);
+	free(I);
+	free(A);
+	pc_view_free(&raw);
+	pc_calib_free(&cal);
+	return pc_test_finish("test_calib_fused");
+}
