@@ -68,6 +68,7 @@ int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_
  * converted to float) ---- */
 int pc_dm_mlri_fast(const pc_dm_call *call, const pc_fplane *out);
 int pc_dm_pcdp_fast(const pc_dm_call *call, const pc_fplane *out);
+int pc_dm_newton_fast(const pc_dm_call *call, const pc_fplane *out);
 
 /* The reference of call's method on its input, into float planes (the fast paths' fallback
  * for frames too small for their padding). */

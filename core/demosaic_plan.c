@@ -231,11 +231,11 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                        "horizontal / vertical / diagonal estimates fused by an edge classifier; "
                        "mean (worst): Lapray +2.13/-0.32 (-0.44/-2.91), Zhang +5.88/+3.62 "
                        "(+5.28/+3.26), stress +4.63/+0.92 (+1.14/-1.13)",
-                       "the double reference (no fast path yet): 7-tap passes, several planes",
+                       "five passes in double over padded planes, on threads",
                        "Li, Zhao, Pan, Kong, Opt. Express 27(2) 1376, 2019, and their release",
-                       PC_DMF_MONO | PC_DMF_REFERENCE_ONLY},
+                       PC_DMF_MONO},
                       {NEWTON_LO, NEWTON_HI, 1, 1},
-                      NULL,
+                      pc_dm_newton_fast,
                       NULL,
                       false,
                       PC_DM_NEWTON},
