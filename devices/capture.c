@@ -175,7 +175,9 @@ static int open_all(capture *c)
 	if ((rc = pc_recording_create(&c->rec, o->dir, &d, o->overwrite)))
 		return pc_error_prefix(rc, "creating the recording: ");
 	set_extra(c, NULL);
-	if (o->process) { /* leftovers of a killed run in the processed pictures' folder */
+	{ /* leftovers of a killed run in the processed pictures' folder: swept whether or not
+	   * this run processes, since a run killed while processing leaves them there for any
+	   * later capture into the same recording */
 		char pdir[1100];
 		snprintf(pdir, sizeof pdir, "%s/processed", o->dir);
 		if (pc_atomic_sweep(pdir, NULL))

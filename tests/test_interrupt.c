@@ -336,16 +336,23 @@ static void test_kills(void)
  * one whose lock this test holds (a live writer's) is left alone. */
 static void test_sweep(void)
 {
-	char dir[200], dead[300], live[300], uri[800];
+	char dir[200], pdir[220], dead[300], live[300], pdead[300], uri[800];
 	snprintf(dir, sizeof dir, "%s/sweep", tmp);
+	snprintf(pdir, sizeof pdir, "%s/processed", dir);
 	snprintf(dead, sizeof dead, "%s/.raw_000007.png.tmpAb12Cd", dir);
 	snprintf(live, sizeof live, "%s/.raw_000008.png.tmpXy34Zw", dir);
+	/* a run killed while processing: its leftover is removed by a capture without --process */
+	snprintf(pdead, sizeof pdead, "%s/.s0_000003.png.tmpQq11Rr", pdir);
 	mkdir(dir, 0755);
+	mkdir(pdir, 0755);
 	int fd1 = open(dead, O_WRONLY | O_CREAT, 0600);
 	int fd2 = open(live, O_WRONLY | O_CREAT, 0600);
-	CHECK(fd1 >= 0 && fd2 >= 0);
+	int fd3 = open(pdead, O_WRONLY | O_CREAT, 0600);
+	CHECK(fd1 >= 0 && fd2 >= 0 && fd3 >= 0);
 	if (fd1 >= 0)
 		close(fd1);
+	if (fd3 >= 0)
+		close(fd3);
 	CHECK_EQ_INT(flock(fd2, LOCK_EX), 0);
 	snprintf(uri, sizeof uri, "sim:%s?seed=5&fps=0", scene);
 	char out[300];
@@ -353,6 +360,7 @@ static void test_sweep(void)
 	char *args[] = {"capture", uri, "-n", "2", "-o", dir, NULL};
 	CHECK_EQ_INT(pc_child_wait(start(args, out), WAIT_MS, NULL), 0);
 	CHECK(access(dead, F_OK) != 0);
+	CHECK(access(pdead, F_OK) != 0);
 	CHECK(access(live, F_OK) == 0);
 	if (fd2 >= 0)
 		close(fd2);
