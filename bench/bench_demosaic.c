@@ -1,15 +1,16 @@
 /* polarcam bench demosaic: what accuracy costs in time.
  *
  * Accuracy: the frozen protocol (polarcam/eval.h) on every ground-truth dataset under
- * DATA_DIR/gt (mean over each dataset's scenes, datasets never pooled), for every monochrome
- * method, with bilinear as the same-run baseline and our bilinear against the double-precision
- * reference bilinear. Time: per 2448×2048 frame of 12-bit data in 16-bit containers (tiled from
- * a Lapray scene when the data is there), median of repeated runs on warm, pre-faulted buffers,
- * for every method, the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32) and
- * its memory floor (its own bytes streamed with its store kind), a copy of bilinear's input and
- * output bytes and, when OpenCV is built in, OpenCV's bilinear
- * 16-bit Bayer demosaicking of the same frame — all measured in the same run, so that the
- * ratios hold even when the machine is shared. */
+ * DATA_DIR/gt (mean over each dataset's scenes and each scene with the worst against
+ * bilinear, datasets never pooled), for every selected monochrome method, with bilinear as the
+ * same-run baseline and our bilinear against the double-precision reference bilinear. Time:
+ * per 2448×2048 frame of 12-bit data in 16-bit containers (tiled from a Lapray scene when the
+ * data is there), median of repeated runs on warm, pre-faulted buffers, for every selected
+ * method (reference-only methods, left out unless asked for, in one run), the full bilinear
+ * pipeline (demosaic + Stokes + DoLP + AoLP, float32) and its memory floor (its own bytes streamed
+ * with its store kind), a copy of bilinear's input and output bytes and, when OpenCV is built in,
+ * OpenCV's bilinear 16-bit Bayer demosaicking of the same frame — all measured in the same run, so
+ * that the ratios hold even when the machine is shared. */
 #include <dirent.h>
 #include <glob.h>
 #include <jansson.h>
@@ -248,7 +249,9 @@ typedef struct method_row {
 	pc_demosaic_method m;
 	timing t;
 	int colour;
-	int n_ds;               /* datasets scored */
+	int skip; /* not selected (--methods, or reference only without --all-methods) */
+	int once; /* reference only: timed in one run, outside the round robin */
+	int n_ds; /* datasets scored */
 	pc_eval_metrics acc[4]; /* per dataset */
 	char ds_name[4][64];
 } method_row;
@@ -428,11 +431,98 @@ static int noisy_track(const pc_demosaic_method *meths, size_t nm, int threads, 
 	return rc;
 }
 
+/* The per-scene table of a dataset: res[s·stride + k] is method ms[k] on scene s (a result
+ * whose dataset is not `dataset` is missing); per scene each method's S0 / DoLP PSNR gain over
+ * bilinear (ms[bi]) and bilinear's own PSNRs, then the mean and the worst scene
+ * (pc_eval_dataset_gain). Returns the JSON {scenes, gain_over_bilinear}. */
+static json_t *gain_table(FILE *tf, const pc_eval_result *res, size_t ns, size_t stride,
+                          const pc_demosaic_method *ms, size_t nm, size_t bi, const char *dataset)
+{
+	fprintf(tf, "%-16s", "scene");
+	for (size_t k = 0; k < nm; k++)
+		if (k != bi)
+			fprintf(tf, " %15.15s", pc_demosaic_method_get(ms[k])->name);
+	fprintf(tf, " %15s\n", "bilinear S0/DoLP");
+	json_t *root = json_object();
+	json_t *jsc = json_array();
+	for (size_t s = 0; s < ns; s++) {
+		const pc_eval_result *br = &res[s * stride + bi];
+		const char *b = br->scene ? strrchr(br->scene, '/') : NULL;
+		b = b ? b + 1 : br->scene ? br->scene : "?";
+		const pc_eval_metrics *bm = &br->m;
+		if (strcmp(br->dataset, dataset) != 0)
+			continue; /* not scored */
+		fprintf(tf, "%-16.16s", b);
+		json_t *js = json_object();
+		json_object_set_new(js, "scene", json_string(b));
+		for (size_t k = 0; k < nm; k++) {
+			const pc_eval_result *r = &res[s * stride + k];
+			const pc_eval_metrics *m = &r->m;
+			if (strcmp(r->dataset, dataset) != 0) {
+				if (k != bi)
+					fprintf(tf, " %15s", "-");
+				continue;
+			}
+			if (k != bi)
+				fprintf(tf, " %+7.2f/%+7.2f", m->psnr_s0 - bm->psnr_s0,
+				        m->psnr_dolp - bm->psnr_dolp);
+			json_t *jm = json_object();
+			json_object_set_new(jm, "psnr_s0", bench_json_real(m->psnr_s0));
+			json_object_set_new(jm, "psnr_dolp", bench_json_real(m->psnr_dolp));
+			json_object_set_new(jm, "aolp_wrmse_deg",
+			                    bench_json_real(m->aolp_wrmse_deg));
+			json_object_set_new(js, pc_demosaic_method_get(ms[k])->name, jm);
+		}
+		fprintf(tf, " %7.2f/%7.2f\n", bm->psnr_s0, bm->psnr_dolp);
+		json_array_append_new(jsc, js);
+	}
+	json_t *jsum = json_object();
+	pc_eval_gain gains[PC_DM_COUNT];
+	for (size_t k = 0; k < nm; k++)
+		pc_eval_dataset_gain(res, ns * stride, dataset, ms[k], PC_DM_BILINEAR, &gains[k]);
+	for (int row = 0; row < 2; row++) {
+		fprintf(tf, "%-16s", row ? "worst scene" : "mean");
+		for (size_t k = 0; k < nm; k++) {
+			if (k == bi)
+				continue;
+			double a = row ? gains[k].s0_worst : gains[k].s0_mean;
+			double d = row ? gains[k].dolp_worst : gains[k].dolp_mean;
+			fprintf(tf, " %+7.2f/%+7.2f", a, d);
+			const char *name = pc_demosaic_method_get(ms[k])->name;
+			json_t *jm = json_object_get(jsum, name);
+			if (!jm) {
+				jm = json_object();
+				json_object_set_new(jsum, name, jm);
+			}
+			json_object_set_new(jm, row ? "s0_worst_gain_db" : "s0_mean_gain_db",
+			                    bench_json_real(a));
+			json_object_set_new(jm, row ? "dolp_worst_gain_db" : "dolp_mean_gain_db",
+			                    bench_json_real(d));
+			if (row) {
+				const char *w[2] = {gains[k].s0_worst_scene,
+				                    gains[k].dolp_worst_scene};
+				for (int q = 0; q < 2; q++) {
+					const char *bn = w[q] ? strrchr(w[q], '/') : NULL;
+					bn = bn ? bn + 1 : w[q];
+					json_object_set_new(
+					    jm, q ? "dolp_worst_scene" : "s0_worst_scene",
+					    bn ? json_string(bn) : json_null());
+				}
+			}
+		}
+		fprintf(tf, "\n");
+	}
+	json_object_set_new(root, "scenes", jsc);
+	json_object_set_new(root, "gain_over_bilinear", jsum);
+	return root;
+}
+
 /* Stress track: the stress suite's scenes (scenes/stress) rendered with ground truth and
- * scored by the library (pc_sim_eval_cases), every monochrome full-resolution method on each,
- * gains over bilinear per scene, their mean and the worst scene (pc_eval_dataset_gain).
- * Returns the JSON (NULL on failure). */
-static json_t *stress_track(const char *dir, int threads, FILE *tf)
+ * scored by the library (pc_sim_eval_cases), the selected monochrome full-resolution methods
+ * on each, gains over bilinear per scene, their mean and the worst scene
+ * (pc_eval_dataset_gain). Returns the JSON (NULL on failure). */
+static json_t *stress_track(const char *dir, const pc_demosaic_method *ms, size_t nm, int threads,
+                            FILE *tf)
 {
 	char pat[4096];
 	snprintf(pat, sizeof pat, "%s/*.json", dir);
@@ -441,16 +531,10 @@ static json_t *stress_track(const char *dir, int threads, FILE *tf)
 		fprintf(tf, "stress track: no scenes in %s\n", dir);
 		return NULL;
 	}
-	pc_demosaic_method ms[PC_DM_COUNT];
-	size_t nm = 0, bi = 0;
-	for (int k = 0; k < PC_DM_COUNT; k++) {
-		const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
-		if ((mi->flags & PC_DMF_MONO) && !(mi->flags & PC_DMF_HALF_RES)) {
-			if (k == PC_DM_BILINEAR)
-				bi = nm;
-			ms[nm++] = (pc_demosaic_method)k;
-		}
-	}
+	size_t bi = 0;
+	for (size_t k = 0; k < nm; k++)
+		if (ms[k] == PC_DM_BILINEAR)
+			bi = k;
 	size_t ns = g.gl_pathc;
 	pc_eval_result *res = calloc(ns * nm, sizeof *res);
 	if (!res) {
@@ -469,64 +553,8 @@ static json_t *stress_track(const char *dir, int threads, FILE *tf)
 	}
 	fprintf(tf, "\nstress track (%s, %zu scenes): gain over bilinear in S0 / DoLP PSNR, dB\n",
 	        dir, ns);
-	fprintf(tf, "%-16s", "scene");
-	for (size_t k = 0; k < nm; k++)
-		if (k != bi)
-			fprintf(tf, " %15.15s", pc_demosaic_method_get(ms[k])->name);
-	fprintf(tf, " %15s\n", "bilinear S0/DoLP");
-	json_t *root = json_object();
-	json_t *jsc = json_array();
-	for (size_t s = 0; s < ns; s++) {
-		const char *b = strrchr(g.gl_pathv[s], '/');
-		b = b ? b + 1 : g.gl_pathv[s];
-		const pc_eval_metrics *bm = &res[s * nm + bi].m;
-		fprintf(tf, "%-16.16s", b);
-		json_t *js = json_object();
-		json_object_set_new(js, "scene", json_string(b));
-		for (size_t k = 0; k < nm; k++) {
-			const pc_eval_metrics *m = &res[s * nm + k].m;
-			if (k != bi)
-				fprintf(tf, " %+7.2f/%+7.2f", m->psnr_s0 - bm->psnr_s0,
-				        m->psnr_dolp - bm->psnr_dolp);
-			json_t *jm = json_object();
-			json_object_set_new(jm, "psnr_s0", bench_json_real(m->psnr_s0));
-			json_object_set_new(jm, "psnr_dolp", bench_json_real(m->psnr_dolp));
-			json_object_set_new(jm, "aolp_wrmse_deg",
-			                    bench_json_real(m->aolp_wrmse_deg));
-			json_object_set_new(js, pc_demosaic_method_get(ms[k])->name, jm);
-		}
-		fprintf(tf, " %7.2f/%7.2f\n", bm->psnr_s0, bm->psnr_dolp);
-		json_array_append_new(jsc, js);
-	}
-	json_t *jsum = json_object();
-	pc_eval_gain gains[PC_DM_COUNT];
-	for (size_t k = 0; k < nm; k++)
-		pc_eval_dataset_gain(res, ns * nm, res[0].dataset, ms[k], PC_DM_BILINEAR,
-		                     &gains[k]);
-	for (int row = 0; row < 2; row++) {
-		fprintf(tf, "%-16s", row ? "worst" : "mean");
-		for (size_t k = 0; k < nm; k++) {
-			if (k == bi)
-				continue;
-			double a = row ? gains[k].s0_worst : gains[k].s0_mean;
-			double d = row ? gains[k].dolp_worst : gains[k].dolp_mean;
-			fprintf(tf, " %+7.2f/%+7.2f", a, d);
-			const char *name = pc_demosaic_method_get(ms[k])->name;
-			json_t *jm = json_object_get(jsum, name);
-			if (!jm) {
-				jm = json_object();
-				json_object_set_new(jsum, name, jm);
-			}
-			json_object_set_new(jm, row ? "s0_worst_gain_db" : "s0_mean_gain_db",
-			                    bench_json_real(a));
-			json_object_set_new(jm, row ? "dolp_worst_gain_db" : "dolp_mean_gain_db",
-			                    bench_json_real(d));
-		}
-		fprintf(tf, "\n");
-	}
+	json_t *root = gain_table(tf, res, ns, nm, ms, nm, bi, res[0].dataset);
 	json_object_set_new(root, "dir", json_string(dir));
-	json_object_set_new(root, "scenes", jsc);
-	json_object_set_new(root, "gain_over_bilinear", jsum);
 	free(res);
 	globfree(&g);
 	return root;
@@ -538,16 +566,20 @@ static void usage(FILE *fp)
 	    fp,
 	    "usage: polarcam bench demosaic [DATA_DIR] [--stress DIR] [-o DIR [--overwrite]] "
 	    "[--reps N]\n"
-	    "                               [--threads N] [--quick] [--json]\n"
+	    "                               [--threads N] [--methods A,B,...] [--all-methods]\n"
+	    "                               [--quick] [--json]\n"
 	    "\n"
 	    "What demosaicking accuracy costs in time. Accuracy follows the frozen protocol on\n"
 	    "every dataset in DATA_DIR/gt (default $POLARCAM_DATA; skipped with a message when\n"
 	    "neither is given; layout and datasets: docs/evaluation.md): S0 and DoLP PSNR and the "
 	    "DoLP-weighted AoLP RMSE, per dataset (mean of\n"
-	    "its scenes), bilinear as the baseline, and our bilinear against a straightforward\n"
+	    "its scenes, and per scene with the worst scene), bilinear as the baseline, and our\n"
+	    "bilinear against a straightforward\n"
 	    "double-precision reference bilinear. Time: per 2448x2048 frame of 12-bit data in\n"
 	    "16-bit containers, median of N runs (default 7; 3 with --quick) on warm buffers, for\n"
-	    "every method; the full bilinear pipeline (demosaic + Stokes + DoLP + AoLP, float32),\n"
+	    "every method (\"x bil\": the multiple of bilinear's time in the same run, same\n"
+	    "output buffers, same pc_demosaic call); the full bilinear pipeline (demosaic + Stokes "
+	    "+ DoLP + AoLP, float32),\n"
 	    "also with calibrated analysers (perturbed 3x4 pseudo-inverses per 2x2 super-pixel,\n"
 	    "and per pixel; calibrated / uncalibrated is the ratio to read) and with a black\n"
 	    "level, saturation and dead levels and the validity mask; the pipeline's\n"
@@ -568,6 +600,12 @@ static void usage(FILE *fp)
 	    "Noisy track (not with --quick): the simulator's default scene with its sensor noise,\n"
 	    "one raw frame scored against the noise-free truth it renders (S0 PSNR, DoLP RMSE,\n"
 	    "DoLP-weighted AoLP RMSE).\n"
+	    "\n"
+	    "Methods: all but the reference-only ones (igri2: double precision, hundreds of\n"
+	    "times bilinear) by default; --all-methods adds them, --methods LIST runs only the\n"
+	    "listed ones (comma-separated names of polarcam demosaic --list; bilinear always\n"
+	    "runs as the baseline). Reference-only methods are timed in one run (marked 1),\n"
+	    "the others by the median of the round robin.\n"
 	    "\n"
 	    "Writes DIR/demosaic.json, DIR/pareto_s0.png and DIR/pareto_dolp.png (default DIR:\n"
 	    "bench-demosaic; made beside DIR and renamed into place at the end, an existing DIR\n"
@@ -639,7 +677,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	host = h;
 	const char *data_dir = NULL, *out_dir = "bench-demosaic", *stress_dir = NULL;
 	long reps = 7, threads = 0;
-	bool json_out = false, quick = false, overwrite = false;
+	bool json_out = false, quick = false, overwrite = false, all_methods = false;
+	const char *method_list = NULL;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
 			usage(stdout);
@@ -660,6 +699,10 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			json_out = true;
 		} else if (!strcmp(argv[i], "--overwrite")) {
 			overwrite = true;
+		} else if (!strcmp(argv[i], "--all-methods")) {
+			all_methods = true;
+		} else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
+			method_list = argv[++i];
 		} else if (!strcmp(argv[i], "--quick")) {
 			quick = true;
 			reps = 3;
@@ -722,12 +765,46 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	method_row rows[PC_DM_COUNT];
 	size_t nrows = 0;
 	pc_mosaic mono = pc_mosaic_imx250mzr(), colour = pc_mosaic_imx250myr();
+	bool listed[PC_DM_COUNT] = {false};
+	if (method_list) {
+		char buf[1024];
+		snprintf(buf, sizeof buf, "%s", method_list);
+		for (char *sv, *tok = strtok_r(buf, ",", &sv); tok;
+		     tok = strtok_r(NULL, ",", &sv)) {
+			pc_demosaic_method mm;
+			if ((rc = pc_demosaic_method_from_name(tok, &mm))) {
+				pc_view_free(&raw);
+				free(obuf);
+				free(ts);
+				return host->error(PC_BENCH_USAGE, "--methods: %s",
+				                   pc_error_detail());
+			}
+			listed[mm] = true;
+		}
+	}
+	char skipped[512] = "";
 	for (int k = 0; k < PC_DM_COUNT; k++) {
 		method_row *r = &rows[nrows++];
 		memset(r, 0, sizeof *r);
 		r->m = (pc_demosaic_method)k;
-		r->colour = !(pc_demosaic_method_get(r->m)->flags & PC_DMF_MONO);
+		unsigned fl = pc_demosaic_method_get(r->m)->flags;
+		r->colour = !(fl & PC_DMF_MONO);
+		r->once = (fl & PC_DMF_REFERENCE_ONLY) != 0;
+		/* bilinear is the baseline of every ratio; a list names the others, else
+		 * everything but the reference-only methods unless --all-methods */
+		r->skip =
+		    r->m != PC_DM_BILINEAR && (method_list ? !listed[k] : r->once && !all_methods);
+		if (r->skip && r->once && !method_list) {
+			size_t l = strlen(skipped);
+			snprintf(skipped + l, sizeof skipped - l, "%s%s", l ? ", " : "",
+			         pc_demosaic_method_get(r->m)->name);
+		}
 	}
+	if (*skipped)
+		fprintf(tf,
+		        "left out (reference only, hundreds of times bilinear; --all-methods or "
+		        "--methods to include, timed in one run): %s\n\n",
+		        skipped);
 	/* the other timed jobs: the two pipelines, the copy, OpenCV */
 	enum {
 		J_PIPE_BIL = PC_DM_COUNT,
@@ -815,6 +892,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	pc_progress_report(&host->progress, "timing", 0, (uint64_t)reps + 1);
 	for (long rep = -1; rep < reps; rep++) {
 		for (int j = 0; j < J_N; j++) {
+			if (j < PC_DM_COUNT && (rows[j].skip || rows[j].once))
+				continue;
 			double t0 = now_s(), c0 = cpu_s();
 			if (j < PC_DM_COUNT) {
 				const pc_mosaic *m = rows[j].colour ? &colour : &mono;
@@ -866,13 +945,29 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		                   (uint64_t)reps + 1);
 	}
 	host->progress_end(host->progress.user);
+	/* reference-only methods: one run each on the warm output buffers, same call */
+	for (int j = 0; j < PC_DM_COUNT; j++) {
+		if (rows[j].skip || !rows[j].once)
+			continue;
+		pc_progress_report(&host->progress, pc_demosaic_method_get(rows[j].m)->name, 0, 1);
+		double t0 = now_s(), c0 = cpu_s();
+		rc = pc_demosaic(&raw, &mono, rows[j].m, &opts, planes);
+		double dt = now_s() - t0, dc = cpu_s() - c0;
+		host->progress_end(host->progress.user);
+		if (rc)
+			return host->fail(rc, pc_demosaic_method_get(rows[j].m)->name);
+		rows[j].t = (timing){1e3 * dt, 1e3 * dt, 1e3 * dc};
+	}
 	timing tall[J_N];
 	for (int j = 0; j < J_N; j++) {
+		if (j < PC_DM_COUNT && (rows[j].skip || rows[j].once))
+			continue;
 		tall[j] = summarize(tj + (size_t)j * (size_t)reps, (int)reps);
 		tall[j].cpu_ms = summarize(cj_t + (size_t)j * (size_t)reps, (int)reps).median_ms;
 	}
 	for (int k = 0; k < PC_DM_COUNT; k++)
-		rows[k].t = tall[k];
+		if (!rows[k].skip && !rows[k].once)
+			rows[k].t = tall[k];
 	timing t_pipe[3] = {tall[J_PIPE_BIL], tall[J_PIPE_EARI], tall[J_PIPE_RATIO]};
 	timing t_cal = tall[J_PIPE_CAL], t_calpx = tall[J_PIPE_CALPX], t_lev = tall[J_PIPE_LEVELS];
 	int have_cal = cal_sp.m != NULL, have_calpx = cal_px.m != NULL;
@@ -898,11 +993,16 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	/* ---------------- accuracy ---------------- */
 	double ref_gap[3] = {NAN, NAN, NAN}; /* our bilinear − reference bilinear: I, S0, DoLP */
 	int have_acc = 0;
+	/* per dataset, per scene: res[s·nrows + i] is row i on scene s (method PC_DM_COUNT where
+	 * missing); the scenes' names */
+	const char *datasets[] = {"lapray-nir", "zhang"};
+	pc_eval_result *dres[2] = {NULL, NULL};
+	char **dnames[2] = {NULL, NULL};
+	size_t dns[2] = {0, 0}, dnn[2] = {0, 0};
 	if (data_dir) {
 		char gt[2048];
 		if ((size_t)snprintf(gt, sizeof gt, "%s/gt", data_dir) >= sizeof gt)
 			return host->error(PC_BENCH_USAGE, "%s: path too long", data_dir);
-		const char *datasets[] = {"lapray-nir", "zhang"};
 		for (int d = 0; d < 2; d++) {
 			char dpath[3072];
 			snprintf(dpath, sizeof dpath, "%.2047s/%s", gt, datasets[d]);
@@ -931,6 +1031,11 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 				continue;
 			}
 			have_acc = 1;
+			dres[d] = calloc(nscenes * nrows, sizeof *dres[d]);
+			for (size_t q = 0; dres[d] && q < nscenes * nrows; q++) {
+				dres[d][q].method = PC_DM_COUNT;
+				dres[d][q].scene = "";
+			}
 			pc_progress_report(&host->progress, datasets[d], 0, nscenes);
 			int scored = 0;
 			pc_eval_metrics refbil = {0}, fastbil = {0};
@@ -943,6 +1048,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 					continue;
 				}
 				for (size_t i = 0; i < nrows; i++) {
+					if (rows[i].skip)
+						continue;
 					if (rows[i].colour) {
 						/* the synthetic colour track, on the Lapray scenes
 						 */
@@ -966,6 +1073,15 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 					pc_eval_metrics mm;
 					if (pc_eval_method(&t, rows[i].m, &opts, &mm) != 0)
 						continue;
+					if (dres[d]) {
+						pc_eval_result *er = &dres[d][s * nrows + i];
+						er->scene = names[s];
+						snprintf(er->dataset, sizeof er->dataset, "%s",
+						         datasets[d]);
+						er->method = rows[i].m;
+						er->m = mm;
+						dns[d] = s + 1;
+					}
 					int di = rows[i].n_ds;
 					if (scored == 0) {
 						memset(&rows[i].acc[di], 0, sizeof rows[i].acc[di]);
@@ -998,9 +1114,8 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 					break;
 			}
 			host->progress_end(host->progress.user);
-			for (size_t s = 0; s < nscenes; s++)
-				free(names[s]);
-			free(names);
+			dnames[d] = names; /* freed with dres after the report */
+			dnn[d] = nscenes;
 			for (size_t i = 0; i < nrows && scored; i++) {
 				if (rows[i].colour && d != 0)
 					continue;
@@ -1024,7 +1139,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	pc_demosaic_method nmeth[PC_DM_COUNT];
 	size_t nn = 0;
 	for (size_t i = 0; i < nrows; i++)
-		if (!rows[i].colour &&
+		if (!rows[i].colour && !rows[i].skip &&
 		    !(pc_demosaic_method_get(rows[i].m)->flags & PC_DMF_HALF_RES))
 			nmeth[nn++] = rows[i].m;
 	noisy_row noisy[PC_DM_COUNT];
@@ -1048,6 +1163,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			bil_min = rows[i].t.min_ms;
 		}
 	const method_row *brow = NULL;
+	json_t *json_dataset_scenes = NULL;
 	for (size_t i = 0; i < nrows; i++)
 		if (rows[i].m == PC_DM_BILINEAR)
 			brow = &rows[i];
@@ -1059,16 +1175,21 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	fprintf(tf, " | %s\n", have_acc ? "wAoLP deg" : "");
 	for (size_t i = 0; i < nrows; i++) {
 		const method_row *r = &rows[i];
-		fprintf(tf, "%-16s %9.2f %7.2f %8.2f %7.2f %8.2f %7.2f",
-		        pc_demosaic_method_get(r->m)->name, r->t.median_ms, r->t.median_ms / bil,
-		        r->t.min_ms, r->t.min_ms / bil_min, r->t.cpu_ms, r->t.cpu_ms / bil_cpu);
+		if (r->skip)
+			continue;
+		fprintf(tf, "%-15s%s %9.2f %7.2f %8.2f %7.2f %8.2f %7.2f",
+		        pc_demosaic_method_get(r->m)->name, r->once ? "1" : " ", r->t.median_ms,
+		        r->t.median_ms / bil, r->t.min_ms, r->t.min_ms / bil_min, r->t.cpu_ms,
+		        r->t.cpu_ms / bil_cpu);
 		for (int d = 0; have_acc && brow && d < brow->n_ds; d++) {
 			if (r->colour && r->n_ds && d == 0) {
 				/* colour rows: against bayer-first, on the colourised track */
 				const method_row *bf = NULL;
 				for (size_t q = 0; q < nrows; q++)
-					if (rows[q].m == PC_DM_BAYER_FIRST)
+					if (rows[q].m == PC_DM_BAYER_FIRST && !rows[q].skip)
 						bf = &rows[q];
+				if (!bf)
+					bf = r; /* the baseline was not selected: deltas 0 */
 				fprintf(tf, " | %-10s %7.3f %+7.3f %7.3f %+7.3f", "colour*",
 				        r->acc[0].psnr_s0, r->acc[0].psnr_s0 - bf->acc[0].psnr_s0,
 				        r->acc[0].psnr_dolp,
@@ -1085,6 +1206,34 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			fprintf(tf, " | %.3f", r->acc[0].aolp_wrmse_deg);
 		fprintf(tf, "\n");
 	}
+	if (have_acc)
+		for (int d = 0; d < 2; d++) {
+			if (!dns[d] || !dres[d])
+				continue;
+			fprintf(tf, "\n%s per scene: gain over bilinear in S0 / DoLP PSNR, dB\n",
+			        datasets[d]);
+			/* columns: the selected monochrome rows */
+			pc_demosaic_method ms[PC_DM_COUNT];
+			size_t col[PC_DM_COUNT], nc = 0, bi = 0;
+			for (size_t i = 0; i < nrows; i++)
+				if (!rows[i].skip && !rows[i].colour) {
+					if (rows[i].m == PC_DM_BILINEAR)
+						bi = nc;
+					col[nc] = i;
+					ms[nc++] = rows[i].m;
+				}
+			pc_eval_result *cr = malloc(sizeof *cr * dns[d] * (nc ? nc : 1));
+			if (!cr)
+				continue;
+			for (size_t q = 0; q < dns[d]; q++)
+				for (size_t c = 0; c < nc; c++)
+					cr[q * nc + c] = dres[d][q * nrows + col[c]];
+			json_t *jd = gain_table(tf, cr, dns[d], nc, ms, nc, bi, datasets[d]);
+			free(cr);
+			if (!json_dataset_scenes)
+				json_dataset_scenes = json_object();
+			json_object_set_new(json_dataset_scenes, datasets[d], jd);
+		}
 	if (have_noisy) {
 		fprintf(tf,
 		        "\nnoisy track: %s; %.0f %% of the pixels scored (lit, unsaturated)\n"
@@ -1166,8 +1315,11 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	json_t *jm = json_array();
 	for (size_t i = 0; i < nrows; i++) {
 		const method_row *r = &rows[i];
+		if (r->skip)
+			continue;
 		json_t *o = json_object();
 		json_object_set_new(o, "method", json_string(pc_demosaic_method_get(r->m)->name));
+		json_object_set_new(o, "timed_runs", json_integer(r->once ? 1 : reps));
 		json_object_set_new(o, "colour", json_boolean(r->colour));
 		json_object_set_new(o, "ms_median", bench_json_real(r->t.median_ms));
 		json_object_set_new(o, "ms_best", bench_json_real(r->t.min_ms));
@@ -1200,6 +1352,14 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		json_array_append_new(jm, o);
 	}
 	json_object_set_new(root, "methods", jm);
+	if (json_dataset_scenes)
+		json_object_set_new(root, "datasets_per_scene", json_dataset_scenes);
+	for (int d = 0; d < 2; d++) {
+		for (size_t q = 0; dnames[d] && q < dnn[d]; q++)
+			free(dnames[d][q]);
+		free(dnames[d]);
+		free(dres[d]);
+	}
 	if (have_noisy) {
 		json_t *jn = json_array();
 		for (size_t q = 0; q < nn; q++)
@@ -1255,7 +1415,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	json_object_set_new(root, "bilinear_minus_reference_db", jg);
 
 	if (stress_dir) {
-		json_t *jst = stress_track(stress_dir, (int)threads, tf);
+		json_t *jst = stress_track(stress_dir, nmeth, nn, (int)threads, tf);
 		if (jst)
 			json_object_set_new(root, "stress_track", jst);
 	} else {

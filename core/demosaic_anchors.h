@@ -1,8 +1,8 @@
 /* Internal to core: the robust rungs and the field's anchors of the demosaicking ladder - the
  * overshoot limiter (demosaic_robust.c), eari-mlri / eari-robust (references in
- * demosaic_mlri.c, fast path in demosaic_mlri_fast.c), PCDP (demosaic_pcdp.c) and IGRI2
- * (demosaic_igri.c). Their rows in the method table are in demosaic_plan.c. Not a public
- * header. */
+ * demosaic_mlri.c, fast path in demosaic_mlri_fast.c), PCDP (demosaic_pcdp.c), IGRI2
+ * (demosaic_igri.c) and Newton (demosaic_newton.c). Their rows in the method table are in
+ * demosaic_plan.c. Not a public header. */
 #ifndef POLARCAM_DEMOSAIC_ANCHORS_H
 #define POLARCAM_DEMOSAIC_ANCHORS_H
 
@@ -58,6 +58,9 @@ int pc_dm_mlri_ri(const double *img, const double *guide, uint32_t width, uint32
                   const pc_mosaic *m, double full_scale, const pc_fplane *out);
 int pc_dm_ref_igri2(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
                     double full_scale, const pc_fplane *out);
+/* Li et al., Opt. Express 27(2) 2019 (demosaic_newton.c) */
+int pc_dm_ref_newton(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
+                     double full_scale, const pc_fplane *out);
 int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
                    const pc_fplane *out);
 
@@ -65,6 +68,7 @@ int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_
  * converted to float) ---- */
 int pc_dm_mlri_fast(const pc_dm_call *call, const pc_fplane *out);
 int pc_dm_pcdp_fast(const pc_dm_call *call, const pc_fplane *out);
+int pc_dm_newton_fast(const pc_dm_call *call, const pc_fplane *out);
 
 /* The reference of call's method on its input, into float planes (the fast paths' fallback
  * for frames too small for their padding). */

@@ -30,13 +30,17 @@
  * differences); igri2 ±40, a bound: three stages of about ±13 each (the green step: MLRI
  * on ±2 Laplacians in ±3 windows, their ±3 averages, the directional residual, 5-tap
  * Gaussians and 3×3 gradient sums; a step of the 45°-rotated grid moves one pixel in x and
- * y), measured reach 35-40 on random data (tests/test_front_door.c). */
-#define MLRI_LO -16
-#define MLRI_HI 16
-#define PCDP_LO -2
-#define PCDP_HI 2
-#define IGRI_LO -40
-#define IGRI_HI 40
+ * y), measured reach 35-40 on random data (tests/test_front_door.c); newton ±10 (stage one
+ * ±3, its diagonal classifier over ±2 of that; stage two reads stage one at ±3 across and
+ * classifies over ±2: 3 + 5 + 2). */
+#define MLRI_LO   -16
+#define MLRI_HI   16
+#define PCDP_LO   -2
+#define PCDP_HI   2
+#define IGRI_LO   -40
+#define IGRI_HI   40
+#define NEWTON_LO -10
+#define NEWTON_HI 10
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
@@ -216,12 +220,25 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                       "the double reference (no fast path yet): hundreds of times bilinear",
                       "Morimatsu, Monno, Tanaka, Okutomi, IEEE Sensors J. 21(24) 2021 (IGRI2) and "
                       "their release",
-                      PC_DMF_MONO},
+                      PC_DMF_MONO | PC_DMF_REFERENCE_ONLY},
                      {IGRI_LO, IGRI_HI, 1, 1},
                      NULL,
                      NULL,
                      false,
                      PC_DM_IGRI2},
+    [PC_DM_NEWTON] = {{PC_DM_NEWTON, "newton",
+                       "anchor: Newton-polynomial interpolation of polarization differences, "
+                       "horizontal / vertical / diagonal estimates fused by an edge classifier; "
+                       "mean (worst): Lapray +2.13/-0.32 (-0.44/-2.91), Zhang +5.88/+3.62 "
+                       "(+5.28/+3.26), stress +4.63/+0.92 (+1.14/-1.13)",
+                       "five passes in double over padded planes, on threads",
+                       "Li, Zhao, Pan, Kong, Opt. Express 27(2) 1376, 2019, and their release",
+                       PC_DMF_MONO},
+                      {NEWTON_LO, NEWTON_HI, 1, 1},
+                      pc_dm_newton_fast,
+                      NULL,
+                      false,
+                      PC_DM_NEWTON},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)

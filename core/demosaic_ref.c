@@ -483,6 +483,8 @@ static int ref_method(const double *img, uint32_t width, uint32_t height, const 
 		return pc_dm_ref_pcdp(img, width, height, m, out);
 	case PC_DM_IGRI2:
 		return pc_dm_ref_igri2(img, width, height, m, full_scale, out);
+	case PC_DM_NEWTON:
+		return pc_dm_ref_newton(img, width, height, m, full_scale, out);
 	default:
 		break;
 	}

@@ -25,6 +25,8 @@ static double tol_for(pc_demosaic_method m)
 	case PC_DM_BILINEAR:
 	case PC_DM_BICUBIC:
 		return 1e-6;
+	case PC_DM_NEWTON: /* the same double arithmetic; only the float output's rounding */
+		return 1e-7;
 	default:
 		return 1e-5;
 	}
@@ -121,7 +123,8 @@ static const pc_demosaic_method mono_methods[] = {PC_DM_SUPERPIXEL_HALF,
                                                   PC_DM_EARI_MLRI,
                                                   PC_DM_EARI_ROBUST,
                                                   PC_DM_PCDP,
-                                                  PC_DM_IGRI2};
+                                                  PC_DM_IGRI2,
+                                                  PC_DM_NEWTON};
 #define N_MONO (sizeof mono_methods / sizeof mono_methods[0])
 
 /* Fast vs reference on a random texture, all four phases. */
@@ -332,6 +335,62 @@ static void test_polynomials(void)
 			        pc_demosaic_method_get(ic[k])->name, worst);
 		CHECK(worst <= 0.5);
 		free(buf);
+	}
+	pc_view_free(&raw);
+}
+
+/* Newton (Li et al. 2019, core/demosaic_newton.c): its 7-tap interpolator has target taps
+ * summing to 1 and an own-channel correction summing to 0 with equal second moments, and is
+ * symmetric, so every estimate is exact on I_c = S(x, y) + k_c with S any cubic polynomial and
+ * constant per-channel offsets k_c (uniform polarization differences): the diagonal and both
+ * stages' estimates are exact, so is any fusion of them. Checked outside the ±10 support's
+ * reach of the mirrored borders, at all four mosaic phases; a constant frame everywhere. */
+static void test_newton_exact(void)
+{
+	const uint32_t W = 40, H = 36;
+	const double k[4] = {0, 120, 310, 190};
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
+	for (unsigned ph = 0; ph < 4; ph++) {
+		pc_mosaic base = pc_mosaic_imx250mzr();
+		pc_mosaic m = pc_mosaic_shift(&base, ph & 1, ph >> 1);
+		for (int kind = 0; kind < 2; kind++) {
+			double truth[4][36][40];
+			for (uint32_t y = 0; y < H; y++)
+				for (uint32_t x = 0; x < W; x++) {
+					double X = x, Y = y;
+					double S = kind ? 400 + 3 * X - 2 * Y + 0.05 * X * X -
+					                      0.03 * X * Y + 0.04 * Y * Y +
+					                      0.001 * X * X * X - 0.0005 * X * Y * Y
+					                : 777;
+					for (unsigned c = 0; c < 4; c++)
+						truth[c][y][x] = S + (kind ? k[c] : 0);
+					PC_ROW(&raw, float, y)
+					[x] = (float)truth[pc_mosaic_channel(&m, x, y)][y][x];
+				}
+			pc_fplane o[4];
+			float *buf = alloc_planes(W, H, 4, o);
+			for (int reference = 0; reference < 2; reference++) {
+				pc_demosaic_opts op = {0, reference, 0};
+				CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_NEWTON, &op, o), 0);
+				const uint32_t b = kind ? 10 : 0;
+				double worst = 0;
+				for (unsigned c = 0; c < 4; c++)
+					for (uint32_t y = b; y < H - b; y++)
+						for (uint32_t x = b; x < W - b; x++) {
+							double d = fabs(fget(&o[c], x, y) -
+							                truth[c][y][x]);
+							worst = d > worst ? d : worst;
+						}
+				/* float raw and output rounding of values below 1000 */
+				if (worst > 1e-3)
+					fprintf(stderr, "  newton (ref %d) phase %u %s: error %g\n",
+					        reference, ph,
+					        kind ? "cubic + offsets" : "constant", worst);
+				CHECK(worst <= 1e-3);
+			}
+			free(buf);
+		}
 	}
 	pc_view_free(&raw);
 }
@@ -663,6 +722,8 @@ int main(void)
 		test_aolp_orientation();
 		test_flip();
 		test_polynomials();
+		if (l == 0)
+			test_newton_exact(); /* a reference only: one instance is enough */
 		test_formats_layouts();
 		test_color();
 		test_bilinear_u16();

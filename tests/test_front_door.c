@@ -75,6 +75,8 @@ static const support supports[] = {
     {PC_DM_EARI_ROBUST, -16, 16, 1, 1, 0},  /* the same; the limiter's ±2 inside */
     {PC_DM_PCDP, -2, 2, 1, 1, 0},           /* bilinear ±1, then the tent of the differences */
     {PC_DM_IGRI2, -40, 40, 1, 1, 6},        /* a bound: three stages of about ±13 */
+    {PC_DM_NEWTON, -10, 10, 1, 1, 4},       /* a bound: ±6 through the values, ±10 only
+                                             * through the edge classifier's branch */
 };
 #define N_SUP (sizeof supports / sizeof supports[0])
 

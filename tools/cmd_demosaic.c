@@ -69,6 +69,8 @@ static int list_methods(int json)
 			json_object_set_new(o, "source", json_string(mi->source));
 			json_object_set_new(o, "half_resolution",
 			                    json_boolean(mi->flags & PC_DMF_HALF_RES));
+			json_object_set_new(o, "reference_only",
+			                    json_boolean(mi->flags & PC_DMF_REFERENCE_ONLY));
 			json_array_append_new(arr, o);
 		} else {
 			printf("%-16s [%s]\n    accuracy: %s\n    cost:     %s\n    after:    %s\n",

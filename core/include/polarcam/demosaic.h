@@ -56,13 +56,16 @@ typedef enum pc_demosaic_method {
 	PC_DM_EARI_ROBUST, /* eari-mlri + the overshoot limiter (ours; recommended) */
 	PC_DM_PCDP,        /* polarization channel difference prior (Wu et al. 2021; anchor) */
 	PC_DM_IGRI2,       /* iterative guided residual interpolation 2 (Morimatsu 2021; anchor) */
+	PC_DM_NEWTON,      /* Newton's polynomial, polarization differences (Li 2019; anchor) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
 enum pc_demosaic_flags {
-	PC_DMF_MONO = 1u << 0,    /* works on monochrome polarizer mosaics */
-	PC_DMF_COLOR = 1u << 1,   /* works on colour-polarization mosaics */
-	PC_DMF_HALF_RES = 1u << 2 /* output is (W/2, H/2) */
+	PC_DMF_MONO = 1u << 0,          /* works on monochrome polarizer mosaics */
+	PC_DMF_COLOR = 1u << 1,         /* works on colour-polarization mosaics */
+	PC_DMF_HALF_RES = 1u << 2,      /* output is (W/2, H/2) */
+	PC_DMF_REFERENCE_ONLY = 1u << 3 /* no fast path: the double-precision reference always
+	                                 * runs (hundreds of times bilinear's time) */
 };
 
 typedef struct pc_demosaic_method_info {
