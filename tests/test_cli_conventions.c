@@ -480,6 +480,37 @@ static void test_batch(void)
 	CHECK(!exists(tmp("bq/dolp_000000.png")));
 	CHECK_EQ_INT(run("process br -o bq --pictures-every 2 --overwrite"), 0);
 	CHECK(exists(tmp("bq/dolp_000002.png")) && !exists(tmp("bq/dolp_000001.png")));
+	/* A recording with a black level (offset_dn 64) and an odd ROI origin (the mosaic's phase
+	 * shifts by one pixel both ways): its folder is processed as its frames are one by one,
+	 * with the recording's black level and layout, not the defaults. */
+	char sp[600];
+	snprintf(sp, sizeof sp, "%s/scenes/ideal_small.json", src);
+	char *sc = slurp(sp, NULL);
+	const char *key = "\"preset\": \"ideal\"";
+	char *at = sc ? strstr(sc, key) : NULL;
+	CHECK(at != NULL);
+	if (at) {
+		FILE *sf = fopen(tmp("black.json"), "wb");
+		if (sf) {
+			fprintf(sf, "%.*s%s, \"offset_dn\": 64%s", (int)(at - sc), sc, key,
+			        at + strlen(key));
+			fclose(sf);
+		}
+		CHECK_EQ_INT(run("render black.json -n 2 --seed 4 --roi 241,201,128,96 -o bk"), 0);
+		CHECK(contains(tmp("bk/meta.json"), "\"offset_dn\": 64"));
+		CHECK_EQ_INT(run("process bk -o bkp --json"), 0);
+		CHECK(contains(tmp("out.txt"), "\"black_level_from\":\"recording\""));
+		CHECK_EQ_INT(run("process bk/raw_000001.png -o bk1 --json"), 0);
+		CHECK(contains(tmp("out.txt"), "\"black_level_from\":\"recording\""));
+		CHECK(same_bytes(tmp("bk1/stokes.npy"), tmp("bkp/stokes_000001.npy")));
+		CHECK(same_bytes(tmp("bk1/dolp.npy"), tmp("bkp/dolp_000001.npy")));
+		/* and the defaults would differ: the check above can fail */
+		CHECK_EQ_INT(run("process bk/raw_000001.png -o bk0 --black-level 0 --layout "
+		                 "90,45,135,0"),
+		             0);
+		CHECK(!same_bytes(tmp("bk0/stokes.npy"), tmp("bkp/stokes_000001.npy")));
+	}
+	free(sc);
 	/* a bad frame in the batch: exit 2, naming it, nothing put in place */
 	FILE *fp = fopen(tmp("bad.png"), "wb");
 	if (fp) {

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli.h"
 #include "polarcam/error.h"
@@ -189,9 +190,24 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 			                 "--format together");
 		o->have_geometry = true;
 	}
-	/* what the recording says about RAW when it is one of its frames */
+	/* what the recording says about RAW when it is one of its frames; for a recording folder,
+	 * what it says about its first frame holds for all (one mosaic, ROI and black level) */
+	char first[4200];
+	const char *probe = o->path;
+	struct stat sb;
+	if (o->path && !o->have_geometry && stat(o->path, &sb) == 0 && S_ISDIR(sb.st_mode)) {
+		pc_recording *r = NULL;
+		if (pc_recording_open(&r, o->path) == 0) {
+			if (pc_recording_count(r) &&
+			    snprintf(first, sizeof first, "%s/%s", o->path,
+			             pc_recording_get_frame(r, 0)->file) < (int)sizeof first)
+				probe = first;
+			pc_recording_free(r);
+		}
+		pc_error_clear(); /* not a recording: the command says so when it reads it */
+	}
 	pc_recording_frame_meta fm;
-	int info = o->path && !o->have_geometry ? pc_recording_frame_info(o->path, &fm) : 0;
+	int info = probe && !o->have_geometry ? pc_recording_frame_info(probe, &fm) : 0;
 	if (info < 0 && !o->layout)
 		return cli_fail(info, NULL);
 	pc_error_clear();
@@ -214,7 +230,7 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 		if ((rc = pc_mosaic_parse(o->layout, &o->mosaic)))
 			return cli_fail(rc, "--layout");
 	} else if (o->path && !o->have_geometry &&
-	           (rc = pc_recording_frame_mosaic(o->path, &o->mosaic)) != 0) {
+	           (rc = pc_recording_frame_mosaic(probe, &o->mosaic)) != 0) {
 		if (rc < 0)
 			return cli_fail(rc, NULL);
 		pc_mosaic_format(&o->mosaic, o->layout_buf, sizeof o->layout_buf);
