@@ -152,7 +152,10 @@ static int check_any(const vctx *v, const char *path, const json_t *j, value_che
 			return verr(v, path, "\"choice\" must be a non-empty array");
 		for (size_t i = 0; i < json_array_size(c); i++) {
 			char p[256];
-			snprintf(p, sizeof p, "%s.choice[%zu]", path, i);
+			int len = snprintf(p, sizeof p, "%s.choice[%zu]", path, i);
+			if (len < 0 || (size_t)len >= sizeof p)
+				return verr(v, path,
+				            "nested too deeply (the field's path is too long)");
 			int rc = fn(v, p, json_array_get(c, i));
 			if (rc)
 				return rc;
