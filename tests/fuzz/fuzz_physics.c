@@ -8,6 +8,7 @@
  *   - Lu–Chipman of any finite matrix with the Cloude filter: D, Δ in [0, 1], R in [0, π];
  *     the filter's output is physical; the map kernel matches the scalar code bit for bit;
  *   - pc_sincos_deg: s² + c² = 1 to rounding, exact zeros at multiples of 90°. */
+#include <float.h>
 #include <math.h>
 
 #include "fuzz.h"
@@ -129,8 +130,12 @@ static void decompose(rd *r, uint8_t mode)
 		double v = mode & 1 ? take_raw(r) : take_lin(r, -1, 1) * scale;
 		M[i / 4][i % 4] = isfinite(v) ? v : 0;
 	}
-	if (mode & 2)
+	if (mode & 2) { /* a dominant m00; the sum of three entries near DBL_MAX overflows: cap it
+		         * (the library refuses a non-finite matrix by design) */
 		M[0][0] = fabs(M[0][0]) + fabs(M[0][1]) + fabs(M[1][0]);
+		if (!isfinite(M[0][0]))
+			M[0][0] = DBL_MAX;
+	}
 	fuzz_lc_ranges(M);
 	double F[4][4];
 	bool changed;
