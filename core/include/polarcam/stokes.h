@@ -98,6 +98,32 @@ PC_API bool pc_stokes_streams(const pc_stokes_out *out, uint32_t width, uint32_t
  * (maximum error 3e-7 rad against double, tested). */
 PC_API float pc_aolp_f(float s1, float s2);
 
+/* ---- Imin, Imax and the diffuse/specular split (the outputs polanalyser users know) ----
+ *
+ * With S0 the total intensity (S0 = I0 + I90 = Imax + Imin, as above and docs/physics.md §2),
+ * an ideal linear analyser turned through θ sees I(θ) = ½·(S0 + S1·cos 2θ + S2·sin 2θ), whose
+ * extremes are (docs/physics-notes.md, "Imin, Imax and the diffuse/specular split"):
+ *   Imin = ½·(S0 − √(S1² + S2²)),  Imax = ½·(S0 + √(S1² + S2²)),
+ * and, for unpolarized diffuse light under fully polarized specular light (Wolff & Boult 1991,
+ * "Constraining object features using a polarization reflectance model", IEEE PAMI 13(7)):
+ *   diffuse = 2·Imin,  specular = Imax − Imin = √(S1² + S2²),  diffuse + specular = S0.
+ * polanalyser's cvtStokesToImin/Imax give the same Imin and Imax; its cvtStokesToSpecular the
+ * same specular; its cvtStokesToDiffuse returns Imin (half of this diffuse) in recent versions
+ * and 2·Imin in early ones. Nothing is clipped: where noise makes √(S1² + S2²) > S0 (an
+ * estimated DoLP above 1, dark pixels), Imin and diffuse are negative; NaN stays NaN. */
+typedef struct pc_minmax_out {
+	pc_fplane imin, imax, diffuse, specular; /* a NULL data pointer: not wanted */
+} pc_minmax_out;
+
+/* The double-precision reference of one pixel: out = {Imin, Imax, diffuse, specular}. */
+PC_API void pc_stokes_minmax1(double s0, double s1, double s2, double out[4]);
+
+/* The float kernel over width × height pixels of S0, S1, S2 planes (strides in floats). Each
+ * output is within 2⁻²² · (|S0| + √(S1² + S2²)) of pc_stokes_minmax1 (tested). PC_EINVAL for a
+ * missing input, no output asked for or strides too small. */
+PC_API int pc_stokes_minmax(const pc_fplane *s0, const pc_fplane *s1, const pc_fplane *s2,
+                            uint32_t width, uint32_t height, const pc_minmax_out *out);
+
 #ifdef __cplusplus
 }
 #endif
