@@ -176,6 +176,29 @@ static int write_valid(const char *dir, const char *name, const pc_validity *v, 
 	return rc;
 }
 
+/* imin/imax.npy and diffuse/specular.npy (PC_SF_MINMAX, PC_SF_SPLIT) from S0, S1, S2 */
+static int write_minmax(const char *dir, const pc_stokes_out *st, uint32_t w, uint32_t h,
+                        unsigned files, const char *sfx)
+{
+	const size_t n = (size_t)w * h;
+	float *buf = malloc(sizeof(float) * n * 4);
+	if (!buf)
+		return pc_error(PC_ENOMEM, "%s: %ux%u Imin/Imax images", dir, w, h);
+	pc_minmax_out mo = {{buf, w, 1}, {buf + n, w, 1}, {buf + 2 * n, w, 1}, {buf + 3 * n, w, 1}};
+	int rc = pc_stokes_minmax(&st->s0, &st->s1, &st->s2, w, h, &mo);
+	static const char *names[4] = {"imin", "imax", "diffuse", "specular"};
+	size_t shape[2] = {h, w};
+	char name[64];
+	for (int k = 0; k < 4 && !rc; k++) {
+		if (!(files & (k < 2 ? PC_SF_MINMAX : PC_SF_SPLIT)))
+			continue;
+		snprintf(name, sizeof name, "%s%s.npy", names[k], sfx);
+		rc = write_npy(dir, name, buf + (size_t)k * n, 2, shape);
+	}
+	free(buf);
+	return rc;
+}
+
 int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint32_t width,
                            uint32_t height, const pc_stokes_folder_opts *opts)
 {
@@ -215,6 +238,8 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 			    (const pc_fplane *)(const void *)((const char *)st + planes[k].plane),
 			    width, height);
 		}
+	if (!rc && (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)) && !opts->no_minmax_files)
+		rc = write_minmax(dir, st, width, height, opts->files, sfx);
 	if (!rc && valid && valid->mask && !opts->no_valid_file) {
 		snprintf(name, sizeof name, "valid%s.npy", sfx);
 		rc = write_valid(dir, name, valid, width, height);
@@ -224,6 +249,10 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 		if (opts->numbered)
 			po.suffix = sfx;
 		rc = pc_pictures_write_valid(dir, st, width, height, &po, valid);
+		if (!rc && (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)))
+			rc = pc_pictures_write_minmax(dir, st, width, height, &po, valid,
+			                              opts->files & PC_SF_MINMAX,
+			                              opts->files & PC_SF_SPLIT);
 	}
 	return rc;
 }

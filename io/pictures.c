@@ -199,3 +199,70 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	free(rgb);
 	return rc;
 }
+
+int pc_pictures_write_minmax(const char *dir, const pc_stokes_out *st, uint32_t width,
+                             uint32_t height, const pc_pictures_opts *opts,
+                             const pc_validity *valid, bool minmax, bool split)
+{
+	if (!dir || !st || !st->s0.data || !st->s1.data || !st->s2.data)
+		return pc_error(PC_EINVAL, "pictures: S0, S1 and S2 images are needed");
+	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
+	if (opts)
+		o = *opts;
+	if (!(isfinite(o.s0_hi) && o.s0_hi >= 0))
+		return pc_error(PC_EINVAL, "pictures: S0 scale %g: expected a finite value >= 0",
+		                o.s0_hi);
+	const size_t n = (size_t)width * height;
+	uint8_t *rgb = malloc(n * 3);
+	float *planes = malloc(sizeof(float) * n * 4);
+	if (!rgb || !planes) {
+		free(rgb);
+		free(planes);
+		return pc_error(PC_ENOMEM, "pictures: %ux%u Imin/Imax images", width, height);
+	}
+	pc_minmax_out mo = {{planes, width, 1},
+	                    {planes + n, width, 1},
+	                    {planes + 2 * n, width, 1},
+	                    {planes + 3 * n, width, 1}};
+	int rc = pc_stokes_minmax(&st->s0, &st->s1, &st->s2, width, height, &mo);
+	/* the S0 picture's scale, as pc_pictures_write_valid takes it */
+	float hi =
+	    o.s0_hi > 0 ? (float)o.s0_hi : pc_picture_quantile(&st->s0, width, height, 0.999);
+	if (!(hi > 0))
+		hi = 1;
+	const uint8_t *vm = valid && valid->mask ? valid->mask : NULL;
+	const size_t vs = vm ? valid->row_stride : 0, rs = (size_t)width * 3;
+	size_t n_bad = 0;
+	for (uint32_t y = 0; vm && y < height; y++)
+		for (uint32_t x = 0; x < width; x++)
+			n_bad += !vm[(size_t)y * vs + x];
+	char bad_note[80];
+	snprintf(bad_note, sizeof bad_note, "invalid %.2g%%", 100.0 * (double)n_bad / (double)n);
+	pc_legend_note bad = {bad_note, pc_picture_invalid_rgb, NULL};
+	char pre[96] = "";
+	if (o.title_prefix && *o.title_prefix)
+		snprintf(pre, sizeof pre, "%s: ", o.title_prefix);
+	static const struct {
+		const char *name, *title, *label;
+	} pics[4] = {
+	    {"imin", "Imin (minimum over analyser angles) = (S0 - |S_lin|)/2", "Imin (raw units)"},
+	    {"imax", "Imax (maximum over analyser angles) = (S0 + |S_lin|)/2", "Imax (raw units)"},
+	    {"diffuse", "diffuse = 2 Imin (unpolarized part)", "diffuse (raw units)"},
+	    {"specular", "specular = Imax - Imin (polarized part)", "specular (raw units)"}};
+	const pc_fplane *pl[4] = {&mo.imin, &mo.imax, &mo.diffuse, &mo.specular};
+	for (int k = 0; k < 4 && !rc; k++) {
+		if (!(k < 2 ? minmax : split))
+			continue;
+		rc = pc_picture_grey(pl[k], width, height, 0, hi, rgb, rs);
+		pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
+		pc_colorbar bar = {pics[k].label, 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
+		char title[320];
+		snprintf(title, sizeof title, "%s%s", pre, pics[k].title);
+		if (!rc)
+			rc = write_one(dir, pics[k].name, o.suffix, rgb, width, height, title, &bar,
+			               n_bad ? &bad : NULL, o.max_width);
+	}
+	free(planes);
+	free(rgb);
+	return rc;
+}

@@ -262,20 +262,24 @@ static json_t *files_json(unsigned files, bool numbered, bool stack, bool valid)
 	static const struct {
 		unsigned flag;
 		const char *name[4];
-	} t[6] = {{PC_SF_STOKES, {"stokes.npy"}},
-	          {PC_SF_S0, {"s0.npy"}},
-	          {PC_SF_DOLP, {"dolp.npy"}},
-	          {PC_SF_AOLP, {"aolp.npy"}},
-	          {VALID, {"valid.npy"}},
-	          {PC_SF_PICTURES, {"s0.png", "dolp.png", "aolp.png", "aolp_sat.png"}}};
+	} t[10] = {{PC_SF_STOKES, {"stokes.npy"}},
+	           {PC_SF_S0, {"s0.npy"}},
+	           {PC_SF_DOLP, {"dolp.npy"}},
+	           {PC_SF_AOLP, {"aolp.npy"}},
+	           {PC_SF_MINMAX, {"imin.npy", "imax.npy"}},
+	           {PC_SF_SPLIT, {"diffuse.npy", "specular.npy"}},
+	           {VALID, {"valid.npy"}},
+	           {PC_SF_PICTURES, {"s0.png", "dolp.png", "aolp.png", "aolp_sat.png"}},
+	           {PC_SF_PICTURES | PC_SF_MINMAX, {"imin.png", "imax.png"}},
+	           {PC_SF_PICTURES | PC_SF_SPLIT, {"diffuse.png", "specular.png"}}};
 	if (valid)
 		files |= VALID;
 	json_t *a = json_array();
-	for (int k = 0; k < 6; k++)
-		for (int i = 0; i < 4 && t[k].name[i] && (files & t[k].flag); i++) {
+	for (int k = 0; k < 10; k++)
+		for (int i = 0; i < 4 && t[k].name[i] && (files & t[k].flag) == t[k].flag; i++) {
 			const char *n = t[k].name[i];
 			char buf[64];
-			if (numbered && (!stack || t[k].flag == PC_SF_PICTURES)) {
+			if (numbered && (!stack || (t[k].flag & PC_SF_PICTURES))) {
 				const char *dot = strrchr(n, '.');
 				snprintf(buf, sizeof buf, "%.*s_NNNNNN%s", (int)(dot - n), n, dot);
 				n = buf;
@@ -340,21 +344,24 @@ static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_
 /* One frame's planes: S0, S1, S2 interleaved (H, W, 3) as stokes.npy holds them, DoLP, AoLP. */
 typedef struct frame_buf {
 	float *stokes, *dolp, *aolp, *s0; /* s0: a contiguous copy for stacks of s0.npy */
+	float *mm; /* Imin, Imax, diffuse, specular planes for stacks (PC_SF_MINMAX/SPLIT) */
 	pc_stokes_out so;
 	pc_validity valid; /* mask NULL when no level is checked */
 	uint32_t w, h;
 } frame_buf;
 
-static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0, bool checked)
+static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0, bool checked, bool mm)
 {
 	size_t n = (size_t)w * h;
 	memset(f, 0, sizeof *f);
+	f->mm = mm ? malloc(sizeof(float) * n * 4) : NULL;
 	f->stokes = malloc(sizeof(float) * n * 3);
 	f->dolp = malloc(sizeof(float) * n);
 	f->aolp = malloc(sizeof(float) * n);
 	f->s0 = s0 ? malloc(sizeof(float) * n) : NULL;
 	f->valid = (pc_validity){checked ? malloc(n) : NULL, w, 0};
-	if (!f->stokes || !f->dolp || !f->aolp || (s0 && !f->s0) || (checked && !f->valid.mask))
+	if (!f->stokes || !f->dolp || !f->aolp || (s0 && !f->s0) || (checked && !f->valid.mask) ||
+	    (mm && !f->mm))
 		return pc_error(PC_ENOMEM, "out of memory for %ux%u Stokes images", w, h);
 	f->so = (pc_stokes_out){{f->stokes, (size_t)w * 3, 3},
 	                        {f->stokes + 1, (size_t)w * 3, 3},
@@ -372,26 +379,30 @@ static void frame_buf_free(frame_buf *f)
 	free(f->dolp);
 	free(f->aolp);
 	free(f->s0);
+	free(f->mm);
 	free(f->valid.mask);
 	memset(f, 0, sizeof *f);
 }
 
-/* The stacked arrays of a batch: (N, H, W, 3) stokes.npy, (N, H, W) s0, dolp, aolp and, when
- * a level is checked, valid.npy (N, H, W) uint8. */
+/* The stacked arrays of a batch: (N, H, W, 3) stokes.npy, (N, H, W) s0, dolp, aolp, imin,
+ * imax, diffuse, specular (as asked) and, when a level is checked, valid.npy (N, H, W) uint8. */
+enum { STACK_N = 9 };
 typedef struct stack {
-	pc_npy_stream s[5];
-	bool open[5];
+	pc_npy_stream s[STACK_N];
+	bool open[STACK_N];
 } stack;
 
 enum { STACK_VALID = 1u << 30 };
-static const char *const stack_names[5] = {"stokes.npy", "s0.npy", "dolp.npy", "aolp.npy",
-                                           "valid.npy"};
-static const unsigned stack_flags[5] = {PC_SF_STOKES, PC_SF_S0, PC_SF_DOLP, PC_SF_AOLP,
-                                        STACK_VALID};
+static const char *const stack_names[STACK_N] = {"stokes.npy", "s0.npy",      "dolp.npy",
+                                                 "aolp.npy",   "valid.npy",   "imin.npy",
+                                                 "imax.npy",   "diffuse.npy", "specular.npy"};
+static const unsigned stack_flags[STACK_N] = {PC_SF_STOKES, PC_SF_S0,    PC_SF_DOLP,
+                                              PC_SF_AOLP,   STACK_VALID, PC_SF_MINMAX,
+                                              PC_SF_MINMAX, PC_SF_SPLIT, PC_SF_SPLIT};
 
 static int stack_open(stack *st, const char *dir, unsigned files, size_t n, uint32_t w, uint32_t h)
 {
-	for (int k = 0; k < 5; k++) {
+	for (int k = 0; k < STACK_N; k++) {
 		if (!(files & stack_flags[k]))
 			continue;
 		char path[4096];
@@ -414,8 +425,19 @@ static int stack_add(stack *st, frame_buf *f)
 	if (f->s0)
 		for (size_t i = 0; i < n; i++)
 			f->s0[i] = f->stokes[3 * i];
-	const void *data[5] = {f->stokes, f->s0, f->dolp, f->aolp, f->valid.mask};
-	for (int k = 0; k < 5; k++) {
+	if (f->mm) {
+		pc_minmax_out mo = {{f->mm, f->w, 1},
+		                    {f->mm + n, f->w, 1},
+		                    {f->mm + 2 * n, f->w, 1},
+		                    {f->mm + 3 * n, f->w, 1}};
+		int rc = pc_stokes_minmax(&f->so.s0, &f->so.s1, &f->so.s2, f->w, f->h, &mo);
+		if (rc)
+			return rc;
+	}
+	const void *data[STACK_N] = {f->stokes, f->s0, f->dolp, f->aolp, f->valid.mask};
+	for (int k = 5; k < STACK_N && f->mm; k++)
+		data[k] = f->mm + (size_t)(k - 5) * n;
+	for (int k = 0; k < STACK_N; k++) {
 		if (!st->open[k])
 			continue;
 		size_t bytes = k == 4 ? n : sizeof(float) * n * (k ? 1 : 3);
@@ -431,7 +453,7 @@ static int stack_add(stack *st, frame_buf *f)
 static int stack_close(stack *st, bool commit)
 {
 	int rc = 0;
-	for (int k = 0; k < 5; k++) {
+	for (int k = 0; k < STACK_N; k++) {
 		if (!st->open[k])
 			continue;
 		st->open[k] = false;
@@ -488,8 +510,9 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 			rw0 = raw.width, rh0 = raw.height, bits0 = bits;
 			sat = pc_process_saturation(o, raw.format, bits);
 			checked = sat > 0 || o->dead_level > 0 || o->stage;
-			rc = frame_buf_alloc(&f, w, h, stack_on && (folder->files & PC_SF_S0),
-			                     checked);
+			rc = frame_buf_alloc(
+			    &f, w, h, stack_on && (folder->files & PC_SF_S0), checked,
+			    stack_on && (folder->files & (PC_SF_MINMAX | PC_SF_SPLIT)));
 			if (!rc && stack_on)
 				rc = stack_open(&st, tmp,
 				                folder->files | (checked ? STACK_VALID : 0),
@@ -519,6 +542,9 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 		bool pictures = (folder->files & PC_SF_PICTURES) &&
 		                (!numbered || (b->pictures_every && k % b->pictures_every == 0));
 		fo.files = (stack_on ? 0 : folder->files) & ~(unsigned)PC_SF_PICTURES;
+		fo.no_minmax_files = stack_on;
+		if (stack_on)
+			fo.files |= folder->files & (PC_SF_MINMAX | PC_SF_SPLIT);
 		if (pictures)
 			fo.files |= PC_SF_PICTURES;
 		if (stack_on)

@@ -1,6 +1,7 @@
 /* The pipeline's commands as users run them ($POLARCAM): demosaic, process and eval outputs
  * against the library, --list and --help, and bad input: exit status 2, a message naming the
  * file, and no output left behind. Synthetic files in a temporary directory. */
+#include <cairo.h>
 #include <dirent.h>
 #include <jansson.h>
 #include <math.h>
@@ -16,6 +17,7 @@
 #include "polarcam/error.h"
 #include "polarcam/eval.h"
 #include "polarcam/io.h"
+#include "polarcam/picture.h"
 #include "polarcam/stokes.h"
 
 static char dir[64];
@@ -244,6 +246,105 @@ static void test_process_cmd(void)
 	pc_view_free(&raw);
 }
 
+/* Pixels of a PNG picture (title, key and legend included) drawn in the invalid mark's pink. */
+static long count_invalid_pink(const char *path)
+{
+	cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+	if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {
+		cairo_surface_destroy(s);
+		return -1;
+	}
+	cairo_surface_flush(s);
+	const unsigned char *d = cairo_image_surface_get_data(s);
+	int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+	int stride = cairo_image_surface_get_stride(s);
+	long n = 0;
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			uint32_t px;
+			memcpy(&px, d + (size_t)y * stride + (size_t)x * 4, 4);
+			n += ((px >> 16) & 255) == PC_PICTURE_INVALID_R &&
+			     ((px >> 8) & 255) == PC_PICTURE_INVALID_G &&
+			     (px & 255) == PC_PICTURE_INVALID_B;
+		}
+	cairo_surface_destroy(s);
+	return n;
+}
+
+/* process --minmax --split: Imin, Imax, diffuse, specular against a double computation from
+ * the written stokes.npy; their pictures mark the saturated pixels as s0.png does; --stack
+ * gives the same planes as one file at a time. */
+static void test_process_minmax(void)
+{
+	enum { W = 40, H = 32 };
+	pc_view raw;
+	make_raw(&raw, W, H);
+	for (uint32_t y = 4; y < 10; y++) /* a saturated patch */
+		for (uint32_t x = 6; x < 14; x++)
+			PC_ROW(&raw, uint16_t, y)[x] = 4095;
+	CHECK_EQ_INT(pc_png_write(tmp("mm.png"), &raw), 0);
+	char args[1024];
+	snprintf(args, sizeof args, "process %s -o %s --minmax --split --picture-width 0",
+	         tmp("mm.png"), tmp("mm"));
+	CHECK_EQ_INT(run(args), 0);
+	pc_array st, v, q[4];
+	static const char *names[4] = {"imin", "imax", "diffuse", "specular"};
+	CHECK_EQ_INT(pc_npy_read(tmp("mm/stokes.npy"), &st), 0);
+	CHECK_EQ_INT(pc_npy_read(tmp("mm/valid.npy"), &v), 0);
+	for (int k = 0; k < 4; k++) {
+		char name[64];
+		snprintf(name, sizeof name, "mm/%s.npy", names[k]);
+		CHECK_EQ_INT(pc_npy_read(tmp(name), &q[k]), 0);
+		CHECK(q[k].ndim == 2 && q[k].shape[0] == H && q[k].shape[1] == W);
+	}
+	const float *s = st.data;
+	double worst = 0;
+	long n_bad = 0;
+	for (int i = 0; i < W * H; i++) {
+		double s0 = s[3 * i], p = sqrt((double)s[3 * i + 1] * s[3 * i + 1] +
+		                               (double)s[3 * i + 2] * s[3 * i + 2]);
+		double want[4] = {(s0 - p) / 2, (s0 + p) / 2, s0 - p, p};
+		for (int k = 0; k < 4; k++)
+			worst =
+			    fmax(worst, fabs(((const float *)q[k].data)[i] - want[k]) / (s0 + p));
+		n_bad += !((const uint8_t *)v.data)[i];
+	}
+	CHECK(worst <= 1e-6);
+	CHECK(n_bad > 0);
+	/* the saturated pixels in every picture, as in s0.png: half of each is pink (checker) */
+	long pink_s0 = count_invalid_pink(tmp("mm/s0.png"));
+	CHECK(pink_s0 >= n_bad / 2);
+	for (int k = 0; k < 4; k++) {
+		char name[64];
+		snprintf(name, sizeof name, "mm/%s.png", names[k]);
+		CHECK_EQ_INT(count_invalid_pink(tmp(name)), pink_s0);
+	}
+	/* no level checked: nothing pink */
+	snprintf(args, sizeof args, "process %s -o %s --minmax --saturation none", tmp("mm.png"),
+	         tmp("mm0"));
+	CHECK_EQ_INT(run(args), 0);
+	CHECK_EQ_INT(count_invalid_pink(tmp("mm0/imin.png")), 0);
+	CHECK(!exists(tmp("mm0/diffuse.npy")));
+	/* --stack: (N, H, W) planes, frame 1 equal to the single file's */
+	snprintf(args, sizeof args, "process %s %s -o %s --stack --split --no-pictures",
+	         tmp("p.png"), tmp("mm.png"), tmp("mms"));
+	CHECK_EQ_INT(run(args), 0);
+	pc_array sd;
+	CHECK_EQ_INT(pc_npy_read(tmp("mms/diffuse.npy"), &sd), 0);
+	CHECK(sd.ndim == 3 && sd.shape[0] == 2 && sd.shape[1] == H && sd.shape[2] == W);
+	if (sd.ndim == 3 && sd.shape[0] == 2)
+		CHECK(memcmp((const float *)sd.data + W * H, q[2].data, sizeof(float) * W * H) ==
+		      0);
+	CHECK(!exists(tmp("mms/imin.npy")));
+	CHECK(file_contains(tmp("mms/meta.json"), "\"specular.npy\""));
+	pc_array_free(&sd);
+	pc_array_free(&st);
+	pc_array_free(&v);
+	for (int k = 0; k < 4; k++)
+		pc_array_free(&q[k]);
+	pc_view_free(&raw);
+}
+
 static void test_eval_cmd(void)
 {
 	CHECK_EQ_INT(run("eval --help"), 0);
@@ -302,6 +403,7 @@ int main(void)
 	test_demosaic_cmd();
 	test_bad_input();
 	test_process_cmd();
+	test_process_minmax();
 	test_eval_cmd();
 	char cmd[128];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);

@@ -28,7 +28,8 @@ static double sweep_extreme(double s0, double s1, double s2, double sign)
 {
 	double best = -INFINITY, bt = 0;
 	for (int k = 0; k < 3600; k++) {
-		double t = M_PI * k / 3600, v = sign * 0.5 * (s0 + s1 * cos(2 * t) + s2 * sin(2 * t));
+		double t = M_PI * k / 3600,
+		       v = sign * 0.5 * (s0 + s1 * cos(2 * t) + s2 * sin(2 * t));
 		if (v > best)
 			best = v, bt = t;
 	}
@@ -55,9 +56,9 @@ int main(void)
 		pc_stokes_minmax1(s0, s1, s2, r);
 		CHECK_NEAR(r[0], sweep_extreme(s0, s1, s2, -1), 1e-9 * (s0 + 1));
 		CHECK_NEAR(r[1], sweep_extreme(s0, s1, s2, +1), 1e-9 * (s0 + 1));
-		CHECK_NEAR(r[0] + r[1], s0, 1e-12 * (s0 + 1));  /* Imin + Imax = S0 */
-		CHECK_NEAR(r[2] + r[3], s0, 1e-12 * (s0 + 1));  /* diffuse + specular = S0 */
-		CHECK_NEAR(r[2], 2 * r[0], 1e-12 * (s0 + 1));   /* diffuse = 2·Imin */
+		CHECK_NEAR(r[0] + r[1], s0, 1e-12 * (s0 + 1));   /* Imin + Imax = S0 */
+		CHECK_NEAR(r[2] + r[3], s0, 1e-12 * (s0 + 1));   /* diffuse + specular = S0 */
+		CHECK_NEAR(r[2], 2 * r[0], 1e-12 * (s0 + 1));    /* diffuse = 2·Imin */
 		CHECK_NEAR(r[3], r[1] - r[0], 1e-12 * (s0 + 1)); /* specular = Imax − Imin */
 	}
 	/* analytic limits: fully polarized light (DoLP 1) has Imin = 0, unpolarized Imin = Imax */
@@ -75,7 +76,8 @@ int main(void)
 	 * holds it, planar outputs with a padded row, and inputs over 70 decades (hypotf must not
 	 * overflow S1² + S2² at 1e30 nor underflow it at 1e-30) and noisy DoLP above 1 */
 	enum { W = 37, H = 23, PAD = 5 };
-	float *st = malloc(sizeof(float) * W * H * 3), *o = malloc(sizeof(float) * 4 * (W + PAD) * H);
+	float *st = malloc(sizeof(float) * W * H * 3),
+	      *o = malloc(sizeof(float) * 4 * (W + PAD) * H);
 	for (int i = 0; i < W * H; i++) {
 		double mag = pow(10, -30 + 60 * uni()), dolp = 1.3 * uni(), phi = M_PI * uni();
 		if (i % 3 == 0)
@@ -136,10 +138,12 @@ int main(void)
 			B[i] = 1000 * uni();
 			double phi = M_PI * uni();
 			for (int c = 0; c < 4; c++)
-				ch[c][i] = (float)(A[i] / 2 + B[i] * pow(cos(M_PI / 4 * c - phi), 2));
+				ch[c][i] =
+				    (float)(A[i] / 2 + B[i] * pow(cos(M_PI / 4 * c - phi), 2));
 		}
 		pc_fplane in[4] = {{ch[0], N, 1}, {ch[1], N, 1}, {ch[2], N, 1}, {ch[3], N, 1}};
-		pc_stokes_out so = {{s[0], N, 1}, {s[1], N, 1}, {s[2], N, 1}, {NULL, 0, 0}, {NULL, 0, 0}};
+		pc_stokes_out so = {
+		    {s[0], N, 1}, {s[1], N, 1}, {s[2], N, 1}, {NULL, 0, 0}, {NULL, 0, 0}};
 		CHECK_EQ_INT(pc_stokes_from_channels(in, N, 1, NULL, &so), 0);
 		pc_minmax_out mo = {{mm[0], N, 1}, {mm[1], N, 1}, {mm[2], N, 1}, {mm[3], N, 1}};
 		CHECK_EQ_INT(pc_stokes_minmax(&so.s0, &so.s1, &so.s2, N, 1, &mo), 0);

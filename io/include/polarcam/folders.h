@@ -10,8 +10,11 @@
  *   aolp.npy       float32 (H, W): AoLP in radians, [0, π) (polarcam/stokes.h's convention)
  *   valid.npy      uint8 (H, W): 1 valid, 0 where the value depends on a saturated, dead or
  *                  distrusted sample (pc_stokes_folder_write_valid with a mask)
+ *   imin.npy, imax.npy          float32 (H, W): Imin, Imax (pc_stokes_minmax, polarcam/stokes.h)
+ *   diffuse.npy, specular.npy   float32 (H, W): 2·Imin, Imax − Imin
  *   s0.png, dolp.png, aolp.png, aolp_sat.png   the pictures of pc_pictures_write_opts (invalid
- *                  pixels marked, pc_pictures_write_valid)
+ *                  pixels marked, pc_pictures_write_valid), and imin.png, imax.png, diffuse.png,
+ *                  specular.png for the planes asked for (pc_pictures_write_minmax)
  *
  * A Mueller folder (pc_mueller_folder_write) holds:
  *   mueller.npy    float32 (H, W, 4, 4) (unless left out)
@@ -60,6 +63,8 @@ enum pc_stokes_folder_files {
 	PC_SF_DOLP = 1u << 2,     /* dolp.npy */
 	PC_SF_AOLP = 1u << 3,     /* aolp.npy */
 	PC_SF_PICTURES = 1u << 4, /* s0.png, dolp.png, aolp.png, aolp_sat.png */
+	PC_SF_MINMAX = 1u << 5,   /* imin.npy, imax.npy (and imin.png, imax.png with pictures) */
+	PC_SF_SPLIT = 1u << 6,    /* diffuse.npy, specular.npy (and their .png with pictures) */
 };
 
 typedef struct pc_stokes_folder_opts {
@@ -67,8 +72,10 @@ typedef struct pc_stokes_folder_opts {
 	pc_pictures_opts pictures; /* title prefix, display width, low-signal mask */
 	bool numbered; /* names carry a frame number: stokes_NNNNNN.npy, s0_NNNNNN.png */
 	uint64_t number;
-	bool no_valid_file; /* the mask goes elsewhere (a batch's stacked valid.npy): the pictures
-	                     * still mark it, valid.npy is not written here */
+	bool no_valid_file;   /* the mask goes elsewhere (a batch's stacked valid.npy): the pictures
+	                       * still mark it, valid.npy is not written here */
+	bool no_minmax_files; /* the same for imin/imax/diffuse/specular.npy (PC_SF_MINMAX,
+	                       * PC_SF_SPLIT): only their pictures are written here */
 } pc_stokes_folder_opts;
 
 /* Writes the files asked for from st (planes as pc_stokes_out; stokes.npy needs s0, s1, s2,

@@ -228,6 +228,14 @@ struct pc_validity;
 PC_API int pc_pictures_write_valid(const char *dir, const struct pc_stokes_out *st, uint32_t width,
                                    uint32_t height, const pc_pictures_opts *opts,
                                    const struct pc_validity *valid);
+/* Pictures of Imin/Imax and of the diffuse/specular split (pc_stokes_minmax, polarcam/stokes.h)
+ * of st's S0, S1, S2: imin.png and imax.png when minmax, diffuse.png and specular.png when
+ * split, grey on the S0 picture's scale (opts->s0_hi, or S0's 99.9th percentile as s0.png) so
+ * that they compare with s0.png and with each other, invalid pixels marked as in the others.
+ * Imin/Imax are intensities, not ratios: no low-signal hatch. */
+PC_API int pc_pictures_write_minmax(const char *dir, const struct pc_stokes_out *st, uint32_t width,
+                                    uint32_t height, const pc_pictures_opts *opts,
+                                    const struct pc_validity *valid, bool minmax, bool split);
 /* The same with a title prefix (may be NULL) and the default mask. */
 PC_API int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
                              uint32_t height, const char *title_prefix);
