@@ -23,11 +23,12 @@ static int check_plane(const pc_fplane *p, uint32_t w, const char *what)
 	return 0;
 }
 
-int pc_stokes_minmax(const pc_fplane *s0, const pc_fplane *s1, const pc_fplane *s2,
-                     uint32_t width, uint32_t height, const pc_minmax_out *out)
+int pc_stokes_minmax(const pc_fplane *s0, const pc_fplane *s1, const pc_fplane *s2, uint32_t width,
+                     uint32_t height, const pc_minmax_out *out)
 {
 	if (!s0 || !s1 || !s2 || !s0->data || !s1->data || !s2->data || !out)
-		return pc_error(PC_EINVAL, "Imin/Imax: S0, S1 and S2 planes and outputs are needed");
+		return pc_error(PC_EINVAL,
+		                "Imin/Imax: S0, S1 and S2 planes and outputs are needed");
 	if (width == 0 || height == 0)
 		return pc_error(PC_EINVAL, "Imin/Imax: empty size %ux%u", width, height);
 	const pc_fplane *in[3] = {s0, s1, s2};
@@ -52,8 +53,8 @@ int pc_stokes_minmax(const pc_fplane *s0, const pc_fplane *s1, const pc_fplane *
 		for (uint32_t x = 0; x < width; x++) {
 			const float v0 = a[(size_t)x * s0->pixel_stride];
 			/* hypotf: no overflow or underflow of S1² + S2² for any finite input */
-			const float p =
-			    hypotf(b[(size_t)x * s1->pixel_stride], c[(size_t)x * s2->pixel_stride]);
+			const float p = hypotf(b[(size_t)x * s1->pixel_stride],
+			                       c[(size_t)x * s2->pixel_stride]);
 			const float r[4] = {0.5f * (v0 - p), 0.5f * (v0 + p), v0 - p, p};
 			for (int k = 0; k < 4; k++)
 				if (o[k]->data)
