@@ -231,8 +231,12 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 	const size_t np = (size_t)W * H;
 	const double full = (double)((1u << d->in.bits) - 1);
 	float *ep = malloc(np * 5 * sizeof *ep);
-	if (!ep)
+	uint8_t *vmask = malloc(np);
+	if (!ep || !vmask) {
+		free(ep);
+		free(vmask);
 		return pc_error(PC_ENOMEM, "Stokes images of %ux%u", W, H);
+	}
 	const pc_stokes_out eo = {{ep, W, 1},
 	                          {ep + np, W, 1},
 	                          {ep + 2 * np, W, 1},
@@ -267,7 +271,18 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 		if (r->acc[m].dolp_rms < r->acc[r->best].dolp_rms)
 			r->best = m;
 		bool bilinear = d->methods[m] == PC_DM_BILINEAR;
-		{ /* pictures of every method, on the truth's scales */
+		{ /* pictures of every method, on the truth's scales, the pixels that depend on
+		   * a saturated sample marked (untimed: the validity of this method's support) */
+			pc_pipeline_opts vo = pc_pipeline_defaults();
+			vo.method = d->methods[m];
+			vo.mosaic = d->in.mosaic;
+			vo.threads = d->o.threads;
+			vo.saturation_level = full;
+			pc_validity valid = {vmask, W, 0};
+			if ((rc = pc_validity_run(raw, &vo, &valid))) {
+				pc_error_prefix(rc, "%s: validity: ", name);
+				break;
+			}
 			char sub[96], dir[4096];
 			if (snprintf(sub, sizeof sub, "pipeline_%.40s", name) >= (int)sizeof sub)
 				sub[sizeof sub - 1] = '\0';
@@ -275,8 +290,9 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 			                            .pictures = {.title_prefix = r->method[m],
 			                                         .s0_hi = r->s0_hi,
 			                                         .dolp_hi = r->dolp_hi}};
+			fo.no_valid_file = true;
 			if ((rc = join(dir, sizeof dir, out, sub)) ||
-			    (rc = pc_stokes_folder_write(dir, &eo, W, H, &fo))) {
+			    (rc = pc_stokes_folder_write_valid(dir, &eo, W, H, &fo, &valid))) {
 				pc_error_prefix(rc, "%s: ", dir);
 				break;
 			}
@@ -287,6 +303,7 @@ static int step_pipeline(pc_demo *d, const char *out, const pc_view *raw, const 
 			break;
 	}
 	free(ep);
+	free(vmask);
 	return rc;
 }
 
@@ -437,13 +454,20 @@ static int mueller_compare(const char *dir, const pc_mueller_result *res, const 
 		char nm[32], title[96];
 		snprintf(title, sizeof title, "%s from 8 simulated frames (cond %.2f)", names[k],
 		         res->sys.cond_W);
-		if ((rc = pc_map_write(dir, names[k], res->maps + (size_t)k * mnp, mw, mh, 0,
-		                       his[k], title, labels[k])))
+		/* R where the light is depolarized is undefined: hatched, by each map's own Δ */
+		char htext[64];
+		snprintf(htext, sizeof htext, "Delta > %.2g: R undefined", PC_MUELLER_R_MASK_DELTA);
+		pc_map_marks me = {res->valid, k == 1 ? res->maps + 2 * mnp : NULL,
+		                   PC_MUELLER_R_MASK_DELTA, htext};
+		pc_map_marks mt = {NULL, k == 1 ? tmaps + 2 * mnp : NULL, PC_MUELLER_R_MASK_DELTA,
+		                   htext};
+		if ((rc = pc_map_write_marked(dir, names[k], res->maps + (size_t)k * mnp, mw, mh, 0,
+		                              his[k], title, labels[k], &me)))
 			break;
 		snprintf(nm, sizeof nm, "truth_%s", names[k]);
 		snprintf(title, sizeof title, "%s ground truth", names[k]);
-		if ((rc = pc_map_write(dir, nm, tmaps + (size_t)k * mnp, mw, mh, 0, his[k], title,
-		                       labels[k])))
+		if ((rc = pc_map_write_marked(dir, nm, tmaps + (size_t)k * mnp, mw, mh, 0, his[k],
+		                              title, labels[k], &mt)))
 			break;
 		/* retardance is defined where the light keeps its polarization: compare R only
 		 * where the truth depolarization Δ < 0.5 */
@@ -453,7 +477,9 @@ static int mueller_compare(const char *dir, const pc_mueller_result *res, const 
 			wr = malloc(mnp * sizeof *wr);
 			if (wr)
 				for (size_t i = 0; i < mnp; i++)
-					wr[i] = tmaps[2 * mnp + i] < 0.5f ? w[i] : 0;
+					wr[i] = tmaps[2 * mnp + i] < (float)PC_MUELLER_R_MASK_DELTA
+					            ? w[i]
+					            : 0;
 			wk = wr ? wr : w;
 		}
 		r->med[k] =

@@ -37,21 +37,25 @@ static void magenta(uint32_t x, uint32_t y, uint8_t rgb[3])
 	rgb[0] = 255, rgb[1] = 0, rgb[2] = 255;
 }
 
-static int map_write(const char *dir, const char *name, const float *map, uint32_t width,
-                     uint32_t height, double lo, double hi, const char *title, const char *label,
-                     const uint8_t *valid, long invalid);
-
 int pc_map_write(const char *dir, const char *name, const float *map, uint32_t width,
                  uint32_t height, double lo, double hi, const char *title, const char *label)
 {
-	return map_write(dir, name, map, width, height, lo, hi, title, label, NULL, 0);
+	return pc_map_write_marked(dir, name, map, width, height, lo, hi, title, label, NULL);
 }
 
-/* pc_map_write with the invalid pixels (valid[p] == 0) marked and counted in the legend */
-static int map_write(const char *dir, const char *name, const float *map, uint32_t width,
-                     uint32_t height, double lo, double hi, const char *title, const char *label,
-                     const uint8_t *valid, long invalid)
+/* pc_map_write with the invalid pixels (valid[p] == 0) marked and counted in the legend, and
+ * the hatch where hatch_map is above its bound */
+int pc_map_write_marked(const char *dir, const char *name, const float *map, uint32_t width,
+                        uint32_t height, double lo, double hi, const char *title, const char *label,
+                        const pc_map_marks *marks)
 {
+	if (!dir || !name || !map)
+		return pc_error(PC_EINVAL, "map picture: missing argument");
+	const size_t np = (size_t)width * height;
+	const uint8_t *valid = marks ? marks->valid : NULL;
+	long invalid = 0;
+	for (size_t i = 0; valid && i < np; i++)
+		invalid += !valid[i];
 	char path[4096], file[256];
 	snprintf(file, sizeof file, "%s.npy", name);
 	size_t shape[2] = {height, width};
@@ -63,6 +67,17 @@ static int map_write(const char *dir, const char *name, const float *map, uint32
 		return pc_error(PC_ENOMEM, "%s picture", name);
 	pc_fplane pl = {(float *)map, width, 1};
 	rc = pc_picture_grey(&pl, width, height, (float)lo, (float)hi, rgb, (size_t)width * 3);
+	size_t hatched = 0;
+	if (!rc && marks && marks->hatch_map)
+		for (uint32_t y = 0; y < height; y++)
+			for (uint32_t x = 0; x < width; x++) {
+				float v = marks->hatch_map[(size_t)y * width + x];
+				if (v > marks->hatch_above) {
+					pc_picture_mask_rgb(x, y,
+					                    rgb + ((size_t)y * width + x) * 3);
+					hatched++;
+				}
+			}
 	if (!rc && invalid)
 		pc_picture_mask_invalid(valid, width, width, height, rgb, (size_t)width * 3);
 	if (!rc) {
@@ -80,15 +95,16 @@ static int map_write(const char *dir, const char *name, const float *map, uint32
 		char btext[64];
 		snprintf(btext, sizeof btext, "invalid %.2g%%",
 		         100.0 * (double)invalid / ((double)width * height));
+		char htext[96];
+		snprintf(htext, sizeof htext, "%s",
+		         marks && marks->hatch_text ? marks->hatch_text : "hatched");
 		pc_legend_note bad = {btext, pc_picture_invalid_rgb, NULL};
-		pc_legend_note note = {text, magenta, invalid ? &bad : NULL};
+		pc_legend_note hatch = {htext, pc_picture_mask_rgb, invalid ? &bad : NULL};
+		const pc_legend_note *after = hatched ? &hatch : invalid ? &bad : NULL;
+		pc_legend_note note = {text, magenta, after};
 		if (!rc)
 			rc = pc_image_write_png_ex(path, rgb, width, height, (size_t)width * 3,
-			                           title, &bar,
-			                           undefined ? &note
-			                           : invalid ? &bad
-			                                     : NULL,
-			                           1600);
+			                           title, &bar, undefined ? &note : after, 1600);
 	}
 	free(rgb);
 	return rc;
@@ -304,14 +320,17 @@ static int mueller_folder(const char *dir, const pc_mueller_result *res,
 		if ((rc = write_npy(dir, "mueller.npy", res->M, 4, shape)))
 			return rc;
 	}
-	const uint8_t *vm = res->valid;
-	const long nb = res->valid ? res->invalid : 0;
-	if ((rc = map_write(dir, "D", res->maps, w, h, 0, 1, "Diattenuation D (Lu-Chipman)", "D",
-	                    vm, nb)) ||
-	    (rc = map_write(dir, "R", res->maps + np, w, h, 0, M_PI, "Retardance R (Lu-Chipman)",
-	                    "R (rad)", vm, nb)) ||
-	    (rc = map_write(dir, "Delta", res->maps + 2 * np, w, h, 0, 1,
-	                    "Depolarization Delta (Lu-Chipman)", "Delta", vm, nb)))
+	pc_map_marks mk = {res->valid, NULL, 0, NULL};
+	char htext[64];
+	snprintf(htext, sizeof htext, "Delta > %.2g: R undefined", PC_MUELLER_R_MASK_DELTA);
+	pc_map_marks mr = {res->valid, res->maps + 2 * np, PC_MUELLER_R_MASK_DELTA, htext};
+	if ((rc = pc_map_write_marked(dir, "D", res->maps, w, h, 0, 1,
+	                              "Diattenuation D (Lu-Chipman)", "D", &mk)) ||
+	    (rc = pc_map_write_marked(dir, "R", res->maps + np, w, h, 0, M_PI,
+	                              "Retardance R (Lu-Chipman; hatched where depolarized)",
+	                              "R (rad)", &mr)) ||
+	    (rc = pc_map_write_marked(dir, "Delta", res->maps + 2 * np, w, h, 0, 1,
+	                              "Depolarization Delta (Lu-Chipman)", "Delta", &mk)))
 		return rc;
 	if (res->valid) {
 		char path[4096];

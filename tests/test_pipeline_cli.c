@@ -16,6 +16,7 @@
 #include "polarcam/demosaic.h"
 #include "polarcam/error.h"
 #include "polarcam/eval.h"
+#include "polarcam/folders.h"
 #include "polarcam/io.h"
 #include "polarcam/picture.h"
 #include "polarcam/stokes.h"
@@ -345,6 +346,58 @@ static void test_process_minmax(void)
 	pc_view_free(&raw);
 }
 
+/* Pixels of a PNG picture in the low-signal hatch's two greys. */
+static long count_hatch(const char *path)
+{
+	cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+	if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {
+		cairo_surface_destroy(s);
+		return -1;
+	}
+	cairo_surface_flush(s);
+	const unsigned char *d = cairo_image_surface_get_data(s);
+	int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+	int stride = cairo_image_surface_get_stride(s);
+	long n = 0;
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			uint32_t px;
+			memcpy(&px, d + (size_t)y * stride + (size_t)x * 4, 4);
+			unsigned r = (px >> 16) & 255, g = (px >> 8) & 255, b = px & 255;
+			n += r == g && g == b &&
+			     (r == PC_PICTURE_MASK_RGB0 || r == PC_PICTURE_MASK_RGB1);
+		}
+	cairo_surface_destroy(s);
+	return n;
+}
+
+/* A retardance map hatched where its Δ is above PC_MUELLER_R_MASK_DELTA: every such pixel is
+ * drawn in the hatch's greys (R = π: white, so no other pixel of the map is), the .npy stays
+ * unmasked; without the Δ map nothing is. */
+static void test_map_hatch(void)
+{
+	enum { W = 48, H = 40 };
+	float r[W * H], delta[W * H];
+	long want = 0;
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			r[y * W + x] = (float)M_PI;
+			delta[y * W + x] = x < 20 ? 0.9f : 0.1f;
+			want += x < 20;
+		}
+	pc_map_marks mk = {NULL, delta, PC_MUELLER_R_MASK_DELTA, "Delta > 0.5: R undefined"};
+	CHECK_EQ_INT(pc_map_write_marked(dir, "Rh", r, W, H, 0, M_PI, "R", "R (rad)", &mk), 0);
+	long n = count_hatch(tmp("Rh.png"));
+	CHECK(n >= want && n <= want + 2000); /* the map's pixels, and the legend's swatch */
+	pc_array a;
+	CHECK_EQ_INT(pc_npy_read(tmp("Rh.npy"), &a), 0);
+	CHECK(a.ndim == 2 && memcmp(a.data, r, sizeof r) == 0);
+	pc_array_free(&a);
+	CHECK_EQ_INT(pc_map_write_marked(dir, "R0", r, W, H, 0, M_PI, "R", "R (rad)", NULL), 0);
+	/* (a few pixels of the key's grey ramp and antialiased text share the greys) */
+	CHECK(count_hatch(tmp("R0.png")) < want / 20);
+}
+
 static void test_eval_cmd(void)
 {
 	CHECK_EQ_INT(run("eval --help"), 0);
@@ -404,6 +457,7 @@ int main(void)
 	test_bad_input();
 	test_process_cmd();
 	test_process_minmax();
+	test_map_hatch();
 	test_eval_cmd();
 	char cmd[128];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);

@@ -18,7 +18,8 @@
  *
  * A Mueller folder (pc_mueller_folder_write) holds:
  *   mueller.npy    float32 (H, W, 4, 4) (unless left out)
- *   D, R, Delta    .npy (H, W) float32 and .png (grey, with a colour bar; NaN magenta)
+ *   D, R, Delta    .npy (H, W) float32 and .png (grey, with a colour bar; NaN magenta; R.png
+ *                  hatched where Δ > PC_MUELLER_R_MASK_DELTA)
  *   rebuild_residual.npy/.png   when the circular entries were rebuilt
  *   valid.npy      uint8 (H, W) when levels were checked: 0 where a frame's sample was
  *                  saturated or dead (marked in the D, R, Delta pictures)
@@ -54,6 +55,27 @@ extern "C" {
 PC_API int pc_map_write(const char *dir, const char *name, const float *map, uint32_t width,
                         uint32_t height, double lo, double hi, const char *title,
                         const char *label);
+
+/* Marks drawn over a map's picture (pc_map_write_marked); zeroed: none. */
+typedef struct pc_map_marks {
+	const uint8_t *valid;   /* (H, W) 1 valid; 0s are painted with the invalid checker */
+	const float *hatch_map; /* (H, W): where hatch_map > hatch_above the picture shows */
+	double hatch_above;     /* the dark grey hatch of pc_picture_mask_low (NaN: magenta) */
+	const char *hatch_text; /* the hatch's legend text, e.g. "Delta > 0.5: R undefined" */
+} pc_map_marks;
+
+/* pc_map_write with marks (NULL: none): the .npy is never masked, the picture is. */
+PC_API int pc_map_write_marked(const char *dir, const char *name, const float *map, uint32_t width,
+                               uint32_t height, double lo, double hi, const char *title,
+                               const char *label, const pc_map_marks *marks);
+
+/* Retardance is undefined where the light is depolarized: the polar decomposition reads the
+ * retarder from m' = m_Δ·m_R (docs/physics.md §3), whose singular values are the depolarizer's
+ * (1 − Δ on average, eq. 18), so noise in m' reaches R divided by about 1 − Δ, and at Δ = 1
+ * nothing of m_R is left. R pictures (Mueller folders, the demo) hatch the pixels with Δ above
+ * this, where R's noise gain passes twice a non-depolarizing pixel's; the demo compares R with
+ * its truth below the same bound. */
+#define PC_MUELLER_R_MASK_DELTA 0.5
 
 /* ---- Stokes folders ---- */
 
