@@ -154,7 +154,7 @@ static void decompose(rd *r, uint8_t mode)
 	double fmx = 0;
 	for (int i = 0; i < 16; i++)
 		fmx = fmax(fmx, fabs(F[i / 4][i % 4]));
-	if (F[0][0] > 0 && changed && fmx > 0x1p-960 && !pc_mueller_is_physical(F, 1e-6)) {
+	if (fin && F[0][0] > 0 && changed && fmx > 0x1p-960 && !pc_mueller_is_physical(F, 1e-6)) {
 		for (int i = 0; i < 4; i++)
 			fprintf(stderr, "M %.17g %.17g %.17g %.17g | F %.17g %.17g %.17g %.17g\n",
 			        M[i][0], M[i][1], M[i][2], M[i][3], F[i][0], F[i][1], F[i][2],
