@@ -88,9 +88,8 @@ static void usage(FILE *fp)
 	    "Exit status: 0 success, 1 failure, 2 bad arguments or bad input, or DIR exists.\n"
 	    "\n"
 	    "examples:\n"
-	    "  polarcam process rec/raw_000000.png -o out/\n"
-	    "  polarcam process rec/ -o frames/ --stack --method ratio --json\n"
 	    "  polarcam process rec/raw_000000.png -o out/ --minmax --split\n"
+	    "  polarcam process rec/ -o frames/ --stack --method ratio --json\n"
 	    "  polarcam process raw.bin --width 2448 --height 2048 --format Mono12p -o out/ "
 	    "--overwrite\n",
 	    cli_raw_help);
