@@ -6,6 +6,7 @@
  * acquisition time is computed. */
 #include <getopt.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -87,6 +88,45 @@ static int bopen(bstack *b, double bg, const char *psa, uint32_t size, size_t n,
 	s->exposure_us = b->info.exposure_us;
 	s->angle_deg = angle;
 	s->dolp = dolp;
+	return 0;
+}
+
+/* One W⁺ per 2×2 super-pixel for the bilinear pipeline: the mean of the block's four
+ * per-pixel W⁺ (pc_calib_pinv), as a W/2 × H/2 grid (12 floats per block, 12 bytes per pixel
+ * instead of 48). expand: written back over the per-pixel cache instead (every pixel of a
+ * block gets the block's matrix), so that pc_calib_apply runs with it. */
+static int block_pinv(pc_calib *cal, bool expand, float **out)
+{
+	pc_analyser_pinv pp;
+	int rc = pc_calib_pinv(cal, PC_DM_BILINEAR, 0, &pp);
+	if (rc)
+		return rc;
+	const uint32_t W = pp.grid_w, H = pp.grid_h, gw = W / 2, gh = H / 2;
+	const size_t np = (size_t)W * H, nb = (size_t)gw * gh;
+	float *b = malloc(12 * nb * sizeof *b);
+	if (!b)
+		return PC_ENOMEM;
+	for (size_t e = 0; e < 12; e++)
+		for (uint32_t by = 0; by < gh; by++)
+			for (uint32_t bx = 0; bx < gw; bx++) {
+				const float *m = pp.m + e * np + (size_t)2 * by * W + 2 * bx;
+				b[e * nb + (size_t)by * gw + bx] =
+				    0.25f * ((m[0] + m[1]) + (m[W] + m[W + 1]));
+			}
+	if (expand) {
+		float *m = (float *)(uintptr_t)pp.m; /* the cache: cal's own memory */
+		for (size_t e = 0; e < 12; e++)
+			for (uint32_t y = 0; y < 2 * gh; y++)
+				for (uint32_t x = 0; x < 2 * gw; x++)
+					m[e * np + (size_t)y * W + x] =
+					    b[e * nb + (size_t)(y / 2) * gw + x / 2];
+		free(b);
+		b = NULL;
+	}
+	if (out)
+		*out = b;
+	else
+		free(b);
 	return 0;
 }
 
@@ -202,7 +242,7 @@ static int speed_setup(uint32_t W, uint32_t H, pc_calib *cal, pc_view *raw)
 	return 0;
 }
 
-static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
+static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *only)
 {
 	pc_calib cal;
 	pc_view raw;
@@ -233,9 +273,27 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
 	/* what `polarcam process` runs: the black level, the saturation check and the mask */
 	pc_pipeline_opts pu = po;
 	pu.black_level = 60;
-	enum { IDEAL, IDEAL_NOMASK, CAL, CAL_NOMASK, NCASE };
+	enum { IDEAL, IDEAL_NOMASK, CAL, CAL_NOMASK, CAL_SP, NCASE };
 	static const char *const name[NCASE] = {"ideal", "ideal_no_mask", "calibrated",
-	                                        "calibrated_no_mask"};
+	                                        "calibrated_no_mask", "calibrated_2x2"};
+	int one = -1; /* --only: one case (for perf stat) */
+	for (int k = 0; only && k < NCASE; k++)
+		if (!strcmp(only, name[k]))
+			one = k;
+	if (only && one < 0) {
+		pc_calib_free(&cal);
+		pc_view_free(&raw);
+		free(planes);
+		free(mask);
+		return host->error(PC_BENCH_USAGE,
+		                   "--only %s: expected ideal, ideal_no_mask, "
+		                   "calibrated, calibrated_no_mask or calibrated_2x2",
+		                   only);
+	}
+	/* the experiment: the fused pipeline with the calibration's dark and 1/gain and one W⁺ per
+	 * 2×2 super-pixel (block_pinv; without the calibration's distrusted pixels in the mask) */
+	float *bp = NULL;
+	pc_pipeline_opts ps = po;
 	double *t = calloc((size_t)NCASE * (size_t)reps, sizeof *t), best[NCASE], med[NCASE];
 	uint64_t inval[NCASE] = {0};
 	if (!t) {
@@ -248,12 +306,21 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
 	if ((rc = pc_calib_apply(&cal, &f, 12, &po, &out, NULL, &v)))
 		goto out;
 	double prep = bench_now() - t0;
+	if ((rc = block_pinv(&cal, false, &bp)))
+		goto out;
+	pc_analyser_pinv bgrid = {bp, W / 2, H / 2};
+	ps.dark = cal.dark;
+	ps.gain_inv = cal.apply_ig;
+	ps.pinv = &bgrid;
 	for (int r = 0; r < reps; r++)
 		for (int k = 0; k < NCASE; k++) { /* interleaved: load drifts hit every case */
+			if (one >= 0 && k != one)
+				continue;
 			v = (pc_validity){mask, W, 0};
-			pc_validity *vp = k == IDEAL || k == CAL ? &v : NULL;
+			pc_validity *vp = k == IDEAL || k == CAL || k == CAL_SP ? &v : NULL;
 			t0 = bench_now();
 			rc = k <= IDEAL_NOMASK ? pc_stokes_run(&raw, &pu, &out, vp)
+			     : k == CAL_SP     ? pc_stokes_run(&raw, &ps, &out, vp)
 			                       : pc_calib_apply(&cal, &f, 12, &po, &out, NULL, vp);
 			t[(size_t)k * (size_t)reps + (size_t)r] = bench_now() - t0;
 			if (rc)
@@ -291,6 +358,10 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
 		json_object_set_new(j, "ratio_median", bench_json_real(med[CAL] / med[IDEAL]));
 		json_object_set_new(j, "ratio_no_mask_median",
 		                    bench_json_real(med[CAL_NOMASK] / med[IDEAL_NOMASK]));
+		json_object_set_new(j, "ratio_2x2_median",
+		                    bench_json_real(med[CAL_SP] / med[IDEAL]));
+		json_object_set_new(j, "ratio_2x2_min",
+		                    bench_json_real(best[CAL_SP] / best[IDEAL]));
 		host->print_json(j);
 	} else {
 		printf("bilinear Stokes pipeline, %ux%u Mono12, planar S0 S1 S2 DoLP AoLP, %d "
@@ -305,8 +376,11 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json)
 		       "goal <= 1.5\nwithout the mask: %.2f (min %.2f)\n",
 		       med[CAL] / med[IDEAL], best[CAL] / best[IDEAL],
 		       med[CAL_NOMASK] / med[IDEAL_NOMASK], best[CAL_NOMASK] / best[IDEAL_NOMASK]);
+		printf("one W+ per 2x2 super-pixel (experiment) / ideal: %.2f (min %.2f)\n",
+		       med[CAL_SP] / med[IDEAL], best[CAL_SP] / best[IDEAL]);
 	}
 out:
+	free(bp);
 	free(t);
 	free(planes);
 	free(mask);
@@ -318,16 +392,15 @@ out:
 int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 {
 	host = h;
-	static const struct option opts[] = {{"size", required_argument, NULL, 's'},
-	                                     {"rotation-s", required_argument, NULL, 'r'},
-	                                     {"json", no_argument, NULL, 'J'},
-	                                     {"speed", no_argument, NULL, 'S'},
-	                                     {"reps", required_argument, NULL, 'n'},
-	                                     {"help", no_argument, NULL, 'h'},
-	                                     {NULL, 0, NULL, 0}};
+	static const struct option opts[] = {
+	    {"size", required_argument, NULL, 's'}, {"rotation-s", required_argument, NULL, 'r'},
+	    {"json", no_argument, NULL, 'J'},       {"speed", no_argument, NULL, 'S'},
+	    {"reps", required_argument, NULL, 'n'}, {"only", required_argument, NULL, 'o'},
+	    {"help", no_argument, NULL, 'h'},       {NULL, 0, NULL, 0}};
 	long size = 64, reps = 10;
 	double rot_s = 2;
 	bool json = false, speed = false;
+	const char *only = NULL;
 	int c, rc;
 	optind = 1;
 	opterr = 0;
@@ -348,6 +421,9 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		case 'S':
 			speed = true;
 			break;
+		case 'o':
+			only = optarg;
+			break;
 		case 'n':
 			if ((rc = host->parse_long("--reps", optarg, 1, 1000, &reps)))
 				return host->fail(rc, NULL);
@@ -355,7 +431,8 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		case 'h':
 			printf(
 			    "usage: polarcam bench calib [--size N] [--rotation-s S] [--json]\n"
-			    "       polarcam bench calib --speed [--reps N] [--json]\n\n"
+			    "       polarcam bench calib --speed [--reps N] [--only CASE] "
+			    "[--json]\n\n"
 			    "--speed: the calibrated bilinear pipeline (pc_calib_apply: per-pixel "
 			    "dark\n"
 			    "and gain, per-pixel analyser pseudo-inverses, saturation and "
@@ -366,7 +443,13 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 			    "each,\n"
 			    "interleaved (default 10): min, median and their ratio (goal <= 1.5), "
 			    "with\n"
-			    "the load average. Without --speed:\n"
+			    "the load average. calibrated_2x2: the same with one W+ per 2x2 "
+			    "super-pixel\n"
+			    "(the block mean of the four per-pixel ones; an experiment). --only "
+			    "CASE "
+			    "runs\n"
+			    "one case (ideal, ideal_no_mask, calibrated, calibrated_no_mask,\n"
+			    "calibrated_2x2), e.g. under perf stat. Without --speed:\n"
 			    "Analyser calibration of the imx250mzr_nonuniform preset (N x N ROI, "
 			    "default\n"
 			    "64; dark and flat: 32 frames each) with K polarizer angles x F frames "
@@ -386,7 +469,7 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 	if (host->parse_only)
 		return PC_BENCH_OK;
 	if (speed)
-		return bench_speed(2448, 2048, (int)reps, json);
+		return bench_speed(2448, 2048, (int)reps, json, only);
 	const uint32_t S = (uint32_t)size;
 	bstack dk, fl, fh;
 	pc_calib dark, flat;
@@ -429,9 +512,11 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		printf(
 		    "analyser calibration, %ux%u ROI, imx250mzr_nonuniform, DoLP-0.5 test stimuli\n"
 		    "uncalibrated (black level only): DoLP RMS %.5f, AoLP RMS %.3f deg\n\n"
-		    "%3s %4s %7s %10s %11s %12s\n",
+		    "per pixel: W+ per output pixel (what the pipeline uses); per 2x2: the block "
+		    "mean of the four\n\n"
+		    "%3s %4s %7s %10s %11s %12s %11s %12s\n",
 		    S, S, sqrt(ud), sqrt(ua), "K", "F", "frames", "time (s)", "DoLP RMS",
-		    "AoLP RMS deg");
+		    "AoLP RMS deg", "2x2 DoLP", "2x2 AoLP deg");
 	for (size_t i = 0; i < sizeof Ks / sizeof Ks[0]; i++)
 		for (size_t j = 0; j < sizeof Fs / sizeof Fs[0]; j++) {
 			unsigned K = Ks[i], F = Fs[j];
@@ -459,6 +544,17 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 				cd += ed * ed / 4;
 				ca += ea * ea / 4;
 			}
+			/* the same with one W⁺ per 2×2 super-pixel (block_pinv) */
+			double bd = 0, ba = 0;
+			if ((rc = block_pinv(&cal, true, NULL)))
+				return host->fail(rc, "per-super-pixel W+");
+			for (int k = 0; k < 4; k++) {
+				double ed, ea;
+				if ((rc = errors(&cal, &ts[k], 64, tang[k], &ed, &ea)))
+					return host->fail(rc, "calibrated per super-pixel");
+				bd += ed * ed / 4;
+				ba += ea * ea / 4;
+			}
 			pc_calib_free(&cal);
 			double tsec = K * F / 30.0 + K * rot_s;
 			if (json) {
@@ -468,10 +564,13 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 				json_object_set_new(r, "acquisition_s", json_real(tsec));
 				json_object_set_new(r, "dolp_rms", json_real(sqrt(cd)));
 				json_object_set_new(r, "aolp_rms_deg", json_real(sqrt(ca)));
+				json_object_set_new(r, "superpixel_dolp_rms", json_real(sqrt(bd)));
+				json_object_set_new(r, "superpixel_aolp_rms_deg",
+				                    json_real(sqrt(ba)));
 				json_array_append_new(rows, r);
 			} else {
-				printf("%3u %4u %7u %10.1f %11.5f %12.4f\n", K, F, K * F, tsec,
-				       sqrt(cd), sqrt(ca));
+				printf("%3u %4u %7u %10.1f %11.5f %12.4f %11.5f %12.4f\n", K, F,
+				       K * F, tsec, sqrt(cd), sqrt(ca), sqrt(bd), sqrt(ba));
 				fflush(stdout);
 			}
 		}

@@ -33,6 +33,7 @@
 
 #include <arv.h>
 #include <errno.h>
+#include <math.h>
 #include <pthread.h>
 #include <sched.h>
 #include <stdio.h>
@@ -285,6 +286,49 @@ static const arv_fmt *find_fmt_code(const arv_src *a, int64_t code)
 	return NULL;
 }
 
+/* The camera's black level in DN of the delivered samples, read when asked (it may be
+ * changed on the camera): GenICam SFNC BlackLevel (Analog Control; Float, or Integer on some
+ * cameras), for the BlackLevelSelector the camera is set to. Unit "%": percent of the full
+ * scale of the delivered samples; otherwise DN at the sensor's AdcBitDepth (SFNC, Image Format
+ * Control: BitsN) when the camera has it - a format of fewer bits carries the top bits, so the
+ * level shrinks by 2^(AdcBitDepth − bits) - else DN as delivered. 0 when the camera has no
+ * BlackLevel or reports a negative one (docs/calibration.md, "Black level"). */
+static double camera_black_level(arv_src *a, const arv_fmt *e)
+{
+	ArvGcNode *node = arv_device_get_feature(a->dev, "BlackLevel");
+	GError *err = NULL;
+	double v = 0;
+	const char *unit = NULL;
+	if (node && ARV_IS_GC_FLOAT(node)) {
+		v = arv_gc_float_get_value(ARV_GC_FLOAT(node), &err);
+		unit = arv_gc_float_get_unit(ARV_GC_FLOAT(node));
+	} else if (node && ARV_IS_GC_INTEGER(node)) {
+		v = (double)arv_gc_integer_get_value(ARV_GC_INTEGER(node), &err);
+		unit = arv_gc_integer_get_unit(ARV_GC_INTEGER(node));
+	} else {
+		return 0;
+	}
+	if (err || !(v > 0) || !isfinite(v)) {
+		g_clear_error(&err);
+		return 0;
+	}
+	unsigned bits = e ? pc_format_info_get(e->fmt)->bits : 0, adc = 0;
+	ArvGcNode *an = arv_device_get_feature(a->dev, "AdcBitDepth");
+	if (an && ARV_IS_GC_ENUMERATION(an)) {
+		const char *s = arv_gc_enumeration_get_string_value(ARV_GC_ENUMERATION(an), &err);
+		unsigned n = 0;
+		if (!err && s && sscanf(s, "Bits%u", &n) == 1 && n >= 1 && n <= 32)
+			adc = n;
+		g_clear_error(&err);
+	}
+	unsigned eff = adc && (!bits || adc < bits) ? adc : bits; /* the samples' real bits */
+	if (unit && !strcmp(unit, "%"))
+		return eff ? v / 100 * (ldexp(1, (int)eff) - 1) : 0;
+	if (adc && bits && bits < adc)
+		v = ldexp(v, (int)bits - (int)adc);
+	return v;
+}
+
 static int a_info(pc_source *s, pc_source_info *info)
 {
 	arv_src *a = pc_source_priv(s);
@@ -303,6 +347,7 @@ static int a_info(pc_source *s, pc_source_info *info)
 			e = &a->fmts[i];
 	if (e && e->polarized)
 		info->mosaic = readout_mosaic(a, e);
+	info->black_level = camera_black_level(a, find_fmt_code(a, a->cur_code));
 	return 0;
 }
 

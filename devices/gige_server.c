@@ -17,6 +17,10 @@
  * the model's free register space. */
 #define REG_REVERSE_X 0xf000u
 #define REG_REVERSE_Y 0xf004u
+/* and two read-only ones: the sensor's black level (IEEE float, DN at the sensor's bit depth)
+ * and its ADC bit depth (SFNC AdcBitDepth: BitsN has the value N) */
+#define REG_BLACK_LEVEL 0xf008u
+#define REG_ADC_BITS    0xf00cu
 /* GigE Vision bootstrap registers (GigE Vision specification, bootstrap register map):
  * manufacturer name 0x0048 (32 bytes), model name 0x0068 (32), manufacturer info 0x00A8 (48). */
 #define GVBS_MANUFACTURER 0x0048u
@@ -140,6 +144,36 @@ static char *make_xml(pc_gige_server *srv)
 		    "\t\t<Sign>Unsigned</Sign>\n\t\t<Endianess>BigEndian</Endianess>\n"
 		    "\t</IntReg>\n\n\t",
 		    rev[i], rev[i], rev[i], i ? REG_REVERSE_Y : REG_REVERSE_X);
+	/* SFNC BlackLevel (Analog Control) and AdcBitDepth (Image Format Control): the source's
+	 * declared black level, so that clients subtract it without being told
+	 * (docs/calibration.md, "Black level") */
+	g_string_append_printf(
+	    out,
+	    "<Float Name=\"BlackLevel\" NameSpace=\"Standard\">\n"
+	    "\t\t<Description>Black level (offset) of the sensor's samples, DN at AdcBitDepth "
+	    "(polarcam: the source's declared offset)</Description>\n"
+	    "\t\t<pValue>BlackLevelRegister</pValue>\n\t\t<Unit>DN</Unit>\n\t</Float>\n\n"
+	    "\t<FloatReg Name=\"BlackLevelRegister\" NameSpace=\"Custom\">\n"
+	    "\t\t<Address>0x%x</Address>\n\t\t<Length>4</Length>\n"
+	    "\t\t<AccessMode>RO</AccessMode>\n\t\t<pPort>Device</pPort>\n"
+	    "\t\t<Endianess>BigEndian</Endianess>\n\t</FloatReg>\n\n\t"
+	    "<Enumeration Name=\"AdcBitDepth\" NameSpace=\"Standard\">\n"
+	    "\t\t<Description>Bit depth of the sensor's samples</Description>\n",
+	    REG_BLACK_LEVEL);
+	static const unsigned adc[] = {8, 10, 12, 14, 16};
+	for (unsigned i = 0; i < sizeof adc / sizeof adc[0]; i++)
+		g_string_append_printf(out,
+		                       "\t\t<EnumEntry Name=\"Bits%u\" NameSpace=\"Standard\">\n"
+		                       "\t\t\t<Value>%u</Value>\n\t\t</EnumEntry>\n",
+		                       adc[i], adc[i]);
+	g_string_append_printf(out,
+	                       "\t\t<pValue>AdcBitDepthRegister</pValue>\n\t</Enumeration>\n\n"
+	                       "\t<IntReg Name=\"AdcBitDepthRegister\" NameSpace=\"Custom\">\n"
+	                       "\t\t<Address>0x%x</Address>\n\t\t<Length>4</Length>\n"
+	                       "\t\t<AccessMode>RO</AccessMode>\n\t\t<pPort>Device</pPort>\n"
+	                       "\t\t<Sign>Unsigned</Sign>\n\t\t<Endianess>BigEndian</Endianess>\n"
+	                       "\t</IntReg>\n\n\t",
+	                       REG_ADC_BITS);
 	g_string_append(out, port);
 	g_free(in);
 	return g_string_free(out, FALSE);
@@ -601,6 +635,17 @@ int pc_gige_server_start(pc_gige_server **out, const pc_gige_server_options *o)
 		if (pc_source_control_get(srv->src, PC_CTRL_GAIN_DB, &g) == 0 && g >= 0)
 			arv_fake_camera_write_register(srv->fc, ARV_FAKE_CAMERA_REGISTER_GAIN_RAW,
 			                               (guint32)(g + 0.5));
+		/* the black level the source declares (0: none) and the sensor's bit depth */
+		pc_source_info si;
+		memset(&si, 0, sizeof si);
+		float bl = pc_source_get_info(srv->src, &si) == 0 && si.black_level > 0
+		               ? (float)si.black_level
+		               : 0.0f;
+		guint32 blbits;
+		memcpy(&blbits, &bl, sizeof blbits);
+		arv_fake_camera_write_register(srv->fc, REG_BLACK_LEVEL, blbits);
+		arv_fake_camera_write_register(srv->fc, REG_ADC_BITS, srv->bits);
+		srv->st.black_level = bl;
 		pc_error_clear();
 		srv->exposure_applied = reg(srv->fc, ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US);
 		srv->gain_applied = reg(srv->fc, ARV_FAKE_CAMERA_REGISTER_GAIN_RAW);

@@ -12,6 +12,9 @@
  *   - killing the server mid-capture ends capture with a clear error and intact files
  *   - packets lost on purpose surface as failed frames (compliance fault "corrupt")
  *   - a client that stops and restarts at once (two GVCP writes apart) gets frame 0 again
+ *   - the recording's black level (37.5 DN, meta.json) is served as the GenICam BlackLevel
+ *     (with AdcBitDepth 12): the aravis: source reports 37.5 DN for 12-bit formats and
+ *     37.5/16 for Mono8, `capture` records it in meta.json and `capture --process` subtracts it
  *   - Aravis's stream thread runs SCHED_FIFO 10 when the process may ask for it (the kernel's
  *     answer read back per thread), none does with realtime=0 */
 #include <arv.h>
@@ -39,6 +42,7 @@
 #include "polarcam/source.h"
 
 enum { W = 64, H = 48, NREC = 7 };
+#define BLACK 37.5 /* DN, the recording's sensor offset: exact in a float register */
 
 static const char *polarcam;
 static char base[64];
@@ -69,6 +73,9 @@ static void make_recording(void)
 	d.source = "gige_e2e";
 	pc_recording *r = NULL;
 	CHECK_EQ_INT(pc_recording_create(&r, rec_dir, &d, false), 0);
+	if (r)
+		CHECK_EQ_INT(
+		    pc_recording_set_json(r, "extra", "{\"sensor\": {\"offset_dn\": 37.5}}"), 0);
 	pc_frame f;
 	memset(&f, 0, sizeof f);
 	CHECK_EQ_INT(pc_view_alloc(&f.view, PC_FMT_MONO12, W, H, 64), 0);
@@ -224,6 +231,7 @@ static void test_client(void)
 		pc_source_info info;
 		CHECK_EQ_INT(pc_source_get_info(s, &info), 0);
 		CHECK(!strcmp(info.vendor, "polarcam"));
+		CHECK(info.black_level == BLACK); /* BlackLevel at AdcBitDepth 12 = the format's */
 		pc_source_format f;
 		pc_source_get_format(s, &f);
 		CHECK(f.polarized);
@@ -249,6 +257,9 @@ static void test_client(void)
 	/* Mono8 from the 12-bit sensor: the top 8 bits */
 	s = open_cam("&reverse_x=0", "Mono8", 0, 0, 0, 0);
 	if (s) {
+		pc_source_info info;
+		CHECK_EQ_INT(pc_source_get_info(s, &info), 0);
+		CHECK(info.black_level == BLACK / 16); /* the top 8 of 12 bits */
 		CHECK_EQ_INT(stream_and_compare(s, 3, 0, 0, false, 4, &s0, &s1), 3);
 		pc_source_close(s);
 	}
@@ -505,8 +516,8 @@ static void test_compliance(pc_fault_kind fault)
 
 /* ---- polarcam capture ---- */
 
-static int run_capture(const char *dir, const char *n, char *out, size_t size, pid_t *pid_out,
-                       int *fd_out)
+static int run_capture_x(const char *dir, const char *n, const char *extra, char *out, size_t size,
+                         pid_t *pid_out, int *fd_out)
 {
 	char errp[160];
 	snprintf(errp, sizeof errp, "%s/capture.err", base);
@@ -527,6 +538,7 @@ static int run_capture(const char *dir, const char *n, char *out, size_t size, p
 	                "--fps",
 	                "50",
 	                "--json",
+	                (char *)extra,
 	                NULL};
 	int fd;
 	pid_t pid = spawn(argv, &fd, errp);
@@ -541,6 +553,12 @@ static int run_capture(const char *dir, const char *n, char *out, size_t size, p
 	int st = pc_child_wait(pid, EXIT_MS, NULL);
 	close(fd);
 	return st;
+}
+
+static int run_capture(const char *dir, const char *n, char *out, size_t size, pid_t *pid_out,
+                       int *fd_out)
+{
+	return run_capture_x(dir, n, NULL, out, size, pid_out, fd_out);
 }
 
 /* Every frame listed in the recording is readable and equals the model. */
@@ -580,6 +598,17 @@ static void test_capture(void)
 	CHECK(strstr(out, "\"missing_packets\":0") != NULL);
 	CHECK(strstr(out, "\"failed\":0") != NULL);
 	CHECK_EQ_INT(check_recording(dir, true), 9);
+	/* the camera's black level, recorded for whoever processes the recording later */
+	pc_recording *r = NULL;
+	CHECK_EQ_INT(pc_recording_open(&r, dir), 0);
+	if (r)
+		CHECK(pc_recording_black_level(r) == BLACK);
+	pc_recording_free(r);
+	/* and subtracted by the live pipeline without being given */
+	snprintf(dir, sizeof dir, "%s/cap_process", base);
+	st = run_capture_x(dir, "3", "--process", out, sizeof out, NULL, NULL);
+	CHECK_EQ_INT(st, 0);
+	CHECK(strstr(out, "\"black_level\":37.5") != NULL);
 }
 
 static void test_kill(pid_t server, int server_fd)

@@ -95,6 +95,7 @@ static int run(const pc_gige_server_options *op, const char *genicam, double dur
 	json_object_set_new(sv, "bits", json_integer(st.bits));
 	json_object_set_new(sv, "model", json_string(st.model));
 	json_object_set_new(sv, "mosaic", json_string(st.mosaic));
+	json_object_set_new(sv, "black_level", json_real(st.black_level));
 	json_object_set_new(j, "serving", sv);
 	cli_print_json(j);
 	fflush(stdout);

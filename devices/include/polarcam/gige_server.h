@@ -59,8 +59,10 @@ typedef struct pc_gige_server_stats {
 	uint64_t rendered;     /* frames produced by the source */
 	uint32_t sensor_width, sensor_height;
 	unsigned bits;
-	char model[32];  /* GigE Vision model name: "polarcam-sim" or "polarcam-sim-colour" */
-	char mosaic[40]; /* the served mosaic at sensor pixel (0,0) (pc_mosaic_parse syntax) */
+	char model[32];     /* GigE Vision model name: "polarcam-sim" or "polarcam-sim-colour" */
+	char mosaic[40];    /* the served mosaic at sensor pixel (0,0) (pc_mosaic_parse syntax) */
+	double black_level; /* DN at `bits` served as the GenICam BlackLevel (with AdcBitDepth):
+	                       what the source declares, 0: none */
 } pc_gige_server_stats;
 
 /* Starts serving. Errors: PC_ENOTSUP without Aravis, PC_EBUSY when the address cannot be
