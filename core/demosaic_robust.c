@@ -64,6 +64,8 @@ typedef struct lim_kernels {
 	void (*combine)(const float *const[5], float *restrict, long);
 	void (*clamp)(float *restrict, const float *, const float *, const float *, const float *,
 	              const float *, long, int, long);
+	void (*combine_clamp)(const float *const[5], float *restrict, float *restrict,
+	                      float *restrict, float *restrict, const float *, long);
 } lim_kernels;
 
 #define KFN(name) name##_base
@@ -77,15 +79,28 @@ typedef struct lim_kernels {
 #include "demosaic_robust_kern.inc"
 #undef KFN
 #undef KATTR
+/* AVX-512: 16 lanes (GCC prefers 256-bit vectors unless told, as in demosaic_ic.c) */
+#define KFN(name) name##_avx512
+#ifdef __clang__
+#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"), min_vector_width(512)))
+#else
+#define KATTR __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,prefer-vector-width=512")))
+#endif
+#include "demosaic_robust_kern.inc"
+#undef KFN
+#undef KATTR
 #endif
 
-/* The instance for a CPU level (polarcam/cpu.h; AVX-512 runs the AVX2 one: the limiter is
- * memory-bound). */
+/* The instance for a CPU level (polarcam/cpu.h). */
 static const lim_kernels *lim_k(pc_cpu_level level)
 {
-	static const lim_kernels base = {ranges_base, combine_base, clamp_base};
+	static const lim_kernels base = {ranges_base, combine_base, clamp_base, combine_clamp_base};
 #ifdef PC_CPU_X86
-	static const lim_kernels avx2 = {ranges_avx2, combine_avx2, clamp_avx2};
+	static const lim_kernels avx2 = {ranges_avx2, combine_avx2, clamp_avx2, combine_clamp_avx2};
+	static const lim_kernels avx512 = {ranges_avx512, combine_avx512, clamp_avx512,
+	                                   combine_clamp_avx512};
+	if (level >= PC_CPU_AVX512)
+		return &avx512;
 	if (level >= PC_CPU_AVX2)
 		return &avx2;
 #else
@@ -115,6 +130,15 @@ void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[
 	const float *rr[5];
 	for (int i = 0; i < 5; i++)
 		rr[i] = row_ranges(l, r[i], (long)y - 2 + i);
+	if (pixel_stride == 1) {
+		/* planar rows: one fused pass (the channels measured in row y's parity, then those
+		 * of the other rows, each pair by column parity) */
+		unsigned py = y & 1;
+		k->combine_clamp(rr, o[pc_dm_ch(m, 0, py)], o[pc_dm_ch(m, 1, py)],
+		                 o[pc_dm_ch(m, 0, py ^ 1)], o[pc_dm_ch(m, 1, py ^ 1)],
+		                 l->mem + (size_t)w * 28, w);
+		return;
+	}
 	/* the ranges of rows of y's parity (y−2, y, y+2) and of the other (y±1), for the A and
 	 * B column sets */
 	float *v = l->mem + (size_t)w * 20;
