@@ -84,18 +84,26 @@ static double phi(const pc_dimg *e, const pc_dimg *r, int x, int y)
 	return s;
 }
 
-/* The edge classifier and fusion: e1 along (u1), e2 along (u2). */
-static double fuse(const pc_dimg *e1, const pc_dimg *e2, const pc_dimg *r, int x, int y, int u1x,
-                   int u1y, int u2x, int u2y, double eps)
+/* The edge classifier and fusion rule of the file comment, over the values: estimates v1, v2
+ * with their misfits p1, p2 (φ) and gradients g1, g2 (d) along their directions. One rule for
+ * the reference and the fast path, so the two agree by construction. */
+static inline double newton_fuse(double v1, double v2, double p1, double p2, double g1, double g2,
+                                 double eps)
 {
-	double p1 = phi(e1, r, x, y), p2 = phi(e2, r, x, y);
-	double v1 = pc_dimg_at(e1, x, y), v2 = pc_dimg_at(e2, x, y);
 	if (p1 > NEWTON_TAU * p2)
 		return v2;
 	if (p2 > NEWTON_TAU * p1)
 		return v1;
-	double w1 = 1 / (grad(r, x, y, u1x, u1y) + eps), w2 = 1 / (grad(r, x, y, u2x, u2y) + eps);
+	double w1 = 1 / (g1 + eps), w2 = 1 / (g2 + eps);
 	return (w1 * v1 + w2 * v2) / (w1 + w2);
+}
+
+/* The fusion at (x, y): e1 along (u1), e2 along (u2). */
+static double fuse(const pc_dimg *e1, const pc_dimg *e2, const pc_dimg *r, int x, int y, int u1x,
+                   int u1y, int u2x, int u2y, double eps)
+{
+	return newton_fuse(pc_dimg_at(e1, x, y), pc_dimg_at(e2, x, y), phi(e1, r, x, y),
+	                   phi(e2, r, x, y), grad(r, x, y, u1x, u1y), grad(r, x, y, u2x, u2y), eps);
 }
 
 int pc_dm_ref_newton(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
@@ -227,15 +235,8 @@ static inline double fphi(const njob *j, const double *e, long x, long y)
 static inline double ffuse(const njob *j, const double *e1, const double *e2, long x, long y,
                            int u1x, int u1y, int u2x, int u2y)
 {
-	double p1 = fphi(j, e1, x, y), p2 = fphi(j, e2, x, y);
-	double v1 = PA(e1, x, y), v2 = PA(e2, x, y);
-	if (p1 > NEWTON_TAU * p2)
-		return v2;
-	if (p2 > NEWTON_TAU * p1)
-		return v1;
-	double w1 = 1 / (fgrad(j, x, y, u1x, u1y) + j->eps),
-	       w2 = 1 / (fgrad(j, x, y, u2x, u2y) + j->eps);
-	return (w1 * v1 + w2 * v2) / (w1 + w2);
+	return newton_fuse(PA(e1, x, y), PA(e2, x, y), fphi(j, e1, x, y), fphi(j, e2, x, y),
+	                   fgrad(j, x, y, u1x, u1y), fgrad(j, x, y, u2x, u2y), j->eps);
 }
 
 static void nband(void *ctx, uint32_t y0u, uint32_t y1u)
