@@ -190,7 +190,7 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 	 * inside [2^−256, 2^256] the matrix is left alone (bit-identical results, and
 	 * pc_lu_chipman_map's vector kernel hands the rest to this code). */
 	{
-		const int e = pc_lc_scale_exp(M_in);
+		const int e = pc_mat4_scale_exp(M_in);
 		if (e)
 			for (int i = 0; i < 4; i++)
 				for (int j = 0; j < 4; j++)
@@ -297,8 +297,10 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 	 * lose the quaternion; inside, no division on the common path */
 	double bmax = 0;
 	for (int i = 0; i < 3; i++)
-		for (int j = 0; j < 3; j++)
-			bmax = fmax(bmax, fabs(B[i][j]));
+		for (int j = 0; j < 3; j++) { /* B is finite: a compare, not a call to fmax */
+			const double a = fabs(B[i][j]);
+			bmax = a > bmax ? a : bmax;
+		}
 	double q[4] = {1, 0, 0, 0}, lam1 = 0;
 	bool unique = false;
 	if (bmax > 0) {
@@ -308,12 +310,15 @@ int pc_lu_chipman_decompose(const double M_in[4][4], unsigned options, pc_lu_chi
 		if (bmax < 1e-30 || bmax > 1e30)
 			frexp(bmax, &e);
 		double Bn[3][3];
-		for (int i = 0; i < 3; i++)
-			for (int j = 0; j < 3; j++)
-				Bn[i][j] = ldexp(B[i][j], -e);
+		memcpy(Bn, B, sizeof Bn);
+		if (e) /* ldexp is a call: only on the rare rescaled path */
+			for (int i = 0; i < 3; i++)
+				for (int j = 0; j < 3; j++)
+					Bn[i][j] = ldexp(B[i][j], -e);
 		unique = pc_closest_rotation((const double(*)[3])Bn,
 		                             fabs(det3((const double(*)[3])Bn)), q, &lam1);
-		lam1 = ldexp(lam1, e);
+		if (e)
+			lam1 = ldexp(lam1, e);
 	}
 	if (!unique || fabs(detmp) <= PC_LC_NONUNIQUE_DET * (lam1 / 3) * (lam1 / 3) * (lam1 / 3) ||
 	    !(lam1 > 0))

@@ -378,16 +378,14 @@ void pc_mueller_coherency(const double M[4][4], double H_re[4][4], double H_im[4
  * quantities below are scale-invariant or scale back exactly. Returns e. */
 static int pc_mueller_scaled(const double M[4][4], double S[4][4])
 {
-	double mx = 0;
+	const int e = pc_mat4_scale_exp(M);
+	if (!e) {
+		memcpy(S, M, 16 * sizeof(double));
+		return 0;
+	}
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++)
-			mx = fmax(mx, fabs(M[i][j]));
-	int e = 0;
-	if (mx > 0 && isfinite(mx) && (mx < 0x1p-256 || mx > 0x1p256))
-		frexp(mx, &e);
-	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++)
-			S[i][j] = e ? ldexp(M[i][j], -e) : M[i][j];
+			S[i][j] = ldexp(M[i][j], -e);
 	return e;
 }
 

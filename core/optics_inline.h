@@ -7,6 +7,29 @@
 
 #include "polarcam/optics.h"
 
+/* The exponent e that brings max|M_ij| into [0.5, 1) by a scaling with 2^−e, when that maximum
+ * lies outside [PC_MAT4_SCALE_LO, PC_MAT4_SCALE_HI]; 0 (leave alone) inside, for a zero matrix
+ * and for a non-finite maximum. Far from 1 a Mueller matrix's coherency sums overflow (M ~ 1e308)
+ * or lose everything (M ~ 1e-310); the quantities computed from it are scale-invariant or scale
+ * back exactly. A compare, not fmax(), which is a libm call on x86-64: the same result for NaN
+ * (ignored) and ±inf (kept). */
+#define PC_MAT4_SCALE_LO 0x1p-256
+#define PC_MAT4_SCALE_HI 0x1p256
+static inline int pc_mat4_scale_exp(const double M[4][4])
+{
+	double mx = 0;
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++) {
+			const double a = fabs(M[i][j]);
+			mx = a > mx ? a : mx;
+		}
+	if (!(mx > 0) || (mx >= PC_MAT4_SCALE_LO && mx <= PC_MAT4_SCALE_HI) || !isfinite(mx))
+		return 0;
+	int e;
+	frexp(mx, &e);
+	return e;
+}
+
 /* atan2(y, x) for y, x ≥ 0, not both 0, in [0, π/2], to a few ulp (see pc_atan2 in optics.h).
  * With num = min(x, y), den = max(x, y), t = num/den ∈ [0, 1], k = round(8t): atan t = atan(k/8) +
  * atan(r), r = (num − (k/8)·den)/(den + (k/8)·num), |r| ≤ 1/16, by the Taylor series through r¹³

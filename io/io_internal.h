@@ -22,4 +22,11 @@ int pc_io_check_image(const char *path, uint64_t width, uint64_t height, uint64_
  * any integer count a 24-bit converter produces. */
 #define PC_RAW_FLOAT_MAX 0x1p24
 
+/* Temporary names of a command's outputs (io/outdir.c): ".NAME.tmp-HOST-" into out (NAME cut to
+ * 100 bytes), to which the writer appends "PID-XXXXXX" (mkdtemp). pc_io_remove_stale removes
+ * the folders under parent named prefix + PID + "-" + 6 characters whose process is gone (a
+ * run killed outright); folders of live processes and of other hosts stay. */
+void pc_io_tmp_prefix(const char *name, char *out, size_t size);
+void pc_io_remove_stale(const char *parent, const char *prefix);
+
 #endif

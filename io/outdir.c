@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "io_internal.h"
 #include "polarcam/error.h"
 
 /* The description file every polarcam output folder carries: a folder holding one of them was
@@ -150,7 +151,7 @@ static int split(const char *path, char *parent, char *name)
 }
 
 /* ".NAME.tmp-HOST-" (NAME cut to 100 bytes so that the whole name fits NAME_MAX) */
-static void tmp_prefix(const char *name, char *out, size_t size)
+void pc_io_tmp_prefix(const char *name, char *out, size_t size)
 {
 	char host[64] = "host";
 	if (gethostname(host, sizeof host) != 0)
@@ -176,7 +177,7 @@ static void rm_tree(const char *dir)
 }
 
 /* Temporary folders of earlier runs for the same output on this host whose process is gone. */
-static void remove_stale(const char *parent, const char *prefix)
+void pc_io_remove_stale(const char *parent, const char *prefix)
 {
 	DIR *d = opendir(parent);
 	if (!d)
@@ -217,8 +218,8 @@ int pc_outdir_begin(pc_outdir *od, const char *path, unsigned flags)
 		return rc;
 	if ((rc = pc_mkdir_p(parent)))
 		return rc;
-	tmp_prefix(name, prefix, sizeof prefix);
-	remove_stale(parent, prefix);
+	pc_io_tmp_prefix(name, prefix, sizeof prefix);
+	pc_io_remove_stale(parent, prefix);
 	char tmp[PATH_MAX];
 	if ((size_t)snprintf(tmp, sizeof tmp, "%s/%s%ld-XXXXXX", parent, prefix, (long)getpid()) >=
 	    sizeof tmp)

@@ -11,6 +11,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "io_internal.h"
 #include "json.h"
 #include "polarcam/error.h"
 #include "polarcam/stokes.h"
@@ -144,7 +145,14 @@ static int write_set(const char *out_path, const char *vpath, bool tiff, const f
 	int rc = pc_mkdir_p(dir);
 	if (rc)
 		return rc;
-	snprintf(tmp, sizeof tmp, "%s/.polarcam-set.tmp-%ld-XXXXXX", dir, (long)getpid());
+	/* ".polarcam-set.tmp-HOST-PID-XXXXXX"; a run killed between mkdtemp and rmdir left its
+	 * folder: those of dead processes go first */
+	char prefix[256];
+	pc_io_tmp_prefix("polarcam-set", prefix, sizeof prefix);
+	pc_io_remove_stale(dir, prefix);
+	if ((size_t)snprintf(tmp, sizeof tmp, "%s/%s%ld-XXXXXX", dir, prefix, (long)getpid()) >=
+	    sizeof tmp)
+		return pc_error(PC_EINVAL, "-o %s: path too long", out_path);
 	if (!mkdtemp(tmp))
 		return pc_error(errno == EACCES ? PC_EPERM : PC_EIO,
 		                "%s: cannot make a temporary folder beside it: %s", out_path,

@@ -186,6 +186,36 @@ static void check_overwrite(const char *what, const char *args, const char *out,
 		fprintf(stderr, "after %s\n", what);
 }
 
+/* A set's temporary folder as demosaic names it (io/outdir.c's ".NAME.tmp-HOST-PID-XXXXXX"
+ * with NAME "polarcam-set"), holding a file, of a process that has exited (dead) or of this
+ * one (alive); its path into p. */
+static void stale_set_folder(char *p, size_t size, bool dead)
+{
+	char host[64] = "host";
+	if (gethostname(host, sizeof host) != 0)
+		strcpy(host, "host");
+	host[sizeof host - 1] = '\0';
+	for (char *c = host; *c; c++)
+		if (*c == '/' || *c == '-')
+			*c = '_';
+	pid_t pid = getpid();
+	if (dead) {
+		pid = fork();
+		if (pid == 0)
+			_exit(0);
+		waitpid(pid, NULL, 0);
+	}
+	snprintf(p, size, "%s/.polarcam-set.tmp-%s-%ld-%s", dir, host, (long)pid,
+	         dead ? "abcdef" : "ghijkl");
+	CHECK_EQ_INT(mkdir(p, 0700), 0);
+	char f[600];
+	snprintf(f, sizeof f, "%s/x", p);
+	FILE *fp = fopen(f, "w");
+	CHECK(fp != NULL);
+	if (fp)
+		fclose(fp);
+}
+
 static void test_outputs(void)
 {
 	char a[2048];
@@ -205,6 +235,19 @@ static void test_outputs(void)
 	CHECK_EQ_INT(run("demosaic rec/raw_000000.png -o i.npy --overwrite"), 0);
 	CHECK(exists(tmp("i.npy")) && exists(tmp("i_valid.npy")));
 	CHECK_EQ_INT(leftovers("i.npy") + leftovers("polarcam-set"), 0);
+	/* a demosaic killed outright leaves its set's temporary folder; the next one beside it
+	 * removes it (its process is gone), and keeps one of a live process */
+	char stale[512], live[512];
+	stale_set_folder(stale, sizeof stale, true);
+	stale_set_folder(live, sizeof live, false);
+	CHECK_EQ_INT(leftovers("polarcam-set"), 2);
+	CHECK_EQ_INT(run("demosaic rec/raw_000000.png -o i.npy --overwrite"), 0);
+	CHECK(!exists(stale) && exists(live));
+	CHECK_EQ_INT(leftovers("polarcam-set"), 1);
+	char lf[600];
+	snprintf(lf, sizeof lf, "%s/x", live);
+	remove(lf);
+	rmdir(live);
 	snprintf(a, sizeof a,
 	         "capture 'sim:%s/scenes/ideal_small.json?fps=0' --roi %s -n 2 "
 	         "--process -o",

@@ -12,10 +12,7 @@
 #include "polarcam/decompose.h"
 #include "polarcam/error.h"
 
-static inline bool fuzz_lc_same(double a, double b)
-{
-	return (isnan(a) && isnan(b)) || memcmp(&a, &b, sizeof a) == 0;
-}
+#include "../lc_map_check.h"
 
 /* The filtered decomposition of M, its ranges checked; returned for further checks. */
 static inline pc_lu_chipman fuzz_lc_ranges(const double M[4][4])
@@ -36,21 +33,10 @@ static inline pc_lu_chipman fuzz_lc_ranges(const double M[4][4])
 static inline void fuzz_lc_map_vs_scalar(const double M[4][4])
 {
 	for (unsigned opt = 0; opt <= PC_LC_FILTER; opt += PC_LC_FILTER) {
-		pc_lu_chipman s;
-		pc_lu_chipman_decompose(M, opt | PC_LC_NO_FACTORS, &s);
-		double D, R, Delta;
-		unsigned flags;
-		pc_lc_map mo;
-		memset(&mo, 0, sizeof mo);
-		mo.D = &D;
-		mo.R = &R;
-		mo.Delta = &Delta;
-		mo.flags = &flags;
-		FUZZ_ASSERT(pc_lu_chipman_map(&M[0][0], 1, opt, &mo) == 0, "map");
-		FUZZ_ASSERT(fuzz_lc_same(D, s.D) && fuzz_lc_same(R, s.R) &&
-		                fuzz_lc_same(Delta, s.Delta) && flags == s.flags,
-		            "map %g %g %g %#x, scalar %g %g %g %#x", D, R, Delta, flags, s.D, s.R,
-		            s.Delta, s.flags);
+		const lc_map_check c = lc_map_vs_scalar(M, opt);
+		FUZZ_ASSERT(c.map_status == 0, "map");
+		FUZZ_ASSERT(c.same, "map %g %g %g %#x, scalar %g %g %g %#x", c.D, c.R, c.Delta,
+		            c.flags, c.s.D, c.s.R, c.s.Delta, c.s.flags);
 	}
 }
 

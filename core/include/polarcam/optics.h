@@ -121,7 +121,10 @@ PC_API bool pc_mueller_is_physical(const double M[4][4], double tol);
 
 /* Cloude filter (physics.md §4): eigenvalues of H below zero are set to zero and M is rebuilt
  * (no renormalisation, so M00 may drop slightly). *changed tells whether any eigenvalue was below
- * −PC_PHYS_TOL·tr H (matrices within rounding of physical are returned unchanged). */
+ * −PC_PHYS_TOL·tr H (matrices within rounding of physical are returned unchanged). The filtered
+ * entries are at most 4·max|M_ij| (|out_ij| ≤ out_00 = tr H₊/2 ≤ ‖H‖_F ≤ ‖M‖_F, H₊ the kept part),
+ * so they overflow to ±inf only for input entries above DBL_MAX/4: the filtered matrix is then
+ * not a double matrix (pc_lu_chipman_decompose scales first and is not affected). */
 PC_API void pc_mueller_cloude_filter(const double M[4][4], double out[4][4], bool *changed);
 
 /* Gil–Bernabeu depolarisation index sqrt(Σ M_ij² − M00²)/(√3 M00): 1 for non-depolarising,
