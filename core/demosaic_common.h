@@ -36,6 +36,19 @@ static inline int pc_mirror(int i, int n)
 	return i < n ? i : p - i;
 }
 
+/* A double-precision image (the references' intermediate planes): w × h samples in C order,
+ * read with the whole-sample mirror by pc_dimg_at. */
+typedef struct pc_dimg {
+	double *p;
+	int w, h;
+} pc_dimg;
+
+/* Sample (x, y) of r, both indices mirrored (pc_mirror) into the image. */
+static inline double pc_dimg_at(const pc_dimg *r, int x, int y)
+{
+	return r->p[(size_t)pc_mirror(y, r->h) * r->w + pc_mirror(x, r->w)];
+}
+
 /* Analyser channel at row parity py (0/1) and column parity px of a monochrome mosaic. */
 static inline unsigned pc_dm_ch(const pc_mosaic *m, unsigned px, unsigned py)
 {

@@ -32,55 +32,45 @@
 #define MLRI_R      5
 #define MACHINE_EPS 2.220446049250313e-16
 
-typedef struct dimg {
-	double *p;
-	int w, h;
-} dimg;
-
-static double at(const dimg *r, int x, int y)
-{
-	return r->p[(size_t)pc_mirror(y, r->h) * r->w + pc_mirror(x, r->w)];
-}
-
 static unsigned chan(const pc_mosaic *m, int x, int y)
 {
 	return m->channel[y & 1][x & 1];
 }
 
 /* dst(p) = Σ over the (2R+1)² window around p of src (mirrored), by running sums in double. */
-static void box(const dimg *src, int R, dimg *dst, double *tmp)
+static void box(const pc_dimg *src, int R, pc_dimg *dst, double *tmp)
 {
 	int w = src->w, h = src->h;
 	for (int y = 0; y < h; y++) { /* horizontal */
 		double s = 0;
 		for (int dx = -R; dx <= R; dx++)
-			s += at(src, dx, y);
+			s += pc_dimg_at(src, dx, y);
 		for (int x = 0; x < w; x++) {
 			tmp[(size_t)y * w + x] = s;
-			s += at(src, x + R + 1, y) - at(src, x - R, y);
+			s += pc_dimg_at(src, x + R + 1, y) - pc_dimg_at(src, x - R, y);
 		}
 	}
-	dimg t = {tmp, w, h};
+	pc_dimg t = {tmp, w, h};
 	for (int x = 0; x < w; x++) { /* vertical */
 		double s = 0;
 		for (int dy = -R; dy <= R; dy++)
-			s += at(&t, x, dy);
+			s += pc_dimg_at(&t, x, dy);
 		for (int y = 0; y < h; y++) {
 			dst->p[(size_t)y * w + x] = s;
-			s += at(&t, x, y + R + 1) - at(&t, x, y - R);
+			s += pc_dimg_at(&t, x, y + R + 1) - pc_dimg_at(&t, x, y - R);
 		}
 	}
 }
 
 /* The tent of channel c's samples of v at (x, y) (the bilinear reference's weights). */
-static double tent(const dimg *v, const pc_mosaic *m, unsigned c, int x, int y)
+static double tent(const pc_dimg *v, const pc_mosaic *m, unsigned c, int x, int y)
 {
 	double s = 0, ws = 0;
 	for (int dy = -1; dy <= 1; dy++)
 		for (int dx = -1; dx <= 1; dx++)
 			if (chan(m, x + dx, y + dy) == c) {
 				double wt = (2 - abs(dx)) * (2 - abs(dy));
-				s += wt * at(v, x + dx, y + dy);
+				s += wt * pc_dimg_at(v, x + dx, y + dy);
 				ws += wt;
 			}
 	return s / ws;
@@ -89,24 +79,24 @@ static double tent(const dimg *v, const pc_mosaic *m, unsigned c, int x, int y)
 enum { NB = 14 };
 
 /* MLRI of channel c of raw r with guide g into out (planes[NB] are scratch images). */
-static void mlri_channel(const dimg *r, const dimg *g, const pc_mosaic *m, unsigned c, double fs,
-                         dimg *s, double *tmp, const pc_fplane *out)
+static void mlri_channel(const pc_dimg *r, const pc_dimg *g, const pc_mosaic *m, unsigned c,
+                         double fs, pc_dimg *s, double *tmp, const pc_fplane *out)
 {
 	const int w = r->w, h = r->h;
 	const size_t n = (size_t)w * h;
 	const double eps = MACHINE_EPS * fs * fs;
-	dimg *M = &s[0], *LGLI = &s[1], *LG2 = &s[2], *G = &s[3], *I = &s[4], *G2 = &s[5],
-	     *I2 = &s[6], *GI = &s[7], *A = &s[8], *B = &s[9], *W = &s[10], *T = &s[11],
-	     *X = &s[12], *Y = &s[13];
+	pc_dimg *M = &s[0], *LGLI = &s[1], *LG2 = &s[2], *G = &s[3], *I = &s[4], *G2 = &s[5],
+	        *I2 = &s[6], *GI = &s[7], *A = &s[8], *B = &s[9], *W = &s[10], *T = &s[11],
+	        *X = &s[12], *Y = &s[13];
 	for (int y = 0; y < h; y++)
 		for (int x = 0; x < w; x++) {
 			size_t i = (size_t)y * w + x;
 			int on = chan(m, x, y) == c;
-			double gv = at(g, x, y), iv = at(r, x, y);
-			double lg = 4 * gv - at(g, x - 2, y) - at(g, x + 2, y) - at(g, x, y - 2) -
-			            at(g, x, y + 2);
-			double li = 4 * iv - at(r, x - 2, y) - at(r, x + 2, y) - at(r, x, y - 2) -
-			            at(r, x, y + 2);
+			double gv = pc_dimg_at(g, x, y), iv = pc_dimg_at(r, x, y);
+			double lg = 4 * gv - pc_dimg_at(g, x - 2, y) - pc_dimg_at(g, x + 2, y) -
+			            pc_dimg_at(g, x, y - 2) - pc_dimg_at(g, x, y + 2);
+			double li = 4 * iv - pc_dimg_at(r, x - 2, y) - pc_dimg_at(r, x + 2, y) -
+			            pc_dimg_at(r, x, y - 2) - pc_dimg_at(r, x, y + 2);
 			M->p[i] = on;
 			LGLI->p[i] = on ? lg * li : 0;
 			LG2->p[i] = on ? lg * lg : 0;
@@ -116,7 +106,7 @@ static void mlri_channel(const dimg *r, const dimg *g, const pc_mosaic *m, unsig
 			I2->p[i] = on ? iv * iv : 0;
 			GI->p[i] = on ? gv * iv : 0;
 		}
-	dimg *in[8] = {M, LGLI, LG2, G, I, G2, I2, GI};
+	pc_dimg *in[8] = {M, LGLI, LG2, G, I, G2, I2, GI};
 	for (int k = 0; k < 8; k++) {
 		box(in[k], MLRI_R, X, tmp);
 		memcpy(in[k]->p, X->p, n * sizeof(double));
@@ -159,7 +149,7 @@ static void mlri_channel(const dimg *r, const dimg *g, const pc_mosaic *m, unsig
 }
 
 /* The authors' edge-aware guide (header comment). */
-static void ea_guide(const dimg *r, double fs, dimg *g, dimg *D)
+static void ea_guide(const pc_dimg *r, double fs, pc_dimg *g, pc_dimg *D)
 {
 	const int w = r->w, h = r->h;
 	const double eps = MACHINE_EPS * fs;
@@ -167,8 +157,10 @@ static void ea_guide(const dimg *r, double fs, dimg *g, dimg *D)
 	for (int y = 0; y < h; y++)
 		for (int x = 0; x < w; x++) {
 			size_t i = (size_t)y * w + x;
-#define HD(xx, yy) (at(r, xx, yy) - 0.5 * (at(r, (xx)-1, yy) + at(r, (xx) + 1, yy)))
-#define VD(xx, yy) (at(r, xx, yy) - 0.5 * (at(r, xx, (yy)-1) + at(r, xx, (yy) + 1)))
+#define HD(xx, yy)                                                                                 \
+	(pc_dimg_at(r, xx, yy) - 0.5 * (pc_dimg_at(r, (xx)-1, yy) + pc_dimg_at(r, (xx) + 1, yy)))
+#define VD(xx, yy)                                                                                 \
+	(pc_dimg_at(r, xx, yy) - 0.5 * (pc_dimg_at(r, xx, (yy)-1) + pc_dimg_at(r, xx, (yy) + 1)))
 			D[0].p[i] = fabs(HD(x, y - 1) - HD(x, y));
 			D[1].p[i] = fabs(HD(x, y + 1) - HD(x, y));
 			D[2].p[i] = fabs(VD(x - 1, y) - VD(x, y));
@@ -181,17 +173,21 @@ static void ea_guide(const dimg *r, double fs, dimg *g, dimg *D)
 		for (int x = 0; x < w; x++) {
 			double X[4] = {0, 0, 0, 0}, wd[4] = {0, 0, 0, 0};
 			for (int t = -1; t <= 1; t++) {
-				X[0] += k[t + 1] * (at(r, x + t, y - 1) + at(r, x + t, y));
-				X[1] += k[t + 1] * (at(r, x + t, y) + at(r, x + t, y + 1));
-				X[2] += k[t + 1] * (at(r, x - 1, y + t) + at(r, x, y + t));
-				X[3] += k[t + 1] * (at(r, x, y + t) + at(r, x + 1, y + t));
+				X[0] += k[t + 1] *
+				        (pc_dimg_at(r, x + t, y - 1) + pc_dimg_at(r, x + t, y));
+				X[1] += k[t + 1] *
+				        (pc_dimg_at(r, x + t, y) + pc_dimg_at(r, x + t, y + 1));
+				X[2] += k[t + 1] *
+				        (pc_dimg_at(r, x - 1, y + t) + pc_dimg_at(r, x, y + t));
+				X[3] += k[t + 1] *
+				        (pc_dimg_at(r, x, y + t) + pc_dimg_at(r, x + 1, y + t));
 			}
 			for (int a = -2; a <= 2; a++)
 				for (int b = 0; b <= 2; b++) {
-					wd[0] += at(&D[0], x + a, y - b);
-					wd[1] += at(&D[1], x + a, y + b);
-					wd[2] += at(&D[2], x - b, y + a);
-					wd[3] += at(&D[3], x + b, y + a);
+					wd[0] += pc_dimg_at(&D[0], x + a, y - b);
+					wd[1] += pc_dimg_at(&D[1], x + a, y + b);
+					wd[2] += pc_dimg_at(&D[2], x - b, y + a);
+					wd[3] += pc_dimg_at(&D[3], x + b, y + a);
 				}
 			double num = 0, den = 0;
 			for (int d = 0; d < 4; d++) {
@@ -211,15 +207,15 @@ int pc_dm_ref_mlri(const double *img, uint32_t width, uint32_t height, const pc_
 		                pc_demosaic_method_get(method)->name);
 	const int w = (int)width, h = (int)height;
 	const size_t n = (size_t)w * h;
-	dimg r = {(double *)img, w, h};
+	pc_dimg r = {(double *)img, w, h};
 	double *mem = malloc(sizeof(double) * n * (NB + 2));
 	if (!mem)
 		return pc_error(PC_ENOMEM, "%s reference: %dx%d images",
 		                pc_demosaic_method_get(method)->name, w, h);
-	dimg s[NB];
+	pc_dimg s[NB];
 	for (int k = 0; k < NB; k++)
-		s[k] = (dimg){mem + n * (size_t)k, w, h};
-	dimg g = {mem + n * NB, w, h};
+		s[k] = (pc_dimg){mem + n * (size_t)k, w, h};
+	pc_dimg g = {mem + n * NB, w, h};
 	double *tmp = mem + n * (NB + 1);
 	ea_guide(&r, full_scale, &g, s);
 	for (unsigned c = 0; c < 4; c++)
@@ -233,13 +229,13 @@ int pc_dm_mlri_ri(const double *img, const double *guide, uint32_t width, uint32
 {
 	const int w = (int)width, h = (int)height;
 	const size_t n = (size_t)w * h;
-	dimg r = {(double *)img, w, h}, g = {(double *)guide, w, h};
+	pc_dimg r = {(double *)img, w, h}, g = {(double *)guide, w, h};
 	double *mem = malloc(sizeof(double) * n * (NB + 1));
 	if (!mem)
 		return -1;
-	dimg s[NB];
+	pc_dimg s[NB];
 	for (int k = 0; k < NB; k++)
-		s[k] = (dimg){mem + n * (size_t)k, w, h};
+		s[k] = (pc_dimg){mem + n * (size_t)k, w, h};
 	for (unsigned c = 0; c < 4; c++)
 		mlri_channel(&r, &g, m, c, full_scale, s, mem + n * NB, out);
 	free(mem);

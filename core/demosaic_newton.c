@@ -56,55 +56,54 @@
 #define NEWTON_TAU 5.8
 #define NEWTON_EPS 1e-15
 
-typedef struct dimg {
-	double *p;
-	int w, h;
-} dimg;
-
-static double at(const dimg *r, int x, int y)
-{
-	return r->p[(size_t)pc_mirror(y, r->h) * r->w + pc_mirror(x, r->w)];
-}
-
 /* N_u(p) of the file comment: t the target's image (read at odd steps), r the raw (even). */
-static double newton(const dimg *t, const dimg *r, int x, int y, int ux, int uy)
+static double newton(const pc_dimg *t, const pc_dimg *r, int x, int y, int ux, int uy)
 {
-	return 7.0 / 16 * (at(t, x - ux, y - uy) + at(t, x + ux, y + uy)) +
-	       1.0 / 16 * (at(t, x - 3 * ux, y - 3 * uy) + at(t, x + 3 * ux, y + 3 * uy)) -
-	       0.25 * (at(r, x - 2 * ux, y - 2 * uy) - 2 * at(r, x, y) +
-	               at(r, x + 2 * ux, y + 2 * uy));
+	return 7.0 / 16 * (pc_dimg_at(t, x - ux, y - uy) + pc_dimg_at(t, x + ux, y + uy)) +
+	       1.0 / 16 *
+	           (pc_dimg_at(t, x - 3 * ux, y - 3 * uy) + pc_dimg_at(t, x + 3 * ux, y + 3 * uy)) -
+	       0.25 * (pc_dimg_at(r, x - 2 * ux, y - 2 * uy) - 2 * pc_dimg_at(r, x, y) +
+	               pc_dimg_at(r, x + 2 * ux, y + 2 * uy));
 }
 
 /* d_k: the gradient along u */
-static double grad(const dimg *r, int x, int y, int ux, int uy)
+static double grad(const pc_dimg *r, int x, int y, int ux, int uy)
 {
-	return fabs(at(r, x - ux, y - uy) - at(r, x + ux, y + uy)) +
-	       fabs(2 * at(r, x, y) - at(r, x - 2 * ux, y - 2 * uy) -
-	            at(r, x + 2 * ux, y + 2 * uy));
+	return fabs(pc_dimg_at(r, x - ux, y - uy) - pc_dimg_at(r, x + ux, y + uy)) +
+	       fabs(2 * pc_dimg_at(r, x, y) - pc_dimg_at(r, x - 2 * ux, y - 2 * uy) -
+	            pc_dimg_at(r, x + 2 * ux, y + 2 * uy));
 }
 
 /* φ of an estimate image e against the raw over p's 3×3 same-channel neighbourhood */
-static double phi(const dimg *e, const dimg *r, int x, int y)
+static double phi(const pc_dimg *e, const pc_dimg *r, int x, int y)
 {
 	double s = 0;
 	for (int b = -2; b <= 2; b += 2)
 		for (int a = -2; a <= 2; a += 2)
-			s += fabs(at(e, x + a, y + b) - at(r, x + a, y + b));
+			s += fabs(pc_dimg_at(e, x + a, y + b) - pc_dimg_at(r, x + a, y + b));
 	return s;
 }
 
-/* The edge classifier and fusion: e1 along (u1), e2 along (u2). */
-static double fuse(const dimg *e1, const dimg *e2, const dimg *r, int x, int y, int u1x, int u1y,
-                   int u2x, int u2y, double eps)
+/* The edge classifier and fusion rule of the file comment, over the values: estimates v1, v2
+ * with their misfits p1, p2 (φ) and gradients g1, g2 (d) along their directions. One rule for
+ * the reference and the fast path, so the two agree by construction. */
+static inline double newton_fuse(double v1, double v2, double p1, double p2, double g1, double g2,
+                                 double eps)
 {
-	double p1 = phi(e1, r, x, y), p2 = phi(e2, r, x, y);
-	double v1 = at(e1, x, y), v2 = at(e2, x, y);
 	if (p1 > NEWTON_TAU * p2)
 		return v2;
 	if (p2 > NEWTON_TAU * p1)
 		return v1;
-	double w1 = 1 / (grad(r, x, y, u1x, u1y) + eps), w2 = 1 / (grad(r, x, y, u2x, u2y) + eps);
+	double w1 = 1 / (g1 + eps), w2 = 1 / (g2 + eps);
 	return (w1 * v1 + w2 * v2) / (w1 + w2);
+}
+
+/* The fusion at (x, y): e1 along (u1), e2 along (u2). */
+static double fuse(const pc_dimg *e1, const pc_dimg *e2, const pc_dimg *r, int x, int y, int u1x,
+                   int u1y, int u2x, int u2y, double eps)
+{
+	return newton_fuse(pc_dimg_at(e1, x, y), pc_dimg_at(e2, x, y), phi(e1, r, x, y),
+	                   phi(e2, r, x, y), grad(r, x, y, u1x, u1y), grad(r, x, y, u2x, u2y), eps);
 }
 
 int pc_dm_ref_newton(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
@@ -120,10 +119,10 @@ int pc_dm_ref_newton(const double *img, uint32_t width, uint32_t height, const p
 	double *buf = malloc(sizeof(double) * n * 8);
 	if (!buf)
 		return pc_error(PC_ENOMEM, "newton reference: %ux%u images", width, height);
-	dimg r = {(double *)img, w, h}, E[4], Y1 = {buf + 4 * n, w, h}, Y2 = {buf + 5 * n, w, h},
-	     X2 = {buf + 6 * n, w, h}, V2 = {buf + 7 * n, w, h};
+	pc_dimg r = {(double *)img, w, h}, E[4], Y1 = {buf + 4 * n, w, h}, Y2 = {buf + 5 * n, w, h},
+	        X2 = {buf + 6 * n, w, h}, V2 = {buf + 7 * n, w, h};
 	for (int c = 0; c < 4; c++)
-		E[c] = (dimg){buf + (size_t)c * n, w, h};
+		E[c] = (pc_dimg){buf + (size_t)c * n, w, h};
 #define CH(x, y)         ((unsigned)m->channel[(y)&1][(x)&1])
 #define SET(im, x, y, v) ((im).p[(size_t)(y)*w + (x)] = (v))
 	/* stage one: own, horizontal, vertical channels; the diagonal estimates */
@@ -152,7 +151,7 @@ int pc_dm_ref_newton(const double *img, uint32_t width, uint32_t height, const p
 			const unsigned th = CH(x + 1, y), tv = CH(x, y + 1);
 			double o[4];
 			for (unsigned c = 0; c < 4; c++)
-				o[c] = at(&E[c], x, y);
+				o[c] = pc_dimg_at(&E[c], x, y);
 			o[th] = fuse(&E[th], &X2, &r, x, y, 1, 0, 0, 1, eps);
 			o[tv] = fuse(&E[tv], &V2, &r, x, y, 0, 1, 1, 0, eps);
 			for (unsigned c = 0; c < 4; c++)
@@ -236,15 +235,8 @@ static inline double fphi(const njob *j, const double *e, long x, long y)
 static inline double ffuse(const njob *j, const double *e1, const double *e2, long x, long y,
                            int u1x, int u1y, int u2x, int u2y)
 {
-	double p1 = fphi(j, e1, x, y), p2 = fphi(j, e2, x, y);
-	double v1 = PA(e1, x, y), v2 = PA(e2, x, y);
-	if (p1 > NEWTON_TAU * p2)
-		return v2;
-	if (p2 > NEWTON_TAU * p1)
-		return v1;
-	double w1 = 1 / (fgrad(j, x, y, u1x, u1y) + j->eps),
-	       w2 = 1 / (fgrad(j, x, y, u2x, u2y) + j->eps);
-	return (w1 * v1 + w2 * v2) / (w1 + w2);
+	return newton_fuse(PA(e1, x, y), PA(e2, x, y), fphi(j, e1, x, y), fphi(j, e2, x, y),
+	                   fgrad(j, x, y, u1x, u1y), fgrad(j, x, y, u2x, u2y), j->eps);
 }
 
 static void nband(void *ctx, uint32_t y0u, uint32_t y1u)

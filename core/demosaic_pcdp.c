@@ -29,24 +29,15 @@ static double pcdp_weight(unsigned i, unsigned j)
 	return (i ^ j) == 2 ? M_SQRT2 / (2 + M_SQRT2) : 1 / (2 + M_SQRT2);
 }
 
-typedef struct dimg {
-	const double *p;
-	int w, h;
-} dimg;
-
-static double at(const dimg *r, int x, int y)
-{
-	return r->p[(size_t)pc_mirror(y, r->h) * r->w + pc_mirror(x, r->w)];
-}
-
 static unsigned chan(const pc_mosaic *m, int x, int y)
 {
 	return m->channel[y & 1][x & 1];
 }
 
 /* tent of channel c's samples of f(x, y) around (x, y) */
-static double tent_of(const dimg *r, const pc_mosaic *m, unsigned c, int x, int y,
-                      double (*f)(const dimg *, const pc_mosaic *, unsigned, int, int), unsigned j)
+static double tent_of(const pc_dimg *r, const pc_mosaic *m, unsigned c, int x, int y,
+                      double (*f)(const pc_dimg *, const pc_mosaic *, unsigned, int, int),
+                      unsigned j)
 {
 	double s = 0, ws = 0;
 	for (int dy = -1; dy <= 1; dy++)
@@ -59,23 +50,23 @@ static double tent_of(const dimg *r, const pc_mosaic *m, unsigned c, int x, int 
 	return s / ws;
 }
 
-static double raw_at(const dimg *r, const pc_mosaic *m, unsigned j, int x, int y)
+static double raw_at(const pc_dimg *r, const pc_mosaic *m, unsigned j, int x, int y)
 {
 	(void)m;
 	(void)j;
-	return at(r, x, y);
+	return pc_dimg_at(r, x, y);
 }
 
 /* Ĩ_j at (x, y) */
-static double bil(const dimg *r, const pc_mosaic *m, unsigned j, int x, int y)
+static double bil(const pc_dimg *r, const pc_mosaic *m, unsigned j, int x, int y)
 {
 	return tent_of(r, m, j, x, y, raw_at, 0);
 }
 
 /* raw − Ĩ_j at (x, y) (read at channel i's samples only) */
-static double diff_j(const dimg *r, const pc_mosaic *m, unsigned j, int x, int y)
+static double diff_j(const pc_dimg *r, const pc_mosaic *m, unsigned j, int x, int y)
 {
-	return at(r, x, y) - bil(r, m, j, x, y);
+	return pc_dimg_at(r, x, y) - bil(r, m, j, x, y);
 }
 
 int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
@@ -83,7 +74,7 @@ int pc_dm_ref_pcdp(const double *img, uint32_t width, uint32_t height, const pc_
 {
 	if (m->period != 2)
 		return pc_error(PC_ENOTSUP, "pcdp: monochrome mosaics only");
-	dimg r = {img, (int)width, (int)height};
+	pc_dimg r = {(double *)img, (int)width, (int)height};
 	for (int y = 0; y < r.h; y++)
 		for (int x = 0; x < r.w; x++)
 			for (unsigned i = 0; i < 4; i++) {

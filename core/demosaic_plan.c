@@ -44,7 +44,8 @@
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
-                                "shows as false DoLP on edges",
+                                "shows as false DoLP on edges; not scored (the protocol is at "
+                                "full size: superpixel's figures are its full-size version)",
                                 "cheapest: one read of the raw, a quarter-size output",
                                 "the 2x2 super-pixel of DoFP sensors (e.g. Ratliff et al. 2009)",
                                 PC_DMF_MONO | PC_DMF_HALF_RES},
@@ -55,7 +56,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                                PC_DM_SUPERPIXEL_HALF},
     [PC_DM_SUPERPIXEL] = {{PC_DM_SUPERPIXEL, "superpixel",
                            "full-size output of the 2x2 super-pixel values; blocky, lowest "
-                           "accuracy",
+                           "accuracy; mean (worst): Lapray -7.74/-7.12 (-9.33/-9.35), Zhang "
+                           "-6.24/-6.39 (-6.61/-6.81), stress -3.36/-1.92 (-4.28/-4.75)",
                            "memory-bound, like a copy",
                            "the 2x2 super-pixel replicated over its block", PC_DMF_MONO},
                           {0, 1, 2, 1},
@@ -66,7 +68,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_BILINEAR] =
         {{PC_DM_BILINEAR, "bilinear",
           "the baseline every gain below is measured against: per-channel tent "
-          "interpolation, false DoLP on edges (Lapray NIR: S0 48.7 dB, DoLP 36.0 dB)",
+          "interpolation, false DoLP on edges (Lapray NIR: S0 48.7 dB, DoLP 36.0 dB; "
+          "worst scene S0 44.1 dB (fabrics), DoLP 31.2 dB (macbeth_classic))",
           "memory-bound: 3x3 neighbourhood, one pass",
           "Gao & Gruev, Opt. Express 19(27) 2011, bilinear DoFP interpolation", PC_DMF_MONO},
          {-1, 1, 1, 1},
@@ -89,7 +92,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_PPID] = {{PC_DM_PPID, "ppid",
                      "inter-channel: differences to an edge-aware pseudo-panchromatic image, "
                      "overshoot limited; mean (worst): Lapray -0.02/-0.20 (-3.19/-1.44), Zhang "
-                     "+4.71/+3.11 (+4.71/+2.79), stress +3.57/+1.64 (+0.39/-0.13)",
+                     "+4.71/+3.11 (+4.71/+2.79), stress +3.57/+1.64 (+0.39/-0.13); noisy stress "
+                     "low exposure +0.43/+1.57 (-3.98/+0.04: needs denoising in low light)",
                      "5x5 neighbourhood, three fused passes; about 3.5x bilinear's time",
                      "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
                      "Lapray, Bigue, Sensors 18(11) 3688, 2018",
@@ -117,7 +121,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                      "inter-channel: residual interpolation guided by an edge-aware "
                      "intensity image (our detector), overshoot limited; mean (worst): Lapray "
                      "+3.37/+1.90 (+1.32/+0.34), Zhang +3.46/+3.32 (+2.79/+3.01), stress "
-                     "+2.88/+1.04 (+1.51/-0.14)",
+                     "+2.88/+1.04 (+1.51/-0.14); noisy stress high/mid/low exposure worst S0/DoLP "
+                     "+1.97/-0.01, +1.32/-0.03, +0.05/-0.06 (no denoising needed)",
                      "like ri plus an edge-aware guide pass; about 10x bilinear's time",
                      "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292)",
                      PC_DMF_MONO},
@@ -128,7 +133,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                     PC_DM_EARI},
     [PC_DM_BAYER_FIRST] = {{PC_DM_BAYER_FIRST, "bayer-first",
                             "colour-polarization: bilinear Bayer demosaicking of each analyser "
-                            "sub-image, then bilinear up-sampling of the analysers",
+                            "sub-image, then bilinear up-sampling of the analysers; the colour "
+                            "baseline (synthetic colour track: S0 44.7 dB, DoLP 32.4 dB; "
+                            "per-scene figures not measured yet)",
                             "a colour pass plus three bilinear passes; about 22x bilinear's time",
                             "the colour-first baseline of colour-polarization demosaicking "
                             "(Morimatsu et al. 2020, Sec. 3.2)",
@@ -142,7 +149,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
         {{PC_DM_BAYER_EARI, "bayer-eari",
           "colour-polarization: bilinear Bayer demosaicking of each analyser "
           "sub-image, then EARI across the analysers of each colour; better "
-          "polarization than bayer-first",
+          "polarization than bayer-first; over bayer-first, synthetic colour "
+          "track mean +0.65/+0.76 (per-scene worst not measured yet)",
           "bayer-first's colour step plus three EARI runs; about 50x bilinear's time",
           "colour-first as Morimatsu et al. 2020, with the polarization step of "
           "their EARI",
@@ -152,22 +160,26 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          NULL,
          false,
          PC_DM_EARI},
-    [PC_DM_RATIO] = {{PC_DM_RATIO, "ratio",
-                      "inter-channel: our EARI guide, channels as guide x ratio (raw + 1 % FS)/"
-                      "(guide + 1 % FS) interpolated by a guide-weighted tent, twice, overshoot "
-                      "limited; mean (worst): Lapray +3.29/+1.80 (+0.62/-0.02), Zhang +4.58/+4.21 "
-                      "(+4.02/+4.17), stress +3.92/+1.69 (+1.77/+0.31); the fast robust choice",
-                      "the guide pass plus two ratio passes (3x3 guided tents); about 5x "
-                      "bilinear's time (one thread)",
-                      "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
-                      "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated; "
-                      "joint-bilateral weights (Kopf et al., SIGGRAPH 2007)",
-                      PC_DMF_MONO},
-                     {-4, 4, 1, 1},
-                     pc_dm_ic,
-                     pc_dm_ic_rows,
-                     false,
-                     PC_DM_RATIO},
+    [PC_DM_RATIO] =
+        {{PC_DM_RATIO, "ratio",
+          "inter-channel: our EARI guide, channels as guide x ratio (raw + 1 % FS)/"
+          "(guide + 1 % FS) interpolated by a guide-weighted tent, twice, overshoot "
+          "limited; mean (worst): Lapray +3.29/+1.80 (+0.62/-0.02), Zhang +4.58/+4.21 "
+          "(+4.02/+4.17), stress +3.92/+1.69 (+1.77/+0.31); noisy stress (IMX250MZR) "
+          "high/mid/low exposure +4.23/+1.64, +3.52/+1.42, +1.99/+1.24 (worst S0 +2.25, "
+          "+1.22, -1.56: needs denoising in low light, brightest tenth ~1 % of full scale); "
+          "the fast robust choice",
+          "the guide pass plus two ratio passes (3x3 guided tents); about 5x "
+          "bilinear's time (one thread)",
+          "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
+          "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated; "
+          "joint-bilateral weights (Kopf et al., SIGGRAPH 2007)",
+          PC_DMF_MONO},
+         {-4, 4, 1, 1},
+         pc_dm_ic,
+         pc_dm_ic_rows,
+         false,
+         PC_DM_RATIO},
     [PC_DM_EARI_MLRI] =
         {{PC_DM_EARI_MLRI, "eari-mlri",
           "anchor: EARI as its authors define it (their polarization-invariant "
@@ -184,21 +196,23 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          NULL,
          false,
          PC_DM_EARI_MLRI},
-    [PC_DM_EARI_ROBUST] = {{PC_DM_EARI_ROBUST, "eari-robust",
-                            "inter-channel: eari-mlri with the overshoot limiter (no ringing into "
-                            "the dark); the most accurate, no scene below -0.3 dB; mean (worst): "
-                            "Lapray +3.51/+1.78 (+1.01/-0.12), Zhang +3.69/+3.74 (+3.03/+3.51), "
-                            "stress +5.35/+2.29 (+1.87/+0.59)",
-                            "eari-mlri's cost plus one 5x5 min/max pass: about 500x bilinear's CPU "
-                            "time (not within the 5x budget)",
-                            "ours: Morimatsu et al. ICIP 2020's guide and Kiku et al. TIP 2016's "
-                            "MLRI, held to each channel's local sample range",
-                            PC_DMF_MONO},
-                           {MLRI_LO, MLRI_HI, 1, 1},
-                           pc_dm_mlri_fast,
-                           NULL,
-                           false,
-                           PC_DM_EARI_ROBUST},
+    [PC_DM_EARI_ROBUST] =
+        {{PC_DM_EARI_ROBUST, "eari-robust",
+          "inter-channel: eari-mlri with the overshoot limiter (no ringing into "
+          "the dark); the most accurate, no scene below -0.3 dB; mean (worst): "
+          "Lapray +3.51/+1.78 (+1.01/-0.12), Zhang +3.69/+3.74 (+3.03/+3.51), "
+          "stress +5.35/+2.29 (+1.87/+0.59); noisy stress low exposure +2.12/+1.28 "
+          "(-2.09/+0.49: needs denoising in low light)",
+          "eari-mlri's cost plus one 5x5 min/max pass: about 500x bilinear's CPU "
+          "time (not within the 5x budget)",
+          "ours: Morimatsu et al. ICIP 2020's guide and Kiku et al. TIP 2016's "
+          "MLRI, held to each channel's local sample range",
+          PC_DMF_MONO},
+         {MLRI_LO, MLRI_HI, 1, 1},
+         pc_dm_mlri_fast,
+         NULL,
+         false,
+         PC_DM_EARI_ROBUST},
     [PC_DM_PCDP] = {{PC_DM_PCDP, "pcdp",
                      "anchor: residual interpolation with the other channels' bilinear "
                      "estimates as guide, the orthogonal one weighted sqrt(2); mean (worst): "

@@ -23,12 +23,7 @@
 
 #include "polarcam/error.h"
 
-typedef struct rimg {
-	double *p;
-	int w, h;
-} rimg;
-
-static int rimg_new(rimg *r, int w, int h)
+static int rimg_new(pc_dimg *r, int w, int h)
 {
 	r->w = w;
 	r->h = h;
@@ -36,19 +31,13 @@ static int rimg_new(rimg *r, int w, int h)
 	return r->p ? 0 : pc_error(PC_ENOMEM, "reference: %dx%d image", w, h);
 }
 
-static void rimg_free(rimg *r)
+static void rimg_free(pc_dimg *r)
 {
 	free(r->p);
 	r->p = NULL;
 }
 
-/* Value at (x, y) with whole-sample mirroring. */
-static double at(const rimg *r, int x, int y)
-{
-	return r->p[(size_t)pc_mirror(y, r->h) * r->w + pc_mirror(x, r->w)];
-}
-
-static double *px(rimg *r, int x, int y)
+static double *px(pc_dimg *r, int x, int y)
 {
 	return &r->p[(size_t)y * r->w + x];
 }
@@ -66,20 +55,20 @@ static unsigned chan(const pc_mosaic *m, int x, int y)
 /* Normalised tent (bilinear) interpolation of the samples of channel c of v at (x, y): the
  * weights (2-|dx|)(2-|dy|) over the channel's pixels in the 3×3 window, divided by their sum
  * (4 at the pixel itself; 2+2 for a horizontal or vertical pair; 1+1+1+1 for diagonals). */
-static double tent(const rimg *v, const pc_mosaic *m, unsigned c, int x, int y)
+static double tent(const pc_dimg *v, const pc_mosaic *m, unsigned c, int x, int y)
 {
 	double s = 0, ws = 0;
 	for (int dy = -1; dy <= 1; dy++)
 		for (int dx = -1; dx <= 1; dx++)
 			if (chan(m, x + dx, y + dy) == c) {
 				double w = (2 - abs(dx)) * (2 - abs(dy));
-				s += w * at(v, x + dx, y + dy);
+				s += w * pc_dimg_at(v, x + dx, y + dy);
 				ws += w;
 			}
 	return s / ws;
 }
 
-static void ref_bilinear(const rimg *r, const pc_mosaic *m, const pc_fplane *out)
+static void ref_bilinear(const pc_dimg *r, const pc_mosaic *m, const pc_fplane *out)
 {
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++)
@@ -88,16 +77,16 @@ static void ref_bilinear(const rimg *r, const pc_mosaic *m, const pc_fplane *out
 }
 
 /* The 2×2 block at even coordinates holds each analyser once. */
-static double block_value(const rimg *r, const pc_mosaic *m, unsigned c, int bx, int by)
+static double block_value(const pc_dimg *r, const pc_mosaic *m, unsigned c, int bx, int by)
 {
 	for (int dy = 0; dy < 2; dy++)
 		for (int dx = 0; dx < 2; dx++)
 			if (chan(m, bx + dx, by + dy) == c)
-				return at(r, bx + dx, by + dy);
+				return pc_dimg_at(r, bx + dx, by + dy);
 	return 0; /* unreachable for a checked mosaic */
 }
 
-static void ref_superpixel(const rimg *r, const pc_mosaic *m, int half, const pc_fplane *out)
+static void ref_superpixel(const pc_dimg *r, const pc_mosaic *m, int half, const pc_fplane *out)
 {
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++) {
@@ -127,7 +116,7 @@ static double keys(double t)
 
 /* Channel c's samples lie on a lattice of spacing 2; the kernel is evaluated in lattice units,
  * so offsets of 1 and 3 pixels weigh keys(0.5) = 9/16 and keys(1.5) = -1/16. */
-static void ref_bicubic(const rimg *r, const pc_mosaic *m, const pc_fplane *out)
+static void ref_bicubic(const pc_dimg *r, const pc_mosaic *m, const pc_fplane *out)
 {
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++)
@@ -137,7 +126,7 @@ static void ref_bicubic(const rimg *r, const pc_mosaic *m, const pc_fplane *out)
 					for (int dx = -3; dx <= 3; dx++)
 						if (chan(m, x + dx, y + dy) == c)
 							s += keys(dx / 2.0) * keys(dy / 2.0) *
-							     at(r, x + dx, y + dy);
+							     pc_dimg_at(r, x + dx, y + dy);
 				put(&out[c], x, y, s);
 			}
 }
@@ -146,14 +135,15 @@ static void ref_bicubic(const rimg *r, const pc_mosaic *m, const pc_fplane *out)
 
 /* PPID step 1 (Mihoubi et al. 2017, eq. 24 adapted to the 2×2 PFA): the pseudo-panchromatic
  * image as the raw filtered by M = [1 2 1; 2 4 2; 1 2 1]/16, which weighs each analyser by 1/4. */
-static void ppi_coarse(const rimg *r, rimg *p0)
+static void ppi_coarse(const pc_dimg *r, pc_dimg *p0)
 {
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++) {
 			double s = 0;
 			for (int dy = -1; dy <= 1; dy++)
 				for (int dx = -1; dx <= 1; dx++)
-					s += (2 - abs(dx)) * (2 - abs(dy)) * at(r, x + dx, y + dy);
+					s += (2 - abs(dx)) * (2 - abs(dy)) *
+					     pc_dimg_at(r, x + dx, y + dy);
 			*px(p0, x, y) = s / 16;
 		}
 }
@@ -164,21 +154,21 @@ static void ppi_coarse(const rimg *r, rimg *p0)
  *   G_d = |raw(p + 2d) − raw(p)| + |raw(p + d) − raw(p − d)|
  * sums two same-channel differences along direction d and ε = full_scale / 255:
  *   PPI(p) = raw(p) + Σ_d γ_d (PPI0(q_d) − raw(q_d)) / Σ_d γ_d. */
-static void ppi_refine(const rimg *r, const rimg *p0, double eps, rimg *p)
+static void ppi_refine(const pc_dimg *r, const pc_dimg *p0, double eps, pc_dimg *p)
 {
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++) {
-			double num = 0, den = 0, c = at(r, x, y);
+			double num = 0, den = 0, c = pc_dimg_at(r, x, y);
 			for (int dy = -1; dy <= 1; dy++)
 				for (int dx = -1; dx <= 1; dx++) {
 					if (!dx && !dy)
 						continue;
-					double g =
-					    fabs(at(r, x + 2 * dx, y + 2 * dy) - c) +
-					    fabs(at(r, x + dx, y + dy) - at(r, x - dx, y - dy));
+					double g = fabs(pc_dimg_at(r, x + 2 * dx, y + 2 * dy) - c) +
+					           fabs(pc_dimg_at(r, x + dx, y + dy) -
+					                pc_dimg_at(r, x - dx, y - dy));
 					double gam = 1.0 / (eps + g);
-					num += gam * (at(p0, x + 2 * dx, y + 2 * dy) -
-					              at(r, x + 2 * dx, y + 2 * dy));
+					num += gam * (pc_dimg_at(p0, x + 2 * dx, y + 2 * dy) -
+					              pc_dimg_at(r, x + 2 * dx, y + 2 * dy));
 					den += gam;
 				}
 			*px(p, x, y) = c + num / den;
@@ -186,9 +176,9 @@ static void ppi_refine(const rimg *r, const rimg *p0, double eps, rimg *p)
 }
 
 /* PPID step 3 (ibid. eqs. 30-31, 34): I_c = PPI + tent-interpolated (raw − PPI) of channel c. */
-static int ref_ppid(const rimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
+static int ref_ppid(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
 {
-	rimg p0 = {0}, p = {0}, d = {0};
+	pc_dimg p0 = {0}, p = {0}, d = {0};
 	int rc = rimg_new(&p0, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&p, r->w, r->h);
@@ -227,25 +217,27 @@ static int ref_ppid(const rimg *r, const pc_mosaic *m, double fs, const pc_fplan
  * four axes). The guide is half the weighted mean (S0/2, the mean analyser intensity, on the
  * scale of every I_c). ε = 0.1 × full scale keeps the weighting mild: sharper weights
  * (1/(ε+g)² or smaller ε) scored lower on both test datasets. */
-static void eari_guide(const rimg *r, const pc_mosaic *m, double eps, rimg *g)
+static void eari_guide(const pc_dimg *r, const pc_mosaic *m, double eps, pc_dimg *g)
 {
 	/* neighbour sets: H = ±(1,0), V = ±(0,1), D = ±(1,1) and ±(1,-1) */
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++) {
 			unsigned cp = chan(m, x, y) ^ 2u;
-			double c0 = at(r, x, y);
-			double mh = 0.5 * (at(r, x - 1, y) + at(r, x + 1, y));
-			double mv = 0.5 * (at(r, x, y - 1) + at(r, x, y + 1));
-			double md = 0.25 * (at(r, x - 1, y - 1) + at(r, x + 1, y + 1) +
-			                    at(r, x + 1, y - 1) + at(r, x - 1, y + 1));
+			double c0 = pc_dimg_at(r, x, y);
+			double mh = 0.5 * (pc_dimg_at(r, x - 1, y) + pc_dimg_at(r, x + 1, y));
+			double mv = 0.5 * (pc_dimg_at(r, x, y - 1) + pc_dimg_at(r, x, y + 1));
+			double md =
+			    0.25 * (pc_dimg_at(r, x - 1, y - 1) + pc_dimg_at(r, x + 1, y + 1) +
+			            pc_dimg_at(r, x + 1, y - 1) + pc_dimg_at(r, x - 1, y + 1));
 			/* gradients along the four axes */
 			double gax[4];
 			static const int ax[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
 			for (int k = 0; k < 4; k++) {
 				int ox = ax[k][0], oy = ax[k][1];
-				gax[k] = fabs(at(r, x + ox, y + oy) - at(r, x - ox, y - oy)) +
-				         fabs(at(r, x + 2 * ox, y + 2 * oy) - c0) +
-				         fabs(at(r, x - 2 * ox, y - 2 * oy) - c0);
+				gax[k] = fabs(pc_dimg_at(r, x + ox, y + oy) -
+				              pc_dimg_at(r, x - ox, y - oy)) +
+				         fabs(pc_dimg_at(r, x + 2 * ox, y + 2 * oy) - c0) +
+				         fabs(pc_dimg_at(r, x - 2 * ox, y - 2 * oy) - c0);
 			}
 			double num = 0, den = 0, gmean = 0.25 * (gax[0] + gax[1] + gax[2] + gax[3]);
 			double other;
@@ -253,8 +245,8 @@ static void eari_guide(const rimg *r, const pc_mosaic *m, double eps, rimg *g)
 			    cp) { /* orthogonal analyser on the diagonals */
 				for (int k = 2; k < 4; k++) {
 					int ox = ax[k][0], oy = ax[k][1];
-					double e = c0 + 0.5 * (at(r, x + ox, y + oy) +
-					                       at(r, x - ox, y - oy));
+					double e = c0 + 0.5 * (pc_dimg_at(r, x + ox, y + oy) +
+					                       pc_dimg_at(r, x - ox, y - oy));
 					double wgt = 1.0 / (eps + gax[k]);
 					num += wgt * e;
 					den += wgt;
@@ -284,8 +276,9 @@ static void eari_guide(const rimg *r, const pc_mosaic *m, double eps, rimg *g)
  *   a_k = cov_k(G, I) / (var_k(G) + eps2),  b_k = mean_k(I) − a_k·mean_k(G);
  * then the tentative image T = mean_ω(a)·G + mean_ω(b). The residual raw − T at the samples is
  * tent-interpolated and added back: I_c = T + tent(raw − T). */
-static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsigned c, int rad,
-                          double eps2, rimg *a, rimg *b, rimg *t, const pc_fplane *out)
+static int ref_ri_channel(const pc_dimg *r, const pc_dimg *g, const pc_mosaic *m, unsigned c,
+                          int rad, double eps2, pc_dimg *a, pc_dimg *b, pc_dimg *t,
+                          const pc_fplane *out)
 {
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++) {
@@ -294,8 +287,8 @@ static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsi
 				for (int dx = -rad; dx <= rad; dx++) {
 					if (chan(m, x + dx, y + dy) != c)
 						continue;
-					double gv = at(g, x + dx, y + dy),
-					       iv = at(r, x + dx, y + dy);
+					double gv = pc_dimg_at(g, x + dx, y + dy),
+					       iv = pc_dimg_at(r, x + dx, y + dy);
 					n++;
 					sg += gv;
 					si += iv;
@@ -313,26 +306,26 @@ static int ref_ri_channel(const rimg *r, const rimg *g, const pc_mosaic *m, unsi
 			double sa = 0, sb = 0;
 			for (int dy = -rad; dy <= rad; dy++)
 				for (int dx = -rad; dx <= rad; dx++) {
-					sa += at(a, x + dx, y + dy);
-					sb += at(b, x + dx, y + dy);
+					sa += pc_dimg_at(a, x + dx, y + dy);
+					sb += pc_dimg_at(b, x + dx, y + dy);
 				}
 			double n = (2 * rad + 1) * (2 * rad + 1);
-			*px(t, x, y) = sa / n * *px((rimg *)g, x, y) + sb / n;
+			*px(t, x, y) = sa / n * *px((pc_dimg *)g, x, y) + sb / n;
 		}
 	/* residual at the samples (the tent reads only channel c's pixels) */
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++)
-			*px(a, x, y) = *px((rimg *)r, x, y) - *px(t, x, y);
+			*px(a, x, y) = *px((pc_dimg *)r, x, y) - *px(t, x, y);
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++)
 			put(&out[c], x, y, *px(t, x, y) + tent(a, m, c, x, y));
 	return 0;
 }
 
-static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
+static int ref_ri(const pc_dimg *r, const pc_mosaic *m, double fs, int edge_aware,
                   const pc_fplane *out)
 {
-	rimg p0 = {0}, g = {0}, a = {0}, b = {0}, t = {0};
+	pc_dimg p0 = {0}, g = {0}, a = {0}, b = {0}, t = {0};
 	int rc = rimg_new(&p0, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&g, r->w, r->h);
@@ -390,23 +383,23 @@ static int ref_ri(const rimg *r, const pc_mosaic *m, double fs, int edge_aware,
  * guide: across an edge of the guide the far side's ratio, which belongs to another surface,
  * counts little (a joint-bilateral range weight on the guide; Tomasi & Manduchi, ICCV 1998;
  * Kopf et al., SIGGRAPH 2007). */
-static double guided_tent(const rimg *v, const rimg *g, const pc_mosaic *m, unsigned c, int x,
+static double guided_tent(const pc_dimg *v, const pc_dimg *g, const pc_mosaic *m, unsigned c, int x,
                           int y, double e)
 {
-	double s = 0, ws = 0, g0 = at(g, x, y);
+	double s = 0, ws = 0, g0 = pc_dimg_at(g, x, y);
 	for (int dy = -1; dy <= 1; dy++)
 		for (int dx = -1; dx <= 1; dx++)
 			if (chan(m, x + dx, y + dy) == c) {
-				double w = 1.0 / (e + fabs(at(g, x + dx, y + dy) - g0));
-				s += w * at(v, x + dx, y + dy);
+				double w = 1.0 / (e + fabs(pc_dimg_at(g, x + dx, y + dy) - g0));
+				s += w * pc_dimg_at(v, x + dx, y + dy);
 				ws += w;
 			}
 	return s / ws;
 }
 
-static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
+static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
 {
-	rimg g = {0}, q = {0}, gn = {0};
+	pc_dimg g = {0}, q = {0}, gn = {0};
 	int rc = rimg_new(&g, r->w, r->h);
 	if (!rc)
 		rc = rimg_new(&q, r->w, r->h);
@@ -422,22 +415,22 @@ static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fpla
 	for (int pass = 0; pass < PC_RATIO_PASSES; pass++) {
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++)
-				*px(&q, x, y) =
-				    (at(r, x, y) + delta) / (fmax(at(&g, x, y), 0) + delta);
+				*px(&q, x, y) = (pc_dimg_at(r, x, y) + delta) /
+				                (fmax(pc_dimg_at(&g, x, y), 0) + delta);
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++) {
-				double den = fmax(at(&g, x, y), 0) + delta, sum = 0;
+				double den = fmax(pc_dimg_at(&g, x, y), 0) + delta, sum = 0;
 				for (unsigned c = 0; c < 4; c++) {
 					double v =
 					    c == chan(m, x, y)
-					        ? at(r, x, y)
+					        ? pc_dimg_at(r, x, y)
 					        : den * guided_tent(&q, &g, m, c, x, y, e) - delta;
 					put(&out[c], x, y, v);
 					sum += v;
 				}
 				*px(&gn, x, y) = sum / 4; /* the next pass's guide */
 			}
-		rimg t = g;
+		pc_dimg t = g;
 		g = gn;
 		gn = t;
 	}
@@ -450,7 +443,7 @@ static int ref_ratio(const rimg *r, const pc_mosaic *m, double fs, const pc_fpla
 static int ref_method(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
                       pc_demosaic_method method, double full_scale, const pc_fplane *out)
 {
-	rimg r = {(double *)img, (int)width, (int)height};
+	pc_dimg r = {(double *)img, (int)width, (int)height};
 	switch (method) {
 	case PC_DM_SUPERPIXEL_HALF:
 		if (m->period == 4)

@@ -105,14 +105,14 @@ static unsigned invert_count(uint8_t *restrict out, const uint8_t *restrict acc,
 	return cnt;
 }
 
-/* Per-band state: a cache of horizontally dilated flag rows. */
-#define VC_MAX 72
+/* Per-band state: a cache of horizontally dilated flag rows, one slot per row of the
+ * support plus one (k slots, however wide the method's support: igri2's ±40 needs 82). */
 typedef struct vband {
 	int k;
-	int32_t key[VC_MAX];
-	uint8_t any[VC_MAX];
-	uint8_t *hd[VC_MAX]; /* ow bytes each */
-	uint8_t *pad;        /* one raw row of flags with `margin` mirrored bytes on each side */
+	int32_t *key;
+	uint8_t *any;
+	uint8_t **hd; /* ow bytes each */
+	uint8_t *pad; /* one raw row of flags with `margin` mirrored bytes on each side */
 	int margin;
 } vband;
 
@@ -174,8 +174,14 @@ static void vband_run(void *ctx, uint32_t Y0, uint32_t Y1)
 	b.k = s->hi - s->lo + 2;
 	b.margin = (s->hi > -s->lo ? s->hi : -s->lo) + 1;
 	uint8_t *buf = malloc((size_t)b.k * ow + w + 2 * (size_t)b.margin + 2 * (size_t)ow);
-	if (!buf || b.k > VC_MAX) {
+	b.key = malloc((size_t)b.k * sizeof *b.key);
+	b.any = malloc((size_t)b.k);
+	b.hd = malloc((size_t)b.k * sizeof *b.hd);
+	if (!buf || !b.key || !b.any || !b.hd) {
 		free(buf);
+		free(b.key);
+		free(b.any);
+		free(b.hd);
 		atomic_store(&j->err, 1);
 		return;
 	}
@@ -209,6 +215,9 @@ static void vband_run(void *ctx, uint32_t Y0, uint32_t Y1)
 	}
 	atomic_fetch_add(&j->invalid, invalid);
 	free(buf);
+	free(b.key);
+	free(b.any);
+	free(b.hd);
 }
 
 int pc_dm_validity(const pc_dm_input *in, const pc_dm_support *sup, const pc_dm_levels *lv,
