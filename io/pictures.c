@@ -74,6 +74,28 @@ int pc_pictures_write_opts(const char *dir, const pc_stokes_out *st, uint32_t wi
 	return pc_pictures_write_valid(dir, st, width, height, opts, NULL);
 }
 
+/* S0's picture scale: 0 to its 99.9th percentile (a few specular pixels must not darken the
+ * rest), or to the scale given (pictures to compare). Every picture of S0's units uses it. */
+static float s0_scale(const pc_stokes_out *st, uint32_t width, uint32_t height, double s0_hi)
+{
+	float hi = s0_hi > 0 ? (float)s0_hi : pc_picture_quantile(&st->s0, width, height, 0.999);
+	return hi > 0 ? hi : 1;
+}
+
+/* Invalid pixels (saturated, dead or distrusted samples), marked by a pink checker over every
+ * picture and counted in its legend: their count, and the legend's "invalid N %" into note. */
+static size_t invalid_count(const pc_validity *valid, uint32_t width, uint32_t height,
+                            char note[80])
+{
+	const uint8_t *vm = valid && valid->mask ? valid->mask : NULL;
+	size_t n_bad = 0;
+	for (uint32_t y = 0; vm && y < height; y++)
+		for (uint32_t x = 0; x < width; x++)
+			n_bad += !vm[(size_t)y * valid->row_stride + x];
+	snprintf(note, 80, "invalid %.2g%%", 100.0 * (double)n_bad / ((double)width * height));
+	return n_bad;
+}
+
 int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
                             uint32_t height, const pc_pictures_opts *opts, const pc_validity *valid)
 {
@@ -97,12 +119,7 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	if (!rgb)
 		return pc_error(PC_ENOMEM, "pictures: %ux%u RGB buffer", width, height);
 	char title[320];
-	/* S0: 0 to its 99.9th percentile (a few specular pixels must not darken the rest), or to
-	 * the scale given (pictures to compare) */
-	float hi =
-	    o.s0_hi > 0 ? (float)o.s0_hi : pc_picture_quantile(&st->s0, width, height, 0.999);
-	if (!(hi > 0))
-		hi = 1;
+	const float hi = s0_scale(st, width, height, o.s0_hi);
 	float mask = o.mask_s0 > 0    ? (float)o.mask_s0
 	             : o.mask_s0 == 0 ? (float)(PC_PICTURES_MASK_DEFAULT_REL * hi)
 	                              : -INFINITY;
@@ -138,17 +155,10 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	} else if (dhi < 1) {
 		snprintf(dlabel, sizeof dlabel, "DoLP (0..%.2f)", dhi);
 	}
-	/* invalid pixels (saturated, dead or distrusted samples): a pink checker over
-	 * everything, counted in every picture's legend */
 	const uint8_t *vm = valid && valid->mask ? valid->mask : NULL;
 	const size_t vs = vm ? valid->row_stride : 0, rs = (size_t)width * 3;
-	size_t n_bad = 0;
-	for (uint32_t y = 0; vm && y < height; y++)
-		for (uint32_t x = 0; x < width; x++)
-			n_bad += !vm[(size_t)y * vs + x];
-	char bad_note[80] = "";
-	snprintf(bad_note, sizeof bad_note, "invalid %.2g%%",
-	         100.0 * (double)n_bad / ((double)width * height));
+	char bad_note[80];
+	const size_t n_bad = invalid_count(valid, width, height, bad_note);
 	pc_legend_note bad = {bad_note, pc_picture_invalid_rgb, NULL};
 	pc_legend_note note = {mask_note, pc_picture_mask_rgb, n_bad ? &bad : NULL};
 	const pc_legend_note *np = mask > -INFINITY ? &note : n_bad ? &bad : NULL;
@@ -225,19 +235,11 @@ int pc_pictures_write_minmax(const char *dir, const pc_stokes_out *st, uint32_t 
 	                    {planes + 2 * n, width, 1},
 	                    {planes + 3 * n, width, 1}};
 	int rc = pc_stokes_minmax(&st->s0, &st->s1, &st->s2, width, height, &mo);
-	/* the S0 picture's scale, as pc_pictures_write_valid takes it */
-	float hi =
-	    o.s0_hi > 0 ? (float)o.s0_hi : pc_picture_quantile(&st->s0, width, height, 0.999);
-	if (!(hi > 0))
-		hi = 1;
+	const float hi = s0_scale(st, width, height, o.s0_hi); /* as the S0 picture */
 	const uint8_t *vm = valid && valid->mask ? valid->mask : NULL;
 	const size_t vs = vm ? valid->row_stride : 0, rs = (size_t)width * 3;
-	size_t n_bad = 0;
-	for (uint32_t y = 0; vm && y < height; y++)
-		for (uint32_t x = 0; x < width; x++)
-			n_bad += !vm[(size_t)y * vs + x];
 	char bad_note[80];
-	snprintf(bad_note, sizeof bad_note, "invalid %.2g%%", 100.0 * (double)n_bad / (double)n);
+	const size_t n_bad = invalid_count(valid, width, height, bad_note);
 	pc_legend_note bad = {bad_note, pc_picture_invalid_rgb, NULL};
 	char pre[96] = "";
 	if (o.title_prefix && *o.title_prefix)

@@ -247,8 +247,9 @@ static void test_process_cmd(void)
 	pc_view_free(&raw);
 }
 
-/* Pixels of a PNG picture (title, key and legend included) drawn in the invalid mark's pink. */
-static long count_invalid_pink(const char *path)
+/* Pixels of a PNG picture (title, key and legend included) whose colour match() accepts; -1 when
+ * the file is not a readable PNG. */
+static long count_pixels(const char *path, bool (*match)(unsigned r, unsigned g, unsigned b))
 {
 	cairo_surface_t *s = cairo_image_surface_create_from_png(path);
 	if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {
@@ -264,12 +265,21 @@ static long count_invalid_pink(const char *path)
 		for (int x = 0; x < w; x++) {
 			uint32_t px;
 			memcpy(&px, d + (size_t)y * stride + (size_t)x * 4, 4);
-			n += ((px >> 16) & 255) == PC_PICTURE_INVALID_R &&
-			     ((px >> 8) & 255) == PC_PICTURE_INVALID_G &&
-			     (px & 255) == PC_PICTURE_INVALID_B;
+			n += match((px >> 16) & 255, (px >> 8) & 255, px & 255);
 		}
 	cairo_surface_destroy(s);
 	return n;
+}
+
+/* the invalid mark's pink */
+static bool is_invalid_pink(unsigned r, unsigned g, unsigned b)
+{
+	return r == PC_PICTURE_INVALID_R && g == PC_PICTURE_INVALID_G && b == PC_PICTURE_INVALID_B;
+}
+
+static long count_invalid_pink(const char *path)
+{
+	return count_pixels(path, is_invalid_pink);
 }
 
 /* process --minmax --split: Imin, Imax, diffuse, specular against a double computation from
@@ -346,29 +356,16 @@ static void test_process_minmax(void)
 	pc_view_free(&raw);
 }
 
+/* the low-signal hatch's two greys */
+static bool is_hatch_grey(unsigned r, unsigned g, unsigned b)
+{
+	return r == g && g == b && (r == PC_PICTURE_MASK_RGB0 || r == PC_PICTURE_MASK_RGB1);
+}
+
 /* Pixels of a PNG picture in the low-signal hatch's two greys. */
 static long count_hatch(const char *path)
 {
-	cairo_surface_t *s = cairo_image_surface_create_from_png(path);
-	if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {
-		cairo_surface_destroy(s);
-		return -1;
-	}
-	cairo_surface_flush(s);
-	const unsigned char *d = cairo_image_surface_get_data(s);
-	int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
-	int stride = cairo_image_surface_get_stride(s);
-	long n = 0;
-	for (int y = 0; y < h; y++)
-		for (int x = 0; x < w; x++) {
-			uint32_t px;
-			memcpy(&px, d + (size_t)y * stride + (size_t)x * 4, 4);
-			unsigned r = (px >> 16) & 255, g = (px >> 8) & 255, b = px & 255;
-			n += r == g && g == b &&
-			     (r == PC_PICTURE_MASK_RGB0 || r == PC_PICTURE_MASK_RGB1);
-		}
-	cairo_surface_destroy(s);
-	return n;
+	return count_pixels(path, is_hatch_grey);
 }
 
 /* A retardance map hatched where its Δ is above PC_MUELLER_R_MASK_DELTA: every such pixel is
