@@ -93,9 +93,8 @@ static int bopen(bstack *b, double bg, const char *psa, uint32_t size, size_t n,
 
 /* One W⁺ per 2×2 super-pixel for the bilinear pipeline: the mean of the block's four
  * per-pixel W⁺ (pc_calib_pinv), as a W/2 × H/2 grid (12 floats per block, 12 bytes per pixel
- * instead of 48). expand: written back over the per-pixel cache instead (every pixel of a
- * block gets the block's matrix), so that pc_calib_apply runs with it. */
-static int block_pinv(pc_calib *cal, bool expand, float **out)
+ * instead of 48). */
+static int block_pinv(pc_calib *cal, float **out)
 {
 	pc_analyser_pinv pp;
 	int rc = pc_calib_pinv(cal, PC_DM_BILINEAR, 0, &pp);
@@ -113,25 +112,31 @@ static int block_pinv(pc_calib *cal, bool expand, float **out)
 				b[e * nb + (size_t)by * gw + bx] =
 				    0.25f * ((m[0] + m[1]) + (m[W] + m[W + 1]));
 			}
-	if (expand) {
-		float *m = (float *)(uintptr_t)pp.m; /* the cache: cal's own memory */
-		for (size_t e = 0; e < 12; e++)
-			for (uint32_t y = 0; y < 2 * gh; y++)
-				for (uint32_t x = 0; x < 2 * gw; x++)
-					m[e * np + (size_t)y * W + x] =
-					    b[e * nb + (size_t)(y / 2) * gw + x / 2];
-		free(b);
-		b = NULL;
-	}
-	if (out)
-		*out = b;
-	else
-		free(b);
+	*out = b;
 	return 0;
 }
 
+/* The calibrated bilinear pipeline with the analysers from grid instead of the calibration's
+ * own (pc_calib_apply's correction: the dark map and the inverse gains; no flags). */
+static int stokes_with_pinv(pc_calib *cal, const pc_view *raw, const pc_analyser_pinv *grid,
+                            const pc_stokes_out *out)
+{
+	int rc = pc_calib_prepare(cal, PC_DM_BILINEAR, 0); /* the inverse gains */
+	if (rc)
+		return rc;
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.mosaic = cal->geo.mosaic;
+	po.dark = cal->dark;
+	po.gain_inv = cal->apply_ig;
+	po.black_level = cal->dark ? 0 : cal->black_level;
+	po.pinv = grid;
+	return pc_stokes_run(raw, &po, out, NULL);
+}
+
 /* RMS DoLP and AoLP errors of the averaged stimulus over the interior */
-static int errors(pc_calib *cal, bstack *t, size_t frames, double angle, double *ed, double *ea)
+/* (grid: the analysers from it, stokes_with_pinv; NULL: the calibration's, pc_calib_stokes) */
+static int errors(pc_calib *cal, const pc_analyser_pinv *grid, bstack *t, size_t frames,
+                  double angle, double *ed, double *ea)
 {
 	const uint32_t W = t->info.width, H = t->info.height;
 	const size_t np = (size_t)W * H;
@@ -165,7 +170,8 @@ static int errors(pc_calib *cal, bstack *t, size_t frames, double angle, double 
 		pl[k]->pixel_stride = 1;
 	}
 	if (!rc)
-		rc = pc_calib_stokes(cal, &avg, NULL, PC_DM_BILINEAR, 0, &out, NULL, NULL);
+		rc = grid ? stokes_with_pinv(cal, &avg, grid, &out)
+		          : pc_calib_stokes(cal, &avg, NULL, PC_DM_BILINEAR, 0, &out, NULL, NULL);
 	double sd = 0, sa = 0;
 	size_t n = 0;
 	for (uint32_t y = 2; !rc && y + 2 < H; y++)
@@ -273,9 +279,10 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 	/* what `polarcam process` runs: the black level, the saturation check and the mask */
 	pc_pipeline_opts pu = po;
 	pu.black_level = 60;
-	enum { IDEAL, IDEAL_NOMASK, CAL, CAL_NOMASK, CAL_SP, NCASE };
-	static const char *const name[NCASE] = {"ideal", "ideal_no_mask", "calibrated",
-	                                        "calibrated_no_mask", "calibrated_2x2"};
+	enum { IDEAL, IDEAL_NOMASK, CAL, CAL_NOMASK, CAL_PINV, CAL_SP, NCASE };
+	static const char *const name[NCASE] = {"ideal",           "ideal_no_mask",
+	                                        "calibrated",      "calibrated_no_mask",
+	                                        "calibrated_pinv", "calibrated_2x2"};
 	int one = -1; /* --only: one case (for perf stat) */
 	for (int k = 0; only && k < NCASE; k++)
 		if (!strcmp(only, name[k]))
@@ -287,31 +294,42 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 		free(mask);
 		return host->error(PC_BENCH_USAGE,
 		                   "--only %s: expected ideal, ideal_no_mask, "
-		                   "calibrated, calibrated_no_mask or calibrated_2x2",
+		                   "calibrated, calibrated_no_mask, calibrated_pinv or "
+		                   "calibrated_2x2",
 		                   only);
 	}
-	/* the experiment: the fused pipeline with the calibration's dark and 1/gain and one W⁺ per
-	 * 2×2 super-pixel (block_pinv; without the calibration's distrusted pixels in the mask) */
+	/* the alternatives, the fused pipeline with the calibration's dark and 1/gain and no flags:
+	 * the float per-pixel W⁺ (pc_calib_pinv, 48 bytes per pixel: the path before the 16-bit
+	 * analysis vectors), and one W⁺ per 2×2 super-pixel (block_pinv; fast, not accurate
+	 * enough) */
 	float *bp = NULL;
-	pc_pipeline_opts ps = po;
+	pc_pipeline_opts ps = po, pp = po;
+	pc_analyser_pinv pxgrid = {0};
 	double *t = calloc((size_t)NCASE * (size_t)reps, sizeof *t), best[NCASE], med[NCASE];
 	uint64_t inval[NCASE] = {0};
 	if (!t) {
 		rc = PC_ENOMEM;
 		goto out;
 	}
-	/* warm-up: the per-pixel pseudo-inverses are computed once per calibration */
+	/* warm-up: what is computed once per calibration (the 16-bit analysis vectors) */
 	pc_validity v = {mask, W, 0};
 	double t0 = bench_now();
 	if ((rc = pc_calib_apply(&cal, &f, 12, &po, &out, NULL, &v)))
 		goto out;
 	double prep = bench_now() - t0;
-	if ((rc = block_pinv(&cal, false, &bp)))
+	/* (with --only, the cases that need them) */
+	const bool want_px = one < 0 || one == CAL_PINV || one == CAL_SP;
+	t0 = bench_now();
+	if (want_px && (rc = pc_calib_pinv(&cal, PC_DM_BILINEAR, 0, &pxgrid)))
+		goto out;
+	double prep_pinv = bench_now() - t0;
+	if (want_px && (rc = block_pinv(&cal, &bp)))
 		goto out;
 	pc_analyser_pinv bgrid = {bp, W / 2, H / 2};
-	ps.dark = cal.dark;
-	ps.gain_inv = cal.apply_ig;
+	ps.dark = pp.dark = cal.dark;
+	ps.gain_inv = pp.gain_inv = cal.apply_ig;
 	ps.pinv = &bgrid;
+	pp.pinv = &pxgrid;
 	for (int r = 0; r < reps; r++)
 		for (int k = 0; k < NCASE; k++) { /* interleaved: load drifts hit every case */
 			if (one >= 0 && k != one)
@@ -321,6 +339,7 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 			t0 = bench_now();
 			rc = k <= IDEAL_NOMASK ? pc_stokes_run(&raw, &pu, &out, vp)
 			     : k == CAL_SP     ? pc_stokes_run(&raw, &ps, &out, vp)
+			     : k == CAL_PINV   ? pc_stokes_run(&raw, &pp, &out, NULL)
 			                       : pc_calib_apply(&cal, &f, 12, &po, &out, NULL, vp);
 			t[(size_t)k * (size_t)reps + (size_t)r] = bench_now() - t0;
 			if (rc)
@@ -346,7 +365,8 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 		json_object_set_new(j, "height", json_integer(H));
 		json_object_set_new(j, "repetitions", json_integer(reps));
 		json_object_set_new(j, "load_1min", bench_json_real(load[0]));
-		json_object_set_new(j, "pinv_prepare_ms", bench_json_real(1e3 * prep));
+		json_object_set_new(j, "prepare_ms", bench_json_real(1e3 * prep));
+		json_object_set_new(j, "pinv_prepare_ms", bench_json_real(1e3 * prep_pinv));
 		for (int k = 0; k < NCASE; k++) {
 			char key[64];
 			snprintf(key, sizeof key, "%s_ms_min", name[k]);
@@ -358,6 +378,8 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 		json_object_set_new(j, "ratio_median", bench_json_real(med[CAL] / med[IDEAL]));
 		json_object_set_new(j, "ratio_no_mask_median",
 		                    bench_json_real(med[CAL_NOMASK] / med[IDEAL_NOMASK]));
+		json_object_set_new(j, "ratio_pinv_no_mask_median",
+		                    bench_json_real(med[CAL_PINV] / med[IDEAL_NOMASK]));
 		json_object_set_new(j, "ratio_2x2_median",
 		                    bench_json_real(med[CAL_SP] / med[IDEAL]));
 		json_object_set_new(j, "ratio_2x2_min",
@@ -368,7 +390,9 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 		       "threads, "
 		       "%d repetitions interleaved (load %.2f %.2f %.2f)\n",
 		       W, H, pc_parallel_max_threads(), reps, load[0], load[1], load[2]);
-		printf("  per-pixel pseudo-inverses prepared once: %.1f ms\n", 1e3 * prep);
+		printf("  prepared once: 16-bit analysis vectors (first call, checked) %.1f ms; "
+		       "float per-pixel W+ (calibrated_pinv) %.1f ms\n",
+		       1e3 * prep, 1e3 * prep_pinv);
 		for (int k = 0; k < NCASE; k++)
 			printf("  %-20s min %7.2f ms  median %7.2f ms  invalid %llu\n", name[k],
 			       1e3 * best[k], 1e3 * med[k], (unsigned long long)inval[k]);
@@ -376,6 +400,10 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 		       "goal <= 1.5\nwithout the mask: %.2f (min %.2f)\n",
 		       med[CAL] / med[IDEAL], best[CAL] / best[IDEAL],
 		       med[CAL_NOMASK] / med[IDEAL_NOMASK], best[CAL_NOMASK] / best[IDEAL_NOMASK]);
+		printf(
+		    "float per-pixel W+ (the previous path) / ideal, without the mask: %.2f (min "
+		    "%.2f)\n",
+		    med[CAL_PINV] / med[IDEAL_NOMASK], best[CAL_PINV] / best[IDEAL_NOMASK]);
 		printf("one W+ per 2x2 super-pixel (experiment) / ideal: %.2f (min %.2f)\n",
 		       med[CAL_SP] / med[IDEAL], best[CAL_SP] / best[IDEAL]);
 	}
@@ -501,7 +529,7 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 	double ud = 0, ua = 0;
 	for (int k = 0; k < 4; k++) {
 		double ed, ea;
-		if ((rc = errors(&base, &ts[k], 64, tang[k], &ed, &ea)))
+		if ((rc = errors(&base, NULL, &ts[k], 64, tang[k], &ed, &ea)))
 			return host->fail(rc, "uncalibrated");
 		ud += ed * ed / 4;
 		ua += ea * ea / 4;
@@ -512,11 +540,12 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		printf(
 		    "analyser calibration, %ux%u ROI, imx250mzr_nonuniform, DoLP-0.5 test stimuli\n"
 		    "uncalibrated (black level only): DoLP RMS %.5f, AoLP RMS %.3f deg\n\n"
-		    "per pixel: W+ per output pixel (what the pipeline uses); per 2x2: the block "
-		    "mean of the four\n\n"
-		    "%3s %4s %7s %10s %11s %12s %11s %12s\n",
+		    "calibrated: what the pipeline runs (16-bit analysis vectors, W+ solved per "
+		    "pixel); W+: the float per-pixel W+ (pc_calib_pinv); 2x2: one W+ per 2x2 "
+		    "block, the mean of its four\n\n"
+		    "%3s %4s %7s %10s %11s %12s %11s %12s %11s %12s\n",
 		    S, S, sqrt(ud), sqrt(ua), "K", "F", "frames", "time (s)", "DoLP RMS",
-		    "AoLP RMS deg", "2x2 DoLP", "2x2 AoLP deg");
+		    "AoLP RMS deg", "W+ DoLP", "W+ AoLP deg", "2x2 DoLP", "2x2 AoLP deg");
 	for (size_t i = 0; i < sizeof Ks / sizeof Ks[0]; i++)
 		for (size_t j = 0; j < sizeof Fs / sizeof Fs[0]; j++) {
 			unsigned K = Ks[i], F = Fs[j];
@@ -539,22 +568,33 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 			double cd = 0, ca = 0;
 			for (int k = 0; k < 4; k++) {
 				double ed, ea;
-				if ((rc = errors(&cal, &ts[k], 64, tang[k], &ed, &ea)))
+				if ((rc = errors(&cal, NULL, &ts[k], 64, tang[k], &ed, &ea)))
 					return host->fail(rc, "calibrated");
 				cd += ed * ed / 4;
 				ca += ea * ea / 4;
 			}
-			/* the same with one W⁺ per 2×2 super-pixel (block_pinv) */
-			double bd = 0, ba = 0;
-			if ((rc = block_pinv(&cal, true, NULL)))
-				return host->fail(rc, "per-super-pixel W+");
-			for (int k = 0; k < 4; k++) {
-				double ed, ea;
-				if ((rc = errors(&cal, &ts[k], 64, tang[k], &ed, &ea)))
-					return host->fail(rc, "calibrated per super-pixel");
+			/* the same with the float per-pixel W⁺ (pc_calib_pinv) and with one W⁺ per
+			 * 2×2 super-pixel (block_pinv) */
+			double pd = 0, pa = 0, bd = 0, ba = 0;
+			float *bp = NULL;
+			pc_analyser_pinv pp, bg;
+			if ((rc = pc_calib_pinv(&cal, PC_DM_BILINEAR, 0, &pp)) ||
+			    (rc = block_pinv(&cal, &bp)))
+				return host->fail(rc, "per-pixel and per-super-pixel W+");
+			bg = (pc_analyser_pinv){bp, pp.grid_w / 2, pp.grid_h / 2};
+			for (int k = 0; k < 4 && !rc; k++) {
+				double ed, ea, fd, fa;
+				if ((rc = errors(&cal, &pp, &ts[k], 64, tang[k], &fd, &fa)) ||
+				    (rc = errors(&cal, &bg, &ts[k], 64, tang[k], &ed, &ea)))
+					break;
+				pd += fd * fd / 4;
+				pa += fa * fa / 4;
 				bd += ed * ed / 4;
 				ba += ea * ea / 4;
 			}
+			free(bp);
+			if (rc)
+				return host->fail(rc, "calibrated per pixel / super-pixel");
 			pc_calib_free(&cal);
 			double tsec = K * F / 30.0 + K * rot_s;
 			if (json) {
@@ -564,13 +604,17 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 				json_object_set_new(r, "acquisition_s", json_real(tsec));
 				json_object_set_new(r, "dolp_rms", json_real(sqrt(cd)));
 				json_object_set_new(r, "aolp_rms_deg", json_real(sqrt(ca)));
+				json_object_set_new(r, "pinv_dolp_rms", json_real(sqrt(pd)));
+				json_object_set_new(r, "pinv_aolp_rms_deg", json_real(sqrt(pa)));
 				json_object_set_new(r, "superpixel_dolp_rms", json_real(sqrt(bd)));
 				json_object_set_new(r, "superpixel_aolp_rms_deg",
 				                    json_real(sqrt(ba)));
 				json_array_append_new(rows, r);
 			} else {
-				printf("%3u %4u %7u %10.1f %11.5f %12.4f %11.5f %12.4f\n", K, F,
-				       K * F, tsec, sqrt(cd), sqrt(ca), sqrt(bd), sqrt(ba));
+				printf("%3u %4u %7u %10.1f %11.5f %12.4f %11.5f %12.4f %11.5f "
+				       "%12.4f\n",
+				       K, F, K * F, tsec, sqrt(cd), sqrt(ca), sqrt(pd), sqrt(pa),
+				       sqrt(bd), sqrt(ba));
 				fflush(stdout);
 			}
 		}

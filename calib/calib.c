@@ -30,6 +30,7 @@ void pc_calib_free(pc_calib *cal)
 	free(cal->provenance);
 	free(cal->pinv_px);
 	free(cal->apply_ig);
+	free(cal->apply_q);
 	free(cal->apply_flag);
 	pc_calib_init(cal);
 }
@@ -55,6 +56,8 @@ int pc_calib_copy(pc_calib *dst, const pc_calib *src)
 	t.pinv_px = NULL;
 	t.pinv_method = -1;
 	t.apply_ig = NULL;
+	t.apply_q = NULL;
+	memset(&t.apply_vec, 0, sizeof t.apply_vec);
 	t.apply_flag = NULL;
 	t.apply_busy = 0;
 	size_t np = (size_t)src->geo.width * src->geo.height;
@@ -783,6 +786,9 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 	free(out->pinv_px);
 	out->pinv_px = NULL;
 	out->pinv_method = -1;
+	free(out->apply_q);
+	out->apply_q = NULL;
+	memset(&out->apply_vec, 0, sizeof out->apply_vec);
 	rc = 0;
 out:
 	free(I);
@@ -1057,12 +1063,176 @@ static int inverse_gain(pc_calib *cal)
 	return 0;
 }
 
+/* ---- the compact calibration (pc_compact_calib) for the fused bilinear pipeline ---- */
+
+/* every output pixel's bilinear W from the 16-bit vectors, checked as pc_calib_pinv checks */
+typedef struct vcheck_ctx {
+	const pc_compact_calib *v;
+	const pc_mosaic *m;
+	uint32_t *bad; /* per row: 1 + the first singular pixel's x, or 0 */
+} vcheck_ctx;
+
+static double vec_at(const vcheck_ctx *c, int x, int y, int k)
+{
+	const pc_compact_calib *v = c->v;
+	x = x < 0 ? -x : x >= (int)v->width ? 2 * (int)v->width - 2 - x : x;
+	y = y < 0 ? -y : y >= (int)v->height ? 2 * (int)v->height - 2 - y : y;
+	unsigned ch = pc_mosaic_channel(c->m, (unsigned)x, (unsigned)y);
+	float q = (float)v->a_q[k][(size_t)y * v->stride + (size_t)x];
+	return (double)v->a_base[ch][k] + (double)v->a_scale[k] * q;
+}
+
+static void vcheck_rows(void *vctx, uint32_t y0, uint32_t y1)
+{
+	const vcheck_ctx *c = vctx;
+	for (uint32_t y = y0; y < y1; y++)
+		for (int x = 0; x < (int)c->v->width; x++) {
+			double w[4][3], pinv[3][4];
+			int yy = (int)y;
+			for (int k = 0; k < 3; k++) {
+				w[0][k] = vec_at(c, x, yy, k);
+				w[1][k] = 0.5 * (vec_at(c, x - 1, yy, k) + vec_at(c, x + 1, yy, k));
+				w[2][k] = 0.5 * (vec_at(c, x, yy - 1, k) + vec_at(c, x, yy + 1, k));
+				w[3][k] =
+				    0.25 *
+				    ((vec_at(c, x - 1, yy - 1, k) + vec_at(c, x + 1, yy - 1, k)) +
+				     (vec_at(c, x - 1, yy + 1, k) + vec_at(c, x + 1, yy + 1, k)));
+			}
+			if (pc_stokes_pinv1(w, pinv)) {
+				c->bad[y] = (uint32_t)x + 1;
+				break;
+			}
+		}
+}
+
+/* One map in 16 bits: base = its mean (per mosaic channel when by_channel), scale = its largest
+ * |value − base| over 32767, q = round((value − base)/scale): every value kept to scale/2. All
+ * pixels count, the distrusted ones too, so that distrusting a pixel changes no other output
+ * (an outlier coarsens the step of the whole map instead). value(p) = src[stride·p]; fails on
+ * a value that is not finite. */
+static int quantise(const pc_calib *cal, const float *src, size_t stride, bool by_channel,
+                    float *base, float *scale, int16_t *q, size_t qstride, const char *what)
+{
+	const uint32_t W = cal->geo.width;
+	const size_t np = (size_t)W * cal->geo.height;
+	double sum[4] = {0}, n[4] = {0};
+	for (size_t p = 0; p < np; p++) {
+		double a = src[stride * p];
+		if (!isfinite(a))
+			return pc_error(PC_ENUMERIC,
+			                "calibration: the %s of pixel (%zu,%zu) is not finite",
+			                what, p % W, p / W);
+		unsigned g = by_channel ? pc_mosaic_channel(&cal->geo.mosaic, (unsigned)(p % W),
+		                                            (unsigned)(p / W))
+		                        : 0;
+		sum[g] += a;
+		n[g]++;
+	}
+	for (int g = 0; g < (by_channel ? 4 : 1); g++)
+		base[g] = n[g] > 0 ? (float)(sum[g] / n[g]) : 0.0f;
+	double amax = 0;
+	for (size_t p = 0; p < np; p++) {
+		unsigned g = by_channel ? pc_mosaic_channel(&cal->geo.mosaic, (unsigned)(p % W),
+		                                            (unsigned)(p / W))
+		                        : 0;
+		amax = fmax(amax, fabs(src[stride * p] - base[g]));
+	}
+	/* just above max/32767, so that the largest deviation rounds inside the range */
+	*scale = (float)(amax / 32767 * (1 + 1e-6));
+	for (size_t p = 0; p < np; p++) {
+		unsigned g = by_channel ? pc_mosaic_channel(&cal->geo.mosaic, (unsigned)(p % W),
+		                                            (unsigned)(p / W))
+		                        : 0;
+		double d = *scale > 0 ? (src[stride * p] - base[g]) / *scale : 0;
+		q[p / W * qstride + p % W] = (int16_t)lrint(fmin(fmax(d, -32767), 32767));
+	}
+	return 0;
+}
+
+/* The compact calibration of pc_calib_apply's bilinear path, once per calibration: the
+ * analysis vectors, the dark map and the inverse gains in 16 bits (quantise; a vector component
+ * per channel, the maps over the sensor), then every output pixel's bilinear analyser matrix
+ * checked for rank as pc_calib_pinv does (PC_ENUMERIC naming the first singular one). */
+static int compact_calib(pc_calib *cal, int threads)
+{
+	if (cal->apply_q)
+		return 0;
+	const uint32_t W = cal->geo.width, H = cal->geo.height;
+	const size_t np = (size_t)W * H;
+	pc_compact_calib v;
+	memset(&v, 0, sizeof v);
+	v.width = W;
+	v.height = H;
+	int16_t *q = malloc(5 * np * sizeof *q);
+	uint32_t *bad = calloc(H, sizeof *bad);
+	int rc = 0;
+	if (!q || !bad) {
+		rc = pc_error(PC_ENOMEM, "calibration: compact maps (%zu pixels)", np);
+		goto out;
+	}
+	/* the five maps' rows interleaved (row y: a0, a1, a2, dark, gain), one stream to read */
+	v.stride = 5 * (size_t)W;
+	for (int k = 0; k < 3 && !rc; k++) {
+		float base[4];
+		v.a_q[k] = q + (size_t)k * W;
+		rc = quantise(cal, cal->analysis + k, 3, true, base, &v.a_scale[k],
+		              q + (size_t)k * W, v.stride, "analysis vector");
+		for (int c = 0; c < 4; c++)
+			v.a_base[c][k] = base[c];
+	}
+	v.dark_q = q + 3 * (size_t)W;
+	if (!rc && cal->dark) {
+		rc = quantise(cal, cal->dark, 1, false, &v.dark_base, &v.dark_scale,
+		              q + 3 * (size_t)W, v.stride, "dark offset");
+	} else if (!rc) {
+		/* no dark map: the black level, exactly */
+		for (uint32_t y = 0; y < H; y++)
+			memset(q + y * v.stride + 3 * (size_t)W, 0, W * sizeof *q);
+		v.dark_base = (float)cal->black_level;
+	}
+	if (!rc && cal->apply_ig) {
+		v.gain_q = q + 4 * (size_t)W;
+		rc = quantise(cal, cal->apply_ig, 1, false, &v.gain_base, &v.gain_scale,
+		              q + 4 * (size_t)W, v.stride, "inverse gain");
+	}
+	if (rc)
+		goto out;
+	vcheck_ctx vc = {&v, &cal->geo.mosaic, bad};
+	pc_parallel_rows(H, 0, threads, vcheck_rows, &vc);
+	for (uint32_t y = 0; y < H && !rc; y++)
+		if (bad[y])
+			rc = pc_error(
+			    PC_ENUMERIC,
+			    "calibration: the analyser matrix of output pixel (%u,%u) is "
+			    "singular (its demosaicked analysis vectors do not span S1, S2)",
+			    bad[y] - 1, y);
+	if (!rc) {
+		cal->apply_q = q;
+		cal->apply_vec = v;
+		q = NULL;
+	}
+out:
+	free(q);
+	free(bad);
+	return rc;
+}
+
+/* whether pc_calib_apply runs the method with the compact calibration */
+static bool uses_vectors(pc_demosaic_method m, bool reference)
+{
+	return m == PC_DM_BILINEAR && !reference;
+}
+
 int pc_calib_prepare(pc_calib *cal, pc_demosaic_method method, int threads)
 {
 	int rc = inverse_gain(cal);
 	if (!rc && (cal->parts & PC_CAL_ANALYSER)) {
-		pc_analyser_pinv pinv;
-		rc = pc_calib_pinv(cal, method, threads, &pinv);
+		if (uses_vectors(method, false)) {
+			rc = compact_calib(cal, threads);
+		} else {
+			pc_analyser_pinv pinv;
+			rc = pc_calib_pinv(cal, method, threads, &pinv);
+		}
 	}
 	return rc;
 }
@@ -1071,7 +1241,8 @@ bool pc_calib_prepared(const pc_calib *cal, pc_demosaic_method method)
 {
 	return (!cal->gain || cal->apply_ig) &&
 	       (!(cal->parts & PC_CAL_ANALYSER) || is_superpixel(method) ||
-	        (cal->pinv_px && cal->pinv_method == (int)method));
+	        (uses_vectors(method, false) ? cal->apply_q != NULL
+	                                     : cal->pinv_px && cal->pinv_method == (int)method));
 }
 
 int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,
@@ -1079,7 +1250,7 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 {
 	if (!cal || !f || !o || (!st && !ch))
 		return pc_error(PC_EINVAL, "calibrated pipeline: missing argument");
-	if (o->pinv)
+	if (o->pinv || o->compact)
 		return pc_error(PC_EINVAL, "calibrated pipeline: the analysers come from the "
 		                           "calibration, not from the options");
 	if (o->black_level != 0)
@@ -1108,8 +1279,10 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	if ((rc = inverse_gain(cal)))
 		return rc;
 	pc_analyser_pinv pinv;
+	const bool vec = uses_vectors(o->method, o->reference);
 	if (st && (cal->parts & PC_CAL_ANALYSER) &&
-	    (rc = pc_calib_pinv(cal, o->method, o->threads, &pinv)))
+	    (rc = vec ? compact_calib(cal, o->threads)
+	              : pc_calib_pinv(cal, o->method, o->threads, &pinv)))
 		return rc;
 	const uint32_t W = cal->geo.width, H = cal->geo.height;
 	const size_t np = (size_t)W * H;
@@ -1183,8 +1356,16 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	/* the signal's full scale for edge-aware weights: saturation above the black level */
 	if (sat > cal->black_level)
 		po.full_scale = sat - cal->black_level + po.black_level;
-	if (st && (cal->parts & PC_CAL_ANALYSER))
-		po.pinv = &pinv;
+	if (st && (cal->parts & PC_CAL_ANALYSER)) {
+		if (vec) {
+			/* the dark and gain maps too, in 16 bits (compact_calib) */
+			po.compact = &cal->apply_vec;
+			po.dark = po.gain_inv = NULL;
+			po.black_level = 0;
+		} else {
+			po.pinv = &pinv;
+		}
+	}
 	if (!rc)
 		rc = st ? pc_stokes_run(raw, &po, st, NULL) : pc_demosaic_run(raw, &po, ch, NULL);
 	free(unpacked);

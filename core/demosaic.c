@@ -97,9 +97,10 @@ int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_f
 	int rc = pc_dm_plan_begin(raw, opts, &p);
 	if (rc)
 		return rc;
-	if (opts->pinv)
-		rc = pc_error(PC_EINVAL, "analyser pseudo-inverses apply to Stokes outputs "
-		                         "(pc_stokes_run), not to demosaicked channels");
+	if (opts->pinv || opts->compact)
+		rc = pc_error(PC_EINVAL, "calibrated analysers (pseudo-inverses or analysis "
+		                         "vectors) apply to Stokes outputs (pc_stokes_run), not to "
+		                         "demosaicked channels");
 	if (rc || (rc = check_planes(&p, out)) || (rc = pc_dm_plan_check_validity(&p, valid))) {
 		pc_dm_plan_end(&p);
 		return rc;

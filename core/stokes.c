@@ -134,6 +134,45 @@ static int check_pinv(const pc_analyser_pinv *pinv, uint32_t w, uint32_t h)
 	return 0;
 }
 
+/* A compact calibration (pc_pipeline_opts.compact): the raw's size, the fused bilinear fast
+ * path, finite parameters, its dark map or opts', not both. */
+static int check_compact(const pc_dm_plan *p, const pc_compact_calib *v)
+{
+	if (p->opts.pinv)
+		return pc_error(PC_EINVAL, "Stokes: a compact calibration and analyser "
+		                           "pseudo-inverses given together; give one");
+	if (!v->a_q[0] || !v->a_q[1] || !v->a_q[2])
+		return pc_error(PC_EINVAL, "Stokes: compact calibration without analysis vectors");
+	if (v->stride < v->width)
+		return pc_error(PC_EINVAL,
+		                "Stokes: compact calibration: row stride %zu below the "
+		                "width %u",
+		                v->stride, v->width);
+	if (v->width != p->raw->width || v->height != p->raw->height)
+		return pc_error(PC_EINVAL, "Stokes: compact calibration %ux%u for a %ux%u raw",
+		                v->width, v->height, p->raw->width, p->raw->height);
+	if (!p->def->fused_bilinear || p->colour || p->opts.reference)
+		return pc_error(PC_ENOTSUP,
+		                "Stokes: a compact calibration needs the fused bilinear fast path "
+		                "(method bilinear, monochrome mosaic, not the reference)");
+	if ((v->dark_q || v->gain_q) &&
+	    (p->opts.dark || p->opts.gain_inv || p->opts.black_level != 0))
+		return pc_error(PC_EINVAL, "Stokes: the compact calibration has dark or gain maps, "
+		                           "and the options a black level, dark or gain maps; give "
+		                           "one or the other");
+	bool ok = isfinite(v->dark_base) && isfinite(v->dark_scale) && isfinite(v->gain_base) &&
+	          isfinite(v->gain_scale);
+	for (int k = 0; k < 3; k++) {
+		ok = ok && isfinite(v->a_scale[k]);
+		for (int c = 0; c < 4; c++)
+			ok = ok && isfinite(v->a_base[c][k]);
+	}
+	if (!ok)
+		return pc_error(PC_EINVAL, "Stokes: compact calibration: a base or scale is not "
+		                           "finite");
+	return 0;
+}
+
 /* Stokes from channel images: the vectorised planar kernel where it applies, else the scalar
  * one. */
 static void stokes_channels(const pc_fplane in[4], uint32_t w, uint32_t h,
@@ -198,8 +237,11 @@ int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_sto
 	if (rc)
 		return rc;
 	if ((rc = check_out(out, p.ow)) || (rc = pc_dm_plan_check_validity(&p, valid)) ||
-	    (opts->pinv && (rc = check_pinv(opts->pinv, p.ow, p.oh))))
+	    (opts->pinv && (rc = check_pinv(opts->pinv, p.ow, p.oh))) ||
+	    (opts->compact && (rc = check_compact(&p, opts->compact)))) {
+		pc_dm_plan_end(&p);
 		return rc;
+	}
 	pc_st_calib cal, *calp = NULL;
 	if (opts->pinv) {
 		pc_st_calib_init(opts->pinv, p.ow, p.oh, &cal);
@@ -220,7 +262,8 @@ int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_sto
 		pc_dm_input ci = *in;
 		ci.dark = opts->dark;
 		ci.gain_inv = opts->gain_inv;
-		rc = pc_st_fused_bilinear(&ci, &opts->mosaic, calp, opts->threads, p.level, out);
+		rc = pc_st_fused_bilinear(&ci, &opts->mosaic, calp, opts->compact, opts->threads,
+		                          p.level, out);
 	} else if (corrected) {
 		/* the other paths: a corrected float copy through the same front door */
 		float *img;

@@ -58,6 +58,53 @@ static void row_bilinear_cal(pc_cpu_level l, const float *a, const float *b, con
 	(void)l;
 }
 
+static void row_bilinear_vec(pc_cpu_level l, const float *a, const float *b, const float *c,
+                             const float *const A[3][3], uint32_t w, int exact, float *const o[5],
+                             int nt)
+{
+#ifdef PC_CPU_X86
+	if (l >= PC_CPU_AVX512)
+		stokes_row_vec_avx512(a, b, c, A, w, exact, o, nt);
+	else if (l >= PC_CPU_AVX2)
+		stokes_row_vec_avx2(a, b, c, A, w, exact, o, nt);
+	else
+#endif
+		stokes_row_vec_base(a, b, c, A, w, exact, o, 0);
+	(void)l;
+}
+
+static void row_vec_conv(pc_cpu_level l, const int16_t *q, float b0, float b1, float sc, uint32_t w,
+                         float *d)
+{
+#ifdef PC_CPU_X86
+	if (l >= PC_CPU_AVX512)
+		vec_conv_avx512(q, b0, b1, sc, w, d);
+	else if (l >= PC_CPU_AVX2)
+		vec_conv_avx2(q, b0, b1, sc, w, d);
+	else
+#endif
+		vec_conv_base(q, b0, b1, sc, w, d);
+	(void)l;
+}
+
+static void row_corr(pc_cpu_level l, float *d, const pc_compact_calib *v, size_t o)
+{
+	const int16_t *dq = v->dark_q ? v->dark_q + o : NULL,
+	              *gq = v->gain_q ? v->gain_q + o : NULL;
+#ifdef PC_CPU_X86
+	if (l >= PC_CPU_AVX512)
+		corr_row_avx512(d, dq, v->dark_base, v->dark_scale, gq, v->gain_base, v->gain_scale,
+		                v->width);
+	else if (l >= PC_CPU_AVX2)
+		corr_row_avx2(d, dq, v->dark_base, v->dark_scale, gq, v->gain_base, v->gain_scale,
+		              v->width);
+	else
+#endif
+		corr_row_base(d, dq, v->dark_base, v->dark_scale, gq, v->gain_base, v->gain_scale,
+		              v->width);
+	(void)l;
+}
+
 static void row_channels(pc_cpu_level l, const float *const ch[4], uint32_t w,
                          const float *const *P, int xkind, float *const o[5], int nt)
 {
@@ -152,11 +199,66 @@ static void out_rows(const pc_stokes_out *out, uint32_t y, float *o[5])
 		o[k] = p[k]->data ? p[k]->data + (size_t)y * p[k]->row_stride : NULL;
 }
 
+/* ---- the compact calibration's rows (pc_compact_calib) ---- */
+
+/* A 3-row ring like pc_dm_ring's: each slot the corrected samples' padded row and the three
+ * analysis components' padded rows. */
+typedef struct vec_ring {
+	float *buf;
+	float *row[3][4]; /* [slot][0: samples, 1 + k: component k] */
+	int32_t have[3];
+} vec_ring;
+
+static int vec_ring_init(vec_ring *r, uint32_t w)
+{
+	size_t pitch = ((size_t)w + 2 + 15) / 16 * 16;
+	r->buf = pc_dm_alloc(12 * pitch * sizeof(float));
+	if (!r->buf)
+		return -1;
+	for (int i = 0; i < 3; i++) {
+		for (int k = 0; k < 4; k++)
+			r->row[i][k] = r->buf + (size_t)(4 * i + k) * pitch + 1;
+		r->have[i] = -1;
+	}
+	return 0;
+}
+
+/* Row y (mirrored) of the samples, corrected by the compact dark and gain maps when it has
+ * them (else by in's black level or maps, pc_dm_row_to_float), and of the three analysis
+ * components, padded as pc_dm_row_to_float pads. Returns the slot. */
+static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_calib *v,
+                        const pc_mosaic *m, pc_cpu_level level, int y)
+{
+	int sy = pc_mirror(y, (int)v->height);
+	for (int i = 0; i < 3; i++)
+		if (r->have[i] == sy)
+			return i;
+	int s = 0;
+	for (int i = 1; i < 3; i++)
+		if (r->have[i] < r->have[s])
+			s = i;
+	const size_t o = (size_t)sy * v->stride;
+	float *d = r->row[s][0];
+	pc_dm_row_to_float(in, (uint32_t)sy, d);
+	if (v->dark_q || v->gain_q) {
+		row_corr(level, d, v, o);
+		d[-1] = d[v->width > 1 ? 1 : 0];
+		d[v->width] = d[v->width > 1 ? v->width - 2 : 0];
+	}
+	for (int k = 0; k < 3; k++)
+		row_vec_conv(level, v->a_q[k] + o, v->a_base[pc_dm_ch(m, 0, (unsigned)sy)][k],
+		             v->a_base[pc_dm_ch(m, 1, (unsigned)sy)][k], v->a_scale[k], v->width,
+		             r->row[s][1 + k]);
+	r->have[s] = sy;
+	return s;
+}
+
 /* ---- fused bilinear + Stokes ---- */
 typedef struct fused_job {
 	const pc_dm_input *in;
 	const pc_mosaic *m;
 	const pc_st_calib *cal;
+	const pc_compact_calib *vec;
 	const pc_stokes_out *out;
 	pc_cpu_level level;
 	int planar, nt, exact, err;
@@ -167,18 +269,37 @@ static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
 	fused_job *j = ctx;
 	uint32_t w = j->in->width;
 	pc_dm_ring rg;
+	vec_ring vr = {0};
 	float *tmp = NULL;
-	if (pc_dm_ring_init(&rg, w) || (!j->planar && !(tmp = pc_dm_alloc(5 * (size_t)w * 4)))) {
+	if (pc_dm_ring_init(&rg, w) || (!j->planar && !(tmp = pc_dm_alloc(5 * (size_t)w * 4))) ||
+	    (j->vec && vec_ring_init(&vr, w))) {
 		pc_dm_ring_free(&rg);
+		pc_dm_free(tmp);
+		pc_dm_free(vr.buf);
 		j->err = 1;
 		return;
 	}
 	const pc_fplane *planes[5];
 	out_planes(j->out, planes);
 	for (uint32_t y = y0; y < y1; y++) {
-		const float *a = pc_dm_ring_get(&rg, j->in, (int)y - 1);
-		const float *b = pc_dm_ring_get(&rg, j->in, (int)y);
-		const float *c = pc_dm_ring_get(&rg, j->in, (int)y + 1);
+		const float *a, *b, *c, *A[3][3];
+		if (j->vec) {
+			const float *r[3];
+			for (int d = 0; d < 3; d++) {
+				int sl = vec_ring_get(&vr, j->in, j->vec, j->m, j->level,
+				                      (int)y + d - 1);
+				r[d] = vr.row[sl][0];
+				for (int k = 0; k < 3; k++)
+					A[k][d] = vr.row[sl][1 + k];
+			}
+			a = r[0];
+			b = r[1];
+			c = r[2];
+		} else {
+			a = pc_dm_ring_get(&rg, j->in, (int)y - 1);
+			b = pc_dm_ring_get(&rg, j->in, (int)y);
+			c = pc_dm_ring_get(&rg, j->in, (int)y + 1);
+		}
 		unsigned ch[4] = {pc_dm_ch(j->m, 0, y), pc_dm_ch(j->m, 1, y),
 		                  pc_dm_ch(j->m, 0, y + 1), pc_dm_ch(j->m, 1, y + 1)};
 		float *o[5];
@@ -186,7 +307,9 @@ static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
 			o[k] = !planes[k]->data ? NULL
 			       : j->planar ? planes[k]->data + (size_t)y * planes[k]->row_stride
 			                   : tmp + (size_t)k * w;
-		if (j->cal) {
+		if (j->vec) {
+			row_bilinear_vec(j->level, a, b, c, A, w, j->exact, o, j->nt);
+		} else if (j->cal) {
 			const float *P[12];
 			cal_rows(j->cal, ch, y, P);
 			row_bilinear_cal(j->level, a, b, c, w, P, j->cal->xkind, j->exact, o,
@@ -212,13 +335,15 @@ static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
 	if (j->nt)
 		pc_dm_sfence();
 	pc_dm_free(tmp);
+	pc_dm_free(vr.buf);
 	pc_dm_ring_free(&rg);
 }
 
 int pc_st_fused_bilinear(const pc_dm_input *in, const pc_mosaic *m, const pc_st_calib *cal,
-                         int threads, pc_cpu_level level, const pc_stokes_out *out)
+                         const pc_compact_calib *vec, int threads, pc_cpu_level level,
+                         const pc_stokes_out *out)
 {
-	fused_job j = {in, m, cal, out, level, 1, 0, 0, 0};
+	fused_job j = {in, m, cal, vec, out, level, 1, 0, 0, 0};
 	const pc_fplane *planes[5];
 	out_planes(out, planes);
 	int aligned = 1, n = 0;

@@ -95,13 +95,52 @@ static inline const float *pc_st_calib_row(const pc_st_calib *c, unsigned i, uns
 	return c->pinv->m + (size_t)(4 * i + ch) * c->plane + (size_t)gy * c->pinv->grid_w;
 }
 
+/* S = (WᵀW)⁻¹WᵀI at column x of the fused pipeline with analysis vectors, scalar (the vector
+ * kernels' tails): the formulas of vec_blk (stokes_kern.inc) one pixel at a time. */
+static inline void pc_st_vec_px(const float *a, const float *b, const float *c,
+                                const float *const A[3][3], long x, float s[3])
+{
+	float v[4], wv[3][4];
+	const float *rows[4][3] = {{a, b, c},
+	                           {A[0][0], A[0][1], A[0][2]},
+	                           {A[1][0], A[1][1], A[1][2]},
+	                           {A[2][0], A[2][1], A[2][2]}};
+	for (int k = 0; k < 4; k++) {
+		const float *ra = rows[k][0], *rb = rows[k][1], *rc = rows[k][2];
+		float *d = k ? wv[k - 1] : v;
+		d[0] = rb[x];
+		d[1] = 0.5f * (rb[x - 1] + rb[x + 1]);
+		d[2] = 0.5f * (ra[x] + rc[x]);
+		d[3] = 0.25f * ((ra[x - 1] + ra[x + 1]) + (rc[x - 1] + rc[x + 1]));
+	}
+	float m[3][3], r[3];
+	for (int i = 0; i < 3; i++) {
+		for (int j = 0; j < 3; j++)
+			m[i][j] = (wv[i][0] * wv[j][0] + wv[i][1] * wv[j][1]) +
+			          (wv[i][2] * wv[j][2] + wv[i][3] * wv[j][3]);
+		r[i] = (wv[i][0] * v[0] + wv[i][1] * v[1]) + (wv[i][2] * v[2] + wv[i][3] * v[3]);
+	}
+	float c00 = m[1][1] * m[2][2] - m[1][2] * m[1][2],
+	      c11 = m[0][0] * m[2][2] - m[0][2] * m[0][2];
+	float c22 = m[0][0] * m[1][1] - m[0][1] * m[0][1],
+	      c01 = m[0][2] * m[1][2] - m[0][1] * m[2][2];
+	float c02 = m[0][1] * m[1][2] - m[0][2] * m[1][1],
+	      c12 = m[0][1] * m[0][2] - m[0][0] * m[1][2];
+	float inv = 1.0f / (m[0][0] * c00 + (m[0][1] * c01 + m[0][2] * c02));
+	s[0] = (c00 * r[0] + c01 * r[1] + c02 * r[2]) * inv;
+	s[1] = (c01 * r[0] + c11 * r[1] + c12 * r[2]) * inv;
+	s[2] = (c02 * r[0] + c12 * r[1] + c22 * r[2]) * inv;
+}
+
 /* ---- kernels ---- */
 
 /* The fused pipeline for monochrome mosaics: bilinear channels straight into S0, S1, S2, DoLP
  * and AoLP, in row bands, without channel images. cal NULL: ideal analysers; else its xkind
- * must not be PC_ST_X_OTHER. Any output strides. */
+ * must not be PC_ST_X_OTHER. vec (not together with cal): the analysers as analysis vectors
+ * of the samples (the raw's size, m's channels). Any output strides. */
 int pc_st_fused_bilinear(const pc_dm_input *in, const pc_mosaic *m, const pc_st_calib *cal,
-                         int threads, pc_cpu_level level, const pc_stokes_out *out);
+                         const pc_compact_calib *vec, int threads, pc_cpu_level level,
+                         const pc_stokes_out *out);
 
 /* A row sink (demosaic_common.h) that turns each demosaicked row into Stokes rows: planar
  * outputs only; cal as above. */

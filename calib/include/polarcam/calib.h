@@ -84,6 +84,10 @@ typedef struct pc_calib {
 	int pinv_method;
 	/* 1/gain, computed once (pc_calib_prepare or the first pc_calib_apply) */
 	float *apply_ig;
+	/* the analysis vectors in 16 bits for the fused bilinear pipeline (apply_vec.q =
+	 * apply_q; pc_calib_prepare or the first bilinear pc_calib_apply) */
+	int16_t *apply_q;
+	pc_compact_calib apply_vec;
 	/* pc_calib_apply's flag map, reused by one call at a time (apply_busy, taken atomically;
 	 * a concurrent call allocates its own) */
 	uint8_t *apply_flag;
@@ -227,7 +231,8 @@ PC_API int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits,
                           pc_validity *valid);
 
 /* Computes what pc_calib_apply needs once per calibration and demosaicking method (the inverse
- * gains; the per-pixel pseudo-inverses of pc_calib_pinv), so that later calls only read cal.
+ * gains; for bilinear the 16-bit analysis vectors of pc_calib_apply, for the other methods the
+ * per-pixel pseudo-inverses of pc_calib_pinv), so that later calls only read cal.
  * pc_calib_prepared: whether that is done (then pc_calib_apply, pc_calib_stokes with this
  * method only read cal and may run concurrently). */
 PC_API int pc_calib_prepare(pc_calib *cal, pc_demosaic_method method, int threads);

@@ -110,6 +110,7 @@ typedef struct pc_demosaic_opts {
  * mirror applied. */
 
 struct pc_analyser_pinv; /* polarcam/stokes.h */
+struct pc_compact_calib; /* polarcam/stokes.h */
 
 typedef struct pc_pipeline_opts {
 	pc_demosaic_method method;
@@ -126,6 +127,10 @@ typedef struct pc_pipeline_opts {
 	/* pc_stokes_run only: calibrated analysers (polarcam/stokes.h), NULL for ideal ones;
 	 * pc_demosaic_run refuses it */
 	const struct pc_analyser_pinv *pinv;
+	/* pc_stokes_run only, bilinear fast path only: a compact calibration (the analysis
+	 * vectors of the raw samples, solved per output pixel in the fused pass, and optionally
+	 * 16-bit dark and gain maps; polarcam/stokes.h); NULL: none. Not together with pinv. */
+	const struct pc_compact_calib *compact;
 	/* Per-pixel correction before demosaicking (a calibration's dark offsets and gains,
 	 * polarcam/calib.h): sample p = y·width + x becomes (raw_p − dark[p])·gain_inv[p], in
 	 * float, with black_level in place of dark[p] when dark is NULL and no factor when

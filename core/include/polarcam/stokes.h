@@ -52,6 +52,39 @@ typedef struct pc_analyser_pinv {
 	uint32_t grid_w, grid_h;
 } pc_analyser_pinv;
 
+/* A camera calibration in compact form for the fused bilinear pipeline: per raw sample its
+ * analysis vector a = (a0, a1, a2) (the model of polarcam/calib.h: after dark and gain the
+ * sample reads a·(S0, S1, S2)) and optionally its dark offset and inverse gain, 16 bits each.
+ * Each map is a fixed-point offset from a base: width × height int16 (the raw's size), row y at
+ * map + y·stride (one stride for all, in elements: planes, or the maps' rows interleaved so
+ * that the pipeline reads them as one stream). For the sample at (x, y), whose analyser is
+ * channel c = mosaic.channel[y & 1][x & 1] of the pipeline's mosaic, i = y·stride + x:
+ *   a_k      = a_base[c][k] + a_scale[k]·a_q[k][i]       (k = 0, 1, 2)
+ *   dark     = dark_base + dark_scale·dark_q[i]          (dark_q NULL: none)
+ *   gain_inv = gain_base + gain_scale·gain_q[i]          (gain_q NULL: none)
+ * in float (one fused multiply-add each). With pc_pipeline_opts.compact, pc_stokes_run
+ * corrects every sample I = (raw − dark)·gain_inv as it reads the raw (with dark_q and gain_q
+ * NULL: opts' black level, dark and gain_inv maps as usual; else they must be 0 and NULL),
+ * demosaics the samples and the vectors bilinearly alike (the 4×3 matrix W of an output
+ * pixel: each channel's bilinear analysis vector, mirrored borders), and solves the least
+ * squares S = (WᵀW)⁻¹WᵀI per output pixel in float, in the one pass that reads the raw: 6 to
+ * 10 bytes of calibration per pixel instead of the 56 of float maps and a per-pixel
+ * pc_analyser_pinv, and nothing per output pixel to prepare. Normal equations by the
+ * cofactors of the symmetric WᵀW (Cramer's rule), as the double reference of
+ * tests/test_calib_fused.c (tolerance there). With ideal analysers (a_q all 0, a_base =
+ * pc_stokes_ideal_analyser) and no dark or gain maps the results are the uncalibrated
+ * pipeline's bit for bit. Bilinear, monochrome mosaics, the fast path only (PC_ENOTSUP
+ * otherwise). The caller guarantees that WᵀW is well conditioned at every output pixel
+ * (pc_calib checks it once per calibration; the kernel does not). */
+typedef struct pc_compact_calib {
+	uint32_t width, height;
+	size_t stride; /* elements between rows, every map */
+	const int16_t *a_q[3];
+	float a_base[4][3], a_scale[3];
+	const int16_t *dark_q, *gain_q;
+	float dark_base, dark_scale, gain_base, gain_scale;
+} pc_compact_calib;
+
 /* The ideal analyser matrix: W[c] = ½·(1, cos 2θ_c, sin 2θ_c), θ_c = 45°·c. */
 PC_API void pc_stokes_ideal_analyser(double w[4][3]);
 
