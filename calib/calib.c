@@ -1072,37 +1072,53 @@ typedef struct vcheck_ctx {
 	uint32_t *bad; /* per row: 1 + the first singular pixel's x, or 0 */
 } vcheck_ctx;
 
-static double vec_at(const vcheck_ctx *c, int x, int y, int k)
+/* row y (mirrored) of component k as doubles, padded one sample each side (mirrored) */
+static void vec_row(const vcheck_ctx *c, int y, int k, double *d)
 {
 	const pc_compact_calib *v = c->v;
-	x = x < 0 ? -x : x >= (int)v->width ? 2 * (int)v->width - 2 - x : x;
+	const int w = (int)v->width;
 	y = y < 0 ? -y : y >= (int)v->height ? 2 * (int)v->height - 2 - y : y;
-	unsigned ch = pc_mosaic_channel(c->m, (unsigned)x, (unsigned)y);
-	float q = (float)v->a_q[k][(size_t)y * v->stride + (size_t)x];
-	return (double)v->a_base[ch][k] + (double)v->a_scale[k] * q;
+	const int16_t *q = v->a_q[k] + (size_t)y * v->stride;
+	const double b0 = v->a_base[pc_mosaic_channel(c->m, 0, (unsigned)y)][k];
+	const double b1 = v->a_base[pc_mosaic_channel(c->m, 1, (unsigned)y)][k];
+	for (int x = 0; x < w; x++)
+		d[x + 1] = ((x & 1) ? b1 : b0) + (double)v->a_scale[k] * q[x];
+	d[0] = d[w > 1 ? 2 : 1];
+	d[w + 1] = d[w > 1 ? w - 1 : 1];
 }
 
 static void vcheck_rows(void *vctx, uint32_t y0, uint32_t y1)
 {
 	const vcheck_ctx *c = vctx;
-	for (uint32_t y = y0; y < y1; y++)
-		for (int x = 0; x < (int)c->v->width; x++) {
-			double w[4][3], pinv[3][4];
-			int yy = (int)y;
-			for (int k = 0; k < 3; k++) {
-				w[0][k] = vec_at(c, x, yy, k);
-				w[1][k] = 0.5 * (vec_at(c, x - 1, yy, k) + vec_at(c, x + 1, yy, k));
-				w[2][k] = 0.5 * (vec_at(c, x, yy - 1, k) + vec_at(c, x, yy + 1, k));
-				w[3][k] =
-				    0.25 *
-				    ((vec_at(c, x - 1, yy - 1, k) + vec_at(c, x + 1, yy - 1, k)) +
-				     (vec_at(c, x - 1, yy + 1, k) + vec_at(c, x + 1, yy + 1, k)));
+	const int w = (int)c->v->width;
+	double *buf = malloc(9 * ((size_t)w + 2) * sizeof *buf);
+	if (!buf) {
+		c->bad[y0] = UINT32_MAX; /* reported as out of memory */
+		return;
+	}
+	for (uint32_t y = y0; y < y1; y++) {
+		double *r[3][3]; /* [component][row y−1, y, y+1] */
+		for (int k = 0; k < 3; k++)
+			for (int d = 0; d < 3; d++) {
+				r[k][d] = buf + (size_t)(3 * k + d) * ((size_t)w + 2) + 1;
+				vec_row(c, (int)y + d - 1, k, r[k][d] - 1);
 			}
-			if (pc_stokes_pinv1(w, pinv)) {
+		for (int x = 0; x < w; x++) {
+			double m[4][3], pinv[3][4];
+			for (int k = 0; k < 3; k++) {
+				const double *a = r[k][0], *b = r[k][1], *cc = r[k][2];
+				m[0][k] = b[x];
+				m[1][k] = 0.5 * (b[x - 1] + b[x + 1]);
+				m[2][k] = 0.5 * (a[x] + cc[x]);
+				m[3][k] = 0.25 * ((a[x - 1] + a[x + 1]) + (cc[x - 1] + cc[x + 1]));
+			}
+			if (pc_stokes_pinv1(m, pinv)) {
 				c->bad[y] = (uint32_t)x + 1;
 				break;
 			}
 		}
+	}
+	free(buf);
 }
 
 /* One map in 16 bits: base = its mean (per mosaic channel when by_channel), scale = its largest
@@ -1200,7 +1216,9 @@ static int compact_calib(pc_calib *cal, int threads)
 	vcheck_ctx vc = {&v, &cal->geo.mosaic, bad};
 	pc_parallel_rows(H, 0, threads, vcheck_rows, &vc);
 	for (uint32_t y = 0; y < H && !rc; y++)
-		if (bad[y])
+		if (bad[y] == UINT32_MAX)
+			rc = pc_error(PC_ENOMEM, "calibration: analyser check rows");
+		else if (bad[y])
 			rc = pc_error(
 			    PC_ENUMERIC,
 			    "calibration: the analyser matrix of output pixel (%u,%u) is "

@@ -60,16 +60,16 @@ static void row_bilinear_cal(pc_cpu_level l, const float *a, const float *b, con
 
 static void row_bilinear_vec(pc_cpu_level l, const float *a, const float *b, const float *c,
                              const float *const A[3][3], uint32_t w, int exact, float *const o[5],
-                             int nt)
+                             int nt, const pc_st_pf *pf)
 {
 #ifdef PC_CPU_X86
 	if (l >= PC_CPU_AVX512)
-		stokes_row_vec_avx512(a, b, c, A, w, exact, o, nt);
+		stokes_row_vec_avx512(a, b, c, A, w, exact, o, nt, pf);
 	else if (l >= PC_CPU_AVX2)
-		stokes_row_vec_avx2(a, b, c, A, w, exact, o, nt);
+		stokes_row_vec_avx2(a, b, c, A, w, exact, o, nt, pf);
 	else
 #endif
-		stokes_row_vec_base(a, b, c, A, w, exact, o, 0);
+		stokes_row_vec_base(a, b, c, A, w, exact, o, 0, pf);
 	(void)l;
 }
 
@@ -253,6 +253,33 @@ static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_cal
 	return s;
 }
 
+/* The ranges that converting source row sy will read (vec_ring_get): the raw row and the
+ * compact maps' rows, contiguous ones merged. */
+static void vec_prefetch(const pc_dm_input *in, const pc_compact_calib *v, int sy, pc_st_pf *pf)
+{
+	static const size_t bps[3] = {1, 2, 4}; /* PC_DMT_U8, U16, F32 */
+	pf->count = 0;
+	const char *p[6];
+	size_t n[6];
+	int k = 0;
+	p[k] = (const char *)in->data + (size_t)sy * in->stride;
+	n[k++] = (size_t)in->width * bps[in->type];
+	const int16_t *maps[5] = {v->a_q[0], v->a_q[1], v->a_q[2], v->dark_q, v->gain_q};
+	for (int i = 0; i < 5; i++)
+		if (maps[i]) {
+			p[k] = (const char *)(maps[i] + (size_t)sy * v->stride);
+			n[k++] = (size_t)v->width * sizeof(int16_t);
+		}
+	for (int i = 0; i < k; i++) {
+		if (pf->count && pf->p[pf->count - 1] + pf->n[pf->count - 1] == p[i]) {
+			pf->n[pf->count - 1] += n[i];
+		} else {
+			pf->p[pf->count] = p[i];
+			pf->n[pf->count++] = n[i];
+		}
+	}
+}
+
 /* ---- fused bilinear + Stokes ---- */
 typedef struct fused_job {
 	const pc_dm_input *in;
@@ -308,7 +335,12 @@ static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
 			       : j->planar ? planes[k]->data + (size_t)y * planes[k]->row_stride
 			                   : tmp + (size_t)k * w;
 		if (j->vec) {
-			row_bilinear_vec(j->level, a, b, c, A, w, j->exact, o, j->nt);
+			/* the next row to convert: y + 2 (mirrored), unless the band ends */
+			pc_st_pf pf = {0};
+			if (y + 2 < y1 + 1)
+				vec_prefetch(j->in, j->vec,
+				             pc_mirror((int)y + 2, (int)j->in->height), &pf);
+			row_bilinear_vec(j->level, a, b, c, A, w, j->exact, o, j->nt, &pf);
 		} else if (j->cal) {
 			const float *P[12];
 			cal_rows(j->cal, ch, y, P);

@@ -1,19 +1,26 @@
-/* tests/test_calib_fused.c - the calibrated bilinear pipeline (pc_calib_apply), whose dark and
- * gain correction the core applies while reading the raw (pc_pipeline_opts.dark, gain_inv)
- * and whose per-pixel pseudo-inverses are made once per calibration:
+/* tests/test_calib_fused.c - the calibrated bilinear pipeline (pc_calib_apply), which reads the
+ * calibration in compact form (pc_compact_calib: per raw sample its analysis vector, dark
+ * offset and inverse gain in 16 bits, made once per calibration) and solves the least squares
+ * per output pixel in the core's fused pass:
  *   1. an identity calibration (dark = the black level, gain 1, ideal analysers) gives the
- *      uncalibrated pipeline's Stokes images (analytic case);
+ *      uncalibrated pipeline's Stokes images (analytic case; bit for bit);
  *   2. a non-ideal calibration (dark, gain, analysers with orientation and extinction errors)
- *      against a double-precision restatement of the model of polarcam/calib.h written here:
- *      I = (raw − dark)/gain, bilinear of I and of the analysis vectors (mirrored borders),
- *      S = (WᵀW)⁻¹WᵀI solved by Cramer's rule. Stated tolerance (float kernel):
- *      |ΔS| ≤ 2e-6·S0 + 2e-4 DN, |ΔDoLP| ≤ 1e-5, |ΔAoLP| ≤ 1e-5 rad where DoLP > 0.05;
+ *      against a double-precision restatement of the model of polarcam/calib.h written here
+ *      from the float maps (not the 16-bit ones): I = (raw − dark)/gain, bilinear of I and of
+ *      the analysis vectors (mirrored borders), S = (WᵀW)⁻¹WᵀI solved by Cramer's rule.
+ *      Stated tolerance (float kernel and 16-bit maps together): |ΔS| ≤ 2e-6·S0 + 2e-4 DN,
+ *      |ΔDoLP| ≤ 1e-5, |ΔAoLP| ≤ 1e-5 rad where DoLP > 0.05;
  *   3. the same through the other path (opts.reference: the corrected float copy of the
- *      raw, then the reference demosaic), from a packed Mono12p raw, and from Mono16;
+ *      raw, then the reference demosaic and the float per-pixel pseudo-inverses), from a packed
+ *      Mono12p raw, and from Mono16;
  *   4. the validity mask: a saturated sample and a pixel the calibration distrusts each
  *      invalidate exactly their 3×3 bilinear support (9 + 9 output pixels);
  *   5. a second call after the calibration is prepared reads cal only (pc_calib_prepared) and
- *      gives identical results. */
+ *      gives identical results;
+ *   6. test 2 at every instruction-set level of this machine (pc_cpu_force) and at 38×22
+ *      (rows with a scalar tail after the 16-pixel blocks);
+ *   7. the core refuses a compact calibration with pseudo-inverses, for other methods, the
+ *      reference path, another size, with the options' black level, and for channels. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,9 +28,11 @@
 
 #include "check.h"
 #include "polarcam/calib.h"
+#include "polarcam/cpu.h"
 #include "polarcam/error.h"
 
-enum { W = 64, H = 48 };
+/* the frame size: 64×48 (whole 16-pixel blocks), then 38×22 (a scalar tail in every row) */
+static uint32_t W = 64, H = 48;
 
 static uint64_t rng_state = 0x243f6a8885a308d3ull;
 static double urand(void)
@@ -102,7 +111,7 @@ static double bil(const double *f, int nc, int k, const pc_mosaic *m, unsigned c
 	int n = 0;
 	for (int dy = -1; dy <= 1; dy++)
 		for (int dx = -1; dx <= 1; dx++) {
-			int xx = mir(x + dx, W), yy = mir(y + dy, H);
+			int xx = mir(x + dx, (int)W), yy = mir(y + dy, (int)H);
 			/* the channel of the unmirrored neighbour: the mosaic's phase is mirrored
 			 * too, and on even sizes a mirrored neighbour has the neighbour's channel
 			 */
@@ -167,6 +176,38 @@ static void outs_init(outs *o)
 	o->v = (pc_validity){o->mask, W, 0};
 }
 
+/* The outputs o of cal on raw against the double reference of the model (I: corrected
+ * samples, A: analysis vectors), within the stated tolerance. */
+static void compare_reference(const pc_calib *cal, const pc_view *raw, const double *I,
+                              const double *A, const outs *o, const char *what)
+{
+	(void)raw;
+	const size_t np = (size_t)W * H;
+	double wS = 0, wD = 0, wA = 0;
+	for (int y = 0; y < (int)H; y++)
+		for (int x = 0; x < (int)W; x++) {
+			size_t p = (size_t)y * W + (size_t)x;
+			double S[3];
+			reference(cal, I, A, x, y, S);
+			for (int k = 0; k < 3; k++)
+				wS = fmax(wS, fabs(o->buf[(size_t)k * np + p] - S[k]) /
+				                  (2e-6 * S[0] + 2e-4));
+			double dolp = hypot(S[1], S[2]) / S[0];
+			wD = fmax(wD, fabs(o->buf[3 * np + p] - dolp));
+			if (dolp > 0.05) {
+				double aolp = fmod(0.5 * atan2(S[2], S[1]) + M_PI, M_PI);
+				double d = fabs(o->buf[4 * np + p] - aolp);
+				wA = fmax(wA, fmin(d, M_PI - d));
+			}
+		}
+	printf("non-ideal calibration vs the double reference%s (%ux%u): worst |dS| %.3g of the "
+	       "tolerance, dDoLP %.2g, dAoLP %.2g rad\n",
+	       what, W, H, wS, wD, wA);
+	CHECK(wS <= 1);
+	CHECK(wD <= 1e-5);
+	CHECK(wA <= 1e-5);
+}
+
 static int run_ref(pc_calib *cal, const pc_view *raw, outs *o, bool reference)
 {
 	pc_frame f;
@@ -183,6 +224,98 @@ static int run_ref(pc_calib *cal, const pc_view *raw, outs *o, bool reference)
 static int run(pc_calib *cal, const pc_view *raw, outs *o)
 {
 	return run_ref(cal, raw, o, false);
+}
+
+/* 6. the compact path at every instruction-set level this machine has and at a width with a
+ * scalar tail, against the double reference; 7. the core's refusals of a compact calibration */
+static void levels_and_sizes(void)
+{
+	static const uint32_t sizes[2][2] = {{64, 48}, {38, 22}};
+	for (int z = 0; z < 2; z++) {
+		W = sizes[z][0];
+		H = sizes[z][1];
+		pc_calib cal;
+		calib_alloc(&cal, false);
+		pc_view raw;
+		make_raw(&cal, &raw);
+		const size_t np = (size_t)W * H;
+		double *I = malloc(np * sizeof *I), *A = malloc(3 * np * sizeof *A);
+		for (size_t p = 0; p < np; p++) {
+			I[p] = ((double)PC_ROW(&raw, uint16_t, p / W)[p % W] - cal.dark[p]) /
+			       cal.gain[p];
+			for (int k = 0; k < 3; k++)
+				A[3 * p + k] = cal.analysis[3 * p + k];
+		}
+		for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
+			CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
+			outs o;
+			outs_init(&o);
+			CHECK_EQ_INT(run(&cal, &raw, &o), 0);
+			char what[64];
+			snprintf(what, sizeof what, ", %s", pc_cpu_level_name((pc_cpu_level)l));
+			compare_reference(&cal, &raw, I, A, &o, what);
+			free(o.buf);
+			free(o.mask);
+		}
+		pc_cpu_force(PC_CPU_LEVELS);
+		if (z == 1) {
+			/* 7. refusals: with pseudo-inverses, for another method, the reference
+			 * path, another size, with the options' black level, and for channels */
+			const pc_compact_calib *cc = &cal.apply_vec;
+			CHECK(cc->a_q[0] != NULL);
+			outs o;
+			outs_init(&o);
+			pc_pipeline_opts po = pc_pipeline_defaults();
+			po.compact = cc;
+			pc_analyser_pinv pv = {cal.analysis, 1, 1};
+			po.pinv = &pv;
+			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_EINVAL);
+			printf("compact + pinv: %s\n", pc_error_detail());
+			po.pinv = NULL;
+			po.method = PC_DM_EARI;
+			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_ENOTSUP);
+			printf("compact + eari: %s\n", pc_error_detail());
+			po.method = PC_DM_BILINEAR;
+			po.reference = true;
+			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_ENOTSUP);
+			po.reference = false;
+			po.black_level = 64;
+			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_EINVAL);
+			printf("compact + black level: %s\n", pc_error_detail());
+			po.black_level = 0;
+			pc_compact_calib other = *cc;
+			other.width = W - 2;
+			po.compact = &other;
+			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_EINVAL);
+			printf("compact of another size: %s\n", pc_error_detail());
+			po.compact = cc;
+			pc_fplane ch[4];
+			pc_fplanes_separate(o.buf, W, H, 4, ch);
+			CHECK_EQ_INT(pc_demosaic_run(&raw, &po, ch, NULL), PC_EINVAL);
+			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), 0);
+			/* analysers that cannot be inverted at (10, 12): refused once, when the
+			 * compact calibration is made, naming the pixel */
+			for (int y = 9; y <= 11; y++)
+				for (int x = 11; x <= 13; x++)
+					for (int k = 0; k < 3; k++)
+						cal.analysis[3 * ((size_t)y * W + (size_t)x) +
+						             (size_t)k] = k == 0   ? 0.5f
+						                          : k == 1 ? 0.25f
+						                                   : 0.0f;
+			free(cal.apply_q); /* the calibration changed: its cache goes */
+			cal.apply_q = NULL;
+			memset(&cal.apply_vec, 0, sizeof cal.apply_vec);
+			CHECK_EQ_INT(run(&cal, &raw, &o), PC_ENUMERIC);
+			printf("singular: %s\n", pc_error_detail());
+			CHECK(strstr(pc_error_detail(), "(12,10)") != NULL);
+			free(o.buf);
+			free(o.mask);
+		}
+		free(I);
+		free(A);
+		pc_view_free(&raw);
+		pc_calib_free(&cal);
+	}
 }
 
 int main(void)
@@ -246,29 +379,7 @@ int main(void)
 	outs_init(&o);
 	CHECK_EQ_INT(run(&cal, &raw, &o), 0);
 	CHECK(pc_calib_prepared(&cal, PC_DM_BILINEAR));
-	double wS = 0, wD = 0, wA = 0;
-	for (int y = 0; y < H; y++)
-		for (int x = 0; x < W; x++) {
-			size_t p = (size_t)y * W + (size_t)x;
-			double S[3];
-			reference(&cal, I, A, x, y, S);
-			for (int k = 0; k < 3; k++)
-				wS = fmax(wS, fabs(o.buf[(size_t)k * np + p] - S[k]) /
-				                  (2e-6 * S[0] + 2e-4));
-			double dolp = hypot(S[1], S[2]) / S[0];
-			wD = fmax(wD, fabs(o.buf[3 * np + p] - dolp));
-			if (dolp > 0.05) {
-				double aolp = fmod(0.5 * atan2(S[2], S[1]) + M_PI, M_PI);
-				double d = fabs(o.buf[4 * np + p] - aolp);
-				wA = fmax(wA, fmin(d, M_PI - d));
-			}
-		}
-	printf("non-ideal calibration vs the double reference: worst |dS| %.3g of the "
-	       "tolerance, dDoLP %.2g, dAoLP %.2g rad\n",
-	       wS, wD, wA);
-	CHECK(wS <= 1);
-	CHECK(wD <= 1e-5);
-	CHECK(wA <= 1e-5);
+	compare_reference(&cal, &raw, I, A, &o, "");
 	CHECK_EQ_INT(o.v.n_invalid, 0);
 
 	/* 3. the corrected-copy path (packed Mono12p) and a Mono16 container give the same */
@@ -314,8 +425,8 @@ int main(void)
 		CHECK_EQ_INT(run(&cal, &raw, &o), 0);
 		CHECK_EQ_INT(o.v.n_invalid, 18);
 		size_t inside = 0;
-		for (int y = 0; y < H; y++)
-			for (int x = 0; x < W; x++) {
+		for (int y = 0; y < (int)H; y++)
+			for (int x = 0; x < (int)W; x++) {
 				bool near = (abs(y - 10) <= 1 && abs(x - 12) <= 1) ||
 				            (abs(y - 30) <= 1 && abs(x - 40) <= 1);
 				inside += near && !o.mask[(size_t)y * W + (size_t)x];
@@ -335,5 +446,6 @@ int main(void)
 	free(A);
 	pc_view_free(&raw);
 	pc_calib_free(&cal);
+	levels_and_sizes();
 	return pc_test_finish("test_calib_fused");
 }
