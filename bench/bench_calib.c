@@ -248,7 +248,15 @@ static int speed_setup(uint32_t W, uint32_t H, pc_calib *cal, pc_view *raw)
 	return 0;
 }
 
-static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *only)
+/* CPU time of the whole process (every thread), seconds */
+static double cpu_now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int bench_speed(uint32_t W, uint32_t H, int reps, int threads, bool json, const char *only)
 {
 	pc_calib cal;
 	pc_view raw;
@@ -273,6 +281,7 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 	f.view = raw;
 	f.mosaic = cal.geo.mosaic;
 	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.threads = threads;
 	po.method = PC_DM_BILINEAR;
 	po.mosaic = cal.geo.mosaic;
 	po.saturation_level = 4095;
@@ -305,7 +314,8 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 	float *bp = NULL;
 	pc_pipeline_opts ps = po, pp = po;
 	pc_analyser_pinv pxgrid = {0};
-	double *t = calloc((size_t)NCASE * (size_t)reps, sizeof *t), best[NCASE], med[NCASE];
+	double *t = calloc(2 * (size_t)NCASE * (size_t)reps, sizeof *t), best[NCASE], med[NCASE];
+	double cbest[NCASE], cmed[NCASE];
 	uint64_t inval[NCASE] = {0};
 	if (!t) {
 		rc = PC_ENOMEM;
@@ -337,11 +347,13 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 			v = (pc_validity){mask, W, 0};
 			pc_validity *vp = k == IDEAL || k == CAL || k == CAL_SP ? &v : NULL;
 			t0 = bench_now();
+			double c0 = cpu_now();
 			rc = k <= IDEAL_NOMASK ? pc_stokes_run(&raw, &pu, &out, vp)
 			     : k == CAL_SP     ? pc_stokes_run(&raw, &ps, &out, vp)
 			     : k == CAL_PINV   ? pc_stokes_run(&raw, &pp, &out, NULL)
 			                       : pc_calib_apply(&cal, &f, 12, &po, &out, NULL, vp);
 			t[(size_t)k * (size_t)reps + (size_t)r] = bench_now() - t0;
+			t[(size_t)(NCASE + k) * (size_t)reps + (size_t)r] = cpu_now() - c0;
 			if (rc)
 				goto out;
 			inval[k] = v.n_invalid;
@@ -351,6 +363,10 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 		qsort(tk, (size_t)reps, sizeof *tk, cmp_dbl);
 		best[k] = tk[0];
 		med[k] = tk[reps / 2];
+		tk = t + (size_t)(NCASE + k) * (size_t)reps;
+		qsort(tk, (size_t)reps, sizeof *tk, cmp_dbl);
+		cbest[k] = tk[0];
+		cmed[k] = tk[reps / 2];
 	}
 	double load[3] = {NAN, NAN, NAN};
 	FILE *la = fopen("/proc/loadavg", "r");
@@ -373,11 +389,19 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 			json_object_set_new(j, key, bench_json_real(1e3 * best[k]));
 			snprintf(key, sizeof key, "%s_ms_median", name[k]);
 			json_object_set_new(j, key, bench_json_real(1e3 * med[k]));
+			snprintf(key, sizeof key, "%s_cpu_ms_min", name[k]);
+			json_object_set_new(j, key, bench_json_real(1e3 * cbest[k]));
+			snprintf(key, sizeof key, "%s_cpu_ms_median", name[k]);
+			json_object_set_new(j, key, bench_json_real(1e3 * cmed[k]));
 		}
 		json_object_set_new(j, "ratio_min", bench_json_real(best[CAL] / best[IDEAL]));
 		json_object_set_new(j, "ratio_median", bench_json_real(med[CAL] / med[IDEAL]));
 		json_object_set_new(j, "ratio_no_mask_median",
 		                    bench_json_real(med[CAL_NOMASK] / med[IDEAL_NOMASK]));
+		json_object_set_new(j, "cpu_ratio_no_mask_min",
+		                    bench_json_real(cbest[CAL_NOMASK] / cbest[IDEAL_NOMASK]));
+		json_object_set_new(j, "cpu_ratio_pinv_no_mask_min",
+		                    bench_json_real(cbest[CAL_PINV] / cbest[IDEAL_NOMASK]));
 		json_object_set_new(j, "ratio_pinv_no_mask_median",
 		                    bench_json_real(med[CAL_PINV] / med[IDEAL_NOMASK]));
 		json_object_set_new(j, "ratio_2x2_median",
@@ -389,13 +413,17 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 		printf("bilinear Stokes pipeline, %ux%u Mono12, planar S0 S1 S2 DoLP AoLP, %d "
 		       "threads, "
 		       "%d repetitions interleaved (load %.2f %.2f %.2f)\n",
-		       W, H, pc_parallel_max_threads(), reps, load[0], load[1], load[2]);
+		       W, H, threads > 0 ? threads : pc_parallel_max_threads(), reps, load[0],
+		       load[1], load[2]);
 		printf("  prepared once: 16-bit analysis vectors (first call, checked) %.1f ms; "
 		       "float per-pixel W+ (calibrated_pinv) %.1f ms\n",
 		       1e3 * prep, 1e3 * prep_pinv);
 		for (int k = 0; k < NCASE; k++)
-			printf("  %-20s min %7.2f ms  median %7.2f ms  invalid %llu\n", name[k],
-			       1e3 * best[k], 1e3 * med[k], (unsigned long long)inval[k]);
+			printf(
+			    "  %-20s min %7.2f ms  median %7.2f ms  (cpu min %7.2f, median %7.2f "
+			    "ms)  invalid %llu\n",
+			    name[k], 1e3 * best[k], 1e3 * med[k], 1e3 * cbest[k], 1e3 * cmed[k],
+			    (unsigned long long)inval[k]);
 		printf("calibrated / ideal (black level, saturation check, mask): %.2f (min %.2f); "
 		       "goal <= 1.5\nwithout the mask: %.2f (min %.2f)\n",
 		       med[CAL] / med[IDEAL], best[CAL] / best[IDEAL],
@@ -406,6 +434,10 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, bool json, const char *
 		    med[CAL_PINV] / med[IDEAL_NOMASK], best[CAL_PINV] / best[IDEAL_NOMASK]);
 		printf("one W+ per 2x2 super-pixel (experiment) / ideal: %.2f (min %.2f)\n",
 		       med[CAL_SP] / med[IDEAL], best[CAL_SP] / best[IDEAL]);
+		printf("cpu time, min, without the mask: calibrated / ideal %.2f, previous path / "
+		       "ideal %.2f\n",
+		       cbest[CAL_NOMASK] / cbest[IDEAL_NOMASK],
+		       cbest[CAL_PINV] / cbest[IDEAL_NOMASK]);
 	}
 out:
 	free(bp);
@@ -420,12 +452,16 @@ out:
 int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 {
 	host = h;
-	static const struct option opts[] = {
-	    {"size", required_argument, NULL, 's'}, {"rotation-s", required_argument, NULL, 'r'},
-	    {"json", no_argument, NULL, 'J'},       {"speed", no_argument, NULL, 'S'},
-	    {"reps", required_argument, NULL, 'n'}, {"only", required_argument, NULL, 'o'},
-	    {"help", no_argument, NULL, 'h'},       {NULL, 0, NULL, 0}};
-	long size = 64, reps = 10;
+	static const struct option opts[] = {{"size", required_argument, NULL, 's'},
+	                                     {"rotation-s", required_argument, NULL, 'r'},
+	                                     {"json", no_argument, NULL, 'J'},
+	                                     {"speed", no_argument, NULL, 'S'},
+	                                     {"reps", required_argument, NULL, 'n'},
+	                                     {"only", required_argument, NULL, 'o'},
+	                                     {"threads", required_argument, NULL, 't'},
+	                                     {"help", no_argument, NULL, 'h'},
+	                                     {NULL, 0, NULL, 0}};
+	long size = 64, reps = 10, threads = 0;
 	double rot_s = 2;
 	bool json = false, speed = false;
 	const char *only = NULL;
@@ -452,6 +488,10 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		case 'o':
 			only = optarg;
 			break;
+		case 't':
+			if ((rc = host->parse_long("--threads", optarg, 0, 256, &threads)))
+				return host->fail(rc, NULL);
+			break;
 		case 'n':
 			if ((rc = host->parse_long("--reps", optarg, 1, 1000, &reps)))
 				return host->fail(rc, NULL);
@@ -459,25 +499,31 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 		case 'h':
 			printf(
 			    "usage: polarcam bench calib [--size N] [--rotation-s S] [--json]\n"
-			    "       polarcam bench calib --speed [--reps N] [--only CASE] "
+			    "       polarcam bench calib --speed [--reps N] [--threads T] [--only "
+			    "CASE] "
 			    "[--json]\n\n"
-			    "--speed: the calibrated bilinear pipeline (pc_calib_apply: per-pixel "
-			    "dark\n"
-			    "and gain, per-pixel analyser pseudo-inverses, saturation and "
-			    "distrusted-\n"
-			    "pixel mask) against the uncalibrated one (pc_stokes_run with the "
-			    "black level\n"
-			    "and the saturation mask) on a 2448x2048 Mono12 frame, N repetitions "
-			    "each,\n"
-			    "interleaved (default 10): min, median and their ratio (goal <= 1.5), "
-			    "with\n"
-			    "the load average. calibrated_2x2: the same with one W+ per 2x2 "
-			    "super-pixel\n"
-			    "(the block mean of the four per-pixel ones; an experiment). --only "
-			    "CASE "
-			    "runs\n"
-			    "one case (ideal, ideal_no_mask, calibrated, calibrated_no_mask,\n"
-			    "calibrated_2x2), e.g. under perf stat. Without --speed:\n"
+			    "--speed: the calibrated bilinear pipeline (pc_calib_apply: the "
+			    "compact\n"
+			    "calibration - 16-bit dark, gain and analysis vectors, W+ solved per "
+			    "pixel - and\n"
+			    "the saturation and distrusted-pixel mask) against the uncalibrated "
+			    "one\n"
+			    "(pc_stokes_run with the black level and the saturation mask) on a "
+			    "2448x2048\n"
+			    "Mono12 frame, N repetitions each, interleaved (default 10), T threads "
+			    "(default\n"
+			    "0: all): wall and process CPU time, min and median, and their ratios "
+			    "(goal\n"
+			    "<= 1.5), with the load average. calibrated_pinv: the previous path "
+			    "(float dark\n"
+			    "and gain maps, float per-pixel W+; no mask); calibrated_2x2: one W+ "
+			    "per 2x2\n"
+			    "super-pixel (the block mean of the four per-pixel ones; an "
+			    "experiment). --only\n"
+			    "CASE runs one case (ideal, ideal_no_mask, calibrated, "
+			    "calibrated_no_mask,\n"
+			    "calibrated_pinv, calibrated_2x2), e.g. under perf stat. Without "
+			    "--speed:\n"
 			    "Analyser calibration of the imx250mzr_nonuniform preset (N x N ROI, "
 			    "default\n"
 			    "64; dark and flat: 32 frames each) with K polarizer angles x F frames "
@@ -497,7 +543,7 @@ int pc_bench_calib(const pc_bench_host *h, int argc, char **argv)
 	if (host->parse_only)
 		return PC_BENCH_OK;
 	if (speed)
-		return bench_speed(2448, 2048, (int)reps, json, only);
+		return bench_speed(2448, 2048, (int)reps, (int)threads, json, only);
 	const uint32_t S = (uint32_t)size;
 	bstack dk, fl, fh;
 	pc_calib dark, flat;

@@ -31,7 +31,6 @@ void pc_calib_free(pc_calib *cal)
 	free(cal->pinv_px);
 	free(cal->apply_ig);
 	free(cal->apply_q);
-	free(cal->apply_flag);
 	pc_calib_init(cal);
 }
 
@@ -58,8 +57,6 @@ int pc_calib_copy(pc_calib *dst, const pc_calib *src)
 	t.apply_ig = NULL;
 	t.apply_q = NULL;
 	memset(&t.apply_vec, 0, sizeof t.apply_vec);
-	t.apply_flag = NULL;
-	t.apply_busy = 0;
 	size_t np = (size_t)src->geo.width * src->geo.height;
 	int rc;
 	if ((rc = dup_map((void **)&t.dark, src->dark, np * 4)) ||
@@ -970,81 +967,39 @@ int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *
 /* ---- the calibration as a pipeline stage (pc_calib_apply) ---- */
 
 typedef struct apply_ctx {
-	const pc_calib *cal;
 	const pc_view *raw;
-	const float *unpacked; /* packed formats: the samples as floats (row stride width) */
-	int kind;              /* 0: Mono8, 1: 16-bit container, 2: float32, 3: unpacked */
-	unsigned maxv;         /* integer formats: the largest value the bit depth allows */
-	float sat, dead;       /* raw units; sat INFINITY / dead -INFINITY: not checked */
-	uint8_t *flag;         /* NULL: count only */
-	uint32_t *rows;        /* per row: flagged samples; rows[H + y]: values out of range */
+	uint32_t maxv;  /* the largest value the bit depth allows */
+	uint32_t *rows; /* per row: samples above it */
 } apply_ctx;
 
-/* flag = 1 where the sample is saturated, dead or invalid in the calibration; per-row counts
- * of flagged samples and of samples out of the format's range. The correction itself
- * (raw − dark)·(1/gain) happens in the core's pipeline as it reads the raw
- * (pc_pipeline_opts.dark, gain_inv). */
+/* The range check of 16-bit containers (nothing is clamped silently; packed formats cannot
+ * exceed their depth, float ones the core checks for NaN and infinity): per row the samples
+ * above the bit depth. The correction (raw − dark)·(1/gain) and the flags (saturated, dead,
+ * distrusted) happen in the core's pipeline (pc_pipeline_opts.dark, gain_inv or compact;
+ * saturation_level, dead_level, trusted). */
 #ifdef _OPENMP
-#define PC_CAL_SIMD_SUM _Pragma("omp simd reduction(+ : nb, nr)")
+#define PC_CAL_SIMD_OR _Pragma("omp simd reduction(| : any)")
 #else
-#define PC_CAL_SIMD_SUM
+#define PC_CAL_SIMD_OR
 #endif
 
 static void apply_rows(void *vctx, uint32_t y0, uint32_t y1)
 {
 	const apply_ctx *c = vctx;
-	const pc_calib *cal = c->cal;
-	const uint32_t W = cal->geo.width, H = cal->geo.height;
-	const float sat = c->sat, dead = c->dead;
-	/* integer samples: v >= sat ⇔ v >= ceil(sat), v <= dead ⇔ v <= floor(dead) */
-	const int32_t isat = sat > 65536.0f ? 65536 : (int32_t)ceilf(sat);
-	const int32_t idead = dead < -1.0f ? -1 : (int32_t)floorf(dead);
-	const int32_t maxv = (int32_t)c->maxv;
+	const uint32_t W = c->raw->width;
 	for (uint32_t y = y0; y < y1; y++) {
-		const size_t o = (size_t)y * W;
-		const uint8_t *cv = cal->valid ? cal->valid + o : NULL;
-		const uint8_t *r8 = (const uint8_t *)c->raw->data + (size_t)y * c->raw->stride;
-		const uint16_t *r16 = (const uint16_t *)(const void *)r8;
-		const float *rf = c->kind == 3 ? c->unpacked + o : (const float *)(const void *)r8;
-		uint8_t *fl = c->flag ? c->flag + o : NULL;
-		uint32_t nb = 0, nr = 0;
-		if (c->kind == 1 && fl) {
-			/* the common case (16-bit containers): vectorisable */
-			PC_CAL_SIMD_SUM
-			for (uint32_t x = 0; x < W; x++) {
-				int32_t v = r16[x];
-				nr += v > maxv;
-				uint8_t bad =
-				    (uint8_t)((cv && !cv[x]) | (v >= isat) | (v <= idead));
-				fl[x] = bad;
-				nb += bad;
-			}
-		} else if (c->kind == 1) {
-			PC_CAL_SIMD_SUM
-			for (uint32_t x = 0; x < W; x++) {
-				int32_t v = r16[x];
-				nr += v > maxv;
-				nb += (uint32_t)((cv && !cv[x]) | (v >= isat) | (v <= idead));
-			}
-		} else {
-			for (uint32_t x = 0; x < W; x++) {
-				float v = c->kind == 0   ? (float)r8[x]
-				          : c->kind == 1 ? (float)r16[x]
-				                         : rf[x];
-				if (c->kind == 1 && r16[x] > c->maxv)
-					nr++;
-				if (c->kind == 2 && !isfinite(v)) {
-					nr++;
-					v = 0;
-				}
-				uint8_t bad = (uint8_t)((cv && !cv[x]) | (v >= sat) | (v <= dead));
-				if (fl)
-					fl[x] = bad;
-				nb += bad;
-			}
-		}
-		c->rows[y] = nb;
-		c->rows[H + y] = nr;
+		const uint16_t *r = (const uint16_t *)(const void *)((const uint8_t *)c->raw->data +
+		                                                     (size_t)y * c->raw->stride);
+		/* the bits above the depth (maxv is 2^bits − 1) of the whole row, then the count
+		 * only in a row that has some */
+		uint32_t any = 0, nr = 0;
+		PC_CAL_SIMD_OR
+		for (uint32_t x = 0; x < W; x++)
+			any |= r[x];
+		if (any & ~c->maxv)
+			for (uint32_t x = 0; x < W; x++)
+				nr += r[x] > c->maxv;
+		c->rows[y] = nr;
 	}
 }
 
@@ -1302,75 +1257,35 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	    (rc = vec ? compact_calib(cal, o->threads)
 	              : pc_calib_pinv(cal, o->method, o->threads, &pinv)))
 		return rc;
-	const uint32_t W = cal->geo.width, H = cal->geo.height;
-	const size_t np = (size_t)W * H;
+	const uint32_t H = cal->geo.height;
 	const pc_format_info *fi = pc_format_info_get(raw->format);
-	/* per call (no scratch in cal: concurrent calls on one prepared calibration are safe) */
-	uint32_t *rows = malloc(2 * (size_t)H * sizeof *rows);
-	float *unpacked = NULL;
-	uint8_t *flag = NULL;
-	if (!rows)
-		return pc_error(PC_ENOMEM, "calibrated pipeline (%u rows)", H);
-	apply_ctx c = {cal, raw, NULL, 3, 0, INFINITY, -INFINITY, NULL, rows};
-	if (raw->format == PC_FMT_MONO8)
-		c.kind = 0;
-	else if (raw->format == PC_FMT_MONO10 || raw->format == PC_FMT_MONO12 ||
-	         raw->format == PC_FMT_MONO14 || raw->format == PC_FMT_MONO16)
-		c.kind = 1;
-	else if (raw->format == PC_FMT_FLOAT32)
-		c.kind = 2;
-	if (c.kind == 3) {
-		/* packed formats: unpacked (and checked) for the flags */
-		if (!(unpacked = malloc(np * sizeof *unpacked)))
-			rc = pc_error(PC_ENOMEM, "calibrated pipeline (%zu pixels)", np);
-		else
-			rc = pc_view_to_f32(raw, unpacked, (size_t)W * sizeof(float));
-		c.unpacked = unpacked;
-	}
-	c.maxv = fi->is_float ? 0 : (1u << fi->bits) - 1u;
 	const double sat = o->saturation_level;
-	if (sat > 0)
-		c.sat = (float)sat;
-	if (o->dead_level > 0)
-		c.dead = (float)o->dead_level;
-	uint64_t nflag = 0, nrange = 0;
-	/* the flag map when a validity is wanted: the calibration's own (no page faults per
-	 * frame) unless another call holds it */
-	bool own_flag = false;
-	if (!rc && valid) {
-		if (!__atomic_exchange_n(&cal->apply_busy, 1, __ATOMIC_ACQUIRE)) {
-			if (!cal->apply_flag)
-				cal->apply_flag = malloc(np);
-			flag = cal->apply_flag;
-			if (!flag)
-				__atomic_store_n(&cal->apply_busy, 0, __ATOMIC_RELEASE);
-		}
-		if (!flag) {
-			own_flag = true;
-			flag = malloc(np);
-		}
-		if (!flag)
-			rc = pc_error(PC_ENOMEM, "calibrated pipeline: flags (%zu pixels)", np);
-		c.flag = flag;
-	}
-	if (!rc) {
+	if (raw->format == PC_FMT_MONO10 || raw->format == PC_FMT_MONO12 ||
+	    raw->format == PC_FMT_MONO14) {
+		/* per call (no scratch in cal: concurrent calls on a prepared calibration are safe)
+		 */
+		uint32_t *rows = malloc((size_t)H * sizeof *rows);
+		if (!rows)
+			return pc_error(PC_ENOMEM, "calibrated pipeline (%u rows)", H);
+		apply_ctx c = {raw, (1u << fi->bits) - 1u, rows};
 		pc_parallel_rows(H, 0, o->threads, apply_rows, &c);
-		for (uint32_t y = 0; y < H; y++) {
-			nflag += rows[y];
-			nrange += rows[H + y];
-		}
+		uint64_t nrange = 0;
+		for (uint32_t y = 0; y < H; y++)
+			nrange += rows[y];
+		free(rows);
 		if (nrange)
-			rc = pc_error(PC_ERANGE,
-			              "%llu samples out of range (above the %u-bit range of %s, "
-			              "or not finite)",
-			              (unsigned long long)nrange, fi->bits, fi->name);
+			return pc_error(PC_ERANGE,
+			                "%llu samples out of range (above the %u-bit range of %s)",
+			                (unsigned long long)nrange, fi->bits, fi->name);
 	}
 	pc_pipeline_opts po = *o;
 	po.mosaic = cal->geo.mosaic;
 	po.dark = cal->dark;
 	po.gain_inv = cal->apply_ig;
 	po.black_level = cal->dark ? 0 : cal->black_level;
-	po.saturation_level = po.dead_level = 0; /* flagged above, with the calibration's map */
+	/* the validity: the core's rule (saturated, dead) on the raw samples, and the samples the
+	 * calibration distrusts */
+	po.trusted = cal->valid;
 	/* the signal's full scale for edge-aware weights: saturation above the black level */
 	if (sat > cal->black_level)
 		po.full_scale = sat - cal->black_level + po.black_level;
@@ -1384,32 +1299,7 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 			po.pinv = &pinv;
 		}
 	}
-	if (!rc)
-		rc = st ? pc_stokes_run(raw, &po, st, NULL) : pc_demosaic_run(raw, &po, ch, NULL);
-	free(unpacked);
-	free(rows);
-	if (!rc && valid && nflag) {
-		/* an output pixel is invalid when a flagged sample lies in the method's support */
-		pc_view fv = {flag, W, H, W, PC_FMT_MONO8};
-		pc_pipeline_opts vo = pc_pipeline_defaults();
-		vo.method = o->method;
-		vo.mosaic = cal->geo.mosaic;
-		vo.threads = o->threads;
-		vo.saturation_level = 1;
-		rc = pc_validity_run(&fv, &vo, valid);
-	} else if (!rc && valid) {
-		/* nothing flagged: every output pixel is valid */
-		uint32_t ow, oh;
-		pc_demosaic_out_size(o->method, W, H, &ow, &oh);
-		valid->n_invalid = 0;
-		for (uint32_t y = 0; valid->mask && y < oh; y++)
-			memset(valid->mask + (size_t)y * valid->row_stride, 1, ow);
-	}
-	if (own_flag)
-		free(flag);
-	else if (flag)
-		__atomic_store_n(&cal->apply_busy, 0, __ATOMIC_RELEASE);
-	return rc;
+	return st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
 }
 
 static int stage_run(void *user, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,

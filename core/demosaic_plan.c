@@ -497,8 +497,8 @@ int pc_dm_plan_validity(pc_dm_plan *p, pc_validity *v)
 {
 	const pc_dm_input *in;
 	v->n_invalid = 0;
-	pc_dm_levels lv = {p->opts.saturation_level, p->opts.dead_level};
-	if (!(lv.saturation > 0) && !(lv.dead > 0) && !v->mask)
+	pc_dm_levels lv = {p->opts.saturation_level, p->opts.dead_level, p->opts.trusted};
+	if (!(lv.saturation > 0) && !(lv.dead > 0) && !lv.trusted && !v->mask)
 		return 0;
 	int rc = pc_dm_plan_input(p, &in);
 	if (rc)

@@ -1,7 +1,8 @@
 /* The validity mask (validity.h): saturated or dead raw samples dilated by the method's
- * support. Row bands on threads; per band, each raw row's flags are dilated horizontally once
- * (kept in a small cache while the vertical window passes over them) and the rows of the window
- * are ORed. Frames without a flagged sample in a window cost one comparison per sample. */
+ * support (and samples a trust map distrusts). Row bands on threads; per band, each raw row's flags
+ * are dilated horizontally once (kept in a small cache while the vertical window passes over them)
+ * and the rows of the window are ORed. Frames without a flagged sample in a window cost one
+ * comparison per sample. */
 #include "validity.h"
 
 #include <math.h>
@@ -23,9 +24,10 @@ typedef struct vjob {
 	const pc_dm_input *in;
 	pc_dm_support sup;
 	int use_sat, use_dead;
-	double sat, dead; /* float samples */
-	uint32_t isat;    /* integer samples: flagged when >= isat (65536: never) */
-	uint32_t idead1;  /* ... or < idead1 (0: never) */
+	const uint8_t *trusted; /* NULL: every sample */
+	double sat, dead;       /* float samples */
+	uint32_t isat;          /* integer samples: flagged when >= isat (65536: never) */
+	uint32_t idead1;        /* ... or < idead1 (0: never) */
 	uint32_t ow, oh;
 	uint8_t *mask;
 	size_t stride;
@@ -65,22 +67,42 @@ static unsigned flag_float(const float *restrict r, uint32_t w, double hi, doubl
 	return any;
 }
 
+/* p |= (t == 0) over n bytes; returns whether any t is 0 */
+static unsigned flag_distrusted(const uint8_t *restrict t, uint32_t n, uint8_t *restrict p)
+{
+	unsigned any = 0;
+	PC_SIMD_OR_ANY
+	for (uint32_t x = 0; x < n; x++) {
+		unsigned f = (unsigned)(t[x] == 0);
+		p[x] = (uint8_t)(p[x] | f);
+		any |= f;
+	}
+	return any;
+}
+
 /* Flags (0/1) of raw row y into p[0..w). Returns whether any is set. */
 static int flag_row(const vjob *j, uint32_t y, uint8_t *p)
 {
 	const pc_dm_input *in = j->in;
 	const uint8_t *row = in->data + (size_t)y * in->stride;
+	unsigned any;
 	switch (in->type) {
 	case PC_DMT_U8:
-		return flag_uint8_t(row, in->width, j->isat, j->idead1, p) != 0;
+		any = flag_uint8_t(row, in->width, j->isat, j->idead1, p);
+		break;
 	case PC_DMT_U16:
-		return flag_uint16_t((const uint16_t *)(const void *)row, in->width, j->isat,
-		                     j->idead1, p) != 0;
+		any = flag_uint16_t((const uint16_t *)(const void *)row, in->width, j->isat,
+		                    j->idead1, p);
+		break;
 	default:
-		return flag_float((const float *)(const void *)row, in->width,
-		                  j->use_sat ? j->sat : INFINITY, j->use_dead ? j->dead : -INFINITY,
-		                  p) != 0;
+		any = flag_float((const float *)(const void *)row, in->width,
+		                 j->use_sat ? j->sat : INFINITY, j->use_dead ? j->dead : -INFINITY,
+		                 p);
+		break;
 	}
+	if (j->trusted)
+		any |= flag_distrusted(j->trusted + (size_t)y * in->width, in->width, p);
+	return any != 0;
 }
 
 /* o |= q over n bytes */
@@ -226,7 +248,7 @@ int pc_dm_validity(const pc_dm_input *in, const pc_dm_support *sup, const pc_dm_
 {
 	*n_invalid = 0;
 	int use_sat = lv->saturation > 0, use_dead = lv->dead > 0;
-	if (!use_sat && !use_dead) {
+	if (!use_sat && !use_dead && !lv->trusted) {
 		if (mask)
 			for (uint32_t Y = 0; Y < oh; Y++)
 				memset(mask + (size_t)Y * stride, 1, ow);
@@ -239,6 +261,7 @@ int pc_dm_validity(const pc_dm_input *in, const pc_dm_support *sup, const pc_dm_
 	j->sup = *sup;
 	j->use_sat = use_sat;
 	j->use_dead = use_dead;
+	j->trusted = lv->trusted;
 	j->sat = lv->saturation;
 	j->dead = lv->dead;
 	/* integer samples: >= sat is >= ceil(sat), <= dead is < floor(dead) + 1 */

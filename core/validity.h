@@ -19,9 +19,12 @@ typedef struct pc_dm_support {
 	unsigned block, scale;
 } pc_dm_support;
 
-/* Levels in raw units (before the black level); 0: not checked. */
+/* Levels in raw units (before the black level); 0: not checked. trusted: per raw sample
+ * (width × height bytes, row stride width), 0 flags the sample as a saturated one is flagged;
+ * NULL: all trusted. */
 typedef struct pc_dm_levels {
 	double saturation, dead;
+	const uint8_t *trusted;
 } pc_dm_levels;
 
 /* Writes mask (ow × oh bytes, row stride `stride`; NULL: count only) with 1 for valid and 0 for

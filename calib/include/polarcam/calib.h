@@ -88,10 +88,6 @@ typedef struct pc_calib {
 	 * apply_q; pc_calib_prepare or the first bilinear pc_calib_apply) */
 	int16_t *apply_q;
 	pc_compact_calib apply_vec;
-	/* pc_calib_apply's flag map, reused by one call at a time (apply_busy, taken atomically;
-	 * a concurrent call allocates its own) */
-	uint8_t *apply_flag;
-	int apply_busy;
 } pc_calib;
 
 PC_API void pc_calib_init(pc_calib *cal);

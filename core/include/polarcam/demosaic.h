@@ -140,6 +140,10 @@ typedef struct pc_pipeline_opts {
 	 * the raw first. */
 	const float *dark;
 	const float *gain_inv;
+	/* Per raw sample trust for the validity (width × height bytes, row stride width): 0 flags
+	 * the sample as a saturated one is flagged (a calibration's distrusted pixels); NULL: all
+	 * trusted. */
+	const uint8_t *trusted;
 } pc_pipeline_opts;
 
 /* Bilinear on Sony's IMX250MZR mosaic, default threads, fast paths, full scale from the format,
