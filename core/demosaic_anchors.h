@@ -22,6 +22,20 @@
  * +3.28 / +4.51 (docs/demosaicking.md). */
 #define PC_RATIO_GUIDE_EPS 0.01
 
+/* ratio-ri (demosaic_ref.c, ref_ratio_ri): the guided filter's regulariser (PC_RATIO_RI_EPS·FS)²
+ * on the ratio method's mean as guide, and the dark level d = PC_RATIO_RI_DARK·FS of the blend
+ * weight G²/(G² + d²) between the filter's and the ratio method's estimates. Sweep, double
+ * references (mean S0 / DoLP gain over bilinear on stress / Lapray / Zhang, dB; the worst
+ * scene's DoLP): regulariser 0.001: +4.33/+1.48, +3.28/+1.88, +4.86/+4.35 (gloss -0.36);
+ * 0.003: +4.46/+1.43, +3.48/+1.97, +4.55/+4.21 (gloss -0.36); 0.01: +4.37/+1.34,
+ * +3.60/+1.92, +3.74/+3.72 (gloss -0.34), all without the blend; with d = 0.003 / 0.01 /
+ * 0.03 at 0.003 the worst DoLP (gloss) is +0.21 / +0.26 / +0.35 and Lapray's S0 +3.48 /
+ * +3.48 / +3.48; 0.005 with d = 0.01: +4.51/+1.82, +3.58/+1.98, +4.25/+4.06 (gloss +0.26).
+ * Radius 1 lost on all three (+2.76, +2.85, +2.77 S0), radius 3 lost on Lapray (+3.38) and
+ * a second filter pass gained nothing (+3.51 Lapray at 0.003, Zhang -0.1). */
+#define PC_RATIO_RI_EPS  0.005
+#define PC_RATIO_RI_DARK 0.01
+
 /* ---- the overshoot limiter (demosaic_robust.c) ----
  * Every interpolated sample of channel c clamped to the range of channel c's raw samples in
  * the 5×5 window around it; own samples untouched. pc_dm_limited: the methods it belongs to.

@@ -1,4 +1,4 @@
-/* Fast float paths of bicubic, PPID, RI, EARI and ratio (demosaic_ic.h; the references are in
+/* Fast float paths of bicubic, PPID, RI, EARI, ratio and ratio-ri (demosaic_ic.h; the references are in
  * demosaic_ref.c).
  *
  * Every intermediate image of a method (coarse and refined PPI, guide, guided-filter
@@ -223,6 +223,8 @@ typedef struct ic_band {
 	rcache raw, p0, ppi, guide, out1, guide2;
 	rcache rq1, rg2, rq2; /* ratio method: first ratio, second guide, second ratio */
 	float delta, eps_ratio;
+	rcache rout; /* ratio-ri: the ratio method's four channels (its guide: guide2) */
+	float dark;  /* ratio-ri: the blend's dark level */
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
 	                  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
@@ -438,6 +440,46 @@ static void ratio_output(ic_band *b, int y, float *const o[4])
 	b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->raw.w);
 }
 
+/* ---- ratio-ri: ratio, then one residual-interpolation pass guided by its mean ---- */
+static void fill_rout(rcache *c, int y, float *const *rows)
+{
+	ratio_output(c->ctx, y, rows);
+}
+
+static void fill_rguide(rcache *c, int y, float *const *rows)
+{
+	ic_band *b = c->ctx;
+	float *const *o = rc_get(&b->rout, y);
+	b->k->mean4(rows[0], o[0], o[1], o[2], o[3], c->w);
+}
+
+/* I_c = w·RI_c + (1 − w)·R_c, w = G⁺²/(G⁺² + d²), on row y (o holds RI; the reference is
+ * ref_ratio_ri); every pixel's own channel keeps its sample. */
+static void ratio_ri_blend(ic_band *b, int y, float *const o[4])
+{
+	long w = b->raw.w;
+	const float *g = rc_get(&b->guide2, y)[0];
+	float *const *r = rc_get(&b->rout, y);
+	const float d2 = b->dark * b->dark;
+	float *wt = b->tmp;
+	for (long x = 0; x < w; x++) {
+		float gp = g[x] > 0 ? g[x] : 0;
+		wt[x] = gp * gp / (gp * gp + d2);
+	}
+	for (unsigned c = 0; c < 4; c++) {
+		float *restrict oc = o[c];
+		const float *restrict rc = r[c];
+		for (long x = 0; x < w; x++)
+			oc[x] = wt[x] * oc[x] + (1 - wt[x]) * rc[x];
+	}
+	const float *raw = rc_get(&b->raw, y)[0];
+	float *o0 = o[pc_dm_ch(b->m, 0, (unsigned)y)], *o1 = o[pc_dm_ch(b->m, 1, (unsigned)y)];
+	for (long x = 0; x < w; x += 2)
+		o0[x] = raw[x];
+	for (long x = 1; x < w; x += 2)
+		o1[x] = raw[x];
+}
+
 /* ---- drivers ---- */
 typedef struct ic_job {
 	const pc_dm_input *in;
@@ -453,7 +495,7 @@ typedef struct ic_job {
 static void free_band(ic_band *b)
 {
 	rcache *all[] = {&b->raw,  &b->p0,    &b->ppi,  &b->guide, &b->out1, &b->guide2, &b->s1.ab,
-	                 &b->s1.t, &b->s2.ab, &b->s2.t, &b->rq1,   &b->rg2,  &b->rq2};
+	                 &b->s1.t, &b->s2.ab, &b->s2.t, &b->rq1,   &b->rg2,  &b->rq2,   &b->rout};
 	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
 		rc_free(all[i]);
 	gf_stage *st[2] = {&b->s1, &b->s2};
@@ -472,13 +514,15 @@ static int setup_band(ic_band *b, const ic_job *j)
 	b->k = kernels(j->level);
 	long w = j->in->width;
 	int h = (int)j->in->height;
-	int fail = rc_init(&b->raw, 12, 1, 3, w, h, fill_raw, b);
+	/* ratio-ri reads raw rows y−2 (the limiter) to y+9 (the ratio rows under its guide) */
+	int fail = rc_init(&b->raw, j->method == PC_DM_RATIO_RI ? 16 : 12, 1, 3, w, h, fill_raw, b);
 	b->tmp = pc_dm_alloc(sizeof(float) * 4 * ((size_t)w + 64));
 	fail |= !b->tmp;
 	switch (j->method) {
 	case PC_DM_BICUBIC:
 		break;
 	case PC_DM_RATIO:
+	case PC_DM_RATIO_RI:
 		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
 		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
@@ -487,6 +531,29 @@ static int setup_band(ic_band *b, const ic_job *j)
 		fail |= rc_init(&b->rq1, 6, 1, 1, w, h, fill_rq1, b);
 		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);
 		fail |= rc_init(&b->rq2, 4, 1, 1, w, h, fill_rq2, b);
+		if (j->method == PC_DM_RATIO)
+			break;
+		{
+			/* then one guided-filter stage (as EARI's) on the ratio's mean: T rows y±1 read
+			 * coefficients y±3, which read the guide y±5 */
+			const int kk = 2 * PC_GF_R + 4;
+			gf_stage *st = &b->s1;
+			b->rad = PC_GF_R;
+			b->eps2 = (PC_RATIO_RI_EPS * j->fs) * (PC_RATIO_RI_EPS * j->fs);
+			b->dark = (float)(PC_RATIO_RI_DARK * j->fs);
+			b->passes = 1;
+			fail |= rc_init(&b->rout, kk + 6, 4, 0, w, h, fill_rout, b);
+			fail |= rc_init(&b->guide2, kk + 4, 1, 3, w, h, fill_rguide, b);
+			st->guide = &b->guide2;
+			st->vs_stride = w + 2 * PC_GF_R + 8;
+			st->vs = pc_dm_alloc(sizeof(double) * 8 * (size_t)st->vs_stride);
+			st->sab_pitch = (size_t)w + 2 * PC_GF_R + 16;
+			st->sab = pc_dm_alloc(sizeof(float) * 8 * st->sab_pitch);
+			st->vs_k = st->sab_y = INT_MIN;
+			fail |= !st->vs || !st->sab;
+			fail |= rc_init(&st->ab, kk, 8, PC_GF_R, w, h, fill_ab1, b);
+			fail |= rc_init(&st->t, 5, 5, 1, w, h, fill_t1, b);
+		}
 		break;
 	case PC_DM_PPID:
 	case PC_DM_RI:
@@ -604,6 +671,10 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			break;
 		case PC_DM_RATIO:
 			ratio_output(&b, yy, o);
+			break;
+		case PC_DM_RATIO_RI:
+			ri_output(&b, &b.s1.t, yy, o);
+			ratio_ri_blend(&b, yy, o);
 			break;
 		default:
 			break;

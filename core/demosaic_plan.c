@@ -41,6 +41,10 @@
 #define IGRI_HI   40
 #define NEWTON_LO -10
 #define NEWTON_HI 10
+/* ratio-ri ±9: the ratio's ±4 under its mean, the guide, read over ±2 for the coefficients and
+ * their means over another ±2, then the residual's tent ±1 (the limiter's ±2 lies inside). */
+#define RATIO_RI_LO -9
+#define RATIO_RI_HI 9
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
@@ -253,6 +257,21 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                       NULL,
                       false,
                       PC_DM_NEWTON},
+    [PC_DM_RATIO_RI] =
+        {{PC_DM_RATIO_RI, "ratio-ri",
+          "inter-channel: the ratio method, then one guided-filter residual "
+          "interpolation (5x5) with its mean as guide, blended back into the ratio "
+          "estimate where the guide is dark (below ~1 % FS), overshoot limited; mean "
+          "(worst): MEASURE",
+          "ratio plus one guided-filter stage; about MEASURE bilinear's time",
+          "ours: ratio (above) with the residual interpolation of Kiku et al. ICIP "
+          "2013 (guided filter: He, Sun, Tang, TPAMI 2013)",
+          PC_DMF_MONO},
+         {RATIO_RI_LO, RATIO_RI_HI, 1, 1},
+         pc_dm_ic,
+         pc_dm_ic_rows,
+         false,
+         PC_DM_RATIO_RI},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
