@@ -61,6 +61,8 @@ typedef struct pc_ic_kernels {
 	void (*ratio_out)(float *restrict const[4], const float *restrict, const float *restrict,
 	                  const float *restrict, const float *restrict, const float *restrict,
 	                  const float *restrict, const float *restrict, float, float, long);
+	void (*ratio_ri_blend)(float *restrict const[4], const float *const[4],
+	                       const float *restrict, const float *restrict, float, long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -457,27 +459,18 @@ static void fill_rguide(rcache *c, int y, float *const *rows)
  * ref_ratio_ri); every pixel's own channel keeps its sample. */
 static void ratio_ri_blend(ic_band *b, int y, float *const o[4])
 {
-	long w = b->raw.w;
+	unsigned slot[4] = {pc_dm_ch(b->m, 0, (unsigned)y), pc_dm_ch(b->m, 1, (unsigned)y),
+	                    pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1)};
 	const float *g = rc_get(&b->guide2, y)[0];
 	float *const *r = rc_get(&b->rout, y);
-	const float d2 = b->dark * b->dark;
-	float *wt = b->tmp;
-	for (long x = 0; x < w; x++) {
-		float gp = g[x] > 0 ? g[x] : 0;
-		wt[x] = gp * gp / (gp * gp + d2);
-	}
-	for (unsigned c = 0; c < 4; c++) {
-		float *restrict oc = o[c];
-		const float *restrict rc = r[c];
-		for (long x = 0; x < w; x++)
-			oc[x] = wt[x] * oc[x] + (1 - wt[x]) * rc[x];
-	}
 	const float *raw = rc_get(&b->raw, y)[0];
-	float *o0 = o[pc_dm_ch(b->m, 0, (unsigned)y)], *o1 = o[pc_dm_ch(b->m, 1, (unsigned)y)];
-	for (long x = 0; x < w; x += 2)
-		o0[x] = raw[x];
-	for (long x = 1; x < w; x += 2)
-		o1[x] = raw[x];
+	float *os[4];
+	const float *rs[4];
+	for (int k = 0; k < 4; k++) {
+		os[k] = o[slot[k]];
+		rs[k] = r[slot[k]];
+	}
+	b->k->ratio_ri_blend(os, rs, raw, g, b->dark * b->dark, b->raw.w);
 }
 
 /* ---- drivers ---- */
