@@ -1,5 +1,5 @@
-/* Fast float paths of bicubic, PPID, RI, EARI, ratio and ratio-ri (demosaic_ic.h; the references are in
- * demosaic_ref.c).
+/* Fast float paths of bicubic, PPID, RI, EARI, ratio, ratio-nr and ratio-ri (demosaic_ic.h; the
+ * references are in demosaic_ref.c).
  *
  * Every intermediate image of a method (coarse and refined PPI, guide, guided-filter
  * coefficients, tentative estimates, residuals, the first EARI pass) is produced row by row
@@ -63,6 +63,14 @@ typedef struct pc_ic_kernels {
 	                  const float *restrict, const float *restrict, float, float, long);
 	void (*ratio_ri_blend)(float *restrict const[4], const float *const[4],
 	                       const float *restrict, const float *restrict, float, long);
+	void (*ratio_mean_nr)(float *restrict, const float *restrict, const float *restrict,
+	                      const float *restrict, const float *restrict, const float *restrict,
+	                      const float *restrict, const float *restrict, float, float, float,
+	                      long);
+	void (*ratio_out_nr)(float *restrict const[4], const float *restrict, const float *restrict,
+	                     const float *restrict, const float *restrict, const float *restrict,
+	                     const float *restrict, const float *restrict, float, float, float,
+	                     long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -227,6 +235,7 @@ typedef struct ic_band {
 	float delta, eps_ratio;
 	rcache rout; /* ratio-ri: the ratio method's four channels (its guide: guide2) */
 	float dark;  /* ratio-ri: the blend's dark level */
+	float shot;  /* ratio-nr: the guide's shot-noise coefficient k (0: ratio) */
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
 	                  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
@@ -416,7 +425,11 @@ static void fill_rg2(rcache *c, int y, float *const *rows)
 	const float *ga = rc_get(&b->guide, y - 1)[0], *g = rc_get(&b->guide, y)[0],
 	            *gc = rc_get(&b->guide, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
-	b->k->ratio_mean(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, c->w);
+	if (b->shot > 0)
+		b->k->ratio_mean_nr(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio,
+		                    b->shot, c->w);
+	else
+		b->k->ratio_mean(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, c->w);
 }
 
 static void fill_rq2(rcache *c, int y, float *const *rows)
@@ -439,7 +452,11 @@ static void ratio_output(ic_band *b, int y, float *const o[4])
 	float *os[4];
 	for (int k = 0; k < 4; k++)
 		os[k] = o[slot[k]];
-	b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->raw.w);
+	if (b->shot > 0)
+		b->k->ratio_out_nr(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->shot,
+		                   b->raw.w);
+	else
+		b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->raw.w);
 }
 
 /* ---- ratio-ri: ratio, then one residual-interpolation pass guided by its mean ---- */
@@ -515,8 +532,11 @@ static int setup_band(ic_band *b, const ic_job *j)
 	case PC_DM_BICUBIC:
 		break;
 	case PC_DM_RATIO:
+	case PC_DM_RATIO_NR:
 	case PC_DM_RATIO_RI:
 		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
+		if (j->method == PC_DM_RATIO_NR)
+			b->shot = (float)(PC_RATIO_NR_SHOT * j->fs);
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
 		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
 		b->eps_ratio = (float)(PC_RATIO_GUIDE_EPS * j->fs);
@@ -524,7 +544,7 @@ static int setup_band(ic_band *b, const ic_job *j)
 		fail |= rc_init(&b->rq1, 6, 1, 1, w, h, fill_rq1, b);
 		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);
 		fail |= rc_init(&b->rq2, 4, 1, 1, w, h, fill_rq2, b);
-		if (j->method == PC_DM_RATIO)
+		if (j->method != PC_DM_RATIO_RI)
 			break;
 		{
 			/* then one guided-filter stage (as EARI's) on the ratio's mean: T rows y±1 read
@@ -663,6 +683,7 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			ri_output(&b, b.passes > 1 ? &b.s2.t : &b.s1.t, yy, o);
 			break;
 		case PC_DM_RATIO:
+		case PC_DM_RATIO_NR:
 			ratio_output(&b, yy, o);
 			break;
 		case PC_DM_RATIO_RI:

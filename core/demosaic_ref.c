@@ -397,10 +397,31 @@ static double guided_tent(const pc_dimg *v, const pc_dimg *g, const pc_mosaic *m
 	return s / ws;
 }
 
+/* ratio-nr's guide level at (x, y) (ours; docs/demosaicking.md): the guide g shrunk towards
+ * its 3×3 mean μ where its 3×3 variance v is of the order of shot noise, as a guided filter
+ * shrinks its slope (He, Sun, Tang, TPAMI 2013, eq. 7, with a signal-dependent regulariser):
+ * g' = μ + λ·(g − μ), λ = v / (v + k·μ⁺), k = shot·FS (the variance of Poisson noise is
+ * proportional to the signal). Written with the differences d_i = g_i − g(x, y):
+ * g' = g + (1 − λ)·mean(d), v = mean(d²) − mean(d)²; λ = 1 where v + k·μ⁺ = 0. */
+static double shrunk_guide(const pc_dimg *g, int x, int y, double k)
+{
+	double g0 = pc_dimg_at(g, x, y), sd = 0, sdd = 0;
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++) {
+			double d = pc_dimg_at(g, x + dx, y + dy) - g0;
+			sd += d;
+			sdd += d * d;
+		}
+	double md = sd / 9, v = fmax(sdd / 9 - md * md, 0), kmu = k * fmax(g0 + md, 0);
+	double t = v + kmu;
+	return t > 0 ? g0 + kmu / t * md : g0;
+}
+
 /* The ratio method's two passes into out; *gfin (allocated here, freed by the caller) gets the
- * mean of the last pass's four channels, the guide a further pass would use. */
-static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_fplane *out,
-                        pc_dimg *gfin)
+ * mean of the last pass's four channels, the guide a further pass would use. shot > 0: ratio-nr
+ * (the multiplier of each pass is the shrunk guide, shrunk_guide). */
+static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, double shot,
+                        const pc_fplane *out, pc_dimg *gfin)
 {
 	pc_dimg g = {0}, q = {0}, gn = {0};
 	int rc = rimg_new(&g, r->w, r->h);
@@ -422,7 +443,9 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 				                (fmax(pc_dimg_at(&g, x, y), 0) + delta);
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++) {
-				double den = fmax(pc_dimg_at(&g, x, y), 0) + delta, sum = 0;
+				double gx = shot > 0 ? shrunk_guide(&g, x, y, shot * fs)
+				                     : pc_dimg_at(&g, x, y);
+				double den = fmax(gx, 0) + delta, sum = 0;
 				for (unsigned c = 0; c < 4; c++) {
 					double v =
 					    c == chan(m, x, y)
@@ -443,10 +466,11 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 	return 0;
 }
 
-static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
+static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, double shot,
+                     const pc_fplane *out)
 {
 	pc_dimg g = {0};
-	int rc = ratio_passes(r, m, fs, out, &g);
+	int rc = ratio_passes(r, m, fs, shot, out, &g);
 	rimg_free(&g);
 	return rc;
 }
@@ -470,7 +494,7 @@ static int ref_ratio_ri(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 	pc_fplane rp[4];
 	for (int c = 0; c < 4; c++)
 		rp[c] = (pc_fplane){rat + (size_t)c * w * h, (size_t)w, 1};
-	int rc = ratio_passes(r, m, fs, rp, &g);
+	int rc = ratio_passes(r, m, fs, 0, rp, &g);
 	if (!rc)
 		rc = rimg_new(&a, w, h);
 	if (!rc)
@@ -527,7 +551,9 @@ static int ref_method(const double *img, uint32_t width, uint32_t height, const 
 	case PC_DM_EARI:
 		return ref_ri(&r, m, full_scale, 1, out);
 	case PC_DM_RATIO:
-		return ref_ratio(&r, m, full_scale, out);
+		return ref_ratio(&r, m, full_scale, 0, out);
+	case PC_DM_RATIO_NR:
+		return ref_ratio(&r, m, full_scale, PC_RATIO_NR_SHOT, out);
 	case PC_DM_RATIO_RI:
 		return ref_ratio_ri(&r, m, full_scale, out);
 	case PC_DM_EARI_MLRI:
