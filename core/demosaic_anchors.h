@@ -33,7 +33,7 @@
  * +3.48 / +3.48; 0.005 with d = 0.01: +4.51/+1.82, +3.58/+1.98, +4.25/+4.06 (gloss +0.26).
  * Radius 1 lost on all three (+2.76, +2.85, +2.77 S0), radius 3 lost on Lapray (+3.38) and
  * a second filter pass gained nothing (+3.51 Lapray at 0.003, Zhang -0.1). */
-#define PC_RATIO_RI_EPS  0.005
+#define PC_RATIO_RI_EPS 0.005
 /* ratio-nr (demosaic_ref.c, shrunk_guide): the shot-noise coefficient k/FS of the guide's
  * variance model k·G. 5e-5 of full scale is the Poisson variance of a sensor with a full well of
  * 20 000 e⁻ (the IMX250MZR's is ~10 500 e⁻ at unity gain: 1e-4). Sweep, double references (mean

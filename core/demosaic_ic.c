@@ -233,9 +233,9 @@ typedef struct ic_band {
 	rcache raw, p0, ppi, guide, out1, guide2;
 	rcache rq1, rg2, rq2; /* ratio method: first ratio, second guide, second ratio */
 	float delta, eps_ratio;
-	rcache rout; /* ratio-ri: the ratio method's four channels (its guide: guide2) */
-	float dark;  /* ratio-ri: the blend's dark level */
-	float shot;  /* ratio-nr: the guide's shot-noise coefficient k (0: ratio) */
+	rcache rout;     /* ratio-ri: the ratio method's four channels (its guide: guide2) */
+	float dark;      /* ratio-ri: the blend's dark level */
+	float shot;      /* ratio-nr: the guide's shot-noise coefficient k (0: ratio) */
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
 	                  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
@@ -505,7 +505,7 @@ typedef struct ic_job {
 static void free_band(ic_band *b)
 {
 	rcache *all[] = {&b->raw,  &b->p0,    &b->ppi,  &b->guide, &b->out1, &b->guide2, &b->s1.ab,
-	                 &b->s1.t, &b->s2.ab, &b->s2.t, &b->rq1,   &b->rg2,  &b->rq2,   &b->rout};
+	                 &b->s1.t, &b->s2.ab, &b->s2.t, &b->rq1,   &b->rg2,  &b->rq2,    &b->rout};
 	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
 		rc_free(all[i]);
 	gf_stage *st[2] = {&b->s1, &b->s2};
@@ -547,8 +547,8 @@ static int setup_band(ic_band *b, const ic_job *j)
 		if (j->method != PC_DM_RATIO_RI)
 			break;
 		{
-			/* then one guided-filter stage (as EARI's) on the ratio's mean: T rows y±1 read
-			 * coefficients y±3, which read the guide y±5 */
+			/* then one guided-filter stage (as EARI's) on the ratio's mean: T rows y±1
+			 * read coefficients y±3, which read the guide y±5 */
 			const int kk = 2 * PC_GF_R + 4;
 			gf_stage *st = &b->s1;
 			b->rad = PC_GF_R;

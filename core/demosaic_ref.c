@@ -510,9 +510,10 @@ static int ref_ratio_ri(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 			for (unsigned c = 0; c < 4; c++) {
 				float *o = &out[c].data[(size_t)y * out[c].row_stride +
 				                        (size_t)x * out[c].pixel_stride];
-				*o = c == chan(m, x, y) ? (float)pc_dimg_at(r, x, y)
-				                        : (float)(wt * *o + (1 - wt) *
-				                                                 rp[c].data[(size_t)y * w + x]);
+				*o = c == chan(m, x, y)
+				         ? (float)pc_dimg_at(r, x, y)
+				         : (float)(wt * *o +
+				                   (1 - wt) * rp[c].data[(size_t)y * w + x]);
 			}
 		}
 	free(rat);

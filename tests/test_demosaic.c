@@ -695,8 +695,8 @@ static void test_streaming_outputs(void)
 	size_t n = (size_t)W * H;
 	float *a = aligned_alloc(64, sizeof(float) * 4 * n),
 	      *b = malloc(sizeof(float) * (4 * n + 1));
-	const pc_demosaic_method meths[] = {PC_DM_BILINEAR, PC_DM_BICUBIC, PC_DM_PPID, PC_DM_RATIO,
-	                                    PC_DM_RATIO_NR, PC_DM_RATIO_RI};
+	const pc_demosaic_method meths[] = {PC_DM_BILINEAR, PC_DM_BICUBIC,  PC_DM_PPID,
+	                                    PC_DM_RATIO,    PC_DM_RATIO_NR, PC_DM_RATIO_RI};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
 		pc_fplane pa[4], pb[4];
 		pc_fplanes_separate(a, W, H, 4, pa);
