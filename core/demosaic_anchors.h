@@ -22,6 +22,30 @@
  * +3.28 / +4.51 (docs/demosaicking.md). */
 #define PC_RATIO_GUIDE_EPS 0.01
 
+/* ratio-ri (demosaic_ref.c, ref_ratio_ri): the guided filter's regulariser (PC_RATIO_RI_EPS·FS)²
+ * on the ratio method's mean as guide, and the dark level d = PC_RATIO_RI_DARK·FS of the blend
+ * weight G²/(G² + d²) between the filter's and the ratio method's estimates. Sweep, double
+ * references (mean S0 / DoLP gain over bilinear on stress / Lapray / Zhang, dB; the worst
+ * scene's DoLP): regulariser 0.001: +4.33/+1.48, +3.28/+1.88, +4.86/+4.35 (gloss -0.36);
+ * 0.003: +4.46/+1.43, +3.48/+1.97, +4.55/+4.21 (gloss -0.36); 0.01: +4.37/+1.34,
+ * +3.60/+1.92, +3.74/+3.72 (gloss -0.34), all without the blend; with d = 0.003 / 0.01 /
+ * 0.03 at 0.003 the worst DoLP (gloss) is +0.21 / +0.26 / +0.35 and Lapray's S0 +3.48 /
+ * +3.48 / +3.48; 0.005 with d = 0.01: +4.51/+1.82, +3.58/+1.98, +4.25/+4.06 (gloss +0.26).
+ * Radius 1 lost on all three (+2.76, +2.85, +2.77 S0), radius 3 lost on Lapray (+3.38) and
+ * a second filter pass gained nothing (+3.51 Lapray at 0.003, Zhang -0.1). */
+#define PC_RATIO_RI_EPS 0.005
+/* ratio-nr (demosaic_ref.c, shrunk_guide): the shot-noise coefficient k/FS of the guide's
+ * variance model k·G. 5e-5 of full scale is the Poisson variance of a sensor with a full well of
+ * 20 000 e⁻ (the IMX250MZR's is ~10 500 e⁻ at unity gain: 1e-4). Sweep, double references (mean
+ * S0 / DoLP gain over bilinear on stress / Lapray / Zhang, dB; ratio: +3.92/+1.69,
+ * +3.29/+1.80, +4.58/+4.21): final pass only, 1e-4: +4.10/+1.63, +3.51/+1.92, +3.68/+4.08;
+ * 5e-5: +4.08/+1.65, +3.52/+1.91, +3.91/+4.12; both passes, 1e-4: +4.15/+1.55, +3.52/+1.96,
+ * +3.43/+3.91; 5e-5: +4.13/+1.58, +3.56/+1.95, +3.66/+3.98 (chosen: the better Lapray mean and
+ * worst scene); a constant regulariser (v/(v + (0.003·FS)²), final pass) +4.07/+1.48,
+ * +3.48/+1.92, +4.16/+4.15 with gloss DoLP +0.06. */
+#define PC_RATIO_NR_SHOT 5e-5
+#define PC_RATIO_RI_DARK 0.01
+
 /* ---- the overshoot limiter (demosaic_robust.c) ----
  * Every interpolated sample of channel c clamped to the range of channel c's raw samples in
  * the 5×5 window around it; own samples untouched. pc_dm_limited: the methods it belongs to.

@@ -1,5 +1,5 @@
-/* Fast float paths of bicubic, PPID, RI, EARI and ratio (demosaic_ic.h; the references are in
- * demosaic_ref.c).
+/* Fast float paths of bicubic, PPID, RI, EARI, ratio, ratio-nr and ratio-ri (demosaic_ic.h; the
+ * references are in demosaic_ref.c).
  *
  * Every intermediate image of a method (coarse and refined PPI, guide, guided-filter
  * coefficients, tentative estimates, residuals, the first EARI pass) is produced row by row
@@ -61,6 +61,16 @@ typedef struct pc_ic_kernels {
 	void (*ratio_out)(float *restrict const[4], const float *restrict, const float *restrict,
 	                  const float *restrict, const float *restrict, const float *restrict,
 	                  const float *restrict, const float *restrict, float, float, long);
+	void (*ratio_ri_blend)(float *restrict const[4], const float *const[4],
+	                       const float *restrict, const float *restrict, float, long);
+	void (*ratio_mean_nr)(float *restrict, const float *restrict, const float *restrict,
+	                      const float *restrict, const float *restrict, const float *restrict,
+	                      const float *restrict, const float *restrict, float, float, float,
+	                      long);
+	void (*ratio_out_nr)(float *restrict const[4], const float *restrict, const float *restrict,
+	                     const float *restrict, const float *restrict, const float *restrict,
+	                     const float *restrict, const float *restrict, float, float, float,
+	                     long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -223,6 +233,9 @@ typedef struct ic_band {
 	rcache raw, p0, ppi, guide, out1, guide2;
 	rcache rq1, rg2, rq2; /* ratio method: first ratio, second guide, second ratio */
 	float delta, eps_ratio;
+	rcache rout;     /* ratio-ri: the ratio method's four channels (its guide: guide2) */
+	float dark;      /* ratio-ri: the blend's dark level */
+	float shot;      /* ratio-nr: the guide's shot-noise coefficient k (0: ratio) */
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
 	                  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
@@ -412,7 +425,11 @@ static void fill_rg2(rcache *c, int y, float *const *rows)
 	const float *ga = rc_get(&b->guide, y - 1)[0], *g = rc_get(&b->guide, y)[0],
 	            *gc = rc_get(&b->guide, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
-	b->k->ratio_mean(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, c->w);
+	if (b->shot > 0)
+		b->k->ratio_mean_nr(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio,
+		                    b->shot, c->w);
+	else
+		b->k->ratio_mean(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, c->w);
 }
 
 static void fill_rq2(rcache *c, int y, float *const *rows)
@@ -435,7 +452,42 @@ static void ratio_output(ic_band *b, int y, float *const o[4])
 	float *os[4];
 	for (int k = 0; k < 4; k++)
 		os[k] = o[slot[k]];
-	b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->raw.w);
+	if (b->shot > 0)
+		b->k->ratio_out_nr(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->shot,
+		                   b->raw.w);
+	else
+		b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->raw.w);
+}
+
+/* ---- ratio-ri: ratio, then one residual-interpolation pass guided by its mean ---- */
+static void fill_rout(rcache *c, int y, float *const *rows)
+{
+	ratio_output(c->ctx, y, rows);
+}
+
+static void fill_rguide(rcache *c, int y, float *const *rows)
+{
+	ic_band *b = c->ctx;
+	float *const *o = rc_get(&b->rout, y);
+	b->k->mean4(rows[0], o[0], o[1], o[2], o[3], c->w);
+}
+
+/* I_c = w·RI_c + (1 − w)·R_c, w = G⁺²/(G⁺² + d²), on row y (o holds RI; the reference is
+ * ref_ratio_ri); every pixel's own channel keeps its sample. */
+static void ratio_ri_blend(ic_band *b, int y, float *const o[4])
+{
+	unsigned slot[4] = {pc_dm_ch(b->m, 0, (unsigned)y), pc_dm_ch(b->m, 1, (unsigned)y),
+	                    pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1)};
+	const float *g = rc_get(&b->guide2, y)[0];
+	float *const *r = rc_get(&b->rout, y);
+	const float *raw = rc_get(&b->raw, y)[0];
+	float *os[4];
+	const float *rs[4];
+	for (int k = 0; k < 4; k++) {
+		os[k] = o[slot[k]];
+		rs[k] = r[slot[k]];
+	}
+	b->k->ratio_ri_blend(os, rs, raw, g, b->dark * b->dark, b->raw.w);
 }
 
 /* ---- drivers ---- */
@@ -453,7 +505,7 @@ typedef struct ic_job {
 static void free_band(ic_band *b)
 {
 	rcache *all[] = {&b->raw,  &b->p0,    &b->ppi,  &b->guide, &b->out1, &b->guide2, &b->s1.ab,
-	                 &b->s1.t, &b->s2.ab, &b->s2.t, &b->rq1,   &b->rg2,  &b->rq2};
+	                 &b->s1.t, &b->s2.ab, &b->s2.t, &b->rq1,   &b->rg2,  &b->rq2,    &b->rout};
 	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
 		rc_free(all[i]);
 	gf_stage *st[2] = {&b->s1, &b->s2};
@@ -472,14 +524,19 @@ static int setup_band(ic_band *b, const ic_job *j)
 	b->k = kernels(j->level);
 	long w = j->in->width;
 	int h = (int)j->in->height;
-	int fail = rc_init(&b->raw, 12, 1, 3, w, h, fill_raw, b);
+	/* ratio-ri reads raw rows y−2 (the limiter) to y+9 (the ratio rows under its guide) */
+	int fail = rc_init(&b->raw, j->method == PC_DM_RATIO_RI ? 16 : 12, 1, 3, w, h, fill_raw, b);
 	b->tmp = pc_dm_alloc(sizeof(float) * 4 * ((size_t)w + 64));
 	fail |= !b->tmp;
 	switch (j->method) {
 	case PC_DM_BICUBIC:
 		break;
 	case PC_DM_RATIO:
+	case PC_DM_RATIO_NR:
+	case PC_DM_RATIO_RI:
 		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
+		if (j->method == PC_DM_RATIO_NR)
+			b->shot = (float)(PC_RATIO_NR_SHOT * j->fs);
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
 		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
 		b->eps_ratio = (float)(PC_RATIO_GUIDE_EPS * j->fs);
@@ -487,6 +544,29 @@ static int setup_band(ic_band *b, const ic_job *j)
 		fail |= rc_init(&b->rq1, 6, 1, 1, w, h, fill_rq1, b);
 		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);
 		fail |= rc_init(&b->rq2, 4, 1, 1, w, h, fill_rq2, b);
+		if (j->method != PC_DM_RATIO_RI)
+			break;
+		{
+			/* then one guided-filter stage (as EARI's) on the ratio's mean: T rows y±1
+			 * read coefficients y±3, which read the guide y±5 */
+			const int kk = 2 * PC_GF_R + 4;
+			gf_stage *st = &b->s1;
+			b->rad = PC_GF_R;
+			b->eps2 = (PC_RATIO_RI_EPS * j->fs) * (PC_RATIO_RI_EPS * j->fs);
+			b->dark = (float)(PC_RATIO_RI_DARK * j->fs);
+			b->passes = 1;
+			fail |= rc_init(&b->rout, kk + 6, 4, 0, w, h, fill_rout, b);
+			fail |= rc_init(&b->guide2, kk + 4, 1, 3, w, h, fill_rguide, b);
+			st->guide = &b->guide2;
+			st->vs_stride = w + 2 * PC_GF_R + 8;
+			st->vs = pc_dm_alloc(sizeof(double) * 8 * (size_t)st->vs_stride);
+			st->sab_pitch = (size_t)w + 2 * PC_GF_R + 16;
+			st->sab = pc_dm_alloc(sizeof(float) * 8 * st->sab_pitch);
+			st->vs_k = st->sab_y = INT_MIN;
+			fail |= !st->vs || !st->sab;
+			fail |= rc_init(&st->ab, kk, 8, PC_GF_R, w, h, fill_ab1, b);
+			fail |= rc_init(&st->t, 5, 5, 1, w, h, fill_t1, b);
+		}
 		break;
 	case PC_DM_PPID:
 	case PC_DM_RI:
@@ -603,7 +683,12 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			ri_output(&b, b.passes > 1 ? &b.s2.t : &b.s1.t, yy, o);
 			break;
 		case PC_DM_RATIO:
+		case PC_DM_RATIO_NR:
 			ratio_output(&b, yy, o);
+			break;
+		case PC_DM_RATIO_RI:
+			ri_output(&b, &b.s1.t, yy, o);
+			ratio_ri_blend(&b, yy, o);
 			break;
 		default:
 			break;

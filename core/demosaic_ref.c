@@ -397,7 +397,31 @@ static double guided_tent(const pc_dimg *v, const pc_dimg *g, const pc_mosaic *m
 	return s / ws;
 }
 
-static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
+/* ratio-nr's guide level at (x, y) (ours; docs/demosaicking.md): the guide g shrunk towards
+ * its 3×3 mean μ where its 3×3 variance v is of the order of shot noise, as a guided filter
+ * shrinks its slope (He, Sun, Tang, TPAMI 2013, eq. 7, with a signal-dependent regulariser):
+ * g' = μ + λ·(g − μ), λ = v / (v + k·μ⁺), k = shot·FS (the variance of Poisson noise is
+ * proportional to the signal). Written with the differences d_i = g_i − g(x, y):
+ * g' = g + (1 − λ)·mean(d), v = mean(d²) − mean(d)²; λ = 1 where v + k·μ⁺ = 0. */
+static double shrunk_guide(const pc_dimg *g, int x, int y, double k)
+{
+	double g0 = pc_dimg_at(g, x, y), sd = 0, sdd = 0;
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++) {
+			double d = pc_dimg_at(g, x + dx, y + dy) - g0;
+			sd += d;
+			sdd += d * d;
+		}
+	double md = sd / 9, v = fmax(sdd / 9 - md * md, 0), kmu = k * fmax(g0 + md, 0);
+	double t = v + kmu;
+	return t > 0 ? g0 + kmu / t * md : g0;
+}
+
+/* The ratio method's two passes into out; *gfin (allocated here, freed by the caller) gets the
+ * mean of the last pass's four channels, the guide a further pass would use. shot > 0: ratio-nr
+ * (the multiplier of each pass is the shrunk guide, shrunk_guide). */
+static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, double shot,
+                        const pc_fplane *out, pc_dimg *gfin)
 {
 	pc_dimg g = {0}, q = {0}, gn = {0};
 	int rc = rimg_new(&g, r->w, r->h);
@@ -419,7 +443,9 @@ static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_f
 				                (fmax(pc_dimg_at(&g, x, y), 0) + delta);
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++) {
-				double den = fmax(pc_dimg_at(&g, x, y), 0) + delta, sum = 0;
+				double gx = shot > 0 ? shrunk_guide(&g, x, y, shot * fs)
+				                     : pc_dimg_at(&g, x, y);
+				double den = fmax(gx, 0) + delta, sum = 0;
 				for (unsigned c = 0; c < 4; c++) {
 					double v =
 					    c == chan(m, x, y)
@@ -434,10 +460,68 @@ static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_f
 		g = gn;
 		gn = t;
 	}
-	rimg_free(&g);
 	rimg_free(&q);
 	rimg_free(&gn);
+	*gfin = g;
 	return 0;
+}
+
+static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, double shot,
+                     const pc_fplane *out)
+{
+	pc_dimg g = {0};
+	int rc = ratio_passes(r, m, fs, shot, out, &g);
+	rimg_free(&g);
+	return rc;
+}
+
+/* ratio-ri (ours; docs/demosaicking.md): the ratio method R_c, then one residual-interpolation
+ * pass (Kiku et al., ICIP 2013: the guided filter of He, Sun, Tang, TPAMI 2013, over each
+ * channel's samples, ref_ri_channel) guided by G = the mean of R's four channels, radius 2,
+ * regulariser (PC_RATIO_RI_EPS·FS)²: the local linear model I_c ≈ a·G + b holds the ratio
+ * model (b = 0) and the difference model (a = 1) as special cases. Where the guide is dark
+ * the fit rings across the edges of bright objects (false DoLP of small numbers), so the two
+ * are blended by the guide's level against the noise floor d = PC_RATIO_RI_DARK·FS:
+ * I_c = w·RI_c + (1 − w)·R_c, w = G⁺²/(G⁺² + d²), G⁺ = max(G, 0). Own samples stay (both
+ * keep them). */
+static int ref_ratio_ri(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_fplane *out)
+{
+	const int w = r->w, h = r->h;
+	pc_dimg g = {0}, a = {0}, b = {0}, t = {0};
+	float *rat = malloc(sizeof(float) * 4 * (size_t)w * (size_t)h);
+	if (!rat)
+		return pc_error(PC_ENOMEM, "reference: %dx%d image", w, h);
+	pc_fplane rp[4];
+	for (int c = 0; c < 4; c++)
+		rp[c] = (pc_fplane){rat + (size_t)c * w * h, (size_t)w, 1};
+	int rc = ratio_passes(r, m, fs, 0, rp, &g);
+	if (!rc)
+		rc = rimg_new(&a, w, h);
+	if (!rc)
+		rc = rimg_new(&b, w, h);
+	if (!rc)
+		rc = rimg_new(&t, w, h);
+	const double e = PC_RATIO_RI_EPS * fs, d = PC_RATIO_RI_DARK * fs;
+	for (unsigned c = 0; c < 4 && !rc; c++)
+		rc = ref_ri_channel(r, &g, m, c, 2, e * e, &a, &b, &t, out);
+	for (int y = 0; y < h && !rc; y++)
+		for (int x = 0; x < w; x++) {
+			double gp = fmax(*px(&g, x, y), 0), wt = gp * gp / (gp * gp + d * d);
+			for (unsigned c = 0; c < 4; c++) {
+				float *o = &out[c].data[(size_t)y * out[c].row_stride +
+				                        (size_t)x * out[c].pixel_stride];
+				*o = c == chan(m, x, y)
+				         ? (float)pc_dimg_at(r, x, y)
+				         : (float)(wt * *o +
+				                   (1 - wt) * rp[c].data[(size_t)y * w + x]);
+			}
+		}
+	free(rat);
+	rimg_free(&g);
+	rimg_free(&a);
+	rimg_free(&b);
+	rimg_free(&t);
+	return rc;
 }
 
 static int ref_method(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
@@ -468,7 +552,11 @@ static int ref_method(const double *img, uint32_t width, uint32_t height, const 
 	case PC_DM_EARI:
 		return ref_ri(&r, m, full_scale, 1, out);
 	case PC_DM_RATIO:
-		return ref_ratio(&r, m, full_scale, out);
+		return ref_ratio(&r, m, full_scale, 0, out);
+	case PC_DM_RATIO_NR:
+		return ref_ratio(&r, m, full_scale, PC_RATIO_NR_SHOT, out);
+	case PC_DM_RATIO_RI:
+		return ref_ratio_ri(&r, m, full_scale, out);
 	case PC_DM_EARI_MLRI:
 	case PC_DM_EARI_ROBUST:
 		return pc_dm_ref_mlri(img, width, height, m, method, full_scale, out);

@@ -124,7 +124,9 @@ static const pc_demosaic_method mono_methods[] = {PC_DM_SUPERPIXEL_HALF,
                                                   PC_DM_EARI_ROBUST,
                                                   PC_DM_PCDP,
                                                   PC_DM_IGRI2,
-                                                  PC_DM_NEWTON};
+                                                  PC_DM_NEWTON,
+                                                  PC_DM_RATIO_RI,
+                                                  PC_DM_RATIO_NR};
 #define N_MONO (sizeof mono_methods / sizeof mono_methods[0])
 
 /* Fast vs reference on a random texture, all four phases. */
@@ -316,7 +318,8 @@ static void test_polynomials(void)
 		for (uint32_t x = 0; x < W; x++)
 			PC_ROW(&raw, float, y)
 	[x] = (float)(k4[pc_mosaic_channel(&m, x, y)] * (500 + 10.0 * x + 7.0 * y));
-	const pc_demosaic_method ic[] = {PC_DM_PPID, PC_DM_RI, PC_DM_EARI, PC_DM_RATIO};
+	const pc_demosaic_method ic[] = {PC_DM_PPID,  PC_DM_RI,       PC_DM_EARI,
+	                                 PC_DM_RATIO, PC_DM_RATIO_RI, PC_DM_RATIO_NR};
 	for (size_t k = 0; k < sizeof ic / sizeof ic[0]; k++) {
 		pc_fplane o[4];
 		float *buf = alloc_planes(W, H, 4, o);
@@ -692,7 +695,8 @@ static void test_streaming_outputs(void)
 	size_t n = (size_t)W * H;
 	float *a = aligned_alloc(64, sizeof(float) * 4 * n),
 	      *b = malloc(sizeof(float) * (4 * n + 1));
-	const pc_demosaic_method meths[] = {PC_DM_BILINEAR, PC_DM_BICUBIC, PC_DM_PPID, PC_DM_RATIO};
+	const pc_demosaic_method meths[] = {PC_DM_BILINEAR, PC_DM_BICUBIC,  PC_DM_PPID,
+	                                    PC_DM_RATIO,    PC_DM_RATIO_NR, PC_DM_RATIO_RI};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
 		pc_fplane pa[4], pb[4];
 		pc_fplanes_separate(a, W, H, 4, pa);

@@ -77,6 +77,8 @@ static const support supports[] = {
     {PC_DM_IGRI2, -40, 40, 1, 1, 6},        /* a bound: three stages of about ±13 */
     {PC_DM_NEWTON, -10, 10, 1, 1, 4},       /* a bound: ±6 through the values, ±10 only
                                              * through the edge classifier's branch */
+    {PC_DM_RATIO_RI, -9, 9, 1, 1, 0},       /* ratio ±4, two ±2 windows of its mean, tent */
+    {PC_DM_RATIO_NR, -4, 4, 1, 1, 0},       /* ratio's; the 3×3 guide statistics inside */
 };
 #define N_SUP (sizeof supports / sizeof supports[0])
 
@@ -338,6 +340,8 @@ static void test_black_level(void)
 	                                    PC_DM_RI,
 	                                    PC_DM_EARI,
 	                                    PC_DM_RATIO,
+	                                    PC_DM_RATIO_NR,
+	                                    PC_DM_RATIO_RI,
 	                                    PC_DM_BAYER_FIRST,
 	                                    PC_DM_BAYER_EARI};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
@@ -538,6 +542,8 @@ static void test_calibrated_vs_reference(void)
 	    {PC_DM_RATIO, 1, 0},
 	    {PC_DM_RATIO, 2, 0},
 	    {PC_DM_RATIO, 1, 1},
+	    {PC_DM_RATIO_NR, 1, 0},
+	    {PC_DM_RATIO_RI, 2, 0},
 	    {PC_DM_EARI, 0, 0},
 	    {PC_DM_BICUBIC, 1, 0},
 	    {PC_DM_PPID, 2, 0},

@@ -92,9 +92,9 @@ static int list_methods(int json)
 		    " scenes through the IMX250MZR preset at three exposures\n"
 		    " (scenes/stress/gen_noisy.py, docs/demosaicking.md \"Noise\"): at the\n"
 		    " high and mid ones no method but superpixel and bicubic loses to bilinear;\n"
-		    " in low light (brightest tenth ~1 %% of full scale) ratio, eari-robust,\n"
-		    " ppid and the anchors lose S0 on text (-1.4 to -4.0 dB): they need\n"
-		    " denoising there; eari and ri hold.)\n");
+		    " in low light (brightest tenth ~1 %% of full scale) ratio, ratio-ri,\n"
+		    " eari-robust, ppid and the anchors lose S0 on text (-0.9 to -4.0 dB):\n"
+		    " they need denoising there; ratio-nr, eari and ri hold.)\n");
 	return CLI_EXIT_OK;
 }
 

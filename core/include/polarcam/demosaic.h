@@ -57,6 +57,8 @@ typedef enum pc_demosaic_method {
 	PC_DM_PCDP,        /* polarization channel difference prior (Wu et al. 2021; anchor) */
 	PC_DM_IGRI2,       /* iterative guided residual interpolation 2 (Morimatsu 2021; anchor) */
 	PC_DM_NEWTON,      /* Newton's polynomial, polarization differences (Li 2019; anchor) */
+	PC_DM_RATIO_RI,    /* ratio, then guided-filter residual interpolation (ours) */
+	PC_DM_RATIO_NR,    /* ratio with a shot-noise-aware guide level (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
