@@ -96,10 +96,58 @@ static size_t invalid_count(const pc_validity *valid, uint32_t width, uint32_t h
 	return n_bad;
 }
 
-int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
-                            uint32_t height, const pc_pictures_opts *opts, const pc_validity *valid)
+/* White columns between two panels of a live window (a key's label and the next image apart). */
+#define PANEL_GAP 12
+
+/* Where the pictures of a Stokes image go: files (write_one) or the panels of a live window.
+ * put() receives each picture with its file name, its title (long, for files, and short, for
+ * panels), colour bar and legend notes; kinds: bits PIC_* of the pictures wanted. */
+enum { PIC_S0 = 1, PIC_DOLP = 2, PIC_AOLP = 4, PIC_AOLP_SAT = 8 };
+typedef struct pic_sink {
+	int (*put)(struct pic_sink *k, int index, const char *name, const uint8_t *rgb,
+	           const char *title, const char *short_title, const pc_colorbar *bar,
+	           const pc_legend_note *note);
+	unsigned kinds;
+	/* files */
+	const char *dir;
+	const pc_pictures_opts *o;
+	uint32_t w, h;
+	/* panels */
+	uint8_t *out;
+	uint32_t out_w, out_h, image_w, x, y;
+} pic_sink;
+
+static int put_file(pic_sink *k, int index, const char *name, const uint8_t *rgb, const char *title,
+                    const char *short_title, const pc_colorbar *bar, const pc_legend_note *note)
 {
-	if (!dir || !st || !st->s0.data || !st->dolp.data || !st->aolp.data)
+	(void)index, (void)short_title;
+	return write_one(k->dir, name, k->o->suffix, rgb, k->w, k->h, title, bar, note,
+	                 k->o->max_width);
+}
+
+static int put_panel(pic_sink *k, int index, const char *name, const uint8_t *rgb,
+                     const char *title, const char *short_title, const pc_colorbar *bar,
+                     const pc_legend_note *note)
+{
+	(void)index, (void)name, (void)title;
+	uint32_t pw, ph;
+	pc_image_annotated_size(k->w, k->h, k->image_w, true, bar, &pw, &ph);
+	if (k->x >= k->out_w || k->x + pw > k->out_w || k->y + ph > k->out_h)
+		return pc_error(PC_EINVAL, "panels: %ux%u panel beyond the %ux%u picture", pw, ph,
+		                k->out_w, k->out_h);
+	int rc = pc_image_render_rgb8(rgb, k->w, k->h, (size_t)k->w * 3, short_title, bar, note,
+	                              k->image_w, k->out + (size_t)k->y * k->out_w * 3 + 3 * k->x,
+	                              k->out_w - k->x, k->out_h - k->y, (size_t)k->out_w * 3);
+	k->x += pw + PANEL_GAP;
+	return rc;
+}
+
+/* The S0, DoLP and AoLP pictures (with the keys, ranges, masks and notes described in
+ * polarcam/io.h) handed to sink one by one. */
+static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
+                    const pc_pictures_opts *opts, const pc_validity *valid, pic_sink *sink)
+{
+	if (!st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
 	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
 	if (opts)
@@ -163,28 +211,34 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	pc_legend_note note = {mask_note, pc_picture_mask_rgb, n_bad ? &bad : NULL};
 	const pc_legend_note *np = mask > -INFINITY ? &note : n_bad ? &bad : NULL;
 	const pc_legend_note *nb = n_bad ? &bad : NULL;
-	int rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, rs);
-	pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
-	pc_colorbar bar = {"S0 (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
-	snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
-	if (!rc)
-		rc = write_one(dir, "s0", o.suffix, rgb, width, height, title, &bar, nb,
-		               o.max_width);
-	if (!rc) {
+	int rc = 0;
+	if (sink->kinds & PIC_S0) {
+		rc = pc_picture_grey(&st->s0, width, height, 0, hi, rgb, rs);
+		pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
+		pc_colorbar bar = {"S0 (raw units)",    0,    hi, NULL, 0, 0,
+		                   pc_picture_grey_key, NULL, 0};
+		snprintf(title, sizeof title, "%sS0 (total intensity)", pre);
+		if (!rc)
+			rc = sink->put(sink, 0, "s0", rgb, title, "S0 (total intensity)", &bar, nb);
+	}
+	if (!rc && (sink->kinds & PIC_DOLP)) {
 		rc = pc_picture_grey(&st->dolp, width, height, 0, (float)dhi, rgb, rs);
 		if (mask > -INFINITY)
 			pc_picture_mask_low(&st->s0, width, height, mask, rgb, rs);
 		pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
+		pc_colorbar dbar = {dlabel, 0, dhi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
+		snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)%s", pre,
+		         mask_title);
+		if (!rc)
+			rc = sink->put(sink, 1, "dolp", rgb, title, "DoLP", &dbar, np);
 	}
-	pc_colorbar dbar = {dlabel, 0, dhi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
-	snprintf(title, sizeof title, "%sDoLP (degree of linear polarization)%s", pre, mask_title);
-	if (!rc)
-		rc = write_one(dir, "dolp", o.suffix, rgb, width, height, title, &dbar, np,
-		               o.max_width);
 	static const pc_aolp_style styles[2] = {PC_AOLP_VALUE, PC_AOLP_SATURATION};
 	static const char *names[2] = {"aolp", "aolp_sat"};
 	static const char *what[2] = {"value", "saturation"};
+	static const unsigned kind[2] = {PIC_AOLP, PIC_AOLP_SAT};
 	for (int k = 0; k < 2 && !rc; k++) {
+		if (!(sink->kinds & kind[k]))
+			continue;
 		rc = pc_picture_aolp(&st->aolp, &st->dolp, width, height, styles[k], (float)dhi,
 		                     rgb, rs);
 		if (!rc && mask > -INFINITY)
@@ -202,12 +256,91 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 		                    45};
 		snprintf(title, sizeof title, "%sAoLP (hue) with DoLP (%s)%s", pre, what[k],
 		         mask_title);
+		char short_title[64];
+		snprintf(short_title, sizeof short_title, "AoLP (hue), DoLP (%s)", what[k]);
 		if (!rc)
-			rc = write_one(dir, names[k], o.suffix, rgb, width, height, title, &abar,
-			               np, o.max_width);
+			rc = sink->put(sink, 2 + k, names[k], rgb, title, short_title, &abar, np);
 	}
 	free(rgb);
 	return rc;
+}
+
+int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
+                            uint32_t height, const pc_pictures_opts *opts, const pc_validity *valid)
+{
+	if (!dir)
+		return pc_error(PC_EINVAL, "pictures: no folder given");
+	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
+	if (opts)
+		o = *opts;
+	pic_sink k = {put_file, PIC_S0 | PIC_DOLP | PIC_AOLP | PIC_AOLP_SAT,
+	              dir,      &o,
+	              width,    height,
+	              NULL,     0,
+	              0,        0,
+	              0,        0};
+	return draw_set(st, width, height, &o, valid, &k);
+}
+
+/* The panels' width for an image drawn iw wide: S0, DoLP and AoLP with their bars. */
+static uint32_t panels_width(uint32_t width, uint32_t height, uint32_t iw, uint32_t *ph)
+{
+	static const pc_colorbar grey = {"", 0, 1, NULL, 0, 0, NULL, NULL, 0},
+	                         key2 = {"", 0, 1, "", 0, 1, NULL, NULL, 0};
+	uint32_t w1, w2, h1, h2;
+	pc_image_annotated_size(width, height, iw, true, &grey, &w1, &h1);
+	pc_image_annotated_size(width, height, iw, true, &key2, &w2, &h2);
+	*ph = h1 > h2 ? h1 : h2;
+	return 2 * w1 + w2 + 2 * PANEL_GAP;
+}
+
+int pc_pictures_panels(const pc_stokes_out *st, uint32_t width, uint32_t height,
+                       const pc_pictures_opts *opts, const pc_validity *valid, uint32_t out_width,
+                       uint32_t top, uint8_t **out, uint32_t *out_height)
+{
+	*out = NULL;
+	*out_height = 0;
+	if (!width || !height)
+		return pc_error(PC_EINVAL, "panels: empty image %ux%u", width, height);
+	if (out_width < PC_PICTURES_PANELS_MIN_WIDTH || out_width > 30000 || top > 1000)
+		return pc_error(PC_EINVAL,
+		                "panels: width %u: expected %u to 30000 pixels (three pictures "
+		                "with their keys), a status strip of at most 1000",
+		                out_width, PC_PICTURES_PANELS_MIN_WIDTH);
+	/* the widest image that leaves room for the three keys; height in proportion (the
+	 * frames' aspect ratio) */
+	uint32_t iw = out_width / 3, ph = 0;
+	for (int i = 0; i < 64 && iw > 8; i++) {
+		uint32_t pw = panels_width(width, height, iw, &ph);
+		if (pw <= out_width)
+			break;
+		uint32_t d = (pw - out_width + 2) / 3;
+		iw -= d < iw - 8 ? d : iw - 8;
+	}
+	if (panels_width(width, height, iw, &ph) > out_width)
+		return pc_error(PC_EINVAL, "panels: width %u too small for the keys", out_width);
+	const uint32_t oh = top + ph;
+	uint8_t *buf = malloc((size_t)out_width * oh * 3);
+	if (!buf)
+		return pc_error(PC_ENOMEM, "panels: %ux%u picture", out_width, oh);
+	memset(buf, 255, (size_t)out_width * oh * 3);
+	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
+	if (opts)
+		o = *opts;
+	pic_sink k = {put_panel, PIC_S0 | PIC_DOLP | PIC_AOLP,
+	              NULL,      &o,
+	              width,     height,
+	              buf,       out_width,
+	              oh,        iw,
+	              0,         top};
+	int rc = draw_set(st, width, height, &o, valid, &k);
+	if (rc) {
+		free(buf);
+		return rc;
+	}
+	*out = buf;
+	*out_height = oh;
+	return 0;
 }
 
 int pc_pictures_write_minmax(const char *dir, const pc_stokes_out *st, uint32_t width,

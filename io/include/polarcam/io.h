@@ -236,6 +236,19 @@ PC_API int pc_pictures_write_valid(const char *dir, const struct pc_stokes_out *
 PC_API int pc_pictures_write_minmax(const char *dir, const struct pc_stokes_out *st, uint32_t width,
                                     uint32_t height, const pc_pictures_opts *opts,
                                     const struct pc_validity *valid, bool minmax, bool split);
+/* The live window's picture (polarcam view): S0, DoLP and AoLP (hue, value = DoLP) side by
+ * side, each with the key, ranges, masks and legend notes of pc_pictures_write_valid's files
+ * (opts as there: mask_s0, s0_hi, dolp_hi; title_prefix, suffix and max_width unused) under a
+ * short title. The images keep the frames' aspect ratio, drawn as wide as three fit with their
+ * keys in out_width (scaled up by nearest neighbour, down by a box filter); white fills the
+ * rest, and `top` white rows above them leave room for a status line. *out: malloc'd RGB8,
+ * out_width × *out_height, stride 3·out_width. out_width at least
+ * PC_PICTURES_PANELS_MIN_WIDTH (the three keys take about 310 pixels). */
+#define PC_PICTURES_PANELS_MIN_WIDTH 480
+PC_API int pc_pictures_panels(const struct pc_stokes_out *st, uint32_t width, uint32_t height,
+                              const pc_pictures_opts *opts, const struct pc_validity *valid,
+                              uint32_t out_width, uint32_t top, uint8_t **out,
+                              uint32_t *out_height);
 /* The same with a title prefix (may be NULL) and the default mask. */
 PC_API int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
                              uint32_t height, const char *title_prefix);
