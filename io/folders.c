@@ -192,6 +192,35 @@ static int write_valid(const char *dir, const char *name, const pc_validity *v, 
 	return rc;
 }
 
+/* stokes_rgb.npy (H, W, 3, 3) from the three colours' S0, S1, S2 */
+static int write_stokes_rgb(const char *dir, const char *name, const pc_stokes_out *rgb, uint32_t w,
+                            uint32_t h)
+{
+	const pc_fplane *s[9];
+	for (int c = 0; c < 3; c++) {
+		s[3 * c] = &rgb[c].s0, s[3 * c + 1] = &rgb[c].s1, s[3 * c + 2] = &rgb[c].s2;
+		for (int k = 0; k < 3; k++)
+			if (!s[3 * c + k]->data)
+				return pc_error(PC_EINVAL,
+				                "%s/%s: S0, S1 and S2 of each colour are "
+				                "needed",
+				                dir, name);
+	}
+	float *t = malloc(sizeof(float) * w * h * 9);
+	if (!t)
+		return pc_error(PC_ENOMEM, "%s/%s", dir, name);
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++)
+			for (int k = 0; k < 9; k++)
+				t[((size_t)y * w + x) * 9 + (size_t)k] =
+				    s[k]->data[(size_t)y * s[k]->row_stride +
+				               (size_t)x * s[k]->pixel_stride];
+	size_t shape[4] = {h, w, 3, 3};
+	int rc = write_npy(dir, name, t, 4, shape);
+	free(t);
+	return rc;
+}
+
 /* imin/imax.npy and diffuse/specular.npy (PC_SF_MINMAX, PC_SF_SPLIT) from S0, S1, S2 */
 static int write_minmax(const char *dir, const pc_stokes_out *st, uint32_t w, uint32_t h,
                         unsigned files, const char *sfx)
@@ -254,6 +283,10 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 			    (const pc_fplane *)(const void *)((const char *)st + planes[k].plane),
 			    width, height);
 		}
+	if (!rc && opts->colour && (opts->files & PC_SF_STOKES)) {
+		snprintf(name, sizeof name, "stokes_rgb%s.npy", sfx);
+		rc = write_stokes_rgb(dir, name, opts->colour, width, height);
+	}
 	if (!rc && (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)) && !opts->no_minmax_files)
 		rc = write_minmax(dir, st, width, height, opts->files, sfx);
 	if (!rc && valid && valid->mask && !opts->no_valid_file) {
@@ -265,6 +298,8 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 		if (opts->numbered)
 			po.suffix = sfx;
 		rc = pc_pictures_write_valid(dir, st, width, height, &po, valid);
+		if (!rc && opts->colour)
+			rc = pc_pictures_write_colour(dir, opts->colour, width, height, &po, valid);
 		if (!rc && (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)))
 			rc = pc_pictures_write_minmax(dir, st, width, height, &po, valid,
 			                              opts->files & PC_SF_MINMAX,

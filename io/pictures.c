@@ -401,3 +401,140 @@ int pc_pictures_write_minmax(const char *dir, const pc_stokes_out *st, uint32_t 
 	free(rgb);
 	return rc;
 }
+
+/* An RGB picture of three float planes (one per colour channel), each linear from 0 to hi,
+ * non-finite values magenta as in pc_picture_grey. */
+static void draw_rgb(const pc_fplane *p[3], uint32_t width, uint32_t height, float hi, uint8_t *rgb,
+                     size_t rs)
+{
+	for (uint32_t y = 0; y < height; y++)
+		for (uint32_t x = 0; x < width; x++) {
+			uint8_t *o = rgb + (size_t)y * rs + 3 * (size_t)x;
+			float v[3];
+			bool bad = false;
+			for (int c = 0; c < 3; c++) {
+				v[c] = p[c]->data[y * p[c]->row_stride + x * p[c]->pixel_stride];
+				bad |= !isfinite(v[c]);
+			}
+			for (int c = 0; c < 3; c++) {
+				/* as pc_picture_grey: 255·t rounded half up, clipped */
+				double t = (double)v[c] / hi;
+				o[c] = !(t > 0) ? 0 : t >= 1 ? 255 : (uint8_t)(t * 255.0 + 0.5);
+			}
+			if (bad)
+				o[0] = 255, o[1] = 0, o[2] = 255;
+		}
+}
+
+int pc_pictures_write_colour(const char *dir, const pc_stokes_out *rgbst, uint32_t width,
+                             uint32_t height, const pc_pictures_opts *opts,
+                             const pc_validity *valid)
+{
+	if (!dir || !rgbst)
+		return pc_error(PC_EINVAL, "colour pictures: no folder or no Stokes images");
+	for (int c = 0; c < 3; c++)
+		if (!rgbst[c].s0.data || !rgbst[c].dolp.data)
+			return pc_error(PC_EINVAL, "colour pictures: S0 and DoLP of R, G and B are "
+			                           "needed");
+	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
+	if (opts)
+		o = *opts;
+	if (!isfinite(o.mask_s0) || !(isfinite(o.s0_hi) && o.s0_hi >= 0) || !isfinite(o.dolp_hi))
+		return pc_error(PC_EINVAL,
+		                "colour pictures: mask %g, S0 scale %g, DoLP range %g: "
+		                "expected finite values, a scale >= 0",
+		                o.mask_s0, o.s0_hi, o.dolp_hi);
+	const size_t n = (size_t)width * height;
+	uint8_t *rgb = malloc(n * 3);
+	float *smin = malloc(n * sizeof *smin), *dd = malloc(3 * n * sizeof *dd);
+	if (!rgb || !smin || !dd) {
+		free(rgb);
+		free(smin);
+		free(dd);
+		return pc_error(PC_ENOMEM, "colour pictures: %ux%u images", width, height);
+	}
+	/* one S0 scale for the three channels (the largest of their 99.9th percentiles), so
+	 * that the colours are the sensor's: no white balance */
+	float hi = (float)o.s0_hi;
+	for (int c = 0; c < 3 && !(o.s0_hi > 0); c++) {
+		float q = pc_picture_quantile(&rgbst[c].s0, width, height, 0.999);
+		hi = q > hi ? q : hi;
+	}
+	if (!(hi > 0))
+		hi = 1;
+	const float mask = o.mask_s0 > 0    ? (float)o.mask_s0
+	                   : o.mask_s0 == 0 ? (float)(PC_PICTURES_MASK_DEFAULT_REL * hi)
+	                                    : -INFINITY;
+	/* a colour's DoLP is noise where its own S0 is low: the hatch goes where the darkest
+	 * channel is below the threshold */
+	for (uint32_t y = 0; y < height; y++)
+		for (uint32_t x = 0; x < width; x++) {
+			float m = INFINITY;
+			for (int c = 0; c < 3; c++) {
+				const pc_fplane *s = &rgbst[c].s0;
+				float v = s->data[y * s->row_stride + x * s->pixel_stride];
+				m = isfinite(v) && v < m ? v : isfinite(v) ? m : -INFINITY;
+			}
+			smin[(size_t)y * width + x] = m;
+		}
+	const uint8_t *vm = valid && valid->mask ? valid->mask : NULL;
+	const size_t vs = vm ? valid->row_stride : 0, rs = (size_t)width * 3;
+	double dhi = o.dolp_hi > 0 ? fmin(o.dolp_hi, 1) : 1;
+	char dlabel[80] = "DoLP of R, G, B";
+	if (o.dolp_hi < 0) {
+		/* automatic: over the three channels' unmasked, valid pixels */
+		for (int c = 0; c < 3; c++)
+			for (uint32_t y = 0; y < height; y++)
+				for (uint32_t x = 0; x < width; x++) {
+					const pc_fplane *d = &rgbst[c].dolp;
+					bool bad = vm && !vm[(size_t)y * vs + x];
+					dd[c * n + (size_t)y * width + x] =
+					    bad || !(smin[(size_t)y * width + x] >= mask)
+					        ? NAN
+					        : d->data[y * d->row_stride + x * d->pixel_stride];
+				}
+		dhi = pc_pictures_dolp_auto(dd, NULL, 3 * n, 0);
+		snprintf(dlabel, sizeof dlabel, "DoLP of R, G, B (0..%.2f, auto)", dhi);
+	} else if (dhi < 1) {
+		snprintf(dlabel, sizeof dlabel, "DoLP of R, G, B (0..%.2f)", dhi);
+	}
+	char bad_note[80], mask_note[64] = "", mask_title[128] = "", title[320], pre[96] = "";
+	const size_t n_bad = invalid_count(valid, width, height, bad_note);
+	pc_legend_note bad = {bad_note, pc_picture_invalid_rgb, NULL};
+	pc_legend_note note = {mask_note, pc_picture_mask_rgb, n_bad ? &bad : NULL};
+	if (mask > -INFINITY) {
+		snprintf(mask_note, sizeof mask_note, "S0 < %.4g", mask);
+		snprintf(mask_title, sizeof mask_title,
+		         "; hatched: S0 of a colour < %.4g, low signal", mask);
+	}
+	if (o.title_prefix && *o.title_prefix)
+		snprintf(pre, sizeof pre, "%s: ", o.title_prefix);
+	const pc_fplane *s0p[3] = {&rgbst[0].s0, &rgbst[1].s0, &rgbst[2].s0};
+	const pc_fplane *dp[3] = {&rgbst[0].dolp, &rgbst[1].dolp, &rgbst[2].dolp};
+	draw_rgb(s0p, width, height, hi, rgb, rs);
+	pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
+	pc_colorbar bar = {
+	    "S0 of each colour (raw units)", 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
+	snprintf(title, sizeof title, "%sS0 in colour (R, G, B as the sensor saw them)", pre);
+	int rc = write_one(dir, "s0_rgb", o.suffix, rgb, width, height, title, &bar,
+	                   n_bad ? &bad : NULL, o.max_width);
+	if (!rc) {
+		draw_rgb(dp, width, height, (float)dhi, rgb, rs);
+		pc_fplane sm = {smin, width, 1};
+		if (mask > -INFINITY)
+			pc_picture_mask_low(&sm, width, height, mask, rgb, rs);
+		pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
+		pc_colorbar dbar = {dlabel, 0, dhi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
+		snprintf(title, sizeof title, "%sDoLP of each colour as R, G, B%s", pre,
+		         mask_title);
+		rc = write_one(dir, "dolp_rgb", o.suffix, rgb, width, height, title, &dbar,
+		               mask > -INFINITY ? &note
+		               : n_bad          ? &bad
+		                                : NULL,
+		               o.max_width);
+	}
+	free(rgb);
+	free(smin);
+	free(dd);
+	return rc;
+}

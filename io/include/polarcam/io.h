@@ -249,6 +249,19 @@ PC_API int pc_pictures_panels(const struct pc_stokes_out *st, uint32_t width, ui
                               const pc_pictures_opts *opts, const struct pc_validity *valid,
                               uint32_t out_width, uint32_t top, uint8_t **out,
                               uint32_t *out_height);
+/* Pictures of a colour-polarization frame's per-colour Stokes images rgb[0..2] (R, G, B; S0 and
+ * DoLP needed; rgb points to 3): s0_rgb.png, the three S0 as the red, green and blue of one picture
+ * on one scale (opts->s0_hi, or the largest of their 99.9th percentiles: no white balance, the
+ * colours the sensor saw), and dolp_rgb.png, the three DoLP as red, green and blue on the DoLP
+ * range of opts->dolp_hi (automatic: over the three channels): grey where R, G and B are equally
+ * polarized, tinted towards the colours polarized more. Keys are grey (a value in all three
+ * channels). The low-signal hatch covers the pixels where the darkest channel's S0 is below
+ * the threshold (opts->mask_s0 as in pc_pictures_write_valid, default 1 % of the S0 scale),
+ * the invalid mark the invalid pixels. AoLP has no colour picture: aolp.png of the colour
+ * average (pc_stokes_run) shows it. */
+PC_API int pc_pictures_write_colour(const char *dir, const struct pc_stokes_out *rgb,
+                                    uint32_t width, uint32_t height, const pc_pictures_opts *opts,
+                                    const struct pc_validity *valid);
 /* The same with a title prefix (may be NULL) and the default mask. */
 PC_API int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
                              uint32_t height, const char *title_prefix);
