@@ -10,6 +10,7 @@
 
 #include "json.h"
 #include "polarcam/error.h"
+#include "polarcam/optics.h"
 #include "polarcam/figures.h"
 #include "polarcam/picture.h"
 #include "polarcam/plot.h"
@@ -305,6 +306,50 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 			                              opts->files & PC_SF_MINMAX,
 			                              opts->files & PC_SF_SPLIT);
 	}
+	return rc;
+}
+
+int pc_circular_folder_write(const char *dir, const pc_fplane s[4], uint32_t width, uint32_t height,
+                             const pc_pictures_opts *pictures)
+{
+	if (!dir || !s)
+		return pc_error(PC_EINVAL, "circular outputs: missing argument");
+	for (int k = 0; k < 4; k++)
+		if (!s[k].data || s[k].pixel_stride < 1)
+			return pc_error(PC_EINVAL, "circular outputs: S%d missing", k);
+	const size_t n = (size_t)width * height;
+	float *buf = malloc(sizeof(float) * n * 2);
+	if (!buf)
+		return pc_error(PC_ENOMEM, "%s: %ux%u DoCP images", dir, width, height);
+	float *docp = buf, *ell = buf + n;
+	for (uint32_t y = 0; y < height; y++)
+		for (uint32_t x = 0; x < width; x++) {
+			double S[4];
+			for (int k = 0; k < 4; k++)
+				S[k] = s[k].data[(size_t)y * s[k].row_stride +
+				                 (size_t)x * s[k].pixel_stride];
+			const size_t i = (size_t)y * width + x;
+			/* DoCP |S3|/S0 (pc_stokes_docp: 0 without light), clipped to 1 as DoLP;
+			 * ellipticity angle χ with sin 2χ = S3/√(S1² + S2² + S3²) (the polarized
+			 * part's ellipse; Born & Wolf, Principles of Optics, §1.4.2, the Stokes
+			 * parameters of an ellipse; S3's sign: physics.md §1) */
+			bool finite =
+			    isfinite(S[0]) && isfinite(S[1]) && isfinite(S[2]) && isfinite(S[3]);
+			docp[i] = finite ? (float)fmin(1, fabs(pc_stokes_docp(S))) : NAN;
+			ell[i] = !finite    ? NAN
+			         : S[0] > 0 ? (float)(0.5 * atan2(S[3], hypot(S[1], S[2])))
+			                    : 0.0f;
+		}
+	int rc = pc_mkdir_p(dir);
+	size_t shape[2] = {height, width};
+	if (!rc)
+		rc = write_npy(dir, "docp.npy", docp, 2, shape);
+	if (!rc)
+		rc = write_npy(dir, "ellipticity.npy", ell, 2, shape);
+	pc_fplane pd = {docp, width, 1}, pe = {ell, width, 1};
+	if (!rc && pictures)
+		rc = pc_pictures_write_circular(dir, &s[0], &pd, &pe, width, height, pictures);
+	free(buf);
 	return rc;
 }
 

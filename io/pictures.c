@@ -538,3 +538,110 @@ int pc_pictures_write_colour(const char *dir, const pc_stokes_out *rgbst, uint32
 	free(dd);
 	return rc;
 }
+
+/* The ellipticity key: blue (−45°, S3 < 0) through white (linear) to red (+45°, S3 > 0). */
+static void diverging_key(double t, double s, uint8_t rgb[3], void *ctx)
+{
+	(void)s, (void)ctx;
+	const double v = 2 * t - 1;
+	const uint8_t k = (uint8_t)(255.0 * (1 - fabs(v)) + 0.5);
+	rgb[0] = v < 0 ? k : 255;
+	rgb[1] = k;
+	rgb[2] = v > 0 ? k : 255;
+}
+
+int pc_pictures_write_circular(const char *dir, const pc_fplane *s0, const pc_fplane *docp,
+                               const pc_fplane *ellipticity, uint32_t width, uint32_t height,
+                               const pc_pictures_opts *opts)
+{
+	if (!dir || !s0 || !docp || !ellipticity || !s0->data || !docp->data || !ellipticity->data)
+		return pc_error(PC_EINVAL, "circular pictures: S0, DoCP and ellipticity needed");
+	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
+	if (opts)
+		o = *opts;
+	if (!isfinite(o.mask_s0) || !(isfinite(o.s0_hi) && o.s0_hi >= 0) || !isfinite(o.dolp_hi))
+		return pc_error(PC_EINVAL,
+		                "circular pictures: mask %g, S0 scale %g, DoCP range %g: "
+		                "expected finite values, a scale >= 0",
+		                o.mask_s0, o.s0_hi, o.dolp_hi);
+	const size_t n = (size_t)width * height;
+	uint8_t *rgb = malloc(n * 3);
+	float *dd = malloc(n * 2 * sizeof *dd);
+	if (!rgb || !dd) {
+		free(rgb);
+		free(dd);
+		return pc_error(PC_ENOMEM, "circular pictures: %ux%u images", width, height);
+	}
+	pc_stokes_out st = {*s0, {NULL, 0, 0}, {NULL, 0, 0}, *docp, {NULL, 0, 0}};
+	const float hi = s0_scale(&st, width, height, o.s0_hi);
+	const float mask = o.mask_s0 > 0    ? (float)o.mask_s0
+	                   : o.mask_s0 == 0 ? (float)(PC_PICTURES_MASK_DEFAULT_REL * hi)
+	                                    : -INFINITY;
+	/* the DoCP range as the DoLP's (pc_pictures_opts.dolp_hi) */
+	double dhi = o.dolp_hi > 0 ? fmin(o.dolp_hi, 1) : 1;
+	char dlabel[64] = "DoCP";
+	if (o.dolp_hi < 0) {
+		for (uint32_t y = 0; y < height; y++)
+			for (uint32_t x = 0; x < width; x++) {
+				dd[(size_t)y * width + x] =
+				    docp->data[y * docp->row_stride + x * docp->pixel_stride];
+				dd[n + (size_t)y * width + x] =
+				    s0->data[y * s0->row_stride + x * s0->pixel_stride];
+			}
+		dhi = pc_pictures_dolp_auto(dd, dd + n, n, mask);
+		snprintf(dlabel, sizeof dlabel, "DoCP (0..%.2f, auto)", dhi);
+	} else if (dhi < 1) {
+		snprintf(dlabel, sizeof dlabel, "DoCP (0..%.2f)", dhi);
+	}
+	char pre[96] = "", mask_note[64] = "", mask_title[128] = "", title[320];
+	if (o.title_prefix && *o.title_prefix)
+		snprintf(pre, sizeof pre, "%s: ", o.title_prefix);
+	if (mask > -INFINITY) {
+		snprintf(mask_note, sizeof mask_note, "S0 < %.4g", mask);
+		snprintf(mask_title, sizeof mask_title, "; hatched: S0 < %.4g, low signal", mask);
+	}
+	pc_legend_note note = {mask_note, pc_picture_mask_rgb, NULL};
+	const pc_legend_note *np = mask > -INFINITY ? &note : NULL;
+	const size_t rs = (size_t)width * 3;
+	int rc = pc_picture_grey(docp, width, height, 0, (float)dhi, rgb, rs);
+	if (!rc && mask > -INFINITY)
+		pc_picture_mask_low(s0, width, height, mask, rgb, rs);
+	pc_colorbar dbar = {dlabel, 0, dhi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
+	snprintf(title, sizeof title, "%sDoCP |S3|/S0 (circular polarization)%s", pre, mask_title);
+	if (!rc)
+		rc = write_one(dir, "docp", o.suffix, rgb, width, height, title, &dbar, np,
+		               o.max_width);
+	if (!rc) {
+		/* ellipticity angle in degrees on the diverging key, magenta where not finite */
+		for (uint32_t y = 0; y < height; y++)
+			for (uint32_t x = 0; x < width; x++) {
+				float e = ellipticity->data[y * ellipticity->row_stride +
+				                            x * ellipticity->pixel_stride];
+				uint8_t *q = rgb + (size_t)y * rs + 3 * (size_t)x;
+				if (!isfinite(e)) {
+					q[0] = 255, q[1] = 0, q[2] = 255;
+					continue;
+				}
+				double t = 0.5 + (double)e / (M_PI / 2);
+				diverging_key(t < 0 ? 0 : t > 1 ? 1 : t, 0, q, NULL);
+			}
+		if (mask > -INFINITY)
+			pc_picture_mask_low(s0, width, height, mask, rgb, rs);
+		pc_colorbar ebar = {"ellipticity angle (deg; + : S3 > 0)",
+		                    -45,
+		                    45,
+		                    NULL,
+		                    0,
+		                    0,
+		                    diverging_key,
+		                    NULL,
+		                    15};
+		snprintf(title, sizeof title, "%sellipticity (red S3 > 0, blue < 0)%s", pre,
+		         mask_title);
+		rc = write_one(dir, "ellipticity", o.suffix, rgb, width, height, title, &ebar, np,
+		               o.max_width);
+	}
+	free(rgb);
+	free(dd);
+	return rc;
+}

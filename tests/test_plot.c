@@ -12,6 +12,7 @@
 
 #include "check.h"
 #include "polarcam/error.h"
+#include "polarcam/folders.h"
 #include "polarcam/io.h"
 #include "polarcam/picture.h"
 #include "polarcam/plot.h"
@@ -225,6 +226,91 @@ static void test_panels(const char *dir)
 	CHECK(out == NULL);
 }
 
+/* Circular polarization (pc_circular_folder_write): states built from Jones vectors
+ * E = (cos a, sin a·e^{iδ}) mixed with unpolarized light (degree P), whose Stokes vector is
+ * S0 (1, P cos 2a, P sin 2a cos δ, P sin 2a sin δ) (physics.md §1) and whose ellipse has
+ * sin 2χ = sin 2a sin δ (Born & Wolf §1.4.2): DoCP = P |sin 2a sin δ|, χ = ½ asin(sin 2a sin δ),
+ * worked out from a and δ, not from S. Column 0 is right-handed circular (χ = +45°, red), 1
+ * left-handed (−45°, blue), 2 linear (white); row 7 has no light, pixel (5, 6) S3 = NaN. */
+static void test_circular(const char *dir)
+{
+	enum { CW = 16, CH = 8 };
+	static float s[4][CW * CH];
+	double want_d[CW], want_e[CW];
+	for (int x = 0; x < CW; x++) {
+		double a = x == 0 || x == 1 ? M_PI / 4
+		           : x == 2         ? 0
+		                            : 0.1 + 0.09 * x,
+		       d = x == 0   ? M_PI / 2
+		           : x == 1 ? -M_PI / 2
+		           : x == 2 ? 0
+		                    : -1.3 + 0.23 * x,
+		       p = x < 3 ? 1 : 0.3 + 0.04 * x;
+		want_d[x] = p * fabs(sin(2 * a) * sin(d));
+		want_e[x] = 0.5 * asin(sin(2 * a) * sin(d));
+		for (int y = 0; y < CH; y++) {
+			double s0 = y == CH - 1 ? 0 : 1000;
+			s[0][y * CW + x] = (float)s0;
+			s[1][y * CW + x] = (float)(s0 * p * cos(2 * a));
+			s[2][y * CW + x] = (float)(s0 * p * sin(2 * a) * cos(d));
+			s[3][y * CW + x] = (float)(s0 * p * sin(2 * a) * sin(d));
+		}
+	}
+	s[3][6 * CW + 5] = NAN;
+	pc_fplane pl[4];
+	for (int k = 0; k < 4; k++)
+		pl[k] = (pc_fplane){s[k], CW, 1};
+	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
+	CHECK_EQ_INT(pc_circular_folder_write(dir, pl, CW, CH, &o), 0);
+	char path[300];
+	pc_array d, e;
+	snprintf(path, sizeof path, "%s/docp.npy", dir);
+	CHECK_EQ_INT(pc_npy_read(path, &d), 0);
+	snprintf(path, sizeof path, "%s/ellipticity.npy", dir);
+	CHECK_EQ_INT(pc_npy_read(path, &e), 0);
+	const float *dd = d.data, *ee = e.data;
+	double worst = 0;
+	for (int y = 0; y < CH - 1; y++)
+		for (int x = 0; x < CW; x++) {
+			if (y == 6 && x == 5)
+				continue;
+			worst = fmax(worst, fabs(dd[y * CW + x] - want_d[x]));
+			worst = fmax(worst, fabs(ee[y * CW + x] - want_e[x]));
+		}
+	printf("circular: worst |error| of DoCP and ellipticity %.3g\n", worst);
+	CHECK(worst < 1e-6);
+	CHECK(isnan(dd[6 * CW + 5]) && isnan(ee[6 * CW + 5]));
+	CHECK(dd[7 * CW + 3] == 0 && ee[7 * CW + 3] == 0); /* no light: no polarization */
+	/* the pictures: image pixels below the title band (io/plot.c: 2.2 fs, fs = 12 here) */
+	const int top = (int)(12 * 2.2);
+	snprintf(path, sizeof path, "%s/ellipticity.png", dir);
+	cairo_surface_t *f = cairo_image_surface_create_from_png(path);
+	CHECK(cairo_surface_status(f) == CAIRO_STATUS_SUCCESS);
+	const unsigned char *fd = cairo_image_surface_get_data(f);
+	const int fst = cairo_image_surface_get_stride(f);
+#define PX(xx, yy) (((const uint32_t *)(const void *)(fd + (size_t)(top + (yy)) * fst))[xx])
+	CHECK_EQ_INT(PX(0, 2) & 0xffffff, 0xff0000); /* +45°: red */
+	CHECK_EQ_INT(PX(1, 2) & 0xffffff, 0x0000ff); /* −45°: blue */
+	CHECK_EQ_INT(PX(2, 2) & 0xffffff, 0xffffff); /* linear: white */
+	CHECK_EQ_INT(PX(5, 6) & 0xffffff, 0xff00ff); /* NaN: magenta */
+	cairo_surface_destroy(f);
+	snprintf(path, sizeof path, "%s/docp.png", dir);
+	f = cairo_image_surface_create_from_png(path);
+	CHECK(cairo_surface_status(f) == CAIRO_STATUS_SUCCESS);
+	fd = cairo_image_surface_get_data(f);
+	CHECK_EQ_INT(PX(0, 2) & 0xffffff, 0xffffff); /* DoCP 1 on 0..1 */
+	CHECK_EQ_INT(PX(2, 2) & 0xffffff, 0x000000); /* DoCP 0 */
+	const unsigned g = PX(3, 2) & 0xff, want_g = (unsigned)(want_d[3] * 255 + 0.5);
+	CHECK(g + 1 >= want_g && g <= want_g + 1);
+	/* the dark row (S0 < 1 % of the scale) carries the hatch */
+	const unsigned h = PX(8, 7) & 0xff;
+	CHECK(h == PC_PICTURE_MASK_RGB0 || h == PC_PICTURE_MASK_RGB1);
+#undef PX
+	cairo_surface_destroy(f);
+	pc_array_free(&d);
+	pc_array_free(&e);
+}
+
 int main(void)
 {
 	test_dolp_auto();
@@ -234,6 +320,7 @@ int main(void)
 	snprintf(pdir, sizeof pdir, "%s/panels", dir);
 	CHECK_EQ_INT(pc_mkdir_p(pdir), 0);
 	test_panels(pdir);
+	test_circular(pdir);
 	snprintf(pdir, sizeof pdir, "rm -rf '%s/panels'", dir);
 	CHECK_EQ_INT(system(pdir), 0);
 	char path[256];

@@ -116,6 +116,17 @@ PC_API int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st
                                         uint32_t height, const pc_stokes_folder_opts *opts,
                                         const pc_validity *valid);
 
+/* ---- circular polarization (Stokes with S3) ---- */
+
+/* From S0..S3 planes s[0..3] (a truth with the "circular" effect: docs/outputs.md): docp.npy,
+ * float32 (H, W) DoCP = |S3|/S0 in [0, 1] (polanalyser's cvtStokesToDoCP; 0 where S0 <= 0),
+ * and ellipticity.npy, float32 (H, W) the ellipticity angle χ = ½·atan2(S3, √(S1² + S2²)) in
+ * radians in [−π/4, π/4], positive for S3 > 0 (physics.md §1's sign; 0 where S0 <= 0), NaN
+ * where an input is not finite, into dir (created when missing); with pictures non-NULL
+ * docp.png and ellipticity.png (pc_pictures_write_circular). */
+PC_API int pc_circular_folder_write(const char *dir, const pc_fplane s[4], uint32_t width,
+                                    uint32_t height, const pc_pictures_opts *pictures);
+
 /* ---- Mueller folders ---- */
 
 typedef struct pc_mueller_folder_opts {

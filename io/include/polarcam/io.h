@@ -262,6 +262,16 @@ PC_API int pc_pictures_panels(const struct pc_stokes_out *st, uint32_t width, ui
 PC_API int pc_pictures_write_colour(const char *dir, const struct pc_stokes_out *rgb,
                                     uint32_t width, uint32_t height, const pc_pictures_opts *opts,
                                     const struct pc_validity *valid);
+/* Pictures of circular polarization (Stokes with S3: a simulated truth, docs/outputs.md):
+ * docp.png, DoCP = |S3|/S0 grey on the range opts->dolp_hi gives the DoLP (> 0: 0..V, 0: 0..1,
+ * < 0: automatic), and ellipticity.png, the ellipticity angle χ = ½·atan2(S3, √(S1² + S2²))
+ * (radians in the plane, drawn in degrees) on a key from blue (−45°, S3 < 0) through white
+ * (linear light) to red (+45°, S3 > 0), ticks every 15°; both with the low-signal hatch of
+ * pc_pictures_write_valid (threshold opts->mask_s0, default 1 % of S0's scale opts->s0_hi or
+ * its 99.9th percentile). */
+PC_API int pc_pictures_write_circular(const char *dir, const pc_fplane *s0, const pc_fplane *docp,
+                                      const pc_fplane *ellipticity, uint32_t width, uint32_t height,
+                                      const pc_pictures_opts *opts);
 /* The same with a title prefix (may be NULL) and the default mask. */
 PC_API int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
                              uint32_t height, const char *title_prefix);
