@@ -30,10 +30,9 @@ typedef struct pc_viewer_opts {
 	pc_progress progress;     /* phase "view", frames shown; non-zero stops */
 	pc_stream_levels levels;  /* black level, saturation (invalid pixels marked), calibration
 	                             (polarcam/stream.h; pc_stream_levels_default()) */
-	double mask_s0;           /* low-signal hatch and DoLP range of the panels, as
-	                             pc_pictures_opts (polarcam/io.h): threshold in raw units, 0 */
-	double dolp_hi;           /* 1 % of the S0 scale, < 0 none; range 0..dolp_hi, 0: 0..1,
-	                             < 0: automatic */
+	double mask_s0;           /* the panels' low-signal hatch where S0 < mask_s0 (raw units;
+	                             0: 1 % of the S0 scale, < 0: none), as pc_pictures_opts */
+	double dolp_hi;           /* the panels' DoLP range 0..dolp_hi (0: 0..1, < 0: automatic) */
 } pc_viewer_opts;
 
 typedef struct pc_viewer_report {
