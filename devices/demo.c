@@ -38,6 +38,7 @@ typedef struct demo_results {
 	long saturated;
 	double scale;          /* DN per W m^-2 sr^-1 */
 	double s0_hi, dolp_hi; /* the pictures' shared scales (the truth's) */
+	bool truth_circular;   /* the truth carries S3: truth/docp, truth/ellipticity written */
 	double t_render, t_frame, t_mueller;
 	char *simulation; /* pc_sim_describe_json */
 	/* Mueller step */
@@ -217,6 +218,27 @@ static int step_truth(pc_demo *d, const char *out, pc_view *raw, float *tp, demo
 	if ((rc = join(path, sizeof path, out, "truth")) ||
 	    (rc = pc_stokes_folder_write(path, &so, W, H, &fo)))
 		pc_error_prefix(rc, "%s: ", path);
+	/* circular polarization where the truth carries S3 (the scene's "circular" effect; a
+	 * camera of linear analysers cannot measure it): DoCP and ellipticity, S0 in DN for the
+	 * mask */
+	bool has_s3 = false;
+	for (size_t i = 0; i < np && !has_s3; i++)
+		has_s3 = isfinite(ts[4 * i + 3]);
+	r->truth_circular = has_s3;
+	if (!rc && has_s3) {
+		pc_fplane s4[4] = {{tp, W, 1},
+		                   {ts + 1, 4 * (size_t)W, 4},
+		                   {ts + 2, 4 * (size_t)W, 4},
+		                   {ts + 3, 4 * (size_t)W, 4}};
+		/* S1..S3 in radiance units beside S0 in DN: only ratios to S0 are drawn, so
+		 * scale them to DN as well */
+		for (size_t i = 0; i < np; i++)
+			for (int k = 1; k < 4; k++)
+				ts[4 * i + k] = (float)(ts[4 * i + k] * r->scale);
+		pc_pictures_opts cp = {"truth", 0, 0, NULL, r->s0_hi, -1};
+		if ((rc = pc_circular_folder_write(path, s4, W, H, &cp)))
+			pc_error_prefix(rc, "%s: ", path);
+	}
 out:
 	free(ts);
 	return rc;
@@ -586,7 +608,8 @@ static json_t *report_json(const pc_demo *d, const demo_results *r, double t_tot
 	json_object_set_new(report, "pipeline", jm);
 	/* the pictures' shared scales */
 	json_object_set_new(report, "pictures",
-	                    json_pack("{s:f, s:f}", "s0_hi", r->s0_hi, "dolp_hi", r->dolp_hi));
+	                    json_pack("{s:f, s:f, s:b}", "s0_hi", r->s0_hi, "dolp_hi", r->dolp_hi,
+	                              "truth_circular", r->truth_circular));
 	/* how "seconds" was measured: the same for every method */
 	json_object_set_new(report, "pipeline_timing",
 	                    json_pack("{s:s, s:i, s:i, s:i}", "what",

@@ -56,10 +56,9 @@ extern "C" int pc_display_show(pc_display *d, const uint8_t *rgb, uint32_t width
 		cv::Mat in((int)height, (int)width, CV_8UC3, const_cast<uint8_t *>(rgb), stride);
 		cv::cvtColor(in, d->bgr, cv::COLOR_RGB2BGR);
 		if (overlay && *overlay) {
+			// black on the white status strip the viewer leaves above its panels
 			cv::putText(d->bgr, overlay, cv::Point(8, 22), cv::FONT_HERSHEY_SIMPLEX,
-			            0.6, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
-			cv::putText(d->bgr, overlay, cv::Point(8, 22), cv::FONT_HERSHEY_SIMPLEX,
-			            0.6, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+			            0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 		}
 		if ((int)width != d->w || (int)height != d->h) {
 			cv::resizeWindow(d->title, (int)width, (int)height);

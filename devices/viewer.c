@@ -53,6 +53,9 @@ static int open_all(viewer *v)
 	if (shot && (len < 5 || strcasecmp(shot + len - 4, ".png")))
 		return pc_error(
 		    PC_EINVAL, "%s: screenshots are written as PNG only: name the file .png", shot);
+	if (v->o->width < PC_PICTURES_PANELS_MIN_WIDTH)
+		return pc_error(PC_EINVAL, "--width %u: the three panels with their keys need %u",
+		                v->o->width, PC_PICTURES_PANELS_MIN_WIDTH);
 	if (v->o->window && (rc = pc_display_open(&v->win, "polarcam view")))
 		return pc_error_prefix(rc, "opening the window: ");
 	if ((rc = pc_stream_open(&v->o->stream, &v->src)))
@@ -67,36 +70,38 @@ static int open_all(viewer *v)
 	return pc_stokes_stream_set_levels(v->live, &v->o->levels, v->src);
 }
 
+/* The status line's height above the panels (the window's overlay text goes there). */
+#define STATUS_ROWS 30
+
 /* One frame on screen: 1 to go on, 0 when the user quit, < 0 on an error. */
 static int show(viewer *v, uint64_t seq)
 {
-	const uint8_t *rgb = NULL;
 	uint32_t w, h;
-	pc_stokes_stream_planes(v->live, &w, &h);
-	int rc = pc_stokes_stream_picture(v->live, &rgb);
+	const pc_stokes_out *st = pc_stokes_stream_planes(v->live, &w, &h);
+	if (!st)
+		return fail(v, pc_error(PC_ESTATE, "Stokes stream: no frame processed yet"), "");
+	/* the pictures of the files (keys, DoLP range, low-signal hatch, invalid mark) as panels
+	 * at the frames' aspect ratio */
+	pc_pictures_opts po = {NULL, 0, v->o->mask_s0, NULL, 0, v->o->dolp_hi};
+	uint8_t *pic = NULL;
+	uint32_t ph = 0;
+	int rc = pc_pictures_panels(st, w, h, &po, pc_stokes_stream_validity(v->live), v->o->width,
+	                            STATUS_ROWS, &pic, &ph);
 	if (rc)
 		return fail(v, rc, "");
-	if (!v->small || v->dw != v->o->width) {
-		v->dw = v->o->width;
-		v->dh = (uint32_t)((uint64_t)h * v->dw / (3u * w));
-		if (v->dh < 1)
-			v->dh = 1;
-		free(v->small);
-		v->small = malloc((size_t)v->dw * v->dh * 3);
-		if (!v->small)
-			return fail(v, pc_error(PC_ENOMEM, "picture"), "");
-	}
-	rc = pc_display_resize_rgb8(rgb, 3 * w, h, (size_t)w * 9, v->small, v->dw, v->dh,
-	                            (size_t)v->dw * 3);
+	free(v->small);
+	v->small = pic;
+	v->dw = v->o->width;
+	v->dh = ph;
 	v->rep->frames++;
 	double t = now_s();
 	if (v->rep->frames > 1)
 		v->fps = v->fps > 0 ? 0.9 * v->fps + 0.1 / (t - v->t_last) : 1.0 / (t - v->t_last);
 	v->t_last = t;
 	char overlay[160];
-	snprintf(overlay, sizeof overlay, "S0 | DoLP | AoLP   %.1f fps   frame %llu   %s", v->fps,
+	snprintf(overlay, sizeof overlay, "%.1f fps   frame %llu   %s", v->fps,
 	         (unsigned long long)seq, v->method);
-	if (v->win && !rc) {
+	if (v->win) {
 		int key =
 		    pc_display_show(v->win, v->small, v->dw, v->dh, (size_t)v->dw * 3, overlay);
 		if (key == 'q' || key == 27 || key == PC_ECANCELED)
@@ -110,7 +115,7 @@ static int show(viewer *v, uint64_t seq)
 				v->rep->screenshots_failed++;
 		}
 	}
-	return rc ? fail(v, rc, "") : 1;
+	return 1;
 }
 
 static void loop(viewer *v)

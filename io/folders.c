@@ -10,6 +10,7 @@
 
 #include "json.h"
 #include "polarcam/error.h"
+#include "polarcam/optics.h"
 #include "polarcam/figures.h"
 #include "polarcam/picture.h"
 #include "polarcam/plot.h"
@@ -192,6 +193,35 @@ static int write_valid(const char *dir, const char *name, const pc_validity *v, 
 	return rc;
 }
 
+/* stokes_rgb.npy (H, W, 3, 3) from the three colours' S0, S1, S2 */
+static int write_stokes_rgb(const char *dir, const char *name, const pc_stokes_out *rgb, uint32_t w,
+                            uint32_t h)
+{
+	const pc_fplane *s[9];
+	for (int c = 0; c < 3; c++) {
+		s[3 * c] = &rgb[c].s0, s[3 * c + 1] = &rgb[c].s1, s[3 * c + 2] = &rgb[c].s2;
+		for (int k = 0; k < 3; k++)
+			if (!s[3 * c + k]->data)
+				return pc_error(PC_EINVAL,
+				                "%s/%s: S0, S1 and S2 of each colour are "
+				                "needed",
+				                dir, name);
+	}
+	float *t = malloc(sizeof(float) * w * h * 9);
+	if (!t)
+		return pc_error(PC_ENOMEM, "%s/%s", dir, name);
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++)
+			for (int k = 0; k < 9; k++)
+				t[((size_t)y * w + x) * 9 + (size_t)k] =
+				    s[k]->data[(size_t)y * s[k]->row_stride +
+				               (size_t)x * s[k]->pixel_stride];
+	size_t shape[4] = {h, w, 3, 3};
+	int rc = write_npy(dir, name, t, 4, shape);
+	free(t);
+	return rc;
+}
+
 /* imin/imax.npy and diffuse/specular.npy (PC_SF_MINMAX, PC_SF_SPLIT) from S0, S1, S2 */
 static int write_minmax(const char *dir, const pc_stokes_out *st, uint32_t w, uint32_t h,
                         unsigned files, const char *sfx)
@@ -254,6 +284,10 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 			    (const pc_fplane *)(const void *)((const char *)st + planes[k].plane),
 			    width, height);
 		}
+	if (!rc && opts->colour && (opts->files & PC_SF_STOKES)) {
+		snprintf(name, sizeof name, "stokes_rgb%s.npy", sfx);
+		rc = write_stokes_rgb(dir, name, opts->colour, width, height);
+	}
 	if (!rc && (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)) && !opts->no_minmax_files)
 		rc = write_minmax(dir, st, width, height, opts->files, sfx);
 	if (!rc && valid && valid->mask && !opts->no_valid_file) {
@@ -265,11 +299,57 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 		if (opts->numbered)
 			po.suffix = sfx;
 		rc = pc_pictures_write_valid(dir, st, width, height, &po, valid);
+		if (!rc && opts->colour)
+			rc = pc_pictures_write_colour(dir, opts->colour, width, height, &po, valid);
 		if (!rc && (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)))
 			rc = pc_pictures_write_minmax(dir, st, width, height, &po, valid,
 			                              opts->files & PC_SF_MINMAX,
 			                              opts->files & PC_SF_SPLIT);
 	}
+	return rc;
+}
+
+int pc_circular_folder_write(const char *dir, const pc_fplane s[4], uint32_t width, uint32_t height,
+                             const pc_pictures_opts *pictures)
+{
+	if (!dir || !s)
+		return pc_error(PC_EINVAL, "circular outputs: missing argument");
+	for (int k = 0; k < 4; k++)
+		if (!s[k].data || s[k].pixel_stride < 1)
+			return pc_error(PC_EINVAL, "circular outputs: S%d missing", k);
+	const size_t n = (size_t)width * height;
+	float *buf = malloc(sizeof(float) * n * 2);
+	if (!buf)
+		return pc_error(PC_ENOMEM, "%s: %ux%u DoCP images", dir, width, height);
+	float *docp = buf, *ell = buf + n;
+	for (uint32_t y = 0; y < height; y++)
+		for (uint32_t x = 0; x < width; x++) {
+			double S[4];
+			for (int k = 0; k < 4; k++)
+				S[k] = s[k].data[(size_t)y * s[k].row_stride +
+				                 (size_t)x * s[k].pixel_stride];
+			const size_t i = (size_t)y * width + x;
+			/* DoCP |S3|/S0 (pc_stokes_docp: 0 without light), clipped to 1 as DoLP;
+			 * ellipticity angle χ with sin 2χ = S3/√(S1² + S2² + S3²) (the polarized
+			 * part's ellipse; Born & Wolf, Principles of Optics, §1.4.2, the Stokes
+			 * parameters of an ellipse; S3's sign: physics.md §1) */
+			bool finite =
+			    isfinite(S[0]) && isfinite(S[1]) && isfinite(S[2]) && isfinite(S[3]);
+			docp[i] = finite ? (float)fmin(1, fabs(pc_stokes_docp(S))) : NAN;
+			ell[i] = !finite    ? NAN
+			         : S[0] > 0 ? (float)(0.5 * atan2(S[3], hypot(S[1], S[2])))
+			                    : 0.0f;
+		}
+	int rc = pc_mkdir_p(dir);
+	size_t shape[2] = {height, width};
+	if (!rc)
+		rc = write_npy(dir, "docp.npy", docp, 2, shape);
+	if (!rc)
+		rc = write_npy(dir, "ellipticity.npy", ell, 2, shape);
+	pc_fplane pd = {docp, width, 1}, pe = {ell, width, 1};
+	if (!rc && pictures)
+		rc = pc_pictures_write_circular(dir, &s[0], &pd, &pe, width, height, pictures);
+	free(buf);
 	return rc;
 }
 

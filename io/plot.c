@@ -454,33 +454,54 @@ int pc_image_write_png(const char *path, const uint8_t *rgb, uint32_t width, uin
 	return pc_image_write_png_ex(path, rgb, width, height, stride, title, bar, NULL, max_width);
 }
 
-int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
-                          size_t stride, const char *title, const pc_colorbar *bar,
-                          const pc_legend_note *note, uint32_t max_width)
+/* The annotated picture's layout: the image drawn iw × ih, the font size, the title's height,
+ * the colour bar's width and the whole W × H. */
+typedef struct annot_layout {
+	int iw, ih, top, barw, W, H;
+	double fs;
+} annot_layout;
+
+static annot_layout annot_size(uint32_t width, uint32_t height, double scale, bool title,
+                               const pc_colorbar *bar)
 {
+	annot_layout l;
+	l.iw = (int)lround(width * scale);
+	l.ih = (int)lround(height * scale);
+	if (l.iw < 1)
+		l.iw = 1;
+	if (l.ih < 1)
+		l.ih = 1;
+	l.fs = fmax(12, fmin(l.iw, l.ih) / 40.0);
+	l.top = title ? (int)(l.fs * 2.2) : 0;
+	l.barw = bar ? (int)(l.fs * (bar->s_label ? 9 : 7)) : 0;
+	l.W = l.iw + l.barw + (bar ? (int)l.fs : 0);
+	l.H = l.ih + l.top + (bar ? (int)l.fs : 0);
+	if (l.H < l.ih + l.top + (int)(l.fs * 2))
+		l.H = l.ih + l.top + (int)(l.fs * 2);
+	return l;
+}
+
+/* The picture drawn at scale with its title, colour bar and notes, as a new cairo surface
+ * (*out; NULL on an error, which names what). */
+static int render_annotated(const char *what, const uint8_t *rgb, uint32_t width, uint32_t height,
+                            size_t stride, const char *title, const pc_colorbar *bar,
+                            const pc_legend_note *note, double scale, cairo_surface_t **out_s)
+{
+	*out_s = NULL;
 	if (!rgb || width == 0 || height == 0 || stride < (size_t)width * 3 || width > 30000 ||
-	    height > 30000)
-		return pc_error(PC_EINVAL, "%s: bad image geometry %ux%u stride %zu", path, width,
+	    height > 30000 || !(scale > 0) || width * scale > 30000 || height * scale > 30000)
+		return pc_error(PC_EINVAL, "%s: bad image geometry %ux%u stride %zu", what, width,
 		                height, stride);
-	double scale = (max_width && width > max_width) ? (double)max_width / width : 1.0;
-	int iw = (int)lround(width * scale), ih = (int)lround(height * scale);
-	if (iw < 1)
-		iw = 1;
-	if (ih < 1)
-		ih = 1;
-	double fs = fmax(12, fmin(iw, ih) / 40.0);
-	int top = title ? (int)(fs * 2.2) : 0;
-	int barw = bar ? (int)(fs * (bar->s_label ? 9 : 7)) : 0;
-	int W = iw + barw + (bar ? (int)fs : 0), H = ih + top + (bar ? (int)fs : 0);
-	if (H < ih + top + (int)(fs * 2))
-		H = ih + top + (int)(fs * 2);
+	const annot_layout l = annot_size(width, height, scale, title != NULL, bar);
+	const int iw = l.iw, ih = l.ih, top = l.top, W = l.W;
+	const double fs = l.fs;
 
 	/* the picture itself, as a cairo surface (xRGB little-endian words) */
 	cairo_surface_t *img =
 	    cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)width, (int)height);
 	if (cairo_surface_status(img) != CAIRO_STATUS_SUCCESS) {
 		cairo_surface_destroy(img);
-		return pc_error(PC_ENOMEM, "%s: image of %ux%u", path, width, height);
+		return pc_error(PC_ENOMEM, "%s: image of %ux%u", what, width, height);
 	}
 	cairo_surface_flush(img);
 	unsigned char *dst = cairo_image_surface_get_data(img);
@@ -494,7 +515,7 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 	}
 	cairo_surface_mark_dirty(img);
 
-	cairo_surface_t *out = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
+	cairo_surface_t *out = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, l.H);
 	cairo_t *cr = cairo_create(out);
 	cairo_set_source_rgb(cr, 1, 1, 1);
 	cairo_paint(cr);
@@ -512,7 +533,6 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 	cairo_set_source_rgb(cr, 0, 0, 0);
 	if (title)
 		text_at(cr, iw / 2.0, fs * 0.6, title, 0.5, 0);
-
 	if (bar) {
 		double bx = iw + fs, by = top + fs * 0.5, bh = fmax(ih - fs * 1.5, fs * 4);
 		int n_notes = 0;
@@ -594,9 +614,69 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 	}
 	cairo_destroy(cr);
 	cairo_surface_destroy(img);
-	int rc = cairo_surface_status(out) == CAIRO_STATUS_SUCCESS
-	             ? surface_to_png(out, path)
-	             : pc_error(PC_ENOMEM, "%s: cannot draw the image", path);
+	if (cairo_surface_status(out) != CAIRO_STATUS_SUCCESS) {
+		cairo_surface_destroy(out);
+		return pc_error(PC_ENOMEM, "%s: cannot draw the image", what);
+	}
+	cairo_surface_flush(out);
+	*out_s = out;
+	return 0;
+}
+
+int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height,
+                          size_t stride, const char *title, const pc_colorbar *bar,
+                          const pc_legend_note *note, uint32_t max_width)
+{
+	double scale = (max_width && width > max_width) ? (double)max_width / width : 1.0;
+	cairo_surface_t *out;
+	int rc = render_annotated(path, rgb, width, height, stride, title, bar, note, scale, &out);
+	if (rc)
+		return rc;
+	rc = surface_to_png(out, path);
 	cairo_surface_destroy(out);
 	return rc;
+}
+
+void pc_image_annotated_size(uint32_t width, uint32_t height, uint32_t image_width, bool title,
+                             const pc_colorbar *bar, uint32_t *out_width, uint32_t *out_height)
+{
+	annot_layout l =
+	    annot_size(width, height,
+	               width ? (double)(image_width ? image_width : width) / width : 1, title, bar);
+	*out_width = (uint32_t)l.W;
+	*out_height = (uint32_t)l.H;
+}
+
+int pc_image_render_rgb8(const uint8_t *rgb, uint32_t width, uint32_t height, size_t stride,
+                         const char *title, const pc_colorbar *bar, const pc_legend_note *note,
+                         uint32_t image_width, uint8_t *out, uint32_t out_width,
+                         uint32_t out_height, size_t out_stride)
+{
+	if (!out || out_stride < (size_t)out_width * 3)
+		return pc_error(PC_EINVAL, "annotated picture: bad output buffer");
+	cairo_surface_t *s;
+	int rc =
+	    render_annotated("annotated picture", rgb, width, height, stride, title, bar, note,
+	                     width ? (double)(image_width ? image_width : width) / width : 1, &s);
+	if (rc)
+		return rc;
+	const int sw = cairo_image_surface_get_width(s), sh = cairo_image_surface_get_height(s);
+	if ((uint32_t)sw > out_width || (uint32_t)sh > out_height) {
+		cairo_surface_destroy(s);
+		return pc_error(PC_EINVAL, "annotated picture: %dx%d does not fit the %ux%u output",
+		                sw, sh, out_width, out_height);
+	}
+	const unsigned char *src = cairo_image_surface_get_data(s);
+	const int ss = cairo_image_surface_get_stride(s);
+	for (int y = 0; y < sh; y++) {
+		const uint32_t *p = (const uint32_t *)(const void *)(src + (size_t)y * (size_t)ss);
+		uint8_t *d = out + (size_t)y * out_stride;
+		for (int x = 0; x < sw; x++) {
+			d[3 * x] = (uint8_t)(p[x] >> 16);
+			d[3 * x + 1] = (uint8_t)(p[x] >> 8);
+			d[3 * x + 2] = (uint8_t)p[x];
+		}
+	}
+	cairo_surface_destroy(s);
+	return 0;
 }

@@ -125,6 +125,45 @@ static int run_pipeline(const pc_process_opts *o, const pc_view *raw, unsigned b
 	return st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
 }
 
+int pc_stokes_colour_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out)
+{
+	if (!raw || !opts || !out)
+		return pc_error(PC_EINVAL, "colour Stokes: missing argument");
+	if (opts->mosaic.period != 4)
+		return pc_error(PC_EINVAL, "colour Stokes: the mosaic is not colour-polarization");
+	if (opts->pinv)
+		return pc_error(PC_EINVAL, "colour Stokes: ideal analysers only");
+	uint32_t w, h;
+	pc_demosaic_out_size(opts->method, raw->width, raw->height, &w, &h);
+	if (!w || !h)
+		return pc_error(PC_EINVAL, "colour Stokes: empty output for %ux%u", raw->width,
+		                raw->height);
+	const size_t n = (size_t)w * h;
+	float *buf = malloc(sizeof(float) * n * 12);
+	if (!buf)
+		return pc_error(PC_ENOMEM, "colour Stokes: 12 analyser images of %ux%u", w, h);
+	/* channel 4c + k: colour c (R, G, B) behind analyser k, as pc_demosaic_run orders them */
+	pc_fplane ch[12];
+	for (int k = 0; k < 12; k++)
+		ch[k] = (pc_fplane){buf + (size_t)k * n, w, 1};
+	int rc = pc_demosaic_run(raw, opts, ch, NULL);
+	for (int c = 0; c < 3 && !rc; c++)
+		rc = pc_stokes_from_channels(&ch[4 * c], w, h, NULL, &out[c]);
+	free(buf);
+	return rc;
+}
+
+/* A colour frame's R, G, B Stokes images when the pipeline has no stage (a calibration is for
+ * monochrome mosaics); nothing for monochrome frames. */
+static int run_colour(const pc_process_opts *o, const pc_view *raw, unsigned bits,
+                      const pc_stokes_out *out)
+{
+	if (!out || o->mosaic.period != 4 || o->stage)
+		return 0;
+	pc_pipeline_opts po = pipeline_opts(o, raw->format, bits);
+	return pc_stokes_colour_run(raw, &po, out);
+}
+
 static bool has_suffix(const char *s, const char *suf)
 {
 	size_t n = strlen(s), m = strlen(suf);
@@ -267,13 +306,14 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 }
 
 /* The files of a Stokes folder, as meta.json lists them. */
-static json_t *files_json(unsigned files, bool numbered, bool stack, bool valid)
+static json_t *files_json(unsigned files, bool numbered, bool stack, bool valid, bool colour)
 {
-	enum { VALID = 1u << 30 }; /* valid.npy: when a level was checked */
+	enum { VALID = 1u << 30, COLOUR = 1u << 29, UNSTACKED = 1u << 28 };
 	static const struct {
 		unsigned flag;
 		const char *name[4];
-	} t[10] = {{PC_SF_STOKES, {"stokes.npy"}},
+	} t[12] = {{PC_SF_STOKES, {"stokes.npy"}},
+	           {PC_SF_STOKES | COLOUR | UNSTACKED, {"stokes_rgb.npy"}},
 	           {PC_SF_S0, {"s0.npy"}},
 	           {PC_SF_DOLP, {"dolp.npy"}},
 	           {PC_SF_AOLP, {"aolp.npy"}},
@@ -282,11 +322,16 @@ static json_t *files_json(unsigned files, bool numbered, bool stack, bool valid)
 	           {VALID, {"valid.npy"}},
 	           {PC_SF_PICTURES, {"s0.png", "dolp.png", "aolp.png", "aolp_sat.png"}},
 	           {PC_SF_PICTURES | PC_SF_MINMAX, {"imin.png", "imax.png"}},
-	           {PC_SF_PICTURES | PC_SF_SPLIT, {"diffuse.png", "specular.png"}}};
+	           {PC_SF_PICTURES | PC_SF_SPLIT, {"diffuse.png", "specular.png"}},
+	           {PC_SF_PICTURES | COLOUR, {"s0_rgb.png", "dolp_rgb.png"}}};
 	if (valid)
 		files |= VALID;
+	if (colour)
+		files |= COLOUR;
+	if (!stack)
+		files |= UNSTACKED; /* stokes_rgb.npy is not stacked */
 	json_t *a = json_array();
-	for (int k = 0; k < 10; k++)
+	for (int k = 0; k < 12; k++)
 		for (int i = 0; i < 4 && t[k].name[i] && (files & t[k].flag) == t[k].flag; i++) {
 			const char *n = t[k].name[i];
 			char buf[64];
@@ -355,16 +400,30 @@ static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_
 /* One frame's planes: S0, S1, S2 interleaved (H, W, 3) as stokes.npy holds them, DoLP, AoLP. */
 typedef struct frame_buf {
 	float *stokes, *dolp, *aolp, *s0; /* s0: a contiguous copy for stacks of s0.npy */
-	float *mm; /* Imin, Imax, diffuse, specular planes for stacks (PC_SF_MINMAX/SPLIT) */
-	pc_stokes_out so;
+	float *mm;  /* Imin, Imax, diffuse, specular planes for stacks (PC_SF_MINMAX/SPLIT) */
+	float *rgb; /* colour frames: R, G, B × S0, S1, S2 (H, W, 3, 3), then their DoLP, AoLP */
+	pc_stokes_out so, cso[3];
 	pc_validity valid; /* mask NULL when no level is checked */
 	uint32_t w, h;
 } frame_buf;
 
-static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0, bool checked, bool mm)
+static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0, bool checked, bool mm,
+                           bool colour)
 {
 	size_t n = (size_t)w * h;
 	memset(f, 0, sizeof *f);
+	if (colour) {
+		if (!(f->rgb = malloc(sizeof(float) * n * 15)))
+			return pc_error(PC_ENOMEM, "out of memory for %ux%u colour Stokes images",
+			                w, h);
+		float *d = f->rgb + 9 * n, *a = f->rgb + 12 * n;
+		for (size_t c = 0; c < 3; c++)
+			f->cso[c] = (pc_stokes_out){{f->rgb + 3 * c, (size_t)w * 9, 9},
+			                            {f->rgb + 3 * c + 1, (size_t)w * 9, 9},
+			                            {f->rgb + 3 * c + 2, (size_t)w * 9, 9},
+			                            {d + c * n, w, 1},
+			                            {a + c * n, w, 1}};
+	}
 	f->mm = mm ? malloc(sizeof(float) * n * 4) : NULL;
 	f->stokes = malloc(sizeof(float) * n * 3);
 	f->dolp = malloc(sizeof(float) * n);
@@ -391,6 +450,7 @@ static void frame_buf_free(frame_buf *f)
 	free(f->aolp);
 	free(f->s0);
 	free(f->mm);
+	free(f->rgb);
 	free(f->valid.mask);
 	memset(f, 0, sizeof *f);
 }
@@ -508,6 +568,9 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 	uint64_t n_invalid = 0;
 	int rc = 0;
 	const bool stack_on = numbered && b->stack;
+	/* colour frames: R, G, B Stokes for stokes_rgb.npy and the colour pictures */
+	const bool colour =
+	    o->mosaic.period == 4 && !o->stage && (folder->files & (PC_SF_STOKES | PC_SF_PICTURES));
 	for (size_t k = 0; k < b->count && !rc; k++) {
 		const pc_raw_input *in = &b->inputs[k];
 		uint64_t number = b->numbers ? b->numbers[k] : k;
@@ -523,7 +586,7 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 			checked = sat > 0 || o->dead_level > 0 || o->stage;
 			rc = frame_buf_alloc(
 			    &f, w, h, stack_on && (folder->files & PC_SF_S0), checked,
-			    stack_on && (folder->files & (PC_SF_MINMAX | PC_SF_SPLIT)));
+			    stack_on && (folder->files & (PC_SF_MINMAX | PC_SF_SPLIT)), colour);
 			if (!rc && stack_on)
 				rc = stack_open(&st, tmp,
 				                folder->files | (checked ? STACK_VALID : 0),
@@ -538,6 +601,8 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 		double t0 = now_s(), dt = 0;
 		if (!rc) {
 			rc = run_pipeline(o, &raw, bits, &f.so, NULL, &f.valid);
+			if (!rc && colour)
+				rc = run_colour(o, &raw, bits, f.cso);
 			dt = now_s() - t0;
 			t_all += dt;
 			if (rc)
@@ -558,6 +623,7 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 			fo.files |= folder->files & (PC_SF_MINMAX | PC_SF_SPLIT);
 		if (pictures)
 			fo.files |= PC_SF_PICTURES;
+		fo.colour = colour ? f.cso : NULL;
 		if (stack_on)
 			rc = stack_add(&st, &f);
 		if (!rc)
@@ -602,7 +668,8 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 	}
 	if (numbered)
 		json_object_set_new(j, "pipeline_seconds", pc_json_real(t_all));
-	json_object_set_new(j, "files", files_json(folder->files, numbered, stack_on, checked));
+	json_object_set_new(j, "files",
+	                    files_json(folder->files, numbered, stack_on, checked, colour));
 	*meta_out = j;
 	return 0;
 }

@@ -356,6 +356,81 @@ static void test_process_minmax(void)
 	pc_view_free(&raw);
 }
 
+/* process on a colour-polarization raw (IMX250MYR, RGGB:90,45,135,0) of one uniform state per
+ * colour, worked out by hand (I(θ) = S0/2·(1 + p·cos 2(θ − φ)), docs/physics.md §1):
+ * R unpolarized S0 2000; G S0 3000, DoLP 0.5 at 0°; B S0 1000, DoLP 0.2 at 90°. Every raw value
+ * is an integer, so each colour's analyser images are constant and demosaicking keeps them:
+ * stokes_rgb.npy holds (2000, 0, 0), (3000, 1500, 0), (1000, −200, 0); stokes.npy their mean;
+ * s0_rgb.png (one scale, 3000 at the top) is (170, 255, 85) and dolp_rgb.png on 0..1 is
+ * (0, 128, 51), both to within 1 of the rounding. */
+static bool is_s0_rgb(unsigned r, unsigned g, unsigned b)
+{
+	return abs((int)r - 170) <= 1 && g >= 254 && abs((int)b - 85) <= 1;
+}
+
+static bool is_dolp_rgb(unsigned r, unsigned g, unsigned b)
+{
+	return r <= 1 && abs((int)g - 128) <= 1 && abs((int)b - 51) <= 1;
+}
+
+static void test_process_colour(void)
+{
+	enum { W = 48, H = 40 };
+	pc_view raw;
+	pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0);
+	pc_mosaic m = pc_mosaic_imx250myr();
+	static const double s0[4] = {0, 2000, 3000, 1000}, p[4] = {0, 0, 0.5, 0.2},
+	                    phi[4] = {0, 0, 0, M_PI / 2}; /* by pc_cfa_color */
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			unsigned c = pc_mosaic_channel(&m, x, y), k = pc_mosaic_color(&m, x, y);
+			double th = c * M_PI / 4;
+			PC_ROW(&raw, uint16_t, y)
+			[x] = (uint16_t)lround(s0[k] / 2 * (1 + p[k] * cos(2 * (th - phi[k]))));
+		}
+	CHECK_EQ_INT(pc_png_write(tmp("col.png"), &raw), 0);
+	char args[1024];
+	snprintf(args, sizeof args,
+	         "process %s --layout RGGB:90,45,135,0 -o %s --picture-width 0 --json",
+	         tmp("col.png"), tmp("col"));
+	CHECK_EQ_INT(run(args), 0);
+	CHECK(file_contains(tmp("out.txt"), "\"stokes_rgb.npy\"") &&
+	      file_contains(tmp("out.txt"), "\"dolp_rgb.png\""));
+	pc_array rgb, st;
+	CHECK_EQ_INT(pc_npy_read(tmp("col/stokes_rgb.npy"), &rgb), 0);
+	CHECK_EQ_INT(pc_npy_read(tmp("col/stokes.npy"), &st), 0);
+	CHECK(rgb.ndim == 4 && rgb.shape[0] == H && rgb.shape[1] == W && rgb.shape[2] == 3 &&
+	      rgb.shape[3] == 3);
+	const double want[3][3] = {{2000, 0, 0}, {3000, 1500, 0}, {1000, -200, 0}};
+	double worst = 0, worst_mean = 0;
+	for (int i = 0; rgb.ndim == 4 && i < W * H; i++)
+		for (int k = 0; k < 3; k++) {
+			double mean = 0;
+			for (int c = 0; c < 3; c++) {
+				double v = ((const float *)rgb.data)[9 * i + 3 * c + k];
+				worst = fmax(worst, fabs(v - want[c][k]));
+				mean += v / 3;
+			}
+			worst_mean =
+			    fmax(worst_mean, fabs(mean - ((const float *)st.data)[3 * i + k]));
+		}
+	printf("colour: stokes_rgb worst |error| %.3g DN, mean over colours vs stokes.npy %.3g\n",
+	       worst, worst_mean);
+	CHECK(worst <= 1e-3);
+	CHECK(worst_mean <= 1e-3);
+	/* the pictures: every image pixel the colour worked out above */
+	long n_s0 = count_pixels(tmp("col/s0_rgb.png"), is_s0_rgb),
+	     n_dolp = count_pixels(tmp("col/dolp_rgb.png"), is_dolp_rgb);
+	printf("colour: %ld and %ld of %d pixels the expected colour\n", n_s0, n_dolp, W * H);
+	CHECK(n_s0 >= W * H && n_s0 < W * H + 50);
+	CHECK(n_dolp >= W * H && n_dolp < W * H + 50);
+	pc_array_free(&rgb);
+	pc_array_free(&st);
+	/* a monochrome raw has no colour outputs */
+	CHECK(!exists(tmp("mm/stokes_rgb.npy")) && !exists(tmp("mm/s0_rgb.png")));
+	pc_view_free(&raw);
+}
+
 /* the low-signal hatch's two greys */
 static bool is_hatch_grey(unsigned r, unsigned g, unsigned b)
 {
@@ -454,6 +529,7 @@ int main(void)
 	test_bad_input();
 	test_process_cmd();
 	test_process_minmax();
+	test_process_colour();
 	test_map_hatch();
 	test_eval_cmd();
 	char cmd[128];

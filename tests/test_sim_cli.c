@@ -51,6 +51,23 @@ static const char *small_scene =
     " \"sensor\": {\"preset\": \"imx250mzr\", \"resolution\": [64, 48], \"pixel_pitch_um\": 132,"
     "   \"exposure_us\": 0.5}}";
 
+/* small_scene with its light linearly polarized at 45° and S3 carried */
+static const char *circular_scene =
+    "{\"camera\": {\"position\": [0, -7.5, 3.0], \"look_at\": [0, 0.3, 0.7], \"focal_length_mm\": "
+    "12},"
+    " \"materials\": {\"black\": {\"n\": 1.46, \"k\": 1.28, \"sigma\": 0.2},"
+    "                 \"green\": {\"n\": 1.47, \"k\": 0.47, \"sigma\": 0.1}},"
+    " \"lights\": [{\"type\": \"directional\", \"direction\": [-0.55, -0.45, 0.70], "
+    "\"irradiance_w_m2\": 300, \"polarization\": {\"linear_deg\": 45}}],"
+    " \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], \"material\": "
+    "\"green\"},"
+    "   {\"type\": \"sphere\", \"center\": [-1.4, 0.4, 1.0], \"radius\": 1.0, \"material\": "
+    "\"black\"}],"
+    " \"effects\": {\"diffuse\": true, \"shadowing\": true, \"cast_shadows\": true, "
+    "\"circular\": true},"
+    " \"sensor\": {\"preset\": \"imx250mzr\", \"resolution\": [64, 48], \"pixel_pitch_um\": 132,"
+    "   \"exposure_us\": 0.5}}";
+
 static void test_render(void)
 {
 	char scene[512], out[512], bad[512];
@@ -397,7 +414,53 @@ static void test_demo(void)
 	CHECK(exists(out, "truth/dolp.png") && exists(out, "pipeline_bilinear/aolp.png"));
 	CHECK(exists(out, "mueller/D.png") && exists(out, "mueller/truth_Delta.npy"));
 	CHECK(exists(out, "stokes.npy"));
+	/* unpolarized light, no circular effect: the truth has no S3, nothing circular drawn */
+	CHECK(!exists(out, "truth/docp.npy") && !exists(out, "truth/ellipticity.png"));
 	CHECK_EQ_INT(run_cli("demo", "--methods", "nope", NULL), CLI_STATUS_USAGE);
+}
+
+/* The demo on the small scene with its light linearly polarized at 45° and the circular effect:
+ * the absorbing paint reflects elliptical light, so the truth carries S3 and truth/ gets docp
+ * and ellipticity, equal to |S3|/S0 and ½·atan2(S3, √(S1² + S2²)) worked out in double from
+ * truth_stokes.npy (the demo converts to DN, which the ratios do not see). */
+static void test_demo_circular(void)
+{
+	char scene[512], out[512], p[600];
+	snprintf(scene, sizeof scene, "%s/circular.json", tmp);
+	snprintf(out, sizeof out, "%s/demo_c", tmp);
+	write_file(scene, circular_scene);
+	CHECK_EQ_INT(run_cli("demo", "--scene", scene, "-o", out, "--methods", "bilinear",
+	                     "--no-mueller", NULL),
+	             0);
+	pc_array t, d, e;
+	snprintf(p, sizeof p, "%s/truth_stokes.npy", out);
+	CHECK_EQ_INT(pc_npy_read(p, &t), 0);
+	snprintf(p, sizeof p, "%s/truth/docp.npy", out);
+	CHECK_EQ_INT(pc_npy_read(p, &d), 0);
+	snprintf(p, sizeof p, "%s/truth/ellipticity.npy", out);
+	CHECK_EQ_INT(pc_npy_read(p, &e), 0);
+	CHECK(exists(out, "truth/docp.png") && exists(out, "truth/ellipticity.png"));
+	size_t n = d.shape[0] * d.shape[1];
+	CHECK(t.ndim == 3 && t.shape[2] == 4 && t.shape[0] * t.shape[1] == n);
+	double worst = 0, top = 0;
+	for (size_t i = 0; t.ndim == 3 && i < n; i++) {
+		const float *S = (const float *)t.data + 4 * i;
+		double s0 = S[0], wd = s0 > 0 ? fmin(1, fabs(S[3]) / s0) : 0,
+		       we = s0 > 0 ? 0.5 * atan2(S[3], hypot(S[1], S[2])) : 0;
+		worst = fmax(worst, fabs(((const float *)d.data)[i] - wd));
+		worst = fmax(worst, fabs(((const float *)e.data)[i] - we));
+		top = fmax(top, wd);
+	}
+	printf("demo circular: DoCP up to %.3f, worst |error| %.3g\n", top, worst);
+	CHECK(top > 0.02); /* the scene does make elliptical light */
+	CHECK(worst < 1e-5);
+	snprintf(p, sizeof p, "%s/report.json", out);
+	json_t *r = json_load_file(p, 0, NULL);
+	CHECK(json_is_true(json_object_get(json_object_get(r, "pictures"), "truth_circular")));
+	json_decref(r);
+	pc_array_free(&t);
+	pc_array_free(&d);
+	pc_array_free(&e);
 }
 
 int main(void)
@@ -411,6 +474,7 @@ int main(void)
 	test_mueller();
 	test_mueller_linear();
 	test_demo();
+	test_demo_circular();
 	char cmd[600];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
 	if (system(cmd) != 0)

@@ -177,6 +177,27 @@ int cli_parse_double(const char *opt, const char *arg, double *out)
 	return 0;
 }
 
+int cli_parse_picture_opt(const char *opt, const char *arg, double *mask_s0, double *dolp_hi)
+{
+	int rc;
+	if (!strcmp(opt, "--dolp-max")) {
+		if (arg && !strcmp(arg, "auto")) {
+			*dolp_hi = -1;
+			return 0;
+		}
+		if (!(rc = cli_parse_double(opt, arg, dolp_hi)) && !(*dolp_hi > 0 && *dolp_hi <= 1))
+			rc = pc_error(PC_ERANGE, "--dolp-max %s: expected auto or a DoLP in (0, 1]",
+			              arg);
+		return rc;
+	}
+	if (!(rc = cli_parse_double(opt, arg, mask_s0)) && !(*mask_s0 >= 0))
+		rc = pc_error(PC_ERANGE, "--mask-s0 %s: expected a threshold >= 0 (0: no mask)",
+		              arg);
+	if (!rc && *mask_s0 == 0)
+		*mask_s0 = -1;
+	return rc;
+}
+
 /* Decimal digits only (no sign, no space, no 0x, no octal reading of a leading 0): the value,
  * or 1 when the text is not an integer, 2 when it exceeds UINT64_MAX. */
 static int parse_decimal_u64(const char *s, uint64_t *out)

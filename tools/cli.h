@@ -71,6 +71,11 @@ int cli_parse_u64_range(const char *opt, const char *arg, uint64_t min, uint64_t
 /* [0, UINT64_MAX] */
 int cli_parse_u64(const char *opt, const char *arg, uint64_t *out);
 
+/* The pictures' --mask-s0 T and --dolp-max V|auto (process, view; their help texts) into the
+ * conventions of pc_pictures_opts (polarcam/io.h): *mask_s0 T > 0, or -1 for 0 (no mask);
+ * *dolp_hi V in (0, 1], or -1 for auto. Errors name the option. */
+int cli_parse_picture_opt(const char *opt, const char *arg, double *mask_s0, double *dolp_hi);
+
 /* Untrusted text (an argument, a token of a batch line) for a message: the first len bytes of s
  * with control bytes and bytes that are not UTF-8 written as \xNN, cut with "..." to fit size
  * (>= 8). Returns buf. cli_error and cli_warn pass every message through it. */

@@ -52,7 +52,9 @@ static void usage(FILE *fp)
 	    "frame\n"
 	    "(s0_000000.png, ...) unless --pictures-every says otherwise. A recording's black\n"
 	    "level (meta.json) is used as for one of its frames.\n"
-	    "Colour-polarization layouts use the colour average of each analyser image. DIR is\n"
+	    "Colour-polarization layouts: stokes.npy and the pictures above are of the colour\n"
+	    "average of each analyser image; also stokes_rgb.npy (H, W, 3, 3): S0..S2 of R, G, B\n"
+	    "(not with --stack), s0_rgb.png and dolp_rgb.png (R, G, B of one picture). DIR is\n"
 	    "written as a whole: made beside DIR and renamed into place once every file is "
 	    "written;\n"
 	    "an existing DIR is refused unless --overwrite, which replaces it as a whole.\n"
@@ -99,7 +101,7 @@ static void usage(FILE *fp)
 typedef struct proc_args {
 	long pic_width, pictures_every;
 	double mask_s0, dolp_hi;
-	bool mask_given, stack, pictures, overwrite, json, minmax, split;
+	bool stack, pictures, overwrite, json, minmax, split;
 } proc_args;
 
 /* Takes process's options out of argv into a, the others into args. */
@@ -119,22 +121,8 @@ static int parse_own(int argc, char **argv, proc_args *a, char **args, int *narg
 				rc = cli_parse_long(o, v, 0, 30000, &a->pic_width);
 			else if (!strcmp(o, "--pictures-every"))
 				rc = cli_parse_long(o, v, 1, 999999, &a->pictures_every);
-			else if (!strcmp(o, "--dolp-max") && !strcmp(v, "auto"))
-				a->dolp_hi = -1;
-			else if (!strcmp(o, "--dolp-max")) {
-				if (!(rc = cli_parse_double(o, v, &a->dolp_hi)) &&
-				    !(a->dolp_hi > 0 && a->dolp_hi <= 1))
-					rc = pc_error(PC_ERANGE,
-					              "--dolp-max %s: expected auto or a DoLP in "
-					              "(0, 1]",
-					              v);
-			} else if (!(rc = cli_parse_double(o, v, &a->mask_s0)) &&
-			           !(a->mask_s0 >= 0))
-				rc = pc_error(PC_ERANGE,
-				              "--mask-s0 %s: expected a threshold >= 0 (0: no "
-				              "mask)",
-				              v);
-			a->mask_given |= !strcmp(o, "--mask-s0");
+			else
+				rc = cli_parse_picture_opt(o, v, &a->mask_s0, &a->dolp_hi);
 			if (rc)
 				return cli_fail(rc, NULL);
 		} else if (!strcmp(o, "--stack")) {
@@ -162,11 +150,8 @@ static int run_with(const cli_raw *o, const proc_args *a, pc_process_opts po, ch
 	pc_stokes_folder_opts fo = {
 	    .files = PC_SF_STOKES | PC_SF_DOLP | PC_SF_AOLP | (a->pictures ? PC_SF_PICTURES : 0) |
 	             (a->minmax ? PC_SF_MINMAX : 0) | (a->split ? PC_SF_SPLIT : 0),
-	    .pictures = {.max_width = (uint32_t)a->pic_width,
-	                 .mask_s0 = !a->mask_given   ? 0
-	                            : a->mask_s0 > 0 ? a->mask_s0
-	                                             : -1,
-	                 .dolp_hi = a->dolp_hi}};
+	    .pictures = {
+	        .max_width = (uint32_t)a->pic_width, .mask_s0 = a->mask_s0, .dolp_hi = a->dolp_hi}};
 	struct stat sb;
 	bool folder = o->npaths == 1 && stat(o->path, &sb) == 0 && S_ISDIR(sb.st_mode);
 	if (o->npaths == 1 && !folder && !a->stack) {
@@ -221,7 +206,7 @@ int cli_cmd_process(int argc, char **argv)
 		usage(stdout);
 		return CLI_EXIT_OK;
 	}
-	proc_args a = {1224, 0, 0, 0, false, false, true, false, false, false, false};
+	proc_args a = {1224, 0, 0, 0, false, true, false, false, false, false};
 	char **args = calloc((size_t)argc + 1, sizeof *args);
 	int nargs = 0;
 	if (!args)

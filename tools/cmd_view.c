@@ -17,13 +17,19 @@ static void usage(FILE *fp)
 	fprintf(
 	    fp,
 	    "usage: polarcam view URI [options]\n\n"
-	    "Shows a live window (OpenCV highgui) of S0 (grey), DoLP (grey, 0..1) and AoLP (false\n"
-	    "colour: hue = angle, brightness = DoLP), side by side, with the frame rate. Keys:\n"
-	    "q or Esc quits, s writes a screenshot (view_NNNN.png).\n\n"
+	    "Shows a live window (OpenCV highgui) of S0 (grey), DoLP (grey) and AoLP (false\n"
+	    "colour: hue = angle, brightness = DoLP), side by side at the frames' aspect ratio,\n"
+	    "with the keys and masks of process's pictures (docs/pictures.md) and the frame\n"
+	    "rate. Keys: q or Esc quits, s writes a screenshot (view_NNNN.png).\n\n"
 	    "  URI                 sim:SCENE, file:DIR, aravis:ID, v4l2:/dev/videoN, libcamera:ID\n"
 	    "  --method M          demosaicking method (default bilinear, bayer-first for colour-\n"
 	    "                      polarization frames; superpixel is faster)\n"
-	    "  --width PX          window width for the three panels (default 1500)\n"
+	    "  --width PX          window width for the three panels with their keys (default\n"
+	    "                      1500, at least 480)\n"
+	    "  --mask-s0 T         low-signal hatch over DoLP and AoLP where S0 < T (raw\n"
+	    "                      units); default 1%% of the S0 scale's top; 0: none\n"
+	    "  --dolp-max V|auto   DoLP range 0..V (default 1), or auto: the 99th percentile\n"
+	    "                      of each frame's unmasked DoLP, rounded up to 0.05\n"
 	    "  --frames N          stop after N frames (default: until q)\n"
 	    "  --screenshot FILE   write the last picture shown to FILE.png (PNG only: another\n"
 	    "                      name is refused); with --frames and no display this runs\n"
@@ -75,6 +81,7 @@ int cli_cmd_view(int argc, char **argv)
 	cli_stream_args_init(&sa);
 	const char *shot = NULL, *method = NULL; /* NULL: the mosaic's default */
 	long frames = 0, width = 1500;
+	double mask_s0 = 0, dolp_hi = 0;
 	bool overwrite = false, json = false;
 	pc_stream_levels lv = pc_stream_levels_default();
 	for (int i = 1; i < argc; i++) {
@@ -87,7 +94,8 @@ int cli_cmd_view(int argc, char **argv)
 			continue;
 		const char *a = argv[i];
 		if (!strcmp(a, "--method") || !strcmp(a, "--width") || !strcmp(a, "--frames") ||
-		    !strcmp(a, "--screenshot")) {
+		    !strcmp(a, "--screenshot") || !strcmp(a, "--mask-s0") ||
+		    !strcmp(a, "--dolp-max")) {
 			if (i + 1 >= argc)
 				return cli_error(CLI_EXIT_USAGE, "%s needs a value (see --help)",
 				                 a);
@@ -96,9 +104,14 @@ int cli_cmd_view(int argc, char **argv)
 				method = v;
 			else if (!strcmp(a, "--screenshot"))
 				shot = v;
-			else if ((rc = cli_parse_long(a, v, !strcmp(a, "--width") ? 64 : 1,
-			                              !strcmp(a, "--width") ? 16384 : 100000000,
-			                              !strcmp(a, "--width") ? &width : &frames)))
+			else if (!strcmp(a, "--mask-s0") || !strcmp(a, "--dolp-max")) {
+				if ((rc = cli_parse_picture_opt(a, v, &mask_s0, &dolp_hi)))
+					return cli_fail(rc, "arguments");
+			} else if ((rc = cli_parse_long(
+			                a, v,
+			                !strcmp(a, "--width") ? PC_PICTURES_PANELS_MIN_WIDTH : 1,
+			                !strcmp(a, "--width") ? 16384 : 100000000,
+			                !strcmp(a, "--width") ? &width : &frames)))
 				return cli_fail(rc, "arguments");
 		} else if (!strcmp(a, "--overwrite")) {
 			overwrite = true;
@@ -120,8 +133,8 @@ int cli_cmd_view(int argc, char **argv)
 	if (cli_parse_only())
 		return CLI_EXIT_OK;
 	bool headless = shot && frames > 0 && !getenv("DISPLAY");
-	pc_viewer_opts o = {sa.req,          method,           !headless,
-	                    (uint32_t)width, (uint64_t)frames, shot,
-	                    sa.timeout_ms,   {NULL, NULL},     lv};
+	pc_viewer_opts o = {
+	    sa.req,        method,       !headless, (uint32_t)width, (uint64_t)frames, shot,
+	    sa.timeout_ms, {NULL, NULL}, lv,        mask_s0,         dolp_hi};
 	return run(&o, json);
 }

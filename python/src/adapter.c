@@ -364,6 +364,16 @@ int pcpy_picture(pcpy_picture_kind kind, const pc_fplane *img, const pc_fplane *
 				hi = 1;
 		}
 		return pc_picture_grey(img, w, h, lo, hi, rgb, stride);
+	case PCPY_PIC_ON_S0:
+		/* the S0 picture's scale, as pc_pictures_write_minmax (polarcam/io.h) */
+		if (isnan(lo))
+			lo = 0;
+		if (isnan(hi)) {
+			hi = pc_picture_quantile(s0 ? s0 : img, w, h, 0.999);
+			if (!(hi > 0))
+				hi = 1;
+		}
+		return pc_picture_grey(img, w, h, lo, hi, rgb, stride);
 	case PCPY_PIC_SIGNED: {
 		float q = fmaxf(fabsf(pc_picture_quantile(img, w, h, 0.001)),
 		                fabsf(pc_picture_quantile(img, w, h, 0.999)));

@@ -131,6 +131,8 @@ typedef enum pcpy_picture_kind {
 	PCPY_PIC_AOLP,     /* hue = aolp, value = dolp (+ mask) */
 	PCPY_PIC_AOLP_SAT, /* hue = aolp, saturation = dolp (+ mask) */
 	PCPY_PIC_AOLP_HUE, /* hue = aolp only */
+	PCPY_PIC_ON_S0,    /* image linear lo..hi (NaN: 0 .. the 99.9th percentile of s0, or of
+	                      the image without s0): Imin, Imax, diffuse, specular */
 } pcpy_picture_kind;
 
 /* The false colours of `polarcam process`'s s0.png, dolp.png, aolp.png and aolp_sat.png

@@ -305,6 +305,21 @@ static PyStructSequence_Desc stokes_desc = {
     stokes_fields, 5};
 static PyTypeObject StokesType;
 
+static PyStructSequence_Field minmax_fields[] = {
+    {"imin", "float32 (H, W): Imin = (S0 - sqrt(S1^2 + S2^2)) / 2, the least light an ideal "
+             "linear analyser passes (polanalyser's cvtStokesToImin)"},
+    {"imax", "float32 (H, W): Imax = (S0 + sqrt(S1^2 + S2^2)) / 2 (cvtStokesToImax)"},
+    {"diffuse", "float32 (H, W): 2 Imin, the unpolarized part"},
+    {"specular", "float32 (H, W): Imax - Imin = sqrt(S1^2 + S2^2), the polarized part"},
+    {NULL, NULL}};
+static PyStructSequence_Desc minmax_desc = {
+    "polarcam.MinMax",
+    "MinMax(imin, imax, diffuse, specular): what polarcam process --minmax --split writes "
+    "(imin.npy, imax.npy, diffuse.npy, specular.npy), in the units of S0; not clipped "
+    "(noise makes Imin negative in dark pixels).",
+    minmax_fields, 4};
+static PyTypeObject MinMaxType;
+
 static PyStructSequence_Field dec_fields[] = {
     {"D", "float64 (...): diattenuation |D|"},
     {"R", "float64 (...): retardance in radians, [0, pi] (NaN where undefined)"},
@@ -784,8 +799,90 @@ static PyObject *py_analyser_pinv(PyObject *self, PyObject *arg)
 }
 
 /* ------------------------------------------------------------------------------------------
+ * Imin, Imax, diffuse, specular
+ */
+
+/* The MinMax of S0, S1, S2 arrays (pc_stokes_minmax, without the GIL). */
+static PyObject *minmax_of(PyObject *s0, PyObject *s1, PyObject *s2)
+{
+	pc_fplane p[3];
+	uint32_t w, h, w2, h2;
+	static const char *names[3] = {"s0", "s1", "s2"};
+	PyObject *in[3] = {s0, s1, s2};
+	for (int i = 0; i < 3; i++) {
+		if (!in[i] || in[i] == Py_None) {
+			PyErr_Format(PyExc_ValueError,
+			             "%s: needed (a Stokes with s0, s1, s2, or "
+			             "s0 with s1= and s2=)",
+			             names[i]);
+			return NULL;
+		}
+		if (fplane_any(in[i], names[i], &p[i], i ? &w2 : &w, i ? &h2 : &h))
+			return NULL;
+		if (i && (w2 != w || h2 != h)) {
+			PyErr_Format(PyExc_ValueError, "%s: shape differs from s0", names[i]);
+			return NULL;
+		}
+	}
+	PyObject *res = PyStructSequence_New(&MinMaxType);
+	if (!res)
+		return NULL;
+	pc_fplane o[4];
+	for (int i = 0; i < 4; i++) {
+		npy_intp dims[2] = {h, w};
+		PyObject *a = PyArray_SimpleNew(2, dims, NPY_FLOAT32);
+		if (!a) {
+			Py_DECREF(res);
+			return NULL;
+		}
+		PyStructSequence_SET_ITEM(res, i, a);
+		o[i] = (pc_fplane){PyArray_DATA((PyArrayObject *)a), w, 1};
+	}
+	pc_minmax_out mo = {o[0], o[1], o[2], o[3]};
+	int rc;
+	Py_BEGIN_ALLOW_THREADS;
+	rc = pc_stokes_minmax(&p[0], &p[1], &p[2], w, h, &mo);
+	Py_END_ALLOW_THREADS;
+	if (rc) {
+		Py_DECREF(res);
+		return raise_pc(rc);
+	}
+	return res;
+}
+
+static PyObject *py_minmax(PyObject *self, PyObject *args, PyObject *kw)
+{
+	(void)self;
+	static char *kwl[] = {"image", "s1", "s2", NULL};
+	PyObject *img, *s1 = Py_None, *s2 = Py_None;
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|OO:minmax", kwl, &img, &s1, &s2))
+		return NULL;
+	if (PyArray_Check(img))
+		return minmax_of(img, s1, s2);
+	/* a Stokes (or anything with s0, s1, s2 attributes) */
+	PyObject *a[3] = {PyObject_GetAttrString(img, "s0"), PyObject_GetAttrString(img, "s1"),
+	                  PyObject_GetAttrString(img, "s2")};
+	PyObject *r = NULL;
+	if (a[0] && a[1] && a[2])
+		r = minmax_of(a[0], a[1], a[2]);
+	else
+		PyErr_Format(PyExc_TypeError,
+		             "image: expected a Stokes or an S0 array (with s1=, s2=), got %s",
+		             Py_TYPE(img)->tp_name);
+	for (int i = 0; i < 3; i++)
+		Py_XDECREF(a[i]);
+	return r;
+}
+
+/* ------------------------------------------------------------------------------------------
  * picture
  */
+
+static bool is_minmax_kind(const char *kind)
+{
+	return !strcmp(kind, "imin") || !strcmp(kind, "imax") || !strcmp(kind, "diffuse") ||
+	       !strcmp(kind, "specular");
+}
 
 /* The picture of img (with dolp, s0 where the kind uses them; any may be NULL). */
 static PyObject *picture_of(PyObject *img, PyObject *dolp, PyObject *s0, const char *kind, float lo,
@@ -804,10 +901,14 @@ static PyObject *picture_of(PyObject *img, PyObject *dolp, PyObject *s0, const c
 		k = PCPY_PIC_AOLP_SAT;
 	else if (!strcmp(kind, "aolp_hue"))
 		k = PCPY_PIC_AOLP_HUE;
+	else if (is_minmax_kind(kind))
+		k = PCPY_PIC_ON_S0;
 	else {
 		PyErr_Format(
 		    PyExc_ValueError,
-		    "kind='%s': expected s0, s1, s2, dolp, aolp, aolp_sat, aolp_hue or grey", kind);
+		    "kind='%s': expected s0, s1, s2, dolp, aolp, aolp_sat, aolp_hue, imin, "
+		    "imax, diffuse, specular or grey",
+		    kind);
 		return NULL;
 	}
 	pc_fplane pi, pd, ps;
@@ -822,7 +923,8 @@ static PyObject *picture_of(PyObject *img, PyObject *dolp, PyObject *s0, const c
 		return NULL;
 	}
 	int use_dolp = dolp && (k == PCPY_PIC_AOLP || k == PCPY_PIC_AOLP_SAT);
-	int use_s0 = s0 && (k == PCPY_PIC_DOLP || k == PCPY_PIC_AOLP || k == PCPY_PIC_AOLP_SAT);
+	int use_s0 = s0 && (k == PCPY_PIC_DOLP || k == PCPY_PIC_AOLP || k == PCPY_PIC_AOLP_SAT ||
+	                    k == PCPY_PIC_ON_S0);
 	if (use_dolp &&
 	    (fplane_any(dolp, "dolp", &pd, &w2, &h2) ||
 	     ((w2 != w || h2 != h) &&
@@ -890,6 +992,23 @@ static PyObject *py_picture(PyObject *self, PyObject *args, PyObject *kw)
 		}
 		if (!kind)
 			kind = "aolp";
+		if (is_minmax_kind(kind)) {
+			/* Imin, Imax, diffuse, specular of the Stokes, on its S0's scale */
+			PyObject *mm = minmax_of(a[0], a[1], a[2]);
+			PyObject *r = NULL;
+			if (mm) {
+				int i = !strcmp(kind, "imin")      ? 0
+				        : !strcmp(kind, "imax")    ? 1
+				        : !strcmp(kind, "diffuse") ? 2
+				                                   : 3;
+				r = picture_of(PyStructSequence_GET_ITEM(mm, i), NULL, a[0], kind,
+				               lo, hi, mask);
+				Py_DECREF(mm);
+			}
+			for (int i = 0; i < 5; i++)
+				Py_XDECREF(a[i]);
+			return r;
+		}
 		const char *want = !strcmp(kind, "s0")     ? "s0"
 		                   : !strcmp(kind, "s1")   ? "s1"
 		                   : !strcmp(kind, "s2")   ? "s2"
@@ -2361,9 +2480,18 @@ PyDoc_STRVAR(
     "image: a Stokes (kind default 'aolp'), or a float32 (H, W) array with kind= saying what "
     "it is. kind: 's0' (grey, 0 to the 99.9th percentile), 's1', 's2' (grey, symmetric), "
     "'dolp' (grey 0..1), 'aolp' (hue = AoLP, value = DoLP), 'aolp_sat' (saturation = DoLP), "
-    "'aolp_hue' (hue only), 'grey' (lo..hi). mask_s0: the low-signal hatch where S0 < "
-    "mask_s0 on dolp/aolp pictures (None: 1 % of the S0 99.9th percentile, as the CLI; 0: "
-    "none); needs S0 (a Stokes, or s0=).");
+    "'aolp_hue' (hue only), 'imin', 'imax', 'diffuse', 'specular' (of a Stokes, by minmax(); "
+    "grey from 0 to the S0 picture's top, S0's 99.9th percentile, as process --minmax --split "
+    "draws them; an array with s0= for the scale), 'grey' (lo..hi). mask_s0: the low-signal "
+    "hatch where S0 < mask_s0 on dolp/aolp pictures (None: 1 % of the S0 99.9th percentile, "
+    "as the CLI; 0: none); needs S0 (a Stokes, or s0=).");
+
+PyDoc_STRVAR(doc_minmax,
+             "minmax(image, s1=None, s2=None)\n--\n\n"
+             "Imin, Imax and the diffuse/specular split of a Stokes (or of float32 (H, W) "
+             "S0, S1, S2 arrays) as a MinMax (imin, imax, diffuse, specular), the values of "
+             "polarcam process --minmax --split: Imin/Imax = (S0 -/+ sqrt(S1^2 + S2^2)) / 2, "
+             "diffuse = 2 Imin, specular = Imax - Imin (docs/physics-notes.md).");
 
 PyDoc_STRVAR(doc_pinv,
              "analyser_pinv(W)\n--\n\n"
@@ -2382,6 +2510,7 @@ static PyMethodDef module_methods[] = {
     {"render", KW(py_render), METH_VARARGS | METH_KEYWORDS, doc_render},
     {"open", KW(py_open), METH_VARARGS | METH_KEYWORDS, doc_open},
     {"picture", KW(py_picture), METH_VARARGS | METH_KEYWORDS, doc_picture},
+    {"minmax", KW(py_minmax), METH_VARARGS | METH_KEYWORDS, doc_minmax},
     {"analyser_pinv", py_analyser_pinv, METH_O, doc_pinv},
     {"methods", py_methods, METH_NOARGS,
      "methods()\n--\n\nThe demosaicking methods: [{name, accuracy, cost, source, monochrome, "
@@ -2412,16 +2541,19 @@ PyMODINIT_FUNC PyInit__polarcam(void)
 	if (!m)
 		return NULL;
 	if ((!StokesType.tp_name && PyStructSequence_InitType2(&StokesType, &stokes_desc)) ||
+	    (!MinMaxType.tp_name && PyStructSequence_InitType2(&MinMaxType, &minmax_desc)) ||
 	    (!DecType.tp_name && PyStructSequence_InitType2(&DecType, &dec_desc)) ||
 	    (!FrameType.tp_name && PyStructSequence_InitType2(&FrameType, &frame_desc)) ||
 	    PyType_Ready(&SourceType) || PyType_Ready(&CalibrationType))
 		goto fail;
 	Py_INCREF(&StokesType);
+	Py_INCREF(&MinMaxType);
 	Py_INCREF(&DecType);
 	Py_INCREF(&FrameType);
 	Py_INCREF(&SourceType);
 	Py_INCREF(&CalibrationType);
 	if (PyModule_AddObject(m, "Stokes", (PyObject *)&StokesType) ||
+	    PyModule_AddObject(m, "MinMax", (PyObject *)&MinMaxType) ||
 	    PyModule_AddObject(m, "Decomposition", (PyObject *)&DecType) ||
 	    PyModule_AddObject(m, "Frame", (PyObject *)&FrameType) ||
 	    PyModule_AddObject(m, "Source", (PyObject *)&SourceType) ||

@@ -94,6 +94,43 @@ def test_stokes_equals_process(cli, recording, tmp_path, method):
                                           err_msg=kind)
 
 
+def test_minmax_equals_process(cli, recording, tmp_path):
+    """polarcam.minmax and picture kinds imin/imax/diffuse/specular against process --minmax
+    --split on the same raw: the arrays bit-identical (the same library kernel on the same
+    S0, S1, S2), the pictures the pixels of the annotated PNGs (grey on the S0 picture's
+    scale), and both against the formulas in double."""
+    png = recording / "raw_000000.png"
+    cli("process", png, "-o", tmp_path, "--minmax", "--split", "--picture-width", "0")
+    with polarcam.open(f"file:{recording}") as src:
+        fr = src.read()
+    st = polarcam.stokes(fr.raw, layout=fr.layout, bits=fr.bits)
+    mm = polarcam.minmax(st)
+    assert isinstance(mm, polarcam.MinMax)
+    assert np.count_nonzero(np.load(tmp_path / "valid.npy") == 0) == 0  # no pink marks
+    s = np.load(tmp_path / "stokes.npy").astype(np.float64)
+    p = np.hypot(s[..., 1], s[..., 2])
+    formulas = {"imin": (s[..., 0] - p) / 2, "imax": (s[..., 0] + p) / 2,
+                "diffuse": s[..., 0] - p, "specular": p}
+    h, w = st.s0.shape
+    top = int(max(12.0, min(w, h) / 40.0) * 2.2)  # io/plot.c: title band
+    for name in ("imin", "imax", "diffuse", "specular"):
+        cli_plane = np.load(tmp_path / f"{name}.npy")
+        np.testing.assert_array_equal(getattr(mm, name), cli_plane, err_msg=name)
+        np.testing.assert_allclose(getattr(mm, name), formulas[name], rtol=0,
+                                   atol=2e-6 * float(np.abs(s[..., 0]).max()), err_msg=name)
+        png_rgb = read_png_rgb(tmp_path / f"{name}.png")[top:top + h, :w, :3]
+        np.testing.assert_array_equal(polarcam.picture(st, kind=name), png_rgb, err_msg=name)
+    # the arrays' form: S0, S1, S2 given apart, the same values
+    np.testing.assert_array_equal(polarcam.minmax(st.s0, s1=st.s1, s2=st.s2).specular,
+                                  mm.specular)
+    # the scale is S0's (not the plane's own): the specular picture of a weakly polarized
+    # scene is darker than the plane drawn on its own 99.9th percentile
+    own = polarcam.picture(mm.specular, kind="s0")
+    assert polarcam.picture(st, kind="specular").mean() < own.mean()
+    with pytest.raises(ValueError, match="s1"):
+        polarcam.minmax(st.s0)
+
+
 def test_demosaic_equals_cli(cli, recording, tmp_path):
     png = recording / "raw_000000.png"
     with polarcam.open(f"file:{recording}") as src:
@@ -120,6 +157,18 @@ def test_colour_equals_cli(cli, tmp_path):
     np.testing.assert_array_equal(s, np.load(tmp_path / "p" / "stokes.npy"))
     np.testing.assert_array_equal(dolp, np.load(tmp_path / "p" / "dolp.npy"))
     np.testing.assert_array_equal(aolp, np.load(tmp_path / "p" / "aolp.npy"))
+    # stokes_rgb.npy: each colour's Stokes from its own four analyser images, here through
+    # the module's demosaic (12 channels, R, G, B x 4 angles) and stokes of 4 channels
+    d12 = polarcam.demosaic(raw, layout=meta["layout"], bits=meta["bits"])
+    rgb = np.load(tmp_path / "p" / "stokes_rgb.npy")
+    assert rgb.shape == s.shape[:2] + (3, 3)
+    for c in range(3):
+        st = polarcam.stokes(np.ascontiguousarray(d12[..., 4 * c:4 * c + 4]))
+        for k, name in enumerate(("s0", "s1", "s2")):
+            np.testing.assert_array_equal(getattr(st, name), rgb[:, :, c, k],
+                                          err_msg=f"colour {c} {name}")
+    # stokes.npy is their mean over the colours (to float rounding)
+    np.testing.assert_allclose(rgb.mean(axis=2), s, rtol=0, atol=1e-3 * float(s[..., 0].max()))
     cli("demosaic", tmp_path / "rec" / "raw_000000.png", "--method", "bayer-eari", "-o",
         tmp_path / "d.npy")
     np.testing.assert_array_equal(

@@ -100,6 +100,9 @@ CALLS = {
                                  ValueError),
     "demosaic": lambda: polarcam.demosaic(RAW, method="eari", threads=1),
     "picture": lambda: polarcam.picture(OUT, kind="aolp"),
+    "picture_specular": lambda: polarcam.picture(OUT, kind="specular"),
+    "minmax": lambda: polarcam.minmax(OUT),
+    "error_minmax": _raises(lambda: polarcam.minmax(OUT.s0), ValueError),
     "pbrdf": lambda: polarcam.pbrdf(1.5, 0.1, [0.1, 0.2], 30, 40, 150),
     "decompose": lambda: polarcam.decompose(M),
     "analyser_pinv": lambda: polarcam.analyser_pinv(np.ones((4, 3), np.float32) +

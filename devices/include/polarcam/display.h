@@ -24,9 +24,9 @@ PC_API bool pc_display_available(void);
  * opened (no $DISPLAY / X server). */
 PC_API int pc_display_open(pc_display **out, const char *title);
 
-/* Shows an RGB8 image with an overlay line of text at the top-left (may be NULL) and waits up
- * to wait_ms for a key. Returns the key code (>= 0), -1 when no key was pressed, or a negative
- * PC_E* code (PC_ECANCELED when the window was closed). */
+/* Shows an RGB8 image with an overlay line of black text at the top-left, in its first 30 rows
+ * (may be NULL), and waits briefly for a key. Returns the key code (>= 0), -1 when no key was
+ * pressed, or a negative PC_E* code (PC_ECANCELED when the window was closed). */
 PC_API int pc_display_show(pc_display *d, const uint8_t *rgb, uint32_t width, uint32_t height,
                            size_t stride, const char *overlay);
 

@@ -1,6 +1,7 @@
 /* polarcam/viewer.h - the live window (what `polarcam view` does): a source's frames through
  * the Stokes stream (polarcam/stream.h), S0 | DoLP | AoLP side by side in a window
- * (polarcam/display.h) with the frame rate; keys q or Esc quit, s writes view_NNNN.png.
+ * (polarcam/display.h), with the keys and masks of the files' pictures (pc_pictures_panels,
+ * polarcam/io.h) and the frame rate; keys q or Esc quit, s writes view_NNNN.png.
  */
 #ifndef POLARCAM_VIEWER_H
 #define POLARCAM_VIEWER_H
@@ -29,6 +30,9 @@ typedef struct pc_viewer_opts {
 	pc_progress progress;     /* phase "view", frames shown; non-zero stops */
 	pc_stream_levels levels;  /* black level, saturation (invalid pixels marked), calibration
 	                             (polarcam/stream.h; pc_stream_levels_default()) */
+	double mask_s0;           /* the panels' low-signal hatch where S0 < mask_s0 (raw units;
+	                             0: 1 % of the S0 scale, < 0: none), as pc_pictures_opts */
+	double dolp_hi;           /* the panels' DoLP range 0..dolp_hi (0: 0..1, < 0: automatic) */
 } pc_viewer_opts;
 
 typedef struct pc_viewer_report {

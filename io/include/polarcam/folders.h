@@ -98,6 +98,11 @@ typedef struct pc_stokes_folder_opts {
 	                       * still mark it, valid.npy is not written here */
 	bool no_minmax_files; /* the same for imin/imax/diffuse/specular.npy (PC_SF_MINMAX,
 	                       * PC_SF_SPLIT): only their pictures are written here */
+	const pc_stokes_out *colour; /* a colour-polarization frame's R, G, B Stokes images (three,
+	                              * pc_stokes_colour_run) or NULL: with PC_SF_STOKES
+	                              * stokes_rgb.npy (H, W, 3, 3): [y, x, colour, S0..S2]; with
+	                              * PC_SF_PICTURES s0_rgb.png and dolp_rgb.png
+	                              * (pc_pictures_write_colour) */
 } pc_stokes_folder_opts;
 
 /* Writes the files asked for from st (planes as pc_stokes_out; stokes.npy needs s0, s1, s2,
@@ -110,6 +115,17 @@ PC_API int pc_stokes_folder_write(const char *dir, const pc_stokes_out *st, uint
 PC_API int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint32_t width,
                                         uint32_t height, const pc_stokes_folder_opts *opts,
                                         const pc_validity *valid);
+
+/* ---- circular polarization (Stokes with S3) ---- */
+
+/* From S0..S3 planes s[0..3] (a truth with the "circular" effect: docs/outputs.md): docp.npy,
+ * float32 (H, W) DoCP = |S3|/S0 in [0, 1] (polanalyser's cvtStokesToDoCP; 0 where S0 <= 0),
+ * and ellipticity.npy, float32 (H, W) the ellipticity angle χ = ½·atan2(S3, √(S1² + S2²)) in
+ * radians in [−π/4, π/4], positive for S3 > 0 (physics.md §1's sign; 0 where S0 <= 0), NaN
+ * where an input is not finite, into dir (created when missing); with pictures non-NULL
+ * docp.png and ellipticity.png (pc_pictures_write_circular). */
+PC_API int pc_circular_folder_write(const char *dir, const pc_fplane s[4], uint32_t width,
+                                    uint32_t height, const pc_pictures_opts *pictures);
 
 /* ---- Mueller folders ---- */
 

@@ -236,6 +236,42 @@ PC_API int pc_pictures_write_valid(const char *dir, const struct pc_stokes_out *
 PC_API int pc_pictures_write_minmax(const char *dir, const struct pc_stokes_out *st, uint32_t width,
                                     uint32_t height, const pc_pictures_opts *opts,
                                     const struct pc_validity *valid, bool minmax, bool split);
+/* The live window's picture (polarcam view): S0, DoLP and AoLP (hue, value = DoLP) side by
+ * side, each with the key, ranges, masks and legend notes of pc_pictures_write_valid's files
+ * (opts as there: mask_s0, s0_hi, dolp_hi; title_prefix, suffix and max_width unused) under a
+ * short title. The images keep the frames' aspect ratio, drawn as wide as three fit with their
+ * keys in out_width (scaled up by nearest neighbour, down by a box filter); white fills the
+ * rest, and `top` white rows above them leave room for a status line. *out: malloc'd RGB8,
+ * out_width × *out_height, stride 3·out_width. out_width at least
+ * PC_PICTURES_PANELS_MIN_WIDTH (the three keys take about 310 pixels). */
+#define PC_PICTURES_PANELS_MIN_WIDTH 480
+PC_API int pc_pictures_panels(const struct pc_stokes_out *st, uint32_t width, uint32_t height,
+                              const pc_pictures_opts *opts, const struct pc_validity *valid,
+                              uint32_t out_width, uint32_t top, uint8_t **out,
+                              uint32_t *out_height);
+/* Pictures of a colour-polarization frame's per-colour Stokes images rgb[0..2] (R, G, B; S0 and
+ * DoLP needed; rgb points to 3): s0_rgb.png, the three S0 as the red, green and blue of one picture
+ * on one scale (opts->s0_hi, or the largest of their 99.9th percentiles: no white balance, the
+ * colours the sensor saw), and dolp_rgb.png, the three DoLP as red, green and blue on the DoLP
+ * range of opts->dolp_hi (automatic: over the three channels): grey where R, G and B are equally
+ * polarized, tinted towards the colours polarized more. Keys are grey (a value in all three
+ * channels). The low-signal hatch covers the pixels where the darkest channel's S0 is below
+ * the threshold (opts->mask_s0 as in pc_pictures_write_valid, default 1 % of the S0 scale),
+ * the invalid mark the invalid pixels. AoLP has no colour picture: aolp.png of the colour
+ * average (pc_stokes_run) shows it. */
+PC_API int pc_pictures_write_colour(const char *dir, const struct pc_stokes_out *rgb,
+                                    uint32_t width, uint32_t height, const pc_pictures_opts *opts,
+                                    const struct pc_validity *valid);
+/* Pictures of circular polarization (Stokes with S3: a simulated truth, docs/outputs.md):
+ * docp.png, DoCP = |S3|/S0 grey on the range opts->dolp_hi gives the DoLP (> 0: 0..V, 0: 0..1,
+ * < 0: automatic), and ellipticity.png, the ellipticity angle χ = ½·atan2(S3, √(S1² + S2²))
+ * (radians in the plane, drawn in degrees) on a key from blue (−45°, S3 < 0) through white
+ * (linear light) to red (+45°, S3 > 0), ticks every 15°; both with the low-signal hatch of
+ * pc_pictures_write_valid (threshold opts->mask_s0, default 1 % of S0's scale opts->s0_hi or
+ * its 99.9th percentile). */
+PC_API int pc_pictures_write_circular(const char *dir, const pc_fplane *s0, const pc_fplane *docp,
+                                      const pc_fplane *ellipticity, uint32_t width, uint32_t height,
+                                      const pc_pictures_opts *opts);
 /* The same with a title prefix (may be NULL) and the default mask. */
 PC_API int pc_pictures_write(const char *dir, const struct pc_stokes_out *st, uint32_t width,
                              uint32_t height, const char *title_prefix);

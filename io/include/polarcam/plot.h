@@ -78,6 +78,20 @@ PC_API int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t 
                                  const pc_colorbar *bar, const pc_legend_note *note,
                                  uint32_t max_width);
 
+/* The same picture drawn in memory (a live window shows it): the image drawn image_width pixels
+ * wide (0: its own width; scaled up by nearest neighbour, down by a box filter), the height in
+ * proportion, with the title, the colour bar and the notes, into out (RGB8, out_stride bytes
+ * per row) from its top-left corner; pixels beyond the picture are left as they are.
+ * pc_image_annotated_size gives the size it takes (title: whether there is one); PC_EINVAL
+ * when it does not fit out_width × out_height. */
+PC_API void pc_image_annotated_size(uint32_t width, uint32_t height, uint32_t image_width,
+                                    bool title, const pc_colorbar *bar, uint32_t *out_width,
+                                    uint32_t *out_height);
+PC_API int pc_image_render_rgb8(const uint8_t *rgb, uint32_t width, uint32_t height, size_t stride,
+                                const char *title, const pc_colorbar *bar,
+                                const pc_legend_note *note, uint32_t image_width, uint8_t *out,
+                                uint32_t out_width, uint32_t out_height, size_t out_stride);
+
 #ifdef __cplusplus
 }
 #endif
