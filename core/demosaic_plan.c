@@ -12,6 +12,7 @@
 #include "demosaic_color.h"
 #include "demosaic_fast.h"
 #include "demosaic_ic.h"
+#include "demosaic_pan.h"
 #include "demosaic_ref.h"
 #include "polarcam/error.h"
 #include "polarcam/format.h"
@@ -41,6 +42,10 @@
 #define IGRI_HI   40
 #define NEWTON_LO -10
 #define NEWTON_HI 10
+/* pan-ratio ±5: the ratios at lattice points within ±3 (the tent's zero at ±4), each reading
+ * the pseudo-panchromatic image's ±2 (demosaic_pan.c) */
+#define PAN_LO -5
+#define PAN_HI 5
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
@@ -253,6 +258,23 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                       NULL,
                       false,
                       PC_DM_NEWTON},
+    [PC_DM_PAN_RATIO] = {{PC_DM_PAN_RATIO, "pan-ratio",
+                          "colour-polarization: every channel as its sample's value times a "
+                          "smooth ratio between channels, the ratios to a pseudo-panchromatic "
+                          "guide (the mean of the 4x4 period) interpolated on each channel's "
+                          "lattice",
+                          "one fused pass on row bands",
+                          "ours: the pseudo-panchromatic image of Mihoubi et al., IEEE TCI 3(4) "
+                          "2017, with smooth-hue-transition (ratio) interpolation, Cok, US "
+                          "patent 4,642,678 (1987)",
+                          PC_DMF_COLOR},
+                         {PAN_LO, PAN_HI, 1, 1},
+                         NULL,
+                         NULL,
+                         false,
+                         PC_DM_PAN_RATIO,
+                         pc_dm_pan_ref,
+                         pc_dm_pan_fast},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
@@ -420,8 +442,32 @@ static int mono_reference(const pc_dm_plan *p, const double *img, const pc_mosai
 	return pc_dm_ref(img, p->raw->width, p->raw->height, m, method, p->full_scale, out);
 }
 
+/* A colour method of its own (demosaic_pan.h) on the raw minus black. */
+static int colour_own(pc_dm_plan *p, const pc_fplane *out)
+{
+	const uint32_t w = p->raw->width, h = p->raw->height;
+	int rc;
+	if (p->opts.reference) {
+		double *img = NULL;
+		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
+		if (!rc)
+			rc = p->def->colour_ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
+		free(img);
+	} else {
+		float *fin = NULL;
+		rc = pc_dm_raw_to_float(p->raw, p->opts.black_level, &fin);
+		if (!rc)
+			rc = p->def->colour_fast(fin, w, h, &p->opts.mosaic, p->full_scale,
+			                         p->opts.threads, p->level, out);
+		free(fin);
+	}
+	return rc;
+}
+
 static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 {
+	if (p->def->colour_ref)
+		return colour_own(p, out);
 	const uint32_t w = p->raw->width, h = p->raw->height;
 	const size_t n = (size_t)w * h;
 	const pc_mosaic mono = pc_dm_color_mono(&p->opts.mosaic);

@@ -504,13 +504,13 @@ static void mosaic_color(const scene *s, const pc_mosaic *m, const double gain[3
 
 static void test_color(void)
 {
-	const pc_demosaic_method cm[2] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI};
+	const pc_demosaic_method cm[3] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO};
 	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
 	for (unsigned ph = 0; ph < 16; ph++) {
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		scene tex = make_scene(40, 32, 2, 0);
-		for (int meth = 0; meth < 2; meth++) {
+		for (int meth = 0; meth < 3; meth++) {
 			/* fast vs reference on a random texture */
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);

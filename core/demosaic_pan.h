@@ -1,0 +1,17 @@
+/* Internal to core: the colour-polarization method guided by a pseudo-panchromatic image
+ * (demosaic_pan.c): all sixteen samples of a 4×4 period share one scene. Not a public header. */
+#ifndef POLARCAM_DEMOSAIC_PAN_H
+#define POLARCAM_DEMOSAIC_PAN_H
+
+#include "demosaic_common.h"
+
+/* The double reference: img the raw minus black (C order, w × h, w and h even, >= 8); out the
+ * twelve planes (channel 4·k + c); fs the signal's full scale. */
+int pc_dm_pan_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                  const pc_fplane *out);
+
+/* The fast float path: row bands on threads, intermediate rows in per-thread rings. */
+int pc_dm_pan_fast(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                   int threads, pc_cpu_level level, const pc_fplane *out);
+
+#endif
