@@ -177,8 +177,9 @@ static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
 		int u = l & 3;
 		t->sel[u][l] = 1;
 		for (int ty = 0; ty < 4; ty++) {
-			unsigned q = 4 * (pc_mosaic_color(m, (uint32_t)u, (uint32_t)ty) - PC_CFA_R) +
-			             pc_mosaic_channel(m, (uint32_t)u, (uint32_t)ty);
+			unsigned q =
+			    4 * (pc_mosaic_color(m, (uint32_t)u, (uint32_t)ty) - PC_CFA_R) +
+			    pc_mosaic_channel(m, (uint32_t)u, (uint32_t)ty);
 			t->keep[ty][q][l] = 1;
 		}
 		for (int s = 0; s < 4; s++)
@@ -191,8 +192,7 @@ static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
 typedef void (*pan_vsum_fn)(const float *const r[5], long n, float *sum);
 typedef void (*pan_ratio_fn)(const float *vs, const float *raw, long x0, long n, float delta,
                              float *rho);
-typedef void (*pan_hrows_fn)(const float *rho, long n, const float wt[4][7][16],
-                             float *const h[4]);
+typedef void (*pan_hrows_fn)(const float *rho, long n, const float wt[4][7][16], float *const h[4]);
 typedef void (*pan_orow_fn)(const pan_orow_args *a, const float *raw, long n, float delta,
                             float *const out[12]);
 

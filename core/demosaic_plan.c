@@ -42,10 +42,12 @@
 #define IGRI_HI   40
 #define NEWTON_LO -10
 #define NEWTON_HI 10
-/* pan-ratio ±5: the ratios at lattice points within ±3 (the tent's zero at ±4), each reading
- * the pseudo-panchromatic image's ±2 (demosaic_pan.c) */
-#define PAN_LO -5
-#define PAN_HI 5
+/* pan-ratio ±7, a bound: ±5 away from the borders (the ratios at lattice points within ±3, the
+ * tent's zero at ±4, each reading the pseudo-panchromatic image's ±2; demosaic_pan.c); its
+ * mirror inside the analyser sub-images reads up to 7 samples in from a border where the
+ * whole-sample mirror of the supports reads 5 */
+#define PAN_LO -7
+#define PAN_HI 7
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "

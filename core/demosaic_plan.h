@@ -35,8 +35,8 @@ typedef struct pc_dm_method_def {
 	 * and the fast float path on the raw minus black (demosaic_pan.h); NULL for the others */
 	int (*colour_ref)(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
 	                  const pc_fplane *out);
-	int (*colour_fast)(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m,
-	                   double fs, int threads, pc_cpu_level level, const pc_fplane *out);
+	int (*colour_fast)(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+	                   int threads, pc_cpu_level level, const pc_fplane *out);
 } pc_dm_method_def;
 
 /* The table row of a method, NULL for values out of range. */

@@ -77,6 +77,7 @@ static const support supports[] = {
     {PC_DM_IGRI2, -40, 40, 1, 1, 6},        /* a bound: three stages of about ±13 */
     {PC_DM_NEWTON, -10, 10, 1, 1, 4},       /* a bound: ±6 through the values, ±10 only
                                              * through the edge classifier's branch */
+    {PC_DM_PAN_RATIO, -7, 7, 1, 1, 2},      /* ±5 inside; ±7 through the sub-image mirror */
 };
 #define N_SUP (sizeof supports / sizeof supports[0])
 
