@@ -49,9 +49,8 @@ typedef struct pan_orow_args {
 	const float *vrow[12][4];
 	float vw[12][4];
 	int nv[12];
-	const float *sel[4];   /* 0/1 lane patterns of column phase u (16 lanes) */
-	unsigned own[4];       /* the own channel at column phase u */
-	const float *keep[12]; /* 0/1 lane patterns: q is own there */
+	const float *sel[4]; /* 0/1 lane patterns of column phase u (16 lanes) */
+	unsigned own[4];     /* the own channel at column phase u */
 } pan_orow_args;
 
 #define PC_INST PC_INST_BASELINE
@@ -149,7 +148,8 @@ int pc_dm_pan_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
  * horizontal tents h_s (s the column phase of the channel), kept in a ring of 8 rows: output
  * row y reads rows y - 3 .. y + 3. An output row sums each channel's vertical tent over its
  * lattice rows (two terms, four for green's two lattices), then scales by the pixel's own
- * ratio. Outputs go through a row buffer, copied into the planes. */
+ * ratio. Whole vectors of planar outputs are stored in place; the last partial vector, and
+ * interleaved outputs, go through a row buffer. */
 #define PAN_PADR 32 /* raw and sum rows: columns [-32, w + 32) */
 #define PAN_PADQ 8  /* ratio rows: [-8, w + 8) */
 
@@ -166,22 +166,15 @@ typedef struct pan_job {
 /* 0/1 lane patterns (period 4, 16 lanes) and the tent weights of pan_hrows */
 typedef struct pan_tables {
 	float sel[4][16];
-	float keep[4][12][16]; /* [row phase][channel] */
 	float wt[4][7][16];
 } pan_tables;
 
-static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
+static void pan_tables_init(pan_tables *t)
 {
 	memset(t, 0, sizeof *t);
 	for (int l = 0; l < 16; l++) {
 		int u = l & 3;
 		t->sel[u][l] = 1;
-		for (int ty = 0; ty < 4; ty++) {
-			unsigned q =
-			    4 * (pc_mosaic_color(m, (uint32_t)u, (uint32_t)ty) - PC_CFA_R) +
-			    pc_mosaic_channel(m, (uint32_t)u, (uint32_t)ty);
-			t->keep[ty][q][l] = 1;
-		}
 		for (int s = 0; s < 4; s++)
 			for (int d = -3; d <= 3; d++)
 				if (((u + d) & 3) == s)
@@ -222,10 +215,11 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	const uint32_t w = j->w, h = j->h;
 	const int iw = (int)w, ih = (int)h;
 	const long n = ((long)w + 15) / 16 * 16; /* columns computed: whole vectors */
+	const long nmain = (long)w / 16 * 16;    /* whole vectors inside the row */
 	const size_t pitch = (size_t)n + 2 * PAN_PADR;
 	pan_tables *t = pc_dm_alloc(sizeof *t);
 	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
-	 * output rows, a zero-padded copy of 5 source rows' tails */
+	 * output rows, copies of 5 source rows' last partial vectors */
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * 52);
 	if (!t || !buf) {
 		pc_dm_free(t);
@@ -234,12 +228,15 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		return;
 	}
 	memset(buf, 0, sizeof(float) * pitch * 52);
-	pan_tables_init(t, j->m);
+	pan_tables_init(t);
 	pan_vsum_fn vsum;
 	pan_ratio_fn ratio;
 	pan_hrows_fn hrows;
 	pan_orow_fn orow;
 	pan_kernels(j->level, &vsum, &ratio, &hrows, &orow);
+	int planar = 1;
+	for (int q = 0; q < 12; q++)
+		planar &= j->out[q].pixel_stride == 1;
 	float *vs = buf + PAN_PADR, *rawp = vs + pitch, *rho = rawp + pitch;
 	float *hbase = rho + pitch, *obase = hbase + 32 * pitch, *src = obase + 12 * pitch;
 	float *hr[8][4], *o[12];
@@ -252,14 +249,17 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	for (uint32_t y = y0; y < y1; y++) {
 		for (int yy = have < (int)y - 4 ? (int)y - 4 : have + 1; yy <= (int)y + 3; yy++) {
 			/* ratio row of the extended source row yy, and its four tents */
-			const float *r[5];
+			const float *r[5], *rt[5];
 			for (int k = 0; k < 5; k++) {
-				float *d = src + (size_t)k * pitch;
-				memcpy(d, j->img + (size_t)mirror4(yy + k - 2, ih) * w,
-				       w * sizeof *d);
-				r[k] = d;
+				r[k] = j->img + (size_t)mirror4(yy + k - 2, ih) * w;
+				/* the last partial vector from a copy that is readable to n */
+				float *d = src + (size_t)k * 16;
+				memcpy(d, r[k] + nmain, (size_t)(iw - nmain) * sizeof *d);
+				rt[k] = d;
 			}
-			vsum(r, n, vs);
+			vsum(r, nmain, vs);
+			if (nmain < n)
+				vsum(rt, 16, vs + nmain);
 			memcpy(rawp, r[2], w * sizeof *rawp);
 			for (int x = -PAN_PADR; x < 0; x++) {
 				vs[x] = vs[mirror4(x, iw)];
@@ -298,7 +298,6 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 			float norm = 1.0f / (float)(4 * lat);
 			for (int i = 0; i < a.nv[q]; i++)
 				a.vw[q][i] *= norm;
-			a.keep[q] = t->keep[ty][q];
 		}
 		for (unsigned u = 0; u < 4; u++) {
 			a.sel[u] = t->sel[u];
@@ -306,16 +305,35 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 			           pc_mosaic_channel(j->m, u, ty);
 		}
 		const float *raw = j->img + (size_t)y * w;
+		if (planar) {
+			/* whole vectors straight into the planes, the rest through the row buffer */
+			float *d[12];
+			for (int q = 0; q < 12; q++)
+				d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
+			orow(&a, raw, nmain, j->delta, d);
+			if (nmain < n) {
+				memcpy(rawp, raw + nmain, (size_t)(iw - nmain) * sizeof *rawp);
+				for (int q = 0; q < 12; q++)
+					for (int i = 0; i < a.nv[q]; i++)
+						a.vrow[q][i] += nmain;
+				orow(&a, rawp, 16, j->delta, o);
+				for (int q = 0; q < 12; q++)
+					memcpy(d[q] + nmain, o[q],
+					       (size_t)(iw - nmain) * sizeof *o[q]);
+			}
+			for (uint32_t x = 0; x < w; x++) /* each measurement, exactly */
+				d[a.own[x & 3]][x] = raw[x];
+			continue;
+		}
 		memcpy(rawp, raw, w * sizeof *rawp);
 		orow(&a, rawp, n, j->delta, o);
+		for (uint32_t x = 0; x < w; x++)
+			o[a.own[x & 3]][x] = raw[x];
 		for (int q = 0; q < 12; q++) {
 			const pc_fplane *p = &j->out[q];
 			float *d = p->data + (size_t)y * p->row_stride;
-			if (p->pixel_stride == 1)
-				memcpy(d, o[q], w * sizeof *d);
-			else
-				for (uint32_t x = 0; x < w; x++)
-					d[(size_t)x * p->pixel_stride] = o[q][x];
+			for (uint32_t x = 0; x < w; x++)
+				d[(size_t)x * p->pixel_stride] = o[q][x];
 		}
 	}
 	pc_dm_free(t);

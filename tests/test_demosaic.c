@@ -665,6 +665,18 @@ static void test_pan_ratio(void)
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_PAN_RATIO, &ref, r), 0);
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_PAN_RATIO, &fast, f), 0);
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_BAYER_FIRST, &ref, b), 0);
+		/* interleaved outputs (the row-buffer path) equal the planar ones */
+		pc_fplane il[12];
+		float *ib = malloc(sizeof(float) * W * H * 12);
+		pc_fplanes_interleaved(ib, W, 12, il);
+		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_PAN_RATIO, &fast, il), 0);
+		int same = 1;
+		for (unsigned q = 0; q < 12; q++)
+			for (uint32_t y = 0; y < H; y++)
+				for (uint32_t x = 0; x < W; x++)
+					same &= fget(&il[q], x, y) == fget(&f[q], x, y);
+		CHECK(same);
+		free(ib);
 		double emax = 0, efast = 0, se = 0, sb = 0;
 		size_t n = 0;
 		for (unsigned q = 0; q < 12; q++)
