@@ -154,7 +154,7 @@ int pc_dm_pan_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
 #define PAN_PADQ 8  /* ratio rows: [-8, w + 8) */
 
 typedef struct pan_job {
-	const float *img;
+	const pc_dm_input *in;
 	uint32_t w, h;
 	const pc_mosaic *m;
 	float delta;
@@ -209,6 +209,24 @@ static void pan_kernels(pc_cpu_level level, pan_vsum_fn *vs, pan_ratio_fn *ra, p
 	*vs = pan_vsum_base, *ra = pan_ratio_base, *hr = pan_hrows_base, *orow = pan_orow_base;
 }
 
+/* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
+ * rows of a ratio row are distinct rows less than 16 apart (mirrored ones too), so fetching
+ * them one after the other never evicts one of them. */
+typedef struct pan_rows {
+	float *slot[16]; /* each readable from -1 to w (pc_dm_row_to_float's mirror) */
+	int32_t tag[16];
+} pan_rows;
+
+static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
+{
+	int k = y & 15;
+	if (c->tag[k] != y) {
+		pc_dm_row_to_float(in, (uint32_t)y, c->slot[k]);
+		c->tag[k] = y;
+	}
+	return c->slot[k];
+}
+
 static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	pan_job *j = ctx;
@@ -219,15 +237,15 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	const size_t pitch = (size_t)n + 2 * PAN_PADR;
 	pan_tables *t = pc_dm_alloc(sizeof *t);
 	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
-	 * output rows, copies of 5 source rows' last partial vectors */
-	float *buf = pc_dm_alloc(sizeof(float) * pitch * 52);
+	 * output rows, copies of 5 source rows' last partial vectors, 16 cached raw rows */
+	float *buf = pc_dm_alloc(sizeof(float) * pitch * (52 + 16));
 	if (!t || !buf) {
 		pc_dm_free(t);
 		pc_dm_free(buf);
 		j->err = 1;
 		return;
 	}
-	memset(buf, 0, sizeof(float) * pitch * 52);
+	memset(buf, 0, sizeof(float) * pitch * (52 + 16));
 	pan_tables_init(t);
 	pan_vsum_fn vsum;
 	pan_ratio_fn ratio;
@@ -245,13 +263,18 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 			hr[k][s] = hbase + (size_t)(4 * k + s) * pitch;
 	for (int q = 0; q < 12; q++)
 		o[q] = obase + (size_t)q * pitch;
+	pan_rows rc;
+	for (int k = 0; k < 16; k++) {
+		rc.slot[k] = src + (size_t)(5 + k) * pitch;
+		rc.tag[k] = -1;
+	}
 	int have = (int)y0 - 4; /* source rows computed: up to have */
 	for (uint32_t y = y0; y < y1; y++) {
 		for (int yy = have < (int)y - 4 ? (int)y - 4 : have + 1; yy <= (int)y + 3; yy++) {
 			/* ratio row of the extended source row yy, and its four tents */
 			const float *r[5], *rt[5];
 			for (int k = 0; k < 5; k++) {
-				r[k] = j->img + (size_t)mirror4(yy + k - 2, ih) * w;
+				r[k] = pan_row(&rc, j->in, mirror4(yy + k - 2, ih));
 				/* the last partial vector from a copy that is readable to n */
 				float *d = src + (size_t)k * 16;
 				memcpy(d, r[k] + nmain, (size_t)(iw - nmain) * sizeof *d);
@@ -304,7 +327,7 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 			a.own[u] = 4 * (pc_mosaic_color(j->m, u, ty) - PC_CFA_R) +
 			           pc_mosaic_channel(j->m, u, ty);
 		}
-		const float *raw = j->img + (size_t)y * w;
+		const float *raw = pan_row(&rc, j->in, (int)y);
 		if (planar) {
 			/* whole vectors straight into the planes, the rest through the row buffer */
 			float *d[12];
@@ -340,10 +363,11 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	pc_dm_free(buf);
 }
 
-int pc_dm_pan_fast(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
-                   int threads, pc_cpu_level level, const pc_fplane *out)
+int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                   pc_cpu_level level, const pc_fplane *out)
 {
-	pan_job j = {img, w, h, m, (float)(PAN_DELTA * fs), level, out, 0};
+	const uint32_t w = in->width, h = in->height;
+	pan_job j = {in, w, h, m, (float)(PAN_DELTA * fs), level, out, 0};
 	pc_parallel_rows(h, 0, threads, pan_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "pan-ratio: row buffers for width %u", w);

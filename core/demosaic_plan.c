@@ -456,12 +456,11 @@ static int colour_own(pc_dm_plan *p, const pc_fplane *out)
 			rc = p->def->colour_ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
 		free(img);
 	} else {
-		float *fin = NULL;
-		rc = pc_dm_raw_to_float(p->raw, p->opts.black_level, &fin);
+		const pc_dm_input *in;
+		rc = pc_dm_plan_input(p, &in);
 		if (!rc)
-			rc = p->def->colour_fast(fin, w, h, &p->opts.mosaic, p->full_scale,
+			rc = p->def->colour_fast(in, &p->opts.mosaic, p->full_scale,
 			                         p->opts.threads, p->level, out);
-		free(fin);
 	}
 	return rc;
 }
