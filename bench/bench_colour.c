@@ -74,7 +74,8 @@ static int make_case(const pc_eval_truth *t, int track, pc_view *raw, pc_eval_tr
 			for (unsigned k = 0; k < 3; k++) {
 				double g = gain(track, k, x, y);
 				for (int c = 0; c < 4; c++)
-					tk[k].ch[c][i] = (double)lround(g * t->ch[c][i] * 65535) / 65535;
+					tk[k].ch[c][i] =
+					    (double)lround(g * t->ch[c][i] * 65535) / 65535;
 			}
 			unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
 			PC_ROW(raw, uint16_t, y)
@@ -138,17 +139,20 @@ static int cmp_dbl(const void *a, const void *b)
 int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 {
 	if (bench_wants_help(argc, argv)) {
-		printf("usage: polarcam bench colour [DATA_DIR] [--reps N] [--threads N] [--methods A,B]\n"
-		       "                             [--reference] [--no-time] [--json]\n\n"
-		       "Colour-polarization methods (IMX250MYR) on colourised ground truth: every "
-		       "scene of\nDATA_DIR/gt (default $POLARCAM_DATA) under two colourings, "
-		       "'smooth' (slowly varying\ngains) and 'patches' (piecewise-constant hues, "
-		       "edges unrelated to the scene's);\nper scene the S0 and DoLP PSNR gain "
-		       "over bayer-first, the mean and the worst scene.\nTime per 2448x2048 "
-		       "frame (median of N round-robin runs, default 5) as a multiple of\nthe "
-		       "monochrome bilinear's in the same run, wall and process CPU time.\n--methods names the colour methods to run (bayer-first always runs);\n--reference "
-		       "scores the double-precision references; "
-		       "--no-time skips the timing.\n");
+		printf(
+		    "usage: polarcam bench colour [DATA_DIR] [--reps N] [--threads N] [--methods "
+		    "A,B]\n"
+		    "                             [--reference] [--no-time] [--json]\n\n"
+		    "Colour-polarization methods (IMX250MYR) on colourised ground truth: every "
+		    "scene of\nDATA_DIR/gt (default $POLARCAM_DATA) under two colourings, "
+		    "'smooth' (slowly varying\ngains) and 'patches' (piecewise-constant hues, "
+		    "edges unrelated to the scene's);\nper scene the S0 and DoLP PSNR gain "
+		    "over bayer-first, the mean and the worst scene.\nTime per 2448x2048 "
+		    "frame (median of N round-robin runs, default 5) as a multiple of\nthe "
+		    "monochrome bilinear's in the same run, wall and process CPU time.\n--methods "
+		    "names the colour methods to run (bayer-first always runs);\n--reference "
+		    "scores the double-precision references; "
+		    "--no-time skips the timing.\n");
 		return PC_BENCH_OK;
 	}
 	const char *data = getenv("POLARCAM_DATA");
@@ -185,8 +189,8 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 		const pc_demosaic_method_info *mi = pc_demosaic_method_get((pc_demosaic_method)k);
 		size_t len = strlen(mi->name);
 		const char *hit = only ? strstr(only, mi->name) : NULL;
-		bool listed = hit && (hit == only || hit[-1] == ',') &&
-		              (hit[len] == ',' || hit[len] == 0);
+		bool listed =
+		    hit && (hit == only || hit[-1] == ',') && (hit[len] == ',' || hit[len] == 0);
 		if ((mi->flags & PC_DMF_COLOR) && !(mi->flags & PC_DMF_REFERENCE_ONLY) &&
 		    (!only || listed || k == PC_DM_BAYER_FIRST)) {
 			if (k == PC_DM_BAYER_FIRST)
@@ -232,7 +236,8 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 					rc = make_case(&t, tr, &raw, tk);
 					for (size_t q = 0; q < nm && !rc; q++) {
 						pc_eval_metrics mm = {0};
-						rc = score(&raw, tk, ms[q], (int)threads, reference, &mm);
+						rc = score(&raw, tk, ms[q], (int)threads, reference,
+						           &mm);
 						s0[ns][q] = mm.psnr_s0;
 						dl[ns][q] = mm.psnr_dolp;
 					}
@@ -284,8 +289,8 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 					json_object_set_new(jm, "s0_db", bench_json_real(s0[s][q]));
 					json_object_set_new(jm, "dolp_db",
 					                    bench_json_real(dl[s][q]));
-					json_object_set_new(
-					    js, pc_demosaic_method_get(ms[q])->name, jm);
+					json_object_set_new(js, pc_demosaic_method_get(ms[q])->name,
+					                    jm);
 					if (q != bf)
 						printf(" %+7.2f/%+7.2f", gs, gd);
 				}
@@ -374,8 +379,8 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 	}
 	printf("time per %ux%u frame, %d thread(s), median of %ld round-robin runs "
 	       "(load average at the end %.2f %.2f %.2f)\n%-16s %9s %7s %9s %7s\n",
-	       FW, FH, threads ? (int)threads : pc_parallel_max_threads(), reps, lavg[0], lavg[1], lavg[2],
-	       "method", "wall ms", "x bil", "cpu ms", "x bil");
+	       FW, FH, threads ? (int)threads : pc_parallel_max_threads(), reps, lavg[0], lavg[1],
+	       lavg[2], "method", "wall ms", "x bil", "cpu ms", "x bil");
 	double bw = 0, bc = 0;
 	json_t *jtime = json_array();
 	for (size_t q = 0; q < nt; q++) {

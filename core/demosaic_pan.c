@@ -329,7 +329,8 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		}
 		const float *raw = pan_row(&rc, j->in, (int)y);
 		if (planar) {
-			/* whole vectors straight into the planes, the rest through the row buffer */
+			/* whole vectors straight into the planes, the rest through the row buffer
+			 */
 			float *d[12];
 			for (int q = 0; q < 12; q++)
 				d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;

@@ -261,11 +261,14 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                       false,
                       PC_DM_NEWTON},
     [PC_DM_PAN_RATIO] = {{PC_DM_PAN_RATIO, "pan-ratio",
-                          "colour-polarization: every channel as its sample's value times a "
-                          "smooth ratio between channels, the ratios to a pseudo-panchromatic "
+                          "colour-polarization: every channel as its pixel's own sample times "
+                          "a smooth ratio between channels, the ratios to a pseudo-panchromatic "
                           "guide (the mean of the 4x4 period) interpolated on each channel's "
-                          "lattice",
-                          "one fused pass on row bands",
+                          "lattice; over bayer-first (bench colour, 9 scenes) smooth colours "
+                          "mean +4.46/+1.66 (worst +2.70/+0.37), hue patches -0.53/+1.12 "
+                          "(worst -0.76/+0.45: loses S0 at dense hue edges)",
+                          "one fused pass on row bands, twelve planes; about 2-5x the mono "
+                          "bilinear's time (bayer-first 9-16x)",
                           "ours: the pseudo-panchromatic image of Mihoubi et al., IEEE TCI 3(4) "
                           "2017, with smooth-hue-transition (ratio) interpolation, Cok, US "
                           "patent 4,642,678 (1987)",
