@@ -191,7 +191,8 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 		const char *hit = only ? strstr(only, mi->name) : NULL;
 		bool listed =
 		    hit && (hit == only || hit[-1] == ',') && (hit[len] == ',' || hit[len] == 0);
-		if ((mi->flags & PC_DMF_COLOR) && !(mi->flags & PC_DMF_REFERENCE_ONLY) &&
+		if ((mi->flags & PC_DMF_COLOR) &&
+		    (!(mi->flags & PC_DMF_REFERENCE_ONLY) || listed) &&
 		    (!only || listed || k == PC_DM_BAYER_FIRST)) {
 			if (k == PC_DM_BAYER_FIRST)
 				bf = nm;

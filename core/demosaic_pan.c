@@ -53,6 +53,17 @@ typedef struct pan_orow_args {
 	unsigned own[4];     /* the own channel at column phase u */
 } pan_orow_args;
 
+/* pan-guided's: the terms' tent weights vt, their rows' index vdy in p0row (rows y-3 .. y+3) */
+typedef struct pan_gorow_args {
+	const float *vrow[12][4];
+	float vt[12][4];
+	int vdy[12][4];
+	int nv[12];
+	const float *sel[4];
+	unsigned own[4];
+	const float *p0row[7];
+} pan_gorow_args;
+
 #define PC_INST PC_INST_BASELINE
 #include "simd_instance_begin.h"
 #include "demosaic_pan_kern.inc"
@@ -71,6 +82,7 @@ typedef struct pan_orow_args {
 #endif
 
 #define PAN_DELTA 0.01 /* δ, fraction of full scale */
+#define PAN_E     0.01 /* pan-guided's e, fraction of full scale */
 
 /* The sub-image mirror: x of the raw extended beyond [0, n) (n even) keeping x mod 4. */
 static inline int mirror4(int x, int n)
@@ -84,6 +96,7 @@ typedef struct pan_ref {
 	int w, h;
 	double delta;
 	const pc_mosaic *m;
+	double e; /* pan-guided's range scale */
 } pan_ref;
 
 static double ext(const pan_ref *r, int x, int y)
@@ -116,7 +129,7 @@ static unsigned chan(const pan_ref *r, int x, int y)
 int pc_dm_pan_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                   const pc_fplane *out)
 {
-	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m};
+	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, 0};
 	for (int y = 0; y < r.h; y++)
 		for (int x = 0; x < r.w; x++) {
 			double num[12] = {0}, den[12] = {0};
@@ -127,6 +140,58 @@ int pc_dm_pan_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
 					num[q] += t * ratio_at(&r, x + dx, y + dy);
 					den[q] += t;
 				}
+			unsigned own = chan(&r, x, y);
+			double v = img[(size_t)y * w + x];
+			double scale = (fmax(v, 0) + r.delta) * den[own] / num[own];
+			for (unsigned q = 0; q < 12; q++) {
+				double o = q == own ? v : scale * num[q] / den[q] - r.delta;
+				const pc_fplane *p = &out[q];
+				p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] =
+				    (float)o;
+			}
+		}
+	return 0;
+}
+
+/* pan-guided: pan-ratio with joint-bilateral tents (Tomasi & Manduchi, ICCV 1998; Kopf et al.,
+ * SIGGRAPH 2007), separable as the tents are: along a row, the ratios of a column phase s at
+ * x + d weigh (4 − |d|)/(e + |P0(x + d, y') − P0(x, y')|) (normalised per phase), giving
+ * H_s(x, y'); down a column, a channel's lattice rows y' weigh (4 − |y' − y|)/(e + |P0(x, y') −
+ * P0(x, y)|) (normalised over the channel's rows, both lattices for green); e = 1 % of full
+ * scale. Near a hue or intensity edge the samples across it, whose ratio belongs to the other
+ * surface, weigh little. */
+static double guided_h(const pan_ref *r, int x, int y, int s)
+{
+	double p0 = ppi0(r, x, y), num = 0, den = 0;
+	for (int d = -3; d <= 3; d++) {
+		if ((((x + d) % 4) + 4) % 4 != s)
+			continue;
+		double wgt = (4 - abs(d)) / (r->e + fabs(ppi0(r, x + d, y) - p0));
+		num += wgt * ratio_at(r, x + d, y);
+		den += wgt;
+	}
+	return num / den;
+}
+
+int pc_dm_pan_guided_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                         const pc_fplane *out)
+{
+	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, PAN_E * fs};
+	for (int y = 0; y < r.h; y++)
+		for (int x = 0; x < r.w; x++) {
+			double num[12] = {0}, den[12] = {0}, p0 = ppi0(&r, x, y);
+			/* every (column phase, row) of the 7 rows around y: its channel's lattice
+			 * row */
+			for (int dy = -3; dy <= 3; dy++) {
+				double wv = (4 - abs(dy)) / (r.e + fabs(ppi0(&r, x, y + dy) - p0));
+				for (int s = 0; s < 4; s++) {
+					/* the channel of phase s on row y + dy */
+					int xs = x - (((x - s) % 4) + 4) % 4;
+					unsigned q = chan(&r, xs, y + dy);
+					num[q] += wv * guided_h(&r, x, y + dy, s);
+					den[q] += wv;
+				}
+			}
 			unsigned own = chan(&r, x, y);
 			double v = img[(size_t)y * w + x];
 			double scale = (fmax(v, 0) + r.delta) * den[own] / num[own];
@@ -161,6 +226,8 @@ typedef struct pan_job {
 	pc_cpu_level level;
 	const pc_fplane *out;
 	int err;
+	int guided; /* pan-guided */
+	float e;    /* its range scale */
 } pan_job;
 
 /* 0/1 lane patterns (period 4, 16 lanes) and the tent weights of pan_hrows */
@@ -184,29 +251,38 @@ static void pan_tables_init(pan_tables *t)
 
 typedef void (*pan_vsum_fn)(const float *const r[5], long n, float *sum);
 typedef void (*pan_ratio_fn)(const float *vs, const float *raw, long x0, long n, float delta,
-                             float *rho);
+                             float *rho, float *p0out);
+typedef void (*pan_ghrows_fn)(const float *rho, const float *p0, long n, const float wt[4][7][16],
+                              float e, float *const h[4]);
+typedef void (*pan_gorow_fn)(const pan_gorow_args *a, const float *raw, long n, float delta,
+                             float e, float *const out[12]);
 typedef void (*pan_hrows_fn)(const float *rho, long n, const float wt[4][7][16], float *const h[4]);
 typedef void (*pan_orow_fn)(const pan_orow_args *a, const float *raw, long n, float delta,
                             float *const out[12]);
 
-static void pan_kernels(pc_cpu_level level, pan_vsum_fn *vs, pan_ratio_fn *ra, pan_hrows_fn *hr,
-                        pan_orow_fn *orow)
+typedef struct pan_kern {
+	pan_vsum_fn vsum;
+	pan_ratio_fn ratio;
+	pan_hrows_fn hrows;
+	pan_orow_fn orow;
+	pan_ghrows_fn ghrows;
+	pan_gorow_fn gorow;
+} pan_kern;
+
+static pan_kern pan_kernels(pc_cpu_level level)
 {
 #ifdef PC_CPU_X86
-	if (level >= PC_CPU_AVX512) {
-		*vs = pan_vsum_avx512, *ra = pan_ratio_avx512, *hr = pan_hrows_avx512;
-		*orow = pan_orow_avx512;
-		return;
-	}
-	if (level >= PC_CPU_AVX2) {
-		*vs = pan_vsum_avx2, *ra = pan_ratio_avx2, *hr = pan_hrows_avx2;
-		*orow = pan_orow_avx2;
-		return;
-	}
+	if (level >= PC_CPU_AVX512)
+		return (pan_kern){pan_vsum_avx512, pan_ratio_avx512,  pan_hrows_avx512,
+		                  pan_orow_avx512, pan_ghrows_avx512, pan_gorow_avx512};
+	if (level >= PC_CPU_AVX2)
+		return (pan_kern){pan_vsum_avx2, pan_ratio_avx2,  pan_hrows_avx2,
+		                  pan_orow_avx2, pan_ghrows_avx2, pan_gorow_avx2};
 #else
 	(void)level;
 #endif
-	*vs = pan_vsum_base, *ra = pan_ratio_base, *hr = pan_hrows_base, *orow = pan_orow_base;
+	return (pan_kern){pan_vsum_base, pan_ratio_base,  pan_hrows_base,
+	                  pan_orow_base, pan_ghrows_base, pan_gorow_base};
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
@@ -227,6 +303,69 @@ static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
 	return c->slot[k];
 }
 
+/* pan-guided's output row y: the terms of every channel, then the kernel (whole vectors into
+ * planar outputs, the rest through the row buffer o), then the own measurements. */
+static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
+                      float *p0r[8], const float *raw, uint32_t y, int planar, long n, long nmain,
+                      float *rawp, float *const o[12])
+{
+	pan_gorow_args a;
+	memset(&a, 0, sizeof a);
+	const uint32_t w = j->w, ty = y & 3;
+	for (unsigned py = 0; py < 4; py++)
+		for (unsigned px = 0; px < 4; px++) {
+			unsigned q = 4 * (pc_mosaic_color(j->m, px, py) - PC_CFA_R) +
+			             pc_mosaic_channel(j->m, px, py);
+			int e = (int)((y - py) & 3), ya = (int)y - e;
+			a.vrow[q][a.nv[q]] = hr[ya & 7][px];
+			a.vt[q][a.nv[q]] = (float)(4 - e);
+			a.vdy[q][a.nv[q]++] = 3 - e;
+			if (e) {
+				a.vrow[q][a.nv[q]] = hr[(ya + 4) & 7][px];
+				a.vt[q][a.nv[q]] = (float)e;
+				a.vdy[q][a.nv[q]++] = 7 - e;
+			}
+		}
+	for (int k = 0; k < 7; k++)
+		a.p0row[k] = p0r[((int)y + k - 3) & 7];
+	for (unsigned u = 0; u < 4; u++) {
+		a.sel[u] = t->sel[u];
+		a.own[u] =
+		    4 * (pc_mosaic_color(j->m, u, ty) - PC_CFA_R) + pc_mosaic_channel(j->m, u, ty);
+	}
+	float *d[12];
+	if (planar) {
+		for (int q = 0; q < 12; q++)
+			d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
+		K->gorow(&a, raw, nmain, j->delta, j->e, d);
+		if (nmain < n) {
+			memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
+			for (int q = 0; q < 12; q++)
+				for (int i = 0; i < a.nv[q]; i++)
+					a.vrow[q][i] += nmain;
+			for (int k = 0; k < 7; k++)
+				a.p0row[k] += nmain;
+			K->gorow(&a, rawp, 16, j->delta, j->e, o);
+			for (int q = 0; q < 12; q++)
+				memcpy(d[q] + nmain, o[q],
+				       (size_t)((long)w - nmain) * sizeof *o[q]);
+		}
+		for (uint32_t x = 0; x < w; x++)
+			d[a.own[x & 3]][x] = raw[x];
+		return;
+	}
+	memcpy(rawp, raw, w * sizeof *rawp);
+	K->gorow(&a, rawp, n, j->delta, j->e, o);
+	for (uint32_t x = 0; x < w; x++)
+		o[a.own[x & 3]][x] = raw[x];
+	for (int q = 0; q < 12; q++) {
+		const pc_fplane *p = &j->out[q];
+		float *dq = p->data + (size_t)y * p->row_stride;
+		for (uint32_t x = 0; x < w; x++)
+			dq[(size_t)x * p->pixel_stride] = o[q][x];
+	}
+}
+
 static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	pan_job *j = ctx;
@@ -237,21 +376,18 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	const size_t pitch = (size_t)n + 2 * PAN_PADR;
 	pan_tables *t = pc_dm_alloc(sizeof *t);
 	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
-	 * output rows, copies of 5 source rows' last partial vectors, 16 cached raw rows */
-	float *buf = pc_dm_alloc(sizeof(float) * pitch * (52 + 16));
+	 * output rows, copies of 5 source rows' last partial vectors, 16 cached raw rows, 8 PPI
+	 * rows (pan-guided) */
+	float *buf = pc_dm_alloc(sizeof(float) * pitch * (52 + 16 + 8));
 	if (!t || !buf) {
 		pc_dm_free(t);
 		pc_dm_free(buf);
 		j->err = 1;
 		return;
 	}
-	memset(buf, 0, sizeof(float) * pitch * (52 + 16));
+	memset(buf, 0, sizeof(float) * pitch * (52 + 16 + 8));
 	pan_tables_init(t);
-	pan_vsum_fn vsum;
-	pan_ratio_fn ratio;
-	pan_hrows_fn hrows;
-	pan_orow_fn orow;
-	pan_kernels(j->level, &vsum, &ratio, &hrows, &orow);
+	const pan_kern K = pan_kernels(j->level);
 	int planar = 1;
 	for (int q = 0; q < 12; q++)
 		planar &= j->out[q].pixel_stride == 1;
@@ -268,6 +404,9 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		rc.slot[k] = src + (size_t)(5 + k) * pitch;
 		rc.tag[k] = -1;
 	}
+	float *p0r[8]; /* pan-guided: the PPI rows of the ring */
+	for (int k = 0; k < 8; k++)
+		p0r[k] = src + (size_t)(21 + k) * pitch;
 	int have = (int)y0 - 4; /* source rows computed: up to have */
 	for (uint32_t y = y0; y < y1; y++) {
 		for (int yy = have < (int)y - 4 ? (int)y - 4 : have + 1; yy <= (int)y + 3; yy++) {
@@ -280,9 +419,9 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 				memcpy(d, r[k] + nmain, (size_t)(iw - nmain) * sizeof *d);
 				rt[k] = d;
 			}
-			vsum(r, nmain, vs);
+			K.vsum(r, nmain, vs);
 			if (nmain < n)
-				vsum(rt, 16, vs + nmain);
+				K.vsum(rt, 16, vs + nmain);
 			memcpy(rawp, r[2], w * sizeof *rawp);
 			for (int x = -PAN_PADR; x < 0; x++) {
 				vs[x] = vs[mirror4(x, iw)];
@@ -292,10 +431,21 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 				vs[x] = vs[mirror4(x, iw)];
 				rawp[x] = rawp[mirror4(x, iw)];
 			}
-			ratio(vs, rawp, -16, n + 32, j->delta, rho);
-			hrows(rho, n, t->wt, hr[yy & 7]);
+			if (j->guided) {
+				float *p0 = p0r[yy & 7];
+				K.ratio(vs, rawp, -16, n + 32, j->delta, rho, p0);
+				K.ghrows(rho, p0, n, t->wt, j->e, hr[yy & 7]);
+			} else {
+				K.ratio(vs, rawp, -16, n + 32, j->delta, rho, NULL);
+				K.hrows(rho, n, t->wt, hr[yy & 7]);
+			}
 		}
 		have = (int)y + 3;
+		if (j->guided) {
+			pan_gorow(j, &K, t, hr, p0r, pan_row(&rc, j->in, (int)y), y, planar, n,
+			          nmain, rawp, o);
+			continue;
+		}
 		/* channel q's lattice rows around y, with the tent's vertical weights */
 		pan_orow_args a;
 		memset(&a, 0, sizeof a);
@@ -334,13 +484,13 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 			float *d[12];
 			for (int q = 0; q < 12; q++)
 				d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
-			orow(&a, raw, nmain, j->delta, d);
+			K.orow(&a, raw, nmain, j->delta, d);
 			if (nmain < n) {
 				memcpy(rawp, raw + nmain, (size_t)(iw - nmain) * sizeof *rawp);
 				for (int q = 0; q < 12; q++)
 					for (int i = 0; i < a.nv[q]; i++)
 						a.vrow[q][i] += nmain;
-				orow(&a, rawp, 16, j->delta, o);
+				K.orow(&a, rawp, 16, j->delta, o);
 				for (int q = 0; q < 12; q++)
 					memcpy(d[q] + nmain, o[q],
 					       (size_t)(iw - nmain) * sizeof *o[q]);
@@ -350,7 +500,7 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 			continue;
 		}
 		memcpy(rawp, raw, w * sizeof *rawp);
-		orow(&a, rawp, n, j->delta, o);
+		K.orow(&a, rawp, n, j->delta, o);
 		for (uint32_t x = 0; x < w; x++)
 			o[a.own[x & 3]][x] = raw[x];
 		for (int q = 0; q < 12; q++) {
@@ -368,9 +518,20 @@ int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
                    pc_cpu_level level, const pc_fplane *out)
 {
 	const uint32_t w = in->width, h = in->height;
-	pan_job j = {in, w, h, m, (float)(PAN_DELTA * fs), level, out, 0};
+	pan_job j = {in, w, h, m, (float)(PAN_DELTA * fs), level, out, 0, 0, 0};
 	pc_parallel_rows(h, 0, threads, pan_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "pan-ratio: row buffers for width %u", w);
+	return 0;
+}
+
+int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                          pc_cpu_level level, const pc_fplane *out)
+{
+	const uint32_t w = in->width, h = in->height;
+	pan_job j = {in, w, h, m, (float)(PAN_DELTA * fs), level, out, 0, 1, (float)(PAN_E * fs)};
+	pc_parallel_rows(h, 0, threads, pan_band, &j);
+	if (j.err)
+		return pc_error(PC_ENOMEM, "pan-guided: row buffers for width %u", w);
 	return 0;
 }

@@ -42,10 +42,10 @@
 #define IGRI_HI   40
 #define NEWTON_LO -10
 #define NEWTON_HI 10
-/* pan-ratio ±7, a bound: ±5 away from the borders (the ratios at lattice points within ±3, the
- * tent's zero at ±4, each reading the pseudo-panchromatic image's ±2; demosaic_pan.c); its
- * mirror inside the analyser sub-images reads up to 7 samples in from a border where the
- * whole-sample mirror of the supports reads 5 */
+/* pan-ratio and pan-guided ±7, a bound: ±5 away from the borders (the ratios at lattice points
+ * within ±3, the tent's zero at ±4, each reading the pseudo-panchromatic image's ±2;
+ * demosaic_pan.c); its mirror inside the analyser sub-images reads up to 7 samples in from a border
+ * where the whole-sample mirror of the supports reads 5 */
 #define PAN_LO -7
 #define PAN_HI 7
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
@@ -280,6 +280,21 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          PC_DM_PAN_RATIO,
                          pc_dm_pan_ref,
                          pc_dm_pan_fast},
+    [PC_DM_PAN_GUIDED] = {{PC_DM_PAN_GUIDED, "pan-guided",
+                           "colour-polarization: pan-ratio with joint-bilateral tents (lattice "
+                           "samples weighed down across edges of the pseudo-panchromatic "
+                           "guide)",
+                           "pan-ratio's pass with a weight per tap: about 2x pan-ratio",
+                           "ours: pan-ratio with joint-bilateral weights (Tomasi & Manduchi, "
+                           "ICCV 1998; Kopf et al., SIGGRAPH 2007)",
+                           PC_DMF_COLOR},
+                          {PAN_LO, PAN_HI, 1, 1},
+                          NULL,
+                          NULL,
+                          false,
+                          PC_DM_PAN_GUIDED,
+                          pc_dm_pan_guided_ref,
+                          pc_dm_pan_guided_fast},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
@@ -452,7 +467,7 @@ static int colour_own(pc_dm_plan *p, const pc_fplane *out)
 {
 	const uint32_t w = p->raw->width, h = p->raw->height;
 	int rc;
-	if (p->opts.reference) {
+	if (p->opts.reference || !p->def->colour_fast) {
 		double *img = NULL;
 		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
 		if (!rc)

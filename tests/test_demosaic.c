@@ -504,13 +504,14 @@ static void mosaic_color(const scene *s, const pc_mosaic *m, const double gain[3
 
 static void test_color(void)
 {
-	const pc_demosaic_method cm[3] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO};
+	const pc_demosaic_method cm[4] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
+	                                  PC_DM_PAN_GUIDED};
 	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
 	for (unsigned ph = 0; ph < 16; ph++) {
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		scene tex = make_scene(40, 32, 2, 0);
-		for (int meth = 0; meth < 3; meth++) {
+		for (int meth = 0; meth < 4; meth++) {
 			/* fast vs reference on a random texture */
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);
@@ -602,7 +603,10 @@ static void test_color(void)
  *    remove this scored lower on the data);
  *  - a smooth scene (slowly varying radiance, colour and polarization) survives mosaic →
  *    demosaic within 1 % of full scale away from the borders (its largest error measured:
- *    0.5 %), and with an RMS error below two thirds of bayer-first's (a half measured). */
+ *    0.5 %), and with an RMS error below two thirds of bayer-first's (a half measured);
+ *    pan-guided (its tents weighed by the PPI's differences, which smooth gradients make
+ *    slightly lopsided) within the same 1 % (0.7 % measured) and below three quarters of
+ *    bayer-first's RMS (0.69 measured). */
 static void test_pan_ratio(void)
 {
 	const uint32_t W = 64, H = 48;
@@ -662,45 +666,49 @@ static void test_pan_ratio(void)
 				[x] =
 				    (uint16_t)lround(truth[((size_t)(4 * k + c) * H + y) * W + x]);
 			}
-		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_PAN_RATIO, &ref, r), 0);
-		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_PAN_RATIO, &fast, f), 0);
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_BAYER_FIRST, &ref, b), 0);
-		/* interleaved outputs (the row-buffer path) equal the planar ones */
-		pc_fplane il[12];
-		float *ib = malloc(sizeof(float) * W * H * 12);
-		pc_fplanes_interleaved(ib, W, 12, il);
-		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_PAN_RATIO, &fast, il), 0);
-		int same = 1;
-		for (unsigned q = 0; q < 12; q++)
-			for (uint32_t y = 0; y < H; y++)
-				for (uint32_t x = 0; x < W; x++)
-					same &= fget(&il[q], x, y) == fget(&f[q], x, y);
-		CHECK(same);
-		free(ib);
-		double emax = 0, efast = 0, se = 0, sb = 0;
-		size_t n = 0;
-		for (unsigned q = 0; q < 12; q++)
-			for (uint32_t y = 6; y < H - 6; y++)
-				for (uint32_t x = 6; x < W - 6; x++) {
-					double want = truth[((size_t)q * H + y) * W + x];
-					double e = fget(&r[q], x, y) - want,
-					       eb = fget(&b[q], x, y) - want;
-					emax = fmax(emax, fabs(e));
-					efast = fmax(efast,
-					             fabs(fget(&f[q], x, y) - fget(&r[q], x, y)));
-					se += e * e;
-					sb += eb * eb;
-					n++;
-				}
-		if (ph == 0)
-			printf(
-			    "  pan-ratio: linear ramp max relative error %.2g (reference), %.2g "
-			    "(fast); smooth scene max error %.3g DN (%.2g of full scale), RMS %.3g "
-			    "against bayer-first's %.3g\n",
-			    er, ef, emax, emax / 4095, sqrt(se / n), sqrt(sb / n));
-		CHECK(emax <= 0.01 * 4095);
-		CHECK(efast <= 1e-5 * 4095);
-		CHECK(sqrt(se / n) < 0.67 * sqrt(sb / n));
+		for (int gm = 0; gm < 2; gm++) {
+			const pc_demosaic_method pm = gm ? PC_DM_PAN_GUIDED : PC_DM_PAN_RATIO;
+			CHECK_EQ_INT(pc_demosaic(&smooth, &m, pm, &ref, r), 0);
+			CHECK_EQ_INT(pc_demosaic(&smooth, &m, pm, &fast, f), 0);
+			/* interleaved outputs (the row-buffer path) equal the planar ones */
+			pc_fplane il[12];
+			float *ib = malloc(sizeof(float) * W * H * 12);
+			pc_fplanes_interleaved(ib, W, 12, il);
+			CHECK_EQ_INT(pc_demosaic(&smooth, &m, pm, &fast, il), 0);
+			int same = 1;
+			for (unsigned q = 0; q < 12; q++)
+				for (uint32_t y = 0; y < H; y++)
+					for (uint32_t x = 0; x < W; x++)
+						same &= fget(&il[q], x, y) == fget(&f[q], x, y);
+			CHECK(same);
+			free(ib);
+			double emax = 0, efast = 0, se = 0, sb = 0;
+			size_t n = 0;
+			for (unsigned q = 0; q < 12; q++)
+				for (uint32_t y = 6; y < H - 6; y++)
+					for (uint32_t x = 6; x < W - 6; x++) {
+						double want = truth[((size_t)q * H + y) * W + x];
+						double e = fget(&r[q], x, y) - want,
+						       eb = fget(&b[q], x, y) - want;
+						emax = fmax(emax, fabs(e));
+						efast = fmax(efast, fabs(fget(&f[q], x, y) -
+						                         fget(&r[q], x, y)));
+						se += e * e;
+						sb += eb * eb;
+						n++;
+					}
+			if (ph == 0)
+				printf(
+				    "  %s: linear ramp max relative error %.2g (reference), %.2g "
+				    "(fast); smooth scene max error %.3g DN (%.2g of full scale), "
+				    "RMS %.3g against bayer-first's %.3g\n",
+				    pc_demosaic_method_get(pm)->name, er, ef, emax, emax / 4095,
+				    sqrt(se / n), sqrt(sb / n));
+			CHECK(emax <= 0.01 * 4095);
+			CHECK(efast <= 1e-5 * 4095);
+			CHECK(sqrt(se / n) < (gm ? 0.75 : 0.67) * sqrt(sb / n));
+		}
 		pc_view_free(&smooth);
 	}
 	free(fb);

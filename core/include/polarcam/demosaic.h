@@ -58,6 +58,7 @@ typedef enum pc_demosaic_method {
 	PC_DM_IGRI2,       /* iterative guided residual interpolation 2 (Morimatsu 2021; anchor) */
 	PC_DM_NEWTON,      /* Newton's polynomial, polarization differences (Li 2019; anchor) */
 	PC_DM_PAN_RATIO,   /* colour only: ratios to a pseudo-panchromatic guide (ours) */
+	PC_DM_PAN_GUIDED,  /* colour only: pan-ratio with guide-weighted (bilateral) tents */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
