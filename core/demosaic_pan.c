@@ -535,3 +535,10 @@ int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
 		return pc_error(PC_ENOMEM, "pan-guided: row buffers for width %u", w);
 	return 0;
 }
+
+const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
+{
+	static const pc_dm_pan_fns ratio = {pc_dm_pan_ref, pc_dm_pan_fast},
+	                           guided = {pc_dm_pan_guided_ref, pc_dm_pan_guided_fast};
+	return m == PC_DM_PAN_RATIO ? &ratio : m == PC_DM_PAN_GUIDED ? &guided : NULL;
+}

@@ -21,4 +21,16 @@ int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
 int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                    pc_cpu_level level, const pc_fplane *out);
 
+/* The colour methods of this file, which the front door runs instead of a colour step and a
+ * monochrome step: pc_dm_pan_fns_get gives their reference and fast path (NULL for other
+ * methods). */
+typedef struct pc_dm_pan_fns {
+	int (*ref)(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+	           const pc_fplane *out);
+	int (*fast)(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+	            pc_cpu_level level, const pc_fplane *out);
+} pc_dm_pan_fns;
+
+const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m);
+
 #endif

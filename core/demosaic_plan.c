@@ -277,9 +277,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          NULL,
                          NULL,
                          false,
-                         PC_DM_PAN_RATIO,
-                         pc_dm_pan_ref,
-                         pc_dm_pan_fast},
+                         PC_DM_PAN_RATIO},
     [PC_DM_PAN_GUIDED] = {{PC_DM_PAN_GUIDED, "pan-guided",
                            "colour-polarization: pan-ratio with joint-bilateral tents (lattice "
                            "samples weighed down across edges of the pseudo-panchromatic "
@@ -295,9 +293,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           NULL,
                           NULL,
                           false,
-                          PC_DM_PAN_GUIDED,
-                          pc_dm_pan_guided_ref,
-                          pc_dm_pan_guided_fast},
+                          PC_DM_PAN_GUIDED},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
@@ -353,8 +349,8 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 	if (colour && !(mi->flags & PC_DMF_COLOR))
 		return pc_error(PC_EINVAL,
 		                "method %s works on monochrome polarizer mosaics only; "
-		                "this mosaic has a colour filter (try bayer-first or "
-		                "bayer-eari)",
+		                "this mosaic has a colour filter (try pan-guided, "
+		                "pan-ratio, bayer-first or bayer-eari)",
 		                mi->name);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_error(PC_EINVAL, "method %s works on colour-polarization mosaics only",
@@ -465,31 +461,33 @@ static int mono_reference(const pc_dm_plan *p, const double *img, const pc_mosai
 	return pc_dm_ref(img, p->raw->width, p->raw->height, m, method, p->full_scale, out);
 }
 
-/* A colour method of its own (demosaic_pan.h) on the raw minus black. */
-static int colour_own(pc_dm_plan *p, const pc_fplane *out)
+/* A colour method of its own (demosaic_pan.h): the reference on the raw minus black, or the fast
+ * path on the prepared input. */
+static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *out)
 {
 	const uint32_t w = p->raw->width, h = p->raw->height;
 	int rc;
-	if (p->opts.reference || !p->def->colour_fast) {
+	if (p->opts.reference) {
 		double *img = NULL;
 		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
 		if (!rc)
-			rc = p->def->colour_ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
+			rc = fn->ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
 		free(img);
 	} else {
 		const pc_dm_input *in;
 		rc = pc_dm_plan_input(p, &in);
 		if (!rc)
-			rc = p->def->colour_fast(in, &p->opts.mosaic, p->full_scale,
-			                         p->opts.threads, p->level, out);
+			rc = fn->fast(in, &p->opts.mosaic, p->full_scale, p->opts.threads, p->level,
+			              out);
 	}
 	return rc;
 }
 
 static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 {
-	if (p->def->colour_ref)
-		return colour_own(p, out);
+	const pc_dm_pan_fns *own = pc_dm_pan_fns_get(p->opts.method);
+	if (own)
+		return colour_own(p, own, out);
 	const uint32_t w = p->raw->width, h = p->raw->height;
 	const size_t n = (size_t)w * h;
 	const pc_mosaic mono = pc_dm_color_mono(&p->opts.mosaic);

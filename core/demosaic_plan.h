@@ -31,13 +31,6 @@ typedef struct pc_dm_method_def {
 	bool fused_bilinear;
 	/* colour: the monochrome method of step 2 (demosaic_color.h) */
 	pc_demosaic_method second;
-	/* colour methods of their own (not colour step + monochrome step): the double reference
-	 * on the raw minus black and the fast float path on the prepared input
-	 * (demosaic_pan.h); NULL for the others */
-	int (*colour_ref)(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
-	                  const pc_fplane *out);
-	int (*colour_fast)(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
-	                   pc_cpu_level level, const pc_fplane *out);
 } pc_dm_method_def;
 
 /* The table row of a method, NULL for values out of range. */
