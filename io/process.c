@@ -132,7 +132,9 @@ static bool has_suffix(const char *s, const char *suf)
 }
 
 /* OUT and OUT_valid.npy as one set: both written complete into a temporary folder beside them,
- * then renamed into place, so that neither replaces an older one unless both were written. */
+ * then put in place, so that neither replaces an older one unless both were written. Two
+ * renames are not one atomic step; the order makes a kill between them leave a mask missing,
+ * never a new OUT beside an older mask: the older mask goes first, then OUT, then the mask. */
 static int write_set(const char *out_path, const char *vpath, bool tiff, const float *buf,
                      const size_t shape[3], const uint8_t *mask)
 {
@@ -166,7 +168,8 @@ static int write_set(const char *out_path, const char *vpath, bool tiff, const f
 		rc = pc_npy_write(t2, mask, PC_DT_U8, 2, shape);
 	if (rc)
 		pc_error_prefix(rc, "-o %s: ", out_path);
-	else if (rename(t1, out_path) != 0 || rename(t2, vpath) != 0)
+	else if ((unlink(vpath) != 0 && errno != ENOENT) || rename(t1, out_path) != 0 ||
+	         rename(t2, vpath) != 0)
 		rc = pc_error(PC_EIO, "-o %s: cannot rename into place: %s", out_path,
 		              strerror(errno));
 	unlink(t1);

@@ -106,7 +106,9 @@ add_exe "$program" /bin/pc-guest-test
 	echo '#!/bin/busybox sh'
 	echo '/bin/busybox --install -s /bin'
 	echo 'mount -t proc proc /proc; mount -t sysfs sys /sys; mount -t devtmpfs dev /dev'
-	echo 'mount -t tmpfs tmp /tmp; mount -t tmpfs run /run'
+	# /tmp stays the initramfs's own (writable RAM): shared libraries are copied in at their
+	# host paths, and a build under /tmp would vanish beneath a tmpfs mounted there
+	echo 'mount -t tmpfs run /run'
 	echo 'echo "GUEST-BOOT uptime=$(cut -d" " -f1 /proc/uptime)"'
 	while IFS= read -r p; do
 		base=${p##*/}
