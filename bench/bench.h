@@ -47,6 +47,7 @@ typedef struct pc_bench_host {
 
 int pc_bench_physics(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_demosaic(const pc_bench_host *host, int argc, char **argv);
+int pc_bench_colour(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_render(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_devices(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_calib(const pc_bench_host *host, int argc, char **argv);

@@ -12,6 +12,7 @@
 #include "demosaic_color.h"
 #include "demosaic_fast.h"
 #include "demosaic_ic.h"
+#include "demosaic_pan.h"
 #include "demosaic_ref.h"
 #include "polarcam/error.h"
 #include "polarcam/format.h"
@@ -45,6 +46,12 @@
  * their means over another ±2, then the residual's tent ±1 (the limiter's ±2 lies inside). */
 #define RATIO_RI_LO -9
 #define RATIO_RI_HI 9
+/* pan-ratio and pan-guided ±7, a bound: ±5 away from the borders (the ratios at lattice points
+ * within ±3, the tent's zero at ±4, each reading the pseudo-panchromatic image's ±2;
+ * demosaic_pan.c); its mirror inside the analyser sub-images reads up to 7 samples in from a border
+ * where the whole-sample mirror of the supports reads 5 */
+#define PAN_LO -7
+#define PAN_HI 7
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
@@ -294,6 +301,40 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          pc_dm_ic_rows,
          false,
          PC_DM_RATIO_NR},
+    [PC_DM_PAN_RATIO] = {{PC_DM_PAN_RATIO, "pan-ratio",
+                          "colour-polarization: every channel as its pixel's own sample times "
+                          "a smooth ratio between channels, the ratios to a pseudo-panchromatic "
+                          "guide (the mean of the 4x4 period) interpolated on each channel's "
+                          "lattice; over bayer-first (bench colour, 9 scenes) smooth colours "
+                          "mean +4.46/+1.66 (worst +2.70/+0.37), hue patches -0.53/+1.12 "
+                          "(worst -0.76/+0.45: loses S0 at dense hue edges)",
+                          "one fused pass on row bands, twelve planes; about 2-4x the mono "
+                          "bilinear's time (bayer-first 10-16x)",
+                          "ours: the pseudo-panchromatic image of Mihoubi et al., IEEE TCI 3(4) "
+                          "2017, with smooth-hue-transition (ratio) interpolation, Cok, US "
+                          "patent 4,642,678 (1987)",
+                          PC_DMF_COLOR},
+                         {PAN_LO, PAN_HI, 1, 1},
+                         NULL,
+                         NULL,
+                         false,
+                         PC_DM_PAN_RATIO},
+    [PC_DM_PAN_GUIDED] = {{PC_DM_PAN_GUIDED, "pan-guided",
+                           "colour-polarization: pan-ratio with joint-bilateral tents (lattice "
+                           "samples weighed down across edges of the pseudo-panchromatic "
+                           "guide); the recommended colour method; over bayer-first (bench "
+                           "colour, 9 scenes) smooth colours +4.36/+1.57 (worst +2.41/+0.35), "
+                           "hue patches +0.38/+0.96 (worst +0.25/+0.59): no scene loses",
+                           "pan-ratio's pass with a weight per tap, 1.2-1.5x pan-ratio; about "
+                           "3-6x the mono bilinear's time (load-dependent)",
+                           "ours: pan-ratio with joint-bilateral weights (Tomasi & Manduchi, "
+                           "ICCV 1998; Kopf et al., SIGGRAPH 2007)",
+                           PC_DMF_COLOR},
+                          {PAN_LO, PAN_HI, 1, 1},
+                          NULL,
+                          NULL,
+                          false,
+                          PC_DM_PAN_GUIDED},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
@@ -349,8 +390,8 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 	if (colour && !(mi->flags & PC_DMF_COLOR))
 		return pc_error(PC_EINVAL,
 		                "method %s works on monochrome polarizer mosaics only; "
-		                "this mosaic has a colour filter (try bayer-first or "
-		                "bayer-eari)",
+		                "this mosaic has a colour filter (try pan-guided, "
+		                "pan-ratio, bayer-first or bayer-eari)",
 		                mi->name);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_error(PC_EINVAL, "method %s works on colour-polarization mosaics only",
@@ -461,8 +502,33 @@ static int mono_reference(const pc_dm_plan *p, const double *img, const pc_mosai
 	return pc_dm_ref(img, p->raw->width, p->raw->height, m, method, p->full_scale, out);
 }
 
+/* A colour method of its own (demosaic_pan.h): the reference on the raw minus black, or the fast
+ * path on the prepared input. */
+static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *out)
+{
+	const uint32_t w = p->raw->width, h = p->raw->height;
+	int rc;
+	if (p->opts.reference) {
+		double *img = NULL;
+		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
+		if (!rc)
+			rc = fn->ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
+		free(img);
+	} else {
+		const pc_dm_input *in;
+		rc = pc_dm_plan_input(p, &in);
+		if (!rc)
+			rc = fn->fast(in, &p->opts.mosaic, p->full_scale, p->opts.threads, p->level,
+			              out);
+	}
+	return rc;
+}
+
 static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 {
+	const pc_dm_pan_fns *own = pc_dm_pan_fns_get(p->opts.method);
+	if (own)
+		return colour_own(p, own, out);
 	const uint32_t w = p->raw->width, h = p->raw->height;
 	const size_t n = (size_t)w * h;
 	const pc_mosaic mono = pc_dm_color_mono(&p->opts.mosaic);

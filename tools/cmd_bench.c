@@ -18,6 +18,8 @@ static const struct {
     {"physics", "Lu-Chipman and PBRDF throughput, rho^s accuracy vs cost", pc_bench_physics},
     {"demosaic", "demosaicking accuracy vs time per 2448x2048 frame, Pareto plot",
      pc_bench_demosaic},
+    {"colour", "colour-polarization demosaicking per scene vs bayer-first, time vs bilinear",
+     pc_bench_colour},
     {"render", "render time per effect set, Mpixel/s, peak memory", pc_bench_render},
     {"devices", "serve -> capture over loopback, live pipeline", pc_bench_devices},
     {"calib", "analyser calibration: angles x frames -> residual error, acquisition time",
@@ -60,8 +62,8 @@ int cli_cmd_bench(int argc, char **argv)
 			cli_progress_end(&bar);
 			return status;
 		}
-	return cli_error(
-	    CLI_EXIT_USAGE,
-	    "unknown benchmark '%s' (physics, demosaic, render, devices, calib, dataset, soak)",
-	    argv[1]);
+	return cli_error(CLI_EXIT_USAGE,
+	                 "unknown benchmark '%s' (physics, demosaic, colour, render, devices, "
+	                 "calib, dataset, soak)",
+	                 argv[1]);
 }

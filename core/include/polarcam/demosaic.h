@@ -59,6 +59,8 @@ typedef enum pc_demosaic_method {
 	PC_DM_NEWTON,      /* Newton's polynomial, polarization differences (Li 2019; anchor) */
 	PC_DM_RATIO_RI,    /* ratio, then guided-filter residual interpolation (ours) */
 	PC_DM_RATIO_NR,    /* ratio with a shot-noise-aware guide level (ours) */
+	PC_DM_PAN_RATIO,   /* colour only: ratios to a pseudo-panchromatic guide (ours) */
+	PC_DM_PAN_GUIDED,  /* colour only: pan-ratio with guide-weighted (bilateral) tents */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
