@@ -258,7 +258,7 @@ def calibrated(a, raw, out, h, w, bits):
               f"{load():.2f})")
         print(f"   reading the {w}x{h} calibration file {1e3 * t_read:.0f} ms "
               f"(numpy.load of every member {1e3 * t_np:.0f} ms, {t_read / t_np:.2f}x); first "
-              f"calibrated frame (builds the per-pixel W+) {median_ms(first):.0f} ms")
+              f"calibrated frame (makes the compact calibration once) {median_ms(first):.0f} ms")
         for name, ts in (("stokes(raw, black_level=60) (uncalibrated)", unc),
                          ("stokes(raw, calibration=Calibration)", calt),
                          ("stokes(raw, black_level, calibration=W+ array)", arr)):
