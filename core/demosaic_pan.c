@@ -213,7 +213,8 @@ int pc_dm_pan_guided_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
  * horizontal tents h_s (s the column phase of the channel), kept in a ring of 8 rows: output
  * row y reads rows y - 3 .. y + 3. An output row sums each channel's vertical tent over its
  * lattice rows (two terms, four for green's two lattices), then scales by the pixel's own
- * ratio. Whole vectors of planar outputs are stored in place; the last partial vector, and
+ * ratio. Whole vectors of planar outputs are stored in place (streaming stores where
+ * pc_dm_stream_wanted says so, as the other kernels); the last partial vector, and
  * interleaved outputs, go through a row buffer. */
 #define PAN_PADR 32 /* raw and sum rows: columns [-32, w + 32) */
 #define PAN_PADQ 8  /* ratio rows: [-8, w + 8) */
@@ -228,6 +229,7 @@ typedef struct pan_job {
 	int err;
 	int guided; /* pan-guided */
 	float e;    /* its range scale */
+	int nt;     /* streaming stores into the planes (pc_dm_stream_wanted) */
 } pan_job;
 
 /* 0/1 lane patterns (period 4, 16 lanes) and the tent weights of pan_hrows */
@@ -255,10 +257,10 @@ typedef void (*pan_ratio_fn)(const float *vs, const float *raw, long x0, long n,
 typedef void (*pan_ghrows_fn)(const float *rho, const float *p0, long n, const float wt[4][7][16],
                               float e, float *const h[4]);
 typedef void (*pan_gorow_fn)(const pan_gorow_args *a, const float *raw, long n, float delta,
-                             float e, float *const out[12]);
+                             float e, float *const out[12], int nt);
 typedef void (*pan_hrows_fn)(const float *rho, long n, const float wt[4][7][16], float *const h[4]);
 typedef void (*pan_orow_fn)(const pan_orow_args *a, const float *raw, long n, float delta,
-                            float *const out[12]);
+                            float *const out[12], int nt);
 
 typedef struct pan_kern {
 	pan_vsum_fn vsum;
@@ -337,7 +339,7 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	if (planar) {
 		for (int q = 0; q < 12; q++)
 			d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
-		K->gorow(&a, raw, nmain, j->delta, j->e, d);
+		K->gorow(&a, raw, nmain, j->delta, j->e, d, j->nt);
 		if (nmain < n) {
 			memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
 			for (int q = 0; q < 12; q++)
@@ -345,19 +347,15 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 					a.vrow[q][i] += nmain;
 			for (int k = 0; k < 7; k++)
 				a.p0row[k] += nmain;
-			K->gorow(&a, rawp, 16, j->delta, j->e, o);
+			K->gorow(&a, rawp, 16, j->delta, j->e, o, 0);
 			for (int q = 0; q < 12; q++)
 				memcpy(d[q] + nmain, o[q],
 				       (size_t)((long)w - nmain) * sizeof *o[q]);
 		}
-		for (uint32_t x = 0; x < w; x++)
-			d[a.own[x & 3]][x] = raw[x];
 		return;
 	}
 	memcpy(rawp, raw, w * sizeof *rawp);
-	K->gorow(&a, rawp, n, j->delta, j->e, o);
-	for (uint32_t x = 0; x < w; x++)
-		o[a.own[x & 3]][x] = raw[x];
+	K->gorow(&a, rawp, n, j->delta, j->e, o, 0);
 	for (int q = 0; q < 12; q++) {
 		const pc_fplane *p = &j->out[q];
 		float *dq = p->data + (size_t)y * p->row_stride;
@@ -484,25 +482,21 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 			float *d[12];
 			for (int q = 0; q < 12; q++)
 				d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
-			K.orow(&a, raw, nmain, j->delta, d);
+			K.orow(&a, raw, nmain, j->delta, d, j->nt);
 			if (nmain < n) {
 				memcpy(rawp, raw + nmain, (size_t)(iw - nmain) * sizeof *rawp);
 				for (int q = 0; q < 12; q++)
 					for (int i = 0; i < a.nv[q]; i++)
 						a.vrow[q][i] += nmain;
-				K.orow(&a, rawp, 16, j->delta, o);
+				K.orow(&a, rawp, 16, j->delta, o, 0);
 				for (int q = 0; q < 12; q++)
 					memcpy(d[q] + nmain, o[q],
 					       (size_t)(iw - nmain) * sizeof *o[q]);
 			}
-			for (uint32_t x = 0; x < w; x++) /* each measurement, exactly */
-				d[a.own[x & 3]][x] = raw[x];
 			continue;
 		}
 		memcpy(rawp, raw, w * sizeof *rawp);
-		K.orow(&a, rawp, n, j->delta, o);
-		for (uint32_t x = 0; x < w; x++)
-			o[a.own[x & 3]][x] = raw[x];
+		K.orow(&a, rawp, n, j->delta, o, 0);
 		for (int q = 0; q < 12; q++) {
 			const pc_fplane *p = &j->out[q];
 			float *d = p->data + (size_t)y * p->row_stride;
@@ -510,6 +504,8 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 				d[(size_t)x * p->pixel_stride] = o[q][x];
 		}
 	}
+	if (j->nt)
+		pc_dm_sfence();
 	pc_dm_free(t);
 	pc_dm_free(buf);
 }
@@ -518,7 +514,17 @@ int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
                    pc_cpu_level level, const pc_fplane *out)
 {
 	const uint32_t w = in->width, h = in->height;
-	pan_job j = {in, w, h, m, (float)(PAN_DELTA * fs), level, out, 0, 0, 0};
+	pan_job j = {in,
+	             w,
+	             h,
+	             m,
+	             (float)(PAN_DELTA * fs),
+	             level,
+	             out,
+	             0,
+	             0,
+	             0,
+	             pc_dm_stream_wanted(out, 12, w, h, level)};
 	pc_parallel_rows(h, 0, threads, pan_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "pan-ratio: row buffers for width %u", w);
@@ -529,7 +535,17 @@ int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
                           pc_cpu_level level, const pc_fplane *out)
 {
 	const uint32_t w = in->width, h = in->height;
-	pan_job j = {in, w, h, m, (float)(PAN_DELTA * fs), level, out, 0, 1, (float)(PAN_E * fs)};
+	pan_job j = {in,
+	             w,
+	             h,
+	             m,
+	             (float)(PAN_DELTA * fs),
+	             level,
+	             out,
+	             0,
+	             1,
+	             (float)(PAN_E * fs),
+	             pc_dm_stream_wanted(out, 12, w, h, level)};
 	pc_parallel_rows(h, 0, threads, pan_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "pan-guided: row buffers for width %u", w);

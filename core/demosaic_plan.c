@@ -308,8 +308,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "lattice; over bayer-first (bench colour, 9 scenes) smooth colours "
                           "mean +4.46/+1.66 (worst +2.70/+0.37), hue patches -0.53/+1.12 "
                           "(worst -0.76/+0.45: loses S0 at dense hue edges)",
-                          "one fused pass on row bands, twelve planes; about 2-4x the mono "
-                          "bilinear's time (bayer-first 10-16x)",
+                          "one fused pass on row bands, twelve planes; 3.8-4.5x the mono "
+                          "bilinear's time on a quiet machine (bayer-first 8-18x)",
                           "ours: the pseudo-panchromatic image of Mihoubi et al., IEEE TCI 3(4) "
                           "2017, with smooth-hue-transition (ratio) interpolation, Cok, US "
                           "patent 4,642,678 (1987)",
@@ -325,8 +325,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                            "guide); the recommended colour method; over bayer-first (bench "
                            "colour, 9 scenes) smooth colours +4.36/+1.57 (worst +2.41/+0.35), "
                            "hue patches +0.38/+0.96 (worst +0.25/+0.59): no scene loses",
-                           "pan-ratio's pass with a weight per tap, 1.2-1.5x pan-ratio; about "
-                           "3-6x the mono bilinear's time (load-dependent)",
+                           "pan-ratio's pass with a weight per tap, 1.15-1.25x pan-ratio; "
+                           "4.4-5.4x the mono bilinear's time on a quiet machine",
                            "ours: pan-ratio with joint-bilateral weights (Tomasi & Manduchi, "
                            "ICCV 1998; Kopf et al., SIGGRAPH 2007)",
                            PC_DMF_COLOR},
