@@ -47,7 +47,7 @@ static int file_contains(const char *path, const char *what)
 	FILE *fp = fopen(path, "rb");
 	if (!fp)
 		return 0;
-	char buf[8192];
+	static char buf[1 << 16]; /* demosaic --list is over 10 kB */
 	size_t n = fread(buf, 1, sizeof buf - 1, fp);
 	fclose(fp);
 	buf[n] = '\0';
