@@ -126,6 +126,22 @@ static unsigned chan(const pan_ref *r, int x, int y)
 	return 4 * (pc_mosaic_color(r->m, xm, ym) - PC_CFA_R) + pc_mosaic_channel(r->m, xm, ym);
 }
 
+/* Both references' output at (x, y): the pixel's own sample kept, every other channel q its
+ * sample times the interpolated ratio of q to the own channel (num, den: each channel's
+ * weighted ratio sum and its weight). */
+static void put_pixel(const pan_ref *r, int x, int y, const double num[12], const double den[12],
+                      const pc_fplane *out)
+{
+	unsigned own = chan(r, x, y);
+	double v = r->img[(size_t)y * (size_t)r->w + (size_t)x];
+	double scale = (fmax(v, 0) + r->delta) * den[own] / num[own];
+	for (unsigned q = 0; q < 12; q++) {
+		double o = q == own ? v : scale * num[q] / den[q] - r->delta;
+		const pc_fplane *p = &out[q];
+		p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] = (float)o;
+	}
+}
+
 int pc_dm_pan_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                   const pc_fplane *out)
 {
@@ -140,15 +156,7 @@ int pc_dm_pan_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
 					num[q] += t * ratio_at(&r, x + dx, y + dy);
 					den[q] += t;
 				}
-			unsigned own = chan(&r, x, y);
-			double v = img[(size_t)y * w + x];
-			double scale = (fmax(v, 0) + r.delta) * den[own] / num[own];
-			for (unsigned q = 0; q < 12; q++) {
-				double o = q == own ? v : scale * num[q] / den[q] - r.delta;
-				const pc_fplane *p = &out[q];
-				p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] =
-				    (float)o;
-			}
+			put_pixel(&r, x, y, num, den, out);
 		}
 	return 0;
 }
@@ -192,15 +200,7 @@ int pc_dm_pan_guided_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
 					den[q] += wv;
 				}
 			}
-			unsigned own = chan(&r, x, y);
-			double v = img[(size_t)y * w + x];
-			double scale = (fmax(v, 0) + r.delta) * den[own] / num[own];
-			for (unsigned q = 0; q < 12; q++) {
-				double o = q == own ? v : scale * num[q] / den[q] - r.delta;
-				const pc_fplane *p = &out[q];
-				p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] =
-				    (float)o;
-			}
+			put_pixel(&r, x, y, num, den, out);
 		}
 	return 0;
 }
