@@ -1144,7 +1144,7 @@ static int compact_calib(pc_calib *cal, int threads)
 	/* the five maps' rows interleaved (row y: a0, a1, a2, dark, gain), one stream to read */
 	v.stride = 5 * (size_t)W;
 	for (int k = 0; k < 3 && !rc; k++) {
-		float base[4];
+		float base[4] = {0}; /* read even when quantise failed */
 		v.a_q[k] = q + (size_t)k * W;
 		rc = quantise(cal, cal->analysis + k, 3, true, base, &v.a_scale[k],
 		              q + (size_t)k * W, v.stride, "analysis vector");
