@@ -510,8 +510,9 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	pc_dm_free(buf);
 }
 
-int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
-                   pc_cpu_level level, const pc_fplane *out)
+/* Both fast paths: one fused pass on row bands; guided adds the range weights of scale e. */
+static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                   pc_cpu_level level, const pc_fplane *out, int guided)
 {
 	const uint32_t w = in->width, h = in->height;
 	pan_job j = {in,
@@ -522,34 +523,26 @@ int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
 	             level,
 	             out,
 	             0,
-	             0,
-	             0,
+	             guided,
+	             guided ? (float)(PAN_E * fs) : 0,
 	             pc_dm_stream_wanted(out, 12, w, h, level)};
 	pc_parallel_rows(h, 0, threads, pan_band, &j);
 	if (j.err)
-		return pc_error(PC_ENOMEM, "pan-ratio: row buffers for width %u", w);
+		return pc_error(PC_ENOMEM, "%s: row buffers for width %u",
+		                guided ? "pan-guided" : "pan-ratio", w);
 	return 0;
+}
+
+int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                   pc_cpu_level level, const pc_fplane *out)
+{
+	return pan_run(in, m, fs, threads, level, out, 0);
 }
 
 int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                           pc_cpu_level level, const pc_fplane *out)
 {
-	const uint32_t w = in->width, h = in->height;
-	pan_job j = {in,
-	             w,
-	             h,
-	             m,
-	             (float)(PAN_DELTA * fs),
-	             level,
-	             out,
-	             0,
-	             1,
-	             (float)(PAN_E * fs),
-	             pc_dm_stream_wanted(out, 12, w, h, level)};
-	pc_parallel_rows(h, 0, threads, pan_band, &j);
-	if (j.err)
-		return pc_error(PC_ENOMEM, "pan-guided: row buffers for width %u", w);
-	return 0;
+	return pan_run(in, m, fs, threads, level, out, 1);
 }
 
 const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)

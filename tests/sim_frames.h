@@ -55,6 +55,17 @@ typedef struct sf_frames {
 	char uri[1024];   /* sim:SCENE?seed=S&fps=0, for frames beyond n (sf_sum) */
 } sf_frames;
 
+/* The source of uri opened with `buffers` buffers and streaming (*s to close in any case). */
+static inline int sf_start(const char *uri, unsigned buffers, pc_source **s)
+{
+	int rc = pc_source_open(s, uri);
+	if (!rc)
+		rc = pc_source_buffers_alloc(*s, buffers);
+	if (!rc)
+		rc = pc_source_start(*s);
+	return rc;
+}
+
 /* Frames 0..n-1 of sim:SCENE?seed=S, regenerated one by one. 0 on success. */
 static inline int sf_regenerate(const char *scene, uint64_t seed, uint64_t n, sf_frames *out)
 {
@@ -62,11 +73,7 @@ static inline int sf_regenerate(const char *scene, uint64_t seed, uint64_t n, sf
 	char *uri = out->uri;
 	snprintf(uri, sizeof out->uri, "sim:%s?seed=%llu&fps=0", scene, (unsigned long long)seed);
 	pc_source *s = NULL;
-	int rc = pc_source_open(&s, uri);
-	if (!rc)
-		rc = pc_source_buffers_alloc(s, 2);
-	if (!rc)
-		rc = pc_source_start(s);
+	int rc = sf_start(uri, 2, &s);
 	out->sum = calloc(n ? n : 1, sizeof *out->sum);
 	out->sum_cut = calloc(n ? n : 1, sizeof *out->sum_cut);
 	for (uint64_t k = 0; !rc && k < n; k++) {
@@ -105,11 +112,7 @@ static inline int sf_sum(const sf_frames *f, uint64_t number, bool cut, uint64_t
 	char uri[1100];
 	snprintf(uri, sizeof uri, "%s&first=%llu", f->uri, (unsigned long long)number);
 	pc_source *s = NULL;
-	int rc = pc_source_open(&s, uri);
-	if (!rc)
-		rc = pc_source_buffers_alloc(s, 1);
-	if (!rc)
-		rc = pc_source_start(s);
+	int rc = sf_start(uri, 1, &s);
 	pc_buffer *b = NULL;
 	if (!rc)
 		rc = pc_source_dequeue(s, 600000, &b);
