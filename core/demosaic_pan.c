@@ -208,16 +208,15 @@ int pc_dm_pan_guided_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
 /* ---- the fast path ----
  *
  * Per thread, a band of output rows. Every (extended) source row yy gets its ratio row ρ
- * (columns [-8, w + 8), from the vertical sums of the five raw rows mirror4(yy - 2 .. yy + 2),
- * padded by the column mirror, then the horizontal half of the filter) and from it the four
- * horizontal tents h_s (s the column phase of the channel), kept in a ring of 8 rows: output
- * row y reads rows y - 3 .. y + 3. An output row sums each channel's vertical tent over its
- * lattice rows (two terms, four for green's two lattices), then scales by the pixel's own
- * ratio. Whole vectors of planar outputs are stored in place (streaming stores where
- * pc_dm_stream_wanted says so, as the other kernels); the last partial vector, and
- * interleaved outputs, go through a row buffer. */
+ * (columns [-16, n + 16), n the row rounded up to whole 16-float vectors, from the vertical sums of
+ * the five raw rows mirror4(yy - 2 .. yy + 2), padded by the column mirror, then the horizontal
+ * half of the filter) and from it the four horizontal tents h_s (s the column phase of the
+ * channel), kept in a ring of 8 rows: output row y reads rows y - 3 .. y + 3. An output row sums
+ * each channel's vertical tent over its lattice rows (two terms, four for green's two lattices),
+ * then scales by the pixel's own ratio. Whole vectors of planar outputs are stored in place
+ * (streaming stores where pc_dm_stream_wanted says so, as the other kernels); the last partial
+ * vector, and interleaved outputs, go through a row buffer. */
 #define PAN_PADR 32 /* raw and sum rows: columns [-32, w + 32) */
-#define PAN_PADQ 8  /* ratio rows: [-8, w + 8) */
 
 typedef struct pan_job {
 	const pc_dm_input *in;

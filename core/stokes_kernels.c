@@ -295,10 +295,11 @@ static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	fused_job *j = ctx;
 	uint32_t w = j->in->width;
-	pc_dm_ring rg;
+	pc_dm_ring rg = {0}; /* the raw rows, unless the compact calibration's ring reads them */
 	vec_ring vr = {0};
 	float *tmp = NULL;
-	if (pc_dm_ring_init(&rg, w) || (!j->planar && !(tmp = pc_dm_alloc(5 * (size_t)w * 4))) ||
+	if ((!j->vec && pc_dm_ring_init(&rg, w)) ||
+	    (!j->planar && !(tmp = pc_dm_alloc(5 * (size_t)w * 4))) ||
 	    (j->vec && vec_ring_init(&vr, w))) {
 		pc_dm_ring_free(&rg);
 		pc_dm_free(tmp);

@@ -401,7 +401,7 @@ static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_
 typedef struct frame_buf {
 	float *stokes, *dolp, *aolp, *s0; /* s0: a contiguous copy for stacks of s0.npy */
 	float *mm;  /* Imin, Imax, diffuse, specular planes for stacks (PC_SF_MINMAX/SPLIT) */
-	float *rgb; /* colour frames: R, G, B × S0, S1, S2 (H, W, 3, 3), then their DoLP, AoLP */
+	float *rgb; /* colour frames: R, G, B × S0, S1, S2 (H, W, 3, 3), then their DoLP */
 	pc_stokes_out so, cso[3];
 	pc_validity valid; /* mask NULL when no level is checked */
 	uint32_t w, h;
@@ -413,16 +413,16 @@ static int frame_buf_alloc(frame_buf *f, uint32_t w, uint32_t h, bool s0, bool c
 	size_t n = (size_t)w * h;
 	memset(f, 0, sizeof *f);
 	if (colour) {
-		if (!(f->rgb = malloc(sizeof(float) * n * 15)))
+		if (!(f->rgb = malloc(sizeof(float) * n * 12)))
 			return pc_error(PC_ENOMEM, "out of memory for %ux%u colour Stokes images",
 			                w, h);
-		float *d = f->rgb + 9 * n, *a = f->rgb + 12 * n;
+		float *d = f->rgb + 9 * n; /* no per-colour AoLP: nothing writes or draws it */
 		for (size_t c = 0; c < 3; c++)
 			f->cso[c] = (pc_stokes_out){{f->rgb + 3 * c, (size_t)w * 9, 9},
 			                            {f->rgb + 3 * c + 1, (size_t)w * 9, 9},
 			                            {f->rgb + 3 * c + 2, (size_t)w * 9, 9},
 			                            {d + c * n, w, 1},
-			                            {a + c * n, w, 1}};
+			                            {NULL, 0, 0}};
 	}
 	f->mm = mm ? malloc(sizeof(float) * n * 4) : NULL;
 	f->stokes = malloc(sizeof(float) * n * 3);
