@@ -204,8 +204,9 @@ int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32_t heig
 	return 0;
 }
 
-/* Demosaic into channel images, then Stokes (colour: the colour average of each analyser). */
-static int stokes_two_step(pc_dm_plan *p, const pc_stokes_out *out)
+/* Demosaic into channel images, then Stokes (colour: the colour average of each analyser; with
+ * rgb, first each colour's own Stokes from its four analyser images). */
+static int stokes_two_step(pc_dm_plan *p, const pc_stokes_out *out, const pc_stokes_out *rgb)
 {
 	const uint32_t ow = p->ow, oh = p->oh;
 	const unsigned nch = p->nch;
@@ -216,6 +217,9 @@ static int stokes_two_step(pc_dm_plan *p, const pc_stokes_out *out)
 	pc_fplane ch[PC_DEMOSAIC_MAX_CHANNELS];
 	pc_dm_planes_separate(buf, ow, oh, nch, ch);
 	int rc = pc_dm_plan_demosaic(p, ch);
+	for (unsigned c = 0; !rc && rgb && c < 3; c++)
+		stokes_channels(&ch[4 * c], ow, oh, NULL, p->opts.threads, p->level, false,
+		                &rgb[c]);
 	if (!rc && nch == 12) {
 		/* colour: the colour average of each analyser image, in place in planes 0..3 */
 		for (unsigned c = 0; c < 4; c++)
@@ -229,14 +233,21 @@ static int stokes_two_step(pc_dm_plan *p, const pc_stokes_out *out)
 	return rc;
 }
 
-int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out,
-                  pc_validity *valid)
+/* pc_stokes_run, and with rgb (colour mosaics, ideal analysers) each colour's Stokes too. */
+static int stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out,
+                      const pc_stokes_out *rgb, pc_validity *valid)
 {
 	pc_dm_plan p;
 	int rc = pc_dm_plan_begin(raw, opts, &p);
 	if (rc)
 		return rc;
-	if ((rc = check_out(out, p.ow)) || (rc = pc_dm_plan_check_validity(&p, valid)) ||
+	if (rgb && (!p.colour || opts->pinv || opts->compact))
+		rc = pc_error(PC_EINVAL, "colour Stokes: %s",
+		              p.colour ? "ideal analysers only"
+		                       : "the mosaic is not colour-polarization");
+	for (int c = 0; c < 3 && rgb && !rc; c++)
+		rc = check_out(&rgb[c], p.ow);
+	if (rc || (rc = check_out(out, p.ow)) || (rc = pc_dm_plan_check_validity(&p, valid)) ||
 	    (opts->pinv && (rc = check_pinv(opts->pinv, p.ow, p.oh))) ||
 	    (opts->compact && (rc = check_compact(&p, opts->compact)))) {
 		pc_dm_plan_end(&p);
@@ -270,7 +281,7 @@ int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_sto
 		pc_view v;
 		pc_pipeline_opts o;
 		if (!(rc = pc_dm_plan_corrected(&p, &img, &v, &o)))
-			rc = pc_stokes_run(&v, &o, out, NULL);
+			rc = stokes_run(&v, &o, out, rgb, NULL);
 		free(img);
 	} else if (in) {
 		pc_st_sink sink = {out, calp, p.ow, pc_st_stream_wanted(out, p.ow, p.oh, p.level),
@@ -279,12 +290,26 @@ int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_sto
 		pc_dm_call c = pc_dm_plan_call(&p);
 		rc = p.def->rows(&c, &rs);
 	} else {
-		rc = stokes_two_step(&p, out);
+		rc = stokes_two_step(&p, out, rgb);
 	}
 	if (!rc && valid)
 		rc = pc_dm_plan_validity(&p, valid);
 	pc_dm_plan_end(&p);
 	return rc;
+}
+
+int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out,
+                  pc_validity *valid)
+{
+	return stokes_run(raw, opts, out, NULL, valid);
+}
+
+int pc_stokes_run_colour(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out,
+                         const pc_stokes_out rgb[3], pc_validity *valid)
+{
+	if (!rgb)
+		return pc_error(PC_EINVAL, "colour Stokes: missing argument");
+	return stokes_run(raw, opts, out, rgb, valid);
 }
 
 int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,

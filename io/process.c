@@ -102,9 +102,11 @@ static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format
 	return po;
 }
 
-/* Raw → Stokes (st) or analyser images (ch) through the stage or the front door. */
+/* Raw → Stokes (st) or analyser images (ch) through the stage or the front door; rgb (colour
+ * frames, no stage: a calibration is for monochrome mosaics) also each colour's Stokes. */
 static int run_pipeline(const pc_process_opts *o, const pc_view *raw, unsigned bits,
-                        const pc_stokes_out *st, const pc_fplane *ch, pc_validity *valid)
+                        const pc_stokes_out *st, const pc_stokes_out *rgb, const pc_fplane *ch,
+                        pc_validity *valid)
 {
 	pc_pipeline_opts po = pipeline_opts(o, raw->format, bits);
 	if (o->stage) {
@@ -122,46 +124,9 @@ static int run_pipeline(const pc_process_opts *o, const pc_view *raw, unsigned b
 		f.meta.offset_y = o->roi_y;
 		return o->stage->run(o->stage->user, &f, bits, &po, st, ch, valid);
 	}
+	if (st && rgb)
+		return pc_stokes_run_colour(raw, &po, st, rgb, valid);
 	return st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
-}
-
-int pc_stokes_colour_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out)
-{
-	if (!raw || !opts || !out)
-		return pc_error(PC_EINVAL, "colour Stokes: missing argument");
-	if (opts->mosaic.period != 4)
-		return pc_error(PC_EINVAL, "colour Stokes: the mosaic is not colour-polarization");
-	if (opts->pinv)
-		return pc_error(PC_EINVAL, "colour Stokes: ideal analysers only");
-	uint32_t w, h;
-	pc_demosaic_out_size(opts->method, raw->width, raw->height, &w, &h);
-	if (!w || !h)
-		return pc_error(PC_EINVAL, "colour Stokes: empty output for %ux%u", raw->width,
-		                raw->height);
-	const size_t n = (size_t)w * h;
-	float *buf = malloc(sizeof(float) * n * 12);
-	if (!buf)
-		return pc_error(PC_ENOMEM, "colour Stokes: 12 analyser images of %ux%u", w, h);
-	/* channel 4c + k: colour c (R, G, B) behind analyser k, as pc_demosaic_run orders them */
-	pc_fplane ch[12];
-	for (int k = 0; k < 12; k++)
-		ch[k] = (pc_fplane){buf + (size_t)k * n, w, 1};
-	int rc = pc_demosaic_run(raw, opts, ch, NULL);
-	for (int c = 0; c < 3 && !rc; c++)
-		rc = pc_stokes_from_channels(&ch[4 * c], w, h, NULL, &out[c]);
-	free(buf);
-	return rc;
-}
-
-/* A colour frame's R, G, B Stokes images when the pipeline has no stage (a calibration is for
- * monochrome mosaics); nothing for monochrome frames. */
-static int run_colour(const pc_process_opts *o, const pc_view *raw, unsigned bits,
-                      const pc_stokes_out *out)
-{
-	if (!out || o->mosaic.period != 4 || o->stage)
-		return 0;
-	pc_pipeline_opts po = pipeline_opts(o, raw->format, bits);
-	return pc_stokes_colour_run(raw, &po, out);
 }
 
 static bool has_suffix(const char *s, const char *suf)
@@ -284,7 +249,7 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 		return pc_error(PC_ENOMEM, "out of memory for the %ux%u validity mask", ow, oh);
 	}
 	double t0 = now_s();
-	rc = run_pipeline(o, &raw, bits, NULL, planes, &valid);
+	rc = run_pipeline(o, &raw, bits, NULL, NULL, planes, &valid);
 	double secs = now_s() - t0;
 	pc_view_free(&raw);
 	if (rc) {
@@ -600,9 +565,8 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 		}
 		double t0 = now_s(), dt = 0;
 		if (!rc) {
-			rc = run_pipeline(o, &raw, bits, &f.so, NULL, &f.valid);
-			if (!rc && colour)
-				rc = run_colour(o, &raw, bits, f.cso);
+			rc = run_pipeline(o, &raw, bits, &f.so, colour ? f.cso : NULL, NULL,
+			                  &f.valid);
 			dt = now_s() - t0;
 			t_all += dt;
 			if (rc)

@@ -114,6 +114,15 @@ PC_API int pc_stokes_from_channels(const pc_fplane in[4], uint32_t width, uint32
 PC_API int pc_stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc_stokes_out *out,
                          pc_validity *valid);
 
+/* pc_stokes_run of a colour-polarization raw (opts->mosaic of period 4, ideal analysers: no
+ * pinv, no compact calibration) that also gives each colour's Stokes: rgb[c], c = 0, 1, 2 for
+ * R, G, B (any plane may be NULL), from that colour's four analyser images of the same
+ * demosaicking (the twelve images are made once). out is their mean over the colours, exactly
+ * what pc_stokes_run gives (it averages the analyser images, and S is linear in them). */
+PC_API int pc_stokes_run_colour(const pc_view *raw, const pc_pipeline_opts *opts,
+                                const pc_stokes_out *out, const pc_stokes_out rgb[3],
+                                pc_validity *valid);
+
 /* pc_stokes_run with method, mosaic m, and opts' threads, reference and full scale (opts may
  * be NULL): ideal analysers, no black level, no validity. */
 PC_API int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,

@@ -99,7 +99,7 @@ typedef struct pc_stokes_folder_opts {
 	bool no_minmax_files; /* the same for imin/imax/diffuse/specular.npy (PC_SF_MINMAX,
 	                       * PC_SF_SPLIT): only their pictures are written here */
 	const pc_stokes_out *colour; /* a colour-polarization frame's R, G, B Stokes images (three,
-	                              * pc_stokes_colour_run) or NULL: with PC_SF_STOKES
+	                              * pc_stokes_run_colour) or NULL: with PC_SF_STOKES
 	                              * stokes_rgb.npy (H, W, 3, 3): [y, x, colour, S0..S2]; with
 	                              * PC_SF_PICTURES s0_rgb.png and dolp_rgb.png
 	                              * (pc_pictures_write_colour) */

@@ -40,15 +40,6 @@ PC_API int pc_raw_read(const pc_raw_input *in, pc_view *raw, unsigned *bits);
  * other kind of mosaic. */
 PC_API int pc_process_method(const char *name, const pc_mosaic *m, pc_demosaic_method *out);
 
-/* The R, G and B Stokes images of a colour-polarization raw (opts->mosaic of period 4, ideal
- * analysers: opts->pinv NULL): the twelve analyser images of pc_demosaic_run (opts as for
- * pc_stokes_run: method, black level, threads; no validity), then for each colour c Stokes
- * from its four (pc_stokes_from_channels) into out[c], c = 0, 1, 2 for R, G, B (three
- * pc_stokes_out; any plane may be NULL). pc_stokes_run's output for the same raw is their
- * mean over the colours (it averages the analyser images, and S is linear in them). */
-PC_API int pc_stokes_colour_run(const pc_view *raw, const pc_pipeline_opts *opts,
-                                const pc_stokes_out *out);
-
 /* A stage run in place of the front door (pc_stokes_run / pc_demosaic_run): a calibration,
  * made by pc_calib_stage (polarcam/calib.h) from a `polarcam calibrate` file. run computes the
  * Stokes outputs st, or when st is NULL the analyser images ch, of frame f (its view, its ROI
