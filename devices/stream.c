@@ -275,13 +275,13 @@ int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 	if (w != lv->w || h != lv->h || !lv->planes) {
 		free(lv->planes);
 		free(lv->rgb);
+		lv->rgb = NULL; /* made by pc_stokes_stream_picture, when called */
 		free(lv->valid);
 		lv->w = w;
 		lv->h = h;
 		lv->planes = malloc((size_t)w * h * 3 * sizeof(float));
-		lv->rgb = malloc((size_t)w * 3 * h * 3);
 		lv->valid = malloc((size_t)w * h);
-		if (!lv->planes || !lv->rgb || !lv->valid) {
+		if (!lv->planes || !lv->valid) {
 			free(lv->planes);
 			lv->planes = NULL;
 			return pc_error(PC_ENOMEM, "Stokes images %ux%u", w, h);
@@ -333,6 +333,8 @@ int pc_stokes_stream_picture(pc_stokes_stream *lv, const uint8_t **rgb)
 	if (!lv->planes)
 		return pc_error(PC_ESTATE, "Stokes stream: no frame processed yet");
 	size_t stride = (size_t)lv->w * 3 * 3;
+	if (!lv->rgb && !(lv->rgb = malloc(stride * lv->h)))
+		return pc_error(PC_ENOMEM, "Stokes stream picture %ux%u", lv->w * 3, lv->h);
 	float hi = pc_picture_quantile(&lv->out.s0, lv->w, lv->h, 0.999);
 	if (!(hi > 0))
 		hi = 1;
