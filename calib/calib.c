@@ -862,6 +862,22 @@ static bool is_superpixel(pc_demosaic_method m)
 	return m == PC_DM_SUPERPIXEL || m == PC_DM_SUPERPIXEL_HALF;
 }
 
+/* The first row's flag of bad[] (per output row: 0, or 1 + the column of a singular analyser
+ * matrix, or UINT32_MAX when the row's check had no memory) as the error, 0 if none. */
+static int singular_rows(const uint32_t *bad, uint32_t H)
+{
+	for (uint32_t y = 0; y < H; y++)
+		if (bad[y] == UINT32_MAX)
+			return pc_error(PC_ENOMEM, "calibration: analyser check rows");
+		else if (bad[y])
+			return pc_error(
+			    PC_ENUMERIC,
+			    "calibration: the analyser matrix of output pixel (%u,%u) is "
+			    "singular (its demosaicked analysis vectors do not span S1, S2)",
+			    bad[y] - 1, y);
+	return 0;
+}
+
 int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_analyser_pinv *pinv)
 {
 	if (!(cal->parts & PC_CAL_ANALYSER) || !cal->analysis || !cal->pinv_sp)
@@ -913,16 +929,8 @@ int pc_calib_pinv(pc_calib *cal, pc_demosaic_method method, int threads, pc_anal
 		goto out;
 	pinv_ctx pc = {buf, np, W, bad};
 	pc_parallel_rows(H, 0, threads, pinv_rows, &pc);
-	for (uint32_t y = 0; y < H; y++)
-		if (bad[y]) {
-			uint32_t x = bad[y] - 1;
-			rc = pc_error(PC_ENUMERIC,
-			              "calibration: the analyser matrix of output pixel "
-			              "(%u,%u) is singular (its demosaicked analysis vectors do "
-			              "not span S1, S2)",
-			              x, y);
-			goto out;
-		}
+	if ((rc = singular_rows(bad, H)))
+		goto out;
 	cal->pinv_px = buf;
 	buf = NULL;
 	cal->pinv_method = (int)method;
@@ -1170,15 +1178,7 @@ static int compact_calib(pc_calib *cal, int threads)
 		goto out;
 	vcheck_ctx vc = {&v, &cal->geo.mosaic, bad};
 	pc_parallel_rows(H, 0, threads, vcheck_rows, &vc);
-	for (uint32_t y = 0; y < H && !rc; y++)
-		if (bad[y] == UINT32_MAX)
-			rc = pc_error(PC_ENOMEM, "calibration: analyser check rows");
-		else if (bad[y])
-			rc = pc_error(
-			    PC_ENUMERIC,
-			    "calibration: the analyser matrix of output pixel (%u,%u) is "
-			    "singular (its demosaicked analysis vectors do not span S1, S2)",
-			    bad[y] - 1, y);
+	rc = singular_rows(bad, H);
 	if (!rc) {
 		cal->apply_q = q;
 		cal->apply_vec = v;
