@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_internal.h"
 #include "json.h"
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
@@ -143,6 +144,25 @@ static int write_plane(const char *dir, const char *name, const pc_fplane *p, ui
 	return rc;
 }
 
+/* An .npy file of shape (h, w, ...) (ndim dimensions, the last ones multiplying to nk) holding
+ * the nk planes s[] interleaved per pixel, in their order. */
+static int write_interleaved(const char *dir, const char *name, const pc_fplane *const *s, int nk,
+                             uint32_t w, uint32_t h, unsigned ndim, const size_t *shape)
+{
+	float *t = malloc(sizeof(float) * w * h * (size_t)nk);
+	if (!t)
+		return pc_error(PC_ENOMEM, "%s/%s", dir, name);
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++)
+			for (int k = 0; k < nk; k++)
+				t[((size_t)y * w + x) * (size_t)nk + (size_t)k] =
+				    s[k]->data[(size_t)y * s[k]->row_stride +
+				               (size_t)x * s[k]->pixel_stride];
+	int rc = write_npy(dir, name, t, ndim, shape);
+	free(t);
+	return rc;
+}
+
 /* stokes.npy (H, W, 3): directly when s0, s1, s2 already interleave that way. */
 static int write_stokes3(const char *dir, const char *name, const pc_stokes_out *st, uint32_t w,
                          uint32_t h)
@@ -158,18 +178,25 @@ static int write_stokes3(const char *dir, const char *name, const pc_stokes_out 
 	size_t shape[3] = {h, w, 3};
 	if (inter)
 		return write_npy(dir, name, st->s0.data, 3, shape);
-	float *t = malloc(sizeof(float) * w * h * 3);
-	if (!t)
-		return pc_error(PC_ENOMEM, "%s/%s", dir, name);
-	for (uint32_t y = 0; y < h; y++)
-		for (uint32_t x = 0; x < w; x++)
-			for (int k = 0; k < 3; k++)
-				t[((size_t)y * w + x) * 3 + (size_t)k] =
-				    s[k]->data[(size_t)y * s[k]->row_stride +
-				               (size_t)x * s[k]->pixel_stride];
-	int rc = write_npy(dir, name, t, 3, shape);
-	free(t);
-	return rc;
+	return write_interleaved(dir, name, s, 3, w, h, 3, shape);
+}
+
+/* stokes_rgb.npy (H, W, 3, 3) from the three colours' S0, S1, S2 */
+static int write_stokes_rgb(const char *dir, const char *name, const pc_stokes_out *rgb, uint32_t w,
+                            uint32_t h)
+{
+	const pc_fplane *s[9];
+	for (int c = 0; c < 3; c++) {
+		s[3 * c] = &rgb[c].s0, s[3 * c + 1] = &rgb[c].s1, s[3 * c + 2] = &rgb[c].s2;
+		for (int k = 0; k < 3; k++)
+			if (!s[3 * c + k]->data)
+				return pc_error(PC_EINVAL,
+				                "%s/%s: S0, S1 and S2 of each colour are "
+				                "needed",
+				                dir, name);
+	}
+	size_t shape[4] = {h, w, 3, 3};
+	return write_interleaved(dir, name, s, 9, w, h, 4, shape);
 }
 
 /* valid.npy (H, W) uint8: 1 valid, 0 invalid */
@@ -193,55 +220,21 @@ static int write_valid(const char *dir, const char *name, const pc_validity *v, 
 	return rc;
 }
 
-/* stokes_rgb.npy (H, W, 3, 3) from the three colours' S0, S1, S2 */
-static int write_stokes_rgb(const char *dir, const char *name, const pc_stokes_out *rgb, uint32_t w,
-                            uint32_t h)
+/* imin/imax.npy and diffuse/specular.npy (PC_SF_MINMAX, PC_SF_SPLIT) from the four planes at
+ * buf (pc_stokes_minmax's, each w·h) */
+static int write_minmax(const char *dir, const float *buf, uint32_t w, uint32_t h, unsigned files,
+                        const char *sfx)
 {
-	const pc_fplane *s[9];
-	for (int c = 0; c < 3; c++) {
-		s[3 * c] = &rgb[c].s0, s[3 * c + 1] = &rgb[c].s1, s[3 * c + 2] = &rgb[c].s2;
-		for (int k = 0; k < 3; k++)
-			if (!s[3 * c + k]->data)
-				return pc_error(PC_EINVAL,
-				                "%s/%s: S0, S1 and S2 of each colour are "
-				                "needed",
-				                dir, name);
-	}
-	float *t = malloc(sizeof(float) * w * h * 9);
-	if (!t)
-		return pc_error(PC_ENOMEM, "%s/%s", dir, name);
-	for (uint32_t y = 0; y < h; y++)
-		for (uint32_t x = 0; x < w; x++)
-			for (int k = 0; k < 9; k++)
-				t[((size_t)y * w + x) * 9 + (size_t)k] =
-				    s[k]->data[(size_t)y * s[k]->row_stride +
-				               (size_t)x * s[k]->pixel_stride];
-	size_t shape[4] = {h, w, 3, 3};
-	int rc = write_npy(dir, name, t, 4, shape);
-	free(t);
-	return rc;
-}
-
-/* imin/imax.npy and diffuse/specular.npy (PC_SF_MINMAX, PC_SF_SPLIT) from S0, S1, S2 */
-static int write_minmax(const char *dir, const pc_stokes_out *st, uint32_t w, uint32_t h,
-                        unsigned files, const char *sfx)
-{
-	const size_t n = (size_t)w * h;
-	float *buf = malloc(sizeof(float) * n * 4);
-	if (!buf)
-		return pc_error(PC_ENOMEM, "%s: %ux%u Imin/Imax images", dir, w, h);
-	pc_minmax_out mo = {{buf, w, 1}, {buf + n, w, 1}, {buf + 2 * n, w, 1}, {buf + 3 * n, w, 1}};
-	int rc = pc_stokes_minmax(&st->s0, &st->s1, &st->s2, w, h, &mo);
 	static const char *names[4] = {"imin", "imax", "diffuse", "specular"};
 	size_t shape[2] = {h, w};
 	char name[64];
+	int rc = 0;
 	for (int k = 0; k < 4 && !rc; k++) {
 		if (!(files & (k < 2 ? PC_SF_MINMAX : PC_SF_SPLIT)))
 			continue;
 		snprintf(name, sizeof name, "%s%s.npy", names[k], sfx);
-		rc = write_npy(dir, name, buf + (size_t)k * n, 2, shape);
+		rc = write_npy(dir, name, buf + (size_t)k * w * h, 2, shape);
 	}
-	free(buf);
 	return rc;
 }
 
@@ -288,8 +281,28 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 		snprintf(name, sizeof name, "stokes_rgb%s.npy", sfx);
 		rc = write_stokes_rgb(dir, name, opts->colour, width, height);
 	}
-	if (!rc && (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)) && !opts->no_minmax_files)
-		rc = write_minmax(dir, st, width, height, opts->files, sfx);
+	/* Imin/Imax once for their .npy files and their pictures */
+	const bool mm_files =
+	               (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)) && !opts->no_minmax_files,
+	           mm_pics = (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)) &&
+	                     (opts->files & PC_SF_PICTURES);
+	float *mm = NULL;
+	pc_minmax_out mo = {{NULL, 0, 0}, {NULL, 0, 0}, {NULL, 0, 0}, {NULL, 0, 0}};
+	if (!rc && (mm_files || mm_pics)) {
+		const size_t n = (size_t)width * height;
+		if (!(mm = malloc(sizeof(float) * n * 4)))
+			rc = pc_error(PC_ENOMEM, "%s: %ux%u Imin/Imax images", dir, width, height);
+		else {
+			pc_minmax_out m = {{mm, width, 1},
+			                   {mm + n, width, 1},
+			                   {mm + 2 * n, width, 1},
+			                   {mm + 3 * n, width, 1}};
+			mo = m;
+			rc = pc_stokes_minmax(&st->s0, &st->s1, &st->s2, width, height, &mo);
+		}
+	}
+	if (!rc && mm_files)
+		rc = write_minmax(dir, mm, width, height, opts->files, sfx);
 	if (!rc && valid && valid->mask && !opts->no_valid_file) {
 		snprintf(name, sizeof name, "valid%s.npy", sfx);
 		rc = write_valid(dir, name, valid, width, height);
@@ -301,11 +314,12 @@ int pc_stokes_folder_write_valid(const char *dir, const pc_stokes_out *st, uint3
 		rc = pc_pictures_write_valid(dir, st, width, height, &po, valid);
 		if (!rc && opts->colour)
 			rc = pc_pictures_write_colour(dir, opts->colour, width, height, &po, valid);
-		if (!rc && (opts->files & (PC_SF_MINMAX | PC_SF_SPLIT)))
-			rc = pc_pictures_write_minmax(dir, st, width, height, &po, valid,
-			                              opts->files & PC_SF_MINMAX,
-			                              opts->files & PC_SF_SPLIT);
+		if (!rc && mm_pics)
+			rc = pc_pictures_write_minmax_planes(dir, st, &mo, width, height, &po,
+			                                     valid, opts->files & PC_SF_MINMAX,
+			                                     opts->files & PC_SF_SPLIT);
 	}
+	free(mm);
 	return rc;
 }
 

@@ -2,6 +2,7 @@
 #ifndef POLARCAM_IO_INTERNAL_H
 #define POLARCAM_IO_INTERNAL_H
 
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -28,5 +29,17 @@ int pc_io_check_image(const char *path, uint64_t width, uint64_t height, uint64_
  * run killed outright); folders of live processes and of other hosts stay. */
 void pc_io_tmp_prefix(const char *name, char *out, size_t size);
 void pc_io_remove_stale(const char *parent, const char *prefix);
+
+struct pc_stokes_out;
+struct pc_minmax_out;
+struct pc_pictures_opts;
+struct pc_validity;
+/* pc_pictures_write_minmax (polarcam/io.h) from Imin/Imax planes already computed by
+ * pc_stokes_minmax (io/pictures.c): a folder that writes the .npy files and the pictures
+ * computes them once. st gives the S0 scale. */
+int pc_pictures_write_minmax_planes(const char *dir, const struct pc_stokes_out *st,
+                                    const struct pc_minmax_out *mo, uint32_t width, uint32_t height,
+                                    const struct pc_pictures_opts *opts,
+                                    const struct pc_validity *valid, bool minmax, bool split);
 
 #endif

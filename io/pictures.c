@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_internal.h"
 #include "polarcam/error.h"
 #include "polarcam/io.h"
 #include "polarcam/picture.h"
@@ -343,31 +344,22 @@ int pc_pictures_panels(const pc_stokes_out *st, uint32_t width, uint32_t height,
 	return 0;
 }
 
-int pc_pictures_write_minmax(const char *dir, const pc_stokes_out *st, uint32_t width,
-                             uint32_t height, const pc_pictures_opts *opts,
-                             const pc_validity *valid, bool minmax, bool split)
+/* The four pictures from Imin/Imax planes already computed (mo, as pc_stokes_minmax writes
+ * them; the ones not drawn may be NULL). */
+int pc_pictures_write_minmax_planes(const char *dir, const pc_stokes_out *st,
+                                    const pc_minmax_out *mo, uint32_t width, uint32_t height,
+                                    const pc_pictures_opts *opts, const pc_validity *valid,
+                                    bool minmax, bool split)
 {
-	if (!dir || !st || !st->s0.data || !st->s1.data || !st->s2.data)
-		return pc_error(PC_EINVAL, "pictures: S0, S1 and S2 images are needed");
 	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
 	if (opts)
 		o = *opts;
 	if (!(isfinite(o.s0_hi) && o.s0_hi >= 0))
 		return pc_error(PC_EINVAL, "pictures: S0 scale %g: expected a finite value >= 0",
 		                o.s0_hi);
-	const size_t n = (size_t)width * height;
-	uint8_t *rgb = malloc(n * 3);
-	float *planes = malloc(sizeof(float) * n * 4);
-	if (!rgb || !planes) {
-		free(rgb);
-		free(planes);
-		return pc_error(PC_ENOMEM, "pictures: %ux%u Imin/Imax images", width, height);
-	}
-	pc_minmax_out mo = {{planes, width, 1},
-	                    {planes + n, width, 1},
-	                    {planes + 2 * n, width, 1},
-	                    {planes + 3 * n, width, 1}};
-	int rc = pc_stokes_minmax(&st->s0, &st->s1, &st->s2, width, height, &mo);
+	uint8_t *rgb = malloc((size_t)width * height * 3);
+	if (!rgb)
+		return pc_error(PC_ENOMEM, "pictures: %ux%u Imin/Imax pictures", width, height);
 	const float hi = s0_scale(st, width, height, o.s0_hi); /* as the S0 picture */
 	const uint8_t *vm = valid && valid->mask ? valid->mask : NULL;
 	const size_t vs = vm ? valid->row_stride : 0, rs = (size_t)width * 3;
@@ -384,10 +376,15 @@ int pc_pictures_write_minmax(const char *dir, const pc_stokes_out *st, uint32_t 
 	    {"imax", "Imax (maximum over analyser angles) = (S0 + |S_lin|)/2", "Imax (raw units)"},
 	    {"diffuse", "diffuse = 2 Imin (unpolarized part)", "diffuse (raw units)"},
 	    {"specular", "specular = Imax - Imin (polarized part)", "specular (raw units)"}};
-	const pc_fplane *pl[4] = {&mo.imin, &mo.imax, &mo.diffuse, &mo.specular};
+	const pc_fplane *pl[4] = {&mo->imin, &mo->imax, &mo->diffuse, &mo->specular};
+	int rc = 0;
 	for (int k = 0; k < 4 && !rc; k++) {
 		if (!(k < 2 ? minmax : split))
 			continue;
+		if (!pl[k]->data) {
+			rc = pc_error(PC_EINVAL, "pictures: %s image not computed", pics[k].name);
+			break;
+		}
 		rc = pc_picture_grey(pl[k], width, height, 0, hi, rgb, rs);
 		pc_picture_mask_invalid(vm, vs, width, height, rgb, rs);
 		pc_colorbar bar = {pics[k].label, 0, hi, NULL, 0, 0, pc_picture_grey_key, NULL, 0};
@@ -397,8 +394,29 @@ int pc_pictures_write_minmax(const char *dir, const pc_stokes_out *st, uint32_t 
 			rc = write_one(dir, pics[k].name, o.suffix, rgb, width, height, title, &bar,
 			               n_bad ? &bad : NULL, o.max_width);
 	}
-	free(planes);
 	free(rgb);
+	return rc;
+}
+
+int pc_pictures_write_minmax(const char *dir, const pc_stokes_out *st, uint32_t width,
+                             uint32_t height, const pc_pictures_opts *opts,
+                             const pc_validity *valid, bool minmax, bool split)
+{
+	if (!dir || !st || !st->s0.data || !st->s1.data || !st->s2.data)
+		return pc_error(PC_EINVAL, "pictures: S0, S1 and S2 images are needed");
+	const size_t n = (size_t)width * height;
+	float *planes = malloc(sizeof(float) * n * 4);
+	if (!planes)
+		return pc_error(PC_ENOMEM, "pictures: %ux%u Imin/Imax images", width, height);
+	pc_minmax_out mo = {{planes, width, 1},
+	                    {planes + n, width, 1},
+	                    {planes + 2 * n, width, 1},
+	                    {planes + 3 * n, width, 1}};
+	int rc = pc_stokes_minmax(&st->s0, &st->s1, &st->s2, width, height, &mo);
+	if (!rc)
+		rc = pc_pictures_write_minmax_planes(dir, st, &mo, width, height, opts, valid,
+		                                     minmax, split);
+	free(planes);
 	return rc;
 }
 
