@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 #include "polarcam/cpu.h"
 #include "polarcam/demosaic.h"
@@ -53,6 +54,24 @@ static inline double pc_dimg_at(const pc_dimg *r, int x, int y)
 static inline unsigned pc_dm_ch(const pc_mosaic *m, unsigned px, unsigned py)
 {
 	return m->channel[py & 1][px & 1];
+}
+
+/* Normalised tent (bilinear) interpolation of the samples of channel c of v at (x, y): the
+ * weights (2-|dx|)(2-|dy|) over the channel's pixels in the 3×3 window, divided by their sum
+ * (4 at the pixel itself; 2+2 for a horizontal or vertical pair; 1+1+1+1 for diagonals). The
+ * double references' bilinear step (demosaic_ref.c, demosaic_mlri.c). Negative x, y keep
+ * their parity through the unsigned conversion (two's complement). */
+static inline double pc_dm_tent(const pc_dimg *v, const pc_mosaic *m, unsigned c, int x, int y)
+{
+	double s = 0, ws = 0;
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++)
+			if (pc_dm_ch(m, x + dx, y + dy) == c) {
+				double w = (2 - abs(dx)) * (2 - abs(dy));
+				s += w * pc_dimg_at(v, x + dx, y + dy);
+				ws += w;
+			}
+	return s / ws;
 }
 
 /* ---- the prepared input ---- */

@@ -32,11 +32,6 @@
 #define MLRI_R      5
 #define MACHINE_EPS 2.220446049250313e-16
 
-static unsigned chan(const pc_mosaic *m, int x, int y)
-{
-	return m->channel[y & 1][x & 1];
-}
-
 /* dst(p) = Σ over the (2R+1)² window around p of src (mirrored), by running sums in double. */
 static void box(const pc_dimg *src, int R, pc_dimg *dst, double *tmp)
 {
@@ -62,20 +57,6 @@ static void box(const pc_dimg *src, int R, pc_dimg *dst, double *tmp)
 	}
 }
 
-/* The tent of channel c's samples of v at (x, y) (the bilinear reference's weights). */
-static double tent(const pc_dimg *v, const pc_mosaic *m, unsigned c, int x, int y)
-{
-	double s = 0, ws = 0;
-	for (int dy = -1; dy <= 1; dy++)
-		for (int dx = -1; dx <= 1; dx++)
-			if (chan(m, x + dx, y + dy) == c) {
-				double wt = (2 - abs(dx)) * (2 - abs(dy));
-				s += wt * pc_dimg_at(v, x + dx, y + dy);
-				ws += wt;
-			}
-	return s / ws;
-}
-
 enum { NB = 14 };
 
 /* MLRI of channel c of raw r with guide g into out (planes[NB] are scratch images). */
@@ -91,7 +72,7 @@ static void mlri_channel(const pc_dimg *r, const pc_dimg *g, const pc_mosaic *m,
 	for (int y = 0; y < h; y++)
 		for (int x = 0; x < w; x++) {
 			size_t i = (size_t)y * w + x;
-			int on = chan(m, x, y) == c;
+			int on = pc_dm_ch(m, x, y) == c;
 			double gv = pc_dimg_at(g, x, y), iv = pc_dimg_at(r, x, y);
 			double lg = 4 * gv - pc_dimg_at(g, x - 2, y) - pc_dimg_at(g, x + 2, y) -
 			            pc_dimg_at(g, x, y - 2) - pc_dimg_at(g, x, y + 2);
@@ -141,7 +122,7 @@ static void mlri_channel(const pc_dimg *r, const pc_dimg *g, const pc_mosaic *m,
 	for (int y = 0; y < h; y++)
 		for (int x = 0; x < w; x++) {
 			size_t i = (size_t)y * w + x;
-			double v = T->p[i] + tent(Y, m, c, x, y);
+			double v = T->p[i] + pc_dm_tent(Y, m, c, x, y);
 			out[c]
 			    .data[(size_t)y * out[c].row_stride + (size_t)x * out[c].pixel_stride] =
 			    (float)v;

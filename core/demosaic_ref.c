@@ -47,33 +47,12 @@ static void put(const pc_fplane *o, int x, int y, double v)
 	o->data[(size_t)y * o->row_stride + (size_t)x * o->pixel_stride] = (float)v;
 }
 
-static unsigned chan(const pc_mosaic *m, int x, int y)
-{
-	return m->channel[y & 1][x & 1]; /* & keeps the parity of negative indices too */
-}
-
-/* Normalised tent (bilinear) interpolation of the samples of channel c of v at (x, y): the
- * weights (2-|dx|)(2-|dy|) over the channel's pixels in the 3×3 window, divided by their sum
- * (4 at the pixel itself; 2+2 for a horizontal or vertical pair; 1+1+1+1 for diagonals). */
-static double tent(const pc_dimg *v, const pc_mosaic *m, unsigned c, int x, int y)
-{
-	double s = 0, ws = 0;
-	for (int dy = -1; dy <= 1; dy++)
-		for (int dx = -1; dx <= 1; dx++)
-			if (chan(m, x + dx, y + dy) == c) {
-				double w = (2 - abs(dx)) * (2 - abs(dy));
-				s += w * pc_dimg_at(v, x + dx, y + dy);
-				ws += w;
-			}
-	return s / ws;
-}
-
 static void ref_bilinear(const pc_dimg *r, const pc_mosaic *m, const pc_fplane *out)
 {
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++)
 			for (unsigned c = 0; c < 4; c++)
-				put(&out[c], x, y, tent(r, m, c, x, y));
+				put(&out[c], x, y, pc_dm_tent(r, m, c, x, y));
 }
 
 /* The 2×2 block at even coordinates holds each analyser once. */
@@ -81,7 +60,7 @@ static double block_value(const pc_dimg *r, const pc_mosaic *m, unsigned c, int 
 {
 	for (int dy = 0; dy < 2; dy++)
 		for (int dx = 0; dx < 2; dx++)
-			if (chan(m, bx + dx, by + dy) == c)
+			if (pc_dm_ch(m, bx + dx, by + dy) == c)
 				return pc_dimg_at(r, bx + dx, by + dy);
 	return 0; /* unreachable for a checked mosaic */
 }
@@ -124,7 +103,7 @@ static void ref_bicubic(const pc_dimg *r, const pc_mosaic *m, const pc_fplane *o
 				double s = 0;
 				for (int dy = -3; dy <= 3; dy++)
 					for (int dx = -3; dx <= 3; dx++)
-						if (chan(m, x + dx, y + dy) == c)
+						if (pc_dm_ch(m, x + dx, y + dy) == c)
 							s += keys(dx / 2.0) * keys(dy / 2.0) *
 							     pc_dimg_at(r, x + dx, y + dy);
 				put(&out[c], x, y, s);
@@ -196,7 +175,7 @@ static int ref_ppid(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_fp
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++)
 			for (unsigned c = 0; c < 4; c++)
-				put(&out[c], x, y, *px(&p, x, y) + tent(&d, m, c, x, y));
+				put(&out[c], x, y, *px(&p, x, y) + pc_dm_tent(&d, m, c, x, y));
 	rimg_free(&p0);
 	rimg_free(&p);
 	rimg_free(&d);
@@ -222,7 +201,7 @@ static void eari_guide(const pc_dimg *r, const pc_mosaic *m, double eps, pc_dimg
 	/* neighbour sets: H = ±(1,0), V = ±(0,1), D = ±(1,1) and ±(1,-1) */
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++) {
-			unsigned cp = chan(m, x, y) ^ 2u;
+			unsigned cp = pc_dm_ch(m, x, y) ^ 2u;
 			double c0 = pc_dimg_at(r, x, y);
 			double mh = 0.5 * (pc_dimg_at(r, x - 1, y) + pc_dimg_at(r, x + 1, y));
 			double mv = 0.5 * (pc_dimg_at(r, x, y - 1) + pc_dimg_at(r, x, y + 1));
@@ -241,7 +220,7 @@ static void eari_guide(const pc_dimg *r, const pc_mosaic *m, double eps, pc_dimg
 			}
 			double num = 0, den = 0, gmean = 0.25 * (gax[0] + gax[1] + gax[2] + gax[3]);
 			double other;
-			if (chan(m, x + 1, y + 1) ==
+			if (pc_dm_ch(m, x + 1, y + 1) ==
 			    cp) { /* orthogonal analyser on the diagonals */
 				for (int k = 2; k < 4; k++) {
 					int ox = ax[k][0], oy = ax[k][1];
@@ -252,7 +231,7 @@ static void eari_guide(const pc_dimg *r, const pc_mosaic *m, double eps, pc_dimg
 					den += wgt;
 				}
 				other = mh + mv;
-			} else if (chan(m, x + 1, y) == cp) { /* ... on the horizontal pair */
+			} else if (pc_dm_ch(m, x + 1, y) == cp) { /* ... on the horizontal pair */
 				double wgt = 1.0 / (eps + gax[0]);
 				num += wgt * (c0 + mh);
 				den += wgt;
@@ -285,7 +264,7 @@ static int ref_ri_channel(const pc_dimg *r, const pc_dimg *g, const pc_mosaic *m
 			double n = 0, sg = 0, si = 0, sgg = 0, sgi = 0;
 			for (int dy = -rad; dy <= rad; dy++)
 				for (int dx = -rad; dx <= rad; dx++) {
-					if (chan(m, x + dx, y + dy) != c)
+					if (pc_dm_ch(m, x + dx, y + dy) != c)
 						continue;
 					double gv = pc_dimg_at(g, x + dx, y + dy),
 					       iv = pc_dimg_at(r, x + dx, y + dy);
@@ -318,7 +297,7 @@ static int ref_ri_channel(const pc_dimg *r, const pc_dimg *g, const pc_mosaic *m
 			*px(a, x, y) = *px((pc_dimg *)r, x, y) - *px(t, x, y);
 	for (int y = 0; y < r->h; y++)
 		for (int x = 0; x < r->w; x++)
-			put(&out[c], x, y, *px(t, x, y) + tent(a, m, c, x, y));
+			put(&out[c], x, y, *px(t, x, y) + pc_dm_tent(a, m, c, x, y));
 	return 0;
 }
 
@@ -389,7 +368,7 @@ static double guided_tent(const pc_dimg *v, const pc_dimg *g, const pc_mosaic *m
 	double s = 0, ws = 0, g0 = pc_dimg_at(g, x, y);
 	for (int dy = -1; dy <= 1; dy++)
 		for (int dx = -1; dx <= 1; dx++)
-			if (chan(m, x + dx, y + dy) == c) {
+			if (pc_dm_ch(m, x + dx, y + dy) == c) {
 				double w = 1.0 / (e + fabs(pc_dimg_at(g, x + dx, y + dy) - g0));
 				s += w * pc_dimg_at(v, x + dx, y + dy);
 				ws += w;
@@ -448,7 +427,7 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, double 
 				double den = fmax(gx, 0) + delta, sum = 0;
 				for (unsigned c = 0; c < 4; c++) {
 					double v =
-					    c == chan(m, x, y)
+					    c == pc_dm_ch(m, x, y)
 					        ? pc_dimg_at(r, x, y)
 					        : den * guided_tent(&q, &g, m, c, x, y, e) - delta;
 					put(&out[c], x, y, v);
@@ -510,7 +489,7 @@ static int ref_ratio_ri(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 			for (unsigned c = 0; c < 4; c++) {
 				float *o = &out[c].data[(size_t)y * out[c].row_stride +
 				                        (size_t)x * out[c].pixel_stride];
-				*o = c == chan(m, x, y)
+				*o = c == pc_dm_ch(m, x, y)
 				         ? (float)pc_dimg_at(r, x, y)
 				         : (float)(wt * *o +
 				                   (1 - wt) * rp[c].data[(size_t)y * w + x]);

@@ -1,7 +1,8 @@
 /* The demosaicking stress suite (scenes/stress, docs/demosaicking.md): each scene's evaluation
  * case (pc_sim_eval_case) against the simulator's own sensor path, and the scenes are what
  * they claim to be (dark and bright patches with saturated glints, DoLP near 1 at every AoLP,
- * polarization texture, three exposures). Needs the source tree (PC_SOURCE_DIR). */
+ * polarization texture, three exposures), and the held-out scenes of scenes/heldout likewise.
+ * Needs the source tree (PC_SOURCE_DIR). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -22,10 +23,14 @@ typedef struct scase {
 	pc_sensor_figures fig;
 } scase;
 
+/* The suite a scene is loaded from (scenes/stress or scenes/heldout) and its frame size. */
+static const char *suite = "stress";
+static uint32_t suite_w = 512, suite_h = 384;
+
 static int load(const char *name, uint32_t roi_w, uint32_t roi_h, scase *c)
 {
 	char path[4096];
-	snprintf(path, sizeof path, "%s/scenes/stress/%s", src_dir, name);
+	snprintf(path, sizeof path, "%s/scenes/%s/%s", src_dir, suite, name);
 	pc_scene *scene = NULL;
 	pc_sim *sim = NULL;
 	int rc = pc_scene_load(path, &scene);
@@ -33,8 +38,8 @@ static int load(const char *name, uint32_t roi_w, uint32_t roi_h, scase *c)
 	so.roi_width = roi_w;
 	so.roi_height = roi_h;
 	if (roi_w) { /* a central region (even offsets keep the mosaic phase) */
-		so.roi_x = (512 - roi_w) / 4 * 2;
-		so.roi_y = (384 - roi_h) / 4 * 2;
+		so.roi_x = (suite_w - roi_w) / 4 * 2;
+		so.roi_y = (suite_h - roi_h) / 4 * 2;
 	}
 	if (!rc)
 		rc = pc_sim_new(scene, &so, &sim);
@@ -152,6 +157,27 @@ static void test_chart(void)
 	unload(&c);
 }
 
+/* Pixels (unsaturated, S0 above 1 % of full scale) with DoLP above dmin in each of the eight
+ * 22.5° AoLP bins. */
+static void dolp_bins(const scase *c, double dmin, size_t bins[8])
+{
+	size_t n = (size_t)c->t.width * c->t.height;
+	for (int b = 0; b < 8; b++)
+		bins[b] = 0;
+	for (size_t i = 0; i < n; i++) {
+		double I[4] = {c->t.ch[0][i], c->t.ch[1][i], c->t.ch[2][i], c->t.ch[3][i]};
+		if (I[0] >= 1 || I[1] >= 1 || I[2] >= 1 || I[3] >= 1)
+			continue;
+		double s0 = 0.5 * (I[0] + I[1] + I[2] + I[3]), s1 = I[0] - I[2], s2 = I[1] - I[3];
+		if (s0 < 0.01 || sqrt(s1 * s1 + s2 * s2) / s0 < dmin)
+			continue;
+		double a = 0.5 * atan2(s2, s1);
+		if (a < 0)
+			a += M_PI;
+		bins[(int)(a / (M_PI / 8)) & 7]++;
+	}
+}
+
 /* Glossy spheres: DoLP > 0.8 somewhere in each of the eight 22.5° AoLP bins, on unsaturated
  * pixels. */
 static void test_gloss(void)
@@ -161,21 +187,10 @@ static void test_gloss(void)
 		CHECK(0);
 		return;
 	}
-	size_t n = (size_t)c.t.width * c.t.height, bins[8] = {0};
-	for (size_t i = 0; i < n; i++) {
-		double I[4] = {c.t.ch[0][i], c.t.ch[1][i], c.t.ch[2][i], c.t.ch[3][i]};
-		if (I[0] >= 1 || I[1] >= 1 || I[2] >= 1 || I[3] >= 1)
-			continue;
-		double s0 = 0.5 * (I[0] + I[1] + I[2] + I[3]), s1 = I[0] - I[2], s2 = I[1] - I[3];
-		if (s0 < 0.01 || sqrt(s1 * s1 + s2 * s2) / s0 < 0.8)
-			continue;
-		double a = 0.5 * atan2(s2, s1);
-		if (a < 0)
-			a += M_PI;
-		bins[(int)(a / (M_PI / 8)) & 7]++;
-	}
+	size_t bins[8];
+	dolp_bins(&c, 0.8, bins);
 	for (int b = 0; b < 8; b++) {
-		printf("gloss: DoLP > 0.9 at AoLP %5.1f-%5.1f deg: %zu pixels\n", 22.5 * b,
+		printf("gloss: DoLP > 0.8 at AoLP %5.1f-%5.1f deg: %zu pixels\n", 22.5 * b,
 		       22.5 * (b + 1), bins[b]);
 		CHECK(bins[b] >= 10);
 	}
@@ -208,6 +223,47 @@ static void test_texture(const char *name)
 		}
 	printf("%s: %zu pixel pairs 2 px apart differ by > 0.4 in DoLP\n", name, n);
 	CHECK(n >= 100);
+	unload(&c);
+}
+
+/* Held-out glints: a dark frame (most pixels below 2 % of full scale) with clipped glints. */
+static void test_heldout_glints(void)
+{
+	scase c;
+	if (load("glints.json", 0, 0, &c)) {
+		CHECK(0);
+		return;
+	}
+	size_t n = (size_t)c.t.width * c.t.height, dark = 0, sat = 0;
+	for (size_t i = 0; i < n; i++) {
+		double m = 0.25 * (c.t.ch[0][i] + c.t.ch[1][i] + c.t.ch[2][i] + c.t.ch[3][i]);
+		dark += m < 0.02;
+		sat += c.t.ch[0][i] >= 1 || c.t.ch[1][i] >= 1 || c.t.ch[2][i] >= 1 ||
+		       c.t.ch[3][i] >= 1;
+	}
+	printf("heldout glints: %.1f %% dark, %.2f %% saturated\n", 100.0 * dark / n,
+	       100.0 * sat / n);
+	CHECK(dark > n * 7 / 10 && sat > n / 2000);
+	unload(&c);
+}
+
+/* Held-out facets: DoLP > 0.45 in at least seven of the eight AoLP bins. */
+static void test_heldout_facets(void)
+{
+	scase c;
+	if (load("facets.json", 0, 0, &c)) {
+		CHECK(0);
+		return;
+	}
+	size_t bins[8];
+	int full = 0;
+	dolp_bins(&c, 0.45, bins);
+	for (int b = 0; b < 8; b++) {
+		printf("heldout facets: DoLP > 0.45 at AoLP %5.1f-%5.1f deg: %zu pixels\n",
+		       22.5 * b, 22.5 * (b + 1), bins[b]);
+		full += bins[b] >= 10;
+	}
+	CHECK(full >= 7);
 	unload(&c);
 }
 
@@ -249,5 +305,21 @@ int main(void)
 	test_texture("gratings.json");
 	test_texture("text.json");
 	test_method_raw();
+
+	/* the held-out check (scenes/heldout): each scene is what its README says */
+	suite = "heldout";
+	suite_w = 448, suite_h = 336;
+	static const char *held[] = {"metals.json", "dielectrics.json", "glints.json",
+	                             "facets.json", "rings.json",       "fine.json"};
+	for (size_t i = 0; i < sizeof held / sizeof *held; i++)
+		test_ideal_raw_is_truth(held[i]);
+	test_noisy("facets_bright.json", 0.33, 0.46);
+	test_noisy("facets_dim.json", 0.05, 0.07);
+	test_noisy("facets_dark.json", 0.009, 0.014);
+	test_noisy("fine_bright.json", 0.33, 0.46);
+	test_noisy("fine_dim.json", 0.05, 0.07);
+	test_noisy("fine_dark.json", 0.009, 0.014);
+	test_heldout_glints();
+	test_heldout_facets();
 	return pc_test_finish("test_stress");
 }

@@ -94,7 +94,10 @@ static int list_methods(int json)
 		    " high and mid ones no method but superpixel and bicubic loses to bilinear;\n"
 		    " in low light (brightest tenth ~1 %% of full scale) ratio, ratio-ri,\n"
 		    " eari-robust, ppid and the anchors lose S0 on text (-0.9 to -4.0 dB):\n"
-		    " they need denoising there; ratio-nr, eari and ri hold.)\n");
+		    " they need denoising there; ratio-nr, eari and ri hold. Held-out: the 12\n"
+		    " scenes of scenes/heldout, written before any method ran on them and never\n"
+		    " used for tuning (6 ideal, 6 noisy; docs/demosaicking.md \"Held-out\n"
+		    " check\").)\n");
 	return CLI_EXIT_OK;
 }
 
