@@ -1142,15 +1142,18 @@ static int compact_calib(pc_calib *cal, int threads)
 	memset(&v, 0, sizeof v);
 	v.width = W;
 	v.height = H;
-	int16_t *q = malloc(5 * np * sizeof *q);
+	/* the maps' rows interleaved (row y: a0, a1, a2, then dark and gain where there are
+	 * maps), one stream to read; without a dark map the black level is a constant, read from
+	 * no map */
+	const size_t nmap = 3 + (cal->dark != NULL) + (cal->apply_ig != NULL);
+	int16_t *q = malloc(nmap * np * sizeof *q);
 	uint32_t *bad = calloc(H, sizeof *bad);
 	int rc = 0;
 	if (!q || !bad) {
 		rc = pc_error(PC_ENOMEM, "calibration: compact maps (%zu pixels)", np);
 		goto out;
 	}
-	/* the five maps' rows interleaved (row y: a0, a1, a2, dark, gain), one stream to read */
-	v.stride = 5 * (size_t)W;
+	v.stride = nmap * (size_t)W;
 	for (int k = 0; k < 3 && !rc; k++) {
 		float base[4] = {0}; /* read even when quantise failed */
 		v.a_q[k] = q + (size_t)k * W;
@@ -1159,20 +1162,19 @@ static int compact_calib(pc_calib *cal, int threads)
 		for (int c = 0; c < 4; c++)
 			v.a_base[c][k] = base[c];
 	}
-	v.dark_q = q + 3 * (size_t)W;
+	int16_t *next = q + 3 * (size_t)W;
 	if (!rc && cal->dark) {
-		rc = quantise(cal, cal->dark, 1, false, &v.dark_base, &v.dark_scale,
-		              q + 3 * (size_t)W, v.stride, "dark offset");
+		v.dark_q = next;
+		rc = quantise(cal, cal->dark, 1, false, &v.dark_base, &v.dark_scale, next, v.stride,
+		              "dark offset");
+		next += W;
 	} else if (!rc) {
-		/* no dark map: the black level, exactly */
-		for (uint32_t y = 0; y < H; y++)
-			memset(q + y * v.stride + 3 * (size_t)W, 0, W * sizeof *q);
-		v.dark_base = (float)cal->black_level;
+		v.dark_base = (float)cal->black_level; /* exactly */
 	}
 	if (!rc && cal->apply_ig) {
-		v.gain_q = q + 4 * (size_t)W;
-		rc = quantise(cal, cal->apply_ig, 1, false, &v.gain_base, &v.gain_scale,
-		              q + 4 * (size_t)W, v.stride, "inverse gain");
+		v.gain_q = next;
+		rc = quantise(cal, cal->apply_ig, 1, false, &v.gain_base, &v.gain_scale, next,
+		              v.stride, "inverse gain");
 	}
 	if (rc)
 		goto out;

@@ -20,7 +20,9 @@
  *   6. test 2 at every instruction-set level of this machine (pc_cpu_force) and at 38×22
  *      (rows with a scalar tail after the 16-pixel blocks);
  *   7. the core refuses a compact calibration with pseudo-inverses, for other methods, the
- *      reference path, another size, with the options' black level, and for channels. */
+ *      reference path, another size, with the options' black level, and for channels;
+ *   8. a calibration without a dark map (the black level as a constant dark, no map read)
+ *      against the reference with I = (raw − black level)/gain, at every level. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -310,6 +312,33 @@ static void levels_and_sizes(void)
 			CHECK(strstr(pc_error_detail(), "(12,10)") != NULL);
 			free(o.buf);
 			free(o.mask);
+		}
+		if (z == 0) {
+			/* 8. no dark map: the black level is the dark, a constant (no map read) */
+			free(cal.dark);
+			cal.dark = NULL;
+			cal.parts &= ~(unsigned)PC_CAL_DARK;
+			free(cal.apply_q);
+			cal.apply_q = NULL;
+			memset(&cal.apply_vec, 0, sizeof cal.apply_vec);
+			for (size_t p = 0; p < np; p++)
+				I[p] = ((double)PC_ROW(&raw, uint16_t, p / W)[p % W] -
+				        cal.black_level) /
+				       cal.gain[p];
+			for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
+				CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
+				outs o;
+				outs_init(&o);
+				CHECK_EQ_INT(run(&cal, &raw, &o), 0);
+				CHECK(cal.apply_vec.dark_q == NULL && cal.apply_vec.gain_q != NULL);
+				char what[64];
+				snprintf(what, sizeof what, ", no dark map, %s",
+				         pc_cpu_level_name((pc_cpu_level)l));
+				compare_reference(&cal, &raw, I, A, &o, what);
+				free(o.buf);
+				free(o.mask);
+			}
+			pc_cpu_force(PC_CPU_LEVELS);
 		}
 		free(I);
 		free(A);

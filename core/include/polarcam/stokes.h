@@ -60,11 +60,12 @@ typedef struct pc_analyser_pinv {
  * that the pipeline reads them as one stream). For the sample at (x, y), whose analyser is
  * channel c = mosaic.channel[y & 1][x & 1] of the pipeline's mosaic, i = y·stride + x:
  *   a_k      = a_base[c][k] + a_scale[k]·a_q[k][i]       (k = 0, 1, 2)
- *   dark     = dark_base + dark_scale·dark_q[i]          (dark_q NULL: none)
+ *   dark     = dark_base + dark_scale·dark_q[i]          (dark_q NULL: dark_base alone)
  *   gain_inv = gain_base + gain_scale·gain_q[i]          (gain_q NULL: none)
  * in float (one fused multiply-add each). With pc_pipeline_opts.compact, pc_stokes_run
  * corrects every sample I = (raw − dark)·gain_inv as it reads the raw (with dark_q and gain_q
- * NULL: opts' black level, dark and gain_inv maps as usual; else they must be 0 and NULL),
+ * NULL and dark_base 0: opts' black level, dark and gain_inv maps as usual; else they must be
+ * 0 and NULL),
  * demosaics the samples and the vectors bilinearly alike (the 4×3 matrix W of an output
  * pixel: each channel's bilinear analysis vector, mirrored borders), and solves the least
  * squares S = (WᵀW)⁻¹WᵀI per output pixel in float, in the one pass that reads the raw: 6 to
