@@ -31,6 +31,7 @@ void pc_calib_free(pc_calib *cal)
 	free(cal->pinv_px);
 	free(cal->apply_ig);
 	free(cal->apply_q);
+	free(cal->apply_dis);
 	pc_calib_init(cal);
 }
 
@@ -56,6 +57,7 @@ int pc_calib_copy(pc_calib *dst, const pc_calib *src)
 	t.pinv_method = -1;
 	t.apply_ig = NULL;
 	t.apply_q = NULL;
+	t.apply_dis = NULL;
 	memset(&t.apply_vec, 0, sizeof t.apply_vec);
 	size_t np = (size_t)src->geo.width * src->geo.height;
 	int rc;
@@ -785,6 +787,8 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 	out->pinv_method = -1;
 	free(out->apply_q);
 	out->apply_q = NULL;
+	free(out->apply_dis);
+	out->apply_dis = NULL;
 	memset(&out->apply_vec, 0, sizeof out->apply_vec);
 	rc = 0;
 out:
@@ -1147,7 +1151,7 @@ static int compact_calib(pc_calib *cal, int threads)
 	 * no map */
 	const size_t nmap = 3 + (cal->dark != NULL) + (cal->apply_ig != NULL);
 	int16_t *q = malloc(nmap * np * sizeof *q);
-	uint32_t *bad = calloc(H, sizeof *bad);
+	uint32_t *bad = calloc(H, sizeof *bad), *dis = NULL;
 	int rc = 0;
 	if (!q || !bad) {
 		rc = pc_error(PC_ENOMEM, "calibration: compact maps (%zu pixels)", np);
@@ -1181,13 +1185,36 @@ static int compact_calib(pc_calib *cal, int threads)
 	vcheck_ctx vc = {&v, &cal->geo.mosaic, bad};
 	pc_parallel_rows(H, 0, threads, vcheck_rows, &vc);
 	rc = singular_rows(bad, H);
+	/* the distrusted samples as a list (pc_compact_calib): a frame then reads no trust map */
+	size_t nd = 0;
+	for (size_t p = 0; !rc && cal->valid && p < np; p++)
+		nd += !cal->valid[p];
+	if (!rc && cal->valid &&
+	    !(dis = malloc(((size_t)H + 1 + (nd ? nd : 1)) * sizeof *dis)))
+		rc = pc_error(PC_ENOMEM, "calibration: %zu distrusted samples", nd);
+	if (!rc && dis) {
+		uint32_t *xs = dis + H + 1, n = 0;
+		for (uint32_t y = 0; y < H; y++) {
+			dis[y] = n;
+			for (uint32_t x = 0; x < W; x++)
+				if (!cal->valid[(size_t)y * W + x])
+					xs[n++] = x;
+		}
+		dis[H] = n;
+		v.distrust_row = dis;
+		v.distrust_x = xs;
+	}
 	if (!rc) {
+		free(cal->apply_dis);
 		cal->apply_q = q;
+		cal->apply_dis = dis;
 		cal->apply_vec = v;
 		q = NULL;
+		dis = NULL;
 	}
 out:
 	free(q);
+	free(dis);
 	free(bad);
 	return rc;
 }
@@ -1286,7 +1313,7 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	po.gain_inv = cal->apply_ig;
 	po.black_level = cal->dark ? 0 : cal->black_level;
 	/* the validity: the core's rule (saturated, dead) on the raw samples, and the samples the
-	 * calibration distrusts */
+	 * calibration distrusts (listed in the compact calibration where it is used) */
 	po.trusted = cal->valid;
 	/* the signal's full scale for edge-aware weights: saturation above the black level */
 	if (sat > cal->black_level)
@@ -1295,6 +1322,7 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 		if (vec) {
 			/* the dark and gain maps too, in 16 bits (compact_calib) */
 			po.compact = &cal->apply_vec;
+			po.trusted = NULL;
 			po.dark = po.gain_inv = NULL;
 			po.black_level = 0;
 		} else {

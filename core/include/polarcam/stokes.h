@@ -76,7 +76,11 @@ typedef struct pc_analyser_pinv {
  * pc_stokes_ideal_analyser) and no dark or gain maps the results are the uncalibrated
  * pipeline's bit for bit. Bilinear, monochrome mosaics, the fast path only (PC_ENOTSUP
  * otherwise). The caller guarantees that WᵀW is well conditioned at every output pixel
- * (pc_calib checks it once per calibration; the kernel does not). */
+ * (pc_calib checks it once per calibration; the kernel does not). The samples to distrust
+ * (flagged in the validity as saturated ones are) may come as a list instead of
+ * pc_pipeline_opts.trusted, so that a frame reads no trust map: row y's distrusted samples are
+ * at columns distrust_x[distrust_row[y] .. distrust_row[y + 1]) (height + 1 offsets; NULL:
+ * none listed). */
 typedef struct pc_compact_calib {
 	uint32_t width, height;
 	size_t stride; /* elements between rows, every map */
@@ -84,6 +88,7 @@ typedef struct pc_compact_calib {
 	float a_base[4][3], a_scale[3];
 	const int16_t *dark_q, *gain_q;
 	float dark_base, dark_scale, gain_base, gain_scale;
+	const uint32_t *distrust_row, *distrust_x;
 } pc_compact_calib;
 
 /* The ideal analyser matrix: W[c] = ½·(1, cos 2θ_c, sin 2θ_c), θ_c = 45°·c. */
