@@ -1189,8 +1189,7 @@ static int compact_calib(pc_calib *cal, int threads)
 	size_t nd = 0;
 	for (size_t p = 0; !rc && cal->valid && p < np; p++)
 		nd += !cal->valid[p];
-	if (!rc && cal->valid &&
-	    !(dis = malloc(((size_t)H + 1 + (nd ? nd : 1)) * sizeof *dis)))
+	if (!rc && cal->valid && !(dis = malloc(((size_t)H + 1 + (nd ? nd : 1)) * sizeof *dis)))
 		rc = pc_error(PC_ENOMEM, "calibration: %zu distrusted samples", nd);
 	if (!rc && dis) {
 		uint32_t *xs = dis + H + 1, n = 0;

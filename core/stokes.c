@@ -155,10 +155,12 @@ static int check_compact(const pc_dm_plan *p, const pc_compact_calib *v)
 		return pc_error(PC_ENOTSUP,
 		                "Stokes: a compact calibration needs the fused bilinear fast path "
 		                "(method bilinear, monochrome mosaic, not the reference)");
-	if (pc_compact_corrects(v) && (p->opts.dark || p->opts.gain_inv || p->opts.black_level != 0))
-		return pc_error(PC_EINVAL, "Stokes: the compact calibration has a dark level or dark "
-		                           "or gain maps, and the options a black level, dark or "
-		                           "gain maps; give one or the other");
+	if (pc_compact_corrects(v) &&
+	    (p->opts.dark || p->opts.gain_inv || p->opts.black_level != 0))
+		return pc_error(PC_EINVAL,
+		                "Stokes: the compact calibration has a dark level or dark "
+		                "or gain maps, and the options a black level, dark or "
+		                "gain maps; give one or the other");
 	bool ok = isfinite(v->dark_base) && isfinite(v->dark_scale) && isfinite(v->gain_base) &&
 	          isfinite(v->gain_scale);
 	for (int k = 0; k < 3; k++) {

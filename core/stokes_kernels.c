@@ -96,7 +96,8 @@ static void row_corr(pc_cpu_level l, const pc_dm_input *in, uint32_t y, float *d
 	const int16_t *dq = v->dark_q ? v->dark_q + o : NULL,
 	              *gq = v->gain_q ? v->gain_q + o : NULL;
 	if (in->type == PC_DMT_U16) {
-		const uint16_t *r = (const uint16_t *)(const void *)(in->data + (size_t)y * in->stride);
+		const uint16_t *r =
+		    (const uint16_t *)(const void *)(in->data + (size_t)y * in->stride);
 #ifdef PC_CPU_X86
 		if (l >= PC_CPU_AVX512)
 			corr_u16_avx512(r, d, dq, v->dark_base, v->dark_scale, gq, v->gain_base,

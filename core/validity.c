@@ -24,11 +24,11 @@ typedef struct vjob {
 	const pc_dm_input *in;
 	pc_dm_support sup;
 	int use_sat, use_dead;
-	const uint8_t *trusted; /* NULL: every sample */
+	const uint8_t *trusted;          /* NULL: every sample */
 	const uint32_t *dis_row, *dis_x; /* listed distrusted samples (pc_dm_levels) */
-	double sat, dead;       /* float samples */
-	uint32_t isat;          /* integer samples: flagged when >= isat (65536: never) */
-	uint32_t idead1;        /* ... or < idead1 (0: never) */
+	double sat, dead;                /* float samples */
+	uint32_t isat;                   /* integer samples: flagged when >= isat (65536: never) */
+	uint32_t idead1;                 /* ... or < idead1 (0: never) */
 	uint32_t ow, oh;
 	uint8_t *mask;
 	size_t stride;
