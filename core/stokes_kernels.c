@@ -3,6 +3,7 @@
  * the row sink of the row-cache methods, the planar pass, and the scalar generic pass. */
 #include "stokes_kernels.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -95,6 +96,8 @@ static void row_corr(pc_cpu_level l, const pc_dm_input *in, uint32_t y, float *d
 	const size_t o = (size_t)y * v->stride;
 	const int16_t *dq = v->dark_q ? v->dark_q + o : NULL,
 	              *gq = v->gain_q ? v->gain_q + o : NULL;
+	/* the compact correction replaces the input's (check_compact) */
+	assert(in->black == 0 && !in->dark && !in->gain_inv);
 	if (in->type == PC_DMT_U16) {
 		const uint16_t *r =
 		    (const uint16_t *)(const void *)(in->data + (size_t)y * in->stride);
