@@ -31,6 +31,7 @@ void pc_calib_free(pc_calib *cal)
 	free(cal->pinv_px);
 	free(cal->apply_ig);
 	free(cal->apply_q);
+	free(cal->apply_dis);
 	pc_calib_init(cal);
 }
 
@@ -56,6 +57,7 @@ int pc_calib_copy(pc_calib *dst, const pc_calib *src)
 	t.pinv_method = -1;
 	t.apply_ig = NULL;
 	t.apply_q = NULL;
+	t.apply_dis = NULL;
 	memset(&t.apply_vec, 0, sizeof t.apply_vec);
 	size_t np = (size_t)src->geo.width * src->geo.height;
 	int rc;
@@ -785,6 +787,8 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 	out->pinv_method = -1;
 	free(out->apply_q);
 	out->apply_q = NULL;
+	free(out->apply_dis);
+	out->apply_dis = NULL;
 	memset(&out->apply_vec, 0, sizeof out->apply_vec);
 	rc = 0;
 out:
@@ -1142,15 +1146,18 @@ static int compact_calib(pc_calib *cal, int threads)
 	memset(&v, 0, sizeof v);
 	v.width = W;
 	v.height = H;
-	int16_t *q = malloc(5 * np * sizeof *q);
-	uint32_t *bad = calloc(H, sizeof *bad);
+	/* the maps' rows interleaved (row y: a0, a1, a2, then dark and gain where there are
+	 * maps), one stream to read; without a dark map the black level is a constant, read from
+	 * no map */
+	const size_t nmap = 3 + (cal->dark != NULL) + (cal->apply_ig != NULL);
+	int16_t *q = malloc(nmap * np * sizeof *q);
+	uint32_t *bad = calloc(H, sizeof *bad), *dis = NULL;
 	int rc = 0;
 	if (!q || !bad) {
 		rc = pc_error(PC_ENOMEM, "calibration: compact maps (%zu pixels)", np);
 		goto out;
 	}
-	/* the five maps' rows interleaved (row y: a0, a1, a2, dark, gain), one stream to read */
-	v.stride = 5 * (size_t)W;
+	v.stride = nmap * (size_t)W;
 	for (int k = 0; k < 3 && !rc; k++) {
 		float base[4] = {0}; /* read even when quantise failed */
 		v.a_q[k] = q + (size_t)k * W;
@@ -1159,33 +1166,54 @@ static int compact_calib(pc_calib *cal, int threads)
 		for (int c = 0; c < 4; c++)
 			v.a_base[c][k] = base[c];
 	}
-	v.dark_q = q + 3 * (size_t)W;
+	int16_t *next = q + 3 * (size_t)W;
 	if (!rc && cal->dark) {
-		rc = quantise(cal, cal->dark, 1, false, &v.dark_base, &v.dark_scale,
-		              q + 3 * (size_t)W, v.stride, "dark offset");
+		v.dark_q = next;
+		rc = quantise(cal, cal->dark, 1, false, &v.dark_base, &v.dark_scale, next, v.stride,
+		              "dark offset");
+		next += W;
 	} else if (!rc) {
-		/* no dark map: the black level, exactly */
-		for (uint32_t y = 0; y < H; y++)
-			memset(q + y * v.stride + 3 * (size_t)W, 0, W * sizeof *q);
-		v.dark_base = (float)cal->black_level;
+		v.dark_base = (float)cal->black_level; /* exactly */
 	}
 	if (!rc && cal->apply_ig) {
-		v.gain_q = q + 4 * (size_t)W;
-		rc = quantise(cal, cal->apply_ig, 1, false, &v.gain_base, &v.gain_scale,
-		              q + 4 * (size_t)W, v.stride, "inverse gain");
+		v.gain_q = next;
+		rc = quantise(cal, cal->apply_ig, 1, false, &v.gain_base, &v.gain_scale, next,
+		              v.stride, "inverse gain");
 	}
 	if (rc)
 		goto out;
 	vcheck_ctx vc = {&v, &cal->geo.mosaic, bad};
 	pc_parallel_rows(H, 0, threads, vcheck_rows, &vc);
 	rc = singular_rows(bad, H);
+	/* the distrusted samples as a list (pc_compact_calib): a frame then reads no trust map */
+	size_t nd = 0;
+	for (size_t p = 0; !rc && cal->valid && p < np; p++)
+		nd += !cal->valid[p];
+	if (!rc && cal->valid && !(dis = malloc(((size_t)H + 1 + (nd ? nd : 1)) * sizeof *dis)))
+		rc = pc_error(PC_ENOMEM, "calibration: %zu distrusted samples", nd);
+	if (!rc && dis) {
+		uint32_t *xs = dis + H + 1, n = 0;
+		for (uint32_t y = 0; y < H; y++) {
+			dis[y] = n;
+			for (uint32_t x = 0; x < W; x++)
+				if (!cal->valid[(size_t)y * W + x])
+					xs[n++] = x;
+		}
+		dis[H] = n;
+		v.distrust_row = dis;
+		v.distrust_x = xs;
+	}
 	if (!rc) {
+		free(cal->apply_dis);
 		cal->apply_q = q;
+		cal->apply_dis = dis;
 		cal->apply_vec = v;
 		q = NULL;
+		dis = NULL;
 	}
 out:
 	free(q);
+	free(dis);
 	free(bad);
 	return rc;
 }
@@ -1284,7 +1312,7 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	po.gain_inv = cal->apply_ig;
 	po.black_level = cal->dark ? 0 : cal->black_level;
 	/* the validity: the core's rule (saturated, dead) on the raw samples, and the samples the
-	 * calibration distrusts */
+	 * calibration distrusts (listed in the compact calibration where it is used) */
 	po.trusted = cal->valid;
 	/* the signal's full scale for edge-aware weights: saturation above the black level */
 	if (sat > cal->black_level)
@@ -1293,6 +1321,7 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 		if (vec) {
 			/* the dark and gain maps too, in 16 bits (compact_calib) */
 			po.compact = &cal->apply_vec;
+			po.trusted = NULL;
 			po.dark = po.gain_inv = NULL;
 			po.black_level = 0;
 		} else {

@@ -13,6 +13,7 @@
 #include "demosaic_fast.h"
 #include "demosaic_ic.h"
 #include "demosaic_pan.h"
+#include "polarcam/stokes.h"
 #include "demosaic_ref.h"
 #include "polarcam/error.h"
 #include "polarcam/format.h"
@@ -617,8 +618,13 @@ int pc_dm_plan_validity(pc_dm_plan *p, pc_validity *v)
 {
 	const pc_dm_input *in;
 	v->n_invalid = 0;
-	pc_dm_levels lv = {p->opts.saturation_level, p->opts.dead_level, p->opts.trusted};
-	if (!(lv.saturation > 0) && !(lv.dead > 0) && !lv.trusted && !v->mask)
+	pc_dm_levels lv = {p->opts.saturation_level, p->opts.dead_level, p->opts.trusted, NULL,
+	                   NULL};
+	if (p->opts.compact && p->opts.compact->distrust_row) {
+		lv.dis_row = p->opts.compact->distrust_row;
+		lv.dis_x = p->opts.compact->distrust_x;
+	}
+	if (!(lv.saturation > 0) && !(lv.dead > 0) && !lv.trusted && !lv.dis_row && !v->mask)
 		return 0;
 	int rc = pc_dm_plan_input(p, &in);
 	if (rc)

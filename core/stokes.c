@@ -155,11 +155,12 @@ static int check_compact(const pc_dm_plan *p, const pc_compact_calib *v)
 		return pc_error(PC_ENOTSUP,
 		                "Stokes: a compact calibration needs the fused bilinear fast path "
 		                "(method bilinear, monochrome mosaic, not the reference)");
-	if ((v->dark_q || v->gain_q) &&
+	if (pc_compact_corrects(v) &&
 	    (p->opts.dark || p->opts.gain_inv || p->opts.black_level != 0))
-		return pc_error(PC_EINVAL, "Stokes: the compact calibration has dark or gain maps, "
-		                           "and the options a black level, dark or gain maps; give "
-		                           "one or the other");
+		return pc_error(PC_EINVAL,
+		                "Stokes: the compact calibration has a dark level or dark "
+		                "or gain maps, and the options a black level, dark or "
+		                "gain maps; give one or the other");
 	bool ok = isfinite(v->dark_base) && isfinite(v->dark_scale) && isfinite(v->gain_base) &&
 	          isfinite(v->gain_scale);
 	for (int k = 0; k < 3; k++) {
@@ -170,6 +171,22 @@ static int check_compact(const pc_dm_plan *p, const pc_compact_calib *v)
 	if (!ok)
 		return pc_error(PC_EINVAL, "Stokes: compact calibration: a base or scale is not "
 		                           "finite");
+	if (!v->distrust_row != !v->distrust_x)
+		return pc_error(PC_EINVAL, "Stokes: compact calibration: distrust_row and "
+		                           "distrust_x go together");
+	for (uint32_t y = 0; v->distrust_row && y < v->height; y++) {
+		if (v->distrust_row[y + 1] < v->distrust_row[y])
+			return pc_error(PC_EINVAL,
+			                "Stokes: compact calibration: distrust_row decreases at "
+			                "row %u",
+			                y);
+		for (uint32_t i = v->distrust_row[y]; i < v->distrust_row[y + 1]; i++)
+			if (v->distrust_x[i] >= v->width)
+				return pc_error(PC_EINVAL,
+				                "Stokes: compact calibration: distrusted sample "
+				                "(%u,%u) outside the %ux%u raw",
+				                v->distrust_x[i], y, v->width, v->height);
+	}
 	return 0;
 }
 

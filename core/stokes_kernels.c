@@ -3,6 +3,7 @@
  * the row sink of the row-cache methods, the planar pass, and the scalar generic pass. */
 #include "stokes_kernels.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -87,10 +88,34 @@ static void row_vec_conv(pc_cpu_level l, const int16_t *q, float b0, float b1, f
 	(void)l;
 }
 
-static void row_corr(pc_cpu_level l, float *d, const pc_compact_calib *v, size_t o)
+/* Row y's samples corrected by the compact maps (pc_compact_calib): 16-bit raws converted and
+ * corrected in one pass, other types converted first (pc_dm_row_to_float), then corrected. */
+static void row_corr(pc_cpu_level l, const pc_dm_input *in, uint32_t y, float *d,
+                     const pc_compact_calib *v)
 {
+	const size_t o = (size_t)y * v->stride;
 	const int16_t *dq = v->dark_q ? v->dark_q + o : NULL,
 	              *gq = v->gain_q ? v->gain_q + o : NULL;
+	/* the compact correction replaces the input's (check_compact) */
+	assert(in->black == 0 && !in->dark && !in->gain_inv);
+	if (in->type == PC_DMT_U16) {
+		const uint16_t *r =
+		    (const uint16_t *)(const void *)(in->data + (size_t)y * in->stride);
+#ifdef PC_CPU_X86
+		if (l >= PC_CPU_AVX512)
+			corr_u16_avx512(r, d, dq, v->dark_base, v->dark_scale, gq, v->gain_base,
+			                v->gain_scale, v->width);
+		else if (l >= PC_CPU_AVX2)
+			corr_u16_avx2(r, d, dq, v->dark_base, v->dark_scale, gq, v->gain_base,
+			              v->gain_scale, v->width);
+		else
+#endif
+			corr_u16_base(r, d, dq, v->dark_base, v->dark_scale, gq, v->gain_base,
+			              v->gain_scale, v->width);
+		(void)l;
+		return;
+	}
+	pc_dm_row_to_float(in, y, d);
 #ifdef PC_CPU_X86
 	if (l >= PC_CPU_AVX512)
 		corr_row_avx512(d, dq, v->dark_base, v->dark_scale, gq, v->gain_base, v->gain_scale,
@@ -239,11 +264,12 @@ static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_cal
 			s = i;
 	const size_t o = (size_t)sy * v->stride;
 	float *d = r->row[s][0];
-	pc_dm_row_to_float(in, (uint32_t)sy, d);
-	if (v->dark_q || v->gain_q) {
-		row_corr(level, d, v, o);
+	if (pc_compact_corrects(v)) {
+		row_corr(level, in, (uint32_t)sy, d, v);
 		d[-1] = d[v->width > 1 ? 1 : 0];
 		d[v->width] = d[v->width > 1 ? v->width - 2 : 0];
+	} else {
+		pc_dm_row_to_float(in, (uint32_t)sy, d);
 	}
 	for (int k = 0; k < 3; k++)
 		row_vec_conv(level, v->a_q[k] + o, v->a_base[pc_dm_ch(m, 0, (unsigned)sy)][k],

@@ -132,6 +132,14 @@ static inline void pc_st_vec_px(const float *a, const float *b, const float *c,
 	s[2] = (c22 * r[2] + (c02 * r[0] + c12 * r[1])) * inv;
 }
 
+/* Whether the compact calibration corrects the samples itself (a dark or gain map, or a
+ * constant dark): then the options give no black level, dark or gain maps (pc_stokes_run
+ * checks it). */
+static inline int pc_compact_corrects(const pc_compact_calib *v)
+{
+	return v->dark_q || v->gain_q || v->dark_base != 0;
+}
+
 /* Memory that the rows after this one will read (the next raw row and calibration rows),
  * prefetched a slice per 16-pixel block while this row computes, so that the reads overlap the
  * arithmetic instead of stalling the row conversions. Up to 6 ranges of n bytes. */

@@ -24,10 +24,11 @@ typedef struct vjob {
 	const pc_dm_input *in;
 	pc_dm_support sup;
 	int use_sat, use_dead;
-	const uint8_t *trusted; /* NULL: every sample */
-	double sat, dead;       /* float samples */
-	uint32_t isat;          /* integer samples: flagged when >= isat (65536: never) */
-	uint32_t idead1;        /* ... or < idead1 (0: never) */
+	const uint8_t *trusted;          /* NULL: every sample */
+	const uint32_t *dis_row, *dis_x; /* listed distrusted samples (pc_dm_levels) */
+	double sat, dead;                /* float samples */
+	uint32_t isat;                   /* integer samples: flagged when >= isat (65536: never) */
+	uint32_t idead1;                 /* ... or < idead1 (0: never) */
 	uint32_t ow, oh;
 	uint8_t *mask;
 	size_t stride;
@@ -102,6 +103,11 @@ static int flag_row(const vjob *j, uint32_t y, uint8_t *p)
 	}
 	if (j->trusted)
 		any |= flag_distrusted(j->trusted + (size_t)y * in->width, in->width, p);
+	if (j->dis_row)
+		for (uint32_t i = j->dis_row[y]; i < j->dis_row[y + 1]; i++) {
+			p[j->dis_x[i]] = 1;
+			any = 1;
+		}
 	return any != 0;
 }
 
@@ -248,7 +254,7 @@ int pc_dm_validity(const pc_dm_input *in, const pc_dm_support *sup, const pc_dm_
 {
 	*n_invalid = 0;
 	int use_sat = lv->saturation > 0, use_dead = lv->dead > 0;
-	if (!use_sat && !use_dead && !lv->trusted) {
+	if (!use_sat && !use_dead && !lv->trusted && !lv->dis_row) {
 		if (mask)
 			for (uint32_t Y = 0; Y < oh; Y++)
 				memset(mask + (size_t)Y * stride, 1, ow);
@@ -262,6 +268,8 @@ int pc_dm_validity(const pc_dm_input *in, const pc_dm_support *sup, const pc_dm_
 	j->use_sat = use_sat;
 	j->use_dead = use_dead;
 	j->trusted = lv->trusted;
+	j->dis_row = lv->dis_row;
+	j->dis_x = lv->dis_x;
 	j->sat = lv->saturation;
 	j->dead = lv->dead;
 	/* integer samples: >= sat is >= ceil(sat), <= dead is < floor(dead) + 1 */

@@ -21,10 +21,12 @@ typedef struct pc_dm_support {
 
 /* Levels in raw units (before the black level); 0: not checked. trusted: per raw sample
  * (width × height bytes, row stride width), 0 flags the sample as a saturated one is flagged;
- * NULL: all trusted. */
+ * NULL: all trusted. dis_row, dis_x: more samples flagged so, as a list (row y's at columns
+ * dis_x[dis_row[y] .. dis_row[y + 1]), pc_compact_calib); NULL: none. */
 typedef struct pc_dm_levels {
 	double saturation, dead;
 	const uint8_t *trusted;
+	const uint32_t *dis_row, *dis_x;
 } pc_dm_levels;
 
 /* Writes mask (ow × oh bytes, row stride `stride`; NULL: count only) with 1 for valid and 0 for

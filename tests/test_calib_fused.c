@@ -13,14 +13,18 @@
  *   3. the same through the other path (opts.reference: the corrected float copy of the
  *      raw, then the reference demosaic and the float per-pixel pseudo-inverses), from a packed
  *      Mono12p raw, and from Mono16;
- *   4. the validity mask: a saturated sample and a pixel the calibration distrusts each
- *      invalidate exactly their 3×3 bilinear support (9 + 9 output pixels);
+ *   4. the validity mask: a saturated sample and a pixel the calibration distrusts (listed in
+ *      the compact calibration) each invalidate exactly their 3×3 bilinear support (9 + 9
+ *      output pixels);
  *   5. a second call after the calibration is prepared reads cal only (pc_calib_prepared) and
  *      gives identical results;
  *   6. test 2 at every instruction-set level of this machine (pc_cpu_force) and at 38×22
  *      (rows with a scalar tail after the 16-pixel blocks);
  *   7. the core refuses a compact calibration with pseudo-inverses, for other methods, the
- *      reference path, another size, with the options' black level, and for channels. */
+ *      reference path, another size, a distrusted sample listed outside the raw, with the
+ *      options' black level, and for channels;
+ *   8. a calibration without a dark map (the black level as a constant dark, no map read)
+ *      against the reference with I = (raw − black level)/gain, at every level. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -208,6 +212,16 @@ static void compare_reference(const pc_calib *cal, const pc_view *raw, const dou
 	CHECK(wA <= 1e-5);
 }
 
+/* Drops what was prepared once from the calibration's maps (they were changed). */
+static void drop_prepared(pc_calib *cal)
+{
+	free(cal->apply_q);
+	cal->apply_q = NULL;
+	free(cal->apply_dis);
+	cal->apply_dis = NULL;
+	memset(&cal->apply_vec, 0, sizeof cal->apply_vec);
+}
+
 static int run_ref(pc_calib *cal, const pc_view *raw, outs *o, bool reference)
 {
 	pc_frame f;
@@ -288,6 +302,15 @@ static void levels_and_sizes(void)
 			po.compact = &other;
 			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_EINVAL);
 			printf("compact of another size: %s\n", pc_error_detail());
+			/* a distrusted sample listed outside the raw */
+			uint32_t drow[64] = {0}, dx[1] = {W};
+			for (uint32_t y = 1; y <= H; y++)
+				drow[y] = 1;
+			other = *cc;
+			other.distrust_row = drow;
+			other.distrust_x = dx;
+			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_EINVAL);
+			printf("compact, distrusted sample outside: %s\n", pc_error_detail());
 			po.compact = cc;
 			pc_fplane ch[4];
 			pc_fplanes_separate(o.buf, W, H, 4, ch);
@@ -302,14 +325,37 @@ static void levels_and_sizes(void)
 						             (size_t)k] = k == 0   ? 0.5f
 						                          : k == 1 ? 0.25f
 						                                   : 0.0f;
-			free(cal.apply_q); /* the calibration changed: its cache goes */
-			cal.apply_q = NULL;
-			memset(&cal.apply_vec, 0, sizeof cal.apply_vec);
+			drop_prepared(&cal); /* the calibration changed */
 			CHECK_EQ_INT(run(&cal, &raw, &o), PC_ENUMERIC);
 			printf("singular: %s\n", pc_error_detail());
 			CHECK(strstr(pc_error_detail(), "(12,10)") != NULL);
 			free(o.buf);
 			free(o.mask);
+		}
+		if (z == 0) {
+			/* 8. no dark map: the black level is the dark, a constant (no map read) */
+			free(cal.dark);
+			cal.dark = NULL;
+			cal.parts &= ~(unsigned)PC_CAL_DARK;
+			drop_prepared(&cal);
+			for (size_t p = 0; p < np; p++)
+				I[p] = ((double)PC_ROW(&raw, uint16_t, p / W)[p % W] -
+				        cal.black_level) /
+				       cal.gain[p];
+			for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
+				CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
+				outs o;
+				outs_init(&o);
+				CHECK_EQ_INT(run(&cal, &raw, &o), 0);
+				CHECK(cal.apply_vec.dark_q == NULL && cal.apply_vec.gain_q != NULL);
+				char what[64];
+				snprintf(what, sizeof what, ", no dark map, %s",
+				         pc_cpu_level_name((pc_cpu_level)l));
+				compare_reference(&cal, &raw, I, A, &o, what);
+				free(o.buf);
+				free(o.mask);
+			}
+			pc_cpu_force(PC_CPU_LEVELS);
 		}
 		free(I);
 		free(A);
@@ -422,6 +468,7 @@ int main(void)
 	{
 		PC_ROW(&raw, uint16_t, 10)[12] = 4095;
 		cal.valid[(size_t)30 * W + 40] = 0;
+		drop_prepared(&cal); /* the compact calibration lists the distrusted samples */
 		CHECK_EQ_INT(run(&cal, &raw, &o), 0);
 		CHECK_EQ_INT(o.v.n_invalid, 18);
 		size_t inside = 0;

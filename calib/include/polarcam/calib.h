@@ -87,6 +87,8 @@ typedef struct pc_calib {
 	/* the analysis vectors in 16 bits for the fused bilinear pipeline (apply_vec.q =
 	 * apply_q; pc_calib_prepare or the first bilinear pc_calib_apply) */
 	int16_t *apply_q;
+	/* the distrusted samples (valid = 0) listed for it (apply_vec.distrust_row, _x) */
+	uint32_t *apply_dis;
 	pc_compact_calib apply_vec;
 } pc_calib;
 
@@ -221,7 +223,9 @@ PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geo
  * must be 0 (the dark map is the black level), o->pinv, o->dark and o->gain_inv NULL. The
  * correction is fused into the core's pipeline (pc_pipeline_opts.dark, gain_inv): the fused
  * bilinear Stokes pass reads the raw once. Per-call memory only; the once-per-calibration
- * parts are made on the first call (pc_calib_prepare), after which calls only read cal. */
+ * parts are made on the first call (pc_calib_prepare), after which calls only read cal (they
+ * include, for bilinear, the valid map as a list of the distrusted samples: a map changed after
+ * that needs the calibration prepared anew). */
 PC_API int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits,
                           const pc_pipeline_opts *o, const pc_stokes_out *st, const pc_fplane *ch,
                           pc_validity *valid);

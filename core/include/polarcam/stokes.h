@@ -60,11 +60,12 @@ typedef struct pc_analyser_pinv {
  * that the pipeline reads them as one stream). For the sample at (x, y), whose analyser is
  * channel c = mosaic.channel[y & 1][x & 1] of the pipeline's mosaic, i = y·stride + x:
  *   a_k      = a_base[c][k] + a_scale[k]·a_q[k][i]       (k = 0, 1, 2)
- *   dark     = dark_base + dark_scale·dark_q[i]          (dark_q NULL: none)
+ *   dark     = dark_base + dark_scale·dark_q[i]          (dark_q NULL: dark_base alone)
  *   gain_inv = gain_base + gain_scale·gain_q[i]          (gain_q NULL: none)
  * in float (one fused multiply-add each). With pc_pipeline_opts.compact, pc_stokes_run
  * corrects every sample I = (raw − dark)·gain_inv as it reads the raw (with dark_q and gain_q
- * NULL: opts' black level, dark and gain_inv maps as usual; else they must be 0 and NULL),
+ * NULL and dark_base 0: opts' black level, dark and gain_inv maps as usual; else they must be
+ * 0 and NULL),
  * demosaics the samples and the vectors bilinearly alike (the 4×3 matrix W of an output
  * pixel: each channel's bilinear analysis vector, mirrored borders), and solves the least
  * squares S = (WᵀW)⁻¹WᵀI per output pixel in float, in the one pass that reads the raw: 6 to
@@ -75,7 +76,11 @@ typedef struct pc_analyser_pinv {
  * pc_stokes_ideal_analyser) and no dark or gain maps the results are the uncalibrated
  * pipeline's bit for bit. Bilinear, monochrome mosaics, the fast path only (PC_ENOTSUP
  * otherwise). The caller guarantees that WᵀW is well conditioned at every output pixel
- * (pc_calib checks it once per calibration; the kernel does not). */
+ * (pc_calib checks it once per calibration; the kernel does not). The samples to distrust
+ * (flagged in the validity as saturated ones are) may come as a list instead of
+ * pc_pipeline_opts.trusted, so that a frame reads no trust map: row y's distrusted samples are
+ * at columns distrust_x[distrust_row[y] .. distrust_row[y + 1]) (height + 1 offsets; NULL:
+ * none listed). */
 typedef struct pc_compact_calib {
 	uint32_t width, height;
 	size_t stride; /* elements between rows, every map */
@@ -83,6 +88,7 @@ typedef struct pc_compact_calib {
 	float a_base[4][3], a_scale[3];
 	const int16_t *dark_q, *gain_q;
 	float dark_base, dark_scale, gain_base, gain_scale;
+	const uint32_t *distrust_row, *distrust_x;
 } pc_compact_calib;
 
 /* The ideal analyser matrix: W[c] = ½·(1, cos 2θ_c, sin 2θ_c), θ_c = 45°·c. */
