@@ -1411,8 +1411,7 @@ static PyObject *py_render(PyObject *self, PyObject *args, PyObject *kw)
 		goto done;
 	}
 	npy_intp rd[3] = {nf, in.height, in.width};
-	raw =
-	    multi ? new_array(3, rd, NPY_UINT16) : new_array(2, rd + 1, NPY_UINT16);
+	raw = multi ? new_array(3, rd, NPY_UINT16) : new_array(2, rd + 1, NPY_UINT16);
 	npy_intp td[5] = {in.height, in.width, in.colour_channels, 4, 4};
 	if (in.colour_channels == 1) {
 		td[2] = 4;
