@@ -237,6 +237,9 @@ def threads_scaling(a, raw, method):
     ratio two/one is taken within a round, so load changes between rounds do not enter it."""
     n, rounds = a.threads_repeats, a.threads_rounds
     outs = [polarcam.stokes(raw, method=method) for _ in range(2)]  # aligned, warm
+    # numpy's own arrays (16 bytes past a cache line): never streamed, the store-kind baseline
+    np_out = polarcam.Stokes([np.ones(raw.shape, np.float32) for _ in range(5)])
+    outs.append(np_out)
 
     def work(k):
         for _ in range(n):
@@ -249,9 +252,10 @@ def threads_scaling(a, raw, method):
         for t in ths:
             t.join()
 
-    py1, py2, c1, c2 = [], [], [], []
+    py1, py2, c1, c2, pyo = [], [], [], [], []
     for _ in range(rounds):
         py1.append(n / timed(lambda: work(0), 1)[0])
+        pyo.append(n / timed(lambda: work(2), 1)[0])
         py2.append(2 * n / timed(two_threads, 1)[0])
         c1.append(n / sum(_polarcam._c_pipeline_seconds(raw, outs[0], method=method,
                                                          threads=1, repeats=n)))
@@ -266,6 +270,10 @@ def threads_scaling(a, raw, method):
         r = [t / o for o, t in zip(one, two)]
         print(f"   {name:37s} {statistics.median(one):7.1f} -> {statistics.median(two):7.1f}"
               f"   {statistics.median(r):.2f}x (rounds {min(r):.2f}-{max(r):.2f})")
+    r = [a / b for a, b in zip(py1, pyo)]
+    print(f"   one Python thread into numpy's arrays {statistics.median(pyo):7.1f} frames/s "
+          f"(ordinary stores, 16 bytes off a line); into the aligned ones "
+          f"{statistics.median(r):.2f}x that (rounds {min(r):.2f}-{max(r):.2f})")
     rp = statistics.median([t / o for o, t in zip(py1, py2)])
     rc = statistics.median([t / o for o, t in zip(c1, c2)])
     print(f"   Python's scaling / the library's: {rp / rc:.2f} (1: the GIL takes nothing; "
