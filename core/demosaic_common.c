@@ -273,9 +273,9 @@ void pc_dm_ring_free(pc_dm_ring *r)
  * machine the kernels were first tuned on (round 2) gained from them, and so does the AMD
  * EPYC of 2026-12-02 (family 1Ah, Zen 5, with AVX-512; docs/demosaicking.md has the same-run
  * A/B). AMD processors implement AVX-512 from Zen 4 on, so "AMD without AVX-512" is the
- * generation that measured slower (a hypervisor that hides AVX-512 from a newer guest lands
- * it there too: the choice of round 3, not a wrong one). Read once: every thread computes the
- * same value. */
+ * generation that measured slower (a hypervisor that hides AVX-512 from a newer guest gets
+ * ordinary stores too, round 3's behaviour). Read once: every thread computes the same
+ * value. */
 size_t pc_dm_nt_min_bytes(void)
 {
 	static _Atomic size_t cached = (size_t)-1; /* not read yet */
@@ -284,8 +284,8 @@ size_t pc_dm_nt_min_bytes(void)
 		const char *e = getenv("POLARCAM_NT_MIN_BYTES");
 		char *end;
 		unsigned long long v = e && *e ? strtoull(e, &end, 10) : 0;
-		int zen3 = pc_cpu_is_amd() && pc_cpu_supported() < PC_CPU_AVX512;
-		size_t dflt = zen3 ? (size_t)-2 /* never */ : (size_t)32 << 20;
+		int before_zen4 = pc_cpu_is_amd() && pc_cpu_supported() < PC_CPU_AVX512;
+		size_t dflt = before_zen4 ? (size_t)-2 /* never */ : (size_t)32 << 20;
 		c = e && *e && !*end && v < (size_t)-1 ? (size_t)v : dflt;
 		cached = c;
 	}
