@@ -5,7 +5,7 @@
 #include "polarcam/cpu.h"
 
 /* Whether the processor is AMD's (detected once with the level): non-temporal stores measured
- * slower there (demosaic_common.c). */
+ * slower on AMD's processors without AVX-512 (demosaic_common.c). */
 int pc_cpu_is_amd(void);
 
 /* Kernel instances exist for x86-64 with GCC and clang (both define __GNUC__); elsewhere

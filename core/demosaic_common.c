@@ -263,14 +263,19 @@ void pc_dm_ring_free(pc_dm_ring *r)
 
 /* ---- streaming stores ---- */
 
-/* 32 MB, except on AMD processors, where the default is never; POLARCAM_NT_MIN_BYTES
- * overrides it (the tests use 0 to exercise the streaming paths on small frames). On the AMD
- * EPYC (Zen 3, 2 cores, KVM) of round 3 (docs/status/pipeline.md) every streaming kernel ran
- * slower with non-temporal stores than with ordinary ones, one thread, same run: fused
- * bilinear pipeline 23 → 12 ms, bilinear 10 → 6.7 ms, ratio pipeline 33 → 27 ms; a plain
- * stream of the same bytes was fast either way, so it is the mix of compute and streaming
- * stores that stalls there. The AVX-512 machine the kernels were first tuned on gained from
- * them. Read once: every thread computes the same value. */
+/* 32 MB, except on AMD processors without AVX-512 (Zen 3 and earlier), where the default is
+ * never; POLARCAM_NT_MIN_BYTES overrides it (the tests use 0 to exercise the streaming paths on
+ * small frames). On the AMD EPYC of round 3 (Zen 3: AVX2, no AVX-512; 2 cores, KVM;
+ * docs/status/pipeline.md) every streaming kernel ran slower with non-temporal stores than
+ * with ordinary ones, one thread, same run: fused bilinear pipeline 23 → 12 ms, bilinear
+ * 10 → 6.7 ms, ratio pipeline 33 → 27 ms; a plain stream of the same bytes was fast either
+ * way, so it is the mix of compute and streaming stores that stalls there. The AVX-512
+ * machine the kernels were first tuned on (round 2) gained from them, and so does the AMD
+ * EPYC of 2026-12-02 (family 1Ah, Zen 5, with AVX-512; docs/demosaicking.md has the same-run
+ * A/B). AMD processors implement AVX-512 from Zen 4 on, so "AMD without AVX-512" is the
+ * generation that measured slower (a hypervisor that hides AVX-512 from a newer guest gets
+ * ordinary stores too, round 3's behaviour). Read once: every thread computes the same
+ * value. */
 size_t pc_dm_nt_min_bytes(void)
 {
 	static _Atomic size_t cached = (size_t)-1; /* not read yet */
@@ -279,7 +284,8 @@ size_t pc_dm_nt_min_bytes(void)
 		const char *e = getenv("POLARCAM_NT_MIN_BYTES");
 		char *end;
 		unsigned long long v = e && *e ? strtoull(e, &end, 10) : 0;
-		size_t dflt = pc_cpu_is_amd() ? (size_t)-2 /* never */ : (size_t)32 << 20;
+		int before_zen4 = pc_cpu_is_amd() && pc_cpu_supported() < PC_CPU_AVX512;
+		size_t dflt = before_zen4 ? (size_t)-2 /* never */ : (size_t)32 << 20;
 		c = e && *e && !*end && v < (size_t)-1 ? (size_t)v : dflt;
 		cached = c;
 	}

@@ -149,8 +149,9 @@ void pc_dm_ring_free(pc_dm_ring *r);
 
 /* ---- streaming (non-temporal) stores ---- */
 
-/* Output bytes from which non-temporal stores pay: 32 MB, never on AMD processors (measured
- * slower there, docs/demosaicking.md); POLARCAM_NT_MIN_BYTES overrides it (read once). */
+/* Output bytes from which non-temporal stores pay: 32 MB, never on AMD processors without
+ * AVX-512 (Zen 3 and earlier: measured slower there, docs/demosaicking.md);
+ * POLARCAM_NT_MIN_BYTES overrides it (read once). */
 size_t pc_dm_nt_min_bytes(void);
 
 /* Whether n planes are planar (pixel_stride 1), present, 64-byte aligned with 64-byte aligned

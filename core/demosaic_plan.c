@@ -306,7 +306,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "the recommended choice"
           "; held-out (scenes/heldout, 12) +4.67/+1.57 (+2.36/+0.31)",
           "ratio's passes with a 3x3 guide variance per pixel; about 3-4x bilinear's "
-          "time",
+          "time with ordinary stores, about 4-5x where bilinear's output streams "
+          "(AVX-512 machines; docs/demosaicking.md)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
           "2013) and a Poisson noise variance",
           PC_DMF_MONO},
@@ -323,7 +324,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "mean +4.46/+1.66 (worst +2.70/+0.37), hue patches -0.53/+1.12 "
                           "(worst -0.76/+0.45: loses S0 at dense hue edges)",
                           "one fused pass on row bands, twelve planes; 3.8-4.5x the mono "
-                          "bilinear's time on a quiet machine (bayer-first 8-18x)",
+                          "bilinear's time on a quiet machine, more where bilinear's output "
+                          "streams (bayer-first 8-18x)",
                           "ours: the pseudo-panchromatic image of Mihoubi et al., IEEE TCI 3(4) "
                           "2017, with smooth-hue-transition (ratio) interpolation, Cok, US "
                           "patent 4,642,678 (1987)",
@@ -340,7 +342,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                            "colour, 9 scenes) smooth colours +4.36/+1.57 (worst +2.41/+0.35), "
                            "hue patches +0.38/+0.96 (worst +0.25/+0.59): no scene loses",
                            "pan-ratio's pass with a weight per tap, 1.15-1.25x pan-ratio; "
-                           "4.4-5.4x the mono bilinear's time on a quiet machine",
+                           "4.4-5.4x the mono bilinear's time on a quiet machine, more "
+                           "where bilinear's output streams (docs/demosaicking.md)",
                            "ours: pan-ratio with joint-bilateral weights (Tomasi & Manduchi, "
                            "ICCV 1998; Kopf et al., SIGGRAPH 2007)",
                            PC_DMF_COLOR},

@@ -9,7 +9,11 @@ In one run, on one 2448x2048 12-bit frame of the default scene (or --raw FILE.np
      pipeline (bilinear by a 3x3 convolution of each analyser's samples, Stokes by the
      analyser pseudo-inverse, DoLP, AoLP; float64 as polanalyser), labelled as ours;
   3. two Python threads on two cores against one (goal >= 1.7x one thread's throughput: the
-     GIL is released while the library computes);
+     GIL is released while the library computes), for bilinear (memory-bound) and ratio-nr
+     (compute-bound), each beside the C library's own scaling from one thread to two (one
+     call with threads=1 against threads=2, timed in C) in the same rounds: when Python's
+     two-thread ratio matches the library's, the limit is the machine (memory bandwidth),
+     not the GIL;
   4. the calibrated pipeline: stokes(raw, calibration=Calibration) of a full-frame calibration
      file (written here with numpy: per-pixel dark, gain and analysers with the spreads of the
      imx250mzr_nonuniform preset) against the uncalibrated stokes(raw, black_level=...), and
@@ -18,7 +22,7 @@ Times are medians of interleaved repeats; the machine may be shared, so the rati
 in the same run) and the load average are what to read.
 
 usage: python3 python/bench_polarcam.py [--raw FILE.npy] [--repeats N] [--threads-repeats N]
-                                        [--calibrated-only]
+                                        [--threads-rounds R] [--calibrated-only | --threads-only]
        (PYTHONPATH=build/python when polarcam is not installed)
 """
 import argparse
@@ -127,9 +131,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--raw", help="a (2048, 2448) uint16 .npy raw frame (default: render)")
     ap.add_argument("--repeats", type=int, default=15)
-    ap.add_argument("--threads-repeats", type=int, default=20)
+    ap.add_argument("--threads-repeats", type=int, default=10,
+                    help="frames per thread in each round of part 3")
+    ap.add_argument("--threads-rounds", type=int, default=5,
+                    help="rounds of part 3 (one thread, two threads, C alternately)")
     ap.add_argument("--calibrated-only", action="store_true",
                     help="only part 4 (the calibrated pipeline and the calibration file)")
+    ap.add_argument("--threads-only", action="store_true",
+                    help="only part 3 (one thread against two, bilinear and ratio-nr)")
     a = ap.parse_args()
     print(f"polarcam {polarcam.__version__} Python module benchmark; "
           f"{os.cpu_count()} CPUs, load average {load():.2f} at start")
@@ -143,21 +152,31 @@ def main():
         print(f"frame: the default scene, seed 0, {raw.shape[1]}x{raw.shape[0]} "
               f"{bits}-bit (rendered in {time.perf_counter() - t0:.1f} s)")
     h, w = raw.shape
-    out = polarcam.Stokes([np.ones((h, w), np.float32) for _ in range(5)])
+    # new arrays of the module (64-byte aligned: the library may stream into them), reused
+    out = polarcam.stokes(raw)
+    print(f"stores into polarcam's own (H, W) outputs: "
+          f"{'non-temporal' if _polarcam._stokes_streams(out) else 'ordinary'} "
+          f"(POLARCAM_NT_MIN_BYTES={os.environ.get('POLARCAM_NT_MIN_BYTES', 'unset')})")
 
-    if not a.calibrated_only:
-        parts_1_to_3(a, raw, out, h, w, bits)
-    calibrated(a, raw, out, h, w, bits)
+    if a.threads_only:
+        for method in ("bilinear", "ratio-nr"):
+            threads_scaling(a, raw, method)
+    else:
+        if not a.calibrated_only:
+            parts_1_to_3(a, raw, out, h, w, bits)
+        calibrated(a, raw, out, h, w, bits)
     print(f"\nload average at the end: {load():.2f} (ratios above are same-run)")
 
 
 def parts_1_to_3(a, raw, out, h, w, bits):
     # 1. Python vs C (all cores, the library's default)
     polarcam.stokes(raw, out=out)
-    c, py_out, py_new, py_bits, alloc = [], [], [], [], []
+    np_out = polarcam.Stokes([np.ones((h, w), np.float32) for _ in range(5)])
+    c, py_out, py_np, py_new, py_bits, alloc = [], [], [], [], [], []
     for _ in range(a.repeats):  # interleaved: load changes hit all alike
         c += _polarcam._c_pipeline_seconds(raw, out, repeats=1)
         py_out += timed(lambda: polarcam.stokes(raw, out=out), 1)
+        py_np += timed(lambda: polarcam.stokes(raw, out=np_out), 1)
         py_new += timed(lambda: polarcam.stokes(raw), 1)
         py_bits += timed(lambda: polarcam.stokes(raw, bits=bits, out=out), 1)
         # the floor of new arrays: five fresh (H, W) float32 arrays written once
@@ -166,7 +185,9 @@ def parts_1_to_3(a, raw, out, h, w, bits):
     print(f"\n1. bilinear -> Stokes/DoLP/AoLP on {w}x{h}, all cores, median of {a.repeats} "
           f"(load {load():.2f})")
     print(f"   C pipeline (timed in C)                      {cm:8.2f} ms   1.00x")
+    np_kind = "non-temporal" if _polarcam._stokes_streams(np_out) else "ordinary"
     for name, ts in (("polarcam.stokes(raw, out=out)", py_out),
+                     (f"  out= numpy's arrays ({np_kind} stores)", py_np),
                      ("polarcam.stokes(raw) (new arrays)", py_new),
                      (f"polarcam.stokes(raw, bits={bits}, out=out) (+check)", py_bits)):
         print(f"   {name:45s}{median_ms(ts):8.2f} ms   {median_ms(ts) / cm:.2f}x")
@@ -204,31 +225,59 @@ def parts_1_to_3(a, raw, out, h, w, bits):
         except Exception as e:  # an API of another polanalyser version
             print(f"   polanalyser: its pipeline failed here ({e!r}): skipped")
 
-    # 3. two Python threads on two cores, each on its own arrays, one core each
-    n = a.threads_repeats
-    outs = [polarcam.Stokes([np.ones((h, w), np.float32) for _ in range(5)])
-            for _ in range(2)]
+    # 3. two Python threads on two cores against one, beside the library's own scaling
+    for method in ("bilinear", "ratio-nr"):
+        threads_scaling(a, raw, method)
+
+
+def threads_scaling(a, raw, method):
+    """Frames per second of one Python thread, of two Python threads (each calling
+    polarcam.stokes(raw, method, threads=1, out=its own arrays)), and of the C library called
+    with threads=1 and threads=2 (timed in C, no interpreter), in interleaved rounds: each
+    ratio two/one is taken within a round, so load changes between rounds do not enter it."""
+    n, rounds = a.threads_repeats, a.threads_rounds
+    outs = [polarcam.stokes(raw, method=method) for _ in range(2)]  # aligned, warm
+    # numpy's own arrays (16 bytes past a cache line): never streamed, the store-kind baseline
+    np_out = polarcam.Stokes([np.ones(raw.shape, np.float32) for _ in range(5)])
+    outs.append(np_out)
 
     def work(k):
         for _ in range(n):
-            polarcam.stokes(raw, out=outs[k], threads=1)
+            polarcam.stokes(raw, method=method, out=outs[k], threads=1)
 
-    t0 = time.perf_counter()
-    work(0)
-    one = time.perf_counter() - t0
-    ths = [threading.Thread(target=work, args=(k,)) for k in range(2)]
-    t0 = time.perf_counter()
-    for t in ths:
-        t.start()
-    for t in ths:
-        t.join()
-    two = time.perf_counter() - t0
-    print(f"\n3. threads (each polarcam.stokes(raw, threads=1), {n} frames each; load "
-          f"{load():.2f})")
-    print(f"   one thread:  {n / one:6.1f} frames/s")
-    print(f"   two threads: {2 * n / two:6.1f} frames/s   {2 * one / two:.2f}x one thread's "
-          f"throughput (goal >= 1.7x on two idle cores)")
+    def two_threads():
+        ths = [threading.Thread(target=work, args=(k,)) for k in range(2)]
+        for t in ths:
+            t.start()
+        for t in ths:
+            t.join()
 
+    py1, py2, c1, c2, pyo = [], [], [], [], []
+    for _ in range(rounds):
+        py1.append(n / timed(lambda: work(0), 1)[0])
+        pyo.append(n / timed(lambda: work(2), 1)[0])
+        py2.append(2 * n / timed(two_threads, 1)[0])
+        c1.append(n / sum(_polarcam._c_pipeline_seconds(raw, outs[0], method=method,
+                                                         threads=1, repeats=n)))
+        c2.append(n / sum(_polarcam._c_pipeline_seconds(raw, outs[0], method=method,
+                                                         threads=2, repeats=n)))
+    kind = "non-temporal" if _polarcam._stokes_streams(outs[0]) else "ordinary"
+    print(f"\n3. {method} -> Stokes/DoLP/AoLP, one thread against two on {os.cpu_count()} "
+          f"CPUs: frames/s, median of {rounds} rounds of {n} frames per thread ({kind} "
+          f"stores; load {load():.2f})")
+    for name, one, two in (("two Python threads, threads=1 each", py1, py2),
+                           ("C library, one call threads=1 vs 2", c1, c2)):
+        r = [t / o for o, t in zip(one, two)]
+        print(f"   {name:37s} {statistics.median(one):7.1f} -> {statistics.median(two):7.1f}"
+              f"   {statistics.median(r):.2f}x (rounds {min(r):.2f}-{max(r):.2f})")
+    r = [a / b for a, b in zip(py1, pyo)]
+    print(f"   one Python thread into numpy's arrays {statistics.median(pyo):7.1f} frames/s "
+          f"(ordinary stores, 16 bytes off a line); into the aligned ones "
+          f"{statistics.median(r):.2f}x that (rounds {min(r):.2f}-{max(r):.2f})")
+    rp = statistics.median([t / o for o, t in zip(py1, py2)])
+    rc = statistics.median([t / o for o, t in zip(c1, c2)])
+    print(f"   Python's scaling / the library's: {rp / rc:.2f} (1: the GIL takes nothing; "
+          f"goal for Python >= 1.7x on two idle cores)")
 
 
 def calibrated(a, raw, out, h, w, bits):

@@ -223,6 +223,11 @@ int pcpy_stokes(const pc_view *raw, const pc_mosaic *m, const pcpy_stokes_opts *
 	return pc_stokes_run(raw, &po, out, valid);
 }
 
+bool pcpy_stokes_streams(const pc_stokes_out *out, uint32_t w, uint32_t h)
+{
+	return pc_stokes_streams(out, w, h);
+}
+
 int pcpy_stokes_channels(const pc_fplane in[4], uint32_t w, uint32_t h,
                          const pc_analyser_pinv *pinv, const pc_stokes_out *out)
 {

@@ -91,6 +91,9 @@ typedef struct pcpy_stokes_opts {
  * wanted; valid (may be NULL) receives the validity mask and count. */
 int pcpy_stokes(const pc_view *raw, const pc_mosaic *m, const pcpy_stokes_opts *o,
                 const pc_stokes_out *out, pc_validity *valid);
+/* Whether pcpy_stokes writes these outputs with non-temporal stores (pc_stokes_streams; with
+ * the GIL: cheap). */
+bool pcpy_stokes_streams(const pc_stokes_out *out, uint32_t w, uint32_t h);
 /* Four analyser images -> Stokes/DoLP/AoLP. */
 int pcpy_stokes_channels(const pc_fplane in[4], uint32_t w, uint32_t h,
                          const pc_analyser_pinv *pinv, const pc_stokes_out *out);

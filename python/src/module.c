@@ -126,6 +126,40 @@ static const char *dtype_name(PyArrayObject *a)
 	return buf;
 }
 
+/* A new C-contiguous array whose data starts on a 64-byte boundary (a cache line; numpy's own
+ * allocations are only 16-byte aligned): a view into a numpy uint8 buffer 63 bytes longer
+ * than the data, which the view keeps alive as its base. The library writes large aligned
+ * planar outputs with non-temporal stores (pc_stokes_streams) and its vector stores never
+ * straddle two cache lines; values are the same either way. */
+#define OUT_ALIGN 64
+static PyObject *new_array(int nd, const npy_intp *dims, int type)
+{
+	PyArray_Descr *descr = PyArray_DescrFromType(type);
+	if (!descr)
+		return NULL;
+	npy_intp n = (npy_intp)descr->elsize;
+	for (int i = 0; i < nd; i++)
+		n *= dims[i];
+	npy_intp bytes = n + OUT_ALIGN - 1;
+	PyObject *buf = PyArray_SimpleNew(1, &bytes, NPY_UINT8);
+	if (!buf) {
+		Py_DECREF(descr);
+		return NULL;
+	}
+	char *p = PyArray_DATA((PyArrayObject *)buf);
+	p += (OUT_ALIGN - (uintptr_t)p % OUT_ALIGN) % OUT_ALIGN;
+	/* steals descr */
+	PyObject *a = PyArray_NewFromDescr(&PyArray_Type, descr, nd, (npy_intp *)dims, NULL, p,
+	                                   NPY_ARRAY_CARRAY, NULL);
+	if (!a || PyArray_SetBaseObject((PyArrayObject *)a, buf) < 0) { /* steals buf */
+		if (!a)
+			Py_DECREF(buf);
+		Py_XDECREF(a);
+		return NULL;
+	}
+	return a;
+}
+
 static PyArrayObject *as_ndarray(PyObject *o, const char *name, const char *expect)
 {
 	if (!PyArray_Check(o)) {
@@ -443,7 +477,7 @@ static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
 	PyArrayObject *out;
 	if (out_o == Py_None) {
 		npy_intp dims[3] = {oh, ow, nch};
-		out = (PyArrayObject *)PyArray_SimpleNew(3, dims, NPY_FLOAT32);
+		out = (PyArrayObject *)new_array(3, dims, NPY_FLOAT32);
 		if (!out)
 			return NULL;
 	} else {
@@ -603,7 +637,7 @@ static PyObject *stokes_outputs(PyObject *out_o, uint32_t w, uint32_t h, pc_stok
 		PyObject *a;
 		if (!seq) {
 			npy_intp dims[2] = {h, w};
-			a = PyArray_SimpleNew(2, dims, NPY_FLOAT32);
+			a = new_array(2, dims, NPY_FLOAT32);
 			if (!a)
 				goto fail;
 		} else {
@@ -783,7 +817,7 @@ static PyObject *py_analyser_pinv(PyObject *self, PyObject *arg)
 	dims[1] = 4;
 	for (int i = 0; i < nd - 2; i++)
 		dims[2 + i] = PyArray_DIM(a, i);
-	PyArrayObject *out = (PyArrayObject *)PyArray_SimpleNew(nd, dims, NPY_FLOAT32);
+	PyArrayObject *out = (PyArrayObject *)new_array(nd, dims, NPY_FLOAT32);
 	if (!out)
 		return NULL;
 	size_t n = (size_t)(PyArray_SIZE(a) / 12);
@@ -830,7 +864,7 @@ static PyObject *minmax_of(PyObject *s0, PyObject *s1, PyObject *s2)
 	pc_fplane o[4];
 	for (int i = 0; i < 4; i++) {
 		npy_intp dims[2] = {h, w};
-		PyObject *a = PyArray_SimpleNew(2, dims, NPY_FLOAT32);
+		PyObject *a = new_array(2, dims, NPY_FLOAT32);
 		if (!a) {
 			Py_DECREF(res);
 			return NULL;
@@ -935,7 +969,7 @@ static PyObject *picture_of(PyObject *img, PyObject *dolp, PyObject *s0, const c
 	                (PyErr_SetString(PyExc_ValueError, "s0: shape differs from image"), 1))))
 		return NULL;
 	npy_intp dims[3] = {h, w, 3};
-	PyArrayObject *out = (PyArrayObject *)PyArray_SimpleNew(3, dims, NPY_UINT8);
+	PyArrayObject *out = (PyArrayObject *)new_array(3, dims, NPY_UINT8);
 	if (!out)
 		return NULL;
 	int rc = 0;
@@ -1105,7 +1139,7 @@ static PyObject *py_pbrdf(PyObject *self, PyObject *args, PyObject *kw)
 	for (int i = 0; i < nd; i++)
 		dims[i] = mi->dimensions[i];
 	dims[nd] = dims[nd + 1] = 4;
-	out = PyArray_SimpleNew(nd + 2, dims, NPY_DOUBLE);
+	out = new_array(nd + 2, dims, NPY_DOUBLE);
 	if (!out || (rc = pcpy_pbrdf_cache_new(dif, sh, rmode, rorder, &cache))) {
 		if (!out)
 			goto done;
@@ -1209,7 +1243,7 @@ static PyObject *py_decompose(PyObject *self, PyObject *args, PyObject *kw)
 			d[k++] = 3;
 		else if (spec[f].extra == 16)
 			d[k++] = 4, d[k++] = 4;
-		PyObject *a = PyArray_SimpleNew(k, d, spec[f].type);
+		PyObject *a = new_array(k, d, spec[f].type);
 		if (!a) {
 			Py_DECREF(res);
 			Py_DECREF(M);
@@ -1377,19 +1411,18 @@ static PyObject *py_render(PyObject *self, PyObject *args, PyObject *kw)
 		goto done;
 	}
 	npy_intp rd[3] = {nf, in.height, in.width};
-	raw =
-	    multi ? PyArray_SimpleNew(3, rd, NPY_UINT16) : PyArray_SimpleNew(2, rd + 1, NPY_UINT16);
+	raw = multi ? new_array(3, rd, NPY_UINT16) : new_array(2, rd + 1, NPY_UINT16);
 	npy_intp td[5] = {in.height, in.width, in.colour_channels, 4, 4};
 	if (in.colour_channels == 1) {
 		td[2] = 4;
 		td[3] = 4;
-		truth = PyArray_SimpleNew(3, td, NPY_FLOAT32);
+		truth = new_array(3, td, NPY_FLOAT32);
 		if (in.mueller)
-			mueller = PyArray_SimpleNew(4, td, NPY_FLOAT32);
+			mueller = new_array(4, td, NPY_FLOAT32);
 	} else {
-		truth = PyArray_SimpleNew(4, td, NPY_FLOAT32);
+		truth = new_array(4, td, NPY_FLOAT32);
 		if (in.mueller)
-			mueller = PyArray_SimpleNew(5, td, NPY_FLOAT32);
+			mueller = new_array(5, td, NPY_FLOAT32);
 	}
 	meta = PyDict_New();
 	if (!raw || !truth || (in.mueller && !mueller) || !meta)
@@ -1717,7 +1750,7 @@ static PyObject *src_read_frame(SourceObject *so, int timeout_ms, int at_end_sto
 	if ((rc = pcpy_source_format(so->s, &f)))
 		return raise_pc(rc);
 	npy_intp dims[2] = {f.height, f.width};
-	PyObject *arr = PyArray_SimpleNew(2, dims, NPY_UINT16);
+	PyObject *arr = new_array(2, dims, NPY_UINT16);
 	if (!arr)
 		return NULL;
 	pc_frame_meta m;
@@ -2246,7 +2279,7 @@ static PyObject *cal_pinv(CalibrationObject *self, PyObject *args, PyObject *kw)
 	    (rc = pcpy_calib_pinv_grid(self->cal, dm, &gw, &gh)))
 		return raise_pc(rc);
 	npy_intp dims[4] = {3, 4, gh, gw};
-	PyArrayObject *out = (PyArrayObject *)PyArray_SimpleNew(4, dims, NPY_FLOAT32);
+	PyArrayObject *out = (PyArrayObject *)new_array(4, dims, NPY_FLOAT32);
 	if (!out)
 		return NULL;
 	Py_BEGIN_ALLOW_THREADS;
@@ -2384,6 +2417,29 @@ static PyObject *py_c_pipeline_seconds(PyObject *self, PyObject *args, PyObject 
 	return l;
 }
 
+/* _stokes_streams(out): whether polarcam.stokes writes these five (H, W) planes (a Stokes or a
+ * 5-sequence, s0 given) with non-temporal stores on this machine (pc_stokes_streams: the
+ * library's rule, POLARCAM_NT_MIN_BYTES included), for python/bench_polarcam.py and tests. */
+static PyObject *py_stokes_streams(PyObject *self, PyObject *out_o)
+{
+	(void)self;
+	PyObject *s0 = PySequence_Check(out_o) ? PySequence_GetItem(out_o, 0) : NULL;
+	if (!s0 || !PyArray_Check(s0) || PyArray_NDIM((PyArrayObject *)s0) != 2) {
+		Py_XDECREF(s0);
+		PyErr_SetString(PyExc_ValueError, "out: expected a Stokes or 5 arrays, s0 (H, W)");
+		return NULL;
+	}
+	uint32_t h = (uint32_t)PyArray_DIM((PyArrayObject *)s0, 0);
+	uint32_t w = (uint32_t)PyArray_DIM((PyArrayObject *)s0, 1);
+	Py_DECREF(s0);
+	pc_stokes_out so;
+	PyObject *res = stokes_outputs(out_o, w, h, &so);
+	if (!res)
+		return NULL;
+	Py_DECREF(res);
+	return PyBool_FromLong(pcpy_stokes_streams(&so, w, h));
+}
+
 /* ------------------------------------------------------------------------------------------
  * the module
  */
@@ -2519,6 +2575,9 @@ static PyMethodDef module_methods[] = {
      "_c_pipeline_seconds(raw, out, method=None, layout='90,45,135,0', threads=0, "
      "repeats=1)\n--\n\nFor python/bench_polarcam.py: seconds of each of `repeats` calls of "
      "the C pipeline (raw -> Stokes) on the same buffers, timed in C."},
+    {"_stokes_streams", py_stokes_streams, METH_O,
+     "_stokes_streams(out)\n--\n\nFor python/bench_polarcam.py: whether stokes(raw, out=out) "
+     "writes these planes with non-temporal stores on this machine."},
     {"backends", py_backends, METH_NOARGS,
      "backends()\n--\n\nThe frame-source URI schemes: [{scheme, built, summary}]."},
     {NULL, NULL, 0, NULL}};

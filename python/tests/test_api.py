@@ -197,6 +197,103 @@ def test_out_reuses_arrays_and_skips_none():
     assert isinstance(st, polarcam.Stokes) and len(st) == 5
 
 
+STOKES_FIELDS = ("s0", "s1", "s2", "dolp", "aolp")
+
+
+def off_line(shape, dtype=np.float32, offset=16):
+    """A C-contiguous array starting `offset` bytes past a 64-byte boundary (numpy's own large
+    arrays start 16 bytes past one)."""
+    n = int(np.prod(shape)) * np.dtype(dtype).itemsize
+    buf = np.zeros(n + 128, np.uint8)
+    k = (offset - buf.ctypes.data) % 64
+    a = buf[k:k + n].view(dtype).reshape(shape)
+    assert a.ctypes.data % 64 == offset
+    return a
+
+
+def test_new_arrays_start_on_a_cache_line():
+    """Every new array the module returns starts on a 64-byte boundary, is C-contiguous,
+    writeable and keeps its memory alive on its own."""
+    raw, truth, _ = polarcam.render(roi=(0, 0, 96, 64))
+    st = polarcam.stokes(raw, bits=12)
+    found = {"raw": raw, "truth": truth, "demosaic": polarcam.demosaic(raw),
+             "half": polarcam.demosaic(raw, method="superpixel-half"),
+             "picture": polarcam.picture(st, kind="aolp"),
+             "pbrdf": polarcam.pbrdf(1.5, 0.1, [0.1, 0.2], 30, 40, 150),
+             "pinv": polarcam.analyser_pinv(np.ones((5, 4, 3), np.float32) +
+                                            np.eye(4, 3, dtype=np.float32)),
+             "decompose.D": polarcam.decompose(np.eye(4)).D}
+    found.update({f"stokes.{k}": getattr(st, k) for k in STOKES_FIELDS})
+    mm = polarcam.minmax(st)
+    found.update({f"minmax.{k}": getattr(mm, k) for k in ("imin", "imax", "diffuse", "specular")})
+    with polarcam.open("sim:default?seed=3&fps=0", roi=(0, 0, 64, 32)) as src:
+        found["frame"] = src.read().raw
+    for name, a in found.items():
+        assert a.ctypes.data % 64 == 0, name
+        assert a.flags.c_contiguous and a.flags.writeable and a.flags.aligned, name
+    # the memory outlives every other reference to the result
+    s0 = polarcam.stokes(raw, bits=12).s0
+    import gc
+    gc.collect()
+    np.testing.assert_array_equal(s0, st.s0)
+    s0 += 1  # writeable, and not shared with st
+    assert not np.array_equal(s0, st.s0)
+
+
+def test_aligned_and_unaligned_outputs_hold_the_same_values():
+    """The same call into new (aligned) arrays and into out= arrays 16 bytes off a cache line
+    (numpy's own alignment) writes the same bits: alignment changes the store instructions the
+    library may use (streaming stores into whole lines), never the values. Also with
+    POLARCAM_NT_MIN_BYTES=0 in a fresh interpreter, where the aligned outputs of this small
+    frame are written with non-temporal stores (on AVX2 machines) and the others are not."""
+    raw = polarcam.render(roi=(0, 0, 256, 128))[0]
+    for method in ("bilinear", "ratio-nr", "eari"):
+        new = polarcam.stokes(raw, method=method, bits=12)
+        off = [off_line(raw.shape) for _ in range(5)]
+        polarcam.stokes(raw, method=method, bits=12, out=off)
+        for name, a, b in zip(STOKES_FIELDS, new, off):
+            np.testing.assert_array_equal(a, b, err_msg=f"{method} {name}")
+    d = off_line((128, 256, 4))
+    polarcam.demosaic(raw, method="ratio-nr", out=d)
+    np.testing.assert_array_equal(polarcam.demosaic(raw, method="ratio-nr"), d)
+    import subprocess
+    code = """if True:
+        import sys, numpy as np, polarcam
+        from polarcam import _polarcam
+        sys.path.insert(0, sys.argv[1])
+        from test_api import off_line
+        raw = polarcam.render(roi=(0, 0, 256, 128))[0]
+        for method in ("bilinear", "ratio-nr", "pan-ratio"):
+            layout = "RGGB:90,45,135,0" if method.startswith("pan") else "90,45,135,0"
+            new = polarcam.stokes(raw, method=method, layout=layout, bits=12)
+            off = [off_line(raw.shape) for _ in range(5)]
+            polarcam.stokes(raw, method=method, layout=layout, bits=12, out=off)
+            for a, b in zip(new, off):
+                np.testing.assert_array_equal(a, b, err_msg=method)
+        print(_polarcam._stokes_streams(new), _polarcam._stokes_streams(off))
+    """
+    env = dict(os.environ, POLARCAM_NT_MIN_BYTES="0",
+               PYTHONPATH=os.pathsep.join(filter(None, [
+                   os.path.dirname(os.path.dirname(polarcam.__file__)),
+                   os.environ.get("PYTHONPATH")])))
+    here = os.path.dirname(os.path.abspath(__file__))
+    p = subprocess.run([sys.executable, "-c", code, here], env=env, capture_output=True,
+                       text=True)
+    assert p.returncode == 0, p.stderr
+    streamed, off_streamed = p.stdout.split()
+    assert off_streamed == "False"
+    # the library streams from AVX2 + FMA on (its x86-64 instances; POLARCAM_CPU may cap it)
+    try:
+        with open("/proc/cpuinfo") as f:
+            flags = f.read().split()
+    except OSError:
+        flags = None
+    import platform
+    if flags is not None and platform.machine() == "x86_64" and not os.environ.get(
+            "POLARCAM_CPU"):
+        assert streamed == str("avx2" in flags and "fma" in flags)
+
+
 def test_black_level():
     """Subtracting a black level before demosaicking equals doing it by hand (float32): the
     library subtracts it inside its fused integer kernels, a few float32 roundings apart from

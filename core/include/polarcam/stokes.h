@@ -137,7 +137,8 @@ PC_API int pc_stokes_from_raw(const pc_view *raw, const pc_mosaic *m, pc_demosai
 /* Whether pc_stokes_run with PC_DM_BILINEAR (or a row-cache method) writes these width ×
  * height outputs with non-temporal (cache-bypassing) stores on this machine: AVX2, planar
  * 64-byte aligned outputs with 64-byte aligned rows, at least 32 MB of them, and not on AMD
- * processors, where ordinary stores measured faster (docs/demosaicking.md);
+ * processors without AVX-512 (Zen 3 and earlier), where ordinary stores measured faster
+ * (docs/demosaicking.md);
  * POLARCAM_NT_MIN_BYTES overrides the size threshold. For benchmarks that compare the
  * pipeline with a memory floor written the same way. */
 PC_API bool pc_stokes_streams(const pc_stokes_out *out, uint32_t width, uint32_t height);
