@@ -335,6 +335,18 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           NULL,
                           false,
                           PC_DM_PAN_GUIDED},
+    [PC_DM_PAN_CHROMA] = {{PC_DM_PAN_CHROMA, "pan-chroma",
+                           "colour-polarization: pan-guided whose range weights also see hue "
+                           "(chrominance images demodulated from the colour layer)",
+                           "pan-guided's pass with two more guide images",
+                           "ours: pan-guided with a luminance-chrominance guide (Alleysson et "
+                           "al., IEEE TIP 14(4) 2005; Kopf et al., SIGGRAPH 2007)",
+                           PC_DMF_COLOR},
+                          {PAN_LO, PAN_HI, 1, 1},
+                          NULL,
+                          NULL,
+                          false,
+                          PC_DM_PAN_CHROMA},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
