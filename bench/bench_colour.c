@@ -9,13 +9,11 @@
  *   patches  piecewise-constant hues on 37×29-pixel patches (eight colours, gains 0.08..1):
  *            hue edges that do not follow the scene's intensity edges, where a method that
  *            assumes colour ratios vary slowly is wrong. */
-#include <dirent.h>
 #include <glob.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 
 #include "bench.h"
 #include "polarcam/demosaic.h"
@@ -100,25 +98,6 @@ static int score(const pc_view *raw, const pc_eval_truth tk[3], pc_demosaic_meth
 	pc_mosaic m = pc_mosaic_imx250myr();
 	pc_demosaic_opts op = {threads, reference, 65535};
 	return pc_eval_method_raw_colour(tk, raw, &m, meth, &op, mean);
-}
-
-static int cmp_str(const void *a, const void *b)
-{
-	return strcmp(*(char *const *)a, *(char *const *)b);
-}
-
-static double cpu_s(void)
-{
-	struct rusage ru;
-	getrusage(RUSAGE_SELF, &ru);
-	return (double)ru.ru_utime.tv_sec + (double)ru.ru_stime.tv_sec +
-	       1e-6 * (double)(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
-}
-
-static int cmp_dbl(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return x < y ? -1 : x > y;
 }
 
 #define MAXSC 64
@@ -302,70 +281,60 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 	/* ---- accuracy ---- */
 	if (data) {
 		static const char *const datasets[] = {"lapray-nir", "zhang"};
-		for (int tr = 0; tr < NTRACKS; tr++) {
-			double s0[MAXSC][PC_DM_COUNT], dl[MAXSC][PC_DM_COUNT];
-			char *sn[MAXSC];
-			size_t ns = 0;
-			for (size_t d = 0; d < 2; d++) {
-				char dpath[4096];
-				snprintf(dpath, sizeof dpath, "%s/gt/%s", data, datasets[d]);
-				DIR *dd = opendir(dpath);
-				if (!dd)
+		/* each scene read once, scored under both colourings */
+		static double s0[NTRACKS][MAXSC][PC_DM_COUNT], dl[NTRACKS][MAXSC][PC_DM_COUNT];
+		char *sn[MAXSC];
+		size_t ns = 0;
+		for (size_t d = 0; d < 2; d++) {
+			char dpath[4096];
+			snprintf(dpath, sizeof dpath, "%s/gt/%s", data, datasets[d]);
+			char **names = NULL;
+			size_t nn = bench_list_dir(dpath, &names);
+			for (size_t s = 0; s < nn; s++) {
+				char sp[8192];
+				snprintf(sp, sizeof sp, "%s/%s", dpath, names[s]);
+				pc_eval_truth t;
+				int rc = ns < MAXSC ? pc_truth_load(sp, &t) : PC_ENOMEM;
+				if (rc) {
+					host->warn("%s: %s", sp, pc_error_detail());
 					continue;
-				char *names[MAXSC];
-				size_t nn = 0;
-				struct dirent *de;
-				while ((de = readdir(dd)) && nn < MAXSC)
-					if (de->d_name[0] != '.')
-						names[nn++] = strdup(de->d_name);
-				closedir(dd);
-				qsort(names, nn, sizeof *names, cmp_str);
-				for (size_t s = 0; s < nn; s++) {
-					char sp[8192];
-					snprintf(sp, sizeof sp, "%s/%s", dpath, names[s]);
-					pc_eval_truth t;
+				}
+				for (int tr = 0; tr < NTRACKS && !rc; tr++) {
 					pc_view raw;
 					pc_eval_truth tk[3];
-					int rc = names[s] && ns < MAXSC ? pc_truth_load(sp, &t)
-					                                : PC_ENOMEM;
-					if (rc) {
-						host->warn("%s: %s", sp, pc_error_detail());
-						free(names[s]);
-						continue;
-					}
 					rc = make_case(&t, tr, &raw, tk);
 					for (size_t q = 0; q < nm && !rc; q++) {
 						pc_eval_metrics mm = {0};
 						rc = score(&raw, tk, ms[q], (int)threads, reference,
 						           &mm);
-						s0[ns][q] = mm.psnr_s0;
-						dl[ns][q] = mm.psnr_dolp;
+						s0[tr][ns][q] = mm.psnr_s0;
+						dl[tr][ns][q] = mm.psnr_dolp;
 					}
 					free_case(&raw, tk);
-					pc_eval_truth_free(&t);
-					if (rc) {
-						host->warn("%s: %s", sp, pc_error_detail());
-						free(names[s]);
-						continue;
-					}
-					size_t len = strlen(datasets[d]) + strlen(names[s]) + 2;
-					sn[ns] = malloc(len);
-					if (sn[ns])
-						snprintf(sn[ns], len, "%s/%s", datasets[d],
-						         names[s]);
-					free(names[s]);
-					if (sn[ns])
-						ns++;
 				}
+				pc_eval_truth_free(&t);
+				if (rc) {
+					host->warn("%s: %s", sp, pc_error_detail());
+					continue;
+				}
+				size_t len = strlen(datasets[d]) + strlen(names[s]) + 2;
+				sn[ns] = malloc(len);
+				if (sn[ns])
+					snprintf(sn[ns], len, "%s/%s", datasets[d], names[s]);
+				if (sn[ns])
+					ns++;
 			}
-			if (!ns)
-				continue;
-			printf("colouring '%s': ", track_name[tr]);
-			json_t *jt = gain_table(sn, ns, s0, dl, ms, nm, bf);
-			json_object_set_new(jtracks, track_name[tr], jt);
-			for (size_t s = 0; s < ns; s++)
-				free(sn[s]);
+			for (size_t s = 0; s < nn; s++)
+				free(names[s]);
+			free(names);
 		}
+		for (int tr = 0; tr < NTRACKS && ns; tr++) {
+			printf("colouring '%s': ", track_name[tr]);
+			json_t *jt = gain_table(sn, ns, s0[tr], dl[tr], ms, nm, bf);
+			json_object_set_new(jtracks, track_name[tr], jt);
+		}
+		for (size_t s = 0; s < ns; s++)
+			free(sn[s]);
 	} else {
 		printf("no data directory (DATA_DIR or POLARCAM_DATA): accuracy skipped\n\n");
 	}
@@ -411,10 +380,10 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 		rc = pc_demosaic(&raw, q ? &col : &mono, tm[q], &op, o);
 	for (long r = 0; r < reps && wall && cpu && !rc; r++)
 		for (size_t q = 0; q < nt && !rc; q++) {
-			double t0 = bench_now(), c0 = cpu_s();
+			double t0 = bench_now(), c0 = bench_cpu_s();
 			rc = pc_demosaic(&raw, q ? &col : &mono, tm[q], &op, o);
 			wall[q * (size_t)reps + (size_t)r] = 1e3 * (bench_now() - t0);
-			cpu[q * (size_t)reps + (size_t)r] = 1e3 * (cpu_s() - c0);
+			cpu[q * (size_t)reps + (size_t)r] = 1e3 * (bench_cpu_s() - c0);
 		}
 	if (rc || !wall || !cpu) {
 		free(wall);
@@ -423,22 +392,17 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 		pc_view_free(&raw);
 		return host->fail(rc ? rc : PC_ENOMEM, "bench colour: timing");
 	}
-	double lavg[3] = {0};
-	FILE *la = fopen("/proc/loadavg", "r");
-	if (la) {
-		if (fscanf(la, "%lf %lf %lf", &lavg[0], &lavg[1], &lavg[2]) != 3)
-			lavg[0] = lavg[1] = lavg[2] = NAN;
-		fclose(la);
-	}
+	char lavg[128];
+	bench_loadavg(lavg, sizeof lavg);
 	printf("time per %ux%u frame, %d thread(s), median of %ld round-robin runs "
-	       "(load average at the end %.2f %.2f %.2f)\n%-16s %9s %7s %9s %7s\n",
-	       FW, FH, threads ? (int)threads : pc_parallel_max_threads(), reps, lavg[0], lavg[1],
-	       lavg[2], "method", "wall ms", "x bil", "cpu ms", "x bil");
+	       "(/proc/loadavg at the end: %s)\n%-16s %9s %7s %9s %7s\n",
+	       FW, FH, threads ? (int)threads : pc_parallel_max_threads(), reps, lavg, "method",
+	       "wall ms", "x bil", "cpu ms", "x bil");
 	double bw = 0, bc = 0;
 	json_t *jtime = json_array();
 	for (size_t q = 0; q < nt; q++) {
-		qsort(wall + q * (size_t)reps, (size_t)reps, sizeof *wall, cmp_dbl);
-		qsort(cpu + q * (size_t)reps, (size_t)reps, sizeof *cpu, cmp_dbl);
+		qsort(wall + q * (size_t)reps, (size_t)reps, sizeof *wall, bench_cmp_double);
+		qsort(cpu + q * (size_t)reps, (size_t)reps, sizeof *cpu, bench_cmp_double);
 		double mw = wall[q * (size_t)reps + (size_t)reps / 2],
 		       mc = cpu[q * (size_t)reps + (size_t)reps / 2];
 		if (q == 0)
