@@ -62,7 +62,6 @@ static void usage(FILE *fp)
 	    "examples:\n"
 	    "  polarcam eval data/gt/lapray-nir/* --method all\n"
 	    "  polarcam eval data/gt/lapray-nir/* --method ratio --json -\n"
-	    "  polarcam eval --stress scenes/stress/colour --method colour\n"
 	    "  polarcam eval data/gt/*/* --json results.json --overwrite\n");
 }
 
