@@ -344,9 +344,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                            "(worst +2.46/+0.36), hue patches +0.67/+1.15 (worst +0.52/+0.66); "
                            "colour stress suite (5 scenes) +1.32/+0.91 (worst +0.49/-0.02, "
                            "gratings)",
-                           "pan-guided's pass with two more guide images: 1.1-1.3x "
-                           "pan-guided, about 5.5-6.5x the mono bilinear's time (over the 5x "
-                           "budget)",
+                           "pan-guided's pass with two more guide images: 1.1-1.4x "
+                           "pan-guided, 5.5-6.9x the mono bilinear's time at load 2 (over the "
+                           "5x budget)",
                            "ours: pan-guided with a luminance-chrominance guide (Alleysson et "
                            "al., IEEE TIP 14(4) 2005; Kopf et al., SIGGRAPH 2007)",
                            PC_DMF_COLOR},
