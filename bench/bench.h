@@ -8,9 +8,12 @@
 #ifndef POLARCAM_BENCH_H
 #define POLARCAM_BENCH_H
 
+#include <dirent.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -73,6 +76,67 @@ static inline double bench_now(void)
 	struct timespec ts;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* CPU time of the whole process (all threads), seconds: unlike wall time, it does not grow
+ * while the shared machine's other work holds the cores. */
+static inline double bench_cpu_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* qsort comparators: C strings (through char *), doubles ascending */
+static inline int bench_cmp_str(const void *a, const void *b)
+{
+	return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static inline int bench_cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return x < y ? -1 : x > y;
+}
+
+/* The line of /proc/loadavg ("" where the system has none). */
+static inline void bench_loadavg(char *buf, size_t n)
+{
+	FILE *fp = fopen("/proc/loadavg", "r");
+	buf[0] = '\0';
+	if (fp) {
+		if (!fgets(buf, (int)n, fp))
+			buf[0] = '\0';
+		fclose(fp);
+	}
+	buf[strcspn(buf, "\n")] = '\0';
+}
+
+/* The entries of directory dir not starting with '.', in name order (a dataset's scenes):
+ * *names (free each and the array) and their count; 0 entries when dir cannot be opened. */
+static inline size_t bench_list_dir(const char *dir, char ***names)
+{
+	*names = NULL;
+	size_t n = 0;
+	DIR *dd = opendir(dir);
+	if (!dd)
+		return 0;
+	struct dirent *de;
+	while ((de = readdir(dd))) {
+		if (de->d_name[0] == '.')
+			continue;
+		char **nn = realloc(*names, sizeof **names * (n + 1));
+		if (!nn)
+			break;
+		*names = nn;
+		(*names)[n] = strdup(de->d_name);
+		if ((*names)[n])
+			n++;
+	}
+	closedir(dd);
+	if (n)
+		qsort(*names, n, sizeof **names, bench_cmp_str);
+	return n;
 }
 
 /* True when argv holds -h or --help (before a "--"). */

@@ -9,12 +9,11 @@
  *   patches  piecewise-constant hues on 37×29-pixel patches (eight colours, gains 0.08..1):
  *            hue edges that do not follow the scene's intensity edges, where a method that
  *            assumes colour ratios vary slowly is wrong. */
-#include <dirent.h>
+#include <glob.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 
 #include "bench.h"
 #include "polarcam/demosaic.h"
@@ -23,6 +22,7 @@
 #include "polarcam/frame.h"
 #include "polarcam/io.h"
 #include "polarcam/parallel.h"
+#include "polarcam/sim.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -96,58 +96,132 @@ static int score(const pc_view *raw, const pc_eval_truth tk[3], pc_demosaic_meth
                  int threads, bool reference, pc_eval_metrics *mean)
 {
 	pc_mosaic m = pc_mosaic_imx250myr();
-	uint32_t w = raw->width, h = raw->height;
-	float *buf = malloc(sizeof(float) * (size_t)w * h * 12);
-	if (!buf)
-		return pc_error(PC_ENOMEM, "colour planes");
-	pc_fplane o[12];
-	pc_fplanes_separate(buf, w, h, 12, o);
 	pc_demosaic_opts op = {threads, reference, 65535};
-	int rc = pc_demosaic(raw, &m, meth, &op, o);
-	memset(mean, 0, sizeof *mean);
-	for (unsigned k = 0; k < 3 && !rc; k++) {
-		pc_eval_metrics mk;
-		rc = pc_eval_score(&tk[k], &o[4 * k], 65535, &mk);
-		for (size_t q = 0; q < sizeof mk / sizeof(double); q++)
-			(&mean->psnr_i)[q] += (&mk.psnr_i)[q] / 3;
-	}
-	free(buf);
-	return rc;
-}
-
-static int cmp_str(const void *a, const void *b)
-{
-	return strcmp(*(char *const *)a, *(char *const *)b);
-}
-
-static double cpu_s(void)
-{
-	struct rusage ru;
-	getrusage(RUSAGE_SELF, &ru);
-	return (double)ru.ru_utime.tv_sec + (double)ru.ru_stime.tv_sec +
-	       1e-6 * (double)(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
-}
-
-static int cmp_dbl(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return x < y ? -1 : x > y;
+	return pc_eval_method_raw_colour(tk, raw, &m, meth, &op, mean);
 }
 
 #define MAXSC 64
+
+/* The per-scene table of gains over bayer-first (method bf of ms), S0 / DoLP PSNR, its mean
+ * and worst scene; returns the scenes' JSON. */
+static json_t *gain_table(char *const *sn, size_t ns, double (*s0)[PC_DM_COUNT],
+                          double (*dl)[PC_DM_COUNT], const pc_demosaic_method *ms, size_t nm,
+                          size_t bf)
+{
+	printf("gain over bayer-first in S0 / DoLP PSNR, dB (%zu scenes)\n%-26s %15s", ns, "scene",
+	       "bayer-first");
+	for (size_t q = 0; q < nm; q++)
+		if (q != bf)
+			printf(" %15s", pc_demosaic_method_get(ms[q])->name);
+	printf("\n");
+	double mean_s[PC_DM_COUNT] = {0}, mean_d[PC_DM_COUNT] = {0};
+	double worst_s[PC_DM_COUNT], worst_d[PC_DM_COUNT];
+	size_t ws[PC_DM_COUNT] = {0}, wd[PC_DM_COUNT] = {0};
+	json_t *jt = json_array();
+	for (size_t q = 0; q < nm; q++)
+		worst_s[q] = worst_d[q] = INFINITY;
+	for (size_t s = 0; s < ns; s++) {
+		printf("%-26s %7.2f/%7.2f", sn[s], s0[s][bf], dl[s][bf]);
+		json_t *js = json_object();
+		json_object_set_new(js, "scene", json_string(sn[s]));
+		for (size_t q = 0; q < nm; q++) {
+			double gs = s0[s][q] - s0[s][bf], gd = dl[s][q] - dl[s][bf];
+			mean_s[q] += gs / (double)ns;
+			mean_d[q] += gd / (double)ns;
+			if (gs < worst_s[q])
+				worst_s[q] = gs, ws[q] = s;
+			if (gd < worst_d[q])
+				worst_d[q] = gd, wd[q] = s;
+			json_t *jm = json_object();
+			json_object_set_new(jm, "s0_db", bench_json_real(s0[s][q]));
+			json_object_set_new(jm, "dolp_db", bench_json_real(dl[s][q]));
+			json_object_set_new(js, pc_demosaic_method_get(ms[q])->name, jm);
+			if (q != bf)
+				printf(" %+7.2f/%+7.2f", gs, gd);
+		}
+		json_array_append_new(jt, js);
+		printf("\n");
+	}
+	printf("%-26s %15s", "mean", "");
+	for (size_t q = 0; q < nm; q++)
+		if (q != bf)
+			printf(" %+7.2f/%+7.2f", mean_s[q], mean_d[q]);
+	printf("\n%-26s %15s", "worst scene", "");
+	for (size_t q = 0; q < nm; q++)
+		if (q != bf)
+			printf(" %+7.2f/%+7.2f", worst_s[q], worst_d[q]);
+	printf("\n");
+	for (size_t q = 0; q < nm; q++)
+		if (q != bf)
+			printf("  %s: worst S0 %s, worst DoLP %s\n",
+			       pc_demosaic_method_get(ms[q])->name, sn[ws[q]], sn[wd[q]]);
+	printf("\n");
+	return jt;
+}
+
+/* The colour stress suite (scenes/stress/colour): every .json scene of the directory rendered
+ * with its colour sensor and per-colour ground truth and scored by the library (pc_sim_eval_cases);
+ * per scene the gains over bayer-first. Returns the scenes' JSON, NULL when skipped. */
+static json_t *stress_track(const pc_bench_host *host, const char *dir,
+                            const pc_demosaic_method *ms, size_t nm, size_t bf, int threads,
+                            bool reference)
+{
+	char pat[4096];
+	snprintf(pat, sizeof pat, "%s/*.json", dir);
+	glob_t g;
+	if (glob(pat, 0, NULL, &g)) {
+		printf("colour stress suite: no scenes in %s: skipped\n\n", dir);
+		return NULL;
+	}
+	size_t ns = g.gl_pathc < MAXSC ? g.gl_pathc : MAXSC;
+	pc_eval_result *res = calloc(ns * nm, sizeof *res);
+	double(*s0)[PC_DM_COUNT] = calloc(ns, sizeof *s0),
+	(*dl)[PC_DM_COUNT] = calloc(ns, sizeof *dl);
+	char **sn = calloc(ns, sizeof *sn);
+	pc_demosaic_opts o = {threads, reference, 0};
+	int rc = res && s0 && dl && sn ? pc_sim_eval_cases((const char *const *)g.gl_pathv, ns, ms,
+	                                                   nm, &o, threads, &host->progress, res)
+	                               : pc_error(PC_ENOMEM, "colour stress suite");
+	host->progress_end(host->progress.user);
+	json_t *jt = NULL;
+	if (rc) {
+		host->warn("colour stress suite: %s", pc_error_detail());
+	} else {
+		for (size_t d = 0; d < ns; d++) {
+			const char *b = strrchr(g.gl_pathv[d], '/');
+			sn[d] = (char *)(b ? b + 1 : g.gl_pathv[d]);
+			for (size_t q = 0; q < nm; q++) {
+				s0[d][q] = res[d * nm + q].m.psnr_s0;
+				dl[d][q] = res[d * nm + q].m.psnr_dolp;
+			}
+		}
+		printf("colour stress suite (%s): ", dir);
+		jt = gain_table(sn, ns, s0, dl, ms, nm, bf);
+	}
+	free(res);
+	free(s0);
+	free(dl);
+	free(sn);
+	globfree(&g);
+	return jt;
+}
 
 int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 {
 	if (bench_wants_help(argc, argv)) {
 		printf(
-		    "usage: polarcam bench colour [DATA_DIR] [--reps N] [--threads N] [--methods "
-		    "A,B]\n"
-		    "                             [--reference] [--no-time] [--json]\n\n"
+		    "usage: polarcam bench colour [DATA_DIR] [--stress DIR] [--reps N] [--threads "
+		    "N]\n"
+		    "                             [--methods A,B] [--reference] [--no-time] "
+		    "[--json]\n\n"
 		    "Colour-polarization methods (IMX250MYR) on colourised ground truth: every "
 		    "scene of\nDATA_DIR/gt (default $POLARCAM_DATA) under two colourings, "
 		    "'smooth' (slowly varying\ngains) and 'patches' (piecewise-constant hues, "
 		    "edges unrelated to the scene's);\nper scene the S0 and DoLP PSNR gain "
-		    "over bayer-first, the mean and the worst scene.\nTime per 2448x2048 "
+		    "over bayer-first, the mean and the worst scene.\nThe colour stress suite: "
+		    "every scene of --stress DIR (default $POLARCAM_STRESS_COLOUR or\n"
+		    "./scenes/stress/colour; skipped when absent) rendered with per-colour ground "
+		    "truth,\nthe same gains.\nTime per 2448x2048 "
 		    "frame (median of N round-robin runs, default 5) as a multiple of\nthe "
 		    "monochrome bilinear's in the same run, wall and process CPU time.\n--methods "
 		    "names the colour methods to run (bayer-first always runs);\n--reference "
@@ -158,7 +232,9 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 	const char *data = getenv("POLARCAM_DATA");
 	long reps = 5, threads = 0;
 	bool json = false, reference = false, notime = false;
-	const char *only = NULL;
+	const char *only = NULL, *stress = getenv("POLARCAM_STRESS_COLOUR");
+	if (!stress)
+		stress = "scenes/stress/colour";
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
 			if (host->parse_long("--reps", argv[++i], 1, 1000, &reps))
@@ -168,6 +244,8 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 				return host->fail(PC_EINVAL, "--threads");
 		} else if (!strcmp(argv[i], "--json")) {
 			json = true;
+		} else if (!strcmp(argv[i], "--stress") && i + 1 < argc) {
+			stress = argv[++i];
 		} else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
 			only = argv[++i];
 		} else if (!strcmp(argv[i], "--reference")) {
@@ -203,123 +281,66 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 	/* ---- accuracy ---- */
 	if (data) {
 		static const char *const datasets[] = {"lapray-nir", "zhang"};
-		for (int tr = 0; tr < NTRACKS; tr++) {
-			double s0[MAXSC][PC_DM_COUNT], dl[MAXSC][PC_DM_COUNT];
-			char *sn[MAXSC];
-			size_t ns = 0;
-			for (size_t d = 0; d < 2; d++) {
-				char dpath[4096];
-				snprintf(dpath, sizeof dpath, "%s/gt/%s", data, datasets[d]);
-				DIR *dd = opendir(dpath);
-				if (!dd)
+		/* each scene read once, scored under both colourings */
+		static double s0[NTRACKS][MAXSC][PC_DM_COUNT], dl[NTRACKS][MAXSC][PC_DM_COUNT];
+		char *sn[MAXSC];
+		size_t ns = 0;
+		for (size_t d = 0; d < 2; d++) {
+			char dpath[4096];
+			snprintf(dpath, sizeof dpath, "%s/gt/%s", data, datasets[d]);
+			char **names = NULL;
+			size_t nn = bench_list_dir(dpath, &names);
+			for (size_t s = 0; s < nn; s++) {
+				char sp[8192];
+				snprintf(sp, sizeof sp, "%s/%s", dpath, names[s]);
+				pc_eval_truth t;
+				int rc = ns < MAXSC ? pc_truth_load(sp, &t) : PC_ENOMEM;
+				if (rc) {
+					host->warn("%s: %s", sp, pc_error_detail());
 					continue;
-				char *names[MAXSC];
-				size_t nn = 0;
-				struct dirent *de;
-				while ((de = readdir(dd)) && nn < MAXSC)
-					if (de->d_name[0] != '.')
-						names[nn++] = strdup(de->d_name);
-				closedir(dd);
-				qsort(names, nn, sizeof *names, cmp_str);
-				for (size_t s = 0; s < nn; s++) {
-					char sp[8192];
-					snprintf(sp, sizeof sp, "%s/%s", dpath, names[s]);
-					pc_eval_truth t;
+				}
+				for (int tr = 0; tr < NTRACKS && !rc; tr++) {
 					pc_view raw;
 					pc_eval_truth tk[3];
-					int rc = names[s] && ns < MAXSC ? pc_truth_load(sp, &t)
-					                                : PC_ENOMEM;
-					if (rc) {
-						host->warn("%s: %s", sp, pc_error_detail());
-						free(names[s]);
-						continue;
-					}
 					rc = make_case(&t, tr, &raw, tk);
 					for (size_t q = 0; q < nm && !rc; q++) {
 						pc_eval_metrics mm = {0};
 						rc = score(&raw, tk, ms[q], (int)threads, reference,
 						           &mm);
-						s0[ns][q] = mm.psnr_s0;
-						dl[ns][q] = mm.psnr_dolp;
+						s0[tr][ns][q] = mm.psnr_s0;
+						dl[tr][ns][q] = mm.psnr_dolp;
 					}
 					free_case(&raw, tk);
-					pc_eval_truth_free(&t);
-					if (rc) {
-						host->warn("%s: %s", sp, pc_error_detail());
-						free(names[s]);
-						continue;
-					}
-					size_t len = strlen(datasets[d]) + strlen(names[s]) + 2;
-					sn[ns] = malloc(len);
-					if (sn[ns])
-						snprintf(sn[ns], len, "%s/%s", datasets[d],
-						         names[s]);
-					free(names[s]);
-					if (sn[ns])
-						ns++;
 				}
-			}
-			if (!ns)
-				continue;
-			printf("colouring '%s': gain over bayer-first in S0 / DoLP PSNR, dB (%zu "
-			       "scenes)\n%-26s %15s",
-			       track_name[tr], ns, "scene", "bayer-first");
-			for (size_t q = 0; q < nm; q++)
-				if (q != bf)
-					printf(" %15s", pc_demosaic_method_get(ms[q])->name);
-			printf("\n");
-			double mean_s[PC_DM_COUNT] = {0}, mean_d[PC_DM_COUNT] = {0};
-			double worst_s[PC_DM_COUNT], worst_d[PC_DM_COUNT];
-			size_t ws[PC_DM_COUNT] = {0}, wd[PC_DM_COUNT] = {0};
-			json_t *jt = json_array();
-			for (size_t q = 0; q < nm; q++)
-				worst_s[q] = worst_d[q] = INFINITY;
-			for (size_t s = 0; s < ns; s++) {
-				printf("%-26s %7.2f/%7.2f", sn[s], s0[s][bf], dl[s][bf]);
-				json_t *js = json_object();
-				json_object_set_new(js, "scene", json_string(sn[s]));
-				for (size_t q = 0; q < nm; q++) {
-					double gs = s0[s][q] - s0[s][bf], gd = dl[s][q] - dl[s][bf];
-					mean_s[q] += gs / (double)ns;
-					mean_d[q] += gd / (double)ns;
-					if (gs < worst_s[q])
-						worst_s[q] = gs, ws[q] = s;
-					if (gd < worst_d[q])
-						worst_d[q] = gd, wd[q] = s;
-					json_t *jm = json_object();
-					json_object_set_new(jm, "s0_db", bench_json_real(s0[s][q]));
-					json_object_set_new(jm, "dolp_db",
-					                    bench_json_real(dl[s][q]));
-					json_object_set_new(js, pc_demosaic_method_get(ms[q])->name,
-					                    jm);
-					if (q != bf)
-						printf(" %+7.2f/%+7.2f", gs, gd);
+				pc_eval_truth_free(&t);
+				if (rc) {
+					host->warn("%s: %s", sp, pc_error_detail());
+					continue;
 				}
-				json_array_append_new(jt, js);
-				printf("\n");
+				size_t len = strlen(datasets[d]) + strlen(names[s]) + 2;
+				sn[ns] = malloc(len);
+				if (sn[ns])
+					snprintf(sn[ns], len, "%s/%s", datasets[d], names[s]);
+				if (sn[ns])
+					ns++;
 			}
-			printf("%-26s %15s", "mean", "");
-			for (size_t q = 0; q < nm; q++)
-				if (q != bf)
-					printf(" %+7.2f/%+7.2f", mean_s[q], mean_d[q]);
-			printf("\n%-26s %15s", "worst scene", "");
-			for (size_t q = 0; q < nm; q++)
-				if (q != bf)
-					printf(" %+7.2f/%+7.2f", worst_s[q], worst_d[q]);
-			printf("\n");
-			for (size_t q = 0; q < nm; q++)
-				if (q != bf)
-					printf("  %s: worst S0 %s, worst DoLP %s\n",
-					       pc_demosaic_method_get(ms[q])->name, sn[ws[q]],
-					       sn[wd[q]]);
-			printf("\n");
-			json_object_set_new(jtracks, track_name[tr], jt);
-			for (size_t s = 0; s < ns; s++)
-				free(sn[s]);
+			for (size_t s = 0; s < nn; s++)
+				free(names[s]);
+			free(names);
 		}
+		for (int tr = 0; tr < NTRACKS && ns; tr++) {
+			printf("colouring '%s': ", track_name[tr]);
+			json_t *jt = gain_table(sn, ns, s0[tr], dl[tr], ms, nm, bf);
+			json_object_set_new(jtracks, track_name[tr], jt);
+		}
+		for (size_t s = 0; s < ns; s++)
+			free(sn[s]);
 	} else {
 		printf("no data directory (DATA_DIR or POLARCAM_DATA): accuracy skipped\n\n");
 	}
+	json_t *jst = stress_track(host, stress, ms, nm, bf, (int)threads, reference);
+	if (jst)
+		json_object_set_new(jtracks, "stress", jst);
 	json_object_set_new(root, "colourings", jtracks);
 	if (notime) {
 		if (json)
@@ -359,10 +380,10 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 		rc = pc_demosaic(&raw, q ? &col : &mono, tm[q], &op, o);
 	for (long r = 0; r < reps && wall && cpu && !rc; r++)
 		for (size_t q = 0; q < nt && !rc; q++) {
-			double t0 = bench_now(), c0 = cpu_s();
+			double t0 = bench_now(), c0 = bench_cpu_s();
 			rc = pc_demosaic(&raw, q ? &col : &mono, tm[q], &op, o);
 			wall[q * (size_t)reps + (size_t)r] = 1e3 * (bench_now() - t0);
-			cpu[q * (size_t)reps + (size_t)r] = 1e3 * (cpu_s() - c0);
+			cpu[q * (size_t)reps + (size_t)r] = 1e3 * (bench_cpu_s() - c0);
 		}
 	if (rc || !wall || !cpu) {
 		free(wall);
@@ -371,22 +392,17 @@ int pc_bench_colour(const pc_bench_host *host, int argc, char **argv)
 		pc_view_free(&raw);
 		return host->fail(rc ? rc : PC_ENOMEM, "bench colour: timing");
 	}
-	double lavg[3] = {0};
-	FILE *la = fopen("/proc/loadavg", "r");
-	if (la) {
-		if (fscanf(la, "%lf %lf %lf", &lavg[0], &lavg[1], &lavg[2]) != 3)
-			lavg[0] = lavg[1] = lavg[2] = NAN;
-		fclose(la);
-	}
+	char lavg[128];
+	bench_loadavg(lavg, sizeof lavg);
 	printf("time per %ux%u frame, %d thread(s), median of %ld round-robin runs "
-	       "(load average at the end %.2f %.2f %.2f)\n%-16s %9s %7s %9s %7s\n",
-	       FW, FH, threads ? (int)threads : pc_parallel_max_threads(), reps, lavg[0], lavg[1],
-	       lavg[2], "method", "wall ms", "x bil", "cpu ms", "x bil");
+	       "(/proc/loadavg at the end: %s)\n%-16s %9s %7s %9s %7s\n",
+	       FW, FH, threads ? (int)threads : pc_parallel_max_threads(), reps, lavg, "method",
+	       "wall ms", "x bil", "cpu ms", "x bil");
 	double bw = 0, bc = 0;
 	json_t *jtime = json_array();
 	for (size_t q = 0; q < nt; q++) {
-		qsort(wall + q * (size_t)reps, (size_t)reps, sizeof *wall, cmp_dbl);
-		qsort(cpu + q * (size_t)reps, (size_t)reps, sizeof *cpu, cmp_dbl);
+		qsort(wall + q * (size_t)reps, (size_t)reps, sizeof *wall, bench_cmp_double);
+		qsort(cpu + q * (size_t)reps, (size_t)reps, sizeof *cpu, bench_cmp_double);
 		double mw = wall[q * (size_t)reps + (size_t)reps / 2],
 		       mc = cpu[q * (size_t)reps + (size_t)reps / 2];
 		if (q == 0)

@@ -11,7 +11,6 @@
  * with its store kind), a copy of bilinear's input and output bytes and, when OpenCV is built in,
  * OpenCV's bilinear 16-bit Bayer demosaicking of the same frame — all measured in the same run, so
  * that the ratios hold even when the machine is shared. */
-#include <dirent.h>
 #include <glob.h>
 #include <jansson.h>
 #include <math.h>
@@ -50,47 +49,15 @@ static double now_s(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* CPU time of the whole process (all threads): unlike wall time, it does not grow while the
- * shared machine's other work holds the cores. */
-static double cpu_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_str(const void *a, const void *b)
-{
-	return strcmp(*(char *const *)a, *(char *const *)b);
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return x < y ? -1 : x > y;
-}
-
 typedef struct timing {
 	double median_ms, min_ms, cpu_ms; /* wall median and minimum, CPU-time median */
 } timing;
 
 static timing summarize(double *t, int n)
 {
-	qsort(t, (size_t)n, sizeof *t, cmp_double);
+	qsort(t, (size_t)n, sizeof *t, bench_cmp_double);
 	timing r = {1e3 * (n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2])), 1e3 * t[0], NAN};
 	return r;
-}
-
-static void loadavg(char *buf, size_t n)
-{
-	FILE *fp = fopen("/proc/loadavg", "r");
-	buf[0] = '\0';
-	if (fp) {
-		if (!fgets(buf, (int)n, fp))
-			buf[0] = '\0';
-		fclose(fp);
-	}
-	buf[strcspn(buf, "\n")] = '\0';
 }
 
 /* ---- the timing frame ---- */
@@ -736,7 +703,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	FILE *tf = json_out ? stderr : stdout;
 	int nthreads = threads ? (int)threads : pc_parallel_max_threads();
 	char load0[128], load1[128];
-	loadavg(load0, sizeof load0);
+	bench_loadavg(load0, sizeof load0);
 	fprintf(tf,
 	        "polarcam bench demosaic: %d thread(s), %s kernels, median of %ld runs; load "
 	        "average at start: %s\n",
@@ -894,7 +861,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		for (int j = 0; j < J_N; j++) {
 			if (j < PC_DM_COUNT && (rows[j].skip || rows[j].once))
 				continue;
-			double t0 = now_s(), c0 = cpu_s();
+			double t0 = now_s(), c0 = bench_cpu_s();
 			if (j < PC_DM_COUNT) {
 				const pc_mosaic *m = rows[j].colour ? &colour : &mono;
 				rc = pc_demosaic(&raw, m, rows[j].m, &opts, planes);
@@ -935,7 +902,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 				                        FW, FH, nthreads, err, sizeof err);
 #endif
 			}
-			double dt = now_s() - t0, dc = cpu_s() - c0;
+			double dt = now_s() - t0, dc = bench_cpu_s() - c0;
 			if (rep >= 0) {
 				tj[(size_t)j * (size_t)reps + (size_t)rep] = dt;
 				cj_t[(size_t)j * (size_t)reps + (size_t)rep] = dc;
@@ -950,9 +917,9 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		if (rows[j].skip || !rows[j].once)
 			continue;
 		pc_progress_report(&host->progress, pc_demosaic_method_get(rows[j].m)->name, 0, 1);
-		double t0 = now_s(), c0 = cpu_s();
+		double t0 = now_s(), c0 = bench_cpu_s();
 		rc = pc_demosaic(&raw, &mono, rows[j].m, &opts, planes);
-		double dt = now_s() - t0, dc = cpu_s() - c0;
+		double dt = now_s() - t0, dc = bench_cpu_s() - c0;
 		host->progress_end(host->progress.user);
 		if (rc)
 			return host->fail(rc, pc_demosaic_method_get(rows[j].m)->name);
@@ -1008,24 +975,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 			snprintf(dpath, sizeof dpath, "%.2047s/%s", gt, datasets[d]);
 			/* scenes: the sub-directories, in name order */
 			char **names = NULL;
-			size_t nscenes = 0;
-			DIR *dd = opendir(dpath);
-			if (!dd)
-				continue;
-			struct dirent *de;
-			while ((de = readdir(dd))) {
-				if (de->d_name[0] == '.')
-					continue;
-				char **nn = realloc(names, sizeof *names * (nscenes + 1));
-				if (!nn)
-					break;
-				names = nn;
-				names[nscenes] = strdup(de->d_name);
-				if (names[nscenes])
-					nscenes++;
-			}
-			closedir(dd);
-			qsort(names, nscenes, sizeof *names, cmp_str);
+			size_t nscenes = bench_list_dir(dpath, &names);
 			if (!nscenes) {
 				free(names);
 				continue;
@@ -1152,7 +1102,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		else
 			have_noisy = 1;
 	}
-	loadavg(load1, sizeof load1);
+	bench_loadavg(load1, sizeof load1);
 
 	/* ---------------- report ---------------- */
 	double bil = 0, bil_cpu = 0, bil_min = 0;

@@ -217,6 +217,42 @@ int pc_eval_method_raw(const pc_eval_truth *t, const pc_view *raw, const pc_mosa
 	return rc;
 }
 
+int pc_eval_method_raw_colour(const pc_eval_truth t[3], const pc_view *raw, const pc_mosaic *m,
+                              pc_demosaic_method method, const pc_demosaic_opts *opts,
+                              pc_eval_metrics *out)
+{
+	memset(out, 0, sizeof *out);
+	for (int k = 0; k < 3; k++)
+		if (raw->width != t[k].width || raw->height != t[k].height)
+			return pc_error(
+			    PC_EINVAL,
+			    "evaluation: raw %ux%u, colour %d's truth %ux%u: sizes differ",
+			    raw->width, raw->height, k, t[k].width, t[k].height);
+	if (!(pc_demosaic_method_get(method)->flags & PC_DMF_COLOR))
+		return pc_error(PC_EINVAL,
+		                "evaluation: %s is not a colour-polarization method (the "
+		                "colour scores need the twelve colour planes)",
+		                pc_demosaic_method_get(method)->name);
+	const uint32_t w = raw->width, h = raw->height;
+	float *buf = malloc(sizeof(float) * (size_t)w * h * 12);
+	if (!buf)
+		return pc_error(PC_ENOMEM, "evaluation: colour planes of %ux%u", w, h);
+	pc_fplane est[12];
+	pc_fplanes_separate(buf, w, h, 12, est);
+	pc_demosaic_opts o = opts ? *opts : (pc_demosaic_opts){0, false, 0};
+	if (!(o.full_scale > 0))
+		o.full_scale = t[0].full_scale;
+	int rc = pc_demosaic(raw, m, method, &o, est);
+	for (int k = 0; k < 3 && !rc; k++) {
+		pc_eval_metrics mk;
+		rc = pc_eval_score(&t[k], &est[4 * k], o.full_scale, &mk);
+		for (size_t q = 0; q < sizeof mk / sizeof(double); q++)
+			(&out->psnr_i)[q] += (&mk.psnr_i)[q] / 3;
+	}
+	free(buf);
+	return rc;
+}
+
 int pc_eval_method(const pc_eval_truth *t, pc_demosaic_method method, const pc_demosaic_opts *opts,
                    pc_eval_metrics *out)
 {

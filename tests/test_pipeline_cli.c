@@ -508,6 +508,11 @@ static void test_eval_cmd(void)
 	CHECK(!strcmp(json_string_value(json_object_get(sc, "dataset")), "gt"));
 	json_decref(root);
 	pc_eval_truth_free(&t);
+	/* a colour method on a monochrome truth: refused, saying why (colour scenes: test_stress)
+	 */
+	snprintf(args, sizeof args, "eval %s --method pan-chroma", tmp("gt/scene"));
+	CHECK(run(args) != 0);
+	CHECK(file_contains(tmp("err.txt"), "colour-polarization"));
 	/* a missing analyser image: exit 2 naming it */
 	CHECK_EQ_INT(unlink(tmp("gt/scene/45.tif")), 0);
 	snprintf(args, sizeof args, "eval %s", tmp("gt/scene"));

@@ -39,13 +39,18 @@ static void usage(FILE *fp)
 	    "directory above the scenes), the mean over its scenes; datasets are never pooled.\n"
 	    "Bilinear is always run as the baseline: per dataset and method, the mean gain over\n"
 	    "bilinear in S0 and DoLP and the worst scene's (with its name) are reported.\n"
+	    "Colour-polarization methods (--method colour, or one by name) need scenes with a\n"
+	    "colour sensor (the colour stress suite: scenes/stress/colour): each colour's four\n"
+	    "analyser images are scored against its own truth and the three colours' metrics\n"
+	    "averaged; bayer-first is then the baseline.\n"
 	    "\n"
 	    "options:\n"
 	    "  --stress DIR       add every DIR/*.json scene (the stress suite: scenes/stress)\n"
 	    "  --data DIR         add every public-dataset scene DIR/gt/*/* (skipped with a note\n"
 	    "                     when DIR/gt is absent); default $POLARCAM_DATA when set\n"
-	    "  --method NAME|all  a method of `polarcam demosaic --list` (default: all methods\n"
-	    "                     for monochrome mosaics)\n"
+	    "  --method NAME|all|colour  a method of `polarcam demosaic --list` (default all:\n"
+	    "                     every method for monochrome mosaics; colour: every colour\n"
+	    "                     method)\n"
 	    "  --json -|PATH      print the results as one JSON line on stdout instead of the\n"
 	    "                     table (-), or also write them as JSON to PATH (atomically;\n"
 	    "                     an existing PATH is refused unless --overwrite)\n"
@@ -95,9 +100,11 @@ static const char *base_name(const char *path)
 }
 
 /* The table (per scene, then the mean of each dataset and method, then the gains over
- * bilinear with the worst scene); returns the means and gains as JSON. */
-static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
+ * the baseline, bilinear or bayer-first, with the worst scene); returns the means and gains as
+ * JSON. */
+static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres, pc_demosaic_method base)
 {
+	const char *bname = pc_demosaic_method_get(base)->name;
 	fprintf(tf, "%-28s %-10s %8s %8s %8s %8s %8s %8s %8s\n", "scene", "method", "I", "S0", "S1",
 	        "S2", "DoLP", "AoLP", "wAoLP");
 	fprintf(tf, "%-28s %-10s %8s %8s %8s %8s %8s %8s %8s\n", "", "", "dB", "dB", "dB", "dB",
@@ -124,8 +131,7 @@ static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
 		                    json_string(pc_demosaic_method_get(res[i].method)->name));
 		json_object_set_new(o, "scenes", json_integer(cnt));
 		pc_eval_gain g;
-		if (pc_eval_dataset_gain(res, nres, res[i].dataset, res[i].method, PC_DM_BILINEAR,
-		                         &g)) {
+		if (pc_eval_dataset_gain(res, nres, res[i].dataset, res[i].method, base, &g)) {
 			json_t *gj = json_object();
 			json_object_set_new(gj, "s0_mean", cli_json_real(g.s0_mean));
 			json_object_set_new(gj, "dolp_mean", cli_json_real(g.dolp_mean));
@@ -135,11 +141,14 @@ static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
 			json_object_set_new(gj, "dolp_worst", cli_json_real(g.dolp_worst));
 			json_object_set_new(gj, "dolp_worst_scene",
 			                    json_string(base_name(g.dolp_worst_scene)));
-			json_object_set_new(o, "gain_over_bilinear_db", gj);
+			json_object_set_new(o,
+			                    base == PC_DM_BILINEAR ? "gain_over_bilinear_db"
+			                                           : "gain_over_bayer_first_db",
+			                    gj);
 		}
 		json_array_append_new(jd, o);
 	}
-	fprintf(tf, "\ngain over bilinear (dB), per dataset: mean, and the worst scene\n");
+	fprintf(tf, "\ngain over %s (dB), per dataset: mean, and the worst scene\n", bname);
 	fprintf(tf, "%-20s %-12s %8s %8s %8s %-20s %8s %-20s\n", "dataset", "method", "S0", "DoLP",
 	        "worst S0", "(scene)", "worstDoLP", "(scene)");
 	for (size_t i = 0; i < nres; i++) {
@@ -148,9 +157,8 @@ static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres)
 			seen |= !strcmp(res[j].dataset, res[i].dataset) &&
 			        res[j].method == res[i].method;
 		pc_eval_gain g;
-		if (seen || res[i].method == PC_DM_BILINEAR ||
-		    !pc_eval_dataset_gain(res, nres, res[i].dataset, res[i].method, PC_DM_BILINEAR,
-		                          &g))
+		if (seen || res[i].method == base ||
+		    !pc_eval_dataset_gain(res, nres, res[i].dataset, res[i].method, base, &g))
 			continue;
 		fprintf(tf, "%-20.20s %-12s %+8.3f %+8.3f %+8.3f %-20.20s %+8.3f %-20.20s\n",
 		        res[i].dataset, pc_demosaic_method_get(res[i].method)->name, g.s0_mean,
@@ -192,31 +200,37 @@ static int write_json(const char *json_path, const pc_eval_result *res, size_t n
 	return rc ? cli_fail(rc, json_path) : CLI_EXIT_OK;
 }
 
-/* the methods of --method NAME|all */
+/* the methods of --method NAME|all|colour, the baseline last: bilinear, or bayer-first for
+ * colour-polarization methods (scored on colour scenes) */
 static int methods_of(const char *arg, pc_demosaic_method *methods, size_t *n)
 {
 	*n = 0;
-	if (!strcmp(arg, "all")) {
+	const bool colour = !strcmp(arg, "colour");
+	if (colour || !strcmp(arg, "all")) {
 		for (int k = 0; k < PC_DM_COUNT; k++) {
 			const pc_demosaic_method_info *mi =
 			    pc_demosaic_method_get((pc_demosaic_method)k);
-			if ((mi->flags & PC_DMF_MONO) && !(mi->flags & PC_DMF_HALF_RES))
+			bool want =
+			    colour
+			        ? (mi->flags & PC_DMF_COLOR) &&
+			              !(mi->flags & PC_DMF_REFERENCE_ONLY) && k != PC_DM_BAYER_FIRST
+			        : (mi->flags & PC_DMF_MONO) && !(mi->flags & PC_DMF_HALF_RES);
+			if (want)
 				methods[(*n)++] = (pc_demosaic_method)k;
 		}
+		if (colour)
+			methods[(*n)++] = PC_DM_BAYER_FIRST;
 		return CLI_EXIT_OK;
 	}
 	int rc = pc_demosaic_method_from_name(arg, &methods[0]);
 	if (rc)
 		return cli_fail(rc, "--method");
-	if (!(pc_demosaic_method_get(methods[0])->flags & PC_DMF_MONO))
-		return cli_error(CLI_EXIT_USAGE,
-		                 "--method %s: the protocol mosaics with the "
-		                 "monochrome Sony layout; this method needs a "
-		                 "colour-polarization mosaic",
-		                 arg);
 	*n = 1;
-	if (methods[0] != PC_DM_BILINEAR) /* the baseline, always */
-		methods[(*n)++] = PC_DM_BILINEAR;
+	const pc_demosaic_method base = pc_demosaic_method_get(methods[0])->flags & PC_DMF_MONO
+	                                    ? PC_DM_BILINEAR
+	                                    : PC_DM_BAYER_FIRST;
+	if (methods[0] != base) /* the baseline, always */
+		methods[(*n)++] = base;
 	return CLI_EXIT_OK;
 }
 
@@ -242,7 +256,8 @@ static int run(const char *const *dirs, size_t ndirs, const char *method_arg, co
 		return cli_fail(rc, NULL);
 	}
 	size_t nres = ndirs * nmeth;
-	json_t *jd = report(json_path && !strcmp(json_path, "-") ? stderr : stdout, res, nres);
+	json_t *jd = report(json_path && !strcmp(json_path, "-") ? stderr : stdout, res, nres,
+	                    methods[nmeth - 1]);
 	if (json_path)
 		status = write_json(json_path, res, nres, reference, jd);
 	else

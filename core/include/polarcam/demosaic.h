@@ -61,6 +61,7 @@ typedef enum pc_demosaic_method {
 	PC_DM_RATIO_NR,    /* ratio with a shot-noise-aware guide level (ours) */
 	PC_DM_PAN_RATIO,   /* colour only: ratios to a pseudo-panchromatic guide (ours) */
 	PC_DM_PAN_GUIDED,  /* colour only: pan-ratio with guide-weighted (bilateral) tents */
+	PC_DM_PAN_CHROMA,  /* colour only: pan-guided whose guide also sees hue (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 

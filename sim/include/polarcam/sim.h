@@ -249,12 +249,18 @@ PC_API double pc_sim_dn_per_radiance(const pc_sim *sim, const pc_sim_controls *c
  * pc_view_free; score with pc_eval_method_raw and the frame's mosaic (pc_sim_get_info). */
 PC_API int pc_sim_eval_case(pc_sim *sim, pc_eval_truth *truth, pc_view *raw);
 
+/* The same for a colour sensor (colour_channels 3, e.g. the imx250myr preset): truth[k] is
+ * colour k's (R, G, B) four ideal-analyser images, each scaled by its own
+ * pc_sim_dn_per_radiance. Score with pc_eval_method_raw_colour. */
+PC_API int pc_sim_eval_colour_case(pc_sim *sim, pc_eval_truth truth[3], pc_view *raw);
+
 /* Scores each method on each evaluation case into res[d·nmeth + k] (as pc_eval_dirs): a path
  * ending in .json is a scene, loaded and rendered by pc_sim_eval_case (its frame 0 with its
- * sensor, scored against the noise-free truth; the dataset is the scene's directory), any
- * other a truth directory (pc_truth_load, mosaicked with the Sony layout). threads: the
- * renderer's (0: default); opts as pc_eval_method (may be NULL); progress (may be NULL):
- * phase "eval", results done. Errors name the path. pc_eval_result: polarcam/io.h. */
+ * sensor, scored against the noise-free truth; the dataset is the scene's directory; a colour
+ * sensor's by pc_sim_eval_colour_case and pc_eval_method_raw_colour, which need colour
+ * methods), any other a truth directory (pc_truth_load, mosaicked with the Sony layout). threads:
+ * the renderer's (0: default); opts as pc_eval_method (may be NULL); progress (may be NULL): phase
+ * "eval", results done. Errors name the path. pc_eval_result: polarcam/io.h. */
 struct pc_eval_result;
 PC_API int pc_sim_eval_cases(const char *const *paths, size_t n, const pc_demosaic_method *methods,
                              size_t nmeth, const pc_demosaic_opts *opts, int threads,
