@@ -305,9 +305,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(worst +2.36/+0.16, +1.70/+0.15, +0.36/+0.15: no loss without denoising); "
           "the recommended choice"
           "; held-out (scenes/heldout, 12) +4.67/+1.57 (+2.36/+0.31)",
-          "ratio's passes with a 3x3 guide variance per pixel; about 3-4x bilinear's "
-          "time with ordinary stores, about 4-5x where bilinear's output streams "
-          "(AVX-512 machines; docs/demosaicking.md)",
+          "ratio's passes with a 3x3 guide variance per pixel; about 3x bilinear's "
+          "time with ordinary stores, 3.9x where bilinear's output streams "
+          "(AVX-512 machines, idle; docs/demosaicking.md)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
           "2013) and a Poisson noise variance",
           PC_DMF_MONO},
@@ -344,7 +344,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                            "hue patches +0.38/+0.96 (worst +0.25/+0.59); colour stress suite "
                            "(5 scenes) +1.33/+0.87 (worst +0.66/-0.05, gratings)",
                            "pan-ratio's pass with a weight per tap, 1.15-1.25x pan-ratio; "
-                           "4.4-5.4x the mono bilinear's time on a quiet machine, more "
+                           "4.4-5.4x the mono bilinear's time on a quiet machine, 5.2x "
                            "where bilinear's output streams (docs/demosaicking.md)",
                            "ours: pan-ratio with joint-bilateral weights (Tomasi & Manduchi, "
                            "ICCV 1998; Kopf et al., SIGGRAPH 2007)",
