@@ -380,7 +380,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         "(worst +1.72/+2.28); colour stress suite (5 scenes) +1.75/+1.75 "
                         "(worst +0.51/+0.38, gratings)",
                         "the double reference (no fast path yet): hundreds of times bilinear; "
-                        "a fast path would cost about 5-6x pan-chroma (docs/demosaicking.md)",
+                        "a fast path, estimated at 3-6x pan-chroma, would be over the 5x "
+                        "budget (docs/demosaicking.md, Round 8)",
                         "ours: pan-chroma with directional candidates (Hirakawa & Parks, IEEE "
                         "TIP 14(3) 2005) blended as in GBTF (Pekkucuksen & Altunbasak, ICIP "
                         "2010)",
