@@ -59,6 +59,7 @@ static int make_case(const pc_eval_truth *t, int track, pc_view *raw, pc_eval_tr
 	int rc = pc_view_alloc(raw, PC_FMT_MONO16, w, h, 0);
 	for (int k = 0; k < 3; k++) {
 		tk[k] = *t;
+		tk[k].full_scale = 65535; /* the raw's container */
 		for (int c = 0; c < 4; c++)
 			tk[k].ch[c] = rc ? NULL : malloc(sizeof(double) * n);
 	}

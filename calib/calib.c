@@ -35,6 +35,20 @@ void pc_calib_free(pc_calib *cal)
 	pc_calib_init(cal);
 }
 
+void pc_calib_unprepare(pc_calib *cal)
+{
+	free(cal->pinv_px);
+	cal->pinv_px = NULL;
+	cal->pinv_method = -1;
+	free(cal->apply_ig);
+	cal->apply_ig = NULL;
+	free(cal->apply_q);
+	cal->apply_q = NULL;
+	free(cal->apply_dis);
+	cal->apply_dis = NULL;
+	memset(&cal->apply_vec, 0, sizeof cal->apply_vec);
+}
+
 static int dup_map(void **dst, const void *src, size_t bytes)
 {
 	*dst = NULL;
@@ -782,14 +796,7 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 			                    ? remainder(theta[k] / DEG, 180.0) + 180
 			                    : remainder(theta[k] / DEG, 180.0);
 	out->parts |= PC_CAL_ANALYSER;
-	free(out->pinv_px);
-	out->pinv_px = NULL;
-	out->pinv_method = -1;
-	free(out->apply_q);
-	out->apply_q = NULL;
-	free(out->apply_dis);
-	out->apply_dis = NULL;
-	memset(&out->apply_vec, 0, sizeof out->apply_vec);
+	pc_calib_unprepare(out); /* made from the old analysers */
 	rc = 0;
 out:
 	free(I);
@@ -1189,7 +1196,11 @@ static int compact_calib(pc_calib *cal, int threads)
 	size_t nd = 0;
 	for (size_t p = 0; !rc && cal->valid && p < np; p++)
 		nd += !cal->valid[p];
-	if (!rc && cal->valid && !(dis = malloc(((size_t)H + 1 + (nd ? nd : 1)) * sizeof *dis)))
+	/* none: no list, and a frame's validity skips it altogether */
+	if (!rc && nd > UINT32_MAX)
+		rc = pc_error(PC_ERANGE, "calibration: %zu distrusted samples: at most %u", nd,
+		              (unsigned)UINT32_MAX);
+	if (!rc && nd && !(dis = malloc(((size_t)H + 1 + nd) * sizeof *dis)))
 		rc = pc_error(PC_ENOMEM, "calibration: %zu distrusted samples", nd);
 	if (!rc && dis) {
 		uint32_t *xs = dis + H + 1, n = 0;

@@ -65,7 +65,6 @@ if(NOT PC_WITH_OPENMP STREQUAL "OFF")
   endif()
 endif()
 
-find_library(PC_LIBM m)
 # POSIX threads (the capture's writer thread): found here so that the imported target is visible
 # where libpolarcam is linked
 find_package(Threads REQUIRED)

@@ -656,6 +656,30 @@ int pc_dm_plan_check_validity(const pc_dm_plan *p, const pc_validity *v)
 	return 0;
 }
 
+int pc_dm_check_distrust(const pc_compact_calib *v, uint32_t width, uint32_t height)
+{
+	if (v->distrust_row && (v->width != width || v->height != height))
+		return pc_error(PC_EINVAL, "Stokes: compact calibration %ux%u for a %ux%u raw",
+		                v->width, v->height, width, height);
+	if (!v->distrust_row != !v->distrust_x)
+		return pc_error(PC_EINVAL, "Stokes: compact calibration: distrust_row and "
+		                           "distrust_x go together");
+	for (uint32_t y = 0; v->distrust_row && y < v->height; y++) {
+		if (v->distrust_row[y + 1] < v->distrust_row[y])
+			return pc_error(PC_EINVAL,
+			                "Stokes: compact calibration: distrust_row decreases at "
+			                "row %u",
+			                y);
+		for (uint32_t i = v->distrust_row[y]; i < v->distrust_row[y + 1]; i++)
+			if (v->distrust_x[i] >= v->width)
+				return pc_error(PC_EINVAL,
+				                "Stokes: compact calibration: distrusted sample "
+				                "(%u,%u) outside the %ux%u raw",
+				                v->distrust_x[i], y, v->width, v->height);
+	}
+	return 0;
+}
+
 int pc_dm_plan_validity(pc_dm_plan *p, pc_validity *v)
 {
 	const pc_dm_input *in;
@@ -663,6 +687,11 @@ int pc_dm_plan_validity(pc_dm_plan *p, pc_validity *v)
 	pc_dm_levels lv = {p->opts.saturation_level, p->opts.dead_level, p->opts.trusted, NULL,
 	                   NULL};
 	if (p->opts.compact && p->opts.compact->distrust_row) {
+		/* checked here too: pc_validity_run takes the list without pc_stokes_run's checks
+		 */
+		int rc = pc_dm_check_distrust(p->opts.compact, p->raw->width, p->raw->height);
+		if (rc)
+			return rc;
 		lv.dis_row = p->opts.compact->distrust_row;
 		lv.dis_x = p->opts.compact->distrust_x;
 	}

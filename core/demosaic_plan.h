@@ -83,5 +83,9 @@ int pc_dm_plan_check_validity(const pc_dm_plan *p, const pc_validity *v);
 
 /* Fills the validity output (mask and count) from the raw and the method's support. */
 int pc_dm_plan_validity(pc_dm_plan *p, pc_validity *v);
+/* A compact calibration's list of distrusted samples (distrust_row/distrust_x, both or
+ * neither) for a width × height raw: the sizes match, the row offsets never decrease and
+ * every column is inside the raw. 0 or PC_EINVAL naming the fault. */
+int pc_dm_check_distrust(const struct pc_compact_calib *v, uint32_t width, uint32_t height);
 
 #endif

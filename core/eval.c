@@ -222,17 +222,26 @@ int pc_eval_method_raw_colour(const pc_eval_truth t[3], const pc_view *raw, cons
                               pc_eval_metrics *out)
 {
 	memset(out, 0, sizeof *out);
-	for (int k = 0; k < 3; k++)
+	for (int k = 0; k < 3; k++) {
 		if (raw->width != t[k].width || raw->height != t[k].height)
 			return pc_error(
 			    PC_EINVAL,
 			    "evaluation: raw %ux%u, colour %d's truth %ux%u: sizes differ",
 			    raw->width, raw->height, k, t[k].width, t[k].height);
-	if (!(pc_demosaic_method_get(method)->flags & PC_DMF_COLOR))
+		if (t[k].full_scale != t[0].full_scale)
+			return pc_error(PC_EINVAL,
+			                "evaluation: colour %d's truth has full scale %g, colour "
+			                "0's %g: expected one full scale",
+			                k, t[k].full_scale, t[0].full_scale);
+	}
+	const pc_demosaic_method_info *mi = pc_demosaic_method_get(method);
+	if (!mi)
+		return pc_error(PC_EINVAL, "evaluation: method %d: unknown", (int)method);
+	if (!(mi->flags & PC_DMF_COLOR))
 		return pc_error(PC_EINVAL,
 		                "evaluation: %s is not a colour-polarization method (the "
 		                "colour scores need the twelve colour planes)",
-		                pc_demosaic_method_get(method)->name);
+		                mi->name);
 	const uint32_t w = raw->width, h = raw->height;
 	float *buf = malloc(sizeof(float) * (size_t)w * h * 12);
 	if (!buf)
@@ -243,12 +252,15 @@ int pc_eval_method_raw_colour(const pc_eval_truth t[3], const pc_view *raw, cons
 	if (!(o.full_scale > 0))
 		o.full_scale = t[0].full_scale;
 	int rc = pc_demosaic(raw, m, method, &o, est);
+	/* scored on the truths' full scale, as pc_eval_method_raw */
 	for (int k = 0; k < 3 && !rc; k++) {
 		pc_eval_metrics mk;
-		rc = pc_eval_score(&t[k], &est[4 * k], o.full_scale, &mk);
-		for (size_t q = 0; q < sizeof mk / sizeof(double); q++)
+		rc = pc_eval_score(&t[k], &est[4 * k], t[k].full_scale, &mk);
+		for (size_t q = 0; !rc && q < sizeof mk / sizeof(double); q++)
 			(&out->psnr_i)[q] += (&mk.psnr_i)[q] / 3;
 	}
+	if (rc)
+		memset(out, 0, sizeof *out);
 	free(buf);
 	return rc;
 }

@@ -171,23 +171,7 @@ static int check_compact(const pc_dm_plan *p, const pc_compact_calib *v)
 	if (!ok)
 		return pc_error(PC_EINVAL, "Stokes: compact calibration: a base or scale is not "
 		                           "finite");
-	if (!v->distrust_row != !v->distrust_x)
-		return pc_error(PC_EINVAL, "Stokes: compact calibration: distrust_row and "
-		                           "distrust_x go together");
-	for (uint32_t y = 0; v->distrust_row && y < v->height; y++) {
-		if (v->distrust_row[y + 1] < v->distrust_row[y])
-			return pc_error(PC_EINVAL,
-			                "Stokes: compact calibration: distrust_row decreases at "
-			                "row %u",
-			                y);
-		for (uint32_t i = v->distrust_row[y]; i < v->distrust_row[y + 1]; i++)
-			if (v->distrust_x[i] >= v->width)
-				return pc_error(PC_EINVAL,
-				                "Stokes: compact calibration: distrusted sample "
-				                "(%u,%u) outside the %ux%u raw",
-				                v->distrust_x[i], y, v->width, v->height);
-	}
-	return 0;
+	return pc_dm_check_distrust(v, v->width, v->height);
 }
 
 /* Stokes from channel images: the vectorised planar kernel where it applies, else the scalar

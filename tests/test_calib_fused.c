@@ -213,15 +213,6 @@ static void compare_reference(const pc_calib *cal, const pc_view *raw, const dou
 }
 
 /* Drops what was prepared once from the calibration's maps (they were changed). */
-static void drop_prepared(pc_calib *cal)
-{
-	free(cal->apply_q);
-	cal->apply_q = NULL;
-	free(cal->apply_dis);
-	cal->apply_dis = NULL;
-	memset(&cal->apply_vec, 0, sizeof cal->apply_vec);
-}
-
 static int run_ref(pc_calib *cal, const pc_view *raw, outs *o, bool reference)
 {
 	pc_frame f;
@@ -303,14 +294,33 @@ static void levels_and_sizes(void)
 			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_EINVAL);
 			printf("compact of another size: %s\n", pc_error_detail());
 			/* a distrusted sample listed outside the raw */
-			uint32_t drow[64] = {0}, dx[1] = {W};
+			uint32_t *drow = calloc((size_t)H + 1, sizeof *drow), dx[2] = {W, 0};
+			uint8_t *vm = malloc((size_t)W * H);
+			CHECK(drow && vm);
 			for (uint32_t y = 1; y <= H; y++)
 				drow[y] = 1;
 			other = *cc;
 			other.distrust_row = drow;
 			other.distrust_x = dx;
 			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_EINVAL);
+			CHECK(strstr(pc_error_detail(), "outside") != NULL);
 			printf("compact, distrusted sample outside: %s\n", pc_error_detail());
+			/* the validity alone (pc_validity_run) checks the list as well: no write
+			 * beyond the mask's row */
+			if (drow && vm) {
+				pc_validity v = {vm, W, 0};
+				CHECK_EQ_INT(pc_validity_run(&raw, &po, &v), PC_EINVAL);
+				CHECK(strstr(pc_error_detail(), "outside") != NULL);
+				drow[3] = 2; /* offsets that decrease after row 3 */
+				dx[0] = 0;
+				CHECK_EQ_INT(pc_validity_run(&raw, &po, &v), PC_EINVAL);
+				CHECK(strstr(pc_error_detail(), "decreases") != NULL);
+				other.distrust_x = NULL;
+				CHECK_EQ_INT(pc_validity_run(&raw, &po, &v), PC_EINVAL);
+				CHECK(strstr(pc_error_detail(), "go together") != NULL);
+			}
+			free(drow);
+			free(vm);
 			po.compact = cc;
 			pc_fplane ch[4];
 			pc_fplanes_separate(o.buf, W, H, 4, ch);
@@ -325,7 +335,7 @@ static void levels_and_sizes(void)
 						             (size_t)k] = k == 0   ? 0.5f
 						                          : k == 1 ? 0.25f
 						                                   : 0.0f;
-			drop_prepared(&cal); /* the calibration changed */
+			pc_calib_unprepare(&cal); /* the calibration changed */
 			CHECK_EQ_INT(run(&cal, &raw, &o), PC_ENUMERIC);
 			printf("singular: %s\n", pc_error_detail());
 			CHECK(strstr(pc_error_detail(), "(12,10)") != NULL);
@@ -337,7 +347,7 @@ static void levels_and_sizes(void)
 			free(cal.dark);
 			cal.dark = NULL;
 			cal.parts &= ~(unsigned)PC_CAL_DARK;
-			drop_prepared(&cal);
+			pc_calib_unprepare(&cal);
 			for (size_t p = 0; p < np; p++)
 				I[p] = ((double)PC_ROW(&raw, uint16_t, p / W)[p % W] -
 				        cal.black_level) /
@@ -468,7 +478,7 @@ int main(void)
 	{
 		PC_ROW(&raw, uint16_t, 10)[12] = 4095;
 		cal.valid[(size_t)30 * W + 40] = 0;
-		drop_prepared(&cal); /* the compact calibration lists the distrusted samples */
+		pc_calib_unprepare(&cal); /* the compact calibration lists the distrusted samples */
 		CHECK_EQ_INT(run(&cal, &raw, &o), 0);
 		CHECK_EQ_INT(o.v.n_invalid, 18);
 		size_t inside = 0;

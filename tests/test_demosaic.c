@@ -576,6 +576,48 @@ static void mosaic_color(const scene *s, const pc_mosaic *m, const double gain[3
 		}
 }
 
+/* The pan methods' fast paths against their references at the smallest size (8 × 8: every
+ * row a partial vector), at sizes 2 mod 4 (the 4×4 period's mirrored padding) and one
+ * larger, at four phases of the colour layout. */
+static void test_pan_sizes(void)
+{
+	const pc_demosaic_method pm[3] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA};
+	const int sizes[3][2] = {{8, 8}, {10, 18}, {42, 34}};
+	const double gain[3] = {0.6, 1.0, 0.35};
+	pc_mosaic base = pc_mosaic_imx250myr();
+	for (int z = 0; z < 3; z++) {
+		const int w = sizes[z][0], h = sizes[z][1];
+		scene tex = make_scene(w, h, 2, 0);
+		for (unsigned ph = 0; ph < 16; ph += 5) {
+			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+			pc_view raw;
+			mosaic_color(&tex, &m, gain, &raw);
+			for (int meth = 0; meth < 3; meth++) {
+				pc_fplane f[12], r[12];
+				float *fb = alloc_planes((uint32_t)w, (uint32_t)h, 12, f),
+				      *rb = alloc_planes((uint32_t)w, (uint32_t)h, 12, r);
+				pc_demosaic_opts ref = {0, true, 0};
+				CHECK_EQ_INT(pc_demosaic(&raw, &m, pm[meth], NULL, f), 0);
+				CHECK_EQ_INT(pc_demosaic(&raw, &m, pm[meth], &ref, r), 0);
+				double worst = 0;
+				for (int i = 0; i < w * h * 12; i++)
+					worst = fmax(worst, fabs(fb[i] - rb[i]));
+				if (!(worst <= 1e-5 * 4095))
+					fprintf(
+					    stderr,
+					    "  %s %dx%d phase %u: max |fast - reference| %.3g\n",
+					    pc_demosaic_method_get(pm[meth])->name, w, h, ph,
+					    worst);
+				CHECK(worst <= 1e-5 * 4095);
+				free(fb);
+				free(rb);
+			}
+			pc_view_free(&raw);
+		}
+		scene_free(&tex);
+	}
+}
+
 static void test_color(void)
 {
 	const pc_demosaic_method cm[5] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
@@ -1083,6 +1125,7 @@ int main(void)
 		}
 		test_formats_layouts();
 		test_color();
+		test_pan_sizes();
 		test_pan_ratio();
 		test_pan_chroma_edge();
 		test_bilinear_u16();

@@ -508,6 +508,11 @@ static void test_eval_cmd(void)
 	CHECK(!strcmp(json_string_value(json_object_get(sc, "dataset")), "gt"));
 	json_decref(root);
 	pc_eval_truth_free(&t);
+	/* every method (the default): gains over bilinear, whatever method the list ends with */
+	snprintf(args, sizeof args, "eval %s --json %s", tmp("gt/scene"), tmp("all.json"));
+	CHECK_EQ_INT(run(args), 0);
+	CHECK(file_contains(tmp("out.txt"), "gain over bilinear"));
+	CHECK(file_contains(tmp("all.json"), "gain_over_bilinear_db"));
 	/* a colour method on a monochrome truth: refused, saying why (colour scenes: test_stress)
 	 */
 	snprintf(args, sizeof args, "eval %s --method pan-chroma", tmp("gt/scene"));

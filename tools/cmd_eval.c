@@ -200,12 +200,14 @@ static int write_json(const char *json_path, const pc_eval_result *res, size_t n
 	return rc ? cli_fail(rc, json_path) : CLI_EXIT_OK;
 }
 
-/* the methods of --method NAME|all|colour, the baseline last: bilinear, or bayer-first for
- * colour-polarization methods (scored on colour scenes) */
-static int methods_of(const char *arg, pc_demosaic_method *methods, size_t *n)
+/* the methods of --method NAME|all|colour, the baseline among them (*base): bilinear, or
+ * bayer-first for colour-polarization methods (scored on colour scenes) */
+static int methods_of(const char *arg, pc_demosaic_method *methods, size_t *n,
+                      pc_demosaic_method *base)
 {
 	*n = 0;
 	const bool colour = !strcmp(arg, "colour");
+	*base = colour ? PC_DM_BAYER_FIRST : PC_DM_BILINEAR;
 	if (colour || !strcmp(arg, "all")) {
 		for (int k = 0; k < PC_DM_COUNT; k++) {
 			const pc_demosaic_method_info *mi =
@@ -226,11 +228,10 @@ static int methods_of(const char *arg, pc_demosaic_method *methods, size_t *n)
 	if (rc)
 		return cli_fail(rc, "--method");
 	*n = 1;
-	const pc_demosaic_method base = pc_demosaic_method_get(methods[0])->flags & PC_DMF_MONO
-	                                    ? PC_DM_BILINEAR
-	                                    : PC_DM_BAYER_FIRST;
-	if (methods[0] != base) /* the baseline, always */
-		methods[(*n)++] = base;
+	*base = pc_demosaic_method_get(methods[0])->flags & PC_DMF_MONO ? PC_DM_BILINEAR
+	                                                                : PC_DM_BAYER_FIRST;
+	if (methods[0] != *base) /* the baseline, always */
+		methods[(*n)++] = *base;
 	return CLI_EXIT_OK;
 }
 
@@ -240,7 +241,8 @@ static int run(const char *const *dirs, size_t ndirs, const char *method_arg, co
 {
 	pc_demosaic_method methods[PC_DM_COUNT];
 	size_t nmeth;
-	int status = methods_of(method_arg, methods, &nmeth);
+	pc_demosaic_method base;
+	int status = methods_of(method_arg, methods, &nmeth, &base);
 	if (status)
 		return status;
 	pc_eval_result *res = calloc(ndirs * nmeth, sizeof *res);
@@ -256,8 +258,8 @@ static int run(const char *const *dirs, size_t ndirs, const char *method_arg, co
 		return cli_fail(rc, NULL);
 	}
 	size_t nres = ndirs * nmeth;
-	json_t *jd = report(json_path && !strcmp(json_path, "-") ? stderr : stdout, res, nres,
-	                    methods[nmeth - 1]);
+	json_t *jd =
+	    report(json_path && !strcmp(json_path, "-") ? stderr : stdout, res, nres, base);
 	if (json_path)
 		status = write_json(json_path, res, nres, reference, jd);
 	else

@@ -138,8 +138,13 @@ static PyObject *new_array(int nd, const npy_intp *dims, int type)
 	if (!descr)
 		return NULL;
 	npy_intp n = (npy_intp)descr->elsize;
-	for (int i = 0; i < nd; i++)
+	for (int i = 0; i < nd; i++) {
+		if (dims[i] < 0 || (dims[i] && n > (NPY_MAX_INTP - OUT_ALIGN) / dims[i])) {
+			Py_DECREF(descr);
+			return PyErr_NoMemory();
+		}
 		n *= dims[i];
+	}
 	npy_intp bytes = n + OUT_ALIGN - 1;
 	PyObject *buf = PyArray_SimpleNew(1, &bytes, NPY_UINT8);
 	if (!buf) {
@@ -2436,8 +2441,10 @@ static PyObject *py_stokes_streams(PyObject *self, PyObject *out_o)
 	PyObject *res = stokes_outputs(out_o, w, h, &so);
 	if (!res)
 		return NULL;
+	/* the planes belong to arrays res holds */
+	PyObject *r = PyBool_FromLong(pcpy_stokes_streams(&so, w, h));
 	Py_DECREF(res);
-	return PyBool_FromLong(pcpy_stokes_streams(&so, w, h));
+	return r;
 }
 
 /* ------------------------------------------------------------------------------------------

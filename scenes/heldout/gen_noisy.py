@@ -9,20 +9,12 @@ Fractions 0.6, 0.09 and 0.018 of the ideal exposure: other exposures than the st
 scene's OBJ files.
 """
 import json
+import os
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "stress"))
+from gen_noisy import noisy  # noqa: E402 (the stress suite's generator, other levels)
 
 FRACTION = {"bright": 0.6, "dim": 0.09, "dark": 0.018}
 
-if len(sys.argv) != 3 or sys.argv[2] not in FRACTION:
-    sys.exit(__doc__)
-with open(sys.argv[1]) as f:
-    scene = json.load(f)
-sensor = scene["sensor"]
-if sensor.get("preset") != "ideal":
-    sys.exit(f"{sys.argv[1]}: sensor.preset is {sensor.get('preset')!r}, expected 'ideal'")
-level = sys.argv[2]
-sensor["preset"] = "imx250mzr"
-sensor["exposure_us"] = round(sensor["exposure_us"] * FRACTION[level], 4)
-scene["name"] = f"{scene.get('name', sys.argv[1])} (IMX250MZR preset, {level} exposure: " \
-    f"{sensor['exposure_us']} us)"
-print(json.dumps(scene, indent=1))
+print(json.dumps(noisy(sys.argv, FRACTION, __doc__), indent=1))

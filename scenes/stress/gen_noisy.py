@@ -14,17 +14,25 @@ import sys
 
 FRACTION = {"high": 120 / 250, "mid": 16 / 250, "low": 3 / 250}
 
-if len(sys.argv) != 3 or sys.argv[2] not in FRACTION:
-    sys.exit(__doc__)
-with open(sys.argv[1]) as f:
-    scene = json.load(f)
-sensor = scene["sensor"]
-if sensor.get("preset") != "ideal":
-    sys.exit(f"{sys.argv[1]}: sensor.preset is {sensor.get('preset')!r}, expected 'ideal'")
-level = sys.argv[2]
-sensor["preset"] = "imx250mzr"
-sensor["exposure_us"] = round(sensor["exposure_us"] * FRACTION[level], 4)
-scene["name"] = f"{scene.get('name', sys.argv[1])} (IMX250MZR preset, {level} exposure: " \
-    f"{sensor['exposure_us']} us)"
-json.dump(scene, sys.stdout)
-print()
+
+def noisy(argv, fractions, doc):
+    """The scene at argv[1] through the IMX250MZR preset at fractions[argv[2]] of its
+    exposure (scenes/heldout/gen_noisy.py uses it with its own levels)."""
+    if len(argv) != 3 or argv[2] not in fractions:
+        sys.exit(doc)
+    with open(argv[1]) as f:
+        scene = json.load(f)
+    sensor = scene["sensor"]
+    if sensor.get("preset") != "ideal":
+        sys.exit(f"{argv[1]}: sensor.preset is {sensor.get('preset')!r}, expected 'ideal'")
+    level = argv[2]
+    sensor["preset"] = "imx250mzr"
+    sensor["exposure_us"] = round(sensor["exposure_us"] * fractions[level], 4)
+    scene["name"] = f"{scene.get('name', argv[1])} (IMX250MZR preset, {level} exposure: " \
+        f"{sensor['exposure_us']} us)"
+    return scene
+
+
+if __name__ == "__main__":
+    json.dump(noisy(sys.argv, FRACTION, __doc__), sys.stdout)
+    print()

@@ -225,7 +225,7 @@ PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geo
  * bilinear Stokes pass reads the raw once. Per-call memory only; the once-per-calibration
  * parts are made on the first call (pc_calib_prepare), after which calls only read cal (they
  * include, for bilinear, the valid map as a list of the distrusted samples: a map changed after
- * that needs the calibration prepared anew). */
+ * that needs pc_calib_unprepare, then the next call prepares anew). */
 PC_API int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits,
                           const pc_pipeline_opts *o, const pc_stokes_out *st, const pc_fplane *ch,
                           pc_validity *valid);
@@ -237,6 +237,9 @@ PC_API int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits,
  * method only read cal and may run concurrently). */
 PC_API int pc_calib_prepare(pc_calib *cal, pc_demosaic_method method, int threads);
 PC_API bool pc_calib_prepared(const pc_calib *cal, pc_demosaic_method method);
+/* Drops what pc_calib_prepare (or a first pc_calib_apply) made: needed after a change to
+ * cal's maps (valid, analysis, dark, gain), so that the next call prepares from the new ones. */
+PC_API void pc_calib_unprepare(pc_calib *cal);
 
 /* pc_calib_apply as a pc_raw_stage (polarcam/process.h) for pc_process_file, pc_demosaic_file
  * and the live Stokes stream; name is reported in meta.json (e.g. the file's path); the stage's

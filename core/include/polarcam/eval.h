@@ -81,8 +81,9 @@ PC_API int pc_eval_method_raw(const pc_eval_truth *t, const pc_view *raw, const 
 /* Steps 3-5 on a colour-polarization raw frame (m with a colour layer, e.g.
  * pc_mosaic_imx250myr): demosaicked into the twelve (colour, analyser) planes of a colour
  * method, each colour's four scored against its truth t[k] (k = R, G, B; one size, one full
- * scale), out the mean of the three colours' metrics. Full scale and normalisation as
- * pc_eval_method_raw (opts->full_scale when > 0, else t[0].full_scale, scales both). */
+ * scale), out the mean of the three colours' metrics (zeros on an error). Full scale and
+ * normalisation as pc_eval_method_raw: opts->full_scale when > 0, else the truths', for the
+ * demosaicking; the truths' for the scores. */
 PC_API int pc_eval_method_raw_colour(const pc_eval_truth t[3], const pc_view *raw,
                                      const pc_mosaic *m, pc_demosaic_method method,
                                      const pc_demosaic_opts *opts, pc_eval_metrics *out);
