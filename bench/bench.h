@@ -112,6 +112,21 @@ static inline void bench_loadavg(char *buf, size_t n)
 	buf[strcspn(buf, "\n")] = '\0';
 }
 
+/* The 1, 5 and 15 minute load averages of /proc/loadavg: 0, or -1 (la[] NaN) where the system
+ * has none. */
+static inline int bench_loadavg_values(double la[3])
+{
+	la[0] = la[1] = la[2] = NAN;
+	FILE *fp = fopen("/proc/loadavg", "r");
+	int n = fp ? fscanf(fp, "%lf %lf %lf", &la[0], &la[1], &la[2]) : 0;
+	if (fp)
+		fclose(fp);
+	if (n == 3)
+		return 0;
+	la[0] = la[1] = la[2] = NAN;
+	return -1;
+}
+
 /* The entries of directory dir not starting with '.', in name order (a dataset's scenes):
  * *names (free each and the array) and their count; 0 entries when dir cannot be opened. */
 static inline size_t bench_list_dir(const char *dir, char ***names)

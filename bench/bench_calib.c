@@ -194,12 +194,6 @@ static int errors(pc_calib *cal, const pc_analyser_pinv *grid, bstack *t, size_t
 
 /* ---- --speed: the calibrated pipeline against the uncalibrated one, same run ---- */
 
-static int cmp_dbl(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return (x > y) - (x < y);
-}
-
 /* A synthetic full-sensor calibration (dark 60 DN ± 2, gain 1 ± 2 %, analysers with ±1°
  * orientation and extinction 0.93 to 0.99, one pixel in 10^4 distrusted) and a 12-bit frame
  * (values 200 to 3000, one sample in 10^4 at full scale): the timing does not depend on the
@@ -360,21 +354,16 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, int threads, bool json,
 		}
 	for (int k = 0; k < NCASE; k++) {
 		double *tk = t + (size_t)k * (size_t)reps;
-		qsort(tk, (size_t)reps, sizeof *tk, cmp_dbl);
+		qsort(tk, (size_t)reps, sizeof *tk, bench_cmp_double);
 		best[k] = tk[0];
 		med[k] = tk[reps / 2];
 		tk = t + (size_t)(NCASE + k) * (size_t)reps;
-		qsort(tk, (size_t)reps, sizeof *tk, cmp_dbl);
+		qsort(tk, (size_t)reps, sizeof *tk, bench_cmp_double);
 		cbest[k] = tk[0];
 		cmed[k] = tk[reps / 2];
 	}
-	double load[3] = {NAN, NAN, NAN};
-	FILE *la = fopen("/proc/loadavg", "r");
-	if (la) {
-		if (fscanf(la, "%lf %lf %lf", &load[0], &load[1], &load[2]) != 3)
-			load[0] = NAN;
-		fclose(la);
-	}
+	double load[3];
+	bench_loadavg_values(load);
 	if (json) {
 		json_t *j = json_object();
 		json_object_set_new(j, "width", json_integer(W));

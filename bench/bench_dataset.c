@@ -214,13 +214,8 @@ int pc_bench_dataset(const pc_bench_host *h, int argc, char **argv)
 		fflush(stdout);
 	}
 	if (!json && status == PC_BENCH_OK) {
-		double la[3] = {0, 0, 0};
-		FILE *fp = fopen("/proc/loadavg", "r");
-		if (fp) {
-			if (fscanf(fp, "%lf %lf %lf", &la[0], &la[1], &la[2]) != 3)
-				la[0] = -1;
-			fclose(fp);
-		}
+		double la[3];
+		bench_loadavg_values(la);
 		printf("\nsamples/s: per core from the process's CPU time; wall s/s: wall seconds "
 		       "per sample "
 		       "(longer on a shared machine); x render: (render + write + SHA-256 + "

@@ -42,13 +42,6 @@ const char *pc_bench_opencv_version(void);
 
 enum { FW = 2448, FH = 2048 };
 
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 typedef struct timing {
 	double median_ms, min_ms, cpu_ms; /* wall median and minimum, CPU-time median */
 } timing;
@@ -861,7 +854,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		for (int j = 0; j < J_N; j++) {
 			if (j < PC_DM_COUNT && (rows[j].skip || rows[j].once))
 				continue;
-			double t0 = now_s(), c0 = bench_cpu_s();
+			double t0 = bench_now(), c0 = bench_cpu_s();
 			if (j < PC_DM_COUNT) {
 				const pc_mosaic *m = rows[j].colour ? &colour : &mono;
 				rc = pc_demosaic(&raw, m, rows[j].m, &opts, planes);
@@ -902,7 +895,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 				                        FW, FH, nthreads, err, sizeof err);
 #endif
 			}
-			double dt = now_s() - t0, dc = bench_cpu_s() - c0;
+			double dt = bench_now() - t0, dc = bench_cpu_s() - c0;
 			if (rep >= 0) {
 				tj[(size_t)j * (size_t)reps + (size_t)rep] = dt;
 				cj_t[(size_t)j * (size_t)reps + (size_t)rep] = dc;
@@ -917,9 +910,9 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 		if (rows[j].skip || !rows[j].once)
 			continue;
 		pc_progress_report(&host->progress, pc_demosaic_method_get(rows[j].m)->name, 0, 1);
-		double t0 = now_s(), c0 = bench_cpu_s();
+		double t0 = bench_now(), c0 = bench_cpu_s();
 		rc = pc_demosaic(&raw, &mono, rows[j].m, &opts, planes);
-		double dt = now_s() - t0, dc = bench_cpu_s() - c0;
+		double dt = bench_now() - t0, dc = bench_cpu_s() - c0;
 		host->progress_end(host->progress.user);
 		if (rc)
 			return host->fail(rc, pc_demosaic_method_get(rows[j].m)->name);
