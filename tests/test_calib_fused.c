@@ -231,6 +231,21 @@ static int run(pc_calib *cal, const pc_view *raw, outs *o)
 	return run_ref(cal, raw, o, false);
 }
 
+/* The double reference's inputs of a W × H raw: I = (raw − dark)/gain per pixel and the
+ * calibration's analysis vectors, in fresh arrays. */
+static void ref_inputs(const pc_calib *cal, const pc_view *raw, double **I, double **A)
+{
+	const size_t np = (size_t)W * H;
+	*I = malloc(np * sizeof **I);
+	*A = malloc(3 * np * sizeof **A);
+	for (size_t p = 0; p < np; p++) {
+		(*I)[p] =
+		    ((double)PC_ROW(raw, uint16_t, p / W)[p % W] - cal->dark[p]) / cal->gain[p];
+		for (int k = 0; k < 3; k++)
+			(*A)[3 * p + k] = cal->analysis[3 * p + k];
+	}
+}
+
 /* 6. the compact path at every instruction-set level this machine has and at a width with a
  * scalar tail, against the double reference; 7. the core's refusals of a compact calibration */
 static void levels_and_sizes(void)
@@ -244,13 +259,8 @@ static void levels_and_sizes(void)
 		pc_view raw;
 		make_raw(&cal, &raw);
 		const size_t np = (size_t)W * H;
-		double *I = malloc(np * sizeof *I), *A = malloc(3 * np * sizeof *A);
-		for (size_t p = 0; p < np; p++) {
-			I[p] = ((double)PC_ROW(&raw, uint16_t, p / W)[p % W] - cal.dark[p]) /
-			       cal.gain[p];
-			for (int k = 0; k < 3; k++)
-				A[3 * p + k] = cal.analysis[3 * p + k];
-		}
+		double *I, *A;
+		ref_inputs(&cal, &raw, &I, &A);
 		for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
 			CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
 			outs o;
@@ -422,14 +432,8 @@ int main(void)
 	pc_view raw;
 	make_raw(&cal, &raw);
 	const size_t np = (size_t)W * H;
-	double *I = malloc(np * sizeof *I), *A = malloc(3 * np * sizeof *A);
-	for (uint32_t y = 0; y < H; y++)
-		for (uint32_t x = 0; x < W; x++) {
-			size_t p = (size_t)y * W + x;
-			I[p] = ((double)PC_ROW(&raw, uint16_t, y)[x] - cal.dark[p]) / cal.gain[p];
-			for (int k = 0; k < 3; k++)
-				A[3 * p + k] = cal.analysis[3 * p + k];
-		}
+	double *I, *A;
+	ref_inputs(&cal, &raw, &I, &A);
 	CHECK(!pc_calib_prepared(&cal, PC_DM_BILINEAR));
 	outs o;
 	outs_init(&o);

@@ -708,6 +708,28 @@ static void test_color(void)
 	CHECK_EQ_INT(pc_demosaic(&v, &base, PC_DM_BAYER_FIRST, NULL, o), 0);
 }
 
+/* The hue edge of test_pan_chroma_edge and test_pan_dir_edge: colour gains (1, 0.5, 0.5) on the
+ * "left" side and (0.5, 0.75, 0.5) on the other, whose PPIs are equal, 2000 DN uniformly
+ * polarized (DoLP 0.4 at 0.5 rad). hue_edge_value: channel ch of colour k on a side;
+ * hue_edge_raw: the float raw through m, the edge at e0 along x (ori 0), along y (1) or none
+ * (2: all "left"). */
+static double hue_edge_value(int left, unsigned k, unsigned ch)
+{
+	static const double gl[3] = {1, 0.5, 0.5}, gr[3] = {0.5, 0.75, 0.5}, pr = 0.4, tr = 0.5;
+	return (left ? gl : gr)[k] * 2000 * (1 + pr * cos(2 * (ch * M_PI / 4 - tr)));
+}
+
+static void hue_edge_raw(pc_view *raw, const pc_mosaic *m, int ori, uint32_t e0)
+{
+	for (uint32_t y = 0; y < raw->height; y++)
+		for (uint32_t x = 0; x < raw->width; x++) {
+			unsigned c = pc_mosaic_channel(m, x, y);
+			unsigned k = pc_mosaic_color(m, x, y) - PC_CFA_R;
+			int left = ori == 2 || (ori ? y : x) < e0;
+			PC_ROW(raw, float, y)[x] = (float)hue_edge_value(left, k, c);
+		}
+}
+
 /* pan-chroma at a hue edge the PPI does not see: a uniformly lit, uniformly polarized scene whose
  * left half has colour gains (1, 0.5, 0.5) and right half (0.5, 0.75, 0.5), whose PPIs are equal
  * ((R + 2G + B)/4 = 0.625), every phase. pan-guided's weights are all alike there and mix the two
@@ -720,21 +742,13 @@ static void test_pan_chroma_edge(void)
 {
 	const uint32_t W = 64, H = 48, X0 = 30;
 	pc_mosaic base = pc_mosaic_imx250myr();
-	const double gl[3] = {1, 0.5, 0.5}, gr[3] = {0.5, 0.75, 0.5}, pr = 0.4, tr = 0.5;
 	pc_fplane f[12];
 	float *fb = alloc_planes(W, H, 12, f);
 	pc_view raw;
 	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
 	for (unsigned ph = 0; ph < 16; ph++) {
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
-		for (uint32_t y = 0; y < H; y++)
-			for (uint32_t x = 0; x < W; x++) {
-				unsigned c = pc_mosaic_channel(&m, x, y);
-				unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
-				PC_ROW(&raw, float, y)
-				[x] = (float)((x < X0 ? gl : gr)[k] * 2000 *
-				              (1 + pr * cos(2 * (c * M_PI / 4 - tr))));
-			}
+		hue_edge_raw(&raw, &m, 0, X0);
 		double far[2][2] = {{0}}, rms[2][2] = {{0}};
 		for (int gm = 0; gm < 2; gm++)
 			for (int rf = 0; rf < 2; rf++) {
@@ -749,9 +763,7 @@ static void test_pan_chroma_edge(void)
 					for (uint32_t y = 8; y < H - 8; y++)
 						for (uint32_t x = X0 - 6; x < X0 + 6; x++) {
 							double want =
-							    (x < X0 ? gl : gr)[q / 4] * 2000 *
-							    (1 +
-							     pr * cos(2 * (q % 4 * M_PI / 4 - tr)));
+							    hue_edge_value(x < X0, q / 4, q % 4);
 							double e = fabs(fget(&f[q], x, y) - want);
 							se += e * e;
 							n++;
@@ -784,7 +796,6 @@ static void test_pan_dir_edge(void)
 {
 	const uint32_t W = 48, H = 48, E0 = 22;
 	pc_mosaic base = pc_mosaic_imx250myr();
-	const double gl[3] = {1, 0.5, 0.5}, gr[3] = {0.5, 0.75, 0.5}, pr = 0.4, tr = 0.5;
 	pc_fplane f[12];
 	float *fb = alloc_planes(W, H, 12, f);
 	pc_view raw;
@@ -792,15 +803,7 @@ static void test_pan_dir_edge(void)
 	for (unsigned ph = 0; ph < 16; ph++)
 		for (int ori = 0; ori < 3; ori++) { /* 0 vertical edge, 1 horizontal, 2 none */
 			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
-			for (uint32_t y = 0; y < H; y++)
-				for (uint32_t x = 0; x < W; x++) {
-					unsigned c = pc_mosaic_channel(&m, x, y);
-					unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
-					int left = ori == 2 || (ori ? y : x) < E0;
-					PC_ROW(&raw, float, y)
-					[x] = (float)((left ? gl : gr)[k] * 2000 *
-					              (1 + pr * cos(2 * (c * M_PI / 4 - tr))));
-				}
+			hue_edge_raw(&raw, &m, ori, E0);
 			double rms[2] = {0}, mx[2] = {0};
 			for (int dm = 0; dm < 2; dm++) {
 				pc_demosaic_opts o = {0, true, 4095};
@@ -816,11 +819,8 @@ static void test_pan_dir_edge(void)
 							uint32_t a = ori ? y : x;
 							if (ori < 2 && (a + 6 < E0 || a >= E0 + 6))
 								continue;
-							int left = ori == 2 || a < E0;
-							double want =
-							    (left ? gl : gr)[q / 4] * 2000 *
-							    (1 +
-							     pr * cos(2 * (q % 4 * M_PI / 4 - tr)));
+							double want = hue_edge_value(
+							    ori == 2 || a < E0, q / 4, q % 4);
 							double e = fabs(fget(&f[q], x, y) - want);
 							se += e * e;
 							mx[dm] = fmax(mx[dm], e);
