@@ -21,6 +21,7 @@
 
 #include "cpu_internal.h"
 #include "demosaic_anchors.h"
+#include "demosaic_plan.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
@@ -739,10 +740,9 @@ int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
-	/* ratio and ratio-nr write their rows straight into the planes with ordinary stores: on
-	 * the AVX-512 machine where the others gain from streaming the cached rows out, these two
-	 * measured 10-20 % slower that way (same-run A/B, docs/demosaicking.md) */
-	j.nt = j.planar && call->method != PC_DM_RATIO && call->method != PC_DM_RATIO_NR &&
+	/* the method table says which methods keep ordinary stores (plain_stores) */
+	const pc_dm_method_def *def = pc_dm_method_def_get(call->method);
+	j.nt = j.planar && !(def && def->plain_stores) &&
 	       pc_dm_stream_wanted(out, 4, call->in->width, call->in->height, call->level);
 	run(&j, call->threads);
 	return j.err ? pc_error(PC_ENOMEM, "row caches of %u-pixel rows", call->in->width) : 0;

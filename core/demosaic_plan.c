@@ -65,7 +65,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                                pc_dm_superpixel_half,
                                NULL,
                                false,
-                               PC_DM_SUPERPIXEL_HALF},
+                               PC_DM_SUPERPIXEL_HALF,
+                               false},
     [PC_DM_SUPERPIXEL] = {{PC_DM_SUPERPIXEL, "superpixel",
                            "full-size output of the 2x2 super-pixel values; blocky, lowest "
                            "accuracy; mean (worst): Lapray -7.74/-7.12 (-9.33/-9.35), Zhang "
@@ -77,7 +78,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           pc_dm_superpixel,
                           NULL,
                           false,
-                          PC_DM_SUPERPIXEL},
+                          PC_DM_SUPERPIXEL,
+                          false},
     [PC_DM_BILINEAR] =
         {{PC_DM_BILINEAR, "bilinear",
           "the baseline every gain below is measured against: per-channel tent "
@@ -89,7 +91,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          pc_dm_bilinear,
          NULL,
          true,
-         PC_DM_BILINEAR},
+         PC_DM_BILINEAR,
+         false},
     [PC_DM_BICUBIC] = {{PC_DM_BICUBIC, "bicubic",
                         "sharper than bilinear, per channel, overshoot limited; S0/DoLP dB over "
                         "bilinear, mean (worst scene): Lapray +1.72/+0.82 (+0.46/+0.00), Zhang "
@@ -102,7 +105,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                        pc_dm_ic,
                        pc_dm_ic_rows,
                        false,
-                       PC_DM_BICUBIC},
+                       PC_DM_BICUBIC,
+                       false},
     [PC_DM_PPID] = {{PC_DM_PPID, "ppid",
                      "inter-channel: differences to an edge-aware pseudo-panchromatic image, "
                      "overshoot limited; mean (worst): Lapray -0.02/-0.20 (-3.19/-1.44), Zhang "
@@ -117,7 +121,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                     pc_dm_ic,
                     pc_dm_ic_rows,
                     false,
-                    PC_DM_PPID},
+                    PC_DM_PPID,
+                    false},
     [PC_DM_RI] = {{PC_DM_RI, "ri",
                    "inter-channel: guided-filter tentative estimates plus interpolated "
                    "residuals, overshoot limited; mean (worst): Lapray +1.21/+1.08 "
@@ -132,7 +137,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                   pc_dm_ic,
                   pc_dm_ic_rows,
                   false,
-                  PC_DM_RI},
+                  PC_DM_RI,
+                  false},
     [PC_DM_EARI] = {{PC_DM_EARI, "eari",
                      "inter-channel: residual interpolation guided by an edge-aware "
                      "intensity image (our detector), overshoot limited; mean (worst): Lapray "
@@ -147,7 +153,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                     pc_dm_ic,
                     pc_dm_ic_rows,
                     false,
-                    PC_DM_EARI},
+                    PC_DM_EARI,
+                    false},
     [PC_DM_BAYER_FIRST] = {{PC_DM_BAYER_FIRST, "bayer-first",
                             "colour-polarization: bilinear Bayer demosaicking of each analyser "
                             "sub-image, then bilinear up-sampling of the analysers; the colour "
@@ -161,7 +168,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                            NULL,
                            NULL,
                            false,
-                           PC_DM_BILINEAR},
+                           PC_DM_BILINEAR,
+                           false},
     [PC_DM_BAYER_EARI] =
         {{PC_DM_BAYER_EARI, "bayer-eari",
           "colour-polarization: bilinear Bayer demosaicking of each analyser "
@@ -176,7 +184,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          NULL,
          NULL,
          false,
-         PC_DM_EARI},
+         PC_DM_EARI,
+         false},
     [PC_DM_RATIO] =
         {{PC_DM_RATIO, "ratio",
           "inter-channel: our EARI guide, channels as guide x ratio (raw + 1 % FS)/"
@@ -197,7 +206,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          pc_dm_ic,
          pc_dm_ic_rows,
          false,
-         PC_DM_RATIO},
+         PC_DM_RATIO,
+         true},
     [PC_DM_EARI_MLRI] =
         {{PC_DM_EARI_MLRI, "eari-mlri",
           "anchor: EARI as its authors define it (their polarization-invariant "
@@ -214,7 +224,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          pc_dm_mlri_fast,
          NULL,
          false,
-         PC_DM_EARI_MLRI},
+         PC_DM_EARI_MLRI,
+         false},
     [PC_DM_EARI_ROBUST] =
         {{PC_DM_EARI_ROBUST, "eari-robust",
           "inter-channel: eari-mlri with the overshoot limiter (no ringing into "
@@ -232,7 +243,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          pc_dm_mlri_fast,
          NULL,
          false,
-         PC_DM_EARI_ROBUST},
+         PC_DM_EARI_ROBUST,
+         false},
     [PC_DM_PCDP] = {{PC_DM_PCDP, "pcdp",
                      "anchor: residual interpolation with the other channels' bilinear "
                      "estimates as guide, the orthogonal one weighted sqrt(2); mean (worst): "
@@ -246,7 +258,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                     pc_dm_pcdp_fast,
                     NULL,
                     false,
-                    PC_DM_PCDP},
+                    PC_DM_PCDP,
+                    false},
     [PC_DM_IGRI2] = {{PC_DM_IGRI2, "igri2",
                       "anchor: residual interpolation on the rotated diagonal lattices, then "
                       "across them, then MLRI with the mean as guide; mean (worst): Lapray "
@@ -261,7 +274,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                      NULL,
                      NULL,
                      false,
-                     PC_DM_IGRI2},
+                     PC_DM_IGRI2,
+                     false},
     [PC_DM_NEWTON] = {{PC_DM_NEWTON, "newton",
                        "anchor: Newton-polynomial interpolation of polarization differences, "
                        "horizontal / vertical / diagonal estimates fused by an edge classifier; "
@@ -275,7 +289,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                       pc_dm_newton_fast,
                       NULL,
                       false,
-                      PC_DM_NEWTON},
+                      PC_DM_NEWTON,
+                      false},
     [PC_DM_RATIO_RI] =
         {{PC_DM_RATIO_RI, "ratio-ri",
           "inter-channel: the ratio method, then one guided-filter residual "
@@ -294,7 +309,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          pc_dm_ic,
          pc_dm_ic_rows,
          false,
-         PC_DM_RATIO_RI},
+         PC_DM_RATIO_RI,
+         false},
     [PC_DM_RATIO_NR] =
         {{PC_DM_RATIO_NR, "ratio-nr",
           "inter-channel: ratio with a noise-aware multiplier (the guide shrunk "
@@ -315,7 +331,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          pc_dm_ic,
          pc_dm_ic_rows,
          false,
-         PC_DM_RATIO_NR},
+         PC_DM_RATIO_NR,
+         true},
     [PC_DM_PAN_RATIO] = {{PC_DM_PAN_RATIO, "pan-ratio",
                           "colour-polarization: every channel as its pixel's own sample times "
                           "a smooth ratio between channels, the ratios to a pseudo-panchromatic "
@@ -335,7 +352,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          NULL,
                          NULL,
                          false,
-                         PC_DM_PAN_RATIO},
+                         PC_DM_PAN_RATIO,
+                         false},
     [PC_DM_PAN_GUIDED] = {{PC_DM_PAN_GUIDED, "pan-guided",
                            "colour-polarization: pan-ratio with joint-bilateral tents (lattice "
                            "samples weighed down across edges of the pseudo-panchromatic "
@@ -353,7 +371,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           NULL,
                           NULL,
                           false,
-                          PC_DM_PAN_GUIDED},
+                          PC_DM_PAN_GUIDED,
+                          false},
     [PC_DM_PAN_CHROMA] = {{PC_DM_PAN_CHROMA, "pan-chroma",
                            "colour-polarization: pan-guided whose range weights also see hue "
                            "(chrominance images demodulated from the colour layer); over "
@@ -371,7 +390,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           NULL,
                           NULL,
                           false,
-                          PC_DM_PAN_CHROMA},
+                          PC_DM_PAN_CHROMA,
+                          false},
     [PC_DM_PAN_DIR] = {{PC_DM_PAN_DIR, "pan-dir",
                         "colour-polarization: pan-chroma's colour step with one-sided "
                         "(directional) candidates blended by the homogeneity of their "
@@ -390,7 +410,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                        NULL,
                        NULL,
                        false,
-                       PC_DM_PAN_DIR},
+                       PC_DM_PAN_DIR,
+                       false},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
