@@ -1039,7 +1039,8 @@ static int inverse_gain(pc_calib *cal)
 
 /* ---- the compact calibration (pc_compact_calib) for the fused bilinear pipeline ---- */
 
-/* every output pixel's bilinear W from the 16-bit vectors, checked as pc_calib_pinv checks */
+/* every output pixel's least-squares matrix from the 16-bit vectors, checked as
+ * pc_calib_pinv checks (wls_invertible) */
 typedef struct vcheck_ctx {
 	const pc_compact_calib *v;
 	const pc_mosaic *m;
@@ -1061,6 +1062,42 @@ static void vec_row(const vcheck_ctx *c, int y, int k, double *d)
 	d[w + 1] = d[w > 1 ? w - 1 : 1];
 }
 
+/* Whether the fused kernel's matrix at column x is safely invertible: M = Σ K_s a_s a_sᵀ over
+ * the 3×3 neighbourhood (K = 1, ½, ¼: the bilinear weights, the estimator of
+ * docs/calibration.md "Speed"; r[k][0..2]: component k of rows y−1, y, y+1), by the test of
+ * pc_stokes_pinv1: reciprocal 1-norm condition number of M, |det| / (‖M‖₁·‖adj M‖₁), at least
+ * 1e-10. */
+static bool wls_invertible(double *r[3][3], int x)
+{
+	double m[3][3] = {{0}};
+	for (int d = 0; d < 3; d++)
+		for (int dx = -1; dx <= 1; dx++) {
+			const double k = (d == 1 ? 1 : 0.5) * (dx ? 0.5 : 1);
+			for (int i = 0; i < 3; i++)
+				for (int j = 0; j < 3; j++)
+					m[i][j] += k * r[i][d][x + dx] * r[j][d][x + dx];
+		}
+	double adj[3][3];
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) {
+			const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3,
+			          j2 = (j + 2) % 3;
+			adj[j][i] = m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1];
+		}
+	double det = m[0][0] * adj[0][0] + m[0][1] * adj[1][0] + m[0][2] * adj[2][0];
+	double n1 = 0, ni = 0;
+	for (int j = 0; j < 3; j++) {
+		double cs = 0, ci = 0;
+		for (int i = 0; i < 3; i++) {
+			cs += fabs(m[i][j]);
+			ci += fabs(adj[i][j]);
+		}
+		n1 = fmax(n1, cs);
+		ni = fmax(ni, ci);
+	}
+	return fabs(det) > 0 && isfinite(det) && fabs(det) / (n1 * ni) >= 1e-10;
+}
+
 static void vcheck_rows(void *vctx, uint32_t y0, uint32_t y1)
 {
 	const vcheck_ctx *c = vctx;
@@ -1077,20 +1114,11 @@ static void vcheck_rows(void *vctx, uint32_t y0, uint32_t y1)
 				r[k][d] = buf + (size_t)(3 * k + d) * ((size_t)w + 2) + 1;
 				vec_row(c, (int)y + d - 1, k, r[k][d] - 1);
 			}
-		for (int x = 0; x < w; x++) {
-			double m[4][3], pinv[3][4];
-			for (int k = 0; k < 3; k++) {
-				const double *a = r[k][0], *b = r[k][1], *cc = r[k][2];
-				m[0][k] = b[x];
-				m[1][k] = 0.5 * (b[x - 1] + b[x + 1]);
-				m[2][k] = 0.5 * (a[x] + cc[x]);
-				m[3][k] = 0.25 * ((a[x - 1] + a[x + 1]) + (cc[x - 1] + cc[x + 1]));
-			}
-			if (pc_stokes_pinv1(m, pinv)) {
+		for (int x = 0; x < w; x++)
+			if (!wls_invertible(r, x)) {
 				c->bad[y] = (uint32_t)x + 1;
 				break;
 			}
-		}
 	}
 	free(buf);
 }

@@ -65,19 +65,22 @@ typedef struct pc_analyser_pinv {
  * in float (one fused multiply-add each). With pc_pipeline_opts.compact, pc_stokes_run
  * corrects every sample I = (raw − dark)·gain_inv as it reads the raw (with dark_q and gain_q
  * NULL and dark_base 0: opts' black level, dark and gain_inv maps as usual; else they must be
- * 0 and NULL),
- * demosaics the samples and the vectors bilinearly alike (the 4×3 matrix W of an output
- * pixel: each channel's bilinear analysis vector, mirrored borders), and solves the least
- * squares S = (WᵀW)⁻¹WᵀI per output pixel in float, in the one pass that reads the raw: 6 to
- * 10 bytes of calibration per pixel instead of the 56 of float maps and a per-pixel
- * pc_analyser_pinv, and nothing per output pixel to prepare. Normal equations by the
- * cofactors of the symmetric WᵀW (Cramer's rule), as the double reference of
- * tests/test_calib_fused.c (tolerance there). With ideal analysers (a_q all 0, a_base =
- * pc_stokes_ideal_analyser) and no dark or gain maps the results are the uncalibrated
- * pipeline's bit for bit. Bilinear, monochrome mosaics, the fast path only (PC_ENOTSUP
- * otherwise). The caller guarantees that WᵀW is well conditioned at every output pixel
- * (pc_calib checks it once per calibration; the kernel does not). The samples to distrust
- * (flagged in the validity as saturated ones are) may come as a list instead of
+ * 0 and NULL), and solves per output pixel the weighted least squares over its 3×3 samples
+ * with the bilinear interpolation's weights K (own sample 1, edge neighbours ½, corners ¼;
+ * mirrored borders): S = M⁻¹b, M = Σ K_s a_s a_sᵀ, b = Σ K_s a_s I_s, in float, in the one
+ * pass that reads the raw: 6 to 10 bytes of calibration per pixel instead of the 56 of float
+ * maps and a per-pixel pc_analyser_pinv, and nothing per output pixel to prepare. M and b are
+ * separable [1 2 1] sums of per-sample products; the symmetric M is inverted by its cofactors
+ * (Cramer's rule), as in the double reference of tests/test_calib_fused.c (tolerance there).
+ * Exact on uniform fields; with ideal analysers (a_q all 0, a_base =
+ * pc_stokes_ideal_analyser) and no dark or gain maps it is the uncalibrated estimator (results
+ * within 1e-6 relative; measured bit for bit). The other calibrated paths (pc_analyser_pinv)
+ * interpolate the analysis vectors per channel and solve S = (WᵀW)⁻¹WᵀI: the same on uniform
+ * fields, slightly different on texture (docs/calibration.md). Bilinear, monochrome mosaics,
+ * the fast path only (PC_ENOTSUP otherwise). The caller guarantees that M is well conditioned
+ * at every output pixel (pc_calib checks it once per calibration; the kernel does not). The
+ * samples to distrust (flagged in the validity as saturated ones are) may come as a list
+ * instead of
  * pc_pipeline_opts.trusted, so that a frame reads no trust map: row y's distrusted samples are
  * at columns distrust_x[distrust_row[y] .. distrust_row[y + 1]) (height + 1 offsets; NULL:
  * none listed). */
