@@ -73,7 +73,7 @@ static void row_bilinear_vec(pc_cpu_level l, const float *const H[3], uint32_t w
 	(void)l;
 }
 
-static void row_vec_h(pc_cpu_level l, const float *const r[4], uint32_t w, float *h)
+static void row_vec_h(pc_cpu_level l, const float *const r[3], uint32_t w, float *h)
 {
 #ifdef PC_CPU_X86
 	if (l >= PC_CPU_AVX512)
@@ -252,22 +252,22 @@ static int vec_ring_init(vec_ring *r, uint32_t w)
 {
 	size_t pitch = ((size_t)w + 2 + 15) / 16 * 16;
 	size_t hn = pc_st_vec_len(w);
-	r->buf = pc_dm_alloc((4 * pitch + 3 * hn) * sizeof(float));
+	r->buf = pc_dm_alloc((3 * pitch + 3 * hn) * sizeof(float));
 	if (!r->buf)
 		return -1;
-	for (int k = 0; k < 4; k++)
+	for (int k = 0; k < 3; k++)
 		r->src[k] = r->buf + (size_t)k * pitch + 1;
 	for (int i = 0; i < 3; i++) {
-		r->h[i] = r->buf + 4 * pitch + (size_t)i * hn;
+		r->h[i] = r->buf + 3 * pitch + (size_t)i * hn;
 		r->have[i] = -1;
 	}
 	return 0;
 }
 
 /* Row y (mirrored) of the samples, corrected by the compact dark and gain maps when it has
- * them (else by in's black level or maps, pc_dm_row_to_float), and of the three analysis
- * components, padded as pc_dm_row_to_float pads, summed into the slot's nine fields. Returns
- * the slot. */
+ * them (else by in's black level or maps, pc_dm_row_to_float), and of the two normalised
+ * analysis components, padded as pc_dm_row_to_float pads, summed into the slot's eight fields.
+ * Returns the slot. */
 static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_calib *v,
                         const pc_mosaic *m, pc_cpu_level level, int y)
 {
@@ -280,7 +280,7 @@ static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_cal
 		if (r->have[i] < r->have[s])
 			s = i;
 	const size_t o = (size_t)sy * v->stride;
-	float *d = r->src[3];
+	float *d = r->src[2];
 	if (pc_compact_corrects(v)) {
 		row_corr(level, in, (uint32_t)sy, d, v);
 		d[-1] = d[v->width > 1 ? 1 : 0];
@@ -288,10 +288,17 @@ static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_cal
 	} else {
 		pc_dm_row_to_float(in, (uint32_t)sy, d);
 	}
-	for (int k = 0; k < 3; k++)
-		row_vec_conv(level, v->a_q[k] + o, v->a_base[pc_dm_ch(m, 0, (unsigned)sy)][k],
-		             v->a_base[pc_dm_ch(m, 1, (unsigned)sy)][k], v->a_scale[k], v->width,
-		             r->src[k]);
+	for (int k = 0; k < 2; k++) {
+		const float b0 = v->v_base[pc_dm_ch(m, 0, (unsigned)sy)][k],
+		            b1 = v->v_base[pc_dm_ch(m, 1, (unsigned)sy)][k];
+		if (v->v_q[k]) {
+			row_vec_conv(level, v->v_q[k] + o, b0, b1, v->v_scale[k], v->width,
+			             r->src[k]);
+		} else {
+			for (int x = -1; x <= (int)v->width; x++)
+				r->src[k][x] = (x & 1) ? b1 : b0; /* mirrored: the same columns */
+		}
+	}
 	row_vec_h(level, (const float *const *)r->src, v->width, r->h[s]);
 	r->have[s] = sy;
 	return s;
@@ -308,8 +315,8 @@ static void vec_prefetch(const pc_dm_input *in, const pc_compact_calib *v, int s
 	int k = 0;
 	p[k] = (const char *)in->data + (size_t)sy * in->stride;
 	n[k++] = (size_t)in->width * bps[in->type];
-	const int16_t *maps[5] = {v->a_q[0], v->a_q[1], v->a_q[2], v->dark_q, v->gain_q};
-	for (int i = 0; i < 5; i++)
+	const int16_t *maps[4] = {v->v_q[0], v->v_q[1], v->dark_q, v->gain_q};
+	for (int i = 0; i < 4; i++)
 		if (maps[i]) {
 			p[k] = (const char *)(maps[i] + (size_t)sy * v->stride);
 			n[k++] = (size_t)v->width * sizeof(int16_t);

@@ -96,14 +96,14 @@ static inline const float *pc_st_calib_row(const pc_st_calib *c, unsigned i, uns
 }
 
 /* Where field f of column x sits in a row of the compact calibration's horizontal sums
- * (vec_hrow, stokes_kern.inc): the nine fields interleaved by 16-pixel blocks, so that a
+ * (vec_hrow, stokes_kern.inc): the eight fields interleaved by 16-pixel blocks, so that a
  * kernel reads one stream per row at constant offsets. */
-#define PC_VEC_IX(f, x) ((size_t)((x) >> 4) * 144 + (size_t)(f)*16 + (size_t)((x)&15))
+#define PC_VEC_IX(f, x) ((size_t)((x) >> 4) * 128 + (size_t)(f)*16 + (size_t)((x)&15))
 
 /* The floats of one such row of width w. */
 static inline size_t pc_st_vec_len(uint32_t w)
 {
-	return ((size_t)w + 15) / 16 * 144;
+	return ((size_t)w + 15) / 16 * 128;
 }
 
 /* S = M⁻¹b at column x of the fused pipeline with analysis vectors from the horizontal sums
@@ -111,19 +111,19 @@ static inline size_t pc_st_vec_len(uint32_t w)
  * vec_blk (stokes_kern.inc) one pixel at a time. */
 static inline void pc_st_vec_px(const float *const H[3], long x, float s[3])
 {
-	float f[9];
-	for (int k = 0; k < 9; k++) {
+	float f[8];
+	for (int k = 0; k < 8; k++) {
 		size_t i = PC_VEC_IX(k, x);
 		f[k] = H[1][i] * 2.0f + (H[0][i] + H[2][i]);
 	}
-	const float m00 = f[0], m01 = f[1], m02 = f[2], m11 = f[3], m12 = f[4], m22 = f[5];
+	const float m00 = 16.0f, m01 = f[0], m02 = f[1], m11 = f[2], m12 = f[3], m22 = f[4];
 	float c00 = m11 * m22 - m12 * m12, c11 = m00 * m22 - m02 * m02;
 	float c22 = m00 * m11 - m01 * m01, c01 = m02 * m12 - m01 * m22;
 	float c02 = m01 * m12 - m02 * m11, c12 = m01 * m02 - m00 * m12;
 	float inv = 1.0f / (m00 * c00 + (m01 * c01 + m02 * c02));
-	s[0] = (c00 * f[6] + (c01 * f[7] + c02 * f[8])) * inv;
-	s[1] = (c11 * f[7] + (c01 * f[6] + c12 * f[8])) * inv;
-	s[2] = (c22 * f[8] + (c02 * f[6] + c12 * f[7])) * inv;
+	s[0] = (c00 * f[5] + (c01 * f[6] + c02 * f[7])) * inv;
+	s[1] = (c11 * f[6] + (c01 * f[5] + c12 * f[7])) * inv;
+	s[2] = (c22 * f[7] + (c02 * f[5] + c12 * f[6])) * inv;
 }
 
 /* Whether the compact calibration corrects the samples itself (a dark or gain map, or a

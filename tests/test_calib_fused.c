@@ -7,9 +7,10 @@
  *      equal the uncalibrated estimator; measured bit for bit, checked to 1e-6 relative);
  *   2. a non-ideal calibration (dark, gain, analysers with orientation and extinction errors)
  *      against a double-precision restatement of the model of polarcam/calib.h written here
- *      from the float maps (not the 16-bit ones): I = (raw − dark)/gain, and per output pixel
- *      the weighted least squares over its 3×3 samples with the bilinear weights (1, ½, ¼;
- *      mirrored borders), S = (Σ K a aᵀ)⁻¹ Σ K a I solved by Cramer's rule (reference()).
+ *      from the float maps (not the 16-bit ones): I = (raw − dark)/gain, each sample's
+ *      equation divided by its a0 (u = a/a0), and per output pixel the weighted least
+ *      squares over its 3×3 samples with the bilinear weights (1, ½, ¼; mirrored borders),
+ *      S = (Σ K u uᵀ)⁻¹ Σ K u I/a0 solved by Cramer's rule (reference()).
  *      Stated tolerance (float kernel and 16-bit maps together): |ΔS| ≤ 2e-6·S0 + 2e-4 DN,
  *      |ΔDoLP| ≤ 1e-5, |ΔAoLP| ≤ 1e-5 rad where DoLP > 0.05;
  *   3. the same from a packed Mono12p raw and from Mono16 (identical), and the other path
@@ -160,11 +161,12 @@ static void solve3(double a[3][3], const double b[3], double S[3])
 	}
 }
 
-/* The double reference of the fused path at output pixel (x, y): the weighted least squares
- * over the 3×3 neighbourhood, min Σ K_s (I_s − a_s·S)² with the bilinear kernel's weights
- * K = 1 (own sample), ½ (edge neighbours), ¼ (corners), mirrored borders; normal equations
- * (Σ K a aᵀ) S = Σ K a I (docs/calibration.md "Speed"). Written from the definition, sample by
- * sample, not from the kernel's separable sums. */
+/* The double reference of the fused path at output pixel (x, y): each sample's equation
+ * I_s = a_s·S divided by its a0, then the weighted least squares over the 3×3 neighbourhood,
+ * min Σ K_s (I_s/a0_s − u_s·S)² with u_s = a_s/a0_s and the bilinear kernel's weights K = 1
+ * (own sample), ½ (edge neighbours), ¼ (corners), mirrored borders; normal equations
+ * (Σ K u uᵀ) S = Σ K u I/a0 (pc_compact_calib). Written from the definition, sample by sample,
+ * not from the kernel's separable sums. */
 static void reference(const pc_calib *cal, const double *I, const double *A, int x, int y,
                       double S[3])
 {
@@ -174,11 +176,11 @@ static void reference(const pc_calib *cal, const double *I, const double *A, int
 		for (int dx = -1; dx <= 1; dx++) {
 			const double k = (dx ? 0.5 : 1) * (dy ? 0.5 : 1);
 			size_t p = (size_t)mir(y + dy, (int)H) * W + (size_t)mir(x + dx, (int)W);
-			const double *v = A + 3 * p;
+			const double u[3] = {1, A[3 * p + 1] / A[3 * p], A[3 * p + 2] / A[3 * p]};
 			for (int i = 0; i < 3; i++) {
 				for (int j = 0; j < 3; j++)
-					a[i][j] += k * v[i] * v[j];
-				b[i] += k * v[i] * I[p];
+					a[i][j] += k * u[i] * u[j];
+				b[i] += k * u[i] * I[p] / A[3 * p];
 			}
 		}
 	solve3(a, b, S);
@@ -360,7 +362,7 @@ static void levels_and_sizes(void)
 			/* 7. refusals: with pseudo-inverses, for another method, the reference
 			 * path, another size, with the options' black level, and for channels */
 			const pc_compact_calib *cc = &cal.apply_vec;
-			CHECK(cc->a_q[0] != NULL);
+			CHECK(cc->v_q[0] != NULL && cc->v_q[1] != NULL && cc->gain_q != NULL);
 			outs o;
 			outs_init(&o);
 			pc_pipeline_opts po = pc_pipeline_defaults();
