@@ -30,7 +30,8 @@
  *      reference path, another size, a distrusted sample listed outside the raw, with the
  *      options' black level, and for channels;
  *   8. a calibration without a dark map (the black level as a constant dark, no map read)
- *      against the reference with I = (raw − black level)/gain, at every level. */
+ *      against the reference with I = (raw − black level)/gain, at every level;
+ *   9. test 2 for the mosaic's three other phases, at both sizes and every level. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,6 +44,9 @@
 
 /* the frame size: 64×48 (whole 16-pixel blocks), then 38×22 (a scalar tail in every row) */
 static uint32_t W = 64, H = 48;
+/* the mosaic of the calibrations made (test 9 shifts its phase) */
+static pc_mosaic MOS;
+static bool mos_set = false;
 
 static uint64_t rng_state = 0x243f6a8885a308d3ull;
 static double urand(void)
@@ -55,7 +59,7 @@ static void calib_alloc(pc_calib *cal, bool ideal)
 {
 	const size_t np = (size_t)W * H;
 	pc_calib_init(cal);
-	cal->geo = (pc_calib_geometry){W, H, 0, 0, W, H, 12, pc_mosaic_imx250mzr()};
+	cal->geo = (pc_calib_geometry){W, H, 0, 0, W, H, 12, mos_set ? MOS : pc_mosaic_imx250mzr()};
 	cal->black_level = 64;
 	cal->saturation = 4095;
 	cal->parts = PC_CAL_DARK | PC_CAL_FLAT | PC_CAL_ANALYSER;
@@ -469,6 +473,46 @@ static void levels_and_sizes(void)
 	}
 }
 
+/* 9. the other three phases of the IMX250MZR mosaic (a crop at an odd offset: [45 90; 0 135],
+ * [135 0; 90 45], [0 135; 45 90]), both sizes, every level, against the double reference */
+static void phases(void)
+{
+	static const int ang[3][4] = {{45, 90, 0, 135}, {135, 0, 90, 45}, {0, 135, 45, 90}};
+	static const uint32_t sizes[2][2] = {{64, 48}, {38, 22}};
+	for (int ph = 0; ph < 3; ph++)
+		for (int z = 0; z < 2; z++) {
+			W = sizes[z][0];
+			H = sizes[z][1];
+			CHECK_EQ_INT(pc_mosaic_from_angles(ang[ph], &MOS), 0);
+			mos_set = true;
+			pc_calib cal;
+			calib_alloc(&cal, false);
+			pc_view raw;
+			make_raw(&cal, &raw);
+			double *I, *A;
+			ref_inputs(&cal, &raw, &I, &A);
+			for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
+				CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
+				outs o;
+				outs_init(&o);
+				CHECK_EQ_INT(run(&cal, &raw, &o), 0);
+				char what[96];
+				snprintf(what, sizeof what, ", phase %d,%d,%d,%d, %s", ang[ph][0],
+				         ang[ph][1], ang[ph][2], ang[ph][3],
+				         pc_cpu_level_name((pc_cpu_level)l));
+				compare_reference(&cal, &raw, I, A, &o, what);
+				free(o.buf);
+				free(o.mask);
+			}
+			pc_cpu_force(PC_CPU_LEVELS);
+			free(I);
+			free(A);
+			pc_view_free(&raw);
+			pc_calib_free(&cal);
+		}
+	mos_set = false;
+}
+
 int main(void)
 {
 	/* ---- 1. identity calibration = the uncalibrated pipeline ---- */
@@ -605,5 +649,6 @@ int main(void)
 	pc_view_free(&raw);
 	pc_calib_free(&cal);
 	levels_and_sizes();
+	phases();
 	return pc_test_finish("test_calib_fused");
 }
