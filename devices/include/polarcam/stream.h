@@ -95,12 +95,6 @@ PC_API const pc_stokes_out *pc_stokes_stream_planes(const pc_stokes_stream *s, u
 /* Seconds the last pc_stokes_stream_process spent in pc_stokes_from_raw. */
 PC_API double pc_stokes_stream_seconds(const pc_stokes_stream *s);
 
-/* Draws S0 (grey, 0 to the 99.9th percentile), DoLP (grey, 0..1) and AoLP (hue = AoLP,
- * value = DoLP) of the last frame side by side, invalid pixels marked in each
- * (pc_picture_mask_invalid): *rgb is (3·width) × height RGB8 with the stride
- * 9·width bytes, owned by the stream (valid until the next process). */
-PC_API int pc_stokes_stream_picture(pc_stokes_stream *s, const uint8_t **rgb);
-
 #ifdef __cplusplus
 }
 #endif
