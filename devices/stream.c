@@ -157,6 +157,7 @@ struct pc_stokes_stream {
 	uint8_t *valid; /* w × h */
 	pc_validity validity;
 	double sat_used;
+	bool black_open; /* no level given, none declared at set-up: ask again after a frame */
 };
 
 pc_stream_levels pc_stream_levels_default(void)
@@ -174,12 +175,14 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 	if (!isnan(l.black_level) && !(l.black_level >= 0 && isfinite(l.black_level)))
 		return pc_error(PC_EINVAL, "black level %g: expected a finite level >= 0 DN",
 		                l.black_level);
+	s->black_open = false;
 	if (isnan(l.black_level)) {
 		pc_source_info info;
 		l.black_level = 0;
 		if (!l.calibration && src && pc_source_get_info(src, &info) == 0)
 			l.black_level = info.black_level;
 		pc_error_clear();
+		s->black_open = !l.calibration && !(l.black_level > 0);
 	}
 	if (s->have_cal)
 		pc_calib_free(&s->cal);
@@ -214,6 +217,20 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 	}
 	s->lv = l;
 	return 0;
+}
+
+int pc_stokes_stream_update_black(pc_stokes_stream *s, pc_source *src)
+{
+	if (!s->black_open || !src)
+		return 0;
+	s->black_open = false;
+	pc_source_info info;
+	int taken = pc_source_get_info(src, &info) == 0 && info.black_level > 0 &&
+	            isfinite(info.black_level);
+	if (taken)
+		s->lv.black_level = info.black_level;
+	pc_error_clear();
+	return taken;
 }
 
 const pc_validity *pc_stokes_stream_validity(const pc_stokes_stream *s)

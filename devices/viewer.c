@@ -136,6 +136,8 @@ static void loop(viewer *v)
 			fail(v, rc, what);
 			break;
 		}
+		/* a level the source declares only once frames flow (libcamera) */
+		pc_stokes_stream_update_black(v->live, v->src);
 		rc = pc_stokes_stream_process(v->live, &b->frame);
 		uint64_t seq = b->frame.meta.sequence;
 		int rc2 = pc_source_requeue(v->src, b);
