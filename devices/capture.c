@@ -34,6 +34,7 @@ typedef struct capture {
 	pc_stokes_stream *live;
 	const char *method; /* name, with process */
 	double black;       /* DN: given, or what the source declares; 0: unknown */
+	bool black_open;    /* none given or declared at the start: ask after the first frame */
 	double seconds, proc_sum, proc_max;
 	uint64_t kept;  /* frames whose Stokes images were written (writer thread) */
 	bool last_kept; /* the last processed frame's were */
@@ -157,6 +158,7 @@ static int open_all(capture *c)
 	if (isnan(o->levels.black_level) && pc_source_get_info(c->src, &info) == 0)
 		c->black = info.black_level;
 	pc_error_clear();
+	c->black_open = isnan(o->levels.black_level) && !(c->black > 0);
 	size_t row = 0;
 	(void)pc_format_row_bytes(c->f.format, c->f.width, &row);
 	size_t frame_bytes = c->f.height ? c->f.stride * (c->f.height - 1) + row : row;
@@ -305,6 +307,18 @@ static int acquire_one(capture *c, acq *a)
 	if (rc)
 		return 0;
 	fq_arrival(&c->q, now_s());
+	if (c->black_open) {
+		/* a level the source declares only once frames flow (libcamera), asked here, on
+		 * the thread that dequeues, before the writer has a frame to process */
+		c->black_open = false;
+		pc_source_info info;
+		if (pc_source_get_info(c->src, &info) == 0 && info.black_level > 0 &&
+		    isfinite(info.black_level))
+			c->black = info.black_level;
+		pc_error_clear();
+		if (c->live)
+			pc_stokes_stream_update_black(c->live, c->src);
+	}
 	int take = 0;
 	const bool bad = b->frame.meta.status & (PC_FRAME_INCOMPLETE | PC_FRAME_CORRUPT);
 	if (bad)

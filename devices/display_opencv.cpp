@@ -86,18 +86,3 @@ extern "C" void pc_display_close(pc_display *d)
 	}
 	delete d;
 }
-
-extern "C" int pc_display_resize_rgb8(const uint8_t *src, uint32_t sw, uint32_t sh, size_t sstride,
-                                      uint8_t *dst, uint32_t dw, uint32_t dh, size_t dstride)
-{
-	if (!src || !dst || !sw || !sh || !dw || !dh)
-		return pc_error(PC_EINVAL, "resize: bad image");
-	try {
-		cv::Mat in((int)sh, (int)sw, CV_8UC3, const_cast<uint8_t *>(src), sstride);
-		cv::Mat out((int)dh, (int)dw, CV_8UC3, dst, dstride);
-		cv::resize(in, out, out.size(), 0, 0, dw < sw ? cv::INTER_AREA : cv::INTER_NEAREST);
-		return 0;
-	} catch (const std::exception &e) {
-		return pc_error(PC_EIO, "resize: %s", e.what());
-	}
-}

@@ -12,6 +12,9 @@
  * offsets are not offered (adjusted to 0, 0).
  * Controls: exposure_us = controls::ExposureTime (µs), gain_db = 20 log10(AnalogueGain),
  * frame_rate_hz = 1 / FrameDurationLimits; values set are carried by the next queued request.
+ * Black level: the per-frame metadata controls::SensorBlackLevels (a 16-bit scale), converted
+ * to DN of the delivered format (libcamera_black.h); get_info declares the level of the latest
+ * frame that carried one, and none (0) before the first such frame.
  * Buffers: one FrameBufferAllocator buffer and one Request per pool buffer, mapped once.
  * Completed requests arrive on libcamera's thread and wait in a queue for pc_source_dequeue.
  * libcamera's log goes nowhere unless LIBCAMERA_LOG_LEVELS or LIBCAMERA_LOG_FILE is set (the
@@ -37,6 +40,8 @@
 #include <new>
 #include <string>
 #include <vector>
+
+#include "libcamera_black.h"
 
 extern "C" {
 #include "backends.h"
@@ -153,6 +158,7 @@ struct lc_src {
 	std::condition_variable cv;
 	std::deque<Request *> done;
 	bool disconnected = false;
+	double black_dn = 0; /* of the latest frame whose metadata declared one (under mtx) */
 
 	ControlList pending; /* controls for the next queued request */
 	double exposure_us = 0, gain_db = 0, fps = 0;
@@ -352,6 +358,8 @@ int lc_get_info(pc_source *s, pc_source_info *info)
 		info->polarized = v->polarized;
 		if (v->polarized)
 			info->mosaic = v->mosaic;
+		std::lock_guard<std::mutex> lock(v->mtx);
+		info->black_level = v->black_dn;
 		return 0;
 	});
 }
@@ -507,6 +515,8 @@ int configure(lc_src *v, const pc_source_format &fmt, unsigned count)
 		                std::strerror(-r));
 	v->stream = sc.stream();
 	v->config = std::move(cfg);
+	std::lock_guard<std::mutex> lock(v->mtx);
+	v->black_dn = 0; /* a level of the previous format's bits no longer holds */
 	return 0;
 }
 
@@ -825,6 +835,12 @@ int lc_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 		auto ag = r->metadata().get(controls::AnalogueGain);
 		fr->meta.exposure_us = et ? (double)*et : v->exposure_us;
 		fr->meta.gain_db = ag && *ag > 0 ? 20.0 * std::log10((double)*ag) : v->gain_db;
+		double black = 0;
+		const pc_format_info *fi = pc_format_info_get(f->format);
+		if (fi && pc_libcamera_black_level_dn(r->metadata(), fi->bits, &black)) {
+			std::lock_guard<std::mutex> lock(v->mtx);
+			v->black_dn = black;
+		}
 		size_t row = 0;
 		(void)pc_format_row_bytes(f->format, f->width, &row);
 		if (md.status != FrameMetadata::FrameSuccess)
@@ -857,6 +873,23 @@ int lc_stop(pc_source *s)
 const char *const lc_options[] = {"mosaic", nullptr};
 
 } /* namespace */
+
+bool pc_libcamera_black_level_dn(const ControlList &metadata, unsigned bits, double *dn)
+{
+	if (bits < 1 || bits > 16)
+		return false;
+	const auto levels = metadata.get(controls::SensorBlackLevels);
+	if (!levels || levels->empty())
+		return false;
+	double sum = 0;
+	for (int32_t l : *levels)
+		sum += l;
+	const double mean = sum / (double)levels->size();
+	if (!(mean > 0))
+		return false;
+	*dn = std::ldexp(mean, (int)bits - 16);
+	return true;
+}
 
 extern "C" {
 

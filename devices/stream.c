@@ -11,7 +11,6 @@
 #include "json.h"
 #include "polarcam/calib.h"
 #include "polarcam/error.h"
-#include "polarcam/picture.h"
 
 void pc_stream_request_init(pc_stream_request *r)
 {
@@ -151,7 +150,6 @@ struct pc_stokes_stream {
 	uint32_t w, h; /* output size of the method */
 	float *planes; /* s0, dolp, aolp (each w*h) */
 	pc_stokes_out out;
-	uint8_t *rgb;        /* 3 panels side by side: (3w) x h RGB8 */
 	double process_s;    /* time of the last pc_stokes_from_raw */
 	pc_stream_levels lv; /* resolved: black_level finite */
 	pc_calib cal;        /* with lv.calibration */
@@ -159,6 +157,7 @@ struct pc_stokes_stream {
 	uint8_t *valid; /* w × h */
 	pc_validity validity;
 	double sat_used;
+	bool black_open; /* no level given, none declared at set-up: ask again after a frame */
 };
 
 pc_stream_levels pc_stream_levels_default(void)
@@ -176,12 +175,14 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 	if (!isnan(l.black_level) && !(l.black_level >= 0 && isfinite(l.black_level)))
 		return pc_error(PC_EINVAL, "black level %g: expected a finite level >= 0 DN",
 		                l.black_level);
+	s->black_open = false;
 	if (isnan(l.black_level)) {
 		pc_source_info info;
 		l.black_level = 0;
 		if (!l.calibration && src && pc_source_get_info(src, &info) == 0)
 			l.black_level = info.black_level;
 		pc_error_clear();
+		s->black_open = !l.calibration && !(l.black_level > 0);
 	}
 	if (s->have_cal)
 		pc_calib_free(&s->cal);
@@ -216,6 +217,20 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 	}
 	s->lv = l;
 	return 0;
+}
+
+int pc_stokes_stream_update_black(pc_stokes_stream *s, pc_source *src)
+{
+	if (!s->black_open || !src)
+		return 0;
+	s->black_open = false;
+	pc_source_info info;
+	int taken = pc_source_get_info(src, &info) == 0 && info.black_level > 0 &&
+	            isfinite(info.black_level);
+	if (taken)
+		s->lv.black_level = info.black_level;
+	pc_error_clear();
+	return taken;
 }
 
 const pc_validity *pc_stokes_stream_validity(const pc_stokes_stream *s)
@@ -257,7 +272,6 @@ void pc_stokes_stream_free(pc_stokes_stream *s)
 	if (!s)
 		return;
 	free(s->planes);
-	free(s->rgb);
 	free(s->valid);
 	if (s->have_cal)
 		pc_calib_free(&s->cal);
@@ -274,8 +288,6 @@ int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 	pc_demosaic_out_size(lv->method, f->view.width, f->view.height, &w, &h);
 	if (w != lv->w || h != lv->h || !lv->planes) {
 		free(lv->planes);
-		free(lv->rgb);
-		lv->rgb = NULL; /* made by pc_stokes_stream_picture, when called */
 		free(lv->valid);
 		lv->w = w;
 		lv->h = h;
@@ -326,28 +338,4 @@ const pc_stokes_out *pc_stokes_stream_planes(const pc_stokes_stream *s, uint32_t
 double pc_stokes_stream_seconds(const pc_stokes_stream *s)
 {
 	return s->process_s;
-}
-
-int pc_stokes_stream_picture(pc_stokes_stream *lv, const uint8_t **rgb)
-{
-	if (!lv->planes)
-		return pc_error(PC_ESTATE, "Stokes stream: no frame processed yet");
-	size_t stride = (size_t)lv->w * 3 * 3;
-	if (!lv->rgb && !(lv->rgb = malloc(stride * lv->h)))
-		return pc_error(PC_ENOMEM, "Stokes stream picture %ux%u", lv->w * 3, lv->h);
-	float hi = pc_picture_quantile(&lv->out.s0, lv->w, lv->h, 0.999);
-	if (!(hi > 0))
-		hi = 1;
-	int rc = pc_picture_grey(&lv->out.s0, lv->w, lv->h, 0, hi, lv->rgb, stride);
-	if (!rc)
-		rc = pc_picture_grey(&lv->out.dolp, lv->w, lv->h, 0, 1, lv->rgb + (size_t)lv->w * 3,
-		                     stride);
-	if (!rc)
-		rc = pc_picture_aolp(&lv->out.aolp, &lv->out.dolp, lv->w, lv->h, PC_AOLP_VALUE,
-		                     1.0f, lv->rgb + (size_t)lv->w * 6, stride);
-	for (int k = 0; !rc && lv->validity.n_invalid && k < 3; k++)
-		pc_picture_mask_invalid(lv->valid, lv->w, lv->w, lv->h,
-		                        lv->rgb + (size_t)lv->w * 3 * (size_t)k, stride);
-	*rgb = rc ? NULL : lv->rgb;
-	return rc;
 }

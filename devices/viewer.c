@@ -20,7 +20,8 @@ typedef struct viewer {
 	pc_source *src;
 	pc_stokes_stream *live;
 	const char *method;
-	uint8_t *small; /* the picture on screen */
+	pc_pictures_live *pics; /* the panels' buffers, kept from frame to frame */
+	const uint8_t *small;   /* the picture on screen (pics's) */
 	uint32_t dw, dh;
 	double fps, t_last, proc_total;
 	long shots;
@@ -65,7 +66,7 @@ static int open_all(viewer *v)
 	if ((rc = pc_process_method(v->o->method, &f.mosaic, &m)))
 		return rc;
 	v->method = pc_demosaic_method_get(m)->name;
-	if ((rc = pc_stokes_stream_new(m, &v->live)))
+	if ((rc = pc_stokes_stream_new(m, &v->live)) || (rc = pc_pictures_live_new(&v->pics)))
 		return rc;
 	return pc_stokes_stream_set_levels(v->live, &v->o->levels, v->src);
 }
@@ -83,13 +84,13 @@ static int show(viewer *v, uint64_t seq)
 	/* the pictures of the files (keys, DoLP range, low-signal hatch, invalid mark) as panels
 	 * at the frames' aspect ratio */
 	pc_pictures_opts po = {NULL, 0, v->o->mask_s0, NULL, 0, v->o->dolp_hi};
-	uint8_t *pic = NULL;
+	const uint8_t *pic = NULL;
 	uint32_t ph = 0;
-	int rc = pc_pictures_panels(st, w, h, &po, pc_stokes_stream_validity(v->live), v->o->width,
-	                            STATUS_ROWS, &pic, &ph);
+	int rc = pc_pictures_live_draw(v->pics, st, w, h, &po, pc_stokes_stream_validity(v->live),
+	                               v->o->width, STATUS_ROWS, &pic, &ph);
+	v->small = NULL; /* the last picture is gone with a failed draw */
 	if (rc)
 		return fail(v, rc, "");
-	free(v->small);
 	v->small = pic;
 	v->dw = v->o->width;
 	v->dh = ph;
@@ -135,6 +136,8 @@ static void loop(viewer *v)
 			fail(v, rc, what);
 			break;
 		}
+		/* a level the source declares only once frames flow (libcamera) */
+		pc_stokes_stream_update_black(v->live, v->src);
 		rc = pc_stokes_stream_process(v->live, &b->frame);
 		uint64_t seq = b->frame.meta.sequence;
 		int rc2 = pc_source_requeue(v->src, b);
@@ -156,7 +159,7 @@ static void loop(viewer *v)
 int pc_viewer_run(const pc_viewer_opts *o, pc_viewer_report *rep)
 {
 	memset(rep, 0, sizeof *rep);
-	viewer v = {o, NULL, NULL, NULL, NULL, NULL, 0, 0, 0, 0, 0, 0, rep};
+	viewer v = {o, NULL, NULL, NULL, NULL, NULL, NULL, 0, 0, 0, 0, 0, 0, rep};
 	int rc = open_all(&v);
 	if (!rc) {
 		double t0 = now_s();
@@ -195,7 +198,7 @@ int pc_viewer_run(const pc_viewer_opts *o, pc_viewer_report *rep)
 		rep->json = pc_json_text(j);
 		json_decref(j);
 	}
-	free(v.small);
+	pc_pictures_live_free(v.pics);
 	pc_stokes_stream_free(v.live);
 	pc_source_close(v.src);
 	pc_display_close(v.win);

@@ -42,4 +42,16 @@ int pc_pictures_write_minmax_planes(const char *dir, const struct pc_stokes_out 
                                     const struct pc_pictures_opts *opts,
                                     const struct pc_validity *valid, bool minmax, bool split);
 
+struct pc_colorbar;
+struct pc_legend_note;
+/* pc_image_render_rgb8 (polarcam/plot.h) with xrgb: NULL, or width × height words in which
+ * cairo's copy of the picture is made, and xout: NULL, or the words of the annotated picture
+ * (pc_image_annotated_size of the same arguments) in which it is drawn (io/plot.c), so that
+ * the live window's panels (pc_pictures_live_draw) allocate neither per frame. */
+int pc_image_render_rgb8_xrgb(const uint8_t *rgb, uint32_t width, uint32_t height, size_t stride,
+                              const char *title, const struct pc_colorbar *bar,
+                              const struct pc_legend_note *note, uint32_t image_width, uint8_t *out,
+                              uint32_t out_width, uint32_t out_height, size_t out_stride,
+                              uint32_t *xrgb, uint32_t *xout);
+
 #endif

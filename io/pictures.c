@@ -116,7 +116,35 @@ typedef struct pic_sink {
 	/* panels */
 	uint8_t *out;
 	uint32_t out_w, out_h, image_w, x, y;
+	struct pc_pictures_live *ws; /* the panels' buffers */
 } pic_sink;
+
+/* The buffers of the live window's panels, kept from one frame to the next. */
+struct pc_pictures_live {
+	uint8_t *rgb; /* one full-size picture, RGB8 */
+	size_t rgb_n;
+	uint32_t *xrgb; /* cairo's copy of it */
+	size_t xrgb_n;
+	uint32_t *xout; /* cairo's drawing of one panel */
+	size_t xout_n;
+	float *dd; /* the automatic DoLP range's copies of DoLP and S0 */
+	size_t dd_n;
+	uint8_t *out; /* the panels */
+	size_t out_n;
+};
+
+/* *buf holds at least n bytes afterwards (its contents are not kept); NULL when out of
+ * memory. Buffers only grow: a smaller frame reuses a larger buffer. */
+static void *ws_get(void *buf_p, size_t *have, size_t n)
+{
+	void **buf = buf_p;
+	if (*buf && *have >= n)
+		return *buf;
+	free(*buf);
+	*buf = malloc(n ? n : 1);
+	*have = *buf ? n : 0;
+	return *buf;
+}
 
 static int put_file(pic_sink *k, int index, const char *name, const uint8_t *rgb, const char *title,
                     const char *short_title, const pc_colorbar *bar, const pc_legend_note *note)
@@ -136,17 +164,23 @@ static int put_panel(pic_sink *k, int index, const char *name, const uint8_t *rg
 	if (k->x >= k->out_w || k->x + pw > k->out_w || k->y + ph > k->out_h)
 		return pc_error(PC_EINVAL, "panels: %ux%u panel beyond the %ux%u picture", pw, ph,
 		                k->out_w, k->out_h);
-	int rc = pc_image_render_rgb8(rgb, k->w, k->h, (size_t)k->w * 3, short_title, bar, note,
-	                              k->image_w, k->out + (size_t)k->y * k->out_w * 3 + 3 * k->x,
-	                              k->out_w - k->x, k->out_h - k->y, (size_t)k->out_w * 3);
+	uint32_t *xout = ws_get(&k->ws->xout, &k->ws->xout_n, (size_t)pw * ph * sizeof(uint32_t));
+	if (!xout)
+		return pc_error(PC_ENOMEM, "panels: %ux%u panel", pw, ph);
+	int rc = pc_image_render_rgb8_xrgb(
+	    rgb, k->w, k->h, (size_t)k->w * 3, short_title, bar, note, k->image_w,
+	    k->out + (size_t)k->y * k->out_w * 3 + 3 * k->x, k->out_w - k->x, k->out_h - k->y,
+	    (size_t)k->out_w * 3, k->ws->xrgb, xout);
 	k->x += pw + PANEL_GAP;
 	return rc;
 }
 
 /* The S0, DoLP and AoLP pictures (with the keys, ranges, masks and notes described in
- * polarcam/io.h) handed to sink one by one. */
+ * polarcam/io.h) handed to sink one by one. ws: NULL (buffers made and freed here) or the
+ * buffers kept by the live window. */
 static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
-                    const pc_pictures_opts *opts, const pc_validity *valid, pic_sink *sink)
+                    const pc_pictures_opts *opts, const pc_validity *valid, pic_sink *sink,
+                    pc_pictures_live *ws)
 {
 	if (!st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
@@ -164,7 +198,8 @@ static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
 	char pre[96] = "";
 	if (o.title_prefix && *o.title_prefix)
 		snprintf(pre, sizeof pre, "%s: ", o.title_prefix);
-	uint8_t *rgb = malloc((size_t)width * height * 3);
+	const size_t rgb_bytes = (size_t)width * height * 3;
+	uint8_t *rgb = ws ? ws_get(&ws->rgb, &ws->rgb_n, rgb_bytes) : malloc(rgb_bytes);
 	if (!rgb)
 		return pc_error(PC_ENOMEM, "pictures: %ux%u RGB buffer", width, height);
 	char title[320];
@@ -181,9 +216,11 @@ static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
 	double dhi = o.dolp_hi > 0 ? fmin(o.dolp_hi, 1) : 1;
 	char dlabel[64] = "DoLP";
 	if (o.dolp_hi < 0) {
-		float *dd = malloc((size_t)width * height * 2 * sizeof *dd);
+		const size_t dd_bytes = (size_t)width * height * 2 * sizeof(float);
+		float *dd = ws ? ws_get(&ws->dd, &ws->dd_n, dd_bytes) : malloc(dd_bytes);
 		if (!dd) {
-			free(rgb);
+			if (!ws)
+				free(rgb);
 			return pc_error(PC_ENOMEM, "pictures: %ux%u DoLP copy", width, height);
 		}
 		float *ss = dd + (size_t)width * height;
@@ -199,7 +236,8 @@ static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
 				    s->data[y * s->row_stride + x * s->pixel_stride];
 			}
 		dhi = pc_pictures_dolp_auto(dd, ss, (size_t)width * height, mask);
-		free(dd);
+		if (!ws)
+			free(dd);
 		snprintf(dlabel, sizeof dlabel, "DoLP (0..%.2f, auto)", dhi);
 	} else if (dhi < 1) {
 		snprintf(dlabel, sizeof dlabel, "DoLP (0..%.2f)", dhi);
@@ -262,7 +300,8 @@ static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
 		if (!rc)
 			rc = sink->put(sink, 2 + k, names[k], rgb, title, short_title, &abar, np);
 	}
-	free(rgb);
+	if (!ws)
+		free(rgb);
 	return rc;
 }
 
@@ -279,8 +318,9 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	              width,    height,
 	              NULL,     0,
 	              0,        0,
-	              0,        0};
-	return draw_set(st, width, height, &o, valid, &k);
+	              0,        0,
+	              NULL};
+	return draw_set(st, width, height, &o, valid, &k, NULL);
 }
 
 /* The panels' width for an image drawn iw wide: S0, DoLP and AoLP with their bars. */
@@ -295,9 +335,48 @@ static uint32_t panels_width(uint32_t width, uint32_t height, uint32_t iw, uint3
 	return 2 * w1 + w2 + 2 * PANEL_GAP;
 }
 
+int pc_pictures_live_new(pc_pictures_live **out)
+{
+	*out = calloc(1, sizeof **out);
+	return *out ? 0 : pc_error(PC_ENOMEM, "live pictures");
+}
+
+void pc_pictures_live_free(pc_pictures_live *p)
+{
+	if (!p)
+		return;
+	free(p->rgb);
+	free(p->xrgb);
+	free(p->xout);
+	free(p->dd);
+	free(p->out);
+	free(p);
+}
+
 int pc_pictures_panels(const pc_stokes_out *st, uint32_t width, uint32_t height,
                        const pc_pictures_opts *opts, const pc_validity *valid, uint32_t out_width,
                        uint32_t top, uint8_t **out, uint32_t *out_height)
+{
+	*out = NULL;
+	*out_height = 0;
+	pc_pictures_live *p;
+	int rc = pc_pictures_live_new(&p);
+	const uint8_t *pic = NULL;
+	if (!rc)
+		rc = pc_pictures_live_draw(p, st, width, height, opts, valid, out_width, top, &pic,
+		                           out_height);
+	if (!rc) { /* the picture leaves with the caller */
+		*out = p->out;
+		p->out = NULL;
+	}
+	pc_pictures_live_free(p);
+	return rc;
+}
+
+int pc_pictures_live_draw(pc_pictures_live *p, const pc_stokes_out *st, uint32_t width,
+                          uint32_t height, const pc_pictures_opts *opts, const pc_validity *valid,
+                          uint32_t out_width, uint32_t top, const uint8_t **out,
+                          uint32_t *out_height)
 {
 	*out = NULL;
 	*out_height = 0;
@@ -321,8 +400,9 @@ int pc_pictures_panels(const pc_stokes_out *st, uint32_t width, uint32_t height,
 	if (panels_width(width, height, iw, &ph) > out_width)
 		return pc_error(PC_EINVAL, "panels: width %u too small for the keys", out_width);
 	const uint32_t oh = top + ph;
-	uint8_t *buf = malloc((size_t)out_width * oh * 3);
-	if (!buf)
+	uint8_t *buf = ws_get(&p->out, &p->out_n, (size_t)out_width * oh * 3);
+	uint32_t *xrgb = ws_get(&p->xrgb, &p->xrgb_n, (size_t)width * height * sizeof(uint32_t));
+	if (!buf || !xrgb)
 		return pc_error(PC_ENOMEM, "panels: %ux%u picture", out_width, oh);
 	memset(buf, 255, (size_t)out_width * oh * 3);
 	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
@@ -333,12 +413,11 @@ int pc_pictures_panels(const pc_stokes_out *st, uint32_t width, uint32_t height,
 	              width,     height,
 	              buf,       out_width,
 	              oh,        iw,
-	              0,         top};
-	int rc = draw_set(st, width, height, &o, valid, &k);
-	if (rc) {
-		free(buf);
+	              0,         top,
+	              p};
+	int rc = draw_set(st, width, height, &o, valid, &k, p);
+	if (rc)
 		return rc;
-	}
 	*out = buf;
 	*out_height = oh;
 	return 0;

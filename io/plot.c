@@ -1,11 +1,13 @@
 #include "polarcam/plot.h"
 
+#include <assert.h>
 #include <cairo.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_internal.h"
 #include "polarcam/error.h"
 #include "polarcam/io.h"
 
@@ -483,9 +485,13 @@ static annot_layout annot_size(uint32_t width, uint32_t height, double scale, bo
 
 /* The picture drawn at scale with its title, colour bar and notes, as a new cairo surface
  * (*out; NULL on an error, which names what). */
+/* xrgb: NULL, or width × height words (stride 4·width) that hold cairo's copy of the picture;
+ * xout: NULL, or the annotated picture's words (its size as pc_image_annotated_size gives it),
+ * where it is drawn (both kept by the live window; otherwise cairo allocates them per call). */
 static int render_annotated(const char *what, const uint8_t *rgb, uint32_t width, uint32_t height,
                             size_t stride, const char *title, const pc_colorbar *bar,
-                            const pc_legend_note *note, double scale, cairo_surface_t **out_s)
+                            const pc_legend_note *note, double scale, uint32_t *xrgb,
+                            uint32_t *xout, cairo_surface_t **out_s)
 {
 	*out_s = NULL;
 	if (!rgb || width == 0 || height == 0 || stride < (size_t)width * 3 || width > 30000 ||
@@ -497,8 +503,13 @@ static int render_annotated(const char *what, const uint8_t *rgb, uint32_t width
 	const double fs = l.fs;
 
 	/* the picture itself, as a cairo surface (xRGB little-endian words) */
+	/* RGB24 rows are 4·width bytes: whole 32-bit words, already aligned as cairo wants */
+	assert(!xrgb ||
+	       cairo_format_stride_for_width(CAIRO_FORMAT_RGB24, (int)width) == (int)width * 4);
 	cairo_surface_t *img =
-	    cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)width, (int)height);
+	    xrgb ? cairo_image_surface_create_for_data((unsigned char *)xrgb, CAIRO_FORMAT_RGB24,
+	                                               (int)width, (int)height, (int)width * 4)
+	         : cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)width, (int)height);
 	if (cairo_surface_status(img) != CAIRO_STATUS_SUCCESS) {
 		cairo_surface_destroy(img);
 		return pc_error(PC_ENOMEM, "%s: image of %ux%u", what, width, height);
@@ -515,7 +526,9 @@ static int render_annotated(const char *what, const uint8_t *rgb, uint32_t width
 	}
 	cairo_surface_mark_dirty(img);
 
-	cairo_surface_t *out = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, l.H);
+	cairo_surface_t *out = xout ? cairo_image_surface_create_for_data(
+	                                  (unsigned char *)xout, CAIRO_FORMAT_RGB24, W, l.H, W * 4)
+	                            : cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, l.H);
 	cairo_t *cr = cairo_create(out);
 	cairo_set_source_rgb(cr, 1, 1, 1);
 	cairo_paint(cr);
@@ -629,7 +642,8 @@ int pc_image_write_png_ex(const char *path, const uint8_t *rgb, uint32_t width, 
 {
 	double scale = (max_width && width > max_width) ? (double)max_width / width : 1.0;
 	cairo_surface_t *out;
-	int rc = render_annotated(path, rgb, width, height, stride, title, bar, note, scale, &out);
+	int rc = render_annotated(path, rgb, width, height, stride, title, bar, note, scale, NULL,
+	                          NULL, &out);
 	if (rc)
 		return rc;
 	rc = surface_to_png(out, path);
@@ -652,12 +666,22 @@ int pc_image_render_rgb8(const uint8_t *rgb, uint32_t width, uint32_t height, si
                          uint32_t image_width, uint8_t *out, uint32_t out_width,
                          uint32_t out_height, size_t out_stride)
 {
+	return pc_image_render_rgb8_xrgb(rgb, width, height, stride, title, bar, note, image_width,
+	                                 out, out_width, out_height, out_stride, NULL, NULL);
+}
+
+int pc_image_render_rgb8_xrgb(const uint8_t *rgb, uint32_t width, uint32_t height, size_t stride,
+                              const char *title, const pc_colorbar *bar, const pc_legend_note *note,
+                              uint32_t image_width, uint8_t *out, uint32_t out_width,
+                              uint32_t out_height, size_t out_stride, uint32_t *xrgb,
+                              uint32_t *xout)
+{
 	if (!out || out_stride < (size_t)out_width * 3)
 		return pc_error(PC_EINVAL, "annotated picture: bad output buffer");
 	cairo_surface_t *s;
-	int rc =
-	    render_annotated("annotated picture", rgb, width, height, stride, title, bar, note,
-	                     width ? (double)(image_width ? image_width : width) / width : 1, &s);
+	int rc = render_annotated("annotated picture", rgb, width, height, stride, title, bar, note,
+	                          width ? (double)(image_width ? image_width : width) / width : 1,
+	                          xrgb, xout, &s);
 	if (rc)
 		return rc;
 	const int sw = cairo_image_surface_get_width(s), sh = cairo_image_surface_get_height(s);

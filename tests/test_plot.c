@@ -226,6 +226,71 @@ static void test_panels(const char *dir)
 	CHECK(out == NULL);
 }
 
+/* The live window's drawer (pc_pictures_live_draw) keeps its buffers from frame to frame: every
+ * draw must give the pixels of a fresh pc_pictures_panels (checked against the files above), so
+ * that nothing of an earlier frame, size or DoLP range shows through; frames of one size reuse
+ * the output buffer (the same pointer back). */
+static void test_panels_live(void)
+{
+	pc_stokes_out a, b;
+	pc_validity va, vb;
+	panels_input(&a, &va);
+	/* frame B: other values everywhere, no invalid pixel, no low-signal band */
+	static float b_s0[PW * PH], b_dolp[PW * PH], b_aolp[PW * PH];
+	for (int i = 0; i < PW * PH; i++) {
+		b_s0[i] = 500.0f + (float)(i % PW) * 20.0f;
+		b_dolp[i] = (float)(i / PW) / PH;
+		b_aolp[i] = (float)(M_PI * (i % PW) / PW);
+	}
+	b = a;
+	b.s0 = (pc_fplane){b_s0, PW, 1};
+	b.dolp = (pc_fplane){b_dolp, PW, 1};
+	b.aolp = (pc_fplane){b_aolp, PW, 1};
+	vb = (pc_validity){NULL, 0, 0};
+	/* frame C: the top-left 80 x 50 of A (its planes' row stride stays PW) */
+	pc_validity vc = {p_valid, PW, 8 * 8};
+	struct {
+		const pc_stokes_out *st;
+		const pc_validity *v;
+		uint32_t w, h, out_w;
+		double dolp_hi;
+	} seq[] = {{&a, &va, PW, PH, 816, 0},  {&b, &vb, PW, PH, 816, 0},
+	           {&b, &vb, PW, PH, 816, -1}, {&a, &vc, 80, 50, 816, 0},
+	           {&a, &va, PW, PH, 1500, 0}, {&a, &va, PW, PH, 816, 0.25}};
+	pc_pictures_live *lp = NULL;
+	CHECK_EQ_INT(pc_pictures_live_new(&lp), 0);
+	const uint8_t *first = NULL;
+	for (size_t k = 0; lp && k < sizeof seq / sizeof seq[0]; k++) {
+		pc_pictures_opts o = {NULL, 0, 0, NULL, 0, seq[k].dolp_hi};
+		const uint8_t *got = NULL;
+		uint8_t *want = NULL;
+		uint32_t gh = 0, wh = 0;
+		CHECK_EQ_INT(pc_pictures_live_draw(lp, seq[k].st, seq[k].w, seq[k].h, &o, seq[k].v,
+		                                   seq[k].out_w, 30, &got, &gh),
+		             0);
+		CHECK_EQ_INT(pc_pictures_panels(seq[k].st, seq[k].w, seq[k].h, &o, seq[k].v,
+		                                seq[k].out_w, 30, &want, &wh),
+		             0);
+		CHECK_EQ_INT(gh, wh);
+		long diff = 0;
+		for (size_t i = 0; got && want && gh == wh && i < (size_t)seq[k].out_w * gh * 3;
+		     i++)
+			diff += got[i] != want[i];
+		printf(
+		    "live panels, draw %zu (%ux%u into %u, DoLP range %g): %ld bytes differ from a "
+		    "fresh drawing\n",
+		    k, seq[k].w, seq[k].h, seq[k].out_w, seq[k].dolp_hi, diff);
+		CHECK_EQ_INT(diff, 0);
+		if (k == 0)
+			first = got;
+		if (k == 1 || k == 2)
+			CHECK(got == first); /* the same size: the same buffer */
+		free(want);
+	}
+	pc_pictures_live_free(lp);
+	pc_pictures_live_free(NULL);
+}
+
 /* Circular polarization (pc_circular_folder_write): states built from Jones vectors
  * E = (cos a, sin a·e^{iδ}) mixed with unpolarized light (degree P), whose Stokes vector is
  * S0 (1, P cos 2a, P sin 2a cos δ, P sin 2a sin δ) (physics.md §1) and whose ellipse has
@@ -320,6 +385,7 @@ int main(void)
 	snprintf(pdir, sizeof pdir, "%s/panels", dir);
 	CHECK_EQ_INT(pc_mkdir_p(pdir), 0);
 	test_panels(pdir);
+	test_panels_live();
 	test_circular(pdir);
 	snprintf(pdir, sizeof pdir, "rm -rf '%s/panels'", dir);
 	CHECK_EQ_INT(system(pdir), 0);

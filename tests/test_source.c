@@ -2,13 +2,16 @@
  * machine refuses calls in the wrong state, a missing op is PC_ENOTSUP, URI options are parsed
  * and unknown ones refused, negotiation answers are checked, frames that break the negotiated
  * format or go backwards in sequence/time are refused, sequence gaps count as dropped, stop
- * returns every buffer, a disconnect moves the source to FAILED. */
+ * returns every buffer, a disconnect moves the source to FAILED; a black level declared only
+ * once frames flow reaches the live pipeline's levels (pc_stokes_stream_update_black). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
 #include "polarcam/error.h"
 #include "polarcam/source.h"
+#include "polarcam/stream.h"
 
 /* Model backend: a 4x2 Mono8 sensor; frames carry sequence numbers from a script. */
 typedef struct model {
@@ -404,11 +407,60 @@ static void test_backwards_time(void)
 	pc_source_close(s); /* closes a streaming source */
 }
 
+/* A camera that reports its black level with its frames, as a libcamera camera does with the
+ * metadata SensorBlackLevels: none before the first frame, 37.5 DN from then on. */
+static int m_info_late(pc_source *s, pc_source_info *info)
+{
+	info->black_level = ((model *)pc_source_priv(s))->next ? 37.5 : 0;
+	return 0;
+}
+
+static void test_black_declared_late(void)
+{
+	static pc_source_ops late;
+	late = model_ops;
+	late.get_info = m_info_late;
+	/* no level given: the camera's after the first frame; given 5 DN: 5 whatever the camera
+	 * says; a source without get_info: none */
+	const struct {
+		const pc_source_ops *ops;
+		double given, before, after;
+		int taken;
+	} cases[] = {{&late, NAN, 0, 37.5, 1}, {&late, 5, 5, 5, 0}, {&model_ops, NAN, 0, 0, 0}};
+	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+		pc_source *s = NULL;
+		pc_stokes_stream *ss = NULL;
+		CHECK_EQ_INT(pc_source_open_ops(&s, cases[k].ops, "late", "cam0"), 0);
+		CHECK_EQ_INT(pc_stokes_stream_new(PC_DM_BILINEAR, &ss), 0);
+		if (!s || !ss)
+			return;
+		pc_stream_levels lv = pc_stream_levels_default();
+		lv.black_level = cases[k].given;
+		CHECK_EQ_INT(pc_stokes_stream_set_levels(ss, &lv, s), 0);
+		double black = -1;
+		pc_stokes_stream_levels_used(ss, &black, NULL, NULL);
+		CHECK_NEAR(black, cases[k].before, 0);
+		CHECK_EQ_INT(pc_source_buffers_alloc(s, 2), 0);
+		CHECK_EQ_INT(pc_source_start(s), 0);
+		pc_buffer *b = NULL;
+		CHECK_EQ_INT(pc_source_dequeue(s, 10, &b), 0);
+		CHECK_EQ_INT(pc_stokes_stream_update_black(ss, s), cases[k].taken);
+		pc_stokes_stream_levels_used(ss, &black, NULL, NULL);
+		printf("black level: given %g, %g before the first frame, %g after it\n",
+		       cases[k].given, cases[k].before, black);
+		CHECK_NEAR(black, cases[k].after, 0);
+		CHECK_EQ_INT(pc_stokes_stream_update_black(ss, s), 0); /* asked once */
+		pc_stokes_stream_free(ss);
+		pc_source_close(s);
+	}
+}
+
 int main(void)
 {
 	test_registry_and_uris();
 	test_notsup();
 	test_streaming();
 	test_backwards_time();
+	test_black_declared_late();
 	return pc_test_finish("test_source");
 }

@@ -32,11 +32,6 @@ PC_API int pc_display_show(pc_display *d, const uint8_t *rgb, uint32_t width, ui
 
 PC_API void pc_display_close(pc_display *d);
 
-/* Resizes RGB8 src into dst (area averaging when shrinking): OpenCV when available, else a
- * nearest-neighbour loop. */
-PC_API int pc_display_resize_rgb8(const uint8_t *src, uint32_t sw, uint32_t sh, size_t sstride,
-                                  uint8_t *dst, uint32_t dw, uint32_t dh, size_t dstride);
-
 #ifdef __cplusplus
 }
 #endif

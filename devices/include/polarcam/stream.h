@@ -79,6 +79,13 @@ PC_API void pc_stokes_stream_free(pc_stokes_stream *s);
 PC_API int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
                                        pc_source *src);
 
+/* After the first frame is dequeued and before it is processed, on the thread that dequeues:
+ * when set_levels was given no black level and no calibration and src declared none then, the
+ * level src declares now is taken (a `libcamera:` camera declares the level its frames report,
+ * so only once frames flow). Asks src once: later calls return 0 at once. 1 when a level was
+ * taken, else 0; never an error (a source that cannot say keeps none). */
+PC_API int pc_stokes_stream_update_black(pc_stokes_stream *s, pc_source *src);
+
 /* The last frame's validity (mask of the output size, 1 valid; n_invalid) and the black and
  * saturation levels used (0: none), the calibration file (NULL: none). */
 PC_API const pc_validity *pc_stokes_stream_validity(const pc_stokes_stream *s);
@@ -94,12 +101,6 @@ PC_API const pc_stokes_out *pc_stokes_stream_planes(const pc_stokes_stream *s, u
                                                     uint32_t *height);
 /* Seconds the last pc_stokes_stream_process spent in pc_stokes_from_raw. */
 PC_API double pc_stokes_stream_seconds(const pc_stokes_stream *s);
-
-/* Draws S0 (grey, 0 to the 99.9th percentile), DoLP (grey, 0..1) and AoLP (hue = AoLP,
- * value = DoLP) of the last frame side by side, invalid pixels marked in each
- * (pc_picture_mask_invalid): *rgb is (3·width) × height RGB8 with the stride
- * 9·width bytes, owned by the stream (valid until the next process). */
-PC_API int pc_stokes_stream_picture(pc_stokes_stream *s, const uint8_t **rgb);
 
 #ifdef __cplusplus
 }

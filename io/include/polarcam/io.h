@@ -249,6 +249,20 @@ PC_API int pc_pictures_panels(const struct pc_stokes_out *st, uint32_t width, ui
                               const pc_pictures_opts *opts, const struct pc_validity *valid,
                               uint32_t out_width, uint32_t top, uint8_t **out,
                               uint32_t *out_height);
+/* The same panels frame after frame (polarcam view): pc_pictures_live keeps the buffers of
+ * pc_pictures_panels - the full-size picture, cairo's copy of it, the automatic DoLP range's
+ * copies and the output - made at the first draw and again only when a larger one is needed,
+ * so that drawing a stream of frames of one size allocates no frame-sized memory (only the
+ * keys' small surfaces). Not for two threads at once. */
+typedef struct pc_pictures_live pc_pictures_live;
+PC_API int pc_pictures_live_new(pc_pictures_live **out);
+PC_API void pc_pictures_live_free(pc_pictures_live *p);
+/* As pc_pictures_panels, the same pixels; *out belongs to p, valid until its next draw or
+ * free. */
+PC_API int pc_pictures_live_draw(pc_pictures_live *p, const struct pc_stokes_out *st,
+                                 uint32_t width, uint32_t height, const pc_pictures_opts *opts,
+                                 const struct pc_validity *valid, uint32_t out_width, uint32_t top,
+                                 const uint8_t **out, uint32_t *out_height);
 /* Pictures of a colour-polarization frame's per-colour Stokes images rgb[0..2] (R, G, B; S0 and
  * DoLP needed; rgb points to 3): s0_rgb.png, the three S0 as the red, green and blue of one picture
  * on one scale (opts->s0_hi, or the largest of their 99.9th percentiles: no white balance, the
