@@ -581,7 +581,8 @@ static void mosaic_color(const scene *s, const pc_mosaic *m, const double gain[3
  * larger, at four phases of the colour layout. */
 static void test_pan_sizes(void)
 {
-	const pc_demosaic_method pm[3] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA};
+	const pc_demosaic_method pm[4] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA,
+	                                  PC_DM_PAN_DIR};
 	const int sizes[3][2] = {{8, 8}, {10, 18}, {42, 34}};
 	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
@@ -592,7 +593,7 @@ static void test_pan_sizes(void)
 			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);
-			for (int meth = 0; meth < 3; meth++) {
+			for (int meth = 0; meth < 4; meth++) {
 				pc_fplane f[12], r[12];
 				float *fb = alloc_planes((uint32_t)w, (uint32_t)h, 12, f),
 				      *rb = alloc_planes((uint32_t)w, (uint32_t)h, 12, r);
@@ -620,14 +621,14 @@ static void test_pan_sizes(void)
 
 static void test_color(void)
 {
-	const pc_demosaic_method cm[5] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
-	                                  PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA};
+	const pc_demosaic_method cm[6] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
+	                                  PC_DM_PAN_GUIDED,  PC_DM_PAN_CHROMA, PC_DM_PAN_DIR};
 	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
 	for (unsigned ph = 0; ph < 16; ph++) {
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		scene tex = make_scene(40, 32, 2, 0);
-		for (int meth = 0; meth < 5; meth++) {
+		for (int meth = 0; meth < 6; meth++) {
 			/* fast vs reference on a random texture */
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);
