@@ -138,19 +138,28 @@ static unsigned chan(const pan_ref *r, int x, int y)
 	return 4 * (pc_mosaic_color(r->m, xm, ym) - PC_CFA_R) + pc_mosaic_channel(r->m, xm, ym);
 }
 
-/* Both references' output at (x, y): the pixel's own sample kept, every other channel q its
- * sample times the interpolated ratio of q to the own channel (num, den: each channel's
+/* The references' twelve values at (x, y): the pixel's own sample kept, every other channel q
+ * its sample times the interpolated ratio of q to the own channel (num, den: each channel's
  * weighted ratio sum and its weight). */
-static void put_pixel(const pan_ref *r, int x, int y, const double num[12], const double den[12],
-                      const pc_fplane *out)
+static void pan_values(const pan_ref *r, int x, int y, const double num[12], const double den[12],
+                       double o[12])
 {
 	unsigned own = chan(r, x, y);
 	double v = r->img[(size_t)y * (size_t)r->w + (size_t)x];
 	double scale = (fmax(v, 0) + r->delta) * den[own] / num[own];
+	for (unsigned q = 0; q < 12; q++)
+		o[q] = q == own ? v : scale * num[q] / den[q] - r->delta;
+}
+
+/* ... stored into out */
+static void put_pixel(const pan_ref *r, int x, int y, const double num[12], const double den[12],
+                      const pc_fplane *out)
+{
+	double o[12];
+	pan_values(r, x, y, num, den, o);
 	for (unsigned q = 0; q < 12; q++) {
-		double o = q == own ? v : scale * num[q] / den[q] - r->delta;
 		const pc_fplane *p = &out[q];
-		p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] = (float)o;
+		p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] = (float)o[q];
 	}
 }
 
@@ -291,7 +300,8 @@ static void chroma_images(const pan_ref *r, chroma_ref *c)
 }
 
 /* pan-chroma's weighted ratio sums at (x, y) over the taps dx in [dx0, dx1], dy in [dy0, dy1]
- * (the full tents: [-3, 3] both; a one-sided candidate of pan-dir restricts one range) */
+ * (the full tents: [-3, 3] both; a one-sided candidate of pan-dir restricts one range); with
+ * r->e = 0 the tents are plain (pan-ratio's, as pan-dir uses them) */
 static void chroma_sums(const pan_ref *r, const chroma_ref *c, int x, int y, int dx0, int dx1,
                         int dy0, int dy1, double num[12], double den[12])
 {
@@ -356,8 +366,45 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
 	return 0;
 }
 
-/* pan-dir: pan-ratio's colour step made direction-aware (docs/demosaicking.md, Round 9).
- * EXPERIMENT */
+/* pan-dir: pan-ratio's colour step made direction-aware. Near a hue edge pan-ratio's centred
+ * tents mix the two sides' ratios up to ±3 pixels away; on a lattice of spacing 4 a directional
+ * interpolation is a one-sided one. Five candidates per pixel, each pan-ratio's ratio step
+ * (put_pixel) on its own interpolated ratios R^d:
+ *
+ *   C  pan-ratio itself (the tents over dx, dy in [-3, 3]),
+ *   W  the taps dx in [-3, 0] only: along a row each channel's nearest lattice sample at or left
+ *      of x, the vertical tent as in C; E dx in [0, 3];
+ *   N  the lattice rows dy in [-3, 0] only, the horizontal tents as in C; S dy in [0, 3]
+ *
+ * (per column phase along a row, and per channel down a column, the weights are normalised over
+ * the taps kept). Each candidate is judged by the homogeneity of its own result, as Hirakawa &
+ * Parks judge their horizontal and vertical interpolations ("Adaptive homogeneity-directed
+ * demosaicing algorithm", IEEE TIP 14(3) 2005, Sec. III: the result's colour variation over a
+ * small neighbourhood): here the chromaticity of the candidate's interpolated ratios,
+ *
+ *   c_k^d = ρ̄_k^d / (ρ̄_R^d + ρ̄_G^d + ρ̄_B^d),  ρ̄_k^d = Σ_a R^d_{4k+a}(p)   (colour k's four
+ *           analysers: the hue the step interpolates, without the luminance, which comes from
+ *           each pixel's own sample, and without the polarization, which the sum cancels),
+ *
+ * and its total variation inside the 3×3 window around p,
+ *
+ *   H_d(p) = Σ_k [ Σ_{|j|≤1} Σ_{i=0,1} |c_k^d(x+i, y+j) − c_k^d(x+i−1, y+j)|
+ *                + Σ_{|i|≤1} Σ_{j=0,1} |c_k^d(x+i, y+j) − c_k^d(x+i, y+j−1)| ],
+ *
+ * c clamped at the image's borders (a difference across a border is 0). The candidates' outputs
+ * are blended with weights 1/(H_d + 10⁻⁹)², as the gradient-based threshold-free method blends
+ * its directional estimates (Pekkucuksen & Altunbasak, "Gradient based threshold free color
+ * filter array interpolation", ICIP 2010, Sec. 2): a clearly more homogeneous direction wins,
+ * equal ones average, which keeps C's averaging on smooth colours; the 10⁻⁹ only guards an exactly
+ * uniform patch. The own channel keeps the pixel's sample (every candidate keeps it).
+ *
+ * Round 8's pan-dir (pan-chroma's range-weighted tents as the base, the homogeneity the
+ * variation of ln S_k of each candidate's outputs, luminance removed, over 3×3 then summed over
+ * 3×3 again) was more accurate at hue edges and several times pan-chroma's cost; the choices
+ * here (plain tents, chromaticity of the ratios, the window's total variation) and what they
+ * gave on the three sets are in docs/demosaicking.md, Round 9.
+ *
+ * Support: a candidate reads pan-ratio's ±5 (±7 through the sub-image mirror), H adds ±2. */
 #define PAN_ND 5
 
 static void dir_range(int d, int *dx0, int *dx1, int *dy0, int *dy1)
@@ -368,26 +415,6 @@ static void dir_range(int d, int *dx0, int *dx1, int *dy0, int *dy1)
 	*dy1 = d == 3 ? 0 : 3;
 }
 
-/* candidate d at (x, y): its twelve outputs o, and its interpolated ratios' colour sums rb */
-static void dir_pixel(const pan_ref *r, const chroma_ref *c, int x, int y, int d, double o[12],
-                      double rb[3])
-{
-	int dx0, dx1, dy0, dy1;
-	double num[12], den[12];
-	dir_range(d, &dx0, &dx1, &dy0, &dy1);
-	chroma_sums(r, c, x, y, dx0, dx1, dy0, dy1, num, den);
-	unsigned own = chan(r, x, y);
-	double v = r->img[(size_t)y * (size_t)r->w + (size_t)x];
-	double scale = (fmax(v, 0) + r->delta) * den[own] / num[own];
-	for (unsigned q = 0; q < 12; q++)
-		o[q] = q == own ? v : scale * num[q] / den[q] - r->delta;
-	for (int k = 0; k < 3; k++) {
-		rb[k] = 0;
-		for (int i = 0; i < 4; i++)
-			rb[k] += num[4 * k + i] / den[4 * k + i];
-	}
-}
-
 static int clampi(int i, int n)
 {
 	return i < 0 ? 0 : i >= n ? n - 1 : i;
@@ -396,144 +423,64 @@ static int clampi(int i, int n)
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                       const pc_fplane *out)
 {
-	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, 0};
-	const char *ev = getenv("PAN_DIR_VAR"), *eb = getenv("PAN_DIR_BLEND"),
-	           *ec = getenv("PAN_DIR_CAND");
-	int var = ev ? atoi(ev) : 0, blend = eb ? atoi(eb) : 0, cand = ec ? atoi(ec) : 31;
+	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, 0}; /* e = 0: plain tents */
 	chroma_ref c;
 	int rc = chroma_alloc(&c, w, h, "pan-dir");
 	if (rc)
 		return rc;
-	chroma_images(&r, &c);
+	chroma_images(&r, &c); /* ρ on the extended raw (the guides unused) */
 	const size_t np = (size_t)w * h;
-	double *s = malloc(sizeof(double) * np * PAN_ND * 4); /* S_k^d, then V_d */
-	if (!s) {
+	double *cs = malloc(sizeof(double) * np * PAN_ND * 3); /* c_k^d */
+	if (!cs) {
 		free(c.p0);
 		return pc_error(PC_ENOMEM, "pan-dir reference: candidates of %ux%u", w, h);
 	}
-	double *v = s + np * PAN_ND * 3;
+#define PAN_CS(x, y, d) (cs + (((size_t)(y) * w + (size_t)(x)) * PAN_ND + (size_t)(d)) * 3)
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++)
 			for (int d = 0; d < PAN_ND; d++) {
-				double o[12], rb[3];
-				dir_pixel(&r, &c, x, y, d, o, rb);
-				double *sp = s + ((size_t)y * w + (size_t)x) * PAN_ND * 3 + (size_t)d * 3;
-				if (var == 0) {
-					for (int k = 0; k < 3; k++)
-						sp[k] = (o[4 * k] + o[4 * k + 1] + o[4 * k + 2] +
-						         o[4 * k + 3]) / 2;
-				} else {
-					double t = rb[0] + rb[1] + rb[2];
-					for (int k = 0; k < 3; k++)
-						sp[k] = rb[k] / t;
-				}
-			}
-	for (int y = 0; y < c.h; y++)
-		for (int x = 0; x < c.w; x++)
-			for (int d = 0; d < PAN_ND; d++) {
-				const double *sp =
-				    s + ((size_t)y * w + (size_t)x) * PAN_ND * 3 + d * 3;
-				double var0 = 0;
-				if (var == 0) {
-					for (int j = -1; j <= 1; j++)
-						for (int i = -1; i <= 1; i++) {
-							int xq = x + i, yq = y + j;
-							if (xq < 0 || yq < 0 || xq >= c.w || yq >= c.h)
-								continue;
-							const double *sq =
-							    s + ((size_t)yq * w + (size_t)xq) * PAN_ND * 3 +
-							    d * 3;
-							double l[3], lm = 0;
-							for (int k = 0; k < 3; k++) {
-								double a = fmax(sq[k], 0) + r.delta,
-								       b = fmax(sp[k], 0) + r.delta;
-								l[k] = 2 * (a - b) / (a + b);
-								lm += l[k] / 3;
-							}
-							for (int k = 0; k < 3; k++)
-								var0 += fabs(l[k] - lm);
-						}
-				} else {
-					/* forward differences to the right and down */
-					const double *sx = s + ((size_t)y * w + (size_t)clampi(x + 1, c.w)) * PAN_ND * 3 + d * 3;
-					const double *sy = s + ((size_t)clampi(y + 1, c.h) * w + (size_t)x) * PAN_ND * 3 + d * 3;
-					int nk = var == 3 || var == 4 ? 2 : 3;
-					for (int k = 0; k < nk; k++)
-						var0 += fabs(sx[k] - sp[k]) + fabs(sy[k] - sp[k]);
-				}
-				v[((size_t)y * w + (size_t)x) * PAN_ND + (size_t)d] = var0;
+				int dx0, dx1, dy0, dy1;
+				double num[12], den[12], rb[3] = {0, 0, 0};
+				dir_range(d, &dx0, &dx1, &dy0, &dy1);
+				chroma_sums(&r, &c, x, y, dx0, dx1, dy0, dy1, num, den);
+				for (int k = 0; k < 3; k++)
+					for (int a = 0; a < 4; a++)
+						rb[k] += num[4 * k + a] / den[4 * k + a];
+				for (int k = 0; k < 3; k++)
+					PAN_CS(x, y, d)[k] = rb[k] / (rb[0] + rb[1] + rb[2]);
 			}
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
-			double hv[PAN_ND], o[12] = {0}, ws = 0, rn[12] = {0};
+			double o[12] = {0}, ws = 0;
 			for (int d = 0; d < PAN_ND; d++) {
-				hv[d] = 0;
-				if (var == 0) {
-					for (int j = -1; j <= 1; j++)
-						for (int i = -1; i <= 1; i++) {
-							int xq = x + i, yq = y + j;
-							if (xq >= 0 && yq >= 0 && xq < c.w && yq < c.h)
-								hv[d] += v[((size_t)yq * w + (size_t)xq) *
-								               PAN_ND +
-								           (size_t)d];
+				double hv = 0;
+				for (int j = -1; j <= 1; j++)
+					for (int i = -1; i <= 1; i++) {
+						int xq = clampi(x + i, c.w), yq = clampi(y + j, c.h);
+						const double *p = PAN_CS(xq, yq, d);
+						const double *pl = PAN_CS(clampi(x + i - 1, c.w), yq, d);
+						const double *pu = PAN_CS(xq, clampi(y + j - 1, c.h), d);
+						for (int k = 0; k < 3; k++) {
+							hv += i > -1 ? fabs(p[k] - pl[k]) : 0;
+							hv += j > -1 ? fabs(p[k] - pu[k]) : 0;
 						}
-				} else {
-					/* the TV inside the window [x - R, x + R]^2: horizontal
-					 * differences (i, i + 1) with i in [x - R, x + R - 1], rows
-					 * [y - R, y + R]; vertical likewise (clamped: a difference
-					 * beyond the border is a difference of equal values) */
-					int R = var == 2 || var == 4 ? 2 : 1;
-					for (int j = -R; j <= R; j++)
-						for (int i = -R; i <= R; i++) {
-							int xq = clampi(x + i, c.w), yq = clampi(y + j, c.h);
-							int xl = clampi(x + i - 1, c.w), yl = clampi(y + j - 1, c.h);
-							const double *a = s + ((size_t)yq * w + (size_t)xq) * PAN_ND * 3 + d * 3;
-							int nk = var == 3 || var == 4 ? 2 : 3;
-							if (i > -R) {
-								const double *b = s + ((size_t)yq * w + (size_t)xl) * PAN_ND * 3 + d * 3;
-								for (int k = 0; k < nk; k++)
-									hv[d] += fabs(a[k] - b[k]);
-							}
-							if (j > -R) {
-								const double *b = s + ((size_t)yl * w + (size_t)xq) * PAN_ND * 3 + d * 3;
-								for (int k = 0; k < nk; k++)
-									hv[d] += fabs(a[k] - b[k]);
-							}
-						}
-				}
-			}
-			double g[PAN_ND];
-			for (int d = 0; d < PAN_ND; d++) {
-				if (!(cand >> d & 1))
-					continue;
-				double od[12], rb[3], wd = 1 / ((hv[d] + 1e-9) * (hv[d] + 1e-9));
+					}
 				int dx0, dx1, dy0, dy1;
-				double num[12], den[12];
+				double num[12], den[12], od[12];
 				dir_range(d, &dx0, &dx1, &dy0, &dy1);
 				chroma_sums(&r, &c, x, y, dx0, dx1, dy0, dy1, num, den);
-				for (unsigned q = 0; q < 12; q++)
-					rn[q] += wd * num[q] / den[q];
-				dir_pixel(&r, &c, x, y, d, od, rb);
+				pan_values(&r, x, y, num, den, od);
+				double wd = 1 / ((hv + 1e-9) * (hv + 1e-9));
 				for (unsigned q = 0; q < 12; q++)
 					o[q] += wd * od[q];
 				ws += wd;
-				g[d] = wd;
 			}
-			(void)g;
-			if (blend == 1) {
-				unsigned own = chan(&r, x, y);
-				double vv = r.img[(size_t)y * (size_t)r.w + (size_t)x];
-				double scale = (fmax(vv, 0) + r.delta) / rn[own];
-				for (unsigned q = 0; q < 12; q++)
-					o[q] = q == own ? vv * ws : (scale * rn[q] - r.delta) * ws;
-			}
-			for (unsigned q = 0; q < 12; q++)
-				o[q] /= ws;
 			for (unsigned q = 0; q < 12; q++)
 				out[q].data[(size_t)y * out[q].row_stride +
-				            (size_t)x * out[q].pixel_stride] = (float)o[q];
+				            (size_t)x * out[q].pixel_stride] = (float)(o[q] / ws);
 		}
-	free(s);
+#undef PAN_CS
+	free(cs);
 	free(c.p0);
 	return 0;
 }
@@ -805,7 +752,7 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	pan_job *j = ctx;
-	const uint32_t w = j->w, h = j->h;
+	const uint32_t w = j->w;
 	const int iw = (int)w;
 	const long n = ((long)w + 15) / 16 * 16; /* columns computed: whole vectors */
 	const long nmain = (long)w / 16 * 16;    /* whole vectors inside the row */
