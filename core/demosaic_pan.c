@@ -435,7 +435,7 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
 		free(c.p0);
 		return pc_error(PC_ENOMEM, "pan-dir reference: candidates of %ux%u", w, h);
 	}
-#define PAN_CS(x, y, d) (cs + (((size_t)(y) * w + (size_t)(x)) * PAN_ND + (size_t)(d)) * 3)
+#define PAN_CS(x, y, d) (cs + (((size_t)(y)*w + (size_t)(x)) * PAN_ND + (size_t)(d)) * 3)
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++)
 			for (int d = 0; d < PAN_ND; d++) {
@@ -456,10 +456,13 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
 				double hv = 0;
 				for (int j = -1; j <= 1; j++)
 					for (int i = -1; i <= 1; i++) {
-						int xq = clampi(x + i, c.w), yq = clampi(y + j, c.h);
+						int xq = clampi(x + i, c.w),
+						    yq = clampi(y + j, c.h);
 						const double *p = PAN_CS(xq, yq, d);
-						const double *pl = PAN_CS(clampi(x + i - 1, c.w), yq, d);
-						const double *pu = PAN_CS(xq, clampi(y + j - 1, c.h), d);
+						const double *pl =
+						    PAN_CS(clampi(x + i - 1, c.w), yq, d);
+						const double *pu =
+						    PAN_CS(xq, clampi(y + j - 1, c.h), d);
 						for (int k = 0; k < 3; k++) {
 							hv += i > -1 ? fabs(p[k] - pl[k]) : 0;
 							hv += j > -1 ? fabs(p[k] - pu[k]) : 0;
@@ -600,25 +603,24 @@ static pan_kern pan_kernels(pc_cpu_level level)
 {
 #ifdef PC_CPU_X86
 	if (level >= PC_CPU_AVX512)
-		return (pan_kern){pan_vsum_avx512,    pan_ratio_avx512,  pan_hrows_avx512,
-		                  pan_orow_avx512,    pan_ghrows_avx512, pan_gorow_avx512,
-		                  pan_vsumw_avx512,   pan_cratio_avx512, pan_cghrows_avx512,
-		                  pan_cgorow_avx512,  pan_dhrows_avx512, pan_dchroma_avx512,
-		                  pan_dvar_avx512,    pan_dbox_avx512,   pan_dorow_avx512};
+		return (pan_kern){pan_vsum_avx512,   pan_ratio_avx512,  pan_hrows_avx512,
+		                  pan_orow_avx512,   pan_ghrows_avx512, pan_gorow_avx512,
+		                  pan_vsumw_avx512,  pan_cratio_avx512, pan_cghrows_avx512,
+		                  pan_cgorow_avx512, pan_dhrows_avx512, pan_dchroma_avx512,
+		                  pan_dvar_avx512,   pan_dbox_avx512,   pan_dorow_avx512};
 	if (level >= PC_CPU_AVX2)
-		return (pan_kern){pan_vsum_avx2,    pan_ratio_avx2,   pan_hrows_avx2,
-		                  pan_orow_avx2,    pan_ghrows_avx2,  pan_gorow_avx2,
-		                  pan_vsumw_avx2,   pan_cratio_avx2,  pan_cghrows_avx2,
-		                  pan_cgorow_avx2,  pan_dhrows_avx2,  pan_dchroma_avx2,
-		                  pan_dvar_avx2,    pan_dbox_avx2,    pan_dorow_avx2};
+		return (pan_kern){pan_vsum_avx2,   pan_ratio_avx2,  pan_hrows_avx2,
+		                  pan_orow_avx2,   pan_ghrows_avx2, pan_gorow_avx2,
+		                  pan_vsumw_avx2,  pan_cratio_avx2, pan_cghrows_avx2,
+		                  pan_cgorow_avx2, pan_dhrows_avx2, pan_dchroma_avx2,
+		                  pan_dvar_avx2,   pan_dbox_avx2,   pan_dorow_avx2};
 #else
 	(void)level;
 #endif
-	return (pan_kern){pan_vsum_base,    pan_ratio_base,   pan_hrows_base,
-	                  pan_orow_base,    pan_ghrows_base,  pan_gorow_base,
-	                  pan_vsumw_base,   pan_cratio_base,  pan_cghrows_base,
-	                  pan_cgorow_base,  pan_dhrows_base,  pan_dchroma_base,
-	                  pan_dvar_base,    pan_dbox_base,    pan_dorow_base};
+	return (pan_kern){pan_vsum_base,    pan_ratio_base,  pan_hrows_base,  pan_orow_base,
+	                  pan_ghrows_base,  pan_gorow_base,  pan_vsumw_base,  pan_cratio_base,
+	                  pan_cghrows_base, pan_cgorow_base, pan_dhrows_base, pan_dchroma_base,
+	                  pan_dvar_base,    pan_dbox_base,   pan_dorow_base};
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
@@ -644,8 +646,7 @@ static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
  * each padded by the column mirror to [-PAN_PADR, n + PAN_PADR); src: 5 × 16 floats of scratch
  * (the last partial vectors, readable to n) */
 static void pan_src_sums(const pan_job *j, const pan_kern *K, const pan_tables *t, pan_rows *rc,
-                         int yy, float *src, float *vs, float *vsb, float *rawp, long n,
-                         long nmain)
+                         int yy, float *src, float *vs, float *vsb, float *rawp, long n, long nmain)
 {
 	const int iw = (int)j->w, ih = (int)j->h;
 	const float *r[5], *rt[5];
@@ -1010,7 +1011,7 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	for (int q = 0; q < 12; q++)
 		planar &= j->out[q].pixel_stride == 1;
 	float *row = buf + PAN_PADR;
-#define PAN_ROW(i) (row + (size_t)(i) * pitch)
+#define PAN_ROW(i) (row + (size_t)(i)*pitch)
 	float *vs = PAN_ROW(0), *rawp = PAN_ROW(1), *rho = PAN_ROW(2), *rawo = PAN_ROW(3);
 	float *src = PAN_ROW(4);
 	pan_rows rc;
@@ -1036,7 +1037,7 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	for (int q = 0; q < 12; q++)
 		o[q] = PAN_ROW(194 + q);
 #undef PAN_ROW
-	int have = (int)y0 - 8;                      /* source rows computed: up to have */
+	int have = (int)y0 - 8;                     /* source rows computed: up to have */
 	const int first = y0 > 0 ? (int)y0 - 1 : 0; /* the first row of the first stage */
 	int cdone = first - 1;
 	pan_drow_args a;
@@ -1117,7 +1118,16 @@ int pc_dm_pan_dir_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int
                        pc_cpu_level level, const pc_fplane *out)
 {
 	const uint32_t w = in->width, h = in->height;
-	pan_job j = {in, w, h, m, (float)(PAN_DELTA * fs), level, out, 0, 0, 0,
+	pan_job j = {in,
+	             w,
+	             h,
+	             m,
+	             (float)(PAN_DELTA * fs),
+	             level,
+	             out,
+	             0,
+	             0,
+	             0,
 	             pc_dm_stream_wanted(out, 12, w, h, level)};
 	pc_parallel_rows(h, 0, threads, pan_dir_band, &j);
 	if (j.err)

@@ -807,47 +807,53 @@ static void test_pan_dir_edge(void)
 	for (unsigned ph = 0; ph < 16; ph++)
 		for (int ori = 0; ori < 3; ori++) /* 0 vertical edge, 1 horizontal, 2 none */
 			for (int rf = 0; rf < 2; rf++) {
-			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
-			hue_edge_raw(&raw, &m, ori, E0);
-			double rms[2] = {0}, mx[2] = {0};
-			for (int dm = 0; dm < 2; dm++) {
-				pc_demosaic_opts o = {0, rf == 0, 4095};
-				CHECK_EQ_INT(pc_demosaic(&raw, &m,
-				                         dm ? PC_DM_PAN_DIR : PC_DM_PAN_RATIO, &o,
-				                         f),
-				             0);
-				double se = 0;
-				size_t n = 0;
-				for (unsigned q = 0; q < 12; q++)
-					for (uint32_t y = 8; y < H - 8; y++)
-						for (uint32_t x = 8; x < W - 8; x++) {
-							uint32_t a = ori ? y : x;
-							if (ori < 2 && (a + 6 < E0 || a >= E0 + 6))
-								continue;
-							double want = hue_edge_value(
-							    ori == 2 || a < E0, q / 4, q % 4);
-							double e = fabs(fget(&f[q], x, y) - want);
-							se += e * e;
-							mx[dm] = fmax(mx[dm], e);
-							n++;
-						}
-				rms[dm] = sqrt(se / (double)n);
+				pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+				hue_edge_raw(&raw, &m, ori, E0);
+				double rms[2] = {0}, mx[2] = {0};
+				for (int dm = 0; dm < 2; dm++) {
+					pc_demosaic_opts o = {0, rf == 0, 4095};
+					CHECK_EQ_INT(
+					    pc_demosaic(&raw, &m,
+					                dm ? PC_DM_PAN_DIR : PC_DM_PAN_RATIO, &o,
+					                f),
+					    0);
+					double se = 0;
+					size_t n = 0;
+					for (unsigned q = 0; q < 12; q++)
+						for (uint32_t y = 8; y < H - 8; y++)
+							for (uint32_t x = 8; x < W - 8; x++) {
+								uint32_t a = ori ? y : x;
+								if (ori < 2 &&
+								    (a + 6 < E0 || a >= E0 + 6))
+									continue;
+								double want = hue_edge_value(
+								    ori == 2 || a < E0, q / 4,
+								    q % 4);
+								double e =
+								    fabs(fget(&f[q], x, y) - want);
+								se += e * e;
+								mx[dm] = fmax(mx[dm], e);
+								n++;
+							}
+					rms[dm] = sqrt(se / (double)n);
+				}
+				if (ph == 0)
+					printf("  pan-dir at a %s (%s): RMS %.3g DN, max %.3g "
+					       "(pan-ratio %.3g, "
+					       "%.3g)\n",
+					       ori == 0   ? "vertical hue edge"
+					       : ori == 1 ? "horizontal hue edge"
+					                  : "uniform colour",
+					       rf ? "fast" : "reference", rms[1], mx[1], rms[0],
+					       mx[0]);
+				if (ori < 2) {
+					rmax = fmax(rmax, rms[1] / rms[0]);
+					mean[ori] += rms[1] / rms[0] / 32;
+					CHECK(rms[1] < 1.01 * rms[0]);
+				} else {
+					CHECK(mx[1] < 1e-3);
+				}
 			}
-			if (ph == 0)
-				printf("  pan-dir at a %s (%s): RMS %.3g DN, max %.3g (pan-ratio %.3g, "
-				       "%.3g)\n",
-				       ori == 0   ? "vertical hue edge"
-				       : ori == 1 ? "horizontal hue edge"
-				                  : "uniform colour",
-				       rf ? "fast" : "reference", rms[1], mx[1], rms[0], mx[0]);
-			if (ori < 2) {
-				rmax = fmax(rmax, rms[1] / rms[0]);
-				mean[ori] += rms[1] / rms[0] / 32;
-				CHECK(rms[1] < 1.01 * rms[0]);
-			} else {
-				CHECK(mx[1] < 1e-3);
-			}
-		}
 	printf("  pan-dir / pan-ratio, RMS at the hue edges over all phases: mean %.3g (vertical), "
 	       "%.3g (horizontal), largest %.4g\n",
 	       mean[0], mean[1], rmax);
