@@ -404,7 +404,7 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
  * here (plain tents, chromaticity of the ratios, the window's total variation) and what they
  * gave on the three sets are in docs/demosaicking.md, Round 9.
  *
- * Support: a candidate reads pan-ratio's ±5 (±7 through the sub-image mirror), H adds ±2. */
+ * Support: a candidate reads pan-ratio's ±5 (±7 through the sub-image mirror), H adds ±1. */
 #define PAN_ND 5
 
 static void dir_range(int d, int *dx0, int *dx1, int *dy0, int *dy1)

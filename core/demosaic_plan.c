@@ -407,7 +407,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         "TIP 14(3) 2005) blended as in GBTF (Pekkucuksen & Altunbasak, ICIP "
                         "2010)",
                         PC_DMF_COLOR},
-                       {PAN_LO - 2, PAN_HI + 2, 1, 1},
+                       {PAN_LO - 1, PAN_HI + 1, 1, 1},
                        NULL,
                        NULL,
                        false,
