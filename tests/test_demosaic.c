@@ -877,7 +877,11 @@ static void test_pan_dir_edge(void)
  *    pan-guided (its tents weighed by the PPI's differences, which smooth gradients make
  *    slightly lopsided) within the same 1 % (0.7 % measured) and below three quarters of
  *    bayer-first's RMS (0.69 measured); pan-chroma (its range scale twice pan-guided's) within
- *    the same 1 % and below two thirds of bayer-first's RMS (0.64 measured). */
+ *    the same 1 % and below two thirds of bayer-first's RMS (0.64 measured); pan-dir, whose
+ *    one-sided candidates average fewer samples and follow the gradient less well than the
+ *    centred tents, within 1.2 % (0.90-1.07 % measured) and below 0.9 of bayer-first's RMS
+ *    (0.82-0.83 measured: the price of its hue edges on smooth scenes; docs/demosaicking.md,
+ *    Round 9). Interleaved outputs and streaming stores equal the planar ones for all four. */
 static void test_pan_ratio(void)
 {
 	const uint32_t W = 64, H = 48;
@@ -938,10 +942,11 @@ static void test_pan_ratio(void)
 				    (uint16_t)lround(truth[((size_t)(4 * k + c) * H + y) * W + x]);
 			}
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_BAYER_FIRST, &ref, b), 0);
-		for (int gm = 0; gm < 3; gm++) {
-			const pc_demosaic_method pm = gm == 2 ? PC_DM_PAN_CHROMA
-			                              : gm    ? PC_DM_PAN_GUIDED
-			                                      : PC_DM_PAN_RATIO;
+		for (int gm = 0; gm < 4; gm++) {
+			const pc_demosaic_method pm = gm == 3   ? PC_DM_PAN_DIR
+			                              : gm == 2 ? PC_DM_PAN_CHROMA
+			                              : gm      ? PC_DM_PAN_GUIDED
+			                                        : PC_DM_PAN_RATIO;
 			CHECK_EQ_INT(pc_demosaic(&smooth, &m, pm, &ref, r), 0);
 			CHECK_EQ_INT(pc_demosaic(&smooth, &m, pm, &fast, f), 0);
 			/* interleaved outputs (the row-buffer path) equal the planar ones */
@@ -989,9 +994,12 @@ static void test_pan_ratio(void)
 				    "RMS %.3g against bayer-first's %.3g\n",
 				    pc_demosaic_method_get(pm)->name, er, ef, emax, emax / 4095,
 				    sqrt(se / n), sqrt(sb / n));
-			CHECK(emax <= 0.01 * 4095);
+			CHECK(emax <= (gm == 3 ? 0.012 : 0.01) * 4095);
 			CHECK(efast <= 1e-5 * 4095);
-			CHECK(sqrt(se / n) < (gm == 1 ? 0.75 : 0.67) * sqrt(sb / n));
+			CHECK(sqrt(se / n) < (gm == 3   ? 0.9
+			                      : gm == 1 ? 0.75
+			                                : 0.67) *
+			                         sqrt(sb / n));
 		}
 		pc_view_free(&smooth);
 	}
