@@ -1039,26 +1039,69 @@ static int inverse_gain(pc_calib *cal)
 
 /* ---- the compact calibration (pc_compact_calib) for the fused bilinear pipeline ---- */
 
-/* every output pixel's bilinear W from the 16-bit vectors, checked as pc_calib_pinv checks */
+/* every output pixel's least-squares matrix from the 16-bit vectors, checked as
+ * pc_calib_pinv checks (wls_invertible) */
 typedef struct vcheck_ctx {
 	const pc_compact_calib *v;
 	const pc_mosaic *m;
 	uint32_t *bad; /* per row: 1 + the first singular pixel's x, or 0 */
 } vcheck_ctx;
 
-/* row y (mirrored) of component k as doubles, padded one sample each side (mirrored) */
+/* row y (mirrored) of component k of u = (1, v1, v2) as doubles, padded one sample each side
+ * (mirrored) */
 static void vec_row(const vcheck_ctx *c, int y, int k, double *d)
 {
 	const pc_compact_calib *v = c->v;
 	const int w = (int)v->width;
 	y = y < 0 ? -y : y >= (int)v->height ? 2 * (int)v->height - 2 - y : y;
-	const int16_t *q = v->a_q[k] + (size_t)y * v->stride;
-	const double b0 = v->a_base[pc_mosaic_channel(c->m, 0, (unsigned)y)][k];
-	const double b1 = v->a_base[pc_mosaic_channel(c->m, 1, (unsigned)y)][k];
+	if (k == 0) {
+		for (int x = 0; x < w + 2; x++)
+			d[x] = 1;
+		return;
+	}
+	const int16_t *q = v->v_q[k - 1] ? v->v_q[k - 1] + (size_t)y * v->stride : NULL;
+	const double b0 = v->v_base[pc_mosaic_channel(c->m, 0, (unsigned)y)][k - 1];
+	const double b1 = v->v_base[pc_mosaic_channel(c->m, 1, (unsigned)y)][k - 1];
 	for (int x = 0; x < w; x++)
-		d[x + 1] = ((x & 1) ? b1 : b0) + (double)v->a_scale[k] * q[x];
+		d[x + 1] = ((x & 1) ? b1 : b0) + (q ? (double)v->v_scale[k - 1] * q[x] : 0);
 	d[0] = d[w > 1 ? 2 : 1];
 	d[w + 1] = d[w > 1 ? w - 1 : 1];
+}
+
+/* Whether the fused kernel's matrix at column x is safely invertible: M = Σ K_s u_s u_sᵀ over
+ * the 3×3 neighbourhood (K = 1, ½, ¼: the bilinear weights; u = (1, v1, v2) the normalised
+ * analysis vectors, the estimator of pc_compact_calib; r[k][0..2]: component k of rows y−1,
+ * y, y+1), by the test of pc_stokes_pinv1: reciprocal 1-norm condition number of M,
+ * |det| / (‖M‖₁·‖adj M‖₁), at least 1e-10. */
+static bool wls_invertible(double *r[3][3], int x)
+{
+	double m[3][3] = {{0}};
+	for (int d = 0; d < 3; d++)
+		for (int dx = -1; dx <= 1; dx++) {
+			const double k = (d == 1 ? 1 : 0.5) * (dx ? 0.5 : 1);
+			for (int i = 0; i < 3; i++)
+				for (int j = 0; j < 3; j++)
+					m[i][j] += k * r[i][d][x + dx] * r[j][d][x + dx];
+		}
+	double adj[3][3];
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) {
+			const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3,
+			          j2 = (j + 2) % 3;
+			adj[j][i] = m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1];
+		}
+	double det = m[0][0] * adj[0][0] + m[0][1] * adj[1][0] + m[0][2] * adj[2][0];
+	double n1 = 0, ni = 0;
+	for (int j = 0; j < 3; j++) {
+		double cs = 0, ci = 0;
+		for (int i = 0; i < 3; i++) {
+			cs += fabs(m[i][j]);
+			ci += fabs(adj[i][j]);
+		}
+		n1 = fmax(n1, cs);
+		ni = fmax(ni, ci);
+	}
+	return fabs(det) > 0 && isfinite(det) && fabs(det) / (n1 * ni) >= 1e-10;
 }
 
 static void vcheck_rows(void *vctx, uint32_t y0, uint32_t y1)
@@ -1077,20 +1120,11 @@ static void vcheck_rows(void *vctx, uint32_t y0, uint32_t y1)
 				r[k][d] = buf + (size_t)(3 * k + d) * ((size_t)w + 2) + 1;
 				vec_row(c, (int)y + d - 1, k, r[k][d] - 1);
 			}
-		for (int x = 0; x < w; x++) {
-			double m[4][3], pinv[3][4];
-			for (int k = 0; k < 3; k++) {
-				const double *a = r[k][0], *b = r[k][1], *cc = r[k][2];
-				m[0][k] = b[x];
-				m[1][k] = 0.5 * (b[x - 1] + b[x + 1]);
-				m[2][k] = 0.5 * (a[x] + cc[x]);
-				m[3][k] = 0.25 * ((a[x - 1] + a[x + 1]) + (cc[x - 1] + cc[x + 1]));
-			}
-			if (pc_stokes_pinv1(m, pinv)) {
+		for (int x = 0; x < w; x++)
+			if (!wls_invertible(r, x)) {
 				c->bad[y] = (uint32_t)x + 1;
 				break;
 			}
-		}
 	}
 	free(buf);
 }
@@ -1153,27 +1187,41 @@ static int compact_calib(pc_calib *cal, int threads)
 	memset(&v, 0, sizeof v);
 	v.width = W;
 	v.height = H;
-	/* the maps' rows interleaved (row y: a0, a1, a2, then dark and gain where there are
-	 * maps), one stream to read; without a dark map the black level is a constant, read from
-	 * no map */
-	const size_t nmap = 3 + (cal->dark != NULL) + (cal->apply_ig != NULL);
+	/* the maps' rows interleaved (row y: v1, v2, then the dark where there is a map, then the
+	 * inverse gain), one stream to read; without a dark map the black level is a constant,
+	 * read from no map. Each sample's equation divided by its a0 (pc_compact_calib): v = (a1,
+	 * a2)/a0 and gain_inv/a0, made in float as the pipeline reads them, then quantised. */
+	const size_t nmap = 3 + (cal->dark != NULL);
 	int16_t *q = malloc(nmap * np * sizeof *q);
+	float *nv = malloc(3 * np * sizeof *nv);
 	uint32_t *bad = calloc(H, sizeof *bad), *dis = NULL;
 	int rc = 0;
-	if (!q || !bad) {
+	if (!q || !bad || !nv) {
 		rc = pc_error(PC_ENOMEM, "calibration: compact maps (%zu pixels)", np);
 		goto out;
 	}
+	for (size_t p = 0; p < np && !rc; p++) {
+		const float *a = cal->analysis + 3 * p;
+		if (!(a[0] > 0) || !isfinite(a[0]))
+			rc = pc_error(
+			    PC_ENUMERIC,
+			    "calibration: the analysis vector of pixel (%zu,%zu) has a0 = %g "
+			    "(its transmission must be positive)",
+			    p % W, p / W, (double)a[0]);
+		nv[p] = a[1] / a[0];
+		nv[np + p] = a[2] / a[0];
+		nv[2 * np + p] = (cal->apply_ig ? cal->apply_ig[p] : 1.0f) / a[0];
+	}
 	v.stride = nmap * (size_t)W;
-	for (int k = 0; k < 3 && !rc; k++) {
+	for (int k = 0; k < 2 && !rc; k++) {
 		float base[4] = {0}; /* read even when quantise failed */
-		v.a_q[k] = q + (size_t)k * W;
-		rc = quantise(cal, cal->analysis + k, 3, true, base, &v.a_scale[k],
+		v.v_q[k] = q + (size_t)k * W;
+		rc = quantise(cal, nv + (size_t)k * np, 1, true, base, &v.v_scale[k],
 		              q + (size_t)k * W, v.stride, "analysis vector");
 		for (int c = 0; c < 4; c++)
-			v.a_base[c][k] = base[c];
+			v.v_base[c][k] = base[c];
 	}
-	int16_t *next = q + 3 * (size_t)W;
+	int16_t *next = q + 2 * (size_t)W;
 	if (!rc && cal->dark) {
 		v.dark_q = next;
 		rc = quantise(cal, cal->dark, 1, false, &v.dark_base, &v.dark_scale, next, v.stride,
@@ -1182,9 +1230,9 @@ static int compact_calib(pc_calib *cal, int threads)
 	} else if (!rc) {
 		v.dark_base = (float)cal->black_level; /* exactly */
 	}
-	if (!rc && cal->apply_ig) {
+	if (!rc) {
 		v.gain_q = next;
-		rc = quantise(cal, cal->apply_ig, 1, false, &v.gain_base, &v.gain_scale, next,
+		rc = quantise(cal, nv + 2 * np, 1, false, &v.gain_base, &v.gain_scale, next,
 		              v.stride, "inverse gain");
 	}
 	if (rc)
@@ -1224,6 +1272,7 @@ static int compact_calib(pc_calib *cal, int threads)
 	}
 out:
 	free(q);
+	free(nv);
 	free(dis);
 	free(bad);
 	return rc;

@@ -141,8 +141,6 @@ static int check_compact(const pc_dm_plan *p, const pc_compact_calib *v)
 	if (p->opts.pinv)
 		return pc_error(PC_EINVAL, "Stokes: a compact calibration and analyser "
 		                           "pseudo-inverses given together; give one");
-	if (!v->a_q[0] || !v->a_q[1] || !v->a_q[2])
-		return pc_error(PC_EINVAL, "Stokes: compact calibration without analysis vectors");
 	if (v->stride < v->width)
 		return pc_error(PC_EINVAL,
 		                "Stokes: compact calibration: row stride %zu below the "
@@ -163,10 +161,10 @@ static int check_compact(const pc_dm_plan *p, const pc_compact_calib *v)
 		                "gain maps; give one or the other");
 	bool ok = isfinite(v->dark_base) && isfinite(v->dark_scale) && isfinite(v->gain_base) &&
 	          isfinite(v->gain_scale);
-	for (int k = 0; k < 3; k++) {
-		ok = ok && isfinite(v->a_scale[k]);
+	for (int k = 0; k < 2; k++) {
+		ok = ok && isfinite(v->v_scale[k]);
 		for (int c = 0; c < 4; c++)
-			ok = ok && isfinite(v->a_base[c][k]);
+			ok = ok && isfinite(v->v_base[c][k]);
 	}
 	if (!ok)
 		return pc_error(PC_EINVAL, "Stokes: compact calibration: a base or scale is not "

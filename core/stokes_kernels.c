@@ -59,18 +59,30 @@ static void row_bilinear_cal(pc_cpu_level l, const float *a, const float *b, con
 	(void)l;
 }
 
-static void row_bilinear_vec(pc_cpu_level l, const float *a, const float *b, const float *c,
-                             const float *const A[3][3], uint32_t w, int exact, float *const o[5],
-                             int nt, const pc_st_pf *pf)
+static void row_bilinear_vec(pc_cpu_level l, const float *const H[3], uint32_t w, int exact,
+                             float *const o[5], int nt, const pc_st_pf *pf)
 {
 #ifdef PC_CPU_X86
 	if (l >= PC_CPU_AVX512)
-		stokes_row_vec_avx512(a, b, c, A, w, exact, o, nt, pf);
+		stokes_row_vec_avx512(H, w, exact, o, nt, pf);
 	else if (l >= PC_CPU_AVX2)
-		stokes_row_vec_avx2(a, b, c, A, w, exact, o, nt, pf);
+		stokes_row_vec_avx2(H, w, exact, o, nt, pf);
 	else
 #endif
-		stokes_row_vec_base(a, b, c, A, w, exact, o, 0, pf);
+		stokes_row_vec_base(H, w, exact, o, 0, pf);
+	(void)l;
+}
+
+static void row_vec_h(pc_cpu_level l, const float *const r[3], uint32_t w, float *h)
+{
+#ifdef PC_CPU_X86
+	if (l >= PC_CPU_AVX512)
+		vec_hrow_avx512(r, w, h);
+	else if (l >= PC_CPU_AVX2)
+		vec_hrow_avx2(r, w, h);
+	else
+#endif
+		vec_hrow_base(r, w, h);
 	(void)l;
 }
 
@@ -226,31 +238,36 @@ static void out_rows(const pc_stokes_out *out, uint32_t y, float *o[5])
 
 /* ---- the compact calibration's rows (pc_compact_calib) ---- */
 
-/* A 3-row ring like pc_dm_ring's: each slot the corrected samples' padded row and the three
- * analysis components' padded rows. */
+/* A 3-row ring like pc_dm_ring's: each slot the nine horizontal sums of a raw row (vec_hrow),
+ * made from one scratch of padded rows: the three analysis components and the corrected
+ * samples. */
 typedef struct vec_ring {
 	float *buf;
-	float *row[3][4]; /* [slot][0: samples, 1 + k: component k] */
+	float *src[4]; /* [component k, 3: samples], padded */
+	float *h[3];   /* [slot]: the nine fields, PC_VEC_IX */
 	int32_t have[3];
 } vec_ring;
 
 static int vec_ring_init(vec_ring *r, uint32_t w)
 {
 	size_t pitch = ((size_t)w + 2 + 15) / 16 * 16;
-	r->buf = pc_dm_alloc(12 * pitch * sizeof(float));
+	size_t hn = pc_st_vec_len(w);
+	r->buf = pc_dm_alloc((3 * pitch + 3 * hn) * sizeof(float));
 	if (!r->buf)
 		return -1;
+	for (int k = 0; k < 3; k++)
+		r->src[k] = r->buf + (size_t)k * pitch + 1;
 	for (int i = 0; i < 3; i++) {
-		for (int k = 0; k < 4; k++)
-			r->row[i][k] = r->buf + (size_t)(4 * i + k) * pitch + 1;
+		r->h[i] = r->buf + 3 * pitch + (size_t)i * hn;
 		r->have[i] = -1;
 	}
 	return 0;
 }
 
 /* Row y (mirrored) of the samples, corrected by the compact dark and gain maps when it has
- * them (else by in's black level or maps, pc_dm_row_to_float), and of the three analysis
- * components, padded as pc_dm_row_to_float pads. Returns the slot. */
+ * them (else by in's black level or maps, pc_dm_row_to_float), and of the two normalised
+ * analysis components, padded as pc_dm_row_to_float pads, summed into the slot's eight fields.
+ * Returns the slot. */
 static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_calib *v,
                         const pc_mosaic *m, pc_cpu_level level, int y)
 {
@@ -263,7 +280,7 @@ static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_cal
 		if (r->have[i] < r->have[s])
 			s = i;
 	const size_t o = (size_t)sy * v->stride;
-	float *d = r->row[s][0];
+	float *d = r->src[2];
 	if (pc_compact_corrects(v)) {
 		row_corr(level, in, (uint32_t)sy, d, v);
 		d[-1] = d[v->width > 1 ? 1 : 0];
@@ -271,10 +288,18 @@ static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_cal
 	} else {
 		pc_dm_row_to_float(in, (uint32_t)sy, d);
 	}
-	for (int k = 0; k < 3; k++)
-		row_vec_conv(level, v->a_q[k] + o, v->a_base[pc_dm_ch(m, 0, (unsigned)sy)][k],
-		             v->a_base[pc_dm_ch(m, 1, (unsigned)sy)][k], v->a_scale[k], v->width,
-		             r->row[s][1 + k]);
+	for (int k = 0; k < 2; k++) {
+		const float b0 = v->v_base[pc_dm_ch(m, 0, (unsigned)sy)][k],
+		            b1 = v->v_base[pc_dm_ch(m, 1, (unsigned)sy)][k];
+		if (v->v_q[k]) {
+			row_vec_conv(level, v->v_q[k] + o, b0, b1, v->v_scale[k], v->width,
+			             r->src[k]);
+		} else {
+			for (int x = -1; x <= (int)v->width; x++)
+				r->src[k][x] = (x & 1) ? b1 : b0; /* mirrored: the same columns */
+		}
+	}
+	row_vec_h(level, (const float *const *)r->src, v->width, r->h[s]);
 	r->have[s] = sy;
 	return s;
 }
@@ -290,8 +315,8 @@ static void vec_prefetch(const pc_dm_input *in, const pc_compact_calib *v, int s
 	int k = 0;
 	p[k] = (const char *)in->data + (size_t)sy * in->stride;
 	n[k++] = (size_t)in->width * bps[in->type];
-	const int16_t *maps[5] = {v->a_q[0], v->a_q[1], v->a_q[2], v->dark_q, v->gain_q};
-	for (int i = 0; i < 5; i++)
+	const int16_t *maps[4] = {v->v_q[0], v->v_q[1], v->dark_q, v->gain_q};
+	for (int i = 0; i < 4; i++)
 		if (maps[i]) {
 			p[k] = (const char *)(maps[i] + (size_t)sy * v->stride);
 			n[k++] = (size_t)v->width * sizeof(int16_t);
@@ -336,19 +361,11 @@ static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
 	const pc_fplane *planes[5];
 	out_planes(j->out, planes);
 	for (uint32_t y = y0; y < y1; y++) {
-		const float *a, *b, *c, *A[3][3];
+		const float *a = NULL, *b = NULL, *c = NULL, *H[3];
 		if (j->vec) {
-			const float *r[3];
-			for (int d = 0; d < 3; d++) {
-				int sl = vec_ring_get(&vr, j->in, j->vec, j->m, j->level,
-				                      (int)y + d - 1);
-				r[d] = vr.row[sl][0];
-				for (int k = 0; k < 3; k++)
-					A[k][d] = vr.row[sl][1 + k];
-			}
-			a = r[0];
-			b = r[1];
-			c = r[2];
+			for (int d = 0; d < 3; d++)
+				H[d] = vr.h[vec_ring_get(&vr, j->in, j->vec, j->m, j->level,
+				                         (int)y + d - 1)];
 		} else {
 			a = pc_dm_ring_get(&rg, j->in, (int)y - 1);
 			b = pc_dm_ring_get(&rg, j->in, (int)y);
@@ -367,7 +384,7 @@ static void fused_band(void *ctx, uint32_t y0, uint32_t y1)
 			if (y + 2 < y1 + 1)
 				vec_prefetch(j->in, j->vec,
 				             pc_mirror((int)y + 2, (int)j->in->height), &pf);
-			row_bilinear_vec(j->level, a, b, c, A, w, j->exact, o, j->nt, &pf);
+			row_bilinear_vec(j->level, H, w, j->exact, o, j->nt, &pf);
 		} else if (j->cal) {
 			const float *P[12];
 			cal_rows(j->cal, ch, y, P);

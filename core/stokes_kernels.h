@@ -95,41 +95,35 @@ static inline const float *pc_st_calib_row(const pc_st_calib *c, unsigned i, uns
 	return c->pinv->m + (size_t)(4 * i + ch) * c->plane + (size_t)gy * c->pinv->grid_w;
 }
 
-/* S = (WᵀW)⁻¹WᵀI at column x of the fused pipeline with analysis vectors, scalar (the vector
- * kernels' tails): the formulas of vec_blk (stokes_kern.inc) one pixel at a time. */
-static inline void pc_st_vec_px(const float *a, const float *b, const float *c,
-                                const float *const A[3][3], long x, float s[3])
+/* Where field f of column x sits in a row of the compact calibration's horizontal sums
+ * (vec_hrow, stokes_kern.inc): the eight fields interleaved by 16-pixel blocks, so that a
+ * kernel reads one stream per row at constant offsets. */
+#define PC_VEC_IX(f, x) ((size_t)((x) >> 4) * 128 + (size_t)(f)*16 + (size_t)((x)&15))
+
+/* The floats of one such row of width w. */
+static inline size_t pc_st_vec_len(uint32_t w)
 {
-	float v[4], wv[3][4];
-	const float *rows[4][3] = {{a, b, c},
-	                           {A[0][0], A[0][1], A[0][2]},
-	                           {A[1][0], A[1][1], A[1][2]},
-	                           {A[2][0], A[2][1], A[2][2]}};
-	for (int k = 0; k < 4; k++) {
-		const float *ra = rows[k][0], *rb = rows[k][1], *rc = rows[k][2];
-		float *d = k ? wv[k - 1] : v;
-		d[0] = rb[x];
-		d[1] = 0.5f * (rb[x - 1] + rb[x + 1]);
-		d[2] = 0.5f * (ra[x] + rc[x]);
-		d[3] = 0.25f * ((ra[x - 1] + ra[x + 1]) + (rc[x - 1] + rc[x + 1]));
+	return ((size_t)w + 15) / 16 * 128;
+}
+
+/* S = M⁻¹b at column x of the fused pipeline with analysis vectors from the horizontal sums
+ * H[0..2] of raw rows y−1, y, y+1, scalar (the vector kernels' tails): the formulas of
+ * vec_blk (stokes_kern.inc) one pixel at a time. */
+static inline void pc_st_vec_px(const float *const H[3], long x, float s[3])
+{
+	float f[8];
+	for (int k = 0; k < 8; k++) {
+		size_t i = PC_VEC_IX(k, x);
+		f[k] = H[1][i] * 2.0f + (H[0][i] + H[2][i]);
 	}
-	float m[3][3], r[3];
-	for (int i = 0; i < 3; i++) {
-		for (int j = 0; j < 3; j++)
-			m[i][j] = (wv[i][0] * wv[j][0] + wv[i][1] * wv[j][1]) +
-			          (wv[i][2] * wv[j][2] + wv[i][3] * wv[j][3]);
-		r[i] = (wv[i][0] * v[0] + wv[i][1] * v[1]) + (wv[i][2] * v[2] + wv[i][3] * v[3]);
-	}
-	float c00 = m[1][1] * m[2][2] - m[1][2] * m[1][2],
-	      c11 = m[0][0] * m[2][2] - m[0][2] * m[0][2];
-	float c22 = m[0][0] * m[1][1] - m[0][1] * m[0][1],
-	      c01 = m[0][2] * m[1][2] - m[0][1] * m[2][2];
-	float c02 = m[0][1] * m[1][2] - m[0][2] * m[1][1],
-	      c12 = m[0][1] * m[0][2] - m[0][0] * m[1][2];
-	float inv = 1.0f / (m[0][0] * c00 + (m[0][1] * c01 + m[0][2] * c02));
-	s[0] = (c00 * r[0] + (c01 * r[1] + c02 * r[2])) * inv;
-	s[1] = (c11 * r[1] + (c01 * r[0] + c12 * r[2])) * inv;
-	s[2] = (c22 * r[2] + (c02 * r[0] + c12 * r[1])) * inv;
+	const float m00 = 16.0f, m01 = f[0], m02 = f[1], m11 = f[2], m12 = f[3], m22 = f[4];
+	float c00 = m11 * m22 - m12 * m12, c11 = m00 * m22 - m02 * m02;
+	float c22 = m00 * m11 - m01 * m01, c01 = m02 * m12 - m01 * m22;
+	float c02 = m01 * m12 - m02 * m11, c12 = m01 * m02 - m00 * m12;
+	float inv = 1.0f / (m00 * c00 + (m01 * c01 + m02 * c02));
+	s[0] = (c00 * f[5] + (c01 * f[6] + c02 * f[7])) * inv;
+	s[1] = (c11 * f[6] + (c01 * f[5] + c12 * f[7])) * inv;
+	s[2] = (c22 * f[7] + (c02 * f[5] + c12 * f[6])) * inv;
 }
 
 /* Whether the compact calibration corrects the samples itself (a dark or gain map, or a

@@ -13,7 +13,8 @@ In one run, on one 2448x2048 12-bit frame of the default scene (or --raw FILE.np
      (compute-bound), each beside the C library's own scaling from one thread to two (one
      call with threads=1 against threads=2, timed in C) in the same rounds: when Python's
      two-thread ratio matches the library's, the limit is the machine (memory bandwidth),
-     not the GIL;
+     not the GIL; and bilinear again on a 640x512 crop (a live-view ROI) whose data fit in
+     the CPU's last-level cache, where the memory bus does not bound two threads;
   4. the calibrated pipeline: stokes(raw, calibration=Calibration) of a full-frame calibration
      file (written here with numpy: per-pixel dark, gain and analysers with the spreads of the
      imx250mzr_nonuniform preset) against the uncalibrated stokes(raw, black_level=...), and
@@ -159,8 +160,7 @@ def main():
           f"(POLARCAM_NT_MIN_BYTES={os.environ.get('POLARCAM_NT_MIN_BYTES', 'unset')})")
 
     if a.threads_only:
-        for method in ("bilinear", "ratio-nr"):
-            threads_scaling(a, raw, method)
+        threads_all(a, raw)
     else:
         if not a.calibrated_only:
             parts_1_to_3(a, raw, out, h, w, bits)
@@ -226,16 +226,29 @@ def parts_1_to_3(a, raw, out, h, w, bits):
             print(f"   polanalyser: its pipeline failed here ({e!r}): skipped")
 
     # 3. two Python threads on two cores against one, beside the library's own scaling
+    threads_all(a, raw)
+
+
+def threads_all(a, raw):
+    """Part 3: the full frame for bilinear and ratio-nr, then bilinear on a 640x512 crop of
+    it (a live-view ROI): its input and five outputs, 7.2 MB per thread, fit with the other
+    thread's in the 32 MB L3 cache of a current server CPU, so the memory bus does not bound
+    two threads there and what is left to limit them is the interpreter's lock."""
     for method in ("bilinear", "ratio-nr"):
         threads_scaling(a, raw, method)
+    # an even origin keeps the mosaic phase; the crop is a new C-contiguous array
+    roi = np.ascontiguousarray(raw[:512, :640])
+    threads_scaling(a, roi, "bilinear",
+                    scale=max(1, (raw.shape[0] * raw.shape[1]) // (roi.shape[0] * roi.shape[1])))
 
 
-def threads_scaling(a, raw, method):
+def threads_scaling(a, raw, method, scale=1):
     """Frames per second of one Python thread, of two Python threads (each calling
     polarcam.stokes(raw, method, threads=1, out=its own arrays)), and of the C library called
     with threads=1 and threads=2 (timed in C, no interpreter), in interleaved rounds: each
-    ratio two/one is taken within a round, so load changes between rounds do not enter it."""
-    n, rounds = a.threads_repeats, a.threads_rounds
+    ratio two/one is taken within a round, so load changes between rounds do not enter it.
+    scale multiplies the frames per round (small frames: rounds of comparable length)."""
+    n, rounds = a.threads_repeats * scale, a.threads_rounds
     outs = [polarcam.stokes(raw, method=method) for _ in range(2)]  # aligned, warm
     # numpy's own arrays (16 bytes past a cache line): never streamed, the store-kind baseline
     np_out = polarcam.Stokes([np.ones(raw.shape, np.float32) for _ in range(5)])
@@ -262,7 +275,8 @@ def threads_scaling(a, raw, method):
         c2.append(n / sum(_polarcam._c_pipeline_seconds(raw, outs[0], method=method,
                                                          threads=2, repeats=n)))
     kind = "non-temporal" if _polarcam._stokes_streams(outs[0]) else "ordinary"
-    print(f"\n3. {method} -> Stokes/DoLP/AoLP, one thread against two on {os.cpu_count()} "
+    print(f"\n3. {method} -> Stokes/DoLP/AoLP, {raw.shape[1]}x{raw.shape[0]}, one thread "
+          f"against two on {os.cpu_count()} "
           f"CPUs: frames/s, median of {rounds} rounds of {n} frames per thread ({kind} "
           f"stores; load {load():.2f})")
     for name, one, two in (("two Python threads, threads=1 each", py1, py2),

@@ -161,16 +161,38 @@ def _bilinear_pinv_reference(c):
     return np.linalg.pinv(W.astype(float)).transpose(2, 3, 0, 1).reshape(3, 4, h, w)
 
 
+def _wls_reference(cal, corrected):
+    """The fused bilinear path's estimator (pc_compact_calib, docs/calibration.md): each
+    sample's equation I = a.S divided by its a0 (u = a / a0), then per output pixel the least
+    squares over its 3x3 samples weighted by the bilinear weights 1, 1/2, 1/4 (borders
+    mirrored), solved by numpy.linalg.solve of the normal equations."""
+    a = cal.analysis.astype(float)
+    u = a / a[..., :1]
+    y = corrected.astype(float) / a[..., 0]
+    h, w = y.shape
+    up = np.pad(u, ((1, 1), (1, 1), (0, 0)), mode="reflect")
+    yp = np.pad(y, 1, mode="reflect")
+    M = np.zeros((h, w, 3, 3))
+    b = np.zeros((h, w, 3))
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            k = (0.5 if dy else 1.0) * (0.5 if dx else 1.0)
+            us = up[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+            M += k * us[..., :, None] * us[..., None, :]
+            b += k * us * yp[1 + dy:1 + dy + h, 1 + dx:1 + dx + w, None]
+    return np.linalg.solve(M, b[..., None])[..., 0].transpose(2, 0, 1)
+
+
 def test_pipeline_against_numpy(cal, calfile):
-    """stokes(raw, calibration=cal) = numpy: I = (raw - dark) / gain, bilinear demosaic,
-    S = W+ I with W+ from numpy.linalg.pinv; the same with calibration=path."""
+    """stokes(raw, calibration=cal) = numpy: I = (raw - dark) / gain, then the weighted least
+    squares of _wls_reference; the bilinear pseudo-inverses (other paths) = numpy.linalg.pinv
+    of the demosaicked analysis vectors; the same with calibration=path."""
     raw = polarcam.render(scene("test_scene"), seed=SEED, frame=9000, roi=ROI)[0]
     st = polarcam.stokes(raw, calibration=cal, bits=12)
     ref_pinv = _bilinear_pinv_reference(cal)
     np.testing.assert_allclose(cal.pinv("bilinear"), ref_pinv, rtol=1e-4, atol=1e-4)
     corrected = ((raw - cal.dark.astype(float)) / cal.gain).astype(np.float32)
-    I = polarcam.demosaic(corrected).astype(float)  # (H, W, 4)
-    S = np.einsum("ichw,hwc->ihw", ref_pinv, I)
+    S = _wls_reference(cal, corrected)
     scale = float(np.abs(S[0]).max())
     for i, name in enumerate(("s0", "s1", "s2")):
         np.testing.assert_allclose(getattr(st, name), S[i], rtol=1e-4, atol=1e-5 * scale,

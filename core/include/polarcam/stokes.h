@@ -52,40 +52,45 @@ typedef struct pc_analyser_pinv {
 	uint32_t grid_w, grid_h;
 } pc_analyser_pinv;
 
-/* A camera calibration in compact form for the fused bilinear pipeline: per raw sample its
- * analysis vector a = (a0, a1, a2) (the model of polarcam/calib.h: after dark and gain the
- * sample reads a·(S0, S1, S2)) and optionally its dark offset and inverse gain, 16 bits each.
- * Each map is a fixed-point offset from a base: width × height int16 (the raw's size), row y at
- * map + y·stride (one stride for all, in elements: planes, or the maps' rows interleaved so
- * that the pipeline reads them as one stream). For the sample at (x, y), whose analyser is
- * channel c = mosaic.channel[y & 1][x & 1] of the pipeline's mosaic, i = y·stride + x:
- *   a_k      = a_base[c][k] + a_scale[k]·a_q[k][i]       (k = 0, 1, 2)
+/* A camera calibration in compact form for the fused bilinear pipeline. The model of
+ * polarcam/calib.h: after dark and gain the sample reads a·(S0, S1, S2) with its analysis
+ * vector a = (a0, a1, a2); here each sample's equation is divided by its a0 (a0 > 0, the
+ * analyser's transmission for unpolarized light), so that per raw sample the compact form
+ * holds its normalised vector (1, v1, v2) = a/a0 and optionally its dark offset and its
+ * inverse gain with 1/a0 folded in, 16 bits each. Each map is a fixed-point offset from a base:
+ * width × height int16 (the raw's size), row y at map + y·stride (one stride for all, in
+ * elements: planes, or the maps' rows interleaved so that the pipeline reads them as one
+ * stream). For the sample at (x, y), whose analyser is channel c = mosaic.channel[y & 1][x & 1]
+ * of the pipeline's mosaic, i = y·stride + x:
+ *   v_k      = v_base[c][k] + v_scale[k]·v_q[k][i]       (k = 0, 1: a1/a0, a2/a0)
  *   dark     = dark_base + dark_scale·dark_q[i]          (dark_q NULL: dark_base alone)
- *   gain_inv = gain_base + gain_scale·gain_q[i]          (gain_q NULL: none)
+ *   gain_inv = gain_base + gain_scale·gain_q[i]          (gain_q NULL: none; 1/(gain·a0))
  * in float (one fused multiply-add each). With pc_pipeline_opts.compact, pc_stokes_run
  * corrects every sample I = (raw − dark)·gain_inv as it reads the raw (with dark_q and gain_q
  * NULL and dark_base 0: opts' black level, dark and gain_inv maps as usual; else they must be
- * 0 and NULL),
- * demosaics the samples and the vectors bilinearly alike (the 4×3 matrix W of an output
- * pixel: each channel's bilinear analysis vector, mirrored borders), and solves the least
- * squares S = (WᵀW)⁻¹WᵀI per output pixel in float, in the one pass that reads the raw: 6 to
- * 10 bytes of calibration per pixel instead of the 56 of float maps and a per-pixel
- * pc_analyser_pinv, and nothing per output pixel to prepare. Normal equations by the
- * cofactors of the symmetric WᵀW (Cramer's rule), as the double reference of
- * tests/test_calib_fused.c (tolerance there). With ideal analysers (a_q all 0, a_base =
- * pc_stokes_ideal_analyser) and no dark or gain maps the results are the uncalibrated
- * pipeline's bit for bit. Bilinear, monochrome mosaics, the fast path only (PC_ENOTSUP
- * otherwise). The caller guarantees that WᵀW is well conditioned at every output pixel
- * (pc_calib checks it once per calibration; the kernel does not). The samples to distrust
- * (flagged in the validity as saturated ones are) may come as a list instead of
- * pc_pipeline_opts.trusted, so that a frame reads no trust map: row y's distrusted samples are
- * at columns distrust_x[distrust_row[y] .. distrust_row[y + 1]) (height + 1 offsets; NULL:
- * none listed). */
+ * 0 and NULL), and solves per output pixel the least squares over its 3×3 samples weighted by
+ * the bilinear interpolation's weights K (own sample 1, edge neighbours ½, corners ¼; mirrored
+ * borders): S = M⁻¹b, M = Σ K_s u_s u_sᵀ, b = Σ K_s u_s I_s with u = (1, v1, v2), in float,
+ * in the one pass that reads the raw: 6 to 8 bytes of calibration per pixel instead of the 56
+ * of float maps and a per-pixel pc_analyser_pinv, and nothing per output pixel to prepare. M
+ * and b are separable [1 2 1] sums of per-sample products; the symmetric M is inverted by its
+ * cofactors (Cramer's rule), as in the double reference of tests/test_calib_fused.c
+ * (tolerance there). Exact on uniform fields; with ideal analysers (v_q NULL, v_base the
+ * ideal (cos 2θ_c, sin 2θ_c), gain_inv 2) and no dark or gain maps it is the uncalibrated
+ * estimator (results within 1e-6 relative; measured bit for bit). The other calibrated paths
+ * (pc_analyser_pinv) interpolate the analysis vectors per channel and solve S = (WᵀW)⁻¹WᵀI: the
+ * same on uniform fields, slightly different on texture (docs/calibration.md). Bilinear,
+ * monochrome mosaics, the fast path only (PC_ENOTSUP otherwise). The caller guarantees that M
+ * is well conditioned at every output pixel (pc_calib checks it once per calibration; the
+ * kernel does not). The samples to distrust (flagged in the validity as saturated ones are)
+ * may come as a list instead of pc_pipeline_opts.trusted, so that a frame reads no trust map:
+ * row y's distrusted samples are at columns distrust_x[distrust_row[y] .. distrust_row[y + 1])
+ * (height + 1 offsets; NULL: none listed). */
 typedef struct pc_compact_calib {
 	uint32_t width, height;
-	size_t stride; /* elements between rows, every map */
-	const int16_t *a_q[3];
-	float a_base[4][3], a_scale[3];
+	size_t stride;         /* elements between rows, every map */
+	const int16_t *v_q[2]; /* NULL: v_base alone */
+	float v_base[4][2], v_scale[2];
 	const int16_t *dark_q, *gain_q;
 	float dark_base, dark_scale, gain_base, gain_scale;
 	const uint32_t *distrust_row, *distrust_x;
