@@ -65,6 +65,17 @@ typedef struct pan_gorow_args {
 	const float *c1row[7], *c2row[7]; /* pan-chroma's chrominance rows (else unused) */
 } pan_gorow_args;
 
+/* pan-dir's: each channel's terms (its lattice rows around the row: four for green's two
+ * lattices), the term's one-sided horizontal rows hw, he and full tent hc (pan_dhrows), its
+ * weight in C, W and E (wc), in N (wn) and in S (ws), each normalised over the channel */
+typedef struct pan_drow_args {
+	const float *hw[12][4], *he[12][4], *hc[12][4];
+	float wc[12][4], wn[12][4], ws[12][4];
+	int nv[12];
+	const float *sel[4];
+	unsigned own[4];
+} pan_drow_args;
+
 #define PC_INST PC_INST_BASELINE
 #include "simd_instance_begin.h"
 #include "demosaic_pan_kern.inc"
@@ -127,19 +138,28 @@ static unsigned chan(const pan_ref *r, int x, int y)
 	return 4 * (pc_mosaic_color(r->m, xm, ym) - PC_CFA_R) + pc_mosaic_channel(r->m, xm, ym);
 }
 
-/* Both references' output at (x, y): the pixel's own sample kept, every other channel q its
- * sample times the interpolated ratio of q to the own channel (num, den: each channel's
+/* The references' twelve values at (x, y): the pixel's own sample kept, every other channel q
+ * its sample times the interpolated ratio of q to the own channel (num, den: each channel's
  * weighted ratio sum and its weight). */
-static void put_pixel(const pan_ref *r, int x, int y, const double num[12], const double den[12],
-                      const pc_fplane *out)
+static void pan_values(const pan_ref *r, int x, int y, const double num[12], const double den[12],
+                       double o[12])
 {
 	unsigned own = chan(r, x, y);
 	double v = r->img[(size_t)y * (size_t)r->w + (size_t)x];
 	double scale = (fmax(v, 0) + r->delta) * den[own] / num[own];
+	for (unsigned q = 0; q < 12; q++)
+		o[q] = q == own ? v : scale * num[q] / den[q] - r->delta;
+}
+
+/* ... stored into out */
+static void put_pixel(const pan_ref *r, int x, int y, const double num[12], const double den[12],
+                      const pc_fplane *out)
+{
+	double o[12];
+	pan_values(r, x, y, num, den, o);
 	for (unsigned q = 0; q < 12; q++) {
-		double o = q == own ? v : scale * num[q] / den[q] - r->delta;
 		const pc_fplane *p = &out[q];
-		p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] = (float)o;
+		p->data[(size_t)y * p->row_stride + (size_t)x * p->pixel_stride] = (float)o[q];
 	}
 }
 
@@ -280,22 +300,26 @@ static void chroma_images(const pan_ref *r, chroma_ref *c)
 }
 
 /* pan-chroma's weighted ratio sums at (x, y) over the taps dx in [dx0, dx1], dy in [dy0, dy1]
- * (the full tents: [-3, 3] both; a one-sided candidate of pan-dir restricts one range) */
+ * (the full tents: [-3, 3] both; a one-sided candidate of pan-dir restricts one range); with
+ * r->e = 0 the tents are plain (pan-ratio's, as pan-dir uses them) */
 static void chroma_sums(const pan_ref *r, const chroma_ref *c, int x, int y, int dx0, int dx1,
                         int dy0, int dy1, double num[12], double den[12])
 {
 	for (unsigned q = 0; q < 12; q++)
 		num[q] = den[q] = 0;
 	for (int dy = dy0; dy <= dy1; dy++) {
-		double wv = (4 - abs(dy)) / (r->e + cdist(c, x, y, x, y + dy));
+		double wv = 4 - abs(dy);
+		if (r->e > 0) /* pan-chroma's range weight; pan-dir's tents are plain */
+			wv /= r->e + cdist(c, x, y, x, y + dy);
 		for (int s = 0; s < 4; s++) {
 			/* row y + dy's taps of column phase s: H_s (pan-guided's) */
 			double hn = 0, hd = 0;
 			for (int d = dx0; d <= dx1; d++) {
 				if ((((x + d) % 4) + 4) % 4 != s)
 					continue;
-				double wh =
-				    (4 - abs(d)) / (r->e + cdist(c, x, y + dy, x + d, y + dy));
+				double wh = 4 - abs(d);
+				if (r->e > 0)
+					wh /= r->e + cdist(c, x, y + dy, x + d, y + dy);
 				hn += wh * c->rho[cidx(c, x + d, y + dy)];
 				hd += wh;
 			}
@@ -342,32 +366,45 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
 	return 0;
 }
 
-/* pan-dir (an experiment: the double reference only): pan-chroma's colour step made
- * direction-aware. Five candidates per pixel: C is pan-chroma itself; on a lattice of spacing 4
- * a directional candidate is a one-sided one, W keeping the taps dx in [-3, 0] (each channel's
- * nearest lattice column at or left of x, with pan-chroma's vertical weights), E dx in [0, 3],
- * N dy in [-3, 0], S dy in [0, 3]. Near a hue edge a one-sided candidate can read one side only,
- * where the centred tents read both. Each candidate d is judged by the homogeneity of its own
- * result around p, as Hirakawa & Parks judge their horizontal and vertical interpolations
- * ("Adaptive homogeneity-directed demosaicing algorithm", IEEE TIP 14(3) 2005, Sec. III: the
- * result's local colour variation, summed again over a 3×3 box); here the hue variation
+/* pan-dir: pan-ratio's colour step made direction-aware. Near a hue edge pan-ratio's centred
+ * tents mix the two sides' ratios up to ±3 pixels away; on a lattice of spacing 4 a directional
+ * interpolation is a one-sided one. Five candidates per pixel, each pan-ratio's ratio step
+ * (put_pixel) on its own interpolated ratios R^d:
  *
- *   l_k = ln((S_k^d(q) + δ) / (S_k^d(p) + δ)),
- *   V_d(p) = Σ_{q ∈ 3×3(p)} Σ_k |l_k − (l_R + l_G + l_B)/3|,
+ *   C  pan-ratio itself (the tents over dx, dy in [-3, 3]),
+ *   W  the taps dx in [-3, 0] only: along a row each channel's nearest lattice sample at or left
+ *      of x, the vertical tent as in C; E dx in [0, 3];
+ *   N  the lattice rows dy in [-3, 0] only, the horizontal tents as in C; S dy in [0, 3]
  *
- * S_k^d = Σ_c I_{4k+c}^d / 2 colour k's intensity (S0) from candidate d: relative colour
- * differences with their common (luminance) part removed, since the step interpolates hue, and
- * H_d(p) = Σ_{3×3(p)} V_d. The candidates are blended with weights 1 / H_d², the inverse square
- * of each direction's summed variation, as the gradient-based threshold-free method blends its
- * directional estimates (Pekkucuksen & Altunbasak, "Gradient based threshold free color filter
- * array interpolation", ICIP 2010, Sec. 2): a direction that is clearly more homogeneous wins,
- * equal ones average, which keeps C's noise averaging on smooth colours.
+ * (per column phase along a row, and per channel down a column, the weights are normalised over
+ * the taps kept). Each candidate is judged by the homogeneity of its own result, as Hirakawa &
+ * Parks judge their horizontal and vertical interpolations ("Adaptive homogeneity-directed
+ * demosaicing algorithm", IEEE TIP 14(3) 2005, Sec. III: the result's colour variation over a
+ * small neighbourhood): here the chromaticity of the candidate's interpolated ratios,
  *
- * Tried (the same runs as docs/demosaicking.md "Round 8"): the hard selection of Hirakawa &
- * Parks (the smallest H_d) loses on smooth colours (its one-sided candidates are noisier), with
- * the luminance part kept in V_d or removed.
+ *   c_k^d = ρ̄_k^d / (ρ̄_R^d + ρ̄_G^d + ρ̄_B^d),  ρ̄_k^d = Σ_a R^d_{4k+a}(p)   (colour k's four
+ *           analysers: the hue the step interpolates, without the luminance, which comes from
+ *           each pixel's own sample, and without the polarization, which the sum cancels),
  *
- * Support: a candidate at q reads pan-chroma's ±5, V and H add ±1 each: ±7. */
+ * and its total variation inside the 3×3 window around p,
+ *
+ *   H_d(p) = Σ_k [ Σ_{|j|≤1} Σ_{i=0,1} |c_k^d(x+i, y+j) − c_k^d(x+i−1, y+j)|
+ *                + Σ_{|i|≤1} Σ_{j=0,1} |c_k^d(x+i, y+j) − c_k^d(x+i, y+j−1)| ],
+ *
+ * c clamped at the image's borders (a difference across a border is 0). The candidates' outputs
+ * are blended with weights 1/(H_d + 10⁻⁹)², as the gradient-based threshold-free method blends
+ * its directional estimates (Pekkucuksen & Altunbasak, "Gradient based threshold free color
+ * filter array interpolation", ICIP 2010, Sec. 2): a clearly more homogeneous direction wins,
+ * equal ones average, which keeps C's averaging on smooth colours; the 10⁻⁹ only guards an exactly
+ * uniform patch. The own channel keeps the pixel's sample (every candidate keeps it).
+ *
+ * Round 8's pan-dir (pan-chroma's range-weighted tents as the base, the homogeneity the
+ * variation of ln S_k of each candidate's outputs, luminance removed, over 3×3 then summed over
+ * 3×3 again) was more accurate at hue edges and several times pan-chroma's cost; the choices
+ * here (plain tents, chromaticity of the ratios, the window's total variation) and what they
+ * gave on the three sets are in docs/demosaicking.md, Round 9.
+ *
+ * Support: a candidate reads pan-ratio's ±5 (±7 through the sub-image mirror), H adds ±1. */
 #define PAN_ND 5
 
 static void dir_range(int d, int *dx0, int *dx1, int *dy0, int *dy1)
@@ -378,99 +415,75 @@ static void dir_range(int d, int *dx0, int *dx1, int *dy0, int *dy1)
 	*dy1 = d == 3 ? 0 : 3;
 }
 
-static void dir_pixel(const pan_ref *r, const chroma_ref *c, int x, int y, int d, double o[12])
+static int clampi(int i, int n)
 {
-	int dx0, dx1, dy0, dy1;
-	double num[12], den[12];
-	dir_range(d, &dx0, &dx1, &dy0, &dy1);
-	chroma_sums(r, c, x, y, dx0, dx1, dy0, dy1, num, den);
-	unsigned own = chan(r, x, y);
-	double v = r->img[(size_t)y * (size_t)r->w + (size_t)x];
-	double scale = (fmax(v, 0) + r->delta) * den[own] / num[own];
-	for (unsigned q = 0; q < 12; q++)
-		o[q] = q == own ? v : scale * num[q] / den[q] - r->delta;
+	return i < 0 ? 0 : i >= n ? n - 1 : i;
 }
 
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                       const pc_fplane *out)
 {
-	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, PAN_CE * fs};
+	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, 0}; /* e = 0: plain tents */
 	chroma_ref c;
 	int rc = chroma_alloc(&c, w, h, "pan-dir");
 	if (rc)
 		return rc;
-	chroma_images(&r, &c);
+	chroma_images(&r, &c); /* ρ on the extended raw (the guides unused) */
 	const size_t np = (size_t)w * h;
-	double *s = malloc(sizeof(double) * np * PAN_ND * 4); /* S_k^d, then V_d */
-	if (!s) {
+	double *cs = malloc(sizeof(double) * np * PAN_ND * 3); /* c_k^d */
+	if (!cs) {
 		free(c.p0);
 		return pc_error(PC_ENOMEM, "pan-dir reference: candidates of %ux%u", w, h);
 	}
-	double *v = s + np * PAN_ND * 3;
+#define PAN_CS(x, y, d) (cs + (((size_t)(y)*w + (size_t)(x)) * PAN_ND + (size_t)(d)) * 3)
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++)
 			for (int d = 0; d < PAN_ND; d++) {
-				double o[12];
-				dir_pixel(&r, &c, x, y, d, o);
+				int dx0, dx1, dy0, dy1;
+				double num[12], den[12], rb[3] = {0, 0, 0};
+				dir_range(d, &dx0, &dx1, &dy0, &dy1);
+				chroma_sums(&r, &c, x, y, dx0, dx1, dy0, dy1, num, den);
 				for (int k = 0; k < 3; k++)
-					s[((size_t)y * w + (size_t)x) * PAN_ND * 3 + (size_t)d * 3 +
-					  (size_t)k] = (o[4 * k] + o[4 * k + 1] + o[4 * k + 2] +
-					                o[4 * k + 3]) /
-					               2;
-			}
-	for (int y = 0; y < c.h; y++)
-		for (int x = 0; x < c.w; x++)
-			for (int d = 0; d < PAN_ND; d++) {
-				const double *sp =
-				    s + ((size_t)y * w + (size_t)x) * PAN_ND * 3 + d * 3;
-				double var = 0;
-				for (int j = -1; j <= 1; j++)
-					for (int i = -1; i <= 1; i++) {
-						int xq = x + i, yq = y + j;
-						if (xq < 0 || yq < 0 || xq >= c.w || yq >= c.h)
-							continue;
-						const double *sq =
-						    s + ((size_t)yq * w + (size_t)xq) * PAN_ND * 3 +
-						    d * 3;
-						double l[3], lm = 0;
-						for (int k = 0; k < 3; k++) {
-							l[k] = log((fmax(sq[k], 0) + r.delta) /
-							           (fmax(sp[k], 0) + r.delta));
-							lm += l[k] / 3;
-						}
-						for (int k = 0; k < 3; k++)
-							var += fabs(l[k] - lm);
-					}
-				v[((size_t)y * w + (size_t)x) * PAN_ND + (size_t)d] = var;
+					for (int a = 0; a < 4; a++)
+						rb[k] += num[4 * k + a] / den[4 * k + a];
+				for (int k = 0; k < 3; k++)
+					PAN_CS(x, y, d)[k] = rb[k] / (rb[0] + rb[1] + rb[2]);
 			}
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
-			double hv[PAN_ND], o[12] = {0}, ws = 0;
+			double o[12] = {0}, ws = 0;
 			for (int d = 0; d < PAN_ND; d++) {
-				hv[d] = 0;
+				double hv = 0;
 				for (int j = -1; j <= 1; j++)
 					for (int i = -1; i <= 1; i++) {
-						int xq = x + i, yq = y + j;
-						if (xq >= 0 && yq >= 0 && xq < c.w && yq < c.h)
-							hv[d] += v[((size_t)yq * w + (size_t)xq) *
-							               PAN_ND +
-							           (size_t)d];
+						int xq = clampi(x + i, c.w),
+						    yq = clampi(y + j, c.h);
+						const double *p = PAN_CS(xq, yq, d);
+						const double *pl =
+						    PAN_CS(clampi(x + i - 1, c.w), yq, d);
+						const double *pu =
+						    PAN_CS(xq, clampi(y + j - 1, c.h), d);
+						for (int k = 0; k < 3; k++) {
+							hv += i > -1 ? fabs(p[k] - pl[k]) : 0;
+							hv += j > -1 ? fabs(p[k] - pu[k]) : 0;
+						}
 					}
-			}
-			for (int d = 0; d < PAN_ND; d++) {
-				double od[12], wd = 1 / ((hv[d] + 1e-9) * (hv[d] + 1e-9));
-				dir_pixel(&r, &c, x, y, d, od);
+				int dx0, dx1, dy0, dy1;
+				double num[12], den[12], od[12];
+				dir_range(d, &dx0, &dx1, &dy0, &dy1);
+				chroma_sums(&r, &c, x, y, dx0, dx1, dy0, dy1, num, den);
+				pan_values(&r, x, y, num, den, od);
+				double wd = 1 / ((hv + 1e-9) * (hv + 1e-9));
 				for (unsigned q = 0; q < 12; q++)
 					o[q] += wd * od[q];
 				ws += wd;
 			}
 			for (unsigned q = 0; q < 12; q++)
-				o[q] /= ws;
-			for (unsigned q = 0; q < 12; q++)
 				out[q].data[(size_t)y * out[q].row_stride +
-				            (size_t)x * out[q].pixel_stride] = (float)o[q];
+				            (size_t)x * out[q].pixel_stride] = (float)(o[q] / ws);
 		}
-	free(s);
+#undef PAN_CS
+	free(cs);
 	free(c.p0);
 	return 0;
 }
@@ -556,6 +569,18 @@ typedef void (*pan_cratio_fn)(const float *vs, const float *vsb, const float *ra
 typedef void (*pan_cghrows_fn)(const float *rho, const float *p0, const float *c1, const float *c2,
                                long n, const float wt[4][7][16], float e, float *const h[4]);
 
+typedef void (*pan_dhrows_fn)(const float *rho, long n, const float tw[4][7][16],
+                              const float te[4][7][16], const float al[4][16],
+                              const float be[4][16], float *const hw[4], float *const he[4],
+                              float *const hc[4]);
+typedef void (*pan_dchroma_fn)(const pan_drow_args *a, long n, float *const c[5][3]);
+typedef void (*pan_dvar_fn)(const float *const c[3], const float *const p[3], long x0, long n,
+                            float *dh, float *dv);
+typedef void (*pan_dbox_fn)(const float *dh, const float *dv, long n, float *bh, float *bv);
+typedef void (*pan_dorow_fn)(const pan_drow_args *a, const float *const bh[5][3],
+                             const float *const bv[5][2], const float *raw, long x0, long x1,
+                             float delta, float *const out[12], long xo, int nt);
+
 typedef struct pan_kern {
 	pan_vsum_fn vsum;
 	pan_ratio_fn ratio;
@@ -567,26 +592,35 @@ typedef struct pan_kern {
 	pan_cratio_fn cratio;
 	pan_cghrows_fn cghrows;
 	pan_gorow_fn cgorow;
+	pan_dhrows_fn dhrows;
+	pan_dchroma_fn dchroma;
+	pan_dvar_fn dvar;
+	pan_dbox_fn dbox;
+	pan_dorow_fn dorow;
 } pan_kern;
 
 static pan_kern pan_kernels(pc_cpu_level level)
 {
 #ifdef PC_CPU_X86
 	if (level >= PC_CPU_AVX512)
-		return (pan_kern){pan_vsum_avx512,  pan_ratio_avx512,  pan_hrows_avx512,
-		                  pan_orow_avx512,  pan_ghrows_avx512, pan_gorow_avx512,
-		                  pan_vsumw_avx512, pan_cratio_avx512, pan_cghrows_avx512,
-		                  pan_cgorow_avx512};
+		return (pan_kern){pan_vsum_avx512,   pan_ratio_avx512,  pan_hrows_avx512,
+		                  pan_orow_avx512,   pan_ghrows_avx512, pan_gorow_avx512,
+		                  pan_vsumw_avx512,  pan_cratio_avx512, pan_cghrows_avx512,
+		                  pan_cgorow_avx512, pan_dhrows_avx512, pan_dchroma_avx512,
+		                  pan_dvar_avx512,   pan_dbox_avx512,   pan_dorow_avx512};
 	if (level >= PC_CPU_AVX2)
-		return (pan_kern){pan_vsum_avx2,    pan_ratio_avx2, pan_hrows_avx2, pan_orow_avx2,
-		                  pan_ghrows_avx2,  pan_gorow_avx2, pan_vsumw_avx2, pan_cratio_avx2,
-		                  pan_cghrows_avx2, pan_cgorow_avx2};
+		return (pan_kern){pan_vsum_avx2,   pan_ratio_avx2,  pan_hrows_avx2,
+		                  pan_orow_avx2,   pan_ghrows_avx2, pan_gorow_avx2,
+		                  pan_vsumw_avx2,  pan_cratio_avx2, pan_cghrows_avx2,
+		                  pan_cgorow_avx2, pan_dhrows_avx2, pan_dchroma_avx2,
+		                  pan_dvar_avx2,   pan_dbox_avx2,   pan_dorow_avx2};
 #else
 	(void)level;
 #endif
-	return (pan_kern){pan_vsum_base,    pan_ratio_base, pan_hrows_base, pan_orow_base,
-	                  pan_ghrows_base,  pan_gorow_base, pan_vsumw_base, pan_cratio_base,
-	                  pan_cghrows_base, pan_cgorow_base};
+	return (pan_kern){pan_vsum_base,    pan_ratio_base,  pan_hrows_base,  pan_orow_base,
+	                  pan_ghrows_base,  pan_gorow_base,  pan_vsumw_base,  pan_cratio_base,
+	                  pan_cghrows_base, pan_cgorow_base, pan_dhrows_base, pan_dchroma_base,
+	                  pan_dvar_base,    pan_dbox_base,   pan_dorow_base};
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
@@ -605,6 +639,49 @@ static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
 		c->tag[k] = y;
 	}
 	return c->slot[k];
+}
+
+/* The vertical sums vs of the PPI filter for the extended source row yy (from the five raw rows
+ * mirror4(yy - 2 .. yy + 2)), pan-chroma's signed ones vsb (if not NULL), and the raw row rawp,
+ * each padded by the column mirror to [-PAN_PADR, n + PAN_PADR); src: 5 × 16 floats of scratch
+ * (the last partial vectors, readable to n) */
+static void pan_src_sums(const pan_job *j, const pan_kern *K, const pan_tables *t, pan_rows *rc,
+                         int yy, float *src, float *vs, float *vsb, float *rawp, long n, long nmain)
+{
+	const int iw = (int)j->w, ih = (int)j->h;
+	const float *r[5], *rt[5];
+	for (int k = 0; k < 5; k++) {
+		r[k] = pan_row(rc, j->in, mirror4(yy + k - 2, ih));
+		float *d = src + (size_t)k * 16;
+		memcpy(d, r[k] + nmain, (size_t)(iw - nmain) * sizeof *d);
+		rt[k] = d;
+	}
+	K->vsum(r, nmain, vs);
+	if (nmain < n)
+		K->vsum(rt, 16, vs + nmain);
+	if (vsb) {
+		/* m times the signs b of the five source rows */
+		static const float mk[5] = {1, 2, 2, 2, 1};
+		float wb[5];
+		for (int k = 0; k < 5; k++)
+			wb[k] = mk[k] * t->b[(yy + k - 2) & 3];
+		K->vsumw(r, wb, nmain, vsb);
+		if (nmain < n)
+			K->vsumw(rt, wb, 16, vsb + nmain);
+	}
+	memcpy(rawp, r[2], (size_t)iw * sizeof *rawp);
+	for (int x = -PAN_PADR; x < 0; x++) {
+		vs[x] = vs[mirror4(x, iw)];
+		rawp[x] = rawp[mirror4(x, iw)];
+		if (vsb)
+			vsb[x] = vsb[mirror4(x, iw)];
+	}
+	for (int x = iw; x < (int)n + PAN_PADR; x++) {
+		vs[x] = vs[mirror4(x, iw)];
+		rawp[x] = rawp[mirror4(x, iw)];
+		if (vsb)
+			vsb[x] = vsb[mirror4(x, iw)];
+	}
 }
 
 /* pan-guided's output row y: the terms of every channel, then the kernel (whole vectors into
@@ -676,8 +753,8 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	pan_job *j = ctx;
-	const uint32_t w = j->w, h = j->h;
-	const int iw = (int)w, ih = (int)h;
+	const uint32_t w = j->w;
+	const int iw = (int)w;
 	const long n = ((long)w + 15) / 16 * 16; /* columns computed: whole vectors */
 	const long nmain = (long)w / 16 * 16;    /* whole vectors inside the row */
 	const size_t pitch = (size_t)n + 2 * PAN_PADR;
@@ -721,38 +798,8 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	for (uint32_t y = y0; y < y1; y++) {
 		for (int yy = have < (int)y - 4 ? (int)y - 4 : have + 1; yy <= (int)y + 3; yy++) {
 			/* ratio row of the extended source row yy, and its four tents */
-			const float *r[5], *rt[5];
-			for (int k = 0; k < 5; k++) {
-				r[k] = pan_row(&rc, j->in, mirror4(yy + k - 2, ih));
-				/* the last partial vector from a copy that is readable to n */
-				float *d = src + (size_t)k * 16;
-				memcpy(d, r[k] + nmain, (size_t)(iw - nmain) * sizeof *d);
-				rt[k] = d;
-			}
-			K.vsum(r, nmain, vs);
-			if (nmain < n)
-				K.vsum(rt, 16, vs + nmain);
-			if (j->guided == 2) {
-				/* m times the signs b of the five source rows */
-				static const float mk[5] = {1, 2, 2, 2, 1};
-				float wb[5];
-				for (int k = 0; k < 5; k++)
-					wb[k] = mk[k] * t->b[(yy + k - 2) & 3];
-				K.vsumw(r, wb, nmain, vsb);
-				if (nmain < n)
-					K.vsumw(rt, wb, 16, vsb + nmain);
-			}
-			memcpy(rawp, r[2], w * sizeof *rawp);
-			for (int x = -PAN_PADR; x < 0; x++) {
-				vs[x] = vs[mirror4(x, iw)];
-				vsb[x] = vsb[mirror4(x, iw)];
-				rawp[x] = rawp[mirror4(x, iw)];
-			}
-			for (int x = iw; x < (int)n + PAN_PADR; x++) {
-				vs[x] = vs[mirror4(x, iw)];
-				vsb[x] = vsb[mirror4(x, iw)];
-				rawp[x] = rawp[mirror4(x, iw)];
-			}
+			pan_src_sums(j, &K, t, &rc, yy, src, vs, j->guided == 2 ? vsb : NULL, rawp,
+			             n, nmain);
 			if (j->guided == 2) {
 				float *p0 = gr[0][yy & 7], *c1 = gr[1][yy & 7], *c2 = gr[2][yy & 7];
 				K.cratio(vs, vsb, rawp, -16, n + 32, j->delta, t->ha, rho, p0, c1,
@@ -867,6 +914,227 @@ static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
 	return 0;
 }
 
+/* ---- pan-dir's fast path ----
+ *
+ * The same source rows as pan-ratio's (ratio rows, in a ring of 8), each giving twelve
+ * horizontal rows: the one-sided taps W and E and the full tent C of every column phase
+ * (pan_dhrows). Two stages per output row y: first row y + 1 (clamped to the image) gets its
+ * candidates' chromaticities (two rows kept, for the vertical differences), their variation
+ * rows and boxes (a ring of 4 rows per candidate); then row y's candidates are computed again,
+ * blended by the homogeneity of the boxes of rows y - 1 .. y + 1, and written. */
+typedef struct pan_dtables {
+	float tw[4][7][16], te[4][7][16], al[4][16], be[4][16];
+} pan_dtables;
+
+static void pan_dtables_init(pan_dtables *t)
+{
+	memset(t, 0, sizeof *t);
+	for (int l = 0; l < 16; l++) {
+		int u = l & 3;
+		for (int s = 0; s < 4; s++) {
+			int dw = -((u - s) & 3), de = (s - u) & 3;
+			t->tw[s][dw + 3][l] = 1;
+			t->te[s][de + 3][l] = 1;
+			t->al[s][l] = dw == 0 ? 0.5f : (float)(4 + dw) / 4;
+			t->be[s][l] = dw == 0 ? 0.5f : (float)(4 - de) / 4;
+		}
+	}
+}
+
+/* row Y's terms: channel q's lattice rows in the ring hx[slot][0..11] (hw, he, hc by phase) */
+static void pan_dargs(const pan_job *j, const pan_tables *t, float *const hx[8][12], int Y,
+                      pan_drow_args *a)
+{
+	memset(a, 0, sizeof *a);
+	int dys[12][4];
+	float vt[12][4];
+	for (unsigned py = 0; py < 4; py++)
+		for (unsigned px = 0; px < 4; px++) {
+			unsigned q = 4 * (pc_mosaic_color(j->m, px, py) - PC_CFA_R) +
+			             pc_mosaic_channel(j->m, px, py);
+			int e = (Y - (int)py) & 3, ya = Y - e;
+			for (int k = 0; k < (e ? 2 : 1); k++) {
+				int yr = ya + 4 * k, i = a->nv[q]++;
+				a->hw[q][i] = hx[yr & 7][px];
+				a->he[q][i] = hx[yr & 7][4 + px];
+				a->hc[q][i] = hx[yr & 7][8 + px];
+				vt[q][i] = (float)(k ? e : 4 - e);
+				dys[q][i] = yr - Y;
+			}
+		}
+	for (int q = 0; q < 12; q++) {
+		float sc = 0, sn = 0, ss = 0;
+		for (int i = 0; i < a->nv[q]; i++) {
+			sc += vt[q][i];
+			sn += dys[q][i] <= 0 ? vt[q][i] : 0;
+			ss += dys[q][i] >= 0 ? vt[q][i] : 0;
+		}
+		for (int i = 0; i < a->nv[q]; i++) {
+			a->wc[q][i] = vt[q][i] / sc;
+			a->wn[q][i] = dys[q][i] <= 0 ? vt[q][i] / sn : 0;
+			a->ws[q][i] = dys[q][i] >= 0 ? vt[q][i] / ss : 0;
+		}
+	}
+	for (unsigned u = 0; u < 4; u++) {
+		a->sel[u] = t->sel[u];
+		a->own[u] = 4 * (pc_mosaic_color(j->m, u, (unsigned)Y & 3) - PC_CFA_R) +
+		            pc_mosaic_channel(j->m, u, (unsigned)Y & 3);
+	}
+}
+
+static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	pan_job *j = ctx;
+	const uint32_t w = j->w, h = j->h;
+	const int iw = (int)w, ih = (int)h;
+	const long n = ((long)w + 15) / 16 * 16, nmain = (long)w / 16 * 16;
+	const size_t pitch = (size_t)n + 2 * PAN_PADR;
+	pan_tables *t = pc_dm_alloc(sizeof *t);
+	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
+	/* rows: vs, rawp, rho, the raw row of the output; 21 of source scratch and cache; 8 × 12
+	 * horizontal rows; 2 × 15 chromaticities; dh, dv; 4 × 5 × 2 boxes; a zero row; 12 output
+	 * rows */
+	const size_t nrows = 4 + 21 + 96 + 30 + 2 + 40 + 1 + 12;
+	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
+	if (!t || !dt || !buf) {
+		pc_dm_free(t);
+		pc_dm_free(dt);
+		pc_dm_free(buf);
+		j->err = 1;
+		return;
+	}
+	memset(buf, 0, sizeof(float) * pitch * nrows);
+	pan_tables_init(t, j->m);
+	pan_dtables_init(dt);
+	const pan_kern K = pan_kernels(j->level);
+	int planar = 1;
+	for (int q = 0; q < 12; q++)
+		planar &= j->out[q].pixel_stride == 1;
+	float *row = buf + PAN_PADR;
+#define PAN_ROW(i) (row + (size_t)(i)*pitch)
+	float *vs = PAN_ROW(0), *rawp = PAN_ROW(1), *rho = PAN_ROW(2), *rawo = PAN_ROW(3);
+	float *src = PAN_ROW(4);
+	pan_rows rc;
+	for (int k = 0; k < 16; k++) {
+		rc.slot[k] = PAN_ROW(9 + k);
+		rc.tag[k] = -1;
+	}
+	float *hx[8][12], *cr[2][5][3], *bh[4][5], *bv[4][5], *o[12];
+	for (int k = 0; k < 8; k++)
+		for (int i = 0; i < 12; i++)
+			hx[k][i] = PAN_ROW(25 + 12 * k + i);
+	for (int k = 0; k < 2; k++)
+		for (int d = 0; d < 5; d++)
+			for (int c = 0; c < 3; c++)
+				cr[k][d][c] = PAN_ROW(121 + 15 * k + 3 * d + c);
+	float *dh = PAN_ROW(151), *dv = PAN_ROW(152);
+	for (int k = 0; k < 4; k++)
+		for (int d = 0; d < 5; d++) {
+			bh[k][d] = PAN_ROW(153 + 10 * k + d);
+			bv[k][d] = PAN_ROW(158 + 10 * k + d);
+		}
+	const float *zero = PAN_ROW(193);
+	for (int q = 0; q < 12; q++)
+		o[q] = PAN_ROW(194 + q);
+#undef PAN_ROW
+	int have = (int)y0 - 8;                     /* source rows computed: up to have */
+	const int first = y0 > 0 ? (int)y0 - 1 : 0; /* the first row of the first stage */
+	int cdone = first - 1;
+	pan_drow_args a;
+	for (uint32_t y = y0; y < y1; y++) {
+		const int ct = (int)y + 1 < ih ? (int)y + 1 : ih - 1;
+		for (int yc = cdone + 1; yc <= ct; yc++) {
+			/* the source rows yc - 3 .. yc + 3 (the ring holds yc - 4 .. yc + 3; the
+			 * output row y <= yc reads y - 3 .. y + 3) */
+			for (int yy = have + 1 > yc - 4 ? have + 1 : yc - 4; yy <= yc + 3; yy++) {
+				pan_src_sums(j, &K, t, &rc, yy, src, vs, NULL, rawp, n, nmain);
+				K.ratio(vs, rawp, -16, n + 32, j->delta, rho, NULL);
+				K.dhrows(rho, n, dt->tw, dt->te, dt->al, dt->be, hx[yy & 7],
+				         hx[yy & 7] + 4, hx[yy & 7] + 8);
+			}
+			if (yc + 3 > have)
+				have = yc + 3;
+			/* the first stage for row yc */
+			pan_dargs(j, t, hx, yc, &a);
+			float *const(*c)[3] = cr[yc & 1];
+			K.dchroma(&a, n, c);
+			for (int d = 0; d < 5; d++) {
+				for (int k = 0; k < 3; k++) {
+					float *ck = c[d][k];
+					for (int x = -PAN_PADR; x < 0; x++)
+						ck[x] = ck[0];
+					for (int x = iw; x < (int)n + PAN_PADR; x++)
+						ck[x] = ck[iw - 1];
+				}
+				const float *cc[3] = {c[d][0], c[d][1], c[d][2]};
+				float *const *pp = yc == first ? c[d] : cr[(yc - 1) & 1][d];
+				const float *pc[3] = {pp[0], pp[1], pp[2]};
+				K.dvar(cc, pc, -16, n + 32, dh, dv);
+				K.dbox(dh, dv, n, bh[yc & 3][d], bv[yc & 3][d]);
+			}
+			cdone = yc;
+		}
+		/* the output row y */
+		const int ym = y > 0 ? (int)y - 1 : 0, yp = ct;
+		const float *hb[5][3], *vb[5][2];
+		for (int d = 0; d < 5; d++) {
+			hb[d][0] = bh[ym & 3][d];
+			hb[d][1] = bh[y & 3][d];
+			hb[d][2] = bh[yp & 3][d];
+			vb[d][0] = bv[y & 3][d];
+			vb[d][1] = (int)y + 1 < ih ? bv[(y + 1) & 3][d] : zero;
+		}
+		pan_dargs(j, t, hx, (int)y, &a);
+		memcpy(rawo, pan_row(&rc, j->in, (int)y), w * sizeof *rawo);
+		float *dq[12];
+		if (planar) {
+			for (int q = 0; q < 12; q++)
+				dq[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
+			K.dorow(&a, hb, vb, rawo, 0, nmain, j->delta, dq, 0, j->nt);
+			if (nmain < n) {
+				K.dorow(&a, hb, vb, rawo, nmain, n, j->delta, o, nmain, 0);
+				for (int q = 0; q < 12; q++)
+					memcpy(dq[q] + nmain, o[q],
+					       (size_t)(iw - nmain) * sizeof *o[q]);
+			}
+			continue;
+		}
+		K.dorow(&a, hb, vb, rawo, 0, n, j->delta, o, 0, 0);
+		for (int q = 0; q < 12; q++) {
+			const pc_fplane *p = &j->out[q];
+			float *d = p->data + (size_t)y * p->row_stride;
+			for (uint32_t x = 0; x < w; x++)
+				d[(size_t)x * p->pixel_stride] = o[q][x];
+		}
+	}
+	if (j->nt)
+		pc_dm_sfence();
+	pc_dm_free(t);
+	pc_dm_free(dt);
+	pc_dm_free(buf);
+}
+
+int pc_dm_pan_dir_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                       pc_cpu_level level, const pc_fplane *out)
+{
+	const uint32_t w = in->width, h = in->height;
+	pan_job j = {in,
+	             w,
+	             h,
+	             m,
+	             (float)(PAN_DELTA * fs),
+	             level,
+	             out,
+	             0,
+	             0,
+	             0,
+	             pc_dm_stream_wanted(out, 12, w, h, level)};
+	pc_parallel_rows(h, 0, threads, pan_dir_band, &j);
+	if (j.err)
+		return pc_error(PC_ENOMEM, "pan-dir: row buffers for width %u", w);
+	return 0;
+}
+
 int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                    pc_cpu_level level, const pc_fplane *out)
 {
@@ -884,7 +1152,7 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	static const pc_dm_pan_fns ratio = {pc_dm_pan_ref, pc_dm_pan_fast},
 	                           guided = {pc_dm_pan_guided_ref, pc_dm_pan_guided_fast},
 	                           chroma = {pc_dm_pan_chroma_ref, pc_dm_pan_chroma_fast},
-	                           dir = {pc_dm_pan_dir_ref, NULL};
+	                           dir = {pc_dm_pan_dir_ref, pc_dm_pan_dir_fast};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma

@@ -22,9 +22,11 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
 int pc_dm_pan_chroma_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                           pc_cpu_level level, const pc_fplane *out);
 
-/* pan-dir's double reference (an experiment: no fast path). */
+/* pan-dir's double reference and fast path (the same arguments). */
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                       const pc_fplane *out);
+int pc_dm_pan_dir_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                       pc_cpu_level level, const pc_fplane *out);
 
 /* The fast float path on the prepared input (raw rows converted as they are needed): row bands
  * on threads, intermediate rows in per-thread rings. PC_ENOMEM for its row buffers. */

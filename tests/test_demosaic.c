@@ -581,7 +581,8 @@ static void mosaic_color(const scene *s, const pc_mosaic *m, const double gain[3
  * larger, at four phases of the colour layout. */
 static void test_pan_sizes(void)
 {
-	const pc_demosaic_method pm[3] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA};
+	const pc_demosaic_method pm[4] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA,
+	                                  PC_DM_PAN_DIR};
 	const int sizes[3][2] = {{8, 8}, {10, 18}, {42, 34}};
 	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
@@ -592,7 +593,7 @@ static void test_pan_sizes(void)
 			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);
-			for (int meth = 0; meth < 3; meth++) {
+			for (int meth = 0; meth < 4; meth++) {
 				pc_fplane f[12], r[12];
 				float *fb = alloc_planes((uint32_t)w, (uint32_t)h, 12, f),
 				      *rb = alloc_planes((uint32_t)w, (uint32_t)h, 12, r);
@@ -620,14 +621,14 @@ static void test_pan_sizes(void)
 
 static void test_color(void)
 {
-	const pc_demosaic_method cm[5] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
-	                                  PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA};
+	const pc_demosaic_method cm[6] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
+	                                  PC_DM_PAN_GUIDED,  PC_DM_PAN_CHROMA, PC_DM_PAN_DIR};
 	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
 	for (unsigned ph = 0; ph < 16; ph++) {
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		scene tex = make_scene(40, 32, 2, 0);
-		for (int meth = 0; meth < 5; meth++) {
+		for (int meth = 0; meth < 6; meth++) {
 			/* fast vs reference on a random texture */
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);
@@ -786,12 +787,14 @@ static void test_pan_chroma_edge(void)
 	free(fb);
 }
 
-/* pan-dir (reference only) at the hue edge of test_pan_chroma_edge, vertical and horizontal, at
- * every phase: its one-sided candidates can read one side of the edge, so its RMS error over the
- * band of ±6 pixels is below pan-chroma's at every phase and orientation (0.66-0.95 of it
- * measured; both err most at the edge's own pixels, where the 5×5 guides are mixed), and so is
- * its largest error there (0.71-0.99 of it). A uniform colour, uniformly polarized, comes back
- * exactly (every candidate is exact, so is their blend: within 10^-3 DN of 2000). */
+/* pan-dir at the hue edge of test_pan_chroma_edge, vertical and horizontal, at every phase,
+ * reference and fast path, against pan-ratio, its centred base. Its one-sided candidates can
+ * read one side of the edge: averaged over the sixteen phases its RMS error over the band of ±6
+ * pixels is below 0.8 of pan-ratio's in both orientations (0.70 and 0.67 measured), and at no
+ * phase above it by more than 1 % (where the edge falls between the period's colour blocks so
+ * that no candidate reads one side only, 1.003 measured; its largest error there is then 1.25
+ * of pan-ratio's). A uniform colour, uniformly polarized, comes back exactly (every candidate
+ * is exact, so is their blend: within 10^-3 DN of 2000). */
 static void test_pan_dir_edge(void)
 {
 	const uint32_t W = 48, H = 48, E0 = 22;
@@ -800,48 +803,61 @@ static void test_pan_dir_edge(void)
 	float *fb = alloc_planes(W, H, 12, f);
 	pc_view raw;
 	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
+	double rmax = 0, mean[2] = {0, 0};
 	for (unsigned ph = 0; ph < 16; ph++)
-		for (int ori = 0; ori < 3; ori++) { /* 0 vertical edge, 1 horizontal, 2 none */
-			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
-			hue_edge_raw(&raw, &m, ori, E0);
-			double rms[2] = {0}, mx[2] = {0};
-			for (int dm = 0; dm < 2; dm++) {
-				pc_demosaic_opts o = {0, true, 4095};
-				CHECK_EQ_INT(pc_demosaic(&raw, &m,
-				                         dm ? PC_DM_PAN_DIR : PC_DM_PAN_CHROMA, &o,
-				                         f),
-				             0);
-				double se = 0;
-				size_t n = 0;
-				for (unsigned q = 0; q < 12; q++)
-					for (uint32_t y = 8; y < H - 8; y++)
-						for (uint32_t x = 8; x < W - 8; x++) {
-							uint32_t a = ori ? y : x;
-							if (ori < 2 && (a + 6 < E0 || a >= E0 + 6))
-								continue;
-							double want = hue_edge_value(
-							    ori == 2 || a < E0, q / 4, q % 4);
-							double e = fabs(fget(&f[q], x, y) - want);
-							se += e * e;
-							mx[dm] = fmax(mx[dm], e);
-							n++;
-						}
-				rms[dm] = sqrt(se / (double)n);
+		for (int ori = 0; ori < 3; ori++) /* 0 vertical edge, 1 horizontal, 2 none */
+			for (int rf = 0; rf < 2; rf++) {
+				pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+				hue_edge_raw(&raw, &m, ori, E0);
+				double rms[2] = {0}, mx[2] = {0};
+				for (int dm = 0; dm < 2; dm++) {
+					pc_demosaic_opts o = {0, rf == 0, 4095};
+					CHECK_EQ_INT(
+					    pc_demosaic(&raw, &m,
+					                dm ? PC_DM_PAN_DIR : PC_DM_PAN_RATIO, &o,
+					                f),
+					    0);
+					double se = 0;
+					size_t n = 0;
+					for (unsigned q = 0; q < 12; q++)
+						for (uint32_t y = 8; y < H - 8; y++)
+							for (uint32_t x = 8; x < W - 8; x++) {
+								uint32_t a = ori ? y : x;
+								if (ori < 2 &&
+								    (a + 6 < E0 || a >= E0 + 6))
+									continue;
+								double want = hue_edge_value(
+								    ori == 2 || a < E0, q / 4,
+								    q % 4);
+								double e =
+								    fabs(fget(&f[q], x, y) - want);
+								se += e * e;
+								mx[dm] = fmax(mx[dm], e);
+								n++;
+							}
+					rms[dm] = sqrt(se / (double)n);
+				}
+				if (ph == 0)
+					printf("  pan-dir at a %s (%s): RMS %.3g DN, max %.3g "
+					       "(pan-ratio %.3g, "
+					       "%.3g)\n",
+					       ori == 0   ? "vertical hue edge"
+					       : ori == 1 ? "horizontal hue edge"
+					                  : "uniform colour",
+					       rf ? "fast" : "reference", rms[1], mx[1], rms[0],
+					       mx[0]);
+				if (ori < 2) {
+					rmax = fmax(rmax, rms[1] / rms[0]);
+					mean[ori] += rms[1] / rms[0] / 32;
+					CHECK(rms[1] < 1.01 * rms[0]);
+				} else {
+					CHECK(mx[1] < 1e-3);
+				}
 			}
-			if (ph == 0)
-				printf("  pan-dir at a %s: RMS %.3g DN, max %.3g (pan-chroma %.3g, "
-				       "%.3g)\n",
-				       ori == 0   ? "vertical hue edge"
-				       : ori == 1 ? "horizontal hue edge"
-				                  : "uniform colour",
-				       rms[1], mx[1], rms[0], mx[0]);
-			if (ori < 2) {
-				CHECK(rms[1] < 0.97 * rms[0]);
-				CHECK(mx[1] < mx[0]);
-			} else {
-				CHECK(mx[1] < 1e-3);
-			}
-		}
+	printf("  pan-dir / pan-ratio, RMS at the hue edges over all phases: mean %.3g (vertical), "
+	       "%.3g (horizontal), largest %.4g\n",
+	       mean[0], mean[1], rmax);
+	CHECK(mean[0] < 0.8 && mean[1] < 0.8);
 	pc_view_free(&raw);
 	free(fb);
 }
@@ -861,7 +877,11 @@ static void test_pan_dir_edge(void)
  *    pan-guided (its tents weighed by the PPI's differences, which smooth gradients make
  *    slightly lopsided) within the same 1 % (0.7 % measured) and below three quarters of
  *    bayer-first's RMS (0.69 measured); pan-chroma (its range scale twice pan-guided's) within
- *    the same 1 % and below two thirds of bayer-first's RMS (0.64 measured). */
+ *    the same 1 % and below two thirds of bayer-first's RMS (0.64 measured); pan-dir, whose
+ *    one-sided candidates average fewer samples and follow the gradient less well than the
+ *    centred tents, within 1.2 % (0.90-1.07 % measured) and below 0.9 of bayer-first's RMS
+ *    (0.82-0.83 measured: the price of its hue edges on smooth scenes; docs/demosaicking.md,
+ *    Round 9). Interleaved outputs and streaming stores equal the planar ones for all four. */
 static void test_pan_ratio(void)
 {
 	const uint32_t W = 64, H = 48;
@@ -922,10 +942,11 @@ static void test_pan_ratio(void)
 				    (uint16_t)lround(truth[((size_t)(4 * k + c) * H + y) * W + x]);
 			}
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_BAYER_FIRST, &ref, b), 0);
-		for (int gm = 0; gm < 3; gm++) {
-			const pc_demosaic_method pm = gm == 2 ? PC_DM_PAN_CHROMA
-			                              : gm    ? PC_DM_PAN_GUIDED
-			                                      : PC_DM_PAN_RATIO;
+		for (int gm = 0; gm < 4; gm++) {
+			const pc_demosaic_method pm = gm == 3   ? PC_DM_PAN_DIR
+			                              : gm == 2 ? PC_DM_PAN_CHROMA
+			                              : gm      ? PC_DM_PAN_GUIDED
+			                                        : PC_DM_PAN_RATIO;
 			CHECK_EQ_INT(pc_demosaic(&smooth, &m, pm, &ref, r), 0);
 			CHECK_EQ_INT(pc_demosaic(&smooth, &m, pm, &fast, f), 0);
 			/* interleaved outputs (the row-buffer path) equal the planar ones */
@@ -973,9 +994,12 @@ static void test_pan_ratio(void)
 				    "RMS %.3g against bayer-first's %.3g\n",
 				    pc_demosaic_method_get(pm)->name, er, ef, emax, emax / 4095,
 				    sqrt(se / n), sqrt(sb / n));
-			CHECK(emax <= 0.01 * 4095);
+			CHECK(emax <= (gm == 3 ? 0.012 : 0.01) * 4095);
 			CHECK(efast <= 1e-5 * 4095);
-			CHECK(sqrt(se / n) < (gm == 1 ? 0.75 : 0.67) * sqrt(sb / n));
+			CHECK(sqrt(se / n) < (gm == 3   ? 0.9
+			                      : gm == 1 ? 0.75
+			                                : 0.67) *
+			                         sqrt(sb / n));
 		}
 		pc_view_free(&smooth);
 	}
@@ -1119,10 +1143,9 @@ int main(void)
 		test_flip();
 		test_polynomials();
 		test_ratio_nr_noise();
-		if (l == 0) {
+		if (l == 0)
 			test_newton_exact(); /* a reference only: one instance is enough */
-			test_pan_dir_edge(); /* the same */
-		}
+		test_pan_dir_edge();
 		test_formats_layouts();
 		test_color();
 		test_pan_sizes();

@@ -82,7 +82,7 @@ static const support supports[] = {
     {PC_DM_PAN_RATIO, -7, 7, 1, 1, 2},      /* ±5 inside; ±7 through the sub-image mirror */
     {PC_DM_PAN_GUIDED, -7, 7, 1, 1, 2},     /* the same (its weights read the PPI's ±5) */
     {PC_DM_PAN_CHROMA, -7, 7, 1, 1, 2},     /* the same (C1 and C2 read as the PPI) */
-    {PC_DM_PAN_DIR, -9, 9, 1, 1, 2},        /* pan-chroma's, ±2 through the homogeneity */
+    {PC_DM_PAN_DIR, -8, 8, 1, 1, 2},        /* pan-ratio's, ±1 through the 3×3 window */
 };
 #define N_SUP (sizeof supports / sizeof supports[0])
 

@@ -62,8 +62,8 @@ typedef enum pc_demosaic_method {
 	PC_DM_PAN_RATIO,   /* colour only: ratios to a pseudo-panchromatic guide (ours) */
 	PC_DM_PAN_GUIDED,  /* colour only: pan-ratio with guide-weighted (bilateral) tents */
 	PC_DM_PAN_CHROMA,  /* colour only: pan-guided whose guide also sees hue (ours) */
-	PC_DM_PAN_DIR,     /* colour only: pan-chroma with homogeneity-weighted one-sided
-	                    * candidates (ours; reference only) */
+	PC_DM_PAN_DIR,     /* colour only: pan-ratio with homogeneity-weighted one-sided
+	                    * candidates (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
