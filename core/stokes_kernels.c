@@ -279,8 +279,9 @@ static int vec_ring_init(vec_ring *r, uint32_t w)
 
 /* Row y (mirrored) of the samples, corrected by the compact dark and gain maps when it has
  * them (else by in's black level or maps, pc_dm_row_to_float), and of the two normalised
- * analysis components, padded as pc_dm_row_to_float pads, summed into the slot's eight fields.
- * Returns the slot. */
+ * analysis components, padded as pc_dm_row_to_float pads, summed into the slot's eight fields
+ * (16-bit raws corrected by the maps, with both component maps: in one pass, vec_hrow_u16,
+ * without the padded rows). Returns the slot. */
 static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_calib *v,
                         const pc_mosaic *m, pc_cpu_level level, int y)
 {
