@@ -86,6 +86,19 @@ static void row_vec_h(pc_cpu_level l, const float *const r[3], uint32_t w, float
 	(void)l;
 }
 
+static void row_vec_h_u16(pc_cpu_level l, const pc_st_vrow *r, uint32_t w, float *h)
+{
+#ifdef PC_CPU_X86
+	if (l >= PC_CPU_AVX512)
+		vec_hrow_u16_avx512(r, w, h);
+	else if (l >= PC_CPU_AVX2)
+		vec_hrow_u16_avx2(r, w, h);
+	else
+#endif
+		vec_hrow_u16_base(r, w, h);
+	(void)l;
+}
+
 static void row_vec_conv(pc_cpu_level l, const int16_t *q, float b0, float b1, float sc, uint32_t w,
                          float *d)
 {
@@ -266,8 +279,9 @@ static int vec_ring_init(vec_ring *r, uint32_t w)
 
 /* Row y (mirrored) of the samples, corrected by the compact dark and gain maps when it has
  * them (else by in's black level or maps, pc_dm_row_to_float), and of the two normalised
- * analysis components, padded as pc_dm_row_to_float pads, summed into the slot's eight fields.
- * Returns the slot. */
+ * analysis components, padded as pc_dm_row_to_float pads, summed into the slot's eight fields
+ * (16-bit raws corrected by the maps, with both component maps: in one pass, vec_hrow_u16,
+ * without the padded rows). Returns the slot. */
 static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_calib *v,
                         const pc_mosaic *m, pc_cpu_level level, int y)
 {
@@ -280,6 +294,27 @@ static int vec_ring_get(vec_ring *r, const pc_dm_input *in, const pc_compact_cal
 		if (r->have[i] < r->have[s])
 			s = i;
 	const size_t o = (size_t)sy * v->stride;
+	if (in->type == PC_DMT_U16 && pc_compact_corrects(v) && v->v_q[0] && v->v_q[1]) {
+		/* the common case in one pass, without the padded rows (the same values) */
+		pc_st_vrow vr = {
+		    .raw = (const uint16_t *)(const void *)(in->data + (size_t)sy * in->stride),
+		    .dq = v->dark_q ? v->dark_q + o : NULL,
+		    .gq = v->gain_q ? v->gain_q + o : NULL,
+		    .q = {v->v_q[0] + o, v->v_q[1] + o},
+		    .db = v->dark_base,
+		    .ds = v->dark_scale,
+		    .gb = v->gain_base,
+		    .gs = v->gain_scale,
+		    .sc = {v->v_scale[0], v->v_scale[1]}};
+		assert(in->black == 0 && !in->dark && !in->gain_inv);
+		for (int k = 0; k < 2; k++)
+			for (int p = 0; p < 2; p++)
+				vr.base[k][p] =
+				    v->v_base[pc_dm_ch(m, (unsigned)p, (unsigned)sy)][k];
+		row_vec_h_u16(level, &vr, v->width, r->h[s]);
+		r->have[s] = sy;
+		return s;
+	}
 	float *d = r->src[2];
 	if (pc_compact_corrects(v)) {
 		row_corr(level, in, (uint32_t)sy, d, v);

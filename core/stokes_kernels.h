@@ -100,6 +100,16 @@ static inline const float *pc_st_calib_row(const pc_st_calib *c, unsigned i, uns
  * kernel reads one stream per row at constant offsets. */
 #define PC_VEC_IX(f, x) ((size_t)((x) >> 4) * 128 + (size_t)(f)*16 + (size_t)((x)&15))
 
+/* One 16-bit raw row's inputs for the fused conversion and horizontal sums (vec_hrow_u16,
+ * stokes_kern.inc): the raw row, the compact maps' rows (pc_compact_calib: dq NULL, the
+ * constant dark db; gq NULL, no gain) and the two normalised components' rows q[k], whose
+ * column x is base[k][x & 1] + sc[k]·q[k][x]. */
+typedef struct pc_st_vrow {
+	const uint16_t *raw;
+	const int16_t *dq, *gq, *q[2];
+	float db, ds, gb, gs, base[2][2], sc[2];
+} pc_st_vrow;
+
 /* The floats of one such row of width w. */
 static inline size_t pc_st_vec_len(uint32_t w)
 {
