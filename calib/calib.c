@@ -1071,8 +1071,8 @@ static void vec_row(const vcheck_ctx *c, int y, int k, double *d)
 /* Whether the fused kernel's matrix at column x is safely invertible: M = Σ K_s u_s u_sᵀ over
  * the 3×3 neighbourhood (K = 1, ½, ¼: the bilinear weights; u = (1, v1, v2) the normalised
  * analysis vectors, the estimator of pc_compact_calib; r[k][0..2]: component k of rows y−1,
- * y, y+1), by the test of pc_stokes_pinv1: reciprocal 1-norm condition number of M,
- * |det| / (‖M‖₁·‖adj M‖₁), at least 1e-10. */
+ * y, y+1), by the test of pc_stokes_pinv1 (pc_mat3_inverse: reciprocal 1-norm condition
+ * number at least PC_RCOND_MIN). */
 static bool wls_invertible(double *r[3][3], int x)
 {
 	double m[3][3] = {{0}};
@@ -1083,25 +1083,7 @@ static bool wls_invertible(double *r[3][3], int x)
 				for (int j = 0; j < 3; j++)
 					m[i][j] += k * r[i][d][x + dx] * r[j][d][x + dx];
 		}
-	double adj[3][3];
-	for (int i = 0; i < 3; i++)
-		for (int j = 0; j < 3; j++) {
-			const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3,
-			          j2 = (j + 2) % 3;
-			adj[j][i] = m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1];
-		}
-	double det = m[0][0] * adj[0][0] + m[0][1] * adj[1][0] + m[0][2] * adj[2][0];
-	double n1 = 0, ni = 0;
-	for (int j = 0; j < 3; j++) {
-		double cs = 0, ci = 0;
-		for (int i = 0; i < 3; i++) {
-			cs += fabs(m[i][j]);
-			ci += fabs(adj[i][j]);
-		}
-		n1 = fmax(n1, cs);
-		ni = fmax(ni, ci);
-	}
-	return fabs(det) > 0 && isfinite(det) && fabs(det) / (n1 * ni) >= 1e-10;
+	return pc_mat3_inverse(m, NULL) >= PC_RCOND_MIN;
 }
 
 static void vcheck_rows(void *vctx, uint32_t y0, uint32_t y1)
@@ -1131,9 +1113,10 @@ static void vcheck_rows(void *vctx, uint32_t y0, uint32_t y1)
 
 /* One map in 16 bits: base = its mean (per mosaic channel when by_channel), scale = its largest
  * |value − base| over 32767, q = round((value − base)/scale): every value kept to scale/2. All
- * pixels count, the distrusted ones too, so that distrusting a pixel changes no other output
- * (an outlier coarsens the step of the whole map instead). value(p) = src[stride·p]; fails on
- * a value that is not finite. */
+ * pixels count, the distrusted ones too, so that distrusting a pixel changes no other output;
+ * a distrusted value outside the trusted pixels' range was replaced before (tame_distrusted),
+ * so that a degenerate one cannot coarsen the step of the whole map. value(p) =
+ * src[stride·p]; fails on a value that is not finite. */
 static int quantise(const pc_calib *cal, const float *src, size_t stride, bool by_channel,
                     float *base, float *scale, int16_t *q, size_t qstride, const char *what)
 {
@@ -1173,10 +1156,54 @@ static int quantise(const pc_calib *cal, const float *src, size_t stride, bool b
 	return 0;
 }
 
+/* A distrusted pixel's value of map f (np values, per mosaic channel when by_channel) that is
+ * not finite or lies outside the range of the trusted pixels' values (of its channel) becomes
+ * the trusted pixels' mean: a dead pixel (a0 = 0 or nearly, so v = a/a0 and 1/(gain·a0) huge)
+ * or a far-off hot pixel's dark would otherwise set the 16-bit step of the whole map
+ * (quantise). Every output that reads a distrusted sample is flagged invalid anyway (its
+ * bilinear support); a distrusted pixel inside the range keeps its value, so distrusting it
+ * changes no other output. Returns the number replaced. */
+static size_t tame_distrusted(const pc_calib *cal, float *f, bool by_channel)
+{
+	const uint32_t W = cal->geo.width;
+	const size_t np = (size_t)W * cal->geo.height;
+	if (!cal->valid)
+		return 0;
+	double lo[4] = {INFINITY, INFINITY, INFINITY, INFINITY},
+	       hi[4] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
+	double sum[4] = {0}, n[4] = {0};
+	for (size_t p = 0; p < np; p++) {
+		if (!cal->valid[p])
+			continue;
+		unsigned g = by_channel ? pc_mosaic_channel(&cal->geo.mosaic, (unsigned)(p % W),
+		                                            (unsigned)(p / W))
+		                        : 0;
+		lo[g] = fmin(lo[g], f[p]);
+		hi[g] = fmax(hi[g], f[p]);
+		sum[g] += f[p];
+		n[g]++;
+	}
+	size_t k = 0;
+	for (size_t p = 0; p < np; p++) {
+		if (cal->valid[p])
+			continue;
+		unsigned g = by_channel ? pc_mosaic_channel(&cal->geo.mosaic, (unsigned)(p % W),
+		                                            (unsigned)(p / W))
+		                        : 0;
+		if (!(f[p] >= lo[g] && f[p] <= hi[g])) { /* also NaN, and no trusted pixel */
+			f[p] = n[g] > 0 ? (float)(sum[g] / n[g]) : 0.0f;
+			k++;
+		}
+	}
+	return k;
+}
+
 /* The compact calibration of pc_calib_apply's bilinear path, once per calibration: the
  * analysis vectors, the dark map and the inverse gains in 16 bits (quantise; a vector component
- * per channel, the maps over the sensor), then every output pixel's bilinear analyser matrix
- * checked for rank as pc_calib_pinv does (PC_ENUMERIC naming the first singular one). */
+ * per channel, the maps over the sensor), then every output pixel's least-squares matrix M
+ * (wls_invertible) checked for rank as pc_calib_pinv does (PC_ENUMERIC naming the first singular
+ * one). A trusted pixel needs a0 > 0 (each sample's equation is divided by it); a distrusted one is
+ * stored as its channel's mean (quantise). */
 static int compact_calib(pc_calib *cal, int threads)
 {
 	if (cal->apply_q)
@@ -1202,16 +1229,24 @@ static int compact_calib(pc_calib *cal, int threads)
 	}
 	for (size_t p = 0; p < np && !rc; p++) {
 		const float *a = cal->analysis + 3 * p;
-		if (!(a[0] > 0) || !isfinite(a[0]))
-			rc = pc_error(
-			    PC_ENUMERIC,
-			    "calibration: the analysis vector of pixel (%zu,%zu) has a0 = %g "
-			    "(its transmission must be positive)",
-			    p % W, p / W, (double)a[0]);
+		if (cal->valid && !cal->valid[p] && !(a[0] > 0 && isfinite(a[0]))) {
+			nv[p] = nv[np + p] = nv[2 * np + p] = NAN; /* tame_distrusted replaces it */
+			continue;
+		}
+		if (!(a[0] > 0) || !isfinite(a[0])) {
+			rc = pc_error(PC_ENUMERIC,
+			              "calibration: the analysis vector of trusted pixel (%zu,%zu) "
+			              "has a0 = %g "
+			              "(its transmission must be positive)",
+			              p % W, p / W, (double)a[0]);
+			break;
+		}
 		nv[p] = a[1] / a[0];
 		nv[np + p] = a[2] / a[0];
 		nv[2 * np + p] = (cal->apply_ig ? cal->apply_ig[p] : 1.0f) / a[0];
 	}
+	for (int k = 0; k < 3 && !rc; k++)
+		tame_distrusted(cal, nv + (size_t)k * np, k < 2);
 	v.stride = nmap * (size_t)W;
 	for (int k = 0; k < 2 && !rc; k++) {
 		float base[4] = {0}; /* read even when quantise failed */
@@ -1224,8 +1259,20 @@ static int compact_calib(pc_calib *cal, int threads)
 	int16_t *next = q + 2 * (size_t)W;
 	if (!rc && cal->dark) {
 		v.dark_q = next;
-		rc = quantise(cal, cal->dark, 1, false, &v.dark_base, &v.dark_scale, next, v.stride,
-		              "dark offset");
+		/* a far-off distrusted (hot) pixel's dark tamed in a copy (tame_distrusted) */
+		const float *dk = cal->dark;
+		float *dcopy = cal->valid ? malloc(np * sizeof *dcopy) : NULL;
+		if (dcopy) {
+			memcpy(dcopy, cal->dark, np * sizeof *dcopy);
+			tame_distrusted(cal, dcopy, false);
+			dk = dcopy;
+		} else if (cal->valid) {
+			rc = pc_error(PC_ENOMEM, "calibration: dark map copy (%zu pixels)", np);
+		}
+		if (!rc)
+			rc = quantise(cal, dk, 1, false, &v.dark_base, &v.dark_scale, next,
+			              v.stride, "dark offset");
+		free(dcopy);
 		next += W;
 	} else if (!rc) {
 		v.dark_base = (float)cal->black_level; /* exactly */

@@ -565,6 +565,14 @@ int pc_calib_read(const char *path, pc_calib *c)
 			              "%s: pixel (%zu, %zu): non-finite map value or gain "
 			              "≤ 0",
 			              path, p % (size_t)w, p / (size_t)w);
+		/* each trusted sample's equation is divided by its transmission a0 (the fused
+		 * pipeline's weighted least squares, pc_compact_calib) */
+		else if (c->analysis && (!c->valid || c->valid[p]) && !(c->analysis[3 * p] > 0))
+			rc = pc_error(PC_EFORMAT,
+			              "%s: analysis.npy: trusted pixel (%zu, %zu) has a0 = %g; "
+			              "expected a positive transmission (or 0 in valid.npy)",
+			              path, p % (size_t)w, p / (size_t)w,
+			              (double)c->analysis[3 * p]);
 	}
 	free(mb);
 	json_decref(m);

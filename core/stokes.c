@@ -31,6 +31,36 @@ void pc_stokes_ideal_analyser(double w[4][3])
 	w[3][1] = 0;
 }
 
+double pc_mat3_inverse(const double a[3][3], double inv[3][3])
+{
+	double adj[3][3];
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) {
+			const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3,
+			          j2 = (j + 2) % 3;
+			adj[j][i] = a[i1][j1] * a[i2][j2] - a[i1][j2] * a[i2][j1];
+		}
+	const double det = a[0][0] * adj[0][0] + a[0][1] * adj[1][0] + a[0][2] * adj[2][0];
+	double n1 = 0, ni = 0;
+	for (int j = 0; j < 3; j++) {
+		double cs = 0, ci = 0;
+		for (int i = 0; i < 3; i++) {
+			cs += fabs(a[i][j]);
+			ci += fabs(adj[i][j]);
+		}
+		n1 = cs > n1 ? cs : n1;
+		ni = ci > ni ? ci : ni;
+	}
+	const double rc = fabs(det) / (n1 * ni);
+	if (!(fabs(det) > 0) || !isfinite(det) || !isfinite(rc))
+		return 0;
+	if (inv && rc >= PC_RCOND_MIN)
+		for (int i = 0; i < 3; i++)
+			for (int j = 0; j < 3; j++)
+				inv[i][j] = adj[i][j] / det;
+	return rc;
+}
+
 int pc_stokes_pinv1(const double w[4][3], double pinv[3][4])
 {
 	double a[3][3] = {{0}};
@@ -38,38 +68,18 @@ int pc_stokes_pinv1(const double w[4][3], double pinv[3][4])
 		for (int j = 0; j < 3; j++)
 			for (int c = 0; c < 4; c++)
 				a[i][j] += w[c][i] * w[c][j];
-	/* inverse by cofactors; the 1-norm condition number guards against rank deficiency */
 	double inv[3][3];
-	inv[0][0] = a[1][1] * a[2][2] - a[1][2] * a[2][1];
-	inv[0][1] = a[0][2] * a[2][1] - a[0][1] * a[2][2];
-	inv[0][2] = a[0][1] * a[1][2] - a[0][2] * a[1][1];
-	inv[1][0] = a[1][2] * a[2][0] - a[1][0] * a[2][2];
-	inv[1][1] = a[0][0] * a[2][2] - a[0][2] * a[2][0];
-	inv[1][2] = a[0][2] * a[1][0] - a[0][0] * a[1][2];
-	inv[2][0] = a[1][0] * a[2][1] - a[1][1] * a[2][0];
-	inv[2][1] = a[0][1] * a[2][0] - a[0][0] * a[2][1];
-	inv[2][2] = a[0][0] * a[1][1] - a[0][1] * a[1][0];
-	double det = a[0][0] * inv[0][0] + a[0][1] * inv[1][0] + a[0][2] * inv[2][0];
-	double n1 = 0, ni = 0;
-	for (int j = 0; j < 3; j++) {
-		double cs = 0, ci = 0;
-		for (int i = 0; i < 3; i++) {
-			cs += fabs(a[i][j]);
-			ci += fabs(inv[i][j]);
-		}
-		n1 = cs > n1 ? cs : n1;
-		ni = ci > ni ? ci : ni;
-	}
-	if (!(fabs(det) > 0) || !isfinite(det) || fabs(det) / (n1 * ni) < 1e-10)
+	const double rc = pc_mat3_inverse(a, inv);
+	if (rc < PC_RCOND_MIN)
 		return pc_error(PC_ENUMERIC,
 		                "analyser matrix is (nearly) rank-deficient: W^T W has "
 		                "reciprocal condition %.3g",
-		                det == 0 ? 0.0 : fabs(det) / (n1 * ni));
+		                rc);
 	for (int i = 0; i < 3; i++)
 		for (int c = 0; c < 4; c++) {
 			double s = 0;
 			for (int k = 0; k < 3; k++)
-				s += inv[i][k] / det * w[c][k];
+				s += inv[i][k] * w[c][k];
 			pinv[i][c] = s;
 		}
 	return 0;
@@ -169,6 +179,13 @@ static int check_compact(const pc_dm_plan *p, const pc_compact_calib *v)
 	if (!ok)
 		return pc_error(PC_EINVAL, "Stokes: compact calibration: a base or scale is not "
 		                           "finite");
+	/* without gain_q no gain is applied: a gain_base there would be ignored silently */
+	if ((!v->gain_q && (v->gain_base != 0 || v->gain_scale != 0)) ||
+	    (!v->dark_q && v->dark_scale != 0))
+		return pc_error(PC_EINVAL,
+		                "Stokes: compact calibration: gain_base/gain_scale without gain_q "
+		                "(or dark_scale without dark_q); a constant inverse gain needs a "
+		                "gain map of zeros (gain_q) with gain_scale 0");
 	return pc_dm_check_distrust(v, v->width, v->height);
 }
 

@@ -251,13 +251,13 @@ static void out_rows(const pc_stokes_out *out, uint32_t y, float *o[5])
 
 /* ---- the compact calibration's rows (pc_compact_calib) ---- */
 
-/* A 3-row ring like pc_dm_ring's: each slot the nine horizontal sums of a raw row (vec_hrow),
- * made from one scratch of padded rows: the three analysis components and the corrected
- * samples. */
+/* A 3-row ring like pc_dm_ring's: each slot the eight horizontal sums of a raw row (vec_hrow),
+ * made from one scratch of padded rows: the two normalised analysis components and the
+ * corrected samples (or, for 16-bit raws with every map, by vec_hrow_u16 without them). */
 typedef struct vec_ring {
 	float *buf;
-	float *src[4]; /* [component k, 3: samples], padded */
-	float *h[3];   /* [slot]: the nine fields, PC_VEC_IX */
+	float *src[3]; /* [0, 1: components v1, v2; 2: corrected samples], padded */
+	float *h[3];   /* [slot]: the eight fields, PC_VEC_IX */
 	int32_t have[3];
 } vec_ring;
 

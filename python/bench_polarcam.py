@@ -229,15 +229,38 @@ def parts_1_to_3(a, raw, out, h, w, bits):
     threads_all(a, raw)
 
 
+def l3_cache_bytes():
+    """The last-level (L3) cache size from Linux's sysfs (cpu0), 0 when it says none."""
+    base = "/sys/devices/system/cpu/cpu0/cache"
+    try:
+        for d in sorted(os.listdir(base)):
+            with open(os.path.join(base, d, "level")) as f:
+                if f.read().strip() != "3":
+                    continue
+            with open(os.path.join(base, d, "size")) as f:
+                v = f.read().strip()
+            mult = {"K": 1 << 10, "M": 1 << 20, "G": 1 << 30}.get(v[-1:], 1)
+            return int(v.rstrip("KMG")) * mult
+    except (OSError, ValueError):
+        pass
+    return 0
+
+
 def threads_all(a, raw):
     """Part 3: the full frame for bilinear and ratio-nr, then bilinear on a 640x512 crop of
     it (a live-view ROI): its input and five outputs, 7.2 MB per thread, fit with the other
-    thread's in the 32 MB L3 cache of a current server CPU, so the memory bus does not bound
-    two threads there and what is left to limit them is the interpreter's lock."""
+    thread's in the 32 MB L3 cache of a current server CPU (printed: the machine's own), so
+    the memory bus does not bound two threads there and what is left to limit them is the
+    interpreter's lock."""
     for method in ("bilinear", "ratio-nr"):
         threads_scaling(a, raw, method)
     # an even origin keeps the mosaic phase; the crop is a new C-contiguous array
     roi = np.ascontiguousarray(raw[:512, :640])
+    l3 = l3_cache_bytes()
+    need = 2 * roi.size * (roi.itemsize + 5 * 4)
+    print(f"\n(the 640x512 crop: two threads' input and outputs {need / 1e6:.1f} MB; this "
+          f"machine's L3 cache {f'{l3 / 2**20:.0f} MiB' if l3 > 0 else 'unknown'}"
+          f"{'' if l3 <= 0 else ': they fit' if need <= l3 else ': they do NOT fit'})")
     threads_scaling(a, roi, "bilinear",
                     scale=max(1, (raw.shape[0] * raw.shape[1]) // (roi.shape[0] * roi.shape[1])))
 

@@ -221,9 +221,12 @@ typedef struct outs {
 	pc_validity v;
 } outs;
 
-static void outs_init(outs *o)
+/* outputs in one block; aligned to 64 bytes, the planes of a 64×48 frame take the streaming
+ * stores (POLARCAM_NT_MIN_BYTES=0, set in main), those of 38×22 (rows of 152 bytes) not */
+static void outs_init_aligned(outs *o, bool aligned)
 {
-	o->buf = malloc(5 * (size_t)W * H * sizeof(float));
+	size_t n = 5 * (size_t)W * H * sizeof(float);
+	o->buf = aligned ? aligned_alloc(64, (n + 63) / 64 * 64) : malloc(n);
 	o->mask = malloc((size_t)W * H);
 	memset(&o->st, 0, sizeof o->st);
 	pc_fplane *pl[5] = {&o->st.s0, &o->st.s1, &o->st.s2, &o->st.dolp, &o->st.aolp};
@@ -232,9 +235,17 @@ static void outs_init(outs *o)
 	o->v = (pc_validity){o->mask, W, 0};
 }
 
+static void outs_init(outs *o)
+{
+	outs_init_aligned(o, false);
+}
+
 /* The outputs o of cal on raw against the double reference of the model (I: corrected
  * samples, A: analysis vectors), within the stated tolerance. */
 typedef void (*ref_fn)(const pc_calib *, const double *, const double *, int, int, double[3]);
+
+/* a distrusted sample whose 3×3 outputs (flagged invalid) compare_with skips (test 10) */
+static int skip_x = -9, skip_y = -9;
 
 static void compare_with(ref_fn ref, const pc_calib *cal, const double *I, const double *A,
                          const outs *o, const char *what)
@@ -243,6 +254,8 @@ static void compare_with(ref_fn ref, const pc_calib *cal, const double *I, const
 	double wS = 0, wD = 0, wA = 0;
 	for (int y = 0; y < (int)H; y++)
 		for (int x = 0; x < (int)W; x++) {
+			if (abs(x - skip_x) <= 1 && abs(y - skip_y) <= 1)
+				continue;
 			size_t p = (size_t)y * W + (size_t)x;
 			double S[3];
 			ref(cal, I, A, x, y, S);
@@ -335,6 +348,25 @@ static void ref_inputs(const pc_calib *cal, const pc_view *raw, double **I, doub
 	}
 }
 
+/* cal on raw at every instruction-set level this machine has, against the double reference;
+ * outputs 64-byte aligned (at 64×48 the streaming stores, main sets POLARCAM_NT_MIN_BYTES=0) */
+static void every_level(pc_calib *cal, const pc_view *raw, const double *I, const double *A,
+                        const char *label)
+{
+	for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
+		CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
+		outs o;
+		outs_init_aligned(&o, true);
+		CHECK_EQ_INT(run(cal, raw, &o), 0);
+		char what[96];
+		snprintf(what, sizeof what, "%s, %s", label, pc_cpu_level_name((pc_cpu_level)l));
+		compare_reference(cal, raw, I, A, &o, what);
+		free(o.buf);
+		free(o.mask);
+	}
+	pc_cpu_force(PC_CPU_LEVELS);
+}
+
 /* 6. the compact path at every instruction-set level this machine has and at a width with a
  * scalar tail, against the double reference; 7. the core's refusals of a compact calibration */
 static void levels_and_sizes(void)
@@ -350,18 +382,7 @@ static void levels_and_sizes(void)
 		const size_t np = (size_t)W * H;
 		double *I, *A;
 		ref_inputs(&cal, &raw, &I, &A);
-		for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
-			CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
-			outs o;
-			outs_init(&o);
-			CHECK_EQ_INT(run(&cal, &raw, &o), 0);
-			char what[64];
-			snprintf(what, sizeof what, ", %s", pc_cpu_level_name((pc_cpu_level)l));
-			compare_reference(&cal, &raw, I, A, &o, what);
-			free(o.buf);
-			free(o.mask);
-		}
-		pc_cpu_force(PC_CPU_LEVELS);
+		every_level(&cal, &raw, I, A, "");
 		if (z == 1) {
 			/* 7. refusals: with pseudo-inverses, for another method, the reference
 			 * path, another size, with the options' black level, and for channels */
@@ -392,6 +413,12 @@ static void levels_and_sizes(void)
 			po.compact = &other;
 			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_EINVAL);
 			printf("compact of another size: %s\n", pc_error_detail());
+			/* an inverse gain without its map would be ignored: refused */
+			other = *cc;
+			other.gain_q = NULL;
+			CHECK_EQ_INT(pc_stokes_run(&raw, &po, &o.st, NULL), PC_EINVAL);
+			CHECK(strstr(pc_error_detail(), "without gain_q") != NULL);
+			printf("compact, gain_base without gain_q: %s\n", pc_error_detail());
 			/* a distrusted sample listed outside the raw */
 			uint32_t *drow = calloc((size_t)H + 1, sizeof *drow), dx[2] = {W, 0};
 			uint8_t *vm = malloc((size_t)W * H);
@@ -451,20 +478,8 @@ static void levels_and_sizes(void)
 				I[p] = ((double)PC_ROW(&raw, uint16_t, p / W)[p % W] -
 				        cal.black_level) /
 				       cal.gain[p];
-			for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
-				CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
-				outs o;
-				outs_init(&o);
-				CHECK_EQ_INT(run(&cal, &raw, &o), 0);
-				CHECK(cal.apply_vec.dark_q == NULL && cal.apply_vec.gain_q != NULL);
-				char what[64];
-				snprintf(what, sizeof what, ", no dark map, %s",
-				         pc_cpu_level_name((pc_cpu_level)l));
-				compare_reference(&cal, &raw, I, A, &o, what);
-				free(o.buf);
-				free(o.mask);
-			}
-			pc_cpu_force(PC_CPU_LEVELS);
+			every_level(&cal, &raw, I, A, ", no dark map");
+			CHECK(cal.apply_vec.dark_q == NULL && cal.apply_vec.gain_q != NULL);
 		}
 		free(I);
 		free(A);
@@ -491,20 +506,10 @@ static void phases(void)
 			make_raw(&cal, &raw);
 			double *I, *A;
 			ref_inputs(&cal, &raw, &I, &A);
-			for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
-				CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
-				outs o;
-				outs_init(&o);
-				CHECK_EQ_INT(run(&cal, &raw, &o), 0);
-				char what[96];
-				snprintf(what, sizeof what, ", phase %d,%d,%d,%d, %s", ang[ph][0],
-				         ang[ph][1], ang[ph][2], ang[ph][3],
-				         pc_cpu_level_name((pc_cpu_level)l));
-				compare_reference(&cal, &raw, I, A, &o, what);
-				free(o.buf);
-				free(o.mask);
-			}
-			pc_cpu_force(PC_CPU_LEVELS);
+			char what[64];
+			snprintf(what, sizeof what, ", phase %d,%d,%d,%d", ang[ph][0], ang[ph][1],
+			         ang[ph][2], ang[ph][3]);
+			every_level(&cal, &raw, I, A, what);
 			free(I);
 			free(A);
 			pc_view_free(&raw);
@@ -513,8 +518,71 @@ static void phases(void)
 	mos_set = false;
 }
 
+/* 10. a dead pixel (a0 = 0, or nearly) that the calibration distrusts: the calibration is
+ * used (the pixel's maps stored as its channel's mean, not dividing by its a0), its 3×3
+ * outputs are flagged, every other output matches the double reference at every level as
+ * before; the same pixel trusted is refused naming it, when preparing and when reading the
+ * file (each trusted sample's equation is divided by its a0) */
+static void dead_pixel(void)
+{
+	W = 64;
+	H = 48;
+	const uint32_t dx = 20, dy = 17;
+	const size_t pd = (size_t)dy * W + dx;
+	static const float a0s[2] = {0.0f, 1e-4f};
+	for (int t = 0; t < 2; t++) {
+		pc_calib cal;
+		calib_alloc(&cal, false);
+		for (int k = 0; k < 3; k++)
+			cal.analysis[3 * pd + (size_t)k] = k ? 0.0f : a0s[t];
+		cal.valid[pd] = 0;
+		pc_view raw;
+		make_raw(&cal, &raw); /* the dead pixel reads its dark */
+		double *I, *A;
+		ref_inputs(&cal, &raw, &I, &A);
+		skip_x = (int)dx;
+		skip_y = (int)dy;
+		every_level(&cal, &raw, I, A, t ? ", distrusted a0 = 1e-4" : ", distrusted a0 = 0");
+		skip_x = skip_y = -9;
+		outs o;
+		outs_init(&o);
+		CHECK_EQ_INT(run(&cal, &raw, &o), 0);
+		CHECK_EQ_INT(o.v.n_invalid, 9);
+		for (uint32_t y = dy - 1; y <= dy + 1; y++)
+			for (uint32_t x = dx - 1; x <= dx + 1; x++)
+				CHECK(o.mask[(size_t)y * W + x] == 0);
+		if (t == 0) {
+			cal.valid[pd] = 1;
+			pc_calib_unprepare(&cal);
+			CHECK_EQ_INT(run(&cal, &raw, &o), PC_ENUMERIC);
+			printf("trusted a0 = 0: %s\n", pc_error_detail());
+			CHECK(strstr(pc_error_detail(), "(20,17)") != NULL);
+			/* the file's other members (pc_calib_read wants every part's maps) */
+			cal.dark_noise = calloc((size_t)W * H, sizeof(float));
+			cal.residual = calloc((size_t)W * H, sizeof(float));
+			char path[] = "test_calib_fused_dead.npz";
+			CHECK_EQ_INT(pc_calib_write(path, &cal), 0);
+			pc_calib back;
+			pc_calib_init(&back);
+			CHECK_EQ_INT(pc_calib_read(path, &back), PC_EFORMAT);
+			printf("read: %s\n", pc_error_detail());
+			CHECK(strstr(pc_error_detail(), "(20, 17)") != NULL);
+			remove(path);
+		}
+		free(o.buf);
+		free(o.mask);
+		free(I);
+		free(A);
+		pc_view_free(&raw);
+		pc_calib_free(&cal);
+	}
+}
+
 int main(void)
 {
+	/* aligned planar outputs take the streaming stores (every_level), also on machines whose
+	 * default never does (AMD without AVX-512) and on frames this small */
+	setenv("POLARCAM_NT_MIN_BYTES", "0", 1);
 	/* ---- 1. identity calibration = the uncalibrated pipeline ---- */
 	{
 		pc_calib cal;
@@ -598,8 +666,9 @@ int main(void)
 		CHECK(wq == 0);
 		CHECK(wr == 0);
 		compare_with(reference_interp, &cal, I, A, &t, " (reference path)");
-		/* the two estimators against the scene's truth: the fused path's weighted least
-		 * squares is not less accurate than interpolating the analysers */
+		/* the two estimators against the scene's truth, printed side by side (interpolating
+		 * the analysers is the slightly more accurate on this scene); the fused path's
+		 * weighted least squares is held to the issue's 0.002 DoLP and 0.1° AoLP */
 		double dw, aw, di, ai, dk, ak;
 		truth_rms(reference, &cal, I, A, NULL, &dw, &aw);
 		truth_rms(reference_interp, &cal, I, A, NULL, &di, &ai);
@@ -650,5 +719,6 @@ int main(void)
 	pc_calib_free(&cal);
 	levels_and_sizes();
 	phases();
+	dead_pixel();
 	return pc_test_finish("test_calib_fused");
 }

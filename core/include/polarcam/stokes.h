@@ -64,7 +64,9 @@ typedef struct pc_analyser_pinv {
  * of the pipeline's mosaic, i = y·stride + x:
  *   v_k      = v_base[c][k] + v_scale[k]·v_q[k][i]       (k = 0, 1: a1/a0, a2/a0)
  *   dark     = dark_base + dark_scale·dark_q[i]          (dark_q NULL: dark_base alone)
- *   gain_inv = gain_base + gain_scale·gain_q[i]          (gain_q NULL: none; 1/(gain·a0))
+ *   gain_inv = gain_base + gain_scale·gain_q[i]          (gain_q NULL: none, and then
+ *                                                          gain_base, gain_scale must be 0:
+ *                                                          PC_EINVAL; 1/(gain·a0))
  * in float (one fused multiply-add each). With pc_pipeline_opts.compact, pc_stokes_run
  * corrects every sample I = (raw − dark)·gain_inv as it reads the raw (with dark_q and gain_q
  * NULL and dark_base 0: opts' black level, dark and gain_inv maps as usual; else they must be
@@ -76,8 +78,9 @@ typedef struct pc_analyser_pinv {
  * and b are separable [1 2 1] sums of per-sample products; the symmetric M is inverted by its
  * cofactors (Cramer's rule), as in the double reference of tests/test_calib_fused.c
  * (tolerance there). Exact on uniform fields; with ideal analysers (v_q NULL, v_base the
- * ideal (cos 2θ_c, sin 2θ_c), gain_inv 2) and no dark or gain maps it is the uncalibrated
- * estimator (results within 1e-6 relative; measured bit for bit). The other calibrated paths
+ * ideal (cos 2θ_c, sin 2θ_c), gain_inv 2 = 1/a0: a gain map of zeros, gain_base 2, gain_scale
+ * 0) and no dark map it is the uncalibrated estimator (results within 1e-6 relative; measured
+ * bit for bit). The other calibrated paths
  * (pc_analyser_pinv) interpolate the analysis vectors per channel and solve S = (WᵀW)⁻¹WᵀI: the
  * same on uniform fields, slightly different on texture (docs/calibration.md). Bilinear,
  * monochrome mosaics, the fast path only (PC_ENOTSUP otherwise). The caller guarantees that M
@@ -99,8 +102,18 @@ typedef struct pc_compact_calib {
 /* The ideal analyser matrix: W[c] = ½·(1, cos 2θ_c, sin 2θ_c), θ_c = 45°·c. */
 PC_API void pc_stokes_ideal_analyser(double w[4][3]);
 
+/* The smallest reciprocal condition number the Stokes solves accept (pc_mat3_inverse). */
+#define PC_RCOND_MIN 1e-10
+
+/* Inverse of a 3×3 matrix by its cofactors over the determinant (Cramer's rule; the normal
+ * equations of every Stokes solve here), guarded by the reciprocal 1-norm condition number
+ * |det A| / (‖A‖₁·‖adj A‖₁) (= 1 / (‖A‖₁·‖A⁻¹‖₁)): returns that number, 0 when A is singular
+ * or not finite; inv = A⁻¹ when it returns at least PC_RCOND_MIN (inv may be NULL: the check
+ * alone). */
+PC_API double pc_mat3_inverse(const double a[3][3], double inv[3][3]);
+
 /* 3×4 pseudo-inverse (WᵀW)⁻¹Wᵀ of a 4×3 analyser matrix, in double. PC_ENUMERIC when W is
- * rank-deficient (reciprocal condition number of WᵀW below 1e-10). */
+ * rank-deficient (reciprocal condition number of WᵀW below PC_RCOND_MIN, pc_mat3_inverse). */
 PC_API int pc_stokes_pinv1(const double w[4][3], double pinv[3][4]);
 
 /* Pseudo-inverses of n analyser matrices (n × 4 × 3 floats, C order) into the twelve planes of
