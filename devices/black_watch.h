@@ -12,9 +12,9 @@
 #include "polarcam/stream.h"
 
 typedef struct black_watch {
-	bool open;      /* still asking */
-	bool asked;     /* asked after at least one frame */
-	bool taken;     /* a level was declared: level */
+	bool open;       /* still asking */
+	bool asked;      /* asked after at least one frame */
+	bool taken;      /* a level was declared: level */
 	unsigned frames; /* frames asked after */
 	double level;
 } black_watch;
