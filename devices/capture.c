@@ -16,6 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "black_watch.h"
 #include "frame_queue.h"
 #include "json.h"
 #include "polarcam/error.h"
@@ -34,7 +35,7 @@ typedef struct capture {
 	pc_stokes_stream *live;
 	const char *method; /* name, with process */
 	double black;       /* DN: given, or what the source declares; 0: unknown */
-	bool black_open;    /* none given or declared at the start: ask after the first frame */
+	black_watch bw;     /* none given or declared at the start: ask after the first frames */
 	double seconds, proc_sum, proc_max;
 	uint64_t kept;  /* frames whose Stokes images were written (writer thread) */
 	bool last_kept; /* the last processed frame's were */
@@ -158,7 +159,7 @@ static int open_all(capture *c)
 	if (isnan(o->levels.black_level) && pc_source_get_info(c->src, &info) == 0)
 		c->black = info.black_level;
 	pc_error_clear();
-	c->black_open = isnan(o->levels.black_level) && !(c->black > 0);
+	black_watch_init(&c->bw, isnan(o->levels.black_level) && !(c->black > 0));
 	size_t row = 0;
 	(void)pc_format_row_bytes(c->f.format, c->f.width, &row);
 	size_t frame_bytes = c->f.height ? c->f.stride * (c->f.height - 1) + row : row;
@@ -222,6 +223,7 @@ static void *writer_main(void *arg)
 		double t0 = now_s();
 		int rc = pc_recording_add(c->rec, &it->frame);
 		if (!rc && o->process) {
+			pc_stokes_stream_take_black(c->live, it->black_dn);
 			rc = pc_stokes_stream_process(c->live, &it->frame);
 			double s = pc_stokes_stream_seconds(c->live);
 			c->proc_sum += s;
@@ -307,23 +309,16 @@ static int acquire_one(capture *c, acq *a)
 	if (rc)
 		return 0;
 	fq_arrival(&c->q, now_s());
-	if (c->black_open) {
-		/* a level the source declares only once frames flow (libcamera), asked here, on
-		 * the thread that dequeues, before the writer has a frame to process */
-		c->black_open = false;
-		pc_source_info info;
-		if (pc_source_get_info(c->src, &info) == 0 && info.black_level > 0 &&
-		    isfinite(info.black_level))
-			c->black = info.black_level;
-		pc_error_clear();
-		if (c->live)
-			pc_stokes_stream_update_black(c->live, c->src);
-	}
+	/* a level the source declares only once frames flow (libcamera), asked here, on the
+	 * thread that dequeues, and handed to the writer with the frame, which processes it and
+	 * the later ones with that level */
+	if (black_watch_frame(&c->bw, c->src))
+		c->black = c->bw.level;
 	int take = 0;
 	const bool bad = b->frame.meta.status & (PC_FRAME_INCOMPLETE | PC_FRAME_CORRUPT);
 	if (bad)
 		take = damaged(c, a, &b->frame);
-	int pushed = take == 0 ? fq_push(&c->q, &b->frame) : 1;
+	int pushed = take == 0 ? fq_push(&c->q, &b->frame, c->black) : 1;
 	if (pushed < 0) /* the slot could not be made: lost like a full queue */
 		pc_error_clear();
 	int rc2 = pc_source_requeue(c->src, b);
@@ -524,6 +519,16 @@ static void finish(capture *c, json_t *pj)
 	json_object_set_new(j, "queue", qj);
 	if (pj)
 		json_object_set(j, "process", pj);
+	json_t *warn = json_array();
+	if (black_watch_missed(&c->bw)) {
+		snprintf(
+		    c->rep->warning, sizeof c->rep->warning,
+		    "no black level given and the source declared none in the first %u frames: "
+		    "0 DN used%s (give --black-level)",
+		    c->bw.frames, o->process ? "" : ", none recorded");
+		json_array_append_new(warn, json_string(c->rep->warning));
+	}
+	json_object_set_new(j, "warnings", warn);
 	json_object_set_new(j, "error", c->rep->error ? json_string(c->rep->message) : json_null());
 	c->rep->json = pc_json_text(j);
 	json_decref(j);

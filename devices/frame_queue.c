@@ -71,7 +71,7 @@ static size_t view_bytes(const pc_view *v)
 	return v->height ? v->stride * (v->height - 1) + row : 0;
 }
 
-int fq_push(frame_queue *q, const pc_frame *f)
+int fq_push(frame_queue *q, const pc_frame *f, double black_dn)
 {
 	size_t bytes = view_bytes(&f->view);
 	if (bytes > q->st.frame_bytes) {
@@ -109,6 +109,7 @@ int fq_push(frame_queue *q, const pc_frame *f)
 		}
 	}
 	it->frame = *f;
+	it->black_dn = black_dn;
 	it->frame.view.data = it->mem;
 	memcpy(it->mem, f->view.data, bytes);
 	it->next = NULL;

@@ -27,7 +27,8 @@
 #include "polarcam/frame.h"
 
 typedef struct fq_item {
-	pc_frame frame; /* view.data points into mem */
+	pc_frame frame;  /* view.data points into mem */
+	double black_dn; /* the black level known when the frame was pushed (0: none) */
 	uint8_t *mem;
 	struct fq_item *next;
 } fq_item;
@@ -61,9 +62,9 @@ void fq_destroy(frame_queue *q);
 
 /* An arrival at time t (seconds, monotonic), counted for the period, whether pushed or not. */
 void fq_arrival(frame_queue *q, double t);
-/* Copies f into a slot: 0, or 1 when the queue is full (the frame is lost and counted), or a
- * negative error (out of memory: also counted as lost). */
-int fq_push(frame_queue *q, const pc_frame *f);
+/* Copies f (and the black level to process it with) into a slot: 0, or 1 when the queue is full
+ * (the frame is lost and counted), or a negative error (out of memory: also counted as lost). */
+int fq_push(frame_queue *q, const pc_frame *f, double black_dn);
 /* Recomputes the capacity for `remaining` frames still to come; fallback_period_s is used
  * while fewer than two arrivals were seen (0: unknown). */
 void fq_plan(frame_queue *q, uint64_t remaining, double fallback_period_s);

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "black_watch.h"
 #include "json.h"
 #include "polarcam/calib.h"
 #include "polarcam/error.h"
@@ -157,7 +158,7 @@ struct pc_stokes_stream {
 	uint8_t *valid; /* w × h */
 	pc_validity validity;
 	double sat_used;
-	bool black_open; /* no level given, none declared at set-up: ask again after a frame */
+	black_watch black; /* no level given, none declared at set-up: ask after frames */
 };
 
 pc_stream_levels pc_stream_levels_default(void)
@@ -175,15 +176,16 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 	if (!isnan(l.black_level) && !(l.black_level >= 0 && isfinite(l.black_level)))
 		return pc_error(PC_EINVAL, "black level %g: expected a finite level >= 0 DN",
 		                l.black_level);
-	s->black_open = false;
+	bool open = false;
 	if (isnan(l.black_level)) {
 		pc_source_info info;
 		l.black_level = 0;
 		if (!l.calibration && src && pc_source_get_info(src, &info) == 0)
 			l.black_level = info.black_level;
 		pc_error_clear();
-		s->black_open = !l.calibration && !(l.black_level > 0);
+		open = !l.calibration && !(l.black_level > 0);
 	}
+	black_watch_init(&s->black, open);
 	if (s->have_cal)
 		pc_calib_free(&s->cal);
 	s->have_cal = false;
@@ -221,16 +223,24 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 
 int pc_stokes_stream_update_black(pc_stokes_stream *s, pc_source *src)
 {
-	if (!s->black_open || !src)
-		return 0;
-	s->black_open = false;
-	pc_source_info info;
-	int taken = pc_source_get_info(src, &info) == 0 && info.black_level > 0 &&
-	            isfinite(info.black_level);
+	int taken = black_watch_frame(&s->black, src);
 	if (taken)
-		s->lv.black_level = info.black_level;
-	pc_error_clear();
+		s->lv.black_level = s->black.level;
 	return taken;
+}
+
+int pc_stokes_stream_take_black(pc_stokes_stream *s, double black_dn)
+{
+	if (!s->black.open || !(black_dn > 0 && isfinite(black_dn)))
+		return 0;
+	s->black = (black_watch){false, true, true, 1, black_dn};
+	s->lv.black_level = black_dn;
+	return 1;
+}
+
+bool pc_stokes_stream_black_missed(const pc_stokes_stream *s)
+{
+	return black_watch_missed(&s->black);
 }
 
 const pc_validity *pc_stokes_stream_validity(const pc_stokes_stream *s)

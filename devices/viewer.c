@@ -136,7 +136,8 @@ static void loop(viewer *v)
 			fail(v, rc, what);
 			break;
 		}
-		/* a level the source declares only once frames flow (libcamera) */
+		/* a level the source declares only once frames flow (libcamera): asked after each
+		 * of the first frames until one is declared, before the frame is processed */
 		pc_stokes_stream_update_black(v->live, v->src);
 		rc = pc_stokes_stream_process(v->live, &b->frame);
 		uint64_t seq = b->frame.meta.sequence;
@@ -193,6 +194,17 @@ int pc_viewer_run(const pc_viewer_opts *o, pc_viewer_report *rep)
 		    v.live && shown
 		        ? json_integer((json_int_t)pc_stokes_stream_validity(v.live)->n_invalid)
 		        : json_null());
+		json_t *warn = json_array();
+		if (v.live && pc_stokes_stream_black_missed(v.live)) {
+			snprintf(rep->warning, sizeof rep->warning,
+			         "no black level given and the source declared none in the first "
+			         "%llu frames: 0 DN used (give --black-level)",
+			         (unsigned long long)(shown < PC_STREAM_BLACK_FRAMES
+			                                  ? shown
+			                                  : PC_STREAM_BLACK_FRAMES));
+			json_array_append_new(warn, json_string(rep->warning));
+		}
+		json_object_set_new(j, "warnings", warn);
 		json_object_set_new(j, "error",
 		                    rep->error ? json_string(rep->message) : json_null());
 		rep->json = pc_json_text(j);

@@ -59,7 +59,8 @@ endif()
 
 # The soak, half a minute of it in two 15 s periods (bench/bench_soak.c): serve -> capture -> live pipeline at 2448x2048,
 # 30 fps; the process's file descriptors and threads equal to the baseline's, its heap in use
-# (malloc's count of bytes not freed) within 2 MiB and its anonymous RSS within 4 MiB (outside
+# (malloc's count of bytes not freed) growing at most 64 kB and its anonymous RSS 256 kB per
+# period (least-squares slope of the later half), each within a cap of the baseline's (outside
 # AddressSanitizer), every frame equal to the simulator's. Exit 1 fails the test.
 if(PC_HAVE_ARAVIS)
   add_test(NAME devices_soak COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/netns.sh

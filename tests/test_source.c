@@ -23,6 +23,8 @@ typedef struct model {
 	int bad_stride_at; /* dequeue number that returns a wrong stride */
 	double exposure_us;
 	bool backwards_ts_at2;
+	unsigned black_from; /* m_info_late: declares 37.5 DN once frame black_from was dequeued */
+	unsigned n_info;     /* m_info_late: times asked */
 } model;
 
 static int m_open(pc_source *s, const char *arg)
@@ -408,10 +410,13 @@ static void test_backwards_time(void)
 }
 
 /* A camera that reports its black level with its frames, as a libcamera camera does with the
- * metadata SensorBlackLevels: none before the first frame, 37.5 DN from then on. */
+ * metadata SensorBlackLevels, and whose pipeline attaches it only from frame black_from: none
+ * before, 37.5 DN from then on. */
 static int m_info_late(pc_source *s, pc_source_info *info)
 {
-	info->black_level = ((model *)pc_source_priv(s))->next ? 37.5 : 0;
+	model *m = pc_source_priv(s);
+	m->n_info++;
+	info->black_level = m->next > m->black_from ? 37.5 : 0;
 	return 0;
 }
 
@@ -420,13 +425,23 @@ static void test_black_declared_late(void)
 	static pc_source_ops late;
 	late = model_ops;
 	late.get_info = m_info_late;
-	/* no level given: the camera's after the first frame; given 5 DN: 5 whatever the camera
-	 * says; a source without get_info: none */
+	/* no level given: 0 for the frames before the one that declares, the camera's from it on,
+	 * when it declares within PC_STREAM_BLACK_FRAMES frames (the 8th: index 7), never after
+	 * (index 8: 0 throughout, and no more asking); given 5 DN: 5 whatever the camera says; a
+	 * source without get_info: none */
 	const struct {
 		const pc_source_ops *ops;
-		double given, before, after;
-		int taken;
-	} cases[] = {{&late, NAN, 0, 37.5, 1}, {&late, 5, 5, 5, 0}, {&model_ops, NAN, 0, 0, 0}};
+		unsigned from;
+		double given;
+		int taken_at; /* frame index at which the level is taken, -1: never */
+		bool missed;
+		unsigned asked; /* get_info calls after set_levels' one */
+	} cases[] = {{&late, 3, NAN, 3, false, 4},
+	             {&late, 7, NAN, 7, false, 8},
+	             {&late, 8, NAN, -1, true, PC_STREAM_BLACK_FRAMES},
+	             {&late, 3, 5, -1, false, 0},
+	             {&model_ops, 0, NAN, -1, true, 0}};
+	CHECK_EQ_INT(PC_STREAM_BLACK_FRAMES, 8);
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		pc_source *s = NULL;
 		pc_stokes_stream *ss = NULL;
@@ -434,25 +449,59 @@ static void test_black_declared_late(void)
 		CHECK_EQ_INT(pc_stokes_stream_new(PC_DM_BILINEAR, &ss), 0);
 		if (!s || !ss)
 			return;
+		model *m = pc_source_priv(s);
+		m->black_from = cases[k].from;
 		pc_stream_levels lv = pc_stream_levels_default();
 		lv.black_level = cases[k].given;
 		CHECK_EQ_INT(pc_stokes_stream_set_levels(ss, &lv, s), 0);
+		const unsigned asked0 = m->n_info;
+		const double none = isnan(cases[k].given) ? 0 : cases[k].given;
 		double black = -1;
 		pc_stokes_stream_levels_used(ss, &black, NULL, NULL);
-		CHECK_NEAR(black, cases[k].before, 0);
+		CHECK_NEAR(black, none, 0);
 		CHECK_EQ_INT(pc_source_buffers_alloc(s, 2), 0);
 		CHECK_EQ_INT(pc_source_start(s), 0);
-		pc_buffer *b = NULL;
-		CHECK_EQ_INT(pc_source_dequeue(s, 10, &b), 0);
-		CHECK_EQ_INT(pc_stokes_stream_update_black(ss, s), cases[k].taken);
-		pc_stokes_stream_levels_used(ss, &black, NULL, NULL);
-		printf("black level: given %g, %g before the first frame, %g after it\n",
-		       cases[k].given, cases[k].before, black);
-		CHECK_NEAR(black, cases[k].after, 0);
-		CHECK_EQ_INT(pc_stokes_stream_update_black(ss, s), 0); /* asked once */
+		for (int i = 0; i < 12; i++) {
+			pc_buffer *b = NULL;
+			CHECK_EQ_INT(pc_source_dequeue(s, 10, &b), 0);
+			if (!b)
+				return;
+			/* the level this frame is processed with */
+			int taken = pc_stokes_stream_update_black(ss, s);
+			pc_stokes_stream_levels_used(ss, &black, NULL, NULL);
+			const int t = cases[k].taken_at;
+			CHECK_EQ_INT(taken, i == t);
+			CHECK_NEAR(black, t >= 0 && i >= t ? 37.5 : none, 0);
+			CHECK_EQ_INT(pc_source_requeue(s, b), 0);
+		}
+		printf("black level: given %g, declared from frame %u: taken at frame %d\n",
+		       cases[k].given, cases[k].from, cases[k].taken_at);
+		CHECK_EQ_INT(m->n_info - asked0, cases[k].asked); /* no asking after the window */
+		CHECK_EQ_INT(pc_stokes_stream_black_missed(ss), cases[k].missed);
 		pc_stokes_stream_free(ss);
 		pc_source_close(s);
 	}
+	/* a level handed over with the frame (pc_capture's writer): taken once, only when open */
+	pc_stokes_stream *ss = NULL;
+	CHECK_EQ_INT(pc_stokes_stream_new(PC_DM_BILINEAR, &ss), 0);
+	if (!ss)
+		return;
+	pc_stream_levels lv = pc_stream_levels_default();
+	CHECK_EQ_INT(pc_stokes_stream_set_levels(ss, &lv, NULL), 0);
+	double black = -1;
+	CHECK_EQ_INT(pc_stokes_stream_take_black(ss, 0), 0);
+	CHECK_EQ_INT(pc_stokes_stream_take_black(ss, NAN), 0);
+	CHECK_EQ_INT(pc_stokes_stream_take_black(ss, 20), 1);
+	CHECK_EQ_INT(pc_stokes_stream_take_black(ss, 30), 0);
+	pc_stokes_stream_levels_used(ss, &black, NULL, NULL);
+	CHECK_NEAR(black, 20, 0);
+	CHECK(!pc_stokes_stream_black_missed(ss));
+	lv.black_level = 5;
+	CHECK_EQ_INT(pc_stokes_stream_set_levels(ss, &lv, NULL), 0);
+	CHECK_EQ_INT(pc_stokes_stream_take_black(ss, 20), 0);
+	pc_stokes_stream_levels_used(ss, &black, NULL, NULL);
+	CHECK_NEAR(black, 5, 0);
+	pc_stokes_stream_free(ss);
 }
 
 int main(void)

@@ -94,6 +94,8 @@ static int run(pc_capture_opts *o, bool json)
 		pc_capture_report_free(&rep);
 		return cli_fail(rc, NULL);
 	}
+	if (rep.warning[0])
+		cli_warn("%s", rep.warning);
 	if (json)
 		cli_print_json(json_loads(rep.json, 0, NULL));
 	int status = CLI_EXIT_OK;

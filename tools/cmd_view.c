@@ -64,6 +64,8 @@ static int run(pc_viewer_opts *o, bool json)
 	}
 	if (rep.screenshots_failed)
 		cli_warn("%u screenshots could not be written", rep.screenshots_failed);
+	if (rep.warning[0])
+		cli_warn("%s", rep.warning);
 	if (json)
 		cli_print_json(json_loads(rep.json, 0, NULL));
 	int status = rep.error ? cli_error(cli_status(rep.error), "%s", rep.message) : CLI_EXIT_OK;

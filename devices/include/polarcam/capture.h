@@ -93,11 +93,13 @@ typedef struct pc_capture_report {
 	                      stopped, PC_EIO damaged frames kept or refused, PC_EOVERFLOW frames
 	                      lost, or the source's or writer's error */
 	char message[512]; /* what ended it */
+	char warning[256]; /* "" or what the caller should hear (no black level: see levels) */
 	char *json;        /* {source, dir, store, frames, requested, complete, seconds, fps,
 	                      format, stats, incomplete {policy, skipped, kept}, queue {frame_bytes,
 	                      limit, capacity, needed_max, peak, lost, written, write_ms_mean,
 	                      write_ms_max, period_ms}, process (with process: method, frames, kept,
-	                      keep_every, mean_ms, max_ms, last_mean_dolp, width, height), error}:
+	                      keep_every, mean_ms, max_ms, last_mean_dolp, width, height), warnings [the
+	                      warning, when there is one], error}:
 	                      compact text, malloc'd */
 } pc_capture_report;
 

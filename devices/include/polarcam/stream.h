@@ -79,12 +79,29 @@ PC_API void pc_stokes_stream_free(pc_stokes_stream *s);
 PC_API int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
                                        pc_source *src);
 
-/* After the first frame is dequeued and before it is processed, on the thread that dequeues:
- * when set_levels was given no black level and no calibration and src declared none then, the
- * level src declares now is taken (a `libcamera:` camera declares the level its frames report,
- * so only once frames flow). Asks src once: later calls return 0 at once. 1 when a level was
- * taken, else 0; never an error (a source that cannot say keeps none). */
+/* How many frames a source has to declare its black level when it declares none before the
+ * first frame (pc_stokes_stream_update_black, pc_capture, pc_viewer_run). */
+#define PC_STREAM_BLACK_FRAMES 8
+
+/* After each frame is dequeued and before it is processed, on the thread that dequeues and
+ * processes: when set_levels was given no black level and no calibration and src declared none
+ * then, the level src declares now is taken (a `libcamera:` camera declares the level its frames
+ * report, so only once frames flow, and a pipeline may attach it only from a later frame). Asks
+ * src after each of the first PC_STREAM_BLACK_FRAMES frames until a level is taken, then no
+ * more: frames before that one are processed with 0, that frame and the later ones with the
+ * level. 1 when a level was taken now, else 0; never an error (a source that cannot say keeps
+ * none). */
 PC_API int pc_stokes_stream_update_black(pc_stokes_stream *s, pc_source *src);
+
+/* A level the caller learnt after set_levels (the level a source declared late, handed with the
+ * frame to the thread that processes it, as pc_capture does): taken, for the frames processed
+ * from now on, when set_levels was given neither a level nor a calibration and src declared
+ * none then. 1 when taken, else 0 (a level is not finite and above 0, or was not open). */
+PC_API int pc_stokes_stream_take_black(pc_stokes_stream *s, double black_dn);
+
+/* True when the stream was left to the source's black level, was asked after at least one frame
+ * and none came (0 used): a caller says so (polarcam warns). */
+PC_API bool pc_stokes_stream_black_missed(const pc_stokes_stream *s);
 
 /* The last frame's validity (mask of the output size, 1 valid; n_invalid) and the black and
  * saturation levels used (0: none), the calibration file (NULL: none). */

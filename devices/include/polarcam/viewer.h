@@ -40,7 +40,10 @@ typedef struct pc_viewer_report {
 	int error;       /* 0, or what ended the stream early (PC_E*) */
 	char message[512];
 	unsigned screenshots_failed; /* 's' screenshots that could not be written */
-	char *json; /* {source, frames, fps, process_ms, window, error}: compact, malloc'd */
+	char warning[256];           /* "" or what the caller should hear (no black level) */
+	char *json; /* {source, frames, fps, process_ms, window, black_level, saturation_level,
+	               calibration, last_invalid_pixels, warnings [the warning, when there is
+	               one], error}: compact, malloc'd */
 } pc_viewer_report;
 
 /* Runs the window. A negative return means nothing was shown (method, window or source
