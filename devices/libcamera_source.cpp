@@ -360,6 +360,7 @@ int lc_get_info(pc_source *s, pc_source_info *info)
 			info->mosaic = v->mosaic;
 		std::lock_guard<std::mutex> lock(v->mtx);
 		info->black_level = v->black_dn;
+		info->black_level_late = true; /* per-frame metadata */
 		return 0;
 	});
 }

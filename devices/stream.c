@@ -180,10 +180,14 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 	if (isnan(l.black_level)) {
 		pc_source_info info;
 		l.black_level = 0;
-		if (!l.calibration && src && pc_source_get_info(src, &info) == 0)
+		bool late = src == NULL; /* no source: levels come with the frames (pc_capture) */
+		if (!l.calibration && src && pc_source_get_info(src, &info) == 0) {
 			l.black_level = info.black_level;
+			late = info.black_level_late;
+		}
 		pc_error_clear();
-		open = !l.calibration && !(l.black_level > 0);
+		/* only a source that declares its level with its frames is asked again */
+		open = !l.calibration && !(l.black_level > 0) && late;
 	}
 	black_watch_init(&s->black, open);
 	if (s->have_cal)

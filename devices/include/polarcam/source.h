@@ -146,6 +146,9 @@ typedef struct pc_source_info {
 	pc_mosaic mosaic;   /* full-sensor mosaic (phase at sensor pixel 0,0) */
 	double black_level; /* DN the source declares (the simulator's sensor offset, a recording's
 	                       meta.json); 0: not declared (cameras: give --black-level) */
+	bool black_level_late; /* the level comes with the frames (a libcamera camera's
+	                          SensorBlackLevels metadata): 0 until frames flow, so capture
+	                          and view ask again after the first frames */
 } pc_source_info;
 
 /* ---- buffers ---- */
