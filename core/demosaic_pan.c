@@ -750,6 +750,22 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	}
 }
 
+/* Output row y, columns [x0, w), of the twelve planes from the row buffers: o[q][i] is column
+ * x0 + i (pan_band's and pan_dir_band's last partial vector, and interleaved outputs). */
+static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], uint32_t x0,
+                        uint32_t w)
+{
+	for (int q = 0; q < 12; q++) {
+		const pc_fplane *p = &out[q];
+		float *d = p->data + (size_t)y * p->row_stride + (size_t)x0 * p->pixel_stride;
+		if (p->pixel_stride == 1)
+			memcpy(d, o[q], (size_t)(w - x0) * sizeof *d);
+		else
+			for (uint32_t x = 0; x < w - x0; x++)
+				d[(size_t)x * p->pixel_stride] = o[q][x];
+	}
+}
+
 static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	pan_job *j = ctx;
@@ -865,20 +881,13 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 					for (int i = 0; i < a.nv[q]; i++)
 						a.vrow[q][i] += nmain;
 				K.orow(&a, rawp, 16, j->delta, o, 0);
-				for (int q = 0; q < 12; q++)
-					memcpy(d[q] + nmain, o[q],
-					       (size_t)(iw - nmain) * sizeof *o[q]);
+				pan_put_row(j->out, y, o, (uint32_t)nmain, w);
 			}
 			continue;
 		}
 		memcpy(rawp, raw, w * sizeof *rawp);
 		K.orow(&a, rawp, n, j->delta, o, 0);
-		for (int q = 0; q < 12; q++) {
-			const pc_fplane *p = &j->out[q];
-			float *d = p->data + (size_t)y * p->row_stride;
-			for (uint32_t x = 0; x < w; x++)
-				d[(size_t)x * p->pixel_stride] = o[q][x];
-		}
+		pan_put_row(j->out, y, o, 0, w);
 	}
 	if (j->nt)
 		pc_dm_sfence();
@@ -1093,19 +1102,12 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 			K.dorow(&a, hb, vb, rawo, 0, nmain, j->delta, dq, 0, j->nt);
 			if (nmain < n) {
 				K.dorow(&a, hb, vb, rawo, nmain, n, j->delta, o, nmain, 0);
-				for (int q = 0; q < 12; q++)
-					memcpy(dq[q] + nmain, o[q],
-					       (size_t)(iw - nmain) * sizeof *o[q]);
+				pan_put_row(j->out, y, o, (uint32_t)nmain, w);
 			}
 			continue;
 		}
 		K.dorow(&a, hb, vb, rawo, 0, n, j->delta, o, 0, 0);
-		for (int q = 0; q < 12; q++) {
-			const pc_fplane *p = &j->out[q];
-			float *d = p->data + (size_t)y * p->row_stride;
-			for (uint32_t x = 0; x < w; x++)
-				d[(size_t)x * p->pixel_stride] = o[q][x];
-		}
+		pan_put_row(j->out, y, o, 0, w);
 	}
 	if (j->nt)
 		pc_dm_sfence();
