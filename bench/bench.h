@@ -57,6 +57,14 @@ int pc_bench_calib(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_dataset(const pc_bench_host *host, int argc, char **argv);
 int pc_bench_soak(const pc_bench_host *host, int argc, char **argv);
 
+/* bench_calib.c: the calibrated bilinear pipeline as `--calibration` runs it (pc_calib_apply,
+ * the compact calibration, with the mask) and the uncalibrated one with the black level, the
+ * saturation check and the mask (what `process` runs), on bench calib --speed's synthetic W×H
+ * calibration and Mono12 frame, reps of each interleaved on threads (0: all): wall ms median
+ * and min, [0] uncalibrated, [1] calibrated. For `bench demosaic`'s summary. */
+int bench_calib_pair(uint32_t w, uint32_t h, int reps, int threads, double med_ms[2],
+                     double min_ms[2]);
+
 /* Benchmarks that stream GigE Vision run in a private network namespace with only loopback:
  * outside one, this re-executes `polarcam bench argv...` under `unshare -n` (never returns when
  * that works; the failure status otherwise); inside one (PC_BENCH_NETNS set) it returns 0. */
