@@ -131,11 +131,17 @@ static double ratio_at(const pan_ref *r, int x, int y)
 	return (fmax(ext(r, x, y), 0) + r->delta) / (fmax(ppi0(r, x, y), 0) + r->delta);
 }
 
+/* Channel 4·k + c (colour k, analyser c) of mosaic position (px, py) */
+static unsigned pan_q(const pc_mosaic *m, unsigned px, unsigned py)
+{
+	return 4 * (pc_mosaic_color(m, px, py) - PC_CFA_R) + pc_mosaic_channel(m, px, py);
+}
+
 /* channel 4·k + c of the extended raw at (x, y): the mirror keeps the phase */
 static unsigned chan(const pan_ref *r, int x, int y)
 {
 	uint32_t xm = (uint32_t)mirror4(x, r->w), ym = (uint32_t)mirror4(y, r->h);
-	return 4 * (pc_mosaic_color(r->m, xm, ym) - PC_CFA_R) + pc_mosaic_channel(r->m, xm, ym);
+	return pan_q(r->m, xm, ym);
 }
 
 /* The references' twelve values at (x, y): the pixel's own sample kept, every other channel q
@@ -686,6 +692,34 @@ static void pan_src_sums(const pan_job *j, const pan_kern *K, const pan_tables *
 
 /* pan-guided's output row y: the terms of every channel, then the kernel (whole vectors into
  * planar outputs, the rest through the row buffer o), then the own measurements. */
+/* Each channel's lattice rows around output row y, in the order the kernels sum them: for
+ * every period position (px, py) of channel q, its sample row at or above y (e = (y − py) mod 4
+ * rows up, the tent's vertical weight 4 − e) and, when e ≠ 0, the one four rows below (weight
+ * e); slot: the row's place in an 8-row ring ((row) & 7), dy: its offset from y. */
+typedef struct pan_lattice {
+	int n[12];
+	unsigned px[12][4];
+	int slot[12][4], dy[12][4];
+	float wt[12][4];
+} pan_lattice;
+
+static void pan_lattice_rows(const pc_mosaic *m, int y, pan_lattice *l)
+{
+	memset(l->n, 0, sizeof l->n);
+	for (unsigned py = 0; py < 4; py++)
+		for (unsigned px = 0; px < 4; px++) {
+			unsigned q = pan_q(m, px, py);
+			int e = (y - (int)py) & 3, ya = y - e;
+			for (int k = 0; k < (e ? 2 : 1); k++) {
+				int i = l->n[q]++, yr = ya + 4 * k;
+				l->px[q][i] = px;
+				l->slot[q][i] = yr & 7;
+				l->dy[q][i] = yr - y;
+				l->wt[q][i] = (float)(k ? e : 4 - e);
+			}
+		}
+}
+
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
                       float *const gr[3][8], const float *raw, uint32_t y, int planar, long n,
                       long nmain, float *rawp, float *const o[12])
@@ -693,20 +727,15 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	pan_gorow_args a;
 	memset(&a, 0, sizeof a);
 	const uint32_t w = j->w, ty = y & 3;
-	for (unsigned py = 0; py < 4; py++)
-		for (unsigned px = 0; px < 4; px++) {
-			unsigned q = 4 * (pc_mosaic_color(j->m, px, py) - PC_CFA_R) +
-			             pc_mosaic_channel(j->m, px, py);
-			int e = (int)((y - py) & 3), ya = (int)y - e;
-			a.vrow[q][a.nv[q]] = hr[ya & 7][px];
-			a.vt[q][a.nv[q]] = (float)(4 - e);
-			a.vdy[q][a.nv[q]++] = 3 - e;
-			if (e) {
-				a.vrow[q][a.nv[q]] = hr[(ya + 4) & 7][px];
-				a.vt[q][a.nv[q]] = (float)e;
-				a.vdy[q][a.nv[q]++] = 7 - e;
-			}
+	pan_lattice l;
+	pan_lattice_rows(j->m, (int)y, &l);
+	for (int q = 0; q < 12; q++)
+		for (int i = 0; i < l.n[q]; i++) {
+			a.vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
+			a.vt[q][i] = l.wt[q][i];
+			a.vdy[q][i] = 3 + l.dy[q][i];
 		}
+	memcpy(a.nv, l.n, sizeof a.nv);
 	for (int k = 0; k < 7; k++) {
 		a.p0row[k] = gr[0][((int)y + k - 3) & 7];
 		a.c1row[k] = gr[1][((int)y + k - 3) & 7];
@@ -715,8 +744,7 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	const pan_gorow_fn kern = j->guided == 2 ? K->cgorow : K->gorow;
 	for (unsigned u = 0; u < 4; u++) {
 		a.sel[u] = t->sel[u];
-		a.own[u] =
-		    4 * (pc_mosaic_color(j->m, u, ty) - PC_CFA_R) + pc_mosaic_channel(j->m, u, ty);
+		a.own[u] = pan_q(j->m, u, ty);
 	}
 	float *d[12];
 	if (planar) {
@@ -840,19 +868,14 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		pan_orow_args a;
 		memset(&a, 0, sizeof a);
 		const uint32_t ty = y & 3;
-		for (unsigned py = 0; py < 4; py++)
-			for (unsigned px = 0; px < 4; px++) {
-				unsigned q = 4 * (pc_mosaic_color(j->m, px, py) - PC_CFA_R) +
-				             pc_mosaic_channel(j->m, px, py);
-				int e = (int)((y - py) & 3);
-				int ya = (int)y - e;
-				a.vrow[q][a.nv[q]] = hr[ya & 7][px];
-				a.vw[q][a.nv[q]++] = (float)(4 - e);
-				if (e) {
-					a.vrow[q][a.nv[q]] = hr[(ya + 4) & 7][px];
-					a.vw[q][a.nv[q]++] = (float)e;
-				}
+		pan_lattice l;
+		pan_lattice_rows(j->m, (int)y, &l);
+		for (int q = 0; q < 12; q++)
+			for (int i = 0; i < l.n[q]; i++) {
+				a.vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
+				a.vw[q][i] = l.wt[q][i];
 			}
+		memcpy(a.nv, l.n, sizeof a.nv);
 		for (int q = 0; q < 12; q++) {
 			/* the weights sum to 16 per lattice (4 across, 4 down) */
 			int lat = 0;
@@ -864,8 +887,7 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		}
 		for (unsigned u = 0; u < 4; u++) {
 			a.sel[u] = t->sel[u];
-			a.own[u] = 4 * (pc_mosaic_color(j->m, u, ty) - PC_CFA_R) +
-			           pc_mosaic_channel(j->m, u, ty);
+			a.own[u] = pan_q(j->m, u, ty);
 		}
 		const float *raw = pan_row(&rc, j->in, (int)y);
 		if (planar) {
@@ -955,22 +977,18 @@ static void pan_dargs(const pan_job *j, const pan_tables *t, float *const hx[8][
                       pan_drow_args *a)
 {
 	memset(a, 0, sizeof *a);
-	int dys[12][4];
-	float vt[12][4];
-	for (unsigned py = 0; py < 4; py++)
-		for (unsigned px = 0; px < 4; px++) {
-			unsigned q = 4 * (pc_mosaic_color(j->m, px, py) - PC_CFA_R) +
-			             pc_mosaic_channel(j->m, px, py);
-			int e = (Y - (int)py) & 3, ya = Y - e;
-			for (int k = 0; k < (e ? 2 : 1); k++) {
-				int yr = ya + 4 * k, i = a->nv[q]++;
-				a->hw[q][i] = hx[yr & 7][px];
-				a->he[q][i] = hx[yr & 7][4 + px];
-				a->hc[q][i] = hx[yr & 7][8 + px];
-				vt[q][i] = (float)(k ? e : 4 - e);
-				dys[q][i] = yr - Y;
-			}
+	pan_lattice l;
+	pan_lattice_rows(j->m, Y, &l);
+	const int(*dys)[4] = l.dy;
+	const float(*vt)[4] = l.wt;
+	for (int q = 0; q < 12; q++)
+		for (int i = 0; i < l.n[q]; i++) {
+			const unsigned px = l.px[q][i];
+			a->hw[q][i] = hx[l.slot[q][i]][px];
+			a->he[q][i] = hx[l.slot[q][i]][4 + px];
+			a->hc[q][i] = hx[l.slot[q][i]][8 + px];
 		}
+	memcpy(a->nv, l.n, sizeof a->nv);
 	for (int q = 0; q < 12; q++) {
 		float sc = 0, sn = 0, ss = 0;
 		for (int i = 0; i < a->nv[q]; i++) {
@@ -986,8 +1004,7 @@ static void pan_dargs(const pan_job *j, const pan_tables *t, float *const hx[8][
 	}
 	for (unsigned u = 0; u < 4; u++) {
 		a->sel[u] = t->sel[u];
-		a->own[u] = 4 * (pc_mosaic_color(j->m, u, (unsigned)Y & 3) - PC_CFA_R) +
-		            pc_mosaic_channel(j->m, u, (unsigned)Y & 3);
+		a->own[u] = pan_q(j->m, u, (unsigned)Y & 3);
 	}
 }
 
