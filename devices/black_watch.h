@@ -25,6 +25,28 @@ static inline void black_watch_init(black_watch *w, bool open)
 	*w = (black_watch){open, false, false, 0, 0};
 }
 
+/* At the start: the black level to use now — given (not NaN), else what src declares (0 when
+ * none, or when !ask: a calibration's dark map is the level) — and the watch opened when none
+ * was given or declared and src declares its level with its frames (black_level_late; no src:
+ * the levels come with the frames, pc_capture's writer). */
+static inline double black_watch_start(black_watch *w, pc_source *src, double given, bool ask)
+{
+	if (!isnan(given)) {
+		black_watch_init(w, false);
+		return given;
+	}
+	double level = 0;
+	bool late = src == NULL;
+	pc_source_info info;
+	if (ask && src && pc_source_get_info(src, &info) == 0) {
+		level = info.black_level;
+		late = info.black_level_late;
+	}
+	pc_error_clear();
+	black_watch_init(w, ask && !(level > 0) && late);
+	return level;
+}
+
 /* After each dequeued frame, before it is processed: asks src, until a level above 0 is declared
  * or PC_STREAM_BLACK_FRAMES frames were asked after. 1 when a level is taken now (w->level),
  * else 0; never an error (a source that cannot say declares none). */

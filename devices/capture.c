@@ -154,16 +154,8 @@ static int open_all(capture *c)
 	                   (rc = pc_stokes_stream_set_levels(c->live, &o->levels, c->src))))
 		return rc;
 	/* the black level, for whoever processes the recording later */
-	pc_source_info info;
-	c->black = isnan(o->levels.black_level) ? 0 : o->levels.black_level;
-	bool late = false;
-	if (isnan(o->levels.black_level) && pc_source_get_info(c->src, &info) == 0) {
-		c->black = info.black_level;
-		late = info.black_level_late;
-	}
-	pc_error_clear();
 	/* only a source that declares its level with its frames is asked again (and warned of) */
-	black_watch_init(&c->bw, isnan(o->levels.black_level) && !(c->black > 0) && late);
+	c->black = black_watch_start(&c->bw, c->src, o->levels.black_level, true);
 	size_t row = 0;
 	(void)pc_format_row_bytes(c->f.format, c->f.width, &row);
 	size_t frame_bytes = c->f.height ? c->f.stride * (c->f.height - 1) + row : row;

@@ -176,20 +176,8 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 	if (!isnan(l.black_level) && !(l.black_level >= 0 && isfinite(l.black_level)))
 		return pc_error(PC_EINVAL, "black level %g: expected a finite level >= 0 DN",
 		                l.black_level);
-	bool open = false;
-	if (isnan(l.black_level)) {
-		pc_source_info info;
-		l.black_level = 0;
-		bool late = src == NULL; /* no source: levels come with the frames (pc_capture) */
-		if (!l.calibration && src && pc_source_get_info(src, &info) == 0) {
-			l.black_level = info.black_level;
-			late = info.black_level_late;
-		}
-		pc_error_clear();
-		/* only a source that declares its level with its frames is asked again */
-		open = !l.calibration && !(l.black_level > 0) && late;
-	}
-	black_watch_init(&s->black, open);
+	/* only a source that declares its level with its frames is asked again */
+	l.black_level = black_watch_start(&s->black, src, l.black_level, !l.calibration);
 	if (s->have_cal)
 		pc_calib_free(&s->cal);
 	s->have_cal = false;
