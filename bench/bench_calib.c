@@ -242,46 +242,75 @@ static int speed_setup(uint32_t W, uint32_t H, pc_calib *cal, pc_view *raw)
 	return 0;
 }
 
-int bench_calib_pair(uint32_t w, uint32_t h, int reps, int threads, double med_ms[2],
-                     double min_ms[2])
-{
+/* The --speed setup: speed_setup's calibration and frame, 64-byte-aligned planar outputs and a
+ * mask, the frame, and the options of the two pipelines: po the calibrated one (bilinear, the
+ * saturation check), pu the uncalibrated one as `polarcam process` runs it (po plus the black
+ * level). */
+typedef struct speed_case {
 	pc_calib cal;
 	pc_view raw;
-	int rc = speed_setup(w, h, &cal, &raw);
+	float *planes;
+	uint8_t *mask;
+	pc_stokes_out out;
+	pc_frame f;
+	pc_pipeline_opts po, pu;
+} speed_case;
+
+static void speed_close(speed_case *s)
+{
+	free(s->planes);
+	free(s->mask);
+	pc_view_free(&s->raw);
+	pc_calib_free(&s->cal);
+}
+
+static int speed_open(speed_case *s, uint32_t w, uint32_t h, int threads)
+{
+	memset(s, 0, sizeof *s);
+	int rc = speed_setup(w, h, &s->cal, &s->raw);
 	if (rc)
 		return rc;
 	const size_t np = (size_t)w * h;
-	float *planes = NULL;
-	uint8_t *mask = malloc(np);
-	double *t = reps > 0 ? malloc(2 * (size_t)reps * sizeof *t) : NULL;
-	if (posix_memalign((void **)&planes, 64, 5 * np * sizeof(float)) || !mask || !t) {
-		rc = PC_ENOMEM;
-		goto out;
+	s->mask = malloc(np);
+	if (posix_memalign((void **)&s->planes, 64, 5 * np * sizeof(float)) || !s->mask) {
+		s->planes = NULL; /* unspecified on failure */
+		speed_close(s);
+		return PC_ENOMEM;
 	}
-	pc_stokes_out out;
-	pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
+	pc_fplane *pl[5] = {&s->out.s0, &s->out.s1, &s->out.s2, &s->out.dolp, &s->out.aolp};
 	for (int k = 0; k < 5; k++)
-		*pl[k] = (pc_fplane){planes + (size_t)k * np, w, 1};
-	pc_frame f;
-	memset(&f, 0, sizeof f);
-	f.view = raw;
-	f.mosaic = cal.geo.mosaic;
-	pc_pipeline_opts po = pc_pipeline_defaults();
-	po.threads = threads;
-	po.method = PC_DM_BILINEAR;
-	po.mosaic = cal.geo.mosaic;
-	po.saturation_level = 4095;
-	pc_pipeline_opts pu = po;
-	pu.black_level = 60;
-	pc_validity v = {mask, w, 0};
-	if ((rc = pc_calib_apply(&cal, &f, 12, &po, &out, NULL, &v))) /* prepared once */
-		goto out;
+		*pl[k] = (pc_fplane){s->planes + (size_t)k * np, w, 1};
+	s->f.view = s->raw;
+	s->f.mosaic = s->cal.geo.mosaic;
+	s->po = pc_pipeline_defaults();
+	s->po.threads = threads;
+	s->po.method = PC_DM_BILINEAR;
+	s->po.mosaic = s->cal.geo.mosaic;
+	s->po.saturation_level = 4095;
+	s->pu = s->po;
+	s->pu.black_level = 60;
+	return 0;
+}
+
+int bench_calib_pair(uint32_t w, uint32_t h, int reps, int threads, double med_ms[2],
+                     double min_ms[2])
+{
+	speed_case s;
+	int rc = speed_open(&s, w, h, threads);
+	if (rc)
+		return rc;
+	double *t = reps > 0 ? malloc(2 * (size_t)reps * sizeof *t) : NULL;
+	pc_validity v = {s.mask, w, 0};
+	if (!t)
+		rc = PC_ENOMEM;
+	else /* prepared once */
+		rc = pc_calib_apply(&s.cal, &s.f, 12, &s.po, &s.out, NULL, &v);
 	for (int r = 0; r < reps && !rc; r++)
 		for (int k = 0; k < 2 && !rc; k++) { /* interleaved */
-			v = (pc_validity){mask, w, 0};
+			v = (pc_validity){s.mask, w, 0};
 			double t0 = bench_now();
-			rc = k ? pc_calib_apply(&cal, &f, 12, &po, &out, NULL, &v)
-			       : pc_stokes_run(&raw, &pu, &out, &v);
+			rc = k ? pc_calib_apply(&s.cal, &s.f, 12, &s.po, &s.out, NULL, &v)
+			       : pc_stokes_run(&s.raw, &s.pu, &s.out, &v);
 			t[(size_t)k * (size_t)reps + (size_t)r] = bench_now() - t0;
 		}
 	for (int k = 0; k < 2 && !rc; k++) {
@@ -290,12 +319,8 @@ int bench_calib_pair(uint32_t w, uint32_t h, int reps, int threads, double med_m
 		min_ms[k] = 1e3 * tk[0];
 		med_ms[k] = 1e3 * tk[reps / 2];
 	}
-out:
 	free(t);
-	free(planes);
-	free(mask);
-	pc_view_free(&raw);
-	pc_calib_free(&cal);
+	speed_close(&s);
 	return rc;
 }
 
@@ -309,36 +334,16 @@ static double cpu_now(void)
 
 static int bench_speed(uint32_t W, uint32_t H, int reps, int threads, bool json, const char *only)
 {
-	pc_calib cal;
-	pc_view raw;
-	int rc = speed_setup(W, H, &cal, &raw);
+	speed_case sc;
+	int rc = speed_open(&sc, W, H, threads);
 	if (rc)
 		return host->fail(rc, "bench calib --speed");
-	const size_t np = (size_t)W * H;
-	float *planes = NULL;
-	uint8_t *mask = malloc(np);
-	if (posix_memalign((void **)&planes, 64, 5 * np * sizeof(float)) || !mask) {
-		pc_calib_free(&cal);
-		pc_view_free(&raw);
-		free(mask);
-		return host->fail(PC_ENOMEM, "bench calib --speed");
-	}
-	pc_stokes_out out;
-	pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
-	for (int k = 0; k < 5; k++)
-		*pl[k] = (pc_fplane){planes + (size_t)k * np, W, 1};
-	pc_frame f;
-	memset(&f, 0, sizeof f);
-	f.view = raw;
-	f.mosaic = cal.geo.mosaic;
-	pc_pipeline_opts po = pc_pipeline_defaults();
-	po.threads = threads;
-	po.method = PC_DM_BILINEAR;
-	po.mosaic = cal.geo.mosaic;
-	po.saturation_level = 4095;
-	/* what `polarcam process` runs: the black level, the saturation check and the mask */
-	pc_pipeline_opts pu = po;
-	pu.black_level = 60;
+	pc_calib *cal = &sc.cal;
+	const pc_view raw = sc.raw;
+	uint8_t *mask = sc.mask;
+	pc_stokes_out out = sc.out;
+	pc_frame f = sc.f;
+	pc_pipeline_opts po = sc.po, pu = sc.pu;
 	enum { IDEAL, IDEAL_NOMASK, CAL, CAL_NOMASK, CAL_PINV, CAL_SP, NCASE };
 	static const char *const name[NCASE] = {"ideal",           "ideal_no_mask",
 	                                        "calibrated",      "calibrated_no_mask",
@@ -348,10 +353,7 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, int threads, bool json,
 		if (!strcmp(only, name[k]))
 			one = k;
 	if (only && one < 0) {
-		pc_calib_free(&cal);
-		pc_view_free(&raw);
-		free(planes);
-		free(mask);
+		speed_close(&sc);
 		return host->error(PC_BENCH_USAGE,
 		                   "--only %s: expected ideal, ideal_no_mask, "
 		                   "calibrated, calibrated_no_mask, calibrated_pinv or "
@@ -375,20 +377,20 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, int threads, bool json,
 	/* warm-up: what is computed once per calibration (the 16-bit analysis vectors) */
 	pc_validity v = {mask, W, 0};
 	double t0 = bench_now();
-	if ((rc = pc_calib_apply(&cal, &f, 12, &po, &out, NULL, &v)))
+	if ((rc = pc_calib_apply(cal, &f, 12, &po, &out, NULL, &v)))
 		goto out;
 	double prep = bench_now() - t0;
 	/* (with --only, the cases that need them) */
 	const bool want_px = one < 0 || one == CAL_PINV || one == CAL_SP;
 	t0 = bench_now();
-	if (want_px && (rc = pc_calib_pinv(&cal, PC_DM_BILINEAR, 0, &pxgrid)))
+	if (want_px && (rc = pc_calib_pinv(cal, PC_DM_BILINEAR, 0, &pxgrid)))
 		goto out;
 	double prep_pinv = bench_now() - t0;
-	if (want_px && (rc = block_pinv(&cal, &bp)))
+	if (want_px && (rc = block_pinv(cal, &bp)))
 		goto out;
 	pc_analyser_pinv bgrid = {bp, W / 2, H / 2};
-	ps.dark = pp.dark = cal.dark;
-	ps.gain_inv = pp.gain_inv = cal.apply_ig;
+	ps.dark = pp.dark = cal->dark;
+	ps.gain_inv = pp.gain_inv = cal->apply_ig;
 	ps.pinv = &bgrid;
 	pp.pinv = &pxgrid;
 	for (int r = 0; r < reps; r++)
@@ -402,7 +404,7 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, int threads, bool json,
 			rc = k <= IDEAL_NOMASK ? pc_stokes_run(&raw, &pu, &out, vp)
 			     : k == CAL_SP     ? pc_stokes_run(&raw, &ps, &out, vp)
 			     : k == CAL_PINV   ? pc_stokes_run(&raw, &pp, &out, NULL)
-			                       : pc_calib_apply(&cal, &f, 12, &po, &out, NULL, vp);
+			                       : pc_calib_apply(cal, &f, 12, &po, &out, NULL, vp);
 			t[(size_t)k * (size_t)reps + (size_t)r] = bench_now() - t0;
 			t[(size_t)(NCASE + k) * (size_t)reps + (size_t)r] = cpu_now() - c0;
 			if (rc)
@@ -488,10 +490,7 @@ static int bench_speed(uint32_t W, uint32_t H, int reps, int threads, bool json,
 out:
 	free(bp);
 	free(t);
-	free(planes);
-	free(mask);
-	pc_view_free(&raw);
-	pc_calib_free(&cal);
+	speed_close(&sc);
 	return rc ? host->fail(rc, "bench calib --speed") : PC_BENCH_OK;
 }
 
