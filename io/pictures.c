@@ -116,7 +116,7 @@ typedef struct pic_sink {
 	/* panels */
 	uint8_t *out;
 	uint32_t out_w, out_h, image_w, x, y;
-	struct pc_pictures_live *ws; /* the panels' buffers */
+	struct pc_pictures_live *ws; /* the buffers drawn in (draw_set, put_panel) */
 } pic_sink;
 
 /* The buffers of the live window's panels, kept from one frame to the next. */
@@ -176,12 +176,12 @@ static int put_panel(pic_sink *k, int index, const char *name, const uint8_t *rg
 }
 
 /* The S0, DoLP and AoLP pictures (with the keys, ranges, masks and notes described in
- * polarcam/io.h) handed to sink one by one. ws: NULL (buffers made and freed here) or the
- * buffers kept by the live window. */
+ * polarcam/io.h) handed to sink one by one, drawn in sink->ws's buffers (the live window's,
+ * kept from frame to frame, or a fresh set). */
 static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
-                    const pc_pictures_opts *opts, const pc_validity *valid, pic_sink *sink,
-                    pc_pictures_live *ws)
+                    const pc_pictures_opts *opts, const pc_validity *valid, pic_sink *sink)
 {
+	pc_pictures_live *ws = sink->ws;
 	if (!st || !st->s0.data || !st->dolp.data || !st->aolp.data)
 		return pc_error(PC_EINVAL, "pictures: S0, DoLP and AoLP images are needed");
 	pc_pictures_opts o = {NULL, 0, 0, NULL, 0, 0};
@@ -199,7 +199,7 @@ static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
 	if (o.title_prefix && *o.title_prefix)
 		snprintf(pre, sizeof pre, "%s: ", o.title_prefix);
 	const size_t rgb_bytes = (size_t)width * height * 3;
-	uint8_t *rgb = ws ? ws_get(&ws->rgb, &ws->rgb_n, rgb_bytes) : malloc(rgb_bytes);
+	uint8_t *rgb = ws_get(&ws->rgb, &ws->rgb_n, rgb_bytes);
 	if (!rgb)
 		return pc_error(PC_ENOMEM, "pictures: %ux%u RGB buffer", width, height);
 	char title[320];
@@ -217,12 +217,9 @@ static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
 	char dlabel[64] = "DoLP";
 	if (o.dolp_hi < 0) {
 		const size_t dd_bytes = (size_t)width * height * 2 * sizeof(float);
-		float *dd = ws ? ws_get(&ws->dd, &ws->dd_n, dd_bytes) : malloc(dd_bytes);
-		if (!dd) {
-			if (!ws)
-				free(rgb);
+		float *dd = ws_get(&ws->dd, &ws->dd_n, dd_bytes);
+		if (!dd)
 			return pc_error(PC_ENOMEM, "pictures: %ux%u DoLP copy", width, height);
-		}
 		float *ss = dd + (size_t)width * height;
 		for (uint32_t y = 0; y < height; y++)
 			for (uint32_t x = 0; x < width; x++) {
@@ -236,8 +233,6 @@ static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
 				    s->data[y * s->row_stride + x * s->pixel_stride];
 			}
 		dhi = pc_pictures_dolp_auto(dd, ss, (size_t)width * height, mask);
-		if (!ws)
-			free(dd);
 		snprintf(dlabel, sizeof dlabel, "DoLP (0..%.2f, auto)", dhi);
 	} else if (dhi < 1) {
 		snprintf(dlabel, sizeof dlabel, "DoLP (0..%.2f)", dhi);
@@ -300,8 +295,6 @@ static int draw_set(const pc_stokes_out *st, uint32_t width, uint32_t height,
 		if (!rc)
 			rc = sink->put(sink, 2 + k, names[k], rgb, title, short_title, &abar, np);
 	}
-	if (!ws)
-		free(rgb);
 	return rc;
 }
 
@@ -320,7 +313,11 @@ int pc_pictures_write_valid(const char *dir, const pc_stokes_out *st, uint32_t w
 	              0,        0,
 	              0,        0,
 	              NULL};
-	return draw_set(st, width, height, &o, valid, &k, NULL);
+	int rc = pc_pictures_live_new(&k.ws);
+	if (!rc)
+		rc = draw_set(st, width, height, &o, valid, &k);
+	pc_pictures_live_free(k.ws);
+	return rc;
 }
 
 /* The panels' width for an image drawn iw wide: S0, DoLP and AoLP with their bars. */
@@ -415,7 +412,7 @@ int pc_pictures_live_draw(pc_pictures_live *p, const pc_stokes_out *st, uint32_t
 	              oh,        iw,
 	              0,         top,
 	              p};
-	int rc = draw_set(st, width, height, &o, valid, &k, p);
+	int rc = draw_set(st, width, height, &o, valid, &k);
 	if (rc)
 		return rc;
 	*out = buf;
