@@ -65,16 +65,20 @@ typedef struct pan_gorow_args {
 	const float *c1row[7], *c2row[7]; /* pan-chroma's chrominance rows (else unused) */
 } pan_gorow_args;
 
-/* pan-dir's: each channel's terms (its lattice rows around the row: four for green's two
- * lattices), the term's one-sided horizontal rows hw, he and full tent hc (pan_dhrows), its
- * weight in C, W and E (wc), in N (wn) and in S (ws), each normalised over the channel */
-typedef struct pan_drow_args {
-	const float *hw[12][4], *he[12][4], *hc[12][4];
-	float wc[12][4], wn[12][4], ws[12][4];
-	int nv[12];
+/* pan-dir's, for one row: its sixteen lattices (channel q's: L = q for red, 4 + 2(q − 4) and
+ * 5 + 2(q − 4) for green's two, q + 4 for blue), each with its hold rows at the lattice rows at or
+ * above the row (nrow) and at or below it (srow: the same row when the row is a lattice row),
+ * its lanes' horizontal fractions fa (the distance from the sample at or left, over 4), its
+ * vertical fraction b = e/4 (e the rows from nrow's); the green lattices' weights in N (gn) and S
+ * (gs); for the output row: the ratio rows y (r0), y − 2 (rn), y + 2 (rs), the green pixels'
+ * lanes gsel (0/1), the own channel at column phase u and its lanes (own, sel). */
+typedef struct pan_dlat_args {
+	const float *nrow[16], *srow[16], *fa[16];
+	float b[16], gn[8], gs[8];
+	const float *r0, *rn, *rs, *gsel;
 	const float *sel[4];
 	unsigned own[4];
-} pan_drow_args;
+} pan_dlat_args;
 
 #define PC_INST PC_INST_BASELINE
 #include "simd_instance_begin.h"
@@ -575,15 +579,13 @@ typedef void (*pan_cratio_fn)(const float *vs, const float *vsb, const float *ra
 typedef void (*pan_cghrows_fn)(const float *rho, const float *p0, const float *c1, const float *c2,
                                long n, const float wt[4][7][16], float e, float *const h[4]);
 
-typedef void (*pan_dhrows_fn)(const float *rho, long n, const float tw[4][7][16],
-                              const float te[4][7][16], const float al[4][16],
-                              const float be[4][16], float *const hw[4], float *const he[4],
-                              float *const hc[4]);
-typedef void (*pan_dchroma_fn)(const pan_drow_args *a, long n, float *const c[5][3]);
+typedef void (*pan_dwrows_fn)(const float *rho, long x0, long n, const float tw[4][4][16],
+                              float *const hw[4]);
+typedef void (*pan_dchroma_fn)(const pan_dlat_args *a, long n, float *const c[5][3]);
 typedef void (*pan_dvar_fn)(const float *const c[3], const float *const p[3], long x0, long n,
                             float *dh, float *dv);
 typedef void (*pan_dbox_fn)(const float *dh, const float *dv, long n, float *bh, float *bv);
-typedef void (*pan_dorow_fn)(const pan_drow_args *a, const float *const bh[5][3],
+typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const bh[5][3],
                              const float *const bv[5][2], const float *raw, long x0, long x1,
                              float delta, float *const out[12], long xo, int nt);
 
@@ -598,7 +600,7 @@ typedef struct pan_kern {
 	pan_cratio_fn cratio;
 	pan_cghrows_fn cghrows;
 	pan_gorow_fn cgorow;
-	pan_dhrows_fn dhrows;
+	pan_dwrows_fn dwrows;
 	pan_dchroma_fn dchroma;
 	pan_dvar_fn dvar;
 	pan_dbox_fn dbox;
@@ -612,20 +614,20 @@ static pan_kern pan_kernels(pc_cpu_level level)
 		return (pan_kern){pan_vsum_avx512,   pan_ratio_avx512,  pan_hrows_avx512,
 		                  pan_orow_avx512,   pan_ghrows_avx512, pan_gorow_avx512,
 		                  pan_vsumw_avx512,  pan_cratio_avx512, pan_cghrows_avx512,
-		                  pan_cgorow_avx512, pan_dhrows_avx512, pan_dchroma_avx512,
+		                  pan_cgorow_avx512, pan_dwrows_avx512, pan_dchroma_avx512,
 		                  pan_dvar_avx512,   pan_dbox_avx512,   pan_dorow_avx512};
 	if (level >= PC_CPU_AVX2)
 		return (pan_kern){pan_vsum_avx2,   pan_ratio_avx2,  pan_hrows_avx2,
 		                  pan_orow_avx2,   pan_ghrows_avx2, pan_gorow_avx2,
 		                  pan_vsumw_avx2,  pan_cratio_avx2, pan_cghrows_avx2,
-		                  pan_cgorow_avx2, pan_dhrows_avx2, pan_dchroma_avx2,
+		                  pan_cgorow_avx2, pan_dwrows_avx2, pan_dchroma_avx2,
 		                  pan_dvar_avx2,   pan_dbox_avx2,   pan_dorow_avx2};
 #else
 	(void)level;
 #endif
 	return (pan_kern){pan_vsum_base,    pan_ratio_base,  pan_hrows_base,  pan_orow_base,
 	                  pan_ghrows_base,  pan_gorow_base,  pan_vsumw_base,  pan_cratio_base,
-	                  pan_cghrows_base, pan_cgorow_base, pan_dhrows_base, pan_dchroma_base,
+	                  pan_cghrows_base, pan_cgorow_base, pan_dwrows_base, pan_dchroma_base,
 	                  pan_dvar_base,    pan_dbox_base,   pan_dorow_base};
 }
 
@@ -947,65 +949,67 @@ static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
 
 /* ---- pan-dir's fast path ----
  *
- * The same source rows as pan-ratio's (ratio rows, in a ring of 8), each giving twelve
- * horizontal rows: the one-sided taps W and E and the full tent C of every column phase
- * (pan_dhrows). Two stages per output row y: first row y + 1 (clamped to the image) gets its
- * candidates' chromaticities (two rows kept, for the vertical differences), their variation
- * rows and boxes (a ring of 4 rows per candidate); then row y's candidates are computed again,
- * blended by the homogeneity of the boxes of rows y - 1 .. y + 1, and written. */
+ * The same source rows as pan-ratio's (ratio rows ρ, kept in a ring of 8 with, for each column
+ * phase s, the hold row of s: pan_dwrows). A tent of half-width 4 on a lattice of spacing 4 is
+ * linear interpolation between the two nearest lattice samples (one where the pixel is on the
+ * lattice), so each lattice's five candidates at a pixel are functions of its four corner
+ * samples (pan_dlat): C bilinear, W and E along the west and east columns, N and S along the
+ * north and south rows, the fractions set by the pixel's phase. Two stages per output row y:
+ * first row y + 1 (clamped to the image) gets its candidates' chromaticities (two rows kept, for
+ * the vertical differences), their variation rows and boxes (a ring of 4 rows per candidate);
+ * then row y's candidates are computed again from the corners, blended by the homogeneity of
+ * the boxes of rows y - 1 .. y + 1, and written. */
 typedef struct pan_dtables {
-	float tw[4][7][16], te[4][7][16], al[4][16], be[4][16];
+	float tw[4][4][16]; /* hold rows' lane patterns: (lane − s) mod 4 = k */
+	float fa[4][16];    /* ((lane − s) mod 4)/4 */
+	float gsel[4][16];  /* row phase t: 1 on green pixels */
 } pan_dtables;
 
-static void pan_dtables_init(pan_dtables *t)
+static void pan_dtables_init(pan_dtables *t, const pc_mosaic *m)
 {
 	memset(t, 0, sizeof *t);
 	for (int l = 0; l < 16; l++) {
 		int u = l & 3;
 		for (int s = 0; s < 4; s++) {
-			int dw = -((u - s) & 3), de = (s - u) & 3;
-			t->tw[s][dw + 3][l] = 1;
-			t->te[s][de + 3][l] = 1;
-			t->al[s][l] = dw == 0 ? 0.5f : (float)(4 + dw) / 4;
-			t->be[s][l] = dw == 0 ? 0.5f : (float)(4 - de) / 4;
+			t->tw[s][(u - s) & 3][l] = 1;
+			t->fa[s][l] = (float)((u - s) & 3) / 4;
+			t->gsel[s][l] = pc_mosaic_color(m, (unsigned)u, (unsigned)s) == PC_CFA_G;
 		}
 	}
 }
 
-/* row Y's terms: channel q's lattice rows in the ring hx[slot][0..11] (hw, he, hc by phase) */
-static void pan_dargs(const pan_job *j, const pan_tables *t, float *const hx[8][12], int Y,
-                      pan_drow_args *a)
+/* row Y's lattices (pan_dlat_args) from the ring's hold rows hw[slot][s] */
+static void pan_dargs(const pan_job *j, const pan_tables *t, const pan_dtables *dt,
+                      float *const hw[8][4], int Y, pan_dlat_args *a)
 {
 	memset(a, 0, sizeof *a);
-	pan_lattice l;
-	pan_lattice_rows(j->m, Y, &l);
-	const int(*dys)[4] = l.dy;
-	const float(*vt)[4] = l.wt;
-	for (int q = 0; q < 12; q++)
-		for (int i = 0; i < l.n[q]; i++) {
-			const unsigned px = l.px[q][i];
-			a->hw[q][i] = hx[l.slot[q][i]][px];
-			a->he[q][i] = hx[l.slot[q][i]][4 + px];
-			a->hc[q][i] = hx[l.slot[q][i]][8 + px];
+	int ng[4] = {0, 0, 0, 0}, e[16];
+	for (unsigned ty = 0; ty < 4; ty++)
+		for (unsigned s = 0; s < 4; s++) {
+			unsigned q = pan_q(j->m, s, ty);
+			int L = q < 4 ? (int)q : q < 8 ? 4 + 2 * ((int)q - 4) + ng[q - 4]++ : (int)q + 4;
+			int el = (Y - (int)ty) & 3, yn = Y - el, ys = el ? yn + 4 : yn;
+			a->nrow[L] = hw[yn & 7][s];
+			a->srow[L] = hw[ys & 7][s];
+			a->fa[L] = dt->fa[s];
+			a->b[L] = (float)el / 4;
+			e[L] = el;
 		}
-	memcpy(a->nv, l.n, sizeof a->nv);
-	for (int q = 0; q < 12; q++) {
-		float sc = 0, sn = 0, ss = 0;
-		for (int i = 0; i < a->nv[q]; i++) {
-			sc += vt[q][i];
-			sn += dys[q][i] <= 0 ? vt[q][i] : 0;
-			ss += dys[q][i] >= 0 ? vt[q][i] : 0;
-		}
-		for (int i = 0; i < a->nv[q]; i++) {
-			a->wc[q][i] = vt[q][i] / sc;
-			a->wn[q][i] = dys[q][i] <= 0 ? vt[q][i] / sn : 0;
-			a->ws[q][i] = dys[q][i] >= 0 ? vt[q][i] / ss : 0;
-		}
+	for (int i = 0; i < 8; i += 2) {
+		/* the vertical tents' weights of the rows kept: N 4 − e, S e (4 on a lattice row) */
+		const int e0 = e[4 + i], e1 = e[5 + i];
+		const float n0 = (float)(4 - e0), n1 = (float)(4 - e1), s0 = (float)(e0 ? e0 : 4),
+		            s1 = (float)(e1 ? e1 : 4);
+		a->gn[i] = n0 / (n0 + n1);
+		a->gn[i + 1] = n1 / (n0 + n1);
+		a->gs[i] = s0 / (s0 + s1);
+		a->gs[i + 1] = s1 / (s0 + s1);
 	}
 	for (unsigned u = 0; u < 4; u++) {
 		a->sel[u] = t->sel[u];
 		a->own[u] = pan_q(j->m, u, (unsigned)Y & 3);
 	}
+	a->gsel = dt->gsel[Y & 3];
 }
 
 static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
@@ -1017,10 +1021,9 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	const size_t pitch = (size_t)n + 2 * PAN_PADR;
 	pan_tables *t = pc_dm_alloc(sizeof *t);
 	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
-	/* rows: vs, rawp, rho, the raw row of the output; 21 of source scratch and cache; 8 × 12
-	 * horizontal rows; 2 × 15 chromaticities; dh, dv; 4 × 5 × 2 boxes; a zero row; 12 output
-	 * rows */
-	const size_t nrows = 4 + 21 + 96 + 30 + 2 + 40 + 1 + 12;
+	/* rows: vs, rawp, the raw row of the output; 21 of source scratch and cache; 8 × (ρ and 4
+	 * hold rows); 2 × 15 chromaticities; dh, dv; 4 × 5 × 2 boxes; a zero row; 12 output rows */
+	const size_t nrows = 3 + 21 + 40 + 30 + 2 + 40 + 1 + 12;
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !dt || !buf) {
 		pc_dm_free(t);
@@ -1031,42 +1034,44 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	}
 	memset(buf, 0, sizeof(float) * pitch * nrows);
 	pan_tables_init(t, j->m);
-	pan_dtables_init(dt);
+	pan_dtables_init(dt, j->m);
 	const pan_kern K = pan_kernels(j->level);
 	int planar = 1;
 	for (int q = 0; q < 12; q++)
 		planar &= j->out[q].pixel_stride == 1;
 	float *row = buf + PAN_PADR;
 #define PAN_ROW(i) (row + (size_t)(i)*pitch)
-	float *vs = PAN_ROW(0), *rawp = PAN_ROW(1), *rho = PAN_ROW(2), *rawo = PAN_ROW(3);
-	float *src = PAN_ROW(4);
+	float *vs = PAN_ROW(0), *rawp = PAN_ROW(1), *rawo = PAN_ROW(2);
+	float *src = PAN_ROW(3);
 	pan_rows rc;
 	for (int k = 0; k < 16; k++) {
-		rc.slot[k] = PAN_ROW(9 + k);
+		rc.slot[k] = PAN_ROW(8 + k);
 		rc.tag[k] = -1;
 	}
-	float *hx[8][12], *cr[2][5][3], *bh[4][5], *bv[4][5], *o[12];
-	for (int k = 0; k < 8; k++)
-		for (int i = 0; i < 12; i++)
-			hx[k][i] = PAN_ROW(25 + 12 * k + i);
+	float *rr[8], *hw[8][4], *cr[2][5][3], *bh[4][5], *bv[4][5], *o[12];
+	for (int k = 0; k < 8; k++) {
+		rr[k] = PAN_ROW(24 + 5 * k);
+		for (int s = 0; s < 4; s++)
+			hw[k][s] = PAN_ROW(25 + 5 * k + s);
+	}
 	for (int k = 0; k < 2; k++)
 		for (int d = 0; d < 5; d++)
 			for (int c = 0; c < 3; c++)
-				cr[k][d][c] = PAN_ROW(121 + 15 * k + 3 * d + c);
-	float *dh = PAN_ROW(151), *dv = PAN_ROW(152);
+				cr[k][d][c] = PAN_ROW(64 + 15 * k + 3 * d + c);
+	float *dh = PAN_ROW(94), *dv = PAN_ROW(95);
 	for (int k = 0; k < 4; k++)
 		for (int d = 0; d < 5; d++) {
-			bh[k][d] = PAN_ROW(153 + 10 * k + d);
-			bv[k][d] = PAN_ROW(158 + 10 * k + d);
+			bh[k][d] = PAN_ROW(96 + 10 * k + d);
+			bv[k][d] = PAN_ROW(101 + 10 * k + d);
 		}
-	const float *zero = PAN_ROW(193);
+	const float *zero = PAN_ROW(136);
 	for (int q = 0; q < 12; q++)
-		o[q] = PAN_ROW(194 + q);
+		o[q] = PAN_ROW(137 + q);
 #undef PAN_ROW
 	int have = (int)y0 - 8;                     /* source rows computed: up to have */
 	const int first = y0 > 0 ? (int)y0 - 1 : 0; /* the first row of the first stage */
 	int cdone = first - 1;
-	pan_drow_args a;
+	pan_dlat_args a;
 	for (uint32_t y = y0; y < y1; y++) {
 		const int ct = (int)y + 1 < ih ? (int)y + 1 : ih - 1;
 		for (int yc = cdone + 1; yc <= ct; yc++) {
@@ -1074,14 +1079,13 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 			 * output row y <= yc reads y - 3 .. y + 3) */
 			for (int yy = have + 1 > yc - 4 ? have + 1 : yc - 4; yy <= yc + 3; yy++) {
 				pan_src_sums(j, &K, t, &rc, yy, src, vs, NULL, rawp, n, nmain);
-				K.ratio(vs, rawp, -16, n + 32, j->delta, rho, NULL);
-				K.dhrows(rho, n, dt->tw, dt->te, dt->al, dt->be, hx[yy & 7],
-				         hx[yy & 7] + 4, hx[yy & 7] + 8);
+				K.ratio(vs, rawp, -16, n + 32, j->delta, rr[yy & 7], NULL);
+				K.dwrows(rr[yy & 7], 0, n + 16, dt->tw, hw[yy & 7]);
 			}
 			if (yc + 3 > have)
 				have = yc + 3;
 			/* the first stage for row yc */
-			pan_dargs(j, t, hx, yc, &a);
+			pan_dargs(j, t, dt, hw, yc, &a);
 			float *const(*c)[3] = cr[yc & 1];
 			K.dchroma(&a, n, c);
 			for (int d = 0; d < 5; d++) {
@@ -1110,7 +1114,10 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 			vb[d][0] = bv[y & 3][d];
 			vb[d][1] = (int)y + 1 < ih ? bv[(y + 1) & 3][d] : zero;
 		}
-		pan_dargs(j, t, hx, (int)y, &a);
+		pan_dargs(j, t, dt, hw, (int)y, &a);
+		a.r0 = rr[y & 7];
+		a.rn = rr[(y - 2) & 7];
+		a.rs = rr[(y + 2) & 7];
 		memcpy(rawo, pan_row(&rc, j->in, (int)y), w * sizeof *rawo);
 		float *dq[12];
 		if (planar) {
