@@ -65,19 +65,26 @@ typedef struct pan_gorow_args {
 	const float *c1row[7], *c2row[7]; /* pan-chroma's chrominance rows (else unused) */
 } pan_gorow_args;
 
-/* pan-dir's, for one row: its sixteen lattices (channel q's: L = q for red, 4 + 2(q − 4) and
- * 5 + 2(q − 4) for green's two, q + 4 for blue), each with its hold rows at the lattice rows at or
- * above the row (nrow) and at or below it (srow: the same row when the row is a lattice row),
- * its lanes' horizontal fractions fa (the distance from the sample at or left, over 4), its
- * vertical fraction b = e/4 (e the rows from nrow's); the green lattices' weights in N (gn) and S
- * (gs); for the output row: the ratio rows y (r0), y − 2 (rn), y + 2 (rs), the green pixels'
- * lanes gsel (0/1), the own channel at column phase u and its lanes (own, sel). */
+/* pan-dir's, for one row. Its first stage: eight groups (a colour on one row phase t: red 0, 1,
+ * green 2..5, blue 6, 7, each in t's order), each with its column-pair rows (hp, lp: the pair the
+ * colour covers on row t) at the lattice rows at or above the row (n) and at or below it (s: the
+ * same row when the row is a lattice row), the vertical fraction b = e/4 (gb, e the rows from
+ * n's), green's weights in N and S (ggn, ggs). The output row: the sixteen lattices by position
+ * L = 4t + s, each with its hold rows (nrow, srow) and weights in the blend (u1, u2, wn, ws:
+ * pan_dorow); the lattice pairs i = (s, t) and (s + 2, t + 2), i = 4t + s for t = 0, 1: green
+ * (pg, one channel) or not, their channels pq and the lanes' column phase where a channel is the
+ * own one (pu, −1: none); the lanes' fractions fa of each column phase; the ratio rows y (r0),
+ * y − 2 (rn), y + 2 (rs), the green pixels' lanes gsel, the column phases' lanes sel. Every
+ * per-row weight is a 16-lane row (one load). */
 typedef struct pan_dlat_args {
-	const float *nrow[16], *srow[16], *fa[16];
-	float b[16], gn[8], gs[8];
+	const float *hpn[8], *hps[8], *lpn[8], *lps[8];
+	float gb[8][16], ggn[4][16], ggs[4][16];
+	const float *nrow[16], *srow[16];
+	float u1[16][16], u2[16][16], wn[16][16], ws[16][16];
+	int pg[8], pq[8][2], pu[8][2];
+	const float *fa[4];
 	const float *r0, *rn, *rs, *gsel;
 	const float *sel[4];
-	unsigned own[4];
 } pan_dlat_args;
 
 #define PC_INST PC_INST_BASELINE
@@ -581,6 +588,8 @@ typedef void (*pan_cghrows_fn)(const float *rho, const float *p0, const float *c
 
 typedef void (*pan_dwrows_fn)(const float *rho, long x0, long n, const float tw[4][4][16],
                               float *const hw[4]);
+typedef void (*pan_dprows_fn)(float *const hw[4], long n, const float fa[4][16], unsigned o,
+                              float *const hp[2], float *const lp[2]);
 typedef void (*pan_dchroma_fn)(const pan_dlat_args *a, long n, float *const c[5][3]);
 typedef void (*pan_dvar_fn)(const float *const c[3], const float *const p[3], long x0, long n,
                             float *dh, float *dv);
@@ -601,6 +610,7 @@ typedef struct pan_kern {
 	pan_cghrows_fn cghrows;
 	pan_gorow_fn cgorow;
 	pan_dwrows_fn dwrows;
+	pan_dprows_fn dprows;
 	pan_dchroma_fn dchroma;
 	pan_dvar_fn dvar;
 	pan_dbox_fn dbox;
@@ -614,20 +624,20 @@ static pan_kern pan_kernels(pc_cpu_level level)
 		return (pan_kern){pan_vsum_avx512,   pan_ratio_avx512,  pan_hrows_avx512,
 		                  pan_orow_avx512,   pan_ghrows_avx512, pan_gorow_avx512,
 		                  pan_vsumw_avx512,  pan_cratio_avx512, pan_cghrows_avx512,
-		                  pan_cgorow_avx512, pan_dwrows_avx512, pan_dchroma_avx512,
+		                  pan_cgorow_avx512, pan_dwrows_avx512, pan_dprows_avx512, pan_dchroma_avx512,
 		                  pan_dvar_avx512,   pan_dbox_avx512,   pan_dorow_avx512};
 	if (level >= PC_CPU_AVX2)
 		return (pan_kern){pan_vsum_avx2,   pan_ratio_avx2,  pan_hrows_avx2,
 		                  pan_orow_avx2,   pan_ghrows_avx2, pan_gorow_avx2,
 		                  pan_vsumw_avx2,  pan_cratio_avx2, pan_cghrows_avx2,
-		                  pan_cgorow_avx2, pan_dwrows_avx2, pan_dchroma_avx2,
+		                  pan_cgorow_avx2, pan_dwrows_avx2, pan_dprows_avx2, pan_dchroma_avx2,
 		                  pan_dvar_avx2,   pan_dbox_avx2,   pan_dorow_avx2};
 #else
 	(void)level;
 #endif
 	return (pan_kern){pan_vsum_base,    pan_ratio_base,  pan_hrows_base,  pan_orow_base,
 	                  pan_ghrows_base,  pan_gorow_base,  pan_vsumw_base,  pan_cratio_base,
-	                  pan_cghrows_base, pan_cgorow_base, pan_dwrows_base, pan_dchroma_base,
+	                  pan_cghrows_base, pan_cgorow_base, pan_dwrows_base, pan_dprows_base, pan_dchroma_base,
 	                  pan_dvar_base,    pan_dbox_base,   pan_dorow_base};
 }
 
@@ -963,11 +973,14 @@ typedef struct pan_dtables {
 	float tw[4][4][16]; /* hold rows' lane patterns: (lane − s) mod 4 = k */
 	float fa[4][16];    /* ((lane − s) mod 4)/4 */
 	float gsel[4][16];  /* row phase t: 1 on green pixels */
+	unsigned ox;        /* the colour blocks' column origin */
 } pan_dtables;
 
 static void pan_dtables_init(pan_dtables *t, const pc_mosaic *m)
 {
 	memset(t, 0, sizeof *t);
+	unsigned oy;
+	(void)pc_mosaic_color_origin(m, &t->ox, &oy); /* a colour mosaic: blocks of 2×2 */
 	for (int l = 0; l < 16; l++) {
 		int u = l & 3;
 		for (int s = 0; s < 4; s++) {
@@ -978,38 +991,107 @@ static void pan_dtables_init(pan_dtables *t, const pc_mosaic *m)
 	}
 }
 
-/* row Y's lattices (pan_dlat_args) from the ring's hold rows hw[slot][s] */
-static void pan_dargs(const pan_job *j, const pan_tables *t, const pan_dtables *dt,
-                      float *const hw[8][4], int Y, pan_dlat_args *a)
+static void fill16(float v[16], float f)
 {
-	memset(a, 0, sizeof *a);
-	int ng[4] = {0, 0, 0, 0}, e[16];
+	for (int l = 0; l < 16; l++)
+		v[l] = f;
+}
+
+/* the lattice at row phase t, row Y: e rows below its row at or above Y; the rows at or above
+ * and at or below Y (the same when e = 0) */
+static void dlat_rows(int Y, unsigned t, int *e, int *yn, int *ys)
+{
+	*e = (Y - (int)t) & 3;
+	*yn = Y - *e;
+	*ys = *e ? *yn + 4 : *yn;
+}
+
+/* green's weights in N and S of its lattice at row phase t (the other at t + 2): each lattice
+ * row's vertical tent, 4 − e above, e below (4 on the row itself), normalised over the two */
+static void dgreen_weights(int Y, unsigned t, float *gn, float *gs)
+{
+	int e0, e1, yn, ys;
+	dlat_rows(Y, t, &e0, &yn, &ys);
+	dlat_rows(Y, (t + 2) & 3, &e1, &yn, &ys);
+	const float n0 = (float)(4 - e0), n1 = (float)(4 - e1), s0 = (float)(e0 ? e0 : 4),
+	            s1 = (float)(e1 ? e1 : 4);
+	*gn = n0 / (n0 + n1);
+	*gs = s0 / (s0 + s1);
+}
+
+/* row Y's first-stage groups (pan_dlat_args) from the ring's column-pair rows hp, lp[slot][p] */
+static void pan_dstage_args(const pan_job *j, const pan_dtables *dt, float *const hp[8][2],
+                            float *const lp[8][2], int Y, pan_dlat_args *a)
+{
+	int ng[3] = {0, 2, 6};
+	for (unsigned t = 0; t < 4; t++)
+		for (unsigned k = 0; k < 3; k++) {
+			/* colour k's pair on row phase t, if any */
+			unsigned s = 0;
+			while (s < 4 && pc_mosaic_color(j->m, s, t) != PC_CFA_R + k)
+				s++;
+			if (s == 4)
+				continue;
+			const unsigned pp = ((s - dt->ox) & 3) >> 1;
+			const int g = ng[k]++;
+			int e, yn, ys;
+			dlat_rows(Y, t, &e, &yn, &ys);
+			a->hpn[g] = hp[yn & 7][pp];
+			a->hps[g] = hp[ys & 7][pp];
+			a->lpn[g] = lp[yn & 7][pp];
+			a->lps[g] = lp[ys & 7][pp];
+			fill16(a->gb[g], (float)e / 4);
+			if (k == 1) {
+				float gn, gs;
+				dgreen_weights(Y, t, &gn, &gs);
+				fill16(a->ggn[g - 2], gn);
+				fill16(a->ggs[g - 2], gs);
+			}
+		}
+}
+
+/* the output row Y's lattices, pairs and rows (pan_dlat_args) from the ring's hold rows
+ * hw[slot][s] and ratio rows rr[slot] */
+static void pan_dout_args(const pan_job *j, const pan_tables *t, const pan_dtables *dt,
+                          float *const hw[8][4], float *const rr[8], int Y, pan_dlat_args *a)
+{
+	int ownu[12];
+	for (int q = 0; q < 12; q++)
+		ownu[q] = -1;
+	for (unsigned u = 0; u < 4; u++) {
+		ownu[pan_q(j->m, u, (unsigned)Y & 3)] = (int)u;
+		a->sel[u] = t->sel[u];
+		a->fa[u] = dt->fa[u];
+	}
 	for (unsigned ty = 0; ty < 4; ty++)
 		for (unsigned s = 0; s < 4; s++) {
-			unsigned q = pan_q(j->m, s, ty);
-			int L = q < 4 ? (int)q : q < 8 ? 4 + 2 * ((int)q - 4) + ng[q - 4]++ : (int)q + 4;
-			int el = (Y - (int)ty) & 3, yn = Y - el, ys = el ? yn + 4 : yn;
+			const int L = 4 * (int)ty + (int)s;
+			int e, yn, ys;
+			dlat_rows(Y, ty, &e, &yn, &ys);
 			a->nrow[L] = hw[yn & 7][s];
 			a->srow[L] = hw[ys & 7][s];
-			a->fa[L] = dt->fa[s];
-			a->b[L] = (float)el / 4;
-			e[L] = el;
+			float w = 1, gn = 1, gs = 1;
+			if (pc_mosaic_color(j->m, s, ty) == PC_CFA_G) {
+				w = 0.5f;
+				dgreen_weights(Y, ty, &gn, &gs);
+			}
+			fill16(a->u1[L], w * (float)(4 - e) / 4);
+			fill16(a->u2[L], w * (float)e / 4);
+			fill16(a->wn[L], gn);
+			fill16(a->ws[L], gs);
 		}
-	for (int i = 0; i < 8; i += 2) {
-		/* the vertical tents' weights of the rows kept: N 4 − e, S e (4 on a lattice row) */
-		const int e0 = e[4 + i], e1 = e[5 + i];
-		const float n0 = (float)(4 - e0), n1 = (float)(4 - e1), s0 = (float)(e0 ? e0 : 4),
-		            s1 = (float)(e1 ? e1 : 4);
-		a->gn[i] = n0 / (n0 + n1);
-		a->gn[i + 1] = n1 / (n0 + n1);
-		a->gs[i] = s0 / (s0 + s1);
-		a->gs[i + 1] = s1 / (s0 + s1);
-	}
-	for (unsigned u = 0; u < 4; u++) {
-		a->sel[u] = t->sel[u];
-		a->own[u] = pan_q(j->m, u, (unsigned)Y & 3);
+	for (unsigned i = 0; i < 8; i++) {
+		const unsigned q1 = pan_q(j->m, i & 3, i >> 2), q2 = pan_q(j->m, (i + 2) & 3, (i >> 2) + 2);
+		a->pg[i] = q1 == q2;
+		a->pq[i][0] = (int)q1;
+		a->pq[i][1] = (int)q2;
+		a->pu[i][0] = ownu[q1];
+		a->pu[i][1] = ownu[q2];
 	}
 	a->gsel = dt->gsel[Y & 3];
+	a->r0 = rr[Y & 7];
+	a->rn = rr[(Y - 2) & 7];
+	a->rs = rr[(Y + 2) & 7];
 }
 
 static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
@@ -1021,9 +1103,10 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	const size_t pitch = (size_t)n + 2 * PAN_PADR;
 	pan_tables *t = pc_dm_alloc(sizeof *t);
 	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
-	/* rows: vs, rawp, the raw row of the output; 21 of source scratch and cache; 8 × (ρ and 4
-	 * hold rows); 2 × 15 chromaticities; dh, dv; 4 × 5 × 2 boxes; a zero row; 12 output rows */
-	const size_t nrows = 3 + 21 + 40 + 30 + 2 + 40 + 1 + 12;
+	/* rows: vs, rawp, the raw row of the output; 21 of source scratch and cache; 8 × (ρ, 4
+	 * hold rows, 2 + 2 column-pair rows); 2 × 15 chromaticities; dh, dv; 4 × 5 × 2 boxes; a
+	 * zero row; 12 output rows */
+	const size_t nrows = 3 + 21 + 72 + 30 + 2 + 40 + 1 + 12;
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !dt || !buf) {
 		pc_dm_free(t);
@@ -1048,25 +1131,29 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		rc.slot[k] = PAN_ROW(8 + k);
 		rc.tag[k] = -1;
 	}
-	float *rr[8], *hw[8][4], *cr[2][5][3], *bh[4][5], *bv[4][5], *o[12];
+	float *rr[8], *hw[8][4], *hp[8][2], *lp[8][2], *cr[2][5][3], *bh[4][5], *bv[4][5], *o[12];
 	for (int k = 0; k < 8; k++) {
-		rr[k] = PAN_ROW(24 + 5 * k);
+		rr[k] = PAN_ROW(24 + 9 * k);
 		for (int s = 0; s < 4; s++)
-			hw[k][s] = PAN_ROW(25 + 5 * k + s);
+			hw[k][s] = PAN_ROW(25 + 9 * k + s);
+		for (int p = 0; p < 2; p++) {
+			hp[k][p] = PAN_ROW(29 + 9 * k + p);
+			lp[k][p] = PAN_ROW(31 + 9 * k + p);
+		}
 	}
 	for (int k = 0; k < 2; k++)
 		for (int d = 0; d < 5; d++)
 			for (int c = 0; c < 3; c++)
-				cr[k][d][c] = PAN_ROW(64 + 15 * k + 3 * d + c);
-	float *dh = PAN_ROW(94), *dv = PAN_ROW(95);
+				cr[k][d][c] = PAN_ROW(96 + 15 * k + 3 * d + c);
+	float *dh = PAN_ROW(126), *dv = PAN_ROW(127);
 	for (int k = 0; k < 4; k++)
 		for (int d = 0; d < 5; d++) {
-			bh[k][d] = PAN_ROW(96 + 10 * k + d);
-			bv[k][d] = PAN_ROW(101 + 10 * k + d);
+			bh[k][d] = PAN_ROW(128 + 10 * k + d);
+			bv[k][d] = PAN_ROW(133 + 10 * k + d);
 		}
-	const float *zero = PAN_ROW(136);
+	const float *zero = PAN_ROW(168);
 	for (int q = 0; q < 12; q++)
-		o[q] = PAN_ROW(137 + q);
+		o[q] = PAN_ROW(169 + q);
 #undef PAN_ROW
 	int have = (int)y0 - 8;                     /* source rows computed: up to have */
 	const int first = y0 > 0 ? (int)y0 - 1 : 0; /* the first row of the first stage */
@@ -1081,11 +1168,12 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 				pan_src_sums(j, &K, t, &rc, yy, src, vs, NULL, rawp, n, nmain);
 				K.ratio(vs, rawp, -16, n + 32, j->delta, rr[yy & 7], NULL);
 				K.dwrows(rr[yy & 7], 0, n + 16, dt->tw, hw[yy & 7]);
+				K.dprows(hw[yy & 7], n, dt->fa, dt->ox, hp[yy & 7], lp[yy & 7]);
 			}
 			if (yc + 3 > have)
 				have = yc + 3;
 			/* the first stage for row yc */
-			pan_dargs(j, t, dt, hw, yc, &a);
+			pan_dstage_args(j, dt, hp, lp, yc, &a);
 			float *const(*c)[3] = cr[yc & 1];
 			K.dchroma(&a, n, c);
 			for (int d = 0; d < 5; d++) {
@@ -1114,10 +1202,7 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 			vb[d][0] = bv[y & 3][d];
 			vb[d][1] = (int)y + 1 < ih ? bv[(y + 1) & 3][d] : zero;
 		}
-		pan_dargs(j, t, dt, hw, (int)y, &a);
-		a.r0 = rr[y & 7];
-		a.rn = rr[(y - 2) & 7];
-		a.rs = rr[(y + 2) & 7];
+		pan_dout_args(j, t, dt, hw, rr, (int)y, &a);
 		memcpy(rawo, pan_row(&rc, j->in, (int)y), w * sizeof *rawo);
 		float *dq[12];
 		if (planar) {
