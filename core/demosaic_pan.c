@@ -593,10 +593,10 @@ typedef void (*pan_dprows_fn)(float *const hw[4], long n, const float fa[4][16],
 typedef void (*pan_dchroma_fn)(const pan_dlat_args *a, long n, float *const c[5][3]);
 typedef void (*pan_dvar_fn)(const float *const c[3], const float *const p[3], long x0, long n,
                             float *dh, float *dv);
-typedef void (*pan_dbox_fn)(const float *dh, const float *dv, long n, float *bh, float *bv);
-typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const bh[5][3],
-                             const float *const bv[5][2], const float *raw, long x0, long x1,
-                             float delta, float *const out[12], long xo, int nt);
+typedef void (*pan_dbox_fn)(const float *dh, const float *dv, long n, float *bh, float *ba);
+typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const hb[5][3],
+                             const float *raw, long x0, long x1, float delta,
+                             float *const out[12], long xo, int nt);
 
 typedef struct pan_kern {
 	pan_vsum_fn vsum;
@@ -1104,9 +1104,9 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	pan_tables *t = pc_dm_alloc(sizeof *t);
 	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
 	/* rows: vs, rawp, the raw row of the output; 21 of source scratch and cache; 8 × (ρ, 4
-	 * hold rows, 2 + 2 column-pair rows); 2 × 15 chromaticities; dh, dv; 4 × 5 × 2 boxes; a
-	 * zero row; 12 output rows */
-	const size_t nrows = 3 + 21 + 72 + 30 + 2 + 40 + 1 + 12;
+	 * hold rows, 2 + 2 column-pair rows); 2 × 15 chromaticities; dh, dv; 4 × 5 × 2 boxes (bh,
+	 * ba); 12 output rows */
+	const size_t nrows = 3 + 21 + 72 + 30 + 2 + 40 + 12;
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !dt || !buf) {
 		pc_dm_free(t);
@@ -1131,7 +1131,7 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		rc.slot[k] = PAN_ROW(8 + k);
 		rc.tag[k] = -1;
 	}
-	float *rr[8], *hw[8][4], *hp[8][2], *lp[8][2], *cr[2][5][3], *bh[4][5], *bv[4][5], *o[12];
+	float *rr[8], *hw[8][4], *hp[8][2], *lp[8][2], *cr[2][5][3], *bh[4][5], *ba[4][5], *o[12];
 	for (int k = 0; k < 8; k++) {
 		rr[k] = PAN_ROW(24 + 9 * k);
 		for (int s = 0; s < 4; s++)
@@ -1149,11 +1149,10 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	for (int k = 0; k < 4; k++)
 		for (int d = 0; d < 5; d++) {
 			bh[k][d] = PAN_ROW(128 + 10 * k + d);
-			bv[k][d] = PAN_ROW(133 + 10 * k + d);
+			ba[k][d] = PAN_ROW(133 + 10 * k + d);
 		}
-	const float *zero = PAN_ROW(168);
 	for (int q = 0; q < 12; q++)
-		o[q] = PAN_ROW(169 + q);
+		o[q] = PAN_ROW(168 + q);
 #undef PAN_ROW
 	int have = (int)y0 - 8;                     /* source rows computed: up to have */
 	const int first = y0 > 0 ? (int)y0 - 1 : 0; /* the first row of the first stage */
@@ -1188,19 +1187,18 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 				float *const *pp = yc == first ? c[d] : cr[(yc - 1) & 1][d];
 				const float *pc[3] = {pp[0], pp[1], pp[2]};
 				K.dvar(cc, pc, -16, n + 32, dh, dv);
-				K.dbox(dh, dv, n, bh[yc & 3][d], bv[yc & 3][d]);
+				K.dbox(dh, dv, n, bh[yc & 3][d], ba[yc & 3][d]);
 			}
 			cdone = yc;
 		}
-		/* the output row y */
-		const int ym = y > 0 ? (int)y - 1 : 0, yp = ct;
-		const float *hb[5][3], *vb[5][2];
+		/* the output row y: H_d = bh(y − 1) + ba(y) + ba(y + 1), at the last row bh(y) for
+		 * the clamped row y + 1 (no vertical differences) */
+		const int ym = y > 0 ? (int)y - 1 : 0;
+		const float *hb[5][3];
 		for (int d = 0; d < 5; d++) {
 			hb[d][0] = bh[ym & 3][d];
-			hb[d][1] = bh[y & 3][d];
-			hb[d][2] = bh[yp & 3][d];
-			vb[d][0] = bv[y & 3][d];
-			vb[d][1] = (int)y + 1 < ih ? bv[(y + 1) & 3][d] : zero;
+			hb[d][1] = ba[y & 3][d];
+			hb[d][2] = (int)y + 1 < ih ? ba[(y + 1) & 3][d] : bh[y & 3][d];
 		}
 		pan_dout_args(j, t, dt, hw, rr, (int)y, &a);
 		memcpy(rawo, pan_row(&rc, j->in, (int)y), w * sizeof *rawo);
@@ -1208,14 +1206,14 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		if (planar) {
 			for (int q = 0; q < 12; q++)
 				dq[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
-			K.dorow(&a, hb, vb, rawo, 0, nmain, j->delta, dq, 0, j->nt);
+			K.dorow(&a, hb, rawo, 0, nmain, j->delta, dq, 0, j->nt);
 			if (nmain < n) {
-				K.dorow(&a, hb, vb, rawo, nmain, n, j->delta, o, nmain, 0);
+				K.dorow(&a, hb, rawo, nmain, n, j->delta, o, nmain, 0);
 				pan_put_row(j->out, y, o, (uint32_t)nmain, w);
 			}
 			continue;
 		}
-		K.dorow(&a, hb, vb, rawo, 0, n, j->delta, o, 0, 0);
+		K.dorow(&a, hb, rawo, 0, n, j->delta, o, 0, 0);
 		pan_put_row(j->out, y, o, 0, w);
 	}
 	if (j->nt)
