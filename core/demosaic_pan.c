@@ -594,9 +594,8 @@ typedef void (*pan_dchroma_fn)(const pan_dlat_args *a, long n, float *const c[5]
 typedef void (*pan_dvar_fn)(const float *const c[3], const float *const p[3], long x0, long n,
                             float *dh, float *dv);
 typedef void (*pan_dbox_fn)(const float *dh, const float *dv, long n, float *bh, float *ba);
-typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const hb[5][3],
-                             const float *raw, long x0, long x1, float delta,
-                             float *const out[12], long xo, int nt);
+typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const hb[5][3], const float *raw,
+                             long x0, long x1, float delta, float *const out[12], long xo, int nt);
 
 typedef struct pan_kern {
 	pan_vsum_fn vsum;
@@ -621,24 +620,24 @@ static pan_kern pan_kernels(pc_cpu_level level)
 {
 #ifdef PC_CPU_X86
 	if (level >= PC_CPU_AVX512)
-		return (pan_kern){pan_vsum_avx512,   pan_ratio_avx512,  pan_hrows_avx512,
-		                  pan_orow_avx512,   pan_ghrows_avx512, pan_gorow_avx512,
-		                  pan_vsumw_avx512,  pan_cratio_avx512, pan_cghrows_avx512,
-		                  pan_cgorow_avx512, pan_dwrows_avx512, pan_dprows_avx512, pan_dchroma_avx512,
-		                  pan_dvar_avx512,   pan_dbox_avx512,   pan_dorow_avx512};
+		return (pan_kern){
+		    pan_vsum_avx512,    pan_ratio_avx512,  pan_hrows_avx512,  pan_orow_avx512,
+		    pan_ghrows_avx512,  pan_gorow_avx512,  pan_vsumw_avx512,  pan_cratio_avx512,
+		    pan_cghrows_avx512, pan_cgorow_avx512, pan_dwrows_avx512, pan_dprows_avx512,
+		    pan_dchroma_avx512, pan_dvar_avx512,   pan_dbox_avx512,   pan_dorow_avx512};
 	if (level >= PC_CPU_AVX2)
-		return (pan_kern){pan_vsum_avx2,   pan_ratio_avx2,  pan_hrows_avx2,
-		                  pan_orow_avx2,   pan_ghrows_avx2, pan_gorow_avx2,
-		                  pan_vsumw_avx2,  pan_cratio_avx2, pan_cghrows_avx2,
-		                  pan_cgorow_avx2, pan_dwrows_avx2, pan_dprows_avx2, pan_dchroma_avx2,
-		                  pan_dvar_avx2,   pan_dbox_avx2,   pan_dorow_avx2};
+		return (pan_kern){
+		    pan_vsum_avx2,    pan_ratio_avx2,  pan_hrows_avx2,  pan_orow_avx2,
+		    pan_ghrows_avx2,  pan_gorow_avx2,  pan_vsumw_avx2,  pan_cratio_avx2,
+		    pan_cghrows_avx2, pan_cgorow_avx2, pan_dwrows_avx2, pan_dprows_avx2,
+		    pan_dchroma_avx2, pan_dvar_avx2,   pan_dbox_avx2,   pan_dorow_avx2};
 #else
 	(void)level;
 #endif
 	return (pan_kern){pan_vsum_base,    pan_ratio_base,  pan_hrows_base,  pan_orow_base,
 	                  pan_ghrows_base,  pan_gorow_base,  pan_vsumw_base,  pan_cratio_base,
-	                  pan_cghrows_base, pan_cgorow_base, pan_dwrows_base, pan_dprows_base, pan_dchroma_base,
-	                  pan_dvar_base,    pan_dbox_base,   pan_dorow_base};
+	                  pan_cghrows_base, pan_cgorow_base, pan_dwrows_base, pan_dprows_base,
+	                  pan_dchroma_base, pan_dvar_base,   pan_dbox_base,   pan_dorow_base};
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
@@ -1081,7 +1080,8 @@ static void pan_dout_args(const pan_job *j, const pan_tables *t, const pan_dtabl
 			fill16(a->ws[L], gs);
 		}
 	for (unsigned i = 0; i < 8; i++) {
-		const unsigned q1 = pan_q(j->m, i & 3, i >> 2), q2 = pan_q(j->m, (i + 2) & 3, (i >> 2) + 2);
+		const unsigned q1 = pan_q(j->m, i & 3, i >> 2),
+		               q2 = pan_q(j->m, (i + 2) & 3, (i >> 2) + 2);
 		a->pg[i] = q1 == q2;
 		a->pq[i][0] = (int)q1;
 		a->pq[i][1] = (int)q2;
