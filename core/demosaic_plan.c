@@ -400,8 +400,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         "colour stress suite (5 scenes) +1.67/+2.09 (worst +0.72 text/+0.64 "
                         "gratings): the colour accuracy goal met on all three sets",
                         "one fused pass on row bands, each lattice's candidates from its "
-                        "four corner samples: 3.5-3.9x pan-ratio's time, 16-17x the mono "
-                        "bilinear's (bench demosaic --quick --threads 1, Release, loaded "
+                        "four corner samples: 3.3-3.9x pan-ratio's time, 14-17x the mono "
+                        "bilinear's (bench demosaic --quick, 1 and 2 threads, Release, loaded "
                         "machine; over the 5x budget; docs/demosaicking.md, Round 10)",
                         "ours: pan-ratio with directional candidates (Hirakawa & Parks, IEEE "
                         "TIP 14(3) 2005) blended as in GBTF (Pekkucuksen & Altunbasak, ICIP "
