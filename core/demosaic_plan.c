@@ -397,12 +397,12 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         "(directional) candidates blended by the homogeneity of their hue; "
                         "over bayer-first (bench colour, 9 scenes) smooth colours +4.18/+1.46 "
                         "(worst +2.57/+0.11), hue patches +1.63/+3.79 (worst +1.47/+2.86); "
-                        "colour stress suite (5 scenes) +1.67/+2.09 (worst +0.72 text/+0.64 "
+                        "colour stress suite (5 scenes) +1.67/+2.03 (worst +0.72 text/+0.64 "
                         "gratings): the colour accuracy goal met on all three sets",
                         "one fused pass on row bands, each lattice's candidates from its "
-                        "four corner samples: 3.3-3.9x pan-ratio's time, 14-17x the mono "
-                        "bilinear's (bench demosaic --quick, 1 and 2 threads, Release, loaded "
-                        "machine; over the 5x budget; docs/demosaicking.md, Round 10)",
+                        "four corner samples: 3.6-3.7x pan-ratio's time, 13.1-13.2x the mono "
+                        "bilinear's (bench demosaic --quick, 2 threads, Release, idle; 2.6x "
+                        "the 5x budget; docs/demosaicking.md, Round 10)",
                         "ours: pan-ratio with directional candidates (Hirakawa & Parks, IEEE "
                         "TIP 14(3) 2005) blended as in GBTF (Pekkucuksen & Altunbasak, ICIP "
                         "2010)",
