@@ -701,8 +701,6 @@ static void pan_src_sums(const pan_job *j, const pan_kern *K, const pan_tables *
 	}
 }
 
-/* pan-guided's output row y: the terms of every channel, then the kernel (whole vectors into
- * planar outputs, the rest through the row buffer o), then the own measurements. */
 /* Each channel's lattice rows around output row y, in the order the kernels sum them: for
  * every period position (px, py) of channel q, its sample row at or above y (e = (y − py) mod 4
  * rows up, the tent's vertical weight 4 − e) and, when e ≠ 0, the one four rows below (weight
@@ -714,15 +712,25 @@ typedef struct pan_lattice {
 	float wt[12][4];
 } pan_lattice;
 
+/* the lattice of row phase t around row y: its row at or above y is e = (y − t) mod 4 rows up
+ * (yn), the one at or below y is ys (the same row when e = 0, else yn + 4) */
+static void lattice_rows(int y, unsigned t, int *e, int *yn, int *ys)
+{
+	*e = (y - (int)t) & 3;
+	*yn = y - *e;
+	*ys = *e ? *yn + 4 : *yn;
+}
+
 static void pan_lattice_rows(const pc_mosaic *m, int y, pan_lattice *l)
 {
 	memset(l->n, 0, sizeof l->n);
 	for (unsigned py = 0; py < 4; py++)
 		for (unsigned px = 0; px < 4; px++) {
 			unsigned q = pan_q(m, px, py);
-			int e = (y - (int)py) & 3, ya = y - e;
+			int e, ya, yb;
+			lattice_rows(y, py, &e, &ya, &yb);
 			for (int k = 0; k < (e ? 2 : 1); k++) {
-				int i = l->n[q]++, yr = ya + 4 * k;
+				int i = l->n[q]++, yr = k ? yb : ya;
 				l->px[q][i] = px;
 				l->slot[q][i] = yr & 7;
 				l->dy[q][i] = yr - y;
@@ -731,6 +739,8 @@ static void pan_lattice_rows(const pc_mosaic *m, int y, pan_lattice *l)
 		}
 }
 
+/* pan-guided's output row y: the terms of every channel, then the kernel (whole vectors into
+ * planar outputs, the rest through the row buffer o), then the own measurements. */
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
                       float *const gr[3][8], const float *raw, uint32_t y, int planar, long n,
                       long nmain, float *rawp, float *const o[12])
@@ -996,22 +1006,13 @@ static void fill16(float v[16], float f)
 		v[l] = f;
 }
 
-/* the lattice at row phase t, row Y: e rows below its row at or above Y; the rows at or above
- * and at or below Y (the same when e = 0) */
-static void dlat_rows(int Y, unsigned t, int *e, int *yn, int *ys)
-{
-	*e = (Y - (int)t) & 3;
-	*yn = Y - *e;
-	*ys = *e ? *yn + 4 : *yn;
-}
-
 /* green's weights in N and S of its lattice at row phase t (the other at t + 2): each lattice
  * row's vertical tent, 4 − e above, e below (4 on the row itself), normalised over the two */
 static void dgreen_weights(int Y, unsigned t, float *gn, float *gs)
 {
 	int e0, e1, yn, ys;
-	dlat_rows(Y, t, &e0, &yn, &ys);
-	dlat_rows(Y, (t + 2) & 3, &e1, &yn, &ys);
+	lattice_rows(Y, t, &e0, &yn, &ys);
+	lattice_rows(Y, (t + 2) & 3, &e1, &yn, &ys);
 	const float n0 = (float)(4 - e0), n1 = (float)(4 - e1), s0 = (float)(e0 ? e0 : 4),
 	            s1 = (float)(e1 ? e1 : 4);
 	*gn = n0 / (n0 + n1);
@@ -1034,7 +1035,7 @@ static void pan_dstage_args(const pan_job *j, const pan_dtables *dt, float *cons
 			const unsigned pp = ((s - dt->ox) & 3) >> 1;
 			const int g = ng[k]++;
 			int e, yn, ys;
-			dlat_rows(Y, t, &e, &yn, &ys);
+			lattice_rows(Y, t, &e, &yn, &ys);
 			a->hpn[g] = hp[yn & 7][pp];
 			a->hps[g] = hp[ys & 7][pp];
 			a->lpn[g] = lp[yn & 7][pp];
@@ -1066,7 +1067,7 @@ static void pan_dout_args(const pan_job *j, const pan_tables *t, const pan_dtabl
 		for (unsigned s = 0; s < 4; s++) {
 			const int L = 4 * (int)ty + (int)s;
 			int e, yn, ys;
-			dlat_rows(Y, ty, &e, &yn, &ys);
+			lattice_rows(Y, ty, &e, &yn, &ys);
 			a->nrow[L] = hw[yn & 7][s];
 			a->srow[L] = hw[ys & 7][s];
 			float w = 1, gn = 1, gs = 1;
