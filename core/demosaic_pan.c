@@ -385,19 +385,19 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
 
 /* pan-dir: pan-ratio's colour step made direction-aware. Near a hue edge pan-ratio's centred
  * tents mix the two sides' ratios up to ±3 pixels away; on a lattice of spacing 4 a directional
- * interpolation is a one-sided one. Five candidates per pixel, each pan-ratio's ratio step
- * (put_pixel) on its own interpolated ratios R^d:
+ * interpolation is a one-sided one. Five candidate interpolations R^d of every channel's ratio:
  *
- *   C  pan-ratio itself (the tents over dx, dy in [-3, 3]),
+ *   C  pan-ratio's (the tents over dx, dy in [-3, 3]),
  *   W  the taps dx in [-3, 0] only: along a row each channel's nearest lattice sample at or left
  *      of x, the vertical tent as in C; E dx in [0, 3];
  *   N  the lattice rows dy in [-3, 0] only, the horizontal tents as in C; S dy in [0, 3]
  *
  * (per column phase along a row, and per channel down a column, the weights are normalised over
- * the taps kept). Each candidate is judged by the homogeneity of its own result, as Hirakawa &
- * Parks judge their horizontal and vertical interpolations ("Adaptive homogeneity-directed
- * demosaicing algorithm", IEEE TIP 14(3) 2005, Sec. III: the result's colour variation over a
- * small neighbourhood): here the chromaticity of the candidate's interpolated ratios,
+ * the taps kept). The one-sided candidates are judged by the homogeneity of their own result, as
+ * Hirakawa & Parks judge their horizontal and vertical interpolations ("Adaptive
+ * homogeneity-directed demosaicing algorithm", IEEE TIP 14(3) 2005, Sec. III: the result's colour
+ * variation over a small neighbourhood): here the chromaticity of the candidate's interpolated
+ * ratios,
  *
  *   c_k^d = ρ̄_k^d / (ρ̄_R^d + ρ̄_G^d + ρ̄_B^d),  ρ̄_k^d = Σ_a R^d_{4k+a}(p)   (colour k's four
  *           analysers: the hue the step interpolates, without the luminance, which comes from
@@ -408,18 +408,29 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
  *   H_d(p) = Σ_k [ Σ_{|j|≤1} Σ_{i=0,1} |c_k^d(x+i, y+j) − c_k^d(x+i−1, y+j)|
  *                + Σ_{|i|≤1} Σ_{j=0,1} |c_k^d(x+i, y+j) − c_k^d(x+i, y+j−1)| ],
  *
- * c clamped at the image's borders (a difference across a border is 0). The candidates' outputs
- * are blended with weights 1/(H_d + 10⁻⁹)², as the gradient-based threshold-free method blends
- * its directional estimates (Pekkucuksen & Altunbasak, "Gradient based threshold free color
- * filter array interpolation", ICIP 2010, Sec. 2): a clearly more homogeneous direction wins,
- * equal ones average, which keeps C's averaging on smooth colours; the 10⁻⁹ only guards an exactly
- * uniform patch. The own channel keeps the pixel's sample (every candidate keeps it).
+ * c clamped at the image's borders (a difference across a border is 0), d = W, E, N, S. C is,
+ * per lattice, the distance-weighted mean of W and E and of N and S (the tent is linear
+ * interpolation between the two nearest lattice samples), and its homogeneity is taken as the
+ * mean of theirs, H_C = (H_W + H_E + H_N + H_S)/4, so its chromaticity is not computed. The
+ * candidates' ratios are blended with weights 1/(H_d + 10⁻⁹)², as the gradient-based
+ * threshold-free method blends its directional colour-difference estimates before the one
+ * reconstruction step (Pekkucuksen & Altunbasak, "Gradient based threshold free color filter array
+ * interpolation", ICIP 2010, Sec. 2; the ratios play the colour differences' part, Cok 1987):
+ *
+ *   R̃_q = Σ_d w_d R_q^d / Σ_d w_d,   then pan-ratio's ratio step on R̃ (pan_values):
+ *   I_q(p) = (max(raw(p), 0) + δ)·R̃_q / R̃_own − δ,  I_own(p) = raw(p).
+ *
+ * A clearly more homogeneous direction wins, equal ones average, which keeps C's averaging on
+ * smooth colours; the 10⁻⁹ only guards an exactly uniform patch. On red and blue pixels this
+ * equals blending the five candidates' outputs (every candidate's own ratio is ρ(p): the own
+ * lattice has no other sample within ±3), on green ones it differs; the blend then folds into
+ * the tents' weights, one weighted sum per channel.
  *
  * Round 8's pan-dir (pan-chroma's range-weighted tents as the base, the homogeneity the
  * variation of ln S_k of each candidate's outputs, luminance removed, over 3×3 then summed over
- * 3×3 again) was more accurate at hue edges and several times pan-chroma's cost; the choices
- * here (plain tents, chromaticity of the ratios, the window's total variation) and what they
- * gave on the three sets are in docs/demosaicking.md, Round 9.
+ * 3×3 again) was more accurate at hue edges and several times pan-chroma's cost; Round 9's
+ * blended the five candidates' outputs and judged C by its own chromaticity. The choices and
+ * what they gave on the three sets are in docs/demosaicking.md, Rounds 9 and 10b.
  *
  * Support: a candidate reads pan-ratio's ±5 (±7 through the sub-image mirror), H adds ±1. */
 #define PAN_ND 5
@@ -447,15 +458,15 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
 		return rc;
 	chroma_images(&r, &c); /* ρ on the extended raw (the guides unused) */
 	const size_t np = (size_t)w * h;
-	double *cs = malloc(sizeof(double) * np * PAN_ND * 3); /* c_k^d */
+	double *cs = malloc(sizeof(double) * np * (PAN_ND - 1) * 3); /* c_k^d, d = W, E, N, S */
 	if (!cs) {
 		free(c.p0);
 		return pc_error(PC_ENOMEM, "pan-dir reference: candidates of %ux%u", w, h);
 	}
-#define PAN_CS(x, y, d) (cs + (((size_t)(y)*w + (size_t)(x)) * PAN_ND + (size_t)(d)) * 3)
+#define PAN_CS(x, y, d) (cs + (((size_t)(y)*w + (size_t)(x)) * (PAN_ND - 1) + (size_t)((d)-1)) * 3)
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++)
-			for (int d = 0; d < PAN_ND; d++) {
+			for (int d = 1; d < PAN_ND; d++) {
 				int dx0, dx1, dy0, dy1;
 				double num[12], den[12], rb[3] = {0, 0, 0};
 				dir_range(d, &dx0, &dx1, &dy0, &dy1);
@@ -468,9 +479,8 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
 			}
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
-			double o[12] = {0}, ws = 0;
-			for (int d = 0; d < PAN_ND; d++) {
-				double hv = 0;
+			double hv[PAN_ND] = {0}, rt[12] = {0}, one[12], o[12], ws = 0;
+			for (int d = 1; d < PAN_ND; d++) {
 				for (int j = -1; j <= 1; j++)
 					for (int i = -1; i <= 1; i++) {
 						int xq = clampi(x + i, c.w),
@@ -481,23 +491,30 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
 						const double *pu =
 						    PAN_CS(xq, clampi(y + j - 1, c.h), d);
 						for (int k = 0; k < 3; k++) {
-							hv += i > -1 ? fabs(p[k] - pl[k]) : 0;
-							hv += j > -1 ? fabs(p[k] - pu[k]) : 0;
+							hv[d] += i > -1 ? fabs(p[k] - pl[k]) : 0;
+							hv[d] += j > -1 ? fabs(p[k] - pu[k]) : 0;
 						}
 					}
+				hv[0] += hv[d] / 4;
+			}
+			for (int d = 0; d < PAN_ND; d++) {
 				int dx0, dx1, dy0, dy1;
-				double num[12], den[12], od[12];
+				double num[12], den[12];
 				dir_range(d, &dx0, &dx1, &dy0, &dy1);
 				chroma_sums(&r, &c, x, y, dx0, dx1, dy0, dy1, num, den);
-				pan_values(&r, x, y, num, den, od);
-				double wd = 1 / ((hv + 1e-9) * (hv + 1e-9));
+				double wd = 1 / ((hv[d] + 1e-9) * (hv[d] + 1e-9));
 				for (unsigned q = 0; q < 12; q++)
-					o[q] += wd * od[q];
+					rt[q] += wd * num[q] / den[q];
 				ws += wd;
 			}
+			for (unsigned q = 0; q < 12; q++) {
+				rt[q] /= ws;
+				one[q] = 1;
+			}
+			pan_values(&r, x, y, rt, one, o);
 			for (unsigned q = 0; q < 12; q++)
 				out[q].data[(size_t)y * out[q].row_stride +
-				            (size_t)x * out[q].pixel_stride] = (float)(o[q] / ws);
+				            (size_t)x * out[q].pixel_stride] = (float)o[q];
 		}
 #undef PAN_CS
 	free(cs);
