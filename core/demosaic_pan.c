@@ -607,11 +607,11 @@ typedef void (*pan_dwrows_fn)(const float *rho, long x0, long n, const float tw[
                               float *const hw[4]);
 typedef void (*pan_dprows_fn)(float *const hw[4], long n, const float fa[4][16], unsigned o,
                               float *const hp[2], float *const lp[2]);
-typedef void (*pan_dchroma_fn)(const pan_dlat_args *a, long n, float *const c[5][3]);
-typedef void (*pan_dvar_fn)(const float *const c[3], const float *const p[3], long x0, long n,
+typedef void (*pan_dchroma_fn)(const pan_dlat_args *a, long n, float *const c[4][2]);
+typedef void (*pan_dvar_fn)(const float *const c[2], const float *const p[2], long x0, long n,
                             float *dh, float *dv);
 typedef void (*pan_dbox_fn)(const float *dh, const float *dv, long n, float *bh, float *ba);
-typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const hb[5][3], const float *raw,
+typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const hb[4][3], const float *raw,
                              long x0, long x1, float delta, float *const out[12], long xo, int nt);
 
 typedef struct pan_kern {
@@ -1122,9 +1122,9 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	pan_tables *t = pc_dm_alloc(sizeof *t);
 	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
 	/* rows: vs, rawp, the raw row of the output; 21 of source scratch and cache; 8 × (ρ, 4
-	 * hold rows, 2 + 2 column-pair rows); 2 × 15 chromaticities; dh, dv; 4 × 5 × 2 boxes (bh,
-	 * ba); 12 output rows */
-	const size_t nrows = 3 + 21 + 72 + 30 + 2 + 40 + 12;
+	 * hold rows, 2 + 2 column-pair rows); 2 × 4 × 2 chromaticities (red's, green's of W, E, N,
+	 * S); dh, dv; 4 × 4 × 2 boxes (bh, ba); 12 output rows */
+	const size_t nrows = 3 + 21 + 72 + 16 + 2 + 32 + 12;
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !dt || !buf) {
 		pc_dm_free(t);
@@ -1149,7 +1149,7 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		rc.slot[k] = PAN_ROW(8 + k);
 		rc.tag[k] = -1;
 	}
-	float *rr[8], *hw[8][4], *hp[8][2], *lp[8][2], *cr[2][5][3], *bh[4][5], *ba[4][5], *o[12];
+	float *rr[8], *hw[8][4], *hp[8][2], *lp[8][2], *cr[2][4][2], *bh[4][4], *ba[4][4], *o[12];
 	for (int k = 0; k < 8; k++) {
 		rr[k] = PAN_ROW(24 + 9 * k);
 		for (int s = 0; s < 4; s++)
@@ -1160,17 +1160,17 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		}
 	}
 	for (int k = 0; k < 2; k++)
-		for (int d = 0; d < 5; d++)
-			for (int c = 0; c < 3; c++)
-				cr[k][d][c] = PAN_ROW(96 + 15 * k + 3 * d + c);
-	float *dh = PAN_ROW(126), *dv = PAN_ROW(127);
+		for (int d = 0; d < 4; d++)
+			for (int c = 0; c < 2; c++)
+				cr[k][d][c] = PAN_ROW(96 + 8 * k + 2 * d + c);
+	float *dh = PAN_ROW(112), *dv = PAN_ROW(113);
 	for (int k = 0; k < 4; k++)
-		for (int d = 0; d < 5; d++) {
-			bh[k][d] = PAN_ROW(128 + 10 * k + d);
-			ba[k][d] = PAN_ROW(133 + 10 * k + d);
+		for (int d = 0; d < 4; d++) {
+			bh[k][d] = PAN_ROW(114 + 8 * k + d);
+			ba[k][d] = PAN_ROW(118 + 8 * k + d);
 		}
 	for (int q = 0; q < 12; q++)
-		o[q] = PAN_ROW(168 + q);
+		o[q] = PAN_ROW(146 + q);
 #undef PAN_ROW
 	int have = (int)y0 - 8;                     /* source rows computed: up to have */
 	const int first = y0 > 0 ? (int)y0 - 1 : 0; /* the first row of the first stage */
@@ -1191,19 +1191,19 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 				have = yc + 3;
 			/* the first stage for row yc */
 			pan_dstage_args(j, dt, hp, lp, yc, &a);
-			float *const(*c)[3] = cr[yc & 1];
+			float *const(*c)[2] = cr[yc & 1];
 			K.dchroma(&a, n, c);
-			for (int d = 0; d < 5; d++) {
-				for (int k = 0; k < 3; k++) {
+			for (int d = 0; d < 4; d++) {
+				for (int k = 0; k < 2; k++) {
 					float *ck = c[d][k];
 					for (int x = -PAN_PADR; x < 0; x++)
 						ck[x] = ck[0];
 					for (int x = iw; x < (int)n + PAN_PADR; x++)
 						ck[x] = ck[iw - 1];
 				}
-				const float *cc[3] = {c[d][0], c[d][1], c[d][2]};
+				const float *cc[2] = {c[d][0], c[d][1]};
 				float *const *pp = yc == first ? c[d] : cr[(yc - 1) & 1][d];
-				const float *pc[3] = {pp[0], pp[1], pp[2]};
+				const float *pc[2] = {pp[0], pp[1]};
 				K.dvar(cc, pc, -16, n + 32, dh, dv);
 				K.dbox(dh, dv, n, bh[yc & 3][d], ba[yc & 3][d]);
 			}
@@ -1212,8 +1212,8 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		/* the output row y: H_d = bh(y − 1) + ba(y) + ba(y + 1), at the last row bh(y) for
 		 * the clamped row y + 1 (no vertical differences) */
 		const int ym = y > 0 ? (int)y - 1 : 0;
-		const float *hb[5][3];
-		for (int d = 0; d < 5; d++) {
+		const float *hb[4][3];
+		for (int d = 0; d < 4; d++) {
 			hb[d][0] = bh[ym & 3][d];
 			hb[d][1] = ba[y & 3][d];
 			hb[d][2] = (int)y + 1 < ih ? ba[(y + 1) & 3][d] : bh[y & 3][d];
