@@ -69,22 +69,23 @@ typedef struct pan_gorow_args {
  * green 2..5, blue 6, 7, each in t's order), each with its column-pair rows (hp, lp: the pair the
  * colour covers on row t) at the lattice rows at or above the row (n) and at or below it (s: the
  * same row when the row is a lattice row), the vertical fraction b = e/4 (gb, e the rows from
- * n's), green's weights in N and S (ggn, ggs). The output row: the sixteen lattices by position
- * L = 4t + s, each with its hold rows (nrow, srow) and weights in the blend (u1, u2, wn, ws:
- * pan_dorow); the lattice pairs i = (s, t) and (s + 2, t + 2), i = 4t + s for t = 0, 1: green
- * (pg, one channel) or not, their channels pq and the lanes' column phase where a channel is the
- * own one (pu, −1: none); the lanes' fractions fa of each column phase; the ratio rows y (r0),
- * y − 2 (rn), y + 2 (rs), the green pixels' lanes gsel, the column phases' lanes sel. Every
- * per-row weight is a 16-lane row (one load). */
+ * n's), green's weights in N and S (ggn, ggs); every per-row weight is a 16-lane row (one load).
+ * The output row: the sixteen lattices by position L = 4t + s, each with its hold rows (nrow,
+ * srow), its rows' interpolations (lnrow, lsrow) and channel lq; per row phase t the weights
+ * u1 = 1 − b, u2 = b of red and blue and u1, u2 halved for green (cu), green's weights in N and
+ * S (cg), full: the lattice rows are not on the output row (e ≠ 0); red's or blue's two lattices
+ * of t (rl); the green groups G = 0, 1: the row phases G and G + 2 (gt), each green channel's
+ * lattice on either (gl); per channel the lanes where it is the own channel (osel: the column
+ * phase's 0/1 pattern, or zeros); the ratio rows y (r0), y − 2 (rn), y + 2 (rs), the green
+ * pixels' lanes gsel. */
 typedef struct pan_dlat_args {
 	const float *hpn[8], *hps[8], *lpn[8], *lps[8];
 	float gb[8][16], ggn[4][16], ggs[4][16];
-	const float *nrow[16], *srow[16];
-	float u1[16][16], u2[16][16], wn[16][16], ws[16][16];
-	int pg[8], pq[8][2], pu[8][2];
-	const float *fa[4];
+	const float *nrow[16], *srow[16], *lnrow[16], *lsrow[16];
+	float cu[4][4], cg[4][2];
+	int full[4], rl[4][2], gt[2][2], gl[2][2][2], lq[16];
+	const float *osel[12];
 	const float *r0, *rn, *rs, *gsel;
-	const float *sel[4];
 } pan_dlat_args;
 
 #define PC_INST PC_INST_BASELINE
@@ -606,12 +607,14 @@ typedef void (*pan_cghrows_fn)(const float *rho, const float *p0, const float *c
 typedef void (*pan_dwrows_fn)(const float *rho, long x0, long n, const float tw[4][4][16],
                               float *const hw[4]);
 typedef void (*pan_dprows_fn)(float *const hw[4], long n, const float fa[4][16], unsigned o,
-                              float *const hp[2], float *const lp[2]);
+                              float *const li[4], float *const hp[2], float *const lp[2]);
 typedef void (*pan_dchroma_fn)(const pan_dlat_args *a, long n, float *const c[4][2]);
 typedef void (*pan_dvar_fn)(const float *const c[2], const float *const p[2], long x0, long n,
                             float *dh, float *dv);
 typedef void (*pan_dbox_fn)(const float *dh, const float *dv, long n, float *bh, float *ba);
-typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const hb[4][3], const float *raw,
+typedef void (*pan_dgam_fn)(const pan_dlat_args *a, const float *const hb[4][3], const float *raw,
+                            long x0, long x1, float delta, float *const g[5]);
+typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const g[5], const float *raw,
                              long x0, long x1, float delta, float *const out[12], long xo, int nt);
 
 typedef struct pan_kern {
@@ -630,6 +633,7 @@ typedef struct pan_kern {
 	pan_dchroma_fn dchroma;
 	pan_dvar_fn dvar;
 	pan_dbox_fn dbox;
+	pan_dgam_fn dgam;
 	pan_dorow_fn dorow;
 } pan_kern;
 
@@ -641,20 +645,20 @@ static pan_kern pan_kernels(pc_cpu_level level)
 		    pan_vsum_avx512,    pan_ratio_avx512,  pan_hrows_avx512,  pan_orow_avx512,
 		    pan_ghrows_avx512,  pan_gorow_avx512,  pan_vsumw_avx512,  pan_cratio_avx512,
 		    pan_cghrows_avx512, pan_cgorow_avx512, pan_dwrows_avx512, pan_dprows_avx512,
-		    pan_dchroma_avx512, pan_dvar_avx512,   pan_dbox_avx512,   pan_dorow_avx512};
+		    pan_dchroma_avx512, pan_dvar_avx512,   pan_dbox_avx512,   pan_dgam_avx512,   pan_dorow_avx512};
 	if (level >= PC_CPU_AVX2)
 		return (pan_kern){
 		    pan_vsum_avx2,    pan_ratio_avx2,  pan_hrows_avx2,  pan_orow_avx2,
 		    pan_ghrows_avx2,  pan_gorow_avx2,  pan_vsumw_avx2,  pan_cratio_avx2,
 		    pan_cghrows_avx2, pan_cgorow_avx2, pan_dwrows_avx2, pan_dprows_avx2,
-		    pan_dchroma_avx2, pan_dvar_avx2,   pan_dbox_avx2,   pan_dorow_avx2};
+		    pan_dchroma_avx2, pan_dvar_avx2,   pan_dbox_avx2,   pan_dgam_avx2,   pan_dorow_avx2};
 #else
 	(void)level;
 #endif
 	return (pan_kern){pan_vsum_base,    pan_ratio_base,  pan_hrows_base,  pan_orow_base,
 	                  pan_ghrows_base,  pan_gorow_base,  pan_vsumw_base,  pan_cratio_base,
 	                  pan_cghrows_base, pan_cgorow_base, pan_dwrows_base, pan_dprows_base,
-	                  pan_dchroma_base, pan_dvar_base,   pan_dbox_base,   pan_dorow_base};
+	                  pan_dchroma_base, pan_dvar_base,   pan_dbox_base,   pan_dgam_base,   pan_dorow_base};
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
@@ -999,6 +1003,7 @@ typedef struct pan_dtables {
 	float tw[4][4][16]; /* hold rows' lane patterns: (lane − s) mod 4 = k */
 	float fa[4][16];    /* ((lane − s) mod 4)/4 */
 	float gsel[4][16];  /* row phase t: 1 on green pixels */
+	float zero[16];
 	unsigned ox;        /* the colour blocks' column origin */
 } pan_dtables;
 
@@ -1067,44 +1072,48 @@ static void pan_dstage_args(const pan_job *j, const pan_dtables *dt, float *cons
 		}
 }
 
-/* the output row Y's lattices, pairs and rows (pan_dlat_args) from the ring's hold rows
- * hw[slot][s] and ratio rows rr[slot] */
+/* the output row Y's lattices, groups and rows (pan_dlat_args) from the ring's hold rows
+ * hw[slot][s], their interpolations li[slot][s] and ratio rows rr[slot] */
 static void pan_dout_args(const pan_job *j, const pan_tables *t, const pan_dtables *dt,
-                          float *const hw[8][4], float *const rr[8], int Y, pan_dlat_args *a)
+                          float *const hw[8][4], float *const li[8][4], float *const rr[8], int Y,
+                          pan_dlat_args *a)
 {
-	int ownu[12];
 	for (int q = 0; q < 12; q++)
-		ownu[q] = -1;
-	for (unsigned u = 0; u < 4; u++) {
-		ownu[pan_q(j->m, u, (unsigned)Y & 3)] = (int)u;
-		a->sel[u] = t->sel[u];
-		a->fa[u] = dt->fa[u];
-	}
-	for (unsigned ty = 0; ty < 4; ty++)
+		a->osel[q] = dt->zero;
+	for (unsigned u = 0; u < 4; u++)
+		a->osel[pan_q(j->m, u, (unsigned)Y & 3)] = t->sel[u];
+	for (unsigned ty = 0; ty < 4; ty++) {
+		int e, yn, ys, nrb = 0, ng = 0;
+		lattice_rows(Y, ty, &e, &yn, &ys);
+		const float b = (float)e / 4;
+		float gn, gs;
+		dgreen_weights(Y, ty, &gn, &gs);
+		a->full[ty] = e != 0;
+		a->cu[ty][0] = 1 - b;
+		a->cu[ty][1] = b;
+		a->cu[ty][2] = (1 - b) / 2;
+		a->cu[ty][3] = b / 2;
+		a->cg[ty][0] = gn;
+		a->cg[ty][1] = gs;
 		for (unsigned s = 0; s < 4; s++) {
 			const int L = 4 * (int)ty + (int)s;
-			int e, yn, ys;
-			lattice_rows(Y, ty, &e, &yn, &ys);
 			a->nrow[L] = hw[yn & 7][s];
 			a->srow[L] = hw[ys & 7][s];
-			float w = 1, gn = 1, gs = 1;
-			if (pc_mosaic_color(j->m, s, ty) == PC_CFA_G) {
-				w = 0.5f;
-				dgreen_weights(Y, ty, &gn, &gs);
+			a->lnrow[L] = li[yn & 7][s];
+			a->lsrow[L] = li[ys & 7][s];
+			a->lq[L] = (int)pan_q(j->m, s, ty);
+			if (pc_mosaic_color(j->m, s, ty) != PC_CFA_G)
+				a->rl[ty][nrb++] = L;
+			else if (ty < 2) {
+				/* a green channel: its other lattice at (s + 2, t + 2) */
+				a->gl[ty][ng][0] = L;
+				a->gl[ty][ng++][1] = 4 * ((int)ty + 2) + (int)((s + 2) & 3);
 			}
-			fill16(a->u1[L], w * (float)(4 - e) / 4);
-			fill16(a->u2[L], w * (float)e / 4);
-			fill16(a->wn[L], gn);
-			fill16(a->ws[L], gs);
 		}
-	for (unsigned i = 0; i < 8; i++) {
-		const unsigned q1 = pan_q(j->m, i & 3, i >> 2),
-		               q2 = pan_q(j->m, (i + 2) & 3, (i >> 2) + 2);
-		a->pg[i] = q1 == q2;
-		a->pq[i][0] = (int)q1;
-		a->pq[i][1] = (int)q2;
-		a->pu[i][0] = ownu[q1];
-		a->pu[i][1] = ownu[q2];
+	}
+	for (int G = 0; G < 2; G++) {
+		a->gt[G][0] = G;
+		a->gt[G][1] = G + 2;
 	}
 	a->gsel = dt->gsel[Y & 3];
 	a->r0 = rr[Y & 7];
@@ -1122,9 +1131,10 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	pan_tables *t = pc_dm_alloc(sizeof *t);
 	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
 	/* rows: vs, rawp, the raw row of the output; 21 of source scratch and cache; 8 × (ρ, 4
-	 * hold rows, 2 + 2 column-pair rows); 2 × 4 × 2 chromaticities (red's, green's of W, E, N,
-	 * S); dh, dv; 4 × 4 × 2 boxes (bh, ba); 12 output rows */
-	const size_t nrows = 3 + 21 + 72 + 16 + 2 + 32 + 12;
+	 * hold rows, 2 + 2 column-pair rows, 4 interpolated rows); 2 × 4 × 2 chromaticities (red's,
+	 * green's of W, E, N, S); dh, dv; 4 × 4 × 2 boxes (bh, ba); 5 blend weights; 12 output
+	 * rows */
+	const size_t nrows = 3 + 21 + 104 + 16 + 2 + 32 + 5 + 12;
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !dt || !buf) {
 		pc_dm_free(t);
@@ -1149,28 +1159,33 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		rc.slot[k] = PAN_ROW(8 + k);
 		rc.tag[k] = -1;
 	}
-	float *rr[8], *hw[8][4], *hp[8][2], *lp[8][2], *cr[2][4][2], *bh[4][4], *ba[4][4], *o[12];
+	float *rr[8], *hw[8][4], *li[8][4], *hp[8][2], *lp[8][2], *cr[2][4][2], *bh[4][4],
+	    *ba[4][4], *g[5], *o[12];
 	for (int k = 0; k < 8; k++) {
-		rr[k] = PAN_ROW(24 + 9 * k);
-		for (int s = 0; s < 4; s++)
-			hw[k][s] = PAN_ROW(25 + 9 * k + s);
+		rr[k] = PAN_ROW(24 + 13 * k);
+		for (int s = 0; s < 4; s++) {
+			hw[k][s] = PAN_ROW(25 + 13 * k + s);
+			li[k][s] = PAN_ROW(29 + 13 * k + s);
+		}
 		for (int p = 0; p < 2; p++) {
-			hp[k][p] = PAN_ROW(29 + 9 * k + p);
-			lp[k][p] = PAN_ROW(31 + 9 * k + p);
+			hp[k][p] = PAN_ROW(33 + 13 * k + p);
+			lp[k][p] = PAN_ROW(35 + 13 * k + p);
 		}
 	}
 	for (int k = 0; k < 2; k++)
 		for (int d = 0; d < 4; d++)
 			for (int c = 0; c < 2; c++)
-				cr[k][d][c] = PAN_ROW(96 + 8 * k + 2 * d + c);
-	float *dh = PAN_ROW(112), *dv = PAN_ROW(113);
+				cr[k][d][c] = PAN_ROW(128 + 8 * k + 2 * d + c);
+	float *dh = PAN_ROW(144), *dv = PAN_ROW(145);
 	for (int k = 0; k < 4; k++)
 		for (int d = 0; d < 4; d++) {
-			bh[k][d] = PAN_ROW(114 + 8 * k + d);
-			ba[k][d] = PAN_ROW(118 + 8 * k + d);
+			bh[k][d] = PAN_ROW(146 + 8 * k + d);
+			ba[k][d] = PAN_ROW(150 + 8 * k + d);
 		}
+	for (int d = 0; d < 5; d++)
+		g[d] = PAN_ROW(178 + d);
 	for (int q = 0; q < 12; q++)
-		o[q] = PAN_ROW(146 + q);
+		o[q] = PAN_ROW(183 + q);
 #undef PAN_ROW
 	int have = (int)y0 - 8;                     /* source rows computed: up to have */
 	const int first = y0 > 0 ? (int)y0 - 1 : 0; /* the first row of the first stage */
@@ -1185,7 +1200,7 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 				pan_src_sums(j, &K, t, &rc, yy, src, vs, NULL, rawp, n, nmain);
 				K.ratio(vs, rawp, -16, n + 32, j->delta, rr[yy & 7], NULL);
 				K.dwrows(rr[yy & 7], 0, n + 16, dt->tw, hw[yy & 7]);
-				K.dprows(hw[yy & 7], n, dt->fa, dt->ox, hp[yy & 7], lp[yy & 7]);
+				K.dprows(hw[yy & 7], n, dt->fa, dt->ox, li[yy & 7], hp[yy & 7], lp[yy & 7]);
 			}
 			if (yc + 3 > have)
 				have = yc + 3;
@@ -1218,20 +1233,22 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 			hb[d][1] = ba[y & 3][d];
 			hb[d][2] = (int)y + 1 < ih ? ba[(y + 1) & 3][d] : bh[y & 3][d];
 		}
-		pan_dout_args(j, t, dt, hw, rr, (int)y, &a);
+		pan_dout_args(j, t, dt, hw, li, rr, (int)y, &a);
 		memcpy(rawo, pan_row(&rc, j->in, (int)y), w * sizeof *rawo);
+		K.dgam(&a, hb, rawo, 0, n, j->delta, g);
+		const float *gc[5] = {g[0], g[1], g[2], g[3], g[4]};
 		float *dq[12];
 		if (planar) {
 			for (int q = 0; q < 12; q++)
 				dq[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
-			K.dorow(&a, hb, rawo, 0, nmain, j->delta, dq, 0, j->nt);
+			K.dorow(&a, gc, rawo, 0, nmain, j->delta, dq, 0, j->nt);
 			if (nmain < n) {
-				K.dorow(&a, hb, rawo, nmain, n, j->delta, o, nmain, 0);
+				K.dorow(&a, gc, rawo, nmain, n, j->delta, o, nmain, 0);
 				pan_put_row(j->out, y, o, (uint32_t)nmain, w);
 			}
 			continue;
 		}
-		K.dorow(&a, hb, rawo, 0, n, j->delta, o, 0, 0);
+		K.dorow(&a, gc, rawo, 0, n, j->delta, o, 0, 0);
 		pan_put_row(j->out, y, o, 0, w);
 	}
 	if (j->nt)
