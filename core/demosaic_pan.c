@@ -641,24 +641,27 @@ static pan_kern pan_kernels(pc_cpu_level level)
 {
 #ifdef PC_CPU_X86
 	if (level >= PC_CPU_AVX512)
-		return (pan_kern){
-		    pan_vsum_avx512,    pan_ratio_avx512,  pan_hrows_avx512,  pan_orow_avx512,
-		    pan_ghrows_avx512,  pan_gorow_avx512,  pan_vsumw_avx512,  pan_cratio_avx512,
-		    pan_cghrows_avx512, pan_cgorow_avx512, pan_dwrows_avx512, pan_dprows_avx512,
-		    pan_dchroma_avx512, pan_dvar_avx512,   pan_dbox_avx512,   pan_dgam_avx512,   pan_dorow_avx512};
+		return (pan_kern){pan_vsum_avx512,    pan_ratio_avx512,  pan_hrows_avx512,
+		                  pan_orow_avx512,    pan_ghrows_avx512, pan_gorow_avx512,
+		                  pan_vsumw_avx512,   pan_cratio_avx512, pan_cghrows_avx512,
+		                  pan_cgorow_avx512,  pan_dwrows_avx512, pan_dprows_avx512,
+		                  pan_dchroma_avx512, pan_dvar_avx512,   pan_dbox_avx512,
+		                  pan_dgam_avx512,    pan_dorow_avx512};
 	if (level >= PC_CPU_AVX2)
-		return (pan_kern){
-		    pan_vsum_avx2,    pan_ratio_avx2,  pan_hrows_avx2,  pan_orow_avx2,
-		    pan_ghrows_avx2,  pan_gorow_avx2,  pan_vsumw_avx2,  pan_cratio_avx2,
-		    pan_cghrows_avx2, pan_cgorow_avx2, pan_dwrows_avx2, pan_dprows_avx2,
-		    pan_dchroma_avx2, pan_dvar_avx2,   pan_dbox_avx2,   pan_dgam_avx2,   pan_dorow_avx2};
+		return (pan_kern){pan_vsum_avx2,    pan_ratio_avx2,  pan_hrows_avx2,
+		                  pan_orow_avx2,    pan_ghrows_avx2, pan_gorow_avx2,
+		                  pan_vsumw_avx2,   pan_cratio_avx2, pan_cghrows_avx2,
+		                  pan_cgorow_avx2,  pan_dwrows_avx2, pan_dprows_avx2,
+		                  pan_dchroma_avx2, pan_dvar_avx2,   pan_dbox_avx2,
+		                  pan_dgam_avx2,    pan_dorow_avx2};
 #else
 	(void)level;
 #endif
 	return (pan_kern){pan_vsum_base,    pan_ratio_base,  pan_hrows_base,  pan_orow_base,
 	                  pan_ghrows_base,  pan_gorow_base,  pan_vsumw_base,  pan_cratio_base,
 	                  pan_cghrows_base, pan_cgorow_base, pan_dwrows_base, pan_dprows_base,
-	                  pan_dchroma_base, pan_dvar_base,   pan_dbox_base,   pan_dgam_base,   pan_dorow_base};
+	                  pan_dchroma_base, pan_dvar_base,   pan_dbox_base,   pan_dgam_base,
+	                  pan_dorow_base};
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
@@ -1004,7 +1007,7 @@ typedef struct pan_dtables {
 	float fa[4][16];    /* ((lane − s) mod 4)/4 */
 	float gsel[4][16];  /* row phase t: 1 on green pixels */
 	float zero[16];
-	unsigned ox;        /* the colour blocks' column origin */
+	unsigned ox; /* the colour blocks' column origin */
 } pan_dtables;
 
 static void pan_dtables_init(pan_dtables *t, const pc_mosaic *m)
@@ -1200,7 +1203,8 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 				pan_src_sums(j, &K, t, &rc, yy, src, vs, NULL, rawp, n, nmain);
 				K.ratio(vs, rawp, -16, n + 32, j->delta, rr[yy & 7], NULL);
 				K.dwrows(rr[yy & 7], 0, n + 16, dt->tw, hw[yy & 7]);
-				K.dprows(hw[yy & 7], n, dt->fa, dt->ox, li[yy & 7], hp[yy & 7], lp[yy & 7]);
+				K.dprows(hw[yy & 7], n, dt->fa, dt->ox, li[yy & 7], hp[yy & 7],
+				         lp[yy & 7]);
 			}
 			if (yc + 3 > have)
 				have = yc + 3;
