@@ -431,7 +431,7 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
  * variation of ln S_k of each candidate's outputs, luminance removed, over 3×3 then summed over
  * 3×3 again) was more accurate at hue edges and several times pan-chroma's cost; Round 9's
  * blended the five candidates' outputs and judged C by its own chromaticity. The choices and
- * what they gave on the three sets are in docs/demosaicking.md, Rounds 9 and 10b.
+ * what they gave on the three sets are in docs/demosaicking.md, Rounds 9, 10b and 11.
  *
  * Support: a candidate reads pan-ratio's ±5 (±7 through the sub-image mirror), H adds ±1. */
 #define PAN_ND 5
@@ -993,15 +993,17 @@ static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
 /* ---- pan-dir's fast path ----
  *
  * The same source rows as pan-ratio's (ratio rows ρ, kept in a ring of 8 with, for each column
- * phase s, the hold row of s: pan_dwrows). A tent of half-width 4 on a lattice of spacing 4 is
- * linear interpolation between the two nearest lattice samples (one where the pixel is on the
+ * phase s, the hold row of s: pan_dwrows, and the row's linear interpolation between its samples
+ * of phase s: pan_dprows). A tent of half-width 4 on a lattice of spacing 4 is linear
+ * interpolation between the two nearest lattice samples (one where the pixel is on the
  * lattice), so each lattice's five candidates at a pixel are functions of its four corner
- * samples (pan_dlat): C bilinear, W and E along the west and east columns, N and S along the
- * north and south rows, the fractions set by the pixel's phase. Two stages per output row y:
- * first row y + 1 (clamped to the image) gets its candidates' chromaticities (two rows kept, for
- * the vertical differences), their variation rows and boxes (a ring of 4 rows per candidate);
- * then row y's candidates are computed again from the corners, blended by the homogeneity of
- * the boxes of rows y - 1 .. y + 1, and written. */
+ * samples and its two rows' interpolations: C bilinear, W and E along the west and east
+ * columns, N and S the north and south rows' interpolations, the fractions set by the pixel's
+ * phase. Two stages per output row y: first row y + 1 (clamped to the image) gets the one-sided
+ * candidates' chromaticities (two rows kept, for the vertical differences), their variation
+ * rows and boxes (a ring of 4 rows per candidate); then row y's blend weights (pan_dgam, from
+ * the boxes of rows y - 1 .. y + 1) and its outputs, each lattice's term a weighted sum of its
+ * samples with coefficients per row phase (pan_dorow). */
 typedef struct pan_dtables {
 	float tw[4][4][16]; /* hold rows' lane patterns: (lane − s) mod 4 = k */
 	float fa[4][16];    /* ((lane − s) mod 4)/4 */

@@ -394,15 +394,16 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           false},
     [PC_DM_PAN_DIR] = {{PC_DM_PAN_DIR, "pan-dir",
                         "colour-polarization: pan-ratio's colour step with one-sided "
-                        "(directional) candidates blended by the homogeneity of their hue; "
-                        "over bayer-first (bench colour, 9 scenes) smooth colours +4.18/+1.46 "
-                        "(worst +2.57/+0.11), hue patches +1.63/+3.79 (worst +1.47/+2.86); "
-                        "colour stress suite (5 scenes) +1.67/+2.03 (worst +0.72 text/+0.64 "
-                        "gratings): the colour accuracy goal met on all three sets",
-                        "one fused pass on row bands, each lattice's candidates from its "
-                        "four corner samples: 3.6-3.7x pan-ratio's time, 13.1-13.2x the mono "
-                        "bilinear's (bench demosaic --quick, 2 threads, Release, idle; 2.6x "
-                        "the 5x budget; docs/demosaicking.md, Round 10)",
+                        "(directional) candidates whose ratios are blended by the homogeneity "
+                        "of their hue; over bayer-first (bench colour, 9 scenes) smooth colours "
+                        "+4.17/+1.44 (worst +2.55/+0.10), hue patches +1.65/+3.81 (worst "
+                        "+1.50/+2.86); colour stress suite (5 scenes) +1.70/+2.06 (worst +0.73 "
+                        "text/+0.65 gratings): the colour accuracy goal met on all three sets",
+                        "one fused pass on row bands, the blend folded into each row phase's "
+                        "lattice coefficients: about 0.85x Round 10's time, 2.6-3.2x "
+                        "pan-ratio's CPU time (bench demosaic --quick, 2 threads, Release, "
+                        "loaded); Round 10's idle 13.1x the mono bilinear's would become about "
+                        "11x, over twice the 5x budget (docs/demosaicking.md, Round 11)",
                         "ours: pan-ratio with directional candidates (Hirakawa & Parks, IEEE "
                         "TIP 14(3) 2005) blended as in GBTF (Pekkucuksen & Altunbasak, ICIP "
                         "2010)",

@@ -16,15 +16,16 @@
 /* Tolerances, fast float vs double reference, relative to the full scale of the data:
  * the interpolators (superpixel, bilinear, bicubic) compute sums of integers exactly in float,
  * so only the final rounding differs; PPID and the residual interpolations divide by
- * data-dependent weights and accumulate box sums in float. pan-dir blends its candidates with
- * weights 1/(H_d + 10⁻⁹)², H_d a sum of 54 absolute chromaticity differences (demosaic_pan.c):
- * O = Σ w_d·O_d / Σ w_d gives ∂O/∂H_d = −2·(w_d/Σw)·(O_d − O)/H_d, so an error ε_H in the H_d
- * moves the output by up to 2·max_d(ε_H/H_d)·max_d|O_d − O|. The float chromaticities carry
- * ~10⁻⁷ each, ε_H ~10⁻⁶; where the hue is flat but the polarization changes fast (the grey chirp
- * of test_pan_dir_chirp) every H_d is ~10⁻³ while the candidates differ by up to ~10 % of full
- * scale: 2·10⁻³·0.1 = 2·10⁻⁴ of full scale (2.2·10⁻⁵ measured there; ≤ 10⁻⁵ on textures). Not a
- * strict bound: H has no floor away from a uniform patch, the figures are those of the worst
- * scene known. */
+ * data-dependent weights and accumulate box sums in float. pan-dir blends its candidates'
+ * ratios with weights 1/(H_d + 10⁻⁹)², H_d a sum of 54 absolute chromaticity differences
+ * (demosaic_pan.c), then takes one ratio step, which scales them by the gain g:
+ * O = g·Σ w_d·R_d / Σ w_d gives ∂O/∂H_d = −2·(w_d/Σw)·(O_d − O)/H_d (O_d = g·R_d), so an error
+ * ε_H in the H_d moves the output by up to 2·max_d(ε_H/H_d)·max_d|O_d − O|. The float
+ * chromaticities carry ~10⁻⁷ each, ε_H ~10⁻⁶; where the hue is flat but the polarization
+ * changes fast (the grey chirp of test_pan_dir_chirp) every H_d is ~10⁻³ while the candidates
+ * differ by up to ~10 % of full scale: 2·10⁻³·0.1 = 2·10⁻⁴ of full scale (3.2·10⁻⁵ measured
+ * there; ≤ 10⁻⁶ on textures). Not a strict bound: H has no floor away from a uniform patch, the
+ * figures are those of the worst scene known. */
 #define PAN_DIR_TOL 2e-4
 static double tol_for(pc_demosaic_method m)
 {
@@ -848,12 +849,12 @@ static void test_pan_chroma_edge(void)
  * read one side of the edge: averaged over the sixteen phases its RMS error over the band of ±6
  * pixels is below 0.8 of pan-ratio's in both orientations (0.70 and 0.67 measured), and at no
  * phase above it by more than 1 % (where the edge falls between the period's colour blocks so
- * that no candidate reads one side only, 1.003 measured; its largest error there is then 1.25
- * of pan-ratio's). The 0.8 and 1.01 are these measured values plus headroom, not derived
- * bounds. At every phase its RMS is below pan-chroma's (the edge-aware centred method; the
- * ratio 0.31-0.98 measured). A uniform colour, uniformly polarized, comes back exactly (every
- * candidate is exact, so is their blend: within 10^-3 DN of 2000). The reference runs at the
- * first instance only (it does not depend on the instance). */
+ * that no candidate reads one side only: 0.989 measured, 1.003 with Round 9's blend of the
+ * candidates' outputs; docs/demosaicking.md, Round 11). The 0.8 and 1.01 are these measured values
+ * plus headroom, not derived bounds. At every phase its RMS is below pan-chroma's (the edge-aware
+ * centred method; the ratio 0.31-0.98 measured). A uniform colour, uniformly polarized, comes back
+ * exactly (every candidate is exact, so is their blend: within 10^-3 DN of 2000). The reference
+ * runs at the first instance only (it does not depend on the instance). */
 static void test_pan_dir_edge(int first)
 {
 	const uint32_t W = 48, H = 48, E0 = 22;
@@ -946,13 +947,13 @@ static void test_pan_dir_edge(int first)
  *    bayer-first's RMS (0.69 measured); pan-chroma (its range scale twice pan-guided's) within
  *    the same 1 % and below two thirds of bayer-first's RMS (0.64 measured); pan-dir, whose
  *    one-sided candidates average fewer samples and follow the gradient less well than the
- *    centred tents, within 1.2 % (0.90-1.07 % measured) and below 0.9 of bayer-first's RMS
- *    (0.82-0.83 measured: the price of its hue edges on smooth scenes; docs/demosaicking.md,
- *    Round 9). These bounds (1 %, 1.2 %, 0.67, 0.75, 0.9) are the measured values plus
- *    headroom, not derived ones: they catch a regression, they do not prove an accuracy.
- *    pan-dir on the ramp is exact as pan-ratio is (every one-sided candidate's ratio is
- *    constant too). Interleaved outputs and streaming stores equal the planar ones for all
- *    four. */
+ *    centred tents, within 1.2 % (0.94 % measured; 0.90-1.07 % with Round 9's definition) and
+ *    below 0.9 of bayer-first's RMS (0.82 measured: the price of its hue edges on smooth
+ *    scenes; docs/demosaicking.md, Rounds 9 and 11). These bounds (1 %, 1.2 %, 0.67, 0.75,
+ *    0.9) are the measured values plus headroom, not derived ones: they catch a regression,
+ *    they do not prove an accuracy. pan-dir on the ramp is exact as pan-ratio is (every
+ *    one-sided candidate's ratio is constant too). Interleaved outputs and streaming stores
+ *    equal the planar ones for all four. */
 static void test_pan_ratio(void)
 {
 	const uint32_t W = 64, H = 48;
