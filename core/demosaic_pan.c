@@ -1126,6 +1126,31 @@ static void pan_dout_args(const pan_job *j, const pan_tables *t, const pan_dtabl
 	a->rs = rr[(Y + 2) & 7];
 }
 
+/* one variation of pan_dvar at x (vert: against the row above p, else against column x − 1) */
+static float pan_dvar1(const float *const c[2], const float *const p[2], int x, int vert)
+{
+	float r = c[0][x] - (vert ? p[0][x] : c[0][x - 1]),
+	      g = c[1][x] - (vert ? p[1][x] : c[1][x - 1]);
+	return (fabsf(r) + fabsf(g)) + fabsf(r + g);
+}
+
+/* E's boxes (pan_dbox's bh, ba) of a row from W's (bhw, baw): E's chromaticity is W's three
+ * columns on (pan_dchroma), so are its variations and boxes wherever neither reads a clamped
+ * column, x in [1, iw − 5]; at x = 0 and x ≥ iw − 4 they are computed from E's chromaticities c
+ * (clamped at the borders) and the row above's p, in pan_dvar's and pan_dbox's order. */
+static void pan_dbox_e(const float *const c[2], const float *const p[2], const float *bhw,
+                       const float *baw, int iw, long n, float *bh, float *ba)
+{
+	memcpy(bh, bhw + 3, (size_t)n * sizeof *bh);
+	memcpy(ba, baw + 3, (size_t)n * sizeof *ba);
+	for (int x = 0; x < iw; x = x ? x + 1 : (iw - 4 > 1 ? iw - 4 : 1)) {
+		float h = pan_dvar1(c, p, x, 0) + pan_dvar1(c, p, x + 1, 0);
+		bh[x] = h;
+		ba[x] = h + ((pan_dvar1(c, p, x - 1, 1) + pan_dvar1(c, p, x, 1)) +
+		             pan_dvar1(c, p, x + 1, 1));
+	}
+}
+
 static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	pan_job *j = ctx;
@@ -1225,6 +1250,12 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 				const float *cc[2] = {c[d][0], c[d][1]};
 				float *const *pp = yc == first ? c[d] : cr[(yc - 1) & 1][d];
 				const float *pc[2] = {pp[0], pp[1]};
+				if (d ==
+				    1) { /* E's boxes: W's three columns on, but at the borders */
+					pan_dbox_e(cc, pc, bh[yc & 3][0], ba[yc & 3][0], iw, n,
+					           bh[yc & 3][1], ba[yc & 3][1]);
+					continue;
+				}
 				K.dvar(cc, pc, -16, n + 32, dh, dv);
 				K.dbox(dh, dv, n, bh[yc & 3][d], ba[yc & 3][d]);
 			}
