@@ -1141,8 +1141,10 @@ static float pan_dvar1(const float *const c[2], const float *const p[2], int x, 
 static void pan_dbox_e(const float *const c[2], const float *const p[2], const float *bhw,
                        const float *baw, int iw, long n, float *bh, float *ba)
 {
-	memcpy(bh, bhw + 3, (size_t)n * sizeof *bh);
-	memcpy(ba, baw + 3, (size_t)n * sizeof *ba);
+	for (long x = 0; x < n; x++) {
+		bh[x] = bhw[x + 3];
+		ba[x] = baw[x + 3];
+	}
 	for (int x = 0; x < iw; x = x ? x + 1 : (iw - 4 > 1 ? iw - 4 : 1)) {
 		float h = pan_dvar1(c, p, x, 0) + pan_dvar1(c, p, x + 1, 0);
 		bh[x] = h;
