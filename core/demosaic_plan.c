@@ -400,10 +400,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         "+1.50/+2.86); colour stress suite (5 scenes) +1.70/+2.06 (worst +0.73 "
                         "text/+0.65 gratings): the colour accuracy goal met on all three sets",
                         "one fused pass on row bands, the blend folded into each row phase's "
-                        "lattice coefficients: about 0.85x Round 10's time, 2.6-3.2x "
-                        "pan-ratio's CPU time (bench demosaic --quick, 2 threads, Release, "
-                        "loaded); Round 10's idle 13.1x the mono bilinear's would become about "
-                        "11x, over twice the 5x budget (docs/demosaicking.md, Round 11)",
+                        "lattice coefficients: about 0.8x Round 10's time, 2.6-2.9x "
+                        "pan-ratio's (bench demosaic --quick, 2 threads, Release, load 2-3); "
+                        "at pan-ratio's idle 3.5x about 10x the mono bilinear's, twice the 5x "
+                        "budget (docs/demosaicking.md, Round 11)",
                         "ours: pan-ratio with directional candidates (Hirakawa & Parks, IEEE "
                         "TIP 14(3) 2005) blended as in GBTF (Pekkucuksen & Altunbasak, ICIP "
                         "2010)",
