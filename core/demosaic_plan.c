@@ -12,6 +12,7 @@
 #include "demosaic_color.h"
 #include "demosaic_fast.h"
 #include "demosaic_ic.h"
+#include "demosaic_fact.h"
 #include "demosaic_pan.h"
 #include "polarcam/stokes.h"
 #include "demosaic_ref.h"
@@ -413,6 +414,17 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                        false,
                        PC_DM_PAN_DIR,
                        false},
+    [PC_DM_PAN_FACT] = {{PC_DM_PAN_FACT, "pan-fact",
+                         "colour-polarization: draft",
+                         "draft",
+                         "ours",
+                         PC_DMF_COLOR},
+                        {-16, 16, 1, 1},
+                        NULL,
+                        NULL,
+                        false,
+                        PC_DM_PAN_FACT,
+                        false},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
@@ -605,6 +617,8 @@ static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *o
 static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 {
 	const pc_dm_pan_fns *own = pc_dm_pan_fns_get(p->opts.method);
+	if (!own)
+		own = pc_dm_fact_fns_get(p->opts.method);
 	if (own)
 		return colour_own(p, own, out);
 	const uint32_t w = p->raw->width, h = p->raw->height;
