@@ -26,10 +26,15 @@
  *     centred candidate C, H_C = the mean of the four (Round 10b's (3c): C's own chromaticity
  *     is not needed). Weights w_d = 1/(H_d + 10⁻⁹)², as the gradient-based threshold-free
  *     method blends its directional estimates (Pekkucuksen & Altunbasak, ICIP 2010, Sec. 2).
- *  4. Per channel (k, a) the five tents of its raw samples within ±3 pixels, T = (4 − |dx|)·
- *     (4 − |dy|) (C all, W dx ≤ 0, E dx ≥ 0, N dy ≤ 0, S dy ≥ 0, each normalised over its taps),
+ *  4. Per channel (k, a) the five tents, T = (4 − |dx|)(4 − |dy|) over its samples within ±3
+ *     pixels (C all, W dx ≤ 0, E dx ≥ 0, N dy ≤ 0, S dy ≥ 0, each normalised over its taps), of
+ *     pan-ratio's ratios to the pseudo-panchromatic image, ρ = (v + δ_h)/(P0 + δ_h),
+ *     P0 = raw ∗ (f5 ⊗ f5), f5 = [1 2 2 2 1]/8 (Mihoubi et al., IEEE TCI 3(4) 2017; the
+ *     luminance gradient removed before interpolating, as Cok's smooth-hue transition does),
  *     blended with the block's w_d: R_{k,a} = Σ_d w_d R^d_{k,a} / Σ_d w_d; then
- *     h_{a,k} = R_{k,a} / Σ_k' R_{k',a} (each R floored at ε = 10⁻⁴ of the block full scale).
+ *     h_{a,k} = R_{k,a} / Σ_k' R_{k',a} (each R floored at 10⁻⁴). δ_h = 10⁻⁴ of full scale
+ *     only guards a zero PPI: a larger offset pulls dark hues towards grey, and m = v/h does not
+ *     undo that (1 % lost 2.7-4.5 dB S0 on the smooth colours; Round 11b).
  *  5. The hue-normalised mosaic m(p) = v(p) / h_{a(p),k(p)}(p): M's samples.
  *  6. The polarization step on m, pan-ratio's ratio step at spacing 2: the guide
  *     P = m ∗ (f ⊗ f), f = [1 2 1]/4 (each analyser 1/4 wherever it is centred, as the
@@ -39,9 +44,10 @@
  *     patent 4,642,678, 1987); δ = 1 % of M's full scale 3·fs.
  *  7. O_{k,a}(p) = M_a(p)·h_{a,k}(p); the pixel's own channel keeps its sample (M_own·h_own = v).
  *
- * A uniform colour and polarization is reproduced exactly (every tent of a constant is the
- * constant), so is a grey linear ramp under a uniform polarization (h = 1/3 everywhere, m = 3v,
- * and the ratio step is exact on linear ramps up to δ). The alternatives measured (the hue from
+ * A uniform colour and polarization is reproduced exactly up to δ_h (every tent of a constant
+ * is the constant), so is a grey linear ramp under a uniform polarization as δ, δ_h → 0 (the
+ * ratios to P0 are constant, h = 1/3 everywhere, m = 3v, and the ratio step's guide weighs the
+ * analysers at ±1 alike). The alternatives measured (the hue from
  * the block sums alone, bilinear and Hamilton-Adams Bayer steps at half resolution, ratios to a
  * luminance, smoothed corrections, per-pixel homogeneity, the monochrome ratio methods for step
  * 6) are in docs/demosaicking.md, Round 11b.
@@ -51,8 +57,8 @@
  * whole-sample mirror (keeps the analyser).
  *
  * Support: a candidate reads block sums whose pixels lie within ±5, the block's window adds ±2,
- * the tents of step 4 read ±3: h at q reads the raw within ±7; the ratio step reads m within
- * ±2: ±9, and ±11 through the sub-image mirror. Double reference only (no fast path yet). */
+ * the tents of step 4 read ratios within ±3, each P0's ±2: h at q reads the raw within ±7; the
+ * ratio step reads m within ±2: ±9, and ±11 through the sub-image mirror. Double reference only (no fast path yet). */
 #include "demosaic_fact.h"
 
 #include <math.h>
@@ -63,8 +69,9 @@
 #include "polarcam/error.h"
 
 #define FACT_PAD   16   /* the block grid's extension of the raw: a multiple of 4 */
-#define FACT_EPS   1e-4 /* floor of an interpolated colour, fraction of the block full scale */
+#define FACT_EPS   1e-4 /* floor of an interpolated colour: of the block full scale, of a ratio */
 #define FACT_DELTA 0.01 /* δ of the ratio step, fraction of M's full scale */
+#define FACT_DH    1e-4 /* δ_h of the hue's ratios, fraction of full scale */
 #define FACT_ND    5    /* candidates C, W, E, N, S */
 
 /* The sub-image mirror: x of the raw extended beyond [0, n) (n even) keeping x mod 4. */
@@ -83,7 +90,7 @@ typedef struct fact_ref {
 	const double *img;
 	int w, h;
 	const pc_mosaic *m;
-	double eps;
+	double eps, dh; /* the block sums' floor; δ_h */
 	double *b;          /* block sums, nbx × nby */
 	unsigned char *col; /* their colour 0 (R), 1 (G), 2 (B) */
 	int nbx, nby;
@@ -93,6 +100,16 @@ typedef struct fact_ref {
 static double raw_at(const fact_ref *r, int x, int y)
 {
 	return r->img[(size_t)mirror4(y, r->h) * (size_t)r->w + (size_t)mirror4(x, r->w)];
+}
+
+static double ppi0(const fact_ref *r, int x, int y)
+{
+	static const double f[5] = {1, 2, 2, 2, 1};
+	double s = 0;
+	for (int j = -2; j <= 2; j++)
+		for (int i = -2; i <= 2; i++)
+			s += f[i + 2] * f[j + 2] * raw_at(r, x + i, y + j);
+	return s / 64;
 }
 
 /* Step 2 at pixel (x, y): c[d − 1][k] for d = W, E, N, S. */
@@ -137,6 +154,7 @@ static void analyser_chroma(const fact_ref *r, int x, int y, const double wd[FAC
 			unsigned q = 4 * (pc_mosaic_color(r->m, xm, ym) - PC_CFA_R) +
 			             pc_mosaic_channel(r->m, xm, ym);
 			double t = (4 - abs(dx)) * (4 - abs(dy)), v = r->img[(size_t)ym * r->w + xm];
+			v = (fmax(v, 0) + r->dh) / (fmax(ppi0(r, x + dx, y + dy), 0) + r->dh);
 			const int in[FACT_ND] = {1, dx <= 0, dx >= 0, dy <= 0, dy >= 0};
 			for (int d = 0; d < FACT_ND; d++)
 				if (in[d]) {
@@ -153,7 +171,7 @@ static void analyser_chroma(const fact_ref *r, int x, int y, const double wd[FAC
 	for (int a = 0; a < 4; a++) {
 		double s = 0, v[3];
 		for (int k = 0; k < 3; k++)
-			s += v[k] = fmax(rb[4 * k + a] / ws, r->eps);
+			s += v[k] = fmax(rb[4 * k + a] / ws, FACT_EPS);
 		for (int k = 0; k < 3; k++)
 			ha[a][k] = v[k] / s;
 	}
@@ -205,7 +223,7 @@ int pc_dm_pan_fact_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 	if (pc_mosaic_color_origin(m, &ox, &oy))
 		return pc_error(PC_EINVAL, "pan-fact: the colour filter must cover whole 2x2 blocks");
 	const int W = (int)w + 2 * FACT_PAD, H = (int)h + 2 * FACT_PAD;
-	fact_ref r = {img, (int)w, (int)h, m, FACT_EPS * 4 * fs, NULL, NULL,
+	fact_ref r = {img, (int)w, (int)h, m, FACT_EPS * 4 * fs, FACT_DH * fs, NULL, NULL,
 	              (W - (int)ox) / 2, (H - (int)oy) / 2, (int)ox, (int)oy};
 	const size_t nb = (size_t)r.nbx * r.nby, n = (size_t)w * h;
 	r.b = malloc(sizeof *r.b * nb);
