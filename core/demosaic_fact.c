@@ -28,13 +28,14 @@
  *     method blends its directional estimates (Pekkucuksen & Altunbasak, ICIP 2010, Sec. 2).
  *  4. Per channel (k, a) the five tents, T = (4 − |dx|)(4 − |dy|) over its samples within ±3
  *     pixels (C all, W dx ≤ 0, E dx ≥ 0, N dy ≤ 0, S dy ≥ 0, each normalised over its taps), of
- *     pan-ratio's ratios to the pseudo-panchromatic image, ρ = (v + δ_h)/(P0 + δ_h),
+ *     ratios to pan-ratio's pseudo-panchromatic image, ρ = max(v, 0) / max(P0, δ_h),
  *     P0 = raw ∗ (f5 ⊗ f5), f5 = [1 2 2 2 1]/8 (Mihoubi et al., IEEE TCI 3(4) 2017; the
  *     luminance gradient removed before interpolating, as Cok's smooth-hue transition does),
  *     blended with the block's w_d: R_{k,a} = Σ_d w_d R^d_{k,a} / Σ_d w_d; then
  *     h_{a,k} = R_{k,a} / Σ_k' R_{k',a} (each R floored at 10⁻⁴). δ_h = 10⁻⁴ of full scale
- *     only guards a zero PPI: a larger offset pulls dark hues towards grey, and m = v/h does not
- *     undo that (1 % lost 2.7-4.5 dB S0 on the smooth colours; Round 11b).
+ *     only guards a zero PPI: an offset added to both sides, as pan-ratio's δ, pulls dark hues
+ *     towards grey, and m = v/h does not undo that (δ_h = 1 % lost 2.7-4.5 dB S0 on the smooth
+ *     colours, 10⁻⁴ broke the exactness on uniform colours by up to 16 DN; Round 11b).
  *  5. The hue-normalised mosaic m(p) = v(p) / h_{a(p),k(p)}(p): M's samples.
  *  6. The polarization step on m, pan-ratio's ratio step at spacing 2: the guide
  *     P = m ∗ (f ⊗ f), f = [1 2 1]/4 (each analyser 1/4 wherever it is centred, as the
@@ -44,8 +45,8 @@
  *     patent 4,642,678, 1987); δ = 1 % of M's full scale 3·fs.
  *  7. O_{k,a}(p) = M_a(p)·h_{a,k}(p); the pixel's own channel keeps its sample (M_own·h_own = v).
  *
- * A uniform colour and polarization is reproduced exactly up to δ_h (every tent of a constant
- * is the constant), so is a grey linear ramp under a uniform polarization as δ, δ_h → 0 (the
+ * A uniform colour and polarization is reproduced exactly (every tent of a constant is the
+ * constant), so is a grey linear ramp under a uniform polarization as δ → 0 (the
  * ratios to P0 are constant, h = 1/3 everywhere, m = 3v, and the ratio step's guide weighs the
  * analysers at ±1 alike). The alternatives measured (the hue from
  * the block sums alone, bilinear and Hamilton-Adams Bayer steps at half resolution, ratios to a
@@ -154,7 +155,7 @@ static void analyser_chroma(const fact_ref *r, int x, int y, const double wd[FAC
 			unsigned q = 4 * (pc_mosaic_color(r->m, xm, ym) - PC_CFA_R) +
 			             pc_mosaic_channel(r->m, xm, ym);
 			double t = (4 - abs(dx)) * (4 - abs(dy)), v = r->img[(size_t)ym * r->w + xm];
-			v = (fmax(v, 0) + r->dh) / (fmax(ppi0(r, x + dx, y + dy), 0) + r->dh);
+			v = fmax(v, 0) / fmax(ppi0(r, x + dx, y + dy), r->dh);
 			const int in[FACT_ND] = {1, dx <= 0, dx >= 0, dy <= 0, dy >= 0};
 			for (int d = 0; d < FACT_ND; d++)
 				if (in[d]) {
