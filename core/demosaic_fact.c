@@ -57,9 +57,10 @@
  * (x → (x mod 2) + 2·mirror(x div 2)), which keeps every pixel's 4×4 phase; m by the
  * whole-sample mirror (keeps the analyser).
  *
- * Support: a candidate reads block sums whose pixels lie within ±5, the block's window adds ±2,
- * the tents of step 4 read ratios within ±3, each P0's ±2: h at q reads the raw within ±7; the
- * ratio step reads m within ±2: ±9, and ±11 through the sub-image mirror. Double reference only (no fast path yet). */
+ * Support: a candidate reads block sums whose pixels lie within ±4, the block's window adds ±2,
+ * the tents of step 4 read ratios within ±3, each P0's ±2: h at q reads the raw within ±6; the
+ * ratio step reads m within ±2: ±8 (7 reached on random data, tests/test_front_door.c), ±10
+ * through the sub-image mirror. Double reference only (no fast path yet). */
 #include "demosaic_fact.h"
 
 #include <math.h>
@@ -91,7 +92,7 @@ typedef struct fact_ref {
 	const double *img;
 	int w, h;
 	const pc_mosaic *m;
-	double eps, dh; /* the block sums' floor; δ_h */
+	double eps, dh;     /* the block sums' floor; δ_h */
 	double *b;          /* block sums, nbx × nby */
 	unsigned char *col; /* their colour 0 (R), 1 (G), 2 (B) */
 	int nbx, nby;
@@ -128,7 +129,7 @@ static void block_chroma(const fact_ref *r, int x, int y, double c[4][3])
 			           (size_t)pc_mirror(i, r->nbx);
 			double t = (4 - fabs(dx)) * (4 - fabs(dy));
 			int k = r->col[o];
-			const int in[4] = {dx < 0, dx > 0, dy < 0, dy > 0};
+			const int in[4] = {dx<0, dx> 0, dy<0, dy> 0};
 			for (int d = 0; d < 4; d++)
 				if (in[d]) {
 					num[d][k] += t * r->b[o];
@@ -151,10 +152,12 @@ static void analyser_chroma(const fact_ref *r, int x, int y, const double wd[FAC
 	double num[FACT_ND][12] = {{0}}, den[FACT_ND][12] = {{0}};
 	for (int dy = -3; dy <= 3; dy++)
 		for (int dx = -3; dx <= 3; dx++) {
-			uint32_t xm = (uint32_t)mirror4(x + dx, r->w), ym = (uint32_t)mirror4(y + dy, r->h);
+			uint32_t xm = (uint32_t)mirror4(x + dx, r->w),
+			         ym = (uint32_t)mirror4(y + dy, r->h);
 			unsigned q = 4 * (pc_mosaic_color(r->m, xm, ym) - PC_CFA_R) +
 			             pc_mosaic_channel(r->m, xm, ym);
-			double t = (4 - abs(dx)) * (4 - abs(dy)), v = r->img[(size_t)ym * r->w + xm];
+			double t = (4 - abs(dx)) * (4 - abs(dy)),
+			       v = r->img[(size_t)ym * r->w + xm];
 			v = fmax(v, 0) / fmax(ppi0(r, x + dx, y + dy), r->dh);
 			const int in[FACT_ND] = {1, dx <= 0, dx >= 0, dy <= 0, dy >= 0};
 			for (int d = 0; d < FACT_ND; d++)
@@ -192,7 +195,8 @@ static int ratio_step(const double *v, int w, int h, const pc_mosaic *mono, doub
 			double p = 0;
 			for (int j = -1; j <= 1; j++)
 				for (int i = -1; i <= 1; i++)
-					p += (2 - abs(i)) * (2 - abs(j)) * pc_dimg_at(&vi, x + i, y + j);
+					p += (2 - abs(i)) * (2 - abs(j)) *
+					     pc_dimg_at(&vi, x + i, y + j);
 			rho[(size_t)y * w + x] =
 			    (fmax(v[(size_t)y * w + x], 0) + delta) / (fmax(p / 16, 0) + delta);
 		}
@@ -203,7 +207,8 @@ static int ratio_step(const double *v, int w, int h, const pc_mosaic *mono, doub
 			for (int j = -1; j <= 1; j++)
 				for (int i = -1; i <= 1; i++) {
 					double t = (2 - abs(i)) * (2 - abs(j));
-					unsigned a = pc_dm_ch(mono, (unsigned)(x + i), (unsigned)(y + j));
+					unsigned a =
+					    pc_dm_ch(mono, (unsigned)(x + i), (unsigned)(y + j));
 					num[a] += t * pc_dimg_at(&ri, x + i, y + j);
 					den[a] += t;
 				}
@@ -211,7 +216,8 @@ static int ratio_step(const double *v, int w, int h, const pc_mosaic *mono, doub
 			unsigned own = pc_dm_ch(mono, (unsigned)x, (unsigned)y);
 			double sc = (fmax(v[o], 0) + delta) * den[own] / num[own];
 			for (unsigned a = 0; a < 4; a++)
-				mk[(size_t)a * n + o] = a == own ? v[o] : sc * num[a] / den[a] - delta;
+				mk[(size_t)a * n + o] =
+				    a == own ? v[o] : sc * num[a] / den[a] - delta;
 		}
 	free(rho);
 	return 0;
@@ -222,10 +228,21 @@ int pc_dm_pan_fact_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 {
 	unsigned ox, oy;
 	if (pc_mosaic_color_origin(m, &ox, &oy))
-		return pc_error(PC_EINVAL, "pan-fact: the colour filter must cover whole 2x2 blocks");
+		return pc_error(PC_EINVAL,
+		                "pan-fact: the colour filter must cover whole 2x2 blocks");
 	const int W = (int)w + 2 * FACT_PAD, H = (int)h + 2 * FACT_PAD;
-	fact_ref r = {img, (int)w, (int)h, m, FACT_EPS * 4 * fs, FACT_DH * fs, NULL, NULL,
-	              (W - (int)ox) / 2, (H - (int)oy) / 2, (int)ox, (int)oy};
+	fact_ref r = {img,
+	              (int)w,
+	              (int)h,
+	              m,
+	              FACT_EPS * 4 * fs,
+	              FACT_DH * fs,
+	              NULL,
+	              NULL,
+	              (W - (int)ox) / 2,
+	              (H - (int)oy) / 2,
+	              (int)ox,
+	              (int)oy};
 	const size_t nb = (size_t)r.nbx * r.nby, n = (size_t)w * h;
 	r.b = malloc(sizeof *r.b * nb);
 	r.col = malloc(nb);
@@ -248,7 +265,7 @@ int pc_dm_pan_fact_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 			                                           (uint32_t)(r.y0 + 2 * j)) -
 			                           PC_CFA_R);
 		}
-	/* step 2 */
+		/* step 2 */
 #define CS(x, y) ((double(*)[3])(cs + ((size_t)(y) * (size_t)w + (size_t)(x)) * 12))
 	for (int y = 0; y < (int)h; y++)
 		for (int x = 0; x < (int)w; x++)
@@ -267,8 +284,10 @@ int pc_dm_pan_fact_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 					double(*pu)[3] = CS(xq, clampi(yy - 1, (int)h));
 					for (int d = 0; d < 4; d++)
 						for (int k = 0; k < 3; k++) {
-							hv[d + 1] += xx > xa ? fabs(p[d][k] - pl[d][k]) : 0;
-							hv[d + 1] += yy > ya ? fabs(p[d][k] - pu[d][k]) : 0;
+							hv[d + 1] +=
+							    xx > xa ? fabs(p[d][k] - pl[d][k]) : 0;
+							hv[d + 1] +=
+							    yy > ya ? fabs(p[d][k] - pu[d][k]) : 0;
 						}
 				}
 			hv[0] = (hv[1] + hv[2] + hv[3] + hv[4]) / 4;
@@ -293,11 +312,14 @@ int pc_dm_pan_fact_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 	for (int y = 0; y < (int)h; y++)
 		for (int x = 0; x < (int)w; x++) {
 			size_t o = (size_t)y * w + x;
-			unsigned own = 4 * (pc_mosaic_color(m, (uint32_t)x, (uint32_t)y) - PC_CFA_R) +
-			               pc_mosaic_channel(m, (uint32_t)x, (uint32_t)y);
+			unsigned own =
+			    4 * (pc_mosaic_color(m, (uint32_t)x, (uint32_t)y) - PC_CFA_R) +
+			    pc_mosaic_channel(m, (uint32_t)x, (uint32_t)y);
 			for (unsigned q = 0; q < 12; q++) {
 				unsigned k = q / 4, a = q % 4;
-				double v = q == own ? img[o] : mk[(size_t)a * n + o] * hp[(size_t)(3 * a + k) * n + o];
+				double v = q == own ? img[o]
+				                    : mk[(size_t)a * n + o] *
+				                          hp[(size_t)(3 * a + k) * n + o];
 				out[q].data[(size_t)y * out[q].row_stride +
 				            (size_t)x * out[q].pixel_stride] = (float)v;
 			}

@@ -1114,8 +1114,7 @@ static void test_pan_fact(void)
 	pc_fplane r[12], b[12];
 	float *rb = alloc_planes(W, H, 12, r), *bb = alloc_planes(W, H, 12, b);
 	double *truth = malloc(sizeof(double) * W * H * 12);
-	double ramp_err = 0, uni_err = 0, edge_mean[2] = {0, 0}, edge_max = 0, smax = 0,
-	       srms = 0;
+	double ramp_err = 0, uni_err = 0, edge_mean[2] = {0, 0}, edge_max = 0, smax = 0, srms = 0;
 	for (unsigned ph = 0; ph < 16; ph++) {
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		/* the grey ramp */
@@ -1142,7 +1141,8 @@ static void test_pan_fact(void)
 			hue_edge_raw(&raw, &m, ori, E0);
 			double rms[2];
 			for (int dm = 0; dm < 2; dm++) {
-				CHECK_EQ_INT(pc_demosaic(&raw, &m, dm ? PC_DM_PAN_FACT : PC_DM_PAN_RATIO,
+				CHECK_EQ_INT(pc_demosaic(&raw, &m,
+				                         dm ? PC_DM_PAN_FACT : PC_DM_PAN_RATIO,
 				                         &ref, r),
 				             0);
 				double se = 0;
@@ -1153,8 +1153,8 @@ static void test_pan_fact(void)
 							uint32_t a = ori ? y : x;
 							if (ori < 2 && (a + 6 < E0 || a >= E0 + 6))
 								continue;
-							double want = hue_edge_value(ori == 2 || a < E0,
-							                             q / 4, q % 4);
+							double want = hue_edge_value(
+							    ori == 2 || a < E0, q / 4, q % 4);
 							double e = fabs(fget(&r[q], x, y) - want);
 							se += e * e;
 							n++;
@@ -1181,11 +1181,13 @@ static void test_pan_fact(void)
 				for (unsigned k = 0; k < 3; k++)
 					for (unsigned c = 0; c < 4; c++)
 						truth[((size_t)(4 * k + c) * H + y) * W + x] =
-						    gc[k] * s0 / 2 * (1 + p * cos(2 * (c * M_PI / 4 - th)));
+						    gc[k] * s0 / 2 *
+						    (1 + p * cos(2 * (c * M_PI / 4 - th)));
 				unsigned c = pc_mosaic_channel(&m, x, y);
 				unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
 				PC_ROW(&smooth, uint16_t, y)
-				[x] = (uint16_t)lround(truth[((size_t)(4 * k + c) * H + y) * W + x]);
+				[x] =
+				    (uint16_t)lround(truth[((size_t)(4 * k + c) * H + y) * W + x]);
 			}
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_BAYER_FIRST, &ref, b), 0);
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_PAN_FACT, &ref, r), 0);
@@ -1195,7 +1197,8 @@ static void test_pan_fact(void)
 			for (uint32_t y = B; y < H - B; y++)
 				for (uint32_t x = B; x < W - B; x++) {
 					double want = truth[((size_t)q * H + y) * W + x];
-					double e = fget(&r[q], x, y) - want, eb = fget(&b[q], x, y) - want;
+					double e = fget(&r[q], x, y) - want,
+					       eb = fget(&b[q], x, y) - want;
 					emax = fmax(emax, fabs(e));
 					se += e * e;
 					sb += eb * eb;
