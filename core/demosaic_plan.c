@@ -425,9 +425,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "+2.31/+2.49); colour stress suite (5 scenes) +2.17/+1.88 (worst "
                          "+0.62 text/+0.75 gratings): the colour accuracy goal met on all "
                          "three sets",
-                         "double reference only (no fast path yet); estimated ~300 operations "
-                         "+ 10 divisions per pixel against pan-ratio's ~106 + 2, likely over "
-                         "the 5x budget (docs/demosaicking.md, Round 11b)",
+                         "double reference only (no fast path yet): estimated 320-385 "
+                         "operations + 12-13 divisions per pixel against pan-ratio's 106 + 2, "
+                         "about 6.5-8x the mono bilinear's time with a fast path, over the 5x "
+                         "budget (docs/demosaicking.md, Round 11b)",
                          "ours: the factorisation of Round 11b; homogeneity as Hirakawa & "
                          "Parks, IEEE TIP 14(3) 2005, blended as GBTF (Pekkucuksen & "
                          "Altunbasak, ICIP 2010); ratios to the PPI of Mihoubi et al., IEEE "
