@@ -678,15 +678,16 @@ static void test_pan_dir_chirp(void)
 
 static void test_color(void)
 {
-	const pc_demosaic_method cm[6] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
-	                                  PC_DM_PAN_GUIDED,  PC_DM_PAN_CHROMA, PC_DM_PAN_DIR};
+	const pc_demosaic_method cm[7] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
+	                                  PC_DM_PAN_GUIDED,  PC_DM_PAN_CHROMA, PC_DM_PAN_DIR,
+	                                  PC_DM_PAN_FACT};
 	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
 	for (unsigned ph = 0; ph < 16; ph++) {
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		scene tex = make_scene(40, 32, 2, 0);
-		for (int meth = 0; meth < 6; meth++) {
-			/* fast vs reference on a random texture */
+		for (int meth = 0; meth < 7; meth++) {
+			/* fast vs reference on a random texture (pan-fact: the reference twice) */
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);
 			pc_fplane f[12], r[12];
@@ -1090,6 +1091,141 @@ static void test_pan_ratio(void)
 	pc_view_free(&ramp);
 }
 
+/* pan-fact (demosaic_fact.c), a double reference only, against analytic values and against
+ * pan-ratio and bayer-first, every phase of the 4×4 period:
+ *  - a grey linear ramp under a uniform polarization is reproduced as the offsets δ, δ_h → 0
+ *    (full scale 10⁻⁶): the ratios to the PPI are constant, every hue 1/3, the hue-normalised
+ *    mosaic three times the raw, and the ratio step's guide weighs the analysers at ±1 alike;
+ *    within 1e-6 of the value (the float outputs) at least 12 pixels from the borders;
+ *  - at the hue edge of test_pan_chroma_edge (vertical and horizontal), the RMS error over the
+ *    band of ±6 pixels is below 0.6 of pan-ratio's averaged over the phases (0.51 and 0.47
+ *    measured) and below 1.15 of it at every phase (1.08 measured: where the edge cuts the
+ *    colour blocks no one-sided candidate reads one side only, as for pan-dir); the uniform
+ *    colour of the same test exact (within 0.05 DN; 10⁻⁴ measured);
+ *  - test_pan_ratio's smooth scene within 1.2 % of full scale away from the borders (12
+ *    pixels; 1.0 % measured) and with an RMS error below 0.9 of bayer-first's (0.84 measured:
+ *    the one-sided candidates follow hue gradients less well than centred tents, as pan-dir's).
+ * The bounds are the measured values plus headroom (they catch a regression). */
+static void test_pan_fact(void)
+{
+	const uint32_t W = 64, H = 48, E0 = 30, B = 12;
+	pc_mosaic base = pc_mosaic_imx250myr();
+	pc_view raw, smooth;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
+	pc_fplane r[12], b[12];
+	float *rb = alloc_planes(W, H, 12, r), *bb = alloc_planes(W, H, 12, b);
+	double *truth = malloc(sizeof(double) * W * H * 12);
+	double ramp_err = 0, uni_err = 0, edge_mean[2] = {0, 0}, edge_max = 0, smax = 0, srms = 0;
+	for (unsigned ph = 0; ph < 16; ph++) {
+		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+		/* the grey ramp */
+		const double pr = 0.55, tr = 0.6;
+		for (uint32_t y = 0; y < H; y++)
+			for (uint32_t x = 0; x < W; x++) {
+				unsigned c = pc_mosaic_channel(&m, x, y);
+				PC_ROW(&raw, float, y)
+				[x] = (float)(0.8 * (700 + 13 * x + 9 * y) *
+				              (1 + pr * cos(2 * (c * M_PI / 4 - tr))));
+			}
+		pc_demosaic_opts ref0 = {0, true, 1e-6}, ref = {0, true, 4095};
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_PAN_FACT, &ref0, r), 0);
+		for (unsigned q = 0; q < 12; q++)
+			for (uint32_t y = B; y < H - B; y++)
+				for (uint32_t x = B; x < W - B; x++) {
+					double want = 0.8 * (700 + 13 * x + 9 * y) *
+					              (1 + pr * cos(2 * (q % 4 * M_PI / 4 - tr)));
+					ramp_err =
+					    fmax(ramp_err, fabs(fget(&r[q], x, y) - want) / want);
+				}
+		/* the hue edges and the uniform colour */
+		for (int ori = 0; ori < 3; ori++) {
+			hue_edge_raw(&raw, &m, ori, E0);
+			double rms[2];
+			for (int dm = 0; dm < 2; dm++) {
+				CHECK_EQ_INT(pc_demosaic(&raw, &m,
+				                         dm ? PC_DM_PAN_FACT : PC_DM_PAN_RATIO,
+				                         &ref, r),
+				             0);
+				double se = 0;
+				size_t n = 0;
+				for (unsigned q = 0; q < 12; q++)
+					for (uint32_t y = 8; y < H - 8; y++)
+						for (uint32_t x = 8; x < W - 8; x++) {
+							uint32_t a = ori ? y : x;
+							if (ori < 2 && (a + 6 < E0 || a >= E0 + 6))
+								continue;
+							double want = hue_edge_value(
+							    ori == 2 || a < E0, q / 4, q % 4);
+							double e = fabs(fget(&r[q], x, y) - want);
+							se += e * e;
+							n++;
+							if (ori == 2 && dm)
+								uni_err = fmax(uni_err, e);
+						}
+				rms[dm] = sqrt(se / (double)n);
+			}
+			if (ori < 2) {
+				edge_mean[ori] += rms[1] / rms[0] / 16;
+				edge_max = fmax(edge_max, rms[1] / rms[0]);
+			}
+		}
+		/* the smooth scene of test_pan_ratio */
+		CHECK_EQ_INT(pc_view_alloc(&smooth, PC_FMT_MONO16, W, H, 0), 0);
+		for (uint32_t y = 0; y < H; y++)
+			for (uint32_t x = 0; x < W; x++) {
+				double s0 = 2400 + 900 * sin(2 * M_PI * x / 57.0) *
+				                       cos(2 * M_PI * y / 43.0);
+				double p = 0.35 + 0.15 * sin(2 * M_PI * (x + y) / 150.0);
+				double th = M_PI * (0.2 + 0.1 * cos(2 * M_PI * x / 150.0));
+				double gc[3] = {0.6 + 0.15 * sin(2 * M_PI * y / 61.0), 0.9,
+				                0.4 + 0.1 * cos(2 * M_PI * x / 67.0)};
+				for (unsigned k = 0; k < 3; k++)
+					for (unsigned c = 0; c < 4; c++)
+						truth[((size_t)(4 * k + c) * H + y) * W + x] =
+						    gc[k] * s0 / 2 *
+						    (1 + p * cos(2 * (c * M_PI / 4 - th)));
+				unsigned c = pc_mosaic_channel(&m, x, y);
+				unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
+				PC_ROW(&smooth, uint16_t, y)
+				[x] =
+				    (uint16_t)lround(truth[((size_t)(4 * k + c) * H + y) * W + x]);
+			}
+		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_BAYER_FIRST, &ref, b), 0);
+		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_PAN_FACT, &ref, r), 0);
+		double emax = 0, se = 0, sb = 0;
+		size_t n = 0;
+		for (unsigned q = 0; q < 12; q++)
+			for (uint32_t y = B; y < H - B; y++)
+				for (uint32_t x = B; x < W - B; x++) {
+					double want = truth[((size_t)q * H + y) * W + x];
+					double e = fget(&r[q], x, y) - want,
+					       eb = fget(&b[q], x, y) - want;
+					emax = fmax(emax, fabs(e));
+					se += e * e;
+					sb += eb * eb;
+					n++;
+				}
+		smax = fmax(smax, emax / 4095);
+		srms = fmax(srms, sqrt(se / sb));
+		pc_view_free(&smooth);
+	}
+	printf("  pan-fact: grey ramp max relative error %.2g; uniform colour max error %.3g DN; "
+	       "RMS / pan-ratio's at the hue edges: mean %.3g (vertical), %.3g (horizontal), "
+	       "largest %.3g; smooth scene max error %.3g of full scale, RMS / bayer-first's "
+	       "%.3g (largest over the phases)\n",
+	       ramp_err, uni_err, edge_mean[0], edge_mean[1], edge_max, smax, srms);
+	CHECK(ramp_err <= 1e-6);
+	CHECK(uni_err <= 0.05);
+	CHECK(edge_mean[0] < 0.6 && edge_mean[1] < 0.6);
+	CHECK(edge_max < 1.15);
+	CHECK(smax <= 0.012);
+	CHECK(srms < 0.9);
+	pc_view_free(&raw);
+	free(rb);
+	free(bb);
+	free(truth);
+}
+
 /* The 16-bit bilinear equals the float bilinear scaled by 2^frac and rounded half up, at every
  * phase and for every fraction width; sizes and formats it cannot hold are refused. */
 static void test_bilinear_u16(void)
@@ -1223,8 +1359,10 @@ int main(void)
 		test_flip();
 		test_polynomials();
 		test_ratio_nr_noise();
-		if (l == 0)
+		if (l == 0) {
 			test_newton_exact(); /* a reference only: one instance is enough */
+			test_pan_fact();     /* the same */
+		}
 		test_pan_dir_edge(l == 0);
 		test_formats_layouts();
 		test_color();

@@ -83,6 +83,7 @@ static const support supports[] = {
     {PC_DM_PAN_GUIDED, -7, 7, 1, 1, 2},     /* the same (its weights read the PPI's ±5) */
     {PC_DM_PAN_CHROMA, -7, 7, 1, 1, 2},     /* the same (C1 and C2 read as the PPI) */
     {PC_DM_PAN_DIR, -8, 8, 1, 1, 2},        /* pan-ratio's, ±1 through the 3×3 window */
+    {PC_DM_PAN_FACT, -10, 10, 1, 1, 3}, /* ±8 inside (demosaic_fact.c; 7 reached), ±10 the mirror */
 };
 #define N_SUP (sizeof supports / sizeof supports[0])
 

@@ -64,6 +64,8 @@ typedef enum pc_demosaic_method {
 	PC_DM_PAN_CHROMA,  /* colour only: pan-guided whose guide also sees hue (ours) */
 	PC_DM_PAN_DIR,     /* colour only: pan-ratio with homogeneity-weighted one-sided
 	                    * candidates (ours) */
+	PC_DM_PAN_FACT,    /* colour only: hue from half-resolution block sums, polarization
+	                    * on the hue-normalised mosaic (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
