@@ -394,28 +394,29 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           false,
                           PC_DM_PAN_CHROMA,
                           false},
-    [PC_DM_PAN_DIR] = {{PC_DM_PAN_DIR, "pan-dir",
-                        "colour-polarization: pan-ratio's colour step with one-sided "
-                        "(directional) candidates whose ratios are blended by the homogeneity "
-                        "of their hue; over bayer-first (bench colour, 9 scenes) smooth colours "
-                        "+4.17/+1.44 (worst +2.55/+0.10), hue patches +1.65/+3.81 (worst "
-                        "+1.50/+2.86); colour stress suite (5 scenes) +1.70/+2.06 (worst +0.73 "
-                        "text/+0.65 gratings): the colour accuracy goal met on all three sets",
-                        "one fused pass on row bands, the blend folded into each row phase's "
-                        "lattice coefficients: about 0.8x Round 10's time, 2.6-2.9x "
-                        "pan-ratio's (bench demosaic --quick, 2 threads, Release, load 2-3); "
-                        "at pan-ratio's idle 3.5x about 10x the mono bilinear's, twice the 5x "
-                        "budget (docs/demosaicking.md, Round 11)",
-                        "ours: pan-ratio with directional candidates (Hirakawa & Parks, IEEE "
-                        "TIP 14(3) 2005) blended as in GBTF (Pekkucuksen & Altunbasak, ICIP "
-                        "2010)",
-                        PC_DMF_COLOR},
-                       {PAN_LO - 1, PAN_HI + 1, 1, 1},
-                       NULL,
-                       NULL,
-                       false,
-                       PC_DM_PAN_DIR,
-                       false},
+    [PC_DM_PAN_DIR] =
+        {{PC_DM_PAN_DIR, "pan-dir",
+          "colour-polarization: pan-ratio's colour step with one-sided "
+          "(directional) candidates whose ratios are blended by the homogeneity "
+          "of their hue; over bayer-first (bench colour, 9 scenes) smooth colours "
+          "+4.17/+1.44 (worst +2.55/+0.10), hue patches +1.65/+3.81 (worst "
+          "+1.50/+2.86); colour stress suite (5 scenes) +1.70/+2.06 (worst +0.73 "
+          "text/+0.65 gratings): the colour accuracy goal met on all three sets",
+          "one fused pass on row bands, the blend folded into each row phase's "
+          "lattice coefficients: about 0.8x Round 10's time, 2.6-2.9x "
+          "pan-ratio's (bench demosaic --quick, 2 threads, Release, load 2-3); "
+          "idle 10.5-11.4x the mono bilinear's median wall time (Round 10: 14.8-14.9x "
+          "in the same runs), twice the 5x budget (docs/demosaicking.md, Round 11)",
+          "ours: pan-ratio with directional candidates (Hirakawa & Parks, IEEE "
+          "TIP 14(3) 2005) blended as in GBTF (Pekkucuksen & Altunbasak, ICIP "
+          "2010)",
+          PC_DMF_COLOR},
+         {PAN_LO - 1, PAN_HI + 1, 1, 1},
+         NULL,
+         NULL,
+         false,
+         PC_DM_PAN_DIR,
+         false},
     [PC_DM_PAN_FACT] = {{PC_DM_PAN_FACT, "pan-fact",
                          "colour-polarization: colour and polarization factorised, each "
                          "channel as M_a x h_ak: the hue h per analyser from one-sided tents "
