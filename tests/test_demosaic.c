@@ -955,6 +955,32 @@ static void test_pan_dir_edge(int first)
  *    they do not prove an accuracy. pan-dir on the ramp is exact as pan-ratio is (every
  *    one-sided candidate's ratio is constant too). Interleaved outputs and streaming stores
  *    equal the planar ones for all four. */
+/* The smooth colour-polarization scene of test_pan_ratio and test_pan_fact, 12-bit values: slowly
+ * varying S0, DoLP, AoLP and colour gains; truth gets the twelve channels (colour k, analyser c)
+ * at plane 4k + c, smooth the mosaic of them through m. */
+static void smooth_colour_raw(pc_view *smooth, const pc_mosaic *m, uint32_t W, uint32_t H,
+                              double *truth)
+{
+	CHECK_EQ_INT(pc_view_alloc(smooth, PC_FMT_MONO16, W, H, 0), 0);
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			double s0 =
+			    2400 + 900 * sin(2 * M_PI * x / 57.0) * cos(2 * M_PI * y / 43.0);
+			double p = 0.35 + 0.15 * sin(2 * M_PI * (x + y) / 150.0);
+			double th = M_PI * (0.2 + 0.1 * cos(2 * M_PI * x / 150.0));
+			double gc[3] = {0.6 + 0.15 * sin(2 * M_PI * y / 61.0), 0.9,
+			                0.4 + 0.1 * cos(2 * M_PI * x / 67.0)};
+			for (unsigned k = 0; k < 3; k++)
+				for (unsigned c = 0; c < 4; c++)
+					truth[((size_t)(4 * k + c) * H + y) * W + x] =
+					    gc[k] * s0 / 2 * (1 + p * cos(2 * (c * M_PI / 4 - th)));
+			unsigned c = pc_mosaic_channel(m, x, y);
+			unsigned k = pc_mosaic_color(m, x, y) - PC_CFA_R;
+			PC_ROW(smooth, uint16_t, y)
+			[x] = (uint16_t)lround(truth[((size_t)(4 * k + c) * H + y) * W + x]);
+		}
+}
+
 static void test_pan_ratio(void)
 {
 	const uint32_t W = 64, H = 48;
@@ -1004,26 +1030,7 @@ static void test_pan_ratio(void)
 			       "(fast); pan-dir %.2g, %.2g\n",
 			       er[0], ef[0], er[1], ef[1]);
 		/* smooth colour and polarization, 12-bit values */
-		CHECK_EQ_INT(pc_view_alloc(&smooth, PC_FMT_MONO16, W, H, 0), 0);
-		for (uint32_t y = 0; y < H; y++)
-			for (uint32_t x = 0; x < W; x++) {
-				double s0 = 2400 + 900 * sin(2 * M_PI * x / 57.0) *
-				                       cos(2 * M_PI * y / 43.0);
-				double p = 0.35 + 0.15 * sin(2 * M_PI * (x + y) / 150.0);
-				double th = M_PI * (0.2 + 0.1 * cos(2 * M_PI * x / 150.0));
-				double gc[3] = {0.6 + 0.15 * sin(2 * M_PI * y / 61.0), 0.9,
-				                0.4 + 0.1 * cos(2 * M_PI * x / 67.0)};
-				for (unsigned k = 0; k < 3; k++)
-					for (unsigned c = 0; c < 4; c++)
-						truth[((size_t)(4 * k + c) * H + y) * W + x] =
-						    gc[k] * s0 / 2 *
-						    (1 + p * cos(2 * (c * M_PI / 4 - th)));
-				unsigned c = pc_mosaic_channel(&m, x, y);
-				unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
-				PC_ROW(&smooth, uint16_t, y)
-				[x] =
-				    (uint16_t)lround(truth[((size_t)(4 * k + c) * H + y) * W + x]);
-			}
+		smooth_colour_raw(&smooth, &m, W, H, truth);
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_BAYER_FIRST, &ref, b), 0);
 		for (int gm = 0; gm < 4; gm++) {
 			const pc_demosaic_method pm = gm == 3   ? PC_DM_PAN_DIR
@@ -1170,26 +1177,7 @@ static void test_pan_fact(void)
 			}
 		}
 		/* the smooth scene of test_pan_ratio */
-		CHECK_EQ_INT(pc_view_alloc(&smooth, PC_FMT_MONO16, W, H, 0), 0);
-		for (uint32_t y = 0; y < H; y++)
-			for (uint32_t x = 0; x < W; x++) {
-				double s0 = 2400 + 900 * sin(2 * M_PI * x / 57.0) *
-				                       cos(2 * M_PI * y / 43.0);
-				double p = 0.35 + 0.15 * sin(2 * M_PI * (x + y) / 150.0);
-				double th = M_PI * (0.2 + 0.1 * cos(2 * M_PI * x / 150.0));
-				double gc[3] = {0.6 + 0.15 * sin(2 * M_PI * y / 61.0), 0.9,
-				                0.4 + 0.1 * cos(2 * M_PI * x / 67.0)};
-				for (unsigned k = 0; k < 3; k++)
-					for (unsigned c = 0; c < 4; c++)
-						truth[((size_t)(4 * k + c) * H + y) * W + x] =
-						    gc[k] * s0 / 2 *
-						    (1 + p * cos(2 * (c * M_PI / 4 - th)));
-				unsigned c = pc_mosaic_channel(&m, x, y);
-				unsigned k = pc_mosaic_color(&m, x, y) - PC_CFA_R;
-				PC_ROW(&smooth, uint16_t, y)
-				[x] =
-				    (uint16_t)lround(truth[((size_t)(4 * k + c) * H + y) * W + x]);
-			}
+		smooth_colour_raw(&smooth, &m, W, H, truth);
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_BAYER_FIRST, &ref, b), 0);
 		CHECK_EQ_INT(pc_demosaic(&smooth, &m, PC_DM_PAN_FACT, &ref, r), 0);
 		double emax = 0, se = 0, sb = 0;
