@@ -70,11 +70,8 @@
 #include "demosaic_color.h"
 #include "polarcam/error.h"
 
-#define FACT_PAD   16   /* the block grid's extension of the raw: a multiple of 4 */
-#define FACT_EPS   1e-4 /* floor of an interpolated colour: of the block full scale, of a ratio */
-#define FACT_DELTA 0.01 /* δ of the ratio step, fraction of M's full scale */
-#define FACT_DH    1e-4 /* δ_h of the hue's ratios, fraction of full scale */
-#define FACT_ND    5    /* candidates C, W, E, N, S */
+#define FACT_PAD 16 /* the block grid's extension of the raw: a multiple of 4 */
+#define FACT_ND  5  /* candidates C, W, E, N, S */
 
 /* The sub-image mirror: x of the raw extended beyond [0, n) (n even) keeping x mod 4. */
 static inline int mirror4(int x, int n)
@@ -336,6 +333,6 @@ done:
 
 const pc_dm_pan_fns *pc_dm_fact_fns_get(pc_demosaic_method m)
 {
-	static const pc_dm_pan_fns fact = {pc_dm_pan_fact_ref, NULL};
+	static const pc_dm_pan_fns fact = {pc_dm_pan_fact_ref, pc_dm_pan_fact_fast};
 	return m == PC_DM_PAN_FACT ? &fact : NULL;
 }

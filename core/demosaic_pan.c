@@ -36,10 +36,12 @@
  * ±2: an output pixel depends on the raw within ±5 (mirrored). */
 #include "demosaic_pan.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "demosaic_fact.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 #include "simd.h"
@@ -71,7 +73,8 @@ typedef struct pan_gorow_args {
  * same row when the row is a lattice row), the vertical fraction b = e/4 (gb, e the rows from
  * n's), green's weights in N and S (ggn, ggs); every per-row weight is a 16-lane row (one load).
  * The output row: the sixteen lattices by position L = 4t + s, each with its hold rows (nrow,
- * srow), its rows' interpolations (lnrow, lsrow) and channel lq; per row phase t the weights
+ * srow; read at x + 3 for E: nrowe, srowe, the same rows but pan-fact's green, weighed for W and
+ * E), its rows' interpolations (lnrow, lsrow) and channel lq; per row phase t the weights
  * u1 = 1 − b, u2 = b of red and blue and u1, u2 halved for green (cu), green's weights in N and
  * S (cg), full: the lattice rows are not on the output row (e ≠ 0); red's or blue's two lattices
  * of t (rl); the green groups G = 0, 1: the row phases G and G + 2 (gt), each green channel's
@@ -81,12 +84,32 @@ typedef struct pan_gorow_args {
 typedef struct pan_dlat_args {
 	const float *hpn[8], *hps[8], *lpn[8], *lps[8];
 	float gb[8][16], ggn[4][16], ggs[4][16];
-	const float *nrow[16], *srow[16], *lnrow[16], *lsrow[16];
+	const float *nrow[16], *srow[16], *nrowe[16], *srowe[16], *lnrow[16], *lsrow[16];
 	float cu[4][4], cg[4][2];
 	int full[4], rl[4][2], gt[2][2], gl[2][2][2], lq[16];
 	const float *osel[12];
 	const float *r0, *rn, *rs, *gsel;
 } pan_dlat_args;
+
+/* pan-fact's step 2 for one row (fact_chroma): the block columns' vertical interpolations u (red
+ * or blue) and g (green); W's and E's lane weights (colour, near/far column); N's and S's rows
+ * (red's, blue's, green's two) and green's weights */
+typedef struct fact_cargs {
+	const float *u, *g;
+	float cw[3][2][16], ce[3][2][16];
+	const float *nr, *nb, *ng[2], *sr, *sb, *sg[2];
+	float ngw[2], sgw[2];
+} fact_cargs;
+
+/* pan-fact's output row (fact_orow): the ratio rows r2 above, at and below it, pd, m, the twelve
+ * hue rows h; the own channel per column phase u (own, sel); per analyser which of (m, H, V, D)
+ * it is on even and odd columns (mx) */
+typedef struct fact_oargs {
+	const float *ru, *r0, *rd, *pd, *m, *h[12];
+	const float *sel[4];
+	unsigned own[4];
+	int mx[4][2];
+} fact_oargs;
 
 #define PC_INST PC_INST_BASELINE
 #include "simd_instance_begin.h"
@@ -589,7 +612,7 @@ static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
 
 typedef void (*pan_vsum_fn)(const float *const r[5], long n, float *sum);
 typedef void (*pan_ratio_fn)(const float *vs, const float *raw, long x0, long n, float delta,
-                             float *rho, float *p0out);
+                             float lo, float *rho, float *p0out);
 typedef void (*pan_ghrows_fn)(const float *rho, const float *p0, long n, const float wt[4][7][16],
                               float e, float *const h[4]);
 typedef void (*pan_gorow_fn)(const pan_gorow_args *a, const float *raw, long n, float delta,
@@ -616,6 +639,24 @@ typedef void (*pan_dgam_fn)(const pan_dlat_args *a, const float *const hb[4][3],
                             long x0, long x1, float delta, float *const g[5]);
 typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const g[5], const float *raw,
                              long x0, long x1, float delta, float *const out[12], long xo, int nt);
+typedef void (*fact_gwrows_fn)(const float *const hw[2], const float *const ww[2],
+                               const float *const we[2], long n, float *const gw[2],
+                               float *const ge[2]);
+typedef void (*fact_bsum_fn)(const float *r0, const float *r1, const float par[16], long x0, long n,
+                             float *bd);
+typedef void (*fact_taps_fn)(const float *const in[4], const int off[4], const float w[2][4][16],
+                             long x0, long n, float *const out[2]);
+typedef void (*fact_chroma_fn)(const fact_cargs *a, long n, float eps, float *const c[4][2]);
+typedef void (*fact_box_fn)(const float *dh, const float *dv, long x0, long n, float *bh,
+                            float *be);
+typedef void (*fact_gam_fn)(const float *const hb[4][4], const float par[16], long n,
+                            float *const g[5]);
+typedef void (*fact_hue_fn)(const float *const rq[12], const float *raw, const float *const sel[4],
+                            const unsigned own[4], long n, float *const h[12], float *m);
+typedef void (*fact_ppi2_fn)(const float *mu, const float *m0, const float *md, float delta, long n,
+                             float *r2, float *pd);
+typedef void (*fact_orow_fn)(const fact_oargs *a, const float *raw, long x0, long x1, float delta,
+                             float *const out[12], long xo, int nt);
 
 typedef struct pan_kern {
 	pan_vsum_fn vsum;
@@ -635,33 +676,48 @@ typedef struct pan_kern {
 	pan_dbox_fn dbox;
 	pan_dgam_fn dgam;
 	pan_dorow_fn dorow;
+	fact_gwrows_fn gwrows;
+	fact_bsum_fn bsum;
+	fact_taps_fn taps;
+	fact_chroma_fn chroma;
+	fact_box_fn box;
+	fact_gam_fn gam;
+	fact_hue_fn hue;
+	fact_ppi2_fn ppi2;
+	fact_orow_fn forow;
 } pan_kern;
 
 static pan_kern pan_kernels(pc_cpu_level level)
 {
 #ifdef PC_CPU_X86
 	if (level >= PC_CPU_AVX512)
-		return (pan_kern){pan_vsum_avx512,    pan_ratio_avx512,  pan_hrows_avx512,
-		                  pan_orow_avx512,    pan_ghrows_avx512, pan_gorow_avx512,
-		                  pan_vsumw_avx512,   pan_cratio_avx512, pan_cghrows_avx512,
-		                  pan_cgorow_avx512,  pan_dwrows_avx512, pan_dprows_avx512,
-		                  pan_dchroma_avx512, pan_dvar_avx512,   pan_dbox_avx512,
-		                  pan_dgam_avx512,    pan_dorow_avx512};
+		return (pan_kern){
+		    pan_vsum_avx512,    pan_ratio_avx512,   pan_hrows_avx512,  pan_orow_avx512,
+		    pan_ghrows_avx512,  pan_gorow_avx512,   pan_vsumw_avx512,  pan_cratio_avx512,
+		    pan_cghrows_avx512, pan_cgorow_avx512,  pan_dwrows_avx512, pan_dprows_avx512,
+		    pan_dchroma_avx512, pan_dvar_avx512,    pan_dbox_avx512,   pan_dgam_avx512,
+		    pan_dorow_avx512,   fact_gwrows_avx512, fact_bsum_avx512,  fact_taps_avx512,
+		    fact_chroma_avx512, fact_box_avx512,    fact_gam_avx512,   fact_hue_avx512,
+		    fact_ppi2_avx512,   fact_orow_avx512};
 	if (level >= PC_CPU_AVX2)
-		return (pan_kern){pan_vsum_avx2,    pan_ratio_avx2,  pan_hrows_avx2,
-		                  pan_orow_avx2,    pan_ghrows_avx2, pan_gorow_avx2,
-		                  pan_vsumw_avx2,   pan_cratio_avx2, pan_cghrows_avx2,
-		                  pan_cgorow_avx2,  pan_dwrows_avx2, pan_dprows_avx2,
-		                  pan_dchroma_avx2, pan_dvar_avx2,   pan_dbox_avx2,
-		                  pan_dgam_avx2,    pan_dorow_avx2};
+		return (pan_kern){
+		    pan_vsum_avx2,    pan_ratio_avx2,   pan_hrows_avx2,  pan_orow_avx2,
+		    pan_ghrows_avx2,  pan_gorow_avx2,   pan_vsumw_avx2,  pan_cratio_avx2,
+		    pan_cghrows_avx2, pan_cgorow_avx2,  pan_dwrows_avx2, pan_dprows_avx2,
+		    pan_dchroma_avx2, pan_dvar_avx2,    pan_dbox_avx2,   pan_dgam_avx2,
+		    pan_dorow_avx2,   fact_gwrows_avx2, fact_bsum_avx2,  fact_taps_avx2,
+		    fact_chroma_avx2, fact_box_avx2,    fact_gam_avx2,   fact_hue_avx2,
+		    fact_ppi2_avx2,   fact_orow_avx2};
 #else
 	(void)level;
 #endif
-	return (pan_kern){pan_vsum_base,    pan_ratio_base,  pan_hrows_base,  pan_orow_base,
-	                  pan_ghrows_base,  pan_gorow_base,  pan_vsumw_base,  pan_cratio_base,
-	                  pan_cghrows_base, pan_cgorow_base, pan_dwrows_base, pan_dprows_base,
-	                  pan_dchroma_base, pan_dvar_base,   pan_dbox_base,   pan_dgam_base,
-	                  pan_dorow_base};
+	return (pan_kern){pan_vsum_base,    pan_ratio_base,   pan_hrows_base,  pan_orow_base,
+	                  pan_ghrows_base,  pan_gorow_base,   pan_vsumw_base,  pan_cratio_base,
+	                  pan_cghrows_base, pan_cgorow_base,  pan_dwrows_base, pan_dprows_base,
+	                  pan_dchroma_base, pan_dvar_base,    pan_dbox_base,   pan_dgam_base,
+	                  pan_dorow_base,   fact_gwrows_base, fact_bsum_base,  fact_taps_base,
+	                  fact_chroma_base, fact_box_base,    fact_gam_base,   fact_hue_base,
+	                  fact_ppi2_base,   fact_orow_base};
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
@@ -896,10 +952,10 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 				K.cghrows(rho, p0, c1, c2, n, t->wt, j->e, hr[yy & 7]);
 			} else if (j->guided) {
 				float *p0 = gr[0][yy & 7];
-				K.ratio(vs, rawp, -16, n + 32, j->delta, rho, p0);
+				K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rho, p0);
 				K.ghrows(rho, p0, n, t->wt, j->e, hr[yy & 7]);
 			} else {
-				K.ratio(vs, rawp, -16, n + 32, j->delta, rho, NULL);
+				K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rho, NULL);
 				K.hrows(rho, n, t->wt, hr[yy & 7]);
 			}
 		}
@@ -1102,8 +1158,8 @@ static void pan_dout_args(const pan_job *j, const pan_tables *t, const pan_dtabl
 		a->cg[ty][1] = gs;
 		for (unsigned s = 0; s < 4; s++) {
 			const int L = 4 * (int)ty + (int)s;
-			a->nrow[L] = hw[yn & 7][s];
-			a->srow[L] = hw[ys & 7][s];
+			a->nrow[L] = a->nrowe[L] = hw[yn & 7][s];
+			a->srow[L] = a->srowe[L] = hw[ys & 7][s];
 			a->lnrow[L] = li[yn & 7][s];
 			a->lsrow[L] = li[ys & 7][s];
 			a->lq[L] = (int)pan_q(j->m, s, ty);
@@ -1230,7 +1286,7 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 			 * output row y <= yc reads y - 3 .. y + 3) */
 			for (int yy = have + 1 > yc - 4 ? have + 1 : yc - 4; yy <= yc + 3; yy++) {
 				pan_src_sums(j, &K, t, &rc, yy, src, vs, NULL, rawp, n, nmain);
-				K.ratio(vs, rawp, -16, n + 32, j->delta, rr[yy & 7], NULL);
+				K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rr[yy & 7], NULL);
 				K.dwrows(rr[yy & 7], 0, n + 16, dt->tw, hw[yy & 7]);
 				K.dprows(hw[yy & 7], n, dt->fa, dt->ox, li[yy & 7], hp[yy & 7],
 				         lp[yy & 7]);
@@ -1347,4 +1403,533 @@ int pc_dm_pan_chroma_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
                           pc_cpu_level level, const pc_fplane *out)
 {
 	return pan_run(in, m, fs, threads, level, out, 2);
+}
+
+/* ---- pan-fact's fast path ----
+ *
+ * pc_dm_pan_fact_ref's definition (demosaic_fact.c) on row bands, float, every intermediate a
+ * row in a per-thread ring; exact in real arithmetic except where noted. Per (extended) source
+ * row, pan-dir's: the ratio row ρ = max(v, 0)/max(P0, δ_h) (pan_ratio with δ = 0 and floor
+ * δ_h), its hold rows and row interpolations per column phase (pan_dwrows, pan_dprows), and
+ * for green's two column phases its hold rows weighed for W and E (fact_gwrows: a green channel's
+ * one-sided tent over its two lattices weighs each lattice's hold by 4 − |dx|, normalised,
+ * where pan-dir takes 1/2 each; stored times 2 so that pan-dir's halved green coefficients
+ * apply). Then, in order:
+ *  - per block row (its top row Y ≡ the colour blocks' row origin, mod 2), the block sums at
+ *    pixel resolution (each column holds its block's sum, fact_bsum) and their horizontal
+ *    interpolations of red-or-blue and of green along the row (fact_taps at x ± 1, x ± 3: a
+ *    colour's two blocks within ±3.5 of x, weights (4 − |dx|)/4);
+ *  - per pixel row r, the block columns' vertical interpolations (fact_taps over the four
+ *    block rows within ±3.5) and the four candidates' chromaticities (fact_chroma: W and E read
+ *    the near and far block column at x ∓ 1, x ∓ 3, N and S the rows' interpolations), c
+ *    clamped at the borders, their variation rows (pan_dvar) and boxes (fact_box): per row the
+ *    horizontal box bh and the full box be of the block whose left column is x;
+ *  - per block row, the blend weights γ_d = w_d/Σ w (fact_gam: H_d the box of the window's
+ *    rows Y − 1 .. Y + 2, clamped rows repeating the edge row's horizontal box);
+ *  - per row yc, step 4: Σ_d γ_d R^d_q of the twelve channels by pan-dir's output kernel
+ *    (pan_dorow: the blend folded into each row phase's lattice coefficients; δ = 0, no own
+ *    channel), then the hue h and m = v/h_own (fact_hue), m padded by the whole-sample mirror;
+ *  - per row, step 6's guide and ratios (fact_ppi2), the ratio step's reference scale
+ *    (max(m, 0) + δ)/ρ(p) taken as max(P, 0) + δ, its equal in real arithmetic;
+ *  - the output row y (fact_orow) from rows y − 1 .. y + 1 of the ratios, m of row y and h of
+ *    row y: the hue is computed two rows ahead of the output, the chromaticities four. */
+typedef struct fact_job {
+	pan_job j; /* delta: step 6's δ */
+	float eps; /* step 2's floor: FACT_EPS of the block sums' full scale 4·fs */
+	float dh;  /* step 4's δ_h */
+} fact_job;
+
+/* the lane patterns of one band (lane l at column phase l mod 4) */
+typedef struct fact_tables {
+	float par[16];              /* 1 on the right columns of the colour blocks */
+	float gw[4][16], ge[4][16]; /* green's hold weights (×2) for W and E, by column phase */
+	fact_cargs ca;              /* W's and E's weights (the rows set per row) */
+} fact_tables;
+
+static int fact_col(const pc_mosaic *m, int x, int y)
+{
+	return (int)pc_mosaic_color(m, (unsigned)x & 3, (unsigned)y & 3) - PC_CFA_R;
+}
+
+/* the left column of the colour block holding column x */
+static int fact_x0(int x, unsigned ox)
+{
+	return x - ((x - (int)ox) & 1);
+}
+
+/* whether colour k is on block column x0 */
+static int fact_on_col(const pc_mosaic *m, int k, int x0)
+{
+	for (int y = 0; y < 4; y++)
+		if (fact_col(m, x0, y) == k)
+			return 1;
+	return 0;
+}
+
+static int fact_on_row(const pc_mosaic *m, int k, int y0)
+{
+	for (int x = 0; x < 4; x++)
+		if (fact_col(m, x, y0) == k)
+			return 1;
+	return 0;
+}
+
+/* a green lattice's share in the one-sided tent at distance e (0..3) from its hold: the other
+ * lattice is 2 columns on, (4 − e)/((4 − e) + (4 − (e + 2) mod 4)) */
+static float fact_gshare(int e)
+{
+	return (float)(4 - e) / (float)(8 - e - ((e + 2) & 3));
+}
+
+static void fact_tables_init(fact_tables *t, const pc_mosaic *m, unsigned ox)
+{
+	memset(t, 0, sizeof *t);
+	for (int l = 0; l < 16; l++) {
+		const int x = 8 + l; /* column phase l mod 4 */
+		t->par[l] = (float)((x - (int)ox) & 1);
+		for (int s = 0; s < 4; s++) {
+			t->gw[s][l] = 2 * fact_gshare((l - s) & 3);
+			/* read at x + 3 by the pixel x: its distance (s − x) mod 4 */
+			t->ge[s][l] = 2 * fact_gshare((s - (l - 3)) & 3);
+		}
+		for (int d = 0; d < 2; d++) {
+			float wt[3][2];
+			for (int f = 0; f < 2; f++) {
+				const int x0 = fact_x0(x + (d ? 1 : -1) * (f ? 3 : 1), ox);
+				const float dx = (float)x0 + 0.5f - (float)x;
+				for (int k = 0; k < 3; k++)
+					wt[k][f] = fact_on_col(m, k, x0) ? 4 - fabsf(dx) : 0;
+			}
+			for (int k = 0; k < 3; k++)
+				for (int f = 0; f < 2; f++) {
+					float *c = d ? t->ca.ce[k][f] : t->ca.cw[k][f];
+					c[l] = wt[k][f] / (wt[k][0] + wt[k][1]);
+				}
+		}
+	}
+}
+
+/* The per-band state of pan-fact's fast path: rows and what they hold. */
+typedef struct fact_band_st {
+	const fact_job *fj;
+	const pan_kern *K;
+	const pan_tables *t;
+	const pan_dtables *dt;
+	const fact_tables *ft;
+	pan_rows rc;
+	unsigned ox, oy;
+	long n, nmain;
+	float *vs, *rawp, *rawo, *rawo2, *src, *rho, *braw[2];
+	float *hw[8][4], *li[8][4], *gw[8][2], *ge[8][2], *hpd[2], *lpd[2], *dummy[8];
+	float *bd[8], *hrb[8], *hg[8], *u, *g;
+	float *c[2][4][2], *dh, *dv, *bh[4][4], *be[4][4], *gam[5], *rq[12], *hr[4][12];
+	float *mr[8], *r2[8], *pd[8], *o[12];
+	int src_next, blk_next, c_next, c_first, hue_next, r2_next, g_y0;
+} fact_band_st;
+
+/* the raw row y (mirror4) minus black, padded by the sub-image mirror, into d */
+static void fact_raw_row(fact_band_st *b, int y, float *d)
+{
+	const int iw = (int)b->fj->j.w;
+	memcpy(d, pan_row(&b->rc, b->fj->j.in, mirror4(y, (int)b->fj->j.h)),
+	       (size_t)iw * sizeof *d);
+	for (int x = -PAN_PADR; x < 0; x++)
+		d[x] = d[mirror4(x, iw)];
+	for (int x = iw; x < (int)b->n + PAN_PADR; x++)
+		d[x] = d[mirror4(x, iw)];
+}
+
+/* the whole-sample mirror of a row computed on [0, w) to [-PAN_PADR, n + PAN_PADR) */
+static void fact_pad_mirror(float *d, int iw, long n)
+{
+	for (int x = -PAN_PADR; x < 0; x++)
+		d[x] = d[pc_mirror(x, iw)];
+	for (int x = iw; x < (int)n + PAN_PADR; x++)
+		d[x] = d[pc_mirror(x, iw)];
+}
+
+/* source rows up to yy: ρ, hold rows, interpolations, green's weighed holds */
+static void fact_src_to(fact_band_st *b, int ymax)
+{
+	const pan_job *j = &b->fj->j;
+	for (; b->src_next <= ymax; b->src_next++) {
+		const int yy = b->src_next, k = yy & 7;
+		pan_src_sums(j, b->K, b->t, &b->rc, yy, b->src, b->vs, NULL, b->rawp, b->n,
+		             b->nmain);
+		b->K->ratio(b->vs, b->rawp, -16, b->n + 32, 0, b->fj->dh, b->rho, NULL);
+		b->K->dwrows(b->rho, 0, b->n + 16, b->dt->tw, b->hw[k]);
+		b->K->dprows(b->hw[k], b->n, b->dt->fa, b->ox, b->li[k], b->hpd, b->lpd);
+		const float *h2[2], *ww[2], *we[2];
+		int p = 0;
+		for (int s = 0; s < 4; s++)
+			if (fact_col(j->m, s, yy) == 1) {
+				h2[p] = b->hw[k][s];
+				ww[p] = b->ft->gw[s];
+				we[p++] = b->ft->ge[s];
+			}
+		b->K->gwrows(h2, ww, we, b->n + 16, b->gw[k], b->ge[k]);
+	}
+}
+
+static int fact_bslot(const fact_band_st *b, int y)
+{
+	return ((y - (int)b->oy) >> 1) & 7;
+}
+
+/* block rows (top rows) up to ymax: sums and horizontal interpolations */
+static void fact_blocks_to(fact_band_st *b, int ymax)
+{
+	const pc_mosaic *m = b->fj->j.m;
+	for (; b->blk_next <= ymax; b->blk_next += 2) {
+		const int y = b->blk_next, k = fact_bslot(b, y);
+		fact_raw_row(b, y, b->braw[0]);
+		fact_raw_row(b, y + 1, b->braw[1]);
+		b->K->bsum(b->braw[0], b->braw[1], b->ft->par, -24, b->n + 48, b->bd[k]);
+		static const int off[4] = {-3, -1, 1, 3};
+		float wt[2][4][16];
+		for (int l = 0; l < 16; l++)
+			for (int i = 0; i < 4; i++) {
+				const int x0 = fact_x0(8 + l + off[i], b->ox);
+				const float w = (4 - fabsf((float)x0 + 0.5f - (float)(8 + l))) / 4;
+				const int gr = fact_col(m, x0, y) == 1;
+				wt[0][i][l] = gr ? 0 : w;
+				wt[1][i][l] = gr ? w : 0;
+			}
+		const float *in[4] = {b->bd[k], b->bd[k], b->bd[k], b->bd[k]};
+		float *out[2] = {b->hrb[k], b->hg[k]};
+		b->K->taps(in, off, (const float(*)[4][16])wt, 0, b->n, out);
+	}
+}
+
+/* the two block rows on one side of row r (north: centres above r, else below): red's, blue's,
+ * green's rows and green's weights */
+static void fact_ns_rows(const fact_band_st *b, int r, int south, const float **pr,
+                         const float **pb, const float *pg[2], float gw[2])
+{
+	const pc_mosaic *m = b->fj->j.m;
+	int y = south ? r : r - 4;
+	y += (y - (int)b->oy) & 1;
+	float ws = 0;
+	for (int i = 0; i < 2; i++, y += 2) {
+		const int k = fact_bslot(b, y);
+		if (fact_on_row(m, 0, y))
+			*pr = b->hrb[k];
+		else
+			*pb = b->hrb[k];
+		pg[i] = b->hg[k];
+		gw[i] = 4 - fabsf((float)y + 0.5f - (float)r);
+		ws += gw[i];
+	}
+	gw[0] /= ws;
+	gw[1] /= ws;
+}
+
+/* chromaticity rows up to r: candidates, clamped columns, variation boxes */
+static void fact_chroma_to(fact_band_st *b, int ymax)
+{
+	const pc_mosaic *m = b->fj->j.m;
+	const int iw = (int)b->fj->j.w;
+	for (; b->c_next <= ymax; b->c_next++) {
+		const int r = b->c_next;
+		int y = r - 4;
+		y += (y - (int)b->oy) & 1;
+		fact_blocks_to(b, y + 6);
+		/* the block columns' vertical interpolations at row r */
+		float wt[2][4][16];
+		const float *in[4];
+		for (int i = 0; i < 4; i++) {
+			const int yb = y + 2 * i;
+			const float w = (4 - fabsf((float)yb + 0.5f - (float)r)) / 4;
+			in[i] = b->bd[fact_bslot(b, yb)];
+			for (int l = 0; l < 16; l++) {
+				const int gr = fact_col(m, fact_x0(8 + l, b->ox), yb) == 1;
+				wt[0][i][l] = gr ? 0 : w;
+				wt[1][i][l] = gr ? w : 0;
+			}
+		}
+		static const int off0[4] = {0, 0, 0, 0};
+		float *ug[2] = {b->u, b->g};
+		b->K->taps(in, off0, (const float(*)[4][16])wt, -16, b->n + 32, ug);
+		fact_cargs a = b->ft->ca;
+		a.u = b->u;
+		a.g = b->g;
+		fact_ns_rows(b, r, 0, &a.nr, &a.nb, a.ng, a.ngw);
+		fact_ns_rows(b, r, 1, &a.sr, &a.sb, a.sg, a.sgw);
+		float *const(*c)[2] = b->c[r & 1];
+		b->K->chroma(&a, b->n, b->fj->eps, c);
+		for (int d = 0; d < 4; d++) {
+			for (int k = 0; k < 2; k++) {
+				float *ck = c[d][k];
+				for (int x = -PAN_PADR; x < 0; x++)
+					ck[x] = ck[0];
+				for (int x = iw; x < (int)b->n + PAN_PADR; x++)
+					ck[x] = ck[iw - 1];
+			}
+			/* the row above (itself on the first row: no vertical differences there,
+			 * and on a band's first row only its horizontal box is read) */
+			float *const *pp = r == b->c_first ? c[d] : b->c[(r - 1) & 1][d];
+			const float *cc[2] = {c[d][0], c[d][1]}, *pc[2] = {pp[0], pp[1]};
+			b->K->dvar(cc, pc, -16, b->n + 32, b->dh, b->dv);
+			b->K->box(b->dh, b->dv, -16, b->n + 16, b->bh[r & 3][d], b->be[r & 3][d]);
+		}
+	}
+}
+
+/* the blend weights of the block row with top row y0 */
+static void fact_gamma(fact_band_st *b, int y0)
+{
+	if (b->g_y0 == y0)
+		return;
+	const int ih = (int)b->fj->j.h;
+	fact_chroma_to(b, y0 + 2 < ih ? y0 + 2 : ih - 1);
+	const float *hb[4][4];
+	for (int d = 0; d < 4; d++) {
+		const int ya = y0 > 0 ? y0 - 1 : 0;
+		hb[d][0] = b->bh[ya & 3][d];
+		for (int i = 0; i < 3; i++) {
+			const int r = y0 + i;
+			hb[d][i + 1] = r < 0     ? b->bh[0][d]
+			               : r >= ih ? b->bh[(ih - 1) & 3][d]
+			                         : b->be[r & 3][d];
+		}
+	}
+	b->K->gam(hb, b->ft->par, b->n, b->gam);
+	b->g_y0 = y0;
+}
+
+/* hue rows up to ymax: step 4 (blend, hue) and step 5 (m) */
+static void fact_hue_to(fact_band_st *b, int ymax)
+{
+	const pan_job *j = &b->fj->j;
+	const int iw = (int)j->w;
+	for (; b->hue_next <= ymax; b->hue_next++) {
+		const int yc = b->hue_next;
+		fact_src_to(b, yc + 3);
+		fact_gamma(b, yc - ((yc - (int)b->oy) & 1));
+		pan_dlat_args a;
+		pan_dout_args(j, b->t, b->dt, b->hw, b->li, b->dummy, yc, &a);
+		for (int q = 0; q < 12; q++)
+			a.osel[q] = b->dt->zero;
+		for (unsigned t = 0; t < 4; t++) {
+			int e, yn, ys, p = 0;
+			lattice_rows(yc, t, &e, &yn, &ys);
+			for (unsigned s = 0; s < 4; s++) {
+				if (fact_col(j->m, (int)s, (int)t) != 1)
+					continue;
+				const int L = 4 * (int)t + (int)s;
+				a.nrow[L] = b->gw[yn & 7][p];
+				a.srow[L] = b->gw[ys & 7][p];
+				a.nrowe[L] = b->ge[yn & 7][p];
+				a.srowe[L] = b->ge[ys & 7][p++];
+			}
+		}
+		const float *gc[5] = {b->gam[0], b->gam[1], b->gam[2], b->gam[3], b->gam[4]};
+		b->K->dorow(&a, gc, b->rawo, 0, b->n, 0, b->rq, 0, 0);
+		memcpy(b->rawo, pan_row(&b->rc, j->in, yc), (size_t)iw * sizeof *b->rawo);
+		const float *sel[4], *rq[12];
+		unsigned own[4];
+		for (unsigned u = 0; u < 4; u++) {
+			sel[u] = b->t->sel[u];
+			own[u] = pan_q(j->m, u, (unsigned)yc & 3);
+		}
+		for (int q = 0; q < 12; q++)
+			rq[q] = b->rq[q];
+		b->K->hue(rq, b->rawo, sel, own, b->n, b->hr[yc & 3], b->mr[yc & 7]);
+		fact_pad_mirror(b->mr[yc & 7], iw, b->n);
+	}
+}
+
+/* step 6's ratio rows up to ymax */
+static void fact_r2_to(fact_band_st *b, int ymax)
+{
+	const int iw = (int)b->fj->j.w, ih = (int)b->fj->j.h;
+	for (; b->r2_next <= ymax; b->r2_next++) {
+		const int r = b->r2_next;
+		fact_hue_to(b, r + 1 < ih ? r + 1 : ih - 1);
+		b->K->ppi2(b->mr[pc_mirror(r - 1, ih) & 7], b->mr[r & 7],
+		           b->mr[pc_mirror(r + 1, ih) & 7], b->fj->j.delta, b->n, b->r2[r & 7],
+		           b->pd[r & 7]);
+		fact_pad_mirror(b->r2[r & 7], iw, b->n);
+	}
+}
+
+static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	fact_job *fj = ctx;
+	pan_job *j = &fj->j;
+	const uint32_t w = j->w, h = j->h;
+	const int ih = (int)h;
+	const long n = ((long)w + 15) / 16 * 16, nmain = (long)w / 16 * 16;
+	const size_t pitch = (size_t)n + 2 * PAN_PADR;
+	pan_tables *t = pc_dm_alloc(sizeof *t);
+	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
+	fact_tables *ft = pc_dm_alloc(sizeof *ft);
+	/* rows: 8 of scratch (source sums, raw rows), 16 cached raw rows; 8 × (4 hold rows, 4
+	 * interpolations, 2 + 2 green weighed holds) and 4 unused pair rows; 8 × (block sums, two
+	 * interpolations), u, g; 2 × 4 × 2 chromaticities, dh, dv, 4 × 4 × 2 boxes; 5 weights, 12
+	 * blended ratios, 4 × 12 hue rows; 8 × (m, r2, pd); 12 output rows; 1 unused */
+	const size_t nrows = 8 + 16 + 96 + 4 + 24 + 2 + 16 + 2 + 32 + 5 + 12 + 48 + 24 + 12 + 1;
+	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
+	if (!t || !dt || !ft || !buf) {
+		pc_dm_free(t);
+		pc_dm_free(dt);
+		pc_dm_free(ft);
+		pc_dm_free(buf);
+		j->err = 1;
+		return;
+	}
+	memset(buf, 0, sizeof(float) * pitch * nrows);
+	pan_tables_init(t, j->m);
+	pan_dtables_init(dt, j->m);
+	const pan_kern K = pan_kernels(j->level);
+	fact_band_st b;
+	memset(&b, 0, sizeof b);
+	b.fj = fj;
+	b.K = &K;
+	b.t = t;
+	b.dt = dt;
+	b.ft = ft;
+	b.n = n;
+	b.nmain = nmain;
+	(void)pc_mosaic_color_origin(j->m, &b.ox, &b.oy);
+	fact_tables_init(ft, j->m, b.ox);
+	float *row = buf + PAN_PADR;
+	size_t next = 0;
+#define FACT_ROW() (row + pitch * next++)
+	b.vs = FACT_ROW();
+	b.rawp = FACT_ROW();
+	b.rawo = FACT_ROW();
+	b.rawo2 = FACT_ROW();
+	b.src = FACT_ROW();
+	b.rho = FACT_ROW();
+	b.braw[0] = FACT_ROW();
+	b.braw[1] = FACT_ROW();
+	for (int k = 0; k < 16; k++) {
+		b.rc.slot[k] = FACT_ROW();
+		b.rc.tag[k] = -1;
+	}
+	for (int k = 0; k < 8; k++) {
+		for (int s = 0; s < 4; s++) {
+			b.hw[k][s] = FACT_ROW();
+			b.li[k][s] = FACT_ROW();
+		}
+		for (int p = 0; p < 2; p++) {
+			b.gw[k][p] = FACT_ROW();
+			b.ge[k][p] = FACT_ROW();
+		}
+	}
+	for (int p = 0; p < 2; p++) {
+		b.hpd[p] = FACT_ROW();
+		b.lpd[p] = FACT_ROW();
+	}
+	for (int k = 0; k < 8; k++) {
+		b.bd[k] = FACT_ROW();
+		b.hrb[k] = FACT_ROW();
+		b.hg[k] = FACT_ROW();
+	}
+	b.u = FACT_ROW();
+	b.g = FACT_ROW();
+	for (int k = 0; k < 2; k++)
+		for (int d = 0; d < 4; d++)
+			for (int c = 0; c < 2; c++)
+				b.c[k][d][c] = FACT_ROW();
+	b.dh = FACT_ROW();
+	b.dv = FACT_ROW();
+	for (int k = 0; k < 4; k++)
+		for (int d = 0; d < 4; d++) {
+			b.bh[k][d] = FACT_ROW();
+			b.be[k][d] = FACT_ROW();
+		}
+	for (int d = 0; d < 5; d++)
+		b.gam[d] = FACT_ROW();
+	for (int q = 0; q < 12; q++)
+		b.rq[q] = FACT_ROW();
+	for (int k = 0; k < 4; k++)
+		for (int q = 0; q < 12; q++)
+			b.hr[k][q] = FACT_ROW();
+	for (int k = 0; k < 8; k++) {
+		b.mr[k] = FACT_ROW();
+		b.r2[k] = FACT_ROW();
+		b.pd[k] = FACT_ROW();
+	}
+	for (int q = 0; q < 12; q++)
+		b.o[q] = FACT_ROW();
+	float *unused = FACT_ROW();
+	for (int k = 0; k < 8; k++)
+		b.dummy[k] = unused;
+#undef FACT_ROW
+	/* the first rows each stage computes: the hue from two rows above the band (m's), the
+	 * chromaticities from the window of its block row, the block rows and source rows those
+	 * read */
+	b.hue_next = y0 >= 2 ? (int)y0 - 2 : 0;
+	b.r2_next = y0 >= 1 ? (int)y0 - 1 : 0;
+	const int yb = b.hue_next - ((b.hue_next - (int)b.oy) & 1);
+	b.c_first = b.c_next = yb > 0 ? yb - 1 : 0;
+	b.blk_next = b.c_first - 4 + ((b.c_first - 4 - (int)b.oy) & 1);
+	b.src_next = b.hue_next - 3;
+	b.g_y0 = INT_MIN;
+	int planar = 1;
+	for (int q = 0; q < 12; q++)
+		planar &= j->out[q].pixel_stride == 1;
+	for (uint32_t y = y0; y < y1; y++) {
+		const int yi = (int)y;
+		fact_hue_to(&b, yi + 2 < ih ? yi + 2 : ih - 1);
+		fact_r2_to(&b, yi + 1 < ih ? yi + 1 : ih - 1);
+		fact_oargs a;
+		a.ru = b.r2[pc_mirror(yi - 1, ih) & 7];
+		a.r0 = b.r2[yi & 7];
+		a.rd = b.r2[pc_mirror(yi + 1, ih) & 7];
+		a.pd = b.pd[yi & 7];
+		a.m = b.mr[yi & 7];
+		for (int q = 0; q < 12; q++)
+			a.h[q] = b.hr[yi & 3][q];
+		for (unsigned u = 0; u < 4; u++) {
+			a.sel[u] = t->sel[u];
+			a.own[u] = pan_q(j->m, u, y & 3);
+		}
+		const unsigned py = y & 1;
+		for (unsigned c = 0; c < 4; c++)
+			for (unsigned px = 0; px < 2; px++) {
+				/* analyser c at (px ^ i, py ^ jj): own, horizontal, vertical,
+				 * diagonal */
+				for (int k = 0; k < 4; k++)
+					if (pc_mosaic_channel(j->m, px ^ (unsigned)(k & 1),
+					                      py ^ (unsigned)(k >> 1)) == c)
+						a.mx[c][px] = k;
+			}
+		memcpy(b.rawo2, pan_row(&b.rc, j->in, yi), w * sizeof *b.rawo2);
+		if (planar) {
+			float *dq[12];
+			for (int q = 0; q < 12; q++)
+				dq[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
+			K.forow(&a, b.rawo2, 0, nmain, j->delta, dq, 0, j->nt);
+			if (nmain < n) {
+				K.forow(&a, b.rawo2, nmain, n, j->delta, b.o, nmain, 0);
+				pan_put_row(j->out, y, b.o, (uint32_t)nmain, w);
+			}
+			continue;
+		}
+		K.forow(&a, b.rawo2, 0, n, j->delta, b.o, 0, 0);
+		pan_put_row(j->out, y, b.o, 0, w);
+	}
+	if (j->nt)
+		pc_dm_sfence();
+	pc_dm_free(t);
+	pc_dm_free(dt);
+	pc_dm_free(ft);
+	pc_dm_free(buf);
+}
+
+int pc_dm_pan_fact_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                        pc_cpu_level level, const pc_fplane *out)
+{
+	const uint32_t w = in->width, h = in->height;
+	fact_job fj = {{in, w, h, m, (float)(FACT_DELTA * 3 * fs), level, out, 0, 0, 0,
+	                pc_dm_stream_wanted(out, 12, w, h, level)},
+	               (float)(FACT_EPS * 4 * fs),
+	               (float)(FACT_DH * fs)};
+	pc_parallel_rows(h, 0, threads, pan_fact_band, &fj);
+	if (fj.j.err)
+		return pc_error(PC_ENOMEM, "pan-fact: row buffers for width %u", w);
+	return 0;
 }
