@@ -435,7 +435,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "Parks, IEEE TIP 14(3) 2005, blended as GBTF (Pekkucuksen & "
                          "Altunbasak, ICIP 2010); ratios to the PPI of Mihoubi et al., IEEE "
                          "TCI 3(4) 2017; smooth-hue transition, Cok 1987",
-                         PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                         PC_DMF_COLOR},
                         {-10, 10, 1, 1},
                         NULL,
                         NULL,

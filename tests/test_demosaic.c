@@ -27,6 +27,11 @@
  * there; ≤ 10⁻⁶ on textures). Not a strict bound: H has no floor away from a uniform patch, the
  * figures are those of the worst scene known. */
 #define PAN_DIR_TOL 2e-4
+/* pan-fact blends its hue candidates the same way (its h, a chromaticity ~1/3, instead of
+ * pan-dir's ratios), then multiplies: the same amplification where every H_d is small, 8.0·10⁻⁶
+ * of full scale measured on the grey chirp, ≤ 8.4·10⁻⁷ on the smooth scene and textures (every
+ * instance); the bound keeps pan-dir's reasoning with half its headroom. */
+#define PAN_FACT_TOL 1e-4
 static double tol_for(pc_demosaic_method m)
 {
 	switch (m) {
@@ -39,6 +44,8 @@ static double tol_for(pc_demosaic_method m)
 		return 1e-7;
 	case PC_DM_PAN_DIR:
 		return PAN_DIR_TOL;
+	case PC_DM_PAN_FACT:
+		return PAN_FACT_TOL;
 	default:
 		return 1e-5;
 	}
@@ -687,7 +694,7 @@ static void test_color(void)
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		scene tex = make_scene(40, 32, 2, 0);
 		for (int meth = 0; meth < 7; meth++) {
-			/* fast vs reference on a random texture (pan-fact: the reference twice) */
+			/* fast vs reference on a random texture */
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);
 			pc_fplane f[12], r[12];
@@ -1098,7 +1105,7 @@ static void test_pan_ratio(void)
 	pc_view_free(&ramp);
 }
 
-/* pan-fact (demosaic_fact.c), a double reference only, against analytic values and against
+/* pan-fact (demosaic_fact.c), its double reference, against analytic values and against
  * pan-ratio and bayer-first, every phase of the 4×4 period:
  *  - a grey linear ramp under a uniform polarization is reproduced as the offsets δ, δ_h → 0
  *    (full scale 10⁻⁶): the ratios to the PPI are constant, every hue 1/3, the hue-normalised
@@ -1212,6 +1219,89 @@ static void test_pan_fact(void)
 	free(rb);
 	free(bb);
 	free(truth);
+}
+
+/* pan-fact's fast path against its double reference, for the instance under test: test_pan_ratio's
+ * smooth scene at all sixteen phases and several sizes (8 × 8: every row one partial vector;
+ * 34 × 20: a width 2 mod 4 and not a multiple of 16; 64 × 48; 150 × 36: whole vectors and a
+ * tail), a random texture, and test_pan_dir_chirp's grey polarization chirp, where the blend of
+ * the hue candidates is worst conditioned (every H_d small); three threads (row bands beginning
+ * inside the frame) equal one thread, and interleaved and streamed outputs equal the planar
+ * ones. Tolerance PAN_FACT_TOL (above). */
+static void test_pan_fact_fast(void)
+{
+	const int sizes[4][2] = {{8, 8}, {34, 20}, {64, 48}, {150, 36}};
+	pc_mosaic base = pc_mosaic_imx250myr();
+	const double gain[3] = {0.6, 1.0, 0.35};
+	double worst[3] = {0, 0, 0}; /* smooth, texture, chirp */
+	int same = 1;
+	for (int z = 0; z < 4; z++) {
+		const uint32_t W = (uint32_t)sizes[z][0], H = (uint32_t)sizes[z][1];
+		double *truth = malloc(sizeof(double) * W * H * 12);
+		pc_fplane f[12], r[12], t3[12], il[12], al[12];
+		float *fb = alloc_planes(W, H, 12, f), *rb = alloc_planes(W, H, 12, r),
+		      *tb = alloc_planes(W, H, 12, t3), *ib = malloc(sizeof(float) * W * H * 12),
+		      *ab = aligned_alloc(64, sizeof(float) * W * H * 12);
+		pc_fplanes_interleaved(ib, W, 12, il);
+		pc_fplanes_separate(ab, W, H, 12, al);
+		scene tex = make_scene((int)W, (int)H, 2, 0);
+		for (unsigned ph = 0; ph < 16; ph++) {
+			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+			for (int kind = 0; kind < 3; kind++) {
+				pc_view raw;
+				if (kind == 0)
+					smooth_colour_raw(&raw, &m, W, H, truth);
+				else if (kind == 1)
+					mosaic_color(&tex, &m, gain, &raw);
+				else {
+					CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0),
+					             0);
+					for (uint32_t y = 0; y < H; y++)
+						for (uint32_t x = 0; x < W; x++) {
+							unsigned c = pc_mosaic_channel(&m, x, y);
+							double th = 0.03 * x * x / 8.0;
+							PC_ROW(&raw, uint16_t, y)
+							[x] = (uint16_t)lround(
+							    1500 *
+							    (1 +
+							     0.9 * cos(2 * (th - c * M_PI / 4))));
+						}
+				}
+				pc_demosaic_opts ref = {0, true, 4095}, one = {1, false, 4095},
+				                 three = {3, false, 4095};
+				CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_PAN_FACT, &ref, r), 0);
+				CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_PAN_FACT, &one, f), 0);
+				CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_PAN_FACT, &three, t3), 0);
+				CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_PAN_FACT, &three, il), 0);
+				CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_PAN_FACT, &three, al), 0);
+				for (unsigned q = 0; q < 12; q++)
+					for (uint32_t y = 0; y < H; y++)
+						for (uint32_t x = 0; x < W; x++) {
+							double v = fget(&f[q], x, y);
+							worst[kind] = fmax(
+							    worst[kind],
+							    fabs(v - fget(&r[q], x, y)) / 4095);
+							same &= v == fget(&t3[q], x, y) &&
+							        v == fget(&il[q], x, y) &&
+							        v == fget(&al[q], x, y);
+						}
+				pc_view_free(&raw);
+			}
+		}
+		scene_free(&tex);
+		free(truth);
+		free(fb);
+		free(rb);
+		free(tb);
+		free(ib);
+		free(ab);
+	}
+	printf("  pan-fact: max |fast - reference| %.3g (smooth scene), %.3g (texture), %.3g (grey "
+	       "chirp) of full scale\n",
+	       worst[0], worst[1], worst[2]);
+	CHECK(same);
+	for (int k = 0; k < 3; k++)
+		CHECK(worst[k] <= PAN_FACT_TOL);
 }
 
 /* The 16-bit bilinear equals the float bilinear scaled by 2^frac and rounded half up, at every
@@ -1349,13 +1439,14 @@ int main(void)
 		test_ratio_nr_noise();
 		if (l == 0) {
 			test_newton_exact(); /* a reference only: one instance is enough */
-			test_pan_fact();     /* the same */
+			test_pan_fact();     /* its reference: the same */
 		}
 		test_pan_dir_edge(l == 0);
 		test_formats_layouts();
 		test_color();
 		test_pan_sizes();
 		test_pan_dir_chirp();
+		test_pan_fact_fast();
 		test_pan_ratio();
 		test_pan_chroma_edge();
 		test_bilinear_u16();
