@@ -1520,7 +1520,7 @@ typedef struct fact_band_st {
 	unsigned ox, oy;
 	long n, nmain;
 	float *vs, *rawp, *rawo, *rawo2, *src, *rho, *braw[2];
-	float *hw[8][4], *li[8][4], *gw[8][2], *ge[8][2], *hpd[2], *lpd[2], *dummy[8];
+	float *hw[8][4], *li[8][4], *gw[8][2], *ge[8][2], *dummy[8];
 	float *bd[8], *hrb[8], *hg[8], *u, *g;
 	float *c[2][4][2], *dh, *dv, *bh[4][4], *be[4][4], *gam[5], *rq[12], *hr[4][12];
 	float *mr[8], *r2[8], *pd[8], *o[12];
@@ -1558,7 +1558,7 @@ static void fact_src_to(fact_band_st *b, int ymax)
 		             b->nmain);
 		b->K->ratio(b->vs, b->rawp, -16, b->n + 32, 0, b->fj->dh, b->rho, NULL);
 		b->K->dwrows(b->rho, 0, b->n + 16, b->dt->tw, b->hw[k]);
-		b->K->dprows(b->hw[k], b->n, b->dt->fa, b->ox, b->li[k], b->hpd, b->lpd);
+		b->K->dprows(b->hw[k], b->n, b->dt->fa, b->ox, b->li[k], NULL, NULL);
 		const float *h2[2], *ww[2], *we[2];
 		int p = 0;
 		for (int s = 0; s < 4; s++)
@@ -1765,10 +1765,10 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
 	fact_tables *ft = pc_dm_alloc(sizeof *ft);
 	/* rows: 8 of scratch (source sums, raw rows), 16 cached raw rows; 8 × (4 hold rows, 4
-	 * interpolations, 2 + 2 green weighed holds) and 4 unused pair rows; 8 × (block sums, two
+	 * interpolations, 2 + 2 green weighed holds); 8 × (block sums, two
 	 * interpolations), u, g; 2 × 4 × 2 chromaticities, dh, dv, 4 × 4 × 2 boxes; 5 weights, 12
 	 * blended ratios, 4 × 12 hue rows; 8 × (m, r2, pd); 12 output rows; 1 unused */
-	const size_t nrows = 8 + 16 + 96 + 4 + 24 + 2 + 16 + 2 + 32 + 5 + 12 + 48 + 24 + 12 + 1;
+	const size_t nrows = 8 + 16 + 96 + 24 + 2 + 16 + 2 + 32 + 5 + 12 + 48 + 24 + 12 + 1;
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !dt || !ft || !buf) {
 		pc_dm_free(t);
@@ -1817,10 +1817,6 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 			b.gw[k][p] = FACT_ROW();
 			b.ge[k][p] = FACT_ROW();
 		}
-	}
-	for (int p = 0; p < 2; p++) {
-		b.hpd[p] = FACT_ROW();
-		b.lpd[p] = FACT_ROW();
 	}
 	for (int k = 0; k < 8; k++) {
 		b.bd[k] = FACT_ROW();
