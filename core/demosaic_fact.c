@@ -60,7 +60,9 @@
  * Support: a candidate reads block sums whose pixels lie within ±4, the block's window adds ±2,
  * the tents of step 4 read ratios within ±3, each P0's ±2: h at q reads the raw within ±6; the
  * ratio step reads m within ±2: ±8 (7 reached on random data, tests/test_front_door.c), ±10
- * through the sub-image mirror. Double reference only (no fast path yet). */
+ * through the sub-image mirror. This double reference defines the method; the float fast path
+ * (pc_dm_pan_fact_fast, demosaic_pan.c) computes the same in another order (tolerance in
+ * tests/test_demosaic.c; docs/demosaicking.md, Round 12). */
 #include "demosaic_fact.h"
 
 #include <math.h>

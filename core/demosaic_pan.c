@@ -738,6 +738,27 @@ static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
 	return c->slot[k];
 }
 
+/* How a row computed on columns [0, w) is extended to [-PAN_PADR, n + PAN_PADR): the sub-image
+ * mirror (mirror4, the raw's), the whole-sample mirror (pc_mirror, pan-fact's m and step 6's
+ * ratios) or the edge samples repeated (the clamped chromaticities). */
+typedef enum pan_pad { PAN_PAD_SUB, PAN_PAD_MIRROR, PAN_PAD_CLAMP } pan_pad;
+
+static int pan_pad_src(int x, int iw, pan_pad how)
+{
+	return how == PAN_PAD_SUB      ? mirror4(x, iw)
+	       : how == PAN_PAD_MIRROR ? pc_mirror(x, iw)
+	       : x < 0                 ? 0
+	                               : iw - 1;
+}
+
+static void pan_pad_row(float *d, int iw, long n, pan_pad how)
+{
+	for (int x = -PAN_PADR; x < 0; x++)
+		d[x] = d[pan_pad_src(x, iw, how)];
+	for (int x = iw; x < (int)n + PAN_PADR; x++)
+		d[x] = d[pan_pad_src(x, iw, how)];
+}
+
 /* The vertical sums vs of the PPI filter for the extended source row yy (from the five raw rows
  * mirror4(yy - 2 .. yy + 2)), pan-chroma's signed ones vsb (if not NULL), and the raw row rawp,
  * each padded by the column mirror to [-PAN_PADR, n + PAN_PADR); src: 5 × 16 floats of scratch
@@ -767,18 +788,10 @@ static void pan_src_sums(const pan_job *j, const pan_kern *K, const pan_tables *
 			K->vsumw(rt, wb, 16, vsb + nmain);
 	}
 	memcpy(rawp, r[2], (size_t)iw * sizeof *rawp);
-	for (int x = -PAN_PADR; x < 0; x++) {
-		vs[x] = vs[mirror4(x, iw)];
-		rawp[x] = rawp[mirror4(x, iw)];
-		if (vsb)
-			vsb[x] = vsb[mirror4(x, iw)];
-	}
-	for (int x = iw; x < (int)n + PAN_PADR; x++) {
-		vs[x] = vs[mirror4(x, iw)];
-		rawp[x] = rawp[mirror4(x, iw)];
-		if (vsb)
-			vsb[x] = vsb[mirror4(x, iw)];
-	}
+	pan_pad_row(vs, iw, n, PAN_PAD_SUB);
+	pan_pad_row(rawp, iw, n, PAN_PAD_SUB);
+	if (vsb)
+		pan_pad_row(vsb, iw, n, PAN_PAD_SUB);
 }
 
 /* Each channel's lattice rows around output row y, in the order the kernels sum them: for
@@ -1083,6 +1096,37 @@ static void pan_dtables_init(pan_dtables *t, const pc_mosaic *m)
 	}
 }
 
+/* pan-dir's and pan-fact's band scratch: the tables and nrows rows of pitch floats, zeroed; NULL
+ * (and j->err set) when memory runs out */
+static float *pan_dband_scratch(pan_job *j, size_t nrows, size_t pitch, pan_tables **t,
+                                pan_dtables **dt)
+{
+	*t = pc_dm_alloc(sizeof **t);
+	*dt = pc_dm_alloc(sizeof **dt);
+	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
+	if (!*t || !*dt || !buf) {
+		pc_dm_free(*t);
+		pc_dm_free(*dt);
+		pc_dm_free(buf);
+		j->err = 1;
+		return NULL;
+	}
+	memset(buf, 0, sizeof(float) * pitch * nrows);
+	pan_tables_init(*t, j->m);
+	pan_dtables_init(*dt, j->m);
+	return buf;
+}
+
+/* ... and its end: the fence after streaming stores, the scratch freed */
+static void pan_dband_end(const pan_job *j, pan_tables *t, pan_dtables *dt, float *buf)
+{
+	if (j->nt)
+		pc_dm_sfence();
+	pc_dm_free(t);
+	pc_dm_free(dt);
+	pc_dm_free(buf);
+}
+
 static void fill16(float v[16], float f)
 {
 	for (int l = 0; l < 16; l++)
@@ -1216,24 +1260,16 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	const int iw = (int)w, ih = (int)h;
 	const long n = ((long)w + 15) / 16 * 16, nmain = (long)w / 16 * 16;
 	const size_t pitch = (size_t)n + 2 * PAN_PADR;
-	pan_tables *t = pc_dm_alloc(sizeof *t);
-	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
+	pan_tables *t;
+	pan_dtables *dt;
 	/* rows: vs, rawp, the raw row of the output; 21 of source scratch and cache; 8 × (ρ, 4
 	 * hold rows, 2 + 2 column-pair rows, 4 interpolated rows); 2 × 4 × 2 chromaticities (red's,
 	 * green's of W, E, N, S); dh, dv; 4 × 4 × 2 boxes (bh, ba); 5 blend weights; 12 output
 	 * rows */
 	const size_t nrows = 3 + 21 + 104 + 16 + 2 + 32 + 5 + 12;
-	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
-	if (!t || !dt || !buf) {
-		pc_dm_free(t);
-		pc_dm_free(dt);
-		pc_dm_free(buf);
-		j->err = 1;
+	float *buf = pan_dband_scratch(j, nrows, pitch, &t, &dt);
+	if (!buf)
 		return;
-	}
-	memset(buf, 0, sizeof(float) * pitch * nrows);
-	pan_tables_init(t, j->m);
-	pan_dtables_init(dt, j->m);
 	const pan_kern K = pan_kernels(j->level);
 	int planar = 1;
 	for (int q = 0; q < 12; q++)
@@ -1298,13 +1334,8 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 			float *const(*c)[2] = cr[yc & 1];
 			K.dchroma(&a, n, c);
 			for (int d = 0; d < 4; d++) {
-				for (int k = 0; k < 2; k++) {
-					float *ck = c[d][k];
-					for (int x = -PAN_PADR; x < 0; x++)
-						ck[x] = ck[0];
-					for (int x = iw; x < (int)n + PAN_PADR; x++)
-						ck[x] = ck[iw - 1];
-				}
+				for (int k = 0; k < 2; k++)
+					pan_pad_row(c[d][k], iw, n, PAN_PAD_CLAMP);
 				const float *cc[2] = {c[d][0], c[d][1]};
 				float *const *pp = yc == first ? c[d] : cr[(yc - 1) & 1][d];
 				const float *pc[2] = {pp[0], pp[1]};
@@ -1346,11 +1377,7 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		K.dorow(&a, gc, rawo, 0, n, j->delta, o, 0, 0);
 		pan_put_row(j->out, y, o, 0, w);
 	}
-	if (j->nt)
-		pc_dm_sfence();
-	pc_dm_free(t);
-	pc_dm_free(dt);
-	pc_dm_free(buf);
+	pan_dband_end(j, t, dt, buf);
 }
 
 int pc_dm_pan_dir_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
@@ -1533,19 +1560,7 @@ static void fact_raw_row(fact_band_st *b, int y, float *d)
 	const int iw = (int)b->fj->j.w;
 	memcpy(d, pan_row(&b->rc, b->fj->j.in, mirror4(y, (int)b->fj->j.h)),
 	       (size_t)iw * sizeof *d);
-	for (int x = -PAN_PADR; x < 0; x++)
-		d[x] = d[mirror4(x, iw)];
-	for (int x = iw; x < (int)b->n + PAN_PADR; x++)
-		d[x] = d[mirror4(x, iw)];
-}
-
-/* the whole-sample mirror of a row computed on [0, w) to [-PAN_PADR, n + PAN_PADR) */
-static void fact_pad_mirror(float *d, int iw, long n)
-{
-	for (int x = -PAN_PADR; x < 0; x++)
-		d[x] = d[pc_mirror(x, iw)];
-	for (int x = iw; x < (int)n + PAN_PADR; x++)
-		d[x] = d[pc_mirror(x, iw)];
+	pan_pad_row(d, iw, b->n, PAN_PAD_SUB);
 }
 
 /* source rows up to yy: ρ, hold rows, interpolations, green's weighed holds */
@@ -1658,13 +1673,8 @@ static void fact_chroma_to(fact_band_st *b, int ymax)
 		float *const(*c)[2] = b->c[r & 1];
 		b->K->chroma(&a, b->n, b->fj->eps, c);
 		for (int d = 0; d < 4; d++) {
-			for (int k = 0; k < 2; k++) {
-				float *ck = c[d][k];
-				for (int x = -PAN_PADR; x < 0; x++)
-					ck[x] = ck[0];
-				for (int x = iw; x < (int)b->n + PAN_PADR; x++)
-					ck[x] = ck[iw - 1];
-			}
+			for (int k = 0; k < 2; k++)
+				pan_pad_row(c[d][k], iw, b->n, PAN_PAD_CLAMP);
 			/* the row above (itself on the first row: no vertical differences there,
 			 * and on a band's first row only its horizontal box is read) */
 			float *const *pp = r == b->c_first ? c[d] : b->c[(r - 1) & 1][d];
@@ -1735,7 +1745,7 @@ static void fact_hue_to(fact_band_st *b, int ymax)
 		for (int q = 0; q < 12; q++)
 			rq[q] = b->rq[q];
 		b->K->hue(rq, b->rawo, sel, own, b->n, b->hr[yc & 3], b->mr[yc & 7]);
-		fact_pad_mirror(b->mr[yc & 7], iw, b->n);
+		pan_pad_row(b->mr[yc & 7], iw, b->n, PAN_PAD_MIRROR);
 	}
 }
 
@@ -1749,7 +1759,7 @@ static void fact_r2_to(fact_band_st *b, int ymax)
 		b->K->ppi2(b->mr[pc_mirror(r - 1, ih) & 7], b->mr[r & 7],
 		           b->mr[pc_mirror(r + 1, ih) & 7], b->fj->j.delta, b->n, b->r2[r & 7],
 		           b->pd[r & 7]);
-		fact_pad_mirror(b->r2[r & 7], iw, b->n);
+		pan_pad_row(b->r2[r & 7], iw, b->n, PAN_PAD_MIRROR);
 	}
 }
 
@@ -1761,26 +1771,17 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 	const int ih = (int)h;
 	const long n = ((long)w + 15) / 16 * 16, nmain = (long)w / 16 * 16;
 	const size_t pitch = (size_t)n + 2 * PAN_PADR;
-	pan_tables *t = pc_dm_alloc(sizeof *t);
-	pan_dtables *dt = pc_dm_alloc(sizeof *dt);
-	fact_tables *ft = pc_dm_alloc(sizeof *ft);
+	pan_tables *t;
+	pan_dtables *dt;
+	fact_tables ft;
 	/* rows: 8 of scratch (source sums, raw rows), 16 cached raw rows; 8 × (4 hold rows, 4
 	 * interpolations, 2 + 2 green weighed holds); 8 × (block sums, two
 	 * interpolations), u, g; 2 × 4 × 2 chromaticities, dh, dv, 4 × 4 × 2 boxes; 5 weights, 12
 	 * blended ratios, 4 × 12 hue rows; 8 × (m, r2, pd); 12 output rows; 1 unused */
 	const size_t nrows = 8 + 16 + 96 + 24 + 2 + 16 + 2 + 32 + 5 + 12 + 48 + 24 + 12 + 1;
-	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
-	if (!t || !dt || !ft || !buf) {
-		pc_dm_free(t);
-		pc_dm_free(dt);
-		pc_dm_free(ft);
-		pc_dm_free(buf);
-		j->err = 1;
+	float *buf = pan_dband_scratch(j, nrows, pitch, &t, &dt);
+	if (!buf)
 		return;
-	}
-	memset(buf, 0, sizeof(float) * pitch * nrows);
-	pan_tables_init(t, j->m);
-	pan_dtables_init(dt, j->m);
 	const pan_kern K = pan_kernels(j->level);
 	fact_band_st b;
 	memset(&b, 0, sizeof b);
@@ -1788,11 +1789,11 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 	b.K = &K;
 	b.t = t;
 	b.dt = dt;
-	b.ft = ft;
+	b.ft = &ft;
 	b.n = n;
 	b.nmain = nmain;
 	(void)pc_mosaic_color_origin(j->m, &b.ox, &b.oy);
-	fact_tables_init(ft, j->m, b.ox);
+	fact_tables_init(&ft, j->m, b.ox);
 	float *row = buf + PAN_PADR;
 	size_t next = 0;
 #define FACT_ROW() (row + pitch * next++)
@@ -1908,12 +1909,7 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 		K.forow(&a, b.rawo2, 0, n, j->delta, b.o, 0, 0);
 		pan_put_row(j->out, y, b.o, 0, w);
 	}
-	if (j->nt)
-		pc_dm_sfence();
-	pc_dm_free(t);
-	pc_dm_free(dt);
-	pc_dm_free(ft);
-	pc_dm_free(buf);
+	pan_dband_end(j, t, dt, buf);
 }
 
 int pc_dm_pan_fact_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
