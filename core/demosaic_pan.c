@@ -1546,7 +1546,7 @@ typedef struct fact_band_st {
 	pan_rows rc;
 	unsigned ox, oy;
 	long n, nmain;
-	float *vs, *rawp, *rawo, *rawo2, *src, *rho, *braw[2];
+	float *vs, *rawp, *src, *rho, *braw[2];
 	float *hw[8][4], *li[8][4], *gw[8][2], *ge[8][2], *dummy[8];
 	float *bd[8], *hrb[8], *hg[8], *u, *g;
 	float *c[2][4][2], *dh, *dv, *bh[4][4], *be[4][4], *gam[5], *rq[12], *hr[4][12];
@@ -1734,8 +1734,10 @@ static void fact_hue_to(fact_band_st *b, int ymax)
 			}
 		}
 		const float *gc[5] = {b->gam[0], b->gam[1], b->gam[2], b->gam[3], b->gam[4]};
-		b->K->dorow(&a, gc, b->rawo, 0, b->n, 0, b->rq, 0, 0);
-		memcpy(b->rawo, pan_row(&b->rc, j->in, yc), (size_t)iw * sizeof *b->rawo);
+		/* the raw row, read in the cache's slot (no other row fetched before its last use;
+		 * the lanes past w unused) */
+		const float *raw = pan_row(&b->rc, j->in, yc);
+		b->K->dorow(&a, gc, raw, 0, b->n, 0, b->rq, 0, 0);
 		const float *sel[4], *rq[12];
 		unsigned own[4];
 		for (unsigned u = 0; u < 4; u++) {
@@ -1744,7 +1746,7 @@ static void fact_hue_to(fact_band_st *b, int ymax)
 		}
 		for (int q = 0; q < 12; q++)
 			rq[q] = b->rq[q];
-		b->K->hue(rq, b->rawo, sel, own, b->n, b->hr[yc & 3], b->mr[yc & 7]);
+		b->K->hue(rq, raw, sel, own, b->n, b->hr[yc & 3], b->mr[yc & 7]);
 		pan_pad_row(b->mr[yc & 7], iw, b->n, PAN_PAD_MIRROR);
 	}
 }
@@ -1774,11 +1776,11 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 	pan_tables *t;
 	pan_dtables *dt;
 	fact_tables ft;
-	/* rows: 8 of scratch (source sums, raw rows), 16 cached raw rows; 8 × (4 hold rows, 4
+	/* rows: 6 of scratch (source sums, raw rows), 16 cached raw rows; 8 × (4 hold rows, 4
 	 * interpolations, 2 + 2 green weighed holds); 8 × (block sums, two
 	 * interpolations), u, g; 2 × 4 × 2 chromaticities, dh, dv, 4 × 4 × 2 boxes; 5 weights, 12
 	 * blended ratios, 4 × 12 hue rows; 8 × (m, r2, pd); 12 output rows; 1 unused */
-	const size_t nrows = 8 + 16 + 96 + 24 + 2 + 16 + 2 + 32 + 5 + 12 + 48 + 24 + 12 + 1;
+	const size_t nrows = 6 + 16 + 96 + 24 + 2 + 16 + 2 + 32 + 5 + 12 + 48 + 24 + 12 + 1;
 	float *buf = pan_dband_scratch(j, nrows, pitch, &t, &dt);
 	if (!buf)
 		return;
@@ -1799,8 +1801,6 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 #define FACT_ROW() (row + pitch * next++)
 	b.vs = FACT_ROW();
 	b.rawp = FACT_ROW();
-	b.rawo = FACT_ROW();
-	b.rawo2 = FACT_ROW();
 	b.src = FACT_ROW();
 	b.rho = FACT_ROW();
 	b.braw[0] = FACT_ROW();
@@ -1894,19 +1894,19 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 					                      py ^ (unsigned)(k >> 1)) == c)
 						a.mx[c][px] = k;
 			}
-		memcpy(b.rawo2, pan_row(&b.rc, j->in, yi), w * sizeof *b.rawo2);
+		const float *raw = pan_row(&b.rc, j->in, yi); /* as in fact_hue_to */
 		if (planar) {
 			float *dq[12];
 			for (int q = 0; q < 12; q++)
 				dq[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
-			K.forow(&a, b.rawo2, 0, nmain, j->delta, dq, 0, j->nt);
+			K.forow(&a, raw, 0, nmain, j->delta, dq, 0, j->nt);
 			if (nmain < n) {
-				K.forow(&a, b.rawo2, nmain, n, j->delta, b.o, nmain, 0);
+				K.forow(&a, raw, nmain, n, j->delta, b.o, nmain, 0);
 				pan_put_row(j->out, y, b.o, (uint32_t)nmain, w);
 			}
 			continue;
 		}
-		K.forow(&a, b.rawo2, 0, n, j->delta, b.o, 0, 0);
+		K.forow(&a, raw, 0, n, j->delta, b.o, 0, 0);
 		pan_put_row(j->out, y, b.o, 0, w);
 	}
 	pan_dband_end(j, t, dt, buf);
