@@ -422,15 +422,18 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "channel as M_a x h_ak: the hue h per analyser from one-sided tents "
                          "of ratios to the PPI blended by the homogeneity of the 2x2 blocks' "
                          "sums, M by a ratio step on the hue-normalised 2x2 mosaic; over "
-                         "bayer-first (bench colour --reference, 9 scenes) smooth colours "
+                         "bayer-first (bench colour, fast path and reference alike, 9 scenes) "
+                         "smooth colours "
                          "+4.56/+1.78 (worst +2.54/+0.49), hue patches +2.72/+2.85 (worst "
                          "+2.31/+2.49); colour stress suite (5 scenes) +2.17/+1.88 (worst "
                          "+0.62 text/+0.75 gratings): the colour accuracy goal met on all "
                          "three sets",
-                         "double reference only (no fast path yet): estimated 320-385 "
-                         "operations + 12-13 divisions per pixel against pan-ratio's 106 + 2, "
-                         "about 6.5-8x the mono bilinear's time with a fast path, over the 5x "
-                         "budget (docs/demosaicking.md, Round 11b)",
+                         "one fused pass on row bands (pan-dir's source rows and blend kernel, "
+                         "the hue two rows ahead of the output), within 1e-4 of full scale of "
+                         "the double reference and equal to it on bench colour: 1.33x pan-dir's "
+                         "instructions, 1.25-1.43x its time (bench demosaic --quick, 2 threads, "
+                         "Release, load 6-8), about 13-16x the mono bilinear's time idle by that "
+                         "ratio, about 3x the 5x budget (docs/demosaicking.md, Round 12)",
                          "ours: the factorisation of Round 11b; homogeneity as Hirakawa & "
                          "Parks, IEEE TIP 14(3) 2005, blended as GBTF (Pekkucuksen & "
                          "Altunbasak, ICIP 2010); ratios to the PPI of Mihoubi et al., IEEE "
