@@ -1227,7 +1227,8 @@ static void test_pan_fact(void)
  * tail), a random texture, and test_pan_dir_chirp's grey polarization chirp, where the blend of
  * the hue candidates is worst conditioned (every H_d small); three threads (row bands beginning
  * inside the frame) equal one thread, and interleaved and streamed outputs equal the planar
- * ones. Tolerance PAN_FACT_TOL (above). */
+ * ones. Tolerance PAN_FACT_TOL (above). And test_pan_fact's grey ramp, exact as δ, δ_h → 0, on
+ * the fast path (within 1e-6 relative, the float outputs). */
 static void test_pan_fact_fast(void)
 {
 	const int sizes[4][2] = {{8, 8}, {34, 20}, {64, 48}, {150, 36}};
@@ -1296,10 +1297,42 @@ static void test_pan_fact_fast(void)
 		free(ib);
 		free(ab);
 	}
+	/* test_pan_fact's grey polarized ramp, exact as the offsets → 0, on the fast path too */
+	const uint32_t W = 64, H = 48;
+	pc_view ramp;
+	CHECK_EQ_INT(pc_view_alloc(&ramp, PC_FMT_FLOAT32, W, H, 0), 0);
+	pc_fplane f[12];
+	float *fb = alloc_planes(W, H, 12, f);
+	double ramp_err = 0;
+	for (unsigned ph = 0; ph < 16; ph += 3) {
+		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+		const double pr = 0.55, tr = 0.6;
+		for (uint32_t y = 0; y < H; y++) {
+			float *row = PC_ROW(&ramp, float, y);
+			for (uint32_t x = 0; x < W; x++) {
+				unsigned c = pc_mosaic_channel(&m, x, y);
+				row[x] = (float)(0.8 * (700 + 13 * x + 9 * y) *
+				                 (1 + pr * cos(2 * (c * M_PI / 4 - tr))));
+			}
+		}
+		pc_demosaic_opts fast0 = {0, false, 1e-6};
+		CHECK_EQ_INT(pc_demosaic(&ramp, &m, PC_DM_PAN_FACT, &fast0, f), 0);
+		for (unsigned q = 0; q < 12; q++)
+			for (uint32_t y = 12; y < H - 12; y++)
+				for (uint32_t x = 12; x < W - 12; x++) {
+					double want = 0.8 * (700 + 13 * x + 9 * y) *
+					              (1 + pr * cos(2 * (q % 4 * M_PI / 4 - tr)));
+					ramp_err =
+					    fmax(ramp_err, fabs(fget(&f[q], x, y) - want) / want);
+				}
+	}
+	free(fb);
+	pc_view_free(&ramp);
 	printf("  pan-fact: max |fast - reference| %.3g (smooth scene), %.3g (texture), %.3g (grey "
-	       "chirp) of full scale\n",
-	       worst[0], worst[1], worst[2]);
+	       "chirp) of full scale; grey ramp (fast) max relative error %.2g\n",
+	       worst[0], worst[1], worst[2], ramp_err);
 	CHECK(same);
+	CHECK(ramp_err <= 1e-6);
 	for (int k = 0; k < 3; k++)
 		CHECK(worst[k] <= PAN_FACT_TOL);
 }
