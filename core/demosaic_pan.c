@@ -1435,7 +1435,7 @@ int pc_dm_pan_chroma_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
 /* ---- pan-fact's fast path ----
  *
  * pc_dm_pan_fact_ref's definition (demosaic_fact.c) on row bands, float, every intermediate a
- * row in a per-thread ring; exact in real arithmetic except where noted. Per (extended) source
+ * row in a per-thread ring; exact in real arithmetic, reordered in float. Per (extended) source
  * row, pan-dir's: the ratio row ρ = max(v, 0)/max(P0, δ_h) (pan_ratio with δ = 0 and floor
  * δ_h), its hold rows and row interpolations per column phase (pan_dwrows, pan_dprows), and
  * for green's two column phases its hold rows weighed for W and E (fact_gwrows: a green channel's
