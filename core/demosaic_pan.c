@@ -102,10 +102,10 @@ typedef struct fact_cargs {
 } fact_cargs;
 
 /* pan-fact's output row (fact_orow): the ratio rows r2 above, at and below it, pd, m, the twelve
- * hue rows h; the own channel per column phase u (own, sel); per analyser which of (m, H, V, D)
- * it is on even and odd columns (mx) */
+ * blended ratio rows rq (the hue); the own channel per column phase u (own, sel); per analyser
+ * which of (m, H, V, D) it is on even and odd columns (mx) */
 typedef struct fact_oargs {
-	const float *ru, *r0, *rd, *pd, *m, *h[12];
+	const float *ru, *r0, *rd, *pd, *m, *rq[12];
 	const float *sel[4];
 	unsigned own[4];
 	int mx[4][2];
@@ -651,8 +651,8 @@ typedef void (*fact_box_fn)(const float *dh, const float *dv, long x0, long n, f
                             float *be);
 typedef void (*fact_gam_fn)(const float *const hb[4][4], const float par[16], long n,
                             float *const g[5]);
-typedef void (*fact_hue_fn)(const float *const rq[12], const float *raw, const float *const sel[4],
-                            const unsigned own[4], long n, float *const h[12], float *m);
+typedef void (*fact_m_fn)(const float *const rq[12], const float *raw, const float *const sel[4],
+                          const unsigned own[4], long n, float *m);
 typedef void (*fact_ppi2_fn)(const float *mu, const float *m0, const float *md, float delta, long n,
                              float *r2, float *pd);
 typedef void (*fact_orow_fn)(const fact_oargs *a, const float *raw, long x0, long x1, float delta,
@@ -682,7 +682,7 @@ typedef struct pan_kern {
 	fact_chroma_fn chroma;
 	fact_box_fn box;
 	fact_gam_fn gam;
-	fact_hue_fn hue;
+	fact_m_fn fm;
 	fact_ppi2_fn ppi2;
 	fact_orow_fn forow;
 } pan_kern;
@@ -697,7 +697,7 @@ static pan_kern pan_kernels(pc_cpu_level level)
 		    pan_cghrows_avx512, pan_cgorow_avx512,  pan_dwrows_avx512, pan_dprows_avx512,
 		    pan_dchroma_avx512, pan_dvar_avx512,    pan_dbox_avx512,   pan_dgam_avx512,
 		    pan_dorow_avx512,   fact_gwrows_avx512, fact_bsum_avx512,  fact_taps_avx512,
-		    fact_chroma_avx512, fact_box_avx512,    fact_gam_avx512,   fact_hue_avx512,
+		    fact_chroma_avx512, fact_box_avx512,    fact_gam_avx512,   fact_m_avx512,
 		    fact_ppi2_avx512,   fact_orow_avx512};
 	if (level >= PC_CPU_AVX2)
 		return (pan_kern){
@@ -706,7 +706,7 @@ static pan_kern pan_kernels(pc_cpu_level level)
 		    pan_cghrows_avx2, pan_cgorow_avx2,  pan_dwrows_avx2, pan_dprows_avx2,
 		    pan_dchroma_avx2, pan_dvar_avx2,    pan_dbox_avx2,   pan_dgam_avx2,
 		    pan_dorow_avx2,   fact_gwrows_avx2, fact_bsum_avx2,  fact_taps_avx2,
-		    fact_chroma_avx2, fact_box_avx2,    fact_gam_avx2,   fact_hue_avx2,
+		    fact_chroma_avx2, fact_box_avx2,    fact_gam_avx2,   fact_m_avx2,
 		    fact_ppi2_avx2,   fact_orow_avx2};
 #else
 	(void)level;
@@ -716,7 +716,7 @@ static pan_kern pan_kernels(pc_cpu_level level)
 	                  pan_cghrows_base, pan_cgorow_base,  pan_dwrows_base, pan_dprows_base,
 	                  pan_dchroma_base, pan_dvar_base,    pan_dbox_base,   pan_dgam_base,
 	                  pan_dorow_base,   fact_gwrows_base, fact_bsum_base,  fact_taps_base,
-	                  fact_chroma_base, fact_box_base,    fact_gam_base,   fact_hue_base,
+	                  fact_chroma_base, fact_box_base,    fact_gam_base,   fact_m_base,
 	                  fact_ppi2_base,   fact_orow_base};
 }
 
@@ -1455,7 +1455,9 @@ int pc_dm_pan_chroma_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
  *    rows Y − 1 .. Y + 2, clamped rows repeating the edge row's horizontal box);
  *  - per row yc, step 4: Σ_d γ_d R^d_q of the twelve channels by pan-dir's output kernel
  *    (pan_dorow: the blend folded into each row phase's lattice coefficients; δ = 0, no own
- *    channel), then the hue h and m = v/h_own (fact_hue), m padded by the whole-sample mirror;
+ *    channel), kept for three rows, then m = v/h_own (fact_m), m padded by the whole-sample
+ *    mirror; the output row computes the hue h again from the blended ratios (four divisions),
+ *    which costs less than storing twelve hue rows and reading them back;
  *  - per row, step 6's guide and ratios (fact_ppi2), the ratio step's reference scale
  *    (max(m, 0) + δ)/ρ(p) taken as max(P, 0) + δ, its equal in real arithmetic;
  *  - the output row y (fact_orow) from rows y − 1 .. y + 1 of the ratios, m of row y and h of
@@ -1549,7 +1551,7 @@ typedef struct fact_band_st {
 	float *vs, *rawp, *src, *rho, *braw[2];
 	float *hw[8][4], *li[8][4], *gw[8][2], *ge[8][2], *dummy[8];
 	float *bd[8], *hrb[8], *hg[8], *u, *g;
-	float *c[2][4][2], *dh, *dv, *bh[4][4], *be[4][4], *gam[5], *rq[12], *hr[4][12];
+	float *c[2][4][2], *dh, *dv, *bh[4][4], *be[4][4], *gam[5], *rq[4][12];
 	float *mr[8], *r2[8], *pd[8], *o[12];
 	int src_next, blk_next, c_next, c_first, hue_next, r2_next, g_y0;
 } fact_band_st;
@@ -1737,7 +1739,8 @@ static void fact_hue_to(fact_band_st *b, int ymax)
 		/* the raw row, read in the cache's slot (no other row fetched before its last use;
 		 * the lanes past w unused) */
 		const float *raw = pan_row(&b->rc, j->in, yc);
-		b->K->dorow(&a, gc, raw, 0, b->n, 0, b->rq, 0, 0);
+		float *const *rqo = b->rq[yc & 3];
+		b->K->dorow(&a, gc, raw, 0, b->n, 0, rqo, 0, 0);
 		const float *sel[4], *rq[12];
 		unsigned own[4];
 		for (unsigned u = 0; u < 4; u++) {
@@ -1745,8 +1748,8 @@ static void fact_hue_to(fact_band_st *b, int ymax)
 			own[u] = pan_q(j->m, u, (unsigned)yc & 3);
 		}
 		for (int q = 0; q < 12; q++)
-			rq[q] = b->rq[q];
-		b->K->hue(rq, raw, sel, own, b->n, b->hr[yc & 3], b->mr[yc & 7]);
+			rq[q] = rqo[q];
+		b->K->fm(rq, raw, sel, own, b->n, b->mr[yc & 7]);
 		pan_pad_row(b->mr[yc & 7], iw, b->n, PAN_PAD_MIRROR);
 	}
 }
@@ -1777,10 +1780,10 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 	pan_dtables *dt;
 	fact_tables ft;
 	/* rows: 6 of scratch (source sums, raw rows), 16 cached raw rows; 8 × (4 hold rows, 4
-	 * interpolations, 2 + 2 green weighed holds); 8 × (block sums, two
-	 * interpolations), u, g; 2 × 4 × 2 chromaticities, dh, dv, 4 × 4 × 2 boxes; 5 weights, 12
-	 * blended ratios, 4 × 12 hue rows; 8 × (m, r2, pd); 12 output rows; 1 unused */
-	const size_t nrows = 6 + 16 + 96 + 24 + 2 + 16 + 2 + 32 + 5 + 12 + 48 + 24 + 12 + 1;
+	 * interpolations, 2 + 2 green weighed holds); 8 × (block sums, two interpolations), u, g;
+	 * 2 × 4 × 2 chromaticities, dh, dv, 4 × 4 × 2 boxes; 5 weights, 4 × 12 blended ratios;
+	 * 8 × (m, r2, pd); 12 output rows; 1 unused */
+	const size_t nrows = 6 + 16 + 96 + 24 + 2 + 16 + 2 + 32 + 5 + 48 + 24 + 12 + 1;
 	float *buf = pan_dband_scratch(j, nrows, pitch, &t, &dt);
 	if (!buf)
 		return;
@@ -1839,11 +1842,9 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 		}
 	for (int d = 0; d < 5; d++)
 		b.gam[d] = FACT_ROW();
-	for (int q = 0; q < 12; q++)
-		b.rq[q] = FACT_ROW();
 	for (int k = 0; k < 4; k++)
 		for (int q = 0; q < 12; q++)
-			b.hr[k][q] = FACT_ROW();
+			b.rq[k][q] = FACT_ROW();
 	for (int k = 0; k < 8; k++) {
 		b.mr[k] = FACT_ROW();
 		b.r2[k] = FACT_ROW();
@@ -1879,7 +1880,7 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 		a.pd = b.pd[yi & 7];
 		a.m = b.mr[yi & 7];
 		for (int q = 0; q < 12; q++)
-			a.h[q] = b.hr[yi & 3][q];
+			a.rq[q] = b.rq[yi & 3][q];
 		for (unsigned u = 0; u < 4; u++) {
 			a.sel[u] = t->sel[u];
 			a.own[u] = pan_q(j->m, u, y & 3);
