@@ -1460,8 +1460,9 @@ int pc_dm_pan_chroma_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
  *    which costs less than storing twelve hue rows and reading them back;
  *  - per row, step 6's guide and ratios (fact_ppi2), the ratio step's reference scale
  *    (max(m, 0) + δ)/ρ(p) taken as max(P, 0) + δ, its equal in real arithmetic;
- *  - the output row y (fact_orow) from rows y − 1 .. y + 1 of the ratios, m of row y and h of
- *    row y: the hue is computed two rows ahead of the output, the chromaticities four. */
+ *  - the output row y (fact_orow) from rows y − 1 .. y + 1 of the ratios, m of row y and its
+ *    blended ratios (the hue h computed again there): step 4 runs two rows ahead of the
+ *    output, the chromaticities four. */
 typedef struct fact_job {
 	pan_job j; /* delta: step 6's δ */
 	float eps; /* step 2's floor: FACT_EPS of the block sums' full scale 4·fs */

@@ -429,11 +429,11 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "+0.62 text/+0.75 gratings): the colour accuracy goal met on all "
                          "three sets",
                          "one fused pass on row bands (pan-dir's source rows and blend kernel, "
-                         "the hue two rows ahead of the output), within 1e-4 of full scale of "
-                         "the double reference and equal to it on bench colour: 1.33x pan-dir's "
-                         "instructions, 1.25-1.43x its time (bench demosaic --quick, 2 threads, "
-                         "Release, load 6-8), about 13-16x the mono bilinear's time idle by that "
-                         "ratio, about 3x the 5x budget (docs/demosaicking.md, Round 12)",
+                         "m two rows ahead of the output), within 1e-4 of full scale of the "
+                         "double reference and equal to it on bench colour: 1.31x pan-dir's "
+                         "instructions, 1.29-1.40x its time (bench demosaic --quick, 2 threads, "
+                         "Release, load 1.2), about 13-15x the mono bilinear's time idle, about "
+                         "3x the 5x budget (docs/demosaicking.md, Round 12)",
                          "ours: the factorisation of Round 11b; homogeneity as Hirakawa & "
                          "Parks, IEEE TIP 14(3) 2005, blended as GBTF (Pekkucuksen & "
                          "Altunbasak, ICIP 2010); ratios to the PPI of Mihoubi et al., IEEE "
