@@ -91,6 +91,11 @@ typedef struct pan_dlat_args {
 	const float *r0, *rn, *rs, *gsel;
 } pan_dlat_args;
 
+/* pan_dorow runs its six passes (four red-or-blue row phases, two green groups) on strips of
+ * this many columns (a multiple of 16), so that the blend weights and the raw row, which every
+ * pass reads, stay in L1 (Round 12c) */
+#define PAN_DSTRIP 512
+
 /* pan-fact's step 2 for one row (fact_chroma): the block columns' vertical interpolations u (red
  * or blue) and g (green); W's and E's lane weights (colour, near/far column); N's and S's rows
  * (red's, blue's, green's two) and green's weights */
