@@ -692,37 +692,29 @@ typedef struct pan_kern {
 	fact_orow_fn forow;
 } pan_kern;
 
+/* One instance's kernels, in pan_kern's order (S: base, avx2, avx512). */
+#define PAN_KERN(S)                                                                                \
+	(pan_kern)                                                                                 \
+	{                                                                                          \
+		pan_vsum_##S, pan_ratio_##S, pan_hrows_##S, pan_orow_##S, pan_ghrows_##S,          \
+		    pan_gorow_##S, pan_vsumw_##S, pan_cratio_##S, pan_cghrows_##S, pan_cgorow_##S, \
+		    pan_dwrows_##S, pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S,   \
+		    pan_dgam_##S, pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S,    \
+		    fact_chroma_##S, fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S,        \
+		    fact_orow_##S                                                                  \
+	}
+
 static pan_kern pan_kernels(pc_cpu_level level)
 {
 #ifdef PC_CPU_X86
 	if (level >= PC_CPU_AVX512)
-		return (pan_kern){
-		    pan_vsum_avx512,    pan_ratio_avx512,   pan_hrows_avx512,  pan_orow_avx512,
-		    pan_ghrows_avx512,  pan_gorow_avx512,   pan_vsumw_avx512,  pan_cratio_avx512,
-		    pan_cghrows_avx512, pan_cgorow_avx512,  pan_dwrows_avx512, pan_dprows_avx512,
-		    pan_dchroma_avx512, pan_dvar_avx512,    pan_dbox_avx512,   pan_dgam_avx512,
-		    pan_dorow_avx512,   fact_gwrows_avx512, fact_bsum_avx512,  fact_taps_avx512,
-		    fact_chroma_avx512, fact_box_avx512,    fact_gam_avx512,   fact_m_avx512,
-		    fact_ppi2_avx512,   fact_orow_avx512};
+		return PAN_KERN(avx512);
 	if (level >= PC_CPU_AVX2)
-		return (pan_kern){
-		    pan_vsum_avx2,    pan_ratio_avx2,   pan_hrows_avx2,  pan_orow_avx2,
-		    pan_ghrows_avx2,  pan_gorow_avx2,   pan_vsumw_avx2,  pan_cratio_avx2,
-		    pan_cghrows_avx2, pan_cgorow_avx2,  pan_dwrows_avx2, pan_dprows_avx2,
-		    pan_dchroma_avx2, pan_dvar_avx2,    pan_dbox_avx2,   pan_dgam_avx2,
-		    pan_dorow_avx2,   fact_gwrows_avx2, fact_bsum_avx2,  fact_taps_avx2,
-		    fact_chroma_avx2, fact_box_avx2,    fact_gam_avx2,   fact_m_avx2,
-		    fact_ppi2_avx2,   fact_orow_avx2};
+		return PAN_KERN(avx2);
 #else
 	(void)level;
 #endif
-	return (pan_kern){pan_vsum_base,    pan_ratio_base,   pan_hrows_base,  pan_orow_base,
-	                  pan_ghrows_base,  pan_gorow_base,   pan_vsumw_base,  pan_cratio_base,
-	                  pan_cghrows_base, pan_cgorow_base,  pan_dwrows_base, pan_dprows_base,
-	                  pan_dchroma_base, pan_dvar_base,    pan_dbox_base,   pan_dgam_base,
-	                  pan_dorow_base,   fact_gwrows_base, fact_bsum_base,  fact_taps_base,
-	                  fact_chroma_base, fact_box_base,    fact_gam_base,   fact_m_base,
-	                  fact_ppi2_base,   fact_orow_base};
+	return PAN_KERN(base);
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
