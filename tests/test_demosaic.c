@@ -796,6 +796,43 @@ static void hue_edge_raw(pc_view *raw, const pc_mosaic *m, int ori, uint32_t e0)
 		}
 }
 
+/* test_pan_dir_edge's and test_pan_side_edge's 48 × 48 float raw and twelve output planes (the
+ * planes' buffer returned) */
+static float *hue_edge_alloc(pc_view *raw, pc_fplane f[12])
+{
+	CHECK_EQ_INT(pc_view_alloc(raw, PC_FMT_FLOAT32, 48, 48, 0), 0);
+	return alloc_planes(48, 48, 12, f);
+}
+
+/* Method pm's errors on hue_edge_raw's raw (ori, e0) into f (12 planes of raw's size), at least
+ * 8 pixels from the borders and, for an edge (ori < 2), within the band of ±6 pixels around it:
+ * the RMS, the largest error and the largest beyond ±2 pixels of the edge. */
+static void hue_edge_errors(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method pm,
+                            int reference, int ori, uint32_t e0, const pc_fplane f[12], double *rms,
+                            double *mx, double *far)
+{
+	pc_demosaic_opts o = {0, reference != 0, 4095};
+	CHECK_EQ_INT(pc_demosaic(raw, m, pm, &o, f), 0);
+	double se = 0;
+	size_t n = 0;
+	*mx = *far = 0;
+	for (unsigned q = 0; q < 12; q++)
+		for (uint32_t y = 8; y < raw->height - 8; y++)
+			for (uint32_t x = 8; x < raw->width - 8; x++) {
+				uint32_t a = ori ? y : x;
+				if (ori < 2 && (a + 6 < e0 || a >= e0 + 6))
+					continue;
+				double want = hue_edge_value(ori == 2 || a < e0, q / 4, q % 4);
+				double e = fabs(fget(&f[q], x, y) - want);
+				se += e * e;
+				*mx = fmax(*mx, e);
+				if (ori < 2 && (a + 2 < e0 || a >= e0 + 2))
+					*far = fmax(*far, e);
+				n++;
+			}
+	*rms = sqrt(se / (double)n);
+}
+
 /* pan-chroma at a hue edge the PPI does not see: a uniformly lit, uniformly polarized scene whose
  * left half has colour gains (1, 0.5, 0.5) and right half (0.5, 0.75, 0.5), whose PPIs are equal
  * ((R + 2G + B)/4 = 0.625), every phase. pan-guided's weights are all alike there and mix the two
@@ -815,29 +852,11 @@ static void test_pan_chroma_edge(void)
 	for (unsigned ph = 0; ph < 16; ph++) {
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		hue_edge_raw(&raw, &m, 0, X0);
-		double far[2][2] = {{0}}, rms[2][2] = {{0}};
+		double far[2][2] = {{0}}, rms[2][2] = {{0}}, mx;
 		for (int gm = 0; gm < 2; gm++)
-			for (int rf = 0; rf < 2; rf++) {
-				pc_demosaic_opts o = {0, rf == 0, 4095};
-				CHECK_EQ_INT(pc_demosaic(&raw, &m,
-				                         gm ? PC_DM_PAN_CHROMA : PC_DM_PAN_GUIDED,
-				                         &o, f),
-				             0);
-				double se = 0;
-				size_t n = 0;
-				for (unsigned q = 0; q < 12; q++)
-					for (uint32_t y = 8; y < H - 8; y++)
-						for (uint32_t x = X0 - 6; x < X0 + 6; x++) {
-							double want =
-							    hue_edge_value(x < X0, q / 4, q % 4);
-							double e = fabs(fget(&f[q], x, y) - want);
-							se += e * e;
-							n++;
-							if (x + 2 < X0 || x >= X0 + 2)
-								far[gm][rf] = fmax(far[gm][rf], e);
-						}
-				rms[gm][rf] = sqrt(se / (double)n);
-			}
+			for (int rf = 0; rf < 2; rf++)
+				hue_edge_errors(&raw, &m, gm ? PC_DM_PAN_CHROMA : PC_DM_PAN_GUIDED,
+				                rf == 0, 0, X0, f, &rms[gm][rf], &mx, &far[gm][rf]);
 		if (ph == 0)
 			printf(
 			    "  hue edge level in the PPI: pan-guided max error %.3g DN (beyond "
@@ -865,12 +884,11 @@ static void test_pan_chroma_edge(void)
  * runs at the first instance only (it does not depend on the instance). */
 static void test_pan_dir_edge(int first)
 {
-	const uint32_t W = 48, H = 48, E0 = 22;
+	const uint32_t E0 = 22;
 	pc_mosaic base = pc_mosaic_imx250myr();
 	pc_fplane f[12];
-	float *fb = alloc_planes(W, H, 12, f);
 	pc_view raw;
-	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
+	float *fb = hue_edge_alloc(&raw, f);
 	double rmax = 0, mean[2] = {0, 0};
 	int nmean[2] = {0, 0};
 	double cmin = INFINITY, cmax = 0; /* pan-dir / pan-chroma */
@@ -879,32 +897,13 @@ static void test_pan_dir_edge(int first)
 			for (int rf = first ? 0 : 1; rf < 2; rf++) { /* reference once */
 				pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 				hue_edge_raw(&raw, &m, ori, E0);
-				double rms[3] = {0}, mx[3] = {0};
+				double rms[3] = {0}, mx[3] = {0}, far;
 				for (int dm = 0; dm < 3; dm++) {
-					pc_demosaic_opts o = {0, rf == 0, 4095};
 					const pc_demosaic_method pm = dm == 2 ? PC_DM_PAN_CHROMA
 					                              : dm    ? PC_DM_PAN_DIR
 					                                      : PC_DM_PAN_RATIO;
-					CHECK_EQ_INT(pc_demosaic(&raw, &m, pm, &o, f), 0);
-					double se = 0;
-					size_t n = 0;
-					for (unsigned q = 0; q < 12; q++)
-						for (uint32_t y = 8; y < H - 8; y++)
-							for (uint32_t x = 8; x < W - 8; x++) {
-								uint32_t a = ori ? y : x;
-								if (ori < 2 &&
-								    (a + 6 < E0 || a >= E0 + 6))
-									continue;
-								double want = hue_edge_value(
-								    ori == 2 || a < E0, q / 4,
-								    q % 4);
-								double e =
-								    fabs(fget(&f[q], x, y) - want);
-								se += e * e;
-								mx[dm] = fmax(mx[dm], e);
-								n++;
-							}
-					rms[dm] = sqrt(se / (double)n);
+					hue_edge_errors(&raw, &m, pm, rf == 0, ori, E0, f, &rms[dm],
+					                &mx[dm], &far);
 				}
 				if (ph == 0)
 					printf("  pan-dir at a %s (%s): RMS %.3g DN, max %.3g "
@@ -953,12 +952,11 @@ static void test_pan_dir_edge(int first)
  * colour comes back exactly (test_color), a grey ramp too (test_pan_fast). */
 static void test_pan_side_edge(int first)
 {
-	const uint32_t W = 48, H = 48, E0 = 22;
+	const uint32_t E0 = 22;
 	pc_mosaic base = pc_mosaic_imx250myr();
 	pc_fplane f[12];
-	float *fb = alloc_planes(W, H, 12, f);
 	pc_view raw;
-	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
+	float *fb = hue_edge_alloc(&raw, f);
 	double mean[2][2] = {{0}}, lo = INFINITY, hi = 0, flo = INFINITY,
 	       fhi = 0; /* [ori][rms, far] */
 	int nmean[2] = {0, 0};
@@ -967,33 +965,11 @@ static void test_pan_side_edge(int first)
 			for (int rf = first ? 0 : 1; rf < 2; rf++) { /* reference once */
 				pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 				hue_edge_raw(&raw, &m, ori, E0);
-				double rms[2] = {0}, far[2] = {0};
-				for (int dm = 0; dm < 2; dm++) {
-					pc_demosaic_opts o = {0, rf == 0, 4095};
-					CHECK_EQ_INT(
-					    pc_demosaic(&raw, &m,
-					                dm ? PC_DM_PAN_SIDE : PC_DM_PAN_GUIDED, &o,
-					                f),
-					    0);
-					double se = 0;
-					size_t n = 0;
-					for (unsigned q = 0; q < 12; q++)
-						for (uint32_t y = 8; y < H - 8; y++)
-							for (uint32_t x = 8; x < W - 8; x++) {
-								uint32_t a = ori ? y : x;
-								if (a + 6 < E0 || a >= E0 + 6)
-									continue;
-								double want = hue_edge_value(
-								    a < E0, q / 4, q % 4);
-								double e =
-								    fabs(fget(&f[q], x, y) - want);
-								se += e * e;
-								if (a + 2 < E0 || a >= E0 + 2)
-									far[dm] = fmax(far[dm], e);
-								n++;
-							}
-					rms[dm] = sqrt(se / (double)n);
-				}
+				double rms[2] = {0}, far[2] = {0}, mx;
+				for (int dm = 0; dm < 2; dm++)
+					hue_edge_errors(
+					    &raw, &m, dm ? PC_DM_PAN_SIDE : PC_DM_PAN_GUIDED,
+					    rf == 0, ori, E0, f, &rms[dm], &mx, &far[dm]);
 				const double r = rms[1] / rms[0], fr = far[1] / far[0];
 				if (ph == 0)
 					printf("  pan-side at a %s hue edge (%s): RMS %.3g DN, max "
