@@ -65,6 +65,7 @@ typedef struct pan_gorow_args {
 	unsigned own[4];
 	const float *p0row[7];
 	const float *c1row[7], *c2row[7]; /* pan-chroma's chrominance rows (else unused) */
+	const float *fn, *fs;             /* pan-side's factors N and S of the row (else unused) */
 } pan_gorow_args;
 
 /* pan-dir's, for one row. Its first stage: eight groups (a colour on one row phase t: red 0, 1,
@@ -412,6 +413,104 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
 	return 0;
 }
 
+/* pan-side: pan-guided with one-sided factors from a hue measure (Round 13; the definition
+ * measured in Round 12d). pan-guided's tents mix the two sides' ratios at a hue edge that the
+ * PPI does not see (docs/demosaicking.md, Round 7); pan-dir's one-sided candidates (Round 8)
+ * avoid that at twice the budget. Here each side of a pixel's tents is weighed by how far the
+ * hue on that side is from the pixel's own, a soft side choice at the cost of a few
+ * multiplies per tap. The hue is pan-chroma's chrominance (C1, C2, β folded in) over the PPI,
+ * chromaticity without the luminance texture,
+ *
+ *   u = (C1, C2)/(max(P0, 0) + δ),
+ *
+ * taken at block rate: at the even corner (x & ~1, y & ~1) of each 2×2 analyser block (one
+ * colour), one hue and one set of factors per block. Side distances D_W = ‖u(B − (2, 0)) −
+ * u(B)‖₁, D_E, D_N, D_S likewise (±2 pixels, the neighbouring blocks B of one axis), side
+ * weights a_d = (ε + D_d)^−2 (GBTF's inverse-square weights, Pekkucuksen & Altunbasak, ICIP
+ * 2010), normalised per axis:
+ *
+ *   f_W = 2·a_W/(a_W + a_E),  f_E = 2·a_E/(a_W + a_E)   (equal sides: 1, 1, pan-guided),
+ *   f_N, f_S likewise.
+ *
+ * Along a row y' the taps at d < 0 weigh pan-guided's (4 − |d|)/(e + |ΔP0|) times f_W, d > 0
+ * times f_E, the factors of the tap row's block at (x, y') (so the pass stays separable); down
+ * the column the lattice rows above y times f_N, below times f_S (the factors of (x, y)'s
+ * block). ε = 0.1 (hue units), pan-guided's range scale e widened to 4 % of full scale (the
+ * factors on their own pick sides by aliasing on fine gratings; a wider e undoes that):
+ * Round 12d's sweep of ε, e, the exponent and pixel against block rate. */
+#define PAN_SE   0.04 /* pan-side's e, fraction of full scale */
+#define PAN_SEPS 0.1  /* ε of the side weights, hue units */
+#define PAN_SST  2    /* the side distances' step: the neighbouring blocks */
+
+/* the hue component k (0: C1, 1: C2) of (x, y)'s block */
+static double side_u(const chroma_ref *c, double delta, int x, int y, int k)
+{
+	size_t i = cidx(c, x & ~1, y & ~1);
+	return (k ? c->c2[i] : c->c1[i]) / (fmax(c->p0[i], 0) + delta);
+}
+
+/* D: the hue's L1 distance between (x + dx, y + dy)'s block and (x, y)'s */
+static double side_d(const chroma_ref *c, double delta, int x, int y, int dx, int dy)
+{
+	return fabs(side_u(c, delta, x + dx, y + dy, 0) - side_u(c, delta, x, y, 0)) +
+	       fabs(side_u(c, delta, x + dx, y + dy, 1) - side_u(c, delta, x, y, 1));
+}
+
+/* the factors f[0] (W or N, distance d0) and f[1] (E or S, distance d1) */
+static void side_f(double d0, double d1, double f[2])
+{
+	double a0 = 1 / ((PAN_SEPS + d0) * (PAN_SEPS + d0)),
+	       a1 = 1 / ((PAN_SEPS + d1) * (PAN_SEPS + d1));
+	f[0] = 2 * a0 / (a0 + a1);
+	f[1] = 2 * a1 / (a0 + a1);
+}
+
+int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                       const pc_fplane *out)
+{
+	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, PAN_SE * fs};
+	chroma_ref c;
+	int rc = chroma_alloc(&c, w, h, "pan-side");
+	if (rc)
+		return rc;
+	chroma_images(&r, &c);
+	for (int y = 0; y < c.h; y++)
+		for (int x = 0; x < c.w; x++) {
+			double num[12] = {0}, den[12] = {0}, p0 = c.p0[cidx(&c, x, y)], fv[2];
+			side_f(side_d(&c, r.delta, x, y, 0, -PAN_SST),
+			       side_d(&c, r.delta, x, y, 0, PAN_SST), fv);
+			for (int dy = -3; dy <= 3; dy++) {
+				double p0r = c.p0[cidx(&c, x, y + dy)], fh[2];
+				double wv = (4 - abs(dy)) / (r.e + fabs(p0r - p0));
+				wv *= dy < 0 ? fv[0] : dy > 0 ? fv[1] : 1;
+				side_f(side_d(&c, r.delta, x, y + dy, -PAN_SST, 0),
+				       side_d(&c, r.delta, x, y + dy, PAN_SST, 0), fh);
+				for (int s = 0; s < 4; s++) {
+					/* row y + dy's taps of column phase s: H_s */
+					double hn = 0, hd = 0;
+					for (int d = -3; d <= 3; d++) {
+						if ((((x + d) % 4) + 4) % 4 != s)
+							continue;
+						double wh =
+						    (4 - abs(d)) /
+						    (r.e +
+						     fabs(c.p0[cidx(&c, x + d, y + dy)] - p0r));
+						wh *= d < 0 ? fh[0] : d > 0 ? fh[1] : 1;
+						hn += wh * c.rho[cidx(&c, x + d, y + dy)];
+						hd += wh;
+					}
+					int xs = x - (((x - s) % 4) + 4) % 4;
+					unsigned q = chan(&r, xs, y + dy);
+					num[q] += wv * hn / hd;
+					den[q] += wv;
+				}
+			}
+			put_pixel(&r, x, y, num, den, out);
+		}
+	free(c.p0);
+	return 0;
+}
+
 /* pan-dir: pan-ratio's colour step made direction-aware. Near a hue edge pan-ratio's centred
  * tents mix the two sides' ratios up to ±3 pixels away; on a lattice of spacing 4 a directional
  * interpolation is a one-sided one. Five candidate interpolations R^d of every channel's ratio:
@@ -572,7 +671,7 @@ typedef struct pan_job {
 	pc_cpu_level level;
 	const pc_fplane *out;
 	int err;
-	int guided; /* 1 pan-guided, 2 pan-chroma */
+	int guided; /* 1 pan-guided, 2 pan-chroma, 3 pan-side */
 	float e;    /* its range scale */
 	int nt;     /* streaming stores into the planes (pc_dm_stream_wanted) */
 } pan_job;
@@ -631,6 +730,12 @@ typedef void (*pan_cratio_fn)(const float *vs, const float *vsb, const float *ra
                               float *c1out, float *c2out);
 typedef void (*pan_cghrows_fn)(const float *rho, const float *p0, const float *c1, const float *c2,
                                long n, const float wt[4][7][16], float e, float *const h[4]);
+typedef void (*pan_sghrows_fn)(const float *rho, const float *p0, const float *fw, const float *fe,
+                               long n, const float wt[4][7][16], float e, float *const h[4]);
+typedef void (*pan_shue_fn)(const float *p0, const float *c1, const float *c2, long x0, long n,
+                            float delta, float *u1, float *u2);
+typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
+                            const float *const up[2], long n, float eps, float *f0, float *f1);
 
 typedef void (*pan_dwrows_fn)(const float *rho, long x0, long n, const float tw[4][4][16],
                               float *const hw[4]);
@@ -674,6 +779,10 @@ typedef struct pan_kern {
 	pan_cratio_fn cratio;
 	pan_cghrows_fn cghrows;
 	pan_gorow_fn cgorow;
+	pan_sghrows_fn sghrows;
+	pan_gorow_fn sgorow;
+	pan_shue_fn shue;
+	pan_sfac_fn sfac;
 	pan_dwrows_fn dwrows;
 	pan_dprows_fn dprows;
 	pan_dchroma_fn dchroma;
@@ -698,10 +807,10 @@ typedef struct pan_kern {
 	{                                                                                          \
 		pan_vsum_##S, pan_ratio_##S, pan_hrows_##S, pan_orow_##S, pan_ghrows_##S,          \
 		    pan_gorow_##S, pan_vsumw_##S, pan_cratio_##S, pan_cghrows_##S, pan_cgorow_##S, \
-		    pan_dwrows_##S, pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S,   \
-		    pan_dgam_##S, pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S,    \
-		    fact_chroma_##S, fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S,        \
-		    fact_orow_##S                                                                  \
+		    pan_sghrows_##S, pan_sgorow_##S, pan_shue_##S, pan_sfac_##S, pan_dwrows_##S,   \
+		    pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S,     \
+		    pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, \
+		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S           \
 	}
 
 static pan_kern pan_kernels(pc_cpu_level level)
@@ -832,11 +941,13 @@ static void pan_lattice_rows(const pc_mosaic *m, int y, pan_lattice *l)
 /* pan-guided's output row y: the terms of every channel, then the kernel (whole vectors into
  * planar outputs, the rest through the row buffer o), then the own measurements. */
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
-                      float *const gr[3][8], const float *raw, uint32_t y, int planar, long n,
-                      long nmain, float *rawp, float *const o[12])
+                      float *const gr[3][8], const float *const fv[2], const float *raw, uint32_t y,
+                      int planar, long n, long nmain, float *rawp, float *const o[12])
 {
 	pan_gorow_args a;
 	memset(&a, 0, sizeof a);
+	a.fn = fv[0];
+	a.fs = fv[1];
 	const uint32_t w = j->w, ty = y & 3;
 	pan_lattice l;
 	pan_lattice_rows(j->m, (int)y, &l);
@@ -852,7 +963,9 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		a.c1row[k] = gr[1][((int)y + k - 3) & 7];
 		a.c2row[k] = gr[2][((int)y + k - 3) & 7];
 	}
-	const pan_gorow_fn kern = j->guided == 2 ? K->cgorow : K->gorow;
+	const pan_gorow_fn kern = j->guided == 3   ? K->sgorow
+	                          : j->guided == 2 ? K->cgorow
+	                                           : K->gorow;
 	for (unsigned u = 0; u < 4; u++) {
 		a.sel[u] = t->sel[u];
 		a.own[u] = pan_q(j->m, u, ty);
@@ -871,6 +984,10 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 				a.p0row[k] += nmain;
 				a.c1row[k] += nmain;
 				a.c2row[k] += nmain;
+			}
+			if (j->guided == 3) {
+				a.fn += nmain;
+				a.fs += nmain;
 			}
 			kern(&a, rawp, 16, j->delta, j->e, o, 0);
 			for (int q = 0; q < 12; q++)
@@ -916,7 +1033,8 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	pan_tables *t = pc_dm_alloc(sizeof *t);
 	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
 	 * output rows, copies of 5 source rows' last partial vectors, 16 cached raw rows, 8 PPI
-	 * rows (pan-guided), 8 + 8 chrominance rows and a weighted vertical sum (pan-chroma) */
+	 * rows (pan-guided), 8 + 8 chrominance rows and a weighted vertical sum (pan-chroma;
+	 * pan-side keeps its hue, chrominance and factor rows in the latter 16) */
 	const size_t nrows = 52 + 16 + 8 + 17;
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !buf) {
@@ -949,13 +1067,53 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		for (int k = 0; k < 8; k++)
 			gr[g][k] = src + (size_t)(21 + 8 * g + k) * pitch;
 	float *vsb = src + (size_t)45 * pitch;
-	int have = (int)y0 - 4; /* source rows computed: up to have */
+	/* pan-side: the block hue (u1, u2) of the last four even source rows Y in hu[(Y & 7) >> 1],
+	 * pan_cratio's chrominance rows ck, the factors W and E of the current block row (fh), N
+	 * and S of the last two block rows Y in fv[(Y & 3) >> 1] */
+	const int side = j->guided == 3;
+	const float eps = (float)PAN_SEPS;
+	float *hu[4][2], *ck[2] = {gr[2][0], gr[2][1]}, *fh[2] = {gr[2][2], gr[2][3]},
+	                 *fv[2][2] = {{gr[2][4], gr[2][5]}, {gr[2][6], gr[2][7]}};
+	for (int k = 0; k < 4; k++)
+		for (int c = 0; c < 2; c++)
+			hu[k][c] = gr[1][2 * k + c];
+	/* source rows computed: up to have; pan-side's first one even (a block's top row) */
+	int have = side ? (((int)y0 - 3) & ~1) - 1 : (int)y0 - 4;
+	const int first = have + 1;
 	for (uint32_t y = y0; y < y1; y++) {
 		for (int yy = have < (int)y - 4 ? (int)y - 4 : have + 1; yy <= (int)y + 3; yy++) {
 			/* ratio row of the extended source row yy, and its four tents */
-			pan_src_sums(j, &K, t, &rc, yy, src, vs, j->guided == 2 ? vsb : NULL, rawp,
-			             n, nmain);
-			if (j->guided == 2) {
+			const int hue = side && !(yy & 1);
+			pan_src_sums(j, &K, t, &rc, yy, src, vs, j->guided == 2 || hue ? vsb : NULL,
+			             rawp, n, nmain);
+			if (side) {
+				float *p0 = gr[0][yy & 7];
+				if (hue) {
+					/* the row's block hue, its W and E factors, and the N and S
+					 * ones of the block row two above (whose S neighbour this
+					 * is) */
+					float *const *u = hu[(yy & 7) >> 1];
+					K.cratio(vs, vsb, rawp, -16, n + 32, j->delta, t->ha, rho,
+					         p0, ck[0], ck[1]);
+					K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta, u[0], u[1]);
+					const float *uc[2] = {u[0], u[1]},
+					            *uw[2] = {u[0] - PAN_SST, u[1] - PAN_SST},
+					            *ue[2] = {u[0] + PAN_SST, u[1] + PAN_SST};
+					K.sfac(uc, uw, ue, n, eps, fh[0], fh[1]);
+					if (yy - 2 * PAN_SST >= first) {
+						float *const *b = hu[((yy - PAN_SST) & 7) >> 1],
+						             *const *a =
+						                 hu[((yy - 2 * PAN_SST) & 7) >> 1];
+						const float *ub[2] = {b[0], b[1]},
+						            *ua[2] = {a[0], a[1]};
+						float *const *f = fv[((yy - PAN_SST) & 3) >> 1];
+						K.sfac(ub, ua, uc, n, eps, f[0], f[1]);
+					}
+				} else {
+					K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rho, p0);
+				}
+				K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e, hr[yy & 7]);
+			} else if (j->guided == 2) {
 				float *p0 = gr[0][yy & 7], *c1 = gr[1][yy & 7], *c2 = gr[2][yy & 7];
 				K.cratio(vs, vsb, rawp, -16, n + 32, j->delta, t->ha, rho, p0, c1,
 				         c2);
@@ -971,7 +1129,8 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		}
 		have = (int)y + 3;
 		if (j->guided) {
-			pan_gorow(j, &K, t, hr, gr, pan_row(&rc, j->in, (int)y), y, planar, n,
+			const float *fy[2] = {fv[(y & 2) >> 1][0], fv[(y & 2) >> 1][1]};
+			pan_gorow(j, &K, t, hr, gr, fy, pan_row(&rc, j->in, (int)y), y, planar, n,
 			          nmain, rawp, o);
 			continue;
 		}
@@ -1028,7 +1187,8 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	pc_dm_free(buf);
 }
 
-/* Both fast paths: one fused pass on row bands; guided adds the range weights of scale e. */
+/* The fast paths of pan-ratio, pan-guided (guided 1), pan-chroma (2) and pan-side (3): one fused
+ * pass on row bands; guided adds the range weights of scale e. */
 static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                    pc_cpu_level level, const pc_fplane *out, int guided)
 {
@@ -1042,16 +1202,18 @@ static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
 	             out,
 	             0,
 	             guided,
-	             guided == 2 ? (float)(PAN_CE * fs)
-	             : guided    ? (float)(PAN_E * fs)
-	                         : 0,
+	             guided == 3   ? (float)(PAN_SE * fs)
+	             : guided == 2 ? (float)(PAN_CE * fs)
+	             : guided      ? (float)(PAN_E * fs)
+	                           : 0,
 	             pc_dm_stream_wanted(out, 12, w, h, level)};
 	pc_parallel_rows(h, 0, threads, pan_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "%s: row buffers for width %u",
-		                guided == 2 ? "pan-chroma"
-		                : guided    ? "pan-guided"
-		                            : "pan-ratio",
+		                guided == 3   ? "pan-side"
+		                : guided == 2 ? "pan-chroma"
+		                : guided      ? "pan-guided"
+		                              : "pan-ratio",
 		                w);
 	return 0;
 }
@@ -1410,16 +1572,28 @@ int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
 	return pan_run(in, m, fs, threads, level, out, 1);
 }
 
+/* pan-side's fast path: pan-guided's (pan_band), each even source row's block hue and W/E
+ * factors from pan-chroma's chrominance (pan_cratio, pan_shue, pan_sfac), the block row two
+ * above it getting its N/S factors there; the factors multiply pan-guided's weights in
+ * pan_sghrows and pan_sgorow. */
+int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                        pc_cpu_level level, const pc_fplane *out)
+{
+	return pan_run(in, m, fs, threads, level, out, 3);
+}
+
 const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 {
 	static const pc_dm_pan_fns ratio = {pc_dm_pan_ref, pc_dm_pan_fast},
 	                           guided = {pc_dm_pan_guided_ref, pc_dm_pan_guided_fast},
 	                           chroma = {pc_dm_pan_chroma_ref, pc_dm_pan_chroma_fast},
-	                           dir = {pc_dm_pan_dir_ref, pc_dm_pan_dir_fast};
+	                           dir = {pc_dm_pan_dir_ref, pc_dm_pan_dir_fast},
+	                           side = {pc_dm_pan_side_ref, pc_dm_pan_side_fast};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma
 	       : m == PC_DM_PAN_DIR    ? &dir
+	       : m == PC_DM_PAN_SIDE   ? &side
 	                               : NULL;
 }
 

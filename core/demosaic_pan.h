@@ -22,6 +22,12 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
 int pc_dm_pan_chroma_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                           pc_cpu_level level, const pc_fplane *out);
 
+/* pan-side's double reference and fast path (the same arguments). */
+int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                       const pc_fplane *out);
+int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                        pc_cpu_level level, const pc_fplane *out);
+
 /* pan-dir's double reference and fast path (the same arguments). */
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                       const pc_fplane *out);

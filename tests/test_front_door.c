@@ -84,6 +84,7 @@ static const support supports[] = {
     {PC_DM_PAN_CHROMA, -7, 7, 1, 1, 2},     /* the same (C1 and C2 read as the PPI) */
     {PC_DM_PAN_DIR, -8, 8, 1, 1, 2},        /* pan-ratio's, ±1 through the 3×3 window */
     {PC_DM_PAN_FACT, -10, 10, 1, 1, 3}, /* ±8 inside (demosaic_fact.c; 7 reached), ±10 the mirror */
+    {PC_DM_PAN_SIDE, -8, 8, 1, 1, 2},   /* ±6 inside (demosaic_plan.c), ±8 the mirror */
 };
 #define N_SUP (sizeof supports / sizeof supports[0])
 

@@ -66,6 +66,8 @@ typedef enum pc_demosaic_method {
 	                    * candidates (ours) */
 	PC_DM_PAN_FACT,    /* colour only: hue from half-resolution block sums, polarization
 	                    * on the hue-normalised mosaic (ours) */
+	PC_DM_PAN_SIDE,    /* colour only: pan-guided with one-sided factors from the blocks'
+	                    * hue (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
