@@ -458,7 +458,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "colour accuracy goal met on all three sets, narrowly",
                          "pan-guided's pass with the factors: per even row one more vertical "
                          "sum, the chrominance, the blocks' hue and two factor rows; 1.11x "
-                         "pan-guided's instructions (callgrind, AVX2), 1.05-1.25x its time "
+                         "pan-guided's instructions (callgrind, AVX2), 1.0-1.25x its time "
                          "under load, about 5.2-6x the mono bilinear's time estimated from "
                          "pan-guided's idle 4.7-5.4x: at or over the 5x budget "
                          "(docs/demosaicking.md, Round 13)",
