@@ -44,6 +44,14 @@ typedef struct pc_dimg {
 	int w, h;
 } pc_dimg;
 
+/* The sub-image mirror: x of the raw extended beyond [0, n) (n even) keeping x mod 4 (the colour
+ * mosaic's 4×4 period): the 2×2 blocks mirrored whole (pc_mirror on block indices). */
+static inline int pc_mirror4(int x, int n)
+{
+	int px = x & 1;
+	return px + 2 * pc_mirror((x - px) / 2, n / 2);
+}
+
 /* Sample (x, y) of r, both indices mirrored (pc_mirror) into the image. */
 static inline double pc_dimg_at(const pc_dimg *r, int x, int y)
 {

@@ -75,13 +75,6 @@
 #define FACT_PAD 16 /* the block grid's extension of the raw: a multiple of 4 */
 #define FACT_ND  5  /* candidates C, W, E, N, S */
 
-/* The sub-image mirror: x of the raw extended beyond [0, n) (n even) keeping x mod 4. */
-static inline int mirror4(int x, int n)
-{
-	int px = x & 1;
-	return px + 2 * pc_mirror((x - px) / 2, n / 2);
-}
-
 static int clampi(int i, int n)
 {
 	return i < 0 ? 0 : i >= n ? n - 1 : i;
@@ -100,7 +93,7 @@ typedef struct fact_ref {
 
 static double raw_at(const fact_ref *r, int x, int y)
 {
-	return r->img[(size_t)mirror4(y, r->h) * (size_t)r->w + (size_t)mirror4(x, r->w)];
+	return r->img[(size_t)pc_mirror4(y, r->h) * (size_t)r->w + (size_t)pc_mirror4(x, r->w)];
 }
 
 static double ppi0(const fact_ref *r, int x, int y)
@@ -151,8 +144,8 @@ static void analyser_chroma(const fact_ref *r, int x, int y, const double wd[FAC
 	double num[FACT_ND][12] = {{0}}, den[FACT_ND][12] = {{0}};
 	for (int dy = -3; dy <= 3; dy++)
 		for (int dx = -3; dx <= 3; dx++) {
-			uint32_t xm = (uint32_t)mirror4(x + dx, r->w),
-			         ym = (uint32_t)mirror4(y + dy, r->h);
+			uint32_t xm = (uint32_t)pc_mirror4(x + dx, r->w),
+			         ym = (uint32_t)pc_mirror4(y + dy, r->h);
 			unsigned q = 4 * (pc_mosaic_color(r->m, xm, ym) - PC_CFA_R) +
 			             pc_mosaic_channel(r->m, xm, ym);
 			double t = (4 - abs(dx)) * (4 - abs(dy)),

@@ -138,13 +138,6 @@ typedef struct fact_oargs {
 #define PAN_DELTA 0.01 /* δ, fraction of full scale */
 #define PAN_E     0.01 /* pan-guided's e, fraction of full scale */
 
-/* The sub-image mirror: x of the raw extended beyond [0, n) (n even) keeping x mod 4. */
-static inline int mirror4(int x, int n)
-{
-	int px = x & 1;
-	return px + 2 * pc_mirror((x - px) / 2, n / 2);
-}
-
 typedef struct pan_ref {
 	const double *img;
 	int w, h;
@@ -155,7 +148,7 @@ typedef struct pan_ref {
 
 static double ext(const pan_ref *r, int x, int y)
 {
-	return r->img[(size_t)mirror4(y, r->h) * r->w + mirror4(x, r->w)];
+	return r->img[(size_t)pc_mirror4(y, r->h) * r->w + pc_mirror4(x, r->w)];
 }
 
 static double ppi0(const pan_ref *r, int x, int y)
@@ -182,7 +175,7 @@ static unsigned pan_q(const pc_mosaic *m, unsigned px, unsigned py)
 /* channel 4·k + c of the extended raw at (x, y): the mirror keeps the phase */
 static unsigned chan(const pan_ref *r, int x, int y)
 {
-	uint32_t xm = (uint32_t)mirror4(x, r->w), ym = (uint32_t)mirror4(y, r->h);
+	uint32_t xm = (uint32_t)pc_mirror4(x, r->w), ym = (uint32_t)pc_mirror4(y, r->h);
 	return pan_q(r->m, xm, ym);
 }
 
@@ -655,7 +648,7 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
  *
  * Per thread, a band of output rows. Every (extended) source row yy gets its ratio row ρ
  * (columns [-16, n + 16), n the row rounded up to whole 16-float vectors, from the vertical sums of
- * the five raw rows mirror4(yy - 2 .. yy + 2), padded by the column mirror, then the horizontal
+ * the five raw rows pc_mirror4(yy - 2 .. yy + 2), padded by the column mirror, then the horizontal
  * half of the filter) and from it the four horizontal tents h_s (s the column phase of the
  * channel), kept in a ring of 8 rows: output row y reads rows y - 3 .. y + 3. An output row sums
  * each channel's vertical tent over its lattice rows (two terms, four for green's two lattices),
@@ -846,13 +839,13 @@ static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
 }
 
 /* How a row computed on columns [0, w) is extended to [-PAN_PADR, n + PAN_PADR): the sub-image
- * mirror (mirror4, the raw's), the whole-sample mirror (pc_mirror, pan-fact's m and step 6's
+ * mirror (pc_mirror4, the raw's), the whole-sample mirror (pc_mirror, pan-fact's m and step 6's
  * ratios) or the edge samples repeated (the clamped chromaticities). */
 typedef enum pan_pad { PAN_PAD_SUB, PAN_PAD_MIRROR, PAN_PAD_CLAMP } pan_pad;
 
 static int pan_pad_src(int x, int iw, pan_pad how)
 {
-	return how == PAN_PAD_SUB      ? mirror4(x, iw)
+	return how == PAN_PAD_SUB      ? pc_mirror4(x, iw)
 	       : how == PAN_PAD_MIRROR ? pc_mirror(x, iw)
 	       : x < 0                 ? 0
 	                               : iw - 1;
@@ -867,7 +860,7 @@ static void pan_pad_row(float *d, int iw, long n, pan_pad how)
 }
 
 /* The vertical sums vs of the PPI filter for the extended source row yy (from the five raw rows
- * mirror4(yy - 2 .. yy + 2)), pan-chroma's signed ones vsb (if not NULL), and the raw row rawp,
+ * pc_mirror4(yy - 2 .. yy + 2)), pan-chroma's signed ones vsb (if not NULL), and the raw row rawp,
  * each padded by the column mirror to [-PAN_PADR, n + PAN_PADR); src: 5 × 16 floats of scratch
  * (the last partial vectors, readable to n) */
 static void pan_src_sums(const pan_job *j, const pan_kern *K, const pan_tables *t, pan_rows *rc,
@@ -876,7 +869,7 @@ static void pan_src_sums(const pan_job *j, const pan_kern *K, const pan_tables *
 	const int iw = (int)j->w, ih = (int)j->h;
 	const float *r[5], *rt[5];
 	for (int k = 0; k < 5; k++) {
-		r[k] = pan_row(rc, j->in, mirror4(yy + k - 2, ih));
+		r[k] = pan_row(rc, j->in, pc_mirror4(yy + k - 2, ih));
 		float *d = src + (size_t)k * 16;
 		memcpy(d, r[k] + nmain, (size_t)(iw - nmain) * sizeof *d);
 		rt[k] = d;
@@ -1735,7 +1728,7 @@ typedef struct fact_band_st {
 static void fact_raw_row(fact_band_st *b, int y, float *d)
 {
 	const int iw = (int)b->fj->j.w;
-	memcpy(d, pan_row(&b->rc, b->fj->j.in, mirror4(y, (int)b->fj->j.h)),
+	memcpy(d, pan_row(&b->rc, b->fj->j.in, pc_mirror4(y, (int)b->fj->j.h)),
 	       (size_t)iw * sizeof *d);
 	pan_pad_row(d, iw, b->n, PAN_PAD_SUB);
 }
