@@ -66,6 +66,7 @@ typedef struct pan_gorow_args {
 	const float *p0row[7];
 	const float *c1row[7], *c2row[7]; /* pan-chroma's chrominance rows (else unused) */
 	const float *fn, *fs;             /* pan-side's factors N and S of the row (else unused) */
+	float vtl[12][4][16]; /* vt repeated to 16 lanes (pan_gorow: a load, not a splat) */
 } pan_gorow_args;
 
 /* pan-dir's, for one row. Its first stage: eight groups (a colour on one row phase t: red 0, 1,
@@ -956,6 +957,8 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 			a.vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
 			a.vt[q][i] = l.wt[q][i];
 			a.vdy[q][i] = 3 + l.dy[q][i];
+			for (int k = 0; k < 16; k++)
+				a.vtl[q][i][k] = l.wt[q][i];
 		}
 	memcpy(a.nv, l.n, sizeof a.nv);
 	for (int k = 0; k < 7; k++) {

@@ -457,9 +457,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "scenes) +1.39/+1.26 (worst +0.65 gratings/+0.04 gratings): the "
                          "colour accuracy goal met on all three sets, narrowly",
                          "pan-guided's pass with the factors: per even row one more vertical "
-                         "sum, the chrominance, the blocks' hue and two factor rows; 1.11x "
-                         "pan-guided's instructions (callgrind, AVX2), 1.05-1.25x its time "
-                         "under load, about 5.2-6x the mono bilinear's time estimated from "
+                         "sum, the chrominance, the blocks' hue and two factor rows; 1.12x "
+                         "pan-guided's instructions (callgrind, AVX2), 1.0-1.25x its time "
+                         "under load, about 5-6x the mono bilinear's time estimated from "
                          "pan-guided's idle 4.7-5.4x: at or over the 5x budget "
                          "(docs/demosaicking.md, Round 13)",
                          "ours: pan-guided with side weights as GBTF's (Pekkucuksen & "
