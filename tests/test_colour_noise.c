@@ -63,8 +63,8 @@
 #define SIGMA  5.0
 #define NLIN   21 /* per colour: 4 channels, S0, S1, S2 */
 /* ten times the largest (σ/μ̃)² of the fields below, (5/241)² */
-#define LIN_TOL 4.3e-3
-#define NSE     5.0
+#define LIN_TOL   4.3e-3
+#define NSE       5.0
 #define FAST_SIZE 2048
 #define REF_SIZE  256
 
@@ -134,7 +134,8 @@ static void pan_dlnr(int px, int py, unsigned k, double mtk, double pt, double f
 			s[dy + RAD][dx + RAD] += t / mtk;
 			for (int j = -2; j <= 2; j++)
 				for (int i = -2; i <= 2; i++)
-					s[dy + j + RAD][dx + i + RAD] -= t * m[i + 2] * m[j + 2] / 64 / pt;
+					s[dy + j + RAD][dx + i + RAD] -=
+					    t * m[i + 2] * m[j + 2] / 64 / pt;
 		}
 }
 
@@ -283,9 +284,9 @@ static void measure(const pc_fplane f[12], int w, int h, double var[18])
 	}
 }
 
-static const char *const qname[18] = {
-    "R 0",  "R 45", "R 90", "R 135", "G 0",  "G 45", "G 90",      "G 135",     "B 0",
-    "B 45", "B 90", "B 135", "R S0", "R S1+S2", "G S0", "G S1+S2", "B S0", "B S1+S2"};
+static const char *const qname[18] = {"R 0",  "R 45",    "R 90", "R 135",   "G 0",  "G 45",
+                                      "G 90", "G 135",   "B 0",  "B 45",    "B 90", "B 135",
+                                      "R S0", "R S1+S2", "G S0", "G S1+S2", "B S0", "B S1+S2"};
 
 /* One method on one field: predicted against measured for all 18 quantities. */
 static void check_method(pc_demosaic_method meth, int reference, const double mu[3], int size)
