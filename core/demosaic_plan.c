@@ -475,10 +475,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "-1.72/-0.11), 4 losing (docs/demosaicking.md, Round 13b)",
                          "pan-guided's pass with the factors: per even row one more vertical "
                          "sum, the chrominance, the blocks' hue and two factor rows; 1.12x "
-                         "pan-guided's instructions (callgrind, AVX2), 1.0-1.25x its time "
-                         "under load, about 5-6x the mono bilinear's time estimated from "
-                         "pan-guided's idle 4.7-5.4x: at or over the 5x budget "
-                         "(docs/demosaicking.md, Round 13)",
+                         "pan-guided's instructions (callgrind, AVX2), 1.10-1.19x its median "
+                         "wall time near idle (six runs); 6.8-8.8x the mono bilinear's in "
+                         "the same runs, over the 5x budget (docs/demosaicking.md, Round 13)",
                          "ours: pan-guided with side weights as GBTF's (Pekkucuksen & "
                          "Altunbasak, ICIP 2010) from pan-chroma's hue (Alleysson et al., IEEE "
                          "TIP 14(4) 2005); docs/demosaicking.md, Round 13",
