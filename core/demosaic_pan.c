@@ -1641,6 +1641,9 @@ typedef struct fact_tables {
 	float par[16];              /* 1 on the right columns of the colour blocks */
 	float gw[4][16], ge[4][16]; /* green's hold weights (×2) for W and E, by column phase */
 	fact_cargs ca;              /* W's and E's weights (the rows set per row) */
+	/* fact_taps' weights: a block row's horizontal interpolations by its top row's phase
+	 * (y mod 4), the block columns' vertical ones at row r by r mod 4 */
+	float bt[4][2][4][16], vt[4][2][4][16];
 } fact_tables;
 
 static int fact_col(const pc_mosaic *m, int x, int y)
@@ -1678,7 +1681,46 @@ static float fact_gshare(int e)
 	return (float)(4 - e) / (float)(8 - e - ((e + 2) & 3));
 }
 
-static void fact_tables_init(fact_tables *t, const pc_mosaic *m, unsigned ox)
+/* fact_blocks_to's weights for the block row with top row y: red-or-blue's (wt[0]) and green's
+ * (wt[1]) two blocks within ±3.5 of x, at x ± 1, x ± 3, weights (4 − |dx|)/4 */
+static const int fact_hoff[4] = {-3, -1, 1, 3};
+
+static void fact_htaps(const pc_mosaic *m, unsigned ox, int y, float wt[2][4][16])
+{
+	for (int l = 0; l < 16; l++)
+		for (int i = 0; i < 4; i++) {
+			const int x0 = fact_x0(8 + l + fact_hoff[i], ox);
+			const float w = (4 - fabsf((float)x0 + 0.5f - (float)(8 + l))) / 4;
+			const int gr = fact_col(m, x0, y) == 1;
+			wt[0][i][l] = gr ? 0 : w;
+			wt[1][i][l] = gr ? w : 0;
+		}
+}
+
+/* the top row of the first of the four block rows within ±3.5 of row r */
+static int fact_vy0(int r, unsigned oy)
+{
+	const int y = r - 4;
+	return y + ((y - (int)oy) & 1);
+}
+
+/* fact_chroma_to's weights at row r: the four block rows' vertical interpolations, red-or-blue's
+ * and green's */
+static void fact_vtaps(const pc_mosaic *m, unsigned ox, unsigned oy, int r, float wt[2][4][16])
+{
+	const int y = fact_vy0(r, oy);
+	for (int i = 0; i < 4; i++) {
+		const int yb = y + 2 * i;
+		const float w = (4 - fabsf((float)yb + 0.5f - (float)r)) / 4;
+		for (int l = 0; l < 16; l++) {
+			const int gr = fact_col(m, fact_x0(8 + l, ox), yb) == 1;
+			wt[0][i][l] = gr ? 0 : w;
+			wt[1][i][l] = gr ? w : 0;
+		}
+	}
+}
+
+static void fact_tables_init(fact_tables *t, const pc_mosaic *m, unsigned ox, unsigned oy)
 {
 	memset(t, 0, sizeof *t);
 	for (int l = 0; l < 16; l++) {
@@ -1703,6 +1745,12 @@ static void fact_tables_init(fact_tables *t, const pc_mosaic *m, unsigned ox)
 					c[l] = wt[k][f] / (wt[k][0] + wt[k][1]);
 				}
 		}
+	}
+	/* rows 8 .. 11 stand for every row of their phase: the weights depend on y mod 4 (and
+	 * r − y, which r mod 4 and oy fix) */
+	for (int p = 0; p < 4; p++) {
+		fact_htaps(m, ox, 8 + p, t->bt[p]);
+		fact_vtaps(m, ox, oy, 8 + p, t->vt[p]);
 	}
 }
 
@@ -1764,25 +1812,14 @@ static int fact_bslot(const fact_band_st *b, int y)
 /* block rows (top rows) up to ymax: sums and horizontal interpolations */
 static void fact_blocks_to(fact_band_st *b, int ymax)
 {
-	const pc_mosaic *m = b->fj->j.m;
 	for (; b->blk_next <= ymax; b->blk_next += 2) {
 		const int y = b->blk_next, k = fact_bslot(b, y);
 		fact_raw_row(b, y, b->braw[0]);
 		fact_raw_row(b, y + 1, b->braw[1]);
 		b->K->bsum(b->braw[0], b->braw[1], b->ft->par, -24, b->n + 48, b->bd[k]);
-		static const int off[4] = {-3, -1, 1, 3};
-		float wt[2][4][16];
-		for (int l = 0; l < 16; l++)
-			for (int i = 0; i < 4; i++) {
-				const int x0 = fact_x0(8 + l + off[i], b->ox);
-				const float w = (4 - fabsf((float)x0 + 0.5f - (float)(8 + l))) / 4;
-				const int gr = fact_col(m, x0, y) == 1;
-				wt[0][i][l] = gr ? 0 : w;
-				wt[1][i][l] = gr ? w : 0;
-			}
 		const float *in[4] = {b->bd[k], b->bd[k], b->bd[k], b->bd[k]};
 		float *out[2] = {b->hrb[k], b->hg[k]};
-		b->K->taps(in, off, (const float(*)[4][16])wt, 0, b->n, out);
+		b->K->taps(in, fact_hoff, b->ft->bt[(unsigned)y & 3], 0, b->n, out);
 	}
 }
 
@@ -1792,8 +1829,7 @@ static void fact_ns_rows(const fact_band_st *b, int r, int south, const float **
                          const float **pb, const float *pg[2], float gw[2])
 {
 	const pc_mosaic *m = b->fj->j.m;
-	int y = south ? r : r - 4;
-	y += (y - (int)b->oy) & 1;
+	int y = fact_vy0(south ? r + 4 : r, b->oy);
 	float ws = 0;
 	for (int i = 0; i < 2; i++, y += 2) {
 		const int k = fact_bslot(b, y);
@@ -1812,29 +1848,17 @@ static void fact_ns_rows(const fact_band_st *b, int r, int south, const float **
 /* chromaticity rows up to r: candidates, clamped columns, variation boxes */
 static void fact_chroma_to(fact_band_st *b, int ymax)
 {
-	const pc_mosaic *m = b->fj->j.m;
 	const int iw = (int)b->fj->j.w;
 	for (; b->c_next <= ymax; b->c_next++) {
-		const int r = b->c_next;
-		int y = r - 4;
-		y += (y - (int)b->oy) & 1;
+		const int r = b->c_next, y = fact_vy0(r, b->oy);
 		fact_blocks_to(b, y + 6);
 		/* the block columns' vertical interpolations at row r */
-		float wt[2][4][16];
 		const float *in[4];
-		for (int i = 0; i < 4; i++) {
-			const int yb = y + 2 * i;
-			const float w = (4 - fabsf((float)yb + 0.5f - (float)r)) / 4;
-			in[i] = b->bd[fact_bslot(b, yb)];
-			for (int l = 0; l < 16; l++) {
-				const int gr = fact_col(m, fact_x0(8 + l, b->ox), yb) == 1;
-				wt[0][i][l] = gr ? 0 : w;
-				wt[1][i][l] = gr ? w : 0;
-			}
-		}
+		for (int i = 0; i < 4; i++)
+			in[i] = b->bd[fact_bslot(b, y + 2 * i)];
 		static const int off0[4] = {0, 0, 0, 0};
 		float *ug[2] = {b->u, b->g};
-		b->K->taps(in, off0, (const float(*)[4][16])wt, -16, b->n + 32, ug);
+		b->K->taps(in, off0, b->ft->vt[(unsigned)r & 3], -16, b->n + 32, ug);
 		fact_cargs a = b->ft->ca;
 		a.u = b->u;
 		a.g = b->g;
@@ -1966,7 +1990,7 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 	b.n = n;
 	b.nmain = nmain;
 	(void)pc_mosaic_color_origin(j->m, &b.ox, &b.oy);
-	fact_tables_init(&ft, j->m, b.ox);
+	fact_tables_init(&ft, j->m, b.ox, b.oy);
 	float *row = buf + PAN_PADR;
 	size_t next = 0;
 #define FACT_ROW() (row + pitch * next++)
