@@ -286,6 +286,30 @@ static void test_method_raw(void)
 	unload(&c);
 }
 
+/* A simulator of scenes/stress/DIR/NAME rendering the region w × h at (x, y); NULL (checked,
+ * reported) when the scene does not load. */
+static pc_sim *roi_sim(const char *dir, const char *name, uint32_t w, uint32_t h, uint32_t x,
+                       uint32_t y)
+{
+	char path[4096];
+	snprintf(path, sizeof path, "%s/scenes/stress/%s/%s", src_dir, dir, name);
+	pc_scene *scene = NULL;
+	pc_sim *sim = NULL;
+	pc_sim_options so = pc_sim_options_default();
+	so.roi_width = w;
+	so.roi_height = h;
+	so.roi_x = x;
+	so.roi_y = y;
+	int rc = pc_scene_load(path, &scene);
+	if (!rc)
+		rc = pc_sim_new(scene, &so, &sim);
+	pc_scene_free(scene);
+	CHECK_EQ_INT(rc, 0);
+	if (rc)
+		fprintf(stderr, "%s: %s\n", path, pc_error_detail());
+	return rc ? NULL : sim;
+}
+
 /* The colour suite (scenes/stress/colour): with the ideal sensor each pixel's raw value is its
  * own colour's truth at its analyser (pc_sim_eval_colour_case, each colour scaled by its own DN
  * per radiance), within half a DN; the monochrome case refuses the colour sensor and the colour
@@ -295,24 +319,9 @@ static void test_method_raw(void)
  * 0.92-0.94). The colour methods score on it. */
 static void test_colour(const char *name, int gloss)
 {
-	char path[4096];
-	snprintf(path, sizeof path, "%s/scenes/stress/colour/%s", src_dir, name);
-	pc_scene *scene = NULL;
-	pc_sim *sim = NULL;
-	pc_sim_options so = pc_sim_options_default();
-	so.roi_width = 256;
-	so.roi_height = 192;
-	so.roi_x = 128;
-	so.roi_y = 96;
-	int rc = pc_scene_load(path, &scene);
-	if (!rc)
-		rc = pc_sim_new(scene, &so, &sim);
-	pc_scene_free(scene);
-	CHECK_EQ_INT(rc, 0);
-	if (rc) {
-		fprintf(stderr, "%s: %s\n", path, pc_error_detail());
+	pc_sim *sim = roi_sim("colour", name, 256, 192, 128, 96);
+	if (!sim)
 		return;
-	}
 	pc_sim_info info;
 	pc_sim_get_info(sim, &info);
 	pc_eval_truth t[3], t1;
@@ -376,9 +385,11 @@ static void test_colour(const char *name, int gloss)
 		pc_eval_truth_free(&t[k]);
 	pc_view_free(&raw);
 	/* and the colour case refuses a monochrome sensor */
+	char path[4096];
 	snprintf(path, sizeof path, "%s/scenes/stress/chart.json", src_dir);
+	pc_scene *scene = NULL;
 	CHECK_EQ_INT(pc_scene_load(path, &scene), 0);
-	so = pc_sim_options_default();
+	pc_sim_options so = pc_sim_options_default();
 	so.roi_width = so.roi_height = 64;
 	CHECK_EQ_INT(pc_sim_new(scene, &so, &sim), 0);
 	pc_scene_free(scene);
@@ -397,29 +408,14 @@ static void test_colour(const char *name, int gloss)
  * above 5 % of full scale). */
 static void test_sealed(const char *name, int noisy)
 {
-	char path[4096];
-	snprintf(path, sizeof path, "%s/scenes/stress/colour-sealed/%s", src_dir, name);
-	pc_scene *scene = NULL;
-	pc_sim *sim = NULL;
-	pc_sim_options so = pc_sim_options_default();
-	so.roi_width = 128;
-	so.roi_height = 96;
-	so.roi_x = 192;
-	so.roi_y = 144;
-	int rc = pc_scene_load(path, &scene);
-	if (!rc)
-		rc = pc_sim_new(scene, &so, &sim);
-	pc_scene_free(scene);
-	CHECK_EQ_INT(rc, 0);
-	if (rc) {
-		fprintf(stderr, "%s: %s\n", path, pc_error_detail());
+	pc_sim *sim = roi_sim("colour-sealed", name, 128, 96, 192, 144);
+	if (!sim)
 		return;
-	}
 	pc_sim_info info;
 	pc_sim_get_info(sim, &info);
 	pc_eval_truth t[3];
 	pc_view raw;
-	rc = pc_sim_eval_colour_case(sim, t, &raw);
+	int rc = pc_sim_eval_colour_case(sim, t, &raw);
 	pc_sim_free(sim);
 	CHECK_EQ_INT(rc, 0);
 	if (rc)
