@@ -42,6 +42,7 @@
 #include <string.h>
 
 #include "demosaic_fact.h"
+#include "demosaic_noise.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 #include "simd.h"
@@ -503,6 +504,180 @@ int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 		}
 	free(c.p0);
 	return 0;
+}
+
+/* pan-adapt: pan-side with two changes (docs/demosaicking.md, Rounds 13c, 13d and 14), with
+ * P̃ = max(P0, 0) + δ on the extended images and every constant in demosaic_pan.h.
+ *
+ * (1) A range scale relative to the local signal. pan-side's e (4 % of full scale) flattens the
+ * P0 weights in dim scenes and makes the result depend on the exposure (Round 13c). Here the
+ * range weights centred at c use
+ *
+ *   e(c) = e_fs·FS + k_e·μ_e(c),  μ_e(c) = the mean of P̃ over the (2r_e + 1)² window at c,
+ *
+ * (e_fs = 0, k_e = 0.115, r_e = 2): the vertical weights of (x, y) the centre (x, y), the
+ * horizontal ones of row y' the tap row's centre (x, y'), so the pass stays separable. The
+ * weights (4 − |d|)/(e(c) + |ΔP0|) are normalised per centre, so this is a range kernel on the
+ * relative difference |ΔP0|/μ_e: the bilateral filter on log intensity to first order (Durand &
+ * Dorsey, SIGGRAPH 2002, Sec. 3), with δ the floor in the dark; scaling the raw by s scales
+ * every output by s (δ and e_fs aside).
+ *
+ * (2) The ratio step's level shrunk where the noise is of the order of the local variation.
+ * pan-ratio's and pan-side's ratio step gives every output of a green pixel half of its own
+ * sample's noise, which the analysers add coherently in S0 (Round 13d). As ratio-nr shrinks its
+ * guide (demosaic_ref.c, shrunk_guide: the guided filter's shrinkage, He, Sun, Tang, TPAMI
+ * 35(6) 2013, eq. 7, with a signal-dependent regulariser), the level L that multiplies every
+ * ratio is pulled towards the window mean μ of P̃:
+ *
+ *   L = (max(raw(p), 0) + δ)·den_own/num_own   (pan-side's x̃_p / R_own(p)),
+ *   μ, v = the mean and (population) variance of P̃ over the (2r + 1)² window at p,
+ *   λ = v / (v + c·(14/64)²·g·μ),   L' = μ + λ·(L − μ),
+ *   I_q(p) = L'·num_q/den_q − δ   for all twelve q, the own channel's too,
+ *
+ * (c = 8, r = 2; (14/64)² the sum of the P0 filter's squared weights, so c·(14/64)²·g·μ is c
+ * times P0's noise variance at level μ; g the frame's noise gain, pc_dm_noise_gain_d). λ = 1
+ * where v + c·(14/64)²·g·μ = 0. Where c·g = 0 the step is pan-side's (pan_values: the own
+ * sample kept), the limit λ → 1 up to rounding and negative samples. */
+static double adapt_mean(const chroma_ref *c, double delta, int x, int y, int r)
+{
+	double s = 0;
+	for (int j = -r; j <= r; j++)
+		for (int i = -r; i <= r; i++)
+			s += fmax(c->p0[cidx(c, x + i, y + j)], 0) + delta;
+	return s / ((2 * r + 1) * (2 * r + 1));
+}
+
+static double adapt_var(const chroma_ref *c, double delta, int x, int y, int r, double mu)
+{
+	double s = 0;
+	for (int j = -r; j <= r; j++)
+		for (int i = -r; i <= r; i++) {
+			double d = fmax(c->p0[cidx(c, x + i, y + j)], 0) + delta - mu;
+			s += d * d;
+		}
+	return s / ((2 * r + 1) * (2 * r + 1));
+}
+
+pc_dm_pan_adapt_params pc_dm_pan_adapt_defaults(void)
+{
+	pc_dm_pan_adapt_params p = {PC_DM_PAN_ADAPT_EFS,
+	                            PC_DM_PAN_ADAPT_KE,
+	                            PC_DM_PAN_ADAPT_RE,
+	                            PC_DM_PAN_ADAPT_C,
+	                            PC_DM_PAN_ADAPT_R,
+	                            PC_DM_PAN_ADAPT_DFS,
+	                            -1};
+	return p;
+}
+
+int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                             double fs, const pc_dm_pan_adapt_params *p, const pc_fplane *out)
+{
+	if (!(p->e_fs >= 0) || !(p->ke >= 0) || !(p->e_fs + p->ke > 0) || p->re < 0 ||
+	    p->re > PAN_CX - 3 || !(p->c >= 0) || p->r < 0 || p->r > PAN_CX || !(p->d_fs > 0) ||
+	    !isfinite(p->g))
+		return pc_error(PC_EINVAL, "pan-adapt: parameters out of range");
+	pan_ref r = {img, (int)w, (int)h, p->d_fs * fs, m, 0};
+	double g = p->g;
+	if (g < 0) {
+		int rc = pc_dm_noise_gain_d(img, w, h, m, fs, &g);
+		if (rc)
+			return rc;
+	}
+	const double kn = p->c * (14.0 / 64) * (14.0 / 64) * g; /* the noise term over μ */
+	chroma_ref c;
+	int rc = chroma_alloc(&c, w, h, "pan-adapt");
+	if (rc)
+		return rc;
+	chroma_images(&r, &c);
+	for (int y = 0; y < c.h; y++)
+		for (int x = 0; x < c.w; x++) {
+			double num[12] = {0}, den[12] = {0}, p0 = c.p0[cidx(&c, x, y)], fv[2];
+			double ev = p->e_fs * fs + p->ke * adapt_mean(&c, r.delta, x, y, p->re);
+			side_f(side_d(&c, r.delta, x, y, 0, -PAN_SST),
+			       side_d(&c, r.delta, x, y, 0, PAN_SST), fv);
+			for (int dy = -3; dy <= 3; dy++) {
+				double p0r = c.p0[cidx(&c, x, y + dy)], fh[2];
+				double eh = p->e_fs * fs +
+				            p->ke * adapt_mean(&c, r.delta, x, y + dy, p->re);
+				double wv = (4 - abs(dy)) / (ev + fabs(p0r - p0));
+				wv *= dy < 0 ? fv[0] : dy > 0 ? fv[1] : 1;
+				side_f(side_d(&c, r.delta, x, y + dy, -PAN_SST, 0),
+				       side_d(&c, r.delta, x, y + dy, PAN_SST, 0), fh);
+				for (int s = 0; s < 4; s++) {
+					double hn = 0, hd = 0;
+					for (int d = -3; d <= 3; d++) {
+						if ((((x + d) % 4) + 4) % 4 != s)
+							continue;
+						double wh =
+						    (4 - abs(d)) /
+						    (eh +
+						     fabs(c.p0[cidx(&c, x + d, y + dy)] - p0r));
+						wh *= d < 0 ? fh[0] : d > 0 ? fh[1] : 1;
+						hn += wh * c.rho[cidx(&c, x + d, y + dy)];
+						hd += wh;
+					}
+					int xs = x - (((x - s) % 4) + 4) % 4;
+					unsigned q = chan(&r, xs, y + dy);
+					num[q] += wv * hn / hd;
+					den[q] += wv;
+				}
+			}
+			if (!(kn > 0)) {
+				put_pixel(&r, x, y, num, den, out);
+				continue;
+			}
+			unsigned own = chan(&r, x, y);
+			double v = img[(size_t)y * w + (size_t)x];
+			double lv = (fmax(v, 0) + r.delta) * den[own] / num[own];
+			double mu = adapt_mean(&c, r.delta, x, y, p->r);
+			double var = adapt_var(&c, r.delta, x, y, p->r, mu);
+			double lam = var + kn * mu > 0 ? var / (var + kn * mu) : 1;
+			double ls = mu + lam * (lv - mu);
+			for (unsigned q = 0; q < 12; q++)
+				out[q].data[(size_t)y * out[q].row_stride +
+				            (size_t)x * out[q].pixel_stride] =
+				    (float)(ls * num[q] / den[q] - r.delta);
+		}
+	free(c.p0);
+	return 0;
+}
+
+int pc_dm_pan_adapt_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                        const pc_fplane *out)
+{
+	pc_dm_pan_adapt_params p = pc_dm_pan_adapt_defaults();
+	return pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &p, out);
+}
+
+/* pan-adapt's fast path: FOR NOW the double reference on the input converted to double (the
+ * values of pc_dm_raw_to_double), until the float fast path lands (it replaces this body; the
+ * noise gain it must use is pc_dm_noise_gain_in's). threads and level are unused. */
+int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                         pc_cpu_level level, const pc_fplane *out)
+{
+	(void)threads;
+	(void)level;
+	const uint32_t w = in->width, h = in->height;
+	double *img = malloc(sizeof(double) * (size_t)w * h);
+	float *row = malloc(sizeof(float) * ((size_t)w + 2));
+	if (!img || !row) {
+		free(img);
+		free(row);
+		return pc_error(PC_ENOMEM, "pan-adapt: input of %ux%u", w, h);
+	}
+	for (uint32_t y = 0; y < h; y++) {
+		if (in->dark || in->gain_inv)
+			pc_dm_row_to_float(in, y, row + 1);
+		for (uint32_t x = 0; x < w; x++)
+			img[(size_t)y * w + x] = in->dark || in->gain_inv
+			                             ? (double)row[x + 1]
+			                             : (double)pc_dm_sample(in, x, y) - in->black_d;
+	}
+	free(row);
+	int rc = pc_dm_pan_adapt_ref(img, w, h, m, fs, out);
+	free(img);
+	return rc;
 }
 
 /* pan-dir: pan-ratio's colour step made direction-aware. Near a hue edge pan-ratio's centred
@@ -1584,12 +1759,14 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	                           guided = {pc_dm_pan_guided_ref, pc_dm_pan_guided_fast},
 	                           chroma = {pc_dm_pan_chroma_ref, pc_dm_pan_chroma_fast},
 	                           dir = {pc_dm_pan_dir_ref, pc_dm_pan_dir_fast},
-	                           side = {pc_dm_pan_side_ref, pc_dm_pan_side_fast};
+	                           side = {pc_dm_pan_side_ref, pc_dm_pan_side_fast},
+	                           adapt = {pc_dm_pan_adapt_ref, pc_dm_pan_adapt_fast};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma
 	       : m == PC_DM_PAN_DIR    ? &dir
 	       : m == PC_DM_PAN_SIDE   ? &side
+	       : m == PC_DM_PAN_ADAPT  ? &adapt
 	                               : NULL;
 }
 

@@ -28,6 +28,40 @@ int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                         pc_cpu_level level, const pc_fplane *out);
 
+/* pan-adapt (docs/demosaicking.md, Round 14): pan-side with a range scale relative to the local
+ * signal and the ratio step's level shrunk towards its local mean where the frame's noise
+ * (demosaic_noise.h) is of the order of the local variation. Every parameter of the definition
+ * is one of these constants; demosaic_pan.c states the formulas. */
+#define PC_DM_PAN_ADAPT_EFS 0.0   /* e's fixed part, fraction of full scale (pan-side: 0.04) */
+#define PC_DM_PAN_ADAPT_KE  0.115 /* k_e: e's part relative to the window mean μ_e of P̃ */
+#define PC_DM_PAN_ADAPT_RE  2     /* μ_e's window radius: (2·2 + 1)² */
+#define PC_DM_PAN_ADAPT_C   8.0   /* c: the shrinkage's noise multiple */
+#define PC_DM_PAN_ADAPT_R   2     /* the shrinkage window's radius: (2·2 + 1)² */
+#define PC_DM_PAN_ADAPT_DFS 0.01  /* δ, fraction of full scale (every pan method's) */
+
+typedef struct pc_dm_pan_adapt_params {
+	double e_fs; /* PC_DM_PAN_ADAPT_EFS */
+	double ke;   /* PC_DM_PAN_ADAPT_KE */
+	int re;      /* PC_DM_PAN_ADAPT_RE, 0..5 */
+	double c;    /* PC_DM_PAN_ADAPT_C, >= 0 */
+	int r;       /* PC_DM_PAN_ADAPT_R, 0..8 */
+	double d_fs; /* PC_DM_PAN_ADAPT_DFS, > 0 */
+	double g;    /* the noise gain (raw units, demosaic_noise.h); < 0: estimated from the frame
+	              * (pc_dm_noise_gain_d), the method's choice */
+} pc_dm_pan_adapt_params;
+
+/* The method's parameters: the constants above, g estimated */
+pc_dm_pan_adapt_params pc_dm_pan_adapt_defaults(void);
+
+/* pan-adapt's double reference (pc_dm_pan_adapt_defaults), and the same with other parameters
+ * (tests: g given, pan-side's e, δ → 0); PC_EINVAL for parameters out of range */
+int pc_dm_pan_adapt_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                        const pc_fplane *out);
+int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                             double fs, const pc_dm_pan_adapt_params *p, const pc_fplane *out);
+int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                         pc_cpu_level level, const pc_fplane *out);
+
 /* pan-dir's double reference and fast path (the same arguments). */
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                       const pc_fplane *out);

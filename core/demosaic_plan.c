@@ -58,6 +58,12 @@
 /* pan-side ±8, a bound: pan-guided's ±5, and its row factors at the block row of y ± 3 (y − 4 ..
  * y + 3) read the hue's rows ±2 from there, C1 and C2 the raw's ±2 from those (±6 inside, the
  * mirror's two more) */
+/* pan-adapt ±9, a bound, for a given noise gain: pan-side's, and the range scale of the tap
+ * rows y ± 3 reads the PPI's window ±2 rows further (y ± 5), the raw's ±2 from there (±7
+ * inside, the mirror's two more); the shrinkage's window (±2 of the PPI) lies inside. Through
+ * the frame's noise gain (demosaic_noise.h) every output depends a little on the whole frame. */
+#define PAN_ADAPT_LO -9
+#define PAN_ADAPT_HI 9
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
@@ -488,6 +494,25 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         false,
                         PC_DM_PAN_SIDE,
                         false},
+    [PC_DM_PAN_ADAPT] = {{PC_DM_PAN_ADAPT, "pan-adapt",
+                          "colour-polarization: pan-side with a range scale relative to the "
+                          "local signal (11.5 % of the 5x5 mean of the PPI) and the ratio "
+                          "step's level shrunk towards its 5x5 mean where the frame's noise "
+                          "(estimated from the frame) is of the order of the local variation; "
+                          "accuracy: docs/demosaicking.md, Round 14",
+                          "for now the double reference (no float fast path yet)",
+                          "ours: pan-side (docs/demosaicking.md, Round 13) with a relative "
+                          "range scale (Durand & Dorsey, SIGGRAPH 2002) and ratio-nr's "
+                          "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
+                          "from the median residual (Donoho & Johnstone, Biometrika 81(3) "
+                          "1994) under EMVA 1288's linear model",
+                          PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                         {PAN_ADAPT_LO, PAN_ADAPT_HI, 1, 1},
+                         NULL,
+                         NULL,
+                         false,
+                         PC_DM_PAN_ADAPT,
+                         false},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
@@ -545,7 +570,7 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 		    PC_EINVAL,
 		    "method %s works on monochrome polarizer mosaics only; "
 		    "this mosaic has a colour filter (try pan-guided, "
-		    "pan-side, pan-chroma, pan-dir, pan-fact, pan-ratio, bayer-first or "
+		    "pan-side, pan-adapt, pan-chroma, pan-dir, pan-fact, pan-ratio, bayer-first or "
 		    "bayer-eari)",
 		    mi->name);
 	if (!colour && !(mi->flags & PC_DMF_MONO))

@@ -68,6 +68,8 @@ typedef enum pc_demosaic_method {
 	                    * on the hue-normalised mosaic (ours) */
 	PC_DM_PAN_SIDE,    /* colour only: pan-guided with one-sided factors from the blocks'
 	                    * hue (ours) */
+	PC_DM_PAN_ADAPT,   /* colour only: pan-side with a signal-relative range scale and a
+	                    * noise-aware ratio step (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
