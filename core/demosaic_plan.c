@@ -496,7 +496,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         false},
     [PC_DM_PAN_ADAPT] = {{PC_DM_PAN_ADAPT, "pan-adapt",
                           "colour-polarization: pan-side with a range scale relative to the "
-                          "local signal (11.5 % of the 5x5 mean of the PPI) and the ratio "
+                          "local signal (13 % of the 5x5 mean of the PPI) and the ratio "
                           "step's level shrunk towards its 5x5 mean where the frame's noise "
                           "(estimated from the frame) is of the order of the local variation; "
                           "accuracy: docs/demosaicking.md, Round 14",
