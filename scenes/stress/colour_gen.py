@@ -1,10 +1,9 @@
 """Helpers shared by the colour scene generators: colour-holdout/gen_holdout.py and
 colour-sealed2/gen_sealed2.py (Python 3 standard library only).
 
-colour-sealed/gen_sealed.py has its own copies of some of these (paints, sensor, scene, ground,
-Obj, rot, unit, clip_rect, cylinder_obj): that directory is frozen by its seal (its README: no
-file there but the README may change after commit 695381e), so it keeps them; a new set imports
-them from here instead.
+colour-sealed/gen_sealed.py has its own copies of most of these (paints, sensor, scene, ground,
+unit, Obj): that directory is frozen by its seal (its README: no file there but the README may
+change after commit 695381e), so it keeps them. A new generator imports them from here.
 
 Paints are dielectrics (n = 1.5) coloured by per-channel extinction coefficients k = [R, G, B]
 as in colour/gen_colour.py (the pBRDF's diffuse term, physics.md section 2: a channel with
@@ -58,15 +57,6 @@ def unit(v):
     return [x / n for x in v]
 
 
-def rot(v, yaw, ax, ay):
-    """R = Rz(yaw) Ry(ay) Rx(ax) applied to v (radians)."""
-    x, y, z = v
-    y, z = y * math.cos(ax) - z * math.sin(ax), y * math.sin(ax) + z * math.cos(ax)
-    x, z = x * math.cos(ay) + z * math.sin(ay), -x * math.sin(ay) + z * math.cos(ay)
-    x, y = x * math.cos(yaw) - y * math.sin(yaw), x * math.sin(yaw) + y * math.cos(yaw)
-    return [x, y, z]
-
-
 class Obj:
     """A Wavefront OBJ being written: polygons (one `f` record each, negative indices)."""
 
@@ -80,34 +70,6 @@ class Obj:
 
     def text(self):
         return "\n".join(self.lines) + "\n"
-
-
-def clip_rect(pts, x0, x1, y0, y1):
-    """Sutherland-Hodgman clipping of a convex polygon to an axis-aligned rectangle."""
-    def clip(poly, inside, cut):
-        res = []
-        for i in range(len(poly)):
-            p, q = poly[i - 1], poly[i]
-            if inside(q):
-                if not inside(p):
-                    res.append(cut(p, q))
-                res.append(q)
-            elif inside(p):
-                res.append(cut(p, q))
-        return res
-
-    def at_x(x):
-        return lambda p, q: [x, p[1] + (q[1] - p[1]) * (x - p[0]) / (q[0] - p[0])]
-
-    def at_y(y):
-        return lambda p, q: [p[0] + (q[0] - p[0]) * (y - p[1]) / (q[1] - p[1]), y]
-
-    for inside, cut in ((lambda p: p[0] >= x0, at_x(x0)), (lambda p: p[0] <= x1, at_x(x1)),
-                        (lambda p: p[1] >= y0, at_y(y0)), (lambda p: p[1] <= y1, at_y(y1))):
-        pts = clip(pts, inside, cut)
-        if not pts:
-            break
-    return pts
 
 
 def write_all(here, scenes, meshes, argv):
