@@ -457,14 +457,16 @@ static void test_sealed(const char *dir, const char *name, const char *noisy)
 	pc_view_free(&raw);
 }
 
-/* The seal of a sealed set, without git: scenes/stress/DIR/SHA256SUMS (`sha256sum` output,
- * written when the set was sealed) lists every file of the directory but the README and itself
- * with its SHA-256; each listed file still has that hash (computed here with nettle, not with
- * the sha256sum that wrote the list) and no other file has been added. */
-static void test_seal(const char *dir)
+/* The seal of a sealed set, without git: its list (`sha256sum` output, relative to the source
+ * directory: scenes/stress/DIR/SHA256SUMS, written when the set was sealed, or, for
+ * colour-sealed, sealed before it had one, tests/data/colour-sealed.SHA256SUMS, written later
+ * from the files of its seal commit 695381e) lists every file of the directory but the README and
+ * SHA256SUMS with its SHA-256; each listed file still has that hash (computed here with nettle,
+ * not with the sha256sum that wrote the list) and no other file has been added. */
+static void test_seal(const char *dir, const char *sums)
 {
 	char path[4096];
-	snprintf(path, sizeof path, "%s/scenes/stress/%s/SHA256SUMS", src_dir, dir);
+	snprintf(path, sizeof path, "%s/%s", src_dir, sums);
 	FILE *list = fopen(path, "r");
 	CHECK(list != NULL);
 	if (!list) {
@@ -472,19 +474,23 @@ static void test_seal(const char *dir)
 		return;
 	}
 	char line[1024], names[64][256];
-	size_t n = 0;
+	size_t n = 0, broken = 0;
 	while (fgets(line, sizeof line, list)) {
 		char want[65], name[256];
 		if (sscanf(line, "%64s %255s", want, name) != 2 || strlen(want) != 64) {
 			CHECK(0);
-			fprintf(stderr, "%s: malformed line: %s", path, line);
+			fprintf(stderr, "%s: malformed line: %s", sums, line);
+			broken++;
 			continue;
 		}
 		snprintf(path, sizeof path, "%s/scenes/stress/%s/%s", src_dir, dir, name);
 		FILE *f = fopen(path, "rb");
 		CHECK(f != NULL);
-		if (!f)
+		if (!f) {
+			fprintf(stderr, "%s: listed in %s, cannot open\n", path, sums);
+			broken++;
 			continue;
+		}
 		struct sha256_ctx ctx;
 		sha256_init(&ctx);
 		uint8_t buf[65536], digest[SHA256_DIGEST_SIZE];
@@ -500,11 +506,11 @@ static void test_seal(const char *dir)
 			CHECK(0);
 			fprintf(stderr, "%s: SHA-256 %s, sealed as %s: the seal is broken\n", path,
 			        got, want);
+			broken++;
 		}
 		if (n == sizeof names / sizeof *names) {
 			CHECK(0);
-			fprintf(stderr, "%s/SHA256SUMS: more files than this test holds (%zu)\n",
-			        dir, n);
+			fprintf(stderr, "%s: more files than this test holds (%zu)\n", sums, n);
 			break;
 		}
 		snprintf(names[n++], sizeof *names, "%s", name);
@@ -525,14 +531,16 @@ static void test_seal(const char *dir)
 			listed |= !strcmp(names[i], e->d_name);
 		if (!listed) {
 			CHECK(0);
-			fprintf(stderr, "%s/%s: not in SHA256SUMS (added after the seal)\n", path,
-			        e->d_name);
+			fprintf(stderr, "%s/%s: not in %s (added after the seal)\n", path,
+			        e->d_name, sums);
+			broken++;
 		}
 		files++;
 	}
 	if (d)
 		closedir(d);
-	printf("%s: seal holds, %zu files of %zu listed checked\n", dir, files, n);
+	printf("%s: seal %s, %zu files of %zu listed checked\n", dir, broken ? "BROKEN" : "holds",
+	       files, n);
 	CHECK(files == n);
 }
 
@@ -575,7 +583,8 @@ int main(void)
 	test_heldout_glints();
 	test_heldout_facets();
 
-	/* the sealed colour set: loads and renders, nothing is scored */
+	/* the sealed colour set: its seal holds, it loads and renders, nothing is scored */
+	test_seal("colour-sealed", "tests/data/colour-sealed.SHA256SUMS");
 	static const char *sealed[] = {"foliage.json",   "stilllife.json", "textile.json",
 	                               "gradients.json", "metals.json",    "fruit.json"};
 	for (size_t i = 0; i < sizeof sealed / sizeof *sealed; i++)
@@ -584,7 +593,7 @@ int main(void)
 	test_sealed("colour-sealed", "foliage_g12.json", "imx250myr +12 dB");
 
 	/* the second sealed colour set: its seal holds, it loads and renders, nothing is scored */
-	test_seal("colour-sealed2");
+	test_seal("colour-sealed2", "scenes/stress/colour-sealed2/SHA256SUMS");
 	static const char *sealed2[] = {"portrait.json", "street.json", "print.json",
 	                                "rooftops.json", "water.json"};
 	for (size_t i = 0; i < sizeof sealed2 / sizeof *sealed2; i++)
