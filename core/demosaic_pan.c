@@ -999,8 +999,6 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 			a.vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
 			a.vt[q][i] = l.wt[q][i];
 			a.vdy[q][i] = 3 + l.dy[q][i];
-			for (int k = 0; k < 16; k++)
-				a.vtl[q][i][k] = l.wt[q][i];
 		}
 	memcpy(a.nv, l.n, sizeof a.nv);
 	for (int k = 0; k < 7; k++) {
@@ -1019,6 +1017,11 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		pan_gorow_slots(&l, t, ty, &a);
 	else
 		a.ph = -1;
+	if (a.ph < 0) /* pan_gorow_in's tent weights */
+		for (int q = 0; q < 12; q++)
+			for (int i = 0; i < l.n[q]; i++)
+				for (int k = 0; k < 16; k++)
+					a.vtl[q][i][k] = l.wt[q][i];
 	float *d[12];
 	if (planar) {
 		for (int q = 0; q < 12; q++)
