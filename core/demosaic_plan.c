@@ -500,13 +500,16 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "step's level shrunk towards its 5x5 mean where the frame's noise "
                           "(estimated from the frame) is of the order of the local variation; "
                           "accuracy: docs/demosaicking.md, Round 14",
-                          "for now the double reference (no float fast path yet)",
+                          "pan-side's fused pass on row bands with each row's 5x5 window mean "
+                          "and variance of the PPI and the shrunk ratio step, within 1e-5 of "
+                          "full scale of the double reference; cost: docs/demosaicking.md, "
+                          "Round 14",
                           "ours: pan-side (docs/demosaicking.md, Round 13) with a relative "
                           "range scale (Durand & Dorsey, SIGGRAPH 2002) and ratio-nr's "
                           "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
                           "from the median residual (Donoho & Johnstone, Biometrika 81(3) "
                           "1994) under EMVA 1288's linear model",
-                          PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                          PC_DMF_COLOR},
                          {PAN_ADAPT_LO, PAN_ADAPT_HI, 1, 1},
                          NULL,
                          NULL,
