@@ -68,6 +68,12 @@ typedef struct pan_gorow_args {
 	const float *c1row[7], *c2row[7]; /* pan-chroma's chrominance rows (else unused) */
 	const float *fn, *fs;             /* pan-side's factors N and S of the row (else unused) */
 	float vtl[12][4][16]; /* vt repeated to 16 lanes (pan_gorow: a load, not a splat) */
+	/* pan_gorow_ph's slots (demosaic_pan_kern.inc): each one's term rows and channel, the
+	 * lanes of slots 0, 1, 8 where they are the own channel; ph its variant, or -1 */
+	const float *prow[12][4];
+	unsigned sq[12];
+	const float *osel[3];
+	int ph;
 } pan_gorow_args;
 
 /* pan-adapt's output row (pan_agorow): pan-side's terms, P0 rows and factors (as
@@ -1123,6 +1129,49 @@ static void pan_lattice_rows(const pc_mosaic *m, int y, pan_lattice *l)
 		}
 }
 
+/* pan_gorow_ph's slots for row phase ty (its comment in demosaic_pan_kern.inc) from the
+ * lattice: a->prow, a->sq, a->osel and a->ph, or a->ph = -1 (pan_gorow_in) for a lattice of
+ * another structure */
+static void pan_gorow_slots(const pan_lattice *l, const pan_tables *t, uint32_t ty,
+                            pan_gorow_args *a)
+{
+	const int f02 = ty < 2 ? 0 : 2, f13 = ty == 1 || ty == 2 ? 1 : 3;
+	int ns[4] = {0}, ng[2] = {0};
+	a->ph = -1;
+	for (int q = 0; q < 12; q++) {
+		/* the channel's positions: their e and first term */
+		int pe[2], pi[2], np = 0;
+		for (int i = 0; i < l->n[q];) {
+			const int e = -l->dy[q][i];
+			if (np == 2 || e < 0 || e > 3 ||
+			    (e && (i + 1 >= l->n[q] || l->px[q][i + 1] != l->px[q][i] ||
+			           l->dy[q][i + 1] != 4 - e)))
+				return;
+			pe[np] = e;
+			pi[np++] = i;
+			i += e ? 2 : 1;
+		}
+		int s;
+		if (np == 1) {
+			if (ns[pe[0]] == 2)
+				return;
+			s = 2 * pe[0] + ns[pe[0]]++;
+		} else {
+			const int k = pe[0] & 1;
+			if (np != 2 || pe[1] != (pe[0] ^ 2) || pe[0] != (k ? f13 : f02) ||
+			    ng[k] == 2)
+				return;
+			s = 8 + 2 * k + ng[k]++;
+		}
+		for (int i = 0; i < l->n[q]; i++)
+			a->prow[s][i] = a->vrow[q][i];
+		a->sq[s] = (unsigned)q;
+		if (s < 2 || s == 8)
+			a->osel[s < 2 ? s : 2] = t->sel[l->px[q][pi[pe[0] == 0 ? 0 : 1]]];
+	}
+	a->ph = (f02 == 0) | (f13 == 1) << 1;
+}
+
 /* pan-guided's output row y: the terms of every channel, then the kernel (whole vectors into
  * planar outputs, the rest through the row buffer o), then the own measurements. */
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
@@ -1141,8 +1190,6 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 			a.vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
 			a.vt[q][i] = l.wt[q][i];
 			a.vdy[q][i] = 3 + l.dy[q][i];
-			for (int k = 0; k < 16; k++)
-				a.vtl[q][i][k] = l.wt[q][i];
 		}
 	memcpy(a.nv, l.n, sizeof a.nv);
 	for (int k = 0; k < 7; k++) {
@@ -1157,6 +1204,15 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		a.sel[u] = t->sel[u];
 		a.own[u] = pan_q(j->m, u, ty);
 	}
+	if (j->guided != 2)
+		pan_gorow_slots(&l, t, ty, &a);
+	else
+		a.ph = -1;
+	if (a.ph < 0) /* pan_gorow_in's tent weights */
+		for (int q = 0; q < 12; q++)
+			for (int i = 0; i < l.n[q]; i++)
+				for (int k = 0; k < 16; k++)
+					a.vtl[q][i][k] = l.wt[q][i];
 	float *d[12];
 	if (planar) {
 		for (int q = 0; q < 12; q++)
@@ -1165,8 +1221,12 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		if (nmain < n) {
 			memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
 			for (int q = 0; q < 12; q++)
-				for (int i = 0; i < a.nv[q]; i++)
-					a.vrow[q][i] += nmain;
+				for (int i = 0; i < 4; i++) {
+					if (i < a.nv[q])
+						a.vrow[q][i] += nmain;
+					if (a.prow[q][i])
+						a.prow[q][i] += nmain;
+				}
 			for (int k = 0; k < 7; k++) {
 				a.p0row[k] += nmain;
 				a.c1row[k] += nmain;

@@ -12,12 +12,13 @@ use (orange, lime, violet, teal, pink, ...). The exposures (EXPOSURE) were set b
 rendered raw frames and truth only (brightness, saturation, DoLP), before any method was run on
 these scenes.
 """
-import json
 import math
 import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+import colour_gen as cg  # noqa: E402 (../colour_gen.py: the helpers shared with colour-sealed2)
 
 # name: k[R, G, B] (n = 1.5 for all)
 PAINTS = {
@@ -54,35 +55,27 @@ EXPOSURE = {
 }
 
 # a camera looking almost straight down at the z = 0 plane from 6 m: ~1.74 mm per pixel
-CAMERA = {"position": [0, -1.0, 6.0], "look_at": [0, 0, 0], "up": [0, 1, 0],
-          "focal_length_mm": 12, "f_number": 4}
+CAMERA = cg.TOP
 LIGHTS = [{"type": "directional", "direction": [-0.35, -0.45, 0.82], "irradiance_w_m2": 250},
           {"type": "directional", "direction": [0.5, 0.2, 0.84], "irradiance_w_m2": 120}]
-EFFECTS = {"diffuse": True, "shadowing": True, "cast_shadows": True, "supersampling": 3}
+EFFECTS = cg.EFFECTS
 
 
 def r4(v):
-    return [round(x, 5) for x in v]
+    return cg.rounded(v, 5)
 
 
 def mats(names, sigma, prefix=""):
-    return {prefix + n: {"n": 1.5, "k": PAINTS[n], "sigma": sigma} for n in names}
+    return cg.paints(PAINTS, names, sigma, prefix)
 
 
 def sensor(name, preset="ideal", **kw):
-    s = {"preset": preset, "resolution": [512, 384], "exposure_us": EXPOSURE[name]}
-    if preset == "ideal":
-        # the ideal sensor with the IMX250MYR's colour layer and channel QEs
-        s["layout"] = "RGGB:90,45,135,0"
-        s["qe"] = [0.22, 0.30, 0.24]
-    s.update(kw)
-    return s
+    return cg.sensor(EXPOSURE[name], preset, **kw)
 
 
 def scene(name, title, objs, materials, lights=None, camera=None, sen=None, effects=None):
-    return {"polarcam_scene": 1, "name": "colour hold-out: " + title,
-            "camera": camera or CAMERA, "lights": lights or LIGHTS, "materials": materials,
-            "objects": objs, "effects": effects or EFFECTS, "sensor": sen or sensor(name)}
+    return cg.scene("colour hold-out: " + title, camera or CAMERA, lights or LIGHTS, materials,
+                    objs, effects or EFFECTS, sen or sensor(name))
 
 
 def tile(x, y, size, material, z=0.002, angle_deg=0.0):
@@ -91,8 +84,7 @@ def tile(x, y, size, material, z=0.002, angle_deg=0.0):
             "size": r4(size), "u_axis": r4([math.cos(a), math.sin(a), 0]), "material": material}
 
 
-def ground(material):
-    return {"type": "plane", "point": [0, 0, 0], "normal": [0, 0, 1], "material": material}
+ground = cg.ground
 
 
 def diagonal():
@@ -318,15 +310,4 @@ SCENES = {"diagonal": diagonal, "curved": curved, "isolum": isolum, "primaries":
           "text2": text2}
 
 
-def main():
-    if len(sys.argv) == 3 and sys.argv[1] == "--print":
-        print(json.dumps(SCENES[sys.argv[2]](), indent=1))
-        return
-    with open(os.path.join(HERE, "disc.obj"), "w") as f:
-        f.write(disc_mesh())
-    for name, fn in SCENES.items():
-        with open(os.path.join(HERE, name + ".json"), "w") as f:
-            f.write(json.dumps(fn(), indent=1) + "\n")
-
-
-main()
+cg.write_all(HERE, SCENES, lambda: {"disc.obj": disc_mesh()}, sys.argv)
