@@ -74,22 +74,11 @@ typedef struct pan_gorow_args {
 	unsigned sq[12];
 	const float *osel[3];
 	int ph;
-} pan_gorow_args;
-
-/* pan-adapt's output row (pan_agorow): pan-side's terms, P0 rows and factors (as
- * pan_gorow_args), the row's window mean mu and variance var of P̃ = max(P0, 0) + δ, the range
- * scale e0 + ke·mu and the noise term kn·mu (kn = 0: pan-side's ratio step) */
-typedef struct pan_agorow_args {
-	const float *vrow[12][4];
-	int vdy[12][4];
-	int nv[12];
-	const float *sel[4];
-	unsigned own[4];
-	const float *p0row[7];
-	const float *fn, *fs, *mu, *var;
+	/* pan-adapt's: the row's window mean mu and variance var of P̃ = max(P0, 0) + δ, the range
+	 * scale e0 + ke·mu, the noise term kn·mu (kn = 0: pan-side's ratio step) */
+	const float *mu, *var;
 	float ke, e0, kn;
-	float vtl[12][4][16];
-} pan_agorow_args;
+} pan_gorow_args;
 
 /* pan-dir's, for one row. Its first stage: eight groups (a colour on one row phase t: red 0, 1,
  * green 2..5, blue 6, 7, each in t's order), each with its column-pair rows (hp, lp: the pair the
@@ -905,7 +894,7 @@ typedef void (*pan_aghrows_fn)(const float *rho, const float *p0, const float *f
                                float e0, float *const h[4]);
 typedef void (*pan_astat_fn)(const float *const p[5], long n, float delta, float *t1, float *t2,
                              float *o, float *mu, float *var);
-typedef void (*pan_agorow_fn)(const pan_agorow_args *a, const float *raw, long n, float delta,
+typedef void (*pan_agorow_fn)(const pan_gorow_args *a, const float *raw, long n, float delta,
                               float *const out[12], int nt);
 
 typedef void (*pan_dwrows_fn)(const float *rho, long x0, long n, const float tw[4][4][16],
@@ -1278,7 +1267,7 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
                            const float *mu, const float *var, const float *raw, uint32_t y,
                            int planar, long n, long nmain, float *rawp, float *const o[12])
 {
-	pan_agorow_args a;
+	pan_gorow_args a;
 	memset(&a, 0, sizeof a);
 	a.fn = fv[0];
 	a.fs = fv[1];
@@ -1293,8 +1282,6 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 		for (int i = 0; i < l.n[q]; i++) {
 			a.vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
 			a.vdy[q][i] = 3 + l.dy[q][i];
-			for (int k = 0; k < 16; k++)
-				a.vtl[q][i][k] = l.wt[q][i];
 		}
 	memcpy(a.nv, l.n, sizeof a.nv);
 	for (int k = 0; k < 7; k++)
@@ -1303,6 +1290,12 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 		a.sel[u] = t->sel[u];
 		a.own[u] = pan_q(j->m, u, y & 3);
 	}
+	pan_gorow_slots(&l, t, y & 3, &a);
+	if (a.ph < 0) /* pan_agorow_in's tent weights */
+		for (int q = 0; q < 12; q++)
+			for (int i = 0; i < l.n[q]; i++)
+				for (int k = 0; k < 16; k++)
+					a.vtl[q][i][k] = l.wt[q][i];
 	if (!planar) {
 		memcpy(rawp, raw, j->w * sizeof *rawp);
 		A->agorow(&a, rawp, n, j->delta, o, 0);
@@ -1317,8 +1310,12 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 		return;
 	memcpy(rawp, raw + nmain, (size_t)((long)j->w - nmain) * sizeof *rawp);
 	for (int q = 0; q < 12; q++)
-		for (int i = 0; i < a.nv[q]; i++)
-			a.vrow[q][i] += nmain;
+		for (int i = 0; i < 4; i++) {
+			if (i < a.nv[q])
+				a.vrow[q][i] += nmain;
+			if (a.prow[q][i])
+				a.prow[q][i] += nmain;
+		}
 	for (int k = 0; k < 7; k++)
 		a.p0row[k] += nmain;
 	a.fn += nmain;
