@@ -4,10 +4,10 @@
  *
  * The model is EMVA 1288's linear photon-transfer curve (EMVA Standard 1288, the sensor model:
  * σ_y² = K²·σ_d² + K·(μ_y − μ_y.dark), the temporal variance of a sample linear in its mean with
- * slope the system gain K), with the read noise folded into a floor: a sample of mean level L has variance g·(L + F), F =
- * PC_DM_NG_FLOOR of full scale. g is estimated on a fixed grid of interior samples p: the
- * residual of p against the mean of its four same-channel neighbours at ±P (P the mosaic's
- * period, so the four share p's colour and analyser),
+ * slope the system gain K), with the read noise folded into a floor: a sample of mean level L has
+ * variance g·(L + F), F = PC_DM_NG_FLOOR of full scale. g is estimated on a fixed grid of interior
+ * samples p: the residual of p against the mean of its four same-channel neighbours at ±P (P the
+ * mosaic's period, so the four share p's colour and analyser),
  *
  *   r(p) = raw(p) − nb(p),  nb(p) = (raw(p ± (P, 0)) + raw(p ± (0, P)))/4,
  *   t(p) = r(p)² / (max(nb(p), 0) + F),

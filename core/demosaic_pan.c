@@ -525,7 +525,7 @@ int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
  *
  *   e(c) = e_fs·FS + k_e·μ_e(c),  μ_e(c) = the mean of P̃ over the (2r_e + 1)² window at c,
  *
- * (e_fs = 0, k_e = 0.115, r_e = 2): the vertical weights of (x, y) the centre (x, y), the
+ * (e_fs = 0, k_e = 0.13, r_e = 2): the vertical weights of (x, y) the centre (x, y), the
  * horizontal ones of row y' the tap row's centre (x, y'), so the pass stays separable. The
  * weights (4 − |d|)/(e(c) + |ΔP0|) are normalised per centre, so this is a range kernel on the
  * relative difference |ΔP0|/μ_e: the bilateral filter on log intensity to first order (Durand &
@@ -544,7 +544,7 @@ int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
  *   λ = v / (v + c·(14/64)²·g·μ),   L' = μ + λ·(L − μ),
  *   I_q(p) = L'·num_q/den_q − δ   for all twelve q, the own channel's too,
  *
- * (c = 8, r = 2; (14/64)² the sum of the P0 filter's squared weights, so c·(14/64)²·g·μ is c
+ * (c = 4, r = 2; (14/64)² the sum of the P0 filter's squared weights, so c·(14/64)²·g·μ is c
  * times P0's noise variance at level μ; g the frame's noise gain, pc_dm_noise_gain_d). λ = 1
  * where v + c·(14/64)²·g·μ = 0. Where c·g = 0 the step is pan-side's (pan_values: the own
  * sample kept), the limit λ → 1 up to rounding and negative samples. */

@@ -478,7 +478,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "colour accuracy goal met on all three sets, narrowly (margins <= "
                          "0.05 dB, parameters chosen on them), not on the held-out colour "
                          "scenes (scenes/stress/colour-holdout, 9): +0.07/+1.50 (worst "
-                         "-1.72/-0.11), 4 losing (docs/demosaicking.md, Round 13b)",
+                         "-1.72/-0.11), 4 losing (docs/demosaicking.md, Round 13b); sealed "
+                         "set (scenes/stress/colour-sealed, 8, its first evaluation) "
+                         "+2.34/+1.61 (worst +1.40/+0.23), none losing (Round 14)",
                          "pan-guided's pass with the factors: per even row one more vertical "
                          "sum, the chrominance, the blocks' hue and two factor rows; 1.12x "
                          "pan-guided's instructions (callgrind, AVX2), 1.10-1.19x its median "
@@ -496,10 +498,18 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         false},
     [PC_DM_PAN_ADAPT] = {{PC_DM_PAN_ADAPT, "pan-adapt",
                           "colour-polarization: pan-side with a range scale relative to the "
-                          "local signal (11.5 % of the 5x5 mean of the PPI) and the ratio "
+                          "local signal (13 % of the 5x5 mean of the PPI) and the ratio "
                           "step's level shrunk towards its 5x5 mean where the frame's noise "
                           "(estimated from the frame) is of the order of the local variation; "
-                          "accuracy: docs/demosaicking.md, Round 14",
+                          "over bayer-first (bench colour --reference, 9 scenes) smooth colours "
+                          "+4.45/+1.69 (worst +2.45/+0.40), hue patches +1.12/+2.22 (worst "
+                          "+0.92/+1.76); colour stress suite (5 scenes) +1.39/+1.23 (worst "
+                          "+0.67/+0.11 gratings); noisy copies of the stress scenes (4) "
+                          "+0.96/+0.45 (worst +0.28/+0.20); its two constants chosen on these; "
+                          "held-out colour scenes (seen before, 9) +0.25/+1.53 (worst "
+                          "-1.04/-0.07, 3 losing); sealed set (scenes/stress/colour-sealed, 8, "
+                          "its first evaluation) +2.31/+1.36 (worst +1.04/+0.41 textile), none "
+                          "losing (docs/demosaicking.md, Round 14)",
                           "pan-side's fused pass with each row's 5x5 window mean and variance "
                           "of the PPI and the shrunk ratio step, within 1e-5 of full scale of "
                           "the double reference: 1.15x pan-side's instructions (callgrind, "

@@ -70,7 +70,8 @@ static void test_noise_gain(void)
 	CHECK_EQ_INT(pc_dm_noise_gain_d(img, W, H, &m, fs, &g), 0);
 	/* the grid: s = 9, ((2048 − 8)/9 rounded up)·((1600 − 8)/9 rounded up) */
 	const double n = 227.0 * 177.0, se = 2.33 / sqrt(n);
-	printf("  noise gain, Gaussian colour field: %.5f against %.5f (%+.2f %%, tolerance %.1f %%)\n",
+	printf("  noise gain, Gaussian colour field: %.5f against %.5f (%+.2f %%, tolerance %.1f "
+	       "%%)\n",
 	       g, g0, 100 * (g / g0 - 1), 400 * se);
 	CHECK(fabs(g / g0 - 1) <= 4 * se);
 	/* (2) Poisson: grey, λ = 500 electrons, K = 4 DN per electron, by inversion of the CDF */
@@ -194,7 +195,8 @@ static void test_limits(void)
 			for (uint32_t y = B; y < N - B; y++)
 				for (uint32_t x = B; x < N - B; x++)
 					s += fget(&a[q], x, y);
-			worst_bias = fmax(worst_bias, fabs(s / ((N - 2 * B) * (N - 2 * B)) - level));
+			worst_bias =
+			    fmax(worst_bias, fabs(s / ((N - 2 * B) * (N - 2 * B)) - level));
 		}
 		for (int k = 0; k < 3; k++) {
 			double s = 0, ss = 0, n = 0;
@@ -238,8 +240,8 @@ static void test_ramp(void)
 		for (uint32_t y = 0; y < H; y++)
 			for (uint32_t x = 0; x < W; x++) {
 				unsigned c = pc_mosaic_channel(&m, x, y);
-				img[y * W + x] =
-				    0.8 * (700 + 13 * x + 9 * y) * (1 + pr * cos(2 * (c * M_PI / 4 - tr)));
+				img[y * W + x] = 0.8 * (700 + 13 * x + 9 * y) *
+				                 (1 + pr * cos(2 * (c * M_PI / 4 - tr)));
 			}
 		for (int gi = 0; gi < 2; gi++) {
 			pc_dm_pan_adapt_params p = pc_dm_pan_adapt_defaults();
@@ -248,14 +250,17 @@ static void test_ramp(void)
 			for (unsigned q = 0; q < 12; q++)
 				for (uint32_t y = B; y < H - B; y++)
 					for (uint32_t x = B; x < W - B; x++) {
-						double want = 0.8 * (700 + 13 * x + 9 * y) *
-						              (1 + pr * cos(2 * (q % 4 * M_PI / 4 - tr)));
-						worst = fmax(worst, fabs(fget(&a[q], x, y) - want) / want);
+						double want =
+						    0.8 * (700 + 13 * x + 9 * y) *
+						    (1 + pr * cos(2 * (q % 4 * M_PI / 4 - tr)));
+						worst = fmax(worst,
+						             fabs(fget(&a[q], x, y) - want) / want);
 					}
 		}
 	}
-	printf("  grey ramp (delta -> 0), 16 phases, g estimated and 1e3: max relative error %.2g\n",
-	       worst);
+	printf(
+	    "  grey ramp (delta -> 0), 16 phases, g estimated and 1e3: max relative error %.2g\n",
+	    worst);
 	CHECK(worst <= 1e-6);
 	free(ab);
 	free(img);
