@@ -512,10 +512,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "losing (docs/demosaicking.md, Round 14)",
                           "pan-side's fused pass with each row's 5x5 window mean and variance "
                           "of the PPI and the shrunk ratio step, within 1e-5 of full scale of "
-                          "the double reference: 1.15x pan-side's instructions (callgrind, "
-                          "AVX2), 1.13-1.20x its median wall time under load (three runs); "
-                          "not yet measured idle against the 5x budget (docs/demosaicking.md, "
-                          "Round 14 fast path)",
+                          "the double reference: 1.24x pan-side's instructions (callgrind, "
+                          "AVX2, one thread: 408 M per frame), 1.15-1.28x its median wall time "
+                          "under load (three runs); not yet measured idle against the 5x "
+                          "budget (docs/demosaicking.md, Round 14 fast path)",
                           "ours: pan-side (docs/demosaicking.md, Round 13) with a relative "
                           "range scale (Durand & Dorsey, SIGGRAPH 2002) and ratio-nr's "
                           "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
