@@ -470,6 +470,44 @@ static void side_f(double d0, double d1, double f[2])
 	f[1] = 2 * a1 / (a0 + a1);
 }
 
+/* pan-side's sums at (x, y) (above): num_q, den_q of every channel's tents, with the side
+ * factors and the range scales ev (the vertical weights, centre (x, y)) and eh[dy + 3] (the
+ * horizontal weights of tap row y + dy). pan-side passes its e everywhere, pan-adapt its
+ * relative scale (below). */
+static void side_sums(const pan_ref *r, const chroma_ref *c, int x, int y, double ev,
+                      const double eh[7], double num[12], double den[12])
+{
+	double p0 = c->p0[cidx(c, x, y)], fv[2];
+	for (unsigned q = 0; q < 12; q++)
+		num[q] = den[q] = 0;
+	side_f(side_d(c, r->delta, x, y, 0, -PAN_SST), side_d(c, r->delta, x, y, 0, PAN_SST), fv);
+	for (int dy = -3; dy <= 3; dy++) {
+		double p0r = c->p0[cidx(c, x, y + dy)], fh[2];
+		double wv = (4 - abs(dy)) / (ev + fabs(p0r - p0));
+		wv *= dy < 0 ? fv[0] : dy > 0 ? fv[1] : 1;
+		side_f(side_d(c, r->delta, x, y + dy, -PAN_SST, 0),
+		       side_d(c, r->delta, x, y + dy, PAN_SST, 0), fh);
+		for (int s = 0; s < 4; s++) {
+			/* row y + dy's taps of column phase s: H_s */
+			double hn = 0, hd = 0;
+			for (int d = -3; d <= 3; d++) {
+				if ((((x + d) % 4) + 4) % 4 != s)
+					continue;
+				double wh =
+				    (4 - abs(d)) /
+				    (eh[dy + 3] + fabs(c->p0[cidx(c, x + d, y + dy)] - p0r));
+				wh *= d < 0 ? fh[0] : d > 0 ? fh[1] : 1;
+				hn += wh * c->rho[cidx(c, x + d, y + dy)];
+				hd += wh;
+			}
+			int xs = x - (((x - s) % 4) + 4) % 4;
+			unsigned q = chan(r, xs, y + dy);
+			num[q] += wv * hn / hd;
+			den[q] += wv;
+		}
+	}
+}
+
 int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                        const pc_fplane *out)
 {
@@ -481,35 +519,9 @@ int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 	chroma_images(&r, &c);
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
-			double num[12] = {0}, den[12] = {0}, p0 = c.p0[cidx(&c, x, y)], fv[2];
-			side_f(side_d(&c, r.delta, x, y, 0, -PAN_SST),
-			       side_d(&c, r.delta, x, y, 0, PAN_SST), fv);
-			for (int dy = -3; dy <= 3; dy++) {
-				double p0r = c.p0[cidx(&c, x, y + dy)], fh[2];
-				double wv = (4 - abs(dy)) / (r.e + fabs(p0r - p0));
-				wv *= dy < 0 ? fv[0] : dy > 0 ? fv[1] : 1;
-				side_f(side_d(&c, r.delta, x, y + dy, -PAN_SST, 0),
-				       side_d(&c, r.delta, x, y + dy, PAN_SST, 0), fh);
-				for (int s = 0; s < 4; s++) {
-					/* row y + dy's taps of column phase s: H_s */
-					double hn = 0, hd = 0;
-					for (int d = -3; d <= 3; d++) {
-						if ((((x + d) % 4) + 4) % 4 != s)
-							continue;
-						double wh =
-						    (4 - abs(d)) /
-						    (r.e +
-						     fabs(c.p0[cidx(&c, x + d, y + dy)] - p0r));
-						wh *= d < 0 ? fh[0] : d > 0 ? fh[1] : 1;
-						hn += wh * c.rho[cidx(&c, x + d, y + dy)];
-						hd += wh;
-					}
-					int xs = x - (((x - s) % 4) + 4) % 4;
-					unsigned q = chan(&r, xs, y + dy);
-					num[q] += wv * hn / hd;
-					den[q] += wv;
-				}
-			}
+			double num[12], den[12];
+			const double eh[7] = {r.e, r.e, r.e, r.e, r.e, r.e, r.e};
+			side_sums(&r, &c, x, y, r.e, eh, num, den);
 			put_pixel(&r, x, y, num, den, out);
 		}
 	free(c.p0);
@@ -602,37 +614,12 @@ int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	chroma_images(&r, &c);
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
-			double num[12] = {0}, den[12] = {0}, p0 = c.p0[cidx(&c, x, y)], fv[2];
+			double num[12], den[12], eh[7];
 			double ev = p->e_fs * fs + p->ke * adapt_mean(&c, r.delta, x, y, p->re);
-			side_f(side_d(&c, r.delta, x, y, 0, -PAN_SST),
-			       side_d(&c, r.delta, x, y, 0, PAN_SST), fv);
-			for (int dy = -3; dy <= 3; dy++) {
-				double p0r = c.p0[cidx(&c, x, y + dy)], fh[2];
-				double eh = p->e_fs * fs +
-				            p->ke * adapt_mean(&c, r.delta, x, y + dy, p->re);
-				double wv = (4 - abs(dy)) / (ev + fabs(p0r - p0));
-				wv *= dy < 0 ? fv[0] : dy > 0 ? fv[1] : 1;
-				side_f(side_d(&c, r.delta, x, y + dy, -PAN_SST, 0),
-				       side_d(&c, r.delta, x, y + dy, PAN_SST, 0), fh);
-				for (int s = 0; s < 4; s++) {
-					double hn = 0, hd = 0;
-					for (int d = -3; d <= 3; d++) {
-						if ((((x + d) % 4) + 4) % 4 != s)
-							continue;
-						double wh =
-						    (4 - abs(d)) /
-						    (eh +
-						     fabs(c.p0[cidx(&c, x + d, y + dy)] - p0r));
-						wh *= d < 0 ? fh[0] : d > 0 ? fh[1] : 1;
-						hn += wh * c.rho[cidx(&c, x + d, y + dy)];
-						hd += wh;
-					}
-					int xs = x - (((x - s) % 4) + 4) % 4;
-					unsigned q = chan(&r, xs, y + dy);
-					num[q] += wv * hn / hd;
-					den[q] += wv;
-				}
-			}
+			for (int dy = -3; dy <= 3; dy++)
+				eh[dy + 3] = p->e_fs * fs +
+				             p->ke * adapt_mean(&c, r.delta, x, y + dy, p->re);
+			side_sums(&r, &c, x, y, ev, eh, num, den);
 			if (!(kn > 0)) {
 				put_pixel(&r, x, y, num, den, out);
 				continue;
