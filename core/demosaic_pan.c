@@ -74,6 +74,10 @@ typedef struct pan_gorow_args {
 	unsigned sq[12];
 	const float *osel[3];
 	int ph;
+	/* pan-adapt's: the row's window mean mu and variance var of P̃ = max(P0, 0) + δ, the range
+	 * scale e0 + ke·mu, the noise term kn·mu (kn = 0: pan-side's ratio step) */
+	const float *mu, *var;
+	float ke, e0, kn;
 } pan_gorow_args;
 
 /* pan-dir's, for one row. Its first stage: eight groups (a colour on one row phase t: red 0, 1,
@@ -656,36 +660,6 @@ int pc_dm_pan_adapt_ref(const double *img, uint32_t w, uint32_t h, const pc_mosa
 	return pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &p, out);
 }
 
-/* pan-adapt's fast path: FOR NOW the double reference on the input converted to double (the
- * values of pc_dm_raw_to_double), until the float fast path lands (it replaces this body; the
- * noise gain it must use is pc_dm_noise_gain_in's). threads and level are unused. */
-int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
-                         pc_cpu_level level, const pc_fplane *out)
-{
-	(void)threads;
-	(void)level;
-	const uint32_t w = in->width, h = in->height;
-	double *img = malloc(sizeof(double) * (size_t)w * h);
-	float *row = malloc(sizeof(float) * ((size_t)w + 2));
-	if (!img || !row) {
-		free(img);
-		free(row);
-		return pc_error(PC_ENOMEM, "pan-adapt: input of %ux%u", w, h);
-	}
-	for (uint32_t y = 0; y < h; y++) {
-		if (in->dark || in->gain_inv)
-			pc_dm_row_to_float(in, y, row + 1);
-		for (uint32_t x = 0; x < w; x++)
-			img[(size_t)y * w + x] = in->dark || in->gain_inv
-			                             ? (double)row[x + 1]
-			                             : (double)pc_dm_sample(in, x, y) - in->black_d;
-	}
-	free(row);
-	int rc = pc_dm_pan_adapt_ref(img, w, h, m, fs, out);
-	free(img);
-	return rc;
-}
-
 /* pan-dir: pan-ratio's colour step made direction-aware. Near a hue edge pan-ratio's centred
  * tents mix the two sides' ratios up to ±3 pixels away; on a lattice of spacing 4 a directional
  * interpolation is a one-sided one. Five candidate interpolations R^d of every channel's ratio:
@@ -836,7 +810,8 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
  * then scales by the pixel's own ratio. Whole vectors of planar outputs are stored in place
  * (streaming stores where pc_dm_stream_wanted says so, as the other kernels); the last partial
  * vector, and interleaved outputs, go through a row buffer. */
-#define PAN_PADR 32 /* raw and sum rows: columns [-32, w + 32) */
+#define PAN_PADR  32 /* raw and sum rows: columns [-32, w + 32) */
+#define PAN_AROWS 28 /* pan-adapt's rows beyond pan-side's (pan_band) */
 
 typedef struct pan_job {
 	const pc_dm_input *in;
@@ -846,9 +821,11 @@ typedef struct pan_job {
 	pc_cpu_level level;
 	const pc_fplane *out;
 	int err;
-	int guided; /* 1 pan-guided, 2 pan-chroma, 3 pan-side */
-	float e;    /* its range scale */
+	int guided; /* 1 pan-guided, 2 pan-chroma, 3 pan-side, 4 pan-adapt */
+	float e;    /* its range scale (pan-adapt: the factor of the window mean) */
 	int nt;     /* streaming stores into the planes (pc_dm_stream_wanted) */
+	float kn;   /* pan-adapt: the noise term's factor c·(14/64)²·g */
+	float e0;   /* pan-adapt: its range scale's fixed part e_fs·FS */
 } pan_job;
 
 /* 0/1 lane patterns (period 4, 16 lanes), the tent weights of pan_hrows; pan-chroma's
@@ -911,6 +888,14 @@ typedef void (*pan_shue_fn)(const float *p0, const float *c1, const float *c2, l
                             float delta, float *u1, float *u2);
 typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
                             const float *const up[2], long n, float eps, float *f0, float *f1);
+
+typedef void (*pan_aghrows_fn)(const float *rho, const float *p0, const float *fw, const float *fe,
+                               const float *mu, long n, const float wt[4][7][16], float ke,
+                               float e0, float *const h[4]);
+typedef void (*pan_astat_fn)(const float *const p[5], long n, float delta, float *t1, float *t2,
+                             float *o, float *mu, float *var);
+typedef void (*pan_agorow_fn)(const pan_gorow_args *a, const float *raw, long n, float delta,
+                              float *const out[12], int nt);
 
 typedef void (*pan_dwrows_fn)(const float *rho, long x0, long n, const float tw[4][4][16],
                               float *const hw[4]);
@@ -999,6 +984,26 @@ static pan_kern pan_kernels(pc_cpu_level level)
 	(void)level;
 #endif
 	return PAN_KERN(base);
+}
+
+/* pan-adapt's own kernels (pan-side's are pan_kern's) */
+typedef struct pan_akern {
+	pan_aghrows_fn aghrows;
+	pan_astat_fn astat;
+	pan_agorow_fn agorow;
+} pan_akern;
+
+static pan_akern pan_akernels(pc_cpu_level level)
+{
+#ifdef PC_CPU_X86
+	if (level >= PC_CPU_AVX512)
+		return (pan_akern){pan_aghrows_avx512, pan_astat_avx512, pan_agorow_avx512};
+	if (level >= PC_CPU_AVX2)
+		return (pan_akern){pan_aghrows_avx2, pan_astat_avx2, pan_agorow_avx2};
+#else
+	(void)level;
+#endif
+	return (pan_akern){pan_aghrows_base, pan_astat_base, pan_agorow_base};
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
@@ -1253,6 +1258,74 @@ static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], ui
 	}
 }
 
+/* pan-adapt's output row y: pan_gorow's terms and P0 rows (p0r: a ring of 16, the window
+ * statistics reading two rows further down than pan-side), the N and S factors fv, the row's
+ * window mean mu and variance var; the kernel pan_agorow, whole vectors into planar outputs, the
+ * rest through the row buffer o. */
+static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_tables *t,
+                           float *hr[8][4], float *const p0r[16], const float *const fv[2],
+                           const float *mu, const float *var, const float *raw, uint32_t y,
+                           int planar, long n, long nmain, float *rawp, float *const o[12])
+{
+	pan_gorow_args a;
+	memset(&a, 0, sizeof a);
+	a.fn = fv[0];
+	a.fs = fv[1];
+	a.mu = mu;
+	a.var = var;
+	a.ke = j->e;
+	a.e0 = j->e0;
+	a.kn = j->kn;
+	pan_lattice l;
+	pan_lattice_rows(j->m, (int)y, &l);
+	for (int q = 0; q < 12; q++)
+		for (int i = 0; i < l.n[q]; i++) {
+			a.vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
+			a.vdy[q][i] = 3 + l.dy[q][i];
+		}
+	memcpy(a.nv, l.n, sizeof a.nv);
+	for (int k = 0; k < 7; k++)
+		a.p0row[k] = p0r[((int)y + k - 3) & 15];
+	for (unsigned u = 0; u < 4; u++) {
+		a.sel[u] = t->sel[u];
+		a.own[u] = pan_q(j->m, u, y & 3);
+	}
+	pan_gorow_slots(&l, t, y & 3, &a);
+	if (a.ph < 0) /* pan_agorow_in's tent weights */
+		for (int q = 0; q < 12; q++)
+			for (int i = 0; i < l.n[q]; i++)
+				for (int k = 0; k < 16; k++)
+					a.vtl[q][i][k] = l.wt[q][i];
+	if (!planar) {
+		memcpy(rawp, raw, j->w * sizeof *rawp);
+		A->agorow(&a, rawp, n, j->delta, o, 0);
+		pan_put_row(j->out, y, o, 0, j->w);
+		return;
+	}
+	float *d[12];
+	for (int q = 0; q < 12; q++)
+		d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
+	A->agorow(&a, raw, nmain, j->delta, d, j->nt);
+	if (nmain == n)
+		return;
+	memcpy(rawp, raw + nmain, (size_t)((long)j->w - nmain) * sizeof *rawp);
+	for (int q = 0; q < 12; q++)
+		for (int i = 0; i < 4; i++) {
+			if (i < a.nv[q])
+				a.vrow[q][i] += nmain;
+			if (a.prow[q][i])
+				a.prow[q][i] += nmain;
+		}
+	for (int k = 0; k < 7; k++)
+		a.p0row[k] += nmain;
+	a.fn += nmain;
+	a.fs += nmain;
+	a.mu += nmain;
+	a.var += nmain;
+	A->agorow(&a, rawp, 16, j->delta, o, 0);
+	pan_put_row(j->out, y, o, (uint32_t)nmain, j->w);
+}
+
 static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	pan_job *j = ctx;
@@ -1265,8 +1338,10 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
 	 * output rows, copies of 5 source rows' last partial vectors, 16 cached raw rows, 8 PPI
 	 * rows (pan-guided), 8 + 8 chrominance rows and a weighted vertical sum (pan-chroma;
-	 * pan-side keeps its hue, chrominance and factor rows in the latter 16) */
-	const size_t nrows = 52 + 16 + 8 + 17;
+	 * pan-side keeps its hue, chrominance and factor rows in the latter 16); pan-adapt
+	 * PAN_AROWS more */
+	const int adapt = j->guided == 4;
+	const size_t nrows = 52 + 16 + 8 + 17 + (adapt ? PAN_AROWS : 0);
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !buf) {
 		pc_dm_free(t);
@@ -1277,6 +1352,7 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	memset(buf, 0, sizeof(float) * pitch * nrows);
 	pan_tables_init(t, j->m);
 	const pan_kern K = pan_kernels(j->level);
+	const pan_akern A = pan_akernels(j->level);
 	int planar = 1;
 	for (int q = 0; q < 12; q++)
 		planar &= j->out[q].pixel_stride == 1;
@@ -1301,49 +1377,92 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	/* pan-side: the block hue (u1, u2) of the last four even source rows Y in hu[(Y & 7) >> 1],
 	 * pan_cratio's chrominance rows ck, the factors W and E of the current block row (fh), N
 	 * and S of the last two block rows Y in fv[(Y & 3) >> 1] */
-	const int side = j->guided == 3;
+	const int side = j->guided == 3 || adapt;
 	const float eps = (float)PAN_SEPS;
 	float *hu[4][2], *ck[2] = {gr[2][0], gr[2][1]}, *fh[2] = {gr[2][2], gr[2][3]},
 	                 *fv[2][2] = {{gr[2][4], gr[2][5]}, {gr[2][6], gr[2][7]}};
 	for (int k = 0; k < 4; k++)
 		for (int c = 0; c < 2; c++)
 			hu[k][c] = gr[1][2 * k + c];
+	/* pan-adapt: its source rows run look = 2 rows ahead of its tents (the window statistics
+	 * of row r read P0 down to r + 2), so P0 is kept in a ring of 16 (p0r), ρ in a ring of 4,
+	 * the W/E factors of two block rows (fhr[(Y & 2) >> 1]), the N/S ones of four (fvr[(Y &
+	 * 7) >> 1]); the rows' window means and variances (mur, varr) in rings of 4; ts: scratch */
+	const int look = adapt ? 2 : 0;
+	float *p0r[16], *rhor[4], *fhr[2][2], *fvr[4][2], *mur[4], *varr[4], *ts[3];
+	if (adapt) {
+		float *ab = src + (size_t)46 * pitch;
+		for (int k = 0; k < 16; k++)
+			p0r[k] = k < 8 ? gr[0][k] : ab + (size_t)(k - 8) * pitch;
+		for (int k = 0; k < 4; k++) {
+			rhor[k] = k ? ab + (size_t)(7 + k) * pitch : rho;
+			fvr[k][0] = k < 2 ? fv[k][0] : ab + (size_t)(7 + 2 * k) * pitch;
+			fvr[k][1] = k < 2 ? fv[k][1] : ab + (size_t)(8 + 2 * k) * pitch;
+			mur[k] = ab + (size_t)(15 + k) * pitch;
+			varr[k] = ab + (size_t)(19 + k) * pitch;
+		}
+		fhr[0][0] = fh[0];
+		fhr[0][1] = fh[1];
+		fhr[1][0] = ab + (size_t)23 * pitch;
+		fhr[1][1] = ab + (size_t)24 * pitch;
+		for (int k = 0; k < 3; k++)
+			ts[k] = ab + (size_t)(25 + k) * pitch;
+	}
 	/* source rows computed: up to have; pan-side's first one even (a block's top row) */
-	int have = side ? (((int)y0 - 3) & ~1) - 1 : (int)y0 - 4;
+	int have = side ? (((int)y0 - 3 - look) & ~1) - 1 : (int)y0 - 4;
 	const int first = have + 1;
 	for (uint32_t y = y0; y < y1; y++) {
-		for (int yy = have < (int)y - 4 ? (int)y - 4 : have + 1; yy <= (int)y + 3; yy++) {
+		for (int yy = have < (int)y - 4 - look ? (int)y - 4 - look : have + 1;
+		     yy <= (int)y + 3 + look; yy++) {
 			/* ratio row of the extended source row yy, and its four tents */
 			const int hue = side && !(yy & 1);
 			pan_src_sums(j, &K, t, &rc, yy, src, vs, j->guided == 2 || hue ? vsb : NULL,
 			             rawp, n, nmain);
 			if (side) {
-				float *p0 = gr[0][yy & 7];
+				float *p0 = adapt ? p0r[yy & 15] : gr[0][yy & 7],
+				      *rh = adapt ? rhor[yy & 3] : rho;
 				if (hue) {
 					/* the row's block hue, its W and E factors, and the N and S
 					 * ones of the block row two above (whose S neighbour this
 					 * is) */
 					float *const *u = hu[(yy & 7) >> 1];
-					K.cratio(vs, vsb, rawp, -16, n + 32, j->delta, t->ha, rho,
+					float *const *fw = adapt ? fhr[(yy & 2) >> 1] : fh;
+					K.cratio(vs, vsb, rawp, -16, n + 32, j->delta, t->ha, rh,
 					         p0, ck[0], ck[1]);
 					K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta, u[0], u[1]);
 					const float *uc[2] = {u[0], u[1]},
 					            *uw[2] = {u[0] - PAN_SST, u[1] - PAN_SST},
 					            *ue[2] = {u[0] + PAN_SST, u[1] + PAN_SST};
-					K.sfac(uc, uw, ue, n, eps, fh[0], fh[1]);
+					K.sfac(uc, uw, ue, n, eps, fw[0], fw[1]);
 					if (yy - 2 * PAN_SST >= first) {
 						float *const *b = hu[((yy - PAN_SST) & 7) >> 1],
 						             *const *a =
 						                 hu[((yy - 2 * PAN_SST) & 7) >> 1];
 						const float *ub[2] = {b[0], b[1]},
 						            *ua[2] = {a[0], a[1]};
-						float *const *f = fv[((yy - PAN_SST) & 3) >> 1];
+						float *const *f =
+						    adapt ? fvr[((yy - PAN_SST) & 7) >> 1]
+						          : fv[((yy - PAN_SST) & 3) >> 1];
 						K.sfac(ub, ua, uc, n, eps, f[0], f[1]);
 					}
 				} else {
-					K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rho, p0);
+					K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rh, p0);
 				}
-				K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e, hr[yy & 7]);
+				if (!adapt) {
+					K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e,
+					          hr[yy & 7]);
+				} else if (yy - 2 * look >= first) {
+					/* row r's window statistics, then its tents */
+					const int r = yy - look;
+					const float *pr[5];
+					for (int k = 0; k < 5; k++)
+						pr[k] = p0r[(r + k - 2) & 15];
+					A.astat(pr, n, j->delta, ts[0], ts[1], ts[2], mur[r & 3],
+					        varr[r & 3]);
+					float *const *fr = fhr[(r & 2) >> 1];
+					A.aghrows(rhor[r & 3], p0r[r & 15], fr[0], fr[1],
+					          mur[r & 3], n, t->wt, j->e, j->e0, hr[r & 7]);
+				}
 			} else if (j->guided == 2) {
 				float *p0 = gr[0][yy & 7], *c1 = gr[1][yy & 7], *c2 = gr[2][yy & 7];
 				K.cratio(vs, vsb, rawp, -16, n + 32, j->delta, t->ha, rho, p0, c1,
@@ -1358,7 +1477,13 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 				K.hrows(rho, n, t->wt, hr[yy & 7]);
 			}
 		}
-		have = (int)y + 3;
+		have = (int)y + 3 + look;
+		if (adapt) {
+			const float *fy[2] = {fvr[(y & 6) >> 1][0], fvr[(y & 6) >> 1][1]};
+			pan_agorow_row(j, &A, t, hr, p0r, fy, mur[y & 3], varr[y & 3],
+			               pan_row(&rc, j->in, (int)y), y, planar, n, nmain, rawp, o);
+			continue;
+		}
 		if (j->guided) {
 			const float *fy[2] = {fv[(y & 2) >> 1][0], fv[(y & 2) >> 1][1]};
 			pan_gorow(j, &K, t, hr, gr, fy, pan_row(&rc, j->in, (int)y), y, planar, n,
@@ -1418,30 +1543,35 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	pc_dm_free(buf);
 }
 
-/* The fast paths of pan-ratio, pan-guided (guided 1), pan-chroma (2) and pan-side (3): one fused
- * pass on row bands; guided adds the range weights of scale e. */
+/* The fast paths of pan-ratio, pan-guided (guided 1), pan-chroma (2), pan-side (3) and
+ * pan-adapt (4, kn its noise term's factor): one fused pass on row bands; guided adds the range
+ * weights of scale e. */
 static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
-                   pc_cpu_level level, const pc_fplane *out, int guided)
+                   pc_cpu_level level, const pc_fplane *out, int guided, double kn)
 {
 	const uint32_t w = in->width, h = in->height;
 	pan_job j = {in,
 	             w,
 	             h,
 	             m,
-	             (float)(PAN_DELTA * fs),
+	             (float)((guided == 4 ? PC_DM_PAN_ADAPT_DFS : PAN_DELTA) * fs),
 	             level,
 	             out,
 	             0,
 	             guided,
-	             guided == 3   ? (float)(PAN_SE * fs)
+	             guided == 4   ? (float)PC_DM_PAN_ADAPT_KE
+	             : guided == 3 ? (float)(PAN_SE * fs)
 	             : guided == 2 ? (float)(PAN_CE * fs)
 	             : guided      ? (float)(PAN_E * fs)
 	                           : 0,
-	             pc_dm_stream_wanted(out, 12, w, h, level)};
+	             pc_dm_stream_wanted(out, 12, w, h, level),
+	             (float)kn,
+	             (float)(PC_DM_PAN_ADAPT_EFS * fs)};
 	pc_parallel_rows(h, 0, threads, pan_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "%s: row buffers for width %u",
-		                guided == 3   ? "pan-side"
+		                guided == 4   ? "pan-adapt"
+		                : guided == 3 ? "pan-side"
 		                : guided == 2 ? "pan-chroma"
 		                : guided      ? "pan-guided"
 		                              : "pan-ratio",
@@ -1784,7 +1914,9 @@ int pc_dm_pan_dir_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int
 	             0,
 	             0,
 	             0,
-	             pc_dm_stream_wanted(out, 12, w, h, level)};
+	             pc_dm_stream_wanted(out, 12, w, h, level),
+	             0,
+	             0};
 	pc_parallel_rows(h, 0, threads, pan_dir_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "pan-dir: row buffers for width %u", w);
@@ -1794,13 +1926,13 @@ int pc_dm_pan_dir_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int
 int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                    pc_cpu_level level, const pc_fplane *out)
 {
-	return pan_run(in, m, fs, threads, level, out, 0);
+	return pan_run(in, m, fs, threads, level, out, 0, 0);
 }
 
 int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                           pc_cpu_level level, const pc_fplane *out)
 {
-	return pan_run(in, m, fs, threads, level, out, 1);
+	return pan_run(in, m, fs, threads, level, out, 1, 0);
 }
 
 /* pan-side's fast path: pan-guided's (pan_band), each even source row's block hue and W/E
@@ -1810,7 +1942,25 @@ int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
 int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                         pc_cpu_level level, const pc_fplane *out)
 {
-	return pan_run(in, m, fs, threads, level, out, 3);
+	return pan_run(in, m, fs, threads, level, out, 3, 0);
+}
+
+/* pan-adapt's fast path: pan-side's pass (pan_band, guided 4) with each source row's window
+ * statistics (pan_astat) two rows behind its P0, the range scale e_fs·FS + k_e·μ in the tents
+ * (pan_aghrows, pan_agorow) and the ratio step's level shrunk in pan_agorow; g, the frame's
+ * noise gain, pc_dm_noise_gain_in's (the reference's, bit for bit). It sums 5 × 5 windows. */
+_Static_assert(PC_DM_PAN_ADAPT_RE == 2 && PC_DM_PAN_ADAPT_R == 2,
+               "pan-adapt's fast path (pan_astat) sums 5 x 5 windows");
+
+int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                         pc_cpu_level level, const pc_fplane *out)
+{
+	double g;
+	int rc = pc_dm_noise_gain_in(in, m, fs, &g);
+	if (rc)
+		return rc;
+	return pan_run(in, m, fs, threads, level, out, 4,
+	               PC_DM_PAN_ADAPT_C * (14.0 / 64) * (14.0 / 64) * g);
 }
 
 const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
@@ -1833,7 +1983,7 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 int pc_dm_pan_chroma_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                           pc_cpu_level level, const pc_fplane *out)
 {
-	return pan_run(in, m, fs, threads, level, out, 2);
+	return pan_run(in, m, fs, threads, level, out, 2, 0);
 }
 
 /* ---- pan-fact's fast path ----
@@ -2347,7 +2497,7 @@ int pc_dm_pan_fact_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, in
 {
 	const uint32_t w = in->width, h = in->height;
 	fact_job fj = {{in, w, h, m, (float)(FACT_DELTA * 3 * fs), level, out, 0, 0, 0,
-	                pc_dm_stream_wanted(out, 12, w, h, level)},
+	                pc_dm_stream_wanted(out, 12, w, h, level), 0, 0},
 	               (float)(FACT_EPS * 4 * fs),
 	               (float)(FACT_DH * fs)};
 	pc_parallel_rows(h, 0, threads, pan_fact_band, &fj);

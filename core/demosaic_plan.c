@@ -510,14 +510,18 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "-1.04/-0.07, 3 losing); sealed set (scenes/stress/colour-sealed, 8, "
                           "its first evaluation) +2.31/+1.36 (worst +1.04/+0.41 textile), none "
                           "losing (docs/demosaicking.md, Round 14)",
-                          "for now the double reference (no float fast path yet); the noise "
-                          "gain is one serial pass over about 65 000 samples per frame",
+                          "pan-side's fused pass with each row's 5x5 window mean and variance "
+                          "of the PPI and the shrunk ratio step, within 1e-5 of full scale of "
+                          "the double reference: 1.24x pan-side's instructions (callgrind, "
+                          "AVX2, one thread: 408 M per frame), 1.15-1.28x its median wall time "
+                          "under load (three runs); not yet measured idle against the 5x "
+                          "budget (docs/demosaicking.md, Round 14 fast path)",
                           "ours: pan-side (docs/demosaicking.md, Round 13) with a relative "
                           "range scale (Durand & Dorsey, SIGGRAPH 2002) and ratio-nr's "
                           "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
                           "from the median residual (Donoho & Johnstone, Biometrika 81(3) "
                           "1994) under EMVA 1288's linear model",
-                          PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                          PC_DMF_COLOR},
                          {PAN_ADAPT_LO, PAN_ADAPT_HI, 1, 1},
                          NULL,
                          NULL,

@@ -600,8 +600,8 @@ static void mosaic_color(const scene *s, const pc_mosaic *m, const double gain[3
  * larger, at four phases of the colour layout. */
 static void test_pan_sizes(void)
 {
-	const pc_demosaic_method pm[5] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA,
-	                                  PC_DM_PAN_DIR, PC_DM_PAN_SIDE};
+	const pc_demosaic_method pm[6] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA,
+	                                  PC_DM_PAN_DIR,   PC_DM_PAN_SIDE,   PC_DM_PAN_ADAPT};
 	const int sizes[3][2] = {{8, 8}, {10, 18}, {42, 34}};
 	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
@@ -612,7 +612,7 @@ static void test_pan_sizes(void)
 			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);
-			for (int meth = 0; meth < 5; meth++) {
+			for (int meth = 0; meth < 6; meth++) {
 				pc_fplane f[12], r[12];
 				float *fb = alloc_planes((uint32_t)w, (uint32_t)h, 12, f),
 				      *rb = alloc_planes((uint32_t)w, (uint32_t)h, 12, r);
@@ -1552,12 +1552,15 @@ static void test_pan_fact(void)
 	free(truth);
 }
 
-/* pan-fact's (and pan-side's) fast path against its double reference, for the instance under
- * test: test_pan_ratio's smooth scene at all sixteen phases and several sizes (8 × 8: every row one
- * partial vector; 34 × 20: a width 2 mod 4 and not a multiple of 16; 64 × 48; 150 × 36: whole
- * vectors and a tail), a random texture, and test_pan_dir_chirp's grey polarization chirp, where
- * the blend of pan-fact's hue candidates is worst conditioned (every H_d small); three threads
- * (row bands beginning inside the frame, pan-side's at odd rows too) equal one thread, and
+/* pan-fact's (and pan-side's, pan-adapt's) fast path against its double reference, for the
+ * instance under test: test_pan_ratio's smooth scene at all sixteen phases and several sizes (8 ×
+ * 8: every row one partial vector; 34 × 20: a width 2 mod 4 and not a multiple of 16; 64 × 48;
+ * 150 × 36: whole vectors and a tail), a random texture, test_pan_dir_chirp's grey polarization
+ * chirp, where the blend of pan-fact's hue candidates is worst conditioned (every H_d small), the
+ * smooth scene with noise (σ ≈ 23 DN: pan-adapt's noise gain well above 0, its shrinkage
+ * λ below 1) and at 1/64 of its level (samples of 2–35 DN: pan-adapt's range scale relative
+ * to a signal below δ = 41 DN; 8 × 8 has no interior sample for the noise gain: g = 0); three
+ * threads (row bands beginning inside the frame, pan-side's at odd rows too) equal one thread, and
  * interleaved and streamed outputs equal the planar ones. Tolerance tol_for (above). And
  * test_pan_fact's grey ramp, exact as δ, δ_h → 0, on the fast path (within 1e-6 relative, the
  * float outputs): with δ → 0 every ratio ρ is constant on it, so any normalised weights return it
@@ -1567,7 +1570,7 @@ static void test_pan_fast(pc_demosaic_method meth)
 	const int sizes[4][2] = {{8, 8}, {34, 20}, {64, 48}, {150, 36}};
 	pc_mosaic base = pc_mosaic_imx250myr();
 	const double gain[3] = {0.6, 1.0, 0.35};
-	double worst[3] = {0, 0, 0}; /* smooth, texture, chirp */
+	double worst[5] = {0, 0, 0, 0, 0}; /* smooth, texture, chirp, noisy, dim */
 	int same = 1;
 	for (int z = 0; z < 4; z++) {
 		const uint32_t W = (uint32_t)sizes[z][0], H = (uint32_t)sizes[z][1];
@@ -1581,11 +1584,23 @@ static void test_pan_fast(pc_demosaic_method meth)
 		scene tex = make_scene((int)W, (int)H, 2, 0);
 		for (unsigned ph = 0; ph < 16; ph++) {
 			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
-			for (int kind = 0; kind < 3; kind++) {
+			for (int kind = 0; kind < 5; kind++) {
 				pc_view raw;
-				if (kind == 0)
+				if (kind == 0 || kind >= 3) {
 					smooth_colour_raw(&raw, &m, W, H, truth);
-				else if (kind == 1)
+					for (uint32_t y = 0; kind >= 3 && y < H; y++)
+						for (uint32_t x = 0; x < W; x++) {
+							uint16_t *v = &PC_ROW(&raw, uint16_t, y)[x];
+							/* noisy: + 40 DN × (sum of four uniforms −
+							 * 2), σ ≈ 23 DN; dim: 1/64 of the level */
+							double a =
+							    kind == 3
+							        ? *v + 40 * (urand() + urand() +
+							                     urand() + urand() - 2)
+							        : *v / 64.0;
+							*v = (uint16_t)lround(a);
+						}
+				} else if (kind == 1)
 					mosaic_color(&tex, &m, gain, &raw);
 				else {
 					CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0),
@@ -1662,11 +1677,13 @@ static void test_pan_fast(pc_demosaic_method meth)
 	free(fb);
 	pc_view_free(&ramp);
 	printf("  %s: max |fast - reference| %.3g (smooth scene), %.3g (texture), %.3g (grey "
-	       "chirp) of full scale; grey ramp (fast) max relative error %.2g\n",
-	       pc_demosaic_method_get(meth)->name, worst[0], worst[1], worst[2], ramp_err);
+	       "chirp), %.3g (noisy), %.3g (dim) of full scale; grey ramp (fast) max relative "
+	       "error %.2g\n",
+	       pc_demosaic_method_get(meth)->name, worst[0], worst[1], worst[2], worst[3], worst[4],
+	       ramp_err);
 	CHECK(same);
 	CHECK(ramp_err <= 1e-6);
-	for (int k = 0; k < 3; k++)
+	for (int k = 0; k < 5; k++)
 		CHECK(worst[k] <= tol_for(meth));
 }
 
@@ -1815,6 +1832,7 @@ int main(void)
 		test_pan_dir_chirp();
 		test_pan_fast(PC_DM_PAN_FACT);
 		test_pan_fast(PC_DM_PAN_SIDE);
+		test_pan_fast(PC_DM_PAN_ADAPT);
 		test_pan_ratio();
 		test_pan_chroma_edge();
 		test_bilinear_u16();
