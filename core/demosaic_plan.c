@@ -380,9 +380,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(5 scenes) +1.33/+0.87 (worst +0.66/-0.05, gratings)"
           "; held-out colour scenes (scenes/stress/colour-holdout, 9) -0.34/+0.51 (worst "
           "-1.88/-0.96), 5 losing",
-          "pan-ratio's pass with a weight per tap, 1.15-1.25x pan-ratio; "
-          "4.4-5.4x the mono bilinear's time on a quiet machine, 5.2x "
-          "where bilinear's output streams (docs/demosaicking.md)",
+          "pan-ratio's pass with a weight per tap, its output row per row phase "
+          "(Rounds 14b, 14c): 0.82-0.91x pan-ratio; 3.3-4.0x the mono bilinear's "
+          "time near idle (eight runs, docs/demosaicking.md, Round 14d)",
           "ours: pan-ratio with joint-bilateral weights (Tomasi & Manduchi, "
           "ICCV 1998; Kopf et al., SIGGRAPH 2007)",
           PC_DMF_COLOR},
@@ -468,34 +468,36 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         false,
                         PC_DM_PAN_FACT,
                         false},
-    [PC_DM_PAN_SIDE] = {{PC_DM_PAN_SIDE, "pan-side",
-                         "colour-polarization: pan-guided whose tents weigh each side of the "
-                         "pixel by the hue distance to it (one pair of factors per 2x2 block "
-                         "and axis, range scale 4 % of full scale); over bayer-first (bench "
-                         "colour, 9 scenes) smooth colours +4.51/+1.68 (worst +2.51/+0.40), "
-                         "hue patches +1.08/+2.29 (worst +0.89/+1.66); colour stress suite (5 "
-                         "scenes) +1.39/+1.26 (worst +0.65 gratings/+0.04 gratings): the "
-                         "colour accuracy goal met on all three sets, narrowly (margins <= "
-                         "0.05 dB, parameters chosen on them), not on the held-out colour "
-                         "scenes (scenes/stress/colour-holdout, 9): +0.07/+1.50 (worst "
-                         "-1.72/-0.11), 4 losing (docs/demosaicking.md, Round 13b); sealed "
-                         "set (scenes/stress/colour-sealed, 8, its first evaluation) "
-                         "+2.34/+1.61 (worst +1.40/+0.23), none losing (Round 14)",
-                         "pan-guided's pass with the factors: per even row one more vertical "
-                         "sum, the chrominance, the blocks' hue and two factor rows; 1.12x "
-                         "pan-guided's instructions (callgrind, AVX2), 1.10-1.19x its median "
-                         "wall time near idle (six runs); 6.8-8.8x the mono bilinear's in "
-                         "the same runs, over the 5x budget (docs/demosaicking.md, Round 13)",
-                         "ours: pan-guided with side weights as GBTF's (Pekkucuksen & "
-                         "Altunbasak, ICIP 2010) from pan-chroma's hue (Alleysson et al., IEEE "
-                         "TIP 14(4) 2005); docs/demosaicking.md, Round 13",
-                         PC_DMF_COLOR},
-                        {PAN_LO - 1, PAN_HI + 1, 1, 1},
-                        NULL,
-                        NULL,
-                        false,
-                        PC_DM_PAN_SIDE,
-                        false},
+    [PC_DM_PAN_SIDE] =
+        {{PC_DM_PAN_SIDE, "pan-side",
+          "colour-polarization: pan-guided whose tents weigh each side of the "
+          "pixel by the hue distance to it (one pair of factors per 2x2 block "
+          "and axis, range scale 4 % of full scale); over bayer-first (bench "
+          "colour, 9 scenes) smooth colours +4.51/+1.68 (worst +2.51/+0.40), "
+          "hue patches +1.08/+2.29 (worst +0.89/+1.66); colour stress suite (5 "
+          "scenes) +1.39/+1.26 (worst +0.65 gratings/+0.04 gratings): the "
+          "colour accuracy goal met on all three sets, narrowly (margins <= "
+          "0.05 dB, parameters chosen on them), not on the held-out colour "
+          "scenes (scenes/stress/colour-holdout, 9): +0.07/+1.50 (worst "
+          "-1.72/-0.11), 4 losing (docs/demosaicking.md, Round 13b); sealed "
+          "set (scenes/stress/colour-sealed, 8, its first evaluation) "
+          "+2.34/+1.61 (worst +1.40/+0.23), none losing (Round 14)",
+          "pan-guided's pass with the factors: per even row one more vertical "
+          "sum, the chrominance, the blocks' hue and two factor rows; 1.22x "
+          "pan-guided's instructions (callgrind, AVX2; 292 M vs 240 M per frame after "
+          "Rounds 14b, 14c), 1.17-1.23x its median wall time near idle; "
+          "4.0-4.9x the mono bilinear's in the same runs (eight runs), within "
+          "the 5x budget (docs/demosaicking.md, Round 14d)",
+          "ours: pan-guided with side weights as GBTF's (Pekkucuksen & "
+          "Altunbasak, ICIP 2010) from pan-chroma's hue (Alleysson et al., IEEE "
+          "TIP 14(4) 2005); docs/demosaicking.md, Round 13",
+          PC_DMF_COLOR},
+         {PAN_LO - 1, PAN_HI + 1, 1, 1},
+         NULL,
+         NULL,
+         false,
+         PC_DM_PAN_SIDE,
+         false},
     [PC_DM_PAN_ADAPT] = {{PC_DM_PAN_ADAPT, "pan-adapt",
                           "colour-polarization: pan-side with a range scale relative to the "
                           "local signal (13 % of the 5x5 mean of the PPI) and the ratio "
@@ -513,9 +515,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "pan-side's fused pass with each row's 5x5 window mean and variance "
                           "of the PPI and the shrunk ratio step, within 1e-5 of full scale of "
                           "the double reference: 1.24x pan-side's instructions (callgrind, "
-                          "AVX2, one thread: 408 M per frame), 1.15-1.28x its median wall time "
-                          "under load (three runs); not yet measured idle against the 5x "
-                          "budget (docs/demosaicking.md, Round 14 fast path)",
+                          "AVX2, one thread: 358 M per frame after Round 14c), 1.29-1.42x its "
+                          "median wall time near idle; 5.4-6.7x the mono bilinear's in the "
+                          "same runs (eight runs), over the 5x budget (docs/demosaicking.md, "
+                          "Rounds 14 fast path, 14d)",
                           "ours: pan-side (docs/demosaicking.md, Round 13) with a relative "
                           "range scale (Durand & Dorsey, SIGGRAPH 2002) and ratio-nr's "
                           "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
