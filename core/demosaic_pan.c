@@ -879,7 +879,7 @@ typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
 typedef void (*pan_aghrows_fn)(const float *rho, const float *p0, const float *fw, const float *fe,
                                const float *mu, long n, const float wt[4][7][16], float ke,
                                float e0, float *const h[4]);
-typedef void (*pan_astat_fn)(const float *const p[5], long n, float delta, float *t1, float *t2,
+typedef void (*pan_astat_fn)(const float *const p[5], long n, float delta, float *w1, float *t2,
                              float *o, float *mu, float *var);
 typedef void (*pan_agorow_fn)(const pan_gorow_args *a, const float *raw, long n, float delta,
                               float *const out[12], int nt);
