@@ -1150,6 +1150,61 @@ static void pan_gorow_slots(const pan_lattice *l, const pan_tables *t, uint32_t 
 
 /* pan-guided's output row y: the terms of every channel, then the kernel (whole vectors into
  * planar outputs, the rest through the row buffer o), then the own measurements. */
+/* The arguments pan_gorow and pan_agorow_row share for output row y: the lattice's term rows in
+ * the tents hr, their weights and offsets, the selections, the own channels and (slots: not for
+ * pan-chroma) pan_gorow_ph's slots, else pan_gorow_in's 16-lane tent weights. */
+static void pan_gorow_prep(const pan_job *j, const pan_tables *t, float *hr[8][4], uint32_t y,
+                           int slots, pan_gorow_args *a)
+{
+	const uint32_t ty = y & 3;
+	pan_lattice l;
+	pan_lattice_rows(j->m, (int)y, &l);
+	for (int q = 0; q < 12; q++)
+		for (int i = 0; i < l.n[q]; i++) {
+			a->vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
+			a->vt[q][i] = l.wt[q][i];
+			a->vdy[q][i] = 3 + l.dy[q][i];
+		}
+	memcpy(a->nv, l.n, sizeof a->nv);
+	for (unsigned u = 0; u < 4; u++) {
+		a->sel[u] = t->sel[u];
+		a->own[u] = pan_q(j->m, u, ty);
+	}
+	if (slots)
+		pan_gorow_slots(&l, t, ty, a);
+	else
+		a->ph = -1;
+	if (a->ph < 0) /* pan_gorow_in's tent weights */
+		for (int q = 0; q < 12; q++)
+			for (int i = 0; i < l.n[q]; i++)
+				for (int k = 0; k < 16; k++)
+					a->vtl[q][i][k] = l.wt[q][i];
+}
+
+/* Every row pointer of a that is set moved on by dx columns (the row's last partial vector) */
+static void pan_gorow_shift(pan_gorow_args *a, long dx)
+{
+	for (int q = 0; q < 12; q++)
+		for (int i = 0; i < 4; i++) {
+			if (i < a->nv[q])
+				a->vrow[q][i] += dx;
+			if (a->prow[q][i])
+				a->prow[q][i] += dx;
+		}
+	for (int k = 0; k < 7; k++) {
+		if (a->p0row[k])
+			a->p0row[k] += dx;
+		if (a->c1row[k])
+			a->c1row[k] += dx;
+		if (a->c2row[k])
+			a->c2row[k] += dx;
+	}
+	const float **rows[4] = {&a->fn, &a->fs, &a->mu, &a->var};
+	for (int k = 0; k < 4; k++)
+		if (*rows[k])
+			*rows[k] += dx;
+}
+
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
                       float *const gr[3][8], const float *const fv[2], const float *raw, uint32_t y,
                       int planar, long n, long nmain, float *rawp, float *const o[12])
@@ -1158,16 +1213,8 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	memset(&a, 0, sizeof a);
 	a.fn = fv[0];
 	a.fs = fv[1];
-	const uint32_t w = j->w, ty = y & 3;
-	pan_lattice l;
-	pan_lattice_rows(j->m, (int)y, &l);
-	for (int q = 0; q < 12; q++)
-		for (int i = 0; i < l.n[q]; i++) {
-			a.vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
-			a.vt[q][i] = l.wt[q][i];
-			a.vdy[q][i] = 3 + l.dy[q][i];
-		}
-	memcpy(a.nv, l.n, sizeof a.nv);
+	const uint32_t w = j->w;
+	pan_gorow_prep(j, t, hr, y, j->guided != 2, &a);
 	for (int k = 0; k < 7; k++) {
 		a.p0row[k] = gr[0][((int)y + k - 3) & 7];
 		a.c1row[k] = gr[1][((int)y + k - 3) & 7];
@@ -1176,19 +1223,6 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	const pan_gorow_fn kern = j->guided == 3   ? K->sgorow
 	                          : j->guided == 2 ? K->cgorow
 	                                           : K->gorow;
-	for (unsigned u = 0; u < 4; u++) {
-		a.sel[u] = t->sel[u];
-		a.own[u] = pan_q(j->m, u, ty);
-	}
-	if (j->guided != 2)
-		pan_gorow_slots(&l, t, ty, &a);
-	else
-		a.ph = -1;
-	if (a.ph < 0) /* pan_gorow_in's tent weights */
-		for (int q = 0; q < 12; q++)
-			for (int i = 0; i < l.n[q]; i++)
-				for (int k = 0; k < 16; k++)
-					a.vtl[q][i][k] = l.wt[q][i];
 	float *d[12];
 	if (planar) {
 		for (int q = 0; q < 12; q++)
@@ -1196,22 +1230,7 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		kern(&a, raw, nmain, j->delta, j->e, d, j->nt);
 		if (nmain < n) {
 			memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
-			for (int q = 0; q < 12; q++)
-				for (int i = 0; i < 4; i++) {
-					if (i < a.nv[q])
-						a.vrow[q][i] += nmain;
-					if (a.prow[q][i])
-						a.prow[q][i] += nmain;
-				}
-			for (int k = 0; k < 7; k++) {
-				a.p0row[k] += nmain;
-				a.c1row[k] += nmain;
-				a.c2row[k] += nmain;
-			}
-			if (j->guided == 3) {
-				a.fn += nmain;
-				a.fs += nmain;
-			}
+			pan_gorow_shift(&a, nmain);
 			kern(&a, rawp, 16, j->delta, j->e, o, 0);
 			for (int q = 0; q < 12; q++)
 				memcpy(d[q] + nmain, o[q],
@@ -1263,26 +1282,9 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 	a.ke = j->e;
 	a.e0 = j->e0;
 	a.kn = j->kn;
-	pan_lattice l;
-	pan_lattice_rows(j->m, (int)y, &l);
-	for (int q = 0; q < 12; q++)
-		for (int i = 0; i < l.n[q]; i++) {
-			a.vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
-			a.vdy[q][i] = 3 + l.dy[q][i];
-		}
-	memcpy(a.nv, l.n, sizeof a.nv);
+	pan_gorow_prep(j, t, hr, y, 1, &a);
 	for (int k = 0; k < 7; k++)
 		a.p0row[k] = p0r[((int)y + k - 3) & 15];
-	for (unsigned u = 0; u < 4; u++) {
-		a.sel[u] = t->sel[u];
-		a.own[u] = pan_q(j->m, u, y & 3);
-	}
-	pan_gorow_slots(&l, t, y & 3, &a);
-	if (a.ph < 0) /* pan_agorow_in's tent weights */
-		for (int q = 0; q < 12; q++)
-			for (int i = 0; i < l.n[q]; i++)
-				for (int k = 0; k < 16; k++)
-					a.vtl[q][i][k] = l.wt[q][i];
 	if (!planar) {
 		memcpy(rawp, raw, j->w * sizeof *rawp);
 		A->agorow(&a, rawp, n, j->delta, o, 0);
@@ -1296,19 +1298,7 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 	if (nmain == n)
 		return;
 	memcpy(rawp, raw + nmain, (size_t)((long)j->w - nmain) * sizeof *rawp);
-	for (int q = 0; q < 12; q++)
-		for (int i = 0; i < 4; i++) {
-			if (i < a.nv[q])
-				a.vrow[q][i] += nmain;
-			if (a.prow[q][i])
-				a.prow[q][i] += nmain;
-		}
-	for (int k = 0; k < 7; k++)
-		a.p0row[k] += nmain;
-	a.fn += nmain;
-	a.fs += nmain;
-	a.mu += nmain;
-	a.var += nmain;
+	pan_gorow_shift(&a, nmain);
 	A->agorow(&a, rawp, 16, j->delta, o, 0);
 	pan_put_row(j->out, y, o, (uint32_t)nmain, j->w);
 }
