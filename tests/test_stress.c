@@ -399,15 +399,16 @@ static void test_colour(const char *name, int gloss)
 	pc_sim_free(sim);
 }
 
-/* A sealed colour set (scenes/stress/colour-sealed and colour-sealed2, READMEs there): every
- * scene loads and renders, a central 128×96 region of it. No demosaicking method is run on
+/* A sealed colour set (scenes/stress/colour-sealed, colour-sealed2, colour-sealed3, READMEs there):
+ * every scene loads and renders, a central 128×96 region of it. No demosaicking method is run on
  * these scenes here (they are sealed: the first evaluation of a method on them is reported as
  * is). With the ideal sensor (noisy NULL) the raw frame is each pixel's own colour's truth at
  * its analyser within half a DN (the truth is clipped at full scale as the raw is); through the
  * imx250myr preset (noisy names the gain) the frame is noisy (rms raw − truth above 8 DN) and
  * not dark (median of the region 4-30 % of full scale). Measured: colour-sealed's *_g12
  * (+12 dB) 24 and 35 DN, medians 5.2 % and 9.4 %; colour-sealed2's portrait_g6 (+6 dB) and
- * street_g18 (+18 dB) in its README. Every scene is exposed in all three colours (each colour's
+ * street_g18 (+18 dB) and colour-sealed3's livingroom_g12 (+12 dB) and carpark_g9 (+9 dB) in
+ * their READMEs. Every scene is exposed in all three colours (each colour's
  * brightest analyser value in the region above 5 % of full scale). */
 static void test_sealed(const char *dir, const char *name, const char *noisy)
 {
@@ -600,5 +601,13 @@ int main(void)
 		test_sealed("colour-sealed2", sealed2[i], NULL);
 	test_sealed("colour-sealed2", "portrait_g6.json", "imx250myr +6 dB");
 	test_sealed("colour-sealed2", "street_g18.json", "imx250myr +18 dB");
+
+	/* the third sealed colour set: its seal holds, it loads and renders, nothing is scored */
+	test_seal("colour-sealed3", "scenes/stress/colour-sealed3/SHA256SUMS");
+	static const char *sealed3[] = {"cables.json", "chart.json", "carpark.json", "pcb.json"};
+	for (size_t i = 0; i < sizeof sealed3 / sizeof *sealed3; i++)
+		test_sealed("colour-sealed3", sealed3[i], NULL);
+	test_sealed("colour-sealed3", "livingroom_g12.json", "imx250myr +12 dB");
+	test_sealed("colour-sealed3", "carpark_g9.json", "imx250myr +9 dB");
 	return pc_test_finish("test_stress");
 }

@@ -1,5 +1,6 @@
-"""Helpers shared by the colour scene generators: colour-holdout/gen_holdout.py and
-colour-sealed2/gen_sealed2.py (Python 3 standard library only).
+"""Helpers shared by the colour scene generators: colour-holdout/gen_holdout.py,
+colour-sealed2/gen_sealed2.py and colour-sealed3/gen_sealed3.py (Python 3 standard library
+only).
 
 colour-sealed/gen_sealed.py has its own copies of most of these (paints, sensor, scene, ground,
 unit, Obj): that directory is frozen by its seal (its README: no file there but the README may
@@ -55,6 +56,26 @@ def ground(material, z=0):
 def unit(v):
     n = math.sqrt(sum(x * x for x in v))
     return [x / n for x in v]
+
+
+def add(a, b, s=1.0):
+    """a + s * b."""
+    return [x + s * y for x, y in zip(a, b)]
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def rect(center, normal, u, size, material, digits=4):
+    """A finite plane object: size[0] along u, size[1] along normal x u (docs/scene-format.md,
+    "Objects")."""
+    return {"type": "plane", "point": rounded(center, digits), "normal": rounded(normal, digits),
+            "size": rounded(size, digits), "u_axis": rounded(u, digits), "material": material}
 
 
 class Obj:
