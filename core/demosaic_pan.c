@@ -1929,15 +1929,24 @@ int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, in
 _Static_assert(PC_DM_PAN_ADAPT_RE == 2 && PC_DM_PAN_ADAPT_R == 2,
                "pan-adapt's fast path (pan_astat) sums 5 x 5 windows");
 
+int pc_dm_pan_adapt_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                           pc_cpu_level level, double g, const pc_fplane *out)
+{
+	if (!isfinite(g))
+		return pc_error(PC_EINVAL, "pan-adapt: noise gain %g not finite", g);
+	if (g < 0) {
+		int rc = pc_dm_noise_gain_in(in, m, fs, &g);
+		if (rc)
+			return rc;
+	}
+	return pan_run(in, m, fs, threads, level, out, 4,
+	               PC_DM_PAN_ADAPT_C * (14.0 / 64) * (14.0 / 64) * g);
+}
+
 int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out)
 {
-	double g;
-	int rc = pc_dm_noise_gain_in(in, m, fs, &g);
-	if (rc)
-		return rc;
-	return pan_run(in, m, fs, threads, level, out, 4,
-	               PC_DM_PAN_ADAPT_C * (14.0 / 64) * (14.0 / 64) * g);
+	return pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, -1, out);
 }
 
 const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)

@@ -163,6 +163,7 @@ def demosaic(
     bits: Union[int, None] = None,
     threads: int = 0,
     out: Union[F32, None] = None,
+    noise_gain: Union[float, None] = None,
 ) -> F32: ...
 def stokes(
     raw: Union[RawArray, F32],

@@ -460,13 +460,31 @@ static PyObject *py_backends(PyObject *self, PyObject *noargs)
 static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
 {
 	(void)self;
-	static char *kwl[] = {"raw", "method", "layout", "bits", "threads", "out", NULL};
-	PyObject *raw_o, *bits_o = Py_None, *out_o = Py_None;
+	static char *kwl[] = {"raw",     "method", "layout",     "bits",
+	                      "threads", "out",    "noise_gain", NULL};
+	PyObject *raw_o, *bits_o = Py_None, *out_o = Py_None, *ng_o = Py_None;
 	const char *method = NULL, *layout = "90,45,135,0";
 	int threads = 0;
-	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zsOiO:demosaic", kwl, &raw_o, &method,
-	                                 &layout, &bits_o, &threads, &out_o))
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zsOiOO:demosaic", kwl, &raw_o, &method,
+	                                 &layout, &bits_o, &threads, &out_o, &ng_o))
 		return NULL;
+	/* noise_gain: None estimated (the library's 0); a number is given, and the library checks
+	 * it (negative, NaN, infinite: its ValueError naming noise_gain) */
+	double noise_gain = 0;
+	if (ng_o != Py_None) {
+		noise_gain = PyFloat_AsDouble(ng_o);
+		if (noise_gain == -1 && PyErr_Occurred()) {
+			PyErr_SetString(PyExc_TypeError, "noise_gain: expected a number or None");
+			return NULL;
+		}
+		if (noise_gain == 0) {
+			PyErr_SetString(PyExc_ValueError,
+			                "noise_gain 0: expected a gain > 0 (raw units "
+			                "per unit signal), or None to estimate it "
+			                "from the frame");
+			return NULL;
+		}
+	}
 	unsigned bits;
 	pc_mosaic m;
 	int dm, rc;
@@ -521,7 +539,8 @@ static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
 	Py_BEGIN_ALLOW_THREADS;
 	rc = check ? pcpy_check_bits(&v, check) : 0;
 	if (!rc)
-		rc = pcpy_demosaic(&v, &m, dm, threads, pcpy_full_scale(&v, bits), planes);
+		rc = pcpy_demosaic(&v, &m, dm, threads, pcpy_full_scale(&v, bits), noise_gain,
+		                   planes);
 	Py_END_ALLOW_THREADS;
 	if (rc) {
 		Py_DECREF(out);
@@ -2453,7 +2472,8 @@ static PyObject *py_stokes_streams(PyObject *self, PyObject *out_o)
 
 PyDoc_STRVAR(
     doc_demosaic,
-    "demosaic(raw, method=None, layout='90,45,135,0', bits=None, threads=0, out=None)\n--\n\n"
+    "demosaic(raw, method=None, layout='90,45,135,0', bits=None, threads=0, out=None, "
+    "noise_gain=None)\n--\n\n"
     "Demosaics a raw polarizer mosaic into full-resolution analyser images, as polarcam "
     "demosaic.\n\n"
     "raw: (H, W) uint8, uint16 or float32 numpy array, used in place (any row stride; pixels "
@@ -2463,7 +2483,9 @@ PyDoc_STRVAR(
     "pass 12 for 12-bit frames: values above 2^bits - 1 are a ValueError, and edge-aware "
     "methods use it as full scale; float32 data in raw units of such a sensor, e.g. averaged "
     "frames: its full scale 2^bits - 1, not checked). threads: 0 all cores, 1 the calling "
-    "thread only.\n"
+    "thread only. noise_gain: the sensor's variance per unit signal in raw units (the system "
+    "gain K in DN/e-, EMVA 1288) for noise-aware methods (pan-adapt; the others ignore it); "
+    "None: estimated from the frame. Negative, NaN or infinite: ValueError.\n"
     "Returns float32 (H, W, 4) I0, I45, I90, I135 in the raw's units ((H, W, 12) R, G, B x "
     "4 analysers for colour layouts; (H/2, W/2, C) for superpixel-half), or writes into out.");
 
