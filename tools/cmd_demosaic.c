@@ -72,6 +72,8 @@ static int list_methods(int json)
 			                    json_boolean(mi->flags & PC_DMF_HALF_RES));
 			json_object_set_new(o, "reference_only",
 			                    json_boolean(mi->flags & PC_DMF_REFERENCE_ONLY));
+			json_object_set_new(o, "noise_gain",
+			                    json_boolean(mi->flags & PC_DMF_NOISE_GAIN));
 			json_array_append_new(arr, o);
 		} else {
 			printf("%-16s [%s]\n    accuracy: %s\n    cost:     %s\n    after:    %s\n",

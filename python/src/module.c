@@ -414,11 +414,12 @@ static PyObject *py_methods(PyObject *self, PyObject *noargs)
 		if (!mi)
 			break;
 		PyObject *d = Py_BuildValue(
-		    "{s:s,s:s,s:s,s:s,s:O,s:O,s:O}", "name", mi->name, "accuracy", mi->accuracy,
+		    "{s:s,s:s,s:s,s:s,s:O,s:O,s:O,s:O}", "name", mi->name, "accuracy", mi->accuracy,
 		    "cost", mi->cost, "source", mi->source, "monochrome",
 		    (mi->flags & PC_DMF_MONO) ? Py_True : Py_False, "colour",
 		    (mi->flags & PC_DMF_COLOR) ? Py_True : Py_False, "half_resolution",
-		    (mi->flags & PC_DMF_HALF_RES) ? Py_True : Py_False);
+		    (mi->flags & PC_DMF_HALF_RES) ? Py_True : Py_False, "noise_gain",
+		    (mi->flags & PC_DMF_NOISE_GAIN) ? Py_True : Py_False);
 		if (!d || PyList_Append(l, d)) {
 			Py_XDECREF(d);
 			Py_DECREF(l);
@@ -2599,7 +2600,7 @@ static PyMethodDef module_methods[] = {
     {"analyser_pinv", py_analyser_pinv, METH_O, doc_pinv},
     {"methods", py_methods, METH_NOARGS,
      "methods()\n--\n\nThe demosaicking methods: [{name, accuracy, cost, source, monochrome, "
-     "colour, half_resolution}]."},
+     "colour, half_resolution, noise_gain}] (noise_gain: demosaic's noise_gain applies)."},
     {"_c_pipeline_seconds", KW(py_c_pipeline_seconds), METH_VARARGS | METH_KEYWORDS,
      "_c_pipeline_seconds(raw, out, method=None, layout='90,45,135,0', threads=0, "
      "repeats=1)\n--\n\nFor python/bench_polarcam.py: seconds of each of `repeats` calls of "

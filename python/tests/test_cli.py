@@ -342,6 +342,11 @@ def test_noise_gain_equals_cli(cli, tmp_path):
                 tmp_path / "x.npy", check=False)
         assert p.returncode == 2 and "--noise-gain" in p.stderr, (bad, p.stderr)
     assert not (tmp_path / "x.npy").exists()
+    # which methods take it: the module and `demosaic --list --json` agree (pan-adapt alone)
+    listed = {m["name"]: m["noise_gain"] for m in json.loads(cli("demosaic", "--list",
+                                                                 "--json").stdout)}
+    assert listed == {m["name"]: m["noise_gain"] for m in polarcam.methods()}
+    assert [n for n, v in listed.items() if v] == ["pan-adapt"]
     # process: meta.json says the same
     cli("process", png, "--method", "pan-adapt", "--noise-gain", "1.5", "-o", tmp_path / "p")
     m = json.loads((tmp_path / "p" / "meta.json").read_text())
