@@ -176,6 +176,7 @@ def stokes(
     out: Union[Stokes, Sequence[Union[F32, None]], None] = None,
     saturation_level: Union[float, None] = None,
     dead_level: Union[float, None] = None,
+    noise_gain: Union[float, None] = None,
 ) -> Stokes: ...
 def pbrdf(
     n: ArrayLike,

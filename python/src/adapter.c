@@ -225,6 +225,7 @@ int pcpy_stokes(const pc_view *raw, const pc_mosaic *m, const pcpy_stokes_opts *
 	po.saturation_level = o->saturation_level;
 	po.dead_level = o->dead_level;
 	po.pinv = o->pinv;
+	po.noise_gain = o->noise_gain;
 	return pc_stokes_run(raw, &po, out, valid);
 }
 

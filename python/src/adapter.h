@@ -85,6 +85,7 @@ typedef struct pcpy_stokes_opts {
 	double saturation_level; /* raw units; samples >= it make outputs invalid; 0: unchecked */
 	double dead_level;       /* raw units; samples <= it make outputs invalid; 0: unchecked */
 	const pc_analyser_pinv *pinv; /* NULL: ideal analysers */
+	double noise_gain;            /* pc_pipeline_opts.noise_gain (0: estimated) */
 } pcpy_stokes_opts;
 
 /* raw -> Stokes/DoLP/AoLP: the library's front door (pc_stokes_run). NULL planes of out are not

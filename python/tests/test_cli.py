@@ -347,7 +347,18 @@ def test_noise_gain_equals_cli(cli, tmp_path):
                                                                  "--json").stdout)}
     assert listed == {m["name"]: m["noise_gain"] for m in polarcam.methods()}
     assert [n for n, v in listed.items() if v] == ["pan-adapt"]
-    # process: meta.json says the same
+    # process: meta.json says the same, and stokes(noise_gain=) gives its outputs
     cli("process", png, "--method", "pan-adapt", "--noise-gain", "1.5", "-o", tmp_path / "p")
     m = json.loads((tmp_path / "p" / "meta.json").read_text())
     assert m["noise_gain"] == 1.5 and m["noise_gain_from"] == "option", m
+    s, dolp, aolp = stokes_cli_layout(raw, method="pan-adapt", layout=meta["layout"],
+                                      bits=meta["bits"], noise_gain=1.5)
+    np.testing.assert_array_equal(s, np.load(tmp_path / "p" / "stokes.npy"))
+    np.testing.assert_array_equal(dolp, np.load(tmp_path / "p" / "dolp.npy"))
+    s_est, _, _ = stokes_cli_layout(raw, method="pan-adapt", layout=meta["layout"],
+                                    bits=meta["bits"])
+    assert not np.array_equal(s, s_est)
+    with pytest.raises(ValueError, match="noise_gain"):
+        polarcam.stokes(raw, method="pan-adapt", layout=meta["layout"], noise_gain=-1.0)
+    with pytest.raises(ValueError, match="noise_gain"):
+        polarcam.stokes(np.zeros((8, 8, 4), np.float32), noise_gain=1.5)
