@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "demosaic_noise.h"
 #include "demosaic_plan.h"
 #include "polarcam/error.h"
 
@@ -132,6 +133,34 @@ int pc_validity_run(const pc_view *raw, const pc_pipeline_opts *opts, pc_validit
 		return rc;
 	if (!(rc = pc_dm_plan_check_validity(&p, valid)))
 		rc = pc_dm_plan_validity(&p, valid);
+	pc_dm_plan_end(&p);
+	return rc;
+}
+
+int pc_demosaic_noise_gain(const pc_view *raw, const pc_pipeline_opts *opts, double *g)
+{
+	if (!g)
+		return pc_error(PC_EINVAL, "noise gain: no output given");
+	if (!opts)
+		return pc_error(PC_EINVAL, "pipeline options missing");
+	pc_pipeline_opts o0 = *opts;
+	o0.noise_gain = 0; /* not used here */
+	pc_dm_plan p;
+	int rc = pc_dm_plan_begin(raw, &o0, &p);
+	if (rc)
+		return rc;
+	const pc_dm_input *in;
+	if (o0.dark || o0.gain_inv) {
+		/* the corrected float copy that pc_demosaic_run demosaics */
+		float *img;
+		pc_view v;
+		pc_pipeline_opts o;
+		if (!(rc = pc_dm_plan_corrected(&p, &img, &v, &o)))
+			rc = pc_demosaic_noise_gain(&v, &o, g);
+		free(img);
+	} else if (!(rc = pc_dm_plan_input(&p, &in))) {
+		rc = pc_dm_noise_gain_in(in, &p.opts.mosaic, p.full_scale, g);
+	}
 	pc_dm_plan_end(&p);
 	return rc;
 }

@@ -399,15 +399,24 @@ static int chroma_alloc(chroma_ref *c, uint32_t w, uint32_t h, const char *what)
 	return 0;
 }
 
+/* The chroma images of r's raw, allocated (free c->p0) and filled: pan-chroma's, pan-side's,
+ * pan-adapt's and pan-dir's first step. what names the method in the error message. */
+static int chroma_prepare(const pan_ref *r, chroma_ref *c, const char *what)
+{
+	int rc = chroma_alloc(c, (uint32_t)r->w, (uint32_t)r->h, what);
+	if (!rc)
+		chroma_images(r, c);
+	return rc;
+}
+
 int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                          const pc_fplane *out)
 {
 	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, PAN_CE * fs};
 	chroma_ref c;
-	int rc = chroma_alloc(&c, w, h, "pan-chroma");
+	int rc = chroma_prepare(&r, &c, "pan-chroma");
 	if (rc)
 		return rc;
-	chroma_images(&r, &c);
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
 			double num[12], den[12];
@@ -513,10 +522,9 @@ int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 {
 	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, PAN_SE * fs};
 	chroma_ref c;
-	int rc = chroma_alloc(&c, w, h, "pan-side");
+	int rc = chroma_prepare(&r, &c, "pan-side");
 	if (rc)
 		return rc;
-	chroma_images(&r, &c);
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
 			double num[12], den[12];
@@ -608,10 +616,9 @@ int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	}
 	const double kn = p->c * (14.0 / 64) * (14.0 / 64) * g; /* the noise term over μ */
 	chroma_ref c;
-	int rc = chroma_alloc(&c, w, h, "pan-adapt");
+	int rc = chroma_prepare(&r, &c, "pan-adapt");
 	if (rc)
 		return rc;
-	chroma_images(&r, &c);
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
 			double num[12], den[12], eh[7];
@@ -717,10 +724,9 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
 {
 	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, 0}; /* e = 0: plain tents */
 	chroma_ref c;
-	int rc = chroma_alloc(&c, w, h, "pan-dir");
+	int rc = chroma_prepare(&r, &c, "pan-dir"); /* ρ on the extended raw (guides unused) */
 	if (rc)
 		return rc;
-	chroma_images(&r, &c); /* ρ on the extended raw (the guides unused) */
 	const size_t np = (size_t)w * h;
 	double *cs = malloc(sizeof(double) * np * (PAN_ND - 1) * 3); /* c_k^d, d = W, E, N, S */
 	if (!cs) {
@@ -1929,15 +1935,24 @@ int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, in
 _Static_assert(PC_DM_PAN_ADAPT_RE == 2 && PC_DM_PAN_ADAPT_R == 2,
                "pan-adapt's fast path (pan_astat) sums 5 x 5 windows");
 
+int pc_dm_pan_adapt_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                           pc_cpu_level level, double g, const pc_fplane *out)
+{
+	if (!isfinite(g))
+		return pc_error(PC_EINVAL, "pan-adapt: noise gain %g not finite", g);
+	if (g < 0) {
+		int rc = pc_dm_noise_gain_in(in, m, fs, &g);
+		if (rc)
+			return rc;
+	}
+	return pan_run(in, m, fs, threads, level, out, 4,
+	               PC_DM_PAN_ADAPT_C * (14.0 / 64) * (14.0 / 64) * g);
+}
+
 int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out)
 {
-	double g;
-	int rc = pc_dm_noise_gain_in(in, m, fs, &g);
-	if (rc)
-		return rc;
-	return pan_run(in, m, fs, threads, level, out, 4,
-	               PC_DM_PAN_ADAPT_C * (14.0 / 64) * (14.0 / 64) * g);
+	return pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, -1, out);
 }
 
 const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)

@@ -63,6 +63,10 @@ int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc
                              double fs, const pc_dm_pan_adapt_params *p, const pc_fplane *out);
 int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out);
+/* pan-adapt's fast path with the noise gain g (raw units; < 0: estimated, as
+ * pc_dm_pan_adapt_fast) */
+int pc_dm_pan_adapt_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                           pc_cpu_level level, double g, const pc_fplane *out);
 
 /* pan-guard (docs/demosaicking.md, Round 15): a base pan estimate (pan-adapt's or pan-side's)
  * blended per colour with bayer-first's where a leave-one-out check on the colour's own

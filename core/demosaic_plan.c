@@ -508,7 +508,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "colour-polarization: pan-side with a range scale relative to the "
                           "local signal (13 % of the 5x5 mean of the PPI) and the ratio "
                           "step's level shrunk towards its 5x5 mean where the frame's noise "
-                          "(estimated from the frame) is of the order of the local variation; "
+                          "(estimated from the frame, or given: --noise-gain) is of the order of "
+                          "the local variation; "
                           "over bayer-first (bench colour --reference, 9 scenes) smooth colours "
                           "+4.45/+1.69 (worst +2.45/+0.40), hue patches +1.12/+2.22 (worst "
                           "+0.92/+1.76); colour stress suite (5 scenes) +1.39/+1.23 (worst "
@@ -530,7 +531,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
                           "from the median residual (Donoho & Johnstone, Biometrika 81(3) "
                           "1994) under EMVA 1288's linear model",
-                          PC_DMF_COLOR},
+                          PC_DMF_COLOR | PC_DMF_NOISE_GAIN},
                          {PAN_ADAPT_LO, PAN_ADAPT_HI, 1, 1},
                          NULL,
                          NULL,
@@ -642,6 +643,13 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 	    (rc = check_level("saturation level", opts->saturation_level)) ||
 	    (rc = check_level("dead level", opts->dead_level)))
 		return rc;
+	if (!isfinite(opts->noise_gain) || opts->noise_gain < 0)
+		return pc_error(
+		    PC_EINVAL,
+		    "noise_gain %g: expected a finite value >= 0 (the variance per unit "
+		    "signal in raw units, EMVA 1288's system gain K in DN/e-; 0: "
+		    "estimated from the frame)",
+		    opts->noise_gain);
 	if (opts->saturation_level > 0 && opts->dead_level > 0 &&
 	    !(opts->dead_level < opts->saturation_level))
 		return pc_error(PC_EINVAL, "dead level %g: must be below the saturation level %g",
@@ -739,16 +747,28 @@ static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *o
 {
 	const uint32_t w = p->raw->width, h = p->raw->height;
 	int rc;
+	/* a given noise gain (pc_pipeline_opts.noise_gain > 0) for the method that uses one */
+	const bool given = p->opts.method == PC_DM_PAN_ADAPT && p->opts.noise_gain > 0;
 	if (p->opts.reference || !fn->fast) {
 		double *img = NULL;
 		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
-		if (!rc)
+		if (!rc && given) {
+			pc_dm_pan_adapt_params pa = pc_dm_pan_adapt_defaults();
+			pa.g = p->opts.noise_gain;
+			rc = pc_dm_pan_adapt_ref_with(img, w, h, &p->opts.mosaic, p->full_scale,
+			                              &pa, out);
+		} else if (!rc) {
 			rc = fn->ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
+		}
 		free(img);
 	} else {
 		const pc_dm_input *in;
 		rc = pc_dm_plan_input(p, &in);
-		if (!rc)
+		if (!rc && given)
+			rc = pc_dm_pan_adapt_fast_g(in, &p->opts.mosaic, p->full_scale,
+			                            p->opts.threads, p->level, p->opts.noise_gain,
+			                            out);
+		else if (!rc)
 			rc = fn->fast(in, &p->opts.mosaic, p->full_scale, p->opts.threads, p->level,
 			              out);
 	}

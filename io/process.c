@@ -95,6 +95,7 @@ static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format
 	po.threads = o->demosaic.threads;
 	po.reference = o->demosaic.reference;
 	po.full_scale = o->demosaic.full_scale;
+	po.noise_gain = o->noise_gain;
 	if (!(po.full_scale > 0) && format != PC_FMT_FLOAT32 && bits >= 1 && bits <= 16)
 		po.full_scale = (double)((1u << bits) - 1u); /* sBIT: a 12-bit PNG in 16 bits */
 	po.black_level = o->stage ? 0 : o->black_level;
@@ -252,6 +253,18 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	double t0 = now_s();
 	rc = run_pipeline(o, &raw, bits, NULL, NULL, planes, &valid);
 	double secs = now_s() - t0;
+	/* the noise gain a noise-aware method used: given, or its estimate (the same value) */
+	double ng = 0;
+	const bool ng_given = o->noise_gain > 0;
+	if (!rc && (pc_demosaic_method_get(o->method)->flags & PC_DMF_NOISE_GAIN)) {
+		if (ng_given) {
+			ng = o->noise_gain;
+		} else if (!o->stage) { /* (calibrations are for monochrome mosaics, the
+			                 * noise-aware method for colour ones) */
+			pc_pipeline_opts po = pipeline_opts(o, raw.format, bits);
+			rc = pc_demosaic_noise_gain(&raw, &po, &ng);
+		}
+	}
 	pc_view_free(&raw);
 	if (rc) {
 		free(buf);
@@ -265,7 +278,8 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	free(buf);
 	free(valid.mask);
 	if (!rc && rep) {
-		*rep = (pc_demosaic_file_report){ow, oh, nch, bits, secs, sat, valid.n_invalid, ""};
+		*rep = (pc_demosaic_file_report){
+		    ow, oh, nch, bits, secs, sat, valid.n_invalid, "", ng, ng > 0 && ng_given};
 		snprintf(rep->valid_path, sizeof rep->valid_path, "%s", vpath);
 	}
 	return rc;
@@ -349,6 +363,14 @@ static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_
 	json_object_set_new(j, "layout", json_string(layout));
 	json_object_set_new(j, "method", json_string(pc_demosaic_method_get(o->method)->name));
 	json_object_set_new(j, "reference", json_boolean(o->demosaic.reference));
+	/* a noise-aware method's noise gain: the one given, or estimated from each frame */
+	const bool ng = pc_demosaic_method_get(o->method)->flags & PC_DMF_NOISE_GAIN;
+	json_object_set_new(j, "noise_gain",
+	                    ng && o->noise_gain > 0 ? pc_json_real(o->noise_gain) : json_null());
+	json_object_set_new(j, "noise_gain_from",
+	                    !ng                 ? json_null()
+	                    : o->noise_gain > 0 ? json_string("option")
+	                                        : json_string("estimated"));
 	json_object_set_new(j, "black_level", pc_json_real(o->stage ? 0 : o->black_level));
 	json_object_set_new(j, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
 	json_object_set_new(j, "dead_level",

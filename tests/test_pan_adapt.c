@@ -28,6 +28,7 @@
 #include "../core/demosaic_pan.h"
 #include "check.h"
 #include "polarcam/demosaic.h"
+#include "polarcam/error.h"
 #include "polarcam/mosaic.h"
 
 #define PC_TEST_SEED 0x5eed14ada97ull
@@ -347,6 +348,240 @@ static void test_front(void)
 	pc_view_free(&raw);
 }
 
+/* ---- a given noise gain (pc_pipeline_opts.noise_gain; docs/demosaicking.md, Round 15b) ----
+ *
+ * A colour-polarization scene with known truth for all twelve channels: S0 = s0(x, y) times a
+ * smooth colour, a smooth linear polarization, and for textured frames sinusoidal gratings
+ * (periods 6 to 16 px) over the right 5/16 of the frame. Each sample gets Gaussian noise of
+ * variance g0·(L + F), L its truth and F = PC_DM_NG_FLOOR·FS: the model under which the
+ * estimate is unbiased (demosaic_noise.h), so that "the true g" is g0. */
+#define GG_FS 4095.0
+
+static double gg_truth(unsigned q, uint32_t x, uint32_t y, uint32_t W, int textured)
+{
+	const double tau = 6.283185307179586;
+	double s0 = 1200 + 500 * sin(tau * x / 310.0) * cos(tau * y / 270.0);
+	if (textured && x >= W - W * 5 / 16) {
+		double per = 6 + (y / 64) % 6 * 2, a = 0.3 * (double)((y / 64) % 4);
+		s0 = 1200 + 700 * sin(tau * (x * cos(a) + y * sin(a)) / per);
+	}
+	const double col[3] = {0.8 + 0.2 * sin(x / 200.0), 1.0, 0.7 + 0.2 * cos(y / 180.0)};
+	const double d = 0.3 + 0.2 * sin(x / 150.0), phi = y / 300.0;
+	const unsigned k = q / 4, c = q % 4;
+	return s0 * col[k] * (1 + d * cos(2 * (c * tau / 8 - phi))) / 4;
+}
+
+/* a float32 raw of the scene (opts.full_scale GG_FS) with the noise above */
+static float *gg_raw(uint32_t W, uint32_t H, const pc_mosaic *m, double g0, int textured,
+                     pc_view *v)
+{
+	float *r = malloc(sizeof(float) * W * H);
+	const double F = PC_DM_NG_FLOOR * GG_FS;
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			unsigned q = 4 * (unsigned)(pc_mosaic_color(m, x, y) - PC_CFA_R) +
+			             pc_mosaic_channel(m, x, y);
+			double L = gg_truth(q, x, y, W, textured);
+			r[(size_t)y * W + x] = (float)(L + sqrt(g0 * (L + F)) * nrand());
+		}
+	*v = (pc_view){r, W, H, (size_t)W * sizeof(float), PC_FMT_FLOAT32};
+	return r;
+}
+
+/* RMS error against the truth over all twelve channels, 8 pixels in from the borders */
+static double gg_rmse(const pc_fplane *p, uint32_t W, uint32_t H, int textured)
+{
+	double s = 0;
+	size_t n = 0;
+	for (uint32_t y = 8; y < H - 8; y++)
+		for (uint32_t x = 8; x < W - 8; x++)
+			for (unsigned q = 0; q < 12; q++) {
+				double e = fget(&p[q], x, y) - gg_truth(q, x, y, W, textured);
+				s += e * e;
+				n++;
+			}
+	return sqrt(s / (double)n);
+}
+
+static double rms_diff(const float *a, const float *b, size_t n)
+{
+	double s = 0;
+	for (size_t i = 0; i < n; i++)
+		s += ((double)a[i] - b[i]) * ((double)a[i] - b[i]);
+	return sqrt(s / (double)n);
+}
+
+static void test_given_gain(void)
+{
+	const pc_mosaic m = pc_mosaic_imx250myr();
+	const double g0 = 2.0;
+	pc_pipeline_opts o = pc_pipeline_defaults();
+	o.method = PC_DM_PAN_ADAPT;
+	o.mosaic = m;
+	o.full_scale = GG_FS;
+	/* (1) a large smooth frame: the estimate is within four standard errors of g0, and the
+	 * outputs with g0 given and with the estimate differ by at most 1 % of their error
+	 * against the truth (λ moves by at most λ(1 − λ)·|ε| ≤ |ε|/4 for a relative error ε of g,
+	 * a few per mille here; stated tolerance 1 %) */
+	{
+		const uint32_t W = 1024, H = 1024;
+		pc_view v;
+		float *r = gg_raw(W, H, &m, g0, 0, &v);
+		double g = -1;
+		CHECK_EQ_INT(pc_demosaic_noise_gain(&v, &o, &g), 0);
+		/* the grid: s = 5, 204 × 204 samples */
+		const double se = 2.33 / sqrt(204.0 * 204.0);
+		printf("  given gain, smooth 1024x1024: estimate %.4f against g0 %.4f (%+.2f %%, "
+		       "tolerance %.1f %%)\n",
+		       g, g0, 100 * (g / g0 - 1), 400 * se);
+		CHECK(fabs(g / g0 - 1) <= 4 * se);
+		pc_fplane a[12], b[12];
+		float *ab = alloc_planes(W, H, a), *bb = alloc_planes(W, H, b);
+		o.noise_gain = 0;
+		CHECK_EQ_INT(pc_demosaic_run(&v, &o, a, NULL), 0);
+		o.noise_gain = g0;
+		CHECK_EQ_INT(pc_demosaic_run(&v, &o, b, NULL), 0);
+		double ea = gg_rmse(a, W, H, 0), eb = gg_rmse(b, W, H, 0),
+		       d = rms_diff(ab, bb, (size_t)W * H * 12);
+		printf("  given gain, smooth: RMSE estimated %.4f DN, g0 given %.4f DN; RMS "
+		       "difference %.4f DN (%.3f %% of the error)\n",
+		       ea, eb, d, 100 * d / eb);
+		CHECK(d <= 0.01 * eb);
+		CHECK(d > 0); /* the estimate is not g0 exactly: the two paths ran */
+		free(ab);
+		free(bb);
+		free(r);
+	}
+	/* (2) a frame with gratings: g0 given gives a lower error against the truth than g0/10
+	 * (too little shrinkage: noise) and 10·g0 (too much: the gratings flattened) */
+	{
+		const uint32_t W = 768, H = 768;
+		pc_view v;
+		float *r = gg_raw(W, H, &m, g0, 1, &v);
+		pc_fplane p[12];
+		float *pb = alloc_planes(W, H, p);
+		const double gs[4] = {0, g0, g0 / 10, 10 * g0};
+		double e[4];
+		for (int i = 0; i < 4; i++) {
+			o.noise_gain = gs[i];
+			CHECK_EQ_INT(pc_demosaic_run(&v, &o, p, NULL), 0);
+			e[i] = gg_rmse(p, W, H, 1);
+		}
+		double g = -1;
+		CHECK_EQ_INT(pc_demosaic_noise_gain(&v, &o, &g), 0);
+		printf("  given gain, gratings 768x768: RMSE estimated (g %.3f) %.4f, g0 %.4f, "
+		       "g0/10 %.4f, 10 g0 %.4f DN\n",
+		       g, e[0], e[1], e[2], e[3]);
+		CHECK(e[1] < e[2]);
+		CHECK(e[1] < e[3]);
+		free(pb);
+		free(r);
+	}
+}
+
+/* The options' edges: the default (0, estimated) is the estimate given explicitly, bit for bit,
+ * on the fast path and the reference; pc_demosaic_noise_gain is the estimator's value on the raw
+ * minus black (also through the per-pixel correction); the legacy entry point passes the gain;
+ * invalid gains are refused naming the field. */
+static void test_given_gain_api(void)
+{
+	const uint32_t W = 130, H = 66;
+	const pc_mosaic m = pc_mosaic_imx250myr();
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0), 0);
+	double *img = malloc(sizeof(double) * W * H);
+	const double black = 100;
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			uint16_t s = (uint16_t)(700 + 300 * sin(x / 9.0) + 40 * nrand());
+			PC_ROW(&raw, uint16_t, y)[x] = s;
+			img[(size_t)y * W + x] = s - black;
+		}
+	pc_pipeline_opts o = pc_pipeline_defaults();
+	o.method = PC_DM_PAN_ADAPT;
+	o.mosaic = m;
+	o.black_level = black;
+	o.full_scale = 4095; /* a 12-bit raw in 16 bits */
+	double g = -1, gd = -2, gc = -3;
+	CHECK_EQ_INT(pc_demosaic_noise_gain(&raw, &o, &g), 0);
+	CHECK_EQ_INT(pc_dm_noise_gain_d(img, W, H, &m, 4095 - black, &gd), 0);
+	printf("  pc_demosaic_noise_gain %.6f, the estimator on raw - black %.6f\n", g, gd);
+	CHECK(g == gd && g > 0);
+	/* through the per-pixel correction: dark = black everywhere, unit gains */
+	float *dark = malloc(sizeof(float) * W * H), *gi = malloc(sizeof(float) * W * H);
+	for (size_t i = 0; i < (size_t)W * H; i++) {
+		dark[i] = (float)black;
+		gi[i] = 1;
+	}
+	pc_pipeline_opts oc = o;
+	oc.black_level = 0;
+	oc.full_scale = 4095 - black; /* the same signal full scale */
+	oc.dark = dark;
+	oc.gain_inv = gi;
+	CHECK_EQ_INT(pc_demosaic_noise_gain(&raw, &oc, &gc), 0);
+	CHECK(gc == g);
+	free(dark);
+	free(gi);
+
+	pc_fplane a[12], b[12];
+	float *ab = alloc_planes(W, H, a), *bb = alloc_planes(W, H, b);
+	const size_t nf = sizeof(float) * W * H * 12;
+	for (int ref = 0; ref < 2; ref++) {
+		o.reference = ref;
+		o.noise_gain = 0;
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &o, a, NULL), 0);
+		o.noise_gain = g;
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &o, b, NULL), 0);
+		CHECK(memcmp(ab, bb, nf) == 0);
+		/* not vacuous: another gain changes the outputs */
+		o.noise_gain = 10 * g;
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &o, b, NULL), 0);
+		CHECK(memcmp(ab, bb, nf) != 0);
+	}
+	/* the fast path with a given gain against the reference with it */
+	o.noise_gain = 3.5;
+	o.reference = true;
+	CHECK_EQ_INT(pc_demosaic_run(&raw, &o, a, NULL), 0);
+	o.reference = false;
+	CHECK_EQ_INT(pc_demosaic_run(&raw, &o, b, NULL), 0);
+	double worst = 0;
+	for (size_t i = 0; i < (size_t)W * H * 12; i++)
+		worst = fmax(worst, fabs(ab[i] - bb[i]));
+	printf("  given gain 3.5: max |fast - reference| %.3g DN\n", worst);
+	CHECK(worst <= 1e-5 * 4095);
+	/* the legacy entry point (no black level, no noise gain there) is the estimate: the same
+	 * samples minus black, the same signal full scale */
+	pc_view raw0;
+	CHECK_EQ_INT(pc_view_alloc(&raw0, PC_FMT_MONO16, W, H, 0), 0);
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++)
+			PC_ROW(&raw0, uint16_t, y)
+	[x] = (uint16_t)(PC_ROW(&raw, uint16_t, y)[x] - 100);
+	pc_demosaic_opts lo = {0, false, 4095 - black};
+	CHECK_EQ_INT(pc_demosaic(&raw0, &m, PC_DM_PAN_ADAPT, &lo, a), 0);
+	o.noise_gain = 0;
+	CHECK_EQ_INT(pc_demosaic_run(&raw, &o, b, NULL), 0);
+	CHECK(memcmp(ab, bb, nf) == 0);
+	/* invalid gains: PC_EINVAL naming the field */
+	const double bad[4] = {-1, NAN, INFINITY, -INFINITY};
+	for (int i = 0; i < 4; i++) {
+		o.noise_gain = bad[i];
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &o, a, NULL), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "noise_gain") != NULL);
+		CHECK_EQ_INT(pc_demosaic_noise_gain(&raw, &o, &g), 0); /* not used there */
+	}
+	printf("  invalid noise gain: \"%s\"\n", pc_error_detail());
+	/* the flag: pan-adapt alone uses a noise gain */
+	for (int k = 0; k < PC_DM_COUNT; k++)
+		CHECK(!(pc_demosaic_method_get((pc_demosaic_method)k)->flags & PC_DMF_NOISE_GAIN) ==
+		      (k != PC_DM_PAN_ADAPT));
+	free(ab);
+	free(bb);
+	free(img);
+	pc_view_free(&raw);
+	pc_view_free(&raw0);
+}
+
 int main(void)
 {
 	test_noise_gain();
@@ -354,5 +589,7 @@ int main(void)
 	test_ramp();
 	test_scale();
 	test_front();
+	test_given_gain();
+	test_given_gain_api();
 	return pc_test_finish("test_pan_adapt");
 }

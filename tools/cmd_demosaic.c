@@ -39,7 +39,8 @@ static void usage(FILE *fp)
 	    "  -h, --help          this help\n"
 	    "\n"
 	    "JSON fields: output, shape, method, layout, bits, seconds, black_level,\n"
-	    "saturation_level, calibration, valid, invalid_pixels.\n"
+	    "saturation_level, calibration, valid, invalid_pixels, noise_gain and\n"
+	    "noise_gain_from (\"option\" or \"estimated\"; null for methods without one).\n"
 	    "Exit status: 0 success, 1 failure, 2 bad arguments or bad input (odd size, truncated\n"
 	    "file, values above the bit depth, NaN, bad layout) or OUT exists.\n"
 	    "\n"
@@ -71,6 +72,8 @@ static int list_methods(int json)
 			                    json_boolean(mi->flags & PC_DMF_HALF_RES));
 			json_object_set_new(o, "reference_only",
 			                    json_boolean(mi->flags & PC_DMF_REFERENCE_ONLY));
+			json_object_set_new(o, "noise_gain",
+			                    json_boolean(mi->flags & PC_DMF_NOISE_GAIN));
 			json_array_append_new(arr, o);
 		} else {
 			printf("%-16s [%s]\n    accuracy: %s\n    cost:     %s\n    after:    %s\n",
@@ -184,6 +187,12 @@ int cli_cmd_demosaic(int argc, char **argv)
 	json_object_set_new(j, "invalid_pixels",
 	                    *rep.valid_path ? json_integer((json_int_t)rep.n_invalid)
 	                                    : json_null());
+	const bool ng = pc_demosaic_method_get(o.dm)->flags & PC_DMF_NOISE_GAIN;
+	json_object_set_new(j, "noise_gain", ng ? cli_json_real(rep.noise_gain) : json_null());
+	json_object_set_new(j, "noise_gain_from",
+	                    !ng                    ? json_null()
+	                    : rep.noise_gain_given ? json_string("option")
+	                                           : json_string("estimated"));
 	cli_print_json(j);
 	return CLI_EXIT_OK;
 }

@@ -45,6 +45,13 @@ const char cli_raw_help[] =
     "                      calibrated analysers, its distrusted pixels flagged. The frame must\n"
     "                      match it (size, ROI, mosaic, bit depth); the dark map replaces\n"
     "                      --black-level. Default saturation: the file's\n"
+    "  --noise-gain DN_PER_E  the noise gain of noise-aware methods (pan-adapt): the\n"
+    "                      sensor's variance per unit signal in raw units, i.e. the system\n"
+    "                      gain K (DN per electron, EMVA 1288 photon transfer) at the\n"
+    "                      settings in use, in the raw's units (x16 for a 12-bit raw stored\n"
+    "                      shifted in 16 bits). Default: estimated from each frame (median\n"
+    "                      residual; textured frames overestimate it). The JSON says which\n"
+    "                      (noise_gain, noise_gain_from). Refused with other methods\n"
     "  --threads N         threads (default: all cores)\n"
     "  --reference         run the double-precision reference implementation (slow)\n";
 
@@ -123,6 +130,20 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 				o->saturation = d;
 			else
 				o->dead = d;
+		} else if (!strcmp(a, "--noise-gain")) {
+			if (!need(argc, argv, i))
+				return CLI_EXIT_USAGE;
+			const char *val = argv[++i];
+			double d;
+			if ((rc = cli_parse_double(a, val, &d)))
+				return cli_fail(rc, NULL);
+			if (!(d > 0) || !isfinite(d))
+				return cli_error(
+				    CLI_EXIT_USAGE,
+				    "--noise-gain %s: expected a finite gain > 0 (raw "
+				    "units per unit signal: the system gain K in DN/e-)",
+				    val);
+			o->noise_gain = d;
 		} else if (!strcmp(a, "--calibration")) {
 			if (!need(argc, argv, i))
 				return CLI_EXIT_USAGE;
@@ -242,6 +263,10 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 	if ((rc = pc_process_method(o->method, &o->mosaic, &o->dm)))
 		return cli_fail(rc, NULL);
 	o->method = pc_demosaic_method_get(o->dm)->name;
+	if (o->noise_gain > 0 && !(pc_demosaic_method_get(o->dm)->flags & PC_DMF_NOISE_GAIN))
+		return cli_error(CLI_EXIT_USAGE,
+		                 "--noise-gain: method %s uses no noise gain (pan-adapt does)",
+		                 o->method);
 	return 0;
 }
 
@@ -260,7 +285,8 @@ pc_process_opts cli_raw_process(const cli_raw *o)
 	                         .saturation_level = o->saturation,
 	                         .dead_level = o->dead,
 	                         .roi_x = o->roi_x,
-	                         .roi_y = o->roi_y};
+	                         .roi_y = o->roi_y,
+	                         .noise_gain = o->noise_gain};
 }
 
 int cli_raw_calibration(const cli_raw *o, pc_calib *cal, pc_raw_stage *stage, pc_process_opts *po)

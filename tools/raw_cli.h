@@ -24,6 +24,7 @@ typedef struct cli_raw {
 	double black_level; /* --black-level (NAN: the recording's, else 0) */
 	double saturation;  /* --saturation (0: the raw's full scale; -1: none) */
 	double dead;        /* --dead-level (0: none) */
+	double noise_gain;  /* --noise-gain (0: estimated from each frame) */
 	const char *calibration; /* --calibration FILE */
 	const char *black_from;  /* "option", "recording", "calibration" or "none" */
 	uint32_t roi_x, roi_y;   /* the recording's ROI origin */

@@ -163,6 +163,7 @@ def demosaic(
     bits: Union[int, None] = None,
     threads: int = 0,
     out: Union[F32, None] = None,
+    noise_gain: Union[float, None] = None,
 ) -> F32: ...
 def stokes(
     raw: Union[RawArray, F32],
@@ -175,6 +176,7 @@ def stokes(
     out: Union[Stokes, Sequence[Union[F32, None]], None] = None,
     saturation_level: Union[float, None] = None,
     dead_level: Union[float, None] = None,
+    noise_gain: Union[float, None] = None,
 ) -> Stokes: ...
 def pbrdf(
     n: ArrayLike,

@@ -195,10 +195,15 @@ void pcpy_out_size(int method, uint32_t w, uint32_t h, uint32_t *ow, uint32_t *o
 /* ---- the pipeline ---- */
 
 int pcpy_demosaic(const pc_view *raw, const pc_mosaic *m, int method, int threads,
-                  double full_scale, const pc_fplane *out)
+                  double full_scale, double noise_gain, const pc_fplane *out)
 {
-	pc_demosaic_opts o = {threads, false, full_scale};
-	return pc_demosaic(raw, m, (pc_demosaic_method)method, &o, out);
+	pc_pipeline_opts o = pc_pipeline_defaults();
+	o.method = (pc_demosaic_method)method;
+	o.mosaic = *m;
+	o.threads = threads;
+	o.full_scale = full_scale;
+	o.noise_gain = noise_gain;
+	return pc_demosaic_run(raw, &o, out, NULL);
 }
 
 double pcpy_full_scale(const pc_view *v, unsigned bits)
@@ -220,6 +225,7 @@ int pcpy_stokes(const pc_view *raw, const pc_mosaic *m, const pcpy_stokes_opts *
 	po.saturation_level = o->saturation_level;
 	po.dead_level = o->dead_level;
 	po.pinv = o->pinv;
+	po.noise_gain = o->noise_gain;
 	return pc_stokes_run(raw, &po, out, valid);
 }
 

@@ -73,9 +73,9 @@ void pcpy_out_size(int method, uint32_t w, uint32_t h, uint32_t *ow, uint32_t *o
 
 /* ---- the pipeline (without the GIL) ---- */
 
-/* Demosaics into nch = pcpy_channels(m) planes. */
+/* Demosaics into nch = pcpy_channels(m) planes; noise_gain as pc_pipeline_opts' (0: estimated). */
 int pcpy_demosaic(const pc_view *raw, const pc_mosaic *m, int method, int threads,
-                  double full_scale, const pc_fplane *out);
+                  double full_scale, double noise_gain, const pc_fplane *out);
 
 typedef struct pcpy_stokes_opts {
 	int method;
@@ -85,6 +85,7 @@ typedef struct pcpy_stokes_opts {
 	double saturation_level; /* raw units; samples >= it make outputs invalid; 0: unchecked */
 	double dead_level;       /* raw units; samples <= it make outputs invalid; 0: unchecked */
 	const pc_analyser_pinv *pinv; /* NULL: ideal analysers */
+	double noise_gain;            /* pc_pipeline_opts.noise_gain (0: estimated) */
 } pcpy_stokes_opts;
 
 /* raw -> Stokes/DoLP/AoLP: the library's front door (pc_stokes_run). NULL planes of out are not

@@ -414,11 +414,12 @@ static PyObject *py_methods(PyObject *self, PyObject *noargs)
 		if (!mi)
 			break;
 		PyObject *d = Py_BuildValue(
-		    "{s:s,s:s,s:s,s:s,s:O,s:O,s:O}", "name", mi->name, "accuracy", mi->accuracy,
+		    "{s:s,s:s,s:s,s:s,s:O,s:O,s:O,s:O}", "name", mi->name, "accuracy", mi->accuracy,
 		    "cost", mi->cost, "source", mi->source, "monochrome",
 		    (mi->flags & PC_DMF_MONO) ? Py_True : Py_False, "colour",
 		    (mi->flags & PC_DMF_COLOR) ? Py_True : Py_False, "half_resolution",
-		    (mi->flags & PC_DMF_HALF_RES) ? Py_True : Py_False);
+		    (mi->flags & PC_DMF_HALF_RES) ? Py_True : Py_False, "noise_gain",
+		    (mi->flags & PC_DMF_NOISE_GAIN) ? Py_True : Py_False);
 		if (!d || PyList_Append(l, d)) {
 			Py_XDECREF(d);
 			Py_DECREF(l);
@@ -457,15 +458,41 @@ static PyObject *py_backends(PyObject *self, PyObject *noargs)
  * demosaic
  */
 
+/* noise_gain=: None estimated (the library's 0); a number is given, and the library checks it
+ * (negative, NaN, infinite: its ValueError naming noise_gain); 0 is refused here as ambiguous */
+static int get_noise_gain(PyObject *o, double *v)
+{
+	*v = 0;
+	if (o == Py_None)
+		return 0;
+	*v = PyFloat_AsDouble(o);
+	if (*v == -1 && PyErr_Occurred()) {
+		PyErr_SetString(PyExc_TypeError, "noise_gain: expected a number or None");
+		return -1;
+	}
+	if (*v == 0) {
+		PyErr_SetString(PyExc_ValueError,
+		                "noise_gain 0: expected a gain > 0 (raw units per "
+		                "unit signal), or None to estimate it from the "
+		                "frame");
+		return -1;
+	}
+	return 0;
+}
+
 static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
 {
 	(void)self;
-	static char *kwl[] = {"raw", "method", "layout", "bits", "threads", "out", NULL};
-	PyObject *raw_o, *bits_o = Py_None, *out_o = Py_None;
+	static char *kwl[] = {"raw",     "method", "layout",     "bits",
+	                      "threads", "out",    "noise_gain", NULL};
+	PyObject *raw_o, *bits_o = Py_None, *out_o = Py_None, *ng_o = Py_None;
 	const char *method = NULL, *layout = "90,45,135,0";
 	int threads = 0;
-	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zsOiO:demosaic", kwl, &raw_o, &method,
-	                                 &layout, &bits_o, &threads, &out_o))
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zsOiOO:demosaic", kwl, &raw_o, &method,
+	                                 &layout, &bits_o, &threads, &out_o, &ng_o))
+		return NULL;
+	double noise_gain;
+	if (get_noise_gain(ng_o, &noise_gain))
 		return NULL;
 	unsigned bits;
 	pc_mosaic m;
@@ -521,7 +548,8 @@ static PyObject *py_demosaic(PyObject *self, PyObject *args, PyObject *kw)
 	Py_BEGIN_ALLOW_THREADS;
 	rc = check ? pcpy_check_bits(&v, check) : 0;
 	if (!rc)
-		rc = pcpy_demosaic(&v, &m, dm, threads, pcpy_full_scale(&v, bits), planes);
+		rc = pcpy_demosaic(&v, &m, dm, threads, pcpy_full_scale(&v, bits), noise_gain,
+		                   planes);
 	Py_END_ALLOW_THREADS;
 	if (rc) {
 		Py_DECREF(out);
@@ -671,14 +699,14 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 	(void)self;
 	static char *kwl[] = {
 	    "raw",     "method", "layout",           "bits",       "black_level", "calibration",
-	    "threads", "out",    "saturation_level", "dead_level", NULL};
+	    "threads", "out",    "saturation_level", "dead_level", "noise_gain",  NULL};
 	PyObject *raw_o, *bits_o = Py_None, *black_o = Py_None, *cal_o = Py_None, *out_o = Py_None;
-	PyObject *sat_o = Py_None, *dead_o = Py_None;
+	PyObject *sat_o = Py_None, *dead_o = Py_None, *ng_o = Py_None;
 	const char *method = NULL, *layout = NULL;
 	int threads = 0, rc;
-	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zzOOOiOOO:stokes", kwl, &raw_o, &method,
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zzOOOiOOOO:stokes", kwl, &raw_o, &method,
 	                                 &layout, &bits_o, &black_o, &cal_o, &threads, &out_o,
-	                                 &sat_o, &dead_o))
+	                                 &sat_o, &dead_o, &ng_o))
 		return NULL;
 	PyArrayObject *raw =
 	    as_ndarray(raw_o, "raw", "(H, W) raw mosaic, or (H, W, 4) float32 analyser images");
@@ -687,8 +715,9 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 	unsigned bits;
 	if (get_bits(bits_o, &bits))
 		return NULL;
-	pcpy_stokes_opts o = {0, threads, 0, 0, 0, 0, NULL};
-	if (get_level(black_o, "black_level", &o.black_level) ||
+	pcpy_stokes_opts o = {0, threads, 0, 0, 0, 0, NULL, 0};
+	if (get_noise_gain(ng_o, &o.noise_gain) ||
+	    get_level(black_o, "black_level", &o.black_level) ||
 	    get_level(sat_o, "saturation_level", &o.saturation_level) ||
 	    get_level(dead_o, "dead_level", &o.dead_level))
 		return NULL;
@@ -714,11 +743,12 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 			    dtype_name(raw), (Py_ssize_t)PyArray_DIM(raw, 2));
 			goto out;
 		}
-		if (black_o != Py_None || bits || checked || cal) {
-			PyErr_SetString(PyExc_ValueError,
-			                "raw: black_level, bits, saturation_level, dead_level and "
-			                "calibration files apply to raw mosaics, not to (H, W, 4) "
-			                "analyser images (an array of pseudo-inverses does)");
+		if (black_o != Py_None || bits || checked || cal || ng_o != Py_None) {
+			PyErr_SetString(
+			    PyExc_ValueError,
+			    "raw: black_level, bits, saturation_level, dead_level, "
+			    "noise_gain and calibration files apply to raw mosaics, not to "
+			    "(H, W, 4) analyser images (an array of pseudo-inverses does)");
 			goto out;
 		}
 		size_t row, pix;
@@ -2389,7 +2419,7 @@ static PyObject *py_c_pipeline_seconds(PyObject *self, PyObject *args, PyObject 
 		return NULL;
 	pc_view v;
 	pc_mosaic m;
-	pcpy_stokes_opts o = {0, threads, 0, 0, 0, 0, NULL};
+	pcpy_stokes_opts o = {0, threads, 0, 0, 0, 0, NULL, 0};
 	PyArrayObject *raw = as_ndarray(raw_o, "raw", "(H, W)");
 	if (!raw || raw_view(raw, "raw", 0, &v))
 		return NULL;
@@ -2453,7 +2483,8 @@ static PyObject *py_stokes_streams(PyObject *self, PyObject *out_o)
 
 PyDoc_STRVAR(
     doc_demosaic,
-    "demosaic(raw, method=None, layout='90,45,135,0', bits=None, threads=0, out=None)\n--\n\n"
+    "demosaic(raw, method=None, layout='90,45,135,0', bits=None, threads=0, out=None, "
+    "noise_gain=None)\n--\n\n"
     "Demosaics a raw polarizer mosaic into full-resolution analyser images, as polarcam "
     "demosaic.\n\n"
     "raw: (H, W) uint8, uint16 or float32 numpy array, used in place (any row stride; pixels "
@@ -2463,14 +2494,16 @@ PyDoc_STRVAR(
     "pass 12 for 12-bit frames: values above 2^bits - 1 are a ValueError, and edge-aware "
     "methods use it as full scale; float32 data in raw units of such a sensor, e.g. averaged "
     "frames: its full scale 2^bits - 1, not checked). threads: 0 all cores, 1 the calling "
-    "thread only.\n"
+    "thread only. noise_gain: the sensor's variance per unit signal in raw units (the system "
+    "gain K in DN/e-, EMVA 1288) for noise-aware methods (pan-adapt; the others ignore it); "
+    "None: estimated from the frame. Negative, NaN or infinite: ValueError.\n"
     "Returns float32 (H, W, 4) I0, I45, I90, I135 in the raw's units ((H, W, 12) R, G, B x "
     "4 analysers for colour layouts; (H/2, W/2, C) for superpixel-half), or writes into out.");
 
 PyDoc_STRVAR(
     doc_stokes,
     "stokes(raw, method=None, layout=None, bits=None, black_level=None, calibration=None, "
-    "threads=0, out=None, saturation_level=None, dead_level=None)\n--\n\n"
+    "threads=0, out=None, saturation_level=None, dead_level=None, noise_gain=None)\n--\n\n"
     "The pipeline of polarcam process: demosaic -> S0, S1, S2, DoLP, AoLP (float32 (H, W) "
     "each, the same values), through the library's front door.\n\n"
     "raw: (H, W) raw mosaic as for demosaic(), or float32 (H, W, 4) analyser images I0, I45, "
@@ -2478,7 +2511,8 @@ PyDoc_STRVAR(
     "'90,45,135,0'). black_level: raw units subtracted before demosaicking (None: 0; values "
     "below it stay negative). saturation_level, dead_level: raw units; an output pixel that "
     "depends on a sample >= saturation_level or <= dead_level is 0 in the result's valid "
-    "mask (its value is computed as any other).\n"
+    "mask (its value is computed as any other). noise_gain: as demosaic()'s (pan-adapt; raw "
+    "mosaics only).\n"
     "calibration: a Calibration, the path of a calibration file of polarcam calibrate (read "
     "for this call; load a Calibration once for many frames), or float32 (3, 4) / (3, 4, "
     "GH, GW) analyser pseudo-inverses (analyser_pinv); None: ideal analysers. A calibration "
@@ -2577,7 +2611,7 @@ static PyMethodDef module_methods[] = {
     {"analyser_pinv", py_analyser_pinv, METH_O, doc_pinv},
     {"methods", py_methods, METH_NOARGS,
      "methods()\n--\n\nThe demosaicking methods: [{name, accuracy, cost, source, monochrome, "
-     "colour, half_resolution}]."},
+     "colour, half_resolution, noise_gain}] (noise_gain: demosaic's noise_gain applies)."},
     {"_c_pipeline_seconds", KW(py_c_pipeline_seconds), METH_VARARGS | METH_KEYWORDS,
      "_c_pipeline_seconds(raw, out, method=None, layout='90,45,135,0', threads=0, "
      "repeats=1)\n--\n\nFor python/bench_polarcam.py: seconds of each of `repeats` calls of "

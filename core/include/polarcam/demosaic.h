@@ -76,11 +76,13 @@ typedef enum pc_demosaic_method {
 } pc_demosaic_method;
 
 enum pc_demosaic_flags {
-	PC_DMF_MONO = 1u << 0,          /* works on monochrome polarizer mosaics */
-	PC_DMF_COLOR = 1u << 1,         /* works on colour-polarization mosaics */
-	PC_DMF_HALF_RES = 1u << 2,      /* output is (W/2, H/2) */
-	PC_DMF_REFERENCE_ONLY = 1u << 3 /* no fast path: the double-precision reference always
-	                                 * runs (hundreds of times bilinear's time) */
+	PC_DMF_MONO = 1u << 0,           /* works on monochrome polarizer mosaics */
+	PC_DMF_COLOR = 1u << 1,          /* works on colour-polarization mosaics */
+	PC_DMF_HALF_RES = 1u << 2,       /* output is (W/2, H/2) */
+	PC_DMF_REFERENCE_ONLY = 1u << 3, /* no fast path: the double-precision reference always
+	                                  * runs (hundreds of times bilinear's time) */
+	PC_DMF_NOISE_GAIN = 1u << 4 /* uses the frame's noise gain (pc_pipeline_opts.noise_gain:
+	                             * given, or estimated from the frame) */
 };
 
 typedef struct pc_demosaic_method_info {
@@ -159,10 +161,23 @@ typedef struct pc_pipeline_opts {
 	 * the sample as a saturated one is flagged (a calibration's distrusted pixels); NULL: all
 	 * trusted. */
 	const uint8_t *trusted;
+	/* The noise model of the methods flagged PC_DMF_NOISE_GAIN (pan-adapt; the others ignore
+	 * it): the gain g of the sensor's photon-transfer curve, variance per unit signal in raw
+	 * units (DN² per DN above black, i.e. DN per unit of signal: a sample of mean s DN above
+	 * black has variance g·s plus the read noise). For a camera measured after EMVA Standard
+	 * 1288 (its photon-transfer curve, docs/calibration.md) g is the system gain K in DN/e⁻
+	 * at the settings in use, in the raw's units (a 12-bit raw in a 16-bit container shifted
+	 * left by 4 has 16·K). No read noise is given: pan-adapt's shrinkage takes the dark
+	 * floor as g times its δ (docs/demosaicking.md, Round 15b). > 0: given; 0: estimated from
+	 * each frame (pc_demosaic_noise_gain; the default). Negative, NaN or infinite: PC_EINVAL.
+	 * The per-pixel correction (dark, gain_inv) does not rescale it. */
+	double noise_gain;
 } pc_pipeline_opts;
 
 /* Bilinear on Sony's IMX250MZR mosaic, default threads, fast paths, full scale from the format,
- * no black level, no saturation or dead checks, ideal analysers. */
+ * no black level, no saturation or dead checks, ideal analysers, noise gain estimated. A struct
+ * initialised to zero and given a method and a mosaic means the same (fields added later keep
+ * 0 as "as before"). */
 PC_API pc_pipeline_opts pc_pipeline_defaults(void);
 
 /* Which output pixels are valid. mask: NULL (only the count is wanted) or the output size in
@@ -191,8 +206,20 @@ PC_API int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, con
  * view of 0 = good, 1 = bad with saturation_level 1 gives the mask of the method's support). */
 PC_API int pc_validity_run(const pc_view *raw, const pc_pipeline_opts *opts, pc_validity *valid);
 
+/* The noise gain g (pc_pipeline_opts.noise_gain's units) that the methods flagged
+ * PC_DMF_NOISE_GAIN estimate from a frame when none is given: the median of the squared
+ * residuals of same-channel samples one mosaic period apart, over a fixed grid of at most 65536
+ * samples (docs/demosaicking.md, Round 14), on the raw minus the black level after the per-pixel
+ * correction of opts (dark, gain_inv). Any mosaic. The identical value pc_demosaic_run uses.
+ * Textured frames overestimate it, noise-free ones give about 0; 0 for frames too small to have
+ * an interior sample. opts->noise_gain is not used; the raw and the other options (the method
+ * must suit the mosaic) are validated as by pc_demosaic_run. */
+PC_API int pc_demosaic_noise_gain(const pc_view *raw, const pc_pipeline_opts *opts, double *g);
+
 /* pc_demosaic_run with method, mosaic m, and opts' threads, reference and full scale (opts may
- * be NULL): no black level, no validity. */
+ * be NULL): no black level, no validity, the noise gain estimated. (New options go to
+ * pc_pipeline_opts only: callers initialise pc_demosaic_opts positionally, and a new member
+ * would break their builds under -Werror=missing-field-initializers.) */
 PC_API int pc_demosaic(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method method,
                        const pc_demosaic_opts *opts, const pc_fplane *out);
 

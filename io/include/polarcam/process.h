@@ -68,6 +68,7 @@ typedef struct pc_process_opts {
 	double dead_level;         /* samples <= it are dead; 0: not checked */
 	uint32_t roi_x, roi_y;     /* the frame's ROI origin on the sensor (for stage checks) */
 	const pc_raw_stage *stage; /* NULL: the front door with the levels above */
+	double noise_gain;         /* pc_pipeline_opts.noise_gain (0: estimated from each frame) */
 } pc_process_opts;
 
 /* The saturation level that pc_process_file and pc_demosaic_file check for o and a raw of the
@@ -82,6 +83,11 @@ typedef struct pc_demosaic_file_report {
 	double saturation_level;          /* checked (0: none) */
 	uint64_t n_invalid;               /* output pixels depending on a saturated/dead sample */
 	char valid_path[4096];            /* the mask written ("" when no level was checked) */
+	/* a method flagged PC_DMF_NOISE_GAIN (polarcam/demosaic.h): the noise gain it used (raw
+	 * units), o->noise_gain when given (noise_gain_given), else its estimate from
+	 * the frame (pc_demosaic_noise_gain); other methods: 0 and false */
+	double noise_gain;
+	bool noise_gain_given;
 } pc_demosaic_file_report;
 
 /* Raw file → analyser images (H, W, 4), or (H, W, 12) for colour-polarization mosaics, float32
