@@ -1941,13 +1941,15 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	                           chroma = {pc_dm_pan_chroma_ref, pc_dm_pan_chroma_fast},
 	                           dir = {pc_dm_pan_dir_ref, pc_dm_pan_dir_fast},
 	                           side = {pc_dm_pan_side_ref, pc_dm_pan_side_fast},
-	                           adapt = {pc_dm_pan_adapt_ref, pc_dm_pan_adapt_fast};
+	                           adapt = {pc_dm_pan_adapt_ref, pc_dm_pan_adapt_fast},
+	                           guard = {pc_dm_pan_guard_ref, pc_dm_pan_guard_fast};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma
 	       : m == PC_DM_PAN_DIR    ? &dir
 	       : m == PC_DM_PAN_SIDE   ? &side
 	       : m == PC_DM_PAN_ADAPT  ? &adapt
+	       : m == PC_DM_PAN_GUARD  ? &guard
 	                               : NULL;
 }
 

@@ -64,6 +64,36 @@ int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out);
 
+/* pan-guard (docs/demosaicking.md, Round 15): a base pan estimate (pan-adapt's or pan-side's)
+ * blended per colour with bayer-first's where a leave-one-out check on the colour's own
+ * samples finds the pan ratio model locally less predictive than plain interpolation
+ * (demosaic_pan_guard.c states the formulas). Every constant of the definition is one of
+ * these. */
+#define PC_DM_PAN_GUARD_BASE  1    /* the base estimate: 1 pan-adapt, 0 pan-side */
+#define PC_DM_PAN_GUARD_R     1    /* the error window's radius in lattice steps (4 pixels) */
+#define PC_DM_PAN_GUARD_GAMMA 1.0  /* γ, the weights' exponent */
+#define PC_DM_PAN_GUARD_FLOOR 1e-4 /* the error sums' floor, (fraction of full scale)² */
+
+typedef struct pc_dm_pan_guard_params {
+	int base;     /* PC_DM_PAN_GUARD_BASE */
+	int r;        /* PC_DM_PAN_GUARD_R, 0..4 */
+	double gamma; /* PC_DM_PAN_GUARD_GAMMA, > 0 */
+	double floor; /* PC_DM_PAN_GUARD_FLOOR, >= 0 */
+	double force; /* < 0: the weights computed (the method); in [0, 1]: every weight set to
+	               * it (tests: 1 is the base, 0 bayer-first) */
+} pc_dm_pan_guard_params;
+
+pc_dm_pan_guard_params pc_dm_pan_guard_defaults(void);
+
+/* pan-guard's double reference (pc_dm_pan_guard_defaults) and the same with other parameters;
+ * PC_EINVAL for parameters out of range. The fast path is for now the reference. */
+int pc_dm_pan_guard_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                        const pc_fplane *out);
+int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                             double fs, const pc_dm_pan_guard_params *p, const pc_fplane *out);
+int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                         pc_cpu_level level, const pc_fplane *out);
+
 /* pan-dir's double reference and fast path (the same arguments). */
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                       const pc_fplane *out);

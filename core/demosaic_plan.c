@@ -64,6 +64,12 @@
  * the frame's noise gain (demosaic_noise.h) every output depends a little on the whole frame. */
 #define PAN_ADAPT_LO -9
 #define PAN_ADAPT_HI 9
+/* pan-guard ±16, for a given noise gain: a pixel's weights read the blocks with corners within
+ * −4 .. +3 of it, their error windows the blocks ±4r (r = 1) further, each block's check the
+ * samples ±4 (+1) around it and P̃ the raw's ±2 (±14 inside, the mirror's two more); its base
+ * pan-adapt's ±9 lies inside */
+#define PAN_GUARD_LO -16
+#define PAN_GUARD_HI 16
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
@@ -531,6 +537,22 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          false,
                          PC_DM_PAN_ADAPT,
                          false},
+    [PC_DM_PAN_GUARD] = {{PC_DM_PAN_GUARD, "pan-guard",
+                          "colour-polarization: pan-adapt blended per colour towards "
+                          "bayer-first where a leave-one-out check on the colour's own samples "
+                          "finds the pan ratio model locally less predictive than plain "
+                          "interpolation; accuracy: docs/demosaicking.md, Round 15",
+                          "for now the double reference (fast path: see guardfast17)",
+                          "ours (docs/demosaicking.md, Round 15): pan-adapt and bayer-first "
+                          "combined by their local leave-one-out errors (Bates & Granger, "
+                          "Operational Research Quarterly 20(4) 1969)",
+                          PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                         {PAN_GUARD_LO, PAN_GUARD_HI, 1, 1},
+                         NULL,
+                         NULL,
+                         false,
+                         PC_DM_PAN_GUARD,
+                         false},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
@@ -588,7 +610,7 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 		    PC_EINVAL,
 		    "method %s works on monochrome polarizer mosaics only; "
 		    "this mosaic has a colour filter (try pan-guided, "
-		    "pan-side, pan-adapt, pan-chroma, pan-dir, pan-fact, pan-ratio, bayer-first or "
+		    "pan-side, pan-adapt, pan-guard, pan-chroma, pan-dir, pan-fact, pan-ratio, bayer-first or "
 		    "bayer-eari)",
 		    mi->name);
 	if (!colour && !(mi->flags & PC_DMF_MONO))

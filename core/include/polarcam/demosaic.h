@@ -70,6 +70,8 @@ typedef enum pc_demosaic_method {
 	                    * hue (ours) */
 	PC_DM_PAN_ADAPT,   /* colour only: pan-side with a signal-relative range scale and a
 	                    * noise-aware ratio step (ours) */
+	PC_DM_PAN_GUARD,   /* colour only: pan-adapt blended towards bayer-first where a
+	                    * leave-one-out check finds the ratio model locally worse (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 

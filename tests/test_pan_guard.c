@@ -1,0 +1,289 @@
+/* pan-guard (core/demosaic_pan_guard.c, docs/demosaicking.md Round 15): its guard against
+ * independent values.
+ *  - Forced weights: every weight 1 gives the base (pan-adapt's double reference) bit for bit,
+ *    every weight 0 bayer-first's double reference through the front door bit for bit.
+ *  - The blend is convex: on a random texture (where the two estimates differ everywhere) every
+ *    output lies between the two estimates, within the float rounding of the blend (weights
+ *    outside [0, 1] or not finite would leave that interval).
+ *  - Where the two estimates coincide (a uniform colour and polarization: both exact) the output
+ *    equals them.
+ *  - A grey, hue-free texture (smooth, periods 11–23 px, uniform polarization) where the ratio
+ *    model holds: the guard keeps the base (effective weight, the least-squares W of
+ *    out − I_b on I_p − I_b, at least 0.8 for every colour) and its error stays within 10 % of
+ *    the base's, below bayer-first's.
+ *  - A hue grating below the red and blue lattices' Nyquist period (red/lime stripes of period
+ *    6 px, high P0 contrast: Round 13c's `curved` case) against its known truth: the guard moves
+ *    red and blue towards bayer-first (effective weight below 0.5) and its error is at most the
+ *    worse of the two estimates'.
+ *  - The front door runs it (reference and default path, while the fast path is the
+ *    reference) and finds it by name. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/demosaic_pan.h"
+#include "check.h"
+#include "polarcam/demosaic.h"
+#include "polarcam/mosaic.h"
+
+#define PC_TEST_SEED 0x5eed15a8a2dull
+#include "xorshift.h"
+
+static float *alloc_planes(uint32_t w, uint32_t h, pc_fplane *p)
+{
+	float *buf = malloc(sizeof(float) * (size_t)w * h * 12);
+	pc_fplanes_separate(buf, w, h, 12, p);
+	return buf;
+}
+
+/* a scene: truth[q][y·w + x] for the twelve channels, the raw its own channel's sample */
+typedef double (*truth_fn)(unsigned k, unsigned c, double x, double y);
+
+static void make_raw(truth_fn f, const pc_mosaic *m, uint32_t w, uint32_t h, double *img,
+                     double *truth)
+{
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++) {
+			for (unsigned q = 0; q < 12; q++)
+				truth[(size_t)q * w * h + (size_t)y * w + x] = f(q / 4, q % 4, x, y);
+			unsigned k = pc_mosaic_color(m, x, y) - PC_CFA_R, c = pc_mosaic_channel(m, x, y);
+			img[(size_t)y * w + x] = f(k, c, x, y);
+		}
+}
+
+/* polarization: DoLP 0.4, AoLP 0.5 rad, analyser c at c·45° */
+static double pol(unsigned c)
+{
+	return 1 + 0.4 * cos(2 * (c * M_PI / 4 - 0.5));
+}
+
+static double f_uniform(unsigned k, unsigned c, double x, double y)
+{
+	(void)x;
+	(void)y;
+	static const double col[3] = {900, 1500, 600};
+	return col[k] * pol(c);
+}
+
+static double f_grey(unsigned k, unsigned c, double x, double y)
+{
+	static const double col[3] = {0.8, 1.0, 0.7};
+	double t = 1 + 0.5 * sin(2 * M_PI * x / 13.0) * cos(2 * M_PI * y / 17.0) +
+	           0.3 * sin(2 * M_PI * (x + y) / 23.0 + 1) + 0.2 * cos(2 * M_PI * (x - y) / 11.0);
+	return 1200 * col[k] * t * pol(c);
+}
+
+/* red/lime stripes along x, period 6 px (3 + 3) */
+static double f_grating(unsigned k, unsigned c, double x, double y)
+{
+	(void)y;
+	static const double red[3] = {1.0, 0.2, 0.1}, lime[3] = {0.2, 1.0, 0.1};
+	int ph = ((int)x % 6) < 3;
+	return 2000 * (ph ? red[k] : lime[k]) * pol(c);
+}
+
+/* error and effective weight per colour over the interior (B from the borders) */
+typedef struct colour_stats {
+	double rms_out[3], rms_p[3], rms_b[3], weff[3];
+} colour_stats;
+
+static colour_stats stats(const float *out, const float *ip, const float *ib, const double *truth,
+                          uint32_t w, uint32_t h, uint32_t B)
+{
+	colour_stats s;
+	for (unsigned k = 0; k < 3; k++) {
+		double eo = 0, ep = 0, eb = 0, num = 0, den = 0, n = 0;
+		for (unsigned c = 0; c < 4; c++) {
+			size_t q = (size_t)(4 * k + c) * w * h;
+			for (uint32_t y = B; y < h - B; y++)
+				for (uint32_t x = B; x < w - B; x++) {
+					size_t i = q + (size_t)y * w + x;
+					double t = truth[i];
+					eo += (out[i] - t) * (out[i] - t);
+					ep += (ip[i] - t) * (ip[i] - t);
+					eb += (ib[i] - t) * (ib[i] - t);
+					num += ((double)out[i] - ib[i]) * ((double)ip[i] - ib[i]);
+					den += ((double)ip[i] - ib[i]) * ((double)ip[i] - ib[i]);
+					n++;
+				}
+		}
+		s.rms_out[k] = sqrt(eo / n);
+		s.rms_p[k] = sqrt(ep / n);
+		s.rms_b[k] = sqrt(eb / n);
+		s.weff[k] = den > 0 ? num / den : 1;
+	}
+	return s;
+}
+
+/* runs the guard, its base (weights forced to 1) and bayer-first (forced to 0) */
+static void run3(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, float *out,
+                 float *ip, float *ib)
+{
+	pc_fplane a[12], b[12], c[12];
+	pc_fplanes_separate(out, w, h, 12, a);
+	pc_fplanes_separate(ip, w, h, 12, b);
+	pc_fplanes_separate(ib, w, h, 12, c);
+	pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+	CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, w, h, m, 4095, &p, a), 0);
+	p.force = 1;
+	CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, w, h, m, 4095, &p, b), 0);
+	p.force = 0;
+	CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, w, h, m, 4095, &p, c), 0);
+}
+
+/* forced weights: the base and bayer-first bit for bit */
+static void test_forced(void)
+{
+	const uint32_t W = 48, H = 40;
+	const pc_mosaic base = pc_mosaic_imx250myr();
+	double *img = malloc(sizeof(double) * W * H);
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0), 0);
+	pc_fplane a[12], b[12];
+	float *ab = alloc_planes(W, H, a), *bb = alloc_planes(W, H, b);
+	const size_t bytes = sizeof(float) * W * H * 12;
+	for (unsigned ph = 0; ph < 16; ph += 5) {
+		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+		for (uint32_t y = 0; y < H; y++)
+			for (uint32_t x = 0; x < W; x++) {
+				uint16_t v = (uint16_t)(300 + 3000 * urand());
+				PC_ROW(&raw, uint16_t, y)[x] = v;
+				img[y * W + x] = v;
+			}
+		pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+		p.force = 1;
+		CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, 4095, &p, a), 0);
+		if (PC_DM_PAN_GUARD_BASE)
+			CHECK_EQ_INT(pc_dm_pan_adapt_ref(img, W, H, &m, 4095, b), 0);
+		else
+			CHECK_EQ_INT(pc_dm_pan_side_ref(img, W, H, &m, 4095, b), 0);
+		CHECK(memcmp(ab, bb, bytes) == 0);
+		p.force = 0;
+		CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, 4095, &p, a), 0);
+		pc_demosaic_opts ref = {0, true, 0};
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BAYER_FIRST, &ref, b), 0);
+		CHECK(memcmp(ab, bb, bytes) == 0);
+	}
+	free(ab);
+	free(bb);
+	free(img);
+	pc_view_free(&raw);
+}
+
+/* convexity on a random texture, and equality where both estimates are exact */
+static void test_convex(void)
+{
+	const uint32_t W = 64, H = 48;
+	const size_t n = (size_t)W * H * 12;
+	const pc_mosaic m = pc_mosaic_imx250myr();
+	double *img = malloc(sizeof(double) * W * H), *truth = malloc(sizeof(double) * n);
+	float *out = malloc(sizeof(float) * n), *ip = malloc(sizeof(float) * n),
+	      *ib = malloc(sizeof(float) * n);
+	for (size_t i = 0; i < (size_t)W * H; i++)
+		img[i] = fmax(1800 + 700 * nrand(), 0);
+	run3(img, W, H, &m, out, ip, ib);
+	size_t outside = 0, differ = 0;
+	for (size_t i = 0; i < n; i++) {
+		double lo = fmin(ip[i], ib[i]), hi = fmax(ip[i], ib[i]), tol = 1e-6 * (hi + 1);
+		outside += !(out[i] >= lo - tol && out[i] <= hi + tol);
+		differ += hi - lo > 1;
+	}
+	printf("  random texture: %zu of %zu outputs where the estimates differ by > 1 DN, %zu "
+	       "outside them\n",
+	       differ, n, outside);
+	CHECK(differ > n / 2);
+	CHECK(outside == 0);
+	/* uniform colour and polarization: both estimates exact, so the output */
+	make_raw(f_uniform, &m, W, H, img, truth);
+	run3(img, W, H, &m, out, ip, ib);
+	double worst = 0;
+	for (size_t i = 0; i < n; i++)
+		worst = fmax(worst, fabs(out[i] - truth[i]) / truth[i]);
+	printf("  uniform colour and polarization: max relative error %.2g\n", worst);
+	CHECK(worst <= 1e-6);
+	free(img);
+	free(truth);
+	free(out);
+	free(ip);
+	free(ib);
+}
+
+/* the grey texture keeps the base; the sub-Nyquist hue grating moves towards bayer-first */
+static void test_guard(void)
+{
+	const uint32_t W = 96, H = 64, B = 16;
+	const size_t n = (size_t)W * H * 12;
+	const pc_mosaic base = pc_mosaic_imx250myr();
+	double *img = malloc(sizeof(double) * W * H), *truth = malloc(sizeof(double) * n);
+	float *out = malloc(sizeof(float) * n), *ip = malloc(sizeof(float) * n),
+	      *ib = malloc(sizeof(float) * n);
+	static const char *const cn = "RGB";
+	for (unsigned ph = 0; ph < 16; ph += 5) {
+		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+		make_raw(f_grey, &m, W, H, img, truth);
+		run3(img, W, H, &m, out, ip, ib);
+		colour_stats s = stats(out, ip, ib, truth, W, H, B);
+		for (unsigned k = 0; k < 3; k++) {
+			printf("  grey texture, phase %2u, %c: rms guard %.2f, base %.2f, bayer-first "
+			       "%.2f DN, effective weight %.3f\n",
+			       ph, cn[k], s.rms_out[k], s.rms_p[k], s.rms_b[k], s.weff[k]);
+			CHECK(s.weff[k] >= 0.8);
+			CHECK(s.rms_out[k] <= 1.1 * s.rms_p[k]);
+			CHECK(s.rms_out[k] < s.rms_b[k]);
+		}
+		make_raw(f_grating, &m, W, H, img, truth);
+		run3(img, W, H, &m, out, ip, ib);
+		s = stats(out, ip, ib, truth, W, H, B);
+		for (unsigned k = 0; k < 3; k++) {
+			printf("  red/lime grating (6 px), phase %2u, %c: rms guard %.2f, base %.2f, "
+			       "bayer-first %.2f DN, effective weight %.3f\n",
+			       ph, cn[k], s.rms_out[k], s.rms_p[k], s.rms_b[k], s.weff[k]);
+			CHECK(s.rms_out[k] <= fmax(s.rms_p[k], s.rms_b[k]));
+			if (k != 1)
+				CHECK(s.weff[k] < 0.5);
+		}
+	}
+	free(img);
+	free(truth);
+	free(out);
+	free(ip);
+	free(ib);
+}
+
+/* pan-guard through the front door: reference and default path on a small frame */
+static void test_front(void)
+{
+	const uint32_t W = 34, H = 20;
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0), 0);
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++)
+			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)(600 + 800 * urand());
+	pc_fplane a[12], b[12];
+	float *ab = alloc_planes(W, H, a), *bb = alloc_planes(W, H, b);
+	pc_mosaic m = pc_mosaic_imx250myr();
+	pc_demosaic_opts ref = {0, true, 0};
+	CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_PAN_GUARD, &ref, a), 0);
+	CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_PAN_GUARD, NULL, b), 0);
+	double worst = 0;
+	for (size_t i = 0; i < (size_t)W * H * 12; i++)
+		worst = fmax(worst, fabs(ab[i] - bb[i]));
+	printf("  front door 34x20: max |default - reference| %.3g DN\n", worst);
+	CHECK(worst <= 1e-5 * 4095);
+	pc_demosaic_method md;
+	CHECK_EQ_INT(pc_demosaic_method_from_name("pan-guard", &md), 0);
+	CHECK(md == PC_DM_PAN_GUARD);
+	free(ab);
+	free(bb);
+	pc_view_free(&raw);
+}
+
+int main(void)
+{
+	test_forced();
+	test_convex();
+	test_guard();
+	test_front();
+	return pc_test_finish("test_pan_guard");
+}
