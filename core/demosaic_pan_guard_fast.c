@@ -1,0 +1,337 @@
+/* pan-guard's float fast path (docs/demosaicking.md, "Round 15 fast path: pan-guard"): the
+ * definition is pc_dm_pan_guard_ref_with's (demosaic_pan_guard.c, its comment states it); the
+ * same steps in float, on whole-frame buffers:
+ *
+ *  1. the base I_p straight into the output planes (pan-adapt's or pan-side's fast path, with
+ *     its base, AVX2 and AVX-512 instances), the conservative estimate I_b into twelve scratch
+ *     planes (bayer-first's fast path: pc_dm_color_split, then pc_dm_bilinear per colour);
+ *  2. the mirror-extended raw E, P̃ = max(P0, 0) + δ (pan-ratio's 5×5 PPI, separable: on
+ *     integer raws every partial sum is an integer below 2^24, so exact) and the ratio
+ *     ρ = (max(E, 0) + δ)/P̃ on the extended grid;
+ *  3. per 2×2 block the leave-one-out errors e_b, e_p, their window sums over the colour's own
+ *     blocks (red and blue on one block lattice, green on two, the diagonal one with 2r
+ *     blocks a side), and the weight w = 1/(1 + ((E_p + F)/(E_b + F))^γ) — the reference's
+ *     (E_b + F)^γ/((E_b + F)^γ + (E_p + F)^γ) rearranged so that no power overflows a float;
+ *  4. per pixel and colour the tent-interpolated W_k and the blend, in place in the outputs.
+ *
+ * Rows of blocks and of pixels run in bands on threads (pc_parallel_rows). */
+#include "demosaic_pan.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "demosaic_color.h"
+#include "demosaic_fast.h"
+#include "polarcam/error.h"
+#include "polarcam/parallel.h"
+
+typedef struct guard_fast {
+	uint32_t w, h;
+	int XB, M, W; /* blocks' margin; the extended grid [−M, w + M) × [−M, h + M), row W */
+	int NBX, NBY; /* blocks: (i, j) has its corner at (2i − XB, 2j − XB) */
+	unsigned kc[4][4]; /* colour (0 R, 1 G, 2 B) at column phase u, row phase v: kc[v][u] */
+	float delta, fl;   /* δ; the floor F = (floor·FS)² */
+	int r, mode;
+	double gamma;
+	int gi;                /* γ as an integer when it is one (powers by squaring), else 0 */
+	float force;           /* < 0: the weights computed */
+	const float *img;      /* the raw minus black, w × h */
+	float *ext, *pt, *rho; /* E, P̃, ρ on the extended grid */
+	float *eb, *ep, *wb;   /* per block */
+	const float *ib;       /* I_b: twelve w × h planes */
+	const pc_fplane *out;  /* I_p in, the result out */
+} guard_fast;
+
+static size_t gf_idx(const guard_fast *g, int x, int y)
+{
+	return (size_t)(y + g->M) * (size_t)g->W + (size_t)(x + g->M);
+}
+
+static unsigned gf_colour(const guard_fast *g, int x, int y)
+{
+	return g->kc[y & 3][x & 3];
+}
+
+/* E on rows [y0, y1) of the extended grid (in grid rows, 0 = row −M): the raw at the
+ * pc_mirror4 positions (the phase kept) */
+static void gf_ext_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	guard_fast *g = ctx;
+	for (uint32_t j = y0; j < y1; j++) {
+		const int y = (int)j - g->M;
+		const float *src = g->img + (size_t)pc_mirror4(y, (int)g->h) * g->w;
+		float *d = g->ext + (size_t)j * (size_t)g->W;
+		for (int x = -g->M; x < (int)g->w + g->M; x++)
+			d[x + g->M] = src[pc_mirror4(x, (int)g->w)];
+	}
+}
+
+/* P̃ and ρ on grid rows [y0, y1) inside the grid's two-sample border (P0 = Σ m_i m_j E / 64,
+ * m = [1 2 2 2 1]: the vertical sums, kept in the row of ρ until P̃ is done, then the horizontal
+ * ones) */
+static void gf_ppi_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	guard_fast *g = ctx;
+	const int W = g->W;
+	const uint32_t ny = g->h + 2 * (uint32_t)g->M;
+	for (uint32_t j = y0; j < y1; j++) {
+		if (j < 2 || j + 2 >= ny)
+			continue;
+		const float *e[5];
+		for (int k = 0; k < 5; k++)
+			e[k] = g->ext + (size_t)(j + (uint32_t)k - 2) * (size_t)W;
+		float *pt = g->pt + (size_t)j * (size_t)W, *vs = g->rho + (size_t)j * (size_t)W;
+		for (int x = 0; x < W; x++)
+			vs[x] = (e[0][x] + e[4][x]) + 2.0f * ((e[1][x] + e[2][x]) + e[3][x]);
+		for (int x = 2; x < W - 2; x++) {
+			float p0 =
+			    ((vs[x - 2] + vs[x + 2]) + 2.0f * ((vs[x - 1] + vs[x]) + vs[x + 1])) *
+			    (1.0f / 64);
+			pt[x] = fmaxf(p0, 0.0f) + g->delta;
+		}
+		for (int x = 2; x < W - 2; x++)
+			vs[x] = (fmaxf(e[2][x], 0.0f) + g->delta) / pt[x];
+	}
+}
+
+/* the leave-one-out errors of block rows [j0, j1) */
+static void gf_err_rows(void *ctx, uint32_t j0, uint32_t j1)
+{
+	guard_fast *g = ctx;
+	static const int nrb[4][2] = {{-4, 0}, {4, 0}, {0, -4}, {0, 4}},
+	                 ngr[4][2] = {{-2, -2}, {2, -2}, {-2, 2}, {2, 2}};
+	for (uint32_t j = j0; j < j1; j++)
+		for (int i = 0; i < g->NBX; i++) {
+			const int bx = 2 * i - g->XB, by = 2 * (int)j - g->XB;
+			const int(*nbr)[2] = gf_colour(g, bx, by) == 1 ? ngr : nrb;
+			float sb = 0, sp = 0;
+			for (int o = 0; o < 4; o++) {
+				const int sx = bx + (o & 1), sy = by + (o >> 1);
+				float mb = 0, mr = 0;
+				for (int t = 0; t < 4; t++) {
+					const size_t a = gf_idx(g, sx + nbr[t][0], sy + nbr[t][1]);
+					mb += g->ext[a];
+					mr += g->rho[a];
+				}
+				const size_t a = gf_idx(g, sx, sy);
+				const float v = g->ext[a], xb = mb * 0.25f,
+				            xp = g->pt[a] * (mr * 0.25f) - g->delta;
+				sb += (v - xb) * (v - xb);
+				sp += (v - xp) * (v - xp);
+			}
+			g->eb[(size_t)j * (size_t)g->NBX + (size_t)i] = sb;
+			g->ep[(size_t)j * (size_t)g->NBX + (size_t)i] = sp;
+		}
+}
+
+/* t^γ: by squaring for an integer γ, else powf */
+static float gf_pow(const guard_fast *g, float t)
+{
+	if (!g->gi)
+		return powf(t, (float)g->gamma);
+	float r = 1, b = t;
+	for (int e = g->gi; e; e >>= 1) {
+		if (e & 1)
+			r *= b;
+		b *= b;
+	}
+	return r;
+}
+
+/* the window sums and weights of block rows [j0, j1): the blocks of the own colour within ±2r
+ * block steps, on the own lattice (the same parities) and, for green, the diagonal one */
+static void gf_weight_rows(void *ctx, uint32_t j0, uint32_t j1)
+{
+	guard_fast *g = ctx;
+	const int rb = 2 * g->r;
+	for (uint32_t ju = j0; ju < j1; ju++) {
+		const int j = (int)ju;
+		for (int i = 0; i < g->NBX; i++) {
+			const int green = gf_colour(g, 2 * i - g->XB, 2 * j - g->XB) == 1;
+			float sb = 0, sp = 0;
+			for (int l = 0; l < (green ? 2 : 1); l++) {
+				/* lattice l: offsets of parity l, |offset| <= rb */
+				const int lo = -rb + l, hi = rb - l;
+				for (int dj = lo; dj <= hi; dj += 2) {
+					const int jj = j + dj;
+					if (jj < 0 || jj >= g->NBY)
+						continue;
+					for (int di = lo; di <= hi; di += 2) {
+						const int ii = i + di;
+						if (ii < 0 || ii >= g->NBX)
+							continue;
+						const size_t a =
+						    (size_t)jj * (size_t)g->NBX + (size_t)ii;
+						sb += g->eb[a];
+						sp += g->ep[a];
+					}
+				}
+			}
+			/* (E_b + F)^γ / ((E_b + F)^γ + (E_p + F)^γ) = 1/(1 + q^γ), q = (E_p +
+			 * F)/(E_b + F); 1 where both are 0 (the reference's 0/0 rule), 0 where only
+			 * E_b + F is */
+			const float ab = sb + g->fl, ap = sp + g->fl;
+			float wgt;
+			if (ab > 0)
+				wgt = 1.0f / (1.0f + gf_pow(g, ap / ab));
+			else
+				wgt = ap > 0 ? 0.0f : 1.0f;
+			g->wb[(size_t)j * (size_t)g->NBX + (size_t)i] = wgt;
+		}
+	}
+}
+
+/* output rows [y0, y1): W_k per pixel (the tents on the block centres, both green lattices
+ * summed) and the blend, in place */
+static void gf_blend_rows(void *ctx, uint32_t y0, uint32_t y1)
+{
+	guard_fast *g = ctx;
+	const size_t n = (size_t)g->w * g->h;
+	for (uint32_t yu = y0; yu < y1; yu++) {
+		const int y = (int)yu;
+		for (int x = 0; x < (int)g->w; x++) {
+			float num[3] = {0, 0, 0}, den[3] = {0, 0, 0};
+			for (int by = (y - 3) & ~1; by <= y + 3; by += 2)
+				for (int bx = (x - 3) & ~1; bx <= x + 3; bx += 2) {
+					const int dx2 = 2 * (bx - x) + 1, dy2 = 2 * (by - y) + 1;
+					if (abs(dx2) >= 8 || abs(dy2) >= 8)
+						continue;
+					const float t = (float)((8 - abs(dx2)) * (8 - abs(dy2)));
+					const unsigned k = gf_colour(g, bx, by);
+					num[k] +=
+					    t * g->wb[(size_t)((by + g->XB) / 2) * (size_t)g->NBX +
+					              (size_t)((bx + g->XB) / 2)];
+					den[k] += t;
+				}
+			const size_t a = (size_t)y * g->w + (size_t)x;
+			for (unsigned k = 0; k < 3; k++) {
+				const float wk = g->force >= 0 ? g->force : num[k] / den[k];
+				float *d[4], vp[4], vb[4];
+				for (unsigned c = 0; c < 4; c++) {
+					const pc_fplane *o = &g->out[4 * k + c];
+					d[c] = o->data + (size_t)y * o->row_stride +
+					       (size_t)x * o->pixel_stride;
+					vp[c] = *d[c];
+					vb[c] = g->ib[(size_t)(4 * k + c) * n + a];
+				}
+				if (g->mode) {
+					const float s_p =
+					                (((vp[0] + vp[1]) + vp[2]) + vp[3]) * 0.25f,
+					            s_b =
+					                (((vb[0] + vb[1]) + vb[2]) + vb[3]) * 0.25f,
+					            f = (1 - wk) * (s_b - s_p) /
+					                (fmaxf(s_p, 0) + g->delta);
+					for (unsigned c = 0; c < 4; c++)
+						*d[c] = vp[c] + f * (fmaxf(vp[c], 0) + g->delta);
+				} else {
+					for (unsigned c = 0; c < 4; c++)
+						*d[c] = wk * vp[c] + (1 - wk) * vb[c];
+				}
+			}
+		}
+	}
+}
+
+/* The fast path with the definition's parameters as arguments (mode: 0 every channel
+ * blended, 1 the colour's analyser mean) */
+static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                  pc_cpu_level level, int base, int r, double gamma, double floor, int mode,
+                  double force, const pc_fplane *out)
+{
+	const uint32_t w = in->width, h = in->height;
+	const size_t n = (size_t)w * h;
+	guard_fast g;
+	memset(&g, 0, sizeof g);
+	g.w = w;
+	g.h = h;
+	g.XB = 4 + 4 * r;
+	g.M = g.XB + 6 + 2; /* the samples' ±(XB + 5), P̃'s two more */
+	g.W = (int)w + 2 * g.M;
+	g.NBX = ((int)w + 2 * g.XB) / 2;
+	g.NBY = ((int)h + 2 * g.XB) / 2;
+	for (unsigned v = 0; v < 4; v++)
+		for (unsigned u = 0; u < 4; u++)
+			g.kc[v][u] = (unsigned)(pc_mosaic_color(m, u, v) - PC_CFA_R);
+	g.delta = (float)(PC_DM_PAN_ADAPT_DFS * fs);
+	g.fl = (float)((floor * fs) * (floor * fs));
+	g.r = r;
+	g.mode = mode;
+	g.gamma = gamma;
+	g.gi = gamma >= 1 && gamma <= 64 && gamma == (double)(int)gamma ? (int)gamma : 0;
+	g.force = (float)force;
+	g.out = out;
+	const size_t ne = (size_t)g.W * (size_t)((int)h + 2 * g.M),
+	             nb = (size_t)g.NBX * (size_t)g.NBY;
+	float *img = pc_dm_alloc(sizeof(float) * (n + 2));
+	float *ib = pc_dm_alloc(sizeof(float) * n * 12);
+	float *eb = pc_dm_alloc(sizeof(float) * (3 * ne + 3 * nb));
+	float *mk = pc_dm_alloc(sizeof(float) * n * 3);
+	float *row = pc_dm_alloc(sizeof(float) * ((size_t)w + 2));
+	int rc = 0;
+	if (!img || !ib || !eb || !mk || !row) {
+		rc = pc_error(PC_ENOMEM, "pan-guard: images of %ux%u", w, h);
+		goto done;
+	}
+	for (uint32_t y = 0; y < h; y++) {
+		pc_dm_row_to_float(in, y, row + 1);
+		memcpy(img + (size_t)y * w, row + 1, sizeof(float) * w);
+	}
+	/* 1. the base into the outputs, bayer-first into ib */
+	rc = base ? pc_dm_pan_adapt_fast(in, m, fs, threads, level, out)
+	          : pc_dm_pan_side_fast(in, m, fs, threads, level, out);
+	float *mf[3] = {mk, mk + n, mk + 2 * n};
+	if (!rc)
+		rc = pc_dm_color_split(img, w, h, m, threads, mf);
+	const pc_mosaic mono = pc_dm_color_mono(m);
+	for (unsigned k = 0; k < 3 && !rc; k++) {
+		pc_dm_input ik = pc_dm_input_f32(mf[k], w, h);
+		pc_dm_call c = {&ik, &mono, PC_DM_BILINEAR, fs, threads, level};
+		pc_fplane pl[4];
+		for (unsigned q = 0; q < 4; q++)
+			pl[q] = (pc_fplane){ib + (size_t)(4 * k + q) * n, w, 1};
+		rc = pc_dm_bilinear(&c, pl);
+	}
+	if (rc)
+		goto done;
+	g.img = img;
+	g.ib = ib;
+	g.ext = eb;
+	g.pt = eb + ne;
+	g.rho = eb + 2 * ne;
+	g.eb = eb + 3 * ne;
+	g.ep = g.eb + nb;
+	g.wb = g.ep + nb;
+	/* 2.–4. */
+	const uint32_t ny = h + 2 * (uint32_t)g.M;
+	pc_parallel_rows(ny, 0, threads, gf_ext_rows, &g);
+	pc_parallel_rows(ny, 0, threads, gf_ppi_rows, &g);
+	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_err_rows, &g);
+	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_weight_rows, &g);
+	pc_parallel_rows(h, 0, threads, gf_blend_rows, &g);
+done:
+	pc_dm_free(img);
+	pc_dm_free(ib);
+	pc_dm_free(eb);
+	pc_dm_free(mk);
+	pc_dm_free(row);
+	return rc;
+}
+
+int pc_dm_pan_guard_fast_with(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                              pc_cpu_level level, const pc_dm_pan_guard_params *p,
+                              const pc_fplane *out)
+{
+	if ((p->base != 0 && p->base != 1) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
+	    !(p->floor >= 0) || !(p->force <= 1) || !isfinite(p->force))
+		return pc_error(PC_EINVAL, "pan-guard: parameters out of range");
+	return gf_run(in, m, fs, threads, level, p->base, p->r, p->gamma, p->floor, 0, p->force,
+	              out);
+}
+
+int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                         pc_cpu_level level, const pc_fplane *out)
+{
+	pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+	return pc_dm_pan_guard_fast_with(in, m, fs, threads, level, &p, out);
+}
