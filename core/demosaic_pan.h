@@ -73,12 +73,20 @@ int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, i
 #define PC_DM_PAN_GUARD_R     1    /* the error window's radius in lattice steps (4 pixels) */
 #define PC_DM_PAN_GUARD_GAMMA 1.0  /* γ, the weights' exponent */
 #define PC_DM_PAN_GUARD_FLOOR 1e-4 /* the error sums' floor, (fraction of full scale)² */
+#define PC_DM_PAN_GUARD_MODE                                                                       \
+	1 /* 0: every channel blended; 1: each colour's analyser mean                              \
+	   * blended, the base's analyser modulation kept */
+#define PC_DM_PAN_GUARD_CONS                                                                       \
+	0 /* the conservative estimate: 0 bayer-first's, 1 every                                   \
+	   * channel's plain tents on its own samples */
 
 typedef struct pc_dm_pan_guard_params {
 	int base;     /* PC_DM_PAN_GUARD_BASE */
 	int r;        /* PC_DM_PAN_GUARD_R, 0..4 */
 	double gamma; /* PC_DM_PAN_GUARD_GAMMA, > 0 */
 	double floor; /* PC_DM_PAN_GUARD_FLOOR, >= 0 */
+	int mode;     /* PC_DM_PAN_GUARD_MODE, 0 or 1 */
+	int cons;     /* PC_DM_PAN_GUARD_CONS, 0 or 1 */
 	double force; /* < 0: the weights computed (the method); in [0, 1]: every weight set to
 	               * it (tests: 1 is the base, 0 bayer-first) */
 } pc_dm_pan_guard_params;

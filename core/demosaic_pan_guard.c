@@ -54,13 +54,18 @@
 
 pc_dm_pan_guard_params pc_dm_pan_guard_defaults(void)
 {
-	pc_dm_pan_guard_params p = {PC_DM_PAN_GUARD_BASE, PC_DM_PAN_GUARD_R, PC_DM_PAN_GUARD_GAMMA,
-	                            PC_DM_PAN_GUARD_FLOOR, -1.0};
+	pc_dm_pan_guard_params p = {PC_DM_PAN_GUARD_BASE,
+	                            PC_DM_PAN_GUARD_R,
+	                            PC_DM_PAN_GUARD_GAMMA,
+	                            PC_DM_PAN_GUARD_FLOOR,
+	                            PC_DM_PAN_GUARD_MODE,
+	                            PC_DM_PAN_GUARD_CONS,
+	                            -1.0};
 	return p;
 }
 
 typedef struct guard_ext {
-	int w, h, M, W; /* the extended images: [−M, w + M) × [−M, h + M), row W */
+	int w, h, M, W;   /* the extended images: [−M, w + M) × [−M, h + M), row W */
 	double *raw, *pt; /* the mirrored raw and P̃ = max(P0, 0) + δ */
 } guard_ext;
 
@@ -87,19 +92,46 @@ static int guard_bayer_first(const double *img, uint32_t w, uint32_t h, const pc
 	return rc;
 }
 
+/* the cheap conservative estimate: every channel q by pan-ratio's normalised tents on its own
+ * samples' values, I_q(p) = Σ T(d)·raw(p + d) / Σ T(d) over the samples of q at d in [−3, 3]²,
+ * T(d) = (4 − |d_x|)(4 − |d_y|) (green's two lattices summed), on the mirror-extended raw */
+static void guard_tents(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                        const pc_fplane *out)
+{
+	for (int y = 0; y < (int)h; y++)
+		for (int x = 0; x < (int)w; x++) {
+			double num[12] = {0}, den[12] = {0};
+			for (int dy = -3; dy <= 3; dy++)
+				for (int dx = -3; dx <= 3; dx++) {
+					uint32_t xm = (uint32_t)pc_mirror4(x + dx, (int)w),
+					         ym = (uint32_t)pc_mirror4(y + dy, (int)h);
+					unsigned q = 4 * (pc_mosaic_color(m, xm, ym) - PC_CFA_R) +
+					             pc_mosaic_channel(m, xm, ym);
+					double t = (4 - abs(dx)) * (4 - abs(dy));
+					num[q] += t * img[(size_t)ym * w + xm];
+					den[q] += t;
+				}
+			for (unsigned q = 0; q < 12; q++)
+				out[q].data[(size_t)y * out[q].row_stride +
+				            (size_t)x * out[q].pixel_stride] =
+				    (float)(num[q] / den[q]);
+		}
+}
+
 /* colour 0 R, 1 G, 2 B of extended position (x, y) */
 static unsigned guard_colour(const pc_mosaic *m, int x, int y, int w, int h)
 {
-	return (unsigned)(pc_mosaic_color(m, (uint32_t)pc_mirror4(x, w),
-	                                  (uint32_t)pc_mirror4(y, h)) -
-	                  PC_CFA_R);
+	return (
+	    unsigned)(pc_mosaic_color(m, (uint32_t)pc_mirror4(x, w), (uint32_t)pc_mirror4(y, h)) -
+	              PC_CFA_R);
 }
 
 int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
                              double fs, const pc_dm_pan_guard_params *p, const pc_fplane *out)
 {
 	if ((p->base != 0 && p->base != 1) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
-	    !(p->floor >= 0) || !(p->force <= 1) || !isfinite(p->force))
+	    !(p->floor >= 0) || (p->mode != 0 && p->mode != 1) || (p->cons != 0 && p->cons != 1) ||
+	    !(p->force <= 1) || !isfinite(p->force))
 		return pc_error(PC_EINVAL, "pan-guard: parameters out of range");
 	const size_t n = (size_t)w * h;
 	const double delta = PC_DM_PAN_ADAPT_DFS * fs;
@@ -113,8 +145,10 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	}
 	int rc = p->base ? pc_dm_pan_adapt_ref(img, w, h, m, fs, ip)
 	                 : pc_dm_pan_side_ref(img, w, h, m, fs, ip);
-	if (!rc)
+	if (!rc && p->cons == 0)
 		rc = guard_bayer_first(img, w, h, m, fs, ib);
+	else if (!rc)
+		guard_tents(img, w, h, m, ib);
 	if (rc) {
 		free(planes);
 		return rc;
@@ -185,8 +219,8 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 			for (int jj = j - rb; jj <= j + rb; jj++)
 				for (int ii = i - rb; ii <= i + rb; ii++) {
 					if (ii < 0 || jj < 0 || ii >= NBX || jj >= NBY ||
-					    guard_colour(m, 2 * ii - XB, 2 * jj - XB, (int)w, (int)h) !=
-					        k)
+					    guard_colour(m, 2 * ii - XB, 2 * jj - XB, (int)w,
+					                 (int)h) != k)
 						continue;
 					s_b += eb[(size_t)jj * NBX + ii];
 					s_p += ep[(size_t)jj * NBX + ii];
@@ -207,17 +241,29 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 						continue;
 					const double t = (8 - abs(dx2)) * (8 - abs(dy2));
 					const unsigned k = guard_colour(m, bx, by, (int)w, (int)h);
-					num[k] += t * wb[(size_t)((by + XB) / 2) * NBX + (bx + XB) / 2];
+					num[k] +=
+					    t * wb[(size_t)((by + XB) / 2) * NBX + (bx + XB) / 2];
 					den[k] += t;
 				}
-			for (unsigned q = 0; q < 12; q++) {
-				const unsigned k = q / 4;
+			const size_t a = (size_t)y * w + (size_t)x;
+			for (unsigned k = 0; k < 3; k++) {
 				const double wk = p->force >= 0 ? p->force : num[k] / den[k];
-				const size_t a = (size_t)y * w + (size_t)x;
-				const double v = wk * (double)ip[q].data[a] +
-				                 (1 - wk) * (double)ib[q].data[a];
-				out[q].data[(size_t)y * out[q].row_stride +
-				            (size_t)x * out[q].pixel_stride] = (float)v;
+				/* mode 1: the colour's analyser means s_p, s_b */
+				double s_p = 0, s_b = 0;
+				for (unsigned c = 0; c < 4; c++) {
+					s_p += (double)ip[4 * k + c].data[a] / 4;
+					s_b += (double)ib[4 * k + c].data[a] / 4;
+				}
+				for (unsigned c = 0; c < 4; c++) {
+					const unsigned q = 4 * k + c;
+					const double vp = ip[q].data[a], vb = ib[q].data[a];
+					const double v = p->mode ? vp + (1 - wk) * (s_b - s_p) *
+					                                    (fmax(vp, 0) + delta) /
+					                                    (fmax(s_p, 0) + delta)
+					                         : wk * vp + (1 - wk) * vb;
+					out[q].data[(size_t)y * out[q].row_stride +
+					            (size_t)x * out[q].pixel_stride] = (float)v;
+				}
 			}
 		}
 	free(ebuf);

@@ -606,13 +606,13 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 	const pc_demosaic_method_info *mi = &def->info;
 	int colour = m->period == 4;
 	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_error(
-		    PC_EINVAL,
-		    "method %s works on monochrome polarizer mosaics only; "
-		    "this mosaic has a colour filter (try pan-guided, "
-		    "pan-side, pan-adapt, pan-guard, pan-chroma, pan-dir, pan-fact, pan-ratio, bayer-first or "
-		    "bayer-eari)",
-		    mi->name);
+		return pc_error(PC_EINVAL,
+		                "method %s works on monochrome polarizer mosaics only; "
+		                "this mosaic has a colour filter (try pan-guided, "
+		                "pan-side, pan-adapt, pan-guard, pan-chroma, pan-dir, pan-fact, "
+		                "pan-ratio, bayer-first or "
+		                "bayer-eari)",
+		                mi->name);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_error(PC_EINVAL, "method %s works on colour-polarization mosaics only",
 		                mi->name);
