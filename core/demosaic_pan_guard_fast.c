@@ -323,10 +323,14 @@ int pc_dm_pan_guard_fast_with(const pc_dm_input *in, const pc_mosaic *m, double 
                               const pc_fplane *out)
 {
 	if ((p->base != 0 && p->base != 1) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
-	    !(p->floor >= 0) || !(p->force <= 1) || !isfinite(p->force))
+	    !(p->floor >= 0) || (p->mode != 0 && p->mode != 1) || (p->cons != 0 && p->cons != 1) ||
+	    !(p->force <= 1) || !isfinite(p->force))
 		return pc_error(PC_EINVAL, "pan-guard: parameters out of range");
-	return gf_run(in, m, fs, threads, level, p->base, p->r, p->gamma, p->floor, 0, p->force,
-	              out);
+	if (p->cons != 0)
+		return pc_error(PC_ENOTSUP, "pan-guard fast path: only bayer-first as the "
+		                            "conservative estimate (cons 0)");
+	return gf_run(in, m, fs, threads, level, p->base, p->r, p->gamma, p->floor, p->mode,
+	              p->force, out);
 }
 
 int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,

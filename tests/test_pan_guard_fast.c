@@ -5,7 +5,8 @@
  *    polarized scene, a texture, a hue grating finer than the red and blue lattices' Nyquist
  *    period where the guard moves away from the base, the smooth scene with noise, and dim at
  *    1/64 of its level), three sizes, four mosaic phases, and parameter sets covering both
- *    bases, r = 0..2 and γ = 1, 4, 8 and a non-integer γ;
+ *    bases, both modes, r = 0..2 and γ = 1, 4, 8 and a non-integer γ (cons 0: the fast
+ *    path has only bayer-first as its conservative estimate, and refuses cons 1);
  *  - the guard is not idle on those inputs: on the grating the reference moves some output by
  *    more than 1 % of full scale away from its base (else the comparison would test the base
  *    only);
@@ -20,6 +21,7 @@
 #include "check.h"
 #include "polarcam/cpu.h"
 #include "polarcam/demosaic.h"
+#include "polarcam/error.h"
 #include "polarcam/mosaic.h"
 
 #define PC_TEST_SEED 0x9a4df0a517ull
@@ -84,8 +86,9 @@ static double fget(const pc_fplane *p, uint32_t x, uint32_t y)
 static void test_against_reference(pc_cpu_level level)
 {
 	static const int sizes[3][2] = {{34, 20}, {64, 48}, {150, 36}};
-	/* base, r, γ */
-	static const double sets[5][3] = {{1, 1, 1}, {0, 0, 4}, {1, 2, 8}, {0, 1, 8}, {1, 1, 2.5}};
+	/* base, r, γ, mode */
+	static const double sets[6][4] = {{1, 1, 1, 0}, {0, 0, 4, 1},   {1, 2, 8, 0},
+	                                  {0, 1, 8, 0}, {1, 1, 2.5, 1}, {1, 1, 8, 1}};
 	const pc_mosaic base = pc_mosaic_imx250myr();
 	double worst[5] = {0, 0, 0, 0, 0}, moved = 0;
 	int same = 1;
@@ -103,11 +106,13 @@ static void test_against_reference(pc_cpu_level level)
 			for (int kind = 0; kind < 5; kind++) {
 				make_raw(kind, &m, W, H, img, imgf);
 				const pc_dm_input in = pc_dm_input_f32(imgf, W, H);
-				for (int s = 0; s < 5; s++) {
+				for (int s = 0; s < 6; s++) {
 					pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
 					p.base = (int)sets[s][0];
 					p.r = (int)sets[s][1];
 					p.gamma = sets[s][2];
+					p.mode = (int)sets[s][3];
+					p.cons = 0;
 					p.force = -1;
 					CHECK_EQ_INT(
 					    pc_dm_pan_guard_ref_with(img, W, H, &m, FS, &p, r), 0);
@@ -191,6 +196,9 @@ static void test_forced_base(pc_cpu_level level)
 					eq &= fget(&f[q], x, y) == fget(&b[q], x, y);
 		CHECK(eq);
 	}
+	pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+	p.cons = 1;
+	CHECK_EQ_INT(pc_dm_pan_guard_fast_with(&in, &m, FS, 1, level, &p, f), PC_ENOTSUP);
 	free(img);
 	free(imgf);
 	free(fb);
