@@ -18,6 +18,7 @@
 #include "demosaic_pan.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -39,9 +40,14 @@ typedef struct guard_fast {
 	const float *img;      /* the raw minus black, w × h */
 	float *ext, *pt, *rho; /* E, P̃, ρ on the extended grid */
 	float *eb, *ep, *wb;   /* per block */
-	const float *ib;       /* I_b: twelve w × h planes */
-	const pc_fplane *out;  /* I_p in, the result out */
+	const float *ib;       /* I_b: twelve w × h planes, np apart */
+	size_t np;
+	atomic_int err;       /* a band's scratch not allocated */
+	const pc_fplane *out; /* I_p in, the result out */
 } guard_fast;
+
+/* max(v, 0) for the finite values here */
+#define GF_MAX0(v) ((v) > 0 ? (v) : 0.0f)
 
 static size_t gf_idx(const guard_fast *g, int x, int y)
 {
@@ -88,10 +94,10 @@ static void gf_ppi_rows(void *ctx, uint32_t y0, uint32_t y1)
 			float p0 =
 			    ((vs[x - 2] + vs[x + 2]) + 2.0f * ((vs[x - 1] + vs[x]) + vs[x + 1])) *
 			    (1.0f / 64);
-			pt[x] = fmaxf(p0, 0.0f) + g->delta;
+			pt[x] = GF_MAX0(p0) + g->delta;
 		}
 		for (int x = 2; x < W - 2; x++)
-			vs[x] = (fmaxf(e[2][x], 0.0f) + g->delta) / pt[x];
+			vs[x] = (GF_MAX0(e[2][x]) + g->delta) / pt[x];
 	}
 }
 
@@ -182,55 +188,150 @@ static void gf_weight_rows(void *ctx, uint32_t j0, uint32_t j1)
 	}
 }
 
-/* output rows [y0, y1): W_k per pixel (the tents on the block centres, both green lattices
- * summed) and the blend, in place */
+/* one colour's planar rows: mode 0's blend of one channel, d = W·d + (1 − W)·b */
+static void gf_mix0(float *restrict d, const float *restrict b, const float *restrict wk,
+                    uint32_t w)
+{
+	for (uint32_t x = 0; x < w; x++)
+		d[x] = wk[x] * d[x] + (1 - wk[x]) * b[x];
+}
+
+/* mode 1's factor of the colour, f = (1 − W)·(s_b − s_p)/(max(s_p, 0) + δ), from its four
+ * channels' rows p (I_p) and b (I_b) */
+static void gf_fac1(const float *restrict p0, const float *restrict p1, const float *restrict p2,
+                    const float *restrict p3, const float *restrict b0, const float *restrict b1,
+                    const float *restrict b2, const float *restrict b3, const float *restrict wk,
+                    float delta, float *restrict f, uint32_t w)
+{
+	for (uint32_t x = 0; x < w; x++) {
+		const float s_p = (((p0[x] + p1[x]) + p2[x]) + p3[x]) * 0.25f,
+		            s_b = (((b0[x] + b1[x]) + b2[x]) + b3[x]) * 0.25f;
+		f[x] = (1 - wk[x]) * (s_b - s_p) / (GF_MAX0(s_p) + delta);
+	}
+}
+
+/* ... and one channel's output, d = d + f·(max(d, 0) + δ) */
+static void gf_mix1(float *restrict d, const float *restrict f, float delta, uint32_t w)
+{
+	for (uint32_t x = 0; x < w; x++)
+		d[x] = d[x] + f[x] * (GF_MAX0(d[x]) + delta);
+}
+
+/* output rows [y0, y1): W_k per pixel and the blend, in place. The tent T = T_x·T_y on the
+ * block centres is separable: a row's four block rows t (by = by0 + 2t) weigh T_y(t), the
+ * vertical sums A_p[i] = Σ_{t ≡ p (mod 2)} T_y(t)·w(i, j_t) of the two block-row parities p, then
+ * per pixel the four block columns s with T_x(s); the four parity pairs (s mod 2, p) are the
+ * colour blocks' Bayer pattern (red, blue and two greens), and every pair's T sums to
+ * (T_x(s) + T_x(s + 2))·(T_y(p) + T_y(p + 2)) = 8·8 (the tents {1, 5, 7, 3} or {3, 7, 5, 1}), so
+ * W_k = Σ/64 (green: Σ/128). The same weights as the reference's sum over the sixteen blocks,
+ * in another order. */
 static void gf_blend_rows(void *ctx, uint32_t y0, uint32_t y1)
 {
 	guard_fast *g = ctx;
-	const size_t n = (size_t)g->w * g->h;
+	const uint32_t w = g->w;
+	float *buf = pc_dm_alloc(sizeof(float) * (2 * (size_t)g->NBX + 4 * (size_t)w));
+	if (!buf) {
+		atomic_store(&g->err, 1);
+		return;
+	}
+	float *A[2] = {buf, buf + g->NBX}, *wr[3], *fr = buf + 2 * (size_t)g->NBX + 3 * (size_t)w;
+	for (int k = 0; k < 3; k++)
+		wr[k] = buf + 2 * (size_t)g->NBX + (size_t)k * w;
 	for (uint32_t yu = y0; yu < y1; yu++) {
-		const int y = (int)yu;
-		for (int x = 0; x < (int)g->w; x++) {
-			float num[3] = {0, 0, 0}, den[3] = {0, 0, 0};
-			for (int by = (y - 3) & ~1; by <= y + 3; by += 2)
-				for (int bx = (x - 3) & ~1; bx <= x + 3; bx += 2) {
-					const int dx2 = 2 * (bx - x) + 1, dy2 = 2 * (by - y) + 1;
-					if (abs(dx2) >= 8 || abs(dy2) >= 8)
-						continue;
-					const float t = (float)((8 - abs(dx2)) * (8 - abs(dy2)));
-					const unsigned k = gf_colour(g, bx, by);
-					num[k] +=
-					    t * g->wb[(size_t)((by + g->XB) / 2) * (size_t)g->NBX +
-					              (size_t)((bx + g->XB) / 2)];
-					den[k] += t;
+		const int y = (int)yu, by0 = (y - 3) & ~1;
+		if (g->force >= 0) {
+			for (int k = 0; k < 3; k++)
+				for (uint32_t x = 0; x < w; x++)
+					wr[k][x] = g->force;
+		} else {
+			float ty[4];
+			const float *wb[4];
+			for (int t = 0; t < 4; t++) {
+				ty[t] = (float)(8 - abs(2 * (by0 + 2 * t - y) + 1));
+				wb[t] =
+				    g->wb + (size_t)((by0 + 2 * t + g->XB) / 2) * (size_t)g->NBX;
+			}
+			for (int i = 0; i < g->NBX; i++) {
+				A[0][i] = ty[0] * wb[0][i] + ty[2] * wb[2][i];
+				A[1][i] = ty[1] * wb[1][i] + ty[3] * wb[3][i];
+			}
+			/* per column phase x mod 4: the colour of each pair (s mod 2, p), and 1/64
+			 * or 1/128 */
+			unsigned kp[4][2][2];
+			float sc[3];
+			for (int u = 0; u < 4; u++) {
+				const int bx0 = (u - 3) & ~1;
+				for (int s2 = 0; s2 < 2; s2++)
+					for (int p = 0; p < 2; p++)
+						kp[u][s2][p] =
+						    gf_colour(g, bx0 + 2 * s2, by0 + 2 * p);
+			}
+			for (int k = 0; k < 3; k++)
+				sc[k] = k == 1 ? 1.0f / 128 : 1.0f / 64;
+			/* T_x of the four block columns from (x − 3) & ~1: x even, x odd */
+			static const float txp[2][4] = {{1, 5, 7, 3}, {3, 7, 5, 1}};
+			for (uint32_t x = 0; x < w; x++) {
+				const int bx0 = ((int)x - 3) & ~1, i0 = (bx0 + g->XB) / 2,
+				          u = (int)(x & 3);
+				const float *tx = txp[x & 1];
+				float num[3] = {0, 0, 0};
+				for (int p = 0; p < 2; p++) {
+					num[kp[u][0][p]] += tx[0] * A[p][i0] + tx[2] * A[p][i0 + 2];
+					num[kp[u][1][p]] +=
+					    tx[1] * A[p][i0 + 1] + tx[3] * A[p][i0 + 3];
 				}
-			const size_t a = (size_t)y * g->w + (size_t)x;
-			for (unsigned k = 0; k < 3; k++) {
-				const float wk = g->force >= 0 ? g->force : num[k] / den[k];
-				float *d[4], vp[4], vb[4];
+				for (int k = 0; k < 3; k++)
+					wr[k][x] = num[k] * sc[k];
+			}
+		}
+		for (unsigned k = 0; k < 3; k++) {
+			float *d[4];
+			const float *vbr[4];
+			size_t ps[4];
+			for (unsigned c = 0; c < 4; c++) {
+				const pc_fplane *o = &g->out[4 * k + c];
+				d[c] = o->data + (size_t)y * o->row_stride;
+				ps[c] = o->pixel_stride;
+				vbr[c] = g->ib + (size_t)(4 * k + c) * g->np + (size_t)y * w;
+			}
+			const float *wk = wr[k];
+			if (ps[0] == 1 && ps[1] == 1 && ps[2] == 1 && ps[3] == 1) {
+				if (g->mode) {
+					gf_fac1(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
+					        vbr[3], wk, g->delta, fr, w);
+					for (unsigned c = 0; c < 4; c++)
+						gf_mix1(d[c], fr, g->delta, w);
+				} else {
+					for (unsigned c = 0; c < 4; c++)
+						gf_mix0(d[c], vbr[c], wk, w);
+				}
+				continue;
+			}
+			for (uint32_t x = 0; x < w; x++) {
+				float vp[4], vb[4];
 				for (unsigned c = 0; c < 4; c++) {
-					const pc_fplane *o = &g->out[4 * k + c];
-					d[c] = o->data + (size_t)y * o->row_stride +
-					       (size_t)x * o->pixel_stride;
-					vp[c] = *d[c];
-					vb[c] = g->ib[(size_t)(4 * k + c) * n + a];
+					vp[c] = d[c][x * ps[c]];
+					vb[c] = vbr[c][x];
 				}
 				if (g->mode) {
 					const float s_p =
 					                (((vp[0] + vp[1]) + vp[2]) + vp[3]) * 0.25f,
 					            s_b =
 					                (((vb[0] + vb[1]) + vb[2]) + vb[3]) * 0.25f,
-					            f = (1 - wk) * (s_b - s_p) /
-					                (fmaxf(s_p, 0) + g->delta);
+					            f = (1 - wk[x]) * (s_b - s_p) /
+					                (GF_MAX0(s_p) + g->delta);
 					for (unsigned c = 0; c < 4; c++)
-						*d[c] = vp[c] + f * (fmaxf(vp[c], 0) + g->delta);
+						d[c][x * ps[c]] =
+						    vp[c] + f * (GF_MAX0(vp[c]) + g->delta);
 				} else {
 					for (unsigned c = 0; c < 4; c++)
-						*d[c] = wk * vp[c] + (1 - wk) * vb[c];
+						d[c][x * ps[c]] =
+						    wk[x] * vp[c] + (1 - wk[x]) * vb[c];
 				}
 			}
 		}
 	}
+	pc_dm_free(buf);
 }
 
 /* The fast path with the definition's parameters as arguments (mode: 0 every channel
@@ -243,6 +344,7 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	const size_t n = (size_t)w * h;
 	guard_fast g;
 	memset(&g, 0, sizeof g);
+	atomic_init(&g.err, 0);
 	g.w = w;
 	g.h = h;
 	g.XB = 4 + 4 * r;
@@ -264,7 +366,10 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	const size_t ne = (size_t)g.W * (size_t)((int)h + 2 * g.M),
 	             nb = (size_t)g.NBX * (size_t)g.NBY;
 	float *img = pc_dm_alloc(sizeof(float) * (n + 2));
-	float *ib = pc_dm_alloc(sizeof(float) * n * 12);
+	/* I_b's planes 64 floats more than a plane apart: planes a multiple of 4 KiB apart would
+	 * share the L1's sets, column for column */
+	g.np = n + 64;
+	float *ib = pc_dm_alloc(sizeof(float) * g.np * 12);
 	float *eb = pc_dm_alloc(sizeof(float) * (3 * ne + 3 * nb));
 	float *mk = pc_dm_alloc(sizeof(float) * n * 3);
 	float *row = pc_dm_alloc(sizeof(float) * ((size_t)w + 2));
@@ -289,7 +394,7 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 		pc_dm_call c = {&ik, &mono, PC_DM_BILINEAR, fs, threads, level};
 		pc_fplane pl[4];
 		for (unsigned q = 0; q < 4; q++)
-			pl[q] = (pc_fplane){ib + (size_t)(4 * k + q) * n, w, 1};
+			pl[q] = (pc_fplane){ib + (size_t)(4 * k + q) * g.np, w, 1};
 		rc = pc_dm_bilinear(&c, pl);
 	}
 	if (rc)
@@ -309,6 +414,8 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_err_rows, &g);
 	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_weight_rows, &g);
 	pc_parallel_rows(h, 0, threads, gf_blend_rows, &g);
+	if (atomic_load(&g.err))
+		rc = pc_error(PC_ENOMEM, "pan-guard: row buffers for width %u", w);
 done:
 	pc_dm_free(img);
 	pc_dm_free(ib);
