@@ -40,6 +40,7 @@ typedef struct guard_fast {
 	const float *img;      /* the raw minus black, w × h */
 	float *ext, *pt, *rho; /* E, P̃, ρ on the extended grid */
 	float *eb, *ep, *wb;   /* per block */
+	float *hb[2], *hp[2];  /* per block: the window sums along the rows, by lattice */
 	const float *ib;       /* I_b: twelve w × h planes, np apart */
 	size_t np;
 	atomic_int err;       /* a band's scratch not allocated */
@@ -145,35 +146,52 @@ static float gf_pow(const guard_fast *g, float t)
 	return r;
 }
 
-/* the window sums and weights of block rows [j0, j1): the blocks of the own colour within ±2r
- * block steps, on the own lattice (the same parities) and, for green, the diagonal one */
+/* the window sums along block rows [j0, j1): over the offsets |di| <= 2r of even parity (the
+ * own lattice: hb[0], hp[0]) and of odd parity (green's diagonal one: hb[1], hp[1]), clipped at
+ * the block grid's edge as the reference's */
+static void gf_hsum_rows(void *ctx, uint32_t j0, uint32_t j1)
+{
+	guard_fast *g = ctx;
+	const int rb = 2 * g->r, nx = g->NBX;
+	for (uint32_t j = j0; j < j1; j++) {
+		const size_t o = (size_t)j * (size_t)nx;
+		const float *eb = g->eb + o, *ep = g->ep + o;
+		for (int i = 0; i < nx; i++)
+			for (int l = 0; l < 2; l++) {
+				float sb = 0, sp = 0;
+				for (int ii = i - rb + l; ii <= i + rb - l; ii += 2) {
+					if (ii < 0 || ii >= nx)
+						continue;
+					sb += eb[ii];
+					sp += ep[ii];
+				}
+				g->hb[l][o + (size_t)i] = sb;
+				g->hp[l][o + (size_t)i] = sp;
+			}
+	}
+}
+
+/* the window sums down block rows [j0, j1) (the own lattice from hb[0], hp[0] at even row
+ * offsets; for green the diagonal lattice's from hb[1], hp[1] at odd ones, |dj| <= 2r − 1) and
+ * the weights */
 static void gf_weight_rows(void *ctx, uint32_t j0, uint32_t j1)
 {
 	guard_fast *g = ctx;
-	const int rb = 2 * g->r;
+	const int rb = 2 * g->r, nx = g->NBX, ny = g->NBY;
 	for (uint32_t ju = j0; ju < j1; ju++) {
 		const int j = (int)ju;
-		for (int i = 0; i < g->NBX; i++) {
+		for (int i = 0; i < nx; i++) {
 			const int green = gf_colour(g, 2 * i - g->XB, 2 * j - g->XB) == 1;
 			float sb = 0, sp = 0;
-			for (int l = 0; l < (green ? 2 : 1); l++) {
-				/* lattice l: offsets of parity l, |offset| <= rb */
-				const int lo = -rb + l, hi = rb - l;
-				for (int dj = lo; dj <= hi; dj += 2) {
+			for (int l = 0; l < (green ? 2 : 1); l++)
+				for (int dj = -rb + l; dj <= rb - l; dj += 2) {
 					const int jj = j + dj;
-					if (jj < 0 || jj >= g->NBY)
+					if (jj < 0 || jj >= ny)
 						continue;
-					for (int di = lo; di <= hi; di += 2) {
-						const int ii = i + di;
-						if (ii < 0 || ii >= g->NBX)
-							continue;
-						const size_t a =
-						    (size_t)jj * (size_t)g->NBX + (size_t)ii;
-						sb += g->eb[a];
-						sp += g->ep[a];
-					}
+					const size_t a = (size_t)jj * (size_t)nx + (size_t)i;
+					sb += g->hb[l][a];
+					sp += g->hp[l][a];
 				}
-			}
 			/* (E_b + F)^γ / ((E_b + F)^γ + (E_p + F)^γ) = 1/(1 + q^γ), q = (E_p +
 			 * F)/(E_b + F); 1 where both are 0 (the reference's 0/0 rule), 0 where only
 			 * E_b + F is */
@@ -183,7 +201,7 @@ static void gf_weight_rows(void *ctx, uint32_t j0, uint32_t j1)
 				wgt = 1.0f / (1.0f + gf_pow(g, ap / ab));
 			else
 				wgt = ap > 0 ? 0.0f : 1.0f;
-			g->wb[(size_t)j * (size_t)g->NBX + (size_t)i] = wgt;
+			g->wb[(size_t)j * (size_t)nx + (size_t)i] = wgt;
 		}
 	}
 }
@@ -370,7 +388,7 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	 * share the L1's sets, column for column */
 	g.np = n + 64;
 	float *ib = pc_dm_alloc(sizeof(float) * g.np * 12);
-	float *eb = pc_dm_alloc(sizeof(float) * (3 * ne + 3 * nb));
+	float *eb = pc_dm_alloc(sizeof(float) * (3 * ne + 7 * nb));
 	float *mk = pc_dm_alloc(sizeof(float) * n * 3);
 	float *row = pc_dm_alloc(sizeof(float) * ((size_t)w + 2));
 	int rc = 0;
@@ -407,11 +425,16 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	g.eb = eb + 3 * ne;
 	g.ep = g.eb + nb;
 	g.wb = g.ep + nb;
+	for (int l = 0; l < 2; l++) {
+		g.hb[l] = g.wb + (size_t)(1 + 2 * l) * nb;
+		g.hp[l] = g.wb + (size_t)(2 + 2 * l) * nb;
+	}
 	/* 2.–4. */
 	const uint32_t ny = h + 2 * (uint32_t)g.M;
 	pc_parallel_rows(ny, 0, threads, gf_ext_rows, &g);
 	pc_parallel_rows(ny, 0, threads, gf_ppi_rows, &g);
 	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_err_rows, &g);
+	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_hsum_rows, &g);
 	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_weight_rows, &g);
 	pc_parallel_rows(h, 0, threads, gf_blend_rows, &g);
 	if (atomic_load(&g.err))
