@@ -69,16 +69,20 @@ int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, i
  * samples finds the pan ratio model locally less predictive than plain interpolation
  * (demosaic_pan_guard.c states the formulas). Every constant of the definition is one of
  * these. */
-#define PC_DM_PAN_GUARD_BASE  1    /* the base estimate: 1 pan-adapt, 0 pan-side */
-#define PC_DM_PAN_GUARD_R     1    /* the error window's radius in lattice steps (4 pixels) */
-#define PC_DM_PAN_GUARD_GAMMA 1.0  /* γ, the weights' exponent */
-#define PC_DM_PAN_GUARD_FLOOR 1e-4 /* the error sums' floor, (fraction of full scale)² */
-#define PC_DM_PAN_GUARD_MODE                                                                       \
-	1 /* 0: every channel blended; 1: each colour's analyser mean                              \
-	   * blended, the base's analyser modulation kept */
-#define PC_DM_PAN_GUARD_CONS                                                                       \
-	0 /* the conservative estimate: 0 bayer-first's, 1 every                                   \
-	   * channel's plain tents on its own samples */
+/* the base estimate: 1 pan-adapt, 0 pan-side */
+#define PC_DM_PAN_GUARD_BASE 1
+/* the error window's radius r in lattice steps (4 pixels) */
+#define PC_DM_PAN_GUARD_R 1
+/* γ, the weights' exponent */
+#define PC_DM_PAN_GUARD_GAMMA 8.0
+/* the error sums' floor F = (floor·FS)² */
+#define PC_DM_PAN_GUARD_FLOOR 1e-4
+/* the blend: 0 every channel (the method), 1 each colour's analyser mean with the base's
+ * analyser modulation kept */
+#define PC_DM_PAN_GUARD_MODE 0
+/* the conservative estimate: 0 bayer-first's (the method), 1 every channel's plain tents on its
+ * own samples */
+#define PC_DM_PAN_GUARD_CONS 0
 
 typedef struct pc_dm_pan_guard_params {
 	int base;     /* PC_DM_PAN_GUARD_BASE */

@@ -10,7 +10,7 @@
  *
  *  1. The base estimate I_p: pan-adapt's (pc_dm_pan_adapt_ref) or pan-side's (params.base), and
  *     the conservative estimate I_b: bayer-first's (pc_dm_color_split_ref, then mono bilinear,
- *     pc_dm_ref), both its double references, twelve float planes each.
+ *     pc_dm_ref), both double references, twelve float planes each.
  *  2. A leave-one-out check per 2×2 block B (corner (x & ~1, y & ~1), one colour k: red and
  *     blue one block per 4×4 period, green two), on the mirror-extended raw (pc_mirror4, which
  *     keeps the phase). Its neighbour blocks n of the same colour: red and blue the four at
@@ -39,9 +39,14 @@
  *     tent on the block centres c_B = B + (1/2, 1/2): W_k(p) = Σ_B T(c_B − p) w(B) / Σ_B T,
  *     T(d) = (4 − |d_x|)(4 − |d_y|) over |d_x|, |d_y| < 4 (both green lattices summed).
  *  6. I_q(p) = W_k(p)·I_p,q(p) + (1 − W_k(p))·I_b,q(p) for the four analysers q of colour k
- *     (one weight per colour, so the analysers of a colour, hence polarization, are blended
- *     alike). W = 1 gives the base bit for bit (1·I_p + 0·I_b).
+ *     (one weight per colour; mode 0, the method's). Mode 1 (tried, not chosen) blends only
+ *     the colour's analyser mean s = Σ_c I_c / 4 and keeps the base's modulation:
+ *     I_q = I_p,q + (1 − W_k)·(s_b − s_p)·(max(I_p,q, 0) + δ)/(max(s_p, 0) + δ). W = 1 gives the
+ *     base bit for bit in both (1·I_p + 0·I_b; (1 − 1)·… = 0).
  *
+ * The method: base pan-adapt, r = 1, γ = 8, F from 10⁻⁴ of full scale, mode 0, bayer-first as
+ * the conservative estimate (cons 0; cons 1, every channel's plain tents on its own samples,
+ * tried, not chosen), picked on the development sets by the rule of Round 15.
  * Every constant is in demosaic_pan.h (PC_DM_PAN_GUARD_*). */
 #include <math.h>
 #include <stdlib.h>

@@ -540,12 +540,23 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_PAN_GUARD] = {{PC_DM_PAN_GUARD, "pan-guard",
                           "colour-polarization: pan-adapt blended per colour towards "
                           "bayer-first where a leave-one-out check on the colour's own samples "
-                          "finds the pan ratio model locally less predictive than plain "
-                          "interpolation; accuracy: docs/demosaicking.md, Round 15",
-                          "for now the double reference (fast path: see guardfast17)",
+                          "finds the pan ratio model locally less predictive (weights from the "
+                          "two models' errors over 3x3 blocks, exponent 8); over bayer-first "
+                          "(bench colour --reference) smooth colours (9) +4.51/+1.72 (worst "
+                          "+2.41/+0.46), hue patches (9) +1.18/+1.79 (worst +1.03/+1.53), colour "
+                          "stress suite (5) +1.48/+1.38 (worst +0.60/+0.26), noisy copies (4) "
+                          "+0.97/+0.44 (worst +0.34/+0.27); its constants chosen on these; "
+                          "held-out colour scenes (seen before, 9) +0.71/+1.37 (worst "
+                          "-0.63/+0.37, 1 losing: gratings2); second sealed set "
+                          "(scenes/stress/colour-sealed2, 7, its first evaluation) +1.07/+0.96 "
+                          "(worst -0.09/+0.53, 1 losing: print) (docs/demosaicking.md, Round 15)",
+                          "for now the double reference: pan-adapt's and bayer-first's references "
+                          "and the block check (fast path: see guardfast17); in any form it needs "
+                          "pan-adapt (5.4-6.7x mono bilinear) plus bayer-first's estimate: over "
+                          "the 5x budget",
                           "ours (docs/demosaicking.md, Round 15): pan-adapt and bayer-first "
                           "combined by their local leave-one-out errors (Bates & Granger, "
-                          "Operational Research Quarterly 20(4) 1969)",
+                          "Operational Research Quarterly 20(4) 1969, sharpened)",
                           PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
                          {PAN_GUARD_LO, PAN_GUARD_HI, 1, 1},
                          NULL,

@@ -20,7 +20,7 @@
  *    there and differ by little), and for every colour its error is at most the base's (so at
  *    most the worse of the two estimates').
  *  - The front door runs it (reference and default path, while the fast path is the
- *    reference) and finds it by name. */
+ *    reference) and finds it by name; on an 8 × 8 frame every output is finite. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -328,6 +328,22 @@ static void test_front(void)
 		worst = fmax(worst, fabs(ab[i] - bb[i]));
 	printf("  front door 34x20: max |default - reference| %.3g DN\n", worst);
 	CHECK(worst <= 1e-5 * 4095);
+	/* the smallest frame (8 × 8: the block grid and its windows mostly mirrored): every output
+	 * finite and, on this mid-level texture, inside (0, full scale) */
+	pc_view tiny;
+	CHECK_EQ_INT(pc_view_alloc(&tiny, PC_FMT_MONO16, 8, 8, 0), 0);
+	for (uint32_t y = 0; y < 8; y++)
+		for (uint32_t x = 0; x < 8; x++)
+			PC_ROW(&tiny, uint16_t, y)[x] = (uint16_t)(600 + 800 * urand());
+	pc_fplane t[12];
+	float *tb = alloc_planes(8, 8, t);
+	CHECK_EQ_INT(pc_demosaic(&tiny, &m, PC_DM_PAN_GUARD, &ref, t), 0);
+	int finite = 1;
+	for (size_t i = 0; i < 8 * 8 * 12; i++)
+		finite &= isfinite(tb[i]) && tb[i] > 0 && tb[i] < 4095;
+	CHECK(finite);
+	free(tb);
+	pc_view_free(&tiny);
 	pc_demosaic_method md;
 	CHECK_EQ_INT(pc_demosaic_method_from_name("pan-guard", &md), 0);
 	CHECK(md == PC_DM_PAN_GUARD);
