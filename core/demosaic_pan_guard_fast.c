@@ -18,6 +18,7 @@
 #include "demosaic_pan.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -106,23 +107,24 @@ static void gf_ppi_rows(void *ctx, uint32_t y0, uint32_t y1)
 static void gf_err_rows(void *ctx, uint32_t j0, uint32_t j1)
 {
 	guard_fast *g = ctx;
-	static const int nrb[4][2] = {{-4, 0}, {4, 0}, {0, -4}, {0, 4}},
-	                 ngr[4][2] = {{-2, -2}, {2, -2}, {-2, 2}, {2, 2}};
+	const ptrdiff_t W = g->W;
+	/* the neighbours' offsets in the extended grid: red and blue (±4, 0), (0, ±4); green
+	 * (±2, ±2), in the reference's order */
+	const ptrdiff_t nrb[4] = {-4, 4, -4 * W, 4 * W},
+	                ngr[4] = {-2 - 2 * W, 2 - 2 * W, -2 + 2 * W, 2 + 2 * W};
 	for (uint32_t j = j0; j < j1; j++)
 		for (int i = 0; i < g->NBX; i++) {
 			const int bx = 2 * i - g->XB, by = 2 * (int)j - g->XB;
-			const int(*nbr)[2] = gf_colour(g, bx, by) == 1 ? ngr : nrb;
+			const ptrdiff_t *nb = gf_colour(g, bx, by) == 1 ? ngr : nrb;
+			const size_t a0 = gf_idx(g, bx, by);
 			float sb = 0, sp = 0;
 			for (int o = 0; o < 4; o++) {
-				const int sx = bx + (o & 1), sy = by + (o >> 1);
-				float mb = 0, mr = 0;
-				for (int t = 0; t < 4; t++) {
-					const size_t a = gf_idx(g, sx + nbr[t][0], sy + nbr[t][1]);
-					mb += g->ext[a];
-					mr += g->rho[a];
-				}
-				const size_t a = gf_idx(g, sx, sy);
-				const float v = g->ext[a], xb = mb * 0.25f,
+				const size_t a =
+				    a0 + (size_t)(o & 1) + (size_t)(o >> 1) * (size_t)W;
+				const float *e = g->ext + a, *rh = g->rho + a;
+				const float mb = ((e[nb[0]] + e[nb[1]]) + e[nb[2]]) + e[nb[3]],
+				            mr = ((rh[nb[0]] + rh[nb[1]]) + rh[nb[2]]) + rh[nb[3]];
+				const float v = e[0], xb = mb * 0.25f,
 				            xp = g->pt[a] * (mr * 0.25f) - g->delta;
 				sb += (v - xb) * (v - xb);
 				sp += (v - xp) * (v - xp);

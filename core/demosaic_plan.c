@@ -551,8 +551,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "(scenes/stress/colour-sealed2, 7, its first evaluation) +1.07/+0.96 "
                           "(worst -0.09/+0.53, 1 losing: print) (docs/demosaicking.md, Round 15)",
                           "float fast path: pan-adapt's and bayer-first's fast paths, then the "
-                          "block check and the blend on whole-frame buffers; 2.05 G instructions "
-                          "per 2448x2048 frame (callgrind, AVX2, one thread), 5.8x pan-adapt's "
+                          "block check and the blend on whole-frame buffers; 1.92 G instructions "
+                          "per 2448x2048 frame (callgrind, AVX2, one thread), 5.4x pan-adapt's "
                           "(5.4-6.7x mono bilinear's time): far over the 5x budget "
                           "(docs/demosaicking.md, Round 15 fast path)",
                           "ours (docs/demosaicking.md, Round 15): pan-adapt and bayer-first "
