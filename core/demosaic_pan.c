@@ -804,7 +804,7 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
  * (streaming stores where pc_dm_stream_wanted says so, as the other kernels); the last partial
  * vector, and interleaved outputs, go through a row buffer. */
 #define PAN_PADR  32 /* raw and sum rows: columns [-32, w + 32) */
-#define PAN_AROWS 28 /* pan-adapt's rows beyond pan-side's (pan_band) */
+#define PAN_AROWS 25 /* pan-adapt's rows beyond pan-side's (pan_band) */
 
 typedef struct pan_job {
 	const pc_dm_input *in;
@@ -882,11 +882,9 @@ typedef void (*pan_shue_fn)(const float *p0, const float *c1, const float *c2, l
 typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
                             const float *const up[2], long n, float eps, float *f0, float *f1);
 
-typedef void (*pan_aghrows_fn)(const float *rho, const float *p0, const float *fw, const float *fe,
-                               const float *mu, long n, const float wt[4][7][16], float ke,
-                               float e0, float *const h[4]);
-typedef void (*pan_astat_fn)(const float *const p[5], long n, float delta, float *w1, float *t2,
-                             float *o, float *mu, float *var);
+typedef void (*pan_atents_fn)(const float *const p[5], const float *rho, const float *fw,
+                              const float *fe, long n, float delta, const float wt[4][7][16],
+                              float ke, float e0, float *mu, float *var, float *const h[4]);
 typedef void (*pan_agorow_fn)(const pan_gorow_args *a, const float *raw, long n, float delta,
                               float *const out[12], int nt);
 
@@ -981,8 +979,7 @@ static pan_kern pan_kernels(pc_cpu_level level)
 
 /* pan-adapt's own kernels (pan-side's are pan_kern's) */
 typedef struct pan_akern {
-	pan_aghrows_fn aghrows;
-	pan_astat_fn astat;
+	pan_atents_fn atents;
 	pan_agorow_fn agorow;
 } pan_akern;
 
@@ -990,13 +987,13 @@ static pan_akern pan_akernels(pc_cpu_level level)
 {
 #ifdef PC_CPU_X86
 	if (level >= PC_CPU_AVX512)
-		return (pan_akern){pan_aghrows_avx512, pan_astat_avx512, pan_agorow_avx512};
+		return (pan_akern){pan_atents_avx512, pan_agorow_avx512};
 	if (level >= PC_CPU_AVX2)
-		return (pan_akern){pan_aghrows_avx2, pan_astat_avx2, pan_agorow_avx2};
+		return (pan_akern){pan_atents_avx2, pan_agorow_avx2};
 #else
 	(void)level;
 #endif
-	return (pan_akern){pan_aghrows_base, pan_astat_base, pan_agorow_base};
+	return (pan_akern){pan_atents_base, pan_agorow_base};
 }
 
 /* A direct-mapped cache of 16 converted raw rows (minus black), slot = row mod 16: the five
@@ -1370,9 +1367,9 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	/* pan-adapt: its source rows run look = 2 rows ahead of its tents (the window statistics
 	 * of row r read P0 down to r + 2), so P0 is kept in a ring of 16 (p0r), ρ in a ring of 4,
 	 * the W/E factors of two block rows (fhr[(Y & 2) >> 1]), the N/S ones of four (fvr[(Y &
-	 * 7) >> 1]); the rows' window means and variances (mur, varr) in rings of 4; ts: scratch */
+	 * 7) >> 1]); the rows' window means and variances (mur, varr) in rings of 4 */
 	const int look = adapt ? 2 : 0;
-	float *p0r[16], *rhor[4], *fhr[2][2], *fvr[4][2], *mur[4], *varr[4], *ts[3];
+	float *p0r[16], *rhor[4], *fhr[2][2], *fvr[4][2], *mur[4], *varr[4];
 	if (adapt) {
 		float *ab = src + (size_t)46 * pitch;
 		for (int k = 0; k < 16; k++)
@@ -1388,8 +1385,6 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		fhr[0][1] = fh[1];
 		fhr[1][0] = ab + (size_t)23 * pitch;
 		fhr[1][1] = ab + (size_t)24 * pitch;
-		for (int k = 0; k < 3; k++)
-			ts[k] = ab + (size_t)(25 + k) * pitch;
 	}
 	/* source rows computed: up to have; pan-side's first one even (a block's top row) */
 	int have = side ? (((int)y0 - 3 - look) & ~1) - 1 : (int)y0 - 4;
@@ -1440,11 +1435,9 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 					const float *pr[5];
 					for (int k = 0; k < 5; k++)
 						pr[k] = p0r[(r + k - 2) & 15];
-					A.astat(pr, n, j->delta, ts[0], ts[1], ts[2], mur[r & 3],
-					        varr[r & 3]);
 					float *const *fr = fhr[(r & 2) >> 1];
-					A.aghrows(rhor[r & 3], p0r[r & 15], fr[0], fr[1],
-					          mur[r & 3], n, t->wt, j->e, j->e0, hr[r & 7]);
+					A.atents(pr, rhor[r & 3], fr[0], fr[1], n, j->delta, t->wt,
+					         j->e, j->e0, mur[r & 3], varr[r & 3], hr[r & 7]);
 				}
 			} else if (j->guided == 2) {
 				float *p0 = gr[0][yy & 7], *c1 = gr[1][yy & 7], *c2 = gr[2][yy & 7];
@@ -1929,11 +1922,12 @@ int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, in
 }
 
 /* pan-adapt's fast path: pan-side's pass (pan_band, guided 4) with each source row's window
- * statistics (pan_astat) two rows behind its P0, the range scale e_fs·FS + k_e·μ in the tents
- * (pan_aghrows, pan_agorow) and the ratio step's level shrunk in pan_agorow; g, the frame's
- * noise gain, pc_dm_noise_gain_in's (the reference's, bit for bit). It sums 5 × 5 windows. */
+ * statistics two rows behind its P0, the range scale e_fs·FS + k_e·μ in the tents (both
+ * pan_atents) and in the output row (pan_agorow), and the ratio step's level shrunk there; g,
+ * the frame's noise gain, pc_dm_noise_gain_in's (the reference's, bit for bit). It sums 5 × 5
+ * windows. */
 _Static_assert(PC_DM_PAN_ADAPT_RE == 2 && PC_DM_PAN_ADAPT_R == 2,
-               "pan-adapt's fast path (pan_astat) sums 5 x 5 windows");
+               "pan-adapt's fast path (pan_atents) sums 5 x 5 windows");
 
 int pc_dm_pan_adapt_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                            pc_cpu_level level, double g, const pc_fplane *out)

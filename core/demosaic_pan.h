@@ -102,13 +102,17 @@ typedef struct pc_dm_pan_guard_params {
 pc_dm_pan_guard_params pc_dm_pan_guard_defaults(void);
 
 /* pan-guard's double reference (pc_dm_pan_guard_defaults) and the same with other parameters;
- * PC_EINVAL for parameters out of range. The fast path is for now the reference. */
+ * PC_EINVAL for parameters out of range. The float fast path: demosaic_pan_guard_fast.c. */
 int pc_dm_pan_guard_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                         const pc_fplane *out);
 int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
                              double fs, const pc_dm_pan_guard_params *p, const pc_fplane *out);
 int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out);
+/* the fast path with other parameters (tests) */
+int pc_dm_pan_guard_fast_with(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                              pc_cpu_level level, const pc_dm_pan_guard_params *p,
+                              const pc_fplane *out);
 
 /* pan-dir's double reference and fast path (the same arguments). */
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,

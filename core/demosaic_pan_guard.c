@@ -282,33 +282,3 @@ int pc_dm_pan_guard_ref(const double *img, uint32_t w, uint32_t h, const pc_mosa
 	pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
 	return pc_dm_pan_guard_ref_with(img, w, h, m, fs, &p, out);
 }
-
-/* pan-guard's fast path: FOR NOW the double reference on the input converted to double (the
- * values of pc_dm_raw_to_double), until the float fast path lands (helper guardfast17; it
- * replaces this body). threads and level are unused. */
-int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
-                         pc_cpu_level level, const pc_fplane *out)
-{
-	(void)threads;
-	(void)level;
-	const uint32_t w = in->width, h = in->height;
-	double *img = malloc(sizeof(double) * (size_t)w * h);
-	float *row = malloc(sizeof(float) * ((size_t)w + 2));
-	if (!img || !row) {
-		free(img);
-		free(row);
-		return pc_error(PC_ENOMEM, "pan-guard: input of %ux%u", w, h);
-	}
-	for (uint32_t y = 0; y < h; y++) {
-		if (in->dark || in->gain_inv)
-			pc_dm_row_to_float(in, y, row + 1);
-		for (uint32_t x = 0; x < w; x++)
-			img[(size_t)y * w + x] = in->dark || in->gain_inv
-			                             ? (double)row[x + 1]
-			                             : (double)pc_dm_sample(in, x, y) - in->black_d;
-	}
-	free(row);
-	int rc = pc_dm_pan_guard_ref(img, w, h, m, fs, out);
-	free(img);
-	return rc;
-}

@@ -551,14 +551,15 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "-0.63/+0.37, 1 losing: gratings2); second sealed set "
                           "(scenes/stress/colour-sealed2, 7, its first evaluation) +1.07/+0.96 "
                           "(worst -0.09/+0.53, 1 losing: print) (docs/demosaicking.md, Round 15)",
-                          "for now the double reference: pan-adapt's and bayer-first's references "
-                          "and the block check (fast path: see guardfast17); in any form it needs "
-                          "pan-adapt (5.4-6.7x mono bilinear) plus bayer-first's estimate: over "
-                          "the 5x budget",
+                          "float fast path: pan-adapt's and bayer-first's fast paths, then the "
+                          "block check and the blend on whole-frame buffers; 1.92 G instructions "
+                          "per 2448x2048 frame (callgrind, AVX2, one thread), 5.4x pan-adapt's "
+                          "(5.4-6.7x mono bilinear's time): far over the 5x budget "
+                          "(docs/demosaicking.md, Round 15 fast path)",
                           "ours (docs/demosaicking.md, Round 15): pan-adapt and bayer-first "
                           "combined by their local leave-one-out errors (Bates & Granger, "
                           "Operational Research Quarterly 20(4) 1969, sharpened)",
-                          PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                          PC_DMF_COLOR},
                          {PAN_GUARD_LO, PAN_GUARD_HI, 1, 1},
                          NULL,
                          NULL,
