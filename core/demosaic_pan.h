@@ -97,8 +97,12 @@ typedef struct pc_dm_pan_guard_params {
 	int cons;     /* PC_DM_PAN_GUARD_CONS, 0 or 1 */
 	double force; /* < 0: the weights computed (the method); in [0, 1]: every weight set to
 	               * it (tests: 1 is the base, 0 bayer-first) */
+	double g;     /* the base pan-adapt's noise gain (raw units, demosaic_noise.h; as
+	               * pc_dm_pan_adapt_params.g); < 0: estimated from the frame (the default);
+	               * base 0 (pan-side) uses none */
 } pc_dm_pan_guard_params;
 
+/* The method's parameters: the constants above, g estimated */
 pc_dm_pan_guard_params pc_dm_pan_guard_defaults(void);
 
 /* pan-guard's double reference (pc_dm_pan_guard_defaults) and the same with other parameters;
@@ -109,7 +113,7 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
                              double fs, const pc_dm_pan_guard_params *p, const pc_fplane *out);
 int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out);
-/* the fast path with other parameters (tests) */
+/* the fast path with other parameters (tests; the front door: a given noise gain g) */
 int pc_dm_pan_guard_fast_with(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                               pc_cpu_level level, const pc_dm_pan_guard_params *p,
                               const pc_fplane *out);

@@ -8,7 +8,8 @@
  * measures, on each colour's own samples, which of the two models predicts them better nearby,
  * and blends the two estimates by that:
  *
- *  1. The base estimate I_p: pan-adapt's (pc_dm_pan_adapt_ref) or pan-side's (params.base), and
+ *  1. The base estimate I_p: pan-adapt's (pc_dm_pan_adapt_ref_with, with the noise gain
+ *     params.g when given, Round 15b) or pan-side's (params.base), and
  *     the conservative estimate I_b: bayer-first's (pc_dm_color_split_ref, then mono bilinear,
  *     pc_dm_ref), both double references, twelve float planes each.
  *  2. A leave-one-out check per 2×2 block B (corner (x & ~1, y & ~1), one colour k: red and
@@ -65,6 +66,7 @@ pc_dm_pan_guard_params pc_dm_pan_guard_defaults(void)
 	                            PC_DM_PAN_GUARD_FLOOR,
 	                            PC_DM_PAN_GUARD_MODE,
 	                            PC_DM_PAN_GUARD_CONS,
+	                            -1.0,
 	                            -1.0};
 	return p;
 }
@@ -136,7 +138,7 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 {
 	if ((p->base != 0 && p->base != 1) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
 	    !(p->floor >= 0) || (p->mode != 0 && p->mode != 1) || (p->cons != 0 && p->cons != 1) ||
-	    !(p->force <= 1) || !isfinite(p->force))
+	    !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g))
 		return pc_error(PC_EINVAL, "pan-guard: parameters out of range");
 	const size_t n = (size_t)w * h;
 	const double delta = PC_DM_PAN_ADAPT_DFS * fs;
@@ -148,7 +150,11 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 		ip[q] = (pc_fplane){planes + q * n, w, 1};
 		ib[q] = (pc_fplane){planes + (12 + q) * n, w, 1};
 	}
-	int rc = p->base ? pc_dm_pan_adapt_ref(img, w, h, m, fs, ip)
+	/* the base: pan-adapt with the given noise gain, or (g < 0) its own estimate, as
+	 * pc_dm_pan_adapt_ref */
+	pc_dm_pan_adapt_params pa = pc_dm_pan_adapt_defaults();
+	pa.g = p->g;
+	int rc = p->base ? pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &pa, ip)
 	                 : pc_dm_pan_side_ref(img, w, h, m, fs, ip);
 	if (!rc && p->cons == 0)
 		rc = guard_bayer_first(img, w, h, m, fs, ib);

@@ -358,7 +358,7 @@ static void gf_blend_rows(void *ctx, uint32_t y0, uint32_t y1)
  * blended, 1 the colour's analyser mean) */
 static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                   pc_cpu_level level, int base, int r, double gamma, double floor, int mode,
-                  double force, const pc_fplane *out)
+                  double force, double gain, const pc_fplane *out)
 {
 	const uint32_t w = in->width, h = in->height;
 	const size_t n = (size_t)w * h;
@@ -402,8 +402,9 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 		pc_dm_row_to_float(in, y, row + 1);
 		memcpy(img + (size_t)y * w, row + 1, sizeof(float) * w);
 	}
-	/* 1. the base into the outputs, bayer-first into ib */
-	rc = base ? pc_dm_pan_adapt_fast(in, m, fs, threads, level, out)
+	/* 1. the base into the outputs (pan-adapt with the given noise gain, < 0 its own
+	 * estimate), bayer-first into ib */
+	rc = base ? pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, gain, out)
 	          : pc_dm_pan_side_fast(in, m, fs, threads, level, out);
 	float *mf[3] = {mk, mk + n, mk + 2 * n};
 	if (!rc)
@@ -456,13 +457,13 @@ int pc_dm_pan_guard_fast_with(const pc_dm_input *in, const pc_mosaic *m, double 
 {
 	if ((p->base != 0 && p->base != 1) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
 	    !(p->floor >= 0) || (p->mode != 0 && p->mode != 1) || (p->cons != 0 && p->cons != 1) ||
-	    !(p->force <= 1) || !isfinite(p->force))
+	    !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g))
 		return pc_error(PC_EINVAL, "pan-guard: parameters out of range");
 	if (p->cons != 0)
 		return pc_error(PC_ENOTSUP, "pan-guard fast path: only bayer-first as the "
 		                            "conservative estimate (cons 0)");
 	return gf_run(in, m, fs, threads, level, p->base, p->r, p->gamma, p->floor, p->mode,
-	              p->force, out);
+	              p->force, p->g, out);
 }
 
 int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,

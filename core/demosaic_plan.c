@@ -558,8 +558,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "(docs/demosaicking.md, Round 15 fast path)",
                           "ours (docs/demosaicking.md, Round 15): pan-adapt and bayer-first "
                           "combined by their local leave-one-out errors (Bates & Granger, "
-                          "Operational Research Quarterly 20(4) 1969, sharpened)",
-                          PC_DMF_COLOR},
+                          "Operational Research Quarterly 20(4) 1969, sharpened); its base "
+                          "pan-adapt takes a given noise gain (--noise-gain)",
+                          PC_DMF_COLOR | PC_DMF_NOISE_GAIN},
                          {PAN_GUARD_LO, PAN_GUARD_HI, 1, 1},
                          NULL,
                          NULL,
@@ -748,12 +749,19 @@ static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *o
 {
 	const uint32_t w = p->raw->width, h = p->raw->height;
 	int rc;
-	/* a given noise gain (pc_pipeline_opts.noise_gain > 0) for the method that uses one */
-	const bool given = p->opts.method == PC_DM_PAN_ADAPT && p->opts.noise_gain > 0;
+	/* a given noise gain (pc_pipeline_opts.noise_gain > 0) for the methods that use one
+	 * (PC_DMF_NOISE_GAIN): pan-adapt's own, pan-guard's base's */
+	const bool given = (p->def->info.flags & PC_DMF_NOISE_GAIN) && p->opts.noise_gain > 0;
+	const bool guard = p->opts.method == PC_DM_PAN_GUARD;
+	pc_dm_pan_guard_params pg = pc_dm_pan_guard_defaults();
+	pg.g = p->opts.noise_gain;
 	if (p->opts.reference || !fn->fast) {
 		double *img = NULL;
 		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
-		if (!rc && given) {
+		if (!rc && given && guard) {
+			rc = pc_dm_pan_guard_ref_with(img, w, h, &p->opts.mosaic, p->full_scale,
+			                              &pg, out);
+		} else if (!rc && given) {
 			pc_dm_pan_adapt_params pa = pc_dm_pan_adapt_defaults();
 			pa.g = p->opts.noise_gain;
 			rc = pc_dm_pan_adapt_ref_with(img, w, h, &p->opts.mosaic, p->full_scale,
@@ -765,7 +773,10 @@ static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *o
 	} else {
 		const pc_dm_input *in;
 		rc = pc_dm_plan_input(p, &in);
-		if (!rc && given)
+		if (!rc && given && guard)
+			rc = pc_dm_pan_guard_fast_with(in, &p->opts.mosaic, p->full_scale,
+			                               p->opts.threads, p->level, &pg, out);
+		else if (!rc && given)
 			rc = pc_dm_pan_adapt_fast_g(in, &p->opts.mosaic, p->full_scale,
 			                            p->opts.threads, p->level, p->opts.noise_gain,
 			                            out);

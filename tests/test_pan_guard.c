@@ -20,7 +20,14 @@
  *    there and differ by little), and for every colour its error is at most the base's (so at
  *    most the worse of the two estimates').
  *  - The front door runs it (reference and default path, while the fast path is the
- *    reference) and finds it by name; on an 8 × 8 frame every output is finite. */
+ *    reference) and finds it by name; on an 8 × 8 frame every output is finite.
+ *  - A given noise gain (pc_pipeline_opts.noise_gain, docs/demosaicking.md Round 15b) reaches
+ *    the base: with forced weights 1 and g given the output is pan-adapt's reference with that
+ *    g, bit for bit, and another g changes it; through the front door the default (estimated)
+ *    equals the estimate given explicitly (pc_demosaic_noise_gain's value) bit for bit, on the
+ *    reference and the fast path, 10× the estimate changes the outputs, and the fast path with
+ *    a given gain is within 1e-5 of full scale of the reference with it; a g that is not finite
+ *    is refused; the method carries the flag PC_DMF_NOISE_GAIN. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -29,6 +36,7 @@
 #include "../core/demosaic_pan.h"
 #include "check.h"
 #include "polarcam/demosaic.h"
+#include "polarcam/error.h"
 #include "polarcam/mosaic.h"
 
 #define PC_TEST_SEED 0x5eed15a8a2dull
@@ -352,11 +360,102 @@ static void test_front(void)
 	pc_view_free(&raw);
 }
 
+/* a given noise gain: the base's, the front door's routing, bit-identical defaults */
+static void test_given_gain(void)
+{
+	const uint32_t W = 130, H = 66;
+	const pc_mosaic m = pc_mosaic_imx250myr();
+	const size_t nf = sizeof(float) * W * H * 12;
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0), 0);
+	double *img = malloc(sizeof(double) * W * H);
+	const double black = 100;
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			uint16_t s = (uint16_t)(700 + 300 * sin(x / 9.0) +
+			                        200 * sin(y / 2.7 + x / 3.1) + 40 * nrand());
+			PC_ROW(&raw, uint16_t, y)[x] = s;
+			img[(size_t)y * W + x] = s - black;
+		}
+	pc_fplane a[12], b[12];
+	float *ab = alloc_planes(W, H, a), *bb = alloc_planes(W, H, b);
+	/* (1) the base with forced weights 1: pan-adapt's reference with the same g, bit for bit
+	 * (a g the estimate is not: 3.5 and 35) */
+	for (int i = 0; i < 2; i++) {
+		pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+		p.force = 1;
+		p.g = i ? 35 : 3.5;
+		CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, 4095 - black, &p, a), 0);
+		pc_dm_pan_adapt_params pa = pc_dm_pan_adapt_defaults();
+		pa.g = p.g;
+		CHECK_EQ_INT(pc_dm_pan_adapt_ref_with(img, W, H, &m, 4095 - black, &pa, b), 0);
+		CHECK(memcmp(ab, bb, nf) == 0);
+		if (i) { /* not vacuous: 3.5's base differs from 35's */
+			pa.g = 3.5;
+			CHECK_EQ_INT(pc_dm_pan_adapt_ref_with(img, W, H, &m, 4095 - black, &pa, b),
+			             0);
+			CHECK(memcmp(ab, bb, nf) != 0);
+		}
+	}
+	/* a gain that is not finite: refused */
+	{
+		pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+		p.g = NAN;
+		CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, 4095 - black, &p, a),
+		             PC_EINVAL);
+		p.g = INFINITY;
+		CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, 4095 - black, &p, a),
+		             PC_EINVAL);
+	}
+	/* (2) the front door */
+	pc_pipeline_opts o = pc_pipeline_defaults();
+	o.method = PC_DM_PAN_GUARD;
+	o.mosaic = m;
+	o.black_level = black;
+	o.full_scale = 4095; /* a 12-bit raw in 16 bits */
+	double g = -1;
+	CHECK_EQ_INT(pc_demosaic_noise_gain(&raw, &o, &g), 0);
+	CHECK(g > 0);
+	for (int ref = 0; ref < 2; ref++) {
+		o.reference = ref;
+		o.noise_gain = 0;
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &o, a, NULL), 0);
+		o.noise_gain = g;
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &o, b, NULL), 0);
+		CHECK(memcmp(ab, bb, nf) == 0);
+		o.noise_gain = 10 * g;
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &o, b, NULL), 0);
+		double d = 0;
+		for (size_t i = 0; i < (size_t)W * H * 12; i++)
+			d = fmax(d, fabs(ab[i] - bb[i]));
+		printf("  given gain (%s): the estimate %.4f given = default bit for bit; 10x it "
+		       "moves outputs by up to %.3g DN\n",
+		       ref ? "reference" : "fast path", g, d);
+		CHECK(d > 0);
+	}
+	o.noise_gain = 3.5;
+	o.reference = true;
+	CHECK_EQ_INT(pc_demosaic_run(&raw, &o, a, NULL), 0);
+	o.reference = false;
+	CHECK_EQ_INT(pc_demosaic_run(&raw, &o, b, NULL), 0);
+	double worst = 0;
+	for (size_t i = 0; i < (size_t)W * H * 12; i++)
+		worst = fmax(worst, fabs(ab[i] - bb[i]));
+	printf("  given gain 3.5: max |fast - reference| %.3g DN\n", worst);
+	CHECK(worst <= 1e-5 * 4095);
+	CHECK(pc_demosaic_method_get(PC_DM_PAN_GUARD)->flags & PC_DMF_NOISE_GAIN);
+	free(ab);
+	free(bb);
+	free(img);
+	pc_view_free(&raw);
+}
+
 int main(void)
 {
 	test_forced();
 	test_convex();
 	test_guard();
 	test_front();
+	test_given_gain();
 	return pc_test_finish("test_pan_guard");
 }

@@ -11,7 +11,10 @@
  *    more than 1 % of full scale away from its base (else the comparison would test the base
  *    only);
  *  - three threads give one thread's outputs bit for bit, interleaved outputs the planar ones;
- *  - forced weights 1 give the base's fast path bit for bit. */
+ *  - forced weights 1 give the base's fast path bit for bit, also with a given noise gain g
+ *    (pan-adapt's fast path with that g; another g changes it), and with a given g the fast
+ *    path is within 1e-5 of full scale of the reference with it (Round 15b's gain, given to
+ *    the base). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -196,7 +199,33 @@ static void test_forced_base(pc_cpu_level level)
 					eq &= fget(&f[q], x, y) == fget(&b[q], x, y);
 		CHECK(eq);
 	}
+	/* a given noise gain reaches the base: pan-adapt's fast path with the same g */
+	for (int i = 0; i < 2; i++) {
+		pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+		p.force = 1;
+		p.g = i ? 40.0 : 4.0;
+		CHECK_EQ_INT(pc_dm_pan_guard_fast_with(&in, &m, FS, 1, level, &p, f), 0);
+		CHECK_EQ_INT(pc_dm_pan_adapt_fast_g(&in, &m, FS, 1, level, i ? 40.0 : 4.0, b), 0);
+		int eq = 1;
+		for (unsigned q = 0; q < 12; q++)
+			for (uint32_t y = 0; y < H; y++)
+				for (uint32_t x = 0; x < W; x++)
+					eq &= fget(&f[q], x, y) == fget(&b[q], x, y);
+		CHECK(eq);
+		if (i) { /* not vacuous: 4's base differs from 40's */
+			CHECK_EQ_INT(pc_dm_pan_adapt_fast_g(&in, &m, FS, 1, level, 4.0, b), 0);
+			int ne = 0;
+			for (unsigned q = 0; q < 12; q++)
+				for (uint32_t y = 0; y < H; y++)
+					for (uint32_t x = 0; x < W; x++)
+						ne |= fget(&f[q], x, y) != fget(&b[q], x, y);
+			CHECK(ne);
+		}
+	}
 	pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+	p.g = NAN;
+	CHECK_EQ_INT(pc_dm_pan_guard_fast_with(&in, &m, FS, 1, level, &p, f), PC_EINVAL);
+	p = pc_dm_pan_guard_defaults();
 	p.cons = 1;
 	CHECK_EQ_INT(pc_dm_pan_guard_fast_with(&in, &m, FS, 1, level, &p, f), PC_ENOTSUP);
 	free(img);
@@ -205,11 +234,58 @@ static void test_forced_base(pc_cpu_level level)
 	free(bb);
 }
 
+/* a given noise gain: the fast path within 1e-5 of full scale of the reference with it, on
+ * the noisy scene (kind 3), at gains around and far from its estimate; and different gains
+ * give different outputs */
+static void test_given_gain(pc_cpu_level level)
+{
+	const uint32_t W = 64, H = 48;
+	const pc_mosaic m = pc_mosaic_imx250myr();
+	double *img = malloc(sizeof(double) * W * H);
+	float *imgf = malloc(sizeof(float) * W * H);
+	pc_fplane r[12], f[12], f0[12];
+	float *rb = alloc_planes(W, H, r), *fb = alloc_planes(W, H, f),
+	      *f0b = alloc_planes(W, H, f0);
+	make_raw(3, &m, W, H, img, imgf);
+	const pc_dm_input in = pc_dm_input_f32(imgf, W, H);
+	static const double gs[3] = {0.5, 4.0, 40.0};
+	double worst = 0, moved = 0;
+	for (int i = 0; i < 3; i++) {
+		pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+		p.g = gs[i];
+		CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, FS, &p, r), 0);
+		CHECK_EQ_INT(pc_dm_pan_guard_fast_with(&in, &m, FS, 1, level, &p, f), 0);
+		if (i == 0)
+			CHECK_EQ_INT(pc_dm_pan_guard_fast_with(&in, &m, FS, 1, level, &p, f0), 0);
+		for (unsigned q = 0; q < 12; q++)
+			for (uint32_t y = 0; y < H; y++)
+				for (uint32_t x = 0; x < W; x++) {
+					worst =
+					    fmax(worst,
+					         fabs(fget(&f[q], x, y) - fget(&r[q], x, y)) / FS);
+					moved =
+					    fmax(moved,
+					         fabs(fget(&f[q], x, y) - fget(&f0[q], x, y)) / FS);
+				}
+	}
+	printf("  %s, given gains 0.5, 4, 40 (noisy scene): max |fast - reference| %.3g of full "
+	       "scale; the gains move outputs by up to %.3g of full scale\n",
+	       pc_cpu_level_name(level), worst, moved);
+	CHECK(worst <= 1e-5);
+	CHECK(moved > 1e-4);
+	free(img);
+	free(imgf);
+	free(rb);
+	free(fb);
+	free(f0b);
+}
+
 int main(void)
 {
 	for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
 		test_against_reference((pc_cpu_level)l);
 		test_forced_base((pc_cpu_level)l);
+		test_given_gain((pc_cpu_level)l);
 	}
 	return pc_test_finish("test_pan_guard_fast");
 }

@@ -45,13 +45,14 @@ const char cli_raw_help[] =
     "                      calibrated analysers, its distrusted pixels flagged. The frame must\n"
     "                      match it (size, ROI, mosaic, bit depth); the dark map replaces\n"
     "                      --black-level. Default saturation: the file's\n"
-    "  --noise-gain DN_PER_E  the noise gain of noise-aware methods (pan-adapt): the\n"
-    "                      sensor's variance per unit signal in raw units, i.e. the system\n"
-    "                      gain K (DN per electron, EMVA 1288 photon transfer) at the\n"
-    "                      settings in use, in the raw's units (x16 for a 12-bit raw stored\n"
-    "                      shifted in 16 bits). Default: estimated from each frame (median\n"
-    "                      residual; textured frames overestimate it). The JSON says which\n"
-    "                      (noise_gain, noise_gain_from). Refused with other methods\n"
+    "  --noise-gain DN_PER_E  the noise gain of noise-aware methods (pan-adapt; pan-guard's\n"
+    "                      base pan-adapt): the sensor's variance per unit signal in raw\n"
+    "                      units, i.e. the system gain K (DN per electron, EMVA 1288 photon\n"
+    "                      transfer) at the settings in use, in the raw's units (x16 for a\n"
+    "                      12-bit raw stored shifted in 16 bits). Default: estimated from\n"
+    "                      each frame (median residual; textured frames overestimate it).\n"
+    "                      The JSON says which (noise_gain, noise_gain_from). Refused with\n"
+    "                      other methods\n"
     "  --threads N         threads (default: all cores)\n"
     "  --reference         run the double-precision reference implementation (slow)\n";
 
@@ -265,7 +266,8 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 	o->method = pc_demosaic_method_get(o->dm)->name;
 	if (o->noise_gain > 0 && !(pc_demosaic_method_get(o->dm)->flags & PC_DMF_NOISE_GAIN))
 		return cli_error(CLI_EXIT_USAGE,
-		                 "--noise-gain: method %s uses no noise gain (pan-adapt does)",
+		                 "--noise-gain: method %s uses no noise gain (pan-adapt and "
+		                 "pan-guard do)",
 		                 o->method);
 	return 0;
 }

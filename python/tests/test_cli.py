@@ -304,10 +304,10 @@ def test_pbrdf_degrees_match_cli_conversion():
 
 def test_noise_gain_equals_cli(cli, tmp_path):
     """pan-adapt's noise gain on the command line (--noise-gain, docs/demosaicking.md Round 15b)
-    and in the module: the JSON says which gain was used; the estimate it reports, given back
-    with --noise-gain or noise_gain=, reproduces the estimated output bit for bit (17
-    significant digits round-trip a double); bad values and methods without a noise model are
-    refused with exit status 2."""
+    and in the module, and pan-guard's (for its base pan-adapt): the JSON says which gain was
+    used; the estimate it reports, given back with --noise-gain or noise_gain=, reproduces the
+    estimated output bit for bit (17 significant digits round-trip a double); bad values and
+    methods without a noise model are refused with exit status 2."""
     scene = os.path.join(SCENES, "colour_small.json")
     cli("render", scene, "-o", tmp_path / "rec", "--seed", "11")
     raw, _, meta = polarcam.render(scene, seed=11)
@@ -342,11 +342,29 @@ def test_noise_gain_equals_cli(cli, tmp_path):
                 tmp_path / "x.npy", check=False)
         assert p.returncode == 2 and "--noise-gain" in p.stderr, (bad, p.stderr)
     assert not (tmp_path / "x.npy").exists()
-    # which methods take it: the module and `demosaic --list --json` agree (pan-adapt alone)
+    # which methods take it: the module and `demosaic --list --json` agree (pan-adapt, and
+    # pan-guard for its base pan-adapt)
     listed = {m["name"]: m["noise_gain"] for m in json.loads(cli("demosaic", "--list",
                                                                  "--json").stdout)}
     assert listed == {m["name"]: m["noise_gain"] for m in polarcam.methods()}
-    assert [n for n, v in listed.items() if v] == ["pan-adapt"]
+    assert [n for n, v in listed.items() if v] == ["pan-adapt", "pan-guard"]
+    # pan-guard: the same round trip (its estimate is pan-adapt's, on the same frame), and
+    # another gain changes its output
+    p = cli("demosaic", png, "--method", "pan-guard", "-o", tmp_path / "ge.npy", "--json")
+    j4 = json_lines(p.stdout)[0]
+    assert j4["noise_gain_from"] == "estimated" and j4["noise_gain"] == g, j4
+    gest = polarcam.demosaic(raw, method="pan-guard", layout=meta["layout"], bits=meta["bits"])
+    np.testing.assert_array_equal(gest, np.load(tmp_path / "ge.npy"))
+    p = cli("demosaic", png, "--method", "pan-guard", "--noise-gain", repr(g), "-o",
+            tmp_path / "gg.npy", "--json")
+    assert json_lines(p.stdout)[0]["noise_gain_from"] == "option"
+    np.testing.assert_array_equal(np.load(tmp_path / "gg.npy"), gest)
+    np.testing.assert_array_equal(
+        polarcam.demosaic(raw, method="pan-guard", layout=meta["layout"], bits=meta["bits"],
+                          noise_gain=g), gest)
+    assert not np.array_equal(
+        polarcam.demosaic(raw, method="pan-guard", layout=meta["layout"], bits=meta["bits"],
+                          noise_gain=20 * g), gest)
     # process: meta.json says the same, and stokes(noise_gain=) gives its outputs
     cli("process", png, "--method", "pan-adapt", "--noise-gain", "1.5", "-o", tmp_path / "p")
     m = json.loads((tmp_path / "p" / "meta.json").read_text())
