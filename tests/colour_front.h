@@ -1,0 +1,49 @@
+/* Shared by the colour method tests (test_pan_adapt, test_pan_guard): a colour method through the
+ * front door, its double reference against its default (fast) path on a small random texture.
+ * Include after check.h, polarcam/demosaic.h and xorshift.h (it draws from the test's stream). */
+#ifndef PC_TESTS_COLOUR_FRONT_H
+#define PC_TESTS_COLOUR_FRONT_H
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "polarcam/demosaic.h"
+#include "polarcam/mosaic.h"
+
+/* method md on a W × H 12-bit IMX250MYR raw of 600..1400 DN (uniform): CHECKs that both calls
+ * succeed and that max |default − reference| <= 1e-5 of the 12-bit full scale (the fast paths'
+ * tolerance), prints it, and returns it (-1 when a call failed) */
+static double colour_front_check(pc_demosaic_method md, uint32_t W, uint32_t H)
+{
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0), 0);
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++)
+			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)(600 + 800 * urand());
+	size_t n = (size_t)W * H * 12;
+	float *ab = malloc(sizeof(float) * n), *bb = malloc(sizeof(float) * n);
+	pc_fplane a[12], b[12];
+	pc_fplanes_separate(ab, W, H, 12, a);
+	pc_fplanes_separate(bb, W, H, 12, b);
+	pc_mosaic m = pc_mosaic_imx250myr();
+	pc_demosaic_opts ref = {0, true, 0};
+	int ra = pc_demosaic(&raw, &m, md, &ref, a), rb = pc_demosaic(&raw, &m, md, NULL, b);
+	CHECK_EQ_INT(ra, 0);
+	CHECK_EQ_INT(rb, 0);
+	double worst = -1;
+	if (ra == 0 && rb == 0) {
+		worst = 0;
+		for (size_t i = 0; i < n; i++)
+			worst = fmax(worst, fabs(ab[i] - bb[i]));
+		printf("  front door %ux%u: max |default - reference| %.3g DN\n", W, H, worst);
+		CHECK(worst <= 1e-5 * 4095);
+	}
+	free(ab);
+	free(bb);
+	pc_view_free(&raw);
+	return worst;
+}
+
+#endif
