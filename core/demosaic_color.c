@@ -207,3 +207,219 @@ int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic 
 	free(xp);
 	return 0;
 }
+
+/* ---- bayer-first in one pass ----
+ *
+ * Away from the borders bayer-first is linear and shift-invariant on each (colour k, analyser c)
+ * lattice of the raw (derived in docs/demosaicking.md, Round 15d): with
+ *     T2 = [1/2 1 1/2] and T4 = [1/4 1/2 3/4 1 3/4 1/2 1/4] (offsets -1..1 and -3..3),
+ * and s_{k,c} the raw masked to the samples of colour k and analyser c,
+ *     R, B:  out_{k,c} = (T4 ⊗ T4) ⊛ s_{k,c}
+ *     G:     out_{G,c} = ½ (T4 ⊗ T2 + T2 ⊗ T4) ⊛ s_{G,c}      (x ⊗ y)
+ * (step 1's Bayer tent is [1/2 0 1 0 1/2]⊗[..] on R/B and δ + ¼ plus at distance 2 on G; step
+ * 2's tent is T2 ⊗ T2; their composition). The kernel runs it as a vertical pass over the rows
+ * of one analyser row parity cy, masked by colour, giving one row V that holds both analysers
+ * of that parity (column parity = analyser's), then a horizontal pass split by the parity of
+ * the offset: the even taps read the analyser of the output's column, the odd ones the other.
+ * Output pixels within 3 of a border (where the two mirrors of the definition differ from a
+ * shift-invariant filter) are computed by the composition itself, in double. */
+
+static double get_f32(const void *img, uint32_t w, int x, int y)
+{
+	return ((const float *)img)[(size_t)y * w + x];
+}
+
+/* The 12 outputs of pixel (x, y) by the definition (step 1 on the 3×3 neighbourhood, then step
+ * 2's tent), each mirror as the reference applies it. */
+static void bf_pixel(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int x, int y,
+                     double o[12])
+{
+	double mk[3][3][3]; /* [k][dy][dx]: M_k at the mirrored neighbours */
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++) {
+			int xx = pc_mirror(x + dx, (int)w), yy = pc_mirror(y + dy, (int)h);
+			unsigned ch = pc_mosaic_channel(m, (uint32_t)xx, (uint32_t)yy), cx, cy;
+			pc_mosaic_channel_pos(m, ch, &cx, &cy);
+			for (unsigned k = 0; k < 3; k++)
+				mk[k][dy + 1][dx + 1] =
+				    bayer_tent(img, get_f32, m, w, h, cx, cy, (xx - (int)cx) / 2,
+				               (yy - (int)cy) / 2, PC_CFA_R + k);
+		}
+	for (unsigned c = 0; c < 4; c++) {
+		double s[3] = {0, 0, 0}, ws = 0;
+		for (int dy = -1; dy <= 1; dy++)
+			for (int dx = -1; dx <= 1; dx++) {
+				/* the parity of x + dx is that of its mirror */
+				if (pc_mosaic_channel(m, (uint32_t)(x + dx) & 3u,
+				                      (uint32_t)(y + dy) & 3u) != c)
+					continue;
+				double wt = (2 - abs(dx)) * (2 - abs(dy));
+				for (unsigned k = 0; k < 3; k++)
+					s[k] += wt * mk[k][dy + 1][dx + 1];
+				ws += wt;
+			}
+		for (unsigned k = 0; k < 3; k++)
+			o[4 * k + c] = s[k] / ws;
+	}
+}
+
+typedef struct bf_job {
+	const float *img;
+	const pc_mosaic *m;
+	uint32_t w, h;
+	const float *cmask; /* [k][y mod 4][x]: 1 where the raw's colour is k, else 0 */
+	const pc_fplane *out;
+	int fail;
+} bf_job;
+
+static void bf_put(const pc_fplane *out, uint32_t x, uint32_t y, const double o[12])
+{
+	for (unsigned p = 0; p < 12; p++)
+		out[p].data[(size_t)y * out[p].row_stride + (size_t)x * out[p].pixel_stride] =
+		    (float)o[p];
+}
+
+static float bf_t4(int d)
+{
+	return 1.0f - (float)abs(d) / 4.0f;
+}
+
+/* The horizontal pass of one analyser row parity: from the vertical row v, e (the even taps)
+ * and o (the odd ones) at x in [x0, x1): T4 (t4 != 0) or T2. */
+static void bf_hpass(const float *v, int t4, uint32_t x0, uint32_t x1, float *e, float *o)
+{
+	if (t4) {
+		PC_SIMD
+		for (uint32_t x = x0; x < x1; x++) {
+			e[x] = v[x] + 0.5f * (v[x - 2] + v[x + 2]);
+			o[x] = 0.75f * (v[x - 1] + v[x + 1]) + 0.25f * (v[x - 3] + v[x + 3]);
+		}
+	} else {
+		PC_SIMD
+		for (uint32_t x = x0; x < x1; x++) {
+			e[x] = v[x];
+			o[x] = 0.5f * (v[x - 1] + v[x + 1]);
+		}
+	}
+}
+
+static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	bf_job *j = ctx;
+	const uint32_t w = j->w, h = j->h;
+	/* v[k][f][cy]: the vertical rows (f = 0: T4, 1: T2); eo[k][cy][2]: even / odd sums */
+	float *buf = malloc(sizeof(float) * (size_t)w * (3 * 2 * 2 + 3 * 2 * 2 + 2));
+	if (!buf) {
+		j->fail = 1;
+		return;
+	}
+	float *v[3][2][2], *eo[3][2][2], *t[2];
+	for (unsigned i = 0; i < 12; i++) {
+		v[i / 4][(i / 2) & 1][i & 1] = buf + (size_t)i * w;
+		eo[i / 4][(i / 2) & 1][i & 1] = buf + (size_t)(12 + i) * w;
+	}
+	t[0] = buf + (size_t)24 * w;
+	t[1] = buf + (size_t)25 * w;
+	const uint32_t xa = 3, xb = w - 3; /* the interior columns [xa, xb) */
+	for (uint32_t y = y0; y < y1; y++) {
+		double o12[12];
+		if (y < 3 || y + 3 >= h) {
+			for (uint32_t x = 0; x < w; x++) {
+				bf_pixel(j->img, w, h, j->m, (int)x, (int)y, o12);
+				bf_put(j->out, x, y, o12);
+			}
+			continue;
+		}
+		/* vertical: rows y + dy of parity cy, colour k, weights T4(dy) and T2(dy) */
+		for (unsigned k = 0; k < 3; k++)
+			for (unsigned f = 0; f < 2; f++)
+				for (unsigned cy = 0; cy < 2; cy++) {
+					float *vr = v[k][f][cy];
+					int first = 1;
+					for (int dy = -3; dy <= 3; dy++) {
+						uint32_t r = (uint32_t)((int)y + dy);
+						float wt =
+						    f ? (abs(dy) <= 1 ? 1.0f - 0.5f * (float)abs(dy)
+						                      : 0.0f)
+						      : bf_t4(dy);
+						if ((r & 1) != cy || wt == 0)
+							continue;
+						const float *src = j->img + (size_t)r * w;
+						const float *cm =
+						    j->cmask + ((size_t)k * 4 + (r & 3)) * w;
+						if (first) {
+							PC_SIMD
+							for (uint32_t x = 0; x < w; x++)
+								vr[x] = wt * (cm[x] * src[x]);
+						} else {
+							PC_SIMD
+							for (uint32_t x = 0; x < w; x++)
+								vr[x] += wt * (cm[x] * src[x]);
+						}
+						first = 0;
+					}
+					if (first)
+						memset(vr, 0, sizeof(float) * w);
+				}
+		/* horizontal: R, B (T4 ⊗ T4); G ½ (T4 ⊗ T2 + T2 ⊗ T4) */
+		for (unsigned k = 0; k < 3; k++)
+			for (unsigned cy = 0; cy < 2; cy++) {
+				float *e = eo[k][cy][0], *o = eo[k][cy][1];
+				if (PC_CFA_R + k != PC_CFA_G) {
+					bf_hpass(v[k][0][cy], 1, xa, xb, e, o);
+					continue;
+				}
+				bf_hpass(v[k][1][cy], 1, xa, xb, e, o);
+				bf_hpass(v[k][0][cy], 0, xa, xb, t[0], t[1]);
+				PC_SIMD
+				for (uint32_t x = xa; x < xb; x++) {
+					e[x] = 0.5f * (e[x] + t[0][x]);
+					o[x] = 0.5f * (o[x] + t[1][x]);
+				}
+			}
+		/* the planes: analyser c at (cx, cy) takes e where x has its column parity */
+		for (unsigned c = 0; c < 4; c++) {
+			unsigned cx, cy;
+			pc_mosaic_channel_pos(j->m, c, &cx, &cy);
+			for (unsigned k = 0; k < 3; k++) {
+				const pc_fplane *p = &j->out[4 * k + c];
+				const float *e = eo[k][cy][0];
+				const float *o = eo[k][cy][1];
+				float *d = p->data + (size_t)y * p->row_stride;
+				if (p->pixel_stride == 1) {
+					PC_SIMD
+					for (uint32_t x = xa; x < xb; x++)
+						d[x] = (x & 1) == cx ? e[x] : o[x];
+				} else {
+					for (uint32_t x = xa; x < xb; x++)
+						d[x * p->pixel_stride] =
+						    (x & 1) == cx ? e[x] : o[x];
+				}
+			}
+		}
+		for (uint32_t x = 0; x < w; x++) {
+			if (x == xa)
+				x = xb;
+			bf_pixel(j->img, w, h, j->m, (int)x, (int)y, o12);
+			bf_put(j->out, x, y, o12);
+		}
+	}
+	free(buf);
+}
+
+int pc_dm_bayer_first(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int threads,
+                      const pc_fplane *out)
+{
+	float *cmask = malloc(sizeof(float) * 12 * (size_t)w);
+	if (!cmask)
+		return pc_error(PC_ENOMEM, "bayer-first: colour masks");
+	for (unsigned k = 0; k < 3; k++)
+		for (uint32_t r = 0; r < 4; r++)
+			for (uint32_t x = 0; x < w; x++)
+				cmask[((size_t)k * 4 + r) * w + x] =
+				    pc_mosaic_color(m, x, r) == PC_CFA_R + k ? 1.0f : 0.0f;
+	bf_job j = {img, m, w, h, cmask, out, 0};
+	pc_parallel_rows(h, 0, threads, bf_band, &j);
+	free(cmask);
+	return j.fail ? pc_error(PC_ENOMEM, "bayer-first: row buffers") : 0;
+}

@@ -730,6 +730,15 @@ static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 	if (own)
 		return colour_own(p, own, out);
 	const uint32_t w = p->raw->width, h = p->raw->height;
+	if (p->opts.method == PC_DM_BAYER_FIRST && !p->opts.reference) {
+		/* the one-pass fast path (the two steps' weights composed) */
+		float *f = NULL;
+		int rc = pc_dm_raw_to_float(p->raw, p->opts.black_level, &f);
+		if (!rc)
+			rc = pc_dm_bayer_first(f, w, h, &p->opts.mosaic, p->opts.threads, out);
+		free(f);
+		return rc;
+	}
 	const size_t n = (size_t)w * h;
 	const pc_mosaic mono = pc_dm_color_mono(&p->opts.mosaic);
 	const pc_demosaic_method second = p->def->second;
