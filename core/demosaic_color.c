@@ -224,14 +224,23 @@ int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic 
  * Output pixels within 3 of a border (where the two mirrors of the definition differ from a
  * shift-invariant filter) are computed by the composition itself, in double. */
 
-static double get_f32(const void *img, uint32_t w, int x, int y)
+/* The band's raw rows minus black, as floats: a ring of 8 rows keyed by row & 7 (an output
+ * row reads the rows within ±3 of it, mirrored into the frame, never more than 7 distinct). */
+typedef struct bf_ring {
+	float *row[8];
+	int32_t have[8];
+} bf_ring;
+
+static double get_ring(const void *img, uint32_t w, int x, int y)
 {
-	return ((const float *)img)[(size_t)y * w + x];
+	(void)w;
+	const bf_ring *r = img;
+	return r->row[y & 7][x];
 }
 
 /* The 12 outputs of pixel (x, y) by the definition (step 1 on the 3×3 neighbourhood, then step
- * 2's tent), each mirror as the reference applies it. */
-static void bf_pixel(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int x, int y,
+ * 2's tent), each mirror as the reference applies it, in double. */
+static void bf_pixel(const bf_ring *img, uint32_t w, uint32_t h, const pc_mosaic *m, int x, int y,
                      double o[12])
 {
 	double mk[3][3][3]; /* [k][dy][dx]: M_k at the mirrored neighbours */
@@ -242,7 +251,7 @@ static void bf_pixel(const float *img, uint32_t w, uint32_t h, const pc_mosaic *
 			pc_mosaic_channel_pos(m, ch, &cx, &cy);
 			for (unsigned k = 0; k < 3; k++)
 				mk[k][dy + 1][dx + 1] =
-				    bayer_tent(img, get_f32, m, w, h, cx, cy, (xx - (int)cx) / 2,
+				    bayer_tent(img, get_ring, m, w, h, cx, cy, (xx - (int)cx) / 2,
 				               (yy - (int)cy) / 2, PC_CFA_R + k);
 		}
 	for (unsigned c = 0; c < 4; c++) {
@@ -264,7 +273,7 @@ static void bf_pixel(const float *img, uint32_t w, uint32_t h, const pc_mosaic *
 }
 
 typedef struct bf_job {
-	const float *img;
+	const pc_dm_input *in;
 	const pc_mosaic *m;
 	uint32_t w, h;
 	const float *cmask; /* [k][y mod 4][x]: 1 where the raw's colour is k, else 0 */
@@ -279,27 +288,47 @@ static void bf_put(const pc_fplane *out, uint32_t x, uint32_t y, const double o[
 		    (float)o[p];
 }
 
+/* T4 at offset d, |d| <= 3 */
 static float bf_t4(int d)
 {
 	return 1.0f - (float)abs(d) / 4.0f;
 }
 
-/* The horizontal pass of one analyser row parity: from the vertical row v, e (the even taps)
- * and o (the odd ones) at x in [x0, x1): T4 (t4 != 0) or T2. */
-static void bf_hpass(const float *v, int t4, uint32_t x0, uint32_t x1, float *e, float *o)
+/* The horizontal pass, split by the parity of the offset (x in [x0, x1)): e the even taps, which
+ * read the output's own analyser, o the odd ones, which read the other analyser of the row
+ * parity. bf_eo4: T4 on v; bf_eog: G's ½ (T4 on g2 + T2 on g4). */
+static void bf_eo4(const float *restrict v, uint32_t x0, uint32_t x1, float *restrict e,
+                   float *restrict o)
 {
-	if (t4) {
-		PC_SIMD
-		for (uint32_t x = x0; x < x1; x++) {
-			e[x] = v[x] + 0.5f * (v[x - 2] + v[x + 2]);
-			o[x] = 0.75f * (v[x - 1] + v[x + 1]) + 0.25f * (v[x - 3] + v[x + 3]);
-		}
-	} else {
-		PC_SIMD
-		for (uint32_t x = x0; x < x1; x++) {
-			e[x] = v[x];
-			o[x] = 0.5f * (v[x - 1] + v[x + 1]);
-		}
+	PC_SIMD
+	for (long x = (long)x0; x < (long)x1; x++) {
+		e[x] = v[x] + 0.5f * (v[x - 2] + v[x + 2]);
+		o[x] = 0.75f * (v[x - 1] + v[x + 1]) + 0.25f * (v[x - 3] + v[x + 3]);
+	}
+}
+
+static void bf_eog(const float *restrict g2, const float *restrict g4, uint32_t x0, uint32_t x1,
+                   float *restrict e, float *restrict o)
+{
+	PC_SIMD
+	for (long x = (long)x0; x < (long)x1; x++) {
+		e[x] = 0.5f * ((g2[x] + 0.5f * (g2[x - 2] + g2[x + 2])) + g4[x]);
+		o[x] = 0.5f * ((0.75f * (g2[x - 1] + g2[x + 1]) + 0.25f * (g2[x - 3] + g2[x + 3])) +
+		               0.5f * (g4[x - 1] + g4[x + 1]));
+	}
+}
+
+/* The two analysers of a row parity: d0 (column parity 0) takes e at even x and o at odd x, d1
+ * the other way round; pe, po are 1 at even (odd) x and 0 elsewhere (products by 0 and 1 and
+ * the sum with 0 are exact). */
+static void bf_split(const float *restrict e, const float *restrict o, const float *restrict pe,
+                     const float *restrict po, uint32_t x0, uint32_t x1, float *restrict d0,
+                     float *restrict d1)
+{
+	PC_SIMD
+	for (long x = (long)x0; x < (long)x1; x++) {
+		d0[x] = pe[x] * e[x] + po[x] * o[x];
+		d1[x] = po[x] * e[x] + pe[x] * o[x];
 	}
 }
 
@@ -307,109 +336,125 @@ static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
 {
 	bf_job *j = ctx;
 	const uint32_t w = j->w, h = j->h;
-	/* v[k][f][cy]: the vertical rows (f = 0: T4, 1: T2); eo[k][cy][2]: even / odd sums */
-	float *buf = malloc(sizeof(float) * (size_t)w * (3 * 2 * 2 + 3 * 2 * 2 + 2));
+	const size_t pitch = (size_t)w + 2;
+	/* 8 raw rows, 8 vertical rows (4 per row parity), 12 output rows for strided planes */
+	float *buf = malloc(sizeof(float) * pitch * (8 + 8 + 12 + 4));
 	if (!buf) {
 		j->fail = 1;
 		return;
 	}
-	float *v[3][2][2], *eo[3][2][2], *t[2];
-	for (unsigned i = 0; i < 12; i++) {
-		v[i / 4][(i / 2) & 1][i & 1] = buf + (size_t)i * w;
-		eo[i / 4][(i / 2) & 1][i & 1] = buf + (size_t)(12 + i) * w;
+	bf_ring ring;
+	float *v[2][4], *tmp[12];
+	for (unsigned i = 0; i < 8; i++) {
+		ring.row[i] = buf + i * pitch + 1;
+		ring.have[i] = -1;
+		v[i / 4][i & 3] = buf + (8 + i) * pitch;
 	}
-	t[0] = buf + (size_t)24 * w;
-	t[1] = buf + (size_t)25 * w;
+	for (unsigned i = 0; i < 12; i++)
+		tmp[i] = buf + (16 + i) * pitch;
+	/* e and o of one colour; the parity rows */
+	float *eo[2] = {buf + 28 * pitch, buf + 29 * pitch}, *pe = buf + 30 * pitch,
+	      *po = buf + 31 * pitch;
+	for (uint32_t x = 0; x < w; x++) {
+		pe[x] = x & 1 ? 0.0f : 1.0f;
+		po[x] = x & 1 ? 1.0f : 0.0f;
+	}
+	int strided = 0;
+	for (unsigned p = 0; p < 12; p++)
+		strided |= j->out[p].pixel_stride != 1;
+	unsigned cxy[4][2];
+	for (unsigned c = 0; c < 4; c++)
+		pc_mosaic_channel_pos(j->m, c, &cxy[c][0], &cxy[c][1]);
 	const uint32_t xa = 3, xb = w - 3; /* the interior columns [xa, xb) */
 	for (uint32_t y = y0; y < y1; y++) {
+		int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
+		for (int r = lo; r <= hi; r++)
+			if (ring.have[r & 7] != r) {
+				pc_dm_row_to_float(j->in, (uint32_t)r, ring.row[r & 7]);
+				ring.have[r & 7] = r;
+			}
 		double o12[12];
 		if (y < 3 || y + 3 >= h) {
 			for (uint32_t x = 0; x < w; x++) {
-				bf_pixel(j->img, w, h, j->m, (int)x, (int)y, o12);
+				bf_pixel(&ring, w, h, j->m, (int)x, (int)y, o12);
 				bf_put(j->out, x, y, o12);
 			}
 			continue;
 		}
-		/* vertical: rows y + dy of parity cy, colour k, weights T4(dy) and T2(dy) */
-		for (unsigned k = 0; k < 3; k++)
-			for (unsigned f = 0; f < 2; f++)
-				for (unsigned cy = 0; cy < 2; cy++) {
-					float *vr = v[k][f][cy];
-					int first = 1;
-					for (int dy = -3; dy <= 3; dy++) {
-						uint32_t r = (uint32_t)((int)y + dy);
-						float wt =
-						    f ? (abs(dy) <= 1 ? 1.0f - 0.5f * (float)abs(dy)
-						                      : 0.0f)
-						      : bf_t4(dy);
-						if ((r & 1) != cy || wt == 0)
-							continue;
-						const float *src = j->img + (size_t)r * w;
-						const float *cm =
-						    j->cmask + ((size_t)k * 4 + (r & 3)) * w;
-						if (first) {
-							PC_SIMD
-							for (uint32_t x = 0; x < w; x++)
-								vr[x] = wt * (cm[x] * src[x]);
-						} else {
-							PC_SIMD
-							for (uint32_t x = 0; x < w; x++)
-								vr[x] += wt * (cm[x] * src[x]);
-						}
-						first = 0;
-					}
-					if (first)
-						memset(vr, 0, sizeof(float) * w);
-				}
-		/* horizontal: R, B (T4 ⊗ T4); G ½ (T4 ⊗ T2 + T2 ⊗ T4) */
-		for (unsigned k = 0; k < 3; k++)
-			for (unsigned cy = 0; cy < 2; cy++) {
-				float *e = eo[k][cy][0], *o = eo[k][cy][1];
-				if (PC_CFA_R + k != PC_CFA_G) {
-					bf_hpass(v[k][0][cy], 1, xa, xb, e, o);
+		/* vertical, per row parity cy: the rows of each residue t mod 4 weighted by T4 (and
+		 * T2) and masked by colour into R, B, G (T4) and G (T2) */
+		for (unsigned cy = 0; cy < 2; cy++) {
+			float *vr = v[cy][0], *vb = v[cy][1], *vg4 = v[cy][2], *vg2 = v[cy][3];
+			int first = 1;
+			for (int dy = -3; dy <= 3; dy++) {
+				uint32_t rr = (uint32_t)((int)y + dy);
+				if ((rr & 1) != cy)
 					continue;
-				}
-				bf_hpass(v[k][1][cy], 1, xa, xb, e, o);
-				bf_hpass(v[k][0][cy], 0, xa, xb, t[0], t[1]);
-				PC_SIMD
-				for (uint32_t x = xa; x < xb; x++) {
-					e[x] = 0.5f * (e[x] + t[0][x]);
-					o[x] = 0.5f * (o[x] + t[1][x]);
-				}
-			}
-		/* the planes: analyser c at (cx, cy) takes e where x has its column parity */
-		for (unsigned c = 0; c < 4; c++) {
-			unsigned cx, cy;
-			pc_mosaic_channel_pos(j->m, c, &cx, &cy);
-			for (unsigned k = 0; k < 3; k++) {
-				const pc_fplane *p = &j->out[4 * k + c];
-				const float *e = eo[k][cy][0];
-				const float *o = eo[k][cy][1];
-				float *d = p->data + (size_t)y * p->row_stride;
-				if (p->pixel_stride == 1) {
+				const float t4 = bf_t4(dy),
+				            t2 = abs(dy) <= 1 ? 1.0f - 0.5f * (float)abs(dy) : 0.0f;
+				const float *src = ring.row[rr & 7];
+				const float *mr = j->cmask + (0 + (rr & 3)) * (size_t)w;
+				const float *mg = j->cmask + (4 + (rr & 3)) * (size_t)w;
+				const float *mb = j->cmask + (8 + (rr & 3)) * (size_t)w;
+				if (first) {
 					PC_SIMD
-					for (uint32_t x = xa; x < xb; x++)
-						d[x] = (x & 1) == cx ? e[x] : o[x];
+					for (long x = 0; x < (long)w; x++) {
+						float s4 = t4 * src[x];
+						vr[x] = mr[x] * s4;
+						vb[x] = mb[x] * s4;
+						vg4[x] = mg[x] * s4;
+						vg2[x] = mg[x] * (t2 * src[x]);
+					}
 				} else {
-					for (uint32_t x = xa; x < xb; x++)
-						d[x * p->pixel_stride] =
-						    (x & 1) == cx ? e[x] : o[x];
+					PC_SIMD
+					for (long x = 0; x < (long)w; x++) {
+						float s4 = t4 * src[x];
+						vr[x] += mr[x] * s4;
+						vb[x] += mb[x] * s4;
+						vg4[x] += mg[x] * s4;
+						vg2[x] += mg[x] * (t2 * src[x]);
+					}
+				}
+				first = 0;
+			}
+			/* horizontal, into the planes of the two analysers of this row parity */
+			float *dst[3][2];
+			for (unsigned c = 0; c < 4; c++) {
+				if (cxy[c][1] != cy)
+					continue;
+				for (unsigned k = 0; k < 3; k++) {
+					const pc_fplane *p = &j->out[4 * k + c];
+					dst[k][cxy[c][0]] =
+					    strided ? tmp[4 * k + c]
+					            : p->data + (size_t)y * p->row_stride;
 				}
 			}
+			bf_eo4(vr, xa, xb, eo[0], eo[1]);
+			bf_split(eo[0], eo[1], pe, po, xa, xb, dst[0][0], dst[0][1]);
+			bf_eog(vg2, vg4, xa, xb, eo[0], eo[1]);
+			bf_split(eo[0], eo[1], pe, po, xa, xb, dst[1][0], dst[1][1]);
+			bf_eo4(vb, xa, xb, eo[0], eo[1]);
+			bf_split(eo[0], eo[1], pe, po, xa, xb, dst[2][0], dst[2][1]);
 		}
+		if (strided)
+			for (unsigned p = 0; p < 12; p++) {
+				float *d = j->out[p].data + (size_t)y * j->out[p].row_stride;
+				for (uint32_t x = xa; x < xb; x++)
+					d[x * j->out[p].pixel_stride] = tmp[p][x];
+			}
 		for (uint32_t x = 0; x < w; x++) {
 			if (x == xa)
 				x = xb;
-			bf_pixel(j->img, w, h, j->m, (int)x, (int)y, o12);
+			bf_pixel(&ring, w, h, j->m, (int)x, (int)y, o12);
 			bf_put(j->out, x, y, o12);
 		}
 	}
 	free(buf);
 }
 
-int pc_dm_bayer_first(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int threads,
-                      const pc_fplane *out)
+int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, const pc_fplane *out)
 {
+	const uint32_t w = in->width, h = in->height;
 	float *cmask = malloc(sizeof(float) * 12 * (size_t)w);
 	if (!cmask)
 		return pc_error(PC_ENOMEM, "bayer-first: colour masks");
@@ -418,7 +463,7 @@ int pc_dm_bayer_first(const float *img, uint32_t w, uint32_t h, const pc_mosaic 
 			for (uint32_t x = 0; x < w; x++)
 				cmask[((size_t)k * 4 + r) * w + x] =
 				    pc_mosaic_color(m, x, r) == PC_CFA_R + k ? 1.0f : 0.0f;
-	bf_job j = {img, m, w, h, cmask, out, 0};
+	bf_job j = {in, m, w, h, cmask, out, 0};
 	pc_parallel_rows(h, 0, threads, bf_band, &j);
 	free(cmask);
 	return j.fail ? pc_error(PC_ENOMEM, "bayer-first: row buffers") : 0;

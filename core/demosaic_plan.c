@@ -732,11 +732,10 @@ static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 	const uint32_t w = p->raw->width, h = p->raw->height;
 	if (p->opts.method == PC_DM_BAYER_FIRST && !p->opts.reference) {
 		/* the one-pass fast path (the two steps' weights composed) */
-		float *f = NULL;
-		int rc = pc_dm_raw_to_float(p->raw, p->opts.black_level, &f);
+		const pc_dm_input *in;
+		int rc = pc_dm_plan_input(p, &in);
 		if (!rc)
-			rc = pc_dm_bayer_first(f, w, h, &p->opts.mosaic, p->opts.threads, out);
-		free(f);
+			rc = pc_dm_bayer_first(in, &p->opts.mosaic, p->opts.threads, out);
 		return rc;
 	}
 	const size_t n = (size_t)w * h;
