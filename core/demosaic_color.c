@@ -27,6 +27,7 @@
 
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
+#include "simd.h"
 
 pc_mosaic pc_dm_color_mono(const pc_mosaic *m)
 {
@@ -278,6 +279,7 @@ typedef struct bf_job {
 	uint32_t w, h;
 	const float *cmask; /* [k][y mod 4][x]: 1 where the raw's colour is k, else 0 */
 	const pc_fplane *out;
+	pc_cpu_level level;
 	int fail;
 } bf_job;
 
@@ -288,49 +290,32 @@ static void bf_put(const pc_fplane *out, uint32_t x, uint32_t y, const double o[
 		    (float)o[p];
 }
 
-/* T4 at offset d, |d| <= 3 */
-static float bf_t4(int d)
-{
-	return 1.0f - (float)abs(d) / 4.0f;
-}
+/* One interior output row (y at least 3 from the top and bottom) of columns [xa, xb): the
+ * kernel instances (demosaic_bf_kern.inc, one per instruction-set level) of the vertical and
+ * horizontal passes. */
+typedef struct bf_row {
+	const float *const *raw; /* ring rows by row & 7 */
+	const float *cmask;
+	uint32_t w, xa, xb;
+	unsigned cxy[4][2];
+	float *v[2][4], *eo[2], *pe, *po;
+	float *dst[12]; /* the 12 output rows of this y (planes or, strided, scratch) */
+} bf_row;
 
-/* The horizontal pass, split by the parity of the offset (x in [x0, x1)): e the even taps, which
- * read the output's own analyser, o the odd ones, which read the other analyser of the row
- * parity. bf_eo4: T4 on v; bf_eog: G's ½ (T4 on g2 + T2 on g4). */
-static void bf_eo4(const float *restrict v, uint32_t x0, uint32_t x1, float *restrict e,
-                   float *restrict o)
-{
-	PC_SIMD
-	for (long x = (long)x0; x < (long)x1; x++) {
-		e[x] = v[x] + 0.5f * (v[x - 2] + v[x + 2]);
-		o[x] = 0.75f * (v[x - 1] + v[x + 1]) + 0.25f * (v[x - 3] + v[x + 3]);
-	}
-}
+#define PC_INST PC_INST_BASELINE
+#include "simd_instance_begin.h"
+#include "demosaic_bf_kern.inc"
+#include "simd_instance_end.h"
 
-static void bf_eog(const float *restrict g2, const float *restrict g4, uint32_t x0, uint32_t x1,
-                   float *restrict e, float *restrict o)
-{
-	PC_SIMD
-	for (long x = (long)x0; x < (long)x1; x++) {
-		e[x] = 0.5f * ((g2[x] + 0.5f * (g2[x - 2] + g2[x + 2])) + g4[x]);
-		o[x] = 0.5f * ((0.75f * (g2[x - 1] + g2[x + 1]) + 0.25f * (g2[x - 3] + g2[x + 3])) +
-		               0.5f * (g4[x - 1] + g4[x + 1]));
-	}
-}
+#define PC_INST PC_INST_AVX2
+#include "simd_instance_begin.h"
+#include "demosaic_bf_kern.inc"
+#include "simd_instance_end.h"
 
-/* The two analysers of a row parity: d0 (column parity 0) takes e at even x and o at odd x, d1
- * the other way round; pe, po are 1 at even (odd) x and 0 elsewhere (products by 0 and 1 and
- * the sum with 0 are exact). */
-static void bf_split(const float *restrict e, const float *restrict o, const float *restrict pe,
-                     const float *restrict po, uint32_t x0, uint32_t x1, float *restrict d0,
-                     float *restrict d1)
-{
-	PC_SIMD
-	for (long x = (long)x0; x < (long)x1; x++) {
-		d0[x] = pe[x] * e[x] + po[x] * o[x];
-		d1[x] = po[x] * e[x] + pe[x] * o[x];
-	}
-}
+#define PC_INST PC_INST_AVX512
+#include "simd_instance_begin.h"
+#include "demosaic_bf_kern.inc"
+#include "simd_instance_end.h"
 
 static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
 {
@@ -362,10 +347,22 @@ static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
 	int strided = 0;
 	for (unsigned p = 0; p < 12; p++)
 		strided |= j->out[p].pixel_stride != 1;
-	unsigned cxy[4][2];
-	for (unsigned c = 0; c < 4; c++)
-		pc_mosaic_channel_pos(j->m, c, &cxy[c][0], &cxy[c][1]);
 	const uint32_t xa = 3, xb = w - 3; /* the interior columns [xa, xb) */
+	bf_row row = {(const float *const *)ring.row,
+	              j->cmask,
+	              w,
+	              xa,
+	              xb,
+	              {{0}},
+	              {{0}},
+	              {eo[0], eo[1]},
+	              pe,
+	              po,
+	              {0}};
+	for (unsigned c = 0; c < 4; c++)
+		pc_mosaic_channel_pos(j->m, c, &row.cxy[c][0], &row.cxy[c][1]);
+	for (unsigned i = 0; i < 8; i++)
+		row.v[i / 4][i & 3] = v[i / 4][i & 3];
 	for (uint32_t y = y0; y < y1; y++) {
 		int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
 		for (int r = lo; r <= hi; r++)
@@ -381,61 +378,15 @@ static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
 			}
 			continue;
 		}
-		/* vertical, per row parity cy: the rows of each residue t mod 4 weighted by T4 (and
-		 * T2) and masked by colour into R, B, G (T4) and G (T2) */
-		for (unsigned cy = 0; cy < 2; cy++) {
-			float *vr = v[cy][0], *vb = v[cy][1], *vg4 = v[cy][2], *vg2 = v[cy][3];
-			int first = 1;
-			for (int dy = -3; dy <= 3; dy++) {
-				uint32_t rr = (uint32_t)((int)y + dy);
-				if ((rr & 1) != cy)
-					continue;
-				const float t4 = bf_t4(dy),
-				            t2 = abs(dy) <= 1 ? 1.0f - 0.5f * (float)abs(dy) : 0.0f;
-				const float *src = ring.row[rr & 7];
-				const float *mr = j->cmask + (0 + (rr & 3)) * (size_t)w;
-				const float *mg = j->cmask + (4 + (rr & 3)) * (size_t)w;
-				const float *mb = j->cmask + (8 + (rr & 3)) * (size_t)w;
-				if (first) {
-					PC_SIMD
-					for (long x = 0; x < (long)w; x++) {
-						float s4 = t4 * src[x];
-						vr[x] = mr[x] * s4;
-						vb[x] = mb[x] * s4;
-						vg4[x] = mg[x] * s4;
-						vg2[x] = mg[x] * (t2 * src[x]);
-					}
-				} else {
-					PC_SIMD
-					for (long x = 0; x < (long)w; x++) {
-						float s4 = t4 * src[x];
-						vr[x] += mr[x] * s4;
-						vb[x] += mb[x] * s4;
-						vg4[x] += mg[x] * s4;
-						vg2[x] += mg[x] * (t2 * src[x]);
-					}
-				}
-				first = 0;
-			}
-			/* horizontal, into the planes of the two analysers of this row parity */
-			float *dst[3][2];
-			for (unsigned c = 0; c < 4; c++) {
-				if (cxy[c][1] != cy)
-					continue;
-				for (unsigned k = 0; k < 3; k++) {
-					const pc_fplane *p = &j->out[4 * k + c];
-					dst[k][cxy[c][0]] =
-					    strided ? tmp[4 * k + c]
-					            : p->data + (size_t)y * p->row_stride;
-				}
-			}
-			bf_eo4(vr, xa, xb, eo[0], eo[1]);
-			bf_split(eo[0], eo[1], pe, po, xa, xb, dst[0][0], dst[0][1]);
-			bf_eog(vg2, vg4, xa, xb, eo[0], eo[1]);
-			bf_split(eo[0], eo[1], pe, po, xa, xb, dst[1][0], dst[1][1]);
-			bf_eo4(vb, xa, xb, eo[0], eo[1]);
-			bf_split(eo[0], eo[1], pe, po, xa, xb, dst[2][0], dst[2][1]);
-		}
+		for (unsigned p = 0; p < 12; p++)
+			row.dst[p] =
+			    strided ? tmp[p] : j->out[p].data + (size_t)y * j->out[p].row_stride;
+		if (j->level >= PC_CPU_AVX512)
+			bf_interior_avx512(&row, y);
+		else if (j->level >= PC_CPU_AVX2)
+			bf_interior_avx2(&row, y);
+		else
+			bf_interior_base(&row, y);
 		if (strided)
 			for (unsigned p = 0; p < 12; p++) {
 				float *d = j->out[p].data + (size_t)y * j->out[p].row_stride;
@@ -452,7 +403,8 @@ static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
 	free(buf);
 }
 
-int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, const pc_fplane *out)
+int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
+                      const pc_fplane *out)
 {
 	const uint32_t w = in->width, h = in->height;
 	float *cmask = malloc(sizeof(float) * 12 * (size_t)w);
@@ -463,7 +415,7 @@ int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, co
 			for (uint32_t x = 0; x < w; x++)
 				cmask[((size_t)k * 4 + r) * w + x] =
 				    pc_mosaic_color(m, x, r) == PC_CFA_R + k ? 1.0f : 0.0f;
-	bf_job j = {in, m, w, h, cmask, out, 0};
+	bf_job j = {in, m, w, h, cmask, out, level, 0};
 	pc_parallel_rows(h, 0, threads, bf_band, &j);
 	free(cmask);
 	return j.fail ? pc_error(PC_ENOMEM, "bayer-first: row buffers") : 0;

@@ -22,6 +22,7 @@ int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic 
  * prepared input into the 12 planes out[4k + c]: the composed weights applied
  * to the raw (docs/demosaicking.md, Round 15d), the outputs within 3 pixels of a border by the
  * definition itself. PC_ENOMEM for its buffers. */
-int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, const pc_fplane *out);
+int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
+                      const pc_fplane *out);
 
 #endif

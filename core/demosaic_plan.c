@@ -735,7 +735,7 @@ static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 		const pc_dm_input *in;
 		int rc = pc_dm_plan_input(p, &in);
 		if (!rc)
-			rc = pc_dm_bayer_first(in, &p->opts.mosaic, p->opts.threads, out);
+			rc = pc_dm_bayer_first(in, &p->opts.mosaic, p->opts.threads, p->level, out);
 		return rc;
 	}
 	const size_t n = (size_t)w * h;
