@@ -239,22 +239,29 @@ static double get_ring(const void *img, uint32_t w, int x, int y)
 	return r->row[y & 7][x];
 }
 
-/* The 12 outputs of pixel (x, y) by the definition (step 1 on the 3×3 neighbourhood, then step
- * 2's tent), each mirror as the reference applies it, in double. */
-static void bf_pixel(const bf_ring *img, uint32_t w, uint32_t h, const pc_mosaic *m, int x, int y,
-                     double o[12])
+/* M_k (step 1) at the rows mirror(y - 1), y, mirror(y + 1) and the columns xx in [x0, x1) into
+ * mk[(dy + 1) * 3 + k][xx], each mirror as the reference applies it, in double. */
+static void bf_mrows(const bf_ring *img, uint32_t w, uint32_t h, const pc_mosaic *m, int y,
+                     uint32_t x0, uint32_t x1, double *const mk[9])
 {
-	double mk[3][3][3]; /* [k][dy][dx]: M_k at the mirrored neighbours */
-	for (int dy = -1; dy <= 1; dy++)
-		for (int dx = -1; dx <= 1; dx++) {
-			int xx = pc_mirror(x + dx, (int)w), yy = pc_mirror(y + dy, (int)h);
-			unsigned ch = pc_mosaic_channel(m, (uint32_t)xx, (uint32_t)yy), cx, cy;
+	for (int dy = -1; dy <= 1; dy++) {
+		int yy = pc_mirror(y + dy, (int)h);
+		for (uint32_t xx = x0; xx < x1; xx++) {
+			unsigned ch = pc_mosaic_channel(m, xx, (uint32_t)yy), cx, cy;
 			pc_mosaic_channel_pos(m, ch, &cx, &cy);
 			for (unsigned k = 0; k < 3; k++)
-				mk[k][dy + 1][dx + 1] =
-				    bayer_tent(img, get_ring, m, w, h, cx, cy, (xx - (int)cx) / 2,
-				               (yy - (int)cy) / 2, PC_CFA_R + k);
+				mk[(dy + 1) * 3 + k][xx] = bayer_tent(
+				    img, get_ring, m, w, h, cx, cy, ((int)xx - (int)cx) / 2,
+				    (yy - (int)cy) / 2, PC_CFA_R + k);
 		}
+	}
+}
+
+/* The 12 outputs of pixel (x, y) by the definition: step 2's tent (its mirror on the full
+ * resolution grid) over the M_k rows of bf_mrows. */
+static void bf_pixel(double *const mk[9], uint32_t w, const pc_mosaic *m, int x, int y,
+                     double o[12])
+{
 	for (unsigned c = 0; c < 4; c++) {
 		double s[3] = {0, 0, 0}, ws = 0;
 		for (int dy = -1; dy <= 1; dy++)
@@ -264,8 +271,9 @@ static void bf_pixel(const bf_ring *img, uint32_t w, uint32_t h, const pc_mosaic
 				                      (uint32_t)(y + dy) & 3u) != c)
 					continue;
 				double wt = (2 - abs(dx)) * (2 - abs(dy));
+				int xx = pc_mirror(x + dx, (int)w);
 				for (unsigned k = 0; k < 3; k++)
-					s[k] += wt * mk[k][dy + 1][dx + 1];
+					s[k] += wt * mk[(dy + 1) * 3 + k][xx];
 				ws += wt;
 			}
 		for (unsigned k = 0; k < 3; k++)
@@ -328,6 +336,14 @@ static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
 		j->fail = 1;
 		return;
 	}
+	double *mbuf = malloc(sizeof(double) * 9 * (size_t)w), *mk[9];
+	if (!mbuf) {
+		free(buf);
+		j->fail = 1;
+		return;
+	}
+	for (unsigned i = 0; i < 9; i++)
+		mk[i] = mbuf + (size_t)i * w;
 	bf_ring ring;
 	float *v[2][4], *tmp[12];
 	for (unsigned i = 0; i < 8; i++) {
@@ -372,8 +388,9 @@ static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
 			}
 		double o12[12];
 		if (y < 3 || y + 3 >= h) {
+			bf_mrows(&ring, w, h, j->m, (int)y, 0, w, mk);
 			for (uint32_t x = 0; x < w; x++) {
-				bf_pixel(&ring, w, h, j->m, (int)x, (int)y, o12);
+				bf_pixel(mk, w, j->m, (int)x, (int)y, o12);
 				bf_put(j->out, x, y, o12);
 			}
 			continue;
@@ -393,14 +410,18 @@ static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
 				for (uint32_t x = xa; x < xb; x++)
 					d[x * j->out[p].pixel_stride] = tmp[p][x];
 			}
+		/* the border columns: M_k at columns 0..3 and w - 4..w - 1 */
+		bf_mrows(&ring, w, h, j->m, (int)y, 0, 4, mk);
+		bf_mrows(&ring, w, h, j->m, (int)y, w - 4, w, mk);
 		for (uint32_t x = 0; x < w; x++) {
 			if (x == xa)
 				x = xb;
-			bf_pixel(&ring, w, h, j->m, (int)x, (int)y, o12);
+			bf_pixel(mk, w, j->m, (int)x, (int)y, o12);
 			bf_put(j->out, x, y, o12);
 		}
 	}
 	free(buf);
+	free(mbuf);
 }
 
 int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
