@@ -18,7 +18,9 @@
  *
  * This file holds step 1 (demosaic_color.h): in double for the reference, in float on row bands
  * for the fast path. The front door runs step 2 through the monochrome paths of the method
- * table (the reference or the fast kernel of the method's second step). */
+ * table (the reference or the fast kernel of the method's second step), except for
+ * bayer-first's fast path: both steps at once, their composed weights applied to the raw
+ * (pc_dm_bayer_first, below). */
 #include "demosaic_color.h"
 
 #include <math.h>
