@@ -171,7 +171,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                             "sub-image, then bilinear up-sampling of the analysers; the colour "
                             "baseline (synthetic colour track: S0 44.7 dB, DoLP 32.4 dB; "
                             "per-scene figures not measured yet)",
-                            "one pass, the two bilinear steps' weights composed; 11x bilinear's "
+                            "one pass, the two bilinear steps' weights composed; 10x bilinear's "
                             "instructions (callgrind, 2448x2048, AVX2, Round 15d; the two-step "
                             "path it replaced 20x, timed 22x); time not re-measured",
                             "the colour-first baseline of colour-polarization demosaicking "
