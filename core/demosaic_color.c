@@ -18,7 +18,9 @@
  *
  * This file holds step 1 (demosaic_color.h): in double for the reference, in float on row bands
  * for the fast path. The front door runs step 2 through the monochrome paths of the method
- * table (the reference or the fast kernel of the method's second step). */
+ * table (the reference or the fast kernel of the method's second step), except for
+ * bayer-first's fast path: both steps at once, their composed weights applied to the raw
+ * (pc_dm_bayer_first, below). */
 #include "demosaic_color.h"
 
 #include <math.h>
@@ -27,6 +29,7 @@
 
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
+#include "simd.h"
 
 pc_mosaic pc_dm_color_mono(const pc_mosaic *m)
 {
@@ -206,4 +209,237 @@ int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic 
 	free(xm);
 	free(xp);
 	return 0;
+}
+
+/* ---- bayer-first in one pass ----
+ *
+ * Away from the borders bayer-first is linear and shift-invariant on each (colour k, analyser c)
+ * lattice of the raw (derived in docs/demosaicking.md, Round 15d): with
+ *     T2 = [1/2 1 1/2] and T4 = [1/4 1/2 3/4 1 3/4 1/2 1/4] (offsets -1..1 and -3..3),
+ * and s_{k,c} the raw masked to the samples of colour k and analyser c,
+ *     R, B:  out_{k,c} = (T4 ⊗ T4) ⊛ s_{k,c}
+ *     G:     out_{G,c} = ½ (T4 ⊗ T2 + T2 ⊗ T4) ⊛ s_{G,c}      (x ⊗ y)
+ * (step 1's Bayer tent is [1/2 0 1 0 1/2]⊗[..] on R/B and δ + ¼ plus at distance 2 on G; step
+ * 2's tent is T2 ⊗ T2; their composition). The kernel runs it as a vertical pass over the rows
+ * of one analyser row parity cy, masked by colour, giving one row V that holds both analysers
+ * of that parity (column parity = analyser's), then a horizontal pass split by the parity of
+ * the offset: the even taps read the analyser of the output's column, the odd ones the other.
+ * Output pixels within 3 of a border (where the two mirrors of the definition differ from a
+ * shift-invariant filter) are computed by the composition itself, in double. */
+
+/* The band's raw rows minus black, as floats: a ring of 8 rows keyed by row & 7 (an output
+ * row reads the rows within ±3 of it, mirrored into the frame, never more than 7 distinct). */
+typedef struct bf_ring {
+	float *row[8];
+	int32_t have[8];
+} bf_ring;
+
+static double get_ring(const void *img, uint32_t w, int x, int y)
+{
+	(void)w;
+	const bf_ring *r = img;
+	return r->row[y & 7][x];
+}
+
+/* M_k (step 1) at the rows mirror(y - 1), y, mirror(y + 1) and the columns xx in [x0, x1) into
+ * mk[(dy + 1) * 3 + k][xx], each mirror as the reference applies it, in double. */
+static void bf_mrows(const bf_ring *img, uint32_t w, uint32_t h, const pc_mosaic *m, int y,
+                     uint32_t x0, uint32_t x1, double *const mk[9])
+{
+	for (int dy = -1; dy <= 1; dy++) {
+		int yy = pc_mirror(y + dy, (int)h);
+		for (uint32_t xx = x0; xx < x1; xx++) {
+			unsigned ch = pc_mosaic_channel(m, xx, (uint32_t)yy), cx, cy;
+			pc_mosaic_channel_pos(m, ch, &cx, &cy);
+			for (unsigned k = 0; k < 3; k++)
+				mk[(dy + 1) * 3 + k][xx] = bayer_tent(
+				    img, get_ring, m, w, h, cx, cy, ((int)xx - (int)cx) / 2,
+				    (yy - (int)cy) / 2, PC_CFA_R + k);
+		}
+	}
+}
+
+/* The 12 outputs of pixel (x, y) by the definition: step 2's tent (its mirror on the full
+ * resolution grid) over the M_k rows of bf_mrows. */
+static void bf_pixel(double *const mk[9], uint32_t w, const pc_mosaic *m, int x, int y,
+                     double o[12])
+{
+	for (unsigned c = 0; c < 4; c++) {
+		double s[3] = {0, 0, 0}, ws = 0;
+		for (int dy = -1; dy <= 1; dy++)
+			for (int dx = -1; dx <= 1; dx++) {
+				/* the parity of x + dx is that of its mirror */
+				if (pc_mosaic_channel(m, (uint32_t)(x + dx) & 3u,
+				                      (uint32_t)(y + dy) & 3u) != c)
+					continue;
+				double wt = (2 - abs(dx)) * (2 - abs(dy));
+				int xx = pc_mirror(x + dx, (int)w);
+				for (unsigned k = 0; k < 3; k++)
+					s[k] += wt * mk[(dy + 1) * 3 + k][xx];
+				ws += wt;
+			}
+		for (unsigned k = 0; k < 3; k++)
+			o[4 * k + c] = s[k] / ws;
+	}
+}
+
+typedef struct bf_job {
+	const pc_dm_input *in;
+	const pc_mosaic *m;
+	uint32_t w, h;
+	const float *cmask; /* [k][y mod 4][x]: 1 where the raw's colour is k, else 0 */
+	const pc_fplane *out;
+	pc_cpu_level level;
+	int fail;
+} bf_job;
+
+static void bf_put(const pc_fplane *out, uint32_t x, uint32_t y, const double o[12])
+{
+	for (unsigned p = 0; p < 12; p++)
+		out[p].data[(size_t)y * out[p].row_stride + (size_t)x * out[p].pixel_stride] =
+		    (float)o[p];
+}
+
+/* One interior output row (y at least 3 from the top and bottom) of columns [xa, xb): the
+ * kernel instances (demosaic_bf_kern.inc, one per instruction-set level) of the vertical and
+ * horizontal passes. */
+typedef struct bf_row {
+	const float *const *raw; /* ring rows by row & 7 */
+	const float *cmask;
+	uint32_t w, xa, xb;
+	unsigned cxy[4][2];
+	float *v[2][4], *eo[2], *pe, *po;
+	float *dst[12]; /* the 12 output rows of this y (planes or, strided, scratch) */
+} bf_row;
+
+#define PC_INST PC_INST_BASELINE
+#include "simd_instance_begin.h"
+#include "demosaic_bf_kern.inc"
+#include "simd_instance_end.h"
+
+#define PC_INST PC_INST_AVX2
+#include "simd_instance_begin.h"
+#include "demosaic_bf_kern.inc"
+#include "simd_instance_end.h"
+
+#define PC_INST PC_INST_AVX512
+#include "simd_instance_begin.h"
+#include "demosaic_bf_kern.inc"
+#include "simd_instance_end.h"
+
+static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	bf_job *j = ctx;
+	const uint32_t w = j->w, h = j->h;
+	const size_t pitch = (size_t)w + 2;
+	/* 8 raw rows, 8 vertical rows (4 per row parity), 12 output rows for strided planes */
+	float *buf = malloc(sizeof(float) * pitch * (8 + 8 + 12 + 4));
+	if (!buf) {
+		j->fail = 1;
+		return;
+	}
+	double *mbuf = malloc(sizeof(double) * 9 * (size_t)w), *mk[9];
+	if (!mbuf) {
+		free(buf);
+		j->fail = 1;
+		return;
+	}
+	for (unsigned i = 0; i < 9; i++)
+		mk[i] = mbuf + (size_t)i * w;
+	bf_ring ring;
+	float *v[2][4], *tmp[12];
+	for (unsigned i = 0; i < 8; i++) {
+		ring.row[i] = buf + i * pitch + 1;
+		ring.have[i] = -1;
+		v[i / 4][i & 3] = buf + (8 + i) * pitch;
+	}
+	for (unsigned i = 0; i < 12; i++)
+		tmp[i] = buf + (16 + i) * pitch;
+	/* e and o of one colour; the parity rows */
+	float *eo[2] = {buf + 28 * pitch, buf + 29 * pitch}, *pe = buf + 30 * pitch,
+	      *po = buf + 31 * pitch;
+	for (uint32_t x = 0; x < w; x++) {
+		pe[x] = x & 1 ? 0.0f : 1.0f;
+		po[x] = x & 1 ? 1.0f : 0.0f;
+	}
+	int strided = 0;
+	for (unsigned p = 0; p < 12; p++)
+		strided |= j->out[p].pixel_stride != 1;
+	const uint32_t xa = 3, xb = w - 3; /* the interior columns [xa, xb) */
+	bf_row row = {(const float *const *)ring.row,
+	              j->cmask,
+	              w,
+	              xa,
+	              xb,
+	              {{0}},
+	              {{0}},
+	              {eo[0], eo[1]},
+	              pe,
+	              po,
+	              {0}};
+	for (unsigned c = 0; c < 4; c++)
+		pc_mosaic_channel_pos(j->m, c, &row.cxy[c][0], &row.cxy[c][1]);
+	for (unsigned i = 0; i < 8; i++)
+		row.v[i / 4][i & 3] = v[i / 4][i & 3];
+	for (uint32_t y = y0; y < y1; y++) {
+		int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
+		for (int r = lo; r <= hi; r++)
+			if (ring.have[r & 7] != r) {
+				pc_dm_row_to_float(j->in, (uint32_t)r, ring.row[r & 7]);
+				ring.have[r & 7] = r;
+			}
+		double o12[12];
+		if (y < 3 || y + 3 >= h) {
+			bf_mrows(&ring, w, h, j->m, (int)y, 0, w, mk);
+			for (uint32_t x = 0; x < w; x++) {
+				bf_pixel(mk, w, j->m, (int)x, (int)y, o12);
+				bf_put(j->out, x, y, o12);
+			}
+			continue;
+		}
+		for (unsigned p = 0; p < 12; p++)
+			row.dst[p] =
+			    strided ? tmp[p] : j->out[p].data + (size_t)y * j->out[p].row_stride;
+		if (j->level >= PC_CPU_AVX512)
+			bf_interior_avx512(&row, y);
+		else if (j->level >= PC_CPU_AVX2)
+			bf_interior_avx2(&row, y);
+		else
+			bf_interior_base(&row, y);
+		if (strided)
+			for (unsigned p = 0; p < 12; p++) {
+				float *d = j->out[p].data + (size_t)y * j->out[p].row_stride;
+				for (uint32_t x = xa; x < xb; x++)
+					d[x * j->out[p].pixel_stride] = tmp[p][x];
+			}
+		/* the border columns: M_k at columns 0..3 and w - 4..w - 1 */
+		bf_mrows(&ring, w, h, j->m, (int)y, 0, 4, mk);
+		bf_mrows(&ring, w, h, j->m, (int)y, w - 4, w, mk);
+		for (uint32_t x = 0; x < w; x++) {
+			if (x == xa)
+				x = xb;
+			bf_pixel(mk, w, j->m, (int)x, (int)y, o12);
+			bf_put(j->out, x, y, o12);
+		}
+	}
+	free(buf);
+	free(mbuf);
+}
+
+int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
+                      const pc_fplane *out)
+{
+	const uint32_t w = in->width, h = in->height;
+	float *cmask = malloc(sizeof(float) * 12 * (size_t)w);
+	if (!cmask)
+		return pc_error(PC_ENOMEM, "bayer-first: colour masks");
+	for (unsigned k = 0; k < 3; k++)
+		for (uint32_t r = 0; r < 4; r++)
+			for (uint32_t x = 0; x < w; x++)
+				cmask[((size_t)k * 4 + r) * w + x] =
+				    pc_mosaic_color(m, x, r) == PC_CFA_R + k ? 1.0f : 0.0f;
+	bf_job j = {in, m, w, h, cmask, out, level, 0};
+	pc_parallel_rows(h, 0, threads, bf_band, &j);
+	free(cmask);
+	return j.fail ? pc_error(PC_ENOMEM, "bayer-first: row buffers") : 0;
 }

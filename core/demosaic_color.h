@@ -18,4 +18,11 @@ void pc_dm_color_split_ref(const double *img, uint32_t w, uint32_t h, const pc_m
 int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int threads,
                       float *mk[3]);
 
+/* bayer-first (step 1, then the monochrome bilinear of each M_k) in one row-band pass over the
+ * prepared input into the 12 planes out[4k + c]: the composed weights applied
+ * to the raw (docs/demosaicking.md, Round 15d), the outputs within 3 pixels of a border by the
+ * definition itself. PC_ENOMEM for its buffers. */
+int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
+                      const pc_fplane *out);
+
 #endif

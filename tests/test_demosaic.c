@@ -683,6 +683,164 @@ static void test_pan_dir_chirp(void)
 	free(rb);
 }
 
+/* bayer-first's one-pass fast path (core/demosaic_color.c, pc_dm_bayer_first; weights derived in
+ * docs/demosaicking.md, Round 15d):
+ *  1. against the double reference (step 1 then the monochrome bilinear, the two-step
+ *     definition) on random float frames (full scale 1), sizes from the smallest 8×8 through odd
+ *     multiples of 2 to 66×50, all sixteen phases: within 1e-5 of full scale (float rounding of
+ *     sums of at most 8 products; measured max printed);
+ *  2. impulse responses: a unit sample of colour k and analyser c at (x0, y0) gives, at every
+ *     output (x, y) at least 3 from the borders, F_k(x0 − x, y0 − y) in plane 4k + c and 0 in
+ *     the others, with F_R = F_B = T4 ⊗ T4 and F_G = ½ (T4 ⊗ T2 + T2 ⊗ T4),
+ *     T2(d) = max(0, 1 − |d|/2), T4(d) = max(0, 1 − |d|/4) — written here from the derivation,
+ *     checked on the reference and on the fast path (both exact: dyadic weights);
+ *  3. threads = 1 and threads = 3 bit-identical; interleaved planes equal planar ones. */
+static double bf_t(int d, int n)
+{
+	return fmax(0.0, 1.0 - fabs((double)d) / n);
+}
+
+static void test_bayer_first_onepass(void)
+{
+	static const uint32_t sz[][2] = {{8, 8},   {10, 8},  {8, 12},  {12, 10}, {34, 20},
+	                                 {18, 22}, {30, 14}, {26, 38}, {64, 48}, {66, 50}};
+	const pc_mosaic base = pc_mosaic_imx250myr();
+	double worst = 0;
+	uint32_t seed = 12345;
+	for (size_t si = 0; si < sizeof sz / sizeof sz[0]; si++) {
+		const uint32_t W = sz[si][0], H = sz[si][1];
+		for (unsigned ph = 0; ph < 16; ph++) {
+			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+			pc_view raw;
+			CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
+			for (uint32_t y = 0; y < H; y++)
+				for (uint32_t x = 0; x < W; x++) {
+					seed = seed * 1664525u + 1013904223u;
+					PC_ROW(&raw, float, y)[x] = (float)((seed >> 8) * 0x1p-24);
+				}
+			pc_fplane f[12], r[12];
+			float *fb = alloc_planes(W, H, 12, f), *rb = alloc_planes(W, H, 12, r);
+			pc_demosaic_opts ref = {0, true, 0};
+			CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BAYER_FIRST, NULL, f), 0);
+			CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BAYER_FIRST, &ref, r), 0);
+			double e = 0;
+			for (size_t i = 0; i < (size_t)W * H * 12; i++)
+				e = fmax(e, fabs(fb[i] - rb[i]));
+			if (!(e <= 1e-5))
+				fprintf(stderr,
+				        "  bayer-first %ux%u phase %u: max |fast - ref| %g\n", W, H,
+				        ph, e);
+			CHECK(e <= 1e-5);
+			worst = fmax(worst, e);
+			free(fb);
+			free(rb);
+			pc_view_free(&raw);
+		}
+	}
+	printf("  bayer-first one pass: max |fast - reference| %.3g of full scale (random float "
+	       "frames, 10 sizes 8x8..66x50, 16 phases)\n",
+	       worst);
+
+	/* 2. impulse responses */
+	const uint32_t W = 24, H = 20;
+	int imp_ok = 1;
+	for (unsigned ph = 0; ph < 16; ph++) {
+		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+		for (uint32_t y0 = 8; y0 < 12; y0++)
+			for (uint32_t x0 = 10; x0 < 14; x0++) {
+				pc_view raw;
+				CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, W, H, 0), 0);
+				for (uint32_t y = 0; y < H; y++)
+					memset(PC_ROW(&raw, float, y), 0, sizeof(float) * W);
+				PC_ROW(&raw, float, y0)[x0] = 1.0f;
+				const unsigned kk = pc_mosaic_color(&m, x0, y0) - PC_CFA_R,
+				               cc = pc_mosaic_channel(&m, x0, y0);
+				for (int reference = 0; reference < 2; reference++) {
+					pc_fplane f[12];
+					float *fb = alloc_planes(W, H, 12, f);
+					pc_demosaic_opts o = {1, reference != 0, 0};
+					CHECK_EQ_INT(
+					    pc_demosaic(&raw, &m, PC_DM_BAYER_FIRST, &o, f), 0);
+					for (unsigned p = 0; p < 12; p++)
+						for (uint32_t y = 3; y + 3 < H; y++)
+							for (uint32_t x = 3; x + 3 < W; x++) {
+								int dx = (int)x0 - (int)x,
+								    dy = (int)y0 - (int)y;
+								double want = 0;
+								if (p == 4 * kk + cc)
+									want =
+									    kk == 1
+									        ? 0.5 *
+									              (bf_t(dx, 4) *
+									                   bf_t(dy,
+									                        2) +
+									               bf_t(dx, 2) *
+									                   bf_t(dy,
+									                        4))
+									        : bf_t(dx, 4) *
+									              bf_t(dy, 4);
+								if (fabs(fget(&f[p], x, y) - want) >
+								    1e-12) {
+									if (imp_ok)
+										fprintf(
+										    stderr,
+										    "  bayer-first "
+										    "impulse "
+										    "(%u,%u) phase "
+										    "%u "
+										    "ref %d: plane "
+										    "%u at "
+										    "(%u,%u) %g, "
+										    "want %g\n",
+										    x0, y0, ph,
+										    reference, p, x,
+										    y,
+										    fget(&f[p], x,
+										         y),
+										    want);
+									imp_ok = 0;
+								}
+							}
+					free(fb);
+				}
+				pc_view_free(&raw);
+			}
+	}
+	CHECK(imp_ok);
+
+	/* 3. threads and output layouts */
+	{
+		const uint32_t TW = 258, TH = 196;
+		pc_view raw;
+		CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_FLOAT32, TW, TH, 0), 0);
+		for (uint32_t y = 0; y < TH; y++)
+			for (uint32_t x = 0; x < TW; x++) {
+				seed = seed * 1664525u + 1013904223u;
+				PC_ROW(&raw, float, y)[x] = (float)((seed >> 8) * 0x1p-24);
+			}
+		pc_mosaic m = pc_mosaic_shift(&base, 1, 2);
+		pc_fplane a[12], b[12], c[12];
+		float *ab = alloc_planes(TW, TH, 12, a), *bb = alloc_planes(TW, TH, 12, b);
+		float *cb = malloc(sizeof(float) * TW * TH * 12);
+		pc_fplanes_interleaved(cb, TW, 12, c);
+		pc_demosaic_opts o1 = {1, false, 0}, o3 = {3, false, 0};
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BAYER_FIRST, &o1, a), 0);
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BAYER_FIRST, &o3, b), 0);
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_BAYER_FIRST, &o3, c), 0);
+		CHECK(memcmp(ab, bb, sizeof(float) * TW * TH * 12) == 0);
+		int same = 1;
+		for (unsigned p = 0; p < 12; p++)
+			for (uint32_t y = 0; y < TH; y++)
+				for (uint32_t x = 0; x < TW; x++)
+					same &= fget(&a[p], x, y) == fget(&c[p], x, y);
+		CHECK(same);
+		free(ab);
+		free(bb);
+		free(cb);
+		pc_view_free(&raw);
+	}
+}
+
 static void test_color(void)
 {
 	const pc_demosaic_method cm[8] = {PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
@@ -1828,6 +1986,7 @@ int main(void)
 		test_pan_side_edge(l == 0);
 		test_formats_layouts();
 		test_color();
+		test_bayer_first_onepass();
 		test_pan_sizes();
 		test_pan_dir_chirp();
 		test_pan_fast(PC_DM_PAN_FACT);
