@@ -4,7 +4,7 @@
  *
  *  1. the base I_p straight into the output planes (pan-adapt's or pan-side's fast path, with
  *     its base, AVX2 and AVX-512 instances), the conservative estimate I_b into twelve scratch
- *     planes (bayer-first's fast path: pc_dm_color_split, then pc_dm_bilinear per colour);
+ *     planes (bayer-first's one-pass fast path, pc_dm_bayer_first: docs Round 15d);
  *  2. the mirror-extended raw E, P̃ = max(P0, 0) + δ (pan-ratio's 5×5 PPI, separable: on
  *     integer raws every partial sum is an integer below 2^24, so exact) and the ratio
  *     ρ = (max(E, 0) + δ)/P̃ on the extended grid;
@@ -391,10 +391,9 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	g.np = n + 64;
 	float *ib = pc_dm_alloc(sizeof(float) * g.np * 12);
 	float *eb = pc_dm_alloc(sizeof(float) * (3 * ne + 7 * nb));
-	float *mk = pc_dm_alloc(sizeof(float) * n * 3);
 	float *row = pc_dm_alloc(sizeof(float) * ((size_t)w + 2));
 	int rc = 0;
-	if (!img || !ib || !eb || !mk || !row) {
+	if (!img || !ib || !eb || !row) {
 		rc = pc_error(PC_ENOMEM, "pan-guard: images of %ux%u", w, h);
 		goto done;
 	}
@@ -406,18 +405,11 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	 * estimate), bayer-first into ib */
 	rc = base ? pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, gain, out)
 	          : pc_dm_pan_side_fast(in, m, fs, threads, level, out);
-	float *mf[3] = {mk, mk + n, mk + 2 * n};
+	pc_fplane pl[12];
+	for (unsigned q = 0; q < 12; q++)
+		pl[q] = (pc_fplane){ib + (size_t)q * g.np, w, 1};
 	if (!rc)
-		rc = pc_dm_color_split(img, w, h, m, threads, mf);
-	const pc_mosaic mono = pc_dm_color_mono(m);
-	for (unsigned k = 0; k < 3 && !rc; k++) {
-		pc_dm_input ik = pc_dm_input_f32(mf[k], w, h);
-		pc_dm_call c = {&ik, &mono, PC_DM_BILINEAR, fs, threads, level};
-		pc_fplane pl[4];
-		for (unsigned q = 0; q < 4; q++)
-			pl[q] = (pc_fplane){ib + (size_t)(4 * k + q) * g.np, w, 1};
-		rc = pc_dm_bilinear(&c, pl);
-	}
+		rc = pc_dm_bayer_first(in, m, threads, level, pl);
 	if (rc)
 		goto done;
 	g.img = img;
@@ -446,7 +438,6 @@ done:
 	pc_dm_free(img);
 	pc_dm_free(ib);
 	pc_dm_free(eb);
-	pc_dm_free(mk);
 	pc_dm_free(row);
 	return rc;
 }
