@@ -179,7 +179,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                             "per-scene figures not measured yet)",
                             "one pass, the two bilinear steps' weights composed; 10x bilinear's "
                             "instructions (callgrind, 2448x2048, AVX2, Round 15d; the two-step "
-                            "path it replaced 20x, timed 22x); time not re-measured",
+                            "path it replaced 20x); 10.2-10.7x mono bilinear's time near idle "
+                            "(Round 15e; the old path 19.8-26.1x)",
                             "the colour-first baseline of colour-polarization demosaicking "
                             "(Morimatsu et al. 2020, Sec. 3.2)",
                             PC_DMF_COLOR},
@@ -555,9 +556,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "(worst -0.09/+0.53, 1 losing: print) (docs/demosaicking.md, Round 15)",
                           "float fast path: pan-adapt's and bayer-first's fast paths, then the "
                           "block check and the blend on whole-frame buffers; 1.92 G instructions "
-                          "per 2448x2048 frame (callgrind, AVX2, one thread), 5.4x pan-adapt's "
-                          "(5.4-6.7x mono bilinear's time): far over the 5x budget "
-                          "(docs/demosaicking.md, Round 15 fast path)",
+                          "per 2448x2048 frame (callgrind, AVX2, one thread), 5.4x pan-adapt's; "
+                          "312-388x mono bilinear's time near idle (whole-frame scratch "
+                          "buffers, ~420 MB a frame): far over the 5x budget, for evaluation "
+                          "only (docs/demosaicking.md, Rounds 15 fast path and 15e)",
                           "ours (docs/demosaicking.md, Round 15): pan-adapt and bayer-first "
                           "combined by their local leave-one-out errors (Bates & Granger, "
                           "Operational Research Quarterly 20(4) 1969, sharpened); its base "
