@@ -328,6 +328,6 @@ done:
 
 const pc_dm_pan_fns *pc_dm_fact_fns_get(pc_demosaic_method m)
 {
-	static const pc_dm_pan_fns fact = {pc_dm_pan_fact_ref, pc_dm_pan_fact_fast};
+	static const pc_dm_pan_fns fact = {pc_dm_pan_fact_ref, pc_dm_pan_fact_fast, NULL, NULL};
 	return m == PC_DM_PAN_FACT ? &fact : NULL;
 }

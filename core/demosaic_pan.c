@@ -654,6 +654,14 @@ int pc_dm_pan_adapt_ref(const double *img, uint32_t w, uint32_t h, const pc_mosa
 	return pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &p, out);
 }
 
+int pc_dm_pan_adapt_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                          double g, const pc_fplane *out)
+{
+	pc_dm_pan_adapt_params p = pc_dm_pan_adapt_defaults();
+	p.g = g;
+	return pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &p, out);
+}
+
 /* pan-dir: pan-ratio's colour step made direction-aware. Near a hue edge pan-ratio's centred
  * tents mix the two sides' ratios up to ±3 pixels away; on a lattice of spacing 4 a directional
  * interpolation is a one-sided one. Five candidate interpolations R^d of every channel's ratio:
@@ -1951,13 +1959,17 @@ int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, i
 
 const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 {
-	static const pc_dm_pan_fns ratio = {pc_dm_pan_ref, pc_dm_pan_fast},
-	                           guided = {pc_dm_pan_guided_ref, pc_dm_pan_guided_fast},
-	                           chroma = {pc_dm_pan_chroma_ref, pc_dm_pan_chroma_fast},
-	                           dir = {pc_dm_pan_dir_ref, pc_dm_pan_dir_fast},
-	                           side = {pc_dm_pan_side_ref, pc_dm_pan_side_fast},
-	                           adapt = {pc_dm_pan_adapt_ref, pc_dm_pan_adapt_fast},
-	                           guard = {pc_dm_pan_guard_ref, pc_dm_pan_guard_fast};
+	static const pc_dm_pan_fns ratio = {pc_dm_pan_ref, pc_dm_pan_fast, NULL, NULL},
+	                           guided = {pc_dm_pan_guided_ref, pc_dm_pan_guided_fast, NULL,
+	                                     NULL},
+	                           chroma = {pc_dm_pan_chroma_ref, pc_dm_pan_chroma_fast, NULL,
+	                                     NULL},
+	                           dir = {pc_dm_pan_dir_ref, pc_dm_pan_dir_fast, NULL, NULL},
+	                           side = {pc_dm_pan_side_ref, pc_dm_pan_side_fast, NULL, NULL},
+	                           adapt = {pc_dm_pan_adapt_ref, pc_dm_pan_adapt_fast,
+	                                    pc_dm_pan_adapt_ref_g, pc_dm_pan_adapt_fast_g},
+	                           guard = {pc_dm_pan_guard_ref, pc_dm_pan_guard_fast,
+	                                    pc_dm_pan_guard_ref_g, pc_dm_pan_guard_fast_g};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma

@@ -63,8 +63,10 @@ int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc
                              double fs, const pc_dm_pan_adapt_params *p, const pc_fplane *out);
 int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out);
-/* pan-adapt's fast path with the noise gain g (raw units; < 0: estimated, as
- * pc_dm_pan_adapt_fast) */
+/* pan-adapt's reference and fast path with the noise gain g (raw units; < 0: estimated, as
+ * pc_dm_pan_adapt_ref and pc_dm_pan_adapt_fast) */
+int pc_dm_pan_adapt_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                          double g, const pc_fplane *out);
 int pc_dm_pan_adapt_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                            pc_cpu_level level, double g, const pc_fplane *out);
 
@@ -105,6 +107,9 @@ typedef struct pc_dm_pan_guard_params {
 /* The method's parameters: the constants above, g estimated */
 pc_dm_pan_guard_params pc_dm_pan_guard_defaults(void);
 
+/* PC_EINVAL (set) for parameters out of range, else 0: the reference's and the fast path's check */
+int pc_dm_pan_guard_check(const pc_dm_pan_guard_params *p);
+
 /* pan-guard's double reference (pc_dm_pan_guard_defaults) and the same with other parameters;
  * PC_EINVAL for parameters out of range. The float fast path: demosaic_pan_guard_fast.c. */
 int pc_dm_pan_guard_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
@@ -113,10 +118,16 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
                              double fs, const pc_dm_pan_guard_params *p, const pc_fplane *out);
 int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out);
-/* the fast path with other parameters (tests; the front door: a given noise gain g) */
+/* the fast path with other parameters (tests) */
 int pc_dm_pan_guard_fast_with(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                               pc_cpu_level level, const pc_dm_pan_guard_params *p,
                               const pc_fplane *out);
+/* the method with a given noise gain g for its base (the front door's pc_dm_pan_fns ref_g,
+ * fast_g) */
+int pc_dm_pan_guard_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                          double g, const pc_fplane *out);
+int pc_dm_pan_guard_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                           pc_cpu_level level, double g, const pc_fplane *out);
 
 /* pan-dir's double reference and fast path (the same arguments). */
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
@@ -137,6 +148,12 @@ typedef struct pc_dm_pan_fns {
 	           const pc_fplane *out);
 	int (*fast)(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
 	            pc_cpu_level level, const pc_fplane *out);
+	/* the methods with PC_DMF_NOISE_GAIN: the same with a given noise gain g > 0 (raw units,
+	 * demosaic_noise.h; pc_pipeline_opts.noise_gain); NULL for the others */
+	int (*ref_g)(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+	             double g, const pc_fplane *out);
+	int (*fast_g)(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+	              pc_cpu_level level, double g, const pc_fplane *out);
 } pc_dm_pan_fns;
 
 const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m);

@@ -71,6 +71,15 @@ pc_dm_pan_guard_params pc_dm_pan_guard_defaults(void)
 	return p;
 }
 
+int pc_dm_pan_guard_check(const pc_dm_pan_guard_params *p)
+{
+	if ((p->base != 0 && p->base != 1) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
+	    !(p->floor >= 0) || (p->mode != 0 && p->mode != 1) || (p->cons != 0 && p->cons != 1) ||
+	    !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g))
+		return pc_error(PC_EINVAL, "pan-guard: parameters out of range");
+	return 0;
+}
+
 typedef struct guard_ext {
 	int w, h, M, W;   /* the extended images: [−M, w + M) × [−M, h + M), row W */
 	double *raw, *pt; /* the mirrored raw and P̃ = max(P0, 0) + δ */
@@ -136,10 +145,9 @@ static unsigned guard_colour(const pc_mosaic *m, int x, int y, int w, int h)
 int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
                              double fs, const pc_dm_pan_guard_params *p, const pc_fplane *out)
 {
-	if ((p->base != 0 && p->base != 1) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
-	    !(p->floor >= 0) || (p->mode != 0 && p->mode != 1) || (p->cons != 0 && p->cons != 1) ||
-	    !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g))
-		return pc_error(PC_EINVAL, "pan-guard: parameters out of range");
+	int rc = pc_dm_pan_guard_check(p);
+	if (rc)
+		return rc;
 	const size_t n = (size_t)w * h;
 	const double delta = PC_DM_PAN_ADAPT_DFS * fs;
 	float *planes = malloc(sizeof(float) * n * 24);
@@ -154,8 +162,8 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	 * pc_dm_pan_adapt_ref */
 	pc_dm_pan_adapt_params pa = pc_dm_pan_adapt_defaults();
 	pa.g = p->g;
-	int rc = p->base ? pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &pa, ip)
-	                 : pc_dm_pan_side_ref(img, w, h, m, fs, ip);
+	rc = p->base ? pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &pa, ip)
+	             : pc_dm_pan_side_ref(img, w, h, m, fs, ip);
 	if (!rc && p->cons == 0)
 		rc = guard_bayer_first(img, w, h, m, fs, ib);
 	else if (!rc)
@@ -171,14 +179,14 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	const size_t ne = (size_t)g.W * (size_t)((int)h + 2 * M);
 	const int NBX = ((int)w + 2 * XB) / 2, NBY = ((int)h + 2 * XB) / 2;
 	const size_t nb = (size_t)NBX * (size_t)NBY;
-	double *ebuf = malloc(sizeof(double) * (2 * ne + 5 * nb));
+	double *ebuf = malloc(sizeof(double) * (2 * ne + 3 * nb));
 	if (!ebuf) {
 		free(planes);
 		return pc_error(PC_ENOMEM, "pan-guard reference: images of %ux%u", w, h);
 	}
 	g.raw = ebuf;
 	g.pt = ebuf + ne;
-	double *eb = ebuf + 2 * ne, *ep = eb + nb, *sb = ep + nb, *sp = sb + nb, *wb = sp + nb;
+	double *eb = ebuf + 2 * ne, *ep = eb + nb, *wb = ep + nb;
 	static const double mk[5] = {1, 2, 2, 2, 1};
 	for (int y = -M; y < (int)h + M; y++)
 		for (int x = -M; x < (int)w + M; x++)
@@ -236,8 +244,6 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 					s_b += eb[(size_t)jj * NBX + ii];
 					s_p += ep[(size_t)jj * NBX + ii];
 				}
-			sb[(size_t)j * NBX + i] = s_b;
-			sp[(size_t)j * NBX + i] = s_p;
 			double ab = pow(s_b + fl, p->gamma), ap = pow(s_p + fl, p->gamma);
 			wb[(size_t)j * NBX + i] = ab + ap > 0 ? ab / (ab + ap) : 1;
 		}
@@ -286,5 +292,13 @@ int pc_dm_pan_guard_ref(const double *img, uint32_t w, uint32_t h, const pc_mosa
                         const pc_fplane *out)
 {
 	pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+	return pc_dm_pan_guard_ref_with(img, w, h, m, fs, &p, out);
+}
+
+int pc_dm_pan_guard_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                          double g, const pc_fplane *out)
+{
+	pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+	p.g = g;
 	return pc_dm_pan_guard_ref_with(img, w, h, m, fs, &p, out);
 }

@@ -446,10 +446,9 @@ int pc_dm_pan_guard_fast_with(const pc_dm_input *in, const pc_mosaic *m, double 
                               pc_cpu_level level, const pc_dm_pan_guard_params *p,
                               const pc_fplane *out)
 {
-	if ((p->base != 0 && p->base != 1) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
-	    !(p->floor >= 0) || (p->mode != 0 && p->mode != 1) || (p->cons != 0 && p->cons != 1) ||
-	    !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g))
-		return pc_error(PC_EINVAL, "pan-guard: parameters out of range");
+	int rc = pc_dm_pan_guard_check(p);
+	if (rc)
+		return rc;
 	if (p->cons != 0)
 		return pc_error(PC_ENOTSUP, "pan-guard fast path: only bayer-first as the "
 		                            "conservative estimate (cons 0)");
@@ -461,5 +460,13 @@ int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, i
                          pc_cpu_level level, const pc_fplane *out)
 {
 	pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+	return pc_dm_pan_guard_fast_with(in, m, fs, threads, level, &p, out);
+}
+
+int pc_dm_pan_guard_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                           pc_cpu_level level, double g, const pc_fplane *out)
+{
+	pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
+	p.g = g;
 	return pc_dm_pan_guard_fast_with(in, m, fs, threads, level, &p, out);
 }

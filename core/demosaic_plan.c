@@ -754,39 +754,28 @@ static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *o
 	const uint32_t w = p->raw->width, h = p->raw->height;
 	int rc;
 	/* a given noise gain (pc_pipeline_opts.noise_gain > 0) for the methods that use one
-	 * (PC_DMF_NOISE_GAIN): pan-adapt's own, pan-guard's base's */
-	const bool given = (p->def->info.flags & PC_DMF_NOISE_GAIN) && p->opts.noise_gain > 0;
-	const bool guard = p->opts.method == PC_DM_PAN_GUARD;
-	pc_dm_pan_guard_params pg = pc_dm_pan_guard_defaults();
-	pg.g = p->opts.noise_gain;
+	 * (PC_DMF_NOISE_GAIN: their ref_g and fast_g) */
+	const double g = (p->def->info.flags & PC_DMF_NOISE_GAIN) && p->opts.noise_gain > 0
+	                     ? p->opts.noise_gain
+	                     : 0;
+	if (g > 0 && !(fn->ref_g && fn->fast_g))
+		return pc_error(PC_ENOTSUP, "%s: no path for a given noise gain",
+		                p->def->info.name);
 	if (p->opts.reference || !fn->fast) {
 		double *img = NULL;
 		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
-		if (!rc && given && guard) {
-			rc = pc_dm_pan_guard_ref_with(img, w, h, &p->opts.mosaic, p->full_scale,
-			                              &pg, out);
-		} else if (!rc && given) {
-			pc_dm_pan_adapt_params pa = pc_dm_pan_adapt_defaults();
-			pa.g = p->opts.noise_gain;
-			rc = pc_dm_pan_adapt_ref_with(img, w, h, &p->opts.mosaic, p->full_scale,
-			                              &pa, out);
-		} else if (!rc) {
-			rc = fn->ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
-		}
+		if (!rc)
+			rc = g > 0 ? fn->ref_g(img, w, h, &p->opts.mosaic, p->full_scale, g, out)
+			           : fn->ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
 		free(img);
 	} else {
 		const pc_dm_input *in;
 		rc = pc_dm_plan_input(p, &in);
-		if (!rc && given && guard)
-			rc = pc_dm_pan_guard_fast_with(in, &p->opts.mosaic, p->full_scale,
-			                               p->opts.threads, p->level, &pg, out);
-		else if (!rc && given)
-			rc = pc_dm_pan_adapt_fast_g(in, &p->opts.mosaic, p->full_scale,
-			                            p->opts.threads, p->level, p->opts.noise_gain,
-			                            out);
-		else if (!rc)
-			rc = fn->fast(in, &p->opts.mosaic, p->full_scale, p->opts.threads, p->level,
-			              out);
+		if (!rc)
+			rc = g > 0 ? fn->fast_g(in, &p->opts.mosaic, p->full_scale, p->opts.threads,
+			                        p->level, g, out)
+			           : fn->fast(in, &p->opts.mosaic, p->full_scale, p->opts.threads,
+			                      p->level, out);
 	}
 	return rc;
 }
