@@ -145,6 +145,7 @@ int pc_demosaic_noise_gain(const pc_view *raw, const pc_pipeline_opts *opts, dou
 		return pc_error(PC_EINVAL, "pipeline options missing");
 	pc_pipeline_opts o0 = *opts;
 	o0.noise_gain = 0; /* not used here */
+	o0.noise_gain_used = NULL;
 	pc_dm_plan p;
 	int rc = pc_dm_plan_begin(raw, &o0, &p);
 	if (rc)

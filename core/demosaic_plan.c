@@ -12,6 +12,7 @@
 #include "demosaic_color.h"
 #include "demosaic_fast.h"
 #include "demosaic_ic.h"
+#include "demosaic_noise.h"
 #include "demosaic_fact.h"
 #include "demosaic_pan.h"
 #include "polarcam/stokes.h"
@@ -748,35 +749,41 @@ static int mono_reference(const pc_dm_plan *p, const double *img, const pc_mosai
 }
 
 /* A colour method of its own (demosaic_pan.h): the reference on the raw minus black, or the fast
- * path on the prepared input. */
+ * path on the prepared input. The methods that use a noise gain (PC_DMF_NOISE_GAIN) take it
+ * from here through their ref_g and fast_g: the given one (pc_pipeline_opts.noise_gain > 0), or
+ * the estimate their own ref and fast would make (pc_dm_noise_gain_d on the reference's raw,
+ * pc_dm_noise_gain_in on the fast path's: the same value, pc_demosaic_noise_gain's), made once
+ * and stored for the caller (noise_gain_used). */
 static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *out)
 {
 	const uint32_t w = p->raw->width, h = p->raw->height;
+	const bool uses_g = p->def->info.flags & PC_DMF_NOISE_GAIN;
+	if (uses_g && !(fn->ref_g && fn->fast_g))
+		return pc_error(PC_ENOTSUP, "%s: no path for a noise gain", p->def->info.name);
+	double g = uses_g ? p->opts.noise_gain : 0;
 	int rc;
-	/* a given noise gain (pc_pipeline_opts.noise_gain > 0) for the methods that use one
-	 * (PC_DMF_NOISE_GAIN: their ref_g and fast_g) */
-	const double g = (p->def->info.flags & PC_DMF_NOISE_GAIN) && p->opts.noise_gain > 0
-	                     ? p->opts.noise_gain
-	                     : 0;
-	if (g > 0 && !(fn->ref_g && fn->fast_g))
-		return pc_error(PC_ENOTSUP, "%s: no path for a given noise gain",
-		                p->def->info.name);
 	if (p->opts.reference || !fn->fast) {
 		double *img = NULL;
 		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
+		if (!rc && uses_g && !(g > 0))
+			rc = pc_dm_noise_gain_d(img, w, h, &p->opts.mosaic, p->full_scale, &g);
 		if (!rc)
-			rc = g > 0 ? fn->ref_g(img, w, h, &p->opts.mosaic, p->full_scale, g, out)
-			           : fn->ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
+			rc = uses_g ? fn->ref_g(img, w, h, &p->opts.mosaic, p->full_scale, g, out)
+			            : fn->ref(img, w, h, &p->opts.mosaic, p->full_scale, out);
 		free(img);
 	} else {
 		const pc_dm_input *in;
 		rc = pc_dm_plan_input(p, &in);
+		if (!rc && uses_g && !(g > 0))
+			rc = pc_dm_noise_gain_in(in, &p->opts.mosaic, p->full_scale, &g);
 		if (!rc)
-			rc = g > 0 ? fn->fast_g(in, &p->opts.mosaic, p->full_scale, p->opts.threads,
-			                        p->level, g, out)
-			           : fn->fast(in, &p->opts.mosaic, p->full_scale, p->opts.threads,
-			                      p->level, out);
+			rc = uses_g ? fn->fast_g(in, &p->opts.mosaic, p->full_scale,
+			                         p->opts.threads, p->level, g, out)
+			            : fn->fast(in, &p->opts.mosaic, p->full_scale, p->opts.threads,
+			                       p->level, out);
 	}
+	if (!rc && uses_g && p->opts.noise_gain_used)
+		*p->opts.noise_gain_used = g;
 	return rc;
 }
 

@@ -86,8 +86,10 @@ double pc_process_saturation(const pc_process_opts *o, pc_pixfmt format, unsigne
 	return (double)((1u << bits) - 1u);
 }
 
-/* The front door's options for o and a raw of the given format and bit depth. */
-static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format, unsigned bits)
+/* The front door's options for o and a raw of the given format and bit depth; ng_used:
+ * pc_pipeline_opts.noise_gain_used (NULL: not wanted). */
+static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format, unsigned bits,
+                                      double *ng_used)
 {
 	pc_pipeline_opts po = pc_pipeline_defaults();
 	po.method = o->method;
@@ -96,6 +98,7 @@ static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format
 	po.reference = o->demosaic.reference;
 	po.full_scale = o->demosaic.full_scale;
 	po.noise_gain = o->noise_gain;
+	po.noise_gain_used = ng_used;
 	if (!(po.full_scale > 0) && format != PC_FMT_FLOAT32 && bits >= 1 && bits <= 16)
 		po.full_scale = (double)((1u << bits) - 1u); /* sBIT: a 12-bit PNG in 16 bits */
 	po.black_level = o->stage ? 0 : o->black_level;
@@ -105,12 +108,13 @@ static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format
 }
 
 /* Raw → Stokes (st) or analyser images (ch) through the stage or the front door; rgb (colour
- * frames, no stage: a calibration is for monochrome mosaics) also each colour's Stokes. */
+ * frames, no stage: a calibration is for monochrome mosaics) also each colour's Stokes; ng_used
+ * (NULL: not wanted) the noise gain a noise-aware method used. */
 static int run_pipeline(const pc_process_opts *o, const pc_view *raw, unsigned bits,
                         const pc_stokes_out *st, const pc_stokes_out *rgb, const pc_fplane *ch,
-                        pc_validity *valid)
+                        pc_validity *valid, double *ng_used)
 {
-	pc_pipeline_opts po = pipeline_opts(o, raw->format, bits);
+	pc_pipeline_opts po = pipeline_opts(o, raw->format, bits, ng_used);
 	if (o->stage) {
 		if (o->black_level != 0)
 			return pc_error(PC_EINVAL,
@@ -250,21 +254,13 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 		free(buf);
 		return pc_error(PC_ENOMEM, "out of memory for the %ux%u validity mask", ow, oh);
 	}
-	double t0 = now_s();
-	rc = run_pipeline(o, &raw, bits, NULL, NULL, planes, &valid);
-	double secs = now_s() - t0;
-	/* the noise gain a noise-aware method used: given, or its estimate (the same value) */
+	/* the noise gain a noise-aware method used, as the pipeline returns it: the one given, or
+	 * its estimate from the frame; 0 for the other methods */
 	double ng = 0;
 	const bool ng_given = o->noise_gain > 0;
-	if (!rc && (pc_demosaic_method_get(o->method)->flags & PC_DMF_NOISE_GAIN)) {
-		if (ng_given) {
-			ng = o->noise_gain;
-		} else if (!o->stage) { /* (calibrations are for monochrome mosaics, the
-			                 * noise-aware method for colour ones) */
-			pc_pipeline_opts po = pipeline_opts(o, raw.format, bits);
-			rc = pc_demosaic_noise_gain(&raw, &po, &ng);
-		}
-	}
+	double t0 = now_s();
+	rc = run_pipeline(o, &raw, bits, NULL, NULL, planes, &valid, &ng);
+	double secs = now_s() - t0;
 	pc_view_free(&raw);
 	if (rc) {
 		free(buf);
@@ -589,7 +585,7 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 		double t0 = now_s(), dt = 0;
 		if (!rc) {
 			rc = run_pipeline(o, &raw, bits, &f.so, colour ? f.cso : NULL, NULL,
-			                  &f.valid);
+			                  &f.valid, NULL);
 			dt = now_s() - t0;
 			t_all += dt;
 			if (rc)

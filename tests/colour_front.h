@@ -49,7 +49,8 @@ static double colour_front_check(pc_demosaic_method md, uint32_t W, uint32_t H)
 
 /* a method with PC_DMF_NOISE_GAIN through pc_demosaic_run (o set up for it, o.noise_gain
  * ignored): on the reference and on the fast path, the gain g the method would estimate, given,
- * reproduces the default bit for bit, and 10·g changes the outputs (not vacuous); then a given
+ * reproduces the default bit for bit, and 10·g changes the outputs (not vacuous); the gain the
+ * run reports (noise_gain_used) is g bit for bit by default and 10·g as given; then a given
  * gain of 3.5 on the fast path within 1e-5 of the 12-bit full scale of the reference with it.
  * a, b: two sets of twelve planes over ab, bb (W × H each). */
 static void colour_gain_check(const pc_view *raw, pc_pipeline_opts o, double g, const pc_fplane *a,
@@ -57,14 +58,25 @@ static void colour_gain_check(const pc_view *raw, pc_pipeline_opts o, double g, 
 {
 	const size_t n = (size_t)raw->width * raw->height * 12;
 	for (int ref = 0; ref < 2; ref++) {
+		double used = -1, used0;
 		o.reference = ref;
 		o.noise_gain = 0;
+		o.noise_gain_used = &used;
 		CHECK_EQ_INT(pc_demosaic_run(raw, &o, a, NULL), 0);
+		CHECK(memcmp(&used, &g, sizeof g) == 0); /* the estimate, bit for bit */
+		used0 = used;
+		o.noise_gain_used = NULL;
 		o.noise_gain = g;
 		CHECK_EQ_INT(pc_demosaic_run(raw, &o, b, NULL), 0);
 		CHECK(memcmp(ab, bb, sizeof(float) * n) == 0);
 		o.noise_gain = 10 * g;
+		o.noise_gain_used = &used;
 		CHECK_EQ_INT(pc_demosaic_run(raw, &o, b, NULL), 0);
+		CHECK(used == 10 * g); /* a given gain, reported as given */
+		o.noise_gain_used = NULL;
+		printf("  reported gain (%s): %.17g by default (pc_demosaic_noise_gain's %.17g), "
+		       "%.17g when %.17g is given\n",
+		       ref ? "reference" : "fast path", used0, g, used, 10 * g);
 		double d = 0;
 		for (size_t i = 0; i < n; i++)
 			d = fmax(d, fabs(ab[i] - bb[i]));

@@ -503,6 +503,21 @@ static void test_given_gain_api(void)
 	oc.gain_inv = gi;
 	CHECK_EQ_INT(pc_demosaic_noise_gain(&raw, &oc, &gc), 0);
 	CHECK(gc == g);
+	/* the run through the correction reports the same estimate */
+	{
+		pc_fplane c[12];
+		float *cb = alloc_planes(W, H, c);
+		double used = -1;
+		oc.noise_gain_used = &used;
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &oc, c, NULL), 0);
+		CHECK(memcmp(&used, &gc, sizeof gc) == 0);
+		/* a method without the flag leaves it as it was */
+		oc.method = PC_DM_BAYER_FIRST;
+		used = -1;
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &oc, c, NULL), 0);
+		CHECK(used == -1);
+		free(cb);
+	}
 	free(dark);
 	free(gi);
 
@@ -537,6 +552,13 @@ static void test_given_gain_api(void)
 	for (int k = 0; k < PC_DM_COUNT; k++)
 		CHECK(!(pc_demosaic_method_get((pc_demosaic_method)k)->flags & PC_DMF_NOISE_GAIN) ==
 		      (k != PC_DM_PAN_ADAPT && k != PC_DM_PAN_GUARD));
+	/* every flagged method has the paths that take the gain (the front door refuses one
+	 * without them: it estimates the gain once and passes it) */
+	for (int k = 0; k < PC_DM_COUNT; k++)
+		if (pc_demosaic_method_get((pc_demosaic_method)k)->flags & PC_DMF_NOISE_GAIN) {
+			const pc_dm_pan_fns *fn = pc_dm_pan_fns_get((pc_demosaic_method)k);
+			CHECK(fn && fn->ref_g && fn->fast_g);
+		}
 	free(ab);
 	free(bb);
 	free(img);

@@ -172,6 +172,12 @@ typedef struct pc_pipeline_opts {
 	 * given; 0: estimated from each frame (pc_demosaic_noise_gain; the default). Negative, NaN
 	 * or infinite: PC_EINVAL. The per-pixel correction (dark, gain_inv) does not rescale it. */
 	double noise_gain;
+	/* Output, optional: where a run of a method flagged PC_DMF_NOISE_GAIN (pc_demosaic_run,
+	 * pc_stokes_run, pc_stokes_run_colour) stores the noise gain it used: noise_gain when
+	 * given, else its estimate from the frame (pc_demosaic_noise_gain's value, bit for bit),
+	 * so a caller that reports it need not estimate it again. Written on success only, and
+	 * not by the other methods (start it at 0). NULL: not stored. */
+	double *noise_gain_used;
 } pc_pipeline_opts;
 
 /* Bilinear on Sony's IMX250MZR mosaic, default threads, fast paths, full scale from the format,

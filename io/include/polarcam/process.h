@@ -84,8 +84,9 @@ typedef struct pc_demosaic_file_report {
 	uint64_t n_invalid;               /* output pixels depending on a saturated/dead sample */
 	char valid_path[4096];            /* the mask written ("" when no level was checked) */
 	/* a method flagged PC_DMF_NOISE_GAIN (polarcam/demosaic.h): the noise gain it used (raw
-	 * units), o->noise_gain when given (noise_gain_given), else its estimate from
-	 * the frame (pc_demosaic_noise_gain); other methods: 0 and false */
+	 * units), as the pipeline returns it (pc_pipeline_opts.noise_gain_used): o->noise_gain
+	 * when given (noise_gain_given), else its estimate from the frame (pc_demosaic_noise_gain's
+	 * value, made once); other methods: 0 and false */
 	double noise_gain;
 	bool noise_gain_given;
 } pc_demosaic_file_report;
