@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "demosaic_ref.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 #include "simd.h"
@@ -184,6 +185,23 @@ void pc_dm_color_split_ref(const double *img, uint32_t w, uint32_t h, const pc_m
 {
 	col_job cj = {img, get_f64, m, w, h, {mk[0], mk[1], mk[2]}, 1};
 	col_band(&cj, 0, h / 2);
+}
+
+int pc_dm_bayer_first_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                          pc_demosaic_method second, double fs, const pc_fplane *out)
+{
+	const size_t n = (size_t)w * h;
+	double *buf = malloc(sizeof(double) * n * 3);
+	if (!buf)
+		return pc_error(PC_ENOMEM, "colour reference: images of %ux%u", w, h);
+	double *md[3] = {buf, buf + n, buf + 2 * n};
+	pc_dm_color_split_ref(img, w, h, m, md);
+	const pc_mosaic mono = pc_dm_color_mono(m);
+	int rc = 0;
+	for (unsigned k = 0; k < 3 && !rc; k++)
+		rc = pc_dm_ref(md[k], w, h, &mono, second, fs, out + 4 * k);
+	free(buf);
+	return rc;
 }
 
 int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int threads,

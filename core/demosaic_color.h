@@ -14,6 +14,13 @@ pc_mosaic pc_dm_color_mono(const pc_mosaic *m);
 void pc_dm_color_split_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
                            double *mk[3]);
 
+/* The two steps' double reference (the specification of bayer-first, second = PC_DM_BILINEAR,
+ * and of bayer-eari, PC_DM_EARI): step 1 (pc_dm_color_split_ref), then second's monochrome
+ * reference (pc_dm_ref, full scale fs) on each M_k into out[4k + c]. PC_ENOMEM for the M_k,
+ * or pc_dm_ref's error. */
+int pc_dm_bayer_first_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                          pc_demosaic_method second, double fs, const pc_fplane *out);
+
 /* Step 1 in float on row bands; PC_ENOMEM for its column tables. */
 int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic *m, int threads,
                       float *mk[3]);

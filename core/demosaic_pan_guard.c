@@ -11,7 +11,7 @@
  *  1. The base estimate I_p: pan-adapt's (pc_dm_pan_adapt_ref_with, with the noise gain
  *     params.g when given, Round 15b) or pan-side's (params.base), and
  *     the conservative estimate I_b: bayer-first's (pc_dm_color_split_ref, then mono bilinear,
- *     pc_dm_ref), both double references, twelve float planes each.
+ *     pc_dm_ref: pc_dm_bayer_first_ref), both double references, twelve float planes each.
  *  2. A leave-one-out check per 2×2 block B (corner (x & ~1, y & ~1), one colour k: red and
  *     blue one block per 4×4 period, green two), on the mirror-extended raw (pc_mirror4, which
  *     keeps the phase). Its neighbour blocks n of the same colour: red and blue the four at
@@ -55,7 +55,6 @@
 
 #include "demosaic_color.h"
 #include "demosaic_pan.h"
-#include "demosaic_ref.h"
 #include "polarcam/error.h"
 
 pc_dm_pan_guard_params pc_dm_pan_guard_defaults(void)
@@ -88,24 +87,6 @@ typedef struct guard_ext {
 static size_t gidx(const guard_ext *g, int x, int y)
 {
 	return (size_t)(y + g->M) * (size_t)g->W + (size_t)(x + g->M);
-}
-
-/* the conservative estimate: bayer-first's double reference (colour step, mono bilinear) */
-static int guard_bayer_first(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
-                             double fs, const pc_fplane *out)
-{
-	const size_t n = (size_t)w * h;
-	double *buf = malloc(sizeof(double) * n * 3);
-	if (!buf)
-		return pc_error(PC_ENOMEM, "pan-guard reference: images of %ux%u", w, h);
-	double *md[3] = {buf, buf + n, buf + 2 * n};
-	pc_dm_color_split_ref(img, w, h, m, md);
-	const pc_mosaic mono = pc_dm_color_mono(m);
-	int rc = 0;
-	for (unsigned k = 0; k < 3 && !rc; k++)
-		rc = pc_dm_ref(md[k], w, h, &mono, PC_DM_BILINEAR, fs, out + 4 * k);
-	free(buf);
-	return rc;
 }
 
 /* the cheap conservative estimate: every channel q by pan-ratio's normalised tents on its own
@@ -165,7 +146,7 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	rc = p->base ? pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &pa, ip)
 	             : pc_dm_pan_side_ref(img, w, h, m, fs, ip);
 	if (!rc && p->cons == 0)
-		rc = guard_bayer_first(img, w, h, m, fs, ib);
+		rc = pc_dm_bayer_first_ref(img, w, h, m, PC_DM_BILINEAR, fs, ib);
 	else if (!rc)
 		guard_tents(img, w, h, m, ib);
 	if (rc) {

@@ -804,41 +804,34 @@ static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 		return rc;
 	}
 	const size_t n = (size_t)w * h;
-	const pc_mosaic mono = pc_dm_color_mono(&p->opts.mosaic);
 	const pc_demosaic_method second = p->def->second;
 	const pc_dm_method_def *sdef = pc_dm_method_def_get(second);
-	const bool reference = p->opts.reference || !sdef->fast;
-	int rc = 0;
-	void *mk[3] = {NULL, NULL, NULL};
-	double *img = NULL;
-	float *fin = NULL;
-	size_t esz = reference ? sizeof(double) : sizeof(float);
-	for (int k = 0; k < 3 && !rc; k++)
-		if (!(mk[k] = malloc(n * esz)))
-			rc = pc_error(PC_ENOMEM, "colour demosaicking: %ux%u images", w, h);
-	if (!rc && reference) {
-		rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
-		if (!rc) {
-			double *md[3] = {mk[0], mk[1], mk[2]};
-			pc_dm_color_split_ref(img, w, h, &p->opts.mosaic, md);
-		}
-		for (unsigned k = 0; k < 3 && !rc; k++)
-			rc = mono_reference(p, mk[k], &mono, second, out + 4 * k);
-	} else if (!rc) {
-		rc = pc_dm_raw_to_float(p->raw, p->opts.black_level, &fin);
-		float *mf[3] = {mk[0], mk[1], mk[2]};
+	if (p->opts.reference || !sdef->fast) {
+		double *img = NULL;
+		int rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
 		if (!rc)
-			rc = pc_dm_color_split(fin, w, h, &p->opts.mosaic, p->opts.threads, mf);
-		for (unsigned k = 0; k < 3 && !rc; k++) {
-			pc_dm_input in = pc_dm_input_f32(mf[k], w, h);
-			pc_dm_call c = {&in,           &mono,           second,
-			                p->full_scale, p->opts.threads, p->level};
-			rc = sdef->fast(&c, out + 4 * k);
-		}
+			rc = pc_dm_bayer_first_ref(img, w, h, &p->opts.mosaic, second,
+			                           p->full_scale, out);
+		free(img);
+		return rc;
+	}
+	const pc_mosaic mono = pc_dm_color_mono(&p->opts.mosaic);
+	int rc = 0;
+	float *mf[3] = {NULL, NULL, NULL}, *fin = NULL;
+	for (int k = 0; k < 3 && !rc; k++)
+		if (!(mf[k] = malloc(n * sizeof(float))))
+			rc = pc_error(PC_ENOMEM, "colour demosaicking: %ux%u images", w, h);
+	if (!rc)
+		rc = pc_dm_raw_to_float(p->raw, p->opts.black_level, &fin);
+	if (!rc)
+		rc = pc_dm_color_split(fin, w, h, &p->opts.mosaic, p->opts.threads, mf);
+	for (unsigned k = 0; k < 3 && !rc; k++) {
+		pc_dm_input in = pc_dm_input_f32(mf[k], w, h);
+		pc_dm_call c = {&in, &mono, second, p->full_scale, p->opts.threads, p->level};
+		rc = sdef->fast(&c, out + 4 * k);
 	}
 	for (int k = 0; k < 3; k++)
-		free(mk[k]);
-	free(img);
+		free(mf[k]);
 	free(fin);
 	return rc;
 }
