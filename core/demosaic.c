@@ -17,21 +17,34 @@ const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m)
 	return d ? &d->info : NULL;
 }
 
+size_t pc_demosaic_method_names(unsigned flags, char *buf, size_t size)
+{
+	size_t len = 0;
+	if (size)
+		buf[0] = 0;
+	for (int i = 0; i < PC_DM_COUNT; i++) {
+		const pc_demosaic_method_info *mi =
+		    &pc_dm_method_def_get((pc_demosaic_method)i)->info;
+		if ((mi->flags & flags) != flags)
+			continue;
+		const char *sep = len ? ", " : "";
+		if (len < size)
+			snprintf(buf + len, size - len, "%s%s", sep, mi->name);
+		len += strlen(sep) + strlen(mi->name);
+	}
+	return len;
+}
+
 int pc_demosaic_method_from_name(const char *name, pc_demosaic_method *m)
 {
-	char list[256];
-	size_t off = 0;
-	for (int i = 0; i < PC_DM_COUNT; i++) {
+	for (int i = 0; i < PC_DM_COUNT; i++)
 		if (name &&
 		    strcmp(name, pc_dm_method_def_get((pc_demosaic_method)i)->info.name) == 0) {
 			*m = (pc_demosaic_method)i;
 			return 0;
 		}
-		off += (size_t)snprintf(list + off, sizeof list - off, "%s%s", i ? ", " : "",
-		                        pc_dm_method_def_get((pc_demosaic_method)i)->info.name);
-		if (off >= sizeof list)
-			off = sizeof list - 1;
-	}
+	char list[1024];
+	pc_demosaic_method_names(0, list, sizeof list);
 	return pc_error(PC_EINVAL, "demosaicking method '%s': unknown (expected one of %s)",
 	                name ? name : "", list);
 }

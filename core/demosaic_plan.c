@@ -624,14 +624,14 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 		return pc_error(PC_EINVAL, "demosaicking method %d: unknown", (int)opts->method);
 	const pc_demosaic_method_info *mi = &def->info;
 	int colour = m->period == 4;
-	if (colour && !(mi->flags & PC_DMF_COLOR))
+	if (colour && !(mi->flags & PC_DMF_COLOR)) {
+		char list[512];
+		pc_demosaic_method_names(PC_DMF_COLOR, list, sizeof list);
 		return pc_error(PC_EINVAL,
 		                "method %s works on monochrome polarizer mosaics only; "
-		                "this mosaic has a colour filter (try pan-guided, "
-		                "pan-side, pan-adapt, pan-guard, pan-chroma, pan-dir, pan-fact, "
-		                "pan-ratio, bayer-first or "
-		                "bayer-eari)",
-		                mi->name);
+		                "this mosaic has a colour filter (methods for it: %s)",
+		                mi->name, list);
+	}
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_error(PC_EINVAL, "method %s works on colour-polarization mosaics only",
 		                mi->name);

@@ -58,13 +58,14 @@ int pc_process_method(const char *name, const pc_mosaic *m, pc_demosaic_method *
 	const pc_demosaic_method_info *mi = pc_demosaic_method_get(*out);
 	char layout[64];
 	pc_mosaic_format(m, layout, sizeof layout);
-	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_error(
-		    PC_EINVAL,
-		    "--method %s: works on monochrome mosaics; the mosaic %s is "
-		    "colour-polarization (methods for it: pan-guided, "
-		    "pan-side, pan-adapt, pan-guard, pan-ratio, bayer-first, bayer-eari)",
-		    mi->name, layout);
+	if (colour && !(mi->flags & PC_DMF_COLOR)) {
+		char list[512];
+		pc_demosaic_method_names(PC_DMF_COLOR, list, sizeof list);
+		return pc_error(PC_EINVAL,
+		                "--method %s: works on monochrome mosaics; the mosaic %s is "
+		                "colour-polarization (methods for it: %s)",
+		                mi->name, layout, list);
+	}
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_error(PC_EINVAL,
 		                "--method %s: needs a colour-polarization mosaic such as "

@@ -779,12 +779,68 @@ static void test_bad_options(void)
 	pc_view_free(&raw);
 }
 
+/* Texts that name methods take them from the table: the names of the methods with a flag,
+ * gathered here from pc_demosaic_method_get, are what pc_demosaic_method_names gives (cut as
+ * snprintf cuts, at every size) and what the refusal of a colour mosaic by a monochrome-only
+ * method names. */
+static void test_method_lists(void)
+{
+	const unsigned flags[3] = {PC_DMF_COLOR, PC_DMF_NOISE_GAIN, 0};
+	char want[1024], got[1024], cut[1024];
+	for (int f = 0; f < 3; f++) {
+		size_t n = 0;
+		int count = 0;
+		want[0] = 0;
+		for (int k = 0; k < PC_DM_COUNT; k++) {
+			const pc_demosaic_method_info *mi =
+			    pc_demosaic_method_get((pc_demosaic_method)k);
+			if ((mi->flags & flags[f]) != flags[f])
+				continue;
+			n += (size_t)snprintf(want + n, sizeof want - n, "%s%s", count ? ", " : "",
+			                      mi->name);
+			count++;
+		}
+		CHECK(n < sizeof want && count > 0);
+		CHECK_EQ_INT((long long)pc_demosaic_method_names(flags[f], got, sizeof got),
+		             (long long)n);
+		CHECK(strcmp(got, want) == 0);
+		printf("  methods with flags 0x%x (%d): %s\n", flags[f], count, got);
+		CHECK_EQ_INT((long long)pc_demosaic_method_names(flags[f], NULL, 0), (long long)n);
+		for (size_t size = 1; size <= n + 1; size++) {
+			memset(cut, 'x', sizeof cut);
+			CHECK_EQ_INT((long long)pc_demosaic_method_names(flags[f], cut, size),
+			             (long long)n);
+			CHECK(strlen(cut) == (size - 1 < n ? size - 1 : n));
+			CHECK(strncmp(cut, want, strlen(cut)) == 0 && cut[size] == 'x');
+		}
+		CHECK(count == PC_DM_COUNT || flags[f] != 0);
+		if (flags[f] != PC_DMF_COLOR)
+			continue;
+		/* bilinear (monochrome only) on a colour mosaic */
+		pc_view raw;
+		CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, 8, 8, 0), 0);
+		fill_random(&raw, 0, 4095);
+		float buf[64 * 12];
+		pc_fplane pl[12];
+		pc_fplanes_separate(buf, 8, 8, 12, pl);
+		pc_pipeline_opts o = pc_pipeline_defaults();
+		o.mosaic = pc_mosaic_imx250myr();
+		CHECK_EQ_INT(pc_demosaic_run(&raw, &o, pl, NULL), PC_EINVAL);
+		char said[1100];
+		snprintf(said, sizeof said, "(methods for it: %s)", want);
+		CHECK(strstr(pc_error_detail(), said) != NULL);
+		printf("  refusal: \"%s\"\n", pc_error_detail());
+		pc_view_free(&raw);
+	}
+}
+
 int main(void)
 {
 	/* streaming stores on the small aligned frames too (as test_stokes) */
 	setenv("POLARCAM_NT_MIN_BYTES", "0", 1);
 	test_supports();
 	test_bad_options();
+	test_method_lists();
 	for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
 		CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
 		test_masks();

@@ -45,14 +45,14 @@ const char cli_raw_help[] =
     "                      calibrated analysers, its distrusted pixels flagged. The frame must\n"
     "                      match it (size, ROI, mosaic, bit depth); the dark map replaces\n"
     "                      --black-level. Default saturation: the file's\n"
-    "  --noise-gain DN_PER_E  the noise gain of noise-aware methods (pan-adapt; pan-guard's\n"
-    "                      base pan-adapt): the sensor's variance per unit signal in raw\n"
-    "                      units, i.e. the system gain K (DN per electron, EMVA 1288 photon\n"
-    "                      transfer) at the settings in use, in the raw's units (x16 for a\n"
-    "                      12-bit raw stored shifted in 16 bits). Default: estimated from\n"
-    "                      each frame (median residual; textured frames overestimate it).\n"
-    "                      The JSON says which (noise_gain, noise_gain_from). Refused with\n"
-    "                      other methods\n"
+    "  --noise-gain DN_PER_E  the noise gain of noise-aware methods (noise_gain true in\n"
+    "                      demosaic --list --json): the sensor's variance per unit signal\n"
+    "                      in raw units, i.e. the system gain K (DN per electron, EMVA 1288\n"
+    "                      photon transfer) at the settings in use, in the raw's units (x16\n"
+    "                      for a 12-bit raw stored shifted in 16 bits). Default: estimated\n"
+    "                      from each frame (median residual; textured frames overestimate\n"
+    "                      it). The JSON says which (noise_gain, noise_gain_from). Refused\n"
+    "                      with other methods\n"
     "  --threads N         threads (default: all cores)\n"
     "  --reference         run the double-precision reference implementation (slow)\n";
 
@@ -264,11 +264,14 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 	if ((rc = pc_process_method(o->method, &o->mosaic, &o->dm)))
 		return cli_fail(rc, NULL);
 	o->method = pc_demosaic_method_get(o->dm)->name;
-	if (o->noise_gain > 0 && !(pc_demosaic_method_get(o->dm)->flags & PC_DMF_NOISE_GAIN))
+	if (o->noise_gain > 0 && !(pc_demosaic_method_get(o->dm)->flags & PC_DMF_NOISE_GAIN)) {
+		char list[512];
+		pc_demosaic_method_names(PC_DMF_NOISE_GAIN, list, sizeof list);
 		return cli_error(CLI_EXIT_USAGE,
-		                 "--noise-gain: method %s uses no noise gain (pan-adapt and "
-		                 "pan-guard do)",
-		                 o->method);
+		                 "--noise-gain: method %s uses no noise gain (the methods that "
+		                 "do: %s)",
+		                 o->method, list);
+	}
 	return 0;
 }
 

@@ -4,6 +4,7 @@ functions; the CLI's JSON prints 17 significant digits, which round-trips a doub
 import json
 import math
 import os
+import re
 
 import numpy as np
 import pytest
@@ -337,6 +338,17 @@ def test_noise_gain_equals_cli(cli, tmp_path):
     p = cli("demosaic", png, "--method", "pan-side", "--noise-gain", "2", "-o",
             tmp_path / "x.npy", check=False)
     assert p.returncode == 2 and "uses no noise gain" in p.stderr, p.stderr
+    # the refusal names exactly the methods that take one, from the table (not a hand list)
+    said = re.search(r"the methods that do: ([^)]*)\)", p.stderr)
+    assert said, p.stderr
+    assert said.group(1).split(", ") == [m["name"] for m in polarcam.methods()
+                                         if m["noise_gain"]], p.stderr
+    # and a monochrome method on this colour frame names exactly the colour methods
+    p = cli("demosaic", png, "--method", "bilinear", "-o", tmp_path / "x.npy", check=False)
+    said = re.search(r"methods for it: ([^)]*)\)", p.stderr)
+    assert p.returncode != 0 and said, p.stderr
+    assert said.group(1).split(", ") == [m["name"] for m in polarcam.methods()
+                                         if m["colour"]], p.stderr
     for bad in ("-1", "nan", "inf", "0"):
         p = cli("demosaic", png, "--method", "pan-adapt", "--noise-gain", bad, "-o",
                 tmp_path / "x.npy", check=False)
@@ -347,7 +359,7 @@ def test_noise_gain_equals_cli(cli, tmp_path):
     listed = {m["name"]: m["noise_gain"] for m in json.loads(cli("demosaic", "--list",
                                                                  "--json").stdout)}
     assert listed == {m["name"]: m["noise_gain"] for m in polarcam.methods()}
-    assert [n for n, v in listed.items() if v] == ["pan-adapt", "pan-guard"]
+    assert {"pan-adapt", "pan-guard"} <= {n for n, v in listed.items() if v}
     # pan-guard: the same round trip (its estimate is pan-adapt's, on the same frame), and
     # another gain changes its output
     p = cli("demosaic", png, "--method", "pan-guard", "-o", tmp_path / "ge.npy", "--json")

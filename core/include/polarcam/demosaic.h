@@ -97,6 +97,13 @@ typedef struct pc_demosaic_method_info {
 /* Table entry of a method, NULL for out-of-range values. */
 PC_API const pc_demosaic_method_info *pc_demosaic_method_get(pc_demosaic_method m);
 
+/* The names of the methods whose flags contain all of flags (pc_demosaic_flags; 0: every
+ * method), in the table's order, joined by ", ": generated from the table, so messages and help
+ * that list methods stay in step with it. Written into buf as snprintf does (at most size
+ * bytes, NUL-terminated when size > 0, buf may be NULL when size is 0); returns the length of
+ * the whole list, so a return >= size means it was cut. */
+PC_API size_t pc_demosaic_method_names(unsigned flags, char *buf, size_t size);
+
 /* Method by command-line name. PC_EINVAL listing the valid names when unknown. */
 PC_API int pc_demosaic_method_from_name(const char *name, pc_demosaic_method *m);
 
