@@ -525,10 +525,12 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "pan-side's fused pass with each row's 5x5 window mean and variance "
                           "of the PPI and the shrunk ratio step, within 1e-5 of full scale of "
                           "the double reference: 1.24x pan-side's instructions (callgrind, "
-                          "AVX2, one thread: 358 M per frame after Round 14c), 1.29-1.42x its "
-                          "median wall time near idle; 5.4-6.7x the mono bilinear's in the "
-                          "same runs (eight runs), over the 5x budget (docs/demosaicking.md, "
-                          "Rounds 14 fast path, 14d)",
+                          "AVX2, one thread: 349 M per frame, 5.7 M of them the noise gain, "
+                          "now on the caller's threads), 13x the mono bilinear's 26.6 M; "
+                          "near idle before Round 16a 6.6-7.0x the mono bilinear's median "
+                          "wall time (Round 15e), over the 5x budget; Round 16a's estimate "
+                          "from counts 6.1-6.5x, to be measured (docs/demosaicking.md, "
+                          "Rounds 14 fast path, 15e, 16a)",
                           "ours: pan-side (docs/demosaicking.md, Round 13) with a relative "
                           "range scale (Durand & Dorsey, SIGGRAPH 2002) and ratio-nr's "
                           "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
