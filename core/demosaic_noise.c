@@ -1,10 +1,13 @@
 /* A frame's noise gain for pan-adapt: the definition is in demosaic_noise.h. */
 #include "demosaic_noise.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "polarcam/error.h"
+#include "polarcam/parallel.h"
 
 static void swap_d(double *v, size_t i, size_t j)
 {
@@ -42,19 +45,74 @@ static double select_rank(double *v, size_t n, size_t k)
 	return v[lo];
 }
 
+/* The element of rank k of the n values t[0..n) (k < n), t reordered. t(p) ≥ +0 and finite
+ * (a square over a positive floor), so the values order as their IEEE-754 bit patterns do as
+ * unsigned integers: a most-significant-digit radix selection (11-bit digits: a histogram, the
+ * digit's bucket that holds rank k, the others dropped) narrows the candidates without a
+ * data-dependent branch per comparison, select_rank finishing the last few. The same element
+ * as select_rank's on the whole array (the rank-k value is unique). Values outside that range
+ * (a zero floor) go to select_rank alone. */
+static double select_median(double *t, size_t n, size_t k)
+{
+	int ok = 1;
+	for (size_t i = 0; i < n; i++)
+		ok &= t[i] >= 0 && t[i] <= DBL_MAX && !signbit(t[i]);
+	if (!ok)
+		return select_rank(t, n, k);
+	uint32_t hist[1 << 11];
+	for (int shift = 53; n > 64 && shift >= 0; shift -= 11) {
+		memset(hist, 0, sizeof hist);
+		for (size_t i = 0; i < n; i++) {
+			uint64_t b;
+			memcpy(&b, &t[i], sizeof b);
+			hist[(b >> shift) & 2047]++;
+		}
+		uint64_t d = 0;
+		while (k >= hist[d])
+			k -= hist[d++];
+		size_t m = 0;
+		for (size_t i = 0; i < n; i++) {
+			uint64_t b;
+			memcpy(&b, &t[i], sizeof b);
+			t[m] = t[i];
+			m += ((b >> shift) & 2047) == d;
+		}
+		n = m;
+	}
+	return select_rank(t, n, k);
+}
+
+/* The grid of pc_dm_noise_gain (demosaic_noise.h): start P, stride s, nx × ny samples; 0 when
+ * the frame has no interior sample */
+static size_t grid(uint32_t w, uint32_t h, uint32_t p, uint32_t *s, size_t *nx, size_t *ny)
+{
+	if (w <= 2 * p || h <= 2 * p)
+		return 0;
+	const uint32_t iw = w - 2 * p, ih = h - 2 * p;
+	*s = 1;
+	while ((size_t)((iw + *s - 1) / *s) * ((ih + *s - 1) / *s) > PC_DM_NG_POINTS)
+		*s += 2;
+	*nx = (iw + *s - 1) / *s;
+	*ny = (ih + *s - 1) / *s;
+	return *nx * *ny;
+}
+
+static double gain_of(double *t, size_t n)
+{
+	return select_median(t, n, n / 2) / (1.25 * PC_DM_NG_CHI1);
+}
+
 int pc_dm_noise_gain(pc_dm_sample_fn get, const void *ctx, uint32_t w, uint32_t h,
                      const pc_mosaic *m, double fs, double *g)
 {
 	const uint32_t p = m->period;
-	if (w <= 2 * p || h <= 2 * p) {
+	uint32_t s = 1;
+	size_t nx = 0, ny = 0;
+	const size_t n = grid(w, h, p, &s, &nx, &ny);
+	if (!n) {
 		*g = 0;
 		return 0;
 	}
-	const uint32_t iw = w - 2 * p, ih = h - 2 * p;
-	uint32_t s = 1;
-	while ((size_t)((iw + s - 1) / s) * ((ih + s - 1) / s) > PC_DM_NG_POINTS)
-		s += 2;
-	const size_t nx = (iw + s - 1) / s, ny = (ih + s - 1) / s, n = nx * ny;
 	double *t = malloc(sizeof(double) * n);
 	if (!t)
 		return pc_error(PC_ENOMEM, "noise gain: %zu values", n);
@@ -68,7 +126,7 @@ int pc_dm_noise_gain(pc_dm_sample_fn get, const void *ctx, uint32_t w, uint32_t 
 			double r = get(ctx, x, y) - nb;
 			t[k++] = r * r / (fmax(nb, 0) + floor);
 		}
-	*g = select_rank(t, n, n / 2) / (1.25 * PC_DM_NG_CHI1);
+	*g = gain_of(t, n);
 	free(t);
 	return 0;
 }
@@ -91,16 +149,80 @@ int pc_dm_noise_gain_d(const double *img, uint32_t w, uint32_t h, const pc_mosai
 	return pc_dm_noise_gain(get_d, &d, w, h, m, fs, g);
 }
 
-static double get_in(const void *ctx, uint32_t x, uint32_t y)
-{
-	const pc_dm_input *in = ctx;
-	return (double)pc_dm_sample(in, x, y) - in->black_d;
-}
+/* pc_dm_noise_gain_in's grid rows [r0, r1) into t (row r at t + r·nx): get_in's values,
+ * (double)pc_dm_sample − black_d, read straight from the rows, the same expression in the same
+ * order as pc_dm_noise_gain */
+typedef struct ng_job {
+	const pc_dm_input *in;
+	uint32_t p, s;
+	size_t nx;
+	double floor;
+	double *t;
+} ng_job;
 
-int pc_dm_noise_gain_in(const pc_dm_input *in, const pc_mosaic *m, double fs, double *g)
+#define NG_ROWS(T)                                                                                 \
+	do {                                                                                       \
+		const T *rn = (const T *)(const void *)(in->data + (size_t)(y - p) * in->stride),  \
+		        *rc = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
+		        *rs = (const T *)(const void *)(in->data + (size_t)(y + p) * in->stride);  \
+		for (uint32_t x = p; x < w - p; x += s) {                                          \
+			double nb =                                                                \
+			    (((double)(float)rc[x - p] - bl) + ((double)(float)rc[x + p] - bl) +   \
+			     ((double)(float)rn[x] - bl) + ((double)(float)rs[x] - bl)) /          \
+			    4;                                                                     \
+			double r = ((double)(float)rc[x] - bl) - nb;                               \
+			*t++ = r * r / (fmax(nb, 0) + floor);                                      \
+		}                                                                                  \
+	} while (0)
+
+static void ng_rows(void *ctx, uint32_t r0, uint32_t r1)
+{
+	const ng_job *j = ctx;
+	const pc_dm_input *in = j->in;
+	const uint32_t p = j->p, s = j->s, w = in->width;
+	const double bl = in->black_d, floor = j->floor;
+	for (uint32_t gy = r0; gy < r1; gy++) {
+		const uint32_t y = p + gy * s;
+		double *t = j->t + (size_t)gy * j->nx;
+		switch (in->type) {
+		case PC_DMT_U8:
+			NG_ROWS(uint8_t);
+			break;
+		case PC_DMT_U16:
+			NG_ROWS(uint16_t);
+			break;
+		default:
+			NG_ROWS(float);
+		}
+	}
+}
+#undef NG_ROWS
+
+int pc_dm_noise_gain_in_mt(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                           double *g)
 {
 	if (in->dark || in->gain_inv)
 		return pc_error(PC_EINVAL, "noise gain: an input with dark or gain maps (correct a "
 		                           "copy first)");
-	return pc_dm_noise_gain(get_in, in, in->width, in->height, m, fs, g);
+	const uint32_t p = m->period;
+	uint32_t s = 1;
+	size_t nx = 0, ny = 0;
+	const size_t n = grid(in->width, in->height, p, &s, &nx, &ny);
+	if (!n) {
+		*g = 0;
+		return 0;
+	}
+	double *t = malloc(sizeof(double) * n);
+	if (!t)
+		return pc_error(PC_ENOMEM, "noise gain: %zu values", n);
+	ng_job j = {in, p, s, nx, PC_DM_NG_FLOOR * fs, t};
+	pc_parallel_rows((uint32_t)ny, 0, threads, ng_rows, &j);
+	*g = gain_of(t, n);
+	free(t);
+	return 0;
+}
+
+int pc_dm_noise_gain_in(const pc_dm_input *in, const pc_mosaic *m, double fs, double *g)
+{
+	return pc_dm_noise_gain_in_mt(in, m, fs, 1, g);
 }

@@ -58,4 +58,10 @@ int pc_dm_noise_gain_d(const double *img, uint32_t w, uint32_t h, const pc_mosai
  * them is refused (PC_EINVAL). */
 int pc_dm_noise_gain_in(const pc_dm_input *in, const pc_mosaic *m, double fs, double *g);
 
+/* pc_dm_noise_gain_in on threads threads (pc_parallel_rows' count: 0 its default, 1 the
+ * caller's): the grid's rows computed in parallel into their fixed places, so the same g bit for
+ * bit whatever the count (docs/demosaicking.md, Round 16a) */
+int pc_dm_noise_gain_in_mt(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                           double *g);
+
 #endif

@@ -838,6 +838,10 @@ typedef struct pan_tables {
 	float wt[4][7][16];
 	float ha[5][16];
 	float b[4];
+	/* pan_band: the sub-image mirror's source columns of a row's pads (pan_pad_sub), for
+	 * width pad_w (0: not filled, pan_pad_row computes them) */
+	int pad_w;
+	int pad_lo[PAN_PADR], pad_hi[16 + PAN_PADR];
 } pan_tables;
 
 static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
@@ -1043,6 +1047,31 @@ static void pan_pad_row(float *d, int iw, long n, pan_pad how)
 		d[x] = d[pan_pad_src(x, iw, how)];
 }
 
+/* The pads' source columns of pan_pad_row(..., PAN_PAD_SUB) for rows of width iw computed on n
+ * columns, into t (pan_pad_sub reads them) */
+static void pan_pad_tab_init(pan_tables *t, int iw, long n)
+{
+	for (int x = -PAN_PADR; x < 0; x++)
+		t->pad_lo[x + PAN_PADR] = pan_pad_src(x, iw, PAN_PAD_SUB);
+	for (int x = iw; x < (int)n + PAN_PADR; x++)
+		t->pad_hi[x - iw] = pan_pad_src(x, iw, PAN_PAD_SUB);
+	t->pad_w = iw;
+}
+
+/* pan_pad_row(d, iw, n, PAN_PAD_SUB) from t's columns when they are for this width: the same
+ * copies in the same order */
+static void pan_pad_sub(float *d, const pan_tables *t, int iw, long n)
+{
+	if (t->pad_w != iw) {
+		pan_pad_row(d, iw, n, PAN_PAD_SUB);
+		return;
+	}
+	for (int x = -PAN_PADR; x < 0; x++)
+		d[x] = d[t->pad_lo[x + PAN_PADR]];
+	for (int x = iw; x < (int)n + PAN_PADR; x++)
+		d[x] = d[t->pad_hi[x - iw]];
+}
+
 /* The vertical sums vs of the PPI filter for the extended source row yy (from the five raw rows
  * pc_mirror4(yy - 2 .. yy + 2)), pan-chroma's signed ones vsb (if not NULL), and the raw row rawp,
  * each padded by the column mirror to [-PAN_PADR, n + PAN_PADR); src: 5 × 16 floats of scratch
@@ -1072,10 +1101,10 @@ static void pan_src_sums(const pan_job *j, const pan_kern *K, const pan_tables *
 			K->vsumw(rt, wb, 16, vsb + nmain);
 	}
 	memcpy(rawp, r[2], (size_t)iw * sizeof *rawp);
-	pan_pad_row(vs, iw, n, PAN_PAD_SUB);
-	pan_pad_row(rawp, iw, n, PAN_PAD_SUB);
+	pan_pad_sub(vs, t, iw, n);
+	pan_pad_sub(rawp, t, iw, n);
 	if (vsb)
-		pan_pad_row(vsb, iw, n, PAN_PAD_SUB);
+		pan_pad_sub(vsb, t, iw, n);
 }
 
 /* Each channel's lattice rows around output row y, in the order the kernels sum them: for
@@ -1339,6 +1368,7 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	}
 	memset(buf, 0, sizeof(float) * pitch * nrows);
 	pan_tables_init(t, j->m);
+	pan_pad_tab_init(t, iw, n);
 	const pan_kern K = pan_kernels(j->level);
 	const pan_akern A = pan_akernels(j->level);
 	int planar = 1;
@@ -1943,7 +1973,7 @@ int pc_dm_pan_adapt_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs,
 	if (!isfinite(g))
 		return pc_error(PC_EINVAL, "pan-adapt: noise gain %g not finite", g);
 	if (g < 0) {
-		int rc = pc_dm_noise_gain_in(in, m, fs, &g);
+		int rc = pc_dm_noise_gain_in_mt(in, m, fs, threads, &g);
 		if (rc)
 			return rc;
 	}

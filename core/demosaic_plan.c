@@ -526,10 +526,12 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "pan-side's fused pass with each row's 5x5 window mean and variance "
                           "of the PPI and the shrunk ratio step, within 1e-5 of full scale of "
                           "the double reference: 1.24x pan-side's instructions (callgrind, "
-                          "AVX2, one thread: 358 M per frame after Round 14c), 1.29-1.42x its "
-                          "median wall time near idle; 5.4-6.7x the mono bilinear's in the "
-                          "same runs (eight runs), over the 5x budget (docs/demosaicking.md, "
-                          "Rounds 14 fast path, 14d)",
+                          "AVX2, one thread: 349 M per frame, 5.7 M of them the noise gain, "
+                          "now on the caller's threads), 13x the mono bilinear's 26.6 M; "
+                          "near idle before Round 16a 6.6-7.0x the mono bilinear's median "
+                          "wall time (Round 15e), over the 5x budget; Round 16a's estimate "
+                          "from counts 6.1-6.5x, to be measured (docs/demosaicking.md, "
+                          "Rounds 14 fast path, 15e, 16a)",
                           "ours: pan-side (docs/demosaicking.md, Round 13) with a relative "
                           "range scale (Durand & Dorsey, SIGGRAPH 2002) and ratio-nr's "
                           "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
@@ -752,8 +754,8 @@ static int mono_reference(const pc_dm_plan *p, const double *img, const pc_mosai
  * path on the prepared input. The methods that use a noise gain (PC_DMF_NOISE_GAIN) take it
  * from here through their ref_g and fast_g: the given one (pc_pipeline_opts.noise_gain > 0), or
  * the estimate their own ref and fast would make (pc_dm_noise_gain_d on the reference's raw,
- * pc_dm_noise_gain_in on the fast path's: the same value, pc_demosaic_noise_gain's), made once
- * and stored for the caller (noise_gain_used). */
+ * pc_dm_noise_gain_in_mt on the fast path's, on the plan's threads: the same value at any thread
+ * count, pc_demosaic_noise_gain's), made once and stored for the caller (noise_gain_used). */
 static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *out)
 {
 	const uint32_t w = p->raw->width, h = p->raw->height;
@@ -775,7 +777,8 @@ static int colour_own(pc_dm_plan *p, const pc_dm_pan_fns *fn, const pc_fplane *o
 		const pc_dm_input *in;
 		rc = pc_dm_plan_input(p, &in);
 		if (!rc && uses_g && !(g > 0))
-			rc = pc_dm_noise_gain_in(in, &p->opts.mosaic, p->full_scale, &g);
+			rc = pc_dm_noise_gain_in_mt(in, &p->opts.mosaic, p->full_scale,
+			                            p->opts.threads, &g);
 		if (!rc)
 			rc = uses_g ? fn->fast_g(in, &p->opts.mosaic, p->full_scale,
 			                         p->opts.threads, p->level, g, out)

@@ -130,6 +130,97 @@ static void test_noise_gain(void)
 	free(t);
 }
 
+/* The values of the grid of demosaic_noise.h, computed here from the formula on a double image,
+ * sorted: the median g of that image must be t[n/2]/(1.25·m₁) */
+static size_t grid_sorted(const double *img, uint32_t w, uint32_t h, double fs, double *t)
+{
+	const uint32_t p = 4;
+	uint32_t s = 1;
+	while ((size_t)((w - 2 * p + s - 1) / s) * ((h - 2 * p + s - 1) / s) > PC_DM_NG_POINTS)
+		s += 2;
+	size_t n = 0;
+	for (uint32_t y = p; y < h - p; y += s)
+		for (uint32_t x = p; x < w - p; x += s) {
+			double nb = (img[(size_t)y * w + x - p] + img[(size_t)y * w + x + p] +
+			             img[(size_t)(y - p) * w + x] + img[(size_t)(y + p) * w + x]) /
+			            4,
+			       r = img[(size_t)y * w + x] - nb;
+			t[n++] = r * r / (fmax(nb, 0) + PC_DM_NG_FLOOR * fs);
+		}
+	qsort(t, n, sizeof(double), cmp_d);
+	return n;
+}
+
+/* Round 16a: the selection (a radix selection on the values' bit patterns, then the three-way
+ * one) against a sort on full grids of 2448 × 2048 frames (n = 61 517): distinct values, values
+ * with many ties (integer levels 0..3: thousands of equal t) and a flat frame (every t = 0).
+ * And the fast path's threaded grid (pc_dm_noise_gain_in_mt, rows straight from 8-bit, 16-bit
+ * and float inputs, a black level) equal to the reference's g bit for bit at 1, 2 and 3
+ * threads. */
+static void test_noise_select(void)
+{
+	const uint32_t W = 2448, H = 2048;
+	const double fs = 4095;
+	const pc_mosaic m = pc_mosaic_imx250myr();
+	double *img = malloc(sizeof(double) * W * H), *t = malloc(sizeof(double) * PC_DM_NG_POINTS);
+	for (int kind = 0; kind < 3; kind++) {
+		for (size_t i = 0; i < (size_t)W * H; i++)
+			img[i] = kind == 0   ? 500 + 30 * nrand()
+			         : kind == 1 ? (double)(int)(4 * urand())
+			                     : 700;
+		const size_t n = grid_sorted(img, W, H, fs, t);
+		double g = -1;
+		CHECK_EQ_INT(pc_dm_noise_gain_d(img, W, H, &m, fs, &g), 0);
+		size_t ties = 0;
+		for (size_t i = 0; i < n; i++)
+			ties += t[i] == t[n / 2];
+		printf("  selection, %s: n %zu, median %.9g (%zu equal to it), g %.9g\n",
+		       kind == 0   ? "Gaussian"
+		       : kind == 1 ? "levels 0..3"
+		                   : "flat",
+		       n, t[n / 2], ties, g);
+		CHECK(g == t[n / 2] / (1.25 * PC_DM_NG_CHI1));
+	}
+	/* the threaded grid on the three input types, black 3.5 */
+	uint8_t *u8 = malloc((size_t)W * H);
+	uint16_t *u16 = malloc(sizeof(uint16_t) * W * H);
+	float *f32 = malloc(sizeof(float) * W * H);
+	for (size_t i = 0; i < (size_t)W * H; i++) {
+		u16[i] = (uint16_t)(1000 + (int)(200 * urand()));
+		u8[i] = (uint8_t)(100 + (int)(40 * urand()));
+		f32[i] = (float)(1000 + 50 * nrand());
+	}
+	const pc_dm_type ty[3] = {PC_DMT_U8, PC_DMT_U16, PC_DMT_F32};
+	const void *data[3] = {u8, u16, f32};
+	const size_t bytes[3] = {1, 2, 4};
+	for (int k = 0; k < 3; k++) {
+		pc_dm_input in;
+		memset(&in, 0, sizeof in);
+		in.data = data[k];
+		in.stride = W * bytes[k];
+		in.type = ty[k];
+		in.width = W;
+		in.height = H;
+		in.black = 3.5f;
+		in.black_d = 3.5;
+		for (size_t i = 0; i < (size_t)W * H; i++)
+			img[i] = (k == 0 ? u8[i] : k == 1 ? u16[i] : (double)f32[i]) - 3.5;
+		double gd = -1;
+		CHECK_EQ_INT(pc_dm_noise_gain_d(img, W, H, &m, fs, &gd), 0);
+		for (int th = 1; th <= 3; th++) {
+			double gi = -2;
+			CHECK_EQ_INT(pc_dm_noise_gain_in_mt(&in, &m, fs, th, &gi), 0);
+			CHECK(gi == gd);
+		}
+		printf("  threaded grid, input type %d: g %.9g\n", k, gd);
+	}
+	free(u8);
+	free(u16);
+	free(f32);
+	free(img);
+	free(t);
+}
+
 /* ---- the shrinkage's limits ---- */
 
 static void random_raw(double *img, uint32_t w, uint32_t h)
@@ -575,5 +666,6 @@ int main(void)
 	test_front();
 	test_given_gain();
 	test_given_gain_api();
+	test_noise_select(); /* last: it draws from the random stream */
 	return pc_test_finish("test_pan_adapt");
 }
