@@ -70,6 +70,10 @@
  * pan-adapt's ±9 lies inside */
 #define PAN_GUARD_LO -16
 #define PAN_GUARD_HI 16
+/* pan-hue ±16 (r = 1), for a given noise gain: pan-guard's, and its gates' blocks as
+ * pan-guard's weights' (tents −4 .. +3, windows ±4r, the checks' samples ±4 (+1), P̃ ±2) */
+#define PAN_HUE_LO (-12 - 4 * PC_DM_PAN_HUE_R)
+#define PAN_HUE_HI (12 + 4 * PC_DM_PAN_HUE_R)
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
@@ -571,6 +575,24 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          false,
                          PC_DM_PAN_GUARD,
                          false},
+    [PC_DM_PAN_HUE] = {{PC_DM_PAN_HUE, "pan-hue",
+                        "colour-polarization: pan-guard whose red and blue move further "
+                        "towards bayer-first where green's ratio-model residual, which the "
+                        "ratio step carries into them, outweighs their own plain-interpolation "
+                        "residual (hue detail near the colour lattice's period that P0 does not "
+                        "see); figures: docs/demosaicking.md, Round 16",
+                        "double reference only (pan-guard's reference, bayer-first's and the "
+                        "gate): hundreds of times mono bilinear's time, for evaluation only",
+                        "ours (docs/demosaicking.md, Round 16): pan-guard (Round 15) with a "
+                        "cross-colour gate weighted as Bates & Granger (Operational Research "
+                        "Quarterly 20(4) 1969), sharpened",
+                        PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                       {PAN_HUE_LO, PAN_HUE_HI, 1, 1},
+                       NULL,
+                       NULL,
+                       false,
+                       PC_DM_PAN_HUE,
+                       false},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
@@ -624,13 +646,14 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 	const pc_demosaic_method_info *mi = &def->info;
 	int colour = m->period == 4;
 	if (colour && !(mi->flags & PC_DMF_COLOR))
-		return pc_error(PC_EINVAL,
-		                "method %s works on monochrome polarizer mosaics only; "
-		                "this mosaic has a colour filter (try pan-guided, "
-		                "pan-side, pan-adapt, pan-guard, pan-chroma, pan-dir, pan-fact, "
-		                "pan-ratio, bayer-first or "
-		                "bayer-eari)",
-		                mi->name);
+		return pc_error(
+		    PC_EINVAL,
+		    "method %s works on monochrome polarizer mosaics only; "
+		    "this mosaic has a colour filter (try pan-guided, "
+		    "pan-side, pan-adapt, pan-guard, pan-hue, pan-chroma, pan-dir, pan-fact, "
+		    "pan-ratio, bayer-first or "
+		    "bayer-eari)",
+		    mi->name);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_error(PC_EINVAL, "method %s works on colour-polarization mosaics only",
 		                mi->name);

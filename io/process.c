@@ -63,7 +63,7 @@ int pc_process_method(const char *name, const pc_mosaic *m, pc_demosaic_method *
 		    PC_EINVAL,
 		    "--method %s: works on monochrome mosaics; the mosaic %s is "
 		    "colour-polarization (methods for it: pan-guided, "
-		    "pan-side, pan-adapt, pan-guard, pan-ratio, bayer-first, bayer-eari)",
+		    "pan-side, pan-adapt, pan-guard, pan-hue, pan-ratio, bayer-first, bayer-eari)",
 		    mi->name, layout);
 	if (!colour && !(mi->flags & PC_DMF_MONO))
 		return pc_error(PC_EINVAL,
