@@ -160,17 +160,28 @@ int pc_dm_pan_guard_bayer_first(const double *img, uint32_t w, uint32_t h, const
  * bayer-first (demosaic_pan_hue.c states the formulas). Every constant of the definition is one
  * of these. */
 /* κ, the weight of green's residual against the colour's own */
-#define PC_DM_PAN_HUE_KAPPA 1.0
+#define PC_DM_PAN_HUE_KAPPA 16.0
 /* the gate's window radius in lattice steps (4 pixels) */
 #define PC_DM_PAN_HUE_R 1
 /* the gate's exponent */
 #define PC_DM_PAN_HUE_GAMMA 8.0
+/* c, the weight of green's expected noise residual subtracted from its residual */
+#define PC_DM_PAN_HUE_NOISE 1.0
+/* q, the quantile of green's block residuals in the window (0.5: the median) */
+#define PC_DM_PAN_HUE_QUANT 0.25
+/* 1: green is gated too, by red's and blue's ratio residuals; 0: red and blue only */
+#define PC_DM_PAN_HUE_GREEN 0
+/* the largest window radius r */
+#define PC_DM_PAN_HUE_RMAX 4
 
 typedef struct pc_dm_pan_hue_params {
 	pc_dm_pan_guard_params guard; /* pan-guard's (pc_dm_pan_guard_defaults) */
 	double kappa;                 /* PC_DM_PAN_HUE_KAPPA, >= 0 (0: pan-guard bit for bit) */
 	int r;                        /* PC_DM_PAN_HUE_R, 0..4 */
 	double gamma;                 /* PC_DM_PAN_HUE_GAMMA, > 0 */
+	double noise;                 /* PC_DM_PAN_HUE_NOISE, >= 0 (0: no noise term) */
+	double quant;                 /* PC_DM_PAN_HUE_QUANT, in [0, 1] */
+	int green;                    /* PC_DM_PAN_HUE_GREEN, 0 or 1 */
 	double force;                 /* < 0: the gate computed (the method); in [0, 1]: every
 	                               * red and blue gate set to it (tests: 0 is pan-guard, 1
 	                               * bayer-first's red and blue) */

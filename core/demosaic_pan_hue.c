@@ -20,8 +20,13 @@
  *     mean level m_k. Green's ratio residual carried into k by the ratio step (the step
  *     multiplies green's sample by the ratio of k to green, about m_k/m_G):
  *
- *       X = κ·ε_G·(m_k/m_G)²,   Y = ε_k + F   (F = (f·FS)², pan-guard's floor),
+ *       X = κ·max(ε_G − c·5·g·m_G, 0)·(m_k/m_G)²,   Y = ε_k + F   (F = (f·FS)², pan-guard's
+ *       floor),
  *
+ *     where 5·g·m_G is the expected noise part of ε_G (four samples, each with a flat field's
+ *     leave-one-out residual 1.25 σ², σ² = g·(level + δ) the noise model of pan-adapt,
+ *     demosaic_noise.h; g the given noise gain or the frame's estimate) and c its weight:
+ *     without it green's noise, scaled into a brighter red or blue, would read as hue detail.
  *     and the gate D(B) = X^γ/(X^γ + Y^γ) = 1/(1 + (Y/X)^γ), 0 where X = 0: the share of the
  *     two errors as pan-guard's weight (Bates & Granger, "The combination of forecasts",
  *     Operational Research Quarterly 20(4) 1969, sharpened by γ as in Round 15). Green's
@@ -38,13 +43,20 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "demosaic_noise.h"
 #include "demosaic_pan.h"
 #include "polarcam/error.h"
 
 pc_dm_pan_hue_params pc_dm_pan_hue_defaults(void)
 {
-	pc_dm_pan_hue_params p = {pc_dm_pan_guard_defaults(), PC_DM_PAN_HUE_KAPPA, PC_DM_PAN_HUE_R,
-	                          PC_DM_PAN_HUE_GAMMA, -1.0};
+	pc_dm_pan_hue_params p = {pc_dm_pan_guard_defaults(),
+	                          PC_DM_PAN_HUE_KAPPA,
+	                          PC_DM_PAN_HUE_R,
+	                          PC_DM_PAN_HUE_GAMMA,
+	                          PC_DM_PAN_HUE_NOISE,
+	                          PC_DM_PAN_HUE_QUANT,
+	                          PC_DM_PAN_HUE_GREEN,
+	                          -1.0};
 	return p;
 }
 
@@ -53,15 +65,17 @@ static int hue_check(const pc_dm_pan_hue_params *p)
 	int rc = pc_dm_pan_guard_check(&p->guard);
 	if (rc)
 		return rc;
-	if (!(p->kappa >= 0) || !isfinite(p->kappa) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
-	    !isfinite(p->gamma) || !(p->force <= 1) || !isfinite(p->force))
+	if (!(p->kappa >= 0) || !isfinite(p->kappa) || p->r < 0 || p->r > PC_DM_PAN_HUE_RMAX ||
+	    !(p->gamma > 0) || !isfinite(p->gamma) || !(p->noise >= 0) || !isfinite(p->noise) ||
+	    !(p->quant >= 0 && p->quant <= 1) || (p->green != 0 && p->green != 1) ||
+	    !(p->force <= 1) || !isfinite(p->force))
 		return pc_error(PC_EINVAL, "pan-hue: parameters out of range");
 	return 0;
 }
 
 /* step 2: the gate D(B) of every block (0 for green) */
 static void hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, int h,
-                      const pc_dm_pan_hue_params *p, double fs, double *gate)
+                      const pc_dm_pan_hue_params *p, double fs, double g, double *gate)
 {
 	const int rb = 2 * p->r; /* in block steps */
 	const double fl = (p->guard.floor * fs) * (p->guard.floor * fs);
@@ -71,10 +85,11 @@ static void hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, in
 			const unsigned k =
 			    pc_dm_pan_guard_colour(m, 2 * i - b->XB, 2 * j - b->XB, w, h);
 			gate[at] = 0;
-			if (k == 1)
+			if (k == 1 && !p->green)
 				continue;
-			double eg = 0, mg = 0, ek = 0, mk = 0;
-			int ng = 0, nk = 0;
+			/* pass 1: each colour's mean level in the window, k's own plain residual */
+			double msum[3] = {0, 0, 0}, ek = 0;
+			int cnt[3] = {0, 0, 0};
 			for (int jj = j - rb; jj <= j + rb; jj++)
 				for (int ii = i - rb; ii <= i + rb; ii++) {
 					if (ii < 0 || jj < 0 || ii >= b->NBX || jj >= b->NBY)
@@ -82,20 +97,46 @@ static void hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, in
 					const size_t a = (size_t)jj * b->NBX + ii;
 					const unsigned c = pc_dm_pan_guard_colour(
 					    m, 2 * ii - b->XB, 2 * jj - b->XB, w, h);
-					if (c == 1) {
-						eg += b->ep[a];
-						mg += b->mu[a];
-						ng++;
-					} else if (c == k) {
+					msum[c] += b->mu[a];
+					cnt[c]++;
+					if (c == k)
 						ek += b->eb[a];
-						mk += b->mu[a];
-						nk++;
-					}
 				}
-			if (!ng || !nk)
+			if (!cnt[k])
 				continue;
-			const double rel = (mk / nk) / (mg / ng);
-			const double x = p->kappa * (eg / ng) * rel * rel, y = ek / nk + fl;
+			const double mk = msum[k] / cnt[k];
+			/* pass 2: the other colours' ratio residuals in excess of their expected
+			 * noise (4 samples × 1.25 σ², a flat field's leave-one-out residual, σ² =
+			 * g·mu), scaled into k's level, sorted */
+			double v[(4 * PC_DM_PAN_HUE_RMAX + 1) * (4 * PC_DM_PAN_HUE_RMAX + 1)];
+			int nv = 0;
+			for (int jj = j - rb; jj <= j + rb; jj++)
+				for (int ii = i - rb; ii <= i + rb; ii++) {
+					if (ii < 0 || jj < 0 || ii >= b->NBX || jj >= b->NBY)
+						continue;
+					const size_t a = (size_t)jj * b->NBX + ii;
+					const unsigned c = pc_dm_pan_guard_colour(
+					    m, 2 * ii - b->XB, 2 * jj - b->XB, w, h);
+					if (c == k || (k != 1 && c != 1))
+						continue;
+					const double mc = msum[c] / cnt[c], rel = mk / mc;
+					const double e =
+					    fmax(b->ep[a] - p->noise * 5 * g * mc, 0) * rel * rel;
+					int t = nv++;
+					while (t > 0 && v[t - 1] > e) {
+						v[t] = v[t - 1];
+						t--;
+					}
+					v[t] = e;
+				}
+			if (!nv)
+				continue;
+			/* their q-quantile (linear between order statistics) */
+			const double pos = p->quant * (nv - 1);
+			const int lo = (int)pos;
+			const double vq =
+			    lo + 1 < nv ? v[lo] + (pos - lo) * (v[lo + 1] - v[lo]) : v[lo];
+			const double x = p->kappa * vq, y = ek / cnt[k] + fl;
 			gate[at] = x > 0 ? 1 / (1 + pow(y / x, p->gamma)) : 0;
 		}
 }
@@ -131,14 +172,26 @@ int pc_dm_pan_hue_ref_with(const double *img, uint32_t w, uint32_t h, const pc_m
 		free(planes);
 		return rc;
 	}
-	hue_gates(&bl, m, (int)w, (int)h, p, fs, gate);
+	/* the noise gain: the given one, or the frame's estimate (pan-adapt's, demosaic_noise.h) */
+	double g = p->guard.g;
+	if (g < 0 && p->noise > 0)
+		rc = pc_dm_noise_gain_d(img, w, h, m, fs, &g);
+	if (rc) {
+		free(gate);
+		pc_dm_pan_guard_blocks_free(&bl);
+		free(planes);
+		return rc;
+	}
+	hue_gates(&bl, m, (int)w, (int)h, p, fs, fmax(g, 0), gate);
 	/* step 3: red (k 0) and blue (k 2) towards bayer-first by their gates */
 	for (int y = 0; y < (int)h; y++)
 		for (int x = 0; x < (int)w; x++) {
 			double num[3], den[3];
 			pc_dm_pan_guard_tent(&bl, gate, m, (int)w, (int)h, x, y, num, den);
 			const size_t a = (size_t)y * w + (size_t)x;
-			for (unsigned k = 0; k < 3; k += 2) {
+			for (unsigned k = 0; k < 3; k++) {
+				if (k == 1 && !p->green)
+					continue;
 				const double d = p->force >= 0 ? p->force : num[k] / den[k];
 				for (unsigned c = 0; c < 4; c++) {
 					const unsigned q = 4 * k + c;
