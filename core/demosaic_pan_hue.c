@@ -87,7 +87,12 @@ static void hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, in
 			gate[at] = 0;
 			if (k == 1 && !p->green)
 				continue;
-			/* pass 1: each colour's mean level in the window, k's own plain residual */
+			/* pass 1: the window's blocks (index and colour), each colour's mean level,
+			 * k's own plain residual */
+			enum { NW = (4 * PC_DM_PAN_HUE_RMAX + 1) * (4 * PC_DM_PAN_HUE_RMAX + 1) };
+			size_t wa[NW];
+			unsigned wc[NW];
+			int nw = 0;
 			double msum[3] = {0, 0, 0}, ek = 0;
 			int cnt[3] = {0, 0, 0};
 			for (int jj = j - rb; jj <= j + rb; jj++)
@@ -97,6 +102,8 @@ static void hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, in
 					const size_t a = (size_t)jj * b->NBX + ii;
 					const unsigned c = pc_dm_pan_guard_colour(
 					    m, 2 * ii - b->XB, 2 * jj - b->XB, w, h);
+					wa[nw] = a;
+					wc[nw++] = c;
 					msum[c] += b->mu[a];
 					cnt[c]++;
 					if (c == k)
@@ -108,27 +115,23 @@ static void hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, in
 			/* pass 2: the other colours' ratio residuals in excess of their expected
 			 * noise (4 samples × 1.25 σ², a flat field's leave-one-out residual, σ² =
 			 * g·mu), scaled into k's level, sorted */
-			double v[(4 * PC_DM_PAN_HUE_RMAX + 1) * (4 * PC_DM_PAN_HUE_RMAX + 1)];
+			double v[NW];
 			int nv = 0;
-			for (int jj = j - rb; jj <= j + rb; jj++)
-				for (int ii = i - rb; ii <= i + rb; ii++) {
-					if (ii < 0 || jj < 0 || ii >= b->NBX || jj >= b->NBY)
-						continue;
-					const size_t a = (size_t)jj * b->NBX + ii;
-					const unsigned c = pc_dm_pan_guard_colour(
-					    m, 2 * ii - b->XB, 2 * jj - b->XB, w, h);
-					if (c == k || (k != 1 && c != 1))
-						continue;
-					const double mc = msum[c] / cnt[c], rel = mk / mc;
-					const double e =
-					    fmax(b->ep[a] - p->noise * 5 * g * mc, 0) * rel * rel;
-					int t = nv++;
-					while (t > 0 && v[t - 1] > e) {
-						v[t] = v[t - 1];
-						t--;
-					}
-					v[t] = e;
+			for (int u = 0; u < nw; u++) {
+				const size_t a = wa[u];
+				const unsigned c = wc[u];
+				if (c == k || (k != 1 && c != 1))
+					continue;
+				const double mc = msum[c] / cnt[c], rel = mk / mc;
+				const double e =
+				    fmax(b->ep[a] - p->noise * 5 * g * mc, 0) * rel * rel;
+				int t = nv++;
+				while (t > 0 && v[t - 1] > e) {
+					v[t] = v[t - 1];
+					t--;
 				}
+				v[t] = e;
+			}
 			if (!nv)
 				continue;
 			/* their q-quantile (linear between order statistics) */
