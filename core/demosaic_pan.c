@@ -1999,7 +1999,8 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	                           adapt = {pc_dm_pan_adapt_ref, pc_dm_pan_adapt_fast,
 	                                    pc_dm_pan_adapt_ref_g, pc_dm_pan_adapt_fast_g},
 	                           guard = {pc_dm_pan_guard_ref, pc_dm_pan_guard_fast,
-	                                    pc_dm_pan_guard_ref_g, pc_dm_pan_guard_fast_g};
+	                                    pc_dm_pan_guard_ref_g, pc_dm_pan_guard_fast_g},
+	                           hue = {pc_dm_pan_hue_ref, NULL, NULL, NULL};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma
@@ -2007,6 +2008,7 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	       : m == PC_DM_PAN_SIDE   ? &side
 	       : m == PC_DM_PAN_ADAPT  ? &adapt
 	       : m == PC_DM_PAN_GUARD  ? &guard
+	       : m == PC_DM_PAN_HUE    ? &hue
 	                               : NULL;
 }
 

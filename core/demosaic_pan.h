@@ -129,6 +129,68 @@ int pc_dm_pan_guard_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mo
 int pc_dm_pan_guard_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                            pc_cpu_level level, double g, const pc_fplane *out);
 
+/* pan-guard's parts that pan-hue (demosaic_pan_hue.c) builds on, all double, on the
+ * mirror-extended raw (demosaic_pan_guard.c states the formulas). The blocks: 2×2 blocks of one
+ * colour with corners (2i − XB, 2j − XB), i < NBX, j < NBY; per block the leave-one-out errors
+ * e_b (plain) and e_p (ratio model) of its four samples and mu, the mean of max(raw, 0) + δ over
+ * them. */
+typedef struct pc_dm_guard_blocks {
+	int XB, NBX, NBY;
+	double *eb, *ep, *mu; /* NBX·NBY each, row j at j·NBX (one allocation, at eb) */
+} pc_dm_guard_blocks;
+/* the blocks with corners in [−XB, w + XB) (XB even, ≥ 4); PC_ENOMEM */
+int pc_dm_pan_guard_blocks(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                           int XB, pc_dm_guard_blocks *b);
+void pc_dm_pan_guard_blocks_free(pc_dm_guard_blocks *b);
+/* colour 0 R, 1 G, 2 B of the extended position (x, y) (mirrored into the frame) */
+unsigned pc_dm_pan_guard_colour(const pc_mosaic *m, int x, int y, int w, int h);
+/* the tent sums at pixel (x, y) of per-block values v (pan-guard's step 5): num[k] = Σ T·v(B),
+ * den[k] = Σ T over colour k's blocks B with centres within ±4 (T = (4 − |d_x|)(4 − |d_y|)) */
+void pc_dm_pan_guard_tent(const pc_dm_guard_blocks *b, const double *v, const pc_mosaic *m, int w,
+                          int h, int x, int y, double num[3], double den[3]);
+
+/* pan-hue (docs/demosaicking.md, Round 16): pan-guard with a cross-colour gate for red and
+ * blue, whose lattices (one block per 4×4 period) cannot see hue detail near their own period:
+ * where green's ratio-model residual, carried into red or blue by the ratio step, outweighs that
+ * colour's own plain-interpolation residual nearby, red and blue move further towards
+ * bayer-first (demosaic_pan_hue.c states the formulas). Every constant of the definition is one
+ * of these. */
+/* κ, the weight of green's residual against the colour's own */
+#define PC_DM_PAN_HUE_KAPPA 16.0
+/* the gate's window radius in lattice steps (4 pixels) */
+#define PC_DM_PAN_HUE_R 1
+/* the gate's exponent */
+#define PC_DM_PAN_HUE_GAMMA 8.0
+/* c, the weight of green's expected noise residual subtracted from its residual */
+#define PC_DM_PAN_HUE_NOISE 1.0
+/* q, the quantile of green's block residuals in the window (0.5: the median) */
+#define PC_DM_PAN_HUE_QUANT 0.25
+/* 1: green is gated too, by red's and blue's ratio residuals; 0: red and blue only */
+#define PC_DM_PAN_HUE_GREEN 0
+/* the largest window radius r */
+#define PC_DM_PAN_HUE_RMAX 4
+
+typedef struct pc_dm_pan_hue_params {
+	pc_dm_pan_guard_params guard; /* pan-guard's (pc_dm_pan_guard_defaults) */
+	double kappa;                 /* PC_DM_PAN_HUE_KAPPA, >= 0 (0: pan-guard bit for bit) */
+	int r;                        /* PC_DM_PAN_HUE_R, 0..4 */
+	double gamma;                 /* PC_DM_PAN_HUE_GAMMA, > 0 */
+	double noise;                 /* PC_DM_PAN_HUE_NOISE, >= 0 (0: no noise term) */
+	double quant;                 /* PC_DM_PAN_HUE_QUANT, in [0, 1] */
+	int green;                    /* PC_DM_PAN_HUE_GREEN, 0 or 1 */
+	double force;                 /* < 0: the gate computed (the method); in [0, 1]: every
+	                               * red and blue gate set to it (tests: 0 is pan-guard, 1
+	                               * bayer-first's red and blue) */
+} pc_dm_pan_hue_params;
+
+pc_dm_pan_hue_params pc_dm_pan_hue_defaults(void);
+/* pan-hue's double reference (pc_dm_pan_hue_defaults) and the same with other parameters;
+ * PC_EINVAL for parameters out of range. No fast path. */
+int pc_dm_pan_hue_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                      const pc_fplane *out);
+int pc_dm_pan_hue_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                           const pc_dm_pan_hue_params *p, const pc_fplane *out);
+
 /* pan-dir's double reference and fast path (the same arguments). */
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                       const pc_fplane *out);

@@ -115,12 +115,102 @@ static void guard_tents(const double *img, uint32_t w, uint32_t h, const pc_mosa
 		}
 }
 
-/* colour 0 R, 1 G, 2 B of extended position (x, y) */
-static unsigned guard_colour(const pc_mosaic *m, int x, int y, int w, int h)
+unsigned pc_dm_pan_guard_colour(const pc_mosaic *m, int x, int y, int w, int h)
 {
 	return (
 	    unsigned)(pc_mosaic_color(m, (uint32_t)pc_mirror4(x, w), (uint32_t)pc_mirror4(y, h)) -
 	              PC_CFA_R);
+}
+
+void pc_dm_pan_guard_blocks_free(pc_dm_guard_blocks *b)
+{
+	free(b->eb);
+	b->eb = b->ep = b->mu = NULL;
+}
+
+int pc_dm_pan_guard_blocks(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                           int XB, pc_dm_guard_blocks *b)
+{
+	const double delta = PC_DM_PAN_ADAPT_DFS * fs;
+	/* blocks B with corners in [−XB, w + XB) (pan-guard: the tents of every pixel, B within
+	 * −4 .. +3, and their windows ±4r); samples and P̃ ±5 further (neighbours ±4, offsets +1) */
+	const int M = XB + 6;
+	guard_ext g = {(int)w, (int)h, M, (int)w + 2 * M, NULL, NULL};
+	const size_t ne = (size_t)g.W * (size_t)((int)h + 2 * M);
+	const int NBX = ((int)w + 2 * XB) / 2, NBY = ((int)h + 2 * XB) / 2;
+	const size_t nb = (size_t)NBX * (size_t)NBY;
+	double *ebuf = malloc(sizeof(double) * (2 * ne));
+	double *bbuf = malloc(sizeof(double) * (3 * nb));
+	if (!ebuf || !bbuf) {
+		free(ebuf);
+		free(bbuf);
+		return pc_error(PC_ENOMEM, "pan-guard reference: images of %ux%u", w, h);
+	}
+	*b = (pc_dm_guard_blocks){XB, NBX, NBY, bbuf, bbuf + nb, bbuf + 2 * nb};
+	g.raw = ebuf;
+	g.pt = ebuf + ne;
+	double *eb = b->eb, *ep = b->ep, *mu = b->mu;
+	static const double mk[5] = {1, 2, 2, 2, 1};
+	for (int y = -M; y < (int)h + M; y++)
+		for (int x = -M; x < (int)w + M; x++)
+			g.raw[gidx(&g, x, y)] =
+			    img[(size_t)pc_mirror4(y, (int)h) * w + (size_t)pc_mirror4(x, (int)w)];
+	for (int y = -M; y < (int)h + M; y++)
+		for (int x = -M; x < (int)w + M; x++) {
+			double s = 0;
+			for (int j = -2; j <= 2; j++)
+				for (int i = -2; i <= 2; i++)
+					s += mk[i + 2] * mk[j + 2] *
+					     img[(size_t)pc_mirror4(y + j, (int)h) * w +
+					         (size_t)pc_mirror4(x + i, (int)w)];
+			g.pt[gidx(&g, x, y)] = fmax(s / 64, 0) + delta;
+		}
+	/* 2. the leave-one-out errors per block */
+	static const int nrb[4][2] = {{-4, 0}, {4, 0}, {0, -4}, {0, 4}},
+	                 ngr[4][2] = {{-2, -2}, {2, -2}, {-2, 2}, {2, 2}};
+	for (int j = 0; j < NBY; j++)
+		for (int i = 0; i < NBX; i++) {
+			const int bx = 2 * i - XB, by = 2 * j - XB;
+			const unsigned k = pc_dm_pan_guard_colour(m, bx, by, (int)w, (int)h);
+			const int(*nbr)[2] = k == 1 ? ngr : nrb;
+			double sumb = 0, sump = 0, sumv = 0;
+			for (int o = 0; o < 4; o++) {
+				const int sx = bx + (o & 1), sy = by + (o >> 1);
+				double mb = 0, mr = 0;
+				for (int t = 0; t < 4; t++) {
+					size_t a = gidx(&g, sx + nbr[t][0], sy + nbr[t][1]);
+					mb += g.raw[a];
+					mr += (fmax(g.raw[a], 0) + delta) / g.pt[a];
+				}
+				size_t a = gidx(&g, sx, sy);
+				double xb = mb / 4, xp = g.pt[a] * (mr / 4) - delta;
+				sumb += (g.raw[a] - xb) * (g.raw[a] - xb);
+				sump += (g.raw[a] - xp) * (g.raw[a] - xp);
+				sumv += fmax(g.raw[a], 0) + delta;
+			}
+			eb[(size_t)j * NBX + i] = sumb;
+			ep[(size_t)j * NBX + i] = sump;
+			mu[(size_t)j * NBX + i] = sumv / 4;
+		}
+	free(ebuf);
+	return 0;
+}
+
+void pc_dm_pan_guard_tent(const pc_dm_guard_blocks *b, const double *v, const pc_mosaic *m, int w,
+                          int h, int x, int y, double num[3], double den[3])
+{
+	for (unsigned k = 0; k < 3; k++)
+		num[k] = den[k] = 0;
+	for (int by = (y - 4 + 1) & ~1; by <= y + 3; by += 2)
+		for (int bx = (x - 4 + 1) & ~1; bx <= x + 3; bx += 2) {
+			const int dx2 = 2 * (bx - x) + 1, dy2 = 2 * (by - y) + 1;
+			if (abs(dx2) >= 8 || abs(dy2) >= 8)
+				continue;
+			const double t = (8 - abs(dx2)) * (8 - abs(dy2));
+			const unsigned k = pc_dm_pan_guard_colour(m, bx, by, w, h);
+			num[k] += t * v[(size_t)((by + b->XB) / 2) * b->NBX + (bx + b->XB) / 2];
+			den[k] += t;
+		}
 }
 
 int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
@@ -153,74 +243,33 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 		free(planes);
 		return rc;
 	}
-	/* blocks B with corners in [−XB, w + XB): the tents of every pixel (B within −4 .. +3) and
-	 * their windows (±4r); samples and P̃ ±5 further (neighbours ±4, offsets +1) */
-	const int XB = 4 + 4 * p->r, M = XB + 6;
-	guard_ext g = {(int)w, (int)h, M, (int)w + 2 * M, NULL, NULL};
-	const size_t ne = (size_t)g.W * (size_t)((int)h + 2 * M);
-	const int NBX = ((int)w + 2 * XB) / 2, NBY = ((int)h + 2 * XB) / 2;
-	const size_t nb = (size_t)NBX * (size_t)NBY;
-	double *ebuf = malloc(sizeof(double) * (2 * ne + 3 * nb));
-	if (!ebuf) {
+	pc_dm_guard_blocks bl;
+	rc = pc_dm_pan_guard_blocks(img, w, h, m, fs, 4 + 4 * p->r, &bl);
+	if (rc) {
+		free(planes);
+		return rc;
+	}
+	const int XB = bl.XB, NBX = bl.NBX, NBY = bl.NBY;
+	const double *eb = bl.eb, *ep = bl.ep;
+	double *wb = malloc(sizeof(double) * (size_t)NBX * (size_t)NBY);
+	if (!wb) {
+		pc_dm_pan_guard_blocks_free(&bl);
 		free(planes);
 		return pc_error(PC_ENOMEM, "pan-guard reference: images of %ux%u", w, h);
 	}
-	g.raw = ebuf;
-	g.pt = ebuf + ne;
-	double *eb = ebuf + 2 * ne, *ep = eb + nb, *wb = ep + nb;
-	static const double mk[5] = {1, 2, 2, 2, 1};
-	for (int y = -M; y < (int)h + M; y++)
-		for (int x = -M; x < (int)w + M; x++)
-			g.raw[gidx(&g, x, y)] =
-			    img[(size_t)pc_mirror4(y, (int)h) * w + (size_t)pc_mirror4(x, (int)w)];
-	for (int y = -M; y < (int)h + M; y++)
-		for (int x = -M; x < (int)w + M; x++) {
-			double s = 0;
-			for (int j = -2; j <= 2; j++)
-				for (int i = -2; i <= 2; i++)
-					s += mk[i + 2] * mk[j + 2] *
-					     img[(size_t)pc_mirror4(y + j, (int)h) * w +
-					         (size_t)pc_mirror4(x + i, (int)w)];
-			g.pt[gidx(&g, x, y)] = fmax(s / 64, 0) + delta;
-		}
-	/* 2. the leave-one-out errors per block */
-	static const int nrb[4][2] = {{-4, 0}, {4, 0}, {0, -4}, {0, 4}},
-	                 ngr[4][2] = {{-2, -2}, {2, -2}, {-2, 2}, {2, 2}};
-	for (int j = 0; j < NBY; j++)
-		for (int i = 0; i < NBX; i++) {
-			const int bx = 2 * i - XB, by = 2 * j - XB;
-			const unsigned k = guard_colour(m, bx, by, (int)w, (int)h);
-			const int(*nbr)[2] = k == 1 ? ngr : nrb;
-			double sumb = 0, sump = 0;
-			for (int o = 0; o < 4; o++) {
-				const int sx = bx + (o & 1), sy = by + (o >> 1);
-				double mb = 0, mr = 0;
-				for (int t = 0; t < 4; t++) {
-					size_t a = gidx(&g, sx + nbr[t][0], sy + nbr[t][1]);
-					mb += g.raw[a];
-					mr += (fmax(g.raw[a], 0) + delta) / g.pt[a];
-				}
-				size_t a = gidx(&g, sx, sy);
-				double xb = mb / 4, xp = g.pt[a] * (mr / 4) - delta;
-				sumb += (g.raw[a] - xb) * (g.raw[a] - xb);
-				sump += (g.raw[a] - xp) * (g.raw[a] - xp);
-			}
-			eb[(size_t)j * NBX + i] = sumb;
-			ep[(size_t)j * NBX + i] = sump;
-		}
 	/* 3. window sums over the same colour's blocks within ±4r; 4. the block weights */
 	const int rb = 2 * p->r; /* in block steps */
 	const double fl = (p->floor * fs) * (p->floor * fs);
 	for (int j = 0; j < NBY; j++)
 		for (int i = 0; i < NBX; i++) {
 			const int bx = 2 * i - XB, by = 2 * j - XB;
-			const unsigned k = guard_colour(m, bx, by, (int)w, (int)h);
+			const unsigned k = pc_dm_pan_guard_colour(m, bx, by, (int)w, (int)h);
 			double s_b = 0, s_p = 0;
 			for (int jj = j - rb; jj <= j + rb; jj++)
 				for (int ii = i - rb; ii <= i + rb; ii++) {
 					if (ii < 0 || jj < 0 || ii >= NBX || jj >= NBY ||
-					    guard_colour(m, 2 * ii - XB, 2 * jj - XB, (int)w,
-					                 (int)h) != k)
+					    pc_dm_pan_guard_colour(m, 2 * ii - XB, 2 * jj - XB,
+					                           (int)w, (int)h) != k)
 						continue;
 					s_b += eb[(size_t)jj * NBX + ii];
 					s_p += ep[(size_t)jj * NBX + ii];
@@ -231,18 +280,8 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	/* 5. per pixel and colour the tent-interpolated weight; 6. the blend */
 	for (int y = 0; y < (int)h; y++)
 		for (int x = 0; x < (int)w; x++) {
-			double num[3] = {0, 0, 0}, den[3] = {0, 0, 0};
-			for (int by = (y - 4 + 1) & ~1; by <= y + 3; by += 2)
-				for (int bx = (x - 4 + 1) & ~1; bx <= x + 3; bx += 2) {
-					const int dx2 = 2 * (bx - x) + 1, dy2 = 2 * (by - y) + 1;
-					if (abs(dx2) >= 8 || abs(dy2) >= 8)
-						continue;
-					const double t = (8 - abs(dx2)) * (8 - abs(dy2));
-					const unsigned k = guard_colour(m, bx, by, (int)w, (int)h);
-					num[k] +=
-					    t * wb[(size_t)((by + XB) / 2) * NBX + (bx + XB) / 2];
-					den[k] += t;
-				}
+			double num[3], den[3];
+			pc_dm_pan_guard_tent(&bl, wb, m, (int)w, (int)h, x, y, num, den);
 			const size_t a = (size_t)y * w + (size_t)x;
 			for (unsigned k = 0; k < 3; k++) {
 				const double wk = p->force >= 0 ? p->force : num[k] / den[k];
@@ -264,7 +303,8 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 				}
 			}
 		}
-	free(ebuf);
+	free(wb);
+	pc_dm_pan_guard_blocks_free(&bl);
 	free(planes);
 	return 0;
 }

@@ -47,6 +47,30 @@ static double colour_front_check(pc_demosaic_method md, uint32_t W, uint32_t H)
 	return worst;
 }
 
+/* method md (reference) on the smallest frame, 8 × 8 (the block grids and their windows mostly
+ * mirrored): CHECKs that every output is finite and, on this mid-level texture, inside (0, full
+ * scale) */
+static void colour_tiny_check(pc_demosaic_method md)
+{
+	pc_mosaic m = pc_mosaic_imx250myr();
+	pc_demosaic_opts ref = {0, true, 0};
+	pc_view tiny;
+	CHECK_EQ_INT(pc_view_alloc(&tiny, PC_FMT_MONO16, 8, 8, 0), 0);
+	for (uint32_t y = 0; y < 8; y++)
+		for (uint32_t x = 0; x < 8; x++)
+			PC_ROW(&tiny, uint16_t, y)[x] = (uint16_t)(600 + 800 * urand());
+	pc_fplane t[12];
+	float *tb = malloc(sizeof(float) * 8 * 8 * 12);
+	pc_fplanes_separate(tb, 8, 8, 12, t);
+	CHECK_EQ_INT(pc_demosaic(&tiny, &m, md, &ref, t), 0);
+	int finite = 1;
+	for (size_t i = 0; i < 8 * 8 * 12; i++)
+		finite &= isfinite(tb[i]) && tb[i] > 0 && tb[i] < 4095;
+	CHECK(finite);
+	free(tb);
+	pc_view_free(&tiny);
+}
+
 /* a method with PC_DMF_NOISE_GAIN through pc_demosaic_run (o set up for it, o.noise_gain
  * ignored): on the reference and on the fast path, the gain g the method would estimate, given,
  * reproduces the default bit for bit, and 10·g changes the outputs (not vacuous); the gain the

@@ -664,6 +664,7 @@ int main(void)
 	test_ramp();
 	test_scale();
 	test_front();
+	colour_tiny_check(PC_DM_PAN_ADAPT); /* an 8 × 8 frame: finite, inside (0, full scale) */
 	test_given_gain();
 	test_given_gain_api();
 	test_noise_select(); /* last: it draws from the random stream */

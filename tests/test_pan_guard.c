@@ -43,52 +43,7 @@
 #include "xorshift.h"
 
 #include "colour_front.h"
-
-static float *alloc_planes(uint32_t w, uint32_t h, pc_fplane *p)
-{
-	float *buf = malloc(sizeof(float) * (size_t)w * h * 12);
-	pc_fplanes_separate(buf, w, h, 12, p);
-	return buf;
-}
-
-/* a scene: truth[q][y·w + x] for the twelve channels, the raw its own channel's sample */
-typedef double (*truth_fn)(unsigned k, unsigned c, double x, double y);
-
-static void make_raw(truth_fn f, const pc_mosaic *m, uint32_t w, uint32_t h, double *img,
-                     double *truth)
-{
-	for (uint32_t y = 0; y < h; y++)
-		for (uint32_t x = 0; x < w; x++) {
-			for (unsigned q = 0; q < 12; q++)
-				truth[(size_t)q * w * h + (size_t)y * w + x] =
-				    f(q / 4, q % 4, x, y);
-			unsigned k = pc_mosaic_color(m, x, y) - PC_CFA_R,
-			         c = pc_mosaic_channel(m, x, y);
-			img[(size_t)y * w + x] = f(k, c, x, y);
-		}
-}
-
-/* polarization: DoLP 0.4, AoLP 0.5 rad, analyser c at c·45° */
-static double pol(unsigned c)
-{
-	return 1 + 0.4 * cos(2 * (c * M_PI / 4 - 0.5));
-}
-
-static double f_uniform(unsigned k, unsigned c, double x, double y)
-{
-	(void)x;
-	(void)y;
-	static const double col[3] = {900, 1500, 600};
-	return col[k] * pol(c);
-}
-
-static double f_grey(unsigned k, unsigned c, double x, double y)
-{
-	static const double col[3] = {0.8, 1.0, 0.7};
-	double t = 1 + 0.5 * sin(2 * M_PI * x / 13.0) * cos(2 * M_PI * y / 17.0) +
-	           0.3 * sin(2 * M_PI * (x + y) / 23.0 + 1) + 0.2 * cos(2 * M_PI * (x - y) / 11.0);
-	return 1200 * col[k] * t * pol(c);
-}
+#include "colour_truth.h"
 
 /* red/lime stripes along x, period 6 px (3 + 3) */
 static double f_grating(unsigned k, unsigned c, double x, double y)
@@ -322,24 +277,7 @@ static void test_guard(void)
 static void test_front(void)
 {
 	colour_front_check(PC_DM_PAN_GUARD, 34, 20);
-	pc_mosaic m = pc_mosaic_imx250myr();
-	pc_demosaic_opts ref = {0, true, 0};
-	/* the smallest frame (8 × 8: the block grid and its windows mostly mirrored): every output
-	 * finite and, on this mid-level texture, inside (0, full scale) */
-	pc_view tiny;
-	CHECK_EQ_INT(pc_view_alloc(&tiny, PC_FMT_MONO16, 8, 8, 0), 0);
-	for (uint32_t y = 0; y < 8; y++)
-		for (uint32_t x = 0; x < 8; x++)
-			PC_ROW(&tiny, uint16_t, y)[x] = (uint16_t)(600 + 800 * urand());
-	pc_fplane t[12];
-	float *tb = alloc_planes(8, 8, t);
-	CHECK_EQ_INT(pc_demosaic(&tiny, &m, PC_DM_PAN_GUARD, &ref, t), 0);
-	int finite = 1;
-	for (size_t i = 0; i < 8 * 8 * 12; i++)
-		finite &= isfinite(tb[i]) && tb[i] > 0 && tb[i] < 4095;
-	CHECK(finite);
-	free(tb);
-	pc_view_free(&tiny);
+	colour_tiny_check(PC_DM_PAN_GUARD);
 	pc_demosaic_method md;
 	CHECK_EQ_INT(pc_demosaic_method_from_name("pan-guard", &md), 0);
 	CHECK(md == PC_DM_PAN_GUARD);

@@ -319,9 +319,9 @@ static pc_sim *roi_sim(const char *dir, const char *name, uint32_t w, uint32_t h
  * apart whose colour ratios R/G or B/G differ by more than a factor 2) on at least 2.5 % of the
  * frame (5 % and 14.5 % measured, patches and text), or DoLP above 0.8 in every colour (gloss,
  * 0.92-0.94). The colour methods score on it. */
-static void test_colour(const char *name, int gloss)
+static void test_colour(const char *dir, const char *name, int gloss)
 {
-	pc_sim *sim = roi_sim("colour", name, 256, 192, 128, 96);
+	pc_sim *sim = roi_sim(dir, name, 256, 192, 128, 96);
 	if (!sim)
 		return;
 	pc_sim_info info;
@@ -564,9 +564,15 @@ int main(void)
 	test_texture("gratings.json");
 	test_texture("text.json");
 	test_method_raw();
-	test_colour("patches.json", 0);
-	test_colour("text.json", 0);
-	test_colour("gloss.json", 1);
+	test_colour("colour", "patches.json", 0);
+	test_colour("colour", "text.json", 0);
+	test_colour("colour", "gloss.json", 1);
+	/* the hue-pair development scenes (scenes/stress/colour-hue, docs/demosaicking.md Round
+	 * 16): the same checks, hue edges on at least 2.5 % of the central region */
+	static const char *hue[] = {"gm_bars.json", "rc_checks.json", "halftone.json",
+	                            "polar_bars.json"};
+	for (size_t i = 0; i < sizeof hue / sizeof *hue; i++)
+		test_colour("colour-hue", hue[i], 0);
 
 	/* the held-out check (scenes/heldout): each scene is what its README says */
 	suite = "heldout";

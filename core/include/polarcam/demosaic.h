@@ -72,6 +72,8 @@ typedef enum pc_demosaic_method {
 	                    * noise-aware ratio step (ours) */
 	PC_DM_PAN_GUARD,   /* colour only: pan-adapt blended towards bayer-first where a
 	                    * leave-one-out check finds the ratio model locally worse (ours) */
+	PC_DM_PAN_HUE,     /* colour only: pan-guard whose red and blue also fall back where
+	                    * green's ratio residual shows hue detail (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
