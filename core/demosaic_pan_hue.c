@@ -12,9 +12,9 @@
  * compares the two (derived here, docs/demosaicking.md Round 16):
  *
  *  1. pan-guard's output O (pc_dm_pan_guard_ref_with) and bayer-first's I_b
- *     (pc_dm_bayer_first_ref with PC_DM_BILINEAR); pan-guard's blocks (pc_dm_pan_guard_blocks): per 2×2
- *     block its leave-one-out errors e_b (plain), e_p (ratio model) and mean level mu of
- *     max(raw, 0) + δ.
+ *     (pc_dm_bayer_first_ref with PC_DM_BILINEAR); pan-guard's blocks (pc_dm_pan_guard_blocks): per
+ * 2×2 block its leave-one-out errors e_b (plain), e_p (ratio model) and mean level mu of max(raw,
+ * 0) + δ.
  *  2. For each red or blue block B (colour k), over the blocks within ±4r pixels on both axes:
  *     the mean ε_G of green's e_p and its mean level m_G, the mean ε_k of k's own e_b and its
  *     mean level m_k. Green's ratio residual carried into k by the ratio step (the step
