@@ -476,6 +476,18 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	for (unsigned v = 0; v < 4; v++)
 		for (unsigned u = 0; u < 4; u++)
 			g.kc[v][u] = (unsigned)(pc_mosaic_color(m, u, v) - PC_CFA_R);
+	/* W_k's tents take the blocks' colours as a Bayer pattern (gf_tent_row): at each block
+	 * phase one red, one blue and two green blocks among the four parity pairs */
+	for (unsigned v = 0; v < 4; v += 2)
+		for (unsigned u = 0; u < 4; u += 2) {
+			unsigned n[3] = {0, 0, 0};
+			for (unsigned p = 0; p < 4; p += 2)
+				for (unsigned s = 0; s < 4; s += 2)
+					n[g.kc[(v + p) & 3][(u + s) & 3]]++;
+			if (n[0] != 1 || n[1] != 2 || n[2] != 1)
+				return pc_error(PC_ENOTSUP, "pan-guard fast path: the colour "
+				                            "blocks are not a Bayer pattern");
+		}
 	g.delta = (float)(PC_DM_PAN_ADAPT_DFS * fs);
 	g.fl = (float)((floor * fs) * (floor * fs));
 	g.r = r;

@@ -85,20 +85,23 @@ static void test_bands(pc_cpu_level level)
 				p.r = sets[s][0];
 				p.mode = sets[s][1];
 				CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, FS, &p, r), 0);
-				CHECK_EQ_INT(pc_dm_pan_guard_fast_with(&in, &m, FS, 1, level, &p, f), 0);
-				CHECK_EQ_INT(pc_dm_pan_guard_fast_with(&in, &m, FS, 3, level, &p, t3),
-				             0);
+				CHECK_EQ_INT(
+				    pc_dm_pan_guard_fast_with(&in, &m, FS, 1, level, &p, f), 0);
+				CHECK_EQ_INT(
+				    pc_dm_pan_guard_fast_with(&in, &m, FS, 3, level, &p, t3), 0);
 				pc_dm_pan_guard_params pb = p;
 				pb.force = 1;
-				CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, FS, &pb, b), 0);
+				CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, FS, &pb, b),
+				             0);
 				for (unsigned q = 0; q < 12; q++)
 					for (size_t i = 0; i < (size_t)W * H; i++) {
-						worst = fmax(worst, fabs(f[q].data[i] - r[q].data[i]) / FS);
+						worst = fmax(
+						    worst, fabs(f[q].data[i] - r[q].data[i]) / FS);
 						same &= f[q].data[i] == t3[q].data[i];
 						if (kind == 1)
-							moved = fmax(moved, fabs(r[q].data[i] -
-							                         b[q].data[i]) /
-							                        FS);
+							moved = fmax(
+							    moved,
+							    fabs(r[q].data[i] - b[q].data[i]) / FS);
 					}
 			}
 		}
