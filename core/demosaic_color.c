@@ -345,117 +345,186 @@ typedef struct bf_row {
 #include "demosaic_bf_kern.inc"
 #include "simd_instance_end.h"
 
-static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
+/* One band's buffers: the raw ring, the vertical rows, scratch rows for strided outputs, the
+ * double M_k rows of the border pixels; kept across consecutive row ranges (the ring too). */
+struct pc_dm_bf_band {
+	bf_job j;
+	float *cmask_own; /* pc_dm_bayer_first_band_new's masks, else NULL */
+	float *buf;
+	double *mbuf, *mk[9];
+	bf_ring ring;
+	float *tmp[12];
+	bf_row row;
+};
+
+static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
 {
-	bf_job *j = ctx;
-	const uint32_t w = j->w, h = j->h;
+	memset(b, 0, sizeof *b);
+	b->j = *j;
+	const uint32_t w = j->w;
 	const size_t pitch = (size_t)w + 2;
 	/* 8 raw rows, 8 vertical rows (4 per row parity), 12 output rows for strided planes */
-	float *buf = malloc(sizeof(float) * pitch * (8 + 8 + 12 + 4));
-	if (!buf) {
-		j->fail = 1;
-		return;
+	b->buf = malloc(sizeof(float) * pitch * (8 + 8 + 12 + 4));
+	b->mbuf = malloc(sizeof(double) * 9 * (size_t)w);
+	if (!b->buf || !b->mbuf) {
+		free(b->buf);
+		free(b->mbuf);
+		return -1;
 	}
-	double *mbuf = malloc(sizeof(double) * 9 * (size_t)w), *mk[9];
-	if (!mbuf) {
-		free(buf);
-		j->fail = 1;
-		return;
-	}
+	float *buf = b->buf;
 	for (unsigned i = 0; i < 9; i++)
-		mk[i] = mbuf + (size_t)i * w;
-	bf_ring ring;
-	float *v[2][4], *tmp[12];
+		b->mk[i] = b->mbuf + (size_t)i * w;
 	for (unsigned i = 0; i < 8; i++) {
-		ring.row[i] = buf + i * pitch + 1;
-		ring.have[i] = -1;
-		v[i / 4][i & 3] = buf + (8 + i) * pitch;
+		b->ring.row[i] = buf + i * pitch + 1;
+		b->ring.have[i] = -1;
+		b->row.v[i / 4][i & 3] = buf + (8 + i) * pitch;
 	}
 	for (unsigned i = 0; i < 12; i++)
-		tmp[i] = buf + (16 + i) * pitch;
+		b->tmp[i] = buf + (16 + i) * pitch;
 	/* e and o of one colour; the parity rows */
-	float *eo[2] = {buf + 28 * pitch, buf + 29 * pitch}, *pe = buf + 30 * pitch,
-	      *po = buf + 31 * pitch;
+	float *pe = buf + 30 * pitch, *po = buf + 31 * pitch;
 	for (uint32_t x = 0; x < w; x++) {
 		pe[x] = x & 1 ? 0.0f : 1.0f;
 		po[x] = x & 1 ? 1.0f : 0.0f;
 	}
+	b->row.raw = (const float *const *)b->ring.row;
+	b->row.cmask = j->cmask;
+	b->row.w = w;
+	b->row.xa = 3; /* the interior columns [xa, xb) */
+	b->row.xb = w - 3;
+	b->row.eo[0] = buf + 28 * pitch;
+	b->row.eo[1] = buf + 29 * pitch;
+	b->row.pe = pe;
+	b->row.po = po;
+	for (unsigned c = 0; c < 4; c++)
+		pc_mosaic_channel_pos(j->m, c, &b->row.cxy[c][0], &b->row.cxy[c][1]);
+	return 0;
+}
+
+static void bf_band_fini(pc_dm_bf_band *b)
+{
+	free(b->buf);
+	free(b->mbuf);
+	free(b->cmask_own);
+}
+
+/* Output rows [y0, y1) into out, whose row y - oy holds row y. */
+static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fplane *out,
+                         uint32_t oy)
+{
+	const bf_job *j = &b->j;
+	const uint32_t w = j->w, h = j->h;
+	bf_ring *ring = &b->ring;
+	bf_row *row = &b->row;
 	int strided = 0;
 	for (unsigned p = 0; p < 12; p++)
-		strided |= j->out[p].pixel_stride != 1;
-	const uint32_t xa = 3, xb = w - 3; /* the interior columns [xa, xb) */
-	bf_row row = {(const float *const *)ring.row,
-	              j->cmask,
-	              w,
-	              xa,
-	              xb,
-	              {{0}},
-	              {{0}},
-	              {eo[0], eo[1]},
-	              pe,
-	              po,
-	              {0}};
-	for (unsigned c = 0; c < 4; c++)
-		pc_mosaic_channel_pos(j->m, c, &row.cxy[c][0], &row.cxy[c][1]);
-	for (unsigned i = 0; i < 8; i++)
-		row.v[i / 4][i & 3] = v[i / 4][i & 3];
+		strided |= out[p].pixel_stride != 1;
+	const uint32_t xa = row->xa, xb = row->xb;
 	for (uint32_t y = y0; y < y1; y++) {
 		int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
 		for (int r = lo; r <= hi; r++)
-			if (ring.have[r & 7] != r) {
-				pc_dm_row_to_float(j->in, (uint32_t)r, ring.row[r & 7]);
-				ring.have[r & 7] = r;
+			if (ring->have[r & 7] != r) {
+				pc_dm_row_to_float(j->in, (uint32_t)r, ring->row[r & 7]);
+				ring->have[r & 7] = r;
 			}
+		const uint32_t oyy = y - oy;
 		double o12[12];
 		if (y < 3 || y + 3 >= h) {
-			bf_mrows(&ring, w, h, j->m, (int)y, 0, w, mk);
+			bf_mrows(ring, w, h, j->m, (int)y, 0, w, b->mk);
 			for (uint32_t x = 0; x < w; x++) {
-				bf_pixel(mk, w, j->m, (int)x, (int)y, o12);
-				bf_put(j->out, x, y, o12);
+				bf_pixel(b->mk, w, j->m, (int)x, (int)y, o12);
+				bf_put(out, x, oyy, o12);
 			}
 			continue;
 		}
 		for (unsigned p = 0; p < 12; p++)
-			row.dst[p] =
-			    strided ? tmp[p] : j->out[p].data + (size_t)y * j->out[p].row_stride;
+			row->dst[p] =
+			    strided ? b->tmp[p] : out[p].data + (size_t)oyy * out[p].row_stride;
 		if (j->level >= PC_CPU_AVX512)
-			bf_interior_avx512(&row, y);
+			bf_interior_avx512(row, y);
 		else if (j->level >= PC_CPU_AVX2)
-			bf_interior_avx2(&row, y);
+			bf_interior_avx2(row, y);
 		else
-			bf_interior_base(&row, y);
+			bf_interior_base(row, y);
 		if (strided)
 			for (unsigned p = 0; p < 12; p++) {
-				float *d = j->out[p].data + (size_t)y * j->out[p].row_stride;
+				float *d = out[p].data + (size_t)oyy * out[p].row_stride;
 				for (uint32_t x = xa; x < xb; x++)
-					d[x * j->out[p].pixel_stride] = tmp[p][x];
+					d[x * out[p].pixel_stride] = b->tmp[p][x];
 			}
 		/* the border columns: M_k at columns 0..3 and w - 4..w - 1 */
-		bf_mrows(&ring, w, h, j->m, (int)y, 0, 4, mk);
-		bf_mrows(&ring, w, h, j->m, (int)y, w - 4, w, mk);
+		bf_mrows(ring, w, h, j->m, (int)y, 0, 4, b->mk);
+		bf_mrows(ring, w, h, j->m, (int)y, w - 4, w, b->mk);
 		for (uint32_t x = 0; x < w; x++) {
 			if (x == xa)
 				x = xb;
-			bf_pixel(mk, w, j->m, (int)x, (int)y, o12);
-			bf_put(j->out, x, y, o12);
+			bf_pixel(b->mk, w, j->m, (int)x, (int)y, o12);
+			bf_put(out, x, oyy, o12);
 		}
 	}
-	free(buf);
-	free(mbuf);
+}
+
+static void bf_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	bf_job *j = ctx;
+	pc_dm_bf_band b;
+	if (bf_band_init(&b, j)) {
+		j->fail = 1;
+		return;
+	}
+	bf_band_rows(&b, y0, y1, j->out, 0);
+	bf_band_fini(&b);
+}
+
+/* 1 where the raw's colour is k, else 0: [k][y mod 4][x] */
+static float *bf_masks(const pc_mosaic *m, uint32_t w)
+{
+	float *cmask = malloc(sizeof(float) * 12 * (size_t)w);
+	if (!cmask)
+		return NULL;
+	for (unsigned k = 0; k < 3; k++)
+		for (uint32_t r = 0; r < 4; r++)
+			for (uint32_t x = 0; x < w; x++)
+				cmask[((size_t)k * 4 + r) * w + x] =
+				    pc_mosaic_color(m, x, r) == PC_CFA_R + k ? 1.0f : 0.0f;
+	return cmask;
+}
+
+pc_dm_bf_band *pc_dm_bayer_first_band_new(const pc_dm_input *in, const pc_mosaic *m,
+                                          pc_cpu_level level)
+{
+	pc_dm_bf_band *b = malloc(sizeof *b);
+	float *cmask = bf_masks(m, in->width);
+	bf_job j = {in, m, in->width, in->height, cmask, NULL, level, 0};
+	if (!b || !cmask || bf_band_init(b, &j)) {
+		free(b);
+		free(cmask);
+		return NULL;
+	}
+	b->cmask_own = cmask;
+	return b;
+}
+
+void pc_dm_bayer_first_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fplane *out)
+{
+	bf_band_rows(b, y0, y1, out, y0);
+}
+
+void pc_dm_bayer_first_band_free(pc_dm_bf_band *b)
+{
+	if (!b)
+		return;
+	bf_band_fini(b);
+	free(b);
 }
 
 int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
                       const pc_fplane *out)
 {
 	const uint32_t w = in->width, h = in->height;
-	float *cmask = malloc(sizeof(float) * 12 * (size_t)w);
+	float *cmask = bf_masks(m, w);
 	if (!cmask)
 		return pc_error(PC_ENOMEM, "bayer-first: colour masks");
-	for (unsigned k = 0; k < 3; k++)
-		for (uint32_t r = 0; r < 4; r++)
-			for (uint32_t x = 0; x < w; x++)
-				cmask[((size_t)k * 4 + r) * w + x] =
-				    pc_mosaic_color(m, x, r) == PC_CFA_R + k ? 1.0f : 0.0f;
 	bf_job j = {in, m, w, h, cmask, out, level, 0};
 	pc_parallel_rows(h, 0, threads, bf_band, &j);
 	free(cmask);

@@ -32,4 +32,15 @@ int pc_dm_color_split(const float *img, uint32_t w, uint32_t h, const pc_mosaic 
 int pc_dm_bayer_first(const pc_dm_input *in, const pc_mosaic *m, int threads, pc_cpu_level level,
                       const pc_fplane *out);
 
+/* The same pass on a caller's consecutive row ranges, for methods that use bayer-first's
+ * output row by row (pan-guard's fast path): a band keeps its buffers and its ring of raw rows
+ * between calls, so increasing ranges read each raw row once. _rows writes output rows
+ * [y0, y1) into out, whose row 0 holds row y0 (row_stride apart); the outputs equal
+ * pc_dm_bayer_first's bit for bit. _new returns NULL when out of memory. One band per thread. */
+typedef struct pc_dm_bf_band pc_dm_bf_band;
+pc_dm_bf_band *pc_dm_bayer_first_band_new(const pc_dm_input *in, const pc_mosaic *m,
+                                          pc_cpu_level level);
+void pc_dm_bayer_first_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fplane *out);
+void pc_dm_bayer_first_band_free(pc_dm_bf_band *b);
+
 #endif

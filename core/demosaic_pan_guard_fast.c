@@ -1,20 +1,31 @@
-/* pan-guard's float fast path (docs/demosaicking.md, "Round 15 fast path: pan-guard"): the
- * definition is pc_dm_pan_guard_ref_with's (demosaic_pan_guard.c, its comment states it); the
- * same steps in float, on whole-frame buffers:
+/* pan-guard's float fast path (docs/demosaicking.md, "Round 15 fast path: pan-guard" and
+ * Round 16b): the definition is pc_dm_pan_guard_ref_with's (demosaic_pan_guard.c, its comment
+ * states it); the same steps in float:
  *
  *  1. the base I_p straight into the output planes (pan-adapt's or pan-side's fast path, with
- *     its base, AVX2 and AVX-512 instances), the conservative estimate I_b into twelve scratch
- *     planes (bayer-first's one-pass fast path, pc_dm_bayer_first: docs Round 15d);
- *  2. the mirror-extended raw E, P̃ = max(P0, 0) + δ (pan-ratio's 5×5 PPI, separable: on
- *     integer raws every partial sum is an integer below 2^24, so exact) and the ratio
- *     ρ = (max(E, 0) + δ)/P̃ on the extended grid;
- *  3. per 2×2 block the leave-one-out errors e_b, e_p, their window sums over the colour's own
- *     blocks (red and blue on one block lattice, green on two, the diagonal one with 2r
- *     blocks a side), and the weight w = 1/(1 + ((E_p + F)/(E_b + F))^γ) — the reference's
- *     (E_b + F)^γ/((E_b + F)^γ + (E_p + F)^γ) rearranged so that no power overflows a float;
- *  4. per pixel and colour the tent-interpolated W_k and the blend, in place in the outputs.
+ *     its base, AVX2 and AVX-512 instances), over the whole frame;
+ *  2. then, per band of output rows on a thread, a pipeline of rings that runs ahead of the
+ *     output row:
+ *     - the mirror-extended raw E (grid rows, one raw row converted each);
+ *     - P̃ = max(P0, 0) + δ (pan-ratio's 5×5 PPI, separable: on integer raws every partial
+ *       sum is an integer below 2^24, so exact) and the ratio ρ = (max(E, 0) + δ)/P̃;
+ *     - per block row the leave-one-out errors e_b, e_p of its 2×2 blocks and their window
+ *       sums along the row over the colour's own blocks (red and blue on one block lattice,
+ *       green on two, the diagonal one with 2r blocks a side);
+ *     - per block row the window sums down the rows and the weight w = 1/(1 + ((E_p + F)/
+ *       (E_b + F))^γ) — the reference's (E_b + F)^γ/((E_b + F)^γ + (E_p + F)^γ) rearranged
+ *       so that no power overflows a float;
+ *     - per output row the conservative estimate I_b (bayer-first's one-pass rows,
+ *       pc_dm_bayer_first_band_rows: docs Round 15d), the tent-interpolated W_k and the
+ *       blend, in place in the outputs.
+ *     A row of a ring is computed once per band (the band's first rows also compute the rows
+ *     above it that they need), by the same float operations in the same order as the whole-
+ *     frame version of Round 15 fast path, so the outputs do not depend on the bands (threads
+ *     1 and 3 bit for bit). The row kernels are demosaic_pan_guard_kern.inc's, one instance
+ *     per instruction-set level.
  *
- * Rows of blocks and of pixels run in bands on threads (pc_parallel_rows). */
+ * The extended grid: columns and rows [−M, w + M) and [−M, h + M) (grid index x + M); blocks
+ * (i, j) with corners (2i − XB, 2j − XB), i.e. grid column 2i + 8 and grid row 2j + 8. */
 #include "demosaic_pan.h"
 
 #include <math.h>
@@ -27,283 +38,366 @@
 #include "demosaic_fast.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
+#include "simd.h"
+
+#define PC_INST PC_INST_BASELINE
+#include "simd_instance_begin.h"
+#include "demosaic_pan_guard_kern.inc"
+#include "simd_instance_end.h"
+
+#define PC_INST PC_INST_AVX2
+#include "simd_instance_begin.h"
+#include "demosaic_pan_guard_kern.inc"
+#include "simd_instance_end.h"
+
+#define PC_INST PC_INST_AVX512
+#include "simd_instance_begin.h"
+#include "demosaic_pan_guard_kern.inc"
+#include "simd_instance_end.h"
+
+/* one instruction-set level's kernels */
+typedef struct gk_fns {
+	void (*ppi)(const float *, const float *, const float *, const float *, const float *, long,
+	            float, float *, float *, float *);
+	void (*sq)(const float *, const float *, const float *, const float *, const float *,
+	           const float *, const float *, const float *, const float *, const float *,
+	           const float *, long, long, int, int, float, float *, float *);
+	void (*blocks)(const float *, const float *, const float *, const float *, long, long,
+	               float *, float *);
+	void (*hsum)(const float *, long, int, int, float *);
+	void (*add)(float *, const float *, const float *, long);
+	void (*acc)(float *, const float *, long);
+	void (*weight)(const float *, const float *, const float *, const float *, long, int, int,
+	               float, int, float, float *, float *, float *);
+	void (*vtent)(const float *, const float *, float, float, long, float *);
+	void (*htent)(const float *, long, long, float *, float *);
+	void (*wsel1)(const float *, const float *, long, float, float *);
+	void (*wsel2)(const float *, const float *, const float *, const float *, long, float,
+	              float *);
+	void (*mix0)(float *, float *, float *, float *, const float *, const float *,
+	             const float *, const float *, const float *, long);
+	void (*fac1)(const float *, const float *, const float *, const float *, const float *,
+	             const float *, const float *, const float *, const float *, float, float *,
+	             long);
+	void (*mix1)(float *, const float *, float, long);
+} gk_fns;
+
+#define GK_FNS(s)                                                                                  \
+	{                                                                                          \
+		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
+		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
+		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s                                          \
+	}
+
+static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
+
+/* rows kept per ring: E and P̃, ρ span at most 12 and 10 rows around a block row (its
+ * samples' neighbours ±4, P̃'s ±2 more); the output rows' tents read 4 block rows */
+enum { GF_RE = 16, GF_RW = 8 };
 
 typedef struct guard_fast {
+	const pc_dm_input *in;
+	const pc_mosaic *m;
+	pc_cpu_level level;
+	const gk_fns *k;
 	uint32_t w, h;
-	int XB, M, W; /* blocks' margin; the extended grid [−M, w + M) × [−M, h + M), row W */
-	int NBX, NBY; /* blocks: (i, j) has its corner at (2i − XB, 2j − XB) */
+	int XB, M, W;      /* blocks' margin; the grid's margin and row length */
+	int NBX, NBY;      /* blocks */
+	int RH;            /* rows of the window-sum ring, a power of two >= 4r + 1 */
 	unsigned kc[4][4]; /* colour (0 R, 1 G, 2 B) at column phase u, row phase v: kc[v][u] */
 	float delta, fl;   /* δ; the floor F = (floor·FS)² */
 	int r, mode;
-	double gamma;
-	int gi;                /* γ as an integer when it is one (powers by squaring), else 0 */
-	float force;           /* < 0: the weights computed */
-	const float *img;      /* the raw minus black, w × h */
-	float *ext, *pt, *rho; /* E, P̃, ρ on the extended grid */
-	float *eb, *ep, *wb;   /* per block */
-	float *hb[2], *hp[2];  /* per block: the window sums along the rows, by lattice */
-	const float *ib;       /* I_b: twelve w × h planes, np apart */
-	size_t np;
+	float gamma;
+	int gi;               /* γ as an integer when it is one (powers by squaring), else 0 */
+	float force;          /* < 0: the weights computed */
+	int32_t *xmap;        /* grid column → raw column (pc_mirror4) */
 	atomic_int err;       /* a band's scratch not allocated */
 	const pc_fplane *out; /* I_p in, the result out */
 } guard_fast;
 
-/* max(v, 0) for the finite values here */
-#define GF_MAX0(v) ((v) > 0 ? (v) : 0.0f)
+/* One band's rings and rows. Ring rows are keyed by grid row (E, P̃, ρ) or block row (the
+ * rest) modulo the ring's size; *_next is the next row each stage computes. */
+typedef struct gf_band {
+	float *mem;
+	float *e, *pt, *rho;       /* GF_RE rows of W (E's with pc_dm_row_to_float's ±1 columns) */
+	float *vs, *qb[2], *qp[2]; /* W: vertical sums; squared errors of a block row's two rows */
+	float *eb, *ep;            /* one block row's errors, 2r zeros either side */
+	float *hs[4];              /* RH rows each: window sums along the rows, hb0 hp0 hb1 hp1 */
+	float *sb[4], *q, *t;      /* window sums down (own lattice b p, both lattices b p); pow */
+	float *wb;                 /* GF_RW rows of weights */
+	float *A[2], *P[4], *wr[3], *fr; /* the tents; W_k per colour; mode 1's factor */
+	float *ib;                       /* I_b: 12 rows of w */
+	int e_next, r_next, h_next, w_next;
+	pc_dm_bf_band *bf;
+} gf_band;
 
-static size_t gf_idx(const guard_fast *g, int x, int y)
+static size_t gf_up(size_t n)
 {
-	return (size_t)(y + g->M) * (size_t)g->W + (size_t)(x + g->M);
+	return (n + 15) / 16 * 16;
 }
 
-static unsigned gf_colour(const guard_fast *g, int x, int y)
+static int gf_band_init(gf_band *b, const guard_fast *g)
 {
-	return g->kc[y & 3][x & 3];
+	memset(b, 0, sizeof *b);
+	const size_t W = gf_up((size_t)g->W), nxp = gf_up((size_t)g->NBX + 4 * (size_t)g->r + 8),
+	             wp = gf_up((size_t)g->w + 8);
+	const size_t total = 3 * GF_RE * W + 5 * W + 2 * nxp +
+	                     (4 * (size_t)g->RH + 4 + 2 + GF_RW + 2) * nxp + (4 + 3 + 1 + 12) * wp;
+	b->mem = pc_dm_alloc(sizeof(float) * total);
+	b->bf = pc_dm_bayer_first_band_new(g->in, g->m, g->level);
+	if (!b->mem || !b->bf) {
+		pc_dm_free(b->mem);
+		pc_dm_bayer_first_band_free(b->bf);
+		return -1;
+	}
+	memset(b->mem, 0, sizeof(float) * total);
+	float *p = b->mem;
+	b->e = p;
+	p += GF_RE * W;
+	b->pt = p;
+	p += GF_RE * W;
+	b->rho = p;
+	p += GF_RE * W;
+	b->vs = p;
+	p += W;
+	for (int i = 0; i < 2; i++) {
+		b->qb[i] = p;
+		p += W;
+		b->qp[i] = p;
+		p += W;
+	}
+	/* the errors' rows with 2r zeros before block 0 (and after the last) */
+	b->eb = p + 2 * g->r + 1;
+	p += nxp;
+	b->ep = p + 2 * g->r + 1;
+	p += nxp;
+	for (int i = 0; i < 4; i++) {
+		b->hs[i] = p;
+		p += (size_t)g->RH * nxp;
+	}
+	for (int i = 0; i < 4; i++) {
+		b->sb[i] = p;
+		p += nxp;
+	}
+	b->q = p;
+	p += nxp;
+	b->t = p;
+	p += nxp;
+	b->wb = p;
+	p += GF_RW * nxp;
+	for (int i = 0; i < 2; i++) {
+		b->A[i] = p;
+		p += nxp;
+	}
+	for (int i = 0; i < 4; i++) {
+		b->P[i] = p;
+		p += wp;
+	}
+	for (int i = 0; i < 3; i++) {
+		b->wr[i] = p;
+		p += wp;
+	}
+	b->fr = p;
+	p += wp;
+	b->ib = p;
+	return 0;
 }
 
-/* E on rows [y0, y1) of the extended grid (in grid rows, 0 = row −M): the raw at the
- * pc_mirror4 positions (the phase kept) */
-static void gf_ext_rows(void *ctx, uint32_t y0, uint32_t y1)
+static void gf_band_fini(gf_band *b)
 {
-	guard_fast *g = ctx;
-	for (uint32_t j = y0; j < y1; j++) {
-		const int y = (int)j - g->M;
-		const float *src = g->img + (size_t)pc_mirror4(y, (int)g->h) * g->w;
-		float *d = g->ext + (size_t)j * (size_t)g->W;
-		for (int x = -g->M; x < (int)g->w + g->M; x++)
-			d[x + g->M] = src[pc_mirror4(x, (int)g->w)];
+	pc_dm_free(b->mem);
+	pc_dm_bayer_first_band_free(b->bf);
+}
+
+static size_t gf_nxp(const guard_fast *g)
+{
+	return gf_up((size_t)g->NBX + 4 * (size_t)g->r + 8);
+}
+
+static float *gf_ring(float *base, int row, int size, size_t pitch)
+{
+	return base + (size_t)(row & (size - 1)) * pitch;
+}
+
+#define GF_E(b, g, gy)   gf_ring((b)->e, (gy), GF_RE, gf_up((size_t)(g)->W))
+#define GF_PT(b, g, gy)  gf_ring((b)->pt, (gy), GF_RE, gf_up((size_t)(g)->W))
+#define GF_RHO(b, g, gy) gf_ring((b)->rho, (gy), GF_RE, gf_up((size_t)(g)->W))
+
+/* E's grid rows up to gy: the raw at the pc_mirror4 positions (the phase kept) */
+static void gf_ext_to(const guard_fast *g, gf_band *b, int gy)
+{
+	const int W = g->W, M = g->M, wi = (int)g->w, we = 2 * (wi / 2);
+	for (; b->e_next <= gy; b->e_next++) {
+		const int y = b->e_next - M;
+		float *d = GF_E(b, g, b->e_next);
+		pc_dm_row_to_float(g->in, (uint32_t)pc_mirror4(y, (int)g->h), d + M);
+		/* the columns [0, 2⌊w/2⌋) are their own mirror, and every mirror falls in them */
+		for (int x = 0; x < M; x++)
+			d[x] = d[M + g->xmap[x]];
+		for (int x = M + we; x < W; x++)
+			d[x] = d[M + g->xmap[x]];
 	}
 }
 
-/* P̃ and ρ on grid rows [y0, y1) inside the grid's two-sample border (P0 = Σ m_i m_j E / 64,
- * m = [1 2 2 2 1]: the vertical sums, kept in the row of ρ until P̃ is done, then the horizontal
- * ones) */
-static void gf_ppi_rows(void *ctx, uint32_t y0, uint32_t y1)
+/* P̃ and ρ up to grid row gy */
+static void gf_ppi_to(const guard_fast *g, gf_band *b, int gy)
 {
-	guard_fast *g = ctx;
-	const int W = g->W;
-	const uint32_t ny = g->h + 2 * (uint32_t)g->M;
-	for (uint32_t j = y0; j < y1; j++) {
-		if (j < 2 || j + 2 >= ny)
-			continue;
-		const float *e[5];
-		for (int k = 0; k < 5; k++)
-			e[k] = g->ext + (size_t)(j + (uint32_t)k - 2) * (size_t)W;
-		float *pt = g->pt + (size_t)j * (size_t)W, *vs = g->rho + (size_t)j * (size_t)W;
-		for (int x = 0; x < W; x++)
-			vs[x] = (e[0][x] + e[4][x]) + 2.0f * ((e[1][x] + e[2][x]) + e[3][x]);
-		for (int x = 2; x < W - 2; x++) {
-			float p0 =
-			    ((vs[x - 2] + vs[x + 2]) + 2.0f * ((vs[x - 1] + vs[x]) + vs[x + 1])) *
-			    (1.0f / 64);
-			pt[x] = GF_MAX0(p0) + g->delta;
-		}
-		for (int x = 2; x < W - 2; x++)
-			vs[x] = (GF_MAX0(e[2][x]) + g->delta) / pt[x];
+	for (; b->r_next <= gy; b->r_next++) {
+		const int j = b->r_next;
+		gf_ext_to(g, b, j + 2);
+		g->k->ppi(GF_E(b, g, j - 2), GF_E(b, g, j - 1), GF_E(b, g, j), GF_E(b, g, j + 1),
+		          GF_E(b, g, j + 2), g->W, g->delta, b->vs, GF_PT(b, g, j),
+		          GF_RHO(b, g, j));
 	}
 }
 
-/* the leave-one-out errors of block rows [j0, j1) */
-static void gf_err_rows(void *ctx, uint32_t j0, uint32_t j1)
+/* the window sums along the block rows up to j: the errors of the row's blocks (its two sample
+ * rows' squared errors, then per block), then their sums over the offsets |di| <= 2r of even
+ * parity (the own lattice: hs[0], hs[1]) and of odd parity (green's diagonal one: hs[2],
+ * hs[3]) */
+static void gf_hsum_to(const guard_fast *g, gf_band *b, int j)
 {
-	guard_fast *g = ctx;
-	const ptrdiff_t W = g->W;
-	/* the neighbours' offsets in the extended grid: red and blue (±4, 0), (0, ±4); green
-	 * (±2, ±2), in the reference's order */
-	const ptrdiff_t nrb[4] = {-4, 4, -4 * W, 4 * W},
-	                ngr[4] = {-2 - 2 * W, 2 - 2 * W, -2 + 2 * W, 2 + 2 * W};
-	for (uint32_t j = j0; j < j1; j++)
-		for (int i = 0; i < g->NBX; i++) {
-			const int bx = 2 * i - g->XB, by = 2 * (int)j - g->XB;
-			const ptrdiff_t *nb = gf_colour(g, bx, by) == 1 ? ngr : nrb;
-			const size_t a0 = gf_idx(g, bx, by);
-			float sb = 0, sp = 0;
-			for (int o = 0; o < 4; o++) {
-				const size_t a =
-				    a0 + (size_t)(o & 1) + (size_t)(o >> 1) * (size_t)W;
-				const float *e = g->ext + a, *rh = g->rho + a;
-				const float mb = ((e[nb[0]] + e[nb[1]]) + e[nb[2]]) + e[nb[3]],
-				            mr = ((rh[nb[0]] + rh[nb[1]]) + rh[nb[2]]) + rh[nb[3]];
-				const float v = e[0], xb = mb * 0.25f,
-				            xp = g->pt[a] * (mr * 0.25f) - g->delta;
-				sb += (v - xb) * (v - xb);
-				sp += (v - xp) * (v - xp);
-			}
-			g->eb[(size_t)j * (size_t)g->NBX + (size_t)i] = sb;
-			g->ep[(size_t)j * (size_t)g->NBX + (size_t)i] = sp;
-		}
-}
-
-/* t^γ: by squaring for an integer γ, else powf */
-static float gf_pow(const guard_fast *g, float t)
-{
-	if (!g->gi)
-		return powf(t, (float)g->gamma);
-	float r = 1, b = t;
-	for (int e = g->gi; e; e >>= 1) {
-		if (e & 1)
-			r *= b;
-		b *= b;
-	}
-	return r;
-}
-
-/* the window sums along block rows [j0, j1): over the offsets |di| <= 2r of even parity (the
- * own lattice: hb[0], hp[0]) and of odd parity (green's diagonal one: hb[1], hp[1]), clipped at
- * the block grid's edge as the reference's */
-static void gf_hsum_rows(void *ctx, uint32_t j0, uint32_t j1)
-{
-	guard_fast *g = ctx;
+	const size_t nxp = gf_nxp(g);
 	const int rb = 2 * g->r, nx = g->NBX;
-	for (uint32_t j = j0; j < j1; j++) {
-		const size_t o = (size_t)j * (size_t)nx;
-		const float *eb = g->eb + o, *ep = g->ep + o;
-		for (int i = 0; i < nx; i++)
-			for (int l = 0; l < 2; l++) {
-				float sb = 0, sp = 0;
-				for (int ii = i - rb + l; ii <= i + rb - l; ii += 2) {
-					if (ii < 0 || ii >= nx)
-						continue;
-					sb += eb[ii];
-					sp += ep[ii];
-				}
-				g->hb[l][o + (size_t)i] = sb;
-				g->hp[l][o + (size_t)i] = sp;
-			}
-	}
-}
-
-/* the window sums down block rows [j0, j1) (the own lattice from hb[0], hp[0] at even row
- * offsets; for green the diagonal lattice's from hb[1], hp[1] at odd ones, |dj| <= 2r − 1) and
- * the weights */
-static void gf_weight_rows(void *ctx, uint32_t j0, uint32_t j1)
-{
-	guard_fast *g = ctx;
-	const int rb = 2 * g->r, nx = g->NBX, ny = g->NBY;
-	for (uint32_t ju = j0; ju < j1; ju++) {
-		const int j = (int)ju;
-		for (int i = 0; i < nx; i++) {
-			const int green = gf_colour(g, 2 * i - g->XB, 2 * j - g->XB) == 1;
-			float sb = 0, sp = 0;
-			for (int l = 0; l < (green ? 2 : 1); l++)
-				for (int dj = -rb + l; dj <= rb - l; dj += 2) {
-					const int jj = j + dj;
-					if (jj < 0 || jj >= ny)
-						continue;
-					const size_t a = (size_t)jj * (size_t)nx + (size_t)i;
-					sb += g->hb[l][a];
-					sp += g->hp[l][a];
-				}
-			/* (E_b + F)^γ / ((E_b + F)^γ + (E_p + F)^γ) = 1/(1 + q^γ), q = (E_p +
-			 * F)/(E_b + F); 1 where both are 0 (the reference's 0/0 rule), 0 where only
-			 * E_b + F is */
-			const float ab = sb + g->fl, ap = sp + g->fl;
-			float wgt;
-			if (ab > 0)
-				wgt = 1.0f / (1.0f + gf_pow(g, ap / ab));
-			else
-				wgt = ap > 0 ? 0.0f : 1.0f;
-			g->wb[(size_t)j * (size_t)nx + (size_t)i] = wgt;
+	for (; b->h_next <= j; b->h_next++) {
+		const int jb = b->h_next, gy = 2 * jb + 8, by = 2 * jb - g->XB;
+		gf_ppi_to(g, b, gy + 5);
+		/* the colour of the row's blocks at even and odd block columns (bx ≡ 0, 2 mod 4) */
+		const int g0 = g->kc[by & 3][0] == 1, g1 = g->kc[by & 3][2] == 1;
+		for (int o = 0; o < 2; o++) {
+			const int sy = gy + o;
+			g->k->sq(GF_E(b, g, sy), GF_E(b, g, sy - 4), GF_E(b, g, sy + 4),
+			         GF_E(b, g, sy - 2), GF_E(b, g, sy + 2), GF_RHO(b, g, sy),
+			         GF_RHO(b, g, sy - 4), GF_RHO(b, g, sy + 4), GF_RHO(b, g, sy - 2),
+			         GF_RHO(b, g, sy + 2), GF_PT(b, g, sy), 8, 8 + 2 * (long)nx, g0, g1,
+			         g->delta, b->qb[o], b->qp[o]);
+		}
+		g->k->blocks(b->qb[0], b->qb[1], b->qp[0], b->qp[1], 8, nx, b->eb, b->ep);
+		for (int l = 0; l < 2; l++) {
+			g->k->hsum(b->eb, nx, rb, l, gf_ring(b->hs[2 * l], jb, g->RH, nxp));
+			g->k->hsum(b->ep, nx, rb, l, gf_ring(b->hs[2 * l + 1], jb, g->RH, nxp));
 		}
 	}
 }
 
-/* one colour's planar rows: mode 0's blend of one channel, d = W·d + (1 − W)·b */
-static void gf_mix0(float *restrict d, const float *restrict b, const float *restrict wk,
-                    uint32_t w)
+/* the weights of the block rows up to j: the window sums down the rows (the own lattice at even
+ * row offsets |dj| <= 2r, for green also the diagonal lattice's at odd ones, |dj| <= 2r − 1),
+ * clipped at the block grid's edge as the reference's */
+static void gf_weight_to(const guard_fast *g, gf_band *b, int j)
 {
-	for (uint32_t x = 0; x < w; x++)
-		d[x] = wk[x] * d[x] + (1 - wk[x]) * b[x];
-}
-
-/* mode 1's factor of the colour, f = (1 − W)·(s_b − s_p)/(max(s_p, 0) + δ), from its four
- * channels' rows p (I_p) and b (I_b) */
-static void gf_fac1(const float *restrict p0, const float *restrict p1, const float *restrict p2,
-                    const float *restrict p3, const float *restrict b0, const float *restrict b1,
-                    const float *restrict b2, const float *restrict b3, const float *restrict wk,
-                    float delta, float *restrict f, uint32_t w)
-{
-	for (uint32_t x = 0; x < w; x++) {
-		const float s_p = (((p0[x] + p1[x]) + p2[x]) + p3[x]) * 0.25f,
-		            s_b = (((b0[x] + b1[x]) + b2[x]) + b3[x]) * 0.25f;
-		f[x] = (1 - wk[x]) * (s_b - s_p) / (GF_MAX0(s_p) + delta);
+	const size_t nxp = gf_nxp(g);
+	const int rb = 2 * g->r, nx = g->NBX, ny = g->NBY;
+	for (; b->w_next <= j; b->w_next++) {
+		const int jw = b->w_next, by = 2 * jw - g->XB;
+		gf_hsum_to(g, b, jw + rb < ny ? jw + rb : ny - 1);
+		for (int l = 0; l < 2; l++) {
+			/* the rows in order, the diagonal lattice's after the own one's: n of them
+			 * so far; the first's sums kept in place, the second added to them */
+			float *sb = b->sb[2 * l], *sp = b->sb[2 * l + 1];
+			const float *fb = l ? b->sb[0] : NULL, *fp = l ? b->sb[1] : NULL;
+			int n = l;
+			for (int dj = -rb + l; dj <= rb - l; dj += 2) {
+				const int jj = jw + dj;
+				if (jj < 0 || jj >= ny)
+					continue;
+				const float *hb = gf_ring(b->hs[2 * l], jj, g->RH, nxp),
+				            *hp = gf_ring(b->hs[2 * l + 1], jj, g->RH, nxp);
+				if (n == 0) {
+					fb = hb;
+					fp = hp;
+				} else if (n == 1) {
+					g->k->add(sb, fb, hb, nx);
+					g->k->add(sp, fp, hp, nx);
+				} else {
+					g->k->acc(sb, hb, nx);
+					g->k->acc(sp, hp, nx);
+				}
+				n++;
+			}
+			if (n == 1) { /* one row (l = 0) or no diagonal one (l = 1): the first's */
+				memcpy(sb, fb, sizeof(float) * (size_t)nx);
+				memcpy(sp, fp, sizeof(float) * (size_t)nx);
+			}
+		}
+		const int g0 = g->kc[by & 3][0] == 1, g1 = g->kc[by & 3][2] == 1;
+		g->k->weight(b->sb[0], b->sb[1], b->sb[2], b->sb[3], nx, g0, g1, g->fl, g->gi,
+		             g->gamma, b->q, b->t, gf_ring(b->wb, jw, GF_RW, nxp));
 	}
 }
 
-/* ... and one channel's output, d = d + f·(max(d, 0) + δ) */
-static void gf_mix1(float *restrict d, const float *restrict f, float delta, uint32_t w)
+/* W_k of output row y into b->wr[k]. The tent T = T_x·T_y on the block centres is separable:
+ * the row's four block rows t (by = by0 + 2t) weigh T_y(t), the vertical sums A_p[i] =
+ * Σ_{t ≡ p (mod 2)} T_y(t)·w(i, j_t) of the two block-row parities p, then per pixel the four
+ * block columns s with T_x(s); the four parity pairs (s mod 2, p) are the colour blocks' Bayer
+ * pattern (red, blue and two greens), and every pair's T sums to (T_x(s) + T_x(s + 2))·(T_y(p)
+ * + T_y(p + 2)) = 8·8 (the tents {1, 5, 7, 3} or {3, 7, 5, 1}), so W_k = Σ/64 (green: Σ/128).
+ * The same weights as the reference's sum over the sixteen blocks, in another order. */
+static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
 {
-	for (uint32_t x = 0; x < w; x++)
-		d[x] = d[x] + f[x] * (GF_MAX0(d[x]) + delta);
+	const size_t nxp = gf_nxp(g);
+	const long w = (long)g->w;
+	const int by0 = (y - 3) & ~1, j0 = (by0 + g->XB) / 2;
+	gf_weight_to(g, b, j0 + 3);
+	float ty[4];
+	const float *wb[4];
+	for (int t = 0; t < 4; t++) {
+		ty[t] = (float)(8 - abs(2 * (by0 + 2 * t - y) + 1));
+		wb[t] = gf_ring(b->wb, j0 + t, GF_RW, nxp);
+	}
+	g->k->vtent(wb[0], wb[2], ty[0], ty[2], g->NBX, b->A[0]);
+	g->k->vtent(wb[1], wb[3], ty[1], ty[3], g->NBX, b->A[1]);
+	/* P[2p + s]: the pair (block column parity s relative to i0, block row parity p) */
+	const long nm = (w + 1) / 2, c = g->XB / 2 - 2;
+	for (int p = 0; p < 2; p++)
+		g->k->htent(b->A[p], nm, c, b->P[2 * p], b->P[2 * p + 1]);
+	/* the colour of pair (s, p) at block-column phase q: kc[(by0 + 2p) & 3][2(q ^ s)] */
+	for (unsigned k = 0; k < 3; k++) {
+		const float *sel[2][2] = {{NULL, NULL}, {NULL, NULL}};
+		for (int q = 0; q < 2; q++) {
+			int n = 0;
+			for (int p = 0; p < 2; p++)
+				for (int s = 0; s < 2; s++)
+					if (g->kc[(by0 + 2 * p) & 3][2 * (q ^ s)] == k && n < 2)
+						sel[q][n++] = b->P[2 * p + s];
+		}
+		if (k == 1)
+			g->k->wsel2(sel[0][0], sel[0][1], sel[1][0], sel[1][1], w, 1.0f / 128,
+			            b->wr[k]);
+		else
+			g->k->wsel1(sel[0][0], sel[1][0], w, 1.0f / 64, b->wr[k]);
+	}
 }
 
-/* output rows [y0, y1): W_k per pixel and the blend, in place. The tent T = T_x·T_y on the
- * block centres is separable: a row's four block rows t (by = by0 + 2t) weigh T_y(t), the
- * vertical sums A_p[i] = Σ_{t ≡ p (mod 2)} T_y(t)·w(i, j_t) of the two block-row parities p, then
- * per pixel the four block columns s with T_x(s); the four parity pairs (s mod 2, p) are the
- * colour blocks' Bayer pattern (red, blue and two greens), and every pair's T sums to
- * (T_x(s) + T_x(s + 2))·(T_y(p) + T_y(p + 2)) = 8·8 (the tents {1, 5, 7, 3} or {3, 7, 5, 1}), so
- * W_k = Σ/64 (green: Σ/128). The same weights as the reference's sum over the sixteen blocks,
- * in another order. */
-static void gf_blend_rows(void *ctx, uint32_t y0, uint32_t y1)
+/* output rows [y0, y1): I_b, W_k and the blend, in place */
+static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 {
 	guard_fast *g = ctx;
-	const uint32_t w = g->w;
-	float *buf = pc_dm_alloc(sizeof(float) * (2 * (size_t)g->NBX + 4 * (size_t)w));
-	if (!buf) {
+	gf_band b;
+	if (gf_band_init(&b, g)) {
 		atomic_store(&g->err, 1);
 		return;
 	}
-	float *A[2] = {buf, buf + g->NBX}, *wr[3], *fr = buf + 2 * (size_t)g->NBX + 3 * (size_t)w;
-	for (int k = 0; k < 3; k++)
-		wr[k] = buf + 2 * (size_t)g->NBX + (size_t)k * w;
+	const uint32_t w = g->w;
+	const size_t wp = gf_up((size_t)w + 8);
+	/* the first block row the band's first output row reads, and what that needs */
+	const int j0 = (((int)y0 - 3) & ~1) / 2 + g->XB / 2;
+	b.w_next = j0;
+	b.h_next = j0 - 2 * g->r > 0 ? j0 - 2 * g->r : 0;
+	b.r_next = 2 * b.h_next + 8 - 4;
+	b.e_next = b.r_next - 2;
+	pc_fplane ibp[12];
+	for (unsigned q = 0; q < 12; q++)
+		ibp[q] = (pc_fplane){b.ib + q * wp, wp, 1};
 	for (uint32_t yu = y0; yu < y1; yu++) {
-		const int y = (int)yu, by0 = (y - 3) & ~1;
+		const int y = (int)yu;
 		if (g->force >= 0) {
 			for (int k = 0; k < 3; k++)
 				for (uint32_t x = 0; x < w; x++)
-					wr[k][x] = g->force;
+					b.wr[k][x] = g->force;
 		} else {
-			float ty[4];
-			const float *wb[4];
-			for (int t = 0; t < 4; t++) {
-				ty[t] = (float)(8 - abs(2 * (by0 + 2 * t - y) + 1));
-				wb[t] =
-				    g->wb + (size_t)((by0 + 2 * t + g->XB) / 2) * (size_t)g->NBX;
-			}
-			for (int i = 0; i < g->NBX; i++) {
-				A[0][i] = ty[0] * wb[0][i] + ty[2] * wb[2][i];
-				A[1][i] = ty[1] * wb[1][i] + ty[3] * wb[3][i];
-			}
-			/* per column phase x mod 4: the colour of each pair (s mod 2, p), and 1/64
-			 * or 1/128 */
-			unsigned kp[4][2][2];
-			float sc[3];
-			for (int u = 0; u < 4; u++) {
-				const int bx0 = (u - 3) & ~1;
-				for (int s2 = 0; s2 < 2; s2++)
-					for (int p = 0; p < 2; p++)
-						kp[u][s2][p] =
-						    gf_colour(g, bx0 + 2 * s2, by0 + 2 * p);
-			}
-			for (int k = 0; k < 3; k++)
-				sc[k] = k == 1 ? 1.0f / 128 : 1.0f / 64;
-			/* T_x of the four block columns from (x − 3) & ~1: x even, x odd */
-			static const float txp[2][4] = {{1, 5, 7, 3}, {3, 7, 5, 1}};
-			for (uint32_t x = 0; x < w; x++) {
-				const int bx0 = ((int)x - 3) & ~1, i0 = (bx0 + g->XB) / 2,
-				          u = (int)(x & 3);
-				const float *tx = txp[x & 1];
-				float num[3] = {0, 0, 0};
-				for (int p = 0; p < 2; p++) {
-					num[kp[u][0][p]] += tx[0] * A[p][i0] + tx[2] * A[p][i0 + 2];
-					num[kp[u][1][p]] +=
-					    tx[1] * A[p][i0 + 1] + tx[3] * A[p][i0 + 3];
-				}
-				for (int k = 0; k < 3; k++)
-					wr[k][x] = num[k] * sc[k];
-			}
+			gf_tent_row(g, &b, y);
 		}
+		pc_dm_bayer_first_band_rows(b.bf, yu, yu + 1, ibp);
 		for (unsigned k = 0; k < 3; k++) {
 			float *d[4];
 			const float *vbr[4];
@@ -312,18 +406,18 @@ static void gf_blend_rows(void *ctx, uint32_t y0, uint32_t y1)
 				const pc_fplane *o = &g->out[4 * k + c];
 				d[c] = o->data + (size_t)y * o->row_stride;
 				ps[c] = o->pixel_stride;
-				vbr[c] = g->ib + (size_t)(4 * k + c) * g->np + (size_t)y * w;
+				vbr[c] = b.ib + (size_t)(4 * k + c) * wp;
 			}
-			const float *wk = wr[k];
+			const float *wk = b.wr[k];
 			if (ps[0] == 1 && ps[1] == 1 && ps[2] == 1 && ps[3] == 1) {
 				if (g->mode) {
-					gf_fac1(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
-					        vbr[3], wk, g->delta, fr, w);
+					g->k->fac1(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
+					           vbr[3], wk, g->delta, b.fr, w);
 					for (unsigned c = 0; c < 4; c++)
-						gf_mix1(d[c], fr, g->delta, w);
+						g->k->mix1(d[c], b.fr, g->delta, w);
 				} else {
-					for (unsigned c = 0; c < 4; c++)
-						gf_mix0(d[c], vbr[c], wk, w);
+					g->k->mix0(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
+					           vbr[3], wk, w);
 				}
 				continue;
 			}
@@ -339,10 +433,11 @@ static void gf_blend_rows(void *ctx, uint32_t y0, uint32_t y1)
 					            s_b =
 					                (((vb[0] + vb[1]) + vb[2]) + vb[3]) * 0.25f,
 					            f = (1 - wk[x]) * (s_b - s_p) /
-					                (GF_MAX0(s_p) + g->delta);
+					                ((s_p > 0 ? s_p : 0.0f) + g->delta);
 					for (unsigned c = 0; c < 4; c++)
 						d[c][x * ps[c]] =
-						    vp[c] + f * (GF_MAX0(vp[c]) + g->delta);
+						    vp[c] +
+						    f * ((vp[c] > 0 ? vp[c] : 0.0f) + g->delta);
 				} else {
 					for (unsigned c = 0; c < 4; c++)
 						d[c][x * ps[c]] =
@@ -351,7 +446,7 @@ static void gf_blend_rows(void *ctx, uint32_t y0, uint32_t y1)
 			}
 		}
 	}
-	pc_dm_free(buf);
+	gf_band_fini(&b);
 }
 
 /* The fast path with the definition's parameters as arguments (mode: 0 every channel
@@ -361,10 +456,13 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
                   double force, double gain, const pc_fplane *out)
 {
 	const uint32_t w = in->width, h = in->height;
-	const size_t n = (size_t)w * h;
 	guard_fast g;
 	memset(&g, 0, sizeof g);
 	atomic_init(&g.err, 0);
+	g.in = in;
+	g.m = m;
+	g.level = level;
+	g.k = level >= PC_CPU_AVX512 ? &gk_avx512 : level >= PC_CPU_AVX2 ? &gk_avx2 : &gk_base;
 	g.w = w;
 	g.h = h;
 	g.XB = 4 + 4 * r;
@@ -372,73 +470,53 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	g.W = (int)w + 2 * g.M;
 	g.NBX = ((int)w + 2 * g.XB) / 2;
 	g.NBY = ((int)h + 2 * g.XB) / 2;
+	g.RH = 1;
+	while (g.RH < 4 * r + 1)
+		g.RH *= 2;
 	for (unsigned v = 0; v < 4; v++)
 		for (unsigned u = 0; u < 4; u++)
 			g.kc[v][u] = (unsigned)(pc_mosaic_color(m, u, v) - PC_CFA_R);
+	/* W_k's tents take the blocks' colours as a Bayer pattern (gf_tent_row): at each block
+	 * phase one red, one blue and two green blocks among the four parity pairs */
+	for (unsigned v = 0; v < 4; v += 2)
+		for (unsigned u = 0; u < 4; u += 2) {
+			unsigned n[3] = {0, 0, 0};
+			for (unsigned p = 0; p < 4; p += 2)
+				for (unsigned s = 0; s < 4; s += 2)
+					n[g.kc[(v + p) & 3][(u + s) & 3]]++;
+			if (n[0] != 1 || n[1] != 2 || n[2] != 1)
+				return pc_error(PC_ENOTSUP, "pan-guard fast path: the colour "
+				                            "blocks are not a Bayer pattern");
+		}
 	g.delta = (float)(PC_DM_PAN_ADAPT_DFS * fs);
 	g.fl = (float)((floor * fs) * (floor * fs));
 	g.r = r;
 	g.mode = mode;
-	g.gamma = gamma;
+	g.gamma = (float)gamma;
 	g.gi = gamma >= 1 && gamma <= 64 && gamma == (double)(int)gamma ? (int)gamma : 0;
 	g.force = (float)force;
 	g.out = out;
-	const size_t ne = (size_t)g.W * (size_t)((int)h + 2 * g.M),
-	             nb = (size_t)g.NBX * (size_t)g.NBY;
-	float *img = pc_dm_alloc(sizeof(float) * (n + 2));
-	/* I_b's planes 64 floats more than a plane apart: planes a multiple of 4 KiB apart would
-	 * share the L1's sets, column for column */
-	g.np = n + 64;
-	float *ib = pc_dm_alloc(sizeof(float) * g.np * 12);
-	float *eb = pc_dm_alloc(sizeof(float) * (3 * ne + 7 * nb));
-	float *row = pc_dm_alloc(sizeof(float) * ((size_t)w + 2));
-	int rc = 0;
-	if (!img || !ib || !eb || !row) {
-		rc = pc_error(PC_ENOMEM, "pan-guard: images of %ux%u", w, h);
-		goto done;
-	}
-	for (uint32_t y = 0; y < h; y++) {
-		pc_dm_row_to_float(in, y, row + 1);
-		memcpy(img + (size_t)y * w, row + 1, sizeof(float) * w);
-	}
+	g.xmap = malloc(sizeof(int32_t) * (size_t)g.W);
+	if (!g.xmap)
+		return pc_error(PC_ENOMEM, "pan-guard: column map of width %u", w);
+	for (int x = 0; x < g.W; x++)
+		g.xmap[x] = pc_mirror4(x - g.M, (int)w);
 	/* 1. the base into the outputs (pan-adapt with the given noise gain, < 0 its own
-	 * estimate), bayer-first into ib */
-	rc = base ? pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, gain, out)
-	          : pc_dm_pan_side_fast(in, m, fs, threads, level, out);
-	pc_fplane pl[12];
-	for (unsigned q = 0; q < 12; q++)
-		pl[q] = (pc_fplane){ib + (size_t)q * g.np, w, 1};
-	if (!rc)
-		rc = pc_dm_bayer_first(in, m, threads, level, pl);
-	if (rc)
-		goto done;
-	g.img = img;
-	g.ib = ib;
-	g.ext = eb;
-	g.pt = eb + ne;
-	g.rho = eb + 2 * ne;
-	g.eb = eb + 3 * ne;
-	g.ep = g.eb + nb;
-	g.wb = g.ep + nb;
-	for (int l = 0; l < 2; l++) {
-		g.hb[l] = g.wb + (size_t)(1 + 2 * l) * nb;
-		g.hp[l] = g.wb + (size_t)(2 + 2 * l) * nb;
+	 * estimate) */
+	int rc = base ? pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, gain, out)
+	              : pc_dm_pan_side_fast(in, m, fs, threads, level, out);
+	/* 2. the guard in bands of at least 64 rows (each band recomputes ≈ 14 + 4r rows of its
+	 * rings above its first row) */
+	if (!rc) {
+		const int nt = threads > 0 ? threads : pc_parallel_max_threads();
+		uint32_t band = h / (uint32_t)(4 * nt);
+		if (band < 64)
+			band = 64;
+		pc_parallel_rows(h, band, threads, gf_band_rows, &g);
+		if (atomic_load(&g.err))
+			rc = pc_error(PC_ENOMEM, "pan-guard: row buffers for width %u", w);
 	}
-	/* 2.–4. */
-	const uint32_t ny = h + 2 * (uint32_t)g.M;
-	pc_parallel_rows(ny, 0, threads, gf_ext_rows, &g);
-	pc_parallel_rows(ny, 0, threads, gf_ppi_rows, &g);
-	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_err_rows, &g);
-	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_hsum_rows, &g);
-	pc_parallel_rows((uint32_t)g.NBY, 0, threads, gf_weight_rows, &g);
-	pc_parallel_rows(h, 0, threads, gf_blend_rows, &g);
-	if (atomic_load(&g.err))
-		rc = pc_error(PC_ENOMEM, "pan-guard: row buffers for width %u", w);
-done:
-	pc_dm_free(img);
-	pc_dm_free(ib);
-	pc_dm_free(eb);
-	pc_dm_free(row);
+	free(g.xmap);
 	return rc;
 }
 

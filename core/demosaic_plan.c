@@ -561,12 +561,13 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "-0.63/+0.37, 1 losing: gratings2); second sealed set "
                           "(scenes/stress/colour-sealed2, 7, its first evaluation) +1.07/+0.96 "
                           "(worst -0.09/+0.53, 1 losing: print) (docs/demosaicking.md, Round 15)",
-                          "float fast path: pan-adapt's and bayer-first's fast paths, then the "
-                          "block check and the blend on whole-frame buffers; 1.92 G instructions "
-                          "per 2448x2048 frame (callgrind, AVX2, one thread), 5.4x pan-adapt's; "
-                          "312-388x mono bilinear's time near idle (whole-frame scratch "
-                          "buffers, ~420 MB a frame): far over the 5x budget, for evaluation "
-                          "only (docs/demosaicking.md, Rounds 15 fast path and 15e)",
+                          "float fast path: pan-adapt's fast path, then per row band "
+                          "bayer-first's rows, the block check and the blend (no whole-frame "
+                          "scratch); 806 M instructions per 2448x2048 frame (callgrind, AVX2, "
+                          "one thread), 30x mono bilinear's, of which pan-adapt and bayer-first "
+                          "620 M; estimated 20-25x mono bilinear's time (was 312-388x near "
+                          "idle): far over the 5x budget (docs/demosaicking.md, Rounds 15e and "
+                          "16b)",
                           "ours (docs/demosaicking.md, Round 15): pan-adapt and bayer-first "
                           "combined by their local leave-one-out errors (Bates & Granger, "
                           "Operational Research Quarterly 20(4) 1969, sharpened); its base "
