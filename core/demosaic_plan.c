@@ -532,10 +532,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "the double reference: 1.24x pan-side's instructions (callgrind, "
                           "AVX2, one thread: 349 M per frame, 5.7 M of them the noise gain, "
                           "now on the caller's threads), 13x the mono bilinear's 26.6 M; "
-                          "near idle before Round 16a 6.6-7.0x the mono bilinear's median "
-                          "wall time (Round 15e), over the 5x budget; Round 16a's estimate "
-                          "from counts 6.1-6.5x, to be measured (docs/demosaicking.md, "
-                          "Rounds 14 fast path, 15e, 16a)",
+                          "near idle 6.2-6.8x the mono bilinear's median wall time (Round "
+                          "16d, four runs; 6.6-7.0x before Round 16a), over the 5x budget "
+                          "(docs/demosaicking.md, Rounds 14 fast path, 16a, 16d)",
                           "ours: pan-side (docs/demosaicking.md, Round 13) with a relative "
                           "range scale (Durand & Dorsey, SIGGRAPH 2002) and ratio-nr's "
                           "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
@@ -565,9 +564,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "bayer-first's rows, the block check and the blend (no whole-frame "
                           "scratch); 806 M instructions per 2448x2048 frame (callgrind, AVX2, "
                           "one thread), 30x mono bilinear's, of which pan-adapt and bayer-first "
-                          "620 M; estimated 20-25x mono bilinear's time (was 312-388x near "
-                          "idle): far over the 5x budget (docs/demosaicking.md, Rounds 15e and "
-                          "16b)",
+                          "620 M; near idle 20.6-22.1x mono bilinear's median wall time, "
+                          "41-48 ms a frame (Round 16d, four runs; 312-388x before Round 16b): "
+                          "far over the 5x budget (docs/demosaicking.md, Rounds 16b and 16d)",
                           "ours (docs/demosaicking.md, Round 15): pan-adapt and bayer-first "
                           "combined by their local leave-one-out errors (Bates & Granger, "
                           "Operational Research Quarterly 20(4) 1969, sharpened); its base "
