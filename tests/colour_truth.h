@@ -1,6 +1,6 @@
-/* Shared by the colour method tests (test_pan_guard, test_pan_hue): synthetic colour-polarization
- * scenes with their truth per channel, and twelve planes over one buffer. Include after
- * polarcam/demosaic.h and polarcam/mosaic.h. */
+/* Shared by the colour method tests (test_pan_guard, test_pan_guard_fast, test_pan_guard_bands,
+ * test_pan_hue): synthetic colour-polarization scenes with their truth per channel, and twelve
+ * planes over one buffer. Include after polarcam/demosaic.h and polarcam/mosaic.h. */
 #ifndef PC_TESTS_COLOUR_TRUTH_H
 #define PC_TESTS_COLOUR_TRUTH_H
 
@@ -11,7 +11,7 @@
 #include "polarcam/demosaic.h"
 #include "polarcam/mosaic.h"
 
-static float *alloc_planes(uint32_t w, uint32_t h, pc_fplane *p)
+static inline float *alloc_planes(uint32_t w, uint32_t h, pc_fplane *p)
 {
 	float *buf = malloc(sizeof(float) * (size_t)w * h * 12);
 	pc_fplanes_separate(buf, w, h, 12, p);
@@ -21,8 +21,8 @@ static float *alloc_planes(uint32_t w, uint32_t h, pc_fplane *p)
 /* a scene: truth[q][y·w + x] for the twelve channels, the raw its own channel's sample */
 typedef double (*truth_fn)(unsigned k, unsigned c, double x, double y);
 
-static void make_raw(truth_fn f, const pc_mosaic *m, uint32_t w, uint32_t h, double *img,
-                     double *truth)
+static inline void make_raw(truth_fn f, const pc_mosaic *m, uint32_t w, uint32_t h, double *img,
+                            double *truth)
 {
 	for (uint32_t y = 0; y < h; y++)
 		for (uint32_t x = 0; x < w; x++) {
@@ -36,12 +36,12 @@ static void make_raw(truth_fn f, const pc_mosaic *m, uint32_t w, uint32_t h, dou
 }
 
 /* polarization: DoLP 0.4, AoLP 0.5 rad, analyser c at c·45° */
-static double pol(unsigned c)
+static inline double pol(unsigned c)
 {
 	return 1 + 0.4 * cos(2 * (c * M_PI / 4 - 0.5));
 }
 
-static double f_uniform(unsigned k, unsigned c, double x, double y)
+static inline double f_uniform(unsigned k, unsigned c, double x, double y)
 {
 	(void)x;
 	(void)y;
@@ -49,7 +49,7 @@ static double f_uniform(unsigned k, unsigned c, double x, double y)
 	return col[k] * pol(c);
 }
 
-static double f_grey(unsigned k, unsigned c, double x, double y)
+static inline double f_grey(unsigned k, unsigned c, double x, double y)
 {
 	static const double col[3] = {0.8, 1.0, 0.7};
 	double t = 1 + 0.5 * sin(2 * M_PI * x / 13.0) * cos(2 * M_PI * y / 17.0) +

@@ -26,19 +26,9 @@
 #define PC_TEST_SEED 0x5b2e91c3d7ull
 #include "xorshift.h"
 
+#include "colour_truth.h"
+
 #define FS 4095.0
-
-static float *alloc_planes(uint32_t w, uint32_t h, pc_fplane *p)
-{
-	float *buf = malloc(sizeof(float) * (size_t)w * h * 12);
-	pc_fplanes_separate(buf, w, h, 12, p);
-	return buf;
-}
-
-static double pol(unsigned c)
-{
-	return 1 + 0.4 * cos(2 * (c * M_PI / 4 - 0.5));
-}
 
 /* channel (k, c) at (x, y): kind 0 a texture, 1 red/lime stripes of period 6 px (the colour
  * lattices alias, P0 sees them: the guard moves away from the base) */

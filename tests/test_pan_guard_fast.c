@@ -30,19 +30,9 @@
 #define PC_TEST_SEED 0x9a4df0a517ull
 #include "xorshift.h"
 
+#include "colour_truth.h"
+
 #define FS 4095.0
-
-static float *alloc_planes(uint32_t w, uint32_t h, pc_fplane *p)
-{
-	float *buf = malloc(sizeof(float) * (size_t)w * h * 12);
-	pc_fplanes_separate(buf, w, h, 12, p);
-	return buf;
-}
-
-static double pol(unsigned c)
-{
-	return 1 + 0.4 * cos(2 * (c * M_PI / 4 - 0.5));
-}
 
 /* channel (k, c) at (x, y) of input kind 0 smooth, 1 texture, 2 hue grating, 3 noisy, 4 dim */
 static double scene(int kind, unsigned k, unsigned c, double x, double y)
@@ -66,7 +56,8 @@ static double scene(int kind, unsigned k, unsigned c, double x, double y)
 	}
 }
 
-static void make_raw(int kind, const pc_mosaic *m, uint32_t w, uint32_t h, double *img, float *imgf)
+static void make_raw_kind(int kind, const pc_mosaic *m, uint32_t w, uint32_t h, double *img,
+                          float *imgf)
 {
 	for (uint32_t y = 0; y < h; y++)
 		for (uint32_t x = 0; x < w; x++) {
@@ -107,7 +98,7 @@ static void test_against_reference(pc_cpu_level level)
 		for (unsigned ph = 0; ph < 16; ph += 5) {
 			const pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 			for (int kind = 0; kind < 5; kind++) {
-				make_raw(kind, &m, W, H, img, imgf);
+				make_raw_kind(kind, &m, W, H, img, imgf);
 				const pc_dm_input in = pc_dm_input_f32(imgf, W, H);
 				for (int s = 0; s < 6; s++) {
 					pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
@@ -182,7 +173,7 @@ static void test_forced_base(pc_cpu_level level)
 	float *imgf = malloc(sizeof(float) * W * H);
 	pc_fplane f[12], b[12];
 	float *fb = alloc_planes(W, H, f), *bb = alloc_planes(W, H, b);
-	make_raw(1, &m, W, H, img, imgf);
+	make_raw_kind(1, &m, W, H, img, imgf);
 	const pc_dm_input in = pc_dm_input_f32(imgf, W, H);
 	for (int base = 0; base < 2; base++) {
 		pc_dm_pan_guard_params p = pc_dm_pan_guard_defaults();
@@ -246,7 +237,7 @@ static void test_given_gain(pc_cpu_level level)
 	pc_fplane r[12], f[12], f0[12];
 	float *rb = alloc_planes(W, H, r), *fb = alloc_planes(W, H, f),
 	      *f0b = alloc_planes(W, H, f0);
-	make_raw(3, &m, W, H, img, imgf);
+	make_raw_kind(3, &m, W, H, img, imgf);
 	const pc_dm_input in = pc_dm_input_f32(imgf, W, H);
 	static const double gs[3] = {0.5, 4.0, 40.0};
 	double worst = 0, moved = 0;
