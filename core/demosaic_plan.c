@@ -202,7 +202,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "polarization than bayer-first; over bayer-first, synthetic colour "
           "track mean +0.65/+0.76; held-out colour scenes "
           "(scenes/stress/colour-holdout, 9) +0.44/+0.71 (worst +0.22/+0.28): "
-          "the one colour method with no held-out scene losing",
+          "the one colour method with no held-out scene losing; hue-pair dev set "
+          "(scenes/stress/colour-hue, 5, Round 16) +0.26/+0.63 (worst +0.23/+0.40)",
           "bayer-first's colour step plus three EARI runs; about 50x bilinear's time",
           "colour-first as Morimatsu et al. 2020, with the polarization step of "
           "their EARI",
@@ -495,7 +496,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "scenes (scenes/stress/colour-holdout, 9): +0.07/+1.50 (worst "
           "-1.72/-0.11), 4 losing (docs/demosaicking.md, Round 13b); sealed "
           "set (scenes/stress/colour-sealed, 8, its first evaluation) "
-          "+2.34/+1.61 (worst +1.40/+0.23), none losing (Round 14)",
+          "+2.34/+1.61 (worst +1.40/+0.23), none losing (Round 14); hue-pair dev "
+          "set (scenes/stress/colour-hue, 5, Round 16) -0.91/+0.50 (worst "
+          "-1.27/+0.33, all 5 losing)",
           "pan-guided's pass with the factors: per even row one more vertical "
           "sum, the chrominance, the blocks' hue and two factor rows; 1.22x "
           "pan-guided's instructions (callgrind, AVX2; 292 M vs 240 M per frame after "
@@ -523,6 +526,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "+0.92/+1.76); colour stress suite (5 scenes) +1.39/+1.23 (worst "
                           "+0.67/+0.11 gratings); noisy copies of the stress scenes (4) "
                           "+0.96/+0.45 (worst +0.28/+0.20); its two constants chosen on these; "
+                          "hue-pair dev set (scenes/stress/colour-hue, 5, Round 16) -0.78/+0.54 "
+                          "(worst -1.07/+0.40, all 5 losing); "
                           "held-out colour scenes (seen before, 9) +0.25/+1.53 (worst "
                           "-1.04/-0.07, 3 losing); sealed set (scenes/stress/colour-sealed, 8, "
                           "its first evaluation) +2.31/+1.36 (worst +1.04/+0.41 textile), none "
@@ -556,6 +561,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "+2.41/+0.46), hue patches (9) +1.18/+1.79 (worst +1.03/+1.53), colour "
                           "stress suite (5) +1.48/+1.38 (worst +0.60/+0.26), noisy copies (4) "
                           "+0.97/+0.44 (worst +0.34/+0.27); its constants chosen on these; "
+                          "hue-pair dev set (scenes/stress/colour-hue, 5, Round 16) -0.34/+0.52 "
+                          "(worst -0.61/+0.35, all 5 losing); "
                           "held-out colour scenes (seen before, 9) +0.71/+1.37 (worst "
                           "-0.63/+0.37, 1 losing: gratings2); second sealed set "
                           "(scenes/stress/colour-sealed2, 7, its first evaluation) +1.07/+0.96 "
