@@ -102,33 +102,98 @@ static double gain_of(double *t, size_t n)
 	return select_median(t, n, n / 2) / (1.25 * PC_DM_NG_CHI1);
 }
 
-int pc_dm_noise_gain(pc_dm_sample_fn get, const void *ctx, uint32_t w, uint32_t h,
-                     const pc_mosaic *m, double fs, double *g)
+/* t(p) of one grid sample from its value c and its four same-channel neighbours at ±P (west,
+ * east, north, south, summed in that order): the one expression every grid walker uses */
+static inline double ng_value(double c, double we, double ea, double no, double so, double floor)
 {
-	const uint32_t p = m->period;
-	uint32_t s = 1;
-	size_t nx = 0, ny = 0;
-	const size_t n = grid(w, h, p, &s, &nx, &ny);
+	double nb = (we + ea + no + so) / 4;
+	double r = c - nb;
+	return r * r / (fmax(nb, 0) + floor);
+}
+
+/* The grid's rows [r0, r1) into t (row r at t + r·nx): through get (pc_dm_noise_gain), or, when
+ * get is NULL, read straight from in's rows as (double)pc_dm_sample − black_d, the value get_in
+ * would return (pc_dm_noise_gain_in) */
+typedef struct ng_job {
+	pc_dm_sample_fn get;
+	const void *ctx;
+	const pc_dm_input *in;
+	uint32_t w, p, s;
+	size_t nx;
+	double floor;
+	double *t;
+} ng_job;
+
+#define NG_ROWS(T)                                                                                 \
+	do {                                                                                       \
+		const T *rn = (const T *)(const void *)(in->data + (size_t)(y - p) * in->stride),  \
+		        *rc = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
+		        *rs = (const T *)(const void *)(in->data + (size_t)(y + p) * in->stride);  \
+		for (uint32_t x = p; x < w - p; x += s)                                            \
+			*t++ = ng_value((double)(float)rc[x] - bl, (double)(float)rc[x - p] - bl,  \
+			                (double)(float)rc[x + p] - bl, (double)(float)rn[x] - bl,  \
+			                (double)(float)rs[x] - bl, floor);                         \
+	} while (0)
+
+static void ng_rows(void *ctx, uint32_t r0, uint32_t r1)
+{
+	const ng_job *j = ctx;
+	const pc_dm_input *in = j->in;
+	const uint32_t p = j->p, s = j->s, w = j->w;
+	const double floor = j->floor;
+	for (uint32_t gy = r0; gy < r1; gy++) {
+		const uint32_t y = p + gy * s;
+		double *t = j->t + (size_t)gy * j->nx;
+		if (j->get) {
+			const pc_dm_sample_fn get = j->get;
+			const void *c = j->ctx;
+			for (uint32_t x = p; x < w - p; x += s)
+				*t++ = ng_value(get(c, x, y), get(c, x - p, y), get(c, x + p, y),
+				                get(c, x, y - p), get(c, x, y + p), floor);
+			continue;
+		}
+		const double bl = in->black_d;
+		switch (in->type) {
+		case PC_DMT_U8:
+			NG_ROWS(uint8_t);
+			break;
+		case PC_DMT_U16:
+			NG_ROWS(uint16_t);
+			break;
+		default:
+			NG_ROWS(float);
+		}
+	}
+}
+#undef NG_ROWS
+
+/* g of the frame of j (its w and sampler set) on threads threads: the grid, its values, their
+ * median */
+static int ng_gain(ng_job *j, uint32_t h, const pc_mosaic *m, double fs, int threads, double *g)
+{
+	j->p = m->period;
+	j->s = 1;
+	size_t ny = 0;
+	const size_t n = grid(j->w, h, j->p, &j->s, &j->nx, &ny);
 	if (!n) {
 		*g = 0;
 		return 0;
 	}
-	double *t = malloc(sizeof(double) * n);
-	if (!t)
+	j->t = malloc(sizeof(double) * n);
+	if (!j->t)
 		return pc_error(PC_ENOMEM, "noise gain: %zu values", n);
-	const double floor = PC_DM_NG_FLOOR * fs;
-	size_t k = 0;
-	for (uint32_t y = p; y < h - p; y += s)
-		for (uint32_t x = p; x < w - p; x += s) {
-			double nb = (get(ctx, x - p, y) + get(ctx, x + p, y) + get(ctx, x, y - p) +
-			             get(ctx, x, y + p)) /
-			            4;
-			double r = get(ctx, x, y) - nb;
-			t[k++] = r * r / (fmax(nb, 0) + floor);
-		}
-	*g = gain_of(t, n);
-	free(t);
+	j->floor = PC_DM_NG_FLOOR * fs;
+	pc_parallel_rows((uint32_t)ny, 0, threads, ng_rows, j);
+	*g = gain_of(j->t, n);
+	free(j->t);
 	return 0;
+}
+
+int pc_dm_noise_gain(pc_dm_sample_fn get, const void *ctx, uint32_t w, uint32_t h,
+                     const pc_mosaic *m, double fs, double *g)
+{
+	ng_job j = {.get = get, .ctx = ctx, .w = w};
+	return ng_gain(&j, h, m, fs, 1, g);
 }
 
 typedef struct dimg {
@@ -149,77 +214,14 @@ int pc_dm_noise_gain_d(const double *img, uint32_t w, uint32_t h, const pc_mosai
 	return pc_dm_noise_gain(get_d, &d, w, h, m, fs, g);
 }
 
-/* pc_dm_noise_gain_in's grid rows [r0, r1) into t (row r at t + r·nx): get_in's values,
- * (double)pc_dm_sample − black_d, read straight from the rows, the same expression in the same
- * order as pc_dm_noise_gain */
-typedef struct ng_job {
-	const pc_dm_input *in;
-	uint32_t p, s;
-	size_t nx;
-	double floor;
-	double *t;
-} ng_job;
-
-#define NG_ROWS(T)                                                                                 \
-	do {                                                                                       \
-		const T *rn = (const T *)(const void *)(in->data + (size_t)(y - p) * in->stride),  \
-		        *rc = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
-		        *rs = (const T *)(const void *)(in->data + (size_t)(y + p) * in->stride);  \
-		for (uint32_t x = p; x < w - p; x += s) {                                          \
-			double nb =                                                                \
-			    (((double)(float)rc[x - p] - bl) + ((double)(float)rc[x + p] - bl) +   \
-			     ((double)(float)rn[x] - bl) + ((double)(float)rs[x] - bl)) /          \
-			    4;                                                                     \
-			double r = ((double)(float)rc[x] - bl) - nb;                               \
-			*t++ = r * r / (fmax(nb, 0) + floor);                                      \
-		}                                                                                  \
-	} while (0)
-
-static void ng_rows(void *ctx, uint32_t r0, uint32_t r1)
-{
-	const ng_job *j = ctx;
-	const pc_dm_input *in = j->in;
-	const uint32_t p = j->p, s = j->s, w = in->width;
-	const double bl = in->black_d, floor = j->floor;
-	for (uint32_t gy = r0; gy < r1; gy++) {
-		const uint32_t y = p + gy * s;
-		double *t = j->t + (size_t)gy * j->nx;
-		switch (in->type) {
-		case PC_DMT_U8:
-			NG_ROWS(uint8_t);
-			break;
-		case PC_DMT_U16:
-			NG_ROWS(uint16_t);
-			break;
-		default:
-			NG_ROWS(float);
-		}
-	}
-}
-#undef NG_ROWS
-
 int pc_dm_noise_gain_in_mt(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                            double *g)
 {
 	if (in->dark || in->gain_inv)
 		return pc_error(PC_EINVAL, "noise gain: an input with dark or gain maps (correct a "
 		                           "copy first)");
-	const uint32_t p = m->period;
-	uint32_t s = 1;
-	size_t nx = 0, ny = 0;
-	const size_t n = grid(in->width, in->height, p, &s, &nx, &ny);
-	if (!n) {
-		*g = 0;
-		return 0;
-	}
-	double *t = malloc(sizeof(double) * n);
-	if (!t)
-		return pc_error(PC_ENOMEM, "noise gain: %zu values", n);
-	ng_job j = {in, p, s, nx, PC_DM_NG_FLOOR * fs, t};
-	pc_parallel_rows((uint32_t)ny, 0, threads, ng_rows, &j);
-	*g = gain_of(t, n);
-	free(t);
-	return 0;
+	ng_job j = {.in = in, .w = in->width};
+	return ng_gain(&j, in->height, m, fs, threads, g);
 }
 
 int pc_dm_noise_gain_in(const pc_dm_input *in, const pc_mosaic *m, double fs, double *g)

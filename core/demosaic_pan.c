@@ -36,6 +36,7 @@
  * ±2: an output pixel depends on the raw within ±5 (mirrored). */
 #include "demosaic_pan.h"
 
+#include <assert.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -813,6 +814,10 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
  * vector, and interleaved outputs, go through a row buffer. */
 #define PAN_PADR  32 /* raw and sum rows: columns [-32, w + 32) */
 #define PAN_AROWS 25 /* pan-adapt's rows beyond pan-side's (pan_band) */
+#ifndef PAN_STRIPW
+#define PAN_STRIPW 1024 /* pan_band's strips: at most about this many columns */
+#endif
+_Static_assert(PAN_STRIPW >= 192, "pan_band: strips of at least 64 columns");
 
 typedef struct pan_job {
 	const pc_dm_input *in;
@@ -838,10 +843,6 @@ typedef struct pan_tables {
 	float wt[4][7][16];
 	float ha[5][16];
 	float b[4];
-	/* pan_band: the sub-image mirror's source columns of a row's pads (pan_pad_sub), for
-	 * width pad_w (0: not filled, pan_pad_row computes them) */
-	int pad_w;
-	int pad_lo[PAN_PADR], pad_hi[16 + PAN_PADR];
 } pan_tables;
 
 static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
@@ -1014,6 +1015,12 @@ static pan_akern pan_akernels(pc_cpu_level level)
 typedef struct pan_rows {
 	float *slot[16]; /* each readable from -1 to w (pc_dm_row_to_float's mirror) */
 	int32_t tag[16];
+	/* pan_band's strips (pan_row_strip): slot column 0 is the frame's column xs, columns
+	 * [gl, gh) of the frame are converted, and slot[pad_dst[i]] = slot[pad_src[i]] fill the
+	 * columns outside the frame by the sub-image mirror */
+	uint32_t xs, gl, gh;
+	int npad;
+	int pad_dst[3 * PAN_PADR], pad_src[3 * PAN_PADR];
 } pan_rows;
 
 static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
@@ -1021,6 +1028,33 @@ static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
 	int k = y & 15;
 	if (c->tag[k] != y) {
 		pc_dm_row_to_float(in, (uint32_t)y, c->slot[k]);
+		c->tag[k] = y;
+	}
+	return c->slot[k];
+}
+
+/* pan_band's row y in its strip (rc's xs, gl, gh and pads): the frame's columns [gl, gh)
+ * converted as pc_dm_row_to_float converts them (the same operation on each sample, so the same
+ * values as the whole row's), the columns outside the frame mirrored (pc_mirror4) from those;
+ * readable on [-PAN_PADR, n + PAN_PADR), n the strip's columns computed. The conversion's own
+ * mirror writes one column either side of [gl, gh), which may be another slot's: kept. */
+static const float *pan_row_strip(pan_rows *c, const pc_dm_input *in, int y)
+{
+	int k = y & 15;
+	if (c->tag[k] != y) {
+		float *d = c->slot[k];
+		pc_dm_input sub = *in;
+		sub.data += (size_t)c->gl * (in->type == PC_DMT_U8    ? 1
+		                             : in->type == PC_DMT_U16 ? 2
+		                                                      : 4);
+		sub.width = c->gh - c->gl;
+		float *dl = d + ((long)c->gl - (long)c->xs), *lo = dl - 1, *hi = dl + sub.width;
+		const float keep_lo = *lo, keep_hi = *hi;
+		pc_dm_row_to_float(&sub, (uint32_t)y, dl);
+		*lo = keep_lo;
+		*hi = keep_hi;
+		for (int i = 0; i < c->npad; i++)
+			d[c->pad_dst[i]] = d[c->pad_src[i]];
 		c->tag[k] = y;
 	}
 	return c->slot[k];
@@ -1045,31 +1079,6 @@ static void pan_pad_row(float *d, int iw, long n, pan_pad how)
 		d[x] = d[pan_pad_src(x, iw, how)];
 	for (int x = iw; x < (int)n + PAN_PADR; x++)
 		d[x] = d[pan_pad_src(x, iw, how)];
-}
-
-/* The pads' source columns of pan_pad_row(..., PAN_PAD_SUB) for rows of width iw computed on n
- * columns, into t (pan_pad_sub reads them) */
-static void pan_pad_tab_init(pan_tables *t, int iw, long n)
-{
-	for (int x = -PAN_PADR; x < 0; x++)
-		t->pad_lo[x + PAN_PADR] = pan_pad_src(x, iw, PAN_PAD_SUB);
-	for (int x = iw; x < (int)n + PAN_PADR; x++)
-		t->pad_hi[x - iw] = pan_pad_src(x, iw, PAN_PAD_SUB);
-	t->pad_w = iw;
-}
-
-/* pan_pad_row(d, iw, n, PAN_PAD_SUB) from t's columns when they are for this width: the same
- * copies in the same order */
-static void pan_pad_sub(float *d, const pan_tables *t, int iw, long n)
-{
-	if (t->pad_w != iw) {
-		pan_pad_row(d, iw, n, PAN_PAD_SUB);
-		return;
-	}
-	for (int x = -PAN_PADR; x < 0; x++)
-		d[x] = d[t->pad_lo[x + PAN_PADR]];
-	for (int x = iw; x < (int)n + PAN_PADR; x++)
-		d[x] = d[t->pad_hi[x - iw]];
 }
 
 /* The vertical sums vs of the PPI filter for the extended source row yy (from the five raw rows
@@ -1101,10 +1110,33 @@ static void pan_src_sums(const pan_job *j, const pan_kern *K, const pan_tables *
 			K->vsumw(rt, wb, 16, vsb + nmain);
 	}
 	memcpy(rawp, r[2], (size_t)iw * sizeof *rawp);
-	pan_pad_sub(vs, t, iw, n);
-	pan_pad_sub(rawp, t, iw, n);
+	pan_pad_row(vs, iw, n, PAN_PAD_SUB);
+	pan_pad_row(rawp, iw, n, PAN_PAD_SUB);
 	if (vsb)
-		pan_pad_sub(vsb, t, iw, n);
+		pan_pad_row(vsb, iw, n, PAN_PAD_SUB);
+}
+
+/* pan_band's pan_src_sums on its strip's padded raw rows (pan_row_strip): vs and vsb on
+ * [-PAN_PADR, n + PAN_PADR) straight from them (the sums are per column, so a mirrored column's
+ * sum is its source column's, as pan_src_sums' padding makes it); returns the raw row yy
+ * (readable there too) */
+static const float *pan_ssums(const pan_job *j, const pan_kern *K, const pan_tables *t,
+                              pan_rows *rc, int yy, float *vs, float *vsb, long n)
+{
+	const int ih = (int)j->h;
+	const float *r[5];
+	for (int k = 0; k < 5; k++)
+		r[k] = pan_row_strip(rc, j->in, pc_mirror4(yy + k - 2, ih)) - PAN_PADR;
+	K->vsum(r, n + 2 * PAN_PADR, vs - PAN_PADR);
+	if (vsb) {
+		/* m times the signs b of the five source rows */
+		static const float mk[5] = {1, 2, 2, 2, 1};
+		float wb[5];
+		for (int k = 0; k < 5; k++)
+			wb[k] = mk[k] * t->b[(yy + k - 2) & 3];
+		K->vsumw(r, wb, n + 2 * PAN_PADR, vsb - PAN_PADR);
+	}
+	return r[2] + PAN_PADR;
 }
 
 /* Each channel's lattice rows around output row y, in the order the kernels sum them: for
@@ -1245,48 +1277,12 @@ static void pan_gorow_shift(pan_gorow_args *a, long dx)
 			*rows[k] += dx;
 }
 
-static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
-                      float *const gr[3][8], const float *const fv[2], const float *raw, uint32_t y,
-                      int planar, long n, long nmain, float *rawp, float *const o[12])
-{
-	pan_gorow_args a;
-	memset(&a, 0, sizeof a);
-	a.fn = fv[0];
-	a.fs = fv[1];
-	const uint32_t w = j->w;
-	pan_gorow_prep(j, t, hr, y, j->guided != 2, &a);
-	for (int k = 0; k < 7; k++) {
-		a.p0row[k] = gr[0][((int)y + k - 3) & 7];
-		a.c1row[k] = gr[1][((int)y + k - 3) & 7];
-		a.c2row[k] = gr[2][((int)y + k - 3) & 7];
-	}
-	const pan_gorow_fn kern = j->guided == 3   ? K->sgorow
-	                          : j->guided == 2 ? K->cgorow
-	                                           : K->gorow;
-	float *d[12];
-	if (planar) {
-		for (int q = 0; q < 12; q++)
-			d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
-		kern(&a, raw, nmain, j->delta, j->e, d, j->nt);
-		if (nmain < n) {
-			memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
-			pan_gorow_shift(&a, nmain);
-			kern(&a, rawp, 16, j->delta, j->e, o, 0);
-			for (int q = 0; q < 12; q++)
-				memcpy(d[q] + nmain, o[q],
-				       (size_t)((long)w - nmain) * sizeof *o[q]);
-		}
-		return;
-	}
-	memcpy(rawp, raw, w * sizeof *rawp);
-	kern(&a, rawp, n, j->delta, j->e, o, 0);
-	for (int q = 0; q < 12; q++) {
-		const pc_fplane *p = &j->out[q];
-		float *dq = p->data + (size_t)y * p->row_stride;
-		for (uint32_t x = 0; x < w; x++)
-			dq[(size_t)x * p->pixel_stride] = o[q][x];
-	}
-}
+/* A column strip of pan_band: frame columns [xs, xs + w), n of them computed (whole vectors),
+ * nmain the whole vectors inside the strip */
+typedef struct pan_strip {
+	uint32_t xs, w;
+	long n, nmain;
+} pan_strip;
 
 /* Output row y, columns [x0, w), of the twelve planes from the row buffers: o[q][i] is column
  * x0 + i (pan_band's and pan_dir_band's last partial vector, and interleaved outputs). */
@@ -1304,6 +1300,45 @@ static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], ui
 	}
 }
 
+static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
+                      float *const gr[3][8], const float *const fv[2], const float *raw, uint32_t y,
+                      const pan_strip *st, int planar, float *rawp, float *const o[12])
+{
+	pan_gorow_args a;
+	memset(&a, 0, sizeof a);
+	a.fn = fv[0];
+	a.fs = fv[1];
+	const uint32_t w = st->w, xs = st->xs;
+	const long n = st->n, nmain = st->nmain;
+	pan_gorow_prep(j, t, hr, y, j->guided != 2, &a);
+	for (int k = 0; k < 7; k++) {
+		a.p0row[k] = gr[0][((int)y + k - 3) & 7];
+		a.c1row[k] = gr[1][((int)y + k - 3) & 7];
+		a.c2row[k] = gr[2][((int)y + k - 3) & 7];
+	}
+	const pan_gorow_fn kern = j->guided == 3   ? K->sgorow
+	                          : j->guided == 2 ? K->cgorow
+	                                           : K->gorow;
+	float *d[12];
+	if (planar) {
+		for (int q = 0; q < 12; q++)
+			d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride + xs;
+		kern(&a, raw, nmain, j->delta, j->e, d, j->nt);
+		if (nmain < n) {
+			memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
+			pan_gorow_shift(&a, nmain);
+			kern(&a, rawp, 16, j->delta, j->e, o, 0);
+			for (int q = 0; q < 12; q++)
+				memcpy(d[q] + nmain, o[q],
+				       (size_t)((long)w - nmain) * sizeof *o[q]);
+		}
+		return;
+	}
+	memcpy(rawp, raw, w * sizeof *rawp);
+	kern(&a, rawp, n, j->delta, j->e, o, 0);
+	pan_put_row(j->out, y, o, xs, xs + w);
+}
+
 /* pan-adapt's output row y: pan_gorow's terms and P0 rows (p0r: a ring of 16, the window
  * statistics reading two rows further down than pan-side), the N and S factors fv, the row's
  * window mean mu and variance var; the kernel pan_agorow, whole vectors into planar outputs, the
@@ -1311,8 +1346,10 @@ static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], ui
 static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_tables *t,
                            float *hr[8][4], float *const p0r[16], const float *const fv[2],
                            const float *mu, const float *var, const float *raw, uint32_t y,
-                           int planar, long n, long nmain, float *rawp, float *const o[12])
+                           const pan_strip *st, int planar, float *rawp, float *const o[12])
 {
+	const uint32_t w = st->w, xs = st->xs;
+	const long n = st->n, nmain = st->nmain;
 	pan_gorow_args a;
 	memset(&a, 0, sizeof a);
 	a.fn = fv[0];
@@ -1326,49 +1363,33 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 	for (int k = 0; k < 7; k++)
 		a.p0row[k] = p0r[((int)y + k - 3) & 15];
 	if (!planar) {
-		memcpy(rawp, raw, j->w * sizeof *rawp);
+		memcpy(rawp, raw, w * sizeof *rawp);
 		A->agorow(&a, rawp, n, j->delta, o, 0);
-		pan_put_row(j->out, y, o, 0, j->w);
+		pan_put_row(j->out, y, o, xs, xs + w);
 		return;
 	}
 	float *d[12];
 	for (int q = 0; q < 12; q++)
-		d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
+		d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride + xs;
 	A->agorow(&a, raw, nmain, j->delta, d, j->nt);
 	if (nmain == n)
 		return;
-	memcpy(rawp, raw + nmain, (size_t)((long)j->w - nmain) * sizeof *rawp);
+	memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
 	pan_gorow_shift(&a, nmain);
 	A->agorow(&a, rawp, 16, j->delta, o, 0);
-	pan_put_row(j->out, y, o, (uint32_t)nmain, j->w);
+	pan_put_row(j->out, y, o, xs + (uint32_t)nmain, xs + w);
 }
 
-static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
+/* pan_band's rows y0..y1 on the strip st, in the scratch buf (nrows rows of pitch floats,
+ * zeroed here) */
+static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, uint32_t y1,
+                           const pan_strip *st, float *buf, size_t pitch, size_t nrows)
 {
-	pan_job *j = ctx;
-	const uint32_t w = j->w;
+	const uint32_t w = st->w, xs = st->xs;
 	const int iw = (int)w;
-	const long n = ((long)w + 15) / 16 * 16; /* columns computed: whole vectors */
-	const long nmain = (long)w / 16 * 16;    /* whole vectors inside the row */
-	const size_t pitch = (size_t)n + 2 * PAN_PADR;
-	pan_tables *t = pc_dm_alloc(sizeof *t);
-	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
-	 * output rows, copies of 5 source rows' last partial vectors, 16 cached raw rows, 8 PPI
-	 * rows (pan-guided), 8 + 8 chrominance rows and a weighted vertical sum (pan-chroma;
-	 * pan-side keeps its hue, chrominance and factor rows in the latter 16); pan-adapt
-	 * PAN_AROWS more */
+	const long n = st->n, nmain = st->nmain;
 	const int adapt = j->guided == 4;
-	const size_t nrows = 52 + 16 + 8 + 17 + (adapt ? PAN_AROWS : 0);
-	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
-	if (!t || !buf) {
-		pc_dm_free(t);
-		pc_dm_free(buf);
-		j->err = 1;
-		return;
-	}
 	memset(buf, 0, sizeof(float) * pitch * nrows);
-	pan_tables_init(t, j->m);
-	pan_pad_tab_init(t, iw, n);
 	const pan_kern K = pan_kernels(j->level);
 	const pan_akern A = pan_akernels(j->level);
 	int planar = 1;
@@ -1386,6 +1407,20 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	for (int k = 0; k < 16; k++) {
 		rc.slot[k] = src + (size_t)(5 + k) * pitch;
 		rc.tag[k] = -1;
+	}
+	/* the strip's raw rows: the frame's columns [xs − PAN_PADR, xs + n + PAN_PADR) inside it
+	 * converted, the others mirrored from them */
+	rc.xs = xs;
+	rc.gl = xs > PAN_PADR ? xs - PAN_PADR : 0;
+	rc.gh = xs + (uint32_t)n + PAN_PADR < j->w ? xs + (uint32_t)n + PAN_PADR : j->w;
+	rc.npad = 0;
+	for (long x = -PAN_PADR; x < n + PAN_PADR; x++) {
+		const long g = (long)xs + x;
+		if (g >= 0 && g < (long)j->w)
+			continue;
+		assert(rc.npad < 3 * PAN_PADR);
+		rc.pad_dst[rc.npad] = (int)x;
+		rc.pad_src[rc.npad++] = pc_mirror4((int)g, (int)j->w) - (int)xs;
 	}
 	float *gr[3][8]; /* pan-guided: the PPI rows of the ring; pan-chroma: and C1's, C2's */
 	for (int g = 0; g < 3; g++)
@@ -1432,8 +1467,8 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		     yy <= (int)y + 3 + look; yy++) {
 			/* ratio row of the extended source row yy, and its four tents */
 			const int hue = side && !(yy & 1);
-			pan_src_sums(j, &K, t, &rc, yy, src, vs, j->guided == 2 || hue ? vsb : NULL,
-			             rawp, n, nmain);
+			const float *rs =
+			    pan_ssums(j, &K, t, &rc, yy, vs, j->guided == 2 || hue ? vsb : NULL, n);
 			if (side) {
 				float *p0 = adapt ? p0r[yy & 15] : gr[0][yy & 7],
 				      *rh = adapt ? rhor[yy & 3] : rho;
@@ -1443,8 +1478,8 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 					 * is) */
 					float *const *u = hu[(yy & 7) >> 1];
 					float *const *fw = adapt ? fhr[(yy & 2) >> 1] : fh;
-					K.cratio(vs, vsb, rawp, -16, n + 32, j->delta, t->ha, rh,
-					         p0, ck[0], ck[1]);
+					K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
+					         ck[0], ck[1]);
 					K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta, u[0], u[1]);
 					const float *uc[2] = {u[0], u[1]},
 					            *uw[2] = {u[0] - PAN_SST, u[1] - PAN_SST},
@@ -1462,7 +1497,7 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 						K.sfac(ub, ua, uc, n, eps, f[0], f[1]);
 					}
 				} else {
-					K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rh, p0);
+					K.ratio(vs, rs, -16, n + 32, j->delta, 0, rh, p0);
 				}
 				if (!adapt) {
 					K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e,
@@ -1479,15 +1514,15 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 				}
 			} else if (j->guided == 2) {
 				float *p0 = gr[0][yy & 7], *c1 = gr[1][yy & 7], *c2 = gr[2][yy & 7];
-				K.cratio(vs, vsb, rawp, -16, n + 32, j->delta, t->ha, rho, p0, c1,
+				K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rho, p0, c1,
 				         c2);
 				K.cghrows(rho, p0, c1, c2, n, t->wt, j->e, hr[yy & 7]);
 			} else if (j->guided) {
 				float *p0 = gr[0][yy & 7];
-				K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rho, p0);
+				K.ratio(vs, rs, -16, n + 32, j->delta, 0, rho, p0);
 				K.ghrows(rho, p0, n, t->wt, j->e, hr[yy & 7]);
 			} else {
-				K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rho, NULL);
+				K.ratio(vs, rs, -16, n + 32, j->delta, 0, rho, NULL);
 				K.hrows(rho, n, t->wt, hr[yy & 7]);
 			}
 		}
@@ -1495,13 +1530,13 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		if (adapt) {
 			const float *fy[2] = {fvr[(y & 6) >> 1][0], fvr[(y & 6) >> 1][1]};
 			pan_agorow_row(j, &A, t, hr, p0r, fy, mur[y & 3], varr[y & 3],
-			               pan_row(&rc, j->in, (int)y), y, planar, n, nmain, rawp, o);
+			               pan_row_strip(&rc, j->in, (int)y), y, st, planar, rawp, o);
 			continue;
 		}
 		if (j->guided) {
 			const float *fy[2] = {fv[(y & 2) >> 1][0], fv[(y & 2) >> 1][1]};
-			pan_gorow(j, &K, t, hr, gr, fy, pan_row(&rc, j->in, (int)y), y, planar, n,
-			          nmain, rawp, o);
+			pan_gorow(j, &K, t, hr, gr, fy, pan_row_strip(&rc, j->in, (int)y), y, st,
+			          planar, rawp, o);
 			continue;
 		}
 		/* channel q's lattice rows around y, with the tent's vertical weights */
@@ -1529,13 +1564,13 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 			a.sel[u] = t->sel[u];
 			a.own[u] = pan_q(j->m, u, ty);
 		}
-		const float *raw = pan_row(&rc, j->in, (int)y);
+		const float *raw = pan_row_strip(&rc, j->in, (int)y);
 		if (planar) {
 			/* whole vectors straight into the planes, the rest through the row buffer
 			 */
 			float *d[12];
 			for (int q = 0; q < 12; q++)
-				d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
+				d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride + xs;
 			K.orow(&a, raw, nmain, j->delta, d, j->nt);
 			if (nmain < n) {
 				memcpy(rawp, raw + nmain, (size_t)(iw - nmain) * sizeof *rawp);
@@ -1543,13 +1578,59 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 					for (int i = 0; i < a.nv[q]; i++)
 						a.vrow[q][i] += nmain;
 				K.orow(&a, rawp, 16, j->delta, o, 0);
-				pan_put_row(j->out, y, o, (uint32_t)nmain, w);
+				pan_put_row(j->out, y, o, xs + (uint32_t)nmain, xs + w);
 			}
 			continue;
 		}
 		memcpy(rawp, raw, w * sizeof *rawp);
 		K.orow(&a, rawp, n, j->delta, o, 0);
-		pan_put_row(j->out, y, o, 0, w);
+		pan_put_row(j->out, y, o, xs, xs + w);
+	}
+}
+
+/* A band of output rows y0..y1, in column strips of at most about PAN_STRIPW columns (whole
+ * vectors; docs/demosaicking.md, Round 17c): each strip computes its source rows on its own
+ * columns and a halo (the rows' pads read the neighbouring strips' columns, mirrored only at
+ * the frame's edges), so every value is the whole row's, in a scratch a strip wide that stays
+ * in a core's L2. Inputs with dark or gain maps take one strip (pan_row_strip converts a
+ * column range through a sub-view, which the maps' indexing does not follow). */
+static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
+{
+	pan_job *j = ctx;
+	const uint32_t w = j->w;
+	const long nfull = ((long)w + 15) / 16 * 16; /* columns computed: whole vectors */
+	long ns = (nfull + PAN_STRIPW - 1) / PAN_STRIPW;
+	if (j->in->dark || j->in->gain_inv || ns < 1)
+		ns = 1;
+	/* strip k: columns [xs_k, xs_{k+1}), xs_k = 16·round(k·nfull/(16·ns)) (each at least 64
+	 * wide when ns > 1: the pads' mirror sources stay in the first and last strips' columns) */
+	long nmax = 0;
+	for (long k = 0; k < ns; k++) {
+		const long a = k * nfull / ns / 16 * 16, b = (k + 1) * nfull / ns / 16 * 16;
+		nmax = b - a > nmax ? b - a : nmax;
+	}
+	const size_t pitch = (size_t)nmax + 2 * PAN_PADR;
+	pan_tables *t = pc_dm_alloc(sizeof *t);
+	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
+	 * output rows, 5 rows unused, 16 cached raw rows, 8 PPI rows (pan-guided), 8 + 8
+	 * chrominance rows and a weighted vertical sum (pan-chroma; pan-side keeps its hue,
+	 * chrominance and factor rows in the latter 16); pan-adapt PAN_AROWS more */
+	const int adapt = j->guided == 4;
+	const size_t nrows = 52 + 16 + 8 + 17 + (adapt ? PAN_AROWS : 0);
+	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
+	if (!t || !buf) {
+		pc_dm_free(t);
+		pc_dm_free(buf);
+		j->err = 1;
+		return;
+	}
+	pan_tables_init(t, j->m);
+	for (long k = 0; k < ns; k++) {
+		const long a = k * nfull / ns / 16 * 16,
+		           b = k + 1 < ns ? (k + 1) * nfull / ns / 16 * 16 : (long)w;
+		pan_strip st = {(uint32_t)a, (uint32_t)(b - a), (b - a + 15) / 16 * 16,
+		                (b - a) / 16 * 16};
+		pan_band_strip(j, t, y0, y1, &st, buf, pitch, nrows);
 	}
 	if (j->nt)
 		pc_dm_sfence();

@@ -638,6 +638,46 @@ static void test_pan_sizes(void)
 	}
 }
 
+/* pan_band's column strips (docs/demosaicking.md, Round 17c): a frame wide enough for three
+ * strips of its fast path (2100 columns: strips of 704, 704 and 692, the last ending in a part
+ * vector), textured so that a strip edge computed from mirrored instead of neighbouring columns
+ * would differ by hundreds of DN, against the reference at four mosaic phases, for every method
+ * on pan_band. */
+static void test_pan_strips(void)
+{
+	const pc_demosaic_method pm[5] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA,
+	                                  PC_DM_PAN_SIDE, PC_DM_PAN_ADAPT};
+	const int w = 2100, h = 12;
+	const double gain[3] = {0.6, 1.0, 0.35};
+	pc_mosaic base = pc_mosaic_imx250myr();
+	scene tex = make_scene(w, h, 2, 0);
+	for (unsigned ph = 0; ph < 16; ph += 5) {
+		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+		pc_view raw;
+		mosaic_color(&tex, &m, gain, &raw);
+		for (int meth = 0; meth < 5; meth++) {
+			pc_fplane f[12], r[12];
+			float *fb = alloc_planes((uint32_t)w, (uint32_t)h, 12, f),
+			      *rb = alloc_planes((uint32_t)w, (uint32_t)h, 12, r);
+			pc_demosaic_opts ref = {0, true, 0};
+			CHECK_EQ_INT(pc_demosaic(&raw, &m, pm[meth], NULL, f), 0);
+			CHECK_EQ_INT(pc_demosaic(&raw, &m, pm[meth], &ref, r), 0);
+			double worst = 0;
+			for (int i = 0; i < w * h * 12; i++)
+				worst = fmax(worst, fabs(fb[i] - rb[i]));
+			if (!(worst <= tol_for(pm[meth]) * 4095))
+				fprintf(stderr,
+				        "  %s %dx%d phase %u: max |fast - reference| %.3g\n",
+				        pc_demosaic_method_get(pm[meth])->name, w, h, ph, worst);
+			CHECK(worst <= tol_for(pm[meth]) * 4095);
+			free(fb);
+			free(rb);
+		}
+		pc_view_free(&raw);
+	}
+	scene_free(&tex);
+}
+
 /* pan-dir's fast path against its reference where its blend is worst conditioned: a grey
  * scene (every candidate's chromaticity ~1/3, so every H_d is small) whose polarization changes
  * fast, a chirp AoLP = 0.03·x²/8 at DoLP 0.9 (the candidates differ by hundreds of DN), at every
@@ -1988,6 +2028,7 @@ int main(void)
 		test_color();
 		test_bayer_first_onepass();
 		test_pan_sizes();
+		test_pan_strips();
 		test_pan_dir_chirp();
 		test_pan_fast(PC_DM_PAN_FACT);
 		test_pan_fast(PC_DM_PAN_SIDE);
