@@ -803,10 +803,11 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
 
 /* ---- the fast path ----
  *
- * Per thread, a band of output rows. Every (extended) source row yy gets its ratio row ρ
- * (columns [-16, n + 16), n the row rounded up to whole 16-float vectors, from the vertical sums of
- * the five raw rows pc_mirror4(yy - 2 .. yy + 2), padded by the column mirror, then the horizontal
- * half of the filter) and from it the four horizontal tents h_s (s the column phase of the
+ * Per thread, a band of output rows, in column strips (pan_band). Every (extended) source row yy
+ * gets its ratio row ρ (columns [-16, n + 16), n the strip rounded up to whole 16-float vectors,
+ * from the vertical sums of the five raw rows pc_mirror4(yy - 2 .. yy + 2) on [-32, n + 32): the
+ * neighbouring strips' columns, the column mirror outside the frame; then the horizontal half of
+ * the filter) and from it the four horizontal tents h_s (s the column phase of the
  * channel), kept in a ring of 8 rows: output row y reads rows y - 3 .. y + 3. An output row sums
  * each channel's vertical tent over its lattice rows (two terms, four for green's two lattices),
  * then scales by the pixel's own ratio. Whole vectors of planar outputs are stored in place
@@ -1300,21 +1301,39 @@ static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], ui
 	}
 }
 
+/* Output row y's arguments in cache[y mod 16] (pan_band_strip: every ring's length divides 16,
+ * the lattice's period is 4, so rows 16 apart take the same ones): *fresh = 1 when they are made
+ * here (zeroed, the N and S factors fv, pan_gorow_prep's part; the caller adds the rest), 0 when
+ * the slot holds them already. */
+static pan_gorow_args *pan_args_at(const pan_job *j, const pan_tables *t, float *hr[8][4],
+                                   const float *const fv[2], uint32_t y, int slots,
+                                   pan_gorow_args *cache, unsigned char *cached, int *fresh)
+{
+	pan_gorow_args *a = &cache[y & 15];
+	*fresh = !cached[y & 15];
+	if (*fresh) {
+		memset(a, 0, sizeof *a);
+		a->fn = fv[0];
+		a->fs = fv[1];
+		pan_gorow_prep(j, t, hr, y, slots, a);
+		cached[y & 15] = 1;
+	}
+	return a;
+}
+
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
                       float *const gr[3][8], const float *const fv[2], const float *raw, uint32_t y,
-                      const pan_strip *st, int planar, float *rawp, float *const o[12])
+                      const pan_strip *st, pan_gorow_args *cache, unsigned char *cached, int planar,
+                      float *rawp, float *const o[12])
 {
-	pan_gorow_args a;
-	memset(&a, 0, sizeof a);
-	a.fn = fv[0];
-	a.fs = fv[1];
 	const uint32_t w = st->w, xs = st->xs;
 	const long n = st->n, nmain = st->nmain;
-	pan_gorow_prep(j, t, hr, y, j->guided != 2, &a);
-	for (int k = 0; k < 7; k++) {
-		a.p0row[k] = gr[0][((int)y + k - 3) & 7];
-		a.c1row[k] = gr[1][((int)y + k - 3) & 7];
-		a.c2row[k] = gr[2][((int)y + k - 3) & 7];
+	int fresh;
+	pan_gorow_args *ap = pan_args_at(j, t, hr, fv, y, j->guided != 2, cache, cached, &fresh);
+	for (int k = 0; fresh && k < 7; k++) {
+		ap->p0row[k] = gr[0][((int)y + k - 3) & 7];
+		ap->c1row[k] = gr[1][((int)y + k - 3) & 7];
+		ap->c2row[k] = gr[2][((int)y + k - 3) & 7];
 	}
 	const pan_gorow_fn kern = j->guided == 3   ? K->sgorow
 	                          : j->guided == 2 ? K->cgorow
@@ -1323,8 +1342,9 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	if (planar) {
 		for (int q = 0; q < 12; q++)
 			d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride + xs;
-		kern(&a, raw, nmain, j->delta, j->e, d, j->nt);
+		kern(ap, raw, nmain, j->delta, j->e, d, j->nt);
 		if (nmain < n) {
+			pan_gorow_args a = *ap;
 			memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
 			pan_gorow_shift(&a, nmain);
 			kern(&a, rawp, 16, j->delta, j->e, o, 0);
@@ -1335,7 +1355,7 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		return;
 	}
 	memcpy(rawp, raw, w * sizeof *rawp);
-	kern(&a, rawp, n, j->delta, j->e, o, 0);
+	kern(ap, rawp, n, j->delta, j->e, o, 0);
 	pan_put_row(j->out, y, o, xs, xs + w);
 }
 
@@ -1346,34 +1366,35 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_tables *t,
                            float *hr[8][4], float *const p0r[16], const float *const fv[2],
                            const float *mu, const float *var, const float *raw, uint32_t y,
-                           const pan_strip *st, int planar, float *rawp, float *const o[12])
+                           const pan_strip *st, pan_gorow_args *cache, unsigned char *cached,
+                           int planar, float *rawp, float *const o[12])
 {
 	const uint32_t w = st->w, xs = st->xs;
 	const long n = st->n, nmain = st->nmain;
-	pan_gorow_args a;
-	memset(&a, 0, sizeof a);
-	a.fn = fv[0];
-	a.fs = fv[1];
-	a.mu = mu;
-	a.var = var;
-	a.ke = j->e;
-	a.e0 = j->e0;
-	a.kn = j->kn;
-	pan_gorow_prep(j, t, hr, y, 1, &a);
-	for (int k = 0; k < 7; k++)
-		a.p0row[k] = p0r[((int)y + k - 3) & 15];
+	int fresh;
+	pan_gorow_args *ap = pan_args_at(j, t, hr, fv, y, 1, cache, cached, &fresh);
+	if (fresh) {
+		ap->mu = mu;
+		ap->var = var;
+		ap->ke = j->e;
+		ap->e0 = j->e0;
+		ap->kn = j->kn;
+		for (int k = 0; k < 7; k++)
+			ap->p0row[k] = p0r[((int)y + k - 3) & 15];
+	}
 	if (!planar) {
 		memcpy(rawp, raw, w * sizeof *rawp);
-		A->agorow(&a, rawp, n, j->delta, o, 0);
+		A->agorow(ap, rawp, n, j->delta, o, 0);
 		pan_put_row(j->out, y, o, xs, xs + w);
 		return;
 	}
 	float *d[12];
 	for (int q = 0; q < 12; q++)
 		d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride + xs;
-	A->agorow(&a, raw, nmain, j->delta, d, j->nt);
+	A->agorow(ap, raw, nmain, j->delta, d, j->nt);
 	if (nmain == n)
 		return;
+	pan_gorow_args a = *ap;
 	memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
 	pan_gorow_shift(&a, nmain);
 	A->agorow(&a, rawp, 16, j->delta, o, 0);
@@ -1383,8 +1404,12 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 /* pan_band's rows y0..y1 on the strip st, in the scratch buf (nrows rows of pitch floats,
  * zeroed here) */
 static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, uint32_t y1,
-                           const pan_strip *st, float *buf, size_t pitch, size_t nrows)
+                           const pan_strip *st, float *buf, size_t pitch, size_t nrows,
+                           pan_gorow_args *cache)
 {
+	/* the output row's arguments are the same for rows 16 apart (every ring's length divides
+	 * 16, the lattice's period 4), so they are made once per y mod 16 and strip */
+	unsigned char cached[16] = {0};
 	const uint32_t w = st->w, xs = st->xs;
 	const int iw = (int)w;
 	const long n = st->n, nmain = st->nmain;
@@ -1530,13 +1555,14 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		if (adapt) {
 			const float *fy[2] = {fvr[(y & 6) >> 1][0], fvr[(y & 6) >> 1][1]};
 			pan_agorow_row(j, &A, t, hr, p0r, fy, mur[y & 3], varr[y & 3],
-			               pan_row_strip(&rc, j->in, (int)y), y, st, planar, rawp, o);
+			               pan_row_strip(&rc, j->in, (int)y), y, st, cache, cached,
+			               planar, rawp, o);
 			continue;
 		}
 		if (j->guided) {
 			const float *fy[2] = {fv[(y & 2) >> 1][0], fv[(y & 2) >> 1][1]};
 			pan_gorow(j, &K, t, hr, gr, fy, pan_row_strip(&rc, j->in, (int)y), y, st,
-			          planar, rawp, o);
+			          cache, cached, planar, rawp, o);
 			continue;
 		}
 		/* channel q's lattice rows around y, with the tent's vertical weights */
@@ -1611,6 +1637,7 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	}
 	const size_t pitch = (size_t)nmax + 2 * PAN_PADR;
 	pan_tables *t = pc_dm_alloc(sizeof *t);
+	pan_gorow_args *cache = pc_dm_alloc(16 * sizeof *cache);
 	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
 	 * output rows, 5 rows unused, 16 cached raw rows, 8 PPI rows (pan-guided), 8 + 8
 	 * chrominance rows and a weighted vertical sum (pan-chroma; pan-side keeps its hue,
@@ -1618,9 +1645,10 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	const int adapt = j->guided == 4;
 	const size_t nrows = 52 + 16 + 8 + 17 + (adapt ? PAN_AROWS : 0);
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
-	if (!t || !buf) {
+	if (!t || !buf || !cache) {
 		pc_dm_free(t);
 		pc_dm_free(buf);
+		pc_dm_free(cache);
 		j->err = 1;
 		return;
 	}
@@ -1630,12 +1658,13 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		           b = k + 1 < ns ? (k + 1) * nfull / ns / 16 * 16 : (long)w;
 		pan_strip st = {(uint32_t)a, (uint32_t)(b - a), (b - a + 15) / 16 * 16,
 		                (b - a) / 16 * 16};
-		pan_band_strip(j, t, y0, y1, &st, buf, pitch, nrows);
+		pan_band_strip(j, t, y0, y1, &st, buf, pitch, nrows, cache);
 	}
 	if (j->nt)
 		pc_dm_sfence();
 	pc_dm_free(t);
 	pc_dm_free(buf);
+	pc_dm_free(cache);
 }
 
 /* The fast paths of pan-ratio, pan-guided (guided 1), pan-chroma (2), pan-side (3) and

@@ -598,6 +598,28 @@ static void mosaic_color(const scene *s, const pc_mosaic *m, const double gain[3
 /* The pan methods' fast paths against their references at the smallest size (8 × 8: every
  * row a partial vector), at sizes 2 mod 4 (the 4×4 period's mirrored padding) and one
  * larger, at four phases of the colour layout. */
+/* A colour method's fast path against its reference on raw (phase ph: only for the message),
+ * every output within the method's tolerance */
+static void check_pan_fast_ref(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method meth,
+                               unsigned ph)
+{
+	const uint32_t w = raw->width, h = raw->height;
+	pc_fplane f[12], r[12];
+	float *fb = alloc_planes(w, h, 12, f), *rb = alloc_planes(w, h, 12, r);
+	pc_demosaic_opts ref = {0, true, 0};
+	CHECK_EQ_INT(pc_demosaic(raw, m, meth, NULL, f), 0);
+	CHECK_EQ_INT(pc_demosaic(raw, m, meth, &ref, r), 0);
+	double worst = 0;
+	for (size_t i = 0; i < (size_t)w * h * 12; i++)
+		worst = fmax(worst, fabs(fb[i] - rb[i]));
+	if (!(worst <= tol_for(meth) * 4095))
+		fprintf(stderr, "  %s %ux%u phase %u: max |fast - reference| %.3g\n",
+		        pc_demosaic_method_get(meth)->name, w, h, ph, worst);
+	CHECK(worst <= tol_for(meth) * 4095);
+	free(fb);
+	free(rb);
+}
+
 static void test_pan_sizes(void)
 {
 	const pc_demosaic_method pm[6] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA,
@@ -612,26 +634,8 @@ static void test_pan_sizes(void)
 			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 			pc_view raw;
 			mosaic_color(&tex, &m, gain, &raw);
-			for (int meth = 0; meth < 6; meth++) {
-				pc_fplane f[12], r[12];
-				float *fb = alloc_planes((uint32_t)w, (uint32_t)h, 12, f),
-				      *rb = alloc_planes((uint32_t)w, (uint32_t)h, 12, r);
-				pc_demosaic_opts ref = {0, true, 0};
-				CHECK_EQ_INT(pc_demosaic(&raw, &m, pm[meth], NULL, f), 0);
-				CHECK_EQ_INT(pc_demosaic(&raw, &m, pm[meth], &ref, r), 0);
-				double worst = 0;
-				for (int i = 0; i < w * h * 12; i++)
-					worst = fmax(worst, fabs(fb[i] - rb[i]));
-				if (!(worst <= tol_for(pm[meth]) * 4095))
-					fprintf(
-					    stderr,
-					    "  %s %dx%d phase %u: max |fast - reference| %.3g\n",
-					    pc_demosaic_method_get(pm[meth])->name, w, h, ph,
-					    worst);
-				CHECK(worst <= tol_for(pm[meth]) * 4095);
-				free(fb);
-				free(rb);
-			}
+			for (int meth = 0; meth < 6; meth++)
+				check_pan_fast_ref(&raw, &m, pm[meth], ph);
 			pc_view_free(&raw);
 		}
 		scene_free(&tex);
@@ -655,24 +659,8 @@ static void test_pan_strips(void)
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		pc_view raw;
 		mosaic_color(&tex, &m, gain, &raw);
-		for (int meth = 0; meth < 5; meth++) {
-			pc_fplane f[12], r[12];
-			float *fb = alloc_planes((uint32_t)w, (uint32_t)h, 12, f),
-			      *rb = alloc_planes((uint32_t)w, (uint32_t)h, 12, r);
-			pc_demosaic_opts ref = {0, true, 0};
-			CHECK_EQ_INT(pc_demosaic(&raw, &m, pm[meth], NULL, f), 0);
-			CHECK_EQ_INT(pc_demosaic(&raw, &m, pm[meth], &ref, r), 0);
-			double worst = 0;
-			for (int i = 0; i < w * h * 12; i++)
-				worst = fmax(worst, fabs(fb[i] - rb[i]));
-			if (!(worst <= tol_for(pm[meth]) * 4095))
-				fprintf(stderr,
-				        "  %s %dx%d phase %u: max |fast - reference| %.3g\n",
-				        pc_demosaic_method_get(pm[meth])->name, w, h, ph, worst);
-			CHECK(worst <= tol_for(pm[meth]) * 4095);
-			free(fb);
-			free(rb);
-		}
+		for (int meth = 0; meth < 5; meth++)
+			check_pan_fast_ref(&raw, &m, pm[meth], ph);
 		pc_view_free(&raw);
 	}
 	scene_free(&tex);
