@@ -6,9 +6,15 @@
  * and swaps both for estimates one band pass can compute:
  *
  *  1. The base I_p: pan-side's (pc_dm_pan_side_ref, base 0) or pan-guided's (base 1); the
- *     conservative estimate I_b: every channel's normalised tents on its own samples' values
- *     (pc_dm_pan_guard_tents, pan-guard's "cons 1"; cons 0, bayer-first's reference, only as a
- *     diagnostic).
+ *     conservative estimate I_b (cons 5, the method's): red and blue every channel's normalised
+ *     tents on its own samples' values (pc_dm_pan_guard_tents, pan-guard's "cons 1"), which
+ *     equal bayer-first's away from the borders (Round 17: bayer-first's second, step-2
+ *     bilinear reproduces its first step's step-4 bilinear); green's analyser mean
+ *     bayer-first's (its colour step's M_G, the mean of the four same-analyser greens at ±2 px,
+ *     then mono bilinear; pc_dm_bayer_first_ref) and its modulation, each green channel less
+ *     the four's mean, the tents'. cons 4: bayer-first's green; cons 1: the tents' green;
+ *     diagnostics: cons 0 bayer-first, cons 2 and 3 the 2×2 blocks' mean raw by pan-guard's
+ *     tent with the base's modulation scaled to it (2) or the tents' modulation added (3).
  *  2. pan-guard's leave-one-out errors per 2×2 block (pc_dm_pan_guard_blocks: e_b plain, e_p
  *     ratio model, mu the mean level max(raw, 0) + δ) and their window sums E_b, E_p over the
  *     same colour's blocks within ±4r pixels.
@@ -40,17 +46,21 @@
 
 pc_dm_pan_check_params pc_dm_pan_check_defaults(void)
 {
-	pc_dm_pan_check_params p = {PC_DM_PAN_CHECK_BASE,  PC_DM_PAN_CHECK_CONS,
-	                            PC_DM_PAN_CHECK_R,     PC_DM_PAN_CHECK_GAMMA,
-	                            PC_DM_PAN_CHECK_FLOOR, PC_DM_PAN_CHECK_NOISE,
-	                            PC_DM_PAN_CHECK_KAPPA, -1.0,
+	pc_dm_pan_check_params p = {PC_DM_PAN_CHECK_BASE,
+	                            PC_DM_PAN_CHECK_CONS,
+	                            PC_DM_PAN_CHECK_R,
+	                            PC_DM_PAN_CHECK_GAMMA,
+	                            PC_DM_PAN_CHECK_FLOOR,
+	                            PC_DM_PAN_CHECK_NOISE,
+	                            PC_DM_PAN_CHECK_KAPPA,
+	                            -1.0,
 	                            -1.0};
 	return p;
 }
 
 static int check_params(const pc_dm_pan_check_params *p)
 {
-	if ((p->base != 0 && p->base != 1) || (p->cons != 0 && p->cons != 1) || p->r < 0 ||
+	if ((p->base != 0 && p->base != 1) || p->cons < 0 || p->cons > 5 || p->r < 0 ||
 	    p->r > PC_DM_PAN_HUE_RMAX || !(p->gamma > 0) || !isfinite(p->gamma) ||
 	    !(p->floor >= 0) || !isfinite(p->floor) || !(p->noise >= 0) || !isfinite(p->noise) ||
 	    !(p->kappa >= 0) || !isfinite(p->kappa) || !(p->force <= 1) || !isfinite(p->force) ||
@@ -66,8 +76,8 @@ int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	if (rc)
 		return rc;
 	const size_t n = (size_t)w * h;
-	float *planes = malloc(sizeof(float) * n * 24);
-	double *wb = NULL, *gate = NULL;
+	float *planes = malloc(sizeof(float) * n * 36);
+	double *wb = NULL, *gate = NULL, *bm = NULL;
 	pc_dm_guard_blocks bl = {0, 0, 0, NULL, NULL, NULL};
 	if (!planes)
 		return pc_error(PC_ENOMEM, "pan-check reference: images of %ux%u", w, h);
@@ -80,16 +90,37 @@ int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	rc = p->base ? pc_dm_pan_guided_ref(img, w, h, m, fs, ip)
 	             : pc_dm_pan_side_ref(img, w, h, m, fs, ip);
 	if (!rc && p->cons)
-		pc_dm_pan_guard_tents(img, w, h, m, ib);
-	else if (!rc)
-		rc = pc_dm_bayer_first_ref(img, w, h, m, PC_DM_BILINEAR, fs, ib);
+		pc_dm_pan_guard_tents(img, w, h, m, ib); /* cons 2 overwrites them below */
+	if (!rc && (p->cons == 0 || p->cons >= 4)) {
+		/* cons 4: bayer-first's green (its colour step's M_G, then mono bilinear), the
+		 * tents' red and blue (equal to bayer-first's away from the borders) */
+		pc_fplane bf[12];
+		for (unsigned q = 0; q < 12; q++)
+			bf[q] = (pc_fplane){planes + (24 + q) * n, w, 1};
+		rc = pc_dm_bayer_first_ref(img, w, h, m, PC_DM_BILINEAR, fs, bf);
+		for (unsigned q = 0; q < 12 && !rc; q++)
+			if (p->cons == 0 || (p->cons == 4 && q >= 4 && q < 8))
+				for (size_t a = 0; a < n; a++)
+					ib[q].data[a] = bf[q].data[a];
+		/* cons 5: green's analyser mean bayer-first's, its modulation the tents' */
+		for (size_t a = 0; a < n && !rc && p->cons == 5; a++) {
+			double mb = 0, mt = 0;
+			for (unsigned c = 0; c < 4; c++) {
+				mb += (double)bf[4 + c].data[a] / 4;
+				mt += (double)ib[4 + c].data[a] / 4;
+			}
+			for (unsigned c = 0; c < 4; c++)
+				ib[4 + c].data[a] = (float)(mb + ((double)ib[4 + c].data[a] - mt));
+		}
+	}
 	/* 2. the blocks, with room for the windows ±4r around the tents' −4 .. +3 */
 	if (!rc)
 		rc = pc_dm_pan_guard_blocks(img, w, h, m, fs, 4 + 4 * p->r, &bl);
 	if (!rc) {
 		wb = malloc(sizeof(double) * (size_t)bl.NBX * (size_t)bl.NBY);
 		gate = malloc(sizeof(double) * (size_t)bl.NBX * (size_t)bl.NBY);
-		if (!wb || !gate)
+		bm = malloc(sizeof(double) * (size_t)bl.NBX * (size_t)bl.NBY);
+		if (!wb || !gate || !bm)
 			rc = pc_error(PC_ENOMEM, "pan-check reference: images of %ux%u", w, h);
 	}
 	double g = p->g;
@@ -121,6 +152,40 @@ int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 			             ap = pow(s_p + p->noise * s_n + fl, p->gamma);
 			wb[(size_t)j * NBX + i] = ab + ap > 0 ? ab / (ab + ap) : 1;
 		}
+	/* cons 2, 3: each block's mean raw (its colour's analyser mean, polarization-free) */
+	for (int j = 0; j < NBY; j++)
+		for (int i = 0; i < NBX; i++) {
+			double sm = 0;
+			for (int o = 0; o < 4; o++)
+				sm += img[(size_t)pc_mirror4(2 * j - XB + (o >> 1), (int)h) * w +
+				          (size_t)pc_mirror4(2 * i - XB + (o & 1), (int)w)];
+			bm[(size_t)j * NBX + i] = sm / 4;
+		}
+	if (p->cons == 2 || p->cons == 3) {
+		const double delta = PC_DM_PAN_ADAPT_DFS * fs;
+		for (int y = 0; y < (int)h; y++)
+			for (int x = 0; x < (int)w; x++) {
+				double num[3], den[3];
+				pc_dm_pan_guard_tent(&bl, bm, m, (int)w, (int)h, x, y, num, den);
+				const size_t a = (size_t)y * w + (size_t)x;
+				for (unsigned k = 0; k < 3; k++) {
+					const double sk = num[k] / den[k];
+					double sp = 0, st = 0;
+					for (unsigned c = 0; c < 4; c++) {
+						sp += (double)ip[4 * k + c].data[a] / 4;
+						st += (double)ib[4 * k + c].data[a] / 4;
+					}
+					for (unsigned c = 0; c < 4; c++) {
+						float *v = &ib[4 * k + c].data[a];
+						const double vp = ip[4 * k + c].data[a];
+						*v = p->cons == 2
+						         ? (float)(sk * (fmax(vp, 0) + delta) /
+						                   (fmax(sp, 0) + delta))
+						         : (float)(sk + ((double)*v - st));
+					}
+				}
+			}
+	}
 	/* 5. pan-hue's gate for red and blue */
 	if (p->kappa > 0 && p->force < 0) {
 		pc_dm_pan_hue_params hp = pc_dm_pan_hue_defaults();
@@ -153,6 +218,7 @@ int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 			}
 		}
 done:
+	free(bm);
 	free(gate);
 	free(wb);
 	pc_dm_pan_guard_blocks_free(&bl);

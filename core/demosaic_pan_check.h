@@ -1,7 +1,9 @@
 /* Internal to core: pan-check (docs/demosaicking.md, Round 17), a guarded colour method meant
- * for the 5x time budget: a cheap pan base blended towards every channel's own-lattice tents by
- * pan-guard's leave-one-out block check (with a noise term), and red and blue by pan-hue's
- * cross-colour gate. demosaic_pan_check.c states the formulas. Not a public header. */
+ * for the 5x time budget: a cheap pan base blended towards a conservative estimate that one band
+ * pass could compute (bayer-first's green analyser mean with the own-lattice tents' modulation,
+ * the tents' red and blue) by pan-guard's leave-one-out block check with a noise term, and red
+ * and blue by pan-hue's cross-colour gate. demosaic_pan_check.c states the formulas. Double
+ * reference only (no fast path: Round 17 estimates its cost). Not a public header. */
 #ifndef POLARCAM_DEMOSAIC_PAN_CHECK_H
 #define POLARCAM_DEMOSAIC_PAN_CHECK_H
 
@@ -10,9 +12,12 @@
 /* Every constant of the definition (chosen by Round 17's rule on the development sets). */
 /* the base: 0 pan-side, 1 pan-guided */
 #define PC_DM_PAN_CHECK_BASE 0
-/* the conservative estimate: 1 every channel's own-lattice tents (the method's), 0
- * bayer-first's (a diagnostic: not cheap) */
-#define PC_DM_PAN_CHECK_CONS 1
+/* the conservative estimate: 5 green's analyser mean bayer-first's and its modulation the
+ * own-lattice tents', red and blue the tents' (the method's); 4 bayer-first's green, the tents'
+ * red and blue (bayer-first itself away from the borders); 1 every channel's tents; diagnostics:
+ * 0 bayer-first's, 2 and 3 the 2×2 blocks' mean with the base's (2) or the tents' (3)
+ * modulation */
+#define PC_DM_PAN_CHECK_CONS 5
 /* the error window's radius r in lattice steps (4 pixels) */
 #define PC_DM_PAN_CHECK_R 1
 /* γ, the weights' exponent */
@@ -21,13 +26,13 @@
 #define PC_DM_PAN_CHECK_FLOOR 1e-4
 /* c, the base's expected excess output noise per sample, in σ² = g·(level + δ), added to its
  * error sum */
-#define PC_DM_PAN_CHECK_NOISE 0.0
+#define PC_DM_PAN_CHECK_NOISE 4.0
 /* κ, pan-hue's cross-colour gate's weight (0: no gate) */
-#define PC_DM_PAN_CHECK_KAPPA 0.0
+#define PC_DM_PAN_CHECK_KAPPA 16.0
 
 typedef struct pc_dm_pan_check_params {
 	int base;     /* PC_DM_PAN_CHECK_BASE, 0 or 1 */
-	int cons;     /* PC_DM_PAN_CHECK_CONS, 0 or 1 */
+	int cons;     /* PC_DM_PAN_CHECK_CONS, 0..5 */
 	int r;        /* PC_DM_PAN_CHECK_R, 0..4 */
 	double gamma; /* PC_DM_PAN_CHECK_GAMMA, > 0 */
 	double floor; /* PC_DM_PAN_CHECK_FLOOR, >= 0 */

@@ -616,11 +616,22 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                        PC_DM_PAN_HUE,
                        false},
     [PC_DM_PAN_CHECK] = {{PC_DM_PAN_CHECK, "pan-check",
-                          "colour-polarization: pan-side blended per colour towards every "
-                          "channel's own-lattice tents where pan-guard's leave-one-out check "
-                          "finds the ratio model locally worse (figures: docs/demosaicking.md, "
+                          "colour-polarization: pan-side blended per colour towards a "
+                          "conservative estimate one band pass could compute (bayer-first's "
+                          "green level with the own-lattice tents' polarization; the tents' red "
+                          "and blue, which equal bayer-first's) where pan-guard's leave-one-out "
+                          "check, with a noise term, finds the ratio model locally worse, red and "
+                          "blue also by pan-hue's gate; over bayer-first (bench colour "
+                          "--reference) smooth colours (9) +2.87/+1.23 (worst +1.33/+0.35), hue "
+                          "patches (9) +1.03/+1.77 (worst +0.75/+1.29), colour stress suite (5) "
+                          "+1.15/+1.40 (worst +0.31/+0.29), noisy copies (4) +0.57/+0.86 (worst "
+                          "+0.16/+0.67), hue-pair scenes (scenes/stress/colour-hue, 5) "
+                          "+0.13/+1.05 (worst -0.03/+0.85, 1 losing); its constants chosen on "
+                          "these (docs/demosaicking.md, Round 17)",
+                          "double reference only: no fast path; a band-pass version is estimated "
+                          "at about 430 M instructions per 2448x2048 frame or more (AVX2, one "
+                          "thread), against 270 M for the 5x budget (docs/demosaicking.md, "
                           "Round 17)",
-                          "double reference only for now (docs/demosaicking.md, Round 17)",
                           "ours (docs/demosaicking.md, Round 17): pan-guard's check (Bates & "
                           "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
                           "estimates one band pass can compute",
