@@ -35,6 +35,7 @@
  * Support: R reads ρ at lattice points within ±3 pixels (the tent's zero at ±4), ρ reads P0's
  * ±2: an output pixel depends on the raw within ±5 (mirrored). */
 #include "demosaic_pan.h"
+#include "demosaic_pan_check.h"
 
 #include <assert.h>
 #include <limits.h>
@@ -2110,7 +2111,8 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	                                    pc_dm_pan_adapt_ref_g, pc_dm_pan_adapt_fast_g},
 	                           guard = {pc_dm_pan_guard_ref, pc_dm_pan_guard_fast,
 	                                    pc_dm_pan_guard_ref_g, pc_dm_pan_guard_fast_g},
-	                           hue = {pc_dm_pan_hue_ref, NULL, NULL, NULL};
+	                           hue = {pc_dm_pan_hue_ref, NULL, NULL, NULL},
+	                           check = {pc_dm_pan_check_ref, NULL, NULL, NULL};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma
@@ -2119,6 +2121,7 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	       : m == PC_DM_PAN_ADAPT  ? &adapt
 	       : m == PC_DM_PAN_GUARD  ? &guard
 	       : m == PC_DM_PAN_HUE    ? &hue
+	       : m == PC_DM_PAN_CHECK  ? &check
 	                               : NULL;
 }
 

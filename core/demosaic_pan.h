@@ -148,6 +148,10 @@ unsigned pc_dm_pan_guard_colour(const pc_mosaic *m, int x, int y, int w, int h);
  * den[k] = Σ T over colour k's blocks B with centres within ±4 (T = (4 − |d_x|)(4 − |d_y|)) */
 void pc_dm_pan_guard_tent(const pc_dm_guard_blocks *b, const double *v, const pc_mosaic *m, int w,
                           int h, int x, int y, double num[3], double den[3]);
+/* the cheap conservative estimate (cons 1): every channel q by pan-ratio's normalised tents on its
+ * own samples' values, on the mirror-extended raw (twelve float planes) */
+void pc_dm_pan_guard_tents(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                           const pc_fplane *out);
 
 /* pan-hue (docs/demosaicking.md, Round 16): pan-guard with a cross-colour gate for red and
  * blue, whose lattices (one block per 4×4 period) cannot see hue detail near their own period:
@@ -190,6 +194,10 @@ int pc_dm_pan_hue_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
                       const pc_fplane *out);
 int pc_dm_pan_hue_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                            const pc_dm_pan_hue_params *p, const pc_fplane *out);
+/* pan-hue's step 2 on pan-guard's blocks b: the gate D(B) of every block (0 for green unless
+ * p->green) with the noise gain g >= 0 (pan-check reuses it, demosaic_pan_check.c) */
+void pc_dm_pan_hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, int h,
+                         const pc_dm_pan_hue_params *p, double fs, double g, double *gate);
 
 /* pan-dir's double reference and fast path (the same arguments). */
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,

@@ -92,8 +92,8 @@ static size_t gidx(const guard_ext *g, int x, int y)
 /* the cheap conservative estimate: every channel q by pan-ratio's normalised tents on its own
  * samples' values, I_q(p) = Σ T(d)·raw(p + d) / Σ T(d) over the samples of q at d in [−3, 3]²,
  * T(d) = (4 − |d_x|)(4 − |d_y|) (green's two lattices summed), on the mirror-extended raw */
-static void guard_tents(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
-                        const pc_fplane *out)
+void pc_dm_pan_guard_tents(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                           const pc_fplane *out)
 {
 	for (int y = 0; y < (int)h; y++)
 		for (int x = 0; x < (int)w; x++) {
@@ -238,7 +238,7 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	if (!rc && p->cons == 0)
 		rc = pc_dm_bayer_first_ref(img, w, h, m, PC_DM_BILINEAR, fs, ib);
 	else if (!rc)
-		guard_tents(img, w, h, m, ib);
+		pc_dm_pan_guard_tents(img, w, h, m, ib);
 	if (rc) {
 		free(planes);
 		return rc;

@@ -75,8 +75,8 @@ static int hue_check(const pc_dm_pan_hue_params *p)
 }
 
 /* step 2: the gate D(B) of every block (0 for green) */
-static void hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, int h,
-                      const pc_dm_pan_hue_params *p, double fs, double g, double *gate)
+void pc_dm_pan_hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, int h,
+                         const pc_dm_pan_hue_params *p, double fs, double g, double *gate)
 {
 	const int rb = 2 * p->r; /* in block steps */
 	const double fl = (p->guard.floor * fs) * (p->guard.floor * fs);
@@ -186,7 +186,7 @@ int pc_dm_pan_hue_ref_with(const double *img, uint32_t w, uint32_t h, const pc_m
 		free(planes);
 		return rc;
 	}
-	hue_gates(&bl, m, (int)w, (int)h, p, fs, fmax(g, 0), gate);
+	pc_dm_pan_hue_gates(&bl, m, (int)w, (int)h, p, fs, fmax(g, 0), gate);
 	/* step 3: red (k 0) and blue (k 2) towards bayer-first by their gates */
 	for (int y = 0; y < (int)h; y++)
 		for (int x = 0; x < (int)w; x++) {

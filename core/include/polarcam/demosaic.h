@@ -74,6 +74,8 @@ typedef enum pc_demosaic_method {
 	                    * leave-one-out check finds the ratio model locally worse (ours) */
 	PC_DM_PAN_HUE,     /* colour only: pan-guard whose red and blue also fall back where
 	                    * green's ratio residual shows hue detail (ours) */
+	PC_DM_PAN_CHECK,   /* colour only: pan-side blended towards own-lattice tents by a
+	                    * leave-one-out check, for the 5x budget (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
