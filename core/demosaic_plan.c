@@ -629,9 +629,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "+0.13/+1.05 (worst -0.03/+0.85, 1 losing); its constants chosen on "
                           "these (docs/demosaicking.md, Round 17)",
                           "double reference only: no fast path; a band-pass version is estimated "
-                          "at about 430 M instructions per 2448x2048 frame or more (AVX2, one "
-                          "thread), against 270 M for the 5x budget (docs/demosaicking.md, "
-                          "Round 17)",
+                          "from measured kernels at about 520-600 M instructions per 2448x2048 "
+                          "frame (AVX2, one thread; its guard alone >= 175 M), against about "
+                          "270 M for the 5x budget (docs/demosaicking.md, Round 17)",
                           "ours (docs/demosaicking.md, Round 17): pan-guard's check (Bates & "
                           "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
                           "estimates one band pass can compute",

@@ -6,7 +6,8 @@
  *    the borders (the identity derived in Round 17: bayer-first's red and blue are bilinear on
  *    each (colour, analyser) lattice of step 4, which its second, step-2 bilinear reproduces, so
  *    they equal the own-lattice tents); with cons 5 green's analyser mean is bayer-first's and
- *    its modulation the tents'. Four phases.
+ *    its modulation the tents'; and bayer-first's green analyser mean is ([1 2 1]/4)² on its
+ *    colour step's M_G away from the borders (derived in Round 17). Four phases.
  *  - A uniform colour and polarization is exact.
  *  - The noise term: on a uniform field with Gaussian noise of variance g·level (g given), the
  *    base carries one sample's noise into every channel and the tents average several; with
@@ -98,6 +99,35 @@ static void test_limits(void)
 		}
 		CHECK(dmean <= 1e-3);
 		CHECK(dmod <= 1e-3);
+		/* bayer-first's green analyser mean away from the borders: ([1 2 1]/4)² on its
+		 * colour step's M_G (the sample at a green pixel, else the mean of the four greens
+		 * at ±2 px), derived in Round 17 (the four analysers' step-2 bilinears sum to that
+		 * kernel) */
+		double dk = 0;
+		for (uint32_t y = 8; y < H - 8; y++)
+			for (uint32_t x = 8; x < W - 8; x++) {
+				double acc = 0;
+				for (int j = -1; j <= 1; j++)
+					for (int i = -1; i <= 1; i++) {
+						const uint32_t u = x + (uint32_t)i,
+						               v = y + (uint32_t)j;
+						const double *r = img + (size_t)v * W + u;
+						const double mg =
+						    pc_mosaic_color(&m, u, v) == PC_CFA_G
+						        ? *r
+						        : (r[-2] + r[2] + r[-2 * (int)W] +
+						           r[2 * W]) /
+						              4;
+						acc += (2 - abs(i)) * (2 - abs(j)) * mg / 16;
+					}
+				double mb = 0;
+				for (unsigned c = 0; c < 4; c++)
+					mb += b[4 + c].data[(size_t)y * W + x] / 4.0;
+				dk = fmax(dk, fabs(acc - mb));
+			}
+		printf("  phase %2u: bayer-first's green mean vs ([1 2 1]/4)^2 on M_G %.3g DN\n",
+		       ph, dk);
+		CHECK(dk <= 1e-3);
 		/* a uniform colour and polarization is exact, the method's parameters */
 		make_raw(f_uniform, &m, W, H, img, truth);
 		p = pc_dm_pan_check_defaults();
