@@ -75,6 +75,10 @@
  * pan-guard's weights' (tents −4 .. +3, windows ±4r, the checks' samples ±4 (+1), P̃ ±2) */
 #define PAN_HUE_LO (-12 - 4 * PC_DM_PAN_HUE_R)
 #define PAN_HUE_HI (12 + 4 * PC_DM_PAN_HUE_R)
+/* pan-split: its base's (pan-side ±8, pan-adapt ±9), and its window's P0 and Ĉ2 at ±(r + 2), the
+ * tents' ratios ±3 (P0 ±5), each with the sub-image mirror's two more */
+#define PAN_SPLIT_HI (PC_DM_PAN_SPLIT_R + 4 > 9 ? PC_DM_PAN_SPLIT_R + 4 : 9)
+#define PAN_SPLIT_LO (-PAN_SPLIT_HI)
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
@@ -609,6 +613,26 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                        false,
                        PC_DM_PAN_HUE,
                        false},
+    [PC_DM_PAN_SPLIT] = {{PC_DM_PAN_SPLIT, "pan-split",
+                          "colour-polarization: pan-side whose ratio step carries the own "
+                          "sample's detail into the other colours (green against red and blue) "
+                          "times t = (S_Y - S_C)/(S_Y + S_C), S_Y and S_C the local variation of "
+                          "the luminance P0 and of the demodulated green-magenta chrominance: "
+                          "hue detail near the colour lattice's period goes into red and blue "
+                          "with its own sign; figures: docs/demosaicking.md, Round 17b",
+                          "double reference only (pan-side's reference and a per-pixel pass), "
+                          "for evaluation",
+                          "ours (docs/demosaicking.md, Round 17b): pan-side (Round 13) with a "
+                          "least-squares detail transfer in the luminance-chrominance model of "
+                          "the colour layer (Alleysson et al., IEEE TIP 14(4) 2005; Dubois, "
+                          "IEEE SPL 12(12) 2005)",
+                          PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                         {PAN_SPLIT_LO, PAN_SPLIT_HI, 1, 1},
+                         NULL,
+                         NULL,
+                         false,
+                         PC_DM_PAN_SPLIT,
+                         false},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)

@@ -74,6 +74,9 @@ typedef enum pc_demosaic_method {
 	                    * leave-one-out check finds the ratio model locally worse (ours) */
 	PC_DM_PAN_HUE,     /* colour only: pan-guard whose red and blue also fall back where
 	                    * green's ratio residual shows hue detail (ours) */
+	PC_DM_PAN_SPLIT,   /* colour only: a pan estimate whose ratio step carries green's detail
+	                    * into red and blue (and theirs into green) only as far as the local
+	                    * luminance outweighs the green-magenta chrominance (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
