@@ -217,7 +217,7 @@ int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
  * the other χ2 class (green against red and blue) only t times the own sample's detail, t from the
  * local variation of the luminance P0 against the green–magenta chrominance Ĉ2
  * (demosaic_pan_split.c states the formulas). Every constant of the definition is one of these. */
-#define PC_DM_PAN_SPLIT_BASE  0    /* the base estimate: 0 pan-side, 1 pan-adapt */
+#define PC_DM_PAN_SPLIT_BASE  1    /* the base estimate: 0 pan-side, 1 pan-adapt */
 #define PC_DM_PAN_SPLIT_KAPPA 1.0  /* κ, the chrominance variation's weight */
 #define PC_DM_PAN_SPLIT_R     4    /* the window's radius r: (2r + 1)² pixels */
 #define PC_DM_PAN_SPLIT_TLO   -1.0 /* t_lo, the lowest transfer */

@@ -43,26 +43,34 @@
  * (t = 1 for pure luminance detail, the pan methods' transfer; −1 for pure green–magenta detail;
  * 0 in noise alone, whose variance P0 and Ĉ2 share: the filters' squared weights are the same).
  * The variances of the detail are not observable (it is finer than both filters); they are
- * taken from the guides' own variation, assuming the same luminance-to-chrominance balance at
- * the finer scales:
+ * taken from the guides' own finest variation, assuming the same luminance-to-chrominance balance
+ * at the finer scales. With hp(v)(p) = v(p) − ¼Σ v(p + (±2, ±2)) (the diagonal step of green's
+ * lattice; zero on linear ramps, so shading and a hue edge's plateaus do not count),
  *
- *   S_Y(p) = Σ_W (P0 − P0̄_W)²,  S_C(p) = Σ_W (Ĉ2 − Ĉ2̄_W)²   over the (2r + 1)² window W at p,
+ *   S_Y(p) = Σ_W hp(P0)²,  S_C(p) = Σ_W hp(Ĉ2)²   over the (2r + 1)² window W at p,
  *   t(p) = max(t_lo, (S_Y − κ·S_C)/(S_Y + κ·S_C))   (1 where S_Y + κ·S_C = 0),
  *
  * κ the chrominance weight (1 in the model), t_lo the lowest transfer (−1 the model's, 0 "green–
  * magenta detail not carried"). The output, on the base's (pan-side's or pan-adapt's reference,
- * O):
+ * O, with its own channel's interpolated ratio R_o):
  *
  *   I_q(p) = (O_q(p) + δ)·(1 + t(p)·(D(p) − 1))/D(p) − δ   for q of the other χ2 class (green vs
  *            red and blue) than the own channel, O_q(p) for the others,
  *
- * with D(p) = ρ(p)/ρ̂(p), ρ̂ the plain tents of the own channel's ratios (pan-ratio's, T(d) =
- * (4 − |dx|)(4 − |dy|) over its samples within ±3): the detail that the tents see. t = 1 gives
- * the base (up to rounding); on red and blue pixels D = 1 and nothing changes; a uniform colour
- * and polarization has D = 1 everywhere and is exact as the base is. The images are computed on
- * the raw mirrored inside the analyser sub-images (pc_mirror4, as the base's).
+ * with D(p) = (the base's level)/(R_o(p)·P̃(p)): pan-side's level is max(raw(p), 0) + δ (D =
+ * ρ(p)/R_o(p)), pan-adapt's its shrunk level O_o(p) + δ. D is then exactly the detail the base
+ * carries (O_q + δ = P̃·R_q·D), and t = 1 gives the base (up to rounding); on pan-side's red and
+ * blue pixels D = 1 and nothing changes; a uniform colour and polarization has D = 1 everywhere
+ * and is exact as the base is. The images are computed on the raw mirrored inside the analyser
+ * sub-images (pc_mirror4, as the base's).
  *
- * Support: the base's, and the window's P0 and Ĉ2 at ±(r + 2), the tents' ratios at ±3 (P0 ±5).
+ * Two switches keep Round 17b's first form, measured and not chosen: dmode 0 takes D from the
+ * plain tents of the own channel's ratios (pan-ratio's, T(d) = (4 − |dx|)(4 − |dy|) over its
+ * samples within ±3) instead of the base's R_o; hp 0 takes S_Y and S_C as the variation about
+ * the window's mean, Σ_W (v − v̄_W)², instead of the high-pass.
+ *
+ * Support: the base's, and the window's high-passes at ±(r + 2), their P0 and Ĉ2 the raw's ±2 from
+ * there (±(r + 4)); dmode 0's tents ratios at ±3 (P0 ±5).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -70,7 +78,9 @@
 #include "demosaic_pan.h"
 #include "polarcam/error.h"
 
-#define SPLIT_X 10 /* the extended images' margin: the window's ±8 and the tents' ±3 inside */
+#define SPLIT_X                                                                                    \
+	12 /* the extended images' margin: P0 and Ĉ2 computed to ±10, the high-passes of the     \
+	    * window (r <= 8) read them at ±(r + 2) */
 
 pc_dm_pan_split_params pc_dm_pan_split_defaults(void)
 {
