@@ -217,26 +217,35 @@ int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
  * the other χ2 class (green against red and blue) only t times the own sample's detail, t from the
  * local variation of the luminance P0 against the green–magenta chrominance Ĉ2
  * (demosaic_pan_split.c states the formulas). Every constant of the definition is one of these. */
-#define PC_DM_PAN_SPLIT_BASE  1    /* the base estimate: 0 pan-side, 1 pan-adapt */
-#define PC_DM_PAN_SPLIT_KAPPA 1.0  /* κ, the chrominance variation's weight */
-#define PC_DM_PAN_SPLIT_R     4    /* the window's radius r: (2r + 1)² pixels */
-#define PC_DM_PAN_SPLIT_TLO   -1.0 /* t_lo, the lowest transfer */
-#define PC_DM_PAN_SPLIT_DMODE 1    /* D: 0 the plain tents', 1 the base's own interpolated ratio */
-#define PC_DM_PAN_SPLIT_HP                                                                         \
-	1 /* S_Y, S_C: 0 the variation about the window mean, 1 the                                \
-	   * diagonal lattice step's high-pass */
-#define PC_DM_PAN_SPLIT_RMAX 8
+/* the base estimate: 0 pan-side, 1 pan-adapt */
+#define PC_DM_PAN_SPLIT_BASE 1
+/* κ, the chrominance variation's weight */
+#define PC_DM_PAN_SPLIT_KAPPA 1.0
+/* the window's radius r: (2r + 1)² pixels */
+#define PC_DM_PAN_SPLIT_R 4
+/* t_lo, the lowest transfer */
+#define PC_DM_PAN_SPLIT_TLO -1.0
+/* D: 0 from the plain tents (Round 17b's form A), 1 from the base's own interpolated ratio */
+#define PC_DM_PAN_SPLIT_DMODE 1
+/* S_Y, S_C: 0 the variation about the window mean (form A), 1 the diagonal lattice step's
+ * high-pass */
+#define PC_DM_PAN_SPLIT_HP 1
+/* the transfer on green pixels only (1; red and blue pixels keep the base's outputs) or on every
+ * pixel (0; on pan-side's red and blue pixels D = 1 anyway) */
+#define PC_DM_PAN_SPLIT_GONLY 1
+#define PC_DM_PAN_SPLIT_RMAX  8
 
 typedef struct pc_dm_pan_split_params {
 	int base;     /* PC_DM_PAN_SPLIT_BASE, 0 or 1 */
 	double kappa; /* PC_DM_PAN_SPLIT_KAPPA, >= 0 (0: t = 1, the base up to rounding) */
 	int r;        /* PC_DM_PAN_SPLIT_R, 0..PC_DM_PAN_SPLIT_RMAX */
 	double tlo;   /* PC_DM_PAN_SPLIT_TLO, in [-1, 1] */
-	double
-	    force; /* outside [-1, 1]: t computed (the method); inside: every t set to it (tests) */
+	/* outside [-1, 1]: t computed (the method); inside: every t set to it (tests) */
+	double force;
 	double g;  /* base 1: pan-adapt's noise gain (< 0: estimated from the frame) */
 	int dmode; /* PC_DM_PAN_SPLIT_DMODE, 0 or 1 */
 	int hp;    /* PC_DM_PAN_SPLIT_HP, 0 or 1 */
+	int gonly; /* PC_DM_PAN_SPLIT_GONLY, 0 or 1 */
 } pc_dm_pan_split_params;
 
 pc_dm_pan_split_params pc_dm_pan_split_defaults(void);

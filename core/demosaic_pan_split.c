@@ -64,6 +64,11 @@
  * and is exact as the base is. The images are computed on the raw mirrored inside the analyser
  * sub-images (pc_mirror4, as the base's).
  *
+ * On pan-adapt (the method's base) the level is shrunk towards its window mean on every pixel, so
+ * D ≠ 1 also on red and blue pixels, where it is the shrinkage's smoothing rather than green's
+ * detail; the transfer is applied on green pixels only (gonly = 1; Round 17b's form C), and red
+ * and blue pixels keep the base's outputs, as they keep pan-side's by D = 1.
+ *
  * Two switches keep Round 17b's first form, measured and not chosen: dmode 0 takes D from the
  * plain tents of the own channel's ratios (pan-ratio's, T(d) = (4 − |dx|)(4 − |dy|) over its
  * samples within ±3) instead of the base's R_o; hp 0 takes S_Y and S_C as the variation about
@@ -91,7 +96,8 @@ pc_dm_pan_split_params pc_dm_pan_split_defaults(void)
 	                            2.0,
 	                            -1.0,
 	                            PC_DM_PAN_SPLIT_DMODE,
-	                            PC_DM_PAN_SPLIT_HP};
+	                            PC_DM_PAN_SPLIT_HP,
+	                            PC_DM_PAN_SPLIT_GONLY};
 	return p;
 }
 
@@ -206,7 +212,8 @@ int pc_dm_pan_split_check(const pc_dm_pan_split_params *p)
 {
 	if ((p->base != 0 && p->base != 1) || !(p->kappa >= 0) || !isfinite(p->kappa) || p->r < 0 ||
 	    p->r > PC_DM_PAN_SPLIT_RMAX || !(p->tlo >= -1 && p->tlo <= 1) || !isfinite(p->force) ||
-	    !isfinite(p->g) || (p->dmode != 0 && p->dmode != 1) || (p->hp != 0 && p->hp != 1))
+	    !isfinite(p->g) || (p->dmode != 0 && p->dmode != 1) || (p->hp != 0 && p->hp != 1) ||
+	    (p->gonly != 0 && p->gonly != 1))
 		return pc_error(PC_EINVAL, "pan-split: parameters out of range");
 	return 0;
 }
@@ -260,7 +267,7 @@ int pc_dm_pan_split_ref_with(const double *img, uint32_t w, uint32_t h, const pc
                                          delta) /
 			                    (rown[at] * pt)
 			              : s.rho[sidx(&s, x, y)] / rown[at];
-			if (d == 1)
+			if (d == 1 || (p->gonly && !og))
 				continue; /* no detail carried (pan-side's red and blue pixels) */
 			const double t = split_t(&s, x, y, p);
 			const double f = (1 + t * (d - 1)) / d;

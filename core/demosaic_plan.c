@@ -615,17 +615,17 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                        PC_DM_PAN_HUE,
                        false},
     [PC_DM_PAN_SPLIT] = {{PC_DM_PAN_SPLIT, "pan-split",
-                          "colour-polarization: pan-adapt whose ratio step carries the own "
-                          "sample's detail into the other colours (green against red and blue) "
-                          "times t = (S_Y - S_C)/(S_Y + S_C), S_Y and S_C the local high-pass "
-                          "energy of the luminance P0 and of the demodulated green-magenta "
-                          "chrominance (t = -1: the detail flipped); over bayer-first (bench "
-                          "colour --reference) smooth colours (9) +4.30/+1.69 (worst "
-                          "+2.12/+0.40), hue patches (9) +1.46/+2.26 (worst +1.24/+1.83), colour "
-                          "stress suite (5) +1.45/+1.29 (worst +0.22/+0.11), noisy copies (4) "
-                          "+0.83/+0.44 (worst -0.14/+0.18 gratings_g24), hue-pair dev set (5) "
-                          "-0.05/+0.56 (worst -0.31/+0.40 gm_bars_g18); its constants chosen on "
-                          "these (docs/demosaicking.md, Round 17b)",
+                          "colour-polarization: pan-adapt whose ratio step carries green's "
+                          "detail into red and blue times t = (S_Y - S_C)/(S_Y + S_C), S_Y "
+                          "and S_C the local high-pass energy of the luminance P0 and of the "
+                          "demodulated green-magenta chrominance (t = -1: the detail flipped); "
+                          "over bayer-first (bench colour --reference) smooth colours (9) "
+                          "+4.30/+1.69 (worst +2.11/+0.40), hue patches (9) +1.46/+2.27 (worst "
+                          "+1.24/+1.84), colour stress suite (5) +1.45/+1.29 (worst "
+                          "+0.22/+0.11), noisy copies (4) +0.88/+0.45 (worst -0.11/+0.19 "
+                          "gratings_g24), hue-pair dev set (5) -0.03/+0.56 (worst -0.21/+0.40 "
+                          "gm_bars_g18); its constants chosen on these (docs/demosaicking.md, "
+                          "Round 17b)",
                           "double reference only (pan-adapt's reference and a per-pixel pass), "
                           "for evaluation",
                           "ours (docs/demosaicking.md, Round 17b): pan-adapt (Round 14) with a "

@@ -131,7 +131,8 @@ static void test_limits(void)
 			CHECK(eo <= 1.02 * es);
 		}
 	}
-	/* base 1: κ = 0 is pan-adapt's reference */
+	/* base 1: κ = 0 is pan-adapt's reference; the method (green pixels only) with t forced to 0
+	 * changes exactly the green pixels' red and blue outputs */
 	{
 		pc_mosaic m = base;
 		make_raw(f_grey, &m, W, H, img, truth);
@@ -141,6 +142,25 @@ static void test_limits(void)
 		CHECK_EQ_INT(pc_dm_pan_adapt_ref(img, W, H, &m, 4095, s), 0);
 		CHECK_EQ_INT(pc_dm_pan_split_ref_with(img, W, H, &m, 4095, &p, a), 0);
 		CHECK(memcmp(ab, sb, sizeof(float) * n) == 0);
+		p = pc_dm_pan_split_defaults();
+		CHECK(p.base == 1 && p.gonly == 1);
+		p.force = 0;
+		CHECK_EQ_INT(pc_dm_pan_split_ref_with(img, W, H, &m, 4095, &p, a), 0);
+		size_t other = 0, moved = 0;
+		for (uint32_t y = 0; y < H; y++)
+			for (uint32_t x = 0; x < W; x++) {
+				const int green = pc_mosaic_color(&m, x, y) == PC_CFA_G;
+				for (unsigned q = 0; q < 12; q++) {
+					size_t i = q * np + (size_t)y * W + x;
+					if (ab[i] != sb[i])
+						*(green && q / 4 != 1 ? &moved : &other) += 1;
+				}
+			}
+		printf("  grey texture on pan-adapt: t = 0 moves %zu green-pixel red/blue outputs, "
+		       "%zu others\n",
+		       moved, other);
+		CHECK(other == 0);
+		CHECK(moved > np / 4);
 	}
 	/* a uniform colour and polarization: exact */
 	pc_mosaic m = base;
