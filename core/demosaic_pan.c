@@ -522,6 +522,12 @@ static void side_sums(const pan_ref *r, const chroma_ref *c, int x, int y, doubl
 int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                        const pc_fplane *out)
 {
+	return pc_dm_pan_side_ref_own(img, w, h, m, fs, out, NULL);
+}
+
+int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                           const pc_fplane *out, double *rown)
+{
 	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, PAN_SE * fs};
 	chroma_ref c;
 	int rc = chroma_prepare(&r, &c, "pan-side");
@@ -533,6 +539,10 @@ int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
 			const double eh[7] = {r.e, r.e, r.e, r.e, r.e, r.e, r.e};
 			side_sums(&r, &c, x, y, r.e, eh, num, den);
 			put_pixel(&r, x, y, num, den, out);
+			if (rown) {
+				unsigned own = chan(&r, x, y);
+				rown[(size_t)y * w + (size_t)x] = num[own] / den[own];
+			}
 		}
 	free(c.p0);
 	return 0;
@@ -605,6 +615,13 @@ pc_dm_pan_adapt_params pc_dm_pan_adapt_defaults(void)
 int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
                              double fs, const pc_dm_pan_adapt_params *p, const pc_fplane *out)
 {
+	return pc_dm_pan_adapt_ref_own(img, w, h, m, fs, p, out, NULL);
+}
+
+int pc_dm_pan_adapt_ref_own(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                            double fs, const pc_dm_pan_adapt_params *p, const pc_fplane *out,
+                            double *rown)
+{
 	if (!(p->e_fs >= 0) || !(p->ke >= 0) || !(p->e_fs + p->ke > 0) || p->re < 0 ||
 	    p->re > PAN_CX - 3 || !(p->c >= 0) || p->r < 0 || p->r > PAN_CX || !(p->d_fs > 0) ||
 	    !isfinite(p->g))
@@ -629,6 +646,10 @@ int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 				eh[dy + 3] = p->e_fs * fs +
 				             p->ke * adapt_mean(&c, r.delta, x, y + dy, p->re);
 			side_sums(&r, &c, x, y, ev, eh, num, den);
+			if (rown) {
+				unsigned own = chan(&r, x, y);
+				rown[(size_t)y * w + (size_t)x] = num[own] / den[own];
+			}
 			if (!(kn > 0)) {
 				put_pixel(&r, x, y, num, den, out);
 				continue;
@@ -2113,6 +2134,7 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	                                    pc_dm_pan_guard_ref_g, pc_dm_pan_guard_fast_g},
 	                           hue = {pc_dm_pan_hue_ref, NULL, NULL, NULL},
 	                           check = {pc_dm_pan_check_ref, NULL, NULL, NULL};
+	                           split = {pc_dm_pan_split_ref, NULL, NULL, NULL};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma
@@ -2122,6 +2144,7 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	       : m == PC_DM_PAN_GUARD  ? &guard
 	       : m == PC_DM_PAN_HUE    ? &hue
 	       : m == PC_DM_PAN_CHECK  ? &check
+	       : m == PC_DM_PAN_SPLIT  ? &split
 	                               : NULL;
 }
 

@@ -27,6 +27,10 @@ int pc_dm_pan_side_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
                        const pc_fplane *out);
 int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                         pc_cpu_level level, const pc_fplane *out);
+/* ... and the same with the own channel's interpolated ratio R_own(p) = num_own/den_own of every
+ * pixel written to rown[y·w + x] (when rown is not NULL; pan-split, Round 17b) */
+int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                           const pc_fplane *out, double *rown);
 
 /* pan-adapt (docs/demosaicking.md, Round 14): pan-side with a range scale relative to the local
  * signal and the ratio step's level shrunk towards its local mean where the frame's noise
@@ -61,6 +65,10 @@ int pc_dm_pan_adapt_ref(const double *img, uint32_t w, uint32_t h, const pc_mosa
                         const pc_fplane *out);
 int pc_dm_pan_adapt_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
                              double fs, const pc_dm_pan_adapt_params *p, const pc_fplane *out);
+/* ... and the own channel's interpolated ratio R_own(p) into rown (as pc_dm_pan_side_ref_own) */
+int pc_dm_pan_adapt_ref_own(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                            double fs, const pc_dm_pan_adapt_params *p, const pc_fplane *out,
+                            double *rown);
 int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out);
 /* pan-adapt's reference and fast path with the noise gain g (raw units; < 0: estimated, as
@@ -213,6 +221,50 @@ int pc_dm_pan_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
 /* The colour methods of this file, which the front door runs instead of a colour step and a
  * monochrome step: pc_dm_pan_fns_get gives their reference and fast path (NULL for other
  * methods). */
+/* pan-split (docs/demosaicking.md, Round 17b): a base pan estimate whose ratio step carries into
+ * the other χ2 class (green against red and blue) only t times the own sample's detail, t from the
+ * local variation of the luminance P0 against the green–magenta chrominance Ĉ2
+ * (demosaic_pan_split.c states the formulas). Every constant of the definition is one of these. */
+/* the base estimate: 0 pan-side, 1 pan-adapt */
+#define PC_DM_PAN_SPLIT_BASE 1
+/* κ, the chrominance variation's weight */
+#define PC_DM_PAN_SPLIT_KAPPA 1.0
+/* the window's radius r: (2r + 1)² pixels */
+#define PC_DM_PAN_SPLIT_R 4
+/* t_lo, the lowest transfer */
+#define PC_DM_PAN_SPLIT_TLO -1.0
+/* D: 0 from the plain tents (Round 17b's form A), 1 from the base's own interpolated ratio */
+#define PC_DM_PAN_SPLIT_DMODE 1
+/* S_Y, S_C: 0 the variation about the window mean (form A), 1 the diagonal lattice step's
+ * high-pass */
+#define PC_DM_PAN_SPLIT_HP 1
+/* the transfer on green pixels only (1; red and blue pixels keep the base's outputs) or on every
+ * pixel (0; on pan-side's red and blue pixels D = 1 anyway) */
+#define PC_DM_PAN_SPLIT_GONLY 1
+#define PC_DM_PAN_SPLIT_RMAX  8
+
+typedef struct pc_dm_pan_split_params {
+	int base;     /* PC_DM_PAN_SPLIT_BASE, 0 or 1 */
+	double kappa; /* PC_DM_PAN_SPLIT_KAPPA, >= 0 (0: t = 1, the base up to rounding) */
+	int r;        /* PC_DM_PAN_SPLIT_R, 0..PC_DM_PAN_SPLIT_RMAX */
+	double tlo;   /* PC_DM_PAN_SPLIT_TLO, in [-1, 1] */
+	/* outside [-1, 1]: t computed (the method); inside: every t set to it (tests) */
+	double force;
+	double g;  /* base 1: pan-adapt's noise gain (< 0: estimated from the frame) */
+	int dmode; /* PC_DM_PAN_SPLIT_DMODE, 0 or 1 */
+	int hp;    /* PC_DM_PAN_SPLIT_HP, 0 or 1 */
+	int gonly; /* PC_DM_PAN_SPLIT_GONLY, 0 or 1 */
+} pc_dm_pan_split_params;
+
+pc_dm_pan_split_params pc_dm_pan_split_defaults(void);
+/* PC_EINVAL (set) for parameters out of range, else 0 */
+int pc_dm_pan_split_check(const pc_dm_pan_split_params *p);
+/* pan-split's double reference (pc_dm_pan_split_defaults) and the same with other parameters */
+int pc_dm_pan_split_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                        const pc_fplane *out);
+int pc_dm_pan_split_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                             double fs, const pc_dm_pan_split_params *p, const pc_fplane *out);
+
 typedef struct pc_dm_pan_fns {
 	int (*ref)(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
 	           const pc_fplane *out);

@@ -76,6 +76,9 @@ typedef enum pc_demosaic_method {
 	                    * green's ratio residual shows hue detail (ours) */
 	PC_DM_PAN_CHECK,   /* colour only: pan-side blended towards own-lattice tents by a
 	                    * leave-one-out check, for the 5x budget (ours) */
+	PC_DM_PAN_SPLIT,   /* colour only: a pan estimate whose ratio step carries green's detail
+	                    * into red and blue (and theirs into green) only as far as the local
+	                    * luminance outweighs the green-magenta chrominance (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
