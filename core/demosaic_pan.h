@@ -185,6 +185,10 @@ void pc_dm_pan_guard_tent(const pc_dm_guard_blocks *b, const double *v, const pc
 #define PC_DM_PAN_HUE_QUANT 0.25
 /* 1: green is gated too, by red's and blue's ratio residuals; 0: red and blue only */
 #define PC_DM_PAN_HUE_GREEN 0
+/* c_u of pan-hue's guard (pc_dm_pan_guard_params.unshrink, Round 17a): its base's shrinkage
+ * undone, for each colour's own outputs, where the colour's ratio residual exceeds c_u times
+ * its expected noise */
+#define PC_DM_PAN_HUE_UNSHRINK 0.25
 /* the largest window radius r */
 #define PC_DM_PAN_HUE_RMAX 4
 

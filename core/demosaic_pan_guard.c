@@ -45,6 +45,9 @@
  *     I_q = I_p,q + (1 − W_k)·(s_b − s_p)·(max(I_p,q, 0) + δ)/(max(s_p, 0) + δ). W = 1 gives the
  *     base bit for bit in both (1·I_p + 0·I_b; (1 − 1)·… = 0).
  *
+ * Not in the method (pan-hue's, Round 17a): params.unshrink = c_u > 0 blends each colour's own
+ * outputs of the base towards pan-adapt without its shrinkage (guard_unshrink states it).
+ *
  * The method: base pan-adapt, r = 1, γ = 8, F from 10⁻⁴ of full scale, mode 0, bayer-first as
  * the conservative estimate (cons 0; cons 1, every channel's plain tents on its own samples,
  * tried, not chosen), picked on the development sets by the rule of Round 15.

@@ -11,6 +11,11 @@
  * as densely, so its ratio residual sees such patterns down to a 4-pixel period. The gate
  * compares the two (derived here, docs/demosaicking.md Round 16):
  *
+ *  0. (Round 17a) pan-guard's base is pan-adapt with its shrinkage undone, for each colour's own
+ *     outputs, where the colour's ratio residual exceeds c_u times its expected noise
+ *     (pc_dm_pan_guard_params.unshrink, c_u = PC_DM_PAN_HUE_UNSHRINK; demosaic_pan_guard.c,
+ *     guard_unshrink): pan-adapt's shrinkage, driven by P̃'s variance, smooths away hue detail
+ *     that P0 does not carry (dim green bars on magenta), which no later step can restore.
  *  1. pan-guard's output O and, from its reference (pc_dm_pan_guard_ref_parts), bayer-first's I_b
  *     (pc_dm_bayer_first_ref with PC_DM_BILINEAR) and its blocks (pc_dm_pan_guard_blocks): per
  * 2×2 block its leave-one-out errors e_b (plain), e_p (ratio model) and mean level mu of max(raw,
@@ -49,7 +54,9 @@
 
 pc_dm_pan_hue_params pc_dm_pan_hue_defaults(void)
 {
-	pc_dm_pan_hue_params p = {pc_dm_pan_guard_defaults(),
+	pc_dm_pan_guard_params guard = pc_dm_pan_guard_defaults();
+	guard.unshrink = PC_DM_PAN_HUE_UNSHRINK;
+	pc_dm_pan_hue_params p = {guard,
 	                          PC_DM_PAN_HUE_KAPPA,
 	                          PC_DM_PAN_HUE_R,
 	                          PC_DM_PAN_HUE_GAMMA,
