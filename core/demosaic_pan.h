@@ -97,19 +97,23 @@ int pc_dm_pan_adapt_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs,
 /* the conservative estimate: 0 bayer-first's (the method), 1 every channel's plain tents on its
  * own samples */
 #define PC_DM_PAN_GUARD_CONS 0
+/* c_u: > 0 blends the base towards its unshrunk form (pan-adapt with g = 0) where a colour's
+ * ratio residual exceeds c_u times its expected noise (0: pan-guard; Round 17a) */
+#define PC_DM_PAN_GUARD_UNSHRINK 0.0
 
 typedef struct pc_dm_pan_guard_params {
-	int base;     /* PC_DM_PAN_GUARD_BASE */
-	int r;        /* PC_DM_PAN_GUARD_R, 0..4 */
-	double gamma; /* PC_DM_PAN_GUARD_GAMMA, > 0 */
-	double floor; /* PC_DM_PAN_GUARD_FLOOR, >= 0 */
-	int mode;     /* PC_DM_PAN_GUARD_MODE, 0 or 1 */
-	int cons;     /* PC_DM_PAN_GUARD_CONS, 0 or 1 */
-	double force; /* < 0: the weights computed (the method); in [0, 1]: every weight set to
-	               * it (tests: 1 is the base, 0 bayer-first) */
-	double g;     /* the base pan-adapt's noise gain (raw units, demosaic_noise.h; as
-	               * pc_dm_pan_adapt_params.g); < 0: estimated from the frame (the default);
-	               * base 0 (pan-side) uses none */
+	int base;        /* PC_DM_PAN_GUARD_BASE */
+	int r;           /* PC_DM_PAN_GUARD_R, 0..4 */
+	double gamma;    /* PC_DM_PAN_GUARD_GAMMA, > 0 */
+	double floor;    /* PC_DM_PAN_GUARD_FLOOR, >= 0 */
+	int mode;        /* PC_DM_PAN_GUARD_MODE, 0 or 1 */
+	int cons;        /* PC_DM_PAN_GUARD_CONS, 0 or 1 */
+	double force;    /* < 0: the weights computed (the method); in [0, 1]: every weight set to
+	                  * it (tests: 1 is the base, 0 bayer-first) */
+	double g;        /* the base pan-adapt's noise gain (raw units, demosaic_noise.h; as
+	                  * pc_dm_pan_adapt_params.g); < 0: estimated from the frame (the default);
+	                  * base 0 (pan-side) uses none */
+	double unshrink; /* PC_DM_PAN_GUARD_UNSHRINK, >= 0; the reference only (fast path: 0) */
 } pc_dm_pan_guard_params;
 
 /* The method's parameters: the constants above, g estimated */
@@ -145,6 +149,7 @@ int pc_dm_pan_guard_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs,
 typedef struct pc_dm_guard_blocks {
 	int XB, NBX, NBY;
 	double *eb, *ep, *mu; /* NBX·NBY each, row j at j·NBX (one allocation, at eb) */
+	unsigned char *col;   /* NBX·NBY: each block's colour (pc_dm_pan_guard_colour) */
 } pc_dm_guard_blocks;
 /* the blocks with corners in [−XB, w + XB) (XB even, ≥ 4); PC_ENOMEM */
 int pc_dm_pan_guard_blocks(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
@@ -152,6 +157,19 @@ int pc_dm_pan_guard_blocks(const double *img, uint32_t w, uint32_t h, const pc_m
 void pc_dm_pan_guard_blocks_free(pc_dm_guard_blocks *b);
 /* colour 0 R, 1 G, 2 B of the extended position (x, y) (mirrored into the frame) */
 unsigned pc_dm_pan_guard_colour(const pc_mosaic *m, int x, int y, int w, int h);
+/* pan-guard's reference with the parts it computed on the way, for a method built on it:
+ * bayer-first's reference (twelve float planes, plane q at ib + q·w·h, whatever p->cons) and
+ * the blocks, with corners in [−XB, w + XB) for XB = max(4 + 4·p->r, xb) (xb even; the blocks'
+ * values do not depend on XB). The output is pc_dm_pan_guard_ref_with's bit for bit. Free the
+ * parts with pc_dm_pan_guard_parts_free (also after an error); parts NULL: none kept. */
+typedef struct pc_dm_guard_parts {
+	float *ib;
+	pc_dm_guard_blocks bl;
+} pc_dm_guard_parts;
+int pc_dm_pan_guard_ref_parts(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                              double fs, const pc_dm_pan_guard_params *p, int xb,
+                              const pc_fplane *out, pc_dm_guard_parts *parts);
+void pc_dm_pan_guard_parts_free(pc_dm_guard_parts *parts);
 /* the tent sums at pixel (x, y) of per-block values v (pan-guard's step 5): num[k] = Σ T·v(B),
  * den[k] = Σ T over colour k's blocks B with centres within ±4 (T = (4 − |d_x|)(4 − |d_y|)) */
 void pc_dm_pan_guard_tent(const pc_dm_guard_blocks *b, const double *v, const pc_mosaic *m, int w,
@@ -179,6 +197,10 @@ void pc_dm_pan_guard_tents(const double *img, uint32_t w, uint32_t h, const pc_m
 #define PC_DM_PAN_HUE_QUANT 0.25
 /* 1: green is gated too, by red's and blue's ratio residuals; 0: red and blue only */
 #define PC_DM_PAN_HUE_GREEN 0
+/* c_u of pan-hue's guard (pc_dm_pan_guard_params.unshrink, Round 17a): its base's shrinkage
+ * undone, for each colour's own outputs, where the colour's ratio residual exceeds c_u times
+ * its expected noise */
+#define PC_DM_PAN_HUE_UNSHRINK 0.25
 /* the largest window radius r */
 #define PC_DM_PAN_HUE_RMAX 4
 
@@ -204,8 +226,8 @@ int pc_dm_pan_hue_ref_with(const double *img, uint32_t w, uint32_t h, const pc_m
                            const pc_dm_pan_hue_params *p, const pc_fplane *out);
 /* pan-hue's step 2 on pan-guard's blocks b: the gate D(B) of every block (0 for green unless
  * p->green) with the noise gain g >= 0 (pan-check reuses it, demosaic_pan_check.c) */
-void pc_dm_pan_hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, int h,
-                         const pc_dm_pan_hue_params *p, double fs, double g, double *gate);
+void pc_dm_pan_hue_gates(const pc_dm_guard_blocks *b, const pc_dm_pan_hue_params *p, double fs,
+                         double g, double *gate);
 
 /* pan-dir's double reference and fast path (the same arguments). */
 int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,

@@ -193,7 +193,7 @@ int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 		hp.kappa = p->kappa;
 		hp.r = p->r;
 		hp.gamma = p->gamma;
-		pc_dm_pan_hue_gates(&bl, m, (int)w, (int)h, &hp, fs, g, gate);
+		pc_dm_pan_hue_gates(&bl, &hp, fs, g, gate);
 	} else {
 		for (size_t a = 0; a < (size_t)NBX * NBY; a++)
 			gate[a] = 0;

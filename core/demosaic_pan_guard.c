@@ -45,15 +45,20 @@
  *     I_q = I_p,q + (1 − W_k)·(s_b − s_p)·(max(I_p,q, 0) + δ)/(max(s_p, 0) + δ). W = 1 gives the
  *     base bit for bit in both (1·I_p + 0·I_b; (1 − 1)·… = 0).
  *
+ * Not in the method (pan-hue's, Round 17a): params.unshrink = c_u > 0 blends each colour's own
+ * outputs of the base towards pan-adapt without its shrinkage (guard_unshrink states it).
+ *
  * The method: base pan-adapt, r = 1, γ = 8, F from 10⁻⁴ of full scale, mode 0, bayer-first as
  * the conservative estimate (cons 0; cons 1, every channel's plain tents on its own samples,
  * tried, not chosen), picked on the development sets by the rule of Round 15.
  * Every constant is in demosaic_pan.h (PC_DM_PAN_GUARD_*). */
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "demosaic_color.h"
+#include "demosaic_noise.h"
 #include "demosaic_pan.h"
 #include "polarcam/error.h"
 
@@ -66,7 +71,8 @@ pc_dm_pan_guard_params pc_dm_pan_guard_defaults(void)
 	                            PC_DM_PAN_GUARD_MODE,
 	                            PC_DM_PAN_GUARD_CONS,
 	                            -1.0,
-	                            -1.0};
+	                            -1.0,
+	                            PC_DM_PAN_GUARD_UNSHRINK};
 	return p;
 }
 
@@ -74,7 +80,8 @@ int pc_dm_pan_guard_check(const pc_dm_pan_guard_params *p)
 {
 	if ((p->base != 0 && p->base != 1) || p->r < 0 || p->r > 4 || !(p->gamma > 0) ||
 	    !(p->floor >= 0) || (p->mode != 0 && p->mode != 1) || (p->cons != 0 && p->cons != 1) ||
-	    !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g))
+	    !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g) || !(p->unshrink >= 0) ||
+	    !isfinite(p->unshrink))
 		return pc_error(PC_EINVAL, "pan-guard: parameters out of range");
 	return 0;
 }
@@ -125,7 +132,9 @@ unsigned pc_dm_pan_guard_colour(const pc_mosaic *m, int x, int y, int w, int h)
 void pc_dm_pan_guard_blocks_free(pc_dm_guard_blocks *b)
 {
 	free(b->eb);
+	free(b->col);
 	b->eb = b->ep = b->mu = NULL;
+	b->col = NULL;
 }
 
 int pc_dm_pan_guard_blocks(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
@@ -141,12 +150,14 @@ int pc_dm_pan_guard_blocks(const double *img, uint32_t w, uint32_t h, const pc_m
 	const size_t nb = (size_t)NBX * (size_t)NBY;
 	double *ebuf = malloc(sizeof(double) * (2 * ne));
 	double *bbuf = malloc(sizeof(double) * (3 * nb));
-	if (!ebuf || !bbuf) {
+	unsigned char *cbuf = malloc(nb);
+	if (!ebuf || !bbuf || !cbuf) {
 		free(ebuf);
 		free(bbuf);
+		free(cbuf);
 		return pc_error(PC_ENOMEM, "pan-guard reference: images of %ux%u", w, h);
 	}
-	*b = (pc_dm_guard_blocks){XB, NBX, NBY, bbuf, bbuf + nb, bbuf + 2 * nb};
+	*b = (pc_dm_guard_blocks){XB, NBX, NBY, bbuf, bbuf + nb, bbuf + 2 * nb, cbuf};
 	g.raw = ebuf;
 	g.pt = ebuf + ne;
 	double *eb = b->eb, *ep = b->ep, *mu = b->mu;
@@ -172,6 +183,7 @@ int pc_dm_pan_guard_blocks(const double *img, uint32_t w, uint32_t h, const pc_m
 		for (int i = 0; i < NBX; i++) {
 			const int bx = 2 * i - XB, by = 2 * j - XB;
 			const unsigned k = pc_dm_pan_guard_colour(m, bx, by, (int)w, (int)h);
+			b->col[(size_t)j * NBX + i] = (unsigned char)k;
 			const int(*nbr)[2] = k == 1 ? ngr : nrb;
 			double sumb = 0, sump = 0, sumv = 0;
 			for (int o = 0; o < 4; o++) {
@@ -213,63 +225,153 @@ void pc_dm_pan_guard_tent(const pc_dm_guard_blocks *b, const double *v, const pc
 		}
 }
 
-int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
-                             double fs, const pc_dm_pan_guard_params *p, const pc_fplane *out)
+void pc_dm_pan_guard_parts_free(pc_dm_guard_parts *parts)
 {
+	free(parts->ib);
+	parts->ib = NULL;
+	pc_dm_pan_guard_blocks_free(&parts->bl);
+}
+
+/* Round 17a: the base's shrinkage undone where a colour's detail is not noise. pan-adapt's ratio
+ * step shrinks the level towards its window mean where the guide P̃ varies little against its
+ * noise (Round 14); hue detail that P0 does not carry (green bars on magenta) is shrunk away with
+ * the noise. Per block B of colour k, over k's blocks within ±4r: X = max(E_p − c_u·N, 0), N =
+ * 5·g·Σ mu the ratio residual's expected noise part (pan-hue's step 1), u(B) = X/(X + N), the
+ * share of the residual that is signal (a Wiener gain, derived here); at pixel p of colour k,
+ * U_k(p) by the tent and I_p,q = U_k·I_u,q + (1 − U_k)·I_p,q for k's four analysers q only (the
+ * level is k's own sample; the other colours keep the shrunk one, which guards them from k's noise
+ * and k's hue detail), I_u pan-adapt with g = 0 (pan-side's ratio step). u is 1
+ * where N = 0 and X > 0; 0 where X = 0. The blocks' weight buffer ub (NBX·NBY) is scratch. */
+static int guard_unshrink(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                          const pc_dm_pan_guard_params *p, pc_dm_pan_adapt_params pa,
+                          const pc_dm_guard_blocks *bl, const pc_fplane *ip, double *ub)
+{
+	const size_t n = (size_t)w * h;
+	float *ubuf = malloc(sizeof(float) * n * 12);
+	if (!ubuf)
+		return pc_error(PC_ENOMEM, "pan-guard reference: images of %ux%u", w, h);
+	pc_fplane iu[12];
+	for (unsigned q = 0; q < 12; q++)
+		iu[q] = (pc_fplane){ubuf + q * n, w, 1};
+	const double g = fmax(pa.g, 0);
+	pa.g = 0;
+	int rc = pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &pa, iu);
+	if (rc) {
+		free(ubuf);
+		return rc;
+	}
+	const int NBX = bl->NBX, NBY = bl->NBY, rb = 2 * p->r;
+	for (int j = 0; j < NBY; j++)
+		for (int i = 0; i < NBX; i++) {
+			const unsigned k = bl->col[(size_t)j * NBX + i];
+			double s_p = 0, s_m = 0;
+			for (int jj = j - rb; jj <= j + rb; jj++)
+				for (int ii = i - rb; ii <= i + rb; ii++) {
+					if (ii < 0 || jj < 0 || ii >= NBX || jj >= NBY ||
+					    bl->col[(size_t)jj * NBX + ii] != k)
+						continue;
+					s_p += bl->ep[(size_t)jj * NBX + ii];
+					s_m += bl->mu[(size_t)jj * NBX + ii];
+				}
+			const double nn = 5 * g * s_m, x = fmax(s_p - p->unshrink * nn, 0);
+			ub[(size_t)j * NBX + i] = x > 0 ? x / (x + nn) : 0;
+		}
+	for (int y = 0; y < (int)h; y++)
+		for (int x = 0; x < (int)w; x++) {
+			double num[3], den[3];
+			pc_dm_pan_guard_tent(bl, ub, m, (int)w, (int)h, x, y, num, den);
+			const size_t a = (size_t)y * w + (size_t)x;
+			/* the own colour's outputs only: the level is the own sample's */
+			const unsigned k = pc_dm_pan_guard_colour(m, x, y, (int)w, (int)h);
+			const double u = num[k] / den[k];
+			for (unsigned q = 4 * k; q < 4 * k + 4; q++)
+				ip[q].data[a] = (float)(u * (double)iu[q].data[a] +
+				                        (1 - u) * (double)ip[q].data[a]);
+		}
+	free(ubuf);
+	return 0;
+}
+
+int pc_dm_pan_guard_ref_parts(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                              double fs, const pc_dm_pan_guard_params *p, int xb,
+                              const pc_fplane *out, pc_dm_guard_parts *parts)
+{
+	pc_dm_guard_parts own;
+	const bool keep = parts != NULL;
+	if (!keep)
+		parts = &own;
+	*parts = (pc_dm_guard_parts){NULL, {0, 0, 0, NULL, NULL, NULL, NULL}};
 	int rc = pc_dm_pan_guard_check(p);
 	if (rc)
 		return rc;
 	const size_t n = (size_t)w * h;
 	const double delta = PC_DM_PAN_ADAPT_DFS * fs;
-	float *planes = malloc(sizeof(float) * n * 24);
-	if (!planes)
+	float *pbuf = malloc(sizeof(float) * n * 12);
+	parts->ib = malloc(sizeof(float) * n * 12);
+	if (!pbuf || !parts->ib) {
+		free(pbuf);
+		if (!keep)
+			pc_dm_pan_guard_parts_free(parts);
 		return pc_error(PC_ENOMEM, "pan-guard reference: images of %ux%u", w, h);
+	}
 	pc_fplane ip[12], ib[12];
 	for (unsigned q = 0; q < 12; q++) {
-		ip[q] = (pc_fplane){planes + q * n, w, 1};
-		ib[q] = (pc_fplane){planes + (12 + q) * n, w, 1};
+		ip[q] = (pc_fplane){pbuf + q * n, w, 1};
+		ib[q] = (pc_fplane){parts->ib + q * n, w, 1};
 	}
 	/* the base: pan-adapt with the given noise gain, or (g < 0) its own estimate, as
 	 * pc_dm_pan_adapt_ref */
 	pc_dm_pan_adapt_params pa = pc_dm_pan_adapt_defaults();
 	pa.g = p->g;
-	rc = p->base ? pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &pa, ip)
-	             : pc_dm_pan_side_ref(img, w, h, m, fs, ip);
+	/* the unshrink's noise gain: the given one, or the frame's estimate, which is pan-adapt's
+	 * own (pc_dm_noise_gain_d), so the base is the same either way */
+	if (p->unshrink > 0 && pa.g < 0)
+		rc = pc_dm_noise_gain_d(img, w, h, m, fs, &pa.g);
+	if (!rc)
+		rc = p->base ? pc_dm_pan_adapt_ref_with(img, w, h, m, fs, &pa, ip)
+		             : pc_dm_pan_side_ref(img, w, h, m, fs, ip);
 	if (!rc && p->cons == 0)
 		rc = pc_dm_bayer_first_ref(img, w, h, m, PC_DM_BILINEAR, fs, ib);
 	else if (!rc)
 		pc_dm_pan_guard_tents(img, w, h, m, ib);
+	const int XB = 4 + 4 * p->r > xb ? 4 + 4 * p->r : xb;
+	if (!rc)
+		rc = pc_dm_pan_guard_blocks(img, w, h, m, fs, XB, &parts->bl);
+	double *wb = NULL;
+	if (!rc) {
+		wb = malloc(sizeof(double) * (size_t)parts->bl.NBX * (size_t)parts->bl.NBY);
+		if (!wb)
+			rc = pc_error(PC_ENOMEM, "pan-guard reference: images of %ux%u", w, h);
+	}
 	if (rc) {
-		free(planes);
+		free(pbuf);
+		if (!keep)
+			pc_dm_pan_guard_parts_free(parts);
 		return rc;
 	}
-	pc_dm_guard_blocks bl;
-	rc = pc_dm_pan_guard_blocks(img, w, h, m, fs, 4 + 4 * p->r, &bl);
+	const pc_dm_guard_blocks *bl = &parts->bl;
+	const int NBX = bl->NBX, NBY = bl->NBY;
+	const double *eb = bl->eb, *ep = bl->ep;
+	if (p->unshrink > 0 && p->base)
+		rc = guard_unshrink(img, w, h, m, fs, p, pa, bl, ip, wb);
 	if (rc) {
-		free(planes);
+		free(wb);
+		free(pbuf);
+		if (!keep)
+			pc_dm_pan_guard_parts_free(parts);
 		return rc;
-	}
-	const int XB = bl.XB, NBX = bl.NBX, NBY = bl.NBY;
-	const double *eb = bl.eb, *ep = bl.ep;
-	double *wb = malloc(sizeof(double) * (size_t)NBX * (size_t)NBY);
-	if (!wb) {
-		pc_dm_pan_guard_blocks_free(&bl);
-		free(planes);
-		return pc_error(PC_ENOMEM, "pan-guard reference: images of %ux%u", w, h);
 	}
 	/* 3. window sums over the same colour's blocks within ±4r; 4. the block weights */
 	const int rb = 2 * p->r; /* in block steps */
 	const double fl = (p->floor * fs) * (p->floor * fs);
 	for (int j = 0; j < NBY; j++)
 		for (int i = 0; i < NBX; i++) {
-			const int bx = 2 * i - XB, by = 2 * j - XB;
-			const unsigned k = pc_dm_pan_guard_colour(m, bx, by, (int)w, (int)h);
+			const unsigned k = bl->col[(size_t)j * NBX + i];
 			double s_b = 0, s_p = 0;
 			for (int jj = j - rb; jj <= j + rb; jj++)
 				for (int ii = i - rb; ii <= i + rb; ii++) {
 					if (ii < 0 || jj < 0 || ii >= NBX || jj >= NBY ||
-					    pc_dm_pan_guard_colour(m, 2 * ii - XB, 2 * jj - XB,
-					                           (int)w, (int)h) != k)
+					    bl->col[(size_t)jj * NBX + ii] != k)
 						continue;
 					s_b += eb[(size_t)jj * NBX + ii];
 					s_p += ep[(size_t)jj * NBX + ii];
@@ -281,7 +383,7 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	for (int y = 0; y < (int)h; y++)
 		for (int x = 0; x < (int)w; x++) {
 			double num[3], den[3];
-			pc_dm_pan_guard_tent(&bl, wb, m, (int)w, (int)h, x, y, num, den);
+			pc_dm_pan_guard_tent(bl, wb, m, (int)w, (int)h, x, y, num, den);
 			const size_t a = (size_t)y * w + (size_t)x;
 			for (unsigned k = 0; k < 3; k++) {
 				const double wk = p->force >= 0 ? p->force : num[k] / den[k];
@@ -304,9 +406,18 @@ int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 			}
 		}
 	free(wb);
-	pc_dm_pan_guard_blocks_free(&bl);
-	free(planes);
-	return 0;
+	free(pbuf);
+	if (!keep)
+		pc_dm_pan_guard_parts_free(parts);
+	else if (p->cons != 0) /* the parts promise bayer-first's: the tents replaced */
+		rc = pc_dm_bayer_first_ref(img, w, h, m, PC_DM_BILINEAR, fs, ib);
+	return rc;
+}
+
+int pc_dm_pan_guard_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
+                             double fs, const pc_dm_pan_guard_params *p, const pc_fplane *out)
+{
+	return pc_dm_pan_guard_ref_parts(img, w, h, m, fs, p, 0, out, NULL);
 }
 
 int pc_dm_pan_guard_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,

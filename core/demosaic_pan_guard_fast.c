@@ -527,6 +527,8 @@ int pc_dm_pan_guard_fast_with(const pc_dm_input *in, const pc_mosaic *m, double 
 	int rc = pc_dm_pan_guard_check(p);
 	if (rc)
 		return rc;
+	if (p->unshrink != 0)
+		return pc_error(PC_ENOTSUP, "pan-guard fast path: no unshrink (the reference's)");
 	if (p->cons != 0)
 		return pc_error(PC_ENOTSUP, "pan-guard fast path: only bayer-first as the "
 		                            "conservative estimate (cons 0)");

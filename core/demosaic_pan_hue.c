@@ -11,8 +11,13 @@
  * as densely, so its ratio residual sees such patterns down to a 4-pixel period. The gate
  * compares the two (derived here, docs/demosaicking.md Round 16):
  *
- *  1. pan-guard's output O (pc_dm_pan_guard_ref_with) and bayer-first's I_b
- *     (pc_dm_bayer_first_ref with PC_DM_BILINEAR); pan-guard's blocks (pc_dm_pan_guard_blocks): per
+ *  0. (Round 17a) pan-guard's base is pan-adapt with its shrinkage undone, for each colour's own
+ *     outputs, where the colour's ratio residual exceeds c_u times its expected noise
+ *     (pc_dm_pan_guard_params.unshrink, c_u = PC_DM_PAN_HUE_UNSHRINK; demosaic_pan_guard.c,
+ *     guard_unshrink): pan-adapt's shrinkage, driven by P̃'s variance, smooths away hue detail
+ *     that P0 does not carry (dim green bars on magenta), which no later step can restore.
+ *  1. pan-guard's output O and, from its reference (pc_dm_pan_guard_ref_parts), bayer-first's I_b
+ *     (pc_dm_bayer_first_ref with PC_DM_BILINEAR) and its blocks (pc_dm_pan_guard_blocks): per
  * 2×2 block its leave-one-out errors e_b (plain), e_p (ratio model) and mean level mu of max(raw,
  * 0) + δ.
  *  2. For each red or blue block B (colour k), over the blocks within ±4r pixels on both axes:
@@ -43,14 +48,15 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "demosaic_color.h"
 #include "demosaic_noise.h"
 #include "demosaic_pan.h"
 #include "polarcam/error.h"
 
 pc_dm_pan_hue_params pc_dm_pan_hue_defaults(void)
 {
-	pc_dm_pan_hue_params p = {pc_dm_pan_guard_defaults(),
+	pc_dm_pan_guard_params guard = pc_dm_pan_guard_defaults();
+	guard.unshrink = PC_DM_PAN_HUE_UNSHRINK;
+	pc_dm_pan_hue_params p = {guard,
 	                          PC_DM_PAN_HUE_KAPPA,
 	                          PC_DM_PAN_HUE_R,
 	                          PC_DM_PAN_HUE_GAMMA,
@@ -75,16 +81,15 @@ static int hue_check(const pc_dm_pan_hue_params *p)
 }
 
 /* step 2: the gate D(B) of every block (0 for green) */
-void pc_dm_pan_hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w, int h,
-                         const pc_dm_pan_hue_params *p, double fs, double g, double *gate)
+void pc_dm_pan_hue_gates(const pc_dm_guard_blocks *b, const pc_dm_pan_hue_params *p, double fs,
+                         double g, double *gate)
 {
 	const int rb = 2 * p->r; /* in block steps */
 	const double fl = (p->guard.floor * fs) * (p->guard.floor * fs);
 	for (int j = 0; j < b->NBY; j++)
 		for (int i = 0; i < b->NBX; i++) {
 			const size_t at = (size_t)j * b->NBX + i;
-			const unsigned k =
-			    pc_dm_pan_guard_colour(m, 2 * i - b->XB, 2 * j - b->XB, w, h);
+			const unsigned k = b->col[at];
 			gate[at] = 0;
 			if (k == 1 && !p->green)
 				continue;
@@ -101,8 +106,7 @@ void pc_dm_pan_hue_gates(const pc_dm_guard_blocks *b, const pc_mosaic *m, int w,
 					if (ii < 0 || jj < 0 || ii >= b->NBX || jj >= b->NBY)
 						continue;
 					const size_t a = (size_t)jj * b->NBX + ii;
-					const unsigned c = pc_dm_pan_guard_colour(
-					    m, 2 * ii - b->XB, 2 * jj - b->XB, w, h);
+					const unsigned c = b->col[a];
 					wa[nw] = a;
 					wc[nw++] = c;
 					msum[c] += b->mu[a];
@@ -151,47 +155,32 @@ int pc_dm_pan_hue_ref_with(const double *img, uint32_t w, uint32_t h, const pc_m
 	int rc = hue_check(p);
 	if (rc)
 		return rc;
-	rc = pc_dm_pan_guard_ref_with(img, w, h, m, fs, &p->guard, out);
-	if (rc)
-		return rc;
-	const size_t n = (size_t)w * h;
-	float *planes = malloc(sizeof(float) * n * 12);
-	if (!planes)
-		return pc_error(PC_ENOMEM, "pan-hue reference: images of %ux%u", w, h);
-	pc_fplane ib[12];
-	for (unsigned q = 0; q < 12; q++)
-		ib[q] = (pc_fplane){planes + q * n, w, 1};
-	rc = pc_dm_bayer_first_ref(img, w, h, m, PC_DM_BILINEAR, fs, ib);
-	pc_dm_guard_blocks bl = {0, 0, 0, NULL, NULL, NULL};
-	if (!rc)
-		rc = pc_dm_pan_guard_blocks(img, w, h, m, fs, 4 + 4 * p->r, &bl);
+	/* pan-guard's output, with its bayer-first estimate and blocks (reach ±4r for the gates) */
+	pc_dm_guard_parts parts;
+	rc = pc_dm_pan_guard_ref_parts(img, w, h, m, fs, &p->guard, 4 + 4 * p->r, out, &parts);
+	const pc_dm_guard_blocks *bl = &parts.bl;
 	double *gate = NULL;
 	if (!rc) {
-		gate = malloc(sizeof(double) * (size_t)bl.NBX * (size_t)bl.NBY);
+		gate = malloc(sizeof(double) * (size_t)bl->NBX * (size_t)bl->NBY);
 		if (!gate)
 			rc = pc_error(PC_ENOMEM, "pan-hue reference: images of %ux%u", w, h);
 	}
-	if (rc) {
-		pc_dm_pan_guard_blocks_free(&bl);
-		free(planes);
-		return rc;
-	}
 	/* the noise gain: the given one, or the frame's estimate (pan-adapt's, demosaic_noise.h) */
 	double g = p->guard.g;
-	if (g < 0 && p->noise > 0)
+	if (!rc && g < 0 && p->noise > 0)
 		rc = pc_dm_noise_gain_d(img, w, h, m, fs, &g);
 	if (rc) {
 		free(gate);
-		pc_dm_pan_guard_blocks_free(&bl);
-		free(planes);
+		pc_dm_pan_guard_parts_free(&parts);
 		return rc;
 	}
-	pc_dm_pan_hue_gates(&bl, m, (int)w, (int)h, p, fs, fmax(g, 0), gate);
+	pc_dm_pan_hue_gates(bl, p, fs, fmax(g, 0), gate);
 	/* step 3: red (k 0) and blue (k 2) towards bayer-first by their gates */
+	const size_t n = (size_t)w * h;
 	for (int y = 0; y < (int)h; y++)
 		for (int x = 0; x < (int)w; x++) {
 			double num[3], den[3];
-			pc_dm_pan_guard_tent(&bl, gate, m, (int)w, (int)h, x, y, num, den);
+			pc_dm_pan_guard_tent(bl, gate, m, (int)w, (int)h, x, y, num, den);
 			const size_t a = (size_t)y * w + (size_t)x;
 			for (unsigned k = 0; k < 3; k++) {
 				if (k == 1 && !p->green)
@@ -202,13 +191,12 @@ int pc_dm_pan_hue_ref_with(const double *img, uint32_t w, uint32_t h, const pc_m
 					float *o = out[q].data + (size_t)y * out[q].row_stride +
 					           (size_t)x * out[q].pixel_stride;
 					*o = (float)((1 - d) * (double)*o +
-					             d * (double)ib[q].data[a]);
+					             d * (double)parts.ib[q * n + a]);
 				}
 			}
 		}
 	free(gate);
-	pc_dm_pan_guard_blocks_free(&bl);
-	free(planes);
+	pc_dm_pan_guard_parts_free(&parts);
 	return 0;
 }
 

@@ -602,17 +602,21 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                         "quartile over 3x3 lattice steps, less its expected noise), carried "
                         "into them by the ratio step, outweighs their own plain-interpolation "
                         "residual (hue detail near the colour lattice's period that P0 does not "
-                        "see); over bayer-first (bench colour --reference) smooth colours (9) "
-                        "+3.46/+1.47 (worst +1.41/+0.44), hue patches (9) +1.12/+1.66 (worst "
-                        "+0.97/+1.46), colour stress suite (5) +1.13/+1.32 (worst +0.31/+0.31), "
-                        "noisy copies (4) +0.68/+0.43 (worst +0.24/+0.28), hue-pair scenes "
-                        "(scenes/stress/colour-hue, 5) +0.11/+0.59 (worst -0.13/+0.42, 1 "
-                        "losing); its constants chosen on these (docs/demosaicking.md, Round 16)",
-                        "double reference only (pan-guard's reference, bayer-first's and the "
-                        "gate): hundreds of times mono bilinear's time, for evaluation only",
-                        "ours (docs/demosaicking.md, Round 16): pan-guard (Round 15) with a "
-                        "cross-colour gate weighted as Bates & Granger (Operational Research "
-                        "Quarterly 20(4) 1969), sharpened",
+                        "see), and whose base keeps each colour's own detail where its ratio "
+                        "residual exceeds a quarter of its expected noise (pan-adapt's "
+                        "shrinkage undone there); over bayer-first (bench colour --reference) "
+                        "smooth colours (9) +3.47/+1.47 (worst +1.41/+0.44), hue patches (9) "
+                        "+1.13/+1.65 (worst +0.98/+1.44), colour stress suite (5) +1.13/+1.32 "
+                        "(worst +0.31/+0.31), noisy copies (4) +0.61/+0.40 (worst +0.20/+0.25), "
+                        "hue-pair scenes (scenes/stress/colour-hue, 5) +0.14/+0.59 (worst "
+                        "-0.01/+0.38, 1 losing); its constants chosen on these "
+                        "(docs/demosaicking.md, Rounds 16 and 17a)",
+                        "double reference only (pan-guard's reference with pan-adapt's twice, "
+                        "bayer-first's and the gate): hundreds of times mono bilinear's time, "
+                        "for evaluation only",
+                        "ours (docs/demosaicking.md, Rounds 16 and 17a): pan-guard "
+                        "(Round 15) with a cross-colour gate weighted as Bates & Granger "
+                        "(Operational Research Quarterly 20(4) 1969), sharpened",
                         PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
                        {PAN_HUE_LO, PAN_HUE_HI, 1, 1},
                        NULL,

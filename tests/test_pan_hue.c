@@ -1,8 +1,9 @@
 /* pan-hue (core/demosaic_pan_hue.c, docs/demosaicking.md Round 16): its cross-colour gate
  * against independent values.
  *  - The gate's limits: κ = 0 (the detector removed: every gate 0) gives pan-guard's double
- *    reference bit for bit; every gate forced to 1 gives bayer-first's double reference through
- *    the front door bit for bit in red and blue, and pan-guard's in green; at four phases.
+ *    reference (with pan-hue's unshrink c_u, Round 17a) bit for bit; every gate forced to 1 gives
+ * bayer-first's double reference through the front door bit for bit in red and blue, and
+ * pan-guard's in green; at four phases.
  *  - A uniform colour and polarization is exact (both estimates are).
  *  - A grey, hue-free texture (periods 11–23 px) where the ratio model holds: green's ratio
  *    residual is small, the gate stays near 0 and the output within 1 DN of pan-guard's (its
@@ -11,6 +12,10 @@
  *    red and blue lattices) against their known truth: pan-guard's red and blue are worse than
  *    bayer-first's there, and the gate moves them towards the truth (rms error at least 10 %
  *    below pan-guard's); with the detector removed (κ = 0) it does not.
+ *  - The unshrink (Round 17a): on dim noisy green bars on magenta green's error falls below the
+ *    shrunk base's (with c_u = 0 this fails); on a flat noisy field the colours' rms error
+ *    stays within 15 % of the shrunk base's (c_u 0.25 is below the expected noise, so about
+ *    two fifths are unshrunk there).
  *  - The front door runs it (reference only: the default path is the reference) and finds it by
  *    name; on an 8 × 8 frame every output is finite. */
 #include <math.h>
@@ -95,6 +100,7 @@ static void test_limits(void)
 			}
 		pc_dm_pan_hue_params p = pc_dm_pan_hue_defaults();
 		pc_dm_pan_guard_params pg = pc_dm_pan_guard_defaults();
+		pg.unshrink = PC_DM_PAN_HUE_UNSHRINK; /* pan-hue's guard */
 		CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, 4095, &pg, g), 0);
 		p.kappa = 0;
 		CHECK_EQ_INT(pc_dm_pan_hue_ref_with(img, W, H, &m, 4095, &p, a), 0);
@@ -164,6 +170,7 @@ static void test_gate(void)
 		make_raw(f_gm, &m, W, H, img, truth);
 		pc_dm_pan_hue_params p = pc_dm_pan_hue_defaults();
 		pc_dm_pan_guard_params pg = pc_dm_pan_guard_defaults();
+		pg.unshrink = PC_DM_PAN_HUE_UNSHRINK; /* pan-hue's guard */
 		CHECK_EQ_INT(pc_dm_pan_guard_ref_with(img, W, H, &m, 4095, &pg, g), 0);
 		CHECK_EQ_INT(pc_dm_pan_hue_ref_with(img, W, H, &m, 4095, &p, a), 0);
 		CHECK_EQ_INT(pc_dm_bayer_first_ref(img, W, H, &m, PC_DM_BILINEAR, 4095, b), 0);
@@ -191,6 +198,68 @@ static void test_gate(void)
 	free(zb);
 }
 
+/* the dim green bars with noise (σ² = K·level, K = 9 DN, as gm_bars_g18's +18 dB) */
+static double f_gm_dim(unsigned k, unsigned c, double x, double y)
+{
+	return f_gm(k, c, x, y) / 15;
+}
+
+/* pan-guard's unshrink (Round 17a): on the dim noisy bars green's shrunk base loses the bars'
+ * detail, which the unshrink restores (green's error below the shrunk one's, and without it,
+ * c_u = 0, this fails); on a flat noisy field it costs little (the colours' rms error within
+ * 15 % of the shrunk base's: c_u below 1 unshrinks part of pure noise) */
+static void test_unshrink(void)
+{
+	const uint32_t W = 96, H = 64, B = 16;
+	const size_t np = (size_t)W * H, n = np * 12;
+	const double K = 9;
+	const pc_mosaic base = pc_mosaic_imx250myr();
+	double *img = malloc(sizeof(double) * np), *truth = malloc(sizeof(double) * n);
+	pc_fplane a[12], z[12];
+	float *ab = alloc_planes(W, H, a), *zb = alloc_planes(W, H, z);
+	for (unsigned ph = 0; ph < 16; ph += 5) {
+		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+		for (int field = 0; field < 2; field++) {
+			make_raw(field ? f_uniform : f_gm_dim, &m, W, H, img, truth);
+			double lv = 0;
+			for (size_t i = 0; i < np; i++) {
+				lv += img[i] / np;
+				img[i] += sqrt(K * fmax(img[i], 0)) * nrand();
+			}
+			pc_dm_pan_hue_params p = pc_dm_pan_hue_defaults();
+			p.guard.g = K;
+			p.guard.unshrink = PC_DM_PAN_HUE_UNSHRINK;
+			CHECK_EQ_INT(pc_dm_pan_hue_ref_with(img, W, H, &m, 4095, &p, a), 0);
+			p.guard.unshrink = 0;
+			CHECK_EQ_INT(pc_dm_pan_hue_ref_with(img, W, H, &m, 4095, &p, z), 0);
+			if (!field) {
+				double eo = rms_colour(ab, truth, 1, W, H, B),
+				       ez = rms_colour(zb, truth, 1, W, H, B);
+				printf(
+				    "  dim noisy green/magenta bars, phase %2u: green rms %.2f DN "
+				    "unshrunk, %.2f shrunk\n",
+				    ph, eo, ez);
+				CHECK(eo <= 0.98 * ez);
+			} else {
+				double eo = 0, ez = 0;
+				for (unsigned k = 0; k < 3; k++) {
+					eo += rms_colour(ab, truth, k, W, H, B) / 3;
+					ez += rms_colour(zb, truth, k, W, H, B) / 3;
+				}
+				printf("  flat noisy field (level %.0f DN, sigma %.1f), phase %2u: "
+				       "rms "
+				       "error %.2f DN unshrunk, %.2f shrunk\n",
+				       lv, sqrt(K * lv), ph, eo, ez);
+				CHECK(eo <= 1.15 * ez); /* measured 1.07–1.12 at c_u 0.25 */
+			}
+		}
+	}
+	free(img);
+	free(truth);
+	free(ab);
+	free(zb);
+}
+
 static void test_front(void)
 {
 	colour_front_check(PC_DM_PAN_HUE, 34, 20);
@@ -213,9 +282,9 @@ static void test_front(void)
 int main(void)
 {
 	(void)colour_gain_check; /* colour_front.h's, for the methods with a noise gain */
-	(void)nrand;
 	test_limits();
 	test_gate();
+	test_unshrink();
 	test_front();
 	return pc_test_finish("test_pan_hue");
 }
