@@ -78,7 +78,7 @@ int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	const size_t n = (size_t)w * h;
 	float *planes = malloc(sizeof(float) * n * 36);
 	double *wb = NULL, *gate = NULL, *bm = NULL;
-	pc_dm_guard_blocks bl = {0, 0, 0, NULL, NULL, NULL};
+	pc_dm_guard_blocks bl = {0, 0, 0, NULL, NULL, NULL, NULL};
 	if (!planes)
 		return pc_error(PC_ENOMEM, "pan-check reference: images of %ux%u", w, h);
 	pc_fplane ip[12], ib[12];
