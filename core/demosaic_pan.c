@@ -838,7 +838,12 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
 #define PAN_PADR  32 /* raw and sum rows: columns [-32, w + 32) */
 #define PAN_AROWS 25 /* pan-adapt's rows beyond pan-side's (pan_band) */
 #ifndef PAN_STRIPW
-#define PAN_STRIPW 1024 /* pan_band's strips: at most about this many columns */
+/* pan_band's strips: at most about this many columns. Round 17c's 1024 (three strips at 2448
+ * columns, each strip's scratch in a core's L2) cut L2 read misses by 59 % but measured no wall
+ * time near idle on the AVX-512 dev machine (pan-guided 8 % slower, pan-adapt unchanged:
+ * docs/demosaicking.md, Round 17d), so frames up to 4096 columns take one strip, as before,
+ * and wider ones are split to bound the scratch. */
+#define PAN_STRIPW 4096
 #endif
 _Static_assert(PAN_STRIPW >= 192, "pan_band: strips of at least 64 columns");
 

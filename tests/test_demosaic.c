@@ -642,20 +642,20 @@ static void test_pan_sizes(void)
 	}
 }
 
-/* pan_band's column strips (docs/demosaicking.md, Round 17c): a frame wide enough for three
- * strips of its fast path (2100 columns: strips of 704, 704 and 692, the last ending in a part
- * vector), textured so that a strip edge computed from mirrored instead of neighbouring columns
- * would differ by hundreds of DN, against the reference at four mosaic phases, for every method
+/* pan_band's column strips (docs/demosaicking.md, Rounds 17c, 17d): a frame wide enough for
+ * three strips of its fast path (8300 columns, strips of at most 4096: 2768, 2768 and 2764, the
+ * last ending in a part vector), textured so that a strip edge computed from mirrored instead of neighbouring columns
+ * would differ by hundreds of DN, against the reference at two mosaic phases, for every method
  * on pan_band. */
 static void test_pan_strips(void)
 {
 	const pc_demosaic_method pm[5] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA,
 	                                  PC_DM_PAN_SIDE, PC_DM_PAN_ADAPT};
-	const int w = 2100, h = 12;
+	const int w = 8300, h = 12;
 	const double gain[3] = {0.6, 1.0, 0.35};
 	pc_mosaic base = pc_mosaic_imx250myr();
 	scene tex = make_scene(w, h, 2, 0);
-	for (unsigned ph = 0; ph < 16; ph += 5) {
+	for (unsigned ph = 0; ph < 16; ph += 10) { /* phases 0 and 10: (0, 0), (2, 2) */
 		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 		pc_view raw;
 		mosaic_color(&tex, &m, gain, &raw);
