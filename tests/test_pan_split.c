@@ -33,38 +33,6 @@
 #include "colour_front.h"
 #include "colour_truth.h"
 
-/* green bars on magenta, period 4.5 px across a direction 10° from x, soft-edged
- * (test_pan_hue's scene) */
-static double f_gm(unsigned k, unsigned c, double x, double y)
-{
-	static const double green[3] = {0.05, 0.62, 0.05}, magenta[3] = {0.75, 0.06, 0.6};
-	const double a = 10 * M_PI / 180, u = x * cos(a) + y * sin(a);
-	double t = 0.5 + 1.5 * sin(2 * M_PI * u / 4.5);
-	t = t < 0 ? 0 : t > 1 ? 1 : t;
-	return 3000 * (t * green[k] + (1 - t) * magenta[k]) * pol(c);
-}
-
-/* rms error of colour k's analyser mean against the truth's over the interior (B from the
- * borders) */
-static double rms_colour(const float *out, const double *truth, unsigned k, uint32_t w, uint32_t h,
-                         uint32_t B)
-{
-	const size_t np = (size_t)w * h;
-	double e = 0, n = 0;
-	for (uint32_t y = B; y < h - B; y++)
-		for (uint32_t x = B; x < w - B; x++) {
-			size_t i = (size_t)y * w + x;
-			double o = 0, t = 0;
-			for (unsigned c = 0; c < 4; c++) {
-				o += out[(size_t)(4 * k + c) * np + i] / 4.0;
-				t += truth[(size_t)(4 * k + c) * np + i] / 4.0;
-			}
-			e += (o - t) * (o - t);
-			n++;
-		}
-	return sqrt(e / n);
-}
-
 static void test_limits(void)
 {
 	const uint32_t W = 64, H = 48;
