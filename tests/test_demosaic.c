@@ -644,9 +644,9 @@ static void test_pan_sizes(void)
 
 /* pan_band's column strips (docs/demosaicking.md, Rounds 17c, 17d): a frame wide enough for
  * three strips of its fast path (8300 columns, strips of at most 4096: 2768, 2768 and 2764, the
- * last ending in a part vector), textured so that a strip edge computed from mirrored instead of neighbouring columns
- * would differ by hundreds of DN, against the reference at two mosaic phases, for every method
- * on pan_band. */
+ * last ending in a part vector), textured so that a strip edge computed from mirrored instead of
+ * neighbouring columns would differ by hundreds of DN, against the reference at two mosaic phases,
+ * for every method on pan_band. */
 static void test_pan_strips(void)
 {
 	const pc_demosaic_method pm[5] = {PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED, PC_DM_PAN_CHROMA,
