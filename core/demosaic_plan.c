@@ -195,8 +195,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                             "per-scene figures not measured yet)",
                             "one pass, the two bilinear steps' weights composed; 10x bilinear's "
                             "instructions (callgrind, 2448x2048, AVX2, Round 15d; the two-step "
-                            "path it replaced 20x); 10.2-10.7x mono bilinear's time near idle "
-                            "(Round 15e; the old path 19.8-26.1x)",
+                            "path it replaced 20x); 9.3-11.4x mono bilinear's time near idle "
+                            "(Rounds 15e, 16d, 17d; the old path 19.8-26.1x)",
                             "the colour-first baseline of colour-polarization demosaicking "
                             "(Morimatsu et al. 2020, Sec. 3.2)",
                             PC_DMF_COLOR},
@@ -514,8 +514,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "sum, the chrominance, the blocks' hue and two factor rows; 1.22x "
           "pan-guided's instructions (callgrind, AVX2; 292 M vs 240 M per frame after "
           "Rounds 14b, 14c), 1.17-1.23x its median wall time near idle; "
-          "4.0-4.9x the mono bilinear's in the same runs (eight runs), within "
-          "the 5x budget (docs/demosaicking.md, Round 14d)",
+          "4.0-4.9x the mono bilinear's in the same runs (eight runs; Round 17d, "
+          "eight more: 4.0-4.8x), within the 5x budget (docs/demosaicking.md, "
+          "Rounds 14d, 17d)",
           "ours: pan-guided with side weights as GBTF's (Pekkucuksen & "
           "Altunbasak, ICIP 2010) from pan-chroma's hue (Alleysson et al., IEEE "
           "TIP 14(4) 2005); docs/demosaicking.md, Round 13",
@@ -548,9 +549,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "the double reference: 1.24x pan-side's instructions (callgrind, "
                           "AVX2, one thread: 349 M per frame, 5.7 M of them the noise gain, "
                           "now on the caller's threads), 13x the mono bilinear's 26.6 M; "
-                          "near idle 6.2-6.8x the mono bilinear's median wall time (Round "
-                          "16d, four runs; 6.6-7.0x before Round 16a), over the 5x budget "
-                          "(docs/demosaicking.md, Rounds 14 fast path, 16a, 16d)",
+                          "near idle 5.2-6.8x the mono bilinear's median wall time (Rounds "
+                          "16d and 17d, eight runs; 6.6-7.0x before Round 16a), over the 5x "
+                          "budget (docs/demosaicking.md, Rounds 14 fast path, 16a, 16d, 17d)",
                           "ours: pan-side (docs/demosaicking.md, Round 13) with a relative "
                           "range scale (Durand & Dorsey, SIGGRAPH 2002) and ratio-nr's "
                           "shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7); noise gain "
@@ -582,9 +583,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "bayer-first's rows, the block check and the blend (no whole-frame "
                           "scratch); 806 M instructions per 2448x2048 frame (callgrind, AVX2, "
                           "one thread), 30x mono bilinear's, of which pan-adapt and bayer-first "
-                          "620 M; near idle 20.6-22.1x mono bilinear's median wall time, "
-                          "41-48 ms a frame (Round 16d, four runs; 312-388x before Round 16b): "
-                          "far over the 5x budget (docs/demosaicking.md, Rounds 16b and 16d)",
+                          "620 M; near idle 16.9-22.1x mono bilinear's median wall time, "
+                          "38-48 ms a frame (Rounds 16d and 17d, twelve runs; 312-388x before "
+                          "Round 16b): far over the 5x budget (docs/demosaicking.md, Rounds "
+                          "16b, 16d, 17d)",
                           "ours (docs/demosaicking.md, Round 15): pan-adapt and bayer-first "
                           "combined by their local leave-one-out errors (Bates & Granger, "
                           "Operational Research Quarterly 20(4) 1969, sharpened); its base "
