@@ -174,6 +174,9 @@ void pc_dm_pan_guard_parts_free(pc_dm_guard_parts *parts);
  * den[k] = Σ T over colour k's blocks B with centres within ±4 (T = (4 − |d_x|)(4 − |d_y|)) */
 void pc_dm_pan_guard_tent(const pc_dm_guard_blocks *b, const double *v, const pc_mosaic *m, int w,
                           int h, int x, int y, double num[3], double den[3]);
+/* pan-guard's step 2 window of block (i, j): the sums of e_b, e_p and mu over the same colour's
+ * blocks within ±rb block steps (inside the block set), into s[0], s[1], s[2] */
+void pc_dm_pan_guard_window(const pc_dm_guard_blocks *b, int i, int j, int rb, double s[3]);
 /* the cheap conservative estimate (cons 1): every channel q by pan-ratio's normalised tents on its
  * own samples' values, on the mirror-extended raw (twelve float planes) */
 void pc_dm_pan_guard_tents(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,

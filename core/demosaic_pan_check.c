@@ -134,34 +134,24 @@ int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 	/* 3., 4. the window sums, the noise term, the block weights */
 	for (int j = 0; j < NBY; j++)
 		for (int i = 0; i < NBX; i++) {
-			const unsigned k =
-			    pc_dm_pan_guard_colour(m, 2 * i - XB, 2 * j - XB, (int)w, (int)h);
-			double s_b = 0, s_p = 0, s_n = 0;
-			for (int jj = j - rb; jj <= j + rb; jj++)
-				for (int ii = i - rb; ii <= i + rb; ii++) {
-					if (ii < 0 || jj < 0 || ii >= NBX || jj >= NBY ||
-					    pc_dm_pan_guard_colour(m, 2 * ii - XB, 2 * jj - XB,
-					                           (int)w, (int)h) != k)
-						continue;
-					const size_t a = (size_t)jj * NBX + ii;
-					s_b += bl.eb[a];
-					s_p += bl.ep[a];
-					s_n += 4 * g * bl.mu[a];
-				}
-			const double ab = pow(s_b + fl, p->gamma),
-			             ap = pow(s_p + p->noise * s_n + fl, p->gamma);
+			double sw[3];
+			pc_dm_pan_guard_window(&bl, i, j, rb, sw);
+			const double ab = pow(sw[0] + fl, p->gamma),
+			             ap = pow(sw[1] + p->noise * 4 * g * sw[2] + fl, p->gamma);
 			wb[(size_t)j * NBX + i] = ab + ap > 0 ? ab / (ab + ap) : 1;
 		}
-	/* cons 2, 3: each block's mean raw (its colour's analyser mean, polarization-free) */
-	for (int j = 0; j < NBY; j++)
-		for (int i = 0; i < NBX; i++) {
-			double sm = 0;
-			for (int o = 0; o < 4; o++)
-				sm += img[(size_t)pc_mirror4(2 * j - XB + (o >> 1), (int)h) * w +
-				          (size_t)pc_mirror4(2 * i - XB + (o & 1), (int)w)];
-			bm[(size_t)j * NBX + i] = sm / 4;
-		}
 	if (p->cons == 2 || p->cons == 3) {
+		/* each block's mean raw (its colour's analyser mean, polarization-free) */
+		for (int j = 0; j < NBY; j++)
+			for (int i = 0; i < NBX; i++) {
+				double sm = 0;
+				for (int o = 0; o < 4; o++)
+					sm +=
+					    img[(size_t)pc_mirror4(2 * j - XB + (o >> 1), (int)h) *
+					            w +
+					        (size_t)pc_mirror4(2 * i - XB + (o & 1), (int)w)];
+				bm[(size_t)j * NBX + i] = sm / 4;
+			}
 		const double delta = PC_DM_PAN_ADAPT_DFS * fs;
 		for (int y = 0; y < (int)h; y++)
 			for (int x = 0; x < (int)w; x++) {

@@ -232,6 +232,22 @@ void pc_dm_pan_guard_parts_free(pc_dm_guard_parts *parts)
 	pc_dm_pan_guard_blocks_free(&parts->bl);
 }
 
+void pc_dm_pan_guard_window(const pc_dm_guard_blocks *b, int i, int j, int rb, double s[3])
+{
+	const int NBX = b->NBX, NBY = b->NBY;
+	const unsigned k = b->col[(size_t)j * NBX + i];
+	s[0] = s[1] = s[2] = 0;
+	for (int jj = j - rb; jj <= j + rb; jj++)
+		for (int ii = i - rb; ii <= i + rb; ii++) {
+			const size_t a = (size_t)jj * NBX + ii;
+			if (ii < 0 || jj < 0 || ii >= NBX || jj >= NBY || b->col[a] != k)
+				continue;
+			s[0] += b->eb[a];
+			s[1] += b->ep[a];
+			s[2] += b->mu[a];
+		}
+}
+
 /* Round 17a: the base's shrinkage undone where a colour's detail is not noise. pan-adapt's ratio
  * step shrinks the level towards its window mean where the guide P̃ varies little against its
  * noise (Round 14); hue detail that P0 does not carry (green bars on magenta) is shrunk away with
@@ -263,17 +279,9 @@ static int guard_unshrink(const double *img, uint32_t w, uint32_t h, const pc_mo
 	const int NBX = bl->NBX, NBY = bl->NBY, rb = 2 * p->r;
 	for (int j = 0; j < NBY; j++)
 		for (int i = 0; i < NBX; i++) {
-			const unsigned k = bl->col[(size_t)j * NBX + i];
-			double s_p = 0, s_m = 0;
-			for (int jj = j - rb; jj <= j + rb; jj++)
-				for (int ii = i - rb; ii <= i + rb; ii++) {
-					if (ii < 0 || jj < 0 || ii >= NBX || jj >= NBY ||
-					    bl->col[(size_t)jj * NBX + ii] != k)
-						continue;
-					s_p += bl->ep[(size_t)jj * NBX + ii];
-					s_m += bl->mu[(size_t)jj * NBX + ii];
-				}
-			const double nn = 5 * g * s_m, x = fmax(s_p - p->unshrink * nn, 0);
+			double sw[3];
+			pc_dm_pan_guard_window(bl, i, j, rb, sw);
+			const double nn = 5 * g * sw[2], x = fmax(sw[1] - p->unshrink * nn, 0);
 			ub[(size_t)j * NBX + i] = x > 0 ? x / (x + nn) : 0;
 		}
 	for (int y = 0; y < (int)h; y++)
@@ -351,7 +359,6 @@ int pc_dm_pan_guard_ref_parts(const double *img, uint32_t w, uint32_t h, const p
 	}
 	const pc_dm_guard_blocks *bl = &parts->bl;
 	const int NBX = bl->NBX, NBY = bl->NBY;
-	const double *eb = bl->eb, *ep = bl->ep;
 	if (p->unshrink > 0 && p->base)
 		rc = guard_unshrink(img, w, h, m, fs, p, pa, bl, ip, wb);
 	if (rc) {
@@ -366,17 +373,9 @@ int pc_dm_pan_guard_ref_parts(const double *img, uint32_t w, uint32_t h, const p
 	const double fl = (p->floor * fs) * (p->floor * fs);
 	for (int j = 0; j < NBY; j++)
 		for (int i = 0; i < NBX; i++) {
-			const unsigned k = bl->col[(size_t)j * NBX + i];
-			double s_b = 0, s_p = 0;
-			for (int jj = j - rb; jj <= j + rb; jj++)
-				for (int ii = i - rb; ii <= i + rb; ii++) {
-					if (ii < 0 || jj < 0 || ii >= NBX || jj >= NBY ||
-					    bl->col[(size_t)jj * NBX + ii] != k)
-						continue;
-					s_b += eb[(size_t)jj * NBX + ii];
-					s_p += ep[(size_t)jj * NBX + ii];
-				}
-			double ab = pow(s_b + fl, p->gamma), ap = pow(s_p + fl, p->gamma);
+			double sw[3];
+			pc_dm_pan_guard_window(bl, i, j, rb, sw);
+			double ab = pow(sw[0] + fl, p->gamma), ap = pow(sw[1] + fl, p->gamma);
 			wb[(size_t)j * NBX + i] = ab + ap > 0 ? ab / (ab + ap) : 1;
 		}
 	/* 5. per pixel and colour the tent-interpolated weight; 6. the blend */
