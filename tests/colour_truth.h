@@ -36,6 +36,15 @@ static inline void make_raw(truth_fn f, const pc_mosaic *m, uint32_t w, uint32_t
 }
 
 /* polarization: DoLP 0.4, AoLP 0.5 rad, analyser c at c·45° */
+/* the largest relative error of n outputs against a truth with no zero */
+static inline double max_rel_error(const float *out, const double *truth, size_t n)
+{
+	double worst = 0;
+	for (size_t i = 0; i < n; i++)
+		worst = fmax(worst, fabs(out[i] - truth[i]) / truth[i]);
+	return worst;
+}
+
 static inline double pol(unsigned c)
 {
 	return 1 + 0.4 * cos(2 * (c * M_PI / 4 - 0.5));

@@ -216,9 +216,7 @@ static void test_convex(void)
 	/* uniform colour and polarization: both estimates exact, so the output */
 	make_raw(f_uniform, &m, W, H, img, truth);
 	run3(img, W, H, &m, out, ip, ib);
-	double worst = 0;
-	for (size_t i = 0; i < n; i++)
-		worst = fmax(worst, fabs(out[i] - truth[i]) / truth[i]);
+	const double worst = max_rel_error(out, truth, n);
 	printf("  uniform colour and polarization: max relative error %.2g\n", worst);
 	CHECK(worst <= 1e-6);
 	free(img);

@@ -135,11 +135,7 @@ static void test_limits(void)
 	make_raw(f_uniform, &m, W, H, img, truth);
 	pc_dm_pan_split_params p = pc_dm_pan_split_defaults();
 	CHECK_EQ_INT(pc_dm_pan_split_ref_with(img, W, H, &m, 4095, &p, a), 0);
-	double worst = 0;
-	for (unsigned q = 0; q < 12; q++)
-		for (size_t i = 0; i < np; i++)
-			worst = fmax(worst,
-			             fabs(ab[q * np + i] - truth[q * np + i]) / truth[q * np + i]);
+	const double worst = max_rel_error(ab, truth, 12 * np);
 	printf("  uniform colour and polarization: max relative error %.3g\n", worst);
 	CHECK(worst <= 1e-6);
 	free(img);
