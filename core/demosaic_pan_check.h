@@ -25,8 +25,10 @@
 /* the error sums' floor F = (floor·FS)² (pan-guard's) */
 #define PC_DM_PAN_CHECK_FLOOR 1e-4
 /* c, the base's expected excess output noise per sample, in σ² = g·(level + δ), added to its
- * error sum */
-#define PC_DM_PAN_CHECK_NOISE 4.0
+ * error sum: c_RB for red's and blue's blocks, c_G for green's (Round 18: per colour; the base's
+ * red and blue carry a sample from a lattice four times sparser than green's) */
+#define PC_DM_PAN_CHECK_NOISE 8.0
+#define PC_DM_PAN_CHECK_NOISE_GREEN 1.0
 /* κ, pan-hue's cross-colour gate's weight (0: no gate) */
 #define PC_DM_PAN_CHECK_KAPPA 16.0
 
@@ -36,12 +38,13 @@ typedef struct pc_dm_pan_check_params {
 	int r;        /* PC_DM_PAN_CHECK_R, 0..4 */
 	double gamma; /* PC_DM_PAN_CHECK_GAMMA, > 0 */
 	double floor; /* PC_DM_PAN_CHECK_FLOOR, >= 0 */
-	double noise; /* PC_DM_PAN_CHECK_NOISE, >= 0 */
+	double noise; /* PC_DM_PAN_CHECK_NOISE, >= 0: c_RB */
 	double kappa; /* PC_DM_PAN_CHECK_KAPPA, >= 0 */
 	double force; /* < 0: the weights computed (the method); in [0, 1]: every block weight of
 	               * the base set to it and no gate (tests: 1 the base, 0 the conservative) */
 	double g;     /* the noise gain (raw units, demosaic_noise.h); < 0: estimated from the
 	               * frame (the default) */
+	double noise_green; /* PC_DM_PAN_CHECK_NOISE_GREEN, >= 0: c_G */
 } pc_dm_pan_check_params;
 
 pc_dm_pan_check_params pc_dm_pan_check_defaults(void);

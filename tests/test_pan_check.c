@@ -178,6 +178,7 @@ static void test_noise(void)
 	double e[2];
 	for (int c = 0; c < 2; c++) {
 		p.noise = c;
+		p.noise_green = c;
 		CHECK_EQ_INT(pc_dm_pan_check_ref_with(img, W, H, &m, 4095, &p, a), 0);
 		e[c] = rms_all(ab, truth, W, H);
 	}
@@ -187,6 +188,25 @@ static void test_noise(void)
 	/* measured 39.56 against 43.52 and 47.46 DN: without the term (c 1 = c 0) this fails */
 	CHECK(e[1] <= 0.95 * e[0]);
 	CHECK(e[0] < es);
+	/* the term is per colour (Round 18): each colour's weights come from its own blocks, so
+	 * c_RB moves red's and blue's outputs only and c_G green's only (no gate, κ 0) */
+	pc_fplane a2[12];
+	float *ab2 = alloc_planes(W, H, a2);
+	p.noise = 1;
+	p.noise_green = 1;
+	CHECK_EQ_INT(pc_dm_pan_check_ref_with(img, W, H, &m, 4095, &p, a), 0);
+	p.noise = 8;
+	CHECK_EQ_INT(pc_dm_pan_check_ref_with(img, W, H, &m, 4095, &p, a2), 0);
+	CHECK(memcmp(ab + 4 * np, ab2 + 4 * np, sizeof(float) * np * 4) == 0);
+	CHECK(memcmp(ab, ab2, sizeof(float) * np * 4) != 0);
+	CHECK(memcmp(ab + 8 * np, ab2 + 8 * np, sizeof(float) * np * 4) != 0);
+	p.noise = 1;
+	p.noise_green = 8;
+	CHECK_EQ_INT(pc_dm_pan_check_ref_with(img, W, H, &m, 4095, &p, a2), 0);
+	CHECK(memcmp(ab, ab2, sizeof(float) * np * 4) == 0);
+	CHECK(memcmp(ab + 8 * np, ab2 + 8 * np, sizeof(float) * np * 4) == 0);
+	CHECK(memcmp(ab + 4 * np, ab2 + 4 * np, sizeof(float) * np * 4) != 0);
+	free(ab2);
 	free(img);
 	free(truth);
 	free(ab);
@@ -201,6 +221,9 @@ static void test_front(void)
 	pc_dm_pan_check_params p = pc_dm_pan_check_defaults();
 	double img[64] = {0};
 	p.noise = -1;
+	CHECK_EQ_INT(pc_dm_pan_check_ref_with(img, 8, 8, &m, 4095, &p, t), PC_EINVAL);
+	p = pc_dm_pan_check_defaults();
+	p.noise_green = NAN;
 	CHECK_EQ_INT(pc_dm_pan_check_ref_with(img, 8, 8, &m, 4095, &p, t), PC_EINVAL);
 	p = pc_dm_pan_check_defaults();
 	p.cons = 6;
