@@ -64,9 +64,8 @@ static int check_params(const pc_dm_pan_check_params *p)
 	if ((p->base != 0 && p->base != 1) || p->cons < 0 || p->cons > 5 || p->r < 0 ||
 	    p->r > PC_DM_PAN_HUE_RMAX || !(p->gamma > 0) || !isfinite(p->gamma) ||
 	    !(p->floor >= 0) || !isfinite(p->floor) || !(p->noise >= 0) || !isfinite(p->noise) ||
-	    !(p->noise_green >= 0) || !isfinite(p->noise_green) ||
-	    !(p->kappa >= 0) || !isfinite(p->kappa) || !(p->force <= 1) || !isfinite(p->force) ||
-	    !isfinite(p->g))
+	    !(p->noise_green >= 0) || !isfinite(p->noise_green) || !(p->kappa >= 0) ||
+	    !isfinite(p->kappa) || !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g))
 		return pc_error(PC_EINVAL, "pan-check: parameters out of range");
 	return 0;
 }
@@ -138,7 +137,8 @@ int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 		for (int i = 0; i < NBX; i++) {
 			double sw[3];
 			pc_dm_pan_guard_window(&bl, i, j, rb, sw);
-			const double c = bl.col[(size_t)j * NBX + i] == 1 ? p->noise_green : p->noise;
+			const double c =
+			    bl.col[(size_t)j * NBX + i] == 1 ? p->noise_green : p->noise;
 			const double ab = pow(sw[0] + fl, p->gamma),
 			             ap = pow(sw[1] + c * 4 * g * sw[2] + fl, p->gamma);
 			wb[(size_t)j * NBX + i] = ab + ap > 0 ? ab / (ab + ap) : 1;

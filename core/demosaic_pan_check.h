@@ -27,7 +27,7 @@
 /* c, the base's expected excess output noise per sample, in σ² = g·(level + δ), added to its
  * error sum: c_RB for red's and blue's blocks, c_G for green's (Round 18: per colour; the base's
  * red and blue carry a sample from a lattice four times sparser than green's) */
-#define PC_DM_PAN_CHECK_NOISE 8.0
+#define PC_DM_PAN_CHECK_NOISE       8.0
 #define PC_DM_PAN_CHECK_NOISE_GREEN 1.0
 /* κ, pan-hue's cross-colour gate's weight (0: no gate) */
 #define PC_DM_PAN_CHECK_KAPPA 16.0
