@@ -23,8 +23,10 @@
  *     not: the pan ratio step gives channel q at pixel x the pixel's own sample times a smooth
  *     ratio, I_q = (S_o + δ)·R_q/R_o − δ (Round 13's edge bound), so one sample's noise, σ²,
  *     while the tents average about two to four samples (≈ 0.3–0.6 σ²). The base's error sum
- *     gets c·Σ 4σ²(B′) over the window's blocks, σ² = g·mu (pan-adapt's noise model,
- *     demosaic_noise.h; g the given noise gain or the frame's estimate, pc_dm_noise_gain_d).
+ *     gets c_k·Σ 4σ²(B′) over the window's blocks, σ² = g·mu (pan-adapt's noise model,
+ *     demosaic_noise.h; g the given noise gain or the frame's estimate, pc_dm_noise_gain_d),
+ *     c_k per colour (Round 18): c_G for green's blocks, c_RB for red's and blue's, whose
+ *     lattices are four times sparser.
  *  4. The block weight of the base, pan-guard's w(B) = (E_b + F)^γ / ((E_b + F)^γ + (E_p' + F)^γ)
  *     (Bates & Granger, Operational Research Quarterly 20(4) 1969, sharpened by γ, Round 15),
  *     per pixel and colour W_k by pan-guard's tent (pc_dm_pan_guard_tent), and

@@ -626,33 +626,37 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                        false,
                        PC_DM_PAN_HUE,
                        false},
-    [PC_DM_PAN_CHECK] = {{PC_DM_PAN_CHECK, "pan-check",
-                          "colour-polarization: pan-side blended per colour towards a "
-                          "conservative estimate one band pass could compute (bayer-first's "
-                          "green level with the own-lattice tents' polarization; the tents' red "
-                          "and blue, which equal bayer-first's) where pan-guard's leave-one-out "
-                          "check, with a noise term, finds the ratio model locally worse, red and "
-                          "blue also by pan-hue's gate; over bayer-first (bench colour "
-                          "--reference) smooth colours (9) +2.87/+1.23 (worst +1.33/+0.35), hue "
-                          "patches (9) +1.03/+1.77 (worst +0.75/+1.29), colour stress suite (5) "
-                          "+1.15/+1.40 (worst +0.31/+0.29), noisy copies (4) +0.57/+0.86 (worst "
-                          "+0.16/+0.67), hue-pair scenes (scenes/stress/colour-hue, 5) "
-                          "+0.13/+1.05 (worst -0.03/+0.85, 1 losing); its constants chosen on "
-                          "these (docs/demosaicking.md, Round 17)",
-                          "double reference only: no fast path; a band-pass version is estimated "
-                          "from measured kernels at about 520-600 M instructions per 2448x2048 "
-                          "frame (AVX2, one thread; its guard alone >= 175 M), against about "
-                          "270 M for the 5x budget (docs/demosaicking.md, Round 17)",
-                          "ours (docs/demosaicking.md, Round 17): pan-guard's check (Bates & "
-                          "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
-                          "estimates one band pass can compute",
-                          PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
-                         {PAN_CHECK_LO, PAN_CHECK_HI, 1, 1},
-                         NULL,
-                         NULL,
-                         false,
-                         PC_DM_PAN_CHECK,
-                         false},
+    [PC_DM_PAN_CHECK] =
+        {{PC_DM_PAN_CHECK, "pan-check",
+          "colour-polarization: pan-side blended per colour towards a "
+          "conservative estimate one band pass could compute (bayer-first's "
+          "green level with the own-lattice tents' polarization; the tents' red "
+          "and blue, which equal bayer-first's) where pan-guard's leave-one-out "
+          "check, with a noise term per colour, finds the ratio model locally "
+          "worse, red and blue also by pan-hue's gate; over bayer-first (bench "
+          "colour --reference) smooth colours (9) +2.80/+1.17 (worst "
+          "+1.31/+0.33), hue patches (9) +1.06/+1.70 (worst +0.85/+1.27), colour "
+          "stress suite (5) +1.15/+1.39 (worst +0.31/+0.29), noisy copies (4) "
+          "+0.55/+0.85 (worst +0.17/+0.68), hue-pair scenes "
+          "(scenes/stress/colour-hue, 5) +0.14/+1.05 (worst +0.03/+0.85), no "
+          "scene losing; its constants chosen on these (docs/demosaicking.md, "
+          "Rounds 17 and 18); unseen: colour-sealed3 (6, evaluated once) "
+          "+1.65/+1.37 (worst +0.69/+0.73), held-out (9) +0.67/+1.73 (worst "
+          "+0.01/+0.80), none losing",
+          "double reference only: no fast path; a band-pass version is estimated "
+          "from measured kernels at about 520-600 M instructions per 2448x2048 "
+          "frame (AVX2, one thread; its guard alone >= 175 M), against about "
+          "270 M for the 5x budget (docs/demosaicking.md, Round 17)",
+          "ours (docs/demosaicking.md, Rounds 17 and 18): pan-guard's check (Bates & "
+          "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
+          "estimates one band pass can compute",
+          PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+         {PAN_CHECK_LO, PAN_CHECK_HI, 1, 1},
+         NULL,
+         NULL,
+         false,
+         PC_DM_PAN_CHECK,
+         false},
     [PC_DM_PAN_SPLIT] = {{PC_DM_PAN_SPLIT, "pan-split",
                           "colour-polarization: pan-adapt whose ratio step carries green's "
                           "detail into red and blue times t = (S_Y - S_C)/(S_Y + S_C), S_Y "
