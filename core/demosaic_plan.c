@@ -641,8 +641,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(scenes/stress/colour-hue, 5) +0.14/+1.05 (worst +0.03/+0.85), no "
           "scene losing; its constants chosen on these (docs/demosaicking.md, "
           "Rounds 17 and 18); unseen: colour-sealed3 (6, evaluated once) "
-          "+1.65/+1.37 (worst +0.69/+0.73), held-out (9) +0.67/+1.73 (worst "
-          "+0.01/+0.80), none losing",
+          "+1.65/+1.37 (worst +0.69/+0.73), colour-sealed4 (6, evaluated once) "
+          "+0.81/+0.97 (worst +0.10/+0.79: mean S0 short, Round 18c), held-out "
+          "(9) +0.67/+1.73 (worst +0.01/+0.80), none losing",
           "double reference only: no fast path; a band-pass version is estimated "
           "from measured kernels at about 520-600 M instructions per 2448x2048 "
           "frame (AVX2, one thread; its guard alone >= 175 M), against about "
