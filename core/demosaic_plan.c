@@ -646,7 +646,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "ours (docs/demosaicking.md, Round 17): pan-guard's check (Bates & "
                           "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
                           "estimates one band pass can compute",
-                          PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                          PC_DMF_COLOR},
                          {PAN_CHECK_LO, PAN_CHECK_HI, 1, 1},
                          NULL,
                          NULL,
