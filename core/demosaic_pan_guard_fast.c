@@ -80,13 +80,16 @@ typedef struct gk_fns {
 	             const float *, const float *, const float *, const float *, float, float *,
 	             long);
 	void (*mix1)(float *, const float *, float, long);
+	void (*trow)(const float *, long, float *, float *, float *, float *, float *);
+	void (*tcomb)(const float *, const float *, const float *, const float *, float, float,
+	              float, float, float, long, float *);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
 	{                                                                                          \
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
-		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s                                          \
+		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s               \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -137,10 +140,11 @@ typedef struct gf_band {
 	pc_dm_bf_band *bf;
 	/* pan-check's (cmem): the blocks' e_b, e_p (before the noise term), mu (RH block rows
 	 * each), the gates (GF_RW block rows), D_k of red and blue and 1 − D_k; the tents' raw rows
-	 * (GF_RT rows of w + 8, keyed by raw row, 4 mirrored columns either side), their vertical
-	 * sums per row phase and the twelve tent rows */
+	 * (keyed by raw row, 4 mirrored columns either side: tr) tent-summed along the
+	 * rows per column phase (th: GF_RT raw rows of four, keyed by raw row) and the twelve tent
+ * rows; tr one raw row and its masked copy */
 	float *cmem;
-	float *ce, *cp, *cm, *gt, *dr[2], *om, *tr, *vv[4], *tn;
+	float *ce, *cp, *cm, *gt, *dr[2], *om, *th, *tr, *tn;
 	int t_next;
 } gf_band;
 
@@ -218,7 +222,8 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	if (!g->chk)
 		return 0;
 	const size_t wt = gf_up((size_t)g->w + 8);
-	const size_t ctot = (3 * (size_t)g->RH + GF_RW) * nxp + 3 * wp + (GF_RT + 4) * wt + 12 * wp;
+	const size_t ctot =
+	    (3 * (size_t)g->RH + GF_RW) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
 	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
 	if (!b->cmem) {
 		pc_dm_free(b->mem);
@@ -241,12 +246,10 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	}
 	b->om = p;
 	p += wp;
+	b->th = p;
+	p += 4 * GF_RT * wt;
 	b->tr = p;
-	p += GF_RT * wt;
-	for (int i = 0; i < 4; i++) {
-		b->vv[i] = p;
-		p += wt;
-	}
+	p += 2 * wt;
 	b->tn = p;
 	return 0;
 }
@@ -536,63 +539,57 @@ static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
 }
 
 /* pan-check's tents of output row y (pc_dm_pan_guard_tents in float: exact sums on integer
- * raws) into b->tn: the raw rows y − 3 .. y + 3 (pc_mirror4, which keeps the phase mod 4)
- * summed per row phase v with weights 4 − |dy| (vv[v]), then per channel q its lattices'
- * column phases u with 4 − |dx|: at x the sample columns x + d0 and x + d0 − 4,
- * d0 = (u − x) mod 4, weigh 4 − d0 and d0 */
+ * raws) into b->tn. The tent T = (4 − |dx|)(4 − |dy|) is separable and pc_mirror4 keeps the
+ * phase mod 4, so: each raw row (once, mirrored, keyed by its unmirrored index) summed along
+ * the row per column phase u, h_u (gk_trow); then channel q at row y from its lattices (u, v):
+ * the rows y + dy of phase v within ±3, dy = d0 and d0 − 4 with d0 = (v − y) mod 4, weighing
+ * 4 − d0 and d0 (gk_tcomb), over Σ T = 16 per lattice */
 static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
 {
 	const int w = (int)g->w;
 	const size_t wt = gf_up((size_t)w + 8), wp = gf_up((size_t)w + 8);
 	for (; b->t_next <= y + 3; b->t_next++) {
-		float *d = b->tr + (size_t)(b->t_next & (GF_RT - 1)) * wt + 4;
+		float *d = b->tr + 4;
 		pc_dm_row_to_float(g->in, (uint32_t)pc_mirror4(b->t_next, (int)g->h), d);
 		for (int x = -4; x < 0; x++)
 			d[x] = d[pc_mirror4(x, w)];
 		for (int x = w; x < w + 4; x++)
 			d[x] = d[pc_mirror4(x, w)];
-	}
-	for (int v = 0; v < 4; v++)
-		memset(b->vv[v], 0, sizeof(float) * (size_t)(w + 8));
-	for (int dy = -3; dy <= 3; dy++) {
-		const float *r = b->tr + (size_t)((y + dy) & (GF_RT - 1)) * wt;
-		float *a = b->vv[(y + dy) & 3];
-		const float t = (float)(4 - abs(dy));
-		for (int x = 0; x < w + 8; x++)
-			a[x] += t * r[x];
+		float *h = b->th + (size_t)(b->t_next & (GF_RT - 1)) * 4 * wt;
+		g->k->trow(d, w, b->tr + wt, h, h + wt, h + 2 * wt, h + 3 * wt);
 	}
 	for (unsigned q = 0; q < 12; q++) {
-		float *o = b->tn + q * wp;
-		for (int x = 0; x < w; x++)
-			o[x] = 0;
+		const float *a[4];
+		float c[4];
+		int n = 0;
 		for (int v = 0; v < 4; v++)
 			for (int u = 0; u < 4; u++) {
-				if (g->qm[v][u] != q)
+				if (g->qm[v][u] != q || n > 2)
 					continue;
-				const float *a = b->vv[v] + 4;
-				for (int x = 0; x < w; x++) {
-					const int d0 = (u - x) & 3;
-					o[x] +=
-					    (float)(4 - d0) * a[x + d0] + (float)d0 * a[x + d0 - 4];
-				}
+				const int d0 = (v - y) & 3;
+				a[n] = b->th + ((size_t)((y + d0) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
+				c[n++] = (float)(4 - d0);
+				a[n] = b->th +
+				       ((size_t)((y + d0 - 4) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
+				c[n++] = (float)d0;
 			}
-		for (int x = 0; x < w; x++)
-			o[x] *= g->tinv[q];
+		if (n == 2) {
+			a[2] = a[0];
+			a[3] = a[1];
+			c[2] = c[3] = 0;
+		}
+		g->k->tcomb(a[0], a[1], a[2], a[3], c[0], c[1], c[2], c[3], g->tinv[q], w,
+		            b->tn + q * wp);
 	}
 }
 
-/* pan-check's conservative estimate of row y (cons 5) in b->ib: bayer-first's rows there, then
- * red and blue the tents', green bayer-first's analyser mean plus the tents' modulation */
+/* pan-check's conservative estimate of row y (cons 5): red and blue the tents' (b->tn), green
+ * bayer-first's analyser mean (b->ib's rows) plus the tents' modulation, in b->ib */
 static void gf_cons5_row(const guard_fast *g, gf_band *b, int y)
 {
 	const size_t wp = gf_up((size_t)g->w + 8);
 	const int w = (int)g->w;
 	gf_tents_row(g, b, y);
-	for (unsigned q = 0; q < 12; q++) {
-		if (q >= 4 && q < 8)
-			continue;
-		memcpy(b->ib + q * wp, b->tn + q * wp, sizeof(float) * (size_t)w);
-	}
 	float *bg[4];
 	const float *tg[4];
 	for (unsigned c = 0; c < 4; c++) {
@@ -649,7 +646,8 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 				const pc_fplane *o = &g->out[4 * k + c];
 				d[c] = o->data + (size_t)y * o->row_stride;
 				ps[c] = o->pixel_stride;
-				vbr[c] = b.ib + (size_t)(4 * k + c) * wp;
+				vbr[c] = (g->chk && g->chk->cons5 && k != 1 ? b.tn : b.ib) +
+				         (size_t)(4 * k + c) * wp;
 			}
 			const float *wk = b.wr[k];
 			/* pan-check's gate of red and blue: 1 − D_k */
