@@ -33,7 +33,8 @@ int pc_dm_pan_check_fast_with(const pc_dm_input *in, const pc_mosaic *m, double 
 	if (rc)
 		return rc;
 	if (p->base != 0 || p->cons != 5)
-		return pc_error(PC_ENOTSUP, "pan-check fast path: only base 0 (pan-side) and cons 5");
+		return pc_error(PC_ENOTSUP,
+		                "pan-check fast path: only base 0 (pan-side) and cons 5");
 	double g = p->g;
 	if (g < 0 && (p->noise > 0 || p->noise_green > 0 || p->kappa > 0)) {
 		rc = pc_dm_noise_gain_in_mt(in, m, fs, threads, &g);

@@ -83,13 +83,18 @@ typedef struct gk_fns {
 	void (*trow)(const float *, long, float *, float *, float *, float *, float *);
 	void (*tcomb)(const float *, const float *, const float *, const float *, float, float,
 	              float, float, float, long, float *);
+	void (*gmod)(float *, float *, float *, float *, const float *, const float *,
+	             const float *, const float *, long);
+	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
+	            float *, float *, float *, float *);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
 	{                                                                                          \
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
-		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s               \
+		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, gk_gmod_##s, \
+		    gk_cmu_##s                                                                     \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -142,7 +147,7 @@ typedef struct gf_band {
 	 * each), the gates (GF_RW block rows), D_k of red and blue and 1 − D_k; the tents' raw rows
 	 * (keyed by raw row, 4 mirrored columns either side: tr) tent-summed along the
 	 * rows per column phase (th: GF_RT raw rows of four, keyed by raw row) and the twelve tent
- * rows; tr one raw row and its masked copy */
+	 * rows; tr one raw row and its masked copy */
 	float *cmem;
 	float *ce, *cp, *cm, *gt, *dr[2], *om, *th, *tr, *tn;
 	int t_next;
@@ -319,22 +324,17 @@ static void gf_check_blocks(const guard_fast *g, gf_band *b, int jb, int gy)
 	const float *e0 = GF_E(b, g, gy), *e1 = GF_E(b, g, gy + 1), d = g->delta;
 	float *ce = gf_ring(b->ce, jb, g->RH, nxp), *cp = gf_ring(b->cp, jb, g->RH, nxp),
 	      *cm = gf_ring(b->cm, jb, g->RH, nxp);
-	const float n0 = g->nk[gf_col(g, 0, jb)], n1 = g->nk[gf_col(g, 1, jb)];
-	for (int i = 0; i < nx; i++) {
-		const int x = 8 + 2 * i;
-		const float a = (e0[x] > 0 ? e0[x] : 0.0f) + d,
-		            c = (e0[x + 1] > 0 ? e0[x + 1] : 0.0f) + d,
-		            e = (e1[x] > 0 ? e1[x] : 0.0f) + d,
-		            f = (e1[x + 1] > 0 ? e1[x + 1] : 0.0f) + d;
-		cm[i] = (((a + c) + e) + f) * 0.25f;
-		ce[i] = b->eb[i];
-		cp[i] = b->ep[i];
-		b->ep[i] += ((i & 1) ? n1 : n0) * cm[i];
-	}
+	g->k->cmu(e0, e1, 8, nx, d, g->nk[gf_col(g, 0, jb)], g->nk[gf_col(g, 1, jb)], b->eb, b->ep,
+	          ce, cp, cm);
 }
 
 /* pan-check: pan-hue's gate of block row j's red and blue blocks (pc_dm_pan_hue_gates, in
- * double on the float blocks) into the gate ring; green's 0 */
+ * double on the float blocks) into the gate ring; green's 0. The window's blocks by colour
+ * (the blocks' colours are a Bayer pattern, gf_run checks): a red or blue block's own colour at
+ * even offsets (di, dj), green where di + dj is odd, the other colour (unused by the gate) at
+ * both odd. The q-quantile needs only the order statistics lo and lo + 1 of green's residuals,
+ * kept by a bounded insertion; the scale rel² > 0 of every residual multiplies the quantile
+ * after (the same order). */
 static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 {
 	const size_t nxp = gf_nxp(g);
@@ -342,52 +342,65 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	const pc_dm_guard_check *c = g->chk;
 	float *out = gf_ring(b->gt, j, GF_RW, nxp);
 	enum { NW = (4 * PC_DM_PAN_HUE_RMAX + 1) * (4 * PC_DM_PAN_HUE_RMAX + 1) };
+	const float *ce[NW], *cp[NW], *cm[NW];
+	const int j0 = j - rb > 0 ? j - rb : 0, j1 = j + rb < ny - 1 ? j + rb : ny - 1;
+	for (int jj = j0; jj <= j1; jj++) {
+		ce[jj - j0] = gf_ring(b->ce, jj, g->RH, nxp);
+		cp[jj - j0] = gf_ring(b->cp, jj, g->RH, nxp);
+		cm[jj - j0] = gf_ring(b->cm, jj, g->RH, nxp);
+	}
+	const double thr0 = c->hnoise * 5 * c->g;
 	for (int i = 0; i < nx; i++) {
-		const unsigned k = gf_col(g, i, j);
 		out[i] = 0;
-		if (k == 1)
+		if (gf_col(g, i, j) == 1)
 			continue;
-		/* the window's blocks, each colour's mean level, k's own plain residual */
+		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
+		double mk = 0, mg = 0, ek = 0;
+		int nk = 0, ng = 0;
 		float we[NW];
-		int nw = 0;
-		double msum[3] = {0, 0, 0}, ek = 0;
-		int cnt[3] = {0, 0, 0};
-		for (int jj = j - rb; jj <= j + rb; jj++) {
-			if (jj < 0 || jj >= ny)
-				continue;
-			const float *ce = gf_ring(b->ce, jj, g->RH, nxp),
-			            *cp = gf_ring(b->cp, jj, g->RH, nxp),
-			            *cm = gf_ring(b->cm, jj, g->RH, nxp);
-			for (int ii = i - rb; ii <= i + rb; ii++) {
-				if (ii < 0 || ii >= nx)
-					continue;
-				const unsigned cc = gf_col(g, ii, jj);
-				msum[cc] += cm[ii];
-				cnt[cc]++;
-				if (cc == k)
-					ek += ce[ii];
-				else if (cc == 1) { /* red and blue: green's residuals only */
-					we[nw++] = cp[ii];
+		const int se = i0 + ((i0 - i) & 1), so = i0 + !((i0 - i) & 1);
+		for (int jj = j0; jj <= j1; jj++) {
+			const int t = jj - j0;
+			if ((jj - j) & 1) { /* odd dj: green at even di */
+				for (int ii = se; ii <= i1; ii += 2) {
+					mg += cm[t][ii];
+					we[ng++] = cp[t][ii];
 				}
+				continue;
+			}
+			for (int ii = se; ii <= i1; ii += 2) { /* even dj: own at even di */
+				mk += cm[t][ii];
+				ek += ce[t][ii];
+				nk++;
+			}
+			for (int ii = so; ii <= i1; ii += 2) { /* green at odd di */
+				mg += cm[t][ii];
+				we[ng++] = cp[t][ii];
 			}
 		}
-		if (!cnt[k] || !nw)
+		if (!ng)
 			continue;
-		const double mk = msum[k] / cnt[k], mc = msum[1] / cnt[1], rel = mk / mc;
+		mk /= nk;
+		mg /= ng;
+		const double rel = mk / mg, thr = thr0 * mg;
+		const double pos = c->quant * (ng - 1);
+		const int lo = (int)pos, nkeep = lo + 2 < ng ? lo + 2 : ng;
 		double v[NW];
-		for (int u = 0; u < nw; u++) {
-			const double e = fmax(we[u] - c->hnoise * 5 * c->g * mc, 0) * rel * rel;
-			int t = u;
+		int nv = 0;
+		for (int u = 0; u < ng; u++) {
+			const double d = (double)we[u] - thr, e = d > 0 ? d : 0;
+			if (nv == nkeep && e >= v[nv - 1])
+				continue;
+			int t = nv < nkeep ? nv++ : nv - 1;
 			while (t > 0 && v[t - 1] > e) {
 				v[t] = v[t - 1];
 				t--;
 			}
 			v[t] = e;
 		}
-		const double pos = c->quant * (nw - 1);
-		const int lo = (int)pos;
-		const double vq = lo + 1 < nw ? v[lo] + (pos - lo) * (v[lo + 1] - v[lo]) : v[lo];
-		const double x = c->kappa * vq, y = ek / cnt[k] + g->fl;
+		const double vq =
+		    (lo + 1 < ng ? v[lo] + (pos - lo) * (v[lo + 1] - v[lo]) : v[lo]) * rel * rel;
+		const double x = c->kappa * vq, y = ek / nk + g->fl;
 		if (!(x > 0))
 			continue;
 		double t = 1, q = y / x;
@@ -567,7 +580,8 @@ static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
 				if (g->qm[v][u] != q || n > 2)
 					continue;
 				const int d0 = (v - y) & 3;
-				a[n] = b->th + ((size_t)((y + d0) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
+				a[n] =
+				    b->th + ((size_t)((y + d0) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
 				c[n++] = (float)(4 - d0);
 				a[n] = b->th +
 				       ((size_t)((y + d0 - 4) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
@@ -590,18 +604,9 @@ static void gf_cons5_row(const guard_fast *g, gf_band *b, int y)
 	const size_t wp = gf_up((size_t)g->w + 8);
 	const int w = (int)g->w;
 	gf_tents_row(g, b, y);
-	float *bg[4];
-	const float *tg[4];
-	for (unsigned c = 0; c < 4; c++) {
-		bg[c] = b->ib + (4 + c) * wp;
-		tg[c] = b->tn + (4 + c) * wp;
-	}
-	for (int x = 0; x < w; x++) {
-		const float mb = (((bg[0][x] + bg[1][x]) + bg[2][x]) + bg[3][x]) * 0.25f,
-		            mt = (((tg[0][x] + tg[1][x]) + tg[2][x]) + tg[3][x]) * 0.25f;
-		for (unsigned c = 0; c < 4; c++)
-			bg[c][x] = mb + (tg[c][x] - mt);
-	}
+	float *bg = b->ib + 4 * wp;
+	const float *tg = b->tn + 4 * wp;
+	g->k->gmod(bg, bg + wp, bg + 2 * wp, bg + 3 * wp, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w);
 }
 
 /* output rows [y0, y1): I_b, W_k and the blend, in place */

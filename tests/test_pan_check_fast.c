@@ -5,13 +5,13 @@
  *  - every output within TOL = 1e-5 of full scale of the reference (0.04 DN at 12 bits;
  *    pan-guard's fast path's tolerance, on the same float-against-double error sums through
  *    the exponent γ = 8, which multiplies a relative rounding difference of the sums by up to
- *    γ/4 in a weight; Round 18a gives the measured worst, 3.3e-6), on inputs: a smooth coloured polarized scene, a texture, a hue grating finer than
- *    the red and blue lattices' Nyquist period, the smooth scene with noise, dim at 1/64,
- *    clipping at full scale, dark patches next to bright ones, and a uniform noisy field;
- *    sizes 8 × 8, 10 × 14, 34 × 20, 64 × 48 and 150 × 36 (borders, sizes not a multiple of the
- *    period 4, small frames; the front door refuses odd sizes);
- *    four mosaic phases; the method's parameters and variants (no gate, no noise term, r = 0
- *    and 2, γ = 2.5);
+ *    γ/4 in a weight; Round 18a gives the measured worst, 3.3e-6), on inputs: a smooth coloured
+ * polarized scene, a texture, a hue grating finer than the red and blue lattices' Nyquist period,
+ * the smooth scene with noise, dim at 1/64, clipping at full scale, dark patches next to bright
+ * ones, and a uniform noisy field; sizes 8 × 8, 10 × 14, 34 × 20, 64 × 48 and 150 × 36 (borders,
+ * sizes not a multiple of the period 4, small frames; the front door refuses odd sizes); four
+ * mosaic phases; the method's parameters and variants (no gate, no noise term, r = 0 and 2, γ
+ * = 2.5);
  *  - the check is not idle: on the grating the reference moves some output by more than 1 %
  *    of full scale away from its base, and its gate is on;
  *  - three threads give one thread's outputs bit for bit, interleaved outputs the planar ones;
@@ -35,9 +35,9 @@
 
 #include "colour_truth.h"
 
-#define FS   4095.0
-#define TOL  1e-5
-#define NK   8
+#define FS  4095.0
+#define TOL 1e-5
+#define NK  8
 
 /* channel (k, c) at (x, y) of input kind 0 smooth, 1 texture, 2 hue grating, 3 noisy, 4 dim,
  * 5 clipping, 6 dark patches next to bright, 7 uniform noisy field */
@@ -158,12 +158,15 @@ static void test_against_reference(pc_cpu_level level)
 								        v == fget(&il[q], x, y);
 								if (kind == 2 && s <= 1) {
 									const double d =
-									    fabs(e - fget(&b[q], x, y)) /
+									    fabs(e - fget(&b[q], x,
+									                  y)) /
 									    FS;
 									if (s == 0)
-										gated = fmax(gated, d);
+										gated =
+										    fmax(gated, d);
 									else
-										moved = fmax(moved, d);
+										moved =
+										    fmax(moved, d);
 								}
 							}
 				}
@@ -181,8 +184,8 @@ static void test_against_reference(pc_cpu_level level)
 	       "grating, %.3g noisy, %.3g dim, %.3g clipping, %.3g dark by bright, %.3g uniform "
 	       "noisy; on the grating the check moves outputs by up to %.3g of full scale from the "
 	       "base, the gate by up to %.3g\n",
-	       pc_cpu_level_name(level), worst[0], worst[1], worst[2], worst[3], worst[4],
-	       worst[5], worst[6], worst[7], moved, gated);
+	       pc_cpu_level_name(level), worst[0], worst[1], worst[2], worst[3], worst[4], worst[5],
+	       worst[6], worst[7], moved, gated);
 	CHECK(same);
 	CHECK(moved > 0.01);
 	CHECK(gated > 0);
