@@ -14,7 +14,8 @@
  * = 2.5);
  *  - the check is not idle: on the grating the reference moves some output by more than 1 %
  *    of full scale away from its base, and its gate is on;
- *  - three threads give one thread's outputs bit for bit, interleaved outputs the planar ones;
+ *  - three threads give one thread's outputs bit for bit (one band, or five at 40 × 300),
+ *    interleaved outputs the planar ones;
  *  - forced weights 1 give pan-side's fast path bit for bit;
  *  - the front door runs the fast path (its outputs bit for bit). */
 #include <math.h>
@@ -92,13 +93,13 @@ static double fget(const pc_fplane *p, uint32_t x, uint32_t y)
 
 static void test_against_reference(pc_cpu_level level)
 {
-	static const int sizes[5][2] = {{8, 8}, {10, 14}, {34, 20}, {64, 48}, {150, 36}};
+	static const int sizes[6][2] = {{8, 8}, {10, 14}, {34, 20}, {64, 48}, {150, 36}, {40, 300}};
 	/* variants: 0 the method, 1 no gate, 2 no noise term, 3 r = 0, 4 r = 2 and γ = 2.5 */
 	enum { NV = 5 };
 	const pc_mosaic base = pc_mosaic_imx250myr();
 	double worst[NK] = {0}, moved = 0, gated = 0;
 	int same = 1;
-	for (int z = 0; z < 5; z++) {
+	for (int z = 0; z < 6; z++) {
 		const uint32_t W = (uint32_t)sizes[z][0], H = (uint32_t)sizes[z][1];
 		double *img = malloc(sizeof(double) * W * H);
 		float *imgf = malloc(sizeof(float) * W * H);
