@@ -639,10 +639,13 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "+0.16/+0.67), hue-pair scenes (scenes/stress/colour-hue, 5) "
                           "+0.13/+1.05 (worst -0.03/+0.85, 1 losing); its constants chosen on "
                           "these (docs/demosaicking.md, Round 17)",
-                          "double reference only: no fast path; a band-pass version is estimated "
-                          "from measured kernels at about 520-600 M instructions per 2448x2048 "
-                          "frame (AVX2, one thread; its guard alone >= 175 M), against about "
-                          "270 M for the 5x budget (docs/demosaicking.md, Round 17)",
+                          "float fast path: pan-side's fast path, then per row band pan-guard's "
+                          "check with the noise term, pan-hue's gate per block row, bayer-first's "
+                          "rows and the own-lattice tents for the conservative estimate, and the "
+                          "blends; 1401 M instructions per 2448x2048 frame (callgrind, AVX2, one "
+                          "thread), 53x mono bilinear's, of which pan-side 256 M, bayer-first's "
+                          "rows 265 M, the gate 409 M, the tents 170 M: 5.2x the 5x budget's "
+                          "about 270 M, far over it (docs/demosaicking.md, Round 18a)",
                           "ours (docs/demosaicking.md, Round 17): pan-guard's check (Bates & "
                           "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
                           "estimates one band pass can compute",
