@@ -149,7 +149,7 @@ typedef struct gf_band {
 	 * rows per column phase (th: GF_RT raw rows of four, keyed by raw row) and the twelve tent
 	 * rows; tr one raw row and its masked copy */
 	float *cmem;
-	float *ce, *cp, *cm, *gt, *dr[2], *om, *th, *tr, *tn;
+	float *ce, *cp, *cm, *gt, *cs[3], *dr[2], *om, *th, *tr, *tn;
 	int t_next;
 } gf_band;
 
@@ -228,7 +228,7 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 		return 0;
 	const size_t wt = gf_up((size_t)g->w + 8);
 	const size_t ctot =
-	    (3 * (size_t)g->RH + GF_RW) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
+	    (3 * (size_t)g->RH + GF_RW + 3) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
 	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
 	if (!b->cmem) {
 		pc_dm_free(b->mem);
@@ -245,6 +245,10 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	p += (size_t)g->RH * nxp;
 	b->gt = p;
 	p += GF_RW * nxp;
+	for (int i = 0; i < 3; i++) {
+		b->cs[i] = p;
+		p += nxp;
+	}
 	for (int i = 0; i < 2; i++) {
 		b->dr[i] = p;
 		p += wp;
@@ -328,13 +332,14 @@ static void gf_check_blocks(const guard_fast *g, gf_band *b, int jb, int gy)
 	          ce, cp, cm);
 }
 
-/* pan-check: pan-hue's gate of block row j's red and blue blocks (pc_dm_pan_hue_gates, in
- * double on the float blocks) into the gate ring; green's 0. The window's blocks by colour
- * (the blocks' colours are a Bayer pattern, gf_run checks): a red or blue block's own colour at
- * even offsets (di, dj), green where di + dj is odd, the other colour (unused by the gate) at
- * both odd. The q-quantile needs only the order statistics lo and lo + 1 of green's residuals,
- * kept by a bounded insertion; the scale rel² > 0 of every residual multiplies the quantile
- * after (the same order). */
+/* pan-check: pan-hue's gate of block row j's red and blue blocks (pc_dm_pan_hue_gates' formulas
+ * on the float blocks, the ratios and the power in double) into the gate ring; green's 0. The
+ * blocks' colours are a Bayer pattern (gf_run checks): around a red or blue block its own colour
+ * is at even offsets (di, dj), green where di + dj is odd, the other colour (which the gate does
+ * not read) at both odd. The window's sums of mu and e_b come from column sums over the window's
+ * even rows (cs[0] mu, cs[1] e_b) and odd rows (cs[2] mu). The q-quantile needs the order
+ * statistics lo and lo + 1 of green's residuals max(e_p − c·5g·m_G, 0)·rel², a nondecreasing
+ * function of e_p: they are those of the e_p, kept by a bounded insertion, then mapped. */
 static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 {
 	const size_t nxp = gf_nxp(g);
@@ -342,64 +347,78 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	const pc_dm_guard_check *c = g->chk;
 	float *out = gf_ring(b->gt, j, GF_RW, nxp);
 	enum { NW = (4 * PC_DM_PAN_HUE_RMAX + 1) * (4 * PC_DM_PAN_HUE_RMAX + 1) };
-	const float *ce[NW], *cp[NW], *cm[NW];
+	const float *cp[4 * PC_DM_PAN_HUE_RMAX + 1];
+	float *sm = b->cs[0], *se = b->cs[1], *so = b->cs[2];
 	const int j0 = j - rb > 0 ? j - rb : 0, j1 = j + rb < ny - 1 ? j + rb : ny - 1;
+	int nre = 0;
+	for (int i = 0; i < nx; i++)
+		sm[i] = se[i] = so[i] = 0;
 	for (int jj = j0; jj <= j1; jj++) {
-		ce[jj - j0] = gf_ring(b->ce, jj, g->RH, nxp);
+		const float *m = gf_ring(b->cm, jj, g->RH, nxp);
 		cp[jj - j0] = gf_ring(b->cp, jj, g->RH, nxp);
-		cm[jj - j0] = gf_ring(b->cm, jj, g->RH, nxp);
+		if ((jj - j) & 1) {
+			for (int i = 0; i < nx; i++)
+				so[i] += m[i];
+			continue;
+		}
+		const float *e = gf_ring(b->ce, jj, g->RH, nxp);
+		nre++;
+		for (int i = 0; i < nx; i++) {
+			sm[i] += m[i];
+			se[i] += e[i];
+		}
 	}
 	const double thr0 = c->hnoise * 5 * c->g;
-	for (int i = 0; i < nx; i++) {
+	const int c0 = gf_col(g, 0, j) != 1 ? 0 : 1; /* the parity of the row's red or blue */
+	for (int i = 0; i < nx; i++)
 		out[i] = 0;
-		if (gf_col(g, i, j) == 1)
-			continue;
+	for (int i = c0; i < nx; i += 2) {
 		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
+		const int se0 = i0 + ((i0 - i) & 1), so0 = i0 + !((i0 - i) & 1);
 		double mk = 0, mg = 0, ek = 0;
 		int nk = 0, ng = 0;
-		float we[NW];
-		const int se = i0 + ((i0 - i) & 1), so = i0 + !((i0 - i) & 1);
-		for (int jj = j0; jj <= j1; jj++) {
-			const int t = jj - j0;
-			if ((jj - j) & 1) { /* odd dj: green at even di */
-				for (int ii = se; ii <= i1; ii += 2) {
-					mg += cm[t][ii];
-					we[ng++] = cp[t][ii];
-				}
-				continue;
-			}
-			for (int ii = se; ii <= i1; ii += 2) { /* even dj: own at even di */
-				mk += cm[t][ii];
-				ek += ce[t][ii];
-				nk++;
-			}
-			for (int ii = so; ii <= i1; ii += 2) { /* green at odd di */
-				mg += cm[t][ii];
-				we[ng++] = cp[t][ii];
-			}
+		for (int ii = se0; ii <= i1; ii += 2) {
+			mk += sm[ii];
+			ek += se[ii];
+			mg += so[ii];
+			nk += nre;
+			ng += (j1 - j0 + 1) - nre;
+		}
+		for (int ii = so0; ii <= i1; ii += 2) {
+			mg += sm[ii];
+			ng += nre;
 		}
 		if (!ng)
 			continue;
+		/* green's e_p: odd rows at even di, even rows at odd di; the lo + 2 smallest */
+		const double pos = c->quant * (ng - 1);
+		const int lo = (int)pos, nkeep = lo + 2 < ng ? lo + 2 : ng;
+		float v[NW];
+		int nv = 0;
+		for (int jj = j0; jj <= j1; jj++) {
+			const float *p = cp[jj - j0];
+			for (int ii = ((jj - j) & 1) ? se0 : so0; ii <= i1; ii += 2) {
+				const float e = p[ii];
+				if (nv == nkeep && !(e < v[nv - 1]))
+					continue;
+				int t = nv < nkeep ? nv++ : nv - 1;
+				while (t > 0 && v[t - 1] > e) {
+					v[t] = v[t - 1];
+					t--;
+				}
+				v[t] = e;
+			}
+		}
 		mk /= nk;
 		mg /= ng;
 		const double rel = mk / mg, thr = thr0 * mg;
-		const double pos = c->quant * (ng - 1);
-		const int lo = (int)pos, nkeep = lo + 2 < ng ? lo + 2 : ng;
-		double v[NW];
-		int nv = 0;
-		for (int u = 0; u < ng; u++) {
-			const double d = (double)we[u] - thr, e = d > 0 ? d : 0;
-			if (nv == nkeep && e >= v[nv - 1])
-				continue;
-			int t = nv < nkeep ? nv++ : nv - 1;
-			while (t > 0 && v[t - 1] > e) {
-				v[t] = v[t - 1];
-				t--;
-			}
-			v[t] = e;
+		const double a = (double)v[lo] - thr, qa = a > 0 ? a : 0;
+		double vq = qa;
+		if (lo + 1 < ng) {
+			const double bq = (double)v[lo + 1] - thr;
+			vq = qa + (pos - lo) * ((bq > 0 ? bq : 0) - qa);
 		}
-		const double vq =
-		    (lo + 1 < ng ? v[lo] + (pos - lo) * (v[lo + 1] - v[lo]) : v[lo]) * rel * rel;
+		vq *= rel * rel;
 		const double x = c->kappa * vq, y = ek / nk + g->fl;
 		if (!(x > 0))
 			continue;
