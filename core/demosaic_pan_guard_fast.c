@@ -87,6 +87,8 @@ typedef struct gk_fns {
 	             const float *, const float *, long);
 	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
 	            float *, float *, float *, float *);
+	void (*gsel)(const float *, const float *, const float *, const float *, const float *,
+	             long, long, int, float *, float *);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
@@ -94,7 +96,7 @@ typedef struct gk_fns {
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
 		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, gk_gmod_##s, \
-		    gk_cmu_##s                                                                     \
+		    gk_cmu_##s, gk_gsel_##s                                                        \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -149,7 +151,7 @@ typedef struct gf_band {
 	 * rows per column phase (th: GF_RT raw rows of four, keyed by raw row) and the twelve tent
 	 * rows; tr one raw row and its masked copy */
 	float *cmem;
-	float *ce, *cp, *cm, *gt, *cs[3], *dr[2], *om, *th, *tr, *tn;
+	float *ce, *cp, *cm, *gt, *cs[5], *dr[2], *om, *th, *tr, *tn;
 	int t_next;
 } gf_band;
 
@@ -228,7 +230,7 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 		return 0;
 	const size_t wt = gf_up((size_t)g->w + 8);
 	const size_t ctot =
-	    (3 * (size_t)g->RH + GF_RW + 3) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
+	    (3 * (size_t)g->RH + GF_RW + 5) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
 	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
 	if (!b->cmem) {
 		pc_dm_free(b->mem);
@@ -245,7 +247,7 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	p += (size_t)g->RH * nxp;
 	b->gt = p;
 	p += GF_RW * nxp;
-	for (int i = 0; i < 3; i++) {
+	for (int i = 0; i < 5; i++) {
 		b->cs[i] = p;
 		p += nxp;
 	}
@@ -372,6 +374,13 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	const int c0 = gf_col(g, 0, j) != 1 ? 0 : 1; /* the parity of the row's red or blue */
 	for (int i = 0; i < nx; i++)
 		out[i] = 0;
+	/* r = 1 with the window inside the grid: the blocks i in [2, nx − 3] by gk_gsel (their
+	 * order statistics in cs[3], cs[4], indexed by i) */
+	const int lo12 = (int)(c->quant * 11), vec = rb == 2 && j >= 2 && j + 2 < ny && lo12 <= 2;
+	const int iv0 = c0 + 2 > 2 ? c0 + 2 : 2,
+	          nvk = vec && nx - 3 >= iv0 ? (nx - 3 - iv0) / 2 + 1 : 0;
+	if (nvk)
+		g->k->gsel(cp[0], cp[1], cp[2], cp[3], cp[4], iv0, nvk, lo12, b->cs[3], b->cs[4]);
 	for (int i = c0; i < nx; i += 2) {
 		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
 		const int se0 = i0 + ((i0 - i) & 1), so0 = i0 + !((i0 - i) & 1);
@@ -395,7 +404,12 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 		const int lo = (int)pos, nkeep = lo + 2 < ng ? lo + 2 : ng;
 		float v[NW];
 		int nv = 0;
-		for (int jj = j0; jj <= j1; jj++) {
+		const int done = nvk && i >= iv0 && i <= nx - 3;
+		if (done) {
+			v[lo] = b->cs[3][(i - iv0) / 2];
+			v[lo + 1] = b->cs[4][(i - iv0) / 2];
+		}
+		for (int jj = j0; jj <= j1 && !done; jj++) {
 			const float *p = cp[jj - j0];
 			for (int ii = ((jj - j) & 1) ? se0 : so0; ii <= i1; ii += 2) {
 				const float e = p[ii];
