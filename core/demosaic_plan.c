@@ -642,9 +642,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "float fast path: pan-side's fast path, then per row band pan-guard's "
                           "check with the noise term, pan-hue's gate per block row, bayer-first's "
                           "rows and the own-lattice tents for the conservative estimate, and the "
-                          "blends; 1401 M instructions per 2448x2048 frame (callgrind, AVX2, one "
-                          "thread), 53x mono bilinear's, of which pan-side 256 M, bayer-first's "
-                          "rows 265 M, the gate 409 M, the tents 170 M: 5.2x the 5x budget's "
+                          "blends; 1266 M instructions per 2448x2048 frame (callgrind, AVX2, one "
+                          "thread), 48x mono bilinear's, of which pan-side 256 M, bayer-first's "
+                          "rows 265 M, the gate 279 M, the tents 170 M: 4.7x the 5x budget's "
                           "about 270 M, far over it (docs/demosaicking.md, Round 18a)",
                           "ours (docs/demosaicking.md, Round 17): pan-guard's check (Bates & "
                           "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
