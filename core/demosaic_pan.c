@@ -2138,7 +2138,7 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	                           guard = {pc_dm_pan_guard_ref, pc_dm_pan_guard_fast,
 	                                    pc_dm_pan_guard_ref_g, pc_dm_pan_guard_fast_g},
 	                           hue = {pc_dm_pan_hue_ref, NULL, NULL, NULL},
-	                           check = {pc_dm_pan_check_ref, NULL, NULL, NULL},
+	                           check = {pc_dm_pan_check_ref, pc_dm_pan_check_fast, NULL, NULL},
 	                           split = {pc_dm_pan_split_ref, NULL, NULL, NULL};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided

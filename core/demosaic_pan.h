@@ -141,6 +141,24 @@ int pc_dm_pan_guard_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mo
 int pc_dm_pan_guard_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                            pc_cpu_level level, double g, const pc_fplane *out);
 
+/* pan-check's additions to pan-guard's fast path (its fast path, demosaic_pan_check_fast.c,
+ * sets them; demosaic_pan_check.c states the formulas): the noise term n_k = c_k·4g added per
+ * block of colour k times its mean level mu to e_p (the window sums then carry c_k·4g·Σ mu);
+ * pan-hue's gate with κ > 0, its q, its noise weight c_h and g (0 κ: no gate); cons5 1: the
+ * conservative estimate pan-check's cons 5 (bayer-first's green analyser mean with the tents'
+ * modulation, the tents' red and blue), else bayer-first's. */
+typedef struct pc_dm_guard_check {
+	double noise[3]; /* n_k per block colour k (0 R, 1 G, 2 B) */
+	double kappa, quant, hnoise, g;
+	int cons5;
+} pc_dm_guard_check;
+
+/* pan-guard's fast path with p's base (0: pan-side), r, γ, floor, mode and force, and pan-check's
+ * additions chk (NULL: pan-guard's fast path itself) */
+int pc_dm_pan_guard_fast_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                             pc_cpu_level level, const pc_dm_pan_guard_params *p,
+                             const pc_dm_guard_check *chk, const pc_fplane *out);
+
 /* pan-guard's parts that pan-hue (demosaic_pan_hue.c) builds on, all double, on the
  * mirror-extended raw (demosaic_pan_guard.c states the formulas). The blocks: 2×2 blocks of one
  * colour with corners (2i − XB, 2j − XB), i < NBX, j < NBY; per block the leave-one-out errors

@@ -61,7 +61,7 @@ pc_dm_pan_check_params pc_dm_pan_check_defaults(void)
 	return p;
 }
 
-static int check_params(const pc_dm_pan_check_params *p)
+int pc_dm_pan_check_check(const pc_dm_pan_check_params *p)
 {
 	if ((p->base != 0 && p->base != 1) || p->cons < 0 || p->cons > 5 || p->r < 0 ||
 	    p->r > PC_DM_PAN_HUE_RMAX || !(p->gamma > 0) || !isfinite(p->gamma) ||
@@ -75,7 +75,7 @@ static int check_params(const pc_dm_pan_check_params *p)
 int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
                              double fs, const pc_dm_pan_check_params *p, const pc_fplane *out)
 {
-	int rc = check_params(p);
+	int rc = pc_dm_pan_check_check(p);
 	if (rc)
 		return rc;
 	const size_t n = (size_t)w * h;

@@ -2,8 +2,8 @@
  * for the 5x time budget: a cheap pan base blended towards a conservative estimate that one band
  * pass could compute (bayer-first's green analyser mean with the own-lattice tents' modulation,
  * the tents' red and blue) by pan-guard's leave-one-out block check with a noise term, and red
- * and blue by pan-hue's cross-colour gate. demosaic_pan_check.c states the formulas. Double
- * reference only (no fast path: Round 17 estimates its cost). Not a public header. */
+ * and blue by pan-hue's cross-colour gate. demosaic_pan_check.c states the formulas; the float
+ * fast path: demosaic_pan_check_fast.c (Round 18a). Not a public header. */
 #ifndef POLARCAM_DEMOSAIC_PAN_CHECK_H
 #define POLARCAM_DEMOSAIC_PAN_CHECK_H
 
@@ -48,6 +48,8 @@ typedef struct pc_dm_pan_check_params {
 } pc_dm_pan_check_params;
 
 pc_dm_pan_check_params pc_dm_pan_check_defaults(void);
+/* PC_EINVAL (set) for parameters out of range, else 0: the reference's and the fast path's check */
+int pc_dm_pan_check_check(const pc_dm_pan_check_params *p);
 
 /* pan-check's double reference (defaults) and the same with other parameters; PC_EINVAL for
  * parameters out of range */
@@ -55,5 +57,13 @@ int pc_dm_pan_check_ref(const double *img, uint32_t w, uint32_t h, const pc_mosa
                         const pc_fplane *out);
 int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m,
                              double fs, const pc_dm_pan_check_params *p, const pc_fplane *out);
+/* the float fast path (defaults; pc_dm_pan_check_ref's within the tolerance of
+ * tests/test_pan_check_fast.c) and the same with other parameters: PC_ENOTSUP unless base 0 and
+ * cons 5 */
+int pc_dm_pan_check_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                         pc_cpu_level level, const pc_fplane *out);
+int pc_dm_pan_check_fast_with(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                              pc_cpu_level level, const pc_dm_pan_check_params *p,
+                              const pc_fplane *out);
 
 #endif

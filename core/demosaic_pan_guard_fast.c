@@ -80,13 +80,23 @@ typedef struct gk_fns {
 	             const float *, const float *, const float *, const float *, float, float *,
 	             long);
 	void (*mix1)(float *, const float *, float, long);
+	void (*trow)(const float *, long, float *, float *, float *, float *, float *);
+	void (*tcomb)(const float *, const float *, const float *, const float *, float, float,
+	              float, float, float, long, float *);
+	void (*gmod)(float *, float *, float *, float *, const float *, const float *,
+	             const float *, const float *, long);
+	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
+	            float *, float *, float *, float *);
+	void (*gsel)(const float *, const float *, const float *, const float *, const float *,
+	             long, long, int, float *, float *);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
 	{                                                                                          \
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
-		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s                                          \
+		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, gk_gmod_##s, \
+		    gk_cmu_##s, gk_gsel_##s                                                        \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -108,8 +118,14 @@ typedef struct guard_fast {
 	float delta, fl;   /* δ; the floor F = (floor·FS)² */
 	int r, mode;
 	float gamma;
-	int gi;               /* γ as an integer when it is one (powers by squaring), else 0 */
-	float force;          /* < 0: the weights computed */
+	int gi;      /* γ as an integer when it is one (powers by squaring), else 0 */
+	float force; /* < 0: the weights computed */
+	/* pan-check's additions (pc_dm_pan_guard_fast_run's chk; NULL: none) */
+	const pc_dm_guard_check *chk;
+	float nk[3];          /* the noise term per block colour */
+	int gate;             /* pan-hue's gate on */
+	unsigned qm[4][4];    /* the tents: channel q at column phase u, row phase v: qm[v][u] */
+	float tinv[12];       /* 1 / Σ T of channel q (1/16 red and blue, 1/32 green) */
 	int32_t *xmap;        /* grid column → raw column (pc_mirror4) */
 	atomic_int err;       /* a band's scratch not allocated */
 	const pc_fplane *out; /* I_p in, the result out */
@@ -129,7 +145,17 @@ typedef struct gf_band {
 	float *ib;                       /* I_b: 12 rows of w */
 	int e_next, r_next, h_next, w_next;
 	pc_dm_bf_band *bf;
+	/* pan-check's (cmem): the blocks' e_b, e_p (before the noise term), mu (RH block rows
+	 * each), the gates (GF_RW block rows), D_k of red and blue and 1 − D_k; the tents' raw rows
+	 * (keyed by raw row, 4 mirrored columns either side: tr) tent-summed along the
+	 * rows per column phase (th: GF_RT raw rows of four, keyed by raw row) and the twelve tent
+	 * rows; tr one raw row and its masked copy */
+	float *cmem;
+	float *ce, *cp, *cm, *gt, *cs[5], *dr[2], *om, *th, *tr, *tn;
+	int t_next;
 } gf_band;
+
+enum { GF_RT = 8 };
 
 static size_t gf_up(size_t n)
 {
@@ -200,11 +226,48 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	b->fr = p;
 	p += wp;
 	b->ib = p;
+	if (!g->chk)
+		return 0;
+	const size_t wt = gf_up((size_t)g->w + 8);
+	const size_t ctot =
+	    (3 * (size_t)g->RH + GF_RW + 5) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
+	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
+	if (!b->cmem) {
+		pc_dm_free(b->mem);
+		pc_dm_bayer_first_band_free(b->bf);
+		return -1;
+	}
+	memset(b->cmem, 0, sizeof(float) * ctot);
+	p = b->cmem;
+	b->ce = p;
+	p += (size_t)g->RH * nxp;
+	b->cp = p;
+	p += (size_t)g->RH * nxp;
+	b->cm = p;
+	p += (size_t)g->RH * nxp;
+	b->gt = p;
+	p += GF_RW * nxp;
+	for (int i = 0; i < 5; i++) {
+		b->cs[i] = p;
+		p += nxp;
+	}
+	for (int i = 0; i < 2; i++) {
+		b->dr[i] = p;
+		p += wp;
+	}
+	b->om = p;
+	p += wp;
+	b->th = p;
+	p += 4 * GF_RT * wt;
+	b->tr = p;
+	p += 2 * wt;
+	b->tn = p;
 	return 0;
 }
 
 static void gf_band_fini(gf_band *b)
 {
+	pc_dm_free(b->cmem);
 	pc_dm_free(b->mem);
 	pc_dm_bayer_first_band_free(b->bf);
 }
@@ -251,6 +314,141 @@ static void gf_ppi_to(const guard_fast *g, gf_band *b, int gy)
 	}
 }
 
+/* pan-check: the colour of block (i, j) (the blocks' corners are a multiple of 4 from the
+ * frame's, XB = 4 + 4r) */
+static unsigned gf_col(const guard_fast *g, int i, int j)
+{
+	return g->kc[(2 * j - g->XB) & 3][(2 * i - g->XB) & 3];
+}
+
+/* pan-check: block row jb's e_b, e_p and mu = mean of max(raw, 0) + δ over the block's samples
+ * (grid rows gy, gy + 1) into the rings, then the noise term n_k·mu added to e_p */
+static void gf_check_blocks(const guard_fast *g, gf_band *b, int jb, int gy)
+{
+	const size_t nxp = gf_nxp(g);
+	const int nx = g->NBX;
+	const float *e0 = GF_E(b, g, gy), *e1 = GF_E(b, g, gy + 1), d = g->delta;
+	float *ce = gf_ring(b->ce, jb, g->RH, nxp), *cp = gf_ring(b->cp, jb, g->RH, nxp),
+	      *cm = gf_ring(b->cm, jb, g->RH, nxp);
+	g->k->cmu(e0, e1, 8, nx, d, g->nk[gf_col(g, 0, jb)], g->nk[gf_col(g, 1, jb)], b->eb, b->ep,
+	          ce, cp, cm);
+}
+
+/* pan-check: pan-hue's gate of block row j's red and blue blocks (pc_dm_pan_hue_gates' formulas
+ * on the float blocks, the ratios and the power in double) into the gate ring; green's 0. The
+ * blocks' colours are a Bayer pattern (gf_run checks): around a red or blue block its own colour
+ * is at even offsets (di, dj), green where di + dj is odd, the other colour (which the gate does
+ * not read) at both odd. The window's sums of mu and e_b come from column sums over the window's
+ * even rows (cs[0] mu, cs[1] e_b) and odd rows (cs[2] mu). The q-quantile needs the order
+ * statistics lo and lo + 1 of green's residuals max(e_p − c·5g·m_G, 0)·rel², a nondecreasing
+ * function of e_p: they are those of the e_p, kept by a bounded insertion, then mapped. */
+static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
+{
+	const size_t nxp = gf_nxp(g);
+	const int rb = 2 * g->r, nx = g->NBX, ny = g->NBY;
+	const pc_dm_guard_check *c = g->chk;
+	float *out = gf_ring(b->gt, j, GF_RW, nxp);
+	enum { NW = (4 * PC_DM_PAN_HUE_RMAX + 1) * (4 * PC_DM_PAN_HUE_RMAX + 1) };
+	const float *cp[4 * PC_DM_PAN_HUE_RMAX + 1];
+	float *sm = b->cs[0], *se = b->cs[1], *so = b->cs[2];
+	const int j0 = j - rb > 0 ? j - rb : 0, j1 = j + rb < ny - 1 ? j + rb : ny - 1;
+	int nre = 0;
+	for (int i = 0; i < nx; i++)
+		sm[i] = se[i] = so[i] = 0;
+	for (int jj = j0; jj <= j1; jj++) {
+		const float *m = gf_ring(b->cm, jj, g->RH, nxp);
+		cp[jj - j0] = gf_ring(b->cp, jj, g->RH, nxp);
+		if ((jj - j) & 1) {
+			for (int i = 0; i < nx; i++)
+				so[i] += m[i];
+			continue;
+		}
+		const float *e = gf_ring(b->ce, jj, g->RH, nxp);
+		nre++;
+		for (int i = 0; i < nx; i++) {
+			sm[i] += m[i];
+			se[i] += e[i];
+		}
+	}
+	const double thr0 = c->hnoise * 5 * c->g;
+	const int c0 = gf_col(g, 0, j) != 1 ? 0 : 1; /* the parity of the row's red or blue */
+	for (int i = 0; i < nx; i++)
+		out[i] = 0;
+	/* r = 1 with the window inside the grid: the blocks i in [2, nx − 3] by gk_gsel (their
+	 * order statistics in cs[3], cs[4], indexed by i) */
+	const int lo12 = (int)(c->quant * 11), vec = rb == 2 && j >= 2 && j + 2 < ny && lo12 <= 2;
+	const int iv0 = c0 + 2 > 2 ? c0 + 2 : 2,
+	          nvk = vec && nx - 3 >= iv0 ? (nx - 3 - iv0) / 2 + 1 : 0;
+	if (nvk)
+		g->k->gsel(cp[0], cp[1], cp[2], cp[3], cp[4], iv0, nvk, lo12, b->cs[3], b->cs[4]);
+	for (int i = c0; i < nx; i += 2) {
+		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
+		const int se0 = i0 + ((i0 - i) & 1), so0 = i0 + !((i0 - i) & 1);
+		double mk = 0, mg = 0, ek = 0;
+		int nk = 0, ng = 0;
+		for (int ii = se0; ii <= i1; ii += 2) {
+			mk += sm[ii];
+			ek += se[ii];
+			mg += so[ii];
+			nk += nre;
+			ng += (j1 - j0 + 1) - nre;
+		}
+		for (int ii = so0; ii <= i1; ii += 2) {
+			mg += sm[ii];
+			ng += nre;
+		}
+		if (!ng)
+			continue;
+		/* green's e_p: odd rows at even di, even rows at odd di; the lo + 2 smallest */
+		const double pos = c->quant * (ng - 1);
+		const int lo = (int)pos, nkeep = lo + 2 < ng ? lo + 2 : ng;
+		float v[NW];
+		int nv = 0;
+		const int done = nvk && i >= iv0 && i <= nx - 3;
+		if (done) {
+			v[lo] = b->cs[3][(i - iv0) / 2];
+			v[lo + 1] = b->cs[4][(i - iv0) / 2];
+		}
+		for (int jj = j0; jj <= j1 && !done; jj++) {
+			const float *p = cp[jj - j0];
+			for (int ii = ((jj - j) & 1) ? se0 : so0; ii <= i1; ii += 2) {
+				const float e = p[ii];
+				if (nv == nkeep && !(e < v[nv - 1]))
+					continue;
+				int t = nv < nkeep ? nv++ : nv - 1;
+				while (t > 0 && v[t - 1] > e) {
+					v[t] = v[t - 1];
+					t--;
+				}
+				v[t] = e;
+			}
+		}
+		mk /= nk;
+		mg /= ng;
+		const double rel = mk / mg, thr = thr0 * mg;
+		const double a = (double)v[lo] - thr, qa = a > 0 ? a : 0;
+		double vq = qa;
+		if (lo + 1 < ng) {
+			const double bq = (double)v[lo + 1] - thr;
+			vq = qa + (pos - lo) * ((bq > 0 ? bq : 0) - qa);
+		}
+		vq *= rel * rel;
+		const double x = c->kappa * vq, y = ek / nk + g->fl;
+		if (!(x > 0))
+			continue;
+		double t = 1, q = y / x;
+		if (g->gi)
+			for (int e = g->gi; e; e >>= 1) {
+				if (e & 1)
+					t *= q;
+				q *= q;
+			}
+		else
+			t = pow(q, (double)g->gamma);
+		out[i] = (float)(1 / (1 + t));
+	}
+}
+
 /* the window sums along the block rows up to j: the errors of the row's blocks (its two sample
  * rows' squared errors, then per block), then their sums over the offsets |di| <= 2r of even
  * parity (the own lattice: hs[0], hs[1]) and of odd parity (green's diagonal one: hs[2],
@@ -273,6 +471,8 @@ static void gf_hsum_to(const guard_fast *g, gf_band *b, int j)
 			         g->delta, b->qb[o], b->qp[o]);
 		}
 		g->k->blocks(b->qb[0], b->qb[1], b->qp[0], b->qp[1], 8, nx, b->eb, b->ep);
+		if (g->chk)
+			gf_check_blocks(g, b, jb, gy);
 		for (int l = 0; l < 2; l++) {
 			g->k->hsum(b->eb, nx, rb, l, gf_ring(b->hs[2 * l], jb, g->RH, nxp));
 			g->k->hsum(b->ep, nx, rb, l, gf_ring(b->hs[2 * l + 1], jb, g->RH, nxp));
@@ -322,6 +522,8 @@ static void gf_weight_to(const guard_fast *g, gf_band *b, int j)
 		const int g0 = g->kc[by & 3][0] == 1, g1 = g->kc[by & 3][2] == 1;
 		g->k->weight(b->sb[0], b->sb[1], b->sb[2], b->sb[3], nx, g0, g1, g->fl, g->gi,
 		             g->gamma, b->q, b->t, gf_ring(b->wb, jw, GF_RW, nxp));
+		if (g->gate)
+			gf_gate_row(g, b, jw);
 	}
 }
 
@@ -332,17 +534,16 @@ static void gf_weight_to(const guard_fast *g, gf_band *b, int j)
  * pattern (red, blue and two greens), and every pair's T sums to (T_x(s) + T_x(s + 2))·(T_y(p)
  * + T_y(p + 2)) = 8·8 (the tents {1, 5, 7, 3} or {3, 7, 5, 1}), so W_k = Σ/64 (green: Σ/128).
  * The same weights as the reference's sum over the sixteen blocks, in another order. */
-static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
+static void gf_tent_vals(const guard_fast *g, gf_band *b, int y, float *ring, float *wr[3])
 {
 	const size_t nxp = gf_nxp(g);
 	const long w = (long)g->w;
 	const int by0 = (y - 3) & ~1, j0 = (by0 + g->XB) / 2;
-	gf_weight_to(g, b, j0 + 3);
 	float ty[4];
 	const float *wb[4];
 	for (int t = 0; t < 4; t++) {
 		ty[t] = (float)(8 - abs(2 * (by0 + 2 * t - y) + 1));
-		wb[t] = gf_ring(b->wb, j0 + t, GF_RW, nxp);
+		wb[t] = gf_ring(ring, j0 + t, GF_RW, nxp);
 	}
 	g->k->vtent(wb[0], wb[2], ty[0], ty[2], g->NBX, b->A[0]);
 	g->k->vtent(wb[1], wb[3], ty[1], ty[3], g->NBX, b->A[1]);
@@ -352,6 +553,8 @@ static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
 		g->k->htent(b->A[p], nm, c, b->P[2 * p], b->P[2 * p + 1]);
 	/* the colour of pair (s, p) at block-column phase q: kc[(by0 + 2p) & 3][2(q ^ s)] */
 	for (unsigned k = 0; k < 3; k++) {
+		if (!wr[k])
+			continue;
 		const float *sel[2][2] = {{NULL, NULL}, {NULL, NULL}};
 		for (int q = 0; q < 2; q++) {
 			int n = 0;
@@ -362,10 +565,81 @@ static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
 		}
 		if (k == 1)
 			g->k->wsel2(sel[0][0], sel[0][1], sel[1][0], sel[1][1], w, 1.0f / 128,
-			            b->wr[k]);
+			            wr[k]);
 		else
-			g->k->wsel1(sel[0][0], sel[1][0], w, 1.0f / 64, b->wr[k]);
+			g->k->wsel1(sel[0][0], sel[1][0], w, 1.0f / 64, wr[k]);
 	}
+}
+
+/* W_k of output row y into b->wr[k] and, with pan-check's gate, D_k of red and blue into
+ * b->dr */
+static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
+{
+	const int j0 = (((y - 3) & ~1) + g->XB) / 2;
+	gf_weight_to(g, b, j0 + 3);
+	gf_tent_vals(g, b, y, b->wb, b->wr);
+	if (g->gate) {
+		float *dr[3] = {b->dr[0], NULL, b->dr[1]};
+		gf_tent_vals(g, b, y, b->gt, dr);
+	}
+}
+
+/* pan-check's tents of output row y (pc_dm_pan_guard_tents in float: exact sums on integer
+ * raws) into b->tn. The tent T = (4 − |dx|)(4 − |dy|) is separable and pc_mirror4 keeps the
+ * phase mod 4, so: each raw row (once, mirrored, keyed by its unmirrored index) summed along
+ * the row per column phase u, h_u (gk_trow); then channel q at row y from its lattices (u, v):
+ * the rows y + dy of phase v within ±3, dy = d0 and d0 − 4 with d0 = (v − y) mod 4, weighing
+ * 4 − d0 and d0 (gk_tcomb), over Σ T = 16 per lattice */
+static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
+{
+	const int w = (int)g->w;
+	const size_t wt = gf_up((size_t)w + 8), wp = gf_up((size_t)w + 8);
+	for (; b->t_next <= y + 3; b->t_next++) {
+		float *d = b->tr + 4;
+		pc_dm_row_to_float(g->in, (uint32_t)pc_mirror4(b->t_next, (int)g->h), d);
+		for (int x = -4; x < 0; x++)
+			d[x] = d[pc_mirror4(x, w)];
+		for (int x = w; x < w + 4; x++)
+			d[x] = d[pc_mirror4(x, w)];
+		float *h = b->th + (size_t)(b->t_next & (GF_RT - 1)) * 4 * wt;
+		g->k->trow(d, w, b->tr + wt, h, h + wt, h + 2 * wt, h + 3 * wt);
+	}
+	for (unsigned q = 0; q < 12; q++) {
+		const float *a[4];
+		float c[4];
+		int n = 0;
+		for (int v = 0; v < 4; v++)
+			for (int u = 0; u < 4; u++) {
+				if (g->qm[v][u] != q || n > 2)
+					continue;
+				const int d0 = (v - y) & 3;
+				a[n] =
+				    b->th + ((size_t)((y + d0) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
+				c[n++] = (float)(4 - d0);
+				a[n] = b->th +
+				       ((size_t)((y + d0 - 4) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
+				c[n++] = (float)d0;
+			}
+		if (n == 2) {
+			a[2] = a[0];
+			a[3] = a[1];
+			c[2] = c[3] = 0;
+		}
+		g->k->tcomb(a[0], a[1], a[2], a[3], c[0], c[1], c[2], c[3], g->tinv[q], w,
+		            b->tn + q * wp);
+	}
+}
+
+/* pan-check's conservative estimate of row y (cons 5): red and blue the tents' (b->tn), green
+ * bayer-first's analyser mean (b->ib's rows) plus the tents' modulation, in b->ib */
+static void gf_cons5_row(const guard_fast *g, gf_band *b, int y)
+{
+	const size_t wp = gf_up((size_t)g->w + 8);
+	const int w = (int)g->w;
+	gf_tents_row(g, b, y);
+	float *bg = b->ib + 4 * wp;
+	const float *tg = b->tn + 4 * wp;
+	g->k->gmod(bg, bg + wp, bg + 2 * wp, bg + 3 * wp, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w);
 }
 
 /* output rows [y0, y1): I_b, W_k and the blend, in place */
@@ -385,6 +659,7 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 	b.h_next = j0 - 2 * g->r > 0 ? j0 - 2 * g->r : 0;
 	b.r_next = 2 * b.h_next + 8 - 4;
 	b.e_next = b.r_next - 2;
+	b.t_next = (int)y0 - 3;
 	pc_fplane ibp[12];
 	for (unsigned q = 0; q < 12; q++)
 		ibp[q] = (pc_fplane){b.ib + q * wp, wp, 1};
@@ -398,6 +673,9 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 			gf_tent_row(g, &b, y);
 		}
 		pc_dm_bayer_first_band_rows(b.bf, yu, yu + 1, ibp);
+		if (g->chk && g->chk->cons5)
+			gf_cons5_row(g, &b, y);
+		const int gate = g->gate && g->force < 0;
 		for (unsigned k = 0; k < 3; k++) {
 			float *d[4];
 			const float *vbr[4];
@@ -406,9 +684,15 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 				const pc_fplane *o = &g->out[4 * k + c];
 				d[c] = o->data + (size_t)y * o->row_stride;
 				ps[c] = o->pixel_stride;
-				vbr[c] = b.ib + (size_t)(4 * k + c) * wp;
+				vbr[c] = (g->chk && g->chk->cons5 && k != 1 ? b.tn : b.ib) +
+				         (size_t)(4 * k + c) * wp;
 			}
 			const float *wk = b.wr[k];
+			/* pan-check's gate of red and blue: 1 − D_k */
+			const int gk = gate && k != 1;
+			if (gk)
+				for (uint32_t x = 0; x < w; x++)
+					b.om[x] = 1 - b.dr[k / 2][x];
 			if (ps[0] == 1 && ps[1] == 1 && ps[2] == 1 && ps[3] == 1) {
 				if (g->mode) {
 					g->k->fac1(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
@@ -418,6 +702,9 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 				} else {
 					g->k->mix0(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
 					           vbr[3], wk, w);
+					if (gk)
+						g->k->mix0(d[0], d[1], d[2], d[3], vbr[0], vbr[1],
+						           vbr[2], vbr[3], b.om, w);
 				}
 				continue;
 			}
@@ -439,9 +726,12 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 						    vp[c] +
 						    f * ((vp[c] > 0 ? vp[c] : 0.0f) + g->delta);
 				} else {
-					for (unsigned c = 0; c < 4; c++)
-						d[c][x * ps[c]] =
-						    wk[x] * vp[c] + (1 - wk[x]) * vb[c];
+					for (unsigned c = 0; c < 4; c++) {
+						float o = wk[x] * vp[c] + (1 - wk[x]) * vb[c];
+						if (gk)
+							o = b.om[x] * o + (1 - b.om[x]) * vb[c];
+						d[c][x * ps[c]] = o;
+					}
 				}
 			}
 		}
@@ -453,7 +743,7 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
  * blended, 1 the colour's analyser mean) */
 static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                   pc_cpu_level level, int base, int r, double gamma, double floor, int mode,
-                  double force, double gain, const pc_fplane *out)
+                  double force, double gain, const pc_dm_guard_check *chk, const pc_fplane *out)
 {
 	const uint32_t w = in->width, h = in->height;
 	guard_fast g;
@@ -496,6 +786,21 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	g.gi = gamma >= 1 && gamma <= 64 && gamma == (double)(int)gamma ? (int)gamma : 0;
 	g.force = (float)force;
 	g.out = out;
+	g.chk = chk;
+	if (chk) {
+		for (unsigned k = 0; k < 3; k++)
+			g.nk[k] = (float)chk->noise[k];
+		g.gate = chk->kappa > 0;
+		unsigned nq[12] = {0};
+		for (unsigned v = 0; v < 4; v++)
+			for (unsigned u = 0; u < 4; u++) {
+				g.qm[v][u] = 4 * (unsigned)(pc_mosaic_color(m, u, v) - PC_CFA_R) +
+				             pc_mosaic_channel(m, u, v);
+				nq[g.qm[v][u]]++;
+			}
+		for (unsigned q = 0; q < 12; q++)
+			g.tinv[q] = nq[q] ? 1.0f / (16.0f * (float)nq[q]) : 0.0f;
+	}
 	g.xmap = malloc(sizeof(int32_t) * (size_t)g.W);
 	if (!g.xmap)
 		return pc_error(PC_ENOMEM, "pan-guard: column map of width %u", w);
@@ -533,7 +838,15 @@ int pc_dm_pan_guard_fast_with(const pc_dm_input *in, const pc_mosaic *m, double 
 		return pc_error(PC_ENOTSUP, "pan-guard fast path: only bayer-first as the "
 		                            "conservative estimate (cons 0)");
 	return gf_run(in, m, fs, threads, level, p->base, p->r, p->gamma, p->floor, p->mode,
-	              p->force, p->g, out);
+	              p->force, p->g, NULL, out);
+}
+
+int pc_dm_pan_guard_fast_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                             pc_cpu_level level, const pc_dm_pan_guard_params *p,
+                             const pc_dm_guard_check *chk, const pc_fplane *out)
+{
+	return gf_run(in, m, fs, threads, level, p->base, p->r, p->gamma, p->floor, p->mode,
+	              p->force, p->g, chk, out);
 }
 
 int pc_dm_pan_guard_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
