@@ -650,7 +650,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "blends; 1266 M instructions per 2448x2048 frame (callgrind, AVX2, one "
           "thread), 48x mono bilinear's, of which pan-side 256 M, bayer-first's "
           "rows 265 M, the gate 279 M, the tents 170 M: 4.7x the 5x budget's "
-          "about 270 M, far over it (docs/demosaicking.md, Round 18a)",
+          "about 270 M, far over it; 29-32x its time near idle (docs/demosaicking.md, Round 18a)",
           "ours (docs/demosaicking.md, Rounds 17 and 18): pan-guard's check (Bates & "
           "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
           "estimates one band pass can compute",
