@@ -173,7 +173,10 @@ case $cmd in
     build build-ci -DCMAKE_BUILD_TYPE=Release -DPC_WERROR=ON -DPC_WITH_LIBCAMERA=AUTO
     lap "build build-ci"
     say "build 2/3: build-asan (GCC, AddressSanitizer + UndefinedBehaviorSanitizer)"
-    build build-asan -DPC_WERROR=ON -DPC_SANITIZE=ON -DPC_WITH_LIBCAMERA=AUTO
+    # -g1: line tables only (the sanitizers' reports keep file:line), a third less compile time
+    # than -g's full debug information
+    build build-asan -DPC_WERROR=ON -DPC_SANITIZE=ON -DPC_WITH_LIBCAMERA=AUTO \
+      -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
     lap "build build-asan"
     # The QEMU guest tests boot Debian's own kernel package: fetch it here, with the packages,
     # so that the tests themselves need no network (tests/qemu/kernel.sh caches it per build).
