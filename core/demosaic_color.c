@@ -259,17 +259,18 @@ static double get_ring(const void *img, uint32_t w, int x, int y)
 	return r->row[y & 7][x];
 }
 
-/* M_k (step 1) at the rows mirror(y - 1), y, mirror(y + 1) and the columns xx in [x0, x1) into
- * mk[(dy + 1) * 3 + k][xx], each mirror as the reference applies it, in double. */
+/* M_k (step 1) for the colours k in [k0, k1) at the rows mirror(y - 1), y, mirror(y + 1) and the
+ * columns xx in [x0, x1) into mk[(dy + 1) * 3 + k][xx], each mirror as the reference applies
+ * it, in double. */
 static void bf_mrows(const bf_ring *img, uint32_t w, uint32_t h, const pc_mosaic *m, int y,
-                     uint32_t x0, uint32_t x1, double *const mk[9])
+                     uint32_t x0, uint32_t x1, unsigned k0, unsigned k1, double *const mk[9])
 {
 	for (int dy = -1; dy <= 1; dy++) {
 		int yy = pc_mirror(y + dy, (int)h);
 		for (uint32_t xx = x0; xx < x1; xx++) {
 			unsigned ch = pc_mosaic_channel(m, xx, (uint32_t)yy), cx, cy;
 			pc_mosaic_channel_pos(m, ch, &cx, &cy);
-			for (unsigned k = 0; k < 3; k++)
+			for (unsigned k = k0; k < k1; k++)
 				mk[(dy + 1) * 3 + k][xx] = bayer_tent(
 				    img, get_ring, m, w, h, cx, cy, ((int)xx - (int)cx) / 2,
 				    (yy - (int)cy) / 2, PC_CFA_R + k);
@@ -277,10 +278,10 @@ static void bf_mrows(const bf_ring *img, uint32_t w, uint32_t h, const pc_mosaic
 	}
 }
 
-/* The 12 outputs of pixel (x, y) by the definition: step 2's tent (its mirror on the full
- * resolution grid) over the M_k rows of bf_mrows. */
-static void bf_pixel(double *const mk[9], uint32_t w, const pc_mosaic *m, int x, int y,
-                     double o[12])
+/* The outputs o[4k + c] of pixel (x, y) for the colours k in [k0, k1) by the definition: step
+ * 2's tent (its mirror on the full resolution grid) over the M_k rows of bf_mrows. */
+static void bf_pixel(double *const mk[9], uint32_t w, const pc_mosaic *m, int x, int y, unsigned k0,
+                     unsigned k1, double o[12])
 {
 	for (unsigned c = 0; c < 4; c++) {
 		double s[3] = {0, 0, 0}, ws = 0;
@@ -292,11 +293,11 @@ static void bf_pixel(double *const mk[9], uint32_t w, const pc_mosaic *m, int x,
 					continue;
 				double wt = (2 - abs(dx)) * (2 - abs(dy));
 				int xx = pc_mirror(x + dx, (int)w);
-				for (unsigned k = 0; k < 3; k++)
+				for (unsigned k = k0; k < k1; k++)
 					s[k] += wt * mk[(dy + 1) * 3 + k][xx];
 				ws += wt;
 			}
-		for (unsigned k = 0; k < 3; k++)
+		for (unsigned k = k0; k < k1; k++)
 			o[4 * k + c] = s[k] / ws;
 	}
 }
@@ -355,6 +356,8 @@ struct pc_dm_bf_band {
 	bf_ring ring;
 	float *tmp[12];
 	bf_row row;
+	float *grow[8]; /* pc_dm_bayer_first_band_gmean's raw rows masked to green, by row & 7 */
+	int32_t ghave[8];
 };
 
 static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
@@ -363,8 +366,9 @@ static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
 	b->j = *j;
 	const uint32_t w = j->w;
 	const size_t pitch = (size_t)w + 2;
-	/* 8 raw rows, 8 vertical rows (4 per row parity), 12 output rows for strided planes */
-	b->buf = malloc(sizeof(float) * pitch * (8 + 8 + 12 + 4));
+	/* 8 raw rows, 8 vertical rows (4 per row parity), 12 output rows for strided planes, 4
+	 * more; 8 green rows */
+	b->buf = malloc(sizeof(float) * pitch * (8 + 8 + 12 + 4 + 8));
 	b->mbuf = malloc(sizeof(double) * 9 * (size_t)w);
 	if (!b->buf || !b->mbuf) {
 		free(b->buf);
@@ -378,6 +382,8 @@ static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
 		b->ring.row[i] = buf + i * pitch + 1;
 		b->ring.have[i] = -1;
 		b->row.v[i / 4][i & 3] = buf + (8 + i) * pitch;
+		b->grow[i] = buf + (32 + i) * pitch;
+		b->ghave[i] = -1;
 	}
 	for (unsigned i = 0; i < 12; i++)
 		b->tmp[i] = buf + (16 + i) * pitch;
@@ -430,9 +436,9 @@ static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fp
 		const uint32_t oyy = y - oy;
 		double o12[12];
 		if (y < 3 || y + 3 >= h) {
-			bf_mrows(ring, w, h, j->m, (int)y, 0, w, b->mk);
+			bf_mrows(ring, w, h, j->m, (int)y, 0, w, 0, 3, b->mk);
 			for (uint32_t x = 0; x < w; x++) {
-				bf_pixel(b->mk, w, j->m, (int)x, (int)y, o12);
+				bf_pixel(b->mk, w, j->m, (int)x, (int)y, 0, 3, o12);
 				bf_put(out, x, oyy, o12);
 			}
 			continue;
@@ -453,12 +459,12 @@ static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fp
 					d[x * out[p].pixel_stride] = b->tmp[p][x];
 			}
 		/* the border columns: M_k at columns 0..3 and w - 4..w - 1 */
-		bf_mrows(ring, w, h, j->m, (int)y, 0, 4, b->mk);
-		bf_mrows(ring, w, h, j->m, (int)y, w - 4, w, b->mk);
+		bf_mrows(ring, w, h, j->m, (int)y, 0, 4, 0, 3, b->mk);
+		bf_mrows(ring, w, h, j->m, (int)y, w - 4, w, 0, 3, b->mk);
 		for (uint32_t x = 0; x < w; x++) {
 			if (x == xa)
 				x = xb;
-			bf_pixel(b->mk, w, j->m, (int)x, (int)y, o12);
+			bf_pixel(b->mk, w, j->m, (int)x, (int)y, 0, 3, o12);
 			bf_put(out, x, oyy, o12);
 		}
 	}
@@ -508,6 +514,66 @@ pc_dm_bf_band *pc_dm_bayer_first_band_new(const pc_dm_input *in, const pc_mosaic
 void pc_dm_bayer_first_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fplane *out)
 {
 	bf_band_rows(b, y0, y1, out, y0);
+}
+
+/* the mean of the four green outputs o[4..7], as the float rows would give it */
+static float bf_gmean1(const double o[12])
+{
+	const float a = (float)o[4], c = (float)o[5], d = (float)o[6], e = (float)o[7];
+	return (((a + c) + d) + e) * 0.25f;
+}
+
+void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out)
+{
+	const bf_job *j = &b->j;
+	const uint32_t w = j->w, h = j->h;
+	bf_ring *ring = &b->ring;
+	const int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
+	const int border = y < 3 || y + 3 >= h;
+	for (int r = lo; r <= hi; r++) {
+		if (ring->have[r & 7] != r) {
+			pc_dm_row_to_float(j->in, (uint32_t)r, ring->row[r & 7]);
+			ring->have[r & 7] = r;
+		}
+		if (border || b->ghave[r & 7] == r)
+			continue;
+		const float *mg = j->cmask + (4 + ((uint32_t)r & 3)) * (size_t)w;
+		if (j->level >= PC_CPU_AVX512)
+			bf_gmask_avx512(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
+		else if (j->level >= PC_CPU_AVX2)
+			bf_gmask_avx2(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
+		else
+			bf_gmask_base(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
+		b->ghave[r & 7] = r;
+	}
+	double o12[12];
+	if (border) { /* the definition, green only */
+		bf_mrows(ring, w, h, j->m, (int)y, 0, w, 1, 2, b->mk);
+		for (uint32_t x = 0; x < w; x++) {
+			bf_pixel(b->mk, w, j->m, (int)x, (int)y, 1, 2, o12);
+			out[x] = bf_gmean1(o12);
+		}
+		return;
+	}
+	const float *g[7];
+	for (int dy = -3; dy <= 3; dy++)
+		g[dy + 3] = b->grow[((int)y + dy) & 7];
+	float *v2 = b->row.v[0][0], *v4 = b->row.v[0][1];
+	if (j->level >= PC_CPU_AVX512)
+		bf_gmean_avx512(g, (long)w, v2, v4, out);
+	else if (j->level >= PC_CPU_AVX2)
+		bf_gmean_avx2(g, (long)w, v2, v4, out);
+	else
+		bf_gmean_base(g, (long)w, v2, v4, out);
+	/* the border columns by the definition, as bf_band_rows */
+	bf_mrows(ring, w, h, j->m, (int)y, 0, 4, 1, 2, b->mk);
+	bf_mrows(ring, w, h, j->m, (int)y, w - 4, w, 1, 2, b->mk);
+	for (uint32_t x = 0; x < w; x++) {
+		if (x == 3)
+			x = w - 3;
+		bf_pixel(b->mk, w, j->m, (int)x, (int)y, 1, 2, o12);
+		out[x] = bf_gmean1(o12);
+	}
 }
 
 void pc_dm_bayer_first_band_free(pc_dm_bf_band *b)

@@ -83,8 +83,8 @@ typedef struct gk_fns {
 	void (*trow)(const float *, long, float *, float *, float *, float *, float *);
 	void (*tcomb)(const float *, const float *, const float *, const float *, float, float,
 	              float, float, float, long, float *);
-	void (*gmod)(float *, float *, float *, float *, const float *, const float *,
-	             const float *, const float *, long);
+	void (*gmod)(const float *, const float *, const float *, const float *, const float *,
+	             long, float *, float *, float *, float *);
 	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
 	            float *, float *, float *, float *);
 	void (*gsel)(const float *, const float *, const float *, const float *, const float *,
@@ -631,15 +631,18 @@ static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
 }
 
 /* pan-check's conservative estimate of row y (cons 5): red and blue the tents' (b->tn), green
- * bayer-first's analyser mean (b->ib's rows) plus the tents' modulation, in b->ib */
+ * bayer-first's analyser mean (pc_dm_bayer_first_band_gmean, into I_b's first row: the red rows
+ * are not read with cons 5) plus the tents' modulation, in b->ib's green rows */
 static void gf_cons5_row(const guard_fast *g, gf_band *b, int y)
 {
 	const size_t wp = gf_up((size_t)g->w + 8);
 	const int w = (int)g->w;
 	gf_tents_row(g, b, y);
-	float *bg = b->ib + 4 * wp;
+	float *bg = b->ib + 4 * wp, *mb = b->ib;
 	const float *tg = b->tn + 4 * wp;
-	g->k->gmod(bg, bg + wp, bg + 2 * wp, bg + 3 * wp, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w);
+	pc_dm_bayer_first_band_gmean(b->bf, (uint32_t)y, mb);
+	g->k->gmod(mb, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w, bg, bg + wp, bg + 2 * wp,
+	           bg + 3 * wp);
 }
 
 /* output rows [y0, y1): I_b, W_k and the blend, in place */
@@ -672,9 +675,10 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 		} else {
 			gf_tent_row(g, &b, y);
 		}
-		pc_dm_bayer_first_band_rows(b.bf, yu, yu + 1, ibp);
 		if (g->chk && g->chk->cons5)
 			gf_cons5_row(g, &b, y);
+		else
+			pc_dm_bayer_first_band_rows(b.bf, yu, yu + 1, ibp);
 		const int gate = g->gate && g->force < 0;
 		for (unsigned k = 0; k < 3; k++) {
 			float *d[4];
