@@ -88,7 +88,7 @@ typedef struct gk_fns {
 	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
 	            float *, float *, float *, float *);
 	void (*gsel)(const float *, const float *, const float *, const float *, const float *,
-	             long, long, int, float *, float *);
+	             long, long, int, float *, float *, float *);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
@@ -152,6 +152,7 @@ typedef struct gf_band {
 	 * rows; tr one raw row and its masked copy */
 	float *cmem;
 	float *ce, *cp, *cm, *gt, *cs[5], *dr[2], *om, *th, *tr, *tn;
+	float *gd; /* gk_gsel's five rows of n + 2 */
 	int t_next;
 } gf_band;
 
@@ -230,7 +231,7 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 		return 0;
 	const size_t wt = gf_up((size_t)g->w + 8);
 	const size_t ctot =
-	    (3 * (size_t)g->RH + GF_RW + 5) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
+	    (3 * (size_t)g->RH + GF_RW + 5 + 5) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
 	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
 	if (!b->cmem) {
 		pc_dm_free(b->mem);
@@ -251,6 +252,8 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 		b->cs[i] = p;
 		p += nxp;
 	}
+	b->gd = p;
+	p += 5 * nxp;
 	for (int i = 0; i < 2; i++) {
 		b->dr[i] = p;
 		p += wp;
@@ -380,7 +383,8 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	const int iv0 = c0 + 2 > 2 ? c0 + 2 : 2,
 	          nvk = vec && nx - 3 >= iv0 ? (nx - 3 - iv0) / 2 + 1 : 0;
 	if (nvk)
-		g->k->gsel(cp[0], cp[1], cp[2], cp[3], cp[4], iv0, nvk, lo12, b->cs[3], b->cs[4]);
+		g->k->gsel(cp[0], cp[1], cp[2], cp[3], cp[4], iv0, nvk, lo12, b->gd, b->cs[3],
+		           b->cs[4]);
 	for (int i = c0; i < nx; i += 2) {
 		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
 		const int se0 = i0 + ((i0 - i) & 1), so0 = i0 + !((i0 - i) & 1);
