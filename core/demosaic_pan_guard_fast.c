@@ -89,6 +89,8 @@ typedef struct gk_fns {
 	            float *, float *, float *, float *);
 	void (*gsel)(const float *, const float *, const float *, const float *, const float *,
 	             long, long, int, float *, float *, float *);
+	void (*gate)(const float *, const float *, const float *, const float *, const float *,
+	             long, long, const double *, int, float *, double *, double *, float *);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
@@ -96,7 +98,7 @@ typedef struct gk_fns {
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
 		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, gk_gmod_##s, \
-		    gk_cmu_##s, gk_gsel_##s                                                        \
+		    gk_cmu_##s, gk_gsel_##s, gk_gate_##s                                           \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -152,7 +154,9 @@ typedef struct gf_band {
 	 * rows; tr one raw row and its masked copy */
 	float *cmem;
 	float *ce, *cp, *cm, *gt, *cs[5], *dr[2], *om, *th, *tr, *tn;
-	float *gd; /* gk_gsel's five rows of n + 2 */
+	float *gd;  /* gk_gsel's five rows of n + 2, then gk_gate's four */
+	double *gq; /* gk_gate's q and t */
+	float *gr;  /* gk_gate's gates */
 	int t_next;
 } gf_band;
 
@@ -231,7 +235,7 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 		return 0;
 	const size_t wt = gf_up((size_t)g->w + 8);
 	const size_t ctot =
-	    (3 * (size_t)g->RH + GF_RW + 5 + 5) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
+	    (3 * (size_t)g->RH + GF_RW + 5 + 5 + 4) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
 	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
 	if (!b->cmem) {
 		pc_dm_free(b->mem);
@@ -254,6 +258,10 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	}
 	b->gd = p;
 	p += 5 * nxp;
+	b->gq = (double *)(void *)p; /* 3 rows of nxp/2 doubles; nxp a multiple of 16 */
+	p += 3 * nxp;
+	b->gr = p;
+	p += nxp;
 	for (int i = 0; i < 2; i++) {
 		b->dr[i] = p;
 		p += wp;
@@ -378,14 +386,27 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	for (int i = 0; i < nx; i++)
 		out[i] = 0;
 	/* r = 1 with the window inside the grid: the blocks i in [2, nx − 3] by gk_gsel (their
-	 * order statistics in cs[3], cs[4], indexed by i) */
+	 * order statistics in cs[3], cs[4], indexed by (i − iv0)/2) and gk_gate */
 	const int lo12 = (int)(c->quant * 11), vec = rb == 2 && j >= 2 && j + 2 < ny && lo12 <= 2;
 	const int iv0 = c0 + 2 > 2 ? c0 + 2 : 2,
 	          nvk = vec && nx - 3 >= iv0 ? (nx - 3 - iv0) / 2 + 1 : 0;
-	if (nvk)
+	if (nvk) {
 		g->k->gsel(cp[0], cp[1], cp[2], cp[3], cp[4], iv0, nvk, lo12, b->gd, b->cs[3],
 		           b->cs[4]);
+		/* and the rest of their gate (the loop below's, in the same order): nk and ng as
+		 * it counts them (the window's three columns of each lattice) */
+		const int nk = 3 * nre, ng = 3 * ((j1 - j0 + 1) - nre) + 2 * nre;
+		const double pos = c->quant * (ng - 1);
+		const double pr[7] = {nk, ng, pos - (int)pos, thr0, c->kappa, g->fl, g->gamma};
+		const size_t nq = nxp / 2;
+		g->k->gate(sm, se, so, b->cs[3], b->cs[4], iv0, nvk, pr, g->gi, b->gd, b->gq,
+		           b->gq + nq, b->gr);
+		for (int k = 0; k < nvk; k++)
+			out[iv0 + 2 * k] = b->gr[k];
+	}
 	for (int i = c0; i < nx; i += 2) {
+		if (nvk && i >= iv0 && i <= nx - 3)
+			continue; /* gk_gate's */
 		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
 		const int se0 = i0 + ((i0 - i) & 1), so0 = i0 + !((i0 - i) & 1);
 		double mk = 0, mg = 0, ek = 0;
@@ -408,12 +429,7 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 		const int lo = (int)pos, nkeep = lo + 2 < ng ? lo + 2 : ng;
 		float v[NW];
 		int nv = 0;
-		const int done = nvk && i >= iv0 && i <= nx - 3;
-		if (done) {
-			v[lo] = b->cs[3][(i - iv0) / 2];
-			v[lo + 1] = b->cs[4][(i - iv0) / 2];
-		}
-		for (int jj = j0; jj <= j1 && !done; jj++) {
+		for (int jj = j0; jj <= j1; jj++) {
 			const float *p = cp[jj - j0];
 			for (int ii = ((jj - j) & 1) ? se0 : so0; ii <= i1; ii += 2) {
 				const float e = p[ii];
