@@ -76,6 +76,8 @@ typedef struct gk_fns {
 	              float *);
 	void (*mix0)(float *, float *, float *, float *, const float *, const float *,
 	             const float *, const float *, const float *, long);
+	void (*mix2)(float *, float *, float *, float *, const float *, const float *,
+	             const float *, const float *, const float *, const float *, long);
 	void (*fac1)(const float *, const float *, const float *, const float *, const float *,
 	             const float *, const float *, const float *, const float *, float, float *,
 	             long);
@@ -97,8 +99,8 @@ typedef struct gk_fns {
 	{                                                                                          \
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
-		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, gk_gmod_##s, \
-		    gk_cmu_##s, gk_gsel_##s, gk_gate_##s                                           \
+		    gk_mix0_##s, gk_mix2_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, \
+		    gk_gmod_##s, gk_cmu_##s, gk_gsel_##s, gk_gate_##s                              \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -345,6 +347,21 @@ static void gf_check_blocks(const guard_fast *g, gf_band *b, int jb, int gy)
 	          ce, cp, cm);
 }
 
+/* pan-check: s = the sum of the n rows r[0..n) in their order (n = 0: zeros) */
+static void gf_colsum(const guard_fast *g, float *s, const float *const *r, int n)
+{
+	const int nx = g->NBX;
+	if (n == 0) {
+		memset(s, 0, sizeof(float) * (size_t)nx);
+	} else if (n == 1) {
+		memcpy(s, r[0], sizeof(float) * (size_t)nx);
+	} else {
+		g->k->add(s, r[0], r[1], nx);
+		for (int t = 2; t < n; t++)
+			g->k->acc(s, r[t], nx);
+	}
+}
+
 /* pan-check: pan-hue's gate of block row j's red and blue blocks (pc_dm_pan_hue_gates' formulas
  * on the float blocks, the ratios and the power in double) into the gate ring; green's 0. The
  * blocks' colours are a Bayer pattern (gf_run checks): around a red or blue block its own colour
@@ -363,27 +380,26 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	const float *cp[4 * PC_DM_PAN_HUE_RMAX + 1];
 	float *sm = b->cs[0], *se = b->cs[1], *so = b->cs[2];
 	const int j0 = j - rb > 0 ? j - rb : 0, j1 = j + rb < ny - 1 ? j + rb : ny - 1;
-	int nre = 0;
-	for (int i = 0; i < nx; i++)
-		sm[i] = se[i] = so[i] = 0;
+	/* the column sums in row order (the first row's values kept, x + 0 = x for these sums
+	 * of non-negative values), by the add and acc kernels */
+	const float *rm[2][4 * PC_DM_PAN_HUE_RMAX + 1], *re[4 * PC_DM_PAN_HUE_RMAX + 1];
+	int nro = 0, nre = 0;
 	for (int jj = j0; jj <= j1; jj++) {
 		const float *m = gf_ring(b->cm, jj, g->RH, nxp);
 		cp[jj - j0] = gf_ring(b->cp, jj, g->RH, nxp);
 		if ((jj - j) & 1) {
-			for (int i = 0; i < nx; i++)
-				so[i] += m[i];
+			rm[1][nro++] = m;
 			continue;
 		}
-		const float *e = gf_ring(b->ce, jj, g->RH, nxp);
-		nre++;
-		for (int i = 0; i < nx; i++) {
-			sm[i] += m[i];
-			se[i] += e[i];
-		}
+		rm[0][nre] = m;
+		re[nre++] = gf_ring(b->ce, jj, g->RH, nxp);
 	}
+	gf_colsum(g, sm, rm[0], nre);
+	gf_colsum(g, se, re, nre);
+	gf_colsum(g, so, rm[1], nro);
 	const double thr0 = c->hnoise * 5 * c->g;
 	const int c0 = gf_col(g, 0, j) != 1 ? 0 : 1; /* the parity of the row's red or blue */
-	for (int i = 0; i < nx; i++)
+	for (int i = 1 - c0; i < nx; i += 2)         /* green: no gate (the others set below) */
 		out[i] = 0;
 	/* r = 1 with the window inside the grid: the blocks i in [2, nx − 3] by gk_gsel (their
 	 * order statistics in cs[3], cs[4], indexed by (i − iv0)/2) and gk_gate */
@@ -407,6 +423,7 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	for (int i = c0; i < nx; i += 2) {
 		if (nvk && i >= iv0 && i <= nx - 3)
 			continue; /* gk_gate's */
+		out[i] = 0;
 		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
 		const int se0 = i0 + ((i0 - i) & 1), so0 = i0 + !((i0 - i) & 1);
 		double mk = 0, mg = 0, ek = 0;
@@ -714,24 +731,24 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 			const float *wk = b.wr[k];
 			/* pan-check's gate of red and blue: 1 − D_k */
 			const int gk = gate && k != 1;
-			if (gk)
-				for (uint32_t x = 0; x < w; x++)
-					b.om[x] = 1 - b.dr[k / 2][x];
 			if (ps[0] == 1 && ps[1] == 1 && ps[2] == 1 && ps[3] == 1) {
 				if (g->mode) {
 					g->k->fac1(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
 					           vbr[3], wk, g->delta, b.fr, w);
 					for (unsigned c = 0; c < 4; c++)
 						g->k->mix1(d[c], b.fr, g->delta, w);
+				} else if (gk) {
+					g->k->mix2(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
+					           vbr[3], wk, b.dr[k / 2], w);
 				} else {
 					g->k->mix0(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
 					           vbr[3], wk, w);
-					if (gk)
-						g->k->mix0(d[0], d[1], d[2], d[3], vbr[0], vbr[1],
-						           vbr[2], vbr[3], b.om, w);
 				}
 				continue;
 			}
+			if (gk)
+				for (uint32_t x = 0; x < w; x++)
+					b.om[x] = 1 - b.dr[k / 2][x];
 			for (uint32_t x = 0; x < w; x++) {
 				float vp[4], vb[4];
 				for (unsigned c = 0; c < 4; c++) {
