@@ -259,18 +259,17 @@ static double get_ring(const void *img, uint32_t w, int x, int y)
 	return r->row[y & 7][x];
 }
 
-/* M_k (step 1) for the colours k in [k0, k1) at the rows mirror(y - 1), y, mirror(y + 1) and the
- * columns xx in [x0, x1) into mk[(dy + 1) * 3 + k][xx], each mirror as the reference applies
- * it, in double. */
+/* M_k (step 1) at the rows mirror(y - 1), y, mirror(y + 1) and the columns xx in [x0, x1) into
+ * mk[(dy + 1) * 3 + k][xx], each mirror as the reference applies it, in double. */
 static void bf_mrows(const bf_ring *img, uint32_t w, uint32_t h, const pc_mosaic *m, int y,
-                     uint32_t x0, uint32_t x1, unsigned k0, unsigned k1, double *const mk[9])
+                     uint32_t x0, uint32_t x1, double *const mk[9])
 {
 	for (int dy = -1; dy <= 1; dy++) {
 		int yy = pc_mirror(y + dy, (int)h);
 		for (uint32_t xx = x0; xx < x1; xx++) {
 			unsigned ch = pc_mosaic_channel(m, xx, (uint32_t)yy), cx, cy;
 			pc_mosaic_channel_pos(m, ch, &cx, &cy);
-			for (unsigned k = k0; k < k1; k++)
+			for (unsigned k = 0; k < 3; k++)
 				mk[(dy + 1) * 3 + k][xx] = bayer_tent(
 				    img, get_ring, m, w, h, cx, cy, ((int)xx - (int)cx) / 2,
 				    (yy - (int)cy) / 2, PC_CFA_R + k);
@@ -278,10 +277,10 @@ static void bf_mrows(const bf_ring *img, uint32_t w, uint32_t h, const pc_mosaic
 	}
 }
 
-/* The outputs o[4k + c] of pixel (x, y) for the colours k in [k0, k1) by the definition: step
- * 2's tent (its mirror on the full resolution grid) over the M_k rows of bf_mrows. */
-static void bf_pixel(double *const mk[9], uint32_t w, const pc_mosaic *m, int x, int y, unsigned k0,
-                     unsigned k1, double o[12])
+/* The 12 outputs of pixel (x, y) by the definition: step 2's tent (its mirror on the full
+ * resolution grid) over the M_k rows of bf_mrows. */
+static void bf_pixel(double *const mk[9], uint32_t w, const pc_mosaic *m, int x, int y,
+                     double o[12])
 {
 	for (unsigned c = 0; c < 4; c++) {
 		double s[3] = {0, 0, 0}, ws = 0;
@@ -293,11 +292,11 @@ static void bf_pixel(double *const mk[9], uint32_t w, const pc_mosaic *m, int x,
 					continue;
 				double wt = (2 - abs(dx)) * (2 - abs(dy));
 				int xx = pc_mirror(x + dx, (int)w);
-				for (unsigned k = k0; k < k1; k++)
+				for (unsigned k = 0; k < 3; k++)
 					s[k] += wt * mk[(dy + 1) * 3 + k][xx];
 				ws += wt;
 			}
-		for (unsigned k = k0; k < k1; k++)
+		for (unsigned k = 0; k < 3; k++)
 			o[4 * k + c] = s[k] / ws;
 	}
 }
@@ -358,6 +357,8 @@ struct pc_dm_bf_band {
 	bf_row row;
 	float *grow[8]; /* pc_dm_bayer_first_band_gmean's raw rows masked to green, by row & 7 */
 	int32_t ghave[8];
+	int32_t mgr[4]; /* its M_G rows in mk[row & 3] (bf_mg_row), -1: none */
+	int mgfull[4];  /* ... for every column, else the border ones */
 };
 
 static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
@@ -385,6 +386,8 @@ static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
 		b->grow[i] = buf + (32 + i) * pitch;
 		b->ghave[i] = -1;
 	}
+	for (unsigned i = 0; i < 4; i++)
+		b->mgr[i] = -1;
 	for (unsigned i = 0; i < 12; i++)
 		b->tmp[i] = buf + (16 + i) * pitch;
 	/* e and o of one colour; the parity rows */
@@ -426,6 +429,8 @@ static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fp
 	for (unsigned p = 0; p < 12; p++)
 		strided |= out[p].pixel_stride != 1;
 	const uint32_t xa = row->xa, xb = row->xb;
+	for (unsigned i = 0; i < 4; i++) /* mk is overwritten below */
+		b->mgr[i] = -1;
 	for (uint32_t y = y0; y < y1; y++) {
 		int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
 		for (int r = lo; r <= hi; r++)
@@ -436,9 +441,9 @@ static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fp
 		const uint32_t oyy = y - oy;
 		double o12[12];
 		if (y < 3 || y + 3 >= h) {
-			bf_mrows(ring, w, h, j->m, (int)y, 0, w, 0, 3, b->mk);
+			bf_mrows(ring, w, h, j->m, (int)y, 0, w, b->mk);
 			for (uint32_t x = 0; x < w; x++) {
-				bf_pixel(b->mk, w, j->m, (int)x, (int)y, 0, 3, o12);
+				bf_pixel(b->mk, w, j->m, (int)x, (int)y, o12);
 				bf_put(out, x, oyy, o12);
 			}
 			continue;
@@ -459,12 +464,12 @@ static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fp
 					d[x * out[p].pixel_stride] = b->tmp[p][x];
 			}
 		/* the border columns: M_k at columns 0..3 and w - 4..w - 1 */
-		bf_mrows(ring, w, h, j->m, (int)y, 0, 4, 0, 3, b->mk);
-		bf_mrows(ring, w, h, j->m, (int)y, w - 4, w, 0, 3, b->mk);
+		bf_mrows(ring, w, h, j->m, (int)y, 0, 4, b->mk);
+		bf_mrows(ring, w, h, j->m, (int)y, w - 4, w, b->mk);
 		for (uint32_t x = 0; x < w; x++) {
 			if (x == xa)
 				x = xb;
-			bf_pixel(b->mk, w, j->m, (int)x, (int)y, 0, 3, o12);
+			bf_pixel(b->mk, w, j->m, (int)x, (int)y, o12);
 			bf_put(out, x, oyy, o12);
 		}
 	}
@@ -516,11 +521,42 @@ void pc_dm_bayer_first_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, con
 	bf_band_rows(b, y0, y1, out, y0);
 }
 
-/* the mean of the four green outputs o[4..7], as the float rows would give it */
-static float bf_gmean1(const double o[12])
+/* bayer-first's green at the border pixels for pc_dm_bayer_first_band_gmean, by the definition:
+ * M_G (step 1, bf_mrows's) of frame row yy, kept in mk[yy & 3] for every column (full) or for
+ * the border pixels' columns 0..3 and w − 4..w − 1 */
+static const double *bf_mg_row(pc_dm_bf_band *b, int yy, int full)
 {
-	const float a = (float)o[4], c = (float)o[5], d = (float)o[6], e = (float)o[7];
-	return (((a + c) + d) + e) * 0.25f;
+	const bf_job *j = &b->j;
+	const uint32_t w = j->w;
+	double *r = b->mk[yy & 3];
+	if (b->mgr[yy & 3] == yy && (b->mgfull[yy & 3] || !full))
+		return r;
+	for (uint32_t xx = 0; xx < w; xx++) {
+		if (!full && xx == 4 && w > 8)
+			xx = w - 4;
+		unsigned ch = pc_mosaic_channel(j->m, xx, (uint32_t)yy), cx, cy;
+		pc_mosaic_channel_pos(j->m, ch, &cx, &cy);
+		r[xx] = bayer_tent(&b->ring, get_ring, j->m, w, j->h, cx, cy,
+		                   ((int)xx - (int)cx) / 2, (yy - (int)cy) / 2, PC_CFA_G);
+	}
+	b->mgr[yy & 3] = yy;
+	b->mgfull[yy & 3] = full;
+	return r;
+}
+
+/* ... and the mean of the four analysers' step 2 at (x, y), rows r[0..2] = M_G at mirror(y − 1),
+ * y, mirror(y + 1): each of the 3×3 neighbours belongs to one analyser, whose tent's weights
+ * (2 − |dx|)(2 − |dy|) sum to 4, so the mean is their sum over 16. On integer raws M_G is a
+ * multiple of 1/4 and every sum is exact: bf_pixel's four values, rounded to float, then their
+ * mean (exact too) give the same float. */
+static float bf_gpix(const double *const r[3], uint32_t w, int x)
+{
+	double s = 0;
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++)
+			s += (double)((2 - abs(dx)) * (2 - abs(dy))) *
+			     r[dy + 1][pc_mirror(x + dx, (int)w)];
+	return (float)(s / 16);
 }
 
 void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out)
@@ -546,13 +582,12 @@ void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out)
 			bf_gmask_base(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
 		b->ghave[r & 7] = r;
 	}
-	double o12[12];
-	if (border) { /* the definition, green only */
-		bf_mrows(ring, w, h, j->m, (int)y, 0, w, 1, 2, b->mk);
-		for (uint32_t x = 0; x < w; x++) {
-			bf_pixel(b->mk, w, j->m, (int)x, (int)y, 1, 2, o12);
-			out[x] = bf_gmean1(o12);
-		}
+	const double *mr[3];
+	for (int dy = -1; dy <= 1; dy++)
+		mr[dy + 1] = bf_mg_row(b, pc_mirror((int)y + dy, (int)h), border);
+	if (border) { /* the definition */
+		for (uint32_t x = 0; x < w; x++)
+			out[x] = bf_gpix(mr, w, (int)x);
 		return;
 	}
 	const float *g[7];
@@ -566,13 +601,10 @@ void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out)
 	else
 		bf_gmean_base(g, (long)w, v2, v4, out);
 	/* the border columns by the definition, as bf_band_rows */
-	bf_mrows(ring, w, h, j->m, (int)y, 0, 4, 1, 2, b->mk);
-	bf_mrows(ring, w, h, j->m, (int)y, w - 4, w, 1, 2, b->mk);
 	for (uint32_t x = 0; x < w; x++) {
 		if (x == 3)
 			x = w - 3;
-		bf_pixel(b->mk, w, j->m, (int)x, (int)y, 1, 2, o12);
-		out[x] = bf_gmean1(o12);
+		out[x] = bf_gpix(mr, w, (int)x);
 	}
 }
 
