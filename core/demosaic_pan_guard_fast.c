@@ -85,6 +85,7 @@ typedef struct gk_fns {
 	void (*trow)(const float *, long, float *, float *, float *, float *, float *);
 	void (*tcomb)(const float *, const float *, const float *, const float *, float, float,
 	              float, float, float, long, float *);
+	void (*tcomb2)(const float *, const float *, float, float, float, long, float *);
 	void (*gmod)(const float *, const float *, const float *, const float *, const float *,
 	             long, float *, float *, float *, float *);
 	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
@@ -100,7 +101,7 @@ typedef struct gk_fns {
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
 		    gk_mix0_##s, gk_mix2_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, \
-		    gk_gmod_##s, gk_cmu_##s, gk_gsel_##s, gk_gate_##s                              \
+		    gk_tcomb2_##s, gk_gmod_##s, gk_cmu_##s, gk_gsel_##s, gk_gate_##s               \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -657,13 +658,11 @@ static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
 				       ((size_t)((y + d0 - 4) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
 				c[n++] = (float)d0;
 			}
-		if (n == 2) {
-			a[2] = a[0];
-			a[3] = a[1];
-			c[2] = c[3] = 0;
-		}
-		g->k->tcomb(a[0], a[1], a[2], a[3], c[0], c[1], c[2], c[3], g->tinv[q], w,
-		            b->tn + q * wp);
+		if (n == 2)
+			g->k->tcomb2(a[0], a[1], c[0], c[1], g->tinv[q], w, b->tn + q * wp);
+		else
+			g->k->tcomb(a[0], a[1], a[2], a[3], c[0], c[1], c[2], c[3], g->tinv[q], w,
+			            b->tn + q * wp);
 	}
 }
 
