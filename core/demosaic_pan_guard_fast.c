@@ -238,7 +238,7 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 		return 0;
 	const size_t wt = gf_up((size_t)g->w + 8);
 	const size_t ctot =
-	    (3 * (size_t)g->RH + GF_RW + 5 + 5 + 4) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
+	    (3 * (size_t)g->RH + GF_RW + 5 + 5 + 3) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
 	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
 	if (!b->cmem) {
 		pc_dm_free(b->mem);
@@ -261,8 +261,8 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	}
 	b->gd = p;
 	p += 5 * nxp;
-	b->gq = (double *)(void *)p; /* 3 rows of nxp/2 doubles; nxp a multiple of 16 */
-	p += 3 * nxp;
+	b->gq = (double *)(void *)p; /* q, t: nxp/2 doubles each (nxp a multiple of 16) */
+	p += 2 * nxp;
 	b->gr = p;
 	p += nxp;
 	for (int i = 0; i < 2; i++) {
