@@ -355,6 +355,10 @@ struct pc_dm_bf_band {
 	bf_ring ring;
 	float *tmp[12];
 	bf_row row;
+	float *grow[8]; /* pc_dm_bayer_first_band_gmean's raw rows masked to green, by row & 7 */
+	int32_t ghave[8];
+	int32_t mgr[4]; /* its M_G rows in mk[row & 3] (bf_mg_row), -1: none */
+	int mgfull[4];  /* ... for every column, else the border ones */
 };
 
 static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
@@ -363,8 +367,9 @@ static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
 	b->j = *j;
 	const uint32_t w = j->w;
 	const size_t pitch = (size_t)w + 2;
-	/* 8 raw rows, 8 vertical rows (4 per row parity), 12 output rows for strided planes */
-	b->buf = malloc(sizeof(float) * pitch * (8 + 8 + 12 + 4));
+	/* 8 raw rows, 8 vertical rows (4 per row parity), 12 output rows for strided planes, 4
+	 * more; 8 green rows */
+	b->buf = malloc(sizeof(float) * pitch * (8 + 8 + 12 + 4 + 8));
 	b->mbuf = malloc(sizeof(double) * 9 * (size_t)w);
 	if (!b->buf || !b->mbuf) {
 		free(b->buf);
@@ -378,7 +383,11 @@ static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
 		b->ring.row[i] = buf + i * pitch + 1;
 		b->ring.have[i] = -1;
 		b->row.v[i / 4][i & 3] = buf + (8 + i) * pitch;
+		b->grow[i] = buf + (32 + i) * pitch;
+		b->ghave[i] = -1;
 	}
+	for (unsigned i = 0; i < 4; i++)
+		b->mgr[i] = -1;
 	for (unsigned i = 0; i < 12; i++)
 		b->tmp[i] = buf + (16 + i) * pitch;
 	/* e and o of one colour; the parity rows */
@@ -420,6 +429,8 @@ static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fp
 	for (unsigned p = 0; p < 12; p++)
 		strided |= out[p].pixel_stride != 1;
 	const uint32_t xa = row->xa, xb = row->xb;
+	for (unsigned i = 0; i < 4; i++) /* mk is overwritten below */
+		b->mgr[i] = -1;
 	for (uint32_t y = y0; y < y1; y++) {
 		int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
 		for (int r = lo; r <= hi; r++)
@@ -508,6 +519,93 @@ pc_dm_bf_band *pc_dm_bayer_first_band_new(const pc_dm_input *in, const pc_mosaic
 void pc_dm_bayer_first_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fplane *out)
 {
 	bf_band_rows(b, y0, y1, out, y0);
+}
+
+/* bayer-first's green at the border pixels for pc_dm_bayer_first_band_gmean, by the definition:
+ * M_G (step 1, bf_mrows's) of frame row yy, kept in mk[yy & 3] for every column (full) or for
+ * the border pixels' columns 0..3 and w − 4..w − 1 */
+static const double *bf_mg_row(pc_dm_bf_band *b, int yy, int full)
+{
+	const bf_job *j = &b->j;
+	const uint32_t w = j->w;
+	double *r = b->mk[yy & 3];
+	if (b->mgr[yy & 3] == yy && (b->mgfull[yy & 3] || !full))
+		return r;
+	for (uint32_t xx = 0; xx < w; xx++) {
+		if (!full && xx == 4 && w > 8)
+			xx = w - 4;
+		unsigned ch = pc_mosaic_channel(j->m, xx, (uint32_t)yy), cx, cy;
+		pc_mosaic_channel_pos(j->m, ch, &cx, &cy);
+		r[xx] = bayer_tent(&b->ring, get_ring, j->m, w, j->h, cx, cy,
+		                   ((int)xx - (int)cx) / 2, (yy - (int)cy) / 2, PC_CFA_G);
+	}
+	b->mgr[yy & 3] = yy;
+	b->mgfull[yy & 3] = full;
+	return r;
+}
+
+/* ... and the mean of the four analysers' step 2 at (x, y), rows r[0..2] = M_G at mirror(y − 1),
+ * y, mirror(y + 1): each of the 3×3 neighbours belongs to one analyser, whose tent's weights
+ * (2 − |dx|)(2 − |dy|) sum to 4, so the mean is their sum over 16. On integer raws M_G is a
+ * multiple of 1/4 and every sum is exact: bf_pixel's four values, rounded to float, then their
+ * mean (exact too) give the same float. */
+static float bf_gpix(const double *const r[3], uint32_t w, int x)
+{
+	double s = 0;
+	for (int dy = -1; dy <= 1; dy++)
+		for (int dx = -1; dx <= 1; dx++)
+			s += (double)((2 - abs(dx)) * (2 - abs(dy))) *
+			     r[dy + 1][pc_mirror(x + dx, (int)w)];
+	return (float)(s / 16);
+}
+
+void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out)
+{
+	const bf_job *j = &b->j;
+	const uint32_t w = j->w, h = j->h;
+	bf_ring *ring = &b->ring;
+	const int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
+	const int border = y < 3 || y + 3 >= h;
+	for (int r = lo; r <= hi; r++) {
+		if (ring->have[r & 7] != r) {
+			pc_dm_row_to_float(j->in, (uint32_t)r, ring->row[r & 7]);
+			ring->have[r & 7] = r;
+		}
+		if (border || b->ghave[r & 7] == r)
+			continue;
+		const float *mg = j->cmask + (4 + ((uint32_t)r & 3)) * (size_t)w;
+		if (j->level >= PC_CPU_AVX512)
+			bf_gmask_avx512(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
+		else if (j->level >= PC_CPU_AVX2)
+			bf_gmask_avx2(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
+		else
+			bf_gmask_base(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
+		b->ghave[r & 7] = r;
+	}
+	const double *mr[3];
+	for (int dy = -1; dy <= 1; dy++)
+		mr[dy + 1] = bf_mg_row(b, pc_mirror((int)y + dy, (int)h), border);
+	if (border) { /* the definition */
+		for (uint32_t x = 0; x < w; x++)
+			out[x] = bf_gpix(mr, w, (int)x);
+		return;
+	}
+	const float *g[7];
+	for (int dy = -3; dy <= 3; dy++)
+		g[dy + 3] = b->grow[((int)y + dy) & 7];
+	float *v2 = b->row.v[0][0], *v4 = b->row.v[0][1];
+	if (j->level >= PC_CPU_AVX512)
+		bf_gmean_avx512(g, (long)w, v2, v4, out);
+	else if (j->level >= PC_CPU_AVX2)
+		bf_gmean_avx2(g, (long)w, v2, v4, out);
+	else
+		bf_gmean_base(g, (long)w, v2, v4, out);
+	/* the border columns by the definition, as bf_band_rows */
+	for (uint32_t x = 0; x < w; x++) {
+		if (x == 3)
+			x = w - 3;
+		out[x] = bf_gpix(mr, w, (int)x);
+	}
 }
 
 void pc_dm_bayer_first_band_free(pc_dm_bf_band *b)

@@ -42,5 +42,10 @@ pc_dm_bf_band *pc_dm_bayer_first_band_new(const pc_dm_input *in, const pc_mosaic
                                           pc_cpu_level level);
 void pc_dm_bayer_first_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fplane *out);
 void pc_dm_bayer_first_band_free(pc_dm_bf_band *b);
+/* Green's analyser mean of output row y alone, into out[0, width): (((G_0 + G_1) + G_2) + G_3)·¼
+ * of the four green outputs of _rows, equal to it bit for bit on integer raws (the interior by
+ * one filter on the raw masked to green, docs/demosaicking.md Round 18d; the pixels within 3 of
+ * a border by the definition, as _rows). Shares the band's ring of raw rows with _rows. */
+void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out);
 
 #endif

@@ -9,7 +9,8 @@
  *     reference adds c_k·4g·Σ mu to the sum: the same in real arithmetic), the weights;
  *  3. per block row, pan-hue's gate of the red and blue blocks (in double, at block rate, on
  *     the float errors kept in rings of 4r + 1 block rows);
- *  4. per output row, the conservative estimate cons 5: bayer-first's one-pass rows and the
+ *  4. per output row, the conservative estimate cons 5: bayer-first's green analyser mean alone
+ *     (pc_dm_bayer_first_band_gmean, bit for bit its one-pass rows' on integer raws) and the
  *     own-lattice tents (exact sums on integer raws), the tent-interpolated W_k and D_k, and
  *     the blend O = W_k·I_p + (1 − W_k)·I_b, then red and blue (1 − D_k)·O + D_k·I_b.
  *

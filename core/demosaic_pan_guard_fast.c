@@ -76,6 +76,8 @@ typedef struct gk_fns {
 	              float *);
 	void (*mix0)(float *, float *, float *, float *, const float *, const float *,
 	             const float *, const float *, const float *, long);
+	void (*mix2)(float *, float *, float *, float *, const float *, const float *,
+	             const float *, const float *, const float *, const float *, long);
 	void (*fac1)(const float *, const float *, const float *, const float *, const float *,
 	             const float *, const float *, const float *, const float *, float, float *,
 	             long);
@@ -83,20 +85,23 @@ typedef struct gk_fns {
 	void (*trow)(const float *, long, float *, float *, float *, float *, float *);
 	void (*tcomb)(const float *, const float *, const float *, const float *, float, float,
 	              float, float, float, long, float *);
-	void (*gmod)(float *, float *, float *, float *, const float *, const float *,
-	             const float *, const float *, long);
+	void (*tcomb2)(const float *, const float *, float, float, float, long, float *);
+	void (*gmod)(const float *, const float *, const float *, const float *, const float *,
+	             long, float *, float *, float *, float *);
 	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
 	            float *, float *, float *, float *);
 	void (*gsel)(const float *, const float *, const float *, const float *, const float *,
-	             long, long, int, float *, float *);
+	             long, long, int, float *, float *, float *);
+	void (*gate)(const float *, const float *, const float *, const float *, const float *,
+	             long, long, const double *, int, float *, double *, double *, float *);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
 	{                                                                                          \
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
-		    gk_mix0_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, gk_gmod_##s, \
-		    gk_cmu_##s, gk_gsel_##s                                                        \
+		    gk_mix0_##s, gk_mix2_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, \
+		    gk_tcomb2_##s, gk_gmod_##s, gk_cmu_##s, gk_gsel_##s, gk_gate_##s               \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -152,6 +157,9 @@ typedef struct gf_band {
 	 * rows; tr one raw row and its masked copy */
 	float *cmem;
 	float *ce, *cp, *cm, *gt, *cs[5], *dr[2], *om, *th, *tr, *tn;
+	float *gd;  /* gk_gsel's five rows of n + 2, then gk_gate's four */
+	double *gq; /* gk_gate's q and t */
+	float *gr;  /* gk_gate's gates */
 	int t_next;
 } gf_band;
 
@@ -230,7 +238,7 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 		return 0;
 	const size_t wt = gf_up((size_t)g->w + 8);
 	const size_t ctot =
-	    (3 * (size_t)g->RH + GF_RW + 5) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
+	    (3 * (size_t)g->RH + GF_RW + 5 + 5 + 3) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
 	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
 	if (!b->cmem) {
 		pc_dm_free(b->mem);
@@ -251,6 +259,12 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 		b->cs[i] = p;
 		p += nxp;
 	}
+	b->gd = p;
+	p += 5 * nxp;
+	b->gq = (double *)(void *)p; /* q, t: nxp/2 doubles each (nxp a multiple of 16) */
+	p += 2 * nxp;
+	b->gr = p;
+	p += nxp;
 	for (int i = 0; i < 2; i++) {
 		b->dr[i] = p;
 		p += wp;
@@ -334,6 +348,21 @@ static void gf_check_blocks(const guard_fast *g, gf_band *b, int jb, int gy)
 	          ce, cp, cm);
 }
 
+/* pan-check: s = the sum of the n rows r[0..n) in their order (n = 0: zeros) */
+static void gf_colsum(const guard_fast *g, float *s, const float *const *r, int n)
+{
+	const int nx = g->NBX;
+	if (n == 0) {
+		memset(s, 0, sizeof(float) * (size_t)nx);
+	} else if (n == 1) {
+		memcpy(s, r[0], sizeof(float) * (size_t)nx);
+	} else {
+		g->k->add(s, r[0], r[1], nx);
+		for (int t = 2; t < n; t++)
+			g->k->acc(s, r[t], nx);
+	}
+}
+
 /* pan-check: pan-hue's gate of block row j's red and blue blocks (pc_dm_pan_hue_gates' formulas
  * on the float blocks, the ratios and the power in double) into the gate ring; green's 0. The
  * blocks' colours are a Bayer pattern (gf_run checks): around a red or blue block its own colour
@@ -352,36 +381,50 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	const float *cp[4 * PC_DM_PAN_HUE_RMAX + 1];
 	float *sm = b->cs[0], *se = b->cs[1], *so = b->cs[2];
 	const int j0 = j - rb > 0 ? j - rb : 0, j1 = j + rb < ny - 1 ? j + rb : ny - 1;
-	int nre = 0;
-	for (int i = 0; i < nx; i++)
-		sm[i] = se[i] = so[i] = 0;
+	/* the column sums in row order (the first row's values kept, x + 0 = x for these sums
+	 * of non-negative values), by the add and acc kernels */
+	const float *rm[2][4 * PC_DM_PAN_HUE_RMAX + 1], *re[4 * PC_DM_PAN_HUE_RMAX + 1];
+	int nro = 0, nre = 0;
 	for (int jj = j0; jj <= j1; jj++) {
 		const float *m = gf_ring(b->cm, jj, g->RH, nxp);
 		cp[jj - j0] = gf_ring(b->cp, jj, g->RH, nxp);
 		if ((jj - j) & 1) {
-			for (int i = 0; i < nx; i++)
-				so[i] += m[i];
+			rm[1][nro++] = m;
 			continue;
 		}
-		const float *e = gf_ring(b->ce, jj, g->RH, nxp);
-		nre++;
-		for (int i = 0; i < nx; i++) {
-			sm[i] += m[i];
-			se[i] += e[i];
-		}
+		rm[0][nre] = m;
+		re[nre++] = gf_ring(b->ce, jj, g->RH, nxp);
 	}
+	gf_colsum(g, sm, rm[0], nre);
+	gf_colsum(g, se, re, nre);
+	gf_colsum(g, so, rm[1], nro);
 	const double thr0 = c->hnoise * 5 * c->g;
 	const int c0 = gf_col(g, 0, j) != 1 ? 0 : 1; /* the parity of the row's red or blue */
-	for (int i = 0; i < nx; i++)
+	for (int i = 1 - c0; i < nx; i += 2)         /* green: no gate (the others set below) */
 		out[i] = 0;
 	/* r = 1 with the window inside the grid: the blocks i in [2, nx − 3] by gk_gsel (their
-	 * order statistics in cs[3], cs[4], indexed by i) */
+	 * order statistics in cs[3], cs[4], indexed by (i − iv0)/2) and gk_gate */
 	const int lo12 = (int)(c->quant * 11), vec = rb == 2 && j >= 2 && j + 2 < ny && lo12 <= 2;
 	const int iv0 = c0 + 2 > 2 ? c0 + 2 : 2,
 	          nvk = vec && nx - 3 >= iv0 ? (nx - 3 - iv0) / 2 + 1 : 0;
-	if (nvk)
-		g->k->gsel(cp[0], cp[1], cp[2], cp[3], cp[4], iv0, nvk, lo12, b->cs[3], b->cs[4]);
+	if (nvk) {
+		g->k->gsel(cp[0], cp[1], cp[2], cp[3], cp[4], iv0, nvk, lo12, b->gd, b->cs[3],
+		           b->cs[4]);
+		/* and the rest of their gate (the loop below's, in the same order): nk and ng as
+		 * it counts them (the window's three columns of each lattice) */
+		const int nk = 3 * nre, ng = 3 * ((j1 - j0 + 1) - nre) + 2 * nre;
+		const double pos = c->quant * (ng - 1);
+		const double pr[7] = {nk, ng, pos - (int)pos, thr0, c->kappa, g->fl, g->gamma};
+		const size_t nq = nxp / 2;
+		g->k->gate(sm, se, so, b->cs[3], b->cs[4], iv0, nvk, pr, g->gi, b->gd, b->gq,
+		           b->gq + nq, b->gr);
+		for (int k = 0; k < nvk; k++)
+			out[iv0 + 2 * k] = b->gr[k];
+	}
 	for (int i = c0; i < nx; i += 2) {
+		if (nvk && i >= iv0 && i <= nx - 3)
+			continue; /* gk_gate's */
+		out[i] = 0;
 		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
 		const int se0 = i0 + ((i0 - i) & 1), so0 = i0 + !((i0 - i) & 1);
 		double mk = 0, mg = 0, ek = 0;
@@ -404,12 +447,7 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 		const int lo = (int)pos, nkeep = lo + 2 < ng ? lo + 2 : ng;
 		float v[NW];
 		int nv = 0;
-		const int done = nvk && i >= iv0 && i <= nx - 3;
-		if (done) {
-			v[lo] = b->cs[3][(i - iv0) / 2];
-			v[lo + 1] = b->cs[4][(i - iv0) / 2];
-		}
-		for (int jj = j0; jj <= j1 && !done; jj++) {
+		for (int jj = j0; jj <= j1; jj++) {
 			const float *p = cp[jj - j0];
 			for (int ii = ((jj - j) & 1) ? se0 : so0; ii <= i1; ii += 2) {
 				const float e = p[ii];
@@ -620,26 +658,27 @@ static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
 				       ((size_t)((y + d0 - 4) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
 				c[n++] = (float)d0;
 			}
-		if (n == 2) {
-			a[2] = a[0];
-			a[3] = a[1];
-			c[2] = c[3] = 0;
-		}
-		g->k->tcomb(a[0], a[1], a[2], a[3], c[0], c[1], c[2], c[3], g->tinv[q], w,
-		            b->tn + q * wp);
+		if (n == 2)
+			g->k->tcomb2(a[0], a[1], c[0], c[1], g->tinv[q], w, b->tn + q * wp);
+		else
+			g->k->tcomb(a[0], a[1], a[2], a[3], c[0], c[1], c[2], c[3], g->tinv[q], w,
+			            b->tn + q * wp);
 	}
 }
 
 /* pan-check's conservative estimate of row y (cons 5): red and blue the tents' (b->tn), green
- * bayer-first's analyser mean (b->ib's rows) plus the tents' modulation, in b->ib */
+ * bayer-first's analyser mean (pc_dm_bayer_first_band_gmean, into I_b's first row: the red rows
+ * are not read with cons 5) plus the tents' modulation, in b->ib's green rows */
 static void gf_cons5_row(const guard_fast *g, gf_band *b, int y)
 {
 	const size_t wp = gf_up((size_t)g->w + 8);
 	const int w = (int)g->w;
 	gf_tents_row(g, b, y);
-	float *bg = b->ib + 4 * wp;
+	float *bg = b->ib + 4 * wp, *mb = b->ib;
 	const float *tg = b->tn + 4 * wp;
-	g->k->gmod(bg, bg + wp, bg + 2 * wp, bg + 3 * wp, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w);
+	pc_dm_bayer_first_band_gmean(b->bf, (uint32_t)y, mb);
+	g->k->gmod(mb, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w, bg, bg + wp, bg + 2 * wp,
+	           bg + 3 * wp);
 }
 
 /* output rows [y0, y1): I_b, W_k and the blend, in place */
@@ -672,9 +711,10 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 		} else {
 			gf_tent_row(g, &b, y);
 		}
-		pc_dm_bayer_first_band_rows(b.bf, yu, yu + 1, ibp);
 		if (g->chk && g->chk->cons5)
 			gf_cons5_row(g, &b, y);
+		else
+			pc_dm_bayer_first_band_rows(b.bf, yu, yu + 1, ibp);
 		const int gate = g->gate && g->force < 0;
 		for (unsigned k = 0; k < 3; k++) {
 			float *d[4];
@@ -690,24 +730,24 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 			const float *wk = b.wr[k];
 			/* pan-check's gate of red and blue: 1 − D_k */
 			const int gk = gate && k != 1;
-			if (gk)
-				for (uint32_t x = 0; x < w; x++)
-					b.om[x] = 1 - b.dr[k / 2][x];
 			if (ps[0] == 1 && ps[1] == 1 && ps[2] == 1 && ps[3] == 1) {
 				if (g->mode) {
 					g->k->fac1(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
 					           vbr[3], wk, g->delta, b.fr, w);
 					for (unsigned c = 0; c < 4; c++)
 						g->k->mix1(d[c], b.fr, g->delta, w);
+				} else if (gk) {
+					g->k->mix2(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
+					           vbr[3], wk, b.dr[k / 2], w);
 				} else {
 					g->k->mix0(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
 					           vbr[3], wk, w);
-					if (gk)
-						g->k->mix0(d[0], d[1], d[2], d[3], vbr[0], vbr[1],
-						           vbr[2], vbr[3], b.om, w);
 				}
 				continue;
 			}
+			if (gk)
+				for (uint32_t x = 0; x < w; x++)
+					b.om[x] = 1 - b.dr[k / 2][x];
 			for (uint32_t x = 0; x < w; x++) {
 				float vp[4], vb[4];
 				for (unsigned c = 0; c < 4; c++) {
