@@ -924,8 +924,6 @@ typedef void (*pan_cghrows_fn)(const float *rho, const float *p0, const float *c
                                long n, const float wt[4][7][16], float e, float *const h[4]);
 typedef void (*pan_sghrows_fn)(const float *rho, const float *p0, const float *fw, const float *fe,
                                long n, const float wt[4][7][16], float e, float *const h[4]);
-typedef void (*pan_shue_fn)(const float *p0, const float *c1, const float *c2, long x0, long n,
-                            float delta, float *u1, float *u2);
 typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
                             const float *const up[2], long n, float eps, float *f0, float *f1);
 
@@ -979,7 +977,6 @@ typedef struct pan_kern {
 	pan_gorow_fn cgorow;
 	pan_sghrows_fn sghrows;
 	pan_gorow_fn sgorow;
-	pan_shue_fn shue;
 	pan_sfac_fn sfac;
 	pan_dwrows_fn dwrows;
 	pan_dprows_fn dprows;
@@ -999,6 +996,7 @@ typedef struct pan_kern {
 	fact_orow_fn forow;
 	pan_gbrows_fn gbrows;
 	pan_u16row_fn u16row;
+	pan_cratio_fn scratio;
 } pan_kern;
 
 /* One instance's kernels, in pan_kern's order (S: base, avx2, avx512). */
@@ -1007,11 +1005,11 @@ typedef struct pan_kern {
 	{                                                                                          \
 		pan_vsum_##S, pan_ratio_##S, pan_hrows_##S, pan_orow_##S, pan_ghrows_##S,          \
 		    pan_gorow_##S, pan_vsumw_##S, pan_cratio_##S, pan_cghrows_##S, pan_cgorow_##S, \
-		    pan_sghrows_##S, pan_sgorow_##S, pan_shue_##S, pan_sfac_##S, pan_dwrows_##S,   \
-		    pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S,     \
-		    pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, \
-		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S,          \
-		    pan_gbrows_##S, pan_u16row_##S                                                 \
+		    pan_sghrows_##S, pan_sgorow_##S, pan_sfac_##S, pan_dwrows_##S, pan_dprows_##S, \
+		    pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S, pan_dorow_##S,      \
+		    fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, fact_box_##S,  \
+		    fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S, pan_gbrows_##S,        \
+		    pan_u16row_##S, pan_scratio_##S                                                \
 	}
 
 static pan_kern pan_kernels(pc_cpu_level level)
@@ -1509,11 +1507,11 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		for (int d = 0; d < 3; d++)
 			br[k][d] = bshare ? src + (size_t)(46 + 3 * k + d) * pitch : NULL;
 	/* pan-side: the block hue (u1, u2) of the last four even source rows Y in hu[(Y & 7) >> 1],
-	 * pan_cratio's chrominance rows ck, the factors W and E of the current block row (fh), N
-	 * and S of the last two block rows Y in fv[(Y & 3) >> 1] */
+	 * (pan_scratio), the factors W and E of the current block row (fh), N and S of the last
+	 * two block rows Y in fv[(Y & 3) >> 1] */
 	const int side = j->guided == 3 || adapt;
 	const float eps = (float)PAN_SEPS;
-	float *hu[4][2], *ck[2] = {gr[2][0], gr[2][1]}, *fh[2] = {gr[2][2], gr[2][3]},
+	float *hu[4][2], *fh[2] = {gr[2][2], gr[2][3]},
 	                 *fv[2][2] = {{gr[2][4], gr[2][5]}, {gr[2][6], gr[2][7]}};
 	for (int k = 0; k < 4; k++)
 		for (int c = 0; c < 2; c++)
@@ -1559,9 +1557,8 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					 * is) */
 					float *const *u = hu[(yy & 7) >> 1];
 					float *const *fw = adapt ? fhr[(yy & 2) >> 1] : fh;
-					K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
-					         ck[0], ck[1]);
-					K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta, u[0], u[1]);
+					K.scratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
+					          u[0], u[1]);
 					const float *uc[2] = {u[0], u[1]},
 					            *uw[2] = {u[0] - PAN_SST, u[1] - PAN_SST},
 					            *ue[2] = {u[0] + PAN_SST, u[1] + PAN_SST};
@@ -2123,7 +2120,7 @@ int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
 }
 
 /* pan-side's fast path: pan-guided's (pan_band), each even source row's block hue and W/E
- * factors from pan-chroma's chrominance (pan_cratio, pan_shue, pan_sfac), the block row two
+ * factors from pan-chroma's chrominance (pan_scratio, pan_sfac), the block row two
  * above it getting its N/S factors there; the factors multiply pan-guided's weights in
  * pan_sghrows and pan_sgorow. */
 int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
