@@ -69,9 +69,6 @@ typedef struct pan_gorow_args {
 	const float *p0row[7];
 	const float *c1row[7], *c2row[7]; /* pan-chroma's chrominance rows (else unused) */
 	const float *fn, *fs;             /* pan-side's factors N and S of the row (else unused) */
-	/* pan-guided's and pan-side's range weights shared between row pairs (pan_gweight in
-	 * demosaic_pan_kern.inc): k < 3 read, k > 3 written */
-	float *brow[7];
 	float vtl[12][4][16]; /* vt repeated to 16 lanes (pan_gorow: a load, not a splat) */
 	/* pan_gorow_ph's slots (demosaic_pan_kern.inc): each one's term rows and channel, the
 	 * lanes of slots 0, 1, 8 where they are the own channel; ph its variant, or -1 */
@@ -840,7 +837,6 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
  * vector, and interleaved outputs, go through a row buffer. */
 #define PAN_PADR  32 /* raw and sum rows: columns [-32, w + 32) */
 #define PAN_AROWS 25 /* pan-adapt's rows beyond pan-side's (pan_band) */
-#define PAN_BROWS 12 /* pan-guided's and pan-side's shared range weights (pan_band) */
 #ifndef PAN_STRIPW
 /* pan_band's strips: at most about this many columns. Round 17c's 1024 (three strips at 2448
  * columns, each strip's scratch in a core's L2) cut L2 read misses by 59 % but measured no wall
@@ -912,8 +908,6 @@ typedef void (*pan_ghrows_fn)(const float *rho, const float *p0, long n, const f
 typedef void (*pan_gorow_fn)(const pan_gorow_args *a, const float *raw, long n, float delta,
                              float e, float *const out[12], int nt);
 typedef void (*pan_hrows_fn)(const float *rho, long n, const float wt[4][7][16], float *const h[4]);
-typedef void (*pan_gbrows_fn)(const float *p0a, const float *p0b, long n, float e, float *b);
-typedef void (*pan_u16row_fn)(const uint16_t *r, long n, float k, float *d);
 typedef void (*pan_orow_fn)(const pan_orow_args *a, const float *raw, long n, float delta,
                             float *const out[12], int nt);
 typedef void (*pan_vsumw_fn)(const float *const r[5], const float w[5], long n, float *sum);
@@ -924,6 +918,8 @@ typedef void (*pan_cghrows_fn)(const float *rho, const float *p0, const float *c
                                long n, const float wt[4][7][16], float e, float *const h[4]);
 typedef void (*pan_sghrows_fn)(const float *rho, const float *p0, const float *fw, const float *fe,
                                long n, const float wt[4][7][16], float e, float *const h[4]);
+typedef void (*pan_shue_fn)(const float *p0, const float *c1, const float *c2, long x0, long n,
+                            float delta, float *u1, float *u2);
 typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
                             const float *const up[2], long n, float eps, float *f0, float *f1);
 
@@ -977,6 +973,7 @@ typedef struct pan_kern {
 	pan_gorow_fn cgorow;
 	pan_sghrows_fn sghrows;
 	pan_gorow_fn sgorow;
+	pan_shue_fn shue;
 	pan_sfac_fn sfac;
 	pan_dwrows_fn dwrows;
 	pan_dprows_fn dprows;
@@ -994,9 +991,6 @@ typedef struct pan_kern {
 	fact_m_fn fm;
 	fact_ppi2_fn ppi2;
 	fact_orow_fn forow;
-	pan_gbrows_fn gbrows;
-	pan_u16row_fn u16row;
-	pan_cratio_fn scratio;
 } pan_kern;
 
 /* One instance's kernels, in pan_kern's order (S: base, avx2, avx512). */
@@ -1005,11 +999,10 @@ typedef struct pan_kern {
 	{                                                                                          \
 		pan_vsum_##S, pan_ratio_##S, pan_hrows_##S, pan_orow_##S, pan_ghrows_##S,          \
 		    pan_gorow_##S, pan_vsumw_##S, pan_cratio_##S, pan_cghrows_##S, pan_cgorow_##S, \
-		    pan_sghrows_##S, pan_sgorow_##S, pan_sfac_##S, pan_dwrows_##S, pan_dprows_##S, \
-		    pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S, pan_dorow_##S,      \
-		    fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, fact_box_##S,  \
-		    fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S, pan_gbrows_##S,        \
-		    pan_u16row_##S, pan_scratio_##S                                                \
+		    pan_sghrows_##S, pan_sgorow_##S, pan_shue_##S, pan_sfac_##S, pan_dwrows_##S,   \
+		    pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S,     \
+		    pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, \
+		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S           \
 	}
 
 static pan_kern pan_kernels(pc_cpu_level level)
@@ -1056,7 +1049,6 @@ typedef struct pan_rows {
 	uint32_t xs, gl, gh;
 	int npad;
 	int pad_dst[3 * PAN_PADR], pad_src[3 * PAN_PADR];
-	pan_u16row_fn u16row; /* pan_row_strip's conversion of 16-bit rows without maps */
 } pan_rows;
 
 static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
@@ -1085,17 +1077,10 @@ static const float *pan_row_strip(pan_rows *c, const pc_dm_input *in, int y)
 		                                                      : 4);
 		sub.width = c->gh - c->gl;
 		float *dl = d + ((long)c->gl - (long)c->xs), *lo = dl - 1, *hi = dl + sub.width;
-		if (in->type == PC_DMT_U16 && !in->dark && !in->gain_inv) {
-			/* the same values, a vector instance's conversion */
-			c->u16row(
-			    (const uint16_t *)(const void *)(sub.data + (size_t)y * in->stride),
-			    sub.width, in->black, dl);
-		} else {
-			const float keep_lo = *lo, keep_hi = *hi;
-			pc_dm_row_to_float(&sub, (uint32_t)y, dl);
-			*lo = keep_lo;
-			*hi = keep_hi;
-		}
+		const float keep_lo = *lo, keep_hi = *hi;
+		pc_dm_row_to_float(&sub, (uint32_t)y, dl);
+		*lo = keep_lo;
+		*hi = keep_hi;
 		for (int i = 0; i < c->npad; i++)
 			d[c->pad_dst[i]] = d[c->pad_src[i]];
 		c->tag[k] = y;
@@ -1309,8 +1294,6 @@ static void pan_gorow_shift(pan_gorow_args *a, long dx)
 	for (int k = 0; k < 7; k++) {
 		if (a->p0row[k])
 			a->p0row[k] += dx;
-		if (a->brow[k])
-			a->brow[k] += dx;
 		if (a->c1row[k])
 			a->c1row[k] += dx;
 		if (a->c2row[k])
@@ -1366,9 +1349,9 @@ static pan_gorow_args *pan_args_at(const pan_job *j, const pan_tables *t, float 
 }
 
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
-                      float *const gr[3][8], float *const br[4][3], const float *const fv[2],
-                      const float *raw, uint32_t y, const pan_strip *st, pan_gorow_args *cache,
-                      unsigned char *cached, int planar, float *rawp, float *const o[12])
+                      float *const gr[3][8], const float *const fv[2], const float *raw, uint32_t y,
+                      const pan_strip *st, pan_gorow_args *cache, unsigned char *cached, int planar,
+                      float *rawp, float *const o[12])
 {
 	const uint32_t w = st->w, xs = st->xs;
 	const long n = st->n, nmain = st->nmain;
@@ -1378,9 +1361,6 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		ap->p0row[k] = gr[0][((int)y + k - 3) & 7];
 		ap->c1row[k] = gr[1][((int)y + k - 3) & 7];
 		ap->c2row[k] = gr[2][((int)y + k - 3) & 7];
-		/* B_d[y − d] (k = 3 − d) read, B_d[y] (k = 3 + d) written: a ring of 4 rows */
-		if (j->guided != 2 && k != 3)
-			ap->brow[k] = k < 3 ? br[((int)y + k - 3) & 3][2 - k] : br[y & 3][k - 4];
 	}
 	const pan_gorow_fn kern = j->guided == 3   ? K->sgorow
 	                          : j->guided == 2 ? K->cgorow
@@ -1483,7 +1463,6 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 	/* the strip's raw rows: the frame's columns [xs − PAN_PADR, xs + n + PAN_PADR) inside it
 	 * converted, the others mirrored from them */
 	rc.xs = xs;
-	rc.u16row = K.u16row;
 	rc.gl = xs > PAN_PADR ? xs - PAN_PADR : 0;
 	rc.gh = xs + (uint32_t)n + PAN_PADR < j->w ? xs + (uint32_t)n + PAN_PADR : j->w;
 	rc.npad = 0;
@@ -1500,18 +1479,12 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		for (int k = 0; k < 8; k++)
 			gr[g][k] = src + (size_t)(21 + 8 * g + k) * pitch;
 	float *vsb = src + (size_t)45 * pitch;
-	/* pan-guided, pan-side: B_d[r] (pan_gweight) in br[r & 3][d − 1], PAN_BROWS rows */
-	const int bshare = j->guided == 1 || j->guided == 3;
-	float *br[4][3];
-	for (int k = 0; k < 4; k++)
-		for (int d = 0; d < 3; d++)
-			br[k][d] = bshare ? src + (size_t)(46 + 3 * k + d) * pitch : NULL;
 	/* pan-side: the block hue (u1, u2) of the last four even source rows Y in hu[(Y & 7) >> 1],
-	 * (pan_scratio), the factors W and E of the current block row (fh), N and S of the last
-	 * two block rows Y in fv[(Y & 3) >> 1] */
+	 * pan_cratio's chrominance rows ck, the factors W and E of the current block row (fh), N
+	 * and S of the last two block rows Y in fv[(Y & 3) >> 1] */
 	const int side = j->guided == 3 || adapt;
 	const float eps = (float)PAN_SEPS;
-	float *hu[4][2], *fh[2] = {gr[2][2], gr[2][3]},
+	float *hu[4][2], *ck[2] = {gr[2][0], gr[2][1]}, *fh[2] = {gr[2][2], gr[2][3]},
 	                 *fv[2][2] = {{gr[2][4], gr[2][5]}, {gr[2][6], gr[2][7]}};
 	for (int k = 0; k < 4; k++)
 		for (int c = 0; c < 2; c++)
@@ -1557,8 +1530,9 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					 * is) */
 					float *const *u = hu[(yy & 7) >> 1];
 					float *const *fw = adapt ? fhr[(yy & 2) >> 1] : fh;
-					K.scratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
-					          u[0], u[1]);
+					K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
+					         ck[0], ck[1]);
+					K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta, u[0], u[1]);
 					const float *uc[2] = {u[0], u[1]},
 					            *uw[2] = {u[0] - PAN_SST, u[1] - PAN_SST},
 					            *ue[2] = {u[0] + PAN_SST, u[1] + PAN_SST};
@@ -1614,14 +1588,8 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		}
 		if (j->guided) {
 			const float *fy[2] = {fv[(y & 2) >> 1][0], fv[(y & 2) >> 1][1]};
-			/* the first output row: the pairs (r, r + d), r < y0 ≤ r + d, its first
-			 * three rows read */
-			for (int r = (int)y0 - 3; bshare && y == y0 && r < (int)y0; r++)
-				for (int d = (int)y0 - r; d <= 3; d++)
-					K.gbrows(gr[0][r & 7], gr[0][(r + d) & 7], n, j->e,
-					         br[r & 3][d - 1]);
-			pan_gorow(j, &K, t, hr, gr, br, fy, pan_row_strip(&rc, j->in, (int)y), y,
-			          st, cache, cached, planar, rawp, o);
+			pan_gorow(j, &K, t, hr, gr, fy, pan_row_strip(&rc, j->in, (int)y), y, st,
+			          cache, cached, planar, rawp, o);
 			continue;
 		}
 		/* channel q's lattice rows around y, with the tent's vertical weights */
@@ -1700,10 +1668,9 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
 	 * output rows, 5 rows unused, 16 cached raw rows, 8 PPI rows (pan-guided), 8 + 8
 	 * chrominance rows and a weighted vertical sum (pan-chroma; pan-side keeps its hue,
-	 * chrominance and factor rows in the latter 16); pan-adapt PAN_AROWS more, pan-guided
-	 * and pan-side PAN_BROWS more */
-	const int adapt = j->guided == 4, bshare = j->guided == 1 || j->guided == 3;
-	const size_t nrows = 52 + 16 + 8 + 17 + (adapt ? PAN_AROWS : bshare ? PAN_BROWS : 0);
+	 * chrominance and factor rows in the latter 16); pan-adapt PAN_AROWS more */
+	const int adapt = j->guided == 4;
+	const size_t nrows = 52 + 16 + 8 + 17 + (adapt ? PAN_AROWS : 0);
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !buf || !cache) {
 		pc_dm_free(t);
@@ -2120,7 +2087,7 @@ int pc_dm_pan_guided_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
 }
 
 /* pan-side's fast path: pan-guided's (pan_band), each even source row's block hue and W/E
- * factors from pan-chroma's chrominance (pan_scratio, pan_sfac), the block row two
+ * factors from pan-chroma's chrominance (pan_cratio, pan_shue, pan_sfac), the block row two
  * above it getting its N/S factors there; the factors multiply pan-guided's weights in
  * pan_sghrows and pan_sgorow. */
 int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
