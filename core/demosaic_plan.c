@@ -647,10 +647,11 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "float fast path: pan-side's fast path, then per row band pan-guard's "
           "check with the noise term, pan-hue's gate per block row, bayer-first's "
           "rows and the own-lattice tents for the conservative estimate, and the "
-          "blends; 1266 M instructions per 2448x2048 frame (callgrind, AVX2, one "
-          "thread), 48x mono bilinear's, of which pan-side 256 M, bayer-first's "
-          "rows 265 M, the gate 279 M, the tents 170 M: 4.7x the 5x budget's "
-          "about 270 M, far over it; 29-32x its time near idle (docs/demosaicking.md, Round 18a)",
+          "blends; 744 M instructions per 2448x2048 frame (callgrind, AVX2, one "
+          "thread), 28x mono bilinear's, of which pan-side 256 M, green's analyser "
+          "mean 52 M, the gate 32 M, the tents 126 M; 18-19x its time near idle at "
+          "AVX-512, 27-30x at AVX2: far over the 5x budget (docs/demosaicking.md, "
+          "Rounds 18a and 18d)",
           "ours (docs/demosaicking.md, Rounds 17 and 18): pan-guard's check (Bates & "
           "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
           "estimates one band pass can compute",
