@@ -418,6 +418,18 @@ static void bf_band_fini(pc_dm_bf_band *b)
 }
 
 /* Output rows [y0, y1) into out, whose row y - oy holds row y. */
+/* the raw rows y − 3 .. y + 3 (within the frame) into the band's ring, each converted once */
+static void bf_ring_load(pc_dm_bf_band *b, uint32_t y)
+{
+	const uint32_t h = b->j.h;
+	const int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
+	for (int r = lo; r <= hi; r++)
+		if (b->ring.have[r & 7] != r) {
+			pc_dm_row_to_float(b->j.in, (uint32_t)r, b->ring.row[r & 7]);
+			b->ring.have[r & 7] = r;
+		}
+}
+
 static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fplane *out,
                          uint32_t oy)
 {
@@ -432,12 +444,7 @@ static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fp
 	for (unsigned i = 0; i < 4; i++) /* mk is overwritten below */
 		b->mgr[i] = -1;
 	for (uint32_t y = y0; y < y1; y++) {
-		int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
-		for (int r = lo; r <= hi; r++)
-			if (ring->have[r & 7] != r) {
-				pc_dm_row_to_float(j->in, (uint32_t)r, ring->row[r & 7]);
-				ring->have[r & 7] = r;
-			}
+		bf_ring_load(b, y);
 		const uint32_t oyy = y - oy;
 		double o12[12];
 		if (y < 3 || y + 3 >= h) {
@@ -566,11 +573,8 @@ void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out)
 	bf_ring *ring = &b->ring;
 	const int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
 	const int border = y < 3 || y + 3 >= h;
+	bf_ring_load(b, y);
 	for (int r = lo; r <= hi; r++) {
-		if (ring->have[r & 7] != r) {
-			pc_dm_row_to_float(j->in, (uint32_t)r, ring->row[r & 7]);
-			ring->have[r & 7] = r;
-		}
 		if (border || b->ghave[r & 7] == r)
 			continue;
 		const float *mg = j->cmask + (4 + ((uint32_t)r & 3)) * (size_t)w;
