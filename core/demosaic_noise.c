@@ -122,6 +122,8 @@ typedef struct ng_job {
 	size_t nx;
 	double floor;
 	double *t;
+	unsigned ox, oy; /* the block grid's origin */
+	double sign[2][2]; /* +1 on the 0° and 90° samples of a block, −1 on 45° and 135° */
 } ng_job;
 
 #define NG_ROWS(T)                                                                                 \
@@ -167,8 +169,55 @@ static void ng_rows(void *ctx, uint32_t r0, uint32_t r1)
 }
 #undef NG_ROWS
 
-/* g of the frame of j (its w and sampler set) on threads threads: the grid, its values, their
- * median */
+/* The block estimate's grid (demosaic_noise.h): 2×2 blocks from (ox, oy), every s-th block in
+ * each direction (s odd), nx × ny of them; 0 when the frame holds no whole block */
+static size_t bgrid(uint32_t w, uint32_t h, unsigned ox, unsigned oy, uint32_t *s, size_t *nx,
+                    size_t *ny)
+{
+	if (w < ox + 2 || h < oy + 2)
+		return 0;
+	const uint32_t bw = (w - ox) / 2, bh = (h - oy) / 2;
+	*s = 1;
+	while ((size_t)((bw + *s - 1) / *s) * ((bh + *s - 1) / *s) > PC_DM_NG_POINTS)
+		*s += 2;
+	*nx = (bw + *s - 1) / *s;
+	*ny = (bh + *s - 1) / *s;
+	return *nx * *ny;
+}
+
+/* One sample of j's frame minus the black level, as ng_rows reads it */
+static inline double ng_sample(const ng_job *j, uint32_t x, uint32_t y)
+{
+	if (j->get)
+		return j->get(j->ctx, x, y);
+	return (double)pc_dm_sample(j->in, x, y) - j->in->black_d;
+}
+
+/* The block grid's rows [r0, r1) into t (row r at t + r·nx): u(b) of each block */
+static void nb_rows(void *ctx, uint32_t r0, uint32_t r1)
+{
+	const ng_job *j = ctx;
+	const uint32_t s2 = 2 * j->s;
+	const double floor4 = 4 * j->floor;
+	for (uint32_t gy = r0; gy < r1; gy++) {
+		const uint32_t y = j->oy + gy * s2;
+		double *t = j->t + (size_t)gy * j->nx;
+		for (size_t gx = 0; gx < j->nx; gx++) {
+			const uint32_t x = j->ox + (uint32_t)gx * s2;
+			double r = 0, l = floor4;
+			for (unsigned dy = 0; dy < 2; dy++)
+				for (unsigned dx = 0; dx < 2; dx++) {
+					double v = ng_sample(j, x + dx, y + dy);
+					r += j->sign[dy][dx] * v;
+					l += fmax(v, 0);
+				}
+			*t++ = r * r / l;
+		}
+	}
+}
+
+/* g of the frame of j (its w and sampler set) on threads threads: each grid's values and their
+ * median, the smaller of the two estimates */
 static int ng_gain(ng_job *j, uint32_t h, const pc_mosaic *m, double fs, int threads, double *g)
 {
 	j->p = m->period;
@@ -184,8 +233,37 @@ static int ng_gain(ng_job *j, uint32_t h, const pc_mosaic *m, double fs, int thr
 		return pc_error(PC_ENOMEM, "noise gain: %zu values", n);
 	j->floor = PC_DM_NG_FLOOR * fs;
 	pc_parallel_rows((uint32_t)ny, 0, threads, ng_rows, j);
-	*g = gain_of(j->t, n);
+	const double gp = gain_of(j->t, n);
+
+	/* the block estimate, in j->t grown to its grid when that is larger */
+	unsigned ox = 0, oy = 0;
+	if (m->period == 4)
+		(void)pc_mosaic_color_origin(m, &ox, &oy);
+	j->ox = ox;
+	j->oy = oy;
+	for (unsigned dy = 0; dy < 2; dy++)
+		for (unsigned dx = 0; dx < 2; dx++)
+			j->sign[dy][dx] = (pc_mosaic_channel(m, ox + dx, oy + dy) & 1) ? -1 : 1;
+	size_t nbx = 0, nby = 0;
+	uint32_t sb = 1;
+	const size_t nb = bgrid(j->w, h, ox, oy, &sb, &nbx, &nby);
+	double gb = gp;
+	if (nb) {
+		if (nb > n) {
+			double *t = realloc(j->t, sizeof(double) * nb);
+			if (!t) {
+				free(j->t);
+				return pc_error(PC_ENOMEM, "noise gain: %zu values", nb);
+			}
+			j->t = t;
+		}
+		j->s = sb;
+		j->nx = nbx;
+		pc_parallel_rows((uint32_t)nby, 0, threads, nb_rows, j);
+		gb = select_median(j->t, nb, nb / 2) / PC_DM_NG_CHI1;
+	}
 	free(j->t);
+	*g = fmin(gp, gb);
 	return 0;
 }
 

@@ -1,5 +1,5 @@
-/* Internal to core: a frame's noise gain for the noise-aware colour method pan-adapt
- * (demosaic_pan.c; docs/demosaicking.md, Round 14). Shared by its double reference and its fast
+/* Internal to core: a frame's noise gain for the noise-aware colour methods (pan-adapt,
+ * pan-guard, pan-hue, pan-check; docs/demosaicking.md, Rounds 14 and 19). Shared by its double reference and its fast
  * path, which call it unchanged, so that both use the identical g. Not a public header.
  *
  * The model is EMVA 1288's linear photon-transfer curve (EMVA Standard 1288, the sensor model:
@@ -19,8 +19,31 @@
  *
  * a robust scale estimate in the manner of Donoho & Johnstone's median absolute detail
  * coefficient (Biometrika 81(3) 1994, Sec. 4.2): texture and edges move the residuals of a
- * minority of the samples and hardly the median. Textured frames overestimate g (their
- * residuals carry detail), noise-free smooth frames give g ≈ 0.
+ * minority of the samples and hardly the median. Texture at the period's own scale (grass,
+ * tesserae, fabric) moves most of them, and that estimate then reads texture as noise
+ * (docs/demosaicking.md, Round 18f: 264.6 DN on a noise-free render).
+ *
+ * So a second estimate cancels the scene instead of differencing it over P (Round 19). The four
+ * analysers of a 2×2 polarizer block (one colour) see nearly one Stokes vector, and for any
+ * Stokes vector the ideal analysers' intensities satisfy I₀ + I₉₀ = I₄₅ + I₁₃₅ = S₀ (Malus's law,
+ * I_θ = (S₀ + S₁ cos 2θ + S₂ sin 2θ)/2; Goldstein, Polarized Light, 3rd ed. 2011, Ch. 5). The
+ * block residual
+ *
+ *   u(b) = (I₀ + I₉₀ − I₄₅ − I₁₃₅)² / (Σ max(Iᵢ, 0) + 4F)
+ *
+ * is then noise alone plus what the Stokes vector changes within the block: for the Sony layout
+ * [90 45; 135 0] the 0°/90° and 45°/135° pairs are the two diagonals, whose means agree on any
+ * linear ramp of S₀, so only curvature of S₀ and first differences of S₁, S₂ across one pixel
+ * remain. The noise part has variance g·(ΣLᵢ + 4F) and does not correlate with the sum in the
+ * denominator (the signs cancel), so median u / m₁ estimates g. Blocks: the 2×2 polarizer blocks
+ * (from the colour origin of a colour mosaic, from (0, 0) of a monochrome one; the four samples
+ * summed in raster order, the floor first in the denominator), every s-th
+ * block in each direction, s the smallest odd integer leaving at most PC_DM_NG_POINTS.
+ *
+ * Texture can only raise either estimate (a residual r = n + d with a fixed detail d and noise n
+ * symmetric about 0 has |r| stochastically larger than |n|), so g = min(g_period, g_block): on a
+ * flat noisy field both estimate g (the minimum is biased low by less than their 0.9 % standard
+ * error), and on texture the less fooled one counts. Noise-free smooth frames give g ≈ 0.
  *
  * The grid: the samples x = P + i·s, y = P + j·s inside [P, w − P) × [P, h − P), s the smallest
  * odd integer with ((w − 2P)/s)·((h − 2P)/s) ≤ PC_DM_NG_POINTS (s odd, so every phase of the

@@ -5,8 +5,11 @@
  *    Poisson electrons times K (variance K·L, so the estimate is K·L/(L + F)). Frames of
  *    2048 × 1600, whose grid is every 9th sample (independent residuals, n ≈ 40 000): the
  *    relative standard error of the median of n χ²₁ values is 2.33/√n (1.2 %); tolerance four
- *    of them. And the selection against a sort of the same values, computed here from the
- *    formula, on a frame small enough that every interior sample is on the grid.
+ *    of them. A frame whose every 2×2 polarizer block has its own random Stokes vector (DoLP
+ *    up to 1): the block estimate (Round 19) must find the noise's gain where the period
+ *    estimate reads the texture as noise. And the selection against a sort of the same values
+ *    (both estimates' formulas computed here, g their minimum), on a frame small enough that
+ *    every interior sample is on the grid.
  *  - The shrinkage's limits: g = 0 (and c = 0) give pan-side's ratio step exactly, and with
  *    pan-side's fixed range scale pan-side itself, bit for bit (pc_dm_pan_side_ref, a separate
  *    implementation); on a flat noisy grey field the outputs stay unbiased (mean within 3 DN of
@@ -56,6 +59,35 @@ static int cmp_d(const void *a, const void *b)
 
 /* ---- the noise gain ---- */
 
+static size_t grid_sorted(const double *img, uint32_t w, uint32_t h, double fs, double *t);
+
+/* The block estimate of demosaic_noise.h computed here from its formula on a double image of
+ * the IMX250MYR layout ([90 45; 135 0] blocks from (0, 0)): every s-th 2×2 block, s the smallest
+ * odd stride leaving at most PC_DM_NG_POINTS blocks; its median over m₁ (a sort, not the
+ * library's selection) */
+static double block_gain(const double *img, uint32_t w, uint32_t h, double fs)
+{
+	const double F4 = 4 * PC_DM_NG_FLOOR * fs;
+	const uint32_t bw = w / 2, bh = h / 2;
+	uint32_t s = 1;
+	while ((size_t)((bw + s - 1) / s) * ((bh + s - 1) / s) > PC_DM_NG_POINTS)
+		s += 2;
+	double *t = malloc(sizeof(double) * (size_t)bw * bh);
+	size_t n = 0;
+	for (uint32_t by = 0; by < bh; by += s)
+		for (uint32_t bx = 0; bx < bw; bx += s) {
+			const double *r0 = img + (size_t)(2 * by) * w + 2 * bx, *r1 = r0 + w;
+			/* r0: 90°, 45°; r1: 135°, 0°; in raster order, as the library sums */
+			double r = r0[0] - r0[1] - r1[0] + r1[1];
+			double l = F4 + fmax(r0[0], 0) + fmax(r0[1], 0) + fmax(r1[0], 0) + fmax(r1[1], 0);
+			t[n++] = r * r / l;
+		}
+	qsort(t, n, sizeof(double), cmp_d);
+	const double g = t[n / 2] / PC_DM_NG_CHI1;
+	free(t);
+	return g;
+}
+
 static void test_noise_gain(void)
 {
 	const uint32_t W = 2048, H = 1600;
@@ -104,9 +136,39 @@ static void test_noise_gain(void)
 	printf("  noise gain, Poisson grey field: %.5f against K·L/(L + F) = %.5f (%+.2f %%)\n", g,
 	       want, 100 * (g / want - 1));
 	CHECK(fabs(g / want - 1) <= 4 * se);
+
+	/* (3) texture the period estimate reads as noise: every 2×2 polarizer block its own Stokes
+	 * vector (S0 uniform in 100..1500 DN, DoLP in 0..1, AoLP in 0..180°), its four samples
+	 * Malus's I_θ = (S0 + S1 cos 2θ + S2 sin 2θ)/2 plus noise of variance g0·(I_θ + F). The block
+	 * estimate (I0 + I90 − I45 − I135 cancels any Stokes vector) must find g0; the period
+	 * estimate (grid_sorted) must not, or the check proves nothing. Blocks on the grid: every
+	 * 5th of 1024 × 800, n = 205 · 160. */
+	static const int ang[2][2] = {{90, 45}, {135, 0}}; /* pc_mosaic_imx250myr's blocks */
+	for (uint32_t by = 0; by < H / 2; by++)
+		for (uint32_t bx = 0; bx < W / 2; bx++) {
+			double s0 = 100 + 1400 * urand(), dolp = urand(), a = M_PI * urand();
+			double s1 = s0 * dolp * cos(2 * a), s2 = s0 * dolp * sin(2 * a);
+			for (unsigned dy = 0; dy < 2; dy++)
+				for (unsigned dx = 0; dx < 2; dx++) {
+					double th = ang[dy][dx] * M_PI / 180;
+					double l = (s0 + s1 * cos(2 * th) + s2 * sin(2 * th)) / 2;
+					img[(size_t)(2 * by + dy) * W + 2 * bx + dx] =
+					    l + sqrt(g0 * (l + F)) * nrand();
+				}
+		}
+	CHECK_EQ_INT(pc_dm_noise_gain_d(img, W, H, &m, fs, &g), 0);
+	double *tp = malloc(sizeof(double) * PC_DM_NG_POINTS);
+	const size_t np = grid_sorted(img, W, H, fs, tp);
+	const double gper = tp[np / 2] / (1.25 * PC_DM_NG_CHI1), seb = 2.33 / sqrt(205.0 * 160.0);
+	free(tp);
+	printf("  noise gain, a random Stokes vector per block: %.5f against %.5f (%+.2f %%, "
+	       "tolerance %.1f %%); the period estimate alone %.2f\n",
+	       g, g0, 100 * (g / g0 - 1), 400 * seb, gper);
+	CHECK(fabs(g / g0 - 1) <= 4 * seb);
+	CHECK(gper > 10 * g0);
 	free(img);
 
-	/* (3) the selection against a sort, every interior sample on the grid */
+	/* (4) the selection against a sort, every interior sample on the grid */
 	const uint32_t w = 64, h = 48;
 	double *small = malloc(sizeof(double) * w * h), *t = malloc(sizeof(double) * w * h);
 	for (size_t i = 0; i < (size_t)w * h; i++)
@@ -122,7 +184,9 @@ static void test_noise_gain(void)
 		}
 	qsort(t, nt, sizeof(double), cmp_d);
 	CHECK_EQ_INT(pc_dm_noise_gain_d(small, w, h, &m, fs, &g), 0);
-	CHECK(g == t[nt / 2] / (1.25 * PC_DM_NG_CHI1));
+	const double gp = t[nt / 2] / (1.25 * PC_DM_NG_CHI1), gb = block_gain(small, w, h, fs);
+	printf("  selection on a 64 x 48 frame: period %.9g, block %.9g, g %.9g\n", gp, gb, g);
+	CHECK(g == fmin(gp, gb));
 	/* no interior sample: 0 */
 	CHECK_EQ_INT(pc_dm_noise_gain_d(small, 8, 8, &m, fs, &g), 0);
 	CHECK(g == 0);
@@ -179,7 +243,8 @@ static void test_noise_select(void)
 		       : kind == 1 ? "levels 0..3"
 		                   : "flat",
 		       n, t[n / 2], ties, g);
-		CHECK(g == t[n / 2] / (1.25 * PC_DM_NG_CHI1));
+		const double gb = block_gain(img, W, H, fs);
+		CHECK(g == fmin(t[n / 2] / (1.25 * PC_DM_NG_CHI1), gb));
 	}
 	/* the threaded grid on the three input types, black 3.5 */
 	uint8_t *u8 = malloc((size_t)W * H);

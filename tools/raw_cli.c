@@ -50,9 +50,10 @@ const char cli_raw_help[] =
     "                      in raw units, i.e. the system gain K (DN per electron, EMVA 1288\n"
     "                      photon transfer) at the settings in use, in the raw's units (x16\n"
     "                      for a 12-bit raw stored shifted in 16 bits). Default: estimated\n"
-    "                      from each frame (median residual; textured frames overestimate\n"
-    "                      it). The JSON says which (noise_gain, noise_gain_from). Refused\n"
-    "                      with other methods\n"
+    "                      from each frame (median residuals of the polarizer blocks and of\n"
+    "                      samples one period apart, the smaller; texture finer than a block\n"
+    "                      still inflates it). The JSON says which (noise_gain,\n"
+    "                      noise_gain_from). Refused with other methods\n"
     "  --threads N         threads (default: all cores)\n"
     "  --reference         run the double-precision reference implementation (slow)\n";
 
