@@ -122,7 +122,7 @@ typedef struct ng_job {
 	size_t nx;
 	double floor;
 	double *t;
-	unsigned ox, oy; /* the block grid's origin */
+	unsigned ox, oy;   /* the block grid's origin */
 	double sign[2][2]; /* +1 on the 0° and 90° samples of a block, −1 on 45° and 135° */
 } ng_job;
 

@@ -1,6 +1,7 @@
 /* Internal to core: a frame's noise gain for the noise-aware colour methods (pan-adapt,
- * pan-guard, pan-hue, pan-check; docs/demosaicking.md, Rounds 14 and 19). Shared by its double reference and its fast
- * path, which call it unchanged, so that both use the identical g. Not a public header.
+ * pan-guard, pan-hue, pan-check; docs/demosaicking.md, Rounds 14 and 19). Shared by its double
+ * reference and its fast path, which call it unchanged, so that both use the identical g. Not a
+ * public header.
  *
  * The model is EMVA 1288's linear photon-transfer curve (EMVA Standard 1288, the sensor model:
  * σ_y² = K²·σ_d² + K·(μ_y − μ_y.dark), the temporal variance of a sample linear in its mean with

@@ -79,7 +79,8 @@ static double block_gain(const double *img, uint32_t w, uint32_t h, double fs)
 			const double *r0 = img + (size_t)(2 * by) * w + 2 * bx, *r1 = r0 + w;
 			/* r0: 90°, 45°; r1: 135°, 0°; in raster order, as the library sums */
 			double r = r0[0] - r0[1] - r1[0] + r1[1];
-			double l = F4 + fmax(r0[0], 0) + fmax(r0[1], 0) + fmax(r1[0], 0) + fmax(r1[1], 0);
+			double l =
+			    F4 + fmax(r0[0], 0) + fmax(r0[1], 0) + fmax(r1[0], 0) + fmax(r1[1], 0);
 			t[n++] = r * r / l;
 		}
 	qsort(t, n, sizeof(double), cmp_d);
@@ -139,8 +140,8 @@ static void test_noise_gain(void)
 
 	/* (3) texture the period estimate reads as noise: every 2×2 polarizer block its own Stokes
 	 * vector (S0 uniform in 100..1500 DN, DoLP in 0..1, AoLP in 0..180°), its four samples
-	 * Malus's I_θ = (S0 + S1 cos 2θ + S2 sin 2θ)/2 plus noise of variance g0·(I_θ + F). The block
-	 * estimate (I0 + I90 − I45 − I135 cancels any Stokes vector) must find g0; the period
+	 * Malus's I_θ = (S0 + S1 cos 2θ + S2 sin 2θ)/2 plus noise of variance g0·(I_θ + F). The
+	 * block estimate (I0 + I90 − I45 − I135 cancels any Stokes vector) must find g0; the period
 	 * estimate (grid_sorted) must not, or the check proves nothing. Blocks on the grid: every
 	 * 5th of 1024 × 800, n = 205 · 160. */
 	static const int ang[2][2] = {{90, 45}, {135, 0}}; /* pc_mosaic_imx250myr's blocks */

@@ -103,10 +103,11 @@ static void test_limits(void)
 		for (unsigned k = 0; k < 3; k += 2)
 			worse = fmax(worse, rms_colour(ab, truth, k, W, H, 12) /
 			                        rms_colour(gb, truth, k, W, H, 12));
-		printf("  grey texture, phase %2u (blocks from %u,%u): kappa 0 = pan-guard, forced "
-		       "gates = bayer-first (R, B) bit for bit; the gate moves outputs by up to %.3g "
-		       "DN (12 px in), red/blue rms error up to %.4f x pan-guard's\n",
-		       ph, ox, oy, d, worse);
+		printf(
+		    "  grey texture, phase %2u (blocks from %u,%u): kappa 0 = pan-guard, forced "
+		    "gates = bayer-first (R, B) bit for bit; the gate moves outputs by up to %.3g "
+		    "DN (12 px in), red/blue rms error up to %.4f x pan-guard's\n",
+		    ph, ox, oy, d, worse);
 		if (quiet)
 			CHECK(d <= 1);
 		CHECK(worse <= (quiet ? 1.02 : 1.08));
