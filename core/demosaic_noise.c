@@ -185,36 +185,57 @@ static size_t bgrid(uint32_t w, uint32_t h, unsigned ox, unsigned oy, uint32_t *
 	return *nx * *ny;
 }
 
-/* One sample of j's frame minus the black level, as ng_rows reads it */
-static inline double ng_sample(const ng_job *j, uint32_t x, uint32_t y)
+/* u(b) of one block from its samples in raster order (a b / c d) and the signs of j: the one
+ * expression both block walkers use */
+static inline double nb_value(const ng_job *j, double a, double b, double c, double d)
 {
-	if (j->get)
-		return j->get(j->ctx, x, y);
-	return (double)pc_dm_sample(j->in, x, y) - j->in->black_d;
+	double r = j->sign[0][0] * a + j->sign[0][1] * b + j->sign[1][0] * c + j->sign[1][1] * d;
+	double l = 4 * j->floor + fmax(a, 0) + fmax(b, 0) + fmax(c, 0) + fmax(d, 0);
+	return r * r / l;
 }
 
-/* The block grid's rows [r0, r1) into t (row r at t + r·nx): u(b) of each block */
-static void nb_rows(void *ctx, uint32_t r0, uint32_t r1)
+#define NB_ROWS(T)                                                                                 \
+	do {                                                                                       \
+		const T *r0 = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
+		        *r1 = (const T *)(const void *)(in->data + (size_t)(y + 1) * in->stride);  \
+		for (size_t gx = 0; gx < j->nx; gx++, x += s2)                                     \
+			*t++ = nb_value(j, (double)(float)r0[x] - bl, (double)(float)r0[x + 1] - bl, \
+			                (double)(float)r1[x] - bl, (double)(float)r1[x + 1] - bl); \
+	} while (0)
+
+/* The block grid's rows [r0, r1) into t (row r at t + r·nx): u(b) of each block, through get
+ * or straight from in's rows as ng_rows reads them */
+static void nb_rows(void *ctx, uint32_t g0, uint32_t g1)
 {
 	const ng_job *j = ctx;
+	const pc_dm_input *in = j->in;
 	const uint32_t s2 = 2 * j->s;
-	const double floor4 = 4 * j->floor;
-	for (uint32_t gy = r0; gy < r1; gy++) {
+	for (uint32_t gy = g0; gy < g1; gy++) {
 		const uint32_t y = j->oy + gy * s2;
+		uint32_t x = j->ox;
 		double *t = j->t + (size_t)gy * j->nx;
-		for (size_t gx = 0; gx < j->nx; gx++) {
-			const uint32_t x = j->ox + (uint32_t)gx * s2;
-			double r = 0, l = floor4;
-			for (unsigned dy = 0; dy < 2; dy++)
-				for (unsigned dx = 0; dx < 2; dx++) {
-					double v = ng_sample(j, x + dx, y + dy);
-					r += j->sign[dy][dx] * v;
-					l += fmax(v, 0);
-				}
-			*t++ = r * r / l;
+		if (j->get) {
+			const pc_dm_sample_fn get = j->get;
+			const void *c = j->ctx;
+			for (size_t gx = 0; gx < j->nx; gx++, x += s2)
+				*t++ = nb_value(j, get(c, x, y), get(c, x + 1, y), get(c, x, y + 1),
+				                get(c, x + 1, y + 1));
+			continue;
+		}
+		const double bl = in->black_d;
+		switch (in->type) {
+		case PC_DMT_U8:
+			NB_ROWS(uint8_t);
+			break;
+		case PC_DMT_U16:
+			NB_ROWS(uint16_t);
+			break;
+		default:
+			NB_ROWS(float);
 		}
 	}
 }
+#undef NB_ROWS
 
 /* g of the frame of j (its w and sampler set) on threads threads: each grid's values and their
  * median, the smaller of the two estimates */
