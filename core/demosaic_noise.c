@@ -199,8 +199,9 @@ static inline double nb_value(const ng_job *j, double a, double b, double c, dou
 		const T *r0 = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
 		        *r1 = (const T *)(const void *)(in->data + (size_t)(y + 1) * in->stride);  \
 		for (size_t gx = 0; gx < j->nx; gx++, x += s2)                                     \
-			*t++ = nb_value(j, (double)(float)r0[x] - bl, (double)(float)r0[x + 1] - bl, \
-			                (double)(float)r1[x] - bl, (double)(float)r1[x + 1] - bl); \
+			*t++ =                                                                     \
+			    nb_value(j, (double)(float)r0[x] - bl, (double)(float)r0[x + 1] - bl,  \
+			             (double)(float)r1[x] - bl, (double)(float)r1[x + 1] - bl);    \
 	} while (0)
 
 /* The block grid's rows [r0, r1) into t (row r at t + r·nx): u(b) of each block, through get

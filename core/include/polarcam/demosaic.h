@@ -227,13 +227,17 @@ PC_API int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, con
 PC_API int pc_validity_run(const pc_view *raw, const pc_pipeline_opts *opts, pc_validity *valid);
 
 /* The noise gain g (pc_pipeline_opts.noise_gain's units) that the methods flagged
- * PC_DMF_NOISE_GAIN estimate from a frame when none is given: the median of the squared
- * residuals of same-channel samples one mosaic period apart, over a fixed grid of at most 65536
- * samples (docs/demosaicking.md, Round 14), on the raw minus the black level after the per-pixel
- * correction of opts (dark, gain_inv). Any mosaic. The identical value pc_demosaic_run uses.
- * Textured frames overestimate it, noise-free ones give about 0; 0 for frames too small to have
- * an interior sample. opts->noise_gain is not used; the raw and the other options (the method
- * must suit the mosaic) are validated as by pc_demosaic_run. */
+ * PC_DMF_NOISE_GAIN estimate from a frame when none is given: the smaller of two robust
+ * estimates, the median of the squared residuals of same-channel samples one mosaic period
+ * apart (docs/demosaicking.md, Round 14) and the median of the squared residuals
+ * I0 + I90 − I45 − I135 of the 2×2 polarizer blocks, which cancel any Stokes vector (Round 19),
+ * each over a fixed grid of at most 65536 samples or blocks, on the raw minus the black level
+ * after the per-pixel correction of opts (dark, gain_inv). Any mosaic. The identical value
+ * pc_demosaic_run uses. Texture finer than a block still raises it (a noise-free render of
+ * grass blades 1.4–2.8 px wide: 73 DN; Round 19), noise-free smooth frames give about 0; 0 for
+ * frames too small to have an interior sample. On real cameras a calibrated g (EMVA 1288's K)
+ * given in noise_gain is better. opts->noise_gain is not used; the raw and the other options (the
+ * method must suit the mosaic) are validated as by pc_demosaic_run. */
 PC_API int pc_demosaic_noise_gain(const pc_view *raw, const pc_pipeline_opts *opts, double *g);
 
 /* pc_demosaic_run with method, mosaic m, and opts' threads, reference and full scale (opts may
