@@ -409,7 +409,8 @@ static void test_colour(const char *dir, const char *name, int gloss)
  * (+12 dB) 24 and 35 DN, medians 5.2 % and 9.4 %; colour-sealed2's portrait_g6 (+6 dB) and
  * street_g18 (+18 dB), colour-sealed3's livingroom_g12 (+12 dB) and carpark_g9 (+9 dB) and
  * colour-sealed4's mosaic_g21 (+21 dB) and conveyor_g15 (+15 dB), colour-sealed5's bricks_g3
- * (+3 dB) and cobbles_g27 (+27 dB) in their READMEs. Every scene is exposed in all three colours
+ * (+3 dB) and cobbles_g27 (+27 dB), colour-sealed6's bicycle_g8 (+8 dB) and workshop_g20
+ * (+20 dB) in their READMEs. Every scene is exposed in all three colours
  * (each colour's brightest analyser value in the region above 5 % of full scale).
  * test_sealed_region takes a smaller central w×h region (colour-sealed4's and colour-sealed5's
  * ideal scenes: 64×48, their dense meshes cost more per pixel). Since the sealed sets before
@@ -591,6 +592,10 @@ static const sealed_set sealed_sets[] = {
      "scenes/stress/colour-sealed5/SHA256SUMS",
      {"spices.json", "bricks.json", "cobbles.json", "fields.json"},
      {{"bricks_g3.json", "imx250myr +3 dB"}, {"cobbles_g27.json", "imx250myr +27 dB"}}},
+    {"colour-sealed6",
+     "scenes/stress/colour-sealed6/SHA256SUMS",
+     {"kitchen.json", "workshop.json", "bicycle.json"},
+     {{"bicycle_g8.json", "imx250myr +8 dB"}, {"workshop_g20.json", "imx250myr +20 dB"}}},
 };
 
 int main(void)
