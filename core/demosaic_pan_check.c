@@ -34,6 +34,11 @@
  *  5. For red and blue, pan-hue's cross-colour gate D(B) (pc_dm_pan_hue_gates with κ, its q =
  *     0.25 quantile, its noise term c = 1, r and γ as step 2 and 4), tent-interpolated to D_k,
  *     and I_q = (1 − D_k)·O_q + D_k·I_b,q (towards the tents, not bayer-first). κ = 0: no gate.
+ *     Green's residual in the gate is max(e_p − β·(e_b − e_p), 0), β = 0.75 (Round 19b): the
+ *     part of green's detail that the ratio model against P̃ leaves, less β times the part it
+ *     explains, so that luminance detail P̃ partly follows (periods from about 5.5 px) does
+ *     not read as hue detail (Round 17e's gate, β = 0, doubled red's and blue's error on grey
+ *     bars at 8 px; Round 19a).
  *
  * Every constant is PC_DM_PAN_CHECK_* (demosaic_pan_check.h). */
 #include "demosaic_pan_check.h"
@@ -57,7 +62,8 @@ pc_dm_pan_check_params pc_dm_pan_check_defaults(void)
 	                            PC_DM_PAN_CHECK_KAPPA,
 	                            -1.0,
 	                            -1.0,
-	                            PC_DM_PAN_CHECK_NOISE_GREEN};
+	                            PC_DM_PAN_CHECK_NOISE_GREEN,
+	                            PC_DM_PAN_CHECK_BETA};
 	return p;
 }
 
@@ -67,7 +73,8 @@ int pc_dm_pan_check_check(const pc_dm_pan_check_params *p)
 	    p->r > PC_DM_PAN_HUE_RMAX || !(p->gamma > 0) || !isfinite(p->gamma) ||
 	    !(p->floor >= 0) || !isfinite(p->floor) || !(p->noise >= 0) || !isfinite(p->noise) ||
 	    !(p->noise_green >= 0) || !isfinite(p->noise_green) || !(p->kappa >= 0) ||
-	    !isfinite(p->kappa) || !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g))
+	    !isfinite(p->kappa) || !(p->force <= 1) || !isfinite(p->force) || !isfinite(p->g) ||
+	    !(p->beta >= 0) || !isfinite(p->beta))
 		return pc_error(PC_EINVAL, "pan-check: parameters out of range");
 	return 0;
 }
@@ -188,6 +195,7 @@ int pc_dm_pan_check_ref_with(const double *img, uint32_t w, uint32_t h, const pc
 		hp.kappa = p->kappa;
 		hp.r = p->r;
 		hp.gamma = p->gamma;
+		hp.beta = p->beta;
 		pc_dm_pan_hue_gates(&bl, &hp, fs, g, gate);
 	} else {
 		for (size_t a = 0; a < (size_t)NBX * NBY; a++)

@@ -31,6 +31,8 @@
 #define PC_DM_PAN_CHECK_NOISE_GREEN 1.0
 /* κ, pan-hue's cross-colour gate's weight (0: no gate) */
 #define PC_DM_PAN_CHECK_KAPPA 16.0
+/* β of the gate's green residual (pc_dm_pan_hue_params.beta; Round 19b) */
+#define PC_DM_PAN_CHECK_BETA 0.75
 
 typedef struct pc_dm_pan_check_params {
 	int base;     /* PC_DM_PAN_CHECK_BASE, 0 or 1 */
@@ -45,6 +47,7 @@ typedef struct pc_dm_pan_check_params {
 	double g;     /* the noise gain (raw units, demosaic_noise.h); < 0: estimated from the
 	               * frame (the default) */
 	double noise_green; /* PC_DM_PAN_CHECK_NOISE_GREEN, >= 0: c_G */
+	double beta;        /* PC_DM_PAN_CHECK_BETA, >= 0 */
 } pc_dm_pan_check_params;
 
 pc_dm_pan_check_params pc_dm_pan_check_defaults(void);

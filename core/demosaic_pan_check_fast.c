@@ -57,7 +57,8 @@ int pc_dm_pan_check_fast_with(const pc_dm_input *in, const pc_mosaic *m, double 
 	                               hp.quant,
 	                               hp.noise,
 	                               g,
-	                               1};
+	                               1,
+	                               p->beta};
 	return pc_dm_pan_guard_fast_run(in, m, fs, threads, level, &gp, &chk, out);
 }
 

@@ -88,8 +88,8 @@ typedef struct gk_fns {
 	void (*tcomb2)(const float *, const float *, float, float, float, long, float *);
 	void (*gmod)(const float *, const float *, const float *, const float *, const float *,
 	             long, float *, float *, float *, float *);
-	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
-	            float *, float *, float *, float *);
+	void (*cmu)(const float *, const float *, long, long, float, float, float, float,
+	            const float *, float *, float *, float *, float *);
 	void (*gsel)(const float *, const float *, const float *, const float *, const float *,
 	             long, long, int, float *, float *, float *);
 	void (*gate)(const float *, const float *, const float *, const float *, const float *,
@@ -344,8 +344,8 @@ static void gf_check_blocks(const guard_fast *g, gf_band *b, int jb, int gy)
 	const float *e0 = GF_E(b, g, gy), *e1 = GF_E(b, g, gy + 1), d = g->delta;
 	float *ce = gf_ring(b->ce, jb, g->RH, nxp), *cp = gf_ring(b->cp, jb, g->RH, nxp),
 	      *cm = gf_ring(b->cm, jb, g->RH, nxp);
-	g->k->cmu(e0, e1, 8, nx, d, g->nk[gf_col(g, 0, jb)], g->nk[gf_col(g, 1, jb)], b->eb, b->ep,
-	          ce, cp, cm);
+	g->k->cmu(e0, e1, 8, nx, d, g->nk[gf_col(g, 0, jb)], g->nk[gf_col(g, 1, jb)],
+	          (float)g->chk->beta, b->eb, b->ep, ce, cp, cm);
 }
 
 /* pan-check: s = the sum of the n rows r[0..n) in their order (n = 0: zeros) */

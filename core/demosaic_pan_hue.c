@@ -63,7 +63,8 @@ pc_dm_pan_hue_params pc_dm_pan_hue_defaults(void)
 	                          PC_DM_PAN_HUE_NOISE,
 	                          PC_DM_PAN_HUE_QUANT,
 	                          PC_DM_PAN_HUE_GREEN,
-	                          -1.0};
+	                          -1.0,
+	                          PC_DM_PAN_HUE_BETA};
 	return p;
 }
 
@@ -75,7 +76,7 @@ static int hue_check(const pc_dm_pan_hue_params *p)
 	if (!(p->kappa >= 0) || !isfinite(p->kappa) || p->r < 0 || p->r > PC_DM_PAN_HUE_RMAX ||
 	    !(p->gamma > 0) || !isfinite(p->gamma) || !(p->noise >= 0) || !isfinite(p->noise) ||
 	    !(p->quant >= 0 && p->quant <= 1) || (p->green != 0 && p->green != 1) ||
-	    !(p->force <= 1) || !isfinite(p->force))
+	    !(p->force <= 1) || !isfinite(p->force) || !(p->beta >= 0) || !isfinite(p->beta))
 		return pc_error(PC_EINVAL, "pan-hue: parameters out of range");
 	return 0;
 }
@@ -128,8 +129,11 @@ void pc_dm_pan_hue_gates(const pc_dm_guard_blocks *b, const pc_dm_pan_hue_params
 				if (c == k || (k != 1 && c != 1))
 					continue;
 				const double mc = msum[c] / cnt[c], rel = mk / mc;
-				const double e =
-				    fmax(b->ep[a] - p->noise * 5 * g * mc, 0) * rel * rel;
+				const double ev =
+				    p->beta > 0
+				        ? fmax(b->ep[a] - p->beta * (b->eb[a] - b->ep[a]), 0)
+				        : b->ep[a];
+				const double e = fmax(ev - p->noise * 5 * g * mc, 0) * rel * rel;
 				int t = nv++;
 				while (t > 0 && v[t - 1] > e) {
 					v[t] = v[t - 1];

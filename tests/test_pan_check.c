@@ -13,6 +13,12 @@
  *    base carries one sample's noise into every channel and the tents average several; with
  *    c = 1 the rms error against the truth is at least 5 % below c = 0's, which is below
  *    pan-side's.
+ *  - The gate's β (Round 19b) on soft bars 10° from x at 8 px (four phases, no noise): grey
+ *    luminance bars, which P̃'s 5×5 filter passes in part, and green-on-magenta hue bars, which
+ *    P0 barely shows. Red's and blue's rms error with the gate (κ 16) over that without it
+ *    (κ 0): with β = 0 (Round 17e's gate) the luminance bars' is above 1.5 (measured 2.27: the
+ *    gate reads them as hue detail), with the method's β within 1.05 of 1 (measured 1.000);
+ *    the hue bars' stays below 0.9 with either (measured 0.82: the gate still does its job).
  *  - The front door runs it and finds it by name; an 8 × 8 frame gives finite outputs;
  *    parameters out of range are refused. */
 #include <math.h>
@@ -212,6 +218,72 @@ static void test_noise(void)
 	free(ab);
 }
 
+/* soft bars 10° from x at 8 px: hue (green on magenta, f_gm's colours) or luminance (grey) */
+static double bar_t(double x, double y)
+{
+	const double a = 10 * M_PI / 180, u = x * cos(a) + y * sin(a);
+	double t = 0.5 + 1.5 * sin(2 * M_PI * u / 8.0);
+	return t < 0 ? 0 : t > 1 ? 1 : t;
+}
+
+static double f_hue8(unsigned k, unsigned c, double x, double y)
+{
+	static const double green[3] = {0.05, 0.62, 0.05}, magenta[3] = {0.75, 0.06, 0.6};
+	const double t = bar_t(x, y);
+	return 3000 * (t * green[k] + (1 - t) * magenta[k]) * pol(c);
+}
+
+static double f_lum8(unsigned k, unsigned c, double x, double y)
+{
+	static const double col[3] = {0.8, 1.0, 0.7};
+	return 1500 * col[k] * (0.4 + 0.6 * bar_t(x, y)) * pol(c);
+}
+
+/* red's and blue's rms error (analyser means, 12 px in, four phases) with κ 16 over κ 0 */
+static double gate_ratio(truth_fn f, double beta)
+{
+	const uint32_t W = 160, H = 128;
+	const size_t np = (size_t)W * H;
+	double *img = malloc(sizeof(double) * np), *truth = malloc(sizeof(double) * np * 12);
+	pc_fplane a[12];
+	float *ab = alloc_planes(W, H, a);
+	const pc_mosaic base = pc_mosaic_imx250myr();
+	double e[2] = {0, 0};
+	for (unsigned ph = 0; ph < 16; ph += 5) {
+		pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
+		make_raw(f, &m, W, H, img, truth);
+		for (int kk = 0; kk < 2; kk++) {
+			pc_dm_pan_check_params p = pc_dm_pan_check_defaults();
+			p.beta = beta;
+			if (kk)
+				p.kappa = 0;
+			CHECK_EQ_INT(pc_dm_pan_check_ref_with(img, W, H, &m, 4095, &p, a), 0);
+			for (unsigned k = 0; k < 3; k += 2) {
+				const double r = rms_colour(ab, truth, k, W, H, 12);
+				e[kk] += r * r;
+			}
+		}
+	}
+	free(img);
+	free(truth);
+	free(ab);
+	return sqrt(e[0] / e[1]);
+}
+
+static void test_beta(void)
+{
+	const double b = PC_DM_PAN_CHECK_BETA;
+	const double l0 = gate_ratio(f_lum8, 0), lb = gate_ratio(f_lum8, b),
+	             h0 = gate_ratio(f_hue8, 0), hb = gate_ratio(f_hue8, b);
+	printf(
+	    "  gate at 8 px, red/blue rms error kappa 16 / kappa 0: luminance bars %.3f (beta 0), "
+	    "%.3f (beta %g); hue bars %.3f (beta 0), %.3f (beta %g)\n",
+	    l0, lb, b, h0, hb, b);
+	CHECK(l0 > 1.5);
+	CHECK(fabs(lb - 1) <= 0.05);
+	CHECK(h0 < 0.9 && hb < 0.9);
+}
+
 static void test_front(void)
 {
 	colour_tiny_check(PC_DM_PAN_CHECK);
@@ -240,6 +312,7 @@ int main(void)
 	(void)colour_front_check;
 	test_limits();
 	test_noise();
+	test_beta();
 	test_front();
 	return pc_test_finish("test_pan_check");
 }
