@@ -84,17 +84,23 @@ static double select_median(double *t, size_t n, size_t k)
 
 /* The grid of pc_dm_noise_gain (demosaic_noise.h): start P, stride s, nx × ny samples; 0 when
  * the frame has no interior sample */
-static size_t grid(uint32_t w, uint32_t h, uint32_t p, uint32_t *s, size_t *nx, size_t *ny)
+/* every s-th of iw × ih points in each direction, s the smallest odd stride leaving at most
+ * PC_DM_NG_POINTS: nx × ny of them */
+static size_t grid_stride(uint32_t iw, uint32_t ih, uint32_t *s, size_t *nx, size_t *ny)
 {
-	if (w <= 2 * p || h <= 2 * p)
-		return 0;
-	const uint32_t iw = w - 2 * p, ih = h - 2 * p;
 	*s = 1;
 	while ((size_t)((iw + *s - 1) / *s) * ((ih + *s - 1) / *s) > PC_DM_NG_POINTS)
 		*s += 2;
 	*nx = (iw + *s - 1) / *s;
 	*ny = (ih + *s - 1) / *s;
 	return *nx * *ny;
+}
+
+static size_t grid(uint32_t w, uint32_t h, uint32_t p, uint32_t *s, size_t *nx, size_t *ny)
+{
+	if (w <= 2 * p || h <= 2 * p)
+		return 0;
+	return grid_stride(w - 2 * p, h - 2 * p, s, nx, ny);
 }
 
 static double gain_of(double *t, size_t n)
@@ -176,13 +182,7 @@ static size_t bgrid(uint32_t w, uint32_t h, unsigned ox, unsigned oy, uint32_t *
 {
 	if (w < ox + 2 || h < oy + 2)
 		return 0;
-	const uint32_t bw = (w - ox) / 2, bh = (h - oy) / 2;
-	*s = 1;
-	while ((size_t)((bw + *s - 1) / *s) * ((bh + *s - 1) / *s) > PC_DM_NG_POINTS)
-		*s += 2;
-	*nx = (bw + *s - 1) / *s;
-	*ny = (bh + *s - 1) / *s;
-	return *nx * *ny;
+	return grid_stride((w - ox) / 2, (h - oy) / 2, s, nx, ny);
 }
 
 /* u(b) of one block from its samples in raster order (a b / c d) and the signs of j: the one

@@ -129,10 +129,10 @@ void pc_dm_pan_hue_gates(const pc_dm_guard_blocks *b, const pc_dm_pan_hue_params
 				if (c == k || (k != 1 && c != 1))
 					continue;
 				const double mc = msum[c] / cnt[c], rel = mk / mc;
+				/* β = 0: e_p itself (finite and ≥ 0, so ep − 0·(…) and fmax keep
+				 * it) */
 				const double ev =
-				    p->beta > 0
-				        ? fmax(b->ep[a] - p->beta * (b->eb[a] - b->ep[a]), 0)
-				        : b->ep[a];
+				    fmax(b->ep[a] - p->beta * (b->eb[a] - b->ep[a]), 0);
 				const double e = fmax(ev - p->noise * 5 * g * mc, 0) * rel * rel;
 				int t = nv++;
 				while (t > 0 && v[t - 1] > e) {

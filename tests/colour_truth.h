@@ -66,16 +66,27 @@ static inline double f_grey(unsigned k, unsigned c, double x, double y)
 	return 1200 * col[k] * t * pol(c);
 }
 
-/* green bars on magenta (test_pan_hue, test_pan_split), period 4.5 px across a direction 10° from
- * x, soft-edged (the pixel's coverage of a bar, a sine's clipped ramp): P0 (R + 2G + B weights)
- * 0.4·2 = 0.8 on green against 0.9 + 0.8 = 1.7·… on magenta, a contrast of about 0.15 */
-static inline double f_gm(unsigned k, unsigned c, double x, double y)
+/* soft-edged bars of the given period across a direction 10° from x: the pixel's coverage of a
+ * bar in [0, 1], a sine's clipped ramp */
+static inline double soft_bars(double x, double y, double period)
+{
+	const double a = 10 * M_PI / 180, u = x * cos(a) + y * sin(a);
+	const double t = 0.5 + 1.5 * sin(2 * M_PI * u / period);
+	return t < 0 ? 0 : t > 1 ? 1 : t;
+}
+
+/* green bars on magenta of coverage t: P0 (R + 2G + B weights) 0.4·2 = 0.8 on green against
+ * 0.9 + 0.8 = 1.7·… on magenta, a contrast of about 0.15 */
+static inline double gm_at(unsigned k, unsigned c, double t)
 {
 	static const double green[3] = {0.05, 0.62, 0.05}, magenta[3] = {0.75, 0.06, 0.6};
-	const double a = 10 * M_PI / 180, u = x * cos(a) + y * sin(a);
-	double t = 0.5 + 1.5 * sin(2 * M_PI * u / 4.5);
-	t = t < 0 ? 0 : t > 1 ? 1 : t;
 	return 3000 * (t * green[k] + (1 - t) * magenta[k]) * pol(c);
+}
+
+/* green bars on magenta (test_pan_hue, test_pan_split), period 4.5 px */
+static inline double f_gm(unsigned k, unsigned c, double x, double y)
+{
+	return gm_at(k, c, soft_bars(x, y, 4.5));
 }
 
 /* rms error of colour k's analyser mean against the truth's over the interior (B from the

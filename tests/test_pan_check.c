@@ -218,25 +218,16 @@ static void test_noise(void)
 	free(ab);
 }
 
-/* soft bars 10° from x at 8 px: hue (green on magenta, f_gm's colours) or luminance (grey) */
-static double bar_t(double x, double y)
-{
-	const double a = 10 * M_PI / 180, u = x * cos(a) + y * sin(a);
-	double t = 0.5 + 1.5 * sin(2 * M_PI * u / 8.0);
-	return t < 0 ? 0 : t > 1 ? 1 : t;
-}
-
+/* soft bars at 8 px (colour_truth.h): hue (f_gm's green on magenta) or luminance (grey) */
 static double f_hue8(unsigned k, unsigned c, double x, double y)
 {
-	static const double green[3] = {0.05, 0.62, 0.05}, magenta[3] = {0.75, 0.06, 0.6};
-	const double t = bar_t(x, y);
-	return 3000 * (t * green[k] + (1 - t) * magenta[k]) * pol(c);
+	return gm_at(k, c, soft_bars(x, y, 8));
 }
 
 static double f_lum8(unsigned k, unsigned c, double x, double y)
 {
 	static const double col[3] = {0.8, 1.0, 0.7};
-	return 1500 * col[k] * (0.4 + 0.6 * bar_t(x, y)) * pol(c);
+	return 1500 * col[k] * (0.4 + 0.6 * soft_bars(x, y, 8)) * pol(c);
 }
 
 /* red's and blue's rms error (analyser means, 12 px in, four phases) with κ 16 over κ 0 */
