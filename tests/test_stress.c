@@ -410,7 +410,8 @@ static void test_colour(const char *dir, const char *name, int gloss)
  * street_g18 (+18 dB), colour-sealed3's livingroom_g12 (+12 dB) and carpark_g9 (+9 dB) and
  * colour-sealed4's mosaic_g21 (+21 dB) and conveyor_g15 (+15 dB), colour-sealed5's bricks_g3
  * (+3 dB) and cobbles_g27 (+27 dB), colour-sealed6's bicycle_g8 (+8 dB) and workshop_g20
- * (+20 dB) in their READMEs. Every scene is exposed in all three colours
+ * (+20 dB) in their READMEs; colour-sealed7's court_g5 (+5 dB) 32.5 DN, median 15.6 % and
+ * pews_g23 (+23 dB) 49.3 DN, median 6.7 %. Every scene is exposed in all three colours
  * (each colour's brightest analyser value in the region above 5 % of full scale).
  * test_sealed_region takes a smaller central w×h region: test_sealed renders the ideal scenes'
  * central 64×48 (CI time: the dense meshes cost more per pixel) and the noisy ones' 128×96 (the
@@ -607,6 +608,11 @@ static const sealed_set sealed_sets[] = {
      1,
      {"kitchen.json", "workshop.json", "bicycle.json"},
      {{"bicycle_g8.json", "imx250myr +8 dB"}, {"workshop_g20.json", "imx250myr +20 dB"}}},
+    {"colour-sealed7",
+     "scenes/stress/colour-sealed7/SHA256SUMS",
+     0,
+     {"court.json", "tackle.json", "greenhouse.json", "pews.json"},
+     {{"court_g5.json", "imx250myr +5 dB"}, {"pews_g23.json", "imx250myr +23 dB"}}},
 };
 
 int main(void)
