@@ -610,7 +610,7 @@ static const sealed_set sealed_sets[] = {
      {{"bicycle_g8.json", "imx250myr +8 dB"}, {"workshop_g20.json", "imx250myr +20 dB"}}},
     {"colour-sealed7",
      "scenes/stress/colour-sealed7/SHA256SUMS",
-     0,
+     1,
      {"court.json", "tackle.json", "greenhouse.json", "pews.json"},
      {{"court_g5.json", "imx250myr +5 dB"}, {"pews_g23.json", "imx250myr +23 dB"}}},
 };
