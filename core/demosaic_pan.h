@@ -227,9 +227,10 @@ void pc_dm_pan_guard_tents(const double *img, uint32_t w, uint32_t h, const pc_m
  * block's plain and ratio-model leave-one-out errors: the part of green's detail that the
  * ratio model against P̃ does not explain, less β times the part it does. Luminance detail that
  * P̃'s 5×5 filter passes in part (periods from about 5.5 px) is explained in part (e_p < e_b)
- * and drops out; hue detail P0 does not see is not (e_p ≈ e_b) and stays. pan-hue: 0 (Round
- * 16's gate, e_p itself) */
-#define PC_DM_PAN_HUE_BETA 0.0
+ * and drops out; hue detail P0 does not see is not (e_p ≈ e_b) and stays. pan-hue: 0.75,
+ * pan-check's (Round 19e; until then 0, Round 16's gate on e_p itself, which fired on hue-free
+ * texture at the (1, 1) block phases) */
+#define PC_DM_PAN_HUE_BETA 0.75
 /* the largest window radius r */
 #define PC_DM_PAN_HUE_RMAX 4
 

@@ -21,7 +21,9 @@
  * 2×2 block its leave-one-out errors e_b (plain), e_p (ratio model) and mean level mu of max(raw,
  * 0) + δ.
  *  2. For each red or blue block B (colour k), over the blocks within ±4r pixels on both axes:
- *     the mean ε_G of green's e_p and its mean level m_G, the mean ε_k of k's own e_b and its
+ *     the mean ε_G of green's residual max(e_p − β·(e_b − e_p), 0) (the part of green's detail
+ *     the ratio model does not explain, Round 19b; β = 0.75 since Round 19e, before it e_p
+ *     itself) and its mean level m_G, the mean ε_k of k's own e_b and its
  *     mean level m_k. Green's ratio residual carried into k by the ratio step (the step
  *     multiplies green's sample by the ratio of k to green, about m_k/m_G):
  *
