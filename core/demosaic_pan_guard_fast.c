@@ -28,6 +28,7 @@
  * (i, j) with corners (2i − XB, 2j − XB), i.e. grid column 2i + 8 and grid row 2j + 8. */
 #include "demosaic_pan.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdatomic.h>
@@ -39,6 +40,15 @@
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 #include "simd.h"
+
+/* pan-check's tents of one colour's four channels, as their lattices' row sums (channel c's
+ * a[k·c + i], k the terms per channel) with their weights (c, likewise) and 1/Σ T (s[c]), for
+ * the blends that compute them in their pass (gk_mix2t, gk_gmix) */
+typedef struct gk_tsrc {
+	const float *a[16];
+	float c[16];
+	float s[4];
+} gk_tsrc;
 
 #define PC_INST PC_INST_BASELINE
 #include "simd_instance_begin.h"
@@ -94,6 +104,10 @@ typedef struct gk_fns {
 	             long, long, int, float *, float *, float *);
 	void (*gate)(const float *, const float *, const float *, const float *, const float *,
 	             long, long, const double *, int, float *, double *, double *, float *);
+	void (*mix2t)(float *, float *, float *, float *, const gk_tsrc *, const float *,
+	              const float *, long);
+	void (*gmix)(float *, float *, float *, float *, const float *, const gk_tsrc *,
+	             const float *, long);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
@@ -101,7 +115,8 @@ typedef struct gk_fns {
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
 		    gk_mix0_##s, gk_mix2_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, \
-		    gk_tcomb2_##s, gk_gmod_##s, gk_cmu_##s, gk_gsel_##s, gk_gate_##s               \
+		    gk_tcomb2_##s, gk_gmod_##s, gk_cmu_##s, gk_gsel_##s, gk_gate_##s,              \
+		    gk_mix2t_##s, gk_gmix_##s                                                      \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -127,9 +142,11 @@ typedef struct guard_fast {
 	float force; /* < 0: the weights computed */
 	/* pan-check's additions (pc_dm_pan_guard_fast_run's chk; NULL: none) */
 	const pc_dm_guard_check *chk;
-	float nk[3];          /* the noise term per block colour */
-	int gate;             /* pan-hue's gate on */
-	unsigned qm[4][4];    /* the tents: channel q at column phase u, row phase v: qm[v][u] */
+	float nk[3];       /* the noise term per block colour */
+	int gate;          /* pan-hue's gate on */
+	unsigned qm[4][4]; /* the tents: channel q at column phase u, row phase v: qm[v][u] */
+	/* channel q's lattices (u, v) in qm's order (at most two kept) */
+	unsigned char ql[12][2][2], nql[12];
 	float tinv[12];       /* 1 / Σ T of channel q (1/16 red and blue, 1/32 green) */
 	int32_t *xmap;        /* grid column → raw column (pc_mirror4) */
 	atomic_int err;       /* a band's scratch not allocated */
@@ -622,13 +639,49 @@ static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
 	}
 }
 
+/* channel q's tent at output row y from its lattices' row sums (gf_tents_row): the rows a[0..n)
+ * weighed c[0..n), two per lattice (n = 2 red and blue, 4 green on imx250myr) */
+static int gf_tent_src(const guard_fast *g, const gf_band *b, int y, unsigned q, const float *a[4],
+                       float c[4])
+{
+	const size_t wt = gf_up((size_t)g->w + 8);
+	int n = 0;
+	for (unsigned l = 0; l < g->nql[q]; l++) {
+		const int u = g->ql[q][l][0], v = g->ql[q][l][1], d0 = (v - y) & 3;
+		a[n] = b->th + ((size_t)((y + d0) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
+		c[n++] = (float)(4 - d0);
+		a[n] = b->th + ((size_t)((y + d0 - 4) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
+		c[n++] = (float)d0;
+	}
+	return n;
+}
+
+/* colour k's four channels' tent sources at row y into ts, n terms each */
+static void gf_tent_srcs(const guard_fast *g, const gf_band *b, int y, unsigned k, int n,
+                         gk_tsrc *ts)
+{
+	for (unsigned c = 0; c < 4; c++) {
+		const float *a[4];
+		float cf[4];
+		const int nc = gf_tent_src(g, b, y, 4 * k + c, a, cf);
+		assert(nc == n);
+		(void)nc;
+		for (int i = 0; i < n; i++) {
+			ts->a[n * (int)c + i] = a[i];
+			ts->c[n * (int)c + i] = cf[i];
+		}
+		ts->s[c] = g->tinv[4 * k + c];
+	}
+}
+
 /* pan-check's tents of output row y (pc_dm_pan_guard_tents in float: exact sums on integer
- * raws) into b->tn. The tent T = (4 − |dx|)(4 − |dy|) is separable and pc_mirror4 keeps the
- * phase mod 4, so: each raw row (once, mirrored, keyed by its unmirrored index) summed along
- * the row per column phase u, h_u (gk_trow); then channel q at row y from its lattices (u, v):
- * the rows y + dy of phase v within ±3, dy = d0 and d0 − 4 with d0 = (v − y) mod 4, weighing
- * 4 − d0 and d0 (gk_tcomb), over Σ T = 16 per lattice */
-static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
+ * raws) into b->tn, of the channels q whose bit is set in make (the others' the blends compute
+ * from the row sums: gk_mix2t, gk_gmix). The tent T = (4 − |dx|)(4 − |dy|) is separable and
+ * pc_mirror4 keeps the phase mod 4, so: each raw row (once, mirrored, keyed by its unmirrored
+ * index) summed along the row per column phase u, h_u (gk_trow); then channel q at row y from its
+ * lattices (u, v): the rows y + dy of phase v within ±3, dy = d0 and d0 − 4 with d0 = (v − y) mod
+ * 4, weighing 4 − d0 and d0 (gk_tcomb), over Σ T = 16 per lattice */
+static void gf_tents_row(const guard_fast *g, gf_band *b, int y, unsigned make)
 {
 	const int w = (int)g->w;
 	const size_t wt = gf_up((size_t)w + 8), wp = gf_up((size_t)w + 8);
@@ -643,21 +696,11 @@ static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
 		g->k->trow(d, w, b->tr + wt, h, h + wt, h + 2 * wt, h + 3 * wt);
 	}
 	for (unsigned q = 0; q < 12; q++) {
+		if (!(make >> q & 1))
+			continue;
 		const float *a[4];
 		float c[4];
-		int n = 0;
-		for (int v = 0; v < 4; v++)
-			for (int u = 0; u < 4; u++) {
-				if (g->qm[v][u] != q || n > 2)
-					continue;
-				const int d0 = (v - y) & 3;
-				a[n] =
-				    b->th + ((size_t)((y + d0) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
-				c[n++] = (float)(4 - d0);
-				a[n] = b->th +
-				       ((size_t)((y + d0 - 4) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
-				c[n++] = (float)d0;
-			}
+		const int n = gf_tent_src(g, b, y, q, a, c);
 		if (n == 2)
 			g->k->tcomb2(a[0], a[1], c[0], c[1], g->tinv[q], w, b->tn + q * wp);
 		else
@@ -668,17 +711,19 @@ static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
 
 /* pan-check's conservative estimate of row y (cons 5): red and blue the tents' (b->tn), green
  * bayer-first's analyser mean (pc_dm_bayer_first_band_gmean, into I_b's first row: the red rows
- * are not read with cons 5) plus the tents' modulation, in b->ib's green rows */
-static void gf_cons5_row(const guard_fast *g, gf_band *b, int y)
+ * are not read with cons 5) plus the tents' modulation, in b->ib's green rows; the channels
+ * not in make and, with fuse_g, green's modulation left to the blends */
+static void gf_cons5_row(const guard_fast *g, gf_band *b, int y, unsigned make, int fuse_g)
 {
 	const size_t wp = gf_up((size_t)g->w + 8);
 	const int w = (int)g->w;
-	gf_tents_row(g, b, y);
+	gf_tents_row(g, b, y, make);
 	float *bg = b->ib + 4 * wp, *mb = b->ib;
 	const float *tg = b->tn + 4 * wp;
 	pc_dm_bayer_first_band_gmean(b->bf, (uint32_t)y, mb);
-	g->k->gmod(mb, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w, bg, bg + wp, bg + 2 * wp,
-	           bg + 3 * wp);
+	if (!fuse_g)
+		g->k->gmod(mb, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w, bg, bg + wp, bg + 2 * wp,
+		           bg + 3 * wp);
 }
 
 /* output rows [y0, y1): I_b, W_k and the blend, in place */
@@ -702,6 +747,25 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 	pc_fplane ibp[12];
 	for (unsigned q = 0; q < 12; q++)
 		ibp[q] = (pc_fplane){b.ib + q * wp, wp, 1};
+	/* pan-check's cons 5 on planar outputs in mode 0: the blends compute the tents of red and
+	 * blue (with the gate: gk_mix2t) and green's I_b (gk_gmix) from the tents' row sums, where
+	 * every channel of the colour has the same number of lattices (two terms each for red and
+	 * blue, four for green, as gk_tcomb2 and gk_tcomb) */
+	const int cons5 = g->chk && g->chk->cons5, gate = g->gate && g->force < 0;
+	int planar = 1;
+	for (unsigned q = 0; q < 12; q++)
+		planar &= g->out[q].pixel_stride == 1;
+	int fuse_rb = cons5 && planar && !g->mode && gate, fuse_g = cons5 && planar && !g->mode;
+	for (unsigned q = 0; cons5 && q < 12; q++) {
+		const float *a[4];
+		float c[4];
+		const int n = gf_tent_src(g, &b, (int)y0, q, a, c);
+		if (q / 4 == 1)
+			fuse_g &= n == 4;
+		else
+			fuse_rb &= n == 2;
+	}
+	const unsigned make = (fuse_rb ? 0x0f0u : 0xfffu) & (fuse_g ? 0xf0fu : 0xfffu);
 	for (uint32_t yu = y0; yu < y1; yu++) {
 		const int y = (int)yu;
 		if (g->force >= 0) {
@@ -711,11 +775,10 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 		} else {
 			gf_tent_row(g, &b, y);
 		}
-		if (g->chk && g->chk->cons5)
-			gf_cons5_row(g, &b, y);
+		if (cons5)
+			gf_cons5_row(g, &b, y, make, fuse_g);
 		else
 			pc_dm_bayer_first_band_rows(b.bf, yu, yu + 1, ibp);
-		const int gate = g->gate && g->force < 0;
 		for (unsigned k = 0; k < 3; k++) {
 			float *d[4];
 			const float *vbr[4];
@@ -736,6 +799,15 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 					           vbr[3], wk, g->delta, b.fr, w);
 					for (unsigned c = 0; c < 4; c++)
 						g->k->mix1(d[c], b.fr, g->delta, w);
+				} else if (k == 1 && fuse_g) {
+					gk_tsrc ts;
+					gf_tent_srcs(g, &b, y, k, 4, &ts);
+					g->k->gmix(d[0], d[1], d[2], d[3], b.ib, &ts, wk, w);
+				} else if (gk && fuse_rb) {
+					gk_tsrc ts;
+					gf_tent_srcs(g, &b, y, k, 2, &ts);
+					g->k->mix2t(d[0], d[1], d[2], d[3], &ts, wk, b.dr[k / 2],
+					            w);
 				} else if (gk) {
 					g->k->mix2(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
 					           vbr[3], wk, b.dr[k / 2], w);
@@ -837,6 +909,14 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 				g.qm[v][u] = 4 * (unsigned)(pc_mosaic_color(m, u, v) - PC_CFA_R) +
 				             pc_mosaic_channel(m, u, v);
 				nq[g.qm[v][u]]++;
+			}
+		for (unsigned v = 0; v < 4; v++)
+			for (unsigned u = 0; u < 4; u++) {
+				const unsigned q = g.qm[v][u];
+				if (g.nql[q] < 2) {
+					g.ql[q][g.nql[q]][0] = (unsigned char)u;
+					g.ql[q][g.nql[q]++][1] = (unsigned char)v;
+				}
 			}
 		for (unsigned q = 0; q < 12; q++)
 			g.tinv[q] = nq[q] ? 1.0f / (16.0f * (float)nq[q]) : 0.0f;
