@@ -81,9 +81,10 @@ typedef struct gk_fns {
 	               float, int, float, float *, float *, float *);
 	void (*vtent)(const float *, const float *, float, float, long, float *);
 	void (*htent)(const float *, long, long, float *, float *);
-	void (*wsel1)(const float *, const float *, long, float, float *);
-	void (*wsel2)(const float *, const float *, const float *, const float *, long, float,
+	void (*wsel1)(const float *, const float *, const float *, const float *, long, float,
 	              float *);
+	void (*wsel2)(const float *, const float *, const float *, const float *, const float *,
+	              const float *, long, float, float *);
 	void (*mix0)(float *, float *, float *, float *, const float *, const float *,
 	             const float *, const float *, const float *, long);
 	void (*mix2)(float *, float *, float *, float *, const float *, const float *,
@@ -149,6 +150,7 @@ typedef struct guard_fast {
 	unsigned char ql[12][2][2], nql[12];
 	float tinv[12];       /* 1 / Σ T of channel q (1/16 red and blue, 1/32 green) */
 	int32_t *xmap;        /* grid column → raw column (pc_mirror4) */
+	float *qf, *nf;       /* column x's block-column phase ((x + 1) >> 1) & 1, and 1 minus it */
 	atomic_int err;       /* a band's scratch not allocated */
 	const pc_fplane *out; /* I_p in, the result out */
 } guard_fast;
@@ -619,10 +621,10 @@ static void gf_tent_vals(const guard_fast *g, gf_band *b, int y, float *ring, fl
 						sel[q][n++] = b->P[2 * p + s];
 		}
 		if (k == 1)
-			g->k->wsel2(sel[0][0], sel[0][1], sel[1][0], sel[1][1], w, 1.0f / 128,
-			            wr[k]);
+			g->k->wsel2(sel[0][0], sel[0][1], sel[1][0], sel[1][1], g->qf, g->nf, w,
+			            1.0f / 128, wr[k]);
 		else
-			g->k->wsel1(sel[0][0], sel[1][0], w, 1.0f / 64, wr[k]);
+			g->k->wsel1(sel[0][0], sel[1][0], g->qf, g->nf, w, 1.0f / 64, wr[k]);
 	}
 }
 
@@ -922,10 +924,19 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 			g.tinv[q] = nq[q] ? 1.0f / (16.0f * (float)nq[q]) : 0.0f;
 	}
 	g.xmap = malloc(sizeof(int32_t) * (size_t)g.W);
-	if (!g.xmap)
-		return pc_error(PC_ENOMEM, "pan-guard: column map of width %u", w);
+	g.qf = pc_dm_alloc(sizeof(float) * 2 * gf_up((size_t)w));
+	if (!g.xmap || !g.qf) {
+		free(g.xmap);
+		pc_dm_free(g.qf);
+		return pc_error(PC_ENOMEM, "pan-guard: column maps of width %u", w);
+	}
 	for (int x = 0; x < g.W; x++)
 		g.xmap[x] = pc_mirror4(x - g.M, (int)w);
+	g.nf = g.qf + gf_up((size_t)w);
+	for (uint32_t x = 0; x < w; x++) {
+		g.qf[x] = (float)(((x + 1) >> 1) & 1);
+		g.nf[x] = 1.0f - g.qf[x];
+	}
 	/* 1. the base into the outputs (pan-adapt with the given noise gain, < 0 its own
 	 * estimate) */
 	int rc = base ? pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, gain, out)
@@ -942,6 +953,7 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 			rc = pc_error(PC_ENOMEM, "pan-guard: row buffers for width %u", w);
 	}
 	free(g.xmap);
+	pc_dm_free(g.qf);
 	return rc;
 }
 
