@@ -168,6 +168,7 @@ typedef struct gf_band {
 	float *A[2], *P[4], *wr[3], *fr; /* the tents; W_k per colour; mode 1's factor */
 	float *ib;                       /* I_b: 12 rows of w */
 	int e_next, r_next, h_next, w_next;
+	int e_first; /* E's first grid row in this band */
 	pc_dm_bf_band *bf;
 	/* pan-check's (cmem): the blocks' e_b, e_p (before the noise term), mu (RH block rows
 	 * each), the gates (GF_RW block rows), D_k of red and blue and 1 − D_k; the tents' raw rows
@@ -688,12 +689,22 @@ static void gf_tents_row(const guard_fast *g, gf_band *b, int y, unsigned make)
 	const int w = (int)g->w;
 	const size_t wt = gf_up((size_t)w + 8), wp = gf_up((size_t)w + 8);
 	for (; b->t_next <= y + 3; b->t_next++) {
-		float *d = b->tr + 4;
-		pc_dm_row_to_float(g->in, (uint32_t)pc_mirror4(b->t_next, (int)g->h), d);
-		for (int x = -4; x < 0; x++)
-			d[x] = d[pc_mirror4(x, w)];
-		for (int x = w; x < w + 4; x++)
-			d[x] = d[pc_mirror4(x, w)];
+		/* E's grid row t + M holds this row, mirrored by pc_mirror4 as here (grid columns
+		 * M − 4 .. M + w + 3 are columns −4 .. w + 3), while E's ring keeps it (gf_tent_row
+		 * runs E ahead of the tents); else the row converted */
+		const int gy = b->t_next + g->M;
+		const float *d;
+		if (gy >= b->e_first && gy < b->e_next && gy >= b->e_next - GF_RE) {
+			d = GF_E(b, g, gy) + g->M;
+		} else {
+			float *dc = b->tr + 4;
+			pc_dm_row_to_float(g->in, (uint32_t)pc_mirror4(b->t_next, (int)g->h), dc);
+			for (int x = -4; x < 0; x++)
+				dc[x] = dc[pc_mirror4(x, w)];
+			for (int x = w; x < w + 4; x++)
+				dc[x] = dc[pc_mirror4(x, w)];
+			d = dc;
+		}
 		float *h = b->th + (size_t)(b->t_next & (GF_RT - 1)) * 4 * wt;
 		g->k->trow(d, w, b->tr + wt, h, h + wt, h + 2 * wt, h + 3 * wt);
 	}
@@ -745,6 +756,7 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 	b.h_next = j0 - 2 * g->r > 0 ? j0 - 2 * g->r : 0;
 	b.r_next = 2 * b.h_next + 8 - 4;
 	b.e_next = b.r_next - 2;
+	b.e_first = b.e_next;
 	b.t_next = (int)y0 - 3;
 	pc_fplane ibp[12];
 	for (unsigned q = 0; q < 12; q++)
