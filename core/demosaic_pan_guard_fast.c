@@ -420,13 +420,19 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	gf_colsum(g, so, rm[1], nro);
 	const double thr0 = c->hnoise * 5 * c->g;
 	const int c0 = gf_col(g, 0, j) != 1 ? 0 : 1; /* the parity of the row's red or blue */
-	for (int i = 1 - c0; i < nx; i += 2)         /* green: no gate (the others set below) */
-		out[i] = 0;
 	/* r = 1 with the window inside the grid: the blocks i in [2, nx − 3] by gk_gsel (their
 	 * order statistics in cs[3], cs[4], indexed by (i − iv0)/2) and gk_gate */
 	const int lo12 = (int)(c->quant * 11), vec = rb == 2 && j >= 2 && j + 2 < ny && lo12 <= 2;
 	const int iv0 = c0 + 2 > 2 ? c0 + 2 : 2,
 	          nvk = vec && nx - 3 >= iv0 ? (nx - 3 - iv0) / 2 + 1 : 0;
+	/* green: no gate; its blocks iv0 + 2k + 1 beside gk_gate's are zeroed with them below */
+	for (int i = 1 - c0; i < nx; i += 2) {
+		if (nvk && i == iv0 + 1) {
+			i = iv0 + 2 * nvk - 1;
+			continue;
+		}
+		out[i] = 0;
+	}
 	if (nvk) {
 		g->k->gsel(cp[0], cp[1], cp[2], cp[3], cp[4], iv0, nvk, lo12, b->gd, b->cs[3],
 		           b->cs[4]);
@@ -438,12 +444,18 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 		const size_t nq = nxp / 2;
 		g->k->gate(sm, se, so, b->cs[3], b->cs[4], iv0, nvk, pr, g->gi, b->gd, b->gq,
 		           b->gq + nq, b->gr);
-		for (int k = 0; k < nvk; k++)
-			out[iv0 + 2 * k] = b->gr[k];
+		float *restrict o = out + iv0;
+		const float *restrict gr = b->gr;
+		for (int k = 0; k < nvk; k++) {
+			o[2 * k] = gr[k];
+			o[2 * k + 1] = 0;
+		}
 	}
 	for (int i = c0; i < nx; i += 2) {
-		if (nvk && i >= iv0 && i <= nx - 3)
-			continue; /* gk_gate's */
+		if (nvk && i == iv0) { /* gk_gate's: i = iv0 + 2k, k < nvk */
+			i = iv0 + 2 * (nvk - 1);
+			continue;
+		}
 		out[i] = 0;
 		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
 		const int se0 = i0 + ((i0 - i) & 1), so0 = i0 + !((i0 - i) & 1);
