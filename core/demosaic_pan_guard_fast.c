@@ -174,7 +174,8 @@ typedef struct gf_band {
 	 * each), the gates (GF_RW block rows), D_k of red and blue and 1 − D_k; the tents' raw rows
 	 * (keyed by raw row, 4 mirrored columns either side: tr) tent-summed along the
 	 * rows per column phase (th: GF_RT raw rows of four, keyed by raw row) and the twelve tent
-	 * rows; tr one raw row and its masked copy */
+	 * rows; tr one raw row and gk_trow's rows of each phase's samples (4⌈w/4⌉ + 8 floats, at
+	 * most gf_up(w + 8)) */
 	float *cmem;
 	float *ce, *cp, *cm, *gt, *cs[5], *dr[2], *om, *th, *tr, *tn;
 	float *gd;  /* gk_gsel's five rows of n + 2, then gk_gate's four */
