@@ -109,6 +109,12 @@ typedef struct gk_fns {
 	              const float *, long);
 	void (*gmix)(float *, float *, float *, float *, const float *, const gk_tsrc *,
 	             const float *, long);
+	void (*vtent2)(const float *, const float *, const float *, const float *, float, float,
+	               long, float *, float *);
+	void (*htent2)(const float *, const float *, long, long, float *, float *, float *,
+	               float *);
+	void (*wsel1x2)(const float *, const float *, const float *, const float *, const float *,
+	                const float *, long, float, float *, float *);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
@@ -117,7 +123,7 @@ typedef struct gk_fns {
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
 		    gk_mix0_##s, gk_mix2_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, \
 		    gk_tcomb2_##s, gk_gmod_##s, gk_cmu_##s, gk_gsel_##s, gk_gate_##s,              \
-		    gk_mix2t_##s, gk_gmix_##s                                                      \
+		    gk_mix2t_##s, gk_gmix_##s, gk_vtent2_##s, gk_htent2_##s, gk_wsel1x2_##s        \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -178,9 +184,10 @@ typedef struct gf_band {
 	 * most gf_up(w + 8)) */
 	float *cmem;
 	float *ce, *cp, *cm, *gt, *cs[5], *dr[2], *om, *th, *tr, *tn;
-	float *gd;  /* gk_gsel's five rows of n + 2, then gk_gate's four */
-	double *gq; /* gk_gate's q and t */
-	float *gr;  /* gk_gate's gates */
+	float *AD[2], *PD[4]; /* D_k's tents, as A and P */
+	float *gd;            /* gk_gsel's five rows of n + 2, then gk_gate's four */
+	double *gq;           /* gk_gate's q and t */
+	float *gr;            /* gk_gate's gates */
 	int t_next;
 } gf_band;
 
@@ -258,8 +265,8 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	if (!g->chk)
 		return 0;
 	const size_t wt = gf_up((size_t)g->w + 8);
-	const size_t ctot =
-	    (3 * (size_t)g->RH + GF_RW + 5 + 5 + 3) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
+	const size_t ctot = (3 * (size_t)g->RH + GF_RW + 5 + 5 + 3 + 2) * nxp + (3 + 4) * wp +
+	                    (4 * GF_RT + 2) * wt + 12 * wp;
 	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
 	if (!b->cmem) {
 		pc_dm_free(b->mem);
@@ -292,6 +299,14 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	}
 	b->om = p;
 	p += wp;
+	for (int i = 0; i < 2; i++) {
+		b->AD[i] = p;
+		p += nxp;
+	}
+	for (int i = 0; i < 4; i++) {
+		b->PD[i] = p;
+		p += wp;
+	}
 	b->th = p;
 	p += 4 * GF_RT * wt;
 	b->tr = p;
@@ -605,6 +620,20 @@ static void gf_weight_to(const guard_fast *g, gf_band *b, int j)
  * pattern (red, blue and two greens), and every pair's T sums to (T_x(s) + T_x(s + 2))·(T_y(p)
  * + T_y(p + 2)) = 8·8 (the tents {1, 5, 7, 3} or {3, 7, 5, 1}), so W_k = Σ/64 (green: Σ/128).
  * The same weights as the reference's sum over the sixteen blocks, in another order. */
+/* colour k's pairs 2p + s at block-column phase q = 0, 1 (si[q][0], and si[q][1] for green):
+ * the colour of pair (s, p) at phase q is kc[(by0 + 2p) & 3][2(q ^ s)] */
+static void gf_tent_sel(const guard_fast *g, int by0, unsigned k, int si[2][2])
+{
+	for (int q = 0; q < 2; q++) {
+		int n = 0;
+		si[q][0] = si[q][1] = 0;
+		for (int p = 0; p < 2; p++)
+			for (int s = 0; s < 2; s++)
+				if (g->kc[(by0 + 2 * p) & 3][2 * (q ^ s)] == k && n < 2)
+					si[q][n++] = 2 * p + s;
+	}
+}
+
 static void gf_tent_vals(const guard_fast *g, gf_band *b, int y, float *ring, float *wr[3])
 {
 	const size_t nxp = gf_nxp(g);
@@ -622,23 +651,50 @@ static void gf_tent_vals(const guard_fast *g, gf_band *b, int y, float *ring, fl
 	const long nm = (w + 1) / 2, c = g->XB / 2 - 2;
 	for (int p = 0; p < 2; p++)
 		g->k->htent(b->A[p], nm, c, b->P[2 * p], b->P[2 * p + 1]);
-	/* the colour of pair (s, p) at block-column phase q: kc[(by0 + 2p) & 3][2(q ^ s)] */
 	for (unsigned k = 0; k < 3; k++) {
-		if (!wr[k])
-			continue;
-		const float *sel[2][2] = {{NULL, NULL}, {NULL, NULL}};
-		for (int q = 0; q < 2; q++) {
-			int n = 0;
-			for (int p = 0; p < 2; p++)
-				for (int s = 0; s < 2; s++)
-					if (g->kc[(by0 + 2 * p) & 3][2 * (q ^ s)] == k && n < 2)
-						sel[q][n++] = b->P[2 * p + s];
-		}
+		int si[2][2];
+		gf_tent_sel(g, by0, k, si);
+		const float *sel[2][2] = {{b->P[si[0][0]], b->P[si[0][1]]},
+		                          {b->P[si[1][0]], b->P[si[1][1]]}};
 		if (k == 1)
 			g->k->wsel2(sel[0][0], sel[0][1], sel[1][0], sel[1][1], g->qf, g->nf, w,
 			            1.0f / 128, wr[k]);
 		else
 			g->k->wsel1(sel[0][0], sel[1][0], g->qf, g->nf, w, 1.0f / 64, wr[k]);
+	}
+}
+
+/* pan-check: W_k of output row y into b->wr[k] and D_k of red and blue into b->dr, the gates'
+ * tents in the same passes as the weights' (gf_tent_vals' steps) */
+static void gf_tent_wd(const guard_fast *g, gf_band *b, int y)
+{
+	const size_t nxp = gf_nxp(g);
+	const long w = (long)g->w;
+	const int by0 = (y - 3) & ~1, j0 = (by0 + g->XB) / 2;
+	float ty[4];
+	const float *wb[4], *gb[4];
+	for (int t = 0; t < 4; t++) {
+		ty[t] = (float)(8 - abs(2 * (by0 + 2 * t - y) + 1));
+		wb[t] = gf_ring(b->wb, j0 + t, GF_RW, nxp);
+		gb[t] = gf_ring(b->gt, j0 + t, GF_RW, nxp);
+	}
+	for (int p = 0; p < 2; p++)
+		g->k->vtent2(wb[p], wb[p + 2], gb[p], gb[p + 2], ty[p], ty[p + 2], g->NBX, b->A[p],
+		             b->AD[p]);
+	const long nm = (w + 1) / 2, c = g->XB / 2 - 2;
+	for (int p = 0; p < 2; p++)
+		g->k->htent2(b->A[p], b->AD[p], nm, c, b->P[2 * p], b->P[2 * p + 1], b->PD[2 * p],
+		             b->PD[2 * p + 1]);
+	for (unsigned k = 0; k < 3; k++) {
+		int si[2][2];
+		gf_tent_sel(g, by0, k, si);
+		if (k == 1)
+			g->k->wsel2(b->P[si[0][0]], b->P[si[0][1]], b->P[si[1][0]], b->P[si[1][1]],
+			            g->qf, g->nf, w, 1.0f / 128, b->wr[1]);
+		else
+			g->k->wsel1x2(b->P[si[0][0]], b->P[si[1][0]], b->PD[si[0][0]],
+			              b->PD[si[1][0]], g->qf, g->nf, w, 1.0f / 64, b->wr[k],
+			              b->dr[k / 2]);
 	}
 }
 
@@ -648,11 +704,10 @@ static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
 {
 	const int j0 = (((y - 3) & ~1) + g->XB) / 2;
 	gf_weight_to(g, b, j0 + 3);
-	gf_tent_vals(g, b, y, b->wb, b->wr);
-	if (g->gate) {
-		float *dr[3] = {b->dr[0], NULL, b->dr[1]};
-		gf_tent_vals(g, b, y, b->gt, dr);
-	}
+	if (g->gate)
+		gf_tent_wd(g, b, y);
+	else
+		gf_tent_vals(g, b, y, b->wb, b->wr);
 }
 
 /* channel q's tent at output row y from its lattices' row sums (gf_tents_row): the rows a[0..n)
