@@ -71,14 +71,15 @@ typedef struct gk_fns {
 	            float, float *, float *, float *);
 	void (*sq)(const float *, const float *, const float *, const float *, const float *,
 	           const float *, const float *, const float *, const float *, const float *,
-	           const float *, long, long, int, int, float, float *, float *);
+	           const float *, long, long, const float *, const float *, float, float *,
+	           float *);
 	void (*blocks)(const float *, const float *, const float *, const float *, long, long,
 	               float *, float *);
 	void (*hsum)(const float *, long, int, int, float *);
 	void (*add)(float *, const float *, const float *, long);
 	void (*acc)(float *, const float *, long);
-	void (*weight)(const float *, const float *, const float *, const float *, long, int, int,
-	               float, int, float, float *, float *, float *);
+	void (*weight)(const float *, const float *, const float *, const float *, long,
+	               const float *, const float *, float, int, float, float *, float *, float *);
 	void (*vtent)(const float *, const float *, float, float, long, float *);
 	void (*htent)(const float *, long, long, float *, float *);
 	void (*wsel1)(const float *, const float *, const float *, const float *, long, float,
@@ -99,8 +100,8 @@ typedef struct gk_fns {
 	void (*tcomb2)(const float *, const float *, float, float, float, long, float *);
 	void (*gmod)(const float *, const float *, const float *, const float *, const float *,
 	             long, float *, float *, float *, float *);
-	void (*cmu)(const float *, const float *, long, long, float, float, float, float,
-	            const float *, float *, float *, float *, float *);
+	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
+	            const float *, float, const float *, float *, float *, float *, float *);
 	void (*gsel)(const float *, const float *, const float *, const float *, const float *,
 	             long, long, int, float *, float *, float *);
 	void (*gate)(const float *, const float *, const float *, const float *, const float *,
@@ -154,9 +155,12 @@ typedef struct guard_fast {
 	unsigned qm[4][4]; /* the tents: channel q at column phase u, row phase v: qm[v][u] */
 	/* channel q's lattices (u, v) in qm's order (at most two kept) */
 	unsigned char ql[12][2][2], nql[12];
-	float tinv[12];       /* 1 / Σ T of channel q (1/16 red and blue, 1/32 green) */
-	int32_t *xmap;        /* grid column → raw column (pc_mirror4) */
-	float *qf, *nf;       /* column x's block-column phase ((x + 1) >> 1) & 1, and 1 minus it */
+	float tinv[12]; /* 1 / Σ T of channel q (1/16 red and blue, 1/32 green) */
+	int32_t *xmap;  /* grid column → raw column (pc_mirror4) */
+	float *qf, *nf; /* column x's block-column phase ((x + 1) >> 1) & 1, and 1 minus it */
+	/* the kernels' lane choices as rows of 0 and 1 (gf_pat): per grid column x (px) and per
+	 * block column i (pi), each 0, 1, the parity ((x >> 1) & 1, i & 1) and 1 minus it */
+	const float *px[4], *pi[4];
 	atomic_int err;       /* a band's scratch not allocated */
 	const pc_fplane *out; /* I_p in, the result out */
 } guard_fast;
@@ -336,6 +340,15 @@ static float *gf_ring(float *base, int row, int size, size_t pitch)
 #define GF_PT(b, g, gy)  gf_ring((b)->pt, (gy), GF_RE, gf_up((size_t)(g)->W))
 #define GF_RHO(b, g, gy) gf_ring((b)->rho, (gy), GF_RE, gf_up((size_t)(g)->W))
 
+/* the rows of 0 and 1 of the lane choice c = g0 ^ (parity & (g0 ^ g1)) (*c) and of 1 − c (*n),
+ * from rows (g->px or g->pi) */
+static void gf_pat(const float *const rows[4], int g0, int g1, const float **c, const float **n)
+{
+	const int a = g0 == g1 ? g0 : g0 ? 3 : 2, b = g0 == g1 ? 1 - g0 : g0 ? 2 : 3;
+	*c = rows[a];
+	*n = rows[b];
+}
+
 /* E's grid rows up to gy: the raw at the pc_mirror4 positions (the phase kept) */
 static void gf_ext_to(const guard_fast *g, gf_band *b, int gy)
 {
@@ -380,8 +393,8 @@ static void gf_check_blocks(const guard_fast *g, gf_band *b, int jb, int gy)
 	const float *e0 = GF_E(b, g, gy), *e1 = GF_E(b, g, gy + 1), d = g->delta;
 	float *ce = gf_ring(b->ce, jb, g->RH, nxp), *cp = gf_ring(b->cp, jb, g->RH, nxp),
 	      *cm = gf_ring(b->cm, jb, g->RH, nxp);
-	g->k->cmu(e0, e1, 8, nx, d, g->nk[gf_col(g, 0, jb)], g->nk[gf_col(g, 1, jb)],
-	          (float)g->chk->beta, b->eb, b->ep, ce, cp, cm);
+	g->k->cmu(e0, e1, 8, nx, d, g->nk[gf_col(g, 0, jb)], g->nk[gf_col(g, 1, jb)], g->pi[2],
+	          g->pi[3], (float)g->chk->beta, b->eb, b->ep, ce, cp, cm);
 }
 
 /* pan-check: s = the sum of the n rows r[0..n) in their order (n = 0: zeros) */
@@ -548,12 +561,14 @@ static void gf_hsum_to(const guard_fast *g, gf_band *b, int j)
 		gf_ppi_to(g, b, gy + 5);
 		/* the colour of the row's blocks at even and odd block columns (bx ≡ 0, 2 mod 4) */
 		const int g0 = g->kc[by & 3][0] == 1, g1 = g->kc[by & 3][2] == 1;
+		const float *gr, *nr;
+		gf_pat(g->px, g0, g1, &gr, &nr);
 		for (int o = 0; o < 2; o++) {
 			const int sy = gy + o;
 			g->k->sq(GF_E(b, g, sy), GF_E(b, g, sy - 4), GF_E(b, g, sy + 4),
 			         GF_E(b, g, sy - 2), GF_E(b, g, sy + 2), GF_RHO(b, g, sy),
 			         GF_RHO(b, g, sy - 4), GF_RHO(b, g, sy + 4), GF_RHO(b, g, sy - 2),
-			         GF_RHO(b, g, sy + 2), GF_PT(b, g, sy), 8, 8 + 2 * (long)nx, g0, g1,
+			         GF_RHO(b, g, sy + 2), GF_PT(b, g, sy), 8, 8 + 2 * (long)nx, gr, nr,
 			         g->delta, b->qb[o], b->qp[o]);
 		}
 		g->k->blocks(b->qb[0], b->qb[1], b->qp[0], b->qp[1], 8, nx, b->eb, b->ep);
@@ -606,7 +621,9 @@ static void gf_weight_to(const guard_fast *g, gf_band *b, int j)
 			}
 		}
 		const int g0 = g->kc[by & 3][0] == 1, g1 = g->kc[by & 3][2] == 1;
-		g->k->weight(b->sb[0], b->sb[1], b->sb[2], b->sb[3], nx, g0, g1, g->fl, g->gi,
+		const float *gr, *nr;
+		gf_pat(g->pi, g0, g1, &gr, &nr);
+		g->k->weight(b->sb[0], b->sb[1], b->sb[2], b->sb[3], nx, gr, nr, g->fl, g->gi,
 		             g->gamma, b->q, b->t, gf_ring(b->wb, jw, GF_RW, nxp));
 		if (g->gate)
 			gf_gate_row(g, b, jw);
@@ -1004,7 +1021,8 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 			g.tinv[q] = nq[q] ? 1.0f / (16.0f * (float)nq[q]) : 0.0f;
 	}
 	g.xmap = malloc(sizeof(int32_t) * (size_t)g.W);
-	g.qf = pc_dm_alloc(sizeof(float) * 2 * gf_up((size_t)w));
+	const size_t wu = gf_up((size_t)w), gu = gf_up((size_t)g.W), bu = gf_up((size_t)g.NBX);
+	g.qf = pc_dm_alloc(sizeof(float) * (2 * wu + 4 * gu + 4 * bu));
 	if (!g.xmap || !g.qf) {
 		free(g.xmap);
 		pc_dm_free(g.qf);
@@ -1012,10 +1030,23 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 	}
 	for (int x = 0; x < g.W; x++)
 		g.xmap[x] = pc_mirror4(x - g.M, (int)w);
-	g.nf = g.qf + gf_up((size_t)w);
+	g.nf = g.qf + wu;
 	for (uint32_t x = 0; x < w; x++) {
 		g.qf[x] = (float)(((x + 1) >> 1) & 1);
 		g.nf[x] = 1.0f - g.qf[x];
+	}
+	for (int k = 0; k < 4; k++) {
+		float *rx = g.nf + wu + (size_t)k * gu, *ri = g.nf + wu + 4 * gu + (size_t)k * bu;
+		for (int x = 0; x < g.W; x++) {
+			const float v = k < 2 ? (float)k : (float)((x >> 1) & 1);
+			rx[x] = k == 3 ? 1.0f - v : v;
+		}
+		for (int i = 0; i < g.NBX; i++) {
+			const float v = k < 2 ? (float)k : (float)(i & 1);
+			ri[i] = k == 3 ? 1.0f - v : v;
+		}
+		g.px[k] = rx;
+		g.pi[k] = ri;
 	}
 	/* 1. the base into the outputs (pan-adapt with the given noise gain, < 0 its own
 	 * estimate) */
