@@ -727,6 +727,18 @@ static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
 		gf_tent_vals(g, b, y, b->wb, b->wr);
 }
 
+/* raw row pc_mirror4(t, h) from E's ring, its column x at [x] for x in [−4, w + 4) (mirrored by
+ * pc_mirror4 outside [0, w)), while the ring holds it (gf_tent_row runs E ahead of the output
+ * rows), else NULL: E's grid row t + M. Even widths only: at an odd one E's column w − 1 is
+ * pc_mirror4's, not the raw's (gf_ext_to). */
+static const float *gf_e_row(const guard_fast *g, const gf_band *b, int t)
+{
+	const int gy = t + g->M;
+	if (!(g->w & 1) && gy >= b->e_first && gy < b->e_next && gy >= b->e_next - GF_RE)
+		return GF_E(b, g, gy) + g->M;
+	return NULL;
+}
+
 /* channel q's tent at output row y from its lattices' row sums (gf_tents_row): the rows a[0..n)
  * weighed c[0..n), two per lattice (n = 2 red and blue, 4 green on imx250myr) */
 static int gf_tent_src(const guard_fast *g, const gf_band *b, int y, unsigned q, const float *a[4],
@@ -774,14 +786,10 @@ static void gf_tents_row(const guard_fast *g, gf_band *b, int y, unsigned make)
 	const int w = (int)g->w;
 	const size_t wt = gf_up((size_t)w + 8), wp = gf_up((size_t)w + 8);
 	for (; b->t_next <= y + 3; b->t_next++) {
-		/* E's grid row t + M holds this row, mirrored by pc_mirror4 as here (grid columns
-		 * M − 4 .. M + w + 3 are columns −4 .. w + 3), while E's ring keeps it (gf_tent_row
-		 * runs E ahead of the tents); else the row converted */
-		const int gy = b->t_next + g->M;
-		const float *d;
-		if (gy >= b->e_first && gy < b->e_next && gy >= b->e_next - GF_RE) {
-			d = GF_E(b, g, gy) + g->M;
-		} else {
+		/* E's row, mirrored by pc_mirror4 as here (columns −4 .. w + 3), while E's ring
+		 * keeps it; else the row converted */
+		const float *d = gf_e_row(g, b, b->t_next);
+		if (!d) {
 			float *dc = b->tr + 4;
 			pc_dm_row_to_float(g->in, (uint32_t)pc_mirror4(b->t_next, (int)g->h), dc);
 			for (int x = -4; x < 0; x++)
