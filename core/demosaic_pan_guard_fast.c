@@ -826,6 +826,13 @@ static void gf_cons5_row(const guard_fast *g, gf_band *b, int y, unsigned make, 
 	gf_tents_row(g, b, y, make);
 	float *bg = b->ib + 4 * wp, *mb = b->ib;
 	const float *tg = b->tn + 4 * wp;
+	/* the green mean's raw rows y − 3 .. y + 3 lent from E where it has them (E's row r is
+	 * pc_mirror4's, row r itself except the last of an odd height) */
+	for (int r = y - 3; r <= y + 3; r++) {
+		const float *e = r >= 0 && pc_mirror4(r, (int)g->h) == r ? gf_e_row(g, b, r) : NULL;
+		if (e)
+			pc_dm_bayer_first_band_put_row(b->bf, (uint32_t)r, e);
+	}
 	pc_dm_bayer_first_band_gmean(b->bf, (uint32_t)y, mb);
 	if (!fuse_g)
 		g->k->gmod(mb, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w, bg, bg + wp, bg + 2 * wp,
