@@ -630,13 +630,6 @@ static void gf_weight_to(const guard_fast *g, gf_band *b, int j)
 	}
 }
 
-/* W_k of output row y into b->wr[k]. The tent T = T_x·T_y on the block centres is separable:
- * the row's four block rows t (by = by0 + 2t) weigh T_y(t), the vertical sums A_p[i] =
- * Σ_{t ≡ p (mod 2)} T_y(t)·w(i, j_t) of the two block-row parities p, then per pixel the four
- * block columns s with T_x(s); the four parity pairs (s mod 2, p) are the colour blocks' Bayer
- * pattern (red, blue and two greens), and every pair's T sums to (T_x(s) + T_x(s + 2))·(T_y(p)
- * + T_y(p + 2)) = 8·8 (the tents {1, 5, 7, 3} or {3, 7, 5, 1}), so W_k = Σ/64 (green: Σ/128).
- * The same weights as the reference's sum over the sixteen blocks, in another order. */
 /* colour k's pairs 2p + s at block-column phase q = 0, 1 (si[q][0], and si[q][1] for green):
  * the colour of pair (s, p) at phase q is kc[(by0 + 2p) & 3][2(q ^ s)] */
 static void gf_tent_sel(const guard_fast *g, int by0, unsigned k, int si[2][2])
@@ -651,6 +644,13 @@ static void gf_tent_sel(const guard_fast *g, int by0, unsigned k, int si[2][2])
 	}
 }
 
+/* W_k of output row y into b->wr[k]. The tent T = T_x·T_y on the block centres is separable:
+ * the row's four block rows t (by = by0 + 2t) weigh T_y(t), the vertical sums A_p[i] =
+ * Σ_{t ≡ p (mod 2)} T_y(t)·w(i, j_t) of the two block-row parities p, then per pixel the four
+ * block columns s with T_x(s); the four parity pairs (s mod 2, p) are the colour blocks' Bayer
+ * pattern (red, blue and two greens), and every pair's T sums to (T_x(s) + T_x(s + 2))·(T_y(p)
+ * + T_y(p + 2)) = 8·8 (the tents {1, 5, 7, 3} or {3, 7, 5, 1}), so W_k = Σ/64 (green: Σ/128).
+ * The same weights as the reference's sum over the sixteen blocks, in another order. */
 static void gf_tent_vals(const guard_fast *g, gf_band *b, int y, float *ring, float *wr[3])
 {
 	const size_t nxp = gf_nxp(g);
