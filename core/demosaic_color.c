@@ -25,6 +25,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <assert.h>
 #include <string.h>
 
 #include "demosaic_ref.h"
@@ -358,7 +359,12 @@ struct pc_dm_bf_band {
 	float *grow[8]; /* pc_dm_bayer_first_band_gmean's raw rows masked to green, by row & 7 */
 	int32_t ghave[8];
 	int32_t mgr[4]; /* its M_G rows in mk[row & 3] (bf_mg_row), -1: none */
-	int mgfull[4];  /* ... for every column, else the border ones */
+	/* rows lent by pc_dm_bayer_first_band_put_row: the ring holds only their BF_EDGE columns
+	 * at either end (part), the rest read from the caller's row (lent) by the same
+	 * _gmean call */
+	unsigned char part[8];
+	const float *lent[8];
+	int mgfull[4]; /* ... for every column, else the border ones */
 };
 
 static int bf_band_init(pc_dm_bf_band *b, const bf_job *j)
@@ -418,15 +424,23 @@ static void bf_band_fini(pc_dm_bf_band *b)
 }
 
 /* Output rows [y0, y1) into out, whose row y - oy holds row y. */
-/* the raw rows y − 3 .. y + 3 (within the frame) into the band's ring, each converted once */
-static void bf_ring_load(pc_dm_bf_band *b, uint32_t y)
+/* the raw rows y − 3 .. y + 3 (within the frame) into the band's ring, each converted once;
+ * full: every row of the ring whole (a border row's M_G reads rows beyond y − 3 that the ring
+ * still holds), the rows lent with their end columns only converted again */
+static void bf_ring_load(pc_dm_bf_band *b, uint32_t y, int full)
 {
 	const uint32_t h = b->j.h;
 	const int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
+	for (int i = 0; full && i < 8; i++)
+		if (b->part[i]) {
+			pc_dm_row_to_float(b->j.in, (uint32_t)b->ring.have[i], b->ring.row[i]);
+			b->part[i] = 0;
+		}
 	for (int r = lo; r <= hi; r++)
 		if (b->ring.have[r & 7] != r) {
 			pc_dm_row_to_float(b->j.in, (uint32_t)r, b->ring.row[r & 7]);
 			b->ring.have[r & 7] = r;
+			b->part[r & 7] = 0;
 		}
 }
 
@@ -444,7 +458,7 @@ static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fp
 	for (unsigned i = 0; i < 4; i++) /* mk is overwritten below */
 		b->mgr[i] = -1;
 	for (uint32_t y = y0; y < y1; y++) {
-		bf_ring_load(b, y);
+		bf_ring_load(b, y, 1);
 		const uint32_t oyy = y - oy;
 		double o12[12];
 		if (y < 3 || y + 3 >= h) {
@@ -573,17 +587,19 @@ void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out)
 	bf_ring *ring = &b->ring;
 	const int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
 	const int border = y < 3 || y + 3 >= h;
-	bf_ring_load(b, y);
+	bf_ring_load(b, y, border);
 	for (int r = lo; r <= hi; r++) {
 		if (border || b->ghave[r & 7] == r)
 			continue;
-		const float *mg = j->cmask + (4 + ((uint32_t)r & 3)) * (size_t)w;
+		const float *mg = j->cmask + (4 + ((uint32_t)r & 3)) * (size_t)w,
+		            *src = b->part[r & 7] ? b->lent[r & 7] : ring->row[r & 7];
+		assert(src);
 		if (j->level >= PC_CPU_AVX512)
-			bf_gmask_avx512(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
+			bf_gmask_avx512(src, mg, (long)w, b->grow[r & 7]);
 		else if (j->level >= PC_CPU_AVX2)
-			bf_gmask_avx2(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
+			bf_gmask_avx2(src, mg, (long)w, b->grow[r & 7]);
 		else
-			bf_gmask_base(ring->row[r & 7], mg, (long)w, b->grow[r & 7]);
+			bf_gmask_base(src, mg, (long)w, b->grow[r & 7]);
 		b->ghave[r & 7] = r;
 	}
 	const double *mr[3];
@@ -610,6 +626,31 @@ void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out)
 			x = w - 3;
 		out[x] = bf_gpix(mr, w, (int)x);
 	}
+}
+
+/* Lent rows keep their end columns in the ring: those bf_mg_row reads for the border pixels
+ * of an interior row (bayer_tent's samples within 8 of either end at an even width, 9 at an
+ * odd one) */
+enum { BF_EDGE = 10 };
+
+void pc_dm_bayer_first_band_put_row(pc_dm_bf_band *b, uint32_t y, const float *src)
+{
+	const uint32_t w = b->j.w;
+	if (b->ring.have[y & 7] == (int32_t)y)
+		return;
+	float *d = b->ring.row[y & 7];
+	if (w <= 2 * BF_EDGE) {
+		memcpy(d, src, sizeof(float) * w);
+		b->part[y & 7] = 0;
+	} else {
+		memcpy(d, src, sizeof(float) * BF_EDGE);
+		memcpy(d + w - BF_EDGE, src + w - BF_EDGE, sizeof(float) * BF_EDGE);
+		b->part[y & 7] = 1;
+	}
+	d[-1] = d[w > 1 ? 1 : 0]; /* pc_dm_row_to_float's mirror */
+	d[w] = d[w > 1 ? w - 2 : 0];
+	b->ring.have[y & 7] = (int32_t)y;
+	b->lent[y & 7] = src;
 }
 
 void pc_dm_bayer_first_band_free(pc_dm_bf_band *b)

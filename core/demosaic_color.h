@@ -47,5 +47,11 @@ void pc_dm_bayer_first_band_free(pc_dm_bf_band *b);
  * one filter on the raw masked to green, docs/demosaicking.md Round 18d; the pixels within 3 of
  * a border by the definition, as _rows). Shares the band's ring of raw rows with _rows. */
 void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out);
+/* Lends _gmean raw row y (0 <= y < height) as the caller already converted it: src[0, width)
+ * must equal pc_dm_row_to_float's row y and stay valid until the next _gmean call returns, which
+ * then does not convert the row (unless the band holds it already: then nothing happens). The
+ * band keeps a copy of the row's ends only; _rows and a border row of _gmean convert the row
+ * again. */
+void pc_dm_bayer_first_band_put_row(pc_dm_bf_band *b, uint32_t y, const float *src);
 
 #endif

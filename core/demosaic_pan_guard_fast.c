@@ -28,6 +28,7 @@
  * (i, j) with corners (2i − XB, 2j − XB), i.e. grid column 2i + 8 and grid row 2j + 8. */
 #include "demosaic_pan.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdatomic.h>
@@ -39,6 +40,15 @@
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 #include "simd.h"
+
+/* pan-check's tents of one colour's four channels, as their lattices' row sums (channel c's
+ * a[k·c + i], k the terms per channel) with their weights (c, likewise) and 1/Σ T (s[c]), for
+ * the blends that compute them in their pass (gk_mix2t, gk_gmix) */
+typedef struct gk_tsrc {
+	const float *a[16];
+	float c[16];
+	float s[4];
+} gk_tsrc;
 
 #define PC_INST PC_INST_BASELINE
 #include "simd_instance_begin.h"
@@ -61,19 +71,21 @@ typedef struct gk_fns {
 	            float, float *, float *, float *);
 	void (*sq)(const float *, const float *, const float *, const float *, const float *,
 	           const float *, const float *, const float *, const float *, const float *,
-	           const float *, long, long, int, int, float, float *, float *);
+	           const float *, long, long, const float *, const float *, float, float *,
+	           float *);
 	void (*blocks)(const float *, const float *, const float *, const float *, long, long,
 	               float *, float *);
 	void (*hsum)(const float *, long, int, int, float *);
 	void (*add)(float *, const float *, const float *, long);
 	void (*acc)(float *, const float *, long);
-	void (*weight)(const float *, const float *, const float *, const float *, long, int, int,
-	               float, int, float, float *, float *, float *);
+	void (*weight)(const float *, const float *, const float *, const float *, long,
+	               const float *, const float *, float, int, float, float *, float *, float *);
 	void (*vtent)(const float *, const float *, float, float, long, float *);
 	void (*htent)(const float *, long, long, float *, float *);
-	void (*wsel1)(const float *, const float *, long, float, float *);
-	void (*wsel2)(const float *, const float *, const float *, const float *, long, float,
+	void (*wsel1)(const float *, const float *, const float *, const float *, long, float,
 	              float *);
+	void (*wsel2)(const float *, const float *, const float *, const float *, const float *,
+	              const float *, long, float, float *);
 	void (*mix0)(float *, float *, float *, float *, const float *, const float *,
 	             const float *, const float *, const float *, long);
 	void (*mix2)(float *, float *, float *, float *, const float *, const float *,
@@ -88,12 +100,22 @@ typedef struct gk_fns {
 	void (*tcomb2)(const float *, const float *, float, float, float, long, float *);
 	void (*gmod)(const float *, const float *, const float *, const float *, const float *,
 	             long, float *, float *, float *, float *);
-	void (*cmu)(const float *, const float *, long, long, float, float, float, float,
-	            const float *, float *, float *, float *, float *);
+	void (*cmu)(const float *, const float *, long, long, float, float, float, const float *,
+	            const float *, float, const float *, float *, float *, float *, float *);
 	void (*gsel)(const float *, const float *, const float *, const float *, const float *,
 	             long, long, int, float *, float *, float *);
 	void (*gate)(const float *, const float *, const float *, const float *, const float *,
 	             long, long, const double *, int, float *, double *, double *, float *);
+	void (*mix2t)(float *, float *, float *, float *, const gk_tsrc *, const float *,
+	              const float *, long);
+	void (*gmix)(float *, float *, float *, float *, const float *, const gk_tsrc *,
+	             const float *, long);
+	void (*vtent2)(const float *, const float *, const float *, const float *, float, float,
+	               long, float *, float *);
+	void (*htent2)(const float *, const float *, long, long, float *, float *, float *,
+	               float *);
+	void (*wsel1x2)(const float *, const float *, const float *, const float *, const float *,
+	                const float *, long, float, float *, float *);
 } gk_fns;
 
 #define GK_FNS(s)                                                                                  \
@@ -101,7 +123,8 @@ typedef struct gk_fns {
 		gk_ppi_##s, gk_sq_##s, gk_blocks_##s, gk_hsum_##s, gk_add_##s, gk_acc_##s,         \
 		    gk_weight_##s, gk_vtent_##s, gk_htent_##s, gk_wsel1_##s, gk_wsel2_##s,         \
 		    gk_mix0_##s, gk_mix2_##s, gk_fac1_##s, gk_mix1_##s, gk_trow_##s, gk_tcomb_##s, \
-		    gk_tcomb2_##s, gk_gmod_##s, gk_cmu_##s, gk_gsel_##s, gk_gate_##s               \
+		    gk_tcomb2_##s, gk_gmod_##s, gk_cmu_##s, gk_gsel_##s, gk_gate_##s,              \
+		    gk_mix2t_##s, gk_gmix_##s, gk_vtent2_##s, gk_htent2_##s, gk_wsel1x2_##s        \
 	}
 
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
@@ -127,11 +150,17 @@ typedef struct guard_fast {
 	float force; /* < 0: the weights computed */
 	/* pan-check's additions (pc_dm_pan_guard_fast_run's chk; NULL: none) */
 	const pc_dm_guard_check *chk;
-	float nk[3];          /* the noise term per block colour */
-	int gate;             /* pan-hue's gate on */
-	unsigned qm[4][4];    /* the tents: channel q at column phase u, row phase v: qm[v][u] */
-	float tinv[12];       /* 1 / Σ T of channel q (1/16 red and blue, 1/32 green) */
-	int32_t *xmap;        /* grid column → raw column (pc_mirror4) */
+	float nk[3];       /* the noise term per block colour */
+	int gate;          /* pan-hue's gate on */
+	unsigned qm[4][4]; /* the tents: channel q at column phase u, row phase v: qm[v][u] */
+	/* channel q's lattices (u, v) in qm's order (at most two kept) */
+	unsigned char ql[12][2][2], nql[12];
+	float tinv[12]; /* 1 / Σ T of channel q (1/16 red and blue, 1/32 green) */
+	int32_t *xmap;  /* grid column → raw column (pc_mirror4) */
+	float *qf, *nf; /* column x's block-column phase ((x + 1) >> 1) & 1, and 1 minus it */
+	/* the kernels' lane choices as rows of 0 and 1 (gf_pat): per grid column x (px) and per
+	 * block column i (pi), each 0, 1, the parity ((x >> 1) & 1, i & 1) and 1 minus it */
+	const float *px[4], *pi[4];
 	atomic_int err;       /* a band's scratch not allocated */
 	const pc_fplane *out; /* I_p in, the result out */
 } guard_fast;
@@ -149,17 +178,20 @@ typedef struct gf_band {
 	float *A[2], *P[4], *wr[3], *fr; /* the tents; W_k per colour; mode 1's factor */
 	float *ib;                       /* I_b: 12 rows of w */
 	int e_next, r_next, h_next, w_next;
+	int e_first; /* E's first grid row in this band */
 	pc_dm_bf_band *bf;
 	/* pan-check's (cmem): the blocks' e_b, e_p (before the noise term), mu (RH block rows
 	 * each), the gates (GF_RW block rows), D_k of red and blue and 1 − D_k; the tents' raw rows
 	 * (keyed by raw row, 4 mirrored columns either side: tr) tent-summed along the
 	 * rows per column phase (th: GF_RT raw rows of four, keyed by raw row) and the twelve tent
-	 * rows; tr one raw row and its masked copy */
+	 * rows; tr one raw row and gk_trow's rows of each phase's samples (4⌈w/4⌉ + 8 floats, at
+	 * most gf_up(w + 8)) */
 	float *cmem;
 	float *ce, *cp, *cm, *gt, *cs[5], *dr[2], *om, *th, *tr, *tn;
-	float *gd;  /* gk_gsel's five rows of n + 2, then gk_gate's four */
-	double *gq; /* gk_gate's q and t */
-	float *gr;  /* gk_gate's gates */
+	float *AD[2], *PD[4]; /* D_k's tents, as A and P */
+	float *gd;            /* gk_gsel's five rows of n + 2, then gk_gate's four */
+	double *gq;           /* gk_gate's q and t */
+	float *gr;            /* gk_gate's gates */
 	int t_next;
 } gf_band;
 
@@ -237,8 +269,8 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	if (!g->chk)
 		return 0;
 	const size_t wt = gf_up((size_t)g->w + 8);
-	const size_t ctot =
-	    (3 * (size_t)g->RH + GF_RW + 5 + 5 + 3) * nxp + 3 * wp + (4 * GF_RT + 2) * wt + 12 * wp;
+	const size_t ctot = (3 * (size_t)g->RH + GF_RW + 5 + 5 + 3 + 2) * nxp + (3 + 4) * wp +
+	                    (4 * GF_RT + 2) * wt + 12 * wp;
 	b->cmem = pc_dm_alloc(sizeof(float) * ctot);
 	if (!b->cmem) {
 		pc_dm_free(b->mem);
@@ -271,6 +303,14 @@ static int gf_band_init(gf_band *b, const guard_fast *g)
 	}
 	b->om = p;
 	p += wp;
+	for (int i = 0; i < 2; i++) {
+		b->AD[i] = p;
+		p += nxp;
+	}
+	for (int i = 0; i < 4; i++) {
+		b->PD[i] = p;
+		p += wp;
+	}
 	b->th = p;
 	p += 4 * GF_RT * wt;
 	b->tr = p;
@@ -299,6 +339,15 @@ static float *gf_ring(float *base, int row, int size, size_t pitch)
 #define GF_E(b, g, gy)   gf_ring((b)->e, (gy), GF_RE, gf_up((size_t)(g)->W))
 #define GF_PT(b, g, gy)  gf_ring((b)->pt, (gy), GF_RE, gf_up((size_t)(g)->W))
 #define GF_RHO(b, g, gy) gf_ring((b)->rho, (gy), GF_RE, gf_up((size_t)(g)->W))
+
+/* the rows of 0 and 1 of the lane choice c = g0 ^ (parity & (g0 ^ g1)) (*c) and of 1 − c (*n),
+ * from rows (g->px or g->pi) */
+static void gf_pat(const float *const rows[4], int g0, int g1, const float **c, const float **n)
+{
+	const int a = g0 == g1 ? g0 : g0 ? 3 : 2, b = g0 == g1 ? 1 - g0 : g0 ? 2 : 3;
+	*c = rows[a];
+	*n = rows[b];
+}
 
 /* E's grid rows up to gy: the raw at the pc_mirror4 positions (the phase kept) */
 static void gf_ext_to(const guard_fast *g, gf_band *b, int gy)
@@ -344,8 +393,8 @@ static void gf_check_blocks(const guard_fast *g, gf_band *b, int jb, int gy)
 	const float *e0 = GF_E(b, g, gy), *e1 = GF_E(b, g, gy + 1), d = g->delta;
 	float *ce = gf_ring(b->ce, jb, g->RH, nxp), *cp = gf_ring(b->cp, jb, g->RH, nxp),
 	      *cm = gf_ring(b->cm, jb, g->RH, nxp);
-	g->k->cmu(e0, e1, 8, nx, d, g->nk[gf_col(g, 0, jb)], g->nk[gf_col(g, 1, jb)],
-	          (float)g->chk->beta, b->eb, b->ep, ce, cp, cm);
+	g->k->cmu(e0, e1, 8, nx, d, g->nk[gf_col(g, 0, jb)], g->nk[gf_col(g, 1, jb)], g->pi[2],
+	          g->pi[3], (float)g->chk->beta, b->eb, b->ep, ce, cp, cm);
 }
 
 /* pan-check: s = the sum of the n rows r[0..n) in their order (n = 0: zeros) */
@@ -400,13 +449,19 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 	gf_colsum(g, so, rm[1], nro);
 	const double thr0 = c->hnoise * 5 * c->g;
 	const int c0 = gf_col(g, 0, j) != 1 ? 0 : 1; /* the parity of the row's red or blue */
-	for (int i = 1 - c0; i < nx; i += 2)         /* green: no gate (the others set below) */
-		out[i] = 0;
 	/* r = 1 with the window inside the grid: the blocks i in [2, nx − 3] by gk_gsel (their
 	 * order statistics in cs[3], cs[4], indexed by (i − iv0)/2) and gk_gate */
 	const int lo12 = (int)(c->quant * 11), vec = rb == 2 && j >= 2 && j + 2 < ny && lo12 <= 2;
 	const int iv0 = c0 + 2 > 2 ? c0 + 2 : 2,
 	          nvk = vec && nx - 3 >= iv0 ? (nx - 3 - iv0) / 2 + 1 : 0;
+	/* green: no gate; its blocks iv0 + 2k + 1 beside gk_gate's are zeroed with them below */
+	for (int i = 1 - c0; i < nx; i += 2) {
+		if (nvk && i == iv0 + 1) {
+			i = iv0 + 2 * nvk - 1;
+			continue;
+		}
+		out[i] = 0;
+	}
 	if (nvk) {
 		g->k->gsel(cp[0], cp[1], cp[2], cp[3], cp[4], iv0, nvk, lo12, b->gd, b->cs[3],
 		           b->cs[4]);
@@ -418,12 +473,18 @@ static void gf_gate_row(const guard_fast *g, gf_band *b, int j)
 		const size_t nq = nxp / 2;
 		g->k->gate(sm, se, so, b->cs[3], b->cs[4], iv0, nvk, pr, g->gi, b->gd, b->gq,
 		           b->gq + nq, b->gr);
-		for (int k = 0; k < nvk; k++)
-			out[iv0 + 2 * k] = b->gr[k];
+		float *restrict o = out + iv0;
+		const float *restrict gr = b->gr;
+		for (int k = 0; k < nvk; k++) {
+			o[2 * k] = gr[k];
+			o[2 * k + 1] = 0;
+		}
 	}
 	for (int i = c0; i < nx; i += 2) {
-		if (nvk && i >= iv0 && i <= nx - 3)
-			continue; /* gk_gate's */
+		if (nvk && i == iv0) { /* gk_gate's: i = iv0 + 2k, k < nvk */
+			i = iv0 + 2 * (nvk - 1);
+			continue;
+		}
 		out[i] = 0;
 		const int i0 = i - rb > 0 ? i - rb : 0, i1 = i + rb < nx - 1 ? i + rb : nx - 1;
 		const int se0 = i0 + ((i0 - i) & 1), so0 = i0 + !((i0 - i) & 1);
@@ -500,12 +561,14 @@ static void gf_hsum_to(const guard_fast *g, gf_band *b, int j)
 		gf_ppi_to(g, b, gy + 5);
 		/* the colour of the row's blocks at even and odd block columns (bx ≡ 0, 2 mod 4) */
 		const int g0 = g->kc[by & 3][0] == 1, g1 = g->kc[by & 3][2] == 1;
+		const float *gr, *nr;
+		gf_pat(g->px, g0, g1, &gr, &nr);
 		for (int o = 0; o < 2; o++) {
 			const int sy = gy + o;
 			g->k->sq(GF_E(b, g, sy), GF_E(b, g, sy - 4), GF_E(b, g, sy + 4),
 			         GF_E(b, g, sy - 2), GF_E(b, g, sy + 2), GF_RHO(b, g, sy),
 			         GF_RHO(b, g, sy - 4), GF_RHO(b, g, sy + 4), GF_RHO(b, g, sy - 2),
-			         GF_RHO(b, g, sy + 2), GF_PT(b, g, sy), 8, 8 + 2 * (long)nx, g0, g1,
+			         GF_RHO(b, g, sy + 2), GF_PT(b, g, sy), 8, 8 + 2 * (long)nx, gr, nr,
 			         g->delta, b->qb[o], b->qp[o]);
 		}
 		g->k->blocks(b->qb[0], b->qb[1], b->qp[0], b->qp[1], 8, nx, b->eb, b->ep);
@@ -558,10 +621,26 @@ static void gf_weight_to(const guard_fast *g, gf_band *b, int j)
 			}
 		}
 		const int g0 = g->kc[by & 3][0] == 1, g1 = g->kc[by & 3][2] == 1;
-		g->k->weight(b->sb[0], b->sb[1], b->sb[2], b->sb[3], nx, g0, g1, g->fl, g->gi,
+		const float *gr, *nr;
+		gf_pat(g->pi, g0, g1, &gr, &nr);
+		g->k->weight(b->sb[0], b->sb[1], b->sb[2], b->sb[3], nx, gr, nr, g->fl, g->gi,
 		             g->gamma, b->q, b->t, gf_ring(b->wb, jw, GF_RW, nxp));
 		if (g->gate)
 			gf_gate_row(g, b, jw);
+	}
+}
+
+/* colour k's pairs 2p + s at block-column phase q = 0, 1 (si[q][0], and si[q][1] for green):
+ * the colour of pair (s, p) at phase q is kc[(by0 + 2p) & 3][2(q ^ s)] */
+static void gf_tent_sel(const guard_fast *g, int by0, unsigned k, int si[2][2])
+{
+	for (int q = 0; q < 2; q++) {
+		int n = 0;
+		si[q][0] = si[q][1] = 0;
+		for (int p = 0; p < 2; p++)
+			for (int s = 0; s < 2; s++)
+				if (g->kc[(by0 + 2 * p) & 3][2 * (q ^ s)] == k && n < 2)
+					si[q][n++] = 2 * p + s;
 	}
 }
 
@@ -589,23 +668,50 @@ static void gf_tent_vals(const guard_fast *g, gf_band *b, int y, float *ring, fl
 	const long nm = (w + 1) / 2, c = g->XB / 2 - 2;
 	for (int p = 0; p < 2; p++)
 		g->k->htent(b->A[p], nm, c, b->P[2 * p], b->P[2 * p + 1]);
-	/* the colour of pair (s, p) at block-column phase q: kc[(by0 + 2p) & 3][2(q ^ s)] */
 	for (unsigned k = 0; k < 3; k++) {
-		if (!wr[k])
-			continue;
-		const float *sel[2][2] = {{NULL, NULL}, {NULL, NULL}};
-		for (int q = 0; q < 2; q++) {
-			int n = 0;
-			for (int p = 0; p < 2; p++)
-				for (int s = 0; s < 2; s++)
-					if (g->kc[(by0 + 2 * p) & 3][2 * (q ^ s)] == k && n < 2)
-						sel[q][n++] = b->P[2 * p + s];
-		}
+		int si[2][2];
+		gf_tent_sel(g, by0, k, si);
+		const float *sel[2][2] = {{b->P[si[0][0]], b->P[si[0][1]]},
+		                          {b->P[si[1][0]], b->P[si[1][1]]}};
 		if (k == 1)
-			g->k->wsel2(sel[0][0], sel[0][1], sel[1][0], sel[1][1], w, 1.0f / 128,
-			            wr[k]);
+			g->k->wsel2(sel[0][0], sel[0][1], sel[1][0], sel[1][1], g->qf, g->nf, w,
+			            1.0f / 128, wr[k]);
 		else
-			g->k->wsel1(sel[0][0], sel[1][0], w, 1.0f / 64, wr[k]);
+			g->k->wsel1(sel[0][0], sel[1][0], g->qf, g->nf, w, 1.0f / 64, wr[k]);
+	}
+}
+
+/* pan-check: W_k of output row y into b->wr[k] and D_k of red and blue into b->dr, the gates'
+ * tents in the same passes as the weights' (gf_tent_vals' steps) */
+static void gf_tent_wd(const guard_fast *g, gf_band *b, int y)
+{
+	const size_t nxp = gf_nxp(g);
+	const long w = (long)g->w;
+	const int by0 = (y - 3) & ~1, j0 = (by0 + g->XB) / 2;
+	float ty[4];
+	const float *wb[4], *gb[4];
+	for (int t = 0; t < 4; t++) {
+		ty[t] = (float)(8 - abs(2 * (by0 + 2 * t - y) + 1));
+		wb[t] = gf_ring(b->wb, j0 + t, GF_RW, nxp);
+		gb[t] = gf_ring(b->gt, j0 + t, GF_RW, nxp);
+	}
+	for (int p = 0; p < 2; p++)
+		g->k->vtent2(wb[p], wb[p + 2], gb[p], gb[p + 2], ty[p], ty[p + 2], g->NBX, b->A[p],
+		             b->AD[p]);
+	const long nm = (w + 1) / 2, c = g->XB / 2 - 2;
+	for (int p = 0; p < 2; p++)
+		g->k->htent2(b->A[p], b->AD[p], nm, c, b->P[2 * p], b->P[2 * p + 1], b->PD[2 * p],
+		             b->PD[2 * p + 1]);
+	for (unsigned k = 0; k < 3; k++) {
+		int si[2][2];
+		gf_tent_sel(g, by0, k, si);
+		if (k == 1)
+			g->k->wsel2(b->P[si[0][0]], b->P[si[0][1]], b->P[si[1][0]], b->P[si[1][1]],
+			            g->qf, g->nf, w, 1.0f / 128, b->wr[1]);
+		else
+			g->k->wsel1x2(b->P[si[0][0]], b->P[si[1][0]], b->PD[si[0][0]],
+			              b->PD[si[1][0]], g->qf, g->nf, w, 1.0f / 64, b->wr[k],
+			              b->dr[k / 2]);
 	}
 }
 
@@ -615,49 +721,92 @@ static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
 {
 	const int j0 = (((y - 3) & ~1) + g->XB) / 2;
 	gf_weight_to(g, b, j0 + 3);
-	gf_tent_vals(g, b, y, b->wb, b->wr);
-	if (g->gate) {
-		float *dr[3] = {b->dr[0], NULL, b->dr[1]};
-		gf_tent_vals(g, b, y, b->gt, dr);
+	if (g->gate)
+		gf_tent_wd(g, b, y);
+	else
+		gf_tent_vals(g, b, y, b->wb, b->wr);
+}
+
+/* raw row pc_mirror4(t, h) from E's ring, its column x at [x] for x in [−4, w + 4) (mirrored by
+ * pc_mirror4 outside [0, w)), while the ring holds it (gf_tent_row runs E ahead of the output
+ * rows), else NULL: E's grid row t + M. Even widths only: at an odd one E's column w − 1 is
+ * pc_mirror4's, not the raw's (gf_ext_to). */
+static const float *gf_e_row(const guard_fast *g, const gf_band *b, int t)
+{
+	const int gy = t + g->M;
+	if (!(g->w & 1) && gy >= b->e_first && gy < b->e_next && gy >= b->e_next - GF_RE)
+		return GF_E(b, g, gy) + g->M;
+	return NULL;
+}
+
+/* channel q's tent at output row y from its lattices' row sums (gf_tents_row): the rows a[0..n)
+ * weighed c[0..n), two per lattice (n = 2 red and blue, 4 green on imx250myr) */
+static int gf_tent_src(const guard_fast *g, const gf_band *b, int y, unsigned q, const float *a[4],
+                       float c[4])
+{
+	const size_t wt = gf_up((size_t)g->w + 8);
+	int n = 0;
+	for (unsigned l = 0; l < g->nql[q]; l++) {
+		const int u = g->ql[q][l][0], v = g->ql[q][l][1], d0 = (v - y) & 3;
+		a[n] = b->th + ((size_t)((y + d0) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
+		c[n++] = (float)(4 - d0);
+		a[n] = b->th + ((size_t)((y + d0 - 4) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
+		c[n++] = (float)d0;
+	}
+	return n;
+}
+
+/* colour k's four channels' tent sources at row y into ts, n terms each */
+static void gf_tent_srcs(const guard_fast *g, const gf_band *b, int y, unsigned k, int n,
+                         gk_tsrc *ts)
+{
+	for (unsigned c = 0; c < 4; c++) {
+		const float *a[4];
+		float cf[4];
+		const int nc = gf_tent_src(g, b, y, 4 * k + c, a, cf);
+		assert(nc == n);
+		(void)nc;
+		for (int i = 0; i < n; i++) {
+			ts->a[n * (int)c + i] = a[i];
+			ts->c[n * (int)c + i] = cf[i];
+		}
+		ts->s[c] = g->tinv[4 * k + c];
 	}
 }
 
 /* pan-check's tents of output row y (pc_dm_pan_guard_tents in float: exact sums on integer
- * raws) into b->tn. The tent T = (4 − |dx|)(4 − |dy|) is separable and pc_mirror4 keeps the
- * phase mod 4, so: each raw row (once, mirrored, keyed by its unmirrored index) summed along
- * the row per column phase u, h_u (gk_trow); then channel q at row y from its lattices (u, v):
- * the rows y + dy of phase v within ±3, dy = d0 and d0 − 4 with d0 = (v − y) mod 4, weighing
- * 4 − d0 and d0 (gk_tcomb), over Σ T = 16 per lattice */
-static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
+ * raws) into b->tn, of the channels q whose bit is set in make (the others' the blends compute
+ * from the row sums: gk_mix2t, gk_gmix). The tent T = (4 − |dx|)(4 − |dy|) is separable and
+ * pc_mirror4 keeps the phase mod 4, so: each raw row (once, mirrored, keyed by its unmirrored
+ * index) summed along the row per column phase u, h_u (gk_trow); then channel q at row y from its
+ * lattices (u, v): the rows y + dy of phase v within ±3, dy = d0 and d0 − 4 with d0 = (v − y) mod
+ * 4, weighing 4 − d0 and d0 (gk_tcomb), over Σ T = 16 per lattice */
+static void gf_tents_row(const guard_fast *g, gf_band *b, int y, unsigned make)
 {
 	const int w = (int)g->w;
 	const size_t wt = gf_up((size_t)w + 8), wp = gf_up((size_t)w + 8);
 	for (; b->t_next <= y + 3; b->t_next++) {
-		float *d = b->tr + 4;
-		pc_dm_row_to_float(g->in, (uint32_t)pc_mirror4(b->t_next, (int)g->h), d);
-		for (int x = -4; x < 0; x++)
-			d[x] = d[pc_mirror4(x, w)];
-		for (int x = w; x < w + 4; x++)
-			d[x] = d[pc_mirror4(x, w)];
+		/* E's row, mirrored by pc_mirror4 as here (columns −4 .. w + 3), while E's ring
+		 * keeps it; else the row converted */
+		const float *d = gf_e_row(g, b, b->t_next);
+		if (!d) {
+			float *dc = b->tr + 4;
+			pc_dm_row_to_float(g->in, (uint32_t)pc_mirror4(b->t_next, (int)g->h), dc);
+			for (int x = -4; x < 0; x++)
+				dc[x] = dc[pc_mirror4(x, w)];
+			for (int x = w; x < w + 4; x++)
+				dc[x] = dc[pc_mirror4(x, w)];
+			d = dc;
+		}
 		float *h = b->th + (size_t)(b->t_next & (GF_RT - 1)) * 4 * wt;
 		g->k->trow(d, w, b->tr + wt, h, h + wt, h + 2 * wt, h + 3 * wt);
 	}
 	for (unsigned q = 0; q < 12; q++) {
+		if (!(make >> q & 1))
+			continue;
 		const float *a[4];
 		float c[4];
-		int n = 0;
-		for (int v = 0; v < 4; v++)
-			for (int u = 0; u < 4; u++) {
-				if (g->qm[v][u] != q || n > 2)
-					continue;
-				const int d0 = (v - y) & 3;
-				a[n] =
-				    b->th + ((size_t)((y + d0) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
-				c[n++] = (float)(4 - d0);
-				a[n] = b->th +
-				       ((size_t)((y + d0 - 4) & (GF_RT - 1)) * 4 + (size_t)u) * wt;
-				c[n++] = (float)d0;
-			}
+		const int n = gf_tent_src(g, b, y, q, a, c);
 		if (n == 2)
 			g->k->tcomb2(a[0], a[1], c[0], c[1], g->tinv[q], w, b->tn + q * wp);
 		else
@@ -668,17 +817,26 @@ static void gf_tents_row(const guard_fast *g, gf_band *b, int y)
 
 /* pan-check's conservative estimate of row y (cons 5): red and blue the tents' (b->tn), green
  * bayer-first's analyser mean (pc_dm_bayer_first_band_gmean, into I_b's first row: the red rows
- * are not read with cons 5) plus the tents' modulation, in b->ib's green rows */
-static void gf_cons5_row(const guard_fast *g, gf_band *b, int y)
+ * are not read with cons 5) plus the tents' modulation, in b->ib's green rows; the channels
+ * not in make and, with fuse_g, green's modulation left to the blends */
+static void gf_cons5_row(const guard_fast *g, gf_band *b, int y, unsigned make, int fuse_g)
 {
 	const size_t wp = gf_up((size_t)g->w + 8);
 	const int w = (int)g->w;
-	gf_tents_row(g, b, y);
+	gf_tents_row(g, b, y, make);
 	float *bg = b->ib + 4 * wp, *mb = b->ib;
 	const float *tg = b->tn + 4 * wp;
+	/* the green mean's raw rows y − 3 .. y + 3 lent from E where it has them (E's row r is
+	 * pc_mirror4's, row r itself except the last of an odd height) */
+	for (int r = y - 3; r <= y + 3; r++) {
+		const float *e = r >= 0 && pc_mirror4(r, (int)g->h) == r ? gf_e_row(g, b, r) : NULL;
+		if (e)
+			pc_dm_bayer_first_band_put_row(b->bf, (uint32_t)r, e);
+	}
 	pc_dm_bayer_first_band_gmean(b->bf, (uint32_t)y, mb);
-	g->k->gmod(mb, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w, bg, bg + wp, bg + 2 * wp,
-	           bg + 3 * wp);
+	if (!fuse_g)
+		g->k->gmod(mb, tg, tg + wp, tg + 2 * wp, tg + 3 * wp, w, bg, bg + wp, bg + 2 * wp,
+		           bg + 3 * wp);
 }
 
 /* output rows [y0, y1): I_b, W_k and the blend, in place */
@@ -698,10 +856,30 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 	b.h_next = j0 - 2 * g->r > 0 ? j0 - 2 * g->r : 0;
 	b.r_next = 2 * b.h_next + 8 - 4;
 	b.e_next = b.r_next - 2;
+	b.e_first = b.e_next;
 	b.t_next = (int)y0 - 3;
 	pc_fplane ibp[12];
 	for (unsigned q = 0; q < 12; q++)
 		ibp[q] = (pc_fplane){b.ib + q * wp, wp, 1};
+	/* pan-check's cons 5 on planar outputs in mode 0: the blends compute the tents of red and
+	 * blue (with the gate: gk_mix2t) and green's I_b (gk_gmix) from the tents' row sums, where
+	 * every channel of the colour has the same number of lattices (two terms each for red and
+	 * blue, four for green, as gk_tcomb2 and gk_tcomb) */
+	const int cons5 = g->chk && g->chk->cons5, gate = g->gate && g->force < 0;
+	int planar = 1;
+	for (unsigned q = 0; q < 12; q++)
+		planar &= g->out[q].pixel_stride == 1;
+	int fuse_rb = cons5 && planar && !g->mode && gate, fuse_g = cons5 && planar && !g->mode;
+	for (unsigned q = 0; cons5 && q < 12; q++) {
+		const float *a[4];
+		float c[4];
+		const int n = gf_tent_src(g, &b, (int)y0, q, a, c);
+		if (q / 4 == 1)
+			fuse_g &= n == 4;
+		else
+			fuse_rb &= n == 2;
+	}
+	const unsigned make = (fuse_rb ? 0x0f0u : 0xfffu) & (fuse_g ? 0xf0fu : 0xfffu);
 	for (uint32_t yu = y0; yu < y1; yu++) {
 		const int y = (int)yu;
 		if (g->force >= 0) {
@@ -711,11 +889,10 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 		} else {
 			gf_tent_row(g, &b, y);
 		}
-		if (g->chk && g->chk->cons5)
-			gf_cons5_row(g, &b, y);
+		if (cons5)
+			gf_cons5_row(g, &b, y, make, fuse_g);
 		else
 			pc_dm_bayer_first_band_rows(b.bf, yu, yu + 1, ibp);
-		const int gate = g->gate && g->force < 0;
 		for (unsigned k = 0; k < 3; k++) {
 			float *d[4];
 			const float *vbr[4];
@@ -736,6 +913,15 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 					           vbr[3], wk, g->delta, b.fr, w);
 					for (unsigned c = 0; c < 4; c++)
 						g->k->mix1(d[c], b.fr, g->delta, w);
+				} else if (k == 1 && fuse_g) {
+					gk_tsrc ts;
+					gf_tent_srcs(g, &b, y, k, 4, &ts);
+					g->k->gmix(d[0], d[1], d[2], d[3], b.ib, &ts, wk, w);
+				} else if (gk && fuse_rb) {
+					gk_tsrc ts;
+					gf_tent_srcs(g, &b, y, k, 2, &ts);
+					g->k->mix2t(d[0], d[1], d[2], d[3], &ts, wk, b.dr[k / 2],
+					            w);
 				} else if (gk) {
 					g->k->mix2(d[0], d[1], d[2], d[3], vbr[0], vbr[1], vbr[2],
 					           vbr[3], wk, b.dr[k / 2], w);
@@ -838,14 +1024,45 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 				             pc_mosaic_channel(m, u, v);
 				nq[g.qm[v][u]]++;
 			}
+		for (unsigned v = 0; v < 4; v++)
+			for (unsigned u = 0; u < 4; u++) {
+				const unsigned q = g.qm[v][u];
+				if (g.nql[q] < 2) {
+					g.ql[q][g.nql[q]][0] = (unsigned char)u;
+					g.ql[q][g.nql[q]++][1] = (unsigned char)v;
+				}
+			}
 		for (unsigned q = 0; q < 12; q++)
 			g.tinv[q] = nq[q] ? 1.0f / (16.0f * (float)nq[q]) : 0.0f;
 	}
 	g.xmap = malloc(sizeof(int32_t) * (size_t)g.W);
-	if (!g.xmap)
-		return pc_error(PC_ENOMEM, "pan-guard: column map of width %u", w);
+	const size_t wu = gf_up((size_t)w), gu = gf_up((size_t)g.W), bu = gf_up((size_t)g.NBX);
+	g.qf = pc_dm_alloc(sizeof(float) * (2 * wu + 4 * gu + 4 * bu));
+	if (!g.xmap || !g.qf) {
+		free(g.xmap);
+		pc_dm_free(g.qf);
+		return pc_error(PC_ENOMEM, "pan-guard: column maps of width %u", w);
+	}
 	for (int x = 0; x < g.W; x++)
 		g.xmap[x] = pc_mirror4(x - g.M, (int)w);
+	g.nf = g.qf + wu;
+	for (uint32_t x = 0; x < w; x++) {
+		g.qf[x] = (float)(((x + 1) >> 1) & 1);
+		g.nf[x] = 1.0f - g.qf[x];
+	}
+	for (int k = 0; k < 4; k++) {
+		float *rx = g.nf + wu + (size_t)k * gu, *ri = g.nf + wu + 4 * gu + (size_t)k * bu;
+		for (int x = 0; x < g.W; x++) {
+			const float v = k < 2 ? (float)k : (float)((x >> 1) & 1);
+			rx[x] = k == 3 ? 1.0f - v : v;
+		}
+		for (int i = 0; i < g.NBX; i++) {
+			const float v = k < 2 ? (float)k : (float)(i & 1);
+			ri[i] = k == 3 ? 1.0f - v : v;
+		}
+		g.px[k] = rx;
+		g.pi[k] = ri;
+	}
 	/* 1. the base into the outputs (pan-adapt with the given noise gain, < 0 its own
 	 * estimate) */
 	int rc = base ? pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, gain, out)
@@ -862,6 +1079,7 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 			rc = pc_error(PC_ENOMEM, "pan-guard: row buffers for width %u", w);
 	}
 	free(g.xmap);
+	pc_dm_free(g.qf);
 	return rc;
 }
 
