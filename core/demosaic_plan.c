@@ -661,11 +661,13 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "float fast path: pan-side's fast path, then per row band pan-guard's "
           "check with the noise term, pan-hue's gate per block row, bayer-first's "
           "rows and the own-lattice tents for the conservative estimate, and the "
-          "blends; 752 M instructions per 2448x2048 frame (callgrind, AVX2, one "
-          "thread), 28x mono bilinear's, of which pan-side 256 M, green's analyser "
-          "mean 52 M, the gate 32 M, the tents 126 M, the noise gain 12 M; 18-19x "
-          "its time near idle at AVX-512, 27-30x at AVX2: far over the 5x budget "
-          "(docs/demosaicking.md, Rounds 18a, 18d, 19 and 19b)",
+          "blends; 681 M instructions per 2448x2048 frame (callgrind, AVX2, one "
+          "thread), 26x mono bilinear's, of which pan-side 256 M, green's analyser "
+          "mean 45 M, the check 88 M, the gate 32 M, the weights' tents 67 M, the "
+          "conservative estimate's tents with the blends 163 M, the noise gain 12 M; "
+          "16-18x its time near idle at AVX-512 (34-36 ms), 28-31x at AVX2 (45-49 "
+          "ms): far over the 5x budget "
+          "(docs/demosaicking.md, Rounds 18a, 18d, 19, 19b and 19c)",
           "ours (docs/demosaicking.md, Rounds 17 and 18): pan-guard's check (Bates & "
           "Granger, Operational Research Quarterly 20(4) 1969, sharpened) on "
           "estimates one band pass can compute",
