@@ -223,14 +223,6 @@ void pc_dm_pan_guard_tents(const double *img, uint32_t w, uint32_t h, const pc_m
  * undone, for each colour's own outputs, where the colour's ratio residual exceeds c_u times
  * its expected noise */
 #define PC_DM_PAN_HUE_UNSHRINK 0.25
-/* β (Round 19b): green's residual in the gate is max(e_p − β·(e_b − e_p), 0), e_b and e_p its
- * block's plain and ratio-model leave-one-out errors: the part of green's detail that the
- * ratio model against P̃ does not explain, less β times the part it does. Luminance detail that
- * P̃'s 5×5 filter passes in part (periods from about 5.5 px) is explained in part (e_p < e_b)
- * and drops out; hue detail P0 does not see is not (e_p ≈ e_b) and stays. pan-hue: 0.75,
- * pan-check's (Round 19e; until then 0, Round 16's gate on e_p itself, which fired on hue-free
- * texture at the (1, 1) block phases) */
-#define PC_DM_PAN_HUE_BETA 0.75
 /* the largest window radius r */
 #define PC_DM_PAN_HUE_RMAX 4
 
@@ -245,7 +237,8 @@ typedef struct pc_dm_pan_hue_params {
 	double force;                 /* < 0: the gate computed (the method); in [0, 1]: every
 	                               * red and blue gate set to it (tests: 0 is pan-guard, 1
 	                               * bayer-first's red and blue) */
-	double beta;                  /* PC_DM_PAN_HUE_BETA, >= 0 */
+	double beta;                  /* >= 0; pan-hue's default pan-check's PC_DM_PAN_CHECK_BETA
+	                               * (demosaic_pan_check.h, Round 19e) */
 } pc_dm_pan_hue_params;
 
 pc_dm_pan_hue_params pc_dm_pan_hue_defaults(void);

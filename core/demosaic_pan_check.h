@@ -31,7 +31,13 @@
 #define PC_DM_PAN_CHECK_NOISE_GREEN 1.0
 /* κ, pan-hue's cross-colour gate's weight (0: no gate) */
 #define PC_DM_PAN_CHECK_KAPPA 16.0
-/* β of the gate's green residual (pc_dm_pan_hue_params.beta; Round 19b) */
+/* β of the gate's green residual (pc_dm_pan_hue_params.beta; Round 19b): green's residual in
+ * the gate is max(e_p − β·(e_b − e_p), 0), e_b and e_p its block's plain and ratio-model
+ * leave-one-out errors: the part of green's detail that the ratio model against P̃ does not
+ * explain, less β times the part it does. Luminance detail that P̃'s 5×5 filter passes in part
+ * (periods from about 5.5 px) is explained in part (e_p < e_b) and drops out; hue detail P0 does
+ * not see is not (e_p ≈ e_b) and stays. pan-hue takes the same β (Round 19e; until then 0,
+ * Round 16's gate on e_p itself, which fired on hue-free texture at the (1, 1) block phases) */
 #define PC_DM_PAN_CHECK_BETA 0.75
 
 typedef struct pc_dm_pan_check_params {

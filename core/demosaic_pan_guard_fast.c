@@ -150,10 +150,10 @@ typedef struct guard_fast {
 	float force; /* < 0: the weights computed */
 	/* pan-check's additions (pc_dm_pan_guard_fast_run's chk; NULL: none) */
 	const pc_dm_guard_check *chk;
-	float nk[3];       /* the noise term per block colour */
-	int gate;          /* pan-hue's gate on */
-	unsigned qm[4][4]; /* the tents: channel q at column phase u, row phase v: qm[v][u] */
-	/* channel q's lattices (u, v) in qm's order (at most two kept) */
+	float nk[3]; /* the noise term per block colour */
+	int gate;    /* pan-hue's gate on */
+	/* the tents: channel q's lattices (u, v), q at column phase u and row phase v, in raster
+	 * order (at most two kept: gf_tent_src's 2·nql[q] terms) */
 	unsigned char ql[12][2][2], nql[12];
 	float tinv[12]; /* 1 / Σ T of channel q (1/16 red and blue, 1/32 green) */
 	int32_t *xmap;  /* grid column → raw column (pc_mirror4) */
@@ -870,14 +870,11 @@ static void gf_band_rows(void *ctx, uint32_t y0, uint32_t y1)
 	for (unsigned q = 0; q < 12; q++)
 		planar &= g->out[q].pixel_stride == 1;
 	int fuse_rb = cons5 && planar && !g->mode && gate, fuse_g = cons5 && planar && !g->mode;
-	for (unsigned q = 0; cons5 && q < 12; q++) {
-		const float *a[4];
-		float c[4];
-		const int n = gf_tent_src(g, &b, (int)y0, q, a, c);
+	for (unsigned q = 0; cons5 && q < 12; q++) { /* gf_tent_src's terms: 2·nql[q] */
 		if (q / 4 == 1)
-			fuse_g &= n == 4;
+			fuse_g &= g->nql[q] == 2;
 		else
-			fuse_rb &= n == 2;
+			fuse_rb &= g->nql[q] == 1;
 	}
 	const unsigned make = (fuse_rb ? 0x0f0u : 0xfffu) & (fuse_g ? 0xf0fu : 0xfffu);
 	for (uint32_t yu = y0; yu < y1; yu++) {
@@ -1020,13 +1017,10 @@ static int gf_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thre
 		unsigned nq[12] = {0};
 		for (unsigned v = 0; v < 4; v++)
 			for (unsigned u = 0; u < 4; u++) {
-				g.qm[v][u] = 4 * (unsigned)(pc_mosaic_color(m, u, v) - PC_CFA_R) +
-				             pc_mosaic_channel(m, u, v);
-				nq[g.qm[v][u]]++;
-			}
-		for (unsigned v = 0; v < 4; v++)
-			for (unsigned u = 0; u < 4; u++) {
-				const unsigned q = g.qm[v][u];
+				const unsigned q =
+				    4 * (unsigned)(pc_mosaic_color(m, u, v) - PC_CFA_R) +
+				    pc_mosaic_channel(m, u, v);
+				nq[q]++;
 				if (g.nql[q] < 2) {
 					g.ql[q][g.nql[q]][0] = (unsigned char)u;
 					g.ql[q][g.nql[q]++][1] = (unsigned char)v;

@@ -52,6 +52,7 @@
 
 #include "demosaic_noise.h"
 #include "demosaic_pan.h"
+#include "demosaic_pan_check.h"
 #include "polarcam/error.h"
 
 pc_dm_pan_hue_params pc_dm_pan_hue_defaults(void)
@@ -66,7 +67,7 @@ pc_dm_pan_hue_params pc_dm_pan_hue_defaults(void)
 	                          PC_DM_PAN_HUE_QUANT,
 	                          PC_DM_PAN_HUE_GREEN,
 	                          -1.0,
-	                          PC_DM_PAN_HUE_BETA};
+	                          PC_DM_PAN_CHECK_BETA};
 	return p;
 }
 
