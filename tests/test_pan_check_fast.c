@@ -17,7 +17,8 @@
  *    of full scale away from its base, and its gate is on;
  *  - three threads give one thread's outputs bit for bit (one band, or five at 40 × 300),
  *    interleaved outputs the planar ones;
- *  - forced weights 1 give pan-side's fast path bit for bit;
+ *  - forced weights 1 give pan-side's fast path bit for bit (six sizes, one and three
+ *    threads, a frame of two of pan-side's column strips);
  *  - the front door runs the fast path (its outputs bit for bit). */
 #include <math.h>
 #include <stdint.h>
@@ -220,11 +221,13 @@ static void test_against_reference(int L)
 	CHECK(gated > 0);
 }
 
-/* forced weights 1: pan-side's fast path bit for bit (1·I_p + 0·I_b, no gate) */
-static void test_forced_base(pc_cpu_level level)
+/* forced weights 1: pan-side's fast path bit for bit (1·I_p + 0·I_b, no gate), at six sizes and
+ * phases, one and three threads (one band, or several at 40 × 300), and 4112 columns, where
+ * pan-side's fast path takes two column strips */
+static void forced_base_at(pc_cpu_level level, uint32_t W, uint32_t H, int threads, int phase)
 {
-	const uint32_t W = 64, H = 48;
-	const pc_mosaic m = pc_mosaic_imx250myr();
+	const pc_mosaic m0 = pc_mosaic_imx250myr();
+	const pc_mosaic m = pc_mosaic_shift(&m0, (unsigned)phase, (unsigned)(3 * phase % 4));
 	double *img = malloc(sizeof(double) * W * H);
 	float *imgf = malloc(sizeof(float) * W * H);
 	pc_fplane f[12], b[12];
@@ -233,7 +236,7 @@ static void test_forced_base(pc_cpu_level level)
 	const pc_dm_input in = pc_dm_input_f32(imgf, W, H);
 	pc_dm_pan_check_params p = pc_dm_pan_check_defaults();
 	p.force = 1;
-	CHECK_EQ_INT(pc_dm_pan_check_fast_with(&in, &m, FS, 1, level, &p, f), 0);
+	CHECK_EQ_INT(pc_dm_pan_check_fast_with(&in, &m, FS, threads, level, &p, f), 0);
 	CHECK_EQ_INT(pc_dm_pan_side_fast(&in, &m, FS, 1, level, b), 0);
 	int eq = 1;
 	for (unsigned q = 0; q < 12; q++)
@@ -241,6 +244,28 @@ static void test_forced_base(pc_cpu_level level)
 			for (uint32_t x = 0; x < W; x++)
 				eq &= fget(&f[q], x, y) == fget(&b[q], x, y);
 	CHECK(eq);
+	free(img);
+	free(imgf);
+	free(fb);
+	free(bb);
+}
+
+static void test_forced_base(pc_cpu_level level)
+{
+	static const uint32_t sz[][2] = {{64, 48},  {10, 14},  {34, 20},
+	                                 {150, 36}, {40, 300}, {4112, 8}};
+	for (unsigned z = 0; z < sizeof sz / sizeof sz[0]; z++)
+		for (int t = 1; t <= 3; t += 2)
+			forced_base_at(level, sz[z][0], sz[z][1], t, (int)(z % 4));
+	const uint32_t W = 64, H = 48;
+	const pc_mosaic m = pc_mosaic_imx250myr();
+	double *img = malloc(sizeof(double) * W * H);
+	float *imgf = malloc(sizeof(float) * W * H);
+	pc_fplane f[12];
+	float *fb = alloc_planes(W, H, f);
+	make_raw_kind(1, &m, W, H, img, imgf);
+	const pc_dm_input in = pc_dm_input_f32(imgf, W, H);
+	pc_dm_pan_check_params p;
 	/* the variants without a fast path are refused */
 	p = pc_dm_pan_check_defaults();
 	p.base = 1;
@@ -254,7 +279,6 @@ static void test_forced_base(pc_cpu_level level)
 	free(img);
 	free(imgf);
 	free(fb);
-	free(bb);
 }
 
 int main(void)
