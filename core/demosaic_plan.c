@@ -191,8 +191,14 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_BAYER_FIRST] = {{PC_DM_BAYER_FIRST, "bayer-first",
                             "colour-polarization: bilinear Bayer demosaicking of each analyser "
                             "sub-image, then bilinear up-sampling of the analysers; the colour "
-                            "baseline (synthetic colour track: S0 44.7 dB, DoLP 32.4 dB; "
-                            "per-scene figures not measured yet)",
+                            "baseline, which the colour methods' gains are measured against; "
+                            "its own S0/DoLP PSNR (bench colour), mean (worst scene): smooth "
+                            "colours (9) 45.41/33.76 dB (40.44 fabrics/27.64 macbeth_classic), "
+                            "hue patches (9) 32.26/18.84 (28.26/17.78 fabrics), colour stress "
+                            "suite (5) 30.25/19.11 (18.82/17.48 gratings), noisy copies (4) "
+                            "41.00/10.07 (37.95 gratings_g24/8.40 patches_g24), hue-pair scenes "
+                            "(5) 23.03/13.21 (16.22 gm_bars/10.72 gm_bars_g18); synthetic "
+                            "colour track S0 44.7, DoLP 32.4 (docs/demosaicking.md, Round 20)",
                             "one pass, the two bilinear steps' weights composed; 10x bilinear's "
                             "instructions (callgrind, 2448x2048, AVX2, Round 15d; the two-step "
                             "path it replaced 20x); 9.3-11.4x mono bilinear's time near idle "
