@@ -25,7 +25,6 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <assert.h>
 #include <string.h>
 
 #include "demosaic_ref.h"
@@ -359,10 +358,9 @@ struct pc_dm_bf_band {
 	float *grow[8]; /* pc_dm_bayer_first_band_gmean's raw rows masked to green, by row & 7 */
 	int32_t ghave[8];
 	int32_t mgr[4]; /* its M_G rows in mk[row & 3] (bf_mg_row), -1: none */
-	/* rows lent by pc_dm_bayer_first_band_put_row: the ring holds only their BF_EDGE columns
-	 * at either end (part), the rest read from the caller's row (lent) by the same
-	 * _gmean call */
-	unsigned char part[8];
+	/* rows lent by pc_dm_bayer_first_band_put_row (NULL: none): the ring holds only their
+	 * BF_EDGE columns at either end, the rest read from the caller's row by the same _gmean
+	 * call */
 	const float *lent[8];
 	int mgfull[4]; /* ... for every column, else the border ones */
 };
@@ -432,15 +430,15 @@ static void bf_ring_load(pc_dm_bf_band *b, uint32_t y, int full)
 	const uint32_t h = b->j.h;
 	const int lo = (int)y - 3 < 0 ? 0 : (int)y - 3, hi = y + 3 < h ? (int)y + 3 : (int)h - 1;
 	for (int i = 0; full && i < 8; i++)
-		if (b->part[i]) {
+		if (b->lent[i]) {
 			pc_dm_row_to_float(b->j.in, (uint32_t)b->ring.have[i], b->ring.row[i]);
-			b->part[i] = 0;
+			b->lent[i] = NULL;
 		}
 	for (int r = lo; r <= hi; r++)
 		if (b->ring.have[r & 7] != r) {
 			pc_dm_row_to_float(b->j.in, (uint32_t)r, b->ring.row[r & 7]);
 			b->ring.have[r & 7] = r;
-			b->part[r & 7] = 0;
+			b->lent[r & 7] = NULL;
 		}
 }
 
@@ -592,8 +590,7 @@ void pc_dm_bayer_first_band_gmean(pc_dm_bf_band *b, uint32_t y, float *out)
 		if (border || b->ghave[r & 7] == r)
 			continue;
 		const float *mg = j->cmask + (4 + ((uint32_t)r & 3)) * (size_t)w,
-		            *src = b->part[r & 7] ? b->lent[r & 7] : ring->row[r & 7];
-		assert(src);
+		            *src = b->lent[r & 7] ? b->lent[r & 7] : ring->row[r & 7];
 		if (j->level >= PC_CPU_AVX512)
 			bf_gmask_avx512(src, mg, (long)w, b->grow[r & 7]);
 		else if (j->level >= PC_CPU_AVX2)
@@ -641,16 +638,15 @@ void pc_dm_bayer_first_band_put_row(pc_dm_bf_band *b, uint32_t y, const float *s
 	float *d = b->ring.row[y & 7];
 	if (w <= 2 * BF_EDGE) {
 		memcpy(d, src, sizeof(float) * w);
-		b->part[y & 7] = 0;
+		b->lent[y & 7] = NULL;
 	} else {
 		memcpy(d, src, sizeof(float) * BF_EDGE);
 		memcpy(d + w - BF_EDGE, src + w - BF_EDGE, sizeof(float) * BF_EDGE);
-		b->part[y & 7] = 1;
+		b->lent[y & 7] = src;
 	}
 	d[-1] = d[w > 1 ? 1 : 0]; /* pc_dm_row_to_float's mirror */
 	d[w] = d[w > 1 ? w - 2 : 0];
 	b->ring.have[y & 7] = (int32_t)y;
-	b->lent[y & 7] = src;
 }
 
 void pc_dm_bayer_first_band_free(pc_dm_bf_band *b)

@@ -644,74 +644,54 @@ static void gf_tent_sel(const guard_fast *g, int by0, unsigned k, int si[2][2])
 	}
 }
 
-/* W_k of output row y into b->wr[k]. The tent T = T_x·T_y on the block centres is separable:
- * the row's four block rows t (by = by0 + 2t) weigh T_y(t), the vertical sums A_p[i] =
- * Σ_{t ≡ p (mod 2)} T_y(t)·w(i, j_t) of the two block-row parities p, then per pixel the four
- * block columns s with T_x(s); the four parity pairs (s mod 2, p) are the colour blocks' Bayer
- * pattern (red, blue and two greens), and every pair's T sums to (T_x(s) + T_x(s + 2))·(T_y(p)
- * + T_y(p + 2)) = 8·8 (the tents {1, 5, 7, 3} or {3, 7, 5, 1}), so W_k = Σ/64 (green: Σ/128).
- * The same weights as the reference's sum over the sixteen blocks, in another order. */
-static void gf_tent_vals(const guard_fast *g, gf_band *b, int y, float *ring, float *wr[3])
+/* W_k of output row y into b->wr[k] and, with pan-check's gate, D_k of red and blue into
+ * b->dr, the gates' tents in the same passes as the weights' (gk_vtent2, gk_htent2,
+ * gk_wsel1x2). The tent T = T_x·T_y on the block centres is separable: the row's four block
+ * rows t (by = by0 + 2t) weigh T_y(t), the vertical sums A_p[i] = Σ_{t ≡ p (mod 2)}
+ * T_y(t)·w(i, j_t) of the two block-row parities p, then per pixel the four block columns s with
+ * T_x(s); the four parity pairs (s mod 2, p) are the colour blocks' Bayer pattern (red, blue and
+ * two greens), and every pair's T sums to (T_x(s) + T_x(s + 2))·(T_y(p) + T_y(p + 2)) = 8·8 (the
+ * tents {1, 5, 7, 3} or {3, 7, 5, 1}), so W_k = Σ/64 (green: Σ/128). The same weights as the
+ * reference's sum over the sixteen blocks, in another order. */
+static void gf_tent_vals(const guard_fast *g, gf_band *b, int y)
 {
 	const size_t nxp = gf_nxp(g);
 	const long w = (long)g->w;
-	const int by0 = (y - 3) & ~1, j0 = (by0 + g->XB) / 2;
-	float ty[4];
-	const float *wb[4];
-	for (int t = 0; t < 4; t++) {
-		ty[t] = (float)(8 - abs(2 * (by0 + 2 * t - y) + 1));
-		wb[t] = gf_ring(ring, j0 + t, GF_RW, nxp);
-	}
-	g->k->vtent(wb[0], wb[2], ty[0], ty[2], g->NBX, b->A[0]);
-	g->k->vtent(wb[1], wb[3], ty[1], ty[3], g->NBX, b->A[1]);
-	/* P[2p + s]: the pair (block column parity s relative to i0, block row parity p) */
-	const long nm = (w + 1) / 2, c = g->XB / 2 - 2;
-	for (int p = 0; p < 2; p++)
-		g->k->htent(b->A[p], nm, c, b->P[2 * p], b->P[2 * p + 1]);
-	for (unsigned k = 0; k < 3; k++) {
-		int si[2][2];
-		gf_tent_sel(g, by0, k, si);
-		const float *sel[2][2] = {{b->P[si[0][0]], b->P[si[0][1]]},
-		                          {b->P[si[1][0]], b->P[si[1][1]]}};
-		if (k == 1)
-			g->k->wsel2(sel[0][0], sel[0][1], sel[1][0], sel[1][1], g->qf, g->nf, w,
-			            1.0f / 128, wr[k]);
-		else
-			g->k->wsel1(sel[0][0], sel[1][0], g->qf, g->nf, w, 1.0f / 64, wr[k]);
-	}
-}
-
-/* pan-check: W_k of output row y into b->wr[k] and D_k of red and blue into b->dr, the gates'
- * tents in the same passes as the weights' (gf_tent_vals' steps) */
-static void gf_tent_wd(const guard_fast *g, gf_band *b, int y)
-{
-	const size_t nxp = gf_nxp(g);
-	const long w = (long)g->w;
-	const int by0 = (y - 3) & ~1, j0 = (by0 + g->XB) / 2;
+	const int by0 = (y - 3) & ~1, j0 = (by0 + g->XB) / 2, gate = g->gate;
 	float ty[4];
 	const float *wb[4], *gb[4];
 	for (int t = 0; t < 4; t++) {
 		ty[t] = (float)(8 - abs(2 * (by0 + 2 * t - y) + 1));
 		wb[t] = gf_ring(b->wb, j0 + t, GF_RW, nxp);
-		gb[t] = gf_ring(b->gt, j0 + t, GF_RW, nxp);
+		gb[t] = gate ? gf_ring(b->gt, j0 + t, GF_RW, nxp) : NULL;
 	}
 	for (int p = 0; p < 2; p++)
-		g->k->vtent2(wb[p], wb[p + 2], gb[p], gb[p + 2], ty[p], ty[p + 2], g->NBX, b->A[p],
-		             b->AD[p]);
+		if (gate)
+			g->k->vtent2(wb[p], wb[p + 2], gb[p], gb[p + 2], ty[p], ty[p + 2], g->NBX,
+			             b->A[p], b->AD[p]);
+		else
+			g->k->vtent(wb[p], wb[p + 2], ty[p], ty[p + 2], g->NBX, b->A[p]);
+	/* P[2p + s]: the pair (block column parity s relative to i0, block row parity p) */
 	const long nm = (w + 1) / 2, c = g->XB / 2 - 2;
 	for (int p = 0; p < 2; p++)
-		g->k->htent2(b->A[p], b->AD[p], nm, c, b->P[2 * p], b->P[2 * p + 1], b->PD[2 * p],
-		             b->PD[2 * p + 1]);
+		if (gate)
+			g->k->htent2(b->A[p], b->AD[p], nm, c, b->P[2 * p], b->P[2 * p + 1],
+			             b->PD[2 * p], b->PD[2 * p + 1]);
+		else
+			g->k->htent(b->A[p], nm, c, b->P[2 * p], b->P[2 * p + 1]);
 	for (unsigned k = 0; k < 3; k++) {
 		int si[2][2];
 		gf_tent_sel(g, by0, k, si);
 		if (k == 1)
 			g->k->wsel2(b->P[si[0][0]], b->P[si[0][1]], b->P[si[1][0]], b->P[si[1][1]],
 			            g->qf, g->nf, w, 1.0f / 128, b->wr[1]);
-		else
+		else if (gate)
 			g->k->wsel1x2(b->P[si[0][0]], b->P[si[1][0]], b->PD[si[0][0]],
 			              b->PD[si[1][0]], g->qf, g->nf, w, 1.0f / 64, b->wr[k],
 			              b->dr[k / 2]);
+		else
+			g->k->wsel1(b->P[si[0][0]], b->P[si[1][0]], g->qf, g->nf, w, 1.0f / 64,
+			            b->wr[k]);
 	}
 }
 
@@ -721,10 +701,7 @@ static void gf_tent_row(const guard_fast *g, gf_band *b, int y)
 {
 	const int j0 = (((y - 3) & ~1) + g->XB) / 2;
 	gf_weight_to(g, b, j0 + 3);
-	if (g->gate)
-		gf_tent_wd(g, b, y);
-	else
-		gf_tent_vals(g, b, y, b->wb, b->wr);
+	gf_tent_vals(g, b, y);
 }
 
 /* raw row pc_mirror4(t, h) from E's ring, its column x at [x] for x in [−4, w + 4) (mirrored by
