@@ -472,11 +472,33 @@ static double side_d(const chroma_ref *c, double delta, int x, int y, int dx, in
 	       fabs(side_u(c, delta, x + dx, y + dy, 1) - side_u(c, delta, x, y, 1));
 }
 
-/* the factors f[0] (W or N, distance d0) and f[1] (E or S, distance d1) */
-static void side_f(double d0, double d1, double f[2])
+/* pan-lean's block terms (below): g the frame's noise gain and F its floor (raw units); xs,
+ * when set, receives every channel's tents of the raw itself (num's weights) */
+typedef struct lean_side {
+	double g, F;
+	double *xs;
+} lean_side;
+
+/* pan-lean's D: pan-side's plus μ times the blocks' relative P̃ step */
+static double lean_d(const chroma_ref *c, double delta, int x, int y, int dx, int dy)
 {
-	double a0 = 1 / ((PAN_SEPS + d0) * (PAN_SEPS + d0)),
-	       a1 = 1 / ((PAN_SEPS + d1) * (PAN_SEPS + d1));
+	const double pa = fmax(c->p0[cidx(c, (x + dx) & ~1, (y + dy) & ~1)], 0) + delta,
+	             pb = fmax(c->p0[cidx(c, x & ~1, y & ~1)], 0) + delta;
+	return side_d(c, delta, x, y, dx, dy) + PC_DM_PAN_LEAN_MU * fabs(pa - pb) / fmin(pa, pb);
+}
+
+/* pan-lean's ε at (x, y)'s block: pan-side's plus κ_n times the hue's noise, σ(P̃)/P̃ with
+ * σ² = g·(max(P0, 0) + F) */
+static double lean_eps(const chroma_ref *c, double delta, const lean_side *ls, int x, int y)
+{
+	const double p = fmax(c->p0[cidx(c, x & ~1, y & ~1)], 0);
+	return PAN_SEPS + PC_DM_PAN_LEAN_KN * sqrt(ls->g * (p + ls->F)) / (p + delta);
+}
+
+/* the factors f[0] (W or N, distance d0) and f[1] (E or S, distance d1) */
+static void side_f(double d0, double d1, double eps, double f[2])
+{
+	double a0 = 1 / ((eps + d0) * (eps + d0)), a1 = 1 / ((eps + d1) * (eps + d1));
 	f[0] = 2 * a0 / (a0 + a1);
 	f[1] = 2 * a1 / (a0 + a1);
 }
@@ -485,35 +507,64 @@ static void side_f(double d0, double d1, double f[2])
  * factors and the range scales ev (the vertical weights, centre (x, y)) and eh[dy + 3] (the
  * horizontal weights of tap row y + dy). pan-side passes its e everywhere, pan-adapt its
  * relative scale (below). */
-static void side_sums(const pan_ref *r, const chroma_ref *c, int x, int y, double ev,
-                      const double eh[7], double num[12], double den[12])
+/* the factors f[0] (W or N) and f[1] (E or S) of the blocks (x, y) ∓ (dx, dy) against (x, y)'s
+ * block: pan-side's, or pan-lean's with ls */
+static void side_pair(const pan_ref *r, const chroma_ref *c, const lean_side *ls, int x, int y,
+                      int dx, int dy, double f[2])
+{
+	if (!ls) {
+		side_f(side_d(c, r->delta, x, y, -dx, -dy), side_d(c, r->delta, x, y, dx, dy),
+		       PAN_SEPS, f);
+		return;
+	}
+	const double d0 = lean_d(c, r->delta, x, y, -dx, -dy),
+	             d1 = lean_d(c, r->delta, x, y, dx, dy);
+	side_f(d0, d1, lean_eps(c, r->delta, ls, x, y) + PC_DM_PAN_LEAN_KT * fmin(d0, d1), f);
+}
+
+/* pan-side's sums at (x, y) (above): num_q, den_q of every channel's tents, with the side
+ * factors and the range scales ev (the vertical weights, centre (x, y)) and eh[dy + 3] (the
+ * horizontal weights of tap row y + dy). pan-side passes its e everywhere, pan-adapt its
+ * relative scale (below). With ls (pan-lean) the tents carry the side factors alone (no range
+ * weights: ev and eh unused), the factors are pan-lean's, and ls->xs, when set, receives the
+ * same tents of the raw: xs_q / den_q. */
+static void side_sums(const pan_ref *r, const chroma_ref *c, const lean_side *ls, int x, int y,
+                      double ev, const double eh[7], double num[12], double den[12])
 {
 	double p0 = c->p0[cidx(c, x, y)], fv[2];
-	for (unsigned q = 0; q < 12; q++)
+	double *xs = ls ? ls->xs : NULL;
+	for (unsigned q = 0; q < 12; q++) {
 		num[q] = den[q] = 0;
-	side_f(side_d(c, r->delta, x, y, 0, -PAN_SST), side_d(c, r->delta, x, y, 0, PAN_SST), fv);
+		if (xs)
+			xs[q] = 0;
+	}
+	side_pair(r, c, ls, x, y, 0, PAN_SST, fv);
 	for (int dy = -3; dy <= 3; dy++) {
 		double p0r = c->p0[cidx(c, x, y + dy)], fh[2];
-		double wv = (4 - abs(dy)) / (ev + fabs(p0r - p0));
+		double wv = ls ? 4 - abs(dy) : (4 - abs(dy)) / (ev + fabs(p0r - p0));
 		wv *= dy < 0 ? fv[0] : dy > 0 ? fv[1] : 1;
-		side_f(side_d(c, r->delta, x, y + dy, -PAN_SST, 0),
-		       side_d(c, r->delta, x, y + dy, PAN_SST, 0), fh);
+		side_pair(r, c, ls, x, y + dy, PAN_SST, 0, fh);
 		for (int s = 0; s < 4; s++) {
 			/* row y + dy's taps of column phase s: H_s */
-			double hn = 0, hd = 0;
+			double hn = 0, hd = 0, hx = 0;
 			for (int d = -3; d <= 3; d++) {
 				if ((((x + d) % 4) + 4) % 4 != s)
 					continue;
 				double wh =
-				    (4 - abs(d)) /
-				    (eh[dy + 3] + fabs(c->p0[cidx(c, x + d, y + dy)] - p0r));
+				    ls ? 4 - abs(d)
+				       : (4 - abs(d)) / (eh[dy + 3] +
+				                         fabs(c->p0[cidx(c, x + d, y + dy)] - p0r));
 				wh *= d < 0 ? fh[0] : d > 0 ? fh[1] : 1;
 				hn += wh * c->rho[cidx(c, x + d, y + dy)];
+				if (xs)
+					hx += wh * ext(r, x + d, y + dy);
 				hd += wh;
 			}
-			int xs = x - (((x - s) % 4) + 4) % 4;
-			unsigned q = chan(r, xs, y + dy);
+			int xc = x - (((x - s) % 4) + 4) % 4;
+			unsigned q = chan(r, xc, y + dy);
 			num[q] += wv * hn / hd;
+			if (xs)
+				xs[q] += wv * hx / hd;
 			den[q] += wv;
 		}
 	}
@@ -537,7 +588,7 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
 		for (int x = 0; x < c.w; x++) {
 			double num[12], den[12];
 			const double eh[7] = {r.e, r.e, r.e, r.e, r.e, r.e, r.e};
-			side_sums(&r, &c, x, y, r.e, eh, num, den);
+			side_sums(&r, &c, NULL, x, y, r.e, eh, num, den);
 			put_pixel(&r, x, y, num, den, out);
 			if (rown) {
 				unsigned own = chan(&r, x, y);
@@ -546,6 +597,83 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
 		}
 	free(c.p0);
 	return 0;
+}
+
+/* pan-lean (docs/demosaicking.md, Round 21): pan-side's tents without their range weights, the
+ * side factors made aware of noise, fine hue texture and luminance steps, the other colours'
+ * level the smooth P̃ instead of the own sample's, and every output blended towards the same
+ * tents of the raw where its difference from them is within the noise. With P̃ = max(P0, 0) + δ,
+ * g the frame's noise gain (demosaic_noise.h: variance g·(L + F)) and every constant in
+ * demosaic_pan.h:
+ *
+ *  1. Side distances D = ‖u(B′) − u(B)‖₁ + μ·|P̃(B′) − P̃(B)|/min(P̃(B′), P̃(B)) (pan-side's hue
+ *     distance plus a relative luminance step, both at the blocks' corners), factors
+ *     f = 2a/(a_0 + a_1), a = (ε_B + D)⁻², with ε_B = ε + κ_n·√(g·(max(P0(B), 0) + F))/P̃(B) +
+ *     κ_t·min(D_0, D_1): the hue's noise at the block (its scale σ/P̃) and, where the hue
+ *     differs on both sides (texture finer than the blocks, where the factors would pick a
+ *     side by aliasing), the smaller distance flatten the factors; a one-sided edge keeps them.
+ *  2. Tents (4 − |d|)·f along the rows and (4 − |dy|)·f down the columns (pan-side's with
+ *     e → ∞), giving each channel's ratio R_q = num_q/den_q and the tents of the raw
+ *     A_q = xs_q/den_q (the same weights).
+ *  3. The own colour's level L = (max(x_p, 0) + δ)/R_own cored against its noise: L_o = P̃ +
+ *     s·(L − P̃), s = d²/(d² + c_s·σ_L²), d = L − P̃, σ_L² = g·(max(x_p, 0) + F)/R_own² (a
+ *     Wiener-type factor of one sample; 0/0 → 1); the other colours' level is P̃ (no detail of
+ *     the own sample's colour goes into them: Round 20 (e)).
+ *  4. O_q = level·R_q − δ, and I_q = A_q + a·(O_q − A_q), a = e²/(e² + c_a·g·(max(A_q, 0) + F)),
+ *     e = O_q − A_q (0/0 → 1): where the ratio model's detail is within the noise of the plain
+ *     tents, the plain tents. The own channel keeps the sample.
+ *
+ * With g = 0 steps 3 and 4 are identities (s = a = 1). With g → ∞ every output but the own
+ * sample becomes A_q with flat factors: the plain tents (4 − |d|)(4 − |dy|) over the channel's
+ * samples, bayer-first's red and blue (Round 17). */
+int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                         double g, const pc_fplane *out)
+{
+	if (!(g >= 0) || !isfinite(g))
+		return pc_error(PC_EINVAL, "pan-lean: noise gain %g, expected finite and >= 0", g);
+	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, 0};
+	chroma_ref c;
+	int rc = chroma_prepare(&r, &c, "pan-lean");
+	if (rc)
+		return rc;
+	const double F = PC_DM_NG_FLOOR * fs;
+	for (int y = 0; y < c.h; y++)
+		for (int x = 0; x < c.w; x++) {
+			double num[12], den[12], xs[12];
+			const lean_side ls = {g, F, xs};
+			side_sums(&r, &c, &ls, x, y, 0, NULL, num, den);
+			const unsigned own = chan(&r, x, y);
+			const double v = img[(size_t)y * w + (size_t)x];
+			const double pt = fmax(c.p0[cidx(&c, x, y)], 0) + r.delta;
+			const double ro = den[own] / num[own]; /* 1 / R_own */
+			const double d = (fmax(v, 0) + r.delta) * ro - pt;
+			const double vl = PC_DM_PAN_LEAN_CS * g * (fmax(v, 0) + F) * ro * ro;
+			const double lo = pt + (d * d + vl > 0 ? d * d / (d * d + vl) : 1) * d;
+			for (unsigned q = 0; q < 12; q++) {
+				double o = v;
+				if (q != own) {
+					const double a = xs[q] / den[q];
+					const double e =
+					    (q / 4 == own / 4 ? lo : pt) * num[q] / den[q] -
+					    r.delta - a;
+					const double va = PC_DM_PAN_LEAN_CA * g * (fmax(a, 0) + F);
+					o = a + (e * e + va > 0 ? e * e / (e * e + va) : 1) * e;
+				}
+				const pc_fplane *pl = &out[q];
+				pl->data[(size_t)y * pl->row_stride +
+				         (size_t)x * pl->pixel_stride] = (float)o;
+			}
+		}
+	free(c.p0);
+	return 0;
+}
+
+int pc_dm_pan_lean_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                       const pc_fplane *out)
+{
+	double g = 0;
+	int rc = pc_dm_noise_gain_d(img, w, h, m, fs, &g);
+	return rc ? rc : pc_dm_pan_lean_ref_g(img, w, h, m, fs, fmax(g, 0), out);
 }
 
 /* pan-adapt: pan-side with two changes (docs/demosaicking.md, Rounds 13c, 13d and 14), with
@@ -645,7 +773,7 @@ int pc_dm_pan_adapt_ref_own(const double *img, uint32_t w, uint32_t h, const pc_
 			for (int dy = -3; dy <= 3; dy++)
 				eh[dy + 3] = p->e_fs * fs +
 				             p->ke * adapt_mean(&c, r.delta, x, y + dy, p->re);
-			side_sums(&r, &c, x, y, ev, eh, num, den);
+			side_sums(&r, &c, NULL, x, y, ev, eh, num, den);
 			if (rown) {
 				unsigned own = chan(&r, x, y);
 				rown[(size_t)y * w + (size_t)x] = num[own] / den[own];
@@ -2139,7 +2267,8 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	                                    pc_dm_pan_guard_ref_g, pc_dm_pan_guard_fast_g},
 	                           hue = {pc_dm_pan_hue_ref, NULL, NULL, NULL},
 	                           check = {pc_dm_pan_check_ref, pc_dm_pan_check_fast, NULL, NULL},
-	                           split = {pc_dm_pan_split_ref, NULL, NULL, NULL};
+	                           split = {pc_dm_pan_split_ref, NULL, NULL, NULL},
+	                           lean = {pc_dm_pan_lean_ref, NULL, NULL, NULL};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma
@@ -2150,6 +2279,7 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	       : m == PC_DM_PAN_HUE    ? &hue
 	       : m == PC_DM_PAN_CHECK  ? &check
 	       : m == PC_DM_PAN_SPLIT  ? &split
+	       : m == PC_DM_PAN_LEAN   ? &lean
 	                               : NULL;
 }
 

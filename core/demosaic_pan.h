@@ -32,6 +32,23 @@ int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, in
 int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                            const pc_fplane *out, double *rown);
 
+/* pan-lean (docs/demosaicking.md, Round 21): pan-side's tents without range weights, side
+ * factors aware of noise, fine hue texture and luminance steps, the other colours' level P̃,
+ * each output blended towards the plain tents within the noise; demosaic_pan.c states the
+ * formulas. The five constants were picked on the development sets by Round 17's margin
+ * (Round 21: margin >= 0 at μ 0.0625 and 0.125, κ_t 1 and 1.5; -0.002 at μ 0.25). */
+#define PC_DM_PAN_LEAN_MU 0.125 /* μ: the side distance's relative luminance step */
+#define PC_DM_PAN_LEAN_KN 4.0   /* κ_n: ε's hue noise term */
+#define PC_DM_PAN_LEAN_KT 1.0   /* κ_t: ε's texture term, times the smaller side distance */
+#define PC_DM_PAN_LEAN_CS 1.0   /* c_s: the own colour's level cored against one sample's noise */
+#define PC_DM_PAN_LEAN_CA 1.0   /* c_a: each output's blend towards the plain tents */
+/* pan-lean's double reference (the frame's noise gain estimated by pc_dm_noise_gain_d), and the
+ * same with a given noise gain g >= 0 (raw units; PC_EINVAL otherwise) */
+int pc_dm_pan_lean_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                       const pc_fplane *out);
+int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                         double g, const pc_fplane *out);
+
 /* pan-adapt (docs/demosaicking.md, Round 14): pan-side with a range scale relative to the local
  * signal and the ratio step's level shrunk towards its local mean where the frame's noise
  * (demosaic_noise.h) is of the order of the local variation. Every parameter of the definition

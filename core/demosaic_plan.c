@@ -86,6 +86,10 @@
  * more: ±(r + 6) */
 #define PAN_SPLIT_HI (PC_DM_PAN_SPLIT_R + 6 > 9 ? PC_DM_PAN_SPLIT_R + 6 : 9)
 #define PAN_SPLIT_LO (-PAN_SPLIT_HI)
+/* pan-lean ±8, for a given noise gain: pan-side's (its side factors read the same blocks, their
+ * P̃ at the blocks' corners inside the hue's support; the raw's tents the ratios' taps) */
+#define PAN_LEAN_LO -8
+#define PAN_LEAN_HI 8
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_SUPERPIXEL_HALF] = {{PC_DM_SUPERPIXEL_HALF, "superpixel-half",
                                 "no interpolation error, half resolution; 2x2 IFoV misregistration "
@@ -709,6 +713,23 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          false,
                          PC_DM_PAN_SPLIT,
                          false},
+    [PC_DM_PAN_LEAN] = {{PC_DM_PAN_LEAN, "pan-lean",
+                         "colour-polarization: pan-side's tents without range weights, side "
+                         "factors flattened by the hue's noise and by texture finer than the "
+                         "blocks, the other colours' level the smooth P0, each output blended "
+                         "towards the plain tents where its detail is within the noise; figures: "
+                         "docs/demosaicking.md, Round 21",
+                         "double reference only (no fast path yet), for evaluation",
+                         "ours (docs/demosaicking.md, Round 21): pan-side (Round 13) with "
+                         "GBTF-style side weights (Pekkucuksen & Altunbasak, ICIP 2010) and "
+                         "Wiener-type coring (Round 20 (e))",
+                         PC_DMF_COLOR | PC_DMF_REFERENCE_ONLY},
+                        {PAN_LEAN_LO, PAN_LEAN_HI, 1, 1},
+                        NULL,
+                        NULL,
+                        false,
+                        PC_DM_PAN_LEAN,
+                        false},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)

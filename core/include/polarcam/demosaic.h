@@ -79,6 +79,9 @@ typedef enum pc_demosaic_method {
 	PC_DM_PAN_SPLIT,   /* colour only: a pan estimate whose ratio step carries green's detail
 	                    * into red and blue (and theirs into green) only as far as the local
 	                    * luminance outweighs the green-magenta chrominance (ours) */
+	PC_DM_PAN_LEAN,    /* colour only: plain pan tents with noise- and texture-aware side
+	                    * factors, each output blended towards the plain tents within the
+	                    * noise (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
