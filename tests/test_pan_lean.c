@@ -52,10 +52,11 @@ static void test_uniform(void)
 		for (int gi = 0; gi < 2; gi++) {
 			pc_mosaic m = pc_mosaic_shift(&base, ph % 4, ph / 4);
 			make_raw(f_uniform, &m, W, H, img, truth);
-			CHECK_EQ_INT(pc_dm_pan_lean_ref_g(img, W, H, &m, 4095, gi ? 5.0 : 0.0, o), 0);
+			CHECK_EQ_INT(pc_dm_pan_lean_ref_g(img, W, H, &m, 4095, gi ? 5.0 : 0.0, o),
+			             0);
 			double e = max_rel_error(ob, truth, n);
-			printf("  uniform, phase %2u, g %g: max relative error %.3g\n", ph, gi ? 5.0 : 0.0,
-			       e);
+			printf("  uniform, phase %2u, g %g: max relative error %.3g\n", ph,
+			       gi ? 5.0 : 0.0, e);
 			CHECK(e < 1e-6);
 		}
 	free(ob);
@@ -93,7 +94,8 @@ static void test_noise_limit(void)
 		CHECK_EQ_INT(pc_dm_bayer_first_ref(img, W, H, &m, PC_DM_BILINEAR, 4095, b), 0);
 		double dtent[2] = {0, 0}, dbf = 0;
 		for (int gi = 0; gi < 2; gi++) {
-			CHECK_EQ_INT(pc_dm_pan_lean_ref_g(img, W, H, &m, 4095, gi ? 1e16 : 0, o), 0);
+			CHECK_EQ_INT(pc_dm_pan_lean_ref_g(img, W, H, &m, 4095, gi ? 1e16 : 0, o),
+			             0);
 			for (uint32_t y = 8; y < H - 8; y++)
 				for (uint32_t x = 8; x < W - 8; x++) {
 					const unsigned own = chan_of(&m, x, y);
@@ -101,10 +103,13 @@ static void test_noise_limit(void)
 					for (unsigned q = 0; q < 12; q++) {
 						if (q == own)
 							continue;
-						const double t = plain_tent(img, &m, W, q, (int)x, (int)y);
-						dtent[gi] = fmax(dtent[gi], fabs(ob[q * np + i] - t));
+						const double t =
+						    plain_tent(img, &m, W, q, (int)x, (int)y);
+						dtent[gi] =
+						    fmax(dtent[gi], fabs(ob[q * np + i] - t));
 						if (gi && q / 4 != 1)
-							dbf = fmax(dbf, fabs(ob[q * np + i] - bb[q * np + i]));
+							dbf = fmax(dbf, fabs(ob[q * np + i] -
+							                     bb[q * np + i]));
 					}
 				}
 		}
@@ -139,7 +144,8 @@ static void test_hue_pair(void)
 			double el = rms_colour(lb, truth, k, W, H, 8),
 			       es = rms_colour(sb, truth, k, W, H, 8),
 			       eb = rms_colour(bb, truth, k, W, H, 8);
-			printf("  green/magenta bars, phase %2u, %s: rms error pan-lean %.2f, pan-side "
+			printf("  green/magenta bars, phase %2u, %s: rms error pan-lean %.2f, "
+			       "pan-side "
 			       "%.2f, bayer-first %.2f DN\n",
 			       ph, k ? "blue" : "red", el, es, eb);
 			CHECK(el < 0.85 * es);
@@ -169,9 +175,11 @@ static void test_noisy_flat(void)
 	CHECK_EQ_INT(pc_dm_pan_side_ref(img, W, H, &m, 4095, s), 0);
 	CHECK_EQ_INT(pc_dm_bayer_first_ref(img, W, H, &m, PC_DM_BILINEAR, 4095, b), 0);
 	for (unsigned k = 0; k < 3; k++) {
-		double el = rms_colour(lb, truth, k, W, H, 8), es = rms_colour(sb, truth, k, W, H, 8),
+		double el = rms_colour(lb, truth, k, W, H, 8),
+		       es = rms_colour(sb, truth, k, W, H, 8),
 		       eb = rms_colour(bb, truth, k, W, H, 8);
-		printf("  flat noisy field (g %.1f), colour %u: rms error pan-lean %.2f, pan-side %.2f, "
+		printf("  flat noisy field (g %.1f), colour %u: rms error pan-lean %.2f, pan-side "
+		       "%.2f, "
 		       "bayer-first %.2f DN\n",
 		       g, k, el, es, eb);
 		CHECK(el < 0.8 * es);
@@ -205,7 +213,7 @@ static void test_front(void)
 
 int main(void)
 {
-	(void)colour_gain_check; /* colour_front.h's, for the methods with a noise gain */
+	(void)colour_gain_check;  /* colour_front.h's, for the methods with a noise gain */
 	(void)colour_front_check; /* ... and for those with a fast path */
 	test_uniform();
 	test_noise_limit();
