@@ -2268,7 +2268,8 @@ const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
 	                           hue = {pc_dm_pan_hue_ref, NULL, NULL, NULL},
 	                           check = {pc_dm_pan_check_ref, pc_dm_pan_check_fast, NULL, NULL},
 	                           split = {pc_dm_pan_split_ref, NULL, NULL, NULL},
-	                           lean = {pc_dm_pan_lean_ref, NULL, NULL, NULL};
+	                           lean = {pc_dm_pan_lean_ref, pc_dm_pan_lean_fast,
+	                                   pc_dm_pan_lean_ref_g, pc_dm_pan_lean_fast_g};
 	return m == PC_DM_PAN_RATIO    ? &ratio
 	       : m == PC_DM_PAN_GUIDED ? &guided
 	       : m == PC_DM_PAN_CHROMA ? &chroma

@@ -48,6 +48,12 @@ int pc_dm_pan_lean_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
                        const pc_fplane *out);
 int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                          double g, const pc_fplane *out);
+/* pan-lean's float fast path (demosaic_pan_lean_fast.c): the frame's noise gain estimated by
+ * pc_dm_noise_gain_in_mt, or given (g >= 0) */
+int pc_dm_pan_lean_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                        pc_cpu_level level, const pc_fplane *out);
+int pc_dm_pan_lean_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                          pc_cpu_level level, double g, const pc_fplane *out);
 
 /* pan-adapt (docs/demosaicking.md, Round 14): pan-side with a range scale relative to the local
  * signal and the ratio step's level shrunk towards its local mean where the frame's noise

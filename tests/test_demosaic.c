@@ -2066,6 +2066,7 @@ int main(void)
 			test_pan_fast(PC_DM_PAN_FACT);
 			test_pan_fast(PC_DM_PAN_SIDE);
 			test_pan_fast(PC_DM_PAN_ADAPT);
+			test_pan_fast(PC_DM_PAN_LEAN);
 		}
 		test_pan_ratio();
 		test_pan_chroma_edge();

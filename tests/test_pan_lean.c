@@ -14,7 +14,10 @@
  *  - A flat colour field with noise of variance g·(L + F) (given g = 2): every colour's error
  *    at most 0.8× pan-side's (measured 0.57–0.75×) and within 1 % of bayer-first's (measured
  *    red +0.4 %, blue +0.2 %, green −4.9 %): the blends keep the tents' averaging.
- *  - The front door runs it (reference only) and finds it by name; on an 8 × 8 frame every
+ *  - The front door finds it by name and runs the reference and the float fast path
+ *    (demosaic_pan_lean_fast.c) within 1e-5 of full scale of each other (test_demosaic's
+ *    test_pan_fast runs it on four scenes, sixteen phases and four sizes); a given noise gain
+ *    behaves as for the other noise-gain methods (colour_gain_check); on an 8 × 8 frame every
  *    output is finite; a negative or non-finite noise gain is refused.
  * Checked by mutation (2026-12-05): the own sample's level for every colour (pan-side's ratio
  * step) fails 19 of 86 checks (the bars and the noisy field); the blend towards the plain tents
@@ -192,7 +195,32 @@ static void test_front(void)
 	pc_demosaic_method md;
 	CHECK_EQ_INT(pc_demosaic_method_from_name("pan-lean", &md), 0);
 	CHECK(md == PC_DM_PAN_LEAN);
-	CHECK(pc_demosaic_method_get(PC_DM_PAN_LEAN)->flags & PC_DMF_REFERENCE_ONLY);
+	CHECK(pc_demosaic_method_get(PC_DM_PAN_LEAN)->flags & PC_DMF_NOISE_GAIN);
+	colour_front_check(PC_DM_PAN_LEAN, 34, 20);
+	/* a given noise gain: the estimate given reproduces the default bit for bit on both paths,
+	 * 10x it moves the outputs, the reported gain; the fast path with a given gain against the
+	 * reference with it */
+	const uint32_t W = 66, H = 50;
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO16, W, H, 0), 0);
+	for (uint32_t y = 0; y < H; y++) {
+		uint16_t *row = PC_ROW(&raw, uint16_t, y);
+		for (uint32_t x = 0; x < W; x++)
+			row[x] = (uint16_t)(700 + 300 * sin(x / 9.0) + 40 * nrand());
+	}
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.method = PC_DM_PAN_LEAN;
+	po.mosaic = pc_mosaic_imx250myr();
+	po.full_scale = 4095;
+	double g = -1;
+	CHECK_EQ_INT(pc_demosaic_noise_gain(&raw, &po, &g), 0);
+	CHECK(g > 0);
+	pc_fplane a[12], b[12];
+	float *ab = alloc_planes(W, H, a), *bb = alloc_planes(W, H, b);
+	colour_gain_check(&raw, po, g, a, ab, b, bb);
+	free(ab);
+	free(bb);
+	pc_view_free(&raw);
 	colour_tiny_check(PC_DM_PAN_LEAN);
 	const pc_mosaic m = pc_mosaic_imx250myr();
 	double img[64];

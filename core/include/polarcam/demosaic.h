@@ -178,16 +178,17 @@ typedef struct pc_pipeline_opts {
 	 * the sample as a saturated one is flagged (a calibration's distrusted pixels); NULL: all
 	 * trusted. */
 	const uint8_t *trusted;
-	/* The noise model of the methods flagged PC_DMF_NOISE_GAIN (pan-adapt, and pan-guard for
-	 * its base pan-adapt; the others ignore it): the gain g of the sensor's photon-transfer
-	 * curve, variance per unit signal in raw units (DN² per DN above black, i.e. DN per unit of
-	 * signal: a sample of mean s DN above black has variance g·s plus the read noise). For a
-	 * camera measured after EMVA Standard 1288 (its photon-transfer curve, docs/calibration.md)
-	 * g is the system gain K in DN/e⁻ at the settings in use, in the raw's units (a 12-bit raw
-	 * in a 16-bit container shifted left by 4 has 16·K). No read noise is given: pan-adapt's
-	 * shrinkage takes the dark floor as g times its δ (docs/demosaicking.md, Round 15b). > 0:
-	 * given; 0: estimated from each frame (pc_demosaic_noise_gain; the default). Negative, NaN
-	 * or infinite: PC_EINVAL. The per-pixel correction (dark, gain_inv) does not rescale it. */
+	/* The noise model of the methods flagged PC_DMF_NOISE_GAIN (pan-adapt, pan-guard for its
+	 * base pan-adapt, and pan-lean; the others ignore it): the gain g of the sensor's
+	 * photon-transfer curve, variance per unit signal in raw units (DN² per DN above black,
+	 * i.e. DN per unit of signal: a sample of mean s DN above black has variance g·s plus the
+	 * read noise). For a camera measured after EMVA Standard 1288 (its photon-transfer curve,
+	 * docs/calibration.md) g is the system gain K in DN/e⁻ at the settings in use, in the raw's
+	 * units (a 12-bit raw in a 16-bit container shifted left by 4 has 16·K). No read noise is
+	 * given: pan-adapt's shrinkage takes the dark floor as g times its δ (docs/demosaicking.md,
+	 * Round 15b). > 0: given; 0: estimated from each frame (pc_demosaic_noise_gain; the
+	 * default). Negative, NaN or infinite: PC_EINVAL. The per-pixel correction (dark, gain_inv)
+	 * does not rescale it. */
 	double noise_gain;
 	/* Output, optional: where a run of a method flagged PC_DMF_NOISE_GAIN (pc_demosaic_run,
 	 * pc_stokes_run, pc_stokes_run_colour) stores the noise gain it used: noise_gain when
