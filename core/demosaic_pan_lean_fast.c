@@ -45,12 +45,12 @@
 
 /* one instance's loops */
 typedef struct lf_kern {
-	void (*tents)(const float *, const float *, const float *, const float *, int, long, float *,
-	              float *);
+	void (*tents)(const float *, const float *, const float *, const float *, int, long,
+	              float *, float *);
 	void (*acc)(float *, float *, const float *, const float *, const float *, float, long);
 	void (*norm)(float *, float *, const float *, const float *, float, float, float, long);
-	void (*levels)(const float *const[12], const float *const[12], const float *,
-	               const float *, float, float, float, long, float *, float *);
+	void (*levels)(const float *const[12], const float *const[12], const float *, const float *,
+	               float, float, float, long, float *, float *);
 	void (*out)(const float *, const float *, const float *, const float *, const float *,
 	            const float *, const float *, float, float, float, long, float *);
 } lf_kern;
@@ -74,8 +74,8 @@ static lf_kern lf_kernels(pc_cpu_level level)
 	return LF_KERN(base);
 }
 
-#define LF_X     8   /* the extended planes' margin: the raw's reach (support ±8) */
-#define LF_CHUNK 32  /* output rows per chunk of a band */
+#define LF_X     8    /* the extended planes' margin: the raw's reach (support ±8) */
+#define LF_CHUNK 32   /* output rows per chunk of a band */
 #define LF_DELTA 0.01 /* δ, fraction of full scale (PAN_DELTA) */
 #define LF_EPS   0.1  /* ε (PAN_SEPS) */
 
@@ -176,8 +176,8 @@ static void lf_blocks(void *ctx, uint32_t r0, uint32_t r1)
 			double p0 = 0, c1 = 0, c2 = 0;
 			for (int jj = -2; jj <= 2; jj++)
 				for (int ii = -2; ii <= 2; ii++) {
-					double v = mk[ii + 2] * mk[jj + 2] * j->e[eidx(j, x + ii, y + jj)] /
-					           64;
+					double v = mk[ii + 2] * mk[jj + 2] *
+					           j->e[eidx(j, x + ii, y + jj)] / 64;
 					unsigned k = j->q4[(x + ii) & 3][(y + jj) & 3] / 4;
 					p0 += v;
 					c1 += k == 0 ? v : k == 2 ? -v : 0;
@@ -223,9 +223,10 @@ static void lf_factors(void *ctx, uint32_t r0, uint32_t r1)
 			const double p = c->pt - j->delta;
 			const double eps =
 			    LF_EPS + PC_DM_PAN_LEAN_KN * sqrt(j->g * (p + j->F)) / c->pt;
-			lf_pair(lf_d(c, &bj->b[i - 1]), lf_d(c, &bj->b[i + 1]), eps, &j->fw[i], &j->fe[i]);
-			lf_pair(lf_d(c, &bj->b[i - (size_t)j->bw]), lf_d(c, &bj->b[i + (size_t)j->bw]), eps,
-			        &j->fn[i], &j->fs[i]);
+			lf_pair(lf_d(c, &bj->b[i - 1]), lf_d(c, &bj->b[i + 1]), eps, &j->fw[i],
+			        &j->fe[i]);
+			lf_pair(lf_d(c, &bj->b[i - (size_t)j->bw]),
+			        lf_d(c, &bj->b[i + (size_t)j->bw]), eps, &j->fn[i], &j->fs[i]);
 		}
 	}
 }
@@ -265,10 +266,11 @@ static void lf_out_rows(void *ctx, uint32_t y0, uint32_t y1)
 		return;
 	}
 	const float dl = (float)j->delta, gF = (float)j->F;
-	const float cgs = (float)(PC_DM_PAN_LEAN_CS * j->g), cga = (float)(PC_DM_PAN_LEAN_CA * j->g);
+	const float cgs = (float)(PC_DM_PAN_LEAN_CS * j->g),
+	            cga = (float)(PC_DM_PAN_LEAN_CA * j->g);
 	float *R[12], *A[12], *fnr = sc + 24 * w, *fsr = sc + 25 * w, *t0 = sc + 26 * w,
-	                     *t1 = sc + 27 * w, *pt = sc + 28 * w, *lo = sc + 29 * w,
-	                     *orow = sc + 30 * w;
+	                      *t1 = sc + 27 * w, *pt = sc + 28 * w, *lo = sc + 29 * w,
+	                      *orow = sc + 30 * w;
 	const float *sel[4][12], *same[4][12];
 	for (int q = 0; q < 12; q++) {
 		R[q] = sc + (size_t)q * w;
@@ -296,7 +298,8 @@ static void lf_out_rows(void *ctx, uint32_t y0, uint32_t y1)
 			lf_hrow(j, yy, hr, hx, t0, t1);
 		}
 		for (uint32_t y = c0; y < c1; y++) {
-			const float *fn = j->fn + bidx(j, 0, (int)y), *fs = j->fs + bidx(j, 0, (int)y);
+			const float *fn = j->fn + bidx(j, 0, (int)y),
+			            *fs = j->fs + bidx(j, 0, (int)y);
 			for (size_t x = 0; x < w; x++) {
 				fnr[x] = fn[x >> 1];
 				fsr[x] = fs[x >> 1];
@@ -311,23 +314,28 @@ static void lf_out_rows(void *ctx, uint32_t y0, uint32_t y1)
 							continue;
 						const float tw = (float)(4 - abs(dy));
 						const float *hr =
-						    hb + (size_t)(yy - ((int)c0 - 3)) * rowsz + (size_t)s * w;
+						    hb + (size_t)(yy - ((int)c0 - 3)) * rowsz +
+						    (size_t)s * w;
 						*(dy < 0 ? &cn : dy > 0 ? &cs : &cc) += tw;
 						j->K.acc(R[q], A[q], hr, hr + 4 * w,
-						         dy < 0 ? fnr : dy > 0 ? fsr : NULL, tw, (long)w);
+						         dy < 0   ? fnr
+						         : dy > 0 ? fsr
+						                  : NULL,
+						         tw, (long)w);
 					}
 				j->K.norm(R[q], A[q], fnr, fsr, cn, cc, cs, (long)w);
 			}
-			const float *ev = j->e + eidx(j, 0, (int)y), *p0 = j->p0 + eidx(j, 0, (int)y);
+			const float *ev = j->e + eidx(j, 0, (int)y),
+			            *p0 = j->p0 + eidx(j, 0, (int)y);
 			const int yp = (int)(y & 3);
-			j->K.levels((const float *const *)R, sel[yp], ev, p0, dl, cgs, gF, (long)w, pt,
-			            lo);
+			j->K.levels((const float *const *)R, sel[yp], ev, p0, dl, cgs, gF, (long)w,
+			            pt, lo);
 			for (unsigned q = 0; q < 12; q++) {
 				const pc_fplane *pl = &j->out[q];
 				float *dst = pl->data + (size_t)y * pl->row_stride;
 				const int direct = pl->pixel_stride == 1;
-				j->K.out(R[q], A[q], sel[yp][q], same[yp][q], ev, pt, lo, dl, cga, gF,
-				         (long)w, direct ? dst : orow);
+				j->K.out(R[q], A[q], sel[yp][q], same[yp][q], ev, pt, lo, dl, cga,
+				         gF, (long)w, direct ? dst : orow);
 				if (!direct)
 					for (size_t x = 0; x < w; x++)
 						dst[x * pl->pixel_stride] = orow[x];
@@ -361,7 +369,8 @@ int pc_dm_pan_lean_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, 
 	j.out = out;
 	for (unsigned y = 0; y < 4; y++)
 		for (unsigned x = 0; x < 4; x++)
-			j.q4[x][y] = 4 * (pc_mosaic_color(m, x, y) - PC_CFA_R) + pc_mosaic_channel(m, x, y);
+			j.q4[x][y] =
+			    4 * (pc_mosaic_color(m, x, y) - PC_CFA_R) + pc_mosaic_channel(m, x, y);
 	const size_t np = (size_t)j.ew * (size_t)j.eh, nb = (size_t)j.bw * (size_t)j.bh;
 	j.e = malloc(sizeof(float) * np);
 	j.p0 = calloc(np, sizeof(float));
