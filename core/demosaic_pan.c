@@ -148,8 +148,8 @@ typedef struct fact_oargs {
 #include "simd_instance_end.h"
 #endif
 
-#define PAN_DELTA 0.01 /* δ, fraction of full scale */
-#define PAN_E     0.01 /* pan-guided's e, fraction of full scale */
+#define PAN_DELTA PC_DM_PAN_DELTA /* δ, fraction of full scale */
+#define PAN_E     0.01            /* pan-guided's e, fraction of full scale */
 
 typedef struct pan_ref {
 	const double *img;
@@ -310,8 +310,8 @@ int pc_dm_pan_guided_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
  * by P0(p): +4.03/+1.46; +0.69/+1.05 — no better. The reference computes every image on the
  * mirror-extended raw, PAN_CX pixels beyond each border; C1 and C2 are stored times β. */
 #define PAN_CX 8
-#define PAN_CB 0.5  /* β */
-#define PAN_CE 0.02 /* pan-chroma's e, fraction of full scale */
+#define PAN_CB PC_DM_PAN_CB /* β */
+#define PAN_CE 0.02         /* pan-chroma's e, fraction of full scale */
 
 typedef struct chroma_ref {
 	int w, h, W;                /* the extended images: (w + 2X) × (h + 2X), row W */
@@ -454,9 +454,9 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
  * block). ε = 0.1 (hue units), pan-guided's range scale e widened to 4 % of full scale (the
  * factors on their own pick sides by aliasing on fine gratings; a wider e undoes that):
  * Round 12d's sweep of ε, e, the exponent and pixel against block rate. */
-#define PAN_SE   0.04 /* pan-side's e, fraction of full scale */
-#define PAN_SEPS 0.1  /* ε of the side weights, hue units */
-#define PAN_SST  2    /* the side distances' step: the neighbouring blocks */
+#define PAN_SE   0.04           /* pan-side's e, fraction of full scale */
+#define PAN_SEPS PC_DM_PAN_SEPS /* ε of the side weights, hue units */
+#define PAN_SST  2              /* the side distances' step: the neighbouring blocks */
 
 /* the hue component k (0: C1, 1: C2) of (x, y)'s block */
 static double side_u(const chroma_ref *c, double delta, int x, int y, int k)
@@ -503,10 +503,6 @@ static void side_f(double d0, double d1, double eps, double f[2])
 	f[1] = 2 * a1 / (a0 + a1);
 }
 
-/* pan-side's sums at (x, y) (above): num_q, den_q of every channel's tents, with the side
- * factors and the range scales ev (the vertical weights, centre (x, y)) and eh[dy + 3] (the
- * horizontal weights of tap row y + dy). pan-side passes its e everywhere, pan-adapt its
- * relative scale (below). */
 /* the factors f[0] (W or N) and f[1] (E or S) of the blocks (x, y) ∓ (dx, dy) against (x, y)'s
  * block: pan-side's, or pan-lean's with ls */
 static void side_pair(const pan_ref *r, const chroma_ref *c, const lean_side *ls, int x, int y,

@@ -74,21 +74,18 @@ static lf_kern lf_kernels(pc_cpu_level level)
 	return LF_KERN(base);
 }
 
-#define LF_X     8    /* the extended planes' margin: the raw's reach (support ±8) */
-#define LF_CHUNK 32   /* output rows per chunk of a band */
-#define LF_DELTA 0.01 /* δ, fraction of full scale (PAN_DELTA) */
-#define LF_EPS   0.1  /* ε (PAN_SEPS) */
+#define LF_X     8  /* the extended planes' margin: the raw's reach (support ±8) */
+#define LF_CHUNK 32 /* output rows per chunk of a band */
 
 typedef struct lf_job {
 	const pc_dm_input *in;
-	const pc_mosaic *m;
 	uint32_t w, h;
 	int ew, eh;    /* extended planes: (w + 2X) × (h + 2X) */
 	float *e, *p0; /* extended raw (minus black) and P0 */
 	float *rho;    /* ρ on the extended grid */
 	int bw, bh;    /* block grid of the extended planes: corners at even extended x, y */
 	float *fw, *fe, *fn, *fs; /* per block: the side factors W, E, N, S */
-	double delta, fsc, g, F;
+	double delta, g, F;
 	unsigned q4[4][4]; /* channel at (x mod 4, y mod 4) */
 	const pc_fplane *out;
 	lf_kern K;
@@ -118,9 +115,12 @@ static void lf_extend(void *ctx, uint32_t r0, uint32_t r1)
 	for (uint32_t r = r0; r < r1; r++) {
 		const int y = (int)r - LF_X;
 		pc_dm_row_to_float(j->in, (uint32_t)pc_mirror4(y, (int)j->h), row);
-		float *d = j->e + eidx(j, -LF_X, y);
-		for (int x = -LF_X; x < (int)j->w + LF_X; x++)
-			d[x + LF_X] = row[pc_mirror4(x, (int)j->w)];
+		float *d = j->e + eidx(j, 0, y);
+		memcpy(d, row, sizeof(float) * j->w);
+		for (int x = 1; x <= LF_X; x++) { /* the margins, mirrored */
+			d[-x] = row[pc_mirror4(-x, (int)j->w)];
+			d[(int)j->w - 1 + x] = row[pc_mirror4((int)j->w - 1 + x, (int)j->w)];
+		}
 	}
 	free(buf);
 }
@@ -186,8 +186,8 @@ static void lf_blocks(void *ctx, uint32_t r0, uint32_t r1)
 			lf_blk *o = &bj->b[(size_t)br * (size_t)j->bw + (size_t)bc];
 			const double pt = fmax(p0, 0) + j->delta;
 			o->pt = pt;
-			o->u1 = 0.5 * c1 / pt; /* PAN_CB = 1/2 */
-			o->u2 = 0.5 * c2 / pt;
+			o->u1 = PC_DM_PAN_CB * c1 / pt;
+			o->u2 = PC_DM_PAN_CB * c2 / pt;
 		}
 	}
 }
@@ -222,7 +222,7 @@ static void lf_factors(void *ctx, uint32_t r0, uint32_t r1)
 			const lf_blk *c = &bj->b[i];
 			const double p = c->pt - j->delta;
 			const double eps =
-			    LF_EPS + PC_DM_PAN_LEAN_KN * sqrt(j->g * (p + j->F)) / c->pt;
+			    PC_DM_PAN_SEPS + PC_DM_PAN_LEAN_KN * sqrt(j->g * (p + j->F)) / c->pt;
 			lf_pair(lf_d(c, &bj->b[i - 1]), lf_d(c, &bj->b[i + 1]), eps, &j->fw[i],
 			        &j->fe[i]);
 			lf_pair(lf_d(c, &bj->b[i - (size_t)j->bw]),
@@ -355,15 +355,13 @@ int pc_dm_pan_lean_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, 
 	memset(&j, 0, sizeof j);
 	j.K = lf_kernels(level);
 	j.in = in;
-	j.m = m;
 	j.w = in->width;
 	j.h = in->height;
 	j.ew = (int)j.w + 2 * LF_X;
 	j.eh = (int)j.h + 2 * LF_X;
 	j.bw = j.ew / 2;
 	j.bh = j.eh / 2;
-	j.delta = LF_DELTA * fs;
-	j.fsc = fs;
+	j.delta = PC_DM_PAN_DELTA * fs;
 	j.g = g;
 	j.F = PC_DM_NG_FLOOR * fs;
 	j.out = out;
