@@ -38,6 +38,7 @@
 #include "demosaic_pan_check.h"
 
 #include <assert.h>
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -80,7 +81,17 @@ typedef struct pan_gorow_args {
 	 * scale e0 + ke·mu, the noise term kn·mu (kn = 0: pan-side's ratio step) */
 	const float *mu, *var;
 	float ke, e0, kn;
+	/* pan-lean's (pan_lgorow): the terms' rows of the raw's tents (vrow's of ρ's), the 0/1 lane
+	 * patterns where channel q is of the pixel's own colour, c_s·g, c_a·g and the floor F */
+	const float *xrow[12][4], *pxrow[12][4]; /* pxrow: by slot, as prow */
+	const float *csame[12];
+	float lcs, lca, lF;
 } pan_gorow_args;
+
+/* pan-lean's block terms for pan_lfac (demosaic_pan_kern.inc): ε, κ_n·√g, κ_t, μ, δ, F */
+typedef struct pan_lpar {
+	float eps, kng, kt, mu, delta, F;
+} pan_lpar;
 
 /* pan-dir's, for one row. Its first stage: eight groups (a colour on one row phase t: red 0, 1,
  * green 2..5, blue 6, 7, each in t's order), each with its column-pair rows (hp, lp: the pair the
@@ -961,6 +972,7 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
  * vector, and interleaved outputs, go through a row buffer. */
 #define PAN_PADR  32 /* raw and sum rows: columns [-32, w + 32) */
 #define PAN_AROWS 25 /* pan-adapt's rows beyond pan-side's (pan_band) */
+#define PAN_LROWS 36 /* pan-lean's: the blocks' level (4) and the raw's tents (8 × 4) */
 #ifndef PAN_STRIPW
 /* pan_band's strips: at most about this many columns. Round 17c's 1024 (three strips at 2448
  * columns, each strip's scratch in a core's L2) cut L2 read misses by 59 % but measured no wall
@@ -979,11 +991,13 @@ typedef struct pan_job {
 	pc_cpu_level level;
 	const pc_fplane *out;
 	int err;
-	int guided; /* 1 pan-guided, 2 pan-chroma, 3 pan-side, 4 pan-adapt */
+	int guided; /* 1 pan-guided, 2 pan-chroma, 3 pan-side, 4 pan-adapt, 5 pan-lean */
 	float e;    /* its range scale (pan-adapt: the factor of the window mean) */
 	int nt;     /* streaming stores into the planes (pc_dm_stream_wanted) */
 	float kn;   /* pan-adapt: the noise term's factor c·(14/64)²·g */
 	float e0;   /* pan-adapt: its range scale's fixed part e_fs·FS */
+	double g;   /* pan-lean: the frame's noise gain */
+	float F;    /* pan-lean: the noise floor PC_DM_NG_FLOOR·FS */
 } pan_job;
 
 /* 0/1 lane patterns (period 4, 16 lanes), the tent weights of pan_hrows; pan-chroma's
@@ -995,6 +1009,8 @@ typedef struct pan_tables {
 	float wt[4][7][16];
 	float ha[5][16];
 	float b[4];
+	float same[4][3]
+	          [16]; /* pan-lean: row phase t, colour k: 1 where the pixel is of colour k */
 } pan_tables;
 
 static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
@@ -1014,6 +1030,9 @@ static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
 	for (int l = 0; l < 16; l++)
 		for (int i = 0; i < 5; i++)
 			t->ha[i][l] = mk[i] * a[(l + i + 2) & 3];
+	for (unsigned ty = 0; ty < 4; ty++)
+		for (int l = 0; l < 16; l++)
+			t->same[ty][pc_mosaic_color(m, (unsigned)l & 3, ty) - PC_CFA_R][l] = 1;
 	for (int l = 0; l < 16; l++) {
 		int u = l & 3;
 		t->sel[u][l] = 1;
@@ -1046,6 +1065,15 @@ typedef void (*pan_shue_fn)(const float *p0, const float *c1, const float *c2, l
                             float delta, float *u1, float *u2);
 typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
                             const float *const up[2], long n, float eps, float *f0, float *f1);
+
+typedef void (*pan_lhue_fn)(const float *p0, const float *c1, const float *c2, long x0, long n,
+                            float delta, float *u1, float *u2, float *pt);
+typedef void (*pan_lfac_fn)(const float *const u[3], const float *const um[3],
+                            const float *const up[3], long n, const pan_lpar *lp, float *f0,
+                            float *f1);
+typedef void (*pan_lhrows_fn)(const float *rho, const float *raw, const float *fw, const float *fe,
+                              long n, const float wt[4][7][16], float *const h[4],
+                              float *const hx[4]);
 
 typedef void (*pan_atents_fn)(const float *const p[5], const float *rho, const float *fw,
                               const float *fe, long n, float delta, const float wt[4][7][16],
@@ -1115,6 +1143,10 @@ typedef struct pan_kern {
 	fact_m_fn fm;
 	fact_ppi2_fn ppi2;
 	fact_orow_fn forow;
+	pan_lhue_fn lhue;
+	pan_lfac_fn lfac;
+	pan_lhrows_fn lhrows;
+	pan_gorow_fn lgorow;
 } pan_kern;
 
 /* One instance's kernels, in pan_kern's order (S: base, avx2, avx512). */
@@ -1126,7 +1158,8 @@ typedef struct pan_kern {
 		    pan_sghrows_##S, pan_sgorow_##S, pan_shue_##S, pan_sfac_##S, pan_dwrows_##S,   \
 		    pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S,     \
 		    pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, \
-		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S           \
+		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S,          \
+		    pan_lhue_##S, pan_lfac_##S, pan_lhrows_##S, pan_lgorow_##S                     \
 	}
 
 static pan_kern pan_kernels(pc_cpu_level level)
@@ -1363,8 +1396,10 @@ static void pan_gorow_slots(const pan_lattice *l, const pan_tables *t, uint32_t 
 				return;
 			s = 8 + 2 * k + ng[k]++;
 		}
-		for (int i = 0; i < l->n[q]; i++)
+		for (int i = 0; i < l->n[q]; i++) {
 			a->prow[s][i] = a->vrow[q][i];
+			a->pxrow[s][i] = a->xrow[q][i];
+		}
 		a->sq[s] = (unsigned)q;
 		if (s < 2 || s == 8)
 			a->osel[s < 2 ? s : 2] = t->sel[l->px[q][pi[pe[0] == 0 ? 0 : 1]]];
@@ -1377,8 +1412,8 @@ static void pan_gorow_slots(const pan_lattice *l, const pan_tables *t, uint32_t 
 /* The arguments pan_gorow and pan_agorow_row share for output row y: the lattice's term rows in
  * the tents hr, their weights and offsets, the selections, the own channels and (slots: not for
  * pan-chroma) pan_gorow_ph's slots, else pan_gorow_in's 16-lane tent weights. */
-static void pan_gorow_prep(const pan_job *j, const pan_tables *t, float *hr[8][4], uint32_t y,
-                           int slots, pan_gorow_args *a)
+static void pan_gorow_prep(const pan_job *j, const pan_tables *t, float *hr[8][4], float *hx[8][4],
+                           uint32_t y, int slots, pan_gorow_args *a)
 {
 	const uint32_t ty = y & 3;
 	pan_lattice l;
@@ -1386,6 +1421,8 @@ static void pan_gorow_prep(const pan_job *j, const pan_tables *t, float *hr[8][4
 	for (int q = 0; q < 12; q++)
 		for (int i = 0; i < l.n[q]; i++) {
 			a->vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
+			if (hx)
+				a->xrow[q][i] = hx[l.slot[q][i]][l.px[q][i]];
 			a->vt[q][i] = l.wt[q][i];
 			a->vdy[q][i] = 3 + l.dy[q][i];
 		}
@@ -1414,6 +1451,10 @@ static void pan_gorow_shift(pan_gorow_args *a, long dx)
 				a->vrow[q][i] += dx;
 			if (a->prow[q][i])
 				a->prow[q][i] += dx;
+			if (a->xrow[q][i])
+				a->xrow[q][i] += dx;
+			if (a->pxrow[q][i])
+				a->pxrow[q][i] += dx;
 		}
 	for (int k = 0; k < 7; k++) {
 		if (a->p0row[k])
@@ -1457,7 +1498,7 @@ static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], ui
  * here (zeroed, the N and S factors fv, pan_gorow_prep's part; the caller adds the rest), 0 when
  * the slot holds them already. */
 static pan_gorow_args *pan_args_at(const pan_job *j, const pan_tables *t, float *hr[8][4],
-                                   const float *const fv[2], uint32_t y, int slots,
+                                   float *hx[8][4], const float *const fv[2], uint32_t y, int slots,
                                    pan_gorow_args *cache, unsigned char *cached, int *fresh)
 {
 	pan_gorow_args *a = &cache[y & 15];
@@ -1466,27 +1507,37 @@ static pan_gorow_args *pan_args_at(const pan_job *j, const pan_tables *t, float 
 		memset(a, 0, sizeof *a);
 		a->fn = fv[0];
 		a->fs = fv[1];
-		pan_gorow_prep(j, t, hr, y, slots, a);
+		pan_gorow_prep(j, t, hr, hx, y, slots, a);
 		cached[y & 15] = 1;
 	}
 	return a;
 }
 
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
-                      float *const gr[3][8], const float *const fv[2], const float *raw, uint32_t y,
-                      const pan_strip *st, pan_gorow_args *cache, unsigned char *cached, int planar,
-                      float *rawp, float *const o[12])
+                      float *hx[8][4], float *const gr[3][8], const float *const fv[2],
+                      const float *raw, uint32_t y, const pan_strip *st, pan_gorow_args *cache,
+                      unsigned char *cached, int planar, float *rawp, float *const o[12])
 {
 	const uint32_t w = st->w, xs = st->xs;
 	const long n = st->n, nmain = st->nmain;
 	int fresh;
-	pan_gorow_args *ap = pan_args_at(j, t, hr, fv, y, j->guided != 2, cache, cached, &fresh);
+	const int lean = j->guided == 5;
+	pan_gorow_args *ap =
+	    pan_args_at(j, t, hr, lean ? hx : NULL, fv, y, j->guided != 2, cache, cached, &fresh);
 	for (int k = 0; fresh && k < 7; k++) {
 		ap->p0row[k] = gr[0][((int)y + k - 3) & 7];
 		ap->c1row[k] = gr[1][((int)y + k - 3) & 7];
 		ap->c2row[k] = gr[2][((int)y + k - 3) & 7];
 	}
-	const pan_gorow_fn kern = j->guided == 3   ? K->sgorow
+	if (fresh && lean) {
+		for (unsigned q = 0; q < 12; q++)
+			ap->csame[q] = t->same[y & 3][q / 4];
+		ap->lcs = (float)(PC_DM_PAN_LEAN_CS * j->g);
+		ap->lca = (float)(PC_DM_PAN_LEAN_CA * j->g);
+		ap->lF = j->F;
+	}
+	const pan_gorow_fn kern = lean             ? K->lgorow
+	                          : j->guided == 3 ? K->sgorow
 	                          : j->guided == 2 ? K->cgorow
 	                                           : K->gorow;
 	float *d[12];
@@ -1523,7 +1574,7 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 	const uint32_t w = st->w, xs = st->xs;
 	const long n = st->n, nmain = st->nmain;
 	int fresh;
-	pan_gorow_args *ap = pan_args_at(j, t, hr, fv, y, 1, cache, cached, &fresh);
+	pan_gorow_args *ap = pan_args_at(j, t, hr, NULL, fv, y, 1, cache, cached, &fresh);
 	if (fresh) {
 		ap->mu = mu;
 		ap->var = var;
@@ -1606,7 +1657,8 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 	/* pan-side: the block hue (u1, u2) of the last four even source rows Y in hu[(Y & 7) >> 1],
 	 * pan_cratio's chrominance rows ck, the factors W and E of the current block row (fh), N
 	 * and S of the last two block rows Y in fv[(Y & 3) >> 1] */
-	const int side = j->guided == 3 || adapt;
+	const int lean = j->guided == 5;
+	const int side = j->guided == 3 || adapt || lean;
 	const float eps = (float)PAN_SEPS;
 	float *hu[4][2], *ck[2] = {gr[2][0], gr[2][1]}, *fh[2] = {gr[2][2], gr[2][3]},
 	                 *fv[2][2] = {{gr[2][4], gr[2][5]}, {gr[2][6], gr[2][7]}};
@@ -1635,6 +1687,24 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		fhr[1][0] = ab + (size_t)23 * pitch;
 		fhr[1][1] = ab + (size_t)24 * pitch;
 	}
+	/* pan-lean: the blocks' level pt of the last four even source rows in hp[(Y & 7) >> 1], the
+	 * raw's tents in a ring of 8 rows (hx, as hr), its block terms lp */
+	float *hp[4] = {NULL}, *hx[8][4] = {{NULL}};
+	pan_lpar lp = {0};
+	if (lean) {
+		float *lb = src + (size_t)46 * pitch;
+		for (int k = 0; k < 4; k++)
+			hp[k] = lb + (size_t)k * pitch;
+		for (int k = 0; k < 8; k++)
+			for (int s = 0; s < 4; s++)
+				hx[k][s] = lb + (size_t)(4 + 4 * k + s) * pitch;
+		lp = (pan_lpar){eps,
+		                (float)(PC_DM_PAN_LEAN_KN * sqrt(j->g)),
+		                (float)PC_DM_PAN_LEAN_KT,
+		                (float)PC_DM_PAN_LEAN_MU,
+		                j->delta,
+		                j->F};
+	}
 	/* source rows computed: up to have; pan-side's first one even (a block's top row) */
 	int have = side ? (((int)y0 - 3 - look) & ~1) - 1 : (int)y0 - 4;
 	const int first = have + 1;
@@ -1656,26 +1726,42 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					float *const *fw = adapt ? fhr[(yy & 2) >> 1] : fh;
 					K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
 					         ck[0], ck[1]);
-					K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta, u[0], u[1]);
-					const float *uc[2] = {u[0], u[1]},
-					            *uw[2] = {u[0] - PAN_SST, u[1] - PAN_SST},
-					            *ue[2] = {u[0] + PAN_SST, u[1] + PAN_SST};
-					K.sfac(uc, uw, ue, n, eps, fw[0], fw[1]);
+					float *pc = lean ? hp[(yy & 7) >> 1] : NULL;
+					if (lean)
+						K.lhue(p0, ck[0], ck[1], -16, n + 32, j->delta,
+						       u[0], u[1], pc);
+					else
+						K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta,
+						       u[0], u[1]);
+					const float *uc[3] = {u[0], u[1], pc},
+					            *uw[3] = {u[0] - PAN_SST, u[1] - PAN_SST,
+					                      pc ? pc - PAN_SST : NULL},
+					            *ue[3] = {u[0] + PAN_SST, u[1] + PAN_SST,
+					                      pc ? pc + PAN_SST : NULL};
+					if (lean)
+						K.lfac(uc, uw, ue, n, &lp, fw[0], fw[1]);
+					else
+						K.sfac(uc, uw, ue, n, eps, fw[0], fw[1]);
 					if (yy - 2 * PAN_SST >= first) {
-						float *const *b = hu[((yy - PAN_SST) & 7) >> 1],
-						             *const *a =
-						                 hu[((yy - 2 * PAN_SST) & 7) >> 1];
-						const float *ub[2] = {b[0], b[1]},
-						            *ua[2] = {a[0], a[1]};
+						const int ib = ((yy - PAN_SST) & 7) >> 1,
+						          ia = ((yy - 2 * PAN_SST) & 7) >> 1;
+						const float *ub[3] = {hu[ib][0], hu[ib][1], hp[ib]},
+						            *ua[3] = {hu[ia][0], hu[ia][1], hp[ia]};
 						float *const *f =
 						    adapt ? fvr[((yy - PAN_SST) & 7) >> 1]
 						          : fv[((yy - PAN_SST) & 3) >> 1];
-						K.sfac(ub, ua, uc, n, eps, f[0], f[1]);
+						if (lean)
+							K.lfac(ub, ua, uc, n, &lp, f[0], f[1]);
+						else
+							K.sfac(ub, ua, uc, n, eps, f[0], f[1]);
 					}
 				} else {
 					K.ratio(vs, rs, -16, n + 32, j->delta, 0, rh, p0);
 				}
-				if (!adapt) {
+				if (lean) {
+					K.lhrows(rho, rs, fh[0], fh[1], n, t->wt, hr[yy & 7],
+					         hx[yy & 7]);
+				} else if (!adapt) {
 					K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e,
 					          hr[yy & 7]);
 				} else if (yy - 2 * look >= first) {
@@ -1712,8 +1798,8 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		}
 		if (j->guided) {
 			const float *fy[2] = {fv[(y & 2) >> 1][0], fv[(y & 2) >> 1][1]};
-			pan_gorow(j, &K, t, hr, gr, fy, pan_row_strip(&rc, j->in, (int)y), y, st,
-			          cache, cached, planar, rawp, o);
+			pan_gorow(j, &K, t, hr, hx, gr, fy, pan_row_strip(&rc, j->in, (int)y), y,
+			          st, cache, cached, planar, rawp, o);
 			continue;
 		}
 		/* channel q's lattice rows around y, with the tent's vertical weights */
@@ -1792,9 +1878,13 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	/* scratch: vertical sums and the raw row (padded), the ratio row, 8 × 4 tent rows, 12
 	 * output rows, 5 rows unused, 16 cached raw rows, 8 PPI rows (pan-guided), 8 + 8
 	 * chrominance rows and a weighted vertical sum (pan-chroma; pan-side keeps its hue,
-	 * chrominance and factor rows in the latter 16); pan-adapt PAN_AROWS more */
+	 * chrominance and factor rows in the latter 16); pan-adapt PAN_AROWS more, pan-lean
+	 * PAN_LROWS */
 	const int adapt = j->guided == 4;
-	const size_t nrows = 52 + 16 + 8 + 17 + (adapt ? PAN_AROWS : 0);
+	const size_t nrows = 52 + 16 + 8 + 17 +
+	                     (adapt            ? PAN_AROWS
+	                      : j->guided == 5 ? PAN_LROWS
+	                                       : 0);
 	float *buf = pc_dm_alloc(sizeof(float) * pitch * nrows);
 	if (!t || !buf || !cache) {
 		pc_dm_free(t);
@@ -1822,8 +1912,10 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
  * pan-adapt (4, kn its noise term's factor): one fused pass on row bands; guided adds the range
  * weights of scale e. */
 static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
-                   pc_cpu_level level, const pc_fplane *out, int guided, double kn)
+                   pc_cpu_level level, const pc_fplane *out, int guided, double g)
 {
+	/* pan-adapt's noise term's factor */
+	const double kn = guided == 4 ? PC_DM_PAN_ADAPT_C * (14.0 / 64) * (14.0 / 64) * g : 0;
 	const uint32_t w = in->width, h = in->height;
 	pan_job j = {in,
 	             w,
@@ -1841,11 +1933,14 @@ static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
 	                           : 0,
 	             pc_dm_stream_wanted(out, 12, w, h, level),
 	             (float)kn,
-	             (float)(PC_DM_PAN_ADAPT_EFS * fs)};
+	             (float)(PC_DM_PAN_ADAPT_EFS * fs),
+	             g,
+	             (float)(PC_DM_NG_FLOOR * fs)};
 	pc_parallel_rows(h, 0, threads, pan_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "%s: row buffers for width %u",
-		                guided == 4   ? "pan-adapt"
+		                guided == 5   ? "pan-lean"
+		                : guided == 4 ? "pan-adapt"
 		                : guided == 3 ? "pan-side"
 		                : guided == 2 ? "pan-chroma"
 		                : guided      ? "pan-guided"
@@ -2191,6 +2286,8 @@ int pc_dm_pan_dir_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int
 	             0,
 	             pc_dm_stream_wanted(out, 12, w, h, level),
 	             0,
+	             0,
+	             0,
 	             0};
 	pc_parallel_rows(h, 0, threads, pan_dir_band, &j);
 	if (j.err)
@@ -2238,14 +2335,34 @@ int pc_dm_pan_adapt_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs,
 		if (rc)
 			return rc;
 	}
-	return pan_run(in, m, fs, threads, level, out, 4,
-	               PC_DM_PAN_ADAPT_C * (14.0 / 64) * (14.0 / 64) * g);
+	return pan_run(in, m, fs, threads, level, out, 4, g);
 }
 
 int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                          pc_cpu_level level, const pc_fplane *out)
 {
 	return pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, -1, out);
+}
+
+/* pan-lean's fast path (docs/demosaicking.md, Round 22): pan-side's pass (pan_band, guided 5)
+ * with pan-lean's block terms (pan_lhue: the blocks' level beside their hue; pan_lfac: its side
+ * distances and ε_B), the tents of the ratios and of the raw with the side factors alone
+ * (pan_lhrows, a second ring of tents) and its output row (pan_lgorow: both sums, the cored
+ * level, the blends); g, the frame's noise gain, pc_dm_noise_gain_in_mt's when not given. */
+int pc_dm_pan_lean_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                          pc_cpu_level level, double g, const pc_fplane *out)
+{
+	if (!(g >= 0) || !isfinite(g))
+		return pc_error(PC_EINVAL, "pan-lean: noise gain %g, expected finite and >= 0", g);
+	return pan_run(in, m, fs, threads, level, out, 5, g);
+}
+
+int pc_dm_pan_lean_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
+                        pc_cpu_level level, const pc_fplane *out)
+{
+	double g = 0;
+	int rc = pc_dm_noise_gain_in_mt(in, m, fs, threads, &g);
+	return rc ? rc : pc_dm_pan_lean_fast_g(in, m, fs, threads, level, fmax(g, 0), out);
 }
 
 const pc_dm_pan_fns *pc_dm_pan_fns_get(pc_demosaic_method m)
@@ -2797,7 +2914,7 @@ int pc_dm_pan_fact_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, in
 {
 	const uint32_t w = in->width, h = in->height;
 	fact_job fj = {{in, w, h, m, (float)(FACT_DELTA * 3 * fs), level, out, 0, 0, 0,
-	                pc_dm_stream_wanted(out, 12, w, h, level), 0, 0},
+	                pc_dm_stream_wanted(out, 12, w, h, level), 0, 0, 0, 0},
 	               (float)(FACT_EPS * 4 * fs),
 	               (float)(FACT_DH * fs)};
 	pc_parallel_rows(h, 0, threads, pan_fact_band, &fj);

@@ -32,7 +32,7 @@ int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, in
 int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                            const pc_fplane *out, double *rown);
 
-/* Constants of the pan references that pan-lean's fast path (demosaic_pan_lean_fast.c) shares:
+/* Constants of the pan references that pan-lean's fast path (pan_band in demosaic_pan.c) shares:
  * δ (fraction of full scale), pan-side's ε of the side weights (hue units) and pan-chroma's β
  * folded into the chrominance images (demosaic_pan.c says where each was chosen) */
 #define PC_DM_PAN_DELTA 0.01
@@ -55,7 +55,7 @@ int pc_dm_pan_lean_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
                        const pc_fplane *out);
 int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                          double g, const pc_fplane *out);
-/* pan-lean's float fast path (demosaic_pan_lean_fast.c): the frame's noise gain estimated by
+/* pan-lean's float fast path (pan_band in demosaic_pan.c): the frame's noise gain estimated by
  * pc_dm_noise_gain_in_mt, or given (g >= 0) */
 int pc_dm_pan_lean_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                         pc_cpu_level level, const pc_fplane *out);
