@@ -15,13 +15,13 @@
  *    at most 0.8× pan-side's (measured 0.57–0.75×) and within 1 % of bayer-first's (measured
  *    red +0.4 %, blue +0.2 %, green −4.9 %): the blends keep the tents' averaging.
  *  - The front door finds it by name and runs the reference and the float fast path
- *    (demosaic_pan_lean_fast.c) within 1e-5 of full scale of each other (test_demosaic's
- *    test_pan_fast runs it on four scenes, sixteen phases and four sizes); a given noise gain
- *    behaves as for the other noise-gain methods (colour_gain_check); on an 8 × 8 frame every
- *    output is finite; a negative or non-finite noise gain is refused.
- * Checked by mutation (2026-12-05): the own sample's level for every colour (pan-side's ratio
- * step) fails 19 of 86 checks (the bars and the noisy field); the blend towards the plain tents
- * removed (a = 1) fails 12 (the noise limit and the noisy field). */
+ *    (pan_band's fifth mode in demosaic_pan.c) within 1e-5 of full scale of each other
+ * (test_demosaic's test_pan_fast runs it on four scenes, sixteen phases and four sizes); a given
+ * noise gain behaves as for the other noise-gain methods (colour_gain_check); on an 8 × 8 frame
+ * every output is finite; a negative or non-finite noise gain is refused. Checked by mutation
+ * (2026-12-05): the own sample's level for every colour (pan-side's ratio step) fails 19 of 86
+ * checks (the bars and the noisy field); the blend towards the plain tents removed (a = 1) fails 12
+ * (the noise limit and the noisy field). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
