@@ -36,6 +36,7 @@
  * ±2: an output pixel depends on the raw within ±5 (mirrored). */
 #include "demosaic_pan.h"
 #include "demosaic_pan_check.h"
+#include "demosaic_pan_kargs.h"
 
 #include <assert.h>
 #include <float.h>
@@ -58,40 +59,6 @@ typedef struct pan_orow_args {
 	const float *sel[4]; /* 0/1 lane patterns of column phase u (16 lanes) */
 	unsigned own[4];     /* the own channel at column phase u */
 } pan_orow_args;
-
-/* pan-guided's: the terms' tent weights vt, their rows' index vdy in p0row (rows y-3 .. y+3) */
-typedef struct pan_gorow_args {
-	const float *vrow[12][4];
-	float vt[12][4];
-	int vdy[12][4];
-	int nv[12];
-	const float *sel[4];
-	unsigned own[4];
-	const float *p0row[7];
-	const float *c1row[7], *c2row[7]; /* pan-chroma's chrominance rows (else unused) */
-	const float *fn, *fs;             /* pan-side's factors N and S of the row (else unused) */
-	float vtl[12][4][16]; /* vt repeated to 16 lanes (pan_gorow: a load, not a splat) */
-	/* pan_gorow_ph's slots (demosaic_pan_kern.inc): each one's term rows and channel, the
-	 * lanes of slots 0, 1, 8 where they are the own channel; ph its variant, or -1 */
-	const float *prow[12][4];
-	unsigned sq[12];
-	const float *osel[3];
-	int ph;
-	/* pan-adapt's: the row's window mean mu and variance var of P̃ = max(P0, 0) + δ, the range
-	 * scale e0 + ke·mu, the noise term kn·mu (kn = 0: pan-side's ratio step) */
-	const float *mu, *var;
-	float ke, e0, kn;
-	/* pan-lean's (pan_lgorow): the terms' rows of the raw's tents (vrow's of ρ's), the 0/1 lane
-	 * patterns where channel q is of the pixel's own colour, c_s·g, c_a·g and the floor F */
-	const float *xrow[12][4], *pxrow[12][4]; /* pxrow: by slot, as prow */
-	const float *csame[12];
-	float lcs, lca, lF;
-} pan_gorow_args;
-
-/* pan-lean's block terms for pan_lfac (demosaic_pan_kern.inc): ε, κ_n·√g, κ_t, μ, δ, F */
-typedef struct pan_lpar {
-	float eps, kng, kt, mu, delta, F;
-} pan_lpar;
 
 /* pan-dir's, for one row. Its first stage: eight groups (a colour on one row phase t: red 0, 1,
  * green 2..5, blue 6, 7, each in t's order), each with its column-pair rows (hp, lp: the pair the

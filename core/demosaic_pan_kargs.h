@@ -1,0 +1,62 @@
+/* Internal: the argument types of the pan output-row kernels that demosaic_pan.c and
+ * demosaic_pan_lean.c share, and pan-lean's row kernels (demosaic_pan_lean.inc), compiled in
+ * their own translation unit (demosaic_pan_lean.c) once per instruction-set level. */
+#ifndef PC_DEMOSAIC_PAN_KARGS_H
+#define PC_DEMOSAIC_PAN_KARGS_H
+
+#include "cpu_internal.h"
+
+/* pan-guided's: the terms' tent weights vt, their rows' index vdy in p0row (rows y-3 .. y+3) */
+typedef struct pan_gorow_args {
+	const float *vrow[12][4];
+	float vt[12][4];
+	int vdy[12][4];
+	int nv[12];
+	const float *sel[4];
+	unsigned own[4];
+	const float *p0row[7];
+	const float *c1row[7], *c2row[7]; /* pan-chroma's chrominance rows (else unused) */
+	const float *fn, *fs;             /* pan-side's factors N and S of the row (else unused) */
+	float vtl[12][4][16]; /* vt repeated to 16 lanes (pan_gorow: a load, not a splat) */
+	/* pan_gorow_ph's slots (demosaic_pan_kern.inc): each one's term rows and channel, the
+	 * lanes of slots 0, 1, 8 where they are the own channel; ph its variant, or -1 */
+	const float *prow[12][4];
+	unsigned sq[12];
+	const float *osel[3];
+	int ph;
+	/* pan-adapt's: the row's window mean mu and variance var of P̃ = max(P0, 0) + δ, the range
+	 * scale e0 + ke·mu, the noise term kn·mu (kn = 0: pan-side's ratio step) */
+	const float *mu, *var;
+	float ke, e0, kn;
+	/* pan-lean's (pan_lgorow): the terms' rows of the raw's tents (vrow's of ρ's), the 0/1 lane
+	 * patterns where channel q is of the pixel's own colour, c_s·g, c_a·g and the floor F */
+	const float *xrow[12][4], *pxrow[12][4]; /* pxrow: by slot, as prow */
+	const float *csame[12];
+	float lcs, lca, lF;
+} pan_gorow_args;
+
+/* pan-lean's block terms for pan_lfac (demosaic_pan_kern.inc): ε, κ_n·√g, κ_t, μ, δ, F */
+typedef struct pan_lpar {
+	float eps, kng, kt, mu, delta, F;
+} pan_lpar;
+
+/* pan-lean's row kernels (demosaic_pan_lean.inc states each), per instance S (base, avx2,
+ * avx512): the blocks' hue and level, the side factors, the two sets of tents, the output row */
+#define PAN_LEAN_DECL(S)                                                                           \
+	void pan_lhue_##S(const float *p0, const float *c1, const float *c2, long x0, long n,       \
+	                  float delta, float *u1, float *u2, float *pt);                            \
+	void pan_lfac_##S(const float *const u[3], const float *const um[3],                       \
+	                  const float *const up[3], long n, const pan_lpar *lp, float *f0,          \
+	                  float *f1);                                                               \
+	void pan_lhrows_##S(const float *rho, const float *raw, const float *fw, const float *fe,  \
+	                    long n, const float wt[4][7][16], float *const h[4],                    \
+	                    float *const hx[4]);                                                    \
+	void pan_lgorow_##S(const pan_gorow_args *a, const float *raw, long n, float delta,        \
+	                    float e, float *const out[12], int nt);
+PAN_LEAN_DECL(base)
+#ifdef PC_CPU_X86
+PAN_LEAN_DECL(avx2)
+PAN_LEAN_DECL(avx512)
+#endif
+
+#endif
