@@ -43,14 +43,14 @@ typedef struct pan_lpar {
 /* pan-lean's row kernels (demosaic_pan_lean.inc states each), per instance S (base, avx2,
  * avx512): the blocks' hue and level, the side factors, the two sets of tents, the output row */
 #define PAN_LEAN_DECL(S)                                                                           \
-	void pan_lhue_##S(const float *p0, const float *c1, const float *c2, long x0, long n,       \
-	                  float delta, float *u1, float *u2, float *pt);                            \
+	void pan_lhue_##S(const float *p0, const float *c1, const float *c2, long x0, long n,      \
+	                  float delta, float *u1, float *u2, float *pt);                           \
 	void pan_lfac_##S(const float *const u[3], const float *const um[3],                       \
-	                  const float *const up[3], long n, const pan_lpar *lp, float *f0,          \
-	                  float *f1);                                                               \
+	                  const float *const up[3], long n, const pan_lpar *lp, float *f0,         \
+	                  float *f1);                                                              \
 	void pan_lhrows_##S(const float *rho, const float *raw, const float *fw, const float *fe,  \
-	                    long n, const float wt[4][7][16], float *const h[4],                    \
-	                    float *const hx[4]);                                                    \
+	                    long n, const float wt[4][7][16], float *const h[4],                   \
+	                    float *const hx[4]);                                                   \
 	void pan_lgorow_##S(const pan_gorow_args *a, const float *raw, long n, float delta,        \
 	                    float e, float *const out[12], int nt);
 PAN_LEAN_DECL(base)
