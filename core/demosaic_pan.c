@@ -1875,9 +1875,9 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 	pc_dm_free(cache);
 }
 
-/* The fast paths of pan-ratio, pan-guided (guided 1), pan-chroma (2), pan-side (3) and
- * pan-adapt (4, kn its noise term's factor): one fused pass on row bands; guided adds the range
- * weights of scale e. */
+/* The fast paths of pan-ratio, pan-guided (guided 1), pan-chroma (2), pan-side (3), pan-adapt (4)
+ * and pan-lean (5), g the frame's noise gain for the last two: one fused pass on row bands;
+ * guided 1–4 add the range weights of scale e. */
 static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                    pc_cpu_level level, const pc_fplane *out, int guided, double g)
 {
