@@ -126,8 +126,8 @@ typedef struct fact_oargs {
 #include "simd_instance_end.h"
 #endif
 
-#define PAN_DELTA PC_DM_PAN_DELTA /* δ, fraction of full scale */
-#define PAN_E     0.01            /* pan-guided's e, fraction of full scale */
+#define PAN_DELTA 0.01 /* δ, fraction of full scale */
+#define PAN_E     0.01 /* pan-guided's e, fraction of full scale */
 
 typedef struct pan_ref {
 	const double *img;
@@ -288,8 +288,8 @@ int pc_dm_pan_guided_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
  * by P0(p): +4.03/+1.46; +0.69/+1.05 — no better. The reference computes every image on the
  * mirror-extended raw, PAN_CX pixels beyond each border; C1 and C2 are stored times β. */
 #define PAN_CX 8
-#define PAN_CB PC_DM_PAN_CB /* β */
-#define PAN_CE 0.02         /* pan-chroma's e, fraction of full scale */
+#define PAN_CB 0.5  /* β */
+#define PAN_CE 0.02 /* pan-chroma's e, fraction of full scale */
 
 typedef struct chroma_ref {
 	int w, h, W;                /* the extended images: (w + 2X) × (h + 2X), row W */
@@ -432,9 +432,9 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
  * block). ε = 0.1 (hue units), pan-guided's range scale e widened to 4 % of full scale (the
  * factors on their own pick sides by aliasing on fine gratings; a wider e undoes that):
  * Round 12d's sweep of ε, e, the exponent and pixel against block rate. */
-#define PAN_SE   0.04           /* pan-side's e, fraction of full scale */
-#define PAN_SEPS PC_DM_PAN_SEPS /* ε of the side weights, hue units */
-#define PAN_SST  2              /* the side distances' step: the neighbouring blocks */
+#define PAN_SE   0.04 /* pan-side's e, fraction of full scale */
+#define PAN_SEPS 0.1  /* ε of the side weights, hue units */
+#define PAN_SST  2    /* the side distances' step: the neighbouring blocks */
 
 /* the hue component k (0: C1, 1: C2) of (x, y)'s block */
 static double side_u(const chroma_ref *c, double delta, int x, int y, int k)
@@ -1029,12 +1029,10 @@ typedef void (*pan_cghrows_fn)(const float *rho, const float *p0, const float *c
 typedef void (*pan_sghrows_fn)(const float *rho, const float *p0, const float *fw, const float *fe,
                                long n, const float wt[4][7][16], float e, float *const h[4]);
 typedef void (*pan_shue_fn)(const float *p0, const float *c1, const float *c2, long x0, long n,
-                            float delta, float *u1, float *u2);
+                            float delta, float *u1, float *u2, float *pt);
 typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
                             const float *const up[2], long n, float eps, float *f0, float *f1);
 
-typedef void (*pan_lhue_fn)(const float *p0, const float *c1, const float *c2, long x0, long n,
-                            float delta, float *u1, float *u2, float *pt);
 typedef void (*pan_lfac_fn)(const float *const u[3], const float *const um[3],
                             const float *const up[3], long n, const pan_lpar *lp, float *f0,
                             float *f1);
@@ -1110,7 +1108,6 @@ typedef struct pan_kern {
 	fact_m_fn fm;
 	fact_ppi2_fn ppi2;
 	fact_orow_fn forow;
-	pan_lhue_fn lhue;
 	pan_lfac_fn lfac;
 	pan_lhrows_fn lhrows;
 	pan_gorow_fn lgorow;
@@ -1126,7 +1123,7 @@ typedef struct pan_kern {
 		    pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S,     \
 		    pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, \
 		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S,          \
-		    pan_lhue_##S, pan_lfac_##S, pan_lhrows_##S, pan_lgorow_##S                     \
+		    pan_lfac_##S, pan_lhrows_##S, pan_lgorow_##S                                   \
 	}
 
 static pan_kern pan_kernels(pc_cpu_level level)
@@ -1694,12 +1691,8 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
 					         ck[0], ck[1]);
 					float *pc = lean ? hp[(yy & 7) >> 1] : NULL;
-					if (lean)
-						K.lhue(p0, ck[0], ck[1], -16, n + 32, j->delta,
-						       u[0], u[1], pc);
-					else
-						K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta,
-						       u[0], u[1]);
+					K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta, u[0], u[1],
+					       pc);
 					const float *uc[3] = {u[0], u[1], pc},
 					            *uw[3] = {u[0] - PAN_SST, u[1] - PAN_SST,
 					                      pc ? pc - PAN_SST : NULL},
@@ -2312,7 +2305,7 @@ int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, i
 }
 
 /* pan-lean's fast path (docs/demosaicking.md, Round 22): pan-side's pass (pan_band, guided 5)
- * with pan-lean's block terms (pan_lhue: the blocks' level beside their hue; pan_lfac: its side
+ * with pan-lean's block terms (pan_shue's block level beside the hue; pan_lfac: its side
  * distances and ε_B), the tents of the ratios and of the raw with the side factors alone
  * (pan_lhrows, a second ring of tents) and its output row (pan_lgorow: both sums, the cored
  * level, the blends); g, the frame's noise gain, pc_dm_noise_gain_in_mt's when not given. */

@@ -32,13 +32,6 @@ int pc_dm_pan_side_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, in
 int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                            const pc_fplane *out, double *rown);
 
-/* Constants of the pan references that pan-lean's fast path (pan_band in demosaic_pan.c) shares:
- * δ (fraction of full scale), pan-side's ε of the side weights (hue units) and pan-chroma's β
- * folded into the chrominance images (demosaic_pan.c says where each was chosen) */
-#define PC_DM_PAN_DELTA 0.01
-#define PC_DM_PAN_SEPS  0.1
-#define PC_DM_PAN_CB    0.5
-
 /* pan-lean (docs/demosaicking.md, Round 21): pan-side's tents without range weights, side
  * factors aware of noise, fine hue texture and luminance steps, the other colours' level P̃,
  * each output blended towards the plain tents within the noise; demosaic_pan.c states the
