@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # polarcam set-up and entry points. On a fresh Debian 12 machine as root:
 #   ./do demo [DIR]   install build packages, build, render the default scene and run the pipeline
-#   ./do test         install build and test packages, build three times with -Wall -Wextra
-#                     -Werror (GCC plain, GCC ASan+UBSan, clang Release), run the whole test
-#                     suite in the GCC builds and the compiler-dependent part in the clang one,
-#                     then each libFuzzer harness for a few seconds (clang)
+#   ./do test         install build and test packages, build twice with -Wall -Wextra -Werror
+#                     (clang Release, GCC ASan+UBSan), run the whole test suite in the GCC
+#                     build and in the clang one the compiler-dependent part and what needs a
+#                     binary without sanitizers (with the pip-built module: GCC Release again)
 #   ./do build        install build packages and build (build/)
 #   ./do fuzz [SECONDS] [HARNESS...]  build the libFuzzer harnesses (clang) and fuzz each for
 #                     SECONDS (default 600) from its corpus (tests/fuzz/README.md)
@@ -90,21 +90,19 @@ format_files() {
   git ls-files -- '*.c' '*.h' '*.cpp' '*.inc' '*.h.in'
 }
 
-# ctest -E regex of the tests that the clang build leaves to the GCC builds (see ./do test).
-# python_pip builds a fresh copy of the whole project with the default compiler (not clang):
-# once, in build-ci, is enough.
-# The long end-to-end runs (soak, kills, the bad-input table, memory loops, install consumers)
-# exercise the same library code as in the GCC builds: once there is enough (CI's 20 minutes).
-# test_cli_conventions (files, exit statuses, JSON lines, help examples, batch bytes against
-# single runs of the same binary) and python_cli (the module against the CLI, both calling the
-# same library functions) compare a build with itself: the compiler does not enter.
-CLANG_SKIP='^(v4l2_guest|devices_gige_.*|devices_bench_smoke|devices_view_xvfb|devices_list|python_pip|devices_soak|test_interrupt|test_bad_input|test_capture_faults|python_memory|install_consumer_.*|dataset_slurm|test_cli_conventions|python_cli)$'
-# The GCC suite runs once, under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan);
-# the plain GCC build (build-ci, -Werror like the others) runs only what needs a binary without
-# the sanitizers: the soak (RSS is judged only without ASan, whose quarantine grows), the
-# Python package built by pip and the module's memory loop (leaks measured without ASan), and
-# the installed library as users get it (install prefix, consumers, the docs' example).
-# Optimised code without sanitizers is still run in full by the clang build below.
+# ctest -E regex of the tests that the clang build leaves to the sanitizers' build (see ./do
+# test): the system-level ones (QEMU guest, GigE Vision peers, X window, device listing) and the
+# long end-to-end runs (kills, the bad-input table, capture faults, Slurm), which exercise the
+# same library code as there and take most of the suite's time. test_cli_conventions (files,
+# exit statuses, JSON lines, help examples, batch bytes against single runs of the same binary)
+# and python_cli (the module against the CLI, both calling the same library functions) compare
+# a build with itself: the compiler does not enter.
+CLANG_SKIP='^(v4l2_guest|devices_gige_.*|devices_bench_smoke|devices_view_xvfb|devices_list|test_interrupt|test_bad_input|test_capture_faults|dataset_slurm|test_cli_conventions|python_cli)$'
+# The GCC suite runs once, under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan),
+# without what needs a binary without the sanitizers, which the clang build runs: the soak (RSS
+# is judged only without ASan, whose quarantine grows), the Python package built by pip and the
+# module's memory loop (leaks measured without ASan), and the installed library as users get it
+# (install prefix, consumers, the docs' example).
 PLAIN_ONLY='^(devices_soak|python_pip|python_memory|install_.*|api_doc_example)$'
 
 # The files among them that clang-format would change.
@@ -171,20 +169,21 @@ case $cmd in
       laps+=("$1 $((SECONDS - mark)) s (load $(cut -d' ' -f1 /proc/loadavg))")
       mark=$SECONDS
     }
-    # Two cores, three builds and three suites: what waits on the network or on a clock (the
-    # guest kernel's download; build-ci's soak and pip build) runs beside a build, and that build
-    # runs niced so that the tests keep their share of the CPU and the compiler fills the rest.
+    # Two builds on two cores. clang in Release as users build it runs everything whose result
+    # depends on the compiler and what needs a binary without sanitizers (the soak, the Python
+    # module's memory loop, the installed library, and python_pip, which builds the library and
+    # the module once more through pip with GCC in Release, here with -Werror); GCC with the
+    # sanitizers runs the whole suite. (Until ci61 a third build, GCC in Release, ran only that
+    # plain part: 110-136 s of build for what the pip build and the clang build cover.)
+    # What waits on the network or on a clock runs beside a build, and that build is niced so
+    # that the tests keep their share of the CPU and the compiler fills the rest.
     # The guest tests boot Debian's own kernel package: fetched now, beside the builds, so that
-    # the tests themselves need no network (tests/qemu/kernel.sh caches it per build).
-    # Only build-asan runs them (build-ci runs PLAIN_ONLY, build-clang skips them).
+    # the tests themselves need no network (tests/qemu/kernel.sh caches it per build). Only
+    # build-asan boots it.
     (mkdir -p build-asan
       tests/qemu/kernel.sh build-asan/qemu-cache vivid >/dev/null ||
         say "Debian's kernel package could not be fetched: the QEMU guest tests will be skipped") &
     kernel_pid=$!
-    say "build 1/3: build-ci (GCC, Release as users build it, -Wall -Wextra -Werror)"
-    # libcamera is off by default; CI asks for it so that the backend is compiled and tested
-    build build-ci -DCMAKE_BUILD_TYPE=Release -DPC_WERROR=ON -DPC_WITH_LIBCAMERA=AUTO
-    lap "build build-ci"
     status=0
     # OpenMP threads sleep while they wait: with two tests side by side on two cores, spinning
     # threads burn the CPU the other test needs (tests/CMakeLists.txt sets it per test too)
@@ -194,48 +193,47 @@ case $cmd in
     # plain CLI's start-up without it, 0.28 -> 0.24 s under the sanitizers, paid by every test
     # that runs the CLI (about a thousand runs). Nothing here traces: lttng-ust's switch is off.
     export LTTNG_UST_WITHOUT_BADDR_STATEDUMP=1
+    # python_pip's build of the library with GCC in Release: warnings are errors there too
+    export POLARCAM_CMAKE_ARGS="-DPC_WERROR=ON${POLARCAM_CMAKE_ARGS:+ $POLARCAM_CMAKE_ARGS}"
     ctest_in() { # ctest_in DIR ctest-options...: the suite in DIR with the sanitizers' settings
       local dir=$1; shift
       (cd "$dir" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
         LSAN_OPTIONS=suppressions=$PWD/../tests/lsan.supp:print_suppressions=0 \
         ctest --output-on-failure -j "$JOBS" --timeout 900 "$@")
     }
-    say "tests in build-ci (beside build 2/3; their output follows that build's)"
-    ctest_in build-ci -R "$PLAIN_ONLY" >build-ci.tests.log 2>&1 &
-    ci_pid=$!
-    say "build 2/3: build-asan (GCC, AddressSanitizer + UndefinedBehaviorSanitizer; niced)"
-    # -g1: line tables only (the sanitizers' reports keep file:line), a third less compile time
-    # than -g's full debug information
-    (renice -n 10 -p $BASHPID >/dev/null
-      build build-asan -DPC_WERROR=ON -DPC_SANITIZE=ON -DPC_WITH_LIBCAMERA=AUTO \
-        -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG") ||
-      { wait $ci_pid || true; cat build-ci.tests.log; exit 1; }
-    lap "build build-asan"
-    wait $ci_pid || status=1
-    cat build-ci.tests.log
-    lap "tests in build-ci (the rest of them)"
-    wait $kernel_pid || true
-    lap "QEMU kernel cache (the rest of it)"
-    say "tests in build-asan"
-    ctest_in build-asan -E "$PLAIN_ONLY" || status=1
-    lap "tests in build-asan"
-    gcc_s=$((SECONDS - start))
-    # clang last, so that a clang-only failure still leaves the GCC results above. Its tests:
-    # everything whose result depends on the compiler; not the system-level tests (QEMU guest,
-    # GigE Vision peers, X window, device listing), which exercise the same library code as in
-    # the GCC builds and take most of the suite's time.
-    # (Not beside the sanitizers' suite: niced there, it made that suite 612 s against 462 s
-    # alone and 565 s for the two one after the other, in CI runs ci60 and ci59.)
-    say "build 3/3: build-clang (clang, Release, -Wall -Wextra -Werror)"
+    say "build 1/2: build-clang (clang, Release as users build it, -Wall -Wextra -Werror)"
+    # libcamera is off by default; CI asks for it so that the backend is compiled and tested
     if (CC=clang CXX=clang++ build build-clang -DCMAKE_BUILD_TYPE=Release -DPC_WERROR=ON \
       -DPC_WITH_LIBCAMERA=AUTO); then
       lap "build build-clang"
-      say "tests in build-clang (without $CLANG_SKIP)"
-      (cd build-clang && LSAN_OPTIONS=suppressions=$PWD/../tests/lsan.supp:print_suppressions=0 \
-        ctest --output-on-failure -j "$JOBS" --timeout 900 -E "$CLANG_SKIP") || status=1
-      lap "tests in build-clang"
+      say "tests in build-clang, without $CLANG_SKIP (beside build 2/2; their output follows it)"
+      ctest_in build-clang -E "$CLANG_SKIP" >build-clang.tests.log 2>&1 &
+      clang_pid=$!
     else
       lap "build build-clang (failed)"
+      status=1 clang_pid=
+    fi
+    say "build 2/2: build-asan (GCC, AddressSanitizer + UndefinedBehaviorSanitizer; niced)"
+    # -g1: line tables only (the sanitizers' reports keep file:line), a third less compile time
+    # than -g's full debug information
+    asan_ok=1
+    (renice -n 10 -p $BASHPID >/dev/null
+      build build-asan -DPC_WERROR=ON -DPC_SANITIZE=ON -DPC_WITH_LIBCAMERA=AUTO \
+        -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG") ||
+      asan_ok=0
+    lap "build build-asan$( ((asan_ok)) || echo ' (failed)')"
+    if [[ -n $clang_pid ]]; then
+      wait $clang_pid || status=1
+      cat build-clang.tests.log
+      lap "tests in build-clang (the rest of them)"
+    fi
+    wait $kernel_pid || true
+    lap "QEMU kernel cache (the rest of it)"
+    if ((asan_ok)); then
+      say "tests in build-asan (the whole suite but what needs a binary without sanitizers)"
+      ctest_in build-asan -E "$PLAIN_ONLY" || status=1
+      lap "tests in build-asan"
+    else
       status=1
     fi
     # every libFuzzer harness for POLARCAM_FUZZ_SECONDS seconds (the corpora also replay in the
@@ -257,7 +255,6 @@ case $cmd in
       say "clang with libFuzzer not found: the fuzz harnesses were only replayed (fuzz_replay_*)"
     fi
     for l in "${laps[@]}"; do say "  $l"; done
-    say "GCC builds and tests: $gcc_s s; clang build, tests and fuzzing: $((SECONDS - start - gcc_s)) s"
     say "tests finished in $((SECONDS - start)) s: $([[ $status == 0 ]] && echo PASSED || echo FAILED)"
     exit $status
     ;;
