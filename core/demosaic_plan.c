@@ -724,11 +724,11 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "(+0.13/+0.45), hue pairs (5) +0.03/+1.00 (+0.00/+0.78); unseen "
                          "colour-sealed8 (6, evaluated once) +1.48/+1.82 (+1.20/+1.33); no scene "
                          "of any colour set losing; docs/demosaicking.md, Round 21",
-                         "float fast path in pan-side's band form: within 2.4e-7 of full scale "
-                         "of the double reference; 7.1-8.3x the mono bilinear's time (bench "
-                         "demosaic --quick; pan-side 4.6-5.1x, bayer-first 9.8-11.1x in the same "
-                         "runs), over the 5x budget: its per-output blends cost about 2.5x "
-                         "(docs/demosaicking.md, Round 22)",
+                         "float fast path in pan-side's band form: within 1.8e-7 of full scale "
+                         "of the double reference; 6.1-8.3x the mono bilinear's time (pan-side "
+                         "3.7-5.1x, bayer-first 8.0-11.1x in the same runs), over the 5x "
+                         "budget: its per-output blends cost about 2.5x, and writing the 12 "
+                         "planes alone 1.5-2.3x (docs/demosaicking.md, Rounds 22-23)",
                          "ours (docs/demosaicking.md, Round 21): pan-side (Round 13) with "
                          "GBTF-style side weights (Pekkucuksen & Altunbasak, ICIP 2010) and "
                          "Wiener-type coring (Round 20 (e))",
