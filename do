@@ -180,9 +180,8 @@ case $cmd in
     # The guest tests boot Debian's own kernel package: fetched now, beside the builds, so that
     # the tests themselves need no network (tests/qemu/kernel.sh caches it per build). Only
     # build-asan boots it.
-    (mkdir -p build-asan
-      tests/qemu/kernel.sh build-asan/qemu-cache vivid >/dev/null ||
-        say "Debian's kernel package could not be fetched: the QEMU guest tests will be skipped") &
+    (tests/qemu/kernel.sh build-asan/qemu-cache vivid >/dev/null ||
+      say "Debian's kernel package could not be fetched: the QEMU guest tests will be skipped") &
     kernel_pid=$!
     status=0
     # OpenMP threads sleep while they wait: with two tests side by side on two cores, spinning
