@@ -450,11 +450,9 @@ static double side_d(const chroma_ref *c, double delta, int x, int y, int dx, in
 	       fabs(side_u(c, delta, x + dx, y + dy, 1) - side_u(c, delta, x, y, 1));
 }
 
-/* pan-lean's block terms (below): g the frame's noise gain and F its floor (raw units); xs,
- * when set, receives every channel's tents of the raw itself (num's weights) */
+/* pan-lean's block terms (below): g the frame's noise gain and F its floor (raw units) */
 typedef struct lean_side {
 	double g, F;
-	double *xs;
 } lean_side;
 
 /* pan-lean's D: pan-side's plus μ times the blocks' relative P̃ step */
@@ -500,18 +498,13 @@ static void side_pair(const pan_ref *r, const chroma_ref *c, const lean_side *ls
  * factors and the range scales ev (the vertical weights, centre (x, y)) and eh[dy + 3] (the
  * horizontal weights of tap row y + dy). pan-side passes its e everywhere, pan-adapt its
  * relative scale (below). With ls (pan-lean) the tents carry the side factors alone (no range
- * weights: ev and eh unused), the factors are pan-lean's, and ls->xs, when set, receives the
- * same tents of the raw: xs_q / den_q. */
+ * weights: ev and eh unused) and the factors are pan-lean's. */
 static void side_sums(const pan_ref *r, const chroma_ref *c, const lean_side *ls, int x, int y,
                       double ev, const double eh[7], double num[12], double den[12])
 {
 	double p0 = c->p0[cidx(c, x, y)], fv[2];
-	double *xs = ls ? ls->xs : NULL;
-	for (unsigned q = 0; q < 12; q++) {
+	for (unsigned q = 0; q < 12; q++)
 		num[q] = den[q] = 0;
-		if (xs)
-			xs[q] = 0;
-	}
 	side_pair(r, c, ls, x, y, 0, PAN_SST, fv);
 	for (int dy = -3; dy <= 3; dy++) {
 		double p0r = c->p0[cidx(c, x, y + dy)], fh[2];
@@ -520,7 +513,7 @@ static void side_sums(const pan_ref *r, const chroma_ref *c, const lean_side *ls
 		side_pair(r, c, ls, x, y + dy, PAN_SST, 0, fh);
 		for (int s = 0; s < 4; s++) {
 			/* row y + dy's taps of column phase s: H_s */
-			double hn = 0, hd = 0, hx = 0;
+			double hn = 0, hd = 0;
 			for (int d = -3; d <= 3; d++) {
 				if ((((x + d) % 4) + 4) % 4 != s)
 					continue;
@@ -530,15 +523,11 @@ static void side_sums(const pan_ref *r, const chroma_ref *c, const lean_side *ls
 				                         fabs(c->p0[cidx(c, x + d, y + dy)] - p0r));
 				wh *= d < 0 ? fh[0] : d > 0 ? fh[1] : 1;
 				hn += wh * c->rho[cidx(c, x + d, y + dy)];
-				if (xs)
-					hx += wh * ext(r, x + d, y + dy);
 				hd += wh;
 			}
 			int xc = x - (((x - s) % 4) + 4) % 4;
 			unsigned q = chan(r, xc, y + dy);
 			num[q] += wv * hn / hd;
-			if (xs)
-				xs[q] += wv * hx / hd;
 			den[q] += wv;
 		}
 	}
@@ -573,12 +562,31 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
 	return 0;
 }
 
-/* pan-lean (docs/demosaicking.md, Round 21): pan-side's tents without their range weights, the
- * side factors made aware of noise, fine hue texture and luminance steps, the other colours'
- * level the smooth P̃ instead of the own sample's, and every output blended towards the same
- * tents of the raw where its difference from them is within the noise. With P̃ = max(P0, 0) + δ,
- * g the frame's noise gain (demosaic_noise.h: variance g·(L + F)) and every constant in
- * demosaic_pan.h:
+/* pan-lean's window at the block (bx, by) (even coordinates): the mean *mu and population
+ * variance *var of P̃ = max(P0, 0) + δ over rows by − r_p + 1 .. by + r_p and the same columns
+ * (2r_p pixels square, centred on the 2 × 2 block's centre), two passes */
+static void lean_window(const chroma_ref *c, double delta, int bx, int by, double *mu, double *var)
+{
+	const int lo = 1 - PC_DM_PAN_LEAN_RP, hi = PC_DM_PAN_LEAN_RP;
+	double s = 0, v = 0;
+	for (int j = lo; j <= hi; j++)
+		for (int i = lo; i <= hi; i++)
+			s += fmax(c->p0[cidx(c, bx + i, by + j)], 0) + delta;
+	const double m = s / (4 * PC_DM_PAN_LEAN_RP * PC_DM_PAN_LEAN_RP);
+	for (int j = lo; j <= hi; j++)
+		for (int i = lo; i <= hi; i++) {
+			const double d = fmax(c->p0[cidx(c, bx + i, by + j)], 0) + delta - m;
+			v += d * d;
+		}
+	*mu = m;
+	*var = v / (4 * PC_DM_PAN_LEAN_RP * PC_DM_PAN_LEAN_RP);
+}
+
+/* pan-lean (docs/demosaicking.md, Rounds 21 and 24): pan-side's tents without their range
+ * weights, the side factors made aware of noise, fine hue texture and luminance steps, and a
+ * level shrunk towards its window mean where the window's variation is within the noise. With
+ * P̃ = max(P0, 0) + δ, g the frame's noise gain (demosaic_noise.h: variance g·(L + F)) and every
+ * constant in demosaic_pan.h:
  *
  *  1. Side distances D = ‖u(B′) − u(B)‖₁ + μ·|P̃(B′) − P̃(B)|/min(P̃(B′), P̃(B)) (pan-side's hue
  *     distance plus a relative luminance step, both at the blocks' corners), factors
@@ -587,19 +595,25 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
  *     differs on both sides (texture finer than the blocks, where the factors would pick a
  *     side by aliasing), the smaller distance flatten the factors; a one-sided edge keeps them.
  *  2. Tents (4 − |d|)·f along the rows and (4 − |dy|)·f down the columns (pan-side's with
- *     e → ∞), giving each channel's ratio R_q = num_q/den_q and the tents of the raw
- *     A_q = xs_q/den_q (the same weights).
- *  3. The own colour's level L = (max(x_p, 0) + δ)/R_own cored against its noise: L_o = P̃ +
- *     s·(L − P̃), s = d²/(d² + c_s·σ_L²), d = L − P̃, σ_L² = g·(max(x_p, 0) + F)/R_own² (a
- *     Wiener-type factor of one sample; 0/0 → 1); the other colours' level is P̃ (no detail of
- *     the own sample's colour goes into them: Round 20 (e)).
- *  4. O_q = level·R_q − δ, and I_q = A_q + a·(O_q − A_q), a = e²/(e² + c_a·g·(max(A_q, 0) + F)),
- *     e = O_q − A_q (0/0 → 1): where the ratio model's detail is within the noise of the plain
- *     tents, the plain tents. The own channel keeps the sample.
+ *     e → ∞), giving each channel's ratio R_q = num_q/den_q.
+ *  3. The level: P̃'s mean m and (population) variance v over the 2r_p × 2r_p window centred on
+ *     the pixel's 2 × 2 block (rows and columns b − r_p + 1 .. b + r_p, b the block's even
+ *     corner; one window a block, at a quarter of the pixels), and P_s = m + λ·(P̃ − m),
+ *     λ = v/(v + c_p·g·(m + F)) (0/0 → 1), P̃ the pixel's own: the guided filter's
+ *     shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7) with a regulariser of the order of one
+ *     sample's noise, as pan-adapt's (Round 14); where the window's variation is within the
+ *     noise, the smooth mean, so that the level's own noise does not go into every output.
+ *  4. The own colour's level L = (max(x_p, 0) + δ)/R_own cored against its noise around P_s:
+ *     L_o = P_s + s·(L − P_s), s = d²/(d² + c_s·σ_L²), d = L − P_s, σ_L² = g·(max(x_p, 0) +
+ *     F)/R_own² (a Wiener-type factor of one sample; 0/0 → 1); the other colours' level is P_s
+ *     (no detail of the own sample's colour goes into them: Round 20 (e)).
+ *  5. I_q = level·R_q − δ; the own channel keeps the sample.
  *
- * With g = 0 steps 3 and 4 are identities (s = a = 1). With g → ∞ every output but the own
- * sample becomes A_q with flat factors: the plain tents (4 − |d|)(4 − |dy|) over the channel's
- * samples, bayer-first's red and blue (Round 17). */
+ * With g = 0 steps 3 and 4 are identities (λ = s = 1): P_s = P̃, L_o = L. With g → ∞ the
+ * factors are flat (the tents (4 − |d|)(4 − |dy|)) and every output but the own sample is
+ * m·R_q − δ. Round 21's definition had no step 3 and blended each output towards the same
+ * tents of the raw where their difference was within the noise (eleven blends and a second set
+ * of sums a pixel); Round 24 replaced that by step 3, one shrinkage a pixel. */
 int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                          double g, const pc_fplane *out)
 {
@@ -613,26 +627,25 @@ int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mos
 	const double F = PC_DM_NG_FLOOR * fs;
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
-			double num[12], den[12], xs[12];
-			const lean_side ls = {g, F, xs};
+			double num[12], den[12];
+			const lean_side ls = {g, F};
 			side_sums(&r, &c, &ls, x, y, 0, NULL, num, den);
 			const unsigned own = chan(&r, x, y);
 			const double v = img[(size_t)y * w + (size_t)x];
 			const double pt = fmax(c.p0[cidx(&c, x, y)], 0) + r.delta;
+			double mu, wv;
+			lean_window(&c, r.delta, x & ~1, y & ~1, &mu, &wv);
+			const double nv = PC_DM_PAN_LEAN_CP * g * (mu + F);
+			const double ps = mu + (wv + nv > 0 ? wv / (wv + nv) : 1) * (pt - mu);
 			const double ro = den[own] / num[own]; /* 1 / R_own */
-			const double d = (fmax(v, 0) + r.delta) * ro - pt;
+			const double d = (fmax(v, 0) + r.delta) * ro - ps;
 			const double vl = PC_DM_PAN_LEAN_CS * g * (fmax(v, 0) + F) * ro * ro;
-			const double lo = pt + (d * d + vl > 0 ? d * d / (d * d + vl) : 1) * d;
+			const double lo = ps + (d * d + vl > 0 ? d * d / (d * d + vl) : 1) * d;
 			for (unsigned q = 0; q < 12; q++) {
-				double o = v;
-				if (q != own) {
-					const double a = xs[q] / den[q];
-					const double e =
-					    (q / 4 == own / 4 ? lo : pt) * num[q] / den[q] -
-					    r.delta - a;
-					const double va = PC_DM_PAN_LEAN_CA * g * (fmax(a, 0) + F);
-					o = a + (e * e + va > 0 ? e * e / (e * e + va) : 1) * e;
-				}
+				const double o =
+				    q == own
+				        ? v
+				        : (q / 4 == own / 4 ? lo : ps) * num[q] / den[q] - r.delta;
 				const pc_fplane *pl = &out[q];
 				pl->data[(size_t)y * pl->row_stride +
 				         (size_t)x * pl->pixel_stride] = (float)o;
@@ -939,7 +952,7 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
  * vector, and interleaved outputs, go through a row buffer. */
 #define PAN_PADR  32 /* raw and sum rows: columns [-32, w + 32) */
 #define PAN_AROWS 25 /* pan-adapt's rows beyond pan-side's (pan_band) */
-#define PAN_LROWS 36 /* pan-lean's: the blocks' level (4) and the raw's tents (8 × 4) */
+#define PAN_LROWS 10 /* pan-lean's: the blocks' level (4), two window rows, 2 × 2 m and λ */
 #ifndef PAN_STRIPW
 /* pan_band's strips: at most about this many columns. Round 17c's 1024 (three strips at 2448
  * columns, each strip's scratch in a core's L2) cut L2 read misses by 59 % but measured no wall
@@ -978,6 +991,7 @@ typedef struct pan_tables {
 	float b[4];
 	float same[4][3]
 	          [16]; /* pan-lean: row phase t, colour k: 1 where the pixel is of colour k */
+	float odd[16];  /* pan-lean: 1 in the odd lanes */
 } pan_tables;
 
 static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
@@ -1002,6 +1016,7 @@ static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
 			t->same[ty][pc_mosaic_color(m, (unsigned)l & 3, ty) - PC_CFA_R][l] = 1;
 	for (int l = 0; l < 16; l++) {
 		int u = l & 3;
+		t->odd[l] = (float)(l & 1);
 		t->sel[u][l] = 1;
 		for (int s = 0; s < 4; s++)
 			for (int d = -3; d <= 3; d++)
@@ -1036,9 +1051,10 @@ typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
 typedef void (*pan_lfac_fn)(const float *const u[3], const float *const um[3],
                             const float *const up[3], long n, const pan_lpar *lp, float *f0,
                             float *f1);
-typedef void (*pan_lhrows_fn)(const float *rho, const float *raw, const float *fw, const float *fe,
-                              long n, const float wt[4][7][16], float *const h[4],
-                              float *const hx[4]);
+typedef void (*pan_lhrows_fn)(const float *rho, const float *fw, const float *fe, long n,
+                              const float wt[4][7][16], float *const h[4]);
+typedef void (*pan_lwin_fn)(const float *const p[6], long n, float delta, float cp, float fl,
+                            const float *odd, float *cm, float *cv, float *mo, float *lo);
 
 typedef void (*pan_atents_fn)(const float *const p[5], const float *rho, const float *fw,
                               const float *fe, long n, float delta, const float wt[4][7][16],
@@ -1111,6 +1127,7 @@ typedef struct pan_kern {
 	pan_lfac_fn lfac;
 	pan_lhrows_fn lhrows;
 	pan_gorow_fn lgorow;
+	pan_lwin_fn lwin;
 } pan_kern;
 
 /* One instance's kernels, in pan_kern's order (S: base, avx2, avx512). */
@@ -1123,7 +1140,7 @@ typedef struct pan_kern {
 		    pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S,     \
 		    pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, \
 		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S,          \
-		    pan_lfac_##S, pan_lhrows_##S, pan_lgorow_##S                                   \
+		    pan_lfac_##S, pan_lhrows_##S, pan_lgorow_##S, pan_lwin_##S                     \
 	}
 
 static pan_kern pan_kernels(pc_cpu_level level)
@@ -1362,7 +1379,6 @@ static void pan_gorow_slots(const pan_lattice *l, const pan_tables *t, uint32_t 
 		}
 		for (int i = 0; i < l->n[q]; i++) {
 			a->prow[s][i] = a->vrow[q][i];
-			a->pxrow[s][i] = a->xrow[q][i];
 		}
 		a->sq[s] = (unsigned)q;
 		if (s < 2 || s == 8)
@@ -1376,8 +1392,8 @@ static void pan_gorow_slots(const pan_lattice *l, const pan_tables *t, uint32_t 
 /* The arguments pan_gorow and pan_agorow_row share for output row y: the lattice's term rows in
  * the tents hr, their weights and offsets, the selections, the own channels and (slots: not for
  * pan-chroma) pan_gorow_ph's slots, else pan_gorow_in's 16-lane tent weights. */
-static void pan_gorow_prep(const pan_job *j, const pan_tables *t, float *hr[8][4], float *hx[8][4],
-                           uint32_t y, int slots, pan_gorow_args *a)
+static void pan_gorow_prep(const pan_job *j, const pan_tables *t, float *hr[8][4], uint32_t y,
+                           int slots, pan_gorow_args *a)
 {
 	const uint32_t ty = y & 3;
 	pan_lattice l;
@@ -1385,8 +1401,6 @@ static void pan_gorow_prep(const pan_job *j, const pan_tables *t, float *hr[8][4
 	for (int q = 0; q < 12; q++)
 		for (int i = 0; i < l.n[q]; i++) {
 			a->vrow[q][i] = hr[l.slot[q][i]][l.px[q][i]];
-			if (hx)
-				a->xrow[q][i] = hx[l.slot[q][i]][l.px[q][i]];
 			a->vt[q][i] = l.wt[q][i];
 			a->vdy[q][i] = 3 + l.dy[q][i];
 		}
@@ -1415,10 +1429,6 @@ static void pan_gorow_shift(pan_gorow_args *a, long dx)
 				a->vrow[q][i] += dx;
 			if (a->prow[q][i])
 				a->prow[q][i] += dx;
-			if (a->xrow[q][i])
-				a->xrow[q][i] += dx;
-			if (a->pxrow[q][i])
-				a->pxrow[q][i] += dx;
 		}
 	for (int k = 0; k < 7; k++) {
 		if (a->p0row[k])
@@ -1428,8 +1438,8 @@ static void pan_gorow_shift(pan_gorow_args *a, long dx)
 		if (a->c2row[k])
 			a->c2row[k] += dx;
 	}
-	const float **rows[4] = {&a->fn, &a->fs, &a->mu, &a->var};
-	for (int k = 0; k < 4; k++)
+	const float **rows[6] = {&a->fn, &a->fs, &a->mu, &a->var, &a->lmu, &a->llam};
+	for (int k = 0; k < 6; k++)
 		if (*rows[k])
 			*rows[k] += dx;
 }
@@ -1462,7 +1472,7 @@ static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], ui
  * here (zeroed, the N and S factors fv, pan_gorow_prep's part; the caller adds the rest), 0 when
  * the slot holds them already. */
 static pan_gorow_args *pan_args_at(const pan_job *j, const pan_tables *t, float *hr[8][4],
-                                   float *hx[8][4], const float *const fv[2], uint32_t y, int slots,
+                                   const float *const fv[2], uint32_t y, int slots,
                                    pan_gorow_args *cache, unsigned char *cached, int *fresh)
 {
 	pan_gorow_args *a = &cache[y & 15];
@@ -1471,14 +1481,14 @@ static pan_gorow_args *pan_args_at(const pan_job *j, const pan_tables *t, float 
 		memset(a, 0, sizeof *a);
 		a->fn = fv[0];
 		a->fs = fv[1];
-		pan_gorow_prep(j, t, hr, hx, y, slots, a);
+		pan_gorow_prep(j, t, hr, y, slots, a);
 		cached[y & 15] = 1;
 	}
 	return a;
 }
 
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
-                      float *hx[8][4], float *const gr[3][8], const float *const fv[2],
+                      float *const lw[2][2], float *const gr[3][8], const float *const fv[2],
                       const float *raw, uint32_t y, const pan_strip *st, pan_gorow_args *cache,
                       unsigned char *cached, int planar, float *rawp, float *const o[12])
 {
@@ -1486,8 +1496,7 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	const long n = st->n, nmain = st->nmain;
 	int fresh;
 	const int lean = j->guided == 5;
-	pan_gorow_args *ap =
-	    pan_args_at(j, t, hr, lean ? hx : NULL, fv, y, j->guided != 2, cache, cached, &fresh);
+	pan_gorow_args *ap = pan_args_at(j, t, hr, fv, y, j->guided != 2, cache, cached, &fresh);
 	for (int k = 0; fresh && k < 7; k++) {
 		ap->p0row[k] = gr[0][((int)y + k - 3) & 7];
 		ap->c1row[k] = gr[1][((int)y + k - 3) & 7];
@@ -1496,8 +1505,9 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	if (fresh && lean) {
 		for (unsigned q = 0; q < 12; q++)
 			ap->csame[q] = t->same[y & 3][q / 4];
+		ap->lmu = lw[(y >> 1) & 1][0];
+		ap->llam = lw[(y >> 1) & 1][1];
 		ap->lcs = (float)(PC_DM_PAN_LEAN_CS * j->g);
-		ap->lca = (float)(PC_DM_PAN_LEAN_CA * j->g);
 		ap->lF = j->F;
 	}
 	const pan_gorow_fn kern = lean             ? K->lgorow
@@ -1538,7 +1548,7 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 	const uint32_t w = st->w, xs = st->xs;
 	const long n = st->n, nmain = st->nmain;
 	int fresh;
-	pan_gorow_args *ap = pan_args_at(j, t, hr, NULL, fv, y, 1, cache, cached, &fresh);
+	pan_gorow_args *ap = pan_args_at(j, t, hr, fv, y, 1, cache, cached, &fresh);
 	if (fresh) {
 		ap->mu = mu;
 		ap->var = var;
@@ -1652,22 +1662,28 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		fhr[1][1] = ab + (size_t)24 * pitch;
 	}
 	/* pan-lean: the blocks' level pt of the last four even source rows in hp[(Y & 7) >> 1], the
-	 * raw's tents in a ring of 8 rows (hx, as hr), its block terms lp */
-	float *hp[4] = {NULL}, *hx[8][4] = {{NULL}};
+	 * block windows' mean and λ of block row B (pan_lwin, made once source row B + 3 is, from
+	 * P0's rows B − 2 .. B + 3) in lw[(B >> 1) & 1] (output row y reads block row y & ~1; the
+	 * next one is made after it is done), pan_lwin's two column rows lc, its block terms lp */
+	_Static_assert(PC_DM_PAN_LEAN_RP == 3, "pan-lean's fast path: windows of P0's 6 rows");
+	float *hp[4] = {NULL}, *lw[2][2] = {{NULL}}, *lc[2] = {NULL};
 	pan_lpar lp = {0};
 	if (lean) {
 		float *lb = src + (size_t)46 * pitch;
 		for (int k = 0; k < 4; k++)
 			hp[k] = lb + (size_t)k * pitch;
-		for (int k = 0; k < 8; k++)
-			for (int s = 0; s < 4; s++)
-				hx[k][s] = lb + (size_t)(4 + 4 * k + s) * pitch;
+		for (int k = 0; k < 2; k++) {
+			lc[k] = lb + (size_t)(4 + k) * pitch;
+			for (int s = 0; s < 2; s++)
+				lw[k][s] = lb + (size_t)(6 + 2 * k + s) * pitch;
+		}
 		lp = (pan_lpar){eps,
 		                (float)(PC_DM_PAN_LEAN_KN * sqrt(j->g)),
 		                (float)PC_DM_PAN_LEAN_KT,
 		                (float)PC_DM_PAN_LEAN_MU,
 		                j->delta,
-		                j->F};
+		                j->F,
+		                (float)(PC_DM_PAN_LEAN_CP * j->g)};
 	}
 	/* source rows computed: up to have; pan-side's first one even (a block's top row) */
 	int have = side ? (((int)y0 - 3 - look) & ~1) - 1 : (int)y0 - 4;
@@ -1719,8 +1735,15 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					K.ratio(vs, rs, -16, n + 32, j->delta, 0, rh, p0);
 				}
 				if (lean) {
-					K.lhrows(rho, rs, fh[0], fh[1], n, t->wt, hr[yy & 7],
-					         hx[yy & 7]);
+					K.lhrows(rho, fh[0], fh[1], n, t->wt, hr[yy & 7]);
+					if ((yy & 1) && yy - 5 >= first) {
+						const float *pw[6];
+						for (int k = 0; k < 6; k++)
+							pw[k] = gr[0][(yy - 5 + k) & 7];
+						float *const *l = lw[((yy - 3) >> 1) & 1];
+						K.lwin(pw, n, j->delta, lp.cp, j->F, t->odd, lc[0],
+						       lc[1], l[0], l[1]);
+					}
 				} else if (!adapt) {
 					K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e,
 					          hr[yy & 7]);
@@ -1758,7 +1781,7 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		}
 		if (j->guided) {
 			const float *fy[2] = {fv[(y & 2) >> 1][0], fv[(y & 2) >> 1][1]};
-			pan_gorow(j, &K, t, hr, hx, gr, fy, pan_row_strip(&rc, j->in, (int)y), y,
+			pan_gorow(j, &K, t, hr, lw, gr, fy, pan_row_strip(&rc, j->in, (int)y), y,
 			          st, cache, cached, planar, rawp, o);
 			continue;
 		}

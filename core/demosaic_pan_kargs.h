@@ -28,27 +28,30 @@ typedef struct pan_gorow_args {
 	 * scale e0 + ke·mu, the noise term kn·mu (kn = 0: pan-side's ratio step) */
 	const float *mu, *var;
 	float ke, e0, kn;
-	/* pan-lean's (pan_lgorow): the terms' rows of the raw's tents (vrow's of ρ's), the 0/1 lane
-	 * patterns where channel q is of the pixel's own colour, c_s·g, c_a·g and the floor F */
-	const float *xrow[12][4], *pxrow[12][4]; /* pxrow: by slot, as prow */
+	/* pan-lean's (pan_lgorow): the block row's window means and shrinkage factors (pan_lwin),
+	 * the 0/1 lane patterns where channel q is of the pixel's own colour, c_s·g and the floor
+	 * F */
+	const float *lmu, *llam;
 	const float *csame[12];
-	float lcs, lca, lF;
+	float lcs, lF;
 } pan_gorow_args;
 
-/* pan-lean's block terms for pan_lfac (demosaic_pan_kern.inc): ε, κ_n·√g, κ_t, μ, δ, F */
+/* pan-lean's block terms for pan_lfac (demosaic_pan_lean.inc): ε, κ_n·√g, κ_t, μ, δ, F; and
+ * pan_lwin's c_p·g */
 typedef struct pan_lpar {
-	float eps, kng, kt, mu, delta, F;
+	float eps, kng, kt, mu, delta, F, cp;
 } pan_lpar;
 
 /* pan-lean's row kernels (demosaic_pan_lean.inc states each), per instance S (base, avx2,
- * avx512): the side factors, the two sets of tents, the output row */
+ * avx512): the side factors, the tents, the window sums, the output row */
 #define PAN_LEAN_DECL(S)                                                                           \
 	void pan_lfac_##S(const float *const u[3], const float *const um[3],                       \
 	                  const float *const up[3], long n, const pan_lpar *lp, float *f0,         \
 	                  float *f1);                                                              \
-	void pan_lhrows_##S(const float *rho, const float *raw, const float *fw, const float *fe,  \
-	                    long n, const float wt[4][7][16], float *const h[4],                   \
-	                    float *const hx[4]);                                                   \
+	void pan_lhrows_##S(const float *rho, const float *fw, const float *fe, long n,            \
+	                    const float wt[4][7][16], float *const h[4]);                          \
+	void pan_lwin_##S(const float *const p[6], long n, float delta, float cp, float fl,        \
+	                  const float *odd, float *cm, float *cv, float *mo, float *lo);           \
 	void pan_lgorow_##S(const pan_gorow_args *a, const float *raw, long n, float delta,        \
 	                    float e, float *const out[12], int nt);
 PAN_LEAN_DECL(base)

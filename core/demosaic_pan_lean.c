@@ -4,6 +4,7 @@
 #include <float.h>
 #include <math.h>
 
+#include "demosaic_pan.h"
 #include "demosaic_pan_kargs.h"
 #include "simd.h"
 
