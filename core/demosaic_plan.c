@@ -87,7 +87,8 @@
 #define PAN_SPLIT_HI (PC_DM_PAN_SPLIT_R + 6 > 9 ? PC_DM_PAN_SPLIT_R + 6 : 9)
 #define PAN_SPLIT_LO (-PAN_SPLIT_HI)
 /* pan-lean ±8, for a given noise gain: pan-side's (its side factors read the same blocks, their
- * P̃ at the blocks' corners inside the hue's support; the raw's tents the ratios' taps) */
+ * P̃ at the blocks' corners inside the hue's support; the level's block window reads P0 at ±4,
+ * the raw at ±6) */
 #define PAN_LEAN_LO -8
 #define PAN_LEAN_HI 8
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
@@ -716,22 +717,23 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_PAN_LEAN] = {{PC_DM_PAN_LEAN, "pan-lean",
                          "colour-polarization: pan-side's tents without range weights, side "
                          "factors flattened by the hue's noise and by texture finer than the "
-                         "blocks, the other colours' level the smooth P0, each output blended "
-                         "towards the plain tents where its detail is within the noise; over "
-                         "bayer-first (bench colour --reference) smooth colours (9) +3.42/+1.71 "
-                         "(worst +1.65/+0.50), hue patches (9) +1.08/+2.64 (+0.96/+1.83), colour "
-                         "stress (5) +1.20/+1.62 (+0.32/+0.24), noisy copies (4) +0.77/+0.56 "
-                         "(+0.13/+0.45), hue pairs (5) +0.03/+1.00 (+0.00/+0.78); unseen "
-                         "colour-sealed8 (6, evaluated once) +1.48/+1.82 (+1.20/+1.33); no scene "
-                         "of any colour set losing; docs/demosaicking.md, Round 21",
-                         "float fast path in pan-side's band form: within 1.8e-7 of full scale "
-                         "of the double reference; 6.1-8.3x the mono bilinear's time (pan-side "
-                         "3.7-5.1x, bayer-first 8.0-11.1x in the same runs), over the 5x "
-                         "budget: its per-output blends cost about 2.5x, and writing the 12 "
-                         "planes alone 1.5-2.3x (docs/demosaicking.md, Rounds 22-23)",
-                         "ours (docs/demosaicking.md, Round 21): pan-side (Round 13) with "
-                         "GBTF-style side weights (Pekkucuksen & Altunbasak, ICIP 2010) and "
-                         "Wiener-type coring (Round 20 (e))",
+                         "blocks, a level shrunk towards its 6x6 block window's mean within the "
+                         "noise, the own colour's detail cored; over bayer-first (bench colour "
+                         "--reference) smooth colours (9) +3.50/+1.73 (worst +1.71/+0.47), hue "
+                         "patches (9) +1.07/+2.62 (+0.96/+1.78), colour stress (5) +1.20/+1.58 "
+                         "(+0.32/+0.24), noisy copies (4) +0.75/+0.57 (+0.12/+0.46), hue pairs "
+                         "(5) +0.03/+1.00 (+0.00/+0.76); unseen colour-sealed9 (6, evaluated "
+                         "once) +1.09/+1.45 (+0.63/+1.09); no scene of any colour set losing; "
+                         "docs/demosaicking.md, Round 24",
+                         "float fast path in pan-side's band form: within 2.4e-7 of full scale "
+                         "of the double reference; 4.6-5.5x the mono bilinear's time, 1.06-1.10x "
+                         "pan-side's (bayer-first 9.9-11.8x in the same runs): at the 5x "
+                         "budget's edge, over it in 3 of 5 bench runs; writing the 12 planes "
+                         "alone takes 1.6-2.3x (docs/demosaicking.md, Rounds 23-24)",
+                         "ours (docs/demosaicking.md, Rounds 21 and 24): pan-side (Round 13) with "
+                         "GBTF-style side weights (Pekkucuksen & Altunbasak, ICIP 2010), the "
+                         "guided filter's shrinkage (He, Sun, Tang, TPAMI 2013) and Wiener-type "
+                         "coring (Round 20 (e))",
                          PC_DMF_COLOR | PC_DMF_NOISE_GAIN},
                         {PAN_LEAN_LO, PAN_LEAN_HI, 1, 1},
                         NULL,
