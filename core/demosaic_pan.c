@@ -1377,9 +1377,8 @@ static void pan_gorow_slots(const pan_lattice *l, const pan_tables *t, uint32_t 
 				return;
 			s = 8 + 2 * k + ng[k]++;
 		}
-		for (int i = 0; i < l->n[q]; i++) {
+		for (int i = 0; i < l->n[q]; i++)
 			a->prow[s][i] = a->vrow[q][i];
-		}
 		a->sq[s] = (unsigned)q;
 		if (s < 2 || s == 8)
 			a->osel[s < 2 ? s : 2] = t->sel[l->px[q][pi[pe[0] == 0 ? 0 : 1]]];

@@ -87,8 +87,8 @@
 #define PAN_SPLIT_HI (PC_DM_PAN_SPLIT_R + 6 > 9 ? PC_DM_PAN_SPLIT_R + 6 : 9)
 #define PAN_SPLIT_LO (-PAN_SPLIT_HI)
 /* pan-lean ±8, for a given noise gain: pan-side's (its side factors read the same blocks, their
- * P̃ at the blocks' corners inside the hue's support; the level's block window reads P0 at ±4,
- * the raw at ±6) */
+ * P̃ at the blocks' corners inside the hue's support; the level's block window reads P0 at ±3,
+ * the raw at ±5) */
 #define PAN_LEAN_LO -8
 #define PAN_LEAN_HI 8
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
