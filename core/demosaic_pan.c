@@ -991,7 +991,6 @@ typedef struct pan_tables {
 	float b[4];
 	float same[4][3]
 	          [16]; /* pan-lean: row phase t, colour k: 1 where the pixel is of colour k */
-	float odd[16];  /* pan-lean: 1 in the odd lanes */
 } pan_tables;
 
 static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
@@ -1016,7 +1015,6 @@ static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
 			t->same[ty][pc_mosaic_color(m, (unsigned)l & 3, ty) - PC_CFA_R][l] = 1;
 	for (int l = 0; l < 16; l++) {
 		int u = l & 3;
-		t->odd[l] = (float)(l & 1);
 		t->sel[u][l] = 1;
 		for (int s = 0; s < 4; s++)
 			for (int d = -3; d <= 3; d++)
@@ -1054,7 +1052,7 @@ typedef void (*pan_lfac_fn)(const float *const u[3], const float *const um[3],
 typedef void (*pan_lhrows_fn)(const float *rho, const float *fw, const float *fe, long n,
                               const float wt[4][7][16], float *const h[4]);
 typedef void (*pan_lwin_fn)(const float *const p[6], long n, float delta, float cp, float fl,
-                            const float *odd, float *cm, float *cv, float *mo, float *lo);
+                            float *cm, float *cv, float *mo, float *lo);
 
 typedef void (*pan_atents_fn)(const float *const p[5], const float *rho, const float *fw,
                               const float *fe, long n, float delta, const float wt[4][7][16],
@@ -1740,8 +1738,8 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 						for (int k = 0; k < 6; k++)
 							pw[k] = gr[0][(yy - 5 + k) & 7];
 						float *const *l = lw[((yy - 3) >> 1) & 1];
-						K.lwin(pw, n, j->delta, lp.cp, j->F, t->odd, lc[0],
-						       lc[1], l[0], l[1]);
+						K.lwin(pw, n, j->delta, lp.cp, j->F, lc[0], lc[1],
+						       l[0], l[1]);
 					}
 				} else if (!adapt) {
 					K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e,
