@@ -103,9 +103,11 @@ static size_t grid(uint32_t w, uint32_t h, uint32_t p, uint32_t *s, size_t *nx, 
 	return grid_stride(w - 2 * p, h - 2 * p, s, nx, ny);
 }
 
-static double gain_of(double *t, size_t n)
+/* max(a, 0) for the finite values of a raw (fmax's value but for the sign of a zero, which the
+ * positive floor added to it makes irrelevant), inline: libm's fmax is a call per use */
+static inline double pos0(double a)
 {
-	return select_median(t, n, n / 2) / (1.25 * PC_DM_NG_CHI1);
+	return a > 0 ? a : 0;
 }
 
 /* t(p) of one grid sample from its value c and its four same-channel neighbours at ±P (west,
@@ -114,7 +116,7 @@ static inline double ng_value(double c, double we, double ea, double no, double 
 {
 	double nb = (we + ea + no + so) / 4;
 	double r = c - nb;
-	return r * r / (fmax(nb, 0) + floor);
+	return r * r / (pos0(nb) + floor);
 }
 
 /* The grid's rows [r0, r1) into t (row r at t + r·nx): through get (pc_dm_noise_gain), or, when
@@ -130,6 +132,11 @@ typedef struct ng_job {
 	double *t;
 	unsigned ox, oy;   /* the block grid's origin */
 	double sign[2][2]; /* +1 on the 0° and 90° samples of a block, −1 on 45° and 135° */
+	uint32_t sb;       /* the block grid's stride, nbx blocks a row, its values in tb */
+	size_t nbx, ny;    /* ny: the sample grid's rows */
+	double *tb;
+	size_t n[2];   /* the two grids' numbers of values */
+	double med[2]; /* their medians */
 } ng_job;
 
 #define NG_ROWS(T)                                                                                 \
@@ -190,7 +197,7 @@ static size_t bgrid(uint32_t w, uint32_t h, unsigned ox, unsigned oy, uint32_t *
 static inline double nb_value(const ng_job *j, double a, double b, double c, double d)
 {
 	double r = j->sign[0][0] * a + j->sign[0][1] * b + j->sign[1][0] * c + j->sign[1][1] * d;
-	double l = 4 * j->floor + fmax(a, 0) + fmax(b, 0) + fmax(c, 0) + fmax(d, 0);
+	double l = 4 * j->floor + pos0(a) + pos0(b) + pos0(c) + pos0(d);
 	return r * r / l;
 }
 
@@ -198,7 +205,7 @@ static inline double nb_value(const ng_job *j, double a, double b, double c, dou
 	do {                                                                                       \
 		const T *r0 = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
 		        *r1 = (const T *)(const void *)(in->data + (size_t)(y + 1) * in->stride);  \
-		for (size_t gx = 0; gx < j->nx; gx++, x += s2)                                     \
+		for (size_t gx = 0; gx < j->nbx; gx++, x += s2)                                    \
 			*t++ =                                                                     \
 			    nb_value(j, (double)(float)r0[x] - bl, (double)(float)r0[x + 1] - bl,  \
 			             (double)(float)r1[x] - bl, (double)(float)r1[x + 1] - bl);    \
@@ -210,15 +217,15 @@ static void nb_rows(void *ctx, uint32_t g0, uint32_t g1)
 {
 	const ng_job *j = ctx;
 	const pc_dm_input *in = j->in;
-	const uint32_t s2 = 2 * j->s;
+	const uint32_t s2 = 2 * j->sb;
 	for (uint32_t gy = g0; gy < g1; gy++) {
 		const uint32_t y = j->oy + gy * s2;
 		uint32_t x = j->ox;
-		double *t = j->t + (size_t)gy * j->nx;
+		double *t = j->tb + (size_t)gy * j->nbx;
 		if (j->get) {
 			const pc_dm_sample_fn get = j->get;
 			const void *c = j->ctx;
-			for (size_t gx = 0; gx < j->nx; gx++, x += s2)
+			for (size_t gx = 0; gx < j->nbx; gx++, x += s2)
 				*t++ = nb_value(j, get(c, x, y), get(c, x + 1, y), get(c, x, y + 1),
 				                get(c, x + 1, y + 1));
 			continue;
@@ -238,26 +245,40 @@ static void nb_rows(void *ctx, uint32_t g0, uint32_t g1)
 }
 #undef NB_ROWS
 
-/* g of the frame of j (its w and sampler set) on threads threads: each grid's values and their
- * median, the smaller of the two estimates */
+/* Rows [r0, r1) of both grids, the sample grid's ny rows first, then the block grid's: one
+ * parallel pass for the two */
+static void ng_both_rows(void *ctx, uint32_t r0, uint32_t r1)
+{
+	const ng_job *j = ctx;
+	const uint32_t ny = (uint32_t)j->ny;
+	if (r0 < ny)
+		ng_rows(ctx, r0, r1 < ny ? r1 : ny);
+	if (r1 > ny)
+		nb_rows(ctx, (r0 > ny ? r0 : ny) - ny, r1 - ny);
+}
+
+/* The medians of the two grids' values, one a band (each thread selects in its own array) */
+static void ng_medians(void *ctx, uint32_t k0, uint32_t k1)
+{
+	ng_job *j = ctx;
+	for (uint32_t k = k0; k < k1; k++) {
+		double *t = k ? j->tb : j->t;
+		j->med[k] = j->n[k] ? select_median(t, j->n[k], j->n[k] / 2) : 0;
+	}
+}
+
+/* g of the frame of j (its w and sampler set) on threads threads: each grid's values (one pass)
+ * and their medians (one a thread), the smaller of the two estimates */
 static int ng_gain(ng_job *j, uint32_t h, const pc_mosaic *m, double fs, int threads, double *g)
 {
 	j->p = m->period;
 	j->s = 1;
-	size_t ny = 0;
-	const size_t n = grid(j->w, h, j->p, &j->s, &j->nx, &ny);
+	const size_t n = grid(j->w, h, j->p, &j->s, &j->nx, &j->ny);
 	if (!n) {
 		*g = 0;
 		return 0;
 	}
-	j->t = malloc(sizeof(double) * n);
-	if (!j->t)
-		return pc_error(PC_ENOMEM, "noise gain: %zu values", n);
-	j->floor = PC_DM_NG_FLOOR * fs;
-	pc_parallel_rows((uint32_t)ny, 0, threads, ng_rows, j);
-	const double gp = gain_of(j->t, n);
-
-	/* the block estimate, in j->t grown to its grid when that is larger */
+	/* the block grid */
 	unsigned ox = 0, oy = 0;
 	if (m->period == 4)
 		(void)pc_mosaic_color_origin(m, &ox, &oy);
@@ -266,26 +287,21 @@ static int ng_gain(ng_job *j, uint32_t h, const pc_mosaic *m, double fs, int thr
 	for (unsigned dy = 0; dy < 2; dy++)
 		for (unsigned dx = 0; dx < 2; dx++)
 			j->sign[dy][dx] = (pc_mosaic_channel(m, ox + dx, oy + dy) & 1) ? -1 : 1;
-	size_t nbx = 0, nby = 0;
-	uint32_t sb = 1;
-	const size_t nb = bgrid(j->w, h, ox, oy, &sb, &nbx, &nby);
-	double gb = gp;
-	if (nb) {
-		if (nb > n) {
-			double *t = realloc(j->t, sizeof(double) * nb);
-			if (!t) {
-				free(j->t);
-				return pc_error(PC_ENOMEM, "noise gain: %zu values", nb);
-			}
-			j->t = t;
-		}
-		j->s = sb;
-		j->nx = nbx;
-		pc_parallel_rows((uint32_t)nby, 0, threads, nb_rows, j);
-		gb = select_median(j->t, nb, nb / 2) / PC_DM_NG_CHI1;
-	}
+	size_t nby = 0;
+	j->sb = 1;
+	const size_t nb = bgrid(j->w, h, ox, oy, &j->sb, &j->nbx, &nby);
+	j->t = malloc(sizeof(double) * (n + nb));
+	if (!j->t)
+		return pc_error(PC_ENOMEM, "noise gain: %zu values", n + nb);
+	j->tb = j->t + n;
+	j->n[0] = n;
+	j->n[1] = nb;
+	j->floor = PC_DM_NG_FLOOR * fs;
+	pc_parallel_rows((uint32_t)(j->ny + nby), 0, threads, ng_both_rows, j);
+	pc_parallel_rows(nb ? 2 : 1, 1, threads, ng_medians, j);
 	free(j->t);
-	*g = fmin(gp, gb);
+	const double gp = j->med[0] / (1.25 * PC_DM_NG_CHI1);
+	*g = nb ? fmin(gp, j->med[1] / PC_DM_NG_CHI1) : gp;
 	return 0;
 }
 

@@ -17,8 +17,11 @@ extern "C" {
 
 typedef void (*pc_rows_fn)(void *ctx, uint32_t y0, uint32_t y1);
 
-/* Runs fn over rows [0, height) in bands of band_rows (0: chosen automatically), with at most
- * threads threads (0: pc_parallel_max_threads()). */
+/* Runs fn over rows [0, height) in bands of band_rows, with at most threads threads (0:
+ * pc_parallel_max_threads()). band_rows 0: tapered bands, each 1/(threads + 1) of the rows
+ * left and at least max(8, height/(32·threads)) rows, handed out in order as threads come free
+ * (large bands first, small ones last, so that the threads finish together); the band
+ * boundaries depend only on height and threads. */
 PC_API void pc_parallel_rows(uint32_t height, uint32_t band_rows, int threads, pc_rows_fn fn,
                              void *ctx);
 
