@@ -726,12 +726,12 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "once) +1.09/+1.45 (+0.63/+1.09); no scene of any colour set losing; "
                          "docs/demosaicking.md, Round 24",
                          "float fast path in pan-side's band form: within 2.4e-7 of full scale "
-                         "of the double reference; 4.6-5.5x the mono bilinear's time at "
-                         "AVX-512, 1.06-1.10x pan-side's (bayer-first 9.9-11.8x in the same "
-                         "runs): at the 5x budget's edge, over it in 3 of 5 bench runs; "
-                         "10.7-12.2x at AVX2 (pan-side 9.7-11.4x, bayer-first 10.3-12.5x); "
-                         "writing the 12 planes alone takes 1.6-2.3x (docs/demosaicking.md, "
-                         "Rounds 23-24)",
+                         "of the double reference; 4.4-5.7x the mono bilinear's time at "
+                         "AVX-512 (4.4-4.7x alternating with it alone, 5.2-5.7x in bench "
+                         "demosaic's round robin), 1.06-1.10x pan-side's (bayer-first "
+                         "9.9-12.8x in the same runs): over the 5x budget; 10.7-12.2x at AVX2 "
+                         "(pan-side 9.7-11.4x, bayer-first 10.3-12.5x); writing the 12 planes "
+                         "alone takes 1.6-2.3x (docs/demosaicking.md, Rounds 23-25)",
                          "ours (docs/demosaicking.md, Rounds 21 and 24): pan-side (Round 13) with "
                          "GBTF-style side weights (Pekkucuksen & Altunbasak, ICIP 2010), the "
                          "guided filter's shrinkage (He, Sun, Tang, TPAMI 2013) and Wiener-type "
