@@ -726,8 +726,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "once) +1.09/+1.45 (+0.63/+1.09); no scene of any colour set losing; "
                          "docs/demosaicking.md, Round 24",
                          "float fast path in pan-side's band form: within 2.4e-7 of full scale "
-                         "of the double reference; 4.4-5.7x the mono bilinear's time at "
-                         "AVX-512 (4.4-4.7x alternating with it alone, 5.2-5.7x in bench "
+                         "of the double reference; 4.6-5.7x the mono bilinear's time at "
+                         "AVX-512 (4.6-5.4x each timed as in a stream, 5.2-5.7x in bench "
                          "demosaic's round robin), 1.06-1.10x pan-side's (bayer-first "
                          "9.9-12.8x in the same runs): over the 5x budget; 10.7-12.2x at AVX2 "
                          "(pan-side 9.7-11.4x, bayer-first 10.3-12.5x); writing the 12 planes "
