@@ -373,7 +373,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "; held-out (scenes/heldout, 12) +4.67/+1.57 (+2.36/+0.31)",
           "ratio's passes with a 3x3 guide variance per pixel; about 3x bilinear's "
           "time with ordinary stores, 3.9x where bilinear's output streams "
-          "(AVX-512 machines, idle; docs/demosaicking.md)",
+          "(AVX-512 machines, idle); on the shared dev machine 3.7-5.8x within "
+          "minutes as the bilinear's time swings (docs/demosaicking.md, Round 25)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
           "2013) and a Poisson noise variance",
           PC_DMF_MONO},
@@ -726,10 +727,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "once) +1.09/+1.45 (+0.63/+1.09); no scene of any colour set losing; "
                          "docs/demosaicking.md, Round 24",
                          "float fast path in pan-side's band form: within 2.4e-7 of full scale "
-                         "of the double reference; 4.6-5.7x the mono bilinear's time at "
-                         "AVX-512 (4.6-5.4x each timed as in a stream, 5.2-5.7x in bench "
-                         "demosaic's round robin), 1.06-1.10x pan-side's (bayer-first "
-                         "9.9-12.8x in the same runs): over the 5x budget; 10.7-12.2x at AVX2 "
+                         "of the double reference; 4.3-5.7x the mono bilinear's time at "
+                         "AVX-512, 0.92-1.05x ratio-nr's in the same runs (both swing with the "
+                         "shared machine's bilinear time), 1.06-1.10x pan-side's (bayer-first "
+                         "9.9-12.8x): not shown under the 5x budget; 10.7-12.2x at AVX2 "
                          "(pan-side 9.7-11.4x, bayer-first 10.3-12.5x); writing the 12 planes "
                          "alone takes 1.6-2.3x (docs/demosaicking.md, Rounds 23-25)",
                          "ours (docs/demosaicking.md, Rounds 21 and 24): pan-side (Round 13) with "
