@@ -374,7 +374,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "ratio's passes with a 3x3 guide variance per pixel; about 3x bilinear's "
           "time with ordinary stores, 3.9x where bilinear's output streams "
           "(AVX-512 machines, idle); on the shared dev machine 3.7-5.8x within "
-          "minutes as the bilinear's time swings (docs/demosaicking.md, Round 25)",
+          "minutes as the bilinear's time swings; at AVX2 1.7x its AVX-512 time (8.5x "
+          "bilinear; scalar, 36-52x, before Round 25 vectorised it: docs/demosaicking.md)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
           "2013) and a Poisson noise variance",
           PC_DMF_MONO},
