@@ -132,11 +132,10 @@ typedef struct ng_job {
 	double *t;
 	unsigned ox, oy;   /* the block grid's origin */
 	double sign[2][2]; /* +1 on the 0° and 90° samples of a block, −1 on 45° and 135° */
-	uint32_t sb;       /* the block grid's stride, nbx blocks a row, its values in tb */
-	size_t nbx, ny;    /* ny: the sample grid's rows */
-	double *tb;
-	size_t n[2];   /* the two grids' numbers of values */
-	double med[2]; /* their medians */
+	uint32_t sb;    /* the block grid's stride, nbx blocks a row, its values after t's n[0] */
+	size_t nbx, ny; /* ny: the sample grid's rows */
+	size_t n[2];    /* the two grids' numbers of values */
+	double med[2];  /* their medians */
 } ng_job;
 
 #define NG_ROWS(T)                                                                                 \
@@ -221,7 +220,7 @@ static void nb_rows(void *ctx, uint32_t g0, uint32_t g1)
 	for (uint32_t gy = g0; gy < g1; gy++) {
 		const uint32_t y = j->oy + gy * s2;
 		uint32_t x = j->ox;
-		double *t = j->tb + (size_t)gy * j->nbx;
+		double *t = j->t + j->n[0] + (size_t)gy * j->nbx;
 		if (j->get) {
 			const pc_dm_sample_fn get = j->get;
 			const void *c = j->ctx;
@@ -257,14 +256,12 @@ static void ng_both_rows(void *ctx, uint32_t r0, uint32_t r1)
 		nb_rows(ctx, (r0 > ny ? r0 : ny) - ny, r1 - ny);
 }
 
-/* The medians of the two grids' values, one a band (each thread selects in its own array) */
+/* The medians of the two grids' values, one a band (each thread selects in its own part of t) */
 static void ng_medians(void *ctx, uint32_t k0, uint32_t k1)
 {
 	ng_job *j = ctx;
-	for (uint32_t k = k0; k < k1; k++) {
-		double *t = k ? j->tb : j->t;
-		j->med[k] = j->n[k] ? select_median(t, j->n[k], j->n[k] / 2) : 0;
-	}
+	for (uint32_t k = k0; k < k1; k++)
+		j->med[k] = select_median(j->t + (k ? j->n[0] : 0), j->n[k], j->n[k] / 2);
 }
 
 /* g of the frame of j (its w and sampler set) on threads threads: each grid's values (one pass)
@@ -293,7 +290,6 @@ static int ng_gain(ng_job *j, uint32_t h, const pc_mosaic *m, double fs, int thr
 	j->t = malloc(sizeof(double) * (n + nb));
 	if (!j->t)
 		return pc_error(PC_ENOMEM, "noise gain: %zu values", n + nb);
-	j->tb = j->t + n;
 	j->n[0] = n;
 	j->n[1] = nb;
 	j->floor = PC_DM_NG_FLOOR * fs;

@@ -562,24 +562,27 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
 	return 0;
 }
 
-/* pan-lean's window at the block (bx, by) (even coordinates): the mean *mu and population
- * variance *var of P̃ = max(P0, 0) + δ over rows by − r_p + 1 .. by + r_p and the same columns
- * (2r_p pixels square, centred on the 2 × 2 block's centre), two passes */
-static void lean_window(const chroma_ref *c, double delta, int bx, int by, double *mu, double *var)
+/* The mean of P̃ = max(P0, 0) + δ over columns x0 .. x1 and rows y0 .. y1 (inclusive), and its
+ * population variance about mu: pan-adapt's (2r + 1)² windows and pan-lean's 2r_p × 2r_p ones */
+static double window_mean(const chroma_ref *c, double delta, int x0, int x1, int y0, int y1)
 {
-	const int lo = 1 - PC_DM_PAN_LEAN_RP, hi = PC_DM_PAN_LEAN_RP;
-	double s = 0, v = 0;
-	for (int j = lo; j <= hi; j++)
-		for (int i = lo; i <= hi; i++)
-			s += fmax(c->p0[cidx(c, bx + i, by + j)], 0) + delta;
-	const double m = s / (4 * PC_DM_PAN_LEAN_RP * PC_DM_PAN_LEAN_RP);
-	for (int j = lo; j <= hi; j++)
-		for (int i = lo; i <= hi; i++) {
-			const double d = fmax(c->p0[cidx(c, bx + i, by + j)], 0) + delta - m;
-			v += d * d;
+	double s = 0;
+	for (int j = y0; j <= y1; j++)
+		for (int i = x0; i <= x1; i++)
+			s += fmax(c->p0[cidx(c, i, j)], 0) + delta;
+	return s / ((x1 - x0 + 1) * (y1 - y0 + 1));
+}
+
+static double window_var(const chroma_ref *c, double delta, int x0, int x1, int y0, int y1,
+                         double mu)
+{
+	double s = 0;
+	for (int j = y0; j <= y1; j++)
+		for (int i = x0; i <= x1; i++) {
+			double d = fmax(c->p0[cidx(c, i, j)], 0) + delta - mu;
+			s += d * d;
 		}
-	*mu = m;
-	*var = v / (4 * PC_DM_PAN_LEAN_RP * PC_DM_PAN_LEAN_RP);
+	return s / ((x1 - x0 + 1) * (y1 - y0 + 1));
 }
 
 /* pan-lean (docs/demosaicking.md, Rounds 21 and 24): pan-side's tents without their range
@@ -633,8 +636,13 @@ int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mos
 			const unsigned own = chan(&r, x, y);
 			const double v = img[(size_t)y * w + (size_t)x];
 			const double pt = fmax(c.p0[cidx(&c, x, y)], 0) + r.delta;
-			double mu, wv;
-			lean_window(&c, r.delta, x & ~1, y & ~1, &mu, &wv);
+			/* the block corner b's window: rows and columns b − r_p + 1 .. b + r_p */
+			const int x0 = (x & ~1) + 1 - PC_DM_PAN_LEAN_RP,
+			          x1 = (x & ~1) + PC_DM_PAN_LEAN_RP,
+			          y0 = (y & ~1) + 1 - PC_DM_PAN_LEAN_RP,
+			          y1 = (y & ~1) + PC_DM_PAN_LEAN_RP;
+			const double mu = window_mean(&c, r.delta, x0, x1, y0, y1);
+			const double wv = window_var(&c, r.delta, x0, x1, y0, y1, mu);
 			const double nv = PC_DM_PAN_LEAN_CP * g * (mu + F);
 			const double ps = mu + (wv + nv > 0 ? wv / (wv + nv) : 1) * (pt - mu);
 			const double ro = den[own] / num[own]; /* 1 / R_own */
@@ -694,25 +702,11 @@ int pc_dm_pan_lean_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
  * (c = 4, r = 2; (14/64)² the sum of the P0 filter's squared weights, so c·(14/64)²·g·μ is c
  * times P0's noise variance at level μ; g the frame's noise gain, pc_dm_noise_gain_d). λ = 1
  * where v + c·(14/64)²·g·μ = 0. Where c·g = 0 the step is pan-side's (pan_values: the own
- * sample kept), the limit λ → 1 up to rounding and negative samples. */
+ * sample kept), the limit λ → 1 up to rounding and negative samples. adapt_mean: μ of the
+ * window of radius r at (x, y). */
 static double adapt_mean(const chroma_ref *c, double delta, int x, int y, int r)
 {
-	double s = 0;
-	for (int j = -r; j <= r; j++)
-		for (int i = -r; i <= r; i++)
-			s += fmax(c->p0[cidx(c, x + i, y + j)], 0) + delta;
-	return s / ((2 * r + 1) * (2 * r + 1));
-}
-
-static double adapt_var(const chroma_ref *c, double delta, int x, int y, int r, double mu)
-{
-	double s = 0;
-	for (int j = -r; j <= r; j++)
-		for (int i = -r; i <= r; i++) {
-			double d = fmax(c->p0[cidx(c, x + i, y + j)], 0) + delta - mu;
-			s += d * d;
-		}
-	return s / ((2 * r + 1) * (2 * r + 1));
+	return window_mean(c, delta, x - r, x + r, y - r, y + r);
 }
 
 pc_dm_pan_adapt_params pc_dm_pan_adapt_defaults(void)
@@ -773,7 +767,8 @@ int pc_dm_pan_adapt_ref_own(const double *img, uint32_t w, uint32_t h, const pc_
 			double v = img[(size_t)y * w + (size_t)x];
 			double lv = (fmax(v, 0) + r.delta) * den[own] / num[own];
 			double mu = adapt_mean(&c, r.delta, x, y, p->r);
-			double var = adapt_var(&c, r.delta, x, y, p->r, mu);
+			double var =
+			    window_var(&c, r.delta, x - p->r, x + p->r, y - p->r, y + p->r, mu);
 			double lam = var + kn * mu > 0 ? var / (var + kn * mu) : 1;
 			double ls = mu + lam * (lv - mu);
 			for (unsigned q = 0; q < 12; q++)
