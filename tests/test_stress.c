@@ -413,8 +413,10 @@ static void test_colour(const char *dir, const char *name, int gloss)
  * (+20 dB) in their READMEs; colour-sealed7's court_g5 (+5 dB) 32.5 DN, median 15.6 % and
  * pews_g23 (+23 dB) 49.3 DN, median 6.7 %; colour-sealed8's bakery_g2 (+2 dB) 29.2 DN, median
  * 7.4 % and bus_g14 (+14 dB) 29.2 DN, median 8.2 %; colour-sealed9's huts_g4 (+4 dB) 34.4 DN,
- * median 15.7 % and jeweller_g17 (+17 dB) 35.9 DN, median 7.3 %. Every scene is exposed in all
- * three colours (each colour's brightest analyser value in the region above 5 % of full scale).
+ * median 15.7 % and jeweller_g17 (+17 dB) 35.9 DN, median 7.3 %; colour-sealed10's
+ * playground_g7 (+7 dB) 27.0 DN, median 9.4 % and umbrellas_g22 (+22 dB) 55.1 DN, median
+ * 10.1 %. Every scene is exposed in all three colours (each colour's brightest analyser value in
+ * the region above 5 % of full scale).
  * test_sealed_region takes a smaller central w×h region: test_sealed renders the ideal scenes'
  * central 64×48 (CI time: the dense meshes cost more per pixel) and the noisy ones' 128×96 (the
  * median check needs the larger region on colour-sealed4's mosaic_g21). Of a used set (main's
@@ -625,6 +627,11 @@ static const sealed_set sealed_sets[] = {
      0,
      {"huts.json", "fishmonger.json", "jeweller.json", "pencils.json"},
      {{"huts_g4.json", "imx250myr +4 dB"}, {"jeweller_g17.json", "imx250myr +17 dB"}}},
+    {"colour-sealed10",
+     "scenes/stress/colour-sealed10/SHA256SUMS",
+     0,
+     {"umbrellas.json", "trainset.json", "playground.json", "makeup.json"},
+     {{"playground_g7.json", "imx250myr +7 dB"}, {"umbrellas_g22.json", "imx250myr +22 dB"}}},
 };
 
 int main(void)

@@ -14,7 +14,9 @@ sections along any axis, which is also a lathe about any axis and a sphere (`lof
 turned to any frame as flat facets (`cuboid`), a ribbon laid over a parametric surface
 (`surface_band`), a sloping plane's frame (`Slope`), materials from a text table
 (`materials`) and a set's scene records, ideal and noisy copies, with its title and exposure
-table (`scene`, `scene_set`).
+table (`scene`, `scene_set`). Added with colour-sealed10 (at the end, changing nothing above):
+a smooth patch of shared vertices over a parametric surface (`patch`), a polyline moved
+sideways (`offset`) and points on a horizontal arc (`arc`).
 """
 import math
 import os
@@ -208,3 +210,31 @@ class Slope:
         p = math.radians(phi)
         a = cg.add([x * math.cos(p) for x in self.u], self.v, math.sin(p))
         return a, cg.cross(self.n, a)
+
+
+# Added with colour-sealed10 (the helpers above are unchanged, so colour-sealed9 still
+# regenerates byte for byte from this file).
+def patch(mesh, point, us, vs):
+    """A smooth patch over a parametric surface point(u, v): a grid of shared vertices at every
+    (u, v) of us x vs, joined into quads (an umbrella's gore, a slide's chute, a curved sheet);
+    placed with `smooth` true the loader's vertex normals round it."""
+    rows = [[mesh.vert(point(u, v)) for v in vs] for u in us]
+    join_rings(mesh, rows, closed=False)
+
+
+def offset(pts, d, normal=(0, 0, 1)):
+    """The polyline pts moved sideways by d in the plane perpendicular to normal (positive: to
+    the left of its direction seen from the normal's side), each point along the mean of its
+    two segments' sides (a rail beside a curved track's centre line, a kerb's edge)."""
+    out = []
+    for k, p in enumerate(pts):
+        t = cg.unit([b - a for a, b in zip(pts[max(k - 1, 0)], pts[min(k + 1, len(pts) - 1)])])
+        out.append(cg.add(p, cg.unit(cg.cross(list(normal), t)), d))
+    return out
+
+
+def arc(c, r, a0, a1, n, z=0.0):
+    """n + 1 points on the horizontal circle of radius r about c (x, y) from a0 to a1 degrees, at
+    height z (a curved track's centre line, a ring of posts)."""
+    return [[c[0] + r * math.cos(math.radians(a0 + (a1 - a0) * k / n)),
+             c[1] + r * math.sin(math.radians(a0 + (a1 - a0) * k / n)), z] for k in range(n + 1)]
