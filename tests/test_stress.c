@@ -624,7 +624,7 @@ static const sealed_set sealed_sets[] = {
      {{"bakery_g2.json", "imx250myr +2 dB"}, {"bus_g14.json", "imx250myr +14 dB"}}},
     {"colour-sealed9",
      "scenes/stress/colour-sealed9/SHA256SUMS",
-     0,
+     1,
      {"huts.json", "fishmonger.json", "jeweller.json", "pencils.json"},
      {{"huts_g4.json", "imx250myr +4 dB"}, {"jeweller_g17.json", "imx250myr +17 dB"}}},
     {"colour-sealed10",
