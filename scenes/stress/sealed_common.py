@@ -238,3 +238,43 @@ def arc(c, r, a0, a1, n, z=0.0):
     height z (a curved track's centre line, a ring of posts)."""
     return [[c[0] + r * math.cos(math.radians(a0 + (a1 - a0) * k / n)),
              c[1] + r * math.sin(math.radians(a0 + (a1 - a0) * k / n)), z] for k in range(n + 1)]
+
+
+# Added with colour-sealed11 (the helpers above are unchanged, so colour-sealed9 and
+# colour-sealed10 still regenerate byte for byte from this file).
+def meshes_for(scene_name, names, writer):
+    """One empty sl.Mesh per material name of a scene (titled "scene, material words")."""
+    return {n: sl.Mesh(scene_name + ", " + n.replace("_", " "), writer) for n in names}
+
+
+def mesh_files(prefix, mesh):
+    """A scene's meshes by file name: prefix + "_" + the last word of each material's name
+    (checked to be distinct, so that no mesh file is written over another)."""
+    out = {prefix + "_" + n.split("_")[-1]: m for n, m in mesh.items()}
+    assert len(out) == len(mesh), "two materials of %s end in the same word" % prefix
+    return out
+
+
+def mesh_obj(prefix, material, smooth=False):
+    """The scene object of the mesh file mesh_files() names for material (scale 0.001)."""
+    return sl.mesh_object(prefix + "_" + material.split("_")[-1] + ".obj", material, smooth)
+
+
+def annulus(mesh, c, normal, r0, r1, n=32, a0=0.0, a1=360.0, phase=None):
+    """A flat ring between radii r0 < r1 about c facing normal, from a0 to a1 degrees (in
+    sl.frame(normal)'s axes, phase added if given), as n quads with their own vertices (a
+    target's ring, a pipe's end, a chip's face); r0 = 0 gives a fan of n triangles (a disc or a
+    sector)."""
+    u, v = sl.frame(normal)
+    off = phase or 0.0
+
+    def at(r, a):
+        t = math.radians(a + off)
+        return cg.add(cg.add(c, u, r * math.cos(t)), v, r * math.sin(t))
+
+    for i in range(n):
+        a, b = a0 + (a1 - a0) * i / n, a0 + (a1 - a0) * (i + 1) / n
+        if r0 > 0:
+            mesh.flat([at(r0, a), at(r1, a), at(r1, b), at(r0, b)])
+        else:
+            mesh.flat([c, at(r1, a), at(r1, b)])
