@@ -563,7 +563,7 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
 }
 
 /* The mean of P̃ = max(P0, 0) + δ over columns x0 .. x1 and rows y0 .. y1 (inclusive), and its
- * population variance about mu: pan-adapt's (2r + 1)² windows and pan-lean's 2r_p × 2r_p ones */
+ * population variance about mu: pan-adapt's (2r + 1)² windows */
 static double window_mean(const chroma_ref *c, double delta, int x0, int x1, int y0, int y1)
 {
 	double s = 0;
@@ -585,6 +585,23 @@ static double window_var(const chroma_ref *c, double delta, int x0, int x1, int 
 	return s / ((x1 - x0 + 1) * (y1 - y0 + 1));
 }
 
+/* pan-lean's window (step 3 below): the mean *mu and population variance *var of P̃ = max(P0, 0)
+ * + δ at the even corners of the 3 × 3 blocks centred on (x, y)'s 2 × 2 block */
+static void lean_window(const chroma_ref *c, double delta, int x, int y, double *mu, double *var)
+{
+	double v[9], s = 0, d = 0;
+	for (int k = 0; k < 9; k++) {
+		v[k] = fmax(c->p0[cidx(c, (x & ~1) + 2 * (k % 3 - 1), (y & ~1) + 2 * (k / 3 - 1))],
+		            0) +
+		       delta;
+		s += v[k];
+	}
+	*mu = s / 9;
+	for (int k = 0; k < 9; k++)
+		d += (v[k] - *mu) * (v[k] - *mu);
+	*var = d / 9;
+}
+
 /* pan-lean (docs/demosaicking.md, Rounds 21 and 24): pan-side's tents without their range
  * weights, the side factors made aware of noise, fine hue texture and luminance steps, and a
  * level shrunk towards its window mean where the window's variation is within the noise. With
@@ -599,9 +616,10 @@ static double window_var(const chroma_ref *c, double delta, int x0, int x1, int 
  *     side by aliasing), the smaller distance flatten the factors; a one-sided edge keeps them.
  *  2. Tents (4 − |d|)·f along the rows and (4 − |dy|)·f down the columns (pan-side's with
  *     e → ∞), giving each channel's ratio R_q = num_q/den_q.
- *  3. The level: P̃'s mean m and (population) variance v over the 2r_p × 2r_p window centred on
- *     the pixel's 2 × 2 block (rows and columns b − r_p + 1 .. b + r_p, b the block's even
- *     corner; one window a block, at a quarter of the pixels), and P_s = m + λ·(P̃ − m),
+ *  3. The level: P̃'s mean m and (population) variance v over the levels of the 3 × 3 blocks
+ *     centred on the pixel's 2 × 2 block, each block's P̃ at its even corner (the nine values
+ *     P̃(b + (2i, 2j)), i, j ∈ {−1, 0, 1}, b the pixel's block's even corner: the block levels
+ *     the side distances of step 1 already use; one window a block), and P_s = m + λ·(P̃ − m),
  *     λ = v/(v + c_p·g·(m + F)) (0/0 → 1), P̃ the pixel's own: the guided filter's
  *     shrinkage (He, Sun, Tang, TPAMI 35(6) 2013, eq. 7) with a regulariser of the order of one
  *     sample's noise, as pan-adapt's (Round 14); where the window's variation is within the
@@ -616,7 +634,10 @@ static double window_var(const chroma_ref *c, double delta, int x0, int x1, int 
  * factors are flat (the tents (4 − |d|)(4 − |dy|)) and every output but the own sample is
  * m·R_q − δ. Round 21's definition had no step 3 and blended each output towards the same
  * tents of the raw where their difference was within the noise (eleven blends and a second set
- * of sums a pixel); Round 24 replaced that by step 3, one shrinkage a pixel. */
+ * of sums a pixel); Round 24 replaced that by step 3, one shrinkage a pixel, whose statistics
+ * Round 27 took from the nine block levels instead of all 36 pixels of the blocks (the same
+ * window, a quarter of the samples: the fast path's separate pass over six P0 rows becomes one
+ * over three block-level rows). */
 int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
                          double g, const pc_fplane *out)
 {
@@ -636,13 +657,8 @@ int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mos
 			const unsigned own = chan(&r, x, y);
 			const double v = img[(size_t)y * w + (size_t)x];
 			const double pt = fmax(c.p0[cidx(&c, x, y)], 0) + r.delta;
-			/* the block corner b's window: rows and columns b − r_p + 1 .. b + r_p */
-			const int x0 = (x & ~1) + 1 - PC_DM_PAN_LEAN_RP,
-			          x1 = (x & ~1) + PC_DM_PAN_LEAN_RP,
-			          y0 = (y & ~1) + 1 - PC_DM_PAN_LEAN_RP,
-			          y1 = (y & ~1) + PC_DM_PAN_LEAN_RP;
-			const double mu = window_mean(&c, r.delta, x0, x1, y0, y1);
-			const double wv = window_var(&c, r.delta, x0, x1, y0, y1, mu);
+			double mu, wv;
+			lean_window(&c, r.delta, x, y, &mu, &wv);
 			const double nv = PC_DM_PAN_LEAN_CP * g * (mu + F);
 			const double ps = mu + (wv + nv > 0 ? wv / (wv + nv) : 1) * (pt - mu);
 			const double ro = den[own] / num[own]; /* 1 / R_own */
@@ -947,7 +963,7 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
  * vector, and interleaved outputs, go through a row buffer. */
 #define PAN_PADR  32 /* raw and sum rows: columns [-32, w + 32) */
 #define PAN_AROWS 25 /* pan-adapt's rows beyond pan-side's (pan_band) */
-#define PAN_LROWS 10 /* pan-lean's: the blocks' level (4), two window rows, 2 × 2 m and λ */
+#define PAN_LROWS 8  /* pan-lean's: the blocks' level (4), 2 × 2 m and λ */
 #ifndef PAN_STRIPW
 /* pan_band's strips: at most about this many columns. Round 17c's 1024 (three strips at 2448
  * columns, each strip's scratch in a core's L2) cut L2 read misses by 59 % but measured no wall
@@ -1046,8 +1062,8 @@ typedef void (*pan_lfac_fn)(const float *const u[3], const float *const um[3],
                             float *f1);
 typedef void (*pan_lhrows_fn)(const float *rho, const float *fw, const float *fe, long n,
                               const float wt[4][7][16], float *const h[4]);
-typedef void (*pan_lwin_fn)(const float *const p[6], long n, float delta, float cp, float fl,
-                            float *cm, float *cv, float *mo, float *lo);
+typedef void (*pan_lwin_fn)(const float *const p[3], long n, float cp, float fl, float *mo,
+                            float *lo);
 
 typedef void (*pan_atents_fn)(const float *const p[5], const float *rho, const float *fw,
                               const float *fe, long n, float delta, const float wt[4][7][16],
@@ -1655,20 +1671,17 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 	}
 	/* pan-lean: the blocks' level pt of the last four even source rows in hp[(Y & 7) >> 1], the
 	 * block windows' mean and λ of block row B (pan_lwin, made once source row B + 3 is, from
-	 * P0's rows B − 2 .. B + 3) in lw[(B >> 1) & 1] (output row y reads block row y & ~1; the
-	 * next one is made after it is done), pan_lwin's two column rows lc, its block terms lp */
-	_Static_assert(PC_DM_PAN_LEAN_RP == 3, "pan-lean's fast path: windows of P0's 6 rows");
-	float *hp[4] = {NULL}, *lw[2][2] = {{NULL}}, *lc[2] = {NULL};
+	 * the block levels of rows B − 2, B, B + 2) in lw[(B >> 1) & 1] (output row y reads block
+	 * row y & ~1; the next one is made after it is done), its block terms lp */
+	float *hp[4] = {NULL}, *lw[2][2] = {{NULL}};
 	pan_lpar lp = {0};
 	if (lean) {
 		float *lb = src + (size_t)46 * pitch;
 		for (int k = 0; k < 4; k++)
 			hp[k] = lb + (size_t)k * pitch;
-		for (int k = 0; k < 2; k++) {
-			lc[k] = lb + (size_t)(4 + k) * pitch;
+		for (int k = 0; k < 2; k++)
 			for (int s = 0; s < 2; s++)
-				lw[k][s] = lb + (size_t)(6 + 2 * k + s) * pitch;
-		}
+				lw[k][s] = lb + (size_t)(4 + 2 * k + s) * pitch;
 		lp = (pan_lpar){eps,
 		                (float)(PC_DM_PAN_LEAN_KN * sqrt(j->g)),
 		                (float)PC_DM_PAN_LEAN_KT,
@@ -1729,12 +1742,11 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 				if (lean) {
 					K.lhrows(rho, fh[0], fh[1], n, t->wt, hr[yy & 7]);
 					if ((yy & 1) && yy - 5 >= first) {
-						const float *pw[6];
-						for (int k = 0; k < 6; k++)
-							pw[k] = gr[0][(yy - 5 + k) & 7];
+						const float *pw[3];
+						for (int k = 0; k < 3; k++)
+							pw[k] = hp[((yy - 5 + 2 * k) & 7) >> 1];
 						float *const *l = lw[((yy - 3) >> 1) & 1];
-						K.lwin(pw, n, j->delta, lp.cp, j->F, lc[0], lc[1],
-						       l[0], l[1]);
+						K.lwin(pw, n, lp.cp, j->F, l[0], l[1]);
 					}
 				} else if (!adapt) {
 					K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e,

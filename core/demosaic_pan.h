@@ -39,13 +39,14 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
  * κ_t 1 and 1.5; -0.002 at μ 0.25. Round 24: c_p and r_p, margin +0.004 at r_p 2 to 5 with
  * c_p from 0.75 to 3 and with windows per pixel or per 2 × 2 block, ties broken by the next
  * smallest term; the block's 6 × 6 window for the fast path's cost and rows; then c_s 4 over 1
- * and 2 by that term, -0.019 at 8). */
+ * and 2 by that term, -0.019 at 8. Round 27: the window's statistics from the 3 × 3 blocks'
+ * levels instead of its 36 pixels, for the fast path's cost; the plus of five blocks lost
+ * -0.01). */
 #define PC_DM_PAN_LEAN_MU 0.125 /* μ: the side distance's relative luminance step */
 #define PC_DM_PAN_LEAN_KN 4.0   /* κ_n: ε's hue noise term */
 #define PC_DM_PAN_LEAN_KT 1.0   /* κ_t: ε's texture term, times the smaller side distance */
 #define PC_DM_PAN_LEAN_CS 4.0   /* c_s: the own colour's level cored against one sample's noise */
 #define PC_DM_PAN_LEAN_CP 1.5   /* c_p: the level's shrinkage, times one sample's noise */
-#define PC_DM_PAN_LEAN_RP 3     /* r_p: its window's half-width, 2r_p × 2r_p pixels a block */
 /* pan-lean's double reference (the frame's noise gain estimated by pc_dm_noise_gain_d), and the
  * same with a given noise gain g >= 0 (raw units; PC_EINVAL otherwise) */
 int pc_dm_pan_lean_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,

@@ -50,8 +50,8 @@ typedef struct pan_lpar {
 	                  float *f1);                                                              \
 	void pan_lhrows_##S(const float *rho, const float *fw, const float *fe, long n,            \
 	                    const float wt[4][7][16], float *const h[4]);                          \
-	void pan_lwin_##S(const float *const p[6], long n, float delta, float cp, float fl,        \
-	                  float *cm, float *cv, float *mo, float *lo);                             \
+	void pan_lwin_##S(const float *const p[3], long n, float cp, float fl, float *mo,          \
+	                  float *lo);                                                              \
 	void pan_lgorow_##S(const pan_gorow_args *a, const float *raw, long n, float delta,        \
 	                    float e, float *const out[12], int nt);
 PAN_LEAN_DECL(base)

@@ -3,18 +3,18 @@
  *  - A uniform colour and polarization is exact, with and without noise gain (every ratio and
  *    every tent is then the truth, whatever the weights).
  *  - The noise limit: with g → ∞ (1e16) the side factors are flat and the level is the block
- *    window's mean, so every output but the own sample is that mean times the normalised 2D
- *    tent (4 − |dx|)(4 − |dy|) of the channel's ratios in the 7 × 7 window, less δ (computed
- *    here from the definition: P0's filter, the ratios, the window). With g = 0 the outputs are
- *    far from it on the same texture (not vacuous).
+ *    window's mean (of the 3 × 3 blocks' levels, Round 27), so every output but the own sample
+ *    is that mean times the normalised 2D tent (4 − |dx|)(4 − |dy|) of the channel's ratios in
+ *    the 7 × 7 window, less δ (computed here from the definition: P0's filter, the ratios, the
+ *    window). With g = 0 the outputs are far from it on the same texture (not vacuous).
  *  - Green bars on magenta (period 4.5 px, 10°; the bars alias on the red and blue lattices and
  *    P0 barely sees them), noise-free: red's and blue's errors at most 0.85× pan-side's (whose
  *    ratio step carries the own sample's green detail into them; measured 0.76–0.78×) and
  *    within 1 % of bayer-first's (measured +0.3 to +0.6 %: the plain tents' level).
  *  - A flat colour field with noise of variance g·(L + F) (given g = 2): every colour's error
- *    at most 0.8× pan-side's (measured 0.57–0.73×) and within 1 % of bayer-first's (measured
- *    red −2.7 %, green −4.7 %, blue −2.7 %): the shrunk level and the cored own sample keep the
- *    tents' averaging.
+ *    at most 0.8× pan-side's (measured 0.58–0.73×) and within 1 % of bayer-first's (measured
+ *    red −2.8 %, green −3.9 %, blue −2.7 %; with Round 24's 6 × 6 pixel window −2.7, −4.7 and
+ *    −2.7 %): the shrunk level and the cored own sample keep the tents' averaging.
  *  - The front door finds it by name and runs the reference and the float fast path
  *    (pan_band's fifth mode in demosaic_pan.c) within 1e-5 of full scale of each other
  * (test_demosaic's test_pan_fast runs it on four scenes, sixteen phases and four sizes); a given
@@ -86,8 +86,8 @@ static double p0_at(const double *img, uint32_t w, int x, int y)
 /* the limit g → ∞ of pan-lean's output of channel q at (x, y) (interior), from its definition
  * directly: flat side factors, so R_q is the normalised 2D tent (4 − |dx|)(4 − |dy|) over the
  * channel's ratios ρ = (max(x, 0) + δ)/(max(P0, 0) + δ) within ±3; λ = s = 0, so the level is
- * the mean m of P̃ = max(P0, 0) + δ over the 6 × 6 window of the pixel's 2 × 2 block (rows and
- * columns b − 2 .. b + 3); the output m·R_q − δ */
+ * the mean m of P̃ = max(P0, 0) + δ at the even corners of the 3 × 3 blocks centred on the
+ * pixel's 2 × 2 block (b + (2i, 2j), i, j ∈ {−1, 0, 1}); the output m·R_q − δ */
 static double noise_limit(const double *img, const pc_mosaic *m, uint32_t w, double delta,
                           unsigned q, int x, int y)
 {
@@ -103,10 +103,10 @@ static double noise_limit(const double *img, const pc_mosaic *m, uint32_t w, dou
 			t += wt;
 		}
 	double lv = 0;
-	for (int j = -2; j <= 3; j++)
-		for (int i = -2; i <= 3; i++)
+	for (int j = -2; j <= 2; j += 2)
+		for (int i = -2; i <= 2; i += 2)
 			lv += fmax(p0_at(img, w, (x & ~1) + i, (y & ~1) + j), 0) + delta;
-	return lv / 36 * s / t - delta;
+	return lv / 9 * s / t - delta;
 }
 
 static void test_noise_limit(void)
