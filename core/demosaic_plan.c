@@ -87,8 +87,8 @@
 #define PAN_SPLIT_HI (PC_DM_PAN_SPLIT_R + 6 > 9 ? PC_DM_PAN_SPLIT_R + 6 : 9)
 #define PAN_SPLIT_LO (-PAN_SPLIT_HI)
 /* pan-lean ±8, for a given noise gain: pan-side's (its side factors read the same blocks, their
- * P̃ at the blocks' corners inside the hue's support; the level's block window reads P0 at ±3,
- * the raw at ±5) */
+ * P̃ at the blocks' corners inside the hue's support; the level's window reads P0 at the 3 × 3
+ * blocks' corners, within ±3, the raw at ±5) */
 #define PAN_LEAN_LO -8
 #define PAN_LEAN_HI 8
 static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
@@ -716,35 +716,39 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          false,
                          PC_DM_PAN_SPLIT,
                          false},
-    [PC_DM_PAN_LEAN] = {{PC_DM_PAN_LEAN, "pan-lean",
-                         "colour-polarization: pan-side's tents without range weights, side "
-                         "factors flattened by the hue's noise and by texture finer than the "
-                         "blocks, a level shrunk towards its 6x6 block window's mean within the "
-                         "noise, the own colour's detail cored; over bayer-first (bench colour "
-                         "--reference) smooth colours (9) +3.50/+1.73 (worst +1.71/+0.47), hue "
-                         "patches (9) +1.07/+2.62 (+0.96/+1.78), colour stress (5) +1.20/+1.58 "
-                         "(+0.32/+0.24), noisy copies (4) +0.75/+0.57 (+0.12/+0.46), hue pairs "
-                         "(5) +0.03/+1.00 (+0.00/+0.76); unseen colour-sealed9 (6, evaluated "
-                         "once) +1.09/+1.45 (+0.63/+1.09); no scene of any colour set losing; "
-                         "docs/demosaicking.md, Round 24",
-                         "float fast path in pan-side's band form: within 2.4e-7 of full scale "
-                         "of the double reference; 4.3-5.7x the mono bilinear's time at "
-                         "AVX-512, 0.92-1.05x ratio-nr's in the same runs (both swing with the "
-                         "shared machine's bilinear time), 1.06-1.10x pan-side's (bayer-first "
-                         "9.9-12.8x): not shown under the 5x budget; 10.7-12.2x at AVX2 "
-                         "(pan-side 9.7-11.4x, bayer-first 10.3-12.5x); writing the 12 planes "
-                         "alone takes 1.6-2.3x (docs/demosaicking.md, Rounds 23-25)",
-                         "ours (docs/demosaicking.md, Rounds 21 and 24): pan-side (Round 13) with "
-                         "GBTF-style side weights (Pekkucuksen & Altunbasak, ICIP 2010), the "
-                         "guided filter's shrinkage (He, Sun, Tang, TPAMI 2013) and Wiener-type "
-                         "coring (Round 20 (e))",
-                         PC_DMF_COLOR | PC_DMF_NOISE_GAIN},
-                        {PAN_LEAN_LO, PAN_LEAN_HI, 1, 1},
-                        NULL,
-                        NULL,
-                        false,
-                        PC_DM_PAN_LEAN,
-                        false},
+    [PC_DM_PAN_LEAN] =
+        {{PC_DM_PAN_LEAN, "pan-lean",
+          "colour-polarization: pan-side's tents without range weights, side "
+          "factors flattened by the hue's noise and by texture finer than the "
+          "blocks, a level shrunk towards the mean of its 3x3 blocks' levels within "
+          "the noise, the own colour's detail cored; over bayer-first (bench "
+          "colour --reference) smooth colours (9) +3.47/+1.72 (worst +1.70/+0.46), "
+          "hue patches (9) +1.08/+2.62 (+0.96/+1.78), colour stress (5) "
+          "+1.20/+1.60 (+0.32/+0.24), noisy copies (4) +0.73/+0.57 (+0.11/+0.45), "
+          "hue pairs (5) +0.03/+1.00 (+0.00/+0.76); unseen, each evaluated once: "
+          "colour-sealed11 (6) +1.43/+1.47 (+1.30/+0.59), and with Round 24's "
+          "6x6 pixel window colour-sealed9 (6) +1.09/+1.45 (+0.63/+1.09) and "
+          "colour-sealed10 (6) +1.15/+1.36 (+0.34/+0.82); no scene of any colour "
+          "set losing; docs/demosaicking.md, Rounds 24 and 27",
+          "float fast path in pan-side's band form: within 2.4e-7 of full scale "
+          "of the double reference; 4.4-5.5x the mono bilinear's time at "
+          "AVX-512 (Round 27: 0.92-1.01x its Round 26 time), 0.97-1.04x "
+          "ratio-nr's in the same runs (both swing with the shared machine's "
+          "bilinear time): not shown under the 5x budget; 11.5-11.9x at AVX2 "
+          "(ratio-nr 8.7-9.0x, pan-side 11.0-11.4x, bayer-first 12.0-12.3x); "
+          "writing the 12 planes alone takes 1.6-2.3x (docs/demosaicking.md, "
+          "Rounds 23-27)",
+          "ours (docs/demosaicking.md, Rounds 21, 24 and 27): pan-side (Round 13) with "
+          "GBTF-style side weights (Pekkucuksen & Altunbasak, ICIP 2010), the "
+          "guided filter's shrinkage (He, Sun, Tang, TPAMI 2013) and Wiener-type "
+          "coring (Round 20 (e))",
+          PC_DMF_COLOR | PC_DMF_NOISE_GAIN},
+         {PAN_LEAN_LO, PAN_LEAN_HI, 1, 1},
+         NULL,
+         NULL,
+         false,
+         PC_DM_PAN_LEAN,
+         false},
 };
 
 const pc_dm_method_def *pc_dm_method_def_get(pc_demosaic_method m)
