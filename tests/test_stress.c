@@ -416,8 +416,9 @@ static void test_colour(const char *dir, const char *name, int gloss)
  * median 15.7 % and jeweller_g17 (+17 dB) 35.9 DN, median 7.3 %; colour-sealed10's
  * playground_g7 (+7 dB) 27.0 DN, median 9.4 % and umbrellas_g22 (+22 dB) 55.1 DN, median
  * 10.1 %; colour-sealed11's archery_g10 (+10 dB) 38.7 DN, median 14.6 % and pooltable_g19
- * (+19 dB) 76.7 DN, median 26.8 %. Every scene is exposed in all three colours (each colour's
- * brightest analyser value in the region above 5 % of full scale).
+ * (+19 dB) 76.7 DN, median 26.8 %; colour-sealed12's campsite_g11 (+11 dB) 44.6 DN, median
+ * 22.7 % and bowling_g16 (+16 dB) 56.6 DN, median 17.7 %. Every scene is exposed in all three
+ * colours (each colour's brightest analyser value in the region above 5 % of full scale).
  * test_sealed_region takes a smaller central w×h region: test_sealed renders the ideal scenes'
  * central 64×48 (CI time: the dense meshes cost more per pixel) and the noisy ones' 128×96 (the
  * median check needs the larger region on colour-sealed4's mosaic_g21). Of a used set (main's
@@ -638,6 +639,11 @@ static const sealed_set sealed_sets[] = {
      1,
      {"roadworks.json", "pooltable.json", "archery.json", "boardgame.json"},
      {{"archery_g10.json", "imx250myr +10 dB"}, {"pooltable_g19.json", "imx250myr +19 dB"}}},
+    {"colour-sealed12",
+     "scenes/stress/colour-sealed12/SHA256SUMS",
+     0,
+     {"bowling.json", "labbench.json", "console.json", "campsite.json"},
+     {{"campsite_g11.json", "imx250myr +11 dB"}, {"bowling_g16.json", "imx250myr +16 dB"}}},
 };
 
 int main(void)
