@@ -562,29 +562,6 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
 	return 0;
 }
 
-/* The mean of P̃ = max(P0, 0) + δ over columns x0 .. x1 and rows y0 .. y1 (inclusive), and its
- * population variance about mu: pan-adapt's (2r + 1)² windows */
-static double window_mean(const chroma_ref *c, double delta, int x0, int x1, int y0, int y1)
-{
-	double s = 0;
-	for (int j = y0; j <= y1; j++)
-		for (int i = x0; i <= x1; i++)
-			s += fmax(c->p0[cidx(c, i, j)], 0) + delta;
-	return s / ((x1 - x0 + 1) * (y1 - y0 + 1));
-}
-
-static double window_var(const chroma_ref *c, double delta, int x0, int x1, int y0, int y1,
-                         double mu)
-{
-	double s = 0;
-	for (int j = y0; j <= y1; j++)
-		for (int i = x0; i <= x1; i++) {
-			double d = fmax(c->p0[cidx(c, i, j)], 0) + delta - mu;
-			s += d * d;
-		}
-	return s / ((x1 - x0 + 1) * (y1 - y0 + 1));
-}
-
 /* pan-lean's window (step 3 below): the mean *mu and population variance *var of P̃ = max(P0, 0)
  * + δ at the even corners of the 3 × 3 blocks centred on (x, y)'s 2 × 2 block */
 static void lean_window(const chroma_ref *c, double delta, int x, int y, double *mu, double *var)
@@ -718,11 +695,25 @@ int pc_dm_pan_lean_ref(const double *img, uint32_t w, uint32_t h, const pc_mosai
  * (c = 4, r = 2; (14/64)² the sum of the P0 filter's squared weights, so c·(14/64)²·g·μ is c
  * times P0's noise variance at level μ; g the frame's noise gain, pc_dm_noise_gain_d). λ = 1
  * where v + c·(14/64)²·g·μ = 0. Where c·g = 0 the step is pan-side's (pan_values: the own
- * sample kept), the limit λ → 1 up to rounding and negative samples. adapt_mean: μ of the
- * window of radius r at (x, y). */
+ * sample kept), the limit λ → 1 up to rounding and negative samples. */
 static double adapt_mean(const chroma_ref *c, double delta, int x, int y, int r)
 {
-	return window_mean(c, delta, x - r, x + r, y - r, y + r);
+	double s = 0;
+	for (int j = -r; j <= r; j++)
+		for (int i = -r; i <= r; i++)
+			s += fmax(c->p0[cidx(c, x + i, y + j)], 0) + delta;
+	return s / ((2 * r + 1) * (2 * r + 1));
+}
+
+static double adapt_var(const chroma_ref *c, double delta, int x, int y, int r, double mu)
+{
+	double s = 0;
+	for (int j = -r; j <= r; j++)
+		for (int i = -r; i <= r; i++) {
+			double d = fmax(c->p0[cidx(c, x + i, y + j)], 0) + delta - mu;
+			s += d * d;
+		}
+	return s / ((2 * r + 1) * (2 * r + 1));
 }
 
 pc_dm_pan_adapt_params pc_dm_pan_adapt_defaults(void)
@@ -783,8 +774,7 @@ int pc_dm_pan_adapt_ref_own(const double *img, uint32_t w, uint32_t h, const pc_
 			double v = img[(size_t)y * w + (size_t)x];
 			double lv = (fmax(v, 0) + r.delta) * den[own] / num[own];
 			double mu = adapt_mean(&c, r.delta, x, y, p->r);
-			double var =
-			    window_var(&c, r.delta, x - p->r, x + p->r, y - p->r, y + p->r, mu);
+			double var = adapt_var(&c, r.delta, x, y, p->r, mu);
 			double lam = var + kn * mu > 0 ? var / (var + kn * mu) : 1;
 			double ls = mu + lam * (lv - mu);
 			for (unsigned q = 0; q < 12; q++)
