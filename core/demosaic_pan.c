@@ -1508,6 +1508,16 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		ap->lcs = (float)(PC_DM_PAN_LEAN_CS * j->g);
 		ap->lF = j->F;
 	}
+	if (lean) {
+		/* the output row prefetches the raw row that the next output row's first new source
+		 * row (y + 4) converts first, its pan_ssums reading y + 2 .. y + 6: a raw frame is
+		 * read from memory once, and its conversion otherwise waits on it (4–5 % of
+		 * pan-lean's time, docs/demosaicking.md, Round 28) */
+		const uint32_t yp = y + 6 < j->h ? y + 6 : j->h - 1;
+		const long bpp = j->in->type == PC_DMT_U8 ? 1 : j->in->type == PC_DMT_U16 ? 2 : 4;
+		ap->pf = j->in->data + (size_t)yp * j->in->stride + (size_t)xs * (size_t)bpp;
+		ap->pfb = bpp;
+	}
 	const pan_gorow_fn kern = lean             ? K->lgorow
 	                          : j->guided == 3 ? K->sgorow
 	                          : j->guided == 2 ? K->cgorow

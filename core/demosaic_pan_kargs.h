@@ -34,6 +34,10 @@ typedef struct pan_gorow_args {
 	const float *lmu, *llam;
 	const float *csame[12];
 	float lcs, lF;
+	/* pan-lean's: the raw row the next output row's source rows convert first (pan_gorow), its
+	 * strip's first sample, and its bytes per sample: the output row prefetches it */
+	const unsigned char *pf;
+	long pfb;
 } pan_gorow_args;
 
 /* pan-lean's block terms for pan_lfac (demosaic_pan_lean.inc): ε, κ_n·√g, κ_t, μ, δ, F; and
