@@ -138,15 +138,23 @@ typedef struct ng_job {
 	double med[2];  /* their medians */
 } ng_job;
 
+/* Each grid row also prefetches, point by point, the next grid row's three rows (the rows are
+ * far apart, and the frame is read from memory here for the first time: docs/demosaicking.md,
+ * Round 28) */
 #define NG_ROWS(T)                                                                                 \
 	do {                                                                                       \
 		const T *rn = (const T *)(const void *)(in->data + (size_t)(y - p) * in->stride),  \
 		        *rc = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
 		        *rs = (const T *)(const void *)(in->data + (size_t)(y + p) * in->stride);  \
-		for (uint32_t x = p; x < w - p; x += s)                                            \
+		const size_t nx = y + s + p < in->height ? (size_t)s * in->stride : 0;             \
+		for (uint32_t x = p; x < w - p; x += s) {                                          \
+			__builtin_prefetch((const uint8_t *)(rn + x) + nx);                        \
+			__builtin_prefetch((const uint8_t *)(rc + x) + nx);                        \
+			__builtin_prefetch((const uint8_t *)(rs + x) + nx);                        \
 			*t++ = ng_value((double)(float)rc[x] - bl, (double)(float)rc[x - p] - bl,  \
 			                (double)(float)rc[x + p] - bl, (double)(float)rn[x] - bl,  \
 			                (double)(float)rs[x] - bl, floor);                         \
+		}                                                                                  \
 	} while (0)
 
 static void ng_rows(void *ctx, uint32_t r0, uint32_t r1)
@@ -200,14 +208,19 @@ static inline double nb_value(const ng_job *j, double a, double b, double c, dou
 	return r * r / l;
 }
 
+/* (prefetching the next block row's two rows as NG_ROWS does) */
 #define NB_ROWS(T)                                                                                 \
 	do {                                                                                       \
 		const T *r0 = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
 		        *r1 = (const T *)(const void *)(in->data + (size_t)(y + 1) * in->stride);  \
-		for (size_t gx = 0; gx < j->nbx; gx++, x += s2)                                    \
+		const size_t nx = y + s2 + 1 < in->height ? (size_t)s2 * in->stride : 0;           \
+		for (size_t gx = 0; gx < j->nbx; gx++, x += s2) {                                  \
+			__builtin_prefetch((const uint8_t *)(r0 + x) + nx);                        \
+			__builtin_prefetch((const uint8_t *)(r1 + x) + nx);                        \
 			*t++ =                                                                     \
 			    nb_value(j, (double)(float)r0[x] - bl, (double)(float)r0[x + 1] - bl,  \
 			             (double)(float)r1[x] - bl, (double)(float)r1[x + 1] - bl);    \
+		}                                                                                  \
 	} while (0)
 
 /* The block grid's rows [r0, r1) into t (row r at t + r·nx): u(b) of each block, through get
