@@ -6,8 +6,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cpu_internal.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
+
+#ifdef PC_CPU_X86
+#include <immintrin.h>
+#endif
 
 static void swap_d(double *v, size_t i, size_t j)
 {
@@ -136,6 +141,7 @@ typedef struct ng_job {
 	size_t nbx, ny; /* ny: the sample grid's rows */
 	size_t n[2];    /* the two grids' numbers of values */
 	double med[2];  /* their medians */
+	int avx512;     /* 16-bit raws: the grid rows eight points at a time (ng_u16_x8) */
 } ng_job;
 
 /* Each grid row also prefetches, point by point, the next grid row's three rows (the rows are
@@ -156,6 +162,64 @@ typedef struct ng_job {
 			                (double)(float)rs[x] - bl, floor);                         \
 		}                                                                                  \
 	} while (0)
+
+#ifdef PC_CPU_X86
+/* Eight 16-bit samples at x + k·s (k = 0..7) of row r, as doubles: each the 32-bit word at its
+ * address (the sample and the one after it, which the callers keep inside the frame: see
+ * ng_u16_x8 and nb_u16_x8) masked to its 16 bits */
+__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) static inline __m512d
+ng_gather8(const uint16_t *r, __m256i idx)
+{
+	const __m256i v = _mm256_i32gather_epi32((const int *)(const void *)r, idx, 2);
+	return _mm512_cvtepi32_pd(_mm256_and_si256(v, _mm256_set1_epi32(0xffff)));
+}
+
+/* NG_ROWS for a 16-bit raw, eight grid points at a time: ng_value's operations in its order,
+ * in double, so the same values bit for bit; the points left over as NG_ROWS does. The words
+ * gathered reach one sample past rc[x + p] (x + p ≤ w − 1: rc[w] lies in row y + 1, and
+ * y + p < h) and past rn[x], rs[x] (x ≤ w − p − 1 < w − 1). Returns the next t. */
+__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) static double *
+ng_u16_x8(const pc_dm_input *in, uint32_t y, uint32_t p, uint32_t s, uint32_t w, double bl,
+          double floor, double *t)
+{
+	const uint16_t *rn = (const uint16_t *)(const void *)(in->data +
+	                                                      (size_t)(y - p) * in->stride),
+	               *rc = (const uint16_t *)(const void *)(in->data + (size_t)y * in->stride),
+	               *rs = (const uint16_t *)(const void *)(in->data +
+	                                                      (size_t)(y + p) * in->stride);
+	const size_t nx = y + s + p < in->height ? (size_t)s * in->stride : 0;
+	const __m512d vb = _mm512_set1_pd(bl), vf = _mm512_set1_pd(floor), q = _mm512_set1_pd(0.25),
+	              z = _mm512_setzero_pd();
+	const __m256i step = _mm256_mullo_epi32(_mm256_set1_epi32((int)s),
+	                                        _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+	const __m256i vp = _mm256_set1_epi32((int)p);
+	uint32_t x = p;
+	for (; x + 7 * s < w - p; x += 8 * s) {
+		for (uint32_t k = 0; k < 8 * s * 2; k += 64) {
+			_mm_prefetch((const char *)(rn + x) + nx + k, _MM_HINT_T0);
+			_mm_prefetch((const char *)(rc + x) + nx + k, _MM_HINT_T0);
+			_mm_prefetch((const char *)(rs + x) + nx + k, _MM_HINT_T0);
+		}
+		const __m256i ix = _mm256_add_epi32(_mm256_set1_epi32((int)x), step);
+		const __m512d c = _mm512_sub_pd(ng_gather8(rc, ix), vb),
+		              we = _mm512_sub_pd(ng_gather8(rc, _mm256_sub_epi32(ix, vp)), vb),
+		              ea = _mm512_sub_pd(ng_gather8(rc, _mm256_add_epi32(ix, vp)), vb),
+		              no = _mm512_sub_pd(ng_gather8(rn, ix), vb),
+		              so = _mm512_sub_pd(ng_gather8(rs, ix), vb);
+		const __m512d nb =
+		    _mm512_mul_pd(_mm512_add_pd(_mm512_add_pd(_mm512_add_pd(we, ea), no), so), q);
+		const __m512d r = _mm512_sub_pd(c, nb);
+		_mm512_storeu_pd(
+		    t, _mm512_div_pd(_mm512_mul_pd(r, r), _mm512_add_pd(_mm512_max_pd(nb, z), vf)));
+		t += 8;
+	}
+	for (; x < w - p; x += s)
+		*t++ = ng_value((double)(float)rc[x] - bl, (double)(float)rc[x - p] - bl,
+		                (double)(float)rc[x + p] - bl, (double)(float)rn[x] - bl,
+		                (double)(float)rs[x] - bl, floor);
+	return t;
+}
+#endif
 
 static void ng_rows(void *ctx, uint32_t r0, uint32_t r1)
 {
@@ -180,6 +244,12 @@ static void ng_rows(void *ctx, uint32_t r0, uint32_t r1)
 			NG_ROWS(uint8_t);
 			break;
 		case PC_DMT_U16:
+#ifdef PC_CPU_X86
+			if (j->avx512) {
+				t = ng_u16_x8(in, y, p, s, w, bl, floor, t);
+				break;
+			}
+#endif
 			NG_ROWS(uint16_t);
 			break;
 		default:
@@ -225,6 +295,59 @@ static inline double nb_value(const ng_job *j, double a, double b, double c, dou
 
 /* The block grid's rows [r0, r1) into t (row r at t + r·nx): u(b) of each block, through get
  * or straight from in's rows as ng_rows reads them */
+#ifdef PC_CPU_X86
+/* NB_ROWS for a 16-bit raw, eight blocks at a time: each block row's two samples are one 32-bit
+ * word (the block's columns x and x + 1), split; nb_value's operations in its order, in
+ * double, so the same values bit for bit; the blocks left over as NB_ROWS does. x: the first
+ * block's column. Returns the next t. */
+__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) static double *
+nb_u16_x8(const ng_job *j, uint32_t y, uint32_t x, double bl, double *t)
+{
+	const pc_dm_input *in = j->in;
+	const uint32_t s2 = 2 * j->sb;
+	const uint16_t *r0 = (const uint16_t *)(const void *)(in->data + (size_t)y * in->stride),
+	               *r1 = (const uint16_t *)(const void *)(in->data +
+	                                                      (size_t)(y + 1) * in->stride);
+	const size_t nx = y + s2 + 1 < in->height ? (size_t)s2 * in->stride : 0;
+	const __m512d vb = _mm512_set1_pd(bl), z = _mm512_setzero_pd(),
+	              l4 = _mm512_set1_pd(4 * j->floor), s00 = _mm512_set1_pd(j->sign[0][0]),
+	              s01 = _mm512_set1_pd(j->sign[0][1]), s10 = _mm512_set1_pd(j->sign[1][0]),
+	              s11 = _mm512_set1_pd(j->sign[1][1]);
+	const __m256i step = _mm256_mullo_epi32(_mm256_set1_epi32((int)s2),
+	                                        _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)),
+	              lo = _mm256_set1_epi32(0xffff);
+	size_t gx = 0;
+	for (; gx + 8 <= j->nbx; gx += 8, x += 8 * s2) {
+		for (uint32_t k = 0; k < 8 * s2 * 2; k += 64) {
+			_mm_prefetch((const char *)(r0 + x) + nx + k, _MM_HINT_T0);
+			_mm_prefetch((const char *)(r1 + x) + nx + k, _MM_HINT_T0);
+		}
+		const __m256i ix = _mm256_add_epi32(_mm256_set1_epi32((int)x), step);
+		const __m256i w0 = _mm256_i32gather_epi32((const int *)(const void *)r0, ix, 2),
+		              w1 = _mm256_i32gather_epi32((const int *)(const void *)r1, ix, 2);
+		const __m512d a = _mm512_sub_pd(_mm512_cvtepi32_pd(_mm256_and_si256(w0, lo)), vb),
+		              b = _mm512_sub_pd(_mm512_cvtepi32_pd(_mm256_srli_epi32(w0, 16)), vb),
+		              c = _mm512_sub_pd(_mm512_cvtepi32_pd(_mm256_and_si256(w1, lo)), vb),
+		              d = _mm512_sub_pd(_mm512_cvtepi32_pd(_mm256_srli_epi32(w1, 16)), vb);
+		const __m512d r = _mm512_add_pd(
+		    _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(s00, a), _mm512_mul_pd(s01, b)),
+		                  _mm512_mul_pd(s10, c)),
+		    _mm512_mul_pd(s11, d));
+		const __m512d l = _mm512_add_pd(
+		    _mm512_add_pd(
+		        _mm512_add_pd(_mm512_add_pd(l4, _mm512_max_pd(a, z)), _mm512_max_pd(b, z)),
+		        _mm512_max_pd(c, z)),
+		    _mm512_max_pd(d, z));
+		_mm512_storeu_pd(t, _mm512_div_pd(_mm512_mul_pd(r, r), l));
+		t += 8;
+	}
+	for (; gx < j->nbx; gx++, x += s2)
+		*t++ = nb_value(j, (double)(float)r0[x] - bl, (double)(float)r0[x + 1] - bl,
+		                (double)(float)r1[x] - bl, (double)(float)r1[x + 1] - bl);
+	return t;
+}
+#endif
+
 static void nb_rows(void *ctx, uint32_t g0, uint32_t g1)
 {
 	const ng_job *j = ctx;
@@ -248,6 +371,12 @@ static void nb_rows(void *ctx, uint32_t g0, uint32_t g1)
 			NB_ROWS(uint8_t);
 			break;
 		case PC_DMT_U16:
+#ifdef PC_CPU_X86
+			if (j->avx512) {
+				(void)nb_u16_x8(j, y, x, bl, t);
+				break;
+			}
+#endif
 			NB_ROWS(uint16_t);
 			break;
 		default:
@@ -345,7 +474,7 @@ int pc_dm_noise_gain_in_mt(const pc_dm_input *in, const pc_mosaic *m, double fs,
 	if (in->dark || in->gain_inv)
 		return pc_error(PC_EINVAL, "noise gain: an input with dark or gain maps (correct a "
 		                           "copy first)");
-	ng_job j = {.in = in, .w = in->width};
+	ng_job j = {.in = in, .w = in->width, .avx512 = pc_cpu_active() >= PC_CPU_AVX512};
 	return ng_gain(&j, in->height, m, fs, threads, g);
 }
 

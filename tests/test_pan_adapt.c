@@ -30,6 +30,7 @@
 #include "../core/demosaic_noise.h"
 #include "../core/demosaic_pan.h"
 #include "check.h"
+#include "polarcam/cpu.h"
 #include "polarcam/demosaic.h"
 #include "polarcam/error.h"
 #include "polarcam/mosaic.h"
@@ -238,7 +239,7 @@ static size_t grid_sorted(const double *img, uint32_t w, uint32_t h, double fs, 
  * with many ties (integer levels 0..3: thousands of equal t) and a flat frame (every t = 0).
  * And the fast path's threaded grid (pc_dm_noise_gain_in_mt, rows straight from 8-bit, 16-bit
  * and float inputs, a black level) equal to the reference's g bit for bit at 1, 2 and 3
- * threads. */
+ * threads and every instruction-set level, on two frame sizes. */
 static void test_noise_select(void)
 {
 	const uint32_t W = 2448, H = 2048;
@@ -264,39 +265,62 @@ static void test_noise_select(void)
 		const double gb = block_gain(img, W, H, fs);
 		CHECK(g == fmin(t[n / 2] / (1.25 * PC_DM_NG_CHI1), gb));
 	}
-	/* the threaded grid on the three input types, black 3.5 */
+	/* the threaded grid on the three input types, black 3.5, at every instruction-set level of
+	 * this machine (the 16-bit grids' AVX-512 rows, eight points at a time: Round 28), on the
+	 * full frame and on an odd one (1001 × 777: rows that end between eight-point groups), the
+	 * 16-bit input once with g from the sample grid (k 1) and once over its full range with g
+	 * from the block grid (k 3) */
 	uint8_t *u8 = malloc((size_t)W * H);
 	uint16_t *u16 = malloc(sizeof(uint16_t) * W * H);
 	float *f32 = malloc(sizeof(float) * W * H);
-	for (size_t i = 0; i < (size_t)W * H; i++) {
-		u16[i] = (uint16_t)(1000 + (int)(200 * urand()));
-		u8[i] = (uint8_t)(100 + (int)(40 * urand()));
-		f32[i] = (float)(1000 + 50 * nrand());
-	}
-	const pc_dm_type ty[3] = {PC_DMT_U8, PC_DMT_U16, PC_DMT_F32};
-	const void *data[3] = {u8, u16, f32};
-	const size_t bytes[3] = {1, 2, 4};
-	for (int k = 0; k < 3; k++) {
-		pc_dm_input in;
-		memset(&in, 0, sizeof in);
-		in.data = data[k];
-		in.stride = W * bytes[k];
-		in.type = ty[k];
-		in.width = W;
-		in.height = H;
-		in.black = 3.5f;
-		in.black_d = 3.5;
-		for (size_t i = 0; i < (size_t)W * H; i++)
-			img[i] = (k == 0 ? u8[i] : k == 1 ? u16[i] : (double)f32[i]) - 3.5;
-		double gd = -1;
-		CHECK_EQ_INT(pc_dm_noise_gain_d(img, W, H, &m, fs, &gd), 0);
-		for (int th = 1; th <= 3; th++) {
-			double gi = -2;
-			CHECK_EQ_INT(pc_dm_noise_gain_in_mt(&in, &m, fs, th, &gi), 0);
-			CHECK(gi == gd);
+	const pc_dm_type ty[4] = {PC_DMT_U8, PC_DMT_U16, PC_DMT_F32, PC_DMT_U16};
+	const size_t bytes[4] = {1, 2, 4, 2};
+	const uint32_t sw[2] = {W, 1001}, sh[2] = {H, 777};
+	for (int sz = 0; sz < 2; sz++)
+		for (int k = 0; k < 4; k++) {
+			const uint32_t w = sw[sz], h = sh[sz];
+			for (size_t i = 0; i < (size_t)w * h; i++) {
+				/* k 1: the samples of each 2×2 block alternately 300 apart, which
+				 * the block estimate takes for signal (g from the sample grid
+				 * alone) */
+				const size_t x = i % w, y = i / w;
+				u16[i] = k == 3 ? (uint16_t)(65535 * urand())
+				                : (uint16_t)(1000 + (int)(200 * urand()) +
+				                             300 * (int)((x ^ y) & 1));
+				u8[i] = (uint8_t)(100 + (int)(40 * urand()));
+				f32[i] = (float)(1000 + 50 * nrand());
+			}
+			const void *data = k == 0   ? (const void *)u8
+			                   : k == 2 ? (const void *)f32
+			                            : (const void *)u16;
+			pc_dm_input in;
+			memset(&in, 0, sizeof in);
+			in.data = data;
+			in.stride = w * bytes[k];
+			in.type = ty[k];
+			in.width = w;
+			in.height = h;
+			in.black = 3.5f;
+			in.black_d = 3.5;
+			for (size_t i = 0; i < (size_t)w * h; i++)
+				img[i] = (k == 0 ? u8[i] : k == 2 ? (double)f32[i] : u16[i]) - 3.5;
+			double gd = -1;
+			CHECK_EQ_INT(pc_dm_noise_gain_d(img, w, h, &m, fs, &gd), 0);
+			for (int l = 0; l <= (int)pc_cpu_supported(); l++) {
+				CHECK_EQ_INT(pc_cpu_force((pc_cpu_level)l), 0);
+				for (int th = 1; th <= 3; th++) {
+					double gi = -2;
+					CHECK_EQ_INT(pc_dm_noise_gain_in_mt(&in, &m, fs, th, &gi),
+					             0);
+					CHECK(gi == gd);
+				}
+			}
+			pc_cpu_force(PC_CPU_LEVELS);
+			printf(
+			    "  threaded grid, %ux%u, input type %d%s: g %.9g (levels up to %s)\n",
+			    w, h, (int)ty[k], k == 3 ? " full range" : "", gd,
+			    pc_cpu_level_name(pc_cpu_supported()));
 		}
-		printf("  threaded grid, input type %d: g %.9g\n", k, gd);
-	}
 	free(u8);
 	free(u16);
 	free(f32);
