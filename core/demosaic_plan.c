@@ -731,11 +731,13 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "colour-sealed10 (6) +1.15/+1.36 (+0.34/+0.82); no scene of any colour "
           "set losing; docs/demosaicking.md, Rounds 24 and 27",
           "float fast path in pan-side's band form: within 2.4e-7 of full scale "
-          "of the double reference; 3.99-5.25x the mono bilinear's time at "
-          "AVX-512 over ten runs, median 4.95x (Round 28: the raw frame's first "
-          "reads prefetched, 5-7 % faster), 0.86-1.03x ratio-nr's in the same "
-          "runs (median 5.37x; both swing with the shared machine's bilinear "
-          "time): at the 5x budget, not reliably under it; 11.1-11.5x at AVX2 "
+          "of the double reference; 3.99-5.44x the mono bilinear's time at "
+          "AVX-512 over twenty runs, medians 4.95x and 4.63x in two sets of ten, "
+          "under 5x in fourteen (Round 28: the raw frame's first reads "
+          "prefetched, the noise gain vectorised, 6-8 % faster), 0.86-1.03x "
+          "ratio-nr's in the same runs (ratio-nr itself under 5x in nine; both swing with the "
+          "shared machine's bilinear time): at the 5x budget, not reliably under "
+          "it; 11.1-11.5x at AVX2 "
           "(ratio-nr 8.8-9.3x, pan-side 11.7-13.3x, bayer-first 12.5-13.4x); "
           "writing the 12 planes alone takes 1.6-2.3x (docs/demosaicking.md, "
           "Rounds 23-28)",
