@@ -88,6 +88,12 @@ static inline double pc_dm_tent(const pc_dimg *v, const pc_mosaic *m, unsigned c
  * black level that row conversion subtracts. */
 typedef enum pc_dm_type { PC_DMT_U8, PC_DMT_U16, PC_DMT_F32 } pc_dm_type;
 
+/* A sample's bytes in a row of type t */
+static inline size_t pc_dm_type_bytes(pc_dm_type t)
+{
+	return t == PC_DMT_U8 ? 1 : t == PC_DMT_U16 ? 2 : 4;
+}
+
 typedef struct pc_dm_input {
 	const uint8_t *data;
 	size_t stride; /* bytes */

@@ -146,14 +146,17 @@ typedef struct ng_job {
 
 /* Each grid row also prefetches, point by point, the next grid row's three rows (the rows are
  * far apart, and the frame is read from memory here for the first time: docs/demosaicking.md,
- * Round 28) */
-#define NG_ROWS(T)                                                                                 \
+ * Round 28). FAST may take the row's first points (advancing x and t) before the loop does the
+ * rest: ng_u16_x8 for 16-bit raws at AVX-512. */
+#define NG_ROWS(T, FAST)                                                                           \
 	do {                                                                                       \
 		const T *rn = (const T *)(const void *)(in->data + (size_t)(y - p) * in->stride),  \
 		        *rc = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
 		        *rs = (const T *)(const void *)(in->data + (size_t)(y + p) * in->stride);  \
 		const size_t nx = y + s + p < in->height ? (size_t)s * in->stride : 0;             \
-		for (uint32_t x = p; x < w - p; x += s) {                                          \
+		uint32_t x = p;                                                                    \
+		FAST;                                                                              \
+		for (; x < w - p; x += s) {                                                        \
 			__builtin_prefetch((const uint8_t *)(rn + x) + nx);                        \
 			__builtin_prefetch((const uint8_t *)(rc + x) + nx);                        \
 			__builtin_prefetch((const uint8_t *)(rs + x) + nx);                        \
@@ -174,25 +177,21 @@ ng_gather8(const uint16_t *r, __m256i idx)
 	return _mm512_cvtepi32_pd(_mm256_and_si256(v, _mm256_set1_epi32(0xffff)));
 }
 
-/* NG_ROWS for a 16-bit raw, eight grid points at a time: ng_value's operations in its order,
- * in double, so the same values bit for bit; the points left over as NG_ROWS does. The words
- * gathered reach one sample past rc[x + p] (x + p ≤ w − 1: rc[w] lies in row y + 1, and
- * y + p < h) and past rn[x], rs[x] (x ≤ w − p − 1 < w − 1). Returns the next t. */
-__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) static double *
-ng_u16_x8(const pc_dm_input *in, uint32_t y, uint32_t p, uint32_t s, uint32_t w, double bl,
-          double floor, double *t)
+/* NG_ROWS's FAST for a 16-bit raw (its rows rn, rc, rs and prefetch offset nx): the row's
+ * points from x = p eight at a time while eight remain, ng_value's operations in its order, in
+ * double, so the same values bit for bit, into *t (advanced); returns the first point left to
+ * NG_ROWS's loop. The words gathered reach one sample past rc[x + p] (x + p ≤ w − 1: rc[w] lies
+ * in row y + 1, and y + p < h) and past rn[x], rs[x] (x ≤ w − p − 1 < w − 1). */
+__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) static uint32_t
+ng_u16_x8(const uint16_t *rn, const uint16_t *rc, const uint16_t *rs, size_t nx, uint32_t p,
+          uint32_t s, uint32_t w, double bl, double floor, double **tp)
 {
-	const uint16_t *rn = (const uint16_t *)(const void *)(in->data +
-	                                                      (size_t)(y - p) * in->stride),
-	               *rc = (const uint16_t *)(const void *)(in->data + (size_t)y * in->stride),
-	               *rs = (const uint16_t *)(const void *)(in->data +
-	                                                      (size_t)(y + p) * in->stride);
-	const size_t nx = y + s + p < in->height ? (size_t)s * in->stride : 0;
 	const __m512d vb = _mm512_set1_pd(bl), vf = _mm512_set1_pd(floor), q = _mm512_set1_pd(0.25),
 	              z = _mm512_setzero_pd();
 	const __m256i step = _mm256_mullo_epi32(_mm256_set1_epi32((int)s),
 	                                        _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
 	const __m256i vp = _mm256_set1_epi32((int)p);
+	double *t = *tp;
 	uint32_t x = p;
 	for (; x + 7 * s < w - p; x += 8 * s) {
 		for (uint32_t k = 0; k < 8 * s * 2; k += 64) {
@@ -213,12 +212,14 @@ ng_u16_x8(const pc_dm_input *in, uint32_t y, uint32_t p, uint32_t s, uint32_t w,
 		    t, _mm512_div_pd(_mm512_mul_pd(r, r), _mm512_add_pd(_mm512_max_pd(nb, z), vf)));
 		t += 8;
 	}
-	for (; x < w - p; x += s)
-		*t++ = ng_value((double)(float)rc[x] - bl, (double)(float)rc[x - p] - bl,
-		                (double)(float)rc[x + p] - bl, (double)(float)rn[x] - bl,
-		                (double)(float)rs[x] - bl, floor);
-	return t;
+	*tp = t;
+	return x;
 }
+#define NG_U16_FAST                                                                                \
+	if (j->avx512)                                                                             \
+	x = ng_u16_x8(rn, rc, rs, nx, p, s, w, bl, floor, &t)
+#else
+#define NG_U16_FAST (void)0
 #endif
 
 static void ng_rows(void *ctx, uint32_t r0, uint32_t r1)
@@ -241,23 +242,18 @@ static void ng_rows(void *ctx, uint32_t r0, uint32_t r1)
 		const double bl = in->black_d;
 		switch (in->type) {
 		case PC_DMT_U8:
-			NG_ROWS(uint8_t);
+			NG_ROWS(uint8_t, (void)0);
 			break;
 		case PC_DMT_U16:
-#ifdef PC_CPU_X86
-			if (j->avx512) {
-				t = ng_u16_x8(in, y, p, s, w, bl, floor, t);
-				break;
-			}
-#endif
-			NG_ROWS(uint16_t);
+			NG_ROWS(uint16_t, NG_U16_FAST);
 			break;
 		default:
-			NG_ROWS(float);
+			NG_ROWS(float, (void)0);
 		}
 	}
 }
 #undef NG_ROWS
+#undef NG_U16_FAST
 
 /* The block estimate's grid (demosaic_noise.h): 2×2 blocks from (ox, oy), every s-th block in
  * each direction (s odd), nx × ny of them; 0 when the frame holds no whole block */
@@ -278,13 +274,16 @@ static inline double nb_value(const ng_job *j, double a, double b, double c, dou
 	return r * r / l;
 }
 
-/* (prefetching the next block row's two rows as NG_ROWS does) */
-#define NB_ROWS(T)                                                                                 \
+/* (prefetching the next block row's two rows as NG_ROWS does; FAST as NG_ROWS's, advancing
+ * gx, x and t: nb_u16_x8) */
+#define NB_ROWS(T, FAST)                                                                           \
 	do {                                                                                       \
 		const T *r0 = (const T *)(const void *)(in->data + (size_t)y * in->stride),        \
 		        *r1 = (const T *)(const void *)(in->data + (size_t)(y + 1) * in->stride);  \
 		const size_t nx = y + s2 + 1 < in->height ? (size_t)s2 * in->stride : 0;           \
-		for (size_t gx = 0; gx < j->nbx; gx++, x += s2) {                                  \
+		size_t gx = 0;                                                                     \
+		FAST;                                                                              \
+		for (; gx < j->nbx; gx++, x += s2) {                                               \
 			__builtin_prefetch((const uint8_t *)(r0 + x) + nx);                        \
 			__builtin_prefetch((const uint8_t *)(r1 + x) + nx);                        \
 			*t++ =                                                                     \
@@ -293,22 +292,17 @@ static inline double nb_value(const ng_job *j, double a, double b, double c, dou
 		}                                                                                  \
 	} while (0)
 
-/* The block grid's rows [r0, r1) into t (row r at t + r·nx): u(b) of each block, through get
- * or straight from in's rows as ng_rows reads them */
 #ifdef PC_CPU_X86
-/* NB_ROWS for a 16-bit raw, eight blocks at a time: each block row's two samples are one 32-bit
- * word (the block's columns x and x + 1), split; nb_value's operations in its order, in
- * double, so the same values bit for bit; the blocks left over as NB_ROWS does. x: the first
- * block's column. Returns the next t. */
-__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) static double *
-nb_u16_x8(const ng_job *j, uint32_t y, uint32_t x, double bl, double *t)
+/* NB_ROWS's FAST for a 16-bit raw (its rows r0, r1 and prefetch offset nx): the row's blocks
+ * eight at a time while eight remain, from the column *xp, each block row's two samples one
+ * 32-bit word (the block's columns x and x + 1), split; nb_value's operations in its order, in
+ * double, so the same values bit for bit, into *tp; *xp and *tp advanced, returns the blocks
+ * done. */
+__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) static size_t
+nb_u16_x8(const ng_job *j, const uint16_t *r0, const uint16_t *r1, size_t nx, double bl,
+          uint32_t *xp, double **tp)
 {
-	const pc_dm_input *in = j->in;
 	const uint32_t s2 = 2 * j->sb;
-	const uint16_t *r0 = (const uint16_t *)(const void *)(in->data + (size_t)y * in->stride),
-	               *r1 = (const uint16_t *)(const void *)(in->data +
-	                                                      (size_t)(y + 1) * in->stride);
-	const size_t nx = y + s2 + 1 < in->height ? (size_t)s2 * in->stride : 0;
 	const __m512d vb = _mm512_set1_pd(bl), z = _mm512_setzero_pd(),
 	              l4 = _mm512_set1_pd(4 * j->floor), s00 = _mm512_set1_pd(j->sign[0][0]),
 	              s01 = _mm512_set1_pd(j->sign[0][1]), s10 = _mm512_set1_pd(j->sign[1][0]),
@@ -316,6 +310,8 @@ nb_u16_x8(const ng_job *j, uint32_t y, uint32_t x, double bl, double *t)
 	const __m256i step = _mm256_mullo_epi32(_mm256_set1_epi32((int)s2),
 	                                        _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)),
 	              lo = _mm256_set1_epi32(0xffff);
+	uint32_t x = *xp;
+	double *t = *tp;
 	size_t gx = 0;
 	for (; gx + 8 <= j->nbx; gx += 8, x += 8 * s2) {
 		for (uint32_t k = 0; k < 8 * s2 * 2; k += 64) {
@@ -341,13 +337,19 @@ nb_u16_x8(const ng_job *j, uint32_t y, uint32_t x, double bl, double *t)
 		_mm512_storeu_pd(t, _mm512_div_pd(_mm512_mul_pd(r, r), l));
 		t += 8;
 	}
-	for (; gx < j->nbx; gx++, x += s2)
-		*t++ = nb_value(j, (double)(float)r0[x] - bl, (double)(float)r0[x + 1] - bl,
-		                (double)(float)r1[x] - bl, (double)(float)r1[x + 1] - bl);
-	return t;
+	*xp = x;
+	*tp = t;
+	return gx;
 }
+#define NB_U16_FAST                                                                                \
+	if (j->avx512)                                                                             \
+	gx = nb_u16_x8(j, r0, r1, nx, bl, &x, &t)
+#else
+#define NB_U16_FAST (void)0
 #endif
 
+/* The block grid's rows [r0, r1) into t (row r at t + r·nx): u(b) of each block, through get
+ * or straight from in's rows as ng_rows reads them */
 static void nb_rows(void *ctx, uint32_t g0, uint32_t g1)
 {
 	const ng_job *j = ctx;
@@ -368,23 +370,18 @@ static void nb_rows(void *ctx, uint32_t g0, uint32_t g1)
 		const double bl = in->black_d;
 		switch (in->type) {
 		case PC_DMT_U8:
-			NB_ROWS(uint8_t);
+			NB_ROWS(uint8_t, (void)0);
 			break;
 		case PC_DMT_U16:
-#ifdef PC_CPU_X86
-			if (j->avx512) {
-				(void)nb_u16_x8(j, y, x, bl, t);
-				break;
-			}
-#endif
-			NB_ROWS(uint16_t);
+			NB_ROWS(uint16_t, NB_U16_FAST);
 			break;
 		default:
-			NB_ROWS(float);
+			NB_ROWS(float, (void)0);
 		}
 	}
 }
 #undef NB_ROWS
+#undef NB_U16_FAST
 
 /* Rows [r0, r1) of both grids, the sample grid's ny rows first, then the block grid's: one
  * parallel pass for the two */

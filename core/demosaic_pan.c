@@ -1209,9 +1209,7 @@ static const float *pan_row_strip(pan_rows *c, const pc_dm_input *in, int y)
 	if (c->tag[k] != y) {
 		float *d = c->slot[k];
 		pc_dm_input sub = *in;
-		sub.data += (size_t)c->gl * (in->type == PC_DMT_U8    ? 1
-		                             : in->type == PC_DMT_U16 ? 2
-		                                                      : 4);
+		sub.data += (size_t)c->gl * pc_dm_type_bytes(in->type);
 		sub.width = c->gh - c->gl;
 		float *dl = d + ((long)c->gl - (long)c->xs), *lo = dl - 1, *hi = dl + sub.width;
 		const float keep_lo = *lo, keep_hi = *hi;
@@ -1514,9 +1512,9 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		 * read from memory once, and its conversion otherwise waits on it (4–5 % of
 		 * pan-lean's time, docs/demosaicking.md, Round 28) */
 		const uint32_t yp = y + 6 < j->h ? y + 6 : j->h - 1;
-		const long bpp = j->in->type == PC_DMT_U8 ? 1 : j->in->type == PC_DMT_U16 ? 2 : 4;
-		ap->pf = j->in->data + (size_t)yp * j->in->stride + (size_t)xs * (size_t)bpp;
-		ap->pfb = bpp;
+		const size_t bpp = pc_dm_type_bytes(j->in->type);
+		ap->pf = j->in->data + (size_t)yp * j->in->stride + (size_t)xs * bpp;
+		ap->pfb = (long)bpp;
 	}
 	const pan_gorow_fn kern = lean             ? K->lgorow
 	                          : j->guided == 3 ? K->sgorow
