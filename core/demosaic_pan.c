@@ -1401,6 +1401,7 @@ static void pan_gorow_prep(const pan_job *j, const pan_tables *t, float *hr[8][4
 			a->vdy[q][i] = 3 + l.dy[q][i];
 		}
 	memcpy(a->nv, l.n, sizeof a->nv);
+	a->tstep = j->guided == 5 ? PAN_LTS : 1;
 	for (unsigned u = 0; u < 4; u++) {
 		a->sel[u] = t->sel[u];
 		a->own[u] = pan_q(j->m, u, ty);
@@ -1419,12 +1420,14 @@ static void pan_gorow_prep(const pan_job *j, const pan_tables *t, float *hr[8][4
 /* Every row pointer of a that is set moved on by dx columns (the row's last partial vector) */
 static void pan_gorow_shift(pan_gorow_args *a, long dx)
 {
+	assert(dx % 16 == 0); /* pan-lean's interleaved tents move by whole column blocks */
+	const long tx = dx * a->tstep;
 	for (int q = 0; q < 12; q++)
 		for (int i = 0; i < 4; i++) {
 			if (i < a->nv[q])
-				a->vrow[q][i] += dx;
+				a->vrow[q][i] += tx;
 			if (a->prow[q][i])
-				a->prow[q][i] += dx;
+				a->prow[q][i] += tx;
 		}
 	for (int k = 0; k < 7; k++) {
 		if (a->p0row[k])
@@ -1605,9 +1608,12 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 	float *vs = buf + PAN_PADR, *rawp = vs + pitch, *rho = rawp + pitch;
 	float *hbase = rho + pitch, *obase = hbase + 32 * pitch, *src = obase + 12 * pitch;
 	float *hr[8][4], *o[12];
+	/* ring slot k's four tents: rows of their own, or pan-lean's one row of PAN_LTS·pitch
+	 * floats, tent s from its column block's 16·s (PAN_LTI) */
 	for (int k = 0; k < 8; k++)
 		for (int s = 0; s < 4; s++)
-			hr[k][s] = hbase + (size_t)(4 * k + s) * pitch;
+			hr[k][s] = j->guided == 5 ? hbase + (size_t)(4 * k) * pitch + 16 * (size_t)s
+			                          : hbase + (size_t)(4 * k + s) * pitch;
 	for (int q = 0; q < 12; q++)
 		o[q] = obase + (size_t)q * pitch;
 	pan_rows rc;

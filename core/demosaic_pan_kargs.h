@@ -38,7 +38,17 @@ typedef struct pan_gorow_args {
 	 * strip's first sample, and its bytes per sample: the output row prefetches it */
 	const unsigned char *pf;
 	long pfb;
+	/* floats per column of the tent rows vrow and prow: 1, or pan-lean's PAN_LTS (its four
+	 * tents of a source row interleaved, PAN_LTI) */
+	long tstep;
 } pan_gorow_args;
+
+/* pan-lean's tent rows (pan_lhrows writes them, pan_lgorow reads them): the four tents of a
+ * source row interleaved in blocks of 16 columns, tent s of column x at PAN_LTI(x) + 16·s of
+ * the row, so that the output row reads 7 rows instead of 28 (docs/demosaicking.md, Round 29);
+ * a row of n columns (n a multiple of 16) takes PAN_LTS·n floats */
+#define PAN_LTS    4
+#define PAN_LTI(x) (PAN_LTS * ((x) & ~15L) + ((x)&15L))
 
 /* pan-lean's block terms for pan_lfac (demosaic_pan_lean.inc): ε, κ_n·√g, κ_t, μ, δ, F; and
  * pan_lwin's c_p·g */
