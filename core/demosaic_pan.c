@@ -1127,6 +1127,7 @@ typedef struct pan_kern {
 	pan_lhrows_fn lhrows;
 	pan_gorow_fn lgorow;
 	pan_lwin_fn lwin;
+	pan_shue_fn lshue;
 } pan_kern;
 
 /* One instance's kernels, in pan_kern's order (S: base, avx2, avx512). */
@@ -1139,7 +1140,7 @@ typedef struct pan_kern {
 		    pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S,     \
 		    pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, \
 		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S,          \
-		    pan_lfac_##S, pan_lhrows_##S, pan_lgorow_##S, pan_lwin_##S                     \
+		    pan_lfac_##S, pan_lhrows_##S, pan_lgorow_##S, pan_lwin_##S, pan_lshue_##S      \
 	}
 
 static pan_kern pan_kernels(pc_cpu_level level)
@@ -1716,13 +1717,16 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
 					         ck[0], ck[1]);
 					float *pc = lean ? hp[(yy & 7) >> 1] : NULL;
-					K.shue(p0, ck[0], ck[1], -16, n + 32, j->delta, u[0], u[1],
-					       pc);
+					/* pan-lean's rows compact (a block a float): its W
+					 * and E neighbours one float away */
+					const long sd = lean ? 1 : PAN_SST;
+					(lean ? K.lshue : K.shue)(p0, ck[0], ck[1], -16, n + 32,
+					                          j->delta, u[0], u[1], pc);
 					const float *uc[3] = {u[0], u[1], pc},
-					            *uw[3] = {u[0] - PAN_SST, u[1] - PAN_SST,
-					                      pc ? pc - PAN_SST : NULL},
-					            *ue[3] = {u[0] + PAN_SST, u[1] + PAN_SST,
-					                      pc ? pc + PAN_SST : NULL};
+					            *uw[3] = {u[0] - sd, u[1] - sd,
+					                      pc ? pc - sd : NULL},
+					            *ue[3] = {u[0] + sd, u[1] + sd,
+					                      pc ? pc + sd : NULL};
 					if (lean)
 						K.lfac(uc, uw, ue, n, &lp, fw[0], fw[1]);
 					else

@@ -57,8 +57,10 @@ typedef struct pan_lpar {
 } pan_lpar;
 
 /* pan-lean's row kernels (demosaic_pan_lean.inc states each), per instance S (base, avx2,
- * avx512): the side factors, the tents, the window sums, the output row */
+ * avx512): the block rows, the side factors, the tents, the window sums, the output row */
 #define PAN_LEAN_DECL(S)                                                                           \
+	void pan_lshue_##S(const float *p0, const float *c1, const float *c2, long x0, long n,     \
+	                   float delta, float *u1, float *u2, float *pt);                          \
 	void pan_lfac_##S(const float *const u[3], const float *const um[3],                       \
 	                  const float *const up[3], long n, const pan_lpar *lp, float *f0,         \
 	                  float *f1);                                                              \

@@ -5,7 +5,8 @@
  *   KW         lanes per vector (8 or 16)          vf, vi  the float and int32 vector types
  *   vsplat(f), vld(p), vld_dup(p) (lanes 2i, 2i+1 = p[i]), vld_zip(p, q) (lanes 2i, 2i+1 =
  *   p[i], q[i]), vswap_pairs(v) (lanes 2i, 2i+1 exchanged), vabs(v), vsel(m, a, b),
- *   vblend_odd(a, b) (even lanes from a, odd from b)
+ *   vblend_odd(a, b) (even lanes from a, odd from b), vpack_even(a, b) (a's even lanes, then
+ *   b's), vdup_lo(v) and vdup_hi(v) (lanes 2i, 2i+1 = v[i], or v[KW/2 + i])
  *   KSTORE(p, v, nt)  store one vector (nt: non-temporal allowed; p 64-byte aligned then)
  *   KSQRT, KFMA(a, b, c) = a·b + c, KDIV (≈ n/d), KRSQRT (≈ 1/√p), KMAX, KMIN
  *   km, KLT(a, b) (a lane mask of a < b, ordered), KSEL(m, a, b) (a where m, else b)
@@ -93,4 +94,7 @@
 #define vblend_odd  KFN(h_blend_odd)
 #define vld_zip     KFN(h_ld_zip)
 #define vswap_pairs KFN(h_swap_pairs)
+#define vpack_even  KFN(h_pack_even)
+#define vdup_lo     KFN(h_dup_lo)
+#define vdup_hi     KFN(h_dup_hi)
 #include "simd_helpers.inc"

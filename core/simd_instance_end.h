@@ -10,6 +10,9 @@
 #undef vblend_odd
 #undef vld_zip
 #undef vswap_pairs
+#undef vpack_even
+#undef vdup_lo
+#undef vdup_hi
 #undef KFN
 #undef KATTR
 #undef KSTORE
