@@ -953,7 +953,7 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
  * vector, and interleaved outputs, go through a row buffer. */
 #define PAN_PADR  32 /* raw and sum rows: columns [-32, w + 32) */
 #define PAN_AROWS 25 /* pan-adapt's rows beyond pan-side's (pan_band) */
-#define PAN_LROWS 8  /* pan-lean's: the blocks' level (4), 2 × 2 m and λ */
+#define PAN_LROWS 11 /* pan-lean's: the blocks' level (4), 2 × 2 m and λ, e0 (2), D (1) */
 #ifndef PAN_STRIPW
 /* pan_band's strips: at most about this many columns. Round 17c's 1024 (three strips at 2448
  * columns, each strip's scratch in a core's L2) cut L2 read misses by 59 % but measured no wall
@@ -1047,9 +1047,11 @@ typedef void (*pan_shue_fn)(const float *p0, const float *c1, const float *c2, l
 typedef void (*pan_sfac_fn)(const float *const u[2], const float *const um[2],
                             const float *const up[2], long n, float eps, float *f0, float *f1);
 
-typedef void (*pan_lfac_fn)(const float *const u[3], const float *const um[3],
-                            const float *const up[3], long n, const pan_lpar *lp, float *f0,
-                            float *f1);
+typedef void (*pan_lfach_fn)(const float *const u[3], long n, const pan_lpar *lp, float *f0,
+                             float *f1, float *eo);
+typedef void (*pan_lfacv_fn)(const float *const u[3], const float *const un[3],
+                             const float *const us[3], const float *e0, float *dps, int have,
+                             long n, const pan_lpar *lp, float *f0, float *f1);
 typedef void (*pan_lhrows_fn)(const float *rho, const float *fw, const float *fe, long n,
                               const float wt[4][7][16], float *const h[4]);
 typedef void (*pan_lwin_fn)(const float *const p[3], long n, float cp, float fl, float *mo,
@@ -1123,7 +1125,8 @@ typedef struct pan_kern {
 	fact_m_fn fm;
 	fact_ppi2_fn ppi2;
 	fact_orow_fn forow;
-	pan_lfac_fn lfac;
+	pan_lfach_fn lfach;
+	pan_lfacv_fn lfacv;
 	pan_lhrows_fn lhrows;
 	pan_gorow_fn lgorow;
 	pan_lwin_fn lwin;
@@ -1140,7 +1143,8 @@ typedef struct pan_kern {
 		    pan_dprows_##S, pan_dchroma_##S, pan_dvar_##S, pan_dbox_##S, pan_dgam_##S,     \
 		    pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, \
 		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S,          \
-		    pan_lfac_##S, pan_lhrows_##S, pan_lgorow_##S, pan_lwin_##S, pan_lshue_##S      \
+		    pan_lfach_##S, pan_lfacv_##S, pan_lhrows_##S, pan_lgorow_##S, pan_lwin_##S,    \
+		    pan_lshue_##S                                                                  \
 	}
 
 static pan_kern pan_kernels(pc_cpu_level level)
@@ -1677,8 +1681,10 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 	/* pan-lean: the blocks' level pt of the last four even source rows in hp[(Y & 7) >> 1], the
 	 * block windows' mean and λ of block row B (pan_lwin, made once source row B + 3 is, from
 	 * the block levels of rows B − 2, B, B + 2) in lw[(B >> 1) & 1] (output row y reads block
-	 * row y & ~1; the next one is made after it is done), its block terms lp */
-	float *hp[4] = {NULL}, *lw[2][2] = {{NULL}};
+	 * row y & ~1; the next one is made after it is done), its block terms lp; pan_lfach's e0
+	 * of the last two block rows B (le[(B >> 1) & 1]), pan_lfacv's D to the S neighbours of the
+	 * last block row (ld) */
+	float *hp[4] = {NULL}, *lw[2][2] = {{NULL}}, *le[2] = {NULL}, *ld = NULL;
 	pan_lpar lp = {0};
 	if (lean) {
 		float *lb = src + (size_t)46 * pitch;
@@ -1687,6 +1693,9 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		for (int k = 0; k < 2; k++)
 			for (int s = 0; s < 2; s++)
 				lw[k][s] = lb + (size_t)(4 + 2 * k + s) * pitch;
+		le[0] = lb + (size_t)8 * pitch;
+		le[1] = lb + (size_t)9 * pitch;
+		ld = lb + (size_t)10 * pitch;
 		lp = (pan_lpar){eps,
 		                (float)(PC_DM_PAN_LEAN_KN * sqrt(j->g)),
 		                (float)PC_DM_PAN_LEAN_KT,
@@ -1717,18 +1726,14 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
 					         ck[0], ck[1]);
 					float *pc = lean ? hp[(yy & 7) >> 1] : NULL;
-					/* pan-lean's rows compact (a block a float): its W
-					 * and E neighbours one float away */
-					const long sd = lean ? 1 : PAN_SST;
 					(lean ? K.lshue : K.shue)(p0, ck[0], ck[1], -16, n + 32,
 					                          j->delta, u[0], u[1], pc);
 					const float *uc[3] = {u[0], u[1], pc},
-					            *uw[3] = {u[0] - sd, u[1] - sd,
-					                      pc ? pc - sd : NULL},
-					            *ue[3] = {u[0] + sd, u[1] + sd,
-					                      pc ? pc + sd : NULL};
+					            *uw[3] = {u[0] - PAN_SST, u[1] - PAN_SST},
+					            *ue[3] = {u[0] + PAN_SST, u[1] + PAN_SST};
 					if (lean)
-						K.lfac(uc, uw, ue, n, &lp, fw[0], fw[1]);
+						K.lfach(uc, n, &lp, fw[0], fw[1],
+						        le[(yy >> 1) & 1]);
 					else
 						K.sfac(uc, uw, ue, n, eps, fw[0], fw[1]);
 					if (yy - 2 * PAN_SST >= first) {
@@ -1739,8 +1744,12 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 						float *const *f =
 						    adapt ? fvr[((yy - PAN_SST) & 7) >> 1]
 						          : fv[((yy - PAN_SST) & 3) >> 1];
+						/* pan-lean's D_m: its last call's D_p, if any */
 						if (lean)
-							K.lfac(ub, ua, uc, n, &lp, f[0], f[1]);
+							K.lfacv(ub, ua, uc,
+							        le[((yy - PAN_SST) >> 1) & 1], ld,
+							        yy - PAN_SST - 2 * PAN_SST >= first,
+							        n, &lp, f[0], f[1]);
 						else
 							K.sfac(ub, ua, uc, n, eps, f[0], f[1]);
 					}

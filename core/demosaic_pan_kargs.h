@@ -50,8 +50,8 @@ typedef struct pan_gorow_args {
 #define PAN_LTS    4
 #define PAN_LTI(x) (PAN_LTS * ((x) & ~15L) + ((x)&15L))
 
-/* pan-lean's block terms for pan_lfac (demosaic_pan_lean.inc): ε, κ_n·√g, κ_t, μ, δ, F; and
- * pan_lwin's c_p·g */
+/* pan-lean's block terms for pan_lfach and pan_lfacv (demosaic_pan_lean.inc): ε, κ_n·√g, κ_t, μ, δ,
+ * F; and pan_lwin's c_p·g */
 typedef struct pan_lpar {
 	float eps, kng, kt, mu, delta, F, cp;
 } pan_lpar;
@@ -61,9 +61,11 @@ typedef struct pan_lpar {
 #define PAN_LEAN_DECL(S)                                                                           \
 	void pan_lshue_##S(const float *p0, const float *c1, const float *c2, long x0, long n,     \
 	                   float delta, float *u1, float *u2, float *pt);                          \
-	void pan_lfac_##S(const float *const u[3], const float *const um[3],                       \
-	                  const float *const up[3], long n, const pan_lpar *lp, float *f0,         \
-	                  float *f1);                                                              \
+	void pan_lfach_##S(const float *const u[3], long n, const pan_lpar *lp, float *f0,         \
+	                   float *f1, float *eo);                                                  \
+	void pan_lfacv_##S(const float *const u[3], const float *const un[3],                      \
+	                   const float *const us[3], const float *e0, float *dps, int have,        \
+	                   long n, const pan_lpar *lp, float *f0, float *f1);                      \
 	void pan_lhrows_##S(const float *rho, const float *fw, const float *fe, long n,            \
 	                    const float wt[4][7][16], float *const h[4]);                          \
 	void pan_lwin_##S(const float *const p[3], long n, float cp, float fl, float *mo,          \

@@ -6,7 +6,8 @@
  *   vsplat(f), vld(p), vld_dup(p) (lanes 2i, 2i+1 = p[i]), vld_zip(p, q) (lanes 2i, 2i+1 =
  *   p[i], q[i]), vswap_pairs(v) (lanes 2i, 2i+1 exchanged), vabs(v), vsel(m, a, b),
  *   vblend_odd(a, b) (even lanes from a, odd from b), vpack_even(a, b) (a's even lanes, then
- *   b's), vdup_lo(v) and vdup_hi(v) (lanes 2i, 2i+1 = v[i], or v[KW/2 + i])
+ *   b's), vdup_lo(v) and vdup_hi(v) (lanes 2i, 2i+1 = v[i], or v[KW/2 + i]), vlane_up(p, a)
+ *   (lane 0 = p[KW − 1], lane i = a[i − 1])
  *   KSTORE(p, v, nt)  store one vector (nt: non-temporal allowed; p 64-byte aligned then)
  *   KSQRT, KFMA(a, b, c) = a·b + c, KDIV (≈ n/d), KRSQRT (≈ 1/√p), KMAX, KMIN
  *   km, KLT(a, b) (a lane mask of a < b, ordered), KSEL(m, a, b) (a where m, else b)
@@ -97,4 +98,5 @@
 #define vpack_even  KFN(h_pack_even)
 #define vdup_lo     KFN(h_dup_lo)
 #define vdup_hi     KFN(h_dup_hi)
+#define vlane_up    KFN(h_lane_up)
 #include "simd_helpers.inc"

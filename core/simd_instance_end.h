@@ -13,6 +13,7 @@
 #undef vpack_even
 #undef vdup_lo
 #undef vdup_hi
+#undef vlane_up
 #undef KFN
 #undef KATTR
 #undef KSTORE
