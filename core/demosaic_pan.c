@@ -2348,11 +2348,12 @@ int pc_dm_pan_adapt_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, i
 	return pc_dm_pan_adapt_fast_g(in, m, fs, threads, level, -1, out);
 }
 
-/* pan-lean's fast path (docs/demosaicking.md, Round 22): pan-side's pass (pan_band, guided 5)
- * with pan-lean's block terms (pan_shue's block level beside the hue; pan_lfac: its side
- * distances and ε_B), the tents of the ratios and of the raw with the side factors alone
- * (pan_lhrows, a second ring of tents) and its output row (pan_lgorow: both sums, the cored
- * level, the blends); g, the frame's noise gain, pc_dm_noise_gain_in_mt's when not given. */
+/* pan-lean's fast path (docs/demosaicking.md, Rounds 22 and 29): pan-side's pass (pan_band,
+ * guided 5) with pan-lean's block terms (pan_lshue: the hue and block level in compact rows;
+ * pan_lfach, pan_lfacv: its side distances and ε_B), the tents of the ratios with the side
+ * factors alone (pan_lhrows, interleaved tent rows) and its output row (pan_lgorow: both sums,
+ * the cored level, the blends); g, the frame's noise gain, pc_dm_noise_gain_in_mt's when not
+ * given. */
 int pc_dm_pan_lean_fast_g(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                           pc_cpu_level level, double g, const pc_fplane *out)
 {
