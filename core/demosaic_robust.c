@@ -31,6 +31,19 @@ static inline float mx(float a, float b)
 	return a > b ? a : b;
 }
 
+/* The limiter's scratch (pc_dm_limiter_init): a ring of five rows' ranges, each row's four
+ * (An, Ax, Bn, Bx) interleaved in blocks of 16 columns, range k of column x at LIM_AT(x) + 16·k
+ * of its 4·LIM_W16(w) floats, so that combine_clamp streams five rows instead of twenty
+ * (docs/demosaicking.md, Round 29); then combine's eight rows of w and the column parities. */
+#define LIM_AT(x)  (4 * ((x) & ~15L) + ((x)&15L))
+#define LIM_W16(w) (((w) + 15) / 16 * 16)
+
+/* the x & 1 row (floats, the clamp kernels' blend) after the ranges and combine's rows */
+static float *lim_par(const pc_dm_limiter *l)
+{
+	return l->mem + (size_t)LIM_W16(l->w) * 20 + (size_t)l->w * 8;
+}
+
 int pc_dm_limited(pc_demosaic_method method)
 {
 	return method == PC_DM_BICUBIC || method == PC_DM_PPID || method == PC_DM_RI ||
@@ -42,12 +55,12 @@ int pc_dm_limiter_init(pc_dm_limiter *l, long w, pc_cpu_level level)
 {
 	l->w = w;
 	l->level = level;
-	l->mem = pc_dm_alloc(sizeof(float) * (size_t)w * (5 * 4 + 8 + 1));
+	l->mem = pc_dm_alloc(sizeof(float) * ((size_t)LIM_W16(w) * 5 * 4 + (size_t)w * (8 + 1)));
 	for (int k = 0; k < 5; k++)
 		l->key[k] = LONG_MIN;
 	if (!l->mem)
 		return -1;
-	float *par = l->mem + (size_t)w * 28; /* x & 1 as floats (the clamp kernel's blend) */
+	float *par = lim_par(l);
 	for (long x = 0; x < w; x++)
 		par[x] = (float)(x & 1);
 	return 0;
@@ -60,8 +73,7 @@ void pc_dm_limiter_free(pc_dm_limiter *l)
 }
 
 typedef struct lim_kernels {
-	void (*ranges)(const float *restrict, float *restrict, float *restrict, float *restrict,
-	               float *restrict, long);
+	void (*ranges)(const float *restrict, float *restrict, long);
 	void (*combine)(const float *const[5], float *restrict, long);
 	void (*clamp)(float *restrict, const float *, const float *, const float *, const float *,
 	              const float *, long, int, long);
@@ -114,11 +126,11 @@ static const lim_kernels *lim_k(pc_cpu_level level)
 static const float *row_ranges(pc_dm_limiter *l, const float *r, long vrow)
 {
 	long slot = ((vrow % 5) + 5) % 5;
-	float *m4 = l->mem + (size_t)l->w * 4 * (size_t)slot;
+	float *m4 = l->mem + (size_t)LIM_W16(l->w) * 4 * (size_t)slot;
 	if (l->key[slot] == vrow)
 		return m4;
 	const long w = l->w;
-	lim_k(l->level)->ranges(r, m4, m4 + w, m4 + 2 * w, m4 + 3 * w, w);
+	lim_k(l->level)->ranges(r, m4, w);
 	l->key[slot] = vrow;
 	return m4;
 }
@@ -136,13 +148,13 @@ void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[
 		 * of the other rows, each pair by column parity) */
 		unsigned py = y & 1;
 		k->combine_clamp(rr, o[pc_dm_ch(m, 0, py)], o[pc_dm_ch(m, 1, py)],
-		                 o[pc_dm_ch(m, 0, py ^ 1)], o[pc_dm_ch(m, 1, py ^ 1)],
-		                 l->mem + (size_t)w * 28, w);
+		                 o[pc_dm_ch(m, 0, py ^ 1)], o[pc_dm_ch(m, 1, py ^ 1)], lim_par(l),
+		                 w);
 		return;
 	}
 	/* the ranges of rows of y's parity (y−2, y, y+2) and of the other (y±1), for the A and
 	 * B column sets */
-	float *v = l->mem + (size_t)w * 20;
+	float *v = l->mem + (size_t)LIM_W16(w) * 20;
 	k->combine(rr, v, w);
 	for (unsigned py = 0; py < 2; py++)
 		for (unsigned px = 0; px < 2; px++) {
