@@ -33,8 +33,9 @@ static inline float mx(float a, float b)
 
 /* The limiter's scratch (pc_dm_limiter_init): a ring of five rows' ranges, each row's four
  * (An, Ax, Bn, Bx) interleaved in blocks of 16 columns, range k of column x at LIM_AT(x) + 16·k
- * of its 4·LIM_W16(w) floats, so that combine_clamp streams five rows instead of twenty
- * (docs/demosaicking.md, Round 29); then combine's eight rows of w and the column parities. */
+ * of its 4·LIM_W16(w) floats, so that combine_clamp's fourteen range reads a column come from
+ * five rows instead of fourteen separate ones (docs/demosaicking.md, Round 29); then combine's
+ * eight rows of w and the column parities. */
 #define LIM_AT(x)  (4 * ((x) & ~15L) + ((x)&15L))
 #define LIM_W16(w) (((w) + 15) / 16 * 16)
 

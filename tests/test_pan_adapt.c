@@ -274,7 +274,6 @@ static void test_noise_select(void)
 	uint16_t *u16 = malloc(sizeof(uint16_t) * W * H);
 	float *f32 = malloc(sizeof(float) * W * H);
 	const pc_dm_type ty[4] = {PC_DMT_U8, PC_DMT_U16, PC_DMT_F32, PC_DMT_U16};
-	const size_t bytes[4] = {1, 2, 4, 2};
 	const uint32_t sw[2] = {W, 1001}, sh[2] = {H, 777};
 	for (int sz = 0; sz < 2; sz++)
 		for (int k = 0; k < 4; k++) {
@@ -296,7 +295,7 @@ static void test_noise_select(void)
 			pc_dm_input in;
 			memset(&in, 0, sizeof in);
 			in.data = data;
-			in.stride = w * bytes[k];
+			in.stride = w * pc_dm_type_bytes(ty[k]);
 			in.type = ty[k];
 			in.width = w;
 			in.height = h;
