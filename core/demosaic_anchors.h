@@ -67,6 +67,15 @@ int pc_dm_limiter_init(pc_dm_limiter *l, long w, pc_cpu_level level);
 void pc_dm_limiter_free(pc_dm_limiter *l);
 void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[5], uint32_t y,
                      float *const o[4], size_t pixel_stride);
+/* The ranges of rows y−2..y+2 (r as for pc_dm_limit_row, from the same ring) into rr, for a
+ * kernel that clamps as it writes (ratio and ratio-nr: demosaic_ic_kern.inc) instead of
+ * calling pc_dm_limit_row: row k's four ranges of column x at PC_DM_LIM_AT(x) + 16·j of
+ * rr[k], j = 0..3 for An, Ax (over columns x ± 1), Bn, Bx (over x − 2, x, x + 2), in blocks
+ * of 16 columns. The channel measured in the row of y's parity at the other column parity
+ * lies in [min_k∈{0,2,4} An, max Ax]; those of the other parity in [min_k∈{1,3} Bn, max Bx]
+ * at their own columns and [min_k∈{1,3} An, max Ax] at the others. */
+#define PC_DM_LIM_AT(x) (4 * ((x) & ~15L) + ((x)&15L))
+void pc_dm_limit_ranges(pc_dm_limiter *l, const float *const r[5], uint32_t y, const float *rr[5]);
 /* The limiter on a reference's output: img the raw minus black in double (rounded to float,
  * as the fast paths see it). */
 int pc_dm_range_limit_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,

@@ -125,6 +125,19 @@ void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst);
 int pc_dm_raw_to_float(const pc_view *raw, double black, float **out);
 int pc_dm_raw_to_double(const pc_view *raw, double black, double **out);
 
+/* min and max by comparison (the overshoot limiter's, demosaic_robust.c and the ratio kernels
+ * that apply it as they write): inputs are finite (the raw and the methods' outputs), and
+ * unlike fminf/fmaxf (library calls without -ffinite-math-only) these vectorise */
+static inline float pc_dm_mn(float a, float b)
+{
+	return a < b ? a : b;
+}
+
+static inline float pc_dm_mx(float a, float b)
+{
+	return a > b ? a : b;
+}
+
 /* Sample (x, y) in raw units, before the black level (validity checks). */
 static inline float pc_dm_sample(const pc_dm_input *in, uint32_t x, uint32_t y)
 {

@@ -61,7 +61,8 @@ typedef struct pc_ic_kernels {
 	                   const float *restrict, const float *restrict, float, float, long);
 	void (*ratio_out)(float *restrict const[4], const float *restrict, const float *restrict,
 	                  const float *restrict, const float *restrict, const float *restrict,
-	                  const float *restrict, const float *restrict, float, float, long);
+	                  const float *restrict, const float *restrict, const float *const[5],
+	                  float, float, long);
 	void (*ratio_ri_blend)(float *restrict const[4], const float *const[4],
 	                       const float *restrict, const float *restrict, float, long);
 	void (*ratio_mean_nr)(float *restrict, const float *restrict, const float *restrict,
@@ -70,8 +71,8 @@ typedef struct pc_ic_kernels {
 	                      long);
 	void (*ratio_out_nr)(float *restrict const[4], const float *restrict, const float *restrict,
 	                     const float *restrict, const float *restrict, const float *restrict,
-	                     const float *restrict, const float *restrict, float, float, float,
-	                     long);
+	                     const float *restrict, const float *restrict, const float *const[5],
+	                     float, float, float, long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -441,7 +442,9 @@ static void fill_rq2(rcache *c, int y, float *const *rows)
 	b->k->ratio_q(rows[0], r, g, b->delta, 0, c->w);
 }
 
-static void ratio_output(ic_band *b, int y, float *const o[4])
+/* The ratio method's row y into o; mm: the limiter's ranges of rows y−2..y+2
+ * (pc_dm_limit_ranges), applied as the row is written, or NULL. */
+static void ratio_output(ic_band *b, int y, float *const o[4], const float *const mm[5])
 {
 	unsigned slot[4] = {pc_dm_ch(b->m, 0, (unsigned)y), pc_dm_ch(b->m, 1, (unsigned)y),
 	                    pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1)};
@@ -454,16 +457,16 @@ static void ratio_output(ic_band *b, int y, float *const o[4])
 	for (int k = 0; k < 4; k++)
 		os[k] = o[slot[k]];
 	if (b->shot > 0)
-		b->k->ratio_out_nr(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->shot,
-		                   b->raw.w);
+		b->k->ratio_out_nr(os, r, ga, g, gc, qa, qb, qc, mm, b->delta, b->eps_ratio,
+		                   b->shot, b->raw.w);
 	else
-		b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->raw.w);
+		b->k->ratio_out(os, r, ga, g, gc, qa, qb, qc, mm, b->delta, b->eps_ratio, b->raw.w);
 }
 
 /* ---- ratio-ri: ratio, then one residual-interpolation pass guided by its mean ---- */
 static void fill_rout(rcache *c, int y, float *const *rows)
 {
-	ratio_output(c->ctx, y, rows);
+	ratio_output(c->ctx, y, rows, NULL);
 }
 
 static void fill_rguide(rcache *c, int y, float *const *rows)
@@ -684,9 +687,15 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			ri_output(&b, b.passes > 1 ? &b.s2.t : &b.s1.t, yy, o);
 			break;
 		case PC_DM_RATIO:
-		case PC_DM_RATIO_NR:
-			ratio_output(&b, yy, o);
+		case PC_DM_RATIO_NR: {
+			/* limited as the row is written (ratio_out_blk), not by limit_row below */
+			const float *r[5], *mm[5];
+			for (int k = 0; k < 5; k++)
+				r[k] = rc_get(&b.raw, yy - 2 + k)[0];
+			pc_dm_limit_ranges(lim, r, y, mm);
+			ratio_output(&b, yy, o, mm);
 			break;
+		}
 		case PC_DM_RATIO_RI:
 			ri_output(&b, &b.s1.t, yy, o);
 			ratio_ri_blend(&b, yy, o);
@@ -694,7 +703,8 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		default:
 			break;
 		}
-		if (lim) { /* the overshoot limiter (demosaic_robust.c) on the finished row */
+		if (lim && j->method != PC_DM_RATIO && j->method != PC_DM_RATIO_NR) {
+			/* the overshoot limiter (demosaic_robust.c) on the finished row */
 			const float *r[5];
 			for (int k = 0; k < 5; k++)
 				r[k] = rc_get(&b.raw, yy - 2 + k)[0];

@@ -19,24 +19,11 @@
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
-/* min and max by comparison: inputs are finite (the raw and the methods' outputs), and unlike
- * fminf/fmaxf (library calls without -ffinite-math-only) these vectorise */
-static inline float mn(float a, float b)
-{
-	return a < b ? a : b;
-}
-
-static inline float mx(float a, float b)
-{
-	return a > b ? a : b;
-}
-
 /* The limiter's scratch (pc_dm_limiter_init): a ring of five rows' ranges, each row's four
- * (An, Ax, Bn, Bx) interleaved in blocks of 16 columns, range k of column x at LIM_AT(x) + 16·k
- * of its 4·LIM_W16(w) floats, so that combine_clamp's fourteen range reads a column come from
+ * (An, Ax, Bn, Bx) interleaved in blocks of 16 columns, range k of column x at PC_DM_LIM_AT(x) +
+ * 16·k of its 4·LIM_W16(w) floats, so that combine_clamp's fourteen range reads a column come from
  * five rows instead of fourteen separate ones (docs/demosaicking.md, Round 29); then combine's
  * eight rows of w and the column parities. */
-#define LIM_AT(x)  (4 * ((x) & ~15L) + ((x)&15L))
 #define LIM_W16(w) (((w) + 15) / 16 * 16)
 
 /* the x & 1 row (floats, the clamp kernels' blend) after the ranges and combine's rows */
@@ -136,14 +123,19 @@ static const float *row_ranges(pc_dm_limiter *l, const float *r, long vrow)
 	return m4;
 }
 
+void pc_dm_limit_ranges(pc_dm_limiter *l, const float *const r[5], uint32_t y, const float *rr[5])
+{
+	for (int i = 0; i < 5; i++)
+		rr[i] = row_ranges(l, r[i], (long)y - 2 + i);
+}
+
 void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[5], uint32_t y,
                      float *const o[4], size_t pixel_stride)
 {
 	const long w = l->w;
 	const lim_kernels *k = lim_k(l->level);
 	const float *rr[5];
-	for (int i = 0; i < 5; i++)
-		rr[i] = row_ranges(l, r[i], (long)y - 2 + i);
+	pc_dm_limit_ranges(l, r, y, rr);
 	if (pixel_stride == 1) {
 		/* planar rows: one fused pass (the channels measured in row y's parity, then those
 		 * of the other rows, each pair by column parity) */
@@ -175,7 +167,7 @@ void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[
 					continue;
 				float lo = own_col ? sn[x] : an[x], hi = own_col ? sx[x] : ax[x];
 				float *p = o[c] + (size_t)x * pixel_stride;
-				*p = mn(mx(*p, lo), hi);
+				*p = pc_dm_mn(pc_dm_mx(*p, lo), hi);
 			}
 		}
 }
