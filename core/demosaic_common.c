@@ -144,7 +144,7 @@ void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst)
 		const uint8_t *nx = row + in->stride;
 		size_t nb = (size_t)w * pc_dm_type_bytes(in->type);
 		for (size_t o = 0; o < nb; o += 64)
-			__builtin_prefetch(nx + o, 0, 1);
+			__builtin_prefetch(nx + o, 0, 3);
 	}
 	if (in->dark || in->gain_inv) {
 		row_corrected(in, y, dst);
