@@ -2,6 +2,7 @@
 #include "demosaic_common.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,14 +14,159 @@
 #include <immintrin.h>
 #endif
 
+/* ---- scratch memory: a small pool of freed blocks ----
+ * The fast paths allocate their row scratch per row band and free it at the band's end. glibc
+ * returns such blocks to the system (a block at or above the mmap threshold is unmapped on
+ * free, and the main thread's heap is trimmed once its free top exceeds the trim threshold),
+ * so the next band or call touches fresh pages, each a page fault. On the 2-vCPU Zen 5 guest
+ * of 2026-12-06 a fault cost about 10 µs: ratio-nr took 63 faults a call, all of them in the
+ * main thread's bands, whose first 16 rows took 0.78 ms against 0.13 ms in the other thread,
+ * which then waited for it (docs/demosaicking.md, Round 30). Freed blocks of up to
+ * PC_POOL_BLOCK bytes are therefore kept, up to PC_POOL_TOTAL bytes in PC_POOL_SLOTS slots,
+ * and handed out again to a request of the same size; full-frame buffers are freed as before.
+ * Each block carries its size in a 64-byte header. The pool is off under AddressSanitizer
+ * (a reused block would hide a use after free from it) and with POLARCAM_SCRATCH_POOL=0
+ * (e.g. under valgrind); pc_dm_pool_release frees what it holds (also at exit). */
+#define PC_POOL_SLOTS 64
+#define PC_POOL_BLOCK ((size_t)4 << 20)
+#define PC_POOL_TOTAL ((size_t)32 << 20)
+#if defined(__SANITIZE_ADDRESS__)
+#define PC_POOL_BUILD 0
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PC_POOL_BUILD 0
+#endif
+#endif
+#ifndef PC_POOL_BUILD
+#define PC_POOL_BUILD 1
+#endif
+
+static struct {
+	void *block[PC_POOL_SLOTS];
+	size_t size[PC_POOL_SLOTS];
+	size_t total;
+	unsigned next; /* the slot to evict when all are taken */
+	atomic_flag lock;
+	atomic_int state; /* 0 not yet read from the environment, 1 on, 2 off */
+} pool = {.lock = ATOMIC_FLAG_INIT};
+
+static void pool_lock(void)
+{
+	while (atomic_flag_test_and_set_explicit(&pool.lock, memory_order_acquire))
+		;
+}
+
+static void pool_unlock(void)
+{
+	atomic_flag_clear_explicit(&pool.lock, memory_order_release);
+}
+
+int pc_dm_pool_enabled(void)
+{
+	int st = atomic_load(&pool.state);
+	if (st == 0) {
+		const char *e = getenv("POLARCAM_SCRATCH_POOL");
+		st = PC_POOL_BUILD && !(e && strcmp(e, "0") == 0) ? 1 : 2;
+		atomic_store(&pool.state, st);
+	}
+	return st == 1;
+}
+
+void pc_dm_pool_release(void)
+{
+	pool_lock();
+	for (int i = 0; i < PC_POOL_SLOTS; i++) {
+		free(pool.block[i]);
+		pool.block[i] = NULL;
+		pool.size[i] = 0;
+	}
+	pool.total = 0;
+	pool_unlock();
+}
+
+size_t pc_dm_pool_bytes(void)
+{
+	pool_lock();
+	size_t t = pool.total;
+	pool_unlock();
+	return t;
+}
+
+__attribute__((destructor)) static void pool_at_exit(void)
+{
+	pc_dm_pool_release();
+}
+
 void *pc_dm_alloc(size_t bytes)
 {
-	return aligned_alloc(64, (bytes + 63) / 64 * 64 + 64);
+	/* 64 bytes of slack after the rounded size (kernels may read a vector past a row), the
+	 * header before it */
+	const size_t n = (bytes + 63) / 64 * 64 + 64;
+	if (pc_dm_pool_enabled() && n <= PC_POOL_BLOCK) {
+		pool_lock();
+		for (int i = 0; i < PC_POOL_SLOTS; i++)
+			if (pool.block[i] && pool.size[i] == n) {
+				unsigned char *b = pool.block[i];
+				pool.block[i] = NULL;
+				pool.total -= n;
+				pool_unlock();
+				return b + 64;
+			}
+		pool_unlock();
+	}
+	unsigned char *b = aligned_alloc(64, n + 64);
+	if (!b)
+		return NULL;
+	memcpy(b, &n, sizeof n);
+	return b + 64;
 }
 
 void pc_dm_free(void *p)
 {
-	free(p);
+	if (!p)
+		return;
+	unsigned char *b = (unsigned char *)p - 64;
+	size_t n;
+	memcpy(&n, b, sizeof n);
+	if (!pc_dm_pool_enabled() || n > PC_POOL_BLOCK) {
+		free(b);
+		return;
+	}
+	void *out = NULL; /* what leaves the pool, freed outside the lock */
+	pool_lock();
+	int slot = -1;
+	for (int i = 0; i < PC_POOL_SLOTS && slot < 0; i++)
+		if (!pool.block[i])
+			slot = i;
+	if (slot < 0) { /* all slots taken: the oldest one in turn makes room */
+		slot = (int)(pool.next++ % PC_POOL_SLOTS);
+		out = pool.block[slot];
+		pool.total -= pool.size[slot];
+		pool.block[slot] = NULL;
+	}
+	/* over the total: evict in turn until it fits */
+	for (unsigned k = 0; pool.total + n > PC_POOL_TOTAL && k < PC_POOL_SLOTS; k++) {
+		int i = (int)(pool.next++ % PC_POOL_SLOTS);
+		if (i == slot || !pool.block[i])
+			continue;
+		void *e = pool.block[i];
+		pool.total -= pool.size[i];
+		pool.block[i] = NULL;
+		pool_unlock();
+		free(e);
+		pool_lock();
+	}
+	if (pool.block[slot] || pool.total + n > PC_POOL_TOTAL) {
+		pool_unlock();
+		free(out);
+		free(b);
+		return;
+	}
+	pool.block[slot] = b;
+	pool.size[slot] = n;
+	pool.total += n;
+	pool_unlock();
+	free(out);
 }
 
 void pc_dm_planes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,

@@ -156,9 +156,16 @@ static inline float pc_dm_sample(const pc_dm_input *in, uint32_t x, uint32_t y)
 void pc_dm_planes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,
                            pc_fplane *planes);
 
-/* ---- scratch memory (64-byte aligned; NULL on failure) ---- */
+/* ---- scratch memory (64-byte aligned; NULL on failure) ----
+ * Freed blocks of up to 4 MB are kept in a small pool (up to 32 MB) and handed out again to a
+ * request of the same size (demosaic_common.c); pc_dm_pool_enabled: whether this build and
+ * process pool (not under AddressSanitizer, nor with POLARCAM_SCRATCH_POOL=0);
+ * pc_dm_pool_release frees the pooled blocks; pc_dm_pool_bytes: the bytes it holds. */
 void *pc_dm_alloc(size_t bytes);
 void pc_dm_free(void *p);
+int pc_dm_pool_enabled(void);
+void pc_dm_pool_release(void);
+size_t pc_dm_pool_bytes(void); /* what the pool holds (tests) */
 
 /* ---- the 3-row ring of padded float rows y-1, y, y+1 (one-pass kernels) ---- */
 typedef struct pc_dm_ring {
