@@ -37,7 +37,8 @@ static int aligned_and_writable(void)
 	for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
 		unsigned char *p = pc_dm_alloc(sizes[i]);
 		if (!p || ((uintptr_t)p & 63)) {
-			fprintf(stderr, "pc_dm_alloc(%zu): %p not 64-byte aligned\n", sizes[i], (void *)p);
+			fprintf(stderr, "pc_dm_alloc(%zu): %p not 64-byte aligned\n", sizes[i],
+			        (void *)p);
 			bad++;
 			pc_dm_free(p);
 			continue;
@@ -72,7 +73,7 @@ static int pooled(int on)
 	size_t held = pc_dm_pool_bytes();
 	if (on)
 		CHECKM(held >= 3 * 1000 + 2000 && held <= 4 * 1200 + 2200,
-		      "the pool holds the four freed blocks (%zu bytes)", held);
+		       "the pool holds the four freed blocks (%zu bytes)", held);
 	else
 		CHECKM(held == 0, "nothing kept with the pool off (%zu bytes)", held);
 
@@ -83,7 +84,8 @@ static int pooled(int on)
 	pc_dm_free(big);
 	CHECKM(pc_dm_pool_bytes() == 0, "a 5 MB block is not kept (%zu bytes)", pc_dm_pool_bytes());
 
-	/* forty 1 MB blocks freed: at most 32 MB kept, and with the pool on, all but one MB of it */
+	/* forty 1 MB blocks freed: at most 32 MB kept, and with the pool on, all but one MB of it
+	 */
 	enum { N = 40 };
 	void *m[N];
 	for (int i = 0; i < N; i++)
@@ -159,7 +161,8 @@ int main(void)
 	int on = pc_dm_pool_enabled();
 	if (off_asked)
 		CHECKM(!on, "POLARCAM_SCRATCH_POOL=0 turns the pool off");
-	printf("scratch pool %s\n", on ? "on" : "off (AddressSanitizer or POLARCAM_SCRATCH_POOL=0)");
+	printf("scratch pool %s\n",
+	       on ? "on" : "off (AddressSanitizer or POLARCAM_SCRATCH_POOL=0)");
 	int bad = aligned_and_writable();
 	bad += pooled(on);
 	bad += threads_never_share();
