@@ -371,11 +371,11 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(worst +2.36/+0.16, +1.70/+0.15, +0.36/+0.15: no loss without denoising); "
           "the recommended choice"
           "; held-out (scenes/heldout, 12) +4.67/+1.57 (+2.36/+0.31)",
-          "ratio's passes with a 3x3 guide variance per pixel; about 3x bilinear's "
-          "time with ordinary stores, 3.9x where bilinear's output streams "
-          "(AVX-512 machines, idle); on the shared dev machine 3.7-5.8x within "
-          "minutes as the bilinear's time swings; at AVX2 1.7x its AVX-512 time (8.5x "
-          "bilinear; scalar, 36-52x, before Round 25 vectorised it: docs/demosaicking.md)",
+          "ratio's passes with a 3x3 guide variance per pixel, the overshoot limiter "
+          "applied as each output row is written; 3.6-4.9x bilinear's time over ten "
+          "runs (median 4.4x, bilinear's output streamed; AVX-512, the shared 2-vCPU "
+          "dev machine, 2026-12-06), at AVX2 7.2-9.8x (scalar, 36-52x, before Round 25 "
+          "vectorised it; Round 30's scratch pool and fused limiter: docs/demosaicking.md)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
           "2013) and a Poisson noise variance",
           PC_DMF_MONO},
