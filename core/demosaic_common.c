@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -101,6 +102,8 @@ void *pc_dm_alloc(size_t bytes)
 {
 	/* 64 bytes of slack after the rounded size (kernels may read a vector past a row), the
 	 * header before it */
+	if (bytes > SIZE_MAX - 256)
+		return NULL;
 	const size_t n = (bytes + 63) / 64 * 64 + 64;
 	if (pc_dm_pool_enabled() && n <= PC_POOL_BLOCK) {
 		pool_lock();

@@ -47,6 +47,7 @@ static int aligned_and_writable(void)
 		pc_dm_free(p);
 	}
 	pc_dm_free(NULL);
+	CHECKM(pc_dm_alloc(SIZE_MAX - 10) == NULL, "a size that would wrap: NULL");
 	return bad;
 }
 
