@@ -75,6 +75,27 @@ void pc_dm_limit_row(pc_dm_limiter *l, const pc_mosaic *m, const float *const r[
  * lies in [min_k∈{0,2,4} An, max Ax]; those of the other parity in [min_k∈{1,3} Bn, max Bx]
  * at their own columns and [min_k∈{1,3} An, max Ax] at the others. */
 #define PC_DM_LIM_AT(x) (4 * ((x) & ~15L) + ((x)&15L))
+/* One column's vertical ranges from the five rows' interleaved ranges (m[k] + i, i the column's
+ * PC_DM_LIM_AT index): over rows 0, 2, 4 (the output row's parity) the A and B ranges (s_*),
+ * over rows 1, 3 the A and B ranges (o_*). The one definition of the order of the min and max
+ * that combine, combine_clamp and ratio_out_blk share (bit-identical results). */
+typedef struct pc_dm_vranges {
+	float s_an, s_ax, s_bn, s_bx, o_an, o_ax, o_bn, o_bx;
+} pc_dm_vranges;
+static inline pc_dm_vranges pc_dm_lim_vranges(const float *m0, const float *m1, const float *m2,
+                                              const float *m3, const float *m4, long i)
+{
+	pc_dm_vranges v;
+	v.s_an = pc_dm_mn(pc_dm_mn(m0[i], m2[i]), m4[i]);
+	v.s_ax = pc_dm_mx(pc_dm_mx(m0[16 + i], m2[16 + i]), m4[16 + i]);
+	v.s_bn = pc_dm_mn(pc_dm_mn(m0[32 + i], m2[32 + i]), m4[32 + i]);
+	v.s_bx = pc_dm_mx(pc_dm_mx(m0[48 + i], m2[48 + i]), m4[48 + i]);
+	v.o_an = pc_dm_mn(m1[i], m3[i]);
+	v.o_ax = pc_dm_mx(m1[16 + i], m3[16 + i]);
+	v.o_bn = pc_dm_mn(m1[32 + i], m3[32 + i]);
+	v.o_bx = pc_dm_mx(m1[48 + i], m3[48 + i]);
+	return v;
+}
 void pc_dm_limit_ranges(pc_dm_limiter *l, const float *const r[5], uint32_t y, const float *rr[5]);
 /* The limiter on a reference's output: img the raw minus black in double (rounded to float,
  * as the fast paths see it). */

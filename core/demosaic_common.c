@@ -135,41 +135,31 @@ void pc_dm_free(void *p)
 		free(b);
 		return;
 	}
-	void *out = NULL; /* what leaves the pool, freed outside the lock */
+	/* blocks that leave the pool to make room, freed outside the lock */
+	void *out[PC_POOL_SLOTS];
+	int nout = 0, slot = -1;
 	pool_lock();
-	int slot = -1;
 	for (int i = 0; i < PC_POOL_SLOTS && slot < 0; i++)
 		if (!pool.block[i])
 			slot = i;
-	if (slot < 0) { /* all slots taken: the oldest one in turn makes room */
-		slot = (int)(pool.next++ % PC_POOL_SLOTS);
-		out = pool.block[slot];
-		pool.total -= pool.size[slot];
-		pool.block[slot] = NULL;
-	}
-	/* over the total: evict in turn until it fits */
-	for (unsigned k = 0; pool.total + n > PC_POOL_TOTAL && k < PC_POOL_SLOTS; k++) {
+	/* no free slot, or over the total: the oldest blocks in turn make room */
+	for (unsigned k = 0; (slot < 0 || pool.total + n > PC_POOL_TOTAL) && k < PC_POOL_SLOTS;
+	     k++) {
 		int i = (int)(pool.next++ % PC_POOL_SLOTS);
-		if (i == slot || !pool.block[i])
+		if (!pool.block[i])
 			continue;
-		void *e = pool.block[i];
+		out[nout++] = pool.block[i];
 		pool.total -= pool.size[i];
 		pool.block[i] = NULL;
-		pool_unlock();
-		free(e);
-		pool_lock();
-	}
-	if (pool.block[slot] || pool.total + n > PC_POOL_TOTAL) {
-		pool_unlock();
-		free(out);
-		free(b);
-		return;
+		if (slot < 0)
+			slot = i;
 	}
 	pool.block[slot] = b;
 	pool.size[slot] = n;
 	pool.total += n;
 	pool_unlock();
-	free(out);
+	for (int k = 0; k < nout; k++)
+		free(out[k]);
 }
 
 void pc_dm_planes_separate(float *base, uint32_t width, uint32_t height, unsigned channels,

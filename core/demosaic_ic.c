@@ -494,6 +494,13 @@ static void ratio_ri_blend(ic_band *b, int y, float *const o[4])
 	b->k->ratio_ri_blend(os, rs, raw, g, b->dark * b->dark, b->raw.w);
 }
 
+/* The raw rows y−2..y+2 the limiter reads (valid until the next fill of another cache). */
+static void raw_window(ic_band *b, int y, const float *r[5])
+{
+	for (int k = 0; k < 5; k++)
+		r[k] = rc_get(&b->raw, y - 2 + k)[0];
+}
+
 /* ---- drivers ---- */
 typedef struct ic_job {
 	const pc_dm_input *in;
@@ -690,8 +697,7 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		case PC_DM_RATIO_NR: {
 			/* limited as the row is written (ratio_out_blk), not by limit_row below */
 			const float *r[5], *mm[5];
-			for (int k = 0; k < 5; k++)
-				r[k] = rc_get(&b.raw, yy - 2 + k)[0];
+			raw_window(&b, yy, r);
 			pc_dm_limit_ranges(lim, r, y, mm);
 			ratio_output(&b, yy, o, mm);
 			break;
@@ -706,8 +712,7 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		if (lim && j->method != PC_DM_RATIO && j->method != PC_DM_RATIO_NR) {
 			/* the overshoot limiter (demosaic_robust.c) on the finished row */
 			const float *r[5];
-			for (int k = 0; k < 5; k++)
-				r[k] = rc_get(&b.raw, yy - 2 + k)[0];
+			raw_window(&b, yy, r);
 			pc_dm_limit_row(lim, j->m, r, y, o, 1);
 		}
 		if (j->sink) {
