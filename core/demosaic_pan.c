@@ -1442,10 +1442,13 @@ static void pan_gorow_shift(pan_gorow_args *a, long dx)
 		if (a->c2row[k])
 			a->c2row[k] += dx;
 	}
-	const float **rows[6] = {&a->fn, &a->fs, &a->mu, &a->var, &a->lmu, &a->llam};
-	for (int k = 0; k < 6; k++)
+	const float **rows[9] = {&a->fn,   &a->fs,   &a->mu,  &a->var, &a->lmu,
+	                         &a->llam, &a->lrho, &a->lfw, &a->lfe};
+	for (int k = 0; k < 9; k++)
 		if (*rows[k])
 			*rows[k] += dx;
+	if (a->lh)
+		a->lh += tx;
 }
 
 /* A column strip of pan_band: frame columns [xs, xs + w), n of them computed (whole vectors),
@@ -1471,6 +1474,12 @@ static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], ui
 	}
 }
 
+/* pan-lean's tents that its output row makes itself (pan_gorow): those of the row's last source
+ * row, from its ratio row rho and the W and E factors fw, fe */
+typedef struct pan_lfuse {
+	const float *rho, *fw, *fe;
+} pan_lfuse;
+
 /* Output row y's arguments in cache[y mod 16] (pan_band_strip: every ring's length divides 16,
  * the lattice's period is 4, so rows 16 apart take the same ones): *fresh = 1 when they are made
  * here (zeroed, the N and S factors fv, pan_gorow_prep's part; the caller adds the rest), 0 when
@@ -1494,7 +1503,8 @@ static pan_gorow_args *pan_args_at(const pan_job *j, const pan_tables *t, float 
 static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, float *hr[8][4],
                       float *const lw[2][2], float *const gr[3][8], const float *const fv[2],
                       const float *raw, uint32_t y, const pan_strip *st, pan_gorow_args *cache,
-                      unsigned char *cached, int planar, float *rawp, float *const o[12])
+                      unsigned char *cached, int planar, float *rawp, float *const o[12],
+                      const pan_lfuse *lf)
 {
 	const uint32_t w = st->w, xs = st->xs;
 	const long n = st->n, nmain = st->nmain;
@@ -1513,6 +1523,11 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 		ap->llam = lw[(y >> 1) & 1][1];
 		ap->lcs = (float)(PC_DM_PAN_LEAN_CS * j->g);
 		ap->lF = j->F;
+		ap->lrho = lf->rho;
+		ap->lfw = lf->fw;
+		ap->lfe = lf->fe;
+		ap->lwt = t->wt;
+		ap->lh = hr[(y + 3) & 7][0];
 	}
 	if (lean) {
 		/* the output row prefetches the raw row that the next output row's first new source
@@ -1757,7 +1772,10 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					K.ratio(vs, rs, -16, n + 32, j->delta, 0, rh, p0);
 				}
 				if (lean) {
-					K.lhrows(rho, fh[0], fh[1], n, t->wt, hr[yy & 7]);
+					/* the output row y makes the tents of its last source
+					 * row y + 3 itself (pan_gorow) */
+					if (yy != (int)y + 3)
+						K.lhrows(rho, fh[0], fh[1], n, t->wt, hr[yy & 7]);
 					if ((yy & 1) && yy - 5 >= first) {
 						const float *pw[3];
 						for (int k = 0; k < 3; k++)
@@ -1802,8 +1820,9 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 		}
 		if (j->guided) {
 			const float *fy[2] = {fv[(y & 2) >> 1][0], fv[(y & 2) >> 1][1]};
+			const pan_lfuse lf = {rho, fh[0], fh[1]};
 			pan_gorow(j, &K, t, hr, lw, gr, fy, pan_row_strip(&rc, j->in, (int)y), y,
-			          st, cache, cached, planar, rawp, o);
+			          st, cache, cached, planar, rawp, o, &lf);
 			continue;
 		}
 		/* channel q's lattice rows around y, with the tent's vertical weights */

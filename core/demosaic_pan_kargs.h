@@ -38,6 +38,12 @@ typedef struct pan_gorow_args {
 	 * strip's first sample, and its bytes per sample: the output row prefetches it */
 	const unsigned char *pf;
 	long pfb;
+	/* pan-lean's: the tents of the row's last source row, which pan_lgorow makes (pan_lhrows'
+	 * arguments: the ratio row, the W and E factors, the weight patterns, the interleaved tent
+	 * row) */
+	const float *lrho, *lfw, *lfe;
+	const float (*lwt)[7][16];
+	float *lh;
 	/* floats per column of the tent rows vrow and prow: 1, or pan-lean's PAN_LTS (its four
 	 * tents of a source row interleaved, PAN_LTI) */
 	long tstep;
