@@ -1474,6 +1474,23 @@ static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], ui
 	}
 }
 
+/* Which of the twelve output rows d pan-lean's output row streams (bit q: plane q; the others go
+ * through the cache): at most PAN_NT_SAME of the rows that start at the same 64-byte line of a
+ * 4 KB page. Twelve streams at one page offset, as in twelve consecutive planes of a frame of a
+ * whole number of pages (2448 × 2048 floats is 4896 pages), cost pan-lean 10–20 % of its time
+ * against planes at distinct offsets; eight of them streamed and four stored through the cache
+ * take back about a third of that (docs/demosaicking.md, Round 31). */
+#define PAN_NT_SAME 8
+static unsigned pan_nt_mask(float *const d[12])
+{
+	unsigned mask = 0;
+	unsigned char same[64] = {0};
+	for (int q = 0; q < 12; q++)
+		if (same[((uintptr_t)d[q] >> 6) & 63]++ < PAN_NT_SAME)
+			mask |= 1u << q;
+	return mask;
+}
+
 /* pan-lean's tents that its output row makes itself (pan_gorow): those of the row's last source
  * row, from its ratio row rho and the W and E factors fw, fe */
 typedef struct pan_lfuse {
@@ -1547,7 +1564,8 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	if (planar) {
 		for (int q = 0; q < 12; q++)
 			d[q] = j->out[q].data + (size_t)y * j->out[q].row_stride + xs;
-		kern(ap, raw, nmain, j->delta, j->e, d, j->nt);
+		kern(ap, raw, nmain, j->delta, j->e, d,
+		     lean && j->nt ? (int)pan_nt_mask(d) : j->nt);
 		if (nmain < n) {
 			pan_gorow_args a = *ap;
 			memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);

@@ -2035,6 +2035,31 @@ static void test_streaming_outputs(void)
 	free(a);
 	free(b);
 	pc_view_free(&raw);
+	/* pan-lean's twelve planes, each a whole number of 4 KB pages, so that all start at the
+	 * same page offset: its output row then streams eight of them and stores four through the
+	 * cache (pan_nt_mask); the numbers must be those of the ordinary path */
+	const uint32_t CW = 128, CH = 64;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, CW, CH, 0), 0);
+	for (uint32_t y = 0; y < CH; y++)
+		for (uint32_t x = 0; x < CW; x++) {
+			r = r * 1664525u + 1013904223u;
+			PC_ROW(&raw, uint16_t, y)
+			[x] =
+			    (uint16_t)(2048 + 1500 * sin(0.05 * x - 0.04 * y) + ((r >> 20) & 511));
+		}
+	pc_mosaic mc = pc_mosaic_imx250myr();
+	n = (size_t)CW * CH;
+	a = aligned_alloc(64, sizeof(float) * 12 * n);
+	b = malloc(sizeof(float) * (12 * n + 1));
+	pc_fplane pa[12], pb[12];
+	pc_fplanes_separate(a, CW, CH, 12, pa);
+	pc_fplanes_separate(b + 1, CW, CH, 12, pb);
+	CHECK_EQ_INT(pc_demosaic(&raw, &mc, PC_DM_PAN_LEAN, NULL, pa), 0);
+	CHECK_EQ_INT(pc_demosaic(&raw, &mc, PC_DM_PAN_LEAN, NULL, pb), 0);
+	CHECK(!memcmp(a, b + 1, sizeof(float) * 12 * n));
+	free(a);
+	free(b);
+	pc_view_free(&raw);
 }
 
 int main(void)
