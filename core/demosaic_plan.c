@@ -373,10 +373,11 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "the recommended choice"
           "; held-out (scenes/heldout, 12) +4.67/+1.57 (+2.36/+0.31)",
           "ratio's passes with a 3x3 guide variance per pixel, the overshoot limiter "
-          "applied as each output row is written; 3.6-4.9x bilinear's time over ten "
-          "runs (median 4.4x, bilinear's output streamed; AVX-512, the shared 2-vCPU "
-          "dev machine, 2026-12-06), at AVX2 7.2-9.8x (scalar, 36-52x, before Round 25 "
-          "vectorised it; Round 30's scratch pool and fused limiter: docs/demosaicking.md)",
+          "applied as each output row is written; 3.4-3.9x bilinear's time in the "
+          "shared 2-vCPU dev machine's usual regime, 4.9-6.1x in periods when its "
+          "write bandwidth doubles and the memory-bound bilinear speeds up with it "
+          "(AVX-512, 2026-12-06; at AVX2 5.0x and 8.7x in the two), scalar 36-52x "
+          "before Round 25 vectorised it (Rounds 30-31: docs/demosaicking.md)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
           "2013) and a Poisson noise variance",
           PC_DMF_MONO},
@@ -732,16 +733,14 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "colour-sealed10 (6) +1.15/+1.36 (+0.34/+0.82); no scene of any colour "
           "set losing; docs/demosaicking.md, Rounds 24 and 27",
           "float fast path in pan-side's band form: within 2.4e-7 of full scale "
-          "of the double reference; 3.62-4.91x the mono bilinear's time at "
-          "AVX-512 over twenty runs, medians 4.15x and 4.44x in two sets of ten, "
-          "every run under 5x (Round 29: interleaved tent rows, compact block "
-          "rows, each block's terms once, about 9 % faster), 0.75-0.92x "
-          "ratio-nr's in the same runs (ratio-nr itself 4.0-6.6x; both swing with the "
-          "shared machine's bilinear time); 9.7-10.3x at AVX2 "
-          "(ratio-nr 8.8-8.9x, pan-side 10.8-11.1x, bayer-first 12.2-12.5x), "
-          "8.2x in the generic vector build (bayer-first 2.3x); "
-          "writing the 12 planes alone takes 1.6-2.3x (docs/demosaicking.md, "
-          "Rounds 23-29)",
+          "of the double reference; at AVX-512 3.8-4.2x the mono bilinear's time "
+          "in the shared 2-vCPU dev machine's usual regime, 5.6-5.8x in periods when "
+          "its write bandwidth doubles and the memory-bound bilinear speeds up with "
+          "it (2026-12-06; Round 31: 0.93 of Round 30's time; twelve planes that "
+          "start at one page offset cost it up to a fifth more, docs/api.md); at "
+          "AVX2 6.0x and 8.8x in the two (bayer-first 6.9x and 9.4x), 8.2x in the "
+          "generic vector build (bayer-first 2.3x, Round 29); writing the 12 planes "
+          "alone takes 1.6-2.3x (docs/demosaicking.md, Rounds 23-31)",
           "ours (docs/demosaicking.md, Rounds 21, 24 and 27): pan-side (Round 13) with "
           "GBTF-style side weights (Pekkucuksen & Altunbasak, ICIP 2010), the "
           "guided filter's shrinkage (He, Sun, Tang, TPAMI 2013) and Wiener-type "
