@@ -1463,6 +1463,20 @@ typedef struct pan_strip {
 static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], uint32_t x0,
                         uint32_t w)
 {
+	/* one interleaved (H, W, 12) array (the Python module's and the CLI's layout): pixel by
+	 * pixel, each pixel's twelve values side by side, instead of one strided pass a plane
+	 * (docs/demosaicking.md, Round 31) */
+	int il = out[0].pixel_stride == 12;
+	for (int q = 1; il && q < 12; q++)
+		il = out[q].pixel_stride == 12 && out[q].row_stride == out[0].row_stride &&
+		     out[q].data == out[0].data + q;
+	if (il) {
+		float *d = out[0].data + (size_t)y * out[0].row_stride + (size_t)x0 * 12;
+		for (uint32_t x = 0; x < w - x0; x++)
+			for (int q = 0; q < 12; q++)
+				d[(size_t)x * 12 + (size_t)q] = o[q][x];
+		return;
+	}
 	for (int q = 0; q < 12; q++) {
 		const pc_fplane *p = &out[q];
 		float *d = p->data + (size_t)y * p->row_stride + (size_t)x0 * p->pixel_stride;
