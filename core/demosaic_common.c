@@ -490,6 +490,106 @@ int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, 
 	return PC_ENOTSUP;
 }
 
+#ifdef PC_CPU_X86
+/* Sixteen pixels of four channels, a[c] + x (c = 0..3), into d, each pixel's four values side
+ * by side: a 4 × 4 transpose in each 128-bit lane (lane l of r[m] then holds pixel 4l + m), then
+ * lane l of r[0..3] is output vector l (a 4 × 4 transpose of the lanes). */
+__attribute__((target("avx512f"))) static inline void
+put_transpose4(const float *a0, const float *a1, const float *a2, const float *a3, __m512 r[4])
+{
+	const __m512 t0 = _mm512_unpacklo_ps(_mm512_loadu_ps(a0), _mm512_loadu_ps(a1)),
+	             t1 = _mm512_unpackhi_ps(_mm512_loadu_ps(a0), _mm512_loadu_ps(a1)),
+	             t2 = _mm512_unpacklo_ps(_mm512_loadu_ps(a2), _mm512_loadu_ps(a3)),
+	             t3 = _mm512_unpackhi_ps(_mm512_loadu_ps(a2), _mm512_loadu_ps(a3));
+	const __m512d u0 = _mm512_castps_pd(t0), u1 = _mm512_castps_pd(t1),
+	              u2 = _mm512_castps_pd(t2), u3 = _mm512_castps_pd(t3);
+	r[0] = _mm512_castpd_ps(_mm512_unpacklo_pd(u0, u2));
+	r[1] = _mm512_castpd_ps(_mm512_unpackhi_pd(u0, u2));
+	r[2] = _mm512_castpd_ps(_mm512_unpacklo_pd(u1, u3));
+	r[3] = _mm512_castpd_ps(_mm512_unpackhi_pd(u1, u3));
+}
+
+__attribute__((target("avx512f"))) static void put4_avx512(const float *const s[4], long x,
+                                                           float *d)
+{
+	__m512 r[4];
+	put_transpose4(s[0] + x, s[1] + x, s[2] + x, s[3] + x, r);
+	const __m512 p0 = _mm512_shuffle_f32x4(r[0], r[1], 0x44), /* lanes 0, 1 of r0, r1 */
+	    p1 = _mm512_shuffle_f32x4(r[2], r[3], 0x44),
+	             p2 = _mm512_shuffle_f32x4(r[0], r[1], 0xee), /* lanes 2, 3 */
+	    p3 = _mm512_shuffle_f32x4(r[2], r[3], 0xee);
+	_mm512_storeu_ps(d, _mm512_shuffle_f32x4(p0, p1, 0x88));
+	_mm512_storeu_ps(d + 16, _mm512_shuffle_f32x4(p0, p1, 0xdd));
+	_mm512_storeu_ps(d + 32, _mm512_shuffle_f32x4(p2, p3, 0x88));
+	_mm512_storeu_ps(d + 48, _mm512_shuffle_f32x4(p2, p3, 0xdd));
+}
+
+/* Twelve channels: per group of four the in-lane transpose (lane l of r[g][m] holds pixel
+ * 4l + m's channels 4g .. 4g + 3); output vector 3l + j takes chunks 4j .. 4j + 3 of lane l's
+ * sequence, chunk c from r[c % 3][c / 3], with three lane shuffles ((l) * 0x55: lane l four
+ * times). */
+#define PUT12_LANE(l)                                                                              \
+	do {                                                                                       \
+		for (int j = 0; j < 3; j++) {                                                      \
+			const int c = 4 * j;                                                       \
+			const __m512 P = _mm512_shuffle_f32x4(                                     \
+			    r[c % 3][c / 3], r[(c + 1) % 3][(c + 1) / 3], (l)*0x55);               \
+			const __m512 Q = _mm512_shuffle_f32x4(                                     \
+			    r[(c + 2) % 3][(c + 2) / 3], r[(c + 3) % 3][(c + 3) / 3], (l)*0x55);   \
+			_mm512_storeu_ps(d + 16 * (3 * (l) + j),                                   \
+			                 _mm512_shuffle_f32x4(P, Q, 0x88));                        \
+		}                                                                                  \
+	} while (0)
+__attribute__((target("avx512f"))) static void put12_avx512(const float *const s[12], long x,
+                                                            float *d)
+{
+	__m512 r[3][4];
+	for (int g = 0; g < 3; g++)
+		put_transpose4(s[4 * g] + x, s[4 * g + 1] + x, s[4 * g + 2] + x, s[4 * g + 3] + x,
+		               r[g]);
+	PUT12_LANE(0);
+	PUT12_LANE(1);
+	PUT12_LANE(2);
+	PUT12_LANE(3);
+}
+#undef PUT12_LANE
+#endif
+
+void pc_dm_put_rows(const pc_fplane *out, unsigned n, uint32_t y, const float *const src[],
+                    uint32_t x0, uint32_t w, pc_cpu_level level)
+{
+	int il = n == 4 || n == 12;
+	for (unsigned c = 0; il && c < n; c++)
+		il = out[c].pixel_stride == n && out[c].row_stride == out[0].row_stride &&
+		     out[c].data == out[0].data + c;
+	if (!il) {
+		for (unsigned c = 0; c < n; c++) {
+			const pc_fplane *p = &out[c];
+			float *d =
+			    p->data + (size_t)y * p->row_stride + (size_t)x0 * p->pixel_stride;
+			for (uint32_t x = 0; x < w - x0; x++)
+				d[(size_t)x * p->pixel_stride] = src[c][x];
+		}
+		return;
+	}
+	float *d = out[0].data + (size_t)y * out[0].row_stride + (size_t)x0 * n;
+	uint32_t x = 0;
+#ifdef PC_CPU_X86
+	if (level >= PC_CPU_AVX512)
+		for (; x + 16 <= w - x0; x += 16) {
+			if (n == 4)
+				put4_avx512(src, x, d + (size_t)x * 4);
+			else
+				put12_avx512(src, x, d + (size_t)x * 12);
+		}
+#else
+	(void)level;
+#endif
+	for (; x < w - x0; x++)
+		for (unsigned c = 0; c < n; c++)
+			d[(size_t)x * n + c] = src[c][x];
+}
+
 void pc_dm_sfence(void)
 {
 #ifdef PC_CPU_X86

@@ -203,6 +203,14 @@ int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h, 
 int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, uint32_t w,
                       pc_cpu_level level);
 
+/* Row y of n output planes (n ≤ 12) from row buffers: src[c][i] is plane c's column x0 + i, for
+ * columns [x0, w). Each plane by its row and pixel strides; when the n planes are one interleaved
+ * (H, W, n) array (pixel stride n, plane c at the first plane's data + c, n = 4 or 12, the Python
+ * module's and the CLI's layout), pixel by pixel, each pixel's n values side by side, with lane
+ * transposes at AVX-512 (docs/demosaicking.md, Round 31). */
+void pc_dm_put_rows(const pc_fplane *out, unsigned n, uint32_t y, const float *const src[],
+                    uint32_t x0, uint32_t w, pc_cpu_level level);
+
 /* The store fence that ends a sequence of non-temporal stores (nothing off x86-64). */
 void pc_dm_sfence(void);
 

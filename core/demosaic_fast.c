@@ -71,13 +71,12 @@ static void bilinear_band(void *ctx, uint32_t y0, uint32_t y1)
 		else
 #endif
 			bilinear_row_base(a, b, c, w, o, 0);
-		if (!j->planar)
-			for (int k = 0; k < 4; k++) {
-				const pc_fplane *p = &j->out[slot[k]];
-				float *d = p->data + (size_t)y * p->row_stride;
-				for (uint32_t x = 0; x < w; x++)
-					d[(size_t)x * p->pixel_stride] = o[k][x];
-			}
+		if (!j->planar) {
+			const float *src[4];
+			for (int k = 0; k < 4; k++)
+				src[slot[k]] = o[k];
+			pc_dm_put_rows(j->out, 4, y, src, 0, w, j->level);
+		}
 	}
 	if (j->nt)
 		pc_dm_sfence();

@@ -724,13 +724,10 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			for (unsigned c = 0; c < 4; c++)
 				dst[c] = j->out[c].data + (size_t)y * j->out[c].row_stride;
 			pc_dm_stream_rows(dst, src, 4, (uint32_t)w, j->level);
-		} else if (!j->planar)
-			for (unsigned c = 0; c < 4; c++) {
-				const pc_fplane *p = &j->out[c];
-				float *dst = p->data + (size_t)y * p->row_stride;
-				for (long x = 0; x < w; x++)
-					dst[(size_t)x * p->pixel_stride] = o[c][x];
-			}
+		} else if (!j->planar) {
+			const float *src[4] = {o[0], o[1], o[2], o[3]};
+			pc_dm_put_rows(j->out, 4, y, src, 0, (uint32_t)w, j->level);
+		}
 	}
 	free_band(&b);
 	pc_dm_free(rowbuf);

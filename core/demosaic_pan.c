@@ -51,10 +51,6 @@
 #include "polarcam/parallel.h"
 #include "simd.h"
 
-#ifdef PC_CPU_X86
-#include <immintrin.h>
-#endif
-
 /* the per-row arguments of the output row kernel (demosaic_pan_kern.inc) */
 typedef struct pan_orow_args {
 	const float *vrow[12][4];
@@ -1464,84 +1460,13 @@ typedef struct pan_strip {
 
 /* Output row y, columns [x0, w), of the twelve planes from the row buffers: o[q][i] is column
  * x0 + i (pan_band's and pan_dir_band's last partial vector, and interleaved outputs). */
-#ifdef PC_CPU_X86
-/* Sixteen pixels of twelve row buffers o[q] + x into an interleaved (H, W, 12) row d, each
- * pixel's twelve values side by side: per group of four channels a 4 × 4 transpose in each
- * 128-bit lane (lane l of r[g][m] then holds pixel 4l + m's channels 4g .. 4g + 3), then every
- * output vector gathers its four 16-byte chunks from lane l of four of those with three lane
- * shuffles ((l) * 0x55: lane l four times). */
-#define PAN_IL_LANES(l)                                                                            \
-	do {                                                                                       \
-		/* output vectors 3l + j: chunks 4j .. 4j + 3 of lane l's sequence, chunk c from   \
-		 * r[c % 3][c / 3] */                                                              \
-		for (int j = 0; j < 3; j++) {                                                      \
-			const int c = 4 * j;                                                       \
-			const __m512 P = _mm512_shuffle_f32x4(                                     \
-			    r[c % 3][c / 3], r[(c + 1) % 3][(c + 1) / 3], (l)*0x55);               \
-			const __m512 Q = _mm512_shuffle_f32x4(                                     \
-			    r[(c + 2) % 3][(c + 2) / 3], r[(c + 3) % 3][(c + 3) / 3], (l)*0x55);   \
-			_mm512_storeu_ps(d + 16 * (3 * (l) + j),                                   \
-			                 _mm512_shuffle_f32x4(P, Q, 0x88));                        \
-		}                                                                                  \
-	} while (0)
-__attribute__((target("avx512f"))) static void pan_interleave16(float *const o[12], long x,
-                                                                float *d)
-{
-	__m512 r[3][4];
-	for (int g = 0; g < 3; g++) {
-		const __m512 a0 = _mm512_loadu_ps(o[4 * g] + x),
-		             a1 = _mm512_loadu_ps(o[4 * g + 1] + x),
-		             a2 = _mm512_loadu_ps(o[4 * g + 2] + x),
-		             a3 = _mm512_loadu_ps(o[4 * g + 3] + x);
-		const __m512 t0 = _mm512_unpacklo_ps(a0, a1), t1 = _mm512_unpackhi_ps(a0, a1),
-		             t2 = _mm512_unpacklo_ps(a2, a3), t3 = _mm512_unpackhi_ps(a2, a3);
-		const __m512d u0 = _mm512_castps_pd(t0), u1 = _mm512_castps_pd(t1),
-		              u2 = _mm512_castps_pd(t2), u3 = _mm512_castps_pd(t3);
-		r[g][0] = _mm512_castpd_ps(_mm512_unpacklo_pd(u0, u2));
-		r[g][1] = _mm512_castpd_ps(_mm512_unpackhi_pd(u0, u2));
-		r[g][2] = _mm512_castpd_ps(_mm512_unpacklo_pd(u1, u3));
-		r[g][3] = _mm512_castpd_ps(_mm512_unpackhi_pd(u1, u3));
-	}
-	PAN_IL_LANES(0);
-	PAN_IL_LANES(1);
-	PAN_IL_LANES(2);
-	PAN_IL_LANES(3);
-}
-#undef PAN_IL_LANES
-#endif
-
 static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], uint32_t x0,
                         uint32_t w)
 {
-	/* one interleaved (H, W, 12) array (the Python module's and the CLI's layout): pixel by
-	 * pixel, each pixel's twelve values side by side, instead of one strided pass a plane
-	 * (docs/demosaicking.md, Round 31) */
-	int il = out[0].pixel_stride == 12;
-	for (int q = 1; il && q < 12; q++)
-		il = out[q].pixel_stride == 12 && out[q].row_stride == out[0].row_stride &&
-		     out[q].data == out[0].data + q;
-	if (il) {
-		float *d = out[0].data + (size_t)y * out[0].row_stride + (size_t)x0 * 12;
-		uint32_t x = 0;
-#ifdef PC_CPU_X86
-		if (pc_cpu_active() >= PC_CPU_AVX512)
-			for (; x + 16 <= w - x0; x += 16)
-				pan_interleave16(o, x, d + (size_t)x * 12);
-#endif
-		for (; x < w - x0; x++)
-			for (int q = 0; q < 12; q++)
-				d[(size_t)x * 12 + (size_t)q] = o[q][x];
-		return;
-	}
-	for (int q = 0; q < 12; q++) {
-		const pc_fplane *p = &out[q];
-		float *d = p->data + (size_t)y * p->row_stride + (size_t)x0 * p->pixel_stride;
-		if (p->pixel_stride == 1)
-			memcpy(d, o[q], (size_t)(w - x0) * sizeof *d);
-		else
-			for (uint32_t x = 0; x < w - x0; x++)
-				d[(size_t)x * p->pixel_stride] = o[q][x];
-	}
+	const float *src[12];
+	for (int q = 0; q < 12; q++)
+		src[q] = o[q];
+	pc_dm_put_rows(out, 12, y, src, x0, w, pc_cpu_active());
 }
 
 /* Which of the twelve output rows d pan-lean's output row streams (bit q: plane q; the others go
