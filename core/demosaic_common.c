@@ -553,6 +553,63 @@ __attribute__((target("avx512f"))) static void put12_avx512(const float *const s
 	PUT12_LANE(3);
 }
 #undef PUT12_LANE
+
+/* The same at AVX2, eight pixels: the in-lane transposes (lane l of r[m] holds pixel 4l + m),
+ * then each output vector is two 16-byte chunks, each from lane l of one of them
+ * (_mm256_permute2f128_ps: l for the first operand, 2 + l for the second) */
+__attribute__((target("avx2"))) static inline void
+put_transpose4_avx2(const float *a0, const float *a1, const float *a2, const float *a3, __m256 r[4])
+{
+	const __m256 t0 = _mm256_unpacklo_ps(_mm256_loadu_ps(a0), _mm256_loadu_ps(a1)),
+	             t1 = _mm256_unpackhi_ps(_mm256_loadu_ps(a0), _mm256_loadu_ps(a1)),
+	             t2 = _mm256_unpacklo_ps(_mm256_loadu_ps(a2), _mm256_loadu_ps(a3)),
+	             t3 = _mm256_unpackhi_ps(_mm256_loadu_ps(a2), _mm256_loadu_ps(a3));
+	const __m256d u0 = _mm256_castps_pd(t0), u1 = _mm256_castps_pd(t1),
+	              u2 = _mm256_castps_pd(t2), u3 = _mm256_castps_pd(t3);
+	r[0] = _mm256_castpd_ps(_mm256_unpacklo_pd(u0, u2));
+	r[1] = _mm256_castpd_ps(_mm256_unpackhi_pd(u0, u2));
+	r[2] = _mm256_castpd_ps(_mm256_unpacklo_pd(u1, u3));
+	r[3] = _mm256_castpd_ps(_mm256_unpackhi_pd(u1, u3));
+}
+
+__attribute__((target("avx2"))) static void put4_avx2(const float *const s[4], long x, float *d)
+{
+	__m256 r[4];
+	put_transpose4_avx2(s[0] + x, s[1] + x, s[2] + x, s[3] + x, r);
+	/* pixels 0, 1 | 2, 3 | 4, 5 | 6, 7 */
+	_mm256_storeu_ps(d, _mm256_permute2f128_ps(r[0], r[1], 0x20));
+	_mm256_storeu_ps(d + 8, _mm256_permute2f128_ps(r[2], r[3], 0x20));
+	_mm256_storeu_ps(d + 16, _mm256_permute2f128_ps(r[0], r[1], 0x31));
+	_mm256_storeu_ps(d + 24, _mm256_permute2f128_ps(r[2], r[3], 0x31));
+}
+
+/* output vector k of twelve channels: chunks 2k and 2k + 1, chunk c from r[c % 3][(c / 3) % 4],
+ * lane c / 12 */
+#define PUT12_AVX2(k)                                                                              \
+	_mm256_storeu_ps(d + 8 * (k),                                                              \
+	                 _mm256_permute2f128_ps(r[(2 * (k)) % 3][(2 * (k) / 3) % 4],               \
+	                                        r[(2 * (k) + 1) % 3][((2 * (k) + 1) / 3) % 4],     \
+	                                        (2 * (k) / 12) | (2 + (2 * (k) + 1) / 12) << 4))
+__attribute__((target("avx2"))) static void put12_avx2(const float *const s[12], long x, float *d)
+{
+	__m256 r[3][4];
+	for (int g = 0; g < 3; g++)
+		put_transpose4_avx2(s[4 * g] + x, s[4 * g + 1] + x, s[4 * g + 2] + x,
+		                    s[4 * g + 3] + x, r[g]);
+	PUT12_AVX2(0);
+	PUT12_AVX2(1);
+	PUT12_AVX2(2);
+	PUT12_AVX2(3);
+	PUT12_AVX2(4);
+	PUT12_AVX2(5);
+	PUT12_AVX2(6);
+	PUT12_AVX2(7);
+	PUT12_AVX2(8);
+	PUT12_AVX2(9);
+	PUT12_AVX2(10);
+	PUT12_AVX2(11);
+}
+#undef PUT12_AVX2
 #endif
 
 void pc_dm_put_rows(const pc_fplane *out, unsigned n, uint32_t y, const float *const src[],
@@ -581,6 +638,13 @@ void pc_dm_put_rows(const pc_fplane *out, unsigned n, uint32_t y, const float *c
 				put4_avx512(src, x, d + (size_t)x * 4);
 			else
 				put12_avx512(src, x, d + (size_t)x * 12);
+		}
+	else if (level >= PC_CPU_AVX2)
+		for (; x + 8 <= w - x0; x += 8) {
+			if (n == 4)
+				put4_avx2(src, x, d + (size_t)x * 4);
+			else
+				put12_avx2(src, x, d + (size_t)x * 12);
 		}
 #else
 	(void)level;
