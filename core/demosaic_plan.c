@@ -734,7 +734,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "set losing; docs/demosaicking.md, Rounds 24 and 27",
           "float fast path in pan-side's band form: within 2.4e-7 of full scale "
           "of the double reference; at AVX-512 3.8-4.2x the mono bilinear's time "
-          "in the shared 2-vCPU dev machine's usual regime, 5.6-5.8x in periods when "
+          "in the shared 2-vCPU dev machine's usual regime, 5.2-5.8x in periods when "
           "its write bandwidth doubles and the memory-bound bilinear speeds up with "
           "it (2026-12-06; Round 31: 0.93 of Round 30's time; twelve planes that "
           "start at one page offset cost it up to a fifth more, docs/api.md); at "
