@@ -624,8 +624,11 @@ void pc_dm_put_rows(const pc_fplane *out, unsigned n, uint32_t y, const float *c
 			const pc_fplane *p = &out[c];
 			float *d =
 			    p->data + (size_t)y * p->row_stride + (size_t)x0 * p->pixel_stride;
-			for (uint32_t x = 0; x < w - x0; x++)
-				d[(size_t)x * p->pixel_stride] = src[c][x];
+			if (p->pixel_stride == 1)
+				memcpy(d, src[c], (size_t)(w - x0) * sizeof *d);
+			else
+				for (uint32_t x = 0; x < w - x0; x++)
+					d[(size_t)x * p->pixel_stride] = src[c][x];
 		}
 		return;
 	}

@@ -1460,13 +1460,12 @@ typedef struct pan_strip {
 
 /* Output row y, columns [x0, w), of the twelve planes from the row buffers: o[q][i] is column
  * x0 + i (pan_band's and pan_dir_band's last partial vector, and interleaved outputs). */
-static void pan_put_row(const pc_fplane *out, uint32_t y, float *const o[12], uint32_t x0,
-                        uint32_t w)
+static void pan_put_row(const pan_job *j, uint32_t y, float *const o[12], uint32_t x0, uint32_t w)
 {
 	const float *src[12];
 	for (int q = 0; q < 12; q++)
 		src[q] = o[q];
-	pc_dm_put_rows(out, 12, y, src, x0, w, pc_cpu_active());
+	pc_dm_put_rows(j->out, 12, y, src, x0, w, j->level);
 }
 
 /* Which of the twelve output rows d pan-lean's output row streams (bit q: plane q; the others go
@@ -1574,7 +1573,7 @@ static void pan_gorow(const pan_job *j, const pan_kern *K, const pan_tables *t, 
 	}
 	memcpy(rawp, raw, w * sizeof *rawp);
 	kern(ap, rawp, n, j->delta, j->e, o, 0);
-	pan_put_row(j->out, y, o, xs, xs + w);
+	pan_put_row(j, y, o, xs, xs + w);
 }
 
 /* pan-adapt's output row y: pan_gorow's terms and P0 rows (p0r: a ring of 16, the window
@@ -1603,7 +1602,7 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 	if (!planar) {
 		memcpy(rawp, raw, w * sizeof *rawp);
 		A->agorow(ap, rawp, n, j->delta, o, 0);
-		pan_put_row(j->out, y, o, xs, xs + w);
+		pan_put_row(j, y, o, xs, xs + w);
 		return;
 	}
 	float *d[12];
@@ -1616,7 +1615,7 @@ static void pan_agorow_row(const pan_job *j, const pan_akern *A, const pan_table
 	memcpy(rawp, raw + nmain, (size_t)((long)w - nmain) * sizeof *rawp);
 	pan_gorow_shift(&a, nmain);
 	A->agorow(&a, rawp, 16, j->delta, o, 0);
-	pan_put_row(j->out, y, o, xs + (uint32_t)nmain, xs + w);
+	pan_put_row(j, y, o, xs + (uint32_t)nmain, xs + w);
 }
 
 /* pan_band's rows y0..y1 on the strip st, in the scratch buf (nrows rows of pitch floats,
@@ -1877,13 +1876,13 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					for (int i = 0; i < a.nv[q]; i++)
 						a.vrow[q][i] += nmain;
 				K.orow(&a, rawp, 16, j->delta, o, 0);
-				pan_put_row(j->out, y, o, xs + (uint32_t)nmain, xs + w);
+				pan_put_row(j, y, o, xs + (uint32_t)nmain, xs + w);
 			}
 			continue;
 		}
 		memcpy(rawp, raw, w * sizeof *rawp);
 		K.orow(&a, rawp, n, j->delta, o, 0);
-		pan_put_row(j->out, y, o, xs, xs + w);
+		pan_put_row(j, y, o, xs, xs + w);
 	}
 }
 
@@ -2296,12 +2295,12 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 			K.dorow(&a, gc, rawo, 0, nmain, j->delta, dq, 0, j->nt);
 			if (nmain < n) {
 				K.dorow(&a, gc, rawo, nmain, n, j->delta, o, nmain, 0);
-				pan_put_row(j->out, y, o, (uint32_t)nmain, w);
+				pan_put_row(j, y, o, (uint32_t)nmain, w);
 			}
 			continue;
 		}
 		K.dorow(&a, gc, rawo, 0, n, j->delta, o, 0, 0);
-		pan_put_row(j->out, y, o, 0, w);
+		pan_put_row(j, y, o, 0, w);
 	}
 	pan_dband_end(j, t, dt, buf);
 }
@@ -2936,12 +2935,12 @@ static void pan_fact_band(void *ctx, uint32_t y0, uint32_t y1)
 			K.forow(&a, raw, 0, nmain, j->delta, dq, 0, j->nt);
 			if (nmain < n) {
 				K.forow(&a, raw, nmain, n, j->delta, b.o, nmain, 0);
-				pan_put_row(j->out, y, b.o, (uint32_t)nmain, w);
+				pan_put_row(j, y, b.o, (uint32_t)nmain, w);
 			}
 			continue;
 		}
 		K.forow(&a, raw, 0, n, j->delta, b.o, 0, 0);
-		pan_put_row(j->out, y, b.o, 0, w);
+		pan_put_row(j, y, b.o, 0, w);
 	}
 	pan_dband_end(j, t, dt, buf);
 }
