@@ -26,7 +26,11 @@
 #include "polarcam/parallel.h"
 
 /* IEEE arithmetic as written in every instance (clang would fuse multiply-adds where the
- * target has FMA; GCC does not contract in ISO C mode) */
+ * target has FMA; GCC does not contract in ISO C mode), but for KFMA(a, b, c) = a·b + c, fused
+ * in the instances with FMA (AVX2, AVX-512) and written out in the baseline one: the ratio
+ * kernels' products and sums (ratio-nr 0.93 of its time, docs/demosaicking.md, Round 32). The
+ * instances then differ by rounding; each is held to the double reference (tests/
+ * test_demosaic.c, also in black regions, where DoLP magnifies rounding). */
 #ifdef __clang__
 #pragma STDC FP_CONTRACT OFF
 #endif
@@ -93,13 +97,16 @@ _Static_assert(PC_RATIO_PASSES == 2, "the ratio method's row caches are written 
 _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2");
 #define KFN(name) name##_base
 #define KATTR
+#define KFMA(a, b, c) ((a) * (b) + (c))
 #include "demosaic_ic_kern.inc"
 #undef KFN
 #undef KATTR
+#undef KFMA
 
 #ifdef PC_CPU_X86
-#define KFN(name) name##_avx2
-#define KATTR     __attribute__((target("avx2,fma")))
+#define KFN(name)     name##_avx2
+#define KATTR         __attribute__((target("avx2,fma")))
+#define KFMA(a, b, c) fmaf((a), (b), (c))
 #include "demosaic_ic_kern.inc"
 #undef KFN
 #undef KATTR
@@ -116,6 +123,7 @@ _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2"
 #include "demosaic_ic_kern.inc"
 #undef KFN
 #undef KATTR
+#undef KFMA
 #endif
 
 static const pc_ic_kernels *kernels(pc_cpu_level level)
