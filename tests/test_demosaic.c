@@ -518,12 +518,13 @@ static void test_ratio_nr_noise(void)
  * rounding differences of 1e-7 of full scale, harmless elsewhere (test_fast_vs_reference's
  * tolerances), decide it: in Round 32 (docs/demosaicking.md) a fast ratio-nr that shared one
  * division between its H and V tents stayed within 2e-7 of full scale of the reference but put
- * the DoLP of black pixels 0.02-0.09 RMS off it, and moved eval's DoLP gains by up to 0.4 dB.
+ * the DoLP of black pixels 0.02-0.17 RMS off it, and moved eval's DoLP gains by up to 0.4 dB.
  * Every method's fast path must give the reference's DoLP (0 where S0 = 0) where the
- * reference's S0 is below 1e-3 of full scale: RMS within 1e-4 (measured at most 3e-7). Not
- * eari-mlri and eari-robust: their MLRI slopes divide Laplacian sums regularised by the
- * machine epsilon (Monno et al.'s definition), so in the black their float paths are 0.46 and
- * 0.08 RMS off the references' DoLP (docs/demosaicking.md, Round 32), a known limit. */
+ * reference's S0 is below 1e-3 of full scale: RMS within 1e-4 (measured: 0, exact zeros in the
+ * black), every instance against one reference. Not eari-mlri and eari-robust, a known limit:
+ * their MLRI slopes divide Laplacian sums regularised by the machine epsilon (Monno et al.'s
+ * definition), and their float paths were 0.46 and 0.08 RMS off their references' DoLP in a
+ * 72 × 56 version of this frame (Round 32). */
 static double dolp_of(const pc_fplane *p, uint32_t x, uint32_t y)
 {
 	double i0 = fget(&p[0], x, y), i45 = fget(&p[1], x, y), i90 = fget(&p[2], x, y),
@@ -537,7 +538,7 @@ static double dolp_of(const pc_fplane *p, uint32_t x, uint32_t y)
 
 static void test_black_regions(void)
 {
-	const uint32_t W = 72, H = 56;
+	const uint32_t W = 48, H = 40;
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	pc_view raw;
 	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
@@ -565,25 +566,106 @@ static void test_black_regions(void)
 		pc_fplane f[4], rf[4];
 		float *fb = alloc_planes(W, H, 4, f), *rb = alloc_planes(W, H, 4, rf);
 		pc_demosaic_opts ref = {0, true, 0};
-		CHECK_EQ_INT(pc_demosaic(&raw, &m, meth, NULL, f), 0);
 		CHECK_EQ_INT(pc_demosaic(&raw, &m, meth, &ref, rf), 0);
-		double se = 0;
+		double worst = 0;
 		long n = 0;
-		for (uint32_t y = 0; y < H; y++)
-			for (uint32_t x = 0; x < W; x++) {
-				double s0 = 0.5 * (fget(&rf[0], x, y) + fget(&rf[1], x, y) +
-				                   fget(&rf[2], x, y) + fget(&rf[3], x, y));
-				if (!(s0 < 1e-3 * 4095))
-					continue;
-				double d = dolp_of(f, x, y) - dolp_of(rf, x, y);
-				se += d * d;
-				n++;
-			}
-		double rms = n ? sqrt(se / (double)n) : 0;
-		if (!(n > 300 && rms <= 1e-4))
-			fprintf(stderr, "  %s: DoLP of %ld dark pixels %g RMS off the reference\n",
-			        pc_demosaic_method_get(meth)->name, n, rms);
-		CHECK(n > 300 && rms <= 1e-4);
+		FOR_LEVELS(l)
+		{
+			CHECK_EQ_INT(pc_demosaic(&raw, &m, meth, NULL, f), 0);
+			double se = 0;
+			n = 0;
+			for (uint32_t y = 0; y < H; y++)
+				for (uint32_t x = 0; x < W; x++) {
+					double s0 = 0.5 * (fget(&rf[0], x, y) + fget(&rf[1], x, y) +
+					                   fget(&rf[2], x, y) + fget(&rf[3], x, y));
+					if (!(s0 < 1e-3 * 4095))
+						continue;
+					double d = dolp_of(f, x, y) - dolp_of(rf, x, y);
+					se += d * d;
+					n++;
+				}
+			double rms = n ? sqrt(se / (double)n) : 0;
+			worst = rms > worst ? rms : worst;
+		}
+		level_end();
+		printf(
+		    "  %-16s DoLP of %ld dark pixels %.2g RMS off the reference (every instance)\n",
+		    pc_demosaic_method_get(meth)->name, n, worst);
+		CHECK(n > 300 && worst <= 1e-4);
+		free(fb);
+		free(rb);
+	}
+	pc_view_free(&raw);
+}
+
+/* test_black_regions for the colour methods: a colour-polarization raw (IMX250MYR) with the
+ * same black half, glints and a coloured polarized texture; each colour's DoLP where its
+ * reference S0 is below 1e-3 of full scale, RMS over the three colours within 1e-4 of the
+ * reference's (measured at most 1.7e-6, pan-lean), every instance against one reference. Not
+ * pan-dir, pan-side, pan-adapt, pan-guard and pan-check, a known limit (none of them is
+ * recommended; why not investigated): in an 80 × 56 version of this frame their fast paths were
+ * 0.72, 0.018, 0.045-0.053, 0.048-0.056 and 0.030 RMS off their references there (Round 32). */
+static void test_black_regions_colour(void)
+{
+	static const pc_demosaic_method cm[] = {
+	    PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
+	    PC_DM_PAN_GUIDED,  PC_DM_PAN_CHROMA, PC_DM_PAN_FACT,
+	    PC_DM_PAN_HUE,     PC_DM_PAN_SPLIT,  PC_DM_PAN_LEAN};
+	const uint32_t W = 48, H = 40;
+	const double gain[3] = {0.7, 1.0, 0.45};
+	pc_mosaic m = pc_mosaic_imx250myr();
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
+	uint32_t r = 11;
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			r = r * 1664525u + 1013904223u;
+			unsigned c = pc_mosaic_channel(&m, x, y);
+			double v = 0;
+			if (x >= W / 2) {
+				double s0 = 1200 + 800 * sin(0.7 * x) * cos(0.4 * y);
+				double a = 0.05 * x + 0.09 * y, ang = M_PI / 4 * (c % 4);
+				v = gain[c / 4] * 0.5 * s0 * (1 + 0.6 * cos(2 * (ang - a))) +
+				    (double)(r >> 29);
+			} else if ((x == 9 && y == 11) || (x == 20 && y == 30) ||
+			           (x == 21 && y == 30))
+				v = 4095;
+			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)lround(v);
+		}
+	for (size_t k = 0; k < sizeof cm / sizeof cm[0]; k++) {
+		pc_fplane f[12], rf[12];
+		float *fb = alloc_planes(W, H, 12, f), *rb = alloc_planes(W, H, 12, rf);
+		pc_demosaic_opts ref = {0, true, 0};
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, cm[k], &ref, rf), 0);
+		double worst = 0;
+		long n = 0;
+		FOR_LEVELS(l)
+		{
+			CHECK_EQ_INT(pc_demosaic(&raw, &m, cm[k], NULL, f), 0);
+			double se = 0;
+			n = 0;
+			for (unsigned col = 0; col < 3; col++)
+				for (uint32_t y = 0; y < H; y++)
+					for (uint32_t x = 0; x < W; x++) {
+						const pc_fplane *fc = f + 4 * col,
+						                *rc = rf + 4 * col;
+						double s0 =
+						    0.5 * (fget(&rc[0], x, y) + fget(&rc[1], x, y) +
+						           fget(&rc[2], x, y) + fget(&rc[3], x, y));
+						if (!(s0 < 1e-3 * 4095))
+							continue;
+						double d = dolp_of(fc, x, y) - dolp_of(rc, x, y);
+						se += d * d;
+						n++;
+					}
+			double rms = n ? sqrt(se / (double)n) : 0;
+			worst = rms > worst ? rms : worst;
+		}
+		level_end();
+		printf("  %-16s DoLP of %ld dark colour pixels %.2g RMS off the reference (every "
+		       "instance)\n",
+		       pc_demosaic_method_get(cm[k])->name, n, worst);
+		CHECK(n > 300 && worst <= 1e-4);
 		free(fb);
 		free(rb);
 	}
@@ -2153,7 +2235,10 @@ int main(void)
 		test_flip();
 		test_polynomials();
 		test_ratio_nr_noise();
-		test_black_regions();
+		if (l == 0) { /* every instance against one reference (level_begin) */
+			test_black_regions();
+			test_black_regions_colour();
+		}
 		if (l == 0) {
 			test_newton_exact(); /* a reference only: one instance is enough */
 			test_pan_fact();     /* its reference: the same */
