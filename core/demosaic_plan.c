@@ -374,7 +374,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "; held-out (scenes/heldout, 12) +4.67/+1.57 (+2.36/+0.31)",
           "ratio's passes with a 3x3 guide variance per pixel, the overshoot limiter "
           "applied as each output row is written; 3.2-4.1x bilinear's time in the "
-          "shared 2-vCPU dev machine's usual regime, 4.5-4.8x in periods when its "
+          "shared 2-vCPU dev machine's usual regime, 4.5-5.5x in periods when its "
           "write bandwidth doubles and the memory-bound bilinear speeds up with it "
           "(AVX-512, 2026-12-06; at AVX2 5.2-6.0x in the first), scalar 36-52x "
           "before Round 25 vectorised it (Rounds 30-32: docs/demosaicking.md)",
