@@ -207,7 +207,7 @@ int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, 
  * columns [x0, w). Each plane by its row and pixel strides; when the n planes are one interleaved
  * (H, W, n) array (pixel stride n, plane c at the first plane's data + c, n = 4 or 12, the Python
  * module's and the CLI's layout), pixel by pixel, each pixel's n values side by side, with lane
- * transposes at AVX-512 (docs/demosaicking.md, Round 31). */
+ * transposes at AVX-512 and AVX2 (docs/demosaicking.md, Round 31). */
 void pc_dm_put_rows(const pc_fplane *out, unsigned n, uint32_t y, const float *const src[],
                     uint32_t x0, uint32_t w, pc_cpu_level level);
 

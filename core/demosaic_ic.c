@@ -110,6 +110,7 @@ _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2"
 #include "demosaic_ic_kern.inc"
 #undef KFN
 #undef KATTR
+#undef KFMA
 /* AVX-512: 16 float or 8 double lanes and 32 registers for the guided filter's sums (GCC
  * prefers 256-bit vectors unless told; clang's generic tuning uses 512-bit ones) */
 #define KFN(name) name##_avx512
@@ -120,6 +121,7 @@ _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2"
 #define KATTR                                                                                      \
 	__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,fma,prefer-vector-width=512")))
 #endif
+#define KFMA(a, b, c) fmaf((a), (b), (c))
 #include "demosaic_ic_kern.inc"
 #undef KFN
 #undef KATTR
