@@ -456,6 +456,23 @@ int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h, 
 	       (size_t)w * h * 4 * n >= pc_dm_nt_min_bytes();
 }
 
+/* Whether the n planes are one interleaved (H, W, n) array, n = 4 or 12 */
+static int planes_interleaved(const pc_fplane *out, unsigned n)
+{
+	int il = n == 4 || n == 12;
+	for (unsigned c = 0; il && c < n; c++)
+		il = out[c].pixel_stride == n && out[c].row_stride == out[0].row_stride &&
+		     out[c].data == out[0].data + c;
+	return il;
+}
+
+int pc_dm_stream_wanted_il(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h,
+                           pc_cpu_level level)
+{
+	return level >= PC_CPU_AVX2 && planes_interleaved(p, n) && !((uintptr_t)p[0].data & 63) &&
+	       !((p[0].row_stride * 4) & 63) && (size_t)w * h * 4 * n >= pc_dm_nt_min_bytes();
+}
+
 #ifdef PC_CPU_X86
 __attribute__((target("avx2"))) static void
 stream_rows_avx2(float *const dst[], const float *const src[], unsigned n, uint32_t w)
@@ -491,6 +508,24 @@ int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, 
 }
 
 #ifdef PC_CPU_X86
+/* One output vector of pc_dm_put_rows' interleaved rows: streamed (nt, d 64-byte aligned) or
+ * stored through the cache */
+__attribute__((target("avx512f"))) static inline void put_st512(float *d, __m512 v, int nt)
+{
+	if (nt)
+		_mm512_stream_ps(d, v);
+	else
+		_mm512_storeu_ps(d, v);
+}
+
+__attribute__((target("avx2"))) static inline void put_st256(float *d, __m256 v, int nt)
+{
+	if (nt)
+		_mm256_stream_ps(d, v);
+	else
+		_mm256_storeu_ps(d, v);
+}
+
 /* Sixteen pixels of four channels, a[c] + x (c = 0..3), into d, each pixel's four values side
  * by side: a 4 × 4 transpose in each 128-bit lane (lane l of r[m] then holds pixel 4l + m), then
  * lane l of r[0..3] is output vector l (a 4 × 4 transpose of the lanes). */
@@ -510,7 +545,7 @@ put_transpose4(const float *a0, const float *a1, const float *a2, const float *a
 }
 
 __attribute__((target("avx512f"))) static void put4_avx512(const float *const s[4], long x,
-                                                           float *d)
+                                                           float *d, int nt)
 {
 	__m512 r[4];
 	put_transpose4(s[0] + x, s[1] + x, s[2] + x, s[3] + x, r);
@@ -518,10 +553,10 @@ __attribute__((target("avx512f"))) static void put4_avx512(const float *const s[
 	    p1 = _mm512_shuffle_f32x4(r[2], r[3], 0x44),
 	             p2 = _mm512_shuffle_f32x4(r[0], r[1], 0xee), /* lanes 2, 3 */
 	    p3 = _mm512_shuffle_f32x4(r[2], r[3], 0xee);
-	_mm512_storeu_ps(d, _mm512_shuffle_f32x4(p0, p1, 0x88));
-	_mm512_storeu_ps(d + 16, _mm512_shuffle_f32x4(p0, p1, 0xdd));
-	_mm512_storeu_ps(d + 32, _mm512_shuffle_f32x4(p2, p3, 0x88));
-	_mm512_storeu_ps(d + 48, _mm512_shuffle_f32x4(p2, p3, 0xdd));
+	put_st512(d, _mm512_shuffle_f32x4(p0, p1, 0x88), nt);
+	put_st512(d + 16, _mm512_shuffle_f32x4(p0, p1, 0xdd), nt);
+	put_st512(d + 32, _mm512_shuffle_f32x4(p2, p3, 0x88), nt);
+	put_st512(d + 48, _mm512_shuffle_f32x4(p2, p3, 0xdd), nt);
 }
 
 /* Twelve channels: per group of four the in-lane transpose (lane l of r[g][m] holds pixel
@@ -536,12 +571,11 @@ __attribute__((target("avx512f"))) static void put4_avx512(const float *const s[
 			    r[c % 3][c / 3], r[(c + 1) % 3][(c + 1) / 3], (l)*0x55);               \
 			const __m512 Q = _mm512_shuffle_f32x4(                                     \
 			    r[(c + 2) % 3][(c + 2) / 3], r[(c + 3) % 3][(c + 3) / 3], (l)*0x55);   \
-			_mm512_storeu_ps(d + 16 * (3 * (l) + j),                                   \
-			                 _mm512_shuffle_f32x4(P, Q, 0x88));                        \
+			put_st512(d + 16 * (3 * (l) + j), _mm512_shuffle_f32x4(P, Q, 0x88), nt);   \
 		}                                                                                  \
 	} while (0)
 __attribute__((target("avx512f"))) static void put12_avx512(const float *const s[12], long x,
-                                                            float *d)
+                                                            float *d, int nt)
 {
 	__m512 r[3][4];
 	for (int g = 0; g < 3; g++)
@@ -572,25 +606,28 @@ put_transpose4_avx2(const float *a0, const float *a1, const float *a2, const flo
 	r[3] = _mm256_castpd_ps(_mm256_unpackhi_pd(u1, u3));
 }
 
-__attribute__((target("avx2"))) static void put4_avx2(const float *const s[4], long x, float *d)
+__attribute__((target("avx2"))) static void put4_avx2(const float *const s[4], long x, float *d,
+                                                      int nt)
 {
 	__m256 r[4];
 	put_transpose4_avx2(s[0] + x, s[1] + x, s[2] + x, s[3] + x, r);
 	/* pixels 0, 1 | 2, 3 | 4, 5 | 6, 7 */
-	_mm256_storeu_ps(d, _mm256_permute2f128_ps(r[0], r[1], 0x20));
-	_mm256_storeu_ps(d + 8, _mm256_permute2f128_ps(r[2], r[3], 0x20));
-	_mm256_storeu_ps(d + 16, _mm256_permute2f128_ps(r[0], r[1], 0x31));
-	_mm256_storeu_ps(d + 24, _mm256_permute2f128_ps(r[2], r[3], 0x31));
+	put_st256(d, _mm256_permute2f128_ps(r[0], r[1], 0x20), nt);
+	put_st256(d + 8, _mm256_permute2f128_ps(r[2], r[3], 0x20), nt);
+	put_st256(d + 16, _mm256_permute2f128_ps(r[0], r[1], 0x31), nt);
+	put_st256(d + 24, _mm256_permute2f128_ps(r[2], r[3], 0x31), nt);
 }
 
 /* output vector k of twelve channels: chunks 2k and 2k + 1, chunk c from r[c % 3][(c / 3) % 4],
  * lane c / 12 */
 #define PUT12_AVX2(k)                                                                              \
-	_mm256_storeu_ps(d + 8 * (k),                                                              \
-	                 _mm256_permute2f128_ps(r[(2 * (k)) % 3][(2 * (k) / 3) % 4],               \
-	                                        r[(2 * (k) + 1) % 3][((2 * (k) + 1) / 3) % 4],     \
-	                                        (2 * (k) / 12) | (2 + (2 * (k) + 1) / 12) << 4))
-__attribute__((target("avx2"))) static void put12_avx2(const float *const s[12], long x, float *d)
+	put_st256(d + 8 * (k),                                                                     \
+	          _mm256_permute2f128_ps(r[(2 * (k)) % 3][(2 * (k) / 3) % 4],                      \
+	                                 r[(2 * (k) + 1) % 3][((2 * (k) + 1) / 3) % 4],            \
+	                                 (2 * (k) / 12) | (2 + (2 * (k) + 1) / 12) << 4),          \
+	          nt)
+__attribute__((target("avx2"))) static void put12_avx2(const float *const s[12], long x, float *d,
+                                                       int nt)
 {
 	__m256 r[3][4];
 	for (int g = 0; g < 3; g++)
@@ -613,13 +650,9 @@ __attribute__((target("avx2"))) static void put12_avx2(const float *const s[12],
 #endif
 
 void pc_dm_put_rows(const pc_fplane *out, unsigned n, uint32_t y, const float *const src[],
-                    uint32_t x0, uint32_t w, pc_cpu_level level)
+                    uint32_t x0, uint32_t w, pc_cpu_level level, int nt)
 {
-	int il = n == 4 || n == 12;
-	for (unsigned c = 0; il && c < n; c++)
-		il = out[c].pixel_stride == n && out[c].row_stride == out[0].row_stride &&
-		     out[c].data == out[0].data + c;
-	if (!il) {
+	if (!planes_interleaved(out, n)) {
 		for (unsigned c = 0; c < n; c++) {
 			const pc_fplane *p = &out[c];
 			float *d =
@@ -635,22 +668,25 @@ void pc_dm_put_rows(const pc_fplane *out, unsigned n, uint32_t y, const float *c
 	float *d = out[0].data + (size_t)y * out[0].row_stride + (size_t)x0 * n;
 	uint32_t x = 0;
 #ifdef PC_CPU_X86
+	/* whole vectors fill whole cache lines from an aligned d on */
+	nt = nt && !((uintptr_t)d & 63);
 	if (level >= PC_CPU_AVX512)
 		for (; x + 16 <= w - x0; x += 16) {
 			if (n == 4)
-				put4_avx512(src, x, d + (size_t)x * 4);
+				put4_avx512(src, x, d + (size_t)x * 4, nt);
 			else
-				put12_avx512(src, x, d + (size_t)x * 12);
+				put12_avx512(src, x, d + (size_t)x * 12, nt);
 		}
 	else if (level >= PC_CPU_AVX2)
 		for (; x + 8 <= w - x0; x += 8) {
 			if (n == 4)
-				put4_avx2(src, x, d + (size_t)x * 4);
+				put4_avx2(src, x, d + (size_t)x * 4, nt);
 			else
-				put12_avx2(src, x, d + (size_t)x * 12);
+				put12_avx2(src, x, d + (size_t)x * 12, nt);
 		}
 #else
 	(void)level;
+	(void)nt;
 #endif
 	for (; x < w - x0; x++)
 		for (unsigned c = 0; c < n; c++)

@@ -196,6 +196,11 @@ int pc_dm_planes_aligned(const pc_fplane *p, unsigned n);
  * AVX2 present). */
 int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h, pc_cpu_level level);
 
+/* The same for one interleaved (H, W, n) array (n = 4 or 12; 64-byte aligned, rows of whole
+ * cache lines), which pc_dm_put_rows writes: whether its stores stream */
+int pc_dm_stream_wanted_il(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h,
+                           pc_cpu_level level);
+
 /* Copies n rows of w floats with non-temporal stores (dst rows 64-byte aligned), one row after
  * the other so that every store sequence fills whole cache lines; then a store fence. For
  * kernels that compute a row in cache and then write it out; PC_ENOTSUP below AVX2, where the
@@ -207,9 +212,11 @@ int pc_dm_stream_rows(float *const dst[], const float *const src[], unsigned n, 
  * columns [x0, w). Each plane by its row and pixel strides; when the n planes are one interleaved
  * (H, W, n) array (pixel stride n, plane c at the first plane's data + c, n = 4 or 12, the Python
  * module's and the CLI's layout), pixel by pixel, each pixel's n values side by side, with lane
- * transposes at AVX-512 and AVX2 (docs/demosaicking.md, Round 31). */
+ * transposes at AVX-512 and AVX2 (docs/demosaicking.md, Round 31), streamed when nt
+ * (pc_dm_stream_wanted_il; the caller ends its rows with pc_dm_sfence) and the row's first
+ * pixel starts a cache line. */
 void pc_dm_put_rows(const pc_fplane *out, unsigned n, uint32_t y, const float *const src[],
-                    uint32_t x0, uint32_t w, pc_cpu_level level);
+                    uint32_t x0, uint32_t w, pc_cpu_level level, int nt);
 
 /* The store fence that ends a sequence of non-temporal stores (nothing off x86-64). */
 void pc_dm_sfence(void);

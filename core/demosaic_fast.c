@@ -39,6 +39,7 @@ typedef struct bil_job {
 	const pc_fplane *out;
 	pc_cpu_level level;
 	int planar, nt, err;
+	int ntil; /* an interleaved output streamed (pc_dm_stream_wanted_il) */
 } bil_job;
 
 static void bilinear_band(void *ctx, uint32_t y0, uint32_t y1)
@@ -75,10 +76,10 @@ static void bilinear_band(void *ctx, uint32_t y0, uint32_t y1)
 			const float *src[4];
 			for (int k = 0; k < 4; k++)
 				src[slot[k]] = o[k];
-			pc_dm_put_rows(j->out, 4, y, src, 0, w, j->level);
+			pc_dm_put_rows(j->out, 4, y, src, 0, w, j->level, j->ntil);
 		}
 	}
-	if (j->nt)
+	if (j->nt || j->ntil)
 		pc_dm_sfence();
 	pc_dm_free(tmp);
 	pc_dm_ring_free(&rg);
@@ -87,11 +88,12 @@ static void bilinear_band(void *ctx, uint32_t y0, uint32_t y1)
 int pc_dm_bilinear(const pc_dm_call *call, const pc_fplane *out)
 {
 	const pc_dm_input *in = call->in;
-	bil_job j = {in, call->m, out, call->level, 1, 0, 0};
+	bil_job j = {in, call->m, out, call->level, 1, 0, 0, 0};
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
 	j.nt = j.planar && pc_dm_stream_wanted(out, 4, in->width, in->height, call->level);
+	j.ntil = pc_dm_stream_wanted_il(out, 4, in->width, in->height, call->level);
 	pc_parallel_rows(in->height, 0, call->threads, bilinear_band, &j);
 	return j.err ? pc_error(PC_ENOMEM, "bilinear: row buffers") : 0;
 }

@@ -521,6 +521,7 @@ typedef struct ic_job {
 	const pc_fplane *out;
 	const pc_dm_row_sink *sink; /* rows handed on instead of written to out */
 	int planar, nt, err;
+	int ntil; /* an interleaved output streamed (pc_dm_stream_wanted_il) */
 } ic_job;
 
 static void free_band(ic_band *b)
@@ -736,9 +737,11 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			pc_dm_stream_rows(dst, src, 4, (uint32_t)w, j->level);
 		} else if (!j->planar) {
 			const float *src[4] = {o[0], o[1], o[2], o[3]};
-			pc_dm_put_rows(j->out, 4, y, src, 0, (uint32_t)w, j->level);
+			pc_dm_put_rows(j->out, 4, y, src, 0, (uint32_t)w, j->level, j->ntil);
 		}
 	}
+	if (j->ntil)
+		pc_dm_sfence();
 	free_band(&b);
 	pc_dm_free(rowbuf);
 	if (lim)
@@ -757,7 +760,7 @@ static void run(ic_job *j, int threads)
 
 int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
 {
-	ic_job j = {call->in, call->m, call->method, call->full_scale, call->level, out, NULL, 1,
+	ic_job j = {call->in, call->m, call->method, call->full_scale, call->level, out, NULL, 1, 0,
 	            0,        0};
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
@@ -766,14 +769,15 @@ int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
 	const pc_dm_method_def *def = pc_dm_method_def_get(call->method);
 	j.nt = j.planar && !(def && def->plain_stores) &&
 	       pc_dm_stream_wanted(out, 4, call->in->width, call->in->height, call->level);
+	j.ntil = pc_dm_stream_wanted_il(out, 4, call->in->width, call->in->height, call->level);
 	run(&j, call->threads);
 	return j.err ? pc_error(PC_ENOMEM, "row caches of %u-pixel rows", call->in->width) : 0;
 }
 
 int pc_dm_ic_rows(const pc_dm_call *call, const pc_dm_row_sink *sink)
 {
-	ic_job j = {call->in, call->m, call->method, call->full_scale, call->level, NULL, sink, 0,
-	            0,        0};
+	ic_job j = {
+	    call->in, call->m, call->method, call->full_scale, call->level, NULL, sink, 0, 0, 0, 0};
 	run(&j, call->threads);
 	return j.err ? pc_error(PC_ENOMEM, "row caches of %u-pixel rows", call->in->width) : 0;
 }

@@ -979,6 +979,7 @@ typedef struct pan_job {
 	float e0;   /* pan-adapt: its range scale's fixed part e_fs·FS */
 	double g;   /* pan-lean: the frame's noise gain */
 	float F;    /* pan-lean: the noise floor PC_DM_NG_FLOOR·FS */
+	int ntil;   /* an interleaved output streamed (pc_dm_stream_wanted_il) */
 } pan_job;
 
 /* 0/1 lane patterns (period 4, 16 lanes), the tent weights of pan_hrows; pan-chroma's
@@ -1465,7 +1466,7 @@ static void pan_put_row(const pan_job *j, uint32_t y, float *const o[12], uint32
 	const float *src[12];
 	for (int q = 0; q < 12; q++)
 		src[q] = o[q];
-	pc_dm_put_rows(j->out, 12, y, src, x0, w, j->level);
+	pc_dm_put_rows(j->out, 12, y, src, x0, w, j->level, j->ntil);
 }
 
 /* Which of the twelve output rows d pan-lean's output row streams (bit q: plane q; the others go
@@ -1936,7 +1937,7 @@ static void pan_band(void *ctx, uint32_t y0, uint32_t y1)
 		                (b - a) / 16 * 16};
 		pan_band_strip(j, t, y0, y1, &st, buf, pitch, nrows, cache);
 	}
-	if (j->nt)
+	if (j->nt || j->ntil)
 		pc_dm_sfence();
 	pc_dm_free(t);
 	pc_dm_free(buf);
@@ -1970,7 +1971,8 @@ static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
 	             (float)kn,
 	             (float)(PC_DM_PAN_ADAPT_EFS * fs),
 	             g,
-	             (float)(PC_DM_NG_FLOOR * fs)};
+	             (float)(PC_DM_NG_FLOOR * fs),
+	             pc_dm_stream_wanted_il(out, 12, w, h, level)};
 	pc_parallel_rows(h, 0, threads, pan_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "%s: row buffers for width %u",
@@ -2045,7 +2047,7 @@ static float *pan_dband_scratch(pan_job *j, size_t nrows, size_t pitch, pan_tabl
 /* ... and its end: the fence after streaming stores, the scratch freed */
 static void pan_dband_end(const pan_job *j, pan_tables *t, pan_dtables *dt, float *buf)
 {
-	if (j->nt)
+	if (j->nt || j->ntil)
 		pc_dm_sfence();
 	pc_dm_free(t);
 	pc_dm_free(dt);
@@ -2323,7 +2325,8 @@ int pc_dm_pan_dir_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, int
 	             0,
 	             0,
 	             0,
-	             0};
+	             0,
+	             pc_dm_stream_wanted_il(out, 12, w, h, level)};
 	pc_parallel_rows(h, 0, threads, pan_dir_band, &j);
 	if (j.err)
 		return pc_error(PC_ENOMEM, "pan-dir: row buffers for width %u", w);
@@ -2950,7 +2953,8 @@ int pc_dm_pan_fact_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, in
 {
 	const uint32_t w = in->width, h = in->height;
 	fact_job fj = {{in, w, h, m, (float)(FACT_DELTA * 3 * fs), level, out, 0, 0, 0,
-	                pc_dm_stream_wanted(out, 12, w, h, level), 0, 0, 0, 0},
+	                pc_dm_stream_wanted(out, 12, w, h, level), 0, 0, 0, 0,
+	                pc_dm_stream_wanted_il(out, 12, w, h, level)},
 	               (float)(FACT_EPS * 4 * fs),
 	               (float)(FACT_DH * fs)};
 	pc_parallel_rows(h, 0, threads, pan_fact_band, &fj);

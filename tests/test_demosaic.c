@@ -2125,9 +2125,35 @@ static void test_bad_calls(void)
 	}
 }
 
+/* One interleaved (H, W, nch) output of meth, 64-byte aligned with rows of whole cache lines (it
+ * streams: pc_dm_stream_wanted_il), against the same array 4 bytes off (ordinary stores): equal
+ * bit for bit */
+static void interleaved_streamed(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method meth,
+                                 unsigned nch)
+{
+	const size_t n = (size_t)raw->width * raw->height * nch;
+	CHECK(raw->width * nch * sizeof(float) % 64 == 0);
+	float *a = aligned_alloc(64, sizeof(float) * n), *b = malloc(sizeof(float) * (n + 1));
+	pc_fplane pa[12], pb[12];
+	pc_fplanes_interleaved(a, raw->width, nch, pa);
+	pc_fplanes_interleaved(b + 1, raw->width, nch, pb);
+	CHECK_EQ_INT(pc_demosaic(raw, m, meth, NULL, pa), 0);
+	CHECK_EQ_INT(pc_demosaic(raw, m, meth, NULL, pb), 0);
+	int same = !memcmp(a, b + 1, sizeof(float) * n);
+	if (!same)
+		fprintf(stderr, "  %s %ux%u: streamed interleaved output differs\n",
+		        pc_demosaic_method_get(meth)->name, raw->width, raw->height);
+	CHECK(same);
+	free(a);
+	free(b);
+}
+
 /* Large aligned planar outputs take non-temporal stores (from 32 MB; main() sets
  * POLARCAM_NT_MIN_BYTES=0 so that the test frames stream too); they must hold the same numbers
- * as the ordinary path, here forced by misaligned planes. */
+ * as the ordinary path, here forced by misaligned planes. So must interleaved outputs, which
+ * stream from their row buffers (pc_dm_put_rows; docs/demosaicking.md, Round 33): the mono
+ * methods that write through it, and colour ones at 128 columns and at 4160 (two column strips
+ * of the pan methods, so that rows are written from a strip's first column on). */
 static void test_streaming_outputs(void)
 {
 	const uint32_t W = 148, H = 60; /* 16-pixel blocks, the scalar tail, several bands */
@@ -2158,7 +2184,9 @@ static void test_streaming_outputs(void)
 			fprintf(stderr, "  %s: streamed output differs\n",
 			        pc_demosaic_method_get(meths[k])->name);
 		CHECK(same);
+		interleaved_streamed(&raw, &m, meths[k], 4);
 	}
+	interleaved_streamed(&raw, &m, PC_DM_EARI, 4);
 	free(a);
 	free(b);
 	pc_view_free(&raw);
@@ -2186,6 +2214,21 @@ static void test_streaming_outputs(void)
 	CHECK(!memcmp(a, b + 1, sizeof(float) * 12 * n));
 	free(a);
 	free(b);
+	const pc_demosaic_method cm[] = {PC_DM_PAN_LEAN, PC_DM_PAN_RATIO, PC_DM_PAN_DIR,
+	                                 PC_DM_PAN_FACT, PC_DM_BAYER_FIRST};
+	for (size_t k = 0; k < sizeof cm / sizeof cm[0]; k++)
+		interleaved_streamed(&raw, &mc, cm[k], 12);
+	pc_view_free(&raw);
+	const uint32_t SW = 4160, SH = 8;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, SW, SH, 0), 0);
+	for (uint32_t y = 0; y < SH; y++)
+		for (uint32_t x = 0; x < SW; x++) {
+			r = r * 1664525u + 1013904223u;
+			PC_ROW(&raw, uint16_t, y)
+			[x] = (uint16_t)(2048 + 1500 * sin(0.01 * x - 0.3 * y) + ((r >> 20) & 511));
+		}
+	interleaved_streamed(&raw, &mc, PC_DM_PAN_LEAN, 12);
+	interleaved_streamed(&raw, &mc, PC_DM_PAN_RATIO, 12);
 	pc_view_free(&raw);
 }
 
