@@ -2125,6 +2125,19 @@ static void test_bad_calls(void)
 	}
 }
 
+/* A Mono12 raw of w × h: 2048 + 1500·sin(fx·x + fy·y) plus the LCG r's noise, 0..mask */
+static void streaming_raw(pc_view *raw, uint32_t w, uint32_t h, double fx, double fy, unsigned mask,
+                          uint32_t *r)
+{
+	CHECK_EQ_INT(pc_view_alloc(raw, PC_FMT_MONO12, w, h, 0), 0);
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++) {
+			*r = *r * 1664525u + 1013904223u;
+			PC_ROW(raw, uint16_t, y)
+			[x] = (uint16_t)(2048 + 1500 * sin(fx * x + fy * y) + ((*r >> 20) & mask));
+		}
+}
+
 /* One interleaved (H, W, nch) output of meth, 64-byte aligned with rows of whole cache lines (it
  * streams: pc_dm_stream_wanted_il), against the same array 4 bytes off (ordinary stores): equal
  * bit for bit */
@@ -2158,15 +2171,8 @@ static void test_streaming_outputs(void)
 {
 	const uint32_t W = 148, H = 60; /* 16-pixel blocks, the scalar tail, several bands */
 	pc_view raw;
-	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
 	uint32_t r = 7;
-	for (uint32_t y = 0; y < H; y++)
-		for (uint32_t x = 0; x < W; x++) {
-			r = r * 1664525u + 1013904223u;
-			PC_ROW(&raw, uint16_t, y)
-			[x] =
-			    (uint16_t)(2048 + 1500 * sin(0.02 * x + 0.03 * y) + ((r >> 20) & 255));
-		}
+	streaming_raw(&raw, W, H, 0.02, 0.03, 255, &r);
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	size_t n = (size_t)W * H;
 	float *a = aligned_alloc(64, sizeof(float) * 4 * n),
@@ -2194,14 +2200,7 @@ static void test_streaming_outputs(void)
 	 * same page offset: its output row then streams eight of them and stores four through the
 	 * cache (pan_nt_mask); the numbers must be those of the ordinary path */
 	const uint32_t CW = 128, CH = 64;
-	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, CW, CH, 0), 0);
-	for (uint32_t y = 0; y < CH; y++)
-		for (uint32_t x = 0; x < CW; x++) {
-			r = r * 1664525u + 1013904223u;
-			PC_ROW(&raw, uint16_t, y)
-			[x] =
-			    (uint16_t)(2048 + 1500 * sin(0.05 * x - 0.04 * y) + ((r >> 20) & 511));
-		}
+	streaming_raw(&raw, CW, CH, 0.05, -0.04, 511, &r);
 	pc_mosaic mc = pc_mosaic_imx250myr();
 	n = (size_t)CW * CH;
 	a = aligned_alloc(64, sizeof(float) * 12 * n);
@@ -2219,14 +2218,7 @@ static void test_streaming_outputs(void)
 	for (size_t k = 0; k < sizeof cm / sizeof cm[0]; k++)
 		interleaved_streamed(&raw, &mc, cm[k], 12);
 	pc_view_free(&raw);
-	const uint32_t SW = 4160, SH = 8;
-	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, SW, SH, 0), 0);
-	for (uint32_t y = 0; y < SH; y++)
-		for (uint32_t x = 0; x < SW; x++) {
-			r = r * 1664525u + 1013904223u;
-			PC_ROW(&raw, uint16_t, y)
-			[x] = (uint16_t)(2048 + 1500 * sin(0.01 * x - 0.3 * y) + ((r >> 20) & 511));
-		}
+	streaming_raw(&raw, 4160, 8, 0.01, -0.3, 511, &r);
 	interleaved_streamed(&raw, &mc, PC_DM_PAN_LEAN, 12);
 	interleaved_streamed(&raw, &mc, PC_DM_PAN_RATIO, 12);
 	pc_view_free(&raw);
