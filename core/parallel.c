@@ -1,5 +1,7 @@
 #include "polarcam/parallel.h"
 
+#include "parallel_internal.h"
+
 #ifdef _OPENMP
 #include <omp.h>
 #include <stdatomic.h>
@@ -38,6 +40,32 @@ static uint32_t next_band(_Atomic uint32_t *next, uint32_t height, uint32_t min_
 }
 #endif
 
+void pc_parallel_rows_tapered(uint32_t height, uint32_t min_rows, int threads, pc_rows_fn fn,
+                              void *ctx)
+{
+	if (height == 0)
+		return;
+	if (threads <= 0)
+		threads = pc_parallel_max_threads();
+	if (min_rows < 1)
+		min_rows = 1;
+	if (threads == 1 || height <= min_rows) {
+		fn(ctx, 0, height);
+		return;
+	}
+#ifdef _OPENMP
+	_Atomic uint32_t next = 0;
+#pragma omp parallel num_threads(threads)
+	{
+		uint32_t y0 = 0, n;
+		while ((n = next_band(&next, height, min_rows, threads, &y0)) > 0)
+			fn(ctx, y0, y0 + n);
+	}
+#else
+	fn(ctx, 0, height);
+#endif
+}
+
 void pc_parallel_rows(uint32_t height, uint32_t band_rows, int threads, pc_rows_fn fn, void *ctx)
 {
 	if (height == 0)
@@ -56,19 +84,7 @@ void pc_parallel_rows(uint32_t height, uint32_t band_rows, int threads, pc_rows_
 		 * frame on a shared machine (docs/demosaicking.md, Round 25: pan-lean 6-10 % and
 		 * the mono bilinear 2-6 % faster with these). */
 		uint32_t min_rows = height / (uint32_t)(32 * threads);
-		if (min_rows < 8)
-			min_rows = 8;
-		if (height <= min_rows) {
-			fn(ctx, 0, height);
-			return;
-		}
-		_Atomic uint32_t next = 0;
-#pragma omp parallel num_threads(threads)
-		{
-			uint32_t y0 = 0, n;
-			while ((n = next_band(&next, height, min_rows, threads, &y0)) > 0)
-				fn(ctx, y0, y0 + n);
-		}
+		pc_parallel_rows_tapered(height, min_rows < 8 ? 8 : min_rows, threads, fn, ctx);
 		return;
 	}
 	long nbands = (long)((height + band_rows - 1) / band_rows);
