@@ -751,8 +751,9 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 
 /* Tapered row bands (pc_parallel_rows') of at least 64 rows, which keeps the recomputed halo
  * rows a small fraction. Two fixed bands a thread left one thread waiting whenever the host
- * slowed the other: `ratio-nr` 0.93-0.99 of the time per call, its median 3-10 % lower on a
- * noisy host, its best 1-2 % higher (docs/demosaicking.md, Round 33). */
+ * slowed the other: on a noisy host `ratio-nr` 0.93-0.99 of the time per call (its median
+ * 3-10 % lower), `ratio` 0.92, `eari` 0.96; the best call of each up to 2 % (`ratio` 7 %) slower
+ * (docs/demosaicking.md, Round 33). */
 static void run(ic_job *j, int threads)
 {
 	pc_parallel_rows_tapered(j->in->height, 64, threads, ic_band_run, j);
