@@ -374,10 +374,11 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "; held-out (scenes/heldout, 12) +4.67/+1.57 (+2.36/+0.31)",
           "ratio's passes with a 3x3 guide variance per pixel, the overshoot limiter "
           "applied as each output row is written; 3.2-4.1x bilinear's time in the "
-          "shared 2-vCPU dev machine's usual regime, 4.5-5.5x in periods when its "
-          "write bandwidth doubles and the memory-bound bilinear speeds up with it "
-          "(AVX-512, 2026-12-06; at AVX2 5.2-6.0x in the first), scalar 36-52x "
-          "before Round 25 vectorised it (Rounds 30-32: docs/demosaicking.md)",
+          "shared 2-vCPU dev machine's usual regime (medians 3.4x and 3.9x over two "
+          "sets of runs), 4.5-5.5x in periods when its write bandwidth doubles and the "
+          "memory-bound bilinear speeds up with it (medians 5.1x: at the 5x budget's "
+          "edge; AVX-512, 2026-12-06; at AVX2 5.2-6.0x in the first), scalar 36-52x "
+          "before Round 25 vectorised it (Rounds 30-33: docs/demosaicking.md)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
           "2013) and a Poisson noise variance",
           PC_DMF_MONO},
