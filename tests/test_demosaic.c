@@ -2138,24 +2138,31 @@ static void streaming_raw(pc_view *raw, uint32_t w, uint32_t h, double fx, doubl
 		}
 }
 
-/* One interleaved (H, W, nch) output of meth, 64-byte aligned with rows of whole cache lines (it
- * streams: pc_dm_stream_wanted_il), against the same array 4 bytes off (ordinary stores): equal
- * bit for bit */
-static void interleaved_streamed(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method meth,
-                                 unsigned nch)
+/* One output of meth with nch channels, planar (pc_fplanes_separate) or interleaved (H, W, nch)
+ * (rows of whole cache lines), 64-byte aligned (it streams: pc_dm_stream_wanted and _il),
+ * against the same layout 4 bytes off (ordinary stores): equal bit for bit */
+static void streamed_same(const pc_view *raw, const pc_mosaic *m, pc_demosaic_method meth,
+                          unsigned nch, int interleaved)
 {
 	const size_t n = (size_t)raw->width * raw->height * nch;
-	CHECK(raw->width * nch * sizeof(float) % 64 == 0);
+	if (interleaved)
+		CHECK(raw->width * nch * sizeof(float) % 64 == 0);
 	float *a = aligned_alloc(64, sizeof(float) * n), *b = malloc(sizeof(float) * (n + 1));
 	pc_fplane pa[12], pb[12];
-	pc_fplanes_interleaved(a, raw->width, nch, pa);
-	pc_fplanes_interleaved(b + 1, raw->width, nch, pb);
+	if (interleaved) {
+		pc_fplanes_interleaved(a, raw->width, nch, pa);
+		pc_fplanes_interleaved(b + 1, raw->width, nch, pb);
+	} else {
+		pc_fplanes_separate(a, raw->width, raw->height, nch, pa);
+		pc_fplanes_separate(b + 1, raw->width, raw->height, nch, pb);
+	}
 	CHECK_EQ_INT(pc_demosaic(raw, m, meth, NULL, pa), 0);
 	CHECK_EQ_INT(pc_demosaic(raw, m, meth, NULL, pb), 0);
 	int same = !memcmp(a, b + 1, sizeof(float) * n);
 	if (!same)
-		fprintf(stderr, "  %s %ux%u: streamed interleaved output differs\n",
-		        pc_demosaic_method_get(meth)->name, raw->width, raw->height);
+		fprintf(stderr, "  %s %ux%u: streamed %s output differs\n",
+		        pc_demosaic_method_get(meth)->name, raw->width, raw->height,
+		        interleaved ? "interleaved" : "planar");
 	CHECK(same);
 	free(a);
 	free(b);
@@ -2169,58 +2176,33 @@ static void interleaved_streamed(const pc_view *raw, const pc_mosaic *m, pc_demo
  * of the pan methods, so that rows are written from a strip's first column on). */
 static void test_streaming_outputs(void)
 {
-	const uint32_t W = 148, H = 60; /* 16-pixel blocks, the scalar tail, several bands */
+	/* 16-pixel blocks, the scalar tail, several bands */
 	pc_view raw;
 	uint32_t r = 7;
-	streaming_raw(&raw, W, H, 0.02, 0.03, 255, &r);
+	streaming_raw(&raw, 148, 60, 0.02, 0.03, 255, &r);
 	pc_mosaic m = pc_mosaic_imx250mzr();
-	size_t n = (size_t)W * H;
-	float *a = aligned_alloc(64, sizeof(float) * 4 * n),
-	      *b = malloc(sizeof(float) * (4 * n + 1));
 	const pc_demosaic_method meths[] = {PC_DM_BILINEAR, PC_DM_BICUBIC,  PC_DM_PPID,
 	                                    PC_DM_RATIO,    PC_DM_RATIO_NR, PC_DM_RATIO_RI};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
-		pc_fplane pa[4], pb[4];
-		pc_fplanes_separate(a, W, H, 4, pa);
-		pc_fplanes_separate(b + 1, W, H, 4, pb); /* 4-byte offset: not 64-byte aligned */
-		CHECK_EQ_INT(pc_demosaic(&raw, &m, meths[k], NULL, pa), 0);
-		CHECK_EQ_INT(pc_demosaic(&raw, &m, meths[k], NULL, pb), 0);
-		int same = !memcmp(a, b + 1, sizeof(float) * 4 * n);
-		if (!same)
-			fprintf(stderr, "  %s: streamed output differs\n",
-			        pc_demosaic_method_get(meths[k])->name);
-		CHECK(same);
-		interleaved_streamed(&raw, &m, meths[k], 4);
+		streamed_same(&raw, &m, meths[k], 4, 0);
+		streamed_same(&raw, &m, meths[k], 4, 1);
 	}
-	interleaved_streamed(&raw, &m, PC_DM_EARI, 4);
-	free(a);
-	free(b);
+	streamed_same(&raw, &m, PC_DM_EARI, 4, 1);
 	pc_view_free(&raw);
 	/* pan-lean's twelve planes, each a whole number of 4 KB pages, so that all start at the
 	 * same page offset: its output row then streams eight of them and stores four through the
 	 * cache (pan_nt_mask); the numbers must be those of the ordinary path */
-	const uint32_t CW = 128, CH = 64;
-	streaming_raw(&raw, CW, CH, 0.05, -0.04, 511, &r);
+	streaming_raw(&raw, 128, 64, 0.05, -0.04, 511, &r);
 	pc_mosaic mc = pc_mosaic_imx250myr();
-	n = (size_t)CW * CH;
-	a = aligned_alloc(64, sizeof(float) * 12 * n);
-	b = malloc(sizeof(float) * (12 * n + 1));
-	pc_fplane pa[12], pb[12];
-	pc_fplanes_separate(a, CW, CH, 12, pa);
-	pc_fplanes_separate(b + 1, CW, CH, 12, pb);
-	CHECK_EQ_INT(pc_demosaic(&raw, &mc, PC_DM_PAN_LEAN, NULL, pa), 0);
-	CHECK_EQ_INT(pc_demosaic(&raw, &mc, PC_DM_PAN_LEAN, NULL, pb), 0);
-	CHECK(!memcmp(a, b + 1, sizeof(float) * 12 * n));
-	free(a);
-	free(b);
+	streamed_same(&raw, &mc, PC_DM_PAN_LEAN, 12, 0);
 	const pc_demosaic_method cm[] = {PC_DM_PAN_LEAN, PC_DM_PAN_RATIO, PC_DM_PAN_DIR,
 	                                 PC_DM_PAN_FACT, PC_DM_BAYER_FIRST};
 	for (size_t k = 0; k < sizeof cm / sizeof cm[0]; k++)
-		interleaved_streamed(&raw, &mc, cm[k], 12);
+		streamed_same(&raw, &mc, cm[k], 12, 1);
 	pc_view_free(&raw);
 	streaming_raw(&raw, 4160, 8, 0.01, -0.3, 511, &r);
-	interleaved_streamed(&raw, &mc, PC_DM_PAN_LEAN, 12);
-	interleaved_streamed(&raw, &mc, PC_DM_PAN_RATIO, 12);
+	streamed_same(&raw, &mc, PC_DM_PAN_LEAN, 12, 1);
+	streamed_same(&raw, &mc, PC_DM_PAN_RATIO, 12, 1);
 	pc_view_free(&raw);
 }
 
@@ -2237,11 +2219,10 @@ int main(void)
 		test_flip();
 		test_polynomials();
 		test_ratio_nr_noise();
-		if (l == 0) { /* every instance against one reference (level_begin) */
+		if (l == 0) {
+			/* every instance against one reference (level_begin) */
 			test_black_regions();
 			test_black_regions_colour();
-		}
-		if (l == 0) {
 			test_newton_exact(); /* a reference only: one instance is enough */
 			test_pan_fact();     /* its reference: the same */
 		}
