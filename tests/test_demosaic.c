@@ -2176,7 +2176,8 @@ static void streamed_same(const pc_view *raw, const pc_mosaic *m, pc_demosaic_me
  * of the pan methods, so that rows are written from a strip's first column on). */
 static void test_streaming_outputs(void)
 {
-	/* 16-pixel blocks, the scalar tail, several bands */
+	/* 16-pixel blocks, the scalar tail, several bands (planar rows of 592 bytes: ordinary
+	 * stores both ways; interleaved ones stream) */
 	pc_view raw;
 	uint32_t r = 7;
 	streaming_raw(&raw, 148, 60, 0.02, 0.03, 255, &r);
@@ -2188,6 +2189,11 @@ static void test_streaming_outputs(void)
 		streamed_same(&raw, &m, meths[k], 4, 1);
 	}
 	streamed_same(&raw, &m, PC_DM_EARI, 4, 1);
+	pc_view_free(&raw);
+	/* planes stream only when their rows are whole cache lines (148 floats are not): 160 */
+	streaming_raw(&raw, 160, 60, 0.02, 0.03, 255, &r);
+	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++)
+		streamed_same(&raw, &m, meths[k], 4, 0);
 	pc_view_free(&raw);
 	/* pan-lean's twelve planes, each a whole number of 4 KB pages, so that all start at the
 	 * same page offset: its output row then streams eight of them and stores four through the
