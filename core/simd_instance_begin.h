@@ -29,10 +29,10 @@
 #define KDIV(n, d)       ((n) / (d))
 #define KRSQRT(p)        (vsplat(1.0f) / KFN(h_sqrt_lanes)(p))
 #define km               v8i
-#define KLT(a, b)        ((a) < (b))
+#define KLT(a, b)        KFN(h_lt)((a), (b))
 #define KSEL(m, a, b)    vsel((m), (a), (b))
-#define KMAX(a, b)       vsel((a) > (b), (a), (b))
-#define KMIN(a, b)       vsel((a) < (b), (a), (b))
+#define KMAX(a, b)       vsel(KFN(h_lt)((b), (a)), (a), (b))
+#define KMIN(a, b)       vsel(KFN(h_lt)((a), (b)), (a), (b))
 
 #elif PC_INST == PC_INST_AVX2
 /* the same source, 256-bit instructions, streaming stores */
