@@ -739,8 +739,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "its write bandwidth doubles and the memory-bound bilinear speeds up with "
           "it (2026-12-06; Round 31: 0.93 of Round 30's time; twelve planes that "
           "start at one page offset cost it up to a fifth more, docs/api.md); at "
-          "AVX2 6.0x and 8.8x in the two (bayer-first 6.9x and 9.4x), 8.2x in the "
-          "generic vector build (bayer-first 2.3x, Round 29); writing the 12 planes "
+          "AVX2 6.0x and 8.8x in the two (bayer-first 6.9x and 9.4x), 9.5-10.0x in "
+          "the generic vector build (bayer-first 6.9-7.3x: 1.4x its time, Round 34); "
+          "writing the 12 planes "
           "alone takes 1.6-2.3x (docs/demosaicking.md, Rounds 23-31)",
           "ours (docs/demosaicking.md, Rounds 21, 24 and 27): pan-side (Round 13) with "
           "GBTF-style side weights (Pekkucuksen & Altunbasak, ICIP 2010), the "
