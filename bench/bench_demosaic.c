@@ -32,6 +32,7 @@
 #include "polarcam/plot.h"
 #include "polarcam/sim.h"
 #include "polarcam/stokes.h"
+#include "polarcam/version.h"
 
 #ifdef PC_HAVE_OPENCV
 int pc_bench_opencv_bayer16(const uint16_t *src, size_t src_stride, uint16_t *dst,
@@ -698,9 +699,9 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	char load0[128], load1[128];
 	bench_loadavg(load0, sizeof load0);
 	fprintf(tf,
-	        "polarcam bench demosaic: %d thread(s), %s kernels, median of %ld runs; load "
-	        "average at start: %s\n",
-	        nthreads, pc_cpu_level_name(pc_cpu_active()), reps, load0);
+	        "polarcam bench demosaic: %d thread(s), %s kernels built by %s, median of %ld "
+	        "runs; load average at start: %s\n",
+	        nthreads, pc_cpu_level_name(pc_cpu_active()), pc_build_compiler(), reps, load0);
 
 	/* ---------------- time ---------------- */
 	pc_view raw;
@@ -1363,6 +1364,7 @@ int pc_bench_demosaic(const pc_bench_host *h, int argc, char **argv)
 	json_object_set_new(root, "pipeline_bilinear_levels_mask_ms",
 	                    bench_json_real(t_lev.median_ms));
 	json_object_set_new(root, "cpu_level", json_string(pc_cpu_level_name(pc_cpu_active())));
+	json_object_set_new(root, "compiler", json_string(pc_build_compiler()));
 	json_object_set_new(root, "pipeline_ratio_ms", bench_json_real(t_pipe[2].median_ms));
 	json_object_set_new(root, "pipeline_bilinear_best_ms", bench_json_real(t_pipe[0].min_ms));
 	json_object_set_new(root, "pipeline_eari_best_ms", bench_json_real(t_pipe[1].min_ms));

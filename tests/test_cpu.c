@@ -1,7 +1,8 @@
 /* The CPU dispatch (polarcam/cpu.h): the detected level against the kernel's own account of the
  * processor (/proc/cpuinfo flags, read independently of the compiler's detection), the
  * POLARCAM_CPU cap in fresh processes, pc_cpu_force and its refusals, and a first call from
- * many threads at once agreeing. */
+ * many threads at once agreeing. Also pc_build_compiler (polarcam/version.h) against this test's
+ * own compiler, which the build makes the library's. */
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +12,7 @@
 #include "children.h"
 #include "polarcam/cpu.h"
 #include "polarcam/error.h"
+#include "polarcam/version.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -123,5 +125,18 @@ int main(int argc, char **argv)
 	CHECK_EQ_INT(pc_cpu_active(), sup);
 	CHECK(strcmp(pc_cpu_level_name(PC_CPU_AVX2), "avx2") == 0);
 	CHECK(strcmp(pc_cpu_level_name(PC_CPU_LEVELS), "?") == 0);
+	/* the compiler that built the library, from this file's own macros (clang defines
+	 * __GNUC__ too) */
+	char cc[64];
+#if defined(__clang__)
+	snprintf(cc, sizeof cc, "clang %d.%d.%d", __clang_major__, __clang_minor__,
+	         __clang_patchlevel__);
+#elif defined(__GNUC__)
+	snprintf(cc, sizeof cc, "GCC %d.%d.%d", __GNUC__, __GNUC_MINOR__, __GNUC_PATCHLEVEL__);
+#else
+	snprintf(cc, sizeof cc, "unknown C compiler");
+#endif
+	printf("  library built by %s (this test: %s)\n", pc_build_compiler(), cc);
+	CHECK(strcmp(pc_build_compiler(), cc) == 0);
 	return pc_test_finish("test_cpu");
 }

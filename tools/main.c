@@ -46,7 +46,7 @@ int main(int argc, char **argv)
 		return CLI_EXIT_OK;
 	}
 	if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
-		printf("polarcam %s\n", pc_version());
+		printf("polarcam %s (library built by %s)\n", pc_version(), pc_build_compiler());
 		return CLI_EXIT_OK;
 	}
 	/* --quiet / -q belongs to every command: taken out here (up to a "--") */
