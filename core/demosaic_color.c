@@ -335,6 +335,7 @@ typedef struct bf_row {
 #include "demosaic_bf_kern.inc"
 #include "simd_instance_end.h"
 
+#ifdef PC_CPU_X86
 #define PC_INST PC_INST_AVX2
 #include "simd_instance_begin.h"
 #include "demosaic_bf_kern.inc"
@@ -344,6 +345,15 @@ typedef struct bf_row {
 #include "simd_instance_begin.h"
 #include "demosaic_bf_kern.inc"
 #include "simd_instance_end.h"
+#else
+/* other processors have the generic instance only (pc_cpu_active() is PC_CPU_BASELINE there) */
+#define bf_interior_avx512 bf_interior_base
+#define bf_interior_avx2   bf_interior_base
+#define bf_gmask_avx512    bf_gmask_base
+#define bf_gmask_avx2      bf_gmask_base
+#define bf_gmean_avx512    bf_gmean_base
+#define bf_gmean_avx2      bf_gmean_base
+#endif
 
 /* One band's buffers: the raw ring, the vertical rows, scratch rows for strided outputs, the
  * double M_k rows of the border pixels; kept across consecutive row ranges (the ring too). */

@@ -55,6 +55,7 @@ typedef struct gk_tsrc {
 #include "demosaic_pan_guard_kern.inc"
 #include "simd_instance_end.h"
 
+#ifdef PC_CPU_X86
 #define PC_INST PC_INST_AVX2
 #include "simd_instance_begin.h"
 #include "demosaic_pan_guard_kern.inc"
@@ -64,6 +65,7 @@ typedef struct gk_tsrc {
 #include "simd_instance_begin.h"
 #include "demosaic_pan_guard_kern.inc"
 #include "simd_instance_end.h"
+#endif
 
 /* one instruction-set level's kernels */
 typedef struct gk_fns {
@@ -127,7 +129,14 @@ typedef struct gk_fns {
 		    gk_mix2t_##s, gk_gmix_##s, gk_vtent2_##s, gk_htent2_##s, gk_wsel1x2_##s        \
 	}
 
+#ifdef PC_CPU_X86
 static const gk_fns gk_base = GK_FNS(base), gk_avx2 = GK_FNS(avx2), gk_avx512 = GK_FNS(avx512);
+#else
+/* other processors have the generic instance only */
+static const gk_fns gk_base = GK_FNS(base);
+#define gk_avx2   gk_base
+#define gk_avx512 gk_base
+#endif
 
 /* rows kept per ring: E and P̃, ρ span at most 12 and 10 rows around a block row (its
  * samples' neighbours ±4, P̃'s ±2 more); the output rows' tents read 4 block rows */

@@ -42,6 +42,7 @@ static void row_bilinear(pc_cpu_level l, const float *a, const float *b, const f
 #endif
 		stokes_row_base(a, b, c, w, k1, k2, exact, o, 0);
 	(void)l;
+	(void)nt; /* streaming stores: x86 instances only */
 }
 
 static void row_bilinear_cal(pc_cpu_level l, const float *a, const float *b, const float *c,
@@ -57,6 +58,7 @@ static void row_bilinear_cal(pc_cpu_level l, const float *a, const float *b, con
 #endif
 		stokes_row_cal_base(a, b, c, w, P, xkind, exact, o, 0);
 	(void)l;
+	(void)nt; /* streaming stores: x86 instances only */
 }
 
 static void row_bilinear_vec(pc_cpu_level l, const float *const H[3], uint32_t w, int exact,
@@ -71,6 +73,7 @@ static void row_bilinear_vec(pc_cpu_level l, const float *const H[3], uint32_t w
 #endif
 		stokes_row_vec_base(H, w, exact, o, 0, pf);
 	(void)l;
+	(void)nt; /* streaming stores: x86 instances only */
 }
 
 static void row_vec_h(pc_cpu_level l, const float *const r[3], uint32_t w, float *h)
@@ -175,6 +178,7 @@ static void row_channels(pc_cpu_level l, const float *const ch[4], uint32_t w,
 	}
 #endif
 	(void)l;
+	(void)nt; /* streaming stores: x86 instances only */
 	if (P)
 		stokes4_row_cal_base(ch[0], ch[1], ch[2], ch[3], w, P, xkind, o, 0);
 	else
