@@ -1142,7 +1142,12 @@ static int quantise(const pc_calib *cal, const float *src, size_t stride, bool b
 		unsigned g = by_channel ? pc_mosaic_channel(&cal->geo.mosaic, (unsigned)(p % W),
 		                                            (unsigned)(p / W))
 		                        : 0;
-		amax = fmax(amax, fabs(src[stride * p] - base[g]));
+		/* a comparison, not fmax: the same maximum of these finite values (checked above),
+		 * and GCC 12.2 for AArch64 crashes vectorising the fmax reduction at -O3
+		 * (internal compiler error in vect_transform_reduction) */
+		const double dv = fabs(src[stride * p] - base[g]);
+		if (dv > amax)
+			amax = dv;
 	}
 	/* just above max/32767, so that the largest deviation rounds inside the range */
 	*scale = (float)(amax / 32767 * (1 + 1e-6));

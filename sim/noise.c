@@ -55,7 +55,9 @@ static double poisson_pixel(uint64_t seed, const uint32_t ctr0[4], double mu, co
 }
 
 /* poisson_pixel for a pixel whose first `done` PTRS attempts (block 0 words 0–1, then the
- * continuation's words in pairs from block 1) were rejected: attempt done + 1 onwards. */
+ * continuation's words in pairs from block 1) were rejected: attempt done + 1 onwards. Only the
+ * x86 vector kernels (noise_kern.inc) call it. */
+#ifdef PC_NOISE_X86
 static double poisson_after(uint64_t seed, const uint32_t ctr0[4], double mu, int done)
 {
 	pc_ptrs p;
@@ -80,6 +82,7 @@ static double poisson_after(uint64_t seed, const uint32_t ctr0[4], double mu, in
 			return k;
 	}
 }
+#endif
 
 static inline void frame_ctr(const pc_frame_args *a, uint32_t i, uint32_t ctr[4])
 {
