@@ -57,14 +57,25 @@ static int level_from_cpuinfo(void)
 #endif
 }
 
-/* pc_cpu_active() of a fresh process of this program with POLARCAM_CPU = value (NULL: unset). */
+/* pc_cpu_active() of a fresh process of this program with POLARCAM_CPU = value (NULL: unset).
+ * A cross build's tests run under an emulator (tests/CMakeLists.txt), and so must this program's
+ * child: $PC_TEST_EMULATOR, its words separated by spaces, goes before it. */
 static int level_in_child(const char *self, const char *value)
 {
 	if (value)
 		setenv("POLARCAM_CPU", value, 1);
 	else
 		unsetenv("POLARCAM_CPU");
-	char *argv[] = {(char *)self, (char *)"--print-level", NULL};
+	char *argv[16], emu[256] = "";
+	int n = 0;
+	const char *e = getenv("PC_TEST_EMULATOR");
+	if (e)
+		snprintf(emu, sizeof emu, "%s", e);
+	for (char *t = strtok(emu, " "); t && n < 13; t = strtok(NULL, " "))
+		argv[n++] = t;
+	argv[n++] = (char *)self;
+	argv[n++] = (char *)"--print-level";
+	argv[n] = NULL;
 	pid_t pid = pc_child_spawn(argv, -1, NULL);
 	int st = pc_child_wait(pid, 30000, NULL);
 	unsetenv("POLARCAM_CPU");
