@@ -10,7 +10,7 @@
 #                     SECONDS (default 600) from its corpus (tests/fuzz/README.md)
 #   ./do cross        build for AArch64 (64-bit ARM) with Debian's cross compiler and the arm64
 #                     libraries (adds dpkg's arm64 architecture), run the test suite under
-#                     qemu-aarch64 (build-aarch64/; not part of ./do test: about 40 minutes)
+#                     qemu-aarch64 (build-aarch64/; not part of ./do test: about half an hour)
 #   ./do format-check list the files that differ from .clang-format (exit 1 if any)
 #   ./do format       reformat them in place
 #   ./do deps [test]  only install the Debian packages
@@ -157,7 +157,7 @@ case $cmd in
     install_pkgs $(printf '%s:arm64 ' $CROSS_ARM64_PKGS)
     build build-aarch64 -DCMAKE_TOOLCHAIN_FILE="$PWD/cmake/toolchain-aarch64.cmake" \
       -DPC_WITH_ARAVIS=OFF -DPC_WITH_LIBUSB=OFF -DPC_WITH_OPENCV=OFF -DPC_WITH_PYTHON=OFF \
-      -DPC_WITH_LIBCAMERA=OFF
+      -DPC_WITH_LIBCAMERA=OFF -DPC_WERROR=ON
     say "running the tests under qemu-aarch64 (build-aarch64/)"
     ctest --test-dir build-aarch64 -j "$JOBS" --timeout 2400 -E "$CROSS_SKIP" --output-on-failure
     say "AArch64 build: all tests passed under qemu-aarch64"

@@ -406,7 +406,7 @@ static void test_help_examples_all(void)
 	CHECK(ncmd >= 15);
 	for (int c = 0; c < ncmd; c++) {
 		char a[128];
-		snprintf(a, sizeof a, "%s --help", names[c]);
+		snprintf(a, sizeof a, "%.31s --help", names[c]);
 		CHECK_EQ_INT(run(a), 0);
 		char *h = slurp(tmp("out.txt"), NULL);
 		char *ex = h ? strstr(h, "\nexamples:\n") : NULL;
@@ -419,7 +419,7 @@ static void test_help_examples_all(void)
 			if (nl)
 				*nl = '\0';
 			char want[64];
-			snprintf(want, sizeof want, "  polarcam %s ", names[c]);
+			snprintf(want, sizeof want, "  polarcam %.31s ", names[c]);
 			bool ok = !strncmp(e, want, strlen(want)) ||
 			          !strcmp(e + 2, want + 2 + 0) /* no arguments */ ||
 			          (strlen(e) == strlen(want) - 1 && !strncmp(e, want, strlen(e)));
