@@ -42,6 +42,10 @@ CROSS_HOST_PKGS="cmake pkg-config gcc-aarch64-linux-gnu g++-aarch64-linux-gnu qe
 CROSS_ARM64_PKGS="libc6-dev libgomp1 libstdc++6 libpng-dev libtiff-dev libjansson-dev libcairo2-dev
   nettle-dev libzip-dev liblapack-dev"
 
+# apt-get and dpkg run as root: through sudo for another user
+SUDO=
+[[ $(id -u) == 0 ]] || SUDO=sudo
+
 say() { printf '\033[1m[polarcam]\033[0m %s\n' "$*" >&2; }
 
 install_pkgs() {
@@ -50,12 +54,10 @@ install_pkgs() {
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   ((${#missing[@]})) || return 0
-  local sudo=
-  [[ $(id -u) == 0 ]] || sudo=sudo
   say "installing Debian packages: ${missing[*]}"
-  if ! $sudo apt-get install -y -q --no-install-recommends "${missing[@]}" >/tmp/polarcam-apt.log 2>&1; then
-    $sudo apt-get update -q >>/tmp/polarcam-apt.log 2>&1 || true
-    $sudo apt-get install -y -q --no-install-recommends "${missing[@]}" >>/tmp/polarcam-apt.log 2>&1 ||
+  if ! $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" >/tmp/polarcam-apt.log 2>&1; then
+    $SUDO apt-get update -q >>/tmp/polarcam-apt.log 2>&1 || true
+    $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" >>/tmp/polarcam-apt.log 2>&1 ||
       { tail -20 /tmp/polarcam-apt.log >&2; say "apt-get failed (log: /tmp/polarcam-apt.log)"; exit 1; }
   fi
 }
@@ -146,11 +148,9 @@ case $cmd in
   cross)
     install_pkgs $CROSS_HOST_PKGS
     if ! dpkg --print-foreign-architectures | grep -qx arm64; then
-      sudo=
-      [[ $(id -u) == 0 ]] || sudo=sudo
       say "adding dpkg's arm64 architecture (multiarch) for the arm64 libraries"
-      $sudo dpkg --add-architecture arm64
-      $sudo apt-get update -q >/tmp/polarcam-apt.log 2>&1 ||
+      $SUDO dpkg --add-architecture arm64
+      $SUDO apt-get update -q >/tmp/polarcam-apt.log 2>&1 ||
         { tail -20 /tmp/polarcam-apt.log >&2; say "apt-get update failed"; exit 1; }
     fi
     # shellcheck disable=SC2046
@@ -159,7 +159,7 @@ case $cmd in
       -DPC_WITH_ARAVIS=OFF -DPC_WITH_LIBUSB=OFF -DPC_WITH_OPENCV=OFF -DPC_WITH_PYTHON=OFF \
       -DPC_WITH_LIBCAMERA=OFF -DPC_WERROR=ON
     say "running the tests under qemu-aarch64 (build-aarch64/)"
-    ctest --test-dir build-aarch64 -j "$JOBS" --timeout 2400 -E "$CROSS_SKIP" --output-on-failure
+    ctest --test-dir build-aarch64 -j "$JOBS" -E "$CROSS_SKIP" --output-on-failure
     say "AArch64 build: all tests passed under qemu-aarch64"
     ;;
   format-check)
