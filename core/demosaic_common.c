@@ -1,6 +1,7 @@
 /* The helpers shared by every demosaicking and Stokes kernel (demosaic_common.h). */
 #include "demosaic_common.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdint.h>
@@ -270,21 +271,48 @@ static void row_corrected(const pc_dm_input *in, uint32_t y, float *dst)
 	}
 }
 
+void pc_dm_pf_row(pc_dm_pf *pf, const pc_dm_input *in, uint32_t y)
+{
+	if (y >= in->height) {
+		pf->cur = pf->end = 0;
+		return;
+	}
+	const uintptr_t row = (uintptr_t)(in->data + (size_t)y * in->stride);
+	pf->end = row + (size_t)in->width * pc_dm_type_bytes(in->type);
+	pf->cur = row & ~(uintptr_t)63; /* from the line holding the row's first byte */
+}
+
+unsigned pc_dm_pf_step(pc_dm_pf *pf, unsigned n)
+{
+	unsigned k = 0;
+	for (; k < n && pf->cur < pf->end; k++, pf->cur += 64)
+		__builtin_prefetch((const void *)pf->cur, 0, 3);
+	return k;
+}
+
+unsigned pc_dm_pf_finish(pc_dm_pf *pf)
+{
+	return pc_dm_pf_step(pf, UINT_MAX);
+}
+
 void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst)
+{
+	/* the next row into cache while the caller works on this one: the fast paths convert
+	 * rows in increasing order, one per output row, and a row's first touch of the raw (out
+	 * of cache in a large frame) otherwise stalls on every load (ratio-nr: 9 % of its samples
+	 * in this loop; 0.97x its time with the prefetch, docs/demosaicking.md, Round 30; the
+	 * row-cache methods and pan-lean spread it instead, pc_dm_pf) */
+	pc_dm_pf pf;
+	pc_dm_pf_row(&pf, in, y + 1);
+	pc_dm_pf_finish(&pf);
+	pc_dm_row_convert(in, y, dst);
+}
+
+void pc_dm_row_convert(const pc_dm_input *in, uint32_t y, float *dst)
 {
 	const uint8_t *row = in->data + (size_t)y * in->stride;
 	uint32_t w = in->width;
 	const float k = in->black;
-	/* the next row into cache while the caller works on this one: the fast paths convert
-	 * rows in increasing order, one per output row, and a row's first touch of the raw (out
-	 * of cache in a large frame) otherwise stalls on every load (ratio-nr: 9 % of its samples
-	 * in this loop; 0.97x its time with the prefetch, docs/demosaicking.md, Round 30) */
-	if (y + 1 < in->height) {
-		const uint8_t *nx = row + in->stride;
-		size_t nb = (size_t)w * pc_dm_type_bytes(in->type);
-		for (size_t o = 0; o < nb; o += 64)
-			__builtin_prefetch(nx + o, 0, 3);
-	}
 	if (in->dark || in->gain_inv) {
 		row_corrected(in, y, dst);
 		dst[-1] = dst[w > 1 ? 1 : 0];

@@ -119,6 +119,25 @@ pc_dm_input pc_dm_input_f32(const float *data, uint32_t width, uint32_t height);
  * dst[-1] = row[1], dst[w] = row[w-2] (dst must have room for both). */
 void pc_dm_row_to_float(const pc_dm_input *in, uint32_t y, float *dst);
 
+/* pc_dm_row_to_float without its prefetch of row y + 1: for callers that fetch the raw's rows
+ * ahead themselves (pc_dm_pf, pan-lean's output row) */
+void pc_dm_row_convert(const pc_dm_input *in, uint32_t y, float *dst);
+
+/* A raw row's prefetch spread over the work between two row conversions (docs/demosaicking.md,
+ * Round 36): pc_dm_row_to_float's prefetch of the whole next row at once issues about 80 misses
+ * to memory in a burst, and the core waits for them (a raw frame is read from memory once);
+ * issued a few lines at a time between the kernels' passes, they complete while the kernels
+ * work. pc_dm_pf_row aims the cursor at the first 64-byte line of row y (nothing past the last
+ * row), pc_dm_pf_step issues up to n more of the row's lines, pc_dm_pf_finish the rest; each
+ * returns the lines it issued. */
+typedef struct pc_dm_pf {
+	uintptr_t cur, end; /* addresses: cur may lie before the raw's buffer (its first line) */
+} pc_dm_pf;
+
+void pc_dm_pf_row(pc_dm_pf *pf, const pc_dm_input *in, uint32_t y);
+unsigned pc_dm_pf_step(pc_dm_pf *pf, unsigned n);
+unsigned pc_dm_pf_finish(pc_dm_pf *pf);
+
 /* The whole raw minus the black level as floats (row stride w; the colour methods' input) or
  * doubles (the references' input), C order, through pc_view_to_f32 (integer samples above the
  * format's bit depth: PC_ERANGE naming the pixel). Free with free(). */

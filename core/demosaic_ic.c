@@ -161,7 +161,12 @@ struct rcache {
 	float *rows[RC_MAX_K][RC_MAX_PLANES];
 	rc_fill_fn fill;
 	void *ctx;
+	pc_dm_pf *pf; /* the band's raw-row prefetch, stepped at each access (NULL: none) */
 };
+
+/* raw-row lines prefetched at each rc_get (the band's cursor, fill_raw): about 80 lines a
+ * 2448-column 16-bit row, 10–40 rc_get calls an output row */
+#define RC_PF_LINES 8
 
 static int rc_init(rcache *c, int k, int planes, int pad, long w, int h, rc_fill_fn fill, void *ctx)
 {
@@ -203,6 +208,8 @@ static void pad_row(float *row, long w, int pad)
 /* The plane rows of image row y (mirrored into [0, h)), computed if needed. */
 static float *const *rc_get(rcache *c, int y)
 {
+	if (c->pf)
+		pc_dm_pf_step(c->pf, RC_PF_LINES);
 	int sy = pc_mirror(y, c->h);
 	int victim = 0;
 	for (int i = 0; i < c->k; i++) {
@@ -253,12 +260,17 @@ typedef struct ic_band {
 	                  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
 	float *tmp; /* scratch rows */
+	/* the raw row after the last one converted, prefetched a few lines at each rc_get of any
+	 * cache (pc_dm_pf; docs/demosaicking.md, Round 36) */
+	pc_dm_pf pf;
 } ic_band;
 
 static void fill_raw(rcache *c, int y, float *const *rows)
 {
 	ic_band *b = c->ctx;
-	pc_dm_row_to_float(b->in, (uint32_t)y, rows[0]);
+	pc_dm_pf_finish(&b->pf); /* what the accesses since the last conversion left */
+	pc_dm_row_convert(b->in, (uint32_t)y, rows[0]);
+	pc_dm_pf_row(&b->pf, b->in, (uint32_t)y + 1);
 }
 
 static void fill_p0(rcache *c, int y, float *const *rows)
@@ -525,11 +537,21 @@ typedef struct ic_job {
 	int ntil; /* an interleaved output streamed (pc_dm_stream_wanted_il) */
 } ic_job;
 
+/* The band's row caches (every one, initialised or not) into all; returns their number */
+#define BAND_NCACHES 14
+static size_t band_caches(ic_band *b, rcache *all[BAND_NCACHES])
+{
+	rcache *const c[BAND_NCACHES] = {&b->raw,    &b->p0,    &b->ppi,  &b->guide, &b->out1,
+	                                 &b->guide2, &b->s1.ab, &b->s1.t, &b->s2.ab, &b->s2.t,
+	                                 &b->rq1,    &b->rg2,   &b->rq2,  &b->rout};
+	memcpy(all, c, sizeof c);
+	return BAND_NCACHES;
+}
+
 static void free_band(ic_band *b)
 {
-	rcache *all[] = {&b->raw,  &b->p0,    &b->ppi,  &b->guide, &b->out1, &b->guide2, &b->s1.ab,
-	                 &b->s1.t, &b->s2.ab, &b->s2.t, &b->rq1,   &b->rg2,  &b->rq2,    &b->rout};
-	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+	rcache *all[BAND_NCACHES];
+	for (size_t i = 0, n = band_caches(b, all); i < n; i++)
 		rc_free(all[i]);
 	gf_stage *st[2] = {&b->s1, &b->s2};
 	for (int i = 0; i < 2; i++) {
@@ -635,6 +657,9 @@ static int setup_band(ic_band *b, const ic_job *j)
 	default:
 		break;
 	}
+	rcache *all[BAND_NCACHES];
+	for (size_t i = 0, n = band_caches(b, all); i < n; i++)
+		all[i]->pf = &b->pf;
 	return fail ? -1 : 0;
 }
 

@@ -1192,6 +1192,9 @@ typedef struct pan_rows {
 	uint32_t xs, gl, gh;
 	int npad;
 	int pad_dst[3 * PAN_PADR], pad_src[3 * PAN_PADR];
+	/* pan_row_strip: 1 when the caller fetches the raw's rows ahead itself (pan-lean's output
+	 * row), so the conversion does not prefetch the next row too (pc_dm_row_convert) */
+	int own_pf;
 } pan_rows;
 
 static const float *pan_row(pan_rows *c, const pc_dm_input *in, int y)
@@ -1219,7 +1222,10 @@ static const float *pan_row_strip(pan_rows *c, const pc_dm_input *in, int y)
 		sub.width = c->gh - c->gl;
 		float *dl = d + ((long)c->gl - (long)c->xs), *lo = dl - 1, *hi = dl + sub.width;
 		const float keep_lo = *lo, keep_hi = *hi;
-		pc_dm_row_to_float(&sub, (uint32_t)y, dl);
+		if (c->own_pf)
+			pc_dm_row_convert(&sub, (uint32_t)y, dl);
+		else
+			pc_dm_row_to_float(&sub, (uint32_t)y, dl);
 		*lo = keep_lo;
 		*hi = keep_hi;
 		for (int i = 0; i < c->npad; i++)
@@ -1657,6 +1663,10 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 	/* the strip's raw rows: the frame's columns [xs − PAN_PADR, xs + n + PAN_PADR) inside it
 	 * converted, the others mirrored from them */
 	rc.xs = xs;
+	/* pan-lean's output row prefetches the raw row its next source row converts, a line at a
+	 * time (pan_gorow's a->pf); a burst of the whole row at its conversion waited on memory
+	 * (docs/demosaicking.md, Round 36) */
+	rc.own_pf = j->guided == 5;
 	rc.gl = xs > PAN_PADR ? xs - PAN_PADR : 0;
 	rc.gh = xs + (uint32_t)n + PAN_PADR < j->w ? xs + (uint32_t)n + PAN_PADR : j->w;
 	rc.npad = 0;
