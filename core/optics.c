@@ -132,6 +132,22 @@ void pc_fresnel_eval(double n, double k, double cos_beta, double sin2_beta, pc_f
 		pc_fresnel_eval_scaled(n, k, cos_beta, sin2_beta, out);
 		return;
 	}
+	/* ñ near 1 (|ñ² − 1| < 2^-10): w ≈ cosβ and ñ² cosβ ≈ w, so both numerators above cancel,
+	 * losing as many bits as ñ² is close to 1 (ñ = 1 − 1e-20 i at β = 0.3 gave |r_s| ≈ 1e-17 of
+	 * rounding instead of 5.5e-21). There, with cos²β + sin²β = 1, the numerators multiplied by
+	 * their conjugates: cosβ − w = (1 − ñ²)/(cosβ + w) and ñ² cosβ − w = (ñ² − 1)(ñ² cos²β −
+	 * sin²β)/(ñ² cosβ + w), with t = ñ² − 1 = (n − 1)(n + 1) − k² − 2ink (n − 1 exact there):
+	 * r_s = −t/(cosβ + w)², r_p = t (ñ² cos²β − sin²β)/(ñ² cosβ + w)², the relative precision
+	 * of t itself. The second factor of r_p vanishes at Brewster's angle, as r_p does. */
+	const double tr = (n - 1) * (n + 1) - k * k, ti = ei;
+	if (fabs(tr) + fabs(ti) < 0x1p-10) {
+		nr = -(tr * dr + ti * di) / d2; /* −t / (c + w) = −t·conj(c + w)/|c + w|² */
+		ni = -(ti * dr - tr * di) / d2;
+		const double ur = er * c * c - sin2_beta, ui = ei * c * c; /* ñ² c² − sin²β */
+		const double vr = tr * ur - ti * ui, vi = tr * ui + ti * ur; /* t·(ñ² c² − sin²β) */
+		pnr = (vr * pdr + vi * pdi) / p2;
+		pni = (vi * pdr - vr * pdi) / p2;
+	}
 	double inv = 1.0 / d2;
 	out->rs_re = (nr * dr + ni * di) * inv;
 	out->rs_im = (ni * dr - nr * di) * inv;

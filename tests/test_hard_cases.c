@@ -78,6 +78,9 @@ static void test_fresnel_extreme(void)
 				 * and at grazing with n = 1 both are 0/0: only finite values with
 				 * |r| <= 1 */
 				const double nn = ns[a], sb = sqrt(s2);
+				if (fabs((nn - 1) * (nn + 1) - ks[b] * ks[b]) + 2 * nn * ks[b] <
+				    0x1p-10)
+					continue; /* ñ near 1: test_fresnel_near_one */
 				if ((ks[b] == 0 && fabs(nn - sb) <= 1e-6 * fmax(nn, sb)) ||
 				    (c == 0 && nn == 1 && ks[b] == 0)) {
 					CHECK(hypot(r.rs_re, r.rs_im) <= 1 + 1e-12 &&
@@ -103,6 +106,58 @@ static void test_fresnel_extreme(void)
 			}
 	printf("Fresnel at extreme indices: %d cases, worst difference from long double %.2g\n",
 	       n_cases, worst);
+}
+
+/* ñ near 1: r_s and r_p go to 0 with t = ñ² − 1, and must keep their relative precision, not an
+ * absolute 1e-17 of rounding (physics-notes.md, "ñ near 1"). References: for |t| <= 2e-12 the
+ * first order in t of physics.md §2's formulas (w = cosβ·sqrt(1 + t/cos²β) ≈ cosβ + t/(2cosβ)):
+ * r_s = −t/(4cos²β), r_p = t·cos 2β/(4cos²β), relative error O(t/cos²β); for |t| >= 2e-8 the
+ * formulas in long double, whose cancellation costs 1e-19 absolute against |r| >= 4e-9.
+ * Tolerance 1e-9 of |r| (the larger of the two). test_fresnel_extreme leaves these ñ out: its
+ * long-double reference and absolute tolerance cannot see an error of 1e-17 in an r of 1e-180. */
+static void test_fresnel_near_one(void)
+{
+	static const double nk[][2] = {{1, 1e-160},      {1, 1e-20}, {1 + 0x1p-40, 0},
+	                               {1 - 0x1p-40, 0}, {1, 1e-8},  {1 + 1e-8, 1e-8},
+	                               {1.0001, 1e-5}};
+	/* cosines whose cos² + sin² is exactly 1 in double, so that the references see the same β
+	 * as the code (a pair off by an ulp moves w by about that ulp, more than |t| here) */
+	static const double cosines[] = {1, 0.75, 0.5, 0.25, 0.0625};
+	double worst = 0;
+	for (size_t a = 0; a < sizeof nk / sizeof nk[0]; a++)
+		for (size_t g = 0; g < sizeof cosines / sizeof cosines[0]; g++) {
+			const double n = nk[a][0], k = nk[a][1], c = cosines[g], s2 = 1 - c * c;
+			pc_fresnel r;
+			pc_fresnel_eval(n, k, c, s2, &r);
+			/* t = ñ² − 1 exactly enough: (n − 1)(n + 1) − k² − 2ink */
+			const long double tr = (long double)(n - 1) * ((long double)n + 1) -
+			                       (long double)k * k,
+			                  ti = -2.0L * n * k;
+			long double complex t = tr + ti * I, rs, rp;
+			if (cabsl(t) <= 2e-12L) {
+				const long double cc = (long double)c * c;
+				rs = -t / (4 * cc);
+				rp = t * (cc - (long double)s2) / (4 * cc);
+			} else {
+				fresnel_ref(n, k, c, s2, &rs, &rp);
+			}
+			const double scale = (double)fmaxl(cabsl(rs), cabsl(rp));
+			const double e = fmax(fmax(fabs(r.rs_re - (double)creall(rs)),
+			                           fabs(r.rs_im - (double)cimagl(rs))),
+			                      fmax(fabs(r.rp_re - (double)creall(rp)),
+			                           fabs(r.rp_im - (double)cimagl(rp)))) /
+			                 scale;
+			const bool ok = scale > 0 && e <= 1e-9;
+			CHECK(ok);
+			if (!ok)
+				fprintf(stderr,
+				        "  n=%.17g k=%g cos=%g: rs=(%g,%g) rp=(%g,%g), reference "
+				        "rs=(%Lg,%Lg) rp=(%Lg,%Lg)\n",
+				        n, k, c, r.rs_re, r.rs_im, r.rp_re, r.rp_im, creall(rs),
+				        cimagl(rs), creall(rp), cimagl(rp));
+			worst = fmax(worst, e);
+		}
+	printf("Fresnel near n~ = 1: worst relative difference %.2g\n", worst);
 }
 
 static pc_pbrdf *make(double n, double k, double sigma, pc_diffuse d)
@@ -176,6 +231,28 @@ static void test_pbrdf_limits(void)
 		long double complex x = rs * conjl(rp);
 		check_specular("sigma = 1e-20", 1.5, 0, 1e-20, th, 0.5 * (Rs + Rp), 0.5 * (Rs - Rp),
 		               (double)creall(x), (double)cimagl(x));
+	}
+	/* ñ = 1 − 1e-160 i at normal incidence: r_s = −r_p = ik/(2 − ik), a = k²/(4 + k²)
+	 * = 2.5e-321 is subnormal (four significant digits), but under a lobe of σ = 1e-9 (K =
+	 * 4e16) the matrix K·a·diag(1, 1, −1, −1) is normal and must be exact to rounding (it
+	 * was 1.1e-5 off before pc_facet_abcs_e): K·a computed here on k·2^530 */
+	{
+		const double k = 1e-160, sigma = 1e-9;
+		const double ks = ldexp(k, 530);
+		const double Ka = ldexp(ks * ks / (4 + k * k) / (8 * PC_PI * sigma * sigma), -1060);
+		pc_pbrdf *p = make(1, k, sigma, PC_DIFFUSE_NONE);
+		double f[4][4];
+		CHECK_EQ_INT(pc_pbrdf_eval_deg(p, 0, 0, 180, f), 0);
+		double e = 0;
+		for (int i = 0; i < 4; i++)
+			for (int j = 0; j < 4; j++)
+				e = fmax(e, fabs(f[i][j] - (i == j ? (i < 2 ? Ka : -Ka) : 0)));
+		printf(
+		    "pBRDF with subnormal Fresnel products: f00 %.17g, want %.17g, worst %.2g of "
+		    "it\n",
+		    f[0][0], Ka, e / Ka);
+		CHECK(Ka > DBL_MIN && e <= 1e-13 * Ka);
+		pc_pbrdf_free(p);
 	}
 	/* the smallest σ accepted is finite at its peak; below it a refusal naming sigma */
 	check_specular("sigma = SIGMA_MIN", 1.5, 0, PC_PBRDF_SIGMA_MIN, 0, 0.04, 0, -0.04, 0);
@@ -412,6 +489,7 @@ static void test_sincos_deg(void)
 int main(void)
 {
 	test_fresnel_extreme();
+	test_fresnel_near_one();
 	test_pbrdf_limits();
 	test_pbrdf_finite_sweep();
 	test_decompose_scaled();
