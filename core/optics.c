@@ -132,15 +132,21 @@ void pc_fresnel_eval(double n, double k, double cos_beta, double sin2_beta, pc_f
 		pc_fresnel_eval_scaled(n, k, cos_beta, sin2_beta, out);
 		return;
 	}
-	/* ñ near 1 (|ñ² − 1| < 2^-10): w ≈ cosβ and ñ² cosβ ≈ w, so both numerators above cancel,
-	 * losing as many bits as ñ² is close to 1 (ñ = 1 − 1e-20 i at β = 0.3 gave |r_s| ≈ 1e-17 of
-	 * rounding instead of 5.5e-21). There, with cos²β + sin²β = 1, the numerators multiplied by
-	 * their conjugates: cosβ − w = (1 − ñ²)/(cosβ + w) and ñ² cosβ − w = (ñ² − 1)(ñ² cos²β −
-	 * sin²β)/(ñ² cosβ + w), with t = ñ² − 1 = (n − 1)(n + 1) − k² − 2ink (n − 1 exact there):
-	 * r_s = −t/(cosβ + w)², r_p = t (ñ² cos²β − sin²β)/(ñ² cosβ + w)², the relative precision
-	 * of t itself. The second factor of r_p vanishes at Brewster's angle, as r_p does. */
+	/* ñ near 1 against the angle (|ñ² − 1| < 2^-10 cos²β): w = sqrt(cos²β + ñ² − 1) ≈ cosβ and
+	 * ñ² cosβ ≈ w, so both numerators above cancel, losing as many bits as ñ² is close to 1
+	 * (ñ = 1 − 1e-20 i at β = 0.3 gave |r_s| ≈ 1e-17 of rounding instead of 5.5e-21). There,
+	 * with cos²β + sin²β = 1, the numerators multiplied by their conjugates: cosβ − w = (1 −
+	 * ñ²)/ (cosβ + w) and ñ² cosβ − w = (ñ² − 1)(ñ² cos²β − sin²β)/(ñ² cosβ + w), with t = ñ² −
+	 * 1 = (n − 1)(n + 1) − k² − 2ink (n − 1 exact there): r_s = −t/(cosβ + w)², r_p = t (ñ²
+	 * cos²β − sin²β)/(ñ² cosβ + w)², the relative precision of t itself; |r| < 2^-10. The
+	 * second factor of r_p vanishes at Brewster's angle, as r_p does. Nearer the critical angle
+	 * or beyond it
+	 * (|t| ≥ 2^-10 cos²β) w is not near cosβ and the direct form has no cancellation; there it
+	 * also keeps |r| = 1 of total reflection exactly (numerator and denominator of one
+	 * modulus), which the identity, rounded against t, would not (fuzz_physics: |r| > 1 + 1e-12
+	 * at n = 0.99995, sinβ = 0.99998). */
 	const double tr = (n - 1) * (n + 1) - k * k, ti = ei;
-	if (fabs(tr) + fabs(ti) < 0x1p-10) {
+	if (fabs(tr) + fabs(ti) < 0x1p-10 * c * c) {
 		nr = -(tr * dr + ti * di) / d2; /* −t / (c + w) = −t·conj(c + w)/|c + w|² */
 		ni = -(ti * dr - tr * di) / d2;
 		const double ur = er * c * c - sin2_beta, ui = ei * c * c; /* ñ² c² − sin²β */

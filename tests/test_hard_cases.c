@@ -109,20 +109,22 @@ static void test_fresnel_extreme(void)
 }
 
 /* ñ near 1: r_s and r_p go to 0 with t = ñ² − 1, and must keep their relative precision, not an
- * absolute 1e-17 of rounding (physics-notes.md, "ñ near 1"). References: for |t| <= 2e-12 the
+ * absolute 1e-17 of rounding (physics-notes.md, "ñ near 1"), and |r| <= 1 (n = 1 − 2^-14 at
+ * cosβ = 2^-8 is beyond its critical angle: |r| = 1). References: where |t| <= 5e-10 cos²β the
  * first order in t of physics.md §2's formulas (w = cosβ·sqrt(1 + t/cos²β) ≈ cosβ + t/(2cosβ)):
- * r_s = −t/(4cos²β), r_p = t·cos 2β/(4cos²β), relative error O(t/cos²β); for |t| >= 2e-8 the
- * formulas in long double, whose cancellation costs 1e-19 absolute against |r| >= 4e-9.
- * Tolerance 1e-9 of |r| (the larger of the two). test_fresnel_extreme leaves these ñ out: its
- * long-double reference and absolute tolerance cannot see an error of 1e-17 in an r of 1e-180. */
+ * r_s = −t/(4cos²β), r_p = t·cos 2β/(4cos²β), relative error O(t/cos²β); elsewhere (|t| >=
+ * 1.2e-7 cos²β in this set) the formulas in long double, whose cancellation costs about 1e-19
+ * absolute against |r| >= 3e-8. Tolerance 1e-9 of |r| (the larger of the two). test_fresnel_extreme
+ * leaves these ñ out: its long-double reference and absolute tolerance cannot see an error of 1e-17
+ * in an r of 1e-180. */
 static void test_fresnel_near_one(void)
 {
-	static const double nk[][2] = {{1, 1e-160},      {1, 1e-20}, {1 + 0x1p-40, 0},
-	                               {1 - 0x1p-40, 0}, {1, 1e-8},  {1 + 1e-8, 1e-8},
-	                               {1.0001, 1e-5}};
+	static const double nk[][2] = {{1, 1e-160},      {1, 1e-20},      {1 + 0x1p-40, 0},
+	                               {1 - 0x1p-40, 0}, {1, 1e-8},       {1 + 1e-8, 1e-8},
+	                               {1.0001, 1e-5},   {1 - 0x1p-14, 0}};
 	/* cosines whose cos² + sin² is exactly 1 in double, so that the references see the same β
 	 * as the code (a pair off by an ulp moves w by about that ulp, more than |t| here) */
-	static const double cosines[] = {1, 0.75, 0.5, 0.25, 0.0625};
+	static const double cosines[] = {1, 0.75, 0.5, 0.25, 0.0625, 0x1p-8};
 	double worst = 0;
 	for (size_t a = 0; a < sizeof nk / sizeof nk[0]; a++)
 		for (size_t g = 0; g < sizeof cosines / sizeof cosines[0]; g++) {
@@ -134,7 +136,7 @@ static void test_fresnel_near_one(void)
 			                       (long double)k * k,
 			                  ti = -2.0L * n * k;
 			long double complex t = tr + ti * I, rs, rp;
-			if (cabsl(t) <= 2e-12L) {
+			if (cabsl(t) <= 5e-10L * c * c) {
 				const long double cc = (long double)c * c;
 				rs = -t / (4 * cc);
 				rp = t * (cc - (long double)s2) / (4 * cc);
@@ -147,7 +149,9 @@ static void test_fresnel_near_one(void)
 			                      fmax(fabs(r.rp_re - (double)creall(rp)),
 			                           fabs(r.rp_im - (double)cimagl(rp)))) /
 			                 scale;
-			const bool ok = scale > 0 && e <= 1e-9;
+			const bool ok = scale > 0 && e <= 1e-9 &&
+			                hypot(r.rs_re, r.rs_im) <= 1 + 1e-12 &&
+			                hypot(r.rp_re, r.rp_im) <= 1 + 1e-12;
 			CHECK(ok);
 			if (!ok)
 				fprintf(stderr,
@@ -157,7 +161,35 @@ static void test_fresnel_near_one(void)
 				        cimagl(rs), creall(rp), cimagl(rp));
 			worst = fmax(worst, e);
 		}
-	printf("Fresnel near n~ = 1: worst relative difference %.2g\n", worst);
+	/* total reflection for lossless n just below 1, with the angle as callers give it (cos β
+	 * and sin²β rounded apart): |r| = 1 beyond the critical angle, <= 1 before it (fuzz_physics
+	 * found |r| > 1 + 1e-12 at n = 0.99995475313645543, β = 1.5647082477664753) */
+	static const double nl[] = {0.99995475313645543, 1 - 0x1p-14, 1 - 1e-6, 1 - 1e-9};
+	double worst_tir = 0;
+	int n_tir = 0;
+	for (size_t a = 0; a < sizeof nl / sizeof nl[0]; a++) {
+		const double bc = asin(nl[a]);
+		for (int i = -200; i < 400; i++) {
+			const double beta =
+			    i < 0 ? bc * (1 + i * 1e-4) : bc + (PC_PI / 2 - bc) * i / 400;
+			pc_fresnel r;
+			pc_fresnel_eval(nl[a], 0, cos(beta), sin(beta) * sin(beta), &r);
+			const double ms = hypot(r.rs_re, r.rs_im), mp = hypot(r.rp_re, r.rp_im);
+			bool ok = ms <= 1 + 1e-12 && mp <= 1 + 1e-12;
+			if (sin(beta) > nl[a] * (1 + 1e-12)) { /* beyond the critical angle */
+				ok = ok && fabs(ms - 1) <= 1e-12 && fabs(mp - 1) <= 1e-12;
+				worst_tir = fmax(worst_tir, fmax(fabs(ms - 1), fabs(mp - 1)));
+				n_tir++;
+			}
+			CHECK(ok);
+			if (!ok)
+				fprintf(stderr, "  n=%.17g beta=%.17g: |rs|=%.17g |rp|=%.17g\n",
+				        nl[a], beta, ms, mp);
+		}
+	}
+	printf("Fresnel near n~ = 1: worst relative difference %.2g; total reflection: %d angles, "
+	       "|r| within %.2g of 1\n",
+	       worst, n_tir, worst_tir);
 }
 
 static pc_pbrdf *make(double n, double k, double sigma, pc_diffuse d)
