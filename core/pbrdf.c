@@ -90,32 +90,31 @@ static inline void pc_facet_abcs(const pc_pbrdf *p, double cos_b, double sin2_b,
  * below the normal range where |r| < 2^-511 (ñ within about 1e-154 of 1), and a subnormal keeps
  * only its absolute precision 2^-1074: a = 2.5e-321 (k = 1e-160 at normal incidence) has four
  * significant digits, and a narrow lobe (K = 4e16 at σ = 1e-9) carried the error into a normal
- * result, f00 1.1e-5 off. Where max |r| < 2^-500 the coefficients are scaled by 2^-e (exact)
- * before the products, and the caller applies 2^e2 = 2^(2e) after its own factor; elsewhere
- * e2 = 0 and the values are pc_facet_abcs's. */
+ * result, f00 1.1e-5 off. Where a < 2^-1000 the products are formed again on the coefficients
+ * scaled by 2^-e (exact; max |r| brought into [0.5, 1)), and the caller applies 2^e2 = 2^(2e)
+ * after its own factor; elsewhere e2 = 0 and the values are pc_facet_abcs's, at the cost of one
+ * comparison (this is the renderer's inner loop). */
 static inline void pc_facet_abcs_e(const pc_pbrdf *p, double cos_b, double sin2_b, double abcs[4],
                                    int *e2)
 {
 	pc_fresnel r;
 	pc_fresnel_eval(p->m.n, p->m.k, cos_b, sin2_b, &r);
+	pc_fresnel_abcs(&r, abcs);
+	*e2 = 0;
+	if (!(abcs[0] < 0x1p-1000)) /* a = (|r_s|² + |r_p|²)/2 bounds every product */
+		return;
 	const double m =
 	    fmax(fmax(fabs(r.rs_re), fabs(r.rs_im)), fmax(fabs(r.rp_re), fabs(r.rp_im)));
-	int e = 0;
-	if (m > 0 && m < 0x1p-500) {
-		(void)frexp(m, &e);
-		r.rs_re = ldexp(r.rs_re, -e);
-		r.rs_im = ldexp(r.rs_im, -e);
-		r.rp_re = ldexp(r.rp_re, -e);
-		r.rp_im = ldexp(r.rp_im, -e);
-	}
+	if (!(m > 0))
+		return;
+	int e;
+	(void)frexp(m, &e);
+	r.rs_re = ldexp(r.rs_re, -e);
+	r.rs_im = ldexp(r.rs_im, -e);
+	r.rp_re = ldexp(r.rp_re, -e);
+	r.rp_im = ldexp(r.rp_im, -e);
 	pc_fresnel_abcs(&r, abcs);
 	*e2 = 2 * e;
-}
-
-/* x·2^e2 of pc_facet_abcs_e's scaling (x itself where e2 = 0) */
-static inline double pc_unscale(double x, int e2)
-{
-	return e2 ? ldexp(x, e2) : x;
 }
 
 /* ---------------------------------------------------------------------------------------- */
@@ -504,8 +503,10 @@ int pc_pbrdf_eval_vec(const pc_pbrdf *p, const double k_i[3], const double k_r[3
 	}
 	double C1, S1, C2, S2;
 	pc_facet_frames(k_i, k_r, h, hl, s_i, s_r, &C1, &S1, &C2, &S2);
-	double ks[4] = {pc_unscale(K * abcs[0], e2), pc_unscale(K * abcs[1], e2),
-	                pc_unscale(K * abcs[2], e2), pc_unscale(K * abcs[3], e2)};
+	double ks[4] = {K * abcs[0], K * abcs[1], K * abcs[2], K * abcs[3]};
+	if (e2)
+		for (int q = 0; q < 4; q++)
+			ks[q] = ldexp(ks[q], e2);
 	pc_mueller_facet(ks, C1, S1, C2, S2, f);
 	/* Diffuse part (paper eqs. 8–12, physics.md §2): f_d = (1 − ρ^s(θ_i))/π times the facet's
 	 * M00 = a(β), on element (0, 0). ρ^s > 1 (only without shadowing, outside the model's
@@ -513,7 +514,8 @@ int pc_pbrdf_eval_vec(const pc_pbrdf *p, const double k_i[3], const double k_r[3
 	if (p->m.diffuse != PC_DIFFUSE_NONE) {
 		double rho = pc_pbrdf_rho_s_fast(p, ci);
 		if (rho < 1)
-			f[0][0] += pc_unscale((1 - rho) * (1 / PC_PI) * abcs[0], e2);
+			f[0][0] += e2 ? ldexp((1 - rho) * (1 / PC_PI) * abcs[0], e2)
+			              : (1 - rho) * (1 / PC_PI) * abcs[0];
 	}
 	return 0;
 }
