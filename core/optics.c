@@ -132,19 +132,17 @@ void pc_fresnel_eval(double n, double k, double cos_beta, double sin2_beta, pc_f
 		pc_fresnel_eval_scaled(n, k, cos_beta, sin2_beta, out);
 		return;
 	}
-	/* ñ near 1 against the angle (|ñ² − 1| < 2^-10 cos²β): w = sqrt(cos²β + ñ² − 1) ≈ cosβ and
-	 * ñ² cosβ ≈ w, so both numerators above cancel, losing as many bits as ñ² is close to 1
-	 * (ñ = 1 − 1e-20 i at β = 0.3 gave |r_s| ≈ 1e-17 of rounding instead of 5.5e-21). There,
-	 * with cos²β + sin²β = 1, the numerators multiplied by their conjugates: cosβ − w = (1 −
-	 * ñ²)/ (cosβ + w) and ñ² cosβ − w = (ñ² − 1)(ñ² cos²β − sin²β)/(ñ² cosβ + w), with t = ñ² −
-	 * 1 = (n − 1)(n + 1) − k² − 2ink (n − 1 exact there): r_s = −t/(cosβ + w)², r_p = t (ñ²
-	 * cos²β − sin²β)/(ñ² cosβ + w)², the relative precision of t itself; |r| < 2^-10. The
-	 * second factor of r_p vanishes at Brewster's angle, as r_p does. Nearer the critical angle
-	 * or beyond it
-	 * (|t| ≥ 2^-10 cos²β) w is not near cosβ and the direct form has no cancellation; there it
-	 * also keeps |r| = 1 of total reflection exactly (numerator and denominator of one
-	 * modulus), which the identity, rounded against t, would not (fuzz_physics: |r| > 1 + 1e-12
-	 * at n = 0.99995, sinβ = 0.99998). */
+	/* ñ near 1 against the angle, |t| < 2^-10 cos²β with t = ñ² − 1 (docs/physics-notes.md,
+	 * "ñ near 1"). There w = sqrt(cos²β + t) ≈ cosβ and ñ² cosβ ≈ w, so both numerators above
+	 * cancel, losing as many bits as ñ² is close to 1 (ñ = 1 − 1e-20 i at β = 0.3 gave
+	 * |r_s| ≈ 1e-17 of rounding instead of 5.5e-21). Multiplied through by their conjugates,
+	 * with cos²β + sin²β = 1:
+	 *   cosβ − w = −t/(cosβ + w),   ñ² cosβ − w = t·(ñ² cos²β − sin²β)/(ñ² cosβ + w),
+	 * t = (n − 1)(n + 1) − k² − 2ink (n − 1 exact there), so r keeps t's relative precision
+	 * and |r| < 2^-10; the second factor of r_p is its Brewster zero. Nearer the critical angle
+	 * and beyond it w is not near cosβ, the direct form does not cancel, and it keeps |r| = 1
+	 * of total reflection exactly, which the identity form, rounded against t, did not
+	 * (|r| = 1 + 1.2e-12 at n = 0.99995, sinβ = 0.99998: fuzz_physics). */
 	const double tr = (n - 1) * (n + 1) - k * k, ti = ei;
 	if (fabs(tr) + fabs(ti) < 0x1p-10 * c * c) {
 		nr = -(tr * dr + ti * di) / d2; /* −t / (c + w) = −t·conj(c + w)/|c + w|² */

@@ -1,9 +1,9 @@
 /* libFuzzer harness: `polarcam pbrdf --batch` lines "n k sigma theta_i theta_r phi". Property
  * oracle for every line the CLI would evaluate (θ in [0, 90], a material pc_pbrdf_new accepts):
- * all 16 elements finite, the matrix physically realisable (coherency matrix PSD, physics.md §2:
- * a sum of pure Jones matrices and a depolariser) where f00 is a normal double, and Lu–Chipman
- * of it gives D and Δ in [0, 1] up to rounding. The material options come from the first byte (ρ^s
- * orders kept small so that an execution stays fast). */
+ * all 16 elements finite; where f00 is a normal double, the matrix physically realisable
+ * (coherency matrix PSD, physics.md §2: a sum of pure Jones matrices and a depolariser) and
+ * Lu–Chipman of it giving D and Δ in [0, 1] up to rounding. The material options come from the
+ * first byte (ρ^s orders kept small so that an execution stays fast). */
 #include <float.h>
 #include <math.h>
 
