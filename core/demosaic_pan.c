@@ -82,6 +82,8 @@ typedef struct pan_dlat_args {
 	int full[4], rl[4][2], gt[2][2], gl[2][2][2], lq[16];
 	const float *osel[12];
 	const float *r0, *rn, *rs, *gsel;
+	const float *base; /* the lattice sums' start: a row read at x & bmask (pan_dorow) */
+	long bmask;
 } pan_dlat_args;
 
 /* pan_dorow runs its six passes (four red-or-blue row phases, two green groups) on strips of
@@ -1073,7 +1075,9 @@ typedef void (*pan_dvar_fn)(const float *const c[2], const float *const p[2], lo
                             float *dh, float *dv);
 typedef void (*pan_dbox_fn)(const float *dh, const float *dv, long n, float *bh, float *ba);
 typedef void (*pan_dgam_fn)(const pan_dlat_args *a, const float *const hb[4][3], const float *raw,
-                            long x0, long x1, float delta, float *const g[5]);
+                            long x0, long x1, float delta, float *const g[5], float *bs);
+typedef void (*pan_dratio_fn)(const float *vs, const float *raw, long x0, long n, float delta,
+                              float *rho, float *rho1);
 typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const g[5], const float *raw,
                              long x0, long x1, float delta, float *const out[12], long xo, int nt);
 typedef void (*fact_gwrows_fn)(const float *const hw[2], const float *const ww[2],
@@ -1132,6 +1136,7 @@ typedef struct pan_kern {
 	pan_gorow_fn lgorow;
 	pan_lwin_fn lwin;
 	pan_shue_fn lshue;
+	pan_dratio_fn dratio;
 } pan_kern;
 
 /* One instance's kernels, in pan_kern's order (S: base, avx2, avx512). */
@@ -1145,7 +1150,7 @@ typedef struct pan_kern {
 		    pan_dorow_##S, fact_gwrows_##S, fact_bsum_##S, fact_taps_##S, fact_chroma_##S, \
 		    fact_box_##S, fact_gam_##S, fact_m_##S, fact_ppi2_##S, fact_orow_##S,          \
 		    pan_lfach_##S, pan_lfacv_##S, pan_lhrows_##S, pan_lgorow_##S, pan_lwin_##S,    \
-		    pan_lshue_##S                                                                  \
+		    pan_lshue_##S, pan_dratio_##S                                                  \
 	}
 
 static pan_kern pan_kernels(pc_cpu_level level)
@@ -1998,9 +2003,10 @@ static int pan_run(const pc_dm_input *in, const pc_mosaic *m, double fs, int thr
 
 /* ---- pan-dir's fast path ----
  *
- * The same source rows as pan-ratio's (ratio rows ρ, kept in a ring of 8 with, for each column
- * phase s, the hold row of s: pan_dwrows, and the row's linear interpolation between its samples
- * of phase s: pan_dprows). A tent of half-width 4 on a lattice of spacing 4 is linear
+ * The same source rows as pan-ratio's (ratio rows ρ, kept in a ring of 8 beside rows of
+ * ρ' = ρ − 1 (pan_dratio), with, for each column phase s, the hold row of s of ρ': pan_dwrows,
+ * and the row's linear interpolation between its samples of phase s: pan_dprows; ρ' keeps the
+ * black exact, pan_dgam). A tent of half-width 4 on a lattice of spacing 4 is linear
  * interpolation between the two nearest lattice samples (one where the pixel is on the
  * lattice), so each lattice's five candidates at a pixel are functions of its four corner
  * samples and its two rows' interpolations: C bilinear, W and E along the west and east
@@ -2161,6 +2167,8 @@ static void pan_dout_args(const pan_job *j, const pan_tables *t, const pan_dtabl
 	a->r0 = rr[Y & 7];
 	a->rn = rr[(Y - 2) & 7];
 	a->rs = rr[(Y + 2) & 7];
+	a->base = dt->zero; /* pan-fact's; pan_dir_band sets pan_dgam's row */
+	a->bmask = 0;
 }
 
 /* one variation of pan_dvar at x (vert: against the row above p, else against column x − 1) */
@@ -2202,8 +2210,8 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 	/* rows: vs, rawp, the raw row of the output; 21 of source scratch and cache; 8 × (ρ, 4
 	 * hold rows, 2 + 2 column-pair rows, 4 interpolated rows); 2 × 4 × 2 chromaticities (red's,
 	 * green's of W, E, N, S); dh, dv; 4 × 4 × 2 boxes (bh, ba); 5 blend weights; 12 output
-	 * rows */
-	const size_t nrows = 3 + 21 + 104 + 16 + 2 + 32 + 5 + 12;
+	 * rows; 8 rows of ρ' (beside ρ's); the base row */
+	const size_t nrows = 3 + 21 + 104 + 16 + 2 + 32 + 5 + 12 + 8 + 1;
 	float *buf = pan_dband_scratch(j, nrows, pitch, &t, &dt);
 	if (!buf)
 		return;
@@ -2247,6 +2255,9 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		g[d] = PAN_ROW(178 + d);
 	for (int q = 0; q < 12; q++)
 		o[q] = PAN_ROW(183 + q);
+	float *r1[8], *bs = PAN_ROW(203);
+	for (int k = 0; k < 8; k++)
+		r1[k] = PAN_ROW(195 + k);
 #undef PAN_ROW
 	int have = (int)y0 - 8;                     /* source rows computed: up to have */
 	const int first = y0 > 0 ? (int)y0 - 1 : 0; /* the first row of the first stage */
@@ -2259,8 +2270,8 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 			 * output row y <= yc reads y - 3 .. y + 3) */
 			for (int yy = have + 1 > yc - 4 ? have + 1 : yc - 4; yy <= yc + 3; yy++) {
 				pan_src_sums(j, &K, t, &rc, yy, src, vs, NULL, rawp, n, nmain);
-				K.ratio(vs, rawp, -16, n + 32, j->delta, 0, rr[yy & 7], NULL);
-				K.dwrows(rr[yy & 7], 0, n + 16, dt->tw, hw[yy & 7]);
+				K.dratio(vs, rawp, -16, n + 32, j->delta, rr[yy & 7], r1[yy & 7]);
+				K.dwrows(r1[yy & 7], 0, n + 16, dt->tw, hw[yy & 7]);
 				K.dprows(hw[yy & 7], n, dt->fa, dt->ox, li[yy & 7], hp[yy & 7],
 				         lp[yy & 7]);
 			}
@@ -2298,7 +2309,9 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		}
 		pan_dout_args(j, t, dt, hw, li, rr, (int)y, &a);
 		memcpy(rawo, pan_row(&rc, j->in, (int)y), w * sizeof *rawo);
-		K.dgam(&a, hb, rawo, 0, n, j->delta, g);
+		K.dgam(&a, hb, rawo, 0, n, j->delta, g, bs);
+		a.base = bs;
+		a.bmask = ~0L;
 		const float *gc[5] = {g[0], g[1], g[2], g[3], g[4]};
 		float *dq[12];
 		if (planar) {

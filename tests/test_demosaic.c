@@ -621,19 +621,19 @@ static void test_black_regions(void)
 /* test_black_regions for the colour methods: a colour-polarization raw (IMX250MYR) with the
  * same black half, glints and a coloured polarized texture; each colour's DoLP where its
  * reference S0 is below 1e-3 of full scale, RMS over the three colours within 1e-4 of the
- * reference's (measured at most 1.7e-6, pan-lean), every instance against one reference. Not
- * pan-dir, pan-side, pan-adapt, pan-guard and pan-check, a known limit (none of them is
- * recommended): in an 80 × 56 version of this frame their fast paths were 0.72, 0.018,
- * 0.045-0.053, 0.048-0.056 and 0.030 RMS off their references there (Round 32). pan-dir's fast
- * path gives 1.9e-6 DN (half an ulp of δ) where its reference gives exact zeros; the others
- * ring into the black beside the glints as their references do (down to −12 DN), where S0 is
- * near zero and rounding decides DoLP. */
+ * reference's (measured at most 1.7e-6, pan-lean; 0 for pan-dir), every instance against one
+ * reference. pan-dir's fast path was 0.72 RMS off in an 80 × 56 version of this frame (Round 32):
+ * its linear form gave 1.9e-6 DN (half an ulp of δ) where the reference gives exact zeros, until
+ * Round 38 formed it on ρ − 1 (pan_dgam). Not pan-side, pan-adapt, pan-guard and pan-check, a
+ * known limit (none of them is recommended): 0.018, 0.045-0.053, 0.048-0.056 and 0.030 RMS off
+ * their references there (Round 32); they ring into the black beside the glints as their
+ * references do (down to −12 DN), where S0 is near zero and rounding decides DoLP. */
 static void test_black_regions_colour(void)
 {
 	static const pc_demosaic_method cm[] = {
-	    PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO,
-	    PC_DM_PAN_GUIDED,  PC_DM_PAN_CHROMA, PC_DM_PAN_FACT,
-	    PC_DM_PAN_HUE,     PC_DM_PAN_SPLIT,  PC_DM_PAN_LEAN};
+	    PC_DM_BAYER_FIRST, PC_DM_BAYER_EARI, PC_DM_PAN_RATIO, PC_DM_PAN_GUIDED,
+	    PC_DM_PAN_CHROMA,  PC_DM_PAN_FACT,   PC_DM_PAN_HUE,   PC_DM_PAN_SPLIT,
+	    PC_DM_PAN_LEAN,    PC_DM_PAN_DIR};
 	const pc_mosaic m = pc_mosaic_imx250myr();
 	const double gain[3] = {0.7, 1.0, 0.45};
 	black_regions(&m, cm, sizeof cm / sizeof cm[0], 12, gain);
