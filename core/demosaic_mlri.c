@@ -32,27 +32,42 @@
 #define MLRI_R      5
 #define MACHINE_EPS 2.220446049250313e-16
 
-/* dst(p) = Σ over the (2R+1)² window around p of src (mirrored), by running sums in double. */
+/* dst(p) = Σ over the (2R+1)² window around p of src (mirrored), by running sums in double,
+ * separable. Each pass also counts the window's nonzero entries and gives exactly 0 where there
+ * are none: a running sum keeps the rounding of the values that left its window, and in a black
+ * region the slope a = Σ L_G·L_I/(Σ L_G² + ε) of two such residues, far below ε's scale or not,
+ * decides the output and hence its DoLP (Round 38, docs/demosaicking.md). A sum over zeros is 0
+ * by definition, so this changes no value but the residues. */
 static void box(const pc_dimg *src, int R, pc_dimg *dst, double *tmp)
 {
 	int w = src->w, h = src->h;
 	for (int y = 0; y < h; y++) { /* horizontal */
 		double s = 0;
-		for (int dx = -R; dx <= R; dx++)
+		long nz = 0;
+		for (int dx = -R; dx <= R; dx++) {
 			s += pc_dimg_at(src, dx, y);
+			nz += pc_dimg_at(src, dx, y) != 0;
+		}
 		for (int x = 0; x < w; x++) {
-			tmp[(size_t)y * w + x] = s;
-			s += pc_dimg_at(src, x + R + 1, y) - pc_dimg_at(src, x - R, y);
+			tmp[(size_t)y * w + x] = nz ? s : 0;
+			double a = pc_dimg_at(src, x + R + 1, y), b = pc_dimg_at(src, x - R, y);
+			s += a - b;
+			nz += (a != 0) - (b != 0);
 		}
 	}
 	pc_dimg t = {tmp, w, h};
 	for (int x = 0; x < w; x++) { /* vertical */
 		double s = 0;
-		for (int dy = -R; dy <= R; dy++)
+		long nz = 0;
+		for (int dy = -R; dy <= R; dy++) {
 			s += pc_dimg_at(&t, x, dy);
+			nz += pc_dimg_at(&t, x, dy) != 0;
+		}
 		for (int y = 0; y < h; y++) {
-			dst->p[(size_t)y * w + x] = s;
-			s += pc_dimg_at(&t, x, y + R + 1) - pc_dimg_at(&t, x, y - R);
+			dst->p[(size_t)y * w + x] = nz ? s : 0;
+			double a = pc_dimg_at(&t, x, y + R + 1), b = pc_dimg_at(&t, x, y - R);
+			s += a - b;
+			nz += (a != 0) - (b != 0);
 		}
 	}
 }

@@ -1,9 +1,9 @@
 /* The fast float path of eari-mlri and eari-robust (references: demosaic_mlri.c, whose
  * header defines the method): the same passes on float planes padded with mirrored samples
  * (so the inner loops have no index arithmetic), every box sum a running sum in double as in
- * the reference, row bands on OpenMP threads (pc_parallel_rows). Memory: about 14 float
- * planes of the frame. Held to the reference within 1e-5 of full scale
- * (tests/test_demosaic.c). */
+ * the reference (exactly 0 over a window of zeros, as there), row bands on OpenMP threads
+ * (pc_parallel_rows). Memory: about 14 float planes of the frame. Held to the reference within 1e-5
+ * of full scale (tests/test_demosaic.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -57,37 +57,49 @@ static void pad_rows(plane p, long h)
 	}
 }
 
-/* Horizontal running box of src rows [y0, y1) into dst (interior columns). */
+/* Horizontal running box of src rows [y0, y1) into dst (interior columns); exactly 0 where the
+ * window holds no nonzero sample, as the reference's box (its comment says why). */
 static void hbox(plane src, plane dst, long w, long y0, long y1)
 {
 	for (long y = y0; y < y1; y++) {
 		const float *r = &P(src, 0, y);
 		float *d = &P(dst, 0, y);
 		double s = 0;
-		for (int dx = -MLRI_R; dx <= MLRI_R; dx++)
+		long nz = 0;
+		for (int dx = -MLRI_R; dx <= MLRI_R; dx++) {
 			s += r[dx];
+			nz += r[dx] != 0;
+		}
 		for (long x = 0; x < w; x++) {
-			d[x] = (float)s;
-			s += (double)r[x + MLRI_R + 1] - (double)r[x - MLRI_R];
+			d[x] = nz ? (float)s : 0;
+			const float a = r[x + MLRI_R + 1], b = r[x - MLRI_R];
+			s += (double)a - (double)b;
+			nz += (a != 0) - (b != 0);
 		}
 	}
 }
 
-/* Vertical running box of src (rows padded) into dst rows [y0, y1). */
-static void vbox(plane src, plane dst, long w, long y0, long y1, double *acc)
+/* Vertical running box of src (rows padded) into dst rows [y0, y1), the same way (acc, cnt:
+ * w doubles and w longs of scratch). */
+static void vbox(plane src, plane dst, long w, long y0, long y1, double *acc, long *cnt)
 {
 	for (long x = 0; x < w; x++) {
 		double s = 0;
-		for (int dy = -MLRI_R; dy <= MLRI_R; dy++)
+		long nz = 0;
+		for (int dy = -MLRI_R; dy <= MLRI_R; dy++) {
 			s += P(src, x, y0 + dy);
+			nz += P(src, x, y0 + dy) != 0;
+		}
 		acc[x] = s;
+		cnt[x] = nz;
 	}
 	for (long y = y0; y < y1; y++) {
 		float *d = &P(dst, 0, y);
 		const float *add = &P(src, 0, y + MLRI_R + 1), *sub = &P(src, 0, y - MLRI_R);
 		for (long x = 0; x < w; x++) {
-			d[x] = (float)acc[x];
+			d[x] = cnt[x] ? (float)acc[x] : 0;
 			acc[x] += (double)add[x] - (double)sub[x];
+			cnt[x] += (add[x] != 0) - (sub[x] != 0);
 		}
 	}
 }
@@ -206,13 +218,17 @@ static void band(void *ctx, uint32_t y0u, uint32_t y1u)
 		break;
 	case ST_V: { /* vertical box of H into S[q] (q = 8: into X) */
 		double *acc = malloc(sizeof(double) * (size_t)w);
-		if (!acc) {
+		long *cnt = malloc(sizeof(long) * (size_t)w);
+		if (!acc || !cnt) {
+			free(acc);
+			free(cnt);
 			j->err = 1;
 			break;
 		}
 		plane dst = q < 8 ? j->S[q] : j->X;
-		vbox(j->H, dst, w, y0, y1, acc);
+		vbox(j->H, dst, w, y0, y1, acc, cnt);
 		free(acc);
+		free(cnt);
 		break;
 	}
 	case ST_ABW: {

@@ -264,8 +264,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "anchor: EARI as its authors define it (their polarization-invariant "
           "edge-aware guide, minimized-Laplacian RI in 11x11 windows); mean "
           "(worst): Lapray +3.60/+1.74 (+0.91/-0.20), Zhang +3.96/+4.07 "
-          "(+3.14/+3.75), stress +5.24/+1.09 (+1.20/-4.58: rings into black)"
-          "; held-out (scenes/heldout, 12) +4.38/+1.33 (+2.68/-1.53)",
+          "(+3.14/+3.75), stress +5.24/+1.78 (+1.20/+0.44); held-out "
+          "(scenes/heldout, 12) +4.38/+1.57 (+2.68/+0.05) (before Round 38's exact "
+          "box sums of zeros: stress DoLP +1.09, worst -4.58 on gloss's black)",
           "multi-pass float path, ~22 planes; about 500x bilinear's CPU time (not "
           "within budget)",
           "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292) and their "
@@ -315,8 +316,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                       "anchor: residual interpolation on the rotated diagonal lattices, then "
                       "across them, then MLRI with the mean as guide; mean (worst): Lapray "
                       "+2.91/+1.41 (-0.50/-0.72), Zhang +5.80/+4.47 (+5.24/+4.45), stress "
-                      "+5.72/-0.13 (+0.81/-7.74: rings into black)"
-                      "; held-out (scenes/heldout, 12) +5.20/+0.98 (+1.74/-1.73)",
+                      "+5.72/+0.93 (+0.81/-0.93); held-out (scenes/heldout, 12) "
+                      "+5.20/+1.23 (+1.74/+0.11) (before Round 38's exact box sums of "
+                      "zeros in its MLRI step: stress DoLP -0.13, worst -7.74 on gloss's "
+                      "black)",
                       "the double reference (no fast path yet): hundreds of times bilinear",
                       "Morimatsu, Monno, Tanaka, Okutomi, IEEE Sensors J. 21(24) 2021 (IGRI2) and "
                       "their release",
@@ -461,7 +464,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(directional) candidates whose ratios are blended by the homogeneity "
           "of their hue; over bayer-first (bench colour, 9 scenes) smooth colours "
           "+4.17/+1.44 (worst +2.55/+0.10), hue patches +1.65/+3.81 (worst "
-          "+1.50/+2.86); colour stress suite (5 scenes) +1.70/+2.06 (worst +0.73 "
+          "+1.50/+2.86); colour stress suite (5 scenes) +1.70/+2.12 (worst +0.73 "
           "text/+0.65 gratings): the colour accuracy goal met on all three sets, "
           "not on the held-out colour scenes (scenes/stress/colour-holdout, 9): "
           "+0.33/+3.40 (worst -1.32/+1.59), 4 losing S0",
