@@ -1079,7 +1079,7 @@ typedef void (*pan_dgam_fn)(const pan_dlat_args *a, const float *const hb[4][3],
 typedef void (*pan_dratio_fn)(const float *vs, const float *raw, long x0, long n, float delta,
                               float *rho, float *rho1);
 typedef void (*pan_dorow_fn)(const pan_dlat_args *a, const float *const g[5], const float *raw,
-                             long x0, long x1, float delta, float *const out[12], long xo, int nt);
+                             long x0, long x1, float *const out[12], long xo, int nt);
 typedef void (*fact_gwrows_fn)(const float *const hw[2], const float *const ww[2],
                                const float *const we[2], long n, float *const gw[2],
                                float *const ge[2]);
@@ -2317,14 +2317,14 @@ static void pan_dir_band(void *ctx, uint32_t y0, uint32_t y1)
 		if (planar) {
 			for (int q = 0; q < 12; q++)
 				dq[q] = j->out[q].data + (size_t)y * j->out[q].row_stride;
-			K.dorow(&a, gc, rawo, 0, nmain, j->delta, dq, 0, j->nt);
+			K.dorow(&a, gc, rawo, 0, nmain, dq, 0, j->nt);
 			if (nmain < n) {
-				K.dorow(&a, gc, rawo, nmain, n, j->delta, o, nmain, 0);
+				K.dorow(&a, gc, rawo, nmain, n, o, nmain, 0);
 				pan_put_row(j, y, o, (uint32_t)nmain, w);
 			}
 			continue;
 		}
-		K.dorow(&a, gc, rawo, 0, n, j->delta, o, 0, 0);
+		K.dorow(&a, gc, rawo, 0, n, o, 0, 0);
 		pan_put_row(j, y, o, 0, w);
 	}
 	pan_dband_end(j, t, dt, buf);
@@ -2487,7 +2487,7 @@ int pc_dm_pan_chroma_fast(const pc_dm_input *in, const pc_mosaic *m, double fs, 
  *  - per block row, the blend weights γ_d = w_d/Σ w (fact_gam: H_d the box of the window's
  *    rows Y − 1 .. Y + 2, clamped rows repeating the edge row's horizontal box);
  *  - per row yc, step 4: Σ_d γ_d R^d_q of the twelve channels by pan-dir's output kernel
- *    (pan_dorow: the blend folded into each row phase's lattice coefficients; δ = 0, no own
+ *    (pan_dorow: the blend folded into each row phase's lattice coefficients; base 0, no own
  *    channel), kept for three rows, then m = v/h_own (fact_m), m padded by the whole-sample
  *    mirror; the output row computes the hue h again from the blended ratios (four divisions),
  *    which costs less than storing twelve hue rows and reading them back;
@@ -2798,7 +2798,7 @@ static void fact_hue_to(fact_band_st *b, int ymax)
 		 * the lanes past w unused) */
 		const float *raw = pan_row(&b->rc, j->in, yc);
 		float *const *rqo = b->rq[yc & 3];
-		b->K->dorow(&a, gc, raw, 0, b->n, 0, rqo, 0, 0);
+		b->K->dorow(&a, gc, raw, 0, b->n, rqo, 0, 0);
 		const float *sel[4], *rq[12];
 		unsigned own[4];
 		for (unsigned u = 0; u < 4; u++) {
