@@ -44,7 +44,9 @@ static void usage(FILE *fp)
 	    "unpaced\n"
 	    "                      for S seconds and report its frame rate (default 3; 0 = skip)\n"
 	    "  --json              one JSON object on stdout instead of the table\n"
-	    "sets: minimal, diffuse, shadowing, cast_shadows, circular, supersampling2, mueller,\n"
+	    "sets: minimal, diffuse, shadowing, cast_shadows, circular, supersampling2, blur1 "
+	    "(the\n"
+	    "      lens blur at sigma 1 px), mueller,\n"
 	    "      noise, prnu_dsnu, extinction_ratio, orientation_error, transmission, "
 	    "crosstalk,\n"
 	    "      default (the default scene as shipped: diffuse + shadowing + cast shadows +\n"
@@ -65,6 +67,7 @@ static const fxset sets[] = {
     {"cast_shadows", "\"cast_shadows\": true", "", false},
     {"circular", "\"circular\": true", "", false},
     {"supersampling2", "\"supersampling\": 2", "", false},
+    {"blur1", "\"blur\": 1", "", false},
     {"mueller", "\"mueller\": true", "", true},
     {"noise", "", "\"noise\": true", false},
     {"prnu_dsnu", "", "\"prnu_dsnu\": true", false},

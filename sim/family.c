@@ -177,9 +177,18 @@ static int check_effect_value(const vctx *v, const char *path, const json_t *j)
 	if (strstr(path, "supersampling") && json_is_integer(j) && json_integer_value(j) >= 1 &&
 	    json_integer_value(j) <= 16)
 		return 0;
+	const bool blur = strstr(path, "blur") != NULL;
+	if (blur && json_is_number(j) && json_number_value(j) >= 0.5 && json_number_value(j) <= 8)
+		return 0;
+	if (blur && json_is_true(j))
+		return verr(v, path,
+		            "expected the point-spread function's sigma in pixels (a "
+		            "number in [0.5, 8]) or false");
 	return verr(v, path,
 	            strstr(path, "supersampling") ? "expected true, false or an integer 1..16"
-	                                          : "expected true or false");
+	            : blur ? "expected the point-spread function's sigma in pixels (a number in "
+	                     "[0.5, 8]) or false"
+	                   : "expected true or false");
 }
 
 static int check_preset(const vctx *v, const char *path, const json_t *j)
@@ -354,7 +363,7 @@ static int check_shape(const vctx *v, const char *path, const json_t *s)
 static const char *const effect_names[] = {
     "diffuse", "shadowing", "cast_shadows",     "supersampling",     "circular",     "mueller",
     "noise",   "prnu_dsnu", "extinction_ratio", "orientation_error", "transmission", "crosstalk",
-    NULL};
+    "blur",    NULL};
 
 /* An effects object: each effect a value or a choice of values. */
 static int check_effects(const vctx *v, const char *path, const json_t *fx)

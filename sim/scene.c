@@ -618,8 +618,9 @@ static int parse_object(const pctx *c, json_t *v, const char *path, pc_sim_objec
 /* ---- effects ---- */
 
 static const char *const pc_fx_names[PC_FX_COUNT_] = {
-    "diffuse", "shadowing", "cast_shadows",     "supersampling",     "circular",     "mueller",
-    "noise",   "prnu_dsnu", "extinction_ratio", "orientation_error", "transmission", "crosstalk",
+    "diffuse",      "shadowing", "cast_shadows", "supersampling",    "circular",
+    "mueller",      "noise",     "prnu_dsnu",    "extinction_ratio", "orientation_error",
+    "transmission", "crosstalk", "blur",
 };
 
 const char *pc_sim_effect_name(unsigned effect_bit)
@@ -642,11 +643,13 @@ unsigned pc_sim_effect_from_name(const char *name)
 	(PC_FX_NOISE | PC_FX_PRNU_DSNU | PC_FX_EXTINCTION | PC_FX_ORIENTATION |                    \
 	 PC_FX_TRANSMISSION | PC_FX_CROSSTALK)
 
-static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned *fx, unsigned *ss)
+static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned *fx, unsigned *ss,
+                         double *blur)
 {
 	const char *P = "effects";
 	*fx = preset_fx & PC_FX_SENSOR_MASK;
 	*ss = 1;
+	*blur = 0;
 	if (!v)
 		return 0;
 	int rc = pc_json_need_object(&c->js, v, P);
@@ -680,6 +683,29 @@ static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned 
 				*fx |= bit;
 			else
 				*fx &= ~bit;
+			continue;
+		}
+		if (bit == PC_FX_BLUR) {
+			/* the PSF's σ in pixels, or false */
+			if (json_is_false(val)) {
+				*fx &= ~bit;
+				continue;
+			}
+			if (!json_is_number(val))
+				return pc_json_error(
+				    &c->js, p,
+				    "expected the point-spread function's sigma in "
+				    "pixels (a number in [0.5, %g]) or false, got %s",
+				    PC_BLUR_SIGMA_MAX, pc_json_kind(val));
+			double sg = json_number_value(val);
+			if (!(sg >= 0.5 && sg <= PC_BLUR_SIGMA_MAX))
+				return pc_json_error(
+				    &c->js, p,
+				    "= %g: the point-spread function's sigma must be in "
+				    "[0.5, %g] pixels",
+				    sg, PC_BLUR_SIGMA_MAX);
+			*blur = sg;
+			*fx |= bit;
 			continue;
 		}
 		if (!json_is_boolean(val))
@@ -1073,7 +1099,7 @@ int pc_scene_parse(const char *text, const char *name, const char *base_dir, pc_
 		goto fail;
 	c.colour = s->sensor.mosaic.period == 4;
 	if ((rc = parse_effects(&c, json_object_get(doc, "effects"), s->sensor.effects, &s->effects,
-	                        &s->supersampling)))
+	                        &s->supersampling, &s->blur_sigma)))
 		goto fail;
 	s->sensor.effects = s->effects & PC_FX_SENSOR_MASK;
 	json_t *psa = json_object_get(json_object_get(doc, "sensor"), "psa");

@@ -68,6 +68,9 @@ typedef struct pc_sim_camera {
 	double principal_x, principal_y;    /* principal point in pixels (default: centre) */
 } pc_sim_camera;
 
+/* The largest PSF σ a scene may declare (pixels; the kernel reaches ⌈4σ⌉). */
+#define PC_BLUR_SIGMA_MAX 8.0
+
 struct pc_scene {
 	int refcount; /* atomic in scene.c */
 	char *name;
@@ -77,6 +80,7 @@ struct pc_scene {
 	pc_sensor_figures sensor;
 	unsigned effects;
 	unsigned supersampling;           /* n for n×n when PC_FX_SUPERSAMPLING */
+	double blur_sigma;                /* the PSF's σ in pixels when PC_FX_BLUR */
 	double background[PC_SIM_MAX_CH]; /* unpolarized radiance of rays that hit nothing */
 	unsigned n_materials, n_lights, n_objects;
 	pc_sim_material *materials;

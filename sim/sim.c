@@ -204,10 +204,11 @@ typedef struct prep_ctx {
 	pc_sim *sim;
 	unsigned g;
 	float *truth_s, *truth_m;
-	float **dst;       /* n_psa destination images (ROI) */
-	float **halo;      /* n_psa images of (W+2)·(H+2), or NULL */
-	float *dsnu;       /* the DSNU image to fill (first prepare), or NULL */
-	bool psa_identity; /* one PSA state, the identity: skip its product */
+	float **dst;         /* n_psa destination images (ROI) */
+	float **halo;        /* n_psa images of (W+2)·(H+2), or NULL */
+	float *dsnu;         /* the DSNU image to fill (first prepare), or NULL */
+	bool psa_identity;   /* one PSA state, the identity: skip its product */
+	const pc_blur *blur; /* effect "blur": the blurred radiance instead of the render */
 	int err;
 } prep_ctx;
 
@@ -292,7 +293,8 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		pc_sensor_fixed_row(sim, (uint32_t)sy, (uint32_t)(sx0 + xlo), xhi - xlo, mask,
 		                    z[0] + xlo, z[1] + xlo, z[2] + xlo, z[3] + xlo, z[4] + xlo);
 		pc_render_row rr;
-		pc_render_row_begin(sim, (uint32_t)sy, &rr);
+		if (!c->blur)
+			pc_render_row_begin(sim, (uint32_t)sy, &rr);
 		/* colour and analyser channel of the row's pixels by column phase */
 		const pc_mosaic *mo = &sim->fig.mosaic;
 		unsigned pch[4], ach[4];
@@ -307,9 +309,16 @@ static void prep_rows(void *ctx, uint32_t y0, uint32_t y1)
 		const bool truth_row = row_in_roi && (c->truth_s || c->truth_m);
 		const bool all_ch = truth_row && nch > 1;
 		const unsigned nout = all_ch ? nch : 1;
-		pc_render_span(sim, &rr, (uint32_t)(sx0 + xlo), xhi - xlo,
-		               all_ch ? NULL : chan + xlo, c->g, Srow + (size_t)xlo * nout * 4,
-		               truth_row && c->truth_m ? Mrow + (size_t)xlo * nout * 16 : NULL);
+		if (c->blur)
+			pc_blur_span(c->blur, sim, (uint32_t)sy, (uint32_t)(sx0 + xlo), xhi - xlo,
+			             all_ch ? NULL : chan + xlo, Srow + (size_t)xlo * nout * 4,
+			             truth_row && c->truth_m ? Mrow + (size_t)xlo * nout * 16
+			                                     : NULL);
+		else
+			pc_render_span(
+			    sim, &rr, (uint32_t)(sx0 + xlo), xhi - xlo, all_ch ? NULL : chan + xlo,
+			    c->g, Srow + (size_t)xlo * nout * 4,
+			    truth_row && c->truth_m ? Mrow + (size_t)xlo * nout * 16 : NULL);
 		for (uint32_t xx = xlo; xx < xhi; xx++) {
 			const uint32_t k = (xx - xlo) & pmask;
 			const bool in_roi = row_in_roi && (!halo || (xx >= 1 && xx <= W));
@@ -464,10 +473,29 @@ int pc_sim_prepare(pc_sim *sim, unsigned state, float *truth_stokes, float *trut
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 4; j++)
 			ident &= sim->scene->psa[0][i][j] == (i == j);
-	prep_ctx pc = {sim,   g, truth_stokes, truth_mueller, dst, xt ? halo : NULL, dsnu_new,
-	               ident, 0};
+	/* the lens blur: the pixels prep_rows renders (the ROI, with the crosstalk's one-pixel halo
+	 * inside the sensor) blurred from a region widened by the kernel */
+	pc_blur blur = {0}, *bp = NULL;
 	uint64_t done = 0, total = xt ? (uint64_t)(H + 2) + H : H;
+	if (sim->fx & PC_FX_BLUR) {
+		const uint32_t hh = xt ? 1 : 0, ox = sim->info.offset_x, oy = sim->info.offset_y;
+		const uint32_t SW = sim->info.sensor_width, SH = sim->info.sensor_height;
+		const uint32_t bx0 = ox >= hh ? ox - hh : 0, by0 = oy >= hh ? oy - hh : 0;
+		const uint32_t bx1 = ox + W + hh < SW ? ox + W + hh : SW,
+		               by1 = oy + H + hh < SH ? oy + H + hh : SH;
+		const int R = pc_blur_radius(sim->scene->blur_sigma);
+		total += (uint64_t)(by1 - by0) + 2 * (uint64_t)R;
+		rc = pc_blur_begin(sim, g, bx0, bx1 - bx0, by0, by1 - by0, truth_mueller != NULL,
+		                   &blur, progress, progress_user, &done, total);
+		if (rc)
+			goto out;
+		bp = &blur;
+		total = done + (xt ? (uint64_t)(H + 2) + H : H);
+	}
+	prep_ctx pc = {sim, g, truth_stokes, truth_mueller, dst, xt ? halo : NULL, dsnu_new, ident,
+	               bp,  0};
 	run_rows(sim, xt ? H + 2 : H, prep_rows, &pc, progress, progress_user, &done, total);
+	pc_blur_end(&blur);
 	if (pc.err) {
 		rc = pc_error(pc.err, "render row buffers");
 		goto out;
@@ -712,6 +740,7 @@ typedef struct truth_ctx {
 	unsigned g;
 	uint32_t y_base;
 	double *stokes, *mueller;
+	const pc_blur *blur; /* effect "blur": rows from the blurred region */
 } truth_ctx;
 
 static void truth_rows_fn(void *ctx, uint32_t y0, uint32_t y1)
@@ -721,11 +750,22 @@ static void truth_rows_fn(void *ctx, uint32_t y0, uint32_t y1)
 	const uint32_t W = sim->info.width;
 	for (uint32_t y = y0; y < y1; y++) {
 		pc_render_row rr;
-		pc_render_row_begin(sim, sim->info.offset_y + c->y_base + y, &rr);
+		const uint32_t sy = sim->info.offset_y + c->y_base + y;
 		size_t i = (size_t)y * W * sim->nch;
 		/* every channel of each pixel, straight into the caller's rows */
 		double *S = c->stokes ? c->stokes + 4 * i : NULL;
 		double *M = c->mueller ? c->mueller + 16 * i : NULL;
+		if (c->blur) {
+			for (uint32_t x0 = 0; x0 < W; x0 += 256) {
+				double Sb[256 * PC_SIM_MAX_CH * 4];
+				uint32_t n = W - x0 < 256 ? W - x0 : 256;
+				pc_blur_span(c->blur, sim, sy, sim->info.offset_x + x0, n, NULL,
+				             S ? S + (size_t)x0 * sim->nch * 4 : Sb,
+				             M ? M + (size_t)x0 * sim->nch * 16 : NULL);
+			}
+			continue;
+		}
+		pc_render_row_begin(sim, sy, &rr);
 		if (S) {
 			pc_render_span(sim, &rr, sim->info.offset_x, W, NULL, c->g, S, M);
 		} else {
@@ -752,8 +792,18 @@ int pc_sim_truth_rows(const pc_sim *sim, unsigned state, uint32_t y0, uint32_t y
 	if (mueller && !(sim->fx & PC_FX_MUELLER))
 		return pc_error(PC_ENOTSUP, "Mueller ground truth needs \"mueller\": true in the "
 		                            "scene's effects");
-	truth_ctx c = {sim, state % sim->n_psg, y0, stokes, mueller};
+	truth_ctx c = {sim, state % sim->n_psg, y0, stokes, mueller, NULL};
+	pc_blur blur = {0};
+	if ((sim->fx & PC_FX_BLUR) && y1 > y0) {
+		int rc = pc_blur_begin(sim, c.g, sim->info.offset_x, sim->info.width,
+		                       sim->info.offset_y + y0, y1 - y0, mueller != NULL, &blur,
+		                       NULL, NULL, NULL, 0);
+		if (rc)
+			return rc;
+		c.blur = &blur;
+	}
 	/* stokes/mueller point at row y0: shift the row index */
 	pc_parallel_rows(y1 - y0, 0, sim->opt.threads, truth_rows_fn, &c);
+	pc_blur_end(&blur);
 	return 0;
 }

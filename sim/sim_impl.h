@@ -83,6 +83,28 @@ void pc_render_span(const pc_sim *sim, const pc_render_row *rr, uint32_t sx0, ui
 void pc_render_pixel(const pc_sim *sim, const pc_render_row *rr, uint32_t sx, unsigned ch,
                      unsigned g, double S[4], double M[4][4]);
 
+/* blur.c: the lens's Gaussian PSF (effect "blur"). pc_blur_begin renders the region of sensor
+ * columns [x0, x0 + w) and rows [y0, y0 + h) widened by the kernel's radius (inside the sensor)
+ * for PSG state g and blurs it along the rows; pc_blur_span then gives the blurred Stokes (and
+ * Mueller, when begun with mueller) of pixels (sx0 + i, sy) inside that region, in
+ * pc_render_span's layout. Progress (optional) counts the region's rows into *done. */
+typedef struct pc_blur {
+	int R;            /* kernel radius ⌈4σ⌉ */
+	unsigned g;       /* PSG state */
+	uint32_t x0, w;   /* output columns */
+	uint32_t rx0, rw; /* rendered columns */
+	uint32_t ry0, rh; /* rendered rows (= the row pass's rows) */
+	double *wt;       /* 2R + 1 weights */
+	double *S, *M;    /* row pass: rh × w × nch Stokes (4) and Mueller (16) */
+} pc_blur;
+int pc_blur_radius(double sigma);
+int pc_blur_begin(const pc_sim *sim, unsigned g, uint32_t x0, uint32_t w, uint32_t y0, uint32_t h,
+                  bool mueller, pc_blur *b, pc_sim_progress_fn progress, void *user, uint64_t *done,
+                  uint64_t total);
+void pc_blur_span(const pc_blur *b, const pc_sim *sim, uint32_t sy, uint32_t sx0, uint32_t n,
+                  const uint8_t *chan, double *S, double *M);
+void pc_blur_end(pc_blur *b);
+
 /* sensor.c */
 void pc_sensor_setup(pc_sim *sim);
 /* The pixel's colour channel index (0 for monochrome; R/G/B = 0/1/2). */

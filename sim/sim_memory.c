@@ -29,6 +29,15 @@ uint64_t pc_sim_memory_bytes(const pc_sim *sim, bool truth)
 		cpus = 1;
 	b += (uint64_t)cpus * W * (C * 20 + 4) * sizeof(double);
 	b += npix * 2; /* one frame (at most 16 bits per pixel) */
+	if (sim->fx & PC_FX_BLUR) {
+		/* the lens blur's row pass (blur.c): (H + 2 + 2R) × (W + 2) Stokes vectors per
+		 * channel, Mueller matrices with Mueller truth; its render rows (W + 2 + 2R wide)
+		 */
+		const uint64_t R = (uint64_t)pc_blur_radius(sim->scene->blur_sigma);
+		const uint64_t per = C * ((truth && (sim->fx & PC_FX_MUELLER)) ? 20 : 4);
+		b += (H + 2 + 2 * R) * (W + 2) * per * sizeof(double);
+		b += (uint64_t)cpus * (W + 2 + 2 * R) * per * sizeof(double);
+	}
 	if (truth) {
 		b += npix * C * 4 * sizeof(float);
 		if (sim->fx & PC_FX_MUELLER)

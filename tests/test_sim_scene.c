@@ -98,6 +98,13 @@ static void test_errors(void)
 	             "unknown effect");
 	expect_error(with(", \"effects\": {\"supersampling\": 40}"), PC_EINVAL,
 	             "effects.supersampling", "[1, 16]");
+	/* the lens blur's sigma: a number of pixels in [0.5, 8], or false */
+	expect_error(with(", \"effects\": {\"blur\": true}"), PC_EINVAL, "effects.blur",
+	             "sigma in pixels");
+	expect_error(with(", \"effects\": {\"blur\": 0.2}"), PC_EINVAL, "effects.blur", "[0.5, 8]");
+	expect_error(with(", \"effects\": {\"blur\": 9}"), PC_EINVAL, "effects.blur", "[0.5, 8]");
+	expect_error(with(", \"effects\": {\"blur\": \"1\"}"), PC_EINVAL, "effects.blur",
+	             "a string");
 	expect_error(with(", \"sensor\": {\"bits\": 11}"), PC_EINVAL, "sensor.bits",
 	             "8, 10, 12 or 16");
 	expect_error(with(", \"sensor\": {\"resolution\": [101, 100]}"), PC_EINVAL,

@@ -91,7 +91,8 @@ enum pc_sim_effect {
 	PC_FX_ORIENTATION = 1u << 9,   /* analyser orientation errors */
 	PC_FX_TRANSMISSION = 1u << 10, /* analyser transmission mismatch */
 	PC_FX_CROSSTALK = 1u << 11,    /* optical/electrical crosstalk from the 4 neighbours */
-	PC_FX_COUNT_ = 12
+	PC_FX_BLUR = 1u << 12,         /* the lens's point-spread function: a Gaussian of σ px */
+	PC_FX_COUNT_ = 13
 };
 
 /* "diffuse", "shadowing", "cast_shadows", ... (the names of the scene file); NULL if unknown. */
