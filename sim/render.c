@@ -81,7 +81,8 @@ static int eval_pbrdf(void *user, unsigned material, unsigned ch, const double k
  * a quadratic in u whose root interval bounds the pixel columns of one sensor row that can see
  * the object's bounding sphere. The radius is inflated (relative 1e-6) and the column range
  * widened by two pixels, so rounding never culls a ray that the exact test would hit; where
- * the quadratic is not convex (the camera near or inside the sphere) nothing is culled. The
+ * the quadratic is not convex (the camera near or inside the sphere), or its terms overflow
+ * (objects ~1e90 away: a fuzzing finding), nothing is culled. The
  * per-pixel intersection tests themselves are unchanged, so culling changes no result. */
 
 static inline pc_v3 row_base(const pc_sim *sim, double py)
@@ -110,7 +111,10 @@ static void cull_range(const pc_sim *sim, pc_v3 A, unsigned i, int32_t *lo, int3
 	if (!(a2 > 1e-6 * C))
 		return; /* not a bounded interval in u: keep the whole row */
 	double hb = al * be, c0 = C * A2 - al * al;
-	double disc = hb * hb - a2 * c0;
+	double hb2 = hb * hb, ac = a2 * c0;
+	if (!isfinite(hb2) || !isfinite(ac))
+		return; /* overflow (an object ~1e90 away): keep the whole row */
+	double disc = hb2 - ac;
 	if (disc < 0) {
 		*lo = 1;
 		*hi = 0; /* this row never sees the object */
@@ -119,6 +123,8 @@ static void cull_range(const pc_sim *sim, pc_v3 A, unsigned i, int32_t *lo, int3
 	double sq = sqrt(disc);
 	double u0 = (hb - sq) / a2, u1 = (hb + sq) / a2;
 	double x0 = u0 / sim->pitch_m + sim->cx - 0.5, x1 = u1 / sim->pitch_m + sim->cx - 0.5;
+	if (!isfinite(x0) || !isfinite(x1))
+		return; /* keep the whole row: culling only saves work */
 	double l = floor(x0) - 2, h = ceil(x1) + 2;
 	*lo = l < full_lo ? full_lo : l > full_hi ? full_hi : (int32_t)l;
 	*hi = h < full_lo ? full_lo : h > full_hi ? full_hi : (int32_t)h;
