@@ -46,6 +46,13 @@ static uint32_t mirror(int64_t i, uint32_t n)
 	return (uint32_t)(i < n ? i : p - i);
 }
 
+/* d[q] += w·s[q], q < n: one tap of the kernel on n values. */
+static inline void add_tap(double *d, double w, const double *s, unsigned n)
+{
+	for (unsigned q = 0; q < n; q++)
+		d[q] += w * s[q];
+}
+
 typedef struct hpass_ctx {
 	pc_blur *b;
 	const pc_sim *sim;
@@ -82,19 +89,14 @@ static void hpass_rows(void *ctx, uint32_t i0, uint32_t i1)
 			const int64_t sx = (int64_t)b->x0 + x;
 			const size_t o = ((size_t)i * b->w + x) * nch;
 			double *so = b->S + o * 4, *mo = M ? b->M + o * 16 : NULL;
-			for (unsigned q = 0; q < nch * 4; q++)
-				so[q] = 0;
+			memset(so, 0, nch * 4 * sizeof *so);
 			if (mo)
-				for (unsigned q = 0; q < nch * 16; q++)
-					mo[q] = 0;
+				memset(mo, 0, nch * 16 * sizeof *mo);
 			for (int k = -R; k <= R; k++) {
 				const size_t src = (size_t)(mirror(sx + k, SW) - b->rx0) * nch;
-				const double wk = b->wt[k + R];
-				for (unsigned q = 0; q < nch * 4; q++)
-					so[q] += wk * S[src * 4 + q];
+				add_tap(so, b->wt[k + R], S + src * 4, nch * 4);
 				if (mo)
-					for (unsigned q = 0; q < nch * 16; q++)
-						mo[q] += wk * M[src * 16 + q];
+					add_tap(mo, b->wt[k + R], M + src * 16, nch * 16);
 			}
 		}
 	}
@@ -174,20 +176,15 @@ void pc_blur_span(const pc_blur *b, const pc_sim *sim, uint32_t sy, uint32_t sx0
 			const unsigned ch = chan ? chan[i] : co;
 			double *so = S + ((size_t)i * nout + co) * 4;
 			double *mo = M ? M + ((size_t)i * nout + co) * 16 : NULL;
-			for (int q = 0; q < 4; q++)
-				so[q] = 0;
+			memset(so, 0, 4 * sizeof *so);
 			if (mo)
-				for (int q = 0; q < 16; q++)
-					mo[q] = 0;
+				memset(mo, 0, 16 * sizeof *mo);
 			for (int k = -R; k <= R; k++) {
 				const size_t row = mirror((int64_t)sy + k, SH) - b->ry0;
 				const size_t o = (row * b->w + col) * nch + ch;
-				const double wk = b->wt[k + R];
-				for (int q = 0; q < 4; q++)
-					so[q] += wk * b->S[o * 4 + q];
+				add_tap(so, b->wt[k + R], b->S + o * 4, 4);
 				if (mo)
-					for (int q = 0; q < 16; q++)
-						mo[q] += wk * b->M[o * 16 + q];
+					add_tap(mo, b->wt[k + R], b->M + o * 16, 16);
 			}
 		}
 	}

@@ -12,6 +12,7 @@
 
 #include "polarcam/error.h"
 #include "polarcam/format.h"
+#include "polarcam/sim.h"
 #include "rng.h"
 #include "sim_impl.h"
 
@@ -178,17 +179,17 @@ static int check_effect_value(const vctx *v, const char *path, const json_t *j)
 	    json_integer_value(j) <= 16)
 		return 0;
 	const bool blur = strstr(path, "blur") != NULL;
-	if (blur && json_is_number(j) && json_number_value(j) >= 0.5 && json_number_value(j) <= 8)
+	if (blur && json_is_number(j) && json_number_value(j) >= PC_BLUR_SIGMA_MIN &&
+	    json_number_value(j) <= PC_BLUR_SIGMA_MAX)
 		return 0;
-	if (blur && json_is_true(j))
+	if (blur)
 		return verr(v, path,
-		            "expected the point-spread function's sigma in pixels (a "
-		            "number in [0.5, 8]) or false");
+		            "expected the point-spread function's sigma in pixels (a number in "
+		            "[%g, %g]) or false",
+		            PC_BLUR_SIGMA_MIN, PC_BLUR_SIGMA_MAX);
 	return verr(v, path,
 	            strstr(path, "supersampling") ? "expected true, false or an integer 1..16"
-	            : blur ? "expected the point-spread function's sigma in pixels (a number in "
-	                     "[0.5, 8]) or false"
-	                   : "expected true or false");
+	                                          : "expected true or false");
 }
 
 static int check_preset(const vctx *v, const char *path, const json_t *j)

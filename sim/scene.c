@@ -695,15 +695,15 @@ static int parse_effects(const pctx *c, json_t *v, unsigned preset_fx, unsigned 
 				return pc_json_error(
 				    &c->js, p,
 				    "expected the point-spread function's sigma in "
-				    "pixels (a number in [0.5, %g]) or false, got %s",
-				    PC_BLUR_SIGMA_MAX, pc_json_kind(val));
+				    "pixels (a number in [%g, %g]) or false, got %s",
+				    PC_BLUR_SIGMA_MIN, PC_BLUR_SIGMA_MAX, pc_json_kind(val));
 			double sg = json_number_value(val);
-			if (!(sg >= 0.5 && sg <= PC_BLUR_SIGMA_MAX))
+			if (!(sg >= PC_BLUR_SIGMA_MIN && sg <= PC_BLUR_SIGMA_MAX))
 				return pc_json_error(
 				    &c->js, p,
 				    "= %g: the point-spread function's sigma must be in "
-				    "[0.5, %g] pixels",
-				    sg, PC_BLUR_SIGMA_MAX);
+				    "[%g, %g] pixels",
+				    sg, PC_BLUR_SIGMA_MIN, PC_BLUR_SIGMA_MAX);
 			*blur = sg;
 			*fx |= bit;
 			continue;

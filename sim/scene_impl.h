@@ -68,9 +68,6 @@ typedef struct pc_sim_camera {
 	double principal_x, principal_y;    /* principal point in pixels (default: centre) */
 } pc_sim_camera;
 
-/* The largest PSF σ a scene may declare (pixels; the kernel reaches ⌈4σ⌉). */
-#define PC_BLUR_SIGMA_MAX 8.0
-
 struct pc_scene {
 	int refcount; /* atomic in scene.c */
 	char *name;

@@ -95,6 +95,11 @@ enum pc_sim_effect {
 	PC_FX_COUNT_ = 13
 };
 
+/* The PSF σ (pixels) a scene's "blur" may declare: below the minimum a sampled Gaussian no
+ * longer stands for a continuous one; the kernel reaches ⌈4σ⌉ pixels. */
+#define PC_BLUR_SIGMA_MIN 0.5
+#define PC_BLUR_SIGMA_MAX 8.0
+
 /* "diffuse", "shadowing", "cast_shadows", ... (the names of the scene file); NULL if unknown. */
 PC_API const char *pc_sim_effect_name(unsigned effect_bit);
 /* The bit for a name, 0 if unknown. */
