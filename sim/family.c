@@ -173,12 +173,13 @@ static int check_bool(const vctx *v, const char *path, const json_t *j)
 
 static int check_effect_value(const vctx *v, const char *path, const json_t *j)
 {
-	if (json_is_boolean(j))
+	const bool blur = strstr(path, "blur") != NULL;
+	/* every effect takes false; "blur" takes a sigma, not true (the scene parser refuses it) */
+	if (json_is_boolean(j) && !(blur && json_is_true(j)))
 		return 0;
 	if (strstr(path, "supersampling") && json_is_integer(j) && json_integer_value(j) >= 1 &&
 	    json_integer_value(j) <= 16)
 		return 0;
-	const bool blur = strstr(path, "blur") != NULL;
 	if (blur && json_is_number(j) && json_number_value(j) >= PC_BLUR_SIGMA_MIN &&
 	    json_number_value(j) <= PC_BLUR_SIGMA_MAX)
 		return 0;

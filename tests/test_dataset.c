@@ -166,6 +166,16 @@ static void test_validation(void)
 	bad_spec("\"circular\": 1,", "\"circular\": -1,", "weight of \"circular\" must be");
 	bad_spec("\"choice\": [true, false]}", "\"choice\": [true, 3]}",
 	         "effects.cast_shadows.choice[1]: expected true or false");
+	/* the lens blur: a sigma in pixels or false, as the scene format (not true) */
+	bad_spec("\"choice\": [true, false]}", "\"choice\": [true, false]}, \"blur\": true",
+	         "effects.blur: expected the point-spread function's sigma in pixels");
+	bad_spec("\"choice\": [true, false]}", "\"choice\": [true, false]}, \"blur\": 0.3",
+	         "effects.blur: expected the point-spread function's sigma in pixels");
+	/* a rare true among the choices: the field check refuses it, not only the first samples */
+	bad_spec("\"choice\": [true, false]}",
+	         "\"choice\": [true, false]}, \"blur\": {\"choice\": [1.0, true], \"weights\": "
+	         "[1000, 1]}",
+	         "effects.blur.choice[1]: expected the point-spread function's sigma");
 	bad_spec("{\"choice\": [\"imx250mzr\", \"ideal\"]}", "\"imx999\"",
 	         "sensor.preset: expected a sensor preset");
 	bad_spec("\"weight\": 0.5,", "\"weight\": 0,", "materials: [1].weight must be");
