@@ -34,16 +34,20 @@
  * Radius 1 lost on all three (+2.76, +2.85, +2.77 S0), radius 3 lost on Lapray (+3.38) and
  * a second filter pass gained nothing (+3.51 Lapray at 0.003, Zhang -0.1). */
 #define PC_RATIO_RI_EPS 0.005
-/* ratio-nr (demosaic_ref.c, shrunk_guide): the shot-noise coefficient k/FS of the guide's
- * variance model k·G. 5e-5 of full scale is the Poisson variance of a sensor with a full well of
- * 20 000 e⁻ (the IMX250MZR's is ~10 500 e⁻ at unity gain: 1e-4). Sweep, double references (mean
+/* ratio-nr (demosaic_ref.c, shrunk_guide): the shot-noise coefficient k of the guide's
+ * variance model k·G. Since Round 40 (docs/demosaicking.md) k is the frame's noise gain: given
+ * (pc_pipeline_opts.noise_gain), or the slope of the photon-transfer line fitted to the frame
+ * (demosaic_noise.h, pc_dm_noise_ptc). Before, it was the constant 5e-5 of full scale, the
+ * Poisson variance of a sensor with a full well of 20 000 e⁻ at any gain (the IMX250MZR's is
+ * ~10 500 e⁻ at unity gain: 1e-4); at +24 dB it took the noise for 1/30 of what it was (the chart
+ * at its low exposure −2.03 dB S0 against bilinear, now −0.14). That constant's sweep, double
+ * references (mean
  * S0 / DoLP gain over bilinear on stress / Lapray / Zhang, dB; ratio: +3.92/+1.69,
  * +3.29/+1.80, +4.58/+4.21): final pass only, 1e-4: +4.10/+1.63, +3.51/+1.92, +3.68/+4.08;
  * 5e-5: +4.08/+1.65, +3.52/+1.91, +3.91/+4.12; both passes, 1e-4: +4.15/+1.55, +3.52/+1.96,
  * +3.43/+3.91; 5e-5: +4.13/+1.58, +3.56/+1.95, +3.66/+3.98 (chosen: the better Lapray mean and
  * worst scene); a constant regulariser (v/(v + (0.003·FS)²), final pass) +4.07/+1.48,
  * +3.48/+1.92, +4.16/+4.15 with gloss DoLP +0.06. */
-#define PC_RATIO_NR_SHOT 5e-5
 #define PC_RATIO_RI_DARK 0.01
 
 /* ---- the overshoot limiter (demosaic_robust.c) ----

@@ -248,7 +248,15 @@ typedef struct pc_dm_call {
 	double full_scale; /* the signal's full scale: the raw's minus the black level */
 	int threads;       /* 0: pc_parallel default */
 	pc_cpu_level level;
+	/* ratio-nr's noise model (demosaic_noise.h, pc_dm_noise_ptc): the given one, or NULL to
+	 * estimate it from in; the other methods ignore it */
+	const struct pc_dm_noise *noise;
 } pc_dm_call;
+
+/* A noise model σ²(L) = a·L + b of the raw minus black, raw units (ratio-nr) */
+typedef struct pc_dm_noise {
+	double a, b;
+} pc_dm_noise;
 
 /* ---- row sinks: a kernel that produces whole demosaicked rows hands them on ---- */
 typedef struct pc_dm_row_sink {

@@ -22,6 +22,7 @@
 #include "cpu_internal.h"
 #include "parallel_internal.h"
 #include "demosaic_anchors.h"
+#include "demosaic_noise.h"
 #include "demosaic_plan.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
@@ -256,7 +257,8 @@ typedef struct ic_band {
 	float delta, eps_ratio;
 	rcache rout;     /* ratio-ri: the ratio method's four channels (its guide: guide2) */
 	float dark;      /* ratio-ri: the blend's dark level */
-	float shot;      /* ratio-nr: the guide's shot-noise coefficient k (0: ratio) */
+	float shot;      /* ratio-nr: the guide's noise variance k·μ (the frame's noise gain) */
+	int nr;          /* ratio-nr (else ratio) */
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
 	                  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
@@ -451,7 +453,7 @@ static void fill_rg2(rcache *c, int y, float *const *rows)
 	const float *ga = rc_get(&b->guide, y - 1)[0], *g = rc_get(&b->guide, y)[0],
 	            *gc = rc_get(&b->guide, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
-	if (b->shot > 0)
+	if (b->nr)
 		b->k->ratio_mean_nr(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio,
 		                    b->shot, c->w);
 	else
@@ -480,7 +482,7 @@ static void ratio_output(ic_band *b, int y, float *const o[4], const float *cons
 	float *os[4];
 	for (int k = 0; k < 4; k++)
 		os[k] = o[slot[k]];
-	if (b->shot > 0)
+	if (b->nr)
 		b->k->ratio_out_nr(os, r, ga, g, gc, qa, qb, qc, mm, b->delta, b->eps_ratio,
 		                   b->shot, b->raw.w);
 	else
@@ -535,7 +537,8 @@ typedef struct ic_job {
 	const pc_fplane *out;
 	const pc_dm_row_sink *sink; /* rows handed on instead of written to out */
 	int planar, nt, err;
-	int ntil; /* an interleaved output streamed (pc_dm_stream_wanted_il) */
+	int ntil;          /* an interleaved output streamed (pc_dm_stream_wanted_il) */
+	pc_dm_noise noise; /* ratio-nr's noise model */
 } ic_job;
 
 /* The band's row caches (every one, initialised or not) into all */
@@ -581,8 +584,10 @@ static int setup_band(ic_band *b, const ic_job *j)
 	case PC_DM_RATIO_NR:
 	case PC_DM_RATIO_RI:
 		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
-		if (j->method == PC_DM_RATIO_NR)
-			b->shot = (float)(PC_RATIO_NR_SHOT * j->fs);
+		if (j->method == PC_DM_RATIO_NR) {
+			b->nr = 1;
+			b->shot = (float)j->noise.a;
+		}
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
 		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
 		b->eps_ratio = (float)(PC_RATIO_GUIDE_EPS * j->fs);
@@ -786,10 +791,26 @@ static void run(ic_job *j, int threads)
 	pc_parallel_rows_tapered(j->in->height, 64, threads, ic_band_run, j);
 }
 
+/* ratio-nr's noise model into j: the call's, or estimated from its input (pc_dm_noise_ptc_in,
+ * once for all bands) */
+static int job_noise(ic_job *j, const pc_dm_call *call)
+{
+	if (call->method != PC_DM_RATIO_NR)
+		return 0;
+	if (call->noise) {
+		j->noise = *call->noise;
+		return 0;
+	}
+	return pc_dm_noise_ptc_in(call->in, call->m, call->full_scale, &j->noise.a, &j->noise.b);
+}
+
 int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
 {
 	ic_job j = {call->in, call->m, call->method, call->full_scale, call->level, out, NULL, 1, 0,
-	            0,        0};
+	            0,        0,       {0, 0}};
+	int rc = job_noise(&j, call);
+	if (rc)
+		return rc;
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
@@ -805,7 +826,11 @@ int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
 int pc_dm_ic_rows(const pc_dm_call *call, const pc_dm_row_sink *sink)
 {
 	ic_job j = {
-	    call->in, call->m, call->method, call->full_scale, call->level, NULL, sink, 0, 0, 0, 0};
+	    call->in, call->m, call->method, call->full_scale, call->level, NULL, sink, 0, 0,
+	    0,        0,       {0, 0}};
+	int rc = job_noise(&j, call);
+	if (rc)
+		return rc;
 	run(&j, call->threads);
 	return j.err ? pc_error(PC_ENOMEM, "row caches of %u-pixel rows", call->in->width) : 0;
 }

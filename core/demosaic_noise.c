@@ -3,6 +3,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -478,4 +479,239 @@ int pc_dm_noise_gain_in_mt(const pc_dm_input *in, const pc_mosaic *m, double fs,
 int pc_dm_noise_gain_in(const pc_dm_input *in, const pc_mosaic *m, double fs, double *g)
 {
 	return pc_dm_noise_gain_in_mt(in, m, fs, 1, g);
+}
+
+/* ---- the photon-transfer line (demosaic_noise.h, pc_dm_noise_ptc) ---- */
+
+#define PTC_CELLS   4096
+#define PTC_CHI2_99 9.2103403719761836 /* χ²₂'s 99 % point: −2·ln 0.01 */
+#define PTC_TRIM_C  0.97333973         /* E[x² | |x| ≤ 3] for x ~ N(0, 1) */
+
+typedef struct ptc_block {
+	double mu, d2, g2;
+	uint32_t cell;
+} ptc_block;
+
+/* The number of blocks of phase o along an axis of length n with origins o + 2P·s·i and
+ * o + 2P·s·i + P < n */
+static size_t ptc_count(uint32_t n, uint32_t o, uint32_t p, size_t s)
+{
+	return n > o + p ? (size_t)(n - o - p - 1) / (2 * (size_t)p * s) + 1 : 0;
+}
+
+/* One group's variance s² (demosaic_noise.h) from its blocks' d² and h² + v², d2[0..n) and
+ * g2[0..n); scratch holds n doubles. *used: the blocks of the last selection (n when s² comes
+ * from the median alone). */
+static double ptc_group(const double *d2, const double *g2, size_t n, double *scratch, size_t *used)
+{
+	memcpy(scratch, d2, sizeof(double) * n);
+	double s2 = select_rank(scratch, n, n / 2) / PC_DM_NG_CHI1;
+	*used = n;
+	for (int it = 0; it < 8 && s2 > 0; it++) {
+		double sum = 0;
+		size_t k = 0;
+		for (size_t i = 0; i < n; i++)
+			if (g2[i] <= PTC_CHI2_99 * s2 && d2[i] <= 9 * s2) {
+				sum += d2[i];
+				k++;
+			}
+		if (k < 16)
+			break;
+		const double s2n = sum / (double)k / PTC_TRIM_C;
+		*used = k;
+		const bool done = fabs(s2n - s2) <= 1e-3 * s2;
+		s2 = s2n;
+		if (done)
+			break;
+	}
+	return s2;
+}
+
+/* The weighted fit of a·μ + b to the groups (demosaic_noise.h) */
+static void ptc_line(const double *mu, const double *s2, const double *n, int k, double *a,
+                     double *b)
+{
+	double smax = 0;
+	for (int i = 0; i < k; i++)
+		smax = s2[i] > smax ? s2[i] : smax;
+	*a = *b = 0;
+	if (k < 2 || !(smax > 0))
+		return;
+	double sw = 0, sx = 0, sxx = 0, sy = 0, sxy = 0, w[PC_DM_PTC_BINS];
+	for (int i = 0; i < k; i++) {
+		const double e = s2[i] + 1e-6 * smax;
+		w[i] = n[i] / (e * e);
+		sw += w[i];
+		sx += w[i] * mu[i];
+		sxx += w[i] * mu[i] * mu[i];
+		sy += w[i] * s2[i];
+		sxy += w[i] * mu[i] * s2[i];
+	}
+	double cand[3][2] = {
+	    {-1, -1}, {sxx > 0 ? fmax(sxy / sxx, 0) : 0, 0}, {0, fmax(sy / sw, 0)}};
+	const double det = sw * sxx - sx * sx;
+	if (det > 0) {
+		cand[0][0] = (sw * sxy - sx * sy) / det;
+		cand[0][1] = (sxx * sy - sx * sxy) / det;
+	}
+	double best = INFINITY;
+	for (int c = 0; c < 3; c++) {
+		if (!(cand[c][0] >= 0 && cand[c][1] >= 0))
+			continue;
+		double sse = 0;
+		for (int i = 0; i < k; i++) {
+			const double r = cand[c][0] * mu[i] + cand[c][1] - s2[i];
+			sse += w[i] * r * r;
+		}
+		if (sse < best) {
+			best = sse;
+			*a = cand[c][0];
+			*b = cand[c][1];
+		}
+	}
+}
+
+int pc_dm_noise_ptc(pc_dm_row_fn row, const void *ctx, uint32_t w, uint32_t h, const pc_mosaic *m,
+                    double fs, double lo, double *a, double *b)
+{
+	const uint32_t p = m->period;
+	*a = *b = 0;
+	/* the walk: row groups y0 = 2P·sy·k (rows y0 .. y0 + 2P − 1 hold one block row of every
+	 * phase), in each every sx-th block of every phase along the row */
+	size_t sx = 3, per_group;
+	for (;; sx += 2) {
+		per_group = 0;
+		for (uint32_t ox = 0; ox < p; ox++)
+			per_group += p * ptc_count(w, ox, p, sx);
+		if (per_group <= PC_DM_PTC_BLOCKS / 16)
+			break;
+	}
+	const size_t groups = h / (2 * (size_t)p);
+	if (!per_group || !groups)
+		return 0;
+	const size_t sy = (groups * per_group + PC_DM_PTC_BLOCKS - 1) / PC_DM_PTC_BLOCKS;
+	const size_t total = ((groups + sy - 1) / sy) * per_group;
+	/* one block from the scratch pool (demosaic_common.c): a fresh allocation of this size
+	 * would fault in its pages on every call */
+	void *mem = pc_dm_alloc((sizeof(ptc_block) + 3 * sizeof(double)) * total +
+	                        sizeof(double) * 2 * p * (size_t)w);
+	if (!mem)
+		return pc_error(PC_ENOMEM, "noise model: %zu blocks", total);
+	ptc_block *blk = mem;
+	/* the groups' d² and h² + v², each group's contiguous (a counting sort by group) */
+	double *gd2 = (double *)(void *)(blk + total), *gg2 = gd2 + total, *scratch = gg2 + total,
+	       *rows = scratch + total;
+	size_t n = 0;
+	uint32_t hist[PTC_CELLS] = {0};
+	for (size_t gy = 0; gy < groups; gy += sy) {
+		const uint32_t y0 = (uint32_t)(2 * p * gy);
+		for (uint32_t r = 0; r < 2 * p; r++)
+			row(ctx, y0 + r, rows + (size_t)r * w);
+		for (uint32_t oy = 0; oy < p; oy++) {
+			const double *r0 = rows + (size_t)oy * w, *r1 = rows + (size_t)(oy + p) * w;
+			for (uint32_t ox = 0; ox < p; ox++)
+				for (size_t x = ox; x + p < w; x += 2 * p * sx) {
+					const double A = r0[x], B = r0[x + p], C = r1[x],
+					             D = r1[x + p];
+					if (!(A > lo && B > lo && C > lo && D > lo && A < fs &&
+					      B < fs && C < fs && D < fs))
+						continue;
+					ptc_block *q = &blk[n++];
+					const double d = (A - B - C + D) / 2,
+					             gh = (A - B + C - D) / 2,
+					             gv = (A + B - C - D) / 2;
+					q->mu = (A + B + C + D) / 4;
+					q->d2 = d * d;
+					q->g2 = gh * gh + gv * gv;
+					const double c = sqrt(pos0(q->mu) / fs) * PTC_CELLS;
+					q->cell = c < PTC_CELLS - 1 ? (uint32_t)c : PTC_CELLS - 1;
+					hist[q->cell]++;
+				}
+		}
+	}
+	/* groups of about n / BINS blocks by cell; the blocks ordered by group (counting sort) */
+	int group[PTC_CELLS];
+	size_t first[PC_DM_PTC_BINS + 1] = {0}, before = 0;
+	for (int c = 0; c < PTC_CELLS; c++) {
+		const size_t k = n ? before * PC_DM_PTC_BINS / n : 0;
+		group[c] = (int)(k < PC_DM_PTC_BINS ? k : PC_DM_PTC_BINS - 1);
+		first[group[c] + 1] += hist[c];
+		before += hist[c];
+	}
+	for (int k = 0; k < PC_DM_PTC_BINS; k++)
+		first[k + 1] += first[k];
+	size_t fill[PC_DM_PTC_BINS];
+	memcpy(fill, first, sizeof fill);
+	double musum[PC_DM_PTC_BINS] = {0}, gmu[PC_DM_PTC_BINS], gs2[PC_DM_PTC_BINS],
+	       gn[PC_DM_PTC_BINS];
+	for (size_t i = 0; i < n; i++) {
+		const int g = group[blk[i].cell];
+		const size_t at = fill[g]++;
+		gd2[at] = blk[i].d2;
+		gg2[at] = blk[i].g2;
+		musum[g] += blk[i].mu;
+	}
+	int k = 0;
+	for (int g = 0; g < PC_DM_PTC_BINS; g++) {
+		const size_t cnt = first[g + 1] - first[g];
+		if (cnt < 64)
+			continue;
+		size_t used;
+		gs2[k] = ptc_group(gd2 + first[g], gg2 + first[g], cnt, scratch, &used);
+		gmu[k] = musum[g] / (double)cnt;
+		gn[k] = (double)used;
+		k++;
+	}
+	ptc_line(gmu, gs2, gn, k, a, b);
+	/* the fit's rounding residue on a noise-free frame (a few textured groups among exact
+	 * zeros) is no noise: below 1e-12 of full scale (a) and of its square (b), 0 */
+	if (*a < 1e-12 * fs)
+		*a = 0;
+	if (*b < 1e-12 * fs * fs)
+		*b = 0;
+	pc_dm_free(mem);
+	return 0;
+}
+
+static void row_d(const void *ctx, uint32_t y, double *dst)
+{
+	const dimg *d = ctx;
+	memcpy(dst, d->img + (size_t)y * d->w, sizeof(double) * d->w);
+}
+
+int pc_dm_noise_ptc_d(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                      double lo, double *a, double *b)
+{
+	dimg d = {img, w};
+	return pc_dm_noise_ptc(row_d, &d, w, h, m, fs, lo, a, b);
+}
+
+/* Row y as (double)pc_dm_sample − black_d: pc_dm_raw_to_double's values */
+static void row_in(const void *ctx, uint32_t y, double *dst)
+{
+	const pc_dm_input *in = ctx;
+	const uint8_t *r = in->data + (size_t)y * in->stride;
+	const double bl = in->black_d;
+	switch (in->type) {
+	case PC_DMT_U8:
+		for (uint32_t x = 0; x < in->width; x++)
+			dst[x] = (double)(float)r[x] - bl;
+		break;
+	case PC_DMT_U16:
+		for (uint32_t x = 0; x < in->width; x++)
+			dst[x] = (double)(float)((const uint16_t *)(const void *)r)[x] - bl;
+		break;
+	default:
+		for (uint32_t x = 0; x < in->width; x++)
+			dst[x] = (double)((const float *)(const void *)r)[x] - bl;
+	}
+}
+
+int pc_dm_noise_ptc_in(const pc_dm_input *in, const pc_mosaic *m, double fs, double *a, double *b)
+{
+	if (in->dark || in->gain_inv)
+		return pc_error(PC_EINVAL,
+		                "noise model: an input with dark or gain maps (correct a "
+		                "copy first)");
+	return pc_dm_noise_ptc(row_in, in, in->width, in->height, m, fs, -in->black_d, a, b);
 }

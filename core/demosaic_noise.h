@@ -88,4 +88,63 @@ int pc_dm_noise_gain_in(const pc_dm_input *in, const pc_mosaic *m, double fs, do
 int pc_dm_noise_gain_in_mt(const pc_dm_input *in, const pc_mosaic *m, double fs, int threads,
                            double *g);
 
+/* ---- the photon-transfer line of a frame (ratio-nr's noise model; docs/demosaicking.md,
+ * Round 40) ----
+ *
+ * EMVA Standard 1288's sensor model makes the temporal variance of a sample linear in its mean
+ * level L above black: σ²(L) = a·L + b, a the system gain K (raw units per electron), b the
+ * read noise and quantisation (K²·σ_d² + σ_q²). The fit here estimates both from one frame, after
+ * Foi, Trimeche, Katkovnik, Egiazarian, "Practical Poissonian-Gaussian noise modeling and fitting
+ * for single-image raw-data", IEEE TIP 17(10) 2008 (local estimates of level and variance on
+ * smooth parts of the image, grouped by level, a straight line fitted to them), with Liu,
+ * Tanaka, Okutomi's selection of weakly textured patches by their gradients ("Single-image noise
+ * level estimation for blind denoising", IEEE TIP 22(12) 2013):
+ *
+ * - Blocks: the 2×2 blocks of same-channel samples one mosaic period P apart, A at (x, y),
+ *   B (x + P, y), C (x, y + P), D (x + P, y + P), tiling each of the P² sub-images. Read in
+ *   row groups (rows 2P·k .. 2P·k + 2P − 1 hold one block row of every phase): every sx-th
+ *   block along the rows (sx the smallest odd ≥ 3 leaving at most PC_DM_PTC_BLOCKS/16 a group)
+ *   in every sy-th group (sy leaving at most PC_DM_PTC_BLOCKS). Whole rows are read, once:
+ *   strided single samples would read a cache line each, from every part of the frame. A block
+ *   with a sample at or below lo (the raw's zero: clipped) or at or above fs (saturated) is left
+ *   out. Its Haar coefficients are orthonormal: the level μ = (A + B + C + D)/4, the detail
+ *   d = (A − B − C + D)/2, the gradients h = (A − B + C − D)/2, v = (A + B − C − D)/2. On
+ *   independent noise of variance σ² the three are independent N(0, σ²); a ramp moves h and v
+ *   only, texture all three.
+ * - Levels: PC_DM_PTC_BINS groups of about equal counts by μ (a histogram of √(μ/fs) in 4096
+ *   cells; a cell is never split).
+ * - A group's variance: s² = median(d²)/m₁ (m₁ the median of χ²₁), then up to eight times
+ *   s² = mean(d²)/c over the blocks with h² + v² ≤ 9.2103·s² (χ²₂'s 99 % point: weak texture)
+ *   and d² ≤ 9·s² (c = 0.97334, the variance of N(0, 1) given |x| ≤ 3), until it changes by less
+ *   than 1e-3 of itself or fewer than 16 blocks remain. Texture only raises d², so the selection
+ *   converges from above.
+ * - The line: a, b ≥ 0 minimising Σ n_k·(a·μ_k + b − s²_k)²/(s²_k + ε)² over the groups (n_k
+ *   the blocks selected, the weights those of a variance estimate; ε 1e-6 of the largest s²),
+ *   the unconstrained least squares when both come out ≥ 0, else the better of a alone and b
+ *   alone.
+ *
+ * a and b in raw units (DN per DN, DN²), each 0 below 1e-12 of full scale (of its square for
+ * b: the fit's rounding on a noise-free frame); 0 and 0 for a noise-free frame, a frame too
+ * small for two groups of 64 blocks, or one whose blocks are all clipped. The scatter of the
+ * slope is about ±10 % where the frame's levels span the line well and up to −20 % on a dark
+ * frame at high gain, where the offset b dominates (test_noise_ptc); ratio-nr's results move
+ * little with a factor of 2 in it (docs/demosaicking.md, Round 40). Deterministic: the same samples
+ * give the same a and b whatever the thread count or instruction set. */
+#define PC_DM_PTC_BLOCKS 8192
+#define PC_DM_PTC_BINS   16
+
+/* Row y of an image minus the black level, in double, into dst[0..w) */
+typedef void (*pc_dm_row_fn)(const void *ctx, uint32_t y, double *dst);
+
+int pc_dm_noise_ptc(pc_dm_row_fn row, const void *ctx, uint32_t w, uint32_t h, const pc_mosaic *m,
+                    double fs, double lo, double *a, double *b);
+
+/* The same on the references' input (raw minus black in double, C order; lo = −black) */
+int pc_dm_noise_ptc_d(const double *img, uint32_t w, uint32_t h, const pc_mosaic *m, double fs,
+                      double lo, double *a, double *b);
+
+/* The same on the fast paths' prepared input (no dark or gain maps), the samples as
+ * pc_dm_noise_ptc_d reads them from pc_dm_raw_to_double's image: the same a and b */
+int pc_dm_noise_ptc_in(const pc_dm_input *in, const pc_mosaic *m, double fs, double *a, double *b);
+
 #endif

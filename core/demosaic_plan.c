@@ -398,7 +398,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "before Round 25 vectorised it (Rounds 30-33: docs/demosaicking.md)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
           "2013) and a Poisson noise variance",
-          PC_DMF_MONO},
+          PC_DMF_MONO | PC_DMF_NOISE_GAIN},
          {-4, 4, 1, 1},
          pc_dm_ic,
          pc_dm_ic_rows,
@@ -931,20 +931,60 @@ int pc_dm_plan_corrected(pc_dm_plan *p, float **img, pc_view *view, pc_pipeline_
 	return 0;
 }
 
+int pc_dm_plan_noise(pc_dm_plan *p, const double *img)
+{
+	if (p->noise_set || p->colour || !(p->def->info.flags & PC_DMF_NOISE_GAIN))
+		return 0;
+	pc_dm_noise nz = {p->opts.noise_gain, 0};
+	int rc = 0;
+	if (!(nz.a > 0)) {
+		if (img) {
+			rc = pc_dm_noise_ptc_d(img, p->raw->width, p->raw->height, &p->opts.mosaic,
+			                       p->full_scale, -p->opts.black_level, &nz.a, &nz.b);
+		} else {
+			const pc_dm_input *in;
+			rc = pc_dm_plan_input(p, &in);
+			if (!rc)
+				rc = pc_dm_noise_ptc_in(in, &p->opts.mosaic, p->full_scale, &nz.a,
+				                        &nz.b);
+		}
+	}
+	if (!rc) {
+		p->noise = nz;
+		p->noise_set = true;
+	}
+	return rc;
+}
+
+void pc_dm_plan_noise_report(const pc_dm_plan *p)
+{
+	if (p->noise_set && p->opts.noise_gain_used)
+		*p->opts.noise_gain_used = p->noise.a;
+}
+
 pc_dm_call pc_dm_plan_call(const pc_dm_plan *p)
 {
-	pc_dm_call c = {&p->in,        &p->opts.mosaic, p->opts.method,
-	                p->full_scale, p->opts.threads, p->level};
+	pc_dm_call c = {&p->in,
+	                &p->opts.mosaic,
+	                p->opts.method,
+	                p->full_scale,
+	                p->opts.threads,
+	                p->level,
+	                p->noise_set ? &p->noise : NULL};
 	return c;
 }
 
 /* ---- demosaicking paths ---- */
 
 /* The reference of a monochrome method on a raw in double. */
-static int mono_reference(const pc_dm_plan *p, const double *img, const pc_mosaic *m,
+static int mono_reference(pc_dm_plan *p, const double *img, const pc_mosaic *m,
                           pc_demosaic_method method, const pc_fplane *out)
 {
-	return pc_dm_ref(img, p->raw->width, p->raw->height, m, method, p->full_scale, out);
+	int rc = pc_dm_plan_noise(p, img);
+	if (rc)
+		return rc;
+	return pc_dm_ref(img, p->raw->width, p->raw->height, m, method, p->full_scale,
+	                 p->noise_set ? &p->noise : NULL, out);
 }
 
 /* A colour method of its own (demosaic_pan.h): the reference on the raw minus black, or the fast
@@ -1027,7 +1067,7 @@ static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 		rc = pc_dm_color_split(fin, w, h, &p->opts.mosaic, p->opts.threads, mf);
 	for (unsigned k = 0; k < 3 && !rc; k++) {
 		pc_dm_input in = pc_dm_input_f32(mf[k], w, h);
-		pc_dm_call c = {&in, &mono, second, p->full_scale, p->opts.threads, p->level};
+		pc_dm_call c = {&in, &mono, second, p->full_scale, p->opts.threads, p->level, NULL};
 		rc = sdef->fast(&c, out + 4 * k);
 	}
 	for (int k = 0; k < 3; k++)
@@ -1043,16 +1083,23 @@ int pc_dm_plan_demosaic(pc_dm_plan *p, const pc_fplane *out)
 	if (!p->opts.reference && p->def->fast) {
 		const pc_dm_input *in;
 		int rc = pc_dm_plan_input(p, &in);
+		if (!rc)
+			rc = pc_dm_plan_noise(p, NULL);
 		if (rc)
 			return rc;
 		pc_dm_call c = pc_dm_plan_call(p);
-		return p->def->fast(&c, out);
+		rc = p->def->fast(&c, out);
+		if (!rc)
+			pc_dm_plan_noise_report(p);
+		return rc;
 	}
 	double *img = NULL;
 	int rc = pc_dm_raw_to_double(p->raw, p->opts.black_level, &img);
 	if (!rc)
 		rc = mono_reference(p, img, &p->opts.mosaic, p->opts.method, out);
 	free(img);
+	if (!rc)
+		pc_dm_plan_noise_report(p);
 	return rc;
 }
 

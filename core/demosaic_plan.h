@@ -53,6 +53,8 @@ typedef struct pc_dm_plan {
 	pc_dm_input in;     /* prepared on first use (pc_dm_plan_input) */
 	void *owned;
 	bool prepared;
+	pc_dm_noise noise; /* ratio-nr's noise model (pc_dm_plan_noise) */
+	bool noise_set;
 } pc_dm_plan;
 
 /* The pipeline options of the older entry points (pc_demosaic, pc_stokes_from_raw): method,
@@ -76,7 +78,18 @@ int pc_dm_plan_input(pc_dm_plan *p, const pc_dm_input **in);
  * same signal full scale. */
 int pc_dm_plan_corrected(pc_dm_plan *p, float **img, pc_view *view, pc_pipeline_opts *o);
 
-/* The kernel call of a monochrome plan (after pc_dm_plan_input). */
+/* The noise model of a monochrome method flagged PC_DMF_NOISE_GAIN (ratio-nr), once per plan:
+ * σ² = g·L for a given noise gain g (opts.noise_gain > 0), else the frame's photon-transfer
+ * line (demosaic_noise.h, pc_dm_noise_ptc) on img (the raw minus black in double, the
+ * reference's input) or, img NULL, on the prepared input: the same values. Nothing for the other
+ * methods. */
+int pc_dm_plan_noise(pc_dm_plan *p, const double *img);
+
+/* After a successful run: the noise gain used (the model's slope) into opts.noise_gain_used,
+ * when the plan has a noise model and the caller asked for it. */
+void pc_dm_plan_noise_report(const pc_dm_plan *p);
+
+/* The kernel call of a monochrome plan (after pc_dm_plan_input and pc_dm_plan_noise). */
 pc_dm_call pc_dm_plan_call(const pc_dm_plan *p);
 
 /* Demosaics into the plan's channel planes (checked by the caller): the reference, the fast

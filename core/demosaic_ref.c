@@ -15,6 +15,8 @@
  */
 #include "demosaic_ref.h"
 
+#include "demosaic_noise.h"
+
 #include "demosaic_anchors.h"
 
 #include <math.h>
@@ -379,9 +381,9 @@ static double guided_tent(const pc_dimg *v, const pc_dimg *g, const pc_mosaic *m
 /* ratio-nr's guide level at (x, y) (ours; docs/demosaicking.md): the guide g shrunk towards
  * its 3×3 mean μ where its 3×3 variance v is of the order of shot noise, as a guided filter
  * shrinks its slope (He, Sun, Tang, TPAMI 2013, eq. 7, with a signal-dependent regulariser):
- * g' = μ + λ·(g − μ), λ = v / (v + k·μ⁺), k = shot·FS (the variance of Poisson noise is
- * proportional to the signal). Written with the differences d_i = g_i − g(x, y):
- * g' = g + (1 − λ)·mean(d), v = mean(d²) − mean(d)²; λ = 1 where v + k·μ⁺ = 0. */
+ * g' = μ + λ·(g − μ), λ = v / (v + k·μ⁺), k the frame's noise gain (the variance of Poisson
+ * noise is proportional to the signal; pc_dm_noise, Round 40). Written with the differences d_i =
+ * g_i − g(x, y): g' = g + (1 − λ)·mean(d), v = mean(d²) − mean(d)²; λ = 1 where v + k·μ⁺ = 0. */
 static double shrunk_guide(const pc_dimg *g, int x, int y, double k)
 {
 	double g0 = pc_dimg_at(g, x, y), sd = 0, sdd = 0;
@@ -397,9 +399,10 @@ static double shrunk_guide(const pc_dimg *g, int x, int y, double k)
 }
 
 /* The ratio method's two passes into out; *gfin (allocated here, freed by the caller) gets the
- * mean of the last pass's four channels, the guide a further pass would use. shot > 0: ratio-nr
- * (the multiplier of each pass is the shrunk guide, shrunk_guide). */
-static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, double shot,
+ * mean of the last pass's four channels, the guide a further pass would use. nr not NULL:
+ * ratio-nr with that noise model (the multiplier of each pass is the shrunk guide,
+ * shrunk_guide). */
+static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_dm_noise *nr,
                         const pc_fplane *out, pc_dimg *gfin)
 {
 	pc_dimg g = {0}, q = {0}, gn = {0};
@@ -422,8 +425,8 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, double 
 				                (fmax(pc_dimg_at(&g, x, y), 0) + delta);
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++) {
-				double gx = shot > 0 ? shrunk_guide(&g, x, y, shot * fs)
-				                     : pc_dimg_at(&g, x, y);
+				double gx =
+				    nr ? shrunk_guide(&g, x, y, nr->a) : pc_dimg_at(&g, x, y);
 				double den = fmax(gx, 0) + delta, sum = 0;
 				for (unsigned c = 0; c < 4; c++) {
 					double v =
@@ -445,11 +448,11 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, double 
 	return 0;
 }
 
-static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, double shot,
+static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_dm_noise *nr,
                      const pc_fplane *out)
 {
 	pc_dimg g = {0};
-	int rc = ratio_passes(r, m, fs, shot, out, &g);
+	int rc = ratio_passes(r, m, fs, nr, out, &g);
 	rimg_free(&g);
 	return rc;
 }
@@ -473,7 +476,7 @@ static int ref_ratio_ri(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 	pc_fplane rp[4];
 	for (int c = 0; c < 4; c++)
 		rp[c] = (pc_fplane){rat + (size_t)c * w * h, (size_t)w, 1};
-	int rc = ratio_passes(r, m, fs, 0, rp, &g);
+	int rc = ratio_passes(r, m, fs, NULL, rp, &g);
 	if (!rc)
 		rc = rimg_new(&a, w, h);
 	if (!rc)
@@ -504,7 +507,8 @@ static int ref_ratio_ri(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 }
 
 static int ref_method(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-                      pc_demosaic_method method, double full_scale, const pc_fplane *out)
+                      pc_demosaic_method method, double full_scale, const pc_dm_noise *noise,
+                      const pc_fplane *out)
 {
 	pc_dimg r = {(double *)img, (int)width, (int)height};
 	switch (method) {
@@ -531,9 +535,19 @@ static int ref_method(const double *img, uint32_t width, uint32_t height, const 
 	case PC_DM_EARI:
 		return ref_ri(&r, m, full_scale, 1, out);
 	case PC_DM_RATIO:
-		return ref_ratio(&r, m, full_scale, 0, out);
-	case PC_DM_RATIO_NR:
-		return ref_ratio(&r, m, full_scale, PC_RATIO_NR_SHOT, out);
+		return ref_ratio(&r, m, full_scale, NULL, out);
+	case PC_DM_RATIO_NR: {
+		pc_dm_noise nz = {0, 0};
+		if (noise)
+			nz = *noise;
+		else {
+			int rc =
+			    pc_dm_noise_ptc_d(img, width, height, m, full_scale, 0, &nz.a, &nz.b);
+			if (rc)
+				return rc;
+		}
+		return ref_ratio(&r, m, full_scale, &nz, out);
+	}
 	case PC_DM_RATIO_RI:
 		return ref_ratio_ri(&r, m, full_scale, out);
 	case PC_DM_EARI_MLRI:
@@ -553,9 +567,10 @@ static int ref_method(const double *img, uint32_t width, uint32_t height, const 
 }
 
 int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-              pc_demosaic_method method, double full_scale, const pc_fplane *out)
+              pc_demosaic_method method, double full_scale, const pc_dm_noise *noise,
+              const pc_fplane *out)
 {
-	int rc = ref_method(img, width, height, m, method, full_scale, out);
+	int rc = ref_method(img, width, height, m, method, full_scale, noise, out);
 	/* the robust methods' overshoot limiter (demosaic_robust.c; the fast paths apply it row
 	 * by row) */
 	if (!rc && m->period == 2 && pc_dm_limited(method))
@@ -573,7 +588,14 @@ int pc_dm_ref_of_call(const pc_dm_call *call, const pc_fplane *out)
 	for (uint32_t y = 0; y < h; y++)
 		for (uint32_t x = 0; x < w; x++)
 			img[(size_t)y * w + x] = (double)pc_dm_sample(in, x, y) - in->black_d;
-	int rc = pc_dm_ref(img, w, h, call->m, call->method, call->full_scale, out);
+	pc_dm_noise nz = {0, 0};
+	int rc = 0;
+	if (call->noise)
+		nz = *call->noise;
+	else if (call->method == PC_DM_RATIO_NR)
+		rc = pc_dm_noise_ptc_in(in, call->m, call->full_scale, &nz.a, &nz.b);
+	if (!rc)
+		rc = pc_dm_ref(img, w, h, call->m, call->method, call->full_scale, &nz, out);
 	free(img);
 	return rc;
 }

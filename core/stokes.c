@@ -303,8 +303,13 @@ static int stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc
 		pc_st_sink sink = {out, calp, p.ow, pc_st_stream_wanted(out, p.ow, p.oh, p.level),
 		                   p.level};
 		pc_dm_row_sink rs = {pc_st_sink_row, &sink};
-		pc_dm_call c = pc_dm_plan_call(&p);
-		rc = p.def->rows(&c, &rs);
+		rc = pc_dm_plan_noise(&p, NULL);
+		if (!rc) {
+			pc_dm_call c = pc_dm_plan_call(&p);
+			rc = p.def->rows(&c, &rs);
+		}
+		if (!rc)
+			pc_dm_plan_noise_report(&p);
 	} else {
 		rc = stokes_two_step(&p, out, rgb);
 	}

@@ -745,15 +745,17 @@ static void test_given_gain_api(void)
 		CHECK_EQ_INT(pc_demosaic_noise_gain(&raw, &o, &g), 0); /* not used there */
 	}
 	printf("  invalid noise gain: \"%s\"\n", pc_error_detail());
-	/* the flag: pan-adapt, pan-guard (its base pan-adapt, Round 15b) and pan-lean (Round 21)
-	 * use a noise gain */
+	/* the flag: pan-adapt, pan-guard (its base pan-adapt, Round 15b), pan-lean (Round 21) and
+	 * the monochrome ratio-nr (Round 40: its noise model; test_noise_ptc) use a noise gain */
 	for (int k = 0; k < PC_DM_COUNT; k++)
 		CHECK(!(pc_demosaic_method_get((pc_demosaic_method)k)->flags & PC_DMF_NOISE_GAIN) ==
-		      (k != PC_DM_PAN_ADAPT && k != PC_DM_PAN_GUARD && k != PC_DM_PAN_LEAN));
-	/* every flagged method has the paths that take the gain (the front door refuses one
-	 * without them: it estimates the gain once and passes it) */
+		      (k != PC_DM_PAN_ADAPT && k != PC_DM_PAN_GUARD && k != PC_DM_PAN_LEAN &&
+		       k != PC_DM_RATIO_NR));
+	/* every flagged colour method has the paths that take the gain (the front door refuses
+	 * one without them: it estimates the gain once and passes it) */
 	for (int k = 0; k < PC_DM_COUNT; k++)
-		if (pc_demosaic_method_get((pc_demosaic_method)k)->flags & PC_DMF_NOISE_GAIN) {
+		if ((pc_demosaic_method_get((pc_demosaic_method)k)->flags & PC_DMF_NOISE_GAIN) &&
+		    (pc_demosaic_method_get((pc_demosaic_method)k)->flags & PC_DMF_COLOR)) {
 			const pc_dm_pan_fns *fn = pc_dm_pan_fns_get((pc_demosaic_method)k);
 			CHECK(fn && fn->ref_g && fn->fast_g);
 		}

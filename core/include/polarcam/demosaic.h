@@ -179,14 +179,15 @@ typedef struct pc_pipeline_opts {
 	 * trusted. */
 	const uint8_t *trusted;
 	/* The noise model of the methods flagged PC_DMF_NOISE_GAIN (pan-adapt, pan-guard for its
-	 * base pan-adapt, and pan-lean; the others ignore it): the gain g of the sensor's
+	 * base pan-adapt, pan-lean and ratio-nr; the others ignore it): the gain g of the sensor's
 	 * photon-transfer curve, variance per unit signal in raw units (DN² per DN above black,
 	 * i.e. DN per unit of signal: a sample of mean s DN above black has variance g·s plus the
 	 * read noise). For a camera measured after EMVA Standard 1288 (its photon-transfer curve,
 	 * docs/calibration.md) g is the system gain K in DN/e⁻ at the settings in use, in the raw's
 	 * units (a 12-bit raw in a 16-bit container shifted left by 4 has 16·K). No read noise is
 	 * given: pan-adapt's shrinkage takes the dark floor as g times its δ (docs/demosaicking.md,
-	 * Round 15b). > 0: given; 0: estimated from each frame (pc_demosaic_noise_gain; the
+	 * Round 15b); ratio-nr's guide variance model is g·L (Round 40). > 0: given; 0: estimated
+	 * from each frame (pc_demosaic_noise_gain; the
 	 * default). Negative, NaN or infinite: PC_EINVAL. The per-pixel correction (dark, gain_inv)
 	 * does not rescale it. */
 	double noise_gain;
@@ -231,7 +232,12 @@ PC_API int pc_demosaic_run(const pc_view *raw, const pc_pipeline_opts *opts, con
 PC_API int pc_validity_run(const pc_view *raw, const pc_pipeline_opts *opts, pc_validity *valid);
 
 /* The noise gain g (pc_pipeline_opts.noise_gain's units) that the methods flagged
- * PC_DMF_NOISE_GAIN estimate from a frame when none is given: the smaller of two robust
+ * PC_DMF_NOISE_GAIN estimate from a frame when none is given. For ratio-nr (a monochrome
+ * method): the slope of the frame's photon-transfer line σ² = g·L + b, fitted to the
+ * variances of weakly textured 2×2 same-channel blocks grouped by level (Foi et al., IEEE TIP
+ * 17(10) 2008; Liu, Tanaka, Okutomi, IEEE TIP 22(12) 2013; docs/demosaicking.md, Round 40),
+ * 0 for noise-free frames and for frames too small for two groups of 64 blocks. For the colour
+ * methods (pan-adapt, pan-guard, pan-lean): the smaller of two robust
  * estimates, the median of the squared residuals of same-channel samples one mosaic period
  * apart (docs/demosaicking.md, Round 14) and the median of the squared residuals
  * I0 + I90 − I45 − I135 of the 2×2 polarizer blocks, which cancel any Stokes vector (Round 19),
