@@ -569,6 +569,14 @@ static void ptc_line(const double *mu, const double *s2, const double *n, int k,
 			*b = cand[c][1];
 		}
 	}
+	/* a slope the groups do not determine (not above twice its standard error, the weights
+	 * being n/s⁴ against a variance estimate's inverse variance n/(2·s⁴): the levels span too
+	 * little of the line, or texture raises every group alike): the line through the origin,
+	 * the one-parameter model σ² = a·L that ratio-nr's shrinkage uses, fitted to the same
+	 * groups */
+	const double se = det > 0 ? sqrt(2 * sw / det) : INFINITY;
+	if (*b > 0 && !(*a > 2 * se))
+		*a = cand[1][0];
 }
 
 int pc_dm_noise_ptc(pc_dm_row_fn row, const void *ctx, uint32_t w, uint32_t h, const pc_mosaic *m,

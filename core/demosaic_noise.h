@@ -121,7 +121,12 @@ int pc_dm_noise_gain_in_mt(const pc_dm_input *in, const pc_mosaic *m, double fs,
  * - The line: a, b ≥ 0 minimising Σ n_k·(a·μ_k + b − s²_k)²/(s²_k + ε)² over the groups (n_k
  *   the blocks selected, the weights those of a variance estimate; ε 1e-6 of the largest s²),
  *   the unconstrained least squares when both come out ≥ 0, else the better of a alone and b
- *   alone.
+ *   alone. When the slope is not determined (b > 0 and a not above twice its standard error,
+ *   √(2·Σw/det) for these weights: the frame's levels span too little of the line to separate
+ *   the two, or texture raises every group alike), a is the slope of the line through the
+ *   origin fitted to the same groups: the one-parameter model σ² = a·L that ratio-nr uses
+ *   (without it the fit reports little or no signal-dependent noise in a frame full of it: the
+ *   stress suite's text at its low exposure, a flat field; Round 40).
  *
  * a and b in raw units (DN per DN, DN²), each 0 below 1e-12 of full scale (of its square for
  * b: the fit's rounding on a noise-free frame); 0 and 0 for a noise-free frame, a frame too

@@ -20,7 +20,8 @@
  *    is then ratio bit for bit (its guide is not shrunk), fast path and reference.
  * 3. The model is the front door's: a given noise gain equal to the estimate gives the same
  *    outputs bit for bit, the reported gain (noise_gain_used) is the estimate, the same on the
- *    fast path and the reference, and pc_demosaic_noise_gain returns it. */
+ *    fast path and the reference, and pc_demosaic_noise_gain returns it.
+ * 4. One level only (a flat field): the slope falls back to the line through the origin. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -237,6 +238,39 @@ static void front_door_case(pc_sim *sim, int noise_free)
 	pc_view_free(&raw);
 }
 
+/* 4. A flat field (one level: the fit cannot separate slope and offset) of 400 DN above a black
+ * level of 64, with Gaussian noise of variance 0.39·400 + 40 DN² (a shot and a read part): the
+ * slope must not be 0 (b alone would fit one level best) but that of the line through the
+ * origin, var/L = 0.49 DN, within 10 % */
+static void flat_case(void)
+{
+	const uint32_t W = 512, H = 384;
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
+	const double L = 400, var = 0.39 * L + 40;
+	uint64_t r = 12345;
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++) {
+			double u[2];
+			for (int k = 0; k < 2; k++) {
+				r = r * 6364136223846793005ull + 1442695040888963407ull;
+				u[k] = ((double)(r >> 11) + 0.5) / 9007199254740992.0;
+			}
+			double z = sqrt(-2 * log(u[0])) * cos(2 * M_PI * u[1]);
+			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)lround(BLACK + L + sqrt(var) * z);
+		}
+	pc_pipeline_opts o = pc_pipeline_defaults();
+	o.method = PC_DM_RATIO_NR;
+	o.mosaic = pc_mosaic_imx250mzr();
+	o.black_level = BLACK;
+	double g = -1;
+	CHECK_EQ_INT(pc_demosaic_noise_gain(&raw, &o, &g), 0);
+	printf("4. a flat field at %g DN, variance %g DN^2: slope %.4f DN (var/L %.4f)\n", L, var,
+	       g, var / L);
+	CHECK(fabs(g / (var / L) - 1) < 0.10);
+	pc_view_free(&raw);
+}
+
 int main(void)
 {
 	const char *src = getenv("PC_SOURCE_DIR");
@@ -256,6 +290,7 @@ int main(void)
 		front_door_case(sim, 0);
 		pc_sim_free(sim);
 	}
+	flat_case();
 	sim = chart_sim("ideal");
 	if (sim) {
 		printf("2. a noise-free frame:\n");
