@@ -381,23 +381,28 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_RATIO_NR] =
         {{PC_DM_RATIO_NR, "ratio-nr",
           "inter-channel: ratio with a noise-aware multiplier (the guide shrunk "
-          "towards its 3x3 mean where its variance is of the order of shot noise), "
-          "overshoot limited; mean (worst): Lapray +3.56/+1.95 (+1.48/+0.28), Zhang "
-          "+3.66/+3.98 (+2.82/+3.81), stress +4.13/+1.58 (+2.50/+0.30); noisy stress "
-          "(IMX250MZR) high/mid/low exposure +4.35/+1.51, +3.91/+1.21, +2.83/+0.85 "
-          "(worst +2.36/+0.16, +1.70/+0.15, +0.36/+0.15: no loss without denoising); "
-          "the recommended choice"
-          "; held-out (scenes/heldout, 12) +4.67/+1.57 (+2.36/+0.31); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +6.06/+2.98 (+1.67/+0.72)",
+          "towards its 3x3 mean where its variance is of the order of the frame's "
+          "noise: the noise gain given, or the slope of the photon-transfer line "
+          "fitted to the frame), overshoot limited; mean (worst): Lapray +3.54/+1.94 "
+          "(+1.34/+0.24), Zhang +3.83/+4.02 (+3.02/+3.87), stress +4.15/+1.55 "
+          "(+2.49/+0.31); noisy stress (IMX250MZR) high/mid/low exposure +4.36/+1.54, "
+          "+3.91/+1.16, +2.77/+0.74 (worst +2.38/+0.36, +1.69/+0.07, +0.39/+0.05: no "
+          "loss without denoising); at +12/+24 dB gain (scenes/stress/gain, 6) "
+          "+2.27/+0.87 (-0.14/+0.48), the only method above -0.3 there; the "
+          "recommended choice"
+          "; held-out (scenes/heldout, 12) +4.63/+1.53 (+2.32/+0.25); through a lens "
+          "(scenes/stress/optics, PSF sigma 0.7 px) +6.13/+2.96 (+1.89/+0.66)",
           "ratio's passes with a 3x3 guide variance per pixel, the overshoot limiter "
-          "applied as each output row is written; 3.2-4.1x bilinear's time in the "
+          "applied as each output row is written, the frame's noise fit (8192 blocks, "
+          "~0.3-0.5 ms a 5 MP frame, Round 40); 3.2-4.1x bilinear's time in the "
           "shared 2-vCPU dev machine's usual regime (medians 3.4x and 3.9x over two "
           "sets of runs), 4.5-5.5x in periods when its write bandwidth doubles and the "
           "memory-bound bilinear speeds up with it (medians 5.1x: at the 5x budget's "
           "edge; AVX-512, 2026-12-06; at AVX2 5.2-6.0x in the first), scalar 36-52x "
           "before Round 25 vectorised it (Rounds 30-33: docs/demosaicking.md)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
-          "2013) and a Poisson noise variance",
+          "2013) and a Poisson noise variance from the frame (Foi et al., IEEE TIP "
+          "17(10) 2008; Liu, Tanaka, Okutomi, IEEE TIP 22(12) 2013)",
           PC_DMF_MONO | PC_DMF_NOISE_GAIN},
          {-4, 4, 1, 1},
          pc_dm_ic,
