@@ -673,9 +673,10 @@ int pc_dm_noise_ptc(pc_dm_row_fn row, const void *ctx, uint32_t w, uint32_t h, c
 	ptc_line(gmu, gs2, gn, k, a, b);
 	/* the fit's rounding residue on a noise-free frame (a few textured groups among exact
 	 * zeros) is no noise: below 1e-12 of full scale (a) and of its square (b), 0 */
-	if (*a < 1e-12 * fs)
+	if (!(*a >= 1e-12 * fs) || !isfinite(*a)) /* (values near a huge float full scale
+	                                           * overflow the squares: no estimate) */
 		*a = 0;
-	if (*b < 1e-12 * fs * fs)
+	if (!(*b >= 1e-12 * fs * fs) || !isfinite(*b))
 		*b = 0;
 	pc_dm_free(mem);
 	return 0;

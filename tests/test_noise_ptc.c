@@ -268,6 +268,20 @@ static void flat_case(void)
 	printf("4. a flat field at %g DN, variance %g DN^2: slope %.4f DN (var/L %.4f)\n", L, var,
 	       g, var / L);
 	CHECK(fabs(g / (var / L) - 1) < 0.10);
+	/* the same frame as float32 in units of full scale (full scale 1): the same slope in those
+	 * units (the samples' float rounding apart) */
+	pc_view fr;
+	CHECK_EQ_INT(pc_view_alloc(&fr, PC_FMT_FLOAT32, W, H, 0), 0);
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++)
+			PC_ROW(&fr, float, y)[x] = (float)(PC_ROW(&raw, uint16_t, y)[x] / 4095.0);
+	o.black_level = BLACK / 4095;
+	o.full_scale = 1;
+	double gf = -1;
+	CHECK_EQ_INT(pc_demosaic_noise_gain(&fr, &o, &gf), 0);
+	printf("   as float32 in units of full scale: %.6g (x 4095 = %.4f DN)\n", gf, gf * 4095);
+	CHECK(fabs(gf * 4095 / g - 1) < 1e-3);
+	pc_view_free(&fr);
 	pc_view_free(&raw);
 }
 
