@@ -13,9 +13,11 @@ gen_gain.py 24 scenes/stress scenes/stress/gain (the chart at the three exposure
 noise_{high,mid,low}.json, at +12 and +24 dB: a camera in low light, docs/demosaicking.md,
 Round 40).
 """
-import json
 import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from suite_copy import copy_suite  # noqa: E402
 
 
 def main():
@@ -24,26 +26,17 @@ def main():
     gain = float(sys.argv[1])
     if not 0 < gain <= 48:
         sys.exit("gen_gain.py: GAIN_DB must be in (0, 48] dB")
-    src, dst = sys.argv[2], sys.argv[3]
-    os.makedirs(dst, exist_ok=True)
-    for name in sorted(os.listdir(src)):
-        if not name.endswith(".json"):
-            continue
-        with open(os.path.join(src, name)) as f:
-            scene = json.load(f)
+
+    def edit(scene, name):
         sensor = scene.get("sensor", {})
         if sensor.get("preset", "ideal") == "ideal":
-            continue
+            return None
         sensor["gain_db"] = gain
         sensor["exposure_us"] = round(sensor["exposure_us"] / 10 ** (gain / 20), 6)
         scene["name"] = "%s, at %g dB analog gain" % (scene.get("name", name), gain)
-        for obj in scene.get("objects", []):
-            if "file" in obj:
-                obj["file"] = os.path.relpath(os.path.join(src, obj["file"]), dst)
-        out = "%s_g%g.json" % (name[:-5], gain)
-        with open(os.path.join(dst, out), "w") as f:
-            json.dump(scene, f, indent=1)
-            f.write("\n")
+        return "%s_g%g.json" % (name[:-5], gain)
+
+    copy_suite(sys.argv[2], sys.argv[3], edit)
 
 
 main()

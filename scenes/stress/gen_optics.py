@@ -9,9 +9,11 @@ usage: gen_optics.py SIGMA SRC_DIR DST_DIR
 scenes/stress/optics was written with: gen_optics.py 0.7 scenes/stress scenes/stress/optics
 (a good machine-vision lens: MTF 50 % at 0.27 cycles/pixel).
 """
-import json
 import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from suite_copy import copy_suite  # noqa: E402
 
 
 def main():
@@ -20,21 +22,13 @@ def main():
     sigma = float(sys.argv[1])
     if not 0.5 <= sigma <= 8:
         sys.exit("gen_optics.py: SIGMA must be in [0.5, 8] pixels")
-    src, dst = sys.argv[2], sys.argv[3]
-    os.makedirs(dst, exist_ok=True)
-    for name in sorted(os.listdir(src)):
-        if not name.endswith(".json"):
-            continue
-        with open(os.path.join(src, name)) as f:
-            scene = json.load(f)
+
+    def edit(scene, name):
         scene.setdefault("effects", {})["blur"] = sigma
         scene["name"] = "%s, through a lens of PSF sigma %g px" % (scene.get("name", name), sigma)
-        for obj in scene.get("objects", []):
-            if "file" in obj:
-                obj["file"] = os.path.relpath(os.path.join(src, obj["file"]), dst)
-        with open(os.path.join(dst, name), "w") as f:
-            json.dump(scene, f, indent=1)
-            f.write("\n")
+        return name
+
+    copy_suite(sys.argv[2], sys.argv[3], edit)
 
 
 main()
