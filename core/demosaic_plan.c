@@ -394,7 +394,7 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(scenes/stress/optics, PSF sigma 0.7 px) +6.13/+2.96 (+1.89/+0.66)",
           "ratio's passes with a 3x3 guide variance per pixel, the overshoot limiter "
           "applied as each output row is written, the frame's noise fit (8192 blocks, "
-          "~0.3-0.5 ms a 5 MP frame, Round 40); 3.2-4.1x bilinear's time in the "
+          "~0.2-0.3 ms a 5 MP frame, Round 40); 3.2-4.1x bilinear's time in the "
           "shared 2-vCPU dev machine's usual regime (medians 3.4x and 3.9x over two "
           "sets of runs), 4.5-5.5x in periods when its write bandwidth doubles and the "
           "memory-bound bilinear speeds up with it (medians 5.1x: at the 5x budget's "
