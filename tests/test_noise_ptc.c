@@ -21,7 +21,9 @@
  * 3. The model is the front door's: a given noise gain equal to the estimate gives the same
  *    outputs bit for bit, the reported gain (noise_gain_used) is the estimate, the same on the
  *    fast path and the reference, and pc_demosaic_noise_gain returns it.
- * 4. One level only (a flat field): the slope falls back to the line through the origin. */
+ * 4. One level only (a flat field): the slope falls back to the line through the origin.
+ * 5. Frames with nothing to fit (black, saturated, a black/saturated checker, too small) give 0
+ *    and ratio-nr's outputs stay finite. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -285,6 +287,42 @@ static void flat_case(void)
 	pc_view_free(&raw);
 }
 
+/* 5. Hard frames: no blocks to fit (all black, all saturated, smaller than one row group, a
+ * single noisy level on too few blocks) give 0, not NaN, and ratio-nr still runs; a checker of
+ * black and full scale (every block clipped) likewise */
+static void hard_case(const char *what, uint32_t w, uint32_t h, int kind)
+{
+	pc_view raw;
+	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, w, h, 0), 0);
+	uint32_t r = 7;
+	for (uint32_t y = 0; y < h; y++)
+		for (uint32_t x = 0; x < w; x++) {
+			r = r * 1664525u + 1013904223u;
+			uint16_t v = kind == 0   ? 0
+			             : kind == 1 ? 4095
+			             : kind == 2 ? (uint16_t)(((x + y) & 1) ? 4095 : 0)
+			                         : (uint16_t)(1000 + (r >> 27));
+			PC_ROW(&raw, uint16_t, y)[x] = v;
+		}
+	pc_pipeline_opts o = pc_pipeline_defaults();
+	o.method = PC_DM_RATIO_NR;
+	o.mosaic = pc_mosaic_imx250mzr();
+	double g = -1;
+	CHECK_EQ_INT(pc_demosaic_noise_gain(&raw, &o, &g), 0);
+	float *buf = malloc(sizeof(float) * 4 * w * h);
+	pc_fplane pl[4];
+	pc_fplanes_interleaved(buf, w, 4, pl);
+	CHECK_EQ_INT(pc_demosaic_run(&raw, &o, pl, NULL), 0);
+	int finite = 1;
+	for (size_t i = 0; i < (size_t)4 * w * h; i++)
+		finite &= isfinite(buf[i]);
+	printf("5. %s (%ux%u): noise gain %g, outputs finite %d\n", what, w, h, g, finite);
+	CHECK(kind == 3 ? g >= 0 : g == 0);
+	CHECK(finite);
+	free(buf);
+	pc_view_free(&raw);
+}
+
 int main(void)
 {
 	const char *src = getenv("PC_SOURCE_DIR");
@@ -305,6 +343,11 @@ int main(void)
 		pc_sim_free(sim);
 	}
 	flat_case();
+	hard_case("all black", 64, 48, 0);
+	hard_case("all saturated", 64, 48, 1);
+	hard_case("black and saturated checker", 64, 48, 2);
+	hard_case("noisy, 4 rows", 64, 4, 3);
+	hard_case("noisy, 8x8", 8, 8, 3);
 	sim = chart_sim("ideal");
 	if (sim) {
 		printf("2. a noise-free frame:\n");
