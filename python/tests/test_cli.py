@@ -303,6 +303,45 @@ def test_pbrdf_degrees_match_cli_conversion():
     assert math.isfinite(f[1, 0, 0])
 
 
+def test_ratio_nr_noise_gain_cli(cli, tmp_path):
+    """ratio-nr's noise model (docs/demosaicking.md Round 40): by default the slope of the frame's
+    photon-transfer line, reported in the JSON (meta.json of process: "estimated"); given back
+    with --noise-gain or noise_gain= it reproduces the output bit for bit, another gain changes
+    it, and the module and the command line agree. The chart through the IMX250MZR preset
+    (K 0.39 DN per e-): the estimate lies within a factor of 1.5 of K."""
+    scene = os.path.join(SCENES, "stress", "noise_high.json")
+    cli("render", scene, "-o", tmp_path / "rec", "--seed", "3")
+    raw, _, meta = polarcam.render(scene, seed=3)
+    png = tmp_path / "rec" / "raw_000000.png"
+    p = cli("demosaic", png, "--method", "ratio-nr", "-o", tmp_path / "e.npy", "--json")
+    j = json_lines(p.stdout)[0]
+    assert j["noise_gain_from"] == "estimated" and 0.39 / 1.5 < j["noise_gain"] < 0.39 * 1.5, j
+    g = j["noise_gain"]
+    est = polarcam.demosaic(raw, method="ratio-nr", layout=meta["layout"], bits=meta["bits"])
+    np.testing.assert_array_equal(est, np.load(tmp_path / "e.npy"))
+    p = cli("demosaic", png, "--method", "ratio-nr", "--noise-gain", repr(g), "-o",
+            tmp_path / "g.npy", "--json")
+    j2 = json_lines(p.stdout)[0]
+    assert j2["noise_gain_from"] == "option" and j2["noise_gain"] == g, j2
+    np.testing.assert_array_equal(np.load(tmp_path / "g.npy"), est)
+    np.testing.assert_array_equal(
+        polarcam.demosaic(raw, method="ratio-nr", layout=meta["layout"], bits=meta["bits"],
+                          noise_gain=g), est)
+    assert not np.array_equal(
+        polarcam.demosaic(raw, method="ratio-nr", layout=meta["layout"], bits=meta["bits"],
+                          noise_gain=20 * g), est)
+    assert {n["name"] for n in polarcam.methods() if n["noise_gain"]} >= {"ratio-nr"}
+    # process: meta.json says estimated (per frame: no one value) or the option's value
+    cli("process", png, "--method", "ratio-nr", "-o", tmp_path / "p")
+    m = json.loads((tmp_path / "p" / "meta.json").read_text())
+    assert m["noise_gain"] is None and m["noise_gain_from"] == "estimated", m
+    cli("process", png, "--method", "ratio-nr", "--noise-gain", repr(g), "-o", tmp_path / "q")
+    m = json.loads((tmp_path / "q" / "meta.json").read_text())
+    assert m["noise_gain"] == g and m["noise_gain_from"] == "option", m
+    np.testing.assert_array_equal(np.load(tmp_path / "p" / "dolp.npy"),
+                                  np.load(tmp_path / "q" / "dolp.npy"))
+
+
 def test_noise_gain_equals_cli(cli, tmp_path):
     """pan-adapt's noise gain on the command line (--noise-gain, docs/demosaicking.md Round 15b)
     and in the module, and pan-guard's (for its base pan-adapt): the JSON says which gain was
