@@ -385,11 +385,15 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 		return pc_error(PC_EINVAL, "flat: at most 64 levels");
 	}
 	uint64_t done = 0, total = 0;
-	for (size_t l = 0; l < n_levels; l++)
+	bool ptc = true; /* the photon transfer: every level has frames to vary over */
+	for (size_t l = 0; l < n_levels; l++) {
 		total += levels[l].n;
+		ptc &= levels[l].n >= 2;
+	}
+	double pv[64], pm[64]; /* per level: mean temporal variance and mean level above dark */
 	for (size_t l = 0; l < n_levels; l++) {
 		stack_stats st;
-		if ((rc = stack_read(&levels[l], g, false, sat, &st, &done, total, o)))
+		if ((rc = stack_read(&levels[l], g, ptc, sat, &st, &done, total, o)))
 			goto out;
 		if ((double)st.n_sat > max_frac * (double)np) {
 			rc = pc_error(PC_EINVAL,
@@ -399,7 +403,7 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 			stats_free(&st);
 			goto out;
 		}
-		double s[4] = {0}, n[4] = {0};
+		double s[4] = {0}, n[4] = {0}, sv = 0;
 		for (uint32_t yy = 0; yy < g->height; yy++)
 			for (uint32_t x = 0; x < g->width; x++) {
 				size_t p = (size_t)yy * g->width + x;
@@ -410,10 +414,15 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 				if (!st.sat[p] && (!base || !base->valid || base->valid[p])) {
 					s[c] += v;
 					n[c]++;
+					if (st.var)
+						sv += st.var[p];
 				}
 			}
 		for (int c = 0; c < 4; c++)
 			lm[l * 4 + c] = n[c] > 0 ? s[c] / n[c] : 0;
+		const double nall = n[0] + n[1] + n[2] + n[3];
+		pv[l] = nall > 0 ? sv / nall : 0;
+		pm[l] = nall > 0 ? (s[0] + s[1] + s[2] + s[3]) / nall : 0;
 		stats_free(&st);
 	}
 	/* the levels must differ: the gain is the slope of pixel against channel mean */
@@ -466,6 +475,19 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 	for (size_t p = 0; p < np; p++)
 		out->gain[p] = out->valid[p] ? (float)(out->gain[p] / gmean) : 1.0f;
 	out->parts |= PC_CAL_FLAT;
+	/* the photon transfer (EMVA 1288): var = K·level + dark variance, least squares */
+	out->system_gain = 0;
+	if (ptc) {
+		double a = 0, b = 0, c = 0, d = 0, nl = (double)n_levels;
+		for (size_t l = 0; l < n_levels; l++) {
+			a += pm[l];
+			b += pv[l];
+			c += pm[l] * pm[l];
+			d += pm[l] * pv[l];
+		}
+		const double den = nl * c - a * a, k = den > 0 ? (nl * d - a * b) / den : 0;
+		out->system_gain = isfinite(k) && k > 0 ? k : 0;
+	}
 	rc = 0;
 out:
 	free(y);
@@ -1420,6 +1442,10 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	}
 	pc_pipeline_opts po = *o;
 	po.mosaic = cal->geo.mosaic;
+	/* the noise-aware methods' noise gain, unless given: the system gain the calibration's
+	 * flats measured (docs/calibration.md) */
+	if (!(po.noise_gain > 0) && cal->system_gain > 0)
+		po.noise_gain = cal->system_gain;
 	po.dark = cal->dark;
 	po.gain_inv = cal->apply_ig;
 	po.black_level = cal->dark ? 0 : cal->black_level;
@@ -1451,5 +1477,5 @@ static int stage_run(void *user, const pc_frame *f, unsigned bits, const pc_pipe
 
 pc_raw_stage pc_calib_stage(pc_calib *cal, const char *name)
 {
-	return (pc_raw_stage){stage_run, cal, name, cal->saturation};
+	return (pc_raw_stage){stage_run, cal, name, cal->saturation, cal->system_gain};
 }

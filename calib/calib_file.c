@@ -156,6 +156,8 @@ static char *meta_text(const pc_calib *c)
 	json_object_set_new(m, "layout", json_string(lay));
 	json_object_set_new(m, "black_level", json_real(c->black_level));
 	json_object_set_new(m, "saturation", json_real(c->saturation));
+	json_object_set_new(m, "system_gain",
+	                    c->system_gain > 0 ? json_real(c->system_gain) : json_null());
 	json_t *parts = json_array();
 	for (int i = 0; i < 4; i++)
 		if (c->parts & (1u << i))
@@ -491,6 +493,18 @@ int pc_calib_read(const char *path, pc_calib *c)
 		}
 		if (json_is_string(cam))
 			snprintf(c->camera, sizeof c->camera, "%s", json_string_value(cam));
+		/* optional (files before it have none): a number > 0, or null */
+		json_t *k = json_object_get(m, "system_gain");
+		if (!rc && k && !json_is_null(k)) {
+			if (!json_is_number(k) || !(json_number_value(k) > 0) ||
+			    !isfinite(json_number_value(k)))
+				rc = pc_error(PC_EFORMAT,
+				              "%s: meta.system_gain: expected a number > 0 (DN per "
+				              "electron) or null",
+				              path);
+			else
+				c->system_gain = json_number_value(k);
+		}
 	}
 	json_t *parts = rc ? NULL : json_object_get(m, "parts");
 	if (!rc && !json_is_array(parts))

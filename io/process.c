@@ -260,7 +260,7 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	/* the noise gain a noise-aware method used, as the pipeline returns it: the one given, or
 	 * its estimate from the frame; 0 for the other methods */
 	double ng = 0;
-	const bool ng_given = o->noise_gain > 0;
+	const bool ng_given = o->noise_gain > 0 || (o->stage && o->stage->noise_gain > 0);
 	double t0 = now_s();
 	rc = run_pipeline(o, &raw, bits, NULL, NULL, planes, &valid, &ng);
 	double secs = now_s() - t0;
@@ -365,11 +365,16 @@ static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_
 	/* a noise-aware method's noise gain: the one given, or estimated from each frame */
 	const bool ng = pc_demosaic_method_get(o->method)->flags & PC_DMF_NOISE_GAIN;
 	json_object_set_new(j, "noise_gain",
-	                    ng && o->noise_gain > 0 ? pc_json_real(o->noise_gain) : json_null());
-	json_object_set_new(j, "noise_gain_from",
 	                    !ng                 ? json_null()
-	                    : o->noise_gain > 0 ? json_string("option")
-	                                        : json_string("estimated"));
+	                    : o->noise_gain > 0 ? pc_json_real(o->noise_gain)
+	                    : o->stage && o->stage->noise_gain > 0
+	                        ? pc_json_real(o->stage->noise_gain)
+	                        : json_null());
+	json_object_set_new(j, "noise_gain_from",
+	                    !ng                                    ? json_null()
+	                    : o->noise_gain > 0                    ? json_string("option")
+	                    : o->stage && o->stage->noise_gain > 0 ? json_string("calibration")
+	                                                           : json_string("estimated"));
 	json_object_set_new(j, "black_level", pc_json_real(o->stage ? 0 : o->black_level));
 	json_object_set_new(j, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
 	json_object_set_new(j, "dead_level",

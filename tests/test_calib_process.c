@@ -376,6 +376,34 @@ static void calibrated(void)
 		CHECK(ec.aolp_rms_deg < 0.8 * eu.aolp_rms_deg);
 		CHECK_NEAR(meta_number(P("pt_c"), "black_level", NULL), 0, 0);
 	}
+	/* the calibration's system gain (its flats' photon transfer, EMVA 1288: the preset's K of
+	 * 0.39 DN/e- within 5 %) is the noise gain of ratio-nr, said so in meta.json; a given
+	 * --noise-gain overrides it */
+	CHECK_EQ_INT(run_cli("process", P("t/raw_000000.png"), "-o", P("pt_n"), "--calibration",
+	                     P("a.npz"), "--method", "ratio-nr", NULL),
+	             0);
+	CHECK_EQ_INT(run_cli("process", P("t/raw_000000.png"), "-o", P("pt_o"), "--calibration",
+	                     P("a.npz"), "--method", "ratio-nr", "--noise-gain", "1.5", NULL),
+	             0);
+	{
+		char path[1200];
+		snprintf(path, sizeof path, "%s/meta.json", P("pt_n"));
+		json_t *j = json_load_file(path, 0, NULL);
+		const char *from =
+		    j ? json_string_value(json_object_get(j, "noise_gain_from")) : NULL;
+		double k = meta_number(P("pt_n"), "noise_gain", NULL);
+		printf("ratio-nr with the calibration: noise gain %.4f DN/e- from %s\n", k,
+		       from ? from : "(none)");
+		CHECK(from && !strcmp(from, "calibration"));
+		CHECK_REL(k, 0.39, 0.05);
+		json_decref(j);
+		snprintf(path, sizeof path, "%s/meta.json", P("pt_o"));
+		j = json_load_file(path, 0, NULL);
+		from = j ? json_string_value(json_object_get(j, "noise_gain_from")) : NULL;
+		CHECK(from && !strcmp(from, "option"));
+		CHECK_NEAR(meta_number(P("pt_o"), "noise_gain", NULL), 1.5, 0);
+		json_decref(j);
+	}
 	pc_array_free(&du);
 	pc_array_free(&dc);
 	pc_array_free(&au);

@@ -220,6 +220,8 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 	json_object_set_new(o, "layout", json_string(lay));
 	json_object_set_new(o, "black_level", cli_json_real(c->black_level));
 	json_object_set_new(o, "saturation", cli_json_real(c->saturation));
+	json_object_set_new(o, "system_gain",
+	                    c->system_gain > 0 ? cli_json_real(c->system_gain) : json_null());
 	size_t nv = 0;
 	for (size_t p = 0; c->valid && p < np; p++)
 		nv += c->valid[p] != 0;

@@ -40,7 +40,8 @@ static void usage(FILE *fp)
 	    "\n"
 	    "JSON fields: output, shape, method, layout, bits, seconds, black_level,\n"
 	    "saturation_level, calibration, valid, invalid_pixels, noise_gain and\n"
-	    "noise_gain_from (\"option\" or \"estimated\"; null for methods without one).\n"
+	    "noise_gain_from (\"option\", \"calibration\" or \"estimated\"; null for methods\n"
+	    "without one).\n"
 	    "Exit status: 0 success, 1 failure, 2 bad arguments or bad input (odd size, truncated\n"
 	    "file, values above the bit depth, NaN, bad layout) or OUT exists.\n"
 	    "\n"
@@ -194,7 +195,8 @@ int cli_cmd_demosaic(int argc, char **argv)
 	json_object_set_new(j, "noise_gain", ng ? cli_json_real(rep.noise_gain) : json_null());
 	json_object_set_new(j, "noise_gain_from",
 	                    !ng                    ? json_null()
-	                    : rep.noise_gain_given ? json_string("option")
+	                    : po.noise_gain > 0    ? json_string("option")
+	                    : rep.noise_gain_given ? json_string("calibration")
 	                                           : json_string("estimated"));
 	cli_print_json(j);
 	return CLI_EXIT_OK;

@@ -54,8 +54,9 @@ const char cli_raw_help[] =
     "                      line fitted to weakly textured blocks by level; for the colour\n"
     "                      methods the median residuals of the polarizer blocks and of\n"
     "                      samples one period apart, the smaller (texture finer than a\n"
-    "                      block still inflates it). The JSON says which (noise_gain,\n"
-    "                      noise_gain_from). Refused with other methods\n"
+    "                      block still inflates it). With --calibration: the system gain\n"
+    "                      its flats measured, when it has one. The JSON says which\n"
+    "                      (noise_gain, noise_gain_from). Refused with other methods\n"
     "  --threads N         threads (default: all cores)\n"
     "  --reference         run the double-precision reference implementation (slow)\n";
 

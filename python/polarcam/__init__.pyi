@@ -66,6 +66,7 @@ class Calibration:
     layout: str
     black_level: float
     saturation: float
+    system_gain: Union[float, None]
     parts: tuple[str, ...]
     provenance: Union[dict[str, Any], None]
     dark: Union[F32, None]

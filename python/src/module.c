@@ -2261,6 +2261,15 @@ static PyObject *cal_saturation(CalibrationObject *self, void *closure)
 	return PyFloat_FromDouble(cal_of(self)->saturation);
 }
 
+static PyObject *cal_system_gain(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	const double k = cal_of(self)->system_gain;
+	if (k > 0)
+		return PyFloat_FromDouble(k);
+	Py_RETURN_NONE;
+}
+
 static PyObject *cal_parts(CalibrationObject *self, void *closure)
 {
 	(void)closure;
@@ -2355,6 +2364,10 @@ static PyGetSetDef cal_getset[] = {
     {"black_level", (getter)cal_black, NULL, "float: mean dark offset (DN)", NULL},
     {"saturation", (getter)cal_saturation, NULL,
      "float: samples at or above it are not trusted (DN)", NULL},
+    {"system_gain", (getter)cal_system_gain, NULL,
+     "float or None: the system gain K (DN per electron) the flats measured (EMVA 1288 photon "
+     "transfer), the noise gain of the noise-aware methods at the flats' settings",
+     NULL},
     {"parts", (getter)cal_parts, NULL,
      "tuple of str: what the file holds ('dark', 'flat', 'analyser', 'ecm')", NULL},
     {"provenance", (getter)cal_provenance, NULL,

@@ -80,6 +80,8 @@ def test_calibration_object(cal, calfile):
     z = np.load(calfile / "cam.npz")  # numpy reads the same file (docs/calibration.md)
     meta = json.loads(bytes(z["meta"]))
     assert cal.black_level == meta["black_level"] and cal.saturation == meta["saturation"]
+    # the flats' photon transfer: the system gain (the preset's K 0.39 DN/e-, within 5 %)
+    assert cal.system_gain == meta["system_gain"] and abs(cal.system_gain / 0.39 - 1) < 0.05
     for name in ("dark", "dark_noise", "gain", "analysis", "residual", "valid",
                  "pinv_superpixel"):
         a = getattr(cal, name)

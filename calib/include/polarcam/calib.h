@@ -66,13 +66,19 @@ typedef struct pc_calib {
 	pc_calib_geometry geo;
 	double black_level; /* DN: mean dark offset (or the declared black level) */
 	double saturation;  /* DN: samples at or above it are not trusted */
-	float *dark;        /* (H, W) per-pixel offset, DN */
-	float *dark_noise;  /* (H, W) temporal σ of one frame, DN */
-	float *gain;        /* (H, W) relative gain, mean 1 over valid pixels */
-	float *analysis;    /* (H, W, 3) analysis vectors (a0, a1, a2), after dark and gain */
-	float *residual;    /* (H, W) RMS residual of the analyser fit, DN (K > 3) */
-	float *pinv_sp;     /* (3, 4, H/2, W/2) pseudo-inverses per 2×2 super-pixel */
-	uint8_t *valid;     /* (H, W) 1 = trusted pixel, 0 = dead, hot, saturated, unfit */
+	/* The system gain K in DN per e⁻ at the flat frames' settings (EMVA 1288's photon
+	 * transfer: the slope of the frames' mean temporal variance against their mean level
+	 * above dark, over the flat levels; pc_calib_flat with ≥ 2 frames a level); 0 unknown.
+	 * The noise gain of the noise-aware demosaicking methods (pc_pipeline_opts.noise_gain,
+	 * --noise-gain) at those settings. */
+	double system_gain;
+	float *dark;       /* (H, W) per-pixel offset, DN */
+	float *dark_noise; /* (H, W) temporal σ of one frame, DN */
+	float *gain;       /* (H, W) relative gain, mean 1 over valid pixels */
+	float *analysis;   /* (H, W, 3) analysis vectors (a0, a1, a2), after dark and gain */
+	float *residual;   /* (H, W) RMS residual of the analyser fit, DN (K > 3) */
+	float *pinv_sp;    /* (3, 4, H/2, W/2) pseudo-inverses per 2×2 super-pixel */
+	uint8_t *valid;    /* (H, W) 1 = trusted pixel, 0 = dead, hot, saturated, unfit */
 	/* ECM (global over the field): generator W (4 × n_psg) and analyser A (4·n_psa × 4) in
 	 * the frame order of polarcam mueller (generator fastest). */
 	unsigned n_psg, n_psa;
@@ -131,7 +137,11 @@ PC_API int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_cal
 /* Flat: n_levels ≥ 2 stacks of uniform unpolarized light at different levels → per-pixel
  * gain: the slope of the pixel's mean against the level's mean over the pixels of its analyser
  * channel (least squares through the levels, so any residual offset cancels), normalised to mean
- * 1 over valid pixels. base (may be NULL) supplies the dark; out gets base's parts + the gain. */
+ * 1 over valid pixels. base (may be NULL) supplies the dark; out gets base's parts + the gain.
+ * With ≥ 2 frames in every level also system_gain: the least-squares slope of the level's mean
+ * per-pixel temporal variance (sample variance over its frames) against its mean level above
+ * dark, over the trusted pixels (EMVA Standard 1288, the photon-transfer method; the intercept
+ * takes the dark noise), 0 when that slope is not positive. */
 PC_API int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib *base,
                          const pc_calib_opts *o, pc_calib *out);
 
@@ -221,6 +231,8 @@ PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geo
  * o->dead_level (> 0); valid (may be NULL) gets the output pixels whose method support holds a
  * flagged sample (pc_validity_run), the same rule as the uncalibrated pipeline. o->black_level
  * must be 0 (the dark map is the black level), o->pinv, o->dark and o->gain_inv NULL. The
+ * noise-aware methods' noise gain is o->noise_gain when given, else cal->system_gain when
+ * known (else estimated from the frame). The
  * correction is fused into the core's pipeline (pc_pipeline_opts.dark, gain_inv): the fused
  * bilinear Stokes pass reads the raw once. Per-call memory only; the once-per-calibration
  * parts are made on the first call (pc_calib_prepare), after which calls only read cal (they
@@ -243,7 +255,7 @@ PC_API void pc_calib_unprepare(pc_calib *cal);
 
 /* pc_calib_apply as a pc_raw_stage (polarcam/process.h) for pc_process_file, pc_demosaic_file
  * and the live Stokes stream; name is reported in meta.json (e.g. the file's path); the stage's
- * default saturation level is the calibration's. */
+ * default saturation level and noise gain are the calibration's. */
 PC_API pc_raw_stage pc_calib_stage(pc_calib *cal, const char *name);
 
 /* ---- the file (docs/calibration.md) ---- */

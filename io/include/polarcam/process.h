@@ -52,6 +52,8 @@ typedef struct pc_raw_stage {
 	void *user;
 	const char *name;        /* for meta.json ("calibration") */
 	double saturation_level; /* the stage's default saturation level (raw units; 0: none) */
+	double noise_gain; /* the noise gain the stage applies when none is given (a calibration's
+	                    * system gain, pc_calib.system_gain; 0: none) */
 } pc_raw_stage;
 
 /* How a raw file is processed. */
@@ -68,7 +70,8 @@ typedef struct pc_process_opts {
 	double dead_level;         /* samples <= it are dead; 0: not checked */
 	uint32_t roi_x, roi_y;     /* the frame's ROI origin on the sensor (for stage checks) */
 	const pc_raw_stage *stage; /* NULL: the front door with the levels above */
-	double noise_gain;         /* pc_pipeline_opts.noise_gain (0: estimated from each frame) */
+	double noise_gain;         /* pc_pipeline_opts.noise_gain (0: the stage's, else estimated
+	                            * from each frame) */
 } pc_process_opts;
 
 /* The saturation level that pc_process_file and pc_demosaic_file check for o and a raw of the
