@@ -357,5 +357,18 @@ def test_bad_input(cal, calfile, tmp_path):
     np.savez(tmp_path / "short.npz", **z)
     with pytest.raises(ValueError, match="gain"):
         polarcam.Calibration(tmp_path / "short.npz")
+    # the system gain: a number > 0 or null; a file without it reads as unknown
+    for bad in ("x", -1, 0):
+        z = dict(np.load(calfile / "cam.npz"))
+        meta = json.loads(bytes(z["meta"]))
+        meta["system_gain"] = bad
+        z["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+        np.savez(tmp_path / "badk.npz", **z)
+        with pytest.raises(ValueError, match="system_gain"):
+            polarcam.Calibration(tmp_path / "badk.npz")
+    del meta["system_gain"]
+    z["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    np.savez(tmp_path / "oldk.npz", **z)
+    assert polarcam.Calibration(tmp_path / "oldk.npz").system_gain is None
     with pytest.raises(TypeError):
         polarcam.Calibration(3)
