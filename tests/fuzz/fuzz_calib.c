@@ -1,7 +1,8 @@
 /* libFuzzer harness: calibration files (pc_calib_read: a NumPy .npz, i.e. a zip of .npy members
  * with JSON metadata; docs/calibration.md). A file that reads has a sane geometry (even, at
  * least 4×4, within the pixel limit), the maps its parts declare, finite values and positive
- * gains where it promises them, and can be checked against its own geometry. */
+ * gains where it promises them, a system gain that is 0 (unknown) or finite and positive, and
+ * can be checked against its own geometry. */
 #include <math.h>
 
 #include "fuzz.h"
@@ -24,6 +25,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	FUZZ_ASSERT(!(c.parts & PC_CAL_DARK) || (c.dark && c.dark_noise), "dark maps");
 	FUZZ_ASSERT(!(c.parts & PC_CAL_FLAT) || c.gain, "gain map");
 	FUZZ_ASSERT(!(c.parts & PC_CAL_ANALYSER) || (c.analysis && c.pinv_sp), "analyser maps");
+	FUZZ_ASSERT(c.system_gain == 0 || (isfinite(c.system_gain) && c.system_gain > 0),
+	            "system gain %g", c.system_gain);
 	for (size_t i = 0; i < n; i++) {
 		FUZZ_ASSERT(!c.dark || isfinite(c.dark[i]), "dark[%zu]", i);
 		FUZZ_ASSERT(!c.gain || c.gain[i] > 0, "gain[%zu]", i);
