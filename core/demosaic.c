@@ -175,7 +175,7 @@ int pc_demosaic_noise_gain(const pc_view *raw, const pc_pipeline_opts *opts, dou
 	} else if (!p.colour && (p.def->info.flags & PC_DMF_NOISE_GAIN)) {
 		/* ratio-nr: the slope of the frame's photon-transfer line (demosaic_noise.h) */
 		if (!(rc = pc_dm_plan_noise(&p, NULL)))
-			*g = p.noise.a;
+			*g = p.noise_gain;
 	} else if (!(rc = pc_dm_plan_input(&p, &in))) {
 		rc = pc_dm_noise_gain_in(in, &p.opts.mosaic, p.full_scale, g);
 	}

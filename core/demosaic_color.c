@@ -199,7 +199,7 @@ int pc_dm_bayer_first_ref(const double *img, uint32_t w, uint32_t h, const pc_mo
 	const pc_mosaic mono = pc_dm_color_mono(m);
 	int rc = 0;
 	for (unsigned k = 0; k < 3 && !rc; k++)
-		rc = pc_dm_ref(md[k], w, h, &mono, second, fs, NULL, out + 4 * k);
+		rc = pc_dm_ref(md[k], w, h, &mono, second, fs, 0, out + 4 * k);
 	free(buf);
 	return rc;
 }

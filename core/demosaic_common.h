@@ -248,15 +248,10 @@ typedef struct pc_dm_call {
 	double full_scale; /* the signal's full scale: the raw's minus the black level */
 	int threads;       /* 0: pc_parallel default */
 	pc_cpu_level level;
-	/* ratio-nr's noise model (demosaic_noise.h, pc_dm_noise_ptc): the given one, or NULL to
-	 * estimate it from in; the other methods ignore it */
-	const struct pc_dm_noise *noise;
+	/* ratio-nr's noise gain k (its guide's variance model k·L, raw units): the plan's, given or
+	 * fitted to the frame once (pc_dm_plan_noise); the other methods ignore it */
+	double noise_gain;
 } pc_dm_call;
-
-/* A noise model σ²(L) = a·L + b of the raw minus black, raw units (ratio-nr) */
-typedef struct pc_dm_noise {
-	double a, b;
-} pc_dm_noise;
 
 /* ---- row sinks: a kernel that produces whole demosaicked rows hands them on ---- */
 typedef struct pc_dm_row_sink {

@@ -22,7 +22,6 @@
 #include "cpu_internal.h"
 #include "parallel_internal.h"
 #include "demosaic_anchors.h"
-#include "demosaic_noise.h"
 #include "demosaic_plan.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
@@ -538,7 +537,7 @@ typedef struct ic_job {
 	const pc_dm_row_sink *sink; /* rows handed on instead of written to out */
 	int planar, nt, err;
 	int ntil;          /* an interleaved output streamed (pc_dm_stream_wanted_il) */
-	pc_dm_noise noise; /* ratio-nr's noise model */
+	double noise_gain; /* ratio-nr's noise gain (pc_dm_call) */
 } ic_job;
 
 /* The band's row caches (every one, initialised or not) into all */
@@ -586,7 +585,7 @@ static int setup_band(ic_band *b, const ic_job *j)
 		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
 		if (j->method == PC_DM_RATIO_NR) {
 			b->nr = 1;
-			b->shot = (float)j->noise.a;
+			b->shot = (float)j->noise_gain;
 		}
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
 		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
@@ -791,26 +790,11 @@ static void run(ic_job *j, int threads)
 	pc_parallel_rows_tapered(j->in->height, 64, threads, ic_band_run, j);
 }
 
-/* ratio-nr's noise model into j: the call's, or estimated from its input (pc_dm_noise_ptc_in,
- * once for all bands) */
-static int job_noise(ic_job *j, const pc_dm_call *call)
-{
-	if (call->method != PC_DM_RATIO_NR)
-		return 0;
-	if (call->noise) {
-		j->noise = *call->noise;
-		return 0;
-	}
-	return pc_dm_noise_ptc_in(call->in, call->m, call->full_scale, &j->noise.a, &j->noise.b);
-}
-
 int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
 {
-	ic_job j = {call->in, call->m, call->method, call->full_scale, call->level, out, NULL, 1, 0,
-	            0,        0,       {0, 0}};
-	int rc = job_noise(&j, call);
-	if (rc)
-		return rc;
+	ic_job j = {
+	    call->in, call->m, call->method,    call->full_scale, call->level, out, NULL, 1, 0,
+	    0,        0,       call->noise_gain};
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
@@ -826,11 +810,8 @@ int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
 int pc_dm_ic_rows(const pc_dm_call *call, const pc_dm_row_sink *sink)
 {
 	ic_job j = {
-	    call->in, call->m, call->method, call->full_scale, call->level, NULL, sink, 0, 0,
-	    0,        0,       {0, 0}};
-	int rc = job_noise(&j, call);
-	if (rc)
-		return rc;
+	    call->in, call->m, call->method,    call->full_scale, call->level, NULL, sink, 0, 0,
+	    0,        0,       call->noise_gain};
 	run(&j, call->threads);
 	return j.err ? pc_error(PC_ENOMEM, "row caches of %u-pixel rows", call->in->width) : 0;
 }

@@ -586,6 +586,9 @@ int pc_dm_noise_ptc(pc_dm_row_fn row, const void *ctx, uint32_t w, uint32_t h, c
                     double fs, double lo, double *a, double *b)
 {
 	const uint32_t p = m->period;
+	double b0;
+	if (!b)
+		b = &b0; /* the offset is fitted all the same: it keeps a unbiased */
 	*a = *b = 0;
 	/* the walk: row groups y0 = 2P·sy·k (rows y0 .. y0 + 2P − 1 hold one block row of every
 	 * phase), in each every sx-th block of every phase along the row */

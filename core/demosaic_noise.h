@@ -141,6 +141,7 @@ int pc_dm_noise_gain_in_mt(const pc_dm_input *in, const pc_mosaic *m, double fs,
 /* Row y of an image minus the black level, in double, into dst[0..w) */
 typedef void (*pc_dm_row_fn)(const void *ctx, uint32_t y, double *dst);
 
+/* b may be NULL (ratio-nr uses a alone) */
 int pc_dm_noise_ptc(pc_dm_row_fn row, const void *ctx, uint32_t w, uint32_t h, const pc_mosaic *m,
                     double fs, double lo, double *a, double *b);
 

@@ -940,22 +940,22 @@ int pc_dm_plan_noise(pc_dm_plan *p, const double *img)
 {
 	if (p->noise_set || p->colour || !(p->def->info.flags & PC_DMF_NOISE_GAIN))
 		return 0;
-	pc_dm_noise nz = {p->opts.noise_gain, 0};
+	double g = p->opts.noise_gain;
 	int rc = 0;
-	if (!(nz.a > 0)) {
+	if (!(g > 0)) {
 		if (img) {
 			rc = pc_dm_noise_ptc_d(img, p->raw->width, p->raw->height, &p->opts.mosaic,
-			                       p->full_scale, -p->opts.black_level, &nz.a, &nz.b);
+			                       p->full_scale, -p->opts.black_level, &g, NULL);
 		} else {
 			const pc_dm_input *in;
 			rc = pc_dm_plan_input(p, &in);
 			if (!rc)
-				rc = pc_dm_noise_ptc_in(in, &p->opts.mosaic, p->full_scale, &nz.a,
-				                        &nz.b);
+				rc = pc_dm_noise_ptc_in(in, &p->opts.mosaic, p->full_scale, &g,
+				                        NULL);
 		}
 	}
 	if (!rc) {
-		p->noise = nz;
+		p->noise_gain = g;
 		p->noise_set = true;
 	}
 	return rc;
@@ -964,18 +964,13 @@ int pc_dm_plan_noise(pc_dm_plan *p, const double *img)
 void pc_dm_plan_noise_report(const pc_dm_plan *p)
 {
 	if (p->noise_set && p->opts.noise_gain_used)
-		*p->opts.noise_gain_used = p->noise.a;
+		*p->opts.noise_gain_used = p->noise_gain;
 }
 
 pc_dm_call pc_dm_plan_call(const pc_dm_plan *p)
 {
-	pc_dm_call c = {&p->in,
-	                &p->opts.mosaic,
-	                p->opts.method,
-	                p->full_scale,
-	                p->opts.threads,
-	                p->level,
-	                p->noise_set ? &p->noise : NULL};
+	pc_dm_call c = {&p->in,          &p->opts.mosaic, p->opts.method, p->full_scale,
+	                p->opts.threads, p->level,        p->noise_gain};
 	return c;
 }
 
@@ -989,7 +984,7 @@ static int mono_reference(pc_dm_plan *p, const double *img, const pc_mosaic *m,
 	if (rc)
 		return rc;
 	return pc_dm_ref(img, p->raw->width, p->raw->height, m, method, p->full_scale,
-	                 p->noise_set ? &p->noise : NULL, out);
+	                 p->noise_gain, out);
 }
 
 /* A colour method of its own (demosaic_pan.h): the reference on the raw minus black, or the fast
@@ -1072,7 +1067,7 @@ static int colour_demosaic(pc_dm_plan *p, const pc_fplane *out)
 		rc = pc_dm_color_split(fin, w, h, &p->opts.mosaic, p->opts.threads, mf);
 	for (unsigned k = 0; k < 3 && !rc; k++) {
 		pc_dm_input in = pc_dm_input_f32(mf[k], w, h);
-		pc_dm_call c = {&in, &mono, second, p->full_scale, p->opts.threads, p->level, NULL};
+		pc_dm_call c = {&in, &mono, second, p->full_scale, p->opts.threads, p->level, 0};
 		rc = sdef->fast(&c, out + 4 * k);
 	}
 	for (int k = 0; k < 3; k++)

@@ -53,7 +53,7 @@ typedef struct pc_dm_plan {
 	pc_dm_input in;     /* prepared on first use (pc_dm_plan_input) */
 	void *owned;
 	bool prepared;
-	pc_dm_noise noise; /* ratio-nr's noise model (pc_dm_plan_noise) */
+	double noise_gain; /* ratio-nr's noise gain (pc_dm_plan_noise) */
 	bool noise_set;
 } pc_dm_plan;
 

@@ -15,8 +15,6 @@
  */
 #include "demosaic_ref.h"
 
-#include "demosaic_noise.h"
-
 #include "demosaic_anchors.h"
 
 #include <math.h>
@@ -382,8 +380,9 @@ static double guided_tent(const pc_dimg *v, const pc_dimg *g, const pc_mosaic *m
  * its 3×3 mean μ where its 3×3 variance v is of the order of shot noise, as a guided filter
  * shrinks its slope (He, Sun, Tang, TPAMI 2013, eq. 7, with a signal-dependent regulariser):
  * g' = μ + λ·(g − μ), λ = v / (v + k·μ⁺), k the frame's noise gain (the variance of Poisson
- * noise is proportional to the signal; pc_dm_noise, Round 40). Written with the differences d_i =
- * g_i − g(x, y): g' = g + (1 − λ)·mean(d), v = mean(d²) − mean(d)²; λ = 1 where v + k·μ⁺ = 0. */
+ * noise is proportional to the signal; pc_dm_call.noise_gain, Round 40). Written with the
+ * differences d_i = g_i − g(x, y): g' = g + (1 − λ)·mean(d), v = mean(d²) − mean(d)²; λ = 1 where v
+ * + k·μ⁺ = 0. */
 static double shrunk_guide(const pc_dimg *g, int x, int y, double k)
 {
 	double g0 = pc_dimg_at(g, x, y), sd = 0, sdd = 0;
@@ -399,10 +398,10 @@ static double shrunk_guide(const pc_dimg *g, int x, int y, double k)
 }
 
 /* The ratio method's two passes into out; *gfin (allocated here, freed by the caller) gets the
- * mean of the last pass's four channels, the guide a further pass would use. nr not NULL:
- * ratio-nr with that noise model (the multiplier of each pass is the shrunk guide,
+ * mean of the last pass's four channels, the guide a further pass would use. nr: ratio-nr with
+ * the noise gain k (the multiplier of each pass is the shrunk guide,
  * shrunk_guide). */
-static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_dm_noise *nr,
+static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr, double k,
                         const pc_fplane *out, pc_dimg *gfin)
 {
 	pc_dimg g = {0}, q = {0}, gn = {0};
@@ -425,8 +424,7 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 				                (fmax(pc_dimg_at(&g, x, y), 0) + delta);
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++) {
-				double gx =
-				    nr ? shrunk_guide(&g, x, y, nr->a) : pc_dimg_at(&g, x, y);
+				double gx = nr ? shrunk_guide(&g, x, y, k) : pc_dimg_at(&g, x, y);
 				double den = fmax(gx, 0) + delta, sum = 0;
 				for (unsigned c = 0; c < 4; c++) {
 					double v =
@@ -448,11 +446,11 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 	return 0;
 }
 
-static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, const pc_dm_noise *nr,
+static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr, double k,
                      const pc_fplane *out)
 {
 	pc_dimg g = {0};
-	int rc = ratio_passes(r, m, fs, nr, out, &g);
+	int rc = ratio_passes(r, m, fs, nr, k, out, &g);
 	rimg_free(&g);
 	return rc;
 }
@@ -476,7 +474,7 @@ static int ref_ratio_ri(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 	pc_fplane rp[4];
 	for (int c = 0; c < 4; c++)
 		rp[c] = (pc_fplane){rat + (size_t)c * w * h, (size_t)w, 1};
-	int rc = ratio_passes(r, m, fs, NULL, rp, &g);
+	int rc = ratio_passes(r, m, fs, false, 0, rp, &g);
 	if (!rc)
 		rc = rimg_new(&a, w, h);
 	if (!rc)
@@ -507,7 +505,7 @@ static int ref_ratio_ri(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 }
 
 static int ref_method(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-                      pc_demosaic_method method, double full_scale, const pc_dm_noise *noise,
+                      pc_demosaic_method method, double full_scale, double noise_gain,
                       const pc_fplane *out)
 {
 	pc_dimg r = {(double *)img, (int)width, (int)height};
@@ -535,19 +533,9 @@ static int ref_method(const double *img, uint32_t width, uint32_t height, const 
 	case PC_DM_EARI:
 		return ref_ri(&r, m, full_scale, 1, out);
 	case PC_DM_RATIO:
-		return ref_ratio(&r, m, full_scale, NULL, out);
-	case PC_DM_RATIO_NR: {
-		pc_dm_noise nz = {0, 0};
-		if (noise)
-			nz = *noise;
-		else {
-			int rc =
-			    pc_dm_noise_ptc_d(img, width, height, m, full_scale, 0, &nz.a, &nz.b);
-			if (rc)
-				return rc;
-		}
-		return ref_ratio(&r, m, full_scale, &nz, out);
-	}
+		return ref_ratio(&r, m, full_scale, false, 0, out);
+	case PC_DM_RATIO_NR:
+		return ref_ratio(&r, m, full_scale, true, noise_gain, out);
 	case PC_DM_RATIO_RI:
 		return ref_ratio_ri(&r, m, full_scale, out);
 	case PC_DM_EARI_MLRI:
@@ -567,10 +555,9 @@ static int ref_method(const double *img, uint32_t width, uint32_t height, const 
 }
 
 int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-              pc_demosaic_method method, double full_scale, const pc_dm_noise *noise,
-              const pc_fplane *out)
+              pc_demosaic_method method, double full_scale, double noise_gain, const pc_fplane *out)
 {
-	int rc = ref_method(img, width, height, m, method, full_scale, noise, out);
+	int rc = ref_method(img, width, height, m, method, full_scale, noise_gain, out);
 	/* the robust methods' overshoot limiter (demosaic_robust.c; the fast paths apply it row
 	 * by row) */
 	if (!rc && m->period == 2 && pc_dm_limited(method))
@@ -588,14 +575,8 @@ int pc_dm_ref_of_call(const pc_dm_call *call, const pc_fplane *out)
 	for (uint32_t y = 0; y < h; y++)
 		for (uint32_t x = 0; x < w; x++)
 			img[(size_t)y * w + x] = (double)pc_dm_sample(in, x, y) - in->black_d;
-	pc_dm_noise nz = {0, 0};
-	int rc = 0;
-	if (call->noise)
-		nz = *call->noise;
-	else if (call->method == PC_DM_RATIO_NR)
-		rc = pc_dm_noise_ptc_in(in, call->m, call->full_scale, &nz.a, &nz.b);
-	if (!rc)
-		rc = pc_dm_ref(img, w, h, call->m, call->method, call->full_scale, &nz, out);
+	int rc =
+	    pc_dm_ref(img, w, h, call->m, call->method, call->full_scale, call->noise_gain, out);
 	free(img);
 	return rc;
 }

@@ -8,11 +8,10 @@
 
 /* img: the raw minus the black level in double, C order, width × height; m a monochrome mosaic
  * (a colour mosaic's monochrome part for the colour methods' second step); full_scale as in
- * pc_dm_call (> 0); noise: ratio-nr's noise model, or NULL to estimate it from img
- * (pc_dm_noise_ptc_d with lo = 0: pass it when the raw had a black level); the other methods
- * ignore it. PC_ENOTSUP for methods without a monochrome reference. */
+ * pc_dm_call (> 0); noise_gain: ratio-nr's (pc_dm_call.noise_gain), the other methods ignore
+ * it. PC_ENOTSUP for methods without a monochrome reference. */
 int pc_dm_ref(const double *img, uint32_t width, uint32_t height, const pc_mosaic *m,
-              pc_demosaic_method method, double full_scale, const pc_dm_noise *noise,
+              pc_demosaic_method method, double full_scale, double noise_gain,
               const pc_fplane *out);
 
 #endif
