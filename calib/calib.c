@@ -16,6 +16,7 @@ void pc_calib_init(pc_calib *cal)
 {
 	memset(cal, 0, sizeof *cal);
 	cal->pinv_method = -1;
+	cal->system_gain_db = NAN;
 }
 
 void pc_calib_free(pc_calib *cal)
@@ -384,6 +385,25 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 		free(bad);
 		return pc_error(PC_EINVAL, "flat: at most 64 levels");
 	}
+	/* one analog gain for every level (the gain map is relative, but the photon transfer
+	 * varies the exposure at one gain: EMVA 1288) */
+	double gain_db = NAN;
+	for (size_t l = 0; l < n_levels; l++) {
+		const double gl = levels[l].gain_db;
+		if (!isfinite(gl))
+			continue;
+		if (isfinite(gain_db) && fabs(gl - gain_db) > 1e-3) {
+			free(y);
+			free(bad);
+			return pc_error(
+			    PC_EINVAL,
+			    "flat: %s is at %g dB of analog gain, %s at %g dB: the levels "
+			    "need one gain (vary the exposure or the light, not the gain)",
+			    levels[0].name ? levels[0].name : "level 1", gain_db,
+			    levels[l].name ? levels[l].name : "a level", gl);
+		}
+		gain_db = gl;
+	}
 	uint64_t done = 0, total = 0;
 	bool ptc = true; /* the photon transfer: every level has frames to vary over */
 	for (size_t l = 0; l < n_levels; l++) {
@@ -477,6 +497,7 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 	out->parts |= PC_CAL_FLAT;
 	/* the photon transfer (EMVA 1288): var = K·level + dark variance, least squares */
 	out->system_gain = 0;
+	out->system_gain_db = NAN;
 	if (ptc) {
 		double a = 0, b = 0, c = 0, d = 0, nl = (double)n_levels;
 		for (size_t l = 0; l < n_levels; l++) {
@@ -487,6 +508,8 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 		}
 		const double den = nl * c - a * a, k = den > 0 ? (nl * d - a * b) / den : 0;
 		out->system_gain = isfinite(k) && k > 0 ? k : 0;
+		if (out->system_gain > 0)
+			out->system_gain_db = gain_db;
 	}
 	rc = 0;
 out:
@@ -981,12 +1004,23 @@ int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *
                     pc_demosaic_method method, int threads, const pc_stokes_out *out,
                     uint8_t *valid_out, size_t *n_invalid)
 {
+	return pc_calib_stokes_gain(cal, raw, g, method, threads, 0, NAN, out, valid_out, n_invalid,
+	                            NULL);
+}
+
+int pc_calib_stokes_gain(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *g,
+                         pc_demosaic_method method, int threads, double noise_gain, double gain_db,
+                         const pc_stokes_out *out, uint8_t *valid_out, size_t *n_invalid,
+                         double *noise_gain_used)
+{
 	int rc;
 	if (g && (rc = pc_calib_check(cal, g)))
 		return rc;
 	pc_frame f;
 	memset(&f, 0, sizeof f);
 	f.view = *raw;
+	f.meta.exposure_us = NAN; /* not known here */
+	f.meta.gain_db = gain_db;
 	f.mosaic = cal->geo.mosaic;
 	f.meta.offset_x = cal->geo.offset_x;
 	f.meta.offset_y = cal->geo.offset_y;
@@ -995,6 +1029,8 @@ int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *
 	po.mosaic = cal->geo.mosaic;
 	po.threads = threads;
 	po.saturation_level = cal->saturation;
+	po.noise_gain = noise_gain;
+	po.noise_gain_used = noise_gain_used;
 	uint32_t ow, oh;
 	pc_demosaic_out_size(method, cal->geo.width, cal->geo.height, &ow, &oh);
 	pc_validity v = {valid_out, ow, 0};
@@ -1444,8 +1480,16 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	po.mosaic = cal->geo.mosaic;
 	/* the noise-aware methods' noise gain, unless given: the system gain the calibration's
 	 * flats measured (docs/calibration.md) */
-	if (!(po.noise_gain > 0) && cal->system_gain > 0)
-		po.noise_gain = cal->system_gain;
+	if (!(po.noise_gain > 0) && cal->system_gain > 0) {
+		po.noise_gain = pc_calib_noise_gain(cal, f->meta.gain_db, NULL);
+		if (!(po.noise_gain > 0 && isfinite(po.noise_gain)) &&
+		    (pc_demosaic_method_get(po.method)->flags & PC_DMF_NOISE_GAIN))
+			return pc_error(PC_EINVAL,
+			                "a frame at %g dB of analog gain and a calibration whose "
+			                "flats were at %g dB: the system gain scaled to the frame "
+			                "(%g) is not a usable noise gain",
+			                f->meta.gain_db, cal->system_gain_db, po.noise_gain);
+	}
 	po.dark = cal->dark;
 	po.gain_inv = cal->apply_ig;
 	po.black_level = cal->dark ? 0 : cal->black_level;
@@ -1467,6 +1511,20 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 		}
 	}
 	return st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
+}
+
+double pc_calib_noise_gain(const pc_calib *cal, double gain_db, bool *scaled)
+{
+	/* the analog gain multiplies the system gain K of EMVA Standard 1288 (the DN per
+	 * electron); a gain in dB is 20·log10 of that factor (GenICam SFNC: Gain, GainDB). The
+	 * simulator's sensor model is the same (polarcam/sim.h, gain_db) */
+	const bool sc = cal->system_gain > 0 && isfinite(cal->system_gain_db) && isfinite(gain_db);
+	if (scaled)
+		*scaled = sc;
+	if (!(cal->system_gain > 0))
+		return 0;
+	return sc ? cal->system_gain * pow(10.0, (gain_db - cal->system_gain_db) / 20.0)
+	          : cal->system_gain;
 }
 
 static int stage_run(void *user, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,

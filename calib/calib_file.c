@@ -158,6 +158,10 @@ static char *meta_text(const pc_calib *c)
 	json_object_set_new(m, "saturation", json_real(c->saturation));
 	json_object_set_new(m, "system_gain",
 	                    c->system_gain > 0 ? json_real(c->system_gain) : json_null());
+	json_object_set_new(m, "system_gain_db",
+	                    c->system_gain > 0 && isfinite(c->system_gain_db)
+	                        ? json_real(c->system_gain_db)
+	                        : json_null());
 	json_t *parts = json_array();
 	for (int i = 0; i < 4; i++)
 		if (c->parts & (1u << i))
@@ -497,13 +501,31 @@ int pc_calib_read(const char *path, pc_calib *c)
 		json_t *k = json_object_get(m, "system_gain");
 		if (!rc && k && !json_is_null(k)) {
 			if (!json_is_number(k) || !(json_number_value(k) > 0) ||
-			    !isfinite(json_number_value(k)))
-				rc = pc_error(PC_EFORMAT,
-				              "%s: meta.system_gain: expected a number > 0 (DN per "
-				              "electron) or null",
-				              path);
+			    !(json_number_value(k) <= 1e6))
+				rc = pc_error(
+				    PC_EFORMAT,
+				    "%s: meta.system_gain: expected a number in (0, 1e6] (DN "
+				    "per electron) or null",
+				    path);
 			else
 				c->system_gain = json_number_value(k);
+		}
+		/* optional: the flats' analog gain in dB, with a system gain; or null */
+		json_t *kd = json_object_get(m, "system_gain_db");
+		if (!rc && kd && !json_is_null(kd)) {
+			if (!json_is_number(kd) || !isfinite(json_number_value(kd)) ||
+			    fabs(json_number_value(kd)) > 100)
+				rc = pc_error(
+				    PC_EFORMAT,
+				    "%s: meta.system_gain_db: expected the flats' analog gain "
+				    "in dB (a number in [-100, 100]) or null",
+				    path);
+			else if (!(c->system_gain > 0))
+				rc = pc_error(
+				    PC_EFORMAT,
+				    "%s: meta.system_gain_db: given without a system_gain", path);
+			else
+				c->system_gain_db = json_number_value(kd);
 		}
 	}
 	json_t *parts = rc ? NULL : json_object_get(m, "parts");

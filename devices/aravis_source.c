@@ -79,6 +79,10 @@ typedef struct arv_src {
 	uint64_t last_ts;
 	/* statistics of finished streams */
 	pc_source_stats done;
+	/* the exposure and gain the frames report: read at start and after each control set
+	 * (NAN: the camera has no such control); a camera's own auto-exposure or auto-gain is not
+	 * followed */
+	double meta_exposure_us, meta_gain_db;
 } arv_src;
 
 static int gerr(int code, GError **err, const char *what)
@@ -545,7 +549,27 @@ static int a_cset(pc_source *s, pc_control_id id, double val, double *applied)
 	}
 	if (err)
 		return gerr(PC_EIO, &err, pc_control_name(id));
-	return a_cget(s, id, applied);
+	int rc = a_cget(s, id, applied);
+	if (!rc && id == PC_CTRL_EXPOSURE_US)
+		a->meta_exposure_us = *applied;
+	if (!rc && id == PC_CTRL_GAIN_DB)
+		a->meta_gain_db = *applied;
+	return rc;
+}
+
+/* what the frames will report: the camera's exposure and gain now (NAN where it has none) */
+static void read_meta_controls(pc_source *s)
+{
+	arv_src *a = pc_source_priv(s);
+	double v;
+	a->meta_exposure_us = a->meta_gain_db = NAN;
+	if (arv_camera_is_exposure_time_available(a->cam, NULL) &&
+	    a_cget(s, PC_CTRL_EXPOSURE_US, &v) == 0 && isfinite(v))
+		a->meta_exposure_us = v;
+	if (arv_camera_is_gain_available(a->cam, NULL) && a_cget(s, PC_CTRL_GAIN_DB, &v) == 0 &&
+	    isfinite(v))
+		a->meta_gain_db = v;
+	pc_error_clear();
 }
 
 /* ---- streaming ---- */
@@ -613,6 +637,7 @@ static int a_start(pc_source *s)
 	a->last_ts = 0;
 	a->seen_zero = false;
 	a->wide_ids = false;
+	read_meta_controls(s);
 	arv_camera_start_acquisition(a->cam, &err);
 	if (err)
 		return gerr(g_atomic_int_get(&a->lost) ? PC_EDISCONNECTED : PC_EIO, &err,
@@ -765,6 +790,8 @@ static int a_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 	a->last_ts = ts;
 	b->frame.meta.timestamp_ns = ts;
 	b->frame.meta.status = status;
+	b->frame.meta.exposure_us = a->meta_exposure_us;
+	b->frame.meta.gain_db = a->meta_gain_db;
 	g_object_unref(ab);
 	*out = b;
 	return 0;

@@ -427,6 +427,11 @@ static json_t *processed(capture *c)
 	json_object_set_new(pj, "black_level", pc_json_real(black));
 	json_object_set_new(pj, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
 	json_object_set_new(pj, "calibration", calib ? json_string(calib) : json_null());
+	/* a noise-aware method's noise gain for the last frame, and whence */
+	const char *ng_from = NULL;
+	const double ng = pc_stokes_stream_noise_gain(c->live, &ng_from);
+	json_object_set_new(pj, "noise_gain", ng_from ? pc_json_real(ng) : json_null());
+	json_object_set_new(pj, "noise_gain_from", ng_from ? json_string(ng_from) : json_null());
 	json_object_set_new(pj, "last_invalid_pixels", json_integer((json_int_t)valid->n_invalid));
 	json_object_set_new(pj, "method", json_string(c->method));
 	json_object_set_new(pj, "frames", json_integer((json_int_t)got));

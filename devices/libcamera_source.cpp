@@ -834,8 +834,11 @@ int lc_dequeue(pc_source *s, int timeout_ms, pc_buffer **out)
 		fr->meta.timestamp_ns = md.timestamp;
 		auto et = r->metadata().get(controls::ExposureTime);
 		auto ag = r->metadata().get(controls::AnalogueGain);
-		fr->meta.exposure_us = et ? (double)*et : v->exposure_us;
-		fr->meta.gain_db = ag && *ag > 0 ? 20.0 * std::log10((double)*ag) : v->gain_db;
+		/* the request's metadata, else what was set, else unknown (NAN) */
+		fr->meta.exposure_us = et ? (double)*et : v->have_exposure ? v->exposure_us : NAN;
+		fr->meta.gain_db = ag && *ag > 0  ? 20.0 * std::log10((double)*ag)
+		                   : v->have_gain ? v->gain_db
+		                                  : NAN;
 		double black = 0;
 		const pc_format_info *fi = pc_format_info_get(f->format);
 		if (fi && pc_libcamera_black_level_dn(r->metadata(), fi->bits, &black)) {

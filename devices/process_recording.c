@@ -30,7 +30,8 @@ int pc_process_recording(const char *rec_dir, const pc_process_batch *b, const p
 	pc_raw_input *in = rc ? NULL : calloc(n, sizeof *in);
 	uint64_t *num = rc ? NULL : calloc(n, sizeof *num);
 	char **paths = rc ? NULL : calloc(n, sizeof *paths);
-	if (!rc && (!in || !num || !paths))
+	pc_frame_meta *fm = rc ? NULL : calloc(n, sizeof *fm);
+	if (!rc && (!in || !num || !paths || !fm))
 		rc = pc_error(PC_ENOMEM, "%s: %zu frames", rec_dir, n);
 	for (size_t i = 0; !rc && i < n; i++) {
 		const char *file = pc_recording_get_frame(r, i)->file;
@@ -42,7 +43,16 @@ int pc_process_recording(const char *rec_dir, const pc_process_batch *b, const p
 		snprintf(paths[i], len, "%s/%s", rec_dir, file);
 		/* raw_NNNNNN.png (the reader checked the name) */
 		num[i] = strtoull(file + 4, NULL, 10);
-		in[i] = (pc_raw_input){paths[i], NULL, 0};
+		/* the frame's exposure and analog gain (a calibration's noise gain follows it) */
+		const pc_recording_frame *rf = pc_recording_get_frame(r, i);
+		fm[i] = (pc_frame_meta){.sequence = rf->sequence,
+		                        .timestamp_ns = rf->timestamp_ns,
+		                        .exposure_us = rf->exposure_us,
+		                        .gain_db = rf->gain_db,
+		                        .status = rf->status,
+		                        .offset_x = d->offset_x,
+		                        .offset_y = d->offset_y};
+		in[i] = (pc_raw_input){paths[i], NULL, 0, &fm[i]};
 	}
 	if (!rc) {
 		pc_process_batch rb = *b;
@@ -54,6 +64,7 @@ int pc_process_recording(const char *rec_dir, const pc_process_batch *b, const p
 	for (size_t i = 0; paths && i < n; i++)
 		free(paths[i]);
 	free(paths);
+	free(fm);
 	free(num);
 	free(in);
 	pc_recording_free(r);

@@ -234,8 +234,9 @@ static int write_meta(pc_recording *r)
 		json_object_set_new(o, "file", json_string(f->file));
 		json_object_set_new(o, "sequence", json_integer((json_int_t)f->sequence));
 		json_object_set_new(o, "timestamp_ns", json_integer((json_int_t)f->timestamp_ns));
-		json_object_set_new(o, "exposure_us", json_real(f->exposure_us));
-		json_object_set_new(o, "gain_db", json_real(f->gain_db));
+		/* null: the source did not say (NAN) */
+		json_object_set_new(o, "exposure_us", pc_json_real(f->exposure_us));
+		json_object_set_new(o, "gain_db", pc_json_real(f->gain_db));
 		json_object_set_new(o, "status", frame_status_json(f->status));
 		json_array_append_new(fr, o);
 	}
@@ -507,6 +508,18 @@ int pc_recording_frame_info(const char *path, pc_recording_frame_meta *fm)
 	return found;
 }
 
+/* An optional frame number: absent or null is unknown (NAN). */
+static int opt_num(const pc_json_src *js, json_t *o, const char *where, const char *key,
+                   double *out)
+{
+	*out = NAN;
+	json_t *v = json_object_get(o, key);
+	if (!v || json_is_null(v))
+		return 0;
+	return pc_json_get_num(js, o, where, key, PC_JSON_OPTIONAL, -INFINITY, false, INFINITY,
+	                       out);
+}
+
 static int parse_frames(pc_recording *r, const pc_json_src *js, json_t *arr)
 {
 	if (!json_is_array(arr))
@@ -540,10 +553,8 @@ static int parse_frames(pc_recording *r, const pc_json_src *js, json_t *arr)
 		                          &f->sequence)) ||
 		    (rc = pc_json_get_u64(js, o, where, "timestamp_ns", PC_JSON_REQUIRED, INT64_MAX,
 		                          &f->timestamp_ns)) ||
-		    (rc = pc_json_get_num(js, o, where, "exposure_us", PC_JSON_OPTIONAL, -INFINITY,
-		                          false, INFINITY, &f->exposure_us)) ||
-		    (rc = pc_json_get_num(js, o, where, "gain_db", PC_JSON_OPTIONAL, -INFINITY,
-		                          false, INFINITY, &f->gain_db)))
+		    (rc = opt_num(js, o, where, "exposure_us", &f->exposure_us)) ||
+		    (rc = opt_num(js, o, where, "gain_db", &f->gain_db)))
 			return rc;
 		json_t *st = json_object_get(o, "status");
 		pc_json_path(p, sizeof p, where, "status");

@@ -158,12 +158,14 @@ struct pc_stokes_stream {
 	uint8_t *valid; /* w × h */
 	pc_validity validity;
 	double sat_used;
-	black_watch black; /* no level given, none declared at set-up: ask after frames */
+	double ng_used;      /* the last frame's noise gain (noise-aware methods) */
+	const char *ng_from; /* and its origin (pc_stokes_stream_noise_gain) */
+	black_watch black;   /* no level given, none declared at set-up: ask after frames */
 };
 
 pc_stream_levels pc_stream_levels_default(void)
 {
-	return (pc_stream_levels){NAN, 0, 0, NULL};
+	return (pc_stream_levels){NAN, 0, 0, NULL, 0};
 }
 
 int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv, pc_source *src)
@@ -176,6 +178,14 @@ int pc_stokes_stream_set_levels(pc_stokes_stream *s, const pc_stream_levels *lv,
 	if (!isnan(l.black_level) && !(l.black_level >= 0 && isfinite(l.black_level)))
 		return pc_error(PC_EINVAL, "black level %g: expected a finite level >= 0 DN",
 		                l.black_level);
+	if (!(l.noise_gain >= 0 && isfinite(l.noise_gain)))
+		return pc_error(PC_EINVAL, "noise gain %g: expected a finite gain > 0 (raw units)",
+		                l.noise_gain);
+	if (l.noise_gain > 0 && !(pc_demosaic_method_get(s->method)->flags & PC_DMF_NOISE_GAIN))
+		return pc_error(PC_EINVAL,
+		                "--noise-gain: method %s uses no noise gain (the methods that do "
+		                "say noise_gain in `polarcam demosaic --list --json`)",
+		                pc_demosaic_method_get(s->method)->name);
 	/* only a source that declares its level with its frames is asked again */
 	l.black_level = black_watch_start(&s->black, src, l.black_level, !l.calibration);
 	if (s->have_cal)
@@ -317,6 +327,18 @@ int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 	                      : fi && !fi->is_float && bits <= 16 ? (double)((1u << bits) - 1u)
 	                                                          : 0;
 	po.dead_level = lv->lv.dead_level;
+	po.noise_gain = lv->lv.noise_gain;
+	lv->ng_used = 0;
+	po.noise_gain_used = &lv->ng_used;
+	lv->ng_from = NULL;
+	if (pc_demosaic_method_get(lv->method)->flags & PC_DMF_NOISE_GAIN) {
+		bool scaled = false;
+		lv->ng_from =
+		    lv->lv.noise_gain > 0 ? "option"
+		    : lv->have_cal && pc_calib_noise_gain(&lv->cal, f->meta.gain_db, &scaled) > 0
+		        ? (scaled ? "calibration at the frame's gain" : "calibration")
+		        : "estimated";
+	}
 	lv->sat_used = po.saturation_level;
 	lv->validity = (pc_validity){lv->valid, w, 0};
 	double t0 = now_s();
@@ -325,6 +347,13 @@ int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 	             : pc_stokes_run(&f->view, &po, &lv->out, &lv->validity);
 	lv->process_s = now_s() - t0;
 	return rc;
+}
+
+double pc_stokes_stream_noise_gain(const pc_stokes_stream *s, const char **from)
+{
+	if (from)
+		*from = s->ng_from;
+	return s->ng_used;
 }
 
 const pc_stokes_out *pc_stokes_stream_planes(const pc_stokes_stream *s, uint32_t *width,

@@ -646,8 +646,8 @@ static int v_start(pc_source *s)
 	v4l2_src *v = priv(s);
 	v->have_last = false;
 	double x;
-	v->exposure_us = v_control_get(s, PC_CTRL_EXPOSURE_US, &x) == 0 ? x : 0.0;
-	v->gain_db = v_control_get(s, PC_CTRL_GAIN_DB, &x) == 0 ? x : 0.0;
+	v->exposure_us = v_control_get(s, PC_CTRL_EXPOSURE_US, &x) == 0 ? x : NAN;
+	v->gain_db = v_control_get(s, PC_CTRL_GAIN_DB, &x) == 0 ? x : NAN;
 	pc_error_clear();
 	return pc_v4l2_stream_on(v->dev);
 }

@@ -189,6 +189,12 @@ int pc_viewer_run(const pc_viewer_opts *o, pc_viewer_report *rep)
 		json_object_set_new(j, "saturation_level",
 		                    sat > 0 ? pc_json_real(sat) : json_null());
 		json_object_set_new(j, "calibration", calib ? json_string(calib) : json_null());
+		const char *ng_from = NULL;
+		const double ng =
+		    v.live && shown ? pc_stokes_stream_noise_gain(v.live, &ng_from) : 0;
+		json_object_set_new(j, "noise_gain", ng_from ? pc_json_real(ng) : json_null());
+		json_object_set_new(j, "noise_gain_from",
+		                    ng_from ? json_string(ng_from) : json_null());
 		json_object_set_new(
 		    j, "last_invalid_pixels",
 		    v.live && shown

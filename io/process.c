@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -111,9 +112,9 @@ static pc_pipeline_opts pipeline_opts(const pc_process_opts *o, pc_pixfmt format
 /* Raw → Stokes (st) or analyser images (ch) through the stage or the front door; rgb (colour
  * frames, no stage: a calibration is for monochrome mosaics) also each colour's Stokes; ng_used
  * (NULL: not wanted) the noise gain a noise-aware method used. */
-static int run_pipeline(const pc_process_opts *o, const pc_view *raw, unsigned bits,
-                        const pc_stokes_out *st, const pc_stokes_out *rgb, const pc_fplane *ch,
-                        pc_validity *valid, double *ng_used)
+static int run_pipeline(const pc_process_opts *o, const pc_view *raw, const pc_frame_meta *meta,
+                        unsigned bits, const pc_stokes_out *st, const pc_stokes_out *rgb,
+                        const pc_fplane *ch, pc_validity *valid, double *ng_used)
 {
 	pc_pipeline_opts po = pipeline_opts(o, raw->format, bits, ng_used);
 	if (o->stage) {
@@ -125,6 +126,10 @@ static int run_pipeline(const pc_process_opts *o, const pc_view *raw, unsigned b
 			                o->stage->name ? o->stage->name : "a calibration");
 		pc_frame f;
 		memset(&f, 0, sizeof f);
+		if (meta)
+			f.meta = *meta;
+		else
+			f.meta.exposure_us = f.meta.gain_db = NAN; /* a file's: unknown */
 		f.view = *raw;
 		f.mosaic = o->mosaic;
 		f.meta.offset_x = o->roi_x;
@@ -262,7 +267,7 @@ int pc_demosaic_file(const pc_raw_input *in, const pc_process_opts *o, const cha
 	double ng = 0;
 	const bool ng_given = o->noise_gain > 0 || (o->stage && o->stage->noise_gain > 0);
 	double t0 = now_s();
-	rc = run_pipeline(o, &raw, bits, NULL, NULL, planes, &valid, &ng);
+	rc = run_pipeline(o, &raw, in->meta, bits, NULL, NULL, planes, &valid, &ng);
 	double secs = now_s() - t0;
 	pc_view_free(&raw);
 	if (rc) {
@@ -590,10 +595,10 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 			              in->path, raw.width, raw.height, bits, b->inputs[0].path, rw0,
 			              rh0, bits0);
 		}
-		double t0 = now_s(), dt = 0;
+		double t0 = now_s(), dt = 0, ng = 0;
 		if (!rc) {
-			rc = run_pipeline(o, &raw, bits, &f.so, colour ? f.cso : NULL, NULL,
-			                  &f.valid, NULL);
+			rc = run_pipeline(o, &raw, in->meta, bits, &f.so, colour ? f.cso : NULL,
+			                  NULL, &f.valid, &ng);
 			dt = now_s() - t0;
 			t_all += dt;
 			if (rc)
@@ -626,6 +631,12 @@ static int run_batch(const pc_process_batch *b, const pc_process_opts *o, bool n
 		json_object_set_new(fj, "invalid_pixels",
 		                    checked ? json_integer((json_int_t)f.valid.n_invalid)
 		                            : json_null());
+		/* a noise-aware method's noise gain for this frame (the calibration's at the
+		 * frame's analog gain, or the frame's estimate) */
+		if (pc_demosaic_method_get(o->method)->flags & PC_DMF_NOISE_GAIN)
+			json_object_set_new(fj, "noise_gain", pc_json_real(ng));
+		if (in->meta)
+			json_object_set_new(fj, "gain_db", pc_json_real(in->meta->gain_db));
 		if (!numbered)
 			json_object_set_new(fj, "valid_statistics",
 			                    valid_stats(&f.so, f.w, f.h, &f.valid));

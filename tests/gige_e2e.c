@@ -21,6 +21,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <dirent.h>
+#include <math.h>
 #include <poll.h>
 #include <pthread.h>
 #include <sched.h>
@@ -691,7 +692,51 @@ static void test_serve_equals_render(void)
 	CHECK_EQ_INT(pc_child_wait(cap, EXIT_MS, NULL), 0);
 	close(cfd);
 	CHECK(strstr(out, "\"missing_packets\":0") != NULL);
+	/* the camera's exposure and gain in every frame's metadata: at the scene's settings, then
+	 * at a gain asked of the camera (read back from its Gain feature) */
+	char gdir[160];
+	snprintf(gdir, sizeof gdir, "%s/cap_gain", base);
+	char *gargv[] = {(char *)polarcam,
+	                 "capture",
+	                 "aravis:127.0.0.1?packet_size=65000",
+	                 "-n",
+	                 "2",
+	                 "-o",
+	                 gdir,
+	                 "--gain",
+	                 "6",
+	                 "--json",
+	                 NULL};
+	cap = spawn(gargv, &cfd, errp);
+	CHECK(cap > 0);
+	if (cap > 0) {
+		wait_line(cfd, "\n", EXIT_MS, out, sizeof out);
+		CHECK_EQ_INT(pc_child_wait(cap, EXIT_MS, NULL), 0);
+		close(cfd);
+	}
 	CHECK_EQ_INT(stop_server(srv, fd), 0);
+	{
+		pc_recording *rr = NULL, *cc = NULL, *gg = NULL;
+		CHECK_EQ_INT(pc_recording_open(&rr, rdir), 0);
+		CHECK_EQ_INT(pc_recording_open(&cc, cdir), 0);
+		CHECK_EQ_INT(pc_recording_open(&gg, gdir), 0);
+		if (rr && cc && gg && pc_recording_count(cc) && pc_recording_count(gg)) {
+			const pc_recording_frame *fr = pc_recording_get_frame(rr, 0),
+			                         *fc = pc_recording_get_frame(cc, 0),
+			                         *fg = pc_recording_get_frame(gg, 1);
+			printf(
+			    "frame metadata over GigE Vision: exposure %g us, gain %g dB (render: "
+			    "%g us, %g dB); asked for 6 dB: %g dB\n",
+			    fc->exposure_us, fc->gain_db, fr->exposure_us, fr->gain_db,
+			    fg->gain_db);
+			CHECK_NEAR(fc->exposure_us, round(fr->exposure_us), 0);
+			CHECK_NEAR(fc->gain_db, fr->gain_db, 0);
+			CHECK_NEAR(fg->gain_db, 6, 0);
+		}
+		pc_recording_free(rr);
+		pc_recording_free(cc);
+		pc_recording_free(gg);
+	}
 	pc_recording *r = NULL, *c = NULL;
 	CHECK_EQ_INT(pc_recording_open(&r, rdir), 0);
 	CHECK_EQ_INT(pc_recording_open(&c, cdir), 0);

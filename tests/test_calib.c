@@ -30,13 +30,16 @@ typedef struct simstack {
 	char name[256];
 	uint64_t first; /* first frame number: stacks share the seed (the camera) and differ here */
 	pc_calib_stack s;
+	bool have_ctl; /* ctl instead of the scene's exposure and gain */
+	pc_sim_controls ctl;
 } simstack;
 
 static int sim_get(void *user, size_t i, pc_view *out)
 {
 	simstack *ss = user;
 	int rc = pc_view_alloc(out, ss->info.format, ss->info.width, ss->info.height, 64);
-	if (!rc && (rc = pc_sim_frame(ss->sim, ss->first + i, NULL, out, NULL)))
+	if (!rc &&
+	    (rc = pc_sim_frame(ss->sim, ss->first + i, ss->have_ctl ? &ss->ctl : NULL, out, NULL)))
 		pc_view_free(out);
 	return rc;
 }
@@ -86,6 +89,7 @@ static int open_stack(simstack *ss, const char *name, size_t n, double angle, do
 	s->get = sim_get;
 	s->user = ss;
 	s->exposure_us = ss->info.exposure_us;
+	s->gain_db = ss->info.gain_db;
 	s->angle_deg = angle;
 	s->dolp = dolp;
 	return 0;
@@ -233,6 +237,56 @@ int main(void)
 	printf("flat: system gain %.4f DN/e- (the preset's K %.4f)\n", flat.system_gain,
 	       K * pow(10, fig.gain_db / 20));
 	CHECK_REL(flat.system_gain, K * pow(10, fig.gain_db / 20), 0.03);
+	/* the flats' analog gain goes with it, and K follows a frame's gain as 10^(dB/20) */
+	CHECK_NEAR(flat.system_gain_db, fig.gain_db, 0);
+	{
+		bool sc = true;
+		CHECK(pc_calib_noise_gain(&flat, NAN, &sc) == flat.system_gain && !sc);
+		CHECK_REL(pc_calib_noise_gain(&flat, fig.gain_db + 12, &sc),
+		          flat.system_gain * pow(10, 0.6), 1e-12);
+		CHECK(sc);
+		CHECK_REL(pc_calib_noise_gain(&flat, fig.gain_db - 6, NULL),
+		          flat.system_gain / pow(10, 0.3), 1e-12);
+		/* measured again at +12 dB (the exposure divided by the gain, so that the levels
+		 * stay): the photon transfer there agrees with the scaled K within 4 % */
+		simstack gl, gh;
+		CHECK_EQ_INT(open_stack(&gl, "flat_low", NF, NAN, NAN, 12), 0);
+		CHECK_EQ_INT(open_stack(&gh, "flat_high", NF, NAN, NAN, 13), 0);
+		gl.have_ctl = gh.have_ctl = true;
+		gl.ctl = (pc_sim_controls){gl.info.exposure_us / pow(10, 0.6), fig.gain_db + 12};
+		gh.ctl = (pc_sim_controls){gh.info.exposure_us / pow(10, 0.6), fig.gain_db + 12};
+		gl.s.gain_db = gh.s.gain_db = fig.gain_db + 12;
+		pc_calib_stack l12[2] = {gl.s, gh.s};
+		pc_calib f12;
+		CHECK_EQ_INT(pc_calib_flat(l12, 2, &dark, NULL, &f12), 0);
+		printf("flat at +12 dB: system gain %.4f DN/e-, the 0 dB flats' K scaled %.4f, the "
+		       "preset's %.4f\n",
+		       f12.system_gain, pc_calib_noise_gain(&flat, fig.gain_db + 12, NULL),
+		       K * pow(10, (fig.gain_db + 12) / 20));
+		CHECK_REL(f12.system_gain, pc_calib_noise_gain(&flat, fig.gain_db + 12, NULL),
+		          0.04);
+		CHECK_NEAR(f12.system_gain_db, fig.gain_db + 12, 0);
+		pc_calib_free(&f12);
+		/* levels at two gains: refused, naming both */
+		pc_calib_stack mix[2] = {fl.s, gh.s};
+		pc_calib fm;
+		CHECK_EQ_INT(pc_calib_flat(mix, 2, &dark, NULL, &fm), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "12 dB") && strstr(pc_error_detail(), "one gain"));
+		/* a level of unknown gain takes the other's; none known: no gain recorded, K is
+		 * not scaled */
+		pc_calib_stack unk[2] = {fl.s, fh.s};
+		unk[1].gain_db = NAN;
+		CHECK_EQ_INT(pc_calib_flat(unk, 2, &dark, NULL, &fm), 0);
+		CHECK_NEAR(fm.system_gain_db, fig.gain_db, 0);
+		pc_calib_free(&fm);
+		unk[0].gain_db = NAN;
+		CHECK_EQ_INT(pc_calib_flat(unk, 2, &dark, NULL, &fm), 0);
+		CHECK(isnan(fm.system_gain_db) && fm.system_gain == flat.system_gain);
+		CHECK(pc_calib_noise_gain(&fm, 12, &sc) == fm.system_gain && !sc);
+		pc_calib_free(&fm);
+		close_stack(&gl);
+		close_stack(&gh);
+	}
 	{
 		double cm[2][4] = {{0}}, cn[4] = {0}, *tr = malloc(RW * RH * sizeof *tr);
 		for (size_t p = 0; p < RW * RH; p++) {
@@ -445,6 +499,7 @@ int main(void)
 		/* the system gain: kept through the analyser step and through the file, exactly */
 		CHECK(cal.system_gain > 0 && cal.system_gain == flat.system_gain);
 		CHECK(back.system_gain == cal.system_gain);
+		CHECK(back.system_gain_db == cal.system_gain_db && isfinite(back.system_gain_db));
 		CHECK(pc_calib_check(&back, &cal.geo) == 0);
 		pc_calib_geometry g = cal.geo;
 		g.offset_x += 2;

@@ -12,6 +12,9 @@
  *     level given twice): a non-zero exit status and nothing written;
  *   - capture --process and view: the simulator's declared black level, the calibration
  *     applied (the stimulus's DoLP), a mismatch refused before anything is recorded;
+ *   - the calibration's system gain (flats at 0 dB) as ratio-nr's noise gain at +12 dB of
+ *     analog gain, live and through a recording: the preset's K at +12 dB within 5 %; a
+ *     recording whose frames change gain refused by calibrate;
  *   - mueller: a pixel saturated in any frame is in valid.npy, values unchanged. */
 #include <jansson.h>
 #include <math.h>
@@ -506,6 +509,92 @@ static json_t *meta_json(const char *dir)
 	return json_load_file(path, 0, NULL);
 }
 
+static double process_num(const char *dir, const char *key)
+{
+	json_t *j = meta_json(dir);
+	double v = json_number_value(
+	    json_object_get(json_object_get(json_object_get(j, "extra"), "process"), key));
+	json_decref(j);
+	return v;
+}
+
+static char *process_str(const char *dir, const char *key, char *buf, size_t n)
+{
+	json_t *j = meta_json(dir);
+	const char *v = json_string_value(
+	    json_object_get(json_object_get(json_object_get(j, "extra"), "process"), key));
+	snprintf(buf, n, "%s", v ? v : "(none)");
+	json_decref(j);
+	return buf;
+}
+
+/* The flats were taken at 0 dB (the scenes' gain); frames at +12 dB have 10^(12/20) times
+ * the system gain (the simulator's sensor model, EMVA 1288's K), which is what ratio-nr's noise
+ * gain must follow. */
+static void live_gain(const char *uri)
+{
+	const double k12 = 0.39 * pow(10, 12.0 / 20); /* the preset's K at +12 dB */
+	char from[128];
+	CHECK_EQ_INT(run_cli("capture", uri, "-n", "1", "-o", P("cap_g12"), "--roi",
+	                     "1000,800,64,64", "--gain", "12", "--process", "--method", "ratio-nr",
+	                     "--calibration", P("a.npz"), NULL),
+	             0);
+	double ng = process_num(P("cap_g12"), "noise_gain");
+	printf("capture --gain 12 --process --method ratio-nr --calibration: noise gain %.4f "
+	       "DN/e- from %s (the preset's K at +12 dB %.4f)\n",
+	       ng, process_str(P("cap_g12"), "noise_gain_from", from, sizeof from), k12);
+	CHECK_REL(ng, k12, 0.05);
+	CHECK(!strcmp(from, "calibration at the frame's gain"));
+	/* at the flats' gain: the calibration's K itself (0.39 within 5 %) */
+	CHECK_EQ_INT(run_cli("capture", uri, "-n", "1", "-o", P("cap_g0"), "--roi",
+	                     "1000,800,64,64", "--process", "--method", "ratio-nr", "--calibration",
+	                     P("a.npz"), NULL),
+	             0);
+	CHECK_REL(process_num(P("cap_g0"), "noise_gain"), 0.39, 0.05);
+	CHECK_REL(ng / process_num(P("cap_g0"), "noise_gain"), pow(10, 0.6), 1e-9);
+	/* a given noise gain wins; with a method that uses none it is refused */
+	CHECK_EQ_INT(run_cli("capture", uri, "-n", "1", "-o", P("cap_go"), "--roi",
+	                     "1000,800,64,64", "--gain", "12", "--process", "--method", "ratio-nr",
+	                     "--calibration", P("a.npz"), "--noise-gain", "2.5", NULL),
+	             0);
+	CHECK_NEAR(process_num(P("cap_go"), "noise_gain"), 2.5, 0);
+	CHECK(!strcmp(process_str(P("cap_go"), "noise_gain_from", from, sizeof from), "option"));
+	CHECK_EQ_INT(run_cli("capture", uri, "-n", "1", "-o", P("cap_gb"), "--roi",
+	                     "1000,800,64,64", "--process", "--noise-gain", "2.5", NULL),
+	             CLI_STATUS_USAGE);
+	CHECK(!exists(P("cap_gb/meta.json")));
+	/* a recording at +12 dB processed later: each frame's noise gain follows its gain */
+	CHECK_EQ_INT(run_cli("capture", uri, "-n", "2", "-o", P("rec_g12"), "--roi",
+	                     "1000,800,64,64", "--gain", "12", NULL),
+	             0);
+	CHECK_EQ_INT(run_cli("process", P("rec_g12"), "-o", P("rec_g12_p"), "--method", "ratio-nr",
+	                     "--calibration", P("a.npz"), NULL),
+	             0);
+	json_t *j = meta_json(P("rec_g12_p"));
+	json_t *fr = json_object_get(j, "frames");
+	CHECK(json_array_size(fr) == 2);
+	for (size_t i = 0; i < json_array_size(fr); i++) {
+		json_t *f = json_array_get(fr, i);
+		CHECK_NEAR(json_number_value(json_object_get(f, "gain_db")), 12, 0);
+		CHECK_REL(json_number_value(json_object_get(f, "noise_gain")), ng, 1e-12);
+	}
+	json_decref(j);
+	/* a calibration recording whose gain changes between frames: refused by calibrate */
+	CHECK_EQ_INT(
+	    run_cli("capture", uri, "-n", "3", "-o", P("rec_mix"), "--roi", "1000,800,64,64", NULL),
+	    0);
+	char mp[1200];
+	snprintf(mp, sizeof mp, "%s/meta.json", P("rec_mix"));
+	json_t *m = json_load_file(mp, 0, NULL);
+	json_object_set_new(json_array_get(json_object_get(m, "frames"), 2), "gain_db",
+	                    json_real(6));
+	CHECK(m && json_dump_file(m, mp, JSON_INDENT(1)) == 0);
+	json_decref(m);
+	CHECK_EQ_INT(run_cli("calibrate", "dark", P("rec_mix"), "-o", P("mix.npz"), NULL),
+	             CLI_STATUS_USAGE);
+	CHECK(!exists(P("mix.npz")));
+}
+
 static void live(void)
 {
 	char uri[1200];
@@ -552,6 +641,7 @@ static void live(void)
 	                     "--screenshot", P("view_bad.png"), "--calibration", P("a.npz"), NULL),
 	             CLI_STATUS_USAGE);
 	CHECK(!exists(P("view_bad.png")));
+	live_gain(uri);
 }
 
 int main(void)

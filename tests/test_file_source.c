@@ -6,6 +6,8 @@
  * passes on file:, also over a colour-polarization (IMX250MYR) recording, whose mosaic is read
  * back from meta.json and moved by ROI offsets as worked out by hand. */
 #include <dirent.h>
+#include <jansson.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -80,6 +82,7 @@ static void make_recording(const char *dir)
 		f.meta.sequence = 10 + 2 * k;       /* gaps of one frame */
 		f.meta.timestamp_ns = 1000000u * k; /* 1 ms apart */
 		f.meta.exposure_us = 100 + k;
+		f.meta.gain_db = k == 2 ? NAN : 0.5 * k; /* frame 2: the source did not say */
 		CHECK_EQ_INT(pc_recording_add(r, &f), 0);
 	}
 	f.meta.sequence = 3; /* going backwards is refused */
@@ -107,6 +110,18 @@ static void test_read_back(const char *dir)
 	CHECK_EQ_INT(d->mosaic.channel[0][0], 2);
 	CHECK_EQ_INT(pc_recording_get_frame(r, 3)->sequence, 16);
 	CHECK_NEAR(pc_recording_get_frame(r, 3)->exposure_us, 103, 0);
+	/* the analog gain, and an unknown one kept unknown (null in meta.json, NAN back) */
+	CHECK_NEAR(pc_recording_get_frame(r, 3)->gain_db, 1.5, 0);
+	CHECK(isnan(pc_recording_get_frame(r, 2)->gain_db));
+	{
+		char mp[700];
+		snprintf(mp, sizeof mp, "%s/meta.json", dir);
+		json_t *m = json_load_file(mp, 0, NULL);
+		json_t *g2 =
+		    json_object_get(json_array_get(json_object_get(m, "frames"), 2), "gain_db");
+		CHECK(m && g2 && json_is_null(g2));
+		json_decref(m);
+	}
 	unsigned mism = 0;
 	for (unsigned k = 0; k < N; k++) {
 		pc_view v;

@@ -141,6 +141,21 @@ static int rec_open(const char *dir, rec_stack *rs)
 	rs->s.get = rec_get;
 	rs->s.user = rs->r;
 	rs->s.exposure_us = rs->s.n ? pc_recording_get_frame(rs->r, 0)->exposure_us : NAN;
+	/* one analog gain for the stack (NAN: the source did not say) */
+	rs->s.gain_db = rs->s.n ? pc_recording_get_frame(rs->r, 0)->gain_db : NAN;
+	for (size_t i = 1; i < rs->s.n; i++) {
+		const double gi = pc_recording_get_frame(rs->r, i)->gain_db;
+		if (!(gi == rs->s.gain_db || (isnan(gi) && isnan(rs->s.gain_db)))) {
+			rc = pc_error(
+			    PC_EINVAL,
+			    "%s: frame %zu is at %g dB of analog gain, frame 0 at %g dB: a "
+			    "calibration recording needs one gain",
+			    dir, i, gi, rs->s.gain_db);
+			pc_recording_free(rs->r);
+			rs->r = NULL;
+			return rc;
+		}
+	}
 	rs->s.angle_deg = NAN;
 	rs->s.dolp = NAN;
 	rec_stimulus(dir, &rs->s.angle_deg, &rs->s.dolp);
@@ -222,6 +237,10 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 	json_object_set_new(o, "saturation", cli_json_real(c->saturation));
 	json_object_set_new(o, "system_gain",
 	                    c->system_gain > 0 ? cli_json_real(c->system_gain) : json_null());
+	json_object_set_new(o, "system_gain_db",
+	                    c->system_gain > 0 && isfinite(c->system_gain_db)
+	                        ? cli_json_real(c->system_gain_db)
+	                        : json_null());
 	size_t nv = 0;
 	for (size_t p = 0; c->valid && p < np; p++)
 		nv += c->valid[p] != 0;
@@ -609,6 +628,7 @@ static int sub_stacks(int argc, char **argv, const char *what)
 		json_object_set_new(in, "source", json_string(rs[i].source));
 		json_object_set_new(in, "frames", json_integer((json_int_t)stk[i].n));
 		json_object_set_new(in, "exposure_us", cli_json_real(stk[i].exposure_us));
+		json_object_set_new(in, "gain_db", cli_json_real(stk[i].gain_db));
 		if (!strcmp(what, "analyser")) {
 			json_object_set_new(in, "angle_deg", cli_json_real(angles[i]));
 			json_object_set_new(in, "dolp",

@@ -281,7 +281,7 @@ int cli_raw_parse(int argc, char **argv, cli_raw *o, int *extra, bool many)
 
 pc_raw_input cli_raw_input(const cli_raw *o)
 {
-	return (pc_raw_input){o->path, o->have_geometry ? &o->geometry : NULL, o->bits};
+	return (pc_raw_input){o->path, o->have_geometry ? &o->geometry : NULL, o->bits, NULL};
 }
 
 pc_process_opts cli_raw_process(const cli_raw *o)

@@ -1,5 +1,6 @@
 #include "source_cli.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -85,14 +86,18 @@ const char *cli_levels_help(void)
 	       "                      2^bits - 1, or the calibration's)\n"
 	       "  --dead-level DN     likewise for samples <= DN (default: not checked)\n"
 	       "  --calibration FILE  a `polarcam calibrate` file: dark, gain, calibrated\n"
-	       "                      analysers; refused unless the frames match it\n";
+	       "                      analysers; refused unless the frames match it\n"
+	       "  --noise-gain DN_PER_E  the noise gain of noise-aware methods (ratio-nr; see\n"
+	       "                      `polarcam demosaic --list`). Default: the calibration's\n"
+	       "                      system gain, scaled to each frame's analog gain when both\n"
+	       "                      are known, else estimated from each frame\n";
 }
 
 int cli_levels_parse(pc_stream_levels *lv, int argc, char **argv, int *i)
 {
 	const char *o = argv[*i];
 	if (strcmp(o, "--black-level") && strcmp(o, "--saturation") && strcmp(o, "--dead-level") &&
-	    strcmp(o, "--calibration"))
+	    strcmp(o, "--calibration") && strcmp(o, "--noise-gain"))
 		return 0;
 	if (*i + 1 >= argc)
 		return pc_error(PC_EINVAL, "%s needs a value", o);
@@ -109,6 +114,16 @@ int cli_levels_parse(pc_stream_levels *lv, int argc, char **argv, int *i)
 	int rc = cli_parse_double(o, v, &d);
 	if (rc)
 		return rc;
+	if (!strcmp(o, "--noise-gain")) {
+		if (!(d > 0) || !isfinite(d))
+			return pc_error(
+			    PC_EINVAL,
+			    "--noise-gain %s: expected a finite gain > 0 (raw units per "
+			    "electron)",
+			    v);
+		lv->noise_gain = d;
+		return 1;
+	}
 	bool black = !strcmp(o, "--black-level");
 	if (!(d >= 0) || (!black && !(d > 0)))
 		return pc_error(PC_EINVAL, "%s %s: expected a level %s 0 in raw units", o, v,

@@ -19,7 +19,7 @@ int cli_stream_args_parse(cli_stream_args *a, int argc, char **argv, int *i);
 const char *cli_stream_args_help(void);
 
 /* The levels of a live stream (polarcam/stream.h): --black-level DN, --saturation DN|none,
- * --dead-level DN, --calibration FILE. Same contract as cli_stream_args_parse. */
+ * --dead-level DN, --calibration FILE, --noise-gain G. Same contract as cli_stream_args_parse. */
 int cli_levels_parse(pc_stream_levels *lv, int argc, char **argv, int *i);
 const char *cli_levels_help(void);
 

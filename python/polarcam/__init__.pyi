@@ -67,6 +67,7 @@ class Calibration:
     black_level: float
     saturation: float
     system_gain: Union[float, None]
+    system_gain_db: Union[float, None]
     parts: tuple[str, ...]
     provenance: Union[dict[str, Any], None]
     dark: Union[F32, None]
@@ -178,6 +179,7 @@ def stokes(
     saturation_level: Union[float, None] = None,
     dead_level: Union[float, None] = None,
     noise_gain: Union[float, None] = None,
+    gain_db: Union[float, None] = None,
 ) -> Stokes: ...
 def pbrdf(
     n: ArrayLike,

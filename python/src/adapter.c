@@ -302,8 +302,8 @@ static bool calib_cached(const pc_calib *cal, int method)
 }
 
 int pcpy_calib_stokes(pcpy_calib *c, const pc_view *raw, const pc_mosaic *m, unsigned bits,
-                      int method, int threads, const pc_stokes_out *out, uint8_t *valid,
-                      uint64_t *n_invalid)
+                      int method, int threads, double noise_gain, double gain_db,
+                      const pc_stokes_out *out, uint8_t *valid, uint64_t *n_invalid)
 {
 	pc_calib_geometry g = c->cal.geo;
 	g.width = raw->width;
@@ -316,14 +316,14 @@ int pcpy_calib_stokes(pcpy_calib *c, const pc_view *raw, const pc_mosaic *m, uns
 	int rc;
 	pthread_rwlock_rdlock(&c->lock);
 	if (calib_cached(&c->cal, method)) {
-		rc = pc_calib_stokes(&c->cal, raw, &g, (pc_demosaic_method)method, threads, out,
-		                     valid, &nbad);
+		rc = pc_calib_stokes_gain(&c->cal, raw, &g, (pc_demosaic_method)method, threads,
+		                          noise_gain, gain_db, out, valid, &nbad, NULL);
 		pthread_rwlock_unlock(&c->lock);
 	} else {
 		pthread_rwlock_unlock(&c->lock);
 		pthread_rwlock_wrlock(&c->lock);
-		rc = pc_calib_stokes(&c->cal, raw, &g, (pc_demosaic_method)method, threads, out,
-		                     valid, &nbad);
+		rc = pc_calib_stokes_gain(&c->cal, raw, &g, (pc_demosaic_method)method, threads,
+		                          noise_gain, gain_db, out, valid, &nbad, NULL);
 		pthread_rwlock_unlock(&c->lock);
 	}
 	if (n_invalid)

@@ -113,13 +113,14 @@ int pcpy_calib_read(const char *path, pcpy_calib **out);
 void pcpy_calib_free(pcpy_calib *c);
 /* The calibration's contents (geometry, levels, maps), read-only, valid until pcpy_calib_free. */
 const pc_calib *pcpy_calib_get(const pcpy_calib *c);
-/* The calibrated pipeline (pc_calib_stokes) on a raw of the calibration's size: m NULL takes
- * the calibration's layout, bits 0 does not compare the bit depth; the ROI offset is taken to
- * be the calibration's (an array carries none). valid (output size, row stride = output width;
- * may be NULL) and n_invalid as pc_calib_stokes. */
+/* The calibrated pipeline (pc_calib_stokes_gain) on a raw of the calibration's size: m NULL
+ * takes the calibration's layout, bits 0 does not compare the bit depth; the ROI offset is taken
+ * to be the calibration's (an array carries none). noise_gain (0: the calibration's system gain
+ * at gain_db, NAN unknown) for noise-aware methods. valid (output size, row stride = output
+ * width; may be NULL) and n_invalid as pc_calib_stokes. */
 int pcpy_calib_stokes(pcpy_calib *c, const pc_view *raw, const pc_mosaic *m, unsigned bits,
-                      int method, int threads, const pc_stokes_out *out, uint8_t *valid,
-                      uint64_t *n_invalid);
+                      int method, int threads, double noise_gain, double gain_db,
+                      const pc_stokes_out *out, uint8_t *valid, uint64_t *n_invalid);
 /* The grid of per-output-pixel pseudo-inverses pc_calib_stokes uses for a method, and a copy of
  * it (3 x 4 x gh x gw floats, the layout of pc_analyser_pinv) into dst. */
 int pcpy_calib_pinv_grid(const pcpy_calib *c, int method, uint32_t *gw, uint32_t *gh);

@@ -699,15 +699,39 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 	(void)self;
 	static char *kwl[] = {
 	    "raw",     "method", "layout",           "bits",       "black_level", "calibration",
-	    "threads", "out",    "saturation_level", "dead_level", "noise_gain",  NULL};
+	    "threads", "out",    "saturation_level", "dead_level", "noise_gain",  "gain_db",
+	    NULL};
 	PyObject *raw_o, *bits_o = Py_None, *black_o = Py_None, *cal_o = Py_None, *out_o = Py_None;
-	PyObject *sat_o = Py_None, *dead_o = Py_None, *ng_o = Py_None;
+	PyObject *sat_o = Py_None, *dead_o = Py_None, *ng_o = Py_None, *gdb_o = Py_None;
 	const char *method = NULL, *layout = NULL;
 	int threads = 0, rc;
-	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zzOOOiOOOO:stokes", kwl, &raw_o, &method,
+	if (!PyArg_ParseTupleAndKeywords(args, kw, "O|zzOOOiOOOOO:stokes", kwl, &raw_o, &method,
 	                                 &layout, &bits_o, &black_o, &cal_o, &threads, &out_o,
-	                                 &sat_o, &dead_o, &ng_o))
+	                                 &sat_o, &dead_o, &ng_o, &gdb_o))
 		return NULL;
+	/* gain_db=: the frame's analog gain (frame.gain_db), which a calibration's system gain
+	 * follows; None (or NaN, a frame that did not say): unknown */
+	double gain_db = NAN;
+	if (gdb_o != Py_None) {
+		if (!PyNumber_Check(gdb_o) || PyBool_Check(gdb_o)) {
+			PyErr_SetString(PyExc_TypeError, "gain_db: expected a number (dB) or None");
+			return NULL;
+		}
+		gain_db = PyFloat_AsDouble(gdb_o);
+		if (gain_db == -1 && PyErr_Occurred())
+			return NULL;
+		if (isinf(gain_db)) {
+			PyErr_Format(PyExc_ValueError, "gain_db %g: expected a finite gain in dB",
+			             gain_db);
+			return NULL;
+		}
+		if (cal_o == Py_None || PyArray_Check(cal_o)) {
+			PyErr_SetString(PyExc_ValueError,
+			                "gain_db: applies with a calibration file (its system gain "
+			                "follows the frame's analog gain)");
+			return NULL;
+		}
+	}
 	PyArrayObject *raw =
 	    as_ndarray(raw_o, "raw", "(H, W) raw mosaic, or (H, W, 4) float32 analyser images");
 	if (!raw)
@@ -814,7 +838,8 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 		rc = check ? pcpy_check_bits(&v, check) : 0;
 		if (!rc && cal)
 			rc = pcpy_calib_stokes(cal->cal, &v, layout ? &m : NULL, bits, o.method,
-			                       threads, &so, vd.mask, &vd.n_invalid);
+			                       threads, o.noise_gain, gain_db, &so, vd.mask,
+			                       &vd.n_invalid);
 		else if (!rc)
 			rc = pcpy_stokes(&v, &m, &o, &so, checked ? &vd : NULL);
 		Py_END_ALLOW_THREADS;
@@ -2270,6 +2295,15 @@ static PyObject *cal_system_gain(CalibrationObject *self, void *closure)
 	Py_RETURN_NONE;
 }
 
+static PyObject *cal_system_gain_db(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	const pc_calib *c = cal_of(self);
+	if (c->system_gain > 0 && isfinite(c->system_gain_db))
+		return PyFloat_FromDouble(c->system_gain_db);
+	Py_RETURN_NONE;
+}
+
 static PyObject *cal_parts(CalibrationObject *self, void *closure)
 {
 	(void)closure;
@@ -2367,6 +2401,10 @@ static PyGetSetDef cal_getset[] = {
     {"system_gain", (getter)cal_system_gain, NULL,
      "float or None: the system gain K (DN per electron) the flats measured (EMVA 1288 photon "
      "transfer), the noise gain of the noise-aware methods at the flats' settings",
+     NULL},
+    {"system_gain_db", (getter)cal_system_gain_db, NULL,
+     "float or None: the flats' analog gain (dB) at which system_gain holds; at a gain g the "
+     "system gain is system_gain * 10**((g - system_gain_db) / 20) (None: not recorded)",
      NULL},
     {"parts", (getter)cal_parts, NULL,
      "tuple of str: what the file holds ('dark', 'flat', 'analyser', 'ecm')", NULL},
@@ -2517,7 +2555,8 @@ PyDoc_STRVAR(
 PyDoc_STRVAR(
     doc_stokes,
     "stokes(raw, method=None, layout=None, bits=None, black_level=None, calibration=None, "
-    "threads=0, out=None, saturation_level=None, dead_level=None, noise_gain=None)\n--\n\n"
+    "threads=0, out=None, saturation_level=None, dead_level=None, noise_gain=None, "
+    "gain_db=None)\n--\n\n"
     "The pipeline of polarcam process: demosaic -> S0, S1, S2, DoLP, AoLP (float32 (H, W) "
     "each, the same values), through the library's front door.\n\n"
     "raw: (H, W) raw mosaic as for demosaic(), or float32 (H, W, 4) analyser images I0, I45, "
@@ -2526,7 +2565,9 @@ PyDoc_STRVAR(
     "below it stay negative). saturation_level, dead_level: raw units; an output pixel that "
     "depends on a sample >= saturation_level or <= dead_level is 0 in the result's valid "
     "mask (its value is computed as any other). noise_gain: as demosaic()'s (the "
-    "methods marked noise_gain in methods(); raw mosaics only).\n"
+    "methods marked noise_gain in methods(); raw mosaics only); with a calibration file "
+    "and no noise_gain, its system_gain, scaled to gain_db (the frame's analog gain in dB, "
+    "frame.gain_db) when both it and the file's system_gain_db are known.\n"
     "calibration: a Calibration, the path of a calibration file of polarcam calibrate (read "
     "for this call; load a Calibration once for many frames), or float32 (3, 4) / (3, 4, "
     "GH, GW) analyser pseudo-inverses (analyser_pinv); None: ideal analysers. A calibration "

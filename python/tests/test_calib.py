@@ -82,6 +82,8 @@ def test_calibration_object(cal, calfile):
     assert cal.black_level == meta["black_level"] and cal.saturation == meta["saturation"]
     # the flats' photon transfer: the system gain (the preset's K 0.39 DN/e-, within 5 %)
     assert cal.system_gain == meta["system_gain"] and abs(cal.system_gain / 0.39 - 1) < 0.05
+    # ... at the flats' analog gain (the recordings' gain_db: the scenes' 0 dB)
+    assert cal.system_gain_db == meta["system_gain_db"] == rec["frames"][0]["gain_db"] == 0
     for name in ("dark", "dark_noise", "gain", "analysis", "residual", "valid",
                  "pinv_superpixel"):
         a = getattr(cal, name)
@@ -210,6 +212,29 @@ def test_pipeline_against_numpy(cal, calfile):
     sp = polarcam.stokes(raw, calibration=cal, method="superpixel-half")
     np.testing.assert_array_equal(cal.pinv("superpixel-half"), cal.pinv_superpixel)
     assert sp.s0.shape == (32, 32)
+
+
+def test_noise_gain_with_calibration(cal):
+    """ratio-nr with a calibration: the noise gain is the file's system gain (bit for bit the
+    output of giving it), scaled by 10^(dB/20) to the frame's gain_db (bit for bit giving the
+    scaled value); a given noise_gain is used, not ignored."""
+    raw = polarcam.render(scene("test_scene"), seed=SEED, frame=9100, roi=ROI)[0]
+    run = lambda **kw: polarcam.stokes(raw, calibration=cal, bits=12,  # noqa: E731
+                                       method="ratio-nr", **kw)
+    same = lambda a, b: all(np.array_equal(x, y) for x, y in zip(a, b))  # noqa: E731
+    k = cal.system_gain
+    base = run()
+    assert same(base, run(noise_gain=k))
+    assert same(base, run(gain_db=cal.system_gain_db))  # at the flats' gain: unscaled
+    at12 = run(gain_db=cal.system_gain_db + 12)
+    assert same(at12, run(noise_gain=k * 10 ** (12 / 20)))
+    assert not same(at12, base)  # the raw is noisy: a 4x larger noise gain smooths more
+    assert not same(run(noise_gain=20 * k), base)
+    assert same(base, run(gain_db=float("nan")))  # a frame that did not say: unknown
+    with pytest.raises(ValueError, match="gain_db: applies with a calibration"):
+        polarcam.stokes(raw, bits=12, method="ratio-nr", gain_db=12)
+    with pytest.raises(TypeError, match="gain_db"):
+        run(gain_db="12")
 
 
 @pytest.mark.parametrize("angle", [10, 55, 100, 145])
@@ -366,9 +391,25 @@ def test_bad_input(cal, calfile, tmp_path):
         np.savez(tmp_path / "badk.npz", **z)
         with pytest.raises(ValueError, match="system_gain"):
             polarcam.Calibration(tmp_path / "badk.npz")
+    # its analog gain: a number in [-100, 100] dB with a system gain, or null
+    for bad in ("x", 1000, True):
+        z = dict(np.load(calfile / "cam.npz"))
+        meta = json.loads(bytes(z["meta"]))
+        meta["system_gain_db"] = bad
+        z["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+        np.savez(tmp_path / "badkd.npz", **z)
+        with pytest.raises(ValueError, match="system_gain_db"):
+            polarcam.Calibration(tmp_path / "badkd.npz")
+    meta["system_gain_db"] = 6.0
     del meta["system_gain"]
     z["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    np.savez(tmp_path / "lonekd.npz", **z)
+    with pytest.raises(ValueError, match="system_gain_db: given without a system_gain"):
+        polarcam.Calibration(tmp_path / "lonekd.npz")
+    del meta["system_gain_db"]
+    z["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     np.savez(tmp_path / "oldk.npz", **z)
-    assert polarcam.Calibration(tmp_path / "oldk.npz").system_gain is None
+    old = polarcam.Calibration(tmp_path / "oldk.npz")
+    assert old.system_gain is None and old.system_gain_db is None
     with pytest.raises(TypeError):
         polarcam.Calibration(3)

@@ -27,6 +27,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	FUZZ_ASSERT(!(c.parts & PC_CAL_ANALYSER) || (c.analysis && c.pinv_sp), "analyser maps");
 	FUZZ_ASSERT(c.system_gain == 0 || (isfinite(c.system_gain) && c.system_gain > 0),
 	            "system gain %g", c.system_gain);
+	FUZZ_ASSERT(isnan(c.system_gain_db) || (c.system_gain > 0 && fabs(c.system_gain_db) <= 100),
+	            "system gain's dB %g (system gain %g)", c.system_gain_db, c.system_gain);
+	{
+		/* the noise gain at any frame gain: 0 without a system gain, else finite and > 0 */
+		const double ng = pc_calib_noise_gain(&c, 40, NULL);
+		FUZZ_ASSERT(c.system_gain > 0 ? isfinite(ng) && ng > 0 : ng == 0,
+		            "noise gain %g at 40 dB", ng);
+	}
 	for (size_t i = 0; i < n; i++) {
 		FUZZ_ASSERT(!c.dark || isfinite(c.dark[i]), "dark[%zu]", i);
 		FUZZ_ASSERT(!c.gain || c.gain[i] > 0, "gain[%zu]", i);

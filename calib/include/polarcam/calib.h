@@ -72,6 +72,11 @@ typedef struct pc_calib {
 	 * The noise gain of the noise-aware demosaicking methods (pc_pipeline_opts.noise_gain,
 	 * --noise-gain) at those settings. */
 	double system_gain;
+	/* The analog gain of those flats in dB (their frames' gain_db), NAN unknown. A frame
+	 * whose own gain g is known (pc_frame_meta.gain_db) has the system gain
+	 * system_gain·10^((g − system_gain_db)/20) (EMVA 1288: K scales with the analog gain's
+	 * amplitude); pc_calib_apply uses that. */
+	double system_gain_db;
 	float *dark;       /* (H, W) per-pixel offset, DN */
 	float *dark_noise; /* (H, W) temporal σ of one frame, DN */
 	float *gain;       /* (H, W) relative gain, mean 1 over valid pixels */
@@ -112,8 +117,9 @@ typedef struct pc_calib_stack {
 	pc_calib_frame_fn get; /* frame i into an owned view (freed by the library) */
 	void *user;
 	double exposure_us; /* flat levels: the exposure (or any level measure), NAN unknown */
-	double angle_deg;   /* analyser stimulus: polarizer angle (AoLP), NAN unknown */
-	double dolp;        /* analyser stimulus: its DoLP (1 for a good polarizer) */
+	double gain_db;   /* the frames' analog gain (dB), NAN unknown: the flat levels share it */
+	double angle_deg; /* analyser stimulus: polarizer angle (AoLP), NAN unknown */
+	double dolp;      /* analyser stimulus: its DoLP (1 for a good polarizer) */
 } pc_calib_stack;
 
 /* Progress: called with work done out of total from the calling thread (may be NULL). */
@@ -141,7 +147,9 @@ PC_API int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_cal
  * With ≥ 2 frames in every level also system_gain: the least-squares slope of the level's mean
  * per-pixel temporal variance (sample variance over its frames) against its mean level above
  * dark, over the trusted pixels (EMVA Standard 1288, the photon-transfer method; the intercept
- * takes the dark noise), 0 when that slope is not positive. */
+ * takes the dark noise), 0 when that slope is not positive; system_gain_db is the levels' gain_db.
+ * Levels at different known gains are refused (PC_EINVAL: the photon transfer varies the
+ * exposure at one gain). */
 PC_API int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib *base,
                          const pc_calib_opts *o, pc_calib *out);
 
@@ -232,7 +240,8 @@ PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geo
  * flagged sample (pc_validity_run), the same rule as the uncalibrated pipeline. o->black_level
  * must be 0 (the dark map is the black level), o->pinv, o->dark and o->gain_inv NULL. The
  * noise-aware methods' noise gain is o->noise_gain when given, else cal->system_gain when
- * known (else estimated from the frame). The
+ * known, scaled to the frame's analog gain when both gains are known (f->meta.gain_db and
+ * cal->system_gain_db: pc_calib_noise_gain), else estimated from the frame. The
  * correction is fused into the core's pipeline (pc_pipeline_opts.dark, gain_inv): the fused
  * bilinear Stokes pass reads the raw once. Per-call memory only; the once-per-calibration
  * parts are made on the first call (pc_calib_prepare), after which calls only read cal (they
@@ -241,6 +250,15 @@ PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geo
 PC_API int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits,
                           const pc_pipeline_opts *o, const pc_stokes_out *st, const pc_fplane *ch,
                           pc_validity *valid);
+
+/* pc_calib_stokes for noise-aware methods: noise_gain > 0 is given to them (0: the calibration's
+ * system gain at the frame's analog gain gain_db, NAN unknown: pc_calib_noise_gain; else
+ * estimated from the frame); noise_gain_used (may be NULL) receives the one used
+ * (pc_pipeline_opts.noise_gain_used). pc_calib_stokes is this with 0 and NAN. */
+PC_API int pc_calib_stokes_gain(pc_calib *cal, const pc_view *raw, const pc_calib_geometry *g,
+                                pc_demosaic_method method, int threads, double noise_gain,
+                                double gain_db, const pc_stokes_out *out, uint8_t *valid_out,
+                                size_t *n_invalid, double *noise_gain_used);
 
 /* Computes what pc_calib_apply needs once per calibration and demosaicking method (the inverse
  * gains; for bilinear the 16-bit analysis vectors of pc_calib_apply, for the other methods the
@@ -252,6 +270,12 @@ PC_API bool pc_calib_prepared(const pc_calib *cal, pc_demosaic_method method);
 /* Drops what pc_calib_prepare (or a first pc_calib_apply) made: needed after a change to
  * cal's maps (valid, analysis, dark, gain), so that the next call prepares from the new ones. */
 PC_API void pc_calib_unprepare(pc_calib *cal);
+
+/* The noise gain pc_calib_apply gives the noise-aware methods for a frame at analog gain
+ * gain_db (NAN unknown) when none is given: cal->system_gain·10^((gain_db −
+ * cal->system_gain_db)/20) when both gains are known and finite, else cal->system_gain (0:
+ * unknown). *scaled (may be NULL) says whether it was scaled. */
+PC_API double pc_calib_noise_gain(const pc_calib *cal, double gain_db, bool *scaled);
 
 /* pc_calib_apply as a pc_raw_stage (polarcam/process.h) for pc_process_file, pc_demosaic_file
  * and the live Stokes stream; name is reported in meta.json (e.g. the file's path); the stage's

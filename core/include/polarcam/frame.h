@@ -34,9 +34,9 @@ enum pc_frame_status {
 typedef struct pc_frame_meta {
 	uint64_t sequence;     /* frame number from the source, monotonic */
 	uint64_t timestamp_ns; /* capture time (source clock), monotonic */
-	double exposure_us;
-	double gain_db;
-	uint32_t status;             /* pc_frame_status flags */
+	double exposure_us;    /* µs; NAN when the source does not say */
+	double gain_db;        /* analog gain, dB (20·log10 of the amplification); NAN: unknown */
+	uint32_t status;       /* pc_frame_status flags */
 	uint32_t offset_x, offset_y; /* ROI origin on the full sensor */
 } pc_frame_meta;
 

@@ -30,6 +30,7 @@
  *     "store": "png",                           how the frames are stored (png, npy, raw)
  *     "frames": [ { "file": "raw_000000.png", "sequence": 0, "timestamp_ns": 0,
  *                   "exposure_us": 10000, "gain_db": 0, "status": [] }, ... ],
+ *                                           (exposure_us, gain_db: null when unknown)
  *     "complete": true, "error": null,         false + message when recording ended early
  *     "stats": { ... }, "extra": { ... } }      free-form objects (source statistics, ...)
  *

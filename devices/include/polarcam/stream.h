@@ -60,6 +60,9 @@ typedef struct pc_stream_levels {
 	                            (2^bits − 1); < 0: not checked */
 	double dead_level;       /* DN; 0: not checked */
 	const char *calibration; /* a `polarcam calibrate` file (polarcam/calib.h); NULL: none */
+	double noise_gain;       /* the noise-aware methods' noise gain (PC_DMF_NOISE_GAIN, raw
+	                          * units); 0: the calibration's system gain at each frame's analog
+	                          * gain (pc_calib_noise_gain), else estimated from each frame */
 } pc_stream_levels;
 
 /* The defaults: black level from the source, saturation at full scale, no dead level, no
@@ -108,6 +111,12 @@ PC_API bool pc_stokes_stream_black_missed(const pc_stokes_stream *s);
 PC_API const pc_validity *pc_stokes_stream_validity(const pc_stokes_stream *s);
 PC_API void pc_stokes_stream_levels_used(const pc_stokes_stream *s, double *black,
                                          double *saturation, const char **calibration);
+
+/* The noise gain the last frame was processed with (a method flagged PC_DMF_NOISE_GAIN; 0
+ * otherwise) and where it came from (from may be NULL): "option" (pc_stream_levels.noise_gain),
+ * "calibration" (its system gain), "calibration at the frame's gain" (scaled to the frame's
+ * analog gain), "estimated" (from the frame), or NULL for other methods. */
+PC_API double pc_stokes_stream_noise_gain(const pc_stokes_stream *s, const char **from);
 
 /* Runs a frame (which must carry a polarizer mosaic: PC_EFORMAT otherwise) through the
  * pipeline into the stream's S0, DoLP and AoLP planes; sizes follow the frame. */

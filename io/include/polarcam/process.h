@@ -27,6 +27,8 @@ typedef struct pc_raw_input {
 	const char *path;
 	const pc_raw_geometry *geometry; /* a headerless file's geometry; NULL: a file with one */
 	unsigned bits;                   /* significant bits; 0: what the file declares */
+	const pc_frame_meta *meta; /* the frame's metadata (a recording's exposure and analog gain:
+	                            * a calibration's noise gain follows the gain); NULL: unknown */
 } pc_raw_input;
 
 /* Reads and validates a raw mosaic (pc_image_read_mosaic: bit depth, every value, NaN) into an
