@@ -294,6 +294,100 @@ static double median(double *v, size_t n)
 	return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/* ---- the truth's shared pixel-level pattern (polarcam/eval.h) ---- */
+
+/* the correlation of a and b over n pairs (NaN without variation) */
+static double correlation(const double *a, const double *b, size_t n)
+{
+	double sa = 0, sb = 0;
+	for (size_t i = 0; i < n; i++) {
+		sa += a[i];
+		sb += b[i];
+	}
+	const double ma = sa / (double)n, mb = sb / (double)n;
+	double saa = 0, sbb = 0, sab = 0;
+	for (size_t i = 0; i < n; i++) {
+		const double x = a[i] - ma, y = b[i] - mb;
+		saa += x * x;
+		sbb += y * y;
+		sab += x * y;
+	}
+	/* variation below 1e-9 of full scale (RMS) is the rounding of a smooth image's mean */
+	const double floor = (double)n * 1e-18;
+	return saa > floor && sbb > floor ? sab / sqrt(saa * sbb) : NAN;
+}
+
+int pc_eval_truth_pattern(const pc_eval_truth *t, pc_eval_pattern *out)
+{
+	out->corr = out->corr_shift = out->std = NAN;
+	out->pixels = 0;
+	const uint32_t w = t->width, h = t->height, b = PC_EVAL_BORDER;
+	if (w < 2 * b + 4 || h < 2 * b + 4)
+		return 0; /* nothing inside the border to measure: NaN */
+	/* the candidates: inside the border, one more column for the shifted pair */
+	const uint32_t x0 = b, x1 = w - b - 1, y0 = b, y1 = h - b;
+	const size_t nc = (size_t)(x1 - x0) * (y1 - y0);
+	double *grad = malloc(nc * sizeof *grad), *sorted = malloc(nc * sizeof *sorted);
+	double *e = malloc(4 * 2 * nc * sizeof *e); /* per image: e at p, e at p + (1, 0) */
+	if (!grad || !sorted || !e) {
+		free(grad);
+		free(sorted);
+		free(e);
+		return pc_error(PC_ENOMEM, "truth pattern (%zu pixels)", nc);
+	}
+#define MEAN4(x, y)                                                                                \
+	((t->ch[0][(size_t)(y)*w + (x)] + t->ch[1][(size_t)(y)*w + (x)] +                          \
+	  t->ch[2][(size_t)(y)*w + (x)] + t->ch[3][(size_t)(y)*w + (x)]) /                         \
+	 4)
+	size_t k = 0;
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x = x0; x < x1; x++) {
+			const double gx = (MEAN4(x + 1, y) - MEAN4(x - 1, y)) / 2,
+			             gy = (MEAN4(x, y + 1) - MEAN4(x, y - 1)) / 2;
+			grad[k] = sorted[k] = hypot(gx, gy);
+			k++;
+		}
+#undef MEAN4
+	qsort(sorted, nc, sizeof *sorted, cmp_d);
+	const double cut = sorted[(size_t)(0.3 * (double)(nc - 1))];
+	size_t n = 0;
+	double ss = 0;
+	k = 0;
+	for (uint32_t y = y0; y < y1; y++)
+		for (uint32_t x = x0; x < x1; x++, k++) {
+			if (!(grad[k] <= cut))
+				continue;
+			for (int c = 0; c < 4; c++)
+				for (uint32_t s = 0; s < 2; s++) {
+					const double *im = t->ch[c];
+					double m = 0;
+					for (int dy = -1; dy <= 1; dy++)
+						for (int dx = -1; dx <= 1; dx++)
+							m += im[(size_t)(y + dy) * w + x + s + dx];
+					const double v = im[(size_t)y * w + x + s] - m / 9;
+					e[(2 * c + s) * nc + n] = v;
+					if (!s)
+						ss += v * v;
+				}
+			n++;
+		}
+	double cs = 0, csh = 0;
+	for (int c = 0; c < 4; c++)
+		for (int d = c + 1; d < 4; d++) {
+			cs += correlation(e + (size_t)(2 * c) * nc, e + (size_t)(2 * d) * nc, n);
+			csh +=
+			    correlation(e + (size_t)(2 * c) * nc, e + (size_t)(2 * d + 1) * nc, n);
+		}
+	out->corr = cs / 6;
+	out->corr_shift = csh / 6;
+	out->std = n ? sqrt(ss / (4.0 * (double)n)) : NAN;
+	out->pixels = n;
+	free(grad);
+	free(sorted);
+	free(e);
+	return 0;
+}
+
 /* angular difference of two AoLPs in [0, π): in [0, π/2] */
 static double aolp_diff(double a, double b)
 {

@@ -92,8 +92,14 @@ int pc_eval_dirs(const char *const *dirs, size_t ndirs, const pc_demosaic_method
 		int rc = pc_truth_load(dirs[d], &t);
 		if (rc) /* the detail names the directory */
 			return rc;
+		pc_eval_pattern pat;
+		if ((rc = pc_eval_truth_pattern(&t, &pat))) {
+			pc_eval_truth_free(&t);
+			return pc_error_prefix(rc, "%s: ", dirs[d]);
+		}
 		for (size_t k = 0; k < nmeth; k++) {
 			pc_eval_result *r = &res[nres];
+			r->truth_pattern = pat;
 			r->scene = dirs[d];
 			pc_truth_dataset(dirs[d], r->dataset, sizeof r->dataset);
 			r->method = methods[k];

@@ -152,8 +152,11 @@ int pc_sim_eval_cases(const char *const *paths, size_t n, const pc_demosaic_meth
 		int rc = load_case(paths[d], threads, t, &nc, &raw, &mo);
 		if (rc)
 			return pc_error_prefix(rc, "%s: ", paths[d]);
+		pc_eval_pattern pat;
+		rc = pc_eval_truth_pattern(&t[0], &pat);
 		for (size_t k = 0; k < nmeth && !rc; k++) {
 			pc_eval_result *r = &res[nres];
+			r->truth_pattern = pat;
 			r->scene = paths[d];
 			pc_truth_dataset(paths[d], r->dataset, sizeof r->dataset);
 			r->method = methods[k];

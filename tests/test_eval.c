@@ -1,7 +1,11 @@
 /* The evaluation protocol: metrics against hand-computed values, the AoLP wrap, the 15-pixel
  * border, normalisation by the container, and our bilinear against an independent convolution
  * formulation (zero-filled sparse channels filtered by [1 2 1; 2 4 2; 1 2 1]/4 with
- * reflect-101 borders, as the field's public evaluation code does it with OpenCV). */
+ * reflect-101 borders, as the field's public evaluation code does it with OpenCV); the truth's
+ * shared pixel-level pattern (pc_eval_truth_pattern) against its analytic values on synthetic
+ * truths: a share ρ of white variation common to the four images gives corr ρ, RMS √(8/9)·σ,
+ * and one pixel apart −ρ/6 before the selection of flat pixels (the 3×3 mean's overlap: cov
+ * −4/27·σ², var 8/9·σ²). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -10,6 +14,9 @@
 #include "check.h"
 #include "polarcam/error.h"
 #include "polarcam/eval.h"
+
+#define PC_TEST_SEED 0x5eed41ull
+#include "xorshift.h"
 
 enum { W = 40, H = 36 };
 
@@ -171,8 +178,78 @@ static void test_bilinear_protocol(void)
 		pc_view_free(&v[c]);
 }
 
+/* A truth of PW × PH (the measure's analytic values: docs/evaluation.md): a ramp times each
+ * analyser's Malus factor (DoLP 0.4 at 30°; a ramp's high-pass is exactly 0) plus white variation:
+ * sc·f common to the four images and sn·n_c of each its own. */
+enum { PW = 200, PH = 180 };
+static void pattern_truth(pc_eval_truth *t, double sc, double sn)
+{
+	memset(t, 0, sizeof *t);
+	t->width = PW;
+	t->height = PH;
+	t->full_scale = 65535;
+	t->format = PC_FMT_MONO16;
+	double *f = malloc(sizeof(double) * PW * PH);
+	for (int i = 0; i < PW * PH; i++)
+		f[i] = nrand();
+	for (int c = 0; c < 4; c++) {
+		t->ch[c] = malloc(sizeof(double) * PW * PH);
+		const double m = 0.5 * (1 + 0.4 * cos(2 * (c * M_PI / 4 - M_PI / 6)));
+		for (int y = 0; y < PH; y++)
+			for (int x = 0; x < PW; x++) {
+				const int i = y * PW + x;
+				t->ch[c][i] =
+				    m * (0.2 + 0.001 * x + 0.0005 * y) + sc * f[i] + sn * nrand();
+			}
+	}
+	free(f);
+}
+
+static void test_pattern(void)
+{
+	const double s = 0.002;
+	struct {
+		double sc, sn, rho;
+	} cases[] = {{s, 0, 1}, {s, s, 0.5}, {0, s, 0}, {s, s / 2, 0.8}};
+	for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
+		pc_eval_truth t;
+		pattern_truth(&t, cases[k].sc, cases[k].sn);
+		pc_eval_pattern p;
+		CHECK_EQ_INT(pc_eval_truth_pattern(&t, &p), 0);
+		const double rho = cases[k].rho,
+		             sd = sqrt(8.0 / 9 *
+		                       (cases[k].sc * cases[k].sc + cases[k].sn * cases[k].sn));
+		printf("pattern: share %.2f -> corr %.4f (want %.4f), one pixel apart %.4f (want "
+		       "%.4f), RMS %.6f (want %.6f), %zu pixels\n",
+		       rho, p.corr, rho, p.corr_shift, -rho / 6, p.std, sd, p.pixels);
+		CHECK_NEAR(p.corr, rho, 0.04);
+		/* −ρ/6 without the selection of the flattest pixels, which deepens it (their
+		 * gradient shares samples with e one pixel apart): measured −0.21ρ */
+		CHECK(p.corr_shift <= -rho / 8 + 0.03 && p.corr_shift >= -rho / 4 - 0.03);
+		CHECK_REL(p.std, sd, 0.08);
+		CHECK_EQ_INT(p.pixels, (size_t)(0.3 * (PW - 31) * (PH - 30)) + 1);
+		pc_eval_truth_free(&t);
+	}
+	/* no variation: NaN; too small: NaN, not an error */
+	pc_eval_truth t;
+	pattern_truth(&t, 0, 0);
+	pc_eval_pattern p;
+	CHECK_EQ_INT(pc_eval_truth_pattern(&t, &p), 0);
+	CHECK(isnan(p.corr) && isnan(p.corr_shift) && p.std < 1e-12);
+	pc_eval_truth_free(&t);
+	double base[4] = {0.1, 0.2, 0.3, 0.4};
+	make_truth(&t, base); /* 40 x 36: constant */
+	CHECK_EQ_INT(pc_eval_truth_pattern(&t, &p), 0);
+	CHECK(isnan(p.corr) && p.pixels > 0);
+	t.height = 32; /* under 2 borders + 4 */
+	CHECK_EQ_INT(pc_eval_truth_pattern(&t, &p), 0);
+	CHECK(isnan(p.corr) && isnan(p.std) && p.pixels == 0);
+	pc_eval_truth_free(&t);
+}
+
 int main(void)
 {
+	test_pattern();
 	test_hand_values();
 	test_bilinear_protocol();
 	return pc_test_finish("test_eval");

@@ -165,6 +165,24 @@ static json_t *report(FILE *tf, const pc_eval_result *res, size_t nres, pc_demos
 		        g.dolp_mean, g.s0_worst, base_name(g.s0_worst_scene), g.dolp_worst,
 		        base_name(g.dolp_worst_scene));
 	}
+	/* what the truths hold: a pixel-level pattern shared by their analyser images rewards
+	 * methods that copy a pixel's own sample into its other channels (polarcam/eval.h) */
+	fprintf(tf,
+	        "\ntruth: pixel-level pattern shared by the four analyser images (flattest 30 %%; "
+	        "corr at the same pixel, one pixel apart; RMS, %% of full scale). A raw\n"
+	        "mosaicked from a truth with a shared pattern rewards methods that copy a pixel's "
+	        "sample into its other channels (docs/evaluation.md)\n");
+	for (size_t i = 0; i < nres; i++) {
+		int seen = 0;
+		for (size_t j = 0; j < i; j++)
+			seen |= res[j].scene == res[i].scene || !strcmp(res[j].scene, res[i].scene);
+		if (seen)
+			continue;
+		const pc_eval_pattern *tp = &res[i].truth_pattern;
+		fprintf(tf, "%-28.28s corr %+6.3f  %+6.3f  RMS %.4f %%%s\n",
+		        base_name(res[i].scene), tp->corr, tp->corr_shift, 100 * tp->std,
+		        tp->corr - fmax(tp->corr_shift, 0) > 0.5 ? "  (shared)" : "");
+	}
 	return jd;
 }
 
@@ -181,6 +199,13 @@ static int write_json(const char *json_path, const pc_eval_result *res, size_t n
 		json_object_set_new(o, "method",
 		                    json_string(pc_demosaic_method_get(res[i].method)->name));
 		json_object_set_new(o, "seconds", cli_json_real(res[i].seconds));
+		const pc_eval_pattern *tp = &res[i].truth_pattern;
+		json_t *pj = json_object();
+		json_object_set_new(pj, "corr", cli_json_real(tp->corr));
+		json_object_set_new(pj, "corr_shift", cli_json_real(tp->corr_shift));
+		json_object_set_new(pj, "std", cli_json_real(tp->std));
+		json_object_set_new(pj, "pixels", json_integer((json_int_t)tp->pixels));
+		json_object_set_new(o, "truth_pattern", pj);
 		json_array_append_new(js, o);
 	}
 	json_object_set_new(root, "protocol",

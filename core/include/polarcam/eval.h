@@ -88,6 +88,31 @@ PC_API int pc_eval_method_raw_colour(const pc_eval_truth t[3], const pc_view *ra
                                      const pc_mosaic *m, pc_demosaic_method method,
                                      const pc_demosaic_opts *opts, pc_eval_metrics *out);
 
+/* ---- what the truth itself holds: a pixel-level pattern its analyser images share ----
+ *
+ * Ground truth captured through a rotating polarizer (division of time: one sensor takes the
+ * four analyser images in turn, as in the public datasets) carries the sensor's per-pixel fixed
+ * pattern (PRNU, DSNU) in all four images alike, while a division-of-focal-plane camera's
+ * pattern belongs to each sample alone. A demosaicker that copies a pixel's own deviation into
+ * the pixel's other analyser channels is rewarded by such a truth and penalised by a noisy
+ * DoFP frame scored against a noise-free truth (docs/evaluation.md, docs/demosaicking.md
+ * Round 41). The measure: each image's high-pass e_c = I_c − (its 3×3 mean), over the flattest
+ * 30 % of the pixels inside the border (the smallest central-difference gradients of the mean
+ * image, so that the scene's edges stay out); corr the mean over the six pairs of analyser
+ * images of the correlation of e at the same pixel; corr_shift the same with the second image
+ * one pixel to the right (a spatially white shared pattern gives a small negative value there:
+ * −corr/6 from the 3×3 mean's overlap, about −corr/5 with the selection; texture correlates at
+ * both); std the RMS of e over the four images, in full-scale units. For a share ρ of shared
+ * white pattern in otherwise independent white variation, corr = ρ. NaN when the images vary
+ * by less than 1e-9 of full scale (RMS) there or the truth is smaller
+ * than 2·PC_EVAL_BORDER + 4 in a size; errors: out of memory. */
+typedef struct pc_eval_pattern {
+	double corr, corr_shift, std;
+	size_t pixels; /* the pixels measured */
+} pc_eval_pattern;
+
+PC_API int pc_eval_truth_pattern(const pc_eval_truth *t, pc_eval_pattern *out);
+
 /* ---- Stokes estimates against the simulator's ground truth (polarcam demo) ----
  *
  * Unlike the frozen protocol above (analyser images normalised to [0, 1]), these score the

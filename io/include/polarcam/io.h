@@ -306,6 +306,9 @@ typedef struct pc_eval_result {
 	pc_demosaic_method method;
 	pc_eval_metrics m;
 	double seconds; /* of pc_eval_method */
+	/* the scene's truth: the pixel-level pattern its analyser images share
+	 * (pc_eval_truth_pattern; of the red truth for colour scenes); NaN when not measured */
+	pc_eval_pattern truth_pattern;
 } pc_eval_result;
 
 /* Scores each method on each truth directory (pc_truth_load, pc_eval_method; opts may be
