@@ -158,9 +158,10 @@ struct pc_stokes_stream {
 	uint8_t *valid; /* w × h */
 	pc_validity validity;
 	double sat_used;
-	double ng_used;      /* the last frame's noise gain (noise-aware methods) */
-	const char *ng_from; /* and its origin (pc_stokes_stream_noise_gain) */
-	black_watch black;   /* no level given, none declared at set-up: ask after frames */
+	double ng_used;       /* the last frame's noise gain (noise-aware methods) */
+	const char *ng_from;  /* and its origin (pc_stokes_stream_noise_gain) */
+	double frame_gain_db; /* the last frame's analog gain (NAN unknown) */
+	black_watch black;    /* no level given, none declared at set-up: ask after frames */
 };
 
 pc_stream_levels pc_stream_levels_default(void)
@@ -329,6 +330,7 @@ int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 	po.dead_level = lv->lv.dead_level;
 	po.noise_gain = lv->lv.noise_gain;
 	lv->ng_used = 0;
+	lv->frame_gain_db = f->meta.gain_db;
 	po.noise_gain_used = &lv->ng_used;
 	lv->ng_from = NULL;
 	if (pc_demosaic_method_get(lv->method)->flags & PC_DMF_NOISE_GAIN) {
@@ -347,6 +349,15 @@ int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 	             : pc_stokes_run(&f->view, &po, &lv->out, &lv->validity);
 	lv->process_s = now_s() - t0;
 	return rc;
+}
+
+void pc_stokes_stream_gains(const pc_stokes_stream *s, double *frame_db, double *calibration_db)
+{
+	if (frame_db)
+		*frame_db = s->planes ? s->frame_gain_db : NAN;
+	if (calibration_db)
+		*calibration_db =
+		    s->have_cal && s->cal.system_gain > 0 ? s->cal.system_gain_db : NAN;
 }
 
 double pc_stokes_stream_noise_gain(const pc_stokes_stream *s, const char **from)
