@@ -388,6 +388,7 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 	/* one analog gain for every level (the gain map is relative, but the photon transfer
 	 * varies the exposure at one gain: EMVA 1288) */
 	double gain_db = NAN;
+	size_t at = 0; /* the level gain_db is from */
 	for (size_t l = 0; l < n_levels; l++) {
 		const double gl = levels[l].gain_db;
 		if (!isfinite(gl))
@@ -399,10 +400,11 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 			    PC_EINVAL,
 			    "flat: %s is at %g dB of analog gain, %s at %g dB: the levels "
 			    "need one gain (vary the exposure or the light, not the gain)",
-			    levels[0].name ? levels[0].name : "level 1", gain_db,
-			    levels[l].name ? levels[l].name : "a level", gl);
+			    levels[at].name ? levels[at].name : "a level", gain_db,
+			    levels[l].name ? levels[l].name : "another level", gl);
 		}
 		gain_db = gl;
+		at = l;
 	}
 	uint64_t done = 0, total = 0;
 	bool ptc = true; /* the photon transfer: every level has frames to vary over */
