@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "calib_internal.h"
 #include "polarcam/error.h"
 #include "polarcam/parallel.h"
 
@@ -355,6 +356,28 @@ static inline double dark_of(const pc_calib *c, size_t p)
 
 /* ---- flat ---- */
 
+int pc_calib_one_gain(const pc_calib_stack *s, size_t n, const char *step, const char *vary,
+                      double *gain_db)
+{
+	*gain_db = NAN;
+	size_t at = 0; /* the stack *gain_db is from */
+	for (size_t l = 0; l < n; l++) {
+		const double gl = s[l].gain_db;
+		if (!isfinite(gl))
+			continue;
+		if (isfinite(*gain_db) && fabs(gl - *gain_db) > 1e-3)
+			return pc_error(PC_EINVAL,
+			                "%s: %s is at %g dB of analog gain, %s at %g dB: the "
+			                "recordings need one gain (vary %s, not the gain)",
+			                step, s[at].name ? s[at].name : "a recording", *gain_db,
+			                s[l].name ? s[l].name : "another", gl, vary);
+		if (!isfinite(*gain_db))
+			at = l;
+		*gain_db = gl;
+	}
+	return 0;
+}
+
 int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib *base,
                   const pc_calib_opts *o, pc_calib *out)
 {
@@ -387,24 +410,12 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 	}
 	/* one analog gain for every level (the gain map is relative, but the photon transfer
 	 * varies the exposure at one gain: EMVA 1288) */
-	double gain_db = NAN;
-	size_t at = 0; /* the level gain_db is from */
-	for (size_t l = 0; l < n_levels; l++) {
-		const double gl = levels[l].gain_db;
-		if (!isfinite(gl))
-			continue;
-		if (isfinite(gain_db) && fabs(gl - gain_db) > 1e-3) {
-			free(y);
-			free(bad);
-			return pc_error(
-			    PC_EINVAL,
-			    "flat: %s is at %g dB of analog gain, %s at %g dB: the levels "
-			    "need one gain (vary the exposure or the light, not the gain)",
-			    levels[at].name ? levels[at].name : "a level", gain_db,
-			    levels[l].name ? levels[l].name : "another level", gl);
-		}
-		gain_db = gl;
-		at = l;
+	double gain_db;
+	if ((rc = pc_calib_one_gain(levels, n_levels, "flat", "the exposure or the light",
+	                            &gain_db))) {
+		free(y);
+		free(bad);
+		return rc;
 	}
 	uint64_t done = 0, total = 0;
 	bool ptc = true; /* the photon transfer: every level has frames to vary over */
@@ -685,6 +696,10 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 			                "or use the unknown-angles mode)",
 			                stim[k].name);
 	}
+	/* the stimuli are compared as equal intensities s0: one analog gain */
+	double gain_db;
+	if ((rc = pc_calib_one_gain(stim, K, "analyser", "the polarizer's angle", &gain_db)))
+		return rc;
 	const size_t np = (size_t)g->width * g->height;
 	double sat =
 	    base && (!o || !(o->saturation > 0)) ? base->saturation : sat_level(o, g->bits);

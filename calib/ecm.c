@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "polarcam/calib.h"
+#include "calib_internal.h"
 #include "polarcam/error.h"
 #include "polarcam/optics.h"
 
@@ -350,9 +351,13 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 		return pc_error(PC_ENOTSUP, "ECM: colour-polarization mosaics are not supported");
 	const uint32_t W = g->width, H = g->height;
 	const size_t np = (size_t)W * H;
+	/* the samples' intensity matrices are compared with the air's: one analog gain */
+	double gain_db;
+	int rc = pc_calib_one_gain(samples, 4, "ECM", "the exposure", &gain_db);
+	if (rc)
+		return rc;
 	double *B[4] = {0};
 	float *row = malloc(np * sizeof *row);
-	int rc = 0;
 	if (!row)
 		return pc_error(PC_ENOMEM, "ECM");
 	double sat =

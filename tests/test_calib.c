@@ -547,6 +547,15 @@ int main(void)
 		pc_calib_stack sing[3] = {stim[0], stim[3], stim[0]}; /* 0, 90, 0: no sin 2θ */
 		CHECK_EQ_INT(pc_calib_analyser(sing, 3, &flat, NULL, &bad, NULL), PC_ENUMERIC);
 		CHECK(strstr(pc_error_detail(), "singular fit") != NULL);
+		/* stimuli compared as equal intensities: one analog gain (an unknown one matches)
+		 */
+		pc_calib_stack gains[3] = {stim[0], stim[1], stim[2]};
+		gains[0].gain_db = NAN;
+		gains[2].gain_db = gains[1].gain_db + 6;
+		CHECK_EQ_INT(pc_calib_analyser(gains, 3, &flat, NULL, &bad, NULL), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "analyser:") && strstr(pc_error_detail(), "6 dB") &&
+		      strstr(pc_error_detail(), stim[1].name) &&
+		      strstr(pc_error_detail(), "one gain"));
 		pc_calib_opts o = {.saturation = 1500}; /* the stimuli reach ~2800 DN */
 		CHECK_EQ_INT(pc_calib_analyser(stim, 6, &flat, &o, &bad, NULL), PC_EINVAL);
 		CHECK(strstr(pc_error_detail(), "saturated") != NULL);
@@ -667,6 +676,14 @@ int main(void)
 		}
 		pc_calib ecal;
 		pc_ecm_result r;
+		{ /* the samples' intensities are compared with the air's: one analog gain */
+			pc_calib_stack eg[4] = {estk[0], estk[1], estk[2], estk[3]};
+			eg[3].gain_db += 3;
+			CHECK_EQ_INT(pc_calib_ecm(eg, 4, 2, NULL, &dark, NULL, &ecal, &r),
+			             PC_EINVAL);
+			CHECK(strstr(pc_error_detail(), "ECM:") &&
+			      strstr(pc_error_detail(), "3 dB"));
+		}
 		CHECK_EQ_INT(pc_calib_ecm(estk, 4, 2, NULL, &dark, NULL, &ecal, &r), 0);
 		printf(
 		    "ECM sim: polarizer2 %.3f deg, retarder %.3f deg at %.3f deg, model residual "
