@@ -324,51 +324,54 @@ int pc_eval_truth_pattern(const pc_eval_truth *t, pc_eval_pattern *out)
 	const uint32_t w = t->width, h = t->height, b = PC_EVAL_BORDER;
 	if (w < 2 * b + 4 || h < 2 * b + 4)
 		return 0; /* nothing inside the border to measure: NaN */
-	/* the candidates: inside the border, one more column for the shifted pair */
-	const uint32_t x0 = b, x1 = w - b - 1, y0 = b, y1 = h - b;
-	const size_t nc = (size_t)(x1 - x0) * (y1 - y0);
-	double *grad = malloc(nc * sizeof *grad), *sorted = malloc(nc * sizeof *sorted);
-	double *e = malloc(4 * 2 * nc * sizeof *e); /* per image: e at p, e at p + (1, 0) */
-	if (!grad || !sorted || !e) {
+	/* the candidates p: inside the border, one column short for the pair (p, p + (1, 0)) */
+	const uint32_t x0 = b, x1 = w - b - 1, y0 = b, y1 = h - b, cw = x1 - x0;
+	const size_t nc = (size_t)cw * (y1 - y0), np = (size_t)w * h;
+	/* the mean image, each image's high-pass (made once, read at p and p + (1, 0)), the
+	 * candidates' gradients (and a sorted copy), the selected pairs' high-pass values */
+	double *mean = malloc(np * sizeof *mean), *hp = malloc(4 * np * sizeof *hp);
+	double *grad = malloc(2 * nc * sizeof *grad), *e = malloc(8 * nc * sizeof *e);
+	if (!mean || !hp || !grad || !e) {
+		free(mean);
+		free(hp);
 		free(grad);
-		free(sorted);
 		free(e);
 		return pc_error(PC_ENOMEM, "truth pattern (%zu pixels)", nc);
 	}
-#define MEAN4(x, y)                                                                                \
-	((t->ch[0][(size_t)(y)*w + (x)] + t->ch[1][(size_t)(y)*w + (x)] +                          \
-	  t->ch[2][(size_t)(y)*w + (x)] + t->ch[3][(size_t)(y)*w + (x)]) /                         \
-	 4)
-	size_t k = 0;
+	double *sorted = grad + nc;
+	for (size_t i = 0; i < np; i++)
+		mean[i] = (t->ch[0][i] + t->ch[1][i] + t->ch[2][i] + t->ch[3][i]) / 4;
+	for (int c = 0; c < 4; c++)
+		for (uint32_t y = y0; y < y1; y++)
+			for (uint32_t x = x0; x <= x1; x++) {
+				const double *im = t->ch[c];
+				double m = 0;
+				for (int dy = -1; dy <= 1; dy++)
+					for (int dx = -1; dx <= 1; dx++)
+						m += im[(size_t)(y + dy) * w + x + dx];
+				hp[c * np + (size_t)y * w + x] = im[(size_t)y * w + x] - m / 9;
+			}
 	for (uint32_t y = y0; y < y1; y++)
 		for (uint32_t x = x0; x < x1; x++) {
-			const double gx = (MEAN4(x + 1, y) - MEAN4(x - 1, y)) / 2,
-			             gy = (MEAN4(x, y + 1) - MEAN4(x, y - 1)) / 2;
+			const size_t q = (size_t)y * w + x, k = (size_t)(y - y0) * cw + (x - x0);
+			const double gx = (mean[q + 1] - mean[q - 1]) / 2,
+			             gy = (mean[q + w] - mean[q - w]) / 2;
 			grad[k] = sorted[k] = hypot(gx, gy);
-			k++;
 		}
-#undef MEAN4
 	qsort(sorted, nc, sizeof *sorted, cmp_d);
 	const double cut = sorted[(size_t)(0.3 * (double)(nc - 1))];
 	size_t n = 0;
 	double ss = 0;
-	k = 0;
 	for (uint32_t y = y0; y < y1; y++)
-		for (uint32_t x = x0; x < x1; x++, k++) {
-			if (!(grad[k] <= cut))
+		for (uint32_t x = x0; x < x1; x++) {
+			if (!(grad[(size_t)(y - y0) * cw + (x - x0)] <= cut))
 				continue;
-			for (int c = 0; c < 4; c++)
-				for (uint32_t s = 0; s < 2; s++) {
-					const double *im = t->ch[c];
-					double m = 0;
-					for (int dy = -1; dy <= 1; dy++)
-						for (int dx = -1; dx <= 1; dx++)
-							m += im[(size_t)(y + dy) * w + x + s + dx];
-					const double v = im[(size_t)y * w + x + s] - m / 9;
-					e[(2 * c + s) * nc + n] = v;
-					if (!s)
-						ss += v * v;
-				}
+			for (int c = 0; c < 4; c++) {
+				const double *hc = hp + c * np + (size_t)y * w + x;
+				e[(2 * c) * nc + n] = hc[0];
+				e[(2 * c + 1) * nc + n] = hc[1];
+				ss += hc[0] * hc[0];
+			}
 			n++;
 		}
 	double cs = 0, csh = 0;
@@ -382,8 +385,9 @@ int pc_eval_truth_pattern(const pc_eval_truth *t, pc_eval_pattern *out)
 	out->corr_shift = csh / 6;
 	out->std = n ? sqrt(ss / (4.0 * (double)n)) : NAN;
 	out->pixels = n;
+	free(mean);
+	free(hp);
 	free(grad);
-	free(sorted);
 	free(e);
 	return 0;
 }

@@ -367,19 +367,19 @@ static json_t *process_meta(const pc_process_opts *o, const char *input, uint32_
 	json_object_set_new(j, "layout", json_string(layout));
 	json_object_set_new(j, "method", json_string(pc_demosaic_method_get(o->method)->name));
 	json_object_set_new(j, "reference", json_boolean(o->demosaic.reference));
-	/* a noise-aware method's noise gain: the one given, or estimated from each frame */
+	/* a noise-aware method's noise gain: the one given, the calibration's (at its flats' gain),
+	 * or estimated from each frame */
 	const bool ng = pc_demosaic_method_get(o->method)->flags & PC_DMF_NOISE_GAIN;
-	json_object_set_new(j, "noise_gain",
-	                    !ng                 ? json_null()
-	                    : o->noise_gain > 0 ? pc_json_real(o->noise_gain)
-	                    : o->stage && o->stage->noise_gain > 0
-	                        ? pc_json_real(o->stage->noise_gain)
-	                        : json_null());
+	const double ngv = !ng                 ? 0
+	                   : o->noise_gain > 0 ? o->noise_gain
+	                   : o->stage          ? o->stage->noise_gain
+	                                       : 0;
+	json_object_set_new(j, "noise_gain", ngv > 0 ? pc_json_real(ngv) : json_null());
 	json_object_set_new(j, "noise_gain_from",
-	                    !ng                                    ? json_null()
-	                    : o->noise_gain > 0                    ? json_string("option")
-	                    : o->stage && o->stage->noise_gain > 0 ? json_string("calibration")
-	                                                           : json_string("estimated"));
+	                    !ng                 ? json_null()
+	                    : o->noise_gain > 0 ? json_string("option")
+	                    : ngv > 0           ? json_string("calibration")
+	                                        : json_string("estimated"));
 	json_object_set_new(j, "black_level", pc_json_real(o->stage ? 0 : o->black_level));
 	json_object_set_new(j, "saturation_level", sat > 0 ? pc_json_real(sat) : json_null());
 	json_object_set_new(j, "dead_level",
