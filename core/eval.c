@@ -330,12 +330,11 @@ int pc_eval_truth_pattern(const pc_eval_truth *t, pc_eval_pattern *out)
 	/* the mean image, each image's high-pass (made once, read at p and p + (1, 0)), the
 	 * candidates' gradients (and a sorted copy), the selected pairs' high-pass values */
 	double *mean = malloc(np * sizeof *mean), *hp = malloc(4 * np * sizeof *hp);
-	double *grad = malloc(2 * nc * sizeof *grad), *e = malloc(8 * nc * sizeof *e);
-	if (!mean || !hp || !grad || !e) {
+	double *grad = malloc(2 * nc * sizeof *grad), *e = NULL;
+	if (!mean || !hp || !grad) {
 		free(mean);
 		free(hp);
 		free(grad);
-		free(e);
 		return pc_error(PC_ENOMEM, "truth pattern (%zu pixels)", nc);
 	}
 	double *sorted = grad + nc;
@@ -358,8 +357,18 @@ int pc_eval_truth_pattern(const pc_eval_truth *t, pc_eval_pattern *out)
 			             gy = (mean[q + w] - mean[q - w]) / 2;
 			grad[k] = sorted[k] = hypot(gx, gy);
 		}
+	free(mean);
+	mean = NULL;
 	qsort(sorted, nc, sizeof *sorted, cmp_d);
 	const double cut = sorted[(size_t)(0.3 * (double)(nc - 1))];
+	size_t ns = 0; /* the selected pixels (ties at the cut included) */
+	for (size_t k = 0; k < nc; k++)
+		ns += grad[k] <= cut;
+	if (!(e = malloc(8 * (ns ? ns : 1) * sizeof *e))) {
+		free(hp);
+		free(grad);
+		return pc_error(PC_ENOMEM, "truth pattern (%zu pixels)", ns);
+	}
 	size_t n = 0;
 	double ss = 0;
 	for (uint32_t y = y0; y < y1; y++)
@@ -368,8 +377,8 @@ int pc_eval_truth_pattern(const pc_eval_truth *t, pc_eval_pattern *out)
 				continue;
 			for (int c = 0; c < 4; c++) {
 				const double *hc = hp + c * np + (size_t)y * w + x;
-				e[(2 * c) * nc + n] = hc[0];
-				e[(2 * c + 1) * nc + n] = hc[1];
+				e[(2 * c) * ns + n] = hc[0];
+				e[(2 * c + 1) * ns + n] = hc[1];
 				ss += hc[0] * hc[0];
 			}
 			n++;
@@ -377,15 +386,14 @@ int pc_eval_truth_pattern(const pc_eval_truth *t, pc_eval_pattern *out)
 	double cs = 0, csh = 0;
 	for (int c = 0; c < 4; c++)
 		for (int d = c + 1; d < 4; d++) {
-			cs += correlation(e + (size_t)(2 * c) * nc, e + (size_t)(2 * d) * nc, n);
+			cs += correlation(e + (size_t)(2 * c) * ns, e + (size_t)(2 * d) * ns, n);
 			csh +=
-			    correlation(e + (size_t)(2 * c) * nc, e + (size_t)(2 * d + 1) * nc, n);
+			    correlation(e + (size_t)(2 * c) * ns, e + (size_t)(2 * d + 1) * ns, n);
 		}
 	out->corr = cs / 6;
 	out->corr_shift = csh / 6;
 	out->std = n ? sqrt(ss / (4.0 * (double)n)) : NAN;
 	out->pixels = n;
-	free(mean);
 	free(hp);
 	free(grad);
 	free(e);
