@@ -18,6 +18,7 @@ void pc_calib_init(pc_calib *cal)
 	memset(cal, 0, sizeof *cal);
 	cal->pinv_method = -1;
 	cal->system_gain_db = NAN;
+	cal->dark_gain_db = NAN;
 }
 
 void pc_calib_free(pc_calib *cal)
@@ -339,6 +340,7 @@ int pc_calib_dark(const pc_calib_stack *s, const pc_calib_opts *o, pc_calib *out
 		}
 	}
 	out->black_level = nvalid ? sum / (double)nvalid : med;
+	out->dark_gain_db = s->gain_db;
 	out->parts = PC_CAL_DARK;
 	stats_free(&st);
 	return 0;
@@ -346,12 +348,6 @@ fail:
 	stats_free(&st);
 	pc_calib_free(out);
 	return rc;
-}
-
-/* dark (or black level) of pixel p */
-static inline double dark_of(const pc_calib *c, size_t p)
-{
-	return c && c->dark ? (double)c->dark[p] : c ? c->black_level : 0;
 }
 
 /* ---- flat ---- */
@@ -417,6 +413,8 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 		free(bad);
 		return rc;
 	}
+	/* the base's dark at that gain */
+	const double dr = base ? pc_calib_dark_scale(base, gain_db, NULL) : 1;
 	uint64_t done = 0, total = 0;
 	bool ptc = true; /* the photon transfer: every level has frames to vary over */
 	for (size_t l = 0; l < n_levels; l++) {
@@ -440,7 +438,7 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 		for (uint32_t yy = 0; yy < g->height; yy++)
 			for (uint32_t x = 0; x < g->width; x++) {
 				size_t p = (size_t)yy * g->width + x;
-				double v = st.mean[p] - dark_of(base, p);
+				double v = st.mean[p] - pc_calib_dark_at(base, p, dr);
 				y[l * np + p] = v;
 				bad[p] |= st.sat[p];
 				unsigned c = pc_mosaic_channel(&g->mosaic, x, yy);
@@ -700,6 +698,7 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 	double gain_db;
 	if ((rc = pc_calib_one_gain(stim, K, "analyser", "the polarizer's angle", &gain_db)))
 		return rc;
+	const double dr = base ? pc_calib_dark_scale(base, gain_db, NULL) : 1;
 	const size_t np = (size_t)g->width * g->height;
 	double sat =
 	    base && (!o || !(o->saturation > 0)) ? base->saturation : sat_level(o, g->bits);
@@ -727,7 +726,7 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 			goto out;
 		}
 		for (size_t p = 0; p < np; p++) {
-			double v = st.mean[p] - dark_of(base, p);
+			double v = st.mean[p] - pc_calib_dark_at(base, p, dr);
 			if (base && base->gain)
 				v /= base->gain[p];
 			I[k * np + p] = v;
@@ -887,7 +886,7 @@ int pc_calib_correct(const pc_calib *cal, const pc_view *raw, float *out, uint8_
 	for (size_t p = 0; p < (size_t)W * H; p++) {
 		double x = out[p];
 		bool ok = (!cal->valid || cal->valid[p]) && x < sat;
-		double v = x - dark_of(cal, p);
+		double v = x - pc_calib_dark_at(cal, p, 1);
 		if (cal->gain)
 			v /= cal->gain[p];
 		out[p] = (float)v;
@@ -1507,6 +1506,11 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 			                "(%g) is not a usable noise gain",
 			                f->meta.gain_db, cal->system_gain_db, po.noise_gain);
 	}
+	/* the dark map at the frame's analog gain (pc_calib_dark_scale): for the compact
+	 * calibration its base and scale, for the others a scaled copy for this call */
+	const double dr = pc_calib_dark_scale(cal, f->meta.gain_db, NULL);
+	float *dscaled = NULL;
+	pc_compact_calib cv;
 	po.dark = cal->dark;
 	po.gain_inv = cal->apply_ig;
 	po.black_level = cal->dark ? 0 : cal->black_level;
@@ -1523,11 +1527,34 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 			po.trusted = NULL;
 			po.dark = po.gain_inv = NULL;
 			po.black_level = 0;
+			if (dr != 1 && cal->apply_vec.dark_q) {
+				/* dark = base + scale·q, so its part above the black level
+				 * B times r is (B + r·(base − B)) + (r·scale)·q */
+				cv = cal->apply_vec;
+				const double bl = cal->black_level;
+				cv.dark_base = (float)(bl + dr * ((double)cv.dark_base - bl));
+				cv.dark_scale = (float)(dr * (double)cv.dark_scale);
+				po.compact = &cv;
+			}
 		} else {
 			po.pinv = &pinv;
 		}
 	}
-	return st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
+	if (po.dark && dr != 1) {
+		const size_t np = (size_t)cal->geo.width * cal->geo.height;
+		if (!(dscaled = malloc(np * sizeof *dscaled)))
+			return pc_error(PC_ENOMEM,
+			                "calibrated pipeline: the dark map at %g dB (%zu "
+			                "pixels)",
+			                f->meta.gain_db, np);
+		const float bl = (float)cal->black_level, r = (float)dr;
+		for (size_t p = 0; p < np; p++)
+			dscaled[p] = bl + r * (cal->dark[p] - bl);
+		po.dark = dscaled;
+	}
+	rc = st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
+	free(dscaled);
+	return rc;
 }
 
 double pc_calib_noise_gain(const pc_calib *cal, double gain_db, bool *scaled)
@@ -1542,6 +1569,17 @@ double pc_calib_noise_gain(const pc_calib *cal, double gain_db, bool *scaled)
 		return 0;
 	return sc ? cal->system_gain * pow(10.0, (gain_db - cal->system_gain_db) / 20.0)
 	          : cal->system_gain;
+}
+
+double pc_calib_dark_scale(const pc_calib *cal, double gain_db, bool *scaled)
+{
+	/* the dark signal above the black level is electrons (DSNU, dark current) times the
+	 * system gain K, and K follows the analog gain as pc_calib_noise_gain's does (EMVA
+	 * Standard 1288, the sensor model: μ_y.dark = μ_y.offset + K·μ_d) */
+	const bool sc = cal->dark && isfinite(cal->dark_gain_db) && isfinite(gain_db);
+	if (scaled)
+		*scaled = sc;
+	return sc ? pow(10.0, (gain_db - cal->dark_gain_db) / 20.0) : 1.0;
 }
 
 static int stage_run(void *user, const pc_frame *f, unsigned bits, const pc_pipeline_opts *o,

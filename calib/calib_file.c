@@ -162,6 +162,9 @@ static char *meta_text(const pc_calib *c)
 	                    c->system_gain > 0 && isfinite(c->system_gain_db)
 	                        ? json_real(c->system_gain_db)
 	                        : json_null());
+	json_object_set_new(m, "dark_gain_db",
+	                    c->dark && isfinite(c->dark_gain_db) ? json_real(c->dark_gain_db)
+	                                                         : json_null());
 	json_t *parts = json_array();
 	for (int i = 0; i < 4; i++)
 		if (c->parts & (1u << i))
@@ -527,6 +530,20 @@ int pc_calib_read(const char *path, pc_calib *c)
 			else
 				c->system_gain_db = json_number_value(kd);
 		}
+		/* optional: the dark frames' analog gain in dB, with a dark part (checked with
+		 * the parts below); or null */
+		json_t *dd = json_object_get(m, "dark_gain_db");
+		if (!rc && dd && !json_is_null(dd)) {
+			if (!json_is_number(dd) || !isfinite(json_number_value(dd)) ||
+			    fabs(json_number_value(dd)) > 100)
+				rc = pc_error(
+				    PC_EFORMAT,
+				    "%s: meta.dark_gain_db: expected the dark frames' analog gain "
+				    "in dB (a number in [-100, 100]) or null",
+				    path);
+			else
+				c->dark_gain_db = json_number_value(dd);
+		}
 	}
 	json_t *parts = rc ? NULL : json_object_get(m, "parts");
 	if (!rc && !json_is_array(parts))
@@ -541,6 +558,8 @@ int pc_calib_read(const char *path, pc_calib *c)
 		else
 			c->parts |= 1u << k;
 	}
+	if (!rc && isfinite(c->dark_gain_db) && !(c->parts & PC_CAL_DARK))
+		rc = pc_error(PC_EFORMAT, "%s: meta.dark_gain_db: given without a dark part", path);
 	if (!rc) {
 		json_t *prov = json_object_get(m, "provenance");
 		c->provenance =

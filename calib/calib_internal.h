@@ -12,4 +12,16 @@
 int pc_calib_one_gain(const pc_calib_stack *s, size_t n, const char *step, const char *vary,
                       double *gain_db);
 
+/* The dark (or, without a dark map, the black level) of pixel p of c (NULL: 0) at the analog
+ * gain whose pc_calib_dark_scale is r: the map's part above the black level times r */
+static inline double pc_calib_dark_at(const pc_calib *c, size_t p, double r)
+{
+	if (!c)
+		return 0;
+	if (!c->dark)
+		return c->black_level;
+	return r != 1 ? c->black_level + r * ((double)c->dark[p] - c->black_level)
+	              : (double)c->dark[p];
+}
+
 #endif

@@ -356,6 +356,7 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 	int rc = pc_calib_one_gain(samples, 4, "ECM", "the exposure", &gain_db);
 	if (rc)
 		return rc;
+	const double dr = base ? pc_calib_dark_scale(base, gain_db, NULL) : 1; /* its dark there */
 	double *B[4] = {0};
 	float *row = malloc(np * sizeof *row);
 	if (!row)
@@ -411,9 +412,7 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 					}
 					if (base && base->valid && !base->valid[p])
 						continue;
-					double val = row[p] - (base && base->dark ? base->dark[p]
-					                       : base ? base->black_level
-					                              : 0);
+					double val = row[p] - pc_calib_dark_at(base, p, dr);
 					if (base && base->gain)
 						val /= base->gain[p];
 					unsigned c = pc_mosaic_channel(&g->mosaic, x, y);

@@ -432,10 +432,11 @@ static json_t *processed(capture *c)
 	const double ng = pc_stokes_stream_noise_gain(c->live, &ng_from);
 	json_object_set_new(pj, "noise_gain", ng_from ? pc_json_real(ng) : json_null());
 	json_object_set_new(pj, "noise_gain_from", ng_from ? json_string(ng_from) : json_null());
-	double fdb, cdb;
-	pc_stokes_stream_gains(c->live, &fdb, &cdb);
+	double fdb, cdb, ddb;
+	pc_stokes_stream_gains(c->live, &fdb, &cdb, &ddb);
 	json_object_set_new(pj, "gain_db", pc_json_real(fdb));
 	json_object_set_new(pj, "calibration_gain_db", pc_json_real(cdb));
+	json_object_set_new(pj, "dark_gain_db", pc_json_real(ddb));
 	json_object_set_new(pj, "last_invalid_pixels", json_integer((json_int_t)valid->n_invalid));
 	json_object_set_new(pj, "method", json_string(c->method));
 	json_object_set_new(pj, "frames", json_integer((json_int_t)got));

@@ -351,13 +351,16 @@ int pc_stokes_stream_process(pc_stokes_stream *lv, const pc_frame *f)
 	return rc;
 }
 
-void pc_stokes_stream_gains(const pc_stokes_stream *s, double *frame_db, double *calibration_db)
+void pc_stokes_stream_gains(const pc_stokes_stream *s, double *frame_db, double *calibration_db,
+                            double *dark_db)
 {
 	if (frame_db)
 		*frame_db = s->planes ? s->frame_gain_db : NAN;
 	if (calibration_db)
 		*calibration_db =
 		    s->have_cal && s->cal.system_gain > 0 ? s->cal.system_gain_db : NAN;
+	if (dark_db)
+		*dark_db = s->have_cal && s->cal.dark ? s->cal.dark_gain_db : NAN;
 }
 
 double pc_stokes_stream_noise_gain(const pc_stokes_stream *s, const char **from)

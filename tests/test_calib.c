@@ -179,6 +179,59 @@ static void stokes_errors(pc_calib *cal, const pc_view *avg, double angle, doubl
 	free(buf);
 }
 
+/* The samples of the dark frames avg (at gain_db, NAN unknown) after cal's correction: each
+ * pixel's own channel of a bilinear demosaic through pc_calib_apply (dark-only calibrations:
+ * the float dark map), or with stokes the S0 of the calibrated bilinear pipeline (the compact
+ * calibration); their mean and RMS over the interior */
+static void dark_residual(pc_calib *cal, const pc_view *avg, double gain_db, bool stokes,
+                          double *mean, double *rms)
+{
+	float *buf = malloc(5 * RW * RH * sizeof *buf);
+	const float *v = buf;
+	if (stokes) {
+		pc_stokes_out out = {0};
+		pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
+		for (int k = 0; k < 5; k++)
+			*pl[k] = (pc_fplane){buf + (size_t)k * RW * RH, RW, 1};
+		CHECK_EQ_INT(pc_calib_stokes_gain(cal, avg, NULL, PC_DM_BILINEAR, 1, 0, gain_db,
+		                                  &out, NULL, NULL, NULL),
+		             0);
+	} else {
+		pc_fplane ch[4];
+		for (int k = 0; k < 4; k++)
+			ch[k] = (pc_fplane){buf + (size_t)k * RW * RH, RW, 1};
+		pc_frame f;
+		memset(&f, 0, sizeof f);
+		f.view = *avg;
+		f.meta.exposure_us = NAN;
+		f.meta.gain_db = gain_db;
+		f.mosaic = cal->geo.mosaic;
+		f.meta.offset_x = cal->geo.offset_x;
+		f.meta.offset_y = cal->geo.offset_y;
+		pc_pipeline_opts po = pc_pipeline_defaults();
+		po.method = PC_DM_BILINEAR;
+		po.mosaic = cal->geo.mosaic;
+		po.threads = 1;
+		CHECK_EQ_INT(pc_calib_apply(cal, &f, 0, &po, NULL, ch, NULL), 0);
+		float *own = buf + 4 * (size_t)RW * RH;
+		for (size_t p = 0; p < RW * RH; p++)
+			own[p] =
+			    buf[pc_mosaic_channel(&cal->geo.mosaic, p % RW, p / RW) * RW * RH + p];
+		v = own;
+	}
+	double s = 0, s2 = 0, n = 0;
+	for (uint32_t y = 2; y < RH - 2; y++)
+		for (uint32_t x = 2; x < RW - 2; x++) {
+			const double a = v[(size_t)y * RW + x];
+			s += a;
+			s2 += a * a;
+			n++;
+		}
+	*mean = s / n;
+	*rms = sqrt(s2 / n);
+	free(buf);
+}
+
 static double expected_mean_d(void)
 {
 	/* E[(ER − 1)/(ER + 1)] for ER = 200·exp(0.35 z), z ~ N(0, 1) (the preset, sensor.c) */
@@ -222,6 +275,43 @@ int main(void)
 	CHECK(worst < 6 * sig_t / sqrt((double)ND) + 0.05);
 	CHECK_REL(noise, sig_t, 0.1);
 	CHECK_NEAR(dark.black_level, fig.offset_dn, 0.2);
+
+	/* ---- the dark map at another analog gain: above the black level it is electrons (DSNU,
+	 * dark current) times K, which follows the gain (EMVA 1288). Dark frames at +12 dB,
+	 * averaged, corrected with the 0 dB dark map: scaled, what remains is the two
+	 * averages' noise; unscaled, also the DSNU's growth, K·DSNU·(10^0.6 − 1) ---- */
+	const double r12 = pow(10, 0.6);
+	simstack d12;
+	pc_view avg12;
+	CHECK_EQ_INT(open_stack(&d12, "dark", 64, NAN, NAN, 14), 0);
+	d12.have_ctl = true;
+	d12.ctl = (pc_sim_controls){d12.info.exposure_us, fig.gain_db + 12};
+	CHECK_EQ_INT(average(&d12, 64, 0, &avg12), 0);
+	{
+		CHECK_NEAR(dark.dark_gain_db, fig.gain_db, 0);
+		bool sc = false;
+		CHECK_REL(pc_calib_dark_scale(&dark, fig.gain_db + 12, &sc), r12, 1e-12);
+		CHECK(sc);
+		CHECK(pc_calib_dark_scale(&dark, NAN, &sc) == 1 && !sc);
+		const double k12 = K * pow(10, (fig.gain_db + 12) / 20),
+		             s12 = sqrt(k12 * k12 *
+		                            (fig.read_noise_e * fig.read_noise_e +
+		                             fig.dark_current_e_s * t) +
+		                        1.0 / 12),
+		             pred = sqrt(s12 * s12 / 64 + r12 * r12 * sig_t * sig_t / (double)ND),
+		             dsnu = (k12 - K * pow(10, fig.gain_db / 20)) * fig.dsnu_e;
+		double m1, q1, m0, q0;
+		dark_residual(&dark, &avg12, fig.gain_db + 12, false, &m1, &q1);
+		dark_residual(&dark, &avg12, NAN, false, &m0, &q0);
+		printf(
+		    "dark frames at +12 dB, corrected with the 0 dB dark map: scaled mean %+.3f "
+		    "RMS "
+		    "%.3f DN (the averages' noise %.3f); unscaled %+.3f, %.3f DN (with the DSNU's "
+		    "growth %.3f)\n",
+		    m1, q1, pred, m0, q0, sqrt(pred * pred + dsnu * dsnu));
+		CHECK(fabs(m1) < 0.2 && q1 < 1.2 * pred);
+		CHECK(q0 > 1.5 * pred && q0 > 1.5 * q1);
+	}
 
 	/* ---- flat: gain against the noise-free means ---- */
 	simstack fl, fh;
@@ -340,6 +430,19 @@ int main(void)
 	pc_calib cal;
 	double est[6];
 	CHECK_EQ_INT(pc_calib_analyser(stim, 6, &flat, NULL, &cal, est), 0);
+	{
+		/* the +12 dB dark frames through the calibrated bilinear pipeline, whose compact
+		 * calibration holds the dark map in 16 bits: S0 (its scale and base are scaled) */
+		double m1, q1, m0, q0;
+		CHECK_NEAR(cal.dark_gain_db, dark.dark_gain_db, 0);
+		dark_residual(&cal, &avg12, fig.gain_db + 12, true, &m1, &q1);
+		dark_residual(&cal, &avg12, NAN, true, &m0, &q0);
+		printf(
+		    "calibrated S0 of the +12 dB dark frames: dark scaled mean %+.3f RMS %.3f DN; "
+		    "unscaled %+.3f, %.3f DN\n",
+		    m1, q1, m0, q0);
+		CHECK(fabs(m1) < 0.3 && q0 > 1.5 * q1);
+	}
 	{
 		/* per channel: mean orientation error = the preset's systematic offset (crosstalk
 		 * from the ±45° neighbours does not turn the analyser); mean diattenuation =
@@ -500,6 +603,7 @@ int main(void)
 		CHECK(cal.system_gain > 0 && cal.system_gain == flat.system_gain);
 		CHECK(back.system_gain == cal.system_gain);
 		CHECK(back.system_gain_db == cal.system_gain_db && isfinite(back.system_gain_db));
+		CHECK(back.dark_gain_db == cal.dark_gain_db && isfinite(back.dark_gain_db));
 		CHECK(pc_calib_check(&back, &cal.geo) == 0);
 		pc_calib_geometry g = cal.geo;
 		g.offset_x += 2;
@@ -797,5 +901,7 @@ int main(void)
 	close_stack(&fl);
 	close_stack(&fh);
 	close_stack(&dk);
+	pc_view_free(&avg12);
+	close_stack(&d12);
 	return pc_test_finish("test_calib");
 }

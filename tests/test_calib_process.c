@@ -547,6 +547,7 @@ static void live_gain(const char *uri)
 	CHECK(!strcmp(from, "calibration at the frame's gain"));
 	CHECK_NEAR(process_num(P("cap_g12"), "gain_db"), 12, 0);
 	CHECK_NEAR(process_num(P("cap_g12"), "calibration_gain_db"), 0, 0);
+	CHECK_NEAR(process_num(P("cap_g12"), "dark_gain_db"), 0, 0); /* the dark scaled from 0 dB */
 	/* at the flats' gain: the calibration's K itself (0.39 within 5 %) */
 	CHECK_EQ_INT(run_cli("capture", uri, "-n", "1", "-o", P("cap_g0"), "--roi",
 	                     "1000,800,64,64", "--process", "--method", "ratio-nr", "--calibration",

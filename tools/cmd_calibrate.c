@@ -241,6 +241,9 @@ static json_t *summary(const pc_calib *c, const char *pictures, int *rc_out)
 	                    c->system_gain > 0 && isfinite(c->system_gain_db)
 	                        ? cli_json_real(c->system_gain_db)
 	                        : json_null());
+	json_object_set_new(o, "dark_gain_db",
+	                    c->dark && isfinite(c->dark_gain_db) ? cli_json_real(c->dark_gain_db)
+	                                                         : json_null());
 	size_t nv = 0;
 	for (size_t p = 0; c->valid && p < np; p++)
 		nv += c->valid[p] != 0;

@@ -68,6 +68,7 @@ class Calibration:
     saturation: float
     system_gain: Union[float, None]
     system_gain_db: Union[float, None]
+    dark_gain_db: Union[float, None]
     parts: tuple[str, ...]
     provenance: Union[dict[str, Any], None]
     dark: Union[F32, None]

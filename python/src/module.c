@@ -728,7 +728,7 @@ static PyObject *py_stokes(PyObject *self, PyObject *args, PyObject *kw)
 		if (cal_o == Py_None || PyArray_Check(cal_o)) {
 			PyErr_SetString(PyExc_ValueError,
 			                "gain_db: applies with a calibration file (its system gain "
-			                "follows the frame's analog gain)");
+			                "and dark map follow the frame's analog gain)");
 			return NULL;
 		}
 	}
@@ -2304,6 +2304,15 @@ static PyObject *cal_system_gain_db(CalibrationObject *self, void *closure)
 	Py_RETURN_NONE;
 }
 
+static PyObject *cal_dark_gain_db(CalibrationObject *self, void *closure)
+{
+	(void)closure;
+	const pc_calib *c = cal_of(self);
+	if (c->dark && isfinite(c->dark_gain_db))
+		return PyFloat_FromDouble(c->dark_gain_db);
+	Py_RETURN_NONE;
+}
+
 static PyObject *cal_parts(CalibrationObject *self, void *closure)
 {
 	(void)closure;
@@ -2405,6 +2414,10 @@ static PyGetSetDef cal_getset[] = {
     {"system_gain_db", (getter)cal_system_gain_db, NULL,
      "float or None: the flats' analog gain (dB) at which system_gain holds; at a gain g the "
      "system gain is system_gain * 10**((g - system_gain_db) / 20) (None: not recorded)",
+     NULL},
+    {"dark_gain_db", (getter)cal_dark_gain_db, NULL,
+     "float or None: the dark frames' analog gain (dB); at a gain g the dark map's part above "
+     "black_level is scaled by 10**((g - dark_gain_db) / 20) (None: not recorded, no dark map)",
      NULL},
     {"parts", (getter)cal_parts, NULL,
      "tuple of str: what the file holds ('dark', 'flat', 'analyser', 'ecm')", NULL},
@@ -2567,7 +2580,9 @@ PyDoc_STRVAR(
     "mask (its value is computed as any other). noise_gain: as demosaic()'s (the "
     "methods marked noise_gain in methods(); raw mosaics only); with a calibration file "
     "and no noise_gain, its system_gain, scaled to gain_db (the frame's analog gain in dB, "
-    "frame.gain_db) when both it and the file's system_gain_db are known.\n"
+    "frame.gain_db) when both it and the file's system_gain_db are known; gain_db also "
+    "scales the file's dark map above its black_level from dark_gain_db to the frame's "
+    "gain.\n"
     "calibration: a Calibration, the path of a calibration file of polarcam calibrate (read "
     "for this call; load a Calibration once for many frames), or float32 (3, 4) / (3, 4, "
     "GH, GW) analyser pseudo-inverses (analyser_pinv); None: ideal analysers. A calibration "

@@ -227,7 +227,7 @@ def test_noise_gain_with_calibration(cal):
     assert same(base, run(noise_gain=k))
     assert same(base, run(gain_db=cal.system_gain_db))  # at the flats' gain: unscaled
     at12 = run(gain_db=cal.system_gain_db + 12)
-    assert same(at12, run(noise_gain=k * 10 ** (12 / 20)))
+    assert same(at12, run(noise_gain=k * 10 ** (12 / 20), gain_db=cal.system_gain_db + 12))
     assert not same(at12, base)  # the raw is noisy: a 4x larger noise gain smooths more
     assert not same(run(noise_gain=20 * k), base)
     assert same(base, run(gain_db=float("nan")))  # a frame that did not say: unknown
@@ -235,6 +235,24 @@ def test_noise_gain_with_calibration(cal):
         polarcam.stokes(raw, bits=12, method="ratio-nr", gain_db=12)
     with pytest.raises(TypeError, match="gain_db"):
         run(gain_db="12")
+
+
+def test_dark_at_frame_gain(cal):
+    """gain_db= also scales the dark map's part above black_level by 10^((g - dark_gain_db)/20):
+    the same Stokes as subtracting that change from the raw by hand in numpy."""
+    raw = polarcam.render(scene("test_scene"), seed=SEED, frame=9200, roi=ROI)[0]
+    assert cal.dark_gain_db == 0  # the recordings' gain_db
+    r = 10 ** (12 / 20)
+    by_hand = raw.astype(np.float64) - (r - 1) * (cal.dark.astype(np.float64) - cal.black_level)
+    for method in ("bilinear", "ratio"):  # the compact calibration's dark, the float map
+        at12 = polarcam.stokes(raw, calibration=cal, bits=12, method=method, gain_db=12)
+        ref = polarcam.stokes(by_hand.astype(np.float32), calibration=cal, method=method,
+                              gain_db=0)
+        plain = polarcam.stokes(raw, calibration=cal, bits=12, method=method)
+        d = np.abs(at12.s0 - ref.s0)[2:-2, 2:-2].max()
+        moved = np.abs(at12.s0 - plain.s0)[2:-2, 2:-2]
+        assert d < 2e-3 * moved.max(), (method, d, moved.max())
+        assert moved.mean() > 0.3, method  # the DSNU grows: ~1.5 e- times 3 K
 
 
 @pytest.mark.parametrize("angle", [10, 55, 100, 145])
@@ -411,5 +429,28 @@ def test_bad_input(cal, calfile, tmp_path):
     np.savez(tmp_path / "oldk.npz", **z)
     old = polarcam.Calibration(tmp_path / "oldk.npz")
     assert old.system_gain is None and old.system_gain_db is None
+    # the dark frames' analog gain: a number in [-100, 100] dB with a dark part, or null
+    for bad in ("x", -1000, False):
+        z = dict(np.load(calfile / "cam.npz"))
+        meta = json.loads(bytes(z["meta"]))
+        meta["dark_gain_db"] = bad
+        z["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+        np.savez(tmp_path / "baddd.npz", **z)
+        with pytest.raises(ValueError, match="dark_gain_db"):
+            polarcam.Calibration(tmp_path / "baddd.npz")
+    z = dict(np.load(calfile / "cam.npz"))
+    meta = json.loads(bytes(z["meta"]))
+    meta["dark_gain_db"] = 3.0
+    meta["parts"] = [p for p in meta["parts"] if p != "dark"]
+    z["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    for k in ("dark", "dark_noise"):
+        z.pop(k, None)
+    np.savez(tmp_path / "lonedd.npz", **z)
+    with pytest.raises(ValueError, match="dark_gain_db: given without a dark part"):
+        polarcam.Calibration(tmp_path / "lonedd.npz")
+    del meta["dark_gain_db"]
+    z["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    np.savez(tmp_path / "olddd.npz", **z)
+    assert polarcam.Calibration(tmp_path / "olddd.npz").dark_gain_db is None
     with pytest.raises(TypeError):
         polarcam.Calibration(3)

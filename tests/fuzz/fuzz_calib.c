@@ -34,6 +34,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		const double ng = pc_calib_noise_gain(&c, 40, NULL);
 		FUZZ_ASSERT(c.system_gain > 0 ? isfinite(ng) && ng > 0 : ng == 0,
 		            "noise gain %g at 40 dB", ng);
+		/* the dark frames' gain only with a dark map, and its scale at any frame gain
+		 * finite and > 0 */
+		FUZZ_ASSERT(isnan(c.dark_gain_db) || (c.dark && fabs(c.dark_gain_db) <= 100),
+		            "dark gain %g dB", c.dark_gain_db);
+		const double dr = pc_calib_dark_scale(&c, -40, NULL);
+		FUZZ_ASSERT(isfinite(dr) && dr > 0, "dark scale %g at -40 dB", dr);
 	}
 	for (size_t i = 0; i < n; i++) {
 		FUZZ_ASSERT(!c.dark || isfinite(c.dark[i]), "dark[%zu]", i);

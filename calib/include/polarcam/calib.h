@@ -77,6 +77,12 @@ typedef struct pc_calib {
 	 * system_gain·10^((g − system_gain_db)/20) (EMVA 1288: K scales with the analog gain's
 	 * amplitude); pc_calib_apply uses that. */
 	double system_gain_db;
+	/* The analog gain of the dark frames in dB (their gain_db), NAN unknown. Above the black
+	 * level the dark map is electrons times the system gain (EMVA 1288: the DSNU and the
+	 * dark current), so at another known gain g it is black_level + (dark −
+	 * black_level)·10^((g − dark_gain_db)/20) (pc_calib_dark_scale): pc_calib_apply and the
+	 * flat, analyser and ECM steps subtract it so. */
+	double dark_gain_db;
 	float *dark;       /* (H, W) per-pixel offset, DN */
 	float *dark_noise; /* (H, W) temporal σ of one frame, DN */
 	float *gain;       /* (H, W) relative gain, mean 1 over valid pixels */
@@ -232,18 +238,21 @@ PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geo
  * --calibration F` run: checks that frame f matches the calibration (size, ROI origin
  * f->meta.offset_x/y, mosaic, bit depth when both are known; a colour-polarization frame is
  * refused), corrects every sample I = (raw − dark)·(1/gain) (the calibration's black level
- * without a dark map), then through the core's front door demosaics (ch, when st is NULL) or
- * computes Stokes with the calibrated analysers (pc_calib_pinv; the fused fast paths). A sample
- * is flagged when the calibration distrusts its pixel (valid map), when it is at or above
- * o->saturation_level (> 0; cal->saturation is the calibration's own) or at or below
- * o->dead_level (> 0); valid (may be NULL) gets the output pixels whose method support holds a
- * flagged sample (pc_validity_run), the same rule as the uncalibrated pipeline. o->black_level
- * must be 0 (the dark map is the black level), o->pinv, o->dark and o->gain_inv NULL. The
- * noise-aware methods' noise gain is o->noise_gain when given, else cal->system_gain when
- * known, scaled to the frame's analog gain when both gains are known (f->meta.gain_db and
- * cal->system_gain_db: pc_calib_noise_gain), else estimated from the frame. The
- * correction is fused into the core's pipeline (pc_pipeline_opts.dark, gain_inv): the fused
- * bilinear Stokes pass reads the raw once. Per-call memory only; the once-per-calibration
+ * without a dark map; the dark map's part above the black level scaled to the frame's analog
+ * gain when it and cal->dark_gain_db are known: pc_calib_dark_scale), then through the core's front
+ * door demosaics (ch, when st is NULL) or computes Stokes with the calibrated analysers
+ * (pc_calib_pinv; the fused fast paths). A sample is flagged when the calibration distrusts its
+ * pixel (valid map), when it is at or above o->saturation_level (> 0; cal->saturation is the
+ * calibration's own) or at or below o->dead_level (> 0); valid (may be NULL) gets the output pixels
+ * whose method support holds a flagged sample (pc_validity_run), the same rule as the uncalibrated
+ * pipeline. o->black_level must be 0 (the dark map is the black level), o->pinv, o->dark and
+ * o->gain_inv NULL. The noise-aware methods' noise gain is o->noise_gain when given, else
+ * cal->system_gain when known, scaled to the frame's analog gain when both gains are known
+ * (f->meta.gain_db and cal->system_gain_db: pc_calib_noise_gain), else estimated from the frame.
+ * The correction is fused into the core's pipeline (pc_pipeline_opts.dark, gain_inv): the fused
+ * bilinear Stokes pass reads the raw once. Per-call memory only (a dark map scaled to the
+ * frame's gain is a per-call copy, except in the compact calibration of bilinear, whose base
+ * and scale are scaled); the once-per-calibration
  * parts are made on the first call (pc_calib_prepare), after which calls only read cal (they
  * include, for bilinear, the valid map as a list of the distrusted samples: a map changed after
  * that needs pc_calib_unprepare, then the next call prepares anew). */
@@ -276,6 +285,14 @@ PC_API void pc_calib_unprepare(pc_calib *cal);
  * cal->system_gain_db)/20) when both gains are known and finite, else cal->system_gain (0:
  * unknown). *scaled (may be NULL) says whether it was scaled. */
 PC_API double pc_calib_noise_gain(const pc_calib *cal, double gain_db, bool *scaled);
+
+/* The factor by which pc_calib_apply multiplies the dark map's part above the black level for
+ * a frame at analog gain gain_db (NAN unknown): 10^((gain_db − cal->dark_gain_db)/20) when cal
+ * has a dark map and both gains are known and finite, else 1. *scaled (may be NULL) says
+ * whether both were known (the factor is then 1 at equal gains). The black level is the dark
+ * map's mean (pc_calib.black_level), so the dark current's mean is not scaled: with the
+ * exposures of a polarization camera it is a small part of a DN (docs/calibration.md). */
+PC_API double pc_calib_dark_scale(const pc_calib *cal, double gain_db, bool *scaled);
 
 /* pc_calib_apply as a pc_raw_stage (polarcam/process.h) for pc_process_file, pc_demosaic_file
  * and the live Stokes stream; name is reported in meta.json (e.g. the file's path); the stage's

@@ -117,12 +117,13 @@ PC_API void pc_stokes_stream_levels_used(const pc_stokes_stream *s, double *blac
  * "calibration" (its system gain), "calibration at the frame's gain" (scaled to the frame's
  * analog gain), "estimated" (from the frame), or NULL for other methods. */
 PC_API double pc_stokes_stream_noise_gain(const pc_stokes_stream *s, const char **from);
-/* The last frame's analog gain and the calibration's flats' (pc_calib.system_gain_db), dB; NAN
- * where unknown (no frame yet, no calibration, a source that does not say). A calibration's dark
- * map holds at its flats' gain: a difference says the dark offsets that scale with the gain
- * (DSNU, dark current) are not removed exactly, while the noise gain is scaled. */
+/* The last frame's analog gain, the calibration's flats' (pc_calib.system_gain_db) and its dark
+ * frames' (pc_calib.dark_gain_db), dB; NAN where unknown (no frame yet, no calibration, a
+ * source that does not say). Each may be NULL. Where the frame's and the calibration's are
+ * known, its noise gain and its dark map's part above the black level are scaled to the frame
+ * (pc_calib_noise_gain, pc_calib_dark_scale). */
 PC_API void pc_stokes_stream_gains(const pc_stokes_stream *s, double *frame_db,
-                                   double *calibration_db);
+                                   double *calibration_db, double *dark_db);
 
 /* Runs a frame (which must carry a polarizer mosaic: PC_EFORMAT otherwise) through the
  * pipeline into the stream's S0, DoLP and AoLP planes; sizes follow the frame. */
