@@ -530,10 +530,36 @@ static int a_cget(pc_source *s, pc_control_id id, double *val)
 	return err ? gerr(PC_EIO, &err, pc_control_name(id)) : 0;
 }
 
+/* Whether the camera sets the exposure or the gain itself (GenICam SFNC ExposureAuto,
+ * GainAuto: Continuous, or Once while it runs): a value read then is stale by the next frame.
+ * A camera without the feature, or one that does not answer, has it off. */
+static bool a_auto(arv_src *a, pc_control_id id)
+{
+	GError *err = NULL;
+	ArvAuto m = ARV_AUTO_OFF;
+	if (id == PC_CTRL_GAIN_DB && arv_camera_is_gain_auto_available(a->cam, NULL))
+		m = arv_camera_get_gain_auto(a->cam, &err);
+	else if (id == PC_CTRL_EXPOSURE_US && arv_camera_is_exposure_auto_available(a->cam, NULL))
+		m = arv_camera_get_exposure_time_auto(a->cam, &err);
+	if (err) {
+		g_clear_error(&err);
+		return false;
+	}
+	return m != ARV_AUTO_OFF;
+}
+
 static int a_cset(pc_source *s, pc_control_id id, double val, double *applied)
 {
 	arv_src *a = pc_source_priv(s);
 	GError *err = NULL;
+	/* a value asked for is a fixed one: the camera's own adjustment of it is turned off
+	 * first (otherwise it would overwrite the value, or refuse it) */
+	if (id == PC_CTRL_GAIN_DB && a_auto(a, id))
+		arv_camera_set_gain_auto(a->cam, ARV_AUTO_OFF, &err);
+	else if (id == PC_CTRL_EXPOSURE_US && a_auto(a, id))
+		arv_camera_set_exposure_time_auto(a->cam, ARV_AUTO_OFF, &err);
+	if (err)
+		return gerr(PC_EIO, &err, "turning the camera's automatic adjustment off");
 	switch (id) {
 	case PC_CTRL_EXPOSURE_US:
 		arv_camera_set_exposure_time(a->cam, val, &err);
@@ -557,17 +583,20 @@ static int a_cset(pc_source *s, pc_control_id id, double val, double *applied)
 	return rc;
 }
 
-/* what the frames will report: the camera's exposure and gain now (NAN where it has none) */
+/* what the frames will report: the camera's exposure and gain now (NAN where it has none, and
+ * where the camera adjusts it itself: the value would be stale, and a stale gain would scale a
+ * calibration's noise gain and dark map wrongly) */
 static void read_meta_controls(pc_source *s)
 {
 	arv_src *a = pc_source_priv(s);
 	double v;
 	a->meta_exposure_us = a->meta_gain_db = NAN;
 	if (arv_camera_is_exposure_time_available(a->cam, NULL) &&
-	    a_cget(s, PC_CTRL_EXPOSURE_US, &v) == 0 && isfinite(v))
-		a->meta_exposure_us = v;
-	if (arv_camera_is_gain_available(a->cam, NULL) && a_cget(s, PC_CTRL_GAIN_DB, &v) == 0 &&
+	    !a_auto(a, PC_CTRL_EXPOSURE_US) && a_cget(s, PC_CTRL_EXPOSURE_US, &v) == 0 &&
 	    isfinite(v))
+		a->meta_exposure_us = v;
+	if (arv_camera_is_gain_available(a->cam, NULL) && !a_auto(a, PC_CTRL_GAIN_DB) &&
+	    a_cget(s, PC_CTRL_GAIN_DB, &v) == 0 && isfinite(v))
 		a->meta_gain_db = v;
 	pc_error_clear();
 }

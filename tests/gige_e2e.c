@@ -714,7 +714,77 @@ static void test_serve_equals_render(void)
 		CHECK_EQ_INT(pc_child_wait(cap, EXIT_MS, NULL), 0);
 		close(cfd);
 	}
+	/* a camera that sets its gain itself (GainAuto Continuous, set here over GenICam): its
+	 * frames say the gain is unknown (null), not the value read at the start; a gain asked
+	 * for turns the adjustment off */
+	char adir[160], a6dir[160];
+	snprintf(adir, sizeof adir, "%s/cap_auto", base);
+	snprintf(a6dir, sizeof a6dir, "%s/cap_auto6", base);
+	ArvAuto auto_after = ARV_AUTO_CONTINUOUS;
+	{
+		GError *err = NULL;
+		ArvCamera *cam = arv_camera_new("127.0.0.1", &err);
+		if (cam)
+			arv_camera_set_gain_auto(cam, ARV_AUTO_CONTINUOUS, &err);
+		CHECK(cam && !err && arv_camera_get_gain_auto(cam, NULL) == ARV_AUTO_CONTINUOUS);
+		g_clear_error(&err);
+		g_clear_object(&cam);
+		char *aargv[] = {(char *)polarcam,
+		                 "capture",
+		                 "aravis:127.0.0.1?packet_size=65000",
+		                 "-n",
+		                 "2",
+		                 "-o",
+		                 adir,
+		                 "--json",
+		                 NULL};
+		char *a6argv[] = {(char *)polarcam,
+		                  "capture",
+		                  "aravis:127.0.0.1?packet_size=65000",
+		                  "-n",
+		                  "2",
+		                  "-o",
+		                  a6dir,
+		                  "--gain",
+		                  "6",
+		                  "--json",
+		                  NULL};
+		char **runs[2] = {aargv, a6argv};
+		for (int k = 0; k < 2; k++) {
+			cap = spawn(runs[k], &cfd, errp);
+			CHECK(cap > 0);
+			if (cap > 0) {
+				wait_line(cfd, "\n", EXIT_MS, out, sizeof out);
+				CHECK_EQ_INT(pc_child_wait(cap, EXIT_MS, NULL), 0);
+				close(cfd);
+			}
+		}
+		if ((cam = arv_camera_new("127.0.0.1", &err)))
+			auto_after = arv_camera_get_gain_auto(cam, &err);
+		CHECK(cam && !err);
+		g_clear_error(&err);
+		g_clear_object(&cam);
+	}
 	CHECK_EQ_INT(stop_server(srv, fd), 0);
+	{
+		pc_recording *ra = NULL, *r6 = NULL;
+		CHECK_EQ_INT(pc_recording_open(&ra, adir), 0);
+		CHECK_EQ_INT(pc_recording_open(&r6, a6dir), 0);
+		if (ra && r6 && pc_recording_count(ra) && pc_recording_count(r6)) {
+			const pc_recording_frame *fa = pc_recording_get_frame(ra, 0),
+			                         *f6 = pc_recording_get_frame(r6, 1);
+			printf("GainAuto Continuous: the frames' gain %g dB (unknown), exposure %g "
+			       "us; "
+			       "asked for 6 dB: %g dB, GainAuto then %s\n",
+			       fa->gain_db, fa->exposure_us, f6->gain_db,
+			       auto_after == ARV_AUTO_OFF ? "Off" : "not Off");
+			CHECK(isnan(fa->gain_db) && isfinite(fa->exposure_us));
+			CHECK_NEAR(f6->gain_db, 6, 0);
+			CHECK(auto_after == ARV_AUTO_OFF);
+		}
+		pc_recording_free(ra);
+		pc_recording_free(r6);
+	}
 	{
 		pc_recording *rr = NULL, *cc = NULL, *gg = NULL;
 		CHECK_EQ_INT(pc_recording_open(&rr, rdir), 0);
