@@ -641,13 +641,38 @@ static int v_queue(pc_source *s, pc_buffer *buf)
 	return pc_v4l2_queue(priv(s)->dev, buf->index, 0);
 }
 
+/* Whether the driver adjusts a control itself: its automatic mode auto_id is present and at
+ * none of the n values that hold the control fixed (a value read now is stale by the next
+ * frame) */
+static bool auto_on(v4l2_src *v, uint32_t auto_id, const int64_t *fixed, int n)
+{
+	pc_v4l2_ctrl a;
+	int64_t cur;
+	if (pc_v4l2_ctrl_query(v->dev, auto_id, &a) != 0 || pc_v4l2_ctrl_get(v->dev, auto_id, &cur))
+		return false;
+	for (int i = 0; i < n; i++)
+		if (cur == fixed[i])
+			return false;
+	return true;
+}
+
 static int v_start(pc_source *s)
 {
 	v4l2_src *v = priv(s);
 	v->have_last = false;
 	double x;
-	v->exposure_us = v_control_get(s, PC_CTRL_EXPOSURE_US, &x) == 0 ? x : NAN;
-	v->gain_db = v_control_get(s, PC_CTRL_GAIN_DB, &x) == 0 ? x : NAN;
+	/* what the frames report: unknown (NAN) where the driver adjusts it itself (exposure: not
+	 * manual nor shutter priority; gain: autogain on) */
+	static const int64_t exp_fixed[2] = {V4L2_EXPOSURE_MANUAL, V4L2_EXPOSURE_SHUTTER_PRIORITY},
+	                     gain_fixed[1] = {0};
+	v->exposure_us = !auto_on(v, V4L2_CID_EXPOSURE_AUTO, exp_fixed, 2) &&
+	                         v_control_get(s, PC_CTRL_EXPOSURE_US, &x) == 0
+	                     ? x
+	                     : NAN;
+	v->gain_db = !auto_on(v, V4L2_CID_AUTOGAIN, gain_fixed, 1) &&
+	                     v_control_get(s, PC_CTRL_GAIN_DB, &x) == 0
+	                 ? x
+	                 : NAN;
 	pc_error_clear();
 	return pc_v4l2_stream_on(v->dev);
 }

@@ -684,11 +684,42 @@ static void check_source_controls(void)
 		gt_fail(name, "exposure on vivid (which has none): %s", pc_errname(rc));
 		bad++;
 	}
+	/* the frames' gain: the value set (setting it turned vivid's autogain off); with autogain
+	 * turned on again (through a second handle, as another program would) unknown, NAN */
+	double fg[2] = {NAN, 0};
+	for (int k = 0; k < 2 && !bad; k++) {
+		pc_v4l2 *dev = k ? open_capture(name, 0) : NULL;
+		rc = k && !dev ? PC_EIO : 0;
+		pc_v4l2_ctrl c;
+		if (!rc && dev && pc_v4l2_ctrl_query(dev, 0x00980912u /* AUTOGAIN */, &c) == 0)
+			rc = pc_v4l2_ctrl_set(dev, c.id, 1);
+		if (dev)
+			pc_v4l2_close(dev);
+		if (!rc && !(rc = pc_source_buffers_alloc(src, 4)) &&
+		    !(rc = pc_source_start(src))) {
+			pc_buffer *b;
+			if (!(rc = pc_source_dequeue(src, 5000, &b))) {
+				fg[k] = b->frame.meta.gain_db;
+				rc = pc_source_requeue(src, b);
+			}
+			pc_source_stop(src);
+		}
+		if (!rc)
+			rc = pc_source_buffers_free(src);
+	}
+	if (!bad && (rc || fabs(fg[0] - 5.0) > 1e-9 || !isnan(fg[1]))) {
+		gt_fail(name,
+		        "frames' gain_db %g with the gain set, %g with autogain on (expected 5, "
+		        "NaN): %s",
+		        fg[0], fg[1], rc ? pc_error_detail() : "");
+		bad++;
+	}
 	if (!bad)
 		gt_pass(name,
 		        "frame rate %g..%g Hz (step %g) set to %g and read back, out of range -> "
-		        "PC_ERANGE; gain_db %g..%g set 5 dB = raw 50; exposure: PC_ENOTSUP (%s)",
-		        ci.min, ci.max, ci.step, back, gi.min, gi.max, pc_error_detail());
+		        "PC_ERANGE; gain_db %g..%g set 5 dB = raw 50, frames say 5 dB, with "
+		        "autogain on unknown (%g); exposure: PC_ENOTSUP (%s)",
+		        ci.min, ci.max, ci.step, back, gi.min, gi.max, fg[1], pc_error_detail());
 	pc_source_close(src);
 }
 
