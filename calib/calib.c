@@ -1446,9 +1446,10 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 		                "the calibration's dark map (or its black level, %g DN) is the "
 		                "black level; give one or the other",
 		                o->black_level, cal->black_level);
-	if (o->dark || o->gain_inv)
-		return pc_error(PC_EINVAL, "calibrated pipeline: the dark and gain maps come from "
-		                           "the calibration, not from the options");
+	if (o->dark || o->gain_inv || o->dark_scale != 0)
+		return pc_error(PC_EINVAL, "calibrated pipeline: the dark and gain maps (and the "
+		                           "dark map's scale) come from the calibration, not from "
+		                           "the options");
 	const pc_view *raw = &f->view;
 	int rc = pc_view_check(raw);
 	if (rc)
@@ -1506,13 +1507,14 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 			                "(%g) is not a usable noise gain",
 			                f->meta.gain_db, cal->system_gain_db, po.noise_gain);
 	}
-	/* the dark map at the frame's analog gain (pc_calib_dark_scale): for the compact
-	 * calibration its base and scale, for the others a scaled copy for this call */
+	/* the dark map at the frame's analog gain (pc_calib_dark_scale): scaled about the black
+	 * level by the core's correction, or in the compact calibration its base and scale */
 	const double dr = pc_calib_dark_scale(cal, f->meta.gain_db, NULL);
-	float *dscaled = NULL;
 	pc_compact_calib cv;
 	po.dark = cal->dark;
 	po.gain_inv = cal->apply_ig;
+	po.dark_scale = cal->dark && dr != 1 ? dr : 0;
+	po.dark_pivot = cal->dark && dr != 1 ? cal->black_level : 0;
 	po.black_level = cal->dark ? 0 : cal->black_level;
 	/* the validity: the core's rule (saturated, dead) on the raw samples, and the samples the
 	 * calibration distrusts (listed in the compact calibration where it is used) */
@@ -1526,6 +1528,7 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 			po.compact = &cal->apply_vec;
 			po.trusted = NULL;
 			po.dark = po.gain_inv = NULL;
+			po.dark_scale = po.dark_pivot = 0;
 			po.black_level = 0;
 			if (dr != 1 && cal->apply_vec.dark_q) {
 				/* dark = base + scale·q, so its part above the black level
@@ -1540,21 +1543,7 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 			po.pinv = &pinv;
 		}
 	}
-	if (po.dark && dr != 1) {
-		const size_t np = (size_t)cal->geo.width * cal->geo.height;
-		if (!(dscaled = malloc(np * sizeof *dscaled)))
-			return pc_error(PC_ENOMEM,
-			                "calibrated pipeline: the dark map at %g dB (%zu "
-			                "pixels)",
-			                f->meta.gain_db, np);
-		const float bl = (float)cal->black_level, r = (float)dr;
-		for (size_t p = 0; p < np; p++)
-			dscaled[p] = bl + r * (cal->dark[p] - bl);
-		po.dark = dscaled;
-	}
-	rc = st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
-	free(dscaled);
-	return rc;
+	return st ? pc_stokes_run(raw, &po, st, valid) : pc_demosaic_run(raw, &po, ch, valid);
 }
 
 double pc_calib_noise_gain(const pc_calib *cal, double gain_db, bool *scaled)

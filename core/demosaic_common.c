@@ -184,6 +184,7 @@ int pc_dm_prepare_input(const pc_view *raw, double black, pc_dm_input *in, void 
 	in->black = (float)black;
 	in->black_d = black;
 	in->dark = in->gain_inv = NULL;
+	in->dark_scale = in->dark_offset = 0;
 	if (fi->is_float) {
 		int rc = pc_view_check_bits(raw, 32);
 		if (rc)
@@ -215,6 +216,15 @@ int pc_dm_prepare_input(const pc_view *raw, double black, pc_dm_input *in, void 
 	return 0;
 }
 
+void pc_dm_input_dark(pc_dm_input *in, const pc_pipeline_opts *opts)
+{
+	in->dark = opts->dark;
+	in->gain_inv = opts->gain_inv;
+	const bool sc = opts->dark && opts->dark_scale != 0 && opts->dark_scale != 1;
+	in->dark_scale = sc ? (float)opts->dark_scale : 0.0f;
+	in->dark_offset = sc ? (float)(opts->dark_pivot * (1 - opts->dark_scale)) : 0.0f;
+}
+
 pc_dm_input pc_dm_input_f32(const float *data, uint32_t width, uint32_t height)
 {
 	pc_dm_input in = {(const uint8_t *)data,
@@ -225,7 +235,9 @@ pc_dm_input pc_dm_input_f32(const float *data, uint32_t width, uint32_t height)
 	                  0.0f,
 	                  0.0,
 	                  NULL,
-	                  NULL};
+	                  NULL,
+	                  0.0f,
+	                  0.0f};
 	return in;
 }
 
@@ -256,7 +268,19 @@ static void row_corrected(const pc_dm_input *in, uint32_t y, float *dst)
 		memcpy(dst, row, (size_t)w * sizeof(float));
 		break;
 	}
-	if (dk && ig) {
+	const float ds = in->dark_scale, d0 = in->dark_offset;
+	if (dk && ds != 0 && ds != 1) {
+		/* the dark map about a level (pc_pipeline_opts.dark_scale) */
+		if (ig) {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = (dst[x] - (d0 + ds * dk[x])) * ig[x];
+		} else {
+			PC_SIMD
+			for (uint32_t x = 0; x < w; x++)
+				dst[x] = dst[x] - (d0 + ds * dk[x]);
+		}
+	} else if (dk && ig) {
 		PC_SIMD
 		for (uint32_t x = 0; x < w; x++)
 			dst[x] = (dst[x] - dk[x]) * ig[x];

@@ -104,7 +104,14 @@ typedef struct pc_dm_input {
 	/* per-pixel correction of pc_dm_row_to_float only (pc_pipeline_opts.dark, gain_inv):
 	 * (sample − dark[x])·gain_inv[x] on row y of width-stride maps; NULL: none */
 	const float *dark, *gain_inv;
+	/* with dark and dark_scale ≠ 0, 1: dark[x] taken as dark_offset + dark_scale·dark[x]
+	 * (pc_pipeline_opts.dark_scale, dark_pivot: dark_offset = pivot·(1 − scale)) */
+	float dark_scale, dark_offset;
 } pc_dm_input;
+
+/* in's per-pixel correction from opts (dark, gain_inv, and the dark map's scale about its pivot:
+ * dark_offset = dark_pivot·(1 − dark_scale)) */
+void pc_dm_input_dark(pc_dm_input *in, const pc_pipeline_opts *opts);
 
 /* Prepares a (validated) raw view: integer and float planes are used in place (float checked
  * for NaN and infinity, PC_ERANGE naming the pixel); packed formats are unpacked into *owned

@@ -861,6 +861,11 @@ int pc_dm_plan_begin(const pc_view *raw, const pc_pipeline_opts *opts, pc_dm_pla
 		    "signal in raw units, EMVA 1288's system gain K in DN/e-; 0: "
 		    "estimated from the frame)",
 		    opts->noise_gain);
+	if (!isfinite(opts->dark_scale) || opts->dark_scale < 0 || !isfinite(opts->dark_pivot))
+		return pc_error(PC_EINVAL,
+		                "dark_scale %g, dark_pivot %g: expected finite values, the scale "
+		                ">= 0 (0: the dark map as it is)",
+		                opts->dark_scale, opts->dark_pivot);
 	if (opts->saturation_level > 0 && opts->dead_level > 0 &&
 	    !(opts->dead_level < opts->saturation_level))
 		return pc_error(PC_EINVAL, "dead level %g: must be below the saturation level %g",
@@ -912,8 +917,7 @@ int pc_dm_plan_corrected(pc_dm_plan *p, float **img, pc_view *view, pc_pipeline_
 	if (rc)
 		return rc;
 	pc_dm_input in = *in0;
-	in.dark = p->opts.dark;
-	in.gain_inv = p->opts.gain_inv;
+	pc_dm_input_dark(&in, &p->opts);
 	const uint32_t w = in.width, h = in.height;
 	float *f = malloc((size_t)w * h * sizeof *f), *row = malloc(((size_t)w + 2) * sizeof *row);
 	if (!f || !row) {

@@ -287,8 +287,7 @@ static int stokes_run(const pc_view *raw, const pc_pipeline_opts *opts, const pc
 	if (in && p.def->fused_bilinear) {
 		/* one pass: each raw row corrected (dark, gain) as it is read into the ring */
 		pc_dm_input ci = *in;
-		ci.dark = opts->dark;
-		ci.gain_inv = opts->gain_inv;
+		pc_dm_input_dark(&ci, opts);
 		rc = pc_st_fused_bilinear(&ci, &opts->mosaic, calp, opts->compact, opts->threads,
 		                          p.level, out);
 	} else if (corrected) {

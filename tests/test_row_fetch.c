@@ -14,6 +14,7 @@
 
 #include "../core/demosaic_common.h"
 #include "check.h"
+#include "polarcam/error.h"
 
 /* Lines of 64 bytes that bytes [a, a + n) of memory span */
 static unsigned lines_spanned(uintptr_t a, size_t n)
@@ -31,8 +32,8 @@ static void cursor(void)
 			for (size_t off = 0; off < 64; off += 13) {
 				const size_t bpp = pc_dm_type_bytes(types[ti]);
 				const size_t nb = widths[wi] * bpp;
-				pc_dm_input in = {buf + off, nb + 7, types[ti], widths[wi], 3,
-				                  0,         0,      NULL,      NULL};
+				pc_dm_input in = {buf + off, nb + 7, types[ti], widths[wi], 3, 0,
+				                  0,         NULL,   NULL,      0,          0};
 				for (uint32_t y = 0; y < 3; y++) {
 					pc_dm_pf pf;
 					pc_dm_pf_row(&pf, &in, y);
@@ -80,9 +81,12 @@ static void convert_same(void)
 	const pc_dm_type types[3] = {PC_DMT_U8, PC_DMT_U16, PC_DMT_F32};
 	int compared = 0;
 	for (int t = 0; t < 3; t++)
-		for (int mode = 0; mode < 5; mode++) {
-			/* 0 plain, 1 black level, 2 dark map, 3 dark and gains, 4 black and gains
-			 */
+		for (int mode = 0; mode < 7; mode++) {
+			/* 0 plain, 1 black level, 2 dark map, 3 dark and gains, 4 black and gains,
+			 * 5 the dark map scaled about a level (pc_pipeline_opts.dark_scale), 6 that
+			 * and gains */
+			const bool dk = mode == 2 || mode == 3 || mode >= 5,
+			           gn = mode == 3 || mode == 4 || mode == 6;
 			pc_dm_input in = {data[t],
 			                  W * pc_dm_type_bytes(types[t]),
 			                  types[t],
@@ -90,8 +94,19 @@ static void convert_same(void)
 			                  H,
 			                  mode == 1 || mode == 4 ? 64.5f : 0,
 			                  mode == 1 || mode == 4 ? 64.5 : 0,
-			                  mode == 2 || mode == 3 ? dark : NULL,
-			                  mode >= 3 ? gain : NULL};
+			                  dk ? dark : NULL,
+			                  gn ? gain : NULL,
+			                  0,
+			                  0};
+			const double ds = 3.981, pivot = 8; /* +12 dB about a black level of 8 */
+			if (mode >= 5) {
+				pc_pipeline_opts po = pc_pipeline_defaults();
+				po.dark = dark;
+				po.gain_inv = in.gain_inv;
+				po.dark_scale = ds;
+				po.dark_pivot = pivot;
+				pc_dm_input_dark(&in, &po);
+			}
 			for (uint32_t y = 0; y < H; y++) {
 				float a[W + 2], b[W + 2];
 				memset(a, 0xa5, sizeof a);
@@ -106,9 +121,11 @@ static void convert_same(void)
 					                                    : f32[y][x];
 					if (mode == 1 || mode == 4)
 						v -= 64.5;
+					else if (mode >= 5)
+						v -= pivot + ds * (dark[y * W + x] - pivot);
 					else if (mode >= 2)
 						v -= dark[y * W + x];
-					if (mode >= 3)
+					if (gn)
 						v *= gain[y * W + x];
 					CHECK(fabs(b[x + 1] - v) <= 1e-6 * (fabs(v) + 1));
 					compared++;
@@ -119,9 +136,34 @@ static void convert_same(void)
 	printf("  pc_dm_row_convert: %d samples as pc_dm_row_to_float gives them\n", compared);
 }
 
+/* the front door refuses a dark map's scale that is not finite and >= 0, naming it */
+static void bad_scale(void)
+{
+	enum { W = 16, H = 16 };
+	static uint16_t raw[H][W];
+	static float dark[H * W], out[4][H * W];
+	pc_view v = {raw, W, H, W * sizeof(uint16_t), PC_FMT_MONO16};
+	pc_fplane ch[4];
+	for (int c = 0; c < 4; c++)
+		ch[c] = (pc_fplane){out[c], W, 1};
+	pc_pipeline_opts po = pc_pipeline_defaults();
+	po.dark = dark;
+	const double bad[3][2] = {{NAN, 0}, {-1, 0}, {2, INFINITY}};
+	for (int k = 0; k < 3; k++) {
+		po.dark_scale = bad[k][0];
+		po.dark_pivot = bad[k][1];
+		CHECK_EQ_INT(pc_demosaic_run(&v, &po, ch, NULL), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "dark_scale") != NULL);
+	}
+	po.dark_scale = 2;
+	po.dark_pivot = 1;
+	CHECK_EQ_INT(pc_demosaic_run(&v, &po, ch, NULL), 0);
+}
+
 int main(void)
 {
 	cursor();
 	convert_same();
+	bad_scale();
 	return pc_test_finish("test_row_fetch");
 }

@@ -250,9 +250,9 @@ PC_API int pc_calib_stokes(pc_calib *cal, const pc_view *raw, const pc_calib_geo
  * cal->system_gain when known, scaled to the frame's analog gain when both gains are known
  * (f->meta.gain_db and cal->system_gain_db: pc_calib_noise_gain), else estimated from the frame.
  * The correction is fused into the core's pipeline (pc_pipeline_opts.dark, gain_inv): the fused
- * bilinear Stokes pass reads the raw once. Per-call memory only (a dark map scaled to the
- * frame's gain is a per-call copy, except in the compact calibration of bilinear, whose base
- * and scale are scaled); the once-per-calibration
+ * bilinear Stokes pass reads the raw once; a dark map at the frame's gain is scaled there too
+ * (pc_pipeline_opts.dark_scale; the compact calibration of bilinear: its base and scale).
+ * Per-call memory only; the once-per-calibration
  * parts are made on the first call (pc_calib_prepare), after which calls only read cal (they
  * include, for bilinear, the valid map as a list of the distrusted samples: a map changed after
  * that needs pc_calib_unprepare, then the next call prepares anew). */
