@@ -213,7 +213,8 @@ PC_API int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigne
  * mismatch ("frame 640x480 at ROI (0,0), calibration 612x512 at (0,0): size differs"). */
 PC_API int pc_calib_check(const pc_calib *cal, const pc_calib_geometry *g);
 
-/* The corrected raw: out[p] = (raw_p − dark_p)/g_p (or raw − black_level without a dark),
+/* The corrected raw: out[p] = (raw_p − dark_p)/g_p (or raw − black_level without a dark; the
+ * dark map as it is, at its own gain dark_gain_db: a raw view carries no gain),
  * float (H, W) with row stride width; valid_out (may be NULL) gets 0 where the pixel is invalid
  * in the calibration or the sample is at or above the saturation level. Returns the number of
  * invalid pixels through n_invalid (may be NULL). */
