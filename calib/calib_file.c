@@ -417,6 +417,23 @@ static int meta_int(json_t *m, const char *file, const char *key, long lo, long 
 	return 0;
 }
 
+/* meta's optional analog gain KEY (WHOSE, for the message) in dB into *out: a number in [−100,
+ * 100], or null or absent (*out untouched: unknown); PC_EFORMAT naming the field otherwise */
+static int opt_gain_db(json_t *m, const char *key, const char *whose, const char *path, double *out)
+{
+	json_t *v = json_object_get(m, key);
+	if (!v || json_is_null(v))
+		return 0;
+	if (!json_is_number(v) || !isfinite(json_number_value(v)) ||
+	    fabs(json_number_value(v)) > 100)
+		return pc_error(PC_EFORMAT,
+		                "%s: meta.%s: expected %s analog gain in dB (a number in [-100, "
+		                "100]) or null",
+		                path, key, whose);
+	*out = json_number_value(v);
+	return 0;
+}
+
 int pc_calib_read(const char *path, pc_calib *c)
 {
 	pc_calib_init(c);
@@ -513,37 +530,17 @@ int pc_calib_read(const char *path, pc_calib *c)
 			else
 				c->system_gain = json_number_value(k);
 		}
-		/* optional: the flats' analog gain in dB, with a system gain; or null */
-		json_t *kd = json_object_get(m, "system_gain_db");
-		if (!rc && kd && !json_is_null(kd)) {
-			if (!json_is_number(kd) || !isfinite(json_number_value(kd)) ||
-			    fabs(json_number_value(kd)) > 100)
-				rc = pc_error(
-				    PC_EFORMAT,
-				    "%s: meta.system_gain_db: expected the flats' analog gain "
-				    "in dB (a number in [-100, 100]) or null",
-				    path);
-			else if (!(c->system_gain > 0))
-				rc = pc_error(
-				    PC_EFORMAT,
-				    "%s: meta.system_gain_db: given without a system_gain", path);
-			else
-				c->system_gain_db = json_number_value(kd);
-		}
-		/* optional: the dark frames' analog gain in dB, with a dark part (checked with
-		 * the parts below); or null */
-		json_t *dd = json_object_get(m, "dark_gain_db");
-		if (!rc && dd && !json_is_null(dd)) {
-			if (!json_is_number(dd) || !isfinite(json_number_value(dd)) ||
-			    fabs(json_number_value(dd)) > 100)
-				rc = pc_error(
-				    PC_EFORMAT,
-				    "%s: meta.dark_gain_db: expected the dark frames' analog gain "
-				    "in dB (a number in [-100, 100]) or null",
-				    path);
-			else
-				c->dark_gain_db = json_number_value(dd);
-		}
+		/* optional: the flats' analog gain in dB, with a system gain; the dark frames',
+		 * with a dark part (checked with the parts below); or null */
+		if (!rc &&
+		    !(rc = opt_gain_db(m, "system_gain_db", "the flats'", path,
+		                       &c->system_gain_db)) &&
+		    isfinite(c->system_gain_db) && !(c->system_gain > 0))
+			rc = pc_error(PC_EFORMAT,
+			              "%s: meta.system_gain_db: given without a system_gain", path);
+		if (!rc)
+			rc = opt_gain_db(m, "dark_gain_db", "the dark frames'", path,
+			                 &c->dark_gain_db);
 	}
 	json_t *parts = rc ? NULL : json_object_get(m, "parts");
 	if (!rc && !json_is_array(parts))
