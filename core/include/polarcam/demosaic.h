@@ -174,11 +174,6 @@ typedef struct pc_pipeline_opts {
 	 * the raw first. */
 	const float *dark;
 	const float *gain_inv;
-	/* With dark: the map taken about a level, dark[p] → dark_pivot + dark_scale·(dark[p] −
-	 * dark_pivot), in float (a calibration's dark map at another analog gain: its part above
-	 * the black level scales with the gain, polarcam/calib.h pc_calib_dark_scale). dark_scale 0
-	 * or 1: the map as it is. Finite, dark_scale ≥ 0; PC_EINVAL otherwise. */
-	double dark_scale, dark_pivot;
 	/* Per raw sample trust for the validity (width × height bytes, row stride width): 0 flags
 	 * the sample as a saturated one is flagged (a calibration's distrusted pixels); NULL: all
 	 * trusted. */
@@ -202,6 +197,11 @@ typedef struct pc_pipeline_opts {
 	 * so a caller that reports it need not estimate it again. Written on success only, and
 	 * not by the other methods (start it at 0). NULL: not stored. */
 	double *noise_gain_used;
+	/* With dark: the map taken about a level, dark[p] → dark_pivot + dark_scale·(dark[p] −
+	 * dark_pivot), in float (a calibration's dark map at another analog gain: its part above
+	 * the black level scales with the gain, polarcam/calib.h pc_calib_dark_scale). dark_scale 0
+	 * or 1: the map as it is. Finite, dark_scale ≥ 0; PC_EINVAL otherwise. */
+	double dark_scale, dark_pivot;
 } pc_pipeline_opts;
 
 /* Bilinear on Sony's IMX250MZR mosaic, default threads, fast paths, full scale from the format,
