@@ -1510,6 +1510,12 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	/* the dark map at the frame's analog gain (pc_calib_dark_scale): scaled about the black
 	 * level by the core's correction, or in the compact calibration its base and scale */
 	const double dr = pc_calib_dark_scale(cal, f->meta.gain_db, NULL);
+	if (!(dr > 0 && dr < INFINITY))
+		return pc_error(PC_EINVAL,
+		                "a frame at %g dB of analog gain and a calibration whose dark "
+		                "frames were at %g dB: the dark map cannot be scaled to the frame "
+		                "(factor %g)",
+		                f->meta.gain_db, cal->dark_gain_db, dr);
 	pc_compact_calib cv;
 	po.dark = cal->dark;
 	po.gain_inv = cal->apply_ig;

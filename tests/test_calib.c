@@ -311,6 +311,21 @@ int main(void)
 		    m1, q1, pred, m0, q0, sqrt(pred * pred + dsnu * dsnu));
 		CHECK(fabs(m1) < 0.2 && q1 < 1.2 * pred);
 		CHECK(q0 > 1.5 * pred && q0 > 1.5 * q1);
+		/* a frame's gain that no factor can reach (10^(±8000/20) over- or underflows)
+		 * is refused, naming both gains, not scaled to 0 or infinity */
+		float *buf = malloc(5 * RW * RH * sizeof *buf);
+		pc_stokes_out out = {0};
+		pc_fplane *pl[5] = {&out.s0, &out.s1, &out.s2, &out.dolp, &out.aolp};
+		for (int k = 0; k < 5; k++)
+			*pl[k] = (pc_fplane){buf + (size_t)k * RW * RH, RW, 1};
+		for (int k = 0; k < 2; k++) {
+			CHECK_EQ_INT(pc_calib_stokes_gain(&dark, &avg12, NULL, PC_DM_BILINEAR, 1, 0,
+			                                  k ? -8000 : 8000, &out, NULL, NULL, NULL),
+			             PC_EINVAL);
+			CHECK(strstr(pc_error_detail(), "dark map cannot be scaled") != NULL);
+		}
+		printf("a frame at -8000 dB: %s\n", pc_error_detail());
+		free(buf);
 	}
 
 	/* ---- flat: gain against the noise-free means ---- */
