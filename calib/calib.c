@@ -350,6 +350,17 @@ fail:
 	return rc;
 }
 
+int pc_calib_base_dark_scale(const pc_calib *base, double gain_db, const char *step, double *r)
+{
+	*r = base ? pc_calib_dark_scale(base, gain_db, NULL) : 1;
+	if (!(*r > 0 && *r < INFINITY))
+		return pc_error(PC_EINVAL,
+		                "%s: recordings at %g dB of analog gain and dark frames at %g dB: "
+		                "the dark map cannot be scaled to them (factor %g)",
+		                step, gain_db, base->dark_gain_db, *r);
+	return 0;
+}
+
 /* ---- flat ---- */
 
 int pc_calib_one_gain(const pc_calib_stack *s, size_t n, const char *step, const char *vary,
@@ -414,7 +425,12 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 		return rc;
 	}
 	/* the base's dark at that gain */
-	const double dr = base ? pc_calib_dark_scale(base, gain_db, NULL) : 1;
+	double dr;
+	if ((rc = pc_calib_base_dark_scale(base, gain_db, "flat", &dr))) {
+		free(y);
+		free(bad);
+		return rc;
+	}
 	uint64_t done = 0, total = 0;
 	bool ptc = true; /* the photon transfer: every level has frames to vary over */
 	for (size_t l = 0; l < n_levels; l++) {
@@ -698,7 +714,9 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 	double gain_db;
 	if ((rc = pc_calib_one_gain(stim, K, "analyser", "the polarizer's angle", &gain_db)))
 		return rc;
-	const double dr = base ? pc_calib_dark_scale(base, gain_db, NULL) : 1;
+	double dr;
+	if ((rc = pc_calib_base_dark_scale(base, gain_db, "analyser", &dr)))
+		return rc;
 	const size_t np = (size_t)g->width * g->height;
 	double sat =
 	    base && (!o || !(o->saturation > 0)) ? base->saturation : sat_level(o, g->bits);

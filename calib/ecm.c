@@ -356,7 +356,9 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 	int rc = pc_calib_one_gain(samples, 4, "ECM", "the exposure", &gain_db);
 	if (rc)
 		return rc;
-	const double dr = base ? pc_calib_dark_scale(base, gain_db, NULL) : 1; /* its dark there */
+	double dr; /* the base's dark at that gain */
+	if ((rc = pc_calib_base_dark_scale(base, gain_db, "ECM", &dr)))
+		return rc;
 	double *B[4] = {0};
 	float *row = malloc(np * sizeof *row);
 	if (!row)

@@ -377,6 +377,13 @@ int main(void)
 		pc_calib fm;
 		CHECK_EQ_INT(pc_calib_flat(mix, 2, &dark, NULL, &fm), PC_EINVAL);
 		CHECK(strstr(pc_error_detail(), "12 dB") && strstr(pc_error_detail(), "one gain"));
+		/* levels whose gain puts the dark map's scale out of range: refused, naming the
+		 * step and both gains */
+		pc_calib_stack far[2] = {fl.s, fh.s};
+		far[0].gain_db = far[1].gain_db = 8000;
+		CHECK_EQ_INT(pc_calib_flat(far, 2, &dark, NULL, &fm), PC_EINVAL);
+		CHECK(strstr(pc_error_detail(), "flat:") && strstr(pc_error_detail(), "8000 dB") &&
+		      strstr(pc_error_detail(), "cannot be scaled"));
 		/* a level of unknown gain takes the other's; none known: no gain recorded, K is
 		 * not scaled */
 		pc_calib_stack unk[2] = {fl.s, fh.s};
