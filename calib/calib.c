@@ -350,14 +350,14 @@ fail:
 	return rc;
 }
 
-int pc_calib_base_dark_scale(const pc_calib *base, double gain_db, const char *step, double *r)
+int pc_calib_base_dark_scale(const pc_calib *base, double gain_db, const char *what, double *r)
 {
 	*r = base ? pc_calib_dark_scale(base, gain_db, NULL) : 1;
 	if (!(*r > 0 && *r < INFINITY))
 		return pc_error(PC_EINVAL,
-		                "%s: recordings at %g dB of analog gain and dark frames at %g dB: "
-		                "the dark map cannot be scaled to them (factor %g)",
-		                step, gain_db, base->dark_gain_db, *r);
+		                "%s at %g dB of analog gain and dark frames at %g dB: the dark map "
+		                "cannot be scaled to them (factor %g)",
+		                what, gain_db, base->dark_gain_db, *r);
 	return 0;
 }
 
@@ -426,7 +426,7 @@ int pc_calib_flat(const pc_calib_stack *levels, size_t n_levels, const pc_calib 
 	}
 	/* the base's dark at that gain */
 	double dr;
-	if ((rc = pc_calib_base_dark_scale(base, gain_db, "flat", &dr))) {
+	if ((rc = pc_calib_base_dark_scale(base, gain_db, "flat: recordings", &dr))) {
 		free(y);
 		free(bad);
 		return rc;
@@ -715,7 +715,7 @@ int pc_calib_analyser(const pc_calib_stack *stim, size_t K, const pc_calib *base
 	if ((rc = pc_calib_one_gain(stim, K, "analyser", "the polarizer's angle", &gain_db)))
 		return rc;
 	double dr;
-	if ((rc = pc_calib_base_dark_scale(base, gain_db, "analyser", &dr)))
+	if ((rc = pc_calib_base_dark_scale(base, gain_db, "analyser: recordings", &dr)))
 		return rc;
 	const size_t np = (size_t)g->width * g->height;
 	double sat =
@@ -1527,18 +1527,14 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 	}
 	/* the dark map at the frame's analog gain (pc_calib_dark_scale): scaled about the black
 	 * level by the core's correction, or in the compact calibration its base and scale */
-	const double dr = pc_calib_dark_scale(cal, f->meta.gain_db, NULL);
-	if (!(dr > 0 && dr < INFINITY))
-		return pc_error(PC_EINVAL,
-		                "a frame at %g dB of analog gain and a calibration whose dark "
-		                "frames were at %g dB: the dark map cannot be scaled to the frame "
-		                "(factor %g)",
-		                f->meta.gain_db, cal->dark_gain_db, dr);
+	double dr;
+	if ((rc = pc_calib_base_dark_scale(cal, f->meta.gain_db, "a frame", &dr)))
+		return rc;
 	pc_compact_calib cv;
 	po.dark = cal->dark;
 	po.gain_inv = cal->apply_ig;
-	po.dark_scale = cal->dark && dr != 1 ? dr : 0;
-	po.dark_pivot = cal->dark && dr != 1 ? cal->black_level : 0;
+	po.dark_scale = dr; /* 1 (no dark map, a gain unknown or equal): the map as it is */
+	po.dark_pivot = cal->black_level;
 	po.black_level = cal->dark ? 0 : cal->black_level;
 	/* the validity: the core's rule (saturated, dead) on the raw samples, and the samples the
 	 * calibration distrusts (listed in the compact calibration where it is used) */
@@ -1552,7 +1548,6 @@ int pc_calib_apply(pc_calib *cal, const pc_frame *f, unsigned bits, const pc_pip
 			po.compact = &cal->apply_vec;
 			po.trusted = NULL;
 			po.dark = po.gain_inv = NULL;
-			po.dark_scale = po.dark_pivot = 0;
 			po.black_level = 0;
 			if (dr != 1 && cal->apply_vec.dark_q) {
 				/* dark = base + scale·q, so its part above the black level

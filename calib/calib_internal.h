@@ -12,9 +12,10 @@
 int pc_calib_one_gain(const pc_calib_stack *s, size_t n, const char *step, const char *vary,
                       double *gain_db);
 
-/* The factor of base's dark map at the recordings' analog gain gain_db (pc_calib_dark_scale; 1
- * without a base) into *r: PC_EINVAL naming STEP and both gains when it is out of range */
-int pc_calib_base_dark_scale(const pc_calib *base, double gain_db, const char *step, double *r);
+/* The factor of base's dark map at the analog gain gain_db of WHAT (e.g. "flat: recordings", "a
+ * frame"; pc_calib_dark_scale; 1 without a base) into *r: PC_EINVAL naming it and both gains
+ * when the factor is out of range (10^(dB/20) over- or underflowing) */
+int pc_calib_base_dark_scale(const pc_calib *base, double gain_db, const char *what, double *r);
 
 /* The dark (or, without a dark map, the black level) of pixel p of c (NULL: 0) at the analog
  * gain whose pc_calib_dark_scale is r: the map's part above the black level times r */

@@ -357,7 +357,7 @@ int pc_calib_ecm(const pc_calib_stack samples[4], unsigned n_psg, unsigned n_psa
 	if (rc)
 		return rc;
 	double dr; /* the base's dark at that gain */
-	if ((rc = pc_calib_base_dark_scale(base, gain_db, "ECM", &dr)))
+	if ((rc = pc_calib_base_dark_scale(base, gain_db, "ECM: recordings", &dr)))
 		return rc;
 	double *B[4] = {0};
 	float *row = malloc(np * sizeof *row);
