@@ -564,15 +564,15 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
 	return 0;
 }
 
-/* pan-lean's window (step 3 below): the mean *mu and population variance *var of P̃ = max(P0, 0)
- * + δ at the even corners of the 3 × 3 blocks centred on (x, y)'s 2 × 2 block */
-static void lean_window(const chroma_ref *c, double delta, int x, int y, double *mu, double *var)
+/* pan-lean's window (step 3 below): the mean *mu and population variance *var of P̃ − δ =
+ * max(P0, 0) at the even corners of the 3 × 3 blocks centred on (x, y)'s 2 × 2 block (without
+ * δ: a window of black blocks has mean and variance exactly 0) */
+static void lean_window(const chroma_ref *c, int x, int y, double *mu, double *var)
 {
 	double v[9], s = 0, d = 0;
 	for (int k = 0; k < 9; k++) {
-		v[k] = fmax(c->p0[cidx(c, (x & ~1) + 2 * (k % 3 - 1), (y & ~1) + 2 * (k / 3 - 1))],
-		            0) +
-		       delta;
+		v[k] =
+		    fmax(c->p0[cidx(c, (x & ~1) + 2 * (k % 3 - 1), (y & ~1) + 2 * (k / 3 - 1))], 0);
 		s += v[k];
 	}
 	*mu = s / 9;
@@ -609,6 +609,14 @@ static void lean_window(const chroma_ref *c, double delta, int x, int y, double 
  *     (no detail of the own sample's colour goes into them: Round 20 (e)).
  *  5. I_q = level·R_q − δ; the own channel keeps the sample.
  *
+ * Computed on the ratios less 1, ρ' = ρ − 1 = ((max(x, 0) + δ) − P̃)/P̃, the levels less δ
+ * (P̃ − δ, the window's m − δ, P_s − δ, L_o − δ) and R'_q = R_q − 1 (the tents of ρ'), I_q =
+ * (level − δ) + level·R'_q: the same values, and in a window of black samples (every ρ' 0,
+ * every level δ) every output exactly 0, whatever the side factors and g. The direct form gave
+ * there residues of the rounding (±7e-15 DN in this reference, ±1.4e-6 DN in the float path
+ * with g > 0, where the factors are not exactly 1), whose DoLP is anything up to 1: a scene
+ * with black regions lost up to 2.7 dB of DoLP by them (docs/demosaicking.md, Round 42).
+ *
  * With g = 0 steps 3 and 4 are identities (λ = s = 1): P_s = P̃, L_o = L. With g → ∞ the
  * factors are flat (the tents (4 − |d|)(4 − |dy|)) and every output but the own sample is
  * m·R_q − δ. Round 21's definition had no step 3 and blended each output towards the same
@@ -627,6 +635,14 @@ int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mos
 	int rc = chroma_prepare(&r, &c, "pan-lean");
 	if (rc)
 		return rc;
+	/* the ratios less 1 (the definition's last comment) */
+	for (int y = -PAN_CX; y < c.h + PAN_CX; y++)
+		for (int x = -PAN_CX; x < c.w + PAN_CX; x++) {
+			const size_t i = cidx(&c, x, y);
+			const double num = fmax(ext(&r, x, y), 0) + r.delta,
+			             den = fmax(c.p0[i], 0) + r.delta;
+			c.rho[i] = (num - den) / den;
+		}
 	const double F = PC_DM_NG_FLOOR * fs;
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
@@ -634,21 +650,26 @@ int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mos
 			const lean_side ls = {g, F};
 			side_sums(&r, &c, &ls, x, y, 0, NULL, num, den);
 			const unsigned own = chan(&r, x, y);
-			const double v = img[(size_t)y * w + (size_t)x];
-			const double pt = fmax(c.p0[cidx(&c, x, y)], 0) + r.delta;
+			const double v = img[(size_t)y * w + (size_t)x], vp = fmax(v, 0);
+			const double pt = fmax(c.p0[cidx(&c, x, y)], 0); /* P̃ − δ */
 			double mu, wv;
-			lean_window(&c, r.delta, x, y, &mu, &wv);
-			const double nv = PC_DM_PAN_LEAN_CP * g * (mu + F);
-			const double ps = mu + (wv + nv > 0 ? wv / (wv + nv) : 1) * (pt - mu);
-			const double ro = den[own] / num[own]; /* 1 / R_own */
-			const double d = (fmax(v, 0) + r.delta) * ro - ps;
-			const double vl = PC_DM_PAN_LEAN_CS * g * (fmax(v, 0) + F) * ro * ro;
+			lean_window(&c, x, y, &mu, &wv);
+			const double nv = PC_DM_PAN_LEAN_CP * g * (mu + r.delta + F);
+			/* P_s − δ and P_s */
+			const double ps = mu + (wv + nv > 0 ? wv / (wv + nv) : 1) * (pt - mu),
+			             pd = ps + r.delta;
+			const double rn = num[own] / den[own],
+			             ro = 1 / (1 + rn); /* R_own − 1, 1/R_own */
+			/* d = L − P_s = ((max(v, 0) + δ) − P_s·R_own)/R_own */
+			const double d = (vp - ps - pd * rn) * ro;
+			const double vl = PC_DM_PAN_LEAN_CS * g * (vp + F) * ro * ro;
 			const double lo = ps + (d * d + vl > 0 ? d * d / (d * d + vl) : 1) * d;
 			for (unsigned q = 0; q < 12; q++) {
+				const int same = q / 4 == own / 4;
 				const double o =
-				    q == own
-				        ? v
-				        : (q / 4 == own / 4 ? lo : ps) * num[q] / den[q] - r.delta;
+				    q == own ? v
+				             : (same ? lo : ps) +
+				                   (same ? lo + r.delta : pd) * num[q] / den[q];
 				const pc_fplane *pl = &out[q];
 				pl->data[(size_t)y * pl->row_stride +
 				         (size_t)x * pl->pixel_stride] = (float)o;
@@ -1029,7 +1050,7 @@ static void pan_tables_init(pan_tables *t, const pc_mosaic *m)
 
 typedef void (*pan_vsum_fn)(const float *const r[5], long n, float *sum);
 typedef void (*pan_ratio_fn)(const float *vs, const float *raw, long x0, long n, float delta,
-                             float lo, float *rho, float *p0out);
+                             float lo, float sub, float *rho, float *p0out);
 typedef void (*pan_ghrows_fn)(const float *rho, const float *p0, long n, const float wt[4][7][16],
                               float e, float *const h[4]);
 typedef void (*pan_gorow_fn)(const pan_gorow_args *a, const float *raw, long n, float delta,
@@ -1039,8 +1060,8 @@ typedef void (*pan_orow_fn)(const pan_orow_args *a, const float *raw, long n, fl
                             float *const out[12], int nt);
 typedef void (*pan_vsumw_fn)(const float *const r[5], const float w[5], long n, float *sum);
 typedef void (*pan_cratio_fn)(const float *vs, const float *vsb, const float *raw, long x0, long n,
-                              float delta, const float ha[5][16], float *rho, float *p0out,
-                              float *c1out, float *c2out);
+                              float delta, float sub, const float ha[5][16], float *rho,
+                              float *p0out, float *c1out, float *c2out);
 typedef void (*pan_cghrows_fn)(const float *rho, const float *p0, const float *c1, const float *c2,
                                long n, const float wt[4][7][16], float e, float *const h[4]);
 typedef void (*pan_sghrows_fn)(const float *rho, const float *p0, const float *fw, const float *fe,
@@ -1057,8 +1078,8 @@ typedef void (*pan_lfacv_fn)(const float *const u[3], const float *const un[3],
                              long n, const pan_lpar *lp, float *f0, float *f1);
 typedef void (*pan_lhrows_fn)(const float *rho, const float *fw, const float *fe, long n,
                               const float wt[4][7][16], float *const h[4]);
-typedef void (*pan_lwin_fn)(const float *const p[3], long n, float cp, float fl, float *mo,
-                            float *lo);
+typedef void (*pan_lwin_fn)(const float *const p[3], long n, float cp, float fl, float delta,
+                            float *mo, float *lo);
 
 typedef void (*pan_atents_fn)(const float *const p[5], const float *rho, const float *fw,
                               const float *fe, long n, float delta, const float wt[4][7][16],
@@ -1766,8 +1787,8 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 					 * is) */
 					float *const *u = hu[(yy & 7) >> 1];
 					float *const *fw = adapt ? fhr[(yy & 2) >> 1] : fh;
-					K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rh, p0,
-					         ck[0], ck[1]);
+					K.cratio(vs, vsb, rs, -16, n + 32, j->delta, (float)lean,
+					         t->ha, rh, p0, ck[0], ck[1]);
 					float *pc = lean ? hp[(yy & 7) >> 1] : NULL;
 					(lean ? K.lshue : K.shue)(p0, ck[0], ck[1], -16, n + 32,
 					                          j->delta, u[0], u[1], pc);
@@ -1797,7 +1818,8 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 							K.sfac(ub, ua, uc, n, eps, f[0], f[1]);
 					}
 				} else {
-					K.ratio(vs, rs, -16, n + 32, j->delta, 0, rh, p0);
+					K.ratio(vs, rs, -16, n + 32, j->delta, 0, (float)lean, rh,
+					        p0);
 				}
 				if (lean) {
 					/* the output row y makes the tents of its last source
@@ -1809,7 +1831,8 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 						for (int k = 0; k < 3; k++)
 							pw[k] = hp[((yy - 5 + 2 * k) & 7) >> 1];
 						float *const *l = lw[((yy - 3) >> 1) & 1];
-						K.lwin(pw, n, lp.cp, j->F, l[0], l[1]);
+						K.lwin(pw, n, lp.cp, j->F + j->delta, j->delta,
+						       l[0], l[1]);
 					}
 				} else if (!adapt) {
 					K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e,
@@ -1826,15 +1849,15 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 				}
 			} else if (j->guided == 2) {
 				float *p0 = gr[0][yy & 7], *c1 = gr[1][yy & 7], *c2 = gr[2][yy & 7];
-				K.cratio(vs, vsb, rs, -16, n + 32, j->delta, t->ha, rho, p0, c1,
+				K.cratio(vs, vsb, rs, -16, n + 32, j->delta, 0, t->ha, rho, p0, c1,
 				         c2);
 				K.cghrows(rho, p0, c1, c2, n, t->wt, j->e, hr[yy & 7]);
 			} else if (j->guided) {
 				float *p0 = gr[0][yy & 7];
-				K.ratio(vs, rs, -16, n + 32, j->delta, 0, rho, p0);
+				K.ratio(vs, rs, -16, n + 32, j->delta, 0, 0, rho, p0);
 				K.ghrows(rho, p0, n, t->wt, j->e, hr[yy & 7]);
 			} else {
-				K.ratio(vs, rs, -16, n + 32, j->delta, 0, rho, NULL);
+				K.ratio(vs, rs, -16, n + 32, j->delta, 0, 0, rho, NULL);
 				K.hrows(rho, n, t->wt, hr[yy & 7]);
 			}
 		}
@@ -2655,7 +2678,7 @@ static void fact_src_to(fact_band_st *b, int ymax)
 		const int yy = b->src_next, k = yy & 7;
 		pan_src_sums(j, b->K, b->t, &b->rc, yy, b->src, b->vs, NULL, b->rawp, b->n,
 		             b->nmain);
-		b->K->ratio(b->vs, b->rawp, -16, b->n + 32, 0, b->fj->dh, b->rho, NULL);
+		b->K->ratio(b->vs, b->rawp, -16, b->n + 32, 0, b->fj->dh, 0, b->rho, NULL);
 		b->K->dwrows(b->rho, 0, b->n + 16, b->dt->tw, b->hw[k]);
 		b->K->dprows(b->hw[k], b->n, b->dt->fa, b->ox, b->li[k], NULL, NULL);
 		const float *h2[2], *ww[2], *we[2];

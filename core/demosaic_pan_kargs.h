@@ -28,9 +28,9 @@ typedef struct pan_gorow_args {
 	 * scale e0 + ke·mu, the noise term kn·mu (kn = 0: pan-side's ratio step) */
 	const float *mu, *var;
 	float ke, e0, kn;
-	/* pan-lean's (pan_lgorow): the block row's window means and shrinkage factors (pan_lwin),
-	 * the 0/1 lane patterns where channel q is of the pixel's own colour, c_s·g and the floor
-	 * F */
+	/* pan-lean's (pan_lgorow): the block row's window means less δ and shrinkage factors
+	 * (pan_lwin), the 0/1 lane patterns where channel q is of the pixel's own colour, c_s·g and
+	 * the floor F */
 	const float *lmu, *llam;
 	const float *csame[12];
 	float lcs, lF;
@@ -74,8 +74,8 @@ typedef struct pan_lpar {
 	                   long n, const pan_lpar *lp, float *f0, float *f1);                      \
 	void pan_lhrows_##S(const float *rho, const float *fw, const float *fe, long n,            \
 	                    const float wt[4][7][16], float *const h[4]);                          \
-	void pan_lwin_##S(const float *const p[3], long n, float cp, float fl, float *mo,          \
-	                  float *lo);                                                              \
+	void pan_lwin_##S(const float *const p[3], long n, float cp, float fl, float delta,        \
+	                  float *mo, float *lo);                                                   \
 	void pan_lgorow_##S(const pan_gorow_args *a, const float *raw, long n, float delta,        \
 	                    float e, float *const out[12], int nt);
 PAN_LEAN_DECL(base)
