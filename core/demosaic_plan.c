@@ -753,8 +753,11 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "hue pairs (5) +0.03/+1.00 (+0.00/+0.76); unseen, each evaluated once: "
           "colour-sealed11 (6) +1.43/+1.47 (+1.30/+0.59), and with Round 24's "
           "6x6 pixel window colour-sealed9 (6) +1.09/+1.45 (+0.63/+1.09) and "
-          "colour-sealed10 (6) +1.15/+1.36 (+0.34/+0.82); no scene of any colour "
-          "set losing; docs/demosaicking.md, Rounds 24 and 27",
+          "colour-sealed10 (6) +1.15/+1.36 (+0.34/+0.82); since Round 42's exact "
+          "zeros in the black colour-sealed12 (6) +1.34/+1.81 (+0.92/+0.48) and "
+          "(used) colour-sealed4 (6) +0.84/+1.30 (+0.36/+0.99: before it, -0.87 "
+          "DoLP on conveyor's black regions); no scene of any colour set losing; "
+          "docs/demosaicking.md, Rounds 24, 27 and 42",
           "float fast path in pan-side's band form: within 2.4e-7 of full scale "
           "of the double reference; at AVX-512 3.8-4.2x the mono bilinear's time "
           "in the shared 2-vCPU dev machine's usual regime, 5.2-5.8x in periods when "
