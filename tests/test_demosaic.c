@@ -550,28 +550,38 @@ static double dolp_of(const pc_fplane *p, uint32_t x, uint32_t y)
 /* One black-region check (above) of the methods list[0..nm) on mosaic m with nch output channels
  * (4, or 12 for a colour mosaic: colour k's channels 4k..4k + 3, scaled by gain[k]): DoLP RMS
  * over every dark pixel of every colour, the worst instance, at most 1e-4. */
-static void black_regions(const pc_mosaic *m, const pc_demosaic_method *list, size_t nm,
-                          unsigned nch, const double gain[3])
+/* A W × H 12-bit raw on mosaic m, black (0) but for a polarized texture (S0 1200 ± 800, DoLP 0.6,
+ * AoLP turning with x and y; colour k scaled by gain[k]) plus noise r >> shift of an LCG seeded
+ * with seed, along the right half and the top rows y < top; with glints, three clipped glints
+ * in the black (the black-region tests below) */
+static void black_frame(const pc_mosaic *m, uint32_t W, uint32_t H, uint32_t seed, uint32_t top,
+                        unsigned shift, const double gain[3], int glints, pc_view *raw)
 {
-	const uint32_t W = 48, H = 40;
-	pc_view raw;
-	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
-	uint32_t r = 7;
+	CHECK_EQ_INT(pc_view_alloc(raw, PC_FMT_MONO12, W, H, 0), 0);
+	uint32_t r = seed;
 	for (uint32_t y = 0; y < H; y++)
 		for (uint32_t x = 0; x < W; x++) {
 			r = r * 1664525u + 1013904223u;
 			unsigned c = pc_mosaic_channel(m, x, y);
 			double v = 0;
-			if (x >= W / 2) { /* S0 1200 ± 800, DoLP 0.6, AoLP turning with x and y */
+			if (x >= W / 2 || y < top) {
 				double s0 = 1200 + 800 * sin(0.7 * x) * cos(0.4 * y);
 				double a = 0.05 * x + 0.09 * y, ang = M_PI / 4 * (c % 4);
 				v = gain[c / 4] * 0.5 * s0 * (1 + 0.6 * cos(2 * (ang - a))) +
-				    (double)(r >> 29);
-			} else if ((x == 9 && y == 11) || (x == 20 && y == 30) ||
-			           (x == 21 && y == 30))
-				v = 4095; /* clipped glints in the black */
-			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)lround(v);
+				    (double)(r >> shift);
+			} else if (glints && ((x == 9 && y == 11) || (x == 20 && y == 30) ||
+			                      (x == 21 && y == 30)))
+				v = 4095;
+			PC_ROW(raw, uint16_t, y)[x] = (uint16_t)lround(v);
 		}
+}
+
+static void black_regions(const pc_mosaic *m, const pc_demosaic_method *list, size_t nm,
+                          unsigned nch, const double gain[3])
+{
+	const uint32_t W = 48, H = 40;
+	pc_view raw;
+	black_frame(m, W, H, 7, 0, 29, gain, 1, &raw);
 	for (size_t k = 0; k < nm; k++) {
 		pc_fplane f[12], rf[12];
 		float *fb = alloc_planes(W, H, nch, f), *rb = alloc_planes(W, H, nch, rf);
@@ -668,21 +678,9 @@ static void black_exact_one(const pc_mosaic *m, pc_demosaic_method meth, double 
 {
 	const uint32_t W = 64, H = 48, R = 5;
 	const unsigned nch = pc_demosaic_channels(m);
+	const double one[3] = {1, 1, 1};
 	pc_view raw;
-	CHECK_EQ_INT(pc_view_alloc(&raw, PC_FMT_MONO12, W, H, 0), 0);
-	uint32_t r = 11;
-	for (uint32_t y = 0; y < H; y++)
-		for (uint32_t x = 0; x < W; x++) {
-			r = r * 1664525u + 1013904223u;
-			unsigned c = pc_mosaic_channel(m, x, y);
-			double v = 0;
-			if (x >= W / 2 || y < 8) { /* S0 1200 ± 800, DoLP 0.6, noise 0-63 DN */
-				double s0 = 1200 + 800 * sin(0.7 * x) * cos(0.4 * y);
-				double a = 0.05 * x + 0.09 * y, ang = M_PI / 4 * (c % 4);
-				v = 0.5 * s0 * (1 + 0.6 * cos(2 * (ang - a))) + (double)(r >> 26);
-			}
-			PC_ROW(&raw, uint16_t, y)[x] = (uint16_t)lround(v);
-		}
+	black_frame(m, W, H, 11, 8, 26, one, 0, &raw); /* noise 0-63 DN */
 	pc_pipeline_opts o = pc_pipeline_defaults();
 	o.method = meth;
 	o.mosaic = *m;
