@@ -398,8 +398,11 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "shared 2-vCPU dev machine's usual regime (medians 3.4x and 3.9x over two "
           "sets of runs), 4.5-5.5x in periods when its write bandwidth doubles and the "
           "memory-bound bilinear speeds up with it (medians 5.1x: at the 5x budget's "
-          "edge; AVX-512, 2026-12-06; at AVX2 5.2-6.0x in the first), scalar 36-52x "
-          "before Round 25 vectorised it (Rounds 30-33: docs/demosaicking.md)",
+          "edge; AVX-512, 2026-12-06; at AVX2 5.2-6.0x in the first); on the faster "
+          "host of 2026-12-07 3.2-4.2x in 31 runs at one and two threads, the "
+          "fast-memory regime included (Rounds 38 and 41b): the budget's reading "
+          "depends on the machine; scalar 36-52x before Round 25 vectorised it "
+          "(Rounds 30-33: docs/demosaicking.md)",
           "ours: ratio (above) with a guided filter's shrinkage (He, Sun, Tang, TPAMI "
           "2013) and a Poisson noise variance from the frame (Foi et al., IEEE TIP "
           "17(10) 2008; Liu, Tanaka, Okutomi, IEEE TIP 22(12) 2013)",
