@@ -309,8 +309,10 @@ static double cdist(const chroma_ref *c, int x0, int y0, int x1, int y1)
 	return fabs(c->p0[j] - c->p0[i]) + fabs(c->c1[j] - c->c1[i]) + fabs(c->c2[j] - c->c2[i]);
 }
 
-/* pan-chroma's guide images P0, β·C1, β·C2 and ρ on the extended raw (c's buffers allocated) */
-static void chroma_images(const pan_ref *r, chroma_ref *c)
+/* pan-chroma's guide images P0, β·C1, β·C2 and ρ − sub on the extended raw (c's buffers
+ * allocated); sub 0 or 1 (pan-lean's ρ − 1), formed as (num − sub·den)/den as pan_ratio does: ρ
+ * itself with 0, exactly 0 with 1 where num = den (a black window) */
+static void chroma_images(const pan_ref *r, chroma_ref *c, double sub)
 {
 	static const double mk[5] = {1, 2, 2, 2, 1};
 	for (int y = -PAN_CX; y < c->h + PAN_CX; y++)
@@ -329,7 +331,9 @@ static void chroma_images(const pan_ref *r, chroma_ref *c)
 			c->p0[i] = p0;
 			c->c1[i] = PAN_CB * c1;
 			c->c2[i] = PAN_CB * c2;
-			c->rho[i] = (fmax(ext(r, x, y), 0) + r->delta) / (fmax(p0, 0) + r->delta);
+			const double num = fmax(ext(r, x, y), 0) + r->delta,
+			             den = fmax(p0, 0) + r->delta;
+			c->rho[i] = (num - sub * den) / den;
 		}
 }
 
@@ -383,11 +387,11 @@ static int chroma_alloc(chroma_ref *c, uint32_t w, uint32_t h, const char *what)
 
 /* The chroma images of r's raw, allocated (free c->p0) and filled: pan-chroma's, pan-side's,
  * pan-adapt's and pan-dir's first step. what names the method in the error message. */
-static int chroma_prepare(const pan_ref *r, chroma_ref *c, const char *what)
+static int chroma_prepare(const pan_ref *r, chroma_ref *c, const char *what, double sub)
 {
 	int rc = chroma_alloc(c, (uint32_t)r->w, (uint32_t)r->h, what);
 	if (!rc)
-		chroma_images(r, c);
+		chroma_images(r, c, sub);
 	return rc;
 }
 
@@ -396,7 +400,7 @@ int pc_dm_pan_chroma_ref(const double *img, uint32_t w, uint32_t h, const pc_mos
 {
 	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, PAN_CE * fs};
 	chroma_ref c;
-	int rc = chroma_prepare(&r, &c, "pan-chroma");
+	int rc = chroma_prepare(&r, &c, "pan-chroma", 0);
 	if (rc)
 		return rc;
 	for (int y = 0; y < c.h; y++)
@@ -546,7 +550,7 @@ int pc_dm_pan_side_ref_own(const double *img, uint32_t w, uint32_t h, const pc_m
 {
 	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, PAN_SE * fs};
 	chroma_ref c;
-	int rc = chroma_prepare(&r, &c, "pan-side");
+	int rc = chroma_prepare(&r, &c, "pan-side", 0);
 	if (rc)
 		return rc;
 	for (int y = 0; y < c.h; y++)
@@ -632,17 +636,10 @@ int pc_dm_pan_lean_ref_g(const double *img, uint32_t w, uint32_t h, const pc_mos
 		return pc_error(PC_EINVAL, "pan-lean: noise gain %g, expected finite and >= 0", g);
 	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, 0};
 	chroma_ref c;
-	int rc = chroma_prepare(&r, &c, "pan-lean");
+	/* the ratios less 1 (the definition's last comment) */
+	int rc = chroma_prepare(&r, &c, "pan-lean", 1);
 	if (rc)
 		return rc;
-	/* the ratios less 1 (the definition's last comment) */
-	for (int y = -PAN_CX; y < c.h + PAN_CX; y++)
-		for (int x = -PAN_CX; x < c.w + PAN_CX; x++) {
-			const size_t i = cidx(&c, x, y);
-			const double num = fmax(ext(&r, x, y), 0) + r.delta,
-			             den = fmax(c.p0[i], 0) + r.delta;
-			c.rho[i] = (num - den) / den;
-		}
 	const double F = PC_DM_NG_FLOOR * fs;
 	for (int y = 0; y < c.h; y++)
 		for (int x = 0; x < c.w; x++) {
@@ -774,7 +771,7 @@ int pc_dm_pan_adapt_ref_own(const double *img, uint32_t w, uint32_t h, const pc_
 	}
 	const double kn = p->c * (14.0 / 64) * (14.0 / 64) * g; /* the noise term over μ */
 	chroma_ref c;
-	int rc = chroma_prepare(&r, &c, "pan-adapt");
+	int rc = chroma_prepare(&r, &c, "pan-adapt", 0);
 	if (rc)
 		return rc;
 	for (int y = 0; y < c.h; y++)
@@ -894,7 +891,7 @@ int pc_dm_pan_dir_ref(const double *img, uint32_t w, uint32_t h, const pc_mosaic
 {
 	pan_ref r = {img, (int)w, (int)h, PAN_DELTA * fs, m, 0}; /* e = 0: plain tents */
 	chroma_ref c;
-	int rc = chroma_prepare(&r, &c, "pan-dir"); /* ρ on the extended raw (guides unused) */
+	int rc = chroma_prepare(&r, &c, "pan-dir", 0); /* ρ on the extended raw (guides unused) */
 	if (rc)
 		return rc;
 	const size_t np = (size_t)w * h;
@@ -1078,7 +1075,7 @@ typedef void (*pan_lfacv_fn)(const float *const u[3], const float *const un[3],
                              long n, const pan_lpar *lp, float *f0, float *f1);
 typedef void (*pan_lhrows_fn)(const float *rho, const float *fw, const float *fe, long n,
                               const float wt[4][7][16], float *const h[4]);
-typedef void (*pan_lwin_fn)(const float *const p[3], long n, float cp, float fl, float delta,
+typedef void (*pan_lwin_fn)(const float *const p[3], long n, float cp, float F, float delta,
                             float *mo, float *lo);
 
 typedef void (*pan_atents_fn)(const float *const p[5], const float *rho, const float *fw,
@@ -1831,8 +1828,7 @@ static void pan_band_strip(const pan_job *j, const pan_tables *t, uint32_t y0, u
 						for (int k = 0; k < 3; k++)
 							pw[k] = hp[((yy - 5 + 2 * k) & 7) >> 1];
 						float *const *l = lw[((yy - 3) >> 1) & 1];
-						K.lwin(pw, n, lp.cp, j->F + j->delta, j->delta,
-						       l[0], l[1]);
+						K.lwin(pw, n, lp.cp, j->F, j->delta, l[0], l[1]);
 					}
 				} else if (!adapt) {
 					K.sghrows(rho, p0, fh[0], fh[1], n, t->wt, j->e,

@@ -74,7 +74,7 @@ typedef struct pan_lpar {
 	                   long n, const pan_lpar *lp, float *f0, float *f1);                      \
 	void pan_lhrows_##S(const float *rho, const float *fw, const float *fe, long n,            \
 	                    const float wt[4][7][16], float *const h[4]);                          \
-	void pan_lwin_##S(const float *const p[3], long n, float cp, float fl, float delta,        \
+	void pan_lwin_##S(const float *const p[3], long n, float cp, float F, float delta,         \
 	                  float *mo, float *lo);                                                   \
 	void pan_lgorow_##S(const pan_gorow_args *a, const float *raw, long n, float delta,        \
 	                    float e, float *const out[12], int nt);
