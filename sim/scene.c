@@ -423,6 +423,10 @@ static int parse_light(const pctx *c, json_t *v, const char *path, pc_sim_light 
 		pc_json_path(p, sizeof p, path, "type");
 		return pc_json_error(&c->js, p, "'%s': expected directional or point", type);
 	}
+	/* monochrome sensors use the green value of an RGB triple, as for materials and the
+	 * background (the shader reads power[0] of a monochrome frame) */
+	if (!c->colour)
+		l->power[0] = l->power[2] = l->power[1];
 	if (json_object_get(v, "reference")) {
 		if ((rc = get_unit_v3(c, v, path, "reference", PC_JSON_REQUIRED, &l->reference)))
 			return rc;

@@ -159,6 +159,25 @@ static void test_radiometry(void)
 	CHECK_EQ_INT(pc_sim_truth_rows(sim, 0, 5, 9, band, NULL), 0);
 	CHECK(memcmp(band, S + 4 * W * 5, sizeof band) == 0);
 	pc_sim_free(sim);
+
+	/* a monochrome sensor takes the green value of an RGB light (docs/scene-format.md), as it
+	 * does of a material's n and k and of the background: [7, 100, 1000] renders as 100 */
+	snprintf(text, sizeof text,
+	         "{%s \"lights\": [{\"type\": \"point\", \"position\": [1, 2, 3], "
+	         "\"intensity_w_sr\": [7, 100, 1000]}],"
+	         " \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], "
+	         "\"material\": \"m\"}]}",
+	         cam_down);
+	sim = make_sim(text, &lam);
+	CHECK(sim != NULL);
+	if (sim) {
+		double *R = malloc(sizeof(double) * 4 * W * H);
+		CHECK_EQ_INT(pc_sim_truth_rows(sim, 0, 0, H, R, NULL), 0);
+		for (int i = 0; i < 4 * W * H; i += 4)
+			CHECK(R[i] == S[i] && R[i + 1] == S[i + 1] && R[i + 2] == S[i + 2]);
+		free(R);
+		pc_sim_free(sim);
+	}
 	free(S);
 }
 
