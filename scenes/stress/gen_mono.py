@@ -52,7 +52,8 @@ def main():
                 sensor.pop("qe", None)
             elif preset == "imx250myr":
                 if "layout" in sensor or "qe" in sensor:
-                    sys.exit("gen_mono.py: %s/%s: imx250myr with its own layout or qe" % (src, name))
+                    sys.exit("gen_mono.py: %s/%s: imx250myr with its own layout or qe"
+                             % (src, name))
                 sensor["preset"] = "imx250mzr"
             else:
                 sys.exit("gen_mono.py: %s/%s: sensor preset %r is neither ideal nor imx250myr"
