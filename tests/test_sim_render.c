@@ -102,6 +102,19 @@ static const char *cam_down =
     "\"sensor\": {\"resolution\": [48, 32], \"pixel_pitch_um\": 3.45},"
     "\"materials\": {\"m\": {\"n\": 1.5, \"sigma\": 0.1}},";
 
+/* The ground plane under cam_down lit by a point light at (1, 2, 3) of the given intensity
+ * (JSON: a number or [R, G, B]), written into text. */
+static const char *point_scene(char *text, size_t size, const char *intensity)
+{
+	snprintf(text, size,
+	         "{%s \"lights\": [{\"type\": \"point\", \"position\": [1, 2, 3], "
+	         "\"intensity_w_sr\": %s}],"
+	         " \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], "
+	         "\"material\": \"m\"}]}",
+	         cam_down, intensity);
+	return text;
+}
+
 static void test_radiometry(void)
 {
 	pc_sim_brdf lam = {brdf_lambert, NULL};
@@ -129,13 +142,7 @@ static void test_radiometry(void)
 	pc_sim_free(sim);
 
 	/* point light: S0 = I cosθ/(π r²) at each pixel's ground point */
-	snprintf(text, sizeof text,
-	         "{%s \"lights\": [{\"type\": \"point\", \"position\": [1, 2, 3], "
-	         "\"intensity_w_sr\": 100}],"
-	         " \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], "
-	         "\"material\": \"m\"}]}",
-	         cam_down);
-	sim = make_sim(text, &lam);
+	sim = make_sim(point_scene(text, sizeof text, "100"), &lam);
 	CHECK(sim != NULL);
 	if (!sim) {
 		free(S);
@@ -162,13 +169,7 @@ static void test_radiometry(void)
 
 	/* a monochrome sensor takes the green value of an RGB light (docs/scene-format.md), as it
 	 * does of a material's n and k and of the background: [7, 100, 1000] renders as 100 */
-	snprintf(text, sizeof text,
-	         "{%s \"lights\": [{\"type\": \"point\", \"position\": [1, 2, 3], "
-	         "\"intensity_w_sr\": [7, 100, 1000]}],"
-	         " \"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,1], "
-	         "\"material\": \"m\"}]}",
-	         cam_down);
-	sim = make_sim(text, &lam);
+	sim = make_sim(point_scene(text, sizeof text, "[7, 100, 1000]"), &lam);
 	CHECK(sim != NULL);
 	if (sim) {
 		double *R = malloc(sizeof(double) * 4 * W * H);
