@@ -287,5 +287,7 @@ static const pc_ri_params pc_eari_params = {2, 0.003, 1, 0.1};
 /* Passes of the ratio method (PC_DM_RATIO): the second uses the first's mean as its guide
  * (Lapray NIR: +0.25 dB S0; Zhang: +1.0 dB S0, +0.8 dB DoLP over a single pass). */
 #define PC_RATIO_PASSES 2
+/* ratio-nr3: three passes from the binomial guide (docs/demosaicking.md, Round 43b) */
+#define PC_RATIO_NR3_PASSES 3
 
 #endif

@@ -78,6 +78,8 @@ typedef struct pc_ic_kernels {
 	                     const float *restrict, const float *restrict, const float *restrict,
 	                     const float *restrict, const float *restrict, const float *const[5],
 	                     float, float, float, long);
+	void (*binomial)(float *restrict, const float *restrict, const float *restrict,
+	                 const float *restrict, long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -253,6 +255,8 @@ typedef struct ic_band {
 	double eps2;
 	rcache raw, p0, ppi, guide, out1, guide2;
 	rcache rq1, rg2, rq2; /* ratio method: first ratio, second guide, second ratio */
+	rcache rg3, rq3;      /* ratio-nr3: third guide, third ratio */
+	int three;            /* ratio-nr3: three passes from the binomial guide */
 	float delta, eps_ratio;
 	rcache rout;     /* ratio-ri: the ratio method's four channels (its guide: guide2) */
 	float dark;      /* ratio-ri: the blend's dark level */
@@ -314,6 +318,15 @@ static void fill_eari_guide(rcache *c, int y, float *const *rows)
 		r[i] = rc_get(&b->raw, y - 2 + i)[0];
 	b->k->eari_guide(rows[0], r, ortho_kind(b->m, 0, y), ortho_kind(b->m, 1, y), b->eps_guide,
 	                 0, c->w);
+}
+
+/* ratio-nr3's first guide: the raw's 3×3 binomial (demosaic_ref.c, binomial_guide) */
+static void fill_binomial(rcache *c, int y, float *const *rows)
+{
+	ic_band *b = c->ctx;
+	const float *a = rc_get(&b->raw, y - 1)[0], *m = rc_get(&b->raw, y)[0],
+	            *d = rc_get(&b->raw, y + 1)[0];
+	b->k->binomial(rows[0], a, m, d, c->w);
 }
 
 /* Guided-filter coefficients of row k for the four channels: planes 0..3 = a_c, 4..7 = b_c. */
@@ -467,16 +480,37 @@ static void fill_rq2(rcache *c, int y, float *const *rows)
 	b->k->ratio_q(rows[0], r, g, b->delta, 0, c->w);
 }
 
+/* ratio-nr3's third guide: the mean of the second pass's channels (as fill_rg2 of the first's) */
+static void fill_rg3(rcache *c, int y, float *const *rows)
+{
+	ic_band *b = c->ctx;
+	const float *qa = rc_get(&b->rq2, y - 1)[0], *qb = rc_get(&b->rq2, y)[0],
+	            *qc = rc_get(&b->rq2, y + 1)[0];
+	const float *ga = rc_get(&b->rg2, y - 1)[0], *g = rc_get(&b->rg2, y)[0],
+	            *gc = rc_get(&b->rg2, y + 1)[0];
+	const float *r = rc_get(&b->raw, y)[0];
+	b->k->ratio_mean_nr(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->shot,
+	                    c->w);
+}
+
+static void fill_rq3(rcache *c, int y, float *const *rows)
+{
+	ic_band *b = c->ctx;
+	const float *g = rc_get(&b->rg3, y)[0];
+	const float *r = rc_get(&b->raw, y)[0];
+	b->k->ratio_q(rows[0], r, g, b->delta, 0, c->w);
+}
+
 /* The ratio method's row y into o; mm: the limiter's ranges of rows y−2..y+2
  * (pc_dm_limit_ranges), applied as the row is written, or NULL. */
 static void ratio_output(ic_band *b, int y, float *const o[4], const float *const mm[5])
 {
 	unsigned slot[4] = {pc_dm_ch(b->m, 0, (unsigned)y), pc_dm_ch(b->m, 1, (unsigned)y),
 	                    pc_dm_ch(b->m, 0, (unsigned)y + 1), pc_dm_ch(b->m, 1, (unsigned)y + 1)};
-	const float *qa = rc_get(&b->rq2, y - 1)[0], *qb = rc_get(&b->rq2, y)[0],
-	            *qc = rc_get(&b->rq2, y + 1)[0];
-	const float *ga = rc_get(&b->rg2, y - 1)[0], *g = rc_get(&b->rg2, y)[0],
-	            *gc = rc_get(&b->rg2, y + 1)[0];
+	/* the last pass's ratios and guide: the second's, ratio-nr3's third */
+	rcache *rq = b->three ? &b->rq3 : &b->rq2, *rg = b->three ? &b->rg3 : &b->rg2;
+	const float *qa = rc_get(rq, y - 1)[0], *qb = rc_get(rq, y)[0], *qc = rc_get(rq, y + 1)[0];
+	const float *ga = rc_get(rg, y - 1)[0], *g = rc_get(rg, y)[0], *gc = rc_get(rg, y + 1)[0];
 	const float *r = rc_get(&b->raw, y)[0];
 	float *os[4];
 	for (int k = 0; k < 4; k++)
@@ -541,12 +575,12 @@ typedef struct ic_job {
 } ic_job;
 
 /* The band's row caches (every one, initialised or not) into all */
-#define BAND_NCACHES 14
+#define BAND_NCACHES 16
 static void band_caches(ic_band *b, rcache *all[BAND_NCACHES])
 {
-	rcache *const c[BAND_NCACHES] = {&b->raw,    &b->p0,    &b->ppi,  &b->guide, &b->out1,
-	                                 &b->guide2, &b->s1.ab, &b->s1.t, &b->s2.ab, &b->s2.t,
-	                                 &b->rq1,    &b->rg2,   &b->rq2,  &b->rout};
+	rcache *const c[BAND_NCACHES] = {
+	    &b->raw,   &b->p0,   &b->ppi, &b->guide, &b->out1, &b->guide2, &b->s1.ab, &b->s1.t,
+	    &b->s2.ab, &b->s2.t, &b->rq1, &b->rg2,   &b->rq2,  &b->rout,   &b->rg3,   &b->rq3};
 	memcpy(all, c, sizeof c);
 }
 
@@ -581,19 +615,28 @@ static int setup_band(ic_band *b, const ic_job *j)
 		break;
 	case PC_DM_RATIO:
 	case PC_DM_RATIO_NR:
+	case PC_DM_RATIO_NR3:
 	case PC_DM_RATIO_RI:
-		/* the guide reads raw rows y±2, the ratio pass 2 rows y±1 around it */
-		if (j->method == PC_DM_RATIO_NR) {
+		/* the guide reads raw rows y±2 (ratio-nr3's binomial y±1), each ratio pass 2 rows
+		 * y±1 around it: an output row reads the last pass's rows y±1, which read the pass
+		 * before's y±2, ... (ratio-nr3: the first ratio rows y±3, the guide y±4) */
+		if (j->method == PC_DM_RATIO_NR || j->method == PC_DM_RATIO_NR3) {
 			b->nr = 1;
 			b->shot = (float)j->noise_gain;
 		}
+		b->three = j->method == PC_DM_RATIO_NR3;
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
 		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
 		b->eps_ratio = (float)(PC_RATIO_GUIDE_EPS * j->fs);
-		fail |= rc_init(&b->guide, 8, 1, 1, w, h, fill_eari_guide, b);
-		fail |= rc_init(&b->rq1, 6, 1, 1, w, h, fill_rq1, b);
+		fail |= rc_init(&b->guide, 8, 1, 1, w, h,
+		                b->three ? fill_binomial : fill_eari_guide, b);
+		fail |= rc_init(&b->rq1, b->three ? 8 : 6, 1, 1, w, h, fill_rq1, b);
 		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);
-		fail |= rc_init(&b->rq2, 4, 1, 1, w, h, fill_rq2, b);
+		fail |= rc_init(&b->rq2, b->three ? 6 : 4, 1, 1, w, h, fill_rq2, b);
+		if (b->three) {
+			fail |= rc_init(&b->rg3, 4, 1, 1, w, h, fill_rg3, b);
+			fail |= rc_init(&b->rq3, 4, 1, 1, w, h, fill_rq3, b);
+		}
 		if (j->method != PC_DM_RATIO_RI)
 			break;
 		{
@@ -737,7 +780,8 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			ri_output(&b, b.passes > 1 ? &b.s2.t : &b.s1.t, yy, o);
 			break;
 		case PC_DM_RATIO:
-		case PC_DM_RATIO_NR: {
+		case PC_DM_RATIO_NR:
+		case PC_DM_RATIO_NR3: {
 			/* limited as the row is written (ratio_out_blk), not by limit_row below */
 			const float *r[5], *mm[5];
 			raw_window(&b, yy, r);
@@ -752,7 +796,8 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		default:
 			break;
 		}
-		if (lim && j->method != PC_DM_RATIO && j->method != PC_DM_RATIO_NR) {
+		if (lim && j->method != PC_DM_RATIO && j->method != PC_DM_RATIO_NR &&
+		    j->method != PC_DM_RATIO_NR3) {
 			/* the overshoot limiter (demosaic_robust.c) on the finished row */
 			const float *r[5];
 			raw_window(&b, yy, r);

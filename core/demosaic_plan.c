@@ -443,6 +443,23 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          false,
          PC_DM_RATIO_NR,
          true},
+    [PC_DM_RATIO_NR3] =
+        {{PC_DM_RATIO_NR3, "ratio-nr3",
+          "inter-channel: ratio-nr from the raw's 3x3 binomial as the first guide, in three "
+          "passes (each pass's guide the mean of the one before), overshoot limited; figures "
+          "in docs/demosaicking.md, Round 43b (an evaluation candidate, not yet "
+          "recommended)",
+          "ratio-nr's passes with a third one, and the binomial instead of the EARI guide",
+          "ours: ratio-nr (above); more passes of the ratio's mean as guide, as residual "
+          "interpolation iterates (Kiku et al., IEEE TIP 25(3) 2016; Morimatsu et al., IEEE "
+          "Sensors J. 21(24) 2021)",
+          PC_DMF_MONO | PC_DMF_NOISE_GAIN},
+         {-4, 4, 1, 1},
+         pc_dm_ic,
+         pc_dm_ic_rows,
+         false,
+         PC_DM_RATIO_NR3,
+         true},
     [PC_DM_PAN_RATIO] =
         {{PC_DM_PAN_RATIO, "pan-ratio",
           "colour-polarization: every channel as its pixel's own sample times "

@@ -397,12 +397,29 @@ static double shrunk_guide(const pc_dimg *g, int x, int y, double k)
 	return t > 0 ? g0 + kmu / t * md : g0;
 }
 
-/* The ratio method's two passes into out; *gfin (allocated here, freed by the caller) gets the
+/* ratio-nr3's first guide: the raw's 3×3 binomial, ([1 2 1]ᵀ[1 2 1])/16, which weighs each of
+ * the four analysers 1/4 around every pixel (the pixel, its horizontal pair, its vertical pair,
+ * its four diagonals), so the mean of the four channels' tents: S0/2 where they are linear. */
+static void binomial_guide(const pc_dimg *r, pc_dimg *g)
+{
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++) {
+			double s = 0;
+			for (int dy = -1; dy <= 1; dy++)
+				for (int dx = -1; dx <= 1; dx++)
+					s += (2 - abs(dx)) * (2 - abs(dy)) *
+					     pc_dimg_at(r, x + dx, y + dy);
+			*px(g, x, y) = s / 16;
+		}
+}
+
+/* The ratio method's passes into out; *gfin (allocated here, freed by the caller) gets the
  * mean of the last pass's four channels, the guide a further pass would use. nr: ratio-nr with
- * the noise gain k (the multiplier of each pass is the shrunk guide,
- * shrunk_guide). */
+ * the noise gain k (the multiplier of each pass is the shrunk guide, shrunk_guide). ratio and
+ * ratio-nr: two passes from the EARI guide; ratio-nr3 (binomial): three from binomial_guide
+ * (docs/demosaicking.md, Round 43b). */
 static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr, double k,
-                        const pc_fplane *out, pc_dimg *gfin)
+                        bool binomial, const pc_fplane *out, pc_dimg *gfin)
 {
 	pc_dimg g = {0}, q = {0}, gn = {0};
 	int rc = rimg_new(&g, r->w, r->h);
@@ -415,9 +432,13 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr
 		rimg_free(&q);
 		return rc;
 	}
-	eari_guide(r, m, pc_eari_params.guide_eps * fs, &g);
+	if (binomial)
+		binomial_guide(r, &g);
+	else
+		eari_guide(r, m, pc_eari_params.guide_eps * fs, &g);
 	const double delta = PC_RATIO_OFFSET * fs, e = PC_RATIO_GUIDE_EPS * fs;
-	for (int pass = 0; pass < PC_RATIO_PASSES; pass++) {
+	const int passes = binomial ? PC_RATIO_NR3_PASSES : PC_RATIO_PASSES;
+	for (int pass = 0; pass < passes; pass++) {
 		for (int y = 0; y < r->h; y++)
 			for (int x = 0; x < r->w; x++)
 				*px(&q, x, y) = (pc_dimg_at(r, x, y) + delta) /
@@ -447,10 +468,10 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr
 }
 
 static int ref_ratio(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr, double k,
-                     const pc_fplane *out)
+                     bool binomial, const pc_fplane *out)
 {
 	pc_dimg g = {0};
-	int rc = ratio_passes(r, m, fs, nr, k, out, &g);
+	int rc = ratio_passes(r, m, fs, nr, k, binomial, out, &g);
 	rimg_free(&g);
 	return rc;
 }
@@ -474,7 +495,7 @@ static int ref_ratio_ri(const pc_dimg *r, const pc_mosaic *m, double fs, const p
 	pc_fplane rp[4];
 	for (int c = 0; c < 4; c++)
 		rp[c] = (pc_fplane){rat + (size_t)c * w * h, (size_t)w, 1};
-	int rc = ratio_passes(r, m, fs, false, 0, rp, &g);
+	int rc = ratio_passes(r, m, fs, false, 0, false, rp, &g);
 	if (!rc)
 		rc = rimg_new(&a, w, h);
 	if (!rc)
@@ -533,9 +554,11 @@ static int ref_method(const double *img, uint32_t width, uint32_t height, const 
 	case PC_DM_EARI:
 		return ref_ri(&r, m, full_scale, 1, out);
 	case PC_DM_RATIO:
-		return ref_ratio(&r, m, full_scale, false, 0, out);
+		return ref_ratio(&r, m, full_scale, false, 0, false, out);
 	case PC_DM_RATIO_NR:
-		return ref_ratio(&r, m, full_scale, true, noise_gain, out);
+		return ref_ratio(&r, m, full_scale, true, noise_gain, false, out);
+	case PC_DM_RATIO_NR3:
+		return ref_ratio(&r, m, full_scale, true, noise_gain, true, out);
 	case PC_DM_RATIO_RI:
 		return ref_ratio_ri(&r, m, full_scale, out);
 	case PC_DM_EARI_MLRI:

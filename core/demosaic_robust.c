@@ -36,7 +36,7 @@ int pc_dm_limited(pc_demosaic_method method)
 {
 	return method == PC_DM_BICUBIC || method == PC_DM_PPID || method == PC_DM_RI ||
 	       method == PC_DM_EARI || method == PC_DM_RATIO || method == PC_DM_EARI_ROBUST ||
-	       method == PC_DM_RATIO_RI || method == PC_DM_RATIO_NR;
+	       method == PC_DM_RATIO_RI || method == PC_DM_RATIO_NR || method == PC_DM_RATIO_NR3;
 }
 
 int pc_dm_limiter_init(pc_dm_limiter *l, long w, pc_cpu_level level)

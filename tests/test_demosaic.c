@@ -169,7 +169,8 @@ static const pc_demosaic_method mono_methods[] = {PC_DM_SUPERPIXEL_HALF,
                                                   PC_DM_IGRI2,
                                                   PC_DM_NEWTON,
                                                   PC_DM_RATIO_RI,
-                                                  PC_DM_RATIO_NR};
+                                                  PC_DM_RATIO_NR,
+                                                  PC_DM_RATIO_NR3};
 #define N_MONO (sizeof mono_methods / sizeof mono_methods[0])
 
 /* Fast vs reference on a random texture, all four phases. */
@@ -361,8 +362,9 @@ static void test_polynomials(void)
 		for (uint32_t x = 0; x < W; x++)
 			PC_ROW(&raw, float, y)
 	[x] = (float)(k4[pc_mosaic_channel(&m, x, y)] * (500 + 10.0 * x + 7.0 * y));
-	const pc_demosaic_method ic[] = {PC_DM_PPID,  PC_DM_RI,       PC_DM_EARI,
-	                                 PC_DM_RATIO, PC_DM_RATIO_RI, PC_DM_RATIO_NR};
+	const pc_demosaic_method ic[] = {PC_DM_PPID,     PC_DM_RI,       PC_DM_EARI,
+	                                 PC_DM_RATIO,    PC_DM_RATIO_RI, PC_DM_RATIO_NR,
+	                                 PC_DM_RATIO_NR3};
 	for (size_t k = 0; k < sizeof ic / sizeof ic[0]; k++) {
 		pc_fplane o[4];
 		float *buf = alloc_planes(W, H, 4, o);
@@ -2297,7 +2299,8 @@ static void test_streaming_outputs(void)
 	streaming_raw(&raw, 148, 60, 0.02, 0.03, 255, &r);
 	pc_mosaic m = pc_mosaic_imx250mzr();
 	const pc_demosaic_method meths[] = {PC_DM_BILINEAR, PC_DM_BICUBIC,  PC_DM_PPID,
-	                                    PC_DM_RATIO,    PC_DM_RATIO_NR, PC_DM_RATIO_RI};
+	                                    PC_DM_RATIO,    PC_DM_RATIO_NR, PC_DM_RATIO_RI,
+	                                    PC_DM_RATIO_NR3};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
 		streamed_same(&raw, &m, meths[k], 4, 0);
 		streamed_same(&raw, &m, meths[k], 4, 1);

@@ -14,9 +14,9 @@
 
 enum { W = 48, H = 40 };
 
-static const pc_demosaic_method limited[] = {PC_DM_BICUBIC,  PC_DM_PPID,    PC_DM_RI,
-                                             PC_DM_EARI,     PC_DM_RATIO,   PC_DM_EARI_ROBUST,
-                                             PC_DM_RATIO_RI, PC_DM_RATIO_NR};
+static const pc_demosaic_method limited[] = {PC_DM_BICUBIC,  PC_DM_PPID,     PC_DM_RI,
+                                             PC_DM_EARI,     PC_DM_RATIO,    PC_DM_EARI_ROBUST,
+                                             PC_DM_RATIO_RI, PC_DM_RATIO_NR, PC_DM_RATIO_NR3};
 #define N_LIM (sizeof limited / sizeof limited[0])
 
 static uint64_t rng = 88172645463325252ull;

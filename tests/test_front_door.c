@@ -79,6 +79,7 @@ static const support supports[] = {
                                              * through the edge classifier's branch */
     {PC_DM_RATIO_RI, -9, 9, 1, 1, 0},       /* ratio ±4, two ±2 windows of its mean, tent */
     {PC_DM_RATIO_NR, -4, 4, 1, 1, 0},       /* ratio's; the 3×3 guide statistics inside */
+    {PC_DM_RATIO_NR3, -4, 4, 1, 1, 0},      /* binomial ±1, then three 3×3 passes */
     {PC_DM_PAN_RATIO, -7, 7, 1, 1, 2},      /* ±5 inside; ±7 through the sub-image mirror */
     {PC_DM_PAN_GUIDED, -7, 7, 1, 1, 2},     /* the same (its weights read the PPI's ±5) */
     {PC_DM_PAN_CHROMA, -7, 7, 1, 1, 2},     /* the same (C1 and C2 read as the PPI) */
@@ -350,6 +351,7 @@ static void test_black_level(void)
 	                                    PC_DM_EARI,
 	                                    PC_DM_RATIO,
 	                                    PC_DM_RATIO_NR,
+	                                    PC_DM_RATIO_NR3,
 	                                    PC_DM_RATIO_RI,
 	                                    PC_DM_BAYER_FIRST,
 	                                    PC_DM_BAYER_EARI};
@@ -562,6 +564,7 @@ static void test_calibrated_vs_reference(void)
 	    {PC_DM_RATIO, 2, 0},
 	    {PC_DM_RATIO, 1, 1},
 	    {PC_DM_RATIO_NR, 1, 0},
+	    {PC_DM_RATIO_NR3, 1, 0},
 	    {PC_DM_RATIO_RI, 2, 0},
 	    {PC_DM_EARI, 0, 0},
 	    {PC_DM_BICUBIC, 1, 0},

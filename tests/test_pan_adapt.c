@@ -750,7 +750,7 @@ static void test_given_gain_api(void)
 	for (int k = 0; k < PC_DM_COUNT; k++)
 		CHECK(!(pc_demosaic_method_get((pc_demosaic_method)k)->flags & PC_DMF_NOISE_GAIN) ==
 		      (k != PC_DM_PAN_ADAPT && k != PC_DM_PAN_GUARD && k != PC_DM_PAN_LEAN &&
-		       k != PC_DM_RATIO_NR));
+		       k != PC_DM_RATIO_NR && k != PC_DM_RATIO_NR3));
 	/* every flagged colour method has the paths that take the gain (the front door refuses
 	 * one without them: it estimates the gain once and passes it) */
 	for (int k = 0; k < PC_DM_COUNT; k++)

@@ -287,9 +287,9 @@ static void test_fused_ic(void)
 	size_t n = (size_t)W * H;
 	float *a = malloc(sizeof(float) * n * 5), *b = malloc(sizeof(float) * n * 5),
 	      *ch = malloc(sizeof(float) * n * 4);
-	const pc_demosaic_method meths[] = {PC_DM_BICUBIC, PC_DM_PPID,  PC_DM_RI,
-	                                    PC_DM_EARI,    PC_DM_RATIO, PC_DM_RATIO_NR,
-	                                    PC_DM_RATIO_RI};
+	const pc_demosaic_method meths[] = {PC_DM_BICUBIC,  PC_DM_PPID,     PC_DM_RI,
+	                                    PC_DM_EARI,     PC_DM_RATIO,    PC_DM_RATIO_NR,
+	                                    PC_DM_RATIO_RI, PC_DM_RATIO_NR3};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
 		pc_stokes_out sa, sb;
 		pc_fplane *pa[5] = {&sa.s0, &sa.s1, &sa.s2, &sa.dolp, &sa.aolp};

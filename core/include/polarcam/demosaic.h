@@ -82,6 +82,7 @@ typedef enum pc_demosaic_method {
 	PC_DM_PAN_LEAN,    /* colour only: plain pan tents with noise- and texture-aware side
 	                    * factors, each output blended towards the plain tents within the
 	                    * noise (ours) */
+	PC_DM_RATIO_NR3,   /* ratio-nr from a binomial guide in three passes (ours) */
 	PC_DM_COUNT
 } pc_demosaic_method;
 
