@@ -446,10 +446,18 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
     [PC_DM_RATIO_NR3] =
         {{PC_DM_RATIO_NR3, "ratio-nr3",
           "inter-channel: ratio-nr from the raw's 3x3 binomial as the first guide, in three "
-          "passes (each pass's guide the mean of the one before), overshoot limited; figures "
-          "in docs/demosaicking.md, Round 43b (an evaluation candidate, not yet "
-          "recommended)",
-          "ratio-nr's passes with a third one, and the binomial instead of the EARI guide",
+          "passes (each pass's guide the mean of the one before, carrying more of a pixel's "
+          "own sample into its other channels), overshoot limited; mean (worst): Lapray "
+          "+3.68/+1.89 (+1.43/+0.21), Zhang +3.84/+4.19 (+2.96/+4.03), stress +4.94/+1.81 "
+          "(+1.74/+0.16); held-out (scenes/heldout, 12) +4.58/+1.58 (+2.17/+0.28); through a "
+          "lens (scenes/stress/optics, PSF sigma 0.7 px) +7.21/+2.98 (+1.86/+0.05); at "
+          "+12/+24 dB gain (scenes/stress/gain, 6) +3.15/+1.00 (-0.10/+0.48); mono-sealed "
+          "(already used: a secondary figure) +3.99/+2.48 (+1.44/+0.55), through a lens "
+          "+6.96/+4.72 (+1.82/+0.43); an evaluation candidate, not recommended (over the "
+          "budget; docs/demosaicking.md, Round 43b)",
+          "ratio-nr's passes with a third one, the binomial instead of the EARI guide: "
+          "1.09-1.12x ratio-nr's time, 5.0-5.6x bilinear's in the dev machine's fast-memory "
+          "regime (four runs, Round 43b): over the 5x budget there",
           "ours: ratio-nr (above); more passes of the ratio's mean as guide, as residual "
           "interpolation iterates (Kiku et al., IEEE TIP 25(3) 2016; Morimatsu et al., IEEE "
           "Sensors J. 21(24) 2021)",
