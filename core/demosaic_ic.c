@@ -78,8 +78,6 @@ typedef struct pc_ic_kernels {
 	                     const float *restrict, const float *restrict, const float *restrict,
 	                     const float *restrict, const float *restrict, const float *const[5],
 	                     float, float, float, long);
-	void (*binomial)(float *restrict, const float *restrict, const float *restrict,
-	                 const float *restrict, long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -318,15 +316,6 @@ static void fill_eari_guide(rcache *c, int y, float *const *rows)
 		r[i] = rc_get(&b->raw, y - 2 + i)[0];
 	b->k->eari_guide(rows[0], r, ortho_kind(b->m, 0, y), ortho_kind(b->m, 1, y), b->eps_guide,
 	                 0, c->w);
-}
-
-/* ratio-nr3's first guide: the raw's 3×3 binomial (demosaic_ref.c, binomial_guide) */
-static void fill_binomial(rcache *c, int y, float *const *rows)
-{
-	ic_band *b = c->ctx;
-	const float *a = rc_get(&b->raw, y - 1)[0], *m = rc_get(&b->raw, y)[0],
-	            *d = rc_get(&b->raw, y + 1)[0];
-	b->k->binomial(rows[0], a, m, d, c->w);
 }
 
 /* Guided-filter coefficients of row k for the four channels: planes 0..3 = a_c, 4..7 = b_c. */
@@ -628,8 +617,7 @@ static int setup_band(ic_band *b, const ic_job *j)
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);
 		b->delta = (float)(PC_RATIO_OFFSET * j->fs);
 		b->eps_ratio = (float)(PC_RATIO_GUIDE_EPS * j->fs);
-		fail |= rc_init(&b->guide, 8, 1, 1, w, h,
-		                b->three ? fill_binomial : fill_eari_guide, b);
+		fail |= rc_init(&b->guide, 8, 1, 1, w, h, b->three ? fill_p0 : fill_eari_guide, b);
 		fail |= rc_init(&b->rq1, b->three ? 8 : 6, 1, 1, w, h, fill_rq1, b);
 		fail |= rc_init(&b->rg2, 6, 1, 1, w, h, fill_rg2, b);
 		fail |= rc_init(&b->rq2, b->three ? 6 : 4, 1, 1, w, h, fill_rq2, b);

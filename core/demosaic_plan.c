@@ -458,9 +458,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "ratio-nr's passes with a third one, the binomial instead of the EARI guide: "
           "1.09-1.12x ratio-nr's time, 5.0-5.6x bilinear's in the dev machine's fast-memory "
           "regime (four runs, Round 43b): over the 5x budget there",
-          "ours: ratio-nr (above); more passes of the ratio's mean as guide, as residual "
-          "interpolation iterates (Kiku et al., IEEE TIP 25(3) 2016; Morimatsu et al., IEEE "
-          "Sensors J. 21(24) 2021)",
+          "ours: ratio-nr (above) from PPID's pseudo-panchromatic image (Mihoubi et al., "
+          "IEEE TCI 3(4) 2017) as the first guide; more passes of the ratio's mean as guide, "
+          "as residual interpolation iterates (Kiku et al., IEEE TIP 25(3) 2016; Morimatsu et "
+          "al., IEEE Sensors J. 21(24) 2021)",
           PC_DMF_MONO | PC_DMF_NOISE_GAIN},
          {-4, 4, 1, 1},
          pc_dm_ic,

@@ -397,27 +397,12 @@ static double shrunk_guide(const pc_dimg *g, int x, int y, double k)
 	return t > 0 ? g0 + kmu / t * md : g0;
 }
 
-/* ratio-nr3's first guide: the raw's 3×3 binomial, ([1 2 1]ᵀ[1 2 1])/16, which weighs each of
- * the four analysers 1/4 around every pixel (the pixel, its horizontal pair, its vertical pair,
- * its four diagonals), so the mean of the four channels' tents: S0/2 where they are linear. */
-static void binomial_guide(const pc_dimg *r, pc_dimg *g)
-{
-	for (int y = 0; y < r->h; y++)
-		for (int x = 0; x < r->w; x++) {
-			double s = 0;
-			for (int dy = -1; dy <= 1; dy++)
-				for (int dx = -1; dx <= 1; dx++)
-					s += (2 - abs(dx)) * (2 - abs(dy)) *
-					     pc_dimg_at(r, x + dx, y + dy);
-			*px(g, x, y) = s / 16;
-		}
-}
-
 /* The ratio method's passes into out; *gfin (allocated here, freed by the caller) gets the
  * mean of the last pass's four channels, the guide a further pass would use. nr: ratio-nr with
  * the noise gain k (the multiplier of each pass is the shrunk guide, shrunk_guide). ratio and
- * ratio-nr: two passes from the EARI guide; ratio-nr3 (binomial): three from binomial_guide
- * (docs/demosaicking.md, Round 43b). */
+ * ratio-nr: two passes from the EARI guide; ratio-nr3 (binomial): three from the raw's 3×3
+ * binomial ([1 2 1]ᵀ[1 2 1]/16, ppi_coarse: each analyser 1/4 around every pixel, the mean of
+ * the four channels' tents; docs/demosaicking.md, Round 43b). */
 static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr, double k,
                         bool binomial, const pc_fplane *out, pc_dimg *gfin)
 {
@@ -432,8 +417,9 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr
 		rimg_free(&q);
 		return rc;
 	}
-	if (binomial)
-		binomial_guide(r, &g);
+	if (binomial) /* ratio-nr3: the raw's 3×3 binomial, PPID's coarse pseudo-panchromatic image
+	               */
+		ppi_coarse(r, &g);
 	else
 		eari_guide(r, m, pc_eari_params.guide_eps * fs, &g);
 	const double delta = PC_RATIO_OFFSET * fs, e = PC_RATIO_GUIDE_EPS * fs;
