@@ -95,6 +95,7 @@ typedef struct pc_ic_kernels {
  * sums unroll and vectorise; the parameter tables must agree. */
 #define PC_GF_R 2
 _Static_assert(PC_RATIO_PASSES == 2, "the ratio method's row caches are written for two passes");
+_Static_assert(PC_RATIO_NR3_PASSES == 3, "ratio-nr3's row caches are written for three passes");
 _Static_assert(PC_GF_R == 2, "the kernels' window sums are written for radius 2");
 #define KFN(name) name##_base
 #define KATTR
@@ -437,57 +438,58 @@ static void fill_guide2(rcache *c, int y, float *const *rows)
 }
 
 /* ---- ratio method ---- */
+/* q = (raw + δ)/(guide + δ) of row y, the guide from cache gc (a pass's ratios) */
+static void ratio_q_row(ic_band *b, rcache *gc, int y, float *row, long w)
+{
+	const float *g = rc_get(gc, y)[0];
+	const float *r = rc_get(&b->raw, y)[0];
+	b->k->ratio_q(row, r, g, b->delta, 0, w);
+}
+
+/* The next pass's guide of row y: the mean of the four channels of the pass whose ratios and
+ * guide are in the caches q and gd (ratio-nr: its noise-aware multiplier) */
+static void ratio_mean_row(ic_band *b, rcache *q, rcache *gd, int y, float *row, long w)
+{
+	/* other caches first: their fills may evict rows (pointers would dangle) */
+	const float *qa = rc_get(q, y - 1)[0], *qb = rc_get(q, y)[0], *qc = rc_get(q, y + 1)[0];
+	const float *ga = rc_get(gd, y - 1)[0], *g = rc_get(gd, y)[0], *gc = rc_get(gd, y + 1)[0];
+	const float *r = rc_get(&b->raw, y)[0];
+	if (b->nr)
+		b->k->ratio_mean_nr(row, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->shot,
+		                    w);
+	else
+		b->k->ratio_mean(row, r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, w);
+}
+
+/* the first pass's ratios, the second pass's guide and ratios; ratio-nr3's third pass */
 static void fill_rq1(rcache *c, int y, float *const *rows)
 {
 	ic_band *b = c->ctx;
-	const float *g = rc_get(&b->guide, y)[0];
-	const float *r = rc_get(&b->raw, y)[0];
-	b->k->ratio_q(rows[0], r, g, b->delta, 0, c->w);
+	ratio_q_row(b, &b->guide, y, rows[0], c->w);
 }
 
 static void fill_rg2(rcache *c, int y, float *const *rows)
 {
 	ic_band *b = c->ctx;
-	/* other caches first: their fills may evict rows (pointers would dangle) */
-	const float *qa = rc_get(&b->rq1, y - 1)[0], *qb = rc_get(&b->rq1, y)[0],
-	            *qc = rc_get(&b->rq1, y + 1)[0];
-	const float *ga = rc_get(&b->guide, y - 1)[0], *g = rc_get(&b->guide, y)[0],
-	            *gc = rc_get(&b->guide, y + 1)[0];
-	const float *r = rc_get(&b->raw, y)[0];
-	if (b->nr)
-		b->k->ratio_mean_nr(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio,
-		                    b->shot, c->w);
-	else
-		b->k->ratio_mean(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, c->w);
+	ratio_mean_row(b, &b->rq1, &b->guide, y, rows[0], c->w);
 }
 
 static void fill_rq2(rcache *c, int y, float *const *rows)
 {
 	ic_band *b = c->ctx;
-	const float *g = rc_get(&b->rg2, y)[0];
-	const float *r = rc_get(&b->raw, y)[0];
-	b->k->ratio_q(rows[0], r, g, b->delta, 0, c->w);
+	ratio_q_row(b, &b->rg2, y, rows[0], c->w);
 }
 
-/* ratio-nr3's third guide: the mean of the second pass's channels (as fill_rg2 of the first's) */
 static void fill_rg3(rcache *c, int y, float *const *rows)
 {
 	ic_band *b = c->ctx;
-	const float *qa = rc_get(&b->rq2, y - 1)[0], *qb = rc_get(&b->rq2, y)[0],
-	            *qc = rc_get(&b->rq2, y + 1)[0];
-	const float *ga = rc_get(&b->rg2, y - 1)[0], *g = rc_get(&b->rg2, y)[0],
-	            *gc = rc_get(&b->rg2, y + 1)[0];
-	const float *r = rc_get(&b->raw, y)[0];
-	b->k->ratio_mean_nr(rows[0], r, ga, g, gc, qa, qb, qc, b->delta, b->eps_ratio, b->shot,
-	                    c->w);
+	ratio_mean_row(b, &b->rq2, &b->rg2, y, rows[0], c->w);
 }
 
 static void fill_rq3(rcache *c, int y, float *const *rows)
 {
 	ic_band *b = c->ctx;
-	const float *g = rc_get(&b->rg3, y)[0];
-	const float *r = rc_get(&b->raw, y)[0];
-	b->k->ratio_q(rows[0], r, g, b->delta, 0, c->w);
+	ratio_q_row(b, &b->rg3, y, rows[0], c->w);
 }
 
 /* The ratio method's row y into o; mm: the limiter's ranges of rows y−2..y+2

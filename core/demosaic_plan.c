@@ -38,6 +38,10 @@
  * y), measured reach 35-40 on random data (tests/test_front_door.c); newton ±10 (stage one
  * ±3, its diagonal classifier over ±2 of that; stage two reads stage one at ±3 across and
  * classifies over ±2: 3 + 5 + 2). */
+/* The prefix of each monochrome method's figures on the unseen set (Round 43) */
+#define PC_UNSEEN                                                                                  \
+	"; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "      \
+	"monochrome sensor) "
 #define MLRI_LO   -16
 #define MLRI_HI   16
 #define PCDP_LO   -2
@@ -111,9 +115,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "accuracy; mean (worst): Lapray -7.74/-7.12 (-9.33/-9.35), Zhang "
           "-6.24/-6.39 (-6.61/-6.81), stress -3.36/-1.92 (-4.28/-4.75)"
           "; held-out (scenes/heldout, 12) -2.81/-1.61 (-5.53/-3.40); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) -5.67/-3.33 (-7.16/-5.94)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) -2.75/-1.85 (-5.32/-4.39), through a lens -5.45/-3.56 (-8.45/-7.66)",
+          "(scenes/stress/optics, PSF sigma 0.7 px) -5.67/-3.33 (-7.16/-5.94)" PC_UNSEEN
+          "-2.75/-1.85 (-5.32/-4.39), through a lens -5.45/-3.56 (-8.45/-7.66)",
           "memory-bound, like a copy", "the 2x2 super-pixel replicated over its block",
           PC_DMF_MONO},
          {0, 1, 2, 1},
@@ -141,9 +144,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "bilinear, mean (worst scene): Lapray +1.72/+0.82 (+0.46/+0.00), Zhang "
           "+1.10/+1.17 (+0.78/+0.98), stress +0.18/-0.17 (+0.01/-0.83)"
           "; held-out (scenes/heldout, 12) +0.32/-0.28 (-0.16/-0.93); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +1.17/+0.77 (+0.39/-0.34)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +0.19/-0.09 (-0.26/-0.70), through a lens +1.34/+1.42 (+0.46/-0.46)",
+          "(scenes/stress/optics, PSF sigma 0.7 px) +1.17/+0.77 (+0.39/-0.34)" PC_UNSEEN
+          "+0.19/-0.09 (-0.26/-0.70), through a lens +1.34/+1.42 (+0.46/-0.46)",
           "7x7 neighbourhood, separable; about 1.2-1.3x bilinear's time",
           "Keys cubic convolution (a = -1/2) per channel, as in Gao & Gruev 2011", PC_DMF_MONO},
          {-3, 3, 1, 1},
@@ -152,66 +154,61 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          false,
          PC_DM_BICUBIC,
          false},
-    [PC_DM_PPID] =
-        {{PC_DM_PPID, "ppid",
-          "inter-channel: differences to an edge-aware pseudo-panchromatic image, "
-          "overshoot limited; mean (worst): Lapray -0.02/-0.20 (-3.19/-1.44), Zhang "
-          "+4.71/+3.11 (+4.71/+2.79), stress +3.57/+1.64 (+0.39/-0.13); noisy stress "
-          "low exposure +0.43/+1.57 (-3.98/+0.04: needs denoising in low light)"
-          "; held-out (scenes/heldout, 12) +4.33/+1.76 (+0.80/+0.04); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +3.02/+2.38 (-3.36/-1.25)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +4.61/+1.80 (+0.59/+0.38), through a lens +4.40/+2.86 (-2.28/-0.68)",
-          "5x5 neighbourhood, three fused passes; about 3.5x bilinear's time",
-          "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
-          "Lapray, Bigue, Sensors 18(11) 3688, 2018",
-          PC_DMF_MONO},
-         {-4, 4, 1, 1},
-         pc_dm_ic,
-         pc_dm_ic_rows,
-         false,
-         PC_DM_PPID,
-         false},
-    [PC_DM_RI] =
-        {{PC_DM_RI, "ri",
-          "inter-channel: guided-filter tentative estimates plus interpolated "
-          "residuals, overshoot limited; mean (worst): Lapray +1.21/+1.08 "
-          "(-0.52/+0.16), Zhang +3.78/+3.01 (+3.24/+2.97), stress +3.88/+1.11 "
-          "(+1.32/-0.29)"
-          "; held-out (scenes/heldout, 12) +4.71/+1.23 (+0.58/-0.08); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +4.58/+1.78 (+0.66/-1.83)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +4.77/+1.63 (+1.17/+0.18), through a lens +4.79/+2.87 (-0.84/+0.11)",
-          "guided filters (5x5 windows) per channel; about 11x bilinear's time",
-          "Kiku, Monno, Tanaka, Okutomi, ICIP 2013; for DoFP: Ahmed, Zhao, Gruev, "
-          "Zhang, Bermak, Opt. Express 25(9) 2017",
-          PC_DMF_MONO},
-         {-8, 8, 1, 1},
-         pc_dm_ic,
-         pc_dm_ic_rows,
-         false,
-         PC_DM_RI,
-         false},
-    [PC_DM_EARI] =
-        {{PC_DM_EARI, "eari",
-          "inter-channel: residual interpolation guided by an edge-aware "
-          "intensity image (our detector), overshoot limited; mean (worst): Lapray "
-          "+3.37/+1.90 (+1.32/+0.34), Zhang +3.46/+3.32 (+2.79/+3.01), stress "
-          "+2.88/+1.04 (+1.51/-0.14); noisy stress high/mid/low exposure worst S0/DoLP "
-          "+1.97/-0.01, +1.32/-0.03, +0.05/-0.06 (no denoising needed)"
-          "; held-out (scenes/heldout, 12) +4.03/+1.10 (+0.77/-0.06); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +5.04/+2.42 (+1.87/+0.05)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +2.98/+1.11 (+1.05/+0.12), through a lens +4.68/+2.90 (+1.09/+0.10)",
-          "like ri plus an edge-aware guide pass; 9.5-14.6x bilinear's time "
-          "over twenty runs (median 12.5x; AVX-512, 2026-12-06, Round 30)",
-          "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292)", PC_DMF_MONO},
-         {-7, 7, 1, 1},
-         pc_dm_ic,
-         pc_dm_ic_rows,
-         false,
-         PC_DM_EARI,
-         false},
+    [PC_DM_PPID] = {{PC_DM_PPID, "ppid",
+                     "inter-channel: differences to an edge-aware pseudo-panchromatic image, "
+                     "overshoot limited; mean (worst): Lapray -0.02/-0.20 (-3.19/-1.44), Zhang "
+                     "+4.71/+3.11 (+4.71/+2.79), stress +3.57/+1.64 (+0.39/-0.13); noisy stress "
+                     "low exposure +0.43/+1.57 (-3.98/+0.04: needs denoising in low light)"
+                     "; held-out (scenes/heldout, 12) +4.33/+1.76 (+0.80/+0.04); through a lens "
+                     "(scenes/stress/optics, PSF sigma 0.7 px) +3.02/+2.38 (-3.36/-1.25)" PC_UNSEEN
+                     "+4.61/+1.80 (+0.59/+0.38), through a lens +4.40/+2.86 (-2.28/-0.68)",
+                     "5x5 neighbourhood, three fused passes; about 3.5x bilinear's time",
+                     "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
+                     "Lapray, Bigue, Sensors 18(11) 3688, 2018",
+                     PC_DMF_MONO},
+                    {-4, 4, 1, 1},
+                    pc_dm_ic,
+                    pc_dm_ic_rows,
+                    false,
+                    PC_DM_PPID,
+                    false},
+    [PC_DM_RI] = {{PC_DM_RI, "ri",
+                   "inter-channel: guided-filter tentative estimates plus interpolated "
+                   "residuals, overshoot limited; mean (worst): Lapray +1.21/+1.08 "
+                   "(-0.52/+0.16), Zhang +3.78/+3.01 (+3.24/+2.97), stress +3.88/+1.11 "
+                   "(+1.32/-0.29)"
+                   "; held-out (scenes/heldout, 12) +4.71/+1.23 (+0.58/-0.08); through a lens "
+                   "(scenes/stress/optics, PSF sigma 0.7 px) +4.58/+1.78 (+0.66/-1.83)" PC_UNSEEN
+                   "+4.77/+1.63 (+1.17/+0.18), through a lens +4.79/+2.87 (-0.84/+0.11)",
+                   "guided filters (5x5 windows) per channel; about 11x bilinear's time",
+                   "Kiku, Monno, Tanaka, Okutomi, ICIP 2013; for DoFP: Ahmed, Zhao, Gruev, "
+                   "Zhang, Bermak, Opt. Express 25(9) 2017",
+                   PC_DMF_MONO},
+                  {-8, 8, 1, 1},
+                  pc_dm_ic,
+                  pc_dm_ic_rows,
+                  false,
+                  PC_DM_RI,
+                  false},
+    [PC_DM_EARI] = {{PC_DM_EARI, "eari",
+                     "inter-channel: residual interpolation guided by an edge-aware "
+                     "intensity image (our detector), overshoot limited; mean (worst): Lapray "
+                     "+3.37/+1.90 (+1.32/+0.34), Zhang +3.46/+3.32 (+2.79/+3.01), stress "
+                     "+2.88/+1.04 (+1.51/-0.14); noisy stress high/mid/low exposure worst S0/DoLP "
+                     "+1.97/-0.01, +1.32/-0.03, +0.05/-0.06 (no denoising needed)"
+                     "; held-out (scenes/heldout, 12) +4.03/+1.10 (+0.77/-0.06); through a lens "
+                     "(scenes/stress/optics, PSF sigma 0.7 px) +5.04/+2.42 (+1.87/+0.05)" PC_UNSEEN
+                     "+2.98/+1.11 (+1.05/+0.12), through a lens +4.68/+2.90 (+1.09/+0.10)",
+                     "like ri plus an edge-aware guide pass; 9.5-14.6x bilinear's time "
+                     "over twenty runs (median 12.5x; AVX-512, 2026-12-06, Round 30)",
+                     "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292)",
+                     PC_DMF_MONO},
+                    {-7, 7, 1, 1},
+                    pc_dm_ic,
+                    pc_dm_ic_rows,
+                    false,
+                    PC_DM_EARI,
+                    false},
     [PC_DM_BAYER_FIRST] = {{PC_DM_BAYER_FIRST, "bayer-first",
                             "colour-polarization: bilinear Bayer demosaicking of each analyser "
                             "sub-image, then bilinear up-sampling of the analysers; the colour "
@@ -265,9 +262,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "+1.22, -1.56: needs denoising in low light, brightest tenth ~1 % of full scale); "
           "ratio-nr keeps its speed and holds in low light"
           "; held-out (scenes/heldout, 12) +4.59/+1.69 (+2.36/+0.37); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +5.48/+3.12 (-0.59/+0.70)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +3.88/+2.32 (+0.72/+0.75), through a lens +5.91/+4.97 (+0.43/+0.84)",
+          "(scenes/stress/optics, PSF sigma 0.7 px) +5.48/+3.12 (-0.59/+0.70)" PC_UNSEEN
+          "+3.88/+2.32 (+0.72/+0.75), through a lens +5.91/+4.97 (+0.43/+0.84)",
           "the guide pass plus two ratio passes (3x3 guided tents); about 5x "
           "bilinear's time (one thread)",
           "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
@@ -288,9 +284,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(+3.14/+3.75), stress +5.24/+1.78 (+1.20/+0.44); held-out "
           "(scenes/heldout, 12) +4.38/+1.57 (+2.68/+0.05); through a lens (scenes/stress/optics, "
           "PSF sigma 0.7 px) +6.17/+3.09 (-1.41/-0.29) (before Round 38's exact "
-          "box sums of zeros: stress DoLP +1.09, worst -4.58 on gloss's black)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +4.16/+1.43 (+0.83/+0.06), through a lens +6.51/+2.86 (-0.16/-1.63)",
+          "box sums of zeros: stress DoLP +1.09, worst -4.58 on gloss's black)" PC_UNSEEN
+          "+4.16/+1.43 (+0.83/+0.06), through a lens +6.51/+2.86 (-0.16/-1.63)",
           "multi-pass float path, ~22 planes; about 500x bilinear's CPU time (not "
           "within budget)",
           "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292) and their "
@@ -310,9 +305,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "stress +5.35/+2.29 (+1.87/+0.59); noisy stress low exposure +2.12/+1.28 "
           "(-2.09/+0.49: needs denoising in low light)"
           "; held-out (scenes/heldout, 12) +4.36/+1.73 (+1.78/+0.21); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +6.05/+3.14 (-0.93/+0.51)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +3.93/+2.02 (+0.89/+0.46), through a lens +5.92/+3.17 (+0.26/+0.60)",
+          "(scenes/stress/optics, PSF sigma 0.7 px) +6.05/+3.14 (-0.93/+0.51)" PC_UNSEEN
+          "+3.93/+2.02 (+0.89/+0.46), through a lens +5.92/+3.17 (+0.26/+0.60)",
           "eari-mlri's cost plus one 5x5 min/max pass: about 500x bilinear's CPU "
           "time (not within the 5x budget)",
           "ours: Morimatsu et al. ICIP 2020's guide and Kiku et al. TIP 2016's "
@@ -324,47 +318,43 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          false,
          PC_DM_EARI_ROBUST,
          false},
-    [PC_DM_PCDP] =
-        {{PC_DM_PCDP, "pcdp",
-          "anchor: residual interpolation with the other channels' bilinear "
-          "estimates as guide, the orthogonal one weighted sqrt(2); mean (worst): "
-          "Lapray +3.01/+0.78 (+0.97/-0.54), Zhang +3.88/+4.01 (+3.08/+3.78), stress "
-          "+2.58/+0.76 (+1.32/-0.89)"
-          "; held-out (scenes/heldout, 12) +2.30/+1.35 (+1.35/-0.07); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +4.08/+2.25 (-0.32/+0.95)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +2.47/+1.00 (+0.92/-1.75), through a lens +4.73/+2.42 (+0.31/-3.08)",
-          "four bilinear planes plus four residual tents",
-          "Wu et al., Opt. Express 29(14) 2021 (polarization channel difference prior)",
-          PC_DMF_MONO},
-         {PCDP_LO, PCDP_HI, 1, 1},
-         pc_dm_pcdp_fast,
-         NULL,
-         false,
-         PC_DM_PCDP,
-         false},
-    [PC_DM_IGRI2] =
-        {{PC_DM_IGRI2, "igri2",
-          "anchor: residual interpolation on the rotated diagonal lattices, then "
-          "across them, then MLRI with the mean as guide; mean (worst): Lapray "
-          "+2.91/+1.41 (-0.50/-0.72), Zhang +5.80/+4.47 (+5.24/+4.45), stress "
-          "+5.72/+0.93 (+0.81/-0.93); held-out (scenes/heldout, 12) "
-          "+5.20/+1.23 (+1.74/+0.11); through a lens (scenes/stress/optics, PSF sigma "
-          "0.7 px) +5.97/+2.66 (-2.63/-1.40) (before Round 38's exact box sums of "
-          "zeros in its MLRI step: stress DoLP -0.13, worst -7.74 on gloss's "
-          "black); unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes "
-          "through the monochrome sensor) +5.74/+1.25 (+0.84/-0.46), through a lens "
-          "+7.65/+3.06 (-1.29/-3.22)",
-          "the double reference (no fast path yet): hundreds of times bilinear",
-          "Morimatsu, Monno, Tanaka, Okutomi, IEEE Sensors J. 21(24) 2021 (IGRI2) and "
-          "their release",
-          PC_DMF_MONO | PC_DMF_REFERENCE_ONLY},
-         {IGRI_LO, IGRI_HI, 1, 1},
-         NULL,
-         NULL,
-         false,
-         PC_DM_IGRI2,
-         false},
+    [PC_DM_PCDP] = {{PC_DM_PCDP, "pcdp",
+                     "anchor: residual interpolation with the other channels' bilinear "
+                     "estimates as guide, the orthogonal one weighted sqrt(2); mean (worst): "
+                     "Lapray +3.01/+0.78 (+0.97/-0.54), Zhang +3.88/+4.01 (+3.08/+3.78), stress "
+                     "+2.58/+0.76 (+1.32/-0.89)"
+                     "; held-out (scenes/heldout, 12) +2.30/+1.35 (+1.35/-0.07); through a lens "
+                     "(scenes/stress/optics, PSF sigma 0.7 px) +4.08/+2.25 (-0.32/+0.95)" PC_UNSEEN
+                     "+2.47/+1.00 (+0.92/-1.75), through a lens +4.73/+2.42 (+0.31/-3.08)",
+                     "four bilinear planes plus four residual tents",
+                     "Wu et al., Opt. Express 29(14) 2021 (polarization channel difference prior)",
+                     PC_DMF_MONO},
+                    {PCDP_LO, PCDP_HI, 1, 1},
+                    pc_dm_pcdp_fast,
+                    NULL,
+                    false,
+                    PC_DM_PCDP,
+                    false},
+    [PC_DM_IGRI2] = {{PC_DM_IGRI2, "igri2",
+                      "anchor: residual interpolation on the rotated diagonal lattices, then "
+                      "across them, then MLRI with the mean as guide; mean (worst): Lapray "
+                      "+2.91/+1.41 (-0.50/-0.72), Zhang +5.80/+4.47 (+5.24/+4.45), stress "
+                      "+5.72/+0.93 (+0.81/-0.93); held-out (scenes/heldout, 12) "
+                      "+5.20/+1.23 (+1.74/+0.11); through a lens (scenes/stress/optics, PSF sigma "
+                      "0.7 px) +5.97/+2.66 (-2.63/-1.40) (before Round 38's exact box sums of "
+                      "zeros in its MLRI step: stress DoLP -0.13, worst -7.74 on gloss's "
+                      "black)" PC_UNSEEN "+5.74/+1.25 (+0.84/-0.46), through a lens "
+                      "+7.65/+3.06 (-1.29/-3.22)",
+                      "the double reference (no fast path yet): hundreds of times bilinear",
+                      "Morimatsu, Monno, Tanaka, Okutomi, IEEE Sensors J. 21(24) 2021 (IGRI2) and "
+                      "their release",
+                      PC_DMF_MONO | PC_DMF_REFERENCE_ONLY},
+                     {IGRI_LO, IGRI_HI, 1, 1},
+                     NULL,
+                     NULL,
+                     false,
+                     PC_DM_IGRI2,
+                     false},
     [PC_DM_NEWTON] =
         {{PC_DM_NEWTON, "newton",
           "anchor: Newton-polynomial interpolation of polarization differences, "
@@ -372,9 +362,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "mean (worst): Lapray +2.13/-0.32 (-0.44/-2.91), Zhang +5.88/+3.62 "
           "(+5.28/+3.26), stress +4.63/+0.92 (+1.14/-1.13)"
           "; held-out (scenes/heldout, 12) +5.10/+1.14 (+4.03/-1.36); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +5.04/+1.91 (-1.70/-0.33)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +4.96/+0.88 (+0.77/-1.99), through a lens +6.12/+1.17 (-1.12/-5.76)",
+          "(scenes/stress/optics, PSF sigma 0.7 px) +5.04/+1.91 (-1.70/-0.33)" PC_UNSEEN
+          "+4.96/+0.88 (+0.77/-1.99), through a lens +6.12/+1.17 (-1.12/-5.76)",
           "five passes in double over padded planes, on threads",
           "Li, Zhao, Pan, Kong, Opt. Express 27(2) 1376, 2019, and their release", PC_DMF_MONO},
          {NEWTON_LO, NEWTON_HI, 1, 1},
@@ -392,9 +381,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(+3.46/+3.86), stress +4.51/+1.82 (+2.36/+0.26); noisy stress low exposure "
           "+2.35/+1.09 (-0.90/+0.58: needs denoising in low light)"
           "; held-out (scenes/heldout, 12) +5.61/+1.85 (+2.49/+0.36); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +7.14/+3.42 (+0.76/+0.76)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +4.60/+2.31 (+1.41/+0.77), through a lens +6.66/+5.00 (+0.99/+0.82)",
+          "(scenes/stress/optics, PSF sigma 0.7 px) +7.14/+3.42 (+0.76/+0.76)" PC_UNSEEN
+          "+4.60/+2.31 (+1.41/+0.77), through a lens +6.66/+5.00 (+0.99/+0.82)",
           "ratio plus one guided-filter stage; about 6-10x bilinear's CPU time (not "
           "within the 5x budget)",
           "ours: ratio (above) with the residual interpolation of Kiku et al. ICIP "
@@ -419,9 +407,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "+2.27/+0.87 (-0.14/+0.48), the only method above -0.3 there; the "
           "recommended choice"
           "; held-out (scenes/heldout, 12) +4.63/+1.53 (+2.32/+0.25); through a lens "
-          "(scenes/stress/optics, PSF sigma 0.7 px) +6.13/+2.96 (+1.89/+0.66)"
-          "; unseen (scenes/stress/mono-sealed: the sealed colour sets' 74 scenes through the "
-          "monochrome sensor) +3.93/+2.25 (+0.90/+0.52), through a lens +6.10/+4.84 (+1.18/+0.41)",
+          "(scenes/stress/optics, PSF sigma 0.7 px) +6.13/+2.96 (+1.89/+0.66)" PC_UNSEEN
+          "+3.93/+2.25 (+0.90/+0.52), through a lens +6.10/+4.84 (+1.18/+0.41)",
           "ratio's passes with a 3x3 guide variance per pixel, the overshoot limiter "
           "applied as each output row is written, the frame's noise fit (8192 blocks, "
           "~0.2-0.3 ms a 5 MP frame, Round 40); 3.2-4.1x bilinear's time in the "

@@ -417,8 +417,8 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr
 		rimg_free(&q);
 		return rc;
 	}
-	if (binomial) /* ratio-nr3: the raw's 3×3 binomial, PPID's coarse pseudo-panchromatic image
-	               */
+	/* ratio-nr3: the raw's 3×3 binomial, PPID's coarse pseudo-panchromatic image */
+	if (binomial)
 		ppi_coarse(r, &g);
 	else
 		eari_guide(r, m, pc_eari_params.guide_eps * fs, &g);
