@@ -222,7 +222,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                             "colour track S0 44.7, DoLP 32.4 (docs/demosaicking.md, Round 20)",
                             "one pass, the two bilinear steps' weights composed; 10x bilinear's "
                             "instructions (callgrind, 2448x2048, AVX2, Round 15d; the two-step "
-                            "path it replaced 20x); 9.3-11.4x mono bilinear's time near idle "
+                            "path it replaced 20x); 12-14x the mono bilinear's time at AVX-512 "
+                            "against its faster kernel (Round 44b), 9.3-11.4x before it near "
+                            "idle "
                             "(Rounds 15e, 16d, 17d; the old path 19.8-26.1x)",
                             "the colour-first baseline of colour-polarization demosaicking "
                             "(Morimatsu et al. 2020, Sec. 3.2)",
@@ -411,7 +413,10 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "+3.93/+2.25 (+0.90/+0.52), through a lens +6.10/+4.84 (+1.18/+0.41)",
           "ratio's passes with a 3x3 guide variance per pixel, the overshoot limiter "
           "applied as each output row is written, the frame's noise fit (8192 blocks, "
-          "~0.2-0.3 ms a 5 MP frame, Round 40); 3.2-4.1x bilinear's time in the "
+          "~0.2-0.3 ms a 5 MP frame, Round 40); 4.8-5.5x the bilinear's time at "
+          "AVX-512 since the bilinear runs its faster AVX2 row kernel there (Round 44b: "
+          "at the 5x budget's edge, not reliably within it); against the former "
+          "bilinear kernel 3.2-4.1x bilinear's time in the "
           "shared 2-vCPU dev machine's usual regime (medians 3.4x and 3.9x over two "
           "sets of runs), 4.5-5.5x in periods when its write bandwidth doubles and the "
           "memory-bound bilinear speeds up with it (medians 5.1x: at the 5x budget's "
@@ -444,7 +449,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "budget; docs/demosaicking.md, Round 43b)",
           "ratio-nr's passes with a third one, the binomial instead of the EARI guide: "
           "1.09-1.12x ratio-nr's time, 5.0-5.6x bilinear's in the dev machine's fast-memory "
-          "regime (four runs, Round 43b): over the 5x budget there",
+          "regime (four runs, Round 43b), 5.0-5.7x against the faster bilinear kernel of "
+          "Round 44b: over the 5x budget",
           "ours: ratio-nr (above) from PPID's pseudo-panchromatic image (Mihoubi et al., "
           "IEEE TCI 3(4) 2017) as the first guide; more passes of the ratio's mean as guide, "
           "as residual interpolation iterates (Kiku et al., IEEE TIP 25(3) 2016; Morimatsu et "
@@ -805,7 +811,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "DoLP on conveyor's black regions); no scene of any colour set losing; "
           "docs/demosaicking.md, Rounds 24, 27 and 42",
           "float fast path in pan-side's band form: within 2.4e-7 of full scale "
-          "of the double reference; at AVX-512 3.8-4.2x the mono bilinear's time "
+          "of the double reference; at AVX-512 4.9-5.6x the mono bilinear's time "
+          "against its faster kernel (Round 44b: over the 5x budget in most runs), "
+          "before it 3.8-4.2x the mono bilinear's time "
           "in the shared 2-vCPU dev machine's usual regime, 5.2-5.8x in periods when "
           "its write bandwidth doubles and the memory-bound bilinear speeds up with "
           "it (2026-12-06; Round 31: 0.93 of Round 30's time; twelve planes that "
