@@ -2298,9 +2298,9 @@ static void test_streaming_outputs(void)
 	uint32_t r = 7;
 	streaming_raw(&raw, 148, 60, 0.02, 0.03, 255, &r);
 	pc_mosaic m = pc_mosaic_imx250mzr();
-	const pc_demosaic_method meths[] = {PC_DM_BILINEAR, PC_DM_BICUBIC,  PC_DM_PPID,
-	                                    PC_DM_RATIO,    PC_DM_RATIO_NR, PC_DM_RATIO_RI,
-	                                    PC_DM_RATIO_NR3};
+	const pc_demosaic_method meths[] = {PC_DM_BILINEAR,  PC_DM_BICUBIC,   PC_DM_PPID,
+	                                    PC_DM_RATIO,     PC_DM_RATIO_NR,  PC_DM_RATIO_RI,
+	                                    PC_DM_RATIO_NR3, PC_DM_SUPERPIXEL};
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++) {
 		streamed_same(&raw, &m, meths[k], 4, 0);
 		streamed_same(&raw, &m, meths[k], 4, 1);
@@ -2311,6 +2311,37 @@ static void test_streaming_outputs(void)
 	streaming_raw(&raw, 160, 60, 0.02, 0.03, 255, &r);
 	for (size_t k = 0; k < sizeof meths / sizeof meths[0]; k++)
 		streamed_same(&raw, &m, meths[k], 4, 0);
+	pc_view_free(&raw);
+	/* the super-pixel's streamed rows (sp_stream_rows) end in a scalar tail when the width is
+	 * not a multiple of 16: 150 columns in rows padded to 160 floats, streamed against 4 bytes
+	 * off, and both against the block's sample */
+	streaming_raw(&raw, 150, 20, 0.02, 0.03, 255, &r);
+	{
+		const size_t rs = 160, n = rs * 20 * 4;
+		float *a = aligned_alloc(64, sizeof(float) * n), *b = calloc(n + 1, sizeof(float));
+		memset(a, 0, sizeof(float) * n);
+		pc_fplane pa[4], pb[4];
+		for (unsigned c = 0; c < 4; c++) {
+			pa[c] = (pc_fplane){a + (size_t)c * rs * 20, rs, 1};
+			pb[c] = (pc_fplane){b + 1 + (size_t)c * rs * 20, rs, 1};
+		}
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_SUPERPIXEL, NULL, pa), 0);
+		CHECK_EQ_INT(pc_demosaic(&raw, &m, PC_DM_SUPERPIXEL, NULL, pb), 0);
+		CHECK(!memcmp(a, b + 1, sizeof(float) * n));
+		int blocks = 1;
+		for (unsigned c = 0; c < 4; c++) {
+			unsigned dx, dy;
+			pc_mosaic_channel_pos(&m, c, &dx, &dy);
+			for (uint32_t y = 0; y < 20; y++)
+				for (uint32_t x = 0; x < 150; x++)
+					blocks &= a[(size_t)c * rs * 20 + y * rs + x] ==
+					          (float)PC_ROW(&raw, uint16_t,
+					                        (y & ~1u) + dy)[(x & ~1u) + dx];
+		}
+		CHECK(blocks);
+		free(a);
+		free(b);
+	}
 	pc_view_free(&raw);
 	/* pan-lean's twelve planes, each a whole number of 4 KB pages, so that all start at the
 	 * same page offset: its output row then streams eight of them and stores four through the
