@@ -149,7 +149,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "; held-out (scenes/heldout, 12) +0.32/-0.28 (-0.16/-0.93); through a lens "
           "(scenes/stress/optics, PSF sigma 0.7 px) +1.17/+0.77 (+0.39/-0.34)" PC_UNSEEN
           "+0.19/-0.09 (-0.26/-0.70), through a lens +1.34/+1.42 (+0.46/-0.46)",
-          "7x7 neighbourhood, separable; about 1.2-1.3x bilinear's time",
+          "7x7 neighbourhood, separable; 2.0-3.3x bilinear's time (Round 44d: four runs, AVX-512, "
+          "2 threads; the multiple swings with the bilinear's 1.6-3.0 ms)",
           "Keys cubic convolution (a = -1/2) per channel, as in Gao & Gruev 2011", PC_DMF_MONO},
          {-3, 3, 1, 1},
          pc_dm_ic,
@@ -157,42 +158,46 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          false,
          PC_DM_BICUBIC,
          false},
-    [PC_DM_PPID] = {{PC_DM_PPID, "ppid",
-                     "inter-channel: differences to an edge-aware pseudo-panchromatic image, "
-                     "overshoot limited; mean (worst): Lapray -0.02/-0.20 (-3.19/-1.44), Zhang "
-                     "+4.71/+3.11 (+4.71/+2.79), stress +3.57/+1.64 (+0.39/-0.13); noisy stress "
-                     "low exposure +0.43/+1.57 (-3.98/+0.04: needs denoising in low light)"
-                     "; held-out (scenes/heldout, 12) +4.33/+1.76 (+0.80/+0.04); through a lens "
-                     "(scenes/stress/optics, PSF sigma 0.7 px) +3.02/+2.38 (-3.36/-1.25)" PC_UNSEEN
-                     "+4.61/+1.80 (+0.59/+0.38), through a lens +4.40/+2.86 (-2.28/-0.68)",
-                     "5x5 neighbourhood, three fused passes; about 3.5x bilinear's time",
-                     "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
-                     "Lapray, Bigue, Sensors 18(11) 3688, 2018",
-                     PC_DMF_MONO},
-                    {-4, 4, 1, 1},
-                    pc_dm_ic,
-                    pc_dm_ic_rows,
-                    false,
-                    PC_DM_PPID,
-                    false},
-    [PC_DM_RI] = {{PC_DM_RI, "ri",
-                   "inter-channel: guided-filter tentative estimates plus interpolated "
-                   "residuals, overshoot limited; mean (worst): Lapray +1.21/+1.08 "
-                   "(-0.52/+0.16), Zhang +3.78/+3.01 (+3.24/+2.97), stress +3.88/+1.11 "
-                   "(+1.32/-0.29)"
-                   "; held-out (scenes/heldout, 12) +4.71/+1.23 (+0.58/-0.08); through a lens "
-                   "(scenes/stress/optics, PSF sigma 0.7 px) +4.58/+1.78 (+0.66/-1.83)" PC_UNSEEN
-                   "+4.77/+1.63 (+1.17/+0.18), through a lens +4.79/+2.87 (-0.84/+0.11)",
-                   "guided filters (5x5 windows) per channel; about 11x bilinear's time",
-                   "Kiku, Monno, Tanaka, Okutomi, ICIP 2013; for DoFP: Ahmed, Zhao, Gruev, "
-                   "Zhang, Bermak, Opt. Express 25(9) 2017",
-                   PC_DMF_MONO},
-                  {-8, 8, 1, 1},
-                  pc_dm_ic,
-                  pc_dm_ic_rows,
-                  false,
-                  PC_DM_RI,
-                  false},
+    [PC_DM_PPID] =
+        {{PC_DM_PPID, "ppid",
+          "inter-channel: differences to an edge-aware pseudo-panchromatic image, "
+          "overshoot limited; mean (worst): Lapray -0.02/-0.20 (-3.19/-1.44), Zhang "
+          "+4.71/+3.11 (+4.71/+2.79), stress +3.57/+1.64 (+0.39/-0.13); noisy stress "
+          "low exposure +0.43/+1.57 (-3.98/+0.04: needs denoising in low light)"
+          "; held-out (scenes/heldout, 12) +4.33/+1.76 (+0.80/+0.04); through a lens "
+          "(scenes/stress/optics, PSF sigma 0.7 px) +3.02/+2.38 (-3.36/-1.25)" PC_UNSEEN
+          "+4.61/+1.80 (+0.59/+0.38), through a lens +4.40/+2.86 (-2.28/-0.68)",
+          "5x5 neighbourhood, three fused passes; 3.6-6.1x bilinear's time (Round 44d: four runs, "
+          "AVX-512, 2 threads; the multiple swings with the bilinear's 1.6-3.0 ms)",
+          "Mihoubi, Losson, Mathon, Macaire, IEEE TCI 3(4) 2017; for PFAs: Mihoubi, "
+          "Lapray, Bigue, Sensors 18(11) 3688, 2018",
+          PC_DMF_MONO},
+         {-4, 4, 1, 1},
+         pc_dm_ic,
+         pc_dm_ic_rows,
+         false,
+         PC_DM_PPID,
+         false},
+    [PC_DM_RI] =
+        {{PC_DM_RI, "ri",
+          "inter-channel: guided-filter tentative estimates plus interpolated "
+          "residuals, overshoot limited; mean (worst): Lapray +1.21/+1.08 "
+          "(-0.52/+0.16), Zhang +3.78/+3.01 (+3.24/+2.97), stress +3.88/+1.11 "
+          "(+1.32/-0.29)"
+          "; held-out (scenes/heldout, 12) +4.71/+1.23 (+0.58/-0.08); through a lens "
+          "(scenes/stress/optics, PSF sigma 0.7 px) +4.58/+1.78 (+0.66/-1.83)" PC_UNSEEN
+          "+4.77/+1.63 (+1.17/+0.18), through a lens +4.79/+2.87 (-0.84/+0.11)",
+          "guided filters (5x5 windows) per channel; 9-16x bilinear's time (Round 44d: four runs, "
+          "AVX-512, 2 threads; the multiple swings with the bilinear's 1.6-3.0 ms)",
+          "Kiku, Monno, Tanaka, Okutomi, ICIP 2013; for DoFP: Ahmed, Zhao, Gruev, "
+          "Zhang, Bermak, Opt. Express 25(9) 2017",
+          PC_DMF_MONO},
+         {-8, 8, 1, 1},
+         pc_dm_ic,
+         pc_dm_ic_rows,
+         false,
+         PC_DM_RI,
+         false},
     [PC_DM_EARI] = {{PC_DM_EARI, "eari",
                      "inter-channel: residual interpolation guided by an edge-aware "
                      "intensity image (our detector), overshoot limited; mean (worst): Lapray "
@@ -202,7 +207,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                      "; held-out (scenes/heldout, 12) +4.03/+1.10 (+0.77/-0.06); through a lens "
                      "(scenes/stress/optics, PSF sigma 0.7 px) +5.04/+2.42 (+1.87/+0.05)" PC_UNSEEN
                      "+2.98/+1.11 (+1.05/+0.12), through a lens +4.68/+2.90 (+1.09/+0.10)",
-                     "like ri plus an edge-aware guide pass; 9.5-14.6x bilinear's time "
+                     "8.5-14x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; "
+                     "the multiple swings with the bilinear's 1.6-3.0 ms); like ri plus an "
+                     "edge-aware guide pass; 9.5-14.6x bilinear's time "
                      "over twenty runs (median 12.5x; AVX-512, 2026-12-06, Round 30)",
                      "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292)",
                      PC_DMF_MONO},
@@ -225,8 +232,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                             "colour track S0 44.7, DoLP 32.4 (docs/demosaicking.md, Round 20)",
                             "one pass, the two bilinear steps' weights composed; 10x bilinear's "
                             "instructions (callgrind, 2448x2048, AVX2, Round 15d; the two-step "
-                            "path it replaced 20x); 12-14x the mono bilinear's time at AVX-512 "
-                            "against its faster kernel (Round 44b), 9.3-11.4x before it near "
+                            "path it replaced 20x); 8.4-14.8x the mono bilinear's time at AVX-512 "
+                            "against its faster kernel (Rounds 44b, 44d), 9.3-11.4x before it near "
                             "idle "
                             "(Rounds 15e, 16d, 17d; the old path 19.8-26.1x)",
                             "the colour-first baseline of colour-polarization demosaicking "
@@ -247,7 +254,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(scenes/stress/colour-holdout, 9) +0.44/+0.71 (worst +0.22/+0.28): "
           "the one colour method with no held-out scene losing; hue-pair dev set "
           "(scenes/stress/colour-hue, 5, Round 16) +0.26/+0.63 (worst +0.23/+0.40)",
-          "bayer-first's colour step plus three EARI runs; about 50x bilinear's time",
+          "bayer-first's colour step plus three EARI runs; 90-155x bilinear's time (Round 44d: "
+          "four runs, AVX-512, 2 threads; the multiple swings with the bilinear's 1.6-3.0 ms)",
           "colour-first as Morimatsu et al. 2020, with the polarization step of "
           "their EARI",
           PC_DMF_COLOR},
@@ -269,8 +277,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "; held-out (scenes/heldout, 12) +4.59/+1.69 (+2.36/+0.37); through a lens "
           "(scenes/stress/optics, PSF sigma 0.7 px) +5.48/+3.12 (-0.59/+0.70)" PC_UNSEEN
           "+3.88/+2.32 (+0.72/+0.75), through a lens +5.91/+4.97 (+0.43/+0.84)",
-          "the guide pass plus two ratio passes (3x3 guided tents); about 5x "
-          "bilinear's time (one thread)",
+          "the guide pass plus two ratio passes (3x3 guided tents); 3.1-5.7x bilinear's time "
+          "(Round 44d: four runs, AVX-512, 2 threads; the multiple swings with the bilinear's "
+          "1.6-3.0 ms)",
           "ours: the guide of Morimatsu et al. ICIP 2020 with smooth-hue-transition "
           "(ratio) interpolation, Cok, US patent 4,642,678 (1987), iterated; "
           "joint-bilateral weights (Kopf et al., SIGGRAPH 2007)",
@@ -291,8 +300,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "PSF sigma 0.7 px) +6.17/+3.09 (-1.41/-0.29) (before Round 38's exact "
           "box sums of zeros: stress DoLP +1.09, worst -4.58 on gloss's black)" PC_UNSEEN
           "+4.16/+1.43 (+0.83/+0.06), through a lens +6.51/+2.86 (-0.16/-1.63)",
-          "multi-pass float path, ~22 planes; about 500x bilinear's CPU time (not "
-          "within budget)",
+          "multi-pass float path, ~22 planes; 530-860x bilinear's time (Round 44d: four runs, "
+          "AVX-512, 2 threads; the multiple swings with the bilinear's 1.6-3.0 ms) (not within "
+          "budget)",
           "Morimatsu, Monno, Tanaka, Okutomi, ICIP 2020 (arXiv:2007.14292) and their "
           "release; MLRI: Kiku et al., IEEE TIP 25(3) 2016",
           PC_DMF_MONO},
@@ -312,8 +322,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "; held-out (scenes/heldout, 12) +4.36/+1.73 (+1.78/+0.21); through a lens "
           "(scenes/stress/optics, PSF sigma 0.7 px) +6.05/+3.14 (-0.93/+0.51)" PC_UNSEEN
           "+3.93/+2.02 (+0.89/+0.46), through a lens +5.92/+3.17 (+0.26/+0.60)",
-          "eari-mlri's cost plus one 5x5 min/max pass: about 500x bilinear's CPU "
-          "time (not within the 5x budget)",
+          "eari-mlri's cost plus one 5x5 min/max pass: 520-840x bilinear's time (Round 44d: four "
+          "runs, AVX-512, 2 threads; the multiple swings with the bilinear's 1.6-3.0 ms) (not "
+          "within the 5x budget)",
           "ours: Morimatsu et al. ICIP 2020's guide and Kiku et al. TIP 2016's "
           "MLRI, held to each channel's local sample range",
           PC_DMF_MONO},
@@ -323,23 +334,25 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
          false,
          PC_DM_EARI_ROBUST,
          false},
-    [PC_DM_PCDP] = {{PC_DM_PCDP, "pcdp",
-                     "anchor: residual interpolation with the other channels' bilinear "
-                     "estimates as guide, the orthogonal one weighted sqrt(2); mean (worst): "
-                     "Lapray +3.01/+0.78 (+0.97/-0.54), Zhang +3.88/+4.01 (+3.08/+3.78), stress "
-                     "+2.58/+0.76 (+1.32/-0.89)"
-                     "; held-out (scenes/heldout, 12) +2.30/+1.35 (+1.35/-0.07); through a lens "
-                     "(scenes/stress/optics, PSF sigma 0.7 px) +4.08/+2.25 (-0.32/+0.95)" PC_UNSEEN
-                     "+2.47/+1.00 (+0.92/-1.75), through a lens +4.73/+2.42 (+0.31/-3.08)",
-                     "four bilinear planes plus four residual tents",
-                     "Wu et al., Opt. Express 29(14) 2021 (polarization channel difference prior)",
-                     PC_DMF_MONO},
-                    {PCDP_LO, PCDP_HI, 1, 1},
-                    pc_dm_pcdp_fast,
-                    NULL,
-                    false,
-                    PC_DM_PCDP,
-                    false},
+    [PC_DM_PCDP] =
+        {{PC_DM_PCDP, "pcdp",
+          "anchor: residual interpolation with the other channels' bilinear "
+          "estimates as guide, the orthogonal one weighted sqrt(2); mean (worst): "
+          "Lapray +3.01/+0.78 (+0.97/-0.54), Zhang +3.88/+4.01 (+3.08/+3.78), stress "
+          "+2.58/+0.76 (+1.32/-0.89)"
+          "; held-out (scenes/heldout, 12) +2.30/+1.35 (+1.35/-0.07); through a lens "
+          "(scenes/stress/optics, PSF sigma 0.7 px) +4.08/+2.25 (-0.32/+0.95)" PC_UNSEEN
+          "+2.47/+1.00 (+0.92/-1.75), through a lens +4.73/+2.42 (+0.31/-3.08)",
+          "four bilinear planes plus four residual tents; 94-150x bilinear's time (Round 44d: four "
+          "runs, AVX-512, 2 threads; the multiple swings with the bilinear's 1.6-3.0 ms)",
+          "Wu et al., Opt. Express 29(14) 2021 (polarization channel difference prior)",
+          PC_DMF_MONO},
+         {PCDP_LO, PCDP_HI, 1, 1},
+         pc_dm_pcdp_fast,
+         NULL,
+         false,
+         PC_DM_PCDP,
+         false},
     [PC_DM_IGRI2] = {{PC_DM_IGRI2, "igri2",
                       "anchor: residual interpolation on the rotated diagonal lattices, then "
                       "across them, then MLRI with the mean as guide; mean (worst): Lapray "
@@ -369,7 +382,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "; held-out (scenes/heldout, 12) +5.10/+1.14 (+4.03/-1.36); through a lens "
           "(scenes/stress/optics, PSF sigma 0.7 px) +5.04/+1.91 (-1.70/-0.33)" PC_UNSEEN
           "+4.96/+0.88 (+0.77/-1.99), through a lens +6.12/+1.17 (-1.12/-5.76)",
-          "five passes in double over padded planes, on threads",
+          "five passes in double over padded planes, on threads; 210-370x bilinear's time (Round "
+          "44d: four runs, AVX-512, 2 threads; the multiple swings with the bilinear's 1.6-3.0 ms)",
           "Li, Zhao, Pan, Kong, Opt. Express 27(2) 1376, 2019, and their release", PC_DMF_MONO},
          {NEWTON_LO, NEWTON_HI, 1, 1},
          pc_dm_newton_fast,
@@ -388,8 +402,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "; held-out (scenes/heldout, 12) +5.61/+1.85 (+2.49/+0.36); through a lens "
           "(scenes/stress/optics, PSF sigma 0.7 px) +7.14/+3.42 (+0.76/+0.76)" PC_UNSEEN
           "+4.60/+2.31 (+1.41/+0.77), through a lens +6.66/+5.00 (+0.99/+0.82)",
-          "ratio plus one guided-filter stage; about 6-10x bilinear's CPU time (not "
-          "within the 5x budget)",
+          "ratio plus one guided-filter stage; 11-20x bilinear's time (Round 44d: four runs, "
+          "AVX-512, 2 threads; the multiple swings with the bilinear's 1.6-3.0 ms) (not within the "
+          "5x budget)",
           "ours: ratio (above) with the residual interpolation of Kiku et al. ICIP "
           "2013 (guided filter: He, Sun, Tang, TPAMI 2013)",
           PC_DMF_MONO},
@@ -414,7 +429,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "; held-out (scenes/heldout, 12) +4.63/+1.53 (+2.32/+0.25); through a lens "
           "(scenes/stress/optics, PSF sigma 0.7 px) +6.13/+2.96 (+1.89/+0.66)" PC_UNSEEN
           "+3.93/+2.25 (+0.90/+0.52), through a lens +6.10/+4.84 (+1.18/+0.41)",
-          "ratio's passes with a 3x3 guide variance per pixel, the overshoot limiter "
+          "3.2-5.6x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the "
+          "multiple swings with the bilinear's 1.6-3.0 ms); ratio's passes with a 3x3 guide "
+          "variance per pixel, the overshoot limiter "
           "applied as each output row is written, the frame's noise fit (8192 blocks, "
           "~0.2-0.3 ms a 5 MP frame, Round 40); 4.8-5.5x the bilinear's time at "
           "AVX-512 since the bilinear runs its faster AVX2 row kernel there (Round 44b: "
@@ -450,7 +467,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(already used: a secondary figure) +3.99/+2.48 (+1.44/+0.55), through a lens "
           "+6.96/+4.72 (+1.82/+0.43); an evaluation candidate, not recommended (over the "
           "budget; docs/demosaicking.md, Round 43b)",
-          "ratio-nr's passes with a third one, the binomial instead of the EARI guide: "
+          "3.5-5.8x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the "
+          "multiple swings with the bilinear's 1.6-3.0 ms); ratio-nr's passes with a third one, "
+          "the binomial instead of the EARI guide: "
           "1.09-1.12x ratio-nr's time, 5.0-5.6x bilinear's in the dev machine's fast-memory "
           "regime (four runs, Round 43b), 5.0-5.7x against the faster bilinear kernel of "
           "Round 44b: over the 5x budget",
@@ -476,7 +495,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "suite (5 scenes) +0.58/+0.71 (worst -0.75 patches/+0.12)"
           "; held-out colour scenes (scenes/stress/colour-holdout, 9) -1.41/+1.34 (worst "
           "-2.69/+1.07), all 9 losing S0",
-          "one fused pass on row bands, twelve planes; 3.8-4.5x the mono "
+          "4.9-9.0x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the "
+          "multiple swings with the bilinear's 1.6-3.0 ms); one fused pass on row bands, twelve "
+          "planes; 3.8-4.5x the mono "
           "bilinear's time on a quiet machine, more where bilinear's output "
           "streams (bayer-first 8-18x)",
           "ours: the pseudo-panchromatic image of Mihoubi et al., IEEE TCI 3(4) "
@@ -499,7 +520,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(5 scenes) +1.33/+0.87 (worst +0.66/-0.05, gratings)"
           "; held-out colour scenes (scenes/stress/colour-holdout, 9) -0.34/+0.51 (worst "
           "-1.88/-0.96), 5 losing",
-          "pan-ratio's pass with a weight per tap, its output row per row phase "
+          "3.3-4.7x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the "
+          "multiple swings with the bilinear's 1.6-3.0 ms); pan-ratio's pass with a weight per "
+          "tap, its output row per row phase "
           "(Rounds 14b, 14c): 0.82-0.91x pan-ratio; 3.3-4.0x the mono bilinear's "
           "time near idle (eight runs, docs/demosaicking.md, Round 14d)",
           "ours: pan-ratio with joint-bilateral weights (Tomasi & Manduchi, "
@@ -520,7 +543,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "colour stress suite (5 scenes) +1.32/+0.91 (worst +0.49/-0.02, "
           "gratings); held-out colour scenes (scenes/stress/colour-holdout, 9) +0.05/+0.83 "
           "(worst -1.61/-0.69)",
-          "pan-guided's pass with two more guide images: 1.1-1.4x "
+          "6.0-9.8x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the "
+          "multiple swings with the bilinear's 1.6-3.0 ms); pan-guided's pass with two more guide "
+          "images: 1.1-1.4x "
           "pan-guided, 5.5-6.9x the mono bilinear's time at load 2 (over the "
           "5x budget)",
           "ours: pan-guided with a luminance-chrominance guide (Alleysson et "
@@ -542,7 +567,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "text/+0.65 gratings): the colour accuracy goal met on all three sets, "
           "not on the held-out colour scenes (scenes/stress/colour-holdout, 9): "
           "+0.33/+3.40 (worst -1.32/+1.59), 4 losing S0",
-          "one fused pass on row bands, the blend folded into each row phase's "
+          "12-20x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the multiple "
+          "swings with the bilinear's 1.6-3.0 ms); one fused pass on row bands, the blend folded "
+          "into each row phase's "
           "lattice coefficients: about 0.8x Round 10's time, 2.6-2.9x "
           "pan-ratio's (bench demosaic --quick, 2 threads, Release, load 2-3); "
           "idle 10.5-11.4x the mono bilinear's median wall time (Round 10: 14.8-14.9x "
@@ -570,7 +597,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                          "three sets, not on the held-out colour scenes "
                          "(scenes/stress/colour-holdout, 9): +0.80/+1.74 (worst -0.95/+0.24), "
                          "4 losing S0",
-                         "one fused pass on row bands (pan-dir's source rows and blend kernel, "
+                         "15-25x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 "
+                         "threads; the multiple swings with the bilinear's 1.6-3.0 ms); one fused "
+                         "pass on row bands (pan-dir's source rows and blend kernel, "
                          "m two rows ahead of the output), within 1e-4 of full scale of the "
                          "double reference and equal to it on bench colour: 1.31x pan-dir's "
                          "instructions, 1.29-1.40x its time (bench demosaic --quick, 2 threads, "
@@ -603,7 +632,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "+2.34/+1.61 (worst +1.40/+0.23), none losing (Round 14); hue-pair dev "
           "set (scenes/stress/colour-hue, 5, Round 16) -0.91/+0.50 (worst "
           "-1.27/+0.33, all 5 losing)",
-          "pan-guided's pass with the factors: per even row one more vertical "
+          "3.9-5.8x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the "
+          "multiple swings with the bilinear's 1.6-3.0 ms); pan-guided's pass with the factors: "
+          "per even row one more vertical "
           "sum, the chrominance, the blocks' hue and two factor rows; 1.22x "
           "pan-guided's instructions (callgrind, AVX2; 292 M vs 240 M per frame after "
           "Rounds 14b, 14c), 1.17-1.23x its median wall time near idle; "
@@ -639,6 +670,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "its first evaluation) +2.31/+1.36 (worst +1.04/+0.41 textile), none "
                           "losing (docs/demosaicking.md, Round 14); colour-sealed5 (6, Round 19) "
                           "+1.62/+0.86 (worst +0.80/-0.08, 1 losing DoLP: cobbles)",
+                          "5.5-8.7x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 "
+                          "threads; the multiple swings with the bilinear's 1.6-3.0 ms); "
                           "pan-side's fused pass with each row's 5x5 window mean and variance "
                           "of the PPI and the shrunk ratio step, within 1e-5 of full scale of "
                           "the double reference: 1.24x pan-side's instructions (callgrind, "
@@ -677,7 +710,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
                           "(worst -0.09/+0.53, 1 losing: print) (docs/demosaicking.md, Round 15); "
                           "colour-sealed5 (6, Round 19) +1.53/+0.86 (worst +0.68/+0.04), none "
                           "losing",
-                          "float fast path: pan-adapt's fast path, then per row band "
+                          "17-32x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 "
+                          "threads; the multiple swings with the bilinear's 1.6-3.0 ms); float "
+                          "fast path: pan-adapt's fast path, then per row band "
                           "bayer-first's rows, the block check and the blend (no whole-frame "
                           "scratch); 806 M instructions per 2448x2048 frame (callgrind, AVX2, "
                           "one thread), 30x mono bilinear's, of which pan-adapt and bayer-first "
@@ -751,7 +786,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "+0.84/+0.95 (mean S0 short; with this definition, now used: +2.08/+1.56, "
           "+1.03/+1.01, +1.15/+1.09, none losing); held-out (9, seen) +0.72/+1.78 "
           "(worst -0.05/+0.80, 1 losing: gratings2)",
-          "float fast path: pan-side's fast path, then per row band pan-guard's "
+          "15-22x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the multiple "
+          "swings with the bilinear's 1.6-3.0 ms); float fast path: pan-side's fast path, then per "
+          "row band pan-guard's "
           "check with the noise term, pan-hue's gate per block row, bayer-first's "
           "rows and the own-lattice tents for the conservative estimate, and the "
           "blends; 681 M instructions per 2448x2048 frame (callgrind, AVX2, one "
@@ -813,7 +850,9 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(used) colour-sealed4 (6) +0.84/+1.30 (+0.36/+0.99: before it, -0.87 "
           "DoLP on conveyor's black regions); no scene of any colour set losing; "
           "docs/demosaicking.md, Rounds 24, 27 and 42",
-          "float fast path in pan-side's band form: within 2.4e-7 of full scale "
+          "3.9-5.6x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the "
+          "multiple swings with the bilinear's 1.6-3.0 ms); float fast path in pan-side's band "
+          "form: within 2.4e-7 of full scale "
           "of the double reference; at AVX-512 4.9-5.6x the mono bilinear's time "
           "against its faster kernel (Round 44b: over the 5x budget in most runs), "
           "before it 3.8-4.2x the mono bilinear's time "
