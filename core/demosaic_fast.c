@@ -155,8 +155,9 @@ static void superpixel_band(void *ctx, uint32_t y0, uint32_t y1)
 	sp_job *j = ctx;
 	uint32_t w = j->in->width, ow = j->half ? w / 2 : w;
 	float *r = pc_dm_alloc(2 * ((size_t)w + 2) * sizeof(float));
-	float *lines = pc_dm_alloc(4 * ((size_t)w + 16) * sizeof(float));
-	if (!r || !lines) {
+	/* a row buffer per channel for outputs that are not planar (pc_dm_put_rows) */
+	float *lines = j->planar ? NULL : pc_dm_alloc(4 * ((size_t)w + 16) * sizeof(float));
+	if (!r || (!j->planar && !lines)) {
 		pc_dm_free(r);
 		pc_dm_free(lines);
 		j->err = 1;
@@ -212,7 +213,7 @@ static int superpixel(const pc_dm_call *call, int half, const pc_fplane *out)
 	for (int c = 0; c < 4; c++)
 		if (out[c].pixel_stride != 1)
 			j.planar = 0;
-	/* streamed: the full-size rows (sp_stream_row); half-size rows are written as made */
+	/* streamed: the full-size rows (sp_stream_rows); half-size rows are written as made */
 	j.nt = !half && pc_dm_stream_wanted(out, 4, ow, oh, call->level);
 	j.ntil = pc_dm_stream_wanted_il(out, 4, ow, oh, call->level);
 	pc_parallel_rows(call->in->height, 8, call->threads, superpixel_band, &j);
