@@ -493,6 +493,14 @@ size_t pc_dm_nt_min_bytes(void)
 	return c;
 }
 
+int pc_dm_planes_planar(const pc_fplane *p, unsigned n)
+{
+	for (unsigned c = 0; c < n; c++)
+		if (p[c].pixel_stride != 1)
+			return 0;
+	return 1;
+}
+
 int pc_dm_planes_aligned(const pc_fplane *p, unsigned n)
 {
 	for (unsigned c = 0; c < n; c++)

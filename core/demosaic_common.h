@@ -218,6 +218,9 @@ size_t pc_dm_nt_min_bytes(void);
  * rows (whole cache lines; the AVX-512 streaming stores need it). */
 int pc_dm_planes_aligned(const pc_fplane *p, unsigned n);
 
+/* Whether every one of the n planes has pixel stride 1 (rows of contiguous floats) */
+int pc_dm_planes_planar(const pc_fplane *p, unsigned n);
+
 /* Whether n planes of w × h floats are worth streaming at this CPU level (aligned, large,
  * AVX2 present). */
 int pc_dm_stream_wanted(const pc_fplane *p, unsigned n, uint32_t w, uint32_t h, pc_cpu_level level);

@@ -88,9 +88,7 @@ int pc_dm_bilinear(const pc_dm_call *call, const pc_fplane *out)
 {
 	const pc_dm_input *in = call->in;
 	bil_job j = {in, call->m, out, call->level, 1, 0, 0, 0};
-	for (int c = 0; c < 4; c++)
-		if (out[c].pixel_stride != 1)
-			j.planar = 0;
+	j.planar = pc_dm_planes_planar(out, 4);
 	j.nt = j.planar && pc_dm_stream_wanted(out, 4, in->width, in->height, call->level);
 	j.ntil = pc_dm_stream_wanted_il(out, 4, in->width, in->height, call->level);
 	pc_parallel_rows(in->height, 0, call->threads, bilinear_band, &j);
@@ -210,9 +208,7 @@ static int superpixel(const pc_dm_call *call, int half, const pc_fplane *out)
 	uint32_t ow = half ? call->in->width / 2 : call->in->width,
 	         oh = half ? call->in->height / 2 : call->in->height;
 	sp_job j = {call->in, call->m, out, call->level, half, 0, 1, 0, 0};
-	for (int c = 0; c < 4; c++)
-		if (out[c].pixel_stride != 1)
-			j.planar = 0;
+	j.planar = pc_dm_planes_planar(out, 4);
 	/* streamed: the full-size rows (sp_stream_rows); half-size rows are written as made */
 	j.nt = !half && pc_dm_stream_wanted(out, 4, ow, oh, call->level);
 	j.ntil = pc_dm_stream_wanted_il(out, 4, ow, oh, call->level);

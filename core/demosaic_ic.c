@@ -734,6 +734,7 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			           ? j->out[c].data + (size_t)y * j->out[c].row_stride
 			           : obuf + (size_t)c * (size_t)w;
 		int yy = (int)y;
+		int limited = 0; /* the method's kernel applied the limiter as it wrote the row */
 		switch (j->method) {
 		case PC_DM_BICUBIC: {
 			unsigned e0 = pc_dm_ch(j->m, 0, y), e1 = pc_dm_ch(j->m, 1, y);
@@ -777,6 +778,7 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 			raw_window(&b, yy, r);
 			pc_dm_limit_ranges(lim, r, y, mm);
 			ratio_output(&b, yy, o, mm);
+			limited = 1;
 			break;
 		}
 		case PC_DM_RATIO_RI:
@@ -786,8 +788,7 @@ static void ic_band_run(void *ctx, uint32_t y0, uint32_t y1)
 		default:
 			break;
 		}
-		if (lim && j->method != PC_DM_RATIO && j->method != PC_DM_RATIO_NR &&
-		    j->method != PC_DM_RATIO_NR3) {
+		if (lim && !limited) {
 			/* the overshoot limiter (demosaic_robust.c) on the finished row */
 			const float *r[5];
 			raw_window(&b, yy, r);
@@ -830,9 +831,7 @@ int pc_dm_ic(const pc_dm_call *call, const pc_fplane *out)
 	ic_job j = {
 	    call->in, call->m, call->method,    call->full_scale, call->level, out, NULL, 1, 0,
 	    0,        0,       call->noise_gain};
-	for (int c = 0; c < 4; c++)
-		if (out[c].pixel_stride != 1)
-			j.planar = 0;
+	j.planar = pc_dm_planes_planar(out, 4);
 	/* the method table says which methods keep ordinary stores (plain_stores) */
 	const pc_dm_method_def *def = pc_dm_method_def_get(call->method);
 	j.nt = j.planar && !(def && def->plain_stores) &&
