@@ -872,9 +872,13 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "zeros in the black colour-sealed12 (6) +1.34/+1.81 (+0.92/+0.48) and "
           "(used) colour-sealed4 (6) +0.84/+1.30 (+0.36/+0.99: before it, -0.87 "
           "DoLP on conveyor's black regions); no scene of any colour set losing; "
-          "docs/demosaicking.md, Rounds 24, 27 and 42",
+          "60 random scenes of the dataset family through the colour sensor (seed "
+          "20261207, 640x512, IMX250MYR at 0-12 dB; scenes/stress/gen_family.py) "
+          "+2.16/+0.66 (+0.30/+0.15), none losing; "
+          "docs/demosaicking.md, Rounds 24, 27, 42 and 45",
           "3.9-5.6x the mono bilinear's time (Round 44d: four runs, AVX-512, 2 threads; the "
-          "multiple swings with the bilinear's 1.6-3.0 ms); float fast path in pan-side's band "
+          "multiple swings with the bilinear's 1.6-3.0 ms; 4.9-5.3x in the dev host's usual "
+          "regime of Round 45); float fast path in pan-side's band "
           "form: within 2.4e-7 of full scale "
           "of the double reference; at AVX-512 4.9-5.6x the mono bilinear's time "
           "against its faster kernel (Round 44b: over the 5x budget in most runs), "
