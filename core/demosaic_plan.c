@@ -446,8 +446,8 @@ static const pc_dm_method_def pc_dm_methods[PC_DM_COUNT] = {
           "(scenes/stress/optics, PSF sigma 0.7 px) +6.13/+2.96 (+1.89/+0.66)" PC_UNSEEN
           "+3.93/+2.25 (+0.90/+0.52), through a lens +6.10/+4.84 (+1.18/+0.41)" PC_FAMILY
           "+3.22/+0.34 (-1.00/+0.09): two scenes at 12 dB below -0.3 (smooth surfaces filling "
-          "the frame: its channels' noise is correlated and adds up in S0), every other "
-          "method losing more (Round 45)",
+          "the frame: its channels' noise is correlated and adds up in S0), every method "
+          "but ratio-nr3 (-0.93) losing more (Round 45)",
           "3.2-6.8x the mono bilinear's time (Rounds 44d and 45: AVX-512, 2 threads; 4.6-5.1x "
           "in the dev host's usual regime, 6.4-6.8x in its fastest, the bilinear 1.2 ms; no "
           "cheaper definition keeps its accuracy: the binomial guide 0.86x its time, one pass "
