@@ -459,9 +459,7 @@ static void bf_band_rows(pc_dm_bf_band *b, uint32_t y0, uint32_t y1, const pc_fp
 	const uint32_t w = j->w, h = j->h;
 	bf_ring *ring = &b->ring;
 	bf_row *row = &b->row;
-	int strided = 0;
-	for (unsigned p = 0; p < 12; p++)
-		strided |= out[p].pixel_stride != 1;
+	const int strided = !pc_dm_planes_planar(out, 12);
 	const uint32_t xa = row->xa, xb = row->xb;
 	for (unsigned i = 0; i < 4; i++) /* mk is overwritten below */
 		b->mgr[i] = -1;

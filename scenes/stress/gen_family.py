@@ -17,6 +17,9 @@ import json
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from suite_copy import write_scene  # noqa: E402
+
 
 def main():
     if len(sys.argv) != 3:
@@ -34,15 +37,7 @@ def main():
         sdir = os.path.join(samples, n)
         with open(os.path.join(sdir, "scene.json")) as f:
             scene = json.load(f)
-        for obj in scene.get("objects", []):
-            if "file" in obj:
-                obj["file"] = os.path.relpath(os.path.join(sdir, obj["file"]), dst)
-        out = os.path.join(dst, "f%s.json" % n)
-        tmp = out + ".tmp"
-        with open(tmp, "w") as f:
-            json.dump(scene, f, indent=1)
-            f.write("\n")
-        os.replace(tmp, out)
+        write_scene(scene, sdir, dst, "f%s.json" % n)
     print("%d scenes written to %s" % (len(names), dst))
 
 
