@@ -131,7 +131,7 @@ cmd=${1:-help}
 case $cmd in
   deps)
     install_pkgs $BUILD_PKGS
-    [[ ${2:-} == test ]] && install_pkgs $TEST_PKGS
+    if [[ ${2:-} == test ]]; then install_pkgs $TEST_PKGS; fi
     ;;
   build)
     install_pkgs $BUILD_PKGS
