@@ -78,6 +78,9 @@ typedef struct pc_ic_kernels {
 	                     const float *restrict, const float *restrict, const float *restrict,
 	                     const float *restrict, const float *restrict, const float *const[5],
 	                     float, float, float, long);
+	int (*any_ge)(const float *restrict, long, float);
+	void (*sat_split)(float *restrict, const float *restrict, const float *restrict,
+	                  const float *restrict, const float *restrict, float, long);
 } pc_ic_kernels;
 
 /* Clang's load PRE turns a row kernel's neighbour loads (v[x-1], v[x], v[x+1]) into
@@ -257,10 +260,13 @@ typedef struct ic_band {
 	rcache rg3, rq3;      /* ratio-nr3: third guide, third ratio */
 	int three;            /* ratio-nr3: three passes from the binomial guide */
 	float delta, eps_ratio;
-	rcache rout;     /* ratio-ri: the ratio method's four channels (its guide: guide2) */
-	float dark;      /* ratio-ri: the blend's dark level */
-	float shot;      /* ratio-nr: the guide's noise variance k·μ (the frame's noise gain) */
-	int nr;          /* ratio-nr (else ratio) */
+	rcache rout; /* ratio-ri: the ratio method's four channels (its guide: guide2) */
+	float dark;  /* ratio-ri: the blend's dark level */
+	float shot;  /* ratio-nr: the guide's noise variance k·μ (the frame's noise gain) */
+	float sat;   /* ratio-nr: a clipped sample's value, the raw's full scale less the black
+	              * level as the conversion computes it (saturated_binomial_row) */
+	unsigned char *rowsat; /* ratio-nr: per image row, whether it holds a clipped sample */
+	int nr;                /* ratio-nr (else ratio) */
 	gf_stage s1, s2; /* residual-interpolation passes; s1 guided by the PPI (RI) or the EARI
 	                  * guide, s2 by the mean of s1's channels (two-pass variants) */
 	int passes;
@@ -275,6 +281,8 @@ static void fill_raw(rcache *c, int y, float *const *rows)
 	ic_band *b = c->ctx;
 	pc_dm_pf_finish(&b->pf); /* what the accesses since the last conversion left */
 	pc_dm_row_convert(b->in, (uint32_t)y, rows[0]);
+	if (b->rowsat) /* ratio-nr: whether the row holds a clipped sample */
+		b->rowsat[y] = (unsigned char)b->k->any_ge(rows[0], c->w, b->sat);
 	pc_dm_pf_row(&b->pf, b->in, (uint32_t)y + 1);
 }
 
@@ -309,6 +317,26 @@ static int ortho_kind(const pc_mosaic *m, int px, int y)
 	return 2;
 }
 
+/* ratio-nr's guide row g where clipping splits the analysers (demosaic_ref.c,
+ * saturated_binomial): the binomial wherever the 3 × 3 neighbourhood holds an analyser all of
+ * whose samples are >= b->sat beside one with none. In a 2 × 2 mosaic the neighbourhood's four
+ * analysers are the pixel's own (1 sample), the row's (x ± 1), the column's (y ± 1) and the
+ * diagonals' (4). Rows without a clipped sample among the three (nearly all) cost nothing more:
+ * each raw row is scanned once as it is converted (fill_raw, b->rowsat). The binomial goes to
+ * b->tmp (scratch that only PPID's output uses). */
+static void saturated_binomial_row(ic_band *b, int y, float *g)
+{
+	const long w = b->raw.w;
+	const float *a = rc_get(&b->raw, y - 1)[0], *m = rc_get(&b->raw, y)[0],
+	            *d = rc_get(&b->raw, y + 1)[0];
+	const int h = b->raw.h;
+	if (!b->rowsat[pc_mirror(y - 1, h)] && !b->rowsat[pc_mirror(y, h)] &&
+	    !b->rowsat[pc_mirror(y + 1, h)])
+		return;
+	b->k->ppi_coarse(b->tmp, a, m, d, 0, w);
+	b->k->sat_split(g, b->tmp, a, m, d, b->sat, w);
+}
+
 static void fill_eari_guide(rcache *c, int y, float *const *rows)
 {
 	ic_band *b = c->ctx;
@@ -317,6 +345,8 @@ static void fill_eari_guide(rcache *c, int y, float *const *rows)
 		r[i] = rc_get(&b->raw, y - 2 + i)[0];
 	b->k->eari_guide(rows[0], r, ortho_kind(b->m, 0, y), ortho_kind(b->m, 1, y), b->eps_guide,
 	                 0, c->w);
+	if (b->nr && !b->three)
+		saturated_binomial_row(b, y, rows[0]);
 }
 
 /* Guided-filter coefficients of row k for the four channels: planes 0..3 = a_c, 4..7 = b_c. */
@@ -587,6 +617,7 @@ static void free_band(ic_band *b)
 		pc_dm_free(st[i]->sab);
 	}
 	pc_dm_free(b->tmp);
+	free(b->rowsat);
 }
 
 static int setup_band(ic_band *b, const ic_job *j)
@@ -614,6 +645,11 @@ static int setup_band(ic_band *b, const ic_job *j)
 		if (j->method == PC_DM_RATIO_NR || j->method == PC_DM_RATIO_NR3) {
 			b->nr = 1;
 			b->shot = (float)j->noise_gain;
+			b->sat = (float)(j->fs + j->in->black_d) - j->in->black;
+			if (j->method == PC_DM_RATIO_NR) {
+				b->rowsat = calloc((size_t)h, 1);
+				fail |= !b->rowsat;
+			}
 		}
 		b->three = j->method == PC_DM_RATIO_NR3;
 		b->eps_guide = (float)(pc_eari_params.guide_eps * j->fs);

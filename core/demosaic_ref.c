@@ -397,6 +397,48 @@ static double shrunk_guide(const pc_dimg *g, int x, int y, double k)
 	return t > 0 ? g0 + kmu / t * md : g0;
 }
 
+/* ratio-nr's guide where clipping splits the analysers (ours; docs/demosaicking.md, Round 46):
+ * at every pixel whose 3 × 3 neighbourhood holds an analyser all of whose samples there are
+ * saturated (>= fs, the raw's full scale less the black level) beside one none of whose samples
+ * are, the EARI guide g is replaced by the raw's 3 × 3 binomial (ppi_coarse). The EARI guide
+ * sums a pixel's sample and its orthogonal neighbours' (S0 = I_c + I_c⊥, eari_guide); where
+ * clipping cuts some analysers and not others (a polarized highlight) the sum falls short of S0
+ * by an amount that depends on which pair the pixel belongs to, so the guide takes the mosaic's
+ * period and the ratios r/g carry it into the other channels (−1.1 dB S0 against bilinear on
+ * such a scene without noise). The binomial weighs the four analysers alike at every pixel.
+ * Where every analyser is clipped, or each only in part (the edge of a glint), the sums stay
+ * comparable and the EARI guide keeps its edges. */
+static int saturated_binomial(const pc_dimg *r, const pc_mosaic *m, double fs, pc_dimg *g)
+{
+	pc_dimg b = {0};
+	for (int y = 0; y < r->h; y++)
+		for (int x = 0; x < r->w; x++) {
+			int n[4] = {0}, ns[4] = {0};
+			for (int dy = -1; dy <= 1; dy++)
+				for (int dx = -1; dx <= 1; dx++) {
+					unsigned c = pc_dm_ch(m, x + dx, y + dy);
+					n[c]++;
+					ns[c] += pc_dimg_at(r, x + dx, y + dy) >= fs;
+				}
+			bool all = false, none = false;
+			for (int c = 0; c < 4; c++) {
+				all |= n[c] > 0 && ns[c] == n[c];
+				none |= n[c] > 0 && ns[c] == 0;
+			}
+			if (!(all && none))
+				continue;
+			if (!b.p) { /* the binomial, once, at the first such neighbourhood */
+				int rc = rimg_new(&b, r->w, r->h);
+				if (rc)
+					return rc;
+				ppi_coarse(r, &b);
+			}
+			*px(g, x, y) = pc_dimg_at(&b, x, y);
+		}
+	rimg_free(&b);
+	return 0;
+}
+
 /* The ratio method's passes into out; *gfin (allocated here, freed by the caller) gets the
  * mean of the last pass's four channels, the guide a further pass would use. nr: ratio-nr with
  * the noise gain k (the multiplier of each pass is the shrunk guide, shrunk_guide). ratio and
@@ -422,6 +464,15 @@ static int ratio_passes(const pc_dimg *r, const pc_mosaic *m, double fs, bool nr
 		ppi_coarse(r, &g);
 	else
 		eari_guide(r, m, pc_eari_params.guide_eps * fs, &g);
+	if (nr && !binomial) {
+		rc = saturated_binomial(r, m, fs, &g);
+		if (rc) {
+			rimg_free(&g);
+			rimg_free(&q);
+			rimg_free(&gn);
+			return rc;
+		}
+	}
 	const double delta = PC_RATIO_OFFSET * fs, e = PC_RATIO_GUIDE_EPS * fs;
 	const int passes = binomial ? PC_RATIO_NR3_PASSES : PC_RATIO_PASSES;
 	for (int pass = 0; pass < passes; pass++) {
