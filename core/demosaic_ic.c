@@ -322,19 +322,17 @@ static int ortho_kind(const pc_mosaic *m, int px, int y)
  * whose samples are >= b->sat beside one with none. In a 2 × 2 mosaic the neighbourhood's four
  * analysers are the pixel's own (1 sample), the row's (x ± 1), the column's (y ± 1) and the
  * diagonals' (4). Rows without a clipped sample among the three (nearly all) cost nothing more:
- * each raw row is scanned once as it is converted (fill_raw, b->rowsat). The binomial goes to
- * b->tmp (scratch that only PPID's output uses). */
-static void saturated_binomial_row(ic_band *b, int y, float *g)
+ * each raw row is scanned once as it is converted (fill_raw, b->rowsat). r: the raw rows
+ * y − 1, y, y + 1, which the guide's fill has in hand. The binomial goes to b->tmp (scratch that
+ * only PPID's output uses). */
+static void saturated_binomial_row(ic_band *b, int y, const float *const r[3], float *g)
 {
-	const long w = b->raw.w;
-	const float *a = rc_get(&b->raw, y - 1)[0], *m = rc_get(&b->raw, y)[0],
-	            *d = rc_get(&b->raw, y + 1)[0];
 	const int h = b->raw.h;
 	if (!b->rowsat[pc_mirror(y - 1, h)] && !b->rowsat[pc_mirror(y, h)] &&
 	    !b->rowsat[pc_mirror(y + 1, h)])
 		return;
-	b->k->ppi_coarse(b->tmp, a, m, d, 0, w);
-	b->k->sat_split(g, b->tmp, a, m, d, b->sat, w);
+	b->k->ppi_coarse(b->tmp, r[0], r[1], r[2], 0, b->raw.w);
+	b->k->sat_split(g, b->tmp, r[0], r[1], r[2], b->sat, b->raw.w);
 }
 
 static void fill_eari_guide(rcache *c, int y, float *const *rows)
@@ -345,8 +343,8 @@ static void fill_eari_guide(rcache *c, int y, float *const *rows)
 		r[i] = rc_get(&b->raw, y - 2 + i)[0];
 	b->k->eari_guide(rows[0], r, ortho_kind(b->m, 0, y), ortho_kind(b->m, 1, y), b->eps_guide,
 	                 0, c->w);
-	if (b->nr && !b->three)
-		saturated_binomial_row(b, y, rows[0]);
+	if (b->rowsat) /* ratio-nr */
+		saturated_binomial_row(b, y, r + 1, rows[0]);
 }
 
 /* Guided-filter coefficients of row k for the four channels: planes 0..3 = a_c, 4..7 = b_c. */
@@ -645,8 +643,8 @@ static int setup_band(ic_band *b, const ic_job *j)
 		if (j->method == PC_DM_RATIO_NR || j->method == PC_DM_RATIO_NR3) {
 			b->nr = 1;
 			b->shot = (float)j->noise_gain;
-			b->sat = (float)(j->fs + j->in->black_d) - j->in->black;
-			if (j->method == PC_DM_RATIO_NR) {
+			if (j->method == PC_DM_RATIO_NR) { /* its guide where clipping splits */
+				b->sat = (float)(j->fs + j->in->black_d) - j->in->black;
 				b->rowsat = calloc((size_t)h, 1);
 				fail |= !b->rowsat;
 			}
